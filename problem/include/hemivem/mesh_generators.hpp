@@ -1,0 +1,54 @@
+// Deterministic mesh generators for a rectangle [x0,x1] x [y0,y1].
+// Every generator returns a validated Mesh (see mesh.hpp); the same arguments
+// (including the seed) always give the same mesh, bit for bit.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <hemivem/mesh.hpp>
+
+namespace hemivem {
+
+/// N x N squares (rectangles when the domain is not square). Vertex (i, j) has
+/// index j*(N+1) + i; element (i, j) has index j*N + i.
+Mesh make_squares(int n, const Rectangle& domain = {});
+
+/// N x N squares, each split by its lower-left -> upper-right diagonal into two
+/// triangles (2 N^2 elements); vertices as make_squares.
+Mesh make_triangles(int n, const Rectangle& domain = {});
+
+struct VoronoiOptions {
+  std::uint64_t seed = 1;        ///< random seeds are drawn from std::mt19937_64(seed)
+  int max_lloyd_iterations = 100;
+  /// Lloyd iterations stop when no seed moves by more than this fraction of the
+  /// mean seed spacing sqrt(area / n^2). 0 with max_lloyd_iterations = 0: raw Voronoi.
+  double lloyd_tolerance = 1e-3;
+};
+
+/// Voronoi cells of n*n random seeds (uniform in the rectangle), computed with
+/// CGAL's Delaunay triangulation of the seeds and their reflections across the
+/// four sides, so the cells tile the rectangle exactly; vertices on the sides are
+/// placed exactly on them; Lloyd iterations move seeds to cell centroids.
+Mesh make_voronoi(int n, const Rectangle& domain = {}, const VoronoiOptions& options = {});
+
+/// N x N macro cells on a (2N+1)^2 point grid; points whose index sum is odd (side
+/// mid-points) are shifted by a quarter of the macro-cell size in x and y; cell
+/// centres and mid-points on the domain boundary are dropped. Interior elements are
+/// non-convex octagons, boundary ones 7- and 6-gons.
+Mesh make_nonconvex(int n, const Rectangle& domain = {});
+
+/// N x N squares whose interior vertices are moved by a uniform random vector in
+/// [-fraction*hx, fraction*hx] x [-fraction*hy, fraction*hy] (0 <= fraction < 0.5).
+Mesh make_distorted(int n, double fraction = 0.2, const Rectangle& domain = {}, std::uint64_t seed = 1);
+
+/// The generator names: squares, triangles, voronoi, nonconvex, distorted.
+const std::vector<std::string>& mesh_generator_names();
+
+/// Any generator by name with its default options; throws InputError listing the
+/// valid names for an unknown one.
+Mesh make_mesh(std::string_view generator, int n, const Rectangle& domain = {}, std::uint64_t seed = 1);
+
+}  // namespace hemivem

@@ -1,0 +1,99 @@
+#include <hemivem/mesh.hpp>
+
+#include <gtest/gtest.h>
+
+using hemivem::Mesh;
+using hemivem::Vec2;
+
+namespace {
+
+// Two unit squares side by side: vertices 0..5, shared edge 1-4.
+Mesh two_squares() {
+  return Mesh({{0, 0}, {1, 0}, {2, 0}, {0, 1}, {1, 1}, {2, 1}}, {{0, 1, 4, 3}, {1, 2, 5, 4}});
+}
+
+std::string first_defect(std::vector<Vec2> v, std::vector<std::vector<int>> e) {
+  auto d = hemivem::find_mesh_defects(v, e);
+  return d.empty() ? std::string() : std::to_string(d[0].element) + ": " + d[0].message;
+}
+
+}  // namespace
+
+TEST(Mesh, TopologyAndGeometryOfTwoSquares) {
+  const Mesh m = two_squares();
+  EXPECT_EQ(m.num_vertices(), 6);
+  EXPECT_EQ(m.num_elements(), 2);
+  EXPECT_EQ(m.num_edges(), 7);
+  EXPECT_EQ(m.boundary_edges().size(), 6u);
+  EXPECT_EQ(m.boundary_vertices().size(), 6u);
+  int interior = 0;
+  for (const auto& e : m.edges()) {
+    if (!e.on_boundary()) {
+      ++interior;
+      EXPECT_EQ(std::min(e.v0, e.v1), 1);
+      EXPECT_EQ(std::max(e.v0, e.v1), 4);
+      EXPECT_NE(e.left, e.right);
+    }
+  }
+  EXPECT_EQ(interior, 1);
+  EXPECT_DOUBLE_EQ(m.area(0), 1.0);
+  EXPECT_DOUBLE_EQ(m.area(1), 1.0);
+  EXPECT_NEAR(m.centroid(1).x(), 1.5, 1e-15);
+  EXPECT_NEAR(m.centroid(1).y(), 0.5, 1e-15);
+  EXPECT_DOUBLE_EQ(m.diameter(0), std::sqrt(2.0));
+  EXPECT_DOUBLE_EQ(m.h(), std::sqrt(2.0));
+  // local edge i of an element runs from local vertex i to i+1
+  for (int e = 0; e < 2; ++e) {
+    const auto vs = m.element(e);
+    const auto es = m.element_edges(e);
+    for (std::size_t i = 0; i < vs.size(); ++i) {
+      const auto& ed = m.edge(es[i]);
+      const int a = vs[i], b = vs[(i + 1) % vs.size()];
+      EXPECT_TRUE((ed.v0 == a && ed.v1 == b && ed.left == e) || (ed.v0 == b && ed.v1 == a && ed.right == e));
+    }
+  }
+}
+
+TEST(Mesh, CentroidOfNonConvexLShape) {
+  // L-shape made of three unit squares: centroid (5/6, 5/6), area 3.
+  const Mesh m({{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}}, {{0, 1, 2, 3, 4, 5}});
+  EXPECT_DOUBLE_EQ(m.area(0), 3.0);
+  EXPECT_NEAR(m.centroid(0).x(), 5.0 / 6.0, 1e-15);
+  EXPECT_NEAR(m.centroid(0).y(), 5.0 / 6.0, 1e-15);
+}
+
+TEST(Mesh, DefectsAreNamed) {
+  const std::vector<Vec2> sq{{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  EXPECT_EQ(first_defect(sq, {{0, 1, 2, 3}}), "");
+  EXPECT_NE(first_defect(sq, {{0, 3, 2, 1}}).find("clockwise"), std::string::npos);
+  EXPECT_NE(first_defect(sq, {{0, 1, 1, 3}}).find("repeats vertex 1"), std::string::npos);
+  EXPECT_NE(first_defect(sq, {{0, 1, 7}}).find("out of range"), std::string::npos);
+  EXPECT_NE(first_defect(sq, {{0, 1}}).find("at least 3"), std::string::npos);
+  // bow-tie: positive net area is impossible for a symmetric bow-tie, so use an
+  // asymmetric one whose net signed area is positive
+  const std::vector<Vec2> bow{{0, 0}, {3, 0}, {0, 1}, {1, -0.2}};
+  EXPECT_NE(first_defect(bow, {{0, 1, 2, 3}}).find("self-intersecting"), std::string::npos);
+  // hanging vertex: one big square next to two half squares
+  const std::vector<Vec2> hv{{0, 0}, {1, 0}, {2, 0}, {0, 1}, {1, 1}, {2, 1}, {1, 0.5}, {2, 0.5}};
+  EXPECT_NE(first_defect(hv, {{0, 1, 4, 3}, {1, 2, 7, 6}, {6, 7, 5, 4}}).find("hanging"), std::string::npos);
+  // same edge twice in the same direction
+  EXPECT_NE(first_defect(sq, {{0, 1, 2}, {0, 1, 3}}).find("same direction"), std::string::npos);
+  // collinear points: zero area
+  EXPECT_NE(first_defect({{0, 0}, {1, 0}, {2, 0}}, {{0, 1, 2}}).find("zero area"), std::string::npos);
+}
+
+TEST(Mesh, ConstructorThrowsWithElement) {
+  try {
+    Mesh m({{0, 0}, {1, 0}, {1, 1}, {0, 1}}, {{0, 1, 2, 3}, {0, 3, 2}});
+    FAIL() << "expected MeshError";
+  } catch (const hemivem::MeshError& e) {
+    EXPECT_EQ(e.element(), 1);
+    EXPECT_NE(std::string(e.what()).find("element 1"), std::string::npos);
+  }
+}
+
+TEST(Mesh, TinyEdgesAreLegal) {
+  // a pentagon with an edge of 1e-13 next to a neighbour sharing it
+  const std::vector<Vec2> v{{0, 0}, {1, 0}, {1, 1}, {1 - 1e-13, 1}, {0, 1}, {2, 0}, {2, 1}};
+  EXPECT_EQ(first_defect(v, {{0, 1, 2, 3, 4}, {1, 5, 6, 2}}), "");
+}
