@@ -24,3 +24,21 @@ std::vector<std::filesystem::path> shared_meshes() {
 std::filesystem::path data_dir() { return HEMIVEM_TEST_DATA_DIR; }
 
 }  // namespace hemivem::test
+
+#include <Eigen/SparseCholesky>
+#include <gtest/gtest.h>
+
+namespace hemivem::test {
+
+Eigen::VectorXd solve(const LinearSystem& system) {
+  Eigen::SimplicialLLT<SparseMatrix> llt(system.A);
+  EXPECT_EQ(llt.info(), Eigen::Success) << "sparse Cholesky failed";
+  const Eigen::VectorXd uf = llt.solve(system.b);
+  return system.dofs.expand(uf);
+}
+
+DirichletCondition dirichlet_everywhere(const Mesh& mesh, VectorField u) {
+  return {mesh.boundary_edges(), std::move(u), {true, true}};
+}
+
+}  // namespace hemivem::test

@@ -15,3 +15,16 @@ std::vector<std::filesystem::path> shared_meshes();
 std::filesystem::path data_dir();
 
 }  // namespace hemivem::test
+
+#include <hemivem/assembly.hpp>
+
+namespace hemivem::test {
+
+/// Solves a reduced system with Eigen's sparse Cholesky and returns the full nodal
+/// displacement (prescribed values included). Fails the calling test on a failed factorization.
+Eigen::VectorXd solve(const LinearSystem& system);
+
+/// Dirichlet condition with value u on every boundary edge of the mesh.
+DirichletCondition dirichlet_everywhere(const Mesh& mesh, VectorField u);
+
+}  // namespace hemivem::test

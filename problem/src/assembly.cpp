@@ -1,0 +1,196 @@
+#include <hemivem/assembly.hpp>
+#include <hemivem/error.hpp>
+#include <hemivem/quadrature.hpp>
+
+#include <algorithm>
+#include <map>
+
+namespace hemivem {
+
+bool Segment::contains(const Vec2& p) const {
+  const Vec2 d = b - a;
+  const double len2 = d.squaredNorm();
+  if (len2 == 0.0) return (p - a).norm() <= tolerance;
+  const double t = std::clamp((p - a).dot(d) / len2, 0.0, 1.0);
+  return (p - (a + t * d)).norm() <= tolerance;
+}
+
+std::vector<int> select_boundary_edges(const Mesh& mesh, const std::function<bool(const Vec2&, const Vec2&)>& keep) {
+  std::vector<int> out;
+  for (int id : mesh.boundary_edges()) {
+    const auto& e = mesh.edge(id);
+    if (keep(mesh.vertex(e.v0), mesh.vertex(e.v1))) out.push_back(id);
+  }
+  return out;
+}
+
+std::vector<int> select_boundary_edges(const Mesh& mesh, const std::vector<Segment>& segments) {
+  return select_boundary_edges(mesh, [&](const Vec2& p, const Vec2& q) {
+    return std::any_of(segments.begin(), segments.end(), [&](const Segment& s) { return s.contains(p) && s.contains(q); });
+  });
+}
+
+Segment rectangle_side(const Rectangle& r, const std::string& side, double tolerance) {
+  if (side == "left") return {{r.x0, r.y0}, {r.x0, r.y1}, tolerance};
+  if (side == "right") return {{r.x1, r.y0}, {r.x1, r.y1}, tolerance};
+  if (side == "bottom") return {{r.x0, r.y0}, {r.x1, r.y0}, tolerance};
+  if (side == "top") return {{r.x0, r.y1}, {r.x1, r.y1}, tolerance};
+  throw InputError("unknown side '" + side + "'; expected left, right, bottom or top");
+}
+
+namespace {
+
+void gather(const Mesh& mesh, int e, std::vector<Vec2>& poly) {
+  poly.clear();
+  for (int v : mesh.element(e)) poly.push_back(mesh.vertex(v));
+}
+
+}  // namespace
+
+SparseMatrix assemble_stiffness(const Mesh& mesh, const MaterialTable& materials, Stabilization stabilization) {
+  const int ndof = 2 * mesh.num_vertices();
+  std::size_t nnz = 0;
+  for (int e = 0; e < mesh.num_elements(); ++e) nnz += static_cast<std::size_t>(4 * mesh.element_size(e) * mesh.element_size(e));
+  std::vector<Eigen::Triplet<double, int>> triplets;
+  triplets.reserve(nnz);
+
+  std::map<int, Lame> lame_by_region;
+  std::vector<Vec2> poly;
+  std::vector<int> dof;
+  for (int e = 0; e < mesh.num_elements(); ++e) {
+    auto it = lame_by_region.find(mesh.region(e));
+    if (it == lame_by_region.end()) it = lame_by_region.emplace(mesh.region(e), materials.lame(mesh.region(e))).first;
+    gather(mesh, e, poly);
+    const VemElement el = vem_element(poly, it->second, stabilization);
+    const Eigen::MatrixXd K = el.stiffness();
+    const auto verts = mesh.element(e);
+    dof.clear();
+    for (int v : verts) {
+      dof.push_back(2 * v);
+      dof.push_back(2 * v + 1);
+    }
+    for (std::size_t j = 0; j < dof.size(); ++j)
+      for (std::size_t i = 0; i < dof.size(); ++i)
+        triplets.emplace_back(dof[i], dof[j], K(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)));
+  }
+  SparseMatrix K(ndof, ndof);
+  K.setFromTriplets(triplets.begin(), triplets.end());
+  K.makeCompressed();
+  return K;
+}
+
+Eigen::VectorXd assemble_load(const Mesh& mesh, const VectorField& body_force, const std::vector<TractionLoad>& tractions) {
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(2 * mesh.num_vertices());
+  if (body_force) {
+    std::vector<Vec2> poly;
+    for (int e = 0; e < mesh.num_elements(); ++e) {
+      gather(mesh, e, poly);
+      const auto n = static_cast<Eigen::Index>(poly.size());
+      Vec2 mean = Vec2::Zero();
+      for (const auto& p : poly) mean += p;
+      mean /= static_cast<double>(n);
+      // F0 = int f0, M(c, d) = int f0_c (x - mean)_d
+      const Vec2 F0 = quadrature::integrate_polygon(poly, [&](const Vec2& x) { return body_force(x); });
+      const Eigen::Matrix2d M = quadrature::integrate_polygon(
+          poly, [&](const Vec2& x) -> Eigen::Matrix2d { return body_force(x) * (x - mean).transpose(); });
+      const Eigen::Matrix2Xd nu = vertex_normals(poly);
+      const double area = mesh.area(e);
+      const auto verts = mesh.element(e);
+      for (Eigen::Index i = 0; i < n; ++i) {
+        const Vec2 bi = F0 / static_cast<double>(n) + M * nu.col(i) / area;
+        f(2 * verts[static_cast<std::size_t>(i)]) += bi.x();
+        f(2 * verts[static_cast<std::size_t>(i)] + 1) += bi.y();
+      }
+    }
+  }
+  for (const auto& load : tractions) {
+    if (!load.traction) throw InputError("a traction load has no traction function");
+    for (int id : load.edges) {
+      if (id < 0 || id >= mesh.num_edges()) throw InputError("traction edge id " + std::to_string(id) + " out of range");
+      const auto& e = mesh.edge(id);
+      const Vec2 a = mesh.vertex(e.v0), b = mesh.vertex(e.v1);
+      const double len = (b - a).norm();
+      for (const auto& q : quadrature::segment_rule()) {
+        const Vec2 t = load.traction((1.0 - q.t) * a + q.t * b);
+        f.segment<2>(2 * e.v0) += q.weight * len * (1.0 - q.t) * t;
+        f.segment<2>(2 * e.v1) += q.weight * len * q.t * t;
+      }
+    }
+  }
+  return f;
+}
+
+Eigen::VectorXd DofMap::expand(const Eigen::VectorXd& free_values) const {
+  if (free_values.size() != num_free())
+    throw InputError("expected " + std::to_string(num_free()) + " free values, got " + std::to_string(free_values.size()));
+  Eigen::VectorXd u = prescribed;
+  for (int i = 0; i < num_free(); ++i) u(free_dofs[static_cast<std::size_t>(i)]) = free_values(i);
+  return u;
+}
+
+DofMap make_dof_map(const Mesh& mesh, const std::vector<DirichletCondition>& dirichlet) {
+  const int ndof = 2 * mesh.num_vertices();
+  DofMap map;
+  map.prescribed = Eigen::VectorXd::Zero(ndof);
+  std::vector<char> fixed(static_cast<std::size_t>(ndof), 0);
+  for (const auto& bc : dirichlet) {
+    for (int id : bc.edges) {
+      if (id < 0 || id >= mesh.num_edges()) throw InputError("Dirichlet edge id " + std::to_string(id) + " out of range");
+      const auto& e = mesh.edge(id);
+      for (int v : {e.v0, e.v1}) {
+        const Vec2 value = bc.value ? bc.value(mesh.vertex(v)) : Vec2::Zero();
+        for (int c = 0; c < 2; ++c) {
+          if (!bc.fix[static_cast<std::size_t>(c)]) continue;
+          fixed[static_cast<std::size_t>(2 * v + c)] = 1;
+          map.prescribed(2 * v + c) = value(c);
+        }
+      }
+    }
+  }
+  map.free_index.assign(static_cast<std::size_t>(ndof), -1);
+  for (int d = 0; d < ndof; ++d) {
+    if (fixed[static_cast<std::size_t>(d)]) continue;
+    map.free_index[static_cast<std::size_t>(d)] = static_cast<int>(map.free_dofs.size());
+    map.free_dofs.push_back(d);
+  }
+  return map;
+}
+
+LinearSystem assemble(const ElasticityProblem& problem) {
+  if (!problem.mesh) throw InputError("the elasticity problem has no mesh");
+  const Mesh& mesh = *problem.mesh;
+  LinearSystem sys;
+  sys.dofs = make_dof_map(mesh, problem.dirichlet);
+  const SparseMatrix K = assemble_stiffness(mesh, problem.materials, problem.stabilization);
+  const Eigen::VectorXd f = assemble_load(mesh, problem.body_force, problem.tractions);
+
+  // Selection P (free x all): A = P K P^T, b = P (f - K u_prescribed).
+  SparseMatrix P(sys.dofs.num_free(), sys.dofs.num_dofs());
+  std::vector<Eigen::Triplet<double, int>> t;
+  t.reserve(sys.dofs.free_dofs.size());
+  for (int i = 0; i < sys.dofs.num_free(); ++i) t.emplace_back(i, sys.dofs.free_dofs[static_cast<std::size_t>(i)], 1.0);
+  P.setFromTriplets(t.begin(), t.end());
+  sys.A = P * K * P.transpose();
+  sys.A.makeCompressed();
+  sys.b = P * (f - K * sys.dofs.prescribed);
+  return sys;
+}
+
+std::vector<LinearField> project_solution(const Mesh& mesh, const Eigen::VectorXd& u) {
+  if (u.size() != 2 * mesh.num_vertices())
+    throw InputError("displacement vector has " + std::to_string(u.size()) + " entries, expected " +
+                     std::to_string(2 * mesh.num_vertices()));
+  std::vector<LinearField> out(static_cast<std::size_t>(mesh.num_elements()));
+  std::vector<Vec2> poly;
+  Eigen::VectorXd local;
+  for (int e = 0; e < mesh.num_elements(); ++e) {
+    gather(mesh, e, poly);
+    const auto verts = mesh.element(e);
+    local.resize(2 * static_cast<Eigen::Index>(verts.size()));
+    for (std::size_t i = 0; i < verts.size(); ++i) local.segment<2>(2 * static_cast<Eigen::Index>(i)) = u.segment<2>(2 * verts[i]);
+    out[static_cast<std::size_t>(e)] = project_p1(poly, local);
+  }
+  return out;
+}
+
+}  // namespace hemivem
