@@ -1,0 +1,89 @@
+// The contract of a sparse symmetric positive definite factorization engine.
+//
+// Call sequence (as Eigen's sparse solvers and Ceres' SparseCholesky):
+//   analyze(A)     symbolic analysis; reused by factorize() while the pattern holds
+//   factorize(A)   numeric factorization (repeatable for new values, same pattern)
+//   solve(B, X)    X = A^{-1} B for many right-hand sides at once
+// and, for static condensation (DESIGN §3):
+//   schur_complement(A, block1, S)   dense S = A11 - A12 A22^{-1} A21 for the index set
+//                                    block1, at about the cost of one factorization, and
+//                                    a factorization of A22 kept for
+//   solve_interior(B2, X2)           X2 = A22^{-1} B2 (the rest of the solve).
+//
+// Algorithmic outcomes are statuses with a human message; programming and setup errors
+// (wrong sizes, calls out of order) are statuses too (invalid_input / not_ready), never
+// prints or exits. Every engine must detect a matrix that is not positive definite.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace hemivem {
+
+using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+
+enum class FactorizationStatus {
+  success,
+  not_positive_definite,  ///< the matrix is not symmetric positive definite
+  numerical_failure,      ///< the engine failed for another numerical reason
+  invalid_input,          ///< sizes, pattern or index sets do not fit
+  not_ready,              ///< a call out of order (e.g. solve before factorize)
+  out_of_memory,
+};
+std::string to_string(FactorizationStatus status);
+
+struct FactorizationResult {
+  FactorizationStatus status = FactorizationStatus::success;
+  std::string message;
+  bool ok() const noexcept { return status == FactorizationStatus::success; }
+  static FactorizationResult good() { return {}; }
+};
+
+/// One flat options struct (as Ceres' Solver::Options). `engine` names the backend.
+struct FactorizationOptions {
+  std::string engine = "eigen";  ///< eigen | cholmod | mumps | mumps-mpi (case-insensitive)
+  /// Forwarded to engines that print diagnostics; hemivem itself never prints.
+  int verbosity = 0;
+  /// Threads an engine may use where it has such a setting (0: engine default).
+  int threads = 0;
+  /// Returns false and fills *error naming the offending field when the options cannot be used.
+  bool is_valid(std::string* error) const;
+};
+
+/// A sparse symmetric positive definite factorization. The matrix is passed with both
+/// triangles stored (as hemivem assembles it); an engine reads what it needs.
+class SparseFactorization {
+ public:
+  virtual ~SparseFactorization() = default;
+
+  /// The engine's name, as accepted by FactorizationOptions::engine.
+  virtual std::string name() const = 0;
+
+  /// Symbolic analysis of the pattern of A (square, symmetric pattern).
+  virtual FactorizationResult analyze(const SparseMatrix& A) = 0;
+  /// Numeric factorization; runs analyze() first when the pattern differs from the one
+  /// analysed (or none was).
+  virtual FactorizationResult factorize(const SparseMatrix& A) = 0;
+  /// X = A^{-1} B after factorize(); B has A.rows() rows and any number of columns.
+  virtual FactorizationResult solve(const Eigen::MatrixXd& B, Eigen::MatrixXd* X) const = 0;
+
+  /// Dense Schur complement S = A11 - A12 A22^{-1} A21 of the rows/columns `block1`
+  /// (distinct indices into A, in the order S is wanted), keeping a factorization of
+  /// A22 (the remaining indices in increasing order) for solve_interior().
+  virtual FactorizationResult schur_complement(const SparseMatrix& A, std::span<const int> block1,
+                                               Eigen::MatrixXd* S) = 0;
+  /// X2 = A22^{-1} B2 after schur_complement(); B2 has A.rows() - block1.size() rows,
+  /// ordered as the remaining indices in increasing order.
+  virtual FactorizationResult solve_interior(const Eigen::MatrixXd& B2, Eigen::MatrixXd* X2) const = 0;
+
+  /// Reciprocal condition estimate of the last factorized matrix where the engine
+  /// offers one (CHOLMOD's rcond, MUMPS' RINFOG); negative when it does not.
+  virtual double rcond_estimate() const { return -1.0; }
+};
+
+}  // namespace hemivem
