@@ -69,10 +69,18 @@ TEST(Mesh, DefectsAreNamed) {
   EXPECT_NE(first_defect(sq, {{0, 1, 1, 3}}).find("repeats vertex 1"), std::string::npos);
   EXPECT_NE(first_defect(sq, {{0, 1, 7}}).find("out of range"), std::string::npos);
   EXPECT_NE(first_defect(sq, {{0, 1}}).find("at least 3"), std::string::npos);
-  // bow-tie: positive net area is impossible for a symmetric bow-tie, so use an
-  // asymmetric one whose net signed area is positive
+  // bow-ties are self-intersecting whatever the sign of their net area
   const std::vector<Vec2> bow{{0, 0}, {3, 0}, {0, 1}, {1, -0.2}};
   EXPECT_NE(first_defect(bow, {{0, 1, 2, 3}}).find("self-intersecting"), std::string::npos);
+  EXPECT_NE(first_defect(bow, {{0, 3, 2, 1}}).find("self-intersecting"), std::string::npos);
+  const std::vector<Vec2> sym_bow{{0, 0}, {1, 1}, {1, 0}, {0, 1}};
+  EXPECT_NE(first_defect(sym_bow, {{0, 1, 2, 3}}).find("self-intersecting"), std::string::npos);
+  // a crack: the second square uses its own copies of vertices 1 and 4
+  const std::vector<Vec2> crack{{0, 0}, {1, 0}, {2, 0}, {0, 1}, {1, 1}, {2, 1}, {1, 0}, {1, 1}};
+  EXPECT_NE(first_defect(crack, {{0, 1, 4, 3}, {6, 2, 5, 7}}).find("coincides with vertex 1"), std::string::npos);
+  // a clockwise sliver is reported with a readable area
+  const std::vector<Vec2> sliver{{0, 0}, {1, 1e-300}, {2, 0}};
+  EXPECT_NE(first_defect(sliver, {{0, 1, 2}}).find("clockwise (signed area -1e-300)"), std::string::npos);
   // hanging vertex: one big square next to two half squares
   const std::vector<Vec2> hv{{0, 0}, {1, 0}, {2, 0}, {0, 1}, {1, 1}, {2, 1}, {1, 0.5}, {2, 0.5}};
   EXPECT_NE(first_defect(hv, {{0, 1, 4, 3}, {1, 2, 7, 6}, {6, 7, 5, 4}}).find("hanging"), std::string::npos);

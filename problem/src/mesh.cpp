@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <map>
 #include <sstream>
 #include <unordered_map>
 
@@ -81,8 +83,8 @@ void find_hanging_vertices(const std::vector<Vec2>& vertices,
           if (t <= 1e-6 || t >= 1.0 - 1e-6) continue;
           const double dist = std::abs(d.x() * p.y() - d.y() * p.x()) / len;
           if (dist > tol) continue;
-          out.push_back({b[2], "vertex " + std::to_string(v) + " " + fmt_point(vertices[v]) +
-                                   " lies inside its edge " + std::to_string(b[0]) + "-" +
+          out.push_back({b[2], "has vertex " + std::to_string(v) + " " + fmt_point(vertices[v]) +
+                                   " inside its boundary edge " + std::to_string(b[0]) + "-" +
                                    std::to_string(b[1]) + " (hanging vertex: the mesh is not conforming)"});
           if (out.size() >= max_defects) return;
         }
@@ -149,26 +151,59 @@ std::vector<MeshDefect> find_mesh_defects(const std::vector<Vec2>& vertices,
       out.push_back({ie, "repeats vertex " + std::to_string(*it)});
       continue;
     }
-    poly.clear();
-    for (int v : el) poly.push_back(vertices[v]);
-    const double a = signed_area(poly);
-    if (a < 0.0) {
-      out.push_back({ie, "is clockwise (signed area " + std::to_string(a) + "); elements must be counter-clockwise"});
-      continue;
-    }
-    if (a == 0.0) {
-      out.push_back({ie, "has zero area"});
-      continue;
-    }
+    // Exact predicates throughout: collinear -> zero area; then simplicity; then the
+    // orientation of the (simple) polygon.
     cgal_poly.clear();
-    for (const auto& p : poly) cgal_poly.emplace_back(p.x(), p.y());
+    for (int v : el) cgal_poly.emplace_back(vertices[v].x(), vertices[v].y());
+    bool all_collinear = true;
+    for (std::size_t i = 2; i < cgal_poly.size() && all_collinear; ++i)
+      all_collinear = CGAL::collinear(cgal_poly[0], cgal_poly[1], cgal_poly[i]) &&
+                      CGAL::collinear(cgal_poly[i - 1], cgal_poly[i], cgal_poly[0]);
+    if (all_collinear) {
+      out.push_back({ie, "has zero area (all its vertices are collinear)"});
+      continue;
+    }
     if (!CGAL::is_simple_2(cgal_poly.begin(), cgal_poly.end(), Kernel())) {
       out.push_back({ie, "is self-intersecting (its boundary crosses or touches itself)"});
+      continue;
+    }
+    if (CGAL::orientation_2(cgal_poly.begin(), cgal_poly.end(), Kernel()) != CGAL::COUNTERCLOCKWISE) {
+      poly.clear();
+      for (int v : el) poly.push_back(vertices[v]);
+      char area[32];
+      std::snprintf(area, sizeof area, "%.3g", signed_area(poly));
+      out.push_back({ie, std::string("is clockwise (signed area ") + area + "); elements must be counter-clockwise"});
       continue;
     }
     element_ok[e] = 1;
   }
   if (full() || !out.empty()) return out;
+
+  // Distinct vertices used by elements must not sit at the same point (that would be a
+  // crack: two boundaries on top of each other). Near-twins (e.g. 1e-13 apart) are legal.
+  {
+    std::vector<char> used(vertices.size(), 0);
+    std::vector<int> first_element(vertices.size(), -1);
+    for (std::size_t e = 0; e < elements.size(); ++e)
+      for (int v : elements[e]) {
+        used[static_cast<std::size_t>(v)] = 1;
+        if (first_element[static_cast<std::size_t>(v)] < 0) first_element[static_cast<std::size_t>(v)] = static_cast<int>(e);
+      }
+    std::vector<int> order;
+    for (std::size_t i = 0; i < vertices.size(); ++i)
+      if (used[i]) order.push_back(static_cast<int>(i));
+    std::sort(order.begin(), order.end(), [&](int a, int b) {
+      return std::make_pair(vertices[a].x(), vertices[a].y()) < std::make_pair(vertices[b].x(), vertices[b].y());
+    });
+    for (std::size_t i = 1; i < order.size() && !full(); ++i) {
+      const int a = std::min(order[i - 1], order[i]), b = std::max(order[i - 1], order[i]);
+      if (vertices[a] == vertices[b])
+        out.push_back({first_element[static_cast<std::size_t>(b)],
+                       "uses vertex " + std::to_string(b) + " " + fmt_point(vertices[b]) + ", which coincides with vertex " +
+                           std::to_string(a) + " (duplicate vertices: the mesh is not conforming)"});
+    }
+    if (!out.empty()) return out;
+  }
 
   // Conformity: each undirected edge at most twice, and then in opposite directions.
   struct Use {
@@ -212,7 +247,9 @@ std::vector<MeshDefect> find_mesh_defects(const std::vector<Vec2>& vertices,
   std::vector<std::array<int, 3>> boundary;
   for (const auto& [key, u] : uses)
     if (u.count == 1) boundary.push_back({u.from, u.to, u.element});
-  std::sort(boundary.begin(), boundary.end(), [](const auto& x, const auto& y) { return x[2] < y[2]; });
+  std::sort(boundary.begin(), boundary.end(), [](const auto& x, const auto& y) {
+    return std::tie(x[2], x[0], x[1]) < std::tie(y[2], y[0], y[1]);
+  });
   find_hanging_vertices(vertices, boundary, out, max_defects);
   return out;
 }
