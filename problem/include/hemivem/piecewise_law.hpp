@@ -1,0 +1,67 @@
+// Piecewise-polynomial contact laws defined by breakpoints, with their DC split.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <hemivem/contact_law.hpp>
+
+namespace hemivem {
+
+/// Coefficients of a polynomial in r, lowest degree first: c0 + c1 r + c2 r^2 + ...
+using Polynomial = std::vector<double>;
+
+/// A law given on the pieces (-inf, b0], (b0, b1], ..., (b_{m-1}, +inf) of sorted
+/// breakpoints b0 < ... < b_{m-1} by the two convex parts j1 and j2 (j = j1 - j2).
+/// Pieces are polynomials of degree <= 3. Validated when built: finite coefficients,
+/// strictly increasing breakpoints, continuity of j1 and j2 (hence j) at every breakpoint,
+/// convexity of j1 and j2 (non-negative second derivative on every piece, no downward
+/// jump of the derivative at a breakpoint). Violations throw InputError naming the
+/// breakpoint or piece.
+class PiecewisePolynomialLaw final : public ContactLaw {
+ public:
+  PiecewisePolynomialLaw(std::string name, std::vector<double> breakpoints, std::vector<Polynomial> j1,
+                         std::vector<Polynomial> j2);
+  /// The same from the potential j and the first convex part j1 (j2 = j1 - j).
+  static PiecewisePolynomialLaw from_potential(std::string name, std::vector<double> breakpoints,
+                                               std::vector<Polynomial> j, std::vector<Polynomial> j1);
+
+  std::string name() const override { return name_; }
+  double value(LawPart part, double r) const override;
+  double derivative(LawPart part, double r, int side) const override;
+  double second_derivative(LawPart part, double r, int side) const override;
+  std::vector<double> breakpoints() const override { return breaks_; }
+  double alpha() const override { return alpha_; }
+  using ContactLaw::value;
+
+  /// The pieces of a part (size breakpoints().size() + 1).
+  std::vector<Polynomial> pieces(LawPart part) const;
+
+ private:
+  std::size_t piece(double r, int side) const;
+  const Polynomial& poly(LawPart part, std::size_t k) const;
+  std::string name_;
+  std::vector<double> breaks_;
+  std::vector<Polynomial> j1_, j2_, j_;
+  double alpha_ = 0.0;
+};
+
+/// The paper's law (4.7) with the DC split (4.8): alpha_j = 20.
+std::shared_ptr<const ContactLaw> paper_law();
+/// Linear springs: j = k r^2 / 2 for every r (k_nu = k r), convex.
+std::shared_ptr<const ContactLaw> linear_law(double stiffness = 100.0);
+/// A saw-tooth adhesive law: j' = k r on (0, r1], drops to `residual` at r1 (a concave kink
+/// in j, so alpha_j = +inf), and stiffens again by k (r - r2) beyond r2.
+std::shared_ptr<const ContactLaw> sawtooth_law(double stiffness = 100.0, double r1 = 0.01, double residual = 0.2,
+                                               double r2 = 0.02);
+/// j = 0: pure Signorini contact.
+std::shared_ptr<const ContactLaw> zero_law();
+
+/// The shipped laws by name: paper, linear, sawtooth, zero.
+const std::vector<std::string>& contact_law_names();
+/// A shipped law by name (case-insensitive); InputError listing the names otherwise.
+std::shared_ptr<const ContactLaw> make_contact_law(std::string_view name);
+
+}  // namespace hemivem

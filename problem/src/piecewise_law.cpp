@@ -1,0 +1,229 @@
+#include <hemivem/error.hpp>
+#include <hemivem/piecewise_law.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace hemivem {
+
+namespace {
+
+double eval(const Polynomial& p, double r) {
+  double v = 0.0;
+  for (auto it = p.rbegin(); it != p.rend(); ++it) v = v * r + *it;
+  return v;
+}
+
+Polynomial differentiate(const Polynomial& p) {
+  Polynomial d;
+  for (std::size_t k = 1; k < p.size(); ++k) d.push_back(static_cast<double>(k) * p[k]);
+  return d;
+}
+
+Polynomial subtract(const Polynomial& a, const Polynomial& b) {
+  Polynomial c(std::max(a.size(), b.size()), 0.0);
+  for (std::size_t k = 0; k < a.size(); ++k) c[k] += a[k];
+  for (std::size_t k = 0; k < b.size(); ++k) c[k] -= b[k];
+  return c;
+}
+
+std::string num(double x) {
+  std::ostringstream s;
+  s.precision(12);
+  s << x;
+  return s.str();
+}
+
+std::string part_name(LawPart p) { return p == LawPart::j ? "j" : (p == LawPart::j1 ? "j1" : "j2"); }
+
+// Smallest value of the second derivative of p on the interval (lo, hi) (may be +-inf):
+// exact for degree <= 3, where p'' is linear.
+double min_second_derivative(const Polynomial& p, double lo, double hi) {
+  const Polynomial d2 = differentiate(differentiate(p));
+  if (d2.empty()) return 0.0;
+  const double c0 = d2[0], c1 = d2.size() > 1 ? d2[1] : 0.0;
+  auto at = [&](double r) {
+    if (std::isinf(r)) return c1 == 0.0 ? c0 : (c1 * r > 0 ? std::numeric_limits<double>::infinity()
+                                                            : -std::numeric_limits<double>::infinity());
+    return c0 + c1 * r;
+  };
+  return std::min(at(lo), at(hi));
+}
+
+}  // namespace
+
+PiecewisePolynomialLaw::PiecewisePolynomialLaw(std::string name, std::vector<double> breakpoints,
+                                               std::vector<Polynomial> j1, std::vector<Polynomial> j2)
+    : name_(std::move(name)), breaks_(std::move(breakpoints)), j1_(std::move(j1)), j2_(std::move(j2)) {
+  const std::string where = "contact law '" + name_ + "'";
+  const std::size_t m = breaks_.size() + 1;
+  if (j1_.size() != m || j2_.size() != m)
+    throw InputError(std::to_string(breaks_.size()) + " breakpoint(s) need " + std::to_string(m) +
+                         " pieces for j1 and for j2; got " + std::to_string(j1_.size()) + " and " +
+                         std::to_string(j2_.size()),
+                     where);
+  for (std::size_t k = 0; k < breaks_.size(); ++k) {
+    if (!std::isfinite(breaks_[k])) throw InputError("breakpoint " + std::to_string(k) + " is not finite", where);
+    if (k > 0 && !(breaks_[k] > breaks_[k - 1]))
+      throw InputError("breakpoints must increase strictly: b" + std::to_string(k) + " = " + num(breaks_[k]) +
+                           " after b" + std::to_string(k - 1) + " = " + num(breaks_[k - 1]),
+                       where);
+  }
+  for (LawPart part : {LawPart::j1, LawPart::j2}) {
+    for (std::size_t k = 0; k < m; ++k) {
+      const Polynomial& p = poly(part, k);
+      if (p.size() > 4)
+        throw InputError(part_name(part) + " piece " + std::to_string(k) + " has degree " + std::to_string(p.size() - 1) +
+                             "; pieces of degree <= 3 are supported",
+                         where);
+      for (double c : p)
+        if (!std::isfinite(c))
+          throw InputError(part_name(part) + " piece " + std::to_string(k) + " has a non-finite coefficient", where);
+    }
+  }
+  j_.resize(m);
+  for (std::size_t k = 0; k < m; ++k) j_[k] = subtract(j1_[k], j2_[k]);
+
+  auto tol = [](double a, double b) { return 1e-10 * std::max({1.0, std::abs(a), std::abs(b)}); };
+  for (LawPart part : {LawPart::j1, LawPart::j2}) {
+    for (std::size_t k = 0; k < m; ++k) {
+      const double lo = k == 0 ? -std::numeric_limits<double>::infinity() : breaks_[k - 1];
+      const double hi = k + 1 == m ? std::numeric_limits<double>::infinity() : breaks_[k];
+      const double c = min_second_derivative(poly(part, k), lo, hi);
+      if (c < -1e-12)
+        throw InputError(part_name(part) + " is not convex on piece " + std::to_string(k) + " (" + num(lo) + ", " +
+                             num(hi) + "]: its second derivative reaches " + num(c),
+                         where);
+    }
+    for (std::size_t k = 0; k < breaks_.size(); ++k) {
+      const double b = breaks_[k];
+      const double left = eval(poly(part, k), b), right = eval(poly(part, k + 1), b);
+      if (std::abs(left - right) > tol(left, right))
+        throw InputError(part_name(part) + " is not continuous at breakpoint " + std::to_string(k) + " (r = " + num(b) +
+                             "): " + num(left) + " on the left, " + num(right) + " on the right",
+                         where);
+      const double dl = eval(differentiate(poly(part, k)), b), dr = eval(differentiate(poly(part, k + 1)), b);
+      if (dr < dl - tol(dl, dr))
+        throw InputError(part_name(part) + " is not convex at breakpoint " + std::to_string(k) + " (r = " + num(b) +
+                             "): its derivative drops from " + num(dl) + " to " + num(dr),
+                         where);
+    }
+  }
+  // alpha_j: the largest negative curvature of j on the pieces, +inf at a concave kink.
+  for (std::size_t k = 0; k < m; ++k) {
+    const double lo = k == 0 ? -std::numeric_limits<double>::infinity() : breaks_[k - 1];
+    const double hi = k + 1 == m ? std::numeric_limits<double>::infinity() : breaks_[k];
+    alpha_ = std::max(alpha_, -min_second_derivative(j_[k], lo, hi));
+  }
+  for (std::size_t k = 0; k < breaks_.size(); ++k) {
+    const double dl = eval(differentiate(j_[k]), breaks_[k]), dr = eval(differentiate(j_[k + 1]), breaks_[k]);
+    if (dr < dl - tol(dl, dr)) alpha_ = std::numeric_limits<double>::infinity();
+  }
+  if (alpha_ < 1e-12) alpha_ = 0.0;
+}
+
+PiecewisePolynomialLaw PiecewisePolynomialLaw::from_potential(std::string name, std::vector<double> breakpoints,
+                                                              std::vector<Polynomial> j, std::vector<Polynomial> j1) {
+  if (j.size() != j1.size())
+    throw InputError("j has " + std::to_string(j.size()) + " pieces and j1 " + std::to_string(j1.size()),
+                     "contact law '" + name + "'");
+  std::vector<Polynomial> j2(j.size());
+  for (std::size_t k = 0; k < j.size(); ++k) j2[k] = subtract(j1[k], j[k]);
+  return PiecewisePolynomialLaw(std::move(name), std::move(breakpoints), std::move(j1), std::move(j2));
+}
+
+std::size_t PiecewisePolynomialLaw::piece(double r, int side) const {
+  // piece k covers (b_{k-1}, b_k]; at a breakpoint the side decides.
+  const auto it = side < 0 ? std::lower_bound(breaks_.begin(), breaks_.end(), r)
+                           : std::upper_bound(breaks_.begin(), breaks_.end(), r);
+  return static_cast<std::size_t>(it - breaks_.begin());
+}
+
+const Polynomial& PiecewisePolynomialLaw::poly(LawPart part, std::size_t k) const {
+  switch (part) {
+    case LawPart::j1:
+      return j1_[k];
+    case LawPart::j2:
+      return j2_[k];
+    default:
+      return j_[k];
+  }
+}
+
+double PiecewisePolynomialLaw::value(LawPart part, double r) const { return eval(poly(part, piece(r, -1)), r); }
+
+double PiecewisePolynomialLaw::derivative(LawPart part, double r, int side) const {
+  return eval(differentiate(poly(part, piece(r, side))), r);
+}
+
+double PiecewisePolynomialLaw::second_derivative(LawPart part, double r, int side) const {
+  return eval(differentiate(differentiate(poly(part, piece(r, side)))), r);
+}
+
+std::vector<Polynomial> PiecewisePolynomialLaw::pieces(LawPart part) const {
+  return part == LawPart::j1 ? j1_ : (part == LawPart::j2 ? j2_ : j_);
+}
+
+std::shared_ptr<const ContactLaw> paper_law() {
+  // (4.7): j = 0 (r <= 0), 30 r^2 (0, 0.01], 0.8 r - 10 r^2 - 0.004 (0.01, 0.02), 30 r^2 - 0.8 r + 0.012
+  // (4.8): j1 = 10 r^2, 40 r^2, 0.8 r - 0.004, 40 r^2 - 0.8 r + 0.012; hence j2 = 10 r^2.
+  return std::make_shared<PiecewisePolynomialLaw>(PiecewisePolynomialLaw::from_potential(
+      "paper", {0.0, 0.01, 0.02}, {{0.0}, {0.0, 0.0, 30.0}, {-0.004, 0.8, -10.0}, {0.012, -0.8, 30.0}},
+      {{0.0, 0.0, 10.0}, {0.0, 0.0, 40.0}, {-0.004, 0.8}, {0.012, -0.8, 40.0}}));
+}
+
+std::shared_ptr<const ContactLaw> linear_law(double k) {
+  if (!(k >= 0.0) || !std::isfinite(k)) throw InputError("spring stiffness " + num(k) + " must be finite and >= 0", "contact law 'linear'");
+  return std::make_shared<PiecewisePolynomialLaw>("linear", std::vector<double>{},
+                                                  std::vector<Polynomial>{{0.0, 0.0, 0.5 * k}},
+                                                  std::vector<Polynomial>{{0.0}});
+}
+
+std::shared_ptr<const ContactLaw> sawtooth_law(double k, double r1, double residual, double r2) {
+  const std::string where = "contact law 'sawtooth'";
+  if (!(k > 0.0) || !(r1 > 0.0) || !(r2 > r1) || !(residual >= 0.0) || !(residual < k * r1))
+    throw InputError("needs k > 0, 0 < r1 < r2 and 0 <= residual < k r1", where);
+  // j = 0 (r <= 0); k r^2 / 2 on (0, r1]; k r1^2/2 + residual (r - r1) on (r1, r2];
+  // then + k (r - r2)^2 / 2. j2 = (k r1 - residual) (r - r1)^+ absorbs the concave kink.
+  const double drop = k * r1 - residual;
+  const double c1 = 0.5 * k * r1 * r1;
+  const Polynomial j_mid{c1 - residual * r1, residual};
+  const Polynomial j_last{c1 - residual * r1 + 0.5 * k * r2 * r2, residual - k * r2, 0.5 * k};
+  const Polynomial j2_after{-drop * r1, drop};
+  std::vector<Polynomial> j{{0.0}, {0.0, 0.0, 0.5 * k}, j_mid, j_last};
+  std::vector<Polynomial> j2{{0.0}, {0.0}, j2_after, j2_after};
+  std::vector<Polynomial> j1(4);
+  for (std::size_t i = 0; i < 4; ++i) {
+    j1[i].assign(std::max(j[i].size(), j2[i].size()), 0.0);
+    for (std::size_t c = 0; c < j[i].size(); ++c) j1[i][c] += j[i][c];
+    for (std::size_t c = 0; c < j2[i].size(); ++c) j1[i][c] += j2[i][c];
+  }
+  return std::make_shared<PiecewisePolynomialLaw>("sawtooth", std::vector<double>{0.0, r1, r2}, j1, j2);
+}
+
+std::shared_ptr<const ContactLaw> zero_law() {
+  return std::make_shared<PiecewisePolynomialLaw>("zero", std::vector<double>{}, std::vector<Polynomial>{{0.0}},
+                                                  std::vector<Polynomial>{{0.0}});
+}
+
+const std::vector<std::string>& contact_law_names() {
+  static const std::vector<std::string> names{"paper", "linear", "sawtooth", "zero"};
+  return names;
+}
+
+std::shared_ptr<const ContactLaw> make_contact_law(std::string_view name) {
+  std::string s(name);
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (s == "paper") return paper_law();
+  if (s == "linear") return linear_law();
+  if (s == "sawtooth") return sawtooth_law();
+  if (s == "zero") return zero_law();
+  std::string list;
+  for (const auto& n : contact_law_names()) list += (list.empty() ? "" : ", ") + n;
+  throw InputError("unknown contact law '" + std::string(name) + "'; expected one of: " + list);
+}
+
+}  // namespace hemivem
