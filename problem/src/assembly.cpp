@@ -159,6 +159,18 @@ DofMap make_dof_map(const Mesh& mesh, const std::vector<DirichletCondition>& dir
 LinearSystem assemble(const ElasticityProblem& problem) {
   if (!problem.mesh) throw InputError("the elasticity problem has no mesh");
   const Mesh& mesh = *problem.mesh;
+  // The body must be held: Gamma_1 (edges with prescribed displacement) of positive length.
+  double held = 0.0;
+  std::size_t held_edges = 0;
+  for (const auto& bc : problem.dirichlet) {
+    held_edges += bc.edges.size();
+    for (int id : bc.edges)
+      if (id >= 0 && id < mesh.num_edges()) held += mesh.edge_length(id);
+  }
+  if (held_edges == 0)
+    throw InputError("the body is not held: no boundary edge has a prescribed displacement (Gamma_1 is empty)");
+  if (!(held > 0.0))
+    throw InputError("the body is not held: the boundary with prescribed displacement (Gamma_1) has zero length");
   LinearSystem sys;
   sys.dofs = make_dof_map(mesh, problem.dirichlet);
   const SparseMatrix K = assemble_stiffness(mesh, problem.materials, problem.stabilization);

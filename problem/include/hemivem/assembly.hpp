@@ -91,7 +91,8 @@ Eigen::VectorXd assemble_load(const Mesh& mesh, const VectorField& body_force,
 /// The degrees-of-freedom map of a problem's Dirichlet conditions.
 DofMap make_dof_map(const Mesh& mesh, const std::vector<DirichletCondition>& dirichlet);
 
-/// Assembles the reduced system of a problem.
+/// Assembles the reduced system of a problem. Throws InputError, before any assembly, when
+/// the body is not held (no Dirichlet edge, or Dirichlet edges of zero total length).
 LinearSystem assemble(const ElasticityProblem& problem);
 
 /// Per element: the P1 projection Pi u_h of the full nodal vector u.

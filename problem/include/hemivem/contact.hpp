@@ -1,0 +1,76 @@
+// The contact boundary Gamma_3 and the static condensation onto its normal displacements
+// (DESIGN §1 and §3).
+#pragma once
+
+#include <Eigen/Core>
+
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include <hemivem/assembly.hpp>
+#include <hemivem/mesh.hpp>
+#include <hemivem/reduced_problem.hpp>
+#include <hemivem/sparse_factorization.hpp>
+
+namespace hemivem {
+
+/// The contact nodes of Gamma_3 with their outward unit normals, nodal weights and gaps.
+struct ContactBoundary {
+  std::vector<int> edges;   ///< boundary edge ids forming Gamma_3
+  std::vector<int> nodes;   ///< contact nodes (vertex ids), nodes with prescribed displacement excluded
+  std::vector<Vec2> normals;  ///< outward unit normal per contact node
+  Eigen::VectorXd weights;  ///< w_i: half the lengths of the Gamma_3 edges meeting at node i
+  Eigen::VectorXd gaps;     ///< g_i
+
+  int size() const noexcept { return static_cast<int>(nodes.size()); }
+  /// Normal displacements (N u)_i of a full nodal displacement vector.
+  Eigen::VectorXd normal_displacements(const Eigen::VectorXd& u) const;
+};
+
+/// Builds Gamma_3 from boundary edges. The normal of a node is the length-weighted mean of
+/// the outward normals of its Gamma_3 edges (exact on each straight segment; at a corner
+/// of a polyline it bisects the two normals). Nodes whose displacement is prescribed (on
+/// Gamma_1) are excluded; a node with only one prescribed component is an InputError.
+/// `gap` gives g at a node position (constant gaps: a lambda returning a constant); a
+/// negative or non-finite gap is an InputError.
+ContactBoundary make_contact_boundary(const Mesh& mesh, const std::vector<int>& edges, const DofMap& dofs,
+                                      const std::function<double(const Vec2&)>& gap);
+
+/// The condensed problem and what back-substitution needs.
+class Condensation {
+ public:
+  /// Rotates the contact-node dofs of `system` to (normal, tangential) components, orders
+  /// the normal ones first and computes S, c with `factorization.schur_complement`; the
+  /// factorization keeps A22 for back_substitute(). Throws NumericalError with the
+  /// engine's message when the factorization fails (e.g. not positive definite).
+  Condensation(const LinearSystem& system, const ContactBoundary& boundary,
+               std::unique_ptr<SparseFactorization> factorization, std::shared_ptr<const ContactLaw> law,
+               ConstraintKind constraint);
+
+  const ReducedProblem& reduced() const noexcept { return reduced_; }
+  /// lambda_min(S - alpha_j W): F is strongly convex when positive; -inf for a law with a
+  /// concave kink.
+  double uniqueness_margin() const noexcept { return margin_; }
+  /// Full nodal displacement (all 2*num_vertices dofs, prescribed values included) from
+  /// the normal displacements a of the contact nodes: u2 = A22^{-1} (b2 - A21 a).
+  Eigen::VectorXd back_substitute(const Eigen::VectorXd& a) const;
+  const SparseFactorization& factorization() const { return *factorization_; }
+
+ private:
+  DofMap dofs_;
+  std::unique_ptr<SparseFactorization> factorization_;
+  ReducedProblem reduced_;
+  double margin_ = 0.0;
+  std::vector<int> block1_;       // rotated free index of each contact normal
+  std::vector<int> block2_;       // remaining rotated free indices, increasing
+  std::vector<int> contact_free_x_, contact_free_y_;  // free index of the x/y dof per contact node
+  std::vector<Vec2> normals_;
+  SparseMatrix A21_;              // block2 x block1 of the rotated matrix
+  Eigen::VectorXd b2_;
+};
+
+/// lambda_min(S - alpha W) for a dense symmetric S and weights w; -inf when alpha is +inf.
+double uniqueness_margin(const Eigen::MatrixXd& S, const Eigen::VectorXd& w, double alpha);
+
+}  // namespace hemivem

@@ -1,0 +1,162 @@
+#include <hemivem/contact.hpp>
+#include <hemivem/error.hpp>
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+
+namespace hemivem {
+
+Eigen::VectorXd ContactBoundary::normal_displacements(const Eigen::VectorXd& u) const {
+  Eigen::VectorXd a(size());
+  for (int i = 0; i < size(); ++i) a(i) = normals[static_cast<std::size_t>(i)].dot(u.segment<2>(2 * nodes[static_cast<std::size_t>(i)]));
+  return a;
+}
+
+ContactBoundary make_contact_boundary(const Mesh& mesh, const std::vector<int>& edges, const DofMap& dofs,
+                                      const std::function<double(const Vec2&)>& gap) {
+  ContactBoundary cb;
+  cb.edges = edges;
+  std::map<int, std::pair<Vec2, double>> acc;  // vertex -> (sum of m_e, sum of |e|/2)
+  for (int id : edges) {
+    if (id < 0 || id >= mesh.num_edges()) throw InputError("contact edge id " + std::to_string(id) + " out of range");
+    const MeshEdge& e = mesh.edge(id);
+    if (!e.on_boundary()) throw InputError("contact edge " + std::to_string(id) + " is not on the boundary");
+    const Vec2 d = mesh.vertex(e.v1) - mesh.vertex(e.v0);
+    const Vec2 m(d.y(), -d.x());  // outward (the edge runs counter-clockwise in its element), length |e|
+    for (int v : {e.v0, e.v1}) {
+      auto& [sum, w] = acc[v];
+      if (w == 0.0) sum = Vec2::Zero();
+      sum += m;
+      w += 0.5 * d.norm();
+    }
+  }
+  for (const auto& [v, entry] : acc) {
+    const bool fx = dofs.free_index[static_cast<std::size_t>(2 * v)] < 0;
+    const bool fy = dofs.free_index[static_cast<std::size_t>(2 * v + 1)] < 0;
+    if (fx && fy) continue;  // on Gamma_1
+    if (fx != fy)
+      throw InputError("contact node " + std::to_string(v) + " has one prescribed displacement component; a contact node must be either clamped or free");
+    if (!(entry.first.norm() > 0.0))
+      throw InputError("contact node " + std::to_string(v) + " has no defined normal (its contact edges cancel)");
+    const double g = gap ? gap(mesh.vertex(v)) : 0.0;
+    if (!std::isfinite(g) || g < 0.0)
+      throw InputError("gap " + std::to_string(g) + " at contact node " + std::to_string(v) + " must be finite and >= 0");
+    cb.nodes.push_back(v);
+    cb.normals.push_back(entry.first.normalized());
+    cb.weights.conservativeResize(cb.size());
+    cb.weights(cb.size() - 1) = entry.second;
+    cb.gaps.conservativeResize(cb.size());
+    cb.gaps(cb.size() - 1) = g;
+  }
+  return cb;
+}
+
+double uniqueness_margin(const Eigen::MatrixXd& S, const Eigen::VectorXd& w, double alpha) {
+  if (S.rows() == 0) return std::numeric_limits<double>::infinity();
+  if (std::isinf(alpha)) return -std::numeric_limits<double>::infinity();
+  Eigen::MatrixXd M = S;
+  M.diagonal() -= alpha * w;
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(M, Eigen::EigenvaluesOnly);
+  return eig.eigenvalues()(0);
+}
+
+Condensation::Condensation(const LinearSystem& system, const ContactBoundary& boundary,
+                           std::unique_ptr<SparseFactorization> factorization, std::shared_ptr<const ContactLaw> law,
+                           ConstraintKind constraint)
+    : dofs_(system.dofs), factorization_(std::move(factorization)) {
+  if (!factorization_) throw InputError("condensation needs a factorization engine");
+  if (!law) throw InputError("condensation needs a contact law");
+  const int n = system.dofs.num_free();
+  const int n1 = boundary.size();
+  normals_ = boundary.normals;
+
+  // Q: identity but for the (x, y) -> (normal, tangential) rotation at contact nodes.
+  std::vector<Eigen::Triplet<double, int>> q;
+  q.reserve(static_cast<std::size_t>(n) + 2 * static_cast<std::size_t>(n1));
+  std::vector<char> rotated(static_cast<std::size_t>(n), 0);
+  for (int i = 0; i < n1; ++i) {
+    const int v = boundary.nodes[static_cast<std::size_t>(i)];
+    const int fx = system.dofs.free_index[static_cast<std::size_t>(2 * v)];
+    const int fy = system.dofs.free_index[static_cast<std::size_t>(2 * v + 1)];
+    if (fx < 0 || fy < 0) throw InputError("contact node " + std::to_string(v) + " is not free");
+    const Vec2 nu = boundary.normals[static_cast<std::size_t>(i)];
+    const Vec2 tau(-nu.y(), nu.x());
+    q.emplace_back(fx, fx, nu.x());
+    q.emplace_back(fy, fx, nu.y());
+    q.emplace_back(fx, fy, tau.x());
+    q.emplace_back(fy, fy, tau.y());
+    rotated[static_cast<std::size_t>(fx)] = rotated[static_cast<std::size_t>(fy)] = 1;
+    contact_free_x_.push_back(fx);
+    contact_free_y_.push_back(fy);
+    block1_.push_back(fx);
+  }
+  for (int k = 0; k < n; ++k)
+    if (!rotated[static_cast<std::size_t>(k)]) q.emplace_back(k, k, 1.0);
+  SparseMatrix Q(n, n);
+  Q.setFromTriplets(q.begin(), q.end());
+  SparseMatrix At = SparseMatrix(Q.transpose()) * system.A * Q;
+  At.prune(0.0);
+  At.makeCompressed();
+  const Eigen::VectorXd bt = Q.transpose() * system.b;
+
+  std::vector<char> in1(static_cast<std::size_t>(n), 0);
+  for (int k : block1_) in1[static_cast<std::size_t>(k)] = 1;
+  for (int k = 0; k < n; ++k)
+    if (!in1[static_cast<std::size_t>(k)]) block2_.push_back(k);
+
+  reduced_.law = std::move(law);
+  reduced_.constraint = constraint;
+  reduced_.w = boundary.weights;
+  reduced_.g = boundary.gaps;
+  const FactorizationResult r = factorization_->schur_complement(At, block1_, &reduced_.S);
+  if (!r.ok())
+    throw NumericalError("static condensation with the " + factorization_->name() + " engine failed (" +
+                         to_string(r.status) + "): " + r.message);
+  reduced_.S = 0.5 * (reduced_.S + reduced_.S.transpose()).eval();
+
+  // A21 = At(block2, block1), b1, b2
+  SparseMatrix P1(n1, n), P2(static_cast<int>(block2_.size()), n);
+  std::vector<Eigen::Triplet<double, int>> t1, t2;
+  for (int i = 0; i < n1; ++i) t1.emplace_back(i, block1_[static_cast<std::size_t>(i)], 1.0);
+  for (std::size_t i = 0; i < block2_.size(); ++i) t2.emplace_back(static_cast<int>(i), block2_[i], 1.0);
+  P1.setFromTriplets(t1.begin(), t1.end());
+  P2.setFromTriplets(t2.begin(), t2.end());
+  A21_ = P2 * At * SparseMatrix(P1.transpose());
+  const Eigen::VectorXd b1 = P1 * bt;
+  b2_ = P2 * bt;
+  Eigen::MatrixXd y;
+  const FactorizationResult s = factorization_->solve_interior(b2_, &y);
+  if (!s.ok())
+    throw NumericalError("interior solve with the " + factorization_->name() + " engine failed (" + to_string(s.status) +
+                         "): " + s.message);
+  reduced_.c = b1 - A21_.transpose() * y.col(0);
+  margin_ = hemivem::uniqueness_margin(reduced_.S, reduced_.w, reduced_.law->alpha());
+}
+
+Eigen::VectorXd Condensation::back_substitute(const Eigen::VectorXd& a) const {
+  if (a.size() != static_cast<Eigen::Index>(block1_.size()))
+    throw InputError("back-substitution needs " + std::to_string(block1_.size()) + " normal displacements, got " +
+                     std::to_string(a.size()));
+  Eigen::MatrixXd u2;
+  const FactorizationResult s = factorization_->solve_interior(b2_ - A21_ * a, &u2);
+  if (!s.ok())
+    throw NumericalError("back-substitution with the " + factorization_->name() + " engine failed (" +
+                         to_string(s.status) + "): " + s.message);
+  Eigen::VectorXd ut(dofs_.num_free());
+  for (std::size_t i = 0; i < block1_.size(); ++i) ut(block1_[i]) = a(static_cast<Eigen::Index>(i));
+  for (std::size_t i = 0; i < block2_.size(); ++i) ut(block2_[i]) = u2(static_cast<Eigen::Index>(i), 0);
+  // u = Q ut at the contact nodes
+  for (std::size_t i = 0; i < normals_.size(); ++i) {
+    const Vec2 nu = normals_[i], tau(-nu.y(), nu.x());
+    const double un = ut(contact_free_x_[i]), ut_ = ut(contact_free_y_[i]);
+    ut(contact_free_x_[i]) = nu.x() * un + tau.x() * ut_;
+    ut(contact_free_y_[i]) = nu.y() * un + tau.y() * ut_;
+  }
+  return dofs_.expand(ut);
+}
+
+}  // namespace hemivem
