@@ -1,6 +1,10 @@
 // Deterministic mesh generators for a rectangle [x0,x1] x [y0,y1].
 // Every generator returns a validated Mesh (see mesh.hpp); the same arguments
 // (including the seed) always give the same mesh, bit for bit.
+//
+// Every generator throws InputError for n < 1 (or n > 20000) and for a rectangle that
+// is not finite with x0 < x1 and y0 < y1. Vertices on the sides have exactly the
+// coordinate x0, x1, y0 or y1, so the boundary edges are exactly the edges on the sides.
 #pragma once
 
 #include <cstdint>
@@ -17,7 +21,8 @@ namespace hemivem {
 Mesh make_squares(int n, const Rectangle& domain = {});
 
 /// N x N squares, each split by its lower-left -> upper-right diagonal into two
-/// triangles (2 N^2 elements); vertices as make_squares.
+/// triangles (2 N^2 elements); vertices as make_squares. Square (i, j) gives element
+/// 2(j*N + i) below the diagonal and 2(j*N + i) + 1 above it.
 Mesh make_triangles(int n, const Rectangle& domain = {});
 
 struct VoronoiOptions {
@@ -32,16 +37,28 @@ struct VoronoiOptions {
 /// CGAL's Delaunay triangulation of the seeds and their reflections across the
 /// four sides, so the cells tile the rectangle exactly; vertices on the sides are
 /// placed exactly on them; Lloyd iterations move seeds to cell centroids.
+/// Element e is the cell of seed e; seeds are numbered along a Hilbert curve, so nearby
+/// cells have nearby numbers. Voronoi vertices closer than a tolerance
+/// max(1e-10 * domain size, 1e-7 * seed spacing, 64 eps * largest |coordinate|) are merged
+/// into one, so the mesh has no edge shorter than about that; vertices are numbered in
+/// order of first appearance when walking the cells in seed order, each cell starting at
+/// its lexicographically smallest (x, then y) vertex. Throws InputError for negative max_lloyd_iterations or a
+/// negative or non-finite lloyd_tolerance.
 Mesh make_voronoi(int n, const Rectangle& domain = {}, const VoronoiOptions& options = {});
 
 /// N x N macro cells on a (2N+1)^2 point grid; points whose index sum is odd (side
 /// mid-points) are shifted by a quarter of the macro-cell size in x and y; cell
 /// centres and mid-points on the domain boundary are dropped. Interior elements are
-/// non-convex octagons, boundary ones 7- and 6-gons.
+/// non-convex octagons, boundary ones 7- and 6-gons (N = 1: the rectangle itself).
+/// Element (I, J) has index J*N + I and lists corner (2I,2J), bottom mid-point,
+/// corner (2I+2,2J), right mid-point, corner (2I+2,2J+2), top mid-point, corner
+/// (2I,2J+2), left mid-point, skipping dropped ones; vertices are the kept grid points
+/// in row-major order (j, then i).
 Mesh make_nonconvex(int n, const Rectangle& domain = {});
 
 /// N x N squares whose interior vertices are moved by a uniform random vector in
-/// [-fraction*hx, fraction*hx] x [-fraction*hy, fraction*hy] (0 <= fraction < 0.5).
+/// [-fraction*hx, fraction*hx] x [-fraction*hy, fraction*hy] (0 <= fraction < 0.5,
+/// else InputError); boundary vertices stay put. Numbering as make_squares.
 Mesh make_distorted(int n, double fraction = 0.2, const Rectangle& domain = {}, std::uint64_t seed = 1);
 
 /// The generator names: squares, triangles, voronoi, nonconvex, distorted.

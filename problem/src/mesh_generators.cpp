@@ -1,0 +1,528 @@
+#include <hemivem/mesh_generators.hpp>
+
+#include <CGAL/Delaunay_triangulation_2.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Exact_rational.h>
+#include <CGAL/Triangulation_data_structure_2.h>
+#include <CGAL/Triangulation_face_base_with_info_2.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <random>
+#include <sstream>
+#include <utility>
+
+namespace hemivem {
+
+namespace {
+
+/// Largest accepted n: keeps every vertex count of every generator well inside int.
+constexpr int kMaxCellsPerSide = 20000;
+
+std::string fmt(double x) {
+  std::ostringstream s;
+  s.precision(17);
+  s << x;
+  return s.str();
+}
+
+void check_n(const char* generator, int n) {
+  if (n < 1 || n > kMaxCellsPerSide)
+    throw InputError(std::string(generator) + ": the number of cells per side n must be between 1 and " +
+                     std::to_string(kMaxCellsPerSide) + " (got " + std::to_string(n) + ")");
+}
+
+void check_domain(const char* generator, const Rectangle& d) {
+  const bool finite = std::isfinite(d.x0) && std::isfinite(d.x1) && std::isfinite(d.y0) && std::isfinite(d.y1) &&
+                      std::isfinite(d.width()) && std::isfinite(d.height());
+  if (!finite || !(d.x1 > d.x0) || !(d.y1 > d.y0))
+    throw InputError(std::string(generator) +
+                     ": the domain must be a rectangle [x0,x1] x [y0,y1] with finite x0 < x1 and y0 < y1 (got [" +
+                     fmt(d.x0) + ", " + fmt(d.x1) + "] x [" + fmt(d.y0) + ", " + fmt(d.y1) + "])");
+}
+
+/// The point i/n of the way from a to b: a + (b - a) * i / n, and exactly b for i == n.
+double grid_coordinate(double a, double b, long i, long n) {
+  if (i == n) return b;
+  return a + (b - a) * static_cast<double>(i) / static_cast<double>(n);
+}
+
+/// A double in [0, 1) from the top 53 bits of one 64-bit draw (portable, unlike
+/// std::uniform_real_distribution).
+double unit_draw(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1.0p-53; }
+
+/// A double in the open interval (a, b).
+double open_draw(std::mt19937_64& rng, double a, double b) {
+  const double u = (static_cast<double>(rng() >> 11) + 0.5) * 0x1.0p-53;  // in (0, 1)
+  const double x = a + (b - a) * u;
+  if (x <= a) return std::nextafter(a, b);
+  if (x >= b) return std::nextafter(b, a);
+  return x;
+}
+
+/// (N+1)^2 grid points, vertex (i, j) at index j*(N+1) + i.
+std::vector<Vec2> grid_vertices(int n, const Rectangle& d) {
+  std::vector<Vec2> v;
+  v.reserve(static_cast<std::size_t>(n + 1) * static_cast<std::size_t>(n + 1));
+  for (int j = 0; j <= n; ++j) {
+    const double y = grid_coordinate(d.y0, d.y1, j, n);
+    for (int i = 0; i <= n; ++i) v.emplace_back(grid_coordinate(d.x0, d.x1, i, n), y);
+  }
+  return v;
+}
+
+std::vector<std::vector<int>> grid_squares(int n) {
+  std::vector<std::vector<int>> e;
+  e.reserve(static_cast<std::size_t>(n) * static_cast<std::size_t>(n));
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const int a = j * (n + 1) + i;
+      e.push_back({a, a + 1, a + n + 2, a + n + 1});
+    }
+  return e;
+}
+
+// ---- Voronoi ------------------------------------------------------------------------
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+struct FaceInfo {
+  int id = -1;  // index of the face's circumcentre, -1 until computed
+};
+using VertexBase = CGAL::Triangulation_vertex_base_with_info_2<int, Kernel>;  // seed index, -1 for mirrors
+using FaceBase = CGAL::Triangulation_face_base_with_info_2<FaceInfo, Kernel>;
+using Tds = CGAL::Triangulation_data_structure_2<VertexBase, FaceBase>;
+using Delaunay = CGAL::Delaunay_triangulation_2<Kernel, Tds>;
+
+bool lex_less(const Vec2& a, const Vec2& b) { return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y()); }
+
+/// Position of cell (x, y) of a 2^order x 2^order grid along the Hilbert curve.
+std::uint64_t hilbert_index(std::uint64_t x, std::uint64_t y, int order) {
+  std::uint64_t d = 0;
+  for (std::uint64_t s = std::uint64_t{1} << (order - 1); s > 0; s >>= 1) {
+    const std::uint64_t rx = (x & s) ? 1 : 0, ry = (y & s) ? 1 : 0;
+    d += s * s * ((3 * rx) ^ ry);
+    if (ry == 0) {  // rotate the quadrant
+      if (rx == 1) {
+        x = s - 1 - (x & (s - 1));
+        y = s - 1 - (y & (s - 1));
+      }
+      std::swap(x, y);
+    }
+    x &= s - 1;
+    y &= s - 1;
+  }
+  return d;
+}
+
+/// Sorts points in the rectangle along a Hilbert curve (ties, lexicographically).
+void sort_along_hilbert_curve(std::vector<Vec2>& pts, const Rectangle& d) {
+  constexpr int order = 20;
+  constexpr double cells = 1 << order;
+  auto cell = [&](double t, double a, double w) {
+    return static_cast<std::uint64_t>(std::clamp((t - a) / w * cells, 0.0, cells - 1.0));
+  };
+  std::vector<std::pair<std::uint64_t, Vec2>> keyed;
+  keyed.reserve(pts.size());
+  for (const auto& p : pts)
+    keyed.emplace_back(hilbert_index(cell(p.x(), d.x0, d.width()), cell(p.y(), d.y0, d.height()), order), p);
+  std::sort(keyed.begin(), keyed.end(), [](const auto& a, const auto& b) {
+    return a.first < b.first || (a.first == b.first && lex_less(a.second, b.second));
+  });
+  for (std::size_t i = 0; i < pts.size(); ++i) pts[i] = keyed[i].second;
+}
+
+/// Exact circumcentre of a triangle (rational arithmetic), rounded to doubles.
+Vec2 exact_circumcentre(const Vec2& a, const Vec2& b, const Vec2& c) {
+  using Q = CGAL::Exact_rational;
+  const Q ax(a.x()), ay(a.y());
+  const Q ux = Q(b.x()) - ax, uy = Q(b.y()) - ay, vx = Q(c.x()) - ax, vy = Q(c.y()) - ay;
+  Q den = ux * vy - uy * vx;
+  den += den;
+  const Q uu = ux * ux + uy * uy, vv = vx * vx + vy * vy;
+  const Q x = ax + (vy * uu - uy * vv) / den, y = ay + (ux * vv - vx * uu) / den;
+  return {CGAL::to_double(x), CGAL::to_double(y)};
+}
+
+/// Circumcentre of a triangle, computed from its vertices in lexicographic order so
+/// the result does not depend on how the triangulation happens to store the face.
+/// Falls back to exact arithmetic when the round-off bound of the floating-point formula
+/// exceeds `accuracy` (skinny triangles: seeds very close to a side or to each other).
+Vec2 circumcentre(Vec2 a, Vec2 b, Vec2 c, double accuracy) {
+  if (lex_less(b, a)) std::swap(a, b);
+  if (lex_less(c, b)) std::swap(b, c);
+  if (lex_less(b, a)) std::swap(a, b);
+  const double ux = b.x() - a.x(), uy = b.y() - a.y();
+  const double vx = c.x() - a.x(), vy = c.y() - a.y();
+  const double cross = ux * vy - uy * vx;
+  const double den = 2.0 * cross;
+  const double uu = ux * ux + uy * uy, vv = vx * vx + vy * vy;
+  const double nx = vy * uu - uy * vv, ny = ux * vv - vx * uu;
+  // first-order round-off bound of nx/den and ny/den (u = unit round-off)
+  constexpr double u = 0.5 * std::numeric_limits<double>::epsilon();
+  const double cond = (std::abs(ux * vy) + std::abs(uy * vx)) / std::abs(cross);
+  const double ex = (8.0 * u * (std::abs(vy) * uu + std::abs(uy) * vv) + 6.0 * u * cond * std::abs(nx)) / std::abs(den);
+  const double ey = (8.0 * u * (std::abs(ux) * vv + std::abs(vx) * uu) + 6.0 * u * cond * std::abs(ny)) / std::abs(den);
+  if (!(ex <= accuracy && ey <= accuracy)) return exact_circumcentre(a, b, c);  // also catches 0/0
+  return {a.x() + nx / den, a.y() + ny / den};
+}
+
+/// Voronoi cells of the seeds, clipped to the rectangle: cell i is the counter-clockwise
+/// ring of circumcentres ids[offsets[i]] .. ids[offsets[i+1]-1].
+struct VoronoiCells {
+  std::vector<Vec2> points;
+  std::vector<int> offsets;
+  std::vector<int> ids;
+};
+
+/// Computes the cells using the reflections of the seeds lying closer than `reach` to a
+/// side (across that side). Returns false when that set of reflections may be too small,
+/// i.e. when a cell is unbounded, leaves the rectangle, or comes within `tol` of a side
+/// across which its seed was not reflected. When every seed whose true cell touches a
+/// side is reflected across it, every Delaunay neighbour of a seed is present and the
+/// cells are exact; a cell of a seed missing a needed reflection is a strict superset of
+/// the true cell and reaches the side, so the check catches every wrong result.
+bool try_voronoi_cells(const std::vector<Vec2>& seeds, const Rectangle& d, double reach, double tol,
+                       VoronoiCells& out) {
+  const std::size_t ns = seeds.size();
+  std::vector<std::pair<Kernel::Point_2, int>> pts;
+  pts.reserve(ns + ns / 4);
+  std::vector<unsigned char> mirrored(ns, 0);  // bit 0: x0, 1: x1, 2: y0, 3: y1
+  for (std::size_t i = 0; i < ns; ++i) pts.emplace_back(Kernel::Point_2(seeds[i].x(), seeds[i].y()), static_cast<int>(i));
+  // side s: 0 x = x0, 1 x = x1, 2 y = y0, 3 y = y1; one side after the other, so that
+  // consecutive insertions stay close
+  for (unsigned s = 0; s < 4; ++s) {
+    const double side = s == 0 ? d.x0 : s == 1 ? d.x1 : s == 2 ? d.y0 : d.y1;
+    for (std::size_t i = 0; i < ns; ++i) {
+      const double x = seeds[i].x(), y = seeds[i].y();
+      const double t = s < 2 ? x : y;
+      if (std::abs(t - side) >= reach) continue;
+      const double r = 2.0 * side - t;
+      pts.emplace_back(s < 2 ? Kernel::Point_2(r, y) : Kernel::Point_2(x, r), -1);
+      mirrored[i] |= static_cast<unsigned char>(1u << s);
+    }
+  }
+  // The seeds are in Hilbert order (and so are the reflections of each side), so inserting
+  // them one by one, each located from the previous one, is fast.
+  Delaunay dt;
+  std::vector<Delaunay::Vertex_handle> handle(ns);
+  Delaunay::Face_handle hint;
+  for (const auto& [p, info] : pts) {
+    const auto v = dt.insert(p, hint);
+    v->info() = info;
+    hint = v->face();
+    if (info >= 0) handle[static_cast<std::size_t>(info)] = v;
+  }
+  if (dt.number_of_vertices() != pts.size())
+    throw NumericalError("make_voronoi: two seeds coincide; the Voronoi diagram is undefined");
+  if (dt.dimension() < 2) return false;  // all points on a line: no bounded cell
+
+  out.points.clear();
+  out.ids.clear();
+  out.offsets.assign(1, 0);
+  out.points.reserve(2 * ns + 64);
+  out.ids.reserve(6 * ns + 64);
+  for (std::size_t i = 0; i < ns; ++i) {
+    auto fc = dt.incident_faces(handle[i]);
+    const auto done = fc;
+    do {
+      if (dt.is_infinite(fc)) return false;
+      int& id = fc->info().id;
+      if (id < 0) {
+        const auto& p0 = fc->vertex(0)->point();
+        const auto& p1 = fc->vertex(1)->point();
+        const auto& p2 = fc->vertex(2)->point();
+        id = static_cast<int>(out.points.size());
+        out.points.push_back(circumcentre({p0.x(), p0.y()}, {p1.x(), p1.y()}, {p2.x(), p2.y()}, tol / 64));
+      }
+      out.ids.push_back(id);
+    } while (++fc != done);
+    out.offsets.push_back(static_cast<int>(out.ids.size()));
+
+    for (int k = out.offsets[i]; k < out.offsets[i + 1]; ++k) {
+      const Vec2& p = out.points[static_cast<std::size_t>(out.ids[static_cast<std::size_t>(k)])];
+      const double gap[4] = {p.x() - d.x0, d.x1 - p.x(), p.y() - d.y0, d.y1 - p.y()};
+      for (int s = 0; s < 4; ++s) {
+        if (gap[s] < -tol) return false;
+        if (!(mirrored[i] & (1u << s)) && gap[s] <= tol) return false;
+      }
+    }
+  }
+  return true;
+}
+
+VoronoiCells voronoi_cells(const std::vector<Vec2>& seeds, const Rectangle& d, double spacing, double tol) {
+  VoronoiCells cells;
+  const double everything = std::max(d.width(), d.height());
+  for (double reach = 4.0 * spacing;; reach *= 2.0) {
+    const bool all = reach > everything;
+    if (try_voronoi_cells(seeds, d, all ? std::numeric_limits<double>::infinity() : reach, tol, cells)) return cells;
+    if (all)
+      throw NumericalError("make_voronoi: a Voronoi cell leaves the rectangle even with every seed reflected");
+  }
+}
+
+/// Centroid of the polygon pts[ids[0]], ..., pts[ids[m-1]], summed from its
+/// lexicographically smallest vertex so that the result does not depend on where the
+/// ring starts.
+Vec2 polygon_centroid(const std::vector<Vec2>& pts, const int* ids, int m) {
+  auto at = [&](int k) -> const Vec2& { return pts[static_cast<std::size_t>(ids[k % m])]; };
+  int s = 0;
+  for (int k = 1; k < m; ++k)
+    if (lex_less(at(k), at(s))) s = k;
+  const Vec2 o = at(s);
+  double twice = 0.0;
+  Vec2 moment = Vec2::Zero();
+  for (int k = 1; k + 1 < m; ++k) {
+    const Vec2 a = at(s + k) - o, b = at(s + k + 1) - o;
+    const double cr = a.x() * b.y() - a.y() * b.x();
+    twice += cr;
+    moment += cr * (a + b);
+  }
+  return o + moment / (3.0 * twice);
+}
+
+struct UnionFind {
+  std::vector<int> parent;
+  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
+  int find(int a) {
+    while (parent[static_cast<std::size_t>(a)] != a) {
+      parent[static_cast<std::size_t>(a)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(a)])];
+      a = parent[static_cast<std::size_t>(a)];
+    }
+    return a;
+  }
+  void unite(int a, int b) {
+    a = find(a);
+    b = find(b);
+    if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
+  }
+};
+
+/// Turns the cells into a mesh: merges circumcentres of adjacent faces closer than tol
+/// (mirror symmetry makes cocircular quadruples, so one Voronoi vertex can come out as two
+/// almost equal circumcentres), places vertices within tol of a side exactly on it,
+/// numbers vertices in order of first appearance, each cell starting at its
+/// lexicographically smallest vertex.
+Mesh voronoi_mesh(const VoronoiCells& c, const Rectangle& d, double tol) {
+  const std::size_t np = c.points.size();
+  const std::size_t ncell = c.offsets.size() - 1;
+  const double tol2 = tol * tol;
+  UnionFind uf(np);
+  for (std::size_t i = 0; i < ncell; ++i) {
+    const int b = c.offsets[i], m = c.offsets[i + 1] - b;
+    for (int k = 0; k < m; ++k) {
+      const int p = c.ids[static_cast<std::size_t>(b + k)], q = c.ids[static_cast<std::size_t>(b + (k + 1) % m)];
+      if ((c.points[static_cast<std::size_t>(p)] - c.points[static_cast<std::size_t>(q)]).squaredNorm() < tol2)
+        uf.unite(p, q);
+    }
+  }
+  // One position per class: its lexicographically smallest member, snapped onto the sides.
+  std::vector<Vec2> pos(np);
+  std::vector<char> seen(np, 0);
+  for (std::size_t p = 0; p < np; ++p) {
+    const auto r = static_cast<std::size_t>(uf.find(static_cast<int>(p)));
+    if (!seen[r] || lex_less(c.points[p], pos[r])) pos[r] = c.points[p];
+    seen[r] = 1;
+  }
+  for (std::size_t r = 0; r < np; ++r) {
+    if (!seen[r] || uf.parent[r] != static_cast<int>(r)) continue;
+    Vec2& p = pos[r];
+    if (std::abs(p.x() - d.x0) <= tol) p.x() = d.x0;
+    if (std::abs(p.x() - d.x1) <= tol) p.x() = d.x1;
+    if (std::abs(p.y() - d.y0) <= tol) p.y() = d.y0;
+    if (std::abs(p.y() - d.y1) <= tol) p.y() = d.y1;
+  }
+  // Classes that landed on the same position (e.g. two near-corner points) are one vertex.
+  std::map<std::pair<double, double>, int> at;
+  std::vector<int> key(np, -1);
+  for (std::size_t r = 0; r < np; ++r) {
+    if (!seen[r] || uf.parent[r] != static_cast<int>(r)) continue;
+    key[r] = at.try_emplace({pos[r].x(), pos[r].y()}, static_cast<int>(r)).first->second;
+  }
+
+  std::vector<int> number(np, -1);
+  std::vector<Vec2> vertices;
+  std::vector<std::vector<int>> elements(ncell);
+  std::vector<int> ring;
+  for (std::size_t i = 0; i < ncell; ++i) {
+    ring.clear();
+    for (int k = c.offsets[i]; k < c.offsets[i + 1]; ++k) {
+      const int v = key[static_cast<std::size_t>(uf.find(c.ids[static_cast<std::size_t>(k)]))];
+      if (ring.empty() || ring.back() != v) ring.push_back(v);
+    }
+    while (ring.size() > 1 && ring.back() == ring.front()) ring.pop_back();
+    if (ring.size() < 3)
+      throw NumericalError("make_voronoi: the cell of seed " + std::to_string(i) + " collapsed to " +
+                           std::to_string(ring.size()) + " vertices");
+    const auto first = std::min_element(ring.begin(), ring.end(), [&](int a, int b) {
+      return lex_less(pos[static_cast<std::size_t>(a)], pos[static_cast<std::size_t>(b)]);
+    });
+    std::rotate(ring.begin(), first, ring.end());
+    auto& el = elements[i];
+    el.reserve(ring.size());
+    for (int v : ring) {
+      int& num = number[static_cast<std::size_t>(v)];
+      if (num < 0) {
+        num = static_cast<int>(vertices.size());
+        vertices.push_back(pos[static_cast<std::size_t>(v)]);
+      }
+      el.push_back(num);
+    }
+  }
+  return Mesh(std::move(vertices), std::move(elements));
+}
+
+}  // namespace
+
+Mesh make_squares(int n, const Rectangle& domain) {
+  check_n("make_squares", n);
+  check_domain("make_squares", domain);
+  return Mesh(grid_vertices(n, domain), grid_squares(n));
+}
+
+Mesh make_triangles(int n, const Rectangle& domain) {
+  check_n("make_triangles", n);
+  check_domain("make_triangles", domain);
+  std::vector<std::vector<int>> e;
+  e.reserve(2 * static_cast<std::size_t>(n) * static_cast<std::size_t>(n));
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const int a = j * (n + 1) + i;
+      e.push_back({a, a + 1, a + n + 2});      // below the diagonal
+      e.push_back({a, a + n + 2, a + n + 1});  // above the diagonal
+    }
+  return Mesh(grid_vertices(n, domain), std::move(e));
+}
+
+Mesh make_voronoi(int n, const Rectangle& domain, const VoronoiOptions& options) {
+  check_n("make_voronoi", n);
+  check_domain("make_voronoi", domain);
+  if (options.max_lloyd_iterations < 0)
+    throw InputError("make_voronoi: max_lloyd_iterations must be >= 0 (got " +
+                     std::to_string(options.max_lloyd_iterations) + ")");
+  if (!(options.lloyd_tolerance >= 0.0) || !std::isfinite(options.lloyd_tolerance))
+    throw InputError("make_voronoi: lloyd_tolerance must be finite and >= 0 (got " + fmt(options.lloyd_tolerance) +
+                     ")");
+
+  const std::size_t ns = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
+  const double spacing = std::sqrt(domain.width() * domain.height() / static_cast<double>(ns));
+  // Merge / snap tolerance: above the round-off of a circumcentre (relative to the
+  // domain size and to the magnitude of the coordinates), and 1e-7 of the seed spacing so
+  // that no edge is shorter than that (near-cocircular seeds are common after Lloyd).
+  const double magnitude = std::max({std::abs(domain.x0), std::abs(domain.x1), std::abs(domain.y0), std::abs(domain.y1)});
+  const double tol = std::max({1e-10 * std::max(domain.width(), domain.height()), 1e-7 * spacing,
+                               64.0 * std::numeric_limits<double>::epsilon() * magnitude});
+
+  std::mt19937_64 rng(options.seed);
+  std::vector<Vec2> seeds(ns);
+  for (auto& s : seeds) {
+    const double x = open_draw(rng, domain.x0, domain.x1);
+    s = Vec2(x, open_draw(rng, domain.y0, domain.y1));
+  }
+
+  // Number the seeds along a Hilbert curve: fast insertion, and nearby cells get nearby
+  // element (and vertex) numbers. Lloyd moves seeds little, so the order stays good.
+  sort_along_hilbert_curve(seeds, domain);
+  VoronoiCells cells = voronoi_cells(seeds, domain, spacing, tol);
+  const double stop = options.lloyd_tolerance * spacing;
+  for (int it = 0; it < options.max_lloyd_iterations; ++it) {
+    double moved = 0.0;
+    for (std::size_t i = 0; i < ns; ++i) {
+      const int b = cells.offsets[i];
+      Vec2 g = polygon_centroid(cells.points, cells.ids.data() + b, cells.offsets[i + 1] - b);
+      // the centroid of a cell lies inside it; keep it strictly inside the rectangle anyway
+      g.x() = std::clamp(g.x(), std::nextafter(domain.x0, domain.x1), std::nextafter(domain.x1, domain.x0));
+      g.y() = std::clamp(g.y(), std::nextafter(domain.y0, domain.y1), std::nextafter(domain.y1, domain.y0));
+      moved = std::max(moved, (g - seeds[i]).norm());
+      seeds[i] = g;
+    }
+    cells = voronoi_cells(seeds, domain, spacing, tol);
+    if (moved <= stop) break;
+  }
+  return voronoi_mesh(cells, domain, tol);
+}
+
+Mesh make_nonconvex(int n, const Rectangle& domain) {
+  check_n("make_nonconvex", n);
+  check_domain("make_nonconvex", domain);
+  const int m = 2 * n;  // fine grid: points (i, j), 0 <= i, j <= m
+  auto kept = [&](int i, int j) {
+    if ((i + j) % 2 == 0) return i % 2 == 0;  // corners kept, cell centres dropped
+    return i % 2 == 1 ? (j != 0 && j != m) : (i != 0 && i != m);  // mid-points inside
+  };
+  std::vector<int> index(static_cast<std::size_t>(m + 1) * static_cast<std::size_t>(m + 1), -1);
+  std::vector<Vec2> vertices;
+  for (int j = 0; j <= m; ++j)
+    for (int i = 0; i <= m; ++i) {
+      if (!kept(i, j)) continue;
+      index[static_cast<std::size_t>(j) * static_cast<std::size_t>(m + 1) + static_cast<std::size_t>(i)] =
+          static_cast<int>(vertices.size());
+      if ((i + j) % 2 == 0) {
+        vertices.emplace_back(grid_coordinate(domain.x0, domain.x1, i, m), grid_coordinate(domain.y0, domain.y1, j, m));
+      } else {
+        // i/(2N) plus a quarter macro cell 1/(4N): (2i+1)/(4N), never the far side
+        vertices.emplace_back(grid_coordinate(domain.x0, domain.x1, 2 * i + 1, 2 * m),
+                              grid_coordinate(domain.y0, domain.y1, 2 * j + 1, 2 * m));
+      }
+    }
+  std::vector<std::vector<int>> elements;
+  elements.reserve(static_cast<std::size_t>(n) * static_cast<std::size_t>(n));
+  for (int J = 0; J < n; ++J)
+    for (int I = 0; I < n; ++I) {
+      const int i = 2 * I, j = 2 * J;
+      const int ring[8][2] = {{i, j},         {i + 1, j},     {i + 2, j}, {i + 2, j + 1},
+                              {i + 2, j + 2}, {i + 1, j + 2}, {i, j + 2}, {i, j + 1}};
+      std::vector<int> el;
+      el.reserve(8);
+      for (const auto& p : ring) {
+        const int v = index[static_cast<std::size_t>(p[1]) * static_cast<std::size_t>(m + 1) + static_cast<std::size_t>(p[0])];
+        if (v >= 0) el.push_back(v);
+      }
+      elements.push_back(std::move(el));
+    }
+  return Mesh(std::move(vertices), std::move(elements));
+}
+
+Mesh make_distorted(int n, double fraction, const Rectangle& domain, std::uint64_t seed) {
+  check_n("make_distorted", n);
+  check_domain("make_distorted", domain);
+  if (!(fraction >= 0.0 && fraction < 0.5))
+    throw InputError("make_distorted: fraction must be in [0, 0.5) (got " + fmt(fraction) + ")");
+  std::vector<Vec2> v = grid_vertices(n, domain);
+  const double ax = fraction * (domain.width() / n), ay = fraction * (domain.height() / n);
+  std::mt19937_64 rng(seed);
+  for (int j = 1; j < n; ++j)
+    for (int i = 1; i < n; ++i) {
+      Vec2& p = v[static_cast<std::size_t>(j) * static_cast<std::size_t>(n + 1) + static_cast<std::size_t>(i)];
+      const double dx = ax * (2.0 * unit_draw(rng) - 1.0);
+      const double dy = ay * (2.0 * unit_draw(rng) - 1.0);
+      p += Vec2(dx, dy);
+    }
+  return Mesh(std::move(v), grid_squares(n));
+}
+
+const std::vector<std::string>& mesh_generator_names() {
+  static const std::vector<std::string> names{"squares", "triangles", "voronoi", "nonconvex", "distorted"};
+  return names;
+}
+
+Mesh make_mesh(std::string_view generator, int n, const Rectangle& domain, std::uint64_t seed) {
+  if (generator == "squares") return make_squares(n, domain);
+  if (generator == "triangles") return make_triangles(n, domain);
+  if (generator == "voronoi") {
+    VoronoiOptions options;
+    options.seed = seed;
+    return make_voronoi(n, domain, options);
+  }
+  if (generator == "nonconvex") return make_nonconvex(n, domain);
+  if (generator == "distorted") return make_distorted(n, 0.2, domain, seed);
+  std::string valid;
+  for (const auto& name : mesh_generator_names()) valid += (valid.empty() ? "" : ", ") + name;
+  throw InputError("unknown mesh generator '" + std::string(generator) + "'; valid names: " + valid);
+}
+
+}  // namespace hemivem
