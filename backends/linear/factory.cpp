@@ -11,6 +11,9 @@
 #ifdef HEMIVEM_HAVE_CHOLMOD
 #include <hemivem/cholmod_factorization.hpp>
 #endif
+// The MUMPS engines (targets hemivem_linear_mumps and hemivem_linear_mumps_mpi, which
+// backends/linear/CMakeLists.txt links and announces when they exist) are constructed from
+// the options like the others.
 #ifdef HEMIVEM_HAVE_MUMPS
 #include <hemivem/mumps_factorization.hpp>
 #endif

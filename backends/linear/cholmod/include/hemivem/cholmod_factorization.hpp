@@ -19,6 +19,7 @@
 //   L^T: the same single factorization.
 //
 // Only the lower triangle of A is read. `verbosity` becomes CHOLMOD's print level (0: silent).
+// The const solves use the object's cholmod_common: one object serves one thread at a time.
 #pragma once
 
 #include <hemivem/sparse_factorization.hpp>
