@@ -8,6 +8,7 @@ packages=(
   libeigen3-dev
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev
   libcli11-dev
+  libsuitesparse-dev
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 

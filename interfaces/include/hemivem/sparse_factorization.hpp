@@ -18,6 +18,9 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include <algorithm>
+#include <array>
+#include <cctype>
 #include <memory>
 #include <span>
 #include <string>
@@ -35,7 +38,7 @@ enum class FactorizationStatus {
   not_ready,              ///< a call out of order (e.g. solve before factorize)
   out_of_memory,
 };
-std::string to_string(FactorizationStatus status);
+inline std::string to_string(FactorizationStatus status);
 
 struct FactorizationResult {
   FactorizationStatus status = FactorizationStatus::success;
@@ -84,6 +87,44 @@ class SparseFactorization {
   /// Reciprocal condition estimate of the last factorized matrix where the engine
   /// offers one (CHOLMOD's rcond, MUMPS' RINFOG); negative when it does not.
   virtual double rcond_estimate() const { return -1.0; }
+
+  /// Number of symbolic analyses this object has run so far (explicit analyze() calls,
+  /// those factorize() ran because the pattern changed, and those of schur_complement()),
+  /// so that callers and tests can see that an analysis is reused; -1 when the engine
+  /// does not count them.
+  virtual int num_analyses() const { return -1; }
 };
+
+// ---- inline definitions (the interfaces layer stays header-only) ------------
+
+inline std::string to_string(FactorizationStatus status) {
+  switch (status) {
+    case FactorizationStatus::success: return "success";
+    case FactorizationStatus::not_positive_definite: return "not_positive_definite";
+    case FactorizationStatus::numerical_failure: return "numerical_failure";
+    case FactorizationStatus::invalid_input: return "invalid_input";
+    case FactorizationStatus::not_ready: return "not_ready";
+    case FactorizationStatus::out_of_memory: return "out_of_memory";
+  }
+  return "unknown";
+}
+
+inline bool FactorizationOptions::is_valid(std::string* error) const {
+  auto fail = [error](std::string message) {
+    if (error != nullptr) *error = std::move(message);
+    return false;
+  };
+  std::string name = engine;
+  std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) {
+    return c == '_' ? '-' : static_cast<char>(std::tolower(c));
+  });
+  constexpr std::array<const char*, 4> known = {"eigen", "cholmod", "mumps", "mumps-mpi"};
+  if (std::find(known.begin(), known.end(), name) == known.end())
+    return fail("engine: unknown linear engine '" + engine +
+                "' (known: eigen, cholmod, mumps, mumps-mpi)");
+  if (verbosity < 0) return fail("verbosity: must be >= 0, got " + std::to_string(verbosity));
+  if (threads < 0) return fail("threads: must be >= 0 (0: engine default), got " + std::to_string(threads));
+  return true;
+}
 
 }  // namespace hemivem

@@ -1,0 +1,88 @@
+#include <hemivem/linear_backends.hpp>
+
+#include <hemivem/error.hpp>
+
+#include <algorithm>
+#include <cctype>
+
+#ifdef HEMIVEM_HAVE_EIGEN
+#include <hemivem/eigen_factorization.hpp>
+#endif
+#ifdef HEMIVEM_HAVE_CHOLMOD
+#include <hemivem/cholmod_factorization.hpp>
+#endif
+// The MUMPS engines (targets hemivem_linear_mumps and hemivem_linear_mumps_mpi, which
+// backends/linear/CMakeLists.txt links and announces when they exist) are constructed from
+// the options like the others.
+#ifdef HEMIVEM_HAVE_MUMPS
+#include <hemivem/mumps_factorization.hpp>
+#endif
+#ifdef HEMIVEM_HAVE_MUMPS_MPI
+#include <hemivem/mumps_mpi_factorization.hpp>
+#endif
+
+namespace hemivem {
+
+namespace {
+
+std::string normalized(const std::string& name) {
+  std::string out = name;
+  std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) {
+    return c == '_' ? '-' : static_cast<char>(std::tolower(c));
+  });
+  return out;
+}
+
+std::string built_list() {
+  std::string list;
+  for (const std::string& name : available_factorizations()) list += (list.empty() ? "" : ", ") + name;
+  return list.empty() ? "none" : list;
+}
+
+}  // namespace
+
+std::vector<std::string> available_factorizations() {
+  std::vector<std::string> names;
+#ifdef HEMIVEM_HAVE_EIGEN
+  names.emplace_back("eigen");
+#endif
+#ifdef HEMIVEM_HAVE_CHOLMOD
+  names.emplace_back("cholmod");
+#endif
+#ifdef HEMIVEM_HAVE_MUMPS
+  names.emplace_back("mumps");
+#endif
+#ifdef HEMIVEM_HAVE_MUMPS_MPI
+  names.emplace_back("mumps-mpi");
+#endif
+  return names;
+}
+
+std::unique_ptr<SparseFactorization> make_factorization(const FactorizationOptions& options) {
+  const std::string name = normalized(options.engine);
+  const auto built = available_factorizations();
+  if (std::find(built.begin(), built.end(), name) == built.end()) {
+    const bool known = name == "eigen" || name == "cholmod" || name == "mumps" || name == "mumps-mpi";
+    throw InputError(known ? "linear engine '" + options.engine + "' was not built; available: " + built_list()
+                           : "unknown linear engine '" + options.engine + "'; available: " + built_list(),
+                     "engine");
+  }
+  std::string error;
+  if (!options.is_valid(&error)) throw InputError(error, "linear engine options");
+
+#ifdef HEMIVEM_HAVE_EIGEN
+  if (name == "eigen") return std::make_unique<EigenFactorization>(options);
+#endif
+#ifdef HEMIVEM_HAVE_CHOLMOD
+  if (name == "cholmod") return std::make_unique<CholmodFactorization>(options);
+#endif
+#ifdef HEMIVEM_HAVE_MUMPS
+  if (name == "mumps") return std::make_unique<MumpsFactorization>(options);
+#endif
+#ifdef HEMIVEM_HAVE_MUMPS_MPI
+  if (name == "mumps-mpi") return std::make_unique<MumpsMpiFactorization>(options);
+#endif
+  throw InputError("linear engine '" + options.engine + "' was not built; available: " + built_list(), "engine");
+}
+
+}  // namespace hemivem

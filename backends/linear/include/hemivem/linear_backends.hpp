@@ -1,0 +1,24 @@
+// The factory of the sparse factorization engines (as Ceres' SparseCholesky::Create).
+//
+//   auto f = hemivem::make_factorization({.engine = "cholmod"});
+//
+// Engine names are case-insensitive ('_' and '-' are the same). Only the engines found at
+// configure time are built; asking for another one is an input error that lists those built.
+#pragma once
+
+#include <hemivem/sparse_factorization.hpp>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace hemivem {
+
+/// A new engine for `options.engine`. Throws InputError when the options are invalid, the
+/// name is unknown, or the engine was not built; the message lists the engines built.
+std::unique_ptr<SparseFactorization> make_factorization(const FactorizationOptions& options);
+
+/// The engines built into this library, in the order eigen, cholmod, mumps, mumps-mpi.
+std::vector<std::string> available_factorizations();
+
+}  // namespace hemivem

@@ -1,0 +1,493 @@
+// One conformance suite run by every linear engine that was built (as Ceres'
+// sparse_cholesky_test): solves and Schur complements against dense Eigen references,
+// reuse of the symbolic analysis, detection of matrices that are not positive definite,
+// and the statuses of calls out of order or with bad sizes. Plus the factory.
+#include <hemivem/error.hpp>
+#include <hemivem/linear_backends.hpp>
+#include <hemivem/sparse_factorization.hpp>
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <Eigen/SparseCholesky>
+
+#include <algorithm>
+#include <cctype>
+#include <numeric>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace hemivem {
+namespace {
+
+constexpr double kTolerance = 1e-10;
+const std::vector<int> kSizes = {1, 5, 40, 200};
+const std::vector<unsigned> kSeeds = {1, 2, 3};
+
+using Triplet = Eigen::Triplet<double, int>;
+
+/// A random sparse SPD matrix B B^T + I (both triangles stored, exactly symmetric).
+SparseMatrix random_spd(int n, unsigned seed, int per_column = 3) {
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<int> row(0, n - 1);
+  std::uniform_real_distribution<double> value(-1.0, 1.0);
+  std::vector<Triplet> entries;
+  for (int j = 0; j < n; ++j) {
+    entries.emplace_back(j, j, 1.0 + value(rng));
+    for (int k = 0; k < per_column; ++k) entries.emplace_back(row(rng), j, value(rng));
+  }
+  SparseMatrix B(n, n);
+  B.setFromTriplets(entries.begin(), entries.end());
+  SparseMatrix BBt = B * SparseMatrix(B.transpose());
+  SparseMatrix A = SparseMatrix(0.5 * (BBt + SparseMatrix(BBt.transpose())));
+  SparseMatrix I(n, n);
+  I.setIdentity();
+  A += I;
+  A.makeCompressed();
+  return A;
+}
+
+/// The same pattern as A with other (still SPD) values: A + t diag(A) scaled off-diagonal.
+SparseMatrix same_pattern_new_values(const SparseMatrix& A, double t) {
+  SparseMatrix C = A;
+  for (int j = 0; j < C.outerSize(); ++j)
+    for (SparseMatrix::InnerIterator it(C, j); it; ++it)
+      it.valueRef() = it.row() == it.col() ? it.value() * (1.0 + t) : it.value() * (1.0 - 0.5 * t);
+  return C;
+}
+
+/// `count` distinct indices of 0..n-1 in a random order.
+std::vector<int> random_block(int n, int count, unsigned seed) {
+  std::vector<int> all(static_cast<std::size_t>(n));
+  std::iota(all.begin(), all.end(), 0);
+  std::mt19937 rng(seed + 1000);
+  std::shuffle(all.begin(), all.end(), rng);
+  all.resize(static_cast<std::size_t>(count));
+  return all;
+}
+
+std::vector<int> complement(int n, const std::vector<int>& block1) {
+  std::vector<bool> in1(static_cast<std::size_t>(n), false);
+  for (int i : block1) in1[static_cast<std::size_t>(i)] = true;
+  std::vector<int> block2;
+  for (int i = 0; i < n; ++i)
+    if (!in1[static_cast<std::size_t>(i)]) block2.push_back(i);
+  return block2;
+}
+
+Eigen::MatrixXd submatrix(const Eigen::MatrixXd& A, const std::vector<int>& rows, const std::vector<int>& cols) {
+  Eigen::MatrixXd out(static_cast<Eigen::Index>(rows.size()), static_cast<Eigen::Index>(cols.size()));
+  for (std::size_t r = 0; r < rows.size(); ++r)
+    for (std::size_t c = 0; c < cols.size(); ++c)
+      out(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) = A(rows[r], cols[c]);
+  return out;
+}
+
+double relative_error(const Eigen::MatrixXd& x, const Eigen::MatrixXd& reference) {
+  if (x.rows() != reference.rows() || x.cols() != reference.cols()) return 1e300;
+  const double scale = reference.norm();
+  return scale > 0 ? (x - reference).norm() / scale : (x - reference).norm();
+}
+
+Eigen::MatrixXd random_rhs(Eigen::Index rows, Eigen::Index cols, unsigned seed) {
+  std::mt19937 rng(seed + 7);
+  std::uniform_real_distribution<double> value(-1.0, 1.0);
+  Eigen::MatrixXd B(rows, cols);
+  for (Eigen::Index j = 0; j < cols; ++j)
+    for (Eigen::Index i = 0; i < rows; ++i) B(i, j) = value(rng);
+  return B;
+}
+
+/// A symmetric matrix with the pattern of random_spd(n, seed) and exactly one negative
+/// eigenvalue: A - sigma I with sigma between the two smallest eigenvalues of A.
+SparseMatrix one_negative_eigenvalue(int n, unsigned seed) {
+  SparseMatrix A = random_spd(n, seed);
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig{Eigen::MatrixXd(A)};
+  const double sigma = 0.5 * (eig.eigenvalues()(0) + eig.eigenvalues()(1));
+  SparseMatrix I(n, n);
+  I.setIdentity();
+  SparseMatrix C = A - sigma * I;
+  C.makeCompressed();
+  return C;
+}
+
+std::string printable(std::string name) {
+  for (char& c : name)
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  return name;
+}
+
+class LinearConformance : public ::testing::TestWithParam<std::string> {
+ protected:
+  std::unique_ptr<SparseFactorization> make() const {
+    FactorizationOptions options;
+    options.engine = GetParam();
+    return make_factorization(options);
+  }
+};
+
+TEST_P(LinearConformance, NameIsTheEngineName) { EXPECT_EQ(make()->name(), GetParam()); }
+
+TEST_P(LinearConformance, SolveMatchesDenseReference) {
+  for (int n : kSizes) {
+    for (unsigned seed : kSeeds) {
+      SCOPED_TRACE("n = " + std::to_string(n) + ", seed = " + std::to_string(seed));
+      const SparseMatrix A = random_spd(n, seed);
+      const Eigen::LLT<Eigen::MatrixXd> reference{Eigen::MatrixXd(A)};
+      ASSERT_EQ(reference.info(), Eigen::Success);
+      auto f = make();
+      const FactorizationResult r = f->factorize(A);
+      ASSERT_TRUE(r.ok()) << to_string(r.status) << ": " << r.message;
+      for (Eigen::Index columns : {1, 4}) {
+        const Eigen::MatrixXd B = random_rhs(n, columns, seed);
+        Eigen::MatrixXd X;
+        const FactorizationResult s = f->solve(B, &X);
+        ASSERT_TRUE(s.ok()) << s.message;
+        EXPECT_LT(relative_error(X, reference.solve(B)), kTolerance) << columns << " right-hand sides";
+      }
+      const double rcond = f->rcond_estimate();
+      if (rcond >= 0) {
+        EXPECT_GT(rcond, 0.0);
+        EXPECT_LE(rcond, 1.0);
+      }
+    }
+  }
+}
+
+TEST_P(LinearConformance, SchurComplementMatchesDenseReference) {
+  for (int n : kSizes) {
+    for (unsigned seed : kSeeds) {
+      SCOPED_TRACE("n = " + std::to_string(n) + ", seed = " + std::to_string(seed));
+      const SparseMatrix A = random_spd(n, seed);
+      const Eigen::MatrixXd D(A);
+      const std::vector<int> block1 = random_block(n, std::max(1, n / 5), seed);
+      const std::vector<int> block2 = complement(n, block1);
+      const Eigen::MatrixXd A11 = submatrix(D, block1, block1), A12 = submatrix(D, block1, block2),
+                            A22 = submatrix(D, block2, block2);
+      const Eigen::LLT<Eigen::MatrixXd> llt22(A22);
+      const Eigen::MatrixXd S_reference =
+          block2.empty() ? A11 : Eigen::MatrixXd(A11 - A12 * llt22.solve(A12.transpose()));
+
+      auto f = make();
+      Eigen::MatrixXd S;
+      const FactorizationResult r = f->schur_complement(A, block1, &S);
+      ASSERT_TRUE(r.ok()) << to_string(r.status) << ": " << r.message;
+      EXPECT_LT(relative_error(S, S_reference), kTolerance);
+
+      const Eigen::MatrixXd B2 = random_rhs(static_cast<Eigen::Index>(block2.size()), 3, seed);
+      Eigen::MatrixXd X2;
+      const FactorizationResult s = f->solve_interior(B2, &X2);
+      ASSERT_TRUE(s.ok()) << s.message;
+      if (!block2.empty()) {
+        EXPECT_LT(relative_error(X2, llt22.solve(B2)), kTolerance);
+      } else {
+        EXPECT_EQ(X2.rows(), 0);
+        EXPECT_EQ(X2.cols(), 3);
+      }
+    }
+  }
+}
+
+TEST_P(LinearConformance, RefactorizationOnTheSamePatternReusesTheAnalysis) {
+  const int n = 200;
+  const SparseMatrix A = random_spd(n, 5);
+  const SparseMatrix C = same_pattern_new_values(A, 0.3);
+  auto f = make();
+  if (f->num_analyses() < 0) GTEST_SKIP() << GetParam() << " does not count its analyses";
+  ASSERT_TRUE(f->analyze(A).ok());
+  ASSERT_EQ(f->num_analyses(), 1);
+  ASSERT_TRUE(f->factorize(A).ok());
+  EXPECT_EQ(f->num_analyses(), 1) << "factorize() repeated the analysis of an analysed pattern";
+  const FactorizationResult r = f->factorize(C);
+  ASSERT_TRUE(r.ok()) << r.message;
+  EXPECT_EQ(f->num_analyses(), 1) << "new values on the same pattern must not trigger an analysis";
+
+  const Eigen::MatrixXd B = random_rhs(n, 2, 5);
+  Eigen::MatrixXd X;
+  ASSERT_TRUE(f->solve(B, &X).ok());
+  EXPECT_LT(relative_error(X, Eigen::MatrixXd(C).llt().solve(B)), kTolerance);
+}
+
+TEST_P(LinearConformance, PatternChangeTriggersANewAnalysis) {
+  const int n = 40;
+  const SparseMatrix A = random_spd(n, 1);
+  const SparseMatrix C = random_spd(n, 2);  // another pattern
+  const SparseMatrix E = random_spd(n + 1, 1);  // another size
+  auto f = make();
+  if (f->num_analyses() < 0) GTEST_SKIP() << GetParam() << " does not count its analyses";
+  ASSERT_TRUE(f->factorize(A).ok());
+  EXPECT_EQ(f->num_analyses(), 1);
+  ASSERT_TRUE(f->factorize(C).ok());
+  EXPECT_EQ(f->num_analyses(), 2);
+  const Eigen::MatrixXd B = random_rhs(n, 1, 3);
+  Eigen::MatrixXd X;
+  ASSERT_TRUE(f->solve(B, &X).ok());
+  EXPECT_LT(relative_error(X, Eigen::MatrixXd(C).llt().solve(B)), kTolerance);
+  ASSERT_TRUE(f->factorize(E).ok());
+  EXPECT_EQ(f->num_analyses(), 3);
+  ASSERT_TRUE(f->solve(random_rhs(n + 1, 1, 3), &X).ok());
+  EXPECT_EQ(X.rows(), n + 1);
+}
+
+TEST_P(LinearConformance, SchurComplementReusesItsAnalysis) {
+  const int n = 200;
+  const SparseMatrix A = random_spd(n, 4);
+  const SparseMatrix C = same_pattern_new_values(A, 0.2);
+  const std::vector<int> block1 = random_block(n, 30, 4);
+  auto f = make();
+  if (f->num_analyses() < 0) GTEST_SKIP() << GetParam() << " does not count its analyses";
+  Eigen::MatrixXd S;
+  ASSERT_TRUE(f->schur_complement(A, block1, &S).ok());
+  const int after_first = f->num_analyses();
+  EXPECT_GE(after_first, 1);
+  ASSERT_TRUE(f->schur_complement(C, block1, &S).ok());
+  EXPECT_EQ(f->num_analyses(), after_first) << "same pattern and block1 must reuse the analysis";
+
+  const Eigen::MatrixXd D(C);
+  const std::vector<int> block2 = complement(n, block1);
+  const Eigen::MatrixXd S_reference =
+      submatrix(D, block1, block1) -
+      submatrix(D, block1, block2) * submatrix(D, block2, block2).llt().solve(submatrix(D, block2, block1));
+  EXPECT_LT(relative_error(S, S_reference), kTolerance);
+
+  ASSERT_TRUE(f->schur_complement(C, random_block(n, 30, 9), &S).ok());
+  EXPECT_GT(f->num_analyses(), after_first) << "another block1 needs another analysis";
+}
+
+TEST_P(LinearConformance, SmallIndefiniteMatrixIsNotPositiveDefinite) {
+  SparseMatrix A(3, 3);
+  A.insert(0, 0) = 1.0;
+  A.insert(1, 1) = -1.0;
+  A.insert(2, 2) = 2.0;
+  A.makeCompressed();
+  auto f = make();
+  const FactorizationResult r = f->factorize(A);
+  EXPECT_EQ(r.status, FactorizationStatus::not_positive_definite) << r.message;
+  EXPECT_FALSE(r.message.empty());
+  Eigen::MatrixXd X;
+  EXPECT_EQ(f->solve(Eigen::MatrixXd::Ones(3, 1), &X).status, FactorizationStatus::not_ready)
+      << "a failed factorization cannot be used to solve";
+
+  Eigen::MatrixXd S;
+  const std::vector<int> block1 = {2};  // A22 = diag(1, -1)
+  EXPECT_EQ(f->schur_complement(A, block1, &S).status, FactorizationStatus::not_positive_definite);
+  EXPECT_EQ(f->solve_interior(Eigen::MatrixXd::Ones(2, 1), &X).status, FactorizationStatus::not_ready);
+}
+
+TEST_P(LinearConformance, MatrixWithOneNegativeEigenvalueIsNotPositiveDefinite) {
+  for (int n : {40, 200}) {
+    SCOPED_TRACE("n = " + std::to_string(n));
+    const SparseMatrix A = one_negative_eigenvalue(n, 11);
+    auto f = make();
+    const FactorizationResult r = f->factorize(A);
+    EXPECT_EQ(r.status, FactorizationStatus::not_positive_definite) << r.message;
+    Eigen::MatrixXd S;
+    const FactorizationResult s = f->schur_complement(A, std::vector<int>{}, &S);  // A22 = A
+    EXPECT_EQ(s.status, FactorizationStatus::not_positive_definite) << s.message;
+  }
+}
+
+TEST_P(LinearConformance, CallsOutOfOrderAreNotReady) {
+  auto f = make();
+  Eigen::MatrixXd X;
+  EXPECT_EQ(f->solve(Eigen::MatrixXd::Ones(5, 1), &X).status, FactorizationStatus::not_ready);
+  EXPECT_EQ(f->solve_interior(Eigen::MatrixXd::Ones(5, 1), &X).status, FactorizationStatus::not_ready);
+  ASSERT_TRUE(f->analyze(random_spd(5, 1)).ok());
+  EXPECT_EQ(f->solve(Eigen::MatrixXd::Ones(5, 1), &X).status, FactorizationStatus::not_ready)
+      << "analyze() alone does not allow a solve";
+}
+
+TEST_P(LinearConformance, WrongSizesAreInvalidInput) {
+  const SparseMatrix A = random_spd(5, 1);
+  auto f = make();
+  ASSERT_TRUE(f->factorize(A).ok());
+  Eigen::MatrixXd X;
+  EXPECT_EQ(f->solve(Eigen::MatrixXd::Ones(4, 1), &X).status, FactorizationStatus::invalid_input);
+  EXPECT_EQ(f->solve(Eigen::MatrixXd::Ones(6, 2), &X).status, FactorizationStatus::invalid_input);
+  EXPECT_EQ(f->solve(Eigen::MatrixXd::Ones(5, 1), nullptr).status, FactorizationStatus::invalid_input);
+
+  Eigen::MatrixXd S;
+  const std::vector<int> block1 = {3, 1};
+  ASSERT_TRUE(f->schur_complement(A, block1, &S).ok());
+  EXPECT_EQ(f->solve_interior(Eigen::MatrixXd::Ones(5, 1), &X).status, FactorizationStatus::invalid_input);
+  EXPECT_EQ(f->solve_interior(Eigen::MatrixXd::Ones(2, 1), &X).status, FactorizationStatus::invalid_input);
+  EXPECT_TRUE(f->solve_interior(Eigen::MatrixXd::Ones(3, 1), &X).ok());
+  EXPECT_EQ(f->schur_complement(A, block1, nullptr).status, FactorizationStatus::invalid_input);
+
+  SparseMatrix rectangular(4, 5);
+  rectangular.insert(0, 0) = 1.0;
+  EXPECT_EQ(f->analyze(rectangular).status, FactorizationStatus::invalid_input);
+  EXPECT_EQ(f->factorize(rectangular).status, FactorizationStatus::invalid_input);
+  EXPECT_EQ(f->schur_complement(rectangular, block1, &S).status, FactorizationStatus::invalid_input);
+}
+
+TEST_P(LinearConformance, InvalidBlock1IsInvalidInput) {
+  const SparseMatrix A = random_spd(5, 2);
+  auto f = make();
+  Eigen::MatrixXd S;
+  for (const std::vector<int>& block1 :
+       {std::vector<int>{1, 3, 1}, std::vector<int>{5}, std::vector<int>{0, -1}, std::vector<int>{0, 1, 2, 3, 4, 0}}) {
+    const FactorizationResult r = f->schur_complement(A, block1, &S);
+    EXPECT_EQ(r.status, FactorizationStatus::invalid_input) << r.message;
+    EXPECT_FALSE(r.message.empty());
+  }
+  Eigen::MatrixXd X;
+  EXPECT_EQ(f->solve_interior(Eigen::MatrixXd::Ones(3, 1), &X).status, FactorizationStatus::not_ready);
+}
+
+TEST_P(LinearConformance, EmptyBlock1GivesAnEmptySchurComplement) {
+  const int n = 40;
+  const SparseMatrix A = random_spd(n, 3);
+  auto f = make();
+  Eigen::MatrixXd S = Eigen::MatrixXd::Ones(2, 2);
+  const FactorizationResult r = f->schur_complement(A, std::vector<int>{}, &S);
+  ASSERT_TRUE(r.ok()) << r.message;
+  EXPECT_EQ(S.rows(), 0);
+  EXPECT_EQ(S.cols(), 0);
+  const Eigen::MatrixXd B = random_rhs(n, 2, 3);
+  Eigen::MatrixXd X;
+  ASSERT_TRUE(f->solve_interior(B, &X).ok());
+  EXPECT_LT(relative_error(X, Eigen::MatrixXd(A).llt().solve(B)), kTolerance);
+}
+
+TEST_P(LinearConformance, Block1WithEveryIndexGivesTheMatrix) {
+  const int n = 40;
+  const SparseMatrix A = random_spd(n, 3);
+  std::vector<int> block1(n);
+  std::iota(block1.rbegin(), block1.rend(), 0);  // n-1, ..., 0
+  auto f = make();
+  Eigen::MatrixXd S;
+  const FactorizationResult r = f->schur_complement(A, block1, &S);
+  ASSERT_TRUE(r.ok()) << r.message;
+  EXPECT_LT(relative_error(S, submatrix(Eigen::MatrixXd(A), block1, block1)), kTolerance);
+  Eigen::MatrixXd X;
+  ASSERT_TRUE(f->solve_interior(Eigen::MatrixXd(0, 2), &X).ok());
+  EXPECT_EQ(X.rows(), 0);
+}
+
+TEST_P(LinearConformance, UncompressedInputIsAccepted) {
+  const int n = 40;
+  const SparseMatrix A = random_spd(n, 6);
+  SparseMatrix U(n, n);
+  U.reserve(Eigen::VectorXi::Constant(n, 40));
+  for (int j = 0; j < n; ++j)
+    for (SparseMatrix::InnerIterator it(A, j); it; ++it) U.insert(it.row(), it.col()) = it.value();
+  ASSERT_FALSE(U.isCompressed());
+  auto f = make();
+  ASSERT_TRUE(f->factorize(U).ok());
+  const Eigen::MatrixXd B = random_rhs(n, 1, 6);
+  Eigen::MatrixXd X;
+  ASSERT_TRUE(f->solve(B, &X).ok());
+  EXPECT_LT(relative_error(X, Eigen::MatrixXd(A).llt().solve(B)), kTolerance);
+  Eigen::MatrixXd S;
+  ASSERT_TRUE(f->schur_complement(U, random_block(n, 5, 6), &S).ok());
+  EXPECT_EQ(S.rows(), 5);
+}
+
+INSTANTIATE_TEST_SUITE_P(Engines, LinearConformance, ::testing::ValuesIn(available_factorizations()),
+                         [](const ::testing::TestParamInfo<std::string>& info) { return printable(info.param); });
+
+// ---- why every engine must check definiteness itself --------------------------------
+
+TEST(LinearTrap, EigenSimplicialLdltFactorsAMatrixWithANegativeEigenvalue) {
+  const SparseMatrix A = one_negative_eigenvalue(40, 11);
+  Eigen::SimplicialLDLT<SparseMatrix> ldlt(A);
+  EXPECT_EQ(ldlt.info(), Eigen::Success) << "SimplicialLDLT only fails on an exactly zero pivot";
+  EXPECT_LT(ldlt.vectorD().minCoeff(), 0.0);
+}
+
+// ---- the factory ------------------------------------------------------------------------
+
+TEST(LinearFactory, EigenIsAlwaysAvailable) {
+  const auto names = available_factorizations();
+  ASSERT_FALSE(names.empty());
+  EXPECT_EQ(names.front(), "eigen");
+}
+
+TEST(LinearFactory, UnknownEngineListsTheAvailableOnes) {
+  FactorizationOptions options;
+  options.engine = "superlu";
+  try {
+    (void)make_factorization(options);
+    FAIL() << "no exception";
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("superlu"), std::string::npos) << message;
+    for (const std::string& name : available_factorizations())
+      EXPECT_NE(message.find(name), std::string::npos) << message;
+  }
+}
+
+TEST(LinearFactory, EngineNotBuiltListsTheAvailableOnes) {
+  const auto built = available_factorizations();
+  int checked = 0;
+  for (const std::string name : {"eigen", "cholmod", "mumps", "mumps-mpi"}) {
+    if (std::find(built.begin(), built.end(), name) != built.end()) continue;
+    FactorizationOptions options;
+    options.engine = name;
+    try {
+      (void)make_factorization(options);
+      ADD_FAILURE() << name << ": no exception";
+    } catch (const InputError& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find("linear engine '" + name + "' was not built; available: "), std::string::npos)
+          << message;
+      for (const std::string& b : built) EXPECT_NE(message.find(b), std::string::npos) << message;
+    }
+    ++checked;
+  }
+  if (checked == 0) GTEST_SKIP() << "every engine was built";
+}
+
+TEST(LinearFactory, NamesAreCaseInsensitive) {
+  for (const std::string& name : available_factorizations()) {
+    std::string upper = name;
+    std::transform(upper.begin(), upper.end(), upper.begin(), [](unsigned char c) { return std::toupper(c); });
+    std::string mixed = upper;
+    mixed[0] = static_cast<char>(std::tolower(static_cast<unsigned char>(mixed[0])));
+    for (const std::string& spelling : {upper, mixed}) {
+      FactorizationOptions options;
+      options.engine = spelling;
+      auto f = make_factorization(options);
+      ASSERT_NE(f, nullptr);
+      EXPECT_EQ(f->name(), name);
+    }
+  }
+}
+
+TEST(LinearFactory, InvalidOptionsNameTheField) {
+  FactorizationOptions options;
+  options.threads = -1;
+  std::string error;
+  EXPECT_FALSE(options.is_valid(&error));
+  EXPECT_NE(error.find("threads"), std::string::npos) << error;
+  EXPECT_THROW((void)make_factorization(options), InputError);
+
+  options = {};
+  options.verbosity = -2;
+  EXPECT_FALSE(options.is_valid(&error));
+  EXPECT_NE(error.find("verbosity"), std::string::npos) << error;
+
+  options = {};
+  options.engine = "nosuch";
+  EXPECT_FALSE(options.is_valid(&error));
+  EXPECT_NE(error.find("engine"), std::string::npos) << error;
+
+  options = {};
+  options.engine = "MUMPS_MPI";
+  EXPECT_TRUE(options.is_valid(&error)) << error;
+  EXPECT_TRUE(FactorizationOptions{}.is_valid(nullptr));
+}
+
+TEST(LinearFactory, StatusesHaveNames) {
+  EXPECT_EQ(to_string(FactorizationStatus::success), "success");
+  EXPECT_EQ(to_string(FactorizationStatus::not_positive_definite), "not_positive_definite");
+  EXPECT_EQ(to_string(FactorizationStatus::numerical_failure), "numerical_failure");
+  EXPECT_EQ(to_string(FactorizationStatus::invalid_input), "invalid_input");
+  EXPECT_EQ(to_string(FactorizationStatus::not_ready), "not_ready");
+  EXPECT_EQ(to_string(FactorizationStatus::out_of_memory), "out_of_memory");
+}
+
+}  // namespace
+}  // namespace hemivem
