@@ -235,8 +235,7 @@ class MumpsEngine {
       // triangle of the column-major n1×n1 array, in the order of LISTVAR_SCHUR.
       const auto m = static_cast<Eigen::Index>(n1);
       Eigen::Map<const Eigen::MatrixXd> raw(schur_.data(), m, m);
-      Eigen::MatrixXd full = raw.template triangularView<Eigen::Upper>();
-      full.template triangularView<Eigen::StrictlyLower>() = full.transpose();
+      Eigen::MatrixXd full = raw.template selfadjointView<Eigen::Upper>();
       r = check_schur_definite(full);
       if (r.ok()) *S = std::move(full);
     } else if (n1 == 0 && comm_.is_root()) {
