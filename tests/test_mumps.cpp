@@ -204,6 +204,22 @@ TEST(Mumps, AcceptsAnUncompressedMatrix) {
   EXPECT_EQ(mumps.num_analyses(), 1);
 }
 
+TEST(Mumps, SchurAnalysisIsReusedForTheSameBlock1Only) {
+  const int n = 40;
+  const SparseMatrix A = random_spd(n, 49);
+  MumpsFactorization mumps;
+  Eigen::MatrixXd S1, S2, S3;
+  ASSERT_TRUE(mumps.schur_complement(A, std::vector<int>{4, 9, 30}, &S1).ok());
+  ASSERT_TRUE(mumps.schur_complement(A, std::vector<int>{4, 9, 30}, &S2).ok());
+  EXPECT_EQ(mumps.num_analyses(), 1);
+  EXPECT_EQ(mumps.num_factorizations(), 2);
+  // Another order is another block1: a new analysis, and S follows the order asked for.
+  ASSERT_TRUE(mumps.schur_complement(A, std::vector<int>{30, 4, 9}, &S3).ok());
+  EXPECT_EQ(mumps.num_analyses(), 2);
+  const std::vector<int> order{2, 0, 1};
+  EXPECT_LT(relative_error(S3, S1(order, order)), kTolerance);
+}
+
 // ---- Schur special cases -------------------------------------------------------------
 
 TEST(Mumps, EmptyBlock1FactorizesAllOfA) {

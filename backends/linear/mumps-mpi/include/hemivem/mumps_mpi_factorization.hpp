@@ -12,7 +12,8 @@
 //   - Rank 0 is MUMPS' host (PAR=1: it works too). The problem is centralized there: the
 //     matrix A (assembled, ICNTL(18)=0), the right-hand sides B and B2 and block1 are read on
 //     rank 0 only; on the other ranks these arguments are ignored and may be empty.
-//   - Outputs (X, X2, S) are written on rank 0 only (on success), and left untouched elsewhere.
+//   - Outputs (X, X2, S) are written on rank 0 only (on success), and left untouched elsewhere
+//     (where the output pointers may be null).
 //   - Every process returns the same FactorizationResult (rank 0 decides and broadcasts), and
 //     rcond_estimate() returns the same number everywhere.
 //
@@ -27,7 +28,8 @@
 // Never link this backend and hemivem::linear_mumps into one program: the MPI and the
 // sequential builds of MUMPS export the same symbols. CMake refuses such a target (property
 // MUMPS_FLAVOUR); the linker does too (both define hemivem_mumps_flavour_guard). A tool
-// offering both needs one executable per flavour.
+// offering both either builds one executable per flavour or loads this engine as a module
+// (hemivem/mumps_mpi_plugin.hpp: dlopen with RTLD_LOCAL | RTLD_DEEPBIND).
 #pragma once
 
 #include <hemivem/sparse_factorization.hpp>
