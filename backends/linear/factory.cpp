@@ -11,14 +11,18 @@
 #ifdef HEMIVEM_HAVE_CHOLMOD
 #include <hemivem/cholmod_factorization.hpp>
 #endif
-// The MUMPS engines (targets hemivem_linear_mumps and hemivem_linear_mumps_mpi, which
-// backends/linear/CMakeLists.txt links and announces when they exist) are constructed from
-// the options like the others.
+// The sequential MUMPS engine is linked; the MPI engine is loaded as a module because the two
+// MUMPS builds export the same symbols (hemivem/mumps_mpi_plugin.hpp).
 #ifdef HEMIVEM_HAVE_MUMPS
 #include <hemivem/mumps_factorization.hpp>
 #endif
 #ifdef HEMIVEM_HAVE_MUMPS_MPI
-#include <hemivem/mumps_mpi_factorization.hpp>
+#include <hemivem/mumps_mpi_plugin.hpp>
+
+#include <dlfcn.h>
+
+#include <cstdlib>
+#include <mutex>
 #endif
 
 namespace hemivem {
@@ -38,6 +42,30 @@ std::string built_list() {
   for (const std::string& name : available_factorizations()) list += (list.empty() ? "" : ", ") + name;
   return list.empty() ? "none" : list;
 }
+
+#ifdef HEMIVEM_HAVE_MUMPS_MPI
+// The module is loaded once and never unloaded (engines it created may outlive any scope).
+// HEMIVEM_MUMPS_MPI_PLUGIN in the environment overrides the path recorded at build time.
+CreateMumpsMpiFunction mumps_mpi_entry() {
+  static std::once_flag once;
+  static CreateMumpsMpiFunction create = nullptr;
+  static std::string error;
+  std::call_once(once, [] {
+    const char* env = std::getenv("HEMIVEM_MUMPS_MPI_PLUGIN");
+    const std::string path = env && *env ? env : HEMIVEM_MUMPS_MPI_PLUGIN;
+    void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL | RTLD_DEEPBIND);
+    if (!handle) {
+      const char* why = dlerror();
+      error = "cannot load the mumps-mpi module " + path + ": " + (why ? why : "unknown error");
+      return;
+    }
+    create = reinterpret_cast<CreateMumpsMpiFunction>(dlsym(handle, kCreateMumpsMpiSymbol));
+    if (!create) error = "the mumps-mpi module " + path + " has no entry point " + kCreateMumpsMpiSymbol;
+  });
+  if (!create) throw InputError(error, "engine");
+  return create;
+}
+#endif
 
 }  // namespace
 
@@ -80,7 +108,7 @@ std::unique_ptr<SparseFactorization> make_factorization(const FactorizationOptio
   if (name == "mumps") return std::make_unique<MumpsFactorization>(options);
 #endif
 #ifdef HEMIVEM_HAVE_MUMPS_MPI
-  if (name == "mumps-mpi") return std::make_unique<MumpsMpiFactorization>(options);
+  if (name == "mumps-mpi") return std::unique_ptr<SparseFactorization>(mumps_mpi_entry()(&options));
 #endif
   throw InputError("linear engine '" + options.engine + "' was not built; available: " + built_list(), "engine");
 }

@@ -1,0 +1,637 @@
+// The MUMPS driver shared by the sequential and the MPI backends (private; no public header
+// includes it). It is compiled separately into each backend, against that backend's MUMPS
+// build, and instantiated with a communication policy:
+//
+//   struct Comm {
+//     bool is_root() const;                 // the MUMPS host (rank 0), where A, B, S, X live
+//     MUMPS_INT fortran_comm() const;       // MUMPS' COMM
+//     void broadcast(void* data, int bytes) const;   // from the root to every process
+//   };
+//
+// Every public method is collective: all processes call it in the same order. The root checks
+// the arguments and decides; decisions and results are broadcast so that every process takes
+// the same path and returns the same status.
+#pragma once
+
+#include <dmumps_c.h>
+#include <hemivem/sparse_factorization.hpp>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace hemivem {
+namespace {  // internal linkage: each backend has its own copy
+
+#define HEMIVEM_ICNTL(I) icntl[(I) - 1]
+#define HEMIVEM_INFOG(I) infog[(I) - 1]
+#define HEMIVEM_RINFOG(I) rinfog[(I) - 1]
+
+constexpr MUMPS_INT kJobInit = -1;
+constexpr MUMPS_INT kJobEnd = -2;
+constexpr MUMPS_INT kJobAnalyze = 1;
+constexpr MUMPS_INT kJobFactorize = 2;
+constexpr MUMPS_INT kJobSolve = 3;
+
+FactorizationResult make_result(FactorizationStatus status, std::string message) {
+  FactorizationResult r;
+  r.status = status;
+  r.message = std::move(message);
+  return r;
+}
+
+/// A compressed copy of A when A is not compressed; A itself otherwise.
+class Compressed {
+ public:
+  explicit Compressed(const SparseMatrix& A) : ptr_(&A) {
+    if (!A.isCompressed()) {
+      copy_ = A;
+      copy_.makeCompressed();
+      ptr_ = &copy_;
+    }
+  }
+  const SparseMatrix& get() const { return *ptr_; }
+
+ private:
+  const SparseMatrix* ptr_;
+  SparseMatrix copy_;
+};
+
+template <class Comm>
+class MumpsEngine {
+ public:
+  MumpsEngine(const FactorizationOptions& options, Comm comm, std::string name)
+      : comm_(std::move(comm)), name_(std::move(name)) {
+    id_.comm_fortran = comm_.fortran_comm();
+    id_.par = 1;  // the host works too
+    id_.sym = 1;  // symmetric positive definite
+    id_.job = kJobInit;
+    dmumps_c(&id_);
+    if (id_.HEMIVEM_INFOG(1) < 0) {
+      init_error_ = make_result(FactorizationStatus::numerical_failure,
+                                name_ + ": MUMPS initialization failed" + codes());
+      return;
+    }
+    initialized_ = true;
+    if (options.verbosity <= 0) {
+      id_.HEMIVEM_ICNTL(1) = -1;  // errors
+      id_.HEMIVEM_ICNTL(2) = -1;  // diagnostics and warnings
+      id_.HEMIVEM_ICNTL(3) = -1;  // global information
+      id_.HEMIVEM_ICNTL(4) = 0;   // print level
+    } else {
+      id_.HEMIVEM_ICNTL(1) = 6;
+      id_.HEMIVEM_ICNTL(2) = 6;
+      id_.HEMIVEM_ICNTL(3) = 6;
+      id_.HEMIVEM_ICNTL(4) = std::min(options.verbosity, 4);
+    }
+    id_.HEMIVEM_ICNTL(5) = 0;   // assembled matrix
+    id_.HEMIVEM_ICNTL(18) = 0;  // centralized on the host
+    id_.HEMIVEM_ICNTL(20) = 0;  // dense right-hand sides
+    id_.HEMIVEM_ICNTL(21) = 0;  // centralized solution
+    if (options.threads > 0) id_.HEMIVEM_ICNTL(16) = options.threads;
+  }
+
+  ~MumpsEngine() {
+    if (initialized_) {
+      id_.job = kJobEnd;
+      dmumps_c(&id_);
+    }
+  }
+
+  MumpsEngine(const MumpsEngine&) = delete;
+  MumpsEngine& operator=(const MumpsEngine&) = delete;
+
+  int num_analyses() const noexcept { return num_analyses_; }
+  int num_factorizations() const noexcept { return num_factorizations_; }
+
+  // ---- the contract ---------------------------------------------------------------------
+
+  FactorizationResult analyze(const SparseMatrix& A) {
+    if (!initialized_) return init_error_;
+    Compressed C(A);
+    FactorizationResult r;
+    if (comm_.is_root()) r = check_matrix(C.get(), /*values=*/false);
+    r = agree(std::move(r));
+    if (!r.ok()) return r;
+    if (comm_.is_root()) {
+      gather_pattern(C.get());
+      gather_values(C.get());
+    }
+    return run_analysis({});
+  }
+
+  FactorizationResult factorize(const SparseMatrix& A) {
+    if (!initialized_) return init_error_;
+    Compressed C(A);
+    FactorizationResult r;
+    int need_analysis = 0;
+    if (comm_.is_root()) {
+      r = check_matrix(C.get(), /*values=*/true);
+      need_analysis = !(analysis_ == Analysis::plain && same_pattern(C.get()));
+    }
+    r = agree(std::move(r));
+    if (!r.ok()) return invalidate(std::move(r));
+    comm_.broadcast(&need_analysis, sizeof need_analysis);
+    if (comm_.is_root() && need_analysis) gather_pattern(C.get());
+    if (comm_.is_root()) gather_values(C.get());
+    if (need_analysis) {
+      r = run_analysis({});
+      if (!r.ok()) return r;
+    }
+    return run_factorization();
+  }
+
+  FactorizationResult solve(const Eigen::MatrixXd& B, Eigen::MatrixXd* X) {
+    if (!initialized_) return init_error_;
+    FactorizationResult r;
+    std::int64_t nrhs = 0;
+    if (comm_.is_root()) {
+      if (X == nullptr) {
+        r = make_result(FactorizationStatus::invalid_input, name_ + ": solve() needs an output matrix X");
+      } else if (factors_ != Factors::full) {
+        r = make_result(FactorizationStatus::not_ready,
+                        name_ + (factors_ == Factors::schur
+                                     ? ": solve() after schur_complement(): the factors held are "
+                                       "those of A22; call factorize() to solve with all of A"
+                                     : ": solve() needs a successful factorize() first"));
+      } else if (B.rows() != n_) {
+        r = make_result(FactorizationStatus::invalid_input,
+                        name_ + ": solve(): B has " + std::to_string(B.rows()) +
+                            " rows, the factorized matrix " + std::to_string(n_));
+      } else if (!B.allFinite()) {
+        r = make_result(FactorizationStatus::invalid_input, name_ + ": solve(): B has entries that are not finite");
+      }
+      nrhs = B.cols();
+    }
+    r = agree(std::move(r));
+    if (!r.ok()) return r;
+    comm_.broadcast(&nrhs, sizeof nrhs);
+    Eigen::MatrixXd R;
+    if (comm_.is_root()) R = B;
+    if (nrhs > 0) {
+      r = run_solve(R, nrhs, /*error_analysis=*/false);
+      if (!r.ok()) return r;
+    }
+    if (comm_.is_root()) *X = std::move(R);
+    return r;
+  }
+
+  FactorizationResult schur_complement(const SparseMatrix& A, std::span<const int> block1,
+                                       Eigen::MatrixXd* S) {
+    if (!initialized_) return init_error_;
+    interior_ready_ = false;
+    Compressed C(A);
+    FactorizationResult r;
+    std::int64_t n1 = 0;
+    int need_analysis = 0;
+    if (comm_.is_root()) {
+      r = check_matrix(C.get(), /*values=*/true);
+      if (r.ok() && S == nullptr)
+        r = make_result(FactorizationStatus::invalid_input, name_ + ": schur_complement() needs an output matrix S");
+      if (r.ok()) r = check_block1(block1, C.get().rows());
+      n1 = static_cast<std::int64_t>(block1.size());
+      if (r.ok() && n1 > 0 && n1 < C.get().rows())
+        need_analysis = !(analysis_ == Analysis::schur && same_pattern(C.get()) &&
+                          std::equal(block1.begin(), block1.end(), block1_.begin(), block1_.end()));
+      if (r.ok() && n1 == 0)
+        need_analysis = !(analysis_ == Analysis::plain && same_pattern(C.get()));
+    }
+    r = agree(std::move(r));
+    if (!r.ok()) return invalidate(std::move(r));
+    comm_.broadcast(&n1, sizeof n1);
+    comm_.broadcast(&need_analysis, sizeof need_analysis);
+    std::int64_t n = 0;
+    if (comm_.is_root()) n = C.get().rows();
+    comm_.broadcast(&n, sizeof n);
+
+    if (n1 == n) return schur_of_everything(C.get(), block1, n, S);
+
+    if (comm_.is_root()) {
+      if (need_analysis) gather_pattern(C.get());
+      gather_values(C.get());
+      interior_.clear();
+      std::vector<char> in_block1(static_cast<std::size_t>(n), 0);
+      for (int i : block1) in_block1[static_cast<std::size_t>(i)] = 1;
+      for (int i = 0; i < n; ++i)
+        if (!in_block1[static_cast<std::size_t>(i)]) interior_.push_back(i);
+    }
+    if (need_analysis) {
+      r = run_analysis(block1);
+      if (!r.ok()) return r;
+    }
+    r = run_factorization();
+    if (!r.ok()) return r;
+
+    if (n1 > 0 && comm_.is_root()) {
+      // ICNTL(19)=1 with SYM≠0: MUMPS fills the lower triangle by rows, that is the upper
+      // triangle of the column-major n1×n1 array, in the order of LISTVAR_SCHUR.
+      const auto m = static_cast<Eigen::Index>(n1);
+      Eigen::Map<const Eigen::MatrixXd> raw(schur_.data(), m, m);
+      Eigen::MatrixXd full = raw.template selfadjointView<Eigen::Upper>();
+      r = check_schur_definite(full);
+      if (r.ok()) *S = std::move(full);
+    } else if (n1 == 0 && comm_.is_root()) {
+      S->resize(0, 0);
+    }
+    r = agree(std::move(r));
+    if (r.ok()) {
+      schur_n_ = n;
+      n1_ = n1;
+      interior_ready_ = true;
+    }
+    return r;
+  }
+
+  FactorizationResult solve_interior(const Eigen::MatrixXd& B2, Eigen::MatrixXd* X2) {
+    if (!initialized_) return init_error_;
+    FactorizationResult r;
+    std::int64_t nrhs = 0;
+    if (comm_.is_root()) {
+      const auto n2 = schur_n_ - n1_;
+      if (X2 == nullptr) {
+        r = make_result(FactorizationStatus::invalid_input, name_ + ": solve_interior() needs an output matrix X2");
+      } else if (!interior_ready_) {
+        r = make_result(FactorizationStatus::not_ready,
+                        name_ + ": solve_interior() needs a successful schur_complement() first");
+      } else if (B2.rows() != n2) {
+        r = make_result(FactorizationStatus::invalid_input,
+                        name_ + ": solve_interior(): B2 has " + std::to_string(B2.rows()) +
+                            " rows, A22 " + std::to_string(n2));
+      } else if (!B2.allFinite()) {
+        r = make_result(FactorizationStatus::invalid_input,
+                        name_ + ": solve_interior(): B2 has entries that are not finite");
+      }
+      nrhs = B2.cols();
+    }
+    r = agree(std::move(r));
+    if (!r.ok()) return r;
+    comm_.broadcast(&nrhs, sizeof nrhs);
+
+    if (n1_ == schur_n_ || nrhs == 0) {  // A22 is empty, or nothing to solve
+      if (comm_.is_root()) X2->setZero(schur_n_ - n1_, static_cast<Eigen::Index>(nrhs));
+      return r;
+    }
+    Eigen::MatrixXd R;
+    if (comm_.is_root()) {
+      if (n1_ == 0) {
+        R = B2;
+      } else {
+        R.setZero(n_, static_cast<Eigen::Index>(nrhs));
+        for (std::size_t k = 0; k < interior_.size(); ++k)
+          R.row(interior_[k]) = B2.row(static_cast<Eigen::Index>(k));
+      }
+    }
+    r = run_solve(R, nrhs, /*error_analysis=*/false);
+    if (!r.ok()) return r;
+    if (comm_.is_root()) {
+      if (n1_ == 0) {
+        *X2 = std::move(R);
+      } else {
+        X2->resize(schur_n_ - n1_, static_cast<Eigen::Index>(nrhs));
+        for (std::size_t k = 0; k < interior_.size(); ++k)
+          X2->row(static_cast<Eigen::Index>(k)) = R.row(interior_[k]);
+      }
+    }
+    return r;
+  }
+
+  double rcond_estimate() {
+    if (!initialized_ || factors_ != Factors::full) return -1.0;
+    if (rcond_known_) return rcond_;
+    Eigen::MatrixXd R;
+    if (comm_.is_root()) {  // b = A·1, so that x = 1
+      R.setZero(n_, 1);
+      for (std::size_t k = 0; k < values_.size(); ++k) {
+        const auto i = irn_[k] - 1, j = jcn_[k] - 1;
+        R(i, 0) += values_[k];
+        if (i != j) R(j, 0) += values_[k];
+      }
+    }
+    const FactorizationResult r = run_solve(R, 1, /*error_analysis=*/true);
+    double rcond = -1.0;
+    if (comm_.is_root() && r.ok()) {
+      const double cond1 = id_.HEMIVEM_RINFOG(10);
+      if (std::isfinite(cond1) && cond1 > 0.0) rcond = 1.0 / cond1;
+    }
+    comm_.broadcast(&rcond, sizeof rcond);
+    rcond_ = rcond;
+    rcond_known_ = true;
+    return rcond_;
+  }
+
+ private:
+  enum class Analysis { none, plain, schur };
+  enum class Factors { none, full, schur };
+
+  // ---- checks (root) --------------------------------------------------------------------
+
+  FactorizationResult check_matrix(const SparseMatrix& A, bool values) const {
+    if (A.rows() != A.cols())
+      return make_result(FactorizationStatus::invalid_input,
+                         name_ + ": the matrix is " + std::to_string(A.rows()) + "×" +
+                             std::to_string(A.cols()) + ", not square");
+    if (A.rows() == 0)
+      return make_result(FactorizationStatus::invalid_input, name_ + ": the matrix is empty");
+    if (!symmetric_pattern(A))
+      return make_result(FactorizationStatus::invalid_input,
+                         name_ + ": the pattern of the matrix is not symmetric (both triangles "
+                                 "must be stored)");
+    if (values) {
+      const Eigen::Map<const Eigen::VectorXd> v(A.valuePtr(), A.nonZeros());
+      if (!v.allFinite())
+        return make_result(FactorizationStatus::invalid_input,
+                           name_ + ": the matrix has entries that are not finite");
+    }
+    return {};
+  }
+
+  static bool symmetric_pattern(const SparseMatrix& A) {
+    const SparseMatrix At = A.transpose();  // sorted inner indices
+    if (At.nonZeros() != A.nonZeros()) return false;
+    std::vector<int> column;
+    for (Eigen::Index j = 0; j < A.outerSize(); ++j) {
+      const int b = A.outerIndexPtr()[j], e = A.outerIndexPtr()[j + 1];
+      if (At.outerIndexPtr()[j] != b || At.outerIndexPtr()[j + 1] != e) return false;
+      column.assign(A.innerIndexPtr() + b, A.innerIndexPtr() + e);
+      std::sort(column.begin(), column.end());
+      if (!std::equal(column.begin(), column.end(), At.innerIndexPtr() + b)) return false;
+    }
+    return true;
+  }
+
+  FactorizationResult check_block1(std::span<const int> block1, Eigen::Index n) const {
+    if (static_cast<Eigen::Index>(block1.size()) > n)
+      return make_result(FactorizationStatus::invalid_input,
+                         name_ + ": block1 has " + std::to_string(block1.size()) +
+                             " indices, more than the " + std::to_string(n) + " rows of A");
+    std::vector<char> seen(static_cast<std::size_t>(n), 0);
+    for (int i : block1) {
+      if (i < 0 || i >= n)
+        return make_result(FactorizationStatus::invalid_input,
+                           name_ + ": block1 holds the index " + std::to_string(i) +
+                               ", outside [0, " + std::to_string(n) + ")");
+      if (seen[static_cast<std::size_t>(i)]++)
+        return make_result(FactorizationStatus::invalid_input,
+                           name_ + ": block1 holds the index " + std::to_string(i) + " twice");
+    }
+    return {};
+  }
+
+  bool same_pattern(const SparseMatrix& A) const {
+    return analysis_ != Analysis::none &&
+           outer_.size() == static_cast<std::size_t>(A.outerSize()) + 1 &&
+           static_cast<std::size_t>(A.nonZeros()) == inner_.size() &&
+           std::equal(outer_.begin(), outer_.end(), A.outerIndexPtr()) &&
+           std::equal(inner_.begin(), inner_.end(), A.innerIndexPtr());
+  }
+
+  FactorizationResult check_schur_definite(const Eigen::MatrixXd& S) const {
+    Eigen::LLT<Eigen::MatrixXd> llt(S);
+    if (llt.info() != Eigen::Success)
+      return make_result(FactorizationStatus::not_positive_definite,
+                         name_ + ": the Schur complement S is not positive definite, so A is not");
+    return {};
+  }
+
+  // ---- data handed to MUMPS (root) -----------------------------------------------------
+
+  void gather_pattern(const SparseMatrix& A) {
+    outer_.assign(A.outerIndexPtr(), A.outerIndexPtr() + A.outerSize() + 1);
+    inner_.assign(A.innerIndexPtr(), A.innerIndexPtr() + A.nonZeros());
+    irn_.clear();
+    jcn_.clear();
+    positions_.clear();
+    for (Eigen::Index j = 0; j < A.outerSize(); ++j)
+      for (int k = A.outerIndexPtr()[j]; k < A.outerIndexPtr()[j + 1]; ++k)
+        if (A.innerIndexPtr()[k] >= j) {  // lower triangle, 1-based for MUMPS
+          irn_.push_back(static_cast<MUMPS_INT>(A.innerIndexPtr()[k] + 1));
+          jcn_.push_back(static_cast<MUMPS_INT>(j + 1));
+          positions_.push_back(k);
+        }
+    values_.assign(positions_.size(), 0.0);
+  }
+
+  void gather_values(const SparseMatrix& A) {
+    values_.resize(positions_.size());
+    for (std::size_t k = 0; k < positions_.size(); ++k) values_[k] = A.valuePtr()[positions_[k]];
+  }
+
+  // ---- MUMPS phases (collective) --------------------------------------------------------
+
+  FactorizationResult run_analysis(std::span<const int> block1) {
+    factors_ = Factors::none;
+    interior_ready_ = false;
+    rcond_known_ = false;
+    std::int64_t n1 = static_cast<std::int64_t>(block1.size());
+    comm_.broadcast(&n1, sizeof n1);
+    std::int64_t n = 0;
+    if (comm_.is_root()) {
+      n = static_cast<std::int64_t>(outer_.size()) - 1;
+      id_.n = static_cast<MUMPS_INT>(n);
+      id_.nnz = static_cast<MUMPS_INT8>(irn_.size());
+      id_.irn = irn_.data();
+      id_.jcn = jcn_.data();
+      id_.a = values_.data();
+      block1_.assign(block1.begin(), block1.end());
+      listvar_.resize(block1_.size());
+      for (std::size_t k = 0; k < block1_.size(); ++k) listvar_[k] = static_cast<MUMPS_INT>(block1_[k] + 1);
+      id_.size_schur = static_cast<MUMPS_INT>(listvar_.size());
+      id_.listvar_schur = listvar_.empty() ? nullptr : listvar_.data();
+    }
+    id_.HEMIVEM_ICNTL(19) = n1 > 0 ? 1 : 0;  // centralized Schur complement on the host
+    id_.job = kJobAnalyze;
+    dmumps_c(&id_);
+    ++num_analyses_;
+    if (id_.HEMIVEM_INFOG(1) < 0) {
+      analysis_ = Analysis::none;
+      return error("analysis");
+    }
+    analysis_ = n1 > 0 ? Analysis::schur : Analysis::plain;
+    comm_.broadcast(&n, sizeof n);
+    n_ = n;
+    return {};
+  }
+
+  FactorizationResult run_factorization() {
+    factors_ = Factors::none;
+    interior_ready_ = false;
+    rcond_known_ = false;
+    if (comm_.is_root()) {
+      id_.a = values_.data();
+      if (analysis_ == Analysis::schur) {
+        const auto m = static_cast<std::size_t>(id_.size_schur);
+        schur_.assign(m * m, 0.0);
+        id_.schur = schur_.data();
+        id_.schur_lld = id_.size_schur;
+      } else {
+        id_.schur = nullptr;
+      }
+    }
+    id_.job = kJobFactorize;
+    for (int attempt = 0;; ++attempt) {
+      dmumps_c(&id_);
+      const MUMPS_INT e = id_.HEMIVEM_INFOG(1);
+      const bool workspace = e == -8 || e == -9 || e == -14 || e == -15 || e == -17 || e == -20;
+      if (!workspace || attempt >= 4) break;
+      // MUMPS underestimated its workspace: allow more (ICNTL(14) is a percentage).
+      id_.HEMIVEM_ICNTL(14) = std::max<MUMPS_INT>(2 * id_.HEMIVEM_ICNTL(14), 50);
+    }
+    if (id_.HEMIVEM_INFOG(1) < 0) return error("factorization");
+    if (id_.HEMIVEM_INFOG(12) > 0)
+      return make_result(FactorizationStatus::not_positive_definite,
+                         name_ + ": the matrix is not positive definite (" +
+                             std::to_string(id_.HEMIVEM_INFOG(12)) + " negative pivot" +
+                             (id_.HEMIVEM_INFOG(12) > 1 ? "s" : "") + ")");
+    factors_ = analysis_ == Analysis::schur ? Factors::schur : Factors::full;
+    ++num_factorizations_;
+    return {};
+  }
+
+  /// Solves in place with the held factors (internal problem after a Schur factorization).
+  FactorizationResult run_solve(Eigen::MatrixXd& R, std::int64_t nrhs, bool error_analysis) {
+    if (comm_.is_root()) {
+      id_.rhs = R.data();
+      id_.lrhs = static_cast<MUMPS_INT>(n_);
+    } else {
+      id_.rhs = nullptr;
+    }
+    id_.nrhs = static_cast<MUMPS_INT>(nrhs);
+    id_.HEMIVEM_ICNTL(11) = error_analysis ? 1 : 0;
+    id_.HEMIVEM_ICNTL(26) = 0;  // with a Schur complement: solve the internal problem
+    id_.job = kJobSolve;
+    dmumps_c(&id_);
+    id_.HEMIVEM_ICNTL(11) = 0;
+    id_.rhs = nullptr;
+    if (id_.HEMIVEM_INFOG(1) < 0) return error("solve");
+    return {};
+  }
+
+  /// block1 = every index: S = A(block1, block1), no sparse factorization, A22 empty.
+  FactorizationResult schur_of_everything(const SparseMatrix& A, std::span<const int> block1,
+                                          std::int64_t n, Eigen::MatrixXd* S) {
+    factors_ = Factors::none;  // the MUMPS factors held (if any) are not those of this A
+    rcond_known_ = false;
+    FactorizationResult r;
+    if (comm_.is_root()) {
+      std::vector<int> where(static_cast<std::size_t>(n));
+      for (std::size_t k = 0; k < block1.size(); ++k) where[static_cast<std::size_t>(block1[k])] = static_cast<int>(k);
+      Eigen::MatrixXd full = Eigen::MatrixXd::Zero(n, n);
+      for (Eigen::Index j = 0; j < A.outerSize(); ++j)
+        for (SparseMatrix::InnerIterator it(A, j); it; ++it)
+          full(where[static_cast<std::size_t>(it.row())], where[static_cast<std::size_t>(j)]) = it.value();
+      r = check_schur_definite(full);
+      if (r.ok()) {
+        *S = std::move(full);
+        interior_.clear();
+      }
+    }
+    r = agree(std::move(r));
+    if (r.ok()) {
+      schur_n_ = n;
+      n1_ = n;
+      interior_ready_ = true;
+    }
+    return r;
+  }
+
+  // ---- statuses ----------------------------------------------------------------------
+
+  std::string codes() const {
+    return " (INFOG(1) = " + std::to_string(id_.HEMIVEM_INFOG(1)) +
+           ", INFOG(2) = " + std::to_string(id_.HEMIVEM_INFOG(2)) + ")";
+  }
+
+  FactorizationResult error(const char* phase) {
+    const MUMPS_INT e = id_.HEMIVEM_INFOG(1);
+    const std::string where = name_ + ": MUMPS " + phase + " failed" + codes() + ": ";
+    switch (e) {
+      case -6:
+        return make_result(FactorizationStatus::not_positive_definite,
+                           where + "the matrix is structurally singular");
+      case -10:
+        return make_result(FactorizationStatus::not_positive_definite,
+                           where + "zero pivot: the matrix is singular or not positive definite");
+      case -40:
+        return make_result(FactorizationStatus::not_positive_definite,
+                           where + "negative or zero pivot in the root front: the matrix is not positive definite");
+      case -5:
+      case -7:
+      case -13:
+      case -19:
+        return make_result(FactorizationStatus::out_of_memory, where + "not enough memory");
+      case -8:
+      case -9:
+      case -14:
+      case -15:
+      case -17:
+      case -20:
+        return make_result(FactorizationStatus::numerical_failure,
+                           where + "internal workspace too small even after enlarging it (ICNTL(14))");
+      default:
+        return make_result(FactorizationStatus::numerical_failure,
+                           where + "see 'Error diagnostics' in the MUMPS user guide");
+    }
+  }
+
+  /// A failed call forgets the factors: later solves answer not_ready.
+  FactorizationResult invalidate(FactorizationResult r) {
+    factors_ = Factors::none;
+    interior_ready_ = false;
+    rcond_known_ = false;
+    return r;
+  }
+
+  /// The root's result, on every process.
+  FactorizationResult agree(FactorizationResult r) const {
+    int status = static_cast<int>(r.status);
+    comm_.broadcast(&status, sizeof status);
+    std::int64_t length = static_cast<std::int64_t>(r.message.size());
+    comm_.broadcast(&length, sizeof length);
+    r.message.resize(static_cast<std::size_t>(length));
+    if (length > 0) comm_.broadcast(r.message.data(), static_cast<int>(length));
+    r.status = static_cast<FactorizationStatus>(status);
+    return r;
+  }
+
+  Comm comm_;
+  std::string name_;
+  DMUMPS_STRUC_C id_{};
+  bool initialized_ = false;
+  FactorizationResult init_error_;
+
+  Analysis analysis_ = Analysis::none;  // same on every process
+  Factors factors_ = Factors::none;     // same on every process
+  bool interior_ready_ = false;         // same on every process
+  std::int64_t n_ = 0;                  // order of the analysed matrix (every process)
+  std::int64_t schur_n_ = 0;            // order of A at the last schur_complement()
+  std::int64_t n1_ = 0;                 // size of its block1
+  int num_analyses_ = 0;
+  int num_factorizations_ = 0;
+  double rcond_ = -1.0;
+  bool rcond_known_ = false;
+
+  // root only
+  std::vector<int> outer_, inner_;       // pattern of the analysed matrix
+  std::vector<MUMPS_INT> irn_, jcn_;     // its lower triangle, 1-based
+  std::vector<int> positions_;           // where those entries sit in A's value array
+  std::vector<double> values_;
+  std::vector<int> block1_;              // Schur indices of the last Schur analysis
+  std::vector<MUMPS_INT> listvar_;
+  std::vector<int> interior_;            // complement of block1, increasing
+  std::vector<double> schur_;
+};
+
+#undef HEMIVEM_ICNTL
+#undef HEMIVEM_INFOG
+#undef HEMIVEM_RINFOG
+
+}  // namespace
+}  // namespace hemivem
