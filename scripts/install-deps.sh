@@ -9,6 +9,7 @@ packages=(
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev
   libcli11-dev
   libsuitesparse-dev
+  libmumps-seq-dev libmumps-dev libopenmpi-dev openmpi-bin
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 

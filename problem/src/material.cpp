@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <sstream>
 
@@ -19,11 +20,10 @@ PlaneModel plane_model_from_string(std::string_view name) {
 }
 
 void validate(const Material& m) {
-  auto num = [](double v) {
-    std::ostringstream s;
-    s.precision(17);
-    s << v;
-    return s.str();
+  auto num = [](double v) {  // shortest text that reads back to v
+    char buf[32];
+    const auto r = std::to_chars(buf, buf + sizeof buf, v);
+    return std::string(buf, r.ptr);
   };
   if (!std::isfinite(m.young) || !(m.young > 0.0))
     throw InputError("Young's modulus E = " + num(m.young) + " must be finite and > 0", "material.E");

@@ -1,0 +1,30 @@
+// Pieces shared by the subcommands of the hemivem tool.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <iosfwd>
+#include <string>
+
+#include <hemivem/mesh.hpp>
+
+namespace hemivem::cli {
+
+/// Exit codes of the hemivem command.
+enum ExitCode : int {
+  kSuccess = 0,
+  kInputError = 2,       ///< bad flags, files or parameters
+  kNotConverged = 3,     ///< a solve finished without reaching its tolerance (results are written, marked)
+  kBackendFailure = 4,   ///< an engine failed (e.g. a matrix that is not positive definite)
+  kInternalError = 5,
+};
+
+/// Writes a file through `write` into a temporary name in the same folder and renames it
+/// into place on success, so a failure never leaves a half-written output behind.
+void write_atomically(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write);
+
+/// A mesh from a generator name (squares, triangles, voronoi, nonconvex, distorted) with n,
+/// or from a .poly2d path.
+Mesh load_mesh(const std::string& spec, int n, const Rectangle& domain, std::uint64_t seed);
+
+}  // namespace hemivem::cli

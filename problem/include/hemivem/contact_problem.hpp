@@ -1,0 +1,29 @@
+// A contact problem: the elasticity problem, the contact boundary Gamma_3, its law, gap
+// and constraint; and the paper's Example 4.1.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include <hemivem/assembly.hpp>
+#include <hemivem/contact_law.hpp>
+#include <hemivem/reduced_problem.hpp>
+
+namespace hemivem {
+
+struct ContactProblem {
+  ElasticityProblem elasticity;        ///< mesh, materials, loads and Gamma_1
+  std::vector<int> contact_edges;      ///< Gamma_3 (boundary edge ids)
+  std::function<double(const Vec2&)> gap;  ///< g >= 0 at a point of Gamma_3
+  std::shared_ptr<const ContactLaw> law;
+  ConstraintKind constraint = ConstraintKind::box;
+};
+
+/// Example 4.1 of the paper on a mesh of the unit square: Gamma_1 = {x = 0} u {x = 1}
+/// (clamped), Gamma_2 = top with f2 = (0, -8), Gamma_3 = bottom; E = 65, nu = 0.29 (plane
+/// strain), f0 = 0, g = 0.02, the law (4.7) with split (4.8), the box constraint (4.6).
+/// Sides are found with a tolerance of 1e-8 (Sutton's meshes miss them by up to 5e-10).
+ContactProblem example_4_1(const Mesh& mesh);
+
+}  // namespace hemivem
