@@ -1,0 +1,79 @@
+// Example 4.1 on N x N squares, per linear engine:
+//   factorize/<engine>/N   one factorization of the full stiffness A (analysis included)
+//   condense/<engine>/N    S and c (rotation, Schur complement, interior solve for c)
+// Run one case per process to read its peak memory, e.g.
+//   /usr/bin/time -v build/tests/bench/bench_condensation --benchmark_filter='condense/cholmod/256$'
+#include <benchmark/benchmark.h>
+
+#include <hemivem/contact.hpp>
+#include <hemivem/contact_problem.hpp>
+#include <hemivem/linear_backends.hpp>
+#include <hemivem/mesh_generators.hpp>
+
+#include <map>
+#include <memory>
+
+namespace {
+
+using namespace hemivem;
+
+struct Setup {
+  Mesh mesh;
+  ContactProblem problem;
+  LinearSystem system;
+  ContactBoundary boundary;
+};
+
+const Setup& setup(int n) {
+  static std::map<int, std::unique_ptr<Setup>> cache;
+  auto& s = cache[n];
+  if (!s) {
+    s = std::make_unique<Setup>();
+    s->mesh = make_squares(n);
+    s->problem = example_4_1(s->mesh);
+    s->system = assemble(s->problem.elasticity);
+    s->boundary = make_contact_boundary(s->mesh, s->problem.contact_edges, s->system.dofs, s->problem.gap);
+  }
+  return *s;
+}
+
+std::unique_ptr<SparseFactorization> engine(const std::string& name) {
+  FactorizationOptions o;
+  o.engine = name;
+  return make_factorization(o);
+}
+
+void factorize(benchmark::State& state, std::string name) {
+  const Setup& s = setup(static_cast<int>(state.range(0)));
+  for (auto _ : state) {
+    auto f = engine(name);
+    const auto r = f->factorize(s.system.A);
+    if (!r.ok()) state.SkipWithError(r.message.c_str());
+  }
+  state.counters["dofs"] = static_cast<double>(s.system.A.rows());
+}
+
+void condense(benchmark::State& state, std::string name) {
+  const Setup& s = setup(static_cast<int>(state.range(0)));
+  for (auto _ : state) {
+    Condensation c(s.system, s.boundary, engine(name), s.problem.law, s.problem.constraint);
+    benchmark::DoNotOptimize(c.reduced().S.data());
+  }
+  state.counters["dofs"] = static_cast<double>(s.system.A.rows());
+  state.counters["N1"] = static_cast<double>(s.boundary.size());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  for (const auto& name : available_factorizations()) {
+    benchmark::RegisterBenchmark(("factorize/" + name).c_str(), factorize, name)
+        ->RangeMultiplier(2)->Range(64, 512)->Unit(benchmark::kMillisecond)->Iterations(1)->UseRealTime();
+    benchmark::RegisterBenchmark(("condense/" + name).c_str(), condense, name)
+        ->RangeMultiplier(2)->Range(64, 512)->Unit(benchmark::kMillisecond)->Iterations(1)->UseRealTime();
+  }
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
