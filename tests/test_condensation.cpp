@@ -207,3 +207,24 @@ TEST(Condensation, ConcaveKinkMakesTheMarginMinusInfinity) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(ContactBoundary, ChosenByNamedGroup) {
+  Mesh mesh = make_squares(8);
+  const auto bottom = select_boundary_edges(mesh, std::vector<Segment>{rectangle_side(Rectangle{}, "bottom")});
+  mesh.set_edge_group("foundation", bottom);
+  EXPECT_EQ(select_boundary_edges(mesh, "foundation"), bottom);
+  int interior = 0;
+  while (mesh.edge(interior).on_boundary()) ++interior;
+  mesh.set_edge_group("inside", {interior});
+  try {
+    select_boundary_edges(mesh, "inside");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("is not on the boundary"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(select_boundary_edges(mesh, "lid"), InputError);
+}
+
+}  // namespace

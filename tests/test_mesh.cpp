@@ -105,3 +105,19 @@ TEST(Mesh, TinyEdgesAreLegal) {
   const std::vector<Vec2> v{{0, 0}, {1, 0}, {1, 1}, {1 - 1e-13, 1}, {0, 1}, {2, 0}, {2, 1}};
   EXPECT_EQ(first_defect(v, {{0, 1, 2, 3, 4}, {1, 5, 6, 2}}), "");
 }
+
+TEST(Mesh, NamedEdgeGroups) {
+  Mesh m = two_squares();
+  std::vector<int> bottom;
+  for (int id : m.boundary_edges())
+    if (m.vertex(m.edge(id).v0).y() == 0.0 && m.vertex(m.edge(id).v1).y() == 0.0) bottom.push_back(id);
+  m.set_edge_group("contact", bottom);
+  EXPECT_EQ(m.edge_group("contact").size(), 2u);
+  try {
+    m.edge_group("top");
+    FAIL() << "expected InputError";
+  } catch (const hemivem::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no edge group 'top'; its groups: contact"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(m.set_edge_group("bad", {99}), hemivem::InputError);
+}

@@ -30,6 +30,16 @@ std::vector<int> select_boundary_edges(const Mesh& mesh, const std::vector<Segme
   });
 }
 
+std::vector<int> select_boundary_edges(const Mesh& mesh, const std::string& group) {
+  const auto& edges = mesh.edge_group(group);
+  for (int id : edges)
+    if (!mesh.edge(id).on_boundary())
+      throw InputError("edge " + std::to_string(id) + " (" + std::to_string(mesh.edge(id).v0) + "-" +
+                           std::to_string(mesh.edge(id).v1) + ") is not on the boundary; a boundary part needs boundary edges",
+                       "edge group '" + group + "'");
+  return edges;
+}
+
 Segment rectangle_side(const Rectangle& r, const std::string& side, double tolerance) {
   if (side == "left") return {{r.x0, r.y0}, {r.x0, r.y1}, tolerance};
   if (side == "right") return {{r.x1, r.y0}, {r.x1, r.y1}, tolerance};

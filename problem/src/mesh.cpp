@@ -4,6 +4,8 @@
 #include <CGAL/Polygon_2_algorithms.h>
 
 #include <algorithm>
+#include <array>
+#include <limits>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -324,6 +326,26 @@ void Mesh::set_regions(std::vector<int> regions) {
       throw MeshError("element " + std::to_string(e) + " has negative region id " + std::to_string(regions[e]),
                       static_cast<int>(e));
   regions_ = std::move(regions);
+}
+
+void Mesh::set_edge_group(const std::string& name, std::vector<int> edges) {
+  for (int id : edges)
+    if (id < 0 || id >= num_edges())
+      throw InputError("edge id " + std::to_string(id) + " is out of range [0, " + std::to_string(num_edges()) + ")",
+                       "edge group '" + name + "'");
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  edge_groups_[name] = std::move(edges);
+}
+
+const std::vector<int>& Mesh::edge_group(const std::string& name) const {
+  const auto it = edge_groups_.find(name);
+  if (it == edge_groups_.end()) {
+    std::string known;
+    for (const auto& [n, _] : edge_groups_) known += (known.empty() ? "" : ", ") + n;
+    throw InputError("the mesh has no edge group '" + name + "'; its groups: " + (known.empty() ? "none" : known));
+  }
+  return it->second;
 }
 
 std::vector<std::vector<int>> Mesh::elements() const {

@@ -31,6 +31,9 @@ struct Segment {
 std::vector<int> select_boundary_edges(const Mesh& mesh, const std::vector<Segment>& segments);
 /// Boundary edges accepted by a predicate on their end points.
 std::vector<int> select_boundary_edges(const Mesh& mesh, const std::function<bool(const Vec2&, const Vec2&)>& keep);
+/// The boundary edges of a named edge group of the mesh; InputError when the group is unknown
+/// or holds an edge that is not on the boundary.
+std::vector<int> select_boundary_edges(const Mesh& mesh, const std::string& group);
 /// The sides of a rectangle as segments: "left" (x = x0), "right", "bottom" (y = y0), "top".
 /// Throws InputError for any other name.
 Segment rectangle_side(const Rectangle& r, const std::string& side, double tolerance = 1e-8);

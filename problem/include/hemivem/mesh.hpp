@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 
+#include <map>
 #include <span>
 #include <string>
 #include <vector>
@@ -97,6 +98,13 @@ class Mesh {
   double total_area() const;
   Rectangle bounding_box() const;
 
+  /// Named sets of edges (e.g. the physical groups of a Gmsh file): boundary parts can be
+  /// chosen by name. set_edge_group throws InputError for an edge id out of range;
+  /// edge_group throws InputError listing the known names for an unknown one.
+  void set_edge_group(const std::string& name, std::vector<int> edges);
+  const std::vector<int>& edge_group(const std::string& name) const;
+  const std::map<std::string, std::vector<int>>& edge_groups() const noexcept { return edge_groups_; }
+
   int region(int e) const { return regions_[e]; }
   const std::vector<int>& regions() const noexcept { return regions_; }
   void set_regions(std::vector<int> regions);
@@ -112,6 +120,7 @@ class Mesh {
   std::vector<Vec2> centroid_;
   std::vector<double> diameter_;
   std::vector<int> regions_;
+  std::map<std::string, std::vector<int>> edge_groups_;
   double h_ = 0.0;
 };
 
