@@ -135,6 +135,7 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
                          "): " + s.message);
   reduced_.c = b1 - A21_.transpose() * y.col(0);
   margin_ = hemivem::uniqueness_margin(reduced_.S, reduced_.w, reduced_.law->alpha());
+  reduced_.uniqueness_margin = margin_;
 }
 
 Eigen::VectorXd Condensation::back_substitute(const Eigen::VectorXd& a) const {

@@ -204,13 +204,21 @@ std::shared_ptr<const ContactLaw> sawtooth_law(double k, double r1, double resid
   return std::make_shared<PiecewisePolynomialLaw>("sawtooth", std::vector<double>{0.0, r1, r2}, j1, j2);
 }
 
+std::shared_ptr<const ContactLaw> kinked_law(double sigma, double k) {
+  if (!(sigma >= 0.0) || !(k >= 0.0) || !std::isfinite(sigma) || !std::isfinite(k))
+    throw InputError("needs finite sigma >= 0 and k >= 0", "contact law 'kinked'");
+  return std::make_shared<PiecewisePolynomialLaw>("kinked", std::vector<double>{0.0},
+                                                  std::vector<Polynomial>{{0.0}, {0.0, sigma, 0.5 * k}},
+                                                  std::vector<Polynomial>{{0.0}, {0.0}});
+}
+
 std::shared_ptr<const ContactLaw> zero_law() {
   return std::make_shared<PiecewisePolynomialLaw>("zero", std::vector<double>{}, std::vector<Polynomial>{{0.0}},
                                                   std::vector<Polynomial>{{0.0}});
 }
 
 const std::vector<std::string>& contact_law_names() {
-  static const std::vector<std::string> names{"paper", "linear", "sawtooth", "zero"};
+  static const std::vector<std::string> names{"paper", "linear", "kinked", "sawtooth", "zero"};
   return names;
 }
 
@@ -219,6 +227,7 @@ std::shared_ptr<const ContactLaw> make_contact_law(std::string_view name) {
   std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (s == "paper") return paper_law();
   if (s == "linear") return linear_law();
+  if (s == "kinked") return kinked_law();
   if (s == "sawtooth") return sawtooth_law();
   if (s == "zero") return zero_law();
   std::string list;

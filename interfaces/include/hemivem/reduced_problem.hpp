@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
 #include <cctype>
 #include <limits>
 #include <memory>
@@ -52,6 +53,9 @@ struct ReducedProblem {
   Eigen::VectorXd g;
   std::shared_ptr<const ContactLaw> law;
   ConstraintKind constraint = ConstraintKind::one_sided;
+  /// lambda_min(S - alpha_j W), set by whoever builds the problem (NaN: unknown). F is
+  /// strongly convex, and its critical point unique, when it is positive.
+  double uniqueness_margin = std::numeric_limits<double>::quiet_NaN();
 
   Eigen::Index size() const noexcept { return c.size(); }
 
@@ -61,6 +65,48 @@ struct ReducedProblem {
     for (Eigen::Index i = 0; i < a.size(); ++i) f += w(i) * law->value(LawPart::j, a(i));
     return f;
   }
+  /// The DC components F = F1 - F2: F1 = 1/2 a^T S a - c^T a + sum w_i j1(a_i) and
+  /// F2 = sum w_i j2(a_i), both convex.
+  double energy_convex1(const Eigen::VectorXd& a) const {
+    double f = 0.5 * a.dot(S * a) - c.dot(a);
+    for (Eigen::Index i = 0; i < a.size(); ++i) f += w(i) * law->value(LawPart::j1, a(i));
+    return f;
+  }
+  double energy_convex2(const Eigen::VectorXd& a) const {
+    double f = 0.0;
+    for (Eigen::Index i = 0; i < a.size(); ++i) f += w(i) * law->value(LawPart::j2, a(i));
+    return f;
+  }
+  /// A subgradient of F2 (right derivatives of j2; j2 is convex, so any side is one).
+  Eigen::VectorXd subgradient_convex2(const Eigen::VectorXd& a) const {
+    Eigen::VectorXd g(a.size());
+    for (Eigen::Index i = 0; i < a.size(); ++i) g(i) = w(i) * law->derivative(LawPart::j2, a(i), +1);
+    return g;
+  }
+  /// A subgradient of F1 (right derivatives of j1).
+  Eigen::VectorXd subgradient_convex1(const Eigen::VectorXd& a) const {
+    Eigen::VectorXd g = S * a - c;
+    for (Eigen::Index i = 0; i < a.size(); ++i) g(i) += w(i) * law->derivative(LawPart::j1, a(i), +1);
+    return g;
+  }
+  /// The least-norm element xi of the Clarke subdifferential of F at a:
+  /// xi_i = (S a - c)_i + w_i t_i with t_i the point of [j'(a_i-), j'(a_i+)] nearest to
+  /// -(S a - c)_i / w_i.
+  Eigen::VectorXd least_norm_subgradient(const Eigen::VectorXd& a) const {
+    Eigen::VectorXd xi = S * a - c;
+    for (Eigen::Index i = 0; i < a.size(); ++i) {
+      const Interval d = law->clarke(a(i));
+      xi(i) += w(i) * d.nearest(-xi(i) / w(i));
+    }
+    return xi;
+  }
+  /// The projection onto C.
+  Eigen::VectorXd project(const Eigen::VectorXd& a) const {
+    Eigen::VectorXd p(a.size());
+    for (Eigen::Index i = 0; i < a.size(); ++i) p(i) = std::min(std::max(a(i), lower(i)), upper(i));
+    return p;
+  }
+
   /// Lower and upper bound of a_i (+-inf where there is none).
   double lower(Eigen::Index i) const {
     return constraint == ConstraintKind::box ? -g(i) : -std::numeric_limits<double>::infinity();
@@ -69,5 +115,25 @@ struct ReducedProblem {
     return constraint == ConstraintKind::none ? std::numeric_limits<double>::infinity() : g(i);
   }
 };
+
+/// The certificate of a point (DESIGN §3): the natural residual
+/// ||a - P_C(a - xi)||_inf / max(||c||_inf, tiny) with xi the least-norm Clarke subgradient,
+/// and the feasibility violation max_i (distance of a_i to [lower_i, upper_i]) (absolute,
+/// in units of a). A point is a critical point when both vanish.
+struct Certificate {
+  double residual = std::numeric_limits<double>::infinity();
+  double feasibility = std::numeric_limits<double>::infinity();
+};
+
+inline Certificate certificate(const ReducedProblem& p, const Eigen::VectorXd& a) {
+  Certificate cert;
+  if (a.size() != p.size() || !a.allFinite()) return cert;  // infinite: not a valid point
+  if (a.size() == 0) return {0.0, 0.0};
+  const Eigen::VectorXd xi = p.least_norm_subgradient(a);
+  const double scale = std::max(p.c.cwiseAbs().maxCoeff(), std::numeric_limits<double>::min());
+  cert.residual = (a - p.project(a - xi)).cwiseAbs().maxCoeff() / scale;
+  cert.feasibility = (a - p.project(a)).cwiseAbs().maxCoeff();
+  return cert;
+}
 
 }  // namespace hemivem

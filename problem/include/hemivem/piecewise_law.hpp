@@ -56,10 +56,13 @@ std::shared_ptr<const ContactLaw> linear_law(double stiffness = 100.0);
 /// in j, so alpha_j = +inf), and stiffens again by k (r - r2) beyond r2.
 std::shared_ptr<const ContactLaw> sawtooth_law(double stiffness = 100.0, double r1 = 0.01, double residual = 0.2,
                                                double r2 = 0.02);
+/// A convex law with a kink: j = 0 for r <= 0 and sigma r + k r^2 / 2 for r > 0 (k_nu jumps
+/// from 0 to sigma at r = 0).
+std::shared_ptr<const ContactLaw> kinked_law(double sigma = 0.3, double stiffness = 100.0);
 /// j = 0: pure Signorini contact.
 std::shared_ptr<const ContactLaw> zero_law();
 
-/// The shipped laws by name: paper, linear, sawtooth, zero.
+/// The shipped laws by name: paper, linear, kinked, sawtooth, zero.
 const std::vector<std::string>& contact_law_names();
 /// A shipped law by name (case-insensitive); InputError listing the names otherwise.
 std::shared_ptr<const ContactLaw> make_contact_law(std::string_view name);
