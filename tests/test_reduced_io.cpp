@@ -1,0 +1,120 @@
+// Reduced problems as files: exact round trip, the coordinate format, and clear errors.
+#include <hemivem/contact.hpp>
+#include <hemivem/contact_problem.hpp>
+#include <hemivem/linear_backends.hpp>
+#include <hemivem/mesh_generators.hpp>
+#include <hemivem/piecewise_law.hpp>
+#include <hemivem/reduced_io.hpp>
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+using namespace hemivem;
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path scratch(const std::string& name) {
+  const fs::path p = fs::temp_directory_path() / ("hemivem-test-reduced-io-" + std::to_string(::getpid()) + "-" + name);
+  fs::remove_all(p);
+  return p;
+}
+
+void write(const fs::path& f, const std::string& text) {
+  fs::create_directories(f.parent_path());
+  std::ofstream(f) << text;
+}
+
+void expect_error(const fs::path& folder, const std::string& fragment) {
+  try {
+    read_reduced_problem(folder);
+    FAIL() << "expected InputError containing '" << fragment << "'";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+  }
+}
+
+TEST(ReducedIo, Example41RoundTripIsExact) {
+  const Mesh mesh = make_squares(8);
+  const ContactProblem cp = example_4_1(mesh);
+  const LinearSystem sys = assemble(cp.elasticity);
+  const ContactBoundary cb = make_contact_boundary(mesh, cp.contact_edges, sys.dofs, cp.gap);
+  FactorizationOptions fo;
+  const Condensation cond(sys, cb, make_factorization(fo), cp.law, cp.constraint);
+  const fs::path dir = scratch("example");
+  write_reduced_problem(dir, cond.reduced());
+  const ReducedProblem q = read_reduced_problem(dir);
+  const ReducedProblem& p = cond.reduced();
+  EXPECT_EQ((q.S - p.S).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ(q.c, p.c);
+  EXPECT_EQ(q.w, p.w);
+  EXPECT_EQ(q.g, p.g);
+  EXPECT_EQ(q.constraint, p.constraint);
+  EXPECT_EQ(q.uniqueness_margin, p.uniqueness_margin);
+  EXPECT_EQ(q.law->name(), "paper");
+  for (double r = -0.01; r < 0.05; r += 0.0013) EXPECT_EQ(q.law->value(r), p.law->value(r));
+  EXPECT_EQ(q.law->alpha(), 20.0);
+  for (const auto& f : fs::directory_iterator(dir)) EXPECT_NE(f.path().extension(), ".part");
+  // a law given by name replaces law.txt
+  fs::remove(dir / "law.txt");
+  EXPECT_EQ(read_reduced_problem(dir, zero_law()).law->name(), "zero");
+  fs::remove_all(dir);
+}
+
+TEST(ReducedIo, CoordinateFormatAndDefaults) {
+  const fs::path dir = scratch("coordinate");
+  write(dir / "S.mtx", "%%MatrixMarket matrix coordinate real symmetric\n% a comment\n2 2 3\n1 1 4\n2 1 -1\n2 2 3\n");
+  write(dir / "c.txt", "1\n2\n");
+  write(dir / "w.txt", "0.5\n0.5\n");
+  write(dir / "g.txt", "0.1\n0.1\n");
+  write(dir / "law.txt", "name kinked\nbreakpoints 0\nj1 0\nj2 0\nj1 0 0.3 50\nj2 0\n");
+  const ReducedProblem p = read_reduced_problem(dir);
+  EXPECT_EQ(p.S(1, 0), -1.0);
+  EXPECT_EQ(p.S(0, 1), -1.0);
+  EXPECT_EQ(p.S(1, 1), 3.0);
+  EXPECT_EQ(p.constraint, ConstraintKind::box);  // no problem.txt: the paper's box
+  EXPECT_TRUE(std::isnan(p.uniqueness_margin));
+  EXPECT_EQ(p.law->derivative(LawPart::j, 0.0, +1), 0.3);
+  fs::remove_all(dir);
+}
+
+TEST(ReducedIo, DefectsNameTheFileAndLine) {
+  const fs::path dir = scratch("defects");
+  write(dir / "S.mtx", "%%MatrixMarket matrix array real general\n2 2\n1\n0\n0.5\n1\n");
+  write(dir / "c.txt", "1\n2\n");
+  write(dir / "w.txt", "1\n1\n");
+  write(dir / "g.txt", "0.1\n0.1\n");
+  write(dir / "law.txt", "name zero\nbreakpoints\nj1 0\nj2 0\n");
+  expect_error(dir, "S is not symmetric");
+  write(dir / "S.mtx", "%%MatrixMarket matrix array real general\n2 2\n1\n0\n0\n1\n");
+  EXPECT_NO_THROW(read_reduced_problem(dir));
+  write(dir / "c.txt", "1\n");
+  expect_error(dir, "c.txt: has 1 numbers; S is 2 x 2");
+  write(dir / "c.txt", "1\nnan\n");
+  expect_error(dir, "c.txt:2: c 'nan' is not finite");
+  write(dir / "c.txt", "1\n2\n");
+  write(dir / "g.txt", "0.1\n-1\n");
+  expect_error(dir, "gap -1 must be >= 0");
+  write(dir / "g.txt", "0.1\n0.1\n");
+  write(dir / "S.mtx", "%%MatrixMarket matrix array complex general\n2 2\n1\n0\n0\n1\n");
+  expect_error(dir, "S.mtx:1: unsupported Matrix Market header");
+  write(dir / "S.mtx", "%%MatrixMarket matrix array real general\n2 2\n1\n0\n0\n");
+  expect_error(dir, "S.mtx:2: expected 4 entries after the size line, found 3");
+  write(dir / "S.mtx", "%%MatrixMarket matrix coordinate real general\n2 2 1\n3 1 1\n");
+  expect_error(dir, "S.mtx:3: entry (3, 1) outside the 2 x 2 matrix");
+  write(dir / "S.mtx", "%%MatrixMarket matrix array real general\n2 2\n1\n0\n0\n1\n");
+  write(dir / "law.txt", "name bad\nbreakpoints 0\nj1 0\nj2 0\nj1 1\nj2 0\n");
+  expect_error(dir, "j1 is not continuous at breakpoint 0");
+  write(dir / "law.txt", "name zero\nbreakpoints\nj1 0\nj2 0\nslope 3\n");
+  expect_error(dir, "law.txt:5: unknown key 'slope'");
+  write(dir / "law.txt", "name zero\nbreakpoints\nj1 0\nj2 0\n");
+  write(dir / "problem.txt", "constraint two-sided\n");
+  expect_error(dir, "problem.txt:1: unknown constraint 'two-sided'");
+  fs::remove(dir / "c.txt");
+  expect_error(dir, "cannot open the file");
+  fs::remove_all(dir);
+  expect_error(dir, "not a folder");
+}
+
+}  // namespace
