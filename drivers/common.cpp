@@ -1,5 +1,6 @@
 #include "common.hpp"
 
+#include <hemivem/atomic_file.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/mesh_generators.hpp>
 #include <hemivem/mesh_io.hpp>
@@ -10,36 +11,12 @@
 namespace hemivem::cli {
 
 void write_atomically(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write) {
-  namespace fs = std::filesystem;
   if (path.has_parent_path()) {
     std::error_code ec;
-    fs::create_directories(path.parent_path(), ec);
+    std::filesystem::create_directories(path.parent_path(), ec);
     if (ec) throw InputError("cannot create folder: " + ec.message(), path.parent_path().string());
   }
-  const fs::path tmp = path.string() + ".part";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw InputError("cannot open for writing", tmp.string());
-    try {
-      write(out);
-    } catch (...) {
-      out.close();
-      fs::remove(tmp);
-      throw;
-    }
-    out.flush();
-    if (!out) {
-      out.close();
-      fs::remove(tmp);
-      throw InputError("write failed", path.string());
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    fs::remove(tmp);
-    throw InputError("cannot move the finished file into place: " + ec.message(), path.string());
-  }
+  write_file_atomically(path, write);
 }
 
 Mesh load_mesh(const std::string& spec, int n, const Rectangle& domain, std::uint64_t seed) {

@@ -6,10 +6,10 @@
 // sized from it, so an absurd count costs nothing. Mesh rules are checked by the
 // Mesh constructor (find_mesh_defects); its error is re-thrown with the line of the
 // offending element.
+#include <hemivem/atomic_file.hpp>
 #include <hemivem/mesh_io.hpp>
 
 #include <algorithm>
-#include <atomic>
 #include <cerrno>
 #include <charconv>
 #include <climits>
@@ -22,7 +22,6 @@
 #include <string_view>
 #include <system_error>
 
-#include <unistd.h>
 
 namespace hemivem {
 
@@ -423,40 +422,13 @@ void write_poly2d(std::ostream& out, const Mesh& mesh, const std::vector<std::st
 void write_poly2d(const fs::path& path, const Mesh& mesh, const std::vector<std::string>& comments) {
   const std::string name = path.string();
   if (path.filename().empty()) throw InputError("cannot write the mesh: the path names no file", name);
-  // A hidden temporary next to the target, unique per process and call.
-  static std::atomic<unsigned> counter{0};
-  std::string tmp_name(1, '.');
-  tmp_name.append(path.filename().string())
-      .append(".tmp.")
-      .append(std::to_string(::getpid()))
-      .append(".")
-      .append(std::to_string(counter.fetch_add(1)));
-  const fs::path tmp = path.parent_path() / tmp_name;
-  auto discard = [&] {
-    std::error_code ec;
-    fs::remove(tmp, ec);
-  };
-  try {
-    errno = 0;
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) {
-      const int err = errno;
-      throw InputError("cannot create the mesh file" + (err != 0 ? ": " + error_text(err) : std::string()), name);
-    }
+  write_file_atomically(path, [&](std::ostream& out) {
     try {
       write_poly2d(out, mesh, comments);
     } catch (const InputError& e) {
       throw InputError(e.detail(), name);
     }
-    out.close();
-    if (!out) throw InputError("writing the mesh file failed (disk full?)", name);
-    std::error_code ec;
-    fs::rename(tmp, path, ec);
-    if (ec) throw InputError("cannot move the written mesh into place: " + ec.message(), name);
-  } catch (...) {
-    discard();
-    throw;
-  }
+  });
 }
 
 }  // namespace hemivem

@@ -1,3 +1,4 @@
+#include <hemivem/atomic_file.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/piecewise_law.hpp>
 #include <hemivem/reduced_io.hpp>
@@ -21,24 +22,7 @@ std::string shortest(double v) {
 }
 
 void write_file(const fs::path& path, const std::function<void(std::ostream&)>& body) {
-  const fs::path tmp = path.string() + ".part";
-  {
-    std::ofstream out(tmp, std::ios::trunc);
-    if (!out) throw InputError("cannot open for writing", tmp.string());
-    body(out);
-    out.flush();
-    if (!out) {
-      out.close();
-      fs::remove(tmp);
-      throw InputError("write failed", path.string());
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    fs::remove(tmp);
-    throw InputError("cannot move the finished file into place: " + ec.message(), path.string());
-  }
+  write_file_atomically(path, body);
 }
 
 // Lines of a text file with their numbers, comments ('#' or '%' first) and blanks skipped.
