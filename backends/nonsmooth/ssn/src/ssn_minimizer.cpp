@@ -73,7 +73,7 @@ class Solver {
       if (std::abs(r - l) > 1e-12 * std::max({1.0, std::abs(l), std::abs(r)})) kinks_.push_back(b);
     }
     std::sort(kinks_.begin(), kinks_.end());
-    scale_ = std::max(p.c.cwiseAbs().maxCoeff(), std::numeric_limits<double>::min());
+    scale_ = std::max(p.c.size() ? p.c.cwiseAbs().maxCoeff() : 0.0, std::numeric_limits<double>::min());
   }
 
   MinimizerResult run(const Eigen::VectorXd& start) {
@@ -84,7 +84,8 @@ class Solver {
     double res = residual(a, q_, r);
     r.history.push_back({0, F, res, 0.0, count_at_bound(a), since(t0)});
     double t_factor = 0.0, t_search = 0.0;
-    int fallbacks = 0, shifted = 0;
+    int fallbacks = 0, shifted = 0, stagnant = 0;
+    double best_res = res;
     MinimizerStatus status = MinimizerStatus::converged;
     std::vector<NodeState> st(static_cast<std::size_t>(n_));
     Eigen::VectorXd d(n_), trial(n_), qt(n_);
@@ -191,15 +192,24 @@ class Solver {
         status = evaluations(r) >= o_.max_evaluations ? MinimizerStatus::evaluation_limit : MinimizerStatus::stalled;
         break;
       }
+      const double level = roundoff_level(a, F);
       a.swap(trial);
       q_.swap(qt);
+      const double decrease = F - Ft;
       F = Ft;
       res = residual(a, q_, r);
       ++r.iterations;
+      // at round-off level steps may go on forever without improving the certificate
+      stagnant = (decrease <= level && res >= best_res) ? stagnant + 1 : 0;
+      best_res = std::min(best_res, res);
       const IterationRecord rec{r.iterations, F, res, feasibility(a), count_at_bound(a), since(t0)};
       r.history.push_back(rec);
       if (o_.callback && !o_.callback(rec)) {
         if (res > o_.tolerance) status = MinimizerStatus::stopped_by_callback;
+        break;
+      }
+      if (stagnant >= 3 && res > o_.tolerance) {
+        status = MinimizerStatus::stalled;
         break;
       }
     }
@@ -210,7 +220,7 @@ class Solver {
                 " gradient fallbacks, " + std::to_string(shifted) + " shifted systems";
     finish(p_, o_, status, r);
     if (status == MinimizerStatus::stalled && !r.converged())
-      r.message = "no descent step found (round-off level); " + r.message;
+      r.message = "no further descent at round-off level; " + r.message;
     r.timings["total"] = since(t0);
     return r;
   }
@@ -299,6 +309,11 @@ class Solver {
     }
   }
 
+  /// The size of the rounding errors in F(a) (q_ = S a - c).
+  double roundoff_level(const Eigen::VectorXd& a, double F) const {
+    return 1e-12 * (std::abs(F) + 0.5 * std::abs(a.dot(q_ + p_.c)) + std::abs(p_.c.dot(a)));
+  }
+
   static double slope(const std::vector<NodeState>& st, const Eigen::VectorXd& d) {
     double m = 0.0;
     for (std::size_t i = 0; i < st.size(); ++i) m += st[i].grad * d(static_cast<Eigen::Index>(i));
@@ -322,8 +337,7 @@ class Solver {
     Ft = energy(trial, &qt, r);
     if (!std::isfinite(Ft)) return false;
     if (dec < 0.0 && Ft <= F + prm_.armijo * dec) return true;
-    const double level = 1e-12 * (std::abs(F) + 0.5 * std::abs(a.dot(q_ + p_.c)) + std::abs(p_.c.dot(a)));
-    if (Ft <= F + level) return residual(trial, qt, r) < res;
+    if (Ft <= F + roundoff_level(a, F)) return residual(trial, qt, r) < res;
     return false;
   }
 
