@@ -145,6 +145,15 @@ TEST(Ssn, DISABLED_Example41Timings) {
               << " s (" << r.message << ")\n";
     EXPECT_TRUE(r.converged()) << r.message;
   }
+  for (int n : {500, 1000}) {
+    const ReducedProblem p = random_problem(n, paper_law(), ConstraintKind::box, 2);
+    const auto t0 = std::chrono::steady_clock::now();
+    const MinimizerResult r = SsnMinimizer().minimize(p, Eigen::VectorXd(), MinimizerOptions{});
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::cout << "random dense N1 = " << n << ": " << r.iterations << " iterations, residual " << r.certificate.residual
+              << ", " << s << " s (" << r.message << ")\n";
+    EXPECT_TRUE(r.converged()) << r.message;
+  }
 }
 
 TEST(Ssn, ConvergesFromAnyStartWhenStronglyConvex) {
@@ -247,7 +256,9 @@ TEST(Ssn, NonconvexProblemGivesACriticalPoint) {
     p.c *= 3.0;
     ASSERT_LT(p.uniqueness_margin, 0.0);
     const MinimizerResult r = SsnMinimizer().minimize(p, Eigen::VectorXd(), MinimizerOptions{});
-    std::cout << to_string(kind) << ": " << r.message << "\n";
+    std::cout << to_string(kind) << ": " << r.message << "; residuals";
+    for (const auto& h : r.history) std::cout << " " << h.residual;
+    std::cout << "\n";
     EXPECT_TRUE(r.converged()) << to_string(r.status) << ": " << r.message;
     EXPECT_TRUE(r.may_be_nonunique);
     expect_monotone(r);

@@ -144,7 +144,7 @@ class Solver {
         if (!ok) {
           mu = std::max(prm_.shift * max_diag, -min_diag + prm_.shift * max_diag);
           if (!(mu > 0.0)) mu = std::numeric_limits<double>::min();
-          for (int k = 0; k < 40 && !ok; ++k, mu *= 10.0) {
+          for (int k = 0; k < 60 && !ok; ++k, mu *= 4.0) {
             Eigen::MatrixXd Hs = H;
             Hs.diagonal().array() += mu;
             llt.compute(Hs);
