@@ -174,6 +174,33 @@ TEST(Ssn, ConvergesFromAnyStartWhenStronglyConvex) {
   }
 }
 
+TEST(Ssn, EveryLawEveryConstraintRandomStarts) {
+  int worst = 0;
+  for (const std::string law : {"paper", "linear", "zero", "kinked", "sawtooth"})
+    for (ConstraintKind kind : {ConstraintKind::box, ConstraintKind::one_sided, ConstraintKind::none})
+      for (unsigned seed = 1; seed <= 4; ++seed) {
+        SCOPED_TRACE(law + " / " + to_string(kind) + " / seed " + std::to_string(seed));
+        ReducedProblem p = random_problem(50, make_contact_law(law), kind, seed);
+        p.c *= 0.5 * seed;  // from little contact to everything beyond the last breakpoint
+        if (seed % 2 == 0) p.w *= 200.0;  // the law dominates S: S + W j'' indefinite (paper law)
+        std::mt19937 gen(seed);
+        std::uniform_real_distribution<double> u(-0.05, 0.05);
+        Eigen::VectorXd start(p.size());
+        for (Eigen::Index i = 0; i < start.size(); ++i) start(i) = u(gen);
+        for (const Eigen::VectorXd& s0 : {Eigen::VectorXd(), start}) {
+          MinimizerOptions o;
+          o.tolerance = 1e-12;
+          const MinimizerResult r = SsnMinimizer().minimize(p, s0, o);
+          EXPECT_TRUE(r.converged()) << to_string(r.status) << ": " << r.message;
+          EXPECT_EQ(r.certificate.feasibility, 0.0);
+          expect_monotone(r);
+          worst = std::max(worst, r.iterations);
+        }
+      }
+  std::cout << "most iterations: " << worst << "\n";
+  EXPECT_LE(worst, 40);
+}
+
 TEST(Ssn, KinkIsRecognisedExactly) {
   // two nodes, kinked law (j' jumps from 0 to 0.3 at 0): node 0 rests exactly on the kink
   // with 0 inside its Clarke interval; node 1 is inside the smooth piece r > 0.
