@@ -82,7 +82,7 @@ class Solver {
     Eigen::VectorXd a = p_.project(start.size() == 0 ? Eigen::VectorXd::Zero(n_) : start);
     double F = energy(a, &q_, r);
     double res = residual(a, q_, r);
-    r.history.push_back({0, F, res, 0.0, count_at_bound(a), since(t0)});
+    r.history.push_back({0, F, res, feasibility(a), count_at_bound(a), since(t0)});
     double t_factor = 0.0, t_search = 0.0;
     int fallbacks = 0, shifted = 0, stagnant = 0;
     double best_res = res;
