@@ -27,7 +27,7 @@ double seconds_since(Clock::time_point t0) {
 }
 
 struct Parameters {
-  int bundle_size = 12;               // cuts kept per coordinate (>= 3)
+  int bundle_size = 12;               // cuts kept per coordinate (>= 4)
   double proximal_weight = 1e-3;      // mu = proximal_weight * max_i S_ii
   double descent = 0.1;               // m in (0, 1): serious step test
   double inner_tolerance_factor = 0.1;  // inner tol = max(factor * certificate, floor * tolerance)
@@ -45,7 +45,7 @@ Parameters read_parameters(const MinimizerOptions& o) {
         throw InputError("parameter '" + name + "' = " + std::to_string(value) + " must be " + what, "bundle-dca");
     };
     if (name == "bundle_size") {
-      need(value >= 3 && value <= 1e6, "an integer >= 3");
+      need(value >= 4 && value <= 1e6, "an integer >= 4");
       p.bundle_size = static_cast<int>(value);
     } else if (name == "proximal_weight") {
       need(value >= 0.0, ">= 0");
@@ -198,7 +198,7 @@ void locate(const std::vector<Envelope>& env, const Eigen::VectorXd& a, QpState&
   }
 }
 
-void solve_qp(const Eigen::MatrixXd& H, const Eigen::VectorXd& q, const std::vector<Envelope>& env, Eigen::VectorXd& a,
+bool solve_qp(const Eigen::MatrixXd& H, const Eigen::VectorXd& q, const std::vector<Envelope>& env, Eigen::VectorXd& a,
               QpState& s, QpStats& stats) {
   const Eigen::Index n = a.size();
   const auto U = [](Eigen::Index i) { return static_cast<std::size_t>(i); };
@@ -234,7 +234,10 @@ void solve_qp(const Eigen::MatrixXd& H, const Eigen::VectorXd& q, const std::vec
           if (s.fixed[U(j)]) v -= H(i, j) * a(j);
         rhs(r) = v;
       }
-      const Eigen::VectorXd z = Hff.llt().solve(rhs);
+      const Eigen::LLT<Eigen::MatrixXd> llt(Hff);
+      if (llt.info() != Eigen::Success) return false;  // S + mu I is not positive definite
+      const Eigen::VectorXd z = llt.solve(rhs);
+      if (!z.allFinite()) return false;
       for (Eigen::Index r = 0; r < nf; ++r) {
         const Eigen::Index i = free[U(r)];
         d(r) = z(r) - a(i);
@@ -303,8 +306,9 @@ void solve_qp(const Eigen::MatrixXd& H, const Eigen::VectorXd& q, const std::vec
         if (v > worst) worst = v, most = i;
       }
     }
-    if (released.empty()) return;
+    if (released.empty()) return true;
   }
+  return true;  // step cap reached: the point is feasible and no worse than the start
 }
 
 double model_value(const std::vector<std::vector<Cut>>& cuts, const Eigen::VectorXd& a) {
@@ -447,6 +451,7 @@ MinimizerResult BundleDcaMinimizer::minimize(const ReducedProblem& p, const Eige
   if (done) why = MinimizerStatus::converged;
   add_cuts(a);
   int no_progress = 0;
+  const bool convex = p.law->is_convex();
   std::string note;
   for (int k = 1; !done && k <= options.max_iterations; ++k) {
     if (!budget_left()) {
@@ -456,13 +461,16 @@ MinimizerResult BundleDcaMinimizer::minimize(const ReducedProblem& p, const Eige
     // ---- DC step: linearise F2 at a, solve min_{C} F1 - y^T a by the proximal bundle method
     const Eigen::VectorXd y = p.subgradient_convex2(a);
     ++result.subgradient_evaluations;
-    const double inner_tol =
-        std::max(par.inner_tolerance_factor * cert.residual, par.inner_tolerance_floor * options.tolerance);
+    // j convex (the shipped convex laws have j2 = 0): the subproblem is F itself, so it is solved to
+    // the final accuracy at once (only the inner tolerance depends on this; the loop is the same)
+    const double inner_tol = convex ? par.inner_tolerance_floor * options.tolerance
+                                    : std::max(par.inner_tolerance_factor * cert.residual,
+                                               par.inner_tolerance_floor * options.tolerance);
     Eigen::VectorXd center = a;
     double fc = f1(center) - y.dot(center);
     double rc = subproblem_residual(center, y);
     Eigen::VectorXd trial = center;
-    bool model_exact = false, out_of_budget = false;
+    bool model_exact = false, out_of_budget = false, qp_failed = false;
     const Eigen::VectorXd cy = p.c + y;
     for (int it = 0; it < par.max_bundle_iterations && rc > inner_tol; ++it) {
       if (!budget_left()) {
@@ -474,7 +482,10 @@ MinimizerResult BundleDcaMinimizer::minimize(const ReducedProblem& p, const Eige
       for (Eigen::Index i = 0; i < n; ++i) env[U(i)] = envelope(cuts[U(i)], lo[U(i)], hi[U(i)]);
       const Eigen::VectorXd q = cy + mu * center;
       QpStats qs;
-      solve_qp(H, q, env, trial, state, qs);
+      if (!solve_qp(H, q, env, trial, state, qs)) {
+        qp_failed = true;
+        break;
+      }
       qp_steps += qs.steps;
       double quad = 0.0;
       const double model = 0.5 * trial.dot(p.S * trial) - cy.dot(trial) + model_value(cuts, trial);
@@ -528,6 +539,11 @@ MinimizerResult BundleDcaMinimizer::minimize(const ReducedProblem& p, const Eige
     }
     if (cert.residual <= options.tolerance && cert.feasibility <= options.feasibility_tolerance) {
       why = MinimizerStatus::converged;
+      break;
+    }
+    if (qp_failed) {
+      why = MinimizerStatus::failed;
+      note = "; the bundle subproblem failed: S + mu I is not positive definite";
       break;
     }
     if (out_of_budget) {
