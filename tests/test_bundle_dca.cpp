@@ -13,6 +13,8 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
+#include <sstream>
 #include <iostream>
 #include <regex>
 
@@ -221,8 +223,14 @@ TEST(BundleDca, InputErrors) {
 
 TEST(BundleDca, Example41Counts) {
   // iteration and evaluation counts on Example 4.1 (printed; the cross-validation is in
-  // test_minimizers)
-  for (int n : {8, 16, 32, 64}) {
+  // test_minimizers). HEMIVEM_BUNDLE_DCA_SIZES="128 256" measures other mesh sizes.
+  std::vector<int> sizes{8, 16, 32, 64};
+  if (const char* env = std::getenv("HEMIVEM_BUNDLE_DCA_SIZES")) {
+    sizes.clear();
+    std::istringstream in(env);
+    for (int n; in >> n;) sizes.push_back(n);
+  }
+  for (int n : sizes) {
     auto ex = example("squares", n);
     const ReducedProblem& p = ex->condensation->reduced();
     MinimizerOptions o;

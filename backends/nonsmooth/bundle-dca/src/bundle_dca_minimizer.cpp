@@ -198,7 +198,8 @@ void locate(const std::vector<Envelope>& env, const Eigen::VectorXd& a, QpState&
   }
 }
 
-bool solve_qp(const Eigen::MatrixXd& H, const Eigen::VectorXd& q, const std::vector<Envelope>& env, Eigen::VectorXd& a,
+bool solve_qp(const Eigen::MatrixXd& H, const Eigen::VectorXd& q, const std::vector<std::vector<Cut>>& cuts,
+              const std::vector<Envelope>& env, Eigen::VectorXd& a,
               QpState& s, QpStats& stats) {
   const Eigen::Index n = a.size();
   const auto U = [](Eigen::Index i) { return static_cast<std::size_t>(i); };
@@ -211,6 +212,15 @@ bool solve_qp(const Eigen::MatrixXd& H, const Eigen::VectorXd& q, const std::vec
   for (Eigen::Index i = 0; i < n; ++i)
     if (s.fixed[U(i)]) a(i) = env[U(i)].node[U(s.index[U(i)])];
   const double hscale = H.cwiseAbs().maxCoeff();
+  auto model = [&](const Eigen::VectorXd& x) {  // the QP objective
+    double v = 0.5 * x.dot(H * x) - q.dot(x);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      double m = -kInf;
+      for (int c : env[U(i)].cut) m = std::max(m, cuts[U(i)][U(c)].at(x(i)));
+      v += m;
+    }
+    return v;
+  };
   std::vector<Eigen::Index> released;  // released in the last multiplier check
   Eigen::Index most = -1;              // the most violating of them
   const int max_steps = 20 * static_cast<int>(n) + 100;
@@ -265,6 +275,36 @@ bool solve_qp(const Eigen::MatrixXd& H, const Eigen::VectorXd& q, const std::vec
         }
         released.assign(1, most);
         if (changed) continue;
+      }
+      if (t < 1.0) {
+        // the projected Newton point (every free coordinate clamped to its piece, those clamped
+        // fixed at the node) is taken when it lowers the model at least as much as the
+        // ratio-test step: many coordinates change state in one step instead of one
+        Eigen::VectorXd proj = a, cut_step = a;
+        for (Eigen::Index r = 0; r < nf; ++r) {
+          const Eigen::Index i = free[U(r)];
+          const Envelope& e = env[U(i)];
+          const int k = s.index[U(i)];
+          proj(i) = std::min(std::max(a(i) + d(r), e.node[U(k)]), e.node[U(k + 1)]);
+          cut_step(i) = a(i) + t * d(r);
+        }
+        if (model(proj) <= model(cut_step)) {
+          for (Eigen::Index r = 0; r < nf; ++r) {
+            const Eigen::Index i = free[U(r)];
+            const Envelope& e = env[U(i)];
+            const int k = s.index[U(i)];
+            if (proj(i) == e.node[U(k)] && std::isfinite(proj(i)) && d(r) < 0.0) {
+              s.fixed[U(i)] = 1;
+            } else if (proj(i) == e.node[U(k + 1)] && std::isfinite(proj(i)) && d(r) > 0.0) {
+              s.fixed[U(i)] = 1;
+              s.index[U(i)] = k + 1;
+            }
+          }
+          a = proj;
+          released.clear();
+          most = -1;
+          continue;
+        }
       }
       for (Eigen::Index r = 0; r < nf; ++r) a(free[U(r)]) += t * d(r);
     }
@@ -482,7 +522,7 @@ MinimizerResult BundleDcaMinimizer::minimize(const ReducedProblem& p, const Eige
       for (Eigen::Index i = 0; i < n; ++i) env[U(i)] = envelope(cuts[U(i)], lo[U(i)], hi[U(i)]);
       const Eigen::VectorXd q = cy + mu * center;
       QpStats qs;
-      if (!solve_qp(H, q, env, trial, state, qs)) {
+      if (!solve_qp(H, q, cuts, env, trial, state, qs)) {
         qp_failed = true;
         break;
       }
