@@ -407,15 +407,16 @@ MinimizerResult BundleDcaMinimizer::minimize(const ReducedProblem& p, const Eige
   Eigen::MatrixXd H = p.S;
   H.diagonal().array() += mu;
 
-  int evaluations = 0;  // function + subgradient
-  auto budget_left = [&] { return result.function_evaluations + result.subgradient_evaluations < options.max_evaluations; };
+  // true when `count` more evaluations (function + subgradient) fit in max_evaluations
+  auto budget_left = [&](int count) {
+    return result.function_evaluations + result.subgradient_evaluations + count <= options.max_evaluations;
+  };
 
   // phi_i(t) = w_i j1(t): values and cuts
   std::vector<std::vector<Cut>> cuts(U(n));
   std::vector<double> lo(U(n)), hi(U(n));
   for (Eigen::Index i = 0; i < n; ++i) lo[U(i)] = p.lower(i), hi[U(i)] = p.upper(i);
-  std::vector<Eigen::Index> newest;  // how many cuts were added last, per coordinate (tail)
-  std::vector<int> added(U(n), 0);
+  std::vector<int> added(U(n), 0);  // how many cuts were added last, per coordinate (at the tail)
   auto add_cuts = [&](const Eigen::VectorXd& a) {  // one subgradient evaluation of F1
     ++result.subgradient_evaluations;
     for (Eigen::Index i = 0; i < n; ++i) {
@@ -489,15 +490,16 @@ MinimizerResult BundleDcaMinimizer::minimize(const ReducedProblem& p, const Eige
   MinimizerStatus why = MinimizerStatus::iteration_limit;
   bool done = cert.residual <= options.tolerance && cert.feasibility <= options.feasibility_tolerance;
   if (done) why = MinimizerStatus::converged;
-  add_cuts(a);
   int no_progress = 0;
   const bool convex = p.law->is_convex();
   std::string note;
   for (int k = 1; !done && k <= options.max_iterations; ++k) {
-    if (!budget_left()) {
+    // a DC step costs the linearisation of F2, f_k at a_k, F at the end (and the first cut once)
+    if (!budget_left(k == 1 ? 4 : 3)) {
       why = MinimizerStatus::evaluation_limit;
       break;
     }
+    if (k == 1) add_cuts(a);
     // ---- DC step: linearise F2 at a, solve min_{C} F1 - y^T a by the proximal bundle method
     const Eigen::VectorXd y = p.subgradient_convex2(a);
     ++result.subgradient_evaluations;
@@ -513,7 +515,7 @@ MinimizerResult BundleDcaMinimizer::minimize(const ReducedProblem& p, const Eige
     bool model_exact = false, out_of_budget = false, qp_failed = false;
     const Eigen::VectorXd cy = p.c + y;
     for (int it = 0; it < par.max_bundle_iterations && rc > inner_tol; ++it) {
-      if (!budget_left()) {
+      if (!budget_left(3)) {  // f_k and the cuts at the trial point, F at the end of the DC step
         out_of_budget = true;
         break;
       }
@@ -606,7 +608,6 @@ MinimizerResult BundleDcaMinimizer::minimize(const ReducedProblem& p, const Eige
       << serious_steps << " serious, " << null_steps << " null), " << qp_steps << " active-set steps, largest bundle "
       << largest_bundle << " cuts per node; " << to_string(result.status) << note;
   result.message = msg.str();
-  (void)evaluations;
   result.timings["total"] = seconds_since(t0);
   return result;
 }
