@@ -7,6 +7,7 @@
 #include <hemivem/nonsmooth_minimizer.hpp>
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace hemivem {
