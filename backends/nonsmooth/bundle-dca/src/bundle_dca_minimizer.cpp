@@ -1,0 +1,615 @@
+// The DC algorithm with a proximal bundle method for the convex subproblems (README.md).
+#include <hemivem/bundle_dca_minimizer.hpp>
+
+#include <hemivem/error.hpp>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <sstream>
+#include <utility>
+#include <vector>
+
+namespace hemivem {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+struct Parameters {
+  int bundle_size = 12;               // cuts kept per coordinate (>= 4)
+  double proximal_weight = 1e-3;      // mu = proximal_weight * max_i S_ii
+  double descent = 0.1;               // m in (0, 1): serious step test
+  double inner_tolerance_factor = 0.1;  // inner tol = max(factor * certificate, floor * tolerance)
+  double inner_tolerance_floor = 0.1;
+  int max_bundle_iterations = 500;    // per DC subproblem
+  int stall_iterations = 5;           // DC steps without progress before "stalled"
+  int two_sided_cuts = 1;             // at a kink of j1 add the cuts of both one-sided derivatives
+};
+
+Parameters read_parameters(const MinimizerOptions& o) {
+  Parameters p;
+  for (const auto& [name, value] : o.parameters) {
+    auto need = [&](bool ok, const char* what) {
+      if (!ok || !std::isfinite(value))
+        throw InputError("parameter '" + name + "' = " + std::to_string(value) + " must be " + what, "bundle-dca");
+    };
+    if (name == "bundle_size") {
+      need(value >= 4 && value <= 1e6, "an integer >= 4");
+      p.bundle_size = static_cast<int>(value);
+    } else if (name == "proximal_weight") {
+      need(value >= 0.0, ">= 0");
+      p.proximal_weight = value;
+    } else if (name == "descent") {
+      need(value > 0.0 && value < 1.0, "in (0, 1)");
+      p.descent = value;
+    } else if (name == "inner_tolerance_factor") {
+      need(value > 0.0 && value <= 1.0, "in (0, 1]");
+      p.inner_tolerance_factor = value;
+    } else if (name == "inner_tolerance_floor") {
+      need(value > 0.0 && value <= 1.0, "in (0, 1]");
+      p.inner_tolerance_floor = value;
+    } else if (name == "max_bundle_iterations") {
+      need(value >= 1 && value <= 1e9, "an integer >= 1");
+      p.max_bundle_iterations = static_cast<int>(value);
+    } else if (name == "stall_iterations") {
+      need(value >= 1 && value <= 1e9, "an integer >= 1");
+      p.stall_iterations = static_cast<int>(value);
+    } else if (name == "two_sided_cuts") {
+      need(value == 0.0 || value == 1.0, "0 or 1");
+      p.two_sided_cuts = static_cast<int>(value);
+    } else {
+      std::string list;
+      for (const auto& [n, v] : BundleDcaMinimizer::parameter_defaults()) list += (list.empty() ? "" : ", ") + n;
+      throw InputError("unknown parameter '" + name + "'; known: " + list, "bundle-dca");
+    }
+  }
+  return p;
+}
+
+// ---- the cutting-plane model of one coordinate -------------------------------------------------
+//
+// A cut is the linearisation of phi_i(t) = w_i j1(t) at its base point: phi_i(x) >= f + s (x - t).
+// Keeping the base point makes the breakpoints of the model computable to full precision: two
+// cuts of a convex function with slopes s_a < s_b have base points t_a <= t_b and intersect in
+// [t_a, t_b], so the computed intersection is clamped to that interval. (From intercepts alone
+// the intersection of two nearby cuts loses all digits once (t_b - t_a)^2 j1'' is below the
+// rounding of phi, which would stop the bundle method at a residual of about 1e-9.)
+
+struct Cut {
+  double t = 0.0;
+  double f = 0.0;
+  double slope = 0.0;
+  double at(double x) const { return f + slope * (x - t); }
+};
+
+// The intersection of two cuts with a.slope < b.slope. When the linearisation error that fixes
+// it is below the rounding of phi (cuts closer than about 1e-10), the midpoint of the base
+// points is used: the intersection of the tangents of a quadratic, exact for the quadratic
+// pieces of the shipped laws and within the interval in any case.
+double intersection(const Cut& a, const Cut& b) {
+  const double lo = std::min(a.t, b.t), hi = std::max(a.t, b.t);
+  const double num = b.f - a.f - b.slope * (b.t - a.t);
+  const double den = a.slope - b.slope;
+  const double err = 8.0 * std::numeric_limits<double>::epsilon() *
+                     (std::abs(a.f) + std::abs(b.f) + std::abs(b.slope * (b.t - a.t)));
+  if (err > 0.25 * (hi - lo) * std::abs(den)) return 0.5 * (lo + hi);
+  const double x = a.t + num / den;
+  return std::min(std::max(x, lo), hi);
+}
+
+// The model psi_i of one coordinate restricted to [lo, hi]: the upper envelope of the cuts,
+// piece k on [node[k], node[k+1]] with slope[k], given by cut index cut[k].
+struct Envelope {
+  std::vector<double> node;  // lo, interior breakpoints, hi (size pieces + 1)
+  std::vector<double> slope;
+  std::vector<int> cut;
+  int pieces() const { return static_cast<int>(slope.size()); }
+};
+
+Envelope envelope(const std::vector<Cut>& cuts, double lo, double hi) {
+  std::vector<int> order(cuts.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    return cuts[a].slope < cuts[b].slope ||
+           (cuts[a].slope == cuts[b].slope && cuts[a].at(cuts[b].t) > cuts[b].f);
+  });
+  std::vector<int> hull;
+  std::vector<double> x;  // x[k]: intersection of hull[k] and hull[k+1]
+  for (int l : order) {
+    if (!hull.empty() && cuts[hull.back()].slope == cuts[l].slope) continue;  // same slope, lower
+    double xl = 0.0;
+    while (true) {
+      if (hull.empty()) break;
+      xl = intersection(cuts[hull.back()], cuts[l]);
+      if (hull.size() >= 2 && xl <= x.back()) {  // the last line has an empty interval
+        hull.pop_back();
+        x.pop_back();
+        continue;
+      }
+      break;
+    }
+    if (!hull.empty()) x.push_back(xl);
+    hull.push_back(l);
+  }
+  std::size_t first = 0, last = hull.size() - 1;
+  while (first < last && x[first] <= lo) ++first;
+  while (last > first && x[last - 1] >= hi) --last;
+  Envelope e;
+  e.node.push_back(lo);
+  for (std::size_t k = first; k <= last; ++k) {
+    if (k > first) e.node.push_back(x[k - 1]);
+    e.slope.push_back(cuts[hull[k]].slope);
+    e.cut.push_back(hull[k]);
+  }
+  e.node.push_back(hi);
+  return e;
+}
+
+// ---- the bundle subproblem: min 1/2 a^T H a - q^T a + sum_i psi_i(a_i), solved exactly ------
+//
+// A primal active-set method on the pieces of the separable polyhedral term: every coordinate
+// is either free inside one piece (where psi_i is affine) or fixed at a node (a breakpoint of
+// psi_i or a bound). On the current face the objective is a strictly convex quadratic: a
+// Newton step with a ratio test keeps the iterate in the closure of its pieces (blocking
+// coordinates become fixed at their node); at the face minimizer the multipliers
+// r = q - H a of the fixed coordinates are checked against the subdifferential interval of the
+// node, violators are released into the neighbouring piece. The objective decreases
+// monotonically; the final point is exact up to rounding.
+struct QpState {
+  std::vector<char> fixed;
+  std::vector<int> index;  // piece (free) or node (fixed)
+};
+
+struct QpStats {
+  int steps = 0;
+};
+
+void locate(const std::vector<Envelope>& env, const Eigen::VectorXd& a, QpState& s) {
+  const Eigen::Index n = a.size();
+  s.fixed.assign(static_cast<std::size_t>(n), 0);
+  s.index.assign(static_cast<std::size_t>(n), 0);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Envelope& e = env[static_cast<std::size_t>(i)];
+    const double ai = a(i);
+    int k = 0;
+    while (k + 1 < e.pieces() && ai > e.node[static_cast<std::size_t>(k + 1)]) ++k;
+    const double lo = e.node[static_cast<std::size_t>(k)], hi = e.node[static_cast<std::size_t>(k + 1)];
+    const double eps = 1e-15 * (1.0 + std::abs(ai));
+    if (std::isfinite(lo) && std::abs(ai - lo) <= eps) {
+      s.fixed[static_cast<std::size_t>(i)] = 1;
+      s.index[static_cast<std::size_t>(i)] = k;
+    } else if (std::isfinite(hi) && std::abs(ai - hi) <= eps) {
+      s.fixed[static_cast<std::size_t>(i)] = 1;
+      s.index[static_cast<std::size_t>(i)] = k + 1;
+    } else {
+      s.index[static_cast<std::size_t>(i)] = k;
+    }
+  }
+}
+
+bool solve_qp(const Eigen::MatrixXd& H, const Eigen::VectorXd& q, const std::vector<std::vector<Cut>>& cuts,
+              const std::vector<Envelope>& env, Eigen::VectorXd& a,
+              QpState& s, QpStats& stats) {
+  const Eigen::Index n = a.size();
+  const auto U = [](Eigen::Index i) { return static_cast<std::size_t>(i); };
+  // the start must lie in the closure of the pieces
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Envelope& e = env[U(i)];
+    a(i) = std::min(std::max(a(i), e.node.front()), e.node.back());
+  }
+  locate(env, a, s);
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (s.fixed[U(i)]) a(i) = env[U(i)].node[U(s.index[U(i)])];
+  const double hscale = H.cwiseAbs().maxCoeff();
+  auto model = [&](const Eigen::VectorXd& x) {  // the QP objective
+    double v = 0.5 * x.dot(H * x) - q.dot(x);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      double m = -kInf;
+      for (int c : env[U(i)].cut) m = std::max(m, cuts[U(i)][U(c)].at(x(i)));
+      v += m;
+    }
+    return v;
+  };
+  std::vector<Eigen::Index> released;  // released in the last multiplier check
+  Eigen::Index most = -1;              // the most violating of them
+  const int max_steps = 20 * static_cast<int>(n) + 100;
+  for (int step = 0; step < max_steps; ++step) {
+    ++stats.steps;
+    std::vector<Eigen::Index> free;
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (!s.fixed[U(i)]) free.push_back(i);
+    const Eigen::Index nf = static_cast<Eigen::Index>(free.size());
+    double t = 1.0;
+    std::vector<std::pair<Eigen::Index, double>> ratio;  // (coordinate, t_i) of blockers
+    Eigen::VectorXd d(nf);
+    if (nf > 0) {
+      Eigen::MatrixXd Hff(nf, nf);
+      Eigen::VectorXd rhs(nf);
+      for (Eigen::Index r = 0; r < nf; ++r) {
+        const Eigen::Index i = free[U(r)];
+        for (Eigen::Index cidx = 0; cidx < nf; ++cidx) Hff(r, cidx) = H(i, free[U(cidx)]);
+        double v = q(i) - env[U(i)].slope[U(s.index[U(i)])];
+        for (Eigen::Index j = 0; j < n; ++j)
+          if (s.fixed[U(j)]) v -= H(i, j) * a(j);
+        rhs(r) = v;
+      }
+      const Eigen::LLT<Eigen::MatrixXd> llt(Hff);
+      if (llt.info() != Eigen::Success) return false;  // S + mu I is not positive definite
+      const Eigen::VectorXd z = llt.solve(rhs);
+      if (!z.allFinite()) return false;
+      for (Eigen::Index r = 0; r < nf; ++r) {
+        const Eigen::Index i = free[U(r)];
+        d(r) = z(r) - a(i);
+        const Envelope& e = env[U(i)];
+        const int k = s.index[U(i)];
+        double ti = kInf;
+        if (d(r) > 0.0 && std::isfinite(e.node[U(k + 1)])) ti = std::max(0.0, (e.node[U(k + 1)] - a(i)) / d(r));
+        if (d(r) < 0.0 && std::isfinite(e.node[U(k)])) ti = std::max(0.0, (e.node[U(k)] - a(i)) / d(r));
+        if (ti < 1.0) ratio.emplace_back(r, ti);
+        t = std::min(t, ti);
+      }
+      // released coordinates that would block at once move back: keep them fixed, retry
+      if (t <= 0.0 && released.size() > 1) {
+        bool changed = false;
+        for (const auto& [r, ti] : ratio) {
+          const Eigen::Index i = free[U(r)];
+          if (ti <= 0.0 && i != most && std::find(released.begin(), released.end(), i) != released.end()) {
+            // back to the node it was released from
+            const Envelope& e = env[U(i)];
+            const int k = s.index[U(i)];
+            s.fixed[U(i)] = 1;
+            s.index[U(i)] = (a(i) == e.node[U(k)]) ? k : k + 1;
+            changed = true;
+          }
+        }
+        released.assign(1, most);
+        if (changed) continue;
+      }
+      if (t < 1.0) {
+        // the projected Newton point (every free coordinate clamped to its piece, those clamped
+        // fixed at the node) is taken when it lowers the model at least as much as the
+        // ratio-test step: many coordinates change state in one step instead of one
+        Eigen::VectorXd proj = a, cut_step = a;
+        for (Eigen::Index r = 0; r < nf; ++r) {
+          const Eigen::Index i = free[U(r)];
+          const Envelope& e = env[U(i)];
+          const int k = s.index[U(i)];
+          proj(i) = std::min(std::max(a(i) + d(r), e.node[U(k)]), e.node[U(k + 1)]);
+          cut_step(i) = a(i) + t * d(r);
+        }
+        if (model(proj) <= model(cut_step)) {
+          for (Eigen::Index r = 0; r < nf; ++r) {
+            const Eigen::Index i = free[U(r)];
+            const Envelope& e = env[U(i)];
+            const int k = s.index[U(i)];
+            if (proj(i) == e.node[U(k)] && std::isfinite(proj(i)) && d(r) < 0.0) {
+              s.fixed[U(i)] = 1;
+            } else if (proj(i) == e.node[U(k + 1)] && std::isfinite(proj(i)) && d(r) > 0.0) {
+              s.fixed[U(i)] = 1;
+              s.index[U(i)] = k + 1;
+            }
+          }
+          a = proj;
+          released.clear();
+          most = -1;
+          continue;
+        }
+      }
+      for (Eigen::Index r = 0; r < nf; ++r) a(free[U(r)]) += t * d(r);
+    }
+    released.clear();
+    most = -1;
+    if (t < 1.0) {
+      for (const auto& [r, ti] : ratio) {
+        if (ti > t) continue;
+        const Eigen::Index i = free[U(r)];
+        const int k = s.index[U(i)];
+        s.fixed[U(i)] = 1;
+        s.index[U(i)] = d(r) > 0.0 ? k + 1 : k;
+        a(i) = env[U(i)].node[U(s.index[U(i)])];
+      }
+      continue;
+    }
+    // face minimizer: check the multipliers of the fixed coordinates
+    const Eigen::VectorXd r = q - H * a;
+    const double tol = 1e-14 * (q.cwiseAbs().maxCoeff() + hscale * a.cwiseAbs().maxCoeff() + 1e-300);
+    double worst = 0.0;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      if (!s.fixed[U(i)]) continue;
+      const Envelope& e = env[U(i)];
+      const int k = s.index[U(i)];
+      const double lower = k > 0 ? e.slope[U(k - 1)] : -kInf;
+      const double upper = k < e.pieces() ? e.slope[U(k)] : kInf;
+      double v = 0.0;
+      if (r(i) > upper + tol) {
+        v = r(i) - upper;
+        s.fixed[U(i)] = 0;
+        s.index[U(i)] = k;
+      } else if (r(i) < lower - tol) {
+        v = lower - r(i);
+        s.fixed[U(i)] = 0;
+        s.index[U(i)] = k - 1;
+      }
+      if (v > 0.0) {
+        released.push_back(i);
+        if (v > worst) worst = v, most = i;
+      }
+    }
+    if (released.empty()) return true;
+  }
+  return true;  // step cap reached: the point is feasible and no worse than the start
+}
+
+double model_value(const std::vector<std::vector<Cut>>& cuts, const Eigen::VectorXd& a) {
+  double m = 0.0;
+  for (Eigen::Index i = 0; i < a.size(); ++i) {
+    double v = -kInf;
+    for (const Cut& c : cuts[static_cast<std::size_t>(i)]) v = std::max(v, c.at(a(i)));
+    m += v;
+  }
+  return m;
+}
+
+}  // namespace
+
+const std::vector<std::pair<std::string, double>>& BundleDcaMinimizer::parameter_defaults() {
+  static const Parameters d;
+  static const std::vector<std::pair<std::string, double>> list{
+      {"bundle_size", d.bundle_size},
+      {"proximal_weight", d.proximal_weight},
+      {"descent", d.descent},
+      {"inner_tolerance_factor", d.inner_tolerance_factor},
+      {"inner_tolerance_floor", d.inner_tolerance_floor},
+      {"max_bundle_iterations", d.max_bundle_iterations},
+      {"stall_iterations", d.stall_iterations},
+      {"two_sided_cuts", d.two_sided_cuts},
+  };
+  return list;
+}
+
+MinimizerResult BundleDcaMinimizer::minimize(const ReducedProblem& p, const Eigen::VectorXd& start,
+                                             const MinimizerOptions& options) const {
+  const auto t0 = Clock::now();
+  std::string error;
+  if (!options.is_valid(&error)) throw InputError(error, "bundle-dca");
+  const Parameters par = read_parameters(options);
+  const Eigen::Index n = p.size();
+  if (!p.law) throw InputError("the problem has no contact law", "bundle-dca");
+  if (p.S.rows() != n || p.S.cols() != n || p.w.size() != n || p.g.size() != n)
+    throw InputError("inconsistent problem sizes", "bundle-dca");
+  if (start.size() != 0 && start.size() != n)
+    throw InputError("start has size " + std::to_string(start.size()) + ", expected " + std::to_string(n) + " or 0",
+                     "bundle-dca");
+  const auto U = [](Eigen::Index i) { return static_cast<std::size_t>(i); };
+
+  MinimizerResult result;
+  result.a = start.size() == 0 ? p.project(Eigen::VectorXd::Zero(n)) : p.project(start);
+  if (n == 0) {
+    finish(p, options, MinimizerStatus::converged, result);
+    result.timings["total"] = seconds_since(t0);
+    return result;
+  }
+  if (!result.a.allFinite()) throw InputError("start is not finite", "bundle-dca");
+
+  const double scale = std::max(p.c.cwiseAbs().maxCoeff(), std::numeric_limits<double>::min());
+  const double mu = par.proximal_weight * p.S.diagonal().cwiseAbs().maxCoeff();
+  Eigen::MatrixXd H = p.S;
+  H.diagonal().array() += mu;
+
+  // true when `count` more evaluations (function + subgradient) fit in max_evaluations
+  auto budget_left = [&](int count) {
+    return result.function_evaluations + result.subgradient_evaluations + count <= options.max_evaluations;
+  };
+
+  // phi_i(t) = w_i j1(t): values and cuts
+  std::vector<std::vector<Cut>> cuts(U(n));
+  std::vector<double> lo(U(n)), hi(U(n));
+  for (Eigen::Index i = 0; i < n; ++i) lo[U(i)] = p.lower(i), hi[U(i)] = p.upper(i);
+  std::vector<int> added(U(n), 0);  // how many cuts were added last, per coordinate (at the tail)
+  auto add_cuts = [&](const Eigen::VectorXd& a) {  // one subgradient evaluation of F1
+    ++result.subgradient_evaluations;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const double t = a(i);
+      const double v = p.w(i) * p.law->value(LawPart::j1, t);
+      const double sr = p.w(i) * p.law->derivative(LawPart::j1, t, +1);
+      auto& ci = cuts[U(i)];
+      ci.push_back({t, v, sr});
+      added[U(i)] = 1;
+      if (par.two_sided_cuts) {
+        const double sl = p.w(i) * p.law->derivative(LawPart::j1, t, -1);
+        if (sl != sr) {
+          ci.push_back({t, v, sl});
+          added[U(i)] = 2;
+        }
+      }
+    }
+  };
+  auto f1 = [&](const Eigen::VectorXd& a, double* quadratic_part = nullptr) {  // one function evaluation
+    ++result.function_evaluations;
+    const double qp = 0.5 * a.dot(p.S * a) - p.c.dot(a);
+    if (quadratic_part) *quadratic_part = qp;
+    double s = qp;
+    for (Eigen::Index i = 0; i < n; ++i) s += p.w(i) * p.law->value(LawPart::j1, a(i));
+    return s;
+  };
+  // natural residual of the DC subproblem min F1 - y^T a over C
+  auto subproblem_residual = [&](const Eigen::VectorXd& a, const Eigen::VectorXd& y) {
+    Eigen::VectorXd xi = p.S * a - p.c - y;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      double dl = p.law->derivative(LawPart::j1, a(i), -1), dr = p.law->derivative(LawPart::j1, a(i), +1);
+      if (dl > dr) std::swap(dl, dr);
+      xi(i) += p.w(i) * Interval{dl, dr}.nearest(-xi(i) / p.w(i));
+    }
+    return (a - p.project(a - xi)).cwiseAbs().maxCoeff() / scale;
+  };
+  auto compress = [&](const std::vector<Envelope>& env, const QpState& s) {
+    for (Eigen::Index i = 0; i < n; ++i) {
+      auto& ci = cuts[U(i)];
+      if (static_cast<int>(ci.size()) <= par.bundle_size) continue;
+      std::vector<char> keep(ci.size(), 0);
+      const Envelope& e = env[U(i)];
+      const int k = s.index[U(i)];
+      // the active cuts at the subproblem solution (they carry the aggregate linearisation)
+      if (s.fixed[U(i)]) {
+        if (k > 0) keep[U(e.cut[U(k - 1)])] = 1;
+        if (k < e.pieces()) keep[U(e.cut[U(k)])] = 1;
+      } else {
+        keep[U(e.cut[U(k)])] = 1;
+      }
+      for (int j = 0; j < added[U(i)]; ++j) keep[ci.size() - 1 - U(j)] = 1;  // the newest
+      int count = static_cast<int>(std::count(keep.begin(), keep.end(), 1));
+      for (std::size_t j = ci.size(); j-- > 0 && count < par.bundle_size;)
+        if (!keep[j]) keep[j] = 1, ++count;
+      std::vector<Cut> kept;
+      for (std::size_t j = 0; j < ci.size(); ++j)
+        if (keep[j]) kept.push_back(ci[j]);
+      ci.swap(kept);
+    }
+  };
+
+  int bundle_iterations = 0, serious_steps = 0, null_steps = 0, qp_steps = 0;
+  std::size_t largest_bundle = 0;
+  Eigen::VectorXd a = result.a;
+  double F = p.energy(a);
+  ++result.function_evaluations;
+  Certificate cert = certificate(p, a);
+  Eigen::VectorXd best = a;
+  Certificate best_cert = cert;
+  QpState state;
+  MinimizerStatus why = MinimizerStatus::iteration_limit;
+  bool done = cert.residual <= options.tolerance && cert.feasibility <= options.feasibility_tolerance;
+  if (done) why = MinimizerStatus::converged;
+  int no_progress = 0;
+  const bool convex = p.law->is_convex();
+  std::string note;
+  for (int k = 1; !done && k <= options.max_iterations; ++k) {
+    // a DC step costs the linearisation of F2, f_k at a_k, F at the end (and the first cut once)
+    if (!budget_left(k == 1 ? 4 : 3)) {
+      why = MinimizerStatus::evaluation_limit;
+      break;
+    }
+    if (k == 1) add_cuts(a);
+    // ---- DC step: linearise F2 at a, solve min_{C} F1 - y^T a by the proximal bundle method
+    const Eigen::VectorXd y = p.subgradient_convex2(a);
+    ++result.subgradient_evaluations;
+    // j convex (the shipped convex laws have j2 = 0): the subproblem is F itself, so it is solved to
+    // the final accuracy at once (only the inner tolerance depends on this; the loop is the same)
+    const double inner_tol = convex ? par.inner_tolerance_floor * options.tolerance
+                                    : std::max(par.inner_tolerance_factor * cert.residual,
+                                               par.inner_tolerance_floor * options.tolerance);
+    Eigen::VectorXd center = a;
+    double fc = f1(center) - y.dot(center);
+    double rc = subproblem_residual(center, y);
+    Eigen::VectorXd trial = center;
+    bool model_exact = false, out_of_budget = false, qp_failed = false;
+    const Eigen::VectorXd cy = p.c + y;
+    for (int it = 0; it < par.max_bundle_iterations && rc > inner_tol; ++it) {
+      if (!budget_left(3)) {  // f_k and the cuts at the trial point, F at the end of the DC step
+        out_of_budget = true;
+        break;
+      }
+      ++bundle_iterations;
+      std::vector<Envelope> env(U(n));
+      for (Eigen::Index i = 0; i < n; ++i) env[U(i)] = envelope(cuts[U(i)], lo[U(i)], hi[U(i)]);
+      const Eigen::VectorXd q = cy + mu * center;
+      QpStats qs;
+      if (!solve_qp(H, q, cuts, env, trial, state, qs)) {
+        qp_failed = true;
+        break;
+      }
+      qp_steps += qs.steps;
+      double quad = 0.0;
+      const double model = 0.5 * trial.dot(p.S * trial) - cy.dot(trial) + model_value(cuts, trial);
+      const double predicted = fc - model;
+      const double ft = f1(trial, &quad) - y.dot(trial);
+      const double rt = subproblem_residual(trial, y);
+      add_cuts(trial);
+      compress(env, state);
+      for (const auto& ci : cuts) largest_bundle = std::max(largest_bundle, ci.size());
+      // near the solution the decrease is below the rounding of F (it is of the order of the
+      // squared residual): there a trial no worse than the center up to rounding and with a
+      // smaller residual is taken as a serious step too
+      const double noise = 1e-13 * (std::abs(fc) + std::abs(quad) + 1e-300);
+      const bool serious = ft <= fc - par.descent * predicted || (ft <= fc + noise && rt < rc);
+      const double moved = (trial - center).cwiseAbs().maxCoeff();
+      if (serious) {
+        ++serious_steps;
+        center = trial;
+        fc = ft;
+        rc = rt;
+      } else {
+        ++null_steps;
+        if (moved <= 1e-15 * (1.0 + center.cwiseAbs().maxCoeff())) {  // the model cannot improve
+          model_exact = true;
+          break;
+        }
+      }
+    }
+    const Eigen::VectorXd answer = center;
+    const Eigen::VectorXd previous = a;
+    const double F_previous = F;
+    const Certificate cert_previous = cert;
+    a = answer;
+    F = p.energy(a);
+    ++result.function_evaluations;
+    cert = certificate(p, a);
+    result.iterations = k;
+    if (cert.residual < best_cert.residual) best = a, best_cert = cert;
+    IterationRecord rec;
+    rec.iteration = k;
+    rec.energy = F;
+    rec.residual = cert.residual;
+    rec.feasibility = cert.feasibility;
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (a(i) == p.upper(i) || a(i) == p.lower(i)) ++rec.active;
+    rec.seconds = seconds_since(t0);
+    result.history.push_back(rec);
+    if (options.callback && !options.callback(rec)) {
+      why = MinimizerStatus::stopped_by_callback;
+      break;
+    }
+    if (cert.residual <= options.tolerance && cert.feasibility <= options.feasibility_tolerance) {
+      why = MinimizerStatus::converged;
+      break;
+    }
+    if (qp_failed) {
+      why = MinimizerStatus::failed;
+      note = "; the bundle subproblem failed: S + mu I is not positive definite";
+      break;
+    }
+    if (out_of_budget) {
+      why = MinimizerStatus::evaluation_limit;
+      break;
+    }
+    const bool progress = F < F_previous - 1e-15 * std::abs(F_previous) || cert.residual < 0.9 * cert_previous.residual ||
+                          (a - previous).cwiseAbs().maxCoeff() > 1e-15 * (1.0 + a.cwiseAbs().maxCoeff());
+    no_progress = progress ? 0 : no_progress + 1;
+    if (no_progress >= par.stall_iterations) {
+      why = MinimizerStatus::stalled;
+      note = model_exact ? "; the bundle model is exact and the DC step no longer moves" : "; the DC step no longer moves";
+      break;
+    }
+  }
+  result.a = best;
+  finish(p, options, why, result);
+  std::ostringstream msg;
+  msg << "bundle-dca: " << result.iterations << " DC iterations, " << bundle_iterations << " bundle iterations ("
+      << serious_steps << " serious, " << null_steps << " null), " << qp_steps << " active-set steps, largest bundle "
+      << largest_bundle << " cuts per node; " << to_string(result.status) << note;
+  result.message = msg.str();
+  result.timings["total"] = seconds_since(t0);
+  return result;
+}
+
+}  // namespace hemivem
