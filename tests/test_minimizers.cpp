@@ -137,8 +137,8 @@ std::unique_ptr<Example> example(const std::string& kind, int n, const std::func
 std::vector<int> at_bound(const ReducedProblem& p, const Eigen::VectorXd& a) {
   std::vector<int> out;
   for (Eigen::Index i = 0; i < a.size(); ++i)
-    if (std::abs(a(i) - p.upper(i)) <= 1e-9 * (1 + std::abs(p.upper(i))) ||
-        std::abs(a(i) - p.lower(i)) <= 1e-9 * (1 + std::abs(p.lower(i))))
+    if ((std::isfinite(p.upper(i)) && std::abs(a(i) - p.upper(i)) <= 1e-9 * (1 + std::abs(p.upper(i)))) ||
+        (std::isfinite(p.lower(i)) && std::abs(a(i) - p.lower(i)) <= 1e-9 * (1 + std::abs(p.lower(i)))))
       out.push_back(static_cast<int>(i));
   return out;
 }
