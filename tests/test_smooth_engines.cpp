@@ -177,6 +177,15 @@ TEST_P(SmoothEngine, PrintsNothing) {
   EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
 }
 
+TEST_P(SmoothEngine, EmptyProblem) {
+  ReducedProblem p;
+  p.S.resize(0, 0);
+  p.law = kinked_law();
+  const MinimizerResult r = engine()->minimize(p, Eigen::VectorXd(), MinimizerOptions{});
+  EXPECT_TRUE(r.converged());
+  EXPECT_EQ(r.a.size(), 0);
+}
+
 // Evaluation counts and times on Example 4.1 (printed; the assertions are the contract's).
 TEST_P(SmoothEngine, Example41Counts) {
   for (const std::string kind : {"squares", "triangles", "voronoi", "nonconvex"})

@@ -124,6 +124,13 @@ MinimizerResult CeresActiveSetMinimizer::minimize(const ReducedProblem& p, const
   MinimizerResult result;
   Eigen::VectorXd a = smoothing::projected_start(p, start, where);
   const Eigen::Index n = p.size();
+  if (n == 0) {  // nothing to minimize
+    result.a = a;
+    result.timings["total"] = clock.seconds();
+    finish(p, o, MinimizerStatus::converged, result);
+    result.message = "empty problem";
+    return result;
+  }
   const double cscale = std::max(p.c.size() ? p.c.cwiseAbs().maxCoeff() : 0.0, 1e-300);
   const double scale_a = std::max({p.g.size() ? p.g.cwiseAbs().maxCoeff() : 0.0, a.cwiseAbs().maxCoeff(),
                                    cscale / std::max(p.S.diagonal().minCoeff(), 1e-300)});

@@ -82,6 +82,13 @@ MinimizerResult NloptMmaMinimizer::minimize(const ReducedProblem& p, const Eigen
   MinimizerResult result;
   Eigen::VectorXd a = smoothing::projected_start(p, start, where);
   const Eigen::Index n = p.size();
+  if (n == 0) {  // nothing to minimize
+    result.a = a;
+    result.timings["total"] = clock.seconds();
+    finish(p, o, MinimizerStatus::converged, result);
+    result.message = "empty problem";
+    return result;
+  }
   const double scale_a = std::max({p.g.size() ? p.g.cwiseAbs().maxCoeff() : 0.0, a.cwiseAbs().maxCoeff(),
                                    p.c.cwiseAbs().maxCoeff() / std::max(p.S.diagonal().minCoeff(), 1e-300)});
   const double snap = extra["snap"] * std::max(scale_a, 1e-300);
