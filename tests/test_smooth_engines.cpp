@@ -108,6 +108,11 @@ TEST_P(SmoothEngine, OneStagePerSmoothingScale) {
     EXPECT_EQ(r.history[k].iteration, static_cast<int>(k) + 1);
     EXPECT_GE(r.history[k].seconds, r.history[k - 1].seconds);
   }
+  // epsilon = 0: down to 1e-12, then the law itself
+  o.parameters["epsilon"] = 0.0;
+  const MinimizerResult z = engine()->minimize(p, Eigen::VectorXd(), o);
+  EXPECT_LE(z.history.size(), 30u);
+  EXPECT_LE((z.a - exact).cwiseAbs().maxCoeff(), 1e-10) << z.message;
   // a law without kinks needs no continuation
   auto ex = example("squares", 8);
   const MinimizerResult q = engine()->minimize(ex->condensation->reduced(), Eigen::VectorXd(), MinimizerOptions{});

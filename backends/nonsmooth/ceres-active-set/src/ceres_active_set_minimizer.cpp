@@ -252,8 +252,7 @@ MinimizerResult CeresActiveSetMinimizer::minimize(const ReducedProblem& p, const
     }
   }
   if (!done && !stop && SmoothedLaw(p.law, 0.0).kinks() > 0)
-    message = "smoothing scale " + std::to_string(schedule.back()) +
-              " reached; nodes at a kink are certified only as epsilon -> 0";
+    message = smoothing::smoothing_limit_message(schedule.back());
   result.a = done ? best.a : a;
   result.function_evaluations = fevals;
   result.subgradient_evaluations = gevals;

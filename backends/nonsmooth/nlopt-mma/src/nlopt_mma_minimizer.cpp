@@ -205,8 +205,7 @@ MinimizerResult NloptMmaMinimizer::minimize(const ReducedProblem& p, const Eigen
       if (reason == MinimizerStatus::evaluation_limit) stop = true;
     }
     if (!done && !stop && law.kinks() > 0)
-      message = "smoothing scale " + std::to_string(schedule.back()) +
-                " reached; nodes at a kink are certified only as epsilon -> 0";
+      message = smoothing::smoothing_limit_message(schedule.back());
   }
   result.a = done ? best.a : a;
   result.function_evaluations = fevals;

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <set>
 #include <string>
@@ -22,7 +23,7 @@ namespace hemivem::smoothing {
 
 /// The continuation parameters common to both engines (absolute scales, in units of a).
 struct Continuation {
-  double epsilon = 1e-9;   ///< final smoothing scale
+  double epsilon = 1e-9;   ///< final smoothing scale (0: the law itself in the last stage)
   double epsilon0 = 1e-3;  ///< initial smoothing scale (raised to epsilon if smaller)
   double reduction = 0.1;  ///< epsilon_{k+1} = reduction * epsilon_k
 
@@ -30,9 +31,12 @@ struct Continuation {
   std::vector<double> schedule(const ContactLaw& law) const {
     if (SmoothedLaw(std::shared_ptr<const ContactLaw>(&law, [](const ContactLaw*) {}), 0.0).kinks() == 0)
       return {epsilon};
+    // epsilon = 0 (the law itself): the scales fall to 1e-12 before the last stage
+    const double floor = epsilon > 0.0 ? epsilon : std::min(1e-12, epsilon0);
     std::vector<double> s;
-    for (double e = std::max(epsilon0, epsilon); e > epsilon * (1.0 + 1e-12); e *= reduction) s.push_back(e);
-    s.push_back(epsilon);
+    for (double e = std::max(epsilon0, floor); e > floor * (1.0 + 1e-12); e *= reduction) s.push_back(e);
+    s.push_back(floor);
+    if (epsilon == 0.0) s.push_back(0.0);
     return s;
   }
 };
@@ -62,7 +66,6 @@ inline Continuation read_parameters(const MinimizerOptions& o, std::map<std::str
   if (!(c.epsilon >= 0.0) || !std::isfinite(c.epsilon)) throw InputError("epsilon must be finite and >= 0", engine);
   if (!(c.epsilon0 > 0.0) || !std::isfinite(c.epsilon0)) throw InputError("epsilon0 must be finite and > 0", engine);
   if (!(c.reduction > 0.0 && c.reduction < 1.0)) throw InputError("reduction must lie in (0, 1)", engine);
-  if (c.epsilon == 0.0) c.epsilon = 1e-300;  // j itself, up to roundoff
   return c;
 }
 
@@ -127,6 +130,16 @@ inline Eigen::VectorXd snap_to_bounds(const ReducedProblem& p, const Eigen::Vect
 /// certificate holds.
 inline double snap_push(const ReducedProblem& p, const MinimizerOptions& o) {
   return 100.0 * o.tolerance * std::max(p.c.size() ? p.c.cwiseAbs().maxCoeff() : 0.0, 1e-300);
+}
+
+/// The message of a run that ends at the final smoothing scale without a certificate.
+inline std::string smoothing_limit_message(double epsilon) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf,
+                "smoothing scale %.3g reached without a certificate; nodes at a kink of j are certified only as "
+                "epsilon -> 0 (error O(epsilon))",
+                epsilon);
+  return buf;
 }
 
 inline bool certified(const Certificate& c, const MinimizerOptions& o) {
