@@ -11,6 +11,7 @@ packages=(
   libsuitesparse-dev
   libmumps-seq-dev libmumps-dev libopenmpi-dev openmpi-bin
   libgtest-dev libgmock-dev libbenchmark-dev
+  libnlopt-dev libceres-dev
 )
 
 missing=()
