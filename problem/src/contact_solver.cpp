@@ -12,7 +12,8 @@ double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::
 }  // namespace
 
 ContactSolution solve_contact(const ContactProblem& problem, std::unique_ptr<SparseFactorization> factorization,
-                              const NonsmoothMinimizer& minimizer, const MinimizerOptions& options) {
+                              const NonsmoothMinimizer& minimizer, const MinimizerOptions& options,
+                              ReducedProblem* reduced) {
   if (!factorization) throw InputError("solve_contact needs a factorization engine");
   const auto t_start = Clock::now();
   ContactSolution sol;
@@ -55,6 +56,7 @@ ContactSolution solve_contact(const ContactProblem& problem, std::unique_ptr<Spa
   sol.stages.push_back("condensation");
   sol.uniqueness_margin = cond.uniqueness_margin();
   const ReducedProblem& rp = cond.reduced();
+  if (reduced) *reduced = rp;
 
   t = Clock::now();
   sol.minimizer = minimizer.minimize(rp, Eigen::VectorXd(), options);

@@ -43,7 +43,9 @@ struct ContactSolution {
 /// back-substitution). Throws InputError for a problem that cannot be set up (e.g. a body
 /// that is not held) and NumericalError when the factorization fails; a minimizer that does
 /// not converge is reported in the result, not thrown.
+/// When `reduced` is not null it receives a copy of the reduced problem (for export).
 ContactSolution solve_contact(const ContactProblem& problem, std::unique_ptr<SparseFactorization> factorization,
-                              const NonsmoothMinimizer& minimizer, const MinimizerOptions& options);
+                              const NonsmoothMinimizer& minimizer, const MinimizerOptions& options,
+                              ReducedProblem* reduced = nullptr);
 
 }  // namespace hemivem
