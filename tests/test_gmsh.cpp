@@ -12,7 +12,10 @@
 #include <fstream>
 #include <iterator>
 #include <set>
+#include <sstream>
 #include <string>
+
+#include <unistd.h>
 
 #include "test_support.hpp"
 
@@ -60,6 +63,30 @@ void check_unit_square(const Mesh& mesh) {
   // The surface group is not an edge group.
   EXPECT_THROW(mesh.edge_group("body"), InputError);
 }
+
+std::string read_text(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+/// A file in the temporary folder, removed afterwards.
+class TempFile {
+ public:
+  explicit TempFile(const std::string& text) {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    path_ = fs::temp_directory_path() /
+            (std::string("hemivem-gmsh-") + info->name() + "-" + std::to_string(::getpid()) + ".msh");
+    std::ofstream(path_, std::ios::binary) << text;
+  }
+  ~TempFile() {
+    std::error_code ec;
+    fs::remove(path_, ec);
+  }
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
 
 }  // namespace
 
@@ -117,6 +144,41 @@ TEST(GmshRead, TwoRegionsNonContiguousTagsClockwiseElementUnusedNode) {
   EXPECT_EQ(mesh.edge_group("bottom"), side(mesh, "bottom"));
   EXPECT_EQ(mesh.edge_group("9"), side(mesh, "right"));
   EXPECT_THROW(mesh.edge_group("corner"), InputError);
+}
+
+TEST(GmshRead, ElementInSeveralSurfaceGroupsTakesTheFirstListed) {
+  std::string text = read_text(gmsh_dir() / "two_regions.msh");
+  // Surface 2 is put in groups 7 ("steel") and 3 ("rubber"), in that order.
+  const std::string from = "2 1 0 0 2 1 0 1 3 0\n", to = "2 1 0 0 2 1 0 2 7 3 0\n";
+  const auto at = text.find(from);
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, from.size(), to);
+  const TempFile file(text);
+  EXPECT_EQ(read_gmsh(file.path()).regions(), (std::vector<int>{1, 1, 1}));
+}
+
+// Every prefix of a valid file that stops at a line end reads or throws an InputError
+// naming a line of the file, never anything else.
+TEST(GmshRead, EveryTruncationIsAnInputErrorOrAMesh) {
+  for (const char* name : {"two_regions.msh", "unit_square_quads.msh"}) {
+    const std::string text = read_text(gmsh_dir() / name);
+    std::size_t cut = 0;
+    int lines = 0, errors = 0;
+    while ((cut = text.find('\n', cut)) != std::string::npos) {
+      ++cut;
+      ++lines;
+      const TempFile file(text.substr(0, cut));
+      SCOPED_TRACE(std::string(name) + " cut after line " + std::to_string(lines));
+      try {
+        read_gmsh(file.path());
+        EXPECT_EQ(cut, text.size()) << "a truncated file read without error";
+      } catch (const InputError& e) {
+        ++errors;
+        EXPECT_EQ(e.where().rfind(file.path().string() + ":", 0), 0u) << e.what();
+      }
+    }
+    EXPECT_EQ(errors, lines - 1) << name;
+  }
 }
 
 // A linear displacement is reproduced on the read meshes: clamped-group Dirichlet data,
