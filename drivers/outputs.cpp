@@ -476,7 +476,10 @@ OutputReport write_outputs(const fs::path& dir, const Mesh& mesh, const Material
       const std::string reason = e.what();
       for (const char* name : {"u_nu.png", "deformed.png"}) {
         const bool done = std::find(report.written.begin(), report.written.end(), dir / name) != report.written.end();
-        if (want(name) && !done) report.skipped.push_back(std::string(name) + ": " + reason);
+        const bool listed = std::any_of(report.skipped.begin(), report.skipped.end(), [&](const std::string& s) {
+          return s.rfind(std::string(name) + ":", 0) == 0;
+        });
+        if (want(name) && !done && !listed) report.skipped.push_back(std::string(name) + ": " + reason);
       }
     }
   }

@@ -386,4 +386,39 @@ TEST_F(Outputs, UnknownOutputNameIsAnInputErrorBeforeAnyWrite) {
   EXPECT_FALSE(fs::exists(dir.path / "out"));
 }
 
+TEST(OutputsWithoutContact, LinearSolveSkipsTheContactPlotOnly) {
+  const Mesh mesh = make_squares(4);
+  ContactProblem p = example_4_1(mesh);
+  p.contact_edges.clear();
+  FactorizationOptions f;
+  f.engine = "eigen";
+  struct Unused final : NonsmoothMinimizer {
+    std::string name() const override { return "unused"; }
+    MinimizerResult minimize(const ReducedProblem&, const Eigen::VectorXd&, const MinimizerOptions&) const override {
+      return {};
+    }
+  } unused;
+  const ContactSolution sol = solve_contact(p, make_factorization(f), unused, MinimizerOptions{});
+  ASSERT_TRUE(sol.contact.empty());
+  const json j = json::parse(result_json(mesh, sol, RunInfo{}).dump());
+  EXPECT_TRUE(j.at("uniqueness_margin").is_null());
+  EXPECT_TRUE(j.at("contact").is_array());
+  EXPECT_TRUE(j.at("contact").empty());
+  EXPECT_EQ(j.at("stages"), json({"assembly", "linear_solve"}));
+  EXPECT_EQ(j.at("timings").at("minimize").get<double>(), 0.0);
+  EXPECT_TRUE(j.at("timings").contains("linear_solve"));
+
+  ScratchDir dir("nocontact");
+  const OutputReport report = write_outputs(dir.path, mesh, p.elasticity.materials, sol, RunInfo{});
+  EXPECT_EQ(lines(dir.path / "contact.csv").size(), 1u);  // the header only
+  EXPECT_TRUE(fs::exists(dir.path / "solution.vtu"));
+  EXPECT_FALSE(fs::exists(dir.path / "u_nu.png"));
+  ASSERT_FALSE(report.skipped.empty());
+  EXPECT_EQ(report.skipped[0].rfind("u_nu.png:", 0), 0u) << report.skipped[0];
+  if (have_gnuplot()) {
+    EXPECT_EQ(report.skipped.size(), 1u);
+    EXPECT_TRUE(fs::exists(dir.path / "deformed.png"));
+  }
+}
+
 }  // namespace
