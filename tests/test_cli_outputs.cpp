@@ -252,7 +252,8 @@ TEST_F(Outputs, VtuLoadsInARealVtkReader) {
       "    f.write(' '.join(types) + '\\n')\n"
       "    f.write('%.17g\\n' % abs(m.points[:, 2]).max())\n"
       "    for row in d: f.write('%.17g %.17g %.17g\\n' % tuple(row))\n"
-      "    for v in vm: f.write('%.17g\\n' % v)\n";
+      "    for v in vm: f.write('%.17g\\n' % v)\n"
+      "    for row in s: f.write(' '.join('%.17g' % x for x in row) + '\\n')\n";
   const fs::path py = dir.path / "read.py";
   std::ofstream(py) << script;
   ASSERT_EQ(std::system((python + " '" + py.string() + "' 2>'" + (dir.path / "err.txt").string() + "'").c_str()), 0)
@@ -288,6 +289,19 @@ TEST_F(Outputs, VtuLoadsInARealVtkReader) {
     double vm = -1;
     in >> vm;
     EXPECT_NEAR(vm, stresses[static_cast<std::size_t>(e)].von_mises(), 1e-12 * (1 + vm)) << e;
+  }
+  for (int e = 0; e < ne; ++e) {
+    const auto& expected = stresses[static_cast<std::size_t>(e)];
+    double c[6] = {};
+    for (double& x : c) in >> x;
+    ASSERT_TRUE(in);
+    const double scale = 1e-12 * (1 + expected.von_mises());
+    EXPECT_NEAR(c[0], expected.xx, scale) << e;
+    EXPECT_NEAR(c[1], expected.yy, scale) << e;
+    EXPECT_NEAR(c[2], expected.zz, scale) << e;
+    EXPECT_NEAR(c[3], expected.xy, scale) << e;
+    EXPECT_EQ(c[4], 0.0);
+    EXPECT_EQ(c[5], 0.0);
   }
 }
 
