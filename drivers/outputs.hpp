@@ -1,0 +1,62 @@
+// The files a solve leaves in its output folder (schema and formats: drivers/OUTPUTS.md):
+// result.json, contact.csv, displacement.csv, history.csv, solution.vtu, scene.toml and the
+// gnuplot figures u_nu.png and deformed.png.
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include <hemivem/contact_solver.hpp>
+#include <hemivem/material.hpp>
+#include <hemivem/mesh.hpp>
+
+namespace hemivem::cli {
+
+/// What the run was, beyond the solution itself: recorded in result.json.
+struct RunInfo {
+  std::string version = HEMIVEM_VERSION;
+  std::string scene_name;                     ///< the scene's name (or its file name)
+  std::string scene_toml;                     ///< the scene's full TOML text, copied to scene.toml
+  std::string mesh;                           ///< how the mesh was made ("squares n=8", a file path ...)
+  std::string linear;                         ///< the factorization engine used
+  std::string minimizer;                      ///< the nonsmooth minimizer used
+  std::map<std::string, std::string> options;  ///< every option in effect, by name, as text
+  double mesh_seconds = 0.0;                  ///< wall time spent making or reading the mesh
+  int dofs = -1;                              ///< free degrees of freedom; < 0: 2 x vertices
+};
+
+/// The result.json document ("schema": "hemivem-result/1").
+nlohmann::json result_json(const Mesh& mesh, const ContactSolution& solution, const RunInfo& info);
+
+/// The names write_outputs knows, in the order it writes them: result.json, contact.csv,
+/// displacement.csv, history.csv, solution.vtu, scene.toml, u_nu.png, deformed.png.
+const std::vector<std::string>& all_outputs();
+
+/// What write_outputs did.
+struct OutputReport {
+  std::vector<std::filesystem::path> written;  ///< files written, in order
+  std::vector<std::string> skipped;            ///< "name: reason" for each wanted file not made (plots only)
+};
+
+/// Writes the `wanted` files (names from all_outputs()) into `dir`, creating it. Each file is
+/// written atomically. The plots are made by running gnuplot; when gnuplot is missing or fails
+/// they are skipped and listed in the report, never an error. Throws InputError for an unknown
+/// name (before writing anything) and for any I/O failure; never prints.
+OutputReport write_outputs(const std::filesystem::path& dir, const Mesh& mesh, const MaterialTable& materials,
+                           const ContactSolution& solution, const RunInfo& info,
+                           const std::vector<std::string>& wanted = all_outputs());
+
+/// Per element: the projected stress (xx, yy, zz, xy) of Pi u_h, with sigma_zz = lambda
+/// (eps_xx + eps_yy) in plane strain and 0 in plane stress.
+struct ElementStress {
+  double xx = 0.0, yy = 0.0, zz = 0.0, xy = 0.0;
+  double von_mises() const;
+};
+std::vector<ElementStress> element_stresses(const Mesh& mesh, const MaterialTable& materials,
+                                            const Eigen::VectorXd& u);
+
+}  // namespace hemivem::cli

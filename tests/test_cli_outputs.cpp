@@ -1,0 +1,438 @@
+// The output folder of a solve: result.json, the CSV tables, the VTU file (read back with a
+// real VTK reader) and the gnuplot figures.
+#include "outputs.hpp"
+
+#include <hemivem/contact_solver.hpp>
+#include <hemivem/error.hpp>
+#include <hemivem/linear_backends.hpp>
+#include <hemivem/mesh_generators.hpp>
+#include <hemivem/nonsmooth_backends.hpp>
+#include <hemivem/piecewise_law.hpp>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include <unistd.h>
+
+using namespace hemivem;
+using namespace hemivem::cli;
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+bool have_ssn() {
+  const auto m = available_minimizers();
+  return std::find(m.begin(), m.end(), "ssn") != m.end();
+}
+
+bool have_program(const std::string& check) { return std::system((check + " >/dev/null 2>&1").c_str()) == 0; }
+
+bool have_gnuplot() { return have_program("command -v gnuplot"); }
+/// A Python interpreter that can import meshio (the one on PATH, else Debian's), or empty.
+std::string python_with_meshio() {
+  for (const char* python : {"python3", "/usr/bin/python3"})
+    if (have_program(std::string(python) + " -c 'import meshio, numpy'")) return python;
+  return {};
+}
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::vector<std::string> lines(const fs::path& p) {
+  std::ifstream in(p);
+  std::vector<std::string> out;
+  for (std::string l; std::getline(in, l);) out.push_back(l);
+  return out;
+}
+
+/// A fresh folder under the system's temporary folder, removed at the end.
+struct ScratchDir {
+  fs::path path;
+  explicit ScratchDir(const std::string& name) {
+    path = fs::temp_directory_path() /
+           ("hemivem-test-outputs-" + name + "-" + std::to_string(::getpid()));
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~ScratchDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+};
+
+/// Example 4.1 on an 8 x 8 square mesh, solved once for the whole suite.
+struct Solved {
+  Mesh mesh = make_squares(8);
+  ContactProblem problem = example_4_1(mesh);
+  ContactSolution solution;
+  RunInfo info;
+  Solved() {
+    FactorizationOptions f;
+    f.engine = "eigen";
+    MinimizerOptions o;
+    o.tolerance = 1e-10;
+    solution = solve_contact(problem, make_factorization(f), *make_minimizer("ssn"), o);
+    info.scene_name = "example-4-1";
+    info.scene_toml = "# a test scene\nschema = 1\nname = \"example-4-1\"\n";
+    info.mesh = "squares n=8";
+    info.linear = "eigen";
+    info.minimizer = "ssn";
+    info.options = {{"tolerance", "1e-10"}, {"stabilization", "2mu"}};
+    info.mesh_seconds = 0.25;
+    info.dofs = 123;
+  }
+};
+
+const Solved& solved() {
+  static const Solved s;
+  return s;
+}
+
+class Outputs : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!have_ssn()) GTEST_SKIP() << "the ssn minimizer was not built";
+  }
+};
+
+TEST_F(Outputs, ResultJsonHasEveryDocumentedField) {
+  const Solved& s = solved();
+  ScratchDir dir("json");
+  const OutputReport report = write_outputs(dir.path, s.mesh, s.problem.elasticity.materials, s.solution, s.info,
+                                            {"result.json"});
+  ASSERT_EQ(report.written.size(), 1u);
+  const json j = json::parse(read_text(dir.path / "result.json"));
+  const auto& sol = s.solution;
+
+  EXPECT_EQ(j.at("schema"), "hemivem-result/1");
+  EXPECT_EQ(j.at("version"), HEMIVEM_VERSION);
+  EXPECT_EQ(j.at("scene").at("name"), "example-4-1");
+  EXPECT_EQ(j.at("scene").at("toml"), s.info.scene_toml);
+  EXPECT_EQ(j.at("backends").at("linear"), "eigen");
+  EXPECT_EQ(j.at("backends").at("minimizer"), "ssn");
+  EXPECT_EQ(j.at("options").at("tolerance"), "1e-10");
+  EXPECT_EQ(j.at("options").at("stabilization"), "2mu");
+
+  ASSERT_TRUE(sol.converged());
+  EXPECT_EQ(j.at("status"), "converged");
+  EXPECT_EQ(j.at("converged"), true);
+  EXPECT_TRUE(j.at("message").is_string());
+  EXPECT_EQ(j.at("certificate").at("residual").get<double>(), sol.minimizer.certificate.residual);
+  EXPECT_EQ(j.at("certificate").at("feasibility").get<double>(), sol.minimizer.certificate.feasibility);
+  ASSERT_TRUE(j.at("uniqueness_margin").is_number());
+  EXPECT_EQ(j.at("uniqueness_margin").get<double>(), sol.uniqueness_margin);
+  EXPECT_EQ(j.at("may_be_nonunique"), sol.minimizer.may_be_nonunique);
+  EXPECT_EQ(j.at("energy").get<double>(), sol.energy);
+  EXPECT_TRUE(j.at("iterations").is_number_integer());
+  EXPECT_EQ(j.at("iterations").get<int>(), sol.minimizer.iterations);
+  EXPECT_TRUE(j.at("evaluations").at("function").is_number_integer());
+  EXPECT_TRUE(j.at("evaluations").at("subgradient").is_number_integer());
+  EXPECT_EQ(j.at("stages").get<std::vector<std::string>>(), sol.stages);
+
+  const json& t = j.at("timings");
+  for (const char* stage : {"mesh", "assembly", "condensation", "minimize", "back_substitution", "total"}) {
+    ASSERT_TRUE(t.contains(stage)) << stage;
+    EXPECT_TRUE(t.at(stage).is_number()) << stage;
+    EXPECT_GE(t.at(stage).get<double>(), 0.0) << stage;
+  }
+  EXPECT_EQ(t.at("mesh").get<double>(), 0.25);
+  EXPECT_NEAR(t.at("total").get<double>(), 0.25 + sol.timings.at("total"), 1e-12);
+  EXPECT_EQ(t.at("minimize").get<double>(), sol.timings.at("minimize"));
+
+  const json& m = j.at("mesh");
+  EXPECT_EQ(m.at("description"), "squares n=8");
+  EXPECT_EQ(m.at("vertices").get<int>(), s.mesh.num_vertices());
+  EXPECT_EQ(m.at("elements").get<int>(), s.mesh.num_elements());
+  EXPECT_EQ(m.at("dofs").get<int>(), 123);
+  EXPECT_DOUBLE_EQ(m.at("h").get<double>(), s.mesh.h());
+
+  const json& c = j.at("contact");
+  ASSERT_TRUE(c.is_array());
+  ASSERT_EQ(c.size(), sol.contact.size());
+  ASSERT_FALSE(sol.contact.empty());
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    const auto& n = sol.contact[i];
+    EXPECT_EQ(c[i].at("vertex").get<int>(), n.vertex);
+    EXPECT_EQ(c[i].at("x").get<double>(), n.x.x());
+    EXPECT_EQ(c[i].at("y").get<double>(), n.x.y());
+    EXPECT_EQ(c[i].at("u_nu").get<double>(), n.u_nu);
+    EXPECT_EQ(c[i].at("multiplier").get<double>(), n.multiplier);
+    EXPECT_EQ(c[i].at("state"), n.state);
+  }
+}
+
+TEST_F(Outputs, NonFiniteNumbersAreNullAndDofsDefaultToTwicePerVertex) {
+  const Solved& s = solved();
+  ContactSolution sol = s.solution;
+  sol.uniqueness_margin = std::numeric_limits<double>::infinity();
+  sol.energy = std::numeric_limits<double>::quiet_NaN();
+  sol.minimizer.status = MinimizerStatus::iteration_limit;
+  RunInfo info = s.info;
+  info.dofs = -1;
+  const json j = json::parse(result_json(s.mesh, sol, info).dump());
+  EXPECT_TRUE(j.at("uniqueness_margin").is_null());
+  EXPECT_TRUE(j.at("energy").is_null());
+  EXPECT_EQ(j.at("status"), "iteration limit");
+  EXPECT_EQ(j.at("converged"), false);
+  EXPECT_EQ(j.at("mesh").at("dofs").get<int>(), 2 * s.mesh.num_vertices());
+}
+
+TEST_F(Outputs, CsvTablesHaveHeadersAndOneRowPerNode) {
+  const Solved& s = solved();
+  ScratchDir dir("csv");
+  write_outputs(dir.path, s.mesh, s.problem.elasticity.materials, s.solution, s.info,
+                {"contact.csv", "displacement.csv", "history.csv", "scene.toml"});
+  const auto contact = lines(dir.path / "contact.csv");
+  ASSERT_EQ(contact.size(), s.solution.contact.size() + 1);
+  EXPECT_EQ(contact[0], "vertex,x,y,u_nu,multiplier,state");
+  {
+    // the first row holds the first contact node
+    std::stringstream row(contact[1]);
+    std::string field;
+    std::vector<std::string> f;
+    while (std::getline(row, field, ',')) f.push_back(field);
+    ASSERT_EQ(f.size(), 6u);
+    EXPECT_EQ(std::stoi(f[0]), s.solution.contact[0].vertex);
+    EXPECT_EQ(std::stod(f[3]), s.solution.contact[0].u_nu);
+    EXPECT_EQ(f[5], s.solution.contact[0].state);
+  }
+  const auto disp = lines(dir.path / "displacement.csv");
+  ASSERT_EQ(disp.size(), static_cast<std::size_t>(s.mesh.num_vertices()) + 1);
+  EXPECT_EQ(disp[0], "vertex,x,y,ux,uy");
+  for (int v : {0, s.mesh.num_vertices() / 2, s.mesh.num_vertices() - 1}) {
+    std::stringstream row(disp[static_cast<std::size_t>(v) + 1]);
+    std::string field;
+    std::vector<double> f;
+    while (std::getline(row, field, ',')) f.push_back(std::stod(field));
+    ASSERT_EQ(f.size(), 5u);
+    EXPECT_EQ(static_cast<int>(f[0]), v);
+    EXPECT_EQ(f[1], s.mesh.vertex(v).x());
+    EXPECT_EQ(f[2], s.mesh.vertex(v).y());
+    EXPECT_EQ(f[3], s.solution.u(2 * v));
+    EXPECT_EQ(f[4], s.solution.u(2 * v + 1));
+  }
+  const auto history = lines(dir.path / "history.csv");
+  ASSERT_EQ(history.size(), s.solution.minimizer.history.size() + 1);
+  EXPECT_EQ(history[0], "iteration,energy,residual,feasibility,active,seconds");
+  EXPECT_EQ(read_text(dir.path / "scene.toml"), s.info.scene_toml);
+  EXPECT_FALSE(fs::exists(dir.path / "result.json"));  // only what was asked for
+}
+
+TEST_F(Outputs, VtuLoadsInARealVtkReader) {
+  const std::string python = python_with_meshio();
+  if (python.empty()) GTEST_SKIP() << "no python3 with meshio";
+  const Solved& s = solved();
+  ScratchDir dir("vtu");
+  write_outputs(dir.path, s.mesh, s.problem.elasticity.materials, s.solution, s.info, {"solution.vtu"});
+  const fs::path vtu = dir.path / "solution.vtu";
+  const fs::path report = dir.path / "meshio.txt";
+  // meshio reads the file with its own VTU parser and prints what it found
+  const std::string script =
+      "import meshio, numpy as np\n"
+      "m = meshio.read('" + vtu.string() + "')\n"
+      "cells = sum(len(b.data) for b in m.cells)\n"
+      "types = sorted(set(b.type for b in m.cells))\n"
+      "d = m.point_data['displacement']\n"
+      "s = np.concatenate(m.cell_data['stress'])\n"
+      "vm = np.concatenate(m.cell_data['von_mises'])\n"
+      "r = np.concatenate(m.cell_data['region'])\n"
+      "with open('" + report.string() + "', 'w') as f:\n"
+      "    f.write('%d %d %d %d\\n' % (len(m.points), m.points.shape[1], cells, d.shape[1]))\n"
+      "    f.write('%d %d %d\\n' % (s.shape[1], len(vm), len(r)))\n"
+      "    f.write(' '.join(types) + '\\n')\n"
+      "    f.write('%.17g\\n' % abs(m.points[:, 2]).max())\n"
+      "    for row in d: f.write('%.17g %.17g %.17g\\n' % tuple(row))\n"
+      "    for v in vm: f.write('%.17g\\n' % v)\n"
+      "    for row in s: f.write(' '.join('%.17g' % x for x in row) + '\\n')\n";
+  const fs::path py = dir.path / "read.py";
+  std::ofstream(py) << script;
+  ASSERT_EQ(std::system((python + " '" + py.string() + "' 2>'" + (dir.path / "err.txt").string() + "'").c_str()), 0)
+      << read_text(dir.path / "err.txt");
+
+  std::ifstream in(report);
+  const int nv = s.mesh.num_vertices(), ne = s.mesh.num_elements();
+  int points = 0, dim = 0, cells = 0, components = 0, stress_components = 0, vm_count = 0, region_count = 0;
+  in >> points >> dim >> cells >> components >> stress_components >> vm_count >> region_count;
+  EXPECT_EQ(points, nv);
+  EXPECT_EQ(dim, 3);
+  EXPECT_EQ(cells, ne);
+  EXPECT_EQ(components, 3);
+  EXPECT_EQ(stress_components, 6);
+  EXPECT_EQ(vm_count, ne);
+  EXPECT_EQ(region_count, ne);
+  std::string types;
+  in >> types;
+  EXPECT_EQ(types, "polygon");  // VTK_POLYGON cells
+  double zmax = -1;
+  in >> zmax;
+  EXPECT_EQ(zmax, 0.0);
+  for (int v = 0; v < nv; ++v) {
+    double ux = 0, uy = 0, uz = 1;
+    in >> ux >> uy >> uz;
+    ASSERT_TRUE(in);
+    EXPECT_EQ(ux, s.solution.u(2 * v)) << v;
+    EXPECT_EQ(uy, s.solution.u(2 * v + 1)) << v;
+    EXPECT_EQ(uz, 0.0);
+  }
+  const auto stresses = element_stresses(s.mesh, s.problem.elasticity.materials, s.solution.u);
+  for (int e = 0; e < ne; ++e) {
+    double vm = -1;
+    in >> vm;
+    EXPECT_NEAR(vm, stresses[static_cast<std::size_t>(e)].von_mises(), 1e-12 * (1 + vm)) << e;
+  }
+  for (int e = 0; e < ne; ++e) {
+    const auto& expected = stresses[static_cast<std::size_t>(e)];
+    double c[6] = {};
+    for (double& x : c) in >> x;
+    ASSERT_TRUE(in);
+    const double scale = 1e-12 * (1 + expected.von_mises());
+    EXPECT_NEAR(c[0], expected.xx, scale) << e;
+    EXPECT_NEAR(c[1], expected.yy, scale) << e;
+    EXPECT_NEAR(c[2], expected.zz, scale) << e;
+    EXPECT_NEAR(c[3], expected.xy, scale) << e;
+    EXPECT_EQ(c[4], 0.0);
+    EXPECT_EQ(c[5], 0.0);
+  }
+}
+
+TEST(OutputStress, PlaneStrainVonMisesIncludesSigmaZz) {
+  // a uniform strain eps_xx = 1e-3: sigma_xx = (lambda + 2 mu) e, sigma_yy = sigma_zz = lambda e
+  const Mesh mesh = make_squares(2);
+  Eigen::VectorXd u(2 * mesh.num_vertices());
+  for (int v = 0; v < mesh.num_vertices(); ++v) u.segment<2>(2 * v) = Vec2(1e-3 * mesh.vertex(v).x(), 0.0);
+  const Material mat{1000.0, 0.3};
+  for (PlaneModel model : {PlaneModel::strain, PlaneModel::stress}) {
+    const MaterialTable table(mat, model);
+    const Lame l = lame(mat, model);
+    const auto s = element_stresses(mesh, table, u);
+    ASSERT_EQ(s.size(), static_cast<std::size_t>(mesh.num_elements()));
+    const double xx = (l.lambda + 2 * l.mu) * 1e-3, yy = l.lambda * 1e-3;
+    const double zz = model == PlaneModel::strain ? yy : 0.0;
+    for (const auto& e : s) {
+      EXPECT_NEAR(e.xx, xx, 1e-12);
+      EXPECT_NEAR(e.yy, yy, 1e-12);
+      EXPECT_NEAR(e.zz, zz, 1e-12);
+      EXPECT_NEAR(e.xy, 0.0, 1e-12);
+      const double vm = std::sqrt(0.5 * ((xx - yy) * (xx - yy) + (yy - zz) * (yy - zz) + (zz - xx) * (zz - xx)));
+      EXPECT_NEAR(e.von_mises(), vm, 1e-12);
+    }
+  }
+}
+
+TEST_F(Outputs, PlotsArePngsMadeByGnuplot) {
+  if (!have_gnuplot()) GTEST_SKIP() << "gnuplot is not on PATH";
+  const Solved& s = solved();
+  ScratchDir dir("png");
+  const OutputReport report =
+      write_outputs(dir.path, s.mesh, s.problem.elasticity.materials, s.solution, s.info, {"u_nu.png", "deformed.png"});
+  EXPECT_TRUE(report.skipped.empty()) << report.skipped.front();
+  for (const char* name : {"u_nu.png", "deformed.png"}) {
+    const std::string data = read_text(dir.path / name);
+    ASSERT_GT(data.size(), 8u) << name;
+    EXPECT_EQ(data.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8)) << name;
+  }
+  // nothing but the plots
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir.path), fs::directory_iterator()), 2);
+}
+
+TEST_F(Outputs, MissingGnuplotSkipsThePlotsOnly) {
+  const Solved& s = solved();
+  ScratchDir dir("nognuplot");
+  const char* old = std::getenv("PATH");
+  const std::string saved = old ? old : "";
+  ::setenv("PATH", (dir.path / "empty-bin").c_str(), 1);
+  OutputReport report;
+  try {
+    report = write_outputs(dir.path / "out", s.mesh, s.problem.elasticity.materials, s.solution, s.info);
+  } catch (...) {
+    ::setenv("PATH", saved.c_str(), 1);
+    throw;
+  }
+  ::setenv("PATH", saved.c_str(), 1);
+  ASSERT_EQ(report.skipped.size(), 2u);
+  EXPECT_NE(report.skipped[0].find("u_nu.png"), std::string::npos);
+  EXPECT_NE(report.skipped[0].find("gnuplot"), std::string::npos);
+  EXPECT_EQ(report.written.size(), all_outputs().size() - 2);
+  for (const char* name : {"result.json", "contact.csv", "displacement.csv", "history.csv", "solution.vtu", "scene.toml"})
+    EXPECT_TRUE(fs::exists(dir.path / "out" / name)) << name;
+  EXPECT_FALSE(fs::exists(dir.path / "out" / "u_nu.png"));
+}
+
+TEST_F(Outputs, AFolderThatIsAFileThrowsAndWritesNothing) {
+  const Solved& s = solved();
+  ScratchDir dir("notafolder");
+  const fs::path file = dir.path / "out";
+  std::ofstream(file) << "a file\n";
+  EXPECT_THROW(write_outputs(file, s.mesh, s.problem.elasticity.materials, s.solution, s.info), InputError);
+  EXPECT_EQ(read_text(file), "a file\n");
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir.path), fs::directory_iterator()), 1);
+}
+
+TEST_F(Outputs, AFailedFileLeavesNoTemporaryBehind) {
+  const Solved& s = solved();
+  ScratchDir dir("blocked");
+  fs::create_directories(dir.path / "contact.csv" / "inside");  // the name is taken by a folder
+  EXPECT_THROW(write_outputs(dir.path, s.mesh, s.problem.elasticity.materials, s.solution, s.info), InputError);
+  // result.json (written before) is complete; nothing else is there, no temporaries
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(dir.path)) names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"contact.csv", "result.json"}));
+  EXPECT_TRUE(json::accept(read_text(dir.path / "result.json")));
+}
+
+TEST_F(Outputs, UnknownOutputNameIsAnInputErrorBeforeAnyWrite) {
+  const Solved& s = solved();
+  ScratchDir dir("unknown");
+  EXPECT_THROW(write_outputs(dir.path / "out", s.mesh, s.problem.elasticity.materials, s.solution, s.info,
+                             {"result.json", "solution.vtk"}),
+               InputError);
+  EXPECT_FALSE(fs::exists(dir.path / "out"));
+}
+
+TEST(OutputsWithoutContact, LinearSolveSkipsTheContactPlotOnly) {
+  const Mesh mesh = make_squares(4);
+  ContactProblem p = example_4_1(mesh);
+  p.contact_edges.clear();
+  FactorizationOptions f;
+  f.engine = "eigen";
+  struct Unused final : NonsmoothMinimizer {
+    std::string name() const override { return "unused"; }
+    MinimizerResult minimize(const ReducedProblem&, const Eigen::VectorXd&, const MinimizerOptions&) const override {
+      return {};
+    }
+  } unused;
+  const ContactSolution sol = solve_contact(p, make_factorization(f), unused, MinimizerOptions{});
+  ASSERT_TRUE(sol.contact.empty());
+  const json j = json::parse(result_json(mesh, sol, RunInfo{}).dump());
+  EXPECT_TRUE(j.at("uniqueness_margin").is_null());
+  EXPECT_TRUE(j.at("contact").is_array());
+  EXPECT_TRUE(j.at("contact").empty());
+  EXPECT_EQ(j.at("stages"), json({"assembly", "linear_solve"}));
+  EXPECT_EQ(j.at("timings").at("minimize").get<double>(), 0.0);
+  EXPECT_TRUE(j.at("timings").contains("linear_solve"));
+
+  ScratchDir dir("nocontact");
+  const OutputReport report = write_outputs(dir.path, mesh, p.elasticity.materials, sol, RunInfo{});
+  EXPECT_EQ(lines(dir.path / "contact.csv").size(), 1u);  // the header only
+  EXPECT_TRUE(fs::exists(dir.path / "solution.vtu"));
+  EXPECT_FALSE(fs::exists(dir.path / "u_nu.png"));
+  ASSERT_FALSE(report.skipped.empty());
+  EXPECT_EQ(report.skipped[0].rfind("u_nu.png:", 0), 0u) << report.skipped[0];
+  if (have_gnuplot()) {
+    EXPECT_EQ(report.skipped.size(), 1u);
+    EXPECT_TRUE(fs::exists(dir.path / "deformed.png"));
+  }
+}
+
+}  // namespace
