@@ -1,0 +1,303 @@
+// Scenes: the default scene, the shipped scenes, round trips, overrides and a corpus of
+// bad scenes with the message and line each must produce.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <hemivem/contact_problem.hpp>
+#include <hemivem/error.hpp>
+#include <hemivem/mesh_generators.hpp>
+#include <hemivem/scene.hpp>
+
+#include "test_support.hpp"
+
+namespace fs = std::filesystem;
+
+namespace hemivem {
+
+// This program does not read .msh files. A weak stand-in lets it link while the Gmsh reader
+// (gmsh.hpp) is not in the library; once it is, this definition still wins for this program
+// only, and build_problem's .msh branch is tested with the reader itself.
+[[gnu::weak]] Mesh read_gmsh(const std::filesystem::path& path) {
+  throw InputError("the Gmsh reader is not linked into test_scene", path.string());
+}
+
+namespace {
+
+fs::path scenes_dir() { return test::data_dir().parent_path().parent_path() / "scenes"; }
+
+std::vector<fs::path> shipped_scenes() {
+  std::vector<fs::path> out;
+  for (const auto& e : fs::directory_iterator(scenes_dir()))
+    if (e.path().extension() == ".toml") out.push_back(e.path());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+TEST(Scene, DefaultSceneIsExample41OnSquares64) {
+  const Scene s = default_scene();
+  EXPECT_EQ(s, Scene{});
+  EXPECT_EQ(s.mesh.generator, "squares");
+  EXPECT_EQ(s.mesh.n, 64);
+  EXPECT_TRUE(s.mesh.file.empty());
+  EXPECT_DOUBLE_EQ(s.material.young, 65.0);
+  EXPECT_DOUBLE_EQ(s.material.poisson, 0.29);
+  EXPECT_EQ(s.material.model, PlaneModel::strain);
+  EXPECT_EQ(s.material.stabilization, Stabilization::two_mu);
+  ASSERT_TRUE(s.contact.has_value());
+  EXPECT_DOUBLE_EQ(s.contact->gap, 0.02);
+  EXPECT_EQ(s.contact->law.name, "paper");
+  EXPECT_EQ(s.contact->constraint, ConstraintKind::box);
+  EXPECT_EQ(s.solver.linear, "eigen");
+  EXPECT_EQ(s.solver.minimizer, "ssn");
+  EXPECT_DOUBLE_EQ(s.solver.tolerance, 1e-10);
+  EXPECT_EQ(s.where("contact.gap"), "<default>:" + std::to_string(s.lines.at("contact.gap")));
+}
+
+TEST(Scene, DefaultSceneBuildsTheSameProblemAsExample41) {
+  Scene s = default_scene();
+  apply_override(s, "mesh.n=8");
+  const auto built = build_problem(s);
+  const Mesh reference_mesh = make_squares(8);
+  const ContactProblem ref = example_4_1(reference_mesh);
+  const ContactProblem& p = built->problem;
+  ASSERT_TRUE(built->has_contact);
+  EXPECT_EQ(built->mesh.num_vertices(), reference_mesh.num_vertices());
+  EXPECT_EQ(built->mesh.num_elements(), reference_mesh.num_elements());
+  EXPECT_EQ(p.elasticity.mesh, &built->mesh);
+  EXPECT_EQ(p.elasticity.materials.model(), ref.elasticity.materials.model());
+  EXPECT_DOUBLE_EQ(p.elasticity.materials.material(0).young, ref.elasticity.materials.material(0).young);
+  EXPECT_DOUBLE_EQ(p.elasticity.materials.material(0).poisson, ref.elasticity.materials.material(0).poisson);
+  EXPECT_EQ(p.elasticity.stabilization, ref.elasticity.stabilization);
+  EXPECT_FALSE(static_cast<bool>(p.elasticity.body_force));
+  ASSERT_EQ(p.elasticity.dirichlet.size(), 1u);
+  EXPECT_EQ(p.elasticity.dirichlet[0].edges, ref.elasticity.dirichlet[0].edges);
+  ASSERT_EQ(p.elasticity.tractions.size(), 1u);
+  EXPECT_EQ(p.elasticity.tractions[0].edges, ref.elasticity.tractions[0].edges);
+  EXPECT_EQ(p.elasticity.tractions[0].traction(Vec2(0.5, 1.0)), ref.elasticity.tractions[0].traction(Vec2(0.5, 1.0)));
+  EXPECT_EQ(p.contact_edges, ref.contact_edges);
+  EXPECT_DOUBLE_EQ(p.gap(Vec2(0.3, 0.0)), ref.gap(Vec2(0.3, 0.0)));
+  EXPECT_EQ(p.law->name(), ref.law->name());
+  EXPECT_DOUBLE_EQ(p.law->alpha(), ref.law->alpha());
+  EXPECT_EQ(p.constraint, ref.constraint);
+  // The assembled systems agree.
+  const LinearSystem a = assemble(p.elasticity), b = assemble(ref.elasticity);
+  EXPECT_EQ((a.b - b.b).norm(), 0.0);
+  EXPECT_EQ(SparseMatrix(a.A - b.A).norm(), 0.0);
+}
+
+TEST(Scene, ShippedScenesParseAndBuild) {
+  const auto files = shipped_scenes();
+  ASSERT_GE(files.size(), 9u);
+  for (const auto& f : files) {
+    SCOPED_TRACE(f.string());
+    const Scene s = parse_scene(f);
+    if (!s.mesh.file.empty() && !fs::exists(s.mesh.file)) {
+      EXPECT_TRUE(test::shared_dir().empty()) << "missing mesh " << s.mesh.file;
+      continue;  // the Sutton scene without ../shared: covered (skipped) by its own test
+    }
+    const auto built = build_problem(s);
+    EXPECT_GT(built->mesh.num_elements(), 0);
+    EXPECT_FALSE(built->problem.elasticity.dirichlet.at(0).edges.empty());
+    EXPECT_EQ(built->has_contact, s.contact.has_value());
+    if (built->has_contact) {
+      EXPECT_FALSE(built->problem.contact_edges.empty());
+      ASSERT_TRUE(built->problem.law);
+    }
+    EXPECT_NO_THROW((void)assemble(built->problem.elasticity));
+  }
+}
+
+TEST(Scene, PaperExampleFileEqualsDefaultScene) {
+  EXPECT_EQ(parse_scene(scenes_dir() / "paper-example-4.1.toml"), default_scene());
+}
+
+TEST(Scene, ShippedVariants) {
+  EXPECT_FALSE(parse_scene(scenes_dir() / "linear-elastic.toml").contact.has_value());
+  const Scene sig = parse_scene(scenes_dir() / "signorini.toml");
+  EXPECT_EQ(sig.contact->law.name, "zero");
+  const Scene kink = parse_scene(scenes_dir() / "kinked-law.toml");
+  EXPECT_EQ(kink.contact->law.name, "kinked");
+  EXPECT_EQ(kink.contact->constraint, ConstraintKind::one_sided);
+  for (const std::string g : {"triangles", "voronoi", "nonconvex", "distorted"})
+    EXPECT_EQ(parse_scene(scenes_dir() / ("paper-example-4.1-" + g + ".toml")).mesh.generator, g);
+}
+
+TEST(Scene, SuttonSceneReadsTheSharedMeshInPlace) {
+  if (test::shared_dir().empty()) GTEST_SKIP() << "shared/ (Sutton's meshes) is absent";
+  const Scene s = parse_scene(scenes_dir() / "sutton-voronoi.toml");
+  EXPECT_EQ(s.mesh.file.filename(), "sutton-voronoi-merged.poly2d");
+  if (!fs::exists(s.mesh.file)) GTEST_SKIP() << "the scene's ../shared is not beside this checkout: " << s.mesh.file;
+  EXPECT_EQ(fs::canonical(s.mesh.file), fs::canonical(test::shared_dir() / "meshes" / "sutton-voronoi-merged.poly2d"));
+  const auto built = build_problem(s);
+  EXPECT_FALSE(built->problem.contact_edges.empty());
+  EXPECT_FALSE(built->problem.elasticity.tractions.at(0).edges.empty());
+}
+
+TEST(Scene, RoundTripThroughToml) {
+  std::vector<Scene> scenes{default_scene()};
+  for (const auto& f : shipped_scenes()) scenes.push_back(parse_scene(f));
+  Scene rich = default_scene();
+  rich.title = "quotes \" and \\ backslashes";
+  rich.body_force = {0.1, -1.0 / 3.0};
+  rich.material.regions.push_back({1, 200.0, 0.3});
+  rich.clamped.groups = {"wall"};
+  rich.clamped.segments = {{0.0, 0.0, 0.0, 1.0}};
+  rich.clamped.tolerance = 1e-6;
+  rich.tractions.push_back({{{}, {}, {{0.0, 1.0, 0.5, 1.0}}, 1e-8}, {1e-300, 2.5}});
+  rich.contact->law.name = "sawtooth";
+  rich.contact->law.parameters = {{"r1", 0.015}, {"stiffness", 50.0}};
+  rich.solver.max_iterations = 7;
+  rich.outputs = {"vtu"};
+  scenes.push_back(rich);
+  Scene piecewise = default_scene();
+  piecewise.contact->law = SceneLaw{"piecewise", {}, {0.0}, {{0.0}, {0.0, 0.0, 50.0}}, {{0.0}, {0.0}}};
+  scenes.push_back(piecewise);
+  for (const auto& s : scenes) {
+    const std::string text = to_toml(s);
+    SCOPED_TRACE(text);
+    const Scene back = parse_scene_string(text, "roundtrip.toml");
+    EXPECT_EQ(back, s);
+    EXPECT_EQ(to_toml(back), text);
+  }
+}
+
+TEST(Scene, Overrides) {
+  Scene s = default_scene();
+  apply_override(s, "contact.gap=0.01");
+  EXPECT_DOUBLE_EQ(s.contact->gap, 0.01);
+  EXPECT_EQ(s.lines.at("contact.gap"), 0);
+  apply_override(s, "mesh.generator=voronoi");
+  EXPECT_EQ(s.mesh.generator, "voronoi");
+  apply_override(s, "mesh.n = 16");
+  EXPECT_EQ(s.mesh.n, 16);
+  apply_override(s, "solver.minimizer=bundle-dca");
+  EXPECT_EQ(s.solver.minimizer, "bundle-dca");
+  apply_override(s, "solver.tolerance=1e-8");
+  EXPECT_DOUBLE_EQ(s.solver.tolerance, 1e-8);
+  apply_override(s, "contact.law=kinked");
+  apply_override(s, "contact.parameters.sigma=0.5");
+  EXPECT_DOUBLE_EQ(s.contact->law.parameters.at("sigma"), 0.5);
+  apply_override(s, "contact.constraint=one-sided");
+  EXPECT_EQ(s.contact->constraint, ConstraintKind::one_sided);
+  apply_override(s, "loads.traction[0].value=[0.0, -4.0]");
+  EXPECT_DOUBLE_EQ(s.tractions.at(0).value[1], -4.0);
+  apply_override(s, "material.model=plane-stress");
+  EXPECT_EQ(s.material.model, PlaneModel::stress);
+  EXPECT_EQ(s.source, "<default>");
+
+  // A mesh file replaces the generator, a generator replaces the file.
+  apply_override(s, "mesh.file=some/mesh.poly2d");
+  EXPECT_TRUE(s.mesh.file.is_absolute());
+  EXPECT_EQ(s.mesh.file.filename(), "mesh.poly2d");
+  apply_override(s, "mesh.generator=squares");
+  EXPECT_TRUE(s.mesh.file.empty());
+
+  // Contact on a scene without it adds the default contact part.
+  Scene lin = parse_scene(scenes_dir() / "linear-elastic.toml");
+  apply_override(lin, "contact.gap=0.05");
+  ASSERT_TRUE(lin.contact.has_value());
+  EXPECT_EQ(lin.contact->boundary.sides, std::vector<std::string>{"bottom"});
+  EXPECT_DOUBLE_EQ(lin.contact->gap, 0.05);
+}
+
+std::string override_error(std::string_view kv) {
+  Scene s = default_scene();
+  const Scene before = s;
+  try {
+    apply_override(s, kv);
+  } catch (const InputError& e) {
+    EXPECT_EQ(s, before) << "a failed override must leave the scene unchanged";
+    return e.what();
+  }
+  ADD_FAILURE() << "no error for " << kv;
+  return {};
+}
+
+TEST(Scene, BadOverridesNameTheKey) {
+  EXPECT_NE(override_error("contact.gapp=0.1").find("unknown key 'gapp' in [contact]; did you mean 'gap'?"), std::string::npos);
+  EXPECT_NE(override_error("contcat.gap=0.1").find("did you mean 'contact'?"), std::string::npos);
+  EXPECT_NE(override_error("contact.gap=-1").find("contact.gap: must be >= 0"), std::string::npos);
+  EXPECT_NE(override_error("contact.gap=abc").find("contact.gap: expected a number, got a string"), std::string::npos);
+  EXPECT_NE(override_error("mesh.n=0").find("--set mesh.n: mesh.n: must be between 1"), std::string::npos);
+  EXPECT_NE(override_error("mesh.generator=hex").find("unknown mesh generator 'hex'"), std::string::npos);
+  EXPECT_NE(override_error("contact.law=nope").find("expected one of: paper"), std::string::npos);
+  EXPECT_NE(override_error("no-equals-sign").find("expected key=value"), std::string::npos);
+  EXPECT_NE(override_error("loads.traction[3].value=[0,1]").find("no element 3"), std::string::npos);
+}
+
+TEST(Scene, ParseErrorsCarryFileLineAndColumn) {
+  try {
+    (void)parse_scene_string("schema_version = 1\n[mesh]\nn = = 3\n", "x.toml");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().rfind("x.toml:3:", 0), 0u) << e.where();
+  }
+  EXPECT_THROW((void)parse_scene("/nonexistent/scene.toml"), InputError);
+}
+
+TEST(Scene, RelativeMeshPathsResolveAgainstTheSceneFolder) {
+  const Scene s = parse_scene_string("schema_version = 1\n[mesh]\nfile = \"m/a.poly2d\"\n", "/some/dir/scene.toml");
+  EXPECT_EQ(s.mesh.file, fs::path("/some/dir/m/a.poly2d"));
+}
+
+TEST(Scene, MaterialsByRegionAndSegments) {
+  const Scene s = parse_scene_string(R"(schema_version = 1
+[mesh]
+generator = "squares"
+n = 4
+[[material.region]]
+id = 0
+E = 10.0
+nu = 0.2
+[clamped]
+segments = [[0.0, 0.0, 0.0, 1.0]]
+[contact]
+segments = [[0.0, 0.0, 0.5, 0.0]]
+)",
+                                     "regions.toml");
+  const auto built = build_problem(s);
+  EXPECT_DOUBLE_EQ(built->problem.elasticity.materials.material(0).young, 10.0);
+  EXPECT_EQ(built->problem.contact_edges.size(), 2u);
+  EXPECT_EQ(built->problem.elasticity.dirichlet[0].edges.size(), 4u);
+}
+
+// Each file of tests/data/scenes-bad starts with "# expect: FRAGMENT" and "# line: N"
+// (0 when the error names no line).
+TEST(Scene, BadScenesCorpus) {
+  std::vector<fs::path> files;
+  for (const auto& e : fs::directory_iterator(test::data_dir() / "scenes-bad"))
+    if (e.path().extension() == ".toml") files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  ASSERT_GE(files.size(), 10u);
+  for (const auto& f : files) {
+    SCOPED_TRACE(f.filename().string());
+    std::ifstream in(f);
+    std::string l1, l2;
+    std::getline(in, l1);
+    std::getline(in, l2);
+    ASSERT_EQ(l1.rfind("# expect: ", 0), 0u);
+    ASSERT_EQ(l2.rfind("# line: ", 0), 0u);
+    const std::string fragment = l1.substr(10);
+    const int line = std::stoi(l2.substr(8));
+    try {
+      const Scene s = parse_scene(f);
+      (void)build_problem(s);
+      ADD_FAILURE() << "no error";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+      const std::string expected_where = f.string() + (line > 0 ? ":" + std::to_string(line) : std::string());
+      if (fragment.rfind("syntax error", 0) == 0)
+        EXPECT_EQ(e.where().rfind(expected_where + ":", 0), 0u) << e.where();
+      else
+        EXPECT_EQ(e.where(), expected_where);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace hemivem
