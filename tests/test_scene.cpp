@@ -8,6 +8,8 @@
 #include <sstream>
 #include <string>
 
+#include <unistd.h>
+
 #include <hemivem/contact_problem.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/mesh_generators.hpp>
@@ -166,6 +168,18 @@ TEST(Scene, RoundTripThroughToml) {
   }
 }
 
+TEST(Scene, ResolvedSceneFileReadsBack) {
+  const fs::path dir = fs::temp_directory_path() / ("hemivem-scene-test-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  Scene s = parse_scene(scenes_dir() / "kinked-law.toml");
+  apply_override(s, "mesh.file=" + (dir / "elsewhere.poly2d").string());
+  write_scene(dir / "scene.toml", s);
+  const Scene back = parse_scene(dir / "scene.toml");
+  EXPECT_EQ(back, s);
+  EXPECT_EQ(back.mesh.file, dir / "elsewhere.poly2d");
+  fs::remove_all(dir);
+}
+
 TEST(Scene, Overrides) {
   Scene s = default_scene();
   apply_override(s, "contact.gap=0.01");
@@ -194,6 +208,7 @@ TEST(Scene, Overrides) {
   apply_override(s, "mesh.file=some/mesh.poly2d");
   EXPECT_TRUE(s.mesh.file.is_absolute());
   EXPECT_EQ(s.mesh.file.filename(), "mesh.poly2d");
+  EXPECT_THROW(apply_override(s, "mesh.n=8"), InputError);  // n means nothing for a file mesh
   apply_override(s, "mesh.generator=squares");
   EXPECT_TRUE(s.mesh.file.empty());
 

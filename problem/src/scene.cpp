@@ -11,6 +11,7 @@
 
 #include <toml++/toml.h>
 
+#include <hemivem/atomic_file.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/gmsh.hpp>
 #include <hemivem/mesh_generators.hpp>
@@ -63,6 +64,8 @@ max_iterations = 1000
 write = ["vtu", "contact-csv", "displacement-csv", "history-csv", "result-json"]
 )toml";
 
+std::string fmt(double v);
+
 const std::vector<std::string> kSides{"left", "right", "top", "bottom"};
 
 std::string lower(std::string_view s) {
@@ -88,7 +91,9 @@ std::string nearest(std::string_view key, const std::vector<std::string>& valid)
   std::string best;
   std::size_t best_d = std::numeric_limits<std::size_t>::max();
   for (const auto& v : valid) {
-    const std::size_t d = edit_distance(key, v);
+    std::size_t d = edit_distance(key, v);
+    const std::string k = lower(key), w = lower(v);
+    if (k.size() >= 2 && (w.rfind(k, 0) == 0 || k.rfind(w, 0) == 0)) d = std::min<std::size_t>(d, 1);
     if (d < best_d) best_d = d, best = v;
   }
   return best;
@@ -273,7 +278,8 @@ void check_name(TableReader& r, std::string_view key, const std::string& value, 
   const std::string v = lower(value);
   for (const auto& x : valid)
     if (v == x) return;
-  r.fail(key, r.node(key), "unknown " + what + " '" + value + "'; expected one of: " + join(valid));
+  r.fail(key, r.node(key),
+         "unknown " + what + " '" + value + "'; did you mean '" + nearest(value, valid) + "'? (expected one of: " + join(valid) + ")");
 }
 
 BoundarySelector read_selector(TableReader& r, bool required) {
@@ -305,7 +311,7 @@ BoundarySelector read_selector(TableReader& r, bool required) {
     }
   }
   if (auto t = r.number("tolerance")) {
-    if (!(*t > 0.0)) r.fail("tolerance", r.node("tolerance"), "must be > 0, got " + std::to_string(*t));
+    if (!(*t > 0.0)) r.fail("tolerance", r.node("tolerance"), "must be > 0, got " + fmt(*t));
     s.tolerance = *t;
   }
   if (required && s.empty())
@@ -384,7 +390,7 @@ SceneContact read_contact(TableReader& r) {
     r.fail("law", r.has("law") ? r.node("law") : static_cast<const toml::node&>(r.self()), e.detail());
   }
   if (auto g = r.number("gap")) {
-    if (*g < 0.0) r.fail("gap", r.node("gap"), "must be >= 0, got " + std::to_string(*g));
+    if (*g < 0.0) r.fail("gap", r.node("gap"), "must be >= 0, got " + fmt(*g));
     c.gap = *g;
   }
   if (auto k = r.string("constraint")) {
@@ -449,8 +455,8 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
   if (const toml::table* t = r.table("material")) {
     TableReader m(s, *t, "material", {"E", "nu", "model", "stabilization", "region"});
     auto check_material = [](TableReader& rd, double e, double nu) {
-      if (!(e > 0.0)) rd.fail("E", rd.node("E"), "must be > 0, got " + std::to_string(e));
-      if (!(nu > -1.0 && nu < 0.5)) rd.fail("nu", rd.node("nu"), "must lie in (-1, 0.5), got " + std::to_string(nu));
+      if (!(e > 0.0)) rd.fail("E", rd.node("E"), "must be > 0, got " + fmt(e));
+      if (!(nu > -1.0 && nu < 0.5)) rd.fail("nu", rd.node("nu"), "must lie in (-1, 0.5), got " + fmt(nu));
     };
     if (auto e = m.number("E")) s.material.young = *e;
     if (auto nu = m.number("nu")) s.material.poisson = *nu;
@@ -483,8 +489,8 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
         const auto e = g.number("E");
         const auto nu = g.number("nu");
         if (!e || !nu) throw InputError(g.path() + ": needs both E and nu", g.at(g.self()));
-        if (!(*e > 0.0)) g.fail("E", g.node("E"), "must be > 0, got " + std::to_string(*e));
-        if (!(*nu > -1.0 && *nu < 0.5)) g.fail("nu", g.node("nu"), "must lie in (-1, 0.5), got " + std::to_string(*nu));
+        if (!(*e > 0.0)) g.fail("E", g.node("E"), "must be > 0, got " + fmt(*e));
+        if (!(*nu > -1.0 && *nu < 0.5)) g.fail("nu", g.node("nu"), "must lie in (-1, 0.5), got " + fmt(*nu));
         rm.young = *e;
         rm.poisson = *nu;
         s.material.regions.push_back(rm);
@@ -534,7 +540,7 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
       s.solver.minimizer = *x;
     }
     if (auto x = v.number("tolerance")) {
-      if (!(*x > 0.0)) v.fail("tolerance", v.node("tolerance"), "must be > 0, got " + std::to_string(*x));
+      if (!(*x > 0.0)) v.fail("tolerance", v.node("tolerance"), "must be > 0, got " + fmt(*x));
       s.solver.tolerance = *x;
     }
     if (auto x = v.integer("max_iterations")) {
@@ -731,6 +737,11 @@ std::string to_toml(const Scene& s) {
   return o.str();
 }
 
+void write_scene(const std::filesystem::path& path, const Scene& scene) {
+  const std::string text = to_toml(scene);
+  write_file_atomically(path, [&](std::ostream& out) { out << text; });
+}
+
 void apply_override(Scene& scene, std::string_view key_eq_value) {
   const auto eq = key_eq_value.find('=');
   if (eq == std::string_view::npos)
@@ -810,7 +821,6 @@ void apply_override(Scene& scene, std::string_view key_eq_value) {
         if (p.is_relative() && !p.empty()) holder.insert_or_assign("v", std::filesystem::absolute(p).lexically_normal().string());
       }
     }
-    if ((leaf == "n" || leaf == "seed" || leaf == "domain") && t->contains("file")) t->erase("file"), t->insert("generator", scene.mesh.generator);
   }
   holder.get("v")->visit([&](auto&& v) { t->insert_or_assign(leaf, v); });
 

@@ -144,6 +144,9 @@ void apply_override(Scene& scene, std::string_view key_eq_value);
 /// The scene as TOML text: every key written, parse_scene_string(to_toml(s), n) == s.
 std::string to_toml(const Scene& scene);
 
+/// Writes to_toml(scene) to `path` atomically (the resolved scene of a run's output folder).
+void write_scene(const std::filesystem::path& path, const Scene& scene);
+
 /// A scene made concrete. Not movable: problem.elasticity.mesh points at mesh.
 struct BuiltProblem {
   Mesh mesh;
