@@ -454,14 +454,14 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
 
   if (const toml::table* t = r.table("material")) {
     TableReader m(s, *t, "material", {"E", "nu", "model", "stabilization", "region"});
-    auto check_material = [](TableReader& rd, double e, double nu) {
-      if (!(e > 0.0)) rd.fail("E", rd.node("E"), "must be > 0, got " + fmt(e));
-      if (!(nu > -1.0 && nu < 0.5)) rd.fail("nu", rd.node("nu"), "must lie in (-1, 0.5), got " + fmt(nu));
-    };
-    if (auto e = m.number("E")) s.material.young = *e;
-    if (auto nu = m.number("nu")) s.material.poisson = *nu;
-    if (m.has("E") && !(s.material.young > 0.0)) check_material(m, s.material.young, 0.0);
-    if (m.has("nu")) check_material(m, 1.0, s.material.poisson);
+    if (auto e = m.number("E")) {
+      if (!(*e > 0.0)) m.fail("E", m.node("E"), "must be > 0, got " + fmt(*e));
+      s.material.young = *e;
+    }
+    if (auto nu = m.number("nu")) {
+      if (!(*nu > -1.0 && *nu < 0.5)) m.fail("nu", m.node("nu"), "must lie in (-1, 0.5), got " + fmt(*nu));
+      s.material.poisson = *nu;
+    }
     if (auto model = m.string("model")) {
       try {
         s.material.model = plane_model_from_string(*model);
@@ -812,6 +812,8 @@ void apply_override(Scene& scene, std::string_view key_eq_value) {
     }
   }
   const std::string& leaf = parts.back().first;
+  if (parts.back().second >= 0)
+    throw InputError("cannot replace a whole element; set one of its keys, e.g. '" + key + ".value'", where);
   if (parts.size() == 2 && parts[0].first == "mesh") {
     if (leaf == "generator") t->erase("file");
     if (leaf == "file") {
