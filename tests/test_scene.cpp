@@ -13,6 +13,7 @@
 #include <hemivem/contact_problem.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/mesh_generators.hpp>
+#include <hemivem/mesh_io.hpp>
 #include <hemivem/scene.hpp>
 
 #include "test_support.hpp"
@@ -279,6 +280,56 @@ segments = [[0.0, 0.0, 0.5, 0.0]]
   EXPECT_DOUBLE_EQ(built->problem.elasticity.materials.material(0).young, 10.0);
   EXPECT_EQ(built->problem.contact_edges.size(), 2u);
   EXPECT_EQ(built->problem.elasticity.dirichlet[0].edges.size(), 4u);
+}
+
+TEST(Scene, MeshFileBesideTheScene) {
+  const fs::path dir = fs::temp_directory_path() / ("hemivem-scene-mesh-" + std::to_string(::getpid()));
+  fs::create_directories(dir / "meshes");
+  write_poly2d(dir / "meshes" / "tri.poly2d", make_triangles(4, Rectangle{0.0, 2.0, 0.0, 1.0}));
+  {
+    std::ofstream out(dir / "scene.toml");
+    out << "schema_version = 1\n[mesh]\nfile = \"meshes/tri.poly2d\"\n[contact]\nside = \"bottom\"\n";
+  }
+  const Scene s = parse_scene(dir / "scene.toml");
+  EXPECT_EQ(s.mesh.file, dir / "meshes" / "tri.poly2d");
+  const auto built = build_problem(s);
+  EXPECT_EQ(built->mesh.num_elements(), 32);
+  EXPECT_EQ(built->problem.contact_edges.size(), 4u);  // the bottom of the bounding box [0, 2] x [0, 1]
+  EXPECT_EQ(built->problem.elasticity.tractions.size(), 0u);  // no [loads]: no loads
+  fs::remove_all(dir);
+}
+
+TEST(Scene, LawsWithParametersAndBreakpoints) {
+  Scene s = default_scene();
+  apply_override(s, "mesh.n=2");
+  apply_override(s, "contact.law=sawtooth");
+  apply_override(s, "contact.parameters.r1=0.005");
+  auto built = build_problem(s);
+  const auto b = built->problem.law->breakpoints();
+  EXPECT_NE(std::find(b.begin(), b.end(), 0.005), b.end());
+
+  const Scene p = parse_scene_string(R"(schema_version = 1
+[mesh]
+n = 2
+[contact]
+side = "bottom"
+law = "piecewise"
+breakpoints = [0.0]
+j1 = [[0.0], [0.0, 0.0, 50.0]]
+j2 = [[0.0], [0.0, 1.0]]
+)",
+                                     "piecewise.toml");
+  built = build_problem(p);
+  EXPECT_DOUBLE_EQ(built->problem.law->value(0.1), 50.0 * 0.01 - 0.1);
+
+  try {  // j2 is not convex: rejected with the line of the law
+    (void)parse_scene_string("schema_version = 1\n[contact]\nside = \"bottom\"\nlaw = \"piecewise\"\n"
+                             "breakpoints = [0.0]\nj1 = [[0.0], [0.0]]\nj2 = [[0.0], [0.0, 0.0, -1.0]]\n",
+                             "concave.toml");
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where(), "concave.toml:4");
+  }
 }
 
 // Each file of tests/data/scenes-bad starts with "# expect: FRAGMENT" and "# line: N"
