@@ -7,7 +7,7 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev
-  libcli11-dev
+  libcli11-dev libtomlplusplus-dev
   libsuitesparse-dev
   libmumps-seq-dev libmumps-dev libopenmpi-dev openmpi-bin
   libgtest-dev libgmock-dev libbenchmark-dev

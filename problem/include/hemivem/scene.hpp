@@ -1,0 +1,165 @@
+// Scenes: one contact problem described in a TOML file (schema in scenes/README.md).
+//
+// A Scene is plain data with the defaults of the paper's Example 4.1 on N = 64 squares.
+// parse_scene reads and validates a file; every defect (unknown key, wrong type, value out
+// of range, syntax) is an InputError whose where() is "file:line" (or "file:line:column"
+// for syntax errors). build_problem turns a Scene into a mesh and a ContactProblem.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <hemivem/contact_problem.hpp>
+#include <hemivem/material.hpp>
+#include <hemivem/mesh.hpp>
+#include <hemivem/reduced_problem.hpp>
+#include <hemivem/vem.hpp>
+
+namespace hemivem {
+
+/// The schema version this library reads and writes.
+inline constexpr int scene_schema_version = 1;
+
+/// A set of boundary edges: the union of the sides of the mesh bounding box, named edge
+/// groups of the mesh, and straight segments [x0, y0, x1, y1] (edges whose end points lie
+/// within `tolerance` of a segment or side). At least one of the three is given.
+struct BoundarySelector {
+  std::vector<std::string> sides;                ///< "left", "right", "top", "bottom"
+  std::vector<std::string> groups;               ///< Mesh::edge_group names
+  std::vector<std::array<double, 4>> segments;   ///< x0, y0, x1, y1
+  double tolerance = 1e-8;
+  bool empty() const noexcept { return sides.empty() && groups.empty() && segments.empty(); }
+  bool operator==(const BoundarySelector&) const = default;
+};
+
+struct SceneMesh {
+  std::string generator = "squares";   ///< used when `file` is empty
+  std::filesystem::path file;          ///< .poly2d or .msh; absolute once parsed
+  int n = 64;
+  std::int64_t seed = 1;
+  std::array<double, 4> domain{0.0, 1.0, 0.0, 1.0};  ///< x0, x1, y0, y1
+  bool operator==(const SceneMesh&) const = default;
+};
+
+struct SceneRegionMaterial {
+  int region = 0;
+  double young = 1.0;
+  double poisson = 0.0;
+  bool operator==(const SceneRegionMaterial&) const = default;
+};
+
+struct SceneMaterial {
+  double young = 65.0;
+  double poisson = 0.29;
+  PlaneModel model = PlaneModel::strain;
+  Stabilization stabilization = Stabilization::two_mu;
+  std::vector<SceneRegionMaterial> regions;  ///< overrides for single regions
+  bool operator==(const SceneMaterial&) const = default;
+};
+
+struct SceneTraction {
+  BoundarySelector boundary;
+  std::array<double, 2> value{0.0, 0.0};
+  bool operator==(const SceneTraction&) const = default;
+};
+
+struct SceneLaw {
+  /// A shipped law (contact_law_names()) or "piecewise" (breakpoints + j1/j2 pieces).
+  std::string name = "paper";
+  std::map<std::string, double> parameters;  ///< e.g. stiffness, sigma, r1, residual, r2
+  std::vector<double> breakpoints;
+  std::vector<std::vector<double>> j1, j2;   ///< per piece, coefficients lowest degree first
+  bool operator==(const SceneLaw&) const = default;
+};
+
+struct SceneContact {
+  BoundarySelector boundary{{"bottom"}, {}, {}, 1e-8};
+  SceneLaw law;
+  double gap = 0.02;
+  ConstraintKind constraint = ConstraintKind::box;
+  bool operator==(const SceneContact&) const = default;
+};
+
+struct SceneSolver {
+  std::string linear = "eigen";
+  std::string minimizer = "ssn";
+  double tolerance = 1e-10;
+  int max_iterations = 1000;
+  bool operator==(const SceneSolver&) const = default;
+};
+
+/// The output names a scene may ask for.
+const std::vector<std::string>& scene_output_names();
+
+struct Scene {
+  int schema_version = scene_schema_version;
+  std::string title = "Example 4.1 (Feng, Han, Huang 2021)";
+  SceneMesh mesh;
+  SceneMaterial material;
+  BoundarySelector clamped{{"left", "right"}, {}, {}, 1e-8};  ///< Gamma_1
+  std::array<double, 2> body_force{0.0, 0.0};                 ///< f0
+  std::vector<SceneTraction> tractions{SceneTraction{{{"top"}, {}, {}, 1e-8}, {0.0, -8.0}}};  ///< Gamma_2
+  std::optional<SceneContact> contact = SceneContact{};       ///< Gamma_3; none = no contact
+  SceneSolver solver;
+  std::vector<std::string> outputs = scene_output_names();
+
+  /// Where the scene came from (a path, or a name such as "<default>").
+  std::string source = "<default>";
+  /// Line of each key read from the source, by dotted path ("contact.gap",
+  /// "loads.traction[0].side"); keys set by apply_override map to 0.
+  std::map<std::string, int> lines;
+
+  /// "source:line" for a key read from the source, else "source".
+  std::string where(const std::string& key) const;
+};
+
+/// Equality of the problem data (source and lines are ignored).
+bool operator==(const Scene& a, const Scene& b);
+
+/// Reads and validates a scene file; relative mesh paths are resolved against its folder.
+Scene parse_scene(const std::filesystem::path& path);
+/// The same from text; `name` stands for the file in messages, relative mesh paths are
+/// resolved against the folder of `name` (the current directory when it has none).
+Scene parse_scene_string(std::string_view text, std::string name);
+/// Example 4.1 on N = 64 squares, parsed from embedded TOML text.
+Scene default_scene();
+/// The embedded text of default_scene().
+std::string_view default_scene_text();
+
+/// Applies "dotted.key=value" (value in TOML syntax; a bare word is taken as a string), e.g.
+/// "contact.gap=0.01", "mesh.generator=voronoi", "solver.minimizer=bundle-dca". The result
+/// is validated as a whole; errors name the key and the nearest valid key. Setting
+/// mesh.generator clears mesh.file and vice versa; a relative mesh.file is resolved against
+/// the current directory. Setting a contact.* key on a scene without contact adds the
+/// default contact part (the bottom side, the paper's law).
+void apply_override(Scene& scene, std::string_view key_eq_value);
+
+/// The scene as TOML text: every key written, parse_scene_string(to_toml(s), n) == s.
+std::string to_toml(const Scene& scene);
+
+/// Writes to_toml(scene) to `path` atomically (the resolved scene of a run's output folder).
+void write_scene(const std::filesystem::path& path, const Scene& scene);
+
+/// A scene made concrete. Not movable: problem.elasticity.mesh points at mesh.
+struct BuiltProblem {
+  Mesh mesh;
+  ContactProblem problem;  ///< contact_edges empty and law null when has_contact is false
+  bool has_contact = false;
+  BuiltProblem() = default;
+  BuiltProblem(const BuiltProblem&) = delete;
+  BuiltProblem& operator=(const BuiltProblem&) = delete;
+};
+
+/// Builds the mesh (generator or file: .poly2d via read_poly2d, .msh via read_gmsh), the
+/// materials, the boundary parts, loads and contact data. Errors (unknown edge group, a
+/// part selecting no edge, a region without material) name the scene key's file:line.
+std::unique_ptr<BuiltProblem> build_problem(const Scene& scene);
+
+}  // namespace hemivem

@@ -1,0 +1,923 @@
+#include <hemivem/scene.hpp>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <set>
+#include <sstream>
+
+#include <toml++/toml.h>
+
+#include <hemivem/atomic_file.hpp>
+#include <hemivem/error.hpp>
+#include <hemivem/gmsh.hpp>
+#include <hemivem/mesh_generators.hpp>
+#include <hemivem/mesh_io.hpp>
+#include <hemivem/piecewise_law.hpp>
+
+namespace hemivem {
+
+namespace {
+
+constexpr std::string_view kDefaultSceneText = R"toml(# The paper's Example 4.1 (Feng, Han, Huang 2021) on N = 64 squares.
+schema_version = 1
+title = "Example 4.1 (Feng, Han, Huang 2021)"
+
+[mesh]
+generator = "squares"
+n = 64
+seed = 1
+domain = [0.0, 1.0, 0.0, 1.0]
+
+[material]
+E = 65.0
+nu = 0.29
+model = "plane-strain"
+stabilization = "2mu"
+
+[clamped]            # Gamma_1
+side = ["left", "right"]
+
+[loads]
+body_force = [0.0, 0.0]
+
+[[loads.traction]]   # Gamma_2
+side = "top"
+value = [0.0, -8.0]
+
+[contact]            # Gamma_3
+side = "bottom"
+law = "paper"
+gap = 0.02
+constraint = "box"
+
+[solver]
+linear = "eigen"
+minimizer = "ssn"
+tolerance = 1e-10
+max_iterations = 1000
+
+[output]
+write = ["vtu", "contact-csv", "displacement-csv", "history-csv", "result-json"]
+)toml";
+
+std::string fmt(double v);
+
+const std::vector<std::string> kSides{"left", "right", "top", "bottom"};
+
+std::string lower(std::string_view s) {
+  std::string r(s);
+  std::transform(r.begin(), r.end(), r.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return r;
+}
+
+std::size_t edit_distance(std::string_view a0, std::string_view b0) {
+  const std::string a = lower(a0), b = lower(b0);
+  std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    cur[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j)
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+    std::swap(prev, cur);
+  }
+  return prev[b.size()];
+}
+
+std::string nearest(std::string_view key, const std::vector<std::string>& valid) {
+  std::string best;
+  std::size_t best_d = std::numeric_limits<std::size_t>::max();
+  for (const auto& v : valid) {
+    std::size_t d = edit_distance(key, v);
+    const std::string k = lower(key), w = lower(v);
+    if (k.size() >= 2 && (w.rfind(k, 0) == 0 || k.rfind(w, 0) == 0)) d = std::min<std::size_t>(d, 1);
+    if (d < best_d) best_d = d, best = v;
+  }
+  return best;
+}
+
+std::string join(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
+  return s;
+}
+
+std::string type_name(const toml::node& n) {
+  switch (n.type()) {
+    case toml::node_type::string:
+      return "a string";
+    case toml::node_type::integer:
+      return "an integer";
+    case toml::node_type::floating_point:
+      return "a floating-point number";
+    case toml::node_type::boolean:
+      return "a boolean";
+    case toml::node_type::array:
+      return "an array";
+    case toml::node_type::table:
+      return "a table";
+    default:
+      return "a date/time";
+  }
+}
+
+/// Reads one table of the scene: unknown keys are rejected on construction; every read
+/// records the key's line in the scene and checks its type.
+class TableReader {
+ public:
+  TableReader(Scene& scene, const toml::table& table, std::string path, const std::vector<std::string>& allowed)
+      : scene_(scene), table_(table), path_(std::move(path)) {
+    const toml::node* worst = nullptr;
+    std::string worst_key;
+    for (const auto& [k, v] : table_) {
+      const std::string key(k.str());
+      if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
+      if (!worst || v.source().begin.line < worst->source().begin.line) worst = &v, worst_key = key;
+    }
+    if (worst) {
+      std::string msg = "unknown key '" + worst_key + "' in [" + (path_.empty() ? "root" : path_) + "]";
+      if (!allowed.empty()) msg += "; did you mean '" + nearest(worst_key, allowed) + "'?";
+      throw InputError(msg, at(*worst));
+    }
+    if (!path_.empty() && table_.source().begin.line > 0) scene_.lines[path_] = static_cast<int>(table_.source().begin.line);
+  }
+
+  std::string key_path(std::string_view key) const { return path_.empty() ? std::string(key) : path_ + "." + std::string(key); }
+  std::string at(const toml::node& n) const {
+    const auto line = n.source().begin.line;
+    return line > 0 ? scene_.source + ":" + std::to_string(line) : scene_.source;
+  }
+  [[noreturn]] void fail(std::string_view key, const toml::node& n, const std::string& message) const {
+    throw InputError(key_path(key) + ": " + message, at(n));
+  }
+  [[noreturn]] void fail_type(std::string_view key, const toml::node& n, const std::string& expected) const {
+    fail(key, n, "expected " + expected + ", got " + type_name(n));
+  }
+
+  const toml::node* find(std::string_view key) {
+    const toml::node* n = table_.get(key);
+    if (n) scene_.lines[key_path(key)] = static_cast<int>(n->source().begin.line);
+    return n;
+  }
+  bool has(std::string_view key) const { return table_.get(key) != nullptr; }
+
+  double as_number(std::string_view key, const toml::node& n) const {
+    double v = 0.0;
+    if (auto i = n.as_integer()) v = static_cast<double>(i->get());
+    else if (auto f = n.as_floating_point()) v = f->get();
+    else fail_type(key, n, "a number");
+    if (!std::isfinite(v)) fail(key, n, "expected a finite number");
+    return v;
+  }
+  std::optional<double> number(std::string_view key) {
+    const toml::node* n = find(key);
+    if (!n) return std::nullopt;
+    return as_number(key, *n);
+  }
+  std::optional<std::int64_t> integer(std::string_view key) {
+    const toml::node* n = find(key);
+    if (!n) return std::nullopt;
+    if (auto i = n->as_integer()) return i->get();
+    fail_type(key, *n, "an integer");
+  }
+  std::optional<std::string> string(std::string_view key) {
+    const toml::node* n = find(key);
+    if (!n) return std::nullopt;
+    if (auto s = n->as_string()) return s->get();
+    fail_type(key, *n, "a string");
+  }
+  /// A string or an array of strings.
+  std::optional<std::vector<std::string>> strings(std::string_view key, bool allow_single) {
+    const toml::node* n = find(key);
+    if (!n) return std::nullopt;
+    if (auto s = n->as_string(); s && allow_single) return std::vector<std::string>{s->get()};
+    const auto* a = n->as_array();
+    if (!a) fail_type(key, *n, allow_single ? "a string or an array of strings" : "an array of strings");
+    std::vector<std::string> out;
+    for (std::size_t i = 0; i < a->size(); ++i) {
+      const auto* s = (*a)[i].as_string();
+      if (!s) fail(key, (*a)[i], "element " + std::to_string(i) + ": expected a string, got " + type_name((*a)[i]));
+      out.push_back(s->get());
+    }
+    return out;
+  }
+  std::vector<double> numbers_of(std::string_view key, const toml::node& n, const std::string& what) const {
+    const auto* a = n.as_array();
+    if (!a) fail_type(key, n, what);
+    std::vector<double> out;
+    for (std::size_t i = 0; i < a->size(); ++i) {
+      const toml::node& e = (*a)[i];
+      if (!e.is_integer() && !e.is_floating_point())
+        fail(key, e, "element " + std::to_string(i) + ": expected a number, got " + type_name(e));
+      out.push_back(as_number(key, e));
+    }
+    return out;
+  }
+  std::optional<std::vector<double>> numbers(std::string_view key) {
+    const toml::node* n = find(key);
+    if (!n) return std::nullopt;
+    return numbers_of(key, *n, "an array of numbers");
+  }
+  template <std::size_t N>
+  std::optional<std::array<double, N>> fixed(std::string_view key, const std::string& shape) {
+    const toml::node* n = find(key);
+    if (!n) return std::nullopt;
+    const auto v = numbers_of(key, *n, "an array " + shape);
+    if (v.size() != N)
+      fail(key, *n, "expected an array " + shape + " of " + std::to_string(N) + " numbers, got " + std::to_string(v.size()));
+    std::array<double, N> out{};
+    std::copy(v.begin(), v.end(), out.begin());
+    return out;
+  }
+  /// An array of arrays of numbers.
+  std::optional<std::vector<std::vector<double>>> matrix(std::string_view key) {
+    const toml::node* n = find(key);
+    if (!n) return std::nullopt;
+    const auto* a = n->as_array();
+    if (!a) fail_type(key, *n, "an array of arrays of numbers");
+    std::vector<std::vector<double>> out;
+    for (std::size_t i = 0; i < a->size(); ++i) out.push_back(numbers_of(key, (*a)[i], "an array of arrays of numbers"));
+    return out;
+  }
+  const toml::table* table(std::string_view key) {
+    const toml::node* n = find(key);
+    if (!n) return nullptr;
+    if (auto t = n->as_table()) return t;
+    fail_type(key, *n, "a table");
+  }
+  const toml::array* array_of_tables(std::string_view key) {
+    const toml::node* n = find(key);
+    if (!n) return nullptr;
+    const auto* a = n->as_array();
+    if (!a || !a->is_array_of_tables()) fail_type(key, *n, "an array of tables ([[" + key_path(key) + "]])");
+    return a;
+  }
+  const toml::node& node(std::string_view key) const { return *table_.get(key); }
+  const toml::table& self() const { return table_; }
+  const std::string& path() const { return path_; }
+  Scene& scene() { return scene_; }
+
+ private:
+  Scene& scene_;
+  const toml::table& table_;
+  std::string path_;
+};
+
+const std::vector<std::string> kSelectorKeys{"side", "group", "segments", "tolerance"};
+
+std::vector<std::string> with_selector(std::vector<std::string> keys) {
+  keys.insert(keys.end(), kSelectorKeys.begin(), kSelectorKeys.end());
+  return keys;
+}
+
+void check_name(TableReader& r, std::string_view key, const std::string& value, const std::vector<std::string>& valid,
+                const std::string& what) {
+  const std::string v = lower(value);
+  for (const auto& x : valid)
+    if (v == x) return;
+  r.fail(key, r.node(key),
+         "unknown " + what + " '" + value + "'; did you mean '" + nearest(value, valid) + "'? (expected one of: " + join(valid) + ")");
+}
+
+BoundarySelector read_selector(TableReader& r, bool required) {
+  BoundarySelector s;
+  s.sides.clear();
+  if (auto v = r.strings("side", true)) {
+    for (const auto& side : *v) {
+      if (std::find(kSides.begin(), kSides.end(), lower(side)) == kSides.end())
+        r.fail("side", r.node("side"),
+               "unknown side '" + side + "'; did you mean '" + nearest(side, kSides) + "'? (expected one of: " + join(kSides) + ")");
+      s.sides.push_back(lower(side));
+    }
+  }
+  if (auto v = r.strings("group", true)) {
+    for (const auto& g : *v)
+      if (g.empty()) r.fail("group", r.node("group"), "empty group name");
+    s.groups = *v;
+  }
+  if (r.has("segments")) {
+    const toml::node* n = r.find("segments");
+    const auto* a = n->as_array();
+    if (!a) r.fail_type("segments", *n, "an array of [x0, y0, x1, y1] arrays");
+    for (std::size_t i = 0; i < a->size(); ++i) {
+      const auto v = r.numbers_of("segments", (*a)[i], "an array of [x0, y0, x1, y1] arrays");
+      if (v.size() != 4)
+        r.fail("segments", (*a)[i],
+               "segment " + std::to_string(i) + ": expected 4 numbers [x0, y0, x1, y1], got " + std::to_string(v.size()));
+      s.segments.push_back({v[0], v[1], v[2], v[3]});
+    }
+  }
+  if (auto t = r.number("tolerance")) {
+    if (!(*t > 0.0)) r.fail("tolerance", r.node("tolerance"), "must be > 0, got " + fmt(*t));
+    s.tolerance = *t;
+  }
+  if (required && s.empty())
+    throw InputError(r.path() + ": no boundary given; set side, group or segments", r.at(r.self()));
+  return s;
+}
+
+const std::map<std::string, std::vector<std::string>>& law_parameter_names() {
+  static const std::map<std::string, std::vector<std::string>> m{{"paper", {}},
+                                                                  {"zero", {}},
+                                                                  {"linear", {"stiffness"}},
+                                                                  {"kinked", {"sigma", "stiffness"}},
+                                                                  {"sawtooth", {"stiffness", "r1", "residual", "r2"}},
+                                                                  {"piecewise", {}}};
+  return m;
+}
+
+double param(const SceneLaw& law, const std::string& name, double fallback) {
+  auto it = law.parameters.find(name);
+  return it == law.parameters.end() ? fallback : it->second;
+}
+
+std::shared_ptr<const ContactLaw> make_law(const SceneLaw& law) {
+  const std::string n = lower(law.name);
+  if (n == "piecewise") {
+    std::vector<Polynomial> j1(law.j1.begin(), law.j1.end()), j2(law.j2.begin(), law.j2.end());
+    return std::make_shared<PiecewisePolynomialLaw>("piecewise", law.breakpoints, j1, j2);
+  }
+  if (n == "linear") return linear_law(param(law, "stiffness", 100.0));
+  if (n == "kinked") return kinked_law(param(law, "sigma", 0.3), param(law, "stiffness", 100.0));
+  if (n == "sawtooth")
+    return sawtooth_law(param(law, "stiffness", 100.0), param(law, "r1", 0.01), param(law, "residual", 0.2),
+                        param(law, "r2", 0.02));
+  return make_contact_law(n);
+}
+
+std::vector<std::string> law_names() {
+  auto v = contact_law_names();
+  v.push_back("piecewise");
+  return v;
+}
+
+SceneContact read_contact(TableReader& r) {
+  SceneContact c;
+  c.boundary = read_selector(r, true);
+  if (auto law = r.string("law")) {
+    check_name(r, "law", *law, law_names(), "contact law");
+    c.law.name = lower(*law);
+  }
+  const bool piecewise = c.law.name == "piecewise";
+  for (const char* k : {"breakpoints", "j1", "j2"})
+    if (r.has(k) && !piecewise) r.fail(k, r.node(k), "only used with law = \"piecewise\" (the law is '" + c.law.name + "')");
+  if (piecewise) {
+    for (const char* k : {"breakpoints", "j1", "j2"})
+      if (!r.has(k)) r.fail("law", r.node("law"), "law = \"piecewise\" needs breakpoints, j1 and j2");
+    c.law.breakpoints = *r.numbers("breakpoints");
+    c.law.j1 = *r.matrix("j1");
+    c.law.j2 = *r.matrix("j2");
+    for (const char* k : {"j1", "j2"}) {
+      const auto& pieces = std::string(k) == "j1" ? c.law.j1 : c.law.j2;
+      if (pieces.size() != c.law.breakpoints.size() + 1)
+        r.fail(k, r.node(k),
+               "expected " + std::to_string(c.law.breakpoints.size() + 1) + " pieces (one more than the breakpoints), got " +
+                   std::to_string(pieces.size()));
+    }
+  }
+  if (const toml::table* p = r.table("parameters")) {
+    const auto& allowed = law_parameter_names().at(c.law.name);
+    TableReader pr(r.scene(), *p, r.key_path("parameters"), allowed);
+    for (const auto& name : allowed)
+      if (auto v = pr.number(name)) c.law.parameters[name] = *v;
+  }
+  try {
+    (void)make_law(c.law);
+  } catch (const InputError& e) {
+    r.fail("law", r.has("law") ? r.node("law") : static_cast<const toml::node&>(r.self()), e.detail());
+  }
+  if (auto g = r.number("gap")) {
+    if (*g < 0.0) r.fail("gap", r.node("gap"), "must be >= 0, got " + fmt(*g));
+    c.gap = *g;
+  }
+  if (auto k = r.string("constraint")) {
+    try {
+      c.constraint = constraint_kind_from_string(*k);
+    } catch (const InputError&) {
+      r.fail("constraint", r.node("constraint"), "unknown constraint '" + *k + "'; expected one of: none, one-sided, box");
+    }
+  }
+  return c;
+}
+
+Scene scene_from_table(const toml::table& root, std::string source, const std::filesystem::path& base) {
+  Scene s;
+  s.source = std::move(source);
+  s.lines.clear();
+  TableReader r(s, root, "", {"schema_version", "title", "mesh", "material", "clamped", "loads", "contact", "solver", "output"});
+  const auto version = r.integer("schema_version");
+  if (!version)
+    throw InputError("missing key 'schema_version'; this program reads schema_version = " +
+                         std::to_string(scene_schema_version),
+                     s.source);
+  if (*version != scene_schema_version)
+    r.fail("schema_version", r.node("schema_version"),
+           "unsupported version " + std::to_string(*version) + "; this program reads version " +
+               std::to_string(scene_schema_version));
+  if (auto t = r.string("title")) s.title = *t;
+
+  if (const toml::table* t = r.table("mesh")) {
+    TableReader m(s, *t, "mesh", {"generator", "file", "n", "seed", "domain"});
+    if (m.has("file")) {
+      for (const char* k : {"generator", "n", "seed", "domain"})
+        if (m.has(k)) m.fail(k, m.node(k), "not used with mesh.file; give either a generator or a file");
+      const auto f = *m.string("file");
+      if (f.empty()) m.fail("file", m.node("file"), "empty path");
+      std::filesystem::path p(f);
+      if (p.is_relative()) p = base / p;
+      p = p.lexically_normal();
+      const std::string ext = lower(p.extension().string());
+      if (ext != ".poly2d" && ext != ".msh")
+        m.fail("file", m.node("file"), "unknown mesh format '" + p.extension().string() + "'; expected .poly2d or .msh");
+      s.mesh.file = p;
+    }
+    if (auto g = m.string("generator")) {
+      check_name(m, "generator", *g, mesh_generator_names(), "mesh generator");
+      s.mesh.generator = lower(*g);
+    }
+    if (auto n = m.integer("n")) {
+      if (*n < 1 || *n > 20000) m.fail("n", m.node("n"), "must be between 1 and 20000, got " + std::to_string(*n));
+      s.mesh.n = static_cast<int>(*n);
+    }
+    if (auto seed = m.integer("seed")) {
+      if (*seed < 0) m.fail("seed", m.node("seed"), "must be >= 0, got " + std::to_string(*seed));
+      s.mesh.seed = *seed;
+    }
+    if (auto d = m.fixed<4>("domain", "[x0, x1, y0, y1]")) {
+      if (!((*d)[0] < (*d)[1] && (*d)[2] < (*d)[3])) m.fail("domain", m.node("domain"), "needs x0 < x1 and y0 < y1");
+      s.mesh.domain = *d;
+    }
+  }
+
+  if (const toml::table* t = r.table("material")) {
+    TableReader m(s, *t, "material", {"E", "nu", "model", "stabilization", "region"});
+    if (auto e = m.number("E")) {
+      if (!(*e > 0.0)) m.fail("E", m.node("E"), "must be > 0, got " + fmt(*e));
+      s.material.young = *e;
+    }
+    if (auto nu = m.number("nu")) {
+      if (!(*nu > -1.0 && *nu < 0.5)) m.fail("nu", m.node("nu"), "must lie in (-1, 0.5), got " + fmt(*nu));
+      s.material.poisson = *nu;
+    }
+    if (auto model = m.string("model")) {
+      try {
+        s.material.model = plane_model_from_string(*model);
+      } catch (const InputError&) {
+        m.fail("model", m.node("model"), "unknown plane model '" + *model + "'; expected one of: plane-strain, plane-stress");
+      }
+    }
+    if (auto st = m.string("stabilization")) {
+      try {
+        s.material.stabilization = stabilization_from_string(*st);
+      } catch (const InputError&) {
+        m.fail("stabilization", m.node("stabilization"), "unknown stabilization '" + *st + "'; expected one of: 2mu, trace");
+      }
+    }
+    if (const toml::array* regions = m.array_of_tables("region")) {
+      std::set<int> seen;
+      for (std::size_t i = 0; i < regions->size(); ++i) {
+        TableReader g(s, *(*regions)[i].as_table(), "material.region[" + std::to_string(i) + "]", {"id", "E", "nu"});
+        SceneRegionMaterial rm;
+        const auto id = g.integer("id");
+        if (!id) throw InputError(g.path() + ": missing key 'id'", g.at(g.self()));
+        if (*id < 0 || *id > 1000000) g.fail("id", g.node("id"), "must be >= 0, got " + std::to_string(*id));
+        if (!seen.insert(static_cast<int>(*id)).second) g.fail("id", g.node("id"), "region " + std::to_string(*id) + " given twice");
+        rm.region = static_cast<int>(*id);
+        const auto e = g.number("E");
+        const auto nu = g.number("nu");
+        if (!e || !nu) throw InputError(g.path() + ": needs both E and nu", g.at(g.self()));
+        if (!(*e > 0.0)) g.fail("E", g.node("E"), "must be > 0, got " + fmt(*e));
+        if (!(*nu > -1.0 && *nu < 0.5)) g.fail("nu", g.node("nu"), "must lie in (-1, 0.5), got " + fmt(*nu));
+        rm.young = *e;
+        rm.poisson = *nu;
+        s.material.regions.push_back(rm);
+      }
+    }
+  }
+
+  if (const toml::table* t = r.table("clamped")) {
+    TableReader c(s, *t, "clamped", kSelectorKeys);
+    s.clamped = read_selector(c, true);
+  }
+
+  if (const toml::table* t = r.table("loads")) {
+    TableReader l(s, *t, "loads", {"body_force", "traction"});
+    if (auto f = l.fixed<2>("body_force", "[fx, fy]")) s.body_force = *f;
+    s.tractions.clear();
+    if (const toml::array* tr = l.array_of_tables("traction")) {
+      for (std::size_t i = 0; i < tr->size(); ++i) {
+        TableReader g(s, *(*tr)[i].as_table(), "loads.traction[" + std::to_string(i) + "]", with_selector({"value"}));
+        SceneTraction st;
+        st.boundary = read_selector(g, true);
+        const auto v = g.fixed<2>("value", "[fx, fy]");
+        if (!v) throw InputError(g.path() + ": missing key 'value'", g.at(g.self()));
+        st.value = *v;
+        s.tractions.push_back(st);
+      }
+    }
+  } else {
+    s.tractions.clear();
+    s.body_force = {0.0, 0.0};
+  }
+
+  s.contact.reset();
+  if (const toml::table* t = r.table("contact")) {
+    TableReader c(s, *t, "contact", with_selector({"law", "parameters", "breakpoints", "j1", "j2", "gap", "constraint"}));
+    s.contact = read_contact(c);
+  }
+
+  if (const toml::table* t = r.table("solver")) {
+    TableReader v(s, *t, "solver", {"linear", "minimizer", "tolerance", "max_iterations"});
+    if (auto x = v.string("linear")) {
+      if (x->empty()) v.fail("linear", v.node("linear"), "empty name");
+      s.solver.linear = *x;
+    }
+    if (auto x = v.string("minimizer")) {
+      if (x->empty()) v.fail("minimizer", v.node("minimizer"), "empty name");
+      s.solver.minimizer = *x;
+    }
+    if (auto x = v.number("tolerance")) {
+      if (!(*x > 0.0)) v.fail("tolerance", v.node("tolerance"), "must be > 0, got " + fmt(*x));
+      s.solver.tolerance = *x;
+    }
+    if (auto x = v.integer("max_iterations")) {
+      if (*x < 1 || *x > std::numeric_limits<int>::max())
+        v.fail("max_iterations", v.node("max_iterations"), "must be >= 1, got " + std::to_string(*x));
+      s.solver.max_iterations = static_cast<int>(*x);
+    }
+  }
+
+  if (const toml::table* t = r.table("output")) {
+    TableReader o(s, *t, "output", {"write"});
+    if (auto w = o.strings("write", false)) {
+      s.outputs.clear();
+      for (const auto& x : *w) {
+        const auto& valid = scene_output_names();
+        if (std::find(valid.begin(), valid.end(), lower(x)) == valid.end())
+          o.fail("write", o.node("write"),
+                 "unknown output '" + x + "'; did you mean '" + nearest(x, valid) + "'? (expected any of: " + join(valid) + ")");
+        if (std::find(s.outputs.begin(), s.outputs.end(), lower(x)) == s.outputs.end()) s.outputs.push_back(lower(x));
+      }
+    }
+  }
+  return s;
+}
+
+toml::table parse_toml(std::string_view text, const std::string& name) {
+  try {
+    return toml::parse(text, name);
+  } catch (const toml::parse_error& e) {
+    const auto& b = e.source().begin;
+    throw InputError("syntax error: " + std::string(e.description()),
+                     name + ":" + std::to_string(b.line) + ":" + std::to_string(b.column));
+  }
+}
+
+std::filesystem::path base_folder(const std::string& name) {
+  std::filesystem::path p(name);
+  std::filesystem::path parent = p.parent_path();
+  if (parent.empty()) parent = std::filesystem::current_path();
+  return std::filesystem::absolute(parent);
+}
+
+// ---- writing ----
+
+std::string fmt(double v) {
+  char buf[64];
+  auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v);
+  std::string s(buf, end);
+  if (s.find_first_of(".eEn") == std::string::npos) s += ".0";  // keep it a TOML float
+  return s;
+}
+
+std::string quote(std::string_view s) {
+  std::string out = "\"";
+  for (char c : s) {
+    switch (c) {
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      case '\t':
+        out += "\\t";
+        break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20) {
+          char b[8];
+          std::snprintf(b, sizeof b, "\\u%04x", c);
+          out += b;
+        } else {
+          out += c;
+        }
+    }
+  }
+  return out + "\"";
+}
+
+template <class Range, class F>
+std::string list(const Range& r, F f) {
+  std::string s = "[";
+  bool first = true;
+  for (const auto& x : r) {
+    s += (first ? "" : ", ") + f(x);
+    first = false;
+  }
+  return s + "]";
+}
+
+void write_selector(std::ostream& o, const BoundarySelector& b) {
+  if (!b.sides.empty()) o << "side = " << list(b.sides, quote) << "\n";
+  if (!b.groups.empty()) o << "group = " << list(b.groups, quote) << "\n";
+  if (!b.segments.empty())
+    o << "segments = " << list(b.segments, [](const std::array<double, 4>& a) { return list(a, fmt); }) << "\n";
+  o << "tolerance = " << fmt(b.tolerance) << "\n";
+}
+
+}  // namespace
+
+const std::vector<std::string>& scene_output_names() {
+  static const std::vector<std::string> names{"vtu", "contact-csv", "displacement-csv", "history-csv", "result-json"};
+  return names;
+}
+
+std::string Scene::where(const std::string& key) const {
+  auto it = lines.find(key);
+  if (it == lines.end() || it->second <= 0) return source;
+  return source + ":" + std::to_string(it->second);
+}
+
+bool operator==(const Scene& a, const Scene& b) {
+  return a.schema_version == b.schema_version && a.title == b.title && a.mesh == b.mesh && a.material == b.material &&
+         a.clamped == b.clamped && a.body_force == b.body_force && a.tractions == b.tractions && a.contact == b.contact &&
+         a.solver == b.solver && a.outputs == b.outputs;
+}
+
+Scene parse_scene_string(std::string_view text, std::string name) {
+  const toml::table root = parse_toml(text, name);
+  return scene_from_table(root, name, base_folder(name));
+}
+
+Scene parse_scene(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError("cannot open scene file", path.string());
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return parse_scene_string(ss.str(), path.string());
+}
+
+std::string_view default_scene_text() { return kDefaultSceneText; }
+
+Scene default_scene() { return parse_scene_string(kDefaultSceneText, "<default>"); }
+
+std::string to_toml(const Scene& s) {
+  std::ostringstream o;
+  o << "# hemivem scene (resolved: every key written)\n";
+  o << "schema_version = " << s.schema_version << "\n";
+  o << "title = " << quote(s.title) << "\n\n";
+  o << "[mesh]\n";
+  if (!s.mesh.file.empty()) {
+    o << "file = " << quote(s.mesh.file.generic_string()) << "\n";
+  } else {
+    o << "generator = " << quote(s.mesh.generator) << "\n";
+    o << "n = " << s.mesh.n << "\n";
+    o << "seed = " << s.mesh.seed << "\n";
+    o << "domain = " << list(s.mesh.domain, fmt) << "\n";
+  }
+  o << "\n[material]\n";
+  o << "E = " << fmt(s.material.young) << "\n";
+  o << "nu = " << fmt(s.material.poisson) << "\n";
+  o << "model = " << quote(to_string(s.material.model)) << "\n";
+  o << "stabilization = " << quote(to_string(s.material.stabilization)) << "\n";
+  for (const auto& r : s.material.regions)
+    o << "\n[[material.region]]\nid = " << r.region << "\nE = " << fmt(r.young) << "\nnu = " << fmt(r.poisson) << "\n";
+  o << "\n[clamped]\n";
+  write_selector(o, s.clamped);
+  o << "\n[loads]\n";
+  o << "body_force = " << list(s.body_force, fmt) << "\n";
+  for (const auto& t : s.tractions) {
+    o << "\n[[loads.traction]]\n";
+    write_selector(o, t.boundary);
+    o << "value = " << list(t.value, fmt) << "\n";
+  }
+  if (s.contact) {
+    const auto& c = *s.contact;
+    o << "\n[contact]\n";
+    write_selector(o, c.boundary);
+    o << "law = " << quote(c.law.name) << "\n";
+    if (c.law.name == "piecewise") {
+      o << "breakpoints = " << list(c.law.breakpoints, fmt) << "\n";
+      auto pieces = [](const std::vector<std::vector<double>>& p) {
+        return list(p, [](const std::vector<double>& q) { return list(q, fmt); });
+      };
+      o << "j1 = " << pieces(c.law.j1) << "\n";
+      o << "j2 = " << pieces(c.law.j2) << "\n";
+    }
+    o << "gap = " << fmt(c.gap) << "\n";
+    o << "constraint = " << quote(to_string(c.constraint)) << "\n";
+    if (!c.law.parameters.empty()) {
+      o << "\n[contact.parameters]\n";
+      for (const auto& [k, v] : c.law.parameters) o << k << " = " << fmt(v) << "\n";
+    }
+  }
+  o << "\n[solver]\n";
+  o << "linear = " << quote(s.solver.linear) << "\n";
+  o << "minimizer = " << quote(s.solver.minimizer) << "\n";
+  o << "tolerance = " << fmt(s.solver.tolerance) << "\n";
+  o << "max_iterations = " << s.solver.max_iterations << "\n";
+  o << "\n[output]\n";
+  o << "write = " << list(s.outputs, quote) << "\n";
+  return o.str();
+}
+
+void write_scene(const std::filesystem::path& path, const Scene& scene) {
+  const std::string text = to_toml(scene);
+  write_file_atomically(path, [&](std::ostream& out) { out << text; });
+}
+
+void apply_override(Scene& scene, std::string_view key_eq_value) {
+  const auto eq = key_eq_value.find('=');
+  if (eq == std::string_view::npos)
+    throw InputError("expected key=value, got '" + std::string(key_eq_value) + "'", "--set");
+  auto trim = [](std::string_view v) {
+    while (!v.empty() && std::isspace(static_cast<unsigned char>(v.front()))) v.remove_prefix(1);
+    while (!v.empty() && std::isspace(static_cast<unsigned char>(v.back()))) v.remove_suffix(1);
+    return v;
+  };
+  const std::string key(trim(key_eq_value.substr(0, eq)));
+  const std::string value(trim(key_eq_value.substr(eq + 1)));
+  const std::string where = "--set " + key;
+  if (key.empty()) throw InputError("empty key", "--set");
+
+  // Split the dotted path; "name[i]" selects element i of an array of tables.
+  std::vector<std::pair<std::string, int>> parts;
+  {
+    std::size_t start = 0;
+    while (start <= key.size()) {
+      const auto dot = key.find('.', start);
+      std::string part = key.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
+      int index = -1;
+      if (auto lb = part.find('['); lb != std::string::npos) {
+        if (part.back() != ']') throw InputError("bad index in key '" + key + "'", where);
+        try {
+          index = std::stoi(part.substr(lb + 1, part.size() - lb - 2));
+        } catch (const std::exception&) {
+          throw InputError("bad index in key '" + key + "'", where);
+        }
+        part = part.substr(0, lb);
+      }
+      if (part.empty()) throw InputError("empty part in key '" + key + "'", where);
+      parts.emplace_back(part, index);
+      if (dot == std::string::npos) break;
+      start = dot + 1;
+    }
+  }
+
+  Scene base = scene;
+  if (parts.front().first == "contact" && !base.contact) base.contact = SceneContact{};
+  toml::table root = parse_toml(to_toml(base), "<resolved scene>");
+
+  // The value in TOML syntax; a bare word is a string.
+  toml::table holder;
+  try {
+    holder = toml::parse("v = " + value);
+  } catch (const toml::parse_error&) {
+    holder = toml::table{};
+    holder.insert("v", value);
+  }
+
+  toml::table* t = &root;
+  for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
+    const auto& [name, index] = parts[i];
+    toml::node* n = t->get(name);
+    if (!n) {
+      t->insert(name, toml::table{});
+      n = t->get(name);
+    }
+    if (index >= 0) {
+      auto* a = n->as_array();
+      if (!a || !a->is_array_of_tables() || index >= static_cast<int>(a->size()))
+        throw InputError("no element " + std::to_string(index) + " in '" + name + "'", where);
+      t = (*a)[static_cast<std::size_t>(index)].as_table();
+    } else {
+      t = n->as_table();
+      if (!t) throw InputError("'" + name + "' is not a table", where);
+    }
+  }
+  const std::string& leaf = parts.back().first;
+  if (parts.back().second >= 0)
+    throw InputError("cannot replace a whole element; set one of its keys, e.g. '" + key + ".value'", where);
+  if (parts.size() == 2 && parts[0].first == "mesh") {
+    if (leaf == "generator") t->erase("file");
+    if (leaf == "file") {
+      for (const char* k : {"generator", "n", "seed", "domain"}) t->erase(k);
+      if (auto* sv = holder.get("v"); sv && sv->is_string()) {
+        std::filesystem::path p(sv->as_string()->get());
+        if (p.is_relative() && !p.empty()) holder.insert_or_assign("v", std::filesystem::absolute(p).lexically_normal().string());
+      }
+    }
+  }
+  holder.get("v")->visit([&](auto&& v) { t->insert_or_assign(leaf, v); });
+
+  Scene updated;
+  try {
+    updated = scene_from_table(root, "--set", std::filesystem::current_path());
+  } catch (const InputError& e) {
+    std::string msg = e.detail();
+    throw InputError(msg, where);
+  }
+  updated.source = scene.source;
+  updated.lines = scene.lines;
+  updated.lines[key] = 0;
+  scene = std::move(updated);
+}
+
+std::unique_ptr<BuiltProblem> build_problem(const Scene& scene) {
+  auto out = std::make_unique<BuiltProblem>();
+  Mesh& mesh = out->mesh;
+  if (!scene.mesh.file.empty()) {
+    const std::string ext = lower(scene.mesh.file.extension().string());
+    if (ext == ".msh") mesh = read_gmsh(scene.mesh.file);
+    else if (ext == ".poly2d") mesh = read_poly2d(scene.mesh.file).mesh;
+    else throw InputError("mesh.file: unknown mesh format; expected .poly2d or .msh", scene.where("mesh.file"));
+  } else {
+    const auto& d = scene.mesh.domain;
+    try {
+      mesh = make_mesh(scene.mesh.generator, scene.mesh.n, Rectangle{d[0], d[1], d[2], d[3]},
+                       static_cast<std::uint64_t>(scene.mesh.seed));
+    } catch (const MeshError&) {
+      throw;
+    } catch (const InputError& e) {
+      throw InputError("mesh: " + e.detail(), scene.where("mesh"));
+    }
+  }
+
+  // Materials by region.
+  int regions = 1;
+  for (int r : mesh.regions()) regions = std::max(regions, r + 1);
+  for (const auto& r : scene.material.regions) regions = std::max(regions, r.region + 1);
+  std::vector<Material> by_region(static_cast<std::size_t>(regions), Material{scene.material.young, scene.material.poisson});
+  for (const auto& r : scene.material.regions) by_region[static_cast<std::size_t>(r.region)] = Material{r.young, r.poisson};
+  ContactProblem& p = out->problem;
+  p.elasticity.mesh = &mesh;
+  p.elasticity.materials = MaterialTable(by_region, scene.material.model);
+  p.elasticity.stabilization = scene.material.stabilization;
+
+  const Rectangle box = mesh.bounding_box();
+  auto select = [&](const BoundarySelector& b, const std::string& key) {
+    std::vector<Segment> segs;
+    for (const auto& side : b.sides) segs.push_back(rectangle_side(box, side, b.tolerance));
+    for (const auto& s : b.segments) segs.push_back(Segment{Vec2(s[0], s[1]), Vec2(s[2], s[3]), b.tolerance});
+    std::vector<int> edges;
+    if (!segs.empty()) edges = select_boundary_edges(mesh, segs);
+    for (const auto& g : b.groups) {
+      try {
+        const auto e = select_boundary_edges(mesh, g);
+        edges.insert(edges.end(), e.begin(), e.end());
+      } catch (const InputError& e) {
+        throw InputError(key + ".group: " + e.detail(), scene.where(key + ".group"));
+      }
+    }
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    if (edges.empty()) throw InputError(key + ": selects no boundary edge of the mesh", scene.where(key));
+    return edges;
+  };
+
+  p.elasticity.dirichlet.push_back({select(scene.clamped, "clamped"), {}, {true, true}});
+  if (scene.body_force[0] != 0.0 || scene.body_force[1] != 0.0) {
+    const Vec2 f(scene.body_force[0], scene.body_force[1]);
+    p.elasticity.body_force = [f](const Vec2&) { return f; };
+  }
+  for (std::size_t i = 0; i < scene.tractions.size(); ++i) {
+    const auto& t = scene.tractions[i];
+    const Vec2 v(t.value[0], t.value[1]);
+    p.elasticity.tractions.push_back(
+        {select(t.boundary, "loads.traction[" + std::to_string(i) + "]"), [v](const Vec2&) { return v; }});
+  }
+  if (scene.contact) {
+    const auto& c = *scene.contact;
+    p.contact_edges = select(c.boundary, "contact");
+    const double g = c.gap;
+    p.gap = [g](const Vec2&) { return g; };
+    try {
+      p.law = make_law(c.law);
+    } catch (const InputError& e) {
+      throw InputError("contact.law: " + e.detail(), scene.where("contact.law"));
+    }
+    p.constraint = c.constraint;
+    out->has_contact = true;
+  } else {
+    p.constraint = ConstraintKind::none;
+  }
+  return out;
+}
+
+}  // namespace hemivem

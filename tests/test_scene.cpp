@@ -1,0 +1,382 @@
+// Scenes: the default scene, the shipped scenes, round trips, overrides and a corpus of
+// bad scenes with the message and line each must produce.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <unistd.h>
+
+#include <hemivem/contact_problem.hpp>
+#include <hemivem/error.hpp>
+#include <hemivem/mesh_generators.hpp>
+#include <hemivem/mesh_io.hpp>
+#include <hemivem/scene.hpp>
+
+#include "test_support.hpp"
+
+namespace fs = std::filesystem;
+
+namespace hemivem {
+
+namespace {
+
+fs::path scenes_dir() { return test::data_dir().parent_path().parent_path() / "scenes"; }
+
+std::vector<fs::path> shipped_scenes() {
+  std::vector<fs::path> out;
+  for (const auto& e : fs::directory_iterator(scenes_dir()))
+    if (e.path().extension() == ".toml") out.push_back(e.path());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+TEST(Scene, DefaultSceneIsExample41OnSquares64) {
+  const Scene s = default_scene();
+  EXPECT_EQ(s, Scene{});
+  EXPECT_EQ(s.mesh.generator, "squares");
+  EXPECT_EQ(s.mesh.n, 64);
+  EXPECT_TRUE(s.mesh.file.empty());
+  EXPECT_DOUBLE_EQ(s.material.young, 65.0);
+  EXPECT_DOUBLE_EQ(s.material.poisson, 0.29);
+  EXPECT_EQ(s.material.model, PlaneModel::strain);
+  EXPECT_EQ(s.material.stabilization, Stabilization::two_mu);
+  ASSERT_TRUE(s.contact.has_value());
+  EXPECT_DOUBLE_EQ(s.contact->gap, 0.02);
+  EXPECT_EQ(s.contact->law.name, "paper");
+  EXPECT_EQ(s.contact->constraint, ConstraintKind::box);
+  EXPECT_EQ(s.solver.linear, "eigen");
+  EXPECT_EQ(s.solver.minimizer, "ssn");
+  EXPECT_DOUBLE_EQ(s.solver.tolerance, 1e-10);
+  EXPECT_EQ(s.where("contact.gap"), "<default>:" + std::to_string(s.lines.at("contact.gap")));
+}
+
+TEST(Scene, DefaultSceneBuildsTheSameProblemAsExample41) {
+  Scene s = default_scene();
+  apply_override(s, "mesh.n=8");
+  const auto built = build_problem(s);
+  const Mesh reference_mesh = make_squares(8);
+  const ContactProblem ref = example_4_1(reference_mesh);
+  const ContactProblem& p = built->problem;
+  ASSERT_TRUE(built->has_contact);
+  EXPECT_EQ(built->mesh.num_vertices(), reference_mesh.num_vertices());
+  EXPECT_EQ(built->mesh.num_elements(), reference_mesh.num_elements());
+  EXPECT_EQ(p.elasticity.mesh, &built->mesh);
+  EXPECT_EQ(p.elasticity.materials.model(), ref.elasticity.materials.model());
+  EXPECT_DOUBLE_EQ(p.elasticity.materials.material(0).young, ref.elasticity.materials.material(0).young);
+  EXPECT_DOUBLE_EQ(p.elasticity.materials.material(0).poisson, ref.elasticity.materials.material(0).poisson);
+  EXPECT_EQ(p.elasticity.stabilization, ref.elasticity.stabilization);
+  EXPECT_FALSE(static_cast<bool>(p.elasticity.body_force));
+  ASSERT_EQ(p.elasticity.dirichlet.size(), 1u);
+  EXPECT_EQ(p.elasticity.dirichlet[0].edges, ref.elasticity.dirichlet[0].edges);
+  ASSERT_EQ(p.elasticity.tractions.size(), 1u);
+  EXPECT_EQ(p.elasticity.tractions[0].edges, ref.elasticity.tractions[0].edges);
+  EXPECT_EQ(p.elasticity.tractions[0].traction(Vec2(0.5, 1.0)), ref.elasticity.tractions[0].traction(Vec2(0.5, 1.0)));
+  EXPECT_EQ(p.contact_edges, ref.contact_edges);
+  EXPECT_DOUBLE_EQ(p.gap(Vec2(0.3, 0.0)), ref.gap(Vec2(0.3, 0.0)));
+  EXPECT_EQ(p.law->name(), ref.law->name());
+  EXPECT_DOUBLE_EQ(p.law->alpha(), ref.law->alpha());
+  EXPECT_EQ(p.constraint, ref.constraint);
+  // The assembled systems agree.
+  const LinearSystem a = assemble(p.elasticity), b = assemble(ref.elasticity);
+  EXPECT_EQ((a.b - b.b).norm(), 0.0);
+  EXPECT_EQ(SparseMatrix(a.A - b.A).norm(), 0.0);
+}
+
+TEST(Scene, ShippedScenesParseAndBuild) {
+  const auto files = shipped_scenes();
+  ASSERT_GE(files.size(), 9u);
+  for (const auto& f : files) {
+    SCOPED_TRACE(f.string());
+    const Scene s = parse_scene(f);
+    if (!s.mesh.file.empty() && !fs::exists(s.mesh.file)) {
+      EXPECT_EQ(f.filename(), "sutton-voronoi.toml") << "missing mesh " << s.mesh.file;
+      continue;  // ../shared is absent: SuttonSceneReadsTheSharedMeshInPlace is skipped
+    }
+    const auto built = build_problem(s);
+    EXPECT_GT(built->mesh.num_elements(), 0);
+    EXPECT_FALSE(built->problem.elasticity.dirichlet.at(0).edges.empty());
+    EXPECT_EQ(built->has_contact, s.contact.has_value());
+    if (built->has_contact) {
+      EXPECT_FALSE(built->problem.contact_edges.empty());
+      ASSERT_TRUE(built->problem.law);
+    }
+    EXPECT_NO_THROW((void)assemble(built->problem.elasticity));
+  }
+}
+
+TEST(Scene, PaperExampleFileEqualsDefaultScene) {
+  EXPECT_EQ(parse_scene(scenes_dir() / "paper-example-4.1.toml"), default_scene());
+}
+
+TEST(Scene, ShippedVariants) {
+  EXPECT_FALSE(parse_scene(scenes_dir() / "linear-elastic.toml").contact.has_value());
+  const Scene sig = parse_scene(scenes_dir() / "signorini.toml");
+  EXPECT_EQ(sig.contact->law.name, "zero");
+  const Scene kink = parse_scene(scenes_dir() / "kinked-law.toml");
+  EXPECT_EQ(kink.contact->law.name, "kinked");
+  EXPECT_EQ(kink.contact->constraint, ConstraintKind::one_sided);
+  for (const std::string g : {"triangles", "voronoi", "nonconvex", "distorted"})
+    EXPECT_EQ(parse_scene(scenes_dir() / ("paper-example-4.1-" + g + ".toml")).mesh.generator, g);
+}
+
+TEST(Scene, SuttonSceneReadsTheSharedMeshInPlace) {
+  if (test::shared_dir().empty()) GTEST_SKIP() << "shared/ (Sutton's meshes) is absent";
+  const Scene s = parse_scene(scenes_dir() / "sutton-voronoi.toml");
+  EXPECT_EQ(s.mesh.file.filename(), "sutton-voronoi-merged.poly2d");
+  if (!fs::exists(s.mesh.file)) GTEST_SKIP() << "the scene's ../shared is not beside this checkout: " << s.mesh.file;
+  EXPECT_EQ(fs::canonical(s.mesh.file), fs::canonical(test::shared_dir() / "meshes" / "sutton-voronoi-merged.poly2d"));
+  const auto built = build_problem(s);
+  EXPECT_FALSE(built->problem.contact_edges.empty());
+  EXPECT_FALSE(built->problem.elasticity.tractions.at(0).edges.empty());
+}
+
+TEST(Scene, RoundTripThroughToml) {
+  std::vector<Scene> scenes{default_scene()};
+  for (const auto& f : shipped_scenes()) scenes.push_back(parse_scene(f));
+  Scene rich = default_scene();
+  rich.title = "quotes \" and \\ backslashes";
+  rich.body_force = {0.1, -1.0 / 3.0};
+  rich.material.regions.push_back({1, 200.0, 0.3});
+  rich.clamped.groups = {"wall"};
+  rich.clamped.segments = {{0.0, 0.0, 0.0, 1.0}};
+  rich.clamped.tolerance = 1e-6;
+  rich.tractions.push_back({{{}, {}, {{0.0, 1.0, 0.5, 1.0}}, 1e-8}, {1e-300, 2.5}});
+  rich.contact->law.name = "sawtooth";
+  rich.contact->law.parameters = {{"r1", 0.015}, {"stiffness", 50.0}};
+  rich.solver.max_iterations = 7;
+  rich.outputs = {"vtu"};
+  scenes.push_back(rich);
+  Scene piecewise = default_scene();
+  piecewise.contact->law = SceneLaw{"piecewise", {}, {0.0}, {{0.0}, {0.0, 0.0, 50.0}}, {{0.0}, {0.0}}};
+  scenes.push_back(piecewise);
+  for (const auto& s : scenes) {
+    const std::string text = to_toml(s);
+    SCOPED_TRACE(text);
+    const Scene back = parse_scene_string(text, "roundtrip.toml");
+    EXPECT_EQ(back, s);
+    EXPECT_EQ(to_toml(back), text);
+  }
+}
+
+TEST(Scene, ResolvedSceneFileReadsBack) {
+  const fs::path dir = fs::temp_directory_path() / ("hemivem-scene-test-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  Scene s = parse_scene(scenes_dir() / "kinked-law.toml");
+  apply_override(s, "mesh.file=" + (dir / "elsewhere.poly2d").string());
+  write_scene(dir / "scene.toml", s);
+  const Scene back = parse_scene(dir / "scene.toml");
+  EXPECT_EQ(back, s);
+  EXPECT_EQ(back.mesh.file, dir / "elsewhere.poly2d");
+  fs::remove_all(dir);
+}
+
+TEST(Scene, Overrides) {
+  Scene s = default_scene();
+  apply_override(s, "contact.gap=0.01");
+  EXPECT_DOUBLE_EQ(s.contact->gap, 0.01);
+  EXPECT_EQ(s.lines.at("contact.gap"), 0);
+  apply_override(s, "mesh.generator=voronoi");
+  EXPECT_EQ(s.mesh.generator, "voronoi");
+  apply_override(s, "mesh.n = 16");
+  EXPECT_EQ(s.mesh.n, 16);
+  apply_override(s, "solver.minimizer=bundle-dca");
+  EXPECT_EQ(s.solver.minimizer, "bundle-dca");
+  apply_override(s, "solver.tolerance=1e-8");
+  EXPECT_DOUBLE_EQ(s.solver.tolerance, 1e-8);
+  apply_override(s, "contact.law=kinked");
+  apply_override(s, "contact.parameters.sigma=0.5");
+  EXPECT_DOUBLE_EQ(s.contact->law.parameters.at("sigma"), 0.5);
+  apply_override(s, "contact.constraint=one-sided");
+  EXPECT_EQ(s.contact->constraint, ConstraintKind::one_sided);
+  apply_override(s, "loads.traction[0].value=[0.0, -4.0]");
+  EXPECT_DOUBLE_EQ(s.tractions.at(0).value[1], -4.0);
+  apply_override(s, "material.model=plane-stress");
+  EXPECT_EQ(s.material.model, PlaneModel::stress);
+  EXPECT_EQ(s.source, "<default>");
+
+  // A mesh file replaces the generator, a generator replaces the file.
+  apply_override(s, "mesh.file=some/mesh.poly2d");
+  EXPECT_TRUE(s.mesh.file.is_absolute());
+  EXPECT_EQ(s.mesh.file.filename(), "mesh.poly2d");
+  EXPECT_THROW(apply_override(s, "mesh.n=8"), InputError);  // n means nothing for a file mesh
+  apply_override(s, "mesh.generator=squares");
+  EXPECT_TRUE(s.mesh.file.empty());
+
+  // Contact on a scene without it adds the default contact part.
+  Scene lin = parse_scene(scenes_dir() / "linear-elastic.toml");
+  apply_override(lin, "contact.gap=0.05");
+  ASSERT_TRUE(lin.contact.has_value());
+  EXPECT_EQ(lin.contact->boundary.sides, std::vector<std::string>{"bottom"});
+  EXPECT_DOUBLE_EQ(lin.contact->gap, 0.05);
+}
+
+std::string override_error(std::string_view kv) {
+  Scene s = default_scene();
+  const Scene before = s;
+  try {
+    apply_override(s, kv);
+  } catch (const InputError& e) {
+    EXPECT_EQ(s, before) << "a failed override must leave the scene unchanged";
+    return e.what();
+  }
+  ADD_FAILURE() << "no error for " << kv;
+  return {};
+}
+
+TEST(Scene, BadOverridesNameTheKey) {
+  EXPECT_NE(override_error("contact.gapp=0.1").find("unknown key 'gapp' in [contact]; did you mean 'gap'?"), std::string::npos);
+  EXPECT_NE(override_error("contcat.gap=0.1").find("did you mean 'contact'?"), std::string::npos);
+  EXPECT_NE(override_error("contact.gap=-1").find("contact.gap: must be >= 0"), std::string::npos);
+  EXPECT_NE(override_error("contact.gap=abc").find("contact.gap: expected a number, got a string"), std::string::npos);
+  EXPECT_NE(override_error("mesh.n=0").find("--set mesh.n: mesh.n: must be between 1"), std::string::npos);
+  EXPECT_NE(override_error("mesh.generator=hex").find("unknown mesh generator 'hex'"), std::string::npos);
+  EXPECT_NE(override_error("contact.law=nope").find("expected one of: paper"), std::string::npos);
+  EXPECT_NE(override_error("no-equals-sign").find("expected key=value"), std::string::npos);
+  EXPECT_NE(override_error("loads.traction[3].value=[0,1]").find("no element 3"), std::string::npos);
+}
+
+TEST(Scene, ParseErrorsCarryFileLineAndColumn) {
+  try {
+    (void)parse_scene_string("schema_version = 1\n[mesh]\nn = = 3\n", "x.toml");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().rfind("x.toml:3:", 0), 0u) << e.where();
+  }
+  EXPECT_THROW((void)parse_scene("/nonexistent/scene.toml"), InputError);
+}
+
+TEST(Scene, RelativeMeshPathsResolveAgainstTheSceneFolder) {
+  const Scene s = parse_scene_string("schema_version = 1\n[mesh]\nfile = \"m/a.poly2d\"\n", "/some/dir/scene.toml");
+  EXPECT_EQ(s.mesh.file, fs::path("/some/dir/m/a.poly2d"));
+}
+
+TEST(Scene, MaterialsByRegionAndSegments) {
+  const Scene s = parse_scene_string(R"(schema_version = 1
+[mesh]
+generator = "squares"
+n = 4
+[[material.region]]
+id = 0
+E = 10.0
+nu = 0.2
+[clamped]
+segments = [[0.0, 0.0, 0.0, 1.0]]
+[contact]
+segments = [[0.0, 0.0, 0.5, 0.0]]
+)",
+                                     "regions.toml");
+  const auto built = build_problem(s);
+  EXPECT_DOUBLE_EQ(built->problem.elasticity.materials.material(0).young, 10.0);
+  EXPECT_EQ(built->problem.contact_edges.size(), 2u);
+  EXPECT_EQ(built->problem.elasticity.dirichlet[0].edges.size(), 4u);
+}
+
+TEST(Scene, MeshFileBesideTheScene) {
+  const fs::path dir = fs::temp_directory_path() / ("hemivem-scene-mesh-" + std::to_string(::getpid()));
+  fs::create_directories(dir / "meshes");
+  write_poly2d(dir / "meshes" / "tri.poly2d", make_triangles(4, Rectangle{0.0, 2.0, 0.0, 1.0}));
+  {
+    std::ofstream out(dir / "scene.toml");
+    out << "schema_version = 1\n[mesh]\nfile = \"meshes/tri.poly2d\"\n[contact]\nside = \"bottom\"\n";
+  }
+  const Scene s = parse_scene(dir / "scene.toml");
+  EXPECT_EQ(s.mesh.file, dir / "meshes" / "tri.poly2d");
+  const auto built = build_problem(s);
+  EXPECT_EQ(built->mesh.num_elements(), 32);
+  EXPECT_EQ(built->problem.contact_edges.size(), 4u);  // the bottom of the bounding box [0, 2] x [0, 1]
+  EXPECT_EQ(built->problem.elasticity.tractions.size(), 0u);  // no [loads]: no loads
+  fs::remove_all(dir);
+}
+
+TEST(Scene, BoundaryPartsByGmshPhysicalGroup) {
+  // the Gmsh-written unit square of tests/data/gmsh has the 1D groups clamped, load, contact
+  const fs::path dir = fs::temp_directory_path() / ("hemivem-scene-gmsh-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  {
+    std::ofstream out(dir / "scene.toml");
+    out << "schema_version = 1\n[mesh]\nfile = \"" << (test::data_dir() / "gmsh" / "unit_square_quads.msh").string()
+        << "\"\n[clamped]\ngroup = \"clamped\"\n[[loads.traction]]\ngroup = \"load\"\nvalue = [0.0, -8.0]\n"
+        << "[contact]\ngroup = \"contact\"\nlaw = \"paper\"\ngap = 0.02\nconstraint = \"box\"\n";
+  }
+  const auto built = build_problem(parse_scene(dir / "scene.toml"));
+  const Rectangle unit{};
+  EXPECT_EQ(built->problem.contact_edges,
+            select_boundary_edges(built->mesh, std::vector<Segment>{rectangle_side(unit, "bottom")}));
+  EXPECT_EQ(built->problem.elasticity.tractions.at(0).edges,
+            select_boundary_edges(built->mesh, std::vector<Segment>{rectangle_side(unit, "top")}));
+  EXPECT_FALSE(built->problem.elasticity.dirichlet.at(0).edges.empty());
+  fs::remove_all(dir);
+}
+
+TEST(Scene, LawsWithParametersAndBreakpoints) {
+  Scene s = default_scene();
+  apply_override(s, "mesh.n=2");
+  apply_override(s, "contact.law=sawtooth");
+  apply_override(s, "contact.parameters.r1=0.005");
+  auto built = build_problem(s);
+  const auto b = built->problem.law->breakpoints();
+  EXPECT_NE(std::find(b.begin(), b.end(), 0.005), b.end());
+
+  const Scene p = parse_scene_string(R"(schema_version = 1
+[mesh]
+n = 2
+[contact]
+side = "bottom"
+law = "piecewise"
+breakpoints = [0.0]
+j1 = [[0.0], [0.0, 0.0, 50.0]]
+j2 = [[0.0], [0.0, 1.0]]
+)",
+                                     "piecewise.toml");
+  built = build_problem(p);
+  EXPECT_DOUBLE_EQ(built->problem.law->value(0.1), 50.0 * 0.01 - 0.1);
+
+  try {  // j2 is not convex: rejected with the line of the law
+    (void)parse_scene_string("schema_version = 1\n[contact]\nside = \"bottom\"\nlaw = \"piecewise\"\n"
+                             "breakpoints = [0.0]\nj1 = [[0.0], [0.0]]\nj2 = [[0.0], [0.0, 0.0, -1.0]]\n",
+                             "concave.toml");
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where(), "concave.toml:4");
+  }
+}
+
+// Each file of tests/data/scenes-bad starts with "# expect: FRAGMENT" and "# line: N"
+// (0 when the error names no line).
+TEST(Scene, BadScenesCorpus) {
+  std::vector<fs::path> files;
+  for (const auto& e : fs::directory_iterator(test::data_dir() / "scenes-bad"))
+    if (e.path().extension() == ".toml") files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  ASSERT_GE(files.size(), 10u);
+  for (const auto& f : files) {
+    SCOPED_TRACE(f.filename().string());
+    std::ifstream in(f);
+    std::string l1, l2;
+    std::getline(in, l1);
+    std::getline(in, l2);
+    ASSERT_EQ(l1.rfind("# expect: ", 0), 0u);
+    ASSERT_EQ(l2.rfind("# line: ", 0), 0u);
+    const std::string fragment = l1.substr(10);
+    const int line = std::stoi(l2.substr(8));
+    try {
+      const Scene s = parse_scene(f);
+      (void)build_problem(s);
+      ADD_FAILURE() << "no error";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+      const std::string expected_where = f.string() + (line > 0 ? ":" + std::to_string(line) : std::string());
+      if (fragment.rfind("syntax error", 0) == 0)
+        EXPECT_EQ(e.where().rfind(expected_where + ":", 0), 0u) << e.where();
+      else
+        EXPECT_EQ(e.where(), expected_where);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace hemivem
