@@ -23,8 +23,4 @@ enum ExitCode : int {
 /// into place on success, so a failure never leaves a half-written output behind.
 void write_atomically(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write);
 
-/// A mesh from a generator name (squares, triangles, voronoi, nonconvex, distorted) with n,
-/// or from a .poly2d path.
-Mesh load_mesh(const std::string& spec, int n, const Rectangle& domain, std::uint64_t seed);
-
 }  // namespace hemivem::cli

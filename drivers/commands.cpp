@@ -1,0 +1,202 @@
+#include "commands.hpp"
+
+#include <hemivem/contact_solver.hpp>
+#include <hemivem/error.hpp>
+#include <hemivem/linear_backends.hpp>
+#include <hemivem/mesh_generators.hpp>
+#include <hemivem/nonsmooth_backends.hpp>
+#include <hemivem/piecewise_law.hpp>
+#include <hemivem/reduced_io.hpp>
+#include <hemivem/scene.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <iomanip>
+#include <ostream>
+#include <sstream>
+
+#include "common.hpp"
+#include "outputs.hpp"
+
+namespace hemivem::cli {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+std::string toml_string(const std::string& s) {
+  std::string q = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') q += '\\';
+    q += c;
+  }
+  return q + "\"";
+}
+
+// The output names of a scene ([output] write) as file names of write_outputs; the resolved
+// scene and the figures are always written.
+std::vector<std::string> wanted_files(const Scene& scene) {
+  static const std::vector<std::pair<std::string, std::string>> map{{"result-json", "result.json"},
+                                                                     {"contact-csv", "contact.csv"},
+                                                                     {"displacement-csv", "displacement.csv"},
+                                                                     {"history-csv", "history.csv"},
+                                                                     {"vtu", "solution.vtu"}};
+  std::vector<std::string> files;
+  for (const auto& [name, file] : map)
+    if (std::find(scene.outputs.begin(), scene.outputs.end(), name) != scene.outputs.end()) files.push_back(file);
+  for (const char* f : {"scene.toml", "u_nu.png", "deformed.png"}) files.emplace_back(f);
+  return files;
+}
+
+std::string sci(double v) {
+  std::ostringstream s;
+  s << std::setprecision(3) << std::scientific << v;
+  return s.str();
+}
+
+}  // namespace
+
+int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
+  Scene scene = o.scene.empty() ? default_scene() : parse_scene(o.scene);
+  if (o.mesh) {
+    const bool file = o.mesh->find('/') != std::string::npos || o.mesh->ends_with(".poly2d") || o.mesh->ends_with(".msh");
+    apply_override(scene, (file ? "mesh.file=" : "mesh.generator=") + toml_string(*o.mesh));
+  }
+  if (o.n) apply_override(scene, "mesh.n=" + std::to_string(*o.n));
+  if (o.linear) apply_override(scene, "solver.linear=" + toml_string(*o.linear));
+  if (o.minimizer) apply_override(scene, "solver.minimizer=" + toml_string(*o.minimizer));
+  if (o.tolerance) {
+    std::ostringstream v;
+    v << std::setprecision(17) << *o.tolerance;
+    apply_override(scene, "solver.tolerance=" + v.str());
+  }
+  for (const auto& kv : o.set) apply_override(scene, kv);
+
+  // Engines first: a name that was not built is an input error before any work.
+  FactorizationOptions fo;
+  fo.engine = scene.solver.linear;
+  auto factorization = make_factorization(fo);
+  const auto minimizer = make_minimizer(scene.solver.minimizer);
+  MinimizerOptions mo;
+  mo.tolerance = scene.solver.tolerance;
+  mo.max_iterations = scene.solver.max_iterations;
+  if (o.verbosity >= 2 && !o.json)
+    mo.callback = [&](const IterationRecord& r) {
+      err << "  iteration " << r.iteration << ": F = " << std::setprecision(12) << r.energy << ", residual "
+          << sci(r.residual) << ", at bound " << r.active << "\n";
+      return true;
+    };
+
+  auto t = Clock::now();
+  const auto built = build_problem(scene);
+  const double mesh_seconds = since(t);
+  if (o.verbosity >= 1 && !o.json)
+    err << "hemivem: " << built->mesh.num_vertices() << " vertices, " << built->mesh.num_elements()
+        << " elements; solving with " << factorization->name() << " and " << minimizer->name() << "\n";
+
+  ReducedProblem reduced;
+  const ContactSolution sol = solve_contact(built->problem, std::move(factorization), *minimizer, mo,
+                                            o.export_reduced.empty() ? nullptr : &reduced);
+  if (!o.export_reduced.empty()) {
+    if (!built->has_contact) throw InputError("the scene has no contact boundary: there is no reduced problem", "--export-reduced");
+    write_reduced_problem(o.export_reduced, reduced);
+  }
+
+  RunInfo info;
+  info.scene_name = scene.title;
+  info.scene_toml = to_toml(scene);
+  info.mesh = scene.mesh.file.empty() ? scene.mesh.generator + " n=" + std::to_string(scene.mesh.n) : scene.mesh.file.string();
+  info.linear = scene.solver.linear;
+  info.minimizer = minimizer->name();
+  info.options = {{"tolerance", sci(mo.tolerance)},
+                  {"max_iterations", std::to_string(mo.max_iterations)},
+                  {"stabilization", to_string(scene.material.stabilization)},
+                  {"plane_model", to_string(scene.material.model)},
+                  {"scene", scene.source}};
+  info.mesh_seconds = mesh_seconds;
+  info.dofs = 0;
+  {
+    // free dofs: what the assembly solved for
+    const DofMap dofs = make_dof_map(built->mesh, built->problem.elasticity.dirichlet);
+    info.dofs = dofs.num_free();
+  }
+  const OutputReport report = write_outputs(o.out, built->mesh, built->problem.elasticity.materials, sol, info,
+                                            wanted_files(scene));
+
+  if (o.json) {
+    out << result_json(built->mesh, sol, info).dump(2) << "\n";
+  } else if (o.verbosity >= 1) {
+    const auto& r = sol.minimizer;
+    int upper = 0, lower = 0;
+    for (const auto& c : sol.contact) upper += c.state == "upper", lower += c.state == "lower";
+    out << std::setprecision(6);
+    out << "hemivem solve: " << scene.title << " (" << scene.source << ")\n"
+        << "  mesh          " << info.mesh << ": " << built->mesh.num_vertices() << " vertices, "
+        << built->mesh.num_elements() << " elements, h = " << built->mesh.h() << ", " << info.dofs << " unknowns\n"
+        << "  engines       linear " << info.linear << ", minimizer " << info.minimizer << "\n"
+        << "  stages        ";
+    for (std::size_t i = 0; i < sol.stages.size(); ++i) out << (i ? ", " : "") << sol.stages[i];
+    out << "\n  status        " << to_string(r.status) << " (certificate: residual " << sci(r.certificate.residual)
+        << ", feasibility " << sci(r.certificate.feasibility) << "; tolerance " << sci(mo.tolerance) << "), "
+        << r.iterations << " iterations\n";
+    if (!sol.contact.empty()) {
+      out << "  uniqueness    lambda_min(S - alpha_j W) = " << sol.uniqueness_margin
+          << (sol.uniqueness_margin > 0 ? " > 0: the solution is unique\n"
+                                        : " <= 0: several critical points are possible; this is one of them\n")
+          << "  contact       " << sol.contact.size() << " nodes: " << upper << " at the upper bound, " << lower
+          << " at the lower bound, " << sol.contact.size() - upper - lower << " free\n";
+    }
+    out << "  energy        " << sol.energy << "\n  time [s]      mesh " << mesh_seconds;
+    for (const char* k : {"assembly", "linear_solve", "condensation", "minimize", "back_substitution"})
+      if (sol.timings.count(k)) out << ", " << k << " " << sol.timings.at(k);
+    out << ", total " << mesh_seconds + sol.timings.at("total") << "\n  wrote         " << o.out << "/ (";
+    for (std::size_t i = 0; i < report.written.size(); ++i) out << (i ? ", " : "") << report.written[i].filename().string();
+    out << ")\n";
+    for (const auto& s : report.skipped) out << "  skipped       " << s << "\n";
+    if (!o.export_reduced.empty()) out << "  reduced       " << o.export_reduced << "/\n";
+  }
+  return sol.converged() ? kSuccess : kNotConverged;
+}
+
+int run_minimize(const MinimizeOptions& o, std::ostream& out, std::ostream&) {
+  const ReducedProblem p = read_reduced_problem(o.folder, o.law.empty() ? nullptr : make_contact_law(o.law));
+  const auto minimizer = make_minimizer(o.minimizer);
+  MinimizerOptions mo;
+  mo.tolerance = o.tolerance;
+  const MinimizerResult r = minimizer->minimize(p, Eigen::VectorXd(), mo);
+  if (o.json) {
+    nlohmann::json j;
+    j["schema"] = "hemivem-minimize/1";
+    j["minimizer"] = minimizer->name();
+    j["law"] = p.law->name();
+    j["constraint"] = to_string(p.constraint);
+    j["size"] = p.size();
+    j["status"] = to_string(r.status);
+    j["converged"] = r.converged();
+    j["message"] = r.message;
+    j["certificate"] = {{"residual", r.certificate.residual}, {"feasibility", r.certificate.feasibility}};
+    j["energy"] = r.energy;
+    j["iterations"] = r.iterations;
+    j["evaluations"] = {{"function", r.function_evaluations}, {"subgradient", r.subgradient_evaluations}};
+    j["may_be_nonunique"] = r.may_be_nonunique;
+    j["timings"] = r.timings;
+    j["a"] = std::vector<double>(r.a.data(), r.a.data() + r.a.size());
+    out << j.dump(2) << "\n";
+  } else if (o.verbosity >= 1) {
+    out << std::setprecision(12) << "hemivem minimize: " << o.folder << " (" << p.size() << " contact nodes, law "
+        << p.law->name() << ", constraint " << to_string(p.constraint) << ")\n"
+        << "  minimizer     " << minimizer->name() << "\n"
+        << "  status        " << to_string(r.status) << " (certificate: residual " << sci(r.certificate.residual)
+        << ", feasibility " << sci(r.certificate.feasibility) << "), " << r.iterations << " iterations, "
+        << r.function_evaluations << " + " << r.subgradient_evaluations << " evaluations\n"
+        << "  F(a)          " << r.energy << "\n"
+        << "  time [s]      " << (r.timings.count("total") ? r.timings.at("total") : 0.0) << "\n";
+    if (r.may_be_nonunique) out << "  note          uniqueness is not guaranteed (margin not positive or unknown)\n";
+  }
+  return r.converged() ? kSuccess : kNotConverged;
+}
+
+}  // namespace hemivem::cli
