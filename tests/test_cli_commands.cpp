@@ -1,0 +1,156 @@
+// End-to-end tests of the hemivem command: they run the built binary.
+#include <nlohmann/json.hpp>
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+
+#include "test_support.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct CommandRun {
+  int code = -1;
+  std::string out;
+};
+
+// Runs the binary with arguments (a shell command line), stdout captured, stderr to a file.
+fs::path stderr_file() { return fs::temp_directory_path() / ("hemivem-cli-stderr-" + std::to_string(::getpid()) + ".txt"); }
+
+CommandRun run(const std::string& args, const fs::path& err_file = stderr_file()) {
+  const std::string cmd = std::string(HEMIVEM_BINARY) + " " + args + " 2>" + err_file.string();
+  CommandRun r;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  std::array<char, 4096> buf{};
+  while (std::size_t n = std::fread(buf.data(), 1, buf.size(), p)) r.out.append(buf.data(), n);
+  const int status = pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+std::string slurp(const fs::path& f) {
+  std::ifstream in(f);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+fs::path scratch(const std::string& name) {
+  const fs::path p = fs::temp_directory_path() / ("hemivem-cli-" + std::to_string(::getpid()) + "-" + name);
+  fs::remove_all(p);
+  return p;
+}
+
+fs::path scenes_dir() { return hemivem::test::data_dir().parent_path().parent_path() / "scenes"; }
+
+TEST(Cli, DefaultSolveIsExample41AndWritesEveryOutput) {
+  const fs::path out = scratch("default");
+  const CommandRun r = run("solve --n 16 --out " + out.string() + " --json");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["schema"], "hemivem-result/1");
+  EXPECT_EQ(j["status"], "converged");
+  EXPECT_LE(j["certificate"]["residual"].get<double>(), 1e-10);
+  EXPECT_EQ(j["contact"].size(), 15u);
+  EXPECT_EQ(j["backends"]["linear"], "eigen");
+  EXPECT_EQ(j["backends"]["minimizer"], "ssn");
+  for (const char* f : {"result.json", "contact.csv", "displacement.csv", "history.csv", "solution.vtu", "scene.toml"})
+    EXPECT_TRUE(fs::exists(out / f)) << f;
+  EXPECT_EQ(nlohmann::json::parse(slurp(out / "result.json")), j);
+  // the resolved scene reproduces the run
+  const fs::path again = scratch("again");
+  const CommandRun r2 = run("solve " + (out / "scene.toml").string() + " --out " + again.string() + " --json");
+  ASSERT_EQ(r2.code, 0);
+  EXPECT_EQ(nlohmann::json::parse(r2.out)["contact"], j["contact"]);
+  fs::remove_all(out);
+  fs::remove_all(again);
+}
+
+TEST(Cli, EveryPairOfEnginesAgrees) {
+  const CommandRun ref = run("solve --n 16 --out " + scratch("pair-ref").string() + " --json");
+  ASSERT_EQ(ref.code, 0);
+  const auto a = nlohmann::json::parse(ref.out)["contact"];
+  for (const std::string linear : {"cholmod", "mumps"}) {
+    for (const std::string minimizer : {"bundle-dca", "nlopt-mma", "ceres-active-set"}) {
+      const CommandRun r = run("solve --n 16 --linear " + linear + " --minimizer " + minimizer + " --tol 1e-9 --out " +
+                        scratch("pair").string() + " --json");
+      if (r.code == 2) continue;  // an engine that was not built
+      ASSERT_EQ(r.code, 0) << linear << " " << minimizer;
+      const auto b = nlohmann::json::parse(r.out)["contact"];
+      ASSERT_EQ(a.size(), b.size());
+      for (std::size_t i = 0; i < a.size(); ++i)
+        EXPECT_NEAR(a[i]["u_nu"].get<double>(), b[i]["u_nu"].get<double>(), 1e-8) << linear << " " << minimizer;
+    }
+  }
+}
+
+TEST(Cli, EveryShippedSceneRuns) {
+  for (const auto& entry : fs::directory_iterator(scenes_dir())) {
+    if (entry.path().extension() != ".toml") continue;
+    const std::string name = entry.path().filename().string();
+    if (name.find("sutton") != std::string::npos && hemivem::test::shared_dir().empty()) continue;
+    const CommandRun r = run("solve " + entry.path().string() + " --n 8 --out " + scratch("scene").string() + " -q");
+    // a scene reading a mesh file refuses --n: run those without it
+    const CommandRun r2 = r.code == 2 ? run("solve " + entry.path().string() + " --out " + scratch("scene").string() + " -q") : r;
+    EXPECT_EQ(r2.code, 0) << name << ": " << slurp(stderr_file());
+  }
+}
+
+TEST(Cli, ExportedReducedProblemSolvesToTheSameAnswer) {
+  const fs::path out = scratch("export"), red = scratch("reduced");
+  const CommandRun r = run("solve --n 16 --out " + out.string() + " --export-reduced " + red.string() + " --json");
+  ASSERT_EQ(r.code, 0);
+  const auto contact = nlohmann::json::parse(r.out)["contact"];
+  for (const std::string m : {"ssn", "bundle-dca"}) {
+    const CommandRun q = run("minimize " + red.string() + " --minimizer " + m + " --json");
+    ASSERT_EQ(q.code, 0) << q.out;
+    const auto j = nlohmann::json::parse(q.out);
+    EXPECT_EQ(j["converged"], true);
+    ASSERT_EQ(j["a"].size(), contact.size());
+    for (std::size_t i = 0; i < contact.size(); ++i)
+      EXPECT_NEAR(j["a"][i].get<double>(), contact[i]["u_nu"].get<double>(), 1e-9);
+  }
+  fs::remove_all(out);
+  fs::remove_all(red);
+}
+
+TEST(Cli, ExitCodes) {
+  const fs::path out = scratch("codes");
+  EXPECT_EQ(run("solve --n 8 --out " + out.string() + " -q").code, 0);
+  EXPECT_EQ(run("solve --no-such-flag").code, 2);
+  EXPECT_EQ(run("solve --linear pardiso --out " + out.string()).code, 2);
+  EXPECT_EQ(run("solve --set contact.gap=-1 --out " + out.string()).code, 2);
+  EXPECT_EQ(run("solve --set contcat.gap=1 --out " + out.string()).code, 2);
+  EXPECT_EQ(run("solve " + (hemivem::test::data_dir() / "scenes-bad" / "negative-gap.toml").string()).code, 2);
+  // not converged: one iteration of the bundle method cannot reach 1e-14; results still written
+  const fs::path nc = scratch("not-converged");
+  const CommandRun r = run("solve --n 8 --minimizer bundle-dca --tol 1e-14 --set solver.max_iterations=1 --out " + nc.string() + " --json");
+  EXPECT_EQ(r.code, 3);
+  EXPECT_EQ(nlohmann::json::parse(r.out)["converged"], false);
+  EXPECT_TRUE(fs::exists(nc / "result.json"));
+  EXPECT_EQ(run("backends").code, 0);
+  EXPECT_EQ(run("--version").code, 0);
+  fs::remove_all(out);
+  fs::remove_all(nc);
+}
+
+TEST(Cli, ErrorsNameTheProblem) {
+  const fs::path err = fs::temp_directory_path() / ("hemivem-cli-err-" + std::to_string(::getpid()));
+  run("solve --set contcat.gap=1", err);
+  EXPECT_NE(slurp(err).find("did you mean 'contact'"), std::string::npos) << slurp(err);
+  run("solve --linear pardiso", err);
+  EXPECT_NE(slurp(err).find("available:"), std::string::npos) << slurp(err);
+  run("minimize " + fs::temp_directory_path().string(), err);
+  EXPECT_NE(slurp(err).find("S.mtx"), std::string::npos) << slurp(err);
+  fs::remove(err);
+}
+
+}  // namespace
