@@ -15,6 +15,8 @@
 #include <iostream>
 #include <limits>
 
+#include "test_support.hpp"
+
 using namespace hemivem;
 
 GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(Minimizer);
@@ -112,27 +114,8 @@ TEST_P(Minimizer, ClosedFormsNodeByNode) {
 
 // ---- Example 4.1 ---------------------------------------------------------------------------
 
-struct Example {
-  Mesh mesh;
-  ContactProblem problem;
-  LinearSystem system;
-  ContactBoundary boundary;
-  std::unique_ptr<Condensation> condensation;
-};
-
-std::unique_ptr<Example> example(const std::string& kind, int n, const std::function<void(ContactProblem&)>& change = {}) {
-  auto ex = std::make_unique<Example>();
-  ex->mesh = make_mesh(kind, n, Rectangle{}, 5);
-  ex->problem = example_4_1(ex->mesh);
-  if (change) change(ex->problem);
-  ex->system = assemble(ex->problem.elasticity);
-  ex->boundary = make_contact_boundary(ex->mesh, ex->problem.contact_edges, ex->system.dofs, ex->problem.gap);
-  FactorizationOptions fo;
-  fo.engine = "eigen";
-  ex->condensation = std::make_unique<Condensation>(ex->system, ex->boundary, make_factorization(fo), ex->problem.law,
-                                                    ex->problem.constraint);
-  return ex;
-}
+using test::Example;
+using test::example;
 
 std::vector<int> at_bound(const ReducedProblem& p, const Eigen::VectorXd& a) {
   std::vector<int> out;

@@ -14,6 +14,8 @@
 #include <cstdio>
 #include <iostream>
 
+#include "test_support.hpp"
+
 using namespace hemivem;
 
 namespace {
@@ -23,27 +25,8 @@ bool built(const std::string& name) {
   return std::find(names.begin(), names.end(), name) != names.end();
 }
 
-struct Example {
-  Mesh mesh;
-  ContactProblem problem;
-  LinearSystem system;
-  ContactBoundary boundary;
-  std::unique_ptr<Condensation> condensation;
-};
-
-std::unique_ptr<Example> example(const std::string& kind, int n, const std::function<void(ContactProblem&)>& change = {}) {
-  auto ex = std::make_unique<Example>();
-  ex->mesh = make_mesh(kind, n, Rectangle{}, 5);
-  ex->problem = example_4_1(ex->mesh);
-  if (change) change(ex->problem);
-  ex->system = assemble(ex->problem.elasticity);
-  ex->boundary = make_contact_boundary(ex->mesh, ex->problem.contact_edges, ex->system.dofs, ex->problem.gap);
-  FactorizationOptions fo;
-  fo.engine = "eigen";
-  ex->condensation = std::make_unique<Condensation>(ex->system, ex->boundary, make_factorization(fo), ex->problem.law,
-                                                    ex->problem.constraint);
-  return ex;
-}
+using test::Example;
+using test::example;
 
 class SmoothEngine : public ::testing::TestWithParam<std::string> {
  protected:

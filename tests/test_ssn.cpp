@@ -18,31 +18,14 @@
 #include <random>
 #include <string>
 
+#include "test_support.hpp"
+
 using namespace hemivem;
 
 namespace {
 
-struct Example {
-  Mesh mesh;
-  ContactProblem problem;
-  LinearSystem system;
-  ContactBoundary boundary;
-  std::unique_ptr<Condensation> condensation;
-};
-
-std::unique_ptr<Example> example(const std::string& kind, int n, const std::function<void(ContactProblem&)>& change = {}) {
-  auto ex = std::make_unique<Example>();
-  ex->mesh = make_mesh(kind, n, Rectangle{}, 5);
-  ex->problem = example_4_1(ex->mesh);
-  if (change) change(ex->problem);
-  ex->system = assemble(ex->problem.elasticity);
-  ex->boundary = make_contact_boundary(ex->mesh, ex->problem.contact_edges, ex->system.dofs, ex->problem.gap);
-  FactorizationOptions fo;
-  fo.engine = "eigen";
-  ex->condensation = std::make_unique<Condensation>(ex->system, ex->boundary, make_factorization(fo), ex->problem.law,
-                                                    ex->problem.constraint);
-  return ex;
-}
+using test::Example;
+using test::example;
 
 // A dense SPD matrix with a dominant diagonal and random coupling, like a small Schur complement.
 ReducedProblem random_problem(int n, std::shared_ptr<const ContactLaw> law, ConstraintKind kind, unsigned seed) {

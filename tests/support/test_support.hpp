@@ -28,3 +28,25 @@ Eigen::VectorXd solve(const LinearSystem& system);
 DirichletCondition dirichlet_everywhere(const Mesh& mesh, VectorField u);
 
 }  // namespace hemivem::test
+
+#include <hemivem/contact.hpp>
+#include <hemivem/contact_problem.hpp>
+
+#include <functional>
+#include <memory>
+
+namespace hemivem::test {
+
+/// Example 4.1 on a generated mesh (seed 5), condensed with the eigen engine.
+struct Example {
+  Mesh mesh;
+  ContactProblem problem;
+  LinearSystem system;
+  ContactBoundary boundary;
+  std::unique_ptr<Condensation> condensation;
+};
+
+/// `change` may modify the problem (law, gap, loads, constraint) before assembly.
+std::unique_ptr<Example> example(const std::string& kind, int n, const std::function<void(ContactProblem&)>& change = {});
+
+}  // namespace hemivem::test
