@@ -328,7 +328,14 @@ std::string bench_plot(const fs::path& dir, const std::vector<Pair>& pairs, cons
       }
     if (!points) continue;
     script << "$d" << p << " << EOD\n" << block.str() << "EOD\n";
-    series.push_back("$d" + std::to_string(p) + " using 1:2 with linespoints title " + gnuplot_quote(pairs[p].label()));
+    // colour by minimizer, dash and point type by linear engine
+    const auto linear = available_factorizations();
+    const auto minimizers = available_minimizers();
+    const auto li = static_cast<std::size_t>(std::find(linear.begin(), linear.end(), pairs[p].linear) - linear.begin());
+    const auto mi = static_cast<std::size_t>(std::find(minimizers.begin(), minimizers.end(), pairs[p].minimizer) - minimizers.begin());
+    series.push_back("$d" + std::to_string(p) + " using 1:2 with linespoints lw 2 ps 1.3 lc " + std::to_string(mi + 1) +
+                     " dt " + std::to_string(li + 1) + " pt " + std::to_string(2 * li + 5) + " title " +
+                     gnuplot_quote(pairs[p].label()));
   }
   if (series.empty()) return "no finite positive error to plot";
   const fs::path png = dir / "bench.png", tmp_png = dir / ".bench.png.tmp";
@@ -336,7 +343,7 @@ std::string bench_plot(const fs::path& dir, const std::vector<Pair>& pairs, cons
             "else { set terminal png size 1100,750 }\n"
          << "set output " << gnuplot_quote(tmp_png.string()) << "\n"
          << "set logscale xy\nset format x '10^{%L}'\nset format y '10^{%L}'\n"
-         << "set xlabel 'error: max|u_h - u_{ref}| / max|u_{ref}|'\nset ylabel 'wall time [s] (total)'\n"
+         << "set xlabel 'error: max|I_h u_h - u_{ref}| / max|u_{ref}|'\nset ylabel 'wall time [s] (total)'\n"
          << "set title 'hemivem bench: work-precision'\nset grid\nset key outside right top\n"
          << "plot ";
   for (std::size_t i = 0; i < series.size(); ++i) script << (i ? ", \\\n     " : "") << series[i];
