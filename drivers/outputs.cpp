@@ -136,7 +136,6 @@ fs::path find_on_path(const std::string& program) {
   return {};
 }
 
-
 namespace {
 
 /// A single-quoted string for the shell (and for gnuplot, which takes '...' with '' as a quote).
@@ -145,6 +144,7 @@ std::string shell_quote(const std::string& s) {
   for (char c : s) r += c == '\'' ? std::string("'\\''") : std::string(1, c);
   return r + "'";
 }
+
 }  // namespace
 
 std::string gnuplot_quote(const std::string& s) {
@@ -152,7 +152,6 @@ std::string gnuplot_quote(const std::string& s) {
   for (char c : s) r += c == '\'' ? std::string("''") : std::string(1, c);
   return r + "'";
 }
-
 
 namespace {
 
@@ -263,7 +262,6 @@ std::string run_gnuplot(const fs::path& gnuplot, const fs::path& script, const f
   return "gnuplot failed (status " + std::to_string(rc) + ")" + (first_line.empty() ? "" : ": " + first_line);
 }
 
-
 namespace {
 
 /// Moves a finished file from the temporary folder into place (copy + atomic rename when the
@@ -284,7 +282,6 @@ bool is_png(const fs::path& p) {
   in.read(sig, 8);
   return in.gcount() == 8 && std::string(sig, 8) == std::string("\x89PNG\r\n\x1a\n", 8);
 }
-
 
 namespace {
 
