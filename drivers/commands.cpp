@@ -59,7 +59,7 @@ std::string sci(double v) {
 
 }  // namespace
 
-int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
+Scene load_scene(const SolveOptions& o) {
   Scene scene = o.scene.empty() ? default_scene() : parse_scene(o.scene);
   if (o.mesh) {
     const bool file = o.mesh->find('/') != std::string::npos || o.mesh->ends_with(".poly2d") || o.mesh->ends_with(".msh");
@@ -74,32 +74,56 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
     apply_override(scene, "solver.tolerance=" + v.str());
   }
   for (const auto& kv : o.set) apply_override(scene, kv);
+  return scene;
+}
 
+double SceneSolve::total_seconds() const {
+  const auto it = solution.timings.find("total");
+  return mesh_seconds + (it == solution.timings.end() ? 0.0 : it->second);
+}
+
+SceneSolve solve_scene(const Scene& scene, const std::function<void(const BuiltProblem&, const SceneSolve&)>& on_built,
+                       std::function<bool(const IterationRecord&)> callback, ReducedProblem* reduced) {
   // Engines first: a name that was not built is an input error before any work.
+  SceneSolve s;
   FactorizationOptions fo;
   fo.engine = scene.solver.linear;
   auto factorization = make_factorization(fo);
   const auto minimizer = make_minimizer(scene.solver.minimizer);
-  MinimizerOptions mo;
-  mo.tolerance = scene.solver.tolerance;
-  mo.max_iterations = scene.solver.max_iterations;
+  s.linear = factorization->name();
+  s.minimizer = minimizer->name();
+  s.options.tolerance = scene.solver.tolerance;
+  s.options.max_iterations = scene.solver.max_iterations;
+  s.options.callback = std::move(callback);
+
+  const auto t = Clock::now();
+  s.built = build_problem(scene);
+  s.mesh_seconds = since(t);
+  if (on_built) on_built(*s.built, s);
+  s.solution = solve_contact(s.built->problem, std::move(factorization), *minimizer, s.options, reduced);
+  return s;
+}
+
+int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
+  const Scene scene = load_scene(o);
+  std::function<bool(const IterationRecord&)> callback;
   if (o.verbosity >= 2 && !o.json)
-    mo.callback = [&](const IterationRecord& r) {
+    callback = [&](const IterationRecord& r) {
       err << "  iteration " << r.iteration << ": F = " << std::setprecision(12) << r.energy << ", residual "
           << sci(r.residual) << ", at bound " << r.active << "\n";
       return true;
     };
-
-  auto t = Clock::now();
-  const auto built = build_problem(scene);
-  const double mesh_seconds = since(t);
-  if (o.verbosity >= 1 && !o.json)
-    err << "hemivem: " << built->mesh.num_vertices() << " vertices, " << built->mesh.num_elements()
-        << " elements; solving with " << factorization->name() << " and " << minimizer->name() << "\n";
-
+  auto announce = [&](const BuiltProblem& built, const SceneSolve& s) {
+    if (o.verbosity >= 1 && !o.json)
+      err << "hemivem: " << built.mesh.num_vertices() << " vertices, " << built.mesh.num_elements()
+          << " elements; solving with " << s.linear << " and " << s.minimizer << "\n";
+  };
   ReducedProblem reduced;
-  const ContactSolution sol = solve_contact(built->problem, std::move(factorization), *minimizer, mo,
-                                            o.export_reduced.empty() ? nullptr : &reduced);
+  SceneSolve solved = solve_scene(scene, announce, callback, o.export_reduced.empty() ? nullptr : &reduced);
+  const auto& built = solved.built;
+  const ContactSolution& sol = solved.solution;
+  const MinimizerOptions& mo = solved.options;
+  const double mesh_seconds = solved.mesh_seconds;
   if (!o.export_reduced.empty()) {
     if (!built->has_contact) throw InputError("the scene has no contact boundary: there is no reduced problem", "--export-reduced");
     write_reduced_problem(o.export_reduced, reduced);
@@ -110,7 +134,7 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   info.scene_toml = to_toml(scene);
   info.mesh = scene.mesh.file.empty() ? scene.mesh.generator + " n=" + std::to_string(scene.mesh.n) : scene.mesh.file.string();
   info.linear = scene.solver.linear;
-  info.minimizer = minimizer->name();
+  info.minimizer = solved.minimizer;
   info.options = {{"tolerance", sci(mo.tolerance)},
                   {"max_iterations", std::to_string(mo.max_iterations)},
                   {"stabilization", to_string(scene.material.stabilization)},

@@ -2,10 +2,16 @@
 // lets InputError / NumericalError escape for main() to report.
 #pragma once
 
+#include <functional>
 #include <iosfwd>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include <hemivem/contact_solver.hpp>
+#include <hemivem/reduced_problem.hpp>
+#include <hemivem/scene.hpp>
 
 namespace hemivem::cli {
 
@@ -22,6 +28,30 @@ struct SolveOptions {
   bool json = false;                    ///< result.json on stdout instead of the summary
   int verbosity = 1;                    ///< 0 quiet, 1 summary, 2 summary and iterations
 };
+
+/// The scene of a command line: the file (empty: the embedded Example 4.1) with the flags
+/// applied in order --mesh, --n, --linear, --minimizer, --tol, then every --set. Unknown keys
+/// and bad values are InputErrors (nothing is built).
+Scene load_scene(const SolveOptions& options);
+
+/// One scene solved with the engines it names (scene.solver.linear / .minimizer).
+struct SceneSolve {
+  std::unique_ptr<BuiltProblem> built;
+  ContactSolution solution;
+  MinimizerOptions options;      ///< the minimizer options in effect
+  std::string linear;            ///< the factorization engine's name
+  std::string minimizer;         ///< the minimizer's name
+  double mesh_seconds = 0.0;     ///< wall time of build_problem (mesh, materials, boundary parts)
+  double total_seconds() const;  ///< mesh_seconds + the solve's total
+};
+
+/// Creates the engines (an unknown or unbuilt name is an InputError before any work), builds
+/// the problem and solves it. `on_built` (optional) is called between building and solving;
+/// `callback` becomes MinimizerOptions::callback; `reduced`, when not null, receives the
+/// reduced problem.
+SceneSolve solve_scene(const Scene& scene,
+                       const std::function<void(const BuiltProblem&, const SceneSolve&)>& on_built = {},
+                       std::function<bool(const IterationRecord&)> callback = {}, ReducedProblem* reduced = nullptr);
 
 /// hemivem solve [SCENE.toml]: scene -> mesh -> assembly -> condensation -> minimizer ->
 /// back-substitution -> the output folder. Exit 0 when converged, kNotConverged otherwise

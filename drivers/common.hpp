@@ -17,6 +17,7 @@ enum ExitCode : int {
   kNotConverged = 3,     ///< a solve finished without reaching its tolerance (results are written, marked)
   kBackendFailure = 4,   ///< an engine failed (e.g. a matrix that is not positive definite)
   kInternalError = 5,
+  kDisagreement = 6,     ///< hemivem check: two converged engine pairs differ by more than --agree
 };
 
 /// Writes a file through `write` into a temporary name in the same folder and renames it

@@ -4,6 +4,8 @@
 //   hemivem minimize DIR [flags]         a reduced problem from files
 //   hemivem mesh KIND --n N -o FILE      a generated mesh as .poly2d
 //   hemivem backends                     the engines that were built
+//   hemivem check [SCENE.toml] [flags]   every pair of engines on one scene, compared
+//   hemivem bench [SCENE.toml] [flags]   time against error for every pair of engines
 #include <CLI/CLI.hpp>
 
 #include <hemivem/error.hpp>
@@ -14,6 +16,7 @@
 
 #include <iostream>
 
+#include "check_bench.hpp"
 #include "commands.hpp"
 #include "common.hpp"
 
@@ -79,6 +82,39 @@ int main(int argc, char** argv) {
 
   auto* cmd_backends = app.add_subcommand("backends", "List the engines that were built");
 
+  // ---- check and bench (drivers/check_bench.hpp, drivers/CHECK_BENCH.md) ----
+  cli::CheckOptions check;
+  bool check_quiet = false;
+  int check_n = 0;
+  double check_tol = 0.0;
+  auto* cmd_check = app.add_subcommand("check", "Solve a scene with every built pair of engines and compare the results");
+  cmd_check->add_option("scene", check.scene, "Scene file (TOML); none: the paper's Example 4.1")->check(CLI::ExistingFile);
+  auto* o_check_n = cmd_check->add_option("--n", check_n, "Elements per side")->check(CLI::Range(1, 1 << 14));
+  auto* o_check_tol = cmd_check->add_option("--tol", check_tol, "Certificate tolerance for every pair")->check(CLI::PositiveNumber);
+  cmd_check->add_option("--set", check.set, "Override a scene key: key=value (repeatable)");
+  cmd_check->add_option("--agree", check.agree, "Largest accepted max|u_a - u_b| / max|u_ref| between converged pairs")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd_check->add_flag("--json", check.json, "Print the report as JSON on stdout instead of the table");
+  cmd_check->add_flag("-q,--quiet", check_quiet, "Print nothing (the exit code tells)");
+
+  cli::BenchOptions bench;
+  bool bench_quiet = false;
+  double bench_tol = 0.0;
+  auto* cmd_bench = app.add_subcommand("bench", "Wall time by stage and error against a fine reference, for every pair of engines");
+  cmd_bench->add_option("scene", bench.scene, "Scene file (TOML); none: the paper's Example 4.1")->check(CLI::ExistingFile);
+  cmd_bench->add_option("--n", bench.n, "Mesh sizes, comma-separated")
+      ->delimiter(',')
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1 << 14));
+  cmd_bench->add_option("--ref", bench.ref, "Mesh size of the reference solution")->capture_default_str()->check(CLI::Range(1, 1 << 14));
+  auto* o_bench_tol = cmd_bench->add_option("--tol", bench_tol, "Certificate tolerance for every pair")->check(CLI::PositiveNumber);
+  cmd_bench->add_option("--set", bench.set, "Override a scene key: key=value (repeatable)");
+  cmd_bench->add_option("--out", bench.out, "Output folder (bench.csv, bench.json, bench.png)")->capture_default_str();
+  cmd_bench->add_flag("--json", bench.json, "Print bench.json on stdout instead of the table");
+  cmd_bench->add_flag("-q,--quiet", bench_quiet, "Print nothing on stdout or stderr");
+  // ---- end check and bench ----
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -106,6 +142,19 @@ int main(int argc, char** argv) {
       write_poly2d(gen_output, m, {gen_kind + " n=" + std::to_string(gen_n) + " seed=" + std::to_string(gen_seed)});
       return cli::kSuccess;
     }
+    // ---- check and bench ----
+    if (*cmd_check) {
+      if (*o_check_n) check.n = check_n;
+      if (*o_check_tol) check.tolerance = check_tol;
+      check.verbosity = check_quiet ? 0 : 1;
+      return cli::run_check(check, std::cout, std::cerr);
+    }
+    if (*cmd_bench) {
+      if (*o_bench_tol) bench.tolerance = bench_tol;
+      bench.verbosity = bench_quiet ? 0 : 1;
+      return cli::run_bench(bench, std::cout, std::cerr);
+    }
+    // ---- end check and bench ----
     if (*cmd_backends) {
       std::cout << engines_text() << "\n";
       return cli::kSuccess;

@@ -120,6 +120,8 @@ void write_vtu(std::ostream& os, const Mesh& mesh, const MaterialTable& material
 
 // ---- plots ----------------------------------------------------------------------
 
+}  // namespace
+
 /// The full path of `program` found on PATH, or empty.
 fs::path find_on_path(const std::string& program) {
   const char* path = std::getenv("PATH");
@@ -134,17 +136,24 @@ fs::path find_on_path(const std::string& program) {
   return {};
 }
 
+namespace {
+
 /// A single-quoted string for the shell (and for gnuplot, which takes '...' with '' as a quote).
 std::string shell_quote(const std::string& s) {
   std::string r = "'";
   for (char c : s) r += c == '\'' ? std::string("'\\''") : std::string(1, c);
   return r + "'";
 }
+
+}  // namespace
+
 std::string gnuplot_quote(const std::string& s) {
   std::string r = "'";
   for (char c : s) r += c == '\'' ? std::string("''") : std::string(1, c);
   return r + "'";
 }
+
+namespace {
 
 /// A private temporary folder removed on destruction.
 class TempDir {
@@ -239,6 +248,8 @@ std::vector<std::vector<ContactPoint>> contact_chains(const Mesh& mesh, const Co
   return chains;
 }
 
+}  // namespace
+
 /// Runs gnuplot on `script`; empty on success, else the reason.
 std::string run_gnuplot(const fs::path& gnuplot, const fs::path& script, const fs::path& log) {
   const std::string command =
@@ -251,6 +262,8 @@ std::string run_gnuplot(const fs::path& gnuplot, const fs::path& script, const f
   return "gnuplot failed (status " + std::to_string(rc) + ")" + (first_line.empty() ? "" : ": " + first_line);
 }
 
+namespace {
+
 /// Moves a finished file from the temporary folder into place (copy + atomic rename when the
 /// two are on different file systems).
 void move_into_place(const fs::path& from, const fs::path& to) {
@@ -261,12 +274,16 @@ void move_into_place(const fs::path& from, const fs::path& to) {
   });
 }
 
+}  // namespace
+
 bool is_png(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
   char sig[8] = {};
   in.read(sig, 8);
   return in.gcount() == 8 && std::string(sig, 8) == std::string("\x89PNG\r\n\x1a\n", 8);
 }
+
+namespace {
 
 void make_plots(const fs::path& dir, const Mesh& mesh, const ContactSolution& sol, bool want_unu, bool want_deformed,
                 OutputReport& report) {

@@ -59,4 +59,16 @@ struct ElementStress {
 std::vector<ElementStress> element_stresses(const Mesh& mesh, const MaterialTable& materials,
                                             const Eigen::VectorXd& u);
 
+// ---- gnuplot, for the commands that draw their own figures -------------------------
+
+/// The full path of `program` found on PATH, or empty.
+std::filesystem::path find_on_path(const std::string& program);
+/// A single-quoted gnuplot string ('' stands for a quote).
+std::string gnuplot_quote(const std::string& s);
+/// Runs `gnuplot` on `script` (output to `log`); empty on success, else the reason.
+std::string run_gnuplot(const std::filesystem::path& gnuplot, const std::filesystem::path& script,
+                        const std::filesystem::path& log);
+/// Whether `p` starts with the PNG signature.
+bool is_png(const std::filesystem::path& p);
+
 }  // namespace hemivem::cli

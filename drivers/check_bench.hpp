@@ -1,0 +1,56 @@
+// hemivem check and hemivem bench: every built (linear, minimizer) pair of engines on one
+// scene, compared with each other (check) or timed against an error (bench).
+// Columns, JSON fields and exit codes: drivers/CHECK_BENCH.md.
+#pragma once
+
+#include <array>
+#include <iosfwd>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include <hemivem/mesh.hpp>
+
+namespace hemivem::cli {
+
+struct CheckOptions {
+  std::string scene;                    ///< scene file; empty: the embedded Example 4.1
+  std::optional<int> n;
+  std::optional<double> tolerance;      ///< certificate tolerance for every pair
+  std::vector<std::string> set;         ///< --set key=value, in order
+  double agree = 1e-6;                  ///< largest relative difference of u accepted between two pairs
+  bool json = false;                    ///< the report as JSON on stdout instead of the table
+  int verbosity = 1;                    ///< 0 quiet, 1 table and progress
+};
+
+/// hemivem check [SCENE]: the scene solved by every available (linear, minimizer) pair.
+/// Exit: kSuccess; kBackendFailure when an engine failed; else kNotConverged when a pair did
+/// not converge; else kDisagreement when two converged pairs differ by more than `agree`.
+int run_check(const CheckOptions& options, std::ostream& out, std::ostream& err);
+
+struct BenchOptions {
+  std::string scene;
+  std::vector<int> n{16, 32, 64, 128};
+  int ref = 256;
+  std::optional<double> tolerance;
+  std::vector<std::string> set;
+  std::string out = "out/bench";
+  bool json = false;                    ///< bench.json also on stdout instead of the table
+  int verbosity = 1;                    ///< 0 quiet, 1 table and progress
+};
+
+/// hemivem bench [SCENE]: wall time by stage and error against a reference solution for
+/// every pair and mesh size; writes bench.csv, bench.json and bench.png into options.out.
+/// Exit: kSuccess, or kNotConverged when the reference or a pair did not converge (files are
+/// still written).
+int run_bench(const BenchOptions& options, std::ostream& out, std::ostream& err);
+
+/// The displacement of a squares mesh (u: 2 per vertex) interpolated bilinearly at `points`,
+/// for a mesh made by the squares generator with `n` cells per side on `domain` (x0, x1, y0,
+/// y1). Throws InputError when the mesh is not that grid.
+Eigen::VectorXd interpolate_squares(const Mesh& mesh, const Eigen::VectorXd& u, int n,
+                                    const std::array<double, 4>& domain, const std::vector<Vec2>& points);
+
+}  // namespace hemivem::cli

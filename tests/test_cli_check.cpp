@@ -1,0 +1,159 @@
+// End-to-end tests of hemivem check and hemivem bench: they run the built binary.
+#include <nlohmann/json.hpp>
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+#include <sys/wait.h>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct CommandRun {
+  int code = -1;
+  std::string out;
+};
+
+fs::path stderr_file() { return fs::temp_directory_path() / ("hemivem-check-stderr-" + std::to_string(::getpid()) + ".txt"); }
+
+// Runs the binary with arguments (a shell command line), stdout captured, stderr to a file.
+CommandRun run(const std::string& args) {
+  const std::string cmd = std::string(HEMIVEM_BINARY) + " " + args + " 2>" + stderr_file().string();
+  CommandRun r;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  std::array<char, 4096> buf{};
+  while (std::size_t n = std::fread(buf.data(), 1, buf.size(), p)) r.out.append(buf.data(), n);
+  const int status = pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+std::string slurp(const fs::path& f) {
+  std::ifstream in(f);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+fs::path scratch(const std::string& name) {
+  const fs::path p = fs::temp_directory_path() / ("hemivem-check-" + std::to_string(::getpid()) + "-" + name);
+  fs::remove_all(p);
+  return p;
+}
+
+std::vector<std::string> split(const std::string& line, char sep = ',') {
+  std::vector<std::string> parts;
+  std::stringstream ss(line);
+  std::string part;
+  while (std::getline(ss, part, sep)) parts.push_back(part);
+  if (!line.empty() && line.back() == sep) parts.emplace_back();
+  return parts;
+}
+
+}  // namespace
+
+TEST(CliCheck, EveryPairConvergesAndAgrees) {
+  const CommandRun r = run("check --n 8 --json");
+  ASSERT_EQ(r.code, 0) << r.out << slurp(stderr_file());
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["schema"], "hemivem-check/1");
+  ASSERT_GE(j["pairs"].size(), 1u);
+  bool reference = false;
+  for (const auto& p : j["pairs"]) {
+    EXPECT_EQ(p["converged"], true) << p["linear"] << "+" << p["minimizer"];
+    ASSERT_TRUE(p["max_difference"].is_number()) << p["linear"] << "+" << p["minimizer"];
+    EXPECT_LT(p["max_difference"].get<double>(), 1e-6) << p["linear"] << "+" << p["minimizer"];
+    reference |= p["linear"] == "eigen" && p["minimizer"] == "ssn";
+  }
+  EXPECT_TRUE(reference);
+  EXPECT_LT(j["max_difference"].get<double>(), 1e-6);
+  EXPECT_EQ(j["differences"].size(), j["pairs"].size());
+  EXPECT_EQ(j["agree_ok"], true);
+  EXPECT_EQ(j["exit_code"], 0);
+}
+
+TEST(CliCheck, DisagreementBeyondAgreeExitsSix) {
+  const CommandRun r = run("check --n 8 --agree 1e-30 --json");
+  EXPECT_EQ(r.code, 6) << slurp(stderr_file());
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["agree_ok"], false);
+  EXPECT_EQ(j["exit_code"], 6);
+  // the terminal table says so too
+  const CommandRun t = run("check --n 8 --agree 1e-30");
+  EXPECT_EQ(t.code, 6);
+  EXPECT_NE(t.out.find("verdict"), std::string::npos) << t.out;
+  EXPECT_NE(t.out.find("eigen"), std::string::npos) << t.out;
+}
+
+TEST(CliCheck, BenchWritesOneRowPerPairAndSizeAndSsnErrorsDecrease) {
+  const fs::path out = scratch("bench");
+  const CommandRun r = run("bench --n 4,8 --ref 16 --out " + out.string() + " -q");
+  ASSERT_EQ(r.code, 0) << slurp(stderr_file());
+  EXPECT_TRUE(r.out.empty()) << r.out;  // -q
+  const auto j = nlohmann::json::parse(slurp(out / "bench.json"));
+  EXPECT_EQ(j["schema"], "hemivem-bench/1");
+  EXPECT_EQ(j["reference"]["n"], 16);
+
+  std::ifstream csv(out / "bench.csv");
+  std::string line;
+  ASSERT_TRUE(std::getline(csv, line));
+  const auto header = split(line);
+  std::map<std::string, std::size_t> col;
+  for (std::size_t i = 0; i < header.size(); ++i) col[header[i]] = i;
+  for (const char* c : {"linear", "minimizer", "n", "mesh", "assembly", "condensation", "minimize",
+                        "back_substitution", "total", "error"})
+    ASSERT_TRUE(col.count(c)) << c;
+
+  std::map<std::string, std::map<int, double>> error;  // pair -> n -> error
+  std::size_t rows = 0;
+  while (std::getline(csv, line)) {
+    if (line.empty()) continue;
+    const auto f = split(line);
+    ASSERT_EQ(f.size(), header.size()) << line;
+    const std::string pair = f[col["linear"]] + "+" + f[col["minimizer"]];
+    const int n = std::stoi(f[col["n"]]);
+    EXPECT_FALSE(error[pair].count(n)) << "duplicate row " << line;
+    ASSERT_FALSE(f[col["error"]].empty()) << line;
+    error[pair][n] = std::stod(f[col["error"]]);
+    EXPECT_GE(std::stod(f[col["total"]]), std::stod(f[col["minimize"]])) << line;
+    ++rows;
+  }
+  ASSERT_EQ(rows, 2 * error.size());
+  EXPECT_EQ(j["rows"].size(), rows);
+  // one row per pair and size: the pairs check reports
+  const auto check = nlohmann::json::parse(run("check --n 4 --json -q").out);
+  EXPECT_EQ(error.size(), check["pairs"].size());
+  int ssn = 0;
+  for (const auto& [pair, by_n] : error) {
+    ASSERT_EQ(by_n.size(), 2u) << pair;
+    if (!pair.ends_with("+ssn")) continue;
+    ++ssn;
+    EXPECT_LT(by_n.at(8), by_n.at(4)) << pair;
+    EXPECT_GT(by_n.at(4), 0.0) << pair;
+  }
+  EXPECT_GE(ssn, 1);
+  fs::remove_all(out);
+}
+
+TEST(CliCheck, BadInputExitsTwo) {
+  EXPECT_EQ(run("check --n 0").code, 2);
+  EXPECT_EQ(run("check --n 4 --set no.such.key=1").code, 2);
+  EXPECT_NE(slurp(stderr_file()).find("no.such.key"), std::string::npos) << slurp(stderr_file());
+  EXPECT_EQ(run("check --n 4 --agree -1").code, 2);
+  const fs::path out = scratch("bad");
+  EXPECT_EQ(run("bench --n 0,4 --ref 8 --out " + out.string()).code, 2);
+  EXPECT_EQ(run("bench --n 4 --ref 8 --set no.such.key=1 --out " + out.string()).code, 2);
+  EXPECT_FALSE(fs::exists(out / "bench.csv"));
+  fs::remove_all(out);
+}
