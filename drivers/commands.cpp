@@ -59,6 +59,26 @@ std::string sci(double v) {
 
 }  // namespace
 
+SceneSolve solve_scene(const Scene& scene, const SceneSolveHooks& hooks, ReducedProblem* reduced) {
+  // Engines first: a name that was not built is an input error before any work.
+  FactorizationOptions fo;
+  fo.engine = scene.solver.linear;
+  auto factorization = make_factorization(fo);
+  const auto minimizer = make_minimizer(scene.solver.minimizer);
+  SceneSolve r;
+  r.options.tolerance = scene.solver.tolerance;
+  r.options.max_iterations = scene.solver.max_iterations;
+  if (hooks.on_iteration) r.options.callback = hooks.on_iteration;
+  r.minimizer = minimizer->name();
+
+  const auto t = Clock::now();
+  r.built = build_problem(scene);
+  r.mesh_seconds = since(t);
+  if (hooks.on_built) hooks.on_built(*r.built, factorization->name(), r.minimizer);
+  r.solution = solve_contact(r.built->problem, std::move(factorization), *minimizer, r.options, reduced);
+  return r;
+}
+
 int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   Scene scene = o.scene.empty() ? default_scene() : parse_scene(o.scene);
   if (o.mesh) {
@@ -75,31 +95,25 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   }
   for (const auto& kv : o.set) apply_override(scene, kv);
 
-  // Engines first: a name that was not built is an input error before any work.
-  FactorizationOptions fo;
-  fo.engine = scene.solver.linear;
-  auto factorization = make_factorization(fo);
-  const auto minimizer = make_minimizer(scene.solver.minimizer);
-  MinimizerOptions mo;
-  mo.tolerance = scene.solver.tolerance;
-  mo.max_iterations = scene.solver.max_iterations;
+  SceneSolveHooks hooks;
   if (o.verbosity >= 2 && !o.json)
-    mo.callback = [&](const IterationRecord& r) {
+    hooks.on_iteration = [&](const IterationRecord& r) {
       err << "  iteration " << r.iteration << ": F = " << std::setprecision(12) << r.energy << ", residual "
           << sci(r.residual) << ", at bound " << r.active << "\n";
       return true;
     };
-
-  auto t = Clock::now();
-  const auto built = build_problem(scene);
-  const double mesh_seconds = since(t);
   if (o.verbosity >= 1 && !o.json)
-    err << "hemivem: " << built->mesh.num_vertices() << " vertices, " << built->mesh.num_elements()
-        << " elements; solving with " << factorization->name() << " and " << minimizer->name() << "\n";
+    hooks.on_built = [&](const BuiltProblem& b, const std::string& linear, const std::string& minimizer) {
+      err << "hemivem: " << b.mesh.num_vertices() << " vertices, " << b.mesh.num_elements()
+          << " elements; solving with " << linear << " and " << minimizer << "\n";
+    };
 
   ReducedProblem reduced;
-  const ContactSolution sol = solve_contact(built->problem, std::move(factorization), *minimizer, mo,
-                                            o.export_reduced.empty() ? nullptr : &reduced);
+  SceneSolve solved = solve_scene(scene, hooks, o.export_reduced.empty() ? nullptr : &reduced);
+  const auto& built = solved.built;
+  const ContactSolution& sol = solved.solution;
+  const MinimizerOptions& mo = solved.options;
+  const double mesh_seconds = solved.mesh_seconds;
   if (!o.export_reduced.empty()) {
     if (!built->has_contact) throw InputError("the scene has no contact boundary: there is no reduced problem", "--export-reduced");
     write_reduced_problem(o.export_reduced, reduced);
@@ -110,7 +124,7 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   info.scene_toml = to_toml(scene);
   info.mesh = scene.mesh.file.empty() ? scene.mesh.generator + " n=" + std::to_string(scene.mesh.n) : scene.mesh.file.string();
   info.linear = scene.solver.linear;
-  info.minimizer = minimizer->name();
+  info.minimizer = solved.minimizer;
   info.options = {{"tolerance", sci(mo.tolerance)},
                   {"max_iterations", std::to_string(mo.max_iterations)},
                   {"stabilization", to_string(scene.material.stabilization)},

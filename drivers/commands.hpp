@@ -2,12 +2,37 @@
 // lets InputError / NumericalError escape for main() to report.
 #pragma once
 
+#include <functional>
 #include <iosfwd>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include <hemivem/contact_solver.hpp>
+#include <hemivem/scene.hpp>
+
 namespace hemivem::cli {
+
+/// One scene solved: what run_solve and run_study share.
+struct SceneSolve {
+  std::unique_ptr<BuiltProblem> built;
+  ContactSolution solution;
+  MinimizerOptions options;     ///< the minimizer options in effect (tolerance, iterations)
+  std::string minimizer;        ///< the minimizer's name
+  double mesh_seconds = 0.0;    ///< wall time of build_problem
+};
+
+/// Hooks of solve_scene: `on_built` runs after the mesh is made and before the solve (with the
+/// engine names), `on_iteration` is the minimizer's callback. Both optional.
+struct SceneSolveHooks {
+  std::function<void(const BuiltProblem&, const std::string& linear, const std::string& minimizer)> on_built;
+  std::function<bool(const IterationRecord&)> on_iteration;
+};
+
+/// The engines named by the scene (unknown names are InputError before any work), then
+/// build_problem and solve_contact. `reduced` as in solve_contact.
+SceneSolve solve_scene(const Scene& scene, const SceneSolveHooks& hooks = {}, ReducedProblem* reduced = nullptr);
 
 struct SolveOptions {
   std::string scene;                    ///< scene file; empty: the embedded Example 4.1

@@ -486,4 +486,12 @@ OutputReport write_outputs(const fs::path& dir, const Mesh& mesh, const Material
   return report;
 }
 
+fs::path find_gnuplot() { return find_on_path("gnuplot"); }
+
+std::string gnuplot_string(const std::string& s) { return gnuplot_quote(s); }
+
+std::string run_gnuplot_script(const fs::path& gnuplot, const fs::path& script, const fs::path& log) {
+  return run_gnuplot(gnuplot, script, log);
+}
+
 }  // namespace hemivem::cli

@@ -59,4 +59,12 @@ struct ElementStress {
 std::vector<ElementStress> element_stresses(const Mesh& mesh, const MaterialTable& materials,
                                             const Eigen::VectorXd& u);
 
+/// Gnuplot for other commands' figures: the full path of gnuplot on PATH (empty when
+/// missing), a string quoted for a gnuplot script, and a run of `script` with its output in
+/// `log` (empty on success, else the reason).
+std::filesystem::path find_gnuplot();
+std::string gnuplot_string(const std::string& s);
+std::string run_gnuplot_script(const std::filesystem::path& gnuplot, const std::filesystem::path& script,
+                               const std::filesystem::path& log);
+
 }  // namespace hemivem::cli
