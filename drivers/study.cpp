@@ -55,8 +55,8 @@ std::optional<double> independent_value(int n) {
 }
 
 constexpr const char* kNote =
-    "the paper's Table 1 column is not reproduced by this or any other implementation of its section 2 "
-    "(DESIGN §6); the independent column is what an exact implementation gives";
+    "the paper's Table 1 column is not reproduced (neither here nor by the independent implementation of "
+    "its section 2, DESIGN §6); the independent column is what that implementation gives";
 
 struct Row {
   int n = 0;
@@ -121,7 +121,7 @@ std::string write_plot(const fs::path& dir, const std::vector<Row>& rows, bool w
       << "plot " << dat << " using 1:2 with linespoints pt 7 lw 2 title 'hemivem'";
     if (with_references)
       g << ", " << dat << " using 1:3 with linespoints pt 5 lw 1 title 'paper (Table 1)'"
-        << ", " << dat << " using 1:4 with linespoints pt 9 lw 1 dt 2 title 'independent (DESIGN 6)'";
+        << ", " << dat << " using 1:4 with points pt 6 ps 2 lw 1.5 title 'independent (DESIGN 6)'";
     g << "\nunset output\n";
   }
   std::string failure = run_gnuplot_script(gnuplot, t / "plot.gp", t / "gnuplot.log");
