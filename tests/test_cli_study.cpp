@@ -192,6 +192,22 @@ TEST(CliStudy, TableNamesThePaperAndSaysItIsNotReproduced) {
   EXPECT_EQ(q.err, "");
 }
 
+TEST(CliStudy, ReferenceValuesOnlyForExample41) {
+  // A different problem has no paper or independent values; the stabilization and the plane
+  // model keep them (the study is used to show their effect).
+  const CommandRun gap = run("study -q --json --n 2,4 --ref 8 --set contact.gap=0.01 --out " + scratch("gap").string());
+  ASSERT_EQ(gap.code, 0) << gap.err;
+  const auto jg = nlohmann::json::parse(gap.out);
+  EXPECT_TRUE(jg["rows"][1]["paper"].is_null());
+  EXPECT_TRUE(jg["rows"][1]["independent"].is_null());
+  EXPECT_FALSE(jg.contains("note"));
+  const CommandRun stress = run("study -q --json --n 2,4 --ref 8 --set material.model=stress --out " + scratch("stress").string());
+  ASSERT_EQ(stress.code, 0) << stress.err;
+  const auto js = nlohmann::json::parse(stress.out);
+  EXPECT_EQ(js["plane_model"], "plane-stress");
+  EXPECT_DOUBLE_EQ(js["rows"][1]["paper"].get<double>(), 0.5207);
+}
+
 TEST(CliStudy, NonSquaresMeshIsAnInputError) {
   const CommandRun r = run("study --n 2 --ref 4 --set mesh.generator=voronoi --out " + scratch("voronoi").string());
   EXPECT_EQ(r.code, 2);
