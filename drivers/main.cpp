@@ -3,6 +3,7 @@
 //   hemivem solve [SCENE.toml] [flags]   a contact problem (default: the paper's Example 4.1)
 //   hemivem minimize DIR [flags]         a reduced problem from files
 //   hemivem mesh KIND --n N -o FILE      a generated mesh as .poly2d
+//   hemivem study [SCENE.toml] [flags]   the convergence study of Table 1 (squares, reference N)
 //   hemivem backends                     the engines that were built
 //   hemivem check [SCENE.toml] [flags]   every pair of engines on one scene, compared
 //   hemivem bench [SCENE.toml] [flags]   time against error for every pair of engines
@@ -19,6 +20,7 @@
 #include "check_bench.hpp"
 #include "commands.hpp"
 #include "common.hpp"
+#include "study.hpp"
 
 namespace {
 
@@ -80,6 +82,26 @@ int main(int argc, char** argv) {
   cmd_mesh->add_option("--domain", gen_domain, "x0 x1 y0 y1")->expected(4)->capture_default_str();
   cmd_mesh->add_option("-o,--output", gen_output, "Output .poly2d file")->required();
 
+  // ---- study ------------------------------------------------------------------------------
+  cli::StudyOptions study;
+  bool study_quiet = false;
+  auto* cmd_study = app.add_subcommand(
+      "study", "Convergence study on nested squares: relative energy error against a reference N (Table 1)");
+  cmd_study->add_option("scene", study.scene, "Scene file (TOML, see scenes/README.md); mesh.generator must be squares")
+      ->check(CLI::ExistingFile);
+  cmd_study->add_option("--n", study.n, "Elements per side of the studied meshes, e.g. 4,8,16,32,64")
+      ->delimiter(',')
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1 << 14));
+  cmd_study->add_option("--ref", study.ref, "Elements per side of the reference mesh (a multiple of every N)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1 << 14));
+  cmd_study->add_option("--set", study.set, "Override a scene key for every solve: key=value (repeatable)");
+  cmd_study->add_option("--out", study.out, "Output folder (study.csv, study.json, study.png)")->capture_default_str();
+  cmd_study->add_flag("--json", study.json, "Print study.json on stdout instead of the table");
+  cmd_study->add_flag("-q,--quiet", study_quiet, "Print nothing on success (no progress lines)");
+  // ---- end study --------------------------------------------------------------------------
+
   auto* cmd_backends = app.add_subcommand("backends", "List the engines that were built");
 
   // ---- check and bench (drivers/check_bench.hpp, drivers/CHECK_BENCH.md) ----
@@ -135,6 +157,10 @@ int main(int argc, char** argv) {
     if (*cmd_min) {
       minimize.verbosity = min_quiet ? 0 : 1;
       return cli::run_minimize(minimize, std::cout, std::cerr);
+    }
+    if (*cmd_study) {  // study
+      study.verbosity = study_quiet ? 0 : 1;
+      return cli::run_study(study, std::cout, std::cerr);
     }
     if (*cmd_mesh) {
       const Rectangle r{gen_domain[0], gen_domain[1], gen_domain[2], gen_domain[3]};

@@ -1,0 +1,369 @@
+#include "study.hpp"
+
+#include <hemivem/error.hpp>
+#include <hemivem/scene.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <limits>
+#include <optional>
+#include <ostream>
+#include <sstream>
+#include <unistd.h>
+
+#include "commands.hpp"
+#include "common.hpp"
+#include "outputs.hpp"
+
+namespace hemivem::cli {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// DESIGN §6: the paper's Table 1 and what an independent implementation of its section 2
+// gives (relative energy error against the N = 256 solution), by N.
+std::optional<double> paper_value(int n) {
+  switch (n) {
+    case 4: return 0.5207;
+    case 8: return 0.3067;
+    case 16: return 0.1789;
+    case 32: return 0.1031;
+    case 64: return 0.05602;
+    default: return std::nullopt;
+  }
+}
+std::optional<double> independent_value(int n) {
+  switch (n) {
+    case 4: return 0.3626;
+    case 8: return 0.2250;
+    case 16: return 0.1369;
+    case 32: return 0.0817;
+    case 64: return 0.0468;
+    case 128: return 0.0237;
+    default: return std::nullopt;
+  }
+}
+
+constexpr const char* kNote =
+    "the paper's Table 1 column is not reproduced (neither here nor by the independent implementation of "
+    "its section 2, DESIGN §6); the independent column is what that implementation gives";
+
+// The values of DESIGN §6 belong to Example 4.1: the default scene up to the mesh size, the
+// engines, the outputs and the two material choices whose effect the study is used to show
+// (stabilization weight, plane model).
+bool is_example_41(const Scene& scene) {
+  const Scene d = default_scene();
+  Scene s = scene;
+  s.title = d.title;
+  s.mesh.n = d.mesh.n;
+  s.mesh.seed = d.mesh.seed;
+  s.solver = d.solver;
+  s.outputs = d.outputs;
+  s.material.stabilization = d.material.stabilization;
+  s.material.model = d.material.model;
+  return s == d;
+}
+
+struct Row {
+  int n = 0;
+  double h = 0.0;
+  double error = 0.0;
+  std::optional<double> rate, paper, independent;
+  bool converged = false;
+  int iterations = 0;
+  double seconds = 0.0;
+};
+
+std::string percent(const std::optional<double>& v, int precision = 2) {
+  if (!v) return "-";
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(precision) << 100.0 * *v << " %";
+  return s.str();
+}
+
+std::string h_text(int n, const std::array<double, 4>& d) {
+  if (d[0] == 0.0 && d[1] == 1.0 && d[2] == 0.0 && d[3] == 1.0) return "1/" + std::to_string(n);
+  std::ostringstream s;
+  s << std::setprecision(4) << std::max(d[1] - d[0], d[3] - d[2]) / n;
+  return s.str();
+}
+
+nlohmann::json opt_json(const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); }
+std::string opt_csv(const std::optional<double>& v) {
+  if (!v) return "";
+  std::ostringstream s;
+  s << std::setprecision(10) << *v;
+  return s.str();
+}
+
+// study.png: log-log error against h, ours beside the paper's and the independent values.
+// Empty on success, else why it was skipped.
+std::string write_plot(const fs::path& dir, const std::vector<Row>& rows, bool with_references) {
+  const fs::path gnuplot = find_on_path("gnuplot");
+  if (gnuplot.empty()) return "gnuplot not found on PATH";
+  const fs::path t = fs::temp_directory_path() / ("hemivem-study-" + std::to_string(::getpid()));
+  fs::remove_all(t);
+  fs::create_directories(t);
+  {
+    std::ofstream d(t / "study.dat");
+    d << std::setprecision(12);
+    for (const auto& r : rows) {
+      d << r.h << " " << 100.0 * r.error;
+      for (const auto& v : {r.paper, r.independent}) {
+        if (v) d << " " << 100.0 * *v;
+        else d << " NaN";
+      }
+      d << "\n";
+    }
+  }
+  const std::string dat = gnuplot_quote((t / "study.dat").string());
+  {
+    std::ofstream g(t / "plot.gp");
+    g << "set terminal pngcairo size 900,650 enhanced font 'sans,11'\n"
+      << "set output " << gnuplot_quote((t / "study.png").string()) << "\n"
+      << "set logscale xy\nset grid\nset key top left\n"
+      << "set title 'relative energy error against the reference solution'\n"
+      << "set xlabel 'h'\nset ylabel 'relative error [%]'\nset datafile missing 'NaN'\n"
+      << "plot " << dat << " using 1:2 with linespoints pt 7 lw 2 title 'hemivem'";
+    if (with_references)
+      g << ", " << dat << " using 1:3 with linespoints pt 5 lw 1 title 'paper (Table 1)'"
+        << ", " << dat << " using 1:4 with points pt 6 ps 2 lw 1.5 title 'independent (DESIGN 6)'";
+    g << "\nunset output\n";
+  }
+  std::string failure = run_gnuplot(gnuplot, t / "plot.gp", t / "gnuplot.log");
+  if (failure.empty()) {
+    if (!fs::exists(t / "study.png")) {
+      failure = "gnuplot made no PNG";
+    } else {
+      write_atomically(dir / "study.png", [&](std::ostream& os) {
+        std::ifstream in(t / "study.png", std::ios::binary);
+        os << in.rdbuf();
+      });
+    }
+  }
+  std::error_code ec;
+  fs::remove_all(t, ec);
+  return failure;
+}
+
+}  // namespace
+
+Eigen::VectorXd prolong_squares(const Eigen::VectorXd& coarse, int nc, int nf) {
+  if (nc < 1 || nf < nc || nf % nc != 0)
+    throw InputError("the fine N (" + std::to_string(nf) + ") is not a multiple of the coarse N (" + std::to_string(nc) + ")");
+  if (coarse.size() != 2 * (nc + 1) * (nc + 1))
+    throw InputError("prolongation: " + std::to_string(coarse.size()) + " values for a squares mesh with N = " +
+                     std::to_string(nc));
+  const int r = nf / nc;
+  Eigen::VectorXd fine(2 * (nf + 1) * (nf + 1));
+  auto cell = [&](int I, int& i, double& f) {
+    i = I / r;
+    f = static_cast<double>(I % r) / r;
+    if (i == nc) i = nc - 1, f = 1.0;
+  };
+  for (int J = 0; J <= nf; ++J) {
+    int j;
+    double fy;
+    cell(J, j, fy);
+    for (int I = 0; I <= nf; ++I) {
+      int i;
+      double fx;
+      cell(I, i, fx);
+      const int v00 = j * (nc + 1) + i, v10 = v00 + 1, v01 = v00 + nc + 1, v11 = v01 + 1;
+      const int V = J * (nf + 1) + I;
+      for (int c = 0; c < 2; ++c)
+        fine[2 * V + c] = (1 - fx) * (1 - fy) * coarse[2 * v00 + c] + fx * (1 - fy) * coarse[2 * v10 + c] +
+                          fx * fy * coarse[2 * v11 + c] + (1 - fx) * fy * coarse[2 * v01 + c];
+    }
+  }
+  return fine;
+}
+
+Eigen::Matrix<double, 8, 8> q1_stiffness(const std::array<Vec2, 4>& v, const Lame& lame) {
+  double x0 = v[0].x(), x1 = x0, y0 = v[0].y(), y1 = y0;
+  for (const auto& p : v) x0 = std::min(x0, p.x()), x1 = std::max(x1, p.x()), y0 = std::min(y0, p.y()), y1 = std::max(y1, p.y());
+  const double a = (x1 - x0) / 2, b = (y1 - y0) / 2, cx = (x0 + x1) / 2, cy = (y0 + y1) / 2;
+  if (!(a > 0) || !(b > 0)) throw InputError("q1_stiffness: a degenerate rectangle");
+  // Each vertex must sit on its own corner of the bounding box.
+  std::array<double, 4> sx{}, sy{};
+  int corners = 0;
+  for (int k = 0; k < 4; ++k) {
+    const double tol = 1e-9 * std::max(a, b);
+    if (std::abs(std::abs(v[k].x() - cx) - a) > tol || std::abs(std::abs(v[k].y() - cy) - b) > tol)
+      throw InputError("q1_stiffness: the element is not an axis-aligned rectangle");
+    sx[k] = v[k].x() > cx ? 1.0 : -1.0;
+    sy[k] = v[k].y() > cy ? 1.0 : -1.0;
+    corners |= 1 << ((sx[k] > 0) + 2 * (sy[k] > 0));
+  }
+  if (corners != 15) throw InputError("q1_stiffness: the element is not an axis-aligned rectangle");
+  const Eigen::Matrix3d C = elasticity_matrix(lame);
+  Eigen::Matrix<double, 8, 8> K = Eigen::Matrix<double, 8, 8>::Zero();
+  const double g = 1.0 / std::sqrt(3.0);
+  for (double xi : {-g, g})
+    for (double eta : {-g, g}) {
+      Eigen::Matrix<double, 3, 8> B = Eigen::Matrix<double, 3, 8>::Zero();
+      for (int k = 0; k < 4; ++k) {
+        const double dx = sx[k] * (1 + sy[k] * eta) / (4 * a), dy = sy[k] * (1 + sx[k] * xi) / (4 * b);
+        B(0, 2 * k) = dx;
+        B(1, 2 * k + 1) = dy;
+        B(2, 2 * k) = dy;
+        B(2, 2 * k + 1) = dx;
+      }
+      K += B.transpose() * C * B * (a * b);
+    }
+  return K;
+}
+
+double q1_energy(const Mesh& mesh, const MaterialTable& materials, const Eigen::VectorXd& u) {
+  if (u.size() != 2 * mesh.num_vertices()) throw InputError("q1_energy: the field does not match the mesh");
+  double sum = 0.0;
+  for (int e = 0; e < mesh.num_elements(); ++e) {
+    const auto ids = mesh.element(e);
+    if (ids.size() != 4) throw InputError("q1_energy: element " + std::to_string(e) + " is not a quadrilateral");
+    std::array<Vec2, 4> v;
+    Eigen::Matrix<double, 8, 1> ue;
+    for (int k = 0; k < 4; ++k) {
+      v[k] = mesh.vertex(ids[k]);
+      ue.segment<2>(2 * k) = u.segment<2>(2 * ids[k]);
+    }
+    sum += ue.dot(q1_stiffness(v, materials.lame(mesh.region(e))) * ue);
+  }
+  return sum;
+}
+
+int run_study(const StudyOptions& o, std::ostream& out, std::ostream& err) {
+  Scene scene = o.scene.empty() ? default_scene() : parse_scene(o.scene);
+  for (const auto& kv : o.set) apply_override(scene, kv);
+  if (!scene.mesh.file.empty() || scene.mesh.generator != "squares")
+    throw InputError("study needs nested square meshes (mesh.generator = squares)", scene.where("mesh.generator"));
+  if (o.n.empty()) throw InputError("no N given", "--n");
+  if (o.ref < 1) throw InputError("the reference N must be positive", "--ref");
+  std::vector<int> ns = o.n;
+  std::sort(ns.begin(), ns.end());
+  ns.erase(std::unique(ns.begin(), ns.end()), ns.end());
+  for (int n : ns) {
+    if (n < 1) throw InputError("N = " + std::to_string(n) + " is not positive", "--n");
+    if (n >= o.ref || o.ref % n != 0)
+      throw InputError("N = " + std::to_string(n) + " does not divide the reference N = " + std::to_string(o.ref) +
+                           " (study needs nested square meshes, coarser than the reference)",
+                       "--n");
+  }
+  const bool progress = o.verbosity >= 1;
+  const bool references = is_example_41(scene);
+
+  bool all_converged = true;
+  auto solve_n = [&](int n) {
+    Scene s = scene;
+    s.mesh.n = n;
+    const auto t = Clock::now();
+    SceneSolve r = solve_scene(s);
+    all_converged = all_converged && r.solution.converged();
+    if (progress)
+      err << "hemivem study: N = " << n << ": " << r.built->mesh.num_vertices() << " vertices, "
+          << to_string(r.solution.minimizer.status) << " (" << r.solution.minimizer.iterations << " iterations), "
+          << std::fixed << std::setprecision(2) << since(t) << std::defaultfloat << " s\n";
+    return r;
+  };
+
+  // The reference first; its mesh and field stay, each coarse solve is dropped once measured.
+  const SceneSolve ref = solve_n(o.ref);
+  const Mesh& ref_mesh = ref.built->mesh;
+  const MaterialTable& materials = ref.built->problem.elasticity.materials;
+  const Eigen::VectorXd& u_ref = ref.solution.u;
+  const double ref_norm = std::sqrt(q1_energy(ref_mesh, materials, u_ref) / 2.0);
+  if (!(ref_norm > 0)) throw InputError("the reference solution is zero: there is no relative error to measure");
+
+  std::vector<Row> rows;
+  for (int n : ns) {
+    const auto t = Clock::now();
+    const SceneSolve c = solve_n(n);
+    const Eigen::VectorXd diff = u_ref - prolong_squares(c.solution.u, n, o.ref);
+    Row row;
+    row.n = n;
+    row.h = std::max(scene.mesh.domain[1] - scene.mesh.domain[0], scene.mesh.domain[3] - scene.mesh.domain[2]) / n;
+    row.error = std::sqrt(q1_energy(ref_mesh, materials, diff) / 2.0) / ref_norm;
+    row.converged = c.solution.converged();
+    row.iterations = c.solution.minimizer.iterations;
+    row.seconds = since(t);
+    if (!rows.empty())
+      row.rate = std::log(rows.back().error / row.error) / std::log(static_cast<double>(n) / rows.back().n);
+    if (references) row.paper = paper_value(n), row.independent = independent_value(n);
+    rows.push_back(row);
+  }
+
+  // Outputs.
+  fs::create_directories(o.out);
+  nlohmann::json j;
+  j["schema"] = "hemivem-study/1";
+  j["scene"] = scene.title;
+  j["source"] = scene.source;
+  j["norm"] = "||v||_E = (1/sqrt 2) (sigma(v), eps(v))^(1/2), exact for the bilinear difference on the reference mesh";
+  j["reference"] = {{"n", o.ref},
+                    {"energy_norm", ref_norm},
+                    {"converged", ref.solution.converged()},
+                    {"iterations", ref.solution.minimizer.iterations}};
+  j["plane_model"] = to_string(scene.material.model);
+  j["stabilization"] = to_string(scene.material.stabilization);
+  j["overrides"] = o.set;
+  j["converged"] = all_converged;
+  j["rows"] = nlohmann::json::array();
+  for (const auto& r : rows)
+    j["rows"].push_back({{"n", r.n},
+                         {"h", r.h},
+                         {"error", r.error},
+                         {"rate", opt_json(r.rate)},
+                         {"paper", opt_json(r.paper)},
+                         {"independent", opt_json(r.independent)},
+                         {"converged", r.converged},
+                         {"iterations", r.iterations},
+                         {"seconds", r.seconds}});
+  if (references) j["note"] = kNote;
+
+  std::vector<std::string> written{"study.csv", "study.json"};
+  write_atomically(fs::path(o.out) / "study.csv", [&](std::ostream& os) {
+    os << "h,N,error,rate,paper,independent\n" << std::setprecision(10);
+    for (const auto& r : rows)
+      os << r.h << "," << r.n << "," << r.error << "," << opt_csv(r.rate) << "," << opt_csv(r.paper) << ","
+         << opt_csv(r.independent) << "\n";
+  });
+  write_atomically(fs::path(o.out) / "study.json", [&](std::ostream& os) { os << j.dump(2) << "\n"; });
+  const std::string skipped = write_plot(o.out, rows, references);
+  if (skipped.empty()) written.emplace_back("study.png");
+
+  if (o.json) {
+    out << j.dump(2) << "\n";
+  } else if (o.verbosity >= 1) {
+    out << "hemivem study: " << scene.title << " (" << scene.source << "), squares, reference N = " << o.ref << ", "
+        << to_string(scene.material.model) << ", stabilization " << to_string(scene.material.stabilization) << "\n"
+        << "  relative energy error ||u_ref - P u_h||_E / ||u_ref||_E (exact, bilinear, on the reference mesh)\n\n";
+    out << std::right << std::setw(8) << "h" << std::setw(6) << "N" << std::setw(11) << "error" << std::setw(7) << "rate"
+        << std::setw(11) << "paper" << std::setw(14) << "independent" << "\n";
+    for (const auto& r : rows) {
+      std::ostringstream rate;
+      if (r.rate) rate << std::fixed << std::setprecision(2) << *r.rate;
+      else rate << "-";
+      out << std::setw(8) << h_text(r.n, scene.mesh.domain) << std::setw(6) << r.n << std::setw(11) << percent(r.error)
+          << std::setw(7) << rate.str() << std::setw(11) << percent(r.paper, r.n == 64 ? 3 : 2) << std::setw(14)
+          << percent(r.independent) << (r.converged ? "" : "  (not converged)") << "\n";
+    }
+    out << "\n";
+    if (references) out << "  note: " << kNote << ".\n";
+    out << "  wrote " << o.out << "/ (";
+    for (std::size_t i = 0; i < written.size(); ++i) out << (i ? ", " : "") << written[i];
+    out << ")\n";
+    if (!skipped.empty()) out << "  skipped study.png: " << skipped << "\n";
+  }
+  return all_converged && ref.solution.converged() ? kSuccess : kNotConverged;
+}
+
+}  // namespace hemivem::cli
