@@ -15,42 +15,17 @@
 #include <unistd.h>
 #include <sys/wait.h>
 
+#include "test_support.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
 
-struct CommandRun {
-  int code = -1;
-  std::string out;
-};
+using hemivem::test::CommandRun;
+using hemivem::test::scratch;
+using hemivem::test::slurp;
+CommandRun run(const std::string& args) { return hemivem::test::run_hemivem(args); }
 
-fs::path stderr_file() { return fs::temp_directory_path() / ("hemivem-check-stderr-" + std::to_string(::getpid()) + ".txt"); }
-
-// Runs the binary with arguments (a shell command line), stdout captured, stderr to a file.
-CommandRun run(const std::string& args) {
-  const std::string cmd = std::string(HEMIVEM_BINARY) + " " + args + " 2>" + stderr_file().string();
-  CommandRun r;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf{};
-  while (std::size_t n = std::fread(buf.data(), 1, buf.size(), p)) r.out.append(buf.data(), n);
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
-std::string slurp(const fs::path& f) {
-  std::ifstream in(f);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-fs::path scratch(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() / ("hemivem-check-" + std::to_string(::getpid()) + "-" + name);
-  fs::remove_all(p);
-  return p;
-}
 
 std::vector<std::string> split(const std::string& line, char sep = ',') {
   std::vector<std::string> parts;
@@ -65,7 +40,7 @@ std::vector<std::string> split(const std::string& line, char sep = ',') {
 
 TEST(CliCheck, EveryPairConvergesAndAgrees) {
   const CommandRun r = run("check --n 8 --json");
-  ASSERT_EQ(r.code, 0) << r.out << slurp(stderr_file());
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["schema"], "hemivem-check/1");
   ASSERT_GE(j["pairs"].size(), 1u);
@@ -85,7 +60,7 @@ TEST(CliCheck, EveryPairConvergesAndAgrees) {
 
 TEST(CliCheck, DisagreementBeyondAgreeExitsSix) {
   const CommandRun r = run("check --n 8 --agree 1e-30 --json");
-  EXPECT_EQ(r.code, 6) << slurp(stderr_file());
+  EXPECT_EQ(r.code, 6) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["agree_ok"], false);
   EXPECT_EQ(j["exit_code"], 6);
@@ -99,7 +74,7 @@ TEST(CliCheck, DisagreementBeyondAgreeExitsSix) {
 TEST(CliCheck, BenchWritesOneRowPerPairAndSizeAndSsnErrorsDecrease) {
   const fs::path out = scratch("bench");
   const CommandRun r = run("bench --n 4,8 --ref 16 --out " + out.string() + " -q");
-  ASSERT_EQ(r.code, 0) << slurp(stderr_file());
+  ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(r.out.empty()) << r.out;  // -q
   const auto j = nlohmann::json::parse(slurp(out / "bench.json"));
   EXPECT_EQ(j["schema"], "hemivem-bench/1");
@@ -148,8 +123,9 @@ TEST(CliCheck, BenchWritesOneRowPerPairAndSizeAndSsnErrorsDecrease) {
 
 TEST(CliCheck, BadInputExitsTwo) {
   EXPECT_EQ(run("check --n 0").code, 2);
-  EXPECT_EQ(run("check --n 4 --set no.such.key=1").code, 2);
-  EXPECT_NE(slurp(stderr_file()).find("no.such.key"), std::string::npos) << slurp(stderr_file());
+  const CommandRun bad_key = run("check --n 4 --set no.such.key=1");
+  EXPECT_EQ(bad_key.code, 2);
+  EXPECT_NE(bad_key.err.find("no.such.key"), std::string::npos) << bad_key.err;
   EXPECT_EQ(run("check --n 4 --agree -1").code, 2);
   const fs::path out = scratch("bad");
   EXPECT_EQ(run("bench --n 0,4 --ref 8 --out " + out.string()).code, 2);

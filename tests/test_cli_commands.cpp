@@ -16,38 +16,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct CommandRun {
-  int code = -1;
-  std::string out;
-};
-
-// Runs the binary with arguments (a shell command line), stdout captured, stderr to a file.
-fs::path stderr_file() { return fs::temp_directory_path() / ("hemivem-cli-stderr-" + std::to_string(::getpid()) + ".txt"); }
-
-CommandRun run(const std::string& args, const fs::path& err_file = stderr_file()) {
-  const std::string cmd = std::string(HEMIVEM_BINARY) + " " + args + " 2>" + err_file.string();
-  CommandRun r;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf{};
-  while (std::size_t n = std::fread(buf.data(), 1, buf.size(), p)) r.out.append(buf.data(), n);
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
-std::string slurp(const fs::path& f) {
-  std::ifstream in(f);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-fs::path scratch(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() / ("hemivem-cli-" + std::to_string(::getpid()) + "-" + name);
-  fs::remove_all(p);
-  return p;
-}
+using hemivem::test::CommandRun;
+using hemivem::test::scratch;
+using hemivem::test::slurp;
+CommandRun run(const std::string& args) { return hemivem::test::run_hemivem(args); }
 
 fs::path scenes_dir() { return hemivem::test::data_dir().parent_path().parent_path() / "scenes"; }
 
@@ -100,7 +72,7 @@ TEST(Cli, EveryShippedSceneRuns) {
     const CommandRun r = run("solve " + entry.path().string() + " --n 8 --out " + scratch("scene").string() + " -q");
     // a scene reading a mesh file refuses --n: run those without it
     const CommandRun r2 = r.code == 2 ? run("solve " + entry.path().string() + " --out " + scratch("scene").string() + " -q") : r;
-    EXPECT_EQ(r2.code, 0) << name << ": " << slurp(stderr_file());
+    EXPECT_EQ(r2.code, 0) << name << ": " << r2.err;
   }
 }
 
@@ -143,14 +115,12 @@ TEST(Cli, ExitCodes) {
 }
 
 TEST(Cli, ErrorsNameTheProblem) {
-  const fs::path err = fs::temp_directory_path() / ("hemivem-cli-err-" + std::to_string(::getpid()));
-  run("solve --set contcat.gap=1", err);
-  EXPECT_NE(slurp(err).find("did you mean 'contact'"), std::string::npos) << slurp(err);
-  run("solve --linear pardiso", err);
-  EXPECT_NE(slurp(err).find("available:"), std::string::npos) << slurp(err);
-  run("minimize " + fs::temp_directory_path().string(), err);
-  EXPECT_NE(slurp(err).find("S.mtx"), std::string::npos) << slurp(err);
-  fs::remove(err);
+  const CommandRun a = run("solve --set contcat.gap=1");
+  EXPECT_NE(a.err.find("did you mean 'contact'"), std::string::npos) << a.err;
+  const CommandRun b = run("solve --linear pardiso");
+  EXPECT_NE(b.err.find("available:"), std::string::npos) << b.err;
+  const CommandRun c = run("minimize " + fs::temp_directory_path().string());
+  EXPECT_NE(c.err.find("S.mtx"), std::string::npos) << c.err;
 }
 
 }  // namespace

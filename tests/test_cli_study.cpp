@@ -19,6 +19,8 @@
 
 #include "study.hpp"
 
+#include "test_support.hpp"
+
 namespace fs = std::filesystem;
 using hemivem::Vec2;
 
@@ -115,37 +117,11 @@ TEST(StudyQ1Energy, ElementMatchesTheVemConsistencyForLinearFields) {
 
 // ---- end to end ----------------------------------------------------------------------------
 
-struct CommandRun {
-  int code = -1;
-  std::string out, err;
-};
+using hemivem::test::CommandRun;
+using hemivem::test::scratch;
+using hemivem::test::slurp;
+CommandRun run(const std::string& args) { return hemivem::test::run_hemivem(args); }
 
-std::string slurp(const fs::path& f) {
-  std::ifstream in(f);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-CommandRun run(const std::string& args) {
-  const fs::path err = fs::temp_directory_path() / ("hemivem-study-stderr-" + std::to_string(::getpid()) + ".txt");
-  const std::string cmd = std::string(HEMIVEM_BINARY) + " " + args + " 2>" + err.string();
-  CommandRun r;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf{};
-  while (std::size_t n = std::fread(buf.data(), 1, buf.size(), p)) r.out.append(buf.data(), n);
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.err = slurp(err);
-  return r;
-}
-
-fs::path scratch(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() / ("hemivem-study-" + std::to_string(::getpid()) + "-" + name);
-  fs::remove_all(p);
-  return p;
-}
 
 TEST(CliStudy, SmallStudyRunsAndItsErrorsDecrease) {
   const fs::path out = scratch("small");

@@ -63,3 +63,43 @@ std::unique_ptr<Example> example(const std::string& kind, int n, const std::func
 }
 
 }  // namespace hemivem::test
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+namespace hemivem::test {
+
+std::string slurp(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::filesystem::path scratch(const std::string& name) {
+  const auto p = std::filesystem::temp_directory_path() / ("hemivem-test-" + std::to_string(::getpid()) + "-" + name);
+  std::filesystem::remove_all(p);
+  return p;
+}
+
+CommandRun run_hemivem(const std::string& args) {
+  const auto err = std::filesystem::temp_directory_path() / ("hemivem-test-stderr-" + std::to_string(::getpid()) + ".txt");
+  const std::string cmd = std::string(HEMIVEM_BINARY) + " " + args + " 2>" + err.string();
+  CommandRun r;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  std::array<char, 4096> buf{};
+  while (std::size_t n = std::fread(buf.data(), 1, buf.size(), p)) r.out.append(buf.data(), n);
+  const int status = pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.err = slurp(err);
+  std::filesystem::remove(err);
+  return r;
+}
+
+}  // namespace hemivem::test

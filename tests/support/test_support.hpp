@@ -50,3 +50,20 @@ struct Example {
 std::unique_ptr<Example> example(const std::string& kind, int n, const std::function<void(ContactProblem&)>& change = {});
 
 }  // namespace hemivem::test
+
+namespace hemivem::test {
+
+/// A run of the built hemivem binary: exit code, standard output and standard error.
+struct CommandRun {
+  int code = -1;
+  std::string out;
+  std::string err;
+};
+/// Runs `hemivem ARGS` (ARGS as on a shell command line).
+CommandRun run_hemivem(const std::string& args);
+/// The contents of a file ("" when it cannot be read).
+std::string slurp(const std::filesystem::path& file);
+/// A fresh, absent path in the temporary folder, unique to this process and `name`.
+std::filesystem::path scratch(const std::string& name);
+
+}  // namespace hemivem::test
