@@ -132,26 +132,13 @@ MinimizerResult CeresActiveSetMinimizer::minimize(const ReducedProblem& p, const
     return result;
   }
   const double cscale = std::max(p.c.size() ? p.c.cwiseAbs().maxCoeff() : 0.0, 1e-300);
-  const double scale_a = std::max({p.g.size() ? p.g.cwiseAbs().maxCoeff() : 0.0, a.cwiseAbs().maxCoeff(),
-                                   cscale / std::max(p.S.diagonal().minCoeff(), 1e-300)});
-  const double snap = extra["snap"] * std::max(scale_a, 1e-300);
+  const double snap = extra["snap"] * std::max(smoothing::length_scale(p, a), 1e-300);
   int fevals = 0, gevals = 0;
   smoothing::BestPoint best;
   MinimizerStatus reason = MinimizerStatus::stalled;
   std::string message;
 
-  auto record = [&](const Eigen::VectorXd& x) {
-    IterationRecord r;
-    r.iteration = ++result.iterations;
-    r.energy = p.energy(x);
-    const Certificate c = certificate(p, x);
-    r.residual = c.residual;
-    r.feasibility = c.feasibility;
-    r.active = smoothing::count_active(p, x);
-    r.seconds = clock.seconds();
-    result.history.push_back(r);
-    return !o.callback || o.callback(r);
-  };
+  auto record = [&](const Eigen::VectorXd& x) { return smoothing::record_iteration(p, o, clock.seconds(), x, result); };
 
   // minimizes F_eps over the nodes not in `active` (Ceres LBFGS, unconstrained), then projects
   auto solve = [&](const SmoothedLaw& law, const std::vector<char>& active, bool final_stage) {

@@ -89,26 +89,14 @@ MinimizerResult NloptMmaMinimizer::minimize(const ReducedProblem& p, const Eigen
     result.message = "empty problem";
     return result;
   }
-  const double scale_a = std::max({p.g.size() ? p.g.cwiseAbs().maxCoeff() : 0.0, a.cwiseAbs().maxCoeff(),
-                                   p.c.cwiseAbs().maxCoeff() / std::max(p.S.diagonal().minCoeff(), 1e-300)});
+  const double scale_a = smoothing::length_scale(p, a);
   const double snap = extra["snap"] * std::max(scale_a, 1e-300);
   int fevals = 0, gevals = 0;
   smoothing::BestPoint best;
   MinimizerStatus reason = MinimizerStatus::stalled;
   std::string message;
 
-  auto record = [&](const Eigen::VectorXd& x) {
-    IterationRecord r;
-    r.iteration = ++result.iterations;
-    r.energy = p.energy(x);
-    const Certificate c = certificate(p, x);
-    r.residual = c.residual;
-    r.feasibility = c.feasibility;
-    r.active = smoothing::count_active(p, x);
-    r.seconds = clock.seconds();
-    result.history.push_back(r);
-    return !o.callback || o.callback(r);
-  };
+  auto record = [&](const Eigen::VectorXd& x) { return smoothing::record_iteration(p, o, clock.seconds(), x, result); };
 
   // one MMA run at smoothing scale eps over the nodes not pinned; returns false on a hard stop
   auto run = [&](const SmoothedLaw& law, const std::vector<char>& pinned, bool final_stage, bool polish) {

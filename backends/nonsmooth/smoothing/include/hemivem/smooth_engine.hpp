@@ -153,6 +153,29 @@ inline int count_active(const ReducedProblem& p, const Eigen::VectorXd& a) {
   return n;
 }
 
+/// Appends the record of x to result.history (iteration = ++result.iterations) and returns the
+/// callback's verdict (true: go on).
+inline bool record_iteration(const ReducedProblem& p, const MinimizerOptions& o, double seconds,
+                             const Eigen::VectorXd& x, MinimizerResult& result) {
+  IterationRecord r;
+  r.iteration = ++result.iterations;
+  r.energy = p.energy(x);
+  const Certificate c = certificate(p, x);
+  r.residual = c.residual;
+  r.feasibility = c.feasibility;
+  r.active = count_active(p, x);
+  r.seconds = seconds;
+  result.history.push_back(r);
+  return !o.callback || o.callback(r);
+}
+
+/// A length scale of the unknowns: the largest gap, |a| of the start, or |c| / min S_ii.
+inline double length_scale(const ReducedProblem& p, const Eigen::VectorXd& a) {
+  const double cmax = std::max(p.c.size() ? p.c.cwiseAbs().maxCoeff() : 0.0, 1e-300);
+  return std::max({p.g.size() ? p.g.cwiseAbs().maxCoeff() : 0.0, a.size() ? a.cwiseAbs().maxCoeff() : 0.0,
+                   cmax / std::max(p.S.diagonal().minCoeff(), 1e-300)});
+}
+
 /// Keeps the best point seen: certified points first, then the smallest residual.
 struct BestPoint {
   Eigen::VectorXd a;
