@@ -33,6 +33,8 @@
 // anything is sized from it, and every error names "path:line".
 #include <hemivem/gmsh.hpp>
 
+#include "text_lines.hpp"
+
 #include <algorithm>
 #include <cerrno>
 #include <charconv>
@@ -53,7 +55,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr std::string_view kWhitespace = " \t\r\v\f";
 
 /// A token or line for an error message: at most 48 characters, control and non-ASCII
 /// bytes shown as \xNN.
@@ -101,10 +102,7 @@ bool parse_real(std::string_view token, double& value) {
   return std::isfinite(value);
 }
 
-struct Line {
-  int number = 0;
-  std::string_view text;
-};
+using text::Line;
 
 /// Element types: nodes per element and dimension, or 0 nodes when unsupported.
 struct ElementType {
@@ -216,36 +214,8 @@ class GmshReader {
  private:
   // ---- lines and tokens
 
-  void split() {
-    std::size_t start = 0;
-    int number = 0;
-    while (start < data_.size()) {
-      std::size_t end = data_.find('\n', start);
-      if (end == std::string::npos) end = data_.size();
-      if (number == INT_MAX) fail(number, "the file has too many lines");
-      ++number;
-      std::string_view text(data_.data() + start, end - start);
-      start = end + 1;
-      const std::size_t first = text.find_first_not_of(kWhitespace);
-      if (first == std::string_view::npos) continue;
-      text = text.substr(first, text.find_last_not_of(kWhitespace) - first + 1);
-      lines_.push_back({number, text});
-    }
-    last_line_ = std::max(number, 1);
-  }
-
-  void tokenize(std::string_view text) {
-    tokens_.clear();
-    std::size_t i = 0;
-    while (true) {
-      i = text.find_first_not_of(kWhitespace, i);
-      if (i == std::string_view::npos) break;
-      std::size_t j = text.find_first_of(kWhitespace, i);
-      if (j == std::string_view::npos) j = text.size();
-      tokens_.push_back(text.substr(i, j - i));
-      i = j;
-    }
-  }
+  void split() { last_line_ = text::split_lines(data_, name_, lines_); }
+  void tokenize(std::string_view line) { text::tokenize(line, tokens_); }
 
   std::string where(int line) const { return name_ + ":" + std::to_string(line); }
   [[noreturn]] void fail(int line, const std::string& message) const { throw InputError(message, where(line)); }

@@ -9,6 +9,8 @@
 #include <hemivem/atomic_file.hpp>
 #include <hemivem/mesh_io.hpp>
 
+#include "text_lines.hpp"
+
 #include <algorithm>
 #include <cerrno>
 #include <charconv>
@@ -29,7 +31,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr std::string_view kWhitespace = " \t\r\v\f";
+using text::kWhitespace;
 
 bool is_keyword(std::string_view t) { return t == "vertices" || t == "elements" || t == "boundary"; }
 
@@ -96,10 +98,7 @@ Parse parse_real(std::string_view token, double& value) {
   return Parse::ok;
 }
 
-struct Line {
-  int number = 0;          // 1-based line number in the file
-  std::string_view text;   // without leading/trailing whitespace (and without '\r')
-};
+using text::Line;
 
 class Poly2dReader {
  public:
@@ -221,42 +220,8 @@ class Poly2dReader {
   }
 
  private:
-  void split() {
-    std::size_t start = 0;
-    int number = 0;
-    while (start < data_.size()) {
-      std::size_t end = data_.find('\n', start);
-      if (end == std::string::npos) end = data_.size();
-      if (number == INT_MAX) fail(number, "the file has too many lines");
-      ++number;
-      std::string_view text(data_.data() + start, end - start);
-      start = end + 1;
-      const std::size_t first = text.find_first_not_of(kWhitespace);
-      if (first == std::string_view::npos) continue;  // blank
-      text = text.substr(first, text.find_last_not_of(kWhitespace) - first + 1);
-      if (text.front() == '#') {
-        text.remove_prefix(1);
-        if (!text.empty() && text.front() == ' ') text.remove_prefix(1);
-        comments_.emplace_back(text);
-        continue;
-      }
-      lines_.push_back({number, text});
-    }
-    last_line_ = std::max(number, 1);
-  }
-
-  void tokenize(std::string_view text) {
-    tokens_.clear();
-    std::size_t i = 0;
-    while (true) {
-      i = text.find_first_not_of(kWhitespace, i);
-      if (i == std::string_view::npos) break;
-      std::size_t j = text.find_first_of(kWhitespace, i);
-      if (j == std::string_view::npos) j = text.size();
-      tokens_.push_back(text.substr(i, j - i));
-      i = j;
-    }
-  }
+  void split() { last_line_ = text::split_lines(data_, name_, lines_, '#', &comments_); }
+  void tokenize(std::string_view line) { text::tokenize(line, tokens_); }
 
   std::string where(int line) const { return name_ + ":" + std::to_string(line); }
   std::string where(const Line& line) const { return where(line.number); }

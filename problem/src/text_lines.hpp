@@ -1,0 +1,64 @@
+// Line splitting and tokenizing shared by the text mesh readers (.poly2d, Gmsh).
+#pragma once
+
+#include <hemivem/error.hpp>
+
+#include <algorithm>
+#include <climits>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace hemivem::text {
+
+inline constexpr std::string_view kWhitespace = " \t\r\v\f";
+
+struct Line {
+  int number = 0;         ///< 1-based line number in the file
+  std::string_view text;  ///< without leading/trailing whitespace (and without '\r')
+};
+
+/// Splits `data` into its non-blank lines, trimmed, with their numbers. When `comment` is
+/// not 0, a line starting with it goes to `comments` instead (without it and one following
+/// space). Returns the number of the last line (at least 1). `where` names the file in the
+/// error thrown for more than INT_MAX lines.
+inline int split_lines(std::string_view data, const std::string& where, std::vector<Line>& lines, char comment = 0,
+                       std::vector<std::string>* comments = nullptr) {
+  std::size_t start = 0;
+  int number = 0;
+  while (start < data.size()) {
+    std::size_t end = data.find('\n', start);
+    if (end == std::string_view::npos) end = data.size();
+    if (number == INT_MAX) throw InputError("the file has too many lines", where + ":" + std::to_string(number));
+    ++number;
+    std::string_view text = data.substr(start, end - start);
+    start = end + 1;
+    const std::size_t first = text.find_first_not_of(kWhitespace);
+    if (first == std::string_view::npos) continue;  // blank
+    text = text.substr(first, text.find_last_not_of(kWhitespace) - first + 1);
+    if (comment != 0 && text.front() == comment) {
+      text.remove_prefix(1);
+      if (!text.empty() && text.front() == ' ') text.remove_prefix(1);
+      if (comments) comments->emplace_back(text);
+      continue;
+    }
+    lines.push_back({number, text});
+  }
+  return std::max(number, 1);
+}
+
+/// The whitespace-separated tokens of `text` (replacing the contents of `tokens`).
+inline void tokenize(std::string_view text, std::vector<std::string_view>& tokens) {
+  tokens.clear();
+  std::size_t i = 0;
+  while (true) {
+    i = text.find_first_not_of(kWhitespace, i);
+    if (i == std::string_view::npos) break;
+    std::size_t j = text.find_first_of(kWhitespace, i);
+    if (j == std::string_view::npos) j = text.size();
+    tokens.push_back(text.substr(i, j - i));
+    i = j;
+  }
+}
+
+}  // namespace hemivem::text
