@@ -141,12 +141,7 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
                   {"plane_model", to_string(scene.material.model)},
                   {"scene", scene.source}};
   info.mesh_seconds = mesh_seconds;
-  info.dofs = 0;
-  {
-    // free dofs: what the assembly solved for
-    const DofMap dofs = make_dof_map(built->mesh, built->problem.elasticity.dirichlet);
-    info.dofs = dofs.num_free();
-  }
+  info.dofs = sol.unknowns;
   const OutputReport report = write_outputs(o.out, built->mesh, built->problem.elasticity.materials, sol, info,
                                             wanted_files(scene));
 

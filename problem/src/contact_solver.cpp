@@ -21,6 +21,7 @@ ContactSolution solve_contact(const ContactProblem& problem, std::unique_ptr<Spa
   const LinearSystem sys = assemble(problem.elasticity);
   sol.timings["assembly"] = since(t);
   sol.stages.push_back("assembly");
+  sol.unknowns = sys.dofs.num_free();
   const Mesh& mesh = *problem.elasticity.mesh;
 
   ContactBoundary boundary;

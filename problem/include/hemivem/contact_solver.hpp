@@ -30,6 +30,7 @@ struct ContactNode {
 
 struct ContactSolution {
   Eigen::VectorXd u;                    ///< nodal displacements, 2 per vertex
+  int unknowns = 0;                     ///< free degrees of freedom of the assembled system
   std::vector<ContactNode> contact;     ///< empty without a contact boundary
   MinimizerResult minimizer;            ///< status, certificate, iterations ... (status converged for a plain linear solve)
   double uniqueness_margin = std::numeric_limits<double>::infinity();
