@@ -88,24 +88,6 @@ PairRun run_pair(const Scene& base, const Pair& pair) {
   return r;
 }
 
-nlohmann::json number(double v) {
-  if (!std::isfinite(v)) return nullptr;
-  return v;
-}
-
-std::string sci(double v, int precision = 2) {
-  if (std::isnan(v)) return "-";
-  std::ostringstream s;
-  s << std::setprecision(precision) << std::scientific << v;
-  return s.str();
-}
-
-std::string fixed(double v, int precision = 4) {
-  std::ostringstream s;
-  s << std::setprecision(precision) << std::fixed << v;
-  return s.str();
-}
-
 double max_abs(const Eigen::VectorXd& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; }
 
 SolveOptions scene_options(const std::string& scene, std::optional<int> n, std::optional<double> tolerance,

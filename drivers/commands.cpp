@@ -51,12 +51,6 @@ std::vector<std::string> wanted_files(const Scene& scene) {
   return files;
 }
 
-std::string sci(double v) {
-  std::ostringstream s;
-  s << std::setprecision(3) << std::scientific << v;
-  return s.str();
-}
-
 }  // namespace
 
 Scene load_scene(const SolveOptions& o) {
@@ -110,7 +104,7 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   if (o.verbosity >= 2 && !o.json)
     callback = [&](const IterationRecord& r) {
       err << "  iteration " << r.iteration << ": F = " << std::setprecision(12) << r.energy << ", residual "
-          << sci(r.residual) << ", at bound " << r.active << "\n";
+          << sci(r.residual, 3) << ", at bound " << r.active << "\n";
       return true;
     };
   auto announce = [&](const BuiltProblem& built, const SceneSolve& s) {
@@ -135,7 +129,7 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   info.mesh = scene.mesh.file.empty() ? scene.mesh.generator + " n=" + std::to_string(scene.mesh.n) : scene.mesh.file.string();
   info.linear = scene.solver.linear;
   info.minimizer = solved.minimizer;
-  info.options = {{"tolerance", sci(mo.tolerance)},
+  info.options = {{"tolerance", sci(mo.tolerance, 3)},
                   {"max_iterations", std::to_string(mo.max_iterations)},
                   {"stabilization", to_string(scene.material.stabilization)},
                   {"plane_model", to_string(scene.material.model)},
@@ -158,8 +152,8 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
         << "  engines       linear " << info.linear << ", minimizer " << info.minimizer << "\n"
         << "  stages        ";
     for (std::size_t i = 0; i < sol.stages.size(); ++i) out << (i ? ", " : "") << sol.stages[i];
-    out << "\n  status        " << to_string(r.status) << " (certificate: residual " << sci(r.certificate.residual)
-        << ", feasibility " << sci(r.certificate.feasibility) << "; tolerance " << sci(mo.tolerance) << "), "
+    out << "\n  status        " << to_string(r.status) << " (certificate: residual " << sci(r.certificate.residual, 3)
+        << ", feasibility " << sci(r.certificate.feasibility, 3) << "; tolerance " << sci(mo.tolerance, 3) << "), "
         << r.iterations << " iterations\n";
     if (!sol.contact.empty()) {
       out << "  uniqueness    lambda_min(S - alpha_j W) = " << sol.uniqueness_margin
@@ -208,8 +202,8 @@ int run_minimize(const MinimizeOptions& o, std::ostream& out, std::ostream&) {
     out << std::setprecision(12) << "hemivem minimize: " << o.folder << " (" << p.size() << " contact nodes, law "
         << p.law->name() << ", constraint " << to_string(p.constraint) << ")\n"
         << "  minimizer     " << minimizer->name() << "\n"
-        << "  status        " << to_string(r.status) << " (certificate: residual " << sci(r.certificate.residual)
-        << ", feasibility " << sci(r.certificate.feasibility) << "), " << r.iterations << " iterations, "
+        << "  status        " << to_string(r.status) << " (certificate: residual " << sci(r.certificate.residual, 3)
+        << ", feasibility " << sci(r.certificate.feasibility, 3) << "), " << r.iterations << " iterations, "
         << r.function_evaluations << " + " << r.subgradient_evaluations << " evaluations\n"
         << "  F(a)          " << r.energy << "\n"
         << "  time [s]      " << (r.timings.count("total") ? r.timings.at("total") : 0.0) << "\n";

@@ -8,6 +8,8 @@
 
 #include <hemivem/mesh.hpp>
 
+#include <nlohmann/json.hpp>
+
 namespace hemivem::cli {
 
 /// Exit codes of the hemivem command.
@@ -23,5 +25,12 @@ enum ExitCode : int {
 /// Writes a file through `write` into a temporary name in the same folder and renames it
 /// into place on success, so a failure never leaves a half-written output behind.
 void write_atomically(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write);
+
+/// v in scientific notation with `precision` digits after the point; "-" for NaN.
+std::string sci(double v, int precision = 2);
+/// v in fixed notation with `precision` digits after the point.
+std::string fixed(double v, int precision = 4);
+/// v as a JSON number, null when it is not finite (JSON has no NaN or Inf).
+nlohmann::json number(double v);
 
 }  // namespace hemivem::cli

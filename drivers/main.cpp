@@ -13,11 +13,13 @@
 #include <hemivem/linear_backends.hpp>
 #include <hemivem/mesh_generators.hpp>
 #include <hemivem/mesh_io.hpp>
+#include <hemivem/resources.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
 
 #include <iostream>
 
 #include "check_bench.hpp"
+#include "extreme.hpp"
 #include "commands.hpp"
 #include "common.hpp"
 #include "study.hpp"
@@ -48,7 +50,7 @@ int main(int argc, char** argv) {
   auto* cmd_solve = app.add_subcommand("solve", "Solve a contact scene (no scene: the paper's Example 4.1, squares N = 64)");
   cmd_solve->add_option("scene", solve.scene, "Scene file (TOML, see scenes/README.md)")->check(CLI::ExistingFile);
   auto* o_mesh = cmd_solve->add_option("--mesh", mesh_flag, "squares|triangles|voronoi|nonconvex|distorted|PATH.poly2d|PATH.msh");
-  auto* o_n = cmd_solve->add_option("--n", n_flag, "Elements (or Voronoi seeds) per side")->check(CLI::Range(1, 1 << 14));
+  auto* o_n = cmd_solve->add_option("--n", n_flag, "Elements (or Voronoi seeds) per side")->check(CLI::Range(1, 10000000));
   auto* o_linear = cmd_solve->add_option("--linear", linear_flag, "eigen|cholmod|mumps|mumps-mpi");
   auto* o_min = cmd_solve->add_option("--minimizer", minimizer_flag, "ssn|bundle-dca|nlopt-mma|ceres-active-set");
   auto* o_tol = cmd_solve->add_option("--tol", tol_flag, "Certificate tolerance")->check(CLI::PositiveNumber);
@@ -77,7 +79,7 @@ int main(int argc, char** argv) {
   std::vector<double> gen_domain{0.0, 1.0, 0.0, 1.0};
   auto* cmd_mesh = app.add_subcommand("mesh", "Write a generated mesh as .poly2d");
   cmd_mesh->add_option("kind", gen_kind, "squares|triangles|voronoi|nonconvex|distorted")->required();
-  cmd_mesh->add_option("--n", gen_n, "Elements (or seeds) per side")->capture_default_str()->check(CLI::Range(1, 1 << 14));
+  cmd_mesh->add_option("--n", gen_n, "Elements (or seeds) per side")->capture_default_str()->check(CLI::Range(1, 10000000));
   cmd_mesh->add_option("--seed", gen_seed, "Seed of random meshes")->capture_default_str();
   cmd_mesh->add_option("--domain", gen_domain, "x0 x1 y0 y1")->expected(4)->capture_default_str();
   cmd_mesh->add_option("-o,--output", gen_output, "Output .poly2d file")->required();
@@ -92,10 +94,10 @@ int main(int argc, char** argv) {
   cmd_study->add_option("--n", study.n, "Elements per side of the studied meshes, e.g. 4,8,16,32,64")
       ->delimiter(',')
       ->capture_default_str()
-      ->check(CLI::Range(1, 1 << 14));
+      ->check(CLI::Range(1, 10000000));
   cmd_study->add_option("--ref", study.ref, "Elements per side of the reference mesh (a multiple of every N)")
       ->capture_default_str()
-      ->check(CLI::Range(1, 1 << 14));
+      ->check(CLI::Range(1, 10000000));
   cmd_study->add_option("--set", study.set, "Override a scene key for every solve: key=value (repeatable)");
   cmd_study->add_option("--out", study.out, "Output folder (study.csv, study.json, study.png)")->capture_default_str();
   cmd_study->add_flag("--json", study.json, "Print study.json on stdout instead of the table");
@@ -111,7 +113,7 @@ int main(int argc, char** argv) {
   double check_tol = 0.0;
   auto* cmd_check = app.add_subcommand("check", "Solve a scene with every built pair of engines and compare the results");
   cmd_check->add_option("scene", check.scene, "Scene file (TOML); none: the paper's Example 4.1")->check(CLI::ExistingFile);
-  auto* o_check_n = cmd_check->add_option("--n", check_n, "Elements per side")->check(CLI::Range(1, 1 << 14));
+  auto* o_check_n = cmd_check->add_option("--n", check_n, "Elements per side")->check(CLI::Range(1, 10000000));
   auto* o_check_tol = cmd_check->add_option("--tol", check_tol, "Certificate tolerance for every pair")->check(CLI::PositiveNumber);
   cmd_check->add_option("--set", check.set, "Override a scene key: key=value (repeatable)");
   cmd_check->add_option("--agree", check.agree, "Largest accepted max|u_a - u_b| / max|u_ref| between converged pairs")
@@ -119,6 +121,17 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   cmd_check->add_flag("--json", check.json, "Print the report as JSON on stdout instead of the table");
   cmd_check->add_flag("-q,--quiet", check_quiet, "Print nothing (the exit code tells)");
+  cli::ExtremeOptions extreme;
+  bool extreme_flag = false;
+  auto* o_extreme = cmd_check->add_flag(
+      "--extreme", extreme_flag, "Run the stiff and extreme scenes (scenes/extreme/) with every pair and print the stability table");
+  auto* o_scenes = cmd_check->add_option("--scenes", extreme.scenes, "With --extreme: the folder of scenes")
+                       ->check(CLI::ExistingDirectory)
+                       ->needs(o_extreme);
+  cmd_check->add_option("--only", extreme.only, "With --extreme: scene names to run, comma-separated")
+      ->delimiter(',')
+      ->needs(o_extreme);
+  (void)o_scenes;
 
   cli::BenchOptions bench;
   bool bench_quiet = false;
@@ -128,8 +141,8 @@ int main(int argc, char** argv) {
   cmd_bench->add_option("--n", bench.n, "Mesh sizes, comma-separated")
       ->delimiter(',')
       ->capture_default_str()
-      ->check(CLI::Range(1, 1 << 14));
-  cmd_bench->add_option("--ref", bench.ref, "Mesh size of the reference solution")->capture_default_str()->check(CLI::Range(1, 1 << 14));
+      ->check(CLI::Range(1, 10000000));
+  cmd_bench->add_option("--ref", bench.ref, "Mesh size of the reference solution")->capture_default_str()->check(CLI::Range(1, 10000000));
   auto* o_bench_tol = cmd_bench->add_option("--tol", bench_tol, "Certificate tolerance for every pair")->check(CLI::PositiveNumber);
   cmd_bench->add_option("--set", bench.set, "Override a scene key: key=value (repeatable)");
   cmd_bench->add_option("--out", bench.out, "Output folder (bench.csv, bench.json, bench.png)")->capture_default_str();
@@ -164,11 +177,22 @@ int main(int argc, char** argv) {
     }
     if (*cmd_mesh) {
       const Rectangle r{gen_domain[0], gen_domain[1], gen_domain[2], gen_domain[3]};
+      const MemoryEstimate need = estimate_memory(gen_kind, gen_n);
+      require_memory(need.mesh_bytes, gen_kind + " n = " + std::to_string(gen_n), "--n");
       const Mesh m = make_mesh(gen_kind, gen_n, r, gen_seed);
       write_poly2d(gen_output, m, {gen_kind + " n=" + std::to_string(gen_n) + " seed=" + std::to_string(gen_seed)});
       return cli::kSuccess;
     }
     // ---- check and bench ----
+    if (*cmd_check && *o_extreme) {
+      if (!check.scene.empty() || *o_check_n || !check.set.empty())
+        throw InputError("--extreme runs the scenes of its folder; it takes no scene, --n or --set", "check --extreme");
+      if (*o_check_tol) extreme.tolerance = check_tol;
+      extreme.agree = check.agree;
+      extreme.json = check.json;
+      extreme.verbosity = check_quiet ? 0 : 1;
+      return cli::run_check_extreme(extreme, std::cout, std::cerr);
+    }
     if (*cmd_check) {
       if (*o_check_n) check.n = check_n;
       if (*o_check_tol) check.tolerance = check_tol;

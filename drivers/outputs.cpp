@@ -27,11 +27,6 @@ namespace fs = std::filesystem;
 namespace {
 
 /// A number for JSON: non-finite values become null (JSON has no inf or NaN).
-nlohmann::json number(double v) {
-  if (!std::isfinite(v)) return nullptr;
-  return v;
-}
-
 double timing(const ContactSolution& s, const std::string& stage) {
   const auto it = s.timings.find(stage);
   return it == s.timings.end() ? 0.0 : it->second;

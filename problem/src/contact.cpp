@@ -1,4 +1,5 @@
 #include <hemivem/contact.hpp>
+#include <hemivem/condition.hpp>
 #include <hemivem/error.hpp>
 
 #include <Eigen/Eigenvalues>
@@ -99,6 +100,9 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
   SparseMatrix Q(n, n);
   Q.setFromTriplets(q.begin(), q.end());
   SparseMatrix At = SparseMatrix(Q.transpose()) * system.A * Q;
+  // Q^T A Q is symmetric only up to round-off; engines that read both triangles (MUMPS) need
+  // the exact symmetric pattern, so symmetrize before dropping exact zeros.
+  At = 0.5 * (At + SparseMatrix(At.transpose()));
   At.prune(0.0);
   At.makeCompressed();
   const Eigen::VectorXd bt = Q.transpose() * system.b;
@@ -107,6 +111,12 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
   for (int k : block1_) in1[static_cast<std::size_t>(k)] = 1;
   for (int k = 0; k < n; ++k)
     if (!in1[static_cast<std::size_t>(k)]) block2_.push_back(k);
+  for (int j : block2_) {
+    double sum = 0.0;
+    for (SparseMatrix::InnerIterator it(At, j); it; ++it)
+      if (!in1[static_cast<std::size_t>(it.row())]) sum += std::abs(it.value());
+    a22_norm1_ = std::max(a22_norm1_, sum);
+  }
 
   reduced_.law = std::move(law);
   reduced_.constraint = constraint;
@@ -136,6 +146,15 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
   reduced_.c = b1 - A21_.transpose() * y.col(0);
   margin_ = hemivem::uniqueness_margin(reduced_.S, reduced_.w, reduced_.law->alpha());
   reduced_.uniqueness_margin = margin_;
+}
+
+double Condensation::condition_estimate() const {
+  auto apply = [this](const Eigen::VectorXd& x) {
+    Eigen::MatrixXd y;
+    if (!factorization_->solve_interior(x, &y).ok() || y.cols() != 1) return Eigen::VectorXd();
+    return Eigen::VectorXd(y.col(0));
+  };
+  return a22_norm1_ * estimate_norm1_symmetric(static_cast<int>(block2_.size()), apply);
 }
 
 Eigen::VectorXd Condensation::back_substitute(const Eigen::VectorXd& a) const {

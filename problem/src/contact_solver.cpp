@@ -1,8 +1,11 @@
+#include <hemivem/condition.hpp>
 #include <hemivem/contact_solver.hpp>
 #include <hemivem/error.hpp>
 
 #include <chrono>
 #include <cmath>
+#include <limits>
+#include <string>
 
 namespace hemivem {
 
@@ -11,17 +14,45 @@ using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 }  // namespace
 
-ContactSolution solve_contact(const ContactProblem& problem, std::unique_ptr<SparseFactorization> factorization,
-                              const NonsmoothMinimizer& minimizer, const MinimizerOptions& options,
-                              ReducedProblem* reduced) {
+namespace {
+
+double rcond_or_nan(const SparseFactorization& f) {
+  const double r = f.rcond_estimate();
+  return r >= 0.0 ? r : std::numeric_limits<double>::quiet_NaN();
+}
+
+// Demotes a "converged" result whose displacement is not finite (the engines' certificates
+// see only the contact unknowns; back-substitution could still overflow).
+void require_finite(ContactSolution& sol) {
+  if (sol.minimizer.converged() && !sol.u.allFinite()) {
+    sol.minimizer.status = MinimizerStatus::failed;
+    sol.minimizer.message = "the displacement is not finite (NaN or Inf after back-substitution)";
+  }
+  if (sol.minimizer.converged() && !std::isfinite(sol.energy)) {
+    sol.minimizer.status = MinimizerStatus::failed;
+    sol.minimizer.message = "the energy of the solution is not finite";
+  }
+}
+
+}  // namespace
+
+std::vector<ContactSolution> solve_contact(const ContactProblem& problem,
+                                           std::unique_ptr<SparseFactorization> factorization,
+                                           std::span<const NonsmoothMinimizer* const> minimizers,
+                                           const MinimizerOptions& options, ReducedProblem* reduced,
+                                           bool estimate_condition) {
   if (!factorization) throw InputError("solve_contact needs a factorization engine");
+  if (minimizers.empty()) throw InputError("solve_contact needs at least one minimizer");
+  for (const auto* m : minimizers)
+    if (!m) throw InputError("solve_contact: a minimizer is null");
+  if (std::string why; !options.is_valid(&why)) throw InputError(why, "MinimizerOptions");
   const auto t_start = Clock::now();
-  ContactSolution sol;
+  ContactSolution shared;
   auto t = Clock::now();
   const LinearSystem sys = assemble(problem.elasticity);
-  sol.timings["assembly"] = since(t);
-  sol.stages.push_back("assembly");
-  sol.unknowns = sys.dofs.num_free();
+  shared.timings["assembly"] = since(t);
+  shared.stages.push_back("assembly");
+  shared.unknowns = sys.dofs.num_free();
   const Mesh& mesh = *problem.elasticity.mesh;
 
   ContactBoundary boundary;
@@ -37,58 +68,97 @@ ContactSolution solve_contact(const ContactProblem& problem, std::unique_ptr<Spa
     Eigen::MatrixXd X;
     if (auto r = factorization->solve(sys.b, &X); !r.ok())
       throw NumericalError("solve with " + factorization->name() + " failed (" + to_string(r.status) + "): " + r.message);
-    sol.timings["linear_solve"] = since(t);
-    sol.stages.push_back("linear_solve");
+    shared.timings["linear_solve"] = since(t);
+    shared.stages.push_back("linear_solve");
+    shared.rcond = rcond_or_nan(*factorization);
+    if (estimate_condition) {
+      auto apply = [&](const Eigen::VectorXd& x) {
+        Eigen::MatrixXd y;
+        if (!factorization->solve(x, &y).ok() || y.cols() != 1) return Eigen::VectorXd();
+        return Eigen::VectorXd(y.col(0));
+      };
+      shared.condition_estimate = norm1(sys.A) * estimate_norm1_symmetric(static_cast<int>(sys.A.rows()), apply);
+    }
     const Eigen::VectorXd uf = X.col(0);
-    sol.u = sys.dofs.expand(uf);
-    sol.energy = 0.5 * uf.dot(sys.A * uf) - uf.dot(sys.b);
-    sol.minimizer.status = MinimizerStatus::converged;
-    sol.minimizer.certificate = {0.0, 0.0};
-    sol.minimizer.may_be_nonunique = false;
-    sol.timings["total"] = since(t_start);
-    return sol;
+    shared.u = sys.dofs.expand(uf);
+    shared.energy = 0.5 * uf.dot(sys.A * uf) - uf.dot(sys.b);
+    const double bnorm = sys.b.norm();
+    const double rnorm = (sys.A * uf - sys.b).norm();
+    const double residual = bnorm > 0.0 ? rnorm / bnorm : rnorm;
+    auto& m = shared.minimizer;
+    m.certificate = {std::isfinite(residual) ? residual : std::numeric_limits<double>::infinity(), 0.0};
+    m.may_be_nonunique = false;
+    if (uf.allFinite() && residual <= options.tolerance) {
+      m.status = MinimizerStatus::converged;
+    } else {
+      m.status = MinimizerStatus::failed;
+      m.message = uf.allFinite() ? "the linear solve's relative residual is above the tolerance"
+                                 : "the linear solve gave a displacement that is not finite";
+    }
+    require_finite(shared);
+    shared.timings["total"] = since(t_start);
+    return std::vector<ContactSolution>(minimizers.size(), shared);
   }
 
   if (!problem.law) throw InputError("the contact boundary has no contact law");
   const ConstraintKind constraint = problem.gap ? problem.constraint : ConstraintKind::none;
   t = Clock::now();
   const Condensation cond(sys, boundary, std::move(factorization), problem.law, constraint);
-  sol.timings["condensation"] = since(t);
-  sol.stages.push_back("condensation");
-  sol.uniqueness_margin = cond.uniqueness_margin();
+  shared.timings["condensation"] = since(t);
+  shared.stages.push_back("condensation");
+  shared.uniqueness_margin = cond.uniqueness_margin();
+  shared.rcond = rcond_or_nan(cond.factorization());
+  if (estimate_condition) shared.condition_estimate = cond.condition_estimate();
   const ReducedProblem& rp = cond.reduced();
   if (reduced) *reduced = rp;
+  const double before_minimize = since(t_start);
 
-  t = Clock::now();
-  sol.minimizer = minimizer.minimize(rp, Eigen::VectorXd(), options);
-  sol.timings["minimize"] = since(t);
-  sol.stages.push_back("minimize");
+  std::vector<ContactSolution> solutions;
+  for (const NonsmoothMinimizer* minimizer : minimizers) {
+    ContactSolution sol = shared;
+    const auto t_own = Clock::now();
+    t = Clock::now();
+    sol.minimizer = minimizer->minimize(rp, Eigen::VectorXd(), options);
+    sol.timings["minimize"] = since(t);
+    sol.stages.push_back("minimize");
 
-  t = Clock::now();
-  sol.u = cond.back_substitute(sol.minimizer.a);
-  sol.timings["back_substitution"] = since(t);
-  sol.stages.push_back("back_substitution");
+    t = Clock::now();
+    sol.u = cond.back_substitute(sol.minimizer.a);
+    sol.timings["back_substitution"] = since(t);
+    sol.stages.push_back("back_substitution");
 
-  const Eigen::VectorXd& a = sol.minimizer.a;
-  const Eigen::VectorXd xi = rp.least_norm_subgradient(a);
-  for (int i = 0; i < boundary.size(); ++i) {
-    ContactNode node;
-    node.vertex = boundary.nodes[static_cast<std::size_t>(i)];
-    node.x = mesh.vertex(node.vertex);
-    node.u_nu = a(i);
-    node.multiplier = -xi(i);
-    const double tol = 1e-12 * std::max(1.0, std::abs(rp.upper(i)));
-    node.state = std::abs(a(i) - rp.upper(i)) <= tol ? "upper" : (std::abs(a(i) - rp.lower(i)) <= tol ? "lower" : "free");
-    if (node.state == "free") node.multiplier = 0.0;
-    sol.contact.push_back(node);
+    const Eigen::VectorXd& a = sol.minimizer.a;
+    const Eigen::VectorXd xi = rp.least_norm_subgradient(a);
+    for (int i = 0; i < boundary.size(); ++i) {
+      ContactNode node;
+      node.vertex = boundary.nodes[static_cast<std::size_t>(i)];
+      node.x = mesh.vertex(node.vertex);
+      node.u_nu = a(i);
+      node.multiplier = -xi(i);
+      const double tol = 1e-12 * std::max(1.0, std::abs(rp.upper(i)));
+      node.state = std::abs(a(i) - rp.upper(i)) <= tol ? "upper" : (std::abs(a(i) - rp.lower(i)) <= tol ? "lower" : "free");
+      if (node.state == "free") node.multiplier = 0.0;
+      sol.contact.push_back(node);
+    }
+    // the potential energy of the discrete problem (F(a) differs from it by a constant)
+    Eigen::VectorXd uf(sys.dofs.num_free());
+    for (int k = 0; k < sys.dofs.num_free(); ++k) uf(k) = sol.u(sys.dofs.free_dofs[static_cast<std::size_t>(k)]);
+    sol.energy = 0.5 * uf.dot(sys.A * uf) - uf.dot(sys.b);
+    for (int i = 0; i < boundary.size(); ++i) sol.energy += rp.w(i) * rp.law->value(a(i));
+    require_finite(sol);
+    sol.timings["total"] = before_minimize + since(t_own);
+    solutions.push_back(std::move(sol));
   }
-  // the potential energy of the discrete problem (F(a) differs from it by a constant)
-  Eigen::VectorXd uf(sys.dofs.num_free());
-  for (int k = 0; k < sys.dofs.num_free(); ++k) uf(k) = sol.u(sys.dofs.free_dofs[static_cast<std::size_t>(k)]);
-  sol.energy = 0.5 * uf.dot(sys.A * uf) - uf.dot(sys.b);
-  for (int i = 0; i < boundary.size(); ++i) sol.energy += rp.w(i) * rp.law->value(a(i));
-  sol.timings["total"] = since(t_start);
-  return sol;
+  return solutions;
+}
+
+ContactSolution solve_contact(const ContactProblem& problem, std::unique_ptr<SparseFactorization> factorization,
+                              const NonsmoothMinimizer& minimizer, const MinimizerOptions& options,
+                              ReducedProblem* reduced) {
+  const NonsmoothMinimizer* one[] = {&minimizer};
+  return std::move(solve_contact(problem, std::move(factorization), std::span<const NonsmoothMinimizer* const>(one),
+                                 options, reduced)
+                       .front());
 }
 
 }  // namespace hemivem

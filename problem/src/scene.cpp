@@ -1,10 +1,12 @@
 #include <hemivem/scene.hpp>
+#include <hemivem/resources.hpp>
 
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <iomanip>
 #include <limits>
 #include <set>
 #include <sstream>
@@ -21,6 +23,14 @@
 namespace hemivem {
 
 namespace {
+
+// A vertex count as an integer when small enough to read, else in scientific notation.
+std::string count_text(double v) {
+  if (v < 1e9) return std::to_string(static_cast<long long>(std::llround(v)));
+  std::ostringstream o;
+  o << std::setprecision(2) << std::scientific << v;
+  return o.str();
+}
 
 constexpr std::string_view kDefaultSceneText = R"toml(# The paper's Example 4.1 (Feng, Han, Huang 2021) on N = 64 squares.
 schema_version = 1
@@ -439,7 +449,7 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
       s.mesh.generator = lower(*g);
     }
     if (auto n = m.integer("n")) {
-      if (*n < 1 || *n > 20000) m.fail("n", m.node("n"), "must be between 1 and 20000, got " + std::to_string(*n));
+      if (*n < 1 || *n > 10000000) m.fail("n", m.node("n"), "must be between 1 and 10000000, got " + std::to_string(*n));
       s.mesh.n = static_cast<int>(*n);
     }
     if (auto seed = m.integer("seed")) {
@@ -479,7 +489,7 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
     if (const toml::array* regions = m.array_of_tables("region")) {
       std::set<int> seen;
       for (std::size_t i = 0; i < regions->size(); ++i) {
-        TableReader g(s, *(*regions)[i].as_table(), "material.region[" + std::to_string(i) + "]", {"id", "E", "nu"});
+        TableReader g(s, *(*regions)[i].as_table(), "material.region[" + std::to_string(i) + "]", {"id", "E", "nu", "box"});
         SceneRegionMaterial rm;
         const auto id = g.integer("id");
         if (!id) throw InputError(g.path() + ": missing key 'id'", g.at(g.self()));
@@ -493,6 +503,10 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
         if (!(*nu > -1.0 && *nu < 0.5)) g.fail("nu", g.node("nu"), "must lie in (-1, 0.5), got " + fmt(*nu));
         rm.young = *e;
         rm.poisson = *nu;
+        if (auto b = g.fixed<4>("box", "[x0, x1, y0, y1]")) {
+          if (!((*b)[0] < (*b)[1] && (*b)[2] < (*b)[3])) g.fail("box", g.node("box"), "needs x0 < x1 and y0 < y1");
+          rm.box = *b;
+        }
         s.material.regions.push_back(rm);
       }
     }
@@ -696,8 +710,10 @@ std::string to_toml(const Scene& s) {
   o << "nu = " << fmt(s.material.poisson) << "\n";
   o << "model = " << quote(to_string(s.material.model)) << "\n";
   o << "stabilization = " << quote(to_string(s.material.stabilization)) << "\n";
-  for (const auto& r : s.material.regions)
+  for (const auto& r : s.material.regions) {
     o << "\n[[material.region]]\nid = " << r.region << "\nE = " << fmt(r.young) << "\nnu = " << fmt(r.poisson) << "\n";
+    if (r.box) o << "box = " << list(*r.box, fmt) << "\n";
+  }
   o << "\n[clamped]\n";
   write_selector(o, s.clamped);
   o << "\n[loads]\n";
@@ -847,8 +863,19 @@ std::unique_ptr<BuiltProblem> build_problem(const Scene& scene) {
     if (ext == ".msh") mesh = read_gmsh(scene.mesh.file);
     else if (ext == ".poly2d") mesh = read_poly2d(scene.mesh.file).mesh;
     else throw InputError("mesh.file: unknown mesh format; expected .poly2d or .msh", scene.where("mesh.file"));
+    double corners = 0.0;
+    for (int e = 0; e < mesh.num_elements(); ++e) corners += static_cast<double>(mesh.element(e).size());
+    const MemoryEstimate need =
+        estimate_memory(mesh.num_vertices(), mesh.num_elements() ? corners / mesh.num_elements() : 4.0);
+    require_memory(need.solve_bytes, scene.mesh.file.string() + ": " + count_text(need.vertices) + " vertices",
+                   scene.where("mesh.file"));
   } else {
     const auto& d = scene.mesh.domain;
+    const MemoryEstimate need = estimate_memory(scene.mesh.generator, scene.mesh.n);
+    require_memory(need.solve_bytes,
+                   scene.mesh.generator + " n = " + std::to_string(scene.mesh.n) + ": " + count_text(need.vertices) +
+                       " vertices",
+                   scene.where("mesh.n"));
     try {
       mesh = make_mesh(scene.mesh.generator, scene.mesh.n, Rectangle{d[0], d[1], d[2], d[3]},
                        static_cast<std::uint64_t>(scene.mesh.seed));
@@ -859,7 +886,20 @@ std::unique_ptr<BuiltProblem> build_problem(const Scene& scene) {
     }
   }
 
-  // Materials by region.
+  // Regions given by boxes, then materials by region.
+  if (std::any_of(scene.material.regions.begin(), scene.material.regions.end(), [](const auto& r) { return r.box; })) {
+    std::vector<int> ids = mesh.regions();
+    ids.resize(static_cast<std::size_t>(mesh.num_elements()), 0);
+    for (const auto& r : scene.material.regions) {
+      if (!r.box) continue;
+      const auto& b = *r.box;
+      for (int e = 0; e < mesh.num_elements(); ++e) {
+        const Vec2 c = mesh.centroid(e);
+        if (c.x() >= b[0] && c.x() <= b[1] && c.y() >= b[2] && c.y() <= b[3]) ids[static_cast<std::size_t>(e)] = r.region;
+      }
+    }
+    mesh.set_regions(std::move(ids));
+  }
   int regions = 1;
   for (int r : mesh.regions()) regions = std::max(regions, r + 1);
   for (const auto& r : scene.material.regions) regions = std::max(regions, r.region + 1);

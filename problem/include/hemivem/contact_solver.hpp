@@ -8,7 +8,9 @@
 #include <Eigen/Core>
 
 #include <map>
+#include <limits>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -35,6 +37,12 @@ struct ContactSolution {
   MinimizerResult minimizer;            ///< status, certificate, iterations ... (status converged for a plain linear solve)
   double uniqueness_margin = std::numeric_limits<double>::infinity();
   double energy = 0.0;                  ///< potential energy 1/2 u^T A u - b^T u + sum_i w_i j(u_nu,i) (free dofs)
+  /// Reciprocal condition estimate of the matrix the engine factorized (A22 with contact, A
+  /// without), where the engine offers one (SparseFactorization::rcond_estimate); NaN otherwise.
+  double rcond = std::numeric_limits<double>::quiet_NaN();
+  /// Estimate of the 1-norm condition number of the same matrix, independent of the engine
+  /// (Condensation::condition_estimate); NaN unless asked for.
+  double condition_estimate = std::numeric_limits<double>::quiet_NaN();
   std::map<std::string, double> timings;  ///< seconds: assembly, condensation, minimize, back_substitution, total
   std::vector<std::string> stages;      ///< the stages that ran, in order
   bool converged() const noexcept { return minimizer.converged(); }
@@ -45,8 +53,24 @@ struct ContactSolution {
 /// that is not held) and NumericalError when the factorization fails; a minimizer that does
 /// not converge is reported in the result, not thrown.
 /// When `reduced` is not null it receives a copy of the reduced problem (for export).
+///
+/// A solution is never reported as converged unless every displacement is finite and the
+/// point satisfies the constraint to the feasibility tolerance: a minimizer result that is
+/// converged but whose back-substituted displacement is not finite becomes `failed`. Without
+/// contact the certificate's residual is the relative residual ||A u - b|| / ||b|| of the one
+/// linear solve, and the solve is converged when it is finite and below options.tolerance.
 ContactSolution solve_contact(const ContactProblem& problem, std::unique_ptr<SparseFactorization> factorization,
                               const NonsmoothMinimizer& minimizer, const MinimizerOptions& options,
                               ReducedProblem* reduced = nullptr);
+
+/// The same for several minimizers sharing one assembly and one condensation (the stages
+/// before the minimizer run once; their timings are repeated in every solution): one solution
+/// per minimizer, in order. Without a contact boundary the single linear solve is shared.
+/// `estimate_condition` adds ContactSolution::condition_estimate (7 more solves).
+std::vector<ContactSolution> solve_contact(const ContactProblem& problem,
+                                           std::unique_ptr<SparseFactorization> factorization,
+                                           std::span<const NonsmoothMinimizer* const> minimizers,
+                                           const MinimizerOptions& options, ReducedProblem* reduced = nullptr,
+                                           bool estimate_condition = false);
 
 }  // namespace hemivem

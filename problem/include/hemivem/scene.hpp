@@ -52,6 +52,10 @@ struct SceneRegionMaterial {
   int region = 0;
   double young = 1.0;
   double poisson = 0.0;
+  /// [x0, x1, y0, y1]: when given, the elements whose centroid lies in this rectangle are
+  /// put into `region` (later regions win where boxes overlap); otherwise the region ids of
+  /// the mesh file are used.
+  std::optional<std::array<double, 4>> box;
   bool operator==(const SceneRegionMaterial&) const = default;
 };
 

@@ -1,0 +1,364 @@
+#include "extreme.hpp"
+
+#include <hemivem/contact_solver.hpp>
+#include <hemivem/error.hpp>
+#include <hemivem/linear_backends.hpp>
+#include <hemivem/nonsmooth_backends.hpp>
+#include <hemivem/scene.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <limits>
+#include <memory>
+#include <ostream>
+#include <sstream>
+
+#include "common.hpp"
+
+#ifndef HEMIVEM_EXTREME_SCENES_DIR
+#define HEMIVEM_EXTREME_SCENES_DIR ""
+#endif
+
+namespace hemivem::cli {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// One (linear, minimizer) pair on one scene.
+struct Row {
+  std::string linear, minimizer;
+  std::string status = "failed";
+  std::string message;
+  bool failed = false;      ///< the engine threw: no solution
+  bool converged = false;
+  double residual = kNaN, feasibility = kNaN;
+  double margin = kNaN;     ///< uniqueness margin lambda_min(S - alpha W)
+  double rcond = kNaN;      ///< the engine's reciprocal condition estimate of the factorized matrix
+  double condition = kNaN;  ///< kappa_1 estimate of the same matrix, independent of the engine
+  double difference = kNaN; ///< largest relative difference of u to a converged pair
+  double seconds = 0.0;     ///< shared stages (assembly, condensation) + this pair's minimize and back-substitution
+  int iterations = 0;
+  int at_bound = 0;         ///< contact nodes at a bound of the constraint
+  bool guarantee = true;    ///< converged implies finite u and a feasible point (checked independently)
+  std::string broken;       ///< what broke the guarantee
+  Eigen::VectorXd u;
+};
+
+struct SceneReport {
+  std::string name, title, mesh;
+  std::string refused;      ///< the InputError of a scene that could not be built (e.g. memory)
+  int vertices = 0, contact_nodes = 0, unknowns = 0;
+  double mesh_seconds = 0.0;
+  double margin = kNaN;     ///< the largest margin over the engines (they agree to round-off)
+  double max_difference = 0.0;  ///< between converged pairs
+  bool unique = false;      ///< margin > 0: the solution is unique, converged pairs must agree
+  std::vector<Row> rows;
+};
+
+double max_abs(const Eigen::VectorXd& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; }
+
+std::string mesh_text(const Scene& s) {
+  if (!s.mesh.file.empty()) return s.mesh.file.filename().string();
+  std::ostringstream o;
+  o << s.mesh.generator << " n=" << s.mesh.n;
+  const auto& d = s.mesh.domain;
+  if (d != std::array<double, 4>{0.0, 1.0, 0.0, 1.0})
+    o << " on [" << d[0] << "," << d[1] << "]x[" << d[2] << "," << d[3] << "]";
+  return o.str();
+}
+
+// The guarantee of solve_contact, checked from the outside: a converged pair has finite
+// displacements and its contact point is feasible (recomputed on the reduced problem).
+void check_guarantee(Row& r, const ContactSolution& sol, const ReducedProblem* reduced, const MinimizerOptions& mo) {
+  if (!r.converged) return;
+  if (!sol.u.allFinite()) {
+    r.guarantee = false;
+    r.broken = "converged with a non-finite displacement";
+    return;
+  }
+  if (reduced && reduced->size() > 0) {
+    const Certificate c = certificate(*reduced, sol.minimizer.a);
+    if (!(c.feasibility <= mo.feasibility_tolerance) || !(c.residual <= mo.tolerance)) {
+      r.guarantee = false;
+      r.broken = "converged, but the recomputed certificate is (" + sci(c.residual) + ", " + sci(c.feasibility) + ")";
+    }
+  }
+}
+
+SceneReport run_scene(const fs::path& file, const ExtremeOptions& o, std::ostream& err) {
+  SceneReport rep;
+  rep.name = file.stem().string();
+  Scene scene = parse_scene(file);
+  if (o.tolerance) {
+    std::ostringstream v;
+    v << std::setprecision(17) << *o.tolerance;
+    apply_override(scene, "solver.tolerance=" + v.str());
+  }
+  rep.title = scene.title;
+  rep.mesh = mesh_text(scene);
+  const bool progress = o.verbosity >= 1 && !o.json;
+
+  std::unique_ptr<BuiltProblem> built;
+  const auto t_mesh = Clock::now();
+  try {
+    built = build_problem(scene);
+  } catch (const InputError& e) {
+    rep.refused = e.what();
+    if (progress) err << "hemivem check --extreme: " << rep.name << ": refused: " << e.what() << "\n";
+    return rep;
+  }
+  rep.mesh_seconds = since(t_mesh);
+  rep.vertices = built->mesh.num_vertices();
+
+  std::vector<std::unique_ptr<NonsmoothMinimizer>> minimizers;
+  std::vector<const NonsmoothMinimizer*> pointers;
+  for (const auto& m : available_minimizers()) {
+    minimizers.push_back(make_minimizer(m));
+    pointers.push_back(minimizers.back().get());
+  }
+  MinimizerOptions mo;
+  mo.tolerance = scene.solver.tolerance;
+  mo.max_iterations = scene.solver.max_iterations;
+
+  for (const auto& linear : available_factorizations()) {
+    if (progress) err << "hemivem check --extreme: " << std::left << std::setw(22) << rep.name << std::setw(10) << linear << std::flush;
+    const auto t = Clock::now();
+    std::vector<ContactSolution> sols;
+    std::string failure;
+    ReducedProblem reduced;
+    try {
+      FactorizationOptions fo;
+      fo.engine = linear;
+      sols = solve_contact(built->problem, make_factorization(fo), pointers, mo, built->has_contact ? &reduced : nullptr,
+                           /*estimate_condition=*/true);
+    } catch (const NumericalError& e) {
+      failure = e.what();
+    } catch (const InputError& e) {
+      failure = e.what();
+    }
+    if (progress) err << (failure.empty() ? "done" : "engine failed") << " (" << fixed(since(t), 3) << " s)\n";
+    for (std::size_t k = 0; k < pointers.size(); ++k) {
+      Row r;
+      r.linear = linear;
+      r.minimizer = pointers[k]->name();
+      if (!failure.empty()) {
+        r.failed = true;
+        r.message = failure;
+        rep.rows.push_back(std::move(r));
+        continue;
+      }
+      ContactSolution& s = sols[k];
+      r.status = to_string(s.minimizer.status);
+      r.message = s.minimizer.message;
+      r.converged = s.converged();
+      r.residual = s.minimizer.certificate.residual;
+      r.feasibility = s.minimizer.certificate.feasibility;
+      r.iterations = s.minimizer.iterations;
+      r.at_bound = static_cast<int>(std::count_if(s.contact.begin(), s.contact.end(), [](const ContactNode& c) { return c.state != "free"; }));
+      r.margin = s.uniqueness_margin;
+      r.rcond = s.rcond;
+      r.condition = s.condition_estimate;
+      r.seconds = s.timings.count("total") ? s.timings.at("total") : 0.0;
+      rep.contact_nodes = static_cast<int>(s.contact.size());
+      rep.unknowns = s.unknowns;
+      check_guarantee(r, s, built->has_contact ? &reduced : nullptr, mo);
+      r.u = std::move(s.u);
+      rep.rows.push_back(std::move(r));
+    }
+  }
+
+  // Differences, relative to max|u| of eigen+ssn (else the largest converged pair).
+  double scale = 0.0;
+  for (const auto& r : rep.rows)
+    if (r.linear == "eigen" && r.minimizer == "ssn" && r.converged) scale = max_abs(r.u);
+  if (scale == 0.0)
+    for (const auto& r : rep.rows)
+      if (r.converged) scale = std::max(scale, max_abs(r.u));
+  if (scale == 0.0) scale = 1.0;
+  for (auto& a : rep.rows) {
+    if (a.failed || a.u.size() == 0) continue;
+    double m = kNaN;
+    for (const auto& b : rep.rows) {
+      if (&a == &b || !b.converged || b.u.size() != a.u.size()) continue;
+      const double d = max_abs(a.u - b.u) / scale;
+      m = std::isnan(m) ? d : std::max(m, d);
+      if (a.converged) rep.max_difference = std::max(rep.max_difference, d);
+    }
+    a.difference = m;
+  }
+  for (const auto& r : rep.rows)
+    if (!r.failed && !std::isnan(r.margin)) rep.margin = std::isnan(rep.margin) ? r.margin : std::max(rep.margin, r.margin);
+  rep.unique = rep.margin > 0.0;
+  return rep;
+}
+
+std::string cond_text(double rcond) { return rcond > 0.0 ? sci(1.0 / rcond, 1) : "-"; }
+
+std::string margin_text(double m) {
+  if (std::isnan(m)) return "-";
+  if (std::isinf(m)) return m > 0 ? "inf" : "-inf";
+  return sci(m, 1);
+}
+
+nlohmann::json scene_json(const SceneReport& s, double agree) {
+  nlohmann::json j;
+  j["name"] = s.name;
+  j["title"] = s.title;
+  j["mesh"] = s.mesh;
+  if (!s.refused.empty()) {
+    j["refused"] = s.refused;
+    return j;
+  }
+  j["vertices"] = s.vertices;
+  j["unknowns"] = s.unknowns;
+  j["contact_nodes"] = s.contact_nodes;
+  j["mesh_seconds"] = s.mesh_seconds;
+  j["uniqueness_margin"] = number(s.margin);
+  j["unique"] = s.unique;
+  j["max_difference"] = s.max_difference;
+  j["agree_ok"] = !s.unique || s.max_difference <= agree;
+  j["pairs"] = nlohmann::json::array();
+  for (const auto& r : s.rows)
+    j["pairs"].push_back({{"linear", r.linear},
+                          {"minimizer", r.minimizer},
+                          {"status", r.status},
+                          {"converged", r.converged},
+                          {"message", r.message},
+                          {"certificate", {{"residual", number(r.residual)}, {"feasibility", number(r.feasibility)}}},
+                          {"iterations", r.iterations},
+                          {"at_bound", r.at_bound},
+                          {"uniqueness_margin", number(r.margin)},
+                          {"engine_rcond", number(r.rcond)},
+                          {"condition_estimate", number(r.condition)},
+                          {"max_difference", number(r.difference)},
+                          {"seconds", r.seconds},
+                          {"guarantee_ok", r.guarantee},
+                          {"guarantee_broken", r.broken}});
+  return j;
+}
+
+void print_scene(std::ostream& out, const SceneReport& s, double agree) {
+  out << "\n== " << s.name << ": " << s.title << "\n   " << s.mesh;
+  if (!s.refused.empty()) {
+    out << "\n   refused: " << s.refused << "\n";
+    return;
+  }
+  out << ": " << s.vertices << " vertices, " << s.unknowns << " unknowns, " << s.contact_nodes
+      << " contact nodes; uniqueness margin " << margin_text(s.margin)
+      << (s.unique ? " (unique)" : " (several critical points possible)") << "\n";
+  out << "   " << std::left << std::setw(10) << "linear" << std::setw(18) << "minimizer" << std::setw(17) << "status"
+      << std::right << std::setw(10) << "residual" << std::setw(13) << "feasibility" << std::setw(7) << "iter"
+      << std::setw(7) << "bound" << std::setw(10) << "kappa_1" << std::setw(10) << "engine" << std::setw(10) << "max diff" << std::setw(10) << "time [s]" << "  guarantee\n";
+  for (const auto& r : s.rows) {
+    out << "   " << std::left << std::setw(10) << r.linear << std::setw(18) << r.minimizer << std::setw(17) << r.status
+        << std::right << std::setw(10) << sci(r.residual) << std::setw(13) << sci(r.feasibility) << std::setw(7)
+        << r.iterations << std::setw(7) << r.at_bound << std::setw(10) << sci(r.condition, 1) << std::setw(10) << cond_text(r.rcond) << std::setw(10) << sci(r.difference, 1)
+        << std::setw(10) << fixed(r.seconds, 3) << "  " << (r.guarantee ? "ok" : "BROKEN: " + r.broken) << "\n";
+    if (r.failed) out << "      " << r.message << "\n";
+  }
+  int converged = 0;
+  for (const auto& r : s.rows) converged += r.converged;
+  out << "   " << converged << " of " << s.rows.size() << " pairs converged; largest difference between converged pairs "
+      << sci(s.max_difference);
+  if (s.unique && s.max_difference > agree) out << " > " << sci(agree) << " (DISAGREE)";
+  out << "\n";
+}
+
+}  // namespace
+
+int run_check_extreme(const ExtremeOptions& o, std::ostream& out, std::ostream& err) {
+  if (!(o.agree > 0.0)) throw InputError("must be > 0", "--agree");
+  const fs::path dir = o.scenes.empty() ? fs::path(HEMIVEM_EXTREME_SCENES_DIR) : fs::path(o.scenes);
+  std::error_code ec;
+  if (dir.empty() || !fs::is_directory(dir, ec))
+    throw InputError("not a folder of scenes" + std::string(o.scenes.empty() ? " (pass one with --scenes)" : ""),
+                     dir.empty() ? "--scenes" : dir.string());
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::directory_iterator(dir))
+    if (entry.is_regular_file() && entry.path().extension() == ".toml") files.push_back(entry.path());
+  std::sort(files.begin(), files.end());
+  for (const auto& name : o.only)
+    if (std::none_of(files.begin(), files.end(), [&](const fs::path& f) { return f.stem() == name; })) {
+      std::string names;
+      for (const auto& f : files) names += (names.empty() ? "" : ", ") + f.stem().string();
+      throw InputError("no scene '" + name + "' in " + dir.string() + "; expected one of: " + names, "--only");
+    }
+  if (!o.only.empty())
+    std::erase_if(files, [&](const fs::path& f) { return std::find(o.only.begin(), o.only.end(), f.stem()) == o.only.end(); });
+  if (files.empty()) throw InputError("no *.toml scene in the folder", dir.string());
+
+  std::vector<SceneReport> reports;
+  for (const auto& f : files) reports.push_back(run_scene(f, o, err));
+
+  bool broken = false, disagree = false;
+  for (const auto& s : reports) {
+    for (const auto& r : s.rows) broken |= !r.guarantee;
+    disagree |= s.unique && s.max_difference > o.agree;
+  }
+  const int code = broken ? kInternalError : disagree ? kDisagreement : kSuccess;
+
+  if (o.json) {
+    nlohmann::json j;
+    j["schema"] = "hemivem-stability/1";
+    j["version"] = HEMIVEM_VERSION;
+    j["scenes_folder"] = fs::absolute(dir).lexically_normal().string();
+    j["agree"] = o.agree;
+    j["scenes"] = nlohmann::json::array();
+    for (const auto& s : reports) j["scenes"].push_back(scene_json(s, o.agree));
+    j["guarantees_ok"] = !broken;
+    j["exit_code"] = code;
+    out << j.dump(2) << "\n";
+    return code;
+  }
+  if (o.verbosity < 1) return code;
+  out << "hemivem check --extreme: " << reports.size() << " scenes from " << dir.string()
+      << "\n  every built pair of engines; differences are max|u_a - u_b| / max|u_ref| (u_ref: eigen+ssn);"
+      << "\n  kappa_1: estimate of the 1-norm condition number of the factorized matrix (A22; A without contact),"
+      << "\n  the same method for every engine; engine: 1 / the engine's own reciprocal condition estimate, '-' where"
+      << "\n  it gives none; bound: contact nodes at a bound of the constraint; guarantee: a converged pair has finite u and a feasible point (recomputed)\n";
+  for (const auto& s : reports) print_scene(out, s, o.agree);
+
+  out << "\n  summary\n  " << std::left << std::setw(24) << "scene" << std::right << std::setw(11) << "converged"
+      << std::setw(11) << "margin" << std::setw(20) << "kappa_1" << std::setw(11) << "max diff" << std::setw(11)
+      << "time [s]" << "\n";
+  for (const auto& s : reports) {
+    out << "  " << std::left << std::setw(24) << s.name << std::right;
+    if (!s.refused.empty()) {
+      out << "  refused (see above)\n";
+      continue;
+    }
+    int converged = 0;
+    double lo = kNaN, hi = kNaN, worst = 0.0;
+    for (const auto& r : s.rows) {
+      converged += r.converged;
+      worst = std::max(worst, r.seconds);
+      if (r.condition > 0.0) {
+        const double c = r.condition;
+        lo = std::isnan(lo) ? c : std::min(lo, c);
+        hi = std::isnan(hi) ? c : std::max(hi, c);
+      }
+    }
+    std::ostringstream conv, cond;
+    conv << converged << "/" << s.rows.size();
+    cond << (std::isnan(lo) ? "-" : sci(lo, 1) + (hi > lo * 1.5 ? ".." + sci(hi, 1) : ""));
+    out << std::setw(11) << conv.str() << std::setw(11) << margin_text(s.margin) << std::setw(20) << cond.str()
+        << std::setw(11) << sci(s.max_difference) << std::setw(11) << fixed(worst + s.mesh_seconds, 2) << "\n";
+  }
+  out << "\n  verdict   ";
+  if (code == kSuccess) out << "no guarantee broken; converged pairs agree within " << sci(o.agree) << " wherever the solution is unique\n";
+  else if (code == kInternalError) out << "a guarantee was broken (exit " << code << ")\n";
+  else out << "converged pairs disagree on a scene with a unique solution (exit " << code << ")\n";
+  return code;
+}
+
+}  // namespace hemivem::cli

@@ -1,0 +1,45 @@
+// Memory needed by a solve, estimated before anything is allocated, and the memory the
+// machine offers. A request that cannot fit is refused up front with the estimate, instead of
+// being killed by the operating system halfway through.
+//
+// The model (docs/stability.md, "Memory"): peak resident memory of one solve with any linear
+// engine is about 32 MiB + c * V * log2(V) bytes for a mesh of V vertices, with c = 280 for
+// meshes of quadrilaterals and triangles and c = 500 for polygonal meshes (Voronoi, non-convex,
+// meshes read from files), fitted to measured peaks of `hemivem solve` on Example 4.1 for
+// N = 128 ... 512 (squares 86 MB ... 1.25 GB, Voronoi 255 MB ... 1.1 GB) and within 20 % of them.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+namespace hemivem {
+
+struct MemoryEstimate {
+  double vertices = 0.0;      ///< vertices of the mesh (counted or predicted)
+  double mesh_bytes = 0.0;    ///< the mesh alone (coordinates, elements, edges, generator work)
+  double solve_bytes = 0.0;   ///< peak of a whole solve (mesh, assembly, factorization, outputs)
+};
+
+/// The estimate for a mesh generator (mesh_generator_names()) with n cells per side.
+/// Throws InputError for an unknown generator or n < 1.
+MemoryEstimate estimate_memory(std::string_view generator, std::int64_t n);
+/// The estimate for a mesh of `vertices` vertices whose elements have on average
+/// `vertices_per_element` vertices.
+MemoryEstimate estimate_memory(double vertices, double vertices_per_element);
+
+/// Bytes this process may use: the environment variable HEMIVEM_MEMORY_LIMIT when set (a
+/// number of bytes with an optional suffix K, M, G or T, powers of 1024), else MemAvailable
+/// of /proc/meminfo; +inf when neither is known. Throws InputError naming the variable when
+/// HEMIVEM_MEMORY_LIMIT is malformed.
+double available_memory();
+
+/// Throws InputError (at `where`) when `bytes` exceeds available_memory(); the message gives
+/// the estimate, what it is for (`what`, e.g. "squares n = 1000000: 1.0e12 vertices") and the
+/// limit with where it came from.
+void require_memory(double bytes, const std::string& what, const std::string& where);
+
+/// "1.2 GiB", "340 MiB", ...
+std::string format_bytes(double bytes);
+
+}  // namespace hemivem

@@ -1,0 +1,68 @@
+// hemivem check --extreme and the memory refusal, through the built binary.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+
+#include "test_support.hpp"
+
+namespace hemivem {
+namespace {
+
+TEST(CliExtreme, ReportsEveryPairWithItsGuaranteeAsJson) {
+  const auto run = test::run_hemivem("check --extreme --only gap-zero,lift-off --json");
+  ASSERT_EQ(run.code, 0) << run.err;
+  const auto j = nlohmann::json::parse(run.out);
+  EXPECT_EQ(j["schema"], "hemivem-stability/1");
+  EXPECT_TRUE(j["guarantees_ok"].get<bool>());
+  ASSERT_EQ(j["scenes"].size(), 2u);
+  for (const auto& s : j["scenes"]) {
+    ASSERT_FALSE(s["pairs"].empty());
+    EXPECT_TRUE(s["unique"].get<bool>()) << s["name"];
+    EXPECT_LT(s["max_difference"].get<double>(), 1e-6) << s["name"];
+    for (const auto& p : s["pairs"]) {
+      EXPECT_TRUE(p["converged"].get<bool>()) << s["name"] << " " << p["linear"] << "+" << p["minimizer"];
+      EXPECT_TRUE(p["guarantee_ok"].get<bool>());
+      EXPECT_GT(p["condition_estimate"].get<double>(), 1.0);
+      const int bound = p["at_bound"].get<int>();
+      EXPECT_EQ(bound, s["name"] == "gap-zero" ? s["contact_nodes"].get<int>() : 0) << s["name"];
+    }
+  }
+}
+
+TEST(CliExtreme, TableAndClearErrors) {
+  const auto table = test::run_hemivem("check --extreme --only polyline-contact");
+  EXPECT_EQ(table.code, 0) << table.err;
+  EXPECT_NE(table.out.find("polyline-contact"), std::string::npos);
+  EXPECT_NE(table.out.find("kappa_1"), std::string::npos);
+  EXPECT_NE(table.out.find("no guarantee broken"), std::string::npos) << table.out;
+
+  const auto unknown = test::run_hemivem("check --extreme --only no-such-scene");
+  EXPECT_EQ(unknown.code, 2);
+  EXPECT_NE(unknown.err.find("--only"), std::string::npos) << unknown.err;
+  EXPECT_NE(unknown.err.find("nu-0.4999"), std::string::npos) << "lists the scenes: " << unknown.err;
+
+  const auto mixed = test::run_hemivem("check --extreme --n 8");
+  EXPECT_EQ(mixed.code, 2) << mixed.err;
+}
+
+TEST(CliExtreme, RefusesARequestThatCannotFitBeforeAllocating) {
+  const auto out = test::scratch("memory-refusal");
+  const auto run = test::run_hemivem("solve --n 1000000 --out " + out.string());
+  EXPECT_EQ(run.code, 2);
+  EXPECT_NE(run.err.find("needs an estimated"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("available"), std::string::npos) << run.err;
+  EXPECT_FALSE(std::filesystem::exists(out)) << "no output folder for a refused request";
+
+  setenv("HEMIVEM_MEMORY_LIMIT", "16M", 1);
+  const auto limited = test::run_hemivem("solve --n 128 --out " + out.string());
+  unsetenv("HEMIVEM_MEMORY_LIMIT");
+  EXPECT_EQ(limited.code, 2);
+  EXPECT_NE(limited.err.find("more than the 16 MiB available (HEMIVEM_MEMORY_LIMIT)"), std::string::npos) << limited.err;
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+}  // namespace
+}  // namespace hemivem
