@@ -3,12 +3,27 @@
 
 #include <chrono>
 #include <cmath>
+#include <exception>
+#include <string>
 
 namespace hemivem {
 
 namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// What the process holding the results tells the others after the minimizer: a
+// MinimizerStatus (>= 0) or the kind of exception it threw.
+constexpr int kThrewInputError = -1;
+constexpr int kThrewNumericalError = -2;
+constexpr int kThrewOther = -3;
+
+[[noreturn]] void rethrow_elsewhere(int outcome) {
+  const std::string what = "the minimizer failed on the process holding the results (it reports the error)";
+  if (outcome == kThrewInputError) throw InputError(what);
+  if (outcome == kThrewNumericalError) throw NumericalError(what);
+  throw Error(what);
+}
 }  // namespace
 
 ContactSolution solve_contact(const ContactProblem& problem, std::unique_ptr<SparseFactorization> factorization,
@@ -16,6 +31,7 @@ ContactSolution solve_contact(const ContactProblem& problem, std::unique_ptr<Spa
                               ReducedProblem* reduced) {
   if (!factorization) throw InputError("solve_contact needs a factorization engine");
   const auto t_start = Clock::now();
+  const bool holds = factorization->holds_results();
   ContactSolution sol;
   auto t = Clock::now();
   const LinearSystem sys = assemble(problem.elasticity);
@@ -39,9 +55,11 @@ ContactSolution solve_contact(const ContactProblem& problem, std::unique_ptr<Spa
       throw NumericalError("solve with " + factorization->name() + " failed (" + to_string(r.status) + "): " + r.message);
     sol.timings["linear_solve"] = since(t);
     sol.stages.push_back("linear_solve");
-    const Eigen::VectorXd uf = X.col(0);
-    sol.u = sys.dofs.expand(uf);
-    sol.energy = 0.5 * uf.dot(sys.A * uf) - uf.dot(sys.b);
+    if (holds) {
+      const Eigen::VectorXd uf = X.col(0);
+      sol.u = sys.dofs.expand(uf);
+      sol.energy = 0.5 * uf.dot(sys.A * uf) - uf.dot(sys.b);
+    }
     sol.minimizer.status = MinimizerStatus::converged;
     sol.minimizer.certificate = {0.0, 0.0};
     sol.minimizer.may_be_nonunique = false;
@@ -57,10 +75,31 @@ ContactSolution solve_contact(const ContactProblem& problem, std::unique_ptr<Spa
   sol.stages.push_back("condensation");
   sol.uniqueness_margin = cond.uniqueness_margin();
   const ReducedProblem& rp = cond.reduced();
-  if (reduced) *reduced = rp;
+  if (reduced && holds) *reduced = rp;
 
+  // The reduced problem is solved where it lives; the others learn the status, or that it threw.
   t = Clock::now();
-  sol.minimizer = minimizer.minimize(rp, Eigen::VectorXd(), options);
+  int outcome = 0;
+  std::exception_ptr failure;
+  if (holds) {
+    try {
+      sol.minimizer = minimizer.minimize(rp, Eigen::VectorXd(), options);
+      outcome = static_cast<int>(sol.minimizer.status);
+    } catch (const InputError&) {
+      failure = std::current_exception();
+      outcome = kThrewInputError;
+    } catch (const NumericalError&) {
+      failure = std::current_exception();
+      outcome = kThrewNumericalError;
+    } catch (...) {
+      failure = std::current_exception();
+      outcome = kThrewOther;
+    }
+  }
+  outcome = cond.factorization().share(outcome);
+  if (failure) std::rethrow_exception(failure);
+  if (outcome < 0) rethrow_elsewhere(outcome);
+  if (!holds) sol.minimizer.status = static_cast<MinimizerStatus>(outcome);
   sol.timings["minimize"] = since(t);
   sol.stages.push_back("minimize");
 
@@ -68,6 +107,10 @@ ContactSolution solve_contact(const ContactProblem& problem, std::unique_ptr<Spa
   sol.u = cond.back_substitute(sol.minimizer.a);
   sol.timings["back_substitution"] = since(t);
   sol.stages.push_back("back_substitution");
+  if (!holds) {
+    sol.timings["total"] = since(t_start);
+    return sol;
+  }
 
   const Eigen::VectorXd& a = sol.minimizer.a;
   const Eigen::VectorXd xi = rp.least_norm_subgradient(a);

@@ -45,6 +45,14 @@ struct ContactSolution {
 /// that is not held) and NumericalError when the factorization fails; a minimizer that does
 /// not converge is reported in the result, not thrown.
 /// When `reduced` is not null it receives a copy of the reduced problem (for export).
+///
+/// With an engine across processes (factorization->holds_results() false on all but one
+/// process) every process calls solve_contact with the same problem: assembly runs on every
+/// process, the engine's calls are collective, the minimizer and the results (u, contact,
+/// energy, margin, `reduced`) belong to the process holding the results. Elsewhere the
+/// solution carries the stages, the timings and the minimizer's status (shared), nothing else.
+/// An exception thrown there by the minimizer is thrown on every process (the others get the
+/// same type with a message saying so).
 ContactSolution solve_contact(const ContactProblem& problem, std::unique_ptr<SparseFactorization> factorization,
                               const NonsmoothMinimizer& minimizer, const MinimizerOptions& options,
                               ReducedProblem* reduced = nullptr);
