@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <iomanip>
 #include <ostream>
@@ -86,6 +87,8 @@ SceneSolve solve_scene(const Scene& scene, const std::function<void(const BuiltP
   const auto minimizer = make_minimizer(scene.solver.minimizer);
   s.linear = factorization->name();
   s.minimizer = minimizer->name();
+  s.holds_results = factorization->holds_results();
+  s.processes = factorization->num_processes();
   s.options.tolerance = scene.solver.tolerance;
   s.options.max_iterations = scene.solver.max_iterations;
   s.options.callback = std::move(callback);
@@ -100,6 +103,18 @@ SceneSolve solve_scene(const Scene& scene, const std::function<void(const BuiltP
 
 int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   const Scene scene = load_scene(o);
+  // ---- runs across processes (docs/cluster.md) ----
+  if (const LaunchedProcesses launched = launched_processes(); launched.size > 1) {
+    std::string engine = scene.solver.linear;
+    std::transform(engine.begin(), engine.end(), engine.begin(),
+                   [](unsigned char c) { return c == '_' ? '-' : static_cast<char>(std::tolower(c)); });
+    if (engine != "mumps-mpi")
+      throw InputError("started as " + std::to_string(launched.size) + " processes by an MPI launcher, but the linear engine '" +
+                           scene.solver.linear + "' runs in one process (the processes would race on the same outputs); use "
+                           "--linear mumps-mpi, or run without mpirun",
+                       "--linear");
+  }
+  // ---- end runs across processes ----
   std::function<bool(const IterationRecord&)> callback;
   if (o.verbosity >= 2 && !o.json)
     callback = [&](const IterationRecord& r) {
@@ -108,7 +123,7 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
       return true;
     };
   auto announce = [&](const BuiltProblem& built, const SceneSolve& s) {
-    if (o.verbosity >= 1 && !o.json)
+    if (o.verbosity >= 1 && !o.json && s.holds_results)
       err << "hemivem: " << built.mesh.num_vertices() << " vertices, " << built.mesh.num_elements()
           << " elements; solving with " << s.linear << " and " << s.minimizer << "\n";
   };
@@ -116,6 +131,7 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   SceneSolve solved = solve_scene(scene, announce, callback, o.export_reduced.empty() ? nullptr : &reduced);
   const auto& built = solved.built;
   const ContactSolution& sol = solved.solution;
+  if (!solved.holds_results) return sol.converged() ? kSuccess : kNotConverged;  // rank > 0: rank 0 reports
   const MinimizerOptions& mo = solved.options;
   const double mesh_seconds = solved.mesh_seconds;
   if (!o.export_reduced.empty()) {
@@ -136,6 +152,7 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
                   {"scene", scene.source}};
   info.mesh_seconds = mesh_seconds;
   info.dofs = sol.unknowns;
+  info.processes = solved.processes;
   const OutputReport report = write_outputs(o.out, built->mesh, built->problem.elasticity.materials, sol, info,
                                             wanted_files(scene));
 
@@ -149,7 +166,9 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
     out << "hemivem solve: " << scene.title << " (" << scene.source << ")\n"
         << "  mesh          " << info.mesh << ": " << built->mesh.num_vertices() << " vertices, "
         << built->mesh.num_elements() << " elements, h = " << built->mesh.h() << ", " << info.dofs << " unknowns\n"
-        << "  engines       linear " << info.linear << ", minimizer " << info.minimizer << "\n"
+        << "  engines       linear " << info.linear
+        << (info.processes > 1 ? " (" + std::to_string(info.processes) + " processes)" : std::string())
+        << ", minimizer " << info.minimizer << "\n"
         << "  stages        ";
     for (std::size_t i = 0; i < sol.stages.size(); ++i) out << (i ? ", " : "") << sol.stages[i];
     out << "\n  status        " << to_string(r.status) << " (certificate: residual " << sci(r.certificate.residual, 3)

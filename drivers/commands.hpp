@@ -42,6 +42,8 @@ struct SceneSolve {
   std::string linear;            ///< the factorization engine's name
   std::string minimizer;         ///< the minimizer's name
   double mesh_seconds = 0.0;     ///< wall time of build_problem (mesh, materials, boundary parts)
+  bool holds_results = true;     ///< false on the ranks > 0 of mumps-mpi under mpirun: no results there
+  int processes = 1;             ///< the processes the linear engine runs on
   double total_seconds() const;  ///< mesh_seconds + the solve's total
 };
 
@@ -55,7 +57,10 @@ SceneSolve solve_scene(const Scene& scene,
 
 /// hemivem solve [SCENE.toml]: scene -> mesh -> assembly -> condensation -> minimizer ->
 /// back-substitution -> the output folder. Exit 0 when converged, kNotConverged otherwise
-/// (outputs are still written and marked).
+/// (outputs are still written and marked). Under an MPI launcher with several processes only
+/// mumps-mpi is accepted (InputError otherwise); every process solves along, the process
+/// holding the results prints and writes, the others return the same exit code silently
+/// (docs/cluster.md).
 int run_solve(const SolveOptions& options, std::ostream& out, std::ostream& err);
 
 struct MinimizeOptions {

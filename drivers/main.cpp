@@ -16,7 +16,10 @@
 #include <hemivem/resources.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
 
+#include <algorithm>
+#include <chrono>
 #include <iostream>
+#include <thread>
 
 #include "check_bench.hpp"
 #include "extreme.hpp"
@@ -36,7 +39,7 @@ std::string engines_text() {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run_command(int argc, char** argv) {
   using namespace hemivem;
   CLI::App app{"hemivem: virtual element method for contact problems with nonmonotone laws"};
   app.set_version_flag("--version", std::string("hemivem ") + HEMIVEM_VERSION + "\n" + engines_text());
@@ -150,12 +153,30 @@ int main(int argc, char** argv) {
   cmd_bench->add_flag("-q,--quiet", bench_quiet, "Print nothing on stdout or stderr");
   // ---- end check and bench ----
 
+  // ---- runs across processes (docs/cluster.md): only rank 0 prints; only solve runs on several ----
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
+    const int code = cli::reporting_process() ? app.exit(e) : e.get_exit_code();
     return code == 0 ? cli::kSuccess : cli::kInputError;
   }
+  if (const auto launched = cli::launched_processes(); launched.size > 1 && !*cmd_solve) {
+    if (launched.rank == 0)
+      std::cerr << "hemivem: error: started as " << launched.size
+                << " processes by an MPI launcher; only 'hemivem solve --linear mumps-mpi' runs across processes, "
+                   "run this command without mpirun\n";
+    return cli::kInputError;
+  }
+  // Errors every process meets alike (input, engine statuses) are reported by rank 0 alone;
+  // any other failure by the process it happened on, with its rank.
+  const auto report = [](const char* kind, const std::exception& e, bool shared) {
+    if (cli::reporting_process())
+      std::cerr << "hemivem: " << kind << e.what() << "\n";
+    else if (!shared)
+      std::cerr << "hemivem [rank " << std::max(cli::launched_processes().rank, factorization_process_rank())
+                << "]: " << kind << e.what() << "\n";
+  };
+  // ---- end runs across processes ----
 
   try {
     if (*cmd_solve) {
@@ -210,14 +231,26 @@ int main(int argc, char** argv) {
       return cli::kSuccess;
     }
   } catch (const InputError& e) {
-    std::cerr << "hemivem: error: " << e.what() << "\n";
+    report("error: ", e, true);
     return cli::kInputError;
   } catch (const NumericalError& e) {
-    std::cerr << "hemivem: backend failure: " << e.what() << "\n";
+    report("backend failure: ", e, true);
     return cli::kBackendFailure;
+  } catch (const hemivem::Error& e) {
+    report("internal error: ", e, true);
+    return cli::kInternalError;
   } catch (const std::exception& e) {
-    std::cerr << "hemivem: internal error: " << e.what() << "\n";
+    report("internal error: ", e, false);
     return cli::kInternalError;
   }
   return cli::kSuccess;
+}
+
+int main(int argc, char** argv) {
+  const int code = run_command(argc, argv);
+  // mpirun ends the whole job as soon as one process exits with an error. A rank > 0 has no
+  // message of its own: it leaves rank 0 the time to print the error both met.
+  if (code != hemivem::cli::kSuccess && !hemivem::cli::reporting_process())
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  return code;
 }

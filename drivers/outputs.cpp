@@ -405,6 +405,7 @@ nlohmann::json result_json(const Mesh& mesh, const ContactSolution& s, const Run
   j["version"] = info.version;
   j["scene"] = {{"name", info.scene_name}, {"toml", info.scene_toml}};
   j["backends"] = {{"linear", info.linear}, {"minimizer", info.minimizer}};
+  j["processes"] = info.processes;
   j["options"] = json::object();
   for (const auto& [k, v] : info.options) j["options"][k] = v;
   j["status"] = to_string(s.minimizer.status);

@@ -27,6 +27,7 @@ struct RunInfo {
   std::map<std::string, std::string> options;  ///< every option in effect, by name, as text
   double mesh_seconds = 0.0;                  ///< wall time spent making or reading the mesh
   int dofs = -1;                              ///< free degrees of freedom; < 0: 2 x vertices
+  int processes = 1;                          ///< processes of the linear engine (mpirun -np P with mumps-mpi)
 };
 
 /// The result.json document ("schema": "hemivem-result/1").

@@ -120,6 +120,7 @@ TEST_F(Outputs, ResultJsonHasEveryDocumentedField) {
   EXPECT_EQ(j.at("scene").at("toml"), s.info.scene_toml);
   EXPECT_EQ(j.at("backends").at("linear"), "eigen");
   EXPECT_EQ(j.at("backends").at("minimizer"), "ssn");
+  EXPECT_EQ(j.at("processes"), 1);
   EXPECT_EQ(j.at("options").at("tolerance"), "1e-10");
   EXPECT_EQ(j.at("options").at("stabilization"), "2mu");
 

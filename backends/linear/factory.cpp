@@ -21,6 +21,7 @@
 
 #include <dlfcn.h>
 
+#include <atomic>
 #include <cstdlib>
 #include <mutex>
 #endif
@@ -46,6 +47,8 @@ std::string built_list() {
 #ifdef HEMIVEM_HAVE_MUMPS_MPI
 // The module is loaded once and never unloaded (engines it created may outlive any scope).
 // HEMIVEM_MUMPS_MPI_PLUGIN in the environment overrides the path recorded at build time.
+std::atomic<MumpsMpiRankFunction> loaded_rank{nullptr};
+
 CreateMumpsMpiFunction mumps_mpi_entry() {
   static std::once_flag once;
   static CreateMumpsMpiFunction create = nullptr;
@@ -61,6 +64,12 @@ CreateMumpsMpiFunction mumps_mpi_entry() {
     }
     create = reinterpret_cast<CreateMumpsMpiFunction>(dlsym(handle, kCreateMumpsMpiSymbol));
     if (!create) error = "the mumps-mpi module " + path + " has no entry point " + kCreateMumpsMpiSymbol;
+    const auto rank = reinterpret_cast<MumpsMpiRankFunction>(dlsym(handle, kMumpsMpiRankSymbol));
+    if (create && !rank) {
+      create = nullptr;
+      error = "the mumps-mpi module " + path + " has no entry point " + kMumpsMpiRankSymbol;
+    }
+    loaded_rank = rank;
   });
   if (!create) throw InputError(error, "engine");
   return create;
@@ -84,6 +93,13 @@ std::vector<std::string> available_factorizations() {
   names.emplace_back("mumps-mpi");
 #endif
   return names;
+}
+
+int factorization_process_rank() {
+#ifdef HEMIVEM_HAVE_MUMPS_MPI
+  if (const MumpsMpiRankFunction rank = loaded_rank.load()) return rank();
+#endif
+  return 0;
 }
 
 std::unique_ptr<SparseFactorization> make_factorization(const FactorizationOptions& options) {

@@ -128,6 +128,19 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
                          to_string(r.status) + "): " + r.message);
   reduced_.S = 0.5 * (reduced_.S + reduced_.S.transpose()).eval();
 
+  if (!factorization_->holds_results()) {
+    // An engine across processes: this process takes part in the interior solve (collective)
+    // but receives no result; S, c and the margin exist where the results are held.
+    Eigen::MatrixXd y;
+    const FactorizationResult s = factorization_->solve_interior(Eigen::MatrixXd(), &y);
+    if (!s.ok())
+      throw NumericalError("interior solve with the " + factorization_->name() + " engine failed (" +
+                           to_string(s.status) + "): " + s.message);
+    margin_ = std::numeric_limits<double>::quiet_NaN();
+    reduced_.uniqueness_margin = margin_;
+    return;
+  }
+
   // A21 = At(block2, block1), b1, b2
   SparseMatrix P1(n1, n), P2(static_cast<int>(block2_.size()), n);
   std::vector<Eigen::Triplet<double, int>> t1, t2;
@@ -158,14 +171,18 @@ double Condensation::condition_estimate() const {
 }
 
 Eigen::VectorXd Condensation::back_substitute(const Eigen::VectorXd& a) const {
-  if (a.size() != static_cast<Eigen::Index>(block1_.size()))
+  const bool holds = factorization_->holds_results();
+  // The check is decided where a lives and shared, so that no process is left in the solve.
+  const bool fits = factorization_->share(!holds || a.size() == static_cast<Eigen::Index>(block1_.size()) ? 1 : 0) != 0;
+  if (!fits)
     throw InputError("back-substitution needs " + std::to_string(block1_.size()) + " normal displacements, got " +
-                     std::to_string(a.size()));
+                     (holds ? std::to_string(a.size()) : std::string("another number on the process holding the results")));
   Eigen::MatrixXd u2;
-  const FactorizationResult s = factorization_->solve_interior(b2_ - A21_ * a, &u2);
+  const FactorizationResult s = factorization_->solve_interior(holds ? Eigen::MatrixXd(b2_ - A21_ * a) : Eigen::MatrixXd(), &u2);
   if (!s.ok())
     throw NumericalError("back-substitution with the " + factorization_->name() + " engine failed (" +
                          to_string(s.status) + "): " + s.message);
+  if (!holds) return Eigen::VectorXd();
   Eigen::VectorXd ut(dofs_.num_free());
   for (std::size_t i = 0; i < block1_.size(); ++i) ut(block1_[i]) = a(static_cast<Eigen::Index>(i));
   for (std::size_t i = 0; i < block2_.size(); ++i) ut(block2_[i]) = u2(static_cast<Eigen::Index>(i), 0);

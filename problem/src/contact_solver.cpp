@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <string>
 
@@ -15,6 +16,19 @@ double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::
 }  // namespace
 
 namespace {
+
+// What the process holding the results tells the others after the minimizer: a
+// MinimizerStatus (>= 0) or the kind of exception it threw.
+constexpr int kThrewInputError = -1;
+constexpr int kThrewNumericalError = -2;
+constexpr int kThrewOther = -3;
+
+[[noreturn]] void rethrow_elsewhere(int outcome) {
+  const std::string what = "the minimizer failed on the process holding the results (it reports the error)";
+  if (outcome == kThrewInputError) throw InputError(what);
+  if (outcome == kThrewNumericalError) throw NumericalError(what);
+  throw Error(what);
+}
 
 double rcond_or_nan(const SparseFactorization& f) {
   const double r = f.rcond_estimate();
@@ -47,6 +61,7 @@ std::vector<ContactSolution> solve_contact(const ContactProblem& problem,
     if (!m) throw InputError("solve_contact: a minimizer is null");
   if (std::string why; !options.is_valid(&why)) throw InputError(why, "MinimizerOptions");
   const auto t_start = Clock::now();
+  const bool holds = factorization->holds_results();
   ContactSolution shared;
   auto t = Clock::now();
   const LinearSystem sys = assemble(problem.elasticity);
@@ -70,8 +85,8 @@ std::vector<ContactSolution> solve_contact(const ContactProblem& problem,
       throw NumericalError("solve with " + factorization->name() + " failed (" + to_string(r.status) + "): " + r.message);
     shared.timings["linear_solve"] = since(t);
     shared.stages.push_back("linear_solve");
-    shared.rcond = rcond_or_nan(*factorization);
     if (estimate_condition) {
+      shared.rcond = rcond_or_nan(*factorization);
       auto apply = [&](const Eigen::VectorXd& x) {
         Eigen::MatrixXd y;
         if (!factorization->solve(x, &y).ok() || y.cols() != 1) return Eigen::VectorXd();
@@ -79,23 +94,26 @@ std::vector<ContactSolution> solve_contact(const ContactProblem& problem,
       };
       shared.condition_estimate = norm1(sys.A) * estimate_norm1_symmetric(static_cast<int>(sys.A.rows()), apply);
     }
-    const Eigen::VectorXd uf = X.col(0);
-    shared.u = sys.dofs.expand(uf);
-    shared.energy = 0.5 * uf.dot(sys.A * uf) - uf.dot(sys.b);
-    const double bnorm = sys.b.norm();
-    const double rnorm = (sys.A * uf - sys.b).norm();
-    const double residual = bnorm > 0.0 ? rnorm / bnorm : rnorm;
     auto& m = shared.minimizer;
-    m.certificate = {std::isfinite(residual) ? residual : std::numeric_limits<double>::infinity(), 0.0};
     m.may_be_nonunique = false;
-    if (uf.allFinite() && residual <= options.tolerance) {
-      m.status = MinimizerStatus::converged;
-    } else {
-      m.status = MinimizerStatus::failed;
-      m.message = uf.allFinite() ? "the linear solve's relative residual is above the tolerance"
-                                 : "the linear solve gave a displacement that is not finite";
+    if (holds) {
+      const Eigen::VectorXd uf = X.col(0);
+      shared.u = sys.dofs.expand(uf);
+      shared.energy = 0.5 * uf.dot(sys.A * uf) - uf.dot(sys.b);
+      const double bnorm = sys.b.norm();
+      const double rnorm = (sys.A * uf - sys.b).norm();
+      const double residual = bnorm > 0.0 ? rnorm / bnorm : rnorm;
+      m.certificate = {std::isfinite(residual) ? residual : std::numeric_limits<double>::infinity(), 0.0};
+      if (uf.allFinite() && residual <= options.tolerance) {
+        m.status = MinimizerStatus::converged;
+      } else {
+        m.status = MinimizerStatus::failed;
+        m.message = uf.allFinite() ? "the linear solve's relative residual is above the tolerance"
+                                   : "the linear solve gave a displacement that is not finite";
+      }
+      require_finite(shared);
     }
-    require_finite(shared);
+    m.status = static_cast<MinimizerStatus>(factorization->share(static_cast<int>(m.status)));
     shared.timings["total"] = since(t_start);
     return std::vector<ContactSolution>(minimizers.size(), shared);
   }
@@ -107,18 +125,40 @@ std::vector<ContactSolution> solve_contact(const ContactProblem& problem,
   shared.timings["condensation"] = since(t);
   shared.stages.push_back("condensation");
   shared.uniqueness_margin = cond.uniqueness_margin();
-  shared.rcond = rcond_or_nan(cond.factorization());
-  if (estimate_condition) shared.condition_estimate = cond.condition_estimate();
+  if (estimate_condition) {
+    shared.rcond = rcond_or_nan(cond.factorization());
+    shared.condition_estimate = cond.condition_estimate();
+  }
   const ReducedProblem& rp = cond.reduced();
-  if (reduced) *reduced = rp;
+  if (reduced && holds) *reduced = rp;
   const double before_minimize = since(t_start);
 
   std::vector<ContactSolution> solutions;
   for (const NonsmoothMinimizer* minimizer : minimizers) {
     ContactSolution sol = shared;
     const auto t_own = Clock::now();
+    // The reduced problem is solved where it lives; the others learn the status, or that it threw.
     t = Clock::now();
-    sol.minimizer = minimizer->minimize(rp, Eigen::VectorXd(), options);
+    int outcome = 0;
+    std::exception_ptr failure;
+    if (holds) {
+      try {
+        sol.minimizer = minimizer->minimize(rp, Eigen::VectorXd(), options);
+        outcome = static_cast<int>(sol.minimizer.status);
+      } catch (const InputError&) {
+        failure = std::current_exception();
+        outcome = kThrewInputError;
+      } catch (const NumericalError&) {
+        failure = std::current_exception();
+        outcome = kThrewNumericalError;
+      } catch (...) {
+        failure = std::current_exception();
+        outcome = kThrewOther;
+      }
+    }
+    outcome = cond.factorization().share(outcome);
+    if (failure) std::rethrow_exception(failure);
+    if (outcome < 0) rethrow_elsewhere(outcome);
     sol.timings["minimize"] = since(t);
     sol.stages.push_back("minimize");
 
@@ -126,6 +166,13 @@ std::vector<ContactSolution> solve_contact(const ContactProblem& problem,
     sol.u = cond.back_substitute(sol.minimizer.a);
     sol.timings["back_substitution"] = since(t);
     sol.stages.push_back("back_substitution");
+    if (!holds) {
+      // the final status (after the checks below on the process holding the results)
+      sol.minimizer.status = static_cast<MinimizerStatus>(cond.factorization().share(0));
+      sol.timings["total"] = before_minimize + since(t_own);
+      solutions.push_back(std::move(sol));
+      continue;
+    }
 
     const Eigen::VectorXd& a = sol.minimizer.a;
     const Eigen::VectorXd xi = rp.least_norm_subgradient(a);
@@ -146,6 +193,7 @@ std::vector<ContactSolution> solve_contact(const ContactProblem& problem,
     sol.energy = 0.5 * uf.dot(sys.A * uf) - uf.dot(sys.b);
     for (int i = 0; i < boundary.size(); ++i) sol.energy += rp.w(i) * rp.law->value(a(i));
     require_finite(sol);
+    cond.factorization().share(static_cast<int>(sol.minimizer.status));
     sol.timings["total"] = before_minimize + since(t_own);
     solutions.push_back(std::move(sol));
   }

@@ -44,6 +44,9 @@ class Condensation {
   /// the normal ones first and computes S, c with `factorization.schur_complement`; the
   /// factorization keeps A22 for back_substitute(). Throws NumericalError with the
   /// engine's message when the factorization fails (e.g. not positive definite).
+  /// With an engine across processes (every process constructs a Condensation, see
+  /// SparseFactorization::holds_results) S, c and the margin exist on the process holding
+  /// the results; elsewhere reduced() has empty S and c and the margin is NaN.
   Condensation(const LinearSystem& system, const ContactBoundary& boundary,
                std::unique_ptr<SparseFactorization> factorization, std::shared_ptr<const ContactLaw> law,
                ConstraintKind constraint);
@@ -54,6 +57,8 @@ class Condensation {
   double uniqueness_margin() const noexcept { return margin_; }
   /// Full nodal displacement (all 2*num_vertices dofs, prescribed values included) from
   /// the normal displacements a of the contact nodes: u2 = A22^{-1} (b2 - A21 a).
+  /// Collective with an engine across processes: a is read, and u returned, on the process
+  /// holding the results; elsewhere a is ignored and the result is empty.
   Eigen::VectorXd back_substitute(const Eigen::VectorXd& a) const;
   const SparseFactorization& factorization() const { return *factorization_; }
   /// Estimate of the 1-norm condition number kappa_1(A22) of the factorized interior block,

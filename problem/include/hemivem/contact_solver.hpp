@@ -38,7 +38,8 @@ struct ContactSolution {
   double uniqueness_margin = std::numeric_limits<double>::infinity();
   double energy = 0.0;                  ///< potential energy 1/2 u^T A u - b^T u + sum_i w_i j(u_nu,i) (free dofs)
   /// Reciprocal condition estimate of the matrix the engine factorized (A22 with contact, A
-  /// without), where the engine offers one (SparseFactorization::rcond_estimate); NaN otherwise.
+  /// without), where the engine offers one (SparseFactorization::rcond_estimate); NaN
+  /// otherwise, and NaN unless asked for (estimate_condition).
   double rcond = std::numeric_limits<double>::quiet_NaN();
   /// Estimate of the 1-norm condition number of the same matrix, independent of the engine
   /// (Condensation::condition_estimate); NaN unless asked for.
@@ -59,6 +60,14 @@ struct ContactSolution {
 /// converged but whose back-substituted displacement is not finite becomes `failed`. Without
 /// contact the certificate's residual is the relative residual ||A u - b|| / ||b|| of the one
 /// linear solve, and the solve is converged when it is finite and below options.tolerance.
+///
+/// With an engine across processes (factorization->holds_results() false on all but one
+/// process) every process calls solve_contact with the same problem: assembly runs on every
+/// process, the engine's calls are collective, the minimizer and the results (u, contact,
+/// energy, margin, `reduced`) belong to the process holding the results. Elsewhere the
+/// solution carries the stages, the timings and the minimizer's status (shared), nothing else.
+/// An exception thrown there by the minimizer is thrown on every process (the others get the
+/// same type with a message saying so).
 ContactSolution solve_contact(const ContactProblem& problem, std::unique_ptr<SparseFactorization> factorization,
                               const NonsmoothMinimizer& minimizer, const MinimizerOptions& options,
                               ReducedProblem* reduced = nullptr);
@@ -66,7 +75,7 @@ ContactSolution solve_contact(const ContactProblem& problem, std::unique_ptr<Spa
 /// The same for several minimizers sharing one assembly and one condensation (the stages
 /// before the minimizer run once; their timings are repeated in every solution): one solution
 /// per minimizer, in order. Without a contact boundary the single linear solve is shared.
-/// `estimate_condition` adds ContactSolution::condition_estimate (7 more solves).
+/// `estimate_condition` adds ContactSolution::condition_estimate (7 more solves) and rcond.
 std::vector<ContactSolution> solve_contact(const ContactProblem& problem,
                                            std::unique_ptr<SparseFactorization> factorization,
                                            std::span<const NonsmoothMinimizer* const> minimizers,

@@ -21,4 +21,9 @@ std::unique_ptr<SparseFactorization> make_factorization(const FactorizationOptio
 /// The engines built into this library, in the order eigen, cholmod, mumps, mumps-mpi.
 std::vector<std::string> available_factorizations();
 
+/// This process' rank among the processes of an engine across processes: its rank in
+/// MPI_COMM_WORLD once a mumps-mpi engine has been created (the module is loaded), 0 otherwise.
+/// Never loads the module nor initializes MPI, so a program can ask it at any time.
+int factorization_process_rank();
+
 }  // namespace hemivem

@@ -109,6 +109,12 @@ FactorizationResult MumpsMpiFactorization::solve_interior(const Eigen::MatrixXd&
 
 double MumpsMpiFactorization::rcond_estimate() const { return impl_ ? impl_->engine.rcond_estimate() : -1.0; }
 
+bool MumpsMpiFactorization::holds_results() const { return impl_ ? impl_->engine.is_root() : true; }
+
+int MumpsMpiFactorization::num_processes() const { return impl_ ? mpi_size() : 1; }
+
+int MumpsMpiFactorization::share(int value) const { return impl_ ? impl_->engine.share(value) : value; }
+
 int MumpsMpiFactorization::num_analyses() const noexcept { return impl_ ? impl_->engine.num_analyses() : 0; }
 
 int MumpsMpiFactorization::num_factorizations() const noexcept {

@@ -111,6 +111,12 @@ class MumpsEngine {
 
   int num_analyses() const noexcept { return num_analyses_; }
   int num_factorizations() const noexcept { return num_factorizations_; }
+  bool is_root() const { return comm_.is_root(); }
+  /// Collective: the root's value on every process.
+  int share(int value) const {
+    comm_.broadcast(&value, sizeof value);
+    return value;
+  }
 
   // ---- the contract ---------------------------------------------------------------------
 

@@ -8,7 +8,8 @@
 // SPMD contract
 //   - Every process of MPI_COMM_WORLD constructs the object and calls the same methods in the
 //     same order (every method, the const ones and the destructor included, is collective;
-//     num_analyses(), num_factorizations(), name() and the static functions are not).
+//     num_analyses(), num_factorizations(), name(), holds_results(), num_processes() and the
+//     static functions are not; share() is).
 //   - Rank 0 is MUMPS' host (PAR=1: it works too). The problem is centralized there: the
 //     matrix A (assembled, ICNTL(18)=0), the right-hand sides B and B2 and block1 are read on
 //     rank 0 only; on the other ranks these arguments are ignored and may be empty.
@@ -58,6 +59,12 @@ class MumpsMpiFactorization final : public SparseFactorization {
                                        Eigen::MatrixXd* S) override;
   FactorizationResult solve_interior(const Eigen::MatrixXd& B2, Eigen::MatrixXd* X2) const override;
   double rcond_estimate() const override;
+  /// True on rank 0 (MUMPS' host), where the outputs are written.
+  bool holds_results() const override;
+  /// The size of MPI_COMM_WORLD (1 after MPI_Finalize).
+  int num_processes() const override;
+  /// Collective: rank 0's `value` on every process (a broadcast over MPI_COMM_WORLD).
+  int share(int value) const override;
 
   /// Number of symbolic analyses (MUMPS JOB=1) this object has run.
   int num_analyses() const noexcept;

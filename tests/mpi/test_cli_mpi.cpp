@@ -1,0 +1,186 @@
+// The hemivem command under mpiexec (docs/cluster.md): `solve --linear mumps-mpi` on two
+// processes agrees with `--linear eigen` on one, rank 0 alone prints and writes, and what may
+// not run across processes is refused.
+//
+// "Rank 0 alone writes" is observed directly: mpiexec starts the two ranks with different
+// --out folders (MPMD, `-n 1 A : -n 1 B`), everything else on their command lines equal, and
+// rank 1's folder must not appear.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <sys/wait.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CommandRun {
+  int code = -1;
+  std::string out;
+  std::string err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream f(p);
+  std::ostringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+CommandRun run(const std::string& command) {
+  const fs::path err = fs::temp_directory_path() / ("hemivem-mpi-test-stderr-" + std::to_string(::getpid()) + ".txt");
+  CommandRun r;
+  FILE* p = popen((command + " 2>" + err.string()).c_str(), "r");
+  if (!p) return r;
+  std::array<char, 4096> buf{};
+  while (std::size_t n = std::fread(buf.data(), 1, buf.size(), p)) r.out.append(buf.data(), n);
+  const int status = pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.err = slurp(err);
+  fs::remove(err);
+  return r;
+}
+
+std::string mpiexec() { return std::string(HEMIVEM_MPIEXEC) + " " + HEMIVEM_MPIEXEC_FLAGS; }
+std::string np(int n) { return std::string(HEMIVEM_MPIEXEC_NUMPROC_FLAG) + " " + std::to_string(n); }
+std::string hemivem() { return HEMIVEM_BINARY; }
+
+fs::path scratch(const std::string& name) {
+  const fs::path p = fs::temp_directory_path() / ("hemivem-mpi-cli-" + std::to_string(::getpid())) / name;
+  fs::remove_all(p);
+  return p;
+}
+
+std::size_t count(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + what.size())) ++n;
+  return n;
+}
+
+nlohmann::json read_json(const fs::path& p) { return nlohmann::json::parse(slurp(p)); }
+
+TEST(CliMpi, TwoProcessesAgreeWithEigenAndRankZeroAloneWrites) {
+  const std::string scene = " solve --n 16 --tol 1e-11";
+  const fs::path ref = scratch("eigen"), out0 = scratch("rank0"), out1 = scratch("rank1");
+  const CommandRun e = run(hemivem() + scene + " --linear eigen -q --out " + ref.string());
+  ASSERT_EQ(e.code, 0) << e.err;
+
+  const CommandRun m = run(mpiexec() + " " + np(1) + " " + hemivem() + scene + " --linear mumps-mpi --out " + out0.string() +
+                    " : " + np(1) + " " + hemivem() + scene + " --linear mumps-mpi --out " + out1.string());
+  ASSERT_EQ(m.code, 0) << m.out << m.err;
+  EXPECT_EQ(count(m.out, "hemivem solve:"), 1u) << m.out;
+  EXPECT_EQ(count(m.out, "linear mumps-mpi (2 processes)"), 1u) << m.out;
+  EXPECT_EQ(count(m.err, "solving with mumps-mpi"), 1u) << m.err;
+  EXPECT_FALSE(fs::exists(out1)) << "rank 1 wrote outputs";
+
+  const nlohmann::json a = read_json(out0 / "result.json"), b = read_json(ref / "result.json");
+  EXPECT_EQ(a["processes"], 2);
+  EXPECT_EQ(b["processes"], 1);
+  EXPECT_EQ(a["backends"]["linear"], "mumps-mpi");
+  EXPECT_TRUE(a["converged"].get<bool>());
+  EXPECT_EQ(a["stages"], b["stages"]);
+  const double ea = a["energy"].get<double>(), eb = b["energy"].get<double>();
+  EXPECT_NEAR(ea, eb, 1e-10 * std::abs(eb));
+  EXPECT_NEAR(a["uniqueness_margin"].get<double>(), b["uniqueness_margin"].get<double>(),
+              1e-8 * b["uniqueness_margin"].get<double>());
+  ASSERT_EQ(a["contact"].size(), 15u);
+  ASSERT_EQ(a["contact"].size(), b["contact"].size());
+  for (std::size_t i = 0; i < a["contact"].size(); ++i) {
+    const auto& x = a["contact"][i];
+    const auto& y = b["contact"][i];
+    EXPECT_EQ(x["vertex"], y["vertex"]);
+    EXPECT_EQ(x["state"], y["state"]);
+    EXPECT_NEAR(x["u_nu"].get<double>(), y["u_nu"].get<double>(), 1e-12) << "node " << i;
+  }
+  for (const char* f : {"result.json", "contact.csv", "displacement.csv", "history.csv", "solution.vtu", "scene.toml"})
+    EXPECT_TRUE(fs::exists(out0 / f)) << f;
+  // displacement.csv: every value equal to 1e-10 of the largest displacement
+  std::istringstream da(slurp(out0 / "displacement.csv")), db(slurp(ref / "displacement.csv"));
+  std::string la, lb;
+  std::getline(da, la);
+  std::getline(db, lb);
+  ASSERT_EQ(la, lb);
+  double largest = 0.0, diff = 0.0;
+  int rows = 0;
+  while (std::getline(db, lb)) {
+    ASSERT_TRUE(std::getline(da, la));
+    double va[5], vb[5];
+    ASSERT_EQ(std::sscanf(la.c_str(), "%lf,%lf,%lf,%lf,%lf", &va[0], &va[1], &va[2], &va[3], &va[4]), 5) << la;
+    ASSERT_EQ(std::sscanf(lb.c_str(), "%lf,%lf,%lf,%lf,%lf", &vb[0], &vb[1], &vb[2], &vb[3], &vb[4]), 5) << lb;
+    for (int k = 3; k < 5; ++k) {
+      largest = std::max(largest, std::abs(vb[k]));
+      diff = std::max(diff, std::abs(va[k] - vb[k]));
+    }
+    ++rows;
+  }
+  EXPECT_EQ(rows, 17 * 17);
+  EXPECT_GT(largest, 0.0);
+  EXPECT_LE(diff, 1e-10 * largest);
+}
+
+TEST(CliMpi, EveryRankExitsWithTheSameCode) {
+  // Each rank records its own exit code; the solve stops after one iteration: exit 3 everywhere.
+  const fs::path dir = scratch("codes");
+  fs::create_directories(dir);
+  const std::string solve = hemivem() + " solve --n 8 --linear mumps-mpi --set solver.max_iterations=1 --tol 1e-14 -q --out " +
+                            (dir / "out").string();
+  auto ranked = [&](int r) {
+    return np(1) + " sh -c '" + solve + "; echo $? > " + (dir / ("code" + std::to_string(r))).string() + "'";
+  };
+  const CommandRun m = run(mpiexec() + " " + ranked(0) + " : " + ranked(1));
+  ASSERT_EQ(m.code, 0) << m.err;
+  EXPECT_EQ(slurp(dir / "code0"), "3\n");
+  EXPECT_EQ(slurp(dir / "code1"), "3\n");
+  EXPECT_FALSE(read_json(dir / "out" / "result.json")["converged"].get<bool>());
+}
+
+TEST(CliMpi, AnInputErrorAfterTheEngineExistsIsReportedOnceAndNobodyHangs) {
+  // The engine is created before the mesh is read: every rank fails on the missing file.
+  const fs::path out = scratch("missing");
+  const CommandRun m = run(mpiexec() + " " + np(2) + " " + hemivem() + " solve --linear mumps-mpi --mesh /nonexistent/mesh.poly2d --out " +
+                    out.string());
+  EXPECT_EQ(m.code, 2) << m.err;
+  EXPECT_EQ(count(m.err, "hemivem: error:"), 1u) << m.err;
+  EXPECT_NE(m.err.find("nonexistent/mesh.poly2d"), std::string::npos) << m.err;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(CliMpi, AnotherEngineOnSeveralProcessesIsRefused) {
+  const fs::path out = scratch("refused");
+  const CommandRun m = run(mpiexec() + " " + np(2) + " " + hemivem() + " solve --n 8 --linear eigen --out " + out.string());
+  EXPECT_EQ(m.code, 2);
+  EXPECT_EQ(count(m.err, "hemivem: error:"), 1u) << m.err;
+  EXPECT_NE(m.err.find("use --linear mumps-mpi"), std::string::npos) << m.err;
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_TRUE(m.out.empty()) << m.out;
+}
+
+TEST(CliMpi, OtherCommandsAreRefusedOnSeveralProcesses) {
+  const fs::path bench = scratch("bench"), study = scratch("study");
+  for (const std::string& cmd : std::vector<std::string>{"check --n 4", "bench --n 4 --ref 8 --out " + bench.string(),
+                                "study --n 4 --ref 8 --out " + study.string()}) {
+    const CommandRun m = run(mpiexec() + " " + np(2) + " " + hemivem() + " " + cmd);
+    EXPECT_EQ(m.code, 2) << cmd;
+    EXPECT_EQ(count(m.err, "only 'hemivem solve --linear mumps-mpi' runs across processes"), 1u) << cmd << ": " << m.err;
+  }
+  EXPECT_FALSE(fs::exists(bench));
+  EXPECT_FALSE(fs::exists(study));
+}
+
+TEST(CliMpi, OneProcessUnderMpiexecIsAnOrdinaryRun) {
+  const fs::path out = scratch("one");
+  const CommandRun m = run(mpiexec() + " " + np(1) + " " + hemivem() + " solve --n 8 --linear eigen -q --out " + out.string());
+  EXPECT_EQ(m.code, 0) << m.err;
+  EXPECT_EQ(read_json(out / "result.json")["processes"], 1);
+}
+
+}  // namespace
