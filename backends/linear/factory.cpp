@@ -22,7 +22,10 @@
 #include <dlfcn.h>
 
 #include <cstdlib>
+#include <filesystem>
 #include <mutex>
+#include <system_error>
+#include <vector>
 #endif
 
 namespace hemivem {
@@ -44,15 +47,51 @@ std::string built_list() {
 }
 
 #ifdef HEMIVEM_HAVE_MUMPS_MPI
+// Where the module may be, in this order:
+//   1. the folder hemivem/ beside the library holding this code (libhemivem_linear, found
+//      with dladdr): the installed layout, which the build tree reproduces;
+//   2. the path of the module in the build tree;
+//   3. the path of the module in the install prefix chosen at configure time (a static
+//      build installed, whose library is part of the program).
+// HEMIVEM_MUMPS_MPI_PLUGIN in the environment replaces the list.
+std::vector<std::string> mumps_mpi_candidates() {
+  const char* env = std::getenv("HEMIVEM_MUMPS_MPI_PLUGIN");
+  if (env && *env) return {env};
+  std::vector<std::string> paths;
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<void*>(&mumps_mpi_candidates), &info) != 0 && info.dli_fname && *info.dli_fname) {
+    std::error_code ec;
+    std::filesystem::path self = std::filesystem::weakly_canonical(info.dli_fname, ec);
+    if (ec) self = std::filesystem::path(info.dli_fname).lexically_normal();
+    paths.push_back((self.parent_path() / "hemivem" / HEMIVEM_MUMPS_MPI_PLUGIN_NAME).string());
+  }
+  paths.emplace_back(HEMIVEM_MUMPS_MPI_PLUGIN);
+  paths.emplace_back(HEMIVEM_MUMPS_MPI_PLUGIN_INSTALLED);
+  return paths;
+}
+
 // The module is loaded once and never unloaded (engines it created may outlive any scope).
-// HEMIVEM_MUMPS_MPI_PLUGIN in the environment overrides the path recorded at build time.
 CreateMumpsMpiFunction mumps_mpi_entry() {
   static std::once_flag once;
   static CreateMumpsMpiFunction create = nullptr;
   static std::string error;
   std::call_once(once, [] {
-    const char* env = std::getenv("HEMIVEM_MUMPS_MPI_PLUGIN");
-    const std::string path = env && *env ? env : HEMIVEM_MUMPS_MPI_PLUGIN;
+    const std::vector<std::string> candidates = mumps_mpi_candidates();
+    std::string path;
+    for (const std::string& candidate : candidates) {
+      std::error_code ec;
+      if (std::filesystem::is_regular_file(candidate, ec)) {
+        path = candidate;
+        break;
+      }
+    }
+    if (path.empty()) {
+      std::string tried;
+      for (const std::string& candidate : candidates) tried += (tried.empty() ? "" : ", ") + candidate;
+      error = "cannot find the mumps-mpi module (looked for " + tried +
+              "; the environment variable HEMIVEM_MUMPS_MPI_PLUGIN sets its path)";
+      return;
+    }
     void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL | RTLD_DEEPBIND);
     if (!handle) {
       const char* why = dlerror();
