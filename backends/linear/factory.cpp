@@ -48,11 +48,12 @@ std::string built_list() {
 
 #ifdef HEMIVEM_HAVE_MUMPS_MPI
 // Where the module may be, in this order:
-//   1. the folder hemivem/ beside the library holding this code (libhemivem_linear, found
-//      with dladdr): the installed layout, which the build tree reproduces;
-//   2. the path of the module in the build tree;
-//   3. the path of the module in the install prefix chosen at configure time (a static
-//      build installed, whose library is part of the program).
+//   1. the folder hemivem/ beside the file holding this code (found with dladdr): for a
+//      shared libhemivem_linear, the installed layout, which the build tree reproduces;
+//   2. <libdir>/hemivem relative to that file's folder taken as <bindir>: an installed
+//      program holding a static libhemivem_linear;
+//   3. the path of the module in the build tree;
+//   4. the path of the module in the install prefix chosen at configure time.
 // HEMIVEM_MUMPS_MPI_PLUGIN in the environment replaces the list.
 std::vector<std::string> mumps_mpi_candidates() {
   const char* env = std::getenv("HEMIVEM_MUMPS_MPI_PLUGIN");
@@ -64,6 +65,8 @@ std::vector<std::string> mumps_mpi_candidates() {
     std::filesystem::path self = std::filesystem::weakly_canonical(info.dli_fname, ec);
     if (ec) self = std::filesystem::path(info.dli_fname).lexically_normal();
     paths.push_back((self.parent_path() / "hemivem" / HEMIVEM_MUMPS_MPI_PLUGIN_NAME).string());
+    paths.push_back(
+        (self.parent_path() / HEMIVEM_MUMPS_MPI_PLUGIN_FROM_BINDIR / HEMIVEM_MUMPS_MPI_PLUGIN_NAME).lexically_normal().string());
   }
   paths.emplace_back(HEMIVEM_MUMPS_MPI_PLUGIN);
   paths.emplace_back(HEMIVEM_MUMPS_MPI_PLUGIN_INSTALLED);
