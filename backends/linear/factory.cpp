@@ -23,7 +23,10 @@
 
 #include <atomic>
 #include <cstdlib>
+#include <filesystem>
 #include <mutex>
+#include <system_error>
+#include <vector>
 #endif
 
 namespace hemivem {
@@ -45,8 +48,33 @@ std::string built_list() {
 }
 
 #ifdef HEMIVEM_HAVE_MUMPS_MPI
+// Where the module may be, in this order:
+//   1. the folder hemivem/ beside the file holding this code (found with dladdr): for a
+//      shared libhemivem_linear, the installed layout, which the build tree reproduces;
+//   2. <libdir>/hemivem relative to that file's folder taken as <bindir>: an installed
+//      program holding a static libhemivem_linear;
+//   3. the path of the module in the build tree;
+//   4. the path of the module in the install prefix chosen at configure time.
+// HEMIVEM_MUMPS_MPI_PLUGIN in the environment replaces the list.
+std::vector<std::string> mumps_mpi_candidates() {
+  const char* env = std::getenv("HEMIVEM_MUMPS_MPI_PLUGIN");
+  if (env && *env) return {env};
+  std::vector<std::string> paths;
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<void*>(&mumps_mpi_candidates), &info) != 0 && info.dli_fname && *info.dli_fname) {
+    std::error_code ec;
+    std::filesystem::path self = std::filesystem::weakly_canonical(info.dli_fname, ec);
+    if (ec) self = std::filesystem::path(info.dli_fname).lexically_normal();
+    paths.push_back((self.parent_path() / "hemivem" / HEMIVEM_MUMPS_MPI_PLUGIN_NAME).string());
+    paths.push_back(
+        (self.parent_path() / HEMIVEM_MUMPS_MPI_PLUGIN_FROM_BINDIR / HEMIVEM_MUMPS_MPI_PLUGIN_NAME).lexically_normal().string());
+  }
+  paths.emplace_back(HEMIVEM_MUMPS_MPI_PLUGIN);
+  paths.emplace_back(HEMIVEM_MUMPS_MPI_PLUGIN_INSTALLED);
+  return paths;
+}
+
 // The module is loaded once and never unloaded (engines it created may outlive any scope).
-// HEMIVEM_MUMPS_MPI_PLUGIN in the environment overrides the path recorded at build time.
 std::atomic<MumpsMpiRankFunction> loaded_rank{nullptr};
 
 CreateMumpsMpiFunction mumps_mpi_entry() {
@@ -54,8 +82,22 @@ CreateMumpsMpiFunction mumps_mpi_entry() {
   static CreateMumpsMpiFunction create = nullptr;
   static std::string error;
   std::call_once(once, [] {
-    const char* env = std::getenv("HEMIVEM_MUMPS_MPI_PLUGIN");
-    const std::string path = env && *env ? env : HEMIVEM_MUMPS_MPI_PLUGIN;
+    const std::vector<std::string> candidates = mumps_mpi_candidates();
+    std::string path;
+    for (const std::string& candidate : candidates) {
+      std::error_code ec;
+      if (std::filesystem::is_regular_file(candidate, ec)) {
+        path = candidate;
+        break;
+      }
+    }
+    if (path.empty()) {
+      std::string tried;
+      for (const std::string& candidate : candidates) tried += (tried.empty() ? "" : ", ") + candidate;
+      error = "cannot find the mumps-mpi module (looked for " + tried +
+              "; the environment variable HEMIVEM_MUMPS_MPI_PLUGIN sets its path)";
+      return;
+    }
     void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL | RTLD_DEEPBIND);
     if (!handle) {
       const char* why = dlerror();

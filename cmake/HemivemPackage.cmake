@@ -1,0 +1,84 @@
+# Installation and the package config (included last by the top-level CMakeLists.txt).
+#
+#   find_package(hemivem CONFIG REQUIRED COMPONENTS cholmod ssn)
+#
+# gives hemivem::core (always) and one target per component that was built. A component is
+# named as the engine on the command line; the factories are the components linear and
+# nonsmooth.
+include(CMakePackageConfigHelpers)
+
+set(HEMIVEM_INSTALL_CMAKEDIR "${CMAKE_INSTALL_LIBDIR}/cmake/hemivem" CACHE STRING
+    "Folder (relative to the prefix) of the installed package config")
+mark_as_advanced(HEMIVEM_INSTALL_CMAKEDIR)
+
+# component | target (hemivem::<target>) | packages a static build of it links privately
+set(_hemivem_component_table
+  "core|core|CGAL tomlplusplus"
+  "eigen|linear_eigen|"
+  "cholmod|linear_cholmod|CHOLMOD"
+  "mumps|linear_mumps|MUMPS_seq"
+  "mumps-mpi|linear_mumps_mpi|MUMPS_mpi"
+  "ssn|nonsmooth_ssn|"
+  "bundle-dca|nonsmooth_bundle_dca|"
+  "nlopt-mma|nonsmooth_nlopt_mma|NLopt"
+  "ceres-active-set|nonsmooth_ceres_active_set|Ceres"
+  "linear|linear|"
+  "nonsmooth|nonsmooth|")
+
+set(HEMIVEM_KNOWN_COMPONENTS)
+set(HEMIVEM_BUILT_COMPONENTS)
+set(HEMIVEM_STATIC_DEPENDENCIES)
+set(_hemivem_exported hemivem_interfaces)
+foreach(_row IN LISTS _hemivem_component_table)
+  string(REPLACE "|" ";" _row "${_row};")
+  list(GET _row 0 _component)
+  list(GET _row 1 _target)
+  list(GET _row 2 _deps)
+  list(APPEND HEMIVEM_KNOWN_COMPONENTS ${_component})
+  if(NOT TARGET hemivem_${_target})
+    continue()
+  endif()
+  list(APPEND HEMIVEM_BUILT_COMPONENTS ${_component})
+  list(APPEND _hemivem_exported hemivem_${_target})
+  string(REPLACE " " ";" _deps "${_deps}")
+  list(APPEND HEMIVEM_STATIC_DEPENDENCIES ${_deps})
+endforeach()
+list(REMOVE_DUPLICATES HEMIVEM_STATIC_DEPENDENCIES)
+
+# Every exported library: hemivem::<name without the hemivem_ prefix>, a version and soname,
+# its headers (the include/ folder beside its CMakeLists.txt) installed once.
+foreach(_target IN LISTS _hemivem_exported)
+  string(REGEX REPLACE "^hemivem_" "" _export_name ${_target})
+  set_target_properties(${_target} PROPERTIES EXPORT_NAME ${_export_name})
+  get_target_property(_type ${_target} TYPE)
+  if(NOT _type STREQUAL "INTERFACE_LIBRARY")
+    set_target_properties(${_target} PROPERTIES
+      VERSION ${PROJECT_VERSION} SOVERSION ${PROJECT_VERSION_MAJOR})
+  endif()
+  get_target_property(_dir ${_target} SOURCE_DIR)
+  if(EXISTS "${_dir}/include/hemivem")
+    install(DIRECTORY "${_dir}/include/hemivem" DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
+            COMPONENT hemivem_development FILES_MATCHING PATTERN "*.hpp")
+  endif()
+endforeach()
+
+install(TARGETS ${_hemivem_exported} EXPORT hemivemTargets
+  RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
+  LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
+  ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+  INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+install(EXPORT hemivemTargets NAMESPACE hemivem:: DESTINATION ${HEMIVEM_INSTALL_CMAKEDIR})
+install(TARGETS hemivem RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+
+# The package config, its version file (SameMajorVersion) and the Find modules a static
+# build's config needs for CHOLMOD and MUMPS (neither ships a CMake config on Debian).
+set(HEMIVEM_SHARED_LIBS ${BUILD_SHARED_LIBS})
+configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/hemivemConfig.cmake.in
+  "${PROJECT_BINARY_DIR}/hemivemConfig.cmake"
+  INSTALL_DESTINATION ${HEMIVEM_INSTALL_CMAKEDIR})
+write_basic_package_version_file("${PROJECT_BINARY_DIR}/hemivemConfigVersion.cmake"
+  VERSION ${PROJECT_VERSION} COMPATIBILITY SameMajorVersion)
+install(FILES "${PROJECT_BINARY_DIR}/hemivemConfig.cmake" "${PROJECT_BINARY_DIR}/hemivemConfigVersion.cmake"
+              ${PROJECT_SOURCE_DIR}/cmake/FindCHOLMOD.cmake ${PROJECT_SOURCE_DIR}/cmake/FindMUMPS.cmake
+        DESTINATION ${HEMIVEM_INSTALL_CMAKEDIR})
+message(STATUS "hemivem package components: ${HEMIVEM_BUILT_COMPONENTS}")

@@ -1,0 +1,162 @@
+#!/usr/bin/env bash
+# Tests the installed package. Usage: scripts/test-install.sh [build-dir]   (default: build)
+#
+# Installs the build into a fresh temporary prefix and, against that prefix only,
+#   1. compiles every installed header on its own with the prefix and Eigen as the only
+#      include paths, and checks that none pulls in a file of an engine's package;
+#   2. configures, builds and runs examples/host-app, and checks that its answer is the
+#      installed command's;
+#   3. runs the installed command with the mumps-mpi engine (when built) and checks that the
+#      module is loaded from the prefix;
+#   4. checks that a component that is unknown, or known but not built, stops the
+#      configuration of a project with a message naming it and listing those that were
+#      built, and that an optional one only sets hemivem_<component>_FOUND to false.
+# Prints one line per check; exits 1 at the first failure.
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+build="$(cd "${1:-$root/build}" && pwd)"
+tmp="$(mktemp -d "${TMPDIR:-/tmp}/hemivem-install.XXXXXX")"
+trap 'rm -rf "$tmp"' EXIT
+prefix="$tmp/prefix"
+
+fail() { echo "test-install: FAIL: $*" >&2; exit 1; }
+ok() { echo "test-install: ok: $*"; }
+cache() { sed -n "s/^$1:[A-Z]*=//p" "$build/CMakeCache.txt"; }
+
+cmake --install "$build" --prefix "$prefix" >"$tmp/install.log" || { cat "$tmp/install.log"; fail "cmake --install"; }
+config="$(find "$prefix" -name hemivemConfig.cmake -print -quit)"
+[ -n "$config" ] || fail "no hemivemConfig.cmake under $prefix"
+configdir="$(dirname "$config")"
+for f in hemivemConfigVersion.cmake hemivemTargets.cmake FindCHOLMOD.cmake FindMUMPS.cmake; do
+  [ -f "$configdir/$f" ] || fail "$f not installed in $configdir"
+done
+[ -x "$prefix/bin/hemivem" ] || fail "bin/hemivem not installed"
+built="$(sed -n 's/^set(hemivem_COMPONENTS "\(.*\)")$/\1/p' "$config")"
+[ -n "$built" ] || fail "hemivemConfig.cmake lists no components"
+has() { case ";$built;" in *";$1;"*) return 0 ;; *) return 1 ;; esac; }
+ok "installed into a fresh prefix ($(find "$prefix" -type f | wc -l) files; components $built)"
+
+# Only the temporary prefix: no package registry, no other prefix, no build tree.
+generator=()
+if command -v ninja >/dev/null 2>&1; then generator=(-G Ninja); fi
+isolated=("${generator[@]}" -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH="$prefix"
+          -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF -DCMAKE_FIND_USE_SYSTEM_PACKAGE_REGISTRY=OFF
+          -DCMAKE_EXPORT_NO_PACKAGE_REGISTRY=ON -DCMAKE_CXX_COMPILER="$(cache CMAKE_CXX_COMPILER)")
+
+# ---- 1. headers -------------------------------------------------------------------------
+cxx="$(cache CMAKE_CXX_COMPILER)"
+eigen="$(pkg-config --cflags-only-I eigen3 2>/dev/null | sed 's/^ *-I//; s/ *$//')"
+[ -n "$eigen" ] || eigen=/usr/include/eigen3
+[ -f "$eigen/Eigen/Core" ] || fail "Eigen not found (looked in $eigen)"
+export cxx eigen prefix tmp
+check_header() {
+  local name
+  name="$(basename "$1" .hpp)"
+  printf '#include <hemivem/%s.hpp>\n' "$name" >"$tmp/h_$name.cpp"
+  if ! "$cxx" -std=c++20 -fsyntax-only -Wall -Wextra -I"$prefix/include" -I"$eigen" \
+       -MD -MF "$tmp/h_$name.d" "$tmp/h_$name.cpp" 2>"$tmp/h_$name.err"; then
+    echo "hemivem/$name.hpp does not compile on its own:"; head -20 "$tmp/h_$name.err"; return 1
+  fi
+  # Every file it includes, outside the prefix and Eigen, must be the compiler's or libc's.
+  tr ' \\' '\n\n' <"$tmp/h_$name.d" | sed '/^$/d;/:$/d' |
+    grep -v -e "^$prefix/" -e "^$eigen/" -e "h_$name.cpp" >"$tmp/h_$name.deps" || true
+  if grep -E -i 'cholmod|suitesparse|mumps|mpi\.h|nlopt|ceres|cgal|toml|boost|gmp' "$tmp/h_$name.deps"; then
+    echo "hemivem/$name.hpp includes a file of an engine's package (above)"; return 1
+  fi
+}
+export -f check_header
+headers=("$prefix"/include/hemivem/*.hpp)
+[ "${#headers[@]}" -ge 20 ] || fail "only ${#headers[@]} headers installed"
+printf '%s\n' "${headers[@]}" | xargs -P 2 -I{} bash -c 'check_header "$1"' _ {} ||
+  fail "installed headers (see above)"
+ok "${#headers[@]} installed headers compile on their own with only the prefix and Eigen, none includes an engine's package"
+
+# ---- 2. the host application ------------------------------------------------------------
+if ! has cholmod; then
+  echo "test-install: skipped: examples/host-app needs the component cholmod, which was not built"
+else
+  cmake -S "$root/examples/host-app" -B "$tmp/host-build" "${isolated[@]}" >"$tmp/host-configure.log" 2>&1 ||
+    { cat "$tmp/host-configure.log"; fail "configuring examples/host-app against $prefix"; }
+  found="$(sed -n 's/^hemivem_DIR:PATH=//p' "$tmp/host-build/CMakeCache.txt")"
+  [ "$found" = "$configdir" ] || fail "examples/host-app found hemivem in '$found', not in $configdir"
+  cmake --build "$tmp/host-build" >"$tmp/host-build.log" 2>&1 || { cat "$tmp/host-build.log"; fail "building examples/host-app"; }
+  if ldd "$tmp/host-build/host-app" | grep -E 'libhemivem_(linear|nonsmooth)(\.so| )' ; then
+    fail "host-app links a factory although it names only cholmod and ssn"
+  fi
+  status=0
+  "$tmp/host-build/host-app" >"$tmp/host.out" 2>&1 || status=$?
+  cat "$tmp/host.out"
+  [ "$status" -eq 0 ] || fail "host-app exited with $status"
+  grep -q 'minimizer     ssn: converged' "$tmp/host.out" || fail "host-app did not report convergence"
+  # Its contact nodes are those of the installed command on the same problem.
+  "$prefix/bin/hemivem" solve --n 32 --linear cholmod --minimizer ssn --out "$tmp/solve32" >"$tmp/cli.out" 2>/dev/null ||
+    fail "installed hemivem solve --n 32 failed"
+  host_contact="$(sed -n 's/^ *contact *//p' "$tmp/host.out")"
+  cli_contact="$(sed -n 's/^ *contact *//p' "$tmp/cli.out")"
+  [ -n "$host_contact" ] && [ "$host_contact" = "$cli_contact" ] ||
+    fail "host-app contact '$host_contact' differs from hemivem solve's '$cli_contact'"
+  ok "examples/host-app built against the prefix only ($found), converged, same contact nodes as hemivem solve"
+fi
+
+# ---- 3. the mumps-mpi module from the prefix ----------------------------------------------
+if has mumps-mpi; then
+  plugin="$(find "$prefix" -name 'libhemivem_linear_mumps_mpi_plugin*' -print -quit)"
+  [ -n "$plugin" ] || fail "the mumps-mpi module is not installed"
+  env -u HEMIVEM_MUMPS_MPI_PLUGIN LD_DEBUG=files "$prefix/bin/hemivem" solve --n 8 --linear mumps-mpi \
+    --out "$tmp/solve-mpi" >"$tmp/mpi.out" 2>"$tmp/mpi.err" || { tail -5 "$tmp/mpi.err"; fail "installed hemivem with --linear mumps-mpi"; }
+  loaded="$(sed -n 's/.*file=\([^ ]*mumps_mpi_plugin[^ ]*\) .*dynamically loaded.*/\1/p' "$tmp/mpi.err" | head -1)"
+  [ -n "$loaded" ] && [ "$(realpath "$loaded")" = "$(realpath "$plugin")" ] ||
+    fail "the installed command loaded the mumps-mpi module from '$loaded', not $plugin"
+  grep -q 'status *converged' "$tmp/mpi.out" || fail "installed hemivem with --linear mumps-mpi did not converge"
+  ok "the installed command loads the mumps-mpi module from $plugin"
+fi
+
+# ---- 4. components ------------------------------------------------------------------------
+missing=""
+for c in eigen cholmod mumps mumps-mpi ssn bundle-dca nlopt-mma ceres-active-set linear nonsmooth; do
+  has "$c" || missing="$c"
+done
+for wanted in no-such-engine $missing; do
+  mkdir -p "$tmp/components-$wanted"
+  cat >"$tmp/components-$wanted/CMakeLists.txt" <<EOF
+cmake_minimum_required(VERSION 3.25)
+project(components LANGUAGES CXX)
+find_package(hemivem CONFIG REQUIRED COMPONENTS ssn $wanted)
+EOF
+  if cmake -S "$tmp/components-$wanted" -B "$tmp/components-$wanted/build" "${isolated[@]}" >"$tmp/components.log" 2>&1; then
+    fail "find_package(hemivem COMPONENTS ssn $wanted) succeeded"
+  fi
+  message="$(tr '\n' ' ' <"$tmp/components.log" | tr -s ' ')"
+  case "$message" in
+    *"'$wanted'"*"components built: ${built//;/, }"*) ;;
+    *) cat "$tmp/components.log"; fail "the message for component '$wanted' does not name it and list those built" ;;
+  esac
+  ok "find_package(hemivem REQUIRED COMPONENTS ssn $wanted) fails at configure time naming '$wanted'"
+done
+mkdir -p "$tmp/optional"
+cat >"$tmp/optional/CMakeLists.txt" <<'EOF'
+cmake_minimum_required(VERSION 3.25)
+project(optional LANGUAGES CXX)
+find_package(hemivem CONFIG REQUIRED COMPONENTS linear nonsmooth OPTIONAL_COMPONENTS no-such-engine)
+if(NOT hemivem_FOUND OR NOT hemivem_linear_FOUND OR NOT DEFINED hemivem_no-such-engine_FOUND OR hemivem_no-such-engine_FOUND)
+  message(FATAL_ERROR "hemivem_FOUND=${hemivem_FOUND} hemivem_no-such-engine_FOUND=${hemivem_no-such-engine_FOUND}")
+endif()
+file(WRITE ${CMAKE_BINARY_DIR}/main.cpp [=[
+#include <hemivem/linear_backends.hpp>
+#include <hemivem/nonsmooth_backends.hpp>
+#include <cstdio>
+int main() {
+  for (const auto& name : hemivem::available_factorizations()) std::printf("%s ", name.c_str());
+  for (const auto& name : hemivem::available_minimizers()) std::printf("%s ", name.c_str());
+  std::printf("\n");
+  return hemivem::make_factorization({.engine = "eigen"})->name() == "eigen" ? 0 : 1;
+}
+]=])
+add_executable(factories ${CMAKE_BINARY_DIR}/main.cpp)
+target_link_libraries(factories PRIVATE hemivem::linear hemivem::nonsmooth)
+EOF
+cmake -S "$tmp/optional" -B "$tmp/optional/build" "${isolated[@]}" >"$tmp/optional.log" 2>&1 ||
+  { cat "$tmp/optional.log"; fail "OPTIONAL_COMPONENTS no-such-engine"; }
+cmake --build "$tmp/optional/build" >"$tmp/optional-build.log" 2>&1 || { cat "$tmp/optional-build.log"; fail "building against hemivem::linear and hemivem::nonsmooth"; }
+engines="$("$tmp/optional/build/factories")" || fail "a program linking the factories failed"
+ok "an optional unknown component sets hemivem_no-such-engine_FOUND false; the factories link and list: $engines"
