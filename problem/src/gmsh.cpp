@@ -43,6 +43,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <istream>
 #include <map>
 #include <set>
 #include <string_view>
@@ -623,8 +624,7 @@ class GmshReader {
 
 Mesh read_gmsh(const fs::path& path) {
   const std::string name = path.string();
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) throw InputError("cannot read the mesh file: it is a directory", name);
+  text::require_regular_file(path, "mesh file");
   errno = 0;
   std::ifstream in(path, std::ios::binary);
   if (!in) {
@@ -632,6 +632,10 @@ Mesh read_gmsh(const fs::path& path) {
     throw InputError("cannot open the mesh file" + (err != 0 ? ": " + std::system_category().message(err) : std::string()),
                      name);
   }
+  return read_gmsh(in, name);
+}
+
+Mesh read_gmsh(std::istream& in, const std::string& name) {
   std::string data;
   char chunk[1 << 16];
   while (in.read(chunk, sizeof chunk) || in.gcount() > 0) data.append(chunk, static_cast<std::size_t>(in.gcount()));

@@ -318,8 +318,7 @@ Poly2dMesh read_poly2d(std::istream& in, const std::string& name) {
 
 Poly2dMesh read_poly2d(const fs::path& path) {
   const std::string name = path.string();
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) throw InputError("cannot read the mesh file: it is a directory", name);
+  text::require_regular_file(path, "mesh file");
   errno = 0;
   std::ifstream in(path, std::ios::binary);
   if (!in) {
