@@ -420,6 +420,9 @@ class GmshReader {
           if (!parse_real(tokens_[static_cast<std::size_t>(k)], c[k]))
             fail(line, what + " has a " + "xyz"[k] + " coordinate " + quote(tokens_[static_cast<std::size_t>(k)]) +
                            " that is not a finite number");
+          if (std::abs(c[k]) > max_mesh_coordinate)
+            fail(line, what + " has a " + "xyz"[k] + " coordinate " + quote(tokens_[static_cast<std::size_t>(k)]) +
+                           " of magnitude above 1e150 (element areas would overflow)");
         }
         node.x = c[0];
         node.y = c[1];

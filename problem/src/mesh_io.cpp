@@ -126,6 +126,8 @@ class Poly2dReader {
           case Parse::ok: break;
         }
         if (!std::isfinite(v)) fail(line, what + quote(tokens_[c]) + " that is not finite");
+        if (std::abs(v) > max_mesh_coordinate)
+          fail(line, what + quote(tokens_[c]) + " of magnitude above 1e150 (element areas would overflow)");
         p[c] = v;
       }
       vertices.push_back(p);
