@@ -1,5 +1,8 @@
 #!/usr/bin/env bash
-# Runs the whole test suite on the build in ./build (scripts/build.sh): every registered test.
+# Runs the whole test suite on the build in ./build (scripts/build.sh): every registered test;
+# then the input-facing tests under AddressSanitizer and UndefinedBehaviorSanitizer
+# (scripts/test-sanitizers.sh, its own build in ./build-asan).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ctest --test-dir build --output-on-failure -j2
+scripts/test-sanitizers.sh
