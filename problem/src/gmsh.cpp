@@ -43,6 +43,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <istream>
 #include <map>
 #include <set>
 #include <string_view>
@@ -419,6 +420,9 @@ class GmshReader {
           if (!parse_real(tokens_[static_cast<std::size_t>(k)], c[k]))
             fail(line, what + " has a " + "xyz"[k] + " coordinate " + quote(tokens_[static_cast<std::size_t>(k)]) +
                            " that is not a finite number");
+          if (std::abs(c[k]) > max_mesh_coordinate)
+            fail(line, what + " has a " + "xyz"[k] + " coordinate " + quote(tokens_[static_cast<std::size_t>(k)]) +
+                           " of magnitude above 1e150 (element areas would overflow)");
         }
         node.x = c[0];
         node.y = c[1];
@@ -623,8 +627,7 @@ class GmshReader {
 
 Mesh read_gmsh(const fs::path& path) {
   const std::string name = path.string();
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) throw InputError("cannot read the mesh file: it is a directory", name);
+  text::require_regular_file(path, "mesh file");
   errno = 0;
   std::ifstream in(path, std::ios::binary);
   if (!in) {
@@ -632,6 +635,10 @@ Mesh read_gmsh(const fs::path& path) {
     throw InputError("cannot open the mesh file" + (err != 0 ? ": " + std::system_category().message(err) : std::string()),
                      name);
   }
+  return read_gmsh(in, name);
+}
+
+Mesh read_gmsh(std::istream& in, const std::string& name) {
   std::string data;
   char chunk[1 << 16];
   while (in.read(chunk, sizeof chunk) || in.gcount() > 0) data.append(chunk, static_cast<std::size_t>(in.gcount()));

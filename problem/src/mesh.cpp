@@ -123,6 +123,10 @@ std::vector<MeshDefect> find_mesh_defects(const std::vector<Vec2>& vertices,
     if (!std::isfinite(vertices[i].x()) || !std::isfinite(vertices[i].y())) {
       out.push_back({-1, "vertex " + std::to_string(i) + " has a non-finite coordinate"});
       if (full()) return out;
+    } else if (std::abs(vertices[i].x()) > max_mesh_coordinate || std::abs(vertices[i].y()) > max_mesh_coordinate) {
+      out.push_back({-1, "vertex " + std::to_string(i) + " " + fmt_point(vertices[i]) +
+                             " has a coordinate of magnitude above 1e150 (element areas would overflow)"});
+      if (full()) return out;
     }
   }
   if (!out.empty()) return out;
@@ -175,6 +179,15 @@ std::vector<MeshDefect> find_mesh_defects(const std::vector<Vec2>& vertices,
       char area[32];
       std::snprintf(area, sizeof area, "%.3g", signed_area(poly));
       out.push_back({ie, std::string("is clockwise (signed area ") + area + "); elements must be counter-clockwise"});
+      continue;
+    }
+    poly.clear();
+    for (int v : el) poly.push_back(vertices[v]);
+    if (const double a = signed_area(poly); !(a >= std::numeric_limits<double>::min())) {
+      char area[32];
+      std::snprintf(area, sizeof area, "%.3g", a);
+      out.push_back({ie, std::string("has an area (") + area +
+                             ") below the smallest normal double 2.2e-308: too small for double precision"});
       continue;
     }
     element_ok[e] = 1;

@@ -36,13 +36,23 @@ void check_n(const char* generator, int n) {
                      std::to_string(kMaxCellsPerSide) + " (got " + std::to_string(n) + ")");
 }
 
-void check_domain(const char* generator, const Rectangle& d) {
+void check_domain(const char* generator, const Rectangle& d, int n) {
   const bool finite = std::isfinite(d.x0) && std::isfinite(d.x1) && std::isfinite(d.y0) && std::isfinite(d.y1) &&
                       std::isfinite(d.width()) && std::isfinite(d.height());
+  const std::string got = " (got [" + fmt(d.x0) + ", " + fmt(d.x1) + "] x [" + fmt(d.y0) + ", " + fmt(d.y1) + "])";
   if (!finite || !(d.x1 > d.x0) || !(d.y1 > d.y0))
     throw InputError(std::string(generator) +
-                     ": the domain must be a rectangle [x0,x1] x [y0,y1] with finite x0 < x1 and y0 < y1 (got [" +
-                     fmt(d.x0) + ", " + fmt(d.x1) + "] x [" + fmt(d.y0) + ", " + fmt(d.y1) + "])");
+                     ": the domain must be a rectangle [x0,x1] x [y0,y1] with finite x0 < x1 and y0 < y1" + got);
+  const double scale = std::max({std::abs(d.x0), std::abs(d.x1), std::abs(d.y0), std::abs(d.y1)});
+  if (scale > max_mesh_coordinate)
+    throw InputError(std::string(generator) + ": the domain's coordinates must be at most 1e150 in magnitude" + got);
+  // Cells must be resolvable: a cell side well above the spacing of doubles at the domain's
+  // coordinates, and a cell area that is a normal double.
+  const double cw = d.width() / n, ch = d.height() / n;
+  if (!(std::min(cw, ch) >= 1e-9 * scale) || !(cw * ch >= 1e-250))
+    throw InputError(std::string(generator) + ": the cells of the domain with n = " + std::to_string(n) +
+                     " are too small for double precision (cell sides must be at least 1e-9 of the largest |coordinate|"
+                     " and the cell area at least 1e-250)" + got);
 }
 
 /// The point i/n of the way from a to b: a + (b - a) * i / n, and exactly b for i == n.
@@ -380,13 +390,13 @@ Mesh voronoi_mesh(const VoronoiCells& c, const Rectangle& d, double tol) {
 
 Mesh make_squares(int n, const Rectangle& domain) {
   check_n("make_squares", n);
-  check_domain("make_squares", domain);
+  check_domain("make_squares", domain, n);
   return Mesh(grid_vertices(n, domain), grid_squares(n));
 }
 
 Mesh make_triangles(int n, const Rectangle& domain) {
   check_n("make_triangles", n);
-  check_domain("make_triangles", domain);
+  check_domain("make_triangles", domain, n);
   std::vector<std::vector<int>> e;
   e.reserve(2 * static_cast<std::size_t>(n) * static_cast<std::size_t>(n));
   for (int j = 0; j < n; ++j)
@@ -400,7 +410,7 @@ Mesh make_triangles(int n, const Rectangle& domain) {
 
 Mesh make_voronoi(int n, const Rectangle& domain, const VoronoiOptions& options) {
   check_n("make_voronoi", n);
-  check_domain("make_voronoi", domain);
+  check_domain("make_voronoi", domain, n);
   if (options.max_lloyd_iterations < 0)
     throw InputError("make_voronoi: max_lloyd_iterations must be >= 0 (got " +
                      std::to_string(options.max_lloyd_iterations) + ")");
@@ -448,7 +458,7 @@ Mesh make_voronoi(int n, const Rectangle& domain, const VoronoiOptions& options)
 
 Mesh make_nonconvex(int n, const Rectangle& domain) {
   check_n("make_nonconvex", n);
-  check_domain("make_nonconvex", domain);
+  check_domain("make_nonconvex", domain, n);
   const int m = 2 * n;  // fine grid: points (i, j), 0 <= i, j <= m
   auto kept = [&](int i, int j) {
     if ((i + j) % 2 == 0) return i % 2 == 0;  // corners kept, cell centres dropped
@@ -489,7 +499,7 @@ Mesh make_nonconvex(int n, const Rectangle& domain) {
 
 Mesh make_distorted(int n, double fraction, const Rectangle& domain, std::uint64_t seed) {
   check_n("make_distorted", n);
-  check_domain("make_distorted", domain);
+  check_domain("make_distorted", domain, n);
   if (!(fraction >= 0.0 && fraction < 0.5))
     throw InputError("make_distorted: fraction must be in [0, 0.5) (got " + fmt(fraction) + ")");
   std::vector<Vec2> v = grid_vertices(n, domain);

@@ -126,6 +126,8 @@ class Poly2dReader {
           case Parse::ok: break;
         }
         if (!std::isfinite(v)) fail(line, what + quote(tokens_[c]) + " that is not finite");
+        if (std::abs(v) > max_mesh_coordinate)
+          fail(line, what + quote(tokens_[c]) + " of magnitude above 1e150 (element areas would overflow)");
         p[c] = v;
       }
       vertices.push_back(p);
@@ -318,8 +320,7 @@ Poly2dMesh read_poly2d(std::istream& in, const std::string& name) {
 
 Poly2dMesh read_poly2d(const fs::path& path) {
   const std::string name = path.string();
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) throw InputError("cannot read the mesh file: it is a directory", name);
+  text::require_regular_file(path, "mesh file");
   errno = 0;
   std::ifstream in(path, std::ios::binary);
   if (!in) {

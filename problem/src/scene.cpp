@@ -20,6 +20,8 @@
 #include <hemivem/mesh_io.hpp>
 #include <hemivem/piecewise_law.hpp>
 
+#include "text_lines.hpp"
+
 namespace hemivem {
 
 namespace {
@@ -493,7 +495,8 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
         SceneRegionMaterial rm;
         const auto id = g.integer("id");
         if (!id) throw InputError(g.path() + ": missing key 'id'", g.at(g.self()));
-        if (*id < 0 || *id > 1000000) g.fail("id", g.node("id"), "must be >= 0, got " + std::to_string(*id));
+        if (*id < 0 || *id > 1000000)
+          g.fail("id", g.node("id"), "must be between 0 and 1000000, got " + std::to_string(*id));
         if (!seen.insert(static_cast<int>(*id)).second) g.fail("id", g.node("id"), "region " + std::to_string(*id) + " given twice");
         rm.region = static_cast<int>(*id);
         const auto e = g.number("E");
@@ -559,7 +562,8 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
     }
     if (auto x = v.integer("max_iterations")) {
       if (*x < 1 || *x > std::numeric_limits<int>::max())
-        v.fail("max_iterations", v.node("max_iterations"), "must be >= 1, got " + std::to_string(*x));
+        v.fail("max_iterations", v.node("max_iterations"),
+               "must be between 1 and " + std::to_string(std::numeric_limits<int>::max()) + ", got " + std::to_string(*x));
       s.solver.max_iterations = static_cast<int>(*x);
     }
   }
@@ -680,10 +684,12 @@ Scene parse_scene_string(std::string_view text, std::string name) {
 }
 
 Scene parse_scene(const std::filesystem::path& path) {
+  text::require_regular_file(path, "scene file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError("cannot open scene file", path.string());
   std::ostringstream ss;
   ss << in.rdbuf();
+  if (in.bad()) throw InputError("read error while reading the scene file", path.string());
   return parse_scene_string(ss.str(), path.string());
 }
 
@@ -879,8 +885,8 @@ std::unique_ptr<BuiltProblem> build_problem(const Scene& scene) {
     try {
       mesh = make_mesh(scene.mesh.generator, scene.mesh.n, Rectangle{d[0], d[1], d[2], d[3]},
                        static_cast<std::uint64_t>(scene.mesh.seed));
-    } catch (const MeshError&) {
-      throw;
+    } catch (const MeshError& e) {
+      throw MeshError("mesh: the generated mesh is invalid: " + e.detail(), e.element(), scene.where("mesh"));
     } catch (const InputError& e) {
       throw InputError("mesh: " + e.detail(), scene.where("mesh"));
     }

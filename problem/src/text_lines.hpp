@@ -5,11 +5,26 @@
 
 #include <algorithm>
 #include <climits>
+#include <filesystem>
 #include <string>
 #include <string_view>
 #include <vector>
 
 namespace hemivem::text {
+
+/// Throws InputError (where: the path) unless `path` names a regular file (after following
+/// symbolic links): a folder, a device, a pipe or a socket is refused before it is opened, so
+/// a reader never blocks on a pipe or reads /dev/zero without end. A path that does not exist
+/// passes (opening it reports that). `what` is e.g. "mesh file".
+inline void require_regular_file(const std::filesystem::path& path, const std::string& what) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);
+  if (ec || st.type() == fs::file_type::not_found || st.type() == fs::file_type::regular) return;
+  if (st.type() == fs::file_type::directory)
+    throw InputError("cannot read the " + what + ": it is a directory", path.string());
+  throw InputError("cannot read the " + what + ": it is not a regular file (a device, a pipe or a socket)", path.string());
+}
 
 inline constexpr std::string_view kWhitespace = " \t\r\v\f";
 

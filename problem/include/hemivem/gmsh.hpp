@@ -2,6 +2,8 @@
 #pragma once
 
 #include <filesystem>
+#include <iosfwd>
+#include <string>
 
 #include <hemivem/mesh.hpp>
 
@@ -14,5 +16,7 @@ namespace hemivem {
 /// (Mesh::edge_group) holding the mesh edges on its lines. Throws InputError naming the
 /// file and line of any defect.
 Mesh read_gmsh(const std::filesystem::path& path);
+/// The same from a stream; `name` is used in messages in place of a path.
+Mesh read_gmsh(std::istream& in, const std::string& name);
 
 }  // namespace hemivem

@@ -41,12 +41,18 @@ struct MeshDefect {
   std::string message;
 };
 
+/// The largest coordinate magnitude of a mesh vertex: squared lengths and areas of
+/// elements, products of two coordinate differences, stay finite in double precision.
+inline constexpr double max_mesh_coordinate = 1e150;
+
 /// Every rule a polygonal mesh must satisfy, checked in this order, reporting the first
 /// violation found per element (and global violations with element -1):
-///   at least one vertex and one element; finite coordinates; at least 3 vertices per
+///   at least one vertex and one element; finite coordinates of magnitude at most
+///   max_mesh_coordinate; at least 3 vertices per
 ///   element; vertex indices in range; no vertex repeated in an element; positive signed
 ///   area (counter-clockwise orientation; zero area is its own defect); no
-///   self-intersection (exact predicates); conformity: each edge in at most two elements
+///   self-intersection (exact predicates); an area that is a normal double (not below
+///   DBL_MIN, which coordinates of about 1e-154 and less give); conformity: each edge in at most two elements
 ///   and with opposite directions when in two; no hanging vertex (a vertex lying inside
 ///   a boundary edge it does not belong to).
 /// Edges of any positive length, including ~1e-13, are legal.

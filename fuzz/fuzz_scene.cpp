@@ -1,0 +1,22 @@
+// libFuzzer target: any bytes as a scene (TOML). A scene that parses is also built
+// (mesh, materials, boundary parts, loads, contact data) when that is cheap: a generated mesh
+// of at most 8 x 8 cells; scenes naming a mesh file are only parsed (the fuzzer must not read
+// arbitrary files). A defect must be an InputError; every other exception, a crash, a hang or
+// undefined behaviour is a finding.
+#include <hemivem/error.hpp>
+#include <hemivem/scene.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <string_view>
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  const std::string_view text(reinterpret_cast<const char*>(data), size);
+  try {
+    const hemivem::Scene scene = hemivem::parse_scene_string(text, "fuzz.toml");
+    (void)hemivem::to_toml(scene);
+    if (scene.mesh.file.empty() && scene.mesh.n <= 8) (void)hemivem::build_problem(scene);
+  } catch (const hemivem::InputError&) {
+  }
+  return 0;
+}
