@@ -113,7 +113,7 @@ std::string format_bytes(double bytes) {
   while (bytes >= 1024.0 && k < 6) bytes /= 1024.0, ++k;
   if (bytes >= 1024.0) return sci(bytes) + " " + units[k];
   std::ostringstream s;
-  s << std::setprecision(bytes < 10 ? 2 : 3) << bytes << " " << units[k];
+  s << std::fixed << std::setprecision(bytes < 10 ? 1 : 0) << bytes << " " << units[k];
   return s.str();
 }
 
