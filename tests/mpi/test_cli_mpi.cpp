@@ -19,36 +19,16 @@
 #include <unistd.h>
 #include <vector>
 
+#include "test_support.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-struct CommandRun {
-  int code = -1;
-  std::string out;
-  std::string err;
-};
+using hemivem::test::CommandRun;
+using hemivem::test::slurp;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p);
-  std::ostringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
-CommandRun run(const std::string& command) {
-  const fs::path err = fs::temp_directory_path() / ("hemivem-mpi-test-stderr-" + std::to_string(::getpid()) + ".txt");
-  CommandRun r;
-  FILE* p = popen((command + " 2>" + err.string()).c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf{};
-  while (std::size_t n = std::fread(buf.data(), 1, buf.size(), p)) r.out.append(buf.data(), n);
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.err = slurp(err);
-  fs::remove(err);
-  return r;
-}
+CommandRun run(const std::string& command) { return hemivem::test::run_command(command); }
 
 std::string mpiexec() { return std::string(HEMIVEM_MPIEXEC) + " " + HEMIVEM_MPIEXEC_FLAGS; }
 std::string np(int n) { return std::string(HEMIVEM_MPIEXEC_NUMPROC_FLAG) + " " + std::to_string(n); }

@@ -15,6 +15,8 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include "mpi_test_main.hpp"
+
 #include <cstdio>
 #include <stdexcept>
 #include <string>
@@ -163,37 +165,6 @@ TEST(ContactMpi, EngineReportsWhereTheResultsAre) {
   EXPECT_EQ(engine.share(root() ? 17 : -rank()), 17);
 }
 
-/// On ranks other than 0: failures only, each line prefixed with the rank.
-class RankFailurePrinter : public ::testing::EmptyTestEventListener {
- public:
-  explicit RankFailurePrinter(int rank) : rank_(rank) {}
-  void OnTestPartResult(const ::testing::TestPartResult& result) override {
-    if (result.failed())
-      std::fprintf(stderr, "[rank %d] %s:%d: failure\n%s\n", rank_,
-                   result.file_name() ? result.file_name() : "?", result.line_number(), result.summary());
-  }
-
- private:
-  int rank_;
-};
-
 }  // namespace
 
-int main(int argc, char** argv) {
-  const int my_rank = MumpsMpiFactorization::mpi_rank();
-  const int size = MumpsMpiFactorization::mpi_size();
-  ::testing::InitGoogleTest(&argc, argv);
-  if (my_rank != 0) {
-    auto& listeners = ::testing::UnitTest::GetInstance()->listeners();
-    delete listeners.Release(listeners.default_result_printer());
-    listeners.Append(new RankFailurePrinter(my_rank));
-  } else {
-    std::printf("solve_contact with mumps-mpi on %d MPI process%s\n", size, size > 1 ? "es" : "");
-  }
-  const int failed_here = RUN_ALL_TESTS() != 0 ? 1 : 0;
-  int failed_anywhere = 0;
-  MPI_Allreduce(&failed_here, &failed_anywhere, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
-  if (my_rank == 0 && failed_anywhere && !failed_here)
-    std::printf("FAILED on a process other than rank 0 (see its output above)\n");
-  return failed_anywhere;
-}
+int main(int argc, char** argv) { return hemivem::test::run_tests_on_every_rank(argc, argv, "solve_contact with mumps-mpi"); }

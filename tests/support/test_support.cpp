@@ -87,11 +87,10 @@ std::filesystem::path scratch(const std::string& name) {
   return p;
 }
 
-CommandRun run_hemivem(const std::string& args) {
+CommandRun run_command(const std::string& command) {
   const auto err = std::filesystem::temp_directory_path() / ("hemivem-test-stderr-" + std::to_string(::getpid()) + ".txt");
-  const std::string cmd = std::string(HEMIVEM_BINARY) + " " + args + " 2>" + err.string();
   CommandRun r;
-  FILE* p = popen(cmd.c_str(), "r");
+  FILE* p = popen((command + " 2>" + err.string()).c_str(), "r");
   if (!p) return r;
   std::array<char, 4096> buf{};
   while (std::size_t n = std::fread(buf.data(), 1, buf.size(), p)) r.out.append(buf.data(), n);
@@ -101,5 +100,7 @@ CommandRun run_hemivem(const std::string& args) {
   std::filesystem::remove(err);
   return r;
 }
+
+CommandRun run_hemivem(const std::string& args) { return run_command(std::string(HEMIVEM_BINARY) + " " + args); }
 
 }  // namespace hemivem::test

@@ -59,6 +59,8 @@ struct CommandRun {
   std::string out;
   std::string err;
 };
+/// Runs a shell command line, capturing its standard output and standard error.
+CommandRun run_command(const std::string& command);
 /// Runs `hemivem ARGS` (ARGS as on a shell command line).
 CommandRun run_hemivem(const std::string& args);
 /// The contents of a file ("" when it cannot be read).
