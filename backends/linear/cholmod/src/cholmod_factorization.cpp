@@ -224,7 +224,8 @@ struct CholmodFactorization::Impl {
       }
     }
     S->resize(n1, n1);
-    S->noalias() = L11.triangularView<Eigen::Lower>() * L11.transpose();
+    // (Eigen's triangular product binds a reference to the data of an empty matrix: skip it)
+    if (n1 > 0) S->noalias() = L11.triangularView<Eigen::Lower>() * L11.transpose();
   }
 };
 

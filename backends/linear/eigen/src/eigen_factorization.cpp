@@ -228,7 +228,8 @@ FactorizationResult EigenFactorization::schur_complement(const SparseMatrix& A, 
       for (SparseMatrix::InnerIterator it(L, j); it; ++it)
         if (it.row() >= j) L11(it.row() - n2, j - n2) = it.value();
     S->resize(n1, n1);
-    S->noalias() = L11.triangularView<Eigen::Lower>() * L11.transpose();
+    // (Eigen's triangular product binds a reference to the data of an empty matrix: skip it)
+    if (n1 > 0) S->noalias() = L11.triangularView<Eigen::Lower>() * L11.transpose();
     d.schur_factorized = true;
     return FactorizationResult::good();
   } catch (const std::bad_alloc&) {
