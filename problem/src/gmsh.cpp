@@ -56,25 +56,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
+using text::shown;
 
-/// A token or line for an error message: at most 48 characters, control and non-ASCII
-/// bytes shown as \xNN.
-std::string shown(std::string_view s) {
-  constexpr std::size_t limit = 48;
-  std::string out;
-  for (std::size_t i = 0; i < s.size() && i < limit; ++i) {
-    const auto c = static_cast<unsigned char>(s[i]);
-    if (c >= 0x20 && c < 0x7f) {
-      out += static_cast<char>(c);
-    } else {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\x%02X", c);
-      out += buf;
-    }
-  }
-  if (s.size() > limit) out += "...";
-  return out;
-}
 
 std::string quote(std::string_view s) { return "'" + shown(s) + "'"; }
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <cstdio>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -24,6 +25,25 @@ inline void require_regular_file(const std::filesystem::path& path, const std::s
   if (st.type() == fs::file_type::directory)
     throw InputError("cannot read the " + what + ": it is a directory", path.string());
   throw InputError("cannot read the " + what + ": it is not a regular file (a device, a pipe or a socket)", path.string());
+}
+
+/// A token or line for an error message: at most 48 characters, control and non-ASCII
+/// bytes shown as \xNN.
+inline std::string shown(std::string_view s) {
+  constexpr std::size_t limit = 48;
+  std::string out;
+  for (std::size_t i = 0; i < s.size() && i < limit; ++i) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    if (c >= 0x20 && c < 0x7f) {
+      out += static_cast<char>(c);
+    } else {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02X", c);
+      out += buf;
+    }
+  }
+  if (s.size() > limit) out += "...";
+  return out;
 }
 
 inline constexpr std::string_view kWhitespace = " \t\r\v\f";
