@@ -130,6 +130,11 @@ SceneReport run_scene(const fs::path& file, const ExtremeOptions& o, std::ostrea
   mo.tolerance = scene.solver.tolerance;
   mo.max_iterations = scene.solver.max_iterations;
 
+  // One assembly per scene, condensed by every linear engine.
+  const auto t_assembly = Clock::now();
+  const LinearSystem system = assemble(built->problem.elasticity);
+  const double assembly_seconds = since(t_assembly);
+
   for (const auto& linear : available_factorizations()) {
     if (progress) err << "hemivem check --extreme: " << std::left << std::setw(22) << rep.name << std::setw(10) << linear << std::flush;
     const auto t = Clock::now();
@@ -139,7 +144,7 @@ SceneReport run_scene(const fs::path& file, const ExtremeOptions& o, std::ostrea
     try {
       FactorizationOptions fo;
       fo.engine = linear;
-      sols = solve_contact(built->problem, make_factorization(fo), pointers, mo, built->has_contact ? &reduced : nullptr,
+      sols = solve_contact(built->problem, system, make_factorization(fo), pointers, mo, built->has_contact ? &reduced : nullptr,
                            /*estimate_condition=*/true);
     } catch (const NumericalError& e) {
       failure = e.what();
@@ -168,7 +173,7 @@ SceneReport run_scene(const fs::path& file, const ExtremeOptions& o, std::ostrea
       r.margin = s.uniqueness_margin;
       r.rcond = s.rcond;
       r.condition = s.condition_estimate;
-      r.seconds = s.timings.count("total") ? s.timings.at("total") : 0.0;
+      r.seconds = assembly_seconds + (s.timings.count("total") ? s.timings.at("total") : 0.0);
       rep.contact_nodes = static_cast<int>(s.contact.size());
       rep.unknowns = s.unknowns;
       check_guarantee(r, s, built->has_contact ? &reduced : nullptr, mo);

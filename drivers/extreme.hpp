@@ -1,5 +1,5 @@
 // hemivem check --extreme: the stiff and extreme scenes of scenes/extreme/ solved with every
-// built pair of engines, one assembly and one condensation per (scene, linear engine), and a
+// built pair of engines, one assembly per scene and one condensation per (scene, linear engine), and a
 // stability table (columns and exit codes: drivers/CHECK_BENCH.md, discussion: docs/stability.md).
 #pragma once
 

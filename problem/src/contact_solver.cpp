@@ -50,7 +50,7 @@ void require_finite(ContactSolution& sol) {
 
 }  // namespace
 
-std::vector<ContactSolution> solve_contact(const ContactProblem& problem,
+std::vector<ContactSolution> solve_contact(const ContactProblem& problem, const LinearSystem& sys,
                                            std::unique_ptr<SparseFactorization> factorization,
                                            std::span<const NonsmoothMinimizer* const> minimizers,
                                            const MinimizerOptions& options, ReducedProblem* reduced,
@@ -64,9 +64,6 @@ std::vector<ContactSolution> solve_contact(const ContactProblem& problem,
   const bool holds = factorization->holds_results();
   ContactSolution shared;
   auto t = Clock::now();
-  const LinearSystem sys = assemble(problem.elasticity);
-  shared.timings["assembly"] = since(t);
-  shared.stages.push_back("assembly");
   shared.unknowns = sys.dofs.num_free();
   const Mesh& mesh = *problem.elasticity.mesh;
 
@@ -196,6 +193,23 @@ std::vector<ContactSolution> solve_contact(const ContactProblem& problem,
     cond.factorization().share(static_cast<int>(sol.minimizer.status));
     sol.timings["total"] = before_minimize + since(t_own);
     solutions.push_back(std::move(sol));
+  }
+  return solutions;
+}
+
+std::vector<ContactSolution> solve_contact(const ContactProblem& problem,
+                                           std::unique_ptr<SparseFactorization> factorization,
+                                           std::span<const NonsmoothMinimizer* const> minimizers,
+                                           const MinimizerOptions& options, ReducedProblem* reduced,
+                                           bool estimate_condition) {
+  const auto t = Clock::now();
+  const LinearSystem sys = assemble(problem.elasticity);
+  const double seconds = since(t);
+  auto solutions = solve_contact(problem, sys, std::move(factorization), minimizers, options, reduced, estimate_condition);
+  for (auto& s : solutions) {
+    s.timings["assembly"] = seconds;
+    s.timings["total"] += seconds;
+    s.stages.insert(s.stages.begin(), "assembly");
   }
   return solutions;
 }

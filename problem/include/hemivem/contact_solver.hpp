@@ -82,4 +82,13 @@ std::vector<ContactSolution> solve_contact(const ContactProblem& problem,
                                            const MinimizerOptions& options, ReducedProblem* reduced = nullptr,
                                            bool estimate_condition = false);
 
+/// The same on a system the caller assembled from problem.elasticity (assemble()), e.g. to
+/// condense one assembly with several engines; the solutions then have no "assembly" stage
+/// and their "total" excludes it.
+std::vector<ContactSolution> solve_contact(const ContactProblem& problem, const LinearSystem& system,
+                                           std::unique_ptr<SparseFactorization> factorization,
+                                           std::span<const NonsmoothMinimizer* const> minimizers,
+                                           const MinimizerOptions& options, ReducedProblem* reduced = nullptr,
+                                           bool estimate_condition = false);
+
 }  // namespace hemivem
