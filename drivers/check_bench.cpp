@@ -47,8 +47,7 @@ struct PairRun {
   std::string status = "failed";
   std::string message;
   bool converged = false;
-  double residual = std::numeric_limits<double>::quiet_NaN();
-  double feasibility = std::numeric_limits<double>::quiet_NaN();
+  Certificate certificate;
   int iterations = 0;
   double mesh_seconds = 0.0;
   std::map<std::string, double> timings;
@@ -71,8 +70,7 @@ PairRun run_pair(const Scene& base, const Pair& pair) {
     r.status = to_string(m.status);
     r.message = m.message;
     r.converged = s.solution.converged();
-    r.residual = m.certificate.residual;
-    r.feasibility = m.certificate.feasibility;
+    r.certificate = m.certificate;
     r.iterations = m.iterations;
     r.mesh_seconds = s.mesh_seconds;
     r.timings = s.solution.timings;
@@ -180,7 +178,7 @@ int run_check(const CheckOptions& o, std::ostream& out, std::ostream& err) {
 
   if (o.json) {
     nlohmann::json j;
-    j["schema"] = "hemivem-check/1";
+    j["schema"] = "hemivem-check/2";
     j["version"] = HEMIVEM_VERSION;
     j["scene"] = base.title;
     j["source"] = base.source;
@@ -196,7 +194,7 @@ int run_check(const CheckOptions& o, std::ostream& out, std::ostream& err) {
                             {"status", r.status},
                             {"converged", r.converged},
                             {"message", r.message},
-                            {"certificate", {{"residual", number(r.residual)}, {"feasibility", number(r.feasibility)}}},
+                            {"certificate", certificate_json(r.certificate)},
                             {"iterations", r.iterations},
                             {"seconds", r.seconds},
                             {"max_difference", number(pair_max[i])}});
@@ -219,13 +217,13 @@ int run_check(const CheckOptions& o, std::ostream& out, std::ostream& err) {
         << "; differences are max|u_a - u_b| / max|u_ref|, u_ref from eigen+ssn (max|u_ref| = " << sci(scale, 4)
         << ")\n\n";
     out << std::left << std::setw(4) << "  #" << std::setw(10) << "linear" << std::setw(18) << "minimizer"
-        << std::setw(17) << "status" << std::right << std::setw(10) << "residual" << std::setw(13) << "feasibility"
+        << std::setw(17) << "status" << std::right << std::setw(10) << "primal" << std::setw(10) << "dual"
         << std::setw(7) << "iter" << std::setw(10) << "time [s]" << std::setw(11) << "max diff" << "\n";
     for (std::size_t i = 0; i < np; ++i) {
       const auto& r = runs[i];
       out << std::right << std::setw(3) << i + 1 << " " << std::left << std::setw(10) << r.pair.linear << std::setw(18)
-          << r.pair.minimizer << std::setw(17) << r.status << std::right << std::setw(10) << sci(r.residual)
-          << std::setw(13) << sci(r.feasibility) << std::setw(7) << r.iterations << std::setw(10) << fixed(r.seconds)
+          << r.pair.minimizer << std::setw(17) << r.status << std::right << std::setw(10) << sci(r.certificate.primal)
+          << std::setw(10) << sci(r.certificate.dual) << std::setw(7) << r.iterations << std::setw(10) << fixed(r.seconds)
           << std::setw(11) << sci(pair_max[i]) << "\n";
     }
     out << "\n  pairwise differences (rows and columns: # above)\n     ";
@@ -415,14 +413,16 @@ int run_bench(const BenchOptions& o, std::ostream& out, std::ostream& err) {
   // bench.csv
   const fs::path csv = fs::path(o.out) / "bench.csv";
   write_atomically(csv, [&](std::ostream& os) {
-    os << std::setprecision(10) << "linear,minimizer,n,vertices,contact_nodes,status,converged,iterations,residual";
+    os << std::setprecision(10) << "linear,minimizer,n,vertices,contact_nodes,status,converged,iterations,primal,dual";
     for (const auto& s : file_stage_names()) os << ',' << s;
     os << ",error\n";
     for (const auto& r : rows) {
       os << r.run.pair.linear << ',' << r.run.pair.minimizer << ',' << r.n << ',' << r.run.vertices << ','
          << r.run.contact_nodes << ',' << r.run.status << ',' << (r.run.converged ? "true" : "false") << ','
          << r.run.iterations << ',';
-      if (std::isfinite(r.run.residual)) os << r.run.residual;
+      if (std::isfinite(r.run.certificate.primal)) os << r.run.certificate.primal;
+      os << ',';
+      if (std::isfinite(r.run.certificate.dual)) os << r.run.certificate.dual;
       for (const auto& s : file_stage_names()) os << ',' << stage(r.run, s);
       os << ',';
       if (std::isfinite(r.error)) os << r.error;
@@ -432,7 +432,7 @@ int run_bench(const BenchOptions& o, std::ostream& out, std::ostream& err) {
 
   // bench.json
   nlohmann::json j;
-  j["schema"] = "hemivem-bench/1";
+  j["schema"] = "hemivem-bench/2";
   j["version"] = HEMIVEM_VERSION;
   j["scene"] = base.title;
   j["source"] = base.source;
@@ -466,7 +466,7 @@ int run_bench(const BenchOptions& o, std::ostream& out, std::ostream& err) {
                          {"converged", r.run.converged},
                          {"message", r.run.message},
                          {"iterations", r.run.iterations},
-                         {"residual", number(r.run.residual)},
+                         {"certificate", certificate_json(r.run.certificate)},
                          {"seconds", times},
                          {"error", number(r.error)}});
   }

@@ -77,6 +77,16 @@ double SceneSolve::total_seconds() const {
   return mesh_seconds + (it == solution.timings.end() ? 0.0 : it->second);
 }
 
+std::unique_ptr<NonsmoothMinimizer> make_scene_minimizer(const Scene& scene, const std::string& name) {
+  const std::string own = make_minimizer(scene.solver.minimizer)->name();
+  if (scene.solver.parameters.empty() || make_minimizer(name)->name() != own) return make_minimizer(name);
+  try {
+    return make_minimizer(name, scene.solver.parameters);
+  } catch (const InputError& e) {
+    throw InputError("solver.parameters: " + e.detail(), scene.where("solver.parameters"));
+  }
+}
+
 SceneSolve solve_scene(const Scene& scene, const std::function<void(const BuiltProblem&, const SceneSolve&)>& on_built,
                        std::function<bool(const IterationRecord&)> callback, ReducedProblem* reduced) {
   // Engines first: a name that was not built is an input error before any work.
@@ -84,7 +94,7 @@ SceneSolve solve_scene(const Scene& scene, const std::function<void(const BuiltP
   FactorizationOptions fo;
   fo.engine = scene.solver.linear;
   auto factorization = make_factorization(fo);
-  const auto minimizer = make_minimizer(scene.solver.minimizer);
+  const auto minimizer = make_scene_minimizer(scene, scene.solver.minimizer);
   s.linear = factorization->name();
   s.minimizer = minimizer->name();
   s.holds_results = factorization->holds_results();
@@ -118,8 +128,8 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   std::function<bool(const IterationRecord&)> callback;
   if (o.verbosity >= 2 && !o.json)
     callback = [&](const IterationRecord& r) {
-      err << "  iteration " << r.iteration << ": F = " << std::setprecision(12) << r.energy << ", residual "
-          << sci(r.residual, 3) << ", at bound " << r.active << "\n";
+      err << "  iteration " << r.iteration << ": F = " << std::setprecision(12) << r.objective << ", primal "
+          << sci(r.primal, 3) << ", dual " << sci(r.dual, 3) << ", at bound " << r.active << "\n";
       return true;
     };
   auto announce = [&](const BuiltProblem& built, const SceneSolve& s) {
@@ -171,8 +181,7 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
         << ", minimizer " << info.minimizer << "\n"
         << "  stages        ";
     for (std::size_t i = 0; i < sol.stages.size(); ++i) out << (i ? ", " : "") << sol.stages[i];
-    out << "\n  status        " << to_string(r.status) << " (certificate: residual " << sci(r.certificate.residual, 3)
-        << ", feasibility " << sci(r.certificate.feasibility, 3) << "; tolerance " << sci(mo.tolerance, 3) << "), "
+    out << "\n  status        " << to_string(r.status) << " (certificate: " << certificate_text(r.certificate) << "), "
         << r.iterations << " iterations\n";
     if (!sol.contact.empty()) {
       out << "  uniqueness    lambda_min(S - alpha_j W) = " << sol.uniqueness_margin
@@ -201,7 +210,7 @@ int run_minimize(const MinimizeOptions& o, std::ostream& out, std::ostream&) {
   const MinimizerResult r = minimizer->minimize(p, Eigen::VectorXd(), mo);
   if (o.json) {
     nlohmann::json j;
-    j["schema"] = "hemivem-minimize/1";
+    j["schema"] = "hemivem-minimize/2";
     j["minimizer"] = minimizer->name();
     j["law"] = p.law->name();
     j["constraint"] = to_string(p.constraint);
@@ -209,22 +218,25 @@ int run_minimize(const MinimizeOptions& o, std::ostream& out, std::ostream&) {
     j["status"] = to_string(r.status);
     j["converged"] = r.converged();
     j["message"] = r.message;
-    j["certificate"] = {{"residual", r.certificate.residual}, {"feasibility", r.certificate.feasibility}};
-    j["energy"] = r.energy;
+    j["certificate"] = certificate_json(r.certificate);
+    j["reduced_objective"] = number(r.objective);
     j["iterations"] = r.iterations;
     j["evaluations"] = {{"function", r.function_evaluations}, {"subgradient", r.subgradient_evaluations}};
     j["may_be_nonunique"] = r.may_be_nonunique;
     j["timings"] = r.timings;
-    j["a"] = std::vector<double>(r.a.data(), r.a.data() + r.a.size());
+    auto array = [](const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); };
+    j["a"] = array(r.a);
+    j["law_force"] = array(r.law_force);
+    j["reaction"] = array(r.reaction);
     out << j.dump(2) << "\n";
   } else if (o.verbosity >= 1) {
     out << std::setprecision(12) << "hemivem minimize: " << o.folder << " (" << p.size() << " contact nodes, law "
         << p.law->name() << ", constraint " << to_string(p.constraint) << ")\n"
         << "  minimizer     " << minimizer->name() << "\n"
-        << "  status        " << to_string(r.status) << " (certificate: residual " << sci(r.certificate.residual, 3)
-        << ", feasibility " << sci(r.certificate.feasibility, 3) << "), " << r.iterations << " iterations, "
+        << "  status        " << to_string(r.status) << " (certificate: " << certificate_text(r.certificate) << "), "
+        << r.iterations << " iterations, "
         << r.function_evaluations << " + " << r.subgradient_evaluations << " evaluations\n"
-        << "  F(a)          " << r.energy << "\n"
+        << "  F(a)          " << r.objective << "\n"
         << "  time [s]      " << (r.timings.count("total") ? r.timings.at("total") : 0.0) << "\n";
     if (r.may_be_nonunique) out << "  note          uniqueness is not guaranteed (margin not positive or unknown)\n";
   }

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <hemivem/contact_solver.hpp>
+#include <hemivem/nonsmooth_minimizer.hpp>
 #include <hemivem/reduced_problem.hpp>
 #include <hemivem/scene.hpp>
 
@@ -33,6 +34,11 @@ struct SolveOptions {
 /// applied in order --mesh, --n, --linear, --minimizer, --tol, then every --set. Unknown keys
 /// and bad values are InputErrors (nothing is built).
 Scene load_scene(const SolveOptions& options);
+
+/// The minimizer `name`, with the scene's [solver.parameters] when `name` is the scene's
+/// minimizer (other engines get their defaults); an error in a parameter names the scene's
+/// line of [solver.parameters].
+std::unique_ptr<NonsmoothMinimizer> make_scene_minimizer(const Scene& scene, const std::string& name);
 
 /// One scene solved with the engines it names (scene.solver.linear / .minimizer).
 struct SceneSolve {

@@ -66,4 +66,16 @@ nlohmann::json number(double v) {
   return v;
 }
 
+nlohmann::json certificate_json(const Certificate& c) {
+  return {{"primal", number(c.primal)},
+          {"dual", number(c.dual)},
+          {"length_scale", number(c.length_scale)},
+          {"force_scale", number(c.force_scale)},
+          {"tolerance", number(c.tolerance)}};
+}
+
+std::string certificate_text(const Certificate& c) {
+  return "primal " + sci(c.primal, 3) + ", dual " + sci(c.dual, 3) + " (tolerance " + sci(c.tolerance, 1) + ")";
+}
+
 }  // namespace hemivem::cli

@@ -6,6 +6,7 @@
 #include <iosfwd>
 #include <string>
 
+#include <hemivem/certificate.hpp>
 #include <hemivem/mesh.hpp>
 
 #include <nlohmann/json.hpp>
@@ -46,5 +47,10 @@ std::string sci(double v, int precision = 2);
 std::string fixed(double v, int precision = 4);
 /// v as a JSON number, null when it is not finite (JSON has no NaN or Inf).
 nlohmann::json number(double v);
+
+/// The certificate as JSON: {primal, dual, length_scale, force_scale, tolerance}.
+nlohmann::json certificate_json(const Certificate& c);
+/// "primal 1.2e-16, dual 3.4e-15 (tolerance 1.0e-10)".
+std::string certificate_text(const Certificate& c);
 
 }  // namespace hemivem::cli

@@ -18,6 +18,7 @@
 #include <ostream>
 #include <sstream>
 
+#include "commands.hpp"
 #include "common.hpp"
 
 #ifndef HEMIVEM_EXTREME_SCENES_DIR
@@ -41,7 +42,7 @@ struct Row {
   std::string message;
   bool failed = false;      ///< the engine threw: no solution
   bool converged = false;
-  double residual = kNaN, feasibility = kNaN;
+  Certificate certificate;
   double margin = kNaN;     ///< uniqueness margin lambda_min(S - alpha W)
   double rcond = kNaN;      ///< the engine's reciprocal condition estimate of the factorized matrix
   double condition = kNaN;  ///< kappa_1 estimate of the same matrix, independent of the engine
@@ -87,10 +88,10 @@ void check_guarantee(Row& r, const ContactSolution& sol, const ReducedProblem* r
     return;
   }
   if (reduced && reduced->size() > 0) {
-    const Certificate c = certificate(*reduced, sol.minimizer.a);
-    if (!(c.feasibility <= mo.feasibility_tolerance) || !(c.residual <= mo.tolerance)) {
+    const Certificate c = certificate(*reduced, sol.minimizer.a, mo.tolerance);
+    if (!c.converged()) {
       r.guarantee = false;
-      r.broken = "converged, but the recomputed certificate is (" + sci(c.residual) + ", " + sci(c.feasibility) + ")";
+      r.broken = "converged, but the recomputed certificate is " + certificate_text(c);
     }
   }
 }
@@ -123,7 +124,7 @@ SceneReport run_scene(const fs::path& file, const ExtremeOptions& o, std::ostrea
   std::vector<std::unique_ptr<NonsmoothMinimizer>> minimizers;
   std::vector<const NonsmoothMinimizer*> pointers;
   for (const auto& m : available_minimizers()) {
-    minimizers.push_back(make_minimizer(m));
+    minimizers.push_back(make_scene_minimizer(scene, m));
     pointers.push_back(minimizers.back().get());
   }
   MinimizerOptions mo;
@@ -166,8 +167,7 @@ SceneReport run_scene(const fs::path& file, const ExtremeOptions& o, std::ostrea
       r.status = to_string(s.minimizer.status);
       r.message = s.minimizer.message;
       r.converged = s.converged();
-      r.residual = s.minimizer.certificate.residual;
-      r.feasibility = s.minimizer.certificate.feasibility;
+      r.certificate = s.minimizer.certificate;
       r.iterations = s.minimizer.iterations;
       r.at_bound = static_cast<int>(std::count_if(s.contact.begin(), s.contact.end(), [](const ContactNode& c) { return c.state != "free"; }));
       r.margin = s.uniqueness_margin;
@@ -239,7 +239,7 @@ nlohmann::json scene_json(const SceneReport& s, double agree) {
                           {"status", r.status},
                           {"converged", r.converged},
                           {"message", r.message},
-                          {"certificate", {{"residual", number(r.residual)}, {"feasibility", number(r.feasibility)}}},
+                          {"certificate", certificate_json(r.certificate)},
                           {"iterations", r.iterations},
                           {"at_bound", r.at_bound},
                           {"uniqueness_margin", number(r.margin)},
@@ -262,11 +262,11 @@ void print_scene(std::ostream& out, const SceneReport& s, double agree) {
       << " contact nodes; uniqueness margin " << margin_text(s.margin)
       << (s.unique ? " (unique)" : " (several critical points possible)") << "\n";
   out << "   " << std::left << std::setw(10) << "linear" << std::setw(18) << "minimizer" << std::setw(17) << "status"
-      << std::right << std::setw(10) << "residual" << std::setw(13) << "feasibility" << std::setw(7) << "iter"
+      << std::right << std::setw(10) << "primal" << std::setw(10) << "dual" << std::setw(7) << "iter"
       << std::setw(7) << "bound" << std::setw(10) << "kappa_1" << std::setw(10) << "engine" << std::setw(10) << "max diff" << std::setw(10) << "time [s]" << "  guarantee\n";
   for (const auto& r : s.rows) {
     out << "   " << std::left << std::setw(10) << r.linear << std::setw(18) << r.minimizer << std::setw(17) << r.status
-        << std::right << std::setw(10) << sci(r.residual) << std::setw(13) << sci(r.feasibility) << std::setw(7)
+        << std::right << std::setw(10) << sci(r.certificate.primal) << std::setw(10) << sci(r.certificate.dual) << std::setw(7)
         << r.iterations << std::setw(7) << r.at_bound << std::setw(10) << sci(r.condition, 1) << std::setw(10) << cond_text(r.rcond) << std::setw(10) << sci(r.difference, 1)
         << std::setw(10) << fixed(r.seconds, 3) << "  " << (r.guarantee ? "ok" : "BROKEN: " + r.broken) << "\n";
     if (r.failed) out << "      " << r.message << "\n";
@@ -314,7 +314,7 @@ int run_check_extreme(const ExtremeOptions& o, std::ostream& out, std::ostream& 
 
   if (o.json) {
     nlohmann::json j;
-    j["schema"] = "hemivem-stability/1";
+    j["schema"] = "hemivem-stability/2";
     j["version"] = HEMIVEM_VERSION;
     j["scenes_folder"] = fs::absolute(dir).lexically_normal().string();
     j["agree"] = o.agree;

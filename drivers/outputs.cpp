@@ -36,10 +36,10 @@ void full_precision(std::ostream& os) { os << std::setprecision(17); }
 
 void write_contact_csv(std::ostream& os, const ContactSolution& s) {
   full_precision(os);
-  os << "vertex,x,y,u_nu,multiplier,state\n";
+  os << "vertex,x,y,u_nu,law_force,reaction,pressure,state\n";
   for (const auto& n : s.contact)
-    os << n.vertex << ',' << n.x.x() << ',' << n.x.y() << ',' << n.u_nu << ',' << n.multiplier << ',' << n.state
-       << '\n';
+    os << n.vertex << ',' << n.x.x() << ',' << n.x.y() << ',' << n.u_nu << ',' << n.law_force << ',' << n.reaction
+       << ',' << n.pressure() << ',' << n.state << '\n';
 }
 
 void write_displacement_csv(std::ostream& os, const Mesh& mesh, const Eigen::VectorXd& u) {
@@ -52,10 +52,10 @@ void write_displacement_csv(std::ostream& os, const Mesh& mesh, const Eigen::Vec
 
 void write_history_csv(std::ostream& os, const ContactSolution& s) {
   full_precision(os);
-  os << "iteration,energy,residual,feasibility,active,seconds\n";
+  os << "iteration,reduced_objective,primal,dual,active,seconds\n";
   for (const auto& r : s.minimizer.history)
-    os << r.iteration << ',' << r.energy << ',' << r.residual << ',' << r.feasibility << ',' << r.active << ','
-       << r.seconds << '\n';
+    os << r.iteration << ',' << r.objective << ',' << r.primal << ',' << r.dual << ',' << r.active << ',' << r.seconds
+       << '\n';
 }
 
 void write_vtu(std::ostream& os, const Mesh& mesh, const MaterialTable& materials, const Eigen::VectorXd& u) {
@@ -303,11 +303,11 @@ void make_plots(const fs::path& dir, const Mesh& mesh, const ContactSolution& so
   if (want_unu) {
     write_plain(t / "u_nu.dat", [&](std::ostream& os) {
       full_precision(os);
-      os << "# s x y u_nu multiplier\n";
+      os << "# s x y u_nu pressure\n";
       for (const auto& chain : contact_chains(mesh, sol)) {
         for (const auto& p : chain)
           os << p.s << ' ' << p.node->x.x() << ' ' << p.node->x.y() << ' ' << p.node->u_nu << ' '
-             << p.node->multiplier << '\n';
+             << p.node->pressure() << '\n';
         os << "\n\n";  // a new data block per chain
       }
     });
@@ -401,7 +401,7 @@ std::vector<ElementStress> element_stresses(const Mesh& mesh, const MaterialTabl
 nlohmann::json result_json(const Mesh& mesh, const ContactSolution& s, const RunInfo& info) {
   using nlohmann::json;
   json j;
-  j["schema"] = "hemivem-result/1";
+  j["schema"] = "hemivem-result/2";
   j["version"] = info.version;
   j["scene"] = {{"name", info.scene_name}, {"toml", info.scene_toml}};
   j["backends"] = {{"linear", info.linear}, {"minimizer", info.minimizer}};
@@ -411,11 +411,10 @@ nlohmann::json result_json(const Mesh& mesh, const ContactSolution& s, const Run
   j["status"] = to_string(s.minimizer.status);
   j["converged"] = s.converged();
   j["message"] = s.minimizer.message;
-  j["certificate"] = {{"residual", number(s.minimizer.certificate.residual)},
-                      {"feasibility", number(s.minimizer.certificate.feasibility)}};
+  j["certificate"] = certificate_json(s.minimizer.certificate);
   j["uniqueness_margin"] = number(s.uniqueness_margin);
   j["may_be_nonunique"] = s.minimizer.may_be_nonunique;
-  j["energy"] = number(s.energy);
+  j["potential_energy"] = number(s.energy);
   j["iterations"] = s.minimizer.iterations;
   j["evaluations"] = {{"function", s.minimizer.function_evaluations},
                       {"subgradient", s.minimizer.subgradient_evaluations}};
@@ -437,7 +436,9 @@ nlohmann::json result_json(const Mesh& mesh, const ContactSolution& s, const Run
                        {"x", n.x.x()},
                        {"y", n.x.y()},
                        {"u_nu", number(n.u_nu)},
-                       {"multiplier", number(n.multiplier)},
+                       {"law_force", number(n.law_force)},
+                       {"reaction", number(n.reaction)},
+                       {"pressure", number(n.pressure())},
                        {"state", n.state}});
   j["contact"] = std::move(contact);
   return j;

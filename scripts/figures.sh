@@ -15,7 +15,7 @@ command -v gnuplot >/dev/null || { echo "figures: gnuplot not found" >&2; exit 2
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
-# contact.csv: vertex,x,y,u_nu,multiplier,state -> "x u_nu" sorted by x
+# contact.csv: vertex,x,y,u_nu,law_force,reaction,pressure,state -> "x u_nu" sorted by x
 curve() { tail -n +2 "$1/contact.csv" | awk -F, '{ print $2, $4 }' | sort -g > "$2"; }
 
 plots=()

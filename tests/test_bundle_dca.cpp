@@ -67,7 +67,7 @@ TEST(BundleDca, ConvexKinkedProblemSolvedByTheBundleAlone) {
   const MinimizerResult r = BundleDcaMinimizer().minimize(p, Eigen::VectorXd(), o);
   ASSERT_TRUE(r.converged()) << r.message;
   EXPECT_EQ(r.iterations, 1) << r.message;
-  EXPECT_LE(r.certificate.residual, 1e-11);
+  EXPECT_LE(r.certificate.dual, 1e-11);
   // some nodes sit exactly at the kink a = 0, where F is not differentiable
   int at_kink = 0;
   for (int i = 0; i < n; ++i) at_kink += r.a(i) == 0.0;
@@ -107,8 +107,8 @@ TEST(BundleDca, DcIterationDecreasesTheEnergyMonotonically) {
     ASSERT_GE(r.history.size(), 2u);
     double previous = p.energy(p.project(Eigen::VectorXd::Zero(p.size())));
     for (const auto& h : r.history) {
-      EXPECT_LE(h.energy, previous + 1e-13 * std::abs(previous)) << "DC iteration " << h.iteration;
-      previous = h.energy;
+      EXPECT_LE(h.objective, previous + 1e-13 * std::abs(previous)) << "DC iteration " << h.iteration;
+      previous = h.objective;
     }
   }
 }
@@ -119,8 +119,9 @@ TEST(BundleDca, BundleSizeLimitIsRespected) {
   for (int size : {4, 6, 30}) {
     MinimizerOptions o;
     o.tolerance = 1e-9;
-    o.parameters["bundle_size"] = size;
-    const MinimizerResult r = BundleDcaMinimizer().minimize(p, Eigen::VectorXd(), o);
+    BundleDcaOptions bo;
+    bo.bundle_size = size;
+    const MinimizerResult r = BundleDcaMinimizer(bo).minimize(p, Eigen::VectorXd(), o);
     EXPECT_TRUE(r.converged()) << size << ": " << r.message;
     const int largest = largest_bundle(r);
     ASSERT_GT(largest, 0) << r.message;
@@ -151,7 +152,7 @@ TEST(BundleDca, EveryStatus) {
     const MinimizerResult r = engine.minimize(p, Eigen::VectorXd(), o);
     EXPECT_EQ(r.status, MinimizerStatus::evaluation_limit) << r.message;
     EXPECT_LE(r.function_evaluations + r.subgradient_evaluations, 5);
-    EXPECT_LE(r.certificate.feasibility, 1e-12);
+    EXPECT_LE(r.certificate.primal, 1e-12);
   }
   for (int budget : {1, 2, 4, 7, 12}) {  // the budget is never exceeded
     MinimizerOptions o;
@@ -165,7 +166,7 @@ TEST(BundleDca, EveryStatus) {
     o.tolerance = 1e-300;
     const MinimizerResult r = engine.minimize(p, Eigen::VectorXd(), o);
     EXPECT_EQ(r.status, MinimizerStatus::stalled) << r.message;
-    EXPECT_LE(r.certificate.residual, 1e-12);
+    EXPECT_LE(r.certificate.dual, 1e-12);
   }
   {  // stopped by the callback
     MinimizerOptions o;
@@ -193,19 +194,22 @@ TEST(BundleDca, InputErrors) {
   const ReducedProblem& p = ex->condensation->reduced();
   const BundleDcaMinimizer engine;
   EXPECT_THROW(engine.minimize(p, Eigen::VectorXd::Zero(p.size() + 2), MinimizerOptions{}), InputError);
-  MinimizerOptions o;
-  o.parameters["epsilon"] = 1e-3;  // a smoothing engine's parameter
-  EXPECT_THROW(engine.minimize(p, Eigen::VectorXd(), o), InputError);
+  EXPECT_THROW(make_minimizer("bundle-dca", {{"epsilon", 1e-3}}), InputError);  // a smoothing engine's parameter
   for (const auto& [name, value] : std::vector<std::pair<std::string, double>>{
-           {"bundle_size", 2}, {"proximal_weight", -1}, {"descent", 1.0}, {"inner_tolerance_factor", 0.0},
-           {"max_bundle_iterations", 0}, {"stall_iterations", 0}, {"two_sided_cuts", 0.5}}) {
-    MinimizerOptions bad;
-    bad.parameters[name] = value;
-    EXPECT_THROW(engine.minimize(p, Eigen::VectorXd(), bad), InputError) << name;
+           {"bundle_size", 2}, {"bundle_size", 1e20}, {"proximal_weight", -1}, {"descent", 1.0},
+           {"inner_tolerance_factor", 0.0}, {"max_bundle_iterations", 0}, {"stall_iterations", 0},
+           {"stall_iterations", 3.5}, {"two_sided_cuts", 0.5}}) {
+    try {
+      make_minimizer("bundle-dca", {{name, value}});
+      ADD_FAILURE() << name << " = " << value << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << "the message names the field: " << e.what();
+    }
   }
-  MinimizerOptions ok;
-  for (const auto& [name, value] : BundleDcaMinimizer::parameter_defaults()) ok.parameters[name] = value;
-  EXPECT_TRUE(engine.minimize(p, Eigen::VectorXd(), ok).converged());
+  std::map<std::string, double> defaults;
+  for (const auto& [name, value] : parameter_values(BundleDcaOptions{})) defaults[name] = value;
+  EXPECT_EQ(defaults.size(), 8u);
+  EXPECT_TRUE(make_minimizer("bundle-dca", defaults)->minimize(p, Eigen::VectorXd(), MinimizerOptions{}).converged());
   MinimizerOptions invalid;
   invalid.tolerance = 0.0;
   EXPECT_THROW(engine.minimize(p, Eigen::VectorXd(), invalid), InputError);
@@ -229,7 +233,7 @@ TEST(BundleDca, Example41Counts) {
     EXPECT_TRUE(r.converged()) << r.message;
     std::cout << "N1 = " << p.size() << ": " << r.iterations << " DC iterations, " << r.function_evaluations
               << " function + " << r.subgradient_evaluations << " subgradient evaluations, residual "
-              << r.certificate.residual << ", " << r.timings.at("total") << " s\n  " << r.message << "\n";
+              << r.certificate.dual << ", " << r.timings.at("total") << " s\n  " << r.message << "\n";
   }
 }
 

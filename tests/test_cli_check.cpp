@@ -42,7 +42,7 @@ TEST(CliCheck, EveryPairConvergesAndAgrees) {
   const CommandRun r = run("check --n 8 --json");
   ASSERT_EQ(r.code, 0) << r.out << r.err;
   const auto j = nlohmann::json::parse(r.out);
-  EXPECT_EQ(j["schema"], "hemivem-check/1");
+  EXPECT_EQ(j["schema"], "hemivem-check/2");
   ASSERT_GE(j["pairs"].size(), 1u);
   bool reference = false;
   for (const auto& p : j["pairs"]) {
@@ -77,7 +77,7 @@ TEST(CliCheck, BenchWritesOneRowPerPairAndSizeAndSsnErrorsDecrease) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(r.out.empty()) << r.out;  // -q
   const auto j = nlohmann::json::parse(slurp(out / "bench.json"));
-  EXPECT_EQ(j["schema"], "hemivem-bench/1");
+  EXPECT_EQ(j["schema"], "hemivem-bench/2");
   EXPECT_EQ(j["reference"]["n"], 16);
 
   std::ifstream csv(out / "bench.csv");

@@ -15,7 +15,7 @@ TEST(CliExtreme, ReportsEveryPairWithItsGuaranteeAsJson) {
   const auto run = test::run_hemivem("check --extreme --only gap-zero,lift-off --json");
   ASSERT_EQ(run.code, 0) << run.err;
   const auto j = nlohmann::json::parse(run.out);
-  EXPECT_EQ(j["schema"], "hemivem-stability/1");
+  EXPECT_EQ(j["schema"], "hemivem-stability/2");
   EXPECT_TRUE(j["guarantees_ok"].get<bool>());
   ASSERT_EQ(j["scenes"].size(), 2u);
   for (const auto& s : j["scenes"]) {

@@ -114,7 +114,7 @@ TEST_F(Outputs, ResultJsonHasEveryDocumentedField) {
   const json j = json::parse(read_text(dir.path / "result.json"));
   const auto& sol = s.solution;
 
-  EXPECT_EQ(j.at("schema"), "hemivem-result/1");
+  EXPECT_EQ(j.at("schema"), "hemivem-result/2");
   EXPECT_EQ(j.at("version"), HEMIVEM_VERSION);
   EXPECT_EQ(j.at("scene").at("name"), "example-4-1");
   EXPECT_EQ(j.at("scene").at("toml"), s.info.scene_toml);
@@ -128,12 +128,17 @@ TEST_F(Outputs, ResultJsonHasEveryDocumentedField) {
   EXPECT_EQ(j.at("status"), "converged");
   EXPECT_EQ(j.at("converged"), true);
   EXPECT_TRUE(j.at("message").is_string());
-  EXPECT_EQ(j.at("certificate").at("residual").get<double>(), sol.minimizer.certificate.residual);
-  EXPECT_EQ(j.at("certificate").at("feasibility").get<double>(), sol.minimizer.certificate.feasibility);
+  EXPECT_EQ(j.at("schema"), "hemivem-result/2");
+  const Certificate& cert = sol.minimizer.certificate;
+  EXPECT_EQ(j.at("certificate").at("primal").get<double>(), cert.primal);
+  EXPECT_EQ(j.at("certificate").at("dual").get<double>(), cert.dual);
+  EXPECT_EQ(j.at("certificate").at("length_scale").get<double>(), cert.length_scale);
+  EXPECT_EQ(j.at("certificate").at("force_scale").get<double>(), cert.force_scale);
+  EXPECT_EQ(j.at("certificate").at("tolerance").get<double>(), 1e-10);
   ASSERT_TRUE(j.at("uniqueness_margin").is_number());
   EXPECT_EQ(j.at("uniqueness_margin").get<double>(), sol.uniqueness_margin);
   EXPECT_EQ(j.at("may_be_nonunique"), sol.minimizer.may_be_nonunique);
-  EXPECT_EQ(j.at("energy").get<double>(), sol.energy);
+  EXPECT_EQ(j.at("potential_energy").get<double>(), sol.energy);
   EXPECT_TRUE(j.at("iterations").is_number_integer());
   EXPECT_EQ(j.at("iterations").get<int>(), sol.minimizer.iterations);
   EXPECT_TRUE(j.at("evaluations").at("function").is_number_integer());
@@ -167,7 +172,9 @@ TEST_F(Outputs, ResultJsonHasEveryDocumentedField) {
     EXPECT_EQ(c[i].at("x").get<double>(), n.x.x());
     EXPECT_EQ(c[i].at("y").get<double>(), n.x.y());
     EXPECT_EQ(c[i].at("u_nu").get<double>(), n.u_nu);
-    EXPECT_EQ(c[i].at("multiplier").get<double>(), n.multiplier);
+    EXPECT_EQ(c[i].at("law_force").get<double>(), n.law_force);
+    EXPECT_EQ(c[i].at("reaction").get<double>(), n.reaction);
+    EXPECT_EQ(c[i].at("pressure").get<double>(), (n.law_force + n.reaction) / n.weight);
     EXPECT_EQ(c[i].at("state"), n.state);
   }
 }
@@ -182,7 +189,7 @@ TEST_F(Outputs, NonFiniteNumbersAreNullAndDofsDefaultToTwicePerVertex) {
   info.dofs = -1;
   const json j = json::parse(result_json(s.mesh, sol, info).dump());
   EXPECT_TRUE(j.at("uniqueness_margin").is_null());
-  EXPECT_TRUE(j.at("energy").is_null());
+  EXPECT_TRUE(j.at("potential_energy").is_null());
   EXPECT_EQ(j.at("status"), "iteration limit");
   EXPECT_EQ(j.at("converged"), false);
   EXPECT_EQ(j.at("mesh").at("dofs").get<int>(), 2 * s.mesh.num_vertices());
@@ -195,17 +202,19 @@ TEST_F(Outputs, CsvTablesHaveHeadersAndOneRowPerNode) {
                 {"contact.csv", "displacement.csv", "history.csv", "scene.toml"});
   const auto contact = lines(dir.path / "contact.csv");
   ASSERT_EQ(contact.size(), s.solution.contact.size() + 1);
-  EXPECT_EQ(contact[0], "vertex,x,y,u_nu,multiplier,state");
+  EXPECT_EQ(contact[0], "vertex,x,y,u_nu,law_force,reaction,pressure,state");
   {
     // the first row holds the first contact node
     std::stringstream row(contact[1]);
     std::string field;
     std::vector<std::string> f;
     while (std::getline(row, field, ',')) f.push_back(field);
-    ASSERT_EQ(f.size(), 6u);
+    ASSERT_EQ(f.size(), 8u);
     EXPECT_EQ(std::stoi(f[0]), s.solution.contact[0].vertex);
     EXPECT_EQ(std::stod(f[3]), s.solution.contact[0].u_nu);
-    EXPECT_EQ(f[5], s.solution.contact[0].state);
+    EXPECT_EQ(std::stod(f[4]), s.solution.contact[0].law_force);
+    EXPECT_EQ(std::stod(f[5]), s.solution.contact[0].reaction);
+    EXPECT_EQ(f[7], s.solution.contact[0].state);
   }
   const auto disp = lines(dir.path / "displacement.csv");
   ASSERT_EQ(disp.size(), static_cast<std::size_t>(s.mesh.num_vertices()) + 1);
@@ -224,7 +233,7 @@ TEST_F(Outputs, CsvTablesHaveHeadersAndOneRowPerNode) {
   }
   const auto history = lines(dir.path / "history.csv");
   ASSERT_EQ(history.size(), s.solution.minimizer.history.size() + 1);
-  EXPECT_EQ(history[0], "iteration,energy,residual,feasibility,active,seconds");
+  EXPECT_EQ(history[0], "iteration,reduced_objective,primal,dual,active,seconds");
   EXPECT_EQ(read_text(dir.path / "scene.toml"), s.info.scene_toml);
   EXPECT_FALSE(fs::exists(dir.path / "result.json"));  // only what was asked for
 }
@@ -409,7 +418,8 @@ TEST(OutputsWithoutContact, LinearSolveSkipsTheContactPlotOnly) {
   f.engine = "eigen";
   struct Unused final : NonsmoothMinimizer {
     std::string name() const override { return "unused"; }
-    MinimizerResult minimize(const ReducedProblem&, const Eigen::VectorXd&, const MinimizerOptions&) const override {
+   protected:
+    MinimizerResult run(MinimizerRun&) const override {
       return {};
     }
   } unused;

@@ -7,6 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+
 using namespace hemivem;
 
 namespace {
@@ -37,11 +40,49 @@ TEST(ContactSolver, Example41RunsEveryStage) {
     // u_nu is the normal component of the displacement (normal (0, -1) on the bottom)
     EXPECT_NEAR(node.u_nu, -s.u(2 * node.vertex + 1), 1e-12);
     EXPECT_LE(std::abs(node.u_nu), 0.02 + 1e-15);
-    if (node.state == "upper") EXPECT_GE(node.multiplier, 0.0);
-    if (node.state == "free") EXPECT_EQ(node.multiplier, 0.0);
+    if (node.state == "upper") EXPECT_GE(node.reaction, 0.0);
+    if (node.state == "free") EXPECT_EQ(node.reaction, 0.0);
   }
   for (const char* stage : {"assembly", "condensation", "minimize", "back_substitution", "total"})
     EXPECT_TRUE(s.timings.count(stage)) << stage;
+}
+
+TEST(ContactSolver, WithoutAConstraintNoNodeIsAtABoundAndNoReactionIsReported) {
+  // constraint "none": the bounds are infinite, so every node is free and the contact force
+  // is the law's alone (balancing S a - c to the tolerance)
+  const Mesh mesh = make_squares(16);
+  ContactProblem p = example_4_1(mesh);
+  p.constraint = ConstraintKind::none;
+  const ContactSolution s = solve_contact(p, eigen_engine(), *make_minimizer("ssn"), MinimizerOptions{});
+  ASSERT_TRUE(s.converged()) << s.minimizer.message;
+  ASSERT_EQ(s.contact.size(), 15u);
+  double largest = 0.0, deepest = 0.0;
+  for (const auto& node : s.contact) {
+    EXPECT_EQ(node.state, "free") << node.vertex;
+    EXPECT_EQ(node.reaction, 0.0) << node.vertex;
+    largest = std::max(largest, std::abs(node.law_force));
+    deepest = std::max(deepest, node.u_nu);
+  }
+  EXPECT_GT(deepest, 0.02) << "without the gap the load presses the middle nodes past it";
+  EXPECT_GT(largest, 0.0) << "the law carries the load";
+}
+
+TEST(ContactSolver, ContactForcesBalanceTheLoad) {
+  // Example 4.1: the clamped sides and the contact nodes carry the traction (0, -8) on the top
+  // (length 1); the contact forces are the certificate's zeta + lambda, each >= 0 here
+  // (compression), and the pressure is the force per length w_i.
+  const Mesh mesh = make_squares(16);
+  const ContactSolution s = solve_contact(example_4_1(mesh), eigen_engine(), *make_minimizer("ssn"), MinimizerOptions{});
+  ASSERT_TRUE(s.converged());
+  double total = 0.0;
+  for (const auto& node : s.contact) {
+    EXPECT_GE(node.force(), -1e-12) << node.vertex;
+    EXPECT_DOUBLE_EQ(node.pressure(), node.force() / node.weight);
+    if (node.state == "upper") EXPECT_GT(node.reaction, 0.0) << node.vertex;
+    total += node.force();
+  }
+  EXPECT_GT(total, 0.0);
+  EXPECT_LT(total, 8.0) << "the clamped sides carry the rest of the load";
 }
 
 TEST(ContactSolver, NoContactBoundaryIsOneLinearSolve) {
@@ -51,7 +92,8 @@ TEST(ContactSolver, NoContactBoundaryIsOneLinearSolve) {
   // any minimizer object will do: it is not called
   struct Unused final : NonsmoothMinimizer {
     std::string name() const override { return "unused"; }
-    MinimizerResult minimize(const ReducedProblem&, const Eigen::VectorXd&, const MinimizerOptions&) const override {
+   protected:
+    MinimizerResult run(MinimizerRun&) const override {
       ADD_FAILURE() << "the minimizer must not run without a contact boundary";
       return {};
     }

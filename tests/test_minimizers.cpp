@@ -87,7 +87,9 @@ ReducedProblem diagonal_problem(const ClosedForm& cf, Eigen::VectorXd* exact) {
 
 class Minimizer : public ::testing::TestWithParam<std::string> {
  protected:
-  std::unique_ptr<NonsmoothMinimizer> engine() const { return make_minimizer(GetParam()); }
+  std::unique_ptr<NonsmoothMinimizer> engine(const std::map<std::string, double>& parameters = {}) const {
+    return make_minimizer(GetParam(), parameters);
+  }
   bool smoothing_based() const { return GetParam() == "nlopt-mma" || GetParam() == "ceres-active-set"; }
 };
 
@@ -106,7 +108,7 @@ TEST_P(Minimizer, ClosedFormsNodeByNode) {
         EXPECT_LE((r.a - exact).cwiseAbs().maxCoeff(), 1e-3) << r.message;
         continue;
       }
-      EXPECT_TRUE(r.converged()) << to_string(r.status) << ": " << r.message << " residual " << r.certificate.residual;
+      EXPECT_TRUE(r.converged()) << to_string(r.status) << ": " << r.message << " residual " << r.certificate.dual;
       EXPECT_LE((r.a - exact).cwiseAbs().maxCoeff(), 1e-8) << "got " << r.a.transpose() << "\nexact " << exact.transpose();
     }
   }
@@ -139,8 +141,8 @@ TEST_P(Minimizer, Example41AgreesWithSsnOnFourMeshTypes) {
       ASSERT_TRUE(ref.converged()) << ref.message;
       const MinimizerResult r = engine()->minimize(p, Eigen::VectorXd(), o);
       EXPECT_TRUE(r.converged()) << to_string(r.status) << ": " << r.message;
-      EXPECT_LE(r.certificate.residual, 1e-8);
-      EXPECT_LE(r.certificate.feasibility, 1e-12);
+      EXPECT_LE(r.certificate.dual, 1e-8);
+      EXPECT_LE(r.certificate.primal, 1e-12);
       EXPECT_LE((r.a - ref.a).cwiseAbs().maxCoeff(), 1e-6 * ref.a.cwiseAbs().maxCoeff());
       EXPECT_EQ(at_bound(p, r.a), at_bound(p, ref.a));
       EXPECT_FALSE(r.may_be_nonunique);  // lambda_min(S - 20 W) > 0 here
@@ -185,12 +187,10 @@ TEST_P(Minimizer, KinkedLaws) {
     // smoothing scale epsilon
     std::vector<double> errors;
     for (double eps : {1e-3, 1e-4, 1e-5, 1e-6}) {
-      MinimizerOptions oe = o;
-      oe.parameters["epsilon"] = eps;
-      const MinimizerResult r = engine()->minimize(p, Eigen::VectorXd(), oe);
+      const MinimizerResult r = engine({{"epsilon", eps}})->minimize(p, Eigen::VectorXd(), o);
       errors.push_back((r.a - ref.a).cwiseAbs().maxCoeff() / scale);
       std::cout << GetParam() << " " << label << " epsilon " << eps << ": relative error against ssn " << errors.back()
-                << ", certificate " << r.certificate.residual << "\n";
+                << ", certificate " << r.certificate.dual << "\n";
     }
     if (on_kink == 0) {
       for (double e : errors) EXPECT_LE(e, 1e-6);
@@ -269,8 +269,8 @@ TEST_P(Minimizer, ConcaveLawFlagsPossibleNonUniqueness) {
   o.tolerance = 1e-8;
   const MinimizerResult r = engine()->minimize(p, Eigen::VectorXd(), o);
   EXPECT_TRUE(r.converged()) << to_string(r.status) << ": " << r.message;
-  EXPECT_LE(r.certificate.residual, 1e-8);
-  EXPECT_LE(r.certificate.feasibility, 1e-12);
+  EXPECT_LE(r.certificate.dual, 1e-8);
+  EXPECT_LE(r.certificate.primal, 1e-12);
   EXPECT_TRUE(r.may_be_nonunique);
 }
 
@@ -283,7 +283,7 @@ TEST_P(Minimizer, CallbackCanStopTheRun) {
   EXPECT_EQ(calls, 1);
   if (!r.converged()) EXPECT_EQ(r.status, MinimizerStatus::stopped_by_callback);
   EXPECT_TRUE(r.a.allFinite());
-  EXPECT_LE(r.certificate.feasibility, 1e-12);
+  EXPECT_LE(r.certificate.primal, 1e-12);
 }
 
 INSTANTIATE_TEST_SUITE_P(Engines, Minimizer, ::testing::ValuesIn(available_minimizers()), [](const auto& info) {
@@ -312,15 +312,17 @@ TEST(Certificate, ZeroExactlyAtAHandSolution) {
   p.law = zero_law();
   p.constraint = ConstraintKind::box;
   Eigen::VectorXd a = Eigen::VectorXd::Constant(1, 0.2);
-  EXPECT_EQ(certificate(p, a).residual, 0.0);
-  EXPECT_EQ(certificate(p, a).feasibility, 0.0);
-  a(0) = 0.1;  // xi = 2 * 0.1 - 1 = -0.8; P(0.1 + 0.8) = 0.2: residual 0.1 / |c|
-  EXPECT_NEAR(certificate(p, a).residual, 0.1, 1e-15);
-  a(0) = 0.3;
-  EXPECT_NEAR(certificate(p, a).feasibility, 0.1, 1e-15);
+  const CertifiedPoint at = certify(p, a, 1e-10);
+  EXPECT_EQ(at.certificate.dual, 0.0);
+  EXPECT_EQ(at.certificate.primal, 0.0);
+  EXPECT_DOUBLE_EQ(at.reaction(0), 0.6);  // S a - c = -0.6, taken by the bound
+  a(0) = 0.1;  // free: S a - c = -0.8 against f = max(|c|, |S a|) = 1
+  EXPECT_NEAR(certificate(p, a, 1e-10).dual, 0.8, 1e-15);
+  a(0) = 0.3;  // 0.1 beyond the bound; l = max(|a|, g, c / S) = 0.5
+  EXPECT_NEAR(certificate(p, a, 1e-10).primal, 0.2, 1e-15);
   p.constraint = ConstraintKind::none;  // unconstrained: a = 0.5
   a(0) = 0.5;
-  EXPECT_EQ(certificate(p, a).residual, 0.0);
+  EXPECT_EQ(certificate(p, a, 1e-10).dual, 0.0);
 }
 
 }  // namespace

@@ -36,21 +36,22 @@ std::vector<std::string> available_minimizers() {
   return names;
 }
 
-std::unique_ptr<NonsmoothMinimizer> make_minimizer(const std::string& name) {
+std::unique_ptr<NonsmoothMinimizer> make_minimizer(const std::string& name,
+                                                   const std::map<std::string, double>& parameters) {
   std::string n = name;
   std::transform(n.begin(), n.end(), n.begin(),
                  [](unsigned char c) { return c == '_' ? '-' : static_cast<char>(std::tolower(c)); });
 #ifdef HEMIVEM_HAVE_SSN
-  if (n == "ssn") return std::make_unique<SsnMinimizer>();
+  if (n == "ssn") return std::make_unique<SsnMinimizer>(options_from_parameters<SsnOptions>(parameters, "ssn"));
 #endif
 #ifdef HEMIVEM_HAVE_BUNDLE_DCA
-  if (n == "bundle-dca") return std::make_unique<BundleDcaMinimizer>();
+  if (n == "bundle-dca") return std::make_unique<BundleDcaMinimizer>(options_from_parameters<BundleDcaOptions>(parameters, "bundle-dca"));
 #endif
 #ifdef HEMIVEM_HAVE_NLOPT_MMA
-  if (n == "nlopt-mma") return std::make_unique<NloptMmaMinimizer>();
+  if (n == "nlopt-mma") return std::make_unique<NloptMmaMinimizer>(options_from_parameters<NloptMmaOptions>(parameters, "nlopt-mma"));
 #endif
 #ifdef HEMIVEM_HAVE_CERES_ACTIVE_SET
-  if (n == "ceres-active-set") return std::make_unique<CeresActiveSetMinimizer>();
+  if (n == "ceres-active-set") return std::make_unique<CeresActiveSetMinimizer>(options_from_parameters<CeresActiveSetOptions>(parameters, "ceres-active-set"));
 #endif
   std::string list;
   for (const auto& a : available_minimizers()) list += (list.empty() ? "" : ", ") + a;

@@ -97,9 +97,9 @@ int main() {
 
     // ---- 3. The minimizer ------------------------------------------------------------
     // Semismooth Newton from a = 0. Whatever the engine does internally, the result is
-    // "converged" only when the certificate is below the tolerances: the stationarity
-    // residual ‖a − P_C(a − ξ)‖∞ / ‖c‖∞ (ξ the least-norm Clarke subgradient of F at a,
-    // P_C the projection onto the box) and the feasibility violation.
+    // "converged" only when the certificate is below the tolerance: the primal
+    // residual ‖dist(a, C)‖∞ / ℓ and the dual residual ‖Sa − c + ζ + λ‖∞ / f (ζ the law force,
+    // λ the reaction of the constraint, ℓ and f the length and force scales: DESIGN §3).
     const hemivem::SsnMinimizer ssn;
     hemivem::MinimizerOptions options;
     options.tolerance = 1e-10;
@@ -107,8 +107,8 @@ int main() {
     std::printf("  minimizer     %s: %s after %d iterations%s\n", ssn.name().c_str(),
                 hemivem::to_string(result.status).c_str(), result.iterations,
                 result.may_be_nonunique ? " (F may have several critical points)" : "");
-    std::printf("  certificate   stationarity %.3e, feasibility %.3e (tolerance %.1e)\n",
-                result.certificate.residual, result.certificate.feasibility, options.tolerance);
+    std::printf("  certificate   primal %.3e, dual %.3e (tolerance %.1e)\n", result.certificate.primal,
+                result.certificate.dual, result.certificate.tolerance);
 
     // Where the contact nodes ended: on the upper bound a_i = g_i, on the lower one, or free.
     int upper = 0, lower = 0;
@@ -119,7 +119,7 @@ int main() {
     }
     std::printf("  contact       %d nodes: %d at the upper bound, %d at the lower bound, %d free\n",
                 static_cast<int>(result.a.size()), upper, lower, static_cast<int>(result.a.size()) - upper - lower);
-    std::printf("  F(a)          %.10g\n", result.energy);
+    std::printf("  F(a)          %.10g\n", result.objective);
 
     // ---- 4. Back-substitution --------------------------------------------------------
     // The interior follows from a: u2 = A22⁻¹ (b2 − A21 a) with the factor kept in step 2;

@@ -2,6 +2,7 @@
 #include <hemivem/contact_solver.hpp>
 #include <hemivem/error.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <exception>
@@ -97,11 +98,16 @@ std::vector<ContactSolution> solve_contact(const ContactProblem& problem, const 
       const Eigen::VectorXd uf = X.col(0);
       shared.u = sys.dofs.expand(uf);
       shared.energy = 0.5 * uf.dot(sys.A * uf) - uf.dot(sys.b);
-      const double bnorm = sys.b.norm();
-      const double rnorm = (sys.A * uf - sys.b).norm();
-      const double residual = bnorm > 0.0 ? rnorm / bnorm : rnorm;
-      m.certificate = {std::isfinite(residual) ? residual : std::numeric_limits<double>::infinity(), 0.0};
-      if (uf.allFinite() && residual <= options.tolerance) {
+      const Eigen::VectorXd Au = sys.A * uf;
+      const double scale = std::max({sys.b.cwiseAbs().maxCoeff(), Au.cwiseAbs().maxCoeff(), force_floor});
+      const double residual = (Au - sys.b).cwiseAbs().maxCoeff();
+      Certificate& c = m.certificate;
+      c.tolerance = options.tolerance;
+      c.primal = 0.0;
+      c.dual = residual == 0.0 ? 0.0 : (std::isfinite(residual) ? residual / scale : std::numeric_limits<double>::infinity());
+      c.length_scale = uf.cwiseAbs().maxCoeff();
+      c.force_scale = scale;
+      if (uf.allFinite() && c.converged()) {
         m.status = MinimizerStatus::converged;
       } else {
         m.status = MinimizerStatus::failed;
@@ -171,19 +177,19 @@ std::vector<ContactSolution> solve_contact(const ContactProblem& problem, const 
       continue;
     }
 
-    const Eigen::VectorXd& a = sol.minimizer.a;
-    const Eigen::VectorXd xi = rp.least_norm_subgradient(a);
+    const MinimizerResult& m = sol.minimizer;
     for (int i = 0; i < boundary.size(); ++i) {
       ContactNode node;
       node.vertex = boundary.nodes[static_cast<std::size_t>(i)];
       node.x = mesh.vertex(node.vertex);
-      node.u_nu = a(i);
-      node.multiplier = -xi(i);
-      const double tol = 1e-12 * std::max(1.0, std::abs(rp.upper(i)));
-      node.state = std::abs(a(i) - rp.upper(i)) <= tol ? "upper" : (std::abs(a(i) - rp.lower(i)) <= tol ? "lower" : "free");
-      if (node.state == "free") node.multiplier = 0.0;
+      node.u_nu = m.a(i);
+      node.weight = rp.w(i);
+      node.law_force = m.law_force.size() == m.a.size() ? m.law_force(i) : 0.0;
+      node.reaction = m.reaction.size() == m.a.size() ? m.reaction(i) : 0.0;
+      node.state = m.a(i) == rp.upper(i) ? "upper" : (m.a(i) == rp.lower(i) ? "lower" : "free");
       sol.contact.push_back(node);
     }
+    const Eigen::VectorXd& a = m.a;
     // the potential energy of the discrete problem (F(a) differs from it by a constant)
     Eigen::VectorXd uf(sys.dofs.num_free());
     for (int k = 0; k < sys.dofs.num_free(); ++k) uf(k) = sol.u(sys.dofs.free_dofs[static_cast<std::size_t>(k)]);

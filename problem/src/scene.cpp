@@ -547,7 +547,7 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
   }
 
   if (const toml::table* t = r.table("solver")) {
-    TableReader v(s, *t, "solver", {"linear", "minimizer", "tolerance", "max_iterations"});
+    TableReader v(s, *t, "solver", {"linear", "minimizer", "tolerance", "max_iterations", "parameters"});
     if (auto x = v.string("linear")) {
       if (x->empty()) v.fail("linear", v.node("linear"), "empty name");
       s.solver.linear = *x;
@@ -557,7 +557,7 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
       s.solver.minimizer = *x;
     }
     if (auto x = v.number("tolerance")) {
-      if (!(*x > 0.0)) v.fail("tolerance", v.node("tolerance"), "must be > 0, got " + fmt(*x));
+      if (!(*x > 0.0 && *x < 1.0)) v.fail("tolerance", v.node("tolerance"), "must be in (0, 1), got " + fmt(*x));
       s.solver.tolerance = *x;
     }
     if (auto x = v.integer("max_iterations")) {
@@ -565,6 +565,15 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
         v.fail("max_iterations", v.node("max_iterations"),
                "must be between 1 and " + std::to_string(std::numeric_limits<int>::max()) + ", got " + std::to_string(*x));
       s.solver.max_iterations = static_cast<int>(*x);
+    }
+    // the minimizer's typed options by name: the names and ranges are the engine's, checked
+    // when the engine is made (its errors name the key's line through Scene::where)
+    if (const toml::table* p = v.table("parameters")) {
+      std::vector<std::string> names;
+      for (const auto& [k, node] : *p) names.emplace_back(k.str());
+      TableReader pr(s, *p, "solver.parameters", names);
+      for (const auto& name : names)
+        if (auto x = pr.number(name)) s.solver.parameters[name] = *x;
     }
   }
 
@@ -754,6 +763,10 @@ std::string to_toml(const Scene& s) {
   o << "minimizer = " << quote(s.solver.minimizer) << "\n";
   o << "tolerance = " << fmt(s.solver.tolerance) << "\n";
   o << "max_iterations = " << s.solver.max_iterations << "\n";
+  if (!s.solver.parameters.empty()) {
+    o << "\n[solver.parameters]\n";
+    for (const auto& [k, v] : s.solver.parameters) o << k << " = " << fmt(v) << "\n";
+  }
   o << "\n[output]\n";
   o << "write = " << list(s.outputs, quote) << "\n";
   return o.str();

@@ -52,7 +52,7 @@ void minimize(benchmark::State& state, std::string name) {
   for (auto _ : state) r = engine->minimize(s.condensation->reduced(), Eigen::VectorXd(), o);
   state.counters["N1"] = static_cast<double>(s.condensation->reduced().size());
   state.counters["converged"] = r.converged() ? 1 : 0;
-  state.counters["residual"] = r.certificate.residual;
+  state.counters["dual"] = r.certificate.dual;
   state.counters["iterations"] = r.iterations;
   state.counters["evaluations"] = r.function_evaluations + r.subgradient_evaluations;
 }

@@ -68,7 +68,7 @@ TEST(CliMpi, TwoProcessesAgreeWithEigenAndRankZeroAloneWrites) {
   EXPECT_EQ(a["backends"]["linear"], "mumps-mpi");
   EXPECT_TRUE(a["converged"].get<bool>());
   EXPECT_EQ(a["stages"], b["stages"]);
-  const double ea = a["energy"].get<double>(), eb = b["energy"].get<double>();
+  const double ea = a["potential_energy"].get<double>(), eb = b["potential_energy"].get<double>();
   EXPECT_NEAR(ea, eb, 1e-10 * std::abs(eb));
   EXPECT_NEAR(a["uniqueness_margin"].get<double>(), b["uniqueness_margin"].get<double>(),
               1e-8 * b["uniqueness_margin"].get<double>());

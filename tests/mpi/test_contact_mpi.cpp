@@ -42,8 +42,13 @@ class Scripted final : public NonsmoothMinimizer {
   enum class Mode { ssn, throw_input, throw_runtime, iteration_limit };
   explicit Scripted(Mode mode) : mode_(mode) {}
   std::string name() const override { return "scripted"; }
-  MinimizerResult minimize(const ReducedProblem& p, const Eigen::VectorXd& start,
-                           const MinimizerOptions& o) const override {
+  mutable int calls = 0;
+
+ protected:
+  MinimizerResult run(MinimizerRun& r) const override {
+    const ReducedProblem& p = r.problem();
+    const Eigen::VectorXd& start = r.start();
+    const MinimizerOptions& o = r.options();
     ++calls;
     switch (mode_) {
       case Mode::throw_input: throw InputError("scripted input error", "minimizer");
@@ -59,7 +64,6 @@ class Scripted final : public NonsmoothMinimizer {
     }
     return SsnMinimizer{}.minimize(p, start, o);
   }
-  mutable int calls = 0;
 
  private:
   Mode mode_;

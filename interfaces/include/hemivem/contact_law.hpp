@@ -6,6 +6,7 @@
 // subdifferential of j at r is the interval between the one-sided derivatives of j.
 #pragma once
 
+#include <cmath>
 #include <limits>
 #include <string>
 #include <vector>
@@ -39,6 +40,21 @@ class ContactLaw {
 
   /// Points where some part is not twice differentiable (sorted).
   virtual std::vector<double> breakpoints() const = 0;
+
+  /// The kinks of j: the breakpoints where j' jumps, |j'(b+) - j'(b-)| > kink_tolerance *
+  /// (|j'(b-)| + |j'(b+)|) (sorted). The one definition every engine, the smoothing and the
+  /// certificate use; a law that knows its kinks exactly may override it.
+  virtual std::vector<double> kinks() const {
+    std::vector<double> k;
+    for (double b : breakpoints()) {
+      const double l = derivative(LawPart::j, b, -1), r = derivative(LawPart::j, b, +1);
+      if (std::abs(r - l) > kink_tolerance * (std::abs(l) + std::abs(r))) k.push_back(b);
+    }
+    return k;
+  }
+  /// Relative size of a jump of j' that makes a breakpoint a kink (smaller jumps are rounding
+  /// in a law whose pieces join with a continuous derivative).
+  static constexpr double kink_tolerance = 1e-12;
 
   /// The largest negative curvature of j: alpha_j >= 0 such that j + alpha_j r^2 / 2 is
   /// convex; +infinity when j has a concave kink (a downward jump of j').

@@ -65,40 +65,12 @@ struct ReducedProblem {
     for (Eigen::Index i = 0; i < a.size(); ++i) f += w(i) * law->value(LawPart::j, a(i));
     return f;
   }
-  /// The DC components F = F1 - F2: F1 = 1/2 a^T S a - c^T a + sum w_i j1(a_i) and
-  /// F2 = sum w_i j2(a_i), both convex.
-  double energy_convex1(const Eigen::VectorXd& a) const {
-    double f = 0.5 * a.dot(S * a) - c.dot(a);
-    for (Eigen::Index i = 0; i < a.size(); ++i) f += w(i) * law->value(LawPart::j1, a(i));
-    return f;
-  }
-  double energy_convex2(const Eigen::VectorXd& a) const {
-    double f = 0.0;
-    for (Eigen::Index i = 0; i < a.size(); ++i) f += w(i) * law->value(LawPart::j2, a(i));
-    return f;
-  }
-  /// A subgradient of F2 (right derivatives of j2; j2 is convex, so any side is one).
+  /// A subgradient of F2 = sum_i w_i j2(a_i), the concave part of F = F1 - F2 (right
+  /// derivatives of j2; j2 is convex, so either side is one).
   Eigen::VectorXd subgradient_convex2(const Eigen::VectorXd& a) const {
     Eigen::VectorXd g(a.size());
     for (Eigen::Index i = 0; i < a.size(); ++i) g(i) = w(i) * law->derivative(LawPart::j2, a(i), +1);
     return g;
-  }
-  /// A subgradient of F1 (right derivatives of j1).
-  Eigen::VectorXd subgradient_convex1(const Eigen::VectorXd& a) const {
-    Eigen::VectorXd g = S * a - c;
-    for (Eigen::Index i = 0; i < a.size(); ++i) g(i) += w(i) * law->derivative(LawPart::j1, a(i), +1);
-    return g;
-  }
-  /// The least-norm element xi of the Clarke subdifferential of F at a:
-  /// xi_i = (S a - c)_i + w_i t_i with t_i the point of [j'(a_i-), j'(a_i+)] nearest to
-  /// -(S a - c)_i / w_i.
-  Eigen::VectorXd least_norm_subgradient(const Eigen::VectorXd& a) const {
-    Eigen::VectorXd xi = S * a - c;
-    for (Eigen::Index i = 0; i < a.size(); ++i) {
-      const Interval d = law->clarke(a(i));
-      xi(i) += w(i) * d.nearest(-xi(i) / w(i));
-    }
-    return xi;
   }
   /// The projection onto C.
   Eigen::VectorXd project(const Eigen::VectorXd& a) const {
@@ -116,24 +88,17 @@ struct ReducedProblem {
   }
 };
 
-/// The certificate of a point (DESIGN §3): the natural residual
-/// ||a - P_C(a - xi)||_inf / max(||c||_inf, tiny) with xi the least-norm Clarke subgradient,
-/// and the feasibility violation max_i (distance of a_i to [lower_i, upper_i]) (absolute,
-/// in units of a). A point is a critical point when both vanish.
-struct Certificate {
-  double residual = std::numeric_limits<double>::infinity();
-  double feasibility = std::numeric_limits<double>::infinity();
-};
-
-inline Certificate certificate(const ReducedProblem& p, const Eigen::VectorXd& a) {
-  Certificate cert;
-  if (a.size() != p.size() || !a.allFinite()) return cert;  // infinite: not a valid point
-  if (a.size() == 0) return {0.0, 0.0};
-  const Eigen::VectorXd xi = p.least_norm_subgradient(a);
-  const double scale = std::max(p.c.cwiseAbs().maxCoeff(), std::numeric_limits<double>::min());
-  cert.residual = (a - p.project(a - xi)).cwiseAbs().maxCoeff() / scale;
-  cert.feasibility = (a - p.project(a)).cwiseAbs().maxCoeff();
-  return cert;
+/// Checks that the arrays fit together (S n x n, w of size n, g of size n unless there is no
+/// constraint) and that there is a law; throws InputError naming `where` otherwise.
+inline void check_sizes(const ReducedProblem& p, const std::string& where) {
+  const Eigen::Index n = p.size();
+  if (!p.law) throw InputError("the reduced problem has no contact law", where);
+  if (p.S.rows() != n || p.S.cols() != n || p.w.size() != n ||
+      (p.constraint != ConstraintKind::none && p.g.size() != n))
+    throw InputError("inconsistent sizes in the reduced problem: S " + std::to_string(p.S.rows()) + "x" +
+                         std::to_string(p.S.cols()) + ", c " + std::to_string(n) + ", w " + std::to_string(p.w.size()) +
+                         ", g " + std::to_string(p.g.size()),
+                     where);
 }
 
 }  // namespace hemivem

@@ -21,13 +21,19 @@
 
 namespace hemivem {
 
-/// One contact node of the solution.
+/// One contact node of the solution, with the forces of the certificate (DESIGN §3).
 struct ContactNode {
   int vertex = -1;
   Vec2 x = Vec2::Zero();
-  double u_nu = 0.0;        ///< normal displacement a_i
-  double multiplier = 0.0;  ///< -xi_i: the nodal reaction of the constraint (> 0 pushing back), ~0 when free
-  std::string state;        ///< "free", "upper" (a_i = upper bound) or "lower" (a_i = lower bound)
+  double u_nu = 0.0;       ///< normal displacement a_i
+  double law_force = 0.0;  ///< zeta_i in w_i dj(a_i): the force of the contact law
+  double reaction = 0.0;   ///< lambda_i: the reaction of the constraint (>= 0 at the upper bound, <= 0 at the lower, 0 off them)
+  double weight = 0.0;     ///< w_i, the length of boundary the node stands for
+  std::string state;       ///< "upper" (a_i at its upper bound), "lower" or "free"
+  /// The contact force zeta_i + lambda_i (a compressive force on the body is positive).
+  double force() const noexcept { return law_force + reaction; }
+  /// The contact pressure (zeta_i + lambda_i) / w_i.
+  double pressure() const noexcept { return force() / weight; }
 };
 
 struct ContactSolution {
@@ -56,10 +62,10 @@ struct ContactSolution {
 /// When `reduced` is not null it receives a copy of the reduced problem (for export).
 ///
 /// A solution is never reported as converged unless every displacement is finite and the
-/// point satisfies the constraint to the feasibility tolerance: a minimizer result that is
-/// converged but whose back-substituted displacement is not finite becomes `failed`. Without
-/// contact the certificate's residual is the relative residual ||A u - b|| / ||b|| of the one
-/// linear solve, and the solve is converged when it is finite and below options.tolerance.
+/// certificate holds: a minimizer result that is converged but whose back-substituted
+/// displacement is not finite becomes `failed`. Without contact the certificate's dual residual
+/// is ||A u - b||_inf / max(||b||_inf, ||A u||_inf) of the one linear solve (primal 0), and the
+/// solve is converged when it is finite and below options.tolerance.
 ///
 /// With an engine across processes (factorization->holds_results() false on all but one
 /// process) every process calls solve_contact with the same problem: assembly runs on every

@@ -96,6 +96,8 @@ struct SceneSolver {
   std::string minimizer = "ssn";
   double tolerance = 1e-10;
   int max_iterations = 1000;
+  /// The minimizer's parameters by name ([solver.parameters]; checked by the engine).
+  std::map<std::string, double> parameters;
   bool operator==(const SceneSolver&) const = default;
 };
 

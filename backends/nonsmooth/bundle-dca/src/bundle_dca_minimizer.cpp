@@ -21,62 +21,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-struct Parameters {
-  int bundle_size = 12;               // cuts kept per coordinate (>= 4)
-  double proximal_weight = 1e-3;      // mu = proximal_weight * max_i S_ii
-  double descent = 0.1;               // m in (0, 1): serious step test
-  double inner_tolerance_factor = 0.1;  // inner tol = max(factor * certificate, floor * tolerance)
-  double inner_tolerance_floor = 0.1;
-  int max_bundle_iterations = 500;    // per DC subproblem
-  int stall_iterations = 5;           // DC steps without progress before "stalled"
-  int two_sided_cuts = 1;             // at a kink of j1 add the cuts of both one-sided derivatives
-};
-
-Parameters read_parameters(const MinimizerOptions& o) {
-  Parameters p;
-  for (const auto& [name, value] : o.parameters) {
-    auto need = [&](bool ok, const char* what) {
-      if (!ok || !std::isfinite(value))
-        throw InputError("parameter '" + name + "' = " + std::to_string(value) + " must be " + what, "bundle-dca");
-    };
-    if (name == "bundle_size") {
-      need(value >= 4 && value <= 1e6, "an integer >= 4");
-      p.bundle_size = static_cast<int>(value);
-    } else if (name == "proximal_weight") {
-      need(value >= 0.0, ">= 0");
-      p.proximal_weight = value;
-    } else if (name == "descent") {
-      need(value > 0.0 && value < 1.0, "in (0, 1)");
-      p.descent = value;
-    } else if (name == "inner_tolerance_factor") {
-      need(value > 0.0 && value <= 1.0, "in (0, 1]");
-      p.inner_tolerance_factor = value;
-    } else if (name == "inner_tolerance_floor") {
-      need(value > 0.0 && value <= 1.0, "in (0, 1]");
-      p.inner_tolerance_floor = value;
-    } else if (name == "max_bundle_iterations") {
-      need(value >= 1 && value <= 1e9, "an integer >= 1");
-      p.max_bundle_iterations = static_cast<int>(value);
-    } else if (name == "stall_iterations") {
-      need(value >= 1 && value <= 1e9, "an integer >= 1");
-      p.stall_iterations = static_cast<int>(value);
-    } else if (name == "two_sided_cuts") {
-      need(value == 0.0 || value == 1.0, "0 or 1");
-      p.two_sided_cuts = static_cast<int>(value);
-    } else {
-      std::string list;
-      for (const auto& [n, v] : BundleDcaMinimizer::parameter_defaults()) list += (list.empty() ? "" : ", ") + n;
-      throw InputError("unknown parameter '" + name + "'; known: " + list, "bundle-dca");
-    }
-  }
-  return p;
-}
-
 // ---- the cutting-plane model of one coordinate -------------------------------------------------
 //
 // A cut is the linearisation of phi_i(t) = w_i j1(t) at its base point: phi_i(x) >= f + s (x - t).
@@ -363,54 +307,16 @@ double model_value(const std::vector<std::vector<Cut>>& cuts, const Eigen::Vecto
 
 }  // namespace
 
-const std::vector<std::pair<std::string, double>>& BundleDcaMinimizer::parameter_defaults() {
-  static const Parameters d;
-  static const std::vector<std::pair<std::string, double>> list{
-      {"bundle_size", d.bundle_size},
-      {"proximal_weight", d.proximal_weight},
-      {"descent", d.descent},
-      {"inner_tolerance_factor", d.inner_tolerance_factor},
-      {"inner_tolerance_floor", d.inner_tolerance_floor},
-      {"max_bundle_iterations", d.max_bundle_iterations},
-      {"stall_iterations", d.stall_iterations},
-      {"two_sided_cuts", d.two_sided_cuts},
-  };
-  return list;
-}
-
-MinimizerResult BundleDcaMinimizer::minimize(const ReducedProblem& p, const Eigen::VectorXd& start,
-                                             const MinimizerOptions& options) const {
-  const auto t0 = Clock::now();
-  std::string error;
-  if (!options.is_valid(&error)) throw InputError(error, "bundle-dca");
-  const Parameters par = read_parameters(options);
+MinimizerResult BundleDcaMinimizer::run(MinimizerRun& run) const {
+  const ReducedProblem& p = run.problem();
+  const MinimizerOptions& options = run.options();
+  const BundleDcaOptions& par = options_;
   const Eigen::Index n = p.size();
-  if (!p.law) throw InputError("the problem has no contact law", "bundle-dca");
-  if (p.S.rows() != n || p.S.cols() != n || p.w.size() != n || p.g.size() != n)
-    throw InputError("inconsistent problem sizes", "bundle-dca");
-  if (start.size() != 0 && start.size() != n)
-    throw InputError("start has size " + std::to_string(start.size()) + ", expected " + std::to_string(n) + " or 0",
-                     "bundle-dca");
   const auto U = [](Eigen::Index i) { return static_cast<std::size_t>(i); };
 
-  MinimizerResult result;
-  result.a = start.size() == 0 ? p.project(Eigen::VectorXd::Zero(n)) : p.project(start);
-  if (n == 0) {
-    finish(p, options, MinimizerStatus::converged, result);
-    result.timings["total"] = seconds_since(t0);
-    return result;
-  }
-  if (!result.a.allFinite()) throw InputError("start is not finite", "bundle-dca");
-
-  const double scale = std::max(p.c.cwiseAbs().maxCoeff(), std::numeric_limits<double>::min());
   const double mu = par.proximal_weight * p.S.diagonal().cwiseAbs().maxCoeff();
   Eigen::MatrixXd H = p.S;
   H.diagonal().array() += mu;
-
-  // true when `count` more evaluations (function + subgradient) fit in max_evaluations
-  auto budget_left = [&](int count) {
-    return result.function_evaluations + result.subgradient_evaluations + count <= options.max_evaluations;
-  };
 
   // phi_i(t) = w_i j1(t): values and cuts
   std::vector<std::vector<Cut>> cuts(U(n));
@@ -418,7 +324,7 @@ MinimizerResult BundleDcaMinimizer::minimize(const ReducedProblem& p, const Eige
   for (Eigen::Index i = 0; i < n; ++i) lo[U(i)] = p.lower(i), hi[U(i)] = p.upper(i);
   std::vector<int> added(U(n), 0);  // how many cuts were added last, per coordinate (at the tail)
   auto add_cuts = [&](const Eigen::VectorXd& a) {  // one subgradient evaluation of F1
-    ++result.subgradient_evaluations;
+    run.count_subgradients();
     for (Eigen::Index i = 0; i < n; ++i) {
       const double t = a(i);
       const double v = p.w(i) * p.law->value(LawPart::j1, t);
@@ -436,22 +342,28 @@ MinimizerResult BundleDcaMinimizer::minimize(const ReducedProblem& p, const Eige
     }
   };
   auto f1 = [&](const Eigen::VectorXd& a, double* quadratic_part = nullptr) {  // one function evaluation
-    ++result.function_evaluations;
+    run.count_functions();
     const double qp = 0.5 * a.dot(p.S * a) - p.c.dot(a);
     if (quadratic_part) *quadratic_part = qp;
     double s = qp;
     for (Eigen::Index i = 0; i < n; ++i) s += p.w(i) * p.law->value(LawPart::j1, a(i));
     return s;
   };
-  // natural residual of the DC subproblem min F1 - y^T a over C
+  // the dual residual of the DC subproblem min_C F1 - y^T a (the certificate's rule with j1 for
+  // j and c + y for c, at the point as it is)
   auto subproblem_residual = [&](const Eigen::VectorXd& a, const Eigen::VectorXd& y) {
-    Eigen::VectorXd xi = p.S * a - p.c - y;
+    const Eigen::VectorXd Sa = p.S * a;
+    double worst = 0.0, scale = std::max((p.c + y).cwiseAbs().maxCoeff(), Sa.cwiseAbs().maxCoeff());
     for (Eigen::Index i = 0; i < n; ++i) {
       double dl = p.law->derivative(LawPart::j1, a(i), -1), dr = p.law->derivative(LawPart::j1, a(i), +1);
       if (dl > dr) std::swap(dl, dr);
-      xi(i) += p.w(i) * Interval{dl, dr}.nearest(-xi(i) / p.w(i));
+      const Interval law{p.w(i) * dl, p.w(i) * dr};
+      const Interval reaction{a(i) == p.lower(i) ? -kInf : 0.0, a(i) == p.upper(i) ? kInf : 0.0};
+      double zeta = 0.0, lambda = 0.0;
+      worst = std::max(worst, balance(Sa(i) - p.c(i) - y(i), law, reaction, &zeta, &lambda));
+      scale = std::max(scale, std::abs(zeta));
     }
-    return (a - p.project(a - xi)).cwiseAbs().maxCoeff() / scale;
+    return worst == 0.0 ? 0.0 : worst / std::max(scale, force_floor);
   };
   auto compress = [&](const std::vector<Envelope>& env, const QpState& s) {
     for (Eigen::Index i = 0; i < n; ++i) {
@@ -480,33 +392,31 @@ MinimizerResult BundleDcaMinimizer::minimize(const ReducedProblem& p, const Eige
 
   int bundle_iterations = 0, serious_steps = 0, null_steps = 0, qp_steps = 0;
   std::size_t largest_bundle = 0;
-  Eigen::VectorXd a = result.a;
+  Eigen::VectorXd a = run.start();
   double F = p.energy(a);
-  ++result.function_evaluations;
-  Certificate cert = certificate(p, a);
-  Eigen::VectorXd best = a;
-  Certificate best_cert = cert;
+  run.count_functions();
+  Certificate cert = run.check(a);
+  run.offer(a, cert);
   QpState state;
   MinimizerStatus why = MinimizerStatus::iteration_limit;
-  bool done = cert.residual <= options.tolerance && cert.feasibility <= options.feasibility_tolerance;
-  if (done) why = MinimizerStatus::converged;
+  if (cert.converged()) why = MinimizerStatus::converged;
   int no_progress = 0;
   const bool convex = p.law->is_convex();
   std::string note;
-  for (int k = 1; !done && k <= options.max_iterations; ++k) {
+  for (int k = 1; !cert.converged() && run.iterations_left(); ++k) {
     // a DC step costs the linearisation of F2, f_k at a_k, F at the end (and the first cut once)
-    if (!budget_left(k == 1 ? 4 : 3)) {
+    if (!run.budget_left(k == 1 ? 4 : 3)) {
       why = MinimizerStatus::evaluation_limit;
       break;
     }
     if (k == 1) add_cuts(a);
     // ---- DC step: linearise F2 at a, solve min_{C} F1 - y^T a by the proximal bundle method
     const Eigen::VectorXd y = p.subgradient_convex2(a);
-    ++result.subgradient_evaluations;
+    run.count_subgradients();
     // j convex (the shipped convex laws have j2 = 0): the subproblem is F itself, so it is solved to
     // the final accuracy at once (only the inner tolerance depends on this; the loop is the same)
     const double inner_tol = convex ? par.inner_tolerance_floor * options.tolerance
-                                    : std::max(par.inner_tolerance_factor * cert.residual,
+                                    : std::max(par.inner_tolerance_factor * cert.worst(),
                                                par.inner_tolerance_floor * options.tolerance);
     Eigen::VectorXd center = a;
     double fc = f1(center) - y.dot(center);
@@ -515,7 +425,7 @@ MinimizerResult BundleDcaMinimizer::minimize(const ReducedProblem& p, const Eige
     bool model_exact = false, out_of_budget = false, qp_failed = false;
     const Eigen::VectorXd cy = p.c + y;
     for (int it = 0; it < par.max_bundle_iterations && rc > inner_tol; ++it) {
-      if (!budget_left(3)) {  // f_k and the cuts at the trial point, F at the end of the DC step
+      if (!run.budget_left(3)) {  // f_k and the cuts at the trial point, F at the end of the DC step
         out_of_budget = true;
         break;
       }
@@ -556,60 +466,45 @@ MinimizerResult BundleDcaMinimizer::minimize(const ReducedProblem& p, const Eige
         }
       }
     }
-    const Eigen::VectorXd answer = center;
     const Eigen::VectorXd previous = a;
     const double F_previous = F;
     const Certificate cert_previous = cert;
-    a = answer;
+    a = center;
     F = p.energy(a);
-    ++result.function_evaluations;
-    cert = certificate(p, a);
-    result.iterations = k;
-    if (cert.residual < best_cert.residual) best = a, best_cert = cert;
-    IterationRecord rec;
-    rec.iteration = k;
-    rec.energy = F;
-    rec.residual = cert.residual;
-    rec.feasibility = cert.feasibility;
-    for (Eigen::Index i = 0; i < n; ++i)
-      if (a(i) == p.upper(i) || a(i) == p.lower(i)) ++rec.active;
-    rec.seconds = seconds_since(t0);
-    result.history.push_back(rec);
-    if (options.callback && !options.callback(rec)) {
+    run.count_functions();
+    cert = run.check(a);
+    if (!run.record(a, F, cert)) {
       why = MinimizerStatus::stopped_by_callback;
       break;
     }
-    if (cert.residual <= options.tolerance && cert.feasibility <= options.feasibility_tolerance) {
+    if (cert.converged()) {
       why = MinimizerStatus::converged;
       break;
     }
     if (qp_failed) {
       why = MinimizerStatus::failed;
-      note = "; the bundle subproblem failed: S + mu I is not positive definite";
+      note = "the bundle subproblem failed: S + mu I is not positive definite";
       break;
     }
     if (out_of_budget) {
       why = MinimizerStatus::evaluation_limit;
       break;
     }
-    const bool progress = F < F_previous - 1e-15 * std::abs(F_previous) || cert.residual < 0.9 * cert_previous.residual ||
+    const bool progress = F < F_previous - 1e-15 * std::abs(F_previous) || cert.worst() < 0.9 * cert_previous.worst() ||
                           (a - previous).cwiseAbs().maxCoeff() > 1e-15 * (1.0 + a.cwiseAbs().maxCoeff());
     no_progress = progress ? 0 : no_progress + 1;
     if (no_progress >= par.stall_iterations) {
       why = MinimizerStatus::stalled;
-      note = model_exact ? "; the bundle model is exact and the DC step no longer moves" : "; the DC step no longer moves";
+      note = model_exact ? "stalled: the bundle model is exact and the DC step no longer moves"
+                         : "stalled: the DC step no longer moves";
       break;
     }
   }
-  result.a = best;
-  finish(p, options, why, result);
   std::ostringstream msg;
-  msg << "bundle-dca: " << result.iterations << " DC iterations, " << bundle_iterations << " bundle iterations ("
-      << serious_steps << " serious, " << null_steps << " null), " << qp_steps << " active-set steps, largest bundle "
-      << largest_bundle << " cuts per node; " << to_string(result.status) << note;
-  result.message = msg.str();
-  result.timings["total"] = seconds_since(t0);
-  return result;
+  msg << run.iterations() << " DC iterations, " << bundle_iterations << " bundle iterations (" << serious_steps
+      << " serious, " << null_steps << " null), " << qp_steps << " active-set steps, largest bundle " << largest_bundle
+      << " cuts per node";
+  return run.finish(why, note, msg.str());
 }
 
 }  // namespace hemivem

@@ -19,20 +19,15 @@ using smoothing::SmoothedLaw;
 
 // Shared between the cost function and the iteration callback of one subproblem.
 struct Subproblem {
-  const ReducedProblem* p = nullptr;
-  const MinimizerOptions* o = nullptr;
+  MinimizerRun* run = nullptr;
   const SmoothedLaw* law = nullptr;
   const smoothing::AnchoredEnergy* energy = nullptr;
   std::vector<Eigen::Index> free;
   Eigen::VectorXd a;      // full point; the pinned entries stay fixed
   std::vector<double> x;  // the free entries scaled, x_k = a_i / s_i (Ceres' parameter block)
   Eigen::VectorXd s;      // Jacobi scaling s_i = 1 / sqrt(S_ii)
-  int* fevals = nullptr;
-  int* gevals = nullptr;
-  int budget = 0;
   bool certify = false;
   double snap = 0.0;
-  smoothing::BestPoint* best = nullptr;
   bool certified = false, out_of_budget = false;
 
   void scatter(const double* y) {
@@ -49,9 +44,9 @@ class SmoothedEnergy final : public ceres::FirstOrderFunction {
     for (std::size_t k = 0; k < s.free.size(); ++k) a(s.free[k]) = s.s(s.free[k]) * parameters[k];
     Eigen::VectorXd g;
     *cost = (*s.energy)(a, gradient ? &g : nullptr);
-    ++*s.fevals;
+    s.run->count_functions();
     if (gradient) {
-      ++*s.gevals;
+      s.run->count_subgradients();
       for (std::size_t k = 0; k < s.free.size(); ++k) gradient[k] = s.s(s.free[k]) * g(s.free[k]);
     }
     return std::isfinite(*cost);
@@ -71,15 +66,13 @@ class Monitor final : public ceres::IterationCallback {
     if (s.certify) {
       s.scatter(s.x.data());
       Eigen::VectorXd g;
-      smoothing::smoothed_energy(*s.p, *s.law, s.a, &g);
-      const Eigen::VectorXd feasible = s.p->project(s.a);
-      if (feasible == s.a && (s.best->offer(*s.p, *s.o, s.a) ||
-                              s.best->offer(*s.p, *s.o, smoothing::snap_to_bounds(*s.p, s.a, g, s.snap, smoothing::snap_push(*s.p, *s.o))))) {
+      smoothing::smoothed_energy(s.run->problem(), *s.law, s.a, &g);
+      if (s.run->problem().project(s.a) == s.a && smoothing::offer_candidates(*s.run, s.a, g, s.snap)) {
         s.certified = true;
         return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
       }
     }
-    if (*s.fevals + *s.gevals >= s.budget) {
+    if (!s.run->budget_left()) {
       s.out_of_budget = true;
       return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
     }
@@ -110,60 +103,49 @@ class QuietGlog {
 
 }  // namespace
 
-MinimizerResult CeresActiveSetMinimizer::minimize(const ReducedProblem& p, const Eigen::VectorXd& start,
-                                                  const MinimizerOptions& o) const {
-  const std::string where = "nonsmooth engine 'ceres-active-set'";
-  std::map<std::string, double> extra{{"max_passes", 50}, {"subproblem_iterations", 10000}, {"lbfgs_rank", 20},
-                                      {"snap", 1e-7}};
-  const smoothing::Continuation cont = smoothing::read_parameters(o, extra, where);
-  const int max_passes = static_cast<int>(std::max(1.0, extra["max_passes"]));
-  const int sub_iterations = static_cast<int>(std::max(1.0, extra["subproblem_iterations"]));
-  const int rank = static_cast<int>(std::max(1.0, extra["lbfgs_rank"]));
+bool CeresActiveSetOptions::is_valid(std::string* error) const {
+  if (!smoothing::continuation_is_valid(epsilon, epsilon0, reduction, error)) return false;
+  if (max_passes < 1) return invalid_field(error, "max_passes", ">= 1", max_passes);
+  if (subproblem_iterations < 1) return invalid_field(error, "subproblem_iterations", ">= 1", subproblem_iterations);
+  if (!(lbfgs_rank >= 1 && lbfgs_rank <= 1000)) return invalid_field(error, "lbfgs_rank", "in [1, 1000]", lbfgs_rank);
+  if (!(snap >= 0.0 && snap < 1.0)) return invalid_field(error, "snap", "in [0, 1)", snap);
+  return true;
+}
 
-  smoothing::Clock clock;
-  MinimizerResult result;
-  Eigen::VectorXd a = smoothing::projected_start(p, start, where);
+CeresActiveSetMinimizer::CeresActiveSetMinimizer(CeresActiveSetOptions options) : options_(options) {
+  require_valid(options_, "ceres-active-set");
+}
+
+MinimizerResult CeresActiveSetMinimizer::run(MinimizerRun& run) const {
+  const ReducedProblem& p = run.problem();
+  const MinimizerOptions& o = run.options();
+  const CeresActiveSetOptions& prm = options_;
+  Eigen::VectorXd a = run.start();
   const Eigen::Index n = p.size();
-  if (n == 0) {  // nothing to minimize
-    result.a = a;
-    result.timings["total"] = clock.seconds();
-    finish(p, o, MinimizerStatus::converged, result);
-    result.message = "empty problem";
-    return result;
-  }
-  const double cscale = std::max(p.c.size() ? p.c.cwiseAbs().maxCoeff() : 0.0, 1e-300);
-  const double snap = extra["snap"] * std::max(smoothing::length_scale(p, a), 1e-300);
-  int fevals = 0, gevals = 0;
-  smoothing::BestPoint best;
+  const double cscale = std::max(p.c.cwiseAbs().maxCoeff(), 1e-300);
+  const double snap = prm.snap * std::max(smoothing::length_scale(p, a), 1e-300);
   MinimizerStatus reason = MinimizerStatus::stalled;
   std::string message;
-
-  auto record = [&](const Eigen::VectorXd& x) { return smoothing::record_iteration(p, o, clock.seconds(), x, result); };
 
   // minimizes F_eps over the nodes not in `active` (Ceres LBFGS, unconstrained), then projects
   auto solve = [&](const SmoothedLaw& law, const std::vector<char>& active, bool final_stage) {
     Subproblem s;
-    s.p = &p;
-    s.o = &o;
+    s.run = &run;
     s.law = &law;
     const smoothing::AnchoredEnergy energy(p, law, a);
     s.energy = &energy;
     s.a = a;
-    s.fevals = &fevals;
-    s.gevals = &gevals;
-    s.budget = o.max_evaluations;
     s.certify = final_stage;
     s.snap = snap;
-    s.best = &best;
     for (Eigen::Index i = 0; i < n; ++i)
       if (!active[static_cast<std::size_t>(i)]) s.free.push_back(i);
-    if (s.free.empty()) return final_stage && best.offer(p, o, a);
+    if (s.free.empty()) return final_stage && run.offer(a);
     s.s = p.S.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
     for (Eigen::Index i : s.free) s.x.push_back(a(i) / s.s(i));
     ceres::GradientProblemSolver::Options opts;
     opts.line_search_direction_type = ceres::LBFGS;
-    opts.max_lbfgs_rank = rank;
-    opts.max_num_iterations = sub_iterations;
+    opts.max_lbfgs_rank = prm.lbfgs_rank;
+    opts.max_num_iterations = prm.subproblem_iterations;
     opts.function_tolerance = 1e-20;
     opts.parameter_tolerance = 1e-20;
     opts.min_line_search_step_size = 1e-20;
@@ -182,7 +164,7 @@ MinimizerResult CeresActiveSetMinimizer::minimize(const ReducedProblem& p, const
     if (summary.termination_type == ceres::FAILURE) message = "Ceres: " + summary.message;
     s.scatter(s.x.data());
     a = p.project(s.a);
-    if (s.certified) a = best.a;
+    if (s.certified) a = run.best();
     if (s.out_of_budget && !s.certified) reason = MinimizerStatus::evaluation_limit;
     return s.certified;
   };
@@ -191,63 +173,60 @@ MinimizerResult CeresActiveSetMinimizer::minimize(const ReducedProblem& p, const
   auto pushed_out = [&](const SmoothedLaw& law, const Eigen::VectorXd& x) {
     Eigen::VectorXd g;
     smoothing::smoothed_energy(p, law, x, &g);
-    ++fevals;
-    ++gevals;
+    run.count_functions();
+    run.count_subgradients();
     std::vector<char> act(static_cast<std::size_t>(n), 0);
     for (Eigen::Index i = 0; i < n; ++i)
       act[static_cast<std::size_t>(i)] = (x(i) == p.upper(i) && g(i) <= 0.0) || (x(i) == p.lower(i) && g(i) >= 0.0);
     return act;
   };
 
-  const std::vector<double> schedule = cont.schedule(*p.law);
+  const std::vector<double> schedule = smoothing::schedule(*p.law, prm.epsilon, prm.epsilon0, prm.reduction);
   bool done = false, stop = false;
   for (std::size_t k = 0; k < schedule.size() && !done && !stop; ++k) {
     const bool final_stage = k + 1 == schedule.size();
     const SmoothedLaw law(p.law, schedule[k]);
     std::vector<char> active = pushed_out(law, a);
     double last_residual = std::numeric_limits<double>::infinity();
-    for (int pass = 0; pass < max_passes && !done && !stop; ++pass) {
+    for (int pass = 0; pass < prm.max_passes && !done && !stop; ++pass) {
+      if (!run.iterations_left()) {
+        reason = MinimizerStatus::iteration_limit;
+        stop = true;
+        break;
+      }
       done = solve(law, active, final_stage);
       if (!done && final_stage) {  // snapping the nodes just short of a bound may certify
         Eigen::VectorXd g;
         smoothing::smoothed_energy(p, law, a, &g);
-        done = best.offer(p, o, smoothing::snap_to_bounds(p, a, g, snap, smoothing::snap_push(p, o)));
-        if (done) a = best.a;
+        done = smoothing::offer_candidates(run, a, g, snap);
+        if (done) a = run.best();
       }
-      if (!record(a)) {
+      const Certificate c = run.check(a);
+      if (!run.record(a, p.energy(a), c)) {
         reason = MinimizerStatus::stopped_by_callback;
         stop = true;
       }
       if (reason == MinimizerStatus::evaluation_limit) stop = true;
       if (done || stop) break;
-      if (result.iterations >= o.max_iterations) {
-        reason = MinimizerStatus::iteration_limit;
-        stop = true;
-        break;
-      }
       // update: nodes that left C were projected onto their bound and join; nodes whose
       // multiplier has the wrong sign leave
       // (an unchanged active set ends the stage unless the final stage still improves: LBFGS
       // restarted from the new point, with a fresh memory and anchor)
       const std::vector<char> next = pushed_out(law, a);
-      const double residual = result.history.back().residual;
       if (next == active) {
-        if (!final_stage || !(residual < 0.5 * last_residual)) break;
+        if (!final_stage || !(c.worst() < 0.5 * last_residual)) break;
       }
-      last_residual = residual;
+      last_residual = c.worst();
       active = next;
     }
   }
-  if (!done && !stop && SmoothedLaw(p.law, 0.0).kinks() > 0)
+  if (!done && !stop && !p.law->kinks().empty() && message.empty())
     message = smoothing::smoothing_limit_message(schedule.back());
-  result.a = done ? best.a : a;
-  result.function_evaluations = fevals;
-  result.subgradient_evaluations = gevals;
-  result.timings["total"] = clock.seconds();
-  finish(p, o, done ? MinimizerStatus::converged : reason, result);
-  if (result.converged() && message.empty()) message = "certificate below tolerance";
-  result.message = message.empty() ? to_string(result.status) : message;
-  return result;
+  // without a certificate the answer is the solution at the final smoothing scale (error O(eps))
+  return run.finish(reason, message,
+                    std::to_string(run.iterations()) + " active-set passes over " + std::to_string(schedule.size()) +
+                        " smoothing stages",
+                    run.has_certified_point() ? nullptr : &a);
 }
 
 }  // namespace hemivem

@@ -1,8 +1,6 @@
 // The semismooth Newton / active-set engine: see ssn_minimizer.hpp and README.md.
 #include <hemivem/ssn_minimizer.hpp>
 
-#include <hemivem/error.hpp>
-
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 
@@ -21,41 +19,6 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-struct Parameters {
-  double armijo = 1e-4;
-  double backtrack = 0.5;
-  int max_backtracks = 30;
-  double active_scale = 1.0;
-  double shift = 1e-8;
-};
-
-Parameters read_parameters(const MinimizerOptions& o) {
-  const std::string where = "minimizer 'ssn'";
-  Parameters p;
-  for (const auto& [name, v] : o.parameters) {
-    if (name == "armijo") {
-      if (!(v > 0.0 && v < 0.5)) throw InputError("armijo must be in (0, 1/2)", where);
-      p.armijo = v;
-    } else if (name == "backtrack") {
-      if (!(v > 0.0 && v < 1.0)) throw InputError("backtrack must be in (0, 1)", where);
-      p.backtrack = v;
-    } else if (name == "max_backtracks") {
-      if (!(v >= 1.0 && v <= 1000.0)) throw InputError("max_backtracks must be in [1, 1000]", where);
-      p.max_backtracks = static_cast<int>(v);
-    } else if (name == "active_scale") {
-      if (!(v >= 0.0 && std::isfinite(v))) throw InputError("active_scale must be finite and >= 0", where);
-      p.active_scale = v;
-    } else if (name == "shift") {
-      if (!(v > 0.0 && std::isfinite(v))) throw InputError("shift must be finite and > 0", where);
-      p.shift = v;
-    } else {
-      throw InputError("unknown parameter '" + name + "'; ssn knows armijo, backtrack, max_backtracks, active_scale, shift",
-                       where);
-    }
-  }
-  return p;
-}
-
 /// What an iteration knows about one node.
 struct NodeState {
   double lo = 0.0, hi = 0.0;  ///< its piece box (lo == hi: fixed)
@@ -66,23 +29,14 @@ struct NodeState {
 
 class Solver {
  public:
-  Solver(const ReducedProblem& p, const MinimizerOptions& o, const Parameters& prm)
-      : p_(p), o_(o), prm_(prm), n_(p.size()) {
-    for (double b : p.law->breakpoints()) {
-      const double l = p.law->derivative(LawPart::j, b, -1), r = p.law->derivative(LawPart::j, b, +1);
-      if (std::abs(r - l) > 1e-12 * std::max({1.0, std::abs(l), std::abs(r)})) kinks_.push_back(b);
-    }
-    std::sort(kinks_.begin(), kinks_.end());
-    scale_ = std::max(p.c.size() ? p.c.cwiseAbs().maxCoeff() : 0.0, std::numeric_limits<double>::min());
-  }
+  Solver(MinimizerRun& run, const SsnOptions& prm)
+      : run_(run), p_(run.problem()), prm_(prm), n_(p_.size()), kinks_(p_.law->kinks()) {}
 
-  MinimizerResult run(const Eigen::VectorXd& start) {
-    const auto t0 = Clock::now();
-    MinimizerResult r;
-    Eigen::VectorXd a = p_.project(start.size() == 0 ? Eigen::VectorXd::Zero(n_) : start);
-    double F = energy(a, &q_, r);
-    double res = residual(a, q_, r);
-    r.history.push_back({0, F, res, feasibility(a), count_at_bound(a), since(t0)});
+  MinimizerResult solve() {
+    Eigen::VectorXd a = run_.start();
+    double F = energy(a, &q_);
+    double res = residual(a);
+    run_.record_start(a, F, cert_);
     double t_factor = 0.0, t_search = 0.0;
     int fallbacks = 0, shifted = 0, stagnant = 0;
     double best_res = res;
@@ -91,9 +45,9 @@ class Solver {
     Eigen::VectorXd d(n_), trial(n_), qt(n_);
     std::vector<Eigen::Index> fr, ea;
     while (true) {
-      if (res <= o_.tolerance) break;
-      if (r.iterations >= o_.max_iterations) { status = MinimizerStatus::iteration_limit; break; }
-      if (evaluations(r) >= o_.max_evaluations) { status = MinimizerStatus::evaluation_limit; break; }
+      if (cert_.converged()) break;
+      if (!run_.iterations_left()) { status = MinimizerStatus::iteration_limit; break; }
+      if (!run_.budget_left()) { status = MinimizerStatus::evaluation_limit; break; }
       // ---- classify: fixed at a knot, or moving inside a piece box
       classify(a, st);
       double eps = 0.0;
@@ -170,11 +124,11 @@ class Solver {
       if (newton && slope(st, d) < 0.0) {
         double t = 1.0;
         for (int k = 0; k < prm_.max_backtracks && !accepted; ++k, t *= prm_.backtrack) {
-          if (evaluations(r) >= o_.max_evaluations) break;
-          accepted = try_step(a, st, d, t, F, res, trial, qt, Ft, r);
+          if (!run_.budget_left()) break;
+          accepted = try_step(a, st, d, t, F, res, trial, qt, Ft);
         }
       }
-      if (!accepted && evaluations(r) < o_.max_evaluations) {
+      if (!accepted && run_.budget_left()) {
         // scaled projected gradient: a descent path whenever the point is not stationary
         ++fallbacks;
         for (Eigen::Index i = 0; i < n_; ++i) {
@@ -183,13 +137,13 @@ class Solver {
         }
         double t = 1.0;
         for (int k = 0; k < 80 && !accepted; ++k, t *= 0.5) {
-          if (evaluations(r) >= o_.max_evaluations) break;
-          accepted = try_step(a, st, d, t, F, res, trial, qt, Ft, r);
+          if (!run_.budget_left()) break;
+          accepted = try_step(a, st, d, t, F, res, trial, qt, Ft);
         }
       }
       t_search += since(ts);
       if (!accepted) {
-        status = evaluations(r) >= o_.max_evaluations ? MinimizerStatus::evaluation_limit : MinimizerStatus::stalled;
+        status = run_.budget_left() ? MinimizerStatus::stalled : MinimizerStatus::evaluation_limit;
         break;
       }
       const double level = roundoff_level(a, F);
@@ -197,67 +151,42 @@ class Solver {
       q_.swap(qt);
       const double decrease = F - Ft;
       F = Ft;
-      res = residual(a, q_, r);
-      ++r.iterations;
+      res = residual(a);
       // at round-off level steps may go on forever without improving the certificate
       stagnant = (decrease <= level && res >= best_res) ? stagnant + 1 : 0;
       best_res = std::min(best_res, res);
-      const IterationRecord rec{r.iterations, F, res, feasibility(a), count_at_bound(a), since(t0)};
-      r.history.push_back(rec);
-      if (o_.callback && !o_.callback(rec)) {
-        if (res > o_.tolerance) status = MinimizerStatus::stopped_by_callback;
+      if (!run_.record(a, F, cert_)) {
+        if (!cert_.converged()) status = MinimizerStatus::stopped_by_callback;
         break;
       }
-      if (stagnant >= 3 && res > o_.tolerance) {
+      if (stagnant >= 3 && !cert_.converged()) {
         status = MinimizerStatus::stalled;
         break;
       }
     }
-    r.a = std::move(a);
-    r.timings["factorization"] = t_factor;
-    r.timings["line_search"] = t_search;
-    r.message = std::to_string(r.iterations) + " Newton iterations, " + std::to_string(fallbacks) +
-                " gradient fallbacks, " + std::to_string(shifted) + " shifted systems";
-    finish(p_, o_, status, r);
-    if (status == MinimizerStatus::stalled && !r.converged())
-      r.message = "no further descent at round-off level; " + r.message;
-    r.timings["total"] = since(t0);
-    return r;
+    run_.add_time("factorization", t_factor);
+    run_.add_time("line_search", t_search);
+    const std::string summary = std::to_string(run_.iterations()) + " Newton iterations, " +
+                                std::to_string(fallbacks) + " gradient fallbacks, " + std::to_string(shifted) +
+                                " shifted systems";
+    return run_.finish(status, status == MinimizerStatus::stalled ? "no further descent at round-off level" : "",
+                       summary, &a);
   }
 
  private:
-  static int evaluations(const MinimizerResult& r) { return r.function_evaluations + r.subgradient_evaluations; }
-
-  double energy(const Eigen::VectorXd& a, Eigen::VectorXd* q, MinimizerResult& r) const {
-    ++r.function_evaluations;
+  double energy(const Eigen::VectorXd& a, Eigen::VectorXd* q) const {
+    run_.count_functions();
     *q = p_.S * a - p_.c;
     double f = 0.5 * a.dot(*q - p_.c);
     for (Eigen::Index i = 0; i < n_; ++i) f += p_.w(i) * p_.law->value(LawPart::j, a(i));
     return f;
   }
 
-  /// The certificate's residual from q = S a - c (the same expression as certificate()).
-  double residual(const Eigen::VectorXd& a, const Eigen::VectorXd& q, MinimizerResult& r) const {
-    ++r.subgradient_evaluations;
-    if (n_ == 0) return 0.0;
-    double m = 0.0;
-    for (Eigen::Index i = 0; i < n_; ++i) {
-      const Interval dj = p_.law->clarke(a(i));
-      const double xi = q(i) + p_.w(i) * dj.nearest(-q(i) / p_.w(i));
-      const double pr = std::min(std::max(a(i) - xi, p_.lower(i)), p_.upper(i));
-      m = std::max(m, std::abs(a(i) - pr));
-    }
-    return m / scale_;
-  }
-
-  double feasibility(const Eigen::VectorXd& a) const {
-    return n_ == 0 ? 0.0 : (a - p_.project(a)).cwiseAbs().maxCoeff();
-  }
-
-  int count_at_bound(const Eigen::VectorXd& a) const {
-    int k = 0;
-    for (Eigen::Index i = 0; i < n_; ++i) k += (a(i) == p_.lower(i) || a(i) == p_.upper(i)) ? 1 : 0;
-    return k;
+  /// The certificate at a (kept in cert_) and its worst residual.
+  double residual(const Eigen::VectorXd& a) {
+    run_.count_subgradients();
+    cert_ = run_.check(a);
+    return cert_.worst();
   }
 
   bool is_kink(double x) const { return std::binary_search(kinks_.begin(), kinks_.end(), x); }
@@ -323,7 +252,7 @@ class Solver {
   /// Trial point P_box(a + t d); accepted on Armijo's condition, or, when the change of F is
   /// at round-off level, on a decrease of the certificate's residual.
   bool try_step(const Eigen::VectorXd& a, const std::vector<NodeState>& st, const Eigen::VectorXd& d, double t, double F,
-                double res, Eigen::VectorXd& trial, Eigen::VectorXd& qt, double& Ft, MinimizerResult& r) const {
+                double res, Eigen::VectorXd& trial, Eigen::VectorXd& qt, double& Ft) {
     double dec = 0.0;
     bool moved = false;
     for (Eigen::Index i = 0; i < n_; ++i) {
@@ -334,40 +263,28 @@ class Solver {
       dec += s.grad * step;
     }
     if (!moved) return false;
-    Ft = energy(trial, &qt, r);
+    Ft = energy(trial, &qt);
     if (!std::isfinite(Ft)) return false;
     if (dec < 0.0 && Ft <= F + prm_.armijo * dec) return true;
-    if (Ft <= F + roundoff_level(a, F)) return residual(trial, qt, r) < res;
+    if (Ft <= F + roundoff_level(a, F)) {
+      const Certificate current = cert_;
+      if (residual(trial) < res) return true;
+      cert_ = current;
+    }
     return false;
   }
 
+  MinimizerRun& run_;
   const ReducedProblem& p_;
-  const MinimizerOptions& o_;
-  const Parameters& prm_;
+  const SsnOptions& prm_;
   const Eigen::Index n_;
-  std::vector<double> kinks_;
-  double scale_ = 1.0;
+  const std::vector<double> kinks_;
+  Certificate cert_;   ///< at the current point (or the last trial point whose certificate was taken)
   Eigen::VectorXd q_;  ///< S a - c at the current point
 };
 
 }  // namespace
 
-MinimizerResult SsnMinimizer::minimize(const ReducedProblem& problem, const Eigen::VectorXd& start,
-                                       const MinimizerOptions& options) const {
-  const std::string where = "minimizer 'ssn'";
-  std::string error;
-  if (!options.is_valid(&error)) throw InputError(error, where);
-  const Parameters prm = read_parameters(options);
-  const Eigen::Index n = problem.size();
-  if (!problem.law) throw InputError("the reduced problem has no contact law", where);
-  if (problem.S.rows() != n || problem.S.cols() != n || problem.w.size() != n ||
-      (problem.constraint != ConstraintKind::none && problem.g.size() != n))
-    throw InputError("inconsistent sizes in the reduced problem", where);
-  if (start.size() != 0 && start.size() != n)
-    throw InputError("start has size " + std::to_string(start.size()) + ", expected " + std::to_string(n), where);
-  if (start.size() != 0 && !start.allFinite()) throw InputError("start is not finite", where);
-  Solver solver(problem, options, prm);
-  return solver.run(start);
-}
+MinimizerResult SsnMinimizer::run(MinimizerRun& run) const { return Solver(run, options_).solve(); }
 
 }  // namespace hemivem

@@ -10,25 +10,53 @@
 // projection arc, and a scaled projected-gradient fallback, decreases F monotonically.
 // Nodes land exactly on knots, so kinks with 0 in the Clarke interval are recognised like
 // active bounds and the certificate reaches round-off level.
-//
-// Parameters (MinimizerOptions::parameters, all optional):
-//   armijo          sufficient-decrease constant sigma in (0, 1/2)         (1e-4)
-//   backtrack       step reduction factor in (0, 1)                        (0.5)
-//   max_backtracks  backtracking steps before the gradient fallback (>= 1) (30)
-//   active_scale    scale of the epsilon of the epsilon-active sets (>= 0) (1)
-//   shift           first diagonal shift, relative to max |H_ii|, tried
-//                   when the free-set Hessian is not positive definite (>0) (1e-8)
 #pragma once
+
+#include <string>
 
 #include <hemivem/nonsmooth_minimizer.hpp>
 
 namespace hemivem {
 
+struct SsnOptions {
+  double armijo = 1e-4;      ///< sufficient-decrease constant sigma in (0, 1/2)
+  double backtrack = 0.5;    ///< step reduction factor in (0, 1)
+  int max_backtracks = 30;   ///< backtracking steps before the gradient fallback, in [1, 1000]
+  double active_scale = 1.0; ///< scale of the epsilon of the epsilon-active sets, finite >= 0
+  double shift = 1e-8;       ///< first diagonal shift, relative to max |H_ii|, of an indefinite system; finite > 0
+
+  template <class Visit>
+  void fields(Visit&& visit) {
+    visit("armijo", armijo);
+    visit("backtrack", backtrack);
+    visit("max_backtracks", max_backtracks);
+    visit("active_scale", active_scale);
+    visit("shift", shift);
+  }
+  bool is_valid(std::string* error) const {
+    if (!(armijo > 0.0 && armijo < 0.5)) return invalid_field(error, "armijo", "in (0, 1/2)", armijo);
+    if (!(backtrack > 0.0 && backtrack < 1.0)) return invalid_field(error, "backtrack", "in (0, 1)", backtrack);
+    if (!(max_backtracks >= 1 && max_backtracks <= 1000))
+      return invalid_field(error, "max_backtracks", "in [1, 1000]", max_backtracks);
+    if (!(active_scale >= 0.0 && std::isfinite(active_scale)))
+      return invalid_field(error, "active_scale", "finite and >= 0", active_scale);
+    if (!(shift > 0.0 && std::isfinite(shift))) return invalid_field(error, "shift", "finite and > 0", shift);
+    return true;
+  }
+};
+
 class SsnMinimizer final : public NonsmoothMinimizer {
  public:
+  /// InputError naming the field when the options are not valid.
+  explicit SsnMinimizer(SsnOptions options = {}) : options_(options) { require_valid(options_, "ssn"); }
   std::string name() const override { return "ssn"; }
-  MinimizerResult minimize(const ReducedProblem& problem, const Eigen::VectorXd& start,
-                           const MinimizerOptions& options) const override;
+  const SsnOptions& options() const noexcept { return options_; }
+
+ protected:
+  MinimizerResult run(MinimizerRun& run) const override;
+
+ private:
+  SsnOptions options_;
 };
 
 }  // namespace hemivem
