@@ -62,6 +62,8 @@ PairRun run_pair(const Scene& base, const Pair& pair) {
   Scene scene = base;
   scene.solver.linear = pair.linear;
   scene.solver.minimizer = pair.minimizer;
+  // [solver.parameters] belong to the scene's own minimizer; the others keep their defaults
+  if (!same_engine(pair.minimizer, base.solver.minimizer)) scene.solver.parameters.clear();
   PairRun r;
   r.pair = pair;
   try {

@@ -77,13 +77,21 @@ double SceneSolve::total_seconds() const {
   return mesh_seconds + (it == solution.timings.end() ? 0.0 : it->second);
 }
 
+bool same_engine(const std::string& a, const std::string& b) {
+  auto norm = [](std::string s) {
+    std::transform(s.begin(), s.end(), s.begin(),
+                   [](unsigned char c) { return c == '_' ? '-' : static_cast<char>(std::tolower(c)); });
+    return s;
+  };
+  return norm(a) == norm(b);
+}
+
 std::unique_ptr<NonsmoothMinimizer> make_scene_minimizer(const Scene& scene, const std::string& name) {
-  const std::string own = make_minimizer(scene.solver.minimizer)->name();
-  if (scene.solver.parameters.empty() || make_minimizer(name)->name() != own) return make_minimizer(name);
+  if (scene.solver.parameters.empty() || !same_engine(name, scene.solver.minimizer)) return make_minimizer(name);
   try {
     return make_minimizer(name, scene.solver.parameters);
   } catch (const InputError& e) {
-    throw InputError("solver.parameters: " + e.detail(), scene.where("solver.parameters"));
+    throw InputError("solver.parameters: minimizer '" + e.where() + "': " + e.detail(), scene.where("solver.parameters"));
   }
 }
 
@@ -115,10 +123,7 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   const Scene scene = load_scene(o);
   // ---- runs across processes (docs/cluster.md) ----
   if (const LaunchedProcesses launched = launched_processes(); launched.size > 1) {
-    std::string engine = scene.solver.linear;
-    std::transform(engine.begin(), engine.end(), engine.begin(),
-                   [](unsigned char c) { return c == '_' ? '-' : static_cast<char>(std::tolower(c)); });
-    if (engine != "mumps-mpi")
+    if (!same_engine(scene.solver.linear, "mumps-mpi"))
       throw InputError("started as " + std::to_string(launched.size) + " processes by an MPI launcher, but the linear engine '" +
                            scene.solver.linear + "' runs in one process (the processes would race on the same outputs); use "
                            "--linear mumps-mpi, or run without mpirun",

@@ -40,6 +40,9 @@ Scene load_scene(const SolveOptions& options);
 /// line of [solver.parameters].
 std::unique_ptr<NonsmoothMinimizer> make_scene_minimizer(const Scene& scene, const std::string& name);
 
+/// True when two engine names are the same engine (case-insensitive, '_' read as '-').
+bool same_engine(const std::string& a, const std::string& b);
+
 /// One scene solved with the engines it names (scene.solver.linear / .minimizer).
 struct SceneSolve {
   std::unique_ptr<BuiltProblem> built;

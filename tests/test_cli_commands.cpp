@@ -134,3 +134,37 @@ TEST(Cli, ErrorsNameTheProblem) {
 }
 
 }  // namespace
+
+TEST(Cli, EngineParametersFromTheScene) {
+  const fs::path dir = scratch("parameters");
+  fs::create_directories(dir);
+  const fs::path good = dir / "good.toml";
+  {
+    std::ofstream f(good);
+    f << "schema_version = 1\n[solver]\nminimizer = \"ssn\"\n\n[solver.parameters]\narmijo = 1e-3\nmax_backtracks = 7\n";
+  }
+  const CommandRun ok = run("solve " + good.string() + " --n 8 --out " + (dir / "out").string() + " --json");
+  ASSERT_EQ(ok.code, 0) << ok.err;
+  const auto j = nlohmann::json::parse(ok.out);
+  EXPECT_NE(j["scene"]["toml"].get<std::string>().find("[solver.parameters]"), std::string::npos)
+      << "the resolved scene keeps them";
+  // a value of the wrong kind, an unknown name: exit 2, the scene's line, the engine and the field
+  for (const auto& [line, field] : std::vector<std::pair<std::string, std::string>>{
+           {"max_backtracks = 1e20", "max_backtracks"}, {"armijo = 0.9", "armijo"}, {"newton_steps = 3", "newton_steps"}}) {
+    const fs::path bad = dir / "bad.toml";
+    {
+      std::ofstream f(bad);
+      f << "schema_version = 1\n[solver]\nminimizer = \"ssn\"\n\n[solver.parameters]\n" << line << "\n";
+    }
+    const fs::path out = dir / "bad-out";
+    const CommandRun r = run("solve " + bad.string() + " --n 8 --out " + out.string());
+    EXPECT_EQ(r.code, 2) << line;
+    EXPECT_NE(r.err.find(bad.string() + ":5"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(field), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("ssn"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out / "result.json"));
+  }
+  // other engines of `check` keep their defaults: the parameters are ssn's
+  const CommandRun c = run("check " + good.string() + " --n 8 --json");
+  EXPECT_EQ(c.code, 0) << c.err;
+}

@@ -10,10 +10,10 @@
 // an unknown name is an error listing the known ones.
 #pragma once
 
+#include <charconv>
 #include <cmath>
 #include <limits>
 #include <map>
-#include <sstream>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -32,11 +32,11 @@ struct ParameterValue {
 
 namespace detail {
 
+/// The shortest text that reads back as v.
 inline std::string show_number(double v) {
-  std::ostringstream os;
-  os.precision(17);
-  os << v;
-  return os.str();
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
 }
 
 template <class T>
