@@ -49,6 +49,7 @@ struct PairRun {
   bool converged = false;
   Certificate certificate;
   int iterations = 0;
+  double margin = std::numeric_limits<double>::quiet_NaN();  ///< lambda_min(S - alpha_j W)
   double mesh_seconds = 0.0;
   std::map<std::string, double> timings;
   double seconds = 0.0;       ///< total wall time: mesh + solve
@@ -74,6 +75,7 @@ PairRun run_pair(const Scene& base, const Pair& pair) {
     r.converged = s.solution.converged();
     r.certificate = m.certificate;
     r.iterations = m.iterations;
+    r.margin = s.solution.uniqueness_margin;
     r.mesh_seconds = s.mesh_seconds;
     r.timings = s.solution.timings;
     r.seconds = s.total_seconds();
@@ -157,6 +159,17 @@ int run_check(const CheckOptions& o, std::ostream& out, std::ostream& err) {
       if (!runs[i].failed && !runs[j].failed && runs[i].u.size() == runs[j].u.size())
         diff[i][j] = max_abs(runs[i].u - runs[j].u) / scale;
 
+  // The uniqueness margin (the largest over the pairs: they agree to round-off). Where it is
+  // not positive the problem may have several critical points, and converged pairs may
+  // legitimately differ: differences are reported but are not a disagreement.
+  double margin = nan;
+  for (const auto& r : runs)
+    if (!r.failed && !std::isnan(r.margin)) margin = std::isnan(margin) ? r.margin : std::max(margin, r.margin);
+  const bool unique = margin > 0.0;
+  const std::string margin_text =
+      "the uniqueness margin lambda_min(S - alpha_j W) = " + sci(margin) +
+      (unique ? " > 0" : std::isnan(margin) ? " is unknown" : " is not positive");
+
   // Per pair: the largest difference to a converged pair; overall: between converged pairs.
   std::vector<double> pair_max(np, nan);
   double overall = 0.0;
@@ -171,12 +184,26 @@ int run_check(const CheckOptions& o, std::ostream& out, std::ostream& err) {
       m = std::max(m, diff[i][j]);
       if (runs[i].converged) {
         overall = std::max(overall, diff[i][j]);
-        disagree |= diff[i][j] > o.agree;
+        disagree |= unique && diff[i][j] > o.agree;
       }
     }
     pair_max[i] = m;
   }
   const int code = any_failed ? kBackendFailure : any_unconverged ? kNotConverged : disagree ? kDisagreement : kSuccess;
+
+  std::ostringstream verdict;
+  if (code == kSuccess && overall <= o.agree)
+    verdict << "all " << np << " pairs converged and agree within " << sci(o.agree) << " (largest difference "
+            << sci(overall) << ")";
+  else if (code == kSuccess)
+    verdict << "all " << np << " pairs converged; they differ by " << sci(overall) << " > " << sci(o.agree)
+            << ", which is not a disagreement: " << margin_text << ", so distinct critical points are legitimate";
+  else if (code == kBackendFailure)
+    verdict << "an engine failed (exit " << code << ")";
+  else if (code == kNotConverged)
+    verdict << "a pair did not converge (exit " << code << ")";
+  else
+    verdict << "converged pairs differ by " << sci(overall) << " > " << sci(o.agree) << " (exit " << code << ")";
 
   if (o.json) {
     nlohmann::json j;
@@ -187,6 +214,8 @@ int run_check(const CheckOptions& o, std::ostream& out, std::ostream& err) {
     j["mesh"] = mesh_text(base);
     j["tolerance"] = base.solver.tolerance;
     j["agree"] = o.agree;
+    j["uniqueness_margin"] = number(margin);
+    j["unique"] = unique;
     j["reference"] = {{"linear", "eigen"}, {"minimizer", "ssn"}, {"max_abs_u", scale}};
     j["pairs"] = nlohmann::json::array();
     for (std::size_t i = 0; i < np; ++i) {
@@ -210,6 +239,7 @@ int run_check(const CheckOptions& o, std::ostream& out, std::ostream& err) {
     j["differences"] = m;
     j["max_difference"] = overall;
     j["agree_ok"] = !disagree;
+    j["verdict"] = verdict.str();
     j["exit_code"] = code;
     out << j.dump(2) << "\n";
   } else if (o.verbosity >= 1) {
@@ -217,7 +247,10 @@ int run_check(const CheckOptions& o, std::ostream& out, std::ostream& err) {
     if (!runs.empty()) out << ": " << runs.front().vertices << " vertices, " << runs.front().contact_nodes << " contact nodes";
     out << "\n  tolerance " << sci(base.solver.tolerance) << ", agree " << sci(o.agree)
         << "; differences are max|u_a - u_b| / max|u_ref|, u_ref from eigen+ssn (max|u_ref| = " << sci(scale, 4)
-        << ")\n\n";
+        << ")\n  " << margin_text
+        << (unique ? ": the solution is unique, converged pairs must agree\n\n"
+                   : ": several critical points are possible, differences between converged pairs are reported "
+                     "but are not a disagreement\n\n");
     out << std::left << std::setw(4) << "  #" << std::setw(10) << "linear" << std::setw(18) << "minimizer"
         << std::setw(17) << "status" << std::right << std::setw(10) << "primal" << std::setw(10) << "dual"
         << std::setw(7) << "iter" << std::setw(10) << "time [s]" << std::setw(11) << "max diff" << "\n";
@@ -236,16 +269,7 @@ int run_check(const CheckOptions& o, std::ostream& out, std::ostream& err) {
       for (std::size_t j = 0; j < np; ++j) out << std::setw(9) << (i == j ? std::string("-") : sci(diff[i][j], 1));
       out << "\n";
     }
-    out << "\n  verdict   ";
-    if (code == kSuccess)
-      out << "all " << np << " pairs converged and agree within " << sci(o.agree) << " (largest difference "
-          << sci(overall) << ")\n";
-    else if (code == kBackendFailure)
-      out << "an engine failed (exit " << code << ")\n";
-    else if (code == kNotConverged)
-      out << "a pair did not converge (exit " << code << ")\n";
-    else
-      out << "converged pairs differ by " << sci(overall) << " > " << sci(o.agree) << " (exit " << code << ")\n";
+    out << "\n  verdict   " << verdict.str() << "\n";
     for (const auto& r : runs)
       if (r.failed) out << "  failed    " << r.pair.label() << ": " << r.message << "\n";
   }

@@ -63,12 +63,37 @@ TEST(CliCheck, DisagreementBeyondAgreeExitsSix) {
   EXPECT_EQ(r.code, 6) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["agree_ok"], false);
+  EXPECT_EQ(j["unique"], true);
+  EXPECT_GT(j["uniqueness_margin"].get<double>(), 0.0);
   EXPECT_EQ(j["exit_code"], 6);
   // the terminal table says so too
   const CommandRun t = run("check --n 8 --agree 1e-30");
   EXPECT_EQ(t.code, 6);
   EXPECT_NE(t.out.find("verdict"), std::string::npos) << t.out;
   EXPECT_NE(t.out.find("eigen"), std::string::npos) << t.out;
+}
+
+// The saw-tooth law has a concave kink (alpha_j = inf, margin -inf): distinct critical
+// points are legitimate, so converged pairs that differ by more than --agree are reported
+// but are not a disagreement.
+TEST(CliCheck, DifferencesOnAPossiblyNonuniqueSceneAreNotADisagreement) {
+  const std::string scene = (hemivem::test::scenes_dir() / "extreme" / "jump-law.toml").string();
+  const CommandRun r = run("check " + scene + " --n 8 --agree 1e-30 --json -q");
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["unique"], false);
+  EXPECT_TRUE(j["uniqueness_margin"].is_null()) << j["uniqueness_margin"];  // -inf
+  ASSERT_GE(j["pairs"].size(), 2u);
+  for (const auto& p : j["pairs"]) EXPECT_EQ(p["converged"], true) << p["linear"] << "+" << p["minimizer"];
+  EXPECT_GT(j["max_difference"].get<double>(), 1e-30);
+  EXPECT_EQ(j["agree_ok"], true);
+  EXPECT_EQ(j["exit_code"], 0);
+  EXPECT_NE(j["verdict"].get<std::string>().find("not a disagreement"), std::string::npos) << j["verdict"];
+  // The table says why.
+  const CommandRun t = run("check " + scene + " --n 8 --agree 1e-30");
+  EXPECT_EQ(t.code, 0) << t.out << t.err;
+  EXPECT_NE(t.out.find("uniqueness margin lambda_min(S - alpha_j W) = -inf is not positive"), std::string::npos) << t.out;
+  EXPECT_NE(t.out.find("not a disagreement"), std::string::npos) << t.out;
 }
 
 TEST(CliCheck, BenchWritesOneRowPerPairAndSizeAndSsnErrorsDecrease) {

@@ -18,10 +18,9 @@ namespace {
 
 using hemivem::test::CommandRun;
 using hemivem::test::scratch;
+using hemivem::test::scenes_dir;
 using hemivem::test::slurp;
 CommandRun run(const std::string& args) { return hemivem::test::run_hemivem(args); }
-
-fs::path scenes_dir() { return hemivem::test::data_dir().parent_path().parent_path() / "scenes"; }
 
 TEST(Cli, DefaultSolveIsExample41AndWritesEveryOutput) {
   const fs::path out = scratch("default");

@@ -16,6 +16,7 @@
 #include <hemivem/mesh_io.hpp>
 #include <hemivem/scene.hpp>
 
+#include "default_scene_text.hpp"
 #include "test_support.hpp"
 
 namespace fs = std::filesystem;
@@ -24,7 +25,7 @@ namespace hemivem {
 
 namespace {
 
-fs::path scenes_dir() { return test::data_dir().parent_path().parent_path() / "scenes"; }
+using test::scenes_dir;
 
 std::vector<fs::path> shipped_scenes() {
   std::vector<fs::path> out;
@@ -54,34 +55,56 @@ TEST(Scene, DefaultSceneIsExample41OnSquares64) {
   EXPECT_EQ(s.where("contact.gap"), "<default>:" + std::to_string(s.lines.at("contact.gap")));
 }
 
-TEST(Scene, DefaultSceneBuildsTheSameProblemAsExample41) {
+// Example 4.1 as the paper states it (Feng, Han, Huang 2021, section 4), written out here
+// independently of the scene: the library's example_4_1 and build_problem of the default
+// scene must both be this problem.
+TEST(Scene, DefaultSceneAndExample41AreThePapersProblem) {
   Scene s = default_scene();
   apply_override(s, "mesh.n=8");
   const auto built = build_problem(s);
-  const Mesh reference_mesh = make_squares(8);
-  const ContactProblem ref = example_4_1(reference_mesh);
-  const ContactProblem& p = built->problem;
+  const Mesh mesh = make_squares(8);
+  const ContactProblem example = example_4_1(mesh);
   ASSERT_TRUE(built->has_contact);
-  EXPECT_EQ(built->mesh.num_vertices(), reference_mesh.num_vertices());
-  EXPECT_EQ(built->mesh.num_elements(), reference_mesh.num_elements());
-  EXPECT_EQ(p.elasticity.mesh, &built->mesh);
-  EXPECT_EQ(p.elasticity.materials.model(), ref.elasticity.materials.model());
-  EXPECT_DOUBLE_EQ(p.elasticity.materials.material(0).young, ref.elasticity.materials.material(0).young);
-  EXPECT_DOUBLE_EQ(p.elasticity.materials.material(0).poisson, ref.elasticity.materials.material(0).poisson);
-  EXPECT_EQ(p.elasticity.stabilization, ref.elasticity.stabilization);
-  EXPECT_FALSE(static_cast<bool>(p.elasticity.body_force));
-  ASSERT_EQ(p.elasticity.dirichlet.size(), 1u);
-  EXPECT_EQ(p.elasticity.dirichlet[0].edges, ref.elasticity.dirichlet[0].edges);
-  ASSERT_EQ(p.elasticity.tractions.size(), 1u);
-  EXPECT_EQ(p.elasticity.tractions[0].edges, ref.elasticity.tractions[0].edges);
-  EXPECT_EQ(p.elasticity.tractions[0].traction(Vec2(0.5, 1.0)), ref.elasticity.tractions[0].traction(Vec2(0.5, 1.0)));
-  EXPECT_EQ(p.contact_edges, ref.contact_edges);
-  EXPECT_DOUBLE_EQ(p.gap(Vec2(0.3, 0.0)), ref.gap(Vec2(0.3, 0.0)));
-  EXPECT_EQ(p.law->name(), ref.law->name());
-  EXPECT_DOUBLE_EQ(p.law->alpha(), ref.law->alpha());
-  EXPECT_EQ(p.constraint, ref.constraint);
+  EXPECT_EQ(built->mesh.num_vertices(), mesh.num_vertices());
+  EXPECT_EQ(built->mesh.num_elements(), mesh.num_elements());
+  EXPECT_EQ(built->problem.elasticity.mesh, &built->mesh);
+  EXPECT_EQ(example.elasticity.mesh, &mesh);
+
+  const Rectangle unit{0.0, 1.0, 0.0, 1.0};
+  auto side = [&](const char* name) { return select_boundary_edges(mesh, std::vector<Segment>{rectangle_side(unit, name, 1e-8)}); };
+  std::vector<int> clamped = side("left");
+  for (int e : side("right")) clamped.push_back(e);
+  std::sort(clamped.begin(), clamped.end());
+  std::vector<int> top = side("top"), bottom = side("bottom");
+  std::sort(top.begin(), top.end());
+  std::sort(bottom.begin(), bottom.end());
+  for (const ContactProblem* p : {static_cast<const ContactProblem*>(&built->problem), &example}) {
+    EXPECT_EQ(p->elasticity.materials.model(), PlaneModel::strain);
+    EXPECT_EQ(p->elasticity.materials.material(0).young, 65.0);
+    EXPECT_EQ(p->elasticity.materials.material(0).poisson, 0.29);
+    EXPECT_EQ(p->elasticity.stabilization, Stabilization::two_mu);
+    EXPECT_FALSE(static_cast<bool>(p->elasticity.body_force));
+    ASSERT_EQ(p->elasticity.dirichlet.size(), 1u);
+    std::vector<int> d = p->elasticity.dirichlet[0].edges;
+    std::sort(d.begin(), d.end());
+    EXPECT_EQ(d, clamped);
+    EXPECT_TRUE(p->elasticity.dirichlet[0].fix[0] && p->elasticity.dirichlet[0].fix[1]);
+    ASSERT_EQ(p->elasticity.tractions.size(), 1u);
+    std::vector<int> t = p->elasticity.tractions[0].edges;
+    std::sort(t.begin(), t.end());
+    EXPECT_EQ(t, top);
+    EXPECT_EQ(p->elasticity.tractions[0].traction(Vec2(0.5, 1.0)), Vec2(0.0, -8.0));
+    std::vector<int> c = p->contact_edges;
+    std::sort(c.begin(), c.end());
+    EXPECT_EQ(c, bottom);
+    EXPECT_EQ(p->gap(Vec2(0.3, 0.0)), 0.02);
+    ASSERT_TRUE(p->law);
+    EXPECT_EQ(p->law->name(), "paper");
+    EXPECT_EQ(p->law->alpha(), 20.0);
+    EXPECT_EQ(p->constraint, ConstraintKind::box);
+  }
   // The assembled systems agree.
-  const LinearSystem a = assemble(p.elasticity), b = assemble(ref.elasticity);
+  const LinearSystem a = assemble(built->problem.elasticity), b = assemble(example.elasticity);
   EXPECT_EQ((a.b - b.b).norm(), 0.0);
   EXPECT_EQ(SparseMatrix(a.A - b.A).norm(), 0.0);
 }
@@ -110,6 +133,15 @@ TEST(Scene, ShippedScenesParseAndBuild) {
 
 TEST(Scene, PaperExampleFileEqualsDefaultScene) {
   EXPECT_EQ(parse_scene(scenes_dir() / "paper-example-4.1.toml"), default_scene());
+}
+
+// The library embeds scenes/paper-example-4.1.toml when it is built: the same bytes.
+TEST(Scene, EmbeddedDefaultSceneIsTheShippedFile) {
+  std::ifstream in(scenes_dir() / "paper-example-4.1.toml", std::ios::binary);
+  ASSERT_TRUE(in);
+  std::ostringstream file;
+  file << in.rdbuf();
+  EXPECT_EQ(detail::default_scene_text(), file.str());
 }
 
 TEST(Scene, ShippedVariants) {

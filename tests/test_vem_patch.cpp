@@ -1,11 +1,14 @@
 // Patch test: a linear displacement field is reproduced to round-off on every mesh the
 // generators make and on every mesh in shared/meshes, with Dirichlet data on the whole
-// boundary and with tractions on part of it.
+// boundary and with tractions on part of it; the load of a linear body force is exact on
+// linear fields.
 #include <hemivem/assembly.hpp>
 #include <hemivem/mesh_generators.hpp>
 #include <hemivem/mesh_io.hpp>
 
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "test_support.hpp"
 
@@ -88,6 +91,29 @@ TEST_P(PatchGenerated, LinearFieldIsReproduced) {
   EXPECT_LE(patch_dirichlet(mesh, Stabilization::two_mu), 1e-12);
   EXPECT_LE(patch_dirichlet(mesh, Stabilization::trace_scaled), 1e-12);
   EXPECT_LE(patch_traction(mesh), 1e-12);
+}
+
+// The load of a linear body force f0 paired with a linear field v is int f0 . v over the
+// domain: the projection of the load reproduces linear fields and the quadrature is exact.
+TEST_P(PatchGenerated, BodyForceLoadIsExactOnLinearFields) {
+  const Rectangle d{-1.0, 2.0, 0.5, 1.5};
+  const Mesh mesh = make_mesh(GetParam().name, GetParam().n, d, 7);
+  const LinearCase v;
+  const Vec2 b(0.4, -1.3);
+  const Eigen::Matrix2d B = (Eigen::Matrix2d() << 0.7, -0.2, 0.5, 1.1).finished();
+  const Eigen::VectorXd f = assemble_load(mesh, [&](const Vec2& x) -> Vec2 { return b + B * x; }, {});
+  Eigen::VectorXd nodal(2 * mesh.num_vertices());
+  for (int i = 0; i < mesh.num_vertices(); ++i) nodal.segment<2>(2 * i) = v(mesh.vertex(i));
+  // Moments of the rectangle: area, int x, int x x^T.
+  const double w = d.x1 - d.x0, h = d.y1 - d.y0;
+  const Vec2 first(0.5 * (d.x1 * d.x1 - d.x0 * d.x0) * h, 0.5 * (d.y1 * d.y1 - d.y0 * d.y0) * w);
+  const double xy = 0.25 * (d.x1 * d.x1 - d.x0 * d.x0) * (d.y1 * d.y1 - d.y0 * d.y0);
+  const Eigen::Matrix2d second = (Eigen::Matrix2d() << (std::pow(d.x1, 3) - std::pow(d.x0, 3)) / 3.0 * h, xy, xy,
+                                  (std::pow(d.y1, 3) - std::pow(d.y0, 3)) / 3.0 * w)
+                                     .finished();
+  // int (b + B x) . (a + G x) = |D| b.a + b.G first + (B first).a + trace(B^T G second)
+  const double exact = w * h * b.dot(v.a) + b.dot(v.G * first) + (B * first).dot(v.a) + (B.transpose() * v.G * second).trace();
+  EXPECT_NEAR(f.dot(nodal), exact, 1e-12 * std::abs(exact));
 }
 
 INSTANTIATE_TEST_SUITE_P(Generators, PatchGenerated,

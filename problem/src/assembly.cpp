@@ -93,23 +93,29 @@ Eigen::VectorXd assemble_load(const Mesh& mesh, const VectorField& body_force, c
   Eigen::VectorXd f = Eigen::VectorXd::Zero(2 * mesh.num_vertices());
   if (body_force) {
     std::vector<Vec2> poly;
+    std::vector<LinearField> basis;
+    Eigen::VectorXd unit;
     for (int e = 0; e < mesh.num_elements(); ++e) {
       gather(mesh, e, poly);
-      const auto n = static_cast<Eigen::Index>(poly.size());
-      Vec2 mean = Vec2::Zero();
-      for (const auto& p : poly) mean += p;
-      mean /= static_cast<double>(n);
-      // F0 = int f0, M(c, d) = int f0_c (x - mean)_d
+      // (3.13): the load of local basis function k is int f0 . Pi^nabla_1 phi_k, with
+      // Pi^nabla_1 phi_k (x) = value + gradient (x - center).
+      const auto n2 = static_cast<Eigen::Index>(2 * poly.size());
+      basis.clear();
+      unit.setZero(n2);
+      for (Eigen::Index k = 0; k < n2; ++k) {
+        unit(k) = 1.0;
+        basis.push_back(project_gradient(poly, unit));
+        unit(k) = 0.0;
+      }
+      const Vec2 center = basis.front().center;
+      // F0 = int f0, M(c, d) = int f0_c (x - center)_d
       const Vec2 F0 = quadrature::integrate_polygon(poly, [&](const Vec2& x) { return body_force(x); });
       const Eigen::Matrix2d M = quadrature::integrate_polygon(
-          poly, [&](const Vec2& x) -> Eigen::Matrix2d { return body_force(x) * (x - mean).transpose(); });
-      const Eigen::Matrix2Xd nu = vertex_normals(poly);
-      const double area = mesh.area(e);
+          poly, [&](const Vec2& x) -> Eigen::Matrix2d { return body_force(x) * (x - center).transpose(); });
       const auto verts = mesh.element(e);
-      for (Eigen::Index i = 0; i < n; ++i) {
-        const Vec2 bi = F0 / static_cast<double>(n) + M * nu.col(i) / area;
-        f(2 * verts[static_cast<std::size_t>(i)]) += bi.x();
-        f(2 * verts[static_cast<std::size_t>(i)] + 1) += bi.y();
+      for (Eigen::Index k = 0; k < n2; ++k) {
+        const LinearField& phi = basis[static_cast<std::size_t>(k)];
+        f(2 * verts[static_cast<std::size_t>(k / 2)] + k % 2) += F0.dot(phi.value) + M.cwiseProduct(phi.gradient).sum();
       }
     }
   }

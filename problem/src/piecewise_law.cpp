@@ -39,10 +39,9 @@ std::string num(double x) {
 
 std::string part_name(LawPart p) { return p == LawPart::j ? "j" : (p == LawPart::j1 ? "j1" : "j2"); }
 
-// Smallest value of the second derivative of p on the interval (lo, hi) (may be +-inf):
-// exact for degree <= 3, where p'' is linear.
-double min_second_derivative(const Polynomial& p, double lo, double hi) {
-  const Polynomial d2 = differentiate(differentiate(p));
+// Smallest value of the second derivative d2 = p'' on the interval (lo, hi) (may be +-inf):
+// exact for p of degree <= 3, where p'' is linear.
+double min_second_derivative(const Polynomial& d2, double lo, double hi) {
   if (d2.empty()) return 0.0;
   const double c0 = d2[0], c1 = d2.size() > 1 ? d2[1] : 0.0;
   auto at = [&](double r) {
@@ -86,13 +85,22 @@ PiecewisePolynomialLaw::PiecewisePolynomialLaw(std::string name, std::vector<dou
   }
   j_.resize(m);
   for (std::size_t k = 0; k < m; ++k) j_[k] = subtract(j1_[k], j2_[k]);
+  for (LawPart part : {LawPart::j, LawPart::j1, LawPart::j2}) {
+    const auto i = static_cast<std::size_t>(part);
+    first_[i].resize(m);
+    second_[i].resize(m);
+    for (std::size_t k = 0; k < m; ++k) {
+      first_[i][k] = differentiate(poly(part, k));
+      second_[i][k] = differentiate(first_[i][k]);
+    }
+  }
 
   auto tol = [](double a, double b) { return 1e-10 * std::max({1.0, std::abs(a), std::abs(b)}); };
   for (LawPart part : {LawPart::j1, LawPart::j2}) {
     for (std::size_t k = 0; k < m; ++k) {
       const double lo = k == 0 ? -std::numeric_limits<double>::infinity() : breaks_[k - 1];
       const double hi = k + 1 == m ? std::numeric_limits<double>::infinity() : breaks_[k];
-      const double c = min_second_derivative(poly(part, k), lo, hi);
+      const double c = min_second_derivative(poly(part, k, 2), lo, hi);
       if (c < -1e-12)
         throw InputError(part_name(part) + " is not convex on piece " + std::to_string(k) + " (" + num(lo) + ", " +
                              num(hi) + "]: its second derivative reaches " + num(c),
@@ -105,7 +113,7 @@ PiecewisePolynomialLaw::PiecewisePolynomialLaw(std::string name, std::vector<dou
         throw InputError(part_name(part) + " is not continuous at breakpoint " + std::to_string(k) + " (r = " + num(b) +
                              "): " + num(left) + " on the left, " + num(right) + " on the right",
                          where);
-      const double dl = eval(differentiate(poly(part, k)), b), dr = eval(differentiate(poly(part, k + 1)), b);
+      const double dl = eval(poly(part, k, 1), b), dr = eval(poly(part, k + 1, 1), b);
       if (dr < dl - tol(dl, dr))
         throw InputError(part_name(part) + " is not convex at breakpoint " + std::to_string(k) + " (r = " + num(b) +
                              "): its derivative drops from " + num(dl) + " to " + num(dr),
@@ -116,10 +124,10 @@ PiecewisePolynomialLaw::PiecewisePolynomialLaw(std::string name, std::vector<dou
   for (std::size_t k = 0; k < m; ++k) {
     const double lo = k == 0 ? -std::numeric_limits<double>::infinity() : breaks_[k - 1];
     const double hi = k + 1 == m ? std::numeric_limits<double>::infinity() : breaks_[k];
-    alpha_ = std::max(alpha_, -min_second_derivative(j_[k], lo, hi));
+    alpha_ = std::max(alpha_, -min_second_derivative(poly(LawPart::j, k, 2), lo, hi));
   }
   for (std::size_t k = 0; k < breaks_.size(); ++k) {
-    const double dl = eval(differentiate(j_[k]), breaks_[k]), dr = eval(differentiate(j_[k + 1]), breaks_[k]);
+    const double dl = eval(poly(LawPart::j, k, 1), breaks_[k]), dr = eval(poly(LawPart::j, k + 1, 1), breaks_[k]);
     if (dr < dl - tol(dl, dr)) alpha_ = std::numeric_limits<double>::infinity();
   }
   if (alpha_ < 1e-12) alpha_ = 0.0;
@@ -142,7 +150,9 @@ std::size_t PiecewisePolynomialLaw::piece(double r, int side) const {
   return static_cast<std::size_t>(it - breaks_.begin());
 }
 
-const Polynomial& PiecewisePolynomialLaw::poly(LawPart part, std::size_t k) const {
+const Polynomial& PiecewisePolynomialLaw::poly(LawPart part, std::size_t k, int order) const {
+  if (order == 1) return first_[static_cast<std::size_t>(part)][k];
+  if (order == 2) return second_[static_cast<std::size_t>(part)][k];
   switch (part) {
     case LawPart::j1:
       return j1_[k];
@@ -156,11 +166,11 @@ const Polynomial& PiecewisePolynomialLaw::poly(LawPart part, std::size_t k) cons
 double PiecewisePolynomialLaw::value(LawPart part, double r) const { return eval(poly(part, piece(r, -1)), r); }
 
 double PiecewisePolynomialLaw::derivative(LawPart part, double r, int side) const {
-  return eval(differentiate(poly(part, piece(r, side))), r);
+  return eval(poly(part, piece(r, side), 1), r);
 }
 
 double PiecewisePolynomialLaw::second_derivative(LawPart part, double r, int side) const {
-  return eval(differentiate(differentiate(poly(part, piece(r, side)))), r);
+  return eval(poly(part, piece(r, side), 2), r);
 }
 
 std::vector<Polynomial> PiecewisePolynomialLaw::pieces(LawPart part) const {

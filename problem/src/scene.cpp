@@ -20,6 +20,7 @@
 #include <hemivem/mesh_io.hpp>
 #include <hemivem/piecewise_law.hpp>
 
+#include "default_scene_text.hpp"
 #include "text_lines.hpp"
 
 namespace hemivem {
@@ -33,48 +34,6 @@ std::string count_text(double v) {
   o << std::setprecision(2) << std::scientific << v;
   return o.str();
 }
-
-constexpr std::string_view kDefaultSceneText = R"toml(# The paper's Example 4.1 (Feng, Han, Huang 2021) on N = 64 squares.
-schema_version = 1
-title = "Example 4.1 (Feng, Han, Huang 2021)"
-
-[mesh]
-generator = "squares"
-n = 64
-seed = 1
-domain = [0.0, 1.0, 0.0, 1.0]
-
-[material]
-E = 65.0
-nu = 0.29
-model = "plane-strain"
-stabilization = "2mu"
-
-[clamped]            # Gamma_1
-side = ["left", "right"]
-
-[loads]
-body_force = [0.0, 0.0]
-
-[[loads.traction]]   # Gamma_2
-side = "top"
-value = [0.0, -8.0]
-
-[contact]            # Gamma_3
-side = "bottom"
-law = "paper"
-gap = 0.02
-constraint = "box"
-
-[solver]
-linear = "eigen"
-minimizer = "ssn"
-tolerance = 1e-10
-max_iterations = 1000
-
-[output]
-write = ["vtu", "contact-csv", "displacement-csv", "history-csv", "result-json"]
-)toml";
 
 std::string fmt(double v);
 
@@ -702,9 +661,7 @@ Scene parse_scene(const std::filesystem::path& path) {
   return parse_scene_string(ss.str(), path.string());
 }
 
-std::string_view default_scene_text() { return kDefaultSceneText; }
-
-Scene default_scene() { return parse_scene_string(kDefaultSceneText, "<default>"); }
+Scene default_scene() { return parse_scene_string(detail::default_scene_text(), "<default>"); }
 
 std::string to_toml(const Scene& s) {
   std::ostringstream o;
@@ -919,12 +876,18 @@ std::unique_ptr<BuiltProblem> build_problem(const Scene& scene) {
     }
     mesh.set_regions(std::move(ids));
   }
+  out->problem = make_contact_problem(scene, mesh);
+  out->has_contact = scene.contact.has_value();
+  return out;
+}
+
+ContactProblem make_contact_problem(const Scene& scene, const Mesh& mesh) {
   int regions = 1;
   for (int r : mesh.regions()) regions = std::max(regions, r + 1);
   for (const auto& r : scene.material.regions) regions = std::max(regions, r.region + 1);
   std::vector<Material> by_region(static_cast<std::size_t>(regions), Material{scene.material.young, scene.material.poisson});
   for (const auto& r : scene.material.regions) by_region[static_cast<std::size_t>(r.region)] = Material{r.young, r.poisson};
-  ContactProblem& p = out->problem;
+  ContactProblem p;
   p.elasticity.mesh = &mesh;
   p.elasticity.materials = MaterialTable(by_region, scene.material.model);
   p.elasticity.stabilization = scene.material.stabilization;
@@ -972,11 +935,10 @@ std::unique_ptr<BuiltProblem> build_problem(const Scene& scene) {
       throw InputError("contact.law: " + e.detail(), scene.where("contact.law"));
     }
     p.constraint = c.constraint;
-    out->has_contact = true;
   } else {
     p.constraint = ConstraintKind::none;
   }
-  return out;
+  return p;
 }
 
 }  // namespace hemivem

@@ -23,6 +23,8 @@ std::vector<std::filesystem::path> shared_meshes() {
 
 std::filesystem::path data_dir() { return HEMIVEM_TEST_DATA_DIR; }
 
+std::filesystem::path scenes_dir() { return data_dir().parent_path().parent_path() / "scenes"; }
+
 }  // namespace hemivem::test
 
 #include <Eigen/SparseCholesky>

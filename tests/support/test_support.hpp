@@ -13,6 +13,8 @@ std::filesystem::path shared_dir();
 std::vector<std::filesystem::path> shared_meshes();
 /// tests/data
 std::filesystem::path data_dir();
+/// The shipped scenes (scenes/ of the project).
+std::filesystem::path scenes_dir();
 
 }  // namespace hemivem::test
 

@@ -1,6 +1,7 @@
 // Piecewise-polynomial contact laws defined by breakpoints, with their DC split.
 #pragma once
 
+#include <array>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -41,10 +42,13 @@ class PiecewisePolynomialLaw final : public ContactLaw {
 
  private:
   std::size_t piece(double r, int side) const;
-  const Polynomial& poly(LawPart part, std::size_t k) const;
+  /// Piece k of a part (order 0) or of its first or second derivative (order 1, 2).
+  const Polynomial& poly(LawPart part, std::size_t k, int order = 0) const;
   std::string name_;
   std::vector<double> breaks_;
   std::vector<Polynomial> j1_, j2_, j_;
+  /// The derivatives of the pieces, by part (indexed by LawPart) and piece.
+  std::array<std::vector<Polynomial>, 3> first_, second_;
   double alpha_ = 0.0;
 };
 

@@ -134,10 +134,9 @@ Scene parse_scene(const std::filesystem::path& path);
 /// The same from text; `name` stands for the file in messages, relative mesh paths are
 /// resolved against the folder of `name` (the current directory when it has none).
 Scene parse_scene_string(std::string_view text, std::string name);
-/// Example 4.1 on N = 64 squares, parsed from embedded TOML text.
+/// Example 4.1 on N = 64 squares: scenes/paper-example-4.1.toml, embedded in the library
+/// when it is built.
 Scene default_scene();
-/// The embedded text of default_scene().
-std::string_view default_scene_text();
 
 /// Applies "dotted.key=value" (value in TOML syntax; a bare word is taken as a string), e.g.
 /// "contact.gap=0.01", "mesh.generator=voronoi", "solver.minimizer=bundle-dca". The result
@@ -167,5 +166,12 @@ struct BuiltProblem {
 /// materials, the boundary parts, loads and contact data. Errors (unknown edge group, a
 /// part selecting no edge, a region without material) name the scene key's file:line.
 std::unique_ptr<BuiltProblem> build_problem(const Scene& scene);
+
+/// The contact problem of a scene on a given mesh (the scene's mesh keys are not used): the
+/// materials by the mesh's region ids (the scene's region boxes are applied by build_problem
+/// only), the boundary parts selected on the mesh's bounding box, loads and contact data;
+/// contact_edges empty and law null when the scene has no contact. The result points at
+/// `mesh`. Errors as build_problem's.
+ContactProblem make_contact_problem(const Scene& scene, const Mesh& mesh);
 
 }  // namespace hemivem

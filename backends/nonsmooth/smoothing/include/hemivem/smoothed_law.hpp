@@ -61,6 +61,12 @@ class SmoothedLaw {
       w.a[5] = 6.0 * R0 - 3.0 * R1 + 0.5 * R2;
       windows_.push_back(w);
     }
+    cuts_ = b;
+    for (const Window& w : windows_) {
+      cuts_.push_back(w.lo);
+      cuts_.push_back(w.hi);
+    }
+    std::sort(cuts_.begin(), cuts_.end());
   }
 
   const ContactLaw& law() const noexcept { return *law_; }
@@ -100,28 +106,20 @@ class SmoothedLaw {
   double difference(double x, double y) const {
     if (x == y) return 0.0;
     if (y < x) return -difference(y, x);
-    std::vector<double> cuts{x};
-    for (double b : law_->breakpoints())
-      if (b > x && b < y) cuts.push_back(b);
-    for (const Window& w : windows_) {
-      if (w.lo > x && w.lo < y) cuts.push_back(w.lo);
-      if (w.hi > x && w.hi < y) cuts.push_back(w.hi);
-    }
-    cuts.push_back(y);
-    std::sort(cuts.begin(), cuts.end());
     static const double node = std::sqrt(0.6), wm = 8.0 / 9.0, we = 5.0 / 9.0;
     double sum = 0.0;
-    for (std::size_t k = 0; k + 1 < cuts.size(); ++k) {
-      const double m = 0.5 * (cuts[k] + cuts[k + 1]), h = 0.5 * (cuts[k + 1] - cuts[k]);
-      if (h <= 0.0) continue;
+    auto integrate = [&](double a, double b) {
+      const double m = 0.5 * (a + b), h = 0.5 * (b - a);
+      if (h <= 0.0) return;
       sum += h * (wm * piece_derivative(m, m) + we * piece_derivative(m - h * node, m) + we * piece_derivative(m + h * node, m));
+    };
+    double from = x;
+    for (auto it = std::upper_bound(cuts_.begin(), cuts_.end(), x); it != cuts_.end() && *it < y; ++it) {
+      integrate(from, *it);
+      from = *it;
     }
+    integrate(from, y);
     return sum;
-  }
-  /// True when r lies in a rounded window around a kink.
-  bool in_kink_window(double r) const {
-    const Window* w = find(r);
-    return w && w->kink;
   }
 
  private:
@@ -141,6 +139,7 @@ class SmoothedLaw {
   }
   std::shared_ptr<const ContactLaw> law_;
   double epsilon_ = 0.0;
+  std::vector<double> cuts_;  ///< the breakpoints and window ends, sorted: where j_eps' may change piece
   int kinks_ = 0;
   std::vector<Window> windows_;
 };
