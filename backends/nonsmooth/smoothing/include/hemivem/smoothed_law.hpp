@@ -29,12 +29,12 @@ class SmoothedLaw {
   SmoothedLaw(std::shared_ptr<const ContactLaw> law, double epsilon, bool round_curvature_jumps = false)
       : law_(std::move(law)), epsilon_(epsilon) {
     const std::vector<double> b = law_->breakpoints();
+    const std::vector<double> kinks = law_->kinks();  // the one definition of a kink (ContactLaw)
     for (std::size_t k = 0; k < b.size(); ++k) {
-      const double dl = law_->derivative(LawPart::j, b[k], -1), dr = law_->derivative(LawPart::j, b[k], +1);
       const double sl = law_->second_derivative(LawPart::j, b[k], -1),
                    sr = law_->second_derivative(LawPart::j, b[k], +1);
-      const bool kink = std::abs(dr - dl) > 1e-14 * (1.0 + std::abs(dl) + std::abs(dr));
-      const bool curv = std::abs(sr - sl) > 1e-14 * (1.0 + std::abs(sl) + std::abs(sr));
+      const bool kink = std::binary_search(kinks.begin(), kinks.end(), b[k]);
+      const bool curv = std::abs(sr - sl) > ContactLaw::kink_tolerance * (std::abs(sl) + std::abs(sr));
       if (kink) ++kinks_;
       if (!(epsilon_ > 0.0) || !(kink || (curv && round_curvature_jumps))) continue;
       double h = epsilon_;
