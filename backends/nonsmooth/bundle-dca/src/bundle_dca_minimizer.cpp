@@ -305,101 +305,177 @@ double model_value(const std::vector<std::vector<Cut>>& cuts, const Eigen::Vecto
   return m;
 }
 
-}  // namespace
+// ---- the DC algorithm ---------------------------------------------------------------------------
 
-MinimizerResult BundleDcaMinimizer::run(MinimizerRun& run) const {
-  const ReducedProblem& p = run.problem();
-  const MinimizerOptions& options = run.options();
-  const BundleDcaOptions& par = options_;
-  const Eigen::Index n = p.size();
-  const auto U = [](Eigen::Index i) { return static_cast<std::size_t>(i); };
+// What one DC subproblem (the bundle loop) ended with.
+struct SubproblemEnd {
+  Eigen::VectorXd center;     // the last serious point
+  bool model_exact = false;   // a null step that did not move: the model cannot improve
+  bool out_of_budget = false;
+  bool qp_failed = false;
+};
 
-  const double mu = par.proximal_weight * p.S.diagonal().cwiseAbs().maxCoeff();
-  Eigen::MatrixXd H = p.S;
-  H.diagonal().array() += mu;
+class DcBundle {
+ public:
+  DcBundle(MinimizerRun& run, const BundleDcaOptions& options)
+      : run_(run), p_(run.problem()), o_(options), n_(p_.size()), cuts_(U(n_)), added_(U(n_), 0) {
+    mu_ = o_.proximal_weight * p_.S.diagonal().cwiseAbs().maxCoeff();
+    H_ = p_.S;
+    H_.diagonal().array() += mu_;
+  }
 
-  // phi_i(t) = w_i j1(t): values and cuts
-  std::vector<std::vector<Cut>> cuts(U(n));
-  std::vector<double> lo(U(n)), hi(U(n));
-  for (Eigen::Index i = 0; i < n; ++i) lo[U(i)] = p.lower(i), hi[U(i)] = p.upper(i);
-  std::vector<int> added(U(n), 0);  // how many cuts were added last, per coordinate (at the tail)
-  auto add_cuts = [&](const Eigen::VectorXd& a) {  // one subgradient evaluation of F1
-    run.count_subgradients();
-    for (Eigen::Index i = 0; i < n; ++i) {
+  // The cuts of phi_i(t) = w_i j1(t) at a: one subgradient evaluation of F1.
+  void add_cuts(const Eigen::VectorXd& a) {
+    run_.count_subgradients();
+    for (Eigen::Index i = 0; i < n_; ++i) {
       const double t = a(i);
-      const double v = p.w(i) * p.law->value(LawPart::j1, t);
-      const double sr = p.w(i) * p.law->derivative(LawPart::j1, t, +1);
-      auto& ci = cuts[U(i)];
+      const double v = p_.w(i) * p_.law->value(LawPart::j1, t);
+      const double sr = p_.w(i) * p_.law->derivative(LawPart::j1, t, +1);
+      auto& ci = cuts_[U(i)];
       ci.push_back({t, v, sr});
-      added[U(i)] = 1;
-      if (par.two_sided_cuts) {
-        const double sl = p.w(i) * p.law->derivative(LawPart::j1, t, -1);
+      added_[U(i)] = 1;
+      if (o_.two_sided_cuts) {
+        const double sl = p_.w(i) * p_.law->derivative(LawPart::j1, t, -1);
         if (sl != sr) {
           ci.push_back({t, v, sl});
-          added[U(i)] = 2;
+          added_[U(i)] = 2;
         }
       }
     }
-  };
-  auto f1 = [&](const Eigen::VectorXd& a, double* quadratic_part = nullptr) {  // one function evaluation
-    run.count_functions();
-    const double qp = 0.5 * a.dot(p.S * a) - p.c.dot(a);
+  }
+
+  // min_C F1 - y^T a from `center` by the proximal bundle method, to the inner tolerance.
+  SubproblemEnd solve(const Eigen::VectorXd& start, const Eigen::VectorXd& y, double inner_tol) {
+    SubproblemEnd end;
+    end.center = start;
+    Eigen::VectorXd& center = end.center;
+    double fc = f1(center) - y.dot(center);
+    double rc = residual(center, y);
+    Eigen::VectorXd trial = center;
+    const Eigen::VectorXd cy = p_.c + y;
+    for (int it = 0; it < o_.max_bundle_iterations && rc > inner_tol; ++it) {
+      if (!run_.budget_left(3)) {  // f_k and the cuts at the trial point, F at the end of the DC step
+        end.out_of_budget = true;
+        break;
+      }
+      ++bundle_iterations;
+      std::vector<Envelope> env(U(n_));
+      for (Eigen::Index i = 0; i < n_; ++i) env[U(i)] = envelope(cuts_[U(i)], p_.lower(i), p_.upper(i));
+      QpStats qs;
+      if (!solve_qp(H_, cy + mu_ * center, cuts_, env, trial, state_, qs)) {
+        end.qp_failed = true;
+        break;
+      }
+      qp_steps += qs.steps;
+      double quad = 0.0;
+      const double model = 0.5 * trial.dot(p_.S * trial) - cy.dot(trial) + model_value(cuts_, trial);
+      const double predicted = fc - model;
+      const double ft = f1(trial, &quad) - y.dot(trial);
+      const double rt = residual(trial, y);
+      add_cuts(trial);
+      compress(env);
+      for (const auto& ci : cuts_) largest_bundle = std::max(largest_bundle, ci.size());
+      // near the solution the decrease is below the rounding of F (it is of the order of the
+      // squared residual): there a trial no worse than the center up to rounding and with a
+      // smaller residual is taken as a serious step too
+      const double noise = 1e-13 * (std::abs(fc) + std::abs(quad) + 1e-300);
+      if (ft <= fc - o_.descent * predicted || (ft <= fc + noise && rt < rc)) {
+        ++serious_steps;
+        center = trial;
+        fc = ft;
+        rc = rt;
+      } else {
+        ++null_steps;
+        if ((trial - center).cwiseAbs().maxCoeff() <= 1e-15 * (1.0 + center.cwiseAbs().maxCoeff())) {
+          end.model_exact = true;
+          break;
+        }
+      }
+    }
+    return end;
+  }
+
+  int bundle_iterations = 0, serious_steps = 0, null_steps = 0, qp_steps = 0;
+  std::size_t largest_bundle = 0;
+
+ private:
+  static std::size_t U(Eigen::Index i) { return static_cast<std::size_t>(i); }
+
+  // F1(a), one function evaluation; the quadratic part in *quadratic_part.
+  double f1(const Eigen::VectorXd& a, double* quadratic_part = nullptr) {
+    run_.count_functions();
+    const double qp = 0.5 * a.dot(p_.S * a) - p_.c.dot(a);
     if (quadratic_part) *quadratic_part = qp;
     double s = qp;
-    for (Eigen::Index i = 0; i < n; ++i) s += p.w(i) * p.law->value(LawPart::j1, a(i));
+    for (Eigen::Index i = 0; i < n_; ++i) s += p_.w(i) * p_.law->value(LawPart::j1, a(i));
     return s;
-  };
-  // the dual residual of the DC subproblem min_C F1 - y^T a (the certificate's rule with j1 for
-  // j and c + y for c, at the point as it is)
-  auto subproblem_residual = [&](const Eigen::VectorXd& a, const Eigen::VectorXd& y) {
-    const Eigen::VectorXd Sa = p.S * a;
-    double worst = 0.0, scale = std::max((p.c + y).cwiseAbs().maxCoeff(), Sa.cwiseAbs().maxCoeff());
-    for (Eigen::Index i = 0; i < n; ++i) {
-      double dl = p.law->derivative(LawPart::j1, a(i), -1), dr = p.law->derivative(LawPart::j1, a(i), +1);
+  }
+
+  // The dual residual of the DC subproblem min_C F1 - y^T a (the certificate's rule with j1
+  // for j and c + y for c, at the point as it is).
+  double residual(const Eigen::VectorXd& a, const Eigen::VectorXd& y) const {
+    const Eigen::VectorXd Sa = p_.S * a;
+    double worst = 0.0, scale = std::max((p_.c + y).cwiseAbs().maxCoeff(), Sa.cwiseAbs().maxCoeff());
+    for (Eigen::Index i = 0; i < n_; ++i) {
+      double dl = p_.law->derivative(LawPart::j1, a(i), -1), dr = p_.law->derivative(LawPart::j1, a(i), +1);
       if (dl > dr) std::swap(dl, dr);
-      const Interval law{p.w(i) * dl, p.w(i) * dr};
-      const Interval reaction{a(i) == p.lower(i) ? -kInf : 0.0, a(i) == p.upper(i) ? kInf : 0.0};
+      const Interval law{p_.w(i) * dl, p_.w(i) * dr};
+      const Interval reaction{a(i) == p_.lower(i) ? -kInf : 0.0, a(i) == p_.upper(i) ? kInf : 0.0};
       double zeta = 0.0, lambda = 0.0;
-      worst = std::max(worst, balance(Sa(i) - p.c(i) - y(i), law, reaction, &zeta, &lambda));
+      worst = std::max(worst, balance(Sa(i) - p_.c(i) - y(i), law, reaction, &zeta, &lambda));
       scale = std::max(scale, std::abs(zeta));
     }
     return worst == 0.0 ? 0.0 : worst / std::max(scale, force_floor);
-  };
-  auto compress = [&](const std::vector<Envelope>& env, const QpState& s) {
-    for (Eigen::Index i = 0; i < n; ++i) {
-      auto& ci = cuts[U(i)];
-      if (static_cast<int>(ci.size()) <= par.bundle_size) continue;
+  }
+
+  // Keeps at most bundle_size cuts per coordinate: the active ones at the subproblem solution
+  // (they carry the aggregate linearisation), the newest, then the most recent others.
+  void compress(const std::vector<Envelope>& env) {
+    for (Eigen::Index i = 0; i < n_; ++i) {
+      auto& ci = cuts_[U(i)];
+      if (static_cast<int>(ci.size()) <= o_.bundle_size) continue;
       std::vector<char> keep(ci.size(), 0);
       const Envelope& e = env[U(i)];
-      const int k = s.index[U(i)];
-      // the active cuts at the subproblem solution (they carry the aggregate linearisation)
-      if (s.fixed[U(i)]) {
+      const int k = state_.index[U(i)];
+      if (state_.fixed[U(i)]) {
         if (k > 0) keep[U(e.cut[U(k - 1)])] = 1;
         if (k < e.pieces()) keep[U(e.cut[U(k)])] = 1;
       } else {
         keep[U(e.cut[U(k)])] = 1;
       }
-      for (int j = 0; j < added[U(i)]; ++j) keep[ci.size() - 1 - U(j)] = 1;  // the newest
+      for (int j = 0; j < added_[U(i)]; ++j) keep[ci.size() - 1 - U(j)] = 1;
       int count = static_cast<int>(std::count(keep.begin(), keep.end(), 1));
-      for (std::size_t j = ci.size(); j-- > 0 && count < par.bundle_size;)
+      for (std::size_t j = ci.size(); j-- > 0 && count < o_.bundle_size;)
         if (!keep[j]) keep[j] = 1, ++count;
       std::vector<Cut> kept;
       for (std::size_t j = 0; j < ci.size(); ++j)
         if (keep[j]) kept.push_back(ci[j]);
       ci.swap(kept);
     }
-  };
+  }
 
-  int bundle_iterations = 0, serious_steps = 0, null_steps = 0, qp_steps = 0;
-  std::size_t largest_bundle = 0;
+  MinimizerRun& run_;
+  const ReducedProblem& p_;
+  const BundleDcaOptions& o_;
+  const Eigen::Index n_;
+  double mu_ = 0.0;
+  Eigen::MatrixXd H_;                   // S + mu I
+  std::vector<std::vector<Cut>> cuts_;  // per coordinate
+  std::vector<int> added_;              // cuts added last per coordinate (at the tail)
+  QpState state_;
+};
+
+}  // namespace
+
+MinimizerResult BundleDcaMinimizer::run(MinimizerRun& run) const {
+  const ReducedProblem& p = run.problem();
+  DcBundle bundle(run, options_);
   Eigen::VectorXd a = run.start();
   double F = p.energy(a);
   run.count_functions();
   Certificate cert = run.check(a);
   run.offer(a, cert);
-  QpState state;
   MinimizerStatus why = MinimizerStatus::iteration_limit;
-  if (cert.converged()) why = MinimizerStatus::converged;
   int no_progress = 0;
   const bool convex = p.law->is_convex();
   std::string note;
@@ -409,67 +485,18 @@ MinimizerResult BundleDcaMinimizer::run(MinimizerRun& run) const {
       why = MinimizerStatus::evaluation_limit;
       break;
     }
-    if (k == 1) add_cuts(a);
-    // ---- DC step: linearise F2 at a, solve min_{C} F1 - y^T a by the proximal bundle method
+    if (k == 1) bundle.add_cuts(a);
+    // DC step: linearise F2 at a, solve min_C F1 - y^T a. With j convex (j2 = 0 for the shipped
+    // convex laws) the subproblem is F itself, solved to the final accuracy at once.
     const Eigen::VectorXd y = p.subgradient_convex2(a);
     run.count_subgradients();
-    // j convex (the shipped convex laws have j2 = 0): the subproblem is F itself, so it is solved to
-    // the final accuracy at once (only the inner tolerance depends on this; the loop is the same)
-    const double inner_tol = convex ? par.inner_tolerance_floor * options.tolerance
-                                    : std::max(par.inner_tolerance_factor * cert.worst(),
-                                               par.inner_tolerance_floor * options.tolerance);
-    Eigen::VectorXd center = a;
-    double fc = f1(center) - y.dot(center);
-    double rc = subproblem_residual(center, y);
-    Eigen::VectorXd trial = center;
-    bool model_exact = false, out_of_budget = false, qp_failed = false;
-    const Eigen::VectorXd cy = p.c + y;
-    for (int it = 0; it < par.max_bundle_iterations && rc > inner_tol; ++it) {
-      if (!run.budget_left(3)) {  // f_k and the cuts at the trial point, F at the end of the DC step
-        out_of_budget = true;
-        break;
-      }
-      ++bundle_iterations;
-      std::vector<Envelope> env(U(n));
-      for (Eigen::Index i = 0; i < n; ++i) env[U(i)] = envelope(cuts[U(i)], lo[U(i)], hi[U(i)]);
-      const Eigen::VectorXd q = cy + mu * center;
-      QpStats qs;
-      if (!solve_qp(H, q, cuts, env, trial, state, qs)) {
-        qp_failed = true;
-        break;
-      }
-      qp_steps += qs.steps;
-      double quad = 0.0;
-      const double model = 0.5 * trial.dot(p.S * trial) - cy.dot(trial) + model_value(cuts, trial);
-      const double predicted = fc - model;
-      const double ft = f1(trial, &quad) - y.dot(trial);
-      const double rt = subproblem_residual(trial, y);
-      add_cuts(trial);
-      compress(env, state);
-      for (const auto& ci : cuts) largest_bundle = std::max(largest_bundle, ci.size());
-      // near the solution the decrease is below the rounding of F (it is of the order of the
-      // squared residual): there a trial no worse than the center up to rounding and with a
-      // smaller residual is taken as a serious step too
-      const double noise = 1e-13 * (std::abs(fc) + std::abs(quad) + 1e-300);
-      const bool serious = ft <= fc - par.descent * predicted || (ft <= fc + noise && rt < rc);
-      const double moved = (trial - center).cwiseAbs().maxCoeff();
-      if (serious) {
-        ++serious_steps;
-        center = trial;
-        fc = ft;
-        rc = rt;
-      } else {
-        ++null_steps;
-        if (moved <= 1e-15 * (1.0 + center.cwiseAbs().maxCoeff())) {  // the model cannot improve
-          model_exact = true;
-          break;
-        }
-      }
-    }
+    const double floor = options_.inner_tolerance_floor * run.options().tolerance;
+    const double inner_tol = convex ? floor : std::max(options_.inner_tolerance_factor * cert.worst(), floor);
+    const SubproblemEnd end = bundle.solve(a, y, inner_tol);
     const Eigen::VectorXd previous = a;
     const double F_previous = F;
     const Certificate cert_previous = cert;
-    a = center;
+    a = end.center;
     F = p.energy(a);
     run.count_functions();
     cert = run.check(a);
@@ -481,29 +508,29 @@ MinimizerResult BundleDcaMinimizer::run(MinimizerRun& run) const {
       why = MinimizerStatus::converged;
       break;
     }
-    if (qp_failed) {
+    if (end.qp_failed) {
       why = MinimizerStatus::failed;
       note = "the bundle subproblem failed: S + mu I is not positive definite";
       break;
     }
-    if (out_of_budget) {
+    if (end.out_of_budget) {
       why = MinimizerStatus::evaluation_limit;
       break;
     }
     const bool progress = F < F_previous - 1e-15 * std::abs(F_previous) || cert.worst() < 0.9 * cert_previous.worst() ||
                           (a - previous).cwiseAbs().maxCoeff() > 1e-15 * (1.0 + a.cwiseAbs().maxCoeff());
     no_progress = progress ? 0 : no_progress + 1;
-    if (no_progress >= par.stall_iterations) {
+    if (no_progress >= options_.stall_iterations) {
       why = MinimizerStatus::stalled;
-      note = model_exact ? "stalled: the bundle model is exact and the DC step no longer moves"
-                         : "stalled: the DC step no longer moves";
+      note = end.model_exact ? "stalled: the bundle model is exact and the DC step no longer moves"
+                             : "stalled: the DC step no longer moves";
       break;
     }
   }
   std::ostringstream msg;
-  msg << run.iterations() << " DC iterations, " << bundle_iterations << " bundle iterations (" << serious_steps
-      << " serious, " << null_steps << " null), " << qp_steps << " active-set steps, largest bundle " << largest_bundle
-      << " cuts per node";
+  msg << run.iterations() << " DC iterations, " << bundle.bundle_iterations << " bundle iterations ("
+      << bundle.serious_steps << " serious, " << bundle.null_steps << " null), " << bundle.qp_steps
+      << " active-set steps, largest bundle " << bundle.largest_bundle << " cuts per node";
   return run.finish(why, note, msg.str());
 }
 
