@@ -37,112 +37,19 @@ class Solver {
     double F = energy(a, &q_);
     double res = residual(a);
     run_.record_start(a, F, cert_);
-    double t_factor = 0.0, t_search = 0.0;
-    int fallbacks = 0, shifted = 0, stagnant = 0;
+    int stagnant = 0;
     double best_res = res;
     MinimizerStatus status = MinimizerStatus::converged;
     std::vector<NodeState> st(static_cast<std::size_t>(n_));
     Eigen::VectorXd d(n_), trial(n_), qt(n_);
-    std::vector<Eigen::Index> fr, ea;
     while (true) {
       if (cert_.converged()) break;
       if (!run_.iterations_left()) { status = MinimizerStatus::iteration_limit; break; }
       if (!run_.budget_left()) { status = MinimizerStatus::evaluation_limit; break; }
-      // ---- classify: fixed at a knot, or moving inside a piece box
       classify(a, st);
-      double eps = 0.0;
-      for (Eigen::Index i = 0; i < n_; ++i) {
-        const NodeState& s = st[static_cast<std::size_t>(i)];
-        if (s.lo == s.hi) continue;
-        eps = std::max(eps, std::abs(std::clamp(a(i) - s.grad / scaling(i, s), s.lo, s.hi) - a(i)));
-      }
-      eps *= prm_.active_scale;
-      // ---- Newton direction on the free nodes, epsilon-active nodes sent to their knot
-      fr.clear();
-      ea.clear();
-      d.setZero();
-      for (Eigen::Index i = 0; i < n_; ++i) {
-        const NodeState& s = st[static_cast<std::size_t>(i)];
-        if (s.lo == s.hi) continue;
-        if (s.grad > 0.0 && a(i) - s.lo <= eps) {
-          d(i) = s.lo - a(i);
-          ea.push_back(i);
-        } else if (s.grad < 0.0 && s.hi - a(i) <= eps) {
-          d(i) = s.hi - a(i);
-          ea.push_back(i);
-        } else {
-          fr.push_back(i);
-        }
-      }
-      bool newton = false;
-      if (!fr.empty()) {
-        const auto tf = Clock::now();
-        Eigen::VectorXd rhs(static_cast<Eigen::Index>(fr.size()));
-        for (std::size_t k = 0; k < fr.size(); ++k) rhs(static_cast<Eigen::Index>(k)) = -st[static_cast<std::size_t>(fr[k])].grad;
-        if (!ea.empty()) rhs.noalias() -= p_.S(fr, ea) * d(ea);
-        Eigen::MatrixXd H = p_.S(fr, fr);
-        double min_diag = kInf, max_diag = 0.0;
-        for (std::size_t k = 0; k < fr.size(); ++k) {
-          const auto kk = static_cast<Eigen::Index>(k);
-          H(kk, kk) = st[static_cast<std::size_t>(fr[k])].hess;
-          min_diag = std::min(min_diag, H(kk, kk));
-          max_diag = std::max(max_diag, std::abs(H(kk, kk)));
-        }
-        Eigen::LLT<Eigen::MatrixXd> llt;
-        double mu = 0.0;
-        bool ok = false;
-        if (min_diag > 0.0) {
-          llt.compute(H);
-          ok = llt.info() == Eigen::Success;
-        }
-        if (!ok) {
-          mu = std::max(prm_.shift * max_diag, -min_diag + prm_.shift * max_diag);
-          if (!(mu > 0.0)) mu = std::numeric_limits<double>::min();
-          for (int k = 0; k < 60 && !ok; ++k, mu *= 4.0) {
-            Eigen::MatrixXd Hs = H;
-            Hs.diagonal().array() += mu;
-            llt.compute(Hs);
-            ok = llt.info() == Eigen::Success;
-          }
-          ++shifted;
-        }
-        if (ok) {
-          const Eigen::VectorXd dF = llt.solve(rhs);
-          if (dF.allFinite()) {
-            d(fr) = dF;
-            newton = true;
-          }
-        }
-        t_factor += since(tf);
-      } else {
-        newton = !ea.empty();
-      }
-      // ---- line search along the projection arc onto the piece boxes
-      const auto ts = Clock::now();
-      bool accepted = false;
+      const bool newton = newton_direction(a, st, d);
       double Ft = F;
-      if (newton && slope(st, d) < 0.0) {
-        double t = 1.0;
-        for (int k = 0; k < prm_.max_backtracks && !accepted; ++k, t *= prm_.backtrack) {
-          if (!run_.budget_left()) break;
-          accepted = try_step(a, st, d, t, F, res, trial, qt, Ft);
-        }
-      }
-      if (!accepted && run_.budget_left()) {
-        // scaled projected gradient: a descent path whenever the point is not stationary
-        ++fallbacks;
-        for (Eigen::Index i = 0; i < n_; ++i) {
-          const NodeState& s = st[static_cast<std::size_t>(i)];
-          d(i) = s.lo == s.hi ? 0.0 : -s.grad / scaling(i, s);
-        }
-        double t = 1.0;
-        for (int k = 0; k < 80 && !accepted; ++k, t *= 0.5) {
-          if (!run_.budget_left()) break;
-          accepted = try_step(a, st, d, t, F, res, trial, qt, Ft);
-        }
-      }
-      t_search += since(ts);
-      if (!accepted) {
+      if (!line_search(a, st, newton, F, res, d, trial, qt, Ft)) {
         status = run_.budget_left() ? MinimizerStatus::stalled : MinimizerStatus::evaluation_limit;
         break;
       }
@@ -164,10 +71,10 @@ class Solver {
         break;
       }
     }
-    run_.add_time("factorization", t_factor);
-    run_.add_time("line_search", t_search);
+    run_.add_time("factorization", t_factor_);
+    run_.add_time("line_search", t_search_);
     const std::string summary = std::to_string(run_.iterations()) + " Newton iterations, " +
-                                std::to_string(fallbacks) + " gradient fallbacks, " + std::to_string(shifted) +
+                                std::to_string(fallbacks_) + " gradient fallbacks, " + std::to_string(shifted_) +
                                 " shifted systems";
     return run_.finish(status, status == MinimizerStatus::stalled ? "no further descent at round-off level" : "",
                        summary, &a);
@@ -187,6 +94,104 @@ class Solver {
     run_.count_subgradients();
     cert_ = run_.check(a);
     return cert_.worst();
+  }
+
+  /// The projected Newton direction d: moving nodes within epsilon of a knot they are pushed
+  /// against go onto it, the other moving nodes solve the free-set system. False when there is
+  /// no usable Newton direction.
+  bool newton_direction(const Eigen::VectorXd& a, const std::vector<NodeState>& st, Eigen::VectorXd& d) {
+    double eps = 0.0;
+    for (Eigen::Index i = 0; i < n_; ++i) {
+      const NodeState& s = st[static_cast<std::size_t>(i)];
+      if (s.lo == s.hi) continue;
+      eps = std::max(eps, std::abs(std::clamp(a(i) - s.grad / scaling(i, s), s.lo, s.hi) - a(i)));
+    }
+    eps *= prm_.active_scale;
+    free_.clear();
+    pinned_.clear();
+    d.setZero();
+    for (Eigen::Index i = 0; i < n_; ++i) {
+      const NodeState& s = st[static_cast<std::size_t>(i)];
+      if (s.lo == s.hi) continue;
+      if (s.grad > 0.0 && a(i) - s.lo <= eps) {
+        d(i) = s.lo - a(i);
+        pinned_.push_back(i);
+      } else if (s.grad < 0.0 && s.hi - a(i) <= eps) {
+        d(i) = s.hi - a(i);
+        pinned_.push_back(i);
+      } else {
+        free_.push_back(i);
+      }
+    }
+    if (free_.empty()) return !pinned_.empty();
+    const auto tf = Clock::now();
+    const bool ok = solve_free_system(st, d);
+    t_factor_ += since(tf);
+    return ok;
+  }
+
+  /// d_F = -(S + W j'')_FF^-1 (grad_F + S_FE d_E) by a dense LLT, shifted by mu I (growing from
+  /// `shift` max |H_ii|) when the system is not positive definite.
+  bool solve_free_system(const std::vector<NodeState>& st, Eigen::VectorXd& d) {
+    const auto nf = static_cast<Eigen::Index>(free_.size());
+    Eigen::VectorXd rhs(nf);
+    for (Eigen::Index k = 0; k < nf; ++k) rhs(k) = -st[static_cast<std::size_t>(free_[static_cast<std::size_t>(k)])].grad;
+    if (!pinned_.empty()) rhs.noalias() -= p_.S(free_, pinned_) * d(pinned_);
+    Eigen::MatrixXd H = p_.S(free_, free_);
+    double min_diag = kInf, max_diag = 0.0;
+    for (Eigen::Index k = 0; k < nf; ++k) {
+      H(k, k) = st[static_cast<std::size_t>(free_[static_cast<std::size_t>(k)])].hess;
+      min_diag = std::min(min_diag, H(k, k));
+      max_diag = std::max(max_diag, std::abs(H(k, k)));
+    }
+    Eigen::LLT<Eigen::MatrixXd> llt;
+    bool ok = false;
+    if (min_diag > 0.0) {
+      llt.compute(H);
+      ok = llt.info() == Eigen::Success;
+    }
+    if (!ok) {
+      double mu = std::max(prm_.shift * max_diag, -min_diag + prm_.shift * max_diag);
+      if (!(mu > 0.0)) mu = std::numeric_limits<double>::min();
+      for (int k = 0; k < 60 && !ok; ++k, mu *= 4.0) {
+        Eigen::MatrixXd Hs = H;
+        Hs.diagonal().array() += mu;
+        llt.compute(Hs);
+        ok = llt.info() == Eigen::Success;
+      }
+      ++shifted_;
+    }
+    if (!ok) return false;
+    const Eigen::VectorXd dF = llt.solve(rhs);
+    if (!dF.allFinite()) return false;
+    d(free_) = dF;
+    return true;
+  }
+
+  /// Backtracking along the projection arc onto the piece boxes: the Newton direction first,
+  /// then a diagonally scaled projected-gradient step (a descent path whenever the point is not
+  /// stationary). True when a trial point (trial, qt = S trial - c, Ft) was accepted.
+  bool line_search(const Eigen::VectorXd& a, const std::vector<NodeState>& st, bool newton, double F, double res,
+                   Eigen::VectorXd& d, Eigen::VectorXd& trial, Eigen::VectorXd& qt, double& Ft) {
+    const auto ts = Clock::now();
+    bool accepted = false;
+    if (newton && slope(st, d) < 0.0) {
+      double t = 1.0;
+      for (int k = 0; k < prm_.max_backtracks && !accepted && run_.budget_left(); ++k, t *= prm_.backtrack)
+        accepted = try_step(a, st, d, t, F, res, trial, qt, Ft);
+    }
+    if (!accepted && run_.budget_left()) {
+      ++fallbacks_;
+      for (Eigen::Index i = 0; i < n_; ++i) {
+        const NodeState& s = st[static_cast<std::size_t>(i)];
+        d(i) = s.lo == s.hi ? 0.0 : -s.grad / scaling(i, s);
+      }
+      double t = 1.0;
+      for (int k = 0; k < 80 && !accepted && run_.budget_left(); ++k, t *= 0.5)
+        accepted = try_step(a, st, d, t, F, res, trial, qt, Ft);
+    }
+    t_search_ += since(ts);
+    return accepted;
   }
 
   bool is_kink(double x) const { return std::binary_search(kinks_.begin(), kinks_.end(), x); }
@@ -280,6 +285,9 @@ class Solver {
   const Eigen::Index n_;
   const std::vector<double> kinks_;
   Certificate cert_;   ///< at the current point (or the last trial point whose certificate was taken)
+  std::vector<Eigen::Index> free_, pinned_;  ///< moving nodes solved for, and those sent onto a knot
+  double t_factor_ = 0.0, t_search_ = 0.0;
+  int fallbacks_ = 0, shifted_ = 0;
   Eigen::VectorXd q_;  ///< S a - c at the current point
 };
 
