@@ -194,8 +194,12 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
                                         : " <= 0: several critical points are possible; this is one of them\n")
           << "  contact       " << sol.contact.size() << " nodes: " << upper << " at the upper bound, " << lower
           << " at the lower bound, " << sol.contact.size() - upper - lower << " free\n";
+      double law = 0.0, reaction = 0.0;
+      for (const auto& c : sol.contact) law += c.law_force, reaction += c.reaction;
+      out << "  forces        contact force " << law + reaction << " in total: law " << law << ", reactions "
+          << reaction << "\n";
     }
-    out << "  energy        " << sol.energy << "\n  time [s]      mesh " << mesh_seconds;
+    out << "  energy        potential " << sol.energy << "\n  time [s]      mesh " << mesh_seconds;
     for (const char* k : {"assembly", "linear_solve", "condensation", "minimize", "back_substitution"})
       if (sol.timings.count(k)) out << ", " << k << " " << sol.timings.at(k);
     out << ", total " << mesh_seconds + sol.timings.at("total") << "\n  wrote         " << o.out << "/ (";

@@ -274,6 +274,31 @@ INSTANTIATE_TEST_SUITE_P(Engines, EveryEngine, ::testing::ValuesIn(available_min
                            return s;
                          });
 
+// ---- the two energies --------------------------------------------------------------------------
+
+TEST(Energies, PotentialEnergyAndReducedObjectiveDifferByAConstant) {
+  // Phi(u(a)) - F(a) must not depend on a (drivers/OUTPUTS.md, "Energies"): u(a) is the
+  // back-substitution, Phi the potential energy over the free dofs
+  auto ex = test::example("squares", 8);
+  const ReducedProblem& p = ex->condensation->reduced();
+  auto potential = [&](const Eigen::VectorXd& a) {
+    const Eigen::VectorXd u = ex->condensation->back_substitute(a);
+    Eigen::VectorXd uf(ex->system.dofs.num_free());
+    for (int k = 0; k < uf.size(); ++k) uf(k) = u(ex->system.dofs.free_dofs[static_cast<std::size_t>(k)]);
+    double phi = 0.5 * uf.dot(ex->system.A * uf) - uf.dot(ex->system.b);
+    for (Eigen::Index i = 0; i < a.size(); ++i) phi += p.w(i) * p.law->value(a(i));
+    return phi;
+  };
+  const MinimizerResult r = make_minimizer("ssn")->minimize(p, Eigen::VectorXd(), MinimizerOptions{});
+  ASSERT_TRUE(r.converged());
+  const double constant = potential(r.a) - r.objective;
+  EXPECT_LT(constant, 0.0) << "-1/2 b2^T A22^-1 b2";
+  for (double s : {0.0, 0.5, -0.7}) {
+    const Eigen::VectorXd a = s * r.a + Eigen::VectorXd::Constant(r.a.size(), 0.001 * s);
+    EXPECT_NEAR(potential(a) - p.energy(a), constant, 1e-12 * std::abs(constant)) << s;
+  }
+}
+
 // ---- the scaffolding ------------------------------------------------------------------------
 
 TEST(MinimizerRun, ACertifiedPointBeatsABetterLookingOne) {
