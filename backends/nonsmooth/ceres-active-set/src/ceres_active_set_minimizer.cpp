@@ -104,16 +104,11 @@ class QuietGlog {
 }  // namespace
 
 bool CeresActiveSetOptions::is_valid(std::string* error) const {
-  if (!smoothing::continuation_is_valid(epsilon, epsilon0, reduction, error)) return false;
+  if (!smoothing::shared_fields_valid(epsilon, epsilon0, reduction, snap, error)) return false;
   if (max_passes < 1) return invalid_field(error, "max_passes", ">= 1", max_passes);
   if (subproblem_iterations < 1) return invalid_field(error, "subproblem_iterations", ">= 1", subproblem_iterations);
   if (!(lbfgs_rank >= 1 && lbfgs_rank <= 1000)) return invalid_field(error, "lbfgs_rank", "in [1, 1000]", lbfgs_rank);
-  if (!(snap >= 0.0 && snap < 1.0)) return invalid_field(error, "snap", "in [0, 1)", snap);
   return true;
-}
-
-CeresActiveSetMinimizer::CeresActiveSetMinimizer(CeresActiveSetOptions options) : options_(options) {
-  require_valid(options_, "ceres-active-set");
 }
 
 MinimizerResult CeresActiveSetMinimizer::run(MinimizerRun& run) const {

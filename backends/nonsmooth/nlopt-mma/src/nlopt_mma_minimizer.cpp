@@ -58,17 +58,12 @@ struct OptDeleter {
 }  // namespace
 
 bool NloptMmaOptions::is_valid(std::string* error) const {
-  if (!smoothing::continuation_is_valid(epsilon, epsilon0, reduction, error)) return false;
+  if (!smoothing::shared_fields_valid(epsilon, epsilon0, reduction, snap, error)) return false;
   if (!(xtol_rel >= 0.0 && std::isfinite(xtol_rel))) return invalid_field(error, "xtol_rel", "finite and >= 0", xtol_rel);
   if (stage_evaluations < 1) return invalid_field(error, "stage_evaluations", ">= 1", stage_evaluations);
   if (inner_maxeval < 0) return invalid_field(error, "inner_maxeval", ">= 0", inner_maxeval);
-  if (!(snap >= 0.0 && snap < 1.0)) return invalid_field(error, "snap", "in [0, 1)", snap);
   if (polish_passes < 0) return invalid_field(error, "polish_passes", ">= 0", polish_passes);
   return true;
-}
-
-NloptMmaMinimizer::NloptMmaMinimizer(NloptMmaOptions options) : options_(options) {
-  require_valid(options_, "nlopt-mma");
 }
 
 MinimizerResult NloptMmaMinimizer::run(MinimizerRun& run) const {

@@ -30,11 +30,13 @@ inline std::vector<double> schedule(const ContactLaw& law, double epsilon, doubl
   return s;
 }
 
-/// The checks of the continuation fields shared by the smoothing engines' options.
-inline bool continuation_is_valid(double epsilon, double epsilon0, double reduction, std::string* error) {
+/// The checks of the fields the smoothing engines' options share: the continuation and the
+/// snapping distance.
+inline bool shared_fields_valid(double epsilon, double epsilon0, double reduction, double snap, std::string* error) {
   if (!(epsilon >= 0.0 && std::isfinite(epsilon))) return invalid_field(error, "epsilon", "finite and >= 0", epsilon);
   if (!(epsilon0 > 0.0 && std::isfinite(epsilon0))) return invalid_field(error, "epsilon0", "finite and > 0", epsilon0);
   if (!(reduction > 0.0 && reduction < 1.0)) return invalid_field(error, "reduction", "in (0, 1)", reduction);
+  if (!(snap >= 0.0 && snap < 1.0)) return invalid_field(error, "snap", "in [0, 1)", snap);
   return true;
 }
 
