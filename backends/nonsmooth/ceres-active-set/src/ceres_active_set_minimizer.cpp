@@ -101,29 +101,25 @@ class QuietGlog {
   bool quiet_;
 };
 
-}  // namespace
-
-bool CeresActiveSetOptions::is_valid(std::string* error) const {
-  if (!smoothing::shared_fields_valid(epsilon, epsilon0, reduction, snap, error)) return false;
-  if (max_passes < 1) return invalid_field(error, "max_passes", ">= 1", max_passes);
-  if (subproblem_iterations < 1) return invalid_field(error, "subproblem_iterations", ">= 1", subproblem_iterations);
-  if (!(lbfgs_rank >= 1 && lbfgs_rank <= 1000)) return invalid_field(error, "lbfgs_rank", "in [1, 1000]", lbfgs_rank);
-  return true;
-}
-
-MinimizerResult CeresActiveSetMinimizer::run(MinimizerRun& run) const {
-  const ReducedProblem& p = run.problem();
-  const MinimizerOptions& o = run.options();
-  const CeresActiveSetOptions& prm = options_;
-  Eigen::VectorXd a = run.start();
-  const Eigen::Index n = p.size();
-  const double cscale = std::max(p.c.cwiseAbs().maxCoeff(), 1e-300);
-  const double snap = prm.snap * std::max(smoothing::length_scale(p, a), 1e-300);
+// The state of one minimize() call shared by its active-set passes.
+struct PassDriver {
+  MinimizerRun& run;
+  const ReducedProblem& p;
+  const CeresActiveSetOptions& prm;
+  Eigen::VectorXd a;  // the current point
+  double cscale = 0.0, snap = 0.0;
   MinimizerStatus reason = MinimizerStatus::stalled;
   std::string message;
 
-  // minimizes F_eps over the nodes not in `active` (Ceres LBFGS, unconstrained), then projects
-  auto solve = [&](const SmoothedLaw& law, const std::vector<char>& active, bool final_stage) {
+  PassDriver(MinimizerRun& r, const CeresActiveSetOptions& options)
+      : run(r), p(r.problem()), prm(options), a(r.start()), cscale(std::max(p.c.cwiseAbs().maxCoeff(), 1e-300)),
+        snap(options.snap * std::max(smoothing::length_scale(p, a), 1e-300)) {}
+
+  // Minimizes F_eps over the nodes not in `active` (Ceres LBFGS, unconstrained), then projects;
+  // true when certified.
+  bool solve(const SmoothedLaw& law, const std::vector<char>& active, bool final_stage) {
+    const MinimizerOptions& o = run.options();
+    const Eigen::Index n = p.size();
     Subproblem s;
     s.run = &run;
     s.law = &law;
@@ -162,10 +158,11 @@ MinimizerResult CeresActiveSetMinimizer::run(MinimizerRun& run) const {
     if (s.certified) a = run.best();
     if (s.out_of_budget && !s.certified) reason = MinimizerStatus::evaluation_limit;
     return s.certified;
-  };
+  }
 
-  // the active set: nodes on a bound that the smoothed gradient pushes outward
-  auto pushed_out = [&](const SmoothedLaw& law, const Eigen::VectorXd& x) {
+  // The active set: nodes on a bound that the smoothed gradient pushes outward.
+  std::vector<char> pushed_out(const SmoothedLaw& law, const Eigen::VectorXd& x) {
+    const Eigen::Index n = p.size();
     Eigen::VectorXd g;
     smoothing::smoothed_energy(p, law, x, &g);
     run.count_functions();
@@ -174,14 +171,33 @@ MinimizerResult CeresActiveSetMinimizer::run(MinimizerRun& run) const {
     for (Eigen::Index i = 0; i < n; ++i)
       act[static_cast<std::size_t>(i)] = (x(i) == p.upper(i) && g(i) <= 0.0) || (x(i) == p.lower(i) && g(i) >= 0.0);
     return act;
-  };
+  }
+};
 
+}  // namespace
+
+bool CeresActiveSetOptions::is_valid(std::string* error) const {
+  if (!smoothing::shared_fields_valid(epsilon, epsilon0, reduction, snap, error)) return false;
+  if (max_passes < 1) return invalid_field(error, "max_passes", ">= 1", max_passes);
+  if (subproblem_iterations < 1) return invalid_field(error, "subproblem_iterations", ">= 1", subproblem_iterations);
+  if (!(lbfgs_rank >= 1 && lbfgs_rank <= 1000)) return invalid_field(error, "lbfgs_rank", "in [1, 1000]", lbfgs_rank);
+  return true;
+}
+
+MinimizerResult CeresActiveSetMinimizer::run(MinimizerRun& run) const {
+  const ReducedProblem& p = run.problem();
+  const CeresActiveSetOptions& prm = options_;
+  PassDriver passes(run, options_);
+  Eigen::VectorXd& a = passes.a;
+  MinimizerStatus& reason = passes.reason;
+  std::string& message = passes.message;
+  const double snap = passes.snap;
   const std::vector<double> schedule = smoothing::schedule(*p.law, prm.epsilon, prm.epsilon0, prm.reduction);
   bool done = false, stop = false;
   for (std::size_t k = 0; k < schedule.size() && !done && !stop; ++k) {
     const bool final_stage = k + 1 == schedule.size();
     const SmoothedLaw law(p.law, schedule[k]);
-    std::vector<char> active = pushed_out(law, a);
+    std::vector<char> active = passes.pushed_out(law, a);
     double last_residual = std::numeric_limits<double>::infinity();
     for (int pass = 0; pass < prm.max_passes && !done && !stop; ++pass) {
       if (!run.iterations_left()) {
@@ -189,7 +205,7 @@ MinimizerResult CeresActiveSetMinimizer::run(MinimizerRun& run) const {
         stop = true;
         break;
       }
-      done = solve(law, active, final_stage);
+      done = passes.solve(law, active, final_stage);
       if (!done && final_stage) {  // snapping the nodes just short of a bound may certify
         Eigen::VectorXd g;
         smoothing::smoothed_energy(p, law, a, &g);
@@ -207,7 +223,7 @@ MinimizerResult CeresActiveSetMinimizer::run(MinimizerRun& run) const {
       // multiplier has the wrong sign leave
       // (an unchanged active set ends the stage unless the final stage still improves: LBFGS
       // restarted from the new point, with a fresh memory and anchor)
-      const std::vector<char> next = pushed_out(law, a);
+      const std::vector<char> next = passes.pushed_out(law, a);
       if (next == active) {
         if (!final_stage || !(c.worst() < 0.5 * last_residual)) break;
       }

@@ -55,30 +55,24 @@ struct OptDeleter {
   void operator()(nlopt_opt o) const { nlopt_destroy(o); }
 };
 
-}  // namespace
-
-bool NloptMmaOptions::is_valid(std::string* error) const {
-  if (!smoothing::shared_fields_valid(epsilon, epsilon0, reduction, snap, error)) return false;
-  if (!(xtol_rel >= 0.0 && std::isfinite(xtol_rel))) return invalid_field(error, "xtol_rel", "finite and >= 0", xtol_rel);
-  if (stage_evaluations < 1) return invalid_field(error, "stage_evaluations", ">= 1", stage_evaluations);
-  if (inner_maxeval < 0) return invalid_field(error, "inner_maxeval", ">= 0", inner_maxeval);
-  if (polish_passes < 0) return invalid_field(error, "polish_passes", ">= 0", polish_passes);
-  return true;
-}
-
-MinimizerResult NloptMmaMinimizer::run(MinimizerRun& run) const {
-  const ReducedProblem& p = run.problem();
-  const MinimizerOptions& o = run.options();
-  const NloptMmaOptions& prm = options_;
-  Eigen::VectorXd a = run.start();
-  const Eigen::Index n = p.size();
-  const double scale_a = smoothing::length_scale(p, a);
-  const double snap = prm.snap * std::max(scale_a, 1e-300);
+// The state of one minimize() call shared by its MMA runs.
+struct MmaDriver {
+  MinimizerRun& run;
+  const ReducedProblem& p;
+  const NloptMmaOptions& prm;
+  Eigen::VectorXd a;  // the current point
+  double scale_a = 0.0, snap = 0.0;
   MinimizerStatus reason = MinimizerStatus::stalled;
   std::string message;
 
-  // one MMA run at smoothing scale eps over the nodes not pinned; returns true when certified
-  auto mma = [&](const SmoothedLaw& law, const std::vector<char>& pinned, bool final_stage, bool polish) {
+  MmaDriver(MinimizerRun& r, const NloptMmaOptions& options)
+      : run(r), p(r.problem()), prm(options), a(r.start()), scale_a(smoothing::length_scale(p, a)),
+        snap(options.snap * std::max(scale_a, 1e-300)) {}
+
+  // One MMA run at the smoothing scale of `law` over the nodes not pinned; true when certified.
+  bool stage(const SmoothedLaw& law, const std::vector<char>& pinned, bool final_stage, bool polish) {
+    const MinimizerOptions& o = run.options();
+    const Eigen::Index n = p.size();
     Stage s;
     s.run = &run;
     s.law = &law;
@@ -126,8 +120,30 @@ MinimizerResult NloptMmaMinimizer::run(MinimizerRun& run) const {
     if (s.certified) a = run.best();
     if (s.out_of_budget && !s.certified && !run.budget_left()) reason = MinimizerStatus::evaluation_limit;
     return s.certified;
-  };
+  }
+};
 
+}  // namespace
+
+bool NloptMmaOptions::is_valid(std::string* error) const {
+  if (!smoothing::shared_fields_valid(epsilon, epsilon0, reduction, snap, error)) return false;
+  if (!(xtol_rel >= 0.0 && std::isfinite(xtol_rel))) return invalid_field(error, "xtol_rel", "finite and >= 0", xtol_rel);
+  if (stage_evaluations < 1) return invalid_field(error, "stage_evaluations", ">= 1", stage_evaluations);
+  if (inner_maxeval < 0) return invalid_field(error, "inner_maxeval", ">= 0", inner_maxeval);
+  if (polish_passes < 0) return invalid_field(error, "polish_passes", ">= 0", polish_passes);
+  return true;
+}
+
+MinimizerResult NloptMmaMinimizer::run(MinimizerRun& run) const {
+  const ReducedProblem& p = run.problem();
+  const MinimizerOptions& o = run.options();
+  const Eigen::Index n = p.size();
+  MmaDriver mma(run, options_);
+  Eigen::VectorXd& a = mma.a;
+  MinimizerStatus& reason = mma.reason;
+  std::string& message = mma.message;
+  const double snap = mma.snap;
+  const NloptMmaOptions& prm = options_;
   const std::vector<double> schedule = smoothing::schedule(*p.law, prm.epsilon, prm.epsilon0, prm.reduction);
   std::vector<char> none(static_cast<std::size_t>(n), 0);
   bool done = false, stop = false;
@@ -138,7 +154,7 @@ MinimizerResult NloptMmaMinimizer::run(MinimizerRun& run) const {
     }
     const bool final_stage = k + 1 == schedule.size();
     const SmoothedLaw law(p.law, schedule[k]);
-    done = mma(law, none, final_stage, false);
+    done = mma.stage(law, none, final_stage, false);
     if (!run.record(a)) {
       reason = MinimizerStatus::stopped_by_callback;
       stop = true;
@@ -160,7 +176,7 @@ MinimizerResult NloptMmaMinimizer::run(MinimizerRun& run) const {
       a = smoothing::snap_to_bounds(p, a, g, snap, smoothing::snap_push(p, o));
       std::vector<char> pinned(static_cast<std::size_t>(n), 0);
       for (Eigen::Index i = 0; i < n; ++i) pinned[static_cast<std::size_t>(i)] = a(i) == p.upper(i) || a(i) == p.lower(i);
-      done = mma(law, pinned, true, true);
+      done = mma.stage(law, pinned, true, true);
       if (!run.record(a)) {
         reason = MinimizerStatus::stopped_by_callback;
         stop = true;
