@@ -102,18 +102,12 @@ class QuietGlog {
 };
 
 // The state of one minimize() call shared by its active-set passes.
-struct PassDriver {
-  MinimizerRun& run;
-  const ReducedProblem& p;
+struct PassDriver : smoothing::EngineState {
   const CeresActiveSetOptions& prm;
-  Eigen::VectorXd a;  // the current point
-  double cscale = 0.0, snap = 0.0;
-  MinimizerStatus reason = MinimizerStatus::stalled;
-  std::string message;
+  double cscale = 0.0;  // |c|_inf, the scale of Ceres' gradient tolerance
 
   PassDriver(MinimizerRun& r, const CeresActiveSetOptions& options)
-      : run(r), p(r.problem()), prm(options), a(r.start()), cscale(std::max(p.c.cwiseAbs().maxCoeff(), 1e-300)),
-        snap(options.snap * std::max(smoothing::length_scale(p, a), 1e-300)) {}
+      : EngineState(r, options.snap), prm(options), cscale(std::max(p.c.cwiseAbs().maxCoeff(), 1e-300)) {}
 
   // Minimizes F_eps over the nodes not in `active` (Ceres LBFGS, unconstrained), then projects;
   // true when certified.

@@ -56,18 +56,10 @@ struct OptDeleter {
 };
 
 // The state of one minimize() call shared by its MMA runs.
-struct MmaDriver {
-  MinimizerRun& run;
-  const ReducedProblem& p;
+struct MmaDriver : smoothing::EngineState {
   const NloptMmaOptions& prm;
-  Eigen::VectorXd a;  // the current point
-  double scale_a = 0.0, snap = 0.0;
-  MinimizerStatus reason = MinimizerStatus::stalled;
-  std::string message;
 
-  MmaDriver(MinimizerRun& r, const NloptMmaOptions& options)
-      : run(r), p(r.problem()), prm(options), a(r.start()), scale_a(smoothing::length_scale(p, a)),
-        snap(options.snap * std::max(scale_a, 1e-300)) {}
+  MmaDriver(MinimizerRun& r, const NloptMmaOptions& options) : EngineState(r, options.snap), prm(options) {}
 
   // One MMA run at the smoothing scale of `law` over the nodes not pinned; true when certified.
   bool stage(const SmoothedLaw& law, const std::vector<char>& pinned, bool final_stage, bool polish) {
@@ -99,7 +91,7 @@ struct MmaDriver {
       x[k] = a(i);
       lb[k] = std::isfinite(p.lower(i)) ? p.lower(i) : -HUGE_VAL;
       ub[k] = std::isfinite(p.upper(i)) ? p.upper(i) : HUGE_VAL;
-      step[k] = std::max(scale_a, 1e-12);
+      step[k] = std::max(length, 1e-12);
       if (std::isfinite(lb[k]) && std::isfinite(ub[k])) step[k] = std::max(0.5 * (ub[k] - lb[k]), 1e-12);
     }
     nlopt_set_lower_bounds(opt.get(), lb.data());

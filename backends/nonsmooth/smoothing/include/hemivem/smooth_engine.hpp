@@ -120,4 +120,19 @@ inline double length_scale(const ReducedProblem& p, const Eigen::VectorXd& a) {
                    cmax / std::max(p.S.diagonal().minCoeff(), 1e-300)});
 }
 
+/// What a smoothing engine's stages share during one minimize() call: the run, the current
+/// point, the length scale of the unknowns and the snapping distance (`snap` times it), and
+/// the reason and message of a stop.
+struct EngineState {
+  MinimizerRun& run;
+  const ReducedProblem& p;
+  Eigen::VectorXd a;
+  double length = 0.0, snap = 0.0;
+  MinimizerStatus reason = MinimizerStatus::stalled;
+  std::string message;
+
+  EngineState(MinimizerRun& r, double snap_fraction)
+      : run(r), p(r.problem()), a(r.start()), length(length_scale(p, a)), snap(snap_fraction * std::max(length, 1e-300)) {}
+};
+
 }  // namespace hemivem::smoothing
