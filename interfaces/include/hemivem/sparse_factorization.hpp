@@ -18,12 +18,11 @@
 // call is collective and the outputs exist on the one process that holds the results.
 #pragma once
 
+#include <hemivem/engine_names.hpp>
+
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
-#include <algorithm>
-#include <array>
-#include <cctype>
 #include <memory>
 #include <span>
 #include <string>
@@ -52,7 +51,7 @@ struct FactorizationResult {
 
 /// One flat options struct (as Ceres' Solver::Options). `engine` names the backend.
 struct FactorizationOptions {
-  std::string engine = "eigen";  ///< eigen | cholmod | mumps | mumps-mpi (case-insensitive)
+  std::string engine = "eigen";  ///< one of known_linear_engines() (case-insensitive, '_' as '-')
   /// Forwarded to engines that print diagnostics; hemivem itself never prints.
   int verbosity = 0;
   /// Threads an engine may use where it has such a setting (0: engine default).
@@ -132,14 +131,9 @@ inline bool FactorizationOptions::is_valid(std::string* error) const {
     if (error != nullptr) *error = std::move(message);
     return false;
   };
-  std::string name = engine;
-  std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) {
-    return c == '_' ? '-' : static_cast<char>(std::tolower(c));
-  });
-  constexpr std::array<const char*, 4> known = {"eigen", "cholmod", "mumps", "mumps-mpi"};
-  if (std::find(known.begin(), known.end(), name) == known.end())
-    return fail("engine: unknown linear engine '" + engine +
-                "' (known: eigen, cholmod, mumps, mumps-mpi)");
+  if (!is_known_engine(known_linear_engines(), engine))
+    return fail("engine: unknown linear engine '" + engine + "' (known: " + join_engine_names(known_linear_engines()) +
+                ")");
   if (verbosity < 0) return fail("verbosity: must be >= 0, got " + std::to_string(verbosity));
   if (threads < 0) return fail("threads: must be >= 0 (0: engine default), got " + std::to_string(threads));
   return true;
