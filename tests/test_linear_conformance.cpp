@@ -385,6 +385,21 @@ TEST_P(LinearConformance, UncompressedInputIsAccepted) {
   EXPECT_EQ(S.rows(), 5);
 }
 
+TEST_P(LinearConformance, InteriorSolveAfterAReusedAnalysisUsesTheNewValues) {
+  const int n = 120;
+  const SparseMatrix A = random_spd(n, 8);
+  const SparseMatrix C = same_pattern_new_values(A, 0.4);
+  const std::vector<int> block1 = random_block(n, 17, 8);
+  const std::vector<int> block2 = complement(n, block1);
+  auto f = make();
+  Eigen::MatrixXd S, X2;
+  ASSERT_TRUE(f->schur_complement(A, block1, &S).ok());
+  ASSERT_TRUE(f->schur_complement(C, block1, &S).ok());
+  const Eigen::MatrixXd B2 = random_rhs(static_cast<Eigen::Index>(block2.size()), 2, 8);
+  ASSERT_TRUE(f->solve_interior(B2, &X2).ok());
+  EXPECT_LT(relative_error(X2, submatrix(Eigen::MatrixXd(C), block2, block2).llt().solve(B2)), kTolerance);
+}
+
 INSTANTIATE_TEST_SUITE_P(Engines, LinearConformance, ::testing::ValuesIn(available_factorizations()),
                          [](const ::testing::TestParamInfo<std::string>& info) { return printable(info.param); });
 
