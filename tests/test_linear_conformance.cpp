@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include <Eigen/Dense>
 #include <Eigen/SparseCholesky>
 
@@ -383,6 +385,21 @@ TEST_P(LinearConformance, UncompressedInputIsAccepted) {
   Eigen::MatrixXd S;
   ASSERT_TRUE(f->schur_complement(U, random_block(n, 5, 6), &S).ok());
   EXPECT_EQ(S.rows(), 5);
+}
+
+TEST_P(LinearConformance, NonFiniteEntriesAreANumericalFailure) {
+  for (const double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+    SparseMatrix A = random_spd(20, 7);
+    A.coeffRef(4, 4) = bad;
+    auto f = make();
+    const FactorizationResult r = f->factorize(A);
+    EXPECT_EQ(r.status, FactorizationStatus::numerical_failure) << r.message;
+    Eigen::MatrixXd X, S;
+    EXPECT_EQ(f->solve(Eigen::MatrixXd::Ones(20, 1), &X).status, FactorizationStatus::not_ready);
+    const FactorizationResult s = f->schur_complement(A, std::vector<int>{1, 4, 9}, &S);
+    EXPECT_EQ(s.status, FactorizationStatus::numerical_failure) << s.message;
+    EXPECT_EQ(f->solve_interior(Eigen::MatrixXd::Ones(17, 1), &X).status, FactorizationStatus::not_ready);
+  }
 }
 
 TEST_P(LinearConformance, InteriorSolveAfterAReusedAnalysisUsesTheNewValues) {

@@ -12,7 +12,8 @@
 //
 // Algorithmic outcomes are statuses with a human message; programming and setup errors
 // (wrong sizes, calls out of order) are statuses too (invalid_input / not_ready), never
-// prints or exits. Every engine must detect a matrix that is not positive definite.
+// prints or exits. Every engine must detect a matrix that is not positive definite; a matrix
+// with entries that are not finite is a numerical_failure.
 //
 // An engine may run across processes (holds_results(), num_processes(), share()): then every
 // call is collective and the outputs exist on the one process that holds the results.
