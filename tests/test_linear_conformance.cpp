@@ -4,6 +4,7 @@
 // and the statuses of calls out of order or with bad sizes. Plus the factory.
 #include <hemivem/error.hpp>
 #include <hemivem/linear_backends.hpp>
+#include <hemivem/process_group.hpp>
 #include <hemivem/sparse_factorization.hpp>
 
 #include <gtest/gtest.h>
@@ -415,6 +416,19 @@ TEST_P(LinearConformance, InteriorSolveAfterAReusedAnalysisUsesTheNewValues) {
   const Eigen::MatrixXd B2 = random_rhs(static_cast<Eigen::Index>(block2.size()), 2, 8);
   ASSERT_TRUE(f->solve_interior(B2, &X2).ok());
   EXPECT_LT(relative_error(X2, submatrix(Eigen::MatrixXd(C), block2, block2).llt().solve(B2)), kTolerance);
+}
+
+TEST_P(LinearConformance, RunsAcrossProcessesOnlyWhenItIsAProcessGroup) {
+  auto f = make();
+  const ProcessGroup& processes = processes_of(*f);
+  const bool group = dynamic_cast<const ProcessGroup*>(f.get()) != nullptr;
+  // mumps-mpi (loaded as a module, so the type is checked across the module boundary) is one;
+  // without mpirun it runs on one process.
+  EXPECT_EQ(group, GetParam() == "mumps-mpi");
+  EXPECT_EQ(&processes == static_cast<const ProcessGroup*>(dynamic_cast<const ProcessGroup*>(f.get())), group);
+  EXPECT_TRUE(processes.holds_results());
+  EXPECT_EQ(processes.num_processes(), 1);
+  EXPECT_EQ(processes.share(41), 41);
 }
 
 INSTANTIATE_TEST_SUITE_P(Engines, LinearConformance, ::testing::ValuesIn(available_factorizations()),

@@ -1,6 +1,7 @@
 #include <hemivem/contact.hpp>
 #include <hemivem/condition.hpp>
 #include <hemivem/error.hpp>
+#include <hemivem/process_group.hpp>
 
 #include <Eigen/Eigenvalues>
 
@@ -140,7 +141,7 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
   require(factorization_->schur_complement(At, block1_, &reduced_.S), *factorization_, "static condensation");
   reduced_.S = 0.5 * (reduced_.S + reduced_.S.transpose()).eval();
 
-  if (!factorization_->holds_results()) {
+  if (!processes_of(*factorization_).holds_results()) {
     // An engine across processes: this process takes part in the interior solve (collective)
     // but receives no result; S, c and the margin exist where the results are held.
     Eigen::MatrixXd y;
@@ -177,9 +178,10 @@ double Condensation::condition_estimate() const {
 }
 
 Eigen::VectorXd Condensation::back_substitute(const Eigen::VectorXd& a) const {
-  const bool holds = factorization_->holds_results();
+  const ProcessGroup& processes = processes_of(*factorization_);
+  const bool holds = processes.holds_results();
   // The check is decided where a lives and shared, so that no process is left in the solve.
-  const bool fits = factorization_->share(!holds || a.size() == static_cast<Eigen::Index>(block1_.size()) ? 1 : 0) != 0;
+  const bool fits = processes.share(!holds || a.size() == static_cast<Eigen::Index>(block1_.size()) ? 1 : 0) != 0;
   if (!fits)
     throw InputError("back-substitution needs " + std::to_string(block1_.size()) + " normal displacements, got " +
                      (holds ? std::to_string(a.size()) : std::string("another number on the process holding the results")));

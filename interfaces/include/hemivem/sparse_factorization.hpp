@@ -15,8 +15,8 @@
 // prints or exits. Every engine must detect a matrix that is not positive definite; a matrix
 // with entries that are not finite is a numerical_failure.
 //
-// An engine may run across processes (holds_results(), num_processes(), share()): then every
-// call is collective and the outputs exist on the one process that holds the results.
+// An engine that runs across processes implements hemivem/process_group.hpp's ProcessGroup
+// as well; an engine in one process implements this interface alone.
 #pragma once
 
 #include <hemivem/engine_names.hpp>
@@ -96,21 +96,6 @@ class SparseFactorization {
   /// so that callers and tests can see that an analysis is reused; -1 when the engine
   /// does not count them.
   virtual int num_analyses() const { return -1; }
-
-  // ---- engines that run across processes (mumps-mpi under mpirun) ----------------------
-  // Such an engine is constructed on every process and every method is called on every
-  // process in the same order; the matrices and right-hand sides are read on one process
-  // and the outputs (X, X2, S) are written there only. Engines in one process keep the
-  // defaults below.
-
-  /// True on the process that receives the outputs (rank 0 of an engine across processes;
-  /// always true for an engine in one process).
-  virtual bool holds_results() const { return true; }
-  /// The number of processes the engine runs on (1 for an engine in one process).
-  virtual int num_processes() const { return 1; }
-  /// Collective: every process returns the `value` given on the process that holds the
-  /// results, so that work done there alone can decide the path every process takes next.
-  virtual int share(int value) const { return value; }
 };
 
 // ---- inline definitions (the interfaces layer stays header-only) ------------
