@@ -96,14 +96,21 @@ Eigen::MatrixXd sub(const Eigen::MatrixXd& A, const std::vector<int>& r, const s
   return M;
 }
 
+/// A CholeskyEngine with a DenseKernel, and that kernel.
+struct DenseEngine {
+  DenseEngine() : kernel(new DenseKernel), engine(std::unique_ptr<CholeskyKernel>(kernel), "dense") {}
+  DenseKernel* kernel;
+  CholeskyEngine engine;
+};
+
 TEST(CholeskyEngine, SchurComplementAndInteriorSolveMatchDenseBlocks) {
   const int n = 30;
   const SparseMatrix A = random_spd(n, 3);
   const Eigen::MatrixXd D(A);
   const Blocks b = blocks(n);
-  auto kernel = std::make_unique<DenseKernel>();
-  DenseKernel& k = *kernel;
-  CholeskyEngine engine(std::move(kernel), "dense");
+  DenseEngine dense;
+  DenseKernel& k = *dense.kernel;
+  CholeskyEngine& engine = dense.engine;
   Eigen::MatrixXd S, X2;
   ASSERT_TRUE(engine.schur_complement(A, b.block1, &S).ok());
   const Eigen::MatrixXd A22 = sub(D, b.block2, b.block2), A12 = sub(D, b.block1, b.block2);
@@ -125,18 +132,17 @@ TEST(CholeskyEngine, NewValuesOnThePatternAreCopiedWithoutANewAnalysis) {
   SparseMatrix C = A;
   for (Eigen::Index p = 0; p < C.nonZeros(); ++p) C.valuePtr()[p] *= 2.0;
   const Blocks b = blocks(n);
-  auto kernel = std::make_unique<DenseKernel>();
-  DenseKernel& k = *kernel;
-  CholeskyEngine engine(std::move(kernel), "dense");
+  DenseEngine dense;
   Eigen::MatrixXd S1, S2;
+  CholeskyEngine& engine = dense.engine;
   ASSERT_TRUE(engine.schur_complement(A, b.block1, &S1).ok());
   ASSERT_TRUE(engine.schur_complement(C, b.block1, &S2).ok());
-  EXPECT_EQ(k.ordered_analyses, 1);
+  EXPECT_EQ(dense.kernel->ordered_analyses, 1);
   EXPECT_EQ(engine.num_analyses(), 1);
   EXPECT_LT((S2 - 2.0 * S1).norm(), 1e-12 * S1.norm());
   const std::vector<int> other = {0, 5};
   ASSERT_TRUE(engine.schur_complement(C, other, &S2).ok());
-  EXPECT_EQ(k.ordered_analyses, 2) << "another block1 is another elimination order";
+  EXPECT_EQ(dense.kernel->ordered_analyses, 2) << "another block1 is another elimination order";
 }
 
 TEST(CholeskyEngine, PivotOfAFailureIsNamedInA) {

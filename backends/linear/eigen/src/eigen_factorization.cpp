@@ -23,14 +23,16 @@ const SparseMatrix& factor(const Solver& solver) {
 }
 
 template <class Solver>
-FactorizationResult analysis_status(const Solver& solver) {
+FactorizationResult analyze_with(Solver& solver, const SparseMatrix& A) {
+  solver.analyzePattern(A);
   if (solver.info() != Eigen::Success)
     return make_result(FactorizationStatus::numerical_failure, "SimplicialLLT::analyzePattern failed");
   return FactorizationResult::good();
 }
 
 template <class Solver>
-FactorizationResult numeric_status(const Solver& solver) {
+FactorizationResult factorize_with(Solver& solver, const SparseMatrix& A) {
+  solver.factorize(A);
   if (solver.info() == Eigen::NumericalIssue)
     return make_result(FactorizationStatus::not_positive_definite,
                        "the matrix is not positive definite (SimplicialLLT met a pivot <= 0)");
@@ -44,14 +46,8 @@ FactorizationResult numeric_status(const Solver& solver) {
 
 class EigenKernel final : public CholeskyKernel {
  public:
-  FactorizationResult analyze(const SparseMatrix& A) override {
-    main_.analyzePattern(A);
-    return analysis_status(main_);
-  }
-  FactorizationResult factorize(const SparseMatrix& A) override {
-    main_.factorize(A);
-    return numeric_status(main_);
-  }
+  FactorizationResult analyze(const SparseMatrix& A) override { return analyze_with(main_, A); }
+  FactorizationResult factorize(const SparseMatrix& A) override { return factorize_with(main_, A); }
   FactorizationResult solve(const Eigen::MatrixXd& B, Eigen::MatrixXd* X) const override {
     *X = main_.solve(B);
     return FactorizationResult::good();
@@ -64,14 +60,8 @@ class EigenKernel final : public CholeskyKernel {
     perm->assign(inverse.indices().data(), inverse.indices().data() + inverse.size());
     return FactorizationResult::good();
   }
-  FactorizationResult analyze_ordered(const SparseMatrix& P) override {
-    ordered_.analyzePattern(P);
-    return analysis_status(ordered_);
-  }
-  FactorizationResult factorize_ordered(const SparseMatrix& P) override {
-    ordered_.factorize(P);
-    return numeric_status(ordered_);
-  }
+  FactorizationResult analyze_ordered(const SparseMatrix& P) override { return analyze_with(ordered_, P); }
+  FactorizationResult factorize_ordered(const SparseMatrix& P) override { return factorize_with(ordered_, P); }
   FactorColumn column(int j) const override {
     const SparseMatrix& L = factor(ordered_);
     const int begin = L.outerIndexPtr()[j];
