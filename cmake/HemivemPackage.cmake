@@ -11,19 +11,20 @@ set(HEMIVEM_INSTALL_CMAKEDIR "${CMAKE_INSTALL_LIBDIR}/cmake/hemivem" CACHE STRIN
     "Folder (relative to the prefix) of the installed package config")
 mark_as_advanced(HEMIVEM_INSTALL_CMAKEDIR)
 
-# component | target (hemivem::<target>) | packages a static build of it links privately
-set(_hemivem_component_table
-  "core|core|CGAL tomlplusplus"
-  "eigen|linear_eigen|"
-  "cholmod|linear_cholmod|CHOLMOD"
-  "mumps|linear_mumps|MUMPS_seq"
-  "mumps-mpi|linear_mumps_mpi|MUMPS_mpi"
-  "ssn|nonsmooth_ssn|"
-  "bundle-dca|nonsmooth_bundle_dca|"
-  "nlopt-mma|nonsmooth_nlopt_mma|NLopt"
-  "ceres-active-set|nonsmooth_ceres_active_set|Ceres"
-  "linear|linear|"
-  "nonsmooth|nonsmooth|")
+# component | target (hemivem::<target>) | packages a static build of it links privately;
+# one component per engine of cmake/HemivemEngines.cmake, in between.
+set(_hemivem_component_table "core|core|CGAL tomlplusplus")
+foreach(_kind linear nonsmooth)
+  hemivem_engine_names(${_kind} _names)
+  foreach(_name IN LISTS _names)
+    hemivem_engine_field(${_kind} ${_name} TARGET _target)
+    hemivem_engine_field(${_kind} ${_name} DEPENDENCIES _deps)
+    string(REGEX REPLACE "^hemivem_" "" _target ${_target})
+    string(REPLACE ";" " " _deps "${_deps}")
+    list(APPEND _hemivem_component_table "${_name}|${_target}|${_deps}")
+  endforeach()
+endforeach()
+list(APPEND _hemivem_component_table "linear|linear|" "nonsmooth|nonsmooth|")
 
 set(HEMIVEM_KNOWN_COMPONENTS)
 set(HEMIVEM_BUILT_COMPONENTS)

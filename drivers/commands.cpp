@@ -5,6 +5,7 @@
 #include <hemivem/linear_backends.hpp>
 #include <hemivem/mesh_generators.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
+#include <hemivem/process_group.hpp>
 #include <hemivem/piecewise_law.hpp>
 #include <hemivem/reduced_io.hpp>
 #include <hemivem/scene.hpp>
@@ -105,8 +106,8 @@ SceneSolve solve_scene(const Scene& scene, const std::function<void(const BuiltP
   const auto minimizer = make_scene_minimizer(scene, scene.solver.minimizer);
   s.linear = factorization->name();
   s.minimizer = minimizer->name();
-  s.holds_results = factorization->holds_results();
-  s.processes = factorization->num_processes();
+  s.holds_results = processes_of(*factorization).holds_results();
+  s.processes = processes_of(*factorization).num_processes();
   s.options.tolerance = scene.solver.tolerance;
   s.options.max_iterations = scene.solver.max_iterations;
   s.options.callback = std::move(callback);

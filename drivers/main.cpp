@@ -9,6 +9,7 @@
 //   hemivem bench [SCENE.toml] [flags]   time against error for every pair of engines
 #include <CLI/CLI.hpp>
 
+#include <hemivem/engine_names.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/linear_backends.hpp>
 #include <hemivem/mesh_generators.hpp>
@@ -54,8 +55,8 @@ int run_command(int argc, char** argv) {
   cmd_solve->add_option("scene", solve.scene, "Scene file (TOML, see scenes/README.md)")->check(CLI::ExistingFile);
   auto* o_mesh = cmd_solve->add_option("--mesh", mesh_flag, "squares|triangles|voronoi|nonconvex|distorted|PATH.poly2d|PATH.msh");
   auto* o_n = cmd_solve->add_option("--n", n_flag, "Elements (or Voronoi seeds) per side")->check(CLI::Range(1, 10000000));
-  auto* o_linear = cmd_solve->add_option("--linear", linear_flag, "eigen|cholmod|mumps|mumps-mpi");
-  auto* o_min = cmd_solve->add_option("--minimizer", minimizer_flag, "ssn|bundle-dca|nlopt-mma|ceres-active-set");
+  auto* o_linear = cmd_solve->add_option("--linear", linear_flag, join_engine_names(known_linear_engines(), "|"));
+  auto* o_min = cmd_solve->add_option("--minimizer", minimizer_flag, join_engine_names(known_minimizers(), "|"));
   auto* o_tol = cmd_solve->add_option("--tol", tol_flag, "Certificate tolerance")->check(CLI::PositiveNumber);
   cmd_solve->add_option("--set", solve.set, "Override a scene key: key=value (repeatable), e.g. contact.gap=0.01");
   cmd_solve->add_option("--out", solve.out, "Output folder")->capture_default_str();
@@ -70,7 +71,7 @@ int run_command(int argc, char** argv) {
   cmd_min->add_option("dir", minimize.folder, "Folder with S.mtx, c.txt, w.txt, g.txt[, law.txt, problem.txt]")
       ->required()
       ->check(CLI::ExistingDirectory);
-  cmd_min->add_option("--minimizer", minimize.minimizer, "ssn|bundle-dca|nlopt-mma|ceres-active-set")->capture_default_str();
+  cmd_min->add_option("--minimizer", minimize.minimizer, join_engine_names(known_minimizers(), "|"))->capture_default_str();
   cmd_min->add_option("--law", minimize.law, "A shipped law replacing law.txt: paper|linear|kinked|sawtooth|zero");
   cmd_min->add_option("--tol", minimize.tolerance, "Certificate tolerance")->capture_default_str()->check(CLI::PositiveNumber);
   cmd_min->add_flag("--json", minimize.json, "Print the result as JSON");

@@ -113,7 +113,9 @@ fi
 
 # ---- 4. components ------------------------------------------------------------------------
 missing=""
-for c in eigen cholmod mumps mumps-mpi ssn bundle-dca nlopt-mma ceres-active-set linear nonsmooth; do
+known="$(sed -n 's/^set(_hemivem_known "\(.*\)")$/\1/p' "$config")"
+[ -n "$known" ] || fail "hemivemConfig.cmake lists no known components"
+for c in ${known//;/ }; do
   has "$c" || missing="$c"
 done
 for wanted in no-such-engine $missing; do

@@ -1,6 +1,7 @@
 // Static condensation onto the contact normals (DESIGN §3) with every built engine.
 #include <hemivem/contact.hpp>
 #include <hemivem/contact_problem.hpp>
+#include <hemivem/error.hpp>
 #include <hemivem/linear_backends.hpp>
 #include <hemivem/mesh_generators.hpp>
 #include <hemivem/piecewise_law.hpp>
@@ -10,6 +11,8 @@
 #include <gtest/gtest.h>
 
 #include <iostream>
+#include <span>
+#include <type_traits>
 
 #include "test_support.hpp"
 
@@ -204,6 +207,89 @@ TEST(Condensation, UniquenessMarginIsPositiveAndScalesWithH) {
 TEST(Condensation, ConcaveKinkMakesTheMarginMinusInfinity) {
   auto ex = example(8, sawtooth_law(), ConstraintKind::one_sided);
   EXPECT_EQ(condense(*ex, "eigen").uniqueness_margin(), -std::numeric_limits<double>::infinity());
+}
+
+// An engine that works (eigen) until the call `fail_at` (0: schur_complement, k > 0: the k-th
+// solve_interior), which returns `status` instead.
+class FailingFactorization final : public SparseFactorization {
+ public:
+  FailingFactorization(FactorizationStatus status, int fail_at) : status_(status), fail_at_(fail_at) {}
+  std::string name() const override { return "failing"; }
+  FactorizationResult analyze(const SparseMatrix& A) override { return inner_->analyze(A); }
+  FactorizationResult factorize(const SparseMatrix& A) override { return inner_->factorize(A); }
+  FactorizationResult solve(const Eigen::MatrixXd& B, Eigen::MatrixXd* X) const override { return inner_->solve(B, X); }
+  FactorizationResult schur_complement(const SparseMatrix& A, std::span<const int> block1, Eigen::MatrixXd* S) override {
+    return next() ? inner_->schur_complement(A, block1, S) : failure();
+  }
+  FactorizationResult solve_interior(const Eigen::MatrixXd& B2, Eigen::MatrixXd* X2) const override {
+    return next() ? inner_->solve_interior(B2, X2) : failure();
+  }
+
+ private:
+  bool next() const { return calls_++ != fail_at_; }
+  FactorizationResult failure() const { return {status_, "injected " + to_string(status_)}; }
+  std::unique_ptr<SparseFactorization> inner_ = make_factorization({});
+  FactorizationStatus status_;
+  int fail_at_;
+  mutable int calls_ = 0;
+};
+
+bool is_callers_mistake(FactorizationStatus s) {
+  return s == FactorizationStatus::invalid_input || s == FactorizationStatus::not_ready;
+}
+
+class CondensationFailures : public ::testing::TestWithParam<FactorizationStatus> {};
+
+// A status naming a broken contract is a programming error (InternalError, exit 5); any other
+// is the engine's numerical failure (NumericalError, exit 4).
+template <class Call>
+void expect_error_kind(FactorizationStatus status, Call call) {
+  try {
+    call();
+    ADD_FAILURE() << "expected an exception for " << to_string(status);
+  } catch (const InternalError& e) {
+    EXPECT_TRUE(is_callers_mistake(status)) << to_string(status) << ": " << e.what();
+    EXPECT_NE(std::string(e.what()).find("injected " + to_string(status)), std::string::npos) << e.what();
+  } catch (const NumericalError& e) {
+    EXPECT_FALSE(is_callers_mistake(status)) << to_string(status) << ": " << e.what();
+    EXPECT_NE(std::string(e.what()).find("injected " + to_string(status)), std::string::npos) << e.what();
+  }
+}
+
+TEST_P(CondensationFailures, OfTheSchurComplement) {
+  auto ex = example(4);
+  expect_error_kind(GetParam(), [&] {
+    Condensation(ex->system, ex->boundary, std::make_unique<FailingFactorization>(GetParam(), 0), ex->problem.law,
+                 ex->problem.constraint);
+  });
+}
+
+TEST_P(CondensationFailures, OfTheInteriorSolveForTheLoad) {
+  auto ex = example(4);
+  expect_error_kind(GetParam(), [&] {
+    Condensation(ex->system, ex->boundary, std::make_unique<FailingFactorization>(GetParam(), 1), ex->problem.law,
+                 ex->problem.constraint);
+  });
+}
+
+TEST_P(CondensationFailures, OfTheBackSubstitution) {
+  auto ex = example(4);
+  const Condensation cond(ex->system, ex->boundary, std::make_unique<FailingFactorization>(GetParam(), 2),
+                          ex->problem.law, ex->problem.constraint);
+  expect_error_kind(GetParam(), [&] { cond.back_substitute(Eigen::VectorXd::Zero(ex->boundary.size())); });
+}
+
+INSTANTIATE_TEST_SUITE_P(Statuses, CondensationFailures,
+                         ::testing::Values(FactorizationStatus::not_positive_definite,
+                                           FactorizationStatus::numerical_failure, FactorizationStatus::invalid_input,
+                                           FactorizationStatus::not_ready, FactorizationStatus::out_of_memory),
+                         [](const auto& info) { return to_string(info.param); });
+
+TEST(Condensation, ErrorKindsAreDistinctForTheCommandLine) {
+  // main.cpp maps InputError to exit 2, NumericalError to 4 and any other Error to 5.
+  EXPECT_TRUE((std::is_base_of_v<Error, InternalError>));
+  EXPECT_FALSE((std::is_base_of_v<NumericalError, InternalError>));
+  EXPECT_FALSE((std::is_base_of_v<InputError, InternalError>));
 }
 
 }  // namespace

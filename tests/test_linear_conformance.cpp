@@ -4,9 +4,12 @@
 // and the statuses of calls out of order or with bad sizes. Plus the factory.
 #include <hemivem/error.hpp>
 #include <hemivem/linear_backends.hpp>
+#include <hemivem/process_group.hpp>
 #include <hemivem/sparse_factorization.hpp>
 
 #include <gtest/gtest.h>
+
+#include <limits>
 
 #include <Eigen/Dense>
 #include <Eigen/SparseCholesky>
@@ -383,6 +386,49 @@ TEST_P(LinearConformance, UncompressedInputIsAccepted) {
   Eigen::MatrixXd S;
   ASSERT_TRUE(f->schur_complement(U, random_block(n, 5, 6), &S).ok());
   EXPECT_EQ(S.rows(), 5);
+}
+
+TEST_P(LinearConformance, NonFiniteEntriesAreANumericalFailure) {
+  for (const double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+    SparseMatrix A = random_spd(20, 7);
+    A.coeffRef(4, 4) = bad;
+    auto f = make();
+    const FactorizationResult r = f->factorize(A);
+    EXPECT_EQ(r.status, FactorizationStatus::numerical_failure) << r.message;
+    Eigen::MatrixXd X, S;
+    EXPECT_EQ(f->solve(Eigen::MatrixXd::Ones(20, 1), &X).status, FactorizationStatus::not_ready);
+    const FactorizationResult s = f->schur_complement(A, std::vector<int>{1, 4, 9}, &S);
+    EXPECT_EQ(s.status, FactorizationStatus::numerical_failure) << s.message;
+    EXPECT_EQ(f->solve_interior(Eigen::MatrixXd::Ones(17, 1), &X).status, FactorizationStatus::not_ready);
+  }
+}
+
+TEST_P(LinearConformance, InteriorSolveAfterAReusedAnalysisUsesTheNewValues) {
+  const int n = 120;
+  const SparseMatrix A = random_spd(n, 8);
+  const SparseMatrix C = same_pattern_new_values(A, 0.4);
+  const std::vector<int> block1 = random_block(n, 17, 8);
+  const std::vector<int> block2 = complement(n, block1);
+  auto f = make();
+  Eigen::MatrixXd S, X2;
+  ASSERT_TRUE(f->schur_complement(A, block1, &S).ok());
+  ASSERT_TRUE(f->schur_complement(C, block1, &S).ok());
+  const Eigen::MatrixXd B2 = random_rhs(static_cast<Eigen::Index>(block2.size()), 2, 8);
+  ASSERT_TRUE(f->solve_interior(B2, &X2).ok());
+  EXPECT_LT(relative_error(X2, submatrix(Eigen::MatrixXd(C), block2, block2).llt().solve(B2)), kTolerance);
+}
+
+TEST_P(LinearConformance, RunsAcrossProcessesOnlyWhenItIsAProcessGroup) {
+  auto f = make();
+  const ProcessGroup& processes = processes_of(*f);
+  const bool group = dynamic_cast<const ProcessGroup*>(f.get()) != nullptr;
+  // mumps-mpi (loaded as a module, so the type is checked across the module boundary) is one;
+  // without mpirun it runs on one process.
+  EXPECT_EQ(group, GetParam() == "mumps-mpi");
+  EXPECT_EQ(&processes == static_cast<const ProcessGroup*>(dynamic_cast<const ProcessGroup*>(f.get())), group);
+  EXPECT_TRUE(processes.holds_results());
+  EXPECT_EQ(processes.num_processes(), 1);
+  EXPECT_EQ(processes.share(41), 41);
 }
 
 INSTANTIATE_TEST_SUITE_P(Engines, LinearConformance, ::testing::ValuesIn(available_factorizations()),

@@ -383,11 +383,16 @@ TEST(Mumps, OneTriangleOnlyIsInvalidInput) {
   EXPECT_NE(r.message.find("symmetric"), std::string::npos) << r.message;
 }
 
-TEST(Mumps, NonFiniteEntriesAreInvalidInput) {
+TEST(Mumps, NonFiniteEntriesAreANumericalFailure) {
   SparseMatrix A = random_spd(5, 89);
   A.coeffRef(2, 2) = std::numeric_limits<double>::quiet_NaN();
   MumpsFactorization mumps;
-  EXPECT_EQ(mumps.factorize(A).status, FactorizationStatus::invalid_input);
+  EXPECT_EQ(mumps.factorize(A).status, FactorizationStatus::numerical_failure);
+  ASSERT_TRUE(mumps.factorize(random_spd(5, 89)).ok());
+  Eigen::MatrixXd X;
+  Eigen::MatrixXd B = Eigen::MatrixXd::Ones(5, 1);
+  B(3, 0) = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(mumps.solve(B, &X).status, FactorizationStatus::numerical_failure);
 }
 
 // ---- condition estimate ----------------------------------------------------------------

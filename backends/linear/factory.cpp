@@ -1,21 +1,15 @@
 #include <hemivem/linear_backends.hpp>
 
+#include <hemivem/engine_names.hpp>
 #include <hemivem/error.hpp>
 
 #include <algorithm>
-#include <cctype>
 
-#ifdef HEMIVEM_HAVE_EIGEN
-#include <hemivem/eigen_factorization.hpp>
-#endif
-#ifdef HEMIVEM_HAVE_CHOLMOD
-#include <hemivem/cholmod_factorization.hpp>
-#endif
-// The sequential MUMPS engine is linked; the MPI engine is loaded as a module because the two
+// The engines linked (cmake/HemivemEngines.cmake): their headers and HEMIVEM_ENGINES. The MPI
+// engine is not among them: it is loaded as a module because the sequential and the MPI
 // MUMPS builds export the same symbols (hemivem/mumps_mpi_plugin.hpp).
-#ifdef HEMIVEM_HAVE_MUMPS
-#include <hemivem/mumps_factorization.hpp>
-#endif
+#include "linear_registry.hpp"
+
 #ifdef HEMIVEM_HAVE_MUMPS_MPI
 #include <hemivem/mumps_mpi_plugin.hpp>
 
@@ -33,17 +27,8 @@ namespace hemivem {
 
 namespace {
 
-std::string normalized(const std::string& name) {
-  std::string out = name;
-  std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) {
-    return c == '_' ? '-' : static_cast<char>(std::tolower(c));
-  });
-  return out;
-}
-
 std::string built_list() {
-  std::string list;
-  for (const std::string& name : available_factorizations()) list += (list.empty() ? "" : ", ") + name;
+  const std::string list = join_engine_names(available_factorizations());
   return list.empty() ? "none" : list;
 }
 
@@ -122,15 +107,9 @@ CreateMumpsMpiFunction mumps_mpi_entry() {
 
 std::vector<std::string> available_factorizations() {
   std::vector<std::string> names;
-#ifdef HEMIVEM_HAVE_EIGEN
-  names.emplace_back("eigen");
-#endif
-#ifdef HEMIVEM_HAVE_CHOLMOD
-  names.emplace_back("cholmod");
-#endif
-#ifdef HEMIVEM_HAVE_MUMPS
-  names.emplace_back("mumps");
-#endif
+#define HEMIVEM_NAME(name, Class) names.emplace_back(name);
+  HEMIVEM_ENGINES(HEMIVEM_NAME)
+#undef HEMIVEM_NAME
 #ifdef HEMIVEM_HAVE_MUMPS_MPI
   names.emplace_back("mumps-mpi");
 #endif
@@ -145,10 +124,10 @@ int factorization_process_rank() {
 }
 
 std::unique_ptr<SparseFactorization> make_factorization(const FactorizationOptions& options) {
-  const std::string name = normalized(options.engine);
+  const std::string name = normalized_engine_name(options.engine);
   const auto built = available_factorizations();
   if (std::find(built.begin(), built.end(), name) == built.end()) {
-    const bool known = name == "eigen" || name == "cholmod" || name == "mumps" || name == "mumps-mpi";
+    const bool known = is_known_engine(known_linear_engines(), name);
     throw InputError(known ? "linear engine '" + options.engine + "' was not built; available: " + built_list()
                            : "unknown linear engine '" + options.engine + "'; available: " + built_list(),
                      "engine");
@@ -156,15 +135,10 @@ std::unique_ptr<SparseFactorization> make_factorization(const FactorizationOptio
   std::string error;
   if (!options.is_valid(&error)) throw InputError(error, "linear engine options");
 
-#ifdef HEMIVEM_HAVE_EIGEN
-  if (name == "eigen") return std::make_unique<EigenFactorization>(options);
-#endif
-#ifdef HEMIVEM_HAVE_CHOLMOD
-  if (name == "cholmod") return std::make_unique<CholmodFactorization>(options);
-#endif
-#ifdef HEMIVEM_HAVE_MUMPS
-  if (name == "mumps") return std::make_unique<MumpsFactorization>(options);
-#endif
+#define HEMIVEM_MAKE(engine, Class) \
+  if (name == engine) return std::make_unique<Class>(options);
+  HEMIVEM_ENGINES(HEMIVEM_MAKE)
+#undef HEMIVEM_MAKE
 #ifdef HEMIVEM_HAVE_MUMPS_MPI
   if (name == "mumps-mpi") return std::unique_ptr<SparseFactorization>(mumps_mpi_entry()(&options));
 #endif

@@ -1,6 +1,7 @@
 #include <hemivem/contact.hpp>
 #include <hemivem/condition.hpp>
 #include <hemivem/error.hpp>
+#include <hemivem/process_group.hpp>
 
 #include <Eigen/Eigenvalues>
 
@@ -55,6 +56,21 @@ ContactBoundary make_contact_boundary(const Mesh& mesh, const std::vector<int>& 
   }
   return cb;
 }
+
+namespace {
+
+/// Throws for a failed call of the engine: InternalError when the call broke the engine's
+/// contract (invalid_input, not_ready: a programming error), NumericalError otherwise.
+void require(const FactorizationResult& r, const SparseFactorization& engine, const std::string& what) {
+  if (r.ok()) return;
+  const std::string message =
+      what + " with the " + engine.name() + " engine failed (" + to_string(r.status) + "): " + r.message;
+  if (r.status == FactorizationStatus::invalid_input || r.status == FactorizationStatus::not_ready)
+    throw InternalError(message);
+  throw NumericalError(message);
+}
+
+}  // namespace
 
 double uniqueness_margin(const Eigen::MatrixXd& S, const Eigen::VectorXd& w, double alpha) {
   if (S.rows() == 0) return std::numeric_limits<double>::infinity();
@@ -122,20 +138,14 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
   reduced_.constraint = constraint;
   reduced_.w = boundary.weights;
   reduced_.g = boundary.gaps;
-  const FactorizationResult r = factorization_->schur_complement(At, block1_, &reduced_.S);
-  if (!r.ok())
-    throw NumericalError("static condensation with the " + factorization_->name() + " engine failed (" +
-                         to_string(r.status) + "): " + r.message);
+  require(factorization_->schur_complement(At, block1_, &reduced_.S), *factorization_, "static condensation");
   reduced_.S = 0.5 * (reduced_.S + reduced_.S.transpose()).eval();
 
-  if (!factorization_->holds_results()) {
+  if (!processes_of(*factorization_).holds_results()) {
     // An engine across processes: this process takes part in the interior solve (collective)
     // but receives no result; S, c and the margin exist where the results are held.
     Eigen::MatrixXd y;
-    const FactorizationResult s = factorization_->solve_interior(Eigen::MatrixXd(), &y);
-    if (!s.ok())
-      throw NumericalError("interior solve with the " + factorization_->name() + " engine failed (" +
-                           to_string(s.status) + "): " + s.message);
+    require(factorization_->solve_interior(Eigen::MatrixXd(), &y), *factorization_, "interior solve");
     margin_ = std::numeric_limits<double>::quiet_NaN();
     reduced_.uniqueness_margin = margin_;
     return;
@@ -152,10 +162,7 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
   const Eigen::VectorXd b1 = P1 * bt;
   b2_ = P2 * bt;
   Eigen::MatrixXd y;
-  const FactorizationResult s = factorization_->solve_interior(b2_, &y);
-  if (!s.ok())
-    throw NumericalError("interior solve with the " + factorization_->name() + " engine failed (" + to_string(s.status) +
-                         "): " + s.message);
+  require(factorization_->solve_interior(b2_, &y), *factorization_, "interior solve");
   reduced_.c = b1 - A21_.transpose() * y.col(0);
   margin_ = hemivem::uniqueness_margin(reduced_.S, reduced_.w, reduced_.law->alpha());
   reduced_.uniqueness_margin = margin_;
@@ -171,17 +178,16 @@ double Condensation::condition_estimate() const {
 }
 
 Eigen::VectorXd Condensation::back_substitute(const Eigen::VectorXd& a) const {
-  const bool holds = factorization_->holds_results();
+  const ProcessGroup& processes = processes_of(*factorization_);
+  const bool holds = processes.holds_results();
   // The check is decided where a lives and shared, so that no process is left in the solve.
-  const bool fits = factorization_->share(!holds || a.size() == static_cast<Eigen::Index>(block1_.size()) ? 1 : 0) != 0;
+  const bool fits = processes.share(!holds || a.size() == static_cast<Eigen::Index>(block1_.size()) ? 1 : 0) != 0;
   if (!fits)
     throw InputError("back-substitution needs " + std::to_string(block1_.size()) + " normal displacements, got " +
                      (holds ? std::to_string(a.size()) : std::string("another number on the process holding the results")));
   Eigen::MatrixXd u2;
-  const FactorizationResult s = factorization_->solve_interior(holds ? Eigen::MatrixXd(b2_ - A21_ * a) : Eigen::MatrixXd(), &u2);
-  if (!s.ok())
-    throw NumericalError("back-substitution with the " + factorization_->name() + " engine failed (" +
-                         to_string(s.status) + "): " + s.message);
+  require(factorization_->solve_interior(holds ? Eigen::MatrixXd(b2_ - A21_ * a) : Eigen::MatrixXd(), &u2),
+          *factorization_, "back-substitution");
   if (!holds) return Eigen::VectorXd();
   Eigen::VectorXd ut(dofs_.num_free());
   for (std::size_t i = 0; i < block1_.size(); ++i) ut(block1_[i]) = a(static_cast<Eigen::Index>(i));

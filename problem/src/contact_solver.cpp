@@ -1,6 +1,7 @@
 #include <hemivem/condition.hpp>
 #include <hemivem/contact_solver.hpp>
 #include <hemivem/error.hpp>
+#include <hemivem/process_group.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -62,7 +63,7 @@ std::vector<ContactSolution> solve_contact(const ContactProblem& problem, const 
     if (!m) throw InputError("solve_contact: a minimizer is null");
   if (std::string why; !options.is_valid(&why)) throw InputError(why, "MinimizerOptions");
   const auto t_start = Clock::now();
-  const bool holds = factorization->holds_results();
+  const bool holds = processes_of(*factorization).holds_results();
   ContactSolution shared;
   auto t = Clock::now();
   shared.unknowns = sys.dofs.num_free();
@@ -116,7 +117,7 @@ std::vector<ContactSolution> solve_contact(const ContactProblem& problem, const 
       }
       require_finite(shared);
     }
-    m.status = static_cast<MinimizerStatus>(factorization->share(static_cast<int>(m.status)));
+    m.status = static_cast<MinimizerStatus>(processes_of(*factorization).share(static_cast<int>(m.status)));
     shared.timings["total"] = since(t_start);
     return std::vector<ContactSolution>(minimizers.size(), shared);
   }
@@ -159,7 +160,7 @@ std::vector<ContactSolution> solve_contact(const ContactProblem& problem, const 
         outcome = kThrewOther;
       }
     }
-    outcome = cond.factorization().share(outcome);
+    outcome = processes_of(cond.factorization()).share(outcome);
     if (failure) std::rethrow_exception(failure);
     if (outcome < 0) rethrow_elsewhere(outcome);
     sol.timings["minimize"] = since(t);
@@ -171,7 +172,7 @@ std::vector<ContactSolution> solve_contact(const ContactProblem& problem, const 
     sol.stages.push_back("back_substitution");
     if (!holds) {
       // the final status (after the checks below on the process holding the results)
-      sol.minimizer.status = static_cast<MinimizerStatus>(cond.factorization().share(0));
+      sol.minimizer.status = static_cast<MinimizerStatus>(processes_of(cond.factorization()).share(0));
       sol.timings["total"] = before_minimize + since(t_own);
       solutions.push_back(std::move(sol));
       continue;
@@ -196,7 +197,7 @@ std::vector<ContactSolution> solve_contact(const ContactProblem& problem, const 
     sol.energy = 0.5 * uf.dot(sys.A * uf) - uf.dot(sys.b);
     for (int i = 0; i < boundary.size(); ++i) sol.energy += rp.w(i) * rp.law->value(a(i));
     require_finite(sol);
-    cond.factorization().share(static_cast<int>(sol.minimizer.status));
+    processes_of(cond.factorization()).share(static_cast<int>(sol.minimizer.status));
     sol.timings["total"] = before_minimize + since(t_own);
     solutions.push_back(std::move(sol));
   }

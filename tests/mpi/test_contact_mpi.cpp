@@ -10,6 +10,7 @@
 #include <hemivem/error.hpp>
 #include <hemivem/mesh_generators.hpp>
 #include <hemivem/mumps_mpi_factorization.hpp>
+#include <hemivem/process_group.hpp>
 #include <hemivem/ssn_minimizer.hpp>
 
 #include <gtest/gtest.h>
@@ -167,6 +168,10 @@ TEST(ContactMpi, EngineReportsWhereTheResultsAre) {
   EXPECT_EQ(engine.holds_results(), root());
   EXPECT_EQ(engine.num_processes(), MumpsMpiFactorization::mpi_size());
   EXPECT_EQ(engine.share(root() ? 17 : -rank()), 17);
+  const ProcessGroup& processes = processes_of(engine);
+  EXPECT_EQ(&processes, static_cast<const ProcessGroup*>(&engine));
+  EXPECT_EQ(processes.share(root() ? 23 : -rank()), 23);
+  EXPECT_EQ(processes_of(EigenFactorization()).num_processes(), 1) << "an engine in one process on every rank";
 }
 
 }  // namespace

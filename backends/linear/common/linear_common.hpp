@@ -1,4 +1,5 @@
 // Checks and bookkeeping shared by the linear engines (private to backends/linear).
+// Messages do not name the engine: the caller of an engine does.
 #pragma once
 
 #include <hemivem/sparse_factorization.hpp>
@@ -29,6 +30,43 @@ inline FactorizationResult check_matrix(const SparseMatrix& A) {
     return invalid("the matrix is " + std::to_string(A.rows()) + "x" + std::to_string(A.cols()) +
                    ", not square");
   if (A.rows() == 0) return invalid("the matrix is empty (0x0)");
+  return FactorizationResult::good();
+}
+
+/// check_matrix, and every stored value of the compressed matrix A finite (a matrix with NaN
+/// or Inf cannot be factorized: a numerical failure, as when the factorization meets one).
+inline FactorizationResult check_values(const SparseMatrix& A) {
+  if (auto r = check_matrix(A); !r.ok()) return r;
+  const Eigen::Map<const Eigen::VectorXd> values(A.valuePtr(), A.nonZeros());
+  if (!values.allFinite())
+    return make_result(FactorizationStatus::numerical_failure, "the matrix has entries that are not finite");
+  return FactorizationResult::good();
+}
+
+/// Both triangles stored: the pattern of A equals that of its transpose.
+inline bool symmetric_pattern(const SparseMatrix& A) {
+  const SparseMatrix At = A.transpose();  // sorted inner indices
+  if (At.nonZeros() != A.nonZeros() || A.outerSize() != At.outerSize()) return false;
+  std::vector<int> column;
+  for (Eigen::Index j = 0; j < A.outerSize(); ++j) {
+    const int b = A.outerIndexPtr()[j], e = A.outerIndexPtr()[j + 1];
+    if (At.outerIndexPtr()[j] != b || At.outerIndexPtr()[j + 1] != e) return false;
+    column.assign(A.innerIndexPtr() + b, A.innerIndexPtr() + e);
+    std::sort(column.begin(), column.end());
+    if (!std::equal(column.begin(), column.end(), At.innerIndexPtr() + b)) return false;
+  }
+  return true;
+}
+
+/// The arguments of a solve: an output, and `rows` rows in `B` (named `b_name`; `matrix`
+/// names what was factorized).
+inline FactorizationResult check_right_hand_sides(const std::string& call, const std::string& b_name,
+                                                  const Eigen::MatrixXd& B, const Eigen::MatrixXd* X,
+                                                  Eigen::Index rows, const std::string& matrix) {
+  if (X == nullptr) return invalid(call + ": the output is null");
+  if (B.rows() != rows)
+    return invalid(call + ": " + b_name + " has " + std::to_string(B.rows()) + " rows, " + matrix + " " +
+                   std::to_string(rows));
   return FactorizationResult::good();
 }
 

@@ -51,4 +51,11 @@ class NumericalError : public Error {
   using Error::Error;
 };
 
+/// A programming error: a call that breaks a contract (arguments that do not fit, calls out
+/// of order). No input file or parameter can cause it.
+class InternalError : public Error {
+ public:
+  using Error::Error;
+};
+
 }  // namespace hemivem

@@ -12,18 +12,18 @@
 //
 // Algorithmic outcomes are statuses with a human message; programming and setup errors
 // (wrong sizes, calls out of order) are statuses too (invalid_input / not_ready), never
-// prints or exits. Every engine must detect a matrix that is not positive definite.
+// prints or exits. Every engine must detect a matrix that is not positive definite; a matrix
+// with entries that are not finite is a numerical_failure.
 //
-// An engine may run across processes (holds_results(), num_processes(), share()): then every
-// call is collective and the outputs exist on the one process that holds the results.
+// An engine that runs across processes implements hemivem/process_group.hpp's ProcessGroup
+// as well; an engine in one process implements this interface alone.
 #pragma once
+
+#include <hemivem/engine_names.hpp>
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
-#include <algorithm>
-#include <array>
-#include <cctype>
 #include <memory>
 #include <span>
 #include <string>
@@ -52,7 +52,7 @@ struct FactorizationResult {
 
 /// One flat options struct (as Ceres' Solver::Options). `engine` names the backend.
 struct FactorizationOptions {
-  std::string engine = "eigen";  ///< eigen | cholmod | mumps | mumps-mpi (case-insensitive)
+  std::string engine = "eigen";  ///< one of known_linear_engines() (case-insensitive, '_' as '-')
   /// Forwarded to engines that print diagnostics; hemivem itself never prints.
   int verbosity = 0;
   /// Threads an engine may use where it has such a setting (0: engine default).
@@ -96,21 +96,6 @@ class SparseFactorization {
   /// so that callers and tests can see that an analysis is reused; -1 when the engine
   /// does not count them.
   virtual int num_analyses() const { return -1; }
-
-  // ---- engines that run across processes (mumps-mpi under mpirun) ----------------------
-  // Such an engine is constructed on every process and every method is called on every
-  // process in the same order; the matrices and right-hand sides are read on one process
-  // and the outputs (X, X2, S) are written there only. Engines in one process keep the
-  // defaults below.
-
-  /// True on the process that receives the outputs (rank 0 of an engine across processes;
-  /// always true for an engine in one process).
-  virtual bool holds_results() const { return true; }
-  /// The number of processes the engine runs on (1 for an engine in one process).
-  virtual int num_processes() const { return 1; }
-  /// Collective: every process returns the `value` given on the process that holds the
-  /// results, so that work done there alone can decide the path every process takes next.
-  virtual int share(int value) const { return value; }
 };
 
 // ---- inline definitions (the interfaces layer stays header-only) ------------
@@ -132,14 +117,9 @@ inline bool FactorizationOptions::is_valid(std::string* error) const {
     if (error != nullptr) *error = std::move(message);
     return false;
   };
-  std::string name = engine;
-  std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) {
-    return c == '_' ? '-' : static_cast<char>(std::tolower(c));
-  });
-  constexpr std::array<const char*, 4> known = {"eigen", "cholmod", "mumps", "mumps-mpi"};
-  if (std::find(known.begin(), known.end(), name) == known.end())
-    return fail("engine: unknown linear engine '" + engine +
-                "' (known: eigen, cholmod, mumps, mumps-mpi)");
+  if (!is_known_engine(known_linear_engines(), engine))
+    return fail("engine: unknown linear engine '" + engine + "' (known: " + join_engine_names(known_linear_engines()) +
+                ")");
   if (verbosity < 0) return fail("verbosity: must be >= 0, got " + std::to_string(verbosity));
   if (threads < 0) return fail("threads: must be >= 0 (0: engine default), got " + std::to_string(threads));
   return true;

@@ -43,9 +43,11 @@ class Condensation {
   /// Rotates the contact-node dofs of `system` to (normal, tangential) components, orders
   /// the normal ones first and computes S, c with `factorization.schur_complement`; the
   /// factorization keeps A22 for back_substitute(). Throws NumericalError with the
-  /// engine's message when the factorization fails (e.g. not positive definite).
+  /// engine's message when the engine fails numerically (not_positive_definite,
+  /// numerical_failure, out_of_memory) and InternalError when it reports a broken contract
+  /// (invalid_input, not_ready); back_substitute() does the same.
   /// With an engine across processes (every process constructs a Condensation, see
-  /// SparseFactorization::holds_results) S, c and the margin exist on the process holding
+  /// hemivem/process_group.hpp) S, c and the margin exist on the process holding
   /// the results; elsewhere reduced() has empty S and c and the margin is NaN.
   Condensation(const LinearSystem& system, const ContactBoundary& boundary,
                std::unique_ptr<SparseFactorization> factorization, std::shared_ptr<const ContactLaw> law,

@@ -67,8 +67,8 @@ struct ContactSolution {
 /// is ||A u - b||_inf / max(||b||_inf, ||A u||_inf) of the one linear solve (primal 0), and the
 /// solve is converged when it is finite and below options.tolerance.
 ///
-/// With an engine across processes (factorization->holds_results() false on all but one
-/// process) every process calls solve_contact with the same problem: assembly runs on every
+/// With an engine across processes (hemivem/process_group.hpp: holds_results() false on all
+/// but one process) every process calls solve_contact with the same problem: assembly runs on every
 /// process, the engine's calls are collective, the minimizer and the results (u, contact,
 /// energy, margin, `reduced`) belong to the process holding the results. Elsewhere the
 /// solution carries the stages, the timings and the minimizer's status (shared), nothing else.

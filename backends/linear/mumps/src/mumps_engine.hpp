@@ -16,6 +16,8 @@
 #include <dmumps_c.h>
 #include <hemivem/sparse_factorization.hpp>
 
+#include "linear_common.hpp"
+
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
@@ -41,29 +43,7 @@ constexpr MUMPS_INT kJobAnalyze = 1;
 constexpr MUMPS_INT kJobFactorize = 2;
 constexpr MUMPS_INT kJobSolve = 3;
 
-FactorizationResult make_result(FactorizationStatus status, std::string message) {
-  FactorizationResult r;
-  r.status = status;
-  r.message = std::move(message);
-  return r;
-}
-
-/// A compressed copy of A when A is not compressed; A itself otherwise.
-class Compressed {
- public:
-  explicit Compressed(const SparseMatrix& A) : ptr_(&A) {
-    if (!A.isCompressed()) {
-      copy_ = A;
-      copy_.makeCompressed();
-      ptr_ = &copy_;
-    }
-  }
-  const SparseMatrix& get() const { return *ptr_; }
-
- private:
-  const SparseMatrix* ptr_;
-  SparseMatrix copy_;
-};
+using namespace linear_detail;
 
 template <class Comm>
 class MumpsEngine {
@@ -122,32 +102,34 @@ class MumpsEngine {
 
   FactorizationResult analyze(const SparseMatrix& A) {
     if (!initialized_) return init_error_;
-    Compressed C(A);
+    SparseMatrix storage;
+    const SparseMatrix& M = compressed(A, storage);
     FactorizationResult r;
-    if (comm_.is_root()) r = check_matrix(C.get(), /*values=*/false);
+    if (comm_.is_root()) r = check_pattern(M);
     r = agree(std::move(r));
     if (!r.ok()) return r;
     if (comm_.is_root()) {
-      gather_pattern(C.get());
-      gather_values(C.get());
+      gather_pattern(M);
+      gather_values(M);
     }
     return run_analysis({});
   }
 
   FactorizationResult factorize(const SparseMatrix& A) {
     if (!initialized_) return init_error_;
-    Compressed C(A);
+    SparseMatrix storage;
+    const SparseMatrix& M = compressed(A, storage);
     FactorizationResult r;
     int need_analysis = 0;
     if (comm_.is_root()) {
-      r = check_matrix(C.get(), /*values=*/true);
-      need_analysis = !(analysis_ == Analysis::plain && same_pattern(C.get()));
+      r = check_matrix_values(M);
+      need_analysis = !(analysis_ == Analysis::plain && pattern_.matches(M));
     }
     r = agree(std::move(r));
     if (!r.ok()) return invalidate(std::move(r));
     comm_.broadcast(&need_analysis, sizeof need_analysis);
-    if (comm_.is_root() && need_analysis) gather_pattern(C.get());
-    if (comm_.is_root()) gather_values(C.get());
+    if (comm_.is_root() && need_analysis) gather_pattern(M);
+    if (comm_.is_root()) gather_values(M);
     if (need_analysis) {
       r = run_analysis({});
       if (!r.ok()) return r;
@@ -160,21 +142,12 @@ class MumpsEngine {
     FactorizationResult r;
     std::int64_t nrhs = 0;
     if (comm_.is_root()) {
-      if (X == nullptr) {
-        r = make_result(FactorizationStatus::invalid_input, name_ + ": solve() needs an output matrix X");
-      } else if (factors_ != Factors::full) {
-        r = make_result(FactorizationStatus::not_ready,
-                        name_ + (factors_ == Factors::schur
-                                     ? ": solve() after schur_complement(): the factors held are "
-                                       "those of A22; call factorize() to solve with all of A"
-                                     : ": solve() needs a successful factorize() first"));
-      } else if (B.rows() != n_) {
-        r = make_result(FactorizationStatus::invalid_input,
-                        name_ + ": solve(): B has " + std::to_string(B.rows()) +
-                            " rows, the factorized matrix " + std::to_string(n_));
-      } else if (!B.allFinite()) {
-        r = make_result(FactorizationStatus::invalid_input, name_ + ": solve(): B has entries that are not finite");
-      }
+      if (factors_ != Factors::full)
+        r = not_ready(factors_ == Factors::schur ? "solve() after schur_complement(): the factors held are those of "
+                                                   "A22; call factorize() to solve with all of A"
+                                                 : "solve() needs a successful factorize() first");
+      else
+        r = check_solve("solve()", "B", B, X, n_, "the matrix");
       nrhs = B.cols();
     }
     r = agree(std::move(r));
@@ -194,40 +167,34 @@ class MumpsEngine {
                                        Eigen::MatrixXd* S) {
     if (!initialized_) return init_error_;
     interior_ready_ = false;
-    Compressed C(A);
+    SparseMatrix storage;
+    const SparseMatrix& M = compressed(A, storage);
     FactorizationResult r;
     std::int64_t n1 = 0;
     int need_analysis = 0;
     if (comm_.is_root()) {
-      r = check_matrix(C.get(), /*values=*/true);
-      if (r.ok() && S == nullptr)
-        r = make_result(FactorizationStatus::invalid_input, name_ + ": schur_complement() needs an output matrix S");
-      if (r.ok()) r = check_block1(block1, C.get().rows());
+      r = check_matrix_values(M);
+      if (r.ok() && S == nullptr) r = invalid("schur_complement(): S is null");
+      if (r.ok()) r = split_blocks(M.rows(), block1, &split_);
       n1 = static_cast<std::int64_t>(block1.size());
-      if (r.ok() && n1 > 0 && n1 < C.get().rows())
-        need_analysis = !(analysis_ == Analysis::schur && same_pattern(C.get()) &&
+      if (r.ok() && n1 > 0 && n1 < M.rows())
+        need_analysis = !(analysis_ == Analysis::schur && pattern_.matches(M) &&
                           std::equal(block1.begin(), block1.end(), block1_.begin(), block1_.end()));
-      if (r.ok() && n1 == 0)
-        need_analysis = !(analysis_ == Analysis::plain && same_pattern(C.get()));
+      if (r.ok() && n1 == 0) need_analysis = !(analysis_ == Analysis::plain && pattern_.matches(M));
     }
     r = agree(std::move(r));
     if (!r.ok()) return invalidate(std::move(r));
     comm_.broadcast(&n1, sizeof n1);
     comm_.broadcast(&need_analysis, sizeof need_analysis);
     std::int64_t n = 0;
-    if (comm_.is_root()) n = C.get().rows();
+    if (comm_.is_root()) n = M.rows();
     comm_.broadcast(&n, sizeof n);
 
-    if (n1 == n) return schur_of_everything(C.get(), block1, n, S);
+    if (n1 == n) return schur_of_everything(M, n, S);
 
     if (comm_.is_root()) {
-      if (need_analysis) gather_pattern(C.get());
-      gather_values(C.get());
-      interior_.clear();
-      std::vector<char> in_block1(static_cast<std::size_t>(n), 0);
-      for (int i : block1) in_block1[static_cast<std::size_t>(i)] = 1;
-      for (int i = 0; i < n; ++i)
-        if (!in_block1[static_cast<std::size_t>(i)]) interior_.push_back(i);
+      if (need_analysis) gather_pattern(M);
+      gather_values(M);
     }
     if (need_analysis) {
       r = run_analysis(block1);
@@ -261,20 +228,10 @@ class MumpsEngine {
     FactorizationResult r;
     std::int64_t nrhs = 0;
     if (comm_.is_root()) {
-      const auto n2 = schur_n_ - n1_;
-      if (X2 == nullptr) {
-        r = make_result(FactorizationStatus::invalid_input, name_ + ": solve_interior() needs an output matrix X2");
-      } else if (!interior_ready_) {
-        r = make_result(FactorizationStatus::not_ready,
-                        name_ + ": solve_interior() needs a successful schur_complement() first");
-      } else if (B2.rows() != n2) {
-        r = make_result(FactorizationStatus::invalid_input,
-                        name_ + ": solve_interior(): B2 has " + std::to_string(B2.rows()) +
-                            " rows, A22 " + std::to_string(n2));
-      } else if (!B2.allFinite()) {
-        r = make_result(FactorizationStatus::invalid_input,
-                        name_ + ": solve_interior(): B2 has entries that are not finite");
-      }
+      if (!interior_ready_)
+        r = not_ready("solve_interior() needs a successful schur_complement() first");
+      else
+        r = check_solve("solve_interior()", "B2", B2, X2, schur_n_ - n1_, "A22");
       nrhs = B2.cols();
     }
     r = agree(std::move(r));
@@ -291,8 +248,8 @@ class MumpsEngine {
         R = B2;
       } else {
         R.setZero(n_, static_cast<Eigen::Index>(nrhs));
-        for (std::size_t k = 0; k < interior_.size(); ++k)
-          R.row(interior_[k]) = B2.row(static_cast<Eigen::Index>(k));
+        for (std::size_t k = 0; k < split_.block2.size(); ++k)
+          R.row(split_.block2[k]) = B2.row(static_cast<Eigen::Index>(k));
       }
     }
     r = run_solve(R, nrhs, /*error_analysis=*/false);
@@ -302,8 +259,8 @@ class MumpsEngine {
         *X2 = std::move(R);
       } else {
         X2->resize(schur_n_ - n1_, static_cast<Eigen::Index>(nrhs));
-        for (std::size_t k = 0; k < interior_.size(); ++k)
-          X2->row(static_cast<Eigen::Index>(k)) = R.row(interior_[k]);
+        for (std::size_t k = 0; k < split_.block2.size(); ++k)
+          X2->row(static_cast<Eigen::Index>(k)) = R.row(split_.block2[k]);
       }
     }
     return r;
@@ -339,79 +296,43 @@ class MumpsEngine {
 
   // ---- checks (root) --------------------------------------------------------------------
 
-  FactorizationResult check_matrix(const SparseMatrix& A, bool values) const {
-    if (A.rows() != A.cols())
-      return make_result(FactorizationStatus::invalid_input,
-                         name_ + ": the matrix is " + std::to_string(A.rows()) + "×" +
-                             std::to_string(A.cols()) + ", not square");
-    if (A.rows() == 0)
-      return make_result(FactorizationStatus::invalid_input, name_ + ": the matrix is empty");
+  /// A square, non-empty matrix with both triangles stored (MUMPS reads the lower one, in
+  /// the coordinates of the pattern, which must be that of a symmetric matrix).
+  static FactorizationResult check_pattern(const SparseMatrix& A) {
+    if (auto r = check_matrix(A); !r.ok()) return r;
     if (!symmetric_pattern(A))
-      return make_result(FactorizationStatus::invalid_input,
-                         name_ + ": the pattern of the matrix is not symmetric (both triangles "
-                                 "must be stored)");
-    if (values) {
-      const Eigen::Map<const Eigen::VectorXd> v(A.valuePtr(), A.nonZeros());
-      if (!v.allFinite())
-        return make_result(FactorizationStatus::invalid_input,
-                           name_ + ": the matrix has entries that are not finite");
-    }
-    return {};
+      return invalid("the pattern of the matrix is not symmetric (both triangles must be stored)");
+    return FactorizationResult::good();
   }
 
-  static bool symmetric_pattern(const SparseMatrix& A) {
-    const SparseMatrix At = A.transpose();  // sorted inner indices
-    if (At.nonZeros() != A.nonZeros()) return false;
-    std::vector<int> column;
-    for (Eigen::Index j = 0; j < A.outerSize(); ++j) {
-      const int b = A.outerIndexPtr()[j], e = A.outerIndexPtr()[j + 1];
-      if (At.outerIndexPtr()[j] != b || At.outerIndexPtr()[j + 1] != e) return false;
-      column.assign(A.innerIndexPtr() + b, A.innerIndexPtr() + e);
-      std::sort(column.begin(), column.end());
-      if (!std::equal(column.begin(), column.end(), At.innerIndexPtr() + b)) return false;
-    }
-    return true;
+  static FactorizationResult check_matrix_values(const SparseMatrix& A) {
+    if (auto r = check_pattern(A); !r.ok()) return r;
+    return check_values(A);
   }
 
-  FactorizationResult check_block1(std::span<const int> block1, Eigen::Index n) const {
-    if (static_cast<Eigen::Index>(block1.size()) > n)
-      return make_result(FactorizationStatus::invalid_input,
-                         name_ + ": block1 has " + std::to_string(block1.size()) +
-                             " indices, more than the " + std::to_string(n) + " rows of A");
-    std::vector<char> seen(static_cast<std::size_t>(n), 0);
-    for (int i : block1) {
-      if (i < 0 || i >= n)
-        return make_result(FactorizationStatus::invalid_input,
-                           name_ + ": block1 holds the index " + std::to_string(i) +
-                               ", outside [0, " + std::to_string(n) + ")");
-      if (seen[static_cast<std::size_t>(i)]++)
-        return make_result(FactorizationStatus::invalid_input,
-                           name_ + ": block1 holds the index " + std::to_string(i) + " twice");
-    }
-    return {};
+  /// check_right_hand_sides, and finite right-hand sides (MUMPS' scaling and error analysis
+  /// fail on others).
+  static FactorizationResult check_solve(const std::string& call, const std::string& b_name, const Eigen::MatrixXd& B,
+                                         const Eigen::MatrixXd* X, Eigen::Index rows, const std::string& matrix) {
+    if (auto r = check_right_hand_sides(call, b_name, B, X, rows, matrix); !r.ok()) return r;
+    if (!B.allFinite())
+      return make_result(FactorizationStatus::numerical_failure, call + ": " + b_name + " has entries that are not finite");
+    return FactorizationResult::good();
   }
 
-  bool same_pattern(const SparseMatrix& A) const {
-    return analysis_ != Analysis::none &&
-           outer_.size() == static_cast<std::size_t>(A.outerSize()) + 1 &&
-           static_cast<std::size_t>(A.nonZeros()) == inner_.size() &&
-           std::equal(outer_.begin(), outer_.end(), A.outerIndexPtr()) &&
-           std::equal(inner_.begin(), inner_.end(), A.innerIndexPtr());
-  }
-
-  FactorizationResult check_schur_definite(const Eigen::MatrixXd& S) const {
+  static FactorizationResult check_schur_definite(const Eigen::MatrixXd& S) {
     Eigen::LLT<Eigen::MatrixXd> llt(S);
     if (llt.info() != Eigen::Success)
       return make_result(FactorizationStatus::not_positive_definite,
-                         name_ + ": the Schur complement S is not positive definite, so A is not");
+                         "the Schur complement S is not positive definite, so A is not");
     return {};
   }
 
   // ---- data handed to MUMPS (root) -----------------------------------------------------
 
   void gather_pattern(const SparseMatrix& A) {
-    outer_.assign(A.outerIndexPtr(), A.outerIndexPtr() + A.outerSize() + 1);
-    inner_.assign(A.innerIndexPtr(), A.innerIndexPtr() + A.nonZeros());
+    pattern_.capture(A);
+    pattern_n_ = A.rows();
     irn_.clear();
     jcn_.clear();
     positions_.clear();
@@ -440,7 +361,7 @@ class MumpsEngine {
     comm_.broadcast(&n1, sizeof n1);
     std::int64_t n = 0;
     if (comm_.is_root()) {
-      n = static_cast<std::int64_t>(outer_.size()) - 1;
+      n = static_cast<std::int64_t>(pattern_n_);
       id_.n = static_cast<MUMPS_INT>(n);
       id_.nnz = static_cast<MUMPS_INT8>(irn_.size());
       id_.irn = irn_.data();
@@ -521,23 +442,14 @@ class MumpsEngine {
   }
 
   /// block1 = every index: S = A(block1, block1), no sparse factorization, A22 empty.
-  FactorizationResult schur_of_everything(const SparseMatrix& A, std::span<const int> block1,
-                                          std::int64_t n, Eigen::MatrixXd* S) {
+  FactorizationResult schur_of_everything(const SparseMatrix& A, std::int64_t n, Eigen::MatrixXd* S) {
     factors_ = Factors::none;  // the MUMPS factors held (if any) are not those of this A
     rcond_known_ = false;
     FactorizationResult r;
     if (comm_.is_root()) {
-      std::vector<int> where(static_cast<std::size_t>(n));
-      for (std::size_t k = 0; k < block1.size(); ++k) where[static_cast<std::size_t>(block1[k])] = static_cast<int>(k);
-      Eigen::MatrixXd full = Eigen::MatrixXd::Zero(n, n);
-      for (Eigen::Index j = 0; j < A.outerSize(); ++j)
-        for (SparseMatrix::InnerIterator it(A, j); it; ++it)
-          full(where[static_cast<std::size_t>(it.row())], where[static_cast<std::size_t>(j)]) = it.value();
+      Eigen::MatrixXd full = dense_lower_block(A, split_);
       r = check_schur_definite(full);
-      if (r.ok()) {
-        *S = std::move(full);
-        interior_.clear();
-      }
+      if (r.ok()) *S = std::move(full);
     }
     r = agree(std::move(r));
     if (r.ok()) {
@@ -625,13 +537,14 @@ class MumpsEngine {
   bool rcond_known_ = false;
 
   // root only
-  std::vector<int> outer_, inner_;       // pattern of the analysed matrix
+  PatternKey pattern_;                   // pattern of the analysed matrix
+  Eigen::Index pattern_n_ = 0;           // its order
   std::vector<MUMPS_INT> irn_, jcn_;     // its lower triangle, 1-based
   std::vector<int> positions_;           // where those entries sit in A's value array
   std::vector<double> values_;
   std::vector<int> block1_;              // Schur indices of the last Schur analysis
   std::vector<MUMPS_INT> listvar_;
-  std::vector<int> interior_;            // complement of block1, increasing
+  BlockSplit split_;                     // block1 and its complement (block2) of the last schur_complement()
   std::vector<double> schur_;
 };
 

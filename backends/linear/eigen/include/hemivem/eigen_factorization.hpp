@@ -11,7 +11,8 @@
 //   factorization of A plus the dense trailing block (|block1|^3 / 3 flops) — not one solve per
 //   column of A21. The analysis is reused while the pattern and block1 are unchanged.
 //   A (not only A22) must be positive definite.
-// - solve_interior(): forward and back substitution with the leading block L22 of that factor.
+// - solve_interior(): forward and back substitution with the leading block L22 of that factor
+//   alone (the trailing block is not touched).
 //
 // Only the lower triangle of A is read.
 #pragma once

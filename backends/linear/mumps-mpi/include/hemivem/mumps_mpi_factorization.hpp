@@ -1,5 +1,6 @@
 // The MPI MUMPS engine ("mumps-mpi"): SparseFactorization on top of MUMPS' MPI build
-// (libdmumps), with the factorization distributed over MPI_COMM_WORLD.
+// (libdmumps), with the factorization distributed over MPI_COMM_WORLD. It is also the
+// ProcessGroup of its processes (hemivem/process_group.hpp).
 //
 // Everything the sequential engine documents (hemivem/mumps_factorization.hpp: SYM=1, lower
 // triangle read, not-positive-definite detection, analysis reuse, MUMPS' Schur complement,
@@ -33,6 +34,7 @@
 // (hemivem/mumps_mpi_plugin.hpp: dlopen with RTLD_LOCAL | RTLD_DEEPBIND).
 #pragma once
 
+#include <hemivem/process_group.hpp>
 #include <hemivem/sparse_factorization.hpp>
 
 #include <memory>
@@ -41,7 +43,7 @@
 
 namespace hemivem {
 
-class MumpsMpiFactorization final : public SparseFactorization {
+class MumpsMpiFactorization final : public SparseFactorization, public ProcessGroup {
  public:
   /// Collective over MPI_COMM_WORLD; initializes MPI when nobody did (see above).
   explicit MumpsMpiFactorization(const FactorizationOptions& options = {});

@@ -49,6 +49,7 @@ struct BundleDcaOptions {
 
 class BundleDcaMinimizer final : public NonsmoothMinimizer {
  public:
+  using Options = BundleDcaOptions;
   /// InputError naming the field when the options are not valid.
   explicit BundleDcaMinimizer(BundleDcaOptions options = {}) : options_(options) {
     require_valid(options_, "bundle-dca");

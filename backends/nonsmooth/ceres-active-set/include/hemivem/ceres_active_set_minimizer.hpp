@@ -33,6 +33,7 @@ struct CeresActiveSetOptions {
 
 class CeresActiveSetMinimizer final : public NonsmoothMinimizer {
  public:
+  using Options = CeresActiveSetOptions;
   /// InputError naming the field when the options are not valid.
   explicit CeresActiveSetMinimizer(CeresActiveSetOptions options = {}) : options_(options) { require_valid(options_, "ceres-active-set"); }
   std::string name() const override { return "ceres-active-set"; }

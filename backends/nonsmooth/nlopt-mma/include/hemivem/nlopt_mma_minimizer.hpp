@@ -34,6 +34,7 @@ struct NloptMmaOptions {
 
 class NloptMmaMinimizer final : public NonsmoothMinimizer {
  public:
+  using Options = NloptMmaOptions;
   /// InputError naming the field when the options are not valid.
   explicit NloptMmaMinimizer(NloptMmaOptions options = {}) : options_(options) { require_valid(options_, "nlopt-mma"); }
   std::string name() const override { return "nlopt-mma"; }

@@ -47,6 +47,7 @@ struct SsnOptions {
 
 class SsnMinimizer final : public NonsmoothMinimizer {
  public:
+  using Options = SsnOptions;
   /// InputError naming the field when the options are not valid.
   explicit SsnMinimizer(SsnOptions options = {}) : options_(options) { require_valid(options_, "ssn"); }
   std::string name() const override { return "ssn"; }

@@ -1,0 +1,279 @@
+// The SparseFactorization contract for an engine that offers a sparse Cholesky factorization
+// (private to backends/linear). The engine supplies a CholeskyKernel: its own fill-reducing
+// ordering and factorization for analyze/factorize/solve, and a factorization in a given
+// order whose columns can be read. CholeskyEngine does the rest once for every such engine:
+// argument checks, reuse of the analysis while the pattern holds, and the Schur complement
+// by an ordered factorization:
+//
+//   block2 is ordered by the kernel's fill-reducing ordering of A22 alone and block1 is put
+//   last in the order given; P, the lower triangle of A in that order, is factorized once,
+//   P = L L^T with L = [L22 0; L21 L11], so that S = A11 - A12 A22^{-1} A21 = L11 L11^T and
+//   A22 = L22 L22^T. solve_interior() solves with L22 alone (the leading n2 columns of L,
+//   rows < n2): the trailing block is never touched.
+//
+// P's pattern and the map from A's stored entries to P's are kept while A's pattern and
+// block1 are unchanged, so that a new schur_complement() only copies values and factorizes.
+#pragma once
+
+#include "linear_common.hpp"
+
+#include <Eigen/Core>
+
+#include <algorithm>
+#include <memory>
+#include <new>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace hemivem::linear_detail {
+
+/// Column j of a lower triangular factor L: `size` entries, rows increasing, the diagonal first.
+struct FactorColumn {
+  const int* rows = nullptr;
+  const double* values = nullptr;
+  int size = 0;
+};
+
+/// What an engine supplies to CholeskyEngine. Every matrix passed is compressed, square and
+/// non-empty with finite values; only its lower triangle is to be read.
+class CholeskyKernel {
+ public:
+  virtual ~CholeskyKernel() = default;
+
+  /// Symbolic analysis of A with the engine's fill-reducing ordering.
+  virtual FactorizationResult analyze(const SparseMatrix& A) = 0;
+  /// Numeric factorization of A with the analysis of the last analyze().
+  virtual FactorizationResult factorize(const SparseMatrix& A) = 0;
+  /// X = A^{-1} B with that factorization (B has A's rows and at least one column).
+  virtual FactorizationResult solve(const Eigen::MatrixXd& B, Eigen::MatrixXd* X) const = 0;
+  /// Reciprocal condition estimate of the last factorize(), or negative.
+  virtual double rcond() const { return -1.0; }
+
+  /// A fill-reducing ordering of the symmetric matrix whose lower triangle `lower` holds:
+  /// (*perm)[k] is the index eliminated k-th.
+  virtual FactorizationResult order(const SparseMatrix& lower, std::vector<int>* perm) = 0;
+  /// Symbolic analysis of P (lower triangle) to be factorized in its own order, unpermuted.
+  virtual FactorizationResult analyze_ordered(const SparseMatrix& P) = 0;
+  /// Numeric factorization P = L L^T with the analysis of the last analyze_ordered().
+  /// Not positive definite: not_positive_definite, with failed_pivot() set when known.
+  virtual FactorizationResult factorize_ordered(const SparseMatrix& P) = 0;
+  /// Column j of L after a successful factorize_ordered().
+  virtual FactorColumn column(int j) const = 0;
+  /// The column of P where the last factorize_ordered() stopped, or -1 when not known.
+  virtual int failed_pivot() const { return -1; }
+};
+
+class CholeskyEngine {
+ public:
+  CholeskyEngine(std::unique_ptr<CholeskyKernel> kernel, std::string name)
+      : kernel_(std::move(kernel)), name_(std::move(name)) {}
+
+  int num_analyses() const { return analyses_; }
+  double rcond_estimate() const { return main_factorized_ ? kernel_->rcond() : -1.0; }
+
+  FactorizationResult analyze(const SparseMatrix& A) {
+    return guarded([&] {
+      if (auto r = check_matrix(A); !r.ok()) return r;
+      SparseMatrix storage;
+      return analyze_main(compressed(A, storage));
+    });
+  }
+
+  FactorizationResult factorize(const SparseMatrix& A) {
+    return guarded([&] {
+      main_factorized_ = false;
+      SparseMatrix storage;
+      const SparseMatrix& M = compressed(A, storage);
+      if (auto r = check_values(M); !r.ok()) return r;
+      if (!main_pattern_.matches(M)) {
+        if (auto r = analyze_main(M); !r.ok()) return r;
+      }
+      if (auto r = kernel_->factorize(M); !r.ok()) return r;
+      main_factorized_ = true;
+      return FactorizationResult::good();
+    });
+  }
+
+  FactorizationResult solve(const Eigen::MatrixXd& B, Eigen::MatrixXd* X) const {
+    if (!main_factorized_) return not_ready("solve() needs a successful factorize() first");
+    if (auto r = check_right_hand_sides("solve()", "B", B, X, main_n_, "the matrix"); !r.ok()) return r;
+    if (B.cols() == 0) {
+      X->resize(main_n_, 0);
+      return FactorizationResult::good();
+    }
+    return guarded([&] { return kernel_->solve(B, X); });
+  }
+
+  FactorizationResult schur_complement(const SparseMatrix& A, std::span<const int> block1, Eigen::MatrixXd* S) {
+    return guarded([&] {
+      schur_factorized_ = false;
+      if (S == nullptr) return invalid("schur_complement(): S is null");
+      SparseMatrix storage;
+      const SparseMatrix& M = compressed(A, storage);
+      if (auto r = check_values(M); !r.ok()) return r;
+      const bool reuse = schur_pattern_.matches(M) &&
+                         std::equal(block1.begin(), block1.end(), split_.block1.begin(), split_.block1.end());
+      if (!reuse) {
+        schur_pattern_.clear();
+        if (auto r = split_blocks(M.rows(), block1, &split_); !r.ok()) return r;
+      }
+      const int n = static_cast<int>(M.rows());
+      const int n2 = static_cast<int>(split_.block2.size());
+      if (n2 == 0) {  // nothing to eliminate: S = A (in block1's order)
+        *S = dense_lower_block(M, split_);
+        schur_pattern_.capture(M);
+        schur_factorized_ = true;
+        return FactorizationResult::good();
+      }
+      if (!reuse) {
+        if (auto r = analyze_ordered(M); !r.ok()) return r;
+        schur_pattern_.capture(M);
+      }
+      for (std::size_t k = 0; k < scatter_.size(); ++k)
+        if (scatter_[k] >= 0) P_.valuePtr()[scatter_[k]] = M.valuePtr()[k];
+      if (auto r = kernel_->factorize_ordered(P_); !r.ok()) return explain(std::move(r), n2);
+      read_schur(n, n2, S);
+      schur_factorized_ = true;
+      return FactorizationResult::good();
+    });
+  }
+
+  FactorizationResult solve_interior(const Eigen::MatrixXd& B2, Eigen::MatrixXd* X2) const {
+    if (!schur_factorized_) return not_ready("solve_interior() needs a successful schur_complement() first");
+    const auto n2 = static_cast<Eigen::Index>(split_.block2.size());
+    if (auto r = check_right_hand_sides("solve_interior()", "B2", B2, X2, n2, "A22"); !r.ok()) return r;
+    return guarded([&] {
+      // z = B2 in elimination order (row k: the index of A eliminated k-th), transposed so
+      // that each step of the substitutions reads one contiguous column.
+      Eigen::MatrixXd z(B2.cols(), n2);
+      for (Eigen::Index k = 0; k < n2; ++k) z.col(k) = B2.row(split_.position[order(k)]).transpose();
+      const int m = static_cast<int>(n2);
+      for (int j = 0; j < m; ++j) {  // L22 y = b2
+        const FactorColumn c = kernel_->column(j);
+        z.col(j) /= c.values[0];
+        for (int t = 1; t < c.size && c.rows[t] < m; ++t) z.col(c.rows[t]) -= c.values[t] * z.col(j);
+      }
+      for (int j = m - 1; j >= 0; --j) {  // L22^T x2 = y
+        const FactorColumn c = kernel_->column(j);
+        for (int t = 1; t < c.size && c.rows[t] < m; ++t) z.col(j) -= c.values[t] * z.col(c.rows[t]);
+        z.col(j) /= c.values[0];
+      }
+      X2->resize(n2, B2.cols());
+      for (Eigen::Index k = 0; k < n2; ++k) X2->row(split_.position[order(k)]) = z.col(k).transpose();
+      return FactorizationResult::good();
+    });
+  }
+
+ private:
+  /// Runs `f`, turning an allocation failure into out_of_memory.
+  template <class F>
+  FactorizationResult guarded(F&& f) const {
+    try {
+      return f();
+    } catch (const std::bad_alloc&) {
+      return make_result(FactorizationStatus::out_of_memory, "out of memory in the " + name_ + " engine");
+    }
+  }
+
+  std::size_t order(Eigen::Index k) const { return static_cast<std::size_t>(order_[static_cast<std::size_t>(k)]); }
+
+  FactorizationResult analyze_main(const SparseMatrix& M) {
+    main_factorized_ = false;
+    main_pattern_.clear();
+    ++analyses_;
+    if (auto r = kernel_->analyze(M); !r.ok()) return r;
+    main_pattern_.capture(M);
+    main_n_ = M.rows();
+    return FactorizationResult::good();
+  }
+
+  /// The elimination order (block2 by the kernel's ordering of A22, then block1), P's pattern,
+  /// the map from A's entries to P's, and the kernel's analysis of P.
+  FactorizationResult analyze_ordered(const SparseMatrix& M) {
+    const int n = static_cast<int>(M.rows());
+    const int n2 = static_cast<int>(split_.block2.size());
+    // The pattern of the lower triangle of A22, its diagonal always included.
+    std::vector<Eigen::Triplet<double, int>> entries;
+    for (int j = 0; j < n; ++j) {
+      const int pj = split_.position[static_cast<std::size_t>(j)];
+      if (pj < 0) continue;
+      entries.emplace_back(pj, pj, 1.0);
+      for (SparseMatrix::InnerIterator it(M, j); it; ++it) {
+        const int pi = split_.position[static_cast<std::size_t>(it.row())];
+        if (it.row() > j && pi >= 0) entries.emplace_back(pi, pj, 1.0);
+      }
+    }
+    SparseMatrix A22(n2, n2);
+    A22.setFromTriplets(entries.begin(), entries.end());
+    std::vector<int> perm22;
+    if (auto r = kernel_->order(A22, &perm22); !r.ok()) return r;
+    order_.resize(static_cast<std::size_t>(n));
+    for (int k = 0; k < n2; ++k)
+      order_[static_cast<std::size_t>(k)] = split_.block2[static_cast<std::size_t>(perm22[static_cast<std::size_t>(k)])];
+    std::copy(split_.block1.begin(), split_.block1.end(), order_.begin() + n2);
+    std::vector<int> new_pos(static_cast<std::size_t>(n));
+    for (int k = 0; k < n; ++k) new_pos[static_cast<std::size_t>(order_[static_cast<std::size_t>(k)])] = k;
+
+    // P: the lower triangle of A in elimination order; each value holds the position of its
+    // entry in A, which gives the map from A's value array to P's.
+    entries.clear();
+    for (int j = 0; j < n; ++j) {
+      for (int k = M.outerIndexPtr()[j]; k < M.outerIndexPtr()[j + 1]; ++k) {
+        const int i = M.innerIndexPtr()[k];
+        if (i < j) continue;
+        const int a = new_pos[static_cast<std::size_t>(i)], b = new_pos[static_cast<std::size_t>(j)];
+        entries.emplace_back(std::max(a, b), std::min(a, b), static_cast<double>(k));
+      }
+    }
+    P_.resize(n, n);
+    P_.setFromTriplets(entries.begin(), entries.end());
+    scatter_.assign(static_cast<std::size_t>(M.nonZeros()), -1);
+    for (Eigen::Index p = 0; p < P_.nonZeros(); ++p)
+      scatter_[static_cast<std::size_t>(P_.valuePtr()[p])] = static_cast<int>(p);
+    ++analyses_;
+    return kernel_->analyze_ordered(P_);
+  }
+
+  /// S = L11 L11^T from the trailing n - n2 columns of L.
+  void read_schur(int n, int n2, Eigen::MatrixXd* S) const {
+    const int n1 = n - n2;
+    Eigen::MatrixXd L11 = Eigen::MatrixXd::Zero(n1, n1);
+    for (int j = n2; j < n; ++j) {
+      const FactorColumn c = kernel_->column(j);
+      for (int t = 0; t < c.size; ++t) L11(c.rows[t] - n2, j - n2) = c.values[t];
+    }
+    S->resize(n1, n1);
+    // (Eigen's triangular product binds a reference to the data of an empty matrix: skip it)
+    if (n1 > 0) S->noalias() = L11.triangularView<Eigen::Lower>() * L11.transpose();
+  }
+
+  /// Names, for a factorization of P that is not positive definite, where it stopped.
+  FactorizationResult explain(FactorizationResult r, int n2) const {
+    const int pivot = kernel_->failed_pivot();
+    if (r.status != FactorizationStatus::not_positive_definite || pivot < 0) return r;
+    r.message += " (stopped at pivot " + std::to_string(pivot) + " of the ordered matrix, index " +
+                 std::to_string(order_[static_cast<std::size_t>(pivot)]) + " of A)";
+    if (pivot >= n2) r.message += "; A22 is positive definite but its Schur complement is not";
+    return r;
+  }
+
+  std::unique_ptr<CholeskyKernel> kernel_;
+  std::string name_;
+  int analyses_ = 0;
+
+  // analyze / factorize / solve
+  PatternKey main_pattern_;
+  Eigen::Index main_n_ = 0;
+  bool main_factorized_ = false;
+
+  // schur_complement / solve_interior
+  PatternKey schur_pattern_;
+  BlockSplit split_;
+  std::vector<int> order_;    // order_[k]: the index of A eliminated k-th
+  SparseMatrix P_;            // lower triangle of A in elimination order
+  std::vector<int> scatter_;  // per stored entry of A: its position in P's values, -1 above the diagonal
+  bool schur_factorized_ = false;
+};
+
+}  // namespace hemivem::linear_detail
