@@ -57,33 +57,51 @@ void gather(const Mesh& mesh, int e, std::vector<Vec2>& poly) {
 
 }  // namespace
 
-SparseMatrix assemble_stiffness(const Mesh& mesh, const MaterialTable& materials, Stabilization stabilization) {
-  const int ndof = 2 * mesh.num_vertices();
-  std::size_t nnz = 0;
-  for (int e = 0; e < mesh.num_elements(); ++e) nnz += static_cast<std::size_t>(4 * mesh.element_size(e) * mesh.element_size(e));
-  std::vector<Eigen::Triplet<double, int>> triplets;
-  triplets.reserve(nnz);
+namespace {
 
+// Calls visit(dofs, K) with the global dofs (2 v, 2 v + 1 per vertex v) and the stiffness K_E of
+// every element, in element order; returns the number of matrix entries visited.
+template <class Visit>
+std::size_t for_each_element_matrix(const Mesh& mesh, const MaterialTable& materials, Stabilization stabilization,
+                                    Visit&& visit) {
   std::map<int, Lame> lame_by_region;
   std::vector<Vec2> poly;
   std::vector<int> dof;
+  std::size_t entries = 0;
   for (int e = 0; e < mesh.num_elements(); ++e) {
     auto it = lame_by_region.find(mesh.region(e));
     if (it == lame_by_region.end()) it = lame_by_region.emplace(mesh.region(e), materials.lame(mesh.region(e))).first;
     gather(mesh, e, poly);
     const VemElement el = vem_element(poly, it->second, stabilization);
     const Eigen::MatrixXd K = el.stiffness();
-    const auto verts = mesh.element(e);
     dof.clear();
-    for (int v : verts) {
+    for (int v : mesh.element(e)) {
       dof.push_back(2 * v);
       dof.push_back(2 * v + 1);
     }
+    visit(dof, K);
+    entries += dof.size() * dof.size();
+  }
+  return entries;
+}
+
+std::size_t entries_upper_bound(const Mesh& mesh) {
+  std::size_t nnz = 0;
+  for (int e = 0; e < mesh.num_elements(); ++e) nnz += static_cast<std::size_t>(4 * mesh.element_size(e) * mesh.element_size(e));
+  return nnz;
+}
+
+}  // namespace
+
+SparseMatrix assemble_stiffness(const Mesh& mesh, const MaterialTable& materials, Stabilization stabilization) {
+  std::vector<Eigen::Triplet<double, int>> triplets;
+  triplets.reserve(entries_upper_bound(mesh));
+  for_each_element_matrix(mesh, materials, stabilization, [&](const std::vector<int>& dof, const Eigen::MatrixXd& K) {
     for (std::size_t j = 0; j < dof.size(); ++j)
       for (std::size_t i = 0; i < dof.size(); ++i)
         triplets.emplace_back(dof[i], dof[j], K(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)));
-  }
-  SparseMatrix K(ndof, ndof);
+  });
+  SparseMatrix K(2 * mesh.num_vertices(), 2 * mesh.num_vertices());
   K.setFromTriplets(triplets.begin(), triplets.end());
   K.makeCompressed();
   return K;
@@ -189,18 +207,34 @@ LinearSystem assemble(const ElasticityProblem& problem) {
     throw InputError("the body is not held: the boundary with prescribed displacement (Gamma_1) has zero length");
   LinearSystem sys;
   sys.dofs = make_dof_map(mesh, problem.dirichlet);
-  const SparseMatrix K = assemble_stiffness(mesh, problem.materials, problem.stabilization);
   const Eigen::VectorXd f = assemble_load(mesh, problem.body_force, problem.tractions);
-
-  // Selection P (free x all): A = P K P^T, b = P (f - K u_prescribed).
-  SparseMatrix P(sys.dofs.num_free(), sys.dofs.num_dofs());
-  std::vector<Eigen::Triplet<double, int>> t;
-  t.reserve(sys.dofs.free_dofs.size());
-  for (int i = 0; i < sys.dofs.num_free(); ++i) t.emplace_back(i, sys.dofs.free_dofs[static_cast<std::size_t>(i)], 1.0);
-  P.setFromTriplets(t.begin(), t.end());
-  sys.A = P * K * P.transpose();
+  // A = K restricted to the free dofs and b = (f - K u_prescribed) on them, assembled element
+  // by element in the numbering of the free dofs (no global K, no selection products)
+  const std::vector<int>& free_index = sys.dofs.free_index;
+  const Eigen::VectorXd& prescribed = sys.dofs.prescribed;
+  sys.b.resize(sys.dofs.num_free());
+  for (int i = 0; i < sys.dofs.num_free(); ++i) sys.b(i) = f(sys.dofs.free_dofs[static_cast<std::size_t>(i)]);
+  std::vector<Eigen::Triplet<double, int>> triplets;
+  triplets.reserve(entries_upper_bound(mesh));
+  for_each_element_matrix(mesh, problem.materials, problem.stabilization,
+                          [&](const std::vector<int>& dof, const Eigen::MatrixXd& K) {
+                            for (std::size_t j = 0; j < dof.size(); ++j) {
+                              const int fj = free_index[static_cast<std::size_t>(dof[j])];
+                              const double uj = prescribed(dof[j]);
+                              for (std::size_t i = 0; i < dof.size(); ++i) {
+                                const int fi = free_index[static_cast<std::size_t>(dof[i])];
+                                if (fi < 0) continue;
+                                const double k = K(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
+                                if (fj >= 0)
+                                  triplets.emplace_back(fi, fj, k);
+                                else if (uj != 0.0)
+                                  sys.b(fi) -= k * uj;
+                              }
+                            }
+                          });
+  sys.A.resize(sys.dofs.num_free(), sys.dofs.num_free());
+  sys.A.setFromTriplets(triplets.begin(), triplets.end());
   sys.A.makeCompressed();
-  sys.b = P * (f - K * sys.dofs.prescribed);
   return sys;
 }
 
