@@ -10,7 +10,10 @@ sizes=("$@")
 [ ${#sizes[@]} -gt 0 ] || sizes=(64 128 256 512)
 bench="$build/tests/bench/bench_condensation"
 [ -x "$bench" ] || { echo "bench-condensation: $bench not found (build first)" >&2; exit 2; }
-engines=$("$build/drivers/hemivem" backends | sed 's/^linear: //')
+# `hemivem backends` prints "linear engines: eigen cholmod ..." and "minimizers: ...": the names
+# after the colon of the first line
+engines=$("$build/drivers/hemivem" backends | sed -n 's/^linear engines: //p')
+[ -n "$engines" ] || { echo "bench-condensation: no linear engine in 'hemivem backends'" >&2; exit 2; }
 
 run() {  # prints "seconds peak_MB" for one benchmark case
   local out
