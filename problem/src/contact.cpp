@@ -6,6 +6,7 @@
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -70,6 +71,66 @@ void require(const FactorizationResult& r, const SparseFactorization& engine, co
   throw NumericalError(message);
 }
 
+// The entry (i, j) of the compressed column-major A (0 where it is not stored).
+double entry(const SparseMatrix& A, int i, int j) {
+  const int* begin = A.innerIndexPtr() + A.outerIndexPtr()[j];
+  const int* end = A.innerIndexPtr() + A.outerIndexPtr()[j + 1];
+  const int* it = std::lower_bound(begin, end, i);
+  return it != end && *it == i ? A.valuePtr()[it - A.innerIndexPtr()] : 0.0;
+}
+
+// Q^T A Q for Q the identity but for 2 x 2 blocks at the dof pairs (x[k], y[k]) with columns
+// (nu_k, tau_k), on A's pattern (the two dofs of a node share their pattern, as in every
+// assembled stiffness), computed from the symmetric part of A so that the result is exactly
+// symmetric: each entry of the lower triangle is computed once and mirrored. Exact zeros are
+// dropped.
+SparseMatrix rotate_symmetric(const SparseMatrix& A, const std::vector<int>& x, const std::vector<int>& y,
+                              const std::vector<Vec2>& normals) {
+  const int n = static_cast<int>(A.rows());
+  // dof -> (the pair's x dof, y dof, the column of Q: Q(x, d), Q(y, d)); pair -1 off the contact
+  std::vector<int> pair(static_cast<std::size_t>(n), -1);
+  std::vector<std::array<double, 2>> column(static_cast<std::size_t>(n));
+  for (std::size_t k = 0; k < x.size(); ++k) {
+    const Vec2 nu = normals[k], tau(-nu.y(), nu.x());
+    pair[static_cast<std::size_t>(x[k])] = pair[static_cast<std::size_t>(y[k])] = static_cast<int>(k);
+    column[static_cast<std::size_t>(x[k])] = {nu.x(), nu.y()};
+    column[static_cast<std::size_t>(y[k])] = {tau.x(), tau.y()};
+  }
+  // the symmetric part of A
+  auto sym = [&](int i, int j) { return 0.5 * (entry(A, i, j) + entry(A, j, i)); };
+  // the dofs and coefficients of column d of Q
+  auto q_column = [&](int d, int* dofs, double* coef) {
+    const int k = pair[static_cast<std::size_t>(d)];
+    if (k < 0) {
+      dofs[0] = d, coef[0] = 1.0;
+      return 1;
+    }
+    const auto& c = column[static_cast<std::size_t>(d)];
+    dofs[0] = x[static_cast<std::size_t>(k)], coef[0] = c[0];
+    dofs[1] = y[static_cast<std::size_t>(k)], coef[1] = c[1];
+    return 2;
+  };
+  SparseMatrix At = A;
+  At.makeCompressed();
+  for (int q = 0; q < n; ++q) {
+    int jq[2], ip[2];
+    double cq[2], cp[2];
+    const int nq = q_column(q, jq, cq);
+    for (SparseMatrix::InnerIterator it(At, q); it; ++it) {
+      const int p = static_cast<int>(it.row());
+      if (p < q) continue;
+      const int np = q_column(p, ip, cp);
+      double v = 0.0;
+      for (int a = 0; a < np; ++a)
+        for (int b = 0; b < nq; ++b) v += cp[a] * sym(ip[a], jq[b]) * cq[b];
+      it.valueRef() = v;
+      if (p != q) At.coeffRef(q, p) = v;
+    }
+  }
+  At.prune(0.0);
+  return At;
+}
+
 }  // namespace
 
 double uniqueness_margin(const Eigen::MatrixXd& S, const Eigen::VectorXd& w, double alpha) {
@@ -91,37 +152,24 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
   const int n1 = boundary.size();
   normals_ = boundary.normals;
 
-  // Q: identity but for the (x, y) -> (normal, tangential) rotation at contact nodes.
-  std::vector<Eigen::Triplet<double, int>> q;
-  q.reserve(static_cast<std::size_t>(n) + 2 * static_cast<std::size_t>(n1));
-  std::vector<char> rotated(static_cast<std::size_t>(n), 0);
+  // the (x, y) -> (normal, tangential) rotation at the contact nodes: A~ = Q^T A Q, b~ = Q^T b
   for (int i = 0; i < n1; ++i) {
     const int v = boundary.nodes[static_cast<std::size_t>(i)];
     const int fx = system.dofs.free_index[static_cast<std::size_t>(2 * v)];
     const int fy = system.dofs.free_index[static_cast<std::size_t>(2 * v + 1)];
     if (fx < 0 || fy < 0) throw InputError("contact node " + std::to_string(v) + " is not free");
-    const Vec2 nu = boundary.normals[static_cast<std::size_t>(i)];
-    const Vec2 tau(-nu.y(), nu.x());
-    q.emplace_back(fx, fx, nu.x());
-    q.emplace_back(fy, fx, nu.y());
-    q.emplace_back(fx, fy, tau.x());
-    q.emplace_back(fy, fy, tau.y());
-    rotated[static_cast<std::size_t>(fx)] = rotated[static_cast<std::size_t>(fy)] = 1;
     contact_free_x_.push_back(fx);
     contact_free_y_.push_back(fy);
     block1_.push_back(fx);
   }
-  for (int k = 0; k < n; ++k)
-    if (!rotated[static_cast<std::size_t>(k)]) q.emplace_back(k, k, 1.0);
-  SparseMatrix Q(n, n);
-  Q.setFromTriplets(q.begin(), q.end());
-  SparseMatrix At = SparseMatrix(Q.transpose()) * system.A * Q;
-  // Q^T A Q is symmetric only up to round-off; engines that read both triangles (MUMPS) need
-  // the exact symmetric pattern, so symmetrize before dropping exact zeros.
-  At = 0.5 * (At + SparseMatrix(At.transpose()));
-  At.prune(0.0);
-  At.makeCompressed();
-  const Eigen::VectorXd bt = Q.transpose() * system.b;
+  const SparseMatrix At = rotate_symmetric(system.A, contact_free_x_, contact_free_y_, boundary.normals);
+  Eigen::VectorXd bt = system.b;
+  for (int i = 0; i < n1; ++i) {
+    const int fx = contact_free_x_[static_cast<std::size_t>(i)], fy = contact_free_y_[static_cast<std::size_t>(i)];
+    const Vec2 nu = boundary.normals[static_cast<std::size_t>(i)];
+    bt(fx) = nu.x() * system.b(fx) + nu.y() * system.b(fy);
+    bt(fy) = -nu.y() * system.b(fx) + nu.x() * system.b(fy);
+  }
 
   std::vector<char> in1(static_cast<std::size_t>(n), 0);
   for (int k : block1_) in1[static_cast<std::size_t>(k)] = 1;
