@@ -55,7 +55,8 @@ int run_command(int argc, char** argv) {
   cmd_solve->add_option("scene", solve.scene, "Scene file (TOML, see scenes/README.md)")->check(CLI::ExistingFile);
   auto* o_mesh = cmd_solve->add_option("--mesh", mesh_flag, "squares|triangles|voronoi|nonconvex|distorted|PATH.poly2d|PATH.msh");
   auto* o_n = cmd_solve->add_option("--n", n_flag, "Elements (or Voronoi seeds) per side")->check(CLI::Range(1, 10000000));
-  auto* o_linear = cmd_solve->add_option("--linear", linear_flag, join_engine_names(known_linear_engines(), "|"));
+  auto* o_linear = cmd_solve->add_option("--linear", linear_flag,
+                                         join_engine_names(known_linear_engines(), "|") + "|auto (the fastest built; default)");
   auto* o_min = cmd_solve->add_option("--minimizer", minimizer_flag, join_engine_names(known_minimizers(), "|"));
   auto* o_tol = cmd_solve->add_option("--tol", tol_flag, "Certificate tolerance")->check(CLI::PositiveNumber);
   cmd_solve->add_option("--set", solve.set, "Override a scene key: key=value (repeatable), e.g. contact.gap=0.01");

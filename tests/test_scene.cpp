@@ -49,7 +49,7 @@ TEST(Scene, DefaultSceneIsExample41OnSquares64) {
   EXPECT_DOUBLE_EQ(s.contact->gap, 0.02);
   EXPECT_EQ(s.contact->law.name, "paper");
   EXPECT_EQ(s.contact->constraint, ConstraintKind::box);
-  EXPECT_EQ(s.solver.linear, "eigen");
+  EXPECT_EQ(s.solver.linear, "auto");
   EXPECT_EQ(s.solver.minimizer, "ssn");
   EXPECT_DOUBLE_EQ(s.solver.tolerance, 1e-10);
   EXPECT_EQ(s.where("contact.gap"), "<default>:" + std::to_string(s.lines.at("contact.gap")));

@@ -92,7 +92,7 @@ struct SceneContact {
 };
 
 struct SceneSolver {
-  std::string linear = "eigen";
+  std::string linear = "auto";  ///< an engine's name, or "auto": the fastest built (chosen by the command)
   std::string minimizer = "ssn";
   double tolerance = 1e-10;
   int max_iterations = 1000;
