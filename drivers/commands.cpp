@@ -78,22 +78,7 @@ double SceneSolve::total_seconds() const {
   return mesh_seconds + (it == solution.timings.end() ? 0.0 : it->second);
 }
 
-std::string linear_engine(const Scene& scene) {
-  if (!same_engine(scene.solver.linear, "auto")) return scene.solver.linear;
-  const std::vector<std::string> built = available_factorizations();
-  for (const char* fastest : {"mumps", "cholmod", "eigen"})
-    if (std::find(built.begin(), built.end(), fastest) != built.end()) return fastest;
-  return built.empty() ? scene.solver.linear : built.front();
-}
-
-bool same_engine(const std::string& a, const std::string& b) {
-  auto norm = [](std::string s) {
-    std::transform(s.begin(), s.end(), s.begin(),
-                   [](unsigned char c) { return c == '_' ? '-' : static_cast<char>(std::tolower(c)); });
-    return s;
-  };
-  return norm(a) == norm(b);
-}
+bool same_engine(const std::string& a, const std::string& b) { return normalized_engine_name(a) == normalized_engine_name(b); }
 
 std::unique_ptr<NonsmoothMinimizer> make_scene_minimizer(const Scene& scene, const std::string& name) {
   if (scene.solver.parameters.empty() || !same_engine(name, scene.solver.minimizer)) return make_minimizer(name);
@@ -109,7 +94,7 @@ SceneSolve solve_scene(const Scene& scene, const std::function<void(const BuiltP
   // Engines first: a name that was not built is an input error before any work.
   SceneSolve s;
   FactorizationOptions fo;
-  fo.engine = linear_engine(scene);
+  fo.engine = scene.solver.linear;
   auto factorization = make_factorization(fo);
   const auto minimizer = make_scene_minimizer(scene, scene.solver.minimizer);
   s.linear = factorization->name();
@@ -132,7 +117,7 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   const Scene scene = load_scene(o);
   // ---- runs across processes (docs/cluster.md) ----
   if (const LaunchedProcesses launched = launched_processes(); launched.size > 1) {
-    if (!same_engine(linear_engine(scene), "mumps-mpi"))
+    if (!same_engine(scene.solver.linear, "mumps-mpi"))
       throw InputError("started as " + std::to_string(launched.size) + " processes by an MPI launcher, but the linear engine '" +
                            scene.solver.linear + "' runs in one process (the processes would race on the same outputs); use "
                            "--linear mumps-mpi, or run without mpirun",

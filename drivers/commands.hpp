@@ -40,10 +40,6 @@ Scene load_scene(const SolveOptions& options);
 /// line of [solver.parameters].
 std::unique_ptr<NonsmoothMinimizer> make_scene_minimizer(const Scene& scene, const std::string& name);
 
-/// The linear engine a scene asks for: its `solver.linear`, or for "auto" the fastest built
-/// engine in one process — mumps, else cholmod, else eigen (docs/performance.md).
-std::string linear_engine(const Scene& scene);
-
 /// True when two engine names are the same engine (case-insensitive, '_' read as '-').
 bool same_engine(const std::string& a, const std::string& b);
 

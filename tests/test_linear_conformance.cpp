@@ -451,6 +451,19 @@ TEST(LinearFactory, EigenIsAlwaysAvailable) {
   EXPECT_EQ(names.front(), "eigen");
 }
 
+TEST(LinearFactory, AutoIsTheFastestBuiltEngineInOneProcess) {
+  const auto built = available_factorizations();
+  std::string expected = "eigen";
+  for (const char* e : {"cholmod", "mumps"})
+    if (std::find(built.begin(), built.end(), e) != built.end()) expected = e;
+  EXPECT_EQ(fastest_factorization(), expected);
+  FactorizationOptions options;
+  options.engine = "Auto";
+  std::string error;
+  EXPECT_TRUE(options.is_valid(&error)) << error;
+  EXPECT_EQ(make_factorization(options)->name(), expected);
+}
+
 TEST(LinearFactory, UnknownEngineListsTheAvailableOnes) {
   FactorizationOptions options;
   options.engine = "superlu";

@@ -123,8 +123,16 @@ int factorization_process_rank() {
   return 0;
 }
 
+std::string fastest_factorization() {
+  const std::vector<std::string> built = available_factorizations();
+  for (const char* fastest : {"mumps", "cholmod", "eigen"})
+    if (std::find(built.begin(), built.end(), fastest) != built.end()) return fastest;
+  return built.empty() ? std::string("eigen") : built.front();
+}
+
 std::unique_ptr<SparseFactorization> make_factorization(const FactorizationOptions& options) {
-  const std::string name = normalized_engine_name(options.engine);
+  const std::string name =
+      normalized_engine_name(options.engine) == "auto" ? fastest_factorization() : normalized_engine_name(options.engine);
   const auto built = available_factorizations();
   if (std::find(built.begin(), built.end(), name) == built.end()) {
     const bool known = is_known_engine(known_linear_engines(), name);

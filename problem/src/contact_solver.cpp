@@ -98,8 +98,8 @@ std::vector<ContactSolution> solve_contact(const ContactProblem& problem, const 
     if (holds) {
       const Eigen::VectorXd uf = X.col(0);
       shared.u = sys.dofs.expand(uf);
-      shared.energy = 0.5 * uf.dot(sys.A * uf) - uf.dot(sys.b);
       const Eigen::VectorXd Au = sys.A * uf;
+      shared.energy = 0.5 * uf.dot(Au) - uf.dot(sys.b);
       const double scale = std::max({sys.b.cwiseAbs().maxCoeff(), Au.cwiseAbs().maxCoeff(), force_floor});
       const double residual = (Au - sys.b).cwiseAbs().maxCoeff();
       Certificate& c = m.certificate;

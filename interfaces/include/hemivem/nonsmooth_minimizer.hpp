@@ -109,20 +109,20 @@ inline int count_at_bound(const ReducedProblem& p, const Eigen::VectorXd& a) {
 /// The scaffolding of one minimize() call, shared by every engine.
 class MinimizerRun {
  public:
-  MinimizerRun(std::string engine, const ReducedProblem& problem, const Eigen::VectorXd& start,
+  /// InputError naming `engine` for invalid options, inconsistent sizes or a bad start.
+  MinimizerRun(const std::string& engine, const ReducedProblem& problem, const Eigen::VectorXd& start,
                const MinimizerOptions& options)
-      : engine_(std::move(engine)), p_(problem), o_(options) {
-    require_valid(o_, engine_);
-    check_sizes(p_, engine_);
+      : p_(problem), o_(options) {
+    require_valid(o_, engine);
+    check_sizes(p_, engine);
     const Eigen::Index n = p_.size();
     if (start.size() != 0 && start.size() != n)
       throw InputError("the start has size " + std::to_string(start.size()) + ", the problem " + std::to_string(n),
-                       engine_);
-    if (!start.allFinite()) throw InputError("the start is not finite", engine_);
+                       engine);
+    if (!start.allFinite()) throw InputError("the start is not finite", engine);
     start_ = p_.project(start.size() == 0 ? Eigen::VectorXd::Zero(n) : start);
   }
 
-  const std::string& engine() const noexcept { return engine_; }
   const ReducedProblem& problem() const noexcept { return p_; }
   const MinimizerOptions& options() const noexcept { return o_; }
   Eigen::Index size() const noexcept { return p_.size(); }
@@ -162,7 +162,6 @@ class MinimizerRun {
   bool has_certified_point() const noexcept { return best_ok_; }
   /// The best point offered so far (the start before any offer).
   const Eigen::VectorXd& best() const noexcept { return best_.size() == p_.size() ? best_ : start_; }
-  const Certificate& best_certificate() const noexcept { return best_cert_; }
 
   // ---- history ----------------------------------------------------------------------------
   /// Records an iteration at x (F and its certificate), offers x, and returns the callback's
@@ -212,7 +211,6 @@ class MinimizerRun {
   }
 
  private:
-  std::string engine_;
   const ReducedProblem& p_;
   const MinimizerOptions& o_;
   std::chrono::steady_clock::time_point t0_ = std::chrono::steady_clock::now();

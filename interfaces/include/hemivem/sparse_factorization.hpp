@@ -52,7 +52,7 @@ struct FactorizationResult {
 
 /// One flat options struct (as Ceres' Solver::Options). `engine` names the backend.
 struct FactorizationOptions {
-  std::string engine = "eigen";  ///< one of known_linear_engines() (case-insensitive, '_' as '-')
+  std::string engine = "eigen";  ///< one of known_linear_engines(), or "auto" (the fastest built; case-insensitive, '_' as '-')
   /// Forwarded to engines that print diagnostics; hemivem itself never prints.
   int verbosity = 0;
   /// Threads an engine may use where it has such a setting (0: engine default).
@@ -117,7 +117,7 @@ inline bool FactorizationOptions::is_valid(std::string* error) const {
     if (error != nullptr) *error = std::move(message);
     return false;
   };
-  if (!is_known_engine(known_linear_engines(), engine))
+  if (!is_known_engine(known_linear_engines(), engine) && normalized_engine_name(engine) != "auto")
     return fail("engine: unknown linear engine '" + engine + "' (known: " + join_engine_names(known_linear_engines()) +
                 ")");
   if (verbosity < 0) return fail("verbosity: must be >= 0, got " + std::to_string(verbosity));

@@ -14,9 +14,14 @@
 
 namespace hemivem {
 
-/// A new engine for `options.engine`. Throws InputError when the options are invalid, the
-/// name is unknown, or the engine was not built; the message lists the engines built.
+/// A new engine for `options.engine` ("auto": fastest_factorization()). Throws InputError when
+/// the options are invalid, the name is unknown, or the engine was not built; the message lists
+/// the engines built.
 std::unique_ptr<SparseFactorization> make_factorization(const FactorizationOptions& options);
+
+/// The fastest engine built that runs in one process, by measurement (docs/performance.md):
+/// mumps, else cholmod, else eigen.
+std::string fastest_factorization();
 
 /// The engines built into this library, in the order eigen, cholmod, mumps, mumps-mpi.
 std::vector<std::string> available_factorizations();
