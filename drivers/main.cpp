@@ -22,6 +22,8 @@
 #include <iostream>
 #include <thread>
 
+#include <malloc.h>
+
 #include "check_bench.hpp"
 #include "extreme.hpp"
 #include "commands.hpp"
@@ -249,6 +251,10 @@ int run_command(int argc, char** argv) {
 }
 
 int main(int argc, char** argv) {
+  // Large blocks from the heap instead of fresh mappings: a solve allocates and frees matrices
+  // of hundreds of megabytes, and every fresh page costs a page fault that zeroes it (a quarter
+  // of the run time at N = 256-512, docs/performance.md); freed heap memory is reused instead.
+  mallopt(M_MMAP_THRESHOLD, 1 << 30);
   const int code = run_command(argc, argv);
   // mpirun ends the whole job as soon as one process exits with an error. A rank > 0 has no
   // message of its own: it leaves rank 0 the time to print the error both met.

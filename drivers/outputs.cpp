@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <charconv>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -16,6 +17,7 @@
 #include <random>
 #include <set>
 #include <sstream>
+#include <string_view>
 #include <system_error>
 
 #include <unistd.h>
@@ -34,33 +36,75 @@ double timing(const ContactSolution& s, const std::string& stage) {
 
 void full_precision(std::ostream& os) { os << std::setprecision(17); }
 
-void write_contact_csv(std::ostream& os, const ContactSolution& s) {
-  full_precision(os);
+/// Text for large tables, written through a buffer: each number as the shortest text that
+/// reads back as exactly the same double (std::to_chars).
+class TextWriter {
+ public:
+  explicit TextWriter(std::ostream& os) : os_(os) { buffer_.reserve(kFlush + 64); }
+  TextWriter(const TextWriter&) = delete;
+  TextWriter& operator=(const TextWriter&) = delete;
+  ~TextWriter() { flush(); }
+
+  TextWriter& operator<<(double x) {
+    if (!std::isfinite(x)) return *this << (std::isnan(x) ? "nan" : x > 0 ? "inf" : "-inf");
+    char text[32];
+    const auto r = std::to_chars(text, text + sizeof text, x);
+    return append(std::string_view(text, static_cast<std::size_t>(r.ptr - text)));
+  }
+  TextWriter& operator<<(long long k) {
+    char text[24];
+    const auto r = std::to_chars(text, text + sizeof text, k);
+    return append(std::string_view(text, static_cast<std::size_t>(r.ptr - text)));
+  }
+  TextWriter& operator<<(int k) { return *this << static_cast<long long>(k); }
+  TextWriter& operator<<(char c) { return append(std::string_view(&c, 1)); }
+  TextWriter& operator<<(std::string_view text) { return append(text); }
+  TextWriter& operator<<(const char* text) { return append(std::string_view(text)); }
+  TextWriter& operator<<(const std::string& text) { return append(text); }
+
+  void flush() {
+    os_.write(buffer_.data(), static_cast<std::streamsize>(buffer_.size()));
+    buffer_.clear();
+  }
+
+ private:
+  static constexpr std::size_t kFlush = std::size_t{1} << 20;
+  TextWriter& append(std::string_view text) {
+    buffer_.append(text);
+    if (buffer_.size() >= kFlush) flush();
+    return *this;
+  }
+  std::ostream& os_;
+  std::string buffer_;
+};
+
+void write_contact_csv(std::ostream& stream, const ContactSolution& s) {
+  TextWriter os(stream);
   os << "vertex,x,y,u_nu,law_force,reaction,pressure,state\n";
   for (const auto& n : s.contact)
     os << n.vertex << ',' << n.x.x() << ',' << n.x.y() << ',' << n.u_nu << ',' << n.law_force << ',' << n.reaction
        << ',' << n.pressure() << ',' << n.state << '\n';
 }
 
-void write_displacement_csv(std::ostream& os, const Mesh& mesh, const Eigen::VectorXd& u) {
-  full_precision(os);
+void write_displacement_csv(std::ostream& stream, const Mesh& mesh, const Eigen::VectorXd& u) {
+  TextWriter os(stream);
   os << "vertex,x,y,ux,uy\n";
   for (int v = 0; v < mesh.num_vertices(); ++v)
     os << v << ',' << mesh.vertex(v).x() << ',' << mesh.vertex(v).y() << ',' << u(2 * v) << ',' << u(2 * v + 1)
        << '\n';
 }
 
-void write_history_csv(std::ostream& os, const ContactSolution& s) {
-  full_precision(os);
+void write_history_csv(std::ostream& stream, const ContactSolution& s) {
+  TextWriter os(stream);
   os << "iteration,reduced_objective,primal,dual,active,seconds\n";
   for (const auto& r : s.minimizer.history)
     os << r.iteration << ',' << r.objective << ',' << r.primal << ',' << r.dual << ',' << r.active << ',' << r.seconds
        << '\n';
 }
 
-void write_vtu(std::ostream& os, const Mesh& mesh, const MaterialTable& materials, const Eigen::VectorXd& u) {
+void write_vtu(std::ostream& stream, const Mesh& mesh, const MaterialTable& materials, const Eigen::VectorXd& u) {
   const std::vector<ElementStress> stress = element_stresses(mesh, materials, u);
-  full_precision(os);
+  TextWriter os(stream);
   const int nv = mesh.num_vertices();
   const int ne = mesh.num_elements();
   os << "<?xml version=\"1.0\"?>\n"
@@ -280,6 +324,9 @@ bool is_png(const fs::path& p) {
 
 namespace {
 
+/// The most edges deformed.png draws one by one (a 1000 x 700 picture).
+constexpr std::size_t kMaxDrawnEdges = 100000;
+
 void make_plots(const fs::path& dir, const Mesh& mesh, const ContactSolution& sol, bool want_unu, bool want_deformed,
                 OutputReport& report) {
   auto skip = [&](const std::string& reason) {
@@ -328,14 +375,21 @@ void make_plots(const fs::path& dir, const Mesh& mesh, const ContactSolution& so
     const double scale = umax > 0.0 && std::isfinite(umax) ? std::max(1.0, 0.1 * size / umax) : 1.0;
     auto deformed = [&](int v) -> Vec2 { return mesh.vertex(v) + scale * Vec2(sol.u(2 * v), sol.u(2 * v + 1)); };
     auto magnitude = [&](int v) { return std::hypot(sol.u(2 * v), sol.u(2 * v + 1)); };
-    write_plain(t / "edges.dat", [&](std::ostream& os) {
-      full_precision(os);
+    // Edges finer than the picture's pixels only cost time: a mesh with more edges than
+    // kMaxDrawnEdges is drawn by its boundary.
+    const bool boundary_only = mesh.edges().size() > kMaxDrawnEdges;
+    write_plain(t / "edges.dat", [&](std::ostream& stream) {
+      TextWriter os(stream);
       os << "# x y |u| (deformed edges, one block each)\n";
-      for (const auto& e : mesh.edges()) {
+      auto put = [&](const MeshEdge& e) {
         const Vec2 a = deformed(e.v0), b = deformed(e.v1);
         os << a.x() << ' ' << a.y() << ' ' << magnitude(e.v0) << '\n'
            << b.x() << ' ' << b.y() << ' ' << magnitude(e.v1) << "\n\n";
-      }
+      };
+      if (boundary_only)
+        for (int e : mesh.boundary_edges()) put(mesh.edges()[static_cast<std::size_t>(e)]);
+      else
+        for (const auto& e : mesh.edges()) put(e);
     });
     write_plain(t / "contact.dat", [&](std::ostream& os) {
       full_precision(os);
@@ -346,12 +400,14 @@ void make_plots(const fs::path& dir, const Mesh& mesh, const ContactSolution& so
       }
     });
     std::ostringstream title;
-    title << "deformed mesh (displacement x " << std::setprecision(3) << scale << "), colour: |u|";
+    title << (boundary_only ? "deformed boundary" : "deformed mesh") << " (displacement x " << std::setprecision(3)
+          << scale << "), colour: |u|";
+    if (boundary_only) title << "; " << mesh.edges().size() << " edges are finer than the picture";
     script << "set output " << gnuplot_quote((t / "deformed.png").string()) << "\n"
            << "set title " << gnuplot_quote(title.str()) << "\n"
            << "set size ratio -1\nset xlabel 'x'\nset ylabel 'y'\nunset key\n"
            << "set palette rgbformulae 33,13,10\nset cblabel '|u|'\n";
-    script << "plot " << gnuplot_quote((t / "edges.dat").string()) << " using 1:2:3 with lines lc palette lw 1";
+    script << "plot " << gnuplot_quote((t / "edges.dat").string()) << " using 1:2:3 with lines lc palette lw " << (boundary_only ? 2 : 1);
     if (!sol.contact.empty())
       script << ", " << gnuplot_quote((t / "contact.dat").string()) << " using 1:2 with points pt 7 ps 0.5 lc rgb 'black'";
     script << "\nunset output\n";

@@ -83,9 +83,16 @@ double entry(const SparseMatrix& A, int i, int j) {
 // (nu_k, tau_k), on A's pattern (the two dofs of a node share their pattern, as in every
 // assembled stiffness), computed from the symmetric part of A so that the result is exactly
 // symmetric: each entry of the lower triangle is computed once and mirrored. Exact zeros are
-// dropped.
-SparseMatrix rotate_symmetric(const SparseMatrix& A, const std::vector<int>& x, const std::vector<int>& y,
+// dropped. One sweep over A: the columns in increasing order meet the entries above the
+// diagonal of each column in increasing order, so each mirror is found by a cursor.
+SparseMatrix rotate_symmetric(const SparseMatrix& A_in, const std::vector<int>& x, const std::vector<int>& y,
                               const std::vector<Vec2>& normals) {
+  SparseMatrix compressed;
+  if (!A_in.isCompressed()) {
+    compressed = A_in;
+    compressed.makeCompressed();
+  }
+  const SparseMatrix& A = A_in.isCompressed() ? A_in : compressed;
   const int n = static_cast<int>(A.rows());
   // dof -> (the pair's x dof, y dof, the column of Q: Q(x, d), Q(y, d)); pair -1 off the contact
   std::vector<int> pair(static_cast<std::size_t>(n), -1);
@@ -111,22 +118,36 @@ SparseMatrix rotate_symmetric(const SparseMatrix& A, const std::vector<int>& x, 
     return 2;
   };
   SparseMatrix At = A;
-  At.makeCompressed();
+  const int* outer = A.outerIndexPtr();
+  const int* inner = A.innerIndexPtr();
+  const double* a = A.valuePtr();
+  double* out = At.valuePtr();
+  std::vector<int> cursor(outer, outer + n);  // per column: its next entry above the diagonal
+  std::vector<Eigen::Triplet<double, int>> missing;  // mirrors of entries whose mirror A lacks
   for (int q = 0; q < n; ++q) {
-    int jq[2], ip[2];
-    double cq[2], cp[2];
-    const int nq = q_column(q, jq, cq);
-    for (SparseMatrix::InnerIterator it(At, q); it; ++it) {
-      const int p = static_cast<int>(it.row());
+    for (int k = outer[q]; k < outer[q + 1]; ++k) {
+      const int p = inner[k];
       if (p < q) continue;
-      const int np = q_column(p, ip, cp);
-      double v = 0.0;
-      for (int a = 0; a < np; ++a)
-        for (int b = 0; b < nq; ++b) v += cp[a] * sym(ip[a], jq[b]) * cq[b];
-      it.valueRef() = v;
-      if (p != q) At.coeffRef(q, p) = v;
+      int& c = cursor[static_cast<std::size_t>(p)];
+      while (c < outer[p + 1] && inner[c] < q) ++c;
+      const int mirror = c < outer[p + 1] && inner[c] == q && p != q ? c : -1;
+      double v;
+      if (pair[static_cast<std::size_t>(p)] < 0 && pair[static_cast<std::size_t>(q)] < 0) {
+        v = p == q ? a[k] : 0.5 * (a[k] + (mirror >= 0 ? a[mirror] : 0.0));
+      } else {
+        int jq[2], ip[2];
+        double cq[2], cp[2];
+        const int nq = q_column(q, jq, cq), np = q_column(p, ip, cp);
+        v = 0.0;
+        for (int s = 0; s < np; ++s)
+          for (int t = 0; t < nq; ++t) v += cp[s] * sym(ip[s], jq[t]) * cq[t];
+      }
+      out[k] = v;
+      if (mirror >= 0) out[mirror] = v;
+      else if (p != q) missing.emplace_back(q, p, v);
     }
   }
+  for (const auto& t : missing) At.coeffRef(t.row(), t.col()) = t.value();
   At.prune(0.0);
   return At;
 }
@@ -199,16 +220,27 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
     return;
   }
 
-  // A21 = At(block2, block1), b1, b2
-  SparseMatrix P1(n1, n), P2(static_cast<int>(block2_.size()), n);
-  std::vector<Eigen::Triplet<double, int>> t1, t2;
-  for (int i = 0; i < n1; ++i) t1.emplace_back(i, block1_[static_cast<std::size_t>(i)], 1.0);
-  for (std::size_t i = 0; i < block2_.size(); ++i) t2.emplace_back(static_cast<int>(i), block2_[i], 1.0);
-  P1.setFromTriplets(t1.begin(), t1.end());
-  P2.setFromTriplets(t2.begin(), t2.end());
-  A21_ = P2 * At * SparseMatrix(P1.transpose());
-  const Eigen::VectorXd b1 = P1 * bt;
-  b2_ = P2 * bt;
+  // A21 = At(block2, block1) (block2 is increasing, so each column's rows stay sorted), b1, b2
+  std::vector<int> position2(static_cast<std::size_t>(n), -1);
+  for (std::size_t i = 0; i < block2_.size(); ++i) position2[static_cast<std::size_t>(block2_[i])] = static_cast<int>(i);
+  std::vector<int> a21_outer{0}, a21_inner;
+  std::vector<double> a21_values;
+  for (int j : block1_) {
+    for (SparseMatrix::InnerIterator it(At, j); it; ++it) {
+      const int r = position2[static_cast<std::size_t>(it.row())];
+      if (r < 0) continue;
+      a21_inner.push_back(r);
+      a21_values.push_back(it.value());
+    }
+    a21_outer.push_back(static_cast<int>(a21_inner.size()));
+  }
+  A21_ = Eigen::Map<const SparseMatrix>(static_cast<Eigen::Index>(block2_.size()), n1,
+                                        static_cast<Eigen::Index>(a21_inner.size()), a21_outer.data(),
+                                        a21_inner.data(), a21_values.data());
+  Eigen::VectorXd b1(n1);
+  for (int i = 0; i < n1; ++i) b1(i) = bt(block1_[static_cast<std::size_t>(i)]);
+  b2_.resize(static_cast<Eigen::Index>(block2_.size()));
+  for (std::size_t i = 0; i < block2_.size(); ++i) b2_(static_cast<Eigen::Index>(i)) = bt(block2_[i]);
   Eigen::MatrixXd y;
   require(factorization_->solve_interior(b2_, &y), *factorization_, "interior solve");
   reduced_.c = b1 - A21_.transpose() * y.col(0);

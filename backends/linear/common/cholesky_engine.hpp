@@ -24,6 +24,7 @@
 #include <new>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace hemivem::linear_detail {
@@ -145,19 +146,34 @@ class CholeskyEngine {
     if (auto r = check_right_hand_sides("solve_interior()", "B2", B2, X2, n2, "A22"); !r.ok()) return r;
     return guarded([&] {
       // z = B2 in elimination order (row k: the index of A eliminated k-th), transposed so
-      // that each step of the substitutions reads one contiguous column.
-      Eigen::MatrixXd z(B2.cols(), n2);
+      // that each step of the substitutions reads one contiguous column of m values.
+      const Eigen::Index m = B2.cols();
+      Eigen::MatrixXd z(m, n2);
       for (Eigen::Index k = 0; k < n2; ++k) z.col(k) = B2.row(split_.position[order(k)]).transpose();
-      const int m = static_cast<int>(n2);
-      for (int j = 0; j < m; ++j) {  // L22 y = b2
+      double* zd = z.data();
+      auto zc = [&](int k) { return zd + static_cast<std::ptrdiff_t>(k) * m; };
+      const int n2i = static_cast<int>(n2);
+      for (int j = 0; j < n2i; ++j) {  // L22 y = b2
         const FactorColumn c = kernel_->column(j);
-        z.col(j) /= c.values[0];
-        for (int t = 1; t < c.size && c.rows[t] < m; ++t) z.col(c.rows[t]) -= c.values[t] * z.col(j);
+        double* zj = zc(j);
+        const double d = c.values[0];
+        for (Eigen::Index r = 0; r < m; ++r) zj[r] /= d;
+        for (int t = 1; t < c.size && c.rows[t] < n2i; ++t) {
+          double* zt = zc(c.rows[t]);
+          const double v = c.values[t];
+          for (Eigen::Index r = 0; r < m; ++r) zt[r] -= v * zj[r];
+        }
       }
-      for (int j = m - 1; j >= 0; --j) {  // L22^T x2 = y
+      for (int j = n2i - 1; j >= 0; --j) {  // L22^T x2 = y
         const FactorColumn c = kernel_->column(j);
-        for (int t = 1; t < c.size && c.rows[t] < m; ++t) z.col(j) -= c.values[t] * z.col(c.rows[t]);
-        z.col(j) /= c.values[0];
+        double* zj = zc(j);
+        for (int t = 1; t < c.size && c.rows[t] < n2i; ++t) {
+          const double* zt = zc(c.rows[t]);
+          const double v = c.values[t];
+          for (Eigen::Index r = 0; r < m; ++r) zj[r] -= v * zt[r];
+        }
+        const double d = c.values[0];
+        for (Eigen::Index r = 0; r < m; ++r) zj[r] /= d;
       }
       X2->resize(n2, B2.cols());
       for (Eigen::Index k = 0; k < n2; ++k) X2->row(split_.position[order(k)]) = z.col(k).transpose();
@@ -193,46 +209,85 @@ class CholeskyEngine {
   FactorizationResult analyze_ordered(const SparseMatrix& M) {
     const int n = static_cast<int>(M.rows());
     const int n2 = static_cast<int>(split_.block2.size());
-    // The pattern of the lower triangle of A22, its diagonal always included.
-    std::vector<Eigen::Triplet<double, int>> entries;
-    for (int j = 0; j < n; ++j) {
-      const int pj = split_.position[static_cast<std::size_t>(j)];
-      if (pj < 0) continue;
-      entries.emplace_back(pj, pj, 1.0);
-      for (SparseMatrix::InnerIterator it(M, j); it; ++it) {
-        const int pi = split_.position[static_cast<std::size_t>(it.row())];
-        if (it.row() > j && pi >= 0) entries.emplace_back(pi, pj, 1.0);
-      }
-    }
-    SparseMatrix A22(n2, n2);
-    A22.setFromTriplets(entries.begin(), entries.end());
     std::vector<int> perm22;
-    if (auto r = kernel_->order(A22, &perm22); !r.ok()) return r;
+    const SparseMatrix a22 = lower_pattern_a22(M);
+    if (auto r = kernel_->order(a22, &perm22); !r.ok()) return r;
     order_.resize(static_cast<std::size_t>(n));
     for (int k = 0; k < n2; ++k)
       order_[static_cast<std::size_t>(k)] = split_.block2[static_cast<std::size_t>(perm22[static_cast<std::size_t>(k)])];
     std::copy(split_.block1.begin(), split_.block1.end(), order_.begin() + n2);
-    std::vector<int> new_pos(static_cast<std::size_t>(n));
-    for (int k = 0; k < n; ++k) new_pos[static_cast<std::size_t>(order_[static_cast<std::size_t>(k)])] = k;
-
-    // P: the lower triangle of A in elimination order; each value holds the position of its
-    // entry in A, which gives the map from A's value array to P's.
-    entries.clear();
-    for (int j = 0; j < n; ++j) {
-      for (int k = M.outerIndexPtr()[j]; k < M.outerIndexPtr()[j + 1]; ++k) {
-        const int i = M.innerIndexPtr()[k];
-        if (i < j) continue;
-        const int a = new_pos[static_cast<std::size_t>(i)], b = new_pos[static_cast<std::size_t>(j)];
-        entries.emplace_back(std::max(a, b), std::min(a, b), static_cast<double>(k));
-      }
-    }
-    P_.resize(n, n);
-    P_.setFromTriplets(entries.begin(), entries.end());
-    scatter_.assign(static_cast<std::size_t>(M.nonZeros()), -1);
-    for (Eigen::Index p = 0; p < P_.nonZeros(); ++p)
-      scatter_[static_cast<std::size_t>(P_.valuePtr()[p])] = static_cast<int>(p);
+    build_ordered_pattern(M);
     ++analyses_;
     return kernel_->analyze_ordered(P_);
+  }
+
+  /// The pattern of the lower triangle of A22 (block2 is increasing, so each column's rows stay
+  /// sorted), its diagonal always included; values are 1.
+  SparseMatrix lower_pattern_a22(const SparseMatrix& M) const {
+    const int n = static_cast<int>(M.rows());
+    const int n2 = static_cast<int>(split_.block2.size());
+    const int* outer = M.outerIndexPtr();
+    const int* inner = M.innerIndexPtr();
+    std::vector<int> col(static_cast<std::size_t>(n2) + 1, 0), row;
+    row.reserve(static_cast<std::size_t>(M.nonZeros() / 2 + n2));
+    for (int j = 0; j < n; ++j) {
+      const int pj = split_.position[static_cast<std::size_t>(j)];
+      if (pj < 0) continue;
+      row.push_back(pj);
+      for (int k = outer[j]; k < outer[j + 1]; ++k) {
+        const int pi = split_.position[static_cast<std::size_t>(inner[k])];
+        if (inner[k] > j && pi >= 0) row.push_back(pi);
+      }
+      col[static_cast<std::size_t>(pj) + 1] = static_cast<int>(row.size());
+    }
+    std::vector<double> ones(row.size(), 1.0);
+    SparseMatrix A22(n2, n2);
+    A22 = Eigen::Map<const SparseMatrix>(n2, n2, static_cast<Eigen::Index>(row.size()), col.data(), row.data(),
+                                         ones.data());
+    return A22;
+  }
+
+  /// P's pattern (the lower triangle of A in elimination order, counted and placed column by
+  /// column), its values and scatter_, the map from A's value array to P's.
+  void build_ordered_pattern(const SparseMatrix& M) {
+    const int n = static_cast<int>(M.rows());
+    const int* outer = M.outerIndexPtr();
+    const int* inner = M.innerIndexPtr();
+    std::vector<int> new_pos(static_cast<std::size_t>(n));
+    for (int k = 0; k < n; ++k) new_pos[static_cast<std::size_t>(order_[static_cast<std::size_t>(k)])] = k;
+    auto target = [&](int k, int j) {  // (row, column) in P of A's entry k in column j
+      const int a = new_pos[static_cast<std::size_t>(inner[k])], b = new_pos[static_cast<std::size_t>(j)];
+      return std::pair<int, int>{std::max(a, b), std::min(a, b)};
+    };
+    std::vector<int> start(static_cast<std::size_t>(n) + 1, 0);
+    for (int j = 0; j < n; ++j)
+      for (int k = outer[j]; k < outer[j + 1]; ++k)
+        if (inner[k] >= j) ++start[static_cast<std::size_t>(target(k, j).second) + 1];
+    for (int j = 0; j < n; ++j) start[static_cast<std::size_t>(j) + 1] += start[static_cast<std::size_t>(j)];
+    const auto nnz = static_cast<std::size_t>(start[static_cast<std::size_t>(n)]);
+    std::vector<std::pair<int, int>> placed(nnz);  // (row in P, entry of A), column by column
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (int j = 0; j < n; ++j)
+      for (int k = outer[j]; k < outer[j + 1]; ++k)
+        if (inner[k] >= j) {
+          const auto [row, column] = target(k, j);
+          placed[static_cast<std::size_t>(fill[static_cast<std::size_t>(column)]++)] = {row, k};
+        }
+    P_.resize(n, n);
+    P_.resizeNonZeros(static_cast<Eigen::Index>(nnz));
+    std::copy(start.begin(), start.end(), P_.outerIndexPtr());
+    scatter_.assign(static_cast<std::size_t>(M.nonZeros()), -1);
+    for (int j = 0; j < n; ++j) {
+      const auto first = placed.begin() + start[static_cast<std::size_t>(j)];
+      const auto last = placed.begin() + start[static_cast<std::size_t>(j) + 1];
+      std::sort(first, last);
+      for (auto it = first; it != last; ++it) {
+        const auto p = static_cast<std::size_t>(it - placed.begin());
+        P_.innerIndexPtr()[p] = it->first;
+        P_.valuePtr()[p] = M.valuePtr()[it->second];
+        scatter_[static_cast<std::size_t>(it->second)] = static_cast<int>(p);
+      }
+    }
   }
 
   /// S = L11 L11^T from the trailing n - n2 columns of L.
