@@ -26,6 +26,7 @@
 
 #include "check_bench.hpp"
 #include "extreme.hpp"
+#include "limit.hpp"
 #include "commands.hpp"
 #include "common.hpp"
 #include "study.hpp"
@@ -145,7 +146,8 @@ int run_command(int argc, char** argv) {
   double bench_tol = 0.0;
   auto* cmd_bench = app.add_subcommand("bench", "Wall time by stage and error against a fine reference, for every pair of engines");
   cmd_bench->add_option("scene", bench.scene, "Scene file (TOML); none: the paper's Example 4.1")->check(CLI::ExistingFile);
-  cmd_bench->add_option("--n", bench.n, "Mesh sizes, comma-separated")
+  bool bench_limit = false;
+  auto* o_bench_n = cmd_bench->add_option("--n", bench.n, "Mesh sizes, comma-separated (with --limit: default 128,256,512)")
       ->delimiter(',')
       ->capture_default_str()
       ->check(CLI::Range(1, 10000000));
@@ -155,6 +157,9 @@ int run_command(int argc, char** argv) {
   cmd_bench->add_option("--out", bench.out, "Output folder (bench.csv, bench.json, bench.png)")->capture_default_str();
   cmd_bench->add_flag("--json", bench.json, "Print bench.json on stdout instead of the table");
   cmd_bench->add_flag("-q,--quiet", bench_quiet, "Print nothing on stdout or stderr");
+  cmd_bench->add_flag("--limit", bench_limit,
+                      "Every stage of a cholmod solve against the machine's limit (a plain assembly and one CHOLMOD "
+                      "factorization of the same matrix), measured in this run; writes limit.json");
   // ---- end check and bench ----
 
   // ---- runs across processes (docs/cluster.md): only rank 0 prints; only solve runs on several ----
@@ -227,6 +232,8 @@ int run_command(int argc, char** argv) {
     if (*cmd_bench) {
       if (*o_bench_tol) bench.tolerance = bench_tol;
       bench.verbosity = bench_quiet ? 0 : 1;
+      if (bench_limit)
+        return cli::run_bench_limit(bench, *o_bench_n ? bench.n : std::vector<int>{128, 256, 512}, std::cout, std::cerr);
       return cli::run_bench(bench, std::cout, std::cerr);
     }
     // ---- end check and bench ----

@@ -8,7 +8,7 @@ packages=(
   libeigen3-dev
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev
   libcli11-dev libtomlplusplus-dev
-  libsuitesparse-dev
+  libsuitesparse-dev libopenblas0-pthread
   libmumps-seq-dev libmumps-dev libopenmpi-dev openmpi-bin
   libgtest-dev libgmock-dev libbenchmark-dev
   libnlopt-dev libceres-dev

@@ -158,3 +158,63 @@ TEST(CliCheck, BadInputExitsTwo) {
   EXPECT_FALSE(fs::exists(out / "bench.csv"));
   fs::remove_all(out);
 }
+
+namespace {
+
+TEST(CliBenchLimit, MeasuresEveryStageAndTheLimitInFreshProcesses) {
+  const fs::path out = scratch("limit");
+  const CommandRun r = run("bench --limit --n 16,8 --out " + out.string() + " --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j, nlohmann::json::parse(slurp(out / "limit.json")));
+  EXPECT_EQ(j["schema"], "hemivem-bench-limit/1");
+  EXPECT_EQ(j["linear"], "cholmod");
+  ASSERT_EQ(j["rows"].size(), 2u);
+  int previous = 0;
+  for (const auto& row : j["rows"]) {
+    const int n = row["n"];
+    EXPECT_GT(n, previous);  // increasing
+    previous = n;
+    // Example 4.1: x = 0 and x = 1 clamped, every other dof free
+    EXPECT_EQ(row["dofs"], 2 * (n + 1) * (n - 1));
+    EXPECT_EQ(row["contact_nodes"], n - 1);
+    EXPECT_EQ(row["status"], "converged");
+    double sum = 0.0;
+    for (const char* k : {"mesh", "assembly", "condensation", "minimize", "margin", "back_substitution", "outputs"}) {
+      ASSERT_TRUE(row["stages"].contains(k)) << k;
+      EXPECT_GE(row["stages"][k].get<double>(), 0.0) << k;
+      if (std::string(k) != "margin") sum += row["stages"][k].get<double>();
+    }
+    EXPECT_GT(row["stages"]["condensation"].get<double>(), 0.0);
+    EXPECT_NEAR(row["solve"].get<double>(), sum, 1e-12 * sum);
+    const auto& limit = row["limit"];
+    EXPECT_GT(limit["plain_assembly"].get<double>(), 0.0);
+    EXPECT_GT(limit["factorization"].get<double>(), 0.0);
+    EXPECT_TRUE(limit["ordering"] == "amd" || limit["ordering"] == "metis") << limit["ordering"];
+    EXPECT_EQ(limit["other_orderings"].size(), 1u);
+    // the lower triangle of A at least (values and row indices), and the factor holds more
+    const double lower_entries = 0.5 * (row["dofs"].get<double>() + 1.0);
+    EXPECT_GT(limit["matrix_bytes"].get<double>(), 12.0 * lower_entries);
+    EXPECT_GT(limit["factor_bytes"].get<double>(), 0.0);
+    const double factor = limit["analysis"].get<double>() + limit["factorization"].get<double>();
+    EXPECT_NEAR(row["ratios"]["solve_over_limit"].get<double>(),
+                sum / (limit["plain_assembly"].get<double>() + factor), 1e-9);
+    EXPECT_NEAR(row["ratios"]["condensation_over_factorization"].get<double>(),
+                row["stages"]["condensation"].get<double>() / factor, 1e-9);
+    EXPECT_GT(row["peak_rss_bytes"].get<double>(), limit["matrix_bytes"].get<double>());
+  }
+  fs::remove_all(out);
+}
+
+TEST(CliBenchLimit, NeedsSquaresAndLeavesNothingOnBadInput) {
+  const fs::path out = scratch("limit-bad");
+  const CommandRun voronoi = run("bench --limit --n 8 --set mesh.generator=\"voronoi\" --out " + out.string());
+  EXPECT_EQ(voronoi.code, 2);
+  EXPECT_NE(voronoi.err.find("mesh.generator"), std::string::npos) << voronoi.err;
+  EXPECT_NE(voronoi.err.find("squares"), std::string::npos) << voronoi.err;
+  EXPECT_EQ(run("bench --limit --n 0 --out " + out.string()).code, 2);
+  EXPECT_FALSE(fs::exists(out / "limit.json"));
+  fs::remove_all(out);
+}
+
+}  // namespace

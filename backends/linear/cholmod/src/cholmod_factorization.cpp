@@ -5,6 +5,7 @@
 #include <cholmod.h>
 
 #include <algorithm>
+#include <chrono>
 #include <vector>
 
 namespace hemivem {
@@ -194,6 +195,40 @@ class CholmodKernel final : public CholeskyKernel {
 };
 
 }  // namespace
+
+CholmodReference measure_cholmod_factorization(const SparseMatrix& A, bool metis) {
+  using Clock = std::chrono::steady_clock;
+  auto seconds = [](Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); };
+  CholmodReference r;
+  r.ordering = metis ? "metis" : "amd";
+  SparseMatrix storage;
+  const SparseMatrix& M = A.isCompressed() ? A : (storage = A, storage.makeCompressed(), storage);
+  cholmod_common c{};
+  cholmod_start(&c);
+  c.print = 0;
+  c.supernodal = CHOLMOD_SUPERNODAL;
+  c.nmethods = 1;
+  c.method[0].ordering = metis ? CHOLMOD_METIS : CHOLMOD_AMD;
+  cholmod_sparse Av = lower_view(M);
+  const auto t0 = Clock::now();
+  cholmod_factor* L = cholmod_analyze(&Av, &c);
+  const auto t1 = Clock::now();
+  if (L == nullptr) {
+    r.message = "cholmod_analyze failed (status " + std::to_string(c.status) + ")";
+  } else {
+    r.flops = c.fl;
+    const int ok = cholmod_factorize(&Av, L, &c);
+    const auto t2 = Clock::now();
+    r.analysis_seconds = seconds(t0, t1);
+    r.factorization_seconds = seconds(t1, t2);
+    r.ok = ok != 0 && c.status == CHOLMOD_OK && L->minor == L->n;
+    if (!r.ok) r.message = "cholmod_factorize failed (status " + std::to_string(c.status) + ")";
+    r.factor_bytes = static_cast<double>(L->xsize) * sizeof(double) + static_cast<double>(L->ssize) * sizeof(int);
+  }
+  cholmod_free_factor(&L, &c);
+  cholmod_finish(&c);
+  return r;
+}
 
 struct CholmodFactorization::Impl : CholeskyEngine {
   explicit Impl(const FactorizationOptions& options)

@@ -31,6 +31,21 @@
 
 namespace hemivem {
 
+/// One analysis and one numeric factorization of A (its lower triangle) by CHOLMOD alone,
+/// timed: the yardstick of `hemivem bench --limit` (docs/performance.md).
+struct CholmodReference {
+  bool ok = false;               ///< false: the analysis or factorization failed (message says why)
+  std::string message;
+  std::string ordering;          ///< "amd" or "metis"
+  double analysis_seconds = 0.0;
+  double factorization_seconds = 0.0;
+  double factor_bytes = 0.0;     ///< the numeric values and row indices of the supernodal factor
+  double flops = 0.0;            ///< CHOLMOD's count for the factorization
+};
+
+/// The reference factorization of A with AMD (`metis` false) or METIS (`metis` true), supernodal.
+CholmodReference measure_cholmod_factorization(const SparseMatrix& A, bool metis);
+
 class CholmodFactorization final : public SparseFactorization {
  public:
   explicit CholmodFactorization(const FactorizationOptions& options = {});

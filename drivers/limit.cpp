@@ -1,0 +1,364 @@
+// hemivem bench --limit: every stage of a solve against the machine's limit, measured in one run
+// (drivers/limit.hpp).
+#include "limit.hpp"
+
+#include "commands.hpp"
+#include "common.hpp"
+#include "outputs.hpp"
+
+#include <hemivem/assembly.hpp>
+#include <hemivem/contact.hpp>
+#include <hemivem/contact_solver.hpp>
+#include <hemivem/error.hpp>
+#include <hemivem/linear_backends.hpp>
+
+#if __has_include(<hemivem/cholmod_factorization.hpp>)
+#include <hemivem/cholmod_factorization.hpp>
+#define HEMIVEM_LIMIT_HAS_CHOLMOD 1
+#endif
+
+#include <Eigen/Sparse>
+
+#include <algorithm>
+#include <cerrno>
+#include <functional>
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <random>
+
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace hemivem::cli {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+#ifdef HEMIVEM_LIMIT_HAS_CHOLMOD
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+/// The peak resident memory of this process so far, in bytes.
+double peak_rss_bytes() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_maxrss) * 1024.0;
+}
+
+/// The plain assembly of limit.cpp, written for hemivem's mesh and dof numbering: the bilinear
+/// (Q1) plane-strain stiffness of one h x h square (2 x 2 Gauss), added for every element with
+/// Eigen triplets (lower triangle), one setFromTriplets. Same sparsity as the VEM matrix on
+/// squares; meaningless (and refused) on other meshes.
+double plain_q1_assembly_seconds(const Mesh& mesh, const DofMap& dofs, double lambda, double mu) {
+  for (int e = 0; e < mesh.num_elements(); ++e)
+    if (mesh.element_size(e) != 4)
+      throw InputError("the limit's plain assembly is the Q1 stiffness of squares: element " + std::to_string(e) +
+                           " has " + std::to_string(mesh.element_size(e)) + " vertices",
+                       "mesh.generator");
+  const auto start = Clock::now();
+  const auto first = mesh.element(0);
+  const double h = (mesh.vertex(first[1]) - mesh.vertex(first[0])).norm();
+  Eigen::Matrix<double, 8, 8> Ke = Eigen::Matrix<double, 8, 8>::Zero();
+  Eigen::Matrix3d C;
+  C << lambda + 2 * mu, lambda, 0, lambda, lambda + 2 * mu, 0, 0, 0, mu;
+  const double gauss[2] = {0.5 - 0.5 / std::sqrt(3.0), 0.5 + 0.5 / std::sqrt(3.0)};
+  const double xs[4] = {0, 1, 1, 0}, ys[4] = {0, 0, 1, 1};
+  for (double s : gauss)
+    for (double t : gauss) {
+      Eigen::Matrix<double, 3, 8> B = Eigen::Matrix<double, 3, 8>::Zero();
+      for (int a = 0; a < 4; ++a) {
+        const double dx = (xs[a] != 0.0 ? 1 : -1) * (ys[a] != 0.0 ? t : 1 - t) / h;
+        const double dy = (ys[a] != 0.0 ? 1 : -1) * (xs[a] != 0.0 ? s : 1 - s) / h;
+        B(0, 2 * a) = dx, B(1, 2 * a + 1) = dy, B(2, 2 * a) = dy, B(2, 2 * a + 1) = dx;
+      }
+      Ke += 0.25 * h * h * B.transpose() * C * B;
+    }
+  std::vector<Eigen::Triplet<double, int>> triplets;
+  triplets.reserve(static_cast<std::size_t>(mesh.num_elements()) * 36);
+  int d[8];
+  for (int e = 0; e < mesh.num_elements(); ++e) {
+    const auto v = mesh.element(e);
+    for (int a = 0; a < 4; ++a)
+      for (int c = 0; c < 2; ++c) d[2 * a + c] = dofs.free_index[static_cast<std::size_t>(2 * v[static_cast<std::size_t>(a)] + c)];
+    for (int q = 0; q < 8; ++q)
+      for (int p = 0; p < 8; ++p)
+        if (d[p] >= 0 && d[q] >= 0 && d[p] >= d[q]) triplets.emplace_back(d[p], d[q], Ke(p, q));
+  }
+  SparseMatrix A(dofs.num_free(), dofs.num_free());
+  A.setFromTriplets(triplets.begin(), triplets.end());
+  A.makeCompressed();
+  return since(start);
+}
+
+struct LimitRow {
+  int n = 0;
+  int dofs = 0;
+  int contact_nodes = 0;
+  std::map<std::string, double> stage;  // mesh, assembly, condensation, minimize, margin, back_substitution, outputs
+  double solve = 0.0;                   // the sum of the stages
+  double peak_rss = 0.0;                // bytes, after the solve (sizes run in increasing order)
+  double plain_assembly = 0.0;
+  std::string ordering;                 // CHOLMOD's faster ordering
+  double analysis = 0.0, factorization = 0.0, factor_bytes = 0.0, matrix_bytes = 0.0;
+  std::map<std::string, double> alternative;  // the other ordering: analysis + factorization
+  std::string status;
+};
+
+/// Runs `work` in a fresh child process (fork) and returns the JSON it produced: every
+/// measurement starts, as `hemivem solve` and limit.cpp do, with a fresh heap, and the peak
+/// memory is the child's own. An exception in the child comes back as the same kind of error.
+nlohmann::json in_child(const std::function<nlohmann::json()>& work) {
+  int fd[2];
+  if (::pipe(fd) != 0) throw NumericalError("bench --limit: cannot create a pipe");
+  const pid_t pid = ::fork();
+  if (pid < 0) throw NumericalError("bench --limit: cannot start a child process");
+  if (pid == 0) {
+    ::close(fd[0]);
+    nlohmann::json j;
+    try {
+      j = work();
+    } catch (const InputError& e) {
+      j = {{"error", "input"}, {"message", e.what()}};
+    } catch (const std::exception& e) {
+      j = {{"error", "numerical"}, {"message", e.what()}};
+    }
+    const std::string text = j.dump();
+    std::size_t done = 0;
+    while (done < text.size()) {
+      const ssize_t w = ::write(fd[1], text.data() + done, text.size() - done);
+      if (w <= 0) break;
+      done += static_cast<std::size_t>(w);
+    }
+    ::close(fd[1]);
+    ::_exit(0);
+  }
+  ::close(fd[1]);
+  std::string text;
+  char buffer[65536];
+  for (ssize_t r; (r = ::read(fd[0], buffer, sizeof buffer)) != 0;) {
+    if (r < 0) {
+      if (errno == EINTR) continue;
+      break;
+    }
+    text.append(buffer, static_cast<std::size_t>(r));
+  }
+  ::close(fd[0]);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  if (!WIFEXITED(status) || text.empty())
+    throw NumericalError("bench --limit: the measuring process ended without a result (out of memory?)");
+  nlohmann::json j = nlohmann::json::parse(text);
+  if (j.contains("error")) {
+    const std::string message = j.at("message").get<std::string>();
+    if (j.at("error") == "input") throw InputError(message);
+    throw NumericalError(message);
+  }
+  return j;
+}
+
+/// The stages of one solve with cholmod (in this process).
+nlohmann::json measure_solve(const Scene& scene) {
+  std::map<std::string, double> stage;
+  ReducedProblem reduced;
+  SceneSolve s = solve_scene(scene, {}, {}, &reduced);
+  stage["mesh"] = s.mesh_seconds;
+  for (const char* k : {"assembly", "condensation", "minimize", "back_substitution"}) {
+    const auto it = s.solution.timings.find(k);
+    stage[k] = it == s.solution.timings.end() ? 0.0 : it->second;
+  }
+  // the uniqueness margin runs inside the condensation; timed here on its own
+  auto t = Clock::now();
+  if (reduced.law) (void)uniqueness_margin(reduced.S, reduced.w, reduced.law->alpha());
+  stage["margin"] = since(t);
+  const fs::path dir = fs::temp_directory_path() / ("hemivem-limit-" + std::to_string(::getpid()));
+  RunInfo info;
+  info.scene_name = scene.title;
+  info.scene_toml = to_toml(scene);
+  info.linear = s.linear;
+  info.minimizer = s.minimizer;
+  t = Clock::now();
+  (void)write_outputs(dir, s.built->mesh, s.built->problem.elasticity.materials, s.solution, info, all_outputs());
+  stage["outputs"] = since(t);
+  std::error_code ec;
+  fs::remove_all(dir, ec);
+  return {{"stages", stage},
+          {"dofs", s.solution.unknowns},
+          {"contact_nodes", reduced.S.rows()},
+          {"status", to_string(s.solution.minimizer.status)},
+          {"peak_rss", peak_rss_bytes()}};
+}
+
+/// The limit (in this process): the plain assembly, and one CHOLMOD factorization of hemivem's
+/// A with the given ordering.
+nlohmann::json measure_limit(const Scene& scene, bool metis) {
+  const auto built = build_problem(scene);
+  const auto& elasticity = built->problem.elasticity;
+  // the plain assembly first, as in limit.cpp: its memory is as fresh as a program's
+  const Lame lame = elasticity.materials.lame(built->mesh.region(0));
+  const double plain = plain_q1_assembly_seconds(built->mesh, make_dof_map(built->mesh, elasticity.dirichlet), lame.lambda, lame.mu);
+  const LinearSystem system = assemble(elasticity);
+  const double matrix_bytes = static_cast<double>(system.A.nonZeros()) * (sizeof(double) + sizeof(int)) +
+                              static_cast<double>(system.A.outerSize() + 1) * sizeof(int);
+  const CholmodReference r = measure_cholmod_factorization(system.A, metis);
+  if (!r.ok) throw NumericalError("the limit's CHOLMOD factorization (" + r.ordering + ") failed: " + r.message);
+  return {{"plain_assembly", plain},          {"analysis", r.analysis_seconds}, {"factorization", r.factorization_seconds},
+          {"factor_bytes", r.factor_bytes},   {"matrix_bytes", matrix_bytes},   {"ordering", r.ordering}};
+}
+
+LimitRow measure(const Scene& scene, int n) {
+  LimitRow row;
+  row.n = n;
+  const nlohmann::json solve = in_child([&] { return measure_solve(scene); });
+  row.stage = solve.at("stages").get<std::map<std::string, double>>();
+  row.dofs = solve.at("dofs");
+  row.contact_nodes = solve.at("contact_nodes");
+  row.status = solve.at("status");
+  row.peak_rss = solve.at("peak_rss");
+  for (const auto& [name, seconds] : row.stage)
+    if (name != "margin") row.solve += seconds;
+  double best = std::numeric_limits<double>::infinity();
+  for (bool metis : {false, true}) {
+    const nlohmann::json l = in_child([&] { return measure_limit(scene, metis); });
+    const double total = l.at("analysis").get<double>() + l.at("factorization").get<double>();
+    const std::string ordering = l.at("ordering");
+    if (total < best) {
+      if (!row.ordering.empty()) row.alternative[row.ordering] = best;
+      best = total;
+      row.ordering = ordering;
+      row.analysis = l.at("analysis");
+      row.factorization = l.at("factorization");
+      row.factor_bytes = l.at("factor_bytes");
+      row.matrix_bytes = l.at("matrix_bytes");
+    } else {
+      row.alternative[ordering] = total;
+    }
+    // the plain assembly: the faster of the two fresh processes
+    const double plain = l.at("plain_assembly");
+    row.plain_assembly = row.plain_assembly > 0.0 ? std::min(row.plain_assembly, plain) : plain;
+  }
+  return row;
+}
+
+std::string ratio(double a, double b) { return b > 0.0 ? fixed(a / b, 2) : "-"; }
+
+nlohmann::json row_json(const LimitRow& r) {
+  const double factor = r.analysis + r.factorization;
+  nlohmann::json j{{"n", r.n},
+                   {"dofs", r.dofs},
+                   {"contact_nodes", r.contact_nodes},
+                   {"status", r.status},
+                   {"stages", r.stage},
+                   {"solve", r.solve},
+                   {"peak_rss_bytes", r.peak_rss},
+                   {"limit",
+                    {{"plain_assembly", r.plain_assembly},
+                     {"ordering", r.ordering},
+                     {"analysis", r.analysis},
+                     {"factorization", r.factorization},
+                     {"other_orderings", r.alternative},
+                     {"factor_bytes", r.factor_bytes},
+                     {"matrix_bytes", r.matrix_bytes}}}};
+  j["ratios"] = {{"solve_over_limit", r.solve / (r.plain_assembly + factor)},
+                 {"mesh_over_factorization", r.stage.at("mesh") / factor},
+                 {"assembly_over_plain", r.stage.at("assembly") / r.plain_assembly},
+                 {"condensation_over_factorization", r.stage.at("condensation") / factor},
+                 {"minimize_back_substitution_margin_over_factorization",
+                  (r.stage.at("minimize") + r.stage.at("back_substitution") + r.stage.at("margin")) / factor},
+                 {"outputs_over_solve", r.stage.at("outputs") / r.solve},
+                 {"peak_rss_over_factor_and_matrix", r.peak_rss / (r.factor_bytes + r.matrix_bytes)}};
+  return j;
+}
+
+#endif  // HEMIVEM_LIMIT_HAS_CHOLMOD
+
+}  // namespace
+
+int run_bench_limit(const BenchOptions& o, const std::vector<int>& sizes, std::ostream& out, std::ostream& err) {
+#ifndef HEMIVEM_LIMIT_HAS_CHOLMOD
+  (void)o, (void)sizes, (void)out, (void)err;
+  throw InputError("the limit is one CHOLMOD factorization, and the cholmod engine was not built", "--limit");
+#else
+  if (sizes.empty()) throw InputError("give at least one mesh size", "--n");
+  std::vector<int> ns = sizes;
+  std::sort(ns.begin(), ns.end());
+  ns.erase(std::unique(ns.begin(), ns.end()), ns.end());
+  SolveOptions so;
+  so.scene = o.scene;
+  so.tolerance = o.tolerance;
+  so.set = o.set;
+  so.linear = "cholmod";
+  const Scene base = load_scene(so);
+  if (!base.mesh.file.empty() || base.mesh.generator != "squares")
+    throw InputError("bench --limit measures against a plain Q1 assembly on squares: the scene's mesh must be "
+                     "generated by 'squares'",
+                     "mesh.generator");
+  std::vector<Scene> scenes;
+  for (int n : ns) {
+    Scene s = base;
+    apply_override(s, "mesh.n=" + std::to_string(n));
+    scenes.push_back(std::move(s));
+  }
+  const bool progress = o.verbosity >= 1;
+  nlohmann::json rows = nlohmann::json::array();
+  std::vector<LimitRow> table;
+  for (std::size_t k = 0; k < ns.size(); ++k) {
+    if (progress) err << "hemivem bench --limit: n = " << ns[k] << " ... " << std::flush;
+    table.push_back(measure(scenes[k], ns[k]));
+    rows.push_back(row_json(table.back()));
+    if (progress) err << "done\n";
+  }
+  const nlohmann::json doc{{"schema", "hemivem-bench-limit/1"},
+                           {"scene", base.source},
+                           {"linear", "cholmod"},
+                           {"minimizer", base.solver.minimizer},
+                           {"rows", rows}};
+  fs::create_directories(o.out);
+  write_atomically(fs::path(o.out) / "limit.json", [&](std::ostream& os) { os << doc.dump(2) << "\n"; });
+  if (o.json) {
+    out << doc.dump(2) << "\n";
+    return kSuccess;
+  }
+  if (o.verbosity < 1) return kSuccess;
+  out << "hemivem bench --limit: " << base.title << ", cholmod + " << base.solver.minimizer
+      << "; limit = plain Q1 assembly + one CHOLMOD analysis and factorization of the same A\n\n";
+  out << std::left << std::setw(6) << "n" << std::right << std::setw(9) << "dofs" << std::setw(8) << "mesh"
+      << std::setw(10) << "assembly" << std::setw(8) << "condens" << std::setw(8) << "minim" << std::setw(8)
+      << "margin" << std::setw(8) << "back" << std::setw(9) << "outputs" << std::setw(8) << "solve" << std::setw(9)
+      << "plain" << std::setw(10) << "factor" << std::setw(9) << "peakMB" << "\n";
+  for (const auto& r : table) {
+    out << std::left << std::setw(6) << r.n << std::right << std::setw(9) << r.dofs;
+    for (const char* k : {"mesh", "assembly", "condensation", "minimize", "margin", "back_substitution", "outputs"})
+      out << std::setw(std::string(k) == "assembly" ? 10 : (std::string(k) == "outputs" ? 9 : 8)) << fixed(r.stage.at(k), 2);
+    out << std::setw(8) << fixed(r.solve, 2) << std::setw(9) << fixed(r.plain_assembly, 2) << std::setw(10)
+        << (fixed(r.analysis + r.factorization, 2) + (r.ordering == "amd" ? "a" : "m")) << std::setw(9)
+        << fixed(r.peak_rss / 1048576.0, 0) << "\n";
+  }
+  out << "\nratios (target)        ";
+  for (const auto& r : table) out << std::setw(9) << ("n=" + std::to_string(r.n));
+  out << "\n";
+  auto line = [&](const std::string& label, const std::string& target, auto&& value) {
+    out << std::left << std::setw(23) << (label + " " + target) << std::right;
+    for (const auto& r : table) out << std::setw(9) << value(r);
+    out << "\n";
+  };
+  auto factor = [](const LimitRow& r) { return r.analysis + r.factorization; };
+  line("solve/limit", "(1.3)", [&](const LimitRow& r) { return ratio(r.solve, r.plain_assembly + factor(r)); });
+  line("mesh/factor", "(0.05)", [&](const LimitRow& r) { return ratio(r.stage.at("mesh"), factor(r)); });
+  line("assembly/plain", "(1.5)", [&](const LimitRow& r) { return ratio(r.stage.at("assembly"), r.plain_assembly); });
+  line("condens/factor", "(1.2)", [&](const LimitRow& r) { return ratio(r.stage.at("condensation"), factor(r)); });
+  line("min+back+margin/f", "(0.1)", [&](const LimitRow& r) {
+    return ratio(r.stage.at("minimize") + r.stage.at("back_substitution") + r.stage.at("margin"), factor(r));
+  });
+  line("outputs/solve", "(0.15)", [&](const LimitRow& r) { return ratio(r.stage.at("outputs"), r.solve); });
+  line("peak/(L+A)", "(1.5)", [&](const LimitRow& r) { return ratio(r.peak_rss, r.factor_bytes + r.matrix_bytes); });
+  out << "\nseconds; factor: analysis + factorization with CHOLMOD's faster ordering (a: AMD, m: METIS); peak: the\n"
+         "process' peak RSS after this size (sizes run in increasing order); wrote "
+      << (fs::path(o.out) / "limit.json").string() << "\n";
+  return kSuccess;
+#endif
+}
+
+}  // namespace hemivem::cli
