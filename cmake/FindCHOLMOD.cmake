@@ -43,12 +43,23 @@ if(CHOLMOD_INCLUDE_DIR AND EXISTS "${CHOLMOD_INCLUDE_DIR}/cholmod_core.h")
   set(CHOLMOD_VERSION "${_cholmod_MAIN}.${_cholmod_SUB}.${_cholmod_SUBSUB}")
 endif()
 
-# CHOLMOD's supernodal factorization calls BLAS and LAPACK.
+# CHOLMOD's supernodal factorization calls BLAS and LAPACK: the generic libblas/liblapack
+# that Debian's CHOLMOD is built against, which the alternatives system points at the best
+# BLAS installed (OpenBLAS when present). A vendor library found first (ATLAS's libf77blas)
+# would be bound before it and keep CHOLMOD on that BLAS (docs/performance.md).
+if(NOT DEFINED BLA_VENDOR)
+  set(BLA_VENDOR Generic)
+  set(_cholmod_reset_vendor TRUE)
+endif()
 if(NOT TARGET BLAS::BLAS)
   find_package(BLAS QUIET)
 endif()
 if(NOT TARGET LAPACK::LAPACK)
   find_package(LAPACK QUIET)
+endif()
+if(_cholmod_reset_vendor)
+  unset(BLA_VENDOR)
+  unset(_cholmod_reset_vendor)
 endif()
 
 find_package_handle_standard_args(CHOLMOD

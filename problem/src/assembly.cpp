@@ -85,25 +85,70 @@ std::size_t for_each_element_matrix(const Mesh& mesh, const MaterialTable& mater
   return entries;
 }
 
-std::size_t entries_upper_bound(const Mesh& mesh) {
-  std::size_t nnz = 0;
-  for (int e = 0; e < mesh.num_elements(); ++e) nnz += static_cast<std::size_t>(4 * mesh.element_size(e) * mesh.element_size(e));
-  return nnz;
+/// The pattern of a stiffness matrix over the dofs with index[d] >= 0 (index: dof 2 v + c ->
+/// row and column; increasing in d), built from the mesh: the column of dof d holds every dof
+/// of every vertex sharing an element with d's vertex, rows increasing; values zero.
+SparseMatrix stiffness_pattern(const Mesh& mesh, const std::vector<int>& index, int size) {
+  const int nv = mesh.num_vertices();
+  // the elements of each vertex (compressed rows)
+  std::vector<int> first(static_cast<std::size_t>(nv) + 1, 0), elements;
+  for (int e = 0; e < mesh.num_elements(); ++e)
+    for (int v : mesh.element(e)) ++first[static_cast<std::size_t>(v) + 1];
+  for (int v = 0; v < nv; ++v) first[static_cast<std::size_t>(v) + 1] += first[static_cast<std::size_t>(v)];
+  elements.resize(static_cast<std::size_t>(first[static_cast<std::size_t>(nv)]));
+  {
+    std::vector<int> fill(first.begin(), first.end() - 1);
+    for (int e = 0; e < mesh.num_elements(); ++e)
+      for (int v : mesh.element(e)) elements[static_cast<std::size_t>(fill[static_cast<std::size_t>(v)]++)] = e;
+  }
+  // per vertex its neighbours (itself included), sorted; then the columns of its dofs
+  std::vector<int> outer(static_cast<std::size_t>(size) + 1, 0), inner, neighbours;
+  std::vector<int> seen(static_cast<std::size_t>(nv), -1);
+  inner.reserve(static_cast<std::size_t>(size) * 18);
+  int column = 0;
+  for (int v = 0; v < nv; ++v) {
+    neighbours.clear();
+    for (int k = first[static_cast<std::size_t>(v)]; k < first[static_cast<std::size_t>(v) + 1]; ++k)
+      for (int w : mesh.element(elements[static_cast<std::size_t>(k)]))
+        if (seen[static_cast<std::size_t>(w)] != v) {
+          seen[static_cast<std::size_t>(w)] = v;
+          neighbours.push_back(w);
+        }
+    std::sort(neighbours.begin(), neighbours.end());
+    for (int c = 0; c < 2; ++c) {
+      if (index[static_cast<std::size_t>(2 * v + c)] < 0) continue;
+      for (int w : neighbours)
+        for (int r = 0; r < 2; ++r) {
+          const int row = index[static_cast<std::size_t>(2 * w + r)];
+          if (row >= 0) inner.push_back(row);
+        }
+      outer[static_cast<std::size_t>(++column)] = static_cast<int>(inner.size());
+    }
+  }
+  std::vector<double> zeros(inner.size(), 0.0);
+  return Eigen::Map<const SparseMatrix>(size, size, static_cast<Eigen::Index>(inner.size()), outer.data(), inner.data(),
+                                        zeros.data());
+}
+
+/// The stored entry (row, column) of a compressed matrix whose pattern holds it.
+double& stored(SparseMatrix& A, int row, int column) {
+  const int* begin = A.innerIndexPtr() + A.outerIndexPtr()[column];
+  const int* end = A.innerIndexPtr() + A.outerIndexPtr()[column + 1];
+  return A.valuePtr()[std::lower_bound(begin, end, row) - A.innerIndexPtr()];
 }
 
 }  // namespace
 
 SparseMatrix assemble_stiffness(const Mesh& mesh, const MaterialTable& materials, Stabilization stabilization) {
-  std::vector<Eigen::Triplet<double, int>> triplets;
-  triplets.reserve(entries_upper_bound(mesh));
-  for_each_element_matrix(mesh, materials, stabilization, [&](const std::vector<int>& dof, const Eigen::MatrixXd& K) {
+  const int n = 2 * mesh.num_vertices();
+  std::vector<int> index(static_cast<std::size_t>(n));
+  for (int d = 0; d < n; ++d) index[static_cast<std::size_t>(d)] = d;
+  SparseMatrix K = stiffness_pattern(mesh, index, n);
+  for_each_element_matrix(mesh, materials, stabilization, [&](const std::vector<int>& dof, const Eigen::MatrixXd& Ke) {
     for (std::size_t j = 0; j < dof.size(); ++j)
       for (std::size_t i = 0; i < dof.size(); ++i)
-        triplets.emplace_back(dof[i], dof[j], K(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)));
+        stored(K, dof[i], dof[j]) += Ke(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
   });
-  SparseMatrix K(2 * mesh.num_vertices(), 2 * mesh.num_vertices());
-  K.setFromTriplets(triplets.begin(), triplets.end());
-  K.makeCompressed();
   return K;
 }
 
@@ -208,14 +253,14 @@ LinearSystem assemble(const ElasticityProblem& problem) {
   LinearSystem sys;
   sys.dofs = make_dof_map(mesh, problem.dirichlet);
   const Eigen::VectorXd f = assemble_load(mesh, problem.body_force, problem.tractions);
-  // A = K restricted to the free dofs and b = (f - K u_prescribed) on them, assembled element
-  // by element in the numbering of the free dofs (no global K, no selection products)
+  // A = K restricted to the free dofs and b = (f - K u_prescribed) on them, added element by
+  // element into A's pattern (from the mesh) in the numbering of the free dofs: no global K,
+  // no selection products, no triplets
   const std::vector<int>& free_index = sys.dofs.free_index;
   const Eigen::VectorXd& prescribed = sys.dofs.prescribed;
   sys.b.resize(sys.dofs.num_free());
   for (int i = 0; i < sys.dofs.num_free(); ++i) sys.b(i) = f(sys.dofs.free_dofs[static_cast<std::size_t>(i)]);
-  std::vector<Eigen::Triplet<double, int>> triplets;
-  triplets.reserve(entries_upper_bound(mesh));
+  sys.A = stiffness_pattern(mesh, free_index, sys.dofs.num_free());
   for_each_element_matrix(mesh, problem.materials, problem.stabilization,
                           [&](const std::vector<int>& dof, const Eigen::MatrixXd& K) {
                             for (std::size_t j = 0; j < dof.size(); ++j) {
@@ -226,15 +271,12 @@ LinearSystem assemble(const ElasticityProblem& problem) {
                                 if (fi < 0) continue;
                                 const double k = K(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
                                 if (fj >= 0)
-                                  triplets.emplace_back(fi, fj, k);
+                                  stored(sys.A, fi, fj) += k;
                                 else if (uj != 0.0)
                                   sys.b(fi) -= k * uj;
                               }
                             }
                           });
-  sys.A.resize(sys.dofs.num_free(), sys.dofs.num_free());
-  sys.A.setFromTriplets(triplets.begin(), triplets.end());
-  sys.A.makeCompressed();
   return sys;
 }
 
