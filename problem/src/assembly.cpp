@@ -125,9 +125,12 @@ SparseMatrix stiffness_pattern(const Mesh& mesh, const std::vector<int>& index, 
       outer[static_cast<std::size_t>(++column)] = static_cast<int>(inner.size());
     }
   }
-  std::vector<double> zeros(inner.size(), 0.0);
-  return Eigen::Map<const SparseMatrix>(size, size, static_cast<Eigen::Index>(inner.size()), outer.data(), inner.data(),
-                                        zeros.data());
+  SparseMatrix A(size, size);
+  A.resizeNonZeros(static_cast<Eigen::Index>(inner.size()));
+  std::copy(outer.begin(), outer.end(), A.outerIndexPtr());
+  std::copy(inner.begin(), inner.end(), A.innerIndexPtr());
+  std::fill(A.valuePtr(), A.valuePtr() + inner.size(), 0.0);
+  return A;
 }
 
 /// The stored entry (row, column) of a compressed matrix whose pattern holds it.

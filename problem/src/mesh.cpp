@@ -135,6 +135,7 @@ std::vector<MeshDefect> find_mesh_defects(const std::vector<Vec2>& vertices,
   std::vector<char> element_ok(elements.size(), 0);
   std::vector<Vec2> poly;
   std::vector<Kernel::Point_2> cgal_poly;
+  std::vector<int> sorted;
   for (std::size_t e = 0; e < elements.size() && !full(); ++e) {
     const auto& el = elements[e];
     const int ie = static_cast<int>(e);
@@ -151,7 +152,7 @@ std::vector<MeshDefect> find_mesh_defects(const std::vector<Vec2>& vertices,
       }
     }
     if (!ok) continue;
-    std::vector<int> sorted(el);
+    sorted.assign(el.begin(), el.end());
     std::sort(sorted.begin(), sorted.end());
     if (auto it = std::adjacent_find(sorted.begin(), sorted.end()); it != sorted.end()) {
       out.push_back({ie, "repeats vertex " + std::to_string(*it)});
@@ -161,7 +162,13 @@ std::vector<MeshDefect> find_mesh_defects(const std::vector<Vec2>& vertices,
     // orientation of the (simple) polygon.
     cgal_poly.clear();
     for (int v : el) cgal_poly.emplace_back(vertices[v].x(), vertices[v].y());
-    bool all_collinear = true;
+    // A triangle or quadrilateral turning strictly left at every vertex is convex, hence simple
+    // and counter-clockwise (with five vertices or more it could wind twice: a pentagram).
+    bool convex_small = cgal_poly.size() <= 4;
+    for (std::size_t i = 0; i < cgal_poly.size() && convex_small; ++i)
+      convex_small = CGAL::orientation(cgal_poly[i], cgal_poly[(i + 1) % cgal_poly.size()],
+                                       cgal_poly[(i + 2) % cgal_poly.size()]) == CGAL::LEFT_TURN;
+    bool all_collinear = !convex_small;
     for (std::size_t i = 2; i < cgal_poly.size() && all_collinear; ++i)
       all_collinear = CGAL::collinear(cgal_poly[0], cgal_poly[1], cgal_poly[i]) &&
                       CGAL::collinear(cgal_poly[i - 1], cgal_poly[i], cgal_poly[0]);
@@ -169,11 +176,11 @@ std::vector<MeshDefect> find_mesh_defects(const std::vector<Vec2>& vertices,
       out.push_back({ie, "has zero area (all its vertices are collinear)"});
       continue;
     }
-    if (!CGAL::is_simple_2(cgal_poly.begin(), cgal_poly.end(), Kernel())) {
+    if (!convex_small && !CGAL::is_simple_2(cgal_poly.begin(), cgal_poly.end(), Kernel())) {
       out.push_back({ie, "is self-intersecting (its boundary crosses or touches itself)"});
       continue;
     }
-    if (CGAL::orientation_2(cgal_poly.begin(), cgal_poly.end(), Kernel()) != CGAL::COUNTERCLOCKWISE) {
+    if (!convex_small && CGAL::orientation_2(cgal_poly.begin(), cgal_poly.end(), Kernel()) != CGAL::COUNTERCLOCKWISE) {
       poly.clear();
       for (int v : el) poly.push_back(vertices[v]);
       char area[32];
@@ -244,6 +251,10 @@ std::vector<MeshDefect> find_mesh_defects(const std::vector<Vec2>& vertices,
         continue;
       }
       ++u.count;
+      if (u.count == 2 && u.from != a) {
+        u.second_element = ie;
+        continue;
+      }
       const std::string edge = std::to_string(a) + "-" + std::to_string(b);
       if (u.count > 2) {
         out.push_back({ie, "shares edge " + edge + " that already belongs to elements " + std::to_string(u.element) +
@@ -282,22 +293,32 @@ Mesh::Mesh(std::vector<Vec2> vertices, std::vector<std::vector<int>> elements, s
   for (const auto& el : elements) element_vertices_.insert(element_vertices_.end(), el.begin(), el.end());
   element_edges_.assign(element_vertices_.size(), -1);
 
-  std::unordered_map<std::uint64_t, int> edge_id;
-  edge_id.reserve(element_vertices_.size());
+  // Edges numbered in order of first use; the edges at each vertex (as its lower end) are kept
+  // in a list (first_at, next), a few entries long.
+  std::vector<int> first_at(vertices_.size(), -1), next;
+  next.reserve(element_vertices_.size());
+  edges_.reserve(element_vertices_.size());
   for (std::size_t e = 0; e < ne; ++e) {
     const auto el = element(static_cast<int>(e));
     const std::size_t k = el.size();
     for (std::size_t i = 0; i < k; ++i) {
       const int a = el[i], b = el[(i + 1) % k];
-      auto [it, inserted] = edge_id.try_emplace(edge_key(a, b), static_cast<int>(edges_.size()));
-      if (inserted) {
+      const int lo = std::min(a, b), hi = std::max(a, b);
+      int id = first_at[static_cast<std::size_t>(lo)];
+      while (id >= 0 && std::max(edges_[static_cast<std::size_t>(id)].v0, edges_[static_cast<std::size_t>(id)].v1) != hi)
+        id = next[static_cast<std::size_t>(id)];
+      if (id < 0) {
+        id = static_cast<int>(edges_.size());
         edges_.push_back({a, b, static_cast<int>(e), -1});
+        next.push_back(first_at[static_cast<std::size_t>(lo)]);
+        first_at[static_cast<std::size_t>(lo)] = id;
       } else {
-        edges_[static_cast<std::size_t>(it->second)].right = static_cast<int>(e);
+        edges_[static_cast<std::size_t>(id)].right = static_cast<int>(e);
       }
-      element_edges_[static_cast<std::size_t>(offsets_[e]) + i] = it->second;
+      element_edges_[static_cast<std::size_t>(offsets_[e]) + i] = id;
     }
   }
+  edges_.shrink_to_fit();
   for (std::size_t i = 0; i < edges_.size(); ++i)
     if (edges_[i].on_boundary()) boundary_edges_.push_back(static_cast<int>(i));
 

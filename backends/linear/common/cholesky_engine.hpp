@@ -240,10 +240,11 @@ class CholeskyEngine {
       }
       col[static_cast<std::size_t>(pj) + 1] = static_cast<int>(row.size());
     }
-    std::vector<double> ones(row.size(), 1.0);
     SparseMatrix A22(n2, n2);
-    A22 = Eigen::Map<const SparseMatrix>(n2, n2, static_cast<Eigen::Index>(row.size()), col.data(), row.data(),
-                                         ones.data());
+    A22.resizeNonZeros(static_cast<Eigen::Index>(row.size()));
+    std::copy(col.begin(), col.end(), A22.outerIndexPtr());
+    std::copy(row.begin(), row.end(), A22.innerIndexPtr());
+    std::fill(A22.valuePtr(), A22.valuePtr() + row.size(), 1.0);
     return A22;
   }
 
