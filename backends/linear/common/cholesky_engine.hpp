@@ -36,6 +36,19 @@ struct FactorColumn {
   int size = 0;
 };
 
+/// A lower triangular factor stored by supernodes: supernode k holds the columns
+/// [first[k], first[k + 1]) and the rows rows[row_start[k]] .. rows[row_start[k + 1] - 1]
+/// (its own columns first, then the rows below, increasing), as a column-major dense block
+/// with one row per stored row, at values + value_start[k].
+struct Supernodes {
+  int count = 0;
+  const int* first = nullptr;
+  const int* row_start = nullptr;
+  const int* rows = nullptr;
+  const int* value_start = nullptr;
+  const double* values = nullptr;
+};
+
 /// What an engine supplies to CholeskyEngine. Every matrix passed is compressed, square and
 /// non-empty with finite values; only its lower triangle is to be read.
 class CholeskyKernel {
@@ -61,6 +74,9 @@ class CholeskyKernel {
   virtual FactorizationResult factorize_ordered(const SparseMatrix& P) = 0;
   /// Column j of L after a successful factorize_ordered().
   virtual FactorColumn column(int j) const = 0;
+  /// The factor of the last factorize_ordered() by supernodes, when the engine stores it so:
+  /// the substitutions of solve_interior() then run block by block.
+  virtual bool supernodes(Supernodes* /*out*/) const { return false; }
   /// The column of P where the last factorize_ordered() stopped, or -1 when not known.
   virtual int failed_pivot() const { return -1; }
 };
@@ -145,8 +161,18 @@ class CholeskyEngine {
     const auto n2 = static_cast<Eigen::Index>(split_.block2.size());
     if (auto r = check_right_hand_sides("solve_interior()", "B2", B2, X2, n2, "A22"); !r.ok()) return r;
     return guarded([&] {
-      // z = B2 in elimination order (row k: the index of A eliminated k-th), transposed so
-      // that each step of the substitutions reads one contiguous column of m values.
+      Supernodes blocks;
+      if (kernel_->supernodes(&blocks)) {
+        // X = B2 in elimination order (row k: the index of A eliminated k-th)
+        Eigen::MatrixXd X(n2, B2.cols());
+        for (Eigen::Index k = 0; k < n2; ++k) X.row(k) = B2.row(split_.position[order(k)]);
+        solve_by_supernodes(blocks, static_cast<int>(n2), X);
+        X2->resize(n2, B2.cols());
+        for (Eigen::Index k = 0; k < n2; ++k) X2->row(split_.position[order(k)]) = X.row(k);
+        return FactorizationResult::good();
+      }
+      // Column by column: z = B2 in elimination order (row k: the index of A eliminated k-th),
+      // transposed so that each step of the substitutions reads one contiguous column of m values.
       const Eigen::Index m = B2.cols();
       Eigen::MatrixXd z(m, n2);
       for (Eigen::Index k = 0; k < n2; ++k) z.col(k) = B2.row(split_.position[order(k)]).transpose();
@@ -182,6 +208,49 @@ class CholeskyEngine {
   }
 
  private:
+  /// X = L22^{-T} L22^{-1} X for the leading n2 columns and rows of a supernodal L: per
+  /// supernode a dense triangular solve with its diagonal block and a dense product with the
+  /// rows below it (those < n2), gathered and scattered through their row indices.
+  static void solve_by_supernodes(const Supernodes& L, int n2, Eigen::MatrixXd& X) {
+    using Block = Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
+    struct Piece {
+      int j0, nc, below, nrow, ncol;
+      const int* rows;
+      const double* values;
+    };
+    auto piece = [&](int k) {
+      const int j0 = L.first[k], ncol = L.first[k + 1] - j0;
+      const int nrow = L.row_start[k + 1] - L.row_start[k];
+      const int* rows = L.rows + L.row_start[k];
+      // the rows below the supernode's columns that belong to L22 (rows increase)
+      const int below = static_cast<int>(std::lower_bound(rows + ncol, rows + nrow, n2) - (rows + ncol));
+      return Piece{j0, std::min(ncol, n2 - j0), below, nrow, ncol, rows, L.values + L.value_start[k]};
+    };
+    int last = 0;  // the supernodes with a column of L22
+    while (last < L.count && L.first[last] < n2) ++last;
+    Eigen::MatrixXd T;
+    for (int k = 0; k < last; ++k) {  // L22 y = b2
+      const Piece p = piece(k);
+      const Block block(p.values, p.nrow, p.ncol, Eigen::OuterStride<>(p.nrow));
+      auto x = X.middleRows(p.j0, p.nc);
+      block.topLeftCorner(p.nc, p.nc).triangularView<Eigen::Lower>().solveInPlace(x);
+      if (p.below == 0) continue;
+      T.noalias() = block.block(p.ncol, 0, p.below, p.nc) * x;
+      for (int r = 0; r < p.below; ++r) X.row(p.rows[p.ncol + r]) -= T.row(r);
+    }
+    for (int k = last - 1; k >= 0; --k) {  // L22^T x2 = y
+      const Piece p = piece(k);
+      const Block block(p.values, p.nrow, p.ncol, Eigen::OuterStride<>(p.nrow));
+      auto x = X.middleRows(p.j0, p.nc);
+      if (p.below > 0) {
+        T.resize(p.below, X.cols());
+        for (int r = 0; r < p.below; ++r) T.row(r) = X.row(p.rows[p.ncol + r]);
+        x.noalias() -= block.block(p.ncol, 0, p.below, p.nc).transpose() * T;
+      }
+      block.topLeftCorner(p.nc, p.nc).transpose().triangularView<Eigen::Upper>().solveInPlace(x);
+    }
+  }
+
   /// Runs `f`, turning an allocation failure into out_of_memory.
   template <class F>
   FactorizationResult guarded(F&& f) const {

@@ -114,12 +114,19 @@ class CholmodKernel final : public CholeskyKernel {
   }
   double rcond() const override { return rcond_; }
 
-  /// CHOLMOD's default ordering strategy (AMD, METIS when AMD's fill is high), symbolic only.
+  /// AMD, symbolic only. CHOLMOD's default strategy would also try METIS when AMD's fill looks
+  /// high (from about 2 million unknowns on squares): there METIS took 23 s against 2 s for AMD
+  /// and saved less in the factorization (docs/performance.md).
   FactorizationResult order(const SparseMatrix& lower, std::vector<int>* perm) override {
     cholmod_sparse Av = lower_view(lower);
     const int supernodal = c_.supernodal;
     c_.supernodal = CHOLMOD_SIMPLICIAL;  // only the ordering is wanted
+    const int nmethods = c_.nmethods, ordering = c_.method[0].ordering;
+    c_.nmethods = 1;
+    c_.method[0].ordering = CHOLMOD_AMD;
     cholmod_factor* F = cholmod_analyze(&Av, &c_);
+    c_.nmethods = nmethods;
+    c_.method[0].ordering = ordering;
     c_.supernodal = supernodal;
     if (F == nullptr) return failure(c_, "cholmod_analyze (A22)");
     const int* p = static_cast<const int*>(F->Perm);
@@ -170,6 +177,16 @@ class CholmodKernel final : public CholeskyKernel {
     return {static_cast<const int*>(LS_->s) + pi[k] + offset,
             static_cast<const double*>(LS_->x) + px[k] + static_cast<std::ptrdiff_t>(offset) * nsrow + offset,
             nsrow - offset};
+  }
+  bool supernodes(Supernodes* out) const override {
+    if (LS_ == nullptr || !LS_->is_super) return false;
+    out->count = static_cast<int>(LS_->nsuper);
+    out->first = static_cast<const int*>(LS_->super);
+    out->row_start = static_cast<const int*>(LS_->pi);
+    out->rows = static_cast<const int*>(LS_->s);
+    out->value_start = static_cast<const int*>(LS_->px);
+    out->values = static_cast<const double*>(LS_->x);
+    return true;
   }
   int failed_pivot() const override { return failed_pivot_; }
 

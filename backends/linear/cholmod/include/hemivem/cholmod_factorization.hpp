@@ -9,7 +9,8 @@
 //   (sizes, column pointers, row indices) is the one analysed. A matrix that is not positive
 //   definite is reported as not_positive_definite (CHOLMOD_NOT_POSDEF, L->minor < n).
 // - rcond_estimate(): cholmod_rcond of the last factor (a cheap estimate from diag(L)).
-// - schur_complement(): orders A22 alone with CHOLMOD's default strategy, puts block1 last in
+// - schur_complement(): orders A22 alone with AMD (measured faster overall than CHOLMOD's
+//   default, which adds a METIS trial on large problems), puts block1 last in
 //   the given order, and factorizes the lower triangle of A so permuted once, in that order
 //   (CHOLMOD_NATURAL, no postordering, which could move block1 away from the end):
 //   L = [L22 0; L12 L11], S = L11 L11^T, read from the trailing supernodes. Cost: one
@@ -17,7 +18,7 @@
 //   per column of A21. Reused analysis while the pattern and block1 are unchanged. A (not only
 //   A22) must be positive definite.
 // - solve_interior(): forward and back substitution with the leading block L22 of that factor
-//   alone (the trailing block is not touched).
+//   alone (the trailing block is not touched), supernode by supernode with dense blocks.
 //
 // Only the lower triangle of A is read. `verbosity` becomes CHOLMOD's print level (0: silent).
 // The const solves use the object's cholmod_common: one object serves one thread at a time.
