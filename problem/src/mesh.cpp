@@ -11,19 +11,12 @@
 #include <cstdio>
 #include <map>
 #include <sstream>
-#include <unordered_map>
 
 namespace hemivem {
 
 namespace {
 
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-
-std::uint64_t edge_key(int a, int b) {
-  const auto lo = static_cast<std::uint64_t>(std::min(a, b));
-  const auto hi = static_cast<std::uint64_t>(std::max(a, b));
-  return (lo << 32) | hi;
-}
 
 std::string fmt_point(const Vec2& p) {
   std::ostringstream s;
@@ -235,21 +228,30 @@ std::vector<MeshDefect> find_mesh_defects(const std::vector<Vec2>& vertices,
     int count = 0;
     int second_element = -1;
   };
-  std::unordered_map<std::uint64_t, Use> uses;
+  // the undirected edges in order of first use, found through the list of edges at their lower
+  // vertex (first_at, next): a few entries per vertex
+  std::vector<Use> uses;
+  std::vector<int> first_at(vertices.size(), -1), next;
   std::size_t total = 0;
   for (const auto& el : elements) total += el.size();
   uses.reserve(total);
+  next.reserve(total);
   for (std::size_t e = 0; e < elements.size() && !full(); ++e) {
     const auto& el = elements[e];
     const int ie = static_cast<int>(e);
     for (std::size_t i = 0; i < el.size(); ++i) {
       const int a = el[i], b = el[(i + 1) % el.size()];
-      auto [it, inserted] = uses.try_emplace(edge_key(a, b), Use{ie, a, b});
-      Use& u = it->second;
-      if (inserted) {
-        u.count = 1;
+      const int lo = std::min(a, b), hi = std::max(a, b);
+      int id = first_at[static_cast<std::size_t>(lo)];
+      while (id >= 0 && std::max(uses[static_cast<std::size_t>(id)].from, uses[static_cast<std::size_t>(id)].to) != hi)
+        id = next[static_cast<std::size_t>(id)];
+      if (id < 0) {
+        next.push_back(first_at[static_cast<std::size_t>(lo)]);
+        first_at[static_cast<std::size_t>(lo)] = static_cast<int>(uses.size());
+        uses.push_back(Use{ie, a, b, 1});
         continue;
       }
+      Use& u = uses[static_cast<std::size_t>(id)];
       ++u.count;
       if (u.count == 2 && u.from != a) {
         u.second_element = ie;
@@ -259,11 +261,9 @@ std::vector<MeshDefect> find_mesh_defects(const std::vector<Vec2>& vertices,
       if (u.count > 2) {
         out.push_back({ie, "shares edge " + edge + " that already belongs to elements " + std::to_string(u.element) +
                                " and " + std::to_string(u.second_element) + " (an edge may belong to at most two elements)"});
-      } else if (u.from == a) {
+      } else {
         out.push_back({ie, "runs edge " + edge + " in the same direction as element " + std::to_string(u.element) +
                                " (overlapping or inconsistently oriented elements)"});
-      } else {
-        u.second_element = ie;
       }
       if (full()) break;
     }
@@ -271,7 +271,7 @@ std::vector<MeshDefect> find_mesh_defects(const std::vector<Vec2>& vertices,
   if (!out.empty()) return out;
 
   std::vector<std::array<int, 3>> boundary;
-  for (const auto& [key, u] : uses)
+  for (const auto& u : uses)
     if (u.count == 1) boundary.push_back({u.from, u.to, u.element});
   std::sort(boundary.begin(), boundary.end(), [](const auto& x, const auto& y) {
     return std::tie(x[2], x[0], x[1]) < std::tie(y[2], y[0], y[1]);
