@@ -15,7 +15,7 @@ namespace hemivem {
 
 namespace {
 
-constexpr double kBaseBytes = 32.0 * 1024 * 1024;
+constexpr double kBaseBytes = 24.0 * 1024 * 1024;
 
 std::string lower(std::string_view s) {
   std::string r(s);
@@ -75,7 +75,9 @@ std::string sci(double v) {
 MemoryEstimate estimate_memory(double vertices, double vertices_per_element) {
   MemoryEstimate e;
   e.vertices = std::max(vertices, 1.0);
-  const double c = vertices_per_element > 4.5 ? 500.0 : 280.0;
+  // 1.1 times the largest measured peak of `hemivem solve` over the engines (eigen's): squares
+  // N = 512, Voronoi N = 256 (docs/performance.md)
+  const double c = vertices_per_element > 4.5 ? 468.0 : 258.0;
   e.solve_bytes = kBaseBytes + c * e.vertices * std::log2(std::max(e.vertices, 2.0));
   e.mesh_bytes = kBaseBytes + 400.0 * e.vertices;
   return e;
