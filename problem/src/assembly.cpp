@@ -1,6 +1,7 @@
 #include <hemivem/assembly.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/quadrature.hpp>
+#include <hemivem/sparse_factorization.hpp>
 
 #include <algorithm>
 #include <map>
@@ -125,12 +126,7 @@ SparseMatrix stiffness_pattern(const Mesh& mesh, const std::vector<int>& index, 
       outer[static_cast<std::size_t>(++column)] = static_cast<int>(inner.size());
     }
   }
-  SparseMatrix A(size, size);
-  A.resizeNonZeros(static_cast<Eigen::Index>(inner.size()));
-  std::copy(outer.begin(), outer.end(), A.outerIndexPtr());
-  std::copy(inner.begin(), inner.end(), A.innerIndexPtr());
-  std::fill(A.valuePtr(), A.valuePtr() + inner.size(), 0.0);
-  return A;
+  return pattern_matrix(size, size, outer, inner, 0.0);
 }
 
 /// The stored entry (row, column) of a compressed matrix whose pattern holds it.

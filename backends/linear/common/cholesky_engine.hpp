@@ -309,12 +309,7 @@ class CholeskyEngine {
       }
       col[static_cast<std::size_t>(pj) + 1] = static_cast<int>(row.size());
     }
-    SparseMatrix A22(n2, n2);
-    A22.resizeNonZeros(static_cast<Eigen::Index>(row.size()));
-    std::copy(col.begin(), col.end(), A22.outerIndexPtr());
-    std::copy(row.begin(), row.end(), A22.innerIndexPtr());
-    std::fill(A22.valuePtr(), A22.valuePtr() + row.size(), 1.0);
-    return A22;
+    return pattern_matrix(n2, n2, col, row, 1.0);
   }
 
   /// P's pattern (the lower triangle of A in elimination order, counted and placed column by

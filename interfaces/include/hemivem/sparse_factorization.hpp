@@ -24,6 +24,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include <algorithm>
 #include <memory>
 #include <span>
 #include <string>
@@ -32,6 +33,19 @@
 namespace hemivem {
 
 using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+
+/// The compressed rows x cols matrix with column starts `outer` (cols + 1 of them) and row
+/// indices `inner` (increasing in each column), every stored value `value`: a pattern written
+/// straight into the matrix's arrays.
+inline SparseMatrix pattern_matrix(Eigen::Index rows, Eigen::Index cols, std::span<const int> outer,
+                                   std::span<const int> inner, double value) {
+  SparseMatrix M(rows, cols);
+  M.resizeNonZeros(static_cast<Eigen::Index>(inner.size()));
+  std::copy(outer.begin(), outer.end(), M.outerIndexPtr());
+  std::copy(inner.begin(), inner.end(), M.innerIndexPtr());
+  std::fill(M.valuePtr(), M.valuePtr() + inner.size(), value);
+  return M;
+}
 
 enum class FactorizationStatus {
   success,
