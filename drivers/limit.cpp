@@ -21,11 +21,14 @@
 
 #include <algorithm>
 #include <cerrno>
-#include <functional>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <iomanip>
-#include <random>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -99,7 +102,7 @@ struct LimitRow {
   int contact_nodes = 0;
   std::map<std::string, double> stage;  // mesh, assembly, condensation, minimize, margin, back_substitution, outputs
   double solve = 0.0;                   // the sum of the stages
-  double peak_rss = 0.0;                // bytes, after the solve (sizes run in increasing order)
+  double peak_rss = 0.0;                // bytes, of the solve's process
   double plain_assembly = 0.0;
   std::string ordering;                 // CHOLMOD's faster ordering
   double analysis = 0.0, factorization = 0.0, factor_bytes = 0.0, matrix_bytes = 0.0;
@@ -242,10 +245,29 @@ LimitRow measure(const Scene& scene, int n) {
   return row;
 }
 
-std::string ratio(double a, double b) { return b > 0.0 ? fixed(a / b, 2) : "-"; }
+/// One ratio of a row against its target.
+struct Ratio {
+  const char* key;    // its name in limit.json
+  const char* label;  // its name in the table
+  double target;
+  double value;
+};
+
+/// Every ratio of a row, in the order of the table.
+std::vector<Ratio> ratios(const LimitRow& r) {
+  const double factor = r.analysis + r.factorization;
+  const auto& st = r.stage;
+  return {{"solve_over_limit", "solve/limit", 1.3, r.solve / (r.plain_assembly + factor)},
+          {"mesh_over_factorization", "mesh/factor", 0.05, st.at("mesh") / factor},
+          {"assembly_over_plain", "assembly/plain", 1.5, st.at("assembly") / r.plain_assembly},
+          {"condensation_over_factorization", "condens/factor", 1.2, st.at("condensation") / factor},
+          {"minimize_back_substitution_margin_over_factorization", "min+back+margin/f", 0.1,
+           (st.at("minimize") + st.at("back_substitution") + st.at("margin")) / factor},
+          {"outputs_over_solve", "outputs/solve", 0.15, st.at("outputs") / r.solve},
+          {"peak_rss_over_factor_and_matrix", "peak/(L+A)", 1.5, r.peak_rss / (r.factor_bytes + r.matrix_bytes)}};
+}
 
 nlohmann::json row_json(const LimitRow& r) {
-  const double factor = r.analysis + r.factorization;
   nlohmann::json j{{"n", r.n},
                    {"dofs", r.dofs},
                    {"contact_nodes", r.contact_nodes},
@@ -261,14 +283,7 @@ nlohmann::json row_json(const LimitRow& r) {
                      {"other_orderings", r.alternative},
                      {"factor_bytes", r.factor_bytes},
                      {"matrix_bytes", r.matrix_bytes}}}};
-  j["ratios"] = {{"solve_over_limit", r.solve / (r.plain_assembly + factor)},
-                 {"mesh_over_factorization", r.stage.at("mesh") / factor},
-                 {"assembly_over_plain", r.stage.at("assembly") / r.plain_assembly},
-                 {"condensation_over_factorization", r.stage.at("condensation") / factor},
-                 {"minimize_back_substitution_margin_over_factorization",
-                  (r.stage.at("minimize") + r.stage.at("back_substitution") + r.stage.at("margin")) / factor},
-                 {"outputs_over_solve", r.stage.at("outputs") / r.solve},
-                 {"peak_rss_over_factor_and_matrix", r.peak_rss / (r.factor_bytes + r.matrix_bytes)}};
+  for (const Ratio& q : ratios(r)) j["ratios"][q.key] = q.value;
   return j;
 }
 
@@ -339,23 +354,20 @@ int run_bench_limit(const BenchOptions& o, const std::vector<int>& sizes, std::o
   out << "\nratios (target)        ";
   for (const auto& r : table) out << std::setw(9) << ("n=" + std::to_string(r.n));
   out << "\n";
-  auto line = [&](const std::string& label, const std::string& target, auto&& value) {
-    out << std::left << std::setw(23) << (label + " " + target) << std::right;
-    for (const auto& r : table) out << std::setw(9) << value(r);
+  const std::size_t count = ratios(table.front()).size();
+  for (std::size_t q = 0; q < count; ++q) {
+    const Ratio first = ratios(table.front())[q];
+    std::ostringstream target;
+    target << first.target;
+    out << std::left << std::setw(23) << (std::string(first.label) + " (" + target.str() + ")") << std::right;
+    for (const auto& r : table) {
+      const double v = ratios(r)[q].value;
+      out << std::setw(9) << (std::isfinite(v) ? fixed(v, 2) : "-");
+    }
     out << "\n";
-  };
-  auto factor = [](const LimitRow& r) { return r.analysis + r.factorization; };
-  line("solve/limit", "(1.3)", [&](const LimitRow& r) { return ratio(r.solve, r.plain_assembly + factor(r)); });
-  line("mesh/factor", "(0.05)", [&](const LimitRow& r) { return ratio(r.stage.at("mesh"), factor(r)); });
-  line("assembly/plain", "(1.5)", [&](const LimitRow& r) { return ratio(r.stage.at("assembly"), r.plain_assembly); });
-  line("condens/factor", "(1.2)", [&](const LimitRow& r) { return ratio(r.stage.at("condensation"), factor(r)); });
-  line("min+back+margin/f", "(0.1)", [&](const LimitRow& r) {
-    return ratio(r.stage.at("minimize") + r.stage.at("back_substitution") + r.stage.at("margin"), factor(r));
-  });
-  line("outputs/solve", "(0.15)", [&](const LimitRow& r) { return ratio(r.stage.at("outputs"), r.solve); });
-  line("peak/(L+A)", "(1.5)", [&](const LimitRow& r) { return ratio(r.peak_rss, r.factor_bytes + r.matrix_bytes); });
+  }
   out << "\nseconds; factor: analysis + factorization with CHOLMOD's faster ordering (a: AMD, m: METIS); peak: the\n"
-         "process' peak RSS after this size (sizes run in increasing order); wrote "
+         "peak RSS of the solve's process; wrote "
       << (fs::path(o.out) / "limit.json").string() << "\n";
   return kSuccess;
 #endif

@@ -154,7 +154,7 @@ int run_command(int argc, char** argv) {
   cmd_bench->add_option("--ref", bench.ref, "Mesh size of the reference solution")->capture_default_str()->check(CLI::Range(1, 10000000));
   auto* o_bench_tol = cmd_bench->add_option("--tol", bench_tol, "Certificate tolerance for every pair")->check(CLI::PositiveNumber);
   cmd_bench->add_option("--set", bench.set, "Override a scene key: key=value (repeatable)");
-  cmd_bench->add_option("--out", bench.out, "Output folder (bench.csv, bench.json, bench.png)")->capture_default_str();
+  cmd_bench->add_option("--out", bench.out, "Output folder (bench.csv, bench.json, bench.png; with --limit: limit.json)")->capture_default_str();
   cmd_bench->add_flag("--json", bench.json, "Print bench.json on stdout instead of the table");
   cmd_bench->add_flag("-q,--quiet", bench_quiet, "Print nothing on stdout or stderr");
   cmd_bench->add_flag("--limit", bench_limit,

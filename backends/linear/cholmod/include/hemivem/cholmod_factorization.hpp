@@ -41,7 +41,6 @@ struct CholmodReference {
   double analysis_seconds = 0.0;
   double factorization_seconds = 0.0;
   double factor_bytes = 0.0;     ///< the numeric values and row indices of the supernodal factor
-  double flops = 0.0;            ///< CHOLMOD's count for the factorization
 };
 
 /// The reference factorization of A with AMD (`metis` false) or METIS (`metis` true), supernodal.
