@@ -11,8 +11,8 @@
 //   A22 = L22 L22^T. solve_interior() solves with L22 alone (the leading n2 columns of L,
 //   rows < n2): the trailing block is never touched.
 //
-// P's pattern and the map from A's stored entries to P's are kept while A's pattern and
-// block1 are unchanged, so that a new schur_complement() only copies values and factorizes.
+// The elimination order, P's pattern and its analysis are kept while A's pattern and block1
+// are unchanged, so that a new schur_complement() only copies values and factorizes.
 #pragma once
 
 #include "linear_common.hpp"
@@ -24,6 +24,7 @@
 #include <new>
 #include <span>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -143,12 +144,12 @@ class CholeskyEngine {
         schur_factorized_ = true;
         return FactorizationResult::good();
       }
-      if (!reuse) {
+      if (reuse) {
+        copy_ordered_values(M);
+      } else {
         if (auto r = analyze_ordered(M); !r.ok()) return r;
         schur_pattern_.capture(M);
       }
-      for (std::size_t k = 0; k < scatter_.size(); ++k)
-        if (scatter_[k] >= 0) P_.valuePtr()[scatter_[k]] = M.valuePtr()[k];
       if (auto r = kernel_->factorize_ordered(P_); !r.ok()) return explain(std::move(r), n2);
       read_schur(n, n2, S);
       schur_factorized_ = true;
@@ -279,8 +280,7 @@ class CholeskyEngine {
     const int n = static_cast<int>(M.rows());
     const int n2 = static_cast<int>(split_.block2.size());
     std::vector<int> perm22;
-    const SparseMatrix a22 = lower_pattern_a22(M);
-    if (auto r = kernel_->order(a22, &perm22); !r.ok()) return r;
+    if (auto r = kernel_->order(lower_pattern_a22(M), &perm22); !r.ok()) return r;
     order_.resize(static_cast<std::size_t>(n));
     for (int k = 0; k < n2; ++k)
       order_[static_cast<std::size_t>(k)] = split_.block2[static_cast<std::size_t>(perm22[static_cast<std::size_t>(k)])];
@@ -312,47 +312,63 @@ class CholeskyEngine {
     return pattern_matrix(n2, n2, col, row, 1.0);
   }
 
-  /// P's pattern (the lower triangle of A in elimination order, counted and placed column by
-  /// column), its values and scatter_, the map from A's value array to P's.
-  void build_ordered_pattern(const SparseMatrix& M) {
+  /// Calls f(k, row, column) for each entry k of A's lower triangle with its (row, column) in P.
+  template <class F>
+  void for_each_ordered_entry(const SparseMatrix& M, F&& f) const {
     const int n = static_cast<int>(M.rows());
     const int* outer = M.outerIndexPtr();
     const int* inner = M.innerIndexPtr();
     std::vector<int> new_pos(static_cast<std::size_t>(n));
     for (int k = 0; k < n; ++k) new_pos[static_cast<std::size_t>(order_[static_cast<std::size_t>(k)])] = k;
-    auto target = [&](int k, int j) {  // (row, column) in P of A's entry k in column j
-      const int a = new_pos[static_cast<std::size_t>(inner[k])], b = new_pos[static_cast<std::size_t>(j)];
-      return std::pair<int, int>{std::max(a, b), std::min(a, b)};
-    };
-    std::vector<int> start(static_cast<std::size_t>(n) + 1, 0);
-    for (int j = 0; j < n; ++j)
-      for (int k = outer[j]; k < outer[j + 1]; ++k)
-        if (inner[k] >= j) ++start[static_cast<std::size_t>(target(k, j).second) + 1];
-    for (int j = 0; j < n; ++j) start[static_cast<std::size_t>(j) + 1] += start[static_cast<std::size_t>(j)];
-    const auto nnz = static_cast<std::size_t>(start[static_cast<std::size_t>(n)]);
-    std::vector<std::pair<int, int>> placed(nnz);  // (row in P, entry of A), column by column
-    std::vector<int> fill(start.begin(), start.end() - 1);
-    for (int j = 0; j < n; ++j)
-      for (int k = outer[j]; k < outer[j + 1]; ++k)
-        if (inner[k] >= j) {
-          const auto [row, column] = target(k, j);
-          placed[static_cast<std::size_t>(fill[static_cast<std::size_t>(column)]++)] = {row, k};
-        }
-    P_.resize(n, n);
-    P_.resizeNonZeros(static_cast<Eigen::Index>(nnz));
-    std::copy(start.begin(), start.end(), P_.outerIndexPtr());
-    scatter_.assign(static_cast<std::size_t>(M.nonZeros()), -1);
     for (int j = 0; j < n; ++j) {
-      const auto first = placed.begin() + start[static_cast<std::size_t>(j)];
-      const auto last = placed.begin() + start[static_cast<std::size_t>(j) + 1];
-      std::sort(first, last);
-      for (auto it = first; it != last; ++it) {
-        const auto p = static_cast<std::size_t>(it - placed.begin());
-        P_.innerIndexPtr()[p] = it->first;
-        P_.valuePtr()[p] = M.valuePtr()[it->second];
-        scatter_[static_cast<std::size_t>(it->second)] = static_cast<int>(p);
+      const int b = new_pos[static_cast<std::size_t>(j)];
+      for (int k = outer[j]; k < outer[j + 1]; ++k) {
+        if (inner[k] < j) continue;
+        const int a = new_pos[static_cast<std::size_t>(inner[k])];
+        f(k, std::max(a, b), std::min(a, b));
       }
     }
+  }
+
+  /// P: the lower triangle of A in elimination order, counted and placed column by column,
+  /// then each column sorted by row.
+  void build_ordered_pattern(const SparseMatrix& M) {
+    const int n = static_cast<int>(M.rows());
+    std::vector<int> start(static_cast<std::size_t>(n) + 1, 0);
+    for_each_ordered_entry(M, [&](int, int, int column) { ++start[static_cast<std::size_t>(column) + 1]; });
+    for (int j = 0; j < n; ++j) start[static_cast<std::size_t>(j) + 1] += start[static_cast<std::size_t>(j)];
+    P_ = SparseMatrix(n, n);
+    P_.resizeNonZeros(start[static_cast<std::size_t>(n)]);
+    std::copy(start.begin(), start.end(), P_.outerIndexPtr());
+    int* rows = P_.innerIndexPtr();
+    double* values = P_.valuePtr();
+    const double* source = M.valuePtr();
+    start.pop_back();  // from here: the next free position in each column
+    for_each_ordered_entry(M, [&](int k, int row, int column) {
+      const int p = start[static_cast<std::size_t>(column)]++;
+      rows[p] = row;
+      values[p] = source[k];
+    });
+    std::vector<std::pair<int, double>> column;
+    for (int j = 0; j < n; ++j) {
+      const int first = P_.outerIndexPtr()[j], last = P_.outerIndexPtr()[j + 1];
+      if (std::is_sorted(rows + first, rows + last)) continue;
+      column.clear();
+      for (int p = first; p < last; ++p) column.emplace_back(rows[p], values[p]);
+      std::sort(column.begin(), column.end());
+      for (int p = first; p < last; ++p) std::tie(rows[p], values[p]) = column[static_cast<std::size_t>(p - first)];
+    }
+  }
+
+  /// P's values from A's, P's pattern unchanged: each entry found by its row in its column.
+  void copy_ordered_values(const SparseMatrix& M) {
+    const int* outer = P_.outerIndexPtr();
+    const int* rows = P_.innerIndexPtr();
+    double* values = P_.valuePtr();
+    const double* source = M.valuePtr();
+    for_each_ordered_entry(M, [&](int k, int row, int column) {
+      values[std::lower_bound(rows + outer[column], rows + outer[column + 1], row) - rows] = source[k];
+    });
   }
 
   /// S = L11 L11^T from the trailing n - n2 columns of L.
@@ -392,7 +408,6 @@ class CholeskyEngine {
   BlockSplit split_;
   std::vector<int> order_;    // order_[k]: the index of A eliminated k-th
   SparseMatrix P_;            // lower triangle of A in elimination order
-  std::vector<int> scatter_;  // per stored entry of A: its position in P's values, -1 above the diagonal
   bool schur_factorized_ = false;
 };
 
