@@ -39,6 +39,7 @@ struct BenchOptions {
   std::string out = "out/bench";
   bool json = false;                    ///< bench.json also on stdout instead of the table
   int verbosity = 1;                    ///< 0 quiet, 1 table and progress
+  int repeat = 1;                       ///< bench --limit: measurements per size, the fastest kept
 };
 
 /// hemivem bench [SCENE]: wall time by stage and error against a reference solution for

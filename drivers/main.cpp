@@ -157,9 +157,13 @@ int run_command(int argc, char** argv) {
   cmd_bench->add_option("--out", bench.out, "Output folder (bench.csv, bench.json, bench.png; with --limit: limit.json)")->capture_default_str();
   cmd_bench->add_flag("--json", bench.json, "Print bench.json on stdout instead of the table");
   cmd_bench->add_flag("-q,--quiet", bench_quiet, "Print nothing on stdout or stderr");
-  cmd_bench->add_flag("--limit", bench_limit,
+  auto* o_bench_limit = cmd_bench->add_flag("--limit", bench_limit,
                       "Every stage of a cholmod solve against the machine's limit (a plain assembly and one CHOLMOD "
                       "factorization of the same matrix), measured in this run; writes limit.json");
+  cmd_bench->add_option("--repeat", bench.repeat, "With --limit: measurements per size, the fastest of each kept")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100))
+      ->needs(o_bench_limit);
   // ---- end check and bench ----
 
   // ---- runs across processes (docs/cluster.md): only rank 0 prints; only solve runs on several ----
