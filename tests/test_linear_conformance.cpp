@@ -192,6 +192,107 @@ TEST_P(LinearConformance, SchurComplementMatchesDenseReference) {
   }
 }
 
+/// The 5-point Laplacian of an m x m grid plus the identity: a matrix whose factor has large
+/// supernodes, as a contact problem's has.
+SparseMatrix grid_laplacian(int m) {
+  std::vector<Triplet> entries;
+  auto id = [m](int i, int j) { return i * m + j; };
+  for (int i = 0; i < m; ++i)
+    for (int j = 0; j < m; ++j) {
+      entries.emplace_back(id(i, j), id(i, j), 5.0);
+      if (i + 1 < m) entries.emplace_back(id(i + 1, j), id(i, j), -1.0), entries.emplace_back(id(i, j), id(i + 1, j), -1.0);
+      if (j + 1 < m) entries.emplace_back(id(i, j + 1), id(i, j), -1.0), entries.emplace_back(id(i, j), id(i, j + 1), -1.0);
+    }
+  SparseMatrix A(m * m, m * m);
+  A.setFromTriplets(entries.begin(), entries.end());
+  A.makeCompressed();
+  return A;
+}
+
+/// condense_rhs() and expand() against c = b1 - A12 A22^{-1} b2 and x2 = A22^{-1} (b2 - A21 x1).
+void expect_split_interior_solve(SparseFactorization& f, const SparseMatrix& A, const std::vector<int>& block1,
+                                 unsigned seed) {
+  const int n = static_cast<int>(A.rows());
+  const std::vector<int> block2 = complement(n, block1);
+  const Eigen::MatrixXd D(A);
+  const Eigen::MatrixXd A12 = submatrix(D, block1, block2), A22 = submatrix(D, block2, block2);
+  Eigen::MatrixXd S;
+  ASSERT_TRUE(f.schur_complement(A, block1, &S).ok());
+  const Eigen::VectorXd b1 = random_rhs(static_cast<Eigen::Index>(block1.size()), 1, seed).col(0);
+  const Eigen::VectorXd b2 = random_rhs(static_cast<Eigen::Index>(block2.size()), 1, seed + 1).col(0);
+  const Eigen::VectorXd x1 = random_rhs(static_cast<Eigen::Index>(block1.size()), 1, seed + 2).col(0);
+  Eigen::VectorXd c, x2;
+  if (!f.splits_interior_solve()) {
+    EXPECT_EQ(f.condense_rhs(b1, b2, &c).status, FactorizationStatus::not_ready);
+    EXPECT_EQ(f.expand(x1, &x2).status, FactorizationStatus::not_ready);
+    return;
+  }
+  const FactorizationResult r = f.condense_rhs(b1, b2, &c);
+  ASSERT_TRUE(r.ok()) << r.message;
+  const FactorizationResult e = f.expand(x1, &x2);
+  ASSERT_TRUE(e.ok()) << e.message;
+  if (block2.empty()) {
+    EXPECT_EQ(c, b1);
+    EXPECT_EQ(x2.size(), 0);
+    return;
+  }
+  const Eigen::LLT<Eigen::MatrixXd> llt22(A22);
+  EXPECT_LT(relative_error(c, b1 - A12 * llt22.solve(b2)), kTolerance);
+  EXPECT_LT(relative_error(x2, llt22.solve(b2 - A12.transpose() * x1)), kTolerance);
+  // expand() again with another x1 uses the same b2
+  const Eigen::VectorXd x1b = 2.0 * x1;
+  ASSERT_TRUE(f.expand(x1b, &x2).ok());
+  EXPECT_LT(relative_error(x2, llt22.solve(b2 - A12.transpose() * x1b)), kTolerance);
+}
+
+TEST_P(LinearConformance, SplitInteriorSolveMatchesDenseReference) {
+  for (int n : kSizes) {
+    for (unsigned seed : kSeeds) {
+      for (int size1 : {std::max(1, n / 5), n}) {
+        SCOPED_TRACE("n = " + std::to_string(n) + ", seed = " + std::to_string(seed) + ", block1 " + std::to_string(size1));
+        auto f = make();
+        expect_split_interior_solve(*f, random_spd(n, seed), random_block(n, size1, seed), seed);
+      }
+    }
+  }
+  // a grid with block1 one side of it (as a contact boundary) and a random block1
+  const int m = 30;
+  std::vector<int> side(static_cast<std::size_t>(m));
+  std::iota(side.begin(), side.end(), 0);
+  auto f = make();
+  {
+    SCOPED_TRACE("grid, one side");
+    expect_split_interior_solve(*f, grid_laplacian(m), side, 4);
+  }
+  {
+    SCOPED_TRACE("grid, random block1");
+    expect_split_interior_solve(*f, grid_laplacian(m), random_block(m * m, 2 * m, 5), 5);
+  }
+}
+
+TEST_P(LinearConformance, SplitInteriorSolveOutOfOrderOrWithWrongSizes) {
+  auto f = make();
+  if (!f->splits_interior_solve()) GTEST_SKIP() << GetParam() << " does not split the interior solve";
+  Eigen::VectorXd c, x2;
+  const Eigen::VectorXd one = Eigen::VectorXd::Ones(1), four = Eigen::VectorXd::Ones(4);
+  EXPECT_EQ(f->condense_rhs(one, four, &c).status, FactorizationStatus::not_ready);
+  EXPECT_EQ(f->expand(one, &x2).status, FactorizationStatus::not_ready);
+  const SparseMatrix A = random_spd(5, 2);
+  const std::vector<int> block1{3};
+  Eigen::MatrixXd S;
+  ASSERT_TRUE(f->schur_complement(A, block1, &S).ok());
+  EXPECT_EQ(f->expand(one, &x2).status, FactorizationStatus::not_ready) << "expand() needs condense_rhs() first";
+  EXPECT_EQ(f->condense_rhs(four, four, &c).status, FactorizationStatus::invalid_input);
+  EXPECT_EQ(f->condense_rhs(one, one, &c).status, FactorizationStatus::invalid_input);
+  EXPECT_EQ(f->condense_rhs(one, four, nullptr).status, FactorizationStatus::invalid_input);
+  ASSERT_TRUE(f->condense_rhs(one, four, &c).ok());
+  EXPECT_EQ(f->expand(four, &x2).status, FactorizationStatus::invalid_input);
+  EXPECT_EQ(f->expand(one, nullptr).status, FactorizationStatus::invalid_input);
+  ASSERT_TRUE(f->expand(one, &x2).ok());
+  ASSERT_TRUE(f->schur_complement(A, block1, &S).ok());
+  EXPECT_EQ(f->expand(one, &x2).status, FactorizationStatus::not_ready) << "a new Schur complement forgets b2";
+}
+
 TEST_P(LinearConformance, RefactorizationOnTheSamePatternReusesTheAnalysis) {
   const int n = 200;
   const SparseMatrix A = random_spd(n, 5);

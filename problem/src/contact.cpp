@@ -220,8 +220,28 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
     return;
   }
 
-  // A21 = At(block2, block1) (block2 is increasing, so each column's rows stay sorted), b1, b2
-  std::vector<int> position2(static_cast<std::size_t>(n), -1);
+  Eigen::VectorXd b1(n1);
+  for (int i = 0; i < n1; ++i) b1(i) = bt(block1_[static_cast<std::size_t>(i)]);
+  b2_.resize(static_cast<Eigen::Index>(block2_.size()));
+  for (std::size_t i = 0; i < block2_.size(); ++i) b2_(static_cast<Eigen::Index>(i)) = bt(block2_[i]);
+  if (factorization_->splits_interior_solve()) {
+    // c = b1 - A12 A22^{-1} b2 in one forward substitution; back_substitute() needs one backward
+    require(factorization_->condense_rhs(b1, b2_, &reduced_.c), *factorization_, "interior solve");
+  } else {
+    extract_a21(At);
+    Eigen::MatrixXd y;
+    require(factorization_->solve_interior(b2_, &y), *factorization_, "interior solve");
+    reduced_.c = b1 - A21_.transpose() * y.col(0);
+  }
+  margin_ = hemivem::uniqueness_margin(reduced_.S, reduced_.w, reduced_.law->alpha());
+  reduced_.uniqueness_margin = margin_;
+}
+
+void Condensation::extract_a21(const SparseMatrix& At) {
+  // A21 = At(block2, block1) (block2 is increasing, so each column's rows stay sorted)
+  const auto n = static_cast<std::size_t>(At.rows());
+  const auto n1 = static_cast<Eigen::Index>(block1_.size());
+  std::vector<int> position2(n, -1);
   for (std::size_t i = 0; i < block2_.size(); ++i) position2[static_cast<std::size_t>(block2_[i])] = static_cast<int>(i);
   std::vector<int> a21_outer{0}, a21_inner;
   std::vector<double> a21_values;
@@ -237,15 +257,6 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
   A21_ = Eigen::Map<const SparseMatrix>(static_cast<Eigen::Index>(block2_.size()), n1,
                                         static_cast<Eigen::Index>(a21_inner.size()), a21_outer.data(),
                                         a21_inner.data(), a21_values.data());
-  Eigen::VectorXd b1(n1);
-  for (int i = 0; i < n1; ++i) b1(i) = bt(block1_[static_cast<std::size_t>(i)]);
-  b2_.resize(static_cast<Eigen::Index>(block2_.size()));
-  for (std::size_t i = 0; i < block2_.size(); ++i) b2_(static_cast<Eigen::Index>(i)) = bt(block2_[i]);
-  Eigen::MatrixXd y;
-  require(factorization_->solve_interior(b2_, &y), *factorization_, "interior solve");
-  reduced_.c = b1 - A21_.transpose() * y.col(0);
-  margin_ = hemivem::uniqueness_margin(reduced_.S, reduced_.w, reduced_.law->alpha());
-  reduced_.uniqueness_margin = margin_;
 }
 
 double Condensation::condition_estimate() const {
@@ -265,13 +276,19 @@ Eigen::VectorXd Condensation::back_substitute(const Eigen::VectorXd& a) const {
   if (!fits)
     throw InputError("back-substitution needs " + std::to_string(block1_.size()) + " normal displacements, got " +
                      (holds ? std::to_string(a.size()) : std::string("another number on the process holding the results")));
-  Eigen::MatrixXd u2;
-  require(factorization_->solve_interior(holds ? Eigen::MatrixXd(b2_ - A21_ * a) : Eigen::MatrixXd(), &u2),
-          *factorization_, "back-substitution");
+  Eigen::VectorXd u2;
+  if (factorization_->splits_interior_solve()) {
+    require(factorization_->expand(a, &u2), *factorization_, "back-substitution");
+  } else {
+    Eigen::MatrixXd x2;
+    require(factorization_->solve_interior(holds ? Eigen::MatrixXd(b2_ - A21_ * a) : Eigen::MatrixXd(), &x2),
+            *factorization_, "back-substitution");
+    if (holds) u2 = x2.col(0);
+  }
   if (!holds) return Eigen::VectorXd();
   Eigen::VectorXd ut(dofs_.num_free());
   for (std::size_t i = 0; i < block1_.size(); ++i) ut(block1_[i]) = a(static_cast<Eigen::Index>(i));
-  for (std::size_t i = 0; i < block2_.size(); ++i) ut(block2_[i]) = u2(static_cast<Eigen::Index>(i), 0);
+  for (std::size_t i = 0; i < block2_.size(); ++i) ut(block2_[i]) = u2(static_cast<Eigen::Index>(i));
   // u = Q ut at the contact nodes
   for (std::size_t i = 0; i < normals_.size(); ++i) {
     const Vec2 nu = normals_[i], tau(-nu.y(), nu.x());

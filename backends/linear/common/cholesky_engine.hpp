@@ -126,6 +126,7 @@ class CholeskyEngine {
   FactorizationResult schur_complement(const SparseMatrix& A, std::span<const int> block1, Eigen::MatrixXd* S) {
     return guarded([&] {
       schur_factorized_ = false;
+      rhs_condensed_ = false;
       if (S == nullptr) return invalid("schur_complement(): S is null");
       SparseMatrix storage;
       const SparseMatrix& M = compressed(A, storage);
@@ -162,39 +163,97 @@ class CholeskyEngine {
     const auto n2 = static_cast<Eigen::Index>(split_.block2.size());
     if (auto r = check_right_hand_sides("solve_interior()", "B2", B2, X2, n2, "A22"); !r.ok()) return r;
     return guarded([&] {
-      Supernodes blocks;
-      if (kernel_->supernodes(&blocks)) {
-        // X = B2 in elimination order (row k: the index of A eliminated k-th)
-        Eigen::MatrixXd X(n2, B2.cols());
-        for (Eigen::Index k = 0; k < n2; ++k) X.row(k) = B2.row(split_.position[order(k)]);
-        solve_by_supernodes(blocks, static_cast<int>(n2), X);
-        X2->resize(n2, B2.cols());
-        for (Eigen::Index k = 0; k < n2; ++k) X2->row(split_.position[order(k)]) = X.row(k);
-        return FactorizationResult::good();
-      }
-      // Column by column: z = B2 in elimination order (row k: the index of A eliminated k-th),
-      // transposed so that each step of the substitutions reads one contiguous column of m values.
-      const Eigen::Index m = B2.cols();
-      Eigen::MatrixXd z(m, n2);
-      for (Eigen::Index k = 0; k < n2; ++k) z.col(k) = B2.row(split_.position[order(k)]).transpose();
-      double* zd = z.data();
-      auto zc = [&](int k) { return zd + static_cast<std::ptrdiff_t>(k) * m; };
-      const int n2i = static_cast<int>(n2);
-      for (int j = 0; j < n2i; ++j) {  // L22 y = b2
+      // X = B2 in elimination order (row k: the index of A eliminated k-th)
+      Eigen::MatrixXd X(n2, B2.cols());
+      for (Eigen::Index k = 0; k < n2; ++k) X.row(k) = B2.row(split_.position[order(k)]);
+      substitute(X, Pass::forward, false);
+      substitute(X, Pass::backward, false);
+      X2->resize(n2, B2.cols());
+      for (Eigen::Index k = 0; k < n2; ++k) X2->row(split_.position[order(k)]) = X.row(k);
+      return FactorizationResult::good();
+    });
+  }
+
+  /// c = b1 - A12 A22^{-1} b2 by one forward substitution: with z = (b2, b1) in elimination
+  /// order, L22 y = b2 and c = b1 - L21 y (L21 = A12 L22^{-T}). y is kept for expand().
+  FactorizationResult condense_rhs(const Eigen::VectorXd& b1, const Eigen::VectorXd& b2, Eigen::VectorXd* c) {
+    rhs_condensed_ = false;
+    if (!schur_factorized_) return not_ready("condense_rhs() needs a successful schur_complement() first");
+    const auto n1 = static_cast<Eigen::Index>(split_.block1.size());
+    const auto n2 = static_cast<Eigen::Index>(split_.block2.size());
+    if (c == nullptr) return invalid("condense_rhs(): c is null");
+    if (b1.size() != n1 || b2.size() != n2)
+      return invalid("condense_rhs(): b1 and b2 need " + std::to_string(n1) + " and " + std::to_string(n2) +
+                     " rows (block1 and the rest), got " + std::to_string(b1.size()) + " and " +
+                     std::to_string(b2.size()));
+    return guarded([&] {
+      Eigen::MatrixXd z(n1 + n2, 1);
+      for (Eigen::Index k = 0; k < n2; ++k) z(k, 0) = b2(split_.position[order(k)]);
+      z.col(0).tail(n1) = b1;
+      substitute(z, Pass::forward, true);
+      y_ = z.col(0).head(n2);
+      *c = z.col(0).tail(n1);
+      rhs_condensed_ = true;
+      return FactorizationResult::good();
+    });
+  }
+
+  /// x2 = A22^{-1} (b2 - A21 x1) = L22^{-T} (y - L21^T x1) by one backward substitution.
+  FactorizationResult expand(const Eigen::VectorXd& x1, Eigen::VectorXd* x2) const {
+    if (!rhs_condensed_) return not_ready("expand() needs a successful condense_rhs() first");
+    const auto n1 = static_cast<Eigen::Index>(split_.block1.size());
+    const auto n2 = static_cast<Eigen::Index>(split_.block2.size());
+    if (x2 == nullptr) return invalid("expand(): x2 is null");
+    if (x1.size() != n1)
+      return invalid("expand(): x1 needs " + std::to_string(n1) + " rows (block1), got " + std::to_string(x1.size()));
+    return guarded([&] {
+      Eigen::MatrixXd z(n1 + n2, 1);
+      z.col(0).head(n2) = y_;
+      z.col(0).tail(n1) = x1;
+      substitute(z, Pass::backward, true);
+      x2->resize(n2);
+      for (Eigen::Index k = 0; k < n2; ++k) (*x2)(split_.position[order(k)]) = z(k, 0);
+      return FactorizationResult::good();
+    });
+  }
+
+ private:
+  enum class Pass { forward, backward };
+
+  /// One substitution with the leading n2 columns of L, X in elimination order:
+  ///   forward:  X2 = L22^{-1} X2, and with `tail` X1 -= L21 X2;
+  ///   backward: X2 = L22^{-T} X2, with `tail` X2 = L22^{-T} (X2 - L21^T X1);
+  /// X2 the first n2 rows of X and X1 the rest (present with `tail` only).
+  void substitute(Eigen::MatrixXd& X, Pass pass, bool tail) const {
+    const int n2 = static_cast<int>(split_.block2.size());
+    const int end = tail ? static_cast<int>(X.rows()) : n2;  // the rows of L read
+    Supernodes blocks;
+    if (kernel_->supernodes(&blocks)) {
+      substitute_by_supernodes(blocks, n2, end, pass, X);
+      return;
+    }
+    // Column by column, on X transposed, so that each step reads one contiguous column of m values.
+    const Eigen::Index m = X.cols();
+    Eigen::MatrixXd z = X.transpose();
+    double* zd = z.data();
+    auto zc = [&](int k) { return zd + static_cast<std::ptrdiff_t>(k) * m; };
+    if (pass == Pass::forward) {
+      for (int j = 0; j < n2; ++j) {
         const FactorColumn c = kernel_->column(j);
         double* zj = zc(j);
         const double d = c.values[0];
         for (Eigen::Index r = 0; r < m; ++r) zj[r] /= d;
-        for (int t = 1; t < c.size && c.rows[t] < n2i; ++t) {
+        for (int t = 1; t < c.size && c.rows[t] < end; ++t) {
           double* zt = zc(c.rows[t]);
           const double v = c.values[t];
           for (Eigen::Index r = 0; r < m; ++r) zt[r] -= v * zj[r];
         }
       }
-      for (int j = n2i - 1; j >= 0; --j) {  // L22^T x2 = y
+    } else {
+      for (int j = n2 - 1; j >= 0; --j) {
         const FactorColumn c = kernel_->column(j);
         double* zj = zc(j);
-        for (int t = 1; t < c.size && c.rows[t] < n2i; ++t) {
+        for (int t = 1; t < c.size && c.rows[t] < end; ++t) {
           const double* zt = zc(c.rows[t]);
           const double v = c.values[t];
           for (Eigen::Index r = 0; r < m; ++r) zj[r] -= v * zt[r];
@@ -202,20 +261,17 @@ class CholeskyEngine {
         const double d = c.values[0];
         for (Eigen::Index r = 0; r < m; ++r) zj[r] /= d;
       }
-      X2->resize(n2, B2.cols());
-      for (Eigen::Index k = 0; k < n2; ++k) X2->row(split_.position[order(k)]) = z.col(k).transpose();
-      return FactorizationResult::good();
-    });
+    }
+    X = z.transpose();
   }
 
- private:
-  /// X = L22^{-T} L22^{-1} X for the leading n2 columns and rows of a supernodal L: per
-  /// supernode a dense triangular solve with its diagonal block and a dense product with the
-  /// rows below it (those < n2), gathered and scattered through their row indices.
-  static void solve_by_supernodes(const Supernodes& L, int n2, Eigen::MatrixXd& X) {
+  /// substitute() for a supernodal L: per supernode with a column of L22, a dense triangular
+  /// solve with its diagonal block and a dense product with its rows of L below (those < end),
+  /// gathered and scattered through their row indices.
+  static void substitute_by_supernodes(const Supernodes& L, int n2, int end, Pass pass, Eigen::MatrixXd& X) {
     using Block = Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
     struct Piece {
-      int j0, nc, below, nrow, ncol;
+      int j0, nc, count, nrow, ncol;
       const int* rows;
       const double* values;
     };
@@ -223,32 +279,36 @@ class CholeskyEngine {
       const int j0 = L.first[k], ncol = L.first[k + 1] - j0;
       const int nrow = L.row_start[k + 1] - L.row_start[k];
       const int* rows = L.rows + L.row_start[k];
-      // the rows below the supernode's columns that belong to L22 (rows increase)
-      const int below = static_cast<int>(std::lower_bound(rows + ncol, rows + nrow, n2) - (rows + ncol));
-      return Piece{j0, std::min(ncol, n2 - j0), below, nrow, ncol, rows, L.values + L.value_start[k]};
+      const int nc = std::min(ncol, n2 - j0);  // the supernode's columns in L22
+      // the block's rows after those nc columns (rows increase) that are < end
+      const int count = static_cast<int>(std::lower_bound(rows + nc, rows + nrow, end) - (rows + nc));
+      return Piece{j0, nc, count, nrow, ncol, rows, L.values + L.value_start[k]};
     };
     int last = 0;  // the supernodes with a column of L22
     while (last < L.count && L.first[last] < n2) ++last;
     Eigen::MatrixXd T;
-    for (int k = 0; k < last; ++k) {  // L22 y = b2
-      const Piece p = piece(k);
-      const Block block(p.values, p.nrow, p.ncol, Eigen::OuterStride<>(p.nrow));
-      auto x = X.middleRows(p.j0, p.nc);
-      block.topLeftCorner(p.nc, p.nc).triangularView<Eigen::Lower>().solveInPlace(x);
-      if (p.below == 0) continue;
-      T.noalias() = block.block(p.ncol, 0, p.below, p.nc) * x;
-      for (int r = 0; r < p.below; ++r) X.row(p.rows[p.ncol + r]) -= T.row(r);
-    }
-    for (int k = last - 1; k >= 0; --k) {  // L22^T x2 = y
-      const Piece p = piece(k);
-      const Block block(p.values, p.nrow, p.ncol, Eigen::OuterStride<>(p.nrow));
-      auto x = X.middleRows(p.j0, p.nc);
-      if (p.below > 0) {
-        T.resize(p.below, X.cols());
-        for (int r = 0; r < p.below; ++r) T.row(r) = X.row(p.rows[p.ncol + r]);
-        x.noalias() -= block.block(p.ncol, 0, p.below, p.nc).transpose() * T;
+    if (pass == Pass::forward) {
+      for (int k = 0; k < last; ++k) {
+        const Piece p = piece(k);
+        const Block block(p.values, p.nrow, p.ncol, Eigen::OuterStride<>(p.nrow));
+        auto x = X.middleRows(p.j0, p.nc);
+        block.topLeftCorner(p.nc, p.nc).triangularView<Eigen::Lower>().solveInPlace(x);
+        if (p.count == 0) continue;
+        T.noalias() = block.block(p.nc, 0, p.count, p.nc) * x;
+        for (int r = 0; r < p.count; ++r) X.row(p.rows[p.nc + r]) -= T.row(r);
       }
-      block.topLeftCorner(p.nc, p.nc).transpose().triangularView<Eigen::Upper>().solveInPlace(x);
+    } else {
+      for (int k = last - 1; k >= 0; --k) {
+        const Piece p = piece(k);
+        const Block block(p.values, p.nrow, p.ncol, Eigen::OuterStride<>(p.nrow));
+        auto x = X.middleRows(p.j0, p.nc);
+        if (p.count > 0) {
+          T.resize(p.count, X.cols());
+          for (int r = 0; r < p.count; ++r) T.row(r) = X.row(p.rows[p.nc + r]);
+          x.noalias() -= block.block(p.nc, 0, p.count, p.nc).transpose() * T;
+        }
+        block.topLeftCorner(p.nc, p.nc).transpose().triangularView<Eigen::Upper>().solveInPlace(x);
+      }
     }
   }
 
@@ -409,6 +469,8 @@ class CholeskyEngine {
   std::vector<int> order_;    // order_[k]: the index of A eliminated k-th
   SparseMatrix P_;            // lower triangle of A in elimination order
   bool schur_factorized_ = false;
+  Eigen::VectorXd y_;           // L22^{-1} b2 of the last condense_rhs(), in elimination order
+  bool rhs_condensed_ = false;
 };
 
 }  // namespace hemivem::linear_detail

@@ -8,7 +8,10 @@
 //   schur_complement(A, block1, S)   dense S = A11 - A12 A22^{-1} A21 for the index set
 //                                    block1, at about the cost of one factorization, and
 //                                    a factorization of A22 kept for
-//   solve_interior(B2, X2)           X2 = A22^{-1} B2 (the rest of the solve).
+//   solve_interior(B2, X2)           X2 = A22^{-1} B2 (the rest of the solve);
+// where the engine splits the interior solve (splits_interior_solve()), its two halves:
+//   condense_rhs(b1, b2, c)          c = b1 - A12 A22^{-1} b2, one forward substitution
+//   expand(x1, x2)                   x2 = A22^{-1} (b2 - A21 x1), one backward substitution.
 //
 // Algorithmic outcomes are statuses with a human message; programming and setup errors
 // (wrong sizes, calls out of order) are statuses too (invalid_input / not_ready), never
@@ -100,6 +103,24 @@ class SparseFactorization {
   /// X2 = A22^{-1} B2 after schur_complement(); B2 has A.rows() - block1.size() rows,
   /// ordered as the remaining indices in increasing order.
   virtual FactorizationResult solve_interior(const Eigen::MatrixXd& B2, Eigen::MatrixXd* X2) const = 0;
+
+  /// The interior solve in its two halves, for engines that factorize A22 within a
+  /// factorization of the whole A (L = [L22 0; L21 L11]), where each half is one triangular
+  /// substitution instead of a full interior solve. After schur_complement(), with b1 in
+  /// block1's order and b2, x2 ordered as for solve_interior():
+  ///   condense_rhs(b1, b2, c): c = b1 - A12 A22^{-1} b2, the reduced right-hand side; the
+  ///                            engine keeps what expand() needs of b2;
+  ///   expand(x1, x2):          x2 = A22^{-1} (b2 - A21 x1) for the b2 of the last condense_rhs().
+  /// An engine without them returns false here and not_ready from both; callers then use
+  /// solve_interior().
+  virtual bool splits_interior_solve() const { return false; }
+  virtual FactorizationResult condense_rhs(const Eigen::VectorXd& /*b1*/, const Eigen::VectorXd& /*b2*/,
+                                           Eigen::VectorXd* /*c*/) {
+    return {FactorizationStatus::not_ready, name() + " does not split the interior solve (use solve_interior())"};
+  }
+  virtual FactorizationResult expand(const Eigen::VectorXd& /*x1*/, Eigen::VectorXd* /*x2*/) const {
+    return {FactorizationStatus::not_ready, name() + " does not split the interior solve (use solve_interior())"};
+  }
 
   /// Reciprocal condition estimate of the last factorized matrix where the engine
   /// offers one (CHOLMOD's rcond, MUMPS' RINFOG); negative when it does not.

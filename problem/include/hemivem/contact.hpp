@@ -58,7 +58,8 @@ class Condensation {
   /// concave kink.
   double uniqueness_margin() const noexcept { return margin_; }
   /// Full nodal displacement (all 2*num_vertices dofs, prescribed values included) from
-  /// the normal displacements a of the contact nodes: u2 = A22^{-1} (b2 - A21 a).
+  /// the normal displacements a of the contact nodes: u2 = A22^{-1} (b2 - A21 a) (one
+  /// backward substitution where the engine splits the interior solve).
   /// Collective with an engine across processes: a is read, and u returned, on the process
   /// holding the results; elsewhere a is ignored and the result is empty.
   Eigen::VectorXd back_substitute(const Eigen::VectorXd& a) const;
@@ -77,7 +78,9 @@ class Condensation {
   std::vector<int> block2_;       // remaining rotated free indices, increasing
   std::vector<int> contact_free_x_, contact_free_y_;  // free index of the x/y dof per contact node
   std::vector<Vec2> normals_;
-  SparseMatrix A21_;              // block2 x block1 of the rotated matrix
+  /// A21_ = At(block2, block1), for an engine that does not split the interior solve.
+  void extract_a21(const SparseMatrix& At);
+  SparseMatrix A21_;              // block2 x block1 of the rotated matrix (when extracted)
   double a22_norm1_ = 0.0;        // ||A22||_1
   Eigen::VectorXd b2_;
 };

@@ -103,4 +103,12 @@ FactorizationResult EigenFactorization::solve_interior(const Eigen::MatrixXd& B2
   return impl_->solve_interior(B2, X2);
 }
 
+FactorizationResult EigenFactorization::condense_rhs(const Eigen::VectorXd& b1, const Eigen::VectorXd& b2, Eigen::VectorXd* c) {
+  return impl_->condense_rhs(b1, b2, c);
+}
+
+FactorizationResult EigenFactorization::expand(const Eigen::VectorXd& x1, Eigen::VectorXd* x2) const {
+  return impl_->expand(x1, x2);
+}
+
 }  // namespace hemivem

@@ -43,6 +43,9 @@ class EigenFactorization final : public SparseFactorization {
   FactorizationResult schur_complement(const SparseMatrix& A, std::span<const int> block1,
                                        Eigen::MatrixXd* S) override;
   FactorizationResult solve_interior(const Eigen::MatrixXd& B2, Eigen::MatrixXd* X2) const override;
+  bool splits_interior_solve() const override { return true; }
+  FactorizationResult condense_rhs(const Eigen::VectorXd& b1, const Eigen::VectorXd& b2, Eigen::VectorXd* c) override;
+  FactorizationResult expand(const Eigen::VectorXd& x1, Eigen::VectorXd* x2) const override;
 
   int num_analyses() const override;
 
