@@ -222,54 +222,42 @@ nlohmann::json measure_limit(const Scene& scene, bool metis) {
 }
 
 /// One size: the solve and the limit (AMD, METIS) each measured `repeat` times in fresh
-/// processes; the fastest solve (by its wall time), the fastest analysis + factorization of
-/// each ordering and the fastest plain assembly are kept.
+/// processes, taken in turn (solve, AMD, METIS, solve, ...) so that a machine that slows down
+/// or speeds up meanwhile affects both alike; the fastest solve (by its wall time), the fastest
+/// analysis + factorization of each ordering and the fastest plain assembly are kept.
 LimitRow measure(const Scene& scene, int n, int repeat) {
-  LimitRow row;
-  row.n = n;
+  auto factor_seconds = [](const nlohmann::json& l) {
+    return l.at("analysis").get<double>() + l.at("factorization").get<double>();
+  };
   nlohmann::json solve;
+  std::map<bool, nlohmann::json> limit;  // by METIS
+  double plain = std::numeric_limits<double>::infinity();
   for (int k = 0; k < repeat; ++k) {
     nlohmann::json run = in_child([&] { return measure_solve(scene); });
     if (k == 0 || run.at("wall").get<double>() < solve.at("wall").get<double>()) solve = std::move(run);
+    for (bool metis : {false, true}) {
+      nlohmann::json l = in_child([&] { return measure_limit(scene, metis); });
+      plain = std::min(plain, l.at("plain_assembly").get<double>());
+      if (k == 0 || factor_seconds(l) < factor_seconds(limit.at(metis))) limit[metis] = std::move(l);
+    }
   }
+  LimitRow row;
+  row.n = n;
   row.stage = solve.at("stages").get<std::map<std::string, double>>();
   row.dofs = solve.at("dofs");
   row.contact_nodes = solve.at("contact_nodes");
   row.status = solve.at("status");
   row.peak_rss = solve.at("peak_rss");
   row.solve = solve.at("wall");
-  double best = std::numeric_limits<double>::infinity();
-  auto factor_seconds = [](const nlohmann::json& l) {
-    return l.at("analysis").get<double>() + l.at("factorization").get<double>();
-  };
-  for (bool metis : {false, true}) {
-    nlohmann::json l;
-    for (int k = 0; k < repeat; ++k) {
-      nlohmann::json run = in_child([&] { return measure_limit(scene, metis); });
-      if (k > 0) {  // the plain assembly: the fastest of all fresh processes
-        const double plain = std::min(run.at("plain_assembly").get<double>(), l.at("plain_assembly").get<double>());
-        if (factor_seconds(run) < factor_seconds(l)) l = std::move(run);
-        l["plain_assembly"] = plain;
-      } else {
-        l = std::move(run);
-      }
-    }
-    const double total = factor_seconds(l);
-    const std::string ordering = l.at("ordering");
-    if (total < best) {
-      if (!row.ordering.empty()) row.alternative[row.ordering] = best;
-      best = total;
-      row.ordering = ordering;
-      row.analysis = l.at("analysis");
-      row.factorization = l.at("factorization");
-      row.factor_bytes = l.at("factor_bytes");
-      row.matrix_bytes = l.at("matrix_bytes");
-    } else {
-      row.alternative[ordering] = total;
-    }
-    const double plain = l.at("plain_assembly");
-    row.plain_assembly = row.plain_assembly > 0.0 ? std::min(row.plain_assembly, plain) : plain;
-  }
+  row.plain_assembly = plain;
+  const bool metis = factor_seconds(limit.at(true)) < factor_seconds(limit.at(false));
+  const nlohmann::json& best = limit.at(metis);
+  row.ordering = best.at("ordering");
+  row.analysis = best.at("analysis");
+  row.factorization = best.at("factorization");
+  row.factor_bytes = best.at("factor_bytes");
+  row.matrix_bytes = best.at("matrix_bytes");
+  row.alternative[limit.at(!metis).at("ordering")] = factor_seconds(limit.at(!metis));
   return row;
 }
 
