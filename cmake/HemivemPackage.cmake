@@ -13,7 +13,7 @@ mark_as_advanced(HEMIVEM_INSTALL_CMAKEDIR)
 
 # component | target (hemivem::<target>) | packages a static build of it links privately;
 # one component per engine of cmake/HemivemEngines.cmake, in between.
-set(_hemivem_component_table "core|core|CGAL tomlplusplus")
+set(_hemivem_component_table "core|core|CGAL tomlplusplus muparser")
 foreach(_kind linear nonsmooth)
   hemivem_engine_names(${_kind} _names)
   foreach(_name IN LISTS _names)

@@ -46,7 +46,7 @@ TEST(Scene, DefaultSceneIsExample41OnSquares64) {
   EXPECT_EQ(s.material.model, PlaneModel::strain);
   EXPECT_EQ(s.material.stabilization, Stabilization::two_mu);
   ASSERT_TRUE(s.contact.has_value());
-  EXPECT_DOUBLE_EQ(s.contact->gap, 0.02);
+  EXPECT_DOUBLE_EQ(s.contact->gap.value, 0.02);
   EXPECT_EQ(s.contact->law.name, "paper");
   EXPECT_EQ(s.contact->constraint, ConstraintKind::box);
   EXPECT_EQ(s.solver.linear, "auto");
@@ -171,12 +171,16 @@ TEST(Scene, RoundTripThroughToml) {
   for (const auto& f : shipped_scenes()) scenes.push_back(parse_scene(f));
   Scene rich = default_scene();
   rich.title = "quotes \" and \\ backslashes";
-  rich.body_force = {0.1, -1.0 / 3.0};
+  rich.body_force = {SceneScalar{0.1, {}}, SceneScalar{0.0, "-1/3 + 0.5*sin(_pi*x)"}};
   rich.material.regions.push_back({1, 200.0, 0.3});
   rich.clamped.groups = {"wall"};
   rich.clamped.segments = {{0.0, 0.0, 0.0, 1.0}};
   rich.clamped.tolerance = 1e-6;
-  rich.tractions.push_back({{{}, {}, {{0.0, 1.0, 0.5, 1.0}}, 1e-8}, {1e-300, 2.5}});
+  rich.tractions.push_back({{{}, {}, {{0.0, 1.0, 0.5, 1.0}}, 1e-8}, {SceneScalar{1e-300, {}}, SceneScalar{2.5, {}}}, {}});
+  rich.tractions.push_back({{{"left"}, {}, {}, 1e-8}, {}, SceneScalar{0.0, "2*(1 - y)"}});
+  rich.dirichlet.push_back({{{"bottom"}, {}, {}, 1e-8}, std::nullopt, SceneScalar{0.0, {}}});
+  rich.dirichlet.push_back({{{"top"}, {}, {}, 1e-8}, SceneScalar{0.001, {}}, SceneScalar{0.0, "-0.01*x"}});
+  rich.contact->gap = SceneScalar{0.0, "0.02 + 0.5*x^2"};
   rich.contact->law.name = "sawtooth";
   rich.contact->law.parameters = {{"r1", 0.015}, {"stiffness", 50.0}};
   rich.solver.max_iterations = 7;
@@ -185,6 +189,11 @@ TEST(Scene, RoundTripThroughToml) {
   Scene piecewise = default_scene();
   piecewise.contact->law = SceneLaw{"piecewise", {}, {0.0}, {{0.0}, {0.0, 0.0, 50.0}}, {{0.0}, {0.0}}};
   scenes.push_back(piecewise);
+  Scene rollers = default_scene();  // [[dirichlet]] alone: nothing clamped
+  rollers.clamped = BoundarySelector{{}, {}, {}, 1e-8};
+  rollers.dirichlet.push_back({{{"left"}, {}, {}, 1e-8}, SceneScalar{0.0, {}}, std::nullopt});
+  rollers.contact.reset();
+  scenes.push_back(rollers);
   for (const auto& s : scenes) {
     const std::string text = to_toml(s);
     SCOPED_TRACE(text);
@@ -209,7 +218,7 @@ TEST(Scene, ResolvedSceneFileReadsBack) {
 TEST(Scene, Overrides) {
   Scene s = default_scene();
   apply_override(s, "contact.gap=0.01");
-  EXPECT_DOUBLE_EQ(s.contact->gap, 0.01);
+  EXPECT_DOUBLE_EQ(s.contact->gap.value, 0.01);
   EXPECT_EQ(s.lines.at("contact.gap"), 0);
   apply_override(s, "mesh.generator=voronoi");
   EXPECT_EQ(s.mesh.generator, "voronoi");
@@ -225,7 +234,7 @@ TEST(Scene, Overrides) {
   apply_override(s, "contact.constraint=one-sided");
   EXPECT_EQ(s.contact->constraint, ConstraintKind::one_sided);
   apply_override(s, "loads.traction[0].value=[0.0, -4.0]");
-  EXPECT_DOUBLE_EQ(s.tractions.at(0).value[1], -4.0);
+  EXPECT_DOUBLE_EQ(s.tractions.at(0).value[1].value, -4.0);
   apply_override(s, "material.model=plane-stress");
   EXPECT_EQ(s.material.model, PlaneModel::stress);
   EXPECT_EQ(s.source, "<default>");
@@ -243,7 +252,7 @@ TEST(Scene, Overrides) {
   apply_override(lin, "contact.gap=0.05");
   ASSERT_TRUE(lin.contact.has_value());
   EXPECT_EQ(lin.contact->boundary.sides, std::vector<std::string>{"bottom"});
-  EXPECT_DOUBLE_EQ(lin.contact->gap, 0.05);
+  EXPECT_DOUBLE_EQ(lin.contact->gap.value, 0.05);
 }
 
 std::string override_error(std::string_view kv) {
@@ -263,7 +272,12 @@ TEST(Scene, BadOverridesNameTheKey) {
   EXPECT_NE(override_error("contact.gapp=0.1").find("unknown key 'gapp' in [contact]; did you mean 'gap'?"), std::string::npos);
   EXPECT_NE(override_error("contcat.gap=0.1").find("did you mean 'contact'?"), std::string::npos);
   EXPECT_NE(override_error("contact.gap=-1").find("contact.gap: must be >= 0"), std::string::npos);
-  EXPECT_NE(override_error("contact.gap=abc").find("contact.gap: expected a number, got a string"), std::string::npos);
+  EXPECT_NE(override_error("contact.gap=abc").find("contact.gap: expression 'abc': Unexpected token \"abc\""),
+            std::string::npos);
+  EXPECT_NE(override_error("contact.gap=true").find("contact.gap: expected a number or an expression in x and y"),
+            std::string::npos);
+  EXPECT_NE(override_error("loads.body_force=[0, \"2*z\"]").find("loads.body_force: element 1: expression '2*z'"),
+            std::string::npos);
   EXPECT_NE(override_error("mesh.n=0").find("--set mesh.n: mesh.n: must be between 1"), std::string::npos);
   EXPECT_NE(override_error("mesh.generator=hex").find("unknown mesh generator 'hex'"), std::string::npos);
   EXPECT_NE(override_error("contact.law=nope").find("expected one of: paper"), std::string::npos);

@@ -182,14 +182,20 @@ Eigen::VectorXd assemble_load(const Mesh& mesh, const VectorField& body_force, c
     }
   }
   for (const auto& load : tractions) {
-    if (!load.traction) throw InputError("a traction load has no traction function");
+    if (!load.traction && !load.pressure) throw InputError("a traction load has neither a traction nor a pressure");
     for (int id : load.edges) {
       if (id < 0 || id >= mesh.num_edges()) throw InputError("traction edge id " + std::to_string(id) + " out of range");
       const auto& e = mesh.edge(id);
+      if (load.pressure && !e.on_boundary())
+        throw InputError("pressure edge " + std::to_string(id) + " is not on the boundary (it has no outward normal)");
       const Vec2 a = mesh.vertex(e.v0), b = mesh.vertex(e.v1);
       const double len = (b - a).norm();
+      // outward unit normal: a boundary edge runs counter-clockwise in its element
+      const Vec2 normal = len > 0.0 ? Vec2((b - a).y() / len, -(b - a).x() / len) : Vec2::Zero();
       for (const auto& q : quadrature::segment_rule()) {
-        const Vec2 t = load.traction((1.0 - q.t) * a + q.t * b);
+        const Vec2 x = (1.0 - q.t) * a + q.t * b;
+        Vec2 t = load.traction ? load.traction(x) : Vec2::Zero();
+        if (load.pressure) t -= load.pressure(x) * normal;
         f.segment<2>(2 * e.v0) += q.weight * len * (1.0 - q.t) * t;
         f.segment<2>(2 * e.v1) += q.weight * len * q.t * t;
       }

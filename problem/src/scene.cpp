@@ -1,4 +1,6 @@
 #include <hemivem/scene.hpp>
+
+#include <hemivem/expression.hpp>
 #include <hemivem/resources.hpp>
 
 #include <algorithm>
@@ -147,6 +149,40 @@ class TableReader {
     const toml::node* n = find(key);
     if (!n) return std::nullopt;
     return as_number(key, *n);
+  }
+  /// A number, or a string holding an expression in x and y (parsed here, so that a syntax
+  /// error names the key's line).
+  SceneScalar as_scalar(std::string_view key, const toml::node& n, const std::string& element = "") const {
+    if (const auto* text = n.as_string()) {
+      try {
+        (void)ScalarExpression::parse(text->get());
+      } catch (const InputError& e) {
+        fail(key, n, element + e.detail());
+      }
+      return SceneScalar{0.0, text->get()};
+    }
+    if (!n.is_integer() && !n.is_floating_point())
+      fail(key, n, element + "expected a number or an expression in x and y (a string), got " + type_name(n));
+    return SceneScalar{as_number(key, n), {}};
+  }
+  std::optional<SceneScalar> scalar(std::string_view key) {
+    const toml::node* n = find(key);
+    if (!n) return std::nullopt;
+    return as_scalar(key, *n);
+  }
+  /// An array of N numbers or expressions.
+  template <std::size_t N>
+  std::optional<std::array<SceneScalar, N>> scalars(std::string_view key, const std::string& shape) {
+    const toml::node* n = find(key);
+    if (!n) return std::nullopt;
+    const auto* a = n->as_array();
+    if (!a) fail_type(key, *n, "an array " + shape + " of numbers or expressions");
+    if (a->size() != N)
+      fail(key, *n, "expected an array " + shape + " of " + std::to_string(N) + " numbers or expressions, got " +
+                        std::to_string(a->size()));
+    std::array<SceneScalar, N> out{};
+    for (std::size_t i = 0; i < N; ++i) out[i] = as_scalar(key, (*a)[i], "element " + std::to_string(i) + ": ");
+    return out;
   }
   std::optional<std::int64_t> integer(std::string_view key) {
     const toml::node* n = find(key);
@@ -360,8 +396,8 @@ SceneContact read_contact(TableReader& r) {
   } catch (const InputError& e) {
     r.fail("law", r.has("law") ? r.node("law") : static_cast<const toml::node&>(r.self()), e.detail());
   }
-  if (auto g = r.number("gap")) {
-    if (*g < 0.0) r.fail("gap", r.node("gap"), "must be >= 0, got " + fmt(*g));
+  if (auto g = r.scalar("gap")) {
+    if (!g->is_expression() && g->value < 0.0) r.fail("gap", r.node("gap"), "must be >= 0, got " + fmt(g->value));
     c.gap = *g;
   }
   if (auto k = r.string("constraint")) {
@@ -378,7 +414,8 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
   Scene s;
   s.source = std::move(source);
   s.lines.clear();
-  TableReader r(s, root, "", {"schema_version", "title", "mesh", "material", "clamped", "loads", "contact", "solver", "output"});
+  TableReader r(s, root, "",
+                {"schema_version", "title", "mesh", "material", "clamped", "dirichlet", "loads", "contact", "solver", "output"});
   const auto version = r.integer("schema_version");
   if (!version)
     throw InputError("missing key 'schema_version'; this program reads schema_version = " +
@@ -478,25 +515,51 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
     TableReader c(s, *t, "clamped", kSelectorKeys);
     s.clamped = read_selector(c, true);
   }
+  if (const toml::array* d = r.array_of_tables("dirichlet")) {
+    if (!r.has("clamped")) s.clamped = BoundarySelector{{}, {}, {}, 1e-8};  // only what the scene prescribes
+    for (std::size_t i = 0; i < d->size(); ++i) {
+      TableReader g(s, *(*d)[i].as_table(), "dirichlet[" + std::to_string(i) + "]", with_selector({"value", "ux", "uy"}));
+      SceneDirichlet sd;
+      sd.boundary = read_selector(g, true);
+      if (auto v = g.scalars<2>("value", "[ux, uy]")) {
+        for (const char* k : {"ux", "uy"})
+          if (g.has(k)) g.fail(k, g.node(k), "not used with value = [ux, uy]; give either value or ux and/or uy");
+        sd.ux = (*v)[0];
+        sd.uy = (*v)[1];
+      }
+      if (auto v = g.scalar("ux")) sd.ux = *v;
+      if (auto v = g.scalar("uy")) sd.uy = *v;
+      if (!sd.ux && !sd.uy)
+        throw InputError(g.path() + ": no displacement given; set value = [ux, uy], or ux or uy (a roller)",
+                         g.at(g.self()));
+      s.dirichlet.push_back(sd);
+    }
+  }
 
   if (const toml::table* t = r.table("loads")) {
     TableReader l(s, *t, "loads", {"body_force", "traction"});
-    if (auto f = l.fixed<2>("body_force", "[fx, fy]")) s.body_force = *f;
+    if (auto f = l.scalars<2>("body_force", "[fx, fy]")) s.body_force = *f;
     s.tractions.clear();
     if (const toml::array* tr = l.array_of_tables("traction")) {
       for (std::size_t i = 0; i < tr->size(); ++i) {
-        TableReader g(s, *(*tr)[i].as_table(), "loads.traction[" + std::to_string(i) + "]", with_selector({"value"}));
+        TableReader g(s, *(*tr)[i].as_table(), "loads.traction[" + std::to_string(i) + "]",
+                      with_selector({"value", "pressure"}));
         SceneTraction st;
         st.boundary = read_selector(g, true);
-        const auto v = g.fixed<2>("value", "[fx, fy]");
-        if (!v) throw InputError(g.path() + ": missing key 'value'", g.at(g.self()));
-        st.value = *v;
+        const auto v = g.scalars<2>("value", "[tx, ty]");
+        st.pressure = g.scalar("pressure");
+        if (v && st.pressure)
+          g.fail("pressure", g.node("pressure"), "not used with value = [tx, ty]; give either value or pressure");
+        if (!v && !st.pressure)
+          throw InputError(g.path() + ": missing key 'value' (a traction [tx, ty]) or 'pressure' (along the inward normal)",
+                           g.at(g.self()));
+        if (v) st.value = *v;
         s.tractions.push_back(st);
       }
     }
   } else {
     s.tractions.clear();
-    s.body_force = {0.0, 0.0};
+    s.body_force = {};
   }
 
   s.contact.reset();
@@ -608,6 +671,8 @@ std::string quote(std::string_view s) {
   return out + "\"";
 }
 
+std::string scalar_text(const SceneScalar& v) { return v.is_expression() ? quote(v.expression) : fmt(v.value); }
+
 template <class Range, class F>
 std::string list(const Range& r, F f) {
   std::string s = "[";
@@ -642,7 +707,8 @@ std::string Scene::where(const std::string& key) const {
 
 bool operator==(const Scene& a, const Scene& b) {
   return a.schema_version == b.schema_version && a.title == b.title && a.mesh == b.mesh && a.material == b.material &&
-         a.clamped == b.clamped && a.body_force == b.body_force && a.tractions == b.tractions && a.contact == b.contact &&
+         a.clamped == b.clamped && a.dirichlet == b.dirichlet && a.body_force == b.body_force &&
+         a.tractions == b.tractions && a.contact == b.contact &&
          a.solver == b.solver && a.outputs == b.outputs;
 }
 
@@ -686,14 +752,23 @@ std::string to_toml(const Scene& s) {
     o << "\n[[material.region]]\nid = " << r.region << "\nE = " << fmt(r.young) << "\nnu = " << fmt(r.poisson) << "\n";
     if (r.box) o << "box = " << list(*r.box, fmt) << "\n";
   }
-  o << "\n[clamped]\n";
-  write_selector(o, s.clamped);
+  if (!s.clamped.empty()) {
+    o << "\n[clamped]\n";
+    write_selector(o, s.clamped);
+  }
+  for (const auto& d : s.dirichlet) {
+    o << "\n[[dirichlet]]\n";
+    write_selector(o, d.boundary);
+    if (d.ux) o << "ux = " << scalar_text(*d.ux) << "\n";
+    if (d.uy) o << "uy = " << scalar_text(*d.uy) << "\n";
+  }
   o << "\n[loads]\n";
-  o << "body_force = " << list(s.body_force, fmt) << "\n";
+  o << "body_force = " << list(s.body_force, scalar_text) << "\n";
   for (const auto& t : s.tractions) {
     o << "\n[[loads.traction]]\n";
     write_selector(o, t.boundary);
-    o << "value = " << list(t.value, fmt) << "\n";
+    if (t.pressure) o << "pressure = " << scalar_text(*t.pressure) << "\n";
+    else o << "value = " << list(t.value, scalar_text) << "\n";
   }
   if (s.contact) {
     const auto& c = *s.contact;
@@ -708,7 +783,7 @@ std::string to_toml(const Scene& s) {
       o << "j1 = " << pieces(c.law.j1) << "\n";
       o << "j2 = " << pieces(c.law.j2) << "\n";
     }
-    o << "gap = " << fmt(c.gap) << "\n";
+    o << "gap = " << scalar_text(c.gap) << "\n";
     o << "constraint = " << quote(to_string(c.constraint)) << "\n";
     if (!c.law.parameters.empty()) {
       o << "\n[contact.parameters]\n";
@@ -881,6 +956,34 @@ std::unique_ptr<BuiltProblem> build_problem(const Scene& scene) {
   return out;
 }
 
+namespace {
+
+ScalarExpression field(const SceneScalar& v) {
+  return v.is_expression() ? ScalarExpression::parse(v.expression) : ScalarExpression(v.value);
+}
+
+/// A scalar field that refuses a value that is not finite, naming the scene key.
+std::function<double(const Vec2&)> finite_scalar(ScalarExpression e, const Scene& scene, const std::string& key,
+                                                 const std::string& what) {
+  return [e = std::move(e), key, what, where = scene.where(key)](const Vec2& x) {
+    const double value = e(x);
+    if (!std::isfinite(value))
+      throw InputError(key + " = '" + e.text() + "' gives " + what + " that is not finite at (" + fmt(x.x()) + ", " +
+                           fmt(x.y()) + ")",
+                       where);
+    return value;
+  };
+}
+
+/// The vector field (ex, ey) that refuses a value that is not finite, naming the scene key.
+VectorField finite_vector(ScalarExpression ex, ScalarExpression ey, const Scene& scene, const std::string& key) {
+  auto fx = finite_scalar(std::move(ex), scene, key, "a component");
+  auto fy = finite_scalar(std::move(ey), scene, key, "a component");
+  return [fx, fy](const Vec2& x) { return Vec2(fx(x), fy(x)); };
+}
+
+}  // namespace
+
 ContactProblem make_contact_problem(const Scene& scene, const Mesh& mesh) {
   int regions = 1;
   for (int r : mesh.regions()) regions = std::max(regions, r + 1);
@@ -913,22 +1016,37 @@ ContactProblem make_contact_problem(const Scene& scene, const Mesh& mesh) {
     return edges;
   };
 
-  p.elasticity.dirichlet.push_back({select(scene.clamped, "clamped"), {}, {true, true}});
-  if (scene.body_force[0] != 0.0 || scene.body_force[1] != 0.0) {
-    const Vec2 f(scene.body_force[0], scene.body_force[1]);
-    p.elasticity.body_force = [f](const Vec2&) { return f; };
+  if (!scene.clamped.empty()) p.elasticity.dirichlet.push_back({select(scene.clamped, "clamped"), {}, {true, true}});
+  for (std::size_t i = 0; i < scene.dirichlet.size(); ++i) {
+    const auto& d = scene.dirichlet[i];
+    const std::string key = "dirichlet[" + std::to_string(i) + "]";
+    const ScalarExpression ux = d.ux ? field(*d.ux) : ScalarExpression(0.0);
+    const ScalarExpression uy = d.uy ? field(*d.uy) : ScalarExpression(0.0);
+    p.elasticity.dirichlet.push_back({select(d.boundary, key), finite_vector(ux, uy, scene, key), {d.ux.has_value(), d.uy.has_value()}});
   }
+  const auto& f = scene.body_force;
+  if (f[0].is_expression() || f[1].is_expression() || f[0].value != 0.0 || f[1].value != 0.0)
+    p.elasticity.body_force = finite_vector(field(f[0]), field(f[1]), scene, "loads.body_force");
   for (std::size_t i = 0; i < scene.tractions.size(); ++i) {
     const auto& t = scene.tractions[i];
-    const Vec2 v(t.value[0], t.value[1]);
-    p.elasticity.tractions.push_back(
-        {select(t.boundary, "loads.traction[" + std::to_string(i) + "]"), [v](const Vec2&) { return v; }});
+    const std::string key = "loads.traction[" + std::to_string(i) + "]";
+    TractionLoad load;
+    load.edges = select(t.boundary, key);
+    if (t.pressure) load.pressure = finite_scalar(field(*t.pressure), scene, key + ".pressure", "a pressure");
+    else load.traction = finite_vector(field(t.value[0]), field(t.value[1]), scene, key + ".value");
+    p.elasticity.tractions.push_back(std::move(load));
   }
   if (scene.contact) {
     const auto& c = *scene.contact;
     p.contact_edges = select(c.boundary, "contact");
-    const double g = c.gap;
-    p.gap = [g](const Vec2&) { return g; };
+    p.gap = [g = field(c.gap), where = scene.where("contact.gap")](const Vec2& x) {
+      const double value = g(x);
+      if (!(std::isfinite(value) && value >= 0.0))
+        throw InputError("contact.gap = '" + g.text() + "' gives " + fmt(value) + " at (" + fmt(x.x()) + ", " +
+                             fmt(x.y()) + "); a gap must be finite and >= 0",
+                         where);
+      return value;
+    };
     try {
       p.law = make_law(c.law);
     } catch (const InputError& e) {

@@ -48,10 +48,13 @@ struct DirichletCondition {
 
 /// A surface traction on a set of boundary edges, integrated on each edge with a
 /// 3-point Gauss rule against the linear hat functions (exact for tractions that are
-/// polynomials of degree <= 4 on each edge, in particular piecewise-linear ones).
+/// polynomials of degree <= 4 on each edge, in particular piecewise-linear ones). The
+/// traction is `traction`, plus -p n for a `pressure` p (n the edge's outward unit normal:
+/// a positive pressure pushes into the body); at least one of the two is given.
 struct TractionLoad {
   std::vector<int> edges;
   VectorField traction;
+  std::function<double(const Vec2&)> pressure;
 };
 
 /// The linear elasticity problem on a mesh.

@@ -39,6 +39,15 @@ struct BoundarySelector {
   bool operator==(const BoundarySelector&) const = default;
 };
 
+/// A number, or an expression in x and y (muparser syntax, hemivem/expression.hpp) given as a
+/// string: "0.02 + 0.5*x^2".
+struct SceneScalar {
+  double value = 0.0;
+  std::string expression;  ///< empty: the number `value`
+  bool is_expression() const noexcept { return !expression.empty(); }
+  bool operator==(const SceneScalar&) const = default;
+};
+
 struct SceneMesh {
   std::string generator = "squares";   ///< used when `file` is empty
   std::filesystem::path file;          ///< .poly2d or .msh; absolute once parsed
@@ -68,10 +77,21 @@ struct SceneMaterial {
   bool operator==(const SceneMaterial&) const = default;
 };
 
+/// A traction on boundary edges: a vector `value` [tx, ty], or a `pressure` p along the
+/// inward normal of each edge (t = -p n, n the outward normal).
 struct SceneTraction {
   BoundarySelector boundary;
-  std::array<double, 2> value{0.0, 0.0};
+  std::array<SceneScalar, 2> value{};
+  std::optional<SceneScalar> pressure;  ///< given: the traction is the pressure, value unused
   bool operator==(const SceneTraction&) const = default;
+};
+
+/// A prescribed displacement on boundary edges ([[dirichlet]]): both components
+/// (value = [ux, uy]) or one of them (a roller: the other component stays free).
+struct SceneDirichlet {
+  BoundarySelector boundary;
+  std::optional<SceneScalar> ux, uy;
+  bool operator==(const SceneDirichlet&) const = default;
 };
 
 struct SceneLaw {
@@ -86,7 +106,7 @@ struct SceneLaw {
 struct SceneContact {
   BoundarySelector boundary{{"bottom"}, {}, {}, 1e-8};
   SceneLaw law;
-  double gap = 0.02;
+  SceneScalar gap{0.02, {}};  ///< g >= 0 at every contact node
   ConstraintKind constraint = ConstraintKind::box;
   bool operator==(const SceneContact&) const = default;
 };
@@ -109,9 +129,12 @@ struct Scene {
   std::string title = "Example 4.1 (Feng, Han, Huang 2021)";
   SceneMesh mesh;
   SceneMaterial material;
-  BoundarySelector clamped{{"left", "right"}, {}, {}, 1e-8};  ///< Gamma_1
-  std::array<double, 2> body_force{0.0, 0.0};                 ///< f0
-  std::vector<SceneTraction> tractions{SceneTraction{{{"top"}, {}, {}, 1e-8}, {0.0, -8.0}}};  ///< Gamma_2
+  /// Gamma_1 (u = 0); empty when the scene has [[dirichlet]] entries and no [clamped].
+  BoundarySelector clamped{{"left", "right"}, {}, {}, 1e-8};
+  std::vector<SceneDirichlet> dirichlet;                       ///< other prescribed displacements
+  std::array<SceneScalar, 2> body_force{};                     ///< f0
+  std::vector<SceneTraction> tractions{
+      SceneTraction{{{"top"}, {}, {}, 1e-8}, {SceneScalar{0.0, {}}, SceneScalar{-8.0, {}}}, std::nullopt}};  ///< Gamma_2
   std::optional<SceneContact> contact = SceneContact{};       ///< Gamma_3; none = no contact
   SceneSolver solver;
   std::vector<std::string> outputs = scene_output_names();

@@ -1,0 +1,186 @@
+// Posing one's own problem from a scene: expressions in x and y (gaps, loads, displacements),
+// pressure loads, prescribed displacements and rollers, each against a hand-checkable answer.
+#include <hemivem/assembly.hpp>
+#include <hemivem/contact.hpp>
+#include <hemivem/error.hpp>
+#include <hemivem/expression.hpp>
+#include <hemivem/scene.hpp>
+
+#include <gtest/gtest.h>
+
+#include <Eigen/SparseCholesky>
+
+#include <cmath>
+#include <string>
+
+namespace hemivem {
+namespace {
+
+Eigen::VectorXd solve_without_contact(const BuiltProblem& built) {
+  const LinearSystem sys = assemble(built.problem.elasticity);
+  Eigen::SimplicialLDLT<SparseMatrix> ldlt(sys.A);
+  EXPECT_EQ(ldlt.info(), Eigen::Success);
+  return sys.dofs.expand(ldlt.solve(sys.b));
+}
+
+TEST(ScalarExpression, EvaluatesInXAndYWithMuparsersFunctions) {
+  const auto e = ScalarExpression::parse("0.02 + 0.5*x^2 - y/4 + sin(_pi*x)");
+  EXPECT_FALSE(e.is_constant());
+  EXPECT_EQ(e.text(), "0.02 + 0.5*x^2 - y/4 + sin(_pi*x)");
+  for (const Vec2 p : {Vec2(0.0, 0.0), Vec2(0.3, -1.0), Vec2(2.0, 5.0)})
+    EXPECT_NEAR(e(p), 0.02 + 0.5 * p.x() * p.x() - p.y() / 4 + std::sin(M_PI * p.x()), 1e-15);
+  const ScalarExpression c(-8.0);
+  EXPECT_TRUE(c.is_constant());
+  EXPECT_EQ(c(Vec2(1.0, 2.0)), -8.0);
+  EXPECT_EQ(c.text(), "-8");
+  const ScalarExpression copy = e;  // copies share the parsed expression
+  EXPECT_DOUBLE_EQ(copy(Vec2(0.5, 0.0)), e(Vec2(0.5, 0.0)));
+}
+
+TEST(ScalarExpression, SyntaxErrorsAndUnknownNamesAreInputErrors) {
+  for (const std::string bad : {"0.02 +* x", "2*z", "sin(x", "", "x y"}) {
+    SCOPED_TRACE(bad);
+    try {
+      (void)ScalarExpression::parse(bad);
+      ADD_FAILURE() << "no error";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("expression '" + bad + "'"), std::string::npos) << e.what();
+    }
+  }
+}
+
+// A square on two rollers (x = 0: ux = 0; y = 0: uy = 0) under a pressure p on its right side:
+// sigma_xx = -p, sigma_yy = 0, so in plane strain u = (-p (1 - nu^2) / E x, p nu (1 + nu) / E y),
+// a linear field that the virtual element method reproduces exactly (the patch test) on any
+// mesh. It also shows that a roller leaves its other component free: uy on x = 0 is not 0.
+TEST(PoseProblem, RollersAndAPressureGiveTheUniaxialStress) {
+  for (const std::string generator : {"squares", "voronoi"}) {
+    SCOPED_TRACE(generator);
+    const Scene scene = parse_scene_string(R"(
+schema_version = 1
+[mesh]
+generator = ")" + generator + R"("
+n = 6
+[material]
+E = 200.0
+nu = 0.3
+[[dirichlet]]
+side = "left"
+ux = 0.0
+[[dirichlet]]
+side = "bottom"
+uy = 0.0
+[loads]
+[[loads.traction]]
+side = "right"
+pressure = 2.0
+)",
+                                           "rollers.toml");
+    EXPECT_TRUE(scene.clamped.empty()) << "[[dirichlet]] without [clamped] clamps nothing else";
+    ASSERT_FALSE(scene.contact);
+    const auto built = build_problem(scene);
+    const Eigen::VectorXd u = solve_without_contact(*built);
+    const double p = 2.0, E = 200.0, nu = 0.3;
+    const double exx = -p * (1 - nu * nu) / E, eyy = p * nu * (1 + nu) / E;
+    double largest_uy_on_left = 0.0;
+    for (int v = 0; v < built->mesh.num_vertices(); ++v) {
+      const Vec2 x = built->mesh.vertex(v);
+      EXPECT_NEAR(u(2 * v), exx * x.x(), 1e-12) << "vertex " << v;
+      EXPECT_NEAR(u(2 * v + 1), eyy * x.y(), 1e-12) << "vertex " << v;
+      if (x.x() == 0.0) largest_uy_on_left = std::max(largest_uy_on_left, u(2 * v + 1));
+    }
+    EXPECT_NEAR(largest_uy_on_left, eyy, 1e-12);
+  }
+}
+
+// A prescribed displacement u = (0.01 + 0.02 y, -0.03 x) given by expressions on the whole
+// boundary: a rigid motion plus a shear that is linear, so the solution is that field inside.
+TEST(PoseProblem, PrescribedDisplacementExpressionsGiveTheLinearFieldInside) {
+  const Scene scene = parse_scene_string(R"(
+schema_version = 1
+[mesh]
+generator = "voronoi"
+n = 5
+[[dirichlet]]
+side = ["left", "right", "top", "bottom"]
+value = ["0.01 + 0.02*y", "-0.03*x"]
+[loads]
+)",
+                                         "prescribed.toml");
+  const auto built = build_problem(scene);
+  const Eigen::VectorXd u = solve_without_contact(*built);
+  for (int v = 0; v < built->mesh.num_vertices(); ++v) {
+    const Vec2 x = built->mesh.vertex(v);
+    EXPECT_NEAR(u(2 * v), 0.01 + 0.02 * x.y(), 1e-12);
+    EXPECT_NEAR(u(2 * v + 1), -0.03 * x.x(), 1e-12);
+  }
+}
+
+// Loads as expressions: the resultant of a traction 2x on the top side is 1 (exact with the
+// 3-point rule), that of a body force 3y on the unit square is 3/2.
+TEST(PoseProblem, LoadExpressionsIntegrateToTheirResultants) {
+  const Scene scene = parse_scene_string(R"(
+schema_version = 1
+[mesh]
+n = 8
+[loads]
+body_force = ["3*y", 0]
+[[loads.traction]]
+side = "top"
+value = [0, "2*x"]
+)",
+                                         "loads.toml");
+  const auto built = build_problem(scene);
+  const auto& e = built->problem.elasticity;
+  const Eigen::VectorXd f = assemble_load(*e.mesh, e.body_force, e.tractions);
+  double fx = 0.0, fy = 0.0;
+  for (int v = 0; v < e.mesh->num_vertices(); ++v) fx += f(2 * v), fy += f(2 * v + 1);
+  EXPECT_NEAR(fx, 1.5, 1e-13);
+  EXPECT_NEAR(fy, 1.0, 1e-13);
+}
+
+// A pressure on a side whose outward normal is -y (the bottom) pushes up: the resultant is
+// p times the length along +y; on the left side it pushes along +x.
+TEST(PoseProblem, PressurePushesAlongTheInwardNormal) {
+  const Scene scene = parse_scene_string(R"(
+schema_version = 1
+[mesh]
+generator = "voronoi"
+n = 6
+domain = [0.0, 2.0, 0.0, 1.0]
+[loads]
+[[loads.traction]]
+side = "bottom"
+pressure = 1.5
+[[loads.traction]]
+side = "left"
+pressure = "4*y"
+)",
+                                         "pressure.toml");
+  const auto built = build_problem(scene);
+  const auto& e = built->problem.elasticity;
+  const Eigen::VectorXd f = assemble_load(*e.mesh, e.body_force, e.tractions);
+  double fx = 0.0, fy = 0.0;
+  for (int v = 0; v < e.mesh->num_vertices(); ++v) fx += f(2 * v), fy += f(2 * v + 1);
+  EXPECT_NEAR(fy, 1.5 * 2.0, 1e-13);  // bottom: length 2
+  EXPECT_NEAR(fx, 2.0, 1e-13);        // left: the integral of 4y over [0, 1]
+}
+
+// A gap given as an expression: each contact node gets the gap at its position.
+TEST(PoseProblem, GapExpressionIsEvaluatedAtEachContactNode) {
+  Scene scene = default_scene();
+  apply_override(scene, "contact.gap=\"0.02 + 0.5*x^2\"");
+  apply_override(scene, "mesh.n=8");
+  const auto built = build_problem(scene);
+  const auto& p = built->problem;
+  const DofMap dofs = make_dof_map(built->mesh, p.elasticity.dirichlet);
+  const ContactBoundary cb = make_contact_boundary(built->mesh, p.contact_edges, dofs, p.gap);
+  ASSERT_EQ(cb.size(), 7);
+  for (int i = 0; i < cb.size(); ++i) {
+    const double x = built->mesh.vertex(cb.nodes[static_cast<std::size_t>(i)]).x();
+    EXPECT_NEAR(cb.gaps(i), 0.02 + 0.5 * x * x, 1e-15);
+  }
+}
+
+}  // namespace
+}  // namespace hemivem
