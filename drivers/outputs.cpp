@@ -80,10 +80,10 @@ class TextWriter {
 
 void write_contact_csv(std::ostream& stream, const ContactSolution& s) {
   TextWriter os(stream);
-  os << "vertex,x,y,u_nu,law_force,reaction,pressure,state\n";
+  os << "vertex,x,y,u_nu,law_force,reaction,pressure,state,gap,nx,ny\n";
   for (const auto& n : s.contact)
     os << n.vertex << ',' << n.x.x() << ',' << n.x.y() << ',' << n.u_nu << ',' << n.law_force << ',' << n.reaction
-       << ',' << n.pressure() << ',' << n.state << '\n';
+       << ',' << n.pressure() << ',' << n.state << ',' << n.gap << ',' << n.normal.x() << ',' << n.normal.y() << '\n';
 }
 
 void write_displacement_csv(std::ostream& stream, const Mesh& mesh, const Eigen::VectorXd& u) {
@@ -350,20 +350,24 @@ void make_plots(const fs::path& dir, const Mesh& mesh, const ContactSolution& so
   if (want_unu) {
     write_plain(t / "u_nu.dat", [&](std::ostream& os) {
       full_precision(os);
-      os << "# s x y u_nu pressure\n";
+      os << "# s x y u_nu pressure gap\n";
       for (const auto& chain : contact_chains(mesh, sol)) {
         for (const auto& p : chain)
           os << p.s << ' ' << p.node->x.x() << ' ' << p.node->x.y() << ' ' << p.node->u_nu << ' '
-             << p.node->pressure() << '\n';
+             << p.node->pressure() << ' ' << p.node->gap << '\n';
         os << "\n\n";  // a new data block per chain
       }
     });
     script << "set output " << gnuplot_quote((t / "u_nu.png").string()) << "\n"
-           << "set title 'normal displacement along {/Symbol G}_3'\n"
+           << "set title 'normal displacement and contact pressure along {/Symbol G}_3'\n"
            << "set xlabel 'arc length s along {/Symbol G}_3'\n"
-           << "set ylabel 'u_{/Symbol n}'\n"
-           << "set grid\nunset key\n"
-           << "plot " << gnuplot_quote((t / "u_nu.dat").string()) << " using 1:4 with linespoints pt 7 ps 0.6 lw 2\n"
+           << "set ylabel 'u_{/Symbol n}, gap g'\n"
+           << "set y2label 'contact pressure (compression > 0)'\n"
+           << "set ytics nomirror\nset y2tics\nset grid\nset key outside top center horizontal\n"
+           << "plot " << gnuplot_quote((t / "u_nu.dat").string())
+           << " using 1:4 with linespoints pt 7 ps 0.6 lw 2 lc rgb '#1f77b4' title 'u_{/Symbol n}', "
+           << "'' using 1:6 with lines dt 2 lw 1.5 lc rgb '#555555' title 'gap g', "
+           << "'' using 1:5 axes x1y2 with linespoints pt 6 ps 0.5 lw 1.5 lc rgb '#d62728' title 'pressure'\n"
            << "unset output\nreset\n";
   }
   if (want_deformed) {
@@ -495,8 +499,18 @@ nlohmann::json result_json(const Mesh& mesh, const ContactSolution& s, const Run
                        {"law_force", number(n.law_force)},
                        {"reaction", number(n.reaction)},
                        {"pressure", number(n.pressure())},
+                       {"gap", number(n.gap)},
+                       {"normal", {number(n.normal.x()), number(n.normal.y())}},
                        {"state", n.state}});
   j["contact"] = std::move(contact);
+  const Vec2 force = s.contact_force();
+  j["contact_force"] = {number(force.x()), number(force.y())};
+  const ContactZone zone = contact_zone(s);
+  j["contact_zone"] = zone.nodes == 0 ? json(nullptr)
+                                      : json{{"nodes", zone.nodes},
+                                             {"length", number(zone.length)},
+                                             {"x", {number(zone.lower.x()), number(zone.upper.x())}},
+                                             {"y", {number(zone.lower.y()), number(zone.upper.y())}}};
   return j;
 }
 

@@ -202,19 +202,22 @@ TEST_F(Outputs, CsvTablesHaveHeadersAndOneRowPerNode) {
                 {"contact.csv", "displacement.csv", "history.csv", "scene.toml"});
   const auto contact = lines(dir.path / "contact.csv");
   ASSERT_EQ(contact.size(), s.solution.contact.size() + 1);
-  EXPECT_EQ(contact[0], "vertex,x,y,u_nu,law_force,reaction,pressure,state");
+  EXPECT_EQ(contact[0], "vertex,x,y,u_nu,law_force,reaction,pressure,state,gap,nx,ny");
   {
     // the first row holds the first contact node
     std::stringstream row(contact[1]);
     std::string field;
     std::vector<std::string> f;
     while (std::getline(row, field, ',')) f.push_back(field);
-    ASSERT_EQ(f.size(), 8u);
+    ASSERT_EQ(f.size(), 11u);
     EXPECT_EQ(std::stoi(f[0]), s.solution.contact[0].vertex);
     EXPECT_EQ(std::stod(f[3]), s.solution.contact[0].u_nu);
     EXPECT_EQ(std::stod(f[4]), s.solution.contact[0].law_force);
     EXPECT_EQ(std::stod(f[5]), s.solution.contact[0].reaction);
     EXPECT_EQ(f[7], s.solution.contact[0].state);
+    EXPECT_EQ(std::stod(f[8]), s.solution.contact[0].gap);
+    EXPECT_EQ(std::stod(f[9]), s.solution.contact[0].normal.x());
+    EXPECT_EQ(std::stod(f[10]), s.solution.contact[0].normal.y());
   }
   const auto disp = lines(dir.path / "displacement.csv");
   ASSERT_EQ(disp.size(), static_cast<std::size_t>(s.mesh.num_vertices()) + 1);

@@ -2,6 +2,9 @@
 // pressure loads, prescribed displacements and rollers, each against a hand-checkable answer.
 #include <hemivem/assembly.hpp>
 #include <hemivem/contact.hpp>
+#include <hemivem/contact_solver.hpp>
+#include <hemivem/linear_backends.hpp>
+#include <hemivem/nonsmooth_backends.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/expression.hpp>
 #include <hemivem/scene.hpp>
@@ -180,6 +183,50 @@ TEST(PoseProblem, GapExpressionIsEvaluatedAtEachContactNode) {
     const double x = built->mesh.vertex(cb.nodes[static_cast<std::size_t>(i)]).x();
     EXPECT_NEAR(cb.gaps(i), 0.02 + 0.5 * x * x, 1e-15);
   }
+}
+
+// The contact forces against the global equilibrium: at each contact node the residual
+// K u - f of the full stiffness (no condensation, no minimizer) is the force of the foundation
+// on the body, -(zeta_i + lambda_i) nu_i, so their sum is contact_force(). Example 4.1 on
+// Voronoi cells with a gap that varies along the bottom (normal (0, -1) at every node).
+TEST(PoseProblem, ContactForcesBalanceTheGlobalResidual) {
+  Scene scene = default_scene();
+  apply_override(scene, "mesh.generator=voronoi");
+  apply_override(scene, "mesh.n=10");
+  apply_override(scene, "contact.gap=\"0.01 + 0.02*x\"");
+  const auto built = build_problem(scene);
+  const auto& e = built->problem.elasticity;
+  FactorizationOptions f;
+  f.engine = "eigen";
+  MinimizerOptions o;
+  o.tolerance = 1e-12;
+  const ContactSolution s = solve_contact(built->problem, make_factorization(f), *make_minimizer("ssn"), o);
+  ASSERT_TRUE(s.converged());
+  const SparseMatrix K = assemble_stiffness(*e.mesh, e.materials, e.stabilization);
+  const Eigen::VectorXd r = K * s.u - assemble_load(*e.mesh, e.body_force, e.tractions);
+  double largest = 0.0;
+  for (const auto& n : s.contact) largest = std::max(largest, std::abs(n.force()));
+  ASSERT_GT(largest, 0.0);
+  Vec2 sum = Vec2::Zero();
+  for (const auto& n : s.contact) {
+    EXPECT_NEAR(n.normal.x(), 0.0, 1e-15);
+    EXPECT_NEAR(n.normal.y(), -1.0, 1e-15);
+    EXPECT_NEAR(n.gap, 0.01 + 0.02 * n.x.x(), 1e-15);
+    const Vec2 residual = r.segment<2>(2 * n.vertex);
+    EXPECT_LT((residual + n.force() * n.normal).norm(), 1e-8 * largest) << "vertex " << n.vertex;
+    sum += residual;
+  }
+  EXPECT_LT((s.contact_force() - sum).norm(), 1e-8 * largest * static_cast<double>(s.contact.size()));
+  EXPECT_GT(s.contact_force().y(), 0.0) << "the load presses down: the foundation pushes up";
+  const ContactZone zone = contact_zone(s);
+  int compressed = 0;
+  double length = 0.0;
+  for (const auto& n : s.contact)
+    if (n.force() > 0.0) ++compressed, length += n.weight;
+  EXPECT_EQ(zone.nodes, compressed);
+  EXPECT_DOUBLE_EQ(zone.length, length);
+  EXPECT_GT(zone.nodes, 0);
+  EXPECT_LE(zone.lower.x(), zone.upper.x());
 }
 
 }  // namespace

@@ -185,6 +185,8 @@ std::vector<ContactSolution> solve_contact(const ContactProblem& problem, const 
       node.x = mesh.vertex(node.vertex);
       node.u_nu = m.a(i);
       node.weight = rp.w(i);
+      node.normal = boundary.normals[static_cast<std::size_t>(i)];
+      node.gap = rp.g(i);
       node.law_force = m.law_force.size() == m.a.size() ? m.law_force(i) : 0.0;
       node.reaction = m.reaction.size() == m.a.size() ? m.reaction(i) : 0.0;
       node.state = m.a(i) == rp.upper(i) ? "upper" : (m.a(i) == rp.lower(i) ? "lower" : "free");
@@ -228,6 +230,24 @@ ContactSolution solve_contact(const ContactProblem& problem, std::unique_ptr<Spa
   return std::move(solve_contact(problem, std::move(factorization), std::span<const NonsmoothMinimizer* const>(one),
                                  options, reduced)
                        .front());
+}
+
+Vec2 ContactSolution::contact_force() const {
+  Vec2 total = Vec2::Zero();
+  for (const auto& n : contact) total -= n.force() * n.normal;
+  return total;
+}
+
+ContactZone contact_zone(const ContactSolution& solution) {
+  ContactZone zone;
+  for (const auto& n : solution.contact) {
+    if (!(n.force() > 0.0)) continue;
+    zone.lower = zone.nodes == 0 ? n.x : zone.lower.cwiseMin(n.x);
+    zone.upper = zone.nodes == 0 ? n.x : zone.upper.cwiseMax(n.x);
+    ++zone.nodes;
+    zone.length += n.weight;
+  }
+  return zone;
 }
 
 }  // namespace hemivem

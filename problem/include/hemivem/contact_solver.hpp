@@ -29,6 +29,8 @@ struct ContactNode {
   double law_force = 0.0;  ///< zeta_i in w_i dj(a_i): the force of the contact law
   double reaction = 0.0;   ///< lambda_i: the reaction of the constraint (>= 0 at the upper bound, <= 0 at the lower, 0 off them)
   double weight = 0.0;     ///< w_i, the length of boundary the node stands for
+  Vec2 normal = Vec2::Zero();  ///< the outward unit normal nu_i
+  double gap = 0.0;        ///< g_i, the gap used at the node
   std::string state;       ///< "upper" (a_i at its upper bound), "lower" or "free"
   /// The contact force zeta_i + lambda_i (a compressive force on the body is positive).
   double force() const noexcept { return law_force + reaction; }
@@ -53,7 +55,19 @@ struct ContactSolution {
   std::map<std::string, double> timings;  ///< seconds: assembly, condensation, minimize, back_substitution, total
   std::vector<std::string> stages;      ///< the stages that ran, in order
   bool converged() const noexcept { return minimizer.converged(); }
+  /// The resultant force of the foundation (or obstacle) on the body: the sum over the
+  /// contact nodes of -(zeta_i + lambda_i) nu_i. Zero without contact.
+  Vec2 contact_force() const;
 };
+
+/// The contact zone: the contact nodes that carry a compressive force (zeta_i + lambda_i > 0).
+struct ContactZone {
+  int nodes = 0;              ///< how many
+  double length = 0.0;        ///< the sum of their weights w_i
+  Vec2 lower = Vec2::Zero();  ///< the bounding box of their positions (when nodes > 0)
+  Vec2 upper = Vec2::Zero();
+};
+ContactZone contact_zone(const ContactSolution& solution);
 
 /// Solves `problem` with the given engines. The factorization is consumed (it keeps A22 for
 /// back-substitution). Throws InputError for a problem that cannot be set up (e.g. a body
