@@ -26,6 +26,16 @@ Eigen::VectorXd solve_without_contact(const BuiltProblem& built) {
   return sys.dofs.expand(ldlt.solve(sys.b));
 }
 
+/// The sum of a scene's nodal loads (body force and tractions): their resultant.
+Vec2 load_resultant(const Scene& scene) {
+  const auto built = build_problem(scene);
+  const auto& e = built->problem.elasticity;
+  const Eigen::VectorXd f = assemble_load(*e.mesh, e.body_force, e.tractions);
+  Vec2 total = Vec2::Zero();
+  for (int v = 0; v < e.mesh->num_vertices(); ++v) total += f.segment<2>(2 * v);
+  return total;
+}
+
 TEST(ScalarExpression, EvaluatesInXAndYWithMuparsersFunctions) {
   const auto e = ScalarExpression::parse("0.02 + 0.5*x^2 - y/4 + sin(_pi*x)");
   EXPECT_FALSE(e.is_constant());
@@ -133,13 +143,9 @@ side = "top"
 value = [0, "2*x"]
 )",
                                          "loads.toml");
-  const auto built = build_problem(scene);
-  const auto& e = built->problem.elasticity;
-  const Eigen::VectorXd f = assemble_load(*e.mesh, e.body_force, e.tractions);
-  double fx = 0.0, fy = 0.0;
-  for (int v = 0; v < e.mesh->num_vertices(); ++v) fx += f(2 * v), fy += f(2 * v + 1);
-  EXPECT_NEAR(fx, 1.5, 1e-13);
-  EXPECT_NEAR(fy, 1.0, 1e-13);
+  const Vec2 total = load_resultant(scene);
+  EXPECT_NEAR(total.x(), 1.5, 1e-13);
+  EXPECT_NEAR(total.y(), 1.0, 1e-13);
 }
 
 // A pressure on a side whose outward normal is -y (the bottom) pushes up: the resultant is
@@ -160,13 +166,9 @@ side = "left"
 pressure = "4*y"
 )",
                                          "pressure.toml");
-  const auto built = build_problem(scene);
-  const auto& e = built->problem.elasticity;
-  const Eigen::VectorXd f = assemble_load(*e.mesh, e.body_force, e.tractions);
-  double fx = 0.0, fy = 0.0;
-  for (int v = 0; v < e.mesh->num_vertices(); ++v) fx += f(2 * v), fy += f(2 * v + 1);
-  EXPECT_NEAR(fy, 1.5 * 2.0, 1e-13);  // bottom: length 2
-  EXPECT_NEAR(fx, 2.0, 1e-13);        // left: the integral of 4y over [0, 1]
+  const Vec2 total = load_resultant(scene);
+  EXPECT_NEAR(total.y(), 1.5 * 2.0, 1e-13);  // bottom: length 2
+  EXPECT_NEAR(total.x(), 2.0, 1e-13);        // left: the integral of 4y over [0, 1]
 }
 
 // A gap given as an expression: each contact node gets the gap at its position.
