@@ -42,7 +42,10 @@ ContactBoundary make_contact_boundary(const Mesh& mesh, const std::vector<int>& 
     const bool fy = dofs.free_index[static_cast<std::size_t>(2 * v + 1)] < 0;
     if (fx && fy) continue;  // on Gamma_1
     if (fx != fy)
-      throw InputError("contact node " + std::to_string(v) + " has one prescribed displacement component; a contact node must be either clamped or free");
+      throw InputError("contact node " + std::to_string(v) + " at (" + std::to_string(mesh.vertex(v).x()) + ", " +
+                       std::to_string(mesh.vertex(v).y()) +
+                       ") has one prescribed displacement component (a roller); a contact node must be either "
+                       "clamped (both components) or free: end the roller's or the contact's part before it");
     if (!(entry.first.norm() > 0.0))
       throw InputError("contact node " + std::to_string(v) + " has no defined normal (its contact edges cancel)");
     const double g = gap ? gap(mesh.vertex(v)) : 0.0;

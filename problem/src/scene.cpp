@@ -963,12 +963,11 @@ ScalarExpression field(const SceneScalar& v) {
 }
 
 /// A scalar field that refuses a value that is not finite, naming the scene key.
-std::function<double(const Vec2&)> finite_scalar(ScalarExpression e, const Scene& scene, const std::string& key,
-                                                 const std::string& what) {
-  return [e = std::move(e), key, what, where = scene.where(key)](const Vec2& x) {
+std::function<double(const Vec2&)> finite_scalar(ScalarExpression e, const Scene& scene, const std::string& key) {
+  return [e = std::move(e), key, where = scene.where(key)](const Vec2& x) {
     const double value = e(x);
     if (!std::isfinite(value))
-      throw InputError(key + " = '" + e.text() + "' gives " + what + " that is not finite at (" + fmt(x.x()) + ", " +
+      throw InputError(key + " = '" + e.text() + "' gives a value that is not finite at (" + fmt(x.x()) + ", " +
                            fmt(x.y()) + ")",
                        where);
     return value;
@@ -976,9 +975,10 @@ std::function<double(const Vec2&)> finite_scalar(ScalarExpression e, const Scene
 }
 
 /// The vector field (ex, ey) that refuses a value that is not finite, naming the scene key.
-VectorField finite_vector(ScalarExpression ex, ScalarExpression ey, const Scene& scene, const std::string& key) {
-  auto fx = finite_scalar(std::move(ex), scene, key, "a component");
-  auto fy = finite_scalar(std::move(ey), scene, key, "a component");
+VectorField finite_vector(ScalarExpression ex, ScalarExpression ey, const Scene& scene,
+                          const std::array<std::string, 2>& keys) {
+  auto fx = finite_scalar(std::move(ex), scene, keys[0]);
+  auto fy = finite_scalar(std::move(ey), scene, keys[1]);
   return [fx, fy](const Vec2& x) { return Vec2(fx(x), fy(x)); };
 }
 
@@ -1022,18 +1022,22 @@ ContactProblem make_contact_problem(const Scene& scene, const Mesh& mesh) {
     const std::string key = "dirichlet[" + std::to_string(i) + "]";
     const ScalarExpression ux = d.ux ? field(*d.ux) : ScalarExpression(0.0);
     const ScalarExpression uy = d.uy ? field(*d.uy) : ScalarExpression(0.0);
-    p.elasticity.dirichlet.push_back({select(d.boundary, key), finite_vector(ux, uy, scene, key), {d.ux.has_value(), d.uy.has_value()}});
+    // the keys that gave the components, for messages
+    const bool as_value = scene.lines.count(key + ".value") > 0;
+    const std::array<std::string, 2> keys{as_value ? key + ".value" : key + ".ux", as_value ? key + ".value" : key + ".uy"};
+    p.elasticity.dirichlet.push_back(
+        {select(d.boundary, key), finite_vector(ux, uy, scene, keys), {d.ux.has_value(), d.uy.has_value()}});
   }
   const auto& f = scene.body_force;
   if (f[0].is_expression() || f[1].is_expression() || f[0].value != 0.0 || f[1].value != 0.0)
-    p.elasticity.body_force = finite_vector(field(f[0]), field(f[1]), scene, "loads.body_force");
+    p.elasticity.body_force = finite_vector(field(f[0]), field(f[1]), scene, {"loads.body_force", "loads.body_force"});
   for (std::size_t i = 0; i < scene.tractions.size(); ++i) {
     const auto& t = scene.tractions[i];
     const std::string key = "loads.traction[" + std::to_string(i) + "]";
     TractionLoad load;
     load.edges = select(t.boundary, key);
-    if (t.pressure) load.pressure = finite_scalar(field(*t.pressure), scene, key + ".pressure", "a pressure");
-    else load.traction = finite_vector(field(t.value[0]), field(t.value[1]), scene, key + ".value");
+    if (t.pressure) load.pressure = finite_scalar(field(*t.pressure), scene, key + ".pressure");
+    else load.traction = finite_vector(field(t.value[0]), field(t.value[1]), scene, {key + ".value", key + ".value"});
     p.elasticity.tractions.push_back(std::move(load));
   }
   if (scene.contact) {
