@@ -6,6 +6,7 @@
 #include <hemivem/error.hpp>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <charconv>
 #include <cmath>
@@ -102,15 +103,32 @@ void write_history_csv(std::ostream& stream, const ContactSolution& s) {
        << '\n';
 }
 
-void write_vtu(std::ostream& stream, const Mesh& mesh, const MaterialTable& materials, const Eigen::VectorXd& u) {
+/// The boundary edges of Gamma_3 between two contact nodes (the line cells of solution.vtu).
+std::vector<std::array<int, 2>> contact_lines(const Mesh& mesh, const ContactSolution& sol) {
+  std::vector<char> on(static_cast<std::size_t>(mesh.num_vertices()), 0);
+  for (const auto& n : sol.contact) on[static_cast<std::size_t>(n.vertex)] = 1;
+  std::vector<std::array<int, 2>> lines;
+  if (sol.contact.empty()) return lines;
+  for (int e : mesh.boundary_edges()) {
+    const auto& edge = mesh.edge(e);
+    if (on[static_cast<std::size_t>(edge.v0)] && on[static_cast<std::size_t>(edge.v1)]) lines.push_back({edge.v0, edge.v1});
+  }
+  return lines;
+}
+
+void write_vtu(std::ostream& stream, const Mesh& mesh, const MaterialTable& materials, const ContactSolution& sol) {
+  const Eigen::VectorXd& u = sol.u;
   const std::vector<ElementStress> stress = element_stresses(mesh, materials, u);
+  const std::vector<std::array<int, 2>> lines = contact_lines(mesh, sol);
+  const bool contact = !sol.contact.empty();
   TextWriter os(stream);
   const int nv = mesh.num_vertices();
   const int ne = mesh.num_elements();
+  const auto nl = static_cast<int>(lines.size());
   os << "<?xml version=\"1.0\"?>\n"
      << "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
      << "  <UnstructuredGrid>\n"
-     << "    <Piece NumberOfPoints=\"" << nv << "\" NumberOfCells=\"" << ne << "\">\n"
+     << "    <Piece NumberOfPoints=\"" << nv << "\" NumberOfCells=\"" << ne + nl << "\">\n"
      << "      <Points>\n"
      << "        <DataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\" format=\"ascii\">\n";
   for (int v = 0; v < nv; ++v) os << "          " << mesh.vertex(v).x() << ' ' << mesh.vertex(v).y() << " 0\n";
@@ -123,6 +141,7 @@ void write_vtu(std::ostream& stream, const Mesh& mesh, const MaterialTable& mate
     for (int v : mesh.element(e)) os << ' ' << v;
     os << '\n';
   }
+  for (const auto& l : lines) os << "          " << l[0] << ' ' << l[1] << '\n';
   os << "        </DataArray>\n"
      << "        <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
   long long offset = 0;
@@ -130,28 +149,55 @@ void write_vtu(std::ostream& stream, const Mesh& mesh, const MaterialTable& mate
     offset += mesh.element_size(e);
     os << "          " << offset << '\n';
   }
+  for (int l = 0; l < nl; ++l) os << "          " << (offset += 2) << '\n';
   os << "        </DataArray>\n"
      << "        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
   for (int e = 0; e < ne; ++e) os << "          7\n";  // VTK_POLYGON
+  for (int l = 0; l < nl; ++l) os << "          3\n";  // VTK_LINE: Gamma_3
   os << "        </DataArray>\n"
      << "      </Cells>\n"
      << "      <PointData Vectors=\"displacement\">\n"
      << "        <DataArray type=\"Float64\" Name=\"displacement\" NumberOfComponents=\"3\" format=\"ascii\">\n";
   for (int v = 0; v < nv; ++v) os << "          " << u(2 * v) << ' ' << u(2 * v + 1) << " 0\n";
-  os << "        </DataArray>\n"
-     << "      </PointData>\n"
+  os << "        </DataArray>\n";
+  if (contact) {
+    // the contact nodes' values, 0 at the other vertices
+    std::vector<const ContactNode*> node(static_cast<std::size_t>(nv), nullptr);
+    for (const auto& n : sol.contact) node[static_cast<std::size_t>(n.vertex)] = &n;
+    auto point_array = [&](const char* name, auto value) {
+      os << "        <DataArray type=\"Float64\" Name=\"" << name << "\" format=\"ascii\">\n";
+      for (int v = 0; v < nv; ++v) {
+        const ContactNode* n = node[static_cast<std::size_t>(v)];
+        os << "          " << (n != nullptr ? value(*n) : 0.0) << '\n';
+      }
+      os << "        </DataArray>\n";
+    };
+    point_array("u_nu", [](const ContactNode& n) { return n.u_nu; });
+    point_array("pressure", [](const ContactNode& n) { return n.pressure(); });
+    point_array("gap", [](const ContactNode& n) { return n.gap; });
+  }
+  os << "      </PointData>\n"
      << "      <CellData Tensors=\"stress\" Scalars=\"von_mises\">\n"
      // ParaView's symmetric-tensor order: XX, YY, ZZ, XY, YZ, XZ
      << "        <DataArray type=\"Float64\" Name=\"stress\" NumberOfComponents=\"6\" format=\"ascii\">\n";
   for (const auto& s : stress) os << "          " << s.xx << ' ' << s.yy << ' ' << s.zz << ' ' << s.xy << " 0 0\n";
+  for (int l = 0; l < nl; ++l) os << "          0 0 0 0 0 0\n";
   os << "        </DataArray>\n"
      << "        <DataArray type=\"Float64\" Name=\"von_mises\" format=\"ascii\">\n";
   for (const auto& s : stress) os << "          " << s.von_mises() << '\n';
+  for (int l = 0; l < nl; ++l) os << "          0\n";
   os << "        </DataArray>\n"
      << "        <DataArray type=\"Int32\" Name=\"region\" format=\"ascii\">\n";
   for (int e = 0; e < ne; ++e) os << "          " << mesh.region(e) << '\n';
-  os << "        </DataArray>\n"
-     << "      </CellData>\n"
+  for (int l = 0; l < nl; ++l) os << "          -1\n";
+  os << "        </DataArray>\n";
+  if (contact) {
+    os << "        <DataArray type=\"UInt8\" Name=\"contact\" format=\"ascii\">\n";
+    for (int e = 0; e < ne; ++e) os << "          0\n";
+    for (int l = 0; l < nl; ++l) os << "          1\n";
+    os << "        </DataArray>\n";
+  }
+  os << "      </CellData>\n"
      << "    </Piece>\n"
      << "  </UnstructuredGrid>\n"
      << "</VTKFile>\n";
@@ -549,7 +595,7 @@ OutputReport write_outputs(const fs::path& dir, const Mesh& mesh, const Material
   write("contact.csv", [&](std::ostream& os) { write_contact_csv(os, solution); });
   write("displacement.csv", [&](std::ostream& os) { write_displacement_csv(os, mesh, solution.u); });
   write("history.csv", [&](std::ostream& os) { write_history_csv(os, solution); });
-  write("solution.vtu", [&](std::ostream& os) { write_vtu(os, mesh, materials, solution.u); });
+  write("solution.vtu", [&](std::ostream& os) { write_vtu(os, mesh, materials, solution); });
   write("scene.toml", [&](std::ostream& os) { os << info.scene_toml; });
   if (want("u_nu.png") || want("deformed.png")) {
     try {

@@ -262,11 +262,16 @@ TEST_F(Outputs, VtuLoadsInARealVtkReader) {
       "with open('" + report.string() + "', 'w') as f:\n"
       "    f.write('%d %d %d %d\\n' % (len(m.points), m.points.shape[1], cells, d.shape[1]))\n"
       "    f.write('%d %d %d\\n' % (s.shape[1], len(vm), len(r)))\n"
-      "    f.write(' '.join(types) + '\\n')\n"
+      "    f.write(','.join(types) + '\\n')\n"
       "    f.write('%.17g\\n' % abs(m.points[:, 2]).max())\n"
       "    for row in d: f.write('%.17g %.17g %.17g\\n' % tuple(row))\n"
       "    for v in vm: f.write('%.17g\\n' % v)\n"
-      "    for row in s: f.write(' '.join('%.17g' % x for x in row) + '\\n')\n";
+      "    for row in s: f.write(' '.join('%.17g' % x for x in row) + '\\n')\n"
+      "    for x in r: f.write('%d\\n' % x)\n"
+      "    c = np.concatenate(m.cell_data['contact'])\n"
+      "    f.write('%d %d\\n' % (len(c), c.sum()))\n"
+      "    for k in ('u_nu', 'pressure', 'gap'):\n"
+      "        for x in m.point_data[k]: f.write('%.17g\\n' % x)\n";
   const fs::path py = dir.path / "read.py";
   std::ofstream(py) << script;
   ASSERT_EQ(std::system((python + " '" + py.string() + "' 2>'" + (dir.path / "err.txt").string() + "'").c_str()), 0)
@@ -276,16 +281,20 @@ TEST_F(Outputs, VtuLoadsInARealVtkReader) {
   const int nv = s.mesh.num_vertices(), ne = s.mesh.num_elements();
   int points = 0, dim = 0, cells = 0, components = 0, stress_components = 0, vm_count = 0, region_count = 0;
   in >> points >> dim >> cells >> components >> stress_components >> vm_count >> region_count;
+  // Gamma_3 as line cells after the elements: on 8 x 8 squares the 7 contact nodes of the
+  // bottom (the corners are clamped) are joined by 6 edges
+  const int nl = 6;
+  ASSERT_EQ(s.solution.contact.size(), 7u);
   EXPECT_EQ(points, nv);
   EXPECT_EQ(dim, 3);
-  EXPECT_EQ(cells, ne);
+  EXPECT_EQ(cells, ne + nl);
   EXPECT_EQ(components, 3);
   EXPECT_EQ(stress_components, 6);
-  EXPECT_EQ(vm_count, ne);
-  EXPECT_EQ(region_count, ne);
+  EXPECT_EQ(vm_count, ne + nl);
+  EXPECT_EQ(region_count, ne + nl);
   std::string types;
   in >> types;
-  EXPECT_EQ(types, "polygon");  // VTK_POLYGON cells
+  EXPECT_EQ(types, "line,polygon");  // VTK_POLYGON and VTK_LINE cells
   double zmax = -1;
   in >> zmax;
   EXPECT_EQ(zmax, 0.0);
@@ -298,16 +307,21 @@ TEST_F(Outputs, VtuLoadsInARealVtkReader) {
     EXPECT_EQ(uz, 0.0);
   }
   const auto stresses = element_stresses(s.mesh, s.problem.elasticity.materials, s.solution.u);
-  for (int e = 0; e < ne; ++e) {
+  for (int e = 0; e < ne + nl; ++e) {
     double vm = -1;
     in >> vm;
-    EXPECT_NEAR(vm, stresses[static_cast<std::size_t>(e)].von_mises(), 1e-12 * (1 + vm)) << e;
+    if (e < ne) EXPECT_NEAR(vm, stresses[static_cast<std::size_t>(e)].von_mises(), 1e-12 * (1 + vm)) << e;
+    else EXPECT_EQ(vm, 0.0) << "a line cell has no stress";
   }
-  for (int e = 0; e < ne; ++e) {
-    const auto& expected = stresses[static_cast<std::size_t>(e)];
+  for (int e = 0; e < ne + nl; ++e) {
     double c[6] = {};
     for (double& x : c) in >> x;
     ASSERT_TRUE(in);
+    if (e >= ne) {
+      for (double x : c) EXPECT_EQ(x, 0.0);
+      continue;
+    }
+    const auto& expected = stresses[static_cast<std::size_t>(e)];
     const double scale = 1e-12 * (1 + expected.von_mises());
     EXPECT_NEAR(c[0], expected.xx, scale) << e;
     EXPECT_NEAR(c[1], expected.yy, scale) << e;
@@ -315,6 +329,25 @@ TEST_F(Outputs, VtuLoadsInARealVtkReader) {
     EXPECT_NEAR(c[3], expected.xy, scale) << e;
     EXPECT_EQ(c[4], 0.0);
     EXPECT_EQ(c[5], 0.0);
+  }
+  for (int e = 0; e < ne + nl; ++e) {
+    int region = 0;
+    in >> region;
+    EXPECT_EQ(region, e < ne ? s.mesh.region(e) : -1) << e;
+  }
+  int contact_cells = 0, marked = 0;
+  in >> contact_cells >> marked;
+  EXPECT_EQ(contact_cells, ne + nl);
+  EXPECT_EQ(marked, nl);
+  // u_nu, pressure and gap at the contact nodes, 0 elsewhere
+  for (int k = 0; k < 3; ++k) {
+    std::vector<double> field(static_cast<std::size_t>(nv), -1.0);
+    for (double& x : field) in >> x;
+    ASSERT_TRUE(in);
+    std::vector<double> expected(static_cast<std::size_t>(nv), 0.0);
+    for (const auto& n : s.solution.contact)
+      expected[static_cast<std::size_t>(n.vertex)] = k == 0 ? n.u_nu : (k == 1 ? n.pressure() : n.gap);
+    EXPECT_EQ(field, expected) << (k == 0 ? "u_nu" : (k == 1 ? "pressure" : "gap"));
   }
 }
 
