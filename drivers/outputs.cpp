@@ -174,7 +174,8 @@ void write_vtu(std::ostream& stream, const Mesh& mesh, const MaterialTable& mate
     };
     point_array("u_nu", [](const ContactNode& n) { return n.u_nu; });
     point_array("pressure", [](const ContactNode& n) { return n.pressure(); });
-    point_array("gap", [](const ContactNode& n) { return n.gap; });
+    // a node whose ray misses the obstacle has gap +inf: written as 0 (VTK readers take no "inf")
+    point_array("gap", [](const ContactNode& n) { return std::isfinite(n.gap) ? n.gap : 0.0; });
   }
   os << "      </PointData>\n"
      << "      <CellData Tensors=\"stress\" Scalars=\"von_mises\">\n"

@@ -7,6 +7,7 @@
 #include <hemivem/nonsmooth_backends.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/expression.hpp>
+#include <hemivem/obstacle.hpp>
 #include <hemivem/scene.hpp>
 
 #include <gtest/gtest.h>
@@ -14,6 +15,7 @@
 #include <Eigen/SparseCholesky>
 
 #include <cmath>
+#include <limits>
 #include <string>
 
 namespace hemivem {
@@ -229,6 +231,101 @@ TEST(PoseProblem, ContactForcesBalanceTheGlobalResidual) {
   EXPECT_DOUBLE_EQ(zone.length, length);
   EXPECT_GT(zone.nodes, 0);
   EXPECT_LE(zone.lower.x(), zone.upper.x());
+}
+
+// Obstacle gaps by hand, for a node on the bottom of the unit square (outward normal (0, -1)).
+TEST(Obstacle, GapsAlongTheNormalByHand) {
+  const Vec2 down(0.0, -1.0);
+  const double inf = std::numeric_limits<double>::infinity();
+  Obstacle plane;  // y = -0.1 + 0.1 x, the body above it
+  plane.point = Vec2(0.0, -0.1);
+  plane.normal = Vec2(-0.1, 1.0);
+  for (double x : {0.0, 0.3, 1.0, 1.5}) EXPECT_NEAR(plane.gap(Vec2(x, 0.0), down), 0.1 - 0.1 * x, 1e-15) << x;
+  EXPECT_EQ(plane.gap(Vec2(0.3, 0.0), Vec2(0.0, 1.0)), inf) << "a ray away from the plane misses it";
+
+  Obstacle disk;
+  disk.shape = Obstacle::Shape::circle;
+  disk.center = Vec2(0.5, -0.3);
+  disk.radius = 0.2;
+  EXPECT_NEAR(disk.gap(Vec2(0.5, 0.0), down), 0.1, 1e-15);
+  EXPECT_NEAR(disk.gap(Vec2(0.6, 0.0), down), 0.3 - std::sqrt(0.03), 1e-15);
+  EXPECT_EQ(disk.gap(Vec2(0.8, 0.0), down), inf) << "the ray passes beside the disk";
+  disk.center = Vec2(0.5, -0.15);  // pressed in by 0.05
+  EXPECT_NEAR(disk.gap(Vec2(0.5, 0.0), down), -0.05, 1e-15);
+  disk.center = Vec2(0.5, 0.5);  // behind the node
+  EXPECT_EQ(disk.gap(Vec2(0.5, 0.0), down), inf);
+
+  Obstacle line;  // a shallow V below the body, walked from left to right (the body on its left)
+  line.shape = Obstacle::Shape::polyline;
+  line.points = {Vec2(-1.0, -0.1), Vec2(0.5, -0.05), Vec2(2.0, -0.1)};
+  EXPECT_NEAR(line.gap(Vec2(0.5, 0.0), down), 0.05, 1e-15);
+  EXPECT_NEAR(line.gap(Vec2(0.0, 0.0), down), 0.1 - 0.05 / 1.5, 1e-15);
+  EXPECT_NEAR(line.gap(Vec2(0.5, -0.07), down), -0.02, 1e-15) << "below its surface: inside";
+  EXPECT_EQ(line.gap(Vec2(3.0, 0.0), down), inf) << "beyond its end";
+  std::reverse(line.points.begin(), line.points.end());  // now the body would be below it
+  EXPECT_EQ(line.gap(Vec2(0.5, 0.0), down), inf) << "the ray leaves the obstacle there";
+
+  EXPECT_TRUE(Obstacle{}.defect().empty());
+  Obstacle bad;
+  bad.normal = Vec2::Zero();
+  EXPECT_EQ(bad.defect(), "the normal is zero");
+}
+
+// A flat rigid plane pressed 0.01 into the bottom of Example 4.1 (frictionless, one-sided,
+// gaps -0.01 at every node): the load presses the body onto it, so every node ends at the
+// plane, and the solution is that of the same body with u_y = 0.01 prescribed on those nodes
+// and u_x free (a roller): an independent linear solve. Every minimizer agrees.
+TEST(PoseProblem, PlaneObstaclePressedInIsARollerWithTheIndentation) {
+  const std::string common = R"(
+schema_version = 1
+[mesh]
+n = 8
+[clamped]
+side = ["left", "right"]
+[loads]
+[[loads.traction]]
+side = "top"
+value = [0.0, -8.0]
+)";
+  const Scene contact = parse_scene_string(common + R"(
+[contact]
+side = "bottom"
+law = "zero"
+[contact.obstacle]
+shape = "plane"
+point = [0.0, 0.01]
+normal = [0.0, 1.0]
+)",
+                                           "plane.toml");
+  ASSERT_TRUE(contact.contact && contact.contact->obstacle);
+  EXPECT_EQ(contact.contact->constraint, ConstraintKind::one_sided) << "an obstacle's default constraint";
+  EXPECT_EQ(parse_scene_string(to_toml(contact), "again.toml"), contact);
+  const Scene roller = parse_scene_string(common + R"(
+[[dirichlet]]
+segments = [[0.125, 0.0, 0.875, 0.0]]
+uy = 0.01
+)",
+                                          "roller.toml");
+  const auto built_roller = build_problem(roller);
+  const Eigen::VectorXd reference = solve_without_contact(*built_roller);
+
+  const auto built = build_problem(contact);
+  for (const auto& name : available_minimizers()) {
+    SCOPED_TRACE(name);
+    FactorizationOptions f;
+    f.engine = "eigen";
+    MinimizerOptions o;
+    o.tolerance = 1e-10;
+    const ContactSolution s = solve_contact(built->problem, make_factorization(f), *make_minimizer(name), o);
+    ASSERT_TRUE(s.converged()) << s.minimizer.message;
+    ASSERT_EQ(s.contact.size(), 7u);
+    for (const auto& n : s.contact) {
+      EXPECT_DOUBLE_EQ(n.gap, -0.01);
+      EXPECT_EQ(n.state, "upper");
+      EXPECT_GT(n.reaction, 0.0) << "the plane pushes up at every node";
+    }
+    EXPECT_LT((s.u - reference).cwiseAbs().maxCoeff(), 1e-8 * reference.cwiseAbs().maxCoeff());
+  }
 }
 
 }  // namespace

@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include <fstream>
 
 using namespace hemivem;
@@ -95,7 +97,20 @@ TEST(ReducedIo, DefectsNameTheFileAndLine) {
   expect_error(dir, "c.txt:2: c 'nan' is not finite");
   write(dir / "c.txt", "1\n2\n");
   write(dir / "g.txt", "0.1\n-1\n");
-  expect_error(dir, "gap -1 must be >= 0");
+  expect_error(dir, "g.txt: entry 2: gap -1 must be finite and >= 0 with the box constraint");
+  write(dir / "g.txt", "0.1\ninf\n");
+  expect_error(dir, "g.txt: entry 2: gap inf must be finite and >= 0 with the box constraint");
+  write(dir / "g.txt", "0.1\n-inf\n");
+  expect_error(dir, "g.txt:2: g '-inf' is not finite");
+  {
+    // one-sided: an obstacle pressed in (g < 0) and a node that cannot touch it (g = inf)
+    write(dir / "g.txt", "-0.5\ninf\n");
+    write(dir / "problem.txt", "constraint one-sided\n");
+    const ReducedProblem p = read_reduced_problem(dir);
+    EXPECT_EQ(p.g(0), -0.5);
+    EXPECT_EQ(p.g(1), std::numeric_limits<double>::infinity());
+    fs::remove(dir / "problem.txt");
+  }
   write(dir / "g.txt", "0.1\n0.1\n");
   write(dir / "S.mtx", "%%MatrixMarket matrix array complex general\n2 2\n1\n0\n0\n1\n");
   expect_error(dir, "S.mtx:1: unsupported Matrix Market header");

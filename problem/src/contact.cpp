@@ -20,7 +20,7 @@ Eigen::VectorXd ContactBoundary::normal_displacements(const Eigen::VectorXd& u) 
 }
 
 ContactBoundary make_contact_boundary(const Mesh& mesh, const std::vector<int>& edges, const DofMap& dofs,
-                                      const std::function<double(const Vec2&)>& gap) {
+                                      const std::function<double(const Vec2&)>& gap, const Obstacle* obstacle) {
   ContactBoundary cb;
   cb.edges = edges;
   std::map<int, std::pair<Vec2, double>> acc;  // vertex -> (sum of m_e, sum of |e|/2)
@@ -48,11 +48,18 @@ ContactBoundary make_contact_boundary(const Mesh& mesh, const std::vector<int>& 
                        "clamped (both components) or free: end the roller's or the contact's part before it");
     if (!(entry.first.norm() > 0.0))
       throw InputError("contact node " + std::to_string(v) + " has no defined normal (its contact edges cancel)");
-    const double g = gap ? gap(mesh.vertex(v)) : 0.0;
-    if (!std::isfinite(g) || g < 0.0)
-      throw InputError("gap " + std::to_string(g) + " at contact node " + std::to_string(v) + " must be finite and >= 0");
+    const Vec2 normal = entry.first.normalized();
+    double g = 0.0;
+    if (obstacle != nullptr) {
+      g = obstacle->gap(mesh.vertex(v), normal);
+      if (std::isnan(g)) throw InputError("the obstacle gives no gap at contact node " + std::to_string(v));
+    } else {
+      g = gap ? gap(mesh.vertex(v)) : 0.0;
+      if (!std::isfinite(g) || g < 0.0)
+        throw InputError("gap " + std::to_string(g) + " at contact node " + std::to_string(v) + " must be finite and >= 0");
+    }
     cb.nodes.push_back(v);
-    cb.normals.push_back(entry.first.normalized());
+    cb.normals.push_back(normal);
     cb.weights.conservativeResize(cb.size());
     cb.weights(cb.size() - 1) = entry.second;
     cb.gaps.conservativeResize(cb.size());

@@ -71,7 +71,16 @@ std::vector<ContactSolution> solve_contact(const ContactProblem& problem, const 
 
   ContactBoundary boundary;
   if (!problem.contact_edges.empty()) {
-    boundary = make_contact_boundary(mesh, problem.contact_edges, sys.dofs, problem.gap ? problem.gap : [](const Vec2&) { return 0.0; });
+    boundary = make_contact_boundary(mesh, problem.contact_edges, sys.dofs,
+                                     problem.gap ? problem.gap : [](const Vec2&) { return 0.0; },
+                                     problem.obstacle ? &*problem.obstacle : nullptr);
+    if (problem.obstacle && problem.constraint == ConstraintKind::box)
+      for (int i = 0; i < boundary.size(); ++i)
+        if (!(std::isfinite(boundary.gaps(i)) && boundary.gaps(i) >= 0.0))
+          throw InputError("the box constraint |u_nu| <= g needs a finite gap >= 0, but the obstacle gives " +
+                           std::to_string(boundary.gaps(i)) + " at contact node " +
+                           std::to_string(boundary.nodes[static_cast<std::size_t>(i)]) +
+                           "; set contact.constraint = \"one-sided\" with an obstacle");
   }
 
   if (boundary.size() == 0) {
@@ -123,7 +132,7 @@ std::vector<ContactSolution> solve_contact(const ContactProblem& problem, const 
   }
 
   if (!problem.law) throw InputError("the contact boundary has no contact law");
-  const ConstraintKind constraint = problem.gap ? problem.constraint : ConstraintKind::none;
+  const ConstraintKind constraint = problem.gap || problem.obstacle ? problem.constraint : ConstraintKind::none;
   t = Clock::now();
   const Condensation cond(sys, boundary, std::move(factorization), problem.law, constraint);
   shared.timings["condensation"] = since(t);

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <sstream>
 
 namespace hemivem {
@@ -71,14 +72,17 @@ long integer(const std::string& token, const fs::path& path, int line, const std
   return v;
 }
 
-Eigen::VectorXd read_vector(const fs::path& path, const std::string& what) {
+/// One number per line; with `allow_infinity` the token "inf" reads as +inf.
+Eigen::VectorXd read_vector(const fs::path& path, const std::string& what, bool allow_infinity = false) {
   const auto lines = read_lines(path, false);
   Eigen::VectorXd v(static_cast<Eigen::Index>(lines.size()));
   for (std::size_t i = 0; i < lines.size(); ++i) {
     if (lines[i].tokens.size() != 1)
       throw InputError("expected one number per line, found " + std::to_string(lines[i].tokens.size()),
                        path.string() + ":" + std::to_string(lines[i].number));
-    v(static_cast<Eigen::Index>(i)) = number(lines[i].tokens[0], path, lines[i].number, what);
+    const std::string& token = lines[i].tokens[0];
+    v(static_cast<Eigen::Index>(i)) = allow_infinity && token == "inf" ? std::numeric_limits<double>::infinity()
+                                                                        : number(token, path, lines[i].number, what);
   }
   return v;
 }
@@ -234,7 +238,7 @@ ReducedProblem read_reduced_problem(const fs::path& folder, std::shared_ptr<cons
   p.S = read_matrix_market(folder / "S.mtx");
   p.c = read_vector(folder / "c.txt", "c");
   p.w = read_vector(folder / "w.txt", "w");
-  p.g = read_vector(folder / "g.txt", "g");
+  p.g = read_vector(folder / "g.txt", "g", true);
   const Eigen::Index n = p.S.rows();
   for (const auto& [name, v] : {std::pair<const char*, const Eigen::VectorXd*>{"c.txt", &p.c}, {"w.txt", &p.w}, {"g.txt", &p.g}})
     if (v->size() != n)
@@ -242,7 +246,6 @@ ReducedProblem read_reduced_problem(const fs::path& folder, std::shared_ptr<cons
                        (folder / name).string());
   for (Eigen::Index i = 0; i < n; ++i) {
     if (!(p.w(i) > 0.0)) throw InputError("weight " + shortest(p.w(i)) + " must be > 0", (folder / "w.txt").string() + ": entry " + std::to_string(i + 1));
-    if (p.g(i) < 0.0) throw InputError("gap " + shortest(p.g(i)) + " must be >= 0", (folder / "g.txt").string() + ": entry " + std::to_string(i + 1));
   }
   p.law = law ? std::move(law) : read_law(folder / "law.txt");
   p.constraint = ConstraintKind::box;
@@ -264,6 +267,13 @@ ReducedProblem read_reduced_problem(const fs::path& folder, std::shared_ptr<cons
       }
     }
   }
+  // negative gaps (an obstacle pressed in) and +inf (a node that cannot touch it) bound a_i <= g_i
+  // from one side only; the box |a_i| <= g_i needs 0 <= g_i < inf
+  if (p.constraint == ConstraintKind::box)
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (!(p.g(i) >= 0.0 && std::isfinite(p.g(i))))
+        throw InputError("gap " + shortest(p.g(i)) + " must be finite and >= 0 with the box constraint",
+                         (folder / "g.txt").string() + ": entry " + std::to_string(i + 1));
   return p;
 }
 

@@ -1,6 +1,7 @@
 #include <hemivem/scene.hpp>
 
 #include <hemivem/expression.hpp>
+#include <hemivem/obstacle.hpp>
 #include <hemivem/resources.hpp>
 
 #include <algorithm>
@@ -361,6 +362,17 @@ std::vector<std::string> law_names() {
   return v;
 }
 
+Obstacle make_obstacle(const SceneObstacle& o) {
+  Obstacle b;
+  b.shape = obstacle_shape_from_string(o.shape);
+  b.point = Vec2(o.point[0], o.point[1]);
+  b.normal = Vec2(o.normal[0], o.normal[1]);
+  b.center = Vec2(o.center[0], o.center[1]);
+  b.radius = o.radius;
+  for (const auto& q : o.points) b.points.emplace_back(q[0], q[1]);
+  return b;
+}
+
 SceneContact read_contact(TableReader& r) {
   SceneContact c;
   c.boundary = read_selector(r, true);
@@ -399,6 +411,42 @@ SceneContact read_contact(TableReader& r) {
   if (auto g = r.scalar("gap")) {
     if (!g->is_expression() && g->value < 0.0) r.fail("gap", r.node("gap"), "must be >= 0, got " + fmt(g->value));
     c.gap = *g;
+  }
+  if (const toml::table* o = r.table("obstacle")) {
+    if (r.has("gap")) r.fail("gap", r.node("gap"), "not used with [contact.obstacle]; give either a gap or an obstacle");
+    TableReader ob(r.scene(), *o, r.key_path("obstacle"), {"shape", "point", "normal", "center", "radius", "points"});
+    SceneObstacle so;
+    if (auto shape = ob.string("shape")) so.shape = lower(*shape);
+    const std::map<std::string, std::vector<std::string>> keys{
+        {"plane", {"point", "normal"}}, {"circle", {"center", "radius"}}, {"polyline", {"points"}}};
+    const auto it = keys.find(so.shape);
+    if (it == keys.end())
+      ob.fail("shape", ob.node("shape"), "unknown obstacle shape '" + so.shape + "'; expected one of: plane, circle, polyline");
+    for (const char* k : {"point", "normal", "center", "radius", "points"}) {
+      const bool used = std::find(it->second.begin(), it->second.end(), k) != it->second.end();
+      if (!used && ob.has(k)) ob.fail(k, ob.node(k), "not used by a " + so.shape + " obstacle");
+      if (used && !ob.has(k))
+        throw InputError(ob.path() + ": a " + so.shape + " obstacle needs '" + k + "'", ob.at(ob.self()));
+    }
+    if (auto v = ob.fixed<2>("point", "[x, y]")) so.point = *v;
+    if (auto v = ob.fixed<2>("normal", "[nx, ny]")) so.normal = *v;
+    if (auto v = ob.fixed<2>("center", "[x, y]")) so.center = *v;
+    if (auto v = ob.number("radius")) so.radius = *v;
+    if (auto m = ob.matrix("points")) {
+      for (std::size_t i = 0; i < m->size(); ++i) {
+        if ((*m)[i].size() != 2)
+          ob.fail("points", ob.node("points"), "point " + std::to_string(i) + ": expected [x, y], got " +
+                                                   std::to_string((*m)[i].size()) + " numbers");
+        so.points.push_back({(*m)[i][0], (*m)[i][1]});
+      }
+    }
+    const std::string defect = make_obstacle(so).defect();
+    if (!defect.empty()) {
+      const char* key = so.shape == "plane" ? "normal" : (so.shape == "circle" ? "radius" : "points");
+      ob.fail(key, ob.node(key), defect);
+    }
+    c.obstacle = so;
+    c.constraint = ConstraintKind::one_sided;  // unless the scene says otherwise
   }
   if (auto k = r.string("constraint")) {
     try {
@@ -564,7 +612,8 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
 
   s.contact.reset();
   if (const toml::table* t = r.table("contact")) {
-    TableReader c(s, *t, "contact", with_selector({"law", "parameters", "breakpoints", "j1", "j2", "gap", "constraint"}));
+    TableReader c(s, *t, "contact",
+                  with_selector({"law", "parameters", "breakpoints", "j1", "j2", "gap", "obstacle", "constraint"}));
     s.contact = read_contact(c);
   }
 
@@ -783,8 +832,16 @@ std::string to_toml(const Scene& s) {
       o << "j1 = " << pieces(c.law.j1) << "\n";
       o << "j2 = " << pieces(c.law.j2) << "\n";
     }
-    o << "gap = " << scalar_text(c.gap) << "\n";
+    if (!c.obstacle) o << "gap = " << scalar_text(c.gap) << "\n";
     o << "constraint = " << quote(to_string(c.constraint)) << "\n";
+    if (c.obstacle) {
+      const auto& b = *c.obstacle;
+      o << "\n[contact.obstacle]\nshape = " << quote(b.shape) << "\n";
+      if (b.shape == "plane") o << "point = " << list(b.point, fmt) << "\nnormal = " << list(b.normal, fmt) << "\n";
+      if (b.shape == "circle") o << "center = " << list(b.center, fmt) << "\nradius = " << fmt(b.radius) << "\n";
+      if (b.shape == "polyline")
+        o << "points = " << list(b.points, [](const std::array<double, 2>& q) { return list(q, fmt); }) << "\n";
+    }
     if (!c.law.parameters.empty()) {
       o << "\n[contact.parameters]\n";
       for (const auto& [k, v] : c.law.parameters) o << k << " = " << fmt(v) << "\n";
@@ -1043,7 +1100,8 @@ ContactProblem make_contact_problem(const Scene& scene, const Mesh& mesh) {
   if (scene.contact) {
     const auto& c = *scene.contact;
     p.contact_edges = select(c.boundary, "contact");
-    p.gap = [g = field(c.gap), where = scene.where("contact.gap")](const Vec2& x) {
+    if (c.obstacle) p.obstacle = make_obstacle(*c.obstacle);
+    else p.gap = [g = field(c.gap), where = scene.where("contact.gap")](const Vec2& x) {
       const double value = g(x);
       if (!(std::isfinite(value) && value >= 0.0))
         throw InputError("contact.gap = '" + g.text() + "' gives " + fmt(value) + " at (" + fmt(x.x()) + ", " +

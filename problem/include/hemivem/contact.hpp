@@ -10,6 +10,7 @@
 
 #include <hemivem/assembly.hpp>
 #include <hemivem/mesh.hpp>
+#include <hemivem/obstacle.hpp>
 #include <hemivem/reduced_problem.hpp>
 #include <hemivem/sparse_factorization.hpp>
 
@@ -33,9 +34,11 @@ struct ContactBoundary {
 /// of a polyline it bisects the two normals). Nodes whose displacement is prescribed (on
 /// Gamma_1) are excluded; a node with only one prescribed component is an InputError.
 /// `gap` gives g at a node position (constant gaps: a lambda returning a constant); a
-/// negative or non-finite gap is an InputError.
+/// negative or non-finite gap is an InputError. With an `obstacle` the gaps are
+/// obstacle->gap(x, nu) instead: any value but NaN.
 ContactBoundary make_contact_boundary(const Mesh& mesh, const std::vector<int>& edges, const DofMap& dofs,
-                                      const std::function<double(const Vec2&)>& gap);
+                                      const std::function<double(const Vec2&)>& gap,
+                                      const Obstacle* obstacle = nullptr);
 
 /// The condensed problem and what back-substitution needs.
 class Condensation {

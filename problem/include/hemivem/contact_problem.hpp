@@ -4,10 +4,12 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <hemivem/assembly.hpp>
 #include <hemivem/contact_law.hpp>
+#include <hemivem/obstacle.hpp>
 #include <hemivem/reduced_problem.hpp>
 
 namespace hemivem {
@@ -16,6 +18,10 @@ struct ContactProblem {
   ElasticityProblem elasticity;        ///< mesh, materials, loads and Gamma_1
   std::vector<int> contact_edges;      ///< Gamma_3 (boundary edge ids)
   std::function<double(const Vec2&)> gap;  ///< g >= 0 at a point of Gamma_3
+  /// A rigid obstacle instead of `gap`: each node's gap is Obstacle::gap along its normal
+  /// (negative where the node starts inside, +inf where its ray misses; one-sided or no
+  /// constraint only).
+  std::optional<Obstacle> obstacle;
   std::shared_ptr<const ContactLaw> law;
   ConstraintKind constraint = ConstraintKind::box;
 };

@@ -103,10 +103,22 @@ struct SceneLaw {
   bool operator==(const SceneLaw&) const = default;
 };
 
+/// [contact.obstacle]: a rigid obstacle instead of a gap (hemivem/obstacle.hpp).
+struct SceneObstacle {
+  std::string shape = "plane";              ///< "plane", "circle" or "polyline"
+  std::array<double, 2> point{0.0, 0.0};    ///< plane: a point of it
+  std::array<double, 2> normal{0.0, 1.0};   ///< plane: the normal pointing into the body
+  std::array<double, 2> center{0.0, 0.0};   ///< circle
+  double radius = 1.0;                      ///< circle
+  std::vector<std::array<double, 2>> points;  ///< polyline: the surface, the body on its left
+  bool operator==(const SceneObstacle&) const = default;
+};
+
 struct SceneContact {
   BoundarySelector boundary{{"bottom"}, {}, {}, 1e-8};
   SceneLaw law;
-  SceneScalar gap{0.02, {}};  ///< g >= 0 at every contact node
+  SceneScalar gap{0.02, {}};  ///< g >= 0 at every contact node (unused with an obstacle)
+  std::optional<SceneObstacle> obstacle;
   ConstraintKind constraint = ConstraintKind::box;
   bool operator==(const SceneContact&) const = default;
 };
