@@ -12,6 +12,8 @@
 
 #include <gtest/gtest.h>
 
+#include "test_support.hpp"
+
 #include <Eigen/SparseCholesky>
 
 #include <cmath>
@@ -326,6 +328,47 @@ uy = 0.01
     }
     EXPECT_LT((s.u - reference).cwiseAbs().maxCoeff(), 1e-8 * reference.cwiseAbs().maxCoeff());
   }
+}
+
+// Hertz (scenes/hertz.toml): a rigid cylinder pressed into a block, frictionless. For the
+// computed resultant P the contact half-width a = sqrt(4 P R / (pi E*)) and the peak pressure
+// p0 = 2 P / (pi a). The measured a and p0 come from a least-squares fit of p^2 = p0^2 (1 - x^2/a^2)
+// to the nodal pressures inside 0.8 a. docs/validation.md: on N = 100, 200, 400 the differences
+// stay within 0.5 % (the block's finite size, not h, sets them): the test allows 1.5 %.
+TEST(PoseProblem, HertzContactHalfWidthAndPeakPressure) {
+  const Scene scene = parse_scene(test::scenes_dir() / "hertz.toml");
+  const auto built = build_problem(scene);
+  FactorizationOptions f;
+  f.engine = "auto";
+  MinimizerOptions o;
+  o.tolerance = 1e-10;
+  const ContactSolution s = solve_contact(built->problem, make_factorization(f), *make_minimizer("ssn"), o);
+  ASSERT_TRUE(s.converged());
+  const double E = 65.0, nu = 0.29, R = 1.0, Estar = E / (1.0 - nu * nu);
+  const Vec2 force = s.contact_force();
+  EXPECT_NEAR(force.x(), 0.0, 1e-9 * std::abs(force.y())) << "symmetric";
+  ASSERT_LT(force.y(), 0.0) << "the cylinder pushes the block down";
+  const double P = -force.y();
+  const double a = std::sqrt(4.0 * P * R / (M_PI * Estar)), p0 = 2.0 * P / (M_PI * a);
+  const ContactZone zone = contact_zone(s);
+  EXPECT_GE(zone.nodes, 20);
+  // p^2 = A + B x^2 by least squares over the nodes inside 0.8 a
+  double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (const auto& c : s.contact) {
+    if (!(c.pressure() > 0.0) || std::abs(c.x.x()) >= 0.8 * a) continue;
+    const double u = c.x.x() * c.x.x(), v = c.pressure() * c.pressure();
+    n += 1, sx += u, sy += v, sxx += u * u, sxy += u * v;
+  }
+  ASSERT_GE(n, 10);
+  const double B = (n * sxy - sx * sy) / (n * sxx - sx * sx), A = (sy - B * sx) / n;
+  const double a_fit = std::sqrt(-A / B), p0_fit = std::sqrt(A);
+  EXPECT_NEAR(a_fit, a, 0.015 * a);
+  EXPECT_NEAR(p0_fit, p0, 0.015 * p0);
+  double peak = 0.0;
+  for (const auto& c : s.contact) peak = std::max(peak, c.pressure());
+  EXPECT_NEAR(peak, p0, 0.015 * p0);
+  // the zone's half-width against a: within one node spacing (h = 0.01)
+  EXPECT_NEAR(0.5 * (zone.upper.x() - zone.lower.x()), a, 0.01);
 }
 
 }  // namespace
