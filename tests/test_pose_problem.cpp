@@ -371,5 +371,31 @@ TEST(PoseProblem, HertzContactHalfWidthAndPeakPressure) {
   EXPECT_NEAR(0.5 * (zone.upper.x() - zone.lower.x()), a, 0.01);
 }
 
+// Hertz's cylinder on a coarse mesh: the two top corners' rays are tangent to the cylinder and
+// never enter it (gap +inf), nodes under its lowest point start inside it (gap < 0), the others
+// have gaps up to about 1. Every minimizer agrees with ssn (a length scale taken from the
+// infinite gaps once made the smoothing engines snap every node onto its bound).
+TEST(PoseProblem, InfiniteAndNegativeGapsOfACircleForEveryMinimizer) {
+  Scene scene = parse_scene(test::scenes_dir() / "hertz.toml");
+  apply_override(scene, "mesh.n=20");
+  const auto built = build_problem(scene);
+  FactorizationOptions f;
+  f.engine = "eigen";
+  MinimizerOptions o;
+  o.tolerance = 1e-10;
+  const ContactSolution reference = solve_contact(built->problem, make_factorization(f), *make_minimizer("ssn"), o);
+  ASSERT_TRUE(reference.converged());
+  int infinite = 0, negative = 0;
+  for (const auto& n : reference.contact) infinite += std::isinf(n.gap) ? 1 : 0, negative += n.gap < 0.0 ? 1 : 0;
+  EXPECT_EQ(infinite, 2);
+  EXPECT_GT(negative, 0);
+  for (const auto& name : available_minimizers()) {
+    SCOPED_TRACE(name);
+    const ContactSolution s = solve_contact(built->problem, make_factorization(f), *make_minimizer(name), o);
+    ASSERT_TRUE(s.converged()) << s.minimizer.message;
+    EXPECT_LT((s.u - reference.u).cwiseAbs().maxCoeff(), 1e-8 * reference.u.cwiseAbs().maxCoeff());
+  }
+}
+
 }  // namespace
 }  // namespace hemivem

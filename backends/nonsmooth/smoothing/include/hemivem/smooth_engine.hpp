@@ -113,11 +113,14 @@ inline std::string smoothing_limit_message(double epsilon) {
   return buf;
 }
 
-/// A length scale of the unknowns: the largest gap, |a| of the start, or |c| / min S_ii.
+/// A length scale of the unknowns: the largest finite gap (an obstacle's +inf gap bounds
+/// nothing), |a| of the start, or |c| / min S_ii.
 inline double length_scale(const ReducedProblem& p, const Eigen::VectorXd& a) {
   const double cmax = std::max(p.c.size() ? p.c.cwiseAbs().maxCoeff() : 0.0, 1e-300);
-  return std::max({p.g.size() ? p.g.cwiseAbs().maxCoeff() : 0.0, a.size() ? a.cwiseAbs().maxCoeff() : 0.0,
-                   cmax / std::max(p.S.diagonal().minCoeff(), 1e-300)});
+  double gmax = 0.0;
+  for (Eigen::Index i = 0; i < p.g.size(); ++i)
+    if (std::isfinite(p.g(i))) gmax = std::max(gmax, std::abs(p.g(i)));
+  return std::max({gmax, a.size() ? a.cwiseAbs().maxCoeff() : 0.0, cmax / std::max(p.S.diagonal().minCoeff(), 1e-300)});
 }
 
 /// What a smoothing engine's stages share during one minimize() call: the run, the current
