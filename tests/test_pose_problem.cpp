@@ -30,6 +30,16 @@ Eigen::VectorXd solve_without_contact(const BuiltProblem& built) {
   return sys.dofs.expand(ldlt.solve(sys.b));
 }
 
+/// A contact solve with the given engines to a certificate tolerance.
+ContactSolution solve_with(const ContactProblem& problem, const std::string& linear, const std::string& minimizer,
+                           double tolerance = 1e-10) {
+  FactorizationOptions f;
+  f.engine = linear;
+  MinimizerOptions o;
+  o.tolerance = tolerance;
+  return solve_contact(problem, make_factorization(f), *make_minimizer(minimizer), o);
+}
+
 /// The sum of a scene's nodal loads (body force and tractions): their resultant.
 Vec2 load_resultant(const Scene& scene) {
   const auto built = build_problem(scene);
@@ -202,11 +212,7 @@ TEST(PoseProblem, ContactForcesBalanceTheGlobalResidual) {
   apply_override(scene, "contact.gap=\"0.01 + 0.02*x\"");
   const auto built = build_problem(scene);
   const auto& e = built->problem.elasticity;
-  FactorizationOptions f;
-  f.engine = "eigen";
-  MinimizerOptions o;
-  o.tolerance = 1e-12;
-  const ContactSolution s = solve_contact(built->problem, make_factorization(f), *make_minimizer("ssn"), o);
+  const ContactSolution s = solve_with(built->problem, "eigen", "ssn", 1e-12);
   ASSERT_TRUE(s.converged());
   const SparseMatrix K = assemble_stiffness(*e.mesh, e.materials, e.stabilization);
   const Eigen::VectorXd r = K * s.u - assemble_load(*e.mesh, e.body_force, e.tractions);
@@ -314,11 +320,7 @@ uy = 0.01
   const auto built = build_problem(contact);
   for (const auto& name : available_minimizers()) {
     SCOPED_TRACE(name);
-    FactorizationOptions f;
-    f.engine = "eigen";
-    MinimizerOptions o;
-    o.tolerance = 1e-10;
-    const ContactSolution s = solve_contact(built->problem, make_factorization(f), *make_minimizer(name), o);
+    const ContactSolution s = solve_with(built->problem, "eigen", name);
     ASSERT_TRUE(s.converged()) << s.minimizer.message;
     ASSERT_EQ(s.contact.size(), 7u);
     for (const auto& n : s.contact) {
@@ -338,11 +340,7 @@ uy = 0.01
 TEST(PoseProblem, HertzContactHalfWidthAndPeakPressure) {
   const Scene scene = parse_scene(test::scenes_dir() / "hertz.toml");
   const auto built = build_problem(scene);
-  FactorizationOptions f;
-  f.engine = "auto";
-  MinimizerOptions o;
-  o.tolerance = 1e-10;
-  const ContactSolution s = solve_contact(built->problem, make_factorization(f), *make_minimizer("ssn"), o);
+  const ContactSolution s = solve_with(built->problem, "auto", "ssn");
   ASSERT_TRUE(s.converged());
   const double E = 65.0, nu = 0.29, R = 1.0, Estar = E / (1.0 - nu * nu);
   const Vec2 force = s.contact_force();
@@ -379,11 +377,7 @@ TEST(PoseProblem, InfiniteAndNegativeGapsOfACircleForEveryMinimizer) {
   Scene scene = parse_scene(test::scenes_dir() / "hertz.toml");
   apply_override(scene, "mesh.n=20");
   const auto built = build_problem(scene);
-  FactorizationOptions f;
-  f.engine = "eigen";
-  MinimizerOptions o;
-  o.tolerance = 1e-10;
-  const ContactSolution reference = solve_contact(built->problem, make_factorization(f), *make_minimizer("ssn"), o);
+  const ContactSolution reference = solve_with(built->problem, "eigen", "ssn");
   ASSERT_TRUE(reference.converged());
   int infinite = 0, negative = 0;
   for (const auto& n : reference.contact) infinite += std::isinf(n.gap) ? 1 : 0, negative += n.gap < 0.0 ? 1 : 0;
@@ -391,7 +385,7 @@ TEST(PoseProblem, InfiniteAndNegativeGapsOfACircleForEveryMinimizer) {
   EXPECT_GT(negative, 0);
   for (const auto& name : available_minimizers()) {
     SCOPED_TRACE(name);
-    const ContactSolution s = solve_contact(built->problem, make_factorization(f), *make_minimizer(name), o);
+    const ContactSolution s = solve_with(built->problem, "eigen", name);
     ASSERT_TRUE(s.converged()) << s.minimizer.message;
     EXPECT_LT((s.u - reference.u).cwiseAbs().maxCoeff(), 1e-8 * reference.u.cwiseAbs().maxCoeff());
   }
