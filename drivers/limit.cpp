@@ -164,7 +164,7 @@ nlohmann::json in_child(const std::function<nlohmann::json()>& work) {
 }
 
 /// One solve with cholmod (in this process): its wall time from the scene to result.json (as
-/// `hemivem solve` with `output.write = ["result.json"]`), every stage, then the uniqueness margin
+/// `hemivem solve` with `output.write = ["result-json"]`), every stage, then the uniqueness margin
 /// and the writing of all outputs, each timed on its own.
 nlohmann::json measure_solve(const Scene& scene) {
   const auto start = Clock::now();
@@ -343,7 +343,7 @@ int run_bench_limit(const BenchOptions& o, const std::vector<int>& sizes, std::o
     rows.push_back(row_json(table.back()));
     if (progress) err << "done\n";
   }
-  const nlohmann::json doc{{"schema", "hemivem-bench-limit/1"},
+  const nlohmann::json doc{{"schema", "hemivem-bench-limit/2"},
                            {"scene", base.source},
                            {"linear", "cholmod"},
                            {"minimizer", base.solver.minimizer},

@@ -289,12 +289,9 @@ std::vector<std::vector<ContactPoint>> contact_chains(const Mesh& mesh, const Co
   std::map<int, const ContactNode*> by_vertex;
   for (const auto& n : sol.contact) by_vertex[n.vertex] = &n;
   std::map<int, std::vector<int>> next;
-  for (int e : mesh.boundary_edges()) {
-    const auto& edge = mesh.edge(e);
-    if (by_vertex.count(edge.v0) && by_vertex.count(edge.v1)) {
-      next[edge.v0].push_back(edge.v1);
-      next[edge.v1].push_back(edge.v0);
-    }
+  for (const auto& [v0, v1] : contact_lines(mesh, sol)) {
+    next[v0].push_back(v1);
+    next[v1].push_back(v0);
   }
   // start points: chain ends (degree <= 1) first, sorted by (x, y) so the output is stable
   std::vector<int> starts;
@@ -508,7 +505,7 @@ std::vector<ElementStress> element_stresses(const Mesh& mesh, const MaterialTabl
 nlohmann::json result_json(const Mesh& mesh, const ContactSolution& s, const RunInfo& info) {
   using nlohmann::json;
   json j;
-  j["schema"] = "hemivem-result/2";
+  j["schema"] = "hemivem-result/3";
   j["version"] = info.version;
   j["scene"] = {{"name", info.scene_name}, {"toml", info.scene_toml}};
   j["backends"] = {{"linear", info.linear}, {"minimizer", info.minimizer}};

@@ -29,7 +29,7 @@ TEST(Cli, DefaultSolveIsExample41AndWritesEveryOutput) {
   const CommandRun r = run("solve --n 16 --out " + out.string() + " --json");
   ASSERT_EQ(r.code, 0) << r.out;
   const auto j = nlohmann::json::parse(r.out);
-  EXPECT_EQ(j["schema"], "hemivem-result/2");
+  EXPECT_EQ(j["schema"], "hemivem-result/3");
   EXPECT_EQ(j["status"], "converged");
   EXPECT_LE(j["certificate"]["primal"].get<double>(), 1e-10);
   EXPECT_LE(j["certificate"]["dual"].get<double>(), 1e-10);

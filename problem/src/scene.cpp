@@ -417,11 +417,14 @@ SceneContact read_contact(TableReader& r) {
     TableReader ob(r.scene(), *o, r.key_path("obstacle"), {"shape", "point", "normal", "center", "radius", "points"});
     SceneObstacle so;
     if (auto shape = ob.string("shape")) so.shape = lower(*shape);
+    try {
+      (void)obstacle_shape_from_string(so.shape);
+    } catch (const InputError& e) {
+      ob.fail("shape", ob.node("shape"), e.detail());
+    }
     const std::map<std::string, std::vector<std::string>> keys{
         {"plane", {"point", "normal"}}, {"circle", {"center", "radius"}}, {"polyline", {"points"}}};
     const auto it = keys.find(so.shape);
-    if (it == keys.end())
-      ob.fail("shape", ob.node("shape"), "unknown obstacle shape '" + so.shape + "'; expected one of: plane, circle, polyline");
     for (const char* k : {"point", "normal", "center", "radius", "points"}) {
       const bool used = std::find(it->second.begin(), it->second.end(), k) != it->second.end();
       if (!used && ob.has(k)) ob.fail(k, ob.node(k), "not used by a " + so.shape + " obstacle");
