@@ -194,6 +194,10 @@ TEST(Scene, RoundTripThroughToml) {
   rollers.dirichlet.push_back({{{"left"}, {}, {}, 1e-8}, SceneScalar{0.0, {}}, std::nullopt});
   rollers.contact.reset();
   scenes.push_back(rollers);
+  Scene polygon = default_scene();
+  polygon.mesh.generator = "voronoi";
+  polygon.mesh.polygon = {{0.0, 0.0}, {2.0, 0.0}, {2.0, 1.0}, {0.25, 1.5}};
+  scenes.push_back(polygon);
   for (const auto& s : scenes) {
     const std::string text = to_toml(s);
     SCOPED_TRACE(text);
@@ -356,6 +360,32 @@ TEST(Scene, BoundaryPartsByGmshPhysicalGroup) {
             select_boundary_edges(built->mesh, std::vector<Segment>{rectangle_side(unit, "top")}));
   EXPECT_FALSE(built->problem.elasticity.dirichlet.at(0).edges.empty());
   fs::remove_all(dir);
+}
+
+// A polygon domain's edges are the groups edge0, edge1, ...: the same edges as the segments.
+TEST(Scene, PolygonDomainNamesItsEdges) {
+  for (const std::string generator : {"voronoi", "triangles"}) {
+    const Scene s = parse_scene_string("schema_version = 1\n[mesh]\ngenerator = \"" + generator +
+                                           "\"\nn = 8\ndomain = [[0, 0], [2, 0], [2, 1], [0, 1.5]]\n"
+                                           "[clamped]\ngroup = \"edge3\"\n[[loads.traction]]\ngroup = \"edge2\"\n"
+                                           "pressure = 1.0\n[contact]\ngroup = \"edge0\"\n",
+                                       "polygon.toml");
+    ASSERT_EQ(s.mesh.polygon.size(), 4u);
+    const auto built = build_problem(s);
+    const Mesh& m = built->mesh;
+    EXPECT_NEAR(m.total_area(), 2.5, 1e-12);
+    auto sorted = [](std::vector<int> v) {
+      std::sort(v.begin(), v.end());
+      return v;
+    };
+    const auto bottom = select_boundary_edges(m, std::vector<Segment>{Segment{Vec2(0, 0), Vec2(2, 0), 1e-8}});
+    const auto slope = select_boundary_edges(m, std::vector<Segment>{Segment{Vec2(2, 1), Vec2(0, 1.5), 1e-8}});
+    const auto left = select_boundary_edges(m, std::vector<Segment>{Segment{Vec2(0, 1.5), Vec2(0, 0), 1e-8}});
+    EXPECT_FALSE(bottom.empty());
+    EXPECT_EQ(sorted(built->problem.contact_edges), sorted(bottom));
+    EXPECT_EQ(sorted(built->problem.elasticity.tractions.at(0).edges), sorted(slope));
+    EXPECT_EQ(sorted(built->problem.elasticity.dirichlet.at(0).edges), sorted(left));
+  }
 }
 
 TEST(Scene, LawsWithParametersAndBreakpoints) {

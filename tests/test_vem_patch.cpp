@@ -3,6 +3,7 @@
 // boundary and with tractions on part of it; the load of a linear body force is exact on
 // linear fields.
 #include <hemivem/assembly.hpp>
+#include <hemivem/gmsh.hpp>
 #include <hemivem/mesh_generators.hpp>
 #include <hemivem/mesh_io.hpp>
 
@@ -122,6 +123,23 @@ INSTANTIATE_TEST_SUITE_P(Generators, PatchGenerated,
                                            GeneratedCase{"voronoi", 15}, GeneratedCase{"nonconvex", 4},
                                            GeneratedCase{"nonconvex", 9}, GeneratedCase{"distorted", 8}),
                          [](const auto& info) { return info.param.name + std::to_string(info.param.n); });
+
+// Meshes of polygon domains (an L with a re-entrant corner, whose Voronoi cells are cut in
+// pieces) and the curved body of scenes/meshes/half-disk.msh.
+TEST(PatchPolygon, LinearFieldIsReproducedOnPolygonMeshes) {
+  const PolygonDomain l{{{0.0, 0.0}, {1.0, 0.0}, {1.0, 0.4}, {0.4, 0.4}, {0.4, 1.0}, {0.0, 1.0}}};
+  for (const std::string name : {"triangles", "voronoi"}) {
+    for (int n : {5, 14}) {
+      SCOPED_TRACE(name + " " + std::to_string(n));
+      const Mesh mesh = make_mesh(name, n, l, 3);
+      EXPECT_LE(patch_dirichlet(mesh, Stabilization::two_mu), 1e-12);
+      EXPECT_LE(patch_dirichlet(mesh, Stabilization::trace_scaled), 1e-12);
+      EXPECT_LE(patch_traction(mesh), 1e-12);
+    }
+  }
+  const Mesh disk = read_gmsh(test::scenes_dir() / "meshes" / "half-disk.msh");
+  EXPECT_LE(patch_dirichlet(disk, Stabilization::two_mu), 1e-12);
+}
 
 TEST(PatchShared, LinearFieldIsReproducedOnEverySharedMesh) {
   const auto files = test::shared_meshes();

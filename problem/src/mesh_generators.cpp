@@ -1,8 +1,18 @@
 #include <hemivem/mesh_generators.hpp>
 
+#include <CGAL/Boolean_set_operations_2.h>
+#include <CGAL/Constrained_Delaunay_triangulation_2.h>
+#include <CGAL/Delaunay_mesh_face_base_2.h>
+#include <CGAL/Delaunay_mesh_size_criteria_2.h>
+#include <CGAL/Delaunay_mesh_vertex_base_2.h>
+#include <CGAL/Delaunay_mesher_2.h>
 #include <CGAL/Delaunay_triangulation_2.h>
+#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Exact_rational.h>
+#include <CGAL/Polygon_2.h>
+#include <CGAL/Polygon_with_holes_2.h>
+#include <CGAL/convex_hull_2.h>
 #include <CGAL/Triangulation_data_structure_2.h>
 #include <CGAL/Triangulation_face_base_with_info_2.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
@@ -22,6 +32,9 @@ namespace {
 
 /// Largest accepted n: keeps every vertex count of every generator well inside int.
 constexpr int kMaxCellsPerSide = 20000;
+
+/// Longest edge of a triangle in a polygon domain, in units of sqrt(area)/n.
+constexpr double kTriangleEdgeFactor = 1.5;
 
 std::string fmt(double x) {
   std::ostringstream s;
@@ -128,21 +141,30 @@ std::uint64_t hilbert_index(std::uint64_t x, std::uint64_t y, int order) {
   return d;
 }
 
-/// Sorts points in the rectangle along a Hilbert curve (ties, lexicographically).
-void sort_along_hilbert_curve(std::vector<Vec2>& pts, const Rectangle& d) {
+/// The order of points in the rectangle along a Hilbert curve (ties, lexicographically).
+std::vector<std::size_t> hilbert_order(const std::vector<Vec2>& pts, const Rectangle& d) {
   constexpr int order = 20;
   constexpr double cells = 1 << order;
   auto cell = [&](double t, double a, double w) {
     return static_cast<std::uint64_t>(std::clamp((t - a) / w * cells, 0.0, cells - 1.0));
   };
-  std::vector<std::pair<std::uint64_t, Vec2>> keyed;
-  keyed.reserve(pts.size());
-  for (const auto& p : pts)
-    keyed.emplace_back(hilbert_index(cell(p.x(), d.x0, d.width()), cell(p.y(), d.y0, d.height()), order), p);
-  std::sort(keyed.begin(), keyed.end(), [](const auto& a, const auto& b) {
-    return a.first < b.first || (a.first == b.first && lex_less(a.second, b.second));
+  std::vector<std::uint64_t> key(pts.size());
+  for (std::size_t i = 0; i < pts.size(); ++i)
+    key[i] = hilbert_index(cell(pts[i].x(), d.x0, d.width()), cell(pts[i].y(), d.y0, d.height()), order);
+  std::vector<std::size_t> perm(pts.size());
+  std::iota(perm.begin(), perm.end(), std::size_t{0});
+  std::sort(perm.begin(), perm.end(), [&](std::size_t a, std::size_t b) {
+    return key[a] < key[b] || (key[a] == key[b] && lex_less(pts[a], pts[b]));
   });
-  for (std::size_t i = 0; i < pts.size(); ++i) pts[i] = keyed[i].second;
+  return perm;
+}
+
+/// Sorts points in the rectangle along a Hilbert curve (ties, lexicographically).
+void sort_along_hilbert_curve(std::vector<Vec2>& pts, const Rectangle& d) {
+  const auto perm = hilbert_order(pts, d);
+  std::vector<Vec2> sorted(pts.size());
+  for (std::size_t i = 0; i < pts.size(); ++i) sorted[i] = pts[perm[i]];
+  pts = std::move(sorted);
 }
 
 /// Exact circumcentre of a triangle (rational arithmetic), rounded to doubles.
@@ -314,10 +336,13 @@ struct UnionFind {
 
 /// Turns the cells into a mesh: merges circumcentres of adjacent faces closer than tol
 /// (mirror symmetry makes cocircular quadruples, so one Voronoi vertex can come out as two
-/// almost equal circumcentres), places vertices within tol of a side exactly on it,
+/// almost equal circumcentres), moves each merged vertex to snap(position) (exactly onto
+/// the domain's sides or corners), drops cells that collapse to fewer than three vertices
+/// when drop_collapsed (else throws),
 /// numbers vertices in order of first appearance, each cell starting at its
 /// lexicographically smallest vertex.
-Mesh voronoi_mesh(const VoronoiCells& c, const Rectangle& d, double tol) {
+template <class Snap>
+Mesh voronoi_mesh(const VoronoiCells& c, double tol, Snap snap, bool drop_collapsed) {
   const std::size_t np = c.points.size();
   const std::size_t ncell = c.offsets.size() - 1;
   const double tol2 = tol * tol;
@@ -340,11 +365,7 @@ Mesh voronoi_mesh(const VoronoiCells& c, const Rectangle& d, double tol) {
   }
   for (std::size_t r = 0; r < np; ++r) {
     if (!seen[r] || uf.parent[r] != static_cast<int>(r)) continue;
-    Vec2& p = pos[r];
-    if (std::abs(p.x() - d.x0) <= tol) p.x() = d.x0;
-    if (std::abs(p.x() - d.x1) <= tol) p.x() = d.x1;
-    if (std::abs(p.y() - d.y0) <= tol) p.y() = d.y0;
-    if (std::abs(p.y() - d.y1) <= tol) p.y() = d.y1;
+    pos[r] = snap(pos[r]);
   }
   // Classes that landed on the same position (e.g. two near-corner points) are one vertex.
   std::map<std::pair<double, double>, int> at;
@@ -365,6 +386,7 @@ Mesh voronoi_mesh(const VoronoiCells& c, const Rectangle& d, double tol) {
       if (ring.empty() || ring.back() != v) ring.push_back(v);
     }
     while (ring.size() > 1 && ring.back() == ring.front()) ring.pop_back();
+    if (ring.size() < 3 && drop_collapsed) continue;
     if (ring.size() < 3)
       throw NumericalError("make_voronoi: the cell of seed " + std::to_string(i) + " collapsed to " +
                            std::to_string(ring.size()) + " vertices");
@@ -383,7 +405,19 @@ Mesh voronoi_mesh(const VoronoiCells& c, const Rectangle& d, double tol) {
       el.push_back(num);
     }
   }
+  if (drop_collapsed)
+    elements.erase(std::remove_if(elements.begin(), elements.end(), [](const auto& el) { return el.empty(); }),
+                   elements.end());
   return Mesh(std::move(vertices), std::move(elements));
+}
+
+void check_voronoi_options(const VoronoiOptions& options) {
+  if (options.max_lloyd_iterations < 0)
+    throw InputError("make_voronoi: max_lloyd_iterations must be >= 0 (got " +
+                     std::to_string(options.max_lloyd_iterations) + ")");
+  if (!(options.lloyd_tolerance >= 0.0) || !std::isfinite(options.lloyd_tolerance))
+    throw InputError("make_voronoi: lloyd_tolerance must be finite and >= 0 (got " + fmt(options.lloyd_tolerance) +
+                     ")");
 }
 
 }  // namespace
@@ -411,12 +445,7 @@ Mesh make_triangles(int n, const Rectangle& domain) {
 Mesh make_voronoi(int n, const Rectangle& domain, const VoronoiOptions& options) {
   check_n("make_voronoi", n);
   check_domain("make_voronoi", domain, n);
-  if (options.max_lloyd_iterations < 0)
-    throw InputError("make_voronoi: max_lloyd_iterations must be >= 0 (got " +
-                     std::to_string(options.max_lloyd_iterations) + ")");
-  if (!(options.lloyd_tolerance >= 0.0) || !std::isfinite(options.lloyd_tolerance))
-    throw InputError("make_voronoi: lloyd_tolerance must be finite and >= 0 (got " + fmt(options.lloyd_tolerance) +
-                     ")");
+  check_voronoi_options(options);
 
   const std::size_t ns = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
   const double spacing = std::sqrt(domain.width() * domain.height() / static_cast<double>(ns));
@@ -453,7 +482,14 @@ Mesh make_voronoi(int n, const Rectangle& domain, const VoronoiOptions& options)
     cells = voronoi_cells(seeds, domain, spacing, tol);
     if (moved <= stop) break;
   }
-  return voronoi_mesh(cells, domain, tol);
+  const auto snap_to_sides = [&](Vec2 p) {
+    if (std::abs(p.x() - domain.x0) <= tol) p.x() = domain.x0;
+    if (std::abs(p.x() - domain.x1) <= tol) p.x() = domain.x1;
+    if (std::abs(p.y() - domain.y0) <= tol) p.y() = domain.y0;
+    if (std::abs(p.y() - domain.y1) <= tol) p.y() = domain.y1;
+    return p;
+  };
+  return voronoi_mesh(cells, tol, snap_to_sides, false);
 }
 
 Mesh make_nonconvex(int n, const Rectangle& domain) {
@@ -533,6 +569,387 @@ Mesh make_mesh(std::string_view generator, int n, const Rectangle& domain, std::
   std::string valid;
   for (const auto& name : mesh_generator_names()) valid += (valid.empty() ? "" : ", ") + name;
   throw InputError("unknown mesh generator '" + std::string(generator) + "'; valid names: " + valid);
+}
+
+
+// ---- Polygon domains ----------------------------------------------------------------
+
+namespace {
+
+using ExactKernel = CGAL::Exact_predicates_exact_constructions_kernel;
+using ExactPolygon = CGAL::Polygon_2<ExactKernel>;
+using ExactPolygonWithHoles = CGAL::Polygon_with_holes_2<ExactKernel>;
+
+/// A checked polygon domain: its corners counter-clockwise, the bounding box, the area and
+/// the generator's length tolerance.
+struct CheckedPolygon {
+  std::vector<Vec2> corners;  ///< counter-clockwise
+  Rectangle box;
+  double area = 0.0;
+  double tol = 0.0;
+};
+
+std::string point_text(const Vec2& p) { return "(" + fmt(p.x()) + ", " + fmt(p.y()) + ")"; }
+
+CheckedPolygon check_polygon(const char* generator, const PolygonDomain& d, int n) {
+  const std::string defect = polygon_domain_defect(d);
+  if (!defect.empty()) throw InputError(std::string(generator) + ": the polygon domain " + defect);
+  const auto& c = d.corners;
+  double magnitude = 0.0;
+  for (const auto& p : c) magnitude = std::max({magnitude, std::abs(p.x()), std::abs(p.y())});
+  CheckedPolygon out;
+  out.corners = c;
+  out.area = std::abs(signed_area(c));
+  if (signed_area(c) < 0.0) std::reverse(out.corners.begin(), out.corners.end());
+  out.box = Rectangle{c[0].x(), c[0].x(), c[0].y(), c[0].y()};
+  for (const auto& p : c) {
+    out.box.x0 = std::min(out.box.x0, p.x());
+    out.box.x1 = std::max(out.box.x1, p.x());
+    out.box.y0 = std::min(out.box.y0, p.y());
+    out.box.y1 = std::max(out.box.y1, p.y());
+  }
+  const double spacing = std::sqrt(out.area) / n;
+  if (!(out.area > 0.0) || !(spacing >= 1e-9 * magnitude) || !(spacing * spacing >= 1e-250))
+    throw InputError(std::string(generator) + ": the cells of the polygon domain with n = " + std::to_string(n) +
+                     " are too small for double precision (the cell size sqrt(area)/n must be at least 1e-9 of the "
+                     "largest |coordinate| and its square at least 1e-250)");
+  out.tol = std::max({1e-10 * std::max(out.box.width(), out.box.height()), 1e-7 * spacing,
+                      64.0 * std::numeric_limits<double>::epsilon() * magnitude});
+  return out;
+}
+
+/// Distance from p to the segment [a, b].
+double segment_distance(const Vec2& p, const Vec2& a, const Vec2& b) {
+  const Vec2 ab = b - a;
+  const double t = std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+  return (p - (a + t * ab)).norm();
+}
+
+/// Names the boundary edges on edge k of the polygon (corner k to corner k+1, in the order
+/// given) "edge<k>".
+void name_polygon_edges(Mesh& mesh, const std::vector<Vec2>& corners, double tol) {
+  const std::size_t m = corners.size();
+  std::vector<std::vector<int>> groups(m);
+  for (int e : mesh.boundary_edges()) {
+    const Vec2& p = mesh.vertex(mesh.edge(e).v0);
+    const Vec2& q = mesh.vertex(mesh.edge(e).v1);
+    for (std::size_t k = 0; k < m; ++k) {
+      const Vec2& a = corners[k];
+      const Vec2& b = corners[(k + 1) % m];
+      if (segment_distance(p, a, b) <= tol && segment_distance(q, a, b) <= tol) {
+        groups[k].push_back(e);
+        break;
+      }
+    }
+  }
+  for (std::size_t k = 0; k < m; ++k) mesh.set_edge_group("edge" + std::to_string(k), std::move(groups[k]));
+}
+
+double to_plain_double(const ExactKernel::FT& x) { return CGAL::to_double(CGAL::exact(x)); }
+
+/// The Voronoi cells of seeds inside the polygon, one counter-clockwise ring of
+/// circumcentres per seed (a circumcentre has one id for all its cells), and whether the
+/// polygon's boundary comes near each (otherwise the cell, which holds its seed, lies inside
+/// the polygon). Four far sites make every cell bounded without changing it inside the
+/// polygon.
+struct RawCells {
+  VoronoiCells cells;
+  std::vector<char> cut;
+};
+
+RawCells raw_voronoi_cells(const std::vector<Vec2>& seeds, const CheckedPolygon& dom) {
+  const std::size_t ns = seeds.size();
+  const Rectangle& b = dom.box;
+  const double far = 16.0 * std::max(b.width(), b.height());
+  const double cx = 0.5 * (b.x0 + b.x1), cy = 0.5 * (b.y0 + b.y1);
+  Delaunay dt;
+  std::vector<Delaunay::Vertex_handle> handle(ns);
+  Delaunay::Face_handle hint;
+  for (std::size_t i = 0; i < ns; ++i) {
+    handle[i] = dt.insert(Kernel::Point_2(seeds[i].x(), seeds[i].y()), hint);
+    handle[i]->info() = static_cast<int>(i);
+    hint = handle[i]->face();
+  }
+  for (const auto& [sx, sy] : {std::pair{-1.0, -1.0}, {1.0, -1.0}, {1.0, 1.0}, {-1.0, 1.0}})
+    dt.insert(Kernel::Point_2(cx + sx * far, cy + sy * far))->info() = -1;
+  if (dt.number_of_vertices() != ns + 4)
+    throw NumericalError("make_voronoi: two seeds coincide; the Voronoi diagram is undefined");
+
+  RawCells raw;
+  VoronoiCells& out = raw.cells;
+  out.offsets.assign(1, 0);
+  raw.cut.assign(ns, 0);
+  const std::size_t m = dom.corners.size();
+  auto at = [&](int id) -> const Vec2& { return out.points[static_cast<std::size_t>(id)]; };
+  for (std::size_t i = 0; i < ns; ++i) {
+    const std::size_t first = out.ids.size();
+    auto fc = dt.incident_faces(handle[i]);
+    const auto done = fc;
+    do {
+      if (dt.is_infinite(fc)) throw NumericalError("make_voronoi: a seed's Voronoi cell is unbounded");
+      int& id = fc->info().id;
+      if (id < 0) {
+        const auto& p0 = fc->vertex(0)->point();
+        const auto& p1 = fc->vertex(1)->point();
+        const auto& p2 = fc->vertex(2)->point();
+        id = static_cast<int>(out.points.size());
+        out.points.push_back(circumcentre({p0.x(), p0.y()}, {p1.x(), p1.y()}, {p2.x(), p2.y()}, dom.tol / 64));
+      }
+      if (out.ids.size() == first || at(out.ids.back()) != at(id)) out.ids.push_back(id);
+    } while (++fc != done);
+    while (out.ids.size() > first + 1 && at(out.ids.back()) == at(out.ids[first])) out.ids.pop_back();
+    out.offsets.push_back(static_cast<int>(out.ids.size()));
+    Rectangle cb{at(out.ids[first]).x(), at(out.ids[first]).x(), at(out.ids[first]).y(), at(out.ids[first]).y()};
+    for (std::size_t k = first; k < out.ids.size(); ++k) {
+      const Vec2& p = at(out.ids[k]);
+      cb.x0 = std::min(cb.x0, p.x());
+      cb.x1 = std::max(cb.x1, p.x());
+      cb.y0 = std::min(cb.y0, p.y());
+      cb.y1 = std::max(cb.y1, p.y());
+    }
+    for (std::size_t k = 0; k < m && !raw.cut[i]; ++k) {
+      const Vec2& p = dom.corners[k];
+      const Vec2& q = dom.corners[(k + 1) % m];
+      raw.cut[i] = std::max(p.x(), q.x()) >= cb.x0 - dom.tol && std::min(p.x(), q.x()) <= cb.x1 + dom.tol &&
+                   std::max(p.y(), q.y()) >= cb.y0 - dom.tol && std::min(p.y(), q.y()) <= cb.y1 + dom.tol;
+    }
+  }
+  return raw;
+}
+
+/// Centroid of each seed's cell within the polygon. A cut cell is clipped by Sutherland and
+/// Hodgman's method: the polygon clipped by the half-planes of the convex cell. Where the
+/// cell meets the polygon in several pieces the result joins them by edges of zero width,
+/// which add nothing to its area and moments. NaN where the intersection has no area.
+std::vector<Vec2> cell_centroids(const RawCells& raw, const CheckedPolygon& dom) {
+  const VoronoiCells& c = raw.cells;
+  const std::size_t ns = c.offsets.size() - 1;
+  std::vector<Vec2> out(ns);
+  std::vector<Vec2> poly, next;
+  for (std::size_t i = 0; i < ns; ++i) {
+    const int b = c.offsets[i], m = c.offsets[i + 1] - b;
+    if (!raw.cut[i]) {
+      out[i] = polygon_centroid(c.points, c.ids.data() + b, m);
+      continue;
+    }
+    poly = dom.corners;
+    for (int k = 0; k < m && !poly.empty(); ++k) {
+      const Vec2& a = c.points[static_cast<std::size_t>(c.ids[static_cast<std::size_t>(b + k)])];
+      const Vec2& e = c.points[static_cast<std::size_t>(c.ids[static_cast<std::size_t>(b + (k + 1) % m)])];
+      const Vec2 d = e - a;
+      auto side = [&](const Vec2& p) { return d.x() * (p.y() - a.y()) - d.y() * (p.x() - a.x()); };
+      next.clear();
+      for (std::size_t j = 0; j < poly.size(); ++j) {
+        const Vec2& p = poly[j];
+        const Vec2& q = poly[(j + 1) % poly.size()];
+        const double sp = side(p), sq = side(q);
+        if (sp >= 0.0) next.push_back(p);
+        if ((sp >= 0.0) != (sq >= 0.0)) next.push_back(p + (sp / (sp - sq)) * (q - p));
+      }
+      poly.swap(next);
+    }
+    double twice = 0.0;
+    Vec2 moment = Vec2::Zero();
+    for (std::size_t j = 0; j < poly.size(); ++j) {
+      const Vec2 p = poly[j] - dom.corners[0], q = poly[(j + 1) % poly.size()] - dom.corners[0];
+      const double cr = p.x() * q.y() - p.y() * q.x();
+      twice += cr;
+      moment += cr * (p + q);
+    }
+    out[i] = twice > 0.0 ? Vec2(dom.corners[0] + moment / (3.0 * twice))
+                         : Vec2(std::numeric_limits<double>::quiet_NaN(), 0.0);
+  }
+  return out;
+}
+
+/// The cells clipped to the polygon exactly (CGAL's Boolean operations): a cell that the
+/// polygon's boundary cuts into several pieces gives one ring per piece, owner[k] is the seed
+/// of ring k. Circumcentres keep their ids; a point made by clipping has one id per value.
+VoronoiCells clip_cells(const RawCells& raw, const ExactPolygon& domain, std::vector<int>& owner) {
+  const VoronoiCells& in = raw.cells;
+  const std::size_t ns = in.offsets.size() - 1;
+  VoronoiCells out;
+  out.points = in.points;
+  out.offsets.assign(1, 0);
+  owner.clear();
+  std::map<std::pair<double, double>, int> made;
+  std::vector<ExactPolygonWithHoles> pieces;
+  for (std::size_t i = 0; i < ns; ++i) {
+    const auto first = in.ids.begin() + in.offsets[i], last = in.ids.begin() + in.offsets[i + 1];
+    if (!raw.cut[i]) {
+      out.ids.insert(out.ids.end(), first, last);
+      out.offsets.push_back(static_cast<int>(out.ids.size()));
+      owner.push_back(static_cast<int>(i));
+      continue;
+    }
+    auto at = [&](int id) -> const Vec2& { return in.points[static_cast<std::size_t>(id)]; };
+    ExactPolygon cell;
+    for (auto it = first; it != last; ++it) cell.push_back(ExactKernel::Point_2(at(*it).x(), at(*it).y()));
+    if (!cell.is_simple()) {  // round-off folded a tiny edge of the convex cell
+      std::vector<ExactKernel::Point_2> hull;
+      CGAL::convex_hull_2(cell.vertices_begin(), cell.vertices_end(), std::back_inserter(hull));
+      cell = ExactPolygon(hull.begin(), hull.end());
+    }
+    if (cell.orientation() != CGAL::COUNTERCLOCKWISE) cell.reverse_orientation();
+    pieces.clear();
+    CGAL::intersection(cell, domain, std::back_inserter(pieces));
+    for (const auto& piece : pieces) {
+      if (piece.number_of_holes() != 0) throw NumericalError("make_voronoi: a clipped Voronoi cell has a hole");
+      for (auto v = piece.outer_boundary().vertices_begin(); v != piece.outer_boundary().vertices_end(); ++v) {
+        const Vec2 p(to_plain_double(v->x()), to_plain_double(v->y()));
+        const auto kept = std::find_if(first, last, [&](int id) { return at(id) == p; });
+        if (kept != last) {
+          out.ids.push_back(*kept);
+          continue;
+        }
+        const auto [it, added] = made.try_emplace({p.x(), p.y()}, static_cast<int>(out.points.size()));
+        if (added) out.points.push_back(p);
+        out.ids.push_back(it->second);
+      }
+      out.offsets.push_back(static_cast<int>(out.ids.size()));
+      owner.push_back(static_cast<int>(i));
+    }
+  }
+  return out;
+}
+
+bool strictly_inside(const CGAL::Polygon_2<Kernel>& poly, const Vec2& p) {
+  return poly.bounded_side(Kernel::Point_2(p.x(), p.y())) == CGAL::ON_BOUNDED_SIDE;
+}
+
+}  // namespace
+
+std::string polygon_domain_defect(const PolygonDomain& d) {
+  const auto& c = d.corners;
+  if (c.size() < 3) return "needs at least 3 corners (got " + std::to_string(c.size()) + ")";
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    if (!std::isfinite(c[i].x()) || !std::isfinite(c[i].y()))
+      return "has a corner that is not finite: corner " + std::to_string(i) + " " + point_text(c[i]);
+    if (std::max(std::abs(c[i].x()), std::abs(c[i].y())) > max_mesh_coordinate)
+      return "has a corner above 1e150 in magnitude: corner " + std::to_string(i);
+  }
+  for (std::size_t i = 0; i < c.size(); ++i)
+    if (c[i] == c[(i + 1) % c.size()])
+      return "repeats corner " + std::to_string(i) + " " + point_text(c[i]) + " as corner " +
+             std::to_string((i + 1) % c.size());
+  CGAL::Polygon_2<Kernel> poly;
+  for (const auto& p : c) poly.push_back(Kernel::Point_2(p.x(), p.y()));
+  if (!poly.is_simple())
+    return "is not simple: two of its edges cross or touch (corners go in order around the boundary, the last "
+           "joined to the first)";
+  return {};
+}
+
+Mesh make_triangles(int n, const PolygonDomain& domain) {
+  check_n("make_triangles", n);
+  const CheckedPolygon dom = check_polygon("make_triangles", domain, n);
+  using MeshVertexBase = CGAL::Delaunay_mesh_vertex_base_2<Kernel>;
+  using MeshFaceBase = CGAL::Delaunay_mesh_face_base_2<Kernel>;
+  using MeshTds = CGAL::Triangulation_data_structure_2<MeshVertexBase, MeshFaceBase>;
+  using Cdt = CGAL::Constrained_Delaunay_triangulation_2<Kernel, MeshTds>;
+  using Criteria = CGAL::Delaunay_mesh_size_criteria_2<Cdt>;
+  Cdt cdt;
+  std::vector<Cdt::Vertex_handle> corner;
+  for (const auto& p : dom.corners) corner.push_back(cdt.insert(Cdt::Point(p.x(), p.y())));
+  for (std::size_t k = 0; k < corner.size(); ++k) cdt.insert_constraint(corner[k], corner[(k + 1) % corner.size()]);
+  // Longest edges at most 1.5 sqrt(area)/n: about 2 n^2 triangles, as on a rectangle.
+  CGAL::refine_Delaunay_mesh_2(cdt, Criteria(0.125, kTriangleEdgeFactor * std::sqrt(dom.area) / n));
+
+  std::vector<std::array<Vec2, 3>> faces;
+  std::vector<Vec2> centroids;
+  for (auto f : cdt.finite_face_handles()) {
+    if (!f->is_in_domain()) continue;
+    std::array<Vec2, 3> t;
+    for (int k = 0; k < 3; ++k) t[static_cast<std::size_t>(k)] = Vec2(f->vertex(k)->point().x(), f->vertex(k)->point().y());
+    faces.push_back(t);
+    centroids.push_back((t[0] + t[1] + t[2]) / 3.0);
+  }
+  std::map<std::pair<double, double>, int> number;
+  std::vector<Vec2> vertices;
+  std::vector<std::vector<int>> elements;
+  elements.reserve(faces.size());
+  for (std::size_t f : hilbert_order(centroids, dom.box)) {
+    auto t = faces[f];
+    std::rotate(t.begin(), std::min_element(t.begin(), t.end(), lex_less), t.end());
+    std::vector<int> el;
+    for (const auto& p : t) {
+      const auto [it, added] = number.try_emplace({p.x(), p.y()}, static_cast<int>(vertices.size()));
+      if (added) vertices.push_back(p);
+      el.push_back(it->second);
+    }
+    elements.push_back(std::move(el));
+  }
+  Mesh mesh(std::move(vertices), std::move(elements));
+  name_polygon_edges(mesh, domain.corners, dom.tol);
+  return mesh;
+}
+
+Mesh make_voronoi(int n, const PolygonDomain& domain, const VoronoiOptions& options) {
+  check_n("make_voronoi", n);
+  const CheckedPolygon dom = check_polygon("make_voronoi", domain, n);
+  check_voronoi_options(options);
+  const std::size_t ns = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
+  const double spacing = std::sqrt(dom.area / static_cast<double>(ns));
+  CGAL::Polygon_2<Kernel> inexact;
+  ExactPolygon exact;
+  for (const auto& p : dom.corners) {
+    inexact.push_back(Kernel::Point_2(p.x(), p.y()));
+    exact.push_back(ExactKernel::Point_2(p.x(), p.y()));
+  }
+
+  // Seeds uniform in the polygon: uniform in its bounding box, kept when strictly inside.
+  std::mt19937_64 rng(options.seed);
+  std::vector<Vec2> seeds;
+  seeds.reserve(ns);
+  const std::size_t budget = 1000 * ns + 100000;
+  for (std::size_t draws = 0; seeds.size() < ns; ++draws) {
+    if (draws == budget)
+      throw InputError("make_voronoi: the polygon domain fills too little of its bounding box to place seeds in it");
+    const double x = open_draw(rng, dom.box.x0, dom.box.x1);
+    const Vec2 p(x, open_draw(rng, dom.box.y0, dom.box.y1));
+    if (strictly_inside(inexact, p)) seeds.push_back(p);
+  }
+  sort_along_hilbert_curve(seeds, dom.box);
+
+  RawCells raw = raw_voronoi_cells(seeds, dom);
+  const double stop = options.lloyd_tolerance * spacing;
+  for (int it = 0; it < options.max_lloyd_iterations; ++it) {
+    const std::vector<Vec2> centroid = cell_centroids(raw, dom);
+    double moved = 0.0;
+    for (std::size_t i = 0; i < ns; ++i) {
+      const Vec2& g = centroid[i];
+      // a cell cut in pieces: their joint centroid may lie outside the polygon
+      if (!std::isfinite(g.x()) || !strictly_inside(inexact, g)) continue;
+      moved = std::max(moved, (g - seeds[i]).norm());
+      seeds[i] = g;
+    }
+    raw = raw_voronoi_cells(seeds, dom);
+    if (moved <= stop) break;
+  }
+  std::vector<int> owner;
+  const VoronoiCells cells = clip_cells(raw, exact, owner);
+  const auto snap_to_corners = [&](const Vec2& p) {
+    for (const auto& c : dom.corners)
+      if ((p - c).norm() <= 4.0 * dom.tol) return c;
+    return p;
+  };
+  Mesh mesh = voronoi_mesh(cells, dom.tol, snap_to_corners, true);
+  name_polygon_edges(mesh, domain.corners, dom.tol);
+  return mesh;
+}
+
+Mesh make_mesh(std::string_view generator, int n, const PolygonDomain& domain, std::uint64_t seed) {
+  if (generator == "triangles") return make_triangles(n, domain);
+  if (generator == "voronoi") {
+    VoronoiOptions options;
+    options.seed = seed;
+    return make_voronoi(n, domain, options);
+  }
+  for (const auto& name : mesh_generator_names())
+    if (generator == name)
+      throw InputError("the mesh generator '" + name + "' needs a rectangular domain; a polygon domain needs "
+                       "generator voronoi or triangles");
+  return make_mesh(generator, n, Rectangle{}, seed);  // unknown name: its message
 }
 
 }  // namespace hemivem

@@ -250,6 +250,19 @@ class TableReader {
     for (std::size_t i = 0; i < a->size(); ++i) out.push_back(numbers_of(key, (*a)[i], "an array of arrays of numbers"));
     return out;
   }
+  /// An array of [x, y] arrays.
+  std::optional<std::vector<std::array<double, 2>>> points(std::string_view key) {
+    const auto m = matrix(key);
+    if (!m) return std::nullopt;
+    std::vector<std::array<double, 2>> out;
+    for (std::size_t i = 0; i < m->size(); ++i) {
+      if ((*m)[i].size() != 2)
+        fail(key, node(key), "point " + std::to_string(i) + ": expected [x, y], got " + std::to_string((*m)[i].size()) +
+                                 " numbers");
+      out.push_back({(*m)[i][0], (*m)[i][1]});
+    }
+    return out;
+  }
   const toml::table* table(std::string_view key) {
     const toml::node* n = find(key);
     if (!n) return nullptr;
@@ -435,14 +448,7 @@ SceneContact read_contact(TableReader& r) {
     if (auto v = ob.fixed<2>("normal", "[nx, ny]")) so.normal = *v;
     if (auto v = ob.fixed<2>("center", "[x, y]")) so.center = *v;
     if (auto v = ob.number("radius")) so.radius = *v;
-    if (auto m = ob.matrix("points")) {
-      for (std::size_t i = 0; i < m->size(); ++i) {
-        if ((*m)[i].size() != 2)
-          ob.fail("points", ob.node("points"), "point " + std::to_string(i) + ": expected [x, y], got " +
-                                                   std::to_string((*m)[i].size()) + " numbers");
-        so.points.push_back({(*m)[i][0], (*m)[i][1]});
-      }
-    }
+    if (auto v = ob.points("points")) so.points = *v;
     const std::string defect = make_obstacle(so).defect();
     if (!defect.empty()) {
       const char* key = so.shape == "plane" ? "normal" : (so.shape == "circle" ? "radius" : "points");
@@ -505,7 +511,18 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
       if (*seed < 0) m.fail("seed", m.node("seed"), "must be >= 0, got " + std::to_string(*seed));
       s.mesh.seed = *seed;
     }
-    if (auto d = m.fixed<4>("domain", "[x0, x1, y0, y1]")) {
+    const toml::array* domain = m.has("domain") ? m.node("domain").as_array() : nullptr;
+    if (domain && !domain->empty() && (*domain)[0].is_array()) {
+      s.mesh.polygon = *m.points("domain");
+      PolygonDomain poly;
+      for (const auto& p : s.mesh.polygon) poly.corners.emplace_back(p[0], p[1]);
+      const std::string defect = polygon_domain_defect(poly);
+      if (!defect.empty()) m.fail("domain", m.node("domain"), "the polygon " + defect);
+      if (s.mesh.generator != "voronoi" && s.mesh.generator != "triangles")
+        m.fail("domain", m.node("domain"),
+               "a polygon domain needs generator = \"voronoi\" or \"triangles\" (the generator is \"" +
+                   s.mesh.generator + "\")");
+    } else if (auto d = m.fixed<4>("domain", "[x0, x1, y0, y1] or a polygon [[x0, y0], [x1, y1], ...]")) {
       if (!((*d)[0] < (*d)[1] && (*d)[2] < (*d)[3])) m.fail("domain", m.node("domain"), "needs x0 < x1 and y0 < y1");
       s.mesh.domain = *d;
     }
@@ -793,7 +810,10 @@ std::string to_toml(const Scene& s) {
     o << "generator = " << quote(s.mesh.generator) << "\n";
     o << "n = " << s.mesh.n << "\n";
     o << "seed = " << s.mesh.seed << "\n";
-    o << "domain = " << list(s.mesh.domain, fmt) << "\n";
+    if (s.mesh.polygon.empty())
+      o << "domain = " << list(s.mesh.domain, fmt) << "\n";
+    else
+      o << "domain = " << list(s.mesh.polygon, [](const std::array<double, 2>& p) { return list(p, fmt); }) << "\n";
   }
   o << "\n[material]\n";
   o << "E = " << fmt(s.material.young) << "\n";
@@ -988,8 +1008,14 @@ std::unique_ptr<BuiltProblem> build_problem(const Scene& scene) {
                        " vertices",
                    scene.where("mesh.n"));
     try {
-      mesh = make_mesh(scene.mesh.generator, scene.mesh.n, Rectangle{d[0], d[1], d[2], d[3]},
-                       static_cast<std::uint64_t>(scene.mesh.seed));
+      if (scene.mesh.polygon.empty()) {
+        mesh = make_mesh(scene.mesh.generator, scene.mesh.n, Rectangle{d[0], d[1], d[2], d[3]},
+                         static_cast<std::uint64_t>(scene.mesh.seed));
+      } else {
+        PolygonDomain poly;
+        for (const auto& p : scene.mesh.polygon) poly.corners.emplace_back(p[0], p[1]);
+        mesh = make_mesh(scene.mesh.generator, scene.mesh.n, poly, static_cast<std::uint64_t>(scene.mesh.seed));
+      }
     } catch (const MeshError& e) {
       throw MeshError("mesh: the generated mesh is invalid: " + e.detail(), e.element(), scene.where("mesh"));
     } catch (const InputError& e) {

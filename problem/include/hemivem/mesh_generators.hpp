@@ -1,6 +1,6 @@
-// Deterministic mesh generators for a rectangle [x0,x1] x [y0,y1].
-// Every generator returns a validated Mesh (see mesh.hpp); the same arguments
-// (including the seed) always give the same mesh, bit for bit.
+// Deterministic mesh generators for a rectangle [x0,x1] x [y0,y1], and (triangles,
+// voronoi) for a simple polygon. Every generator returns a validated Mesh (see mesh.hpp);
+// the same arguments (including the seed) always give the same mesh, bit for bit.
 //
 // Every generator throws InputError for n < 1 (or n > 20000) and for a rectangle that
 // is not finite with x0 < x1 and y0 < y1. Vertices on the sides have exactly the
@@ -61,11 +61,47 @@ Mesh make_nonconvex(int n, const Rectangle& domain = {});
 /// else InputError); boundary vertices stay put. Numbering as make_squares.
 Mesh make_distorted(int n, double fraction = 0.2, const Rectangle& domain = {}, std::uint64_t seed = 1);
 
+/// A simple polygon: its corners in order around the boundary (either orientation), the
+/// last joined to the first. Edge k runs from corner k to corner k+1.
+struct PolygonDomain {
+  std::vector<Vec2> corners;
+};
+
+// The polygon generators throw InputError naming the defect for fewer than 3 corners, a
+// corner that is not finite or above 1e150 in magnitude, a corner repeated by the next, a
+// polygon that is not simple (edges that cross or touch), and cells too small for double
+// precision. The boundary edges of the mesh on edge k of the polygon form the edge group
+// "edge<k>" (Mesh::edge_group), so boundary conditions can name the polygon's edges.
+
+/// What is wrong with a polygon domain ("" when nothing): fewer than 3 corners, a corner
+/// not finite or above 1e150, a corner repeated by the next, edges that cross or touch.
+std::string polygon_domain_defect(const PolygonDomain& domain);
+
+/// Triangles in a polygon: CGAL's constrained Delaunay triangulation of the polygon,
+/// refined by CGAL's Delaunay mesher (Delaunay_mesher_2) until no angle is below about
+/// 20.7 degrees and no edge is longer than 1.5 sqrt(area)/n: about 2 n^2 triangles, as on a
+/// rectangle. Vertices on the polygon's edges lie on them to round-off; elements are
+/// numbered along a Hilbert curve through their centroids.
+Mesh make_triangles(int n, const PolygonDomain& domain);
+
+/// Voronoi cells of n*n random seeds uniform in the polygon (drawn in its bounding box
+/// from std::mt19937_64(seed), kept when strictly inside), clipped to the polygon with
+/// CGAL's exact Boolean operations; Lloyd iterations as on a rectangle (a seed whose cell
+/// is cut into pieces whose joint centroid lies outside the polygon stays put). A cell cut
+/// into several pieces by a re-entrant corner gives one element per piece, so there may be
+/// a few more elements than seeds. Polygon corners are mesh vertices exactly; other
+/// vertices on the polygon's edges lie on them to round-off.
+Mesh make_voronoi(int n, const PolygonDomain& domain, const VoronoiOptions& options = {});
+
 /// The generator names: squares, triangles, voronoi, nonconvex, distorted.
 const std::vector<std::string>& mesh_generator_names();
 
 /// Any generator by name with its default options; throws InputError listing the
 /// valid names for an unknown one.
 Mesh make_mesh(std::string_view generator, int n, const Rectangle& domain = {}, std::uint64_t seed = 1);
+
+/// triangles or voronoi by name in a polygon; InputError for the other generators (they
+/// need a rectangle) and for an unknown name.
+Mesh make_mesh(std::string_view generator, int n, const PolygonDomain& domain, std::uint64_t seed = 1);
 
 }  // namespace hemivem

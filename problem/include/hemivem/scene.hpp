@@ -54,6 +54,8 @@ struct SceneMesh {
   int n = 64;
   std::int64_t seed = 1;
   std::array<double, 4> domain{0.0, 1.0, 0.0, 1.0};  ///< x0, x1, y0, y1
+  /// A polygon domain's corners (voronoi and triangles); empty: the rectangle `domain`.
+  std::vector<std::array<double, 2>> polygon;
   bool operator==(const SceneMesh&) const = default;
 };
 
