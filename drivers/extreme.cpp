@@ -73,7 +73,9 @@ std::string mesh_text(const Scene& s) {
   std::ostringstream o;
   o << s.mesh.generator << " n=" << s.mesh.n;
   const auto& d = s.mesh.domain;
-  if (d != std::array<double, 4>{0.0, 1.0, 0.0, 1.0})
+  if (!s.mesh.polygon.empty())
+    o << " in a polygon of " << s.mesh.polygon.size() << " corners";
+  else if (d != std::array<double, 4>{0.0, 1.0, 0.0, 1.0})
     o << " on [" << d[0] << "," << d[1] << "]x[" << d[2] << "," << d[3] << "]";
   return o.str();
 }

@@ -89,7 +89,11 @@ int run_command(int argc, char** argv) {
   cmd_mesh->add_option("kind", gen_kind, "squares|triangles|voronoi|nonconvex|distorted")->required();
   cmd_mesh->add_option("--n", gen_n, "Elements (or seeds) per side")->capture_default_str()->check(CLI::Range(1, 10000000));
   cmd_mesh->add_option("--seed", gen_seed, "Seed of random meshes")->capture_default_str();
-  cmd_mesh->add_option("--domain", gen_domain, "x0 x1 y0 y1")->expected(4)->capture_default_str();
+  auto* o_domain = cmd_mesh->add_option("--domain", gen_domain, "x0 x1 y0 y1")->expected(4)->capture_default_str();
+  std::vector<double> gen_polygon;
+  cmd_mesh->add_option("--polygon", gen_polygon, "A simple polygon's corners x0 y0 x1 y1 ... (triangles, voronoi)")
+      ->expected(6, 2000000)
+      ->excludes(o_domain);
   cmd_mesh->add_option("-o,--output", gen_output, "Output .poly2d file")->required();
 
   // ---- study ------------------------------------------------------------------------------
@@ -213,7 +217,17 @@ int run_command(int argc, char** argv) {
       const Rectangle r{gen_domain[0], gen_domain[1], gen_domain[2], gen_domain[3]};
       const MemoryEstimate need = estimate_memory(gen_kind, gen_n);
       require_memory(need.mesh_bytes, gen_kind + " n = " + std::to_string(gen_n), "--n");
-      const Mesh m = make_mesh(gen_kind, gen_n, r, gen_seed);
+      Mesh m;
+      if (gen_polygon.empty()) {
+        m = make_mesh(gen_kind, gen_n, r, gen_seed);
+      } else {
+        if (gen_polygon.size() % 2 != 0)
+          throw InputError("--polygon takes pairs of coordinates x y; got " + std::to_string(gen_polygon.size()) +
+                           " numbers", "mesh --polygon");
+        PolygonDomain poly;
+        for (std::size_t i = 0; i < gen_polygon.size(); i += 2) poly.corners.emplace_back(gen_polygon[i], gen_polygon[i + 1]);
+        m = make_mesh(gen_kind, gen_n, poly, gen_seed);
+      }
       write_poly2d(gen_output, m, {gen_kind + " n=" + std::to_string(gen_n) + " seed=" + std::to_string(gen_seed)});
       return cli::kSuccess;
     }

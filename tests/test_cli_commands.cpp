@@ -1,5 +1,6 @@
 // End-to-end tests of the hemivem command: they run the built binary.
 #include <hemivem/linear_backends.hpp>
+#include <hemivem/mesh_io.hpp>
 #include <nlohmann/json.hpp>
 
 #include <gtest/gtest.h>
@@ -173,4 +174,27 @@ TEST(Cli, EngineParametersFromTheScene) {
   // other engines of `check` keep their defaults: the parameters are ssn's
   const CommandRun c = run("check " + good.string() + " --n 8 --json");
   EXPECT_EQ(c.code, 0) << c.err;
+}
+
+// `hemivem mesh` writes a generated mesh of a rectangle or of a polygon; bad polygons are
+// refused with the defect named and nothing written.
+TEST(Cli, MeshCommandWritesRectanglesAndPolygons) {
+  const fs::path dir = scratch("mesh-command");
+  fs::create_directories(dir);
+  EXPECT_EQ(run("mesh squares --n 3 --domain 0 2 0 1 -o " + (dir / "r.poly2d").string()).code, 0);
+  EXPECT_EQ(hemivem::read_poly2d(dir / "r.poly2d").mesh.num_elements(), 9);
+  const CommandRun ok = run("mesh voronoi --n 6 --polygon 0 0 1 0 1 0.5 0.5 0.5 0.5 1 0 1 -o " + (dir / "l.poly2d").string());
+  ASSERT_EQ(ok.code, 0) << ok.err;
+  EXPECT_NEAR(hemivem::read_poly2d(dir / "l.poly2d").mesh.total_area(), 0.75, 1e-12);
+  const std::vector<std::pair<std::string, std::string>> bad{
+      {"voronoi --n 6 --polygon 0 0 1 0 1 1 0", "pairs of coordinates"},
+      {"triangles --n 6 --polygon 0 0 1 1 1 0 0 1", "not simple"},
+      {"squares --n 6 --polygon 0 0 1 0 1 1", "needs a rectangular domain"},
+  };
+  for (const auto& [args, fragment] : bad) {
+    const CommandRun r = run("mesh " + args + " -o " + (dir / "bad.poly2d").string());
+    EXPECT_EQ(r.code, 2) << args;
+    EXPECT_NE(r.err.find(fragment), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "bad.poly2d")) << args;
+  }
 }
