@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "test_support.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -12,6 +14,8 @@
 using hemivem::Mesh;
 using hemivem::Rectangle;
 using hemivem::Vec2;
+using hemivem::test::identical;
+using hemivem::test::input_error_of;
 
 namespace {
 
@@ -58,12 +62,6 @@ void expect_tiles_rectangle(const Mesh& m, const Rectangle& d) {
   EXPECT_NEAR(perimeter, 2.0 * (d.width() + d.height()), 1e-12 * (d.width() + d.height()));
 }
 
-bool identical(const Mesh& a, const Mesh& b) {
-  if (a.num_vertices() != b.num_vertices() || a.elements() != b.elements()) return false;
-  for (int v = 0; v < a.num_vertices(); ++v)  // bitwise: == on every coordinate
-    if (!(a.vertex(v).x() == b.vertex(v).x() && a.vertex(v).y() == b.vertex(v).y())) return false;
-  return true;
-}
 
 double max_over_min_area(const Mesh& m) {
   double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
@@ -86,14 +84,6 @@ bool has_reflex_angle(const Mesh& m, int e) {
   return false;
 }
 
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const hemivem::InputError& e) {
-    return e.what();
-  }
-  return "";
-}
 
 }  // namespace
 
@@ -240,7 +230,7 @@ TEST(MeshGenerators, DistortedMovesOnlyInteriorVerticesWithinBounds) {
 
 TEST(MeshGenerators, DistortedRejectsBadFraction) {
   for (double f : {-0.1, 0.5, 0.7, std::numeric_limits<double>::quiet_NaN()}) {
-    const std::string msg = error_of([&] { hemivem::make_distorted(4, f, kRect); });
+    const std::string msg = input_error_of([&] { hemivem::make_distorted(4, f, kRect); });
     EXPECT_NE(msg.find("fraction"), std::string::npos) << f << ": " << msg;
   }
   EXPECT_NO_THROW(hemivem::make_distorted(4, 0.49, kRect, 3));
@@ -349,7 +339,7 @@ TEST(MeshGenerators, MakeMeshByName) {
 }
 
 TEST(MeshGenerators, UnknownNameListsTheValidOnes) {
-  const std::string msg = error_of([] { hemivem::make_mesh("hexagons", 4); });
+  const std::string msg = input_error_of([] { hemivem::make_mesh("hexagons", 4); });
   EXPECT_NE(msg.find("hexagons"), std::string::npos) << msg;
   for (const auto& name : hemivem::mesh_generator_names()) EXPECT_NE(msg.find(name), std::string::npos) << msg;
 }
@@ -357,21 +347,21 @@ TEST(MeshGenerators, UnknownNameListsTheValidOnes) {
 TEST(MeshGenerators, RejectBadSizeAndDomain) {
   for (const auto& name : hemivem::mesh_generator_names()) {
     for (int n : {0, -3}) {
-      const std::string msg = error_of([&] { make(name, n); });
+      const std::string msg = input_error_of([&] { make(name, n); });
       EXPECT_NE(msg.find("n must be"), std::string::npos) << name << ": " << msg;
       EXPECT_NE(msg.find("got " + std::to_string(n)), std::string::npos) << name << ": " << msg;
     }
     const double inf = std::numeric_limits<double>::infinity();
     for (const Rectangle& d : {Rectangle{1, 1, 0, 1}, Rectangle{0, 1, 2, 1}, Rectangle{0, inf, 0, 1},
                                Rectangle{0, 1, std::nan(""), 1}, Rectangle{-1e308, 1e308, 0, 1}}) {
-      const std::string msg = error_of([&] { make(name, 2, d); });
+      const std::string msg = input_error_of([&] { make(name, 2, d); });
       EXPECT_NE(msg.find("domain"), std::string::npos) << name << ": " << msg;
     }
   }
   hemivem::VoronoiOptions o;
   o.max_lloyd_iterations = -1;
-  EXPECT_NE(error_of([&] { hemivem::make_voronoi(3, kRect, o); }).find("max_lloyd_iterations"), std::string::npos);
+  EXPECT_NE(input_error_of([&] { hemivem::make_voronoi(3, kRect, o); }).find("max_lloyd_iterations"), std::string::npos);
   o.max_lloyd_iterations = 10;
   o.lloyd_tolerance = -1.0;
-  EXPECT_NE(error_of([&] { hemivem::make_voronoi(3, kRect, o); }).find("lloyd_tolerance"), std::string::npos);
+  EXPECT_NE(input_error_of([&] { hemivem::make_voronoi(3, kRect, o); }).find("lloyd_tolerance"), std::string::npos);
 }

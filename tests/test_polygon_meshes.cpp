@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "test_support.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -14,6 +16,8 @@
 using hemivem::Mesh;
 using hemivem::PolygonDomain;
 using hemivem::Vec2;
+using hemivem::test::identical;
+using hemivem::test::input_error_of;
 
 namespace {
 
@@ -68,21 +72,7 @@ void expect_tiles_polygon(const Mesh& m, const PolygonDomain& d) {
   EXPECT_EQ(m.num_vertices() - m.num_edges() + m.num_elements(), 1);
 }
 
-bool identical(const Mesh& a, const Mesh& b) {
-  if (a.num_vertices() != b.num_vertices() || a.elements() != b.elements()) return false;
-  for (int v = 0; v < a.num_vertices(); ++v)
-    if (!(a.vertex(v).x() == b.vertex(v).x() && a.vertex(v).y() == b.vertex(v).y())) return false;
-  return true;
-}
 
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const hemivem::InputError& e) {
-    return e.what();
-  }
-  return "";
-}
 
 }  // namespace
 
@@ -179,18 +169,18 @@ TEST(PolygonMeshes, BadPolygonsAreRefusedWithTheDefect) {
   for (const auto& [poly, fragment] : bad) {
     EXPECT_NE(hemivem::polygon_domain_defect(poly).find(fragment), std::string::npos) << fragment;
     for (const std::string name : {"triangles", "voronoi"}) {
-      const std::string msg = error_of([&, name = name] { hemivem::make_mesh(name, 3, poly); });
+      const std::string msg = input_error_of([&, name = name] { hemivem::make_mesh(name, 3, poly); });
       EXPECT_NE(msg.find(fragment), std::string::npos) << name << ": " << msg;
     }
   }
   EXPECT_EQ(hemivem::polygon_domain_defect(kL), "");
   // cells too small for double precision
   const PolygonDomain far{{{1e6, 1e6}, {1e6 + 1e-8, 1e6}, {1e6, 1e6 + 1e-8}}};
-  EXPECT_NE(error_of([&] { hemivem::make_triangles(20, far); }).find("too small"), std::string::npos);
+  EXPECT_NE(input_error_of([&] { hemivem::make_triangles(20, far); }).find("too small"), std::string::npos);
   // the other generators need a rectangle
   for (const std::string name : {"squares", "nonconvex", "distorted"}) {
-    const std::string msg = error_of([&, name = name] { hemivem::make_mesh(name, 3, kL); });
+    const std::string msg = input_error_of([&, name = name] { hemivem::make_mesh(name, 3, kL); });
     EXPECT_NE(msg.find("needs a rectangular domain"), std::string::npos) << msg;
   }
-  EXPECT_NE(error_of([] { hemivem::make_mesh("hexagons", 3, kL); }).find("unknown mesh generator"), std::string::npos);
+  EXPECT_NE(input_error_of([] { hemivem::make_mesh("hexagons", 3, kL); }).find("unknown mesh generator"), std::string::npos);
 }

@@ -332,22 +332,37 @@ uy = 0.01
   }
 }
 
+// A shipped Hertz-like scene solved (auto, ssn): the resultant P (the vertical contact force
+// times `sign`) and, for that P, Hertz's a = sqrt(4 P R / (pi E*)) and p0 = 2 P / (pi a) with
+// the scenes' E = 65, nu = 0.29 (plane strain) and R = 1.
+struct HertzRun {
+  ContactSolution s;
+  double P = 0.0, a = 0.0, p0 = 0.0;
+};
+
+HertzRun hertz_run(const std::string& scene_file, double sign) {
+  const auto built = build_problem(parse_scene(test::scenes_dir() / scene_file));
+  HertzRun h;
+  h.s = solve_with(built->problem, "auto", "ssn");
+  const double E = 65.0, nu = 0.29, R = 1.0, Estar = E / (1.0 - nu * nu);
+  h.P = sign * h.s.contact_force().y();
+  h.a = std::sqrt(4.0 * h.P * R / (M_PI * Estar));
+  h.p0 = 2.0 * h.P / (M_PI * h.a);
+  return h;
+}
+
 // Hertz (scenes/hertz.toml): a rigid cylinder pressed into a block, frictionless. For the
 // computed resultant P the contact half-width a = sqrt(4 P R / (pi E*)) and the peak pressure
 // p0 = 2 P / (pi a). The measured a and p0 come from a least-squares fit of p^2 = p0^2 (1 - x^2/a^2)
 // to the nodal pressures inside 0.8 a. docs/validation.md: on N = 100, 200, 400 the differences
 // stay within 0.5 % (the block's finite size, not h, sets them): the test allows 1.5 %.
 TEST(PoseProblem, HertzContactHalfWidthAndPeakPressure) {
-  const Scene scene = parse_scene(test::scenes_dir() / "hertz.toml");
-  const auto built = build_problem(scene);
-  const ContactSolution s = solve_with(built->problem, "auto", "ssn");
-  ASSERT_TRUE(s.converged());
-  const double E = 65.0, nu = 0.29, R = 1.0, Estar = E / (1.0 - nu * nu);
-  const Vec2 force = s.contact_force();
-  EXPECT_NEAR(force.x(), 0.0, 1e-9 * std::abs(force.y())) << "symmetric";
-  ASSERT_LT(force.y(), 0.0) << "the cylinder pushes the block down";
-  const double P = -force.y();
-  const double a = std::sqrt(4.0 * P * R / (M_PI * Estar)), p0 = 2.0 * P / (M_PI * a);
+  const HertzRun h = hertz_run("hertz.toml", -1.0);  // the cylinder pushes the block down
+  ASSERT_TRUE(h.s.converged());
+  ASSERT_GT(h.P, 0.0);
+  const ContactSolution& s = h.s;
+  const double a = h.a, p0 = h.p0;
+  EXPECT_NEAR(s.contact_force().x(), 0.0, 1e-9 * h.P) << "symmetric";
   const ContactZone zone = contact_zone(s);
   EXPECT_GE(zone.nodes, 20);
   // p^2 = A + B x^2 by least squares over the nodes inside 0.8 a
@@ -375,17 +390,13 @@ TEST(PoseProblem, HertzContactHalfWidthAndPeakPressure) {
 // matches a = sqrt(4 P R / (pi E*)) to one node spacing of the arc, and the peak pressure
 // matches p0 = 2 P / (pi a) within the 3 % the issue asks of the Hertz validation.
 TEST(PoseProblem, CurvedGmshBodyOnAPlaneMeetsHertz) {
-  const Scene scene = parse_scene(test::scenes_dir() / "half-disk-on-plane.toml");
-  const auto built = build_problem(scene);
-  const ContactSolution s = solve_with(built->problem, "auto", "ssn");
-  ASSERT_TRUE(s.converged());
-  const double E = 65.0, nu = 0.29, R = 1.0, Estar = E / (1.0 - nu * nu);
-  const double spacing = M_PI * R / 256.0;  // the arc's 257 nodes
-  const Vec2 force = s.contact_force();
-  ASSERT_GT(force.y(), 0.0) << "the plane pushes the body up";
-  EXPECT_LE(std::abs(force.x()), 1e-3 * force.y()) << "nearly symmetric";
-  const double P = force.y();
-  const double a = std::sqrt(4.0 * P * R / (M_PI * Estar)), p0 = 2.0 * P / (M_PI * a);
+  const HertzRun h = hertz_run("half-disk-on-plane.toml", 1.0);  // the plane pushes the body up
+  ASSERT_TRUE(h.s.converged());
+  ASSERT_GT(h.P, 0.0);
+  const ContactSolution& s = h.s;
+  const double a = h.a, p0 = h.p0;
+  const double spacing = M_PI / 256.0;  // the arc's 257 nodes on a radius of 1
+  EXPECT_LE(std::abs(s.contact_force().x()), 1e-3 * h.P) << "symmetric";
   const ContactZone zone = contact_zone(s);
   EXPECT_GE(zone.nodes, 11);
   EXPECT_NEAR(0.5 * (zone.upper.x() - zone.lower.x()), a, spacing);

@@ -202,6 +202,20 @@ Vec2 circumcentre(Vec2 a, Vec2 b, Vec2 c, double accuracy) {
   return {a.x() + nx / den, a.y() + ny / den};
 }
 
+/// The index in `points` of the circumcentre of a face, computed and appended the first
+/// time the face is asked (the face remembers it), so that all cells around it share it.
+int circumcentre_id(Delaunay::Face_handle f, std::vector<Vec2>& points, double accuracy) {
+  int& id = f->info().id;
+  if (id < 0) {
+    const auto& p0 = f->vertex(0)->point();
+    const auto& p1 = f->vertex(1)->point();
+    const auto& p2 = f->vertex(2)->point();
+    id = static_cast<int>(points.size());
+    points.push_back(circumcentre({p0.x(), p0.y()}, {p1.x(), p1.y()}, {p2.x(), p2.y()}, accuracy));
+  }
+  return id;
+}
+
 /// Voronoi cells of the seeds, clipped to the rectangle: cell i is the counter-clockwise
 /// ring of circumcentres ids[offsets[i]] .. ids[offsets[i+1]-1].
 struct VoronoiCells {
@@ -262,15 +276,7 @@ bool try_voronoi_cells(const std::vector<Vec2>& seeds, const Rectangle& d, doubl
     const auto done = fc;
     do {
       if (dt.is_infinite(fc)) return false;
-      int& id = fc->info().id;
-      if (id < 0) {
-        const auto& p0 = fc->vertex(0)->point();
-        const auto& p1 = fc->vertex(1)->point();
-        const auto& p2 = fc->vertex(2)->point();
-        id = static_cast<int>(out.points.size());
-        out.points.push_back(circumcentre({p0.x(), p0.y()}, {p1.x(), p1.y()}, {p2.x(), p2.y()}, tol / 64));
-      }
-      out.ids.push_back(id);
+      out.ids.push_back(circumcentre_id(fc, out.points, tol / 64));
     } while (++fc != done);
     out.offsets.push_back(static_cast<int>(out.ids.size()));
 
@@ -687,14 +693,7 @@ RawCells raw_voronoi_cells(const std::vector<Vec2>& seeds, const CheckedPolygon&
     const auto done = fc;
     do {
       if (dt.is_infinite(fc)) throw NumericalError("make_voronoi: a seed's Voronoi cell is unbounded");
-      int& id = fc->info().id;
-      if (id < 0) {
-        const auto& p0 = fc->vertex(0)->point();
-        const auto& p1 = fc->vertex(1)->point();
-        const auto& p2 = fc->vertex(2)->point();
-        id = static_cast<int>(out.points.size());
-        out.points.push_back(circumcentre({p0.x(), p0.y()}, {p1.x(), p1.y()}, {p2.x(), p2.y()}, dom.tol / 64));
-      }
+      const int id = circumcentre_id(fc, out.points, dom.tol / 64);
       if (out.ids.size() == first || at(out.ids.back()) != at(id)) out.ids.push_back(id);
     } while (++fc != done);
     while (out.ids.size() > first + 1 && at(out.ids.back()) == at(out.ids[first])) out.ids.pop_back();

@@ -43,6 +43,22 @@ DirichletCondition dirichlet_everywhere(const Mesh& mesh, VectorField u) {
   return {mesh.boundary_edges(), std::move(u), {true, true}};
 }
 
+bool identical(const Mesh& a, const Mesh& b) {
+  if (a.num_vertices() != b.num_vertices() || a.elements() != b.elements()) return false;
+  for (int v = 0; v < a.num_vertices(); ++v)
+    if (!(a.vertex(v).x() == b.vertex(v).x() && a.vertex(v).y() == b.vertex(v).y())) return false;
+  return true;
+}
+
+std::string input_error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
 }  // namespace hemivem::test
 
 #include <hemivem/linear_backends.hpp>

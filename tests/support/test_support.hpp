@@ -20,6 +20,9 @@ std::filesystem::path scenes_dir();
 
 #include <hemivem/assembly.hpp>
 
+#include <functional>
+#include <string>
+
 namespace hemivem::test {
 
 /// Solves a reduced system with Eigen's sparse Cholesky and returns the full nodal
@@ -28,6 +31,12 @@ Eigen::VectorXd solve(const LinearSystem& system);
 
 /// Dirichlet condition with value u on every boundary edge of the mesh.
 DirichletCondition dirichlet_everywhere(const Mesh& mesh, VectorField u);
+
+/// The same vertices bit for bit (== on every coordinate) and the same elements.
+bool identical(const Mesh& a, const Mesh& b);
+
+/// The message of the InputError that f throws ("" when it throws none).
+std::string input_error_of(const std::function<void()>& f);
 
 }  // namespace hemivem::test
 
