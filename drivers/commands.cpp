@@ -39,17 +39,19 @@ std::string toml_string(const std::string& s) {
 }
 
 // The output names of a scene ([output] write) as file names of write_outputs; the resolved
-// scene and the figures are always written.
-std::vector<std::string> wanted_files(const Scene& scene) {
-  static const std::vector<std::pair<std::string, std::string>> map{{"result-json", "result.json"},
-                                                                     {"contact-csv", "contact.csv"},
-                                                                     {"displacement-csv", "displacement.csv"},
-                                                                     {"history-csv", "history.csv"},
-                                                                     {"vtu", "solution.vtu"}};
+// scene is always written. Without contact there is no contact table, no minimizer history
+// and no u_nu plot.
+std::vector<std::string> wanted_files(const Scene& scene, bool has_contact) {
+  static const std::vector<std::pair<std::string, std::string>> map{
+      {"result-json", "result.json"}, {"contact-csv", "contact.csv"}, {"displacement-csv", "displacement.csv"},
+      {"history-csv", "history.csv"}, {"vtu", "solution.vtu"},        {"u-nu-png", "u_nu.png"},
+      {"deformed-png", "deformed.png"}};
   std::vector<std::string> files;
-  for (const auto& [name, file] : map)
+  for (const auto& [name, file] : map) {
+    if (!has_contact && (file == "contact.csv" || file == "history.csv" || file == "u_nu.png")) continue;
     if (std::find(scene.outputs.begin(), scene.outputs.end(), name) != scene.outputs.end()) files.push_back(file);
-  for (const char* f : {"scene.toml", "u_nu.png", "deformed.png"}) files.emplace_back(f);
+  }
+  files.push_back("scene.toml");
   return files;
 }
 
@@ -57,19 +59,22 @@ std::vector<std::string> wanted_files(const Scene& scene) {
 
 Scene load_scene(const SolveOptions& o) {
   Scene scene = o.scene.empty() ? default_scene() : parse_scene(o.scene);
+  // every flag and --set at once: validated together, in no particular order
+  std::vector<std::string> overrides;
   if (o.mesh) {
     const bool file = o.mesh->find('/') != std::string::npos || o.mesh->ends_with(".poly2d") || o.mesh->ends_with(".msh");
-    apply_override(scene, (file ? "mesh.file=" : "mesh.generator=") + toml_string(*o.mesh));
+    overrides.push_back((file ? "mesh.file=" : "mesh.generator=") + toml_string(*o.mesh));
   }
-  if (o.n) apply_override(scene, "mesh.n=" + std::to_string(*o.n));
-  if (o.linear) apply_override(scene, "solver.linear=" + toml_string(*o.linear));
-  if (o.minimizer) apply_override(scene, "solver.minimizer=" + toml_string(*o.minimizer));
+  if (o.n) overrides.push_back("mesh.n=" + std::to_string(*o.n));
+  if (o.linear) overrides.push_back("solver.linear=" + toml_string(*o.linear));
+  if (o.minimizer) overrides.push_back("solver.minimizer=" + toml_string(*o.minimizer));
   if (o.tolerance) {
     std::ostringstream v;
     v << std::setprecision(17) << *o.tolerance;
-    apply_override(scene, "solver.tolerance=" + v.str());
+    overrides.push_back("solver.tolerance=" + v.str());
   }
-  for (const auto& kv : o.set) apply_override(scene, kv);
+  overrides.insert(overrides.end(), o.set.begin(), o.set.end());
+  apply_overrides(scene, overrides);
   return scene;
 }
 
@@ -115,6 +120,7 @@ SceneSolve solve_scene(const Scene& scene, const std::function<void(const BuiltP
 
 int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   const Scene scene = load_scene(o);
+  check_output_folder(o.out);
   // ---- runs across processes (docs/cluster.md) ----
   if (const LaunchedProcesses launched = launched_processes(); launched.size > 1) {
     if (!same_engine(scene.solver.linear, "mumps-mpi"))
@@ -162,8 +168,11 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   info.mesh_seconds = mesh_seconds;
   info.dofs = sol.unknowns;
   info.processes = solved.processes;
+  info.warnings = built->warnings;
+  for (const auto& w : info.warnings) err << "hemivem: warning: " << w << "\n";
   const OutputReport report = write_outputs(o.out, built->mesh, built->problem.elasticity.materials, sol, info,
-                                            wanted_files(scene));
+                                            wanted_files(scene, built->has_contact));
+  for (const auto& f : report.written) info.files.push_back(f.filename().string());
 
   if (o.json) {
     out << result_json(built->mesh, sol, info).dump(2) << "\n";
@@ -177,7 +186,8 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
         << built->mesh.num_elements() << " elements, h = " << built->mesh.h() << ", " << info.dofs << " unknowns\n"
         << "  engines       linear " << info.linear
         << (info.processes > 1 ? " (" + std::to_string(info.processes) + " processes)" : std::string())
-        << ", minimizer " << info.minimizer << "\n"
+        << (built->has_contact ? ", minimizer " + info.minimizer : std::string(" (no contact: one linear solve)"))
+        << "\n"
         << "  stages        ";
     for (std::size_t i = 0; i < sol.stages.size(); ++i) out << (i ? ", " : "") << sol.stages[i];
     out << "\n  status        " << to_string(r.status) << " (certificate: " << certificate_text(r.certificate) << "), "
@@ -186,8 +196,9 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
       out << "  uniqueness    lambda_min(S - alpha_j W) = " << sol.uniqueness_margin
           << (sol.uniqueness_margin > 0 ? " > 0: the solution is unique\n"
                                         : " <= 0: several critical points are possible; this is one of them\n")
-          << "  contact       " << sol.contact.size() << " nodes: " << upper << " at the upper bound, " << lower
-          << " at the lower bound, " << sol.contact.size() - upper - lower << " free\n";
+          << "  contact       " << sol.contact.size() << " nodes: " << upper << " at the upper bound, ";
+      if (scene.contact && scene.contact->constraint == ConstraintKind::box) out << lower << " at the lower bound, ";
+      out << sol.contact.size() - upper - lower << " free\n";
       double law = 0.0, reaction = 0.0;
       for (const auto& c : sol.contact) law += c.law_force, reaction += c.reaction;
       out << "  forces        contact force " << law + reaction << " in total: law " << law << ", reactions "
@@ -200,6 +211,11 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
     for (std::size_t i = 0; i < report.written.size(); ++i) out << (i ? ", " : "") << report.written[i].filename().string();
     out << ")\n";
     for (const auto& s : report.skipped) out << "  skipped       " << s << "\n";
+    if (!report.removed.empty()) {
+      out << "  removed       ";
+      for (std::size_t i = 0; i < report.removed.size(); ++i) out << (i ? ", " : "") << report.removed[i];
+      out << " (an earlier run's, not written by this one)\n";
+    }
     if (!o.export_reduced.empty()) out << "  reduced       " << o.export_reduced << "/\n";
   }
   return sol.converged() ? kSuccess : kNotConverged;

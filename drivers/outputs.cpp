@@ -6,6 +6,8 @@
 #include <hemivem/error.hpp>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <array>
 #include <atomic>
 #include <charconv>
@@ -505,11 +507,13 @@ std::vector<ElementStress> element_stresses(const Mesh& mesh, const MaterialTabl
 nlohmann::json result_json(const Mesh& mesh, const ContactSolution& s, const RunInfo& info) {
   using nlohmann::json;
   json j;
-  j["schema"] = "hemivem-result/3";
+  j["schema"] = "hemivem-result/4";
   j["version"] = info.version;
   j["scene"] = {{"name", info.scene_name}, {"toml", info.scene_toml}};
   j["backends"] = {{"linear", info.linear}, {"minimizer", info.minimizer}};
   j["processes"] = info.processes;
+  j["files"] = info.files;
+  j["warnings"] = info.warnings;
   j["options"] = json::object();
   for (const auto& [k, v] : info.options) j["options"][k] = v;
   j["status"] = to_string(s.minimizer.status);
@@ -564,6 +568,28 @@ const std::vector<std::string>& all_outputs() {
   return names;
 }
 
+void check_output_folder(const fs::path& dir) {
+  std::error_code ec;
+  const fs::file_status st = fs::status(dir, ec);
+  if (fs::exists(st)) {
+    if (!fs::is_directory(st)) throw InputError("the output folder is a file, not a folder", dir.string());
+    if (::access(dir.c_str(), W_OK | X_OK) != 0)
+      throw InputError("cannot write into the output folder: " + std::string(std::strerror(errno)), dir.string());
+    return;
+  }
+  // the folder will be made: its nearest existing ancestor must be a writable folder
+  fs::path p = fs::absolute(dir, ec).parent_path();
+  while (!p.empty() && !fs::exists(fs::status(p, ec))) {
+    if (p == p.root_path()) break;
+    p = p.parent_path();
+  }
+  if (!fs::is_directory(fs::status(p, ec)))
+    throw InputError("cannot make the output folder: " + p.string() + " is not a folder", dir.string());
+  if (::access(p.c_str(), W_OK | X_OK) != 0)
+    throw InputError("cannot make the output folder: cannot write into " + p.string() + ": " + std::strerror(errno),
+                     dir.string());
+}
+
 OutputReport write_outputs(const fs::path& dir, const Mesh& mesh, const MaterialTable& materials,
                            const ContactSolution& solution, const RunInfo& info, const std::vector<std::string>& wanted) {
   const auto& known = all_outputs();
@@ -589,7 +615,11 @@ OutputReport write_outputs(const fs::path& dir, const Mesh& mesh, const Material
     write_atomically(dir / name, body);
     report.written.push_back(dir / name);
   };
-  write("result.json", [&](std::ostream& os) { os << result_json(mesh, solution, info).dump(2) << '\n'; });
+  RunInfo listed = info;  // result.json lists the run's files, in the order they are written
+  listed.files.clear();
+  for (const auto& k : known)
+    if (want(k)) listed.files.push_back(k);
+  write("result.json", [&](std::ostream& os) { os << result_json(mesh, solution, listed).dump(2) << '\n'; });
   write("contact.csv", [&](std::ostream& os) { write_contact_csv(os, solution); });
   write("displacement.csv", [&](std::ostream& os) { write_displacement_csv(os, mesh, solution.u); });
   write("history.csv", [&](std::ostream& os) { write_history_csv(os, solution); });
@@ -610,6 +640,19 @@ OutputReport write_outputs(const fs::path& dir, const Mesh& mesh, const Material
         if (want(name) && !done && !listed) report.skipped.push_back(std::string(name) + ": " + reason);
       }
     }
+  }
+  // A plot that could not be made is not in the folder: result.json says so.
+  if (want("result.json") && report.written.size() != listed.files.size()) {
+    listed.files.clear();
+    for (const auto& f : report.written) listed.files.push_back(f.filename().string());
+    write_atomically(dir / "result.json", [&](std::ostream& os) { os << result_json(mesh, solution, listed).dump(2) << '\n'; });
+  }
+  // The folder holds exactly this run's outputs: an earlier run's file of a name this run
+  // did not write goes (never anything else).
+  for (const auto& k : known) {
+    if (std::find(report.written.begin(), report.written.end(), dir / k) != report.written.end()) continue;
+    std::error_code rm;
+    if (fs::is_regular_file(fs::symlink_status(dir / k, rm)) && fs::remove(dir / k, rm)) report.removed.push_back(k);
   }
   return report;
 }

@@ -28,9 +28,11 @@ struct RunInfo {
   double mesh_seconds = 0.0;                  ///< wall time spent making or reading the mesh
   int dofs = -1;                              ///< free degrees of freedom; < 0: 2 x vertices
   int processes = 1;                          ///< processes of the linear engine (mpirun -np P with mumps-mpi)
+  std::vector<std::string> files;             ///< the files of the run's output folder (set by write_outputs)
+  std::vector<std::string> warnings;          ///< what the user should know about the problem posed
 };
 
-/// The result.json document ("schema": "hemivem-result/1").
+/// The result.json document ("schema": "hemivem-result/4").
 nlohmann::json result_json(const Mesh& mesh, const ContactSolution& solution, const RunInfo& info);
 
 /// The names write_outputs knows, in the order it writes them: result.json, contact.csv,
@@ -41,7 +43,13 @@ const std::vector<std::string>& all_outputs();
 struct OutputReport {
   std::vector<std::filesystem::path> written;  ///< files written, in order
   std::vector<std::string> skipped;            ///< "name: reason" for each wanted file not made (plots only)
+  std::vector<std::string> removed;            ///< names of earlier runs' outputs this run did not write
 };
+
+/// Checks, before any work, that `dir` can be the output folder: a folder that can be written
+/// into, or a path that does not exist below a folder that can. Creates nothing; throws
+/// InputError naming the folder otherwise.
+void check_output_folder(const std::filesystem::path& dir);
 
 /// Writes the `wanted` files (names from all_outputs()) into `dir`, creating it. Each file is
 /// written atomically. The plots are made by running gnuplot; when gnuplot is missing or fails

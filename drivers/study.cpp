@@ -243,7 +243,7 @@ double q1_energy(const Mesh& mesh, const MaterialTable& materials, const Eigen::
 
 int run_study(const StudyOptions& o, std::ostream& out, std::ostream& err) {
   Scene scene = o.scene.empty() ? default_scene() : parse_scene(o.scene);
-  for (const auto& kv : o.set) apply_override(scene, kv);
+  apply_overrides(scene, o.set);
   if (!scene.mesh.file.empty() || scene.mesh.generator != "squares")
     throw InputError("study needs nested square meshes (mesh.generator = squares)", scene.where("mesh.generator"));
   if (o.n.empty()) throw InputError("no N given", "--n");

@@ -30,7 +30,7 @@ TEST(Cli, DefaultSolveIsExample41AndWritesEveryOutput) {
   const CommandRun r = run("solve --n 16 --out " + out.string() + " --json");
   ASSERT_EQ(r.code, 0) << r.out;
   const auto j = nlohmann::json::parse(r.out);
-  EXPECT_EQ(j["schema"], "hemivem-result/3");
+  EXPECT_EQ(j["schema"], "hemivem-result/4");
   EXPECT_EQ(j["status"], "converged");
   EXPECT_LE(j["certificate"]["primal"].get<double>(), 1e-10);
   EXPECT_LE(j["certificate"]["dual"].get<double>(), 1e-10);
@@ -196,5 +196,82 @@ TEST(Cli, MeshCommandWritesRectanglesAndPolygons) {
     EXPECT_EQ(r.code, 2) << args;
     EXPECT_NE(r.err.find(fragment), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(dir / "bad.poly2d")) << args;
+  }
+}
+
+// A problem that nothing drives is solved (u = 0) but warned about on stderr and in
+// result.json; a scene without a title is named after its file, never "Example 4.1".
+TEST(Cli, TrivialProblemsAreWarnedAbout) {
+  const fs::path dir = scratch("trivial");
+  fs::create_directories(dir);
+  {
+    std::ofstream(dir / "bare.toml") << "schema_version = 1\n";
+  }
+  const CommandRun r = run("solve " + (dir / "bare.toml").string() + " --n 4 --out " + (dir / "out").string() + " -q");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("hemivem: warning: nothing drives this problem"), std::string::npos) << r.err;
+  const auto j = nlohmann::json::parse(slurp(dir / "out" / "result.json"));
+  ASSERT_EQ(j.at("warnings").size(), 1u);
+  EXPECT_EQ(j.at("scene").at("name"), "bare");
+  const CommandRun paper = run("solve --n 4 --out " + (dir / "paper").string() + " -q");
+  EXPECT_EQ(paper.err.find("warning"), std::string::npos) << paper.err;
+  EXPECT_TRUE(nlohmann::json::parse(slurp(dir / "paper" / "result.json")).at("warnings").empty());
+}
+
+// After a run the output folder holds exactly that run's files (result.json lists them):
+// names hemivem writes that the run did not are removed, nothing else is touched; a problem
+// without contact writes no contact table, history or u_nu plot; output.write switches the
+// plots off.
+TEST(Cli, OutputFolderHoldsExactlyTheRunsFiles) {
+  const fs::path out = scratch("exact-outputs");
+  ASSERT_EQ(run("solve --n 4 --out " + out.string() + " -q").code, 0);
+  std::ofstream(out / "notes.txt") << "mine\n";
+  auto listing = [&] {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(out)) names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+  };
+  auto files_of = [&] {
+    auto v = nlohmann::json::parse(slurp(out / "result.json")).at("files").get<std::vector<std::string>>();
+    v.push_back("notes.txt");
+    std::sort(v.begin(), v.end());
+    return v;
+  };
+  EXPECT_EQ(listing(), files_of());
+  const CommandRun lin = run("solve " + (scenes_dir() / "linear-elastic.toml").string() + " --n 4 --out " + out.string());
+  ASSERT_EQ(lin.code, 0) << lin.err;
+  EXPECT_EQ(listing(), (std::vector<std::string>{"deformed.png", "displacement.csv", "notes.txt", "result.json",
+                                                 "scene.toml", "solution.vtu"}));
+  EXPECT_EQ(listing(), files_of());
+  EXPECT_NE(lin.out.find("removed       contact.csv, history.csv, u_nu.png"), std::string::npos) << lin.out;
+  EXPECT_NE(lin.out.find("(no contact: one linear solve)"), std::string::npos) << lin.out;
+  ASSERT_EQ(run("solve --n 4 --set output.write=[\\\"result-json\\\"] --out " + out.string() + " -q").code, 0);
+  EXPECT_EQ(listing(), (std::vector<std::string>{"notes.txt", "result.json", "scene.toml"}));
+  EXPECT_EQ(slurp(out / "notes.txt"), "mine\n");
+}
+
+// The output folder is checked before any work: a file, or a folder that cannot be made,
+// fails at once with exit 2 and nothing written.
+TEST(Cli, OutputFolderIsCheckedFirst) {
+  const fs::path dir = scratch("out-checked");
+  fs::create_directories(dir);
+  std::ofstream(dir / "file") << "x";
+  const CommandRun a = run("solve --n 4 --out " + (dir / "file").string());
+  EXPECT_EQ(a.code, 2);
+  EXPECT_NE(a.err.find("the output folder is a file, not a folder"), std::string::npos) << a.err;
+  EXPECT_EQ(a.err.find("vertices"), std::string::npos) << "no work before the check: " << a.err;
+  const CommandRun b = run("solve --n 4 --out " + (dir / "file" / "sub").string());
+  EXPECT_EQ(b.code, 2);
+  EXPECT_NE(b.err.find("is not a folder"), std::string::npos) << b.err;
+  EXPECT_EQ(slurp(dir / "file"), "x");
+}
+
+// Flags and --set overrides are validated together: their order does not matter.
+TEST(Cli, OverridesInAnyOrder) {
+  for (const std::string order : {"--set contact.parameters.sigma=0.5 --set contact.law=kinked",
+                                  "--set contact.law=kinked --set contact.parameters.sigma=0.5"}) {
+    const CommandRun r = run("solve --n 4 " + order + " --out " + scratch("order").string() + " -q");
+    EXPECT_EQ(r.code, 0) << order << ": " << r.err;
   }
 }

@@ -289,6 +289,49 @@ TEST(Scene, BadOverridesNameTheKey) {
   EXPECT_NE(override_error("loads.traction[3].value=[0,1]").find("no element 3"), std::string::npos);
 }
 
+// Overrides are applied together and validated once: their order does not matter, and an
+// error names the override it comes from.
+TEST(Scene, OverridesDoNotDependOnTheirOrder) {
+  Scene a = default_scene(), b = default_scene();
+  apply_overrides(a, {"contact.parameters.sigma=0.5", "contact.law=kinked"});
+  apply_overrides(b, {"contact.law=kinked", "contact.parameters.sigma=0.5"});
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(a.contact->law.name, "kinked");
+  EXPECT_EQ(a.contact->law.parameters.at("sigma"), 0.5);
+  Scene c = default_scene(), d = default_scene();
+  apply_overrides(c, {"mesh.generator=voronoi", "mesh.domain=[[0,0],[1,0],[0,1]]"});
+  apply_overrides(d, {"mesh.domain=[[0,0],[1,0],[0,1]]", "mesh.generator=voronoi"});
+  EXPECT_EQ(c, d);
+  // the later of two values of one key wins
+  Scene e = default_scene();
+  apply_overrides(e, {"contact.gap=0.1", "contact.gap=0.3"});
+  EXPECT_EQ(e.contact->gap.value, 0.3);
+  // an error names its override, wherever it stands
+  for (const auto& list : {std::vector<std::string>{"material.E=-1", "contact.gap=0.1"},
+                           std::vector<std::string>{"contact.gap=0.1", "material.E=-1"}}) {
+    Scene f = default_scene();
+    try {
+      apply_overrides(f, list);
+      ADD_FAILURE() << "no error";
+    } catch (const InputError& err) {
+      EXPECT_EQ(err.where(), "--set material.E");
+    }
+  }
+}
+
+// A law parameter of another law names the law that has it; suggestions come only when close.
+TEST(Scene, ErrorsSuggestOnlyCloseNames) {
+  const std::string sigma = override_error("contact.parameters.sigma=0.5");
+  EXPECT_NE(sigma.find("'sigma' is a parameter of law kinked, not of law 'paper' (which has none)"), std::string::npos)
+      << sigma;
+  EXPECT_NE(override_error("contact.gapp=0.1").find("did you mean 'gap'?"), std::string::npos);
+  const std::string far = override_error("contact.friction=1");
+  EXPECT_NE(far.find("unknown key 'friction' in [contact]"), std::string::npos) << far;
+  EXPECT_EQ(far.find("did you mean"), std::string::npos) << far;
+  EXPECT_EQ(override_error("mesh.generator=hexagons").find("did you mean"), std::string::npos);
+  EXPECT_NE(override_error("mesh.generator=voronio").find("did you mean 'voronoi'?"), std::string::npos);
+}
+
 TEST(Scene, ParseErrorsCarryFileLineAndColumn) {
   try {
     (void)parse_scene_string("schema_version = 1\n[mesh]\nn = = 3\n", "x.toml");

@@ -61,16 +61,20 @@ std::size_t edit_distance(std::string_view a0, std::string_view b0) {
   return prev[b.size()];
 }
 
-std::string nearest(std::string_view key, const std::vector<std::string>& valid) {
+/// "; did you mean 'x'?" for the valid name nearest to key when it is close (an edit
+/// distance of at most max(2, a third of key's length), or one is a prefix of the other),
+/// else "": a far suggestion is noise.
+std::string did_you_mean(std::string_view key, const std::vector<std::string>& valid) {
   std::string best;
   std::size_t best_d = std::numeric_limits<std::size_t>::max();
   for (const auto& v : valid) {
-    std::size_t d = edit_distance(key, v);
+    std::size_t d = edit_distance(lower(key), lower(v));
     const std::string k = lower(key), w = lower(v);
     if (k.size() >= 2 && (w.rfind(k, 0) == 0 || k.rfind(w, 0) == 0)) d = std::min<std::size_t>(d, 1);
     if (d < best_d) best_d = d, best = v;
   }
-  return best;
+  if (best.empty() || best_d > std::max<std::size_t>(2, key.size() / 3)) return {};
+  return "; did you mean '" + best + "'?";
 }
 
 std::string join(const std::vector<std::string>& v) {
@@ -113,7 +117,7 @@ class TableReader {
     }
     if (worst) {
       std::string msg = "unknown key '" + worst_key + "' in [" + (path_.empty() ? "root" : path_) + "]";
-      if (!allowed.empty()) msg += "; did you mean '" + nearest(worst_key, allowed) + "'?";
+      msg += did_you_mean(worst_key, allowed);
       throw InputError(msg, at(*worst));
     }
     if (!path_.empty() && table_.source().begin.line > 0) scene_.lines[path_] = static_cast<int>(table_.source().begin.line);
@@ -300,7 +304,7 @@ void check_name(TableReader& r, std::string_view key, const std::string& value, 
   for (const auto& x : valid)
     if (v == x) return;
   r.fail(key, r.node(key),
-         "unknown " + what + " '" + value + "'; did you mean '" + nearest(value, valid) + "'? (expected one of: " + join(valid) + ")");
+         "unknown " + what + " '" + value + "'" + did_you_mean(value, valid) + " (expected one of: " + join(valid) + ")");
 }
 
 BoundarySelector read_selector(TableReader& r, bool required) {
@@ -310,7 +314,7 @@ BoundarySelector read_selector(TableReader& r, bool required) {
     for (const auto& side : *v) {
       if (std::find(kSides.begin(), kSides.end(), lower(side)) == kSides.end())
         r.fail("side", r.node("side"),
-               "unknown side '" + side + "'; did you mean '" + nearest(side, kSides) + "'? (expected one of: " + join(kSides) + ")");
+               "unknown side '" + side + "'" + did_you_mean(side, kSides) + " (expected one of: " + join(kSides) + ")");
       s.sides.push_back(lower(side));
     }
   }
@@ -412,6 +416,16 @@ SceneContact read_contact(TableReader& r) {
   }
   if (const toml::table* p = r.table("parameters")) {
     const auto& allowed = law_parameter_names().at(c.law.name);
+    for (const auto& [k, v] : *p) {  // a parameter of another law: name the law
+      const std::string key(k.str());
+      if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
+      std::string owners;
+      for (const auto& [law, names] : law_parameter_names())
+        if (std::find(names.begin(), names.end(), key) != names.end()) owners += (owners.empty() ? "" : ", ") + law;
+      if (owners.empty()) continue;  // unknown to every law: the reader below suggests a name
+      r.fail("parameters", v, "'" + key + "' is a parameter of law " + owners + ", not of law '" + c.law.name + "'" +
+                                   (allowed.empty() ? " (which has none)" : " (which has: " + join(allowed) + ")"));
+    }
     TableReader pr(r.scene(), *p, r.key_path("parameters"), allowed);
     for (const auto& name : allowed)
       if (auto v = pr.number(name)) c.law.parameters[name] = *v;
@@ -482,7 +496,12 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
     r.fail("schema_version", r.node("schema_version"),
            "unsupported version " + std::to_string(*version) + "; this program reads version " +
                std::to_string(scene_schema_version));
-  if (auto t = r.string("title")) s.title = *t;
+  if (auto t = r.string("title")) {
+    s.title = *t;
+  } else {  // never the paper's title for a scene that does not say it is the paper's problem
+    const std::string stem = std::filesystem::path(s.source).stem().string();
+    s.title = stem.empty() || stem.front() == '<' || stem.front() == '-' ? "untitled scene" : stem;
+  }
 
   if (const toml::table* t = r.table("mesh")) {
     TableReader m(s, *t, "mesh", {"generator", "file", "n", "seed", "domain"});
@@ -676,7 +695,7 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
         const auto& valid = scene_output_names();
         if (std::find(valid.begin(), valid.end(), lower(x)) == valid.end())
           o.fail("write", o.node("write"),
-                 "unknown output '" + x + "'; did you mean '" + nearest(x, valid) + "'? (expected any of: " + join(valid) + ")");
+                 "unknown output '" + x + "'" + did_you_mean(x, valid) + " (expected any of: " + join(valid) + ")");
         if (std::find(s.outputs.begin(), s.outputs.end(), lower(x)) == s.outputs.end()) s.outputs.push_back(lower(x));
       }
     }
@@ -764,7 +783,8 @@ void write_selector(std::ostream& o, const BoundarySelector& b) {
 }  // namespace
 
 const std::vector<std::string>& scene_output_names() {
-  static const std::vector<std::string> names{"vtu", "contact-csv", "displacement-csv", "history-csv", "result-json"};
+  static const std::vector<std::string> names{"vtu",         "contact-csv", "displacement-csv", "history-csv",
+                                              "result-json", "u-nu-png",    "deformed-png"};
   return names;
 }
 
@@ -889,7 +909,18 @@ void write_scene(const std::filesystem::path& path, const Scene& scene) {
   write_file_atomically(path, [&](std::ostream& out) { out << text; });
 }
 
-void apply_override(Scene& scene, std::string_view key_eq_value) {
+namespace {
+
+/// One "dotted.key=value" override: the key, its path ("name[i]" selects element i of an
+/// array of tables) and the value in TOML syntax (a bare word is a string).
+struct Override {
+  std::string key;
+  std::vector<std::pair<std::string, int>> parts;
+  toml::table holder;  ///< the value as "v"
+  std::string where() const { return "--set " + key; }
+};
+
+Override parse_override(std::string_view key_eq_value) {
   const auto eq = key_eq_value.find('=');
   if (eq == std::string_view::npos)
     throw InputError("expected key=value, got '" + std::string(key_eq_value) + "'", "--set");
@@ -898,51 +929,43 @@ void apply_override(Scene& scene, std::string_view key_eq_value) {
     while (!v.empty() && std::isspace(static_cast<unsigned char>(v.back()))) v.remove_suffix(1);
     return v;
   };
-  const std::string key(trim(key_eq_value.substr(0, eq)));
+  Override o;
+  o.key = std::string(trim(key_eq_value.substr(0, eq)));
   const std::string value(trim(key_eq_value.substr(eq + 1)));
-  const std::string where = "--set " + key;
-  if (key.empty()) throw InputError("empty key", "--set");
-
-  // Split the dotted path; "name[i]" selects element i of an array of tables.
-  std::vector<std::pair<std::string, int>> parts;
-  {
-    std::size_t start = 0;
-    while (start <= key.size()) {
-      const auto dot = key.find('.', start);
-      std::string part = key.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
-      int index = -1;
-      if (auto lb = part.find('['); lb != std::string::npos) {
-        if (part.back() != ']') throw InputError("bad index in key '" + key + "'", where);
-        try {
-          index = std::stoi(part.substr(lb + 1, part.size() - lb - 2));
-        } catch (const std::exception&) {
-          throw InputError("bad index in key '" + key + "'", where);
-        }
-        part = part.substr(0, lb);
+  if (o.key.empty()) throw InputError("empty key", "--set");
+  std::size_t start = 0;
+  while (start <= o.key.size()) {
+    const auto dot = o.key.find('.', start);
+    std::string part = o.key.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
+    int index = -1;
+    if (auto lb = part.find('['); lb != std::string::npos) {
+      if (part.back() != ']') throw InputError("bad index in key '" + o.key + "'", o.where());
+      try {
+        index = std::stoi(part.substr(lb + 1, part.size() - lb - 2));
+      } catch (const std::exception&) {
+        throw InputError("bad index in key '" + o.key + "'", o.where());
       }
-      if (part.empty()) throw InputError("empty part in key '" + key + "'", where);
-      parts.emplace_back(part, index);
-      if (dot == std::string::npos) break;
-      start = dot + 1;
+      part = part.substr(0, lb);
     }
+    if (part.empty()) throw InputError("empty part in key '" + o.key + "'", o.where());
+    o.parts.emplace_back(part, index);
+    if (dot == std::string::npos) break;
+    start = dot + 1;
   }
-
-  Scene base = scene;
-  if (parts.front().first == "contact" && !base.contact) base.contact = SceneContact{};
-  toml::table root = parse_toml(to_toml(base), "<resolved scene>");
-
-  // The value in TOML syntax; a bare word is a string.
-  toml::table holder;
   try {
-    holder = toml::parse("v = " + value);
+    o.holder = toml::parse("v = " + value);
   } catch (const toml::parse_error&) {
-    holder = toml::table{};
-    holder.insert("v", value);
+    o.holder = toml::table{};
+    o.holder.insert("v", value);
   }
+  return o;
+}
 
+/// Puts the override's value into the scene's table (nothing is validated here).
+void edit_table(toml::table& root, Override& o) {
   toml::table* t = &root;
-  for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
-    const auto& [name, index] = parts[i];
+  for (std::size_t i = 0; i + 1 < o.parts.size(); ++i) {
+    const auto& [name, index] = o.parts[i];
     toml::node* n = t->get(name);
     if (!n) {
       t->insert(name, toml::table{});
@@ -951,39 +974,88 @@ void apply_override(Scene& scene, std::string_view key_eq_value) {
     if (index >= 0) {
       auto* a = n->as_array();
       if (!a || !a->is_array_of_tables() || index >= static_cast<int>(a->size()))
-        throw InputError("no element " + std::to_string(index) + " in '" + name + "'", where);
+        throw InputError("no element " + std::to_string(index) + " in '" + name + "'", o.where());
       t = (*a)[static_cast<std::size_t>(index)].as_table();
     } else {
       t = n->as_table();
-      if (!t) throw InputError("'" + name + "' is not a table", where);
+      if (!t) throw InputError("'" + name + "' is not a table", o.where());
     }
   }
-  const std::string& leaf = parts.back().first;
-  if (parts.back().second >= 0)
-    throw InputError("cannot replace a whole element; set one of its keys, e.g. '" + key + ".value'", where);
-  if (parts.size() == 2 && parts[0].first == "mesh") {
+  const std::string& leaf = o.parts.back().first;
+  if (o.parts.back().second >= 0)
+    throw InputError("cannot replace a whole element; set one of its keys, e.g. '" + o.key + ".value'", o.where());
+  if (o.parts.size() == 2 && o.parts[0].first == "mesh") {
     if (leaf == "generator") t->erase("file");
     if (leaf == "file") {
       for (const char* k : {"generator", "n", "seed", "domain"}) t->erase(k);
-      if (auto* sv = holder.get("v"); sv && sv->is_string()) {
+      if (auto* sv = o.holder.get("v"); sv && sv->is_string()) {
         std::filesystem::path p(sv->as_string()->get());
-        if (p.is_relative() && !p.empty()) holder.insert_or_assign("v", std::filesystem::absolute(p).lexically_normal().string());
+        if (p.is_relative() && !p.empty()) o.holder.insert_or_assign("v", std::filesystem::absolute(p).lexically_normal().string());
       }
     }
   }
-  holder.get("v")->visit([&](auto&& v) { t->insert_or_assign(leaf, v); });
+  o.holder.get("v")->visit([&](auto&& v) { t->insert_or_assign(leaf, v); });
+}
+
+}  // namespace
+
+void apply_overrides(Scene& scene, const std::vector<std::string>& key_eq_values) {
+  if (key_eq_values.empty()) return;
+  std::vector<Override> overrides;
+  for (const auto& kv : key_eq_values) overrides.push_back(parse_override(kv));
+  Scene base = scene;
+  for (const auto& o : overrides)
+    if (o.parts.front().first == "contact" && !base.contact) base.contact = SceneContact{};
+  toml::table root = parse_toml(to_toml(base), "<resolved scene>");
+  for (auto& o : overrides) edit_table(root, o);
 
   Scene updated;
   try {
     updated = scene_from_table(root, "--set", std::filesystem::current_path());
   } catch (const InputError& e) {
-    std::string msg = e.detail();
-    throw InputError(msg, where);
+    // blame the override whose key the message's key path shares most with (the later one on
+    // a tie); "--set" alone when the message names none of them
+    const std::string& m = e.detail();
+    std::string where = "--set";
+    std::size_t best = 0;
+    for (const auto& o : overrides) {
+      if (m.rfind(o.parts.front().first, 0) != 0) continue;
+      std::size_t k = 0;
+      while (k < o.key.size() && k < m.size() && o.key[k] == m[k]) ++k;
+      if (k >= best) best = k, where = o.where();
+    }
+    if (best == 0)  // "unknown key 'x' in [...]": the override with that key
+      for (const auto& o : overrides)
+        for (const auto& part : o.parts)
+          if (m.find("'" + part.first + "'") != std::string::npos) where = o.where();
+    if (where == "--set" && overrides.size() == 1) where = overrides.front().where();
+    throw InputError(m, where);
   }
   updated.source = scene.source;
   updated.lines = scene.lines;
-  updated.lines[key] = 0;
+  for (const auto& o : overrides) updated.lines[o.key] = 0;
   scene = std::move(updated);
+}
+
+void apply_override(Scene& scene, std::string_view key_eq_value) {
+  apply_overrides(scene, {std::string(key_eq_value)});
+}
+
+std::vector<std::string> scene_warnings(const Scene& scene) {
+  auto zero = [](const SceneScalar& v) { return !v.is_expression() && v.value == 0.0; };
+  bool driven = !zero(scene.body_force[0]) || !zero(scene.body_force[1]);
+  for (const auto& t : scene.tractions)
+    driven = driven || (t.pressure ? !zero(*t.pressure) : !zero(t.value[0]) || !zero(t.value[1]));
+  for (const auto& d : scene.dirichlet) driven = driven || (d.ux && !zero(*d.ux)) || (d.uy && !zero(*d.uy));
+  if (scene.contact)
+    driven = driven || scene.contact->obstacle.has_value() || scene.contact->gap.is_expression() ||
+             scene.contact->gap.value < 0.0;
+  std::vector<std::string> out;
+  if (!driven)
+    out.push_back("nothing drives this problem: no load, no prescribed displacement other than zero and no "
+                  "obstacle; its solution is u = 0 unless the contact law pushes at u_nu = 0 (a missing [loads] table "
+                  "means no loads)");
+  return out;
 }
 
 std::unique_ptr<BuiltProblem> build_problem(const Scene& scene) {
@@ -1039,6 +1111,7 @@ std::unique_ptr<BuiltProblem> build_problem(const Scene& scene) {
   }
   out->problem = make_contact_problem(scene, mesh);
   out->has_contact = scene.contact.has_value();
+  out->warnings = scene_warnings(scene);
   return out;
 }
 
@@ -1129,6 +1202,17 @@ ContactProblem make_contact_problem(const Scene& scene, const Mesh& mesh) {
   if (scene.contact) {
     const auto& c = *scene.contact;
     p.contact_edges = select(c.boundary, "contact");
+    {  // a part whose every node is clamped leaves nothing to touch: an error, not a silent drop
+      std::set<int> fixed, touching;
+      for (const auto& d : p.elasticity.dirichlet)
+        if (d.fix[0] && d.fix[1])
+          for (int e : d.edges) fixed.insert({mesh.edge(e).v0, mesh.edge(e).v1});
+      for (int e : p.contact_edges) touching.insert({mesh.edge(e).v0, mesh.edge(e).v1});
+      if (std::includes(fixed.begin(), fixed.end(), touching.begin(), touching.end()))
+        throw InputError("contact: every node of the contact part is also clamped ([clamped] or a [[dirichlet]] "
+                         "with both components), so nothing is left to touch; end one of the parts before the other",
+                         scene.where("contact"));
+    }
     if (c.obstacle) p.obstacle = make_obstacle(*c.obstacle);
     else p.gap = [g = field(c.gap), where = scene.where("contact.gap")](const Vec2& x) {
       const double value = g(x);

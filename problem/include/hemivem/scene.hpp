@@ -140,6 +140,7 @@ const std::vector<std::string>& scene_output_names();
 
 struct Scene {
   int schema_version = scene_schema_version;
+  /// Free text recorded in results; a scene file without `title` is named after the file.
   std::string title = "Example 4.1 (Feng, Han, Huang 2021)";
   SceneMesh mesh;
   SceneMaterial material;
@@ -183,6 +184,11 @@ Scene default_scene();
 /// default contact part (the bottom side, the paper's law).
 void apply_override(Scene& scene, std::string_view key_eq_value);
 
+/// Applies several overrides at once: every value is put in place first and the scene is
+/// validated once, so the order does not matter ("contact.parameters.sigma=0.5" and
+/// "contact.law=kinked" in either order). Later overrides of the same key win.
+void apply_overrides(Scene& scene, const std::vector<std::string>& key_eq_values);
+
 /// The scene as TOML text: every key written, parse_scene_string(to_toml(s), n) == s.
 std::string to_toml(const Scene& scene);
 
@@ -194,6 +200,7 @@ struct BuiltProblem {
   Mesh mesh;
   ContactProblem problem;  ///< contact_edges empty and law null when has_contact is false
   bool has_contact = false;
+  std::vector<std::string> warnings;  ///< scene_warnings(scene)
   BuiltProblem() = default;
   BuiltProblem(const BuiltProblem&) = delete;
   BuiltProblem& operator=(const BuiltProblem&) = delete;
@@ -202,6 +209,11 @@ struct BuiltProblem {
 /// Builds the mesh (generator or file: .poly2d via read_poly2d, .msh via read_gmsh), the
 /// materials, the boundary parts, loads and contact data. Errors (unknown edge group, a
 /// part selecting no edge, a region without material) name the scene key's file:line.
+/// What a user should know about the problem a scene poses, though it is valid: today, a
+/// problem that nothing drives (no load, no prescribed displacement other than zero, no
+/// obstacle and no gap that pushes), whose solution is u = 0.
+std::vector<std::string> scene_warnings(const Scene& scene);
+
 std::unique_ptr<BuiltProblem> build_problem(const Scene& scene);
 
 /// The contact problem of a scene on a given mesh (the scene's mesh keys are not used): the
