@@ -62,7 +62,17 @@ Scene load_scene(const SolveOptions& o) {
   // every flag and --set at once: validated together, in no particular order
   std::vector<std::string> overrides;
   if (o.mesh) {
-    const bool file = o.mesh->find('/') != std::string::npos || o.mesh->ends_with(".poly2d") || o.mesh->ends_with(".msh");
+    const std::string ext = std::filesystem::path(*o.mesh).extension().string();
+    const bool file = o.mesh->find('/') != std::string::npos || !ext.empty();
+    const auto& kinds = mesh_generator_names();
+    std::string list;
+    for (const auto& k : kinds) list += (list.empty() ? "" : ", ") + k;
+    if (file && ext != ".poly2d" && ext != ".msh")
+      throw InputError("'" + *o.mesh + "' is neither a mesh generator (" + list + ") nor a .poly2d or .msh file", "--mesh");
+    if (!file && std::find(kinds.begin(), kinds.end(), *o.mesh) == kinds.end())
+      throw InputError("unknown mesh generator '" + *o.mesh + "'" + did_you_mean(*o.mesh, kinds) + " (expected one of: " +
+                           list + ", or a .poly2d or .msh file)",
+                       "--mesh");
     overrides.push_back((file ? "mesh.file=" : "mesh.generator=") + toml_string(*o.mesh));
   }
   if (o.n) overrides.push_back("mesh.n=" + std::to_string(*o.n));

@@ -15,9 +15,12 @@
 #include <hemivem/mesh_generators.hpp>
 #include <hemivem/mesh_io.hpp>
 #include <hemivem/resources.hpp>
+#include <hemivem/scene.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
 
 #include <algorithm>
+#include <cctype>
+#include <cmath>
 #include <chrono>
 #include <iostream>
 #include <thread>
@@ -41,6 +44,54 @@ std::string engines_text() {
   return s;
 }
 
+/// A number > 0 (CLI11's PositiveNumber prints the largest double in full).
+const CLI::Validator kPositive(
+    [](std::string& text) -> std::string {
+      try {
+        std::size_t used = 0;
+        const double v = std::stod(text, &used);
+        if (used == text.size() && v > 0.0 && std::isfinite(v)) return {};
+      } catch (const std::exception&) {
+      }
+      return "expected a number > 0, got '" + text + "'";
+    },
+    "NUMBER > 0");
+
+std::vector<std::string> names_of(const std::vector<CLI::App*>& apps) {
+  std::vector<std::string> v;
+  for (const auto* a : apps) v.push_back(a->get_name());
+  return v;
+}
+
+/// What CLI11 would say less clearly: an unknown command (with the nearest name when close),
+/// and an option the chosen command does not take (before a value of it is read as a scene
+/// file). Empty when the command line passes these checks.
+std::string precheck(CLI::App& app, int argc, char** argv) {
+  if (argc < 2) return {};
+  const std::string first = argv[1];
+  if (first.empty() || first[0] == '-') return {};
+  const auto commands = names_of(app.get_subcommands([](CLI::App*) { return true; }));
+  if (std::find(commands.begin(), commands.end(), first) == commands.end()) {
+    std::string list;
+    for (const auto& c : commands) list += (list.empty() ? "" : ", ") + c;
+    return "unknown command '" + first + "'" + hemivem::did_you_mean(first, commands) + " (commands: " + list + ")";
+  }
+  CLI::App* sub = app.get_subcommand(first);
+  for (int i = 2; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--") break;
+    if (a.size() < 2 || a[0] != '-' || std::isdigit(static_cast<unsigned char>(a[1])) || a[1] == '.') continue;
+    const std::string name = a.substr(0, a.find('='));
+    if (sub->get_option_no_throw(name) != nullptr || app.get_option_no_throw(name) != nullptr) continue;
+    std::vector<std::string> options;
+    for (const auto* o : sub->get_options())
+      for (const auto& l : o->get_lnames()) options.push_back("--" + l);
+    return "'" + first + "' takes no option " + name + hemivem::did_you_mean(name, options) + " (hemivem " + first +
+           " --help lists its options)";
+  }
+  return {};
+}
+
 }  // namespace
 
 int run_command(int argc, char** argv) {
@@ -61,7 +112,7 @@ int run_command(int argc, char** argv) {
   auto* o_linear = cmd_solve->add_option("--linear", linear_flag,
                                          join_engine_names(known_linear_engines(), "|") + "|auto (the fastest built; default)");
   auto* o_min = cmd_solve->add_option("--minimizer", minimizer_flag, join_engine_names(known_minimizers(), "|"));
-  auto* o_tol = cmd_solve->add_option("--tol", tol_flag, "Certificate tolerance")->check(CLI::PositiveNumber);
+  auto* o_tol = cmd_solve->add_option("--tol", tol_flag, "Certificate tolerance")->check(kPositive);
   cmd_solve->add_option("--set", solve.set, "Override a scene key: key=value (repeatable), e.g. contact.gap=0.01");
   cmd_solve->add_option("--out", solve.out, "Output folder")->capture_default_str();
   cmd_solve->add_option("--export-reduced", solve.export_reduced, "Also write the reduced problem to this folder");
@@ -77,7 +128,7 @@ int run_command(int argc, char** argv) {
       ->check(CLI::ExistingDirectory);
   cmd_min->add_option("--minimizer", minimize.minimizer, join_engine_names(known_minimizers(), "|"))->capture_default_str();
   cmd_min->add_option("--law", minimize.law, "A shipped law replacing law.txt: paper|linear|kinked|sawtooth|zero");
-  cmd_min->add_option("--tol", minimize.tolerance, "Certificate tolerance")->capture_default_str()->check(CLI::PositiveNumber);
+  cmd_min->add_option("--tol", minimize.tolerance, "Certificate tolerance")->capture_default_str()->check(kPositive);
   cmd_min->add_flag("--json", minimize.json, "Print the result as JSON");
   cmd_min->add_flag("-q,--quiet", min_quiet, "Print nothing on success");
 
@@ -126,11 +177,11 @@ int run_command(int argc, char** argv) {
   auto* cmd_check = app.add_subcommand("check", "Solve a scene with every built pair of engines and compare the results");
   cmd_check->add_option("scene", check.scene, "Scene file (TOML); none: the paper's Example 4.1")->check(CLI::ExistingFile);
   auto* o_check_n = cmd_check->add_option("--n", check_n, "Elements per side")->check(CLI::Range(1, 10000000));
-  auto* o_check_tol = cmd_check->add_option("--tol", check_tol, "Certificate tolerance for every pair")->check(CLI::PositiveNumber);
+  auto* o_check_tol = cmd_check->add_option("--tol", check_tol, "Certificate tolerance for every pair")->check(kPositive);
   cmd_check->add_option("--set", check.set, "Override a scene key: key=value (repeatable)");
   cmd_check->add_option("--agree", check.agree, "Largest accepted max|u_a - u_b| / max|u_ref| between converged pairs")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(kPositive);
   cmd_check->add_flag("--json", check.json, "Print the report as JSON on stdout instead of the table");
   cmd_check->add_flag("-q,--quiet", check_quiet, "Print nothing (the exit code tells)");
   cli::ExtremeOptions extreme;
@@ -156,7 +207,7 @@ int run_command(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::Range(1, 10000000));
   cmd_bench->add_option("--ref", bench.ref, "Mesh size of the reference solution")->capture_default_str()->check(CLI::Range(1, 10000000));
-  auto* o_bench_tol = cmd_bench->add_option("--tol", bench_tol, "Certificate tolerance for every pair")->check(CLI::PositiveNumber);
+  auto* o_bench_tol = cmd_bench->add_option("--tol", bench_tol, "Certificate tolerance for every pair")->check(kPositive);
   cmd_bench->add_option("--set", bench.set, "Override a scene key: key=value (repeatable)");
   cmd_bench->add_option("--out", bench.out, "Output folder (bench.csv, bench.json, bench.png; with --limit: limit.json)")->capture_default_str();
   cmd_bench->add_flag("--json", bench.json, "Print bench.json on stdout instead of the table");
@@ -172,10 +223,23 @@ int run_command(int argc, char** argv) {
 
   // ---- runs across processes (docs/cluster.md): only rank 0 prints; only solve runs on several ----
   try {
+    if (const std::string problem = precheck(app, argc, argv); !problem.empty()) {
+      if (cli::reporting_process()) std::cerr << "hemivem: error: " << problem << "\n";
+      return cli::kInputError;
+    }
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int code = cli::reporting_process() ? app.exit(e) : e.get_exit_code();
-    return code == 0 ? cli::kSuccess : cli::kInputError;
+    if (e.get_exit_code() == 0) {  // --help, --version
+      if (cli::reporting_process()) app.exit(e);
+      return cli::kSuccess;
+    }
+    if (cli::reporting_process()) {
+      std::string what = e.what();
+      if (what == "A subcommand is required")
+        what = "a command is required: hemivem solve|minimize|mesh|study|check|bench|backends (hemivem --help)";
+      std::cerr << "hemivem: error: " << what << "\n";
+    }
+    return cli::kInputError;
   }
   if (const auto launched = cli::launched_processes(); launched.size > 1 && !*cmd_solve) {
     if (launched.rank == 0)
@@ -215,6 +279,14 @@ int run_command(int argc, char** argv) {
     }
     if (*cmd_mesh) {
       const Rectangle r{gen_domain[0], gen_domain[1], gen_domain[2], gen_domain[3]};
+      const auto& kinds = mesh_generator_names();
+      if (std::find(kinds.begin(), kinds.end(), gen_kind) == kinds.end()) {
+        std::string list;
+        for (const auto& k : kinds) list += (list.empty() ? "" : ", ") + k;
+        throw InputError("unknown mesh generator '" + gen_kind + "'" + did_you_mean(gen_kind, kinds) +
+                             " (expected one of: " + list + ")",
+                         "mesh");
+      }
       const MemoryEstimate need = estimate_memory(gen_kind, gen_n);
       require_memory(need.mesh_bytes, gen_kind + " n = " + std::to_string(gen_n), "--n");
       Mesh m;
@@ -229,6 +301,8 @@ int run_command(int argc, char** argv) {
         m = make_mesh(gen_kind, gen_n, poly, gen_seed);
       }
       write_poly2d(gen_output, m, {gen_kind + " n=" + std::to_string(gen_n) + " seed=" + std::to_string(gen_seed)});
+      std::cout << "hemivem mesh: wrote " << gen_output << " (" << m.num_vertices() << " vertices, " << m.num_elements()
+                << " elements)\n";
       return cli::kSuccess;
     }
     // ---- check and bench ----

@@ -275,3 +275,31 @@ TEST(Cli, OverridesInAnyOrder) {
     EXPECT_EQ(r.code, 0) << order << ": " << r.err;
   }
 }
+
+// Command-line errors in one voice: "hemivem: error: " and exit 2, the flag named, no
+// internal function names, numbers as given, suggestions only when close.
+TEST(Cli, CommandLineErrorsInOneVoice) {
+  const std::string out = " --out " + scratch("voice").string();
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"sovle", "unknown command 'sovle'; did you mean 'solve'?"},
+      {"", "a command is required"},
+      {"solve --mesh mesh.txt" + out, "--mesh: 'mesh.txt' is neither a mesh generator"},
+      {"solve --mesh voronio" + out, "did you mean 'voronoi'?"},
+      {"solve --tol -1" + out, "--tol: expected a number > 0, got '-1'"},
+      {"check --linear eigen", "'check' takes no option --linear"},
+      {"solve --bogus", "'solve' takes no option --bogus"},
+      {"mesh hexagons --n 3 -o " + scratch("voice.poly2d").string(), "unknown mesh generator 'hexagons' (expected"},
+      {"solve --set contact.friction=1" + out, "unknown key 'friction' in [contact]"},
+  };
+  for (const auto& [args, fragment] : cases) {
+    const CommandRun r = run(args);
+    EXPECT_EQ(r.code, 2) << args;
+    EXPECT_EQ(r.err.rfind("hemivem: error: ", 0), 0u) << args << ": " << r.err;
+    EXPECT_NE(r.err.find(fragment), std::string::npos) << args << ": " << r.err;
+    for (const char* noise : {"make_", "estimate_memory", "did you mean 'side'", "179769313486231570814527423731704356798070567"})
+      EXPECT_EQ(r.err.find(noise), std::string::npos) << args << ": " << r.err;
+  }
+  EXPECT_FALSE(fs::exists(scratch("voice")));
+  const CommandRun m = run("mesh squares --n 2 -o " + scratch("said.poly2d").string());
+  EXPECT_NE(m.out.find("hemivem mesh: wrote "), std::string::npos) << m.out;
+}

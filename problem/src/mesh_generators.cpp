@@ -263,7 +263,7 @@ bool try_voronoi_cells(const std::vector<Vec2>& seeds, const Rectangle& d, doubl
     if (info >= 0) handle[static_cast<std::size_t>(info)] = v;
   }
   if (dt.number_of_vertices() != pts.size())
-    throw NumericalError("make_voronoi: two seeds coincide; the Voronoi diagram is undefined");
+    throw NumericalError("voronoi mesh: two seeds coincide; the Voronoi diagram is undefined");
   if (dt.dimension() < 2) return false;  // all points on a line: no bounded cell
 
   out.points.clear();
@@ -299,7 +299,7 @@ VoronoiCells voronoi_cells(const std::vector<Vec2>& seeds, const Rectangle& d, d
     const bool all = reach > everything;
     if (try_voronoi_cells(seeds, d, all ? std::numeric_limits<double>::infinity() : reach, tol, cells)) return cells;
     if (all)
-      throw NumericalError("make_voronoi: a Voronoi cell leaves the rectangle even with every seed reflected");
+      throw NumericalError("voronoi mesh: a Voronoi cell leaves the rectangle even with every seed reflected");
   }
 }
 
@@ -394,7 +394,7 @@ Mesh voronoi_mesh(const VoronoiCells& c, double tol, Snap snap, bool drop_collap
     while (ring.size() > 1 && ring.back() == ring.front()) ring.pop_back();
     if (ring.size() < 3 && drop_collapsed) continue;
     if (ring.size() < 3)
-      throw NumericalError("make_voronoi: the cell of seed " + std::to_string(i) + " collapsed to " +
+      throw NumericalError("voronoi mesh: the cell of seed " + std::to_string(i) + " collapsed to " +
                            std::to_string(ring.size()) + " vertices");
     const auto first = std::min_element(ring.begin(), ring.end(), [&](int a, int b) {
       return lex_less(pos[static_cast<std::size_t>(a)], pos[static_cast<std::size_t>(b)]);
@@ -419,24 +419,24 @@ Mesh voronoi_mesh(const VoronoiCells& c, double tol, Snap snap, bool drop_collap
 
 void check_voronoi_options(const VoronoiOptions& options) {
   if (options.max_lloyd_iterations < 0)
-    throw InputError("make_voronoi: max_lloyd_iterations must be >= 0 (got " +
+    throw InputError("voronoi mesh: max_lloyd_iterations must be >= 0 (got " +
                      std::to_string(options.max_lloyd_iterations) + ")");
   if (!(options.lloyd_tolerance >= 0.0) || !std::isfinite(options.lloyd_tolerance))
-    throw InputError("make_voronoi: lloyd_tolerance must be finite and >= 0 (got " + fmt(options.lloyd_tolerance) +
+    throw InputError("voronoi mesh: lloyd_tolerance must be finite and >= 0 (got " + fmt(options.lloyd_tolerance) +
                      ")");
 }
 
 }  // namespace
 
 Mesh make_squares(int n, const Rectangle& domain) {
-  check_n("make_squares", n);
-  check_domain("make_squares", domain, n);
+  check_n("squares mesh", n);
+  check_domain("squares mesh", domain, n);
   return Mesh(grid_vertices(n, domain), grid_squares(n));
 }
 
 Mesh make_triangles(int n, const Rectangle& domain) {
-  check_n("make_triangles", n);
-  check_domain("make_triangles", domain, n);
+  check_n("triangles mesh", n);
+  check_domain("triangles mesh", domain, n);
   std::vector<std::vector<int>> e;
   e.reserve(2 * static_cast<std::size_t>(n) * static_cast<std::size_t>(n));
   for (int j = 0; j < n; ++j)
@@ -449,8 +449,8 @@ Mesh make_triangles(int n, const Rectangle& domain) {
 }
 
 Mesh make_voronoi(int n, const Rectangle& domain, const VoronoiOptions& options) {
-  check_n("make_voronoi", n);
-  check_domain("make_voronoi", domain, n);
+  check_n("voronoi mesh", n);
+  check_domain("voronoi mesh", domain, n);
   check_voronoi_options(options);
 
   const std::size_t ns = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
@@ -499,8 +499,8 @@ Mesh make_voronoi(int n, const Rectangle& domain, const VoronoiOptions& options)
 }
 
 Mesh make_nonconvex(int n, const Rectangle& domain) {
-  check_n("make_nonconvex", n);
-  check_domain("make_nonconvex", domain, n);
+  check_n("nonconvex mesh", n);
+  check_domain("nonconvex mesh", domain, n);
   const int m = 2 * n;  // fine grid: points (i, j), 0 <= i, j <= m
   auto kept = [&](int i, int j) {
     if ((i + j) % 2 == 0) return i % 2 == 0;  // corners kept, cell centres dropped
@@ -540,10 +540,10 @@ Mesh make_nonconvex(int n, const Rectangle& domain) {
 }
 
 Mesh make_distorted(int n, double fraction, const Rectangle& domain, std::uint64_t seed) {
-  check_n("make_distorted", n);
-  check_domain("make_distorted", domain, n);
+  check_n("distorted mesh", n);
+  check_domain("distorted mesh", domain, n);
   if (!(fraction >= 0.0 && fraction < 0.5))
-    throw InputError("make_distorted: fraction must be in [0, 0.5) (got " + fmt(fraction) + ")");
+    throw InputError("distorted mesh: fraction must be in [0, 0.5) (got " + fmt(fraction) + ")");
   std::vector<Vec2> v = grid_vertices(n, domain);
   const double ax = fraction * (domain.width() / n), ay = fraction * (domain.height() / n);
   std::mt19937_64 rng(seed);
@@ -679,7 +679,7 @@ RawCells raw_voronoi_cells(const std::vector<Vec2>& seeds, const CheckedPolygon&
   for (const auto& [sx, sy] : {std::pair{-1.0, -1.0}, {1.0, -1.0}, {1.0, 1.0}, {-1.0, 1.0}})
     dt.insert(Kernel::Point_2(cx + sx * far, cy + sy * far))->info() = -1;
   if (dt.number_of_vertices() != ns + 4)
-    throw NumericalError("make_voronoi: two seeds coincide; the Voronoi diagram is undefined");
+    throw NumericalError("voronoi mesh: two seeds coincide; the Voronoi diagram is undefined");
 
   RawCells raw;
   VoronoiCells& out = raw.cells;
@@ -692,7 +692,7 @@ RawCells raw_voronoi_cells(const std::vector<Vec2>& seeds, const CheckedPolygon&
     auto fc = dt.incident_faces(handle[i]);
     const auto done = fc;
     do {
-      if (dt.is_infinite(fc)) throw NumericalError("make_voronoi: a seed's Voronoi cell is unbounded");
+      if (dt.is_infinite(fc)) throw NumericalError("voronoi mesh: a seed's Voronoi cell is unbounded");
       const int id = circumcentre_id(fc, out.points, dom.tol / 64);
       if (out.ids.size() == first || at(out.ids.back()) != at(id)) out.ids.push_back(id);
     } while (++fc != done);
@@ -793,7 +793,7 @@ VoronoiCells clip_cells(const RawCells& raw, const ExactPolygon& domain, std::ve
     pieces.clear();
     CGAL::intersection(cell, domain, std::back_inserter(pieces));
     for (const auto& piece : pieces) {
-      if (piece.number_of_holes() != 0) throw NumericalError("make_voronoi: a clipped Voronoi cell has a hole");
+      if (piece.number_of_holes() != 0) throw NumericalError("voronoi mesh: a clipped Voronoi cell has a hole");
       for (auto v = piece.outer_boundary().vertices_begin(); v != piece.outer_boundary().vertices_end(); ++v) {
         const Vec2 p(to_plain_double(v->x()), to_plain_double(v->y()));
         const auto kept = std::find_if(first, last, [&](int id) { return at(id) == p; });
@@ -840,8 +840,8 @@ std::string polygon_domain_defect(const PolygonDomain& d) {
 }
 
 Mesh make_triangles(int n, const PolygonDomain& domain) {
-  check_n("make_triangles", n);
-  const CheckedPolygon dom = check_polygon("make_triangles", domain, n);
+  check_n("triangles mesh", n);
+  const CheckedPolygon dom = check_polygon("triangles mesh", domain, n);
   using MeshVertexBase = CGAL::Delaunay_mesh_vertex_base_2<Kernel>;
   using MeshFaceBase = CGAL::Delaunay_mesh_face_base_2<Kernel>;
   using MeshTds = CGAL::Triangulation_data_structure_2<MeshVertexBase, MeshFaceBase>;
@@ -884,8 +884,8 @@ Mesh make_triangles(int n, const PolygonDomain& domain) {
 }
 
 Mesh make_voronoi(int n, const PolygonDomain& domain, const VoronoiOptions& options) {
-  check_n("make_voronoi", n);
-  const CheckedPolygon dom = check_polygon("make_voronoi", domain, n);
+  check_n("voronoi mesh", n);
+  const CheckedPolygon dom = check_polygon("voronoi mesh", domain, n);
   check_voronoi_options(options);
   const std::size_t ns = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
   const double spacing = std::sqrt(dom.area / static_cast<double>(ns));
@@ -903,7 +903,7 @@ Mesh make_voronoi(int n, const PolygonDomain& domain, const VoronoiOptions& opti
   const std::size_t budget = 1000 * ns + 100000;
   for (std::size_t draws = 0; seeds.size() < ns; ++draws) {
     if (draws == budget)
-      throw InputError("make_voronoi: the polygon domain fills too little of its bounding box to place seeds in it");
+      throw InputError("voronoi mesh: the polygon domain fills too little of its bounding box to place seeds in it");
     const double x = open_draw(rng, dom.box.x0, dom.box.x1);
     const Vec2 p(x, open_draw(rng, dom.box.y0, dom.box.y1));
     if (strictly_inside(inexact, p)) seeds.push_back(p);

@@ -84,7 +84,7 @@ MemoryEstimate estimate_memory(double vertices, double vertices_per_element) {
 }
 
 MemoryEstimate estimate_memory(std::string_view generator, std::int64_t n) {
-  if (n < 1) throw InputError("needs n >= 1, got " + std::to_string(n), "estimate_memory");
+  if (n < 1) throw InputError("the number of cells per side n must be >= 1, got " + std::to_string(n));
   const std::string g = lower(generator);
   const double m = static_cast<double>(n);
   if (g == "squares" || g == "distorted") return estimate_memory((m + 1) * (m + 1), 4.0);
@@ -93,8 +93,7 @@ MemoryEstimate estimate_memory(std::string_view generator, std::int64_t n) {
   if (g == "nonconvex") return estimate_memory(3.0 * m * m + 1.0, 6.0);
   std::string names;
   for (const auto& name : mesh_generator_names()) names += (names.empty() ? "" : ", ") + name;
-  throw InputError("unknown mesh generator '" + std::string(generator) + "'; expected one of: " + names,
-                   "estimate_memory");
+  throw InputError("unknown mesh generator '" + std::string(generator) + "' (expected one of: " + names + ")");
 }
 
 double available_memory() { return memory_limit().bytes; }

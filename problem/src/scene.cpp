@@ -61,22 +61,6 @@ std::size_t edit_distance(std::string_view a0, std::string_view b0) {
   return prev[b.size()];
 }
 
-/// "; did you mean 'x'?" for the valid name nearest to key when it is close (an edit
-/// distance of at most max(2, a third of key's length), or one is a prefix of the other),
-/// else "": a far suggestion is noise.
-std::string did_you_mean(std::string_view key, const std::vector<std::string>& valid) {
-  std::string best;
-  std::size_t best_d = std::numeric_limits<std::size_t>::max();
-  for (const auto& v : valid) {
-    std::size_t d = edit_distance(lower(key), lower(v));
-    const std::string k = lower(key), w = lower(v);
-    if (k.size() >= 2 && (w.rfind(k, 0) == 0 || k.rfind(w, 0) == 0)) d = std::min<std::size_t>(d, 1);
-    if (d < best_d) best_d = d, best = v;
-  }
-  if (best.empty() || best_d > std::max<std::size_t>(2, key.size() / 3)) return {};
-  return "; did you mean '" + best + "'?";
-}
-
 std::string join(const std::vector<std::string>& v) {
   std::string s;
   for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
@@ -781,6 +765,19 @@ void write_selector(std::ostream& o, const BoundarySelector& b) {
 }
 
 }  // namespace
+
+std::string did_you_mean(std::string_view key, const std::vector<std::string>& valid) {
+  std::string best;
+  std::size_t best_d = std::numeric_limits<std::size_t>::max();
+  for (const auto& v : valid) {
+    std::size_t d = edit_distance(lower(key), lower(v));
+    const std::string k = lower(key), w = lower(v);
+    if (k.size() >= 2 && (w.rfind(k, 0) == 0 || k.rfind(w, 0) == 0)) d = std::min<std::size_t>(d, 1);
+    if (d < best_d) best_d = d, best = v;
+  }
+  if (best.empty() || best_d > std::max<std::size_t>(2, key.size() / 3)) return {};
+  return "; did you mean '" + best + "'?";
+}
 
 const std::vector<std::string>& scene_output_names() {
   static const std::vector<std::string> names{"vtu",         "contact-csv", "displacement-csv", "history-csv",

@@ -135,6 +135,11 @@ struct SceneSolver {
   bool operator==(const SceneSolver&) const = default;
 };
 
+/// "; did you mean 'x'?" for the name of `valid` nearest to `name` when it is close (an edit
+/// distance of at most max(2, a third of the name's length), or one a prefix of the other),
+/// else "": a far suggestion is noise.
+std::string did_you_mean(std::string_view name, const std::vector<std::string>& valid);
+
 /// The output names a scene may ask for.
 const std::vector<std::string>& scene_output_names();
 
