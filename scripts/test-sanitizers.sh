@@ -6,7 +6,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build="${HEMIVEM_ASAN_BUILD_DIR:-build-asan}"
-tests=(test_scene test_mesh_io test_gmsh test_mesh test_mesh_generators test_hostile_inputs)
+tests=(test_scene test_mesh_io test_gmsh test_mesh test_mesh_generators test_polygon_meshes test_hostile_inputs)
 cmake --preset asan -B "$build" "$@" >/dev/null
 cmake --build "$build" --target "${tests[@]}"
 export ASAN_OPTIONS="detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1"
