@@ -1,5 +1,7 @@
 #include <hemivem/mesh_generators.hpp>
 
+#include <hemivem/assembly.hpp>
+
 #include <CGAL/Boolean_set_operations_2.h>
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Delaunay_mesh_face_base_2.h>
@@ -597,6 +599,21 @@ struct CheckedPolygon {
 
 std::string point_text(const Vec2& p) { return "(" + fmt(p.x()) + ", " + fmt(p.y()) + ")"; }
 
+/// The bounding box of position(*it) over [first, last) (not empty).
+template <class It, class Position>
+Rectangle bounding_box_of(It first, It last, Position position) {
+  const Vec2& p0 = position(*first);
+  Rectangle box{p0.x(), p0.x(), p0.y(), p0.y()};
+  for (; first != last; ++first) {
+    const Vec2& p = position(*first);
+    box.x0 = std::min(box.x0, p.x());
+    box.x1 = std::max(box.x1, p.x());
+    box.y0 = std::min(box.y0, p.y());
+    box.y1 = std::max(box.y1, p.y());
+  }
+  return box;
+}
+
 CheckedPolygon check_polygon(const char* generator, const PolygonDomain& d, int n) {
   const std::string defect = polygon_domain_defect(d);
   if (!defect.empty()) throw InputError(std::string(generator) + ": the polygon domain " + defect);
@@ -607,13 +624,7 @@ CheckedPolygon check_polygon(const char* generator, const PolygonDomain& d, int 
   out.corners = c;
   out.area = std::abs(signed_area(c));
   if (signed_area(c) < 0.0) std::reverse(out.corners.begin(), out.corners.end());
-  out.box = Rectangle{c[0].x(), c[0].x(), c[0].y(), c[0].y()};
-  for (const auto& p : c) {
-    out.box.x0 = std::min(out.box.x0, p.x());
-    out.box.x1 = std::max(out.box.x1, p.x());
-    out.box.y0 = std::min(out.box.y0, p.y());
-    out.box.y1 = std::max(out.box.y1, p.y());
-  }
+  out.box = bounding_box_of(c.begin(), c.end(), [](const Vec2& p) -> const Vec2& { return p; });
   const double spacing = std::sqrt(out.area) / n;
   if (!(out.area > 0.0) || !(spacing >= 1e-9 * magnitude) || !(spacing * spacing >= 1e-250))
     throw InputError(std::string(generator) + ": the cells of the polygon domain with n = " + std::to_string(n) +
@@ -624,31 +635,13 @@ CheckedPolygon check_polygon(const char* generator, const PolygonDomain& d, int 
   return out;
 }
 
-/// Distance from p to the segment [a, b].
-double segment_distance(const Vec2& p, const Vec2& a, const Vec2& b) {
-  const Vec2 ab = b - a;
-  const double t = std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
-  return (p - (a + t * ab)).norm();
-}
-
 /// Names the boundary edges on edge k of the polygon (corner k to corner k+1, in the order
 /// given) "edge<k>".
 void name_polygon_edges(Mesh& mesh, const std::vector<Vec2>& corners, double tol) {
   const std::size_t m = corners.size();
-  std::vector<std::vector<int>> groups(m);
-  for (int e : mesh.boundary_edges()) {
-    const Vec2& p = mesh.vertex(mesh.edge(e).v0);
-    const Vec2& q = mesh.vertex(mesh.edge(e).v1);
-    for (std::size_t k = 0; k < m; ++k) {
-      const Vec2& a = corners[k];
-      const Vec2& b = corners[(k + 1) % m];
-      if (segment_distance(p, a, b) <= tol && segment_distance(q, a, b) <= tol) {
-        groups[k].push_back(e);
-        break;
-      }
-    }
-  }
-  for (std::size_t k = 0; k < m; ++k) mesh.set_edge_group("edge" + std::to_string(k), std::move(groups[k]));
+  for (std::size_t k = 0; k < m; ++k)
+    mesh.set_edge_group("edge" + std::to_string(k),
+                        select_boundary_edges(mesh, std::vector<Segment>{Segment{corners[k], corners[(k + 1) % m], tol}}));
 }
 
 double to_plain_double(const ExactKernel::FT& x) { return CGAL::to_double(CGAL::exact(x)); }
@@ -698,14 +691,7 @@ RawCells raw_voronoi_cells(const std::vector<Vec2>& seeds, const CheckedPolygon&
     } while (++fc != done);
     while (out.ids.size() > first + 1 && at(out.ids.back()) == at(out.ids[first])) out.ids.pop_back();
     out.offsets.push_back(static_cast<int>(out.ids.size()));
-    Rectangle cb{at(out.ids[first]).x(), at(out.ids[first]).x(), at(out.ids[first]).y(), at(out.ids[first]).y()};
-    for (std::size_t k = first; k < out.ids.size(); ++k) {
-      const Vec2& p = at(out.ids[k]);
-      cb.x0 = std::min(cb.x0, p.x());
-      cb.x1 = std::max(cb.x1, p.x());
-      cb.y0 = std::min(cb.y0, p.y());
-      cb.y1 = std::max(cb.y1, p.y());
-    }
+    const Rectangle cb = bounding_box_of(out.ids.begin() + static_cast<std::ptrdiff_t>(first), out.ids.end(), at);
     for (std::size_t k = 0; k < m && !raw.cut[i]; ++k) {
       const Vec2& p = dom.corners[k];
       const Vec2& q = dom.corners[(k + 1) % m];
