@@ -319,6 +319,57 @@ TEST(Scene, OverridesDoNotDependOnTheirOrder) {
   }
 }
 
+// Overrides edit the document the scene was read from: a key of the file that an override
+// makes invalid is named at its own line, and every key keeps its line.
+TEST(Scene, OverridesEditTheDocumentTheSceneWasReadFrom) {
+  const std::string text = R"(schema_version = 1
+[contact]
+side = "bottom"
+law = "sawtooth"
+gap = 0.02
+[contact.parameters]
+r1 = 0.01
+)";
+  Scene s = parse_scene_string(text, "/some/dir/saw.toml");
+  ASSERT_NE(s.document, nullptr);
+  try {
+    apply_overrides(s, {"contact.law=kinked"});
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where(), "/some/dir/saw.toml:7") << e.what();
+    EXPECT_NE(e.detail().find("'r1' is a parameter of law sawtooth, not of law 'kinked'"), std::string::npos) << e.what();
+  }
+  // an error in the overridden key itself names the override
+  Scene t = parse_scene_string(text, "/some/dir/saw.toml");
+  try {
+    apply_overrides(t, {"contact.gap=-1"});
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where(), "--set contact.gap") << e.what();
+  }
+  // lines survive, overridden keys have none, and the result is the same scene as from text
+  apply_overrides(t, {"contact.parameters.r2=0.05", "mesh.n=8"});
+  EXPECT_EQ(t.where("contact.law"), "/some/dir/saw.toml:4");
+  EXPECT_EQ(t.where("contact.parameters.r1"), "/some/dir/saw.toml:7");
+  EXPECT_EQ(t.where("mesh.n"), "/some/dir/saw.toml");
+  EXPECT_EQ(t.contact->law.parameters.at("r2"), 0.05);
+  EXPECT_EQ(t, parse_scene_string(text + "r2 = 0.05\n[mesh]\nn = 8\n", "/elsewhere/saw.toml"));
+  // a scene changed in code is not read back from its document
+  Scene u = parse_scene_string(text, "/some/dir/saw.toml");
+  u.contact->gap.value = 0.07;
+  apply_overrides(u, {"mesh.n=8"});
+  EXPECT_EQ(u.contact->gap.value, 0.07);
+  EXPECT_EQ(u.mesh.n, 8);
+  // a relative mesh file of an earlier override stays where it was resolved
+  Scene v = parse_scene_string(text, "/some/dir/saw.toml");
+  apply_overrides(v, {"mesh.file=m.poly2d"});
+  const fs::path resolved = v.mesh.file, here = fs::current_path();
+  fs::current_path(fs::temp_directory_path());
+  apply_overrides(v, {"contact.gap=0.03"});
+  fs::current_path(here);
+  EXPECT_EQ(v.mesh.file, resolved);
+}
+
 // A law parameter of another law names the law that has it; suggestions come only when close.
 TEST(Scene, ErrorsSuggestOnlyCloseNames) {
   const std::string sigma = override_error("contact.parameters.sigma=0.5");

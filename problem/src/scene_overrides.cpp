@@ -2,6 +2,7 @@
 #include <hemivem/scene.hpp>
 
 #include <cctype>
+#include <sstream>
 
 #include "scene_reader.hpp"
 
@@ -18,6 +19,7 @@ struct Override {
   std::string key;
   std::vector<std::pair<std::string, int>> parts;
   toml::table holder;  ///< the value as "v"
+  std::string text;    ///< "key=value" as given; a relative mesh.file made absolute by edit_table
   std::string where() const { return "--set " + key; }
 };
 
@@ -31,6 +33,7 @@ Override parse_override(std::string_view key_eq_value) {
     return v;
   };
   Override o;
+  o.text = std::string(key_eq_value);
   o.key = std::string(trim(key_eq_value.substr(0, eq)));
   const std::string value(trim(key_eq_value.substr(eq + 1)));
   if (o.key.empty()) throw InputError("empty key", "--set");
@@ -91,7 +94,13 @@ void edit_table(toml::table& root, Override& o) {
       for (const char* k : {"generator", "n", "seed", "domain"}) t->erase(k);
       if (auto* sv = o.holder.get("v"); sv && sv->is_string()) {
         std::filesystem::path p(sv->as_string()->get());
-        if (p.is_relative() && !p.empty()) o.holder.insert_or_assign("v", std::filesystem::absolute(p).lexically_normal().string());
+        if (p.is_relative() && !p.empty()) {
+          const toml::value<std::string> absolute(std::filesystem::absolute(p).lexically_normal().string());
+          std::ostringstream value;
+          value << absolute;
+          o.holder.insert_or_assign("v", absolute);
+          o.text = o.key + "=" + value.str();
+        }
       }
     }
   }
@@ -104,19 +113,41 @@ void apply_overrides(Scene& scene, const std::vector<std::string>& key_eq_values
   if (key_eq_values.empty()) return;
   std::vector<Override> overrides;
   for (const auto& kv : key_eq_values) overrides.push_back(parse_override(kv));
-  Scene base = scene;
-  for (const auto& o : overrides)
-    if (o.parts.front().first == "contact" && !base.contact) base.contact = SceneContact{};
-  toml::table root = parse_toml(to_toml(base), "<resolved scene>");
-  for (auto& o : overrides) edit_table(root, o);
+  // the text the scene was read from with the overrides applied since, unless the scene was
+  // made or changed in code: then the scene as written by to_toml
+  const detail::SceneDocument* doc = scene.document && scene.document->scene == scene ? scene.document.get() : nullptr;
+  const bool read = doc != nullptr;
+  const std::string source = read ? scene.source : std::string("--set");
+  toml::table root = parse_toml(read ? doc->text : to_toml(scene), read ? source : "<resolved scene>");
+  const std::filesystem::path base = read ? doc->base : std::filesystem::current_path();
+  std::vector<Override> earlier;
+  if (read)
+    for (const auto& kv : doc->overrides) earlier.push_back(parse_override(kv));
+  for (std::vector<Override>* list : {&earlier, &overrides})
+    for (auto& o : *list) {
+      if (o.parts.front().first == "contact" && !root.contains("contact"))  // the default contact part
+        root.insert("contact", toml::table{{"side", toml::array{"bottom"}}});
+      edit_table(root, o);
+    }
 
   Scene updated;
   try {
-    updated = scene_from_table(root, "--set", std::filesystem::current_path());
+    updated = scene_from_table(root, source, base);
   } catch (const InputError& e) {
-    // blame the override whose key the message's key path shares most with (the later one on
-    // a tie); "--set" alone when the message names none of them
     const std::string& m = e.detail();
+    if (read && e.where() != source) {  // at a line of the file: blame an override only when its key is the
+      const std::string key = m.substr(0, m.find(": "));  // message's key, inside it or around it
+      auto within = [](const std::string& inner, const std::string& outer) {
+        return inner.rfind(outer, 0) == 0 && (inner.size() == outer.size() || inner[outer.size()] == '.');
+      };
+      const Override* blamed = nullptr;
+      for (const auto& o : overrides)
+        if (within(o.key, key) || within(key, o.key)) blamed = &o;
+      if (!blamed) throw;
+      throw InputError(m, blamed->where());
+    }
+    // else blame the override whose key the message's key path shares most with (the later
+    // one on a tie); "--set" alone when the message names none of them
     std::string where = "--set";
     std::size_t best = 0;
     for (const auto& o : overrides) {
@@ -133,8 +164,14 @@ void apply_overrides(Scene& scene, const std::vector<std::string>& key_eq_values
     throw InputError(m, where);
   }
   updated.source = scene.source;
-  updated.lines = scene.lines;
-  for (const auto& o : overrides) updated.lines[o.key] = 0;
+  if (!read) updated.lines = scene.lines;
+  for (const auto* list : {&earlier, &overrides})
+    for (const auto& o : *list) updated.lines[o.key] = 0;
+  if (read) {  // lines of a scene written by to_toml would not be the file's
+    detail::SceneDocument next{doc->text, base, doc->overrides, updated};
+    for (const auto& o : overrides) next.overrides.push_back(o.text);
+    updated.document = std::make_shared<const detail::SceneDocument>(std::move(next));
+  }
   scene = std::move(updated);
 }
 

@@ -37,6 +37,16 @@ toml::table parse_toml(std::string_view text, const std::string& name);
 /// The folder relative mesh paths of the scene `name` are resolved against.
 std::filesystem::path base_folder(const std::string& name);
 
+/// What a scene was read from: the text (parsed again for every apply_overrides, so that its
+/// keys keep their lines), the folder relative mesh paths are resolved against, the overrides
+/// applied since, in order, and the scene all that gave (to tell whether it was changed since).
+struct SceneDocument {
+  std::string text;
+  std::filesystem::path base;
+  std::vector<std::string> overrides;
+  Scene scene;  ///< with a null document
+};
+
 /// The scene a parsed TOML document describes, validated (the schema: scene_schema.cpp).
 /// `source` names the document in messages; relative mesh paths are resolved against `base`.
 Scene scene_from_table(const toml::table& root, std::string source, const std::filesystem::path& base);

@@ -434,7 +434,9 @@ bool operator==(const Scene& a, const Scene& b) {
 
 Scene parse_scene_string(std::string_view text, std::string name) {
   const toml::table root = parse_toml(text, name);
-  return scene_from_table(root, name, base_folder(name));
+  Scene s = scene_from_table(root, name, base_folder(name));
+  s.document = std::make_shared<const detail::SceneDocument>(detail::SceneDocument{std::string(text), base_folder(name), {}, s});
+  return s;
 }
 
 Scene parse_scene(const std::filesystem::path& path) {

@@ -143,6 +143,10 @@ std::string did_you_mean(std::string_view name, const std::vector<std::string>& 
 /// The output names a scene may ask for.
 const std::vector<std::string>& scene_output_names();
 
+namespace detail {
+struct SceneDocument;  // the parsed TOML a scene was read from (internal)
+}
+
 struct Scene {
   int schema_version = scene_schema_version;
   /// Free text recorded in results; a scene file without `title` is named after the file.
@@ -164,6 +168,10 @@ struct Scene {
   /// Line of each key read from the source, by dotted path ("contact.gap",
   /// "loads.traction[0].side"); keys set by apply_override map to 0.
   std::map<std::string, int> lines;
+  /// The parsed document the scene was read from, shared and never modified: apply_overrides
+  /// edits a copy of it, so that every key it does not touch keeps its line in messages. Null
+  /// for a scene made in code; not used once the scene's fields differ from what was read.
+  std::shared_ptr<const detail::SceneDocument> document;
 
   /// "source:line" for a key read from the source, else "source".
   std::string where(const std::string& key) const;
@@ -182,8 +190,11 @@ Scene parse_scene_string(std::string_view text, std::string name);
 Scene default_scene();
 
 /// Applies "dotted.key=value" (value in TOML syntax; a bare word is taken as a string), e.g.
-/// "contact.gap=0.01", "mesh.generator=voronoi", "solver.minimizer=bundle-dca". The result
-/// is validated as a whole; errors name the key and the nearest valid key. Setting
+/// "contact.gap=0.01", "mesh.generator=voronoi", "solver.minimizer=bundle-dca". The value
+/// replaces the key in the scene's parsed document (Scene::document; a scene made or changed
+/// in code is written with to_toml first) and the document is read again, so the result is
+/// validated as a whole: an error in an overridden key names "--set key" and the nearest
+/// valid key, an error in a key of the file names its line. Setting
 /// mesh.generator clears mesh.file and vice versa; a relative mesh.file is resolved against
 /// the current directory. Setting a contact.* key on a scene without contact adds the
 /// default contact part (the bottom side, the paper's law).
@@ -211,14 +222,14 @@ struct BuiltProblem {
   BuiltProblem& operator=(const BuiltProblem&) = delete;
 };
 
-/// Builds the mesh (generator or file: .poly2d via read_poly2d, .msh via read_gmsh), the
-/// materials, the boundary parts, loads and contact data. Errors (unknown edge group, a
-/// part selecting no edge, a region without material) name the scene key's file:line.
 /// What a user should know about the problem a scene poses, though it is valid: today, a
 /// problem that nothing drives (no load, no prescribed displacement other than zero, no
 /// obstacle and no gap that pushes), whose solution is u = 0.
 std::vector<std::string> scene_warnings(const Scene& scene);
 
+/// Builds the mesh (generator or file: .poly2d via read_poly2d, .msh via read_gmsh), the
+/// materials, the boundary parts, loads and contact data. Errors (unknown edge group, a
+/// part selecting no edge, a region without material) name the scene key's file:line.
 std::unique_ptr<BuiltProblem> build_problem(const Scene& scene);
 
 /// The contact problem of a scene on a given mesh (the scene's mesh keys are not used): the
