@@ -116,6 +116,42 @@ TEST(MeshGenerators, SquaresCountsNumberingAndTiling) {
   }
 }
 
+// nx cells along x and ny along y: counts, numbering, tiling, and cells of equal shape
+// when the domain's aspect ratio is nx : ny.
+TEST(MeshGenerators, DifferentCellCountsAlongXAndY) {
+  const hemivem::GridSize g(6, 2);
+  const Rectangle wide{0.0, 3.0, 0.0, 1.0};
+  const Mesh sq = hemivem::make_squares(g, wide);
+  EXPECT_EQ(sq.num_vertices(), 7 * 3);
+  EXPECT_EQ(sq.num_elements(), 12);
+  expect_tiles_rectangle(sq, wide);
+  for (int e = 0; e < sq.num_elements(); ++e) EXPECT_NEAR(sq.area(e), 0.25, 1e-15);  // 0.5 x 0.5 squares
+  for (int j = 0; j <= 2; ++j)
+    for (int i = 0; i <= 6; ++i) {
+      EXPECT_EQ(sq.vertex(j * 7 + i).x(), 0.5 * i);
+      EXPECT_EQ(sq.vertex(j * 7 + i).y(), 0.5 * j);
+    }
+  const auto el = sq.element(1 * 6 + 4);  // element (4, 1)
+  EXPECT_EQ(std::vector<int>(el.begin(), el.end()), (std::vector<int>{11, 12, 19, 18}));
+  EXPECT_EQ(hemivem::make_triangles(g, wide).num_elements(), 24);
+  EXPECT_EQ(hemivem::make_nonconvex(g, wide).num_elements(), 12);
+  EXPECT_EQ(hemivem::make_distorted(g, 0.2, wide).num_elements(), 12);
+  EXPECT_EQ(hemivem::make_voronoi(g, wide).num_elements(), 12);
+  for (const std::string name : hemivem::mesh_generator_names()) {
+    SCOPED_TRACE(name);
+    const Mesh m = hemivem::make_mesh(name, g, wide, 3);
+    expect_tiles_rectangle(m, wide);
+    EXPECT_EQ(m.num_vertices() - m.num_edges() + m.num_elements(), 1);  // Euler, one face outside
+  }
+  // n x n is the int form, bit for bit
+  EXPECT_TRUE(identical(hemivem::make_voronoi(hemivem::GridSize(5, 5), wide), hemivem::make_voronoi(5, wide)));
+  EXPECT_EQ(hemivem::GridSize(5).text(), "5");
+  EXPECT_EQ(g.text(), "[6, 2]");
+  EXPECT_THROW((void)hemivem::make_squares(hemivem::GridSize(4, 0)), hemivem::InputError);
+  EXPECT_NE(input_error_of([&] { (void)hemivem::make_squares(hemivem::GridSize(4, 0)); }).find("(got [4, 0])"),
+            std::string::npos);
+}
+
 TEST(MeshGenerators, GridEndsExactlyOnAwkwardRectangle) {
   // 0.1 + (0.3 - 0.1) is not 0.3 in floating point: the last vertex must still be x1
   const Rectangle d{0.1, 0.3, 0.7, 0.9};

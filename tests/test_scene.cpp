@@ -370,6 +370,30 @@ r1 = 0.01
   EXPECT_EQ(v.mesh.file, resolved);
 }
 
+// mesh.n = [nx, ny]: nx cells along x and ny along y, written back as given; one n again
+// (--n, --set mesh.n=16) means n x n.
+TEST(Scene, MeshCellCountsAlongXAndY) {
+  const std::string text = "schema_version = 1\n[mesh]\ngenerator = \"squares\"\nn = [16, 4]\ndomain = [0.0, 4.0, 0.0, 1.0]\n";
+  Scene s = parse_scene_string(text, "wide.toml");
+  EXPECT_EQ(s.mesh.n, 16);
+  ASSERT_TRUE(s.mesh.ny.has_value());
+  EXPECT_EQ(*s.mesh.ny, 4);
+  EXPECT_EQ(s.mesh.cells(), GridSize(16, 4));
+  EXPECT_EQ(s.mesh.description(), "squares n=[16, 4]");
+  EXPECT_NE(to_toml(s).find("n = [16, 4]\n"), std::string::npos);
+  EXPECT_EQ(parse_scene_string(to_toml(s), "wide.toml"), s);
+  const auto built = build_problem(s);
+  EXPECT_EQ(built->mesh.num_elements(), 64);
+  EXPECT_TRUE(test::identical(built->mesh, make_squares(GridSize(16, 4), Rectangle{0.0, 4.0, 0.0, 1.0})));
+  for (int e = 0; e < built->mesh.num_elements(); ++e) EXPECT_NEAR(built->mesh.area(e), 0.0625, 1e-15);
+  apply_overrides(s, {"mesh.n=8"});
+  EXPECT_FALSE(s.mesh.ny.has_value());
+  EXPECT_EQ(s.mesh.description(), "squares n=8");
+  apply_overrides(s, {"mesh.n=[2, 3]", "mesh.generator=voronoi"});
+  EXPECT_EQ(s.mesh.cells(), GridSize(2, 3));
+  EXPECT_EQ(build_problem(s)->mesh.num_elements(), 6);
+}
+
 // A law parameter of another law names the law that has it; suggestions come only when close.
 TEST(Scene, ErrorsSuggestOnlyCloseNames) {
   const std::string sigma = override_error("contact.parameters.sigma=0.5");

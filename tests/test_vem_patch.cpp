@@ -141,6 +141,16 @@ TEST(PatchPolygon, LinearFieldIsReproducedOnPolygonMeshes) {
   EXPECT_LE(patch_dirichlet(disk, Stabilization::two_mu), 1e-12);
 }
 
+// nx x ny cells on a rectangle whose aspect ratio is not nx : ny (stretched cells).
+TEST(PatchGrid, LinearFieldIsReproducedWithDifferentCellCountsAlongXAndY) {
+  for (const std::string& name : mesh_generator_names()) {
+    SCOPED_TRACE(name);
+    const Mesh mesh = make_mesh(name, GridSize(7, 3), Rectangle{0.0, 1.0, 0.0, 2.0}, 5);
+    EXPECT_LE(patch_dirichlet(mesh, Stabilization::two_mu), 1e-12);
+    EXPECT_LE(patch_traction(mesh), 1e-12);
+  }
+}
+
 TEST(PatchShared, LinearFieldIsReproducedOnEverySharedMesh) {
   const auto files = test::shared_meshes();
   if (files.empty()) GTEST_SKIP() << "shared/meshes not found next to the project: patch test on Sutton's meshes skipped";

@@ -51,7 +51,15 @@ void check_n(const char* generator, int n) {
                      std::to_string(kMaxCellsPerSide) + " (got " + std::to_string(n) + ")");
 }
 
-void check_domain(const char* generator, const Rectangle& d, int n) {
+void check_n(const char* generator, GridSize n) {
+  if (n.nx == n.ny) return check_n(generator, n.nx);
+  for (const int k : {n.nx, n.ny})
+    if (k < 1 || k > kMaxCellsPerSide)
+      throw InputError(std::string(generator) + ": the numbers of cells along x and y must be between 1 and " +
+                       std::to_string(kMaxCellsPerSide) + " (got " + n.text() + ")");
+}
+
+void check_domain(const char* generator, const Rectangle& d, GridSize n) {
   const bool finite = std::isfinite(d.x0) && std::isfinite(d.x1) && std::isfinite(d.y0) && std::isfinite(d.y1) &&
                       std::isfinite(d.width()) && std::isfinite(d.height());
   const std::string got = " (got [" + fmt(d.x0) + ", " + fmt(d.x1) + "] x [" + fmt(d.y0) + ", " + fmt(d.y1) + "])";
@@ -63,9 +71,9 @@ void check_domain(const char* generator, const Rectangle& d, int n) {
     throw InputError(std::string(generator) + ": the domain's coordinates must be at most 1e150 in magnitude" + got);
   // Cells must be resolvable: a cell side well above the spacing of doubles at the domain's
   // coordinates, and a cell area that is a normal double.
-  const double cw = d.width() / n, ch = d.height() / n;
+  const double cw = d.width() / n.nx, ch = d.height() / n.ny;
   if (!(std::min(cw, ch) >= 1e-9 * scale) || !(cw * ch >= 1e-250))
-    throw InputError(std::string(generator) + ": the cells of the domain with n = " + std::to_string(n) +
+    throw InputError(std::string(generator) + ": the cells of the domain with n = " + n.text() +
                      " are too small for double precision (cell sides must be at least 1e-9 of the largest |coordinate|"
                      " and the cell area at least 1e-250)" + got);
 }
@@ -89,24 +97,24 @@ double open_draw(std::mt19937_64& rng, double a, double b) {
   return x;
 }
 
-/// (N+1)^2 grid points, vertex (i, j) at index j*(N+1) + i.
-std::vector<Vec2> grid_vertices(int n, const Rectangle& d) {
+/// (nx+1)(ny+1) grid points, vertex (i, j) at index j*(nx+1) + i.
+std::vector<Vec2> grid_vertices(GridSize n, const Rectangle& d) {
   std::vector<Vec2> v;
-  v.reserve(static_cast<std::size_t>(n + 1) * static_cast<std::size_t>(n + 1));
-  for (int j = 0; j <= n; ++j) {
-    const double y = grid_coordinate(d.y0, d.y1, j, n);
-    for (int i = 0; i <= n; ++i) v.emplace_back(grid_coordinate(d.x0, d.x1, i, n), y);
+  v.reserve(static_cast<std::size_t>(n.nx + 1) * static_cast<std::size_t>(n.ny + 1));
+  for (int j = 0; j <= n.ny; ++j) {
+    const double y = grid_coordinate(d.y0, d.y1, j, n.ny);
+    for (int i = 0; i <= n.nx; ++i) v.emplace_back(grid_coordinate(d.x0, d.x1, i, n.nx), y);
   }
   return v;
 }
 
-std::vector<std::vector<int>> grid_squares(int n) {
+std::vector<std::vector<int>> grid_squares(GridSize n) {
   std::vector<std::vector<int>> e;
-  e.reserve(static_cast<std::size_t>(n) * static_cast<std::size_t>(n));
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const int a = j * (n + 1) + i;
-      e.push_back({a, a + 1, a + n + 2, a + n + 1});
+  e.reserve(static_cast<std::size_t>(n.nx) * static_cast<std::size_t>(n.ny));
+  for (int j = 0; j < n.ny; ++j)
+    for (int i = 0; i < n.nx; ++i) {
+      const int a = j * (n.nx + 1) + i;
+      e.push_back({a, a + 1, a + n.nx + 2, a + n.nx + 1});
     }
   return e;
 }
@@ -430,32 +438,36 @@ void check_voronoi_options(const VoronoiOptions& options) {
 
 }  // namespace
 
-Mesh make_squares(int n, const Rectangle& domain) {
+std::string GridSize::text() const {
+  return nx == ny ? std::to_string(nx) : "[" + std::to_string(nx) + ", " + std::to_string(ny) + "]";
+}
+
+Mesh make_squares(GridSize n, const Rectangle& domain) {
   check_n("squares mesh", n);
   check_domain("squares mesh", domain, n);
   return Mesh(grid_vertices(n, domain), grid_squares(n));
 }
 
-Mesh make_triangles(int n, const Rectangle& domain) {
+Mesh make_triangles(GridSize n, const Rectangle& domain) {
   check_n("triangles mesh", n);
   check_domain("triangles mesh", domain, n);
   std::vector<std::vector<int>> e;
-  e.reserve(2 * static_cast<std::size_t>(n) * static_cast<std::size_t>(n));
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const int a = j * (n + 1) + i;
-      e.push_back({a, a + 1, a + n + 2});      // below the diagonal
-      e.push_back({a, a + n + 2, a + n + 1});  // above the diagonal
+  e.reserve(2 * static_cast<std::size_t>(n.nx) * static_cast<std::size_t>(n.ny));
+  for (int j = 0; j < n.ny; ++j)
+    for (int i = 0; i < n.nx; ++i) {
+      const int a = j * (n.nx + 1) + i;
+      e.push_back({a, a + 1, a + n.nx + 2});         // below the diagonal
+      e.push_back({a, a + n.nx + 2, a + n.nx + 1});  // above the diagonal
     }
   return Mesh(grid_vertices(n, domain), std::move(e));
 }
 
-Mesh make_voronoi(int n, const Rectangle& domain, const VoronoiOptions& options) {
+Mesh make_voronoi(GridSize n, const Rectangle& domain, const VoronoiOptions& options) {
   check_n("voronoi mesh", n);
   check_domain("voronoi mesh", domain, n);
   check_voronoi_options(options);
 
-  const std::size_t ns = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
+  const std::size_t ns = static_cast<std::size_t>(n.nx) * static_cast<std::size_t>(n.ny);
   const double spacing = std::sqrt(domain.width() * domain.height() / static_cast<double>(ns));
   // Merge / snap tolerance: above the round-off of a circumcentre (relative to the
   // domain size and to the magnitude of the coordinates), and 1e-7 of the seed spacing so
@@ -500,40 +512,40 @@ Mesh make_voronoi(int n, const Rectangle& domain, const VoronoiOptions& options)
   return voronoi_mesh(cells, tol, snap_to_sides, false);
 }
 
-Mesh make_nonconvex(int n, const Rectangle& domain) {
+Mesh make_nonconvex(GridSize n, const Rectangle& domain) {
   check_n("nonconvex mesh", n);
   check_domain("nonconvex mesh", domain, n);
-  const int m = 2 * n;  // fine grid: points (i, j), 0 <= i, j <= m
+  const int mx = 2 * n.nx, my = 2 * n.ny;  // fine grid: points (i, j), 0 <= i <= mx, 0 <= j <= my
   auto kept = [&](int i, int j) {
     if ((i + j) % 2 == 0) return i % 2 == 0;  // corners kept, cell centres dropped
-    return i % 2 == 1 ? (j != 0 && j != m) : (i != 0 && i != m);  // mid-points inside
+    return i % 2 == 1 ? (j != 0 && j != my) : (i != 0 && i != mx);  // mid-points inside
   };
-  std::vector<int> index(static_cast<std::size_t>(m + 1) * static_cast<std::size_t>(m + 1), -1);
+  std::vector<int> index(static_cast<std::size_t>(mx + 1) * static_cast<std::size_t>(my + 1), -1);
   std::vector<Vec2> vertices;
-  for (int j = 0; j <= m; ++j)
-    for (int i = 0; i <= m; ++i) {
+  for (int j = 0; j <= my; ++j)
+    for (int i = 0; i <= mx; ++i) {
       if (!kept(i, j)) continue;
-      index[static_cast<std::size_t>(j) * static_cast<std::size_t>(m + 1) + static_cast<std::size_t>(i)] =
+      index[static_cast<std::size_t>(j) * static_cast<std::size_t>(mx + 1) + static_cast<std::size_t>(i)] =
           static_cast<int>(vertices.size());
       if ((i + j) % 2 == 0) {
-        vertices.emplace_back(grid_coordinate(domain.x0, domain.x1, i, m), grid_coordinate(domain.y0, domain.y1, j, m));
+        vertices.emplace_back(grid_coordinate(domain.x0, domain.x1, i, mx), grid_coordinate(domain.y0, domain.y1, j, my));
       } else {
         // i/(2N) plus a quarter macro cell 1/(4N): (2i+1)/(4N), never the far side
-        vertices.emplace_back(grid_coordinate(domain.x0, domain.x1, 2 * i + 1, 2 * m),
-                              grid_coordinate(domain.y0, domain.y1, 2 * j + 1, 2 * m));
+        vertices.emplace_back(grid_coordinate(domain.x0, domain.x1, 2 * i + 1, 2 * mx),
+                              grid_coordinate(domain.y0, domain.y1, 2 * j + 1, 2 * my));
       }
     }
   std::vector<std::vector<int>> elements;
-  elements.reserve(static_cast<std::size_t>(n) * static_cast<std::size_t>(n));
-  for (int J = 0; J < n; ++J)
-    for (int I = 0; I < n; ++I) {
+  elements.reserve(static_cast<std::size_t>(n.nx) * static_cast<std::size_t>(n.ny));
+  for (int J = 0; J < n.ny; ++J)
+    for (int I = 0; I < n.nx; ++I) {
       const int i = 2 * I, j = 2 * J;
       const int ring[8][2] = {{i, j},         {i + 1, j},     {i + 2, j}, {i + 2, j + 1},
                               {i + 2, j + 2}, {i + 1, j + 2}, {i, j + 2}, {i, j + 1}};
       std::vector<int> el;
       el.reserve(8);
       for (const auto& p : ring) {
-        const int v = index[static_cast<std::size_t>(p[1]) * static_cast<std::size_t>(m + 1) + static_cast<std::size_t>(p[0])];
+        const int v = index[static_cast<std::size_t>(p[1]) * static_cast<std::size_t>(mx + 1) + static_cast<std::size_t>(p[0])];
         if (v >= 0) el.push_back(v);
       }
       elements.push_back(std::move(el));
@@ -541,17 +553,17 @@ Mesh make_nonconvex(int n, const Rectangle& domain) {
   return Mesh(std::move(vertices), std::move(elements));
 }
 
-Mesh make_distorted(int n, double fraction, const Rectangle& domain, std::uint64_t seed) {
+Mesh make_distorted(GridSize n, double fraction, const Rectangle& domain, std::uint64_t seed) {
   check_n("distorted mesh", n);
   check_domain("distorted mesh", domain, n);
   if (!(fraction >= 0.0 && fraction < 0.5))
     throw InputError("distorted mesh: fraction must be in [0, 0.5) (got " + fmt(fraction) + ")");
   std::vector<Vec2> v = grid_vertices(n, domain);
-  const double ax = fraction * (domain.width() / n), ay = fraction * (domain.height() / n);
+  const double ax = fraction * (domain.width() / n.nx), ay = fraction * (domain.height() / n.ny);
   std::mt19937_64 rng(seed);
-  for (int j = 1; j < n; ++j)
-    for (int i = 1; i < n; ++i) {
-      Vec2& p = v[static_cast<std::size_t>(j) * static_cast<std::size_t>(n + 1) + static_cast<std::size_t>(i)];
+  for (int j = 1; j < n.ny; ++j)
+    for (int i = 1; i < n.nx; ++i) {
+      Vec2& p = v[static_cast<std::size_t>(j) * static_cast<std::size_t>(n.nx + 1) + static_cast<std::size_t>(i)];
       const double dx = ax * (2.0 * unit_draw(rng) - 1.0);
       const double dy = ay * (2.0 * unit_draw(rng) - 1.0);
       p += Vec2(dx, dy);
@@ -564,7 +576,7 @@ const std::vector<std::string>& mesh_generator_names() {
   return names;
 }
 
-Mesh make_mesh(std::string_view generator, int n, const Rectangle& domain, std::uint64_t seed) {
+Mesh make_mesh(std::string_view generator, GridSize n, const Rectangle& domain, std::uint64_t seed) {
   if (generator == "squares") return make_squares(n, domain);
   if (generator == "triangles") return make_triangles(n, domain);
   if (generator == "voronoi") {

@@ -83,14 +83,18 @@ MemoryEstimate estimate_memory(double vertices, double vertices_per_element) {
   return e;
 }
 
-MemoryEstimate estimate_memory(std::string_view generator, std::int64_t n) {
-  if (n < 1) throw InputError("the number of cells per side n must be >= 1, got " + std::to_string(n));
+MemoryEstimate estimate_memory(std::string_view generator, std::int64_t n) { return estimate_memory(generator, n, n); }
+
+MemoryEstimate estimate_memory(std::string_view generator, std::int64_t nx, std::int64_t ny) {
+  if (nx < 1 || ny < 1)
+    throw InputError("the number of cells per side n must be >= 1, got " +
+                     (nx == ny ? std::to_string(nx) : "[" + std::to_string(nx) + ", " + std::to_string(ny) + "]"));
   const std::string g = lower(generator);
-  const double m = static_cast<double>(n);
-  if (g == "squares" || g == "distorted") return estimate_memory((m + 1) * (m + 1), 4.0);
-  if (g == "triangles") return estimate_memory((m + 1) * (m + 1), 3.0);
-  if (g == "voronoi") return estimate_memory(2.0 * m * m + 2.0, 6.0);
-  if (g == "nonconvex") return estimate_memory(3.0 * m * m + 1.0, 6.0);
+  const double x = static_cast<double>(nx), y = static_cast<double>(ny);
+  if (g == "squares" || g == "distorted") return estimate_memory((x + 1) * (y + 1), 4.0);
+  if (g == "triangles") return estimate_memory((x + 1) * (y + 1), 3.0);
+  if (g == "voronoi") return estimate_memory(2.0 * x * y + 2.0, 6.0);
+  if (g == "nonconvex") return estimate_memory(3.0 * x * y + 1.0, 6.0);
   std::string names;
   for (const auto& name : mesh_generator_names()) names += (names.empty() ? "" : ", ") + name;
   throw InputError("unknown mesh generator '" + std::string(generator) + "' (expected one of: " + names + ")");

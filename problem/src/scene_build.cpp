@@ -102,14 +102,14 @@ std::unique_ptr<BuiltProblem> build_problem(const Scene& scene) {
                    scene.where("mesh.file"));
   } else {
     const auto& d = scene.mesh.domain;
-    const MemoryEstimate need = estimate_memory(scene.mesh.generator, scene.mesh.n);
+    const GridSize cells = scene.mesh.cells();
+    const MemoryEstimate need = estimate_memory(scene.mesh.generator, cells.nx, cells.ny);
     require_memory(need.solve_bytes,
-                   scene.mesh.generator + " n = " + std::to_string(scene.mesh.n) + ": " + count_text(need.vertices) +
-                       " vertices",
+                   scene.mesh.generator + " n = " + cells.text() + ": " + count_text(need.vertices) + " vertices",
                    scene.where("mesh.n"));
     try {
       if (scene.mesh.polygon.empty()) {
-        mesh = make_mesh(scene.mesh.generator, scene.mesh.n, Rectangle{d[0], d[1], d[2], d[3]},
+        mesh = make_mesh(scene.mesh.generator, cells, Rectangle{d[0], d[1], d[2], d[3]},
                          static_cast<std::uint64_t>(scene.mesh.seed));
       } else {
         PolygonDomain poly;

@@ -226,9 +226,22 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
       check_name(m, "generator", *g, mesh_generator_names(), "mesh generator");
       s.mesh.generator = lower(*g);
     }
-    if (auto n = m.integer("n")) {
-      if (*n < 1 || *n > 10000000) m.fail("n", m.node("n"), "must be between 1 and 10000000, got " + std::to_string(*n));
-      s.mesh.n = static_cast<int>(*n);
+    if (m.has("n")) {  // an integer, or [nx, ny]
+      const toml::node& node = *m.find("n");
+      auto count = [&](const toml::node& k, const std::string& element) {
+        const auto* i = k.as_integer();
+        if (!i) m.fail("n", k, element + "expected an integer or [nx, ny], got " + type_name(k));
+        if (i->get() < 1 || i->get() > 10000000)
+          m.fail("n", k, element + "must be between 1 and 10000000, got " + std::to_string(i->get()));
+        return static_cast<int>(i->get());
+      };
+      if (const auto* a = node.as_array()) {
+        if (a->size() != 2) m.fail("n", node, "expected [nx, ny] (2 integers), got " + std::to_string(a->size()) + " elements");
+        s.mesh.n = count((*a)[0], "nx: ");
+        s.mesh.ny = count((*a)[1], "ny: ");
+      } else {
+        s.mesh.n = count(node, "");
+      }
     }
     if (auto seed = m.integer("seed")) {
       if (*seed < 0) m.fail("seed", m.node("seed"), "must be >= 0, got " + std::to_string(*seed));
@@ -245,6 +258,8 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
         m.fail("domain", m.node("domain"),
                "a polygon domain needs generator = \"voronoi\" or \"triangles\" (the generator is \"" +
                    s.mesh.generator + "\")");
+      if (s.mesh.ny)
+        m.fail("n", m.node("n"), "a polygon domain takes one n (cells of about sqrt(area)/n), not [nx, ny]");
     } else if (auto d = m.fixed<4>("domain", "[x0, x1, y0, y1] or a polygon [[x0, y0], [x1, y1], ...]")) {
       if (!((*d)[0] < (*d)[1] && (*d)[2] < (*d)[3])) m.fail("domain", m.node("domain"), "needs x0 < x1 and y0 < y1");
       s.mesh.domain = *d;
@@ -417,6 +432,10 @@ const std::vector<std::string>& scene_output_names() {
   static const std::vector<std::string> names{"vtu",         "contact-csv", "displacement-csv", "history-csv",
                                               "result-json", "u-nu-png",    "deformed-png"};
   return names;
+}
+
+std::string SceneMesh::description() const {
+  return file.empty() ? generator + " n=" + cells().text() : file.string();
 }
 
 std::string Scene::where(const std::string& key) const {

@@ -77,7 +77,7 @@ std::string to_toml(const Scene& s) {
     o << "file = " << quote(s.mesh.file.generic_string()) << "\n";
   } else {
     o << "generator = " << quote(s.mesh.generator) << "\n";
-    o << "n = " << s.mesh.n << "\n";
+    o << "n = " << s.mesh.cells().text() << "\n";
     o << "seed = " << s.mesh.seed << "\n";
     if (s.mesh.polygon.empty())
       o << "domain = " << list(s.mesh.domain, fmt) << "\n";

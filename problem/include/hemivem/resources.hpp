@@ -24,6 +24,8 @@ struct MemoryEstimate {
 /// The estimate for a mesh generator (mesh_generator_names()) with n cells per side.
 /// Throws InputError for an unknown generator or n < 1.
 MemoryEstimate estimate_memory(std::string_view generator, std::int64_t n);
+/// The same with nx cells along x and ny along y (mesh.n = [nx, ny]).
+MemoryEstimate estimate_memory(std::string_view generator, std::int64_t nx, std::int64_t ny);
 /// The estimate for a mesh of `vertices` vertices whose elements have on average
 /// `vertices_per_element` vertices.
 MemoryEstimate estimate_memory(double vertices, double vertices_per_element);

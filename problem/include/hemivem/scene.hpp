@@ -19,6 +19,7 @@
 #include <hemivem/contact_problem.hpp>
 #include <hemivem/material.hpp>
 #include <hemivem/mesh.hpp>
+#include <hemivem/mesh_generators.hpp>
 #include <hemivem/reduced_problem.hpp>
 #include <hemivem/vem.hpp>
 
@@ -51,11 +52,16 @@ struct SceneScalar {
 struct SceneMesh {
   std::string generator = "squares";   ///< used when `file` is empty
   std::filesystem::path file;          ///< .poly2d or .msh; absolute once parsed
-  int n = 64;
+  int n = 64;                          ///< cells per side; along x when `ny` is given
+  std::optional<int> ny;               ///< cells along y: mesh.n = [nx, ny] (rectangle domains)
   std::int64_t seed = 1;
   std::array<double, 4> domain{0.0, 1.0, 0.0, 1.0};  ///< x0, x1, y0, y1
   /// A polygon domain's corners (voronoi and triangles); empty: the rectangle `domain`.
   std::vector<std::array<double, 2>> polygon;
+  /// n x n, or n x ny.
+  GridSize cells() const { return ny ? GridSize(n, *ny) : GridSize(n); }
+  /// How the mesh is made, for reports: "squares n=64", "voronoi n=[32, 8]", or the file.
+  std::string description() const;
   bool operator==(const SceneMesh&) const = default;
 };
 
