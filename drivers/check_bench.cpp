@@ -102,9 +102,7 @@ SolveOptions scene_options(const std::string& scene, std::optional<int> n, std::
   return so;
 }
 
-std::string mesh_text(const Scene& s) {
-  return s.mesh.file.empty() ? s.mesh.generator + " n=" + std::to_string(s.mesh.n) : s.mesh.file.string();
-}
+std::string mesh_text(const Scene& s) { return s.mesh.description(); }
 
 double stage(const PairRun& r, const std::string& name) {
   if (name == "mesh") return r.mesh_seconds;

@@ -167,11 +167,11 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   RunInfo info;
   info.scene_name = scene.title;
   info.scene_toml = to_toml(scene);
-  info.mesh = scene.mesh.file.empty() ? scene.mesh.generator + " n=" + std::to_string(scene.mesh.n) : scene.mesh.file.string();
+  info.mesh = scene.mesh.description();
   info.linear = solved.linear;
   info.minimizer = solved.minimizer;
-  info.options = {{"tolerance", sci(mo.tolerance, 3)},
-                  {"max_iterations", std::to_string(mo.max_iterations)},
+  info.options = {{"tolerance", mo.tolerance},
+                  {"max_iterations", mo.max_iterations},
                   {"stabilization", to_string(scene.material.stabilization)},
                   {"plane_model", to_string(scene.material.model)},
                   {"scene", scene.source}};

@@ -71,7 +71,7 @@ double max_abs(const Eigen::VectorXd& v) { return v.size() ? v.cwiseAbs().maxCoe
 std::string mesh_text(const Scene& s) {
   if (!s.mesh.file.empty()) return s.mesh.file.filename().string();
   std::ostringstream o;
-  o << s.mesh.generator << " n=" << s.mesh.n;
+  o << s.mesh.description();
   const auto& d = s.mesh.domain;
   if (!s.mesh.polygon.empty())
     o << " in a polygon of " << s.mesh.polygon.size() << " corners";

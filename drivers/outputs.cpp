@@ -507,15 +507,14 @@ std::vector<ElementStress> element_stresses(const Mesh& mesh, const MaterialTabl
 nlohmann::json result_json(const Mesh& mesh, const ContactSolution& s, const RunInfo& info) {
   using nlohmann::json;
   json j;
-  j["schema"] = "hemivem-result/4";
+  j["schema"] = "hemivem-result/5";
   j["version"] = info.version;
   j["scene"] = {{"name", info.scene_name}, {"toml", info.scene_toml}};
   j["backends"] = {{"linear", info.linear}, {"minimizer", info.minimizer}};
   j["processes"] = info.processes;
   j["files"] = info.files;
   j["warnings"] = info.warnings;
-  j["options"] = json::object();
-  for (const auto& [k, v] : info.options) j["options"][k] = v;
+  j["options"] = info.options;
   j["status"] = to_string(s.minimizer.status);
   j["converged"] = s.converged();
   j["message"] = s.minimizer.message;

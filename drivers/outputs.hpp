@@ -24,7 +24,7 @@ struct RunInfo {
   std::string mesh;                           ///< how the mesh was made ("squares n=8", a file path ...)
   std::string linear;                         ///< the factorization engine used
   std::string minimizer;                      ///< the nonsmooth minimizer used
-  std::map<std::string, std::string> options;  ///< every option in effect, by name, as text
+  nlohmann::json options = nlohmann::json::object();  ///< every option in effect, by name (numbers as numbers)
   double mesh_seconds = 0.0;                  ///< wall time spent making or reading the mesh
   int dofs = -1;                              ///< free degrees of freedom; < 0: 2 x vertices
   int processes = 1;                          ///< processes of the linear engine (mpirun -np P with mumps-mpi)
@@ -32,7 +32,7 @@ struct RunInfo {
   std::vector<std::string> warnings;          ///< what the user should know about the problem posed
 };
 
-/// The result.json document ("schema": "hemivem-result/4").
+/// The result.json document ("schema": "hemivem-result/5").
 nlohmann::json result_json(const Mesh& mesh, const ContactSolution& solution, const RunInfo& info);
 
 /// The names write_outputs knows, in the order it writes them: result.json, contact.csv,

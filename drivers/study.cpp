@@ -66,6 +66,7 @@ bool is_example_41(const Scene& scene) {
   Scene s = scene;
   s.title = d.title;
   s.mesh.n = d.mesh.n;
+  s.mesh.ny = d.mesh.ny;
   s.mesh.seed = d.mesh.seed;
   s.solver = d.solver;
   s.outputs = d.outputs;
@@ -265,6 +266,7 @@ int run_study(const StudyOptions& o, std::ostream& out, std::ostream& err) {
   auto solve_n = [&](int n) {
     Scene s = scene;
     s.mesh.n = n;
+    s.mesh.ny.reset();  // N x N squares
     const auto t = Clock::now();
     SceneSolve r = solve_scene(s);
     all_converged = all_converged && r.solution.converged();

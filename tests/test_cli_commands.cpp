@@ -30,8 +30,14 @@ TEST(Cli, DefaultSolveIsExample41AndWritesEveryOutput) {
   const CommandRun r = run("solve --n 16 --out " + out.string() + " --json");
   ASSERT_EQ(r.code, 0) << r.out;
   const auto j = nlohmann::json::parse(r.out);
-  EXPECT_EQ(j["schema"], "hemivem-result/4");
+  EXPECT_EQ(j["schema"], "hemivem-result/5");
   EXPECT_EQ(j["status"], "converged");
+  // options are typed: numbers as JSON numbers, the tolerance exactly as given
+  ASSERT_TRUE(j["options"]["tolerance"].is_number_float()) << j["options"];
+  EXPECT_EQ(j["options"]["tolerance"].get<double>(), 1e-10);
+  ASSERT_TRUE(j["options"]["max_iterations"].is_number_integer()) << j["options"];
+  EXPECT_EQ(j["options"]["stabilization"], "2mu");
+  EXPECT_EQ(j["mesh"]["description"], "squares n=16");
   EXPECT_LE(j["certificate"]["primal"].get<double>(), 1e-10);
   EXPECT_LE(j["certificate"]["dual"].get<double>(), 1e-10);
   EXPECT_EQ(j["contact"].size(), 15u);

@@ -87,7 +87,7 @@ struct Solved {
     info.mesh = "squares n=8";
     info.linear = "eigen";
     info.minimizer = "ssn";
-    info.options = {{"tolerance", "1e-10"}, {"stabilization", "2mu"}};
+    info.options = {{"tolerance", 1e-10}, {"stabilization", "2mu"}};
     info.mesh_seconds = 0.25;
     info.dofs = 123;
   }
@@ -114,21 +114,21 @@ TEST_F(Outputs, ResultJsonHasEveryDocumentedField) {
   const json j = json::parse(read_text(dir.path / "result.json"));
   const auto& sol = s.solution;
 
-  EXPECT_EQ(j.at("schema"), "hemivem-result/4");
+  EXPECT_EQ(j.at("schema"), "hemivem-result/5");
   EXPECT_EQ(j.at("version"), HEMIVEM_VERSION);
   EXPECT_EQ(j.at("scene").at("name"), "example-4-1");
   EXPECT_EQ(j.at("scene").at("toml"), s.info.scene_toml);
   EXPECT_EQ(j.at("backends").at("linear"), "eigen");
   EXPECT_EQ(j.at("backends").at("minimizer"), "ssn");
   EXPECT_EQ(j.at("processes"), 1);
-  EXPECT_EQ(j.at("options").at("tolerance"), "1e-10");
+  EXPECT_EQ(j.at("options").at("tolerance"), 1e-10);
   EXPECT_EQ(j.at("options").at("stabilization"), "2mu");
 
   ASSERT_TRUE(sol.converged());
   EXPECT_EQ(j.at("status"), "converged");
   EXPECT_EQ(j.at("converged"), true);
   EXPECT_TRUE(j.at("message").is_string());
-  EXPECT_EQ(j.at("schema"), "hemivem-result/4");
+  EXPECT_EQ(j.at("schema"), "hemivem-result/5");
   const Certificate& cert = sol.minimizer.certificate;
   EXPECT_EQ(j.at("certificate").at("primal").get<double>(), cert.primal);
   EXPECT_EQ(j.at("certificate").at("dual").get<double>(), cert.dual);
