@@ -1,4 +1,5 @@
 #include "outputs.hpp"
+#include "vtu.hpp"
 
 #include "common.hpp"
 
@@ -103,107 +104,6 @@ void write_history_csv(std::ostream& stream, const ContactSolution& s) {
   for (const auto& r : s.minimizer.history)
     os << r.iteration << ',' << r.objective << ',' << r.primal << ',' << r.dual << ',' << r.active << ',' << r.seconds
        << '\n';
-}
-
-/// The boundary edges of Gamma_3 between two contact nodes (the line cells of solution.vtu).
-std::vector<std::array<int, 2>> contact_lines(const Mesh& mesh, const ContactSolution& sol) {
-  std::vector<char> on(static_cast<std::size_t>(mesh.num_vertices()), 0);
-  for (const auto& n : sol.contact) on[static_cast<std::size_t>(n.vertex)] = 1;
-  std::vector<std::array<int, 2>> lines;
-  if (sol.contact.empty()) return lines;
-  for (int e : mesh.boundary_edges()) {
-    const auto& edge = mesh.edge(e);
-    if (on[static_cast<std::size_t>(edge.v0)] && on[static_cast<std::size_t>(edge.v1)]) lines.push_back({edge.v0, edge.v1});
-  }
-  return lines;
-}
-
-void write_vtu(std::ostream& stream, const Mesh& mesh, const MaterialTable& materials, const ContactSolution& sol) {
-  const Eigen::VectorXd& u = sol.u;
-  const std::vector<ElementStress> stress = element_stresses(mesh, materials, u);
-  const std::vector<std::array<int, 2>> lines = contact_lines(mesh, sol);
-  const bool contact = !sol.contact.empty();
-  TextWriter os(stream);
-  const int nv = mesh.num_vertices();
-  const int ne = mesh.num_elements();
-  const auto nl = static_cast<int>(lines.size());
-  os << "<?xml version=\"1.0\"?>\n"
-     << "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
-     << "  <UnstructuredGrid>\n"
-     << "    <Piece NumberOfPoints=\"" << nv << "\" NumberOfCells=\"" << ne + nl << "\">\n"
-     << "      <Points>\n"
-     << "        <DataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-  for (int v = 0; v < nv; ++v) os << "          " << mesh.vertex(v).x() << ' ' << mesh.vertex(v).y() << " 0\n";
-  os << "        </DataArray>\n"
-     << "      </Points>\n"
-     << "      <Cells>\n"
-     << "        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
-  for (int e = 0; e < ne; ++e) {
-    os << "         ";
-    for (int v : mesh.element(e)) os << ' ' << v;
-    os << '\n';
-  }
-  for (const auto& l : lines) os << "          " << l[0] << ' ' << l[1] << '\n';
-  os << "        </DataArray>\n"
-     << "        <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
-  long long offset = 0;
-  for (int e = 0; e < ne; ++e) {
-    offset += mesh.element_size(e);
-    os << "          " << offset << '\n';
-  }
-  for (int l = 0; l < nl; ++l) os << "          " << (offset += 2) << '\n';
-  os << "        </DataArray>\n"
-     << "        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
-  for (int e = 0; e < ne; ++e) os << "          7\n";  // VTK_POLYGON
-  for (int l = 0; l < nl; ++l) os << "          3\n";  // VTK_LINE: Gamma_3
-  os << "        </DataArray>\n"
-     << "      </Cells>\n"
-     << "      <PointData Vectors=\"displacement\">\n"
-     << "        <DataArray type=\"Float64\" Name=\"displacement\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-  for (int v = 0; v < nv; ++v) os << "          " << u(2 * v) << ' ' << u(2 * v + 1) << " 0\n";
-  os << "        </DataArray>\n";
-  if (contact) {
-    // the contact nodes' values, 0 at the other vertices
-    std::vector<const ContactNode*> node(static_cast<std::size_t>(nv), nullptr);
-    for (const auto& n : sol.contact) node[static_cast<std::size_t>(n.vertex)] = &n;
-    auto point_array = [&](const char* name, auto value) {
-      os << "        <DataArray type=\"Float64\" Name=\"" << name << "\" format=\"ascii\">\n";
-      for (int v = 0; v < nv; ++v) {
-        const ContactNode* n = node[static_cast<std::size_t>(v)];
-        os << "          " << (n != nullptr ? value(*n) : 0.0) << '\n';
-      }
-      os << "        </DataArray>\n";
-    };
-    point_array("u_nu", [](const ContactNode& n) { return n.u_nu; });
-    point_array("pressure", [](const ContactNode& n) { return n.pressure(); });
-    // a node whose ray misses the obstacle has gap +inf: written as 0 (VTK readers take no "inf")
-    point_array("gap", [](const ContactNode& n) { return std::isfinite(n.gap) ? n.gap : 0.0; });
-  }
-  os << "      </PointData>\n"
-     << "      <CellData Tensors=\"stress\" Scalars=\"von_mises\">\n"
-     // ParaView's symmetric-tensor order: XX, YY, ZZ, XY, YZ, XZ
-     << "        <DataArray type=\"Float64\" Name=\"stress\" NumberOfComponents=\"6\" format=\"ascii\">\n";
-  for (const auto& s : stress) os << "          " << s.xx << ' ' << s.yy << ' ' << s.zz << ' ' << s.xy << " 0 0\n";
-  for (int l = 0; l < nl; ++l) os << "          0 0 0 0 0 0\n";
-  os << "        </DataArray>\n"
-     << "        <DataArray type=\"Float64\" Name=\"von_mises\" format=\"ascii\">\n";
-  for (const auto& s : stress) os << "          " << s.von_mises() << '\n';
-  for (int l = 0; l < nl; ++l) os << "          0\n";
-  os << "        </DataArray>\n"
-     << "        <DataArray type=\"Int32\" Name=\"region\" format=\"ascii\">\n";
-  for (int e = 0; e < ne; ++e) os << "          " << mesh.region(e) << '\n';
-  for (int l = 0; l < nl; ++l) os << "          -1\n";
-  os << "        </DataArray>\n";
-  if (contact) {
-    os << "        <DataArray type=\"UInt8\" Name=\"contact\" format=\"ascii\">\n";
-    for (int e = 0; e < ne; ++e) os << "          0\n";
-    for (int l = 0; l < nl; ++l) os << "          1\n";
-    os << "        </DataArray>\n";
-  }
-  os << "      </CellData>\n"
-     << "    </Piece>\n"
-     << "  </UnstructuredGrid>\n"
-     << "</VTKFile>\n";
 }
 
 // ---- plots ----------------------------------------------------------------------
@@ -482,26 +382,16 @@ void make_plots(const fs::path& dir, const Mesh& mesh, const ContactSolution& so
 
 }  // namespace
 
-double ElementStress::von_mises() const {
-  return std::sqrt(0.5 * ((xx - yy) * (xx - yy) + (yy - zz) * (yy - zz) + (zz - xx) * (zz - xx)) + 3.0 * xy * xy);
-}
-
-std::vector<ElementStress> element_stresses(const Mesh& mesh, const MaterialTable& materials,
-                                            const Eigen::VectorXd& u) {
-  const std::vector<LinearField> fields = project_solution(mesh, u);
-  std::vector<ElementStress> out(fields.size());
-  for (int e = 0; e < mesh.num_elements(); ++e) {
-    const Eigen::Matrix2d& g = fields[static_cast<std::size_t>(e)].gradient;
-    const Eigen::Matrix2d eps = 0.5 * (g + g.transpose());
-    const Lame l = materials.lame(mesh.region(e));  // plane stress: lambda is already lambda*
-    const double tr = eps.trace();
-    ElementStress& s = out[static_cast<std::size_t>(e)];
-    s.xx = l.lambda * tr + 2.0 * l.mu * eps(0, 0);
-    s.yy = l.lambda * tr + 2.0 * l.mu * eps(1, 1);
-    s.xy = 2.0 * l.mu * eps(0, 1);
-    s.zz = materials.model() == PlaneModel::strain ? l.lambda * tr : 0.0;
+std::vector<std::array<int, 2>> contact_lines(const Mesh& mesh, const ContactSolution& sol) {
+  std::vector<char> on(static_cast<std::size_t>(mesh.num_vertices()), 0);
+  for (const auto& n : sol.contact) on[static_cast<std::size_t>(n.vertex)] = 1;
+  std::vector<std::array<int, 2>> lines;
+  if (sol.contact.empty()) return lines;
+  for (int e : mesh.boundary_edges()) {
+    const auto& edge = mesh.edge(e);
+    if (on[static_cast<std::size_t>(edge.v0)] && on[static_cast<std::size_t>(edge.v1)]) lines.push_back({edge.v0, edge.v1});
   }
-  return out;
+  return lines;
 }
 
 nlohmann::json result_json(const Mesh& mesh, const ContactSolution& s, const RunInfo& info) {

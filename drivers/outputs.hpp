@@ -3,6 +3,7 @@
 // gnuplot figures u_nu.png and deformed.png.
 #pragma once
 
+#include <array>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -59,14 +60,9 @@ OutputReport write_outputs(const std::filesystem::path& dir, const Mesh& mesh, c
                            const ContactSolution& solution, const RunInfo& info,
                            const std::vector<std::string>& wanted = all_outputs());
 
-/// Per element: the projected stress (xx, yy, zz, xy) of Pi u_h, with sigma_zz = lambda
-/// (eps_xx + eps_yy) in plane strain and 0 in plane stress.
-struct ElementStress {
-  double xx = 0.0, yy = 0.0, zz = 0.0, xy = 0.0;
-  double von_mises() const;
-};
-std::vector<ElementStress> element_stresses(const Mesh& mesh, const MaterialTable& materials,
-                                            const Eigen::VectorXd& u);
+/// The boundary edges of Gamma_3 whose both ends are contact nodes, as vertex pairs (the line
+/// cells of solution.vtu, the contact boundary of deformed.png).
+std::vector<std::array<int, 2>> contact_lines(const Mesh& mesh, const ContactSolution& solution);
 
 // ---- gnuplot, for the commands that draw their own figures -------------------------
 

@@ -12,7 +12,7 @@ packages=(
   libmumps-seq-dev libmumps-dev libopenmpi-dev openmpi-bin
   libgtest-dev libgmock-dev libbenchmark-dev
   libnlopt-dev libceres-dev
-  nlohmann-json3-dev python3-meshio gnuplot-nox
+  nlohmann-json3-dev zlib1g-dev python3-meshio gnuplot-nox
 )
 
 missing=()

@@ -4,6 +4,7 @@
 
 #include <hemivem/contact_solver.hpp>
 #include <hemivem/error.hpp>
+#include <hemivem/stress.hpp>
 #include <hemivem/linear_backends.hpp>
 #include <hemivem/mesh_generators.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
@@ -239,6 +240,48 @@ TEST_F(Outputs, CsvTablesHaveHeadersAndOneRowPerNode) {
   EXPECT_EQ(history[0], "iteration,reduced_objective,primal,dual,active,seconds");
   EXPECT_EQ(read_text(dir.path / "scene.toml"), s.info.scene_toml);
   EXPECT_FALSE(fs::exists(dir.path / "result.json"));  // only what was asked for
+}
+
+// solution.vtu is VTK's compressed binary form: every array base64-encoded zlib blocks of
+// 32 KiB. On 40 x 40 squares the points (1681 x 24 bytes) span two blocks, the last one
+// partial; meshio decodes them to the displacement written to displacement.csv.
+TEST_F(Outputs, VtuIsCompressedBinaryInBlocks) {
+  const std::string python = python_with_meshio();
+  if (python.empty()) GTEST_SKIP() << "no python3 with meshio";
+  Mesh mesh = make_squares(40);
+  ContactProblem problem = example_4_1(mesh);
+  FactorizationOptions f;
+  f.engine = "eigen";
+  const ContactSolution sol = solve_contact(problem, make_factorization(f), *make_minimizer("ssn"), MinimizerOptions{});
+  ScratchDir dir("vtu-blocks");
+  write_outputs(dir.path, mesh, problem.elasticity.materials, sol, solved().info, {"solution.vtu", "displacement.csv"});
+  const std::string text = read_text(dir.path / "solution.vtu");
+  EXPECT_NE(text.find("compressor=\"vtkZLibDataCompressor\""), std::string::npos);
+  EXPECT_NE(text.find("header_type=\"UInt64\""), std::string::npos);
+  EXPECT_EQ(text.find("format=\"ascii\""), std::string::npos);
+  EXPECT_NE(text.find("Name=\"displacement\" NumberOfComponents=\"3\" format=\"binary\""), std::string::npos);
+  const fs::path report = dir.path / "max.txt";
+  const std::string script =
+      "import meshio, numpy as np\n"
+      "m = meshio.read('" + (dir.path / "solution.vtu").string() + "')\n"
+      "c = np.loadtxt('" + (dir.path / "displacement.csv").string() + "', delimiter=',', skiprows=1)\n"
+      "d = m.point_data['displacement']\n"
+      "scale = abs(c[:, 3:5]).max()\n"
+      "with open('" + report.string() + "', 'w') as f:\n"
+      "    f.write('%d %.3e %.3e %d\\n' % (len(m.points), abs(m.points[:, :2] - c[:, 1:3]).max(),\n"
+      "            abs(d[:, :2] - c[:, 3:5]).max() / scale, sum(len(b.data) for b in m.cells)))\n";
+  const fs::path py = dir.path / "read.py";
+  std::ofstream(py) << script;
+  ASSERT_EQ(std::system((python + " '" + py.string() + "' 2>'" + (dir.path / "err.txt").string() + "'").c_str()), 0)
+      << read_text(dir.path / "err.txt");
+  std::ifstream in(report);
+  int points = 0, cells = 0;
+  double point_error = 1, displacement_error = 1;
+  in >> points >> point_error >> displacement_error >> cells;
+  EXPECT_EQ(points, 41 * 41);
+  EXPECT_EQ(cells, 40 * 40 + 38);  // the squares and Gamma_3's 38 edges between its 39 contact nodes
+  EXPECT_LE(point_error, 1e-15);
+  EXPECT_LE(displacement_error, 1e-12);  // displacement.csv: 17 significant digits
 }
 
 TEST_F(Outputs, VtuLoadsInARealVtkReader) {

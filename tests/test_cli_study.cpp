@@ -1,4 +1,5 @@
 // hemivem study: the prolongation and the Q1 energy directly, the command end to end.
+#include <hemivem/bilinear.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/mesh_generators.hpp>
 #include <hemivem/vem.hpp>
@@ -44,7 +45,7 @@ TEST(StudyProlongation, ExactForABilinearField) {
   for (auto [nc, nf] : {std::pair{1, 4}, std::pair{3, 12}, std::pair{4, 8}, std::pair{5, 5}}) {
     const auto coarse = hemivem::make_squares(nc, domain);
     const auto fine = hemivem::make_squares(nf, domain);
-    const Eigen::VectorXd p = hemivem::cli::prolong_squares(nodal(coarse, bilinear), nc, nf);
+    const Eigen::VectorXd p = hemivem::prolong_squares(nodal(coarse, bilinear), nc, nf);
     EXPECT_LT((p - nodal(fine, bilinear)).lpNorm<Eigen::Infinity>(), 1e-12) << nc << " -> " << nf;
   }
 }
@@ -53,7 +54,7 @@ TEST(StudyProlongation, InterpolatesAHatFunctionBilinearly) {
   // The hat function of the centre vertex of 2 x 2 squares, at the vertices of 8 x 8.
   Eigen::VectorXd c = Eigen::VectorXd::Zero(2 * 9);
   c[2 * 4] = 1.0;  // u_x at vertex (1, 1)
-  const Eigen::VectorXd p = hemivem::cli::prolong_squares(c, 2, 8);
+  const Eigen::VectorXd p = hemivem::prolong_squares(c, 2, 8);
   for (int J = 0; J <= 8; ++J)
     for (int I = 0; I <= 8; ++I) {
       const double expected = (1 - std::abs(I - 4) / 4.0) * (1 - std::abs(J - 4) / 4.0);
@@ -63,8 +64,8 @@ TEST(StudyProlongation, InterpolatesAHatFunctionBilinearly) {
 }
 
 TEST(StudyProlongation, RejectsANonDividingN) {
-  EXPECT_THROW(hemivem::cli::prolong_squares(Eigen::VectorXd::Zero(2 * 16), 3, 8), hemivem::InputError);
-  EXPECT_THROW(hemivem::cli::prolong_squares(Eigen::VectorXd::Zero(5), 2, 8), hemivem::InputError);
+  EXPECT_THROW(hemivem::prolong_squares(Eigen::VectorXd::Zero(2 * 16), 3, 8), hemivem::InputError);
+  EXPECT_THROW(hemivem::prolong_squares(Eigen::VectorXd::Zero(5), 2, 8), hemivem::InputError);
 }
 
 TEST(StudyQ1Energy, ByHandForAShearedBilinearField) {
@@ -77,20 +78,20 @@ TEST(StudyQ1Energy, ByHandForAShearedBilinearField) {
     for (int n : {1, 2, 5}) {
       const auto mesh = hemivem::make_squares(n);
       const Eigen::VectorXd u = nodal(mesh, [](const Vec2& p) { return Vec2(p.x() * p.y(), 0.0); });
-      EXPECT_NEAR(hemivem::cli::q1_energy(mesh, table, u), (l.lambda + 3 * l.mu) / 3, 1e-12) << n;
+      EXPECT_NEAR(hemivem::q1_energy(mesh, table, u), (l.lambda + 3 * l.mu) / 3, 1e-12) << n;
     }
   }
   // Plane strain by the numbers: E = 65, nu = 0.29.
   const double lambda = 65.0 * 0.29 / (1.29 * 0.42), mu = 65.0 / 2.58;
   const auto mesh = hemivem::make_squares(3);
   const Eigen::VectorXd ux = nodal(mesh, [](const Vec2& p) { return Vec2(p.x(), 0.0); });
-  EXPECT_NEAR(hemivem::cli::q1_energy(mesh, hemivem::MaterialTable(m), ux), lambda + 2 * mu, 1e-11);
+  EXPECT_NEAR(hemivem::q1_energy(mesh, hemivem::MaterialTable(m), ux), lambda + 2 * mu, 1e-11);
 }
 
 TEST(StudyQ1Energy, ElementMatchesTheVemConsistencyForLinearFields) {
   const hemivem::Lame l = hemivem::lame({65.0, 0.29}, hemivem::PlaneModel::strain);
   const std::array<Vec2, 4> v{Vec2(0.2, -0.1), Vec2(0.7, -0.1), Vec2(0.7, 0.15), Vec2(0.2, 0.15)};
-  const auto K = hemivem::cli::q1_stiffness(v, l);
+  const auto K = hemivem::q1_stiffness(v, l);
   const hemivem::VemElement vem = hemivem::vem_element(std::span<const Vec2>(v.data(), 4), l);
   EXPECT_LT((K - K.transpose()).norm(), 1e-12 * K.norm());
   // Six linear fields: on them the VEM stiffness is its consistency part, exact.
@@ -109,10 +110,10 @@ TEST(StudyQ1Energy, ElementMatchesTheVemConsistencyForLinearFields) {
   }
   // The vertex order is free: a rotated list gives the permuted matrix.
   const std::array<Vec2, 4> w{v[2], v[3], v[0], v[1]};
-  const auto Kw = hemivem::cli::q1_stiffness(w, l);
+  const auto Kw = hemivem::q1_stiffness(w, l);
   EXPECT_NEAR(Kw(0, 0), K(4, 4), 1e-12);
   EXPECT_NEAR(Kw(1, 6), K(5, 2), 1e-12);
-  EXPECT_THROW(hemivem::cli::q1_stiffness({Vec2(0, 0), Vec2(1, 0), Vec2(1.2, 1), Vec2(0, 1)}, l), hemivem::InputError);
+  EXPECT_THROW(hemivem::q1_stiffness({Vec2(0, 0), Vec2(1, 0), Vec2(1.2, 1), Vec2(0, 1)}, l), hemivem::InputError);
 }
 
 // ---- end to end ----------------------------------------------------------------------------
