@@ -19,6 +19,7 @@
 #include "commands.hpp"
 #include "common.hpp"
 #include "outputs.hpp"
+#include "plots.hpp"
 
 namespace hemivem::cli {
 
@@ -323,8 +324,6 @@ struct BenchRow {
 // The work-precision figure: one series per pair, log error (x) against log total time (y).
 // Empty on success, else why it was skipped.
 std::string bench_plot(const fs::path& dir, const std::vector<Pair>& pairs, const std::vector<BenchRow>& rows) {
-  const fs::path gnuplot = find_on_path("gnuplot");
-  if (gnuplot.empty()) return "gnuplot not found on PATH";
   std::ostringstream script;
   script << std::setprecision(17);
   std::vector<std::string> series;
@@ -349,29 +348,19 @@ std::string bench_plot(const fs::path& dir, const std::vector<Pair>& pairs, cons
                      gnuplot_quote(pairs[p].label()));
   }
   if (series.empty()) return "no finite positive error to plot";
-  const fs::path png = dir / "bench.png", tmp_png = dir / ".bench.png.tmp";
-  script << "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) { set terminal pngcairo size 1100,750 enhanced } "
-            "else { set terminal png size 1100,750 }\n"
-         << "set output " << gnuplot_quote(tmp_png.string()) << "\n"
-         << "set logscale xy\nset format x '10^{%L}'\nset format y '10^{%L}'\n"
-         << "set xlabel 'error: max|I_h u_h - u_{ref}| / max|u_{ref}|'\nset ylabel 'wall time [s] (total)'\n"
-         << "set title 'hemivem bench: work-precision'\nset grid\nset key outside right top\n"
+  script << "set logscale xy\nset format x '10^{%L}'\nset format y '10^{%L}'\n"
+         << "set xlabel 'relative error: max|I_h u_h - u_{ref}| / max|u_{ref}| (dimensionless)'\n"
+         << "set ylabel 'wall time, whole solve (s)'\n"
+         << "set title 'work against precision: every pair of engines on every mesh size'\nset grid\n"
+         << "set key outside right top noenhanced\n"
          << "plot ";
   for (std::size_t i = 0; i < series.size(); ++i) script << (i ? ", \\\n     " : "") << series[i];
-  script << "\nunset output\n";
-  const fs::path gp = dir / ".bench.gp.tmp", log = dir / ".bench.gnuplot.log";
-  write_atomically(gp, [&](std::ostream& os) { os << script.str(); });
-  const std::string failure = run_gnuplot(gnuplot, gp, log);
-  std::error_code ec;
-  fs::remove(gp, ec);
-  fs::remove(log, ec);
-  if (!is_png(tmp_png)) {
-    fs::remove(tmp_png, ec);
-    return failure.empty() ? "gnuplot made no PNG" : failure;
-  }
-  fs::rename(tmp_png, png, ec);
-  if (ec) throw InputError("cannot write: " + ec.message(), png.string());
-  return {};
+  Figure f;
+  f.png = "bench.png";
+  f.width = 1100;
+  f.height = 750;
+  f.script = script.str();
+  return draw_figures(dir, {f}).front();
 }
 
 }  // namespace

@@ -179,6 +179,8 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   info.dofs = sol.unknowns;
   info.processes = solved.processes;
   info.warnings = built->warnings;
+  if (built->problem.law) info.law_breakpoints = built->problem.law->breakpoints();
+  info.gap_bound = built->has_contact && built->problem.constraint != ConstraintKind::none;
   for (const auto& w : info.warnings) err << "hemivem: warning: " << w << "\n";
   const OutputReport report = write_outputs(o.out, built->mesh, built->problem.elasticity.materials, sol, info,
                                             wanted_files(scene, built->has_contact));

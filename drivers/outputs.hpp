@@ -1,6 +1,6 @@
 // The files a solve leaves in its output folder (schema and formats: drivers/OUTPUTS.md):
-// result.json, contact.csv, displacement.csv, history.csv, solution.vtu, scene.toml and the
-// gnuplot figures u_nu.png and deformed.png.
+// result.json, contact.csv, displacement.csv, history.csv, solution.vtu (vtu.hpp), scene.toml
+// and the gnuplot figures u_nu.png and deformed.png (plots.hpp).
 #pragma once
 
 #include <array>
@@ -31,6 +31,8 @@ struct RunInfo {
   int processes = 1;                          ///< processes of the linear engine (mpirun -np P with mumps-mpi)
   std::vector<std::string> files;             ///< the files of the run's output folder (set by write_outputs)
   std::vector<std::string> warnings;          ///< what the user should know about the problem posed
+  std::vector<double> law_breakpoints;        ///< the contact law's breakpoints (u_nu values), for u_nu.png
+  bool gap_bound = false;                     ///< u_nu <= g is a constraint: the plots draw the gap and foundation
 };
 
 /// The result.json document ("schema": "hemivem-result/5").
@@ -63,17 +65,5 @@ OutputReport write_outputs(const std::filesystem::path& dir, const Mesh& mesh, c
 /// The boundary edges of Gamma_3 whose both ends are contact nodes, as vertex pairs (the line
 /// cells of solution.vtu, the contact boundary of deformed.png).
 std::vector<std::array<int, 2>> contact_lines(const Mesh& mesh, const ContactSolution& solution);
-
-// ---- gnuplot, for the commands that draw their own figures -------------------------
-
-/// The full path of `program` found on PATH, or empty.
-std::filesystem::path find_on_path(const std::string& program);
-/// A single-quoted gnuplot string ('' stands for a quote).
-std::string gnuplot_quote(const std::string& s);
-/// Runs `gnuplot` on `script` (output to `log`); empty on success, else the reason.
-std::string run_gnuplot(const std::filesystem::path& gnuplot, const std::filesystem::path& script,
-                        const std::filesystem::path& log);
-/// Whether `p` starts with the PNG signature.
-bool is_png(const std::filesystem::path& p);
 
 }  // namespace hemivem::cli

@@ -21,6 +21,7 @@
 #include "commands.hpp"
 #include "common.hpp"
 #include "outputs.hpp"
+#include "plots.hpp"
 
 namespace hemivem::cli {
 
@@ -108,57 +109,38 @@ std::string opt_csv(const std::optional<double>& v) {
   return s.str();
 }
 
-// study.png: log-log error against h, ours beside the paper's and the independent values.
-// Empty on success, else why it was skipped.
-std::string write_plot(const fs::path& dir, const std::vector<Row>& rows, bool with_references) {
-  const fs::path gnuplot = find_on_path("gnuplot");
-  if (gnuplot.empty()) return "gnuplot not found on PATH";
-  const fs::path t = fs::temp_directory_path() / ("hemivem-study-" + std::to_string(::getpid()));
-  fs::remove_all(t);
-  fs::create_directories(t);
-  {
-    std::ofstream d(t / "study.dat");
-    d << std::setprecision(12);
-    for (const auto& r : rows) {
-      d << r.h << " " << 100.0 * r.error;
-      for (const auto& v : {r.paper, r.independent}) {
-        if (v) d << " " << 100.0 * *v;
-        else d << " NaN";
-      }
-      d << "\n";
-    }
-  }
-  const std::string dat = gnuplot_quote((t / "study.dat").string());
-  {
-    std::ofstream g(t / "plot.gp");
-    g << "set terminal pngcairo size 900,650 enhanced font 'sans,11'\n"
-      << "set output " << gnuplot_quote((t / "study.png").string()) << "\n"
-      << "set logscale xy\nset grid\nset key top left\n"
-      << "set title 'relative energy error against the reference solution'\n"
-      << "set xlabel 'h'\nset ylabel 'relative error [%]'\nset datafile missing 'NaN'\n"
-      << "plot " << dat << " using 1:2 with linespoints pt 7 lw 2 title 'hemivem'";
-    if (with_references)
-      g << ", " << dat << " using 1:3 with linespoints pt 5 lw 1 title 'paper (Table 1)'"
-        << ", " << dat << " using 1:4 with points pt 6 ps 2 lw 1.5 title 'independent (DESIGN 6)'";
-    g << "\nunset output\n";
-  }
-  std::string failure = run_gnuplot(gnuplot, t / "plot.gp", t / "gnuplot.log");
-  if (failure.empty()) {
-    if (!fs::exists(t / "study.png")) {
-      failure = "gnuplot made no PNG";
-    } else {
-      write_atomically(dir / "study.png", [&](std::ostream& os) {
-        std::ifstream in(t / "study.png", std::ios::binary);
-        os << in.rdbuf();
-      });
-    }
-  }
-  std::error_code ec;
-  fs::remove_all(t, ec);
-  return failure;
-}
-
 }  // namespace
+
+Figure study_figure(const std::vector<StudyPoint>& rows, bool with_references, int ref) {
+  Figure f;
+  f.png = "study.png";
+  f.width = 900;
+  f.height = 650;
+  f.data.push_back({"study.dat", [rows](std::ostream& d) {
+                      d << std::setprecision(12);
+                      for (const auto& r : rows) {
+                        d << r.h << " " << 100.0 * r.error;
+                        for (const auto& v : {r.paper, r.independent}) {
+                          if (v) d << " " << 100.0 * *v;
+                          else d << " NaN";
+                        }
+                        d << "\n";
+                      }
+                    }});
+  std::ostringstream g;
+  g << std::setprecision(12) << "set logscale xy\nset grid\nset key bottom right\n"
+    << "set title 'relative energy error against the solution on " << ref << " x " << ref << " squares'\n"
+    << "set xlabel 'mesh size h (scene units)'\nset ylabel 'relative error in the energy norm (%)'\n"
+    << "set datafile missing 'NaN'\n";
+  const double slope = !rows.empty() && rows.front().h > 0.0 ? 100.0 * rows.front().error / rows.front().h : 0.0;
+  g << "plot 'study.dat' using 1:2 with linespoints pt 7 lw 2 title 'hemivem'";
+  if (slope > 0.0 && std::isfinite(slope)) g << ", " << slope << " * x with lines dt 2 lw 1.5 lc rgb '#555555' title 'O(h) reference slope'";
+  if (with_references)
+    g << ", 'study.dat' using 1:3 with linespoints pt 5 lw 1 title 'paper (Feng, Han, Huang 2021, Table 1)'"
+      << ", 'study.dat' using 1:4 with points pt 6 ps 2 lw 1.5 title 'independent implementation of the paper''s section 2'";
+  f.script = g.str();
+  return f;
+}
 
 int run_study(const StudyOptions& o, std::ostream& out, std::ostream& err) {
   Scene scene = o.scene.empty() ? default_scene() : parse_scene(o.scene);
@@ -257,7 +239,9 @@ int run_study(const StudyOptions& o, std::ostream& out, std::ostream& err) {
          << opt_csv(r.independent) << "\n";
   });
   write_atomically(fs::path(o.out) / "study.json", [&](std::ostream& os) { os << j.dump(2) << "\n"; });
-  const std::string skipped = write_plot(o.out, rows, references);
+  std::vector<StudyPoint> points;
+  for (const auto& r : rows) points.push_back({r.h, r.error, r.paper, r.independent});
+  const std::string skipped = draw_figures(o.out, {study_figure(points, references, o.ref)}).front();
   if (skipped.empty()) written.emplace_back("study.png");
 
   if (o.json) {

@@ -7,15 +7,12 @@
 // ||u_ref - P u_h||_E / ||u_ref||_E.
 #pragma once
 
-#include <Eigen/Core>
-
-#include <array>
 #include <iosfwd>
+#include <optional>
 #include <string>
 #include <vector>
 
-#include <hemivem/material.hpp>
-#include <hemivem/mesh.hpp>
+#include "plots.hpp"
 
 namespace hemivem::cli {
 
@@ -34,5 +31,18 @@ struct StudyOptions {
 /// outputs are still written and marked); InputError for a scene that is not on squares or
 /// an N that does not divide the reference N.
 int run_study(const StudyOptions& options, std::ostream& out, std::ostream& err);
+
+/// One mesh size of the study: h, the relative error, and the paper's and the independent
+/// implementation's errors where DESIGN §6 has them.
+struct StudyPoint {
+  double h = 0.0;
+  double error = 0.0;
+  std::optional<double> paper, independent;
+};
+
+/// study.png: the relative error (%) against h on log axes, an O(h) slope through the first
+/// (coarsest) point, and with `with_references` the paper's and the independent values; the
+/// title names the reference N.
+Figure study_figure(const std::vector<StudyPoint>& points, bool with_references, int ref);
 
 }  // namespace hemivem::cli

@@ -1,6 +1,7 @@
 // The output folder of a solve: result.json, the CSV tables, the VTU file (read back with a
 // real VTK reader) and the gnuplot figures.
 #include "outputs.hpp"
+#include "plots.hpp"
 
 #include <hemivem/contact_solver.hpp>
 #include <hemivem/error.hpp>
@@ -432,6 +433,72 @@ TEST_F(Outputs, PlotsArePngsMadeByGnuplot) {
   }
   // nothing but the plots
   EXPECT_EQ(std::distance(fs::directory_iterator(dir.path), fs::directory_iterator()), 2);
+}
+
+// What the figures say: the scene and the mesh in the title, units on every axis, the gap
+// and the law's breakpoints in u_nu.png; the undeformed outline and the foundation in
+// deformed.png; x for a straight horizontal contact boundary, the arc length otherwise.
+TEST_F(Outputs, FiguresNameTheirSceneMeshUnitsAndReferenceLines) {
+  const Solved& s = solved();
+  RunInfo info = s.info;
+  info.scene_name = "Example 4.1";
+  info.law_breakpoints = {0.0, 0.01, 0.02, 5.0};  // 5 is far from every value shown
+  info.gap_bound = true;
+  const Figure u = u_nu_figure(s.mesh, s.solution, info);
+  EXPECT_EQ(u.png, "u_nu.png");
+  EXPECT_NE(u.script.find("Example 4.1, squares n=8' noenhanced"), std::string::npos) << u.script;
+  EXPECT_NE(u.script.find("set xlabel 'x (scene units)'"), std::string::npos) << u.script;
+  EXPECT_NE(u.script.find("u_{/Symbol n} (scene units)'"), std::string::npos);
+  EXPECT_NE(u.script.find("set y2label 'contact pressure (force per unit length, scene units"), std::string::npos);
+  EXPECT_NE(u.script.find("title 'gap g (u_{/Symbol n} <= g)'"), std::string::npos);
+  for (const char* b : {"'law breakpoint 0'", "'law breakpoint 0.01'", "'law breakpoint 0.02'"})
+    EXPECT_NE(u.script.find(b), std::string::npos) << b;
+  EXPECT_EQ(u.script.find("law breakpoint 5"), std::string::npos);
+  const Figure d = deformed_figure(s.mesh, s.solution, info);
+  EXPECT_NE(d.script.find("'outline.dat' using 1:2 with lines"), std::string::npos) << d.script;
+  EXPECT_NE(d.script.find("title 'undeformed'"), std::string::npos);
+  EXPECT_NE(d.script.find("'foundation.dat'"), std::string::npos);
+  for (const char* label : {"set xlabel 'x (scene units)'", "set ylabel 'y (scene units)'", "set cblabel '|u| (scene units)'"})
+    EXPECT_NE(d.script.find(label), std::string::npos) << label;
+  // the foundation lies where u_nu = g, magnified as the displacement: a node at its bound is
+  // drawn on it, every other node above it
+  auto points = [&](const std::string& name) {
+    std::ostringstream data;
+    for (const auto& f : d.data)
+      if (f.name == name) f.write(data);
+    std::istringstream rows(data.str());
+    std::string header;
+    std::getline(rows, header);
+    std::vector<Vec2> out;
+    for (double x = 0, y = 0; rows >> x >> y;) out.emplace_back(x, y);
+    return out;
+  };
+  const std::vector<Vec2> foundation = points("foundation.dat"), nodes = points("contact.dat");
+  ASSERT_EQ(foundation.size(), s.solution.contact.size());
+  ASSERT_EQ(nodes.size(), s.solution.contact.size());
+  int touching = 0;
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    const auto& n = s.solution.contact[i];
+    const auto below = std::find_if(foundation.begin(), foundation.end(), [&](const Vec2& q) { return q.x() == n.x.x(); });
+    ASSERT_NE(below, foundation.end()) << "no foundation point below node " << n.vertex;
+    EXPECT_LT(below->y(), n.x.y());
+    if (n.state == "upper") {
+      ++touching;
+      EXPECT_NEAR(nodes[i].y(), below->y(), 1e-12) << n.vertex;
+    } else {
+      EXPECT_GT(nodes[i].y(), below->y()) << n.vertex;
+    }
+  }
+  EXPECT_GT(touching, 0);
+  // a contact boundary that is not one horizontal line: against its arc length
+  ContactSolution bent = s.solution;
+  bent.contact.front().x.y() += 0.1;
+  EXPECT_NE(u_nu_figure(s.mesh, bent, info).script.find("set xlabel 'arc length s along the contact boundary"),
+            std::string::npos);
+  // without a constraint there is no foundation and no gap line
+  info.gap_bound = false;
+  EXPECT_EQ(deformed_figure(s.mesh, s.solution, info).script.find("foundation"), std::string::npos);
+  EXPECT_EQ(u_nu_figure(s.mesh, s.solution, info).script.find("gap g"), std::string::npos);
 }
 
 TEST_F(Outputs, MissingGnuplotSkipsThePlotsOnly) {

@@ -154,6 +154,21 @@ TEST(CliStudy, SmallStudyRunsAndItsErrorsDecrease) {
   EXPECT_NE(csv.find("\n0.25,4,"), std::string::npos) << csv;
 }
 
+// study.png: an O(h) slope through the coarsest point, the reference N in the title, legend
+// words a reader understands, units on the axes.
+TEST(CliStudy, FigureHasAnOrderOneSlopeAndPlainWords) {
+  const std::vector<hemivem::cli::StudyPoint> points{{0.25, 0.36, 0.52, 0.3626}, {0.125, 0.22, 0.31, 0.225}};
+  const auto f = hemivem::cli::study_figure(points, true, 256);
+  EXPECT_EQ(f.png, "study.png");
+  EXPECT_NE(f.script.find(", 144 * x with lines"), std::string::npos) << f.script;  // 100 * 0.36 / 0.25
+  EXPECT_NE(f.script.find("title 'O(h) reference slope'"), std::string::npos);
+  EXPECT_NE(f.script.find("against the solution on 256 x 256 squares"), std::string::npos);
+  EXPECT_NE(f.script.find("set xlabel 'mesh size h (scene units)'"), std::string::npos);
+  EXPECT_NE(f.script.find("'paper (Feng, Han, Huang 2021, Table 1)'"), std::string::npos);
+  EXPECT_EQ(f.script.find("DESIGN"), std::string::npos);
+  EXPECT_EQ(hemivem::cli::study_figure(points, false, 64).script.find("paper"), std::string::npos);
+}
+
 TEST(CliStudy, TableNamesThePaperAndSaysItIsNotReproduced) {
   const fs::path out = scratch("table");
   const CommandRun r = run("study --n 2,4 --ref 8 --out " + out.string());
