@@ -20,6 +20,7 @@
 
 #include "commands.hpp"
 #include "common.hpp"
+#include "engine_pairs.hpp"
 
 #ifndef HEMIVEM_EXTREME_SCENES_DIR
 #define HEMIVEM_EXTREME_SCENES_DIR ""
@@ -31,8 +32,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // One (linear, minimizer) pair on one scene.
@@ -66,8 +65,6 @@ struct SceneReport {
   std::vector<Row> rows;
 };
 
-double max_abs(const Eigen::VectorXd& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; }
-
 std::string mesh_text(const Scene& s) {
   if (!s.mesh.file.empty()) return s.mesh.file.filename().string();
   std::ostringstream o;
@@ -78,24 +75,6 @@ std::string mesh_text(const Scene& s) {
   else if (d != std::array<double, 4>{0.0, 1.0, 0.0, 1.0})
     o << " on [" << d[0] << "," << d[1] << "]x[" << d[2] << "," << d[3] << "]";
   return o.str();
-}
-
-// The guarantee of solve_contact, checked from the outside: a converged pair has finite
-// displacements and its contact point is feasible (recomputed on the reduced problem).
-void check_guarantee(Row& r, const ContactSolution& sol, const ReducedProblem* reduced, const MinimizerOptions& mo) {
-  if (!r.converged) return;
-  if (!sol.u.allFinite()) {
-    r.guarantee = false;
-    r.broken = "converged with a non-finite displacement";
-    return;
-  }
-  if (reduced && reduced->size() > 0) {
-    const Certificate c = certificate(*reduced, sol.minimizer.a, mo.tolerance);
-    if (!c.converged()) {
-      r.guarantee = false;
-      r.broken = "converged, but the recomputed certificate is " + certificate_text(c);
-    }
-  }
 }
 
 SceneReport run_scene(const fs::path& file, const ExtremeOptions& o, std::ostream& err) {
@@ -111,87 +90,56 @@ SceneReport run_scene(const fs::path& file, const ExtremeOptions& o, std::ostrea
   rep.mesh = mesh_text(scene);
   const bool progress = o.verbosity >= 1 && !o.json;
 
-  std::unique_ptr<BuiltProblem> built;
-  const auto t_mesh = Clock::now();
+  // One mesh and one assembly per scene, condensed once by every linear engine.
+  PairRunOptions ro;
+  ro.estimate_condition = true;
+  ro.input_errors_fail_pairs = true;
+  std::string engine;
+  ro.done = [&](const PairRun& r) {
+    if (!progress || r.pair.linear == engine) return;
+    engine = r.pair.linear;
+    err << "hemivem check --extreme: " << std::left << std::setw(22) << rep.name << std::setw(10) << engine
+        << (r.failed ? "engine failed" : "done") << " (" << fixed(r.seconds - r.mesh_seconds, 3) << " s)\n";
+  };
+  PairRuns shared;
   try {
-    built = build_problem(scene);
+    shared = run_pairs(scene, available_pairs(), ro);
   } catch (const InputError& e) {
     rep.refused = e.what();
     if (progress) err << "hemivem check --extreme: " << rep.name << ": refused: " << e.what() << "\n";
     return rep;
   }
-  rep.mesh_seconds = since(t_mesh);
-  rep.vertices = built->mesh.num_vertices();
-
-  std::vector<std::unique_ptr<NonsmoothMinimizer>> minimizers;
-  std::vector<const NonsmoothMinimizer*> pointers;
-  for (const auto& m : available_minimizers()) {
-    minimizers.push_back(make_scene_minimizer(scene, m));
-    pointers.push_back(minimizers.back().get());
-  }
-  MinimizerOptions mo;
-  mo.tolerance = scene.solver.tolerance;
-  mo.max_iterations = scene.solver.max_iterations;
-
-  // One assembly per scene, condensed by every linear engine.
-  const auto t_assembly = Clock::now();
-  const LinearSystem system = assemble(built->problem.elasticity);
-  const double assembly_seconds = since(t_assembly);
-
-  for (const auto& linear : available_factorizations()) {
-    if (progress) err << "hemivem check --extreme: " << std::left << std::setw(22) << rep.name << std::setw(10) << linear << std::flush;
-    const auto t = Clock::now();
-    std::vector<ContactSolution> sols;
-    std::string failure;
-    ReducedProblem reduced;
-    try {
-      FactorizationOptions fo;
-      fo.engine = linear;
-      sols = solve_contact(built->problem, system, make_factorization(fo), pointers, mo, built->has_contact ? &reduced : nullptr,
-                           /*estimate_condition=*/true);
-    } catch (const NumericalError& e) {
-      failure = e.what();
-    } catch (const InputError& e) {
-      failure = e.what();
+  rep.mesh_seconds = shared.mesh_seconds;
+  rep.vertices = shared.built->mesh.num_vertices();
+  // differences relative to max|u| of eigen+ssn (else the largest converged pair)
+  const double scale = difference_scale(shared.runs);
+  rep.margin = largest_margin(shared.runs);
+  rep.unique = rep.margin > 0.0;
+  for (auto& run : shared.runs) {
+    Row r;
+    r.linear = run.pair.linear;
+    r.minimizer = run.pair.minimizer;
+    r.status = run.status;
+    r.message = run.message;
+    r.failed = run.failed;
+    r.converged = run.converged;
+    r.certificate = run.certificate;
+    r.margin = run.margin;
+    r.rcond = run.rcond;
+    r.condition = run.condition;
+    r.seconds = run.seconds - run.mesh_seconds;  // assembly, condensation, this pair's minimize and back-substitution
+    r.iterations = run.iterations;
+    r.at_bound = run.at_bound;
+    r.guarantee = run.guarantee;
+    r.broken = run.broken;
+    if (!run.failed) {
+      rep.contact_nodes = run.contact_nodes;
+      rep.unknowns = run.unknowns;
     }
-    if (progress) err << (failure.empty() ? "done" : "engine failed") << " (" << fixed(since(t), 3) << " s)\n";
-    for (std::size_t k = 0; k < pointers.size(); ++k) {
-      Row r;
-      r.linear = linear;
-      r.minimizer = pointers[k]->name();
-      if (!failure.empty()) {
-        r.failed = true;
-        r.message = failure;
-        rep.rows.push_back(std::move(r));
-        continue;
-      }
-      ContactSolution& s = sols[k];
-      r.status = to_string(s.minimizer.status);
-      r.message = s.minimizer.message;
-      r.converged = s.converged();
-      r.certificate = s.minimizer.certificate;
-      r.iterations = s.minimizer.iterations;
-      r.at_bound = static_cast<int>(std::count_if(s.contact.begin(), s.contact.end(), [](const ContactNode& c) { return c.state != "free"; }));
-      r.margin = s.uniqueness_margin;
-      r.rcond = s.rcond;
-      r.condition = s.condition_estimate;
-      r.seconds = assembly_seconds + (s.timings.count("total") ? s.timings.at("total") : 0.0);
-      rep.contact_nodes = static_cast<int>(s.contact.size());
-      rep.unknowns = s.unknowns;
-      check_guarantee(r, s, built->has_contact ? &reduced : nullptr, mo);
-      r.u = std::move(s.u);
-      rep.rows.push_back(std::move(r));
-    }
+    r.u = std::move(run.u);
+    rep.rows.push_back(std::move(r));
   }
 
-  // Differences, relative to max|u| of eigen+ssn (else the largest converged pair).
-  double scale = 0.0;
-  for (const auto& r : rep.rows)
-    if (r.linear == "eigen" && r.minimizer == "ssn" && r.converged) scale = max_abs(r.u);
-  if (scale == 0.0)
-    for (const auto& r : rep.rows)
-      if (r.converged) scale = std::max(scale, max_abs(r.u));
-  if (scale == 0.0) scale = 1.0;
   for (auto& a : rep.rows) {
     if (a.failed || a.u.size() == 0) continue;
     double m = kNaN;
@@ -203,9 +151,6 @@ SceneReport run_scene(const fs::path& file, const ExtremeOptions& o, std::ostrea
     }
     a.difference = m;
   }
-  for (const auto& r : rep.rows)
-    if (!r.failed && !std::isnan(r.margin)) rep.margin = std::isnan(rep.margin) ? r.margin : std::max(rep.margin, r.margin);
-  rep.unique = rep.margin > 0.0;
   return rep;
 }
 

@@ -4,7 +4,7 @@
 // METIS (docs/performance.md).
 #pragma once
 
-#include "check_bench.hpp"
+#include "bench.hpp"
 
 #include <ostream>
 #include <vector>

@@ -27,7 +27,8 @@
 
 #include <malloc.h>
 
-#include "check_bench.hpp"
+#include "bench.hpp"
+#include "check.hpp"
 #include "extreme.hpp"
 #include "limit.hpp"
 #include "commands.hpp"
@@ -169,7 +170,7 @@ int run_command(int argc, char** argv) {
 
   auto* cmd_backends = app.add_subcommand("backends", "List the engines that were built");
 
-  // ---- check and bench (drivers/check_bench.hpp, drivers/CHECK_BENCH.md) ----
+  // ---- check and bench (drivers/check.hpp, drivers/bench.hpp, drivers/CHECK_BENCH.md) ----
   cli::CheckOptions check;
   bool check_quiet = false;
   int check_n = 0;

@@ -15,6 +15,9 @@
 #include <unistd.h>
 #include <sys/wait.h>
 
+#include <hemivem/scene.hpp>
+
+#include "engine_pairs.hpp"
 #include "test_support.hpp"
 
 namespace fs = std::filesystem;
@@ -228,3 +231,41 @@ TEST(CliBenchLimit, NeedsSquaresAndLeavesNothingOnBadInput) {
 }
 
 }  // namespace
+
+// The runner of check, bench and check --extreme shares what the pairs have in common: one
+// mesh, one assembly, one condensation per linear engine; each pair is charged those shared
+// stages as if it had run alone.
+TEST(EnginePairs, OneAssemblyAndOneCondensationPerLinearEngine) {
+  hemivem::Scene scene = hemivem::default_scene();
+  hemivem::apply_overrides(scene, {"mesh.n=8"});
+  const auto pairs = hemivem::cli::available_pairs();
+  std::vector<std::string> engines;
+  for (const auto& p : pairs)
+    if (engines.empty() || engines.back() != p.linear) engines.push_back(p.linear);
+  std::vector<std::string> done;
+  hemivem::cli::PairRunOptions options;
+  options.done = [&](const hemivem::cli::PairRun& r) { done.push_back(r.pair.label()); };
+  const auto shared = hemivem::cli::run_pairs(scene, pairs, options);
+  EXPECT_EQ(shared.assemblies, 1);
+  EXPECT_EQ(shared.condensations, static_cast<int>(engines.size()));
+  ASSERT_EQ(shared.runs.size(), pairs.size());
+  ASSERT_EQ(done.size(), pairs.size());
+  const double scale = hemivem::cli::difference_scale(shared.runs);
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    const auto& r = shared.runs[i];
+    SCOPED_TRACE(r.pair.label());
+    EXPECT_EQ(r.pair.label(), pairs[i].label());
+    EXPECT_EQ(done[i], pairs[i].label());
+    ASSERT_TRUE(r.converged) << r.message;
+    EXPECT_TRUE(r.guarantee) << r.broken;
+    EXPECT_EQ(r.timings.at("assembly"), shared.assembly_seconds);
+    EXPECT_GE(r.timings.at("total"), shared.assembly_seconds + r.timings.at("condensation"));
+    EXPECT_EQ(r.seconds, shared.mesh_seconds + r.timings.at("total"));
+    EXPECT_EQ(r.vertices, shared.built->mesh.num_vertices());
+    EXPECT_LE(hemivem::cli::max_abs(r.u - shared.runs.front().u) / scale, 1e-6);  // Example 4.1 is unique
+  }
+  // the pairs of one engine share its condensation: the same time, measured once
+  for (std::size_t i = 1; i < pairs.size(); ++i)
+    if (pairs[i].linear == pairs[i - 1].linear)
+      EXPECT_EQ(shared.runs[i].timings.at("condensation"), shared.runs[i - 1].timings.at("condensation"));
+}

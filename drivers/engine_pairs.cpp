@@ -1,0 +1,166 @@
+#include "engine_pairs.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include <hemivem/assembly.hpp>
+#include <hemivem/contact_solver.hpp>
+#include <hemivem/error.hpp>
+#include <hemivem/linear_backends.hpp>
+#include <hemivem/nonsmooth_backends.hpp>
+
+#include "commands.hpp"
+#include "common.hpp"
+
+namespace hemivem::cli {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// The guarantee of solve_contact, checked from the outside: a converged pair has finite
+// displacements and its contact point is feasible (certificate recomputed on the reduced problem).
+void check_guarantee(PairRun& r, const ContactSolution& sol, const ReducedProblem* reduced, double tolerance) {
+  if (!r.converged) return;
+  if (!sol.u.allFinite()) {
+    r.guarantee = false;
+    r.broken = "converged with a non-finite displacement";
+    return;
+  }
+  if (reduced && reduced->size() > 0) {
+    const Certificate c = certificate(*reduced, sol.minimizer.a, tolerance);
+    if (!c.converged()) {
+      r.guarantee = false;
+      r.broken = "converged, but the recomputed certificate is " + certificate_text(c);
+    }
+  }
+}
+
+}  // namespace
+
+std::vector<Pair> available_pairs() {
+  std::vector<Pair> pairs;
+  for (const auto& l : available_factorizations())
+    for (const auto& m : available_minimizers()) pairs.push_back({l, m});
+  return pairs;
+}
+
+Scene load_pairs_scene(const std::string& scene, std::optional<int> n, std::optional<double> tolerance,
+                       const std::vector<std::string>& set) {
+  SolveOptions so;
+  so.scene = scene;
+  so.n = n;
+  so.tolerance = tolerance;
+  so.set = set;
+  return load_scene(so);
+}
+
+double max_abs(const Eigen::VectorXd& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; }
+
+double difference_scale(const std::vector<PairRun>& runs) {
+  for (const auto& r : runs)
+    if (r.pair.linear == "eigen" && r.pair.minimizer == "ssn" && r.converged && max_abs(r.u) > 0.0) return max_abs(r.u);
+  double scale = 0.0;
+  for (const auto& r : runs)
+    if (r.converged) scale = std::max(scale, max_abs(r.u));
+  return scale > 0.0 ? scale : 1.0;
+}
+
+double largest_margin(const std::vector<PairRun>& runs) {
+  double margin = std::numeric_limits<double>::quiet_NaN();
+  for (const auto& r : runs)
+    if (!r.failed && !std::isnan(r.margin)) margin = std::isnan(margin) ? r.margin : std::max(margin, r.margin);
+  return margin;
+}
+
+PairRuns run_pairs(const Scene& scene, const std::vector<Pair>& pairs, const PairRunOptions& o) {
+  // the engines of every pair, before any work (an unknown name is an InputError here)
+  std::vector<std::string> linears;
+  std::map<std::string, std::unique_ptr<NonsmoothMinimizer>> minimizers;
+  for (const auto& p : pairs) {
+    if (std::find(linears.begin(), linears.end(), p.linear) == linears.end()) linears.push_back(p.linear);
+    if (!minimizers.count(p.minimizer)) minimizers[p.minimizer] = make_scene_minimizer(scene, p.minimizer);
+  }
+  for (const auto& l : linears) {
+    FactorizationOptions fo;
+    fo.engine = l;
+    (void)make_factorization(fo);
+  }
+  MinimizerOptions mo;
+  mo.tolerance = scene.solver.tolerance;
+  mo.max_iterations = scene.solver.max_iterations;
+
+  PairRuns out;
+  const auto t_mesh = Clock::now();
+  out.built = build_problem(scene);
+  out.mesh_seconds = since(t_mesh);
+  const BuiltProblem& built = *out.built;
+  const auto t_assembly = Clock::now();
+  const LinearSystem system = assemble(built.problem.elasticity);
+  out.assembly_seconds = since(t_assembly);
+  out.assemblies = 1;
+
+  out.runs.resize(pairs.size());
+  for (const auto& linear : linears) {
+    std::vector<std::size_t> mine;  // the pairs of this engine, in order
+    std::vector<const NonsmoothMinimizer*> engines;
+    for (std::size_t i = 0; i < pairs.size(); ++i)
+      if (pairs[i].linear == linear) {
+        mine.push_back(i);
+        engines.push_back(minimizers.at(pairs[i].minimizer).get());
+      }
+    std::vector<ContactSolution> sols;
+    std::string failure;
+    ReducedProblem reduced;
+    try {
+      FactorizationOptions fo;
+      fo.engine = linear;
+      sols = solve_contact(built.problem, system, make_factorization(fo), engines, mo,
+                           built.has_contact ? &reduced : nullptr, o.estimate_condition);
+      ++out.condensations;
+    } catch (const NumericalError& e) {
+      failure = e.what();
+    } catch (const InputError& e) {
+      if (!o.input_errors_fail_pairs) throw;
+      failure = e.what();
+    }
+    for (std::size_t k = 0; k < mine.size(); ++k) {
+      PairRun& r = out.runs[mine[k]];
+      r.pair = pairs[mine[k]];
+      r.mesh_seconds = out.mesh_seconds;
+      if (!failure.empty()) {
+        r.failed = true;
+        r.message = failure;
+        r.seconds = out.mesh_seconds + out.assembly_seconds;
+      } else {
+        ContactSolution& s = sols[k];
+        r.status = to_string(s.minimizer.status);
+        r.message = s.minimizer.message;
+        r.converged = s.converged();
+        r.certificate = s.minimizer.certificate;
+        r.iterations = s.minimizer.iterations;
+        r.margin = s.uniqueness_margin;
+        r.rcond = s.rcond;
+        r.condition = s.condition_estimate;
+        r.timings = s.timings;
+        r.timings["assembly"] = out.assembly_seconds;
+        r.timings["total"] += out.assembly_seconds;
+        r.seconds = out.mesh_seconds + r.timings["total"];
+        r.contact_nodes = static_cast<int>(s.contact.size());
+        r.at_bound = static_cast<int>(
+            std::count_if(s.contact.begin(), s.contact.end(), [](const ContactNode& c) { return c.state != "free"; }));
+        r.unknowns = s.unknowns;
+        r.vertices = built.mesh.num_vertices();
+        check_guarantee(r, s, built.has_contact ? &reduced : nullptr, mo.tolerance);
+        r.u = std::move(s.u);
+      }
+      if (o.done) o.done(r);
+    }
+  }
+  return out;
+}
+
+}  // namespace hemivem::cli
