@@ -2,7 +2,7 @@
 //
 //   hemivem solve [SCENE.toml] [flags]   a contact problem (default: the paper's Example 4.1)
 //   hemivem minimize DIR [flags]         a reduced problem from files
-//   hemivem mesh KIND --n N -o FILE      a generated mesh as .poly2d
+//   hemivem mesh KIND --n N -o FILE      a generated mesh as .poly2d (--ny: cells along y)
 //   hemivem study [SCENE.toml] [flags]   the convergence study of Table 1 (squares, reference N)
 //   hemivem backends                     the engines that were built
 //   hemivem check [SCENE.toml] [flags]   every pair of engines on one scene, compared
@@ -22,6 +22,8 @@
 #include <cctype>
 #include <cmath>
 #include <chrono>
+#include <functional>
+#include <memory>
 #include <iostream>
 #include <thread>
 
@@ -93,6 +95,248 @@ std::string precheck(CLI::App& app, int argc, char** argv) {
   return {};
 }
 
+/// A subcommand: its definition in CLI11 and what runs it once the command line is parsed.
+struct Command {
+  CLI::App* app = nullptr;
+  std::function<int()> run;
+};
+
+// Each register_* function defines one subcommand; its flags live in an object the returned
+// Command owns (CLI11 writes into them while parsing).
+
+Command register_solve(CLI::App& app) {
+  struct Flags {
+    hemivem::cli::SolveOptions options;
+    bool quiet = false, verbose = false;
+    std::string mesh, linear, minimizer;
+    int n = 0;
+    double tol = 0.0;
+    CLI::Option *o_mesh = nullptr, *o_n = nullptr, *o_linear = nullptr, *o_min = nullptr, *o_tol = nullptr;
+  };
+  using namespace hemivem;
+  auto f = std::make_shared<Flags>();
+  auto* cmd = app.add_subcommand("solve", "Solve a contact scene (no scene: the paper's Example 4.1, squares N = 64)");
+  cmd->add_option("scene", f->options.scene, "Scene file (TOML, see scenes/README.md)")->check(CLI::ExistingFile);
+  f->o_mesh = cmd->add_option("--mesh", f->mesh, "squares|triangles|voronoi|nonconvex|distorted|PATH.poly2d|PATH.msh");
+  f->o_n = cmd->add_option("--n", f->n, "Elements (or Voronoi seeds) per side")->check(CLI::Range(1, 10000000));
+  f->o_linear = cmd->add_option("--linear", f->linear,
+                                join_engine_names(known_linear_engines(), "|") + "|auto (the fastest built; default)");
+  f->o_min = cmd->add_option("--minimizer", f->minimizer, join_engine_names(known_minimizers(), "|"));
+  f->o_tol = cmd->add_option("--tol", f->tol, "Certificate tolerance")->check(kPositive);
+  cmd->add_option("--set", f->options.set, "Override a scene key: key=value (repeatable), e.g. contact.gap=0.01");
+  cmd->add_option("--out", f->options.out, "Output folder")->capture_default_str();
+  cmd->add_option("--export-reduced", f->options.export_reduced, "Also write the reduced problem to this folder");
+  cmd->add_flag("--json", f->options.json, "Print result.json on stdout instead of the summary");
+  cmd->add_flag("-q,--quiet", f->quiet, "Print nothing on success");
+  cmd->add_flag("-v,--verbose", f->verbose, "Also print every minimizer iteration (stderr)");
+  return {cmd, [f] {
+            cli::SolveOptions& o = f->options;
+            if (*f->o_mesh) o.mesh = f->mesh;
+            if (*f->o_n) o.n = f->n;
+            if (*f->o_linear) o.linear = f->linear;
+            if (*f->o_min) o.minimizer = f->minimizer;
+            if (*f->o_tol) o.tolerance = f->tol;
+            o.verbosity = f->quiet ? 0 : (f->verbose ? 2 : 1);
+            return cli::run_solve(o, std::cout, std::cerr);
+          }};
+}
+
+Command register_minimize(CLI::App& app) {
+  struct Flags {
+    hemivem::cli::MinimizeOptions options;
+    bool quiet = false;
+  };
+  using namespace hemivem;
+  auto f = std::make_shared<Flags>();
+  auto* cmd = app.add_subcommand("minimize", "Solve a reduced problem read from files (see --export-reduced)");
+  cmd->add_option("dir", f->options.folder, "Folder with S.mtx, c.txt, w.txt, g.txt[, law.txt, problem.txt]")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  cmd->add_option("--minimizer", f->options.minimizer, join_engine_names(known_minimizers(), "|"))->capture_default_str();
+  cmd->add_option("--law", f->options.law, "A shipped law replacing law.txt: paper|linear|kinked|sawtooth|zero");
+  cmd->add_option("--tol", f->options.tolerance, "Certificate tolerance")->capture_default_str()->check(kPositive);
+  cmd->add_flag("--json", f->options.json, "Print the result as JSON");
+  cmd->add_flag("-q,--quiet", f->quiet, "Print nothing on success");
+  return {cmd, [f] {
+            f->options.verbosity = f->quiet ? 0 : 1;
+            return cli::run_minimize(f->options, std::cout, std::cerr);
+          }};
+}
+
+Command register_mesh(CLI::App& app) {
+  struct Flags {
+    std::string kind, output;
+    int n = 8, ny = 0;
+    std::uint64_t seed = 1;
+    std::vector<double> domain{0.0, 1.0, 0.0, 1.0};
+    std::vector<double> polygon;
+  };
+  using namespace hemivem;
+  auto f = std::make_shared<Flags>();
+  auto* cmd = app.add_subcommand("mesh", "Write a generated mesh as .poly2d");
+  cmd->add_option("kind", f->kind, "squares|triangles|voronoi|nonconvex|distorted")->required();
+  cmd->add_option("--n", f->n, "Elements (or seeds) per side; along x with --ny")->capture_default_str()->check(CLI::Range(1, 10000000));
+  auto* o_ny = cmd->add_option("--ny", f->ny, "Elements along y (a rectangle domain; default: --n)")->check(CLI::Range(1, 10000000));
+  cmd->add_option("--seed", f->seed, "Seed of random meshes")->capture_default_str();
+  auto* o_domain = cmd->add_option("--domain", f->domain, "x0 x1 y0 y1")->expected(4)->capture_default_str();
+  cmd->add_option("--polygon", f->polygon, "A simple polygon's corners x0 y0 x1 y1 ... (triangles, voronoi)")
+      ->expected(6, 2000000)
+      ->excludes(o_domain)
+      ->excludes(o_ny);
+  cmd->add_option("-o,--output", f->output, "Output .poly2d file")->required();
+  return {cmd, [f] {
+            const auto& kinds = mesh_generator_names();
+            if (std::find(kinds.begin(), kinds.end(), f->kind) == kinds.end()) {
+              std::string list;
+              for (const auto& k : kinds) list += (list.empty() ? "" : ", ") + k;
+              throw InputError("unknown mesh generator '" + f->kind + "'" + did_you_mean(f->kind, kinds) +
+                                   " (expected one of: " + list + ")",
+                               "mesh");
+            }
+            const GridSize cells(f->n, f->ny > 0 ? f->ny : f->n);
+            const MemoryEstimate need = estimate_memory(f->kind, cells.nx, cells.ny);
+            require_memory(need.mesh_bytes, f->kind + " n = " + cells.text(), "--n");
+            Mesh m;
+            if (f->polygon.empty()) {
+              m = make_mesh(f->kind, cells, Rectangle{f->domain[0], f->domain[1], f->domain[2], f->domain[3]}, f->seed);
+            } else {
+              if (f->polygon.size() % 2 != 0)
+                throw InputError("--polygon takes pairs of coordinates x y; got " + std::to_string(f->polygon.size()) +
+                                     " numbers",
+                                 "mesh --polygon");
+              PolygonDomain poly;
+              for (std::size_t i = 0; i < f->polygon.size(); i += 2) poly.corners.emplace_back(f->polygon[i], f->polygon[i + 1]);
+              m = make_mesh(f->kind, f->n, poly, f->seed);
+            }
+            write_poly2d(f->output, m, {f->kind + " n=" + cells.text() + " seed=" + std::to_string(f->seed)});
+            std::cout << "hemivem mesh: wrote " << f->output << " (" << m.num_vertices() << " vertices, "
+                      << m.num_elements() << " elements)\n";
+            return cli::kSuccess;
+          }};
+}
+
+Command register_study(CLI::App& app) {
+  struct Flags {
+    hemivem::cli::StudyOptions options;
+    bool quiet = false;
+  };
+  auto f = std::make_shared<Flags>();
+  auto* cmd = app.add_subcommand(
+      "study", "Convergence study on nested squares: relative energy error against a reference N (Table 1)");
+  cmd->add_option("scene", f->options.scene, "Scene file (TOML, see scenes/README.md); mesh.generator must be squares")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--n", f->options.n, "Elements per side of the studied meshes, e.g. 4,8,16,32,64")
+      ->delimiter(',')
+      ->capture_default_str()
+      ->check(CLI::Range(1, 10000000));
+  cmd->add_option("--ref", f->options.ref, "Elements per side of the reference mesh (a multiple of every N)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 10000000));
+  cmd->add_option("--set", f->options.set, "Override a scene key for every solve: key=value (repeatable)");
+  cmd->add_option("--out", f->options.out, "Output folder (study.csv, study.json, study.png)")->capture_default_str();
+  cmd->add_flag("--json", f->options.json, "Print study.json on stdout instead of the table");
+  cmd->add_flag("-q,--quiet", f->quiet, "Print nothing on success (no progress lines)");
+  return {cmd, [f] {
+            f->options.verbosity = f->quiet ? 0 : 1;
+            return hemivem::cli::run_study(f->options, std::cout, std::cerr);
+          }};
+}
+
+Command register_backends(CLI::App& app) {
+  auto* cmd = app.add_subcommand("backends", "List the engines that were built");
+  return {cmd, [] {
+            std::cout << engines_text() << "\n";
+            return hemivem::cli::kSuccess;
+          }};
+}
+
+// check and check --extreme (drivers/check.hpp, drivers/extreme.hpp, drivers/CHECK_BENCH.md)
+Command register_check(CLI::App& app) {
+  struct Flags {
+    hemivem::cli::CheckOptions options;
+    hemivem::cli::ExtremeOptions extreme;
+    bool quiet = false, extreme_flag = false;
+    int n = 0;
+    double tol = 0.0;
+    CLI::Option *o_n = nullptr, *o_tol = nullptr, *o_extreme = nullptr;
+  };
+  using namespace hemivem;
+  auto f = std::make_shared<Flags>();
+  auto* cmd = app.add_subcommand("check", "Solve a scene with every built pair of engines and compare the results");
+  cmd->add_option("scene", f->options.scene, "Scene file (TOML); none: the paper's Example 4.1")->check(CLI::ExistingFile);
+  f->o_n = cmd->add_option("--n", f->n, "Elements per side")->check(CLI::Range(1, 10000000));
+  f->o_tol = cmd->add_option("--tol", f->tol, "Certificate tolerance for every pair")->check(kPositive);
+  cmd->add_option("--set", f->options.set, "Override a scene key: key=value (repeatable)");
+  cmd->add_option("--agree", f->options.agree, "Largest accepted max|u_a - u_b| / max|u_ref| between converged pairs")
+      ->capture_default_str()
+      ->check(kPositive);
+  cmd->add_flag("--json", f->options.json, "Print the report as JSON on stdout instead of the table");
+  cmd->add_flag("-q,--quiet", f->quiet, "Print nothing (the exit code tells)");
+  f->o_extreme = cmd->add_flag(
+      "--extreme", f->extreme_flag, "Run the stiff and extreme scenes (scenes/extreme/) with every pair and print the stability table");
+  cmd->add_option("--scenes", f->extreme.scenes, "With --extreme: the folder of scenes")
+      ->check(CLI::ExistingDirectory)
+      ->needs(f->o_extreme);
+  cmd->add_option("--only", f->extreme.only, "With --extreme: scene names to run, comma-separated")
+      ->delimiter(',')
+      ->needs(f->o_extreme);
+  return {cmd, [f] {
+            cli::CheckOptions& o = f->options;
+            if (*f->o_extreme) {
+              if (!o.scene.empty() || *f->o_n || !o.set.empty())
+                throw InputError("--extreme runs the scenes of its folder; it takes no scene, --n or --set", "check --extreme");
+              if (*f->o_tol) f->extreme.tolerance = f->tol;
+              f->extreme.agree = o.agree;
+              f->extreme.json = o.json;
+              f->extreme.verbosity = f->quiet ? 0 : 1;
+              return cli::run_check_extreme(f->extreme, std::cout, std::cerr);
+            }
+            if (*f->o_n) o.n = f->n;
+            if (*f->o_tol) o.tolerance = f->tol;
+            o.verbosity = f->quiet ? 0 : 1;
+            return cli::run_check(o, std::cout, std::cerr);
+          }};
+}
+
+// bench and bench --limit (drivers/bench.hpp, drivers/limit.hpp, drivers/CHECK_BENCH.md)
+Command register_bench(CLI::App& app) {
+  struct Flags {
+    hemivem::cli::BenchOptions options;
+    bool quiet = false, limit = false;
+    double tol = 0.0;
+    CLI::Option *o_n = nullptr, *o_tol = nullptr;
+  };
+  using namespace hemivem;
+  auto f = std::make_shared<Flags>();
+  auto* cmd = app.add_subcommand("bench", "Wall time by stage and error against a fine reference, for every pair of engines");
+  cmd->add_option("scene", f->options.scene, "Scene file (TOML); none: the paper's Example 4.1")->check(CLI::ExistingFile);
+  f->o_n = cmd->add_option("--n", f->options.n, "Mesh sizes, comma-separated (with --limit: default 128,256,512)")
+               ->delimiter(',')
+               ->capture_default_str()
+               ->check(CLI::Range(1, 10000000));
+  cmd->add_option("--ref", f->options.ref, "Mesh size of the reference solution")->capture_default_str()->check(CLI::Range(1, 10000000));
+  f->o_tol = cmd->add_option("--tol", f->tol, "Certificate tolerance for every pair")->check(kPositive);
+  cmd->add_option("--set", f->options.set, "Override a scene key: key=value (repeatable)");
+  cmd->add_option("--out", f->options.out, "Output folder (bench.csv, bench.json, bench.png; with --limit: limit.json)")
+      ->capture_default_str();
+  cmd->add_flag("--json", f->options.json, "Print bench.json on stdout instead of the table");
+  cmd->add_flag("-q,--quiet", f->quiet, "Print nothing on stdout or stderr");
+  auto* o_limit = cmd->add_flag("--limit", f->limit,
+                                "Every stage of a cholmod solve against the machine's limit (a plain assembly and one CHOLMOD "
+                                "factorization of the same matrix), measured in this run; writes limit.json");
+  cmd->add_option("--repeat", f->options.repeat, "With --limit: measurements per size, the fastest of each kept")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100))
+      ->needs(o_limit);
+  return {cmd, [f] {
+            cli::BenchOptions& o = f->options;
+            if (*f->o_tol) o.tolerance = f->tol;
+            o.verbosity = f->quiet ? 0 : 1;
+            if (f->limit) return cli::run_bench_limit(o, *f->o_n ? o.n : std::vector<int>{128, 256, 512}, std::cout, std::cerr);
+            return cli::run_bench(o, std::cout, std::cerr);
+          }};
+}
+
 }  // namespace
 
 int run_command(int argc, char** argv) {
@@ -100,127 +344,10 @@ int run_command(int argc, char** argv) {
   CLI::App app{"hemivem: virtual element method for contact problems with nonmonotone laws"};
   app.set_version_flag("--version", std::string("hemivem ") + HEMIVEM_VERSION + "\n" + engines_text());
   app.require_subcommand(1);
-
-  cli::SolveOptions solve;
-  bool solve_quiet = false, solve_verbose = false;
-  std::string mesh_flag, linear_flag, minimizer_flag;
-  int n_flag = 0;
-  double tol_flag = 0.0;
-  auto* cmd_solve = app.add_subcommand("solve", "Solve a contact scene (no scene: the paper's Example 4.1, squares N = 64)");
-  cmd_solve->add_option("scene", solve.scene, "Scene file (TOML, see scenes/README.md)")->check(CLI::ExistingFile);
-  auto* o_mesh = cmd_solve->add_option("--mesh", mesh_flag, "squares|triangles|voronoi|nonconvex|distorted|PATH.poly2d|PATH.msh");
-  auto* o_n = cmd_solve->add_option("--n", n_flag, "Elements (or Voronoi seeds) per side")->check(CLI::Range(1, 10000000));
-  auto* o_linear = cmd_solve->add_option("--linear", linear_flag,
-                                         join_engine_names(known_linear_engines(), "|") + "|auto (the fastest built; default)");
-  auto* o_min = cmd_solve->add_option("--minimizer", minimizer_flag, join_engine_names(known_minimizers(), "|"));
-  auto* o_tol = cmd_solve->add_option("--tol", tol_flag, "Certificate tolerance")->check(kPositive);
-  cmd_solve->add_option("--set", solve.set, "Override a scene key: key=value (repeatable), e.g. contact.gap=0.01");
-  cmd_solve->add_option("--out", solve.out, "Output folder")->capture_default_str();
-  cmd_solve->add_option("--export-reduced", solve.export_reduced, "Also write the reduced problem to this folder");
-  cmd_solve->add_flag("--json", solve.json, "Print result.json on stdout instead of the summary");
-  cmd_solve->add_flag("-q,--quiet", solve_quiet, "Print nothing on success");
-  cmd_solve->add_flag("-v,--verbose", solve_verbose, "Also print every minimizer iteration (stderr)");
-
-  cli::MinimizeOptions minimize;
-  bool min_quiet = false;
-  auto* cmd_min = app.add_subcommand("minimize", "Solve a reduced problem read from files (see --export-reduced)");
-  cmd_min->add_option("dir", minimize.folder, "Folder with S.mtx, c.txt, w.txt, g.txt[, law.txt, problem.txt]")
-      ->required()
-      ->check(CLI::ExistingDirectory);
-  cmd_min->add_option("--minimizer", minimize.minimizer, join_engine_names(known_minimizers(), "|"))->capture_default_str();
-  cmd_min->add_option("--law", minimize.law, "A shipped law replacing law.txt: paper|linear|kinked|sawtooth|zero");
-  cmd_min->add_option("--tol", minimize.tolerance, "Certificate tolerance")->capture_default_str()->check(kPositive);
-  cmd_min->add_flag("--json", minimize.json, "Print the result as JSON");
-  cmd_min->add_flag("-q,--quiet", min_quiet, "Print nothing on success");
-
-  std::string gen_kind, gen_output;
-  int gen_n = 8;
-  std::uint64_t gen_seed = 1;
-  std::vector<double> gen_domain{0.0, 1.0, 0.0, 1.0};
-  auto* cmd_mesh = app.add_subcommand("mesh", "Write a generated mesh as .poly2d");
-  cmd_mesh->add_option("kind", gen_kind, "squares|triangles|voronoi|nonconvex|distorted")->required();
-  cmd_mesh->add_option("--n", gen_n, "Elements (or seeds) per side")->capture_default_str()->check(CLI::Range(1, 10000000));
-  cmd_mesh->add_option("--seed", gen_seed, "Seed of random meshes")->capture_default_str();
-  auto* o_domain = cmd_mesh->add_option("--domain", gen_domain, "x0 x1 y0 y1")->expected(4)->capture_default_str();
-  std::vector<double> gen_polygon;
-  cmd_mesh->add_option("--polygon", gen_polygon, "A simple polygon's corners x0 y0 x1 y1 ... (triangles, voronoi)")
-      ->expected(6, 2000000)
-      ->excludes(o_domain);
-  cmd_mesh->add_option("-o,--output", gen_output, "Output .poly2d file")->required();
-
-  // ---- study ------------------------------------------------------------------------------
-  cli::StudyOptions study;
-  bool study_quiet = false;
-  auto* cmd_study = app.add_subcommand(
-      "study", "Convergence study on nested squares: relative energy error against a reference N (Table 1)");
-  cmd_study->add_option("scene", study.scene, "Scene file (TOML, see scenes/README.md); mesh.generator must be squares")
-      ->check(CLI::ExistingFile);
-  cmd_study->add_option("--n", study.n, "Elements per side of the studied meshes, e.g. 4,8,16,32,64")
-      ->delimiter(',')
-      ->capture_default_str()
-      ->check(CLI::Range(1, 10000000));
-  cmd_study->add_option("--ref", study.ref, "Elements per side of the reference mesh (a multiple of every N)")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 10000000));
-  cmd_study->add_option("--set", study.set, "Override a scene key for every solve: key=value (repeatable)");
-  cmd_study->add_option("--out", study.out, "Output folder (study.csv, study.json, study.png)")->capture_default_str();
-  cmd_study->add_flag("--json", study.json, "Print study.json on stdout instead of the table");
-  cmd_study->add_flag("-q,--quiet", study_quiet, "Print nothing on success (no progress lines)");
-  // ---- end study --------------------------------------------------------------------------
-
-  auto* cmd_backends = app.add_subcommand("backends", "List the engines that were built");
-
-  // ---- check and bench (drivers/check.hpp, drivers/bench.hpp, drivers/CHECK_BENCH.md) ----
-  cli::CheckOptions check;
-  bool check_quiet = false;
-  int check_n = 0;
-  double check_tol = 0.0;
-  auto* cmd_check = app.add_subcommand("check", "Solve a scene with every built pair of engines and compare the results");
-  cmd_check->add_option("scene", check.scene, "Scene file (TOML); none: the paper's Example 4.1")->check(CLI::ExistingFile);
-  auto* o_check_n = cmd_check->add_option("--n", check_n, "Elements per side")->check(CLI::Range(1, 10000000));
-  auto* o_check_tol = cmd_check->add_option("--tol", check_tol, "Certificate tolerance for every pair")->check(kPositive);
-  cmd_check->add_option("--set", check.set, "Override a scene key: key=value (repeatable)");
-  cmd_check->add_option("--agree", check.agree, "Largest accepted max|u_a - u_b| / max|u_ref| between converged pairs")
-      ->capture_default_str()
-      ->check(kPositive);
-  cmd_check->add_flag("--json", check.json, "Print the report as JSON on stdout instead of the table");
-  cmd_check->add_flag("-q,--quiet", check_quiet, "Print nothing (the exit code tells)");
-  cli::ExtremeOptions extreme;
-  bool extreme_flag = false;
-  auto* o_extreme = cmd_check->add_flag(
-      "--extreme", extreme_flag, "Run the stiff and extreme scenes (scenes/extreme/) with every pair and print the stability table");
-  auto* o_scenes = cmd_check->add_option("--scenes", extreme.scenes, "With --extreme: the folder of scenes")
-                       ->check(CLI::ExistingDirectory)
-                       ->needs(o_extreme);
-  cmd_check->add_option("--only", extreme.only, "With --extreme: scene names to run, comma-separated")
-      ->delimiter(',')
-      ->needs(o_extreme);
-  (void)o_scenes;
-
-  cli::BenchOptions bench;
-  bool bench_quiet = false;
-  double bench_tol = 0.0;
-  auto* cmd_bench = app.add_subcommand("bench", "Wall time by stage and error against a fine reference, for every pair of engines");
-  cmd_bench->add_option("scene", bench.scene, "Scene file (TOML); none: the paper's Example 4.1")->check(CLI::ExistingFile);
-  bool bench_limit = false;
-  auto* o_bench_n = cmd_bench->add_option("--n", bench.n, "Mesh sizes, comma-separated (with --limit: default 128,256,512)")
-      ->delimiter(',')
-      ->capture_default_str()
-      ->check(CLI::Range(1, 10000000));
-  cmd_bench->add_option("--ref", bench.ref, "Mesh size of the reference solution")->capture_default_str()->check(CLI::Range(1, 10000000));
-  auto* o_bench_tol = cmd_bench->add_option("--tol", bench_tol, "Certificate tolerance for every pair")->check(kPositive);
-  cmd_bench->add_option("--set", bench.set, "Override a scene key: key=value (repeatable)");
-  cmd_bench->add_option("--out", bench.out, "Output folder (bench.csv, bench.json, bench.png; with --limit: limit.json)")->capture_default_str();
-  cmd_bench->add_flag("--json", bench.json, "Print bench.json on stdout instead of the table");
-  cmd_bench->add_flag("-q,--quiet", bench_quiet, "Print nothing on stdout or stderr");
-  auto* o_bench_limit = cmd_bench->add_flag("--limit", bench_limit,
-                      "Every stage of a cholmod solve against the machine's limit (a plain assembly and one CHOLMOD "
-                      "factorization of the same matrix), measured in this run; writes limit.json");
-  cmd_bench->add_option("--repeat", bench.repeat, "With --limit: measurements per size, the fastest of each kept")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 100))
-      ->needs(o_bench_limit);
-  // ---- end check and bench ----
+  const std::vector<Command> commands{register_solve(app), register_minimize(app), register_mesh(app),
+                                      register_study(app), register_backends(app), register_check(app),
+                                      register_bench(app)};
+  const Command& solve = commands.front();
 
   // ---- runs across processes (docs/cluster.md): only rank 0 prints; only solve runs on several ----
   try {
@@ -242,7 +369,7 @@ int run_command(int argc, char** argv) {
     }
     return cli::kInputError;
   }
-  if (const auto launched = cli::launched_processes(); launched.size > 1 && !*cmd_solve) {
+  if (const auto launched = cli::launched_processes(); launched.size > 1 && !*solve.app) {
     if (launched.rank == 0)
       std::cerr << "hemivem: error: started as " << launched.size
                 << " processes by an MPI launcher; only 'hemivem solve --linear mumps-mpi' runs across processes, "
@@ -261,79 +388,8 @@ int run_command(int argc, char** argv) {
   // ---- end runs across processes ----
 
   try {
-    if (*cmd_solve) {
-      if (*o_mesh) solve.mesh = mesh_flag;
-      if (*o_n) solve.n = n_flag;
-      if (*o_linear) solve.linear = linear_flag;
-      if (*o_min) solve.minimizer = minimizer_flag;
-      if (*o_tol) solve.tolerance = tol_flag;
-      solve.verbosity = solve_quiet ? 0 : (solve_verbose ? 2 : 1);
-      return cli::run_solve(solve, std::cout, std::cerr);
-    }
-    if (*cmd_min) {
-      minimize.verbosity = min_quiet ? 0 : 1;
-      return cli::run_minimize(minimize, std::cout, std::cerr);
-    }
-    if (*cmd_study) {  // study
-      study.verbosity = study_quiet ? 0 : 1;
-      return cli::run_study(study, std::cout, std::cerr);
-    }
-    if (*cmd_mesh) {
-      const Rectangle r{gen_domain[0], gen_domain[1], gen_domain[2], gen_domain[3]};
-      const auto& kinds = mesh_generator_names();
-      if (std::find(kinds.begin(), kinds.end(), gen_kind) == kinds.end()) {
-        std::string list;
-        for (const auto& k : kinds) list += (list.empty() ? "" : ", ") + k;
-        throw InputError("unknown mesh generator '" + gen_kind + "'" + did_you_mean(gen_kind, kinds) +
-                             " (expected one of: " + list + ")",
-                         "mesh");
-      }
-      const MemoryEstimate need = estimate_memory(gen_kind, gen_n);
-      require_memory(need.mesh_bytes, gen_kind + " n = " + std::to_string(gen_n), "--n");
-      Mesh m;
-      if (gen_polygon.empty()) {
-        m = make_mesh(gen_kind, gen_n, r, gen_seed);
-      } else {
-        if (gen_polygon.size() % 2 != 0)
-          throw InputError("--polygon takes pairs of coordinates x y; got " + std::to_string(gen_polygon.size()) +
-                           " numbers", "mesh --polygon");
-        PolygonDomain poly;
-        for (std::size_t i = 0; i < gen_polygon.size(); i += 2) poly.corners.emplace_back(gen_polygon[i], gen_polygon[i + 1]);
-        m = make_mesh(gen_kind, gen_n, poly, gen_seed);
-      }
-      write_poly2d(gen_output, m, {gen_kind + " n=" + std::to_string(gen_n) + " seed=" + std::to_string(gen_seed)});
-      std::cout << "hemivem mesh: wrote " << gen_output << " (" << m.num_vertices() << " vertices, " << m.num_elements()
-                << " elements)\n";
-      return cli::kSuccess;
-    }
-    // ---- check and bench ----
-    if (*cmd_check && *o_extreme) {
-      if (!check.scene.empty() || *o_check_n || !check.set.empty())
-        throw InputError("--extreme runs the scenes of its folder; it takes no scene, --n or --set", "check --extreme");
-      if (*o_check_tol) extreme.tolerance = check_tol;
-      extreme.agree = check.agree;
-      extreme.json = check.json;
-      extreme.verbosity = check_quiet ? 0 : 1;
-      return cli::run_check_extreme(extreme, std::cout, std::cerr);
-    }
-    if (*cmd_check) {
-      if (*o_check_n) check.n = check_n;
-      if (*o_check_tol) check.tolerance = check_tol;
-      check.verbosity = check_quiet ? 0 : 1;
-      return cli::run_check(check, std::cout, std::cerr);
-    }
-    if (*cmd_bench) {
-      if (*o_bench_tol) bench.tolerance = bench_tol;
-      bench.verbosity = bench_quiet ? 0 : 1;
-      if (bench_limit)
-        return cli::run_bench_limit(bench, *o_bench_n ? bench.n : std::vector<int>{128, 256, 512}, std::cout, std::cerr);
-      return cli::run_bench(bench, std::cout, std::cerr);
-    }
-    // ---- end check and bench ----
-    if (*cmd_backends) {
-      std::cout << engines_text() << "\n";
-      return cli::kSuccess;
-    }
+    for (const auto& c : commands)
+      if (*c.app) return c.run();
   } catch (const InputError& e) {
     report("error: ", e, true);
     return cli::kInputError;

@@ -189,6 +189,11 @@ TEST(Cli, MeshCommandWritesRectanglesAndPolygons) {
   fs::create_directories(dir);
   EXPECT_EQ(run("mesh squares --n 3 --domain 0 2 0 1 -o " + (dir / "r.poly2d").string()).code, 0);
   EXPECT_EQ(hemivem::read_poly2d(dir / "r.poly2d").mesh.num_elements(), 9);
+  // --ny: cells along y (square cells on a 2 x 1 domain)
+  EXPECT_EQ(run("mesh squares --n 6 --ny 3 --domain 0 2 0 1 -o " + (dir / "w.poly2d").string()).code, 0);
+  const hemivem::Mesh wide = hemivem::read_poly2d(dir / "w.poly2d").mesh;
+  EXPECT_EQ(wide.num_elements(), 18);
+  for (int e = 0; e < wide.num_elements(); ++e) EXPECT_NEAR(wide.area(e), 1.0 / 9.0, 1e-15);
   const CommandRun ok = run("mesh voronoi --n 6 --polygon 0 0 1 0 1 0.5 0.5 0.5 0.5 1 0 1 -o " + (dir / "l.poly2d").string());
   ASSERT_EQ(ok.code, 0) << ok.err;
   EXPECT_NEAR(hemivem::read_poly2d(dir / "l.poly2d").mesh.total_area(), 0.75, 1e-12);
@@ -196,6 +201,7 @@ TEST(Cli, MeshCommandWritesRectanglesAndPolygons) {
       {"voronoi --n 6 --polygon 0 0 1 0 1 1 0", "pairs of coordinates"},
       {"triangles --n 6 --polygon 0 0 1 1 1 0 0 1", "not simple"},
       {"squares --n 6 --polygon 0 0 1 0 1 1", "needs a rectangular domain"},
+      {"voronoi --n 6 --ny 2 --polygon 0 0 1 0 1 1", "--ny excludes --polygon"},
   };
   for (const auto& [args, fragment] : bad) {
     const CommandRun r = run("mesh " + args + " -o " + (dir / "bad.poly2d").string());
