@@ -76,6 +76,12 @@ double largest_margin(const std::vector<PairRun>& runs) {
   return margin;
 }
 
+nlohmann::json pair_json(const PairRun& r) {
+  return {{"linear", r.pair.linear},   {"minimizer", r.pair.minimizer}, {"status", r.status},
+          {"converged", r.converged}, {"message", r.message},         {"certificate", certificate_json(r.certificate)},
+          {"iterations", r.iterations}};
+}
+
 PairRuns run_pairs(const Scene& scene, const std::vector<Pair>& pairs, const PairRunOptions& o) {
   // the engines of every pair, before any work (an unknown name is an InputError here)
   std::vector<std::string> linears;

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <nlohmann/json.hpp>
 
 #include <hemivem/certificate.hpp>
 #include <hemivem/scene.hpp>
@@ -87,6 +88,10 @@ double difference_scale(const std::vector<PairRun>& runs);
 /// The uniqueness margin of a scene: the largest over the pairs that did not fail (they agree
 /// to round-off); NaN when none has one.
 double largest_margin(const std::vector<PairRun>& runs);
+
+/// The fields every report of a pair has: linear, minimizer, status, converged, message,
+/// certificate, iterations.
+nlohmann::json pair_json(const PairRun& run);
 
 /// Runs `pairs` on `scene` (its solver.linear and solver.minimizer are not used; the scene's
 /// [solver.parameters] go to its own minimizer only). Throws the InputError of a scene that

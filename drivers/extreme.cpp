@@ -34,24 +34,11 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// One (linear, minimizer) pair on one scene.
-struct Row {
-  std::string linear, minimizer;
-  std::string status = "failed";
-  std::string message;
-  bool failed = false;      ///< the engine threw: no solution
-  bool converged = false;
-  Certificate certificate;
-  double margin = kNaN;     ///< uniqueness margin lambda_min(S - alpha W)
-  double rcond = kNaN;      ///< the engine's reciprocal condition estimate of the factorized matrix
-  double condition = kNaN;  ///< kappa_1 estimate of the same matrix, independent of the engine
-  double difference = kNaN; ///< largest relative difference of u to a converged pair
-  double seconds = 0.0;     ///< shared stages (assembly, condensation) + this pair's minimize and back-substitution
-  int iterations = 0;
-  int at_bound = 0;         ///< contact nodes at a bound of the constraint
-  bool guarantee = true;    ///< converged implies finite u and a feasible point (checked independently)
-  std::string broken;       ///< what broke the guarantee
-  Eigen::VectorXd u;
+// One (linear, minimizer) pair on one scene, with its largest relative difference of u to a
+// converged pair. Its `seconds` exclude the mesh: the shared assembly and condensation and its
+// own minimize and back-substitution.
+struct Row : PairRun {
+  double difference = kNaN;
 };
 
 struct SceneReport {
@@ -116,27 +103,13 @@ SceneReport run_scene(const fs::path& file, const ExtremeOptions& o, std::ostrea
   rep.margin = largest_margin(shared.runs);
   rep.unique = rep.margin > 0.0;
   for (auto& run : shared.runs) {
-    Row r;
-    r.linear = run.pair.linear;
-    r.minimizer = run.pair.minimizer;
-    r.status = run.status;
-    r.message = run.message;
-    r.failed = run.failed;
-    r.converged = run.converged;
-    r.certificate = run.certificate;
-    r.margin = run.margin;
-    r.rcond = run.rcond;
-    r.condition = run.condition;
-    r.seconds = run.seconds - run.mesh_seconds;  // assembly, condensation, this pair's minimize and back-substitution
-    r.iterations = run.iterations;
-    r.at_bound = run.at_bound;
-    r.guarantee = run.guarantee;
-    r.broken = run.broken;
     if (!run.failed) {
       rep.contact_nodes = run.contact_nodes;
       rep.unknowns = run.unknowns;
     }
-    r.u = std::move(run.u);
+    Row r;
+    static_cast<PairRun&>(r) = std::move(run);
+    r.seconds -= r.mesh_seconds;
     rep.rows.push_back(std::move(r));
   }
 
@@ -180,22 +153,18 @@ nlohmann::json scene_json(const SceneReport& s, double agree) {
   j["max_difference"] = s.max_difference;
   j["agree_ok"] = !s.unique || s.max_difference <= agree;
   j["pairs"] = nlohmann::json::array();
-  for (const auto& r : s.rows)
-    j["pairs"].push_back({{"linear", r.linear},
-                          {"minimizer", r.minimizer},
-                          {"status", r.status},
-                          {"converged", r.converged},
-                          {"message", r.message},
-                          {"certificate", certificate_json(r.certificate)},
-                          {"iterations", r.iterations},
-                          {"at_bound", r.at_bound},
-                          {"uniqueness_margin", number(r.margin)},
-                          {"engine_rcond", number(r.rcond)},
-                          {"condition_estimate", number(r.condition)},
-                          {"max_difference", number(r.difference)},
-                          {"seconds", r.seconds},
-                          {"guarantee_ok", r.guarantee},
-                          {"guarantee_broken", r.broken}});
+  for (const auto& r : s.rows) {
+    nlohmann::json p = pair_json(r);
+    p.update({{"at_bound", r.at_bound},
+              {"uniqueness_margin", number(r.margin)},
+              {"engine_rcond", number(r.rcond)},
+              {"condition_estimate", number(r.condition)},
+              {"max_difference", number(r.difference)},
+              {"seconds", r.seconds},
+              {"guarantee_ok", r.guarantee},
+              {"guarantee_broken", r.broken}});
+    j["pairs"].push_back(p);
+  }
   return j;
 }
 
@@ -212,7 +181,7 @@ void print_scene(std::ostream& out, const SceneReport& s, double agree) {
       << std::right << std::setw(10) << "primal" << std::setw(10) << "dual" << std::setw(7) << "iter"
       << std::setw(7) << "bound" << std::setw(10) << "kappa_1" << std::setw(10) << "engine" << std::setw(10) << "max diff" << std::setw(10) << "time [s]" << "  guarantee\n";
   for (const auto& r : s.rows) {
-    out << "   " << std::left << std::setw(10) << r.linear << std::setw(18) << r.minimizer << std::setw(17) << r.status
+    out << "   " << std::left << std::setw(10) << r.pair.linear << std::setw(18) << r.pair.minimizer << std::setw(17) << r.status
         << std::right << std::setw(10) << sci(r.certificate.primal) << std::setw(10) << sci(r.certificate.dual) << std::setw(7)
         << r.iterations << std::setw(7) << r.at_bound << std::setw(10) << sci(r.condition, 1) << std::setw(10) << cond_text(r.rcond) << std::setw(10) << sci(r.difference, 1)
         << std::setw(10) << fixed(r.seconds, 3) << "  " << (r.guarantee ? "ok" : "BROKEN: " + r.broken) << "\n";
