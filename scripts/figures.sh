@@ -28,7 +28,7 @@ gnuplot <<GP
 set terminal pngcairo size 1000,650 font ",12"
 set output 'docs/figure1-sutton-meshes.png'
 set title "Example 4.1: normal displacement u_{/Symbol n} along {/Symbol G}_3 on Sutton's meshes"
-set xlabel 'x'; set ylabel 'u_{/Symbol n}'; set grid; set key bottom center
+set xlabel 'x (scene units)'; set ylabel 'normal displacement u_{/Symbol n} (scene units)'; set grid; set key bottom center
 plot $(IFS=,; echo "${plots[*]}")
 GP
 
@@ -42,7 +42,7 @@ gnuplot <<GP
 set terminal pngcairo size 1000,650 font ",12"
 set output 'docs/figure2-refinement.png'
 set title "Example 4.1: u_{/Symbol n} along {/Symbol G}_3 on N x N squares"
-set xlabel 'x'; set ylabel 'u_{/Symbol n}'; set grid; set key bottom center
+set xlabel 'x (scene units)'; set ylabel 'normal displacement u_{/Symbol n} (scene units)'; set grid; set key bottom center
 plot $(IFS=,; echo "${plots[*]}")
 GP
 echo "figures: wrote docs/figure1-sutton-meshes.png docs/figure2-refinement.png"
