@@ -4,6 +4,7 @@
 #include <hemivem/sparse_factorization.hpp>
 
 #include <algorithm>
+#include <exception>
 #include <map>
 
 namespace hemivem {
@@ -61,27 +62,64 @@ void gather(const Mesh& mesh, int e, std::vector<Vec2>& poly) {
 namespace {
 
 // Calls visit(dofs, K) with the global dofs (2 v, 2 v + 1 per vertex v) and the stiffness K_E of
-// every element, in element order; returns the number of matrix entries visited.
+// every element (an Eigen::Map of a 2n x 2n matrix), in element order; returns the number of
+// matrix entries visited. The element matrices of a chunk of elements are computed in parallel
+// (OpenMP, where built with it) and visited in order, so that sums built by visit() are the
+// same bit for bit whatever the number of threads.
 template <class Visit>
 std::size_t for_each_element_matrix(const Mesh& mesh, const MaterialTable& materials, Stabilization stabilization,
                                     Visit&& visit) {
   std::map<int, Lame> lame_by_region;
-  std::vector<Vec2> poly;
+  for (int region : mesh.regions())
+    if (!lame_by_region.count(region)) lame_by_region.emplace(region, materials.lame(region));
+  const int ne = mesh.num_elements();
+  constexpr int chunk = 4096;
+  std::vector<std::size_t> offset(chunk + 1);
+  std::vector<double> matrices;
   std::vector<int> dof;
   std::size_t entries = 0;
-  for (int e = 0; e < mesh.num_elements(); ++e) {
-    auto it = lame_by_region.find(mesh.region(e));
-    if (it == lame_by_region.end()) it = lame_by_region.emplace(mesh.region(e), materials.lame(mesh.region(e))).first;
-    gather(mesh, e, poly);
-    const VemElement el = vem_element(poly, it->second, stabilization);
-    const Eigen::MatrixXd K = el.stiffness();
-    dof.clear();
-    for (int v : mesh.element(e)) {
-      dof.push_back(2 * v);
-      dof.push_back(2 * v + 1);
+  for (int begin = 0; begin < ne; begin += chunk) {
+    const int end = std::min(ne, begin + chunk);
+    offset[0] = 0;
+    for (int e = begin; e < end; ++e) {
+      const auto n2 = static_cast<std::size_t>(2 * mesh.element_size(e));
+      offset[static_cast<std::size_t>(e - begin) + 1] = offset[static_cast<std::size_t>(e - begin)] + n2 * n2;
     }
-    visit(dof, K);
-    entries += dof.size() * dof.size();
+    matrices.resize(offset[static_cast<std::size_t>(end - begin)]);
+    std::exception_ptr failure;
+#if defined(_OPENMP)
+#pragma omp parallel
+#endif
+    {
+      std::vector<Vec2> poly;
+      Eigen::MatrixXd K;
+#if defined(_OPENMP)
+#pragma omp for schedule(static)
+#endif
+      for (int e = begin; e < end; ++e) {
+        try {
+          gather(mesh, e, poly);
+          element_stiffness(poly, lame_by_region.at(mesh.region(e)), stabilization, K);
+          std::copy(K.data(), K.data() + K.size(), matrices.data() + offset[static_cast<std::size_t>(e - begin)]);
+        } catch (...) {
+#if defined(_OPENMP)
+#pragma omp critical(hemivem_element_failure)
+#endif
+          if (!failure) failure = std::current_exception();
+        }
+      }
+    }
+    if (failure) std::rethrow_exception(failure);
+    for (int e = begin; e < end; ++e) {
+      dof.clear();
+      for (int v : mesh.element(e)) {
+        dof.push_back(2 * v);
+        dof.push_back(2 * v + 1);
+      }
+      const auto n2 = static_cast<Eigen::Index>(dof.size());
+      visit(dof, Eigen::Map<const Eigen::MatrixXd>(matrices.data() + offset[static_cast<std::size_t>(e - begin)], n2, n2));
+      entries += dof.size() * dof.size();
+    }
   }
   return entries;
 }
@@ -143,7 +181,7 @@ SparseMatrix assemble_stiffness(const Mesh& mesh, const MaterialTable& materials
   std::vector<int> index(static_cast<std::size_t>(n));
   for (int d = 0; d < n; ++d) index[static_cast<std::size_t>(d)] = d;
   SparseMatrix K = stiffness_pattern(mesh, index, n);
-  for_each_element_matrix(mesh, materials, stabilization, [&](const std::vector<int>& dof, const Eigen::MatrixXd& Ke) {
+  for_each_element_matrix(mesh, materials, stabilization, [&](const std::vector<int>& dof, const Eigen::Map<const Eigen::MatrixXd>& Ke) {
     for (std::size_t j = 0; j < dof.size(); ++j)
       for (std::size_t i = 0; i < dof.size(); ++i)
         stored(K, dof[i], dof[j]) += Ke(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
@@ -267,7 +305,7 @@ LinearSystem assemble(const ElasticityProblem& problem) {
   for (int i = 0; i < sys.dofs.num_free(); ++i) sys.b(i) = f(sys.dofs.free_dofs[static_cast<std::size_t>(i)]);
   sys.A = stiffness_pattern(mesh, free_index, sys.dofs.num_free());
   for_each_element_matrix(mesh, problem.materials, problem.stabilization,
-                          [&](const std::vector<int>& dof, const Eigen::MatrixXd& K) {
+                          [&](const std::vector<int>& dof, const Eigen::Map<const Eigen::MatrixXd>& K) {
                             for (std::size_t j = 0; j < dof.size(); ++j) {
                               const int fj = free_index[static_cast<std::size_t>(dof[j])];
                               const double uj = prescribed(dof[j]);

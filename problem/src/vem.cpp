@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <type_traits>
 
 namespace hemivem {
 
@@ -32,31 +33,41 @@ Eigen::Matrix2Xd vertex_normals(std::span<const Vec2> z) {
 
 namespace {
 
+/// Matrices of elements with up to 8 vertices live on the stack (and their products are
+/// evaluated coefficient-wise): no heap allocation per element in the assembly.
+using SmallMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 16, 16>;
+constexpr std::size_t small_element_vertices = 8;
+
+template <class Mat>
 struct Projection {
-  Eigen::MatrixXd B;       // 3 x 2n projected strain
-  Eigen::MatrixXd R;       // 2n x 3 rigid motions at the vertices (centred at the vertex mean)
-  Eigen::MatrixXd Ds;      // 2n x 3 strain modes at the vertices
+  Mat B;                   // 3 x 2n projected strain
+  Mat R;                   // 2n x 3 rigid motions at the vertices (centred at the vertex mean)
+  Mat Ds;                  // 2n x 3 strain modes at the vertices
   Eigen::Vector3d RtR_inv; // (R^T R)^{-1}, diagonal because of the centring
   Vec2 mean = Vec2::Zero();
   double area = 0.0;
 };
 
-Projection build(std::span<const Vec2> z) {
+template <class Mat>
+Projection<Mat> build(std::span<const Vec2> z) {
   const Eigen::Index n = static_cast<Eigen::Index>(z.size());
   if (n < 3) throw InputError("a virtual element needs at least 3 vertices, got " + std::to_string(n));
-  Projection p;
+  Projection<Mat> p;
   p.area = signed_area(z);
   if (!(p.area > 0.0)) throw MeshError("element has non-positive area", -1);
   for (const auto& v : z) p.mean += v;
   p.mean /= static_cast<double>(n);
 
-  const Eigen::Matrix2Xd nu = vertex_normals(z);
   p.B.setZero(3, 2 * n);
   p.R.setZero(2 * n, 3);
   p.Ds.setZero(2 * n, 3);
   double r2 = 0.0;
   for (Eigen::Index i = 0; i < n; ++i) {
-    const double a = nu(0, i) / p.area, b = nu(1, i) / p.area;
+    // the scaled vertex normal nu_i = (m_{i-1} + m_i) / 2 (vertex_normals)
+    const Vec2 d0 = z[static_cast<std::size_t>(i)] - z[static_cast<std::size_t>((i + n - 1) % n)];
+    const Vec2 d1 = z[static_cast<std::size_t>((i + 1) % n)] - z[static_cast<std::size_t>(i)];
+    const Vec2 nu = 0.5 * (Vec2(d0.y(), -d0.x()) + Vec2(d1.y(), -d1.x()));
+    const double a = nu.x() / p.area, b = nu.y() / p.area;
     p.B(0, 2 * i) = a;
     p.B(2, 2 * i) = b;
     p.B(1, 2 * i + 1) = b;
@@ -77,29 +88,69 @@ Projection build(std::span<const Vec2> z) {
   return p;
 }
 
+/// The projection Pi, K_c, tau and S_E of one element in matrices of type Mat.
+template <class Mat>
+struct ElementMatrices {
+  Projection<Mat> p;
+  Mat projection, consistency, stabilization;
+  double tau = 0.0;
+};
+
+/// a * b: coefficient-wise for the small matrices (GEMM's blocking costs more than it saves at
+/// 16 x 16), Eigen's product otherwise.
+template <class Mat, class A, class B>
+Mat times(const A& a, const B& b) {
+  if constexpr (std::is_same_v<Mat, SmallMatrix>)
+    return a.lazyProduct(b);
+  else
+    return a * b;
+}
+
+template <class Mat>
+ElementMatrices<Mat> element_matrices(std::span<const Vec2> z, const Lame& lame, Stabilization stabilization) {
+  ElementMatrices<Mat> m{build<Mat>(z), Mat(), Mat(), Mat(), 0.0};
+  const Projection<Mat>& p = m.p;
+  const Eigen::Index n2 = p.B.cols();
+  // Pi = R (R^T R)^{-1} R^T (I - Ds B) + Ds B
+  const Mat DsB = times<Mat>(p.Ds, p.B);
+  const Mat RtI = p.RtR_inv.asDiagonal() * p.R.transpose();
+  const Mat RtI_IminusDsB = RtI - times<Mat>(RtI, DsB);
+  m.projection = times<Mat>(p.R, RtI_IminusDsB) + DsB;
+  const Mat BtC = times<Mat>(Mat(p.area * p.B.transpose()), elasticity_matrix(lame));
+  m.consistency = times<Mat>(BtC, p.B);
+  m.tau = stabilization == Stabilization::two_mu ? 2.0 * lame.mu : m.consistency.trace() / static_cast<double>(n2);
+  const Mat IminusPi = Mat::Identity(n2, n2) - m.projection;
+  m.stabilization = m.tau * times<Mat>(IminusPi.transpose(), IminusPi);
+  return m;
+}
+
 }  // namespace
 
 VemElement vem_element(std::span<const Vec2> z, const Lame& lame, Stabilization stabilization) {
-  const Projection p = build(z);
-  const Eigen::Index n2 = p.B.cols();
+  auto m = element_matrices<Eigen::MatrixXd>(z, lame, stabilization);
   VemElement el;
-  el.area = p.area;
-  el.vertex_mean = p.mean;
-  el.strain = p.B;
-  // Pi = R (R^T R)^{-1} R^T (I - Ds B) + Ds B
-  const Eigen::MatrixXd DsB = p.Ds * p.B;
-  const Eigen::MatrixXd RtI = p.RtR_inv.asDiagonal() * p.R.transpose();
-  el.projection = p.R * (RtI - RtI * DsB) + DsB;
-  el.consistency = p.area * p.B.transpose() * elasticity_matrix(lame) * p.B;
-  el.tau = stabilization == Stabilization::two_mu ? 2.0 * lame.mu
-                                                  : el.consistency.trace() / static_cast<double>(n2);
-  const Eigen::MatrixXd IminusPi = Eigen::MatrixXd::Identity(n2, n2) - el.projection;
-  el.stabilization = el.tau * IminusPi.transpose() * IminusPi;
+  el.area = m.p.area;
+  el.vertex_mean = m.p.mean;
+  el.strain = std::move(m.p.B);
+  el.projection = std::move(m.projection);
+  el.consistency = std::move(m.consistency);
+  el.stabilization = std::move(m.stabilization);
+  el.tau = m.tau;
   return el;
 }
 
+void element_stiffness(std::span<const Vec2> z, const Lame& lame, Stabilization stabilization, Eigen::MatrixXd& K) {
+  if (z.size() <= small_element_vertices) {
+    const auto m = element_matrices<SmallMatrix>(z, lame, stabilization);
+    K = m.consistency + m.stabilization;
+  } else {
+    const auto m = element_matrices<Eigen::MatrixXd>(z, lame, stabilization);
+    K = m.consistency + m.stabilization;
+  }
+}
+
 LinearField project_p1(std::span<const Vec2> z, const Eigen::Ref<const Eigen::VectorXd>& v) {
-  const Projection p = build(z);
+  const auto p = build<Eigen::MatrixXd>(z);
   const Eigen::Vector3d eps = p.B * v;
   const Eigen::Vector3d rho = p.RtR_inv.asDiagonal() * (p.R.transpose() * (v - p.Ds * eps));
   LinearField f;

@@ -54,6 +54,11 @@ struct VemElement {
 VemElement vem_element(std::span<const Vec2> vertices, const Lame& lame,
                        Stabilization stabilization = Stabilization::two_mu);
 
+/// K_E = consistency + stabilization of vem_element() alone, into K (resized to 2n x 2n; a K
+/// of that size is reused): without heap allocation for elements of up to 8 vertices.
+void element_stiffness(std::span<const Vec2> vertices, const Lame& lame, Stabilization stabilization,
+                       Eigen::MatrixXd& K);
+
 /// The scaled vertex normals nu_i = (m_{i-1} + m_i)/2, m_i = |e_i| n_i, of a polygon
 /// (column i): the projected strain of v is (1/|E|) sum_i sym(v_i (x) nu_i).
 Eigen::Matrix2Xd vertex_normals(std::span<const Vec2> vertices);
