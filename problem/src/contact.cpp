@@ -1,4 +1,5 @@
 #include <hemivem/contact.hpp>
+#include <hemivem/piecewise_law.hpp>
 #include <hemivem/condition.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/process_group.hpp>
@@ -173,15 +174,28 @@ double uniqueness_margin(const Eigen::MatrixXd& S, const Eigen::VectorXd& w, dou
   return eig.eigenvalues()(0);
 }
 
+double uniqueness_margin(const Eigen::MatrixXd& S, const Eigen::VectorXd& w, const Eigen::VectorXd& alpha) {
+  if (S.rows() == 0) return std::numeric_limits<double>::infinity();
+  for (Eigen::Index i = 0; i < alpha.size(); ++i)
+    if (std::isinf(alpha(i))) return -std::numeric_limits<double>::infinity();
+  Eigen::MatrixXd M = S;
+  M.diagonal() -= alpha.cwiseProduct(w);
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(M, Eigen::EigenvaluesOnly);
+  return eig.eigenvalues()(0);
+}
+
 Condensation::Condensation(const LinearSystem& system, const ContactBoundary& boundary,
                            std::unique_ptr<SparseFactorization> factorization, std::shared_ptr<const ContactLaw> law,
-                           ConstraintKind constraint)
+                           ConstraintKind constraint, std::shared_ptr<const ContactLaw> friction)
     : dofs_(system.dofs), factorization_(std::move(factorization)) {
   if (!factorization_) throw InputError("condensation needs a factorization engine");
   if (!law) throw InputError("condensation needs a contact law");
   const int n = system.dofs.num_free();
   const int n1 = boundary.size();
   normals_ = boundary.normals;
+  has_normal_ = constraint != ConstraintKind::bilateral;
+  has_tangential_ = friction != nullptr || !has_normal_;
+  if (!has_normal_ && !friction) friction = zero_law();
 
   // the (x, y) -> (normal, tangential) rotation at the contact nodes: A~ = Q^T A Q, b~ = Q^T b
   for (int i = 0; i < n1; ++i) {
@@ -193,6 +207,9 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
     contact_free_y_.push_back(fy);
     block1_.push_back(fx);
   }
+  // with friction the tangential displacements follow the normal ones
+  if (has_tangential_)
+    for (int i = 0; i < n1; ++i) block1_.push_back(contact_free_y_[static_cast<std::size_t>(i)]);
   const SparseMatrix At = rotate_symmetric(system.A, contact_free_x_, contact_free_y_, boundary.normals);
   Eigen::VectorXd bt = system.b;
   for (int i = 0; i < n1; ++i) {
@@ -217,8 +234,42 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
   reduced_.constraint = constraint;
   reduced_.w = boundary.weights;
   reduced_.g = boundary.gaps;
-  require(factorization_->schur_complement(At, block1_, &reduced_.S), *factorization_, "static condensation");
-  reduced_.S = 0.5 * (reduced_.S + reduced_.S.transpose()).eval();
+  if (has_tangential_) {
+    // the coordinate-wise form: normals (unless bilateral), then tangentials
+    const int nc = (has_normal_ ? n1 : 0) + n1;
+    reduced_.laws.clear();
+    if (has_normal_) reduced_.laws.push_back(reduced_.law);
+    reduced_.laws.push_back(friction);
+    reduced_.law = reduced_.laws.front();
+    reduced_.law_index.resize(nc);
+    reduced_.lo.resize(nc);
+    reduced_.hi.resize(nc);
+    reduced_.w.resize(nc);
+    ReducedProblem normal;  // the bounds of the normal displacements
+    normal.constraint = constraint;
+    normal.g = boundary.gaps;
+    for (int i = 0; i < n1; ++i) {
+      const int t = tangential_coordinate(i);
+      reduced_.law_index(t) = has_normal_ ? 1 : 0;
+      reduced_.lo(t) = -std::numeric_limits<double>::infinity();
+      reduced_.hi(t) = std::numeric_limits<double>::infinity();
+      reduced_.w(t) = boundary.weights(i);
+      if (!has_normal_) continue;
+      reduced_.law_index(i) = 0;
+      reduced_.lo(i) = normal.lower(i);
+      reduced_.hi(i) = normal.upper(i);
+      reduced_.w(i) = boundary.weights(i);
+    }
+  }
+  Eigen::MatrixXd S1;
+  require(factorization_->schur_complement(At, block1_, &S1), *factorization_, "static condensation");
+  // the reduced coordinates among block 1: all of it, or its tangential half (bilateral)
+  const Eigen::Index first = has_normal_ ? 0 : n1, count = static_cast<Eigen::Index>(block1_.size()) - first;
+  if (S1.size() > 0) {
+    reduced_.S = 0.5 * (S1.block(first, first, count, count) + S1.block(first, first, count, count).transpose());
+  } else {
+    reduced_.S = std::move(S1);
+  }
 
   if (!processes_of(*factorization_).holds_results()) {
     // An engine across processes: this process takes part in the interior solve (collective)
@@ -230,8 +281,8 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
     return;
   }
 
-  Eigen::VectorXd b1(n1);
-  for (int i = 0; i < n1; ++i) b1(i) = bt(block1_[static_cast<std::size_t>(i)]);
+  Eigen::VectorXd b1(static_cast<Eigen::Index>(block1_.size()));
+  for (std::size_t i = 0; i < block1_.size(); ++i) b1(static_cast<Eigen::Index>(i)) = bt(block1_[i]);
   b2_.resize(static_cast<Eigen::Index>(block2_.size()));
   for (std::size_t i = 0; i < block2_.size(); ++i) b2_(static_cast<Eigen::Index>(i)) = bt(block2_[i]);
   if (factorization_->splits_interior_solve()) {
@@ -243,7 +294,9 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
     require(factorization_->solve_interior(b2_, &y), *factorization_, "interior solve");
     reduced_.c = b1 - A21_.transpose() * y.col(0);
   }
-  margin_ = hemivem::uniqueness_margin(reduced_.S, reduced_.w, reduced_.law->alpha());
+  if (!has_normal_) reduced_.c = reduced_.c.tail(n1).eval();
+  margin_ = reduced_.coordinatewise() ? hemivem::uniqueness_margin(reduced_.S, reduced_.w, reduced_.alphas())
+                                      : hemivem::uniqueness_margin(reduced_.S, reduced_.w, reduced_.law->alpha());
   reduced_.uniqueness_margin = margin_;
 }
 
@@ -282,22 +335,30 @@ Eigen::VectorXd Condensation::back_substitute(const Eigen::VectorXd& a) const {
   const ProcessGroup& processes = processes_of(*factorization_);
   const bool holds = processes.holds_results();
   // The check is decided where a lives and shared, so that no process is left in the solve.
-  const bool fits = processes.share(!holds || a.size() == static_cast<Eigen::Index>(block1_.size()) ? 1 : 0) != 0;
+  const auto n1 = static_cast<Eigen::Index>(normals_.size());
+  const Eigen::Index unknowns = static_cast<Eigen::Index>(block1_.size()) - (has_normal_ ? 0 : n1);
+  const bool fits = processes.share(!holds || a.size() == unknowns ? 1 : 0) != 0;
   if (!fits)
-    throw InputError("back-substitution needs " + std::to_string(block1_.size()) + " normal displacements, got " +
+    throw InputError("back-substitution needs " + std::to_string(unknowns) + " contact displacements, got " +
                      (holds ? std::to_string(a.size()) : std::string("another number on the process holding the results")));
+  // block 1's values: a, with the normal displacements 0 where they are not unknowns (bilateral)
+  Eigen::VectorXd x1 = a;
+  if (holds && !has_normal_) {
+    x1 = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(block1_.size()));
+    x1.tail(n1) = a;
+  }
   Eigen::VectorXd u2;
   if (factorization_->splits_interior_solve()) {
-    require(factorization_->expand(a, &u2), *factorization_, "back-substitution");
+    require(factorization_->expand(x1, &u2), *factorization_, "back-substitution");
   } else {
     Eigen::MatrixXd x2;
-    require(factorization_->solve_interior(holds ? Eigen::MatrixXd(b2_ - A21_ * a) : Eigen::MatrixXd(), &x2),
+    require(factorization_->solve_interior(holds ? Eigen::MatrixXd(b2_ - A21_ * x1) : Eigen::MatrixXd(), &x2),
             *factorization_, "back-substitution");
     if (holds) u2 = x2.col(0);
   }
   if (!holds) return Eigen::VectorXd();
   Eigen::VectorXd ut(dofs_.num_free());
-  for (std::size_t i = 0; i < block1_.size(); ++i) ut(block1_[i]) = a(static_cast<Eigen::Index>(i));
+  for (std::size_t i = 0; i < block1_.size(); ++i) ut(block1_[i]) = x1(static_cast<Eigen::Index>(i));
   for (std::size_t i = 0; i < block2_.size(); ++i) ut(block2_[i]) = u2(static_cast<Eigen::Index>(i));
   // u = Q ut at the contact nodes
   for (std::size_t i = 0; i < normals_.size(); ++i) {

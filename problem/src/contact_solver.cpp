@@ -132,9 +132,11 @@ std::vector<ContactSolution> solve_contact(const ContactProblem& problem, const 
   }
 
   if (!problem.law) throw InputError("the contact boundary has no contact law");
-  const ConstraintKind constraint = problem.gap || problem.obstacle ? problem.constraint : ConstraintKind::none;
+  const ConstraintKind constraint = problem.constraint == ConstraintKind::bilateral ? ConstraintKind::bilateral
+                                    : problem.gap || problem.obstacle             ? problem.constraint
+                                                                                  : ConstraintKind::none;
   t = Clock::now();
-  const Condensation cond(sys, boundary, std::move(factorization), problem.law, constraint);
+  const Condensation cond(sys, boundary, std::move(factorization), problem.law, constraint, problem.friction);
   shared.timings["condensation"] = since(t);
   shared.stages.push_back("condensation");
   shared.uniqueness_margin = cond.uniqueness_margin();
@@ -188,17 +190,28 @@ std::vector<ContactSolution> solve_contact(const ContactProblem& problem, const 
     }
 
     const MinimizerResult& m = sol.minimizer;
+    const bool forces = m.law_force.size() == m.a.size() && m.reaction.size() == m.a.size();
     for (int i = 0; i < boundary.size(); ++i) {
       ContactNode node;
       node.vertex = boundary.nodes[static_cast<std::size_t>(i)];
       node.x = mesh.vertex(node.vertex);
-      node.u_nu = m.a(i);
-      node.weight = rp.w(i);
+      node.weight = boundary.weights(i);
       node.normal = boundary.normals[static_cast<std::size_t>(i)];
-      node.gap = rp.g(i);
-      node.law_force = m.law_force.size() == m.a.size() ? m.law_force(i) : 0.0;
-      node.reaction = m.reaction.size() == m.a.size() ? m.reaction(i) : 0.0;
-      node.state = m.a(i) == rp.upper(i) ? "upper" : (m.a(i) == rp.lower(i) ? "lower" : "free");
+      node.gap = boundary.gaps(i);
+      if (const int k = cond.normal_coordinate(i); k >= 0) {
+        node.u_nu = m.a(k);
+        node.law_force = forces ? m.law_force(k) : 0.0;
+        node.reaction = forces ? m.reaction(k) : 0.0;
+        node.state = m.a(k) == rp.upper(k) ? "upper" : (m.a(k) == rp.lower(k) ? "lower" : "free");
+      } else {
+        node.state = "bilateral";
+      }
+      if (const int k = cond.tangential_coordinate(i); k >= 0) {
+        node.has_friction = true;
+        node.u_tau = m.a(k);
+        node.friction_force = forces ? m.law_force(k) + m.reaction(k) : 0.0;
+        node.friction_state = friction_state(rp.law_of(k), node.u_tau);
+      }
       sol.contact.push_back(node);
     }
     const Eigen::VectorXd& a = m.a;
@@ -206,7 +219,7 @@ std::vector<ContactSolution> solve_contact(const ContactProblem& problem, const 
     Eigen::VectorXd uf(sys.dofs.num_free());
     for (int k = 0; k < sys.dofs.num_free(); ++k) uf(k) = sol.u(sys.dofs.free_dofs[static_cast<std::size_t>(k)]);
     sol.energy = 0.5 * uf.dot(sys.A * uf) - uf.dot(sys.b);
-    for (int i = 0; i < boundary.size(); ++i) sol.energy += rp.w(i) * rp.law->value(a(i));
+    for (Eigen::Index i = 0; i < a.size(); ++i) sol.energy += rp.w(i) * rp.law_of(i).value(a(i));
     require_finite(sol);
     processes_of(cond.factorization()).share(static_cast<int>(sol.minimizer.status));
     sol.timings["total"] = before_minimize + since(t_own);
@@ -239,6 +252,16 @@ ContactSolution solve_contact(const ContactProblem& problem, std::unique_ptr<Spa
   return std::move(solve_contact(problem, std::move(factorization), std::span<const NonsmoothMinimizer* const>(one),
                                  options, reduced)
                        .front());
+}
+
+std::string friction_state(const ContactLaw& law, double u_tau) {
+  const std::vector<double> kinks = law.kinks();
+  if (std::binary_search(kinks.begin(), kinks.end(), u_tau)) return "stick";
+  if (law.name() == "slip-weakening") {
+    const std::vector<double> b = law.breakpoints();  // -slip, 0, slip
+    return std::abs(u_tau) < b.back() ? "slip-weakening" : "slip-kinetic";
+  }
+  return "slip";
 }
 
 Vec2 ContactSolution::contact_force() const {

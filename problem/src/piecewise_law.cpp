@@ -227,6 +227,38 @@ std::shared_ptr<const ContactLaw> zero_law() {
                                                   std::vector<Polynomial>{{0.0}});
 }
 
+std::shared_ptr<const ContactLaw> tresca_law(double bound) {
+  if (!(bound >= 0.0) || !std::isfinite(bound))
+    throw InputError("friction bound g " + num(bound) + " must be finite and >= 0", "friction law 'tresca'");
+  // j = g |r|: convex, j1 = j, j2 = 0
+  return std::make_shared<PiecewisePolynomialLaw>("tresca", std::vector<double>{0.0},
+                                                  std::vector<Polynomial>{{0.0, -bound}, {0.0, bound}},
+                                                  std::vector<Polynomial>{{0.0}, {0.0}});
+}
+
+std::shared_ptr<const ContactLaw> slip_weakening_law(double g_static, double g_kinetic, double slip) {
+  const std::string where = "friction law 'slip-weakening'";
+  if (!(g_static >= 0.0) || !std::isfinite(g_static) || !(g_kinetic >= 0.0) || !(g_kinetic <= g_static))
+    throw InputError("needs finite bounds 0 <= kinetic <= static, got static " + num(g_static) + ", kinetic " +
+                         num(g_kinetic),
+                     where);
+  if (!(slip > 0.0) || !std::isfinite(slip)) throw InputError("slip distance " + num(slip) + " must be finite and > 0", where);
+  // |j'| falls linearly from g_s at r = 0 to g_k at |r| = delta, then stays:
+  //   j = g_s |r| - (g_s - g_k) r^2 / (2 delta)      (|r| <= delta)
+  //   j = g_k |r| + (g_s - g_k) delta / 2            (|r| >  delta)
+  // j1 = g_s |r| (convex), j2 = j1 - j: (g_s - g_k) r^2 / (2 delta) inside, (g_s - g_k)(|r| - delta/2)
+  // outside (convex: C1 at +-delta); alpha_j = (g_s - g_k) / delta.
+  const double drop = g_static - g_kinetic, h = 0.5 * drop / slip;
+  const std::vector<Polynomial> j1{{0.0, -g_static}, {0.0, -g_static}, {0.0, g_static}, {0.0, g_static}};
+  const std::vector<Polynomial> j2{{-0.5 * drop * slip, -drop}, {0.0, 0.0, h}, {0.0, 0.0, h}, {-0.5 * drop * slip, drop}};
+  return std::make_shared<PiecewisePolynomialLaw>("slip-weakening", std::vector<double>{-slip, 0.0, slip}, j1, j2);
+}
+
+const std::vector<std::string>& friction_law_names() {
+  static const std::vector<std::string> names{"tresca", "slip-weakening", "piecewise"};
+  return names;
+}
+
 const std::vector<std::string>& contact_law_names() {
   static const std::vector<std::string> names{"paper", "linear", "kinked", "sawtooth", "zero"};
   return names;

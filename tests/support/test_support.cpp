@@ -76,7 +76,7 @@ std::unique_ptr<Example> example(const std::string& kind, int n, const std::func
   FactorizationOptions fo;
   fo.engine = "eigen";
   ex->condensation = std::make_unique<Condensation>(ex->system, ex->boundary, make_factorization(fo), ex->problem.law,
-                                                    ex->problem.constraint);
+                                                    ex->problem.constraint, ex->problem.friction);
   return ex;
 }
 

@@ -7,7 +7,7 @@
 //      and, after step 3, the force scale
 //        f = max(||c||_inf, ||S a||_inf, ||zeta||_inf, force_floor).
 //   2. Snap. Every coordinate within tol * l of one of its bounds or of a kink of the law
-//      (ContactLaw::kinks) is put exactly there (the nearer one; a bound before a kink at the
+//      (ContactLaw::kinks of the coordinate's law) is put exactly there (the nearer one; a bound before a kink at the
 //      same distance). The snapped point is the one reported and certified.
 //   3. Forces. Per coordinate the law force zeta_i in w_i [j'(a_i-), j'(a_i+)] and the reaction
 //      lambda_i of the constraint (0 off the bounds, >= 0 at an upper bound, <= 0 at a lower
@@ -91,8 +91,9 @@ inline CertifiedPoint certify(const ReducedProblem& p, const Eigen::VectorXd& a,
     const double d = p.S(i, i);
     ell = std::max(ell, d > 0.0 ? std::abs(p.c(i)) / d : (p.c(i) == 0.0 ? 0.0 : inf));
   }
-  // 2. snapping onto bounds and kinks
-  const std::vector<double> kinks = p.law->kinks();
+  // 2. snapping onto bounds and kinks (of each coordinate's law)
+  std::vector<std::vector<double>> kinks_of(static_cast<std::size_t>(p.num_laws()));
+  for (int k = 0; k < p.num_laws(); ++k) kinks_of[static_cast<std::size_t>(k)] = p.law_by_number(k).kinks();
   const double window = tol * ell;
   Eigen::VectorXd& x = out.a;
   double primal = 0.0;
@@ -103,6 +104,7 @@ inline CertifiedPoint certify(const ReducedProblem& p, const Eigen::VectorXd& a,
       const double d = std::abs(x(i) - b);
       if (std::isfinite(b) && d <= window && d < distance) target = b, distance = d;
     }
+    const std::vector<double>& kinks = kinks_of[static_cast<std::size_t>(p.law_number(i))];
     const auto k = std::lower_bound(kinks.begin(), kinks.end(), x(i));
     for (auto it : {k, k == kinks.begin() ? k : k - 1}) {
       if (it == kinks.end()) continue;
@@ -117,7 +119,7 @@ inline CertifiedPoint certify(const ReducedProblem& p, const Eigen::VectorXd& a,
   double worst = 0.0, zeta_max = 0.0;
   for (Eigen::Index i = 0; i < n; ++i) {
     const double lo = p.lower(i), hi = p.upper(i);
-    const Interval dj = p.law->clarke(x(i));
+    const Interval dj = p.law_of(i).clarke(x(i));
     const Interval law{p.w(i) * dj.lo, p.w(i) * dj.hi};
     const Interval reaction{x(i) == lo ? -inf : 0.0, x(i) == hi ? inf : 0.0};
     worst = std::max(worst, balance(Sa(i) - p.c(i), law, reaction, &out.law_force(i), &out.reaction(i)));

@@ -44,8 +44,12 @@ ContactBoundary make_contact_boundary(const Mesh& mesh, const std::vector<int>& 
 class Condensation {
  public:
   /// Rotates the contact-node dofs of `system` to (normal, tangential) components, orders
-  /// the normal ones first and computes S, c with `factorization.schur_complement`; the
-  /// factorization keeps A22 for back_substitute(). Throws NumericalError with the
+  /// the contact unknowns first and computes S, c with `factorization.schur_complement`; the
+  /// factorization keeps A22 for back_substitute(). The contact unknowns are the normal
+  /// displacements (law `law`, bounds of `constraint` and the gaps) and, with a `friction` law,
+  /// the tangential displacements after them (law `friction`, no bounds): the reduced problem's
+  /// coordinate-wise form (docs/friction.md). A bilateral constraint (u_nu = 0) leaves the
+  /// tangential displacements only (law `friction`, or j = 0 without one). Throws NumericalError with the
   /// engine's message when the engine fails numerically (not_positive_definite,
   /// numerical_failure, out_of_memory) and InternalError when it reports a broken contract
   /// (invalid_input, not_ready); back_substitute() does the same.
@@ -54,14 +58,20 @@ class Condensation {
   /// the results; elsewhere reduced() has empty S and c and the margin is NaN.
   Condensation(const LinearSystem& system, const ContactBoundary& boundary,
                std::unique_ptr<SparseFactorization> factorization, std::shared_ptr<const ContactLaw> law,
-               ConstraintKind constraint);
+               ConstraintKind constraint, std::shared_ptr<const ContactLaw> friction = nullptr);
 
   const ReducedProblem& reduced() const noexcept { return reduced_; }
-  /// lambda_min(S - alpha_j W): F is strongly convex when positive; -inf for a law with a
-  /// concave kink.
+  /// lambda_min(S - diag(alpha_i w_i)): F is strongly convex when positive; -inf for a law
+  /// with a concave kink.
   double uniqueness_margin() const noexcept { return margin_; }
+  /// The coordinate of the reduced problem that is contact node i's normal (tangential)
+  /// displacement, or -1 when it is not an unknown (bilateral; frictionless).
+  int normal_coordinate(int node) const noexcept { return has_normal_ ? node : -1; }
+  int tangential_coordinate(int node) const noexcept {
+    return has_tangential_ ? (has_normal_ ? static_cast<int>(normals_.size()) : 0) + node : -1;
+  }
   /// Full nodal displacement (all 2*num_vertices dofs, prescribed values included) from
-  /// the normal displacements a of the contact nodes: u2 = A22^{-1} (b2 - A21 a) (one
+  /// a point a of the reduced problem (the contact unknowns): u2 = A22^{-1} (b2 - A21 a) (one
   /// backward substitution where the engine splits the interior solve).
   /// Collective with an engine across processes: a is read, and u returned, on the process
   /// holding the results; elsewhere a is ignored and the result is empty.
@@ -77,7 +87,8 @@ class Condensation {
   std::unique_ptr<SparseFactorization> factorization_;
   ReducedProblem reduced_;
   double margin_ = 0.0;
-  std::vector<int> block1_;       // rotated free index of each contact normal
+  bool has_normal_ = true, has_tangential_ = false;
+  std::vector<int> block1_;       // rotated free index of each contact unknown (normals, then tangentials)
   std::vector<int> block2_;       // remaining rotated free indices, increasing
   std::vector<int> contact_free_x_, contact_free_y_;  // free index of the x/y dof per contact node
   std::vector<Vec2> normals_;
@@ -90,5 +101,7 @@ class Condensation {
 
 /// lambda_min(S - alpha W) for a dense symmetric S and weights w; -inf when alpha is +inf.
 double uniqueness_margin(const Eigen::MatrixXd& S, const Eigen::VectorXd& w, double alpha);
+/// lambda_min(S - diag(alpha_i w_i)) with a curvature bound per coordinate; -inf when one is +inf.
+double uniqueness_margin(const Eigen::MatrixXd& S, const Eigen::VectorXd& w, const Eigen::VectorXd& alpha);
 
 }  // namespace hemivem

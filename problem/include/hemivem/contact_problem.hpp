@@ -24,6 +24,9 @@ struct ContactProblem {
   std::optional<Obstacle> obstacle;
   std::shared_ptr<const ContactLaw> law;
   ConstraintKind constraint = ConstraintKind::box;
+  /// The law of the tangential displacement u_tau on Gamma_3 (friction, docs/friction.md);
+  /// null: frictionless (u_tau free). A bilateral constraint without one slides freely.
+  std::shared_ptr<const ContactLaw> friction;
 };
 
 /// Example 4.1 of the paper on a mesh of the unit square, built from the default scene

@@ -31,7 +31,16 @@ struct ContactNode {
   double weight = 0.0;     ///< w_i, the length of boundary the node stands for
   Vec2 normal = Vec2::Zero();  ///< the outward unit normal nu_i
   double gap = 0.0;        ///< g_i, the gap used at the node
-  std::string state;       ///< "upper" (a_i at its upper bound), "lower" or "free"
+  std::string state;       ///< "upper" (a_i at its upper bound), "lower" or "free" ("bilateral": u_nu = 0 imposed)
+  /// With friction (ContactProblem::friction, or a bilateral constraint): the tangential
+  /// displacement u_tau = u . tau (tau = (-nu_y, nu_x)), the friction force zeta_tau in
+  /// w_i dj_tau(u_tau) on the body (positive along tau when it resists u_tau < 0) and its
+  /// state: "stick" (u_tau at the law's kink 0), "slip", or for slip-weakening
+  /// "slip-weakening" (|u_tau| below the slip distance) and "slip-kinetic".
+  bool has_friction = false;
+  double u_tau = 0.0;
+  double friction_force = 0.0;
+  std::string friction_state;
   /// The contact force zeta_i + lambda_i (a compressive force on the body is positive).
   double force() const noexcept { return law_force + reaction; }
   /// The contact pressure (zeta_i + lambda_i) / w_i.
@@ -59,6 +68,12 @@ struct ContactSolution {
   /// contact nodes of -(zeta_i + lambda_i) nu_i. Zero without contact.
   Vec2 contact_force() const;
 };
+
+/// The friction state of a tangential displacement under its law: "stick" at a kink of the
+/// law (0 for the shipped friction laws; the certificate puts u_tau exactly there), else
+/// "slip" ("slip-weakening" / "slip-kinetic" for the slip-weakening law, below / beyond its
+/// slip distance).
+std::string friction_state(const ContactLaw& law, double u_tau);
 
 /// The contact zone: the contact nodes that carry a compressive force (zeta_i + lambda_i > 0).
 struct ContactZone {

@@ -66,6 +66,16 @@ std::shared_ptr<const ContactLaw> kinked_law(double sigma = 0.3, double stiffnes
 /// j = 0: pure Signorini contact.
 std::shared_ptr<const ContactLaw> zero_law();
 
+/// Tresca friction: j = g |r| for the tangential displacement r (convex, a kink at 0: the
+/// friction force is g sign(r) when sliding and anything in [-g, g] when stuck).
+std::shared_ptr<const ContactLaw> tresca_law(double bound = 0.1);
+/// Slip-weakening friction: the friction bound falls linearly from g_static at r = 0 to
+/// g_kinetic at |r| = slip and stays there (nonconvex: alpha_j = (g_static - g_kinetic) / slip).
+std::shared_ptr<const ContactLaw> slip_weakening_law(double g_static = 0.1, double g_kinetic = 0.05,
+                                                     double slip = 0.01);
+/// The friction laws of [contact.friction]: tresca, slip-weakening, piecewise.
+const std::vector<std::string>& friction_law_names();
+
 /// The shipped laws by name: paper, linear, kinked, sawtooth, zero.
 const std::vector<std::string>& contact_law_names();
 /// A shipped law by name (case-insensitive); InputError listing the names otherwise.

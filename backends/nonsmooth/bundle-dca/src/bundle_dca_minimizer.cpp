@@ -329,13 +329,13 @@ class DcBundle {
     run_.count_subgradients();
     for (Eigen::Index i = 0; i < n_; ++i) {
       const double t = a(i);
-      const double v = p_.w(i) * p_.law->value(LawPart::j1, t);
-      const double sr = p_.w(i) * p_.law->derivative(LawPart::j1, t, +1);
+      const double v = p_.w(i) * p_.law_of(i).value(LawPart::j1, t);
+      const double sr = p_.w(i) * p_.law_of(i).derivative(LawPart::j1, t, +1);
       auto& ci = cuts_[U(i)];
       ci.push_back({t, v, sr});
       added_[U(i)] = 1;
       if (o_.two_sided_cuts) {
-        const double sl = p_.w(i) * p_.law->derivative(LawPart::j1, t, -1);
+        const double sl = p_.w(i) * p_.law_of(i).derivative(LawPart::j1, t, -1);
         if (sl != sr) {
           ci.push_back({t, v, sl});
           added_[U(i)] = 2;
@@ -407,7 +407,7 @@ class DcBundle {
     const double qp = 0.5 * a.dot(p_.S * a) - p_.c.dot(a);
     if (quadratic_part) *quadratic_part = qp;
     double s = qp;
-    for (Eigen::Index i = 0; i < n_; ++i) s += p_.w(i) * p_.law->value(LawPart::j1, a(i));
+    for (Eigen::Index i = 0; i < n_; ++i) s += p_.w(i) * p_.law_of(i).value(LawPart::j1, a(i));
     return s;
   }
 
@@ -417,7 +417,7 @@ class DcBundle {
     const Eigen::VectorXd Sa = p_.S * a;
     double worst = 0.0, scale = std::max((p_.c + y).cwiseAbs().maxCoeff(), Sa.cwiseAbs().maxCoeff());
     for (Eigen::Index i = 0; i < n_; ++i) {
-      double dl = p_.law->derivative(LawPart::j1, a(i), -1), dr = p_.law->derivative(LawPart::j1, a(i), +1);
+      double dl = p_.law_of(i).derivative(LawPart::j1, a(i), -1), dr = p_.law_of(i).derivative(LawPart::j1, a(i), +1);
       if (dl > dr) std::swap(dl, dr);
       const Interval law{p_.w(i) * dl, p_.w(i) * dr};
       const Interval reaction{a(i) == p_.lower(i) ? -kInf : 0.0, a(i) == p_.upper(i) ? kInf : 0.0};
@@ -477,7 +477,7 @@ MinimizerResult BundleDcaMinimizer::run(MinimizerRun& run) const {
   run.offer(a, cert);
   MinimizerStatus why = MinimizerStatus::iteration_limit;
   int no_progress = 0;
-  const bool convex = p.law->is_convex();
+  const bool convex = p.all_laws_convex();
   std::string note;
   for (int k = 1; !cert.converged() && run.iterations_left(); ++k) {
     // a DC step costs the linearisation of F2, f_k at a_k, F at the end (and the first cut once)

@@ -15,12 +15,12 @@
 namespace hemivem {
 namespace {
 
-using smoothing::SmoothedLaw;
+using smoothing::SmoothedLaws;
 
 // Shared between the cost function and the iteration callback of one subproblem.
 struct Subproblem {
   MinimizerRun* run = nullptr;
-  const SmoothedLaw* law = nullptr;
+  const SmoothedLaws* law = nullptr;
   const smoothing::AnchoredEnergy* energy = nullptr;
   std::vector<Eigen::Index> free;
   Eigen::VectorXd a;      // full point; the pinned entries stay fixed
@@ -111,7 +111,7 @@ struct PassDriver : smoothing::EngineState {
 
   // Minimizes F_eps over the nodes not in `active` (Ceres LBFGS, unconstrained), then projects;
   // true when certified.
-  bool solve(const SmoothedLaw& law, const std::vector<char>& active, bool final_stage) {
+  bool solve(const SmoothedLaws& law, const std::vector<char>& active, bool final_stage) {
     const MinimizerOptions& o = run.options();
     const Eigen::Index n = p.size();
     Subproblem s;
@@ -155,7 +155,7 @@ struct PassDriver : smoothing::EngineState {
   }
 
   // The active set: nodes on a bound that the smoothed gradient pushes outward.
-  std::vector<char> pushed_out(const SmoothedLaw& law, const Eigen::VectorXd& x) {
+  std::vector<char> pushed_out(const SmoothedLaws& law, const Eigen::VectorXd& x) {
     const Eigen::Index n = p.size();
     Eigen::VectorXd g;
     smoothing::smoothed_energy(p, law, x, &g);
@@ -186,11 +186,11 @@ MinimizerResult CeresActiveSetMinimizer::run(MinimizerRun& run) const {
   MinimizerStatus& reason = passes.reason;
   std::string& message = passes.message;
   const double snap = passes.snap;
-  const std::vector<double> schedule = smoothing::schedule(*p.law, prm.epsilon, prm.epsilon0, prm.reduction);
+  const std::vector<double> schedule = smoothing::schedule(p, prm.epsilon, prm.epsilon0, prm.reduction);
   bool done = false, stop = false;
   for (std::size_t k = 0; k < schedule.size() && !done && !stop; ++k) {
     const bool final_stage = k + 1 == schedule.size();
-    const SmoothedLaw law(p.law, schedule[k]);
+    const SmoothedLaws law(p, schedule[k]);
     std::vector<char> active = passes.pushed_out(law, a);
     double last_residual = std::numeric_limits<double>::infinity();
     for (int pass = 0; pass < prm.max_passes && !done && !stop; ++pass) {
@@ -225,7 +225,19 @@ MinimizerResult CeresActiveSetMinimizer::run(MinimizerRun& run) const {
       active = next;
     }
   }
-  if (!done && !stop && !p.law->kinks().empty() && message.empty())
+  // one more try at the final scale: nodes held inside a kink's rounding stuck on the kink
+  // (with the nodes on a bound) and the others solved for; kept only when it is certified
+  if (!done && !stop && smoothing::has_kinks(p) && run.iterations_left()) {
+    const SmoothedLaws law(p, schedule.back());
+    const Eigen::VectorXd smoothed = a;
+    std::vector<char> fixed;
+    a = smoothing::snap_to_kinks(p, law, a, &fixed);
+    const std::vector<char> pushed = passes.pushed_out(law, a);
+    for (std::size_t i = 0; i < fixed.size(); ++i) fixed[i] = fixed[i] || pushed[i];
+    done = passes.solve(law, fixed, true);
+    if (!done) a = smoothed;
+  }
+  if (!done && !stop && smoothing::has_kinks(p) && message.empty())
     message = smoothing::smoothing_limit_message(schedule.back());
   // without a certificate the answer is the solution at the final smoothing scale (error O(eps))
   return run.finish(reason, message,

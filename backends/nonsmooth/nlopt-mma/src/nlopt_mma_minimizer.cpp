@@ -13,12 +13,12 @@
 namespace hemivem {
 namespace {
 
-using smoothing::SmoothedLaw;
+using smoothing::SmoothedLaws;
 
 // One MMA run over the free nodes of `a` (the others stay where they are).
 struct Stage {
   MinimizerRun* run = nullptr;
-  const SmoothedLaw* law = nullptr;
+  const SmoothedLaws* law = nullptr;
   const smoothing::AnchoredEnergy* energy = nullptr;
   std::vector<Eigen::Index> free;  // indices optimized
   Eigen::VectorXd a;               // the full point (pinned entries fixed)
@@ -62,7 +62,7 @@ struct MmaDriver : smoothing::EngineState {
   MmaDriver(MinimizerRun& r, const NloptMmaOptions& options) : EngineState(r, options.snap), prm(options) {}
 
   // One MMA run at the smoothing scale of `law` over the nodes not pinned; true when certified.
-  bool stage(const SmoothedLaw& law, const std::vector<char>& pinned, bool final_stage, bool polish) {
+  bool stage(const SmoothedLaws& law, const std::vector<char>& pinned, bool final_stage, bool polish) {
     const MinimizerOptions& o = run.options();
     const Eigen::Index n = p.size();
     Stage s;
@@ -136,7 +136,7 @@ MinimizerResult NloptMmaMinimizer::run(MinimizerRun& run) const {
   std::string& message = mma.message;
   const double snap = mma.snap;
   const NloptMmaOptions& prm = options_;
-  const std::vector<double> schedule = smoothing::schedule(*p.law, prm.epsilon, prm.epsilon0, prm.reduction);
+  const std::vector<double> schedule = smoothing::schedule(p, prm.epsilon, prm.epsilon0, prm.reduction);
   std::vector<char> none(static_cast<std::size_t>(n), 0);
   bool done = false, stop = false;
   for (std::size_t k = 0; k < schedule.size() && !done && !stop; ++k) {
@@ -145,7 +145,7 @@ MinimizerResult NloptMmaMinimizer::run(MinimizerRun& run) const {
       break;
     }
     const bool final_stage = k + 1 == schedule.size();
-    const SmoothedLaw law(p.law, schedule[k]);
+    const SmoothedLaws law(p, schedule[k]);
     done = mma.stage(law, none, final_stage, false);
     if (!run.record(a)) {
       reason = MinimizerStatus::stopped_by_callback;
@@ -155,7 +155,7 @@ MinimizerResult NloptMmaMinimizer::run(MinimizerRun& run) const {
   }
   // polishing at the final scale: nodes the gradient pushes onto a bound are pinned there
   if (!done && !stop) {
-    const SmoothedLaw law(p.law, schedule.back());
+    const SmoothedLaws law(p, schedule.back());
     for (int pass = 0; pass < prm.polish_passes && !done && !stop; ++pass) {
       if (!run.iterations_left()) {
         reason = MinimizerStatus::iteration_limit;
@@ -174,6 +174,17 @@ MinimizerResult NloptMmaMinimizer::run(MinimizerRun& run) const {
         stop = true;
       }
       if (reason == MinimizerStatus::evaluation_limit) stop = true;
+    }
+    // one more try: nodes held inside a kink's rounding stuck on the kink (with those on a
+    // bound); kept only when it is certified
+    if (!done && !stop && law.kinks() > 0 && run.iterations_left()) {
+      const Eigen::VectorXd smoothed = a;
+      std::vector<char> pinned;
+      a = smoothing::snap_to_kinks(p, law, a, &pinned);
+      for (Eigen::Index i = 0; i < n; ++i)
+        pinned[static_cast<std::size_t>(i)] = pinned[static_cast<std::size_t>(i)] || a(i) == p.upper(i) || a(i) == p.lower(i);
+      done = mma.stage(law, pinned, true, true);
+      if (!done) a = smoothed;
     }
     if (!done && !stop && law.kinks() > 0 && message.empty()) message = smoothing::smoothing_limit_message(schedule.back());
   }

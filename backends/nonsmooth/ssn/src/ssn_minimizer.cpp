@@ -30,7 +30,9 @@ struct NodeState {
 class Solver {
  public:
   Solver(MinimizerRun& run, const SsnOptions& prm)
-      : run_(run), p_(run.problem()), prm_(prm), n_(p_.size()), kinks_(p_.law->kinks()) {}
+      : run_(run), p_(run.problem()), prm_(prm), n_(p_.size()) {
+    for (int k = 0; k < p_.num_laws(); ++k) kinks_.push_back(p_.law_by_number(k).kinks());
+  }
 
   MinimizerResult solve() {
     Eigen::VectorXd a = run_.start();
@@ -85,7 +87,7 @@ class Solver {
     run_.count_functions();
     *q = p_.S * a - p_.c;
     double f = 0.5 * a.dot(*q - p_.c);
-    for (Eigen::Index i = 0; i < n_; ++i) f += p_.w(i) * p_.law->value(LawPart::j, a(i));
+    for (Eigen::Index i = 0; i < n_; ++i) f += p_.w(i) * p_.law_of(i).value(LawPart::j, a(i));
     return f;
   }
 
@@ -194,14 +196,15 @@ class Solver {
     return accepted;
   }
 
-  bool is_kink(double x) const { return std::binary_search(kinks_.begin(), kinks_.end(), x); }
+  const std::vector<double>& kinks(Eigen::Index i) const { return kinks_[static_cast<std::size_t>(p_.law_number(i))]; }
+  bool is_kink(Eigen::Index i, double x) const { return std::binary_search(kinks(i).begin(), kinks(i).end(), x); }
   double knot_above(Eigen::Index i, double x) const {
-    const auto it = std::upper_bound(kinks_.begin(), kinks_.end(), x);
-    return std::min(p_.upper(i), it == kinks_.end() ? kInf : *it);
+    const auto it = std::upper_bound(kinks(i).begin(), kinks(i).end(), x);
+    return std::min(p_.upper(i), it == kinks(i).end() ? kInf : *it);
   }
   double knot_below(Eigen::Index i, double x) const {
-    const auto it = std::lower_bound(kinks_.begin(), kinks_.end(), x);
-    return std::max(p_.lower(i), it == kinks_.begin() ? -kInf : *(it - 1));
+    const auto it = std::lower_bound(kinks(i).begin(), kinks(i).end(), x);
+    return std::max(p_.lower(i), it == kinks(i).begin() ? -kInf : *(it - 1));
   }
 
   /// The diagonal scaling of the gradient steps: the curvature on the side of motion, kept
@@ -214,9 +217,10 @@ class Solver {
     for (Eigen::Index i = 0; i < n_; ++i) {
       NodeState& s = st[static_cast<std::size_t>(i)];
       const double x = a(i), l = p_.lower(i), u = p_.upper(i), wi = p_.w(i);
-      if (x <= l || x >= u || is_kink(x)) {
-        const double dr = x < u ? q_(i) + wi * p_.law->derivative(LawPart::j, x, +1) : kInf;
-        const double dl = x > l ? q_(i) + wi * p_.law->derivative(LawPart::j, x, -1) : -kInf;
+      const ContactLaw& law = p_.law_of(i);
+      if (x <= l || x >= u || is_kink(i, x)) {
+        const double dr = x < u ? q_(i) + wi * law.derivative(LawPart::j, x, +1) : kInf;
+        const double dl = x > l ? q_(i) + wi * law.derivative(LawPart::j, x, -1) : -kInf;
         const bool right = dr < 0.0, left = dl > 0.0;
         if (right && (!left || -dr >= dl)) {
           s.side = 1;
@@ -234,12 +238,12 @@ class Solver {
           s.grad = 0.0;
         }
       } else {
-        s.grad = q_(i) + wi * p_.law->derivative(LawPart::j, x, +1);
+        s.grad = q_(i) + wi * law.derivative(LawPart::j, x, +1);
         s.side = s.grad <= 0.0 ? 1 : -1;
         s.lo = knot_below(i, x);
         s.hi = knot_above(i, x);
       }
-      s.hess = p_.S(i, i) + wi * p_.law->second_derivative(LawPart::j, x, s.side);
+      s.hess = p_.S(i, i) + wi * law.second_derivative(LawPart::j, x, s.side);
     }
   }
 
@@ -283,7 +287,7 @@ class Solver {
   const ReducedProblem& p_;
   const SsnOptions& prm_;
   const Eigen::Index n_;
-  const std::vector<double> kinks_;
+  std::vector<std::vector<double>> kinks_;  ///< the kinks of each law
   Certificate cert_;   ///< at the current point (or the last trial point whose certificate was taken)
   std::vector<Eigen::Index> free_, pinned_;  ///< moving nodes solved for, and those sent onto a knot
   double t_factor_ = 0.0, t_search_ = 0.0;

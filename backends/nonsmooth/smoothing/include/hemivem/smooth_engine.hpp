@@ -17,11 +17,18 @@
 
 namespace hemivem::smoothing {
 
-/// The scales of the continuation stages of a law: one stage (epsilon) when the law has no
+/// Whether a law of the problem has a kink (smoothing changes the problem only then).
+inline bool has_kinks(const ReducedProblem& p) {
+  for (int k = 0; k < p.num_laws(); ++k)
+    if (!p.law_by_number(k).kinks().empty()) return true;
+  return false;
+}
+
+/// The scales of the continuation stages of a problem: one stage (epsilon) when no law has a
 /// kink; otherwise epsilon0, reduction * epsilon0, ... down to epsilon, and with epsilon = 0
-/// (the law itself) the scales fall to 1e-12 before that last stage.
-inline std::vector<double> schedule(const ContactLaw& law, double epsilon, double epsilon0, double reduction) {
-  if (law.kinks().empty()) return {epsilon};
+/// (the laws themselves) the scales fall to 1e-12 before that last stage.
+inline std::vector<double> schedule(const ReducedProblem& p, double epsilon, double epsilon0, double reduction) {
+  if (!has_kinks(p)) return {epsilon};
   const double floor = epsilon > 0.0 ? epsilon : std::min(1e-12, epsilon0);
   std::vector<double> s;
   for (double e = std::max(epsilon0, floor); e > floor * (1.0 + 1e-12); e *= reduction) s.push_back(e);
@@ -29,6 +36,26 @@ inline std::vector<double> schedule(const ContactLaw& law, double epsilon, doubl
   if (epsilon == 0.0) s.push_back(0.0);
   return s;
 }
+
+/// The laws of a problem smoothed at one scale: at(i) is coordinate i's.
+class SmoothedLaws {
+ public:
+  SmoothedLaws(const ReducedProblem& p, double epsilon) : p_(&p) {
+    for (int k = 0; k < p.num_laws(); ++k)
+      laws_.emplace_back(p.coordinatewise() ? p.laws[static_cast<std::size_t>(k)] : p.law, epsilon);
+  }
+  const SmoothedLaw& at(Eigen::Index i) const { return laws_[static_cast<std::size_t>(p_->law_number(i))]; }
+  /// The number of kinks smoothed, over all laws.
+  int kinks() const {
+    int k = 0;
+    for (const auto& l : laws_) k += l.kinks();
+    return k;
+  }
+
+ private:
+  const ReducedProblem* p_;
+  std::vector<SmoothedLaw> laws_;
+};
 
 /// The checks of the fields the smoothing engines' options share: the continuation and the
 /// snapping distance.
@@ -41,14 +68,14 @@ inline bool shared_fields_valid(double epsilon, double epsilon0, double reductio
 }
 
 /// F_eps(a) = 1/2 a^T S a - c^T a + sum w_i j_eps(a_i) and its gradient.
-inline double smoothed_energy(const ReducedProblem& p, const SmoothedLaw& law, const Eigen::VectorXd& a,
+inline double smoothed_energy(const ReducedProblem& p, const SmoothedLaws& law, const Eigen::VectorXd& a,
                               Eigen::VectorXd* gradient) {
   const Eigen::VectorXd Sa = p.S * a;
   double f = 0.5 * a.dot(Sa) - p.c.dot(a);
   if (gradient) *gradient = Sa - p.c;
   for (Eigen::Index i = 0; i < a.size(); ++i) {
-    f += p.w(i) * law.value(a(i));
-    if (gradient) (*gradient)(i) += p.w(i) * law.derivative(a(i));
+    f += p.w(i) * law.at(i).value(a(i));
+    if (gradient) (*gradient)(i) += p.w(i) * law.at(i).derivative(a(i));
   }
   return f;
 }
@@ -57,20 +84,20 @@ inline double smoothed_energy(const ReducedProblem& p, const SmoothedLaw& law, c
 /// minimizer F_eps changes far below the roundoff of F_eps itself), and the gradient of F_eps.
 struct AnchoredEnergy {
   const ReducedProblem* p = nullptr;
-  const SmoothedLaw* law = nullptr;
+  const SmoothedLaws* law = nullptr;
   Eigen::VectorXd a0, g0;  // the anchor and S a0 - c
 
-  AnchoredEnergy(const ReducedProblem& problem, const SmoothedLaw& l, const Eigen::VectorXd& anchor)
+  AnchoredEnergy(const ReducedProblem& problem, const SmoothedLaws& l, const Eigen::VectorXd& anchor)
       : p(&problem), law(&l), a0(anchor), g0(problem.S * anchor - problem.c) {}
 
   double operator()(const Eigen::VectorXd& a, Eigen::VectorXd* gradient) const {
     const Eigen::VectorXd d = a - a0;
     const Eigen::VectorXd Sd = p->S * d;
     double f = d.dot(g0) + 0.5 * d.dot(Sd);
-    for (Eigen::Index i = 0; i < a.size(); ++i) f += p->w(i) * law->difference(a0(i), a(i));
+    for (Eigen::Index i = 0; i < a.size(); ++i) f += p->w(i) * law->at(i).difference(a0(i), a(i));
     if (gradient) {
       *gradient = g0 + Sd;
-      for (Eigen::Index i = 0; i < a.size(); ++i) (*gradient)(i) += p->w(i) * law->derivative(a(i));
+      for (Eigen::Index i = 0; i < a.size(); ++i) (*gradient)(i) += p->w(i) * law->at(i).derivative(a(i));
     }
     return f;
   }
@@ -85,6 +112,23 @@ inline Eigen::VectorXd snap_to_bounds(const ReducedProblem& p, const Eigen::Vect
     if (s(i) >= p.upper(i) - delta && gradient(i) < -push) s(i) = p.upper(i);
     if (s(i) <= p.lower(i) + delta && gradient(i) > push) s(i) = p.lower(i);
   }
+  return s;
+}
+
+/// Nodes strictly inside the rounding window of a kink of their law are put on the kink, and
+/// marked in *on_kink: where the smoothed problem holds a node within epsilon of a kink, the
+/// nonsmooth one sticks it there (the Clarke interval at the kink takes up the force; the
+/// certificate decides).
+inline Eigen::VectorXd snap_to_kinks(const ReducedProblem& p, const SmoothedLaws& law, const Eigen::VectorXd& a,
+                                     std::vector<char>* on_kink) {
+  Eigen::VectorXd s = a;
+  on_kink->assign(static_cast<std::size_t>(a.size()), 0);
+  for (Eigen::Index i = 0; i < a.size(); ++i)
+    for (const auto& w : law.at(i).windows())
+      if (w.kink && a(i) > w.lo && a(i) < w.hi && w.breakpoint >= p.lower(i) && w.breakpoint <= p.upper(i)) {
+        s(i) = w.breakpoint;
+        (*on_kink)[static_cast<std::size_t>(i)] = 1;
+      }
   return s;
 }
 
@@ -113,13 +157,14 @@ inline std::string smoothing_limit_message(double epsilon) {
   return buf;
 }
 
-/// A length scale of the unknowns: the largest finite gap (an obstacle's +inf gap bounds
+/// A length scale of the unknowns: the largest finite bound (an obstacle's +inf gap bounds
 /// nothing), |a| of the start, or |c| / min S_ii.
 inline double length_scale(const ReducedProblem& p, const Eigen::VectorXd& a) {
   const double cmax = std::max(p.c.size() ? p.c.cwiseAbs().maxCoeff() : 0.0, 1e-300);
   double gmax = 0.0;
-  for (Eigen::Index i = 0; i < p.g.size(); ++i)
-    if (std::isfinite(p.g(i))) gmax = std::max(gmax, std::abs(p.g(i)));
+  for (Eigen::Index i = 0; i < p.size(); ++i)
+    for (double b : {p.lower(i), p.upper(i)})
+      if (std::isfinite(b)) gmax = std::max(gmax, std::abs(b));
   return std::max({gmax, a.size() ? a.cwiseAbs().maxCoeff() : 0.0, cmax / std::max(p.S.diagonal().minCoeff(), 1e-300)});
 }
 
