@@ -10,6 +10,8 @@
 #include <hemivem/mesh_generators.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
 #include <hemivem/piecewise_law.hpp>
+#include <hemivem/reduced_io.hpp>
+#include <hemivem/scene.hpp>
 
 #include <gtest/gtest.h>
 
@@ -265,6 +267,18 @@ TEST(FrictionExample, SlipWeakeningLosesTheMarginAndSaysSo) {
   const FrictionRun mild = solve(mesh, [](ContactProblem& p) { p.friction = slip_weakening_law(0.4, 0.35, 1.0); });
   EXPECT_GT(mild.solution.uniqueness_margin, 0.0);
   EXPECT_FALSE(mild.solution.minimizer.may_be_nonunique);
+}
+
+TEST(FrictionLimits, ScenesAndReducedFilesRefuseWhatTheyCannotHoldYet) {
+  const std::string scene = "schema_version = 1\n[contact]\nside = \"bottom\"\nconstraint = \"bilateral\"\n";
+  const std::string error = test::input_error_of([&] { (void)parse_scene_string(scene, "bilateral.toml"); });
+  EXPECT_NE(error.find("bilateral.toml:4"), std::string::npos) << error;
+  EXPECT_NE(error.find("not a scene constraint"), std::string::npos) << error;
+  const ReducedProblem p = spring(1.0, 0.5, 1.0, tresca_law(0.1));
+  const std::string file_error =
+      test::input_error_of([&] { write_reduced_problem(test::scratch("friction-reduced"), p); });
+  EXPECT_NE(file_error.find("per coordinate"), std::string::npos) << file_error;
+  EXPECT_FALSE(std::filesystem::exists(test::scratch("friction-reduced") / "S.mtx"));
 }
 
 }  // namespace

@@ -205,6 +205,10 @@ std::shared_ptr<const ContactLaw> read_law(const fs::path& file) {
 }
 
 void write_reduced_problem(const fs::path& folder, const ReducedProblem& p) {
+  if (p.coordinatewise())
+    throw InputError("the reduced-problem files hold one law and one constraint for every coordinate; a problem "
+                     "with a law or bounds per coordinate (friction) has no file form in this version",
+                     folder.string());
   if (!p.law) throw InputError("the reduced problem has no contact law");
   std::error_code ec;
   fs::create_directories(folder, ec);

@@ -179,6 +179,10 @@ SceneContact read_contact(TableReader& r) {
     } catch (const InputError&) {
       r.fail("constraint", r.node("constraint"), "unknown constraint '" + *k + "'; expected one of: none, one-sided, box");
     }
+    if (c.constraint == ConstraintKind::bilateral)
+      r.fail("constraint", r.node("constraint"),
+             "'bilateral' is not a scene constraint in this version (it is ContactProblem::constraint in the "
+             "library, docs/friction.md); expected one of: none, one-sided, box");
   }
   return c;
 }
