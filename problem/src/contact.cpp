@@ -166,12 +166,7 @@ SparseMatrix rotate_symmetric(const SparseMatrix& A_in, const std::vector<int>& 
 }  // namespace
 
 double uniqueness_margin(const Eigen::MatrixXd& S, const Eigen::VectorXd& w, double alpha) {
-  if (S.rows() == 0) return std::numeric_limits<double>::infinity();
-  if (std::isinf(alpha)) return -std::numeric_limits<double>::infinity();
-  Eigen::MatrixXd M = S;
-  M.diagonal() -= alpha * w;
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(M, Eigen::EigenvaluesOnly);
-  return eig.eigenvalues()(0);
+  return uniqueness_margin(S, w, Eigen::VectorXd::Constant(w.size(), alpha));
 }
 
 double uniqueness_margin(const Eigen::MatrixXd& S, const Eigen::VectorXd& w, const Eigen::VectorXd& alpha) {
@@ -245,9 +240,6 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
     reduced_.lo.resize(nc);
     reduced_.hi.resize(nc);
     reduced_.w.resize(nc);
-    ReducedProblem normal;  // the bounds of the normal displacements
-    normal.constraint = constraint;
-    normal.g = boundary.gaps;
     for (int i = 0; i < n1; ++i) {
       const int t = tangential_coordinate(i);
       reduced_.law_index(t) = has_normal_ ? 1 : 0;
@@ -256,8 +248,8 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
       reduced_.w(t) = boundary.weights(i);
       if (!has_normal_) continue;
       reduced_.law_index(i) = 0;
-      reduced_.lo(i) = normal.lower(i);
-      reduced_.hi(i) = normal.upper(i);
+      reduced_.lo(i) = lower_bound(constraint, boundary.gaps(i));
+      reduced_.hi(i) = upper_bound(constraint, boundary.gaps(i));
       reduced_.w(i) = boundary.weights(i);
     }
   }
@@ -295,8 +287,7 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
     reduced_.c = b1 - A21_.transpose() * y.col(0);
   }
   if (!has_normal_) reduced_.c = reduced_.c.tail(n1).eval();
-  margin_ = reduced_.coordinatewise() ? hemivem::uniqueness_margin(reduced_.S, reduced_.w, reduced_.alphas())
-                                      : hemivem::uniqueness_margin(reduced_.S, reduced_.w, reduced_.law->alpha());
+  margin_ = hemivem::uniqueness_margin(reduced_.S, reduced_.w, reduced_.alphas());
   reduced_.uniqueness_margin = margin_;
 }
 

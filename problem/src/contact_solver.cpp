@@ -207,7 +207,6 @@ std::vector<ContactSolution> solve_contact(const ContactProblem& problem, const 
         node.state = "bilateral";
       }
       if (const int k = cond.tangential_coordinate(i); k >= 0) {
-        node.has_friction = true;
         node.u_tau = m.a(k);
         node.friction_force = forces ? m.law_force(k) + m.reaction(k) : 0.0;
         node.friction_state = friction_state(rp.law_of(k), node.u_tau);

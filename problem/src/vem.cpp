@@ -19,15 +19,21 @@ Stabilization stabilization_from_string(std::string_view name) {
   throw InputError("unknown stabilization '" + std::string(name) + "'; expected 2mu or trace");
 }
 
+namespace {
+
+/// The scaled vertex normal nu_i = (m_{i-1} + m_i) / 2 of polygon z, m_i = |e_i| n_i for the edge
+/// z_i -> z_{i+1}.
+Vec2 vertex_normal(std::span<const Vec2> z, std::size_t i) {
+  const std::size_t n = z.size();
+  const Vec2 d0 = z[i] - z[(i + n - 1) % n], d1 = z[(i + 1) % n] - z[i];
+  return 0.5 * (Vec2(d0.y(), -d0.x()) + Vec2(d1.y(), -d1.x()));
+}
+
+}  // namespace
+
 Eigen::Matrix2Xd vertex_normals(std::span<const Vec2> z) {
-  const Eigen::Index n = static_cast<Eigen::Index>(z.size());
-  Eigen::Matrix2Xd m(2, n);  // m_i = |e_i| n_i for edge z_i -> z_{i+1}
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const Vec2 d = z[static_cast<std::size_t>((i + 1) % n)] - z[static_cast<std::size_t>(i)];
-    m.col(i) = Vec2(d.y(), -d.x());
-  }
-  Eigen::Matrix2Xd nu(2, n);
-  for (Eigen::Index i = 0; i < n; ++i) nu.col(i) = 0.5 * (m.col((i + n - 1) % n) + m.col(i));
+  Eigen::Matrix2Xd nu(2, static_cast<Eigen::Index>(z.size()));
+  for (std::size_t i = 0; i < z.size(); ++i) nu.col(static_cast<Eigen::Index>(i)) = vertex_normal(z, i);
   return nu;
 }
 
@@ -63,10 +69,7 @@ Projection<Mat> build(std::span<const Vec2> z) {
   p.Ds.setZero(2 * n, 3);
   double r2 = 0.0;
   for (Eigen::Index i = 0; i < n; ++i) {
-    // the scaled vertex normal nu_i = (m_{i-1} + m_i) / 2 (vertex_normals)
-    const Vec2 d0 = z[static_cast<std::size_t>(i)] - z[static_cast<std::size_t>((i + n - 1) % n)];
-    const Vec2 d1 = z[static_cast<std::size_t>((i + 1) % n)] - z[static_cast<std::size_t>(i)];
-    const Vec2 nu = 0.5 * (Vec2(d0.y(), -d0.x()) + Vec2(d1.y(), -d1.x()));
+    const Vec2 nu = vertex_normal(z, static_cast<std::size_t>(i));
     const double a = nu.x() / p.area, b = nu.y() / p.area;
     p.B(0, 2 * i) = a;
     p.B(2, 2 * i) = b;

@@ -55,6 +55,16 @@ inline ConstraintKind constraint_kind_from_string(std::string_view name) {
   throw InputError("unknown constraint '" + std::string(name) + "'; expected none, one-sided, box or bilateral");
 }
 
+/// The bounds of a normal displacement with gap g under a constraint (+-inf where there is none).
+inline double lower_bound(ConstraintKind kind, double g) {
+  if (kind == ConstraintKind::bilateral) return 0.0;
+  return kind == ConstraintKind::box ? -g : -std::numeric_limits<double>::infinity();
+}
+inline double upper_bound(ConstraintKind kind, double g) {
+  if (kind == ConstraintKind::bilateral) return 0.0;
+  return kind == ConstraintKind::none ? std::numeric_limits<double>::infinity() : g;
+}
+
 struct ReducedProblem {
   Eigen::MatrixXd S;
   Eigen::VectorXd c;
@@ -114,13 +124,12 @@ struct ReducedProblem {
   /// Lower and upper bound of a_i (+-inf where there is none).
   double lower(Eigen::Index i) const {
     if (coordinatewise()) return lo(i);
-    if (constraint == ConstraintKind::bilateral) return 0.0;
-    return constraint == ConstraintKind::box ? -g(i) : -std::numeric_limits<double>::infinity();
+    return lower_bound(constraint, constraint == ConstraintKind::box ? g(i) : 0.0);
   }
   double upper(Eigen::Index i) const {
     if (coordinatewise()) return hi(i);
-    if (constraint == ConstraintKind::bilateral) return 0.0;
-    return constraint == ConstraintKind::none ? std::numeric_limits<double>::infinity() : g(i);
+    const bool gapped = constraint == ConstraintKind::one_sided || constraint == ConstraintKind::box;
+    return upper_bound(constraint, gapped ? g(i) : 0.0);
   }
   /// The curvature bounds alpha_i of the coordinates' laws (+inf for a concave kink).
   Eigen::VectorXd alphas() const {

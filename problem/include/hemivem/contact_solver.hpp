@@ -36,8 +36,8 @@ struct ContactNode {
   /// displacement u_tau = u . tau (tau = (-nu_y, nu_x)), the friction force zeta_tau in
   /// w_i dj_tau(u_tau) on the body (positive along tau when it resists u_tau < 0) and its
   /// state: "stick" (u_tau at the law's kink 0), "slip", or for slip-weakening
-  /// "slip-weakening" (|u_tau| below the slip distance) and "slip-kinetic".
-  bool has_friction = false;
+  /// "slip-weakening" (|u_tau| below the slip distance) and "slip-kinetic"; an empty state
+  /// without friction.
   double u_tau = 0.0;
   double friction_force = 0.0;
   std::string friction_state;
