@@ -16,6 +16,7 @@
 #include <cctype>
 #include <chrono>
 #include <iomanip>
+#include <map>
 #include <ostream>
 #include <sstream>
 
@@ -180,7 +181,10 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   info.processes = solved.processes;
   info.warnings = built->warnings;
   if (built->problem.law) info.law_breakpoints = built->problem.law->breakpoints();
-  info.gap_bound = built->has_contact && built->problem.constraint != ConstraintKind::none;
+  info.gap_bound = built->has_contact && (built->problem.constraint == ConstraintKind::one_sided ||
+                                          built->problem.constraint == ConstraintKind::box);
+  if (built->problem.friction) info.friction_law = built->problem.friction->name();
+  if (built->problem.constraint == ConstraintKind::bilateral) info.law_breakpoints.clear();
   for (const auto& w : info.warnings) err << "hemivem: warning: " << w << "\n";
   const OutputReport report = write_outputs(o.out, built->mesh, built->problem.elasticity.materials, sol, info,
                                             wanted_files(scene, built->has_contact));
@@ -208,13 +212,27 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
       out << "  uniqueness    lambda_min(S - alpha_j W) = " << sol.uniqueness_margin
           << (sol.uniqueness_margin > 0 ? " > 0: the solution is unique\n"
                                         : " <= 0: several critical points are possible; this is one of them\n")
-          << "  contact       " << sol.contact.size() << " nodes: " << upper << " at the upper bound, ";
-      if (scene.contact && scene.contact->constraint == ConstraintKind::box) out << lower << " at the lower bound, ";
-      out << sol.contact.size() - upper - lower << " free\n";
-      double law = 0.0, reaction = 0.0;
-      for (const auto& c : sol.contact) law += c.law_force, reaction += c.reaction;
+          << "  contact       " << sol.contact.size() << " nodes: ";
+      if (scene.contact && scene.contact->constraint == ConstraintKind::bilateral) {
+        out << "u_nu = 0 (bilateral)\n";
+      } else {
+        out << upper << " at the upper bound, ";
+        if (scene.contact && scene.contact->constraint == ConstraintKind::box) out << lower << " at the lower bound, ";
+        out << sol.contact.size() - upper - lower << " free\n";
+      }
+      double law = 0.0, reaction = 0.0, friction = 0.0;
+      std::map<std::string, int> states;
+      for (const auto& c : sol.contact) law += c.law_force, reaction += c.reaction, friction += c.friction_force;
+      for (const auto& c : sol.contact)
+        if (!c.friction_state.empty()) ++states[c.friction_state];
       out << "  forces        contact force " << law + reaction << " in total: law " << law << ", reactions "
           << reaction << "\n";
+      if (!states.empty()) {
+        out << "  friction      " << (info.friction_law.empty() ? std::string("none") : info.friction_law) << ": ";
+        bool first = true;
+        for (const auto& [state, count] : states) out << (first ? "" : ", ") << count << " " << state, first = false;
+        out << "; friction force " << friction << " in total\n";
+      }
     }
     out << "  energy        potential " << sol.energy << "\n  time [s]      mesh " << mesh_seconds;
     for (const char* k : {"assembly", "linear_solve", "condensation", "minimize", "back_substitution"})

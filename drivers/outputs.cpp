@@ -43,10 +43,16 @@ double timing(const ContactSolution& s, const std::string& stage) {
 
 void write_contact_csv(std::ostream& stream, const ContactSolution& s) {
   TextWriter os(stream);
-  os << "vertex,x,y,u_nu,law_force,reaction,pressure,state,gap,nx,ny\n";
-  for (const auto& n : s.contact)
+  const bool tangential = has_tangential(s);
+  os << "vertex,x,y,u_nu,law_force,reaction,pressure,state,gap,nx,ny"
+     << (tangential ? ",u_tau,friction_force,friction_traction,friction_state" : "") << "\n";
+  for (const auto& n : s.contact) {
     os << n.vertex << ',' << n.x.x() << ',' << n.x.y() << ',' << n.u_nu << ',' << n.law_force << ',' << n.reaction
-       << ',' << n.pressure() << ',' << n.state << ',' << n.gap << ',' << n.normal.x() << ',' << n.normal.y() << '\n';
+       << ',' << n.pressure() << ',' << n.state << ',' << n.gap << ',' << n.normal.x() << ',' << n.normal.y();
+    if (tangential)
+      os << ',' << n.u_tau << ',' << n.friction_force << ',' << n.friction_force / n.weight << ',' << n.friction_state;
+    os << '\n';
+  }
 }
 
 void write_displacement_csv(std::ostream& stream, const Mesh& mesh, const Eigen::VectorXd& u) {
@@ -67,6 +73,10 @@ void write_history_csv(std::ostream& stream, const ContactSolution& s) {
 
 }  // namespace
 
+bool has_tangential(const ContactSolution& s) {
+  return std::any_of(s.contact.begin(), s.contact.end(), [](const ContactNode& n) { return !n.friction_state.empty(); });
+}
+
 std::vector<std::array<int, 2>> contact_lines(const Mesh& mesh, const ContactSolution& sol) {
   std::vector<char> on(static_cast<std::size_t>(mesh.num_vertices()), 0);
   for (const auto& n : sol.contact) on[static_cast<std::size_t>(n.vertex)] = 1;
@@ -82,7 +92,7 @@ std::vector<std::array<int, 2>> contact_lines(const Mesh& mesh, const ContactSol
 nlohmann::json result_json(const Mesh& mesh, const ContactSolution& s, const RunInfo& info) {
   using nlohmann::json;
   json j;
-  j["schema"] = "hemivem-result/5";
+  j["schema"] = "hemivem-result/6";
   j["version"] = info.version;
   j["scene"] = {{"name", info.scene_name}, {"toml", info.scene_toml}};
   j["backends"] = {{"linear", info.linear}, {"minimizer", info.minimizer}};
@@ -112,19 +122,31 @@ nlohmann::json result_json(const Mesh& mesh, const ContactSolution& s, const Run
                {"elements", mesh.num_elements()},
                {"dofs", info.dofs >= 0 ? info.dofs : 2 * mesh.num_vertices()},
                {"h", mesh.h()}};
+  const bool tangential = has_tangential(s);
   json contact = json::array();
-  for (const auto& n : s.contact)
-    contact.push_back({{"vertex", n.vertex},
-                       {"x", n.x.x()},
-                       {"y", n.x.y()},
-                       {"u_nu", number(n.u_nu)},
-                       {"law_force", number(n.law_force)},
-                       {"reaction", number(n.reaction)},
-                       {"pressure", number(n.pressure())},
-                       {"gap", number(n.gap)},
-                       {"normal", {number(n.normal.x()), number(n.normal.y())}},
-                       {"state", n.state}});
+  json friction_states = json::object();
+  for (const auto& n : s.contact) {
+    json node{{"vertex", n.vertex},
+              {"x", n.x.x()},
+              {"y", n.x.y()},
+              {"u_nu", number(n.u_nu)},
+              {"law_force", number(n.law_force)},
+              {"reaction", number(n.reaction)},
+              {"pressure", number(n.pressure())},
+              {"gap", number(n.gap)},
+              {"normal", {number(n.normal.x()), number(n.normal.y())}},
+              {"state", n.state}};
+    if (tangential) {
+      node["u_tau"] = number(n.u_tau);
+      node["friction_force"] = number(n.friction_force);
+      node["friction_traction"] = number(n.friction_force / n.weight);
+      node["friction_state"] = n.friction_state;
+      friction_states[n.friction_state] = friction_states.value(n.friction_state, 0) + 1;
+    }
+    contact.push_back(std::move(node));
+  }
   j["contact"] = std::move(contact);
+  j["friction"] = tangential ? json{{"law", info.friction_law.empty() ? json(nullptr) : json(info.friction_law)}, {"nodes", friction_states}} : json(nullptr);
   const Vec2 force = s.contact_force();
   j["contact_force"] = {number(force.x()), number(force.y())};
   const ContactZone zone = contact_zone(s);

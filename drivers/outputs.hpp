@@ -33,10 +33,15 @@ struct RunInfo {
   std::vector<std::string> warnings;          ///< what the user should know about the problem posed
   std::vector<double> law_breakpoints;        ///< the contact law's breakpoints (u_nu values), for u_nu.png
   bool gap_bound = false;                     ///< u_nu <= g is a constraint: the plots draw the gap and foundation
+  std::string friction_law;                   ///< the friction law's name ("" without friction)
 };
 
-/// The result.json document ("schema": "hemivem-result/5").
+/// The result.json document ("schema": "hemivem-result/6").
 nlohmann::json result_json(const Mesh& mesh, const ContactSolution& solution, const RunInfo& info);
+
+/// Whether the contact nodes carry a tangential displacement (friction or a bilateral
+/// constraint): contact.csv, result.json, solution.vtu and u_nu.png then show it.
+bool has_tangential(const ContactSolution& solution);
 
 /// The names write_outputs knows, in the order it writes them: result.json, contact.csv,
 /// displacement.csv, history.csv, solution.vtu, scene.toml, u_nu.png, deformed.png.

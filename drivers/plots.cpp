@@ -240,16 +240,24 @@ Figure u_nu_figure(const Mesh& mesh, const ContactSolution& sol, const RunInfo& 
 
   Figure f;
   f.png = "u_nu.png";
+  const bool tangential = has_tangential(sol);
   f.data.push_back({"u_nu.dat", [chains](std::ostream& os) {
-                      os << std::setprecision(17) << "# s x y u_nu pressure gap\n";
+                      os << std::setprecision(17)
+                         << "# s x y u_nu pressure gap u_tau friction_traction stick\n";
                       for (const auto& chain : chains) {
                         for (const auto& p : chain)
                           os << p.s << ' ' << p.node->x.x() << ' ' << p.node->x.y() << ' ' << p.node->u_nu << ' '
-                             << p.node->pressure() << ' ' << p.node->gap << '\n';
+                             << p.node->pressure() << ' ' << p.node->gap << ' ' << p.node->u_tau << ' '
+                             << p.node->friction_force / p.node->weight << ' '
+                             << (p.node->friction_state == "stick" ? 1 : 0) << '\n';
                         os << "\n\n";  // a new data block per chain
                       }
                     }});
   std::ostringstream s;
+  if (tangential) {  // a second panel below: u_tau with the stick and slip zones, the friction traction
+    f.height = 1200;
+    s << "set multiplot layout 2,1\n";
+  }
   s << "set title " << gnuplot_quote(solve_title("normal displacement and contact pressure on the contact boundary", info))
     << " noenhanced\n"
     << "set xlabel "
@@ -268,6 +276,23 @@ Figure u_nu_figure(const Mesh& mesh, const ContactSolution& sol, const RunInfo& 
   if (info.gap_bound) s << ", '' using " << x << ":6 with lines dt 2 lw 1.5 lc rgb '#555555' title 'gap g (u_{/Symbol n} <= g)'";
   s << ", '' using " << x << ":5 axes x1y2 with linespoints pt 6 ps 0.5 lw 1.5 lc rgb '#d62728' title 'contact pressure'";
   if (!breakpoints.empty()) s << ", NaN with lines dt 3 lw 1.5 lc rgb '#2ca02c' title 'contact law breakpoints'";
+  if (tangential) {
+    double traction = 0.0;
+    for (const auto& n : sol.contact)
+      if (std::isfinite(n.friction_force / n.weight)) traction = std::max(traction, std::abs(n.friction_force / n.weight));
+    s << "\nunset arrow\nunset label\nunset yrange\n";
+    if (traction > 0.0) s << "set y2range [" << num(-1.1 * traction) << ":" << num(1.1 * traction) << "]\n";
+    s
+      << "set title " << gnuplot_quote("tangential displacement and friction on the contact boundary: stick and slip zones")
+      << " noenhanced\n"
+      << "set ylabel 'tangential displacement u_{/Symbol t} (scene units)'\n"
+      << "set y2label 'friction traction (force per unit length, scene units)'\n"
+      << "plot 'u_nu.dat' using " << x << ":7 with lines lw 2 lc rgb '#1f77b4' title 'u_{/Symbol t}'"
+      << ", '' using " << x << ":($9 > 0 ? $7 : NaN) with points pt 5 ps 0.9 lc rgb '#2ca02c' title 'stick'"
+      << ", '' using " << x << ":($9 > 0 ? NaN : $7) with points pt 9 ps 0.9 lc rgb '#ff7f0e' title 'slip'"
+      << ", '' using " << x << ":8 axes x1y2 with linespoints pt 6 ps 0.5 lw 1.5 lc rgb '#d62728' title 'friction traction'"
+      << "\nunset multiplot";
+  }
   f.script = s.str();
   return f;
 }

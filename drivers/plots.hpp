@@ -50,7 +50,9 @@ bool is_png(const std::filesystem::path& p);
 /// u_nu.png: the normal displacement u_nu along the contact boundary against x (when Gamma_3
 /// is one horizontal line) or its arc length, with the gap (when u_nu <= g is a constraint),
 /// the contact law's breakpoints near the values shown, and the contact pressure on a second
-/// axis; the title names the scene and the mesh. The solution must have contact nodes.
+/// axis; the title names the scene and the mesh. With friction (has_tangential) a second panel
+/// below: u_tau with its stick and slip nodes marked, and the friction traction on a second
+/// axis. The solution must have contact nodes.
 Figure u_nu_figure(const Mesh& mesh, const ContactSolution& solution, const RunInfo& info);
 
 /// deformed.png: the deformed mesh (its boundary alone above 100000 edges) coloured by |u|,

@@ -78,6 +78,14 @@ void data_array(std::ostream& os, const char* name, int components, const std::v
 
 }  // namespace
 
+std::uint8_t friction_state_code(const std::string& state) {
+  if (state == "stick") return 1;
+  if (state == "slip") return 2;
+  if (state == "slip-weakening") return 3;
+  if (state == "slip-kinetic") return 4;
+  return 0;
+}
+
 void write_vtu(std::ostream& os, const Mesh& mesh, const MaterialTable& materials, const ContactSolution& sol) {
   const Eigen::VectorXd& u = sol.u;
   const std::vector<ElementStress> stress = element_stresses(mesh, materials, u);
@@ -128,12 +136,25 @@ void write_vtu(std::ostream& os, const Mesh& mesh, const MaterialTable& material
     for (const auto& n : sol.contact) {
       const auto v = static_cast<std::size_t>(n.vertex);
       u_nu[v] = n.u_nu;
-      pressure[v] = n.pressure();
+      pressure[v] = std::isfinite(n.pressure()) ? n.pressure() : 0.0;
       gap[v] = std::isfinite(n.gap) ? n.gap : 0.0;  // a ray that misses the obstacle: +inf, written as 0
     }
     data_array(os, "u_nu", 1, u_nu);
     data_array(os, "pressure", 1, pressure);
     data_array(os, "gap", 1, gap);
+  }
+  if (contact && has_tangential(sol)) {  // friction: u_tau, the friction traction and the state code
+    std::vector<double> u_tau(nv, 0.0), traction(nv, 0.0);
+    std::vector<std::uint8_t> state(nv, 0);
+    for (const auto& n : sol.contact) {
+      const auto v = static_cast<std::size_t>(n.vertex);
+      u_tau[v] = n.u_tau;
+      traction[v] = n.friction_force / n.weight;
+      state[v] = friction_state_code(n.friction_state);
+    }
+    data_array(os, "u_tau", 1, u_tau);
+    data_array(os, "friction_traction", 1, traction);
+    data_array(os, "friction_state", 1, state);
   }
   os << "      </PointData>\n"
      << "      <CellData Tensors=\"stress\" Scalars=\"von_mises\">\n";

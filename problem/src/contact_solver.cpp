@@ -191,6 +191,9 @@ std::vector<ContactSolution> solve_contact(const ContactProblem& problem, const 
 
     const MinimizerResult& m = sol.minimizer;
     const bool forces = m.law_force.size() == m.a.size() && m.reaction.size() == m.a.size();
+    Eigen::VectorXd uf(sys.dofs.num_free());
+    for (int k = 0; k < sys.dofs.num_free(); ++k) uf(k) = sol.u(sys.dofs.free_dofs[static_cast<std::size_t>(k)]);
+    const Eigen::VectorXd Au = sys.A * uf;
     for (int i = 0; i < boundary.size(); ++i) {
       ContactNode node;
       node.vertex = boundary.nodes[static_cast<std::size_t>(i)];
@@ -204,7 +207,13 @@ std::vector<ContactSolution> solve_contact(const ContactProblem& problem, const 
         node.reaction = forces ? m.reaction(k) : 0.0;
         node.state = m.a(k) == rp.upper(k) ? "upper" : (m.a(k) == rp.lower(k) ? "lower" : "free");
       } else {
+        // u_nu = 0 imposed: the normal force is what holds the node there, the normal part of
+        // the residual A u - b at its dofs (NaN where a dof of the node is prescribed)
         node.state = "bilateral";
+        const int dx = sys.dofs.free_index[static_cast<std::size_t>(2 * node.vertex)];
+        const int dy = sys.dofs.free_index[static_cast<std::size_t>(2 * node.vertex + 1)];
+        node.reaction = dx >= 0 && dy >= 0 ? -Vec2(Au(dx) - sys.b(dx), Au(dy) - sys.b(dy)).dot(node.normal)
+                                           : std::numeric_limits<double>::quiet_NaN();
       }
       if (const int k = cond.tangential_coordinate(i); k >= 0) {
         node.u_tau = m.a(k);
@@ -215,9 +224,7 @@ std::vector<ContactSolution> solve_contact(const ContactProblem& problem, const 
     }
     const Eigen::VectorXd& a = m.a;
     // the potential energy of the discrete problem (F(a) differs from it by a constant)
-    Eigen::VectorXd uf(sys.dofs.num_free());
-    for (int k = 0; k < sys.dofs.num_free(); ++k) uf(k) = sol.u(sys.dofs.free_dofs[static_cast<std::size_t>(k)]);
-    sol.energy = 0.5 * uf.dot(sys.A * uf) - uf.dot(sys.b);
+    sol.energy = 0.5 * uf.dot(Au) - uf.dot(sys.b);
     for (Eigen::Index i = 0; i < a.size(); ++i) sol.energy += rp.w(i) * rp.law_of(i).value(a(i));
     require_finite(sol);
     processes_of(cond.factorization()).share(static_cast<int>(sol.minimizer.status));
@@ -265,7 +272,7 @@ std::string friction_state(const ContactLaw& law, double u_tau) {
 
 Vec2 ContactSolution::contact_force() const {
   Vec2 total = Vec2::Zero();
-  for (const auto& n : contact) total -= n.force() * n.normal;
+  for (const auto& n : contact) total -= n.force() * n.normal + n.friction_force * Vec2(-n.normal.y(), n.normal.x());
   return total;
 }
 

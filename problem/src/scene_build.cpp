@@ -1,6 +1,7 @@
 // A scene made concrete: the mesh, the materials, the boundary parts, loads and contact data.
 #include <hemivem/scene.hpp>
 
+#include <cmath>
 #include <iomanip>
 #include <set>
 #include <sstream>
@@ -53,6 +54,28 @@ std::shared_ptr<const ContactLaw> make_law(const SceneLaw& law) {
 }
 
 
+std::shared_ptr<const ContactLaw> make_friction_law(const SceneLaw& law) {
+  const std::string n = lower(law.name);
+  if (n == "tresca") return tresca_law(param(law, "bound", 0.1));
+  if (n == "slip-weakening")
+    return slip_weakening_law(param(law, "static", 0.1), param(law, "kinetic", 0.05), param(law, "distance", 0.01));
+  if (n != "piecewise") throw InputError("unknown friction law '" + law.name + "'");
+  auto j = make_law(law);
+  // a friction law acts on u_tau and -u_tau alike: j even, checked at the breakpoints mirrored,
+  // between them and beyond them
+  std::vector<double> points{0.0, 1.0};
+  for (double b : law.breakpoints) points.insert(points.end(), {b, 2.0 * b, 0.5 * b});
+  for (std::size_t k = 0; k + 1 < law.breakpoints.size(); ++k)
+    points.push_back(0.5 * (law.breakpoints[k] + law.breakpoints[k + 1]));
+  for (double r : points) {
+    const double a = j->value(LawPart::j, r), b = j->value(LawPart::j, -r);
+    if (!(std::abs(a - b) <= 1e-9 * (1.0 + std::abs(a) + std::abs(b))))
+      throw InputError("a friction law must be even, j(r) = j(-r); this one has j(" + fmt(r) + ") = " + fmt(a) +
+                       " and j(" + fmt(-r) + ") = " + fmt(b));
+  }
+  return j;
+}
+
 Obstacle make_obstacle(const SceneObstacle& o) {
   Obstacle b;
   b.shape = obstacle_shape_from_string(o.shape);
@@ -66,6 +89,7 @@ Obstacle make_obstacle(const SceneObstacle& o) {
 
 }  // namespace detail
 
+using detail::make_friction_law;
 using detail::make_law;
 using detail::make_obstacle;
 
@@ -256,6 +280,13 @@ ContactProblem make_contact_problem(const Scene& scene, const Mesh& mesh) {
       throw InputError("contact.law: " + e.detail(), scene.where("contact.law"));
     }
     p.constraint = c.constraint;
+    if (c.friction) {
+      try {
+        p.friction = make_friction_law(*c.friction);
+      } catch (const InputError& e) {
+        throw InputError("contact.friction: " + e.detail(), scene.where("contact.friction.law"));
+      }
+    }
   } else {
     p.constraint = ConstraintKind::none;
   }

@@ -53,6 +53,9 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
 
 /// The contact law and the obstacle of a scene (scene_build.cpp); InputError for bad data.
 std::shared_ptr<const ContactLaw> make_law(const SceneLaw& law);
+/// The friction law of [contact.friction] (tresca, slip-weakening, or an even piecewise law);
+/// InputError for parameters out of range or a piecewise law that is not even.
+std::shared_ptr<const ContactLaw> make_friction_law(const SceneLaw& law);
 Obstacle make_obstacle(const SceneObstacle& o);
 
 /// Reads one table of the scene: unknown keys are rejected on construction; every read

@@ -85,12 +85,68 @@ const std::map<std::string, std::vector<std::string>>& law_parameter_names() {
 }
 
 
+/// The keys of each friction law in [contact.friction] besides `law`.
+const std::map<std::string, std::vector<std::string>>& friction_parameter_names() {
+  static const std::map<std::string, std::vector<std::string>> m{{"tresca", {"bound"}},
+                                                                  {"slip-weakening", {"static", "kinetic", "distance"}},
+                                                                  {"piecewise", {"breakpoints", "j1", "j2"}}};
+  return m;
+}
+
 std::vector<std::string> law_names() {
   auto v = contact_law_names();
   v.push_back("piecewise");
   return v;
 }
 
+
+/// breakpoints, j1 and j2 of a law = "piecewise" (in the table of `r`; none of them otherwise).
+void read_pieces(TableReader& r, SceneLaw& law) {
+  const bool piecewise = law.name == "piecewise";
+  for (const char* k : {"breakpoints", "j1", "j2"})
+    if (r.has(k) && !piecewise) r.fail(k, r.node(k), "only used with law = \"piecewise\" (the law is '" + law.name + "')");
+  if (!piecewise) return;
+  for (const char* k : {"breakpoints", "j1", "j2"})
+    if (!r.has(k)) r.fail("law", r.node("law"), "law = \"piecewise\" needs breakpoints, j1 and j2");
+  law.breakpoints = *r.numbers("breakpoints");
+  law.j1 = *r.matrix("j1");
+  law.j2 = *r.matrix("j2");
+  for (const char* k : {"j1", "j2"}) {
+    const auto& pieces = std::string(k) == "j1" ? law.j1 : law.j2;
+    if (pieces.size() != law.breakpoints.size() + 1)
+      r.fail(k, r.node(k),
+             "expected " + std::to_string(law.breakpoints.size() + 1) + " pieces (one more than the breakpoints), got " +
+                 std::to_string(pieces.size()));
+  }
+}
+
+/// [contact.friction]: the law of the tangential displacement and its parameters.
+SceneLaw read_friction(TableReader& r) {
+  SceneLaw law;
+  law.name = "tresca";
+  if (auto name = r.string("law")) {
+    check_name(r, "law", *name, friction_law_names(), "friction law");
+    law.name = lower(*name);
+  }
+  const auto& own = friction_parameter_names().at(law.name);
+  for (const auto& [name, keys] : friction_parameter_names())
+    for (const auto& k : keys)
+      if (name != law.name && r.has(k) && std::find(own.begin(), own.end(), k) == own.end())
+        r.fail(k, r.node(k),
+               "'" + k + "' is a parameter of friction law '" + name + "', not of '" + law.name + "'" +
+                   (own.empty() ? "" : " (which has: " + join(own) + ")"));
+  read_pieces(r, law);
+  for (const auto& k : own)
+    if (k != "breakpoints" && k != "j1" && k != "j2")
+      if (auto v = r.number(k)) law.parameters[k] = *v;
+  try {
+    (void)make_friction_law(law);
+  } catch (const InputError& e) {
+    const std::string at = r.has("law") || law.parameters.empty() ? "law" : law.parameters.begin()->first;
+    r.fail(at, r.has(at) ? r.node(at) : static_cast<const toml::node&>(r.self()), e.detail());
+  }
+  return law;
+}
 
 SceneContact read_contact(TableReader& r) {
   SceneContact c;
@@ -99,23 +155,7 @@ SceneContact read_contact(TableReader& r) {
     check_name(r, "law", *law, law_names(), "contact law");
     c.law.name = lower(*law);
   }
-  const bool piecewise = c.law.name == "piecewise";
-  for (const char* k : {"breakpoints", "j1", "j2"})
-    if (r.has(k) && !piecewise) r.fail(k, r.node(k), "only used with law = \"piecewise\" (the law is '" + c.law.name + "')");
-  if (piecewise) {
-    for (const char* k : {"breakpoints", "j1", "j2"})
-      if (!r.has(k)) r.fail("law", r.node("law"), "law = \"piecewise\" needs breakpoints, j1 and j2");
-    c.law.breakpoints = *r.numbers("breakpoints");
-    c.law.j1 = *r.matrix("j1");
-    c.law.j2 = *r.matrix("j2");
-    for (const char* k : {"j1", "j2"}) {
-      const auto& pieces = std::string(k) == "j1" ? c.law.j1 : c.law.j2;
-      if (pieces.size() != c.law.breakpoints.size() + 1)
-        r.fail(k, r.node(k),
-               "expected " + std::to_string(c.law.breakpoints.size() + 1) + " pieces (one more than the breakpoints), got " +
-                   std::to_string(pieces.size()));
-    }
-  }
+  read_pieces(r, c.law);
   if (const toml::table* p = r.table("parameters")) {
     const auto& allowed = law_parameter_names().at(c.law.name);
     for (const auto& [k, v] : *p) {  // a parameter of another law: name the law
@@ -177,12 +217,17 @@ SceneContact read_contact(TableReader& r) {
     try {
       c.constraint = constraint_kind_from_string(*k);
     } catch (const InputError&) {
-      r.fail("constraint", r.node("constraint"), "unknown constraint '" + *k + "'; expected one of: none, one-sided, box");
-    }
-    if (c.constraint == ConstraintKind::bilateral)
       r.fail("constraint", r.node("constraint"),
-             "'bilateral' is not a scene constraint in this version (it is ContactProblem::constraint in the "
-             "library, docs/friction.md); expected one of: none, one-sided, box");
+             "unknown constraint '" + *k + "'; expected one of: none, one-sided, box, bilateral");
+    }
+    if (c.constraint == ConstraintKind::bilateral && c.obstacle)
+      r.fail("constraint", r.node("constraint"),
+             "'bilateral' keeps the normal displacement at 0 (the body slides on the contact boundary); it takes no "
+             "[contact.obstacle]");
+  }
+  if (const toml::table* f = r.table("friction")) {
+    TableReader fr(r.scene(), *f, r.key_path("friction"), {"law", "bound", "static", "kinetic", "distance", "breakpoints", "j1", "j2"});
+    c.friction = read_friction(fr);
   }
   return c;
 }
@@ -375,7 +420,7 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
   s.contact.reset();
   if (const toml::table* t = r.table("contact")) {
     TableReader c(s, *t, "contact",
-                  with_selector({"law", "parameters", "breakpoints", "j1", "j2", "gap", "obstacle", "constraint"}));
+                  with_selector({"law", "parameters", "breakpoints", "j1", "j2", "gap", "obstacle", "constraint", "friction"}));
     s.contact = read_contact(c);
   }
 

@@ -65,6 +65,17 @@ void write_selector(std::ostream& o, const BoundarySelector& b) {
 }
 
 
+/// breakpoints, j1 and j2 of a piecewise law (nothing for another law).
+void write_pieces(std::ostream& o, const SceneLaw& law) {
+  if (law.name != "piecewise") return;
+  auto pieces = [](const std::vector<std::vector<double>>& p) {
+    return list(p, [](const std::vector<double>& q) { return list(q, fmt); });
+  };
+  o << "breakpoints = " << list(law.breakpoints, fmt) << "\n";
+  o << "j1 = " << pieces(law.j1) << "\n";
+  o << "j2 = " << pieces(law.j2) << "\n";
+}
+
 }  // namespace
 
 std::string to_toml(const Scene& s) {
@@ -116,14 +127,7 @@ std::string to_toml(const Scene& s) {
     o << "\n[contact]\n";
     write_selector(o, c.boundary);
     o << "law = " << quote(c.law.name) << "\n";
-    if (c.law.name == "piecewise") {
-      o << "breakpoints = " << list(c.law.breakpoints, fmt) << "\n";
-      auto pieces = [](const std::vector<std::vector<double>>& p) {
-        return list(p, [](const std::vector<double>& q) { return list(q, fmt); });
-      };
-      o << "j1 = " << pieces(c.law.j1) << "\n";
-      o << "j2 = " << pieces(c.law.j2) << "\n";
-    }
+    write_pieces(o, c.law);
     if (!c.obstacle) o << "gap = " << scalar_text(c.gap) << "\n";
     o << "constraint = " << quote(to_string(c.constraint)) << "\n";
     if (c.obstacle) {
@@ -137,6 +141,11 @@ std::string to_toml(const Scene& s) {
     if (!c.law.parameters.empty()) {
       o << "\n[contact.parameters]\n";
       for (const auto& [k, v] : c.law.parameters) o << k << " = " << fmt(v) << "\n";
+    }
+    if (c.friction) {
+      o << "\n[contact.friction]\nlaw = " << quote(c.friction->name) << "\n";
+      for (const auto& [k, v] : c.friction->parameters) o << k << " = " << fmt(v) << "\n";
+      write_pieces(o, *c.friction);
     }
   }
   o << "\n[solver]\n";

@@ -34,8 +34,8 @@ struct ContactNode {
   std::string state;       ///< "upper" (a_i at its upper bound), "lower" or "free" ("bilateral": u_nu = 0 imposed)
   /// With friction (ContactProblem::friction, or a bilateral constraint): the tangential
   /// displacement u_tau = u . tau (tau = (-nu_y, nu_x)), the friction force zeta_tau in
-  /// w_i dj_tau(u_tau) on the body (positive along tau when it resists u_tau < 0) and its
-  /// state: "stick" (u_tau at the law's kink 0), "slip", or for slip-weakening
+  /// w_i dj_tau(u_tau) (the foundation pushes the body by -zeta_tau tau, against the slip:
+  /// positive when it resists u_tau > 0) and its state: "stick" (u_tau at the law's kink 0), "slip", or for slip-weakening
   /// "slip-weakening" (|u_tau| below the slip distance) and "slip-kinetic"; an empty state
   /// without friction.
   double u_tau = 0.0;
@@ -65,7 +65,8 @@ struct ContactSolution {
   std::vector<std::string> stages;      ///< the stages that ran, in order
   bool converged() const noexcept { return minimizer.converged(); }
   /// The resultant force of the foundation (or obstacle) on the body: the sum over the
-  /// contact nodes of -(zeta_i + lambda_i) nu_i. Zero without contact.
+  /// contact nodes of -(zeta_i + lambda_i) nu_i - zeta_tau,i tau_i (the friction force).
+  /// Zero without contact.
   Vec2 contact_force() const;
 };
 

@@ -127,7 +127,13 @@ struct SceneContact {
   SceneLaw law;
   SceneScalar gap{0.02, {}};  ///< g >= 0 at every contact node (unused with an obstacle)
   std::optional<SceneObstacle> obstacle;
+  /// box, one-sided, none, or bilateral (u_nu = 0: the body slides on Gamma_3; gap and normal
+  /// law unused).
   ConstraintKind constraint = ConstraintKind::box;
+  /// [contact.friction]: the law of the tangential displacement ("tresca", "slip-weakening",
+  /// or an even "piecewise" law; parameters bound / static, kinetic, distance); none:
+  /// frictionless.
+  std::optional<SceneLaw> friction;
   bool operator==(const SceneContact&) const = default;
 };
 
