@@ -251,6 +251,17 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   return sol.converged() ? kSuccess : kNotConverged;
 }
 
+namespace {
+
+/// The names of a reduced problem's laws, law 0 first.
+std::vector<std::string> law_names(const ReducedProblem& p) {
+  std::vector<std::string> names;
+  for (int k = 0; k < p.num_laws(); ++k) names.push_back(p.law_by_number(k).name());
+  return names;
+}
+
+}  // namespace
+
 int run_minimize(const MinimizeOptions& o, std::ostream& out, std::ostream&) {
   const ReducedProblem p = read_reduced_problem(o.folder, o.law.empty() ? nullptr : make_contact_law(o.law));
   const auto minimizer = make_minimizer(o.minimizer);
@@ -262,7 +273,8 @@ int run_minimize(const MinimizeOptions& o, std::ostream& out, std::ostream&) {
     j["schema"] = "hemivem-minimize/2";
     j["minimizer"] = minimizer->name();
     j["law"] = p.law->name();
-    j["constraint"] = to_string(p.constraint);
+    j["laws"] = law_names(p);
+    j["constraint"] = p.coordinatewise() ? std::string("coordinate-wise") : to_string(p.constraint);
     j["size"] = p.size();
     j["status"] = to_string(r.status);
     j["converged"] = r.converged();
@@ -279,8 +291,11 @@ int run_minimize(const MinimizeOptions& o, std::ostream& out, std::ostream&) {
     j["reaction"] = array(r.reaction);
     out << j.dump(2) << "\n";
   } else if (o.verbosity >= 1) {
-    out << std::setprecision(12) << "hemivem minimize: " << o.folder << " (" << p.size() << " contact nodes, law "
-        << p.law->name() << ", constraint " << to_string(p.constraint) << ")\n"
+    std::string laws;
+    for (const auto& name : law_names(p)) laws += (laws.empty() ? "" : ", ") + name;
+    out << std::setprecision(12) << "hemivem minimize: " << o.folder << " (" << p.size()
+        << (p.coordinatewise() ? " unknowns, laws " + laws + ", bounds per coordinate)\n"
+                               : " contact nodes, law " + laws + ", constraint " + to_string(p.constraint) + ")\n")
         << "  minimizer     " << minimizer->name() << "\n"
         << "  status        " << to_string(r.status) << " (certificate: " << certificate_text(r.certificate) << "), "
         << r.iterations << " iterations, "

@@ -30,7 +30,7 @@ TEST(Cli, DefaultSolveIsExample41AndWritesEveryOutput) {
   const CommandRun r = run("solve --n 16 --out " + out.string() + " --json");
   ASSERT_EQ(r.code, 0) << r.out;
   const auto j = nlohmann::json::parse(r.out);
-  EXPECT_EQ(j["schema"], "hemivem-result/5");
+  EXPECT_EQ(j["schema"], "hemivem-result/6");
   EXPECT_EQ(j["status"], "converged");
   // options are typed: numbers as JSON numbers, the tolerance exactly as given
   ASSERT_TRUE(j["options"]["tolerance"].is_number_float()) << j["options"];
@@ -301,7 +301,7 @@ TEST(Cli, CommandLineErrorsInOneVoice) {
       {"check --linear eigen", "'check' takes no option --linear"},
       {"solve --bogus", "'solve' takes no option --bogus"},
       {"mesh hexagons --n 3 -o " + scratch("voice.poly2d").string(), "unknown mesh generator 'hexagons' (expected"},
-      {"solve --set contact.friction=1" + out, "unknown key 'friction' in [contact]"},
+      {"solve --set contact.adhesion=1" + out, "unknown key 'adhesion' in [contact]"},
   };
   for (const auto& [args, fragment] : cases) {
     const CommandRun r = run(args);

@@ -400,8 +400,8 @@ TEST(Scene, ErrorsSuggestOnlyCloseNames) {
   EXPECT_NE(sigma.find("'sigma' is a parameter of law kinked, not of law 'paper' (which has none)"), std::string::npos)
       << sigma;
   EXPECT_NE(override_error("contact.gapp=0.1").find("did you mean 'gap'?"), std::string::npos);
-  const std::string far = override_error("contact.friction=1");
-  EXPECT_NE(far.find("unknown key 'friction' in [contact]"), std::string::npos) << far;
+  const std::string far = override_error("contact.adhesion=1");
+  EXPECT_NE(far.find("unknown key 'adhesion' in [contact]"), std::string::npos) << far;
   EXPECT_EQ(far.find("did you mean"), std::string::npos) << far;
   EXPECT_EQ(override_error("mesh.generator=hexagons").find("did you mean"), std::string::npos);
   EXPECT_NE(override_error("mesh.generator=voronio").find("did you mean 'voronoi'?"), std::string::npos);

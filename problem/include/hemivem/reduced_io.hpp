@@ -1,11 +1,19 @@
 // Reduced problems as files, to compare hemivem's minimizers with other solvers on
 // identical input. A folder holds:
 //
-//   S.mtx        Matrix Market, "array real general|symmetric" (written) or
-//                "coordinate real general|symmetric" (also read)
-//   c.txt        one number per line (N1 lines); likewise w.txt and g.txt
-//   law.txt      the contact law (format below)
-//   problem.txt  "constraint none|one-sided|box" and "uniqueness_margin X" (optional when read)
+//   S.mtx            Matrix Market, "array real general|symmetric" (written) or
+//                    "coordinate real general|symmetric" (also read)
+//   c.txt, w.txt     one number per line (n lines)
+//   law.txt          the contact law (format below); in the coordinate-wise form law 0, and
+//                    law1.txt, law2.txt ... the others
+//   problem.txt      "format 2"; "constraint none|one-sided|box|bilateral" (uniform form) or
+//                    "form coordinate-wise" and "laws L"; "uniqueness_margin X" (all optional
+//                    when read: without them the uniform form with the box constraint)
+//   g.txt            the gaps, one per line (uniform form)
+//   coordinates.txt  "law lower upper" per coordinate, bounds numbers or inf / -inf
+//                    (coordinate-wise form: friction, docs/friction.md)
+//
+// Format 1 (no "format" line) is the uniform form; it is still read.
 //
 // law.txt: '#' comments, then "name NAME", "breakpoints b0 b1 ..." (possibly none), and one
 // line "j1 c0 c1 ..." and one line "j2 c0 c1 ..." per piece, in piece order (coefficients
@@ -20,12 +28,16 @@
 
 namespace hemivem {
 
+/// The version of the folder format written (the "format" line of problem.txt).
+inline constexpr int reduced_format_version = 2;
+
 /// Writes the folder (created if needed); each file is written to a temporary name and
-/// renamed. The law must be a PiecewisePolynomialLaw (all shipped laws are).
+/// renamed. Every law must be a PiecewisePolynomialLaw (all shipped laws are). Throws
+/// InputError for arrays whose sizes do not fit (check_sizes).
 void write_reduced_problem(const std::filesystem::path& folder, const ReducedProblem& problem);
 
 /// Reads a folder written by write_reduced_problem (or by hand in the same format). `law`,
-/// when given, replaces law.txt (which may then be absent). Throws InputError naming the
+/// when given, replaces law.txt (law 0; the file may then be absent). Throws InputError naming the
 /// file and line of any defect (sizes that disagree, non-finite numbers, an S that is not
 /// square or not symmetric to 1e-12 relative, negative gaps, non-positive weights).
 ReducedProblem read_reduced_problem(const std::filesystem::path& folder,

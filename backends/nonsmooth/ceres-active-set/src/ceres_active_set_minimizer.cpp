@@ -228,13 +228,23 @@ MinimizerResult CeresActiveSetMinimizer::run(MinimizerRun& run) const {
   // one more try at the final scale: nodes held inside a kink's rounding stuck on the kink
   // (with the nodes on a bound) and the others solved for; kept only when it is certified
   if (!done && !stop && smoothing::has_kinks(p) && run.iterations_left()) {
+    // (stuck nodes whose force leaves the kink's interval are let go and the rest solved again)
     const SmoothedLaws law(p, schedule.back());
     const Eigen::VectorXd smoothed = a;
-    std::vector<char> fixed;
-    a = smoothing::snap_to_kinks(p, law, a, &fixed);
-    const std::vector<char> pushed = passes.pushed_out(law, a);
-    for (std::size_t i = 0; i < fixed.size(); ++i) fixed[i] = fixed[i] || pushed[i];
-    done = passes.solve(law, fixed, true);
+    std::vector<char> stuck;
+    a = smoothing::snap_to_kinks(p, law, a, &stuck);
+    double last = std::numeric_limits<double>::infinity();
+    for (int round = 0; round < smoothing::kink_rounds && !done && run.iterations_left(); ++round) {
+      std::vector<char> fixed = passes.pushed_out(law, a);
+      for (std::size_t i = 0; i < fixed.size(); ++i) fixed[i] = fixed[i] || stuck[i];
+      done = passes.solve(law, fixed, true);
+      if (done) break;
+      // again with the stuck nodes let go, or from the point reached while it still improves
+      const double now = run.check(a).worst();
+      const bool released = smoothing::release_from_kinks(p, a, smoothing::snap_push(p, run.options()), &stuck);
+      if (!released && !(now < 0.5 * last)) break;
+      last = now;
+    }
     if (!done) a = smoothed;
   }
   if (!done && !stop && smoothing::has_kinks(p) && message.empty())

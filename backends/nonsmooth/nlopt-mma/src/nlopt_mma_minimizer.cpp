@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -178,12 +179,23 @@ MinimizerResult NloptMmaMinimizer::run(MinimizerRun& run) const {
     // one more try: nodes held inside a kink's rounding stuck on the kink (with those on a
     // bound); kept only when it is certified
     if (!done && !stop && law.kinks() > 0 && run.iterations_left()) {
+      // (stuck nodes whose force leaves the kink's interval are let go and the rest solved again)
       const Eigen::VectorXd smoothed = a;
-      std::vector<char> pinned;
-      a = smoothing::snap_to_kinks(p, law, a, &pinned);
-      for (Eigen::Index i = 0; i < n; ++i)
-        pinned[static_cast<std::size_t>(i)] = pinned[static_cast<std::size_t>(i)] || a(i) == p.upper(i) || a(i) == p.lower(i);
-      done = mma.stage(law, pinned, true, true);
+      std::vector<char> stuck;
+      a = smoothing::snap_to_kinks(p, law, a, &stuck);
+      double last = std::numeric_limits<double>::infinity();
+      for (int round = 0; round < smoothing::kink_rounds && !done && run.iterations_left(); ++round) {
+        std::vector<char> pinned(static_cast<std::size_t>(n), 0);
+        for (Eigen::Index i = 0; i < n; ++i)
+          pinned[static_cast<std::size_t>(i)] = stuck[static_cast<std::size_t>(i)] || a(i) == p.upper(i) || a(i) == p.lower(i);
+        done = mma.stage(law, pinned, true, true);
+        if (done) break;
+        // again with the stuck nodes let go, or from the point reached while it still improves
+        const double now = run.check(a).worst();
+        const bool released = smoothing::release_from_kinks(p, a, smoothing::snap_push(p, o), &stuck);
+        if (!released && !(now < 0.5 * last)) break;
+        last = now;
+      }
       if (!done) a = smoothed;
     }
     if (!done && !stop && law.kinks() > 0 && message.empty()) message = smoothing::smoothing_limit_message(schedule.back());

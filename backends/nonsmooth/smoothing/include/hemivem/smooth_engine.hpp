@@ -132,6 +132,28 @@ inline Eigen::VectorXd snap_to_kinks(const ReducedProblem& p, const SmoothedLaws
   return s;
 }
 
+/// Nodes stuck on a kink (marked in *on_kink) whose force c_i - (S a)_i lies outside the
+/// kink's interval w_i [j'(b-), j'(b+)] by more than `slack` are let go (unmarked): the
+/// nonsmooth problem moves them off the kink. True when any was.
+inline bool release_from_kinks(const ReducedProblem& p, const Eigen::VectorXd& a, double slack,
+                               std::vector<char>* on_kink) {
+  bool released = false;
+  for (Eigen::Index i = 0; i < a.size(); ++i) {
+    if (!(*on_kink)[static_cast<std::size_t>(i)]) continue;
+    const double force = p.c(i) - p.S.row(i).dot(a);
+    const ContactLaw& j = p.law_of(i);
+    const double lo = p.w(i) * j.derivative(LawPart::j, a(i), -1), hi = p.w(i) * j.derivative(LawPart::j, a(i), +1);
+    if (force > hi + slack || force < lo - slack) {
+      (*on_kink)[static_cast<std::size_t>(i)] = 0;
+      released = true;
+    }
+  }
+  return released;
+}
+
+/// How often the stuck nodes are solved for and let go (release_from_kinks) at most.
+inline constexpr int kink_rounds = 8;
+
 /// The gradient threshold of snap_to_bounds: well above what a free node shows once the
 /// certificate holds.
 inline double snap_push(const ReducedProblem& p, const MinimizerOptions& o) {
