@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <limits>
 
 #include "test_support.hpp"
@@ -153,6 +154,8 @@ FrictionRun solve(const Mesh& mesh, const std::function<void(ContactProblem&)>& 
 
 double max_abs(const Eigen::VectorXd& v) { return v.cwiseAbs().maxCoeff(); }
 
+void write_text(const std::filesystem::path& file, const std::string& text) { std::ofstream(file) << text; }
+
 // The solution of a linear problem whose bottom has the Dirichlet condition `fix` (u = 0 in
 // the components fixed) instead of contact.
 Eigen::VectorXd dirichlet_bottom(const Mesh& mesh, std::array<bool, 2> fix) {
@@ -184,10 +187,24 @@ TEST(FrictionExample, BilateralWithAHugeTrescaBoundSticksEverywhereLikeAClampedB
   ASSERT_TRUE(r.solution.converged()) << r.solution.minimizer.message;
   const Eigen::VectorXd clamped = dirichlet_bottom(mesh, {true, true});
   EXPECT_LT(max_abs(r.solution.u - clamped), 1e-10 * max_abs(clamped));
+  // the forces that hold the bottom: the reactions K u - f of the clamped problem, from the
+  // global stiffness and load (no condensation): normal (nu = (0, -1)) and tangential (tau = (1, 0))
+  ContactProblem problem = example_4_1(mesh);
+  for (auto& t : problem.elasticity.tractions) t.traction = [](const Vec2&) { return Vec2(3.0, -8.0); };
+  const Eigen::VectorXd reaction =
+      assemble_stiffness(mesh, problem.elasticity.materials, problem.elasticity.stabilization) * clamped -
+      assemble_load(mesh, problem.elasticity.body_force, problem.elasticity.tractions);
+  const double scale = max_abs(reaction);
   for (const auto& n : r.solution.contact) {
     EXPECT_EQ(n.u_tau, 0.0);
     EXPECT_EQ(n.friction_state, "stick");
+    EXPECT_NEAR(n.force(), -reaction.segment<2>(2 * n.vertex).dot(n.normal), 1e-8 * scale) << n.vertex;
+    EXPECT_NEAR(n.friction_force, -reaction(2 * n.vertex), 1e-8 * scale) << n.vertex;
   }
+  // and the resultant balances the load with the side clamps' reactions
+  Vec2 bottom = Vec2::Zero();
+  for (const auto& n : r.solution.contact) bottom += reaction.segment<2>(2 * n.vertex);
+  EXPECT_LT((r.solution.contact_force() - bottom).norm(), 1e-8 * scale);
 }
 
 TEST(FrictionExample, ZeroFrictionBoundGivesTheFrictionlessSolution) {
@@ -269,16 +286,55 @@ TEST(FrictionExample, SlipWeakeningLosesTheMarginAndSaysSo) {
   EXPECT_FALSE(mild.solution.minimizer.may_be_nonunique);
 }
 
-TEST(FrictionLimits, ScenesAndReducedFilesRefuseWhatTheyCannotHoldYet) {
-  const std::string scene = "schema_version = 1\n[contact]\nside = \"bottom\"\nconstraint = \"bilateral\"\n";
-  const std::string error = test::input_error_of([&] { (void)parse_scene_string(scene, "bilateral.toml"); });
-  EXPECT_NE(error.find("bilateral.toml:4"), std::string::npos) << error;
-  EXPECT_NE(error.find("not a scene constraint"), std::string::npos) << error;
-  const ReducedProblem p = spring(1.0, 0.5, 1.0, tresca_law(0.1));
-  const std::string file_error =
-      test::input_error_of([&] { write_reduced_problem(test::scratch("friction-reduced"), p); });
-  EXPECT_NE(file_error.find("per coordinate"), std::string::npos) << file_error;
-  EXPECT_FALSE(std::filesystem::exists(test::scratch("friction-reduced") / "S.mtx"));
+// Reduced-problem files in the coordinate-wise form: a normal and a tangential coordinate
+// written and read back, and the same point reached from the file.
+TEST(FrictionFiles, CoordinateWiseProblemsRoundTripThroughFiles) {
+  const Mesh mesh = make_squares(8);
+  const FrictionRun r = solve(mesh, [](ContactProblem& p) { p.friction = slip_weakening_law(0.4, 0.1, 0.01); });
+  ASSERT_TRUE(r.reduced.coordinatewise());
+  const auto dir = test::scratch("friction-reduced");
+  write_reduced_problem(dir, r.reduced);
+  EXPECT_TRUE(std::filesystem::exists(dir / "law1.txt"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "g.txt"));
+  const ReducedProblem q = read_reduced_problem(dir);
+  ASSERT_TRUE(q.coordinatewise());
+  EXPECT_EQ(q.S, r.reduced.S);
+  EXPECT_EQ(q.c, r.reduced.c);
+  EXPECT_EQ(q.w, r.reduced.w);
+  EXPECT_EQ(q.law_index, r.reduced.law_index);
+  EXPECT_EQ(q.lo, r.reduced.lo);
+  EXPECT_EQ(q.hi, r.reduced.hi);
+  EXPECT_EQ(q.uniqueness_margin, r.reduced.uniqueness_margin);
+  ASSERT_EQ(q.num_laws(), 2);
+  EXPECT_EQ(q.law_by_number(1).name(), "slip-weakening");
+  for (double a : {-0.02, -0.005, 0.0, 0.003, 0.05})
+    EXPECT_EQ(q.law_by_number(1).value(LawPart::j, a), r.reduced.law_by_number(1).value(LawPart::j, a));
+  const MinimizerResult again = make_minimizer("ssn")->minimize(q, Eigen::VectorXd(), MinimizerOptions{});
+  ASSERT_TRUE(again.converged());
+  EXPECT_LT(max_abs(again.a - r.solution.minimizer.a), 1e-12 * max_abs(r.solution.minimizer.a));
+  // the uniform form written over it leaves no coordinate-wise file behind
+  const FrictionRun plain = solve(mesh, [](ContactProblem&) {});
+  write_reduced_problem(dir, plain.reduced);
+  EXPECT_FALSE(std::filesystem::exists(dir / "coordinates.txt"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "law1.txt"));
+  EXPECT_FALSE(read_reduced_problem(dir).coordinatewise());
+}
+
+TEST(FrictionFiles, DefectsNameTheFileAndLine) {
+  const auto dir = test::scratch("friction-reduced-bad");
+  write_reduced_problem(dir, spring(2.0, 0.5, 1.0, tresca_law(0.1)));
+  auto error_with = [&](const std::string& file, const std::string& text) {
+    write_text(dir / file, text);
+    return test::input_error_of([&] { (void)read_reduced_problem(dir); });
+  };
+  const std::string coordinates = (dir / "coordinates.txt").string();
+  EXPECT_NE(error_with("coordinates.txt", "0 1 -1\n").find(coordinates + ":1"), std::string::npos);
+  EXPECT_NE(error_with("coordinates.txt", "3 -inf inf\n").find("out of range"), std::string::npos);
+  EXPECT_NE(error_with("coordinates.txt", "0 -inf\n").find("expected 'law lower upper'"), std::string::npos);
+  write_text(dir / "coordinates.txt", "0 -inf inf\n");
+  EXPECT_NE(error_with("problem.txt", "format 3\n").find("not one this program reads"), std::string::npos);
+  const std::string mixed = error_with("problem.txt", "form coordinate-wise\nconstraint box\n");
+  EXPECT_NE(mixed.find("not a constraint"), std::string::npos) << mixed;
 }
 
 }  // namespace
