@@ -158,6 +158,9 @@ PairRuns run_pairs(const Scene& scene, const std::vector<Pair>& pairs, const Pai
         r.contact_nodes = static_cast<int>(s.contact.size());
         r.at_bound = static_cast<int>(
             std::count_if(s.contact.begin(), s.contact.end(), [](const ContactNode& c) { return c.state != "free"; }));
+        if (std::any_of(s.contact.begin(), s.contact.end(), [](const ContactNode& c) { return !c.friction_state.empty(); }))
+          r.stick = static_cast<int>(std::count_if(s.contact.begin(), s.contact.end(),
+                                                   [](const ContactNode& c) { return c.friction_state == "stick"; }));
         r.unknowns = s.unknowns;
         r.vertices = built.mesh.num_vertices();
         check_guarantee(r, s, built.has_contact ? &reduced : nullptr, mo.tolerance);

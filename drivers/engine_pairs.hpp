@@ -48,6 +48,7 @@ struct PairRun {
   double seconds = 0.0;       ///< mesh_seconds + timings["total"]
   int contact_nodes = 0;
   int at_bound = 0;           ///< contact nodes at a bound of the constraint
+  int stick = -1;             ///< contact nodes that stick (-1: no tangential unknowns)
   int unknowns = 0;
   int vertices = 0;
   /// Converged implies a finite displacement and a feasible contact point whose certificate,

@@ -156,6 +156,7 @@ nlohmann::json scene_json(const SceneReport& s, double agree) {
   for (const auto& r : s.rows) {
     nlohmann::json p = pair_json(r);
     p.update({{"at_bound", r.at_bound},
+              {"stick", r.stick >= 0 ? nlohmann::json(r.stick) : nlohmann::json(nullptr)},
               {"uniqueness_margin", number(r.margin)},
               {"engine_rcond", number(r.rcond)},
               {"condition_estimate", number(r.condition)},
@@ -179,11 +180,12 @@ void print_scene(std::ostream& out, const SceneReport& s, double agree) {
       << (s.unique ? " (unique)" : " (several critical points possible)") << "\n";
   out << "   " << std::left << std::setw(10) << "linear" << std::setw(18) << "minimizer" << std::setw(17) << "status"
       << std::right << std::setw(10) << "primal" << std::setw(10) << "dual" << std::setw(7) << "iter"
-      << std::setw(7) << "bound" << std::setw(10) << "kappa_1" << std::setw(10) << "engine" << std::setw(10) << "max diff" << std::setw(10) << "time [s]" << "  guarantee\n";
+      << std::setw(7) << "bound" << std::setw(7) << "stick" << std::setw(10) << "kappa_1" << std::setw(10) << "engine" << std::setw(10) << "max diff" << std::setw(10) << "time [s]" << "  guarantee\n";
   for (const auto& r : s.rows) {
     out << "   " << std::left << std::setw(10) << r.pair.linear << std::setw(18) << r.pair.minimizer << std::setw(17) << r.status
         << std::right << std::setw(10) << sci(r.certificate.primal) << std::setw(10) << sci(r.certificate.dual) << std::setw(7)
-        << r.iterations << std::setw(7) << r.at_bound << std::setw(10) << sci(r.condition, 1) << std::setw(10) << cond_text(r.rcond) << std::setw(10) << sci(r.difference, 1)
+        << r.iterations << std::setw(7) << r.at_bound << std::setw(7) << (r.stick >= 0 ? std::to_string(r.stick) : "-")
+        << std::setw(10) << sci(r.condition, 1) << std::setw(10) << cond_text(r.rcond) << std::setw(10) << sci(r.difference, 1)
         << std::setw(10) << fixed(r.seconds, 3) << "  " << (r.guarantee ? "ok" : "BROKEN: " + r.broken) << "\n";
     if (r.failed) out << "      " << r.message << "\n";
   }
@@ -246,7 +248,7 @@ int run_check_extreme(const ExtremeOptions& o, std::ostream& out, std::ostream& 
       << "\n  every built pair of engines; differences are max|u_a - u_b| / max|u_ref| (u_ref: eigen+ssn);"
       << "\n  kappa_1: estimate of the 1-norm condition number of the factorized matrix (A22; A without contact),"
       << "\n  the same method for every engine; engine: 1 / the engine's own reciprocal condition estimate, '-' where"
-      << "\n  it gives none; bound: contact nodes at a bound of the constraint; guarantee: a converged pair has finite u and a feasible point (recomputed)\n";
+      << "\n  it gives none; bound: contact nodes at a bound of the constraint; stick: contact nodes that stick (friction); guarantee: a converged pair has finite u and a feasible point (recomputed)\n";
   for (const auto& s : reports) print_scene(out, s, o.agree);
 
   out << "\n  summary\n  " << std::left << std::setw(24) << "scene" << std::right << std::setw(11) << "converged"

@@ -32,6 +32,25 @@ TEST(CliExtreme, ReportsEveryPairWithItsGuaranteeAsJson) {
   }
 }
 
+// A friction bound 10^6 times the load sticks every contact node, a bound of 0 none; every
+// pair converges to the same point.
+TEST(CliExtreme, FrictionBoundsStickEverythingOrNothing) {
+  const auto run = test::run_hemivem("check --extreme --only friction-stick,friction-slip --json");
+  ASSERT_EQ(run.code, 0) << run.err;
+  const auto j = nlohmann::json::parse(run.out);
+  ASSERT_EQ(j["scenes"].size(), 2u);
+  for (const auto& s : j["scenes"]) {
+    EXPECT_TRUE(s["unique"].get<bool>()) << s["name"];
+    EXPECT_LT(s["max_difference"].get<double>(), 1e-6) << s["name"];
+    const int nodes = s["contact_nodes"].get<int>();
+    ASSERT_GT(nodes, 0);
+    for (const auto& p : s["pairs"]) {
+      EXPECT_TRUE(p["converged"].get<bool>()) << s["name"] << " " << p["linear"] << "+" << p["minimizer"];
+      EXPECT_EQ(p["stick"].get<int>(), s["name"] == "friction-stick" ? nodes : 0) << s["name"];
+    }
+  }
+}
+
 TEST(CliExtreme, TableAndClearErrors) {
   const auto table = test::run_hemivem("check --extreme --only polyline-contact");
   EXPECT_EQ(table.code, 0) << table.err;
