@@ -126,6 +126,7 @@ TEST(ReducedIo, DefectsNameTheFileAndLine) {
   write(dir / "law.txt", "name zero\nbreakpoints\nj1 0\nj2 0\n");
   write(dir / "problem.txt", "constraint two-sided\n");
   expect_error(dir, "problem.txt:1: unknown constraint 'two-sided'");
+  write(dir / "problem.txt", "format 2\nconstraint box\n");
   fs::remove(dir / "c.txt");
   expect_error(dir, "cannot open the file");
   fs::remove_all(dir);
