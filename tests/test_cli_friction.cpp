@@ -171,6 +171,26 @@ TEST(FrictionCli, SolveWritesTheTangentialDisplacementForcesAndStates) {
   }
 }
 
+// Slip-weakening on a coarse mesh: a negative margin, every result marked possibly non-unique,
+// and check reports the engines' distinct critical points without failing.
+TEST(FrictionCli, CheckOnSlipWeakeningAcceptsDistinctCriticalPoints) {
+  const CommandRun r =
+      test::run_hemivem("check " + (scenes_dir() / "friction-slip-weakening.toml").string() + " --n 16 --json");
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j.at("unique"), false);
+  EXPECT_LT(j.at("uniqueness_margin").get<double>(), 0.0);
+  EXPECT_TRUE(j.at("agree_ok").get<bool>());
+  for (const auto& p : j.at("pairs")) EXPECT_TRUE(p.at("converged").get<bool>()) << p.at("linear") << "+" << p.at("minimizer");
+  if (j.at("max_difference").get<double>() > j.at("agree").get<double>())
+    EXPECT_NE(j.at("verdict").get<std::string>().find("not a disagreement"), std::string::npos) << j.at("verdict");
+  const fs::path out = scratch("friction-nonunique");
+  const CommandRun s = test::run_hemivem("solve " + (scenes_dir() / "friction-slip-weakening.toml").string() +
+                                         " --n 16 --out " + out.string() + " --json");
+  ASSERT_EQ(s.code, 0) << s.err;
+  EXPECT_EQ(nlohmann::json::parse(s.out).at("may_be_nonunique"), true);
+}
+
 TEST(FrictionCli, FrictionlessResultsSayNoFriction) {
   const fs::path out = scratch("frictionless");
   const CommandRun r = test::run_hemivem("solve --n 8 --out " + out.string());
