@@ -1,10 +1,17 @@
 #!/usr/bin/env bash
 # Runs the whole test suite on the build in ./build (scripts/build.sh): every registered test;
-# then the installed package against a fresh prefix (scripts/test-install.sh); then the
+# then the Python module's tests (tests/python, pytest, with the interpreter the module was
+# built for); then the installed package against a fresh prefix (scripts/test-install.sh); then the
 # input-facing tests under AddressSanitizer and UndefinedBehaviorSanitizer
 # (scripts/test-sanitizers.sh, its own build in ./build-asan).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ctest --test-dir build --output-on-failure -j2
+python="$(sed -n 's/^Python3_EXECUTABLE:[A-Z]*=//p' build/CMakeCache.txt)"
+if compgen -G "build/python/hemivem/_hemivem*.so" >/dev/null && [ -n "$python" ]; then
+  PYTHONPATH="$PWD/build/python" HEMIVEM_BUILD_DIR="$PWD/build" "$python" -m pytest -q -p no:cacheprovider tests/python
+else
+  echo "test.sh: skipped tests/python: the Python module was not built (pybind11, python3-dev, python3-numpy)"
+fi
 scripts/test-install.sh build
 scripts/test-sanitizers.sh

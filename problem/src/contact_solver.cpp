@@ -52,6 +52,28 @@ void require_finite(ContactSolution& sol) {
 
 }  // namespace
 
+ContactBoundary contact_boundary(const ContactProblem& problem, const DofMap& dofs) {
+  ContactBoundary boundary;
+  if (problem.contact_edges.empty()) return boundary;
+  boundary = make_contact_boundary(*problem.elasticity.mesh, problem.contact_edges, dofs,
+                                   problem.gap ? problem.gap : [](const Vec2&) { return 0.0; },
+                                   problem.obstacle ? &*problem.obstacle : nullptr);
+  if (problem.obstacle && problem.constraint == ConstraintKind::box)
+    for (int i = 0; i < boundary.size(); ++i)
+      if (!(std::isfinite(boundary.gaps(i)) && boundary.gaps(i) >= 0.0))
+        throw InputError("the box constraint |u_nu| <= g needs a finite gap >= 0, but the obstacle gives " +
+                         std::to_string(boundary.gaps(i)) + " at contact node " +
+                         std::to_string(boundary.nodes[static_cast<std::size_t>(i)]) +
+                         "; set contact.constraint = \"one-sided\" with an obstacle");
+  return boundary;
+}
+
+ConstraintKind constraint_in_effect(const ContactProblem& problem) {
+  return problem.constraint == ConstraintKind::bilateral ? ConstraintKind::bilateral
+         : problem.gap || problem.obstacle               ? problem.constraint
+                                                         : ConstraintKind::none;
+}
+
 std::vector<ContactSolution> solve_contact(const ContactProblem& problem, const LinearSystem& sys,
                                            std::unique_ptr<SparseFactorization> factorization,
                                            std::span<const NonsmoothMinimizer* const> minimizers,
@@ -69,19 +91,7 @@ std::vector<ContactSolution> solve_contact(const ContactProblem& problem, const 
   shared.unknowns = sys.dofs.num_free();
   const Mesh& mesh = *problem.elasticity.mesh;
 
-  ContactBoundary boundary;
-  if (!problem.contact_edges.empty()) {
-    boundary = make_contact_boundary(mesh, problem.contact_edges, sys.dofs,
-                                     problem.gap ? problem.gap : [](const Vec2&) { return 0.0; },
-                                     problem.obstacle ? &*problem.obstacle : nullptr);
-    if (problem.obstacle && problem.constraint == ConstraintKind::box)
-      for (int i = 0; i < boundary.size(); ++i)
-        if (!(std::isfinite(boundary.gaps(i)) && boundary.gaps(i) >= 0.0))
-          throw InputError("the box constraint |u_nu| <= g needs a finite gap >= 0, but the obstacle gives " +
-                           std::to_string(boundary.gaps(i)) + " at contact node " +
-                           std::to_string(boundary.nodes[static_cast<std::size_t>(i)]) +
-                           "; set contact.constraint = \"one-sided\" with an obstacle");
-  }
+  const ContactBoundary boundary = contact_boundary(problem, sys.dofs);
 
   if (boundary.size() == 0) {
     // No contact node: one linear solve.
@@ -132,9 +142,7 @@ std::vector<ContactSolution> solve_contact(const ContactProblem& problem, const 
   }
 
   if (!problem.law) throw InputError("the contact boundary has no contact law");
-  const ConstraintKind constraint = problem.constraint == ConstraintKind::bilateral ? ConstraintKind::bilateral
-                                    : problem.gap || problem.obstacle             ? problem.constraint
-                                                                                  : ConstraintKind::none;
+  const ConstraintKind constraint = constraint_in_effect(problem);
   t = Clock::now();
   const Condensation cond(sys, boundary, std::move(factorization), problem.law, constraint, problem.friction);
   shared.timings["condensation"] = since(t);

@@ -85,6 +85,15 @@ struct ContactZone {
 };
 ContactZone contact_zone(const ContactSolution& solution);
 
+/// The contact boundary of `problem` on the dofs of its assembled system: the nodes, normals,
+/// weights and gaps (problem.gap, or the obstacle's); empty without contact edges. InputError
+/// for an obstacle whose gaps the box constraint cannot take.
+ContactBoundary contact_boundary(const ContactProblem& problem, const DofMap& dofs);
+
+/// The constraint the condensation imposes: problem.constraint, but none when the problem has
+/// neither gaps nor an obstacle (bilateral stays bilateral).
+ConstraintKind constraint_in_effect(const ContactProblem& problem);
+
 /// Solves `problem` with the given engines. The factorization is consumed (it keeps A22 for
 /// back-substitution). Throws InputError for a problem that cannot be set up (e.g. a body
 /// that is not held) and NumericalError when the factorization fails; a minimizer that does

@@ -1,0 +1,165 @@
+"""hemivem: elastic contact with nonmonotone laws (hemivariational inequalities) by the
+virtual element method, from Python.
+
+The same C++ libraries as the `hemivem` command, with NumPy arrays:
+
+    import hemivem
+    r = hemivem.solve(hemivem.Scene.default())          # Example 4.1 of Feng, Han, Huang (2021)
+    print(r.status, r.certificate, r.energy)
+    r.contact.u_nu, r.displacement                      # NumPy arrays
+    r.write("out/solve")                                # the files of `hemivem solve`
+
+    p = hemivem.condense(hemivem.Scene.default(), linear="cholmod")
+    p.S, p.c, p.w, p.g                                  # the reduced problem
+    m = hemivem.minimize(p, "ssn")
+    p.certificate(my_point)                             # judge any point by the same rule
+
+Documentation: python/README.md.
+"""
+
+import os as _os
+import tomllib as _tomllib
+
+from ._hemivem import (  # noqa: F401
+    __version__,
+    Certificate,
+    CertifiedPoint,
+    ContactLaw,
+    ContactTable,
+    Error,
+    InputError,
+    InternalError,
+    Iteration,
+    Mesh,
+    MeshError,
+    MinimizerResult,
+    NumericalError,
+    ReducedProblem,
+    Result,
+    Scene,
+    available_engines,
+    condense,
+    contact_law,
+    contact_laws,
+    mesh_generators,
+    minimize,
+    solve,
+)
+from . import _scene_dict
+
+__all__ = [
+    "Certificate",
+    "CertifiedPoint",
+    "ContactLaw",
+    "ContactTable",
+    "Error",
+    "InputError",
+    "InternalError",
+    "Iteration",
+    "Mesh",
+    "MeshError",
+    "MinimizerResult",
+    "NumericalError",
+    "ReducedProblem",
+    "Result",
+    "Scene",
+    "available_engines",
+    "condense",
+    "contact_law",
+    "contact_laws",
+    "mesh_generators",
+    "minimize",
+    "solve",
+]
+
+
+def _input_error(message, where):
+    e = InputError(f"{where}: {message}" if where else message)
+    e.where = where
+    e.detail = message
+    return e
+
+
+def _toml_value(value, where):
+    try:
+        return _scene_dict.toml_value(value, where)
+    except _scene_dict.TomlValueError as e:
+        raise _input_error(str(e), e.where) from None
+
+
+def _from_toml(path_or_text):
+    """A scene from a file or from TOML text.
+
+    A pathlib.Path (any os.PathLike) is a file; a str is TOML text when it holds a newline,
+    '=' or '[', and a file name otherwise. InputError naming file:line and the key for every
+    defect (unknown keys come with the nearest valid one)."""
+    if isinstance(path_or_text, _os.PathLike):
+        return Scene.from_file(path_or_text)
+    if not isinstance(path_or_text, str):
+        raise TypeError(f"Scene.from_toml takes a path or TOML text, not {type(path_or_text).__name__}")
+    if any(c in path_or_text for c in "\n=["):
+        return Scene.from_string(path_or_text)
+    return Scene.from_file(path_or_text)
+
+
+def _from_dict(document, name="<dict>"):
+    """A scene from a nested dict with the keys of a scene file (scenes/README.md), e.g.
+
+        Scene.from_dict({"mesh": {"n": 16}, "contact": {"side": "bottom", "gap": 0.01}})
+
+    The dict reads as a scene file would: keys left out take the defaults of scenes/README.md
+    (a scene without a "contact" table has no contact); schema_version defaults to the
+    version this library reads. Validated as a file is: InputError naming the key."""
+    if isinstance(document, dict) and "schema_version" not in document:
+        document = {"schema_version": Scene.default().get("schema_version"), **document}
+    try:
+        text = _scene_dict.to_toml(document)
+    except _scene_dict.TomlValueError as e:
+        raise _input_error(str(e), e.where) from None
+    return Scene.from_string(text, name)
+
+
+def _set(self, key, value):
+    """Sets one key, as `hemivem solve --set key=value`: scene.set("contact.gap", 0.01).
+
+    The value is a Python bool, number, str, list or dict (written as TOML). The scene is
+    validated as a whole; InputError naming the key (and the nearest valid key) otherwise."""
+    if not isinstance(key, str) or not key:
+        raise _input_error("the key must be a non-empty dotted name such as 'contact.gap'", "set")
+    self._apply_overrides([f"{key}={_toml_value(value, key)}"])
+
+
+def _update(self, values):
+    """Sets several keys at once ({"contact.law": "kinked", "contact.parameters.sigma": 0.5}),
+    validated together: the order does not matter."""
+    self._apply_overrides([f"{k}={_toml_value(v, k)}" for k, v in dict(values).items()])
+
+
+def _to_dict(self):
+    """The scene as a nested dict (the TOML of to_toml(), every key written)."""
+    return _tomllib.loads(self.to_toml())
+
+
+def _get(self, key):
+    """The value of a dotted key of to_dict(): scene.get("contact.gap"), scene.get("mesh.n"),
+    scene.get("loads.traction[0].value"). KeyError when there is no such key."""
+    node = self.to_dict()
+    for part in key.split("."):
+        name, _, rest = part.partition("[")
+        try:
+            node = node[name]
+            while rest:
+                index, _, rest = rest.partition("]")
+                node = node[int(index)]
+                rest = rest.lstrip("[")
+        except (KeyError, IndexError, TypeError, ValueError):
+            raise KeyError(f"the scene has no key '{key}'") from None
+    return node
+
+
+Scene.from_toml = staticmethod(_from_toml)
+Scene.from_dict = staticmethod(_from_dict)
+Scene.set = _set
+Scene.update = _update
+Scene.to_dict = _to_dict
+Scene.get = _get

@@ -1,0 +1,350 @@
+// hemivem.solve and its Result: the command's `hemivem solve` pipeline (drivers' solve_scene)
+// and its output writers.
+#include "reduced.hpp"
+
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <iomanip>
+#include <sstream>
+
+#include <hemivem/error.hpp>
+#include <hemivem/scene.hpp>
+
+#include "commands.hpp"
+#include "outputs.hpp"
+
+namespace hemivem::python {
+
+namespace {
+
+/// One solve: the resolved scene, the command's SceneSolve and the reduced problem.
+struct SolveData {
+  Scene scene;
+  cli::SceneSolve solved;
+  std::shared_ptr<ReducedHolder> reduced;  ///< null unless kept and the scene has contact
+  std::string json;                        ///< result.json's text, made once
+};
+
+/// What `hemivem solve` records about a run (drivers/commands.cpp, run_solve).
+cli::RunInfo run_info(const SolveData& d) {
+  const Scene& scene = d.scene;
+  const cli::SceneSolve& s = d.solved;
+  const BuiltProblem& built = *s.built;
+  cli::RunInfo info;
+  info.scene_name = scene.title;
+  info.scene_toml = to_toml(scene);
+  info.mesh = scene.mesh.description();
+  info.linear = s.linear;
+  info.minimizer = s.minimizer;
+  info.options = {{"tolerance", s.options.tolerance},
+                  {"max_iterations", s.options.max_iterations},
+                  {"stabilization", to_string(scene.material.stabilization)},
+                  {"plane_model", to_string(scene.material.model)},
+                  {"scene", scene.source}};
+  info.mesh_seconds = s.mesh_seconds;
+  info.dofs = s.solution.unknowns;
+  info.processes = s.processes;
+  info.warnings = built.warnings;
+  if (built.problem.law) info.law_breakpoints = built.problem.law->breakpoints();
+  info.gap_bound = built.has_contact && (built.problem.constraint == ConstraintKind::one_sided ||
+                                         built.problem.constraint == ConstraintKind::box);
+  if (built.problem.friction) info.friction_law = built.problem.friction->name();
+  if (built.problem.constraint == ConstraintKind::bilateral) info.law_breakpoints.clear();
+  return info;
+}
+
+/// The files `hemivem solve` writes for a scene ([output] write; scene.toml always; without
+/// contact no contact table, history or u_nu plot).
+std::vector<std::string> scene_files(const Scene& scene, bool has_contact) {
+  static const std::vector<std::pair<std::string, std::string>> map{
+      {"result-json", "result.json"}, {"contact-csv", "contact.csv"}, {"displacement-csv", "displacement.csv"},
+      {"history-csv", "history.csv"}, {"vtu", "solution.vtu"},        {"u-nu-png", "u_nu.png"},
+      {"deformed-png", "deformed.png"}};
+  std::vector<std::string> files;
+  for (const auto& [name, file] : map) {
+    if (!has_contact && (file == "contact.csv" || file == "history.csv" || file == "u_nu.png")) continue;
+    if (std::find(scene.outputs.begin(), scene.outputs.end(), name) != scene.outputs.end()) files.push_back(file);
+  }
+  files.push_back("scene.toml");
+  return files;
+}
+
+const std::string& json_text(SolveData& d) {
+  if (d.json.empty()) {
+    const cli::RunInfo info = run_info(d);
+    d.json = cli::result_json(d.solved.built->mesh, d.solved.solution, info).dump(2);
+  }
+  return d.json;
+}
+
+py::object json_dict(SolveData& d) { return py::module_::import("json").attr("loads")(json_text(d)); }
+
+/// The contact table as columns (NumPy arrays), one row per contact node.
+struct ContactTable {
+  py::dict columns;
+  py::ssize_t rows = 0;
+};
+
+ContactTable contact_table(const ContactSolution& s) {
+  const auto n = static_cast<py::ssize_t>(s.contact.size());
+  py::array_t<std::int32_t> vertex(n);
+  py::array_t<double> x(n), y(n), u_nu(n), law_force(n), reaction(n), pressure(n), gap(n), weight(n), u_tau(n),
+      friction_force(n), friction_traction(n), normal({n, py::ssize_t(2)});
+  py::list state, friction_state;
+  auto nr = normal.mutable_unchecked<2>();
+  for (py::ssize_t i = 0; i < n; ++i) {
+    const ContactNode& c = s.contact[static_cast<std::size_t>(i)];
+    vertex.mutable_data()[i] = c.vertex;
+    x.mutable_data()[i] = c.x.x(), y.mutable_data()[i] = c.x.y();
+    u_nu.mutable_data()[i] = c.u_nu, law_force.mutable_data()[i] = c.law_force, reaction.mutable_data()[i] = c.reaction;
+    pressure.mutable_data()[i] = c.pressure(), gap.mutable_data()[i] = c.gap, weight.mutable_data()[i] = c.weight;
+    u_tau.mutable_data()[i] = c.u_tau, friction_force.mutable_data()[i] = c.friction_force;
+    friction_traction.mutable_data()[i] = c.friction_force / c.weight;
+    nr(i, 0) = c.normal.x(), nr(i, 1) = c.normal.y();
+    state.append(c.state), friction_state.append(c.friction_state);
+  }
+  const py::object np = py::module_::import("numpy");
+  ContactTable t;
+  t.rows = n;
+  t.columns["vertex"] = vertex;
+  t.columns["x"] = x;
+  t.columns["y"] = y;
+  t.columns["u_nu"] = u_nu;
+  t.columns["law_force"] = law_force;
+  t.columns["reaction"] = reaction;
+  t.columns["pressure"] = pressure;
+  t.columns["gap"] = gap;
+  t.columns["weight"] = weight;
+  t.columns["normal"] = normal;
+  t.columns["state"] = np.attr("array")(state, py::arg("dtype") = "U");
+  t.columns["u_tau"] = u_tau;
+  t.columns["friction_force"] = friction_force;
+  t.columns["friction_traction"] = friction_traction;
+  t.columns["friction_state"] = np.attr("array")(friction_state, py::arg("dtype") = "U");
+  return t;
+}
+
+SolveData& data(py::handle self) { return *self.cast<std::shared_ptr<SolveData>>(); }
+
+}  // namespace
+
+void register_solve(py::module_& m) {
+  py::class_<ContactTable>(m, "ContactTable", R"doc(
+The contact nodes of a solution as columns (NumPy arrays of equal length, one row per node):
+vertex (int32), x, y, u_nu, law_force, reaction, pressure, gap, weight (float64), normal
+(n, 2), state ('upper', 'lower', 'free', 'bilateral'), and with friction u_tau,
+friction_force, friction_traction, friction_state. Columns are attributes or items:
+table.u_nu, table["u_nu"]; table.as_dict() gives them all.
+)doc")
+      .def("__getattr__", [](const ContactTable& t, const std::string& name) -> py::object {
+        if (!t.columns.contains(name)) throw py::attribute_error("ContactTable has no column '" + name + "'");
+        return t.columns[py::str(name)];
+      })
+      .def("__getitem__", [](const ContactTable& t, const std::string& name) -> py::object {
+        if (!t.columns.contains(name)) throw py::key_error("no column '" + name + "'");
+        return t.columns[py::str(name)];
+      })
+      .def("__len__", [](const ContactTable& t) { return t.rows; })
+      .def("__dir__", [](const ContactTable& t) {
+        py::list names;
+        for (const auto& kv : t.columns) names.append(kv.first);
+        return names;
+      })
+      .def_property_readonly("columns", [](const ContactTable& t) {
+        py::list names;
+        for (const auto& kv : t.columns) names.append(kv.first);
+        return names;
+      }, "The column names.")
+      .def("as_dict", [](const ContactTable& t) { return py::dict(t.columns); }, "The columns by name (a new dict).")
+      .def("__repr__", [](const ContactTable& t) { return "ContactTable(" + std::to_string(t.rows) + " nodes)"; });
+
+  py::class_<SolveData, std::shared_ptr<SolveData>>(m, "Result", R"doc(
+One solve of a scene (hemivem.solve): what `hemivem solve` reports and writes.
+
+    r = hemivem.solve(hemivem.Scene.default())
+    r.status, r.converged, r.certificate, r.energy, r.timings
+    r.displacement          # (num_vertices, 2) float64, C order, read-only view
+    r.contact.u_nu          # the contact table as arrays
+    r.write("out/solve")    # the files of `hemivem solve --out out/solve`
+
+A Result holds its own copy of the scene, the mesh and the solution: it outlives the Scene it
+was solved from, and its arrays keep it alive.
+)doc")
+      .def_property_readonly("status", [](py::handle s) { return to_string(data(s).solved.solution.minimizer.status); },
+                             "'converged', 'iteration limit', 'evaluation limit', 'stalled', 'stopped by callback', 'failed'.")
+      .def_property_readonly("converged", [](py::handle s) { return data(s).solved.solution.converged(); })
+      .def_property_readonly("message", [](py::handle s) { return data(s).solved.solution.minimizer.message; })
+      .def_property_readonly("certificate", [](py::handle s) { return data(s).solved.solution.minimizer.certificate; },
+                             "The certificate (primal, dual, scales, tolerance); without contact the relative\n"
+                             "residual of the linear solve.")
+      .def_property_readonly("energy", [](py::handle s) { return data(s).solved.solution.energy; },
+                             "The potential energy 1/2 u^T A u - b^T u + sum_i w_i j(u_nu,i).")
+      .def_property_readonly("objective", [](py::handle s) { return data(s).solved.solution.minimizer.objective; },
+                             "F(a) of the reduced problem (NaN without contact).")
+      .def_property_readonly("uniqueness_margin", [](py::handle s) { return data(s).solved.solution.uniqueness_margin; },
+                             "lambda_min(S - alpha_j W) (inf without contact): the solution is unique when positive.")
+      .def_property_readonly("may_be_nonunique", [](py::handle s) { return data(s).solved.solution.minimizer.may_be_nonunique; })
+      .def_property_readonly("iterations", [](py::handle s) { return data(s).solved.solution.minimizer.iterations; })
+      .def_property_readonly("stages", [](py::handle s) { return data(s).solved.solution.stages; },
+                             "The stages that ran, in order.")
+      .def_property_readonly("timings", [](py::handle s) -> py::object { py::object j = json_dict(data(s)); return j["timings"]; },
+                             "Seconds by stage as in result.json: mesh, assembly, condensation, minimize,\n"
+                             "back_substitution (or linear_solve), total.")
+      .def_property_readonly("linear", [](py::handle s) { return data(s).solved.linear; }, "The linear engine used.")
+      .def_property_readonly("minimizer", [](py::handle s) { return data(s).solved.minimizer; }, "The minimizer used.")
+      .def_property_readonly("warnings", [](py::handle s) { return data(s).solved.built->warnings; })
+      .def_property_readonly(
+          "displacement",
+          [](py::object s) {
+            const Eigen::VectorXd& u = data(s).solved.solution.u;
+            return view(u.data(), u.size() / 2, 2, s);
+          },
+          "(num_vertices, 2) float64, C order, read-only view: (ux, uy) per vertex.")
+      .def_property_readonly(
+          "a",
+          [](py::object s) {
+            const Eigen::VectorXd& a = data(s).solved.solution.minimizer.a;
+            return view(a.data(), a.size(), s);
+          },
+          "The point of the reduced problem (the contact unknowns) the minimizer returned.")
+      .def_property_readonly(
+          "contact", [](py::handle s) { return contact_table(data(s).solved.solution); },
+          "The contact table (ContactTable): one row per contact node.")
+      .def_property_readonly(
+          "contact_force",
+          [](py::handle s) {
+            const Vec2 f = data(s).solved.solution.contact_force();
+            return py::make_tuple(f.x(), f.y());
+          },
+          "The resultant (Fx, Fy) of the foundation or obstacle on the body.")
+      .def_property_readonly(
+          "history", [](py::handle s) { return history_dict(data(s).solved.solution.minimizer.history); },
+          "The minimizer's iterations (history.csv's columns) as a dict of arrays.")
+      .def_property_readonly(
+          "minimizer_result",
+          [](py::object s) {
+            auto d = s.cast<std::shared_ptr<SolveData>>();
+            return std::shared_ptr<MinimizerResult>(d, &d->solved.solution.minimizer);
+          },
+          "The minimizer's full result (MinimizerResult).")
+      .def_property_readonly(
+          "mesh",
+          [](py::object s) {
+            auto d = s.cast<std::shared_ptr<SolveData>>();
+            return PyMesh{std::shared_ptr<const Mesh>(d, &d->solved.built->mesh)};
+          },
+          "The mesh solved on (shares the result's memory).")
+      .def_property_readonly("scene", [](py::handle s) { return Scene(data(s).scene); },
+                             "A copy of the resolved scene (every override applied).")
+      .def_property_readonly(
+          "reduced", [](py::handle s) -> py::object {
+            const auto& r = data(s).reduced;
+            return r ? py::cast(r) : py::none();
+          },
+          "The reduced problem the minimizer solved (solve(..., keep_reduced=True), the default; None\n"
+          "without contact). It has no factorization: condense() for back_substitute.")
+      .def("json", [](py::handle s) { return json_dict(data(s)); },
+           "result.json as a dict (the same document `hemivem solve` writes).")
+      .def("to_json", [](py::handle s) { return json_text(data(s)); }, "result.json's text.")
+      .def(
+          "write",
+          [](py::handle s, const std::filesystem::path& folder, std::optional<std::vector<std::string>> files) {
+            SolveData& d = data(s);
+            const BuiltProblem& built = *d.solved.built;
+            cli::check_output_folder(folder);
+            const cli::RunInfo info = run_info(d);
+            const std::vector<std::string> wanted = files ? *files : scene_files(d.scene, built.has_contact);
+            cli::OutputReport report;
+            {
+              py::gil_scoped_release release;
+              report = cli::write_outputs(folder, built.mesh, built.problem.elasticity.materials, d.solved.solution, info,
+                                          wanted);
+            }
+            std::vector<std::filesystem::path> written = report.written;
+            return written;
+          },
+          py::arg("folder"), py::arg("files") = py::none(),
+          "Writes the files `hemivem solve --out folder` writes for this scene (result.json,\n"
+          "contact.csv, displacement.csv, history.csv, solution.vtu, scene.toml, and the PNGs when\n"
+          "gnuplot is installed), each atomically; `files` picks some of them by name. Returns the\n"
+          "paths written.")
+      .def("__repr__", [](py::handle s) {
+        const SolveData& d = data(s);
+        const auto& sol = d.solved.solution;
+        std::ostringstream o;
+        o << "Result(status=" << py::repr(py::str(to_string(sol.minimizer.status))).cast<std::string>()
+          << ", linear=" << py::repr(py::str(d.solved.linear)).cast<std::string>()
+          << ", minimizer=" << py::repr(py::str(d.solved.minimizer)).cast<std::string>() << ", vertices="
+          << d.solved.built->mesh.num_vertices() << ", contact_nodes=" << sol.contact.size()
+          << ", energy=" << std::setprecision(10) << sol.energy << ")";
+        return o.str();
+      });
+
+  m.def(
+      "solve",
+      [](py::object scene_arg, std::optional<std::string> linear, std::optional<std::string> minimizer,
+         std::optional<double> tolerance, std::optional<int> max_iterations, bool keep_reduced, const py::kwargs& kwargs) {
+        auto d = std::make_shared<SolveData>();
+        d->scene = scene_arg.is_none() ? default_scene() : scene_arg.cast<Scene>();
+        // the keywords as the command's flags and --set: validated together with the scene
+        std::vector<std::string> overrides;
+        if (linear) overrides.push_back("solver.linear=" + toml_string(*linear));
+        if (minimizer) overrides.push_back("solver.minimizer=" + toml_string(*minimizer));
+        if (tolerance) {
+          std::ostringstream v;
+          v << std::setprecision(17) << *tolerance;
+          overrides.push_back("solver.tolerance=" + v.str());
+        }
+        if (max_iterations) overrides.push_back("solver.max_iterations=" + std::to_string(*max_iterations));
+        for (const auto& [key, value] : kwargs) {
+          const std::string name = key.cast<std::string>();
+          if (py::isinstance<py::bool_>(value) || !(py::isinstance<py::float_>(value) || py::isinstance<py::int_>(value)))
+            throw InputError("engine parameter '" + name + "' must be a number, got " +
+                                 py::str(value.get_type().attr("__name__")).cast<std::string>(),
+                             name);
+          std::ostringstream v;
+          v << std::setprecision(17) << value.cast<double>();
+          std::string text = v.str();
+          if (text.find_first_of(".eEn") == std::string::npos) text += ".0";  // a TOML float
+          overrides.push_back("solver.parameters." + name + "=" + text);
+        }
+        if (!overrides.empty()) apply_overrides(d->scene, overrides);
+        SignalWatch watch;
+        ReducedProblem reduced;
+        try {
+          py::gil_scoped_release release;
+          auto on_built = [&](const BuiltProblem&, const cli::SceneSolve&) {
+            if (watch.poll()) throw Interrupted{};
+          };
+          auto callback = [&](const IterationRecord&) { return !watch.poll(); };
+          d->solved = cli::solve_scene(d->scene, on_built, callback, keep_reduced ? &reduced : nullptr);
+        } catch (const Interrupted&) {
+        }
+        watch.raise_if_interrupted();
+        if (keep_reduced && d->solved.built->has_contact && reduced.law) {
+          d->reduced = std::make_shared<ReducedHolder>();
+          d->reduced->own = std::move(reduced);
+          d->reduced->linear = d->solved.linear;
+        }
+        return d;
+      },
+      py::arg("scene") = py::none(), py::kw_only(), py::arg("linear") = py::none(), py::arg("minimizer") = py::none(),
+      py::arg("tolerance") = py::none(), py::arg("max_iterations") = py::none(), py::arg("keep_reduced") = true,
+      R"doc(Solves a scene as `hemivem solve` does: mesh -> assembly -> condensation -> minimizer ->
+back-substitution, only the stages the scene needs. Returns a Result.
+
+scene: a Scene (default: Scene.default()), not modified. linear, minimizer, tolerance and
+max_iterations override solver.linear, solver.minimizer, solver.tolerance and
+solver.max_iterations (as the flags --linear, --minimizer, --tol); further keyword arguments
+are the minimizer's parameters (solver.parameters.NAME, e.g. armijo=1e-3), checked as on the
+command line. InputError for a bad key, value, engine name or parameter; NumericalError when
+an engine fails. A solve that does not converge is a status, not an error.
+
+Runs without the GIL; Ctrl-C is honoured between stages (after the mesh, at every minimizer
+iteration) and raises KeyboardInterrupt.)doc");
+}
+
+}  // namespace hemivem::python
