@@ -36,7 +36,7 @@ py::array_t<T> copy(const std::vector<T>& v) {
 /// entry that is not finite (when `finite`) and for a shape that is not 1-D.
 Eigen::VectorXd vector_from(const py::handle& values, const std::string& what, bool finite = true);
 
-/// A TOML basic string holding s (for overrides "key=value").
+/// A TOML basic string holding s (for overrides "key=value"): its JSON form, which TOML reads.
 std::string toml_string(const std::string& s);
 
 /// A mesh shared with whatever owns it (a result, a reduced problem, or itself).

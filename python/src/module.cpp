@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include <hemivem/error.hpp>
 #include <hemivem/linear_backends.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
@@ -52,14 +54,7 @@ Eigen::VectorXd vector_from(const py::handle& values, const std::string& what, b
   return v;
 }
 
-std::string toml_string(const std::string& s) {
-  std::string q = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') q += '\\';
-    q += c;
-  }
-  return q + "\"";
-}
+std::string toml_string(const std::string& s) { return nlohmann::json(s).dump(); }
 
 // ---- Ctrl-C -------------------------------------------------------------------------------------
 
