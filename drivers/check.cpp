@@ -73,6 +73,30 @@ int run_check(const CheckOptions& o, std::ostream& out, std::ostream& err) {
     }
     pair_max[i] = m;
   }
+  // Where distinct critical points are legitimate, the pairs are compared by the energy they
+  // reach: the lowest is named.
+  std::size_t lowest = np;
+  for (std::size_t i = 0; i < np; ++i)
+    if (runs[i].converged && std::isfinite(runs[i].energy) && (lowest == np || runs[i].energy < runs[lowest].energy))
+      lowest = i;
+  double highest_energy = lowest == np ? nan : runs[lowest].energy;
+  for (const auto& r : runs)
+    if (r.converged && std::isfinite(r.energy)) highest_energy = std::max(highest_energy, r.energy);
+  std::string energy_text;
+  if (!unique && lowest < np) {
+    std::ostringstream e;
+    e << std::setprecision(10) << "the lowest energy, " << runs[lowest].energy << ", is reached by "
+      << runs[lowest].pair.label();
+    std::vector<std::string> higher;
+    for (std::size_t i = 0; i < np; ++i)
+      if (runs[i].converged && runs[i].energy > runs[lowest].energy + 1e-9 * std::max(1.0, std::abs(runs[lowest].energy)))
+        higher.push_back(runs[i].pair.label());
+    if (higher.empty())
+      e << " (every converged pair reaches it)";
+    else
+      e << "; " << higher.size() << " converged pair(s) stop higher, up to " << highest_energy;
+    energy_text = e.str();
+  }
   const int code = any_failed ? kBackendFailure : any_unconverged ? kNotConverged : disagree ? kDisagreement : kSuccess;
 
   std::ostringstream verdict;
@@ -82,6 +106,7 @@ int run_check(const CheckOptions& o, std::ostream& out, std::ostream& err) {
   else if (code == kSuccess)
     verdict << "all " << np << " pairs converged; they differ by " << sci(overall) << " > " << sci(o.agree)
             << ", which is not a disagreement: " << margin_text << ", so distinct critical points are legitimate";
+  if (!energy_text.empty()) verdict << "; " << energy_text;
   else if (code == kBackendFailure)
     verdict << "an engine failed (exit " << code << ")";
   else if (code == kNotConverged)
@@ -117,6 +142,11 @@ int run_check(const CheckOptions& o, std::ostream& out, std::ostream& err) {
     j["differences"] = m;
     j["max_difference"] = overall;
     j["agree_ok"] = !disagree;
+    j["lowest_energy"] = lowest == np ? nlohmann::json(nullptr)
+                                      : nlohmann::json{{"linear", runs[lowest].pair.linear},
+                                                       {"minimizer", runs[lowest].pair.minimizer},
+                                                       {"potential_energy", number(runs[lowest].energy)},
+                                                       {"highest_converged", number(highest_energy)}};
     j["verdict"] = verdict.str();
     j["exit_code"] = code;
     out << j.dump(2) << "\n";
@@ -132,13 +162,15 @@ int run_check(const CheckOptions& o, std::ostream& out, std::ostream& err) {
                      "but are not a disagreement\n\n");
     out << std::left << std::setw(4) << "  #" << std::setw(10) << "linear" << std::setw(18) << "minimizer"
         << std::setw(17) << "status" << std::right << std::setw(10) << "primal" << std::setw(10) << "dual"
-        << std::setw(7) << "iter" << std::setw(10) << "time [s]" << std::setw(11) << "max diff" << "\n";
+        << std::setw(7) << "iter" << std::setw(10) << "time [s]" << std::setw(11) << "max diff" << std::setw(18)
+        << "energy" << "\n";
     for (std::size_t i = 0; i < np; ++i) {
       const auto& r = runs[i];
       out << std::right << std::setw(3) << i + 1 << " " << std::left << std::setw(10) << r.pair.linear << std::setw(18)
           << r.pair.minimizer << std::setw(17) << r.status << std::right << std::setw(10) << sci(r.certificate.primal)
           << std::setw(10) << sci(r.certificate.dual) << std::setw(7) << r.iterations << std::setw(10) << fixed(r.seconds)
-          << std::setw(11) << sci(pair_max[i]) << "\n";
+          << std::setw(11) << sci(pair_max[i]) << std::setw(18) << std::setprecision(10) << r.energy
+          << (i == lowest && !unique ? " (lowest)" : "") << "\n";
     }
     out << "\n  pairwise differences (rows and columns: # above)\n     ";
     for (std::size_t j = 0; j < np; ++j) out << std::setw(9) << j + 1;

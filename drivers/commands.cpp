@@ -79,6 +79,7 @@ Scene load_scene(const SolveOptions& o) {
   if (o.n) overrides.push_back("mesh.n=" + std::to_string(*o.n));
   if (o.linear) overrides.push_back("solver.linear=" + toml_string(*o.linear));
   if (o.minimizer) overrides.push_back("solver.minimizer=" + toml_string(*o.minimizer));
+  if (o.global) overrides.push_back("solver.search=\"global\"");
   if (o.tolerance) {
     std::ostringstream v;
     v << std::setprecision(17) << *o.tolerance;
@@ -105,16 +106,51 @@ std::unique_ptr<NonsmoothMinimizer> make_scene_minimizer(const Scene& scene, con
   }
 }
 
+std::unique_ptr<NonsmoothMinimizer> make_scene_search(const Scene& scene,
+                                                      std::function<void(const GlobalSearchProgress&)> progress) {
+  auto first = make_scene_minimizer(scene, scene.solver.minimizer);
+  if (scene.solver.search != "global") return first;
+  GlobalSearchOptions go;
+  go.max_starts = scene.solver.max_starts;
+  go.time_budget = scene.solver.time_budget;
+  go.seed = scene.solver.seed;
+  go.progress = std::move(progress);
+  return make_global_search(std::move(first), std::move(go));
+}
+
+namespace {
+/// The engine a minimizer stands for: itself, or the first engine of a global search.
+std::string first_engine(const NonsmoothMinimizer& m) {
+  const auto* g = dynamic_cast<const GlobalSearch*>(&m);
+  return g ? g->engine_names().front() : m.name();
+}
+}  // namespace
+
+nlohmann::json search_json(const NonsmoothMinimizer& minimizer) {
+  const auto* search = dynamic_cast<const GlobalSearch*>(&minimizer);
+  if (!search) return {{"kind", "local"}};
+  const GlobalSearchOptions& go = search->options();
+  return {{"kind", "global"},
+          {"engines", search->engine_names()},
+          {"max_starts", go.max_starts},
+          {"time_budget", go.time_budget},
+          {"seed", go.seed},
+          {"random_starts", go.random_starts},
+          {"agree", go.agree}};
+}
+
 SceneSolve solve_scene(const Scene& scene, const std::function<void(const BuiltProblem&, const SceneSolve&)>& on_built,
-                       std::function<bool(const IterationRecord&)> callback, ReducedProblem* reduced) {
+                       std::function<bool(const IterationRecord&)> callback, ReducedProblem* reduced,
+                       std::function<void(const GlobalSearchProgress&)> progress) {
   // Engines first: a name that was not built is an input error before any work.
   SceneSolve s;
   FactorizationOptions fo;
   fo.engine = scene.solver.linear;
   auto factorization = make_factorization(fo);
-  const auto minimizer = make_scene_minimizer(scene, scene.solver.minimizer);
+  const auto minimizer = make_scene_search(scene, std::move(progress));
   s.linear = factorization->name();
-  s.minimizer = minimizer->name();
+  s.minimizer = first_engine(*minimizer);
+  s.search = search_json(*minimizer);
   s.holds_results = processes_of(*factorization).holds_results();
   s.processes = processes_of(*factorization).num_processes();
   s.options.tolerance = scene.solver.tolerance;
@@ -153,8 +189,11 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
       err << "hemivem: " << built.mesh.num_vertices() << " vertices, " << built.mesh.num_elements()
           << " elements; solving with " << s.linear << " and " << s.minimizer << "\n";
   };
+  std::function<void(const GlobalSearchProgress&)> progress;
+  if (o.verbosity >= 1 && !o.json) progress = [&](const GlobalSearchProgress& p) { err << progress_line(p) << "\n"; };
   ReducedProblem reduced;
-  SceneSolve solved = solve_scene(scene, announce, callback, o.export_reduced.empty() ? nullptr : &reduced);
+  SceneSolve solved =
+      solve_scene(scene, announce, callback, o.export_reduced.empty() ? nullptr : &reduced, std::move(progress));
   const auto& built = solved.built;
   const ContactSolution& sol = solved.solution;
   if (!solved.holds_results) return sol.converged() ? kSuccess : kNotConverged;  // rank > 0: rank 0 reports
@@ -171,6 +210,7 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   info.mesh = scene.mesh.description();
   info.linear = solved.linear;
   info.minimizer = solved.minimizer;
+  info.search = solved.search;
   info.options = {{"tolerance", mo.tolerance},
                   {"max_iterations", mo.max_iterations},
                   {"stabilization", to_string(scene.material.stabilization)},
@@ -208,6 +248,7 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
     for (std::size_t i = 0; i < sol.stages.size(); ++i) out << (i ? ", " : "") << sol.stages[i];
     out << "\n  status        " << to_string(r.status) << " (certificate: " << certificate_text(r.certificate) << "), "
         << r.iterations << " iterations\n";
+    if (info.search.value("kind", "local") == "global") out << critical_points_text(r, sol.energy - r.objective);
     if (!sol.contact.empty()) {
       out << "  uniqueness    lambda_min(S - alpha_j W) = " << sol.uniqueness_margin
           << (sol.uniqueness_margin > 0 ? " > 0: the solution is unique\n"
@@ -262,16 +303,23 @@ std::vector<std::string> law_names(const ReducedProblem& p) {
 
 }  // namespace
 
-int run_minimize(const MinimizeOptions& o, std::ostream& out, std::ostream&) {
+int run_minimize(const MinimizeOptions& o, std::ostream& out, std::ostream& err) {
   const ReducedProblem p = read_reduced_problem(o.folder, o.law.empty() ? nullptr : make_contact_law(o.law));
-  const auto minimizer = make_minimizer(o.minimizer);
+  std::unique_ptr<NonsmoothMinimizer> minimizer = make_minimizer(o.minimizer);
+  if (o.global) {
+    GlobalSearchOptions go = o.search;
+    if (o.verbosity >= 1 && !o.json) go.progress = [&](const GlobalSearchProgress& g) { err << progress_line(g) << "\n"; };
+    minimizer = make_global_search(std::move(minimizer), std::move(go));
+  }
   MinimizerOptions mo;
   mo.tolerance = o.tolerance;
   const MinimizerResult r = minimizer->minimize(p, Eigen::VectorXd(), mo);
   if (o.json) {
     nlohmann::json j;
     j["schema"] = "hemivem-minimize/2";
-    j["minimizer"] = minimizer->name();
+    j["minimizer"] = first_engine(*minimizer);
+    j["search"] = search_json(*minimizer);
+    j["critical_points"] = critical_points_json(r, 0.0);
     j["law"] = p.law->name();
     j["laws"] = law_names(p);
     j["constraint"] = p.coordinatewise() ? std::string("coordinate-wise") : to_string(p.constraint);
@@ -296,12 +344,13 @@ int run_minimize(const MinimizeOptions& o, std::ostream& out, std::ostream&) {
     out << std::setprecision(12) << "hemivem minimize: " << o.folder << " (" << p.size()
         << (p.coordinatewise() ? " unknowns, laws " + laws + ", bounds per coordinate)\n"
                                : " contact nodes, law " + laws + ", constraint " + to_string(p.constraint) + ")\n")
-        << "  minimizer     " << minimizer->name() << "\n"
+        << "  minimizer     " << first_engine(*minimizer) << (o.global ? " (global search)" : "") << "\n"
         << "  status        " << to_string(r.status) << " (certificate: " << certificate_text(r.certificate) << "), "
         << r.iterations << " iterations, "
         << r.function_evaluations << " + " << r.subgradient_evaluations << " evaluations\n"
         << "  F(a)          " << r.objective << "\n"
         << "  time [s]      " << (r.timings.count("total") ? r.timings.at("total") : 0.0) << "\n";
+    if (o.global) out << critical_points_text(r, 0.0);
     if (r.may_be_nonunique) out << "  note          uniqueness is not guaranteed (margin not positive or unknown)\n";
   }
   return r.converged() ? kSuccess : kNotConverged;

@@ -9,7 +9,10 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include <hemivem/contact_solver.hpp>
+#include <hemivem/global_search.hpp>
 #include <hemivem/nonsmooth_minimizer.hpp>
 #include <hemivem/reduced_problem.hpp>
 #include <hemivem/scene.hpp>
@@ -28,6 +31,7 @@ struct SolveOptions {
   std::string export_reduced;           ///< folder for the reduced problem, empty: none
   bool json = false;                    ///< result.json on stdout instead of the summary
   int verbosity = 1;                    ///< 0 quiet, 1 summary, 2 summary and iterations
+  bool global = false;                  ///< --global: solver.search = "global"
 };
 
 /// The scene of a command line: the file (empty: the embedded Example 4.1) with the flags
@@ -40,6 +44,15 @@ Scene load_scene(const SolveOptions& options);
 /// line of [solver.parameters].
 std::unique_ptr<NonsmoothMinimizer> make_scene_minimizer(const Scene& scene, const std::string& name);
 
+/// The minimizer of a scene: make_scene_minimizer(scene, scene.solver.minimizer), or with
+/// solver.search = "global" a GlobalSearch over every built minimizer with that one first and
+/// the scene's budget (max_starts, time_budget, seed); `progress` reports its runs.
+std::unique_ptr<NonsmoothMinimizer> make_scene_search(const Scene& scene,
+                                                      std::function<void(const GlobalSearchProgress&)> progress = {});
+
+/// result.json's "search": {"kind": "local"}, or for a GlobalSearch its engines and budget.
+nlohmann::json search_json(const NonsmoothMinimizer& minimizer);
+
 /// True when two engine names are the same engine (case-insensitive, '_' read as '-').
 bool same_engine(const std::string& a, const std::string& b);
 
@@ -49,7 +62,8 @@ struct SceneSolve {
   ContactSolution solution;
   MinimizerOptions options;      ///< the minimizer options in effect
   std::string linear;            ///< the factorization engine's name
-  std::string minimizer;         ///< the minimizer's name
+  std::string minimizer;         ///< the minimizer's name (the first engine of a global search)
+  nlohmann::json search;         ///< search_json
   double mesh_seconds = 0.0;     ///< wall time of build_problem (mesh, materials, boundary parts)
   bool holds_results = true;     ///< false on the ranks > 0 of mumps-mpi under mpirun: no results there
   int processes = 1;             ///< the processes the linear engine runs on
@@ -62,7 +76,8 @@ struct SceneSolve {
 /// reduced problem.
 SceneSolve solve_scene(const Scene& scene,
                        const std::function<void(const BuiltProblem&, const SceneSolve&)>& on_built = {},
-                       std::function<bool(const IterationRecord&)> callback = {}, ReducedProblem* reduced = nullptr);
+                       std::function<bool(const IterationRecord&)> callback = {}, ReducedProblem* reduced = nullptr,
+                       std::function<void(const GlobalSearchProgress&)> progress = {});
 
 /// hemivem solve [SCENE.toml]: scene -> mesh -> assembly -> condensation -> minimizer ->
 /// back-substitution -> the output folder. Exit 0 when converged, kNotConverged otherwise
@@ -79,6 +94,8 @@ struct MinimizeOptions {
   double tolerance = 1e-10;
   bool json = false;
   int verbosity = 1;
+  bool global = false;                  ///< --global: a GlobalSearch with `minimizer` first
+  GlobalSearchOptions search;           ///< its budget (--max-starts, --time-budget, --seed)
 };
 
 /// hemivem minimize DIR: the same reduced problem, from files, for any minimizer.

@@ -4,6 +4,7 @@
 #include <hemivem/error.hpp>
 #include <hemivem/linear_backends.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -76,6 +77,43 @@ nlohmann::json certificate_json(const Certificate& c) {
 
 std::string certificate_text(const Certificate& c) {
   return "primal " + sci(c.primal, 3) + ", dual " + sci(c.dual, 3) + " (tolerance " + sci(c.tolerance, 1) + ")";
+}
+
+nlohmann::json critical_points_json(const MinimizerResult& r, double shift) {
+  nlohmann::json points = nlohmann::json::array();
+  for (const auto& p : r.critical_points)
+    points.push_back({{"reduced_objective", number(p.objective)},
+                      {"potential_energy", number(p.objective + shift)},
+                      {"certificate", certificate_json(p.certificate)},
+                      {"starts", p.starts},
+                      {"engines", p.engines}});
+  return points;
+}
+
+std::string critical_points_text(const MinimizerResult& r, double shift) {
+  std::ostringstream s;
+  s << std::setprecision(10);
+  s << "  search        " << r.message << "\n";
+  const std::size_t shown = std::min<std::size_t>(r.critical_points.size(), 8);
+  for (std::size_t k = 0; k < shown; ++k) {
+    const auto& p = r.critical_points[k];
+    s << "  critical pt " << k + 1 << "  energy " << p.objective + shift << ", reached " << p.starts << " time(s) by ";
+    for (std::size_t e = 0; e < p.engines.size(); ++e) s << (e ? ", " : "") << p.engines[e];
+    s << (k == 0 ? " (lowest: the solution reported)" : "") << "\n";
+  }
+  if (shown < r.critical_points.size())
+    s << "  ...           " << r.critical_points.size() - shown << " more in result.json\n";
+  return s.str();
+}
+
+std::string progress_line(const GlobalSearchProgress& p) {
+  std::ostringstream s;
+  s << std::setprecision(10) << "hemivem: global search run " << p.run << "/" << p.max_runs << ": " << p.engine
+    << " from " << p.start << ": F = " << p.objective << (p.certified ? ", certified" : ", not certified") << "; "
+    << p.critical_points << " critical point(s)";
+  if (p.critical_points > 0) s << ", lowest F = " << p.lowest;
+  s << " (" << fixed(p.seconds, 2) << " s)";
+  return s.str();
 }
 
 }  // namespace hemivem::cli

@@ -7,7 +7,9 @@
 #include <string>
 
 #include <hemivem/certificate.hpp>
+#include <hemivem/global_search.hpp>
 #include <hemivem/mesh.hpp>
+#include <hemivem/nonsmooth_minimizer.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -52,5 +54,14 @@ nlohmann::json number(double v);
 nlohmann::json certificate_json(const Certificate& c);
 /// "primal 1.2e-16, dual 3.4e-15 (tolerance 1.0e-10)".
 std::string certificate_text(const Certificate& c);
+
+/// A global search's critical points as JSON, lowest first: reduced_objective, potential_energy
+/// (reduced_objective + `shift`, the constant between the two energies of the problem; 0 for a
+/// reduced problem alone), certificate, starts, engines.
+nlohmann::json critical_points_json(const MinimizerResult& r, double shift);
+/// The same as lines of the command's summary ("  search  ..." and one line per point, at most 8).
+std::string critical_points_text(const MinimizerResult& r, double shift);
+/// One line of a global search's progress (stderr).
+std::string progress_line(const GlobalSearchProgress& p);
 
 }  // namespace hemivem::cli

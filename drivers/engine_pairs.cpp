@@ -79,7 +79,7 @@ double largest_margin(const std::vector<PairRun>& runs) {
 nlohmann::json pair_json(const PairRun& r) {
   return {{"linear", r.pair.linear},   {"minimizer", r.pair.minimizer}, {"status", r.status},
           {"converged", r.converged}, {"message", r.message},         {"certificate", certificate_json(r.certificate)},
-          {"iterations", r.iterations}};
+          {"iterations", r.iterations}, {"potential_energy", number(r.energy)}};
 }
 
 PairRuns run_pairs(const Scene& scene, const std::vector<Pair>& pairs, const PairRunOptions& o) {
@@ -149,6 +149,7 @@ PairRuns run_pairs(const Scene& scene, const std::vector<Pair>& pairs, const Pai
         r.certificate = s.minimizer.certificate;
         r.iterations = s.minimizer.iterations;
         r.margin = s.uniqueness_margin;
+        r.energy = s.energy;
         r.rcond = s.rcond;
         r.condition = s.condition_estimate;
         r.timings = s.timings;

@@ -39,6 +39,7 @@ struct PairRun {
   Certificate certificate;
   int iterations = 0;
   double margin = std::numeric_limits<double>::quiet_NaN();     ///< lambda_min(S - alpha_j W)
+  double energy = std::numeric_limits<double>::quiet_NaN();     ///< the potential energy at the pair's solution
   double rcond = std::numeric_limits<double>::quiet_NaN();      ///< the engine's estimate (estimate_condition)
   double condition = std::numeric_limits<double>::quiet_NaN();  ///< kappa_1 estimate (estimate_condition)
   /// Seconds by stage as if the pair had run alone: the shared mesh, assembly and its linear
@@ -91,7 +92,7 @@ double difference_scale(const std::vector<PairRun>& runs);
 double largest_margin(const std::vector<PairRun>& runs);
 
 /// The fields every report of a pair has: linear, minimizer, status, converged, message,
-/// certificate, iterations.
+/// certificate, iterations, potential_energy.
 nlohmann::json pair_json(const PairRun& run);
 
 /// Runs `pairs` on `scene` (its solver.linear and solver.minimizer are not used; the scene's

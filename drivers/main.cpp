@@ -129,6 +129,9 @@ Command register_solve(CLI::App& app) {
   cmd->add_flag("--json", f->options.json, "Print result.json on stdout instead of the summary");
   cmd->add_flag("-q,--quiet", f->quiet, "Print nothing on success");
   cmd->add_flag("-v,--verbose", f->verbose, "Also print every minimizer iteration (stderr)");
+  cmd->add_flag("--global", f->options.global,
+                "Search for the lowest critical point: several starts with every built minimizer (solver.search = "
+                "\"global\"; budget: solver.max_starts, solver.time_budget, solver.seed)");
   return {cmd, [f] {
             cli::SolveOptions& o = f->options;
             if (*f->o_mesh) o.mesh = f->mesh;
@@ -157,6 +160,17 @@ Command register_minimize(CLI::App& app) {
   cmd->add_option("--tol", f->options.tolerance, "Certificate tolerance")->capture_default_str()->check(kPositive);
   cmd->add_flag("--json", f->options.json, "Print the result as JSON");
   cmd->add_flag("-q,--quiet", f->quiet, "Print nothing on success");
+  cmd->add_flag("--global", f->options.global,
+                "Search for the lowest critical point: several starts with every built minimizer, --minimizer first");
+  cmd->add_option("--max-starts", f->options.search.max_starts, "Global search: the most local runs")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000000));
+  cmd->add_option("--time-budget", f->options.search.time_budget, "Global search: seconds after which no run begins")
+      ->capture_default_str()
+      ->check(kPositive);
+  cmd->add_option("--seed", f->options.search.seed, "Global search: the seed of the random starts")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 2147483647));
   return {cmd, [f] {
             f->options.verbosity = f->quiet ? 0 : 1;
             return cli::run_minimize(f->options, std::cout, std::cerr);

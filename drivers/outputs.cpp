@@ -106,6 +106,8 @@ nlohmann::json result_json(const Mesh& mesh, const ContactSolution& s, const Run
   j["certificate"] = certificate_json(s.minimizer.certificate);
   j["uniqueness_margin"] = number(s.uniqueness_margin);
   j["may_be_nonunique"] = s.minimizer.may_be_nonunique;
+  j["search"] = info.search;
+  j["critical_points"] = critical_points_json(s.minimizer, s.energy - s.minimizer.objective);
   j["potential_energy"] = number(s.energy);
   j["iterations"] = s.minimizer.iterations;
   j["evaluations"] = {{"function", s.minimizer.function_evaluations},

@@ -24,7 +24,8 @@ struct RunInfo {
   std::string scene_toml;                     ///< the scene's full TOML text, copied to scene.toml
   std::string mesh;                           ///< how the mesh was made ("squares n=8", a file path ...)
   std::string linear;                         ///< the factorization engine used
-  std::string minimizer;                      ///< the nonsmooth minimizer used
+  std::string minimizer;                      ///< the nonsmooth minimizer used (a global search's first engine)
+  nlohmann::json search = {{"kind", "local"}};  ///< how the minimizer searched (commands.hpp: search_json)
   nlohmann::json options = nlohmann::json::object();  ///< every option in effect, by name (numbers as numbers)
   double mesh_seconds = 0.0;                  ///< wall time spent making or reading the mesh
   int dofs = -1;                              ///< free degrees of freedom; < 0: 2 x vertices

@@ -143,6 +143,79 @@ PiecewisePolynomialLaw PiecewisePolynomialLaw::from_potential(std::string name, 
   return PiecewisePolynomialLaw(std::move(name), std::move(breakpoints), std::move(j1), std::move(j2));
 }
 
+PiecewisePolynomialLaw PiecewisePolynomialLaw::from_j(std::string name, std::vector<double> breakpoints,
+                                                     std::vector<Polynomial> j) {
+  const std::string where = "contact law '" + name + "'";
+  const std::size_t m = breakpoints.size() + 1;
+  if (j.size() != m)
+    throw InputError(std::to_string(breakpoints.size()) + " breakpoint(s) need " + std::to_string(m) +
+                         " pieces for j; got " + std::to_string(j.size()),
+                     where);
+  for (std::size_t k = 0; k < m; ++k) {
+    if (j[k].size() > 4)
+      throw InputError("j piece " + std::to_string(k) + " has degree " + std::to_string(j[k].size() - 1) +
+                           "; pieces of degree <= 3 are supported",
+                       where);
+    for (double c : j[k])
+      if (!std::isfinite(c)) throw InputError("j piece " + std::to_string(k) + " has a non-finite coefficient", where);
+  }
+  for (std::size_t k = 0; k < breakpoints.size(); ++k) {
+    if (!std::isfinite(breakpoints[k])) throw InputError("breakpoint " + std::to_string(k) + " is not finite", where);
+    if (k > 0 && !(breakpoints[k] > breakpoints[k - 1]))
+      throw InputError("breakpoints must increase strictly: b" + std::to_string(k) + " = " + num(breakpoints[k]) +
+                           " after b" + std::to_string(k - 1) + " = " + num(breakpoints[k - 1]),
+                       where);
+  }
+  auto tol = [](double a, double b) { return 1e-10 * std::max({1.0, std::abs(a), std::abs(b)}); };
+  const double inf = std::numeric_limits<double>::infinity();
+  // the curvature j2 needs on each piece, and the drops of j' at the breakpoints
+  std::vector<double> curvature(m, 0.0), drop(breakpoints.size(), 0.0);
+  for (std::size_t k = 0; k < m; ++k) {
+    const double lo = k == 0 ? -inf : breakpoints[k - 1], hi = k + 1 == m ? inf : breakpoints[k];
+    const double c = min_second_derivative(differentiate(differentiate(j[k])), lo, hi);
+    if (std::isinf(c))
+      throw InputError("j's curvature is unbounded below on piece " + std::to_string(k) + " (" + num(lo) + ", " +
+                           num(hi) + "]: no split into convex parts exists",
+                       where);
+    curvature[k] = std::max(0.0, -c);
+  }
+  for (std::size_t k = 0; k < breakpoints.size(); ++k) {
+    const double b = breakpoints[k];
+    const double left = eval(j[k], b), right = eval(j[k + 1], b);
+    if (std::abs(left - right) > tol(left, right))
+      throw InputError("j is not continuous at breakpoint " + std::to_string(k) + " (r = " + num(b) + "): " + num(left) +
+                           " on the left, " + num(right) + " on the right",
+                       where);
+    const double dl = eval(differentiate(j[k]), b), dr = eval(differentiate(j[k + 1]), b);
+    if (dr < dl - tol(dl, dr)) drop[k] = dl - dr;
+  }
+  // j2 on piece k: v + s (r - x) + (curvature / 2) (r - x)^2 about the piece's left end x
+  // (about b0 for piece 0), with j2(b0) = 0 and j2'(b0-) = 0.
+  auto about = [](double v, double s, double c, double x) {
+    return Polynomial{v - s * x + 0.5 * c * x * x, s - c * x, 0.5 * c};
+  };
+  std::vector<Polynomial> j2(m), j1(m);
+  const double x0 = breakpoints.empty() ? 0.0 : breakpoints[0];
+  j2[0] = about(0.0, 0.0, curvature[0], x0);
+  double v = 0.0, slope = 0.0;
+  for (std::size_t k = 1; k < m; ++k) {
+    const double x = breakpoints[k - 1];
+    if (k > 1) {
+      const double h = x - breakpoints[k - 2];
+      v += slope * h + 0.5 * curvature[k - 1] * h * h;
+      slope += curvature[k - 1] * h;
+    }
+    slope += drop[k - 1];
+    j2[k] = about(v, slope, curvature[k], x);
+  }
+  for (std::size_t k = 0; k < m; ++k) {
+    j1[k] = subtract(j[k], Polynomial{});
+    j1[k].resize(std::max(j[k].size(), j2[k].size()), 0.0);
+    for (std::size_t i = 0; i < j2[k].size(); ++i) j1[k][i] += j2[k][i];
+  }
+  return PiecewisePolynomialLaw(std::move(name), std::move(breakpoints), std::move(j1), std::move(j2));
+}
+
 std::size_t PiecewisePolynomialLaw::piece(double r, int side) const {
   // piece k covers (b_{k-1}, b_k]; at a breakpoint the side decides.
   const auto it = side < 0 ? std::lower_bound(breaks_.begin(), breaks_.end(), r)

@@ -42,6 +42,9 @@ namespace detail {
 std::shared_ptr<const ContactLaw> make_law(const SceneLaw& law) {
   const std::string n = lower(law.name);
   if (n == "piecewise") {
+    if (!law.j.empty())
+      return std::make_shared<PiecewisePolynomialLaw>(PiecewisePolynomialLaw::from_j(
+          "piecewise", law.breakpoints, std::vector<Polynomial>(law.j.begin(), law.j.end())));
     std::vector<Polynomial> j1(law.j1.begin(), law.j1.end()), j2(law.j2.begin(), law.j2.end());
     return std::make_shared<PiecewisePolynomialLaw>("piecewise", law.breakpoints, j1, j2);
   }

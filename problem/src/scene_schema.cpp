@@ -1,6 +1,7 @@
 // The scene schema (scenes/README.md): a parsed TOML document to a validated Scene.
 #include <hemivem/scene.hpp>
 
+#include <cmath>
 #include <fstream>
 #include <limits>
 #include <map>
@@ -89,7 +90,7 @@ const std::map<std::string, std::vector<std::string>>& law_parameter_names() {
 const std::map<std::string, std::vector<std::string>>& friction_parameter_names() {
   static const std::map<std::string, std::vector<std::string>> m{{"tresca", {"bound"}},
                                                                   {"slip-weakening", {"static", "kinetic", "distance"}},
-                                                                  {"piecewise", {"breakpoints", "j1", "j2"}}};
+                                                                  {"piecewise", {"breakpoints", "j", "j1", "j2"}}};
   return m;
 }
 
@@ -100,19 +101,22 @@ std::vector<std::string> law_names() {
 }
 
 
-/// breakpoints, j1 and j2 of a law = "piecewise" (in the table of `r`; none of them otherwise).
+/// breakpoints and either j alone or j1 and j2 of a law = "piecewise" (in the table of `r`;
+/// none of them otherwise).
 void read_pieces(TableReader& r, SceneLaw& law) {
   const bool piecewise = law.name == "piecewise";
-  for (const char* k : {"breakpoints", "j1", "j2"})
+  for (const char* k : {"breakpoints", "j", "j1", "j2"})
     if (r.has(k) && !piecewise) r.fail(k, r.node(k), "only used with law = \"piecewise\" (the law is '" + law.name + "')");
   if (!piecewise) return;
-  for (const char* k : {"breakpoints", "j1", "j2"})
-    if (!r.has(k)) r.fail("law", r.node("law"), "law = \"piecewise\" needs breakpoints, j1 and j2");
+  if (!r.has("breakpoints") || !(r.has("j") || (r.has("j1") && r.has("j2"))))
+    r.fail("law", r.node("law"), "law = \"piecewise\" needs breakpoints and either j alone or j1 and j2");
+  if (r.has("j") && (r.has("j1") || r.has("j2")))
+    r.fail("j", r.node("j"), "give either j alone (the convex split is computed) or j1 and j2, not both");
   law.breakpoints = *r.numbers("breakpoints");
-  law.j1 = *r.matrix("j1");
-  law.j2 = *r.matrix("j2");
-  for (const char* k : {"j1", "j2"}) {
-    const auto& pieces = std::string(k) == "j1" ? law.j1 : law.j2;
+  const std::vector<const char*> parts = r.has("j") ? std::vector<const char*>{"j"} : std::vector<const char*>{"j1", "j2"};
+  for (const char* k : parts) {
+    auto& pieces = std::string(k) == "j" ? law.j : (std::string(k) == "j1" ? law.j1 : law.j2);
+    pieces = *r.matrix(k);
     if (pieces.size() != law.breakpoints.size() + 1)
       r.fail(k, r.node(k),
              "expected " + std::to_string(law.breakpoints.size() + 1) + " pieces (one more than the breakpoints), got " +
@@ -137,7 +141,7 @@ SceneLaw read_friction(TableReader& r) {
                    (own.empty() ? "" : " (which has: " + join(own) + ")"));
   read_pieces(r, law);
   for (const auto& k : own)
-    if (k != "breakpoints" && k != "j1" && k != "j2")
+    if (k != "breakpoints" && k != "j" && k != "j1" && k != "j2")
       if (auto v = r.number(k)) law.parameters[k] = *v;
   try {
     (void)make_friction_law(law);
@@ -175,7 +179,8 @@ SceneContact read_contact(TableReader& r) {
   try {
     (void)make_law(c.law);
   } catch (const InputError& e) {
-    r.fail("law", r.has("law") ? r.node("law") : static_cast<const toml::node&>(r.self()), e.detail());
+    const char* at = r.has("j") ? "j" : "law";
+    r.fail(at, r.has(at) ? r.node(at) : static_cast<const toml::node&>(r.self()), e.detail());
   }
   if (auto g = r.scalar("gap")) {
     if (!g->is_expression() && g->value < 0.0) r.fail("gap", r.node("gap"), "must be >= 0, got " + fmt(g->value));
@@ -226,7 +231,7 @@ SceneContact read_contact(TableReader& r) {
              "[contact.obstacle]");
   }
   if (const toml::table* f = r.table("friction")) {
-    TableReader fr(r.scene(), *f, r.key_path("friction"), {"law", "bound", "static", "kinetic", "distance", "breakpoints", "j1", "j2"});
+    TableReader fr(r.scene(), *f, r.key_path("friction"), {"law", "bound", "static", "kinetic", "distance", "breakpoints", "j", "j1", "j2"});
     c.friction = read_friction(fr);
   }
   return c;
@@ -420,12 +425,14 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
   s.contact.reset();
   if (const toml::table* t = r.table("contact")) {
     TableReader c(s, *t, "contact",
-                  with_selector({"law", "parameters", "breakpoints", "j1", "j2", "gap", "obstacle", "constraint", "friction"}));
+                  with_selector({"law", "parameters", "breakpoints", "j", "j1", "j2", "gap", "obstacle", "constraint", "friction"}));
     s.contact = read_contact(c);
   }
 
   if (const toml::table* t = r.table("solver")) {
-    TableReader v(s, *t, "solver", {"linear", "minimizer", "tolerance", "max_iterations", "parameters"});
+    TableReader v(s, *t, "solver",
+                  {"linear", "minimizer", "tolerance", "max_iterations", "parameters", "search", "max_starts",
+                   "time_budget", "seed"});
     if (auto x = v.string("linear")) {
       if (x->empty()) v.fail("linear", v.node("linear"), "empty name");
       s.solver.linear = *x;
@@ -443,6 +450,26 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
         v.fail("max_iterations", v.node("max_iterations"),
                "must be between 1 and " + std::to_string(std::numeric_limits<int>::max()) + ", got " + std::to_string(*x));
       s.solver.max_iterations = static_cast<int>(*x);
+    }
+    if (auto x = v.string("search")) {
+      check_name(v, "search", *x, {"local", "global"}, "search");
+      s.solver.search = lower(*x);
+    }
+    if (auto x = v.integer("max_starts")) {
+      if (*x < 1 || *x > 1000000)
+        v.fail("max_starts", v.node("max_starts"), "must be between 1 and 1000000, got " + std::to_string(*x));
+      s.solver.max_starts = static_cast<int>(*x);
+    }
+    if (auto x = v.number("time_budget")) {
+      if (!(*x > 0.0) || !std::isfinite(*x))
+        v.fail("time_budget", v.node("time_budget"), "must be a finite number of seconds > 0, got " + fmt(*x));
+      s.solver.time_budget = *x;
+    }
+    if (auto x = v.integer("seed")) {
+      if (*x < 0 || *x > std::numeric_limits<int>::max())
+        v.fail("seed", v.node("seed"),
+               "must be between 0 and " + std::to_string(std::numeric_limits<int>::max()) + ", got " + std::to_string(*x));
+      s.solver.seed = static_cast<int>(*x);
     }
     // the minimizer's typed options by name: the names and ranges are the engine's, checked
     // when the engine is made (its errors name the key's line through Scene::where)

@@ -65,13 +65,17 @@ void write_selector(std::ostream& o, const BoundarySelector& b) {
 }
 
 
-/// breakpoints, j1 and j2 of a piecewise law (nothing for another law).
+/// breakpoints and j, or j1 and j2, of a piecewise law (nothing for another law).
 void write_pieces(std::ostream& o, const SceneLaw& law) {
   if (law.name != "piecewise") return;
   auto pieces = [](const std::vector<std::vector<double>>& p) {
     return list(p, [](const std::vector<double>& q) { return list(q, fmt); });
   };
   o << "breakpoints = " << list(law.breakpoints, fmt) << "\n";
+  if (!law.j.empty()) {
+    o << "j = " << pieces(law.j) << "\n";
+    return;
+  }
   o << "j1 = " << pieces(law.j1) << "\n";
   o << "j2 = " << pieces(law.j2) << "\n";
 }
@@ -153,6 +157,10 @@ std::string to_toml(const Scene& s) {
   o << "minimizer = " << quote(s.solver.minimizer) << "\n";
   o << "tolerance = " << fmt(s.solver.tolerance) << "\n";
   o << "max_iterations = " << s.solver.max_iterations << "\n";
+  o << "search = " << quote(s.solver.search) << "\n";
+  o << "max_starts = " << s.solver.max_starts << "\n";
+  o << "time_budget = " << fmt(s.solver.time_budget) << "\n";
+  o << "seed = " << s.solver.seed << "\n";
   if (!s.solver.parameters.empty()) {
     o << "\n[solver.parameters]\n";
     for (const auto& [k, v] : s.solver.parameters) o << k << " = " << fmt(v) << "\n";

@@ -80,6 +80,16 @@ struct MinimizerOptions {
   }
 };
 
+/// A certified critical point of F found by a search over several starts (GlobalSearch):
+/// the point, F there, its certificate, how many starts reached it and with which engines.
+struct CriticalPoint {
+  Eigen::VectorXd a;
+  double objective = std::numeric_limits<double>::quiet_NaN();
+  Certificate certificate;
+  int starts = 0;
+  std::vector<std::string> engines;
+};
+
 struct MinimizerResult {
   MinimizerStatus status = MinimizerStatus::failed;
   std::string message;
@@ -96,6 +106,9 @@ struct MinimizerResult {
   /// The problem's uniqueness margin is not positive (or unknown): F may have several
   /// critical points and the point returned is one of them.
   bool may_be_nonunique = true;
+  /// A global search's distinct certified critical points, lowest F first (the point
+  /// returned is the first); empty for a local engine.
+  std::vector<CriticalPoint> critical_points;
   bool converged() const noexcept { return status == MinimizerStatus::converged; }
 };
 
@@ -232,16 +245,20 @@ class NonsmoothMinimizer {
   /// Minimizes from `start` (projected onto C first; empty: zero). Throws InputError for
   /// unusable options, an inconsistent problem or a start of the wrong size; algorithmic
   /// outcomes are statuses. The empty problem, and a start the certificate accepts, are
-  /// answered at once (0 iterations).
+  /// answered at once (0 iterations; the start only for a local engine).
   MinimizerResult minimize(const ReducedProblem& problem, const Eigen::VectorXd& start,
                            const MinimizerOptions& options) const {
     MinimizerRun r(name(), problem, start, options);
     if (r.size() == 0) return r.finish(MinimizerStatus::converged, {}, "empty problem", &r.start());
-    if (r.offer(r.start())) return r.finish(MinimizerStatus::converged, {}, "the start is certified", &r.start());
+    if (answers_certified_start() && r.offer(r.start()))
+      return r.finish(MinimizerStatus::converged, {}, "the start is certified", &r.start());
     return run(r);
   }
 
  protected:
+  /// A local engine answers a start the certificate accepts at once; a search for the lowest
+  /// of several critical points (GlobalSearch) does not.
+  virtual bool answers_certified_start() const noexcept { return true; }
   /// The engine's numerics on a problem with at least one unknown; ends with run.finish().
   virtual MinimizerResult run(MinimizerRun& run) const = 0;
 };

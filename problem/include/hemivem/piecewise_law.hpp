@@ -29,6 +29,16 @@ class PiecewisePolynomialLaw final : public ContactLaw {
   static PiecewisePolynomialLaw from_potential(std::string name, std::vector<double> breakpoints,
                                                std::vector<Polynomial> j, std::vector<Polynomial> j1);
 
+  /// The same from the potential j alone (continuous, pieces of degree <= 3): the DC split is
+  /// computed. j2 takes (a) at every concave kink b_k (j' drops by d_k > 0) the ramp
+  /// d_k (r - b_k)^+, and (b) on every piece k the constant curvature
+  /// c_k = max(0, -min j'' over the piece), carried on with a continuous derivative; j2 is zero
+  /// left of the first breakpoint where piece 0 is convex. Then j2 is convex (j2' does not
+  /// decrease) and j1 = j + j2 is convex (j1'' = j'' + c_k >= 0 on every piece, no downward jump
+  /// of j1'). InputError naming the piece or breakpoint for a j that is not continuous, or whose
+  /// curvature is unbounded below on an unbounded piece (no convex split exists).
+  static PiecewisePolynomialLaw from_j(std::string name, std::vector<double> breakpoints, std::vector<Polynomial> j);
+
   std::string name() const override { return name_; }
   double value(LawPart part, double r) const override;
   double derivative(LawPart part, double r, int side) const override;

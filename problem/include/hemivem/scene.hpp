@@ -108,6 +108,9 @@ struct SceneLaw {
   std::map<std::string, double> parameters;  ///< e.g. stiffness, sigma, r1, residual, r2
   std::vector<double> breakpoints;
   std::vector<std::vector<double>> j1, j2;   ///< per piece, coefficients lowest degree first
+  /// The potential alone (piecewise): hemivem computes the DC split (PiecewisePolynomialLaw::from_j);
+  /// empty when j1 and j2 are given.
+  std::vector<std::vector<double>> j;
   bool operator==(const SceneLaw&) const = default;
 };
 
@@ -144,6 +147,13 @@ struct SceneSolver {
   int max_iterations = 1000;
   /// The minimizer's parameters by name ([solver.parameters]; checked by the engine).
   std::map<std::string, double> parameters;
+  /// "local" (one run of the minimizer) or "global" (GlobalSearch: several starts with every
+  /// built minimizer, the lowest certified critical point; a single run when the problem's
+  /// uniqueness margin is positive).
+  std::string search = "local";
+  int max_starts = 64;        ///< global: the most starts (local runs) of the search
+  double time_budget = 60.0;  ///< global: seconds after which no new start begins
+  int seed = 1;               ///< global: the seed of the random starts
   bool operator==(const SceneSolver&) const = default;
 };
 

@@ -1,0 +1,312 @@
+#include <hemivem/global_search.hpp>
+#include <hemivem/nonsmooth_backends.hpp>
+
+#include <Eigen/Cholesky>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <sstream>
+
+namespace hemivem {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+std::string num(double x) {
+  std::ostringstream s;
+  s.precision(6);
+  s << x;
+  return s.str();
+}
+
+/// The points a coordinate of law `law` is moved to or started at: its law's breakpoints and
+/// the middles of the bounded pieces between them, inside [lo, hi], and the finite bounds.
+std::vector<double> landmarks(const ContactLaw& law, double lo, double hi) {
+  std::vector<double> v;
+  const std::vector<double> b = law.breakpoints();
+  for (std::size_t k = 0; k < b.size(); ++k) {
+    v.push_back(b[k]);
+    if (k + 1 < b.size()) v.push_back(0.5 * (b[k] + b[k + 1]));
+  }
+  if (std::isfinite(lo)) v.push_back(lo);
+  if (std::isfinite(hi)) v.push_back(hi);
+  std::vector<double> in;
+  for (double x : v)
+    if (x >= lo && x <= hi) in.push_back(x);
+  std::sort(in.begin(), in.end());
+  in.erase(std::unique(in.begin(), in.end()), in.end());
+  return in;
+}
+
+/// One certified critical point with the result of the first run that reached it.
+struct Found {
+  CriticalPoint point;
+  MinimizerResult result;
+};
+
+}  // namespace
+
+GlobalSearch::GlobalSearch(std::vector<std::shared_ptr<const NonsmoothMinimizer>> engines, GlobalSearchOptions options)
+    : engines_(std::move(engines)), options_(std::move(options)) {
+  if (engines_.empty()) throw InputError("needs at least one minimizer", "global search");
+  for (const auto& e : engines_)
+    if (!e) throw InputError("a minimizer of the list is null", "global search");
+  require_valid(options_, "global search");
+}
+
+std::vector<std::string> GlobalSearch::engine_names() const {
+  std::vector<std::string> n;
+  for (const auto& e : engines_) n.push_back(e->name());
+  return n;
+}
+
+std::vector<SearchStart> GlobalSearch::starts(const ReducedProblem& p, const Eigen::VectorXd& given) const {
+  const Eigen::Index n = p.size();
+  std::vector<SearchStart> out;
+  auto add = [&](std::string name, const Eigen::VectorXd& a) {
+    const Eigen::VectorXd x = p.project(a);
+    for (const auto& s : out)
+      if (s.a == x) return;
+    out.push_back({std::move(name), x});
+  };
+  add("given", given.size() == n ? given : Eigen::VectorXd::Zero(n));
+
+  // the minimizer of the quadratic part alone
+  Eigen::VectorXd quadratic = Eigen::VectorXd::Zero(n);
+  if (n > 0) {
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(p.S);
+    if (ldlt.info() == Eigen::Success) {
+      const Eigen::VectorXd x = ldlt.solve(p.c);
+      if (x.allFinite()) quadratic = x;
+    }
+  }
+  add("quadratic minimizer", quadratic);
+
+  Eigen::VectorXd lower(n), upper(n);
+  bool any_lower = false, any_upper = false;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    lower(i) = std::isfinite(p.lower(i)) ? p.lower(i) : 0.0;
+    upper(i) = std::isfinite(p.upper(i)) ? p.upper(i) : 0.0;
+    any_lower = any_lower || std::isfinite(p.lower(i));
+    any_upper = any_upper || std::isfinite(p.upper(i));
+  }
+  if (any_lower) add("lower bounds", lower);
+  if (any_upper) add("upper bounds", upper);
+
+  // the k-th breakpoint and the k-th middle of a piece of each coordinate's own law
+  std::vector<std::vector<double>> points(static_cast<std::size_t>(p.num_laws())), middles(points.size());
+  std::size_t most = 0;
+  for (int k = 0; k < p.num_laws(); ++k) {
+    const auto b = p.law_by_number(k).breakpoints();
+    points[static_cast<std::size_t>(k)] = b;
+    for (std::size_t q = 0; q + 1 < b.size(); ++q) middles[static_cast<std::size_t>(k)].push_back(0.5 * (b[q] + b[q + 1]));
+    most = std::max(most, b.size());
+  }
+  for (std::size_t q = 0; q < most; ++q) {
+    for (const auto* list : {&points, &middles}) {
+      Eigen::VectorXd a(n);
+      bool any = false;
+      for (Eigen::Index i = 0; i < n; ++i) {
+        const auto& own = (*list)[static_cast<std::size_t>(p.law_number(i))];
+        a(i) = q < own.size() ? own[q] : quadratic(i);
+        any = any || q < own.size();
+      }
+      if (!any) continue;
+      if (p.num_laws() == 1)
+        add((list == &points ? "breakpoint " : "middle of piece ") + num((*list)[0][q]), a);
+      else
+        add((list == &points ? "breakpoint #" : "middle of piece #") + std::to_string(q), a);
+    }
+  }
+
+  // random points in a box around the bounds, the breakpoints and the quadratic minimizer
+  double scale = quadratic.size() ? quadratic.lpNorm<Eigen::Infinity>() : 0.0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    for (double b : p.law_of(i).breakpoints()) scale = std::max(scale, std::abs(b));
+    if (std::isfinite(p.lower(i))) scale = std::max(scale, std::abs(p.lower(i)));
+    if (std::isfinite(p.upper(i))) scale = std::max(scale, std::abs(p.upper(i)));
+  }
+  if (!(scale > 0.0)) scale = 1.0;
+  std::mt19937_64 engine(static_cast<std::uint64_t>(options_.seed));
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int r = 0; r < options_.random_starts; ++r) {
+    Eigen::VectorXd a(n);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      double m = std::min(0.0, quadratic(i)), M = std::max(0.0, quadratic(i));
+      for (double b : p.law_of(i).breakpoints()) {
+        m = std::min(m, b);
+        M = std::max(M, b);
+      }
+      const double pad = 0.5 * (M - m) + 0.1 * scale;
+      const double lo = std::max(p.lower(i), m - pad), hi = std::min(p.upper(i), M + pad);
+      a(i) = lo + (hi - lo) * unit(engine);
+    }
+    add("random " + std::to_string(r + 1), a);
+  }
+  return out;
+}
+
+MinimizerResult GlobalSearch::run(MinimizerRun& run) const {
+  const ReducedProblem& p = run.problem();
+  MinimizerOptions local = run.options();
+  local.callback = nullptr;  // the search reports its runs, not their iterations
+  const auto t0 = std::chrono::steady_clock::now();
+  auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+
+  std::vector<Found> found;
+  MinimizerResult best_uncertified;
+  int runs = 0, iterations = 0, functions = 0, subgradients = 0;
+  std::vector<IterationRecord> history;
+
+  auto lowest = [&]() -> const Found* {
+    const Found* b = nullptr;
+    for (const auto& f : found)
+      if (!b || f.point.objective < b->point.objective) b = &f;
+    return b;
+  };
+  // one local run; returns its result
+  auto local_run = [&](const NonsmoothMinimizer& engine, const std::string& start_name, const Eigen::VectorXd& start) {
+    MinimizerResult r = engine.minimize(p, start, local);
+    ++runs;
+    iterations += r.iterations;
+    functions += r.function_evaluations;
+    subgradients += r.subgradient_evaluations;
+    const bool certified = r.converged();
+    if (certified) {
+      const double scale = std::max(r.certificate.length_scale, 0.0);
+      auto same = std::find_if(found.begin(), found.end(), [&](const Found& f) {
+        const double l = std::max(scale, f.point.certificate.length_scale);
+        return (f.point.a - r.a).lpNorm<Eigen::Infinity>() <= options_.agree * l;
+      });
+      if (same == found.end()) {
+        found.push_back({CriticalPoint{r.a, r.objective, r.certificate, 1, {engine.name()}}, r});
+      } else {
+        ++same->point.starts;
+        auto& e = same->point.engines;
+        if (std::find(e.begin(), e.end(), engine.name()) == e.end()) e.push_back(engine.name());
+      }
+    } else if (best_uncertified.a.size() == 0 || r.certificate.worst() < best_uncertified.certificate.worst()) {
+      best_uncertified = r;
+    }
+    const Found* b = lowest();
+    history.push_back({runs, r.objective, r.certificate.primal, r.certificate.dual, count_at_bound(p, r.a), seconds()});
+    if (options_.progress)
+      options_.progress({runs, options_.max_starts, engine.name(), start_name, certified, r.objective,
+                         b ? b->point.objective : std::numeric_limits<double>::quiet_NaN(),
+                         static_cast<int>(found.size()), seconds()});
+    return r;
+  };
+  auto budget_left = [&] { return runs < options_.max_starts && seconds() < options_.time_budget; };
+
+  std::string how;
+  if (p.uniqueness_margin > 0.0) {
+    local_run(*engines_.front(), "given", run.start());
+    how = "the uniqueness margin is positive: one critical point, solved once by " + engines_.front()->name();
+  } else {
+    // phase 1: every engine from every start, up to half the budget; then phase 2; then the
+    // starts left and phase 2 again while the budget lasts
+    const std::vector<SearchStart> starts = this->starts(p, run.start());
+    const std::size_t pairs = starts.size() * engines_.size();
+    std::size_t next = 0;
+    int phase1 = 0, moves = 0, improvements = 0;
+    auto multistart = [&](int limit) {
+      for (; next < pairs && runs < limit && budget_left(); ++next, ++phase1) {
+        const SearchStart& s = starts[next / engines_.size()];
+        local_run(*engines_[next % engines_.size()], s.name, s.a);
+      }
+    };
+    auto descend = [&] {
+      bool improved = true;
+      while (improved && budget_left() && lowest()) {
+        improved = false;
+        const Eigen::VectorXd x = lowest()->point.a;
+        const double fx = lowest()->point.objective;
+        const double near = options_.agree * std::max(1e-300, lowest()->point.certificate.length_scale);
+        const Eigen::VectorXd g = p.S * x - p.c;
+        struct Move {
+          double change;
+          Eigen::Index i;
+          double to;
+        };
+        std::vector<Move> candidates;
+        for (Eigen::Index i = 0; i < p.size(); ++i) {
+          const ContactLaw& law = p.law_of(i);
+          for (double v : landmarks(law, p.lower(i), p.upper(i))) {
+            const double d = v - x(i);
+            if (std::abs(d) <= near) continue;
+            const double change =
+                g(i) * d + 0.5 * p.S(i, i) * d * d + p.w(i) * (law.value(LawPart::j, v) - law.value(LawPart::j, x(i)));
+            candidates.push_back({change, i, v});
+          }
+        }
+        std::stable_sort(candidates.begin(), candidates.end(),
+                         [](const Move& a, const Move& b) { return a.change < b.change; });
+        for (const Move& m : candidates) {
+          if (!budget_left()) break;
+          Eigen::VectorXd start = x;
+          start(m.i) = m.to;
+          ++moves;
+          const MinimizerResult r =
+              local_run(*engines_.front(), "move " + std::to_string(m.i) + " -> " + num(m.to), start);
+          if (r.converged() && r.objective < fx - 1e-12 * std::max(1.0, std::abs(fx))) {
+            improved = true;
+            ++improvements;
+            break;
+          }
+        }
+      }
+    };
+    multistart(options_.max_starts - options_.max_starts / 2);
+    descend();
+    const Found* before = lowest();
+    const double settled = before ? before->point.objective : std::numeric_limits<double>::infinity();
+    multistart(options_.max_starts);
+    if (lowest() && lowest()->point.objective < settled) descend();
+    std::ostringstream h;
+    h << "global search: " << found.size() << " certified critical point(s) from " << runs << " local run(s) ("
+      << phase1 << " of " << starts.size() << " start(s) x " << engines_.size() << " engine(s), " << moves
+      << " single-coordinate move(s), " << improvements << " lowering F)";
+    if (!budget_left()) h << "; budget spent";
+    how = h.str();
+  }
+
+  std::sort(found.begin(), found.end(),
+            [](const Found& a, const Found& b) { return a.point.objective < b.point.objective; });
+  MinimizerResult out = found.empty() ? best_uncertified : found.front().result;
+  for (const auto& f : found) out.critical_points.push_back(f.point);
+  std::ostringstream msg;
+  msg << how;
+  if (!found.empty())
+    msg << "; lowest F = " << num(found.front().point.objective) << " (reached by "
+        << found.front().point.engines.front() << ")";
+  else
+    msg << "; no run reached a certified critical point: " << out.message;
+  out.message = msg.str();
+  out.iterations = iterations;
+  out.function_evaluations = functions;
+  out.subgradient_evaluations = subgradients;
+  out.history = std::move(history);
+  out.timings = {{"total", run.seconds()}};
+  out.may_be_nonunique = !(p.uniqueness_margin > 0.0);
+  return out;
+}
+
+std::unique_ptr<GlobalSearch> make_global_search(std::unique_ptr<NonsmoothMinimizer> first, GlobalSearchOptions options) {
+  if (!first) throw InputError("needs a first minimizer", "global search");
+  std::vector<std::shared_ptr<const NonsmoothMinimizer>> engines;
+  engines.push_back(std::move(first));
+  for (const auto& name : available_minimizers())
+    if (name != engines.front()->name()) engines.push_back(make_minimizer(name));
+  return std::make_unique<GlobalSearch>(std::move(engines), std::move(options));
+}
+
+std::unique_ptr<GlobalSearch> make_global_search(const std::string& first, const std::map<std::string, double>& parameters,
+                                                 GlobalSearchOptions options) {
+  return make_global_search(make_minimizer(first, parameters), std::move(options));
+}
+
+}  // namespace hemivem
