@@ -75,26 +75,36 @@ int run_check(const CheckOptions& o, std::ostream& out, std::ostream& err) {
   }
   // Where distinct critical points are legitimate, the pairs are compared by the energy they
   // reach: the lowest is named.
-  std::size_t lowest = np;
-  for (std::size_t i = 0; i < np; ++i)
-    if (runs[i].converged && std::isfinite(runs[i].energy) && (lowest == np || runs[i].energy < runs[lowest].energy))
-      lowest = i;
-  double highest_energy = lowest == np ? nan : runs[lowest].energy;
+  // Energies within 1e-9 (relative) of the lowest are the same critical point reached to
+  // round-off: the first such pair in the table is named, with how many others reach it.
+  double lowest_energy = nan, highest_energy = nan;
   for (const auto& r : runs)
-    if (r.converged && std::isfinite(r.energy)) highest_energy = std::max(highest_energy, r.energy);
+    if (r.converged && std::isfinite(r.energy)) {
+      lowest_energy = std::isnan(lowest_energy) ? r.energy : std::min(lowest_energy, r.energy);
+      highest_energy = std::isnan(highest_energy) ? r.energy : std::max(highest_energy, r.energy);
+    }
+  const double tie = 1e-9 * std::max(1.0, std::abs(lowest_energy));
+  std::size_t lowest = np;
+  int at_lowest = 0, higher = 0;
+  for (std::size_t i = 0; i < np; ++i) {
+    if (!runs[i].converged || !std::isfinite(runs[i].energy)) continue;
+    if (runs[i].energy <= lowest_energy + tie) {
+      if (lowest == np) lowest = i;
+      ++at_lowest;
+    } else {
+      ++higher;
+    }
+  }
   std::string energy_text;
   if (!unique && lowest < np) {
     std::ostringstream e;
-    e << std::setprecision(10) << "the lowest energy, " << runs[lowest].energy << ", is reached by "
+    e << std::setprecision(10) << "the lowest energy, " << lowest_energy << ", is reached by "
       << runs[lowest].pair.label();
-    std::vector<std::string> higher;
-    for (std::size_t i = 0; i < np; ++i)
-      if (runs[i].converged && runs[i].energy > runs[lowest].energy + 1e-9 * std::max(1.0, std::abs(runs[lowest].energy)))
-        higher.push_back(runs[i].pair.label());
-    if (higher.empty())
+    if (at_lowest > 1) e << " and " << at_lowest - 1 << " other pair(s)";
+    if (higher == 0)
       e << " (every converged pair reaches it)";
     else
-      e << "; " << higher.size() << " converged pair(s) stop higher, up to " << highest_energy;
+      e << "; " << higher << " converged pair(s) stop higher, up to " << highest_energy;
     energy_text = e.str();
   }
   const int code = any_failed ? kBackendFailure : any_unconverged ? kNotConverged : disagree ? kDisagreement : kSuccess;
@@ -145,7 +155,9 @@ int run_check(const CheckOptions& o, std::ostream& out, std::ostream& err) {
     j["lowest_energy"] = lowest == np ? nlohmann::json(nullptr)
                                       : nlohmann::json{{"linear", runs[lowest].pair.linear},
                                                        {"minimizer", runs[lowest].pair.minimizer},
-                                                       {"potential_energy", number(runs[lowest].energy)},
+                                                       {"potential_energy", number(lowest_energy)},
+                                                       {"pairs_at_lowest", at_lowest},
+                                                       {"pairs_higher", higher},
                                                        {"highest_converged", number(highest_energy)}};
     j["verdict"] = verdict.str();
     j["exit_code"] = code;
@@ -170,7 +182,7 @@ int run_check(const CheckOptions& o, std::ostream& out, std::ostream& err) {
           << r.pair.minimizer << std::setw(17) << r.status << std::right << std::setw(10) << sci(r.certificate.primal)
           << std::setw(10) << sci(r.certificate.dual) << std::setw(7) << r.iterations << std::setw(10) << fixed(r.seconds)
           << std::setw(11) << sci(pair_max[i]) << std::setw(18) << std::setprecision(10) << r.energy
-          << (i == lowest && !unique ? " (lowest)" : "") << "\n";
+          << (!unique && r.converged && r.energy <= lowest_energy + tie ? " (lowest)" : "") << "\n";
     }
     out << "\n  pairwise differences (rows and columns: # above)\n     ";
     for (std::size_t j = 0; j < np; ++j) out << std::setw(9) << j + 1;

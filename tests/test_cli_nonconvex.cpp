@@ -145,6 +145,11 @@ TEST(CliNonconvex, CheckComparesEnergiesAndNamesTheLowestPair) {
   for (const auto& p : j.at("pairs"))
     if (p.at("converged") == true) EXPECT_GE(p.at("potential_energy").get<double>(), lowest);
   EXPECT_NE(j.at("verdict").get<std::string>().find("the lowest energy"), std::string::npos) << j.at("verdict");
+  // pairs reaching the same point to round-off tie: the first in table order is named
+  EXPECT_EQ(j.at("lowest_energy").at("linear"), "eigen");
+  EXPECT_EQ(j.at("lowest_energy").at("minimizer"), "ssn");
+  EXPECT_GE(j.at("lowest_energy").at("pairs_at_lowest").get<int>(), 2);
+  EXPECT_GE(j.at("lowest_energy").at("pairs_higher").get<int>(), 1);
   // bundle-dca stops at another critical point: differences are reported, not a failure
   EXPECT_GT(j.at("lowest_energy").at("highest_converged").get<double>(), lowest);
   const CommandRun text = run("check " + kSawtooth);

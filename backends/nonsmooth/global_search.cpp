@@ -268,7 +268,7 @@ MinimizerResult GlobalSearch::run(MinimizerRun& run) const {
     if (lowest() && lowest()->point.objective < settled) descend();
     std::ostringstream h;
     h << "global search: " << found.size() << " certified critical point(s) from " << runs << " local run(s) ("
-      << phase1 << " of " << starts.size() << " start(s) x " << engines_.size() << " engine(s), " << moves
+      << phase1 << " of the " << starts.size() << " x " << engines_.size() << " (start, engine) pairs, " << moves
       << " single-coordinate move(s), " << improvements << " lowering F)";
     if (!budget_left()) h << "; budget spent";
     how = h.str();
