@@ -39,23 +39,6 @@ std::string toml_string(const std::string& s) {
   return q + "\"";
 }
 
-// The output names of a scene ([output] write) as file names of write_outputs; the resolved
-// scene is always written. Without contact there is no contact table, no minimizer history
-// and no u_nu plot.
-std::vector<std::string> wanted_files(const Scene& scene, bool has_contact) {
-  static const std::vector<std::pair<std::string, std::string>> map{
-      {"result-json", "result.json"}, {"contact-csv", "contact.csv"}, {"displacement-csv", "displacement.csv"},
-      {"history-csv", "history.csv"}, {"vtu", "solution.vtu"},        {"u-nu-png", "u_nu.png"},
-      {"deformed-png", "deformed.png"}};
-  std::vector<std::string> files;
-  for (const auto& [name, file] : map) {
-    if (!has_contact && (file == "contact.csv" || file == "history.csv" || file == "u_nu.png")) continue;
-    if (std::find(scene.outputs.begin(), scene.outputs.end(), name) != scene.outputs.end()) files.push_back(file);
-  }
-  files.push_back("scene.toml");
-  return files;
-}
-
 }  // namespace
 
 Scene load_scene(const SolveOptions& o) {
@@ -165,6 +148,47 @@ SceneSolve solve_scene(const Scene& scene, const std::function<void(const BuiltP
   return s;
 }
 
+std::vector<std::string> wanted_files(const Scene& scene, bool has_contact) {
+  static const std::vector<std::pair<std::string, std::string>> map{
+      {"result-json", "result.json"}, {"contact-csv", "contact.csv"}, {"displacement-csv", "displacement.csv"},
+      {"history-csv", "history.csv"}, {"vtu", "solution.vtu"},        {"u-nu-png", "u_nu.png"},
+      {"deformed-png", "deformed.png"}};
+  std::vector<std::string> files;
+  for (const auto& [name, file] : map) {
+    if (!has_contact && (file == "contact.csv" || file == "history.csv" || file == "u_nu.png")) continue;
+    if (std::find(scene.outputs.begin(), scene.outputs.end(), name) != scene.outputs.end()) files.push_back(file);
+  }
+  files.push_back("scene.toml");
+  return files;
+}
+
+RunInfo run_info(const Scene& scene, const SceneSolve& solved) {
+  const BuiltProblem& built = *solved.built;
+  const MinimizerOptions& mo = solved.options;
+  RunInfo info;
+  info.scene_name = scene.title;
+  info.scene_toml = to_toml(scene);
+  info.mesh = scene.mesh.description();
+  info.linear = solved.linear;
+  info.minimizer = solved.minimizer;
+  info.search = solved.search;
+  info.options = {{"tolerance", mo.tolerance},
+                  {"max_iterations", mo.max_iterations},
+                  {"stabilization", to_string(scene.material.stabilization)},
+                  {"plane_model", to_string(scene.material.model)},
+                  {"scene", scene.source}};
+  info.mesh_seconds = solved.mesh_seconds;
+  info.dofs = solved.solution.unknowns;
+  info.processes = solved.processes;
+  info.warnings = built.warnings;
+  if (built.problem.law) info.law_breakpoints = built.problem.law->breakpoints();
+  info.gap_bound = built.has_contact && (built.problem.constraint == ConstraintKind::one_sided ||
+                                         built.problem.constraint == ConstraintKind::box);
+  if (built.problem.friction) info.friction_law = built.problem.friction->name();
+  if (built.problem.constraint == ConstraintKind::bilateral) info.law_breakpoints.clear();
+  return info;
+}
+
 int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   const Scene scene = load_scene(o);
   check_output_folder(o.out);
@@ -197,34 +221,13 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   const auto& built = solved.built;
   const ContactSolution& sol = solved.solution;
   if (!solved.holds_results) return sol.converged() ? kSuccess : kNotConverged;  // rank > 0: rank 0 reports
-  const MinimizerOptions& mo = solved.options;
   const double mesh_seconds = solved.mesh_seconds;
   if (!o.export_reduced.empty()) {
     if (!built->has_contact) throw InputError("the scene has no contact boundary: there is no reduced problem", "--export-reduced");
     write_reduced_problem(o.export_reduced, reduced);
   }
 
-  RunInfo info;
-  info.scene_name = scene.title;
-  info.scene_toml = to_toml(scene);
-  info.mesh = scene.mesh.description();
-  info.linear = solved.linear;
-  info.minimizer = solved.minimizer;
-  info.search = solved.search;
-  info.options = {{"tolerance", mo.tolerance},
-                  {"max_iterations", mo.max_iterations},
-                  {"stabilization", to_string(scene.material.stabilization)},
-                  {"plane_model", to_string(scene.material.model)},
-                  {"scene", scene.source}};
-  info.mesh_seconds = mesh_seconds;
-  info.dofs = sol.unknowns;
-  info.processes = solved.processes;
-  info.warnings = built->warnings;
-  if (built->problem.law) info.law_breakpoints = built->problem.law->breakpoints();
-  info.gap_bound = built->has_contact && (built->problem.constraint == ConstraintKind::one_sided ||
-                                          built->problem.constraint == ConstraintKind::box);
-  if (built->problem.friction) info.friction_law = built->problem.friction->name();
-  if (built->problem.constraint == ConstraintKind::bilateral) info.law_breakpoints.clear();
+  RunInfo info = run_info(scene, solved);
   for (const auto& w : info.warnings) err << "hemivem: warning: " << w << "\n";
   const OutputReport report = write_outputs(o.out, built->mesh, built->problem.elasticity.materials, sol, info,
                                             wanted_files(scene, built->has_contact));

@@ -17,6 +17,8 @@
 #include <hemivem/reduced_problem.hpp>
 #include <hemivem/scene.hpp>
 
+#include "outputs.hpp"
+
 namespace hemivem::cli {
 
 struct SolveOptions {
@@ -78,6 +80,15 @@ SceneSolve solve_scene(const Scene& scene,
                        const std::function<void(const BuiltProblem&, const SceneSolve&)>& on_built = {},
                        std::function<bool(const IterationRecord&)> callback = {}, ReducedProblem* reduced = nullptr,
                        std::function<void(const GlobalSearchProgress&)> progress = {});
+
+/// The files `hemivem solve` writes for a scene: its [output] write as file names of
+/// write_outputs, and scene.toml always; without contact no contact.csv, history.csv or u_nu.png.
+std::vector<std::string> wanted_files(const Scene& scene, bool has_contact);
+
+/// What `hemivem solve` records in result.json about a solve of `scene` (the resolved scene):
+/// engines, search (search_json), options, mesh time, unknowns, warnings, and what the plots
+/// draw. RunInfo::files is left to write_outputs' caller.
+RunInfo run_info(const Scene& scene, const SceneSolve& solved);
 
 /// hemivem solve [SCENE.toml]: scene -> mesh -> assembly -> condensation -> minimizer ->
 /// back-substitution -> the output folder. Exit 0 when converged, kNotConverged otherwise

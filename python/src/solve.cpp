@@ -28,53 +28,9 @@ struct SolveData {
   std::string json;                        ///< result.json's text, made once
 };
 
-/// What `hemivem solve` records about a run (drivers/commands.cpp, run_solve).
-cli::RunInfo run_info(const SolveData& d) {
-  const Scene& scene = d.scene;
-  const cli::SceneSolve& s = d.solved;
-  const BuiltProblem& built = *s.built;
-  cli::RunInfo info;
-  info.scene_name = scene.title;
-  info.scene_toml = to_toml(scene);
-  info.mesh = scene.mesh.description();
-  info.linear = s.linear;
-  info.minimizer = s.minimizer;
-  info.options = {{"tolerance", s.options.tolerance},
-                  {"max_iterations", s.options.max_iterations},
-                  {"stabilization", to_string(scene.material.stabilization)},
-                  {"plane_model", to_string(scene.material.model)},
-                  {"scene", scene.source}};
-  info.mesh_seconds = s.mesh_seconds;
-  info.dofs = s.solution.unknowns;
-  info.processes = s.processes;
-  info.warnings = built.warnings;
-  if (built.problem.law) info.law_breakpoints = built.problem.law->breakpoints();
-  info.gap_bound = built.has_contact && (built.problem.constraint == ConstraintKind::one_sided ||
-                                         built.problem.constraint == ConstraintKind::box);
-  if (built.problem.friction) info.friction_law = built.problem.friction->name();
-  if (built.problem.constraint == ConstraintKind::bilateral) info.law_breakpoints.clear();
-  return info;
-}
-
-/// The files `hemivem solve` writes for a scene ([output] write; scene.toml always; without
-/// contact no contact table, history or u_nu plot).
-std::vector<std::string> scene_files(const Scene& scene, bool has_contact) {
-  static const std::vector<std::pair<std::string, std::string>> map{
-      {"result-json", "result.json"}, {"contact-csv", "contact.csv"}, {"displacement-csv", "displacement.csv"},
-      {"history-csv", "history.csv"}, {"vtu", "solution.vtu"},        {"u-nu-png", "u_nu.png"},
-      {"deformed-png", "deformed.png"}};
-  std::vector<std::string> files;
-  for (const auto& [name, file] : map) {
-    if (!has_contact && (file == "contact.csv" || file == "history.csv" || file == "u_nu.png")) continue;
-    if (std::find(scene.outputs.begin(), scene.outputs.end(), name) != scene.outputs.end()) files.push_back(file);
-  }
-  files.push_back("scene.toml");
-  return files;
-}
-
 const std::string& json_text(SolveData& d) {
   if (d.json.empty()) {
-    const cli::RunInfo info = run_info(d);
+    const cli::RunInfo info = cli::run_info(d.scene, d.solved);
     d.json = cli::result_json(d.solved.built->mesh, d.solved.solution, info).dump(2);
   }
   return d.json;
@@ -255,8 +211,8 @@ was solved from, and its arrays keep it alive.
             SolveData& d = data(s);
             const BuiltProblem& built = *d.solved.built;
             cli::check_output_folder(folder);
-            const cli::RunInfo info = run_info(d);
-            const std::vector<std::string> wanted = files ? *files : scene_files(d.scene, built.has_contact);
+            const cli::RunInfo info = cli::run_info(d.scene, d.solved);
+            const std::vector<std::string> wanted = files ? *files : cli::wanted_files(d.scene, built.has_contact);
             cli::OutputReport report;
             {
               py::gil_scoped_release release;
