@@ -13,6 +13,8 @@ The same C++ libraries as the `hemivem` command, with NumPy arrays:
     p.S, p.c, p.w, p.g                                  # the reduced problem
     m = hemivem.minimize(p, "ssn")
     p.certificate(my_point)                             # judge any point by the same rule
+    g = hemivem.minimize(p, search="global")            # the lowest of several critical points
+    g.critical_points                                   # every certified one found
 
 Documentation: python/README.md.
 """
@@ -26,6 +28,7 @@ from ._hemivem import (  # noqa: F401
     CertifiedPoint,
     ContactLaw,
     ContactTable,
+    CriticalPoint,
     Error,
     InputError,
     InternalError,
@@ -37,6 +40,7 @@ from ._hemivem import (  # noqa: F401
     ReducedProblem,
     Result,
     Scene,
+    SearchProgress,
     available_engines,
     condense,
     contact_law,
@@ -52,6 +56,7 @@ __all__ = [
     "CertifiedPoint",
     "ContactLaw",
     "ContactTable",
+    "CriticalPoint",
     "Error",
     "InputError",
     "InternalError",
@@ -63,6 +68,7 @@ __all__ = [
     "ReducedProblem",
     "Result",
     "Scene",
+    "SearchProgress",
     "available_engines",
     "condense",
     "contact_law",

@@ -157,6 +157,31 @@ class Iteration:
     active: int
     seconds: float
 
+class CriticalPoint:
+    @property
+    def a(self) -> FloatArray: ...
+    @property
+    def reduced_objective(self) -> float: ...
+    @property
+    def potential_energy(self) -> Optional[float]: ...
+    @property
+    def certificate(self) -> Certificate: ...
+    @property
+    def starts(self) -> int: ...
+    @property
+    def engines(self) -> list[str]: ...
+
+class SearchProgress:
+    run: int
+    max_runs: int
+    engine: str
+    start: str
+    certified: bool
+    objective: float
+    lowest: float
+    critical_points: int
+    seconds: float
+
 class MinimizerResult:
     message: str
     objective: float
@@ -178,6 +203,8 @@ class MinimizerResult:
     def reaction(self) -> FloatArray: ...
     @property
     def history(self) -> dict[str, np.ndarray]: ...
+    @property
+    def critical_points(self) -> list[CriticalPoint]: ...
 
 class ReducedProblem:
     def __init__(self, S: ArrayLike, c: ArrayLike, w: ArrayLike, g: Optional[ArrayLike] = None, *,
@@ -264,6 +291,10 @@ class Result:
     @property
     def minimizer(self) -> str: ...
     @property
+    def search(self) -> dict[str, Any]: ...
+    @property
+    def critical_points(self) -> list[CriticalPoint]: ...
+    @property
     def warnings(self) -> list[str]: ...
     @property
     def displacement(self) -> FloatArray: ...
@@ -285,9 +316,13 @@ class Result:
     def reduced(self) -> Optional[ReducedProblem]: ...
 
 def solve(scene: Optional[Scene] = None, *, linear: Optional[str] = None, minimizer: Optional[str] = None,
-          tolerance: Optional[float] = None, max_iterations: Optional[int] = None, keep_reduced: bool = True,
+          tolerance: Optional[float] = None, max_iterations: Optional[int] = None, search: Optional[str] = None,
+          max_starts: Optional[int] = None, time_budget: Optional[float] = None, seed: Optional[int] = None,
+          progress: Optional[Callable[[SearchProgress], object]] = None, keep_reduced: bool = True,
           **parameters: float) -> Result: ...
 def condense(scene: Scene, *, linear: Optional[str] = None) -> ReducedProblem: ...
 def minimize(reduced: ReducedProblem, minimizer: str = "ssn", *, start: Optional[ArrayLike] = None,
              tolerance: float = 1e-10, max_iterations: int = 1000, max_evaluations: int = 1000000,
-             callback: Optional[Callable[[Iteration], Optional[bool]]] = None, **parameters: float) -> MinimizerResult: ...
+             callback: Optional[Callable[[Iteration], Optional[bool]]] = None, search: str = "local",
+             max_starts: int = 64, time_budget: float = 60.0, seed: int = 1,
+             progress: Optional[Callable[[SearchProgress], object]] = None, **parameters: float) -> MinimizerResult: ...

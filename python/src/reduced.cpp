@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <iomanip>
 #include <sstream>
 
 #include <hemivem/assembly.hpp>
@@ -116,6 +117,40 @@ py::dict history_dict(const std::vector<IterationRecord>& history) {
   return d;
 }
 
+py::list critical_points_list(const std::shared_ptr<const void>& owner, const MinimizerResult& result,
+                              std::optional<double> shift) {
+  py::list out;
+  for (const CriticalPoint& p : result.critical_points)
+    out.append(PyCriticalPoint{std::shared_ptr<const CriticalPoint>(owner, &p), shift});
+  return out;
+}
+
+bool is_global_search(const std::string& search, const std::string& where) {
+  static const std::vector<std::string> names{"local", "global"};
+  if (search == "global") return true;
+  if (search == "local") return false;
+  throw InputError("unknown search '" + search + "'" + did_you_mean(search, names) + " (expected one of: local, global)",
+                   where);
+}
+
+std::function<void(const GlobalSearchProgress&)> search_progress(SignalWatch& watch, const py::object& progress) {
+  // references only: the function is copied with the GIL released
+  return [&watch, &progress](const GlobalSearchProgress& g) {
+    if (watch.poll()) throw Interrupted{};
+    if (progress.is_none()) return;
+    {
+      py::gil_scoped_acquire gil;
+      try {
+        progress(g);
+      } catch (py::error_already_set& e) {
+        e.restore();
+        watch.keep_current_error();
+      }
+    }
+    if (watch.interrupted()) throw Interrupted{};
+  };
+}
+
 const ReducedProblem& ReducedHolder::problem() const { return condensation ? condensation->reduced() : own; }
 
 void register_laws(py::module_& m) {
@@ -203,6 +238,58 @@ tolerance. One implementation for every engine, the command and Python.
         return o.str();
       });
 
+  py::class_<PyCriticalPoint>(m, "CriticalPoint", R"doc(
+A certified critical point found by a global search (search="global"): the point a (a
+read-only view), F(a) as reduced_objective, the potential energy of the body (a solve only;
+None for a reduced problem alone), its certificate, how many local runs reached it and the
+engines that did. The same numbers as result.json's "critical_points".
+)doc")
+      .def_property_readonly("a", [](py::object s) {
+             const CriticalPoint& p = *s.cast<const PyCriticalPoint&>().point;
+             return view(p.a.data(), p.a.size(), s);
+           }, "The point (the contact unknowns), float64, a read-only view.")
+      .def_property_readonly("reduced_objective", [](const PyCriticalPoint& p) { return p.point->objective; }, "F(a).")
+      .def_property_readonly("potential_energy", [](const PyCriticalPoint& p) -> std::optional<double> {
+             if (!p.shift) return std::nullopt;
+             return p.point->objective + *p.shift;
+           }, "The potential energy of the displacement of a (None for a reduced problem alone).")
+      .def_property_readonly("certificate", [](const PyCriticalPoint& p) { return p.point->certificate; })
+      .def_property_readonly("starts", [](const PyCriticalPoint& p) { return p.point->starts; },
+                             "The local runs that reached this point.")
+      .def_property_readonly("engines", [](const PyCriticalPoint& p) { return p.point->engines; },
+                             "The engines that reached it, in the order they first did.")
+      .def("__repr__", [](const PyCriticalPoint& p) {
+        std::ostringstream o;
+        o << std::setprecision(10) << "CriticalPoint(reduced_objective=" << p.point->objective;
+        if (p.shift) o << ", potential_energy=" << p.point->objective + *p.shift;
+        o << ", starts=" << p.point->starts << ", engines=" << py::repr(py::cast(p.point->engines)).cast<std::string>()
+          << ")";
+        return o.str();
+      });
+
+  py::class_<GlobalSearchProgress>(m, "SearchProgress", R"doc(
+One local run of a global search, as given to progress= of solve and minimize (the lines
+`hemivem solve --global` prints on stderr).
+)doc")
+      .def_readonly("run", &GlobalSearchProgress::run, "1, 2, ... (local runs so far).")
+      .def_readonly("max_runs", &GlobalSearchProgress::max_runs, "The budget (max_starts).")
+      .def_readonly("engine", &GlobalSearchProgress::engine, "The engine of this run.")
+      .def_readonly("start", &GlobalSearchProgress::start,
+                    "The start's name ('quadratic minimizer', 'breakpoint 0.01', 'random 3', 'move 2 -> 0.005' ...).")
+      .def_readonly("certified", &GlobalSearchProgress::certified)
+      .def_readonly("objective", &GlobalSearchProgress::objective, "F at the run's point.")
+      .def_readonly("lowest", &GlobalSearchProgress::lowest, "The lowest F of a certified point so far (NaN: none yet).")
+      .def_readonly("critical_points", &GlobalSearchProgress::critical_points, "Distinct certified critical points so far.")
+      .def_readonly("seconds", &GlobalSearchProgress::seconds, "Since the search began.")
+      .def("__repr__", [](const GlobalSearchProgress& g) {
+        std::ostringstream o;
+        o << std::setprecision(10) << "SearchProgress(run=" << g.run << "/" << g.max_runs
+          << ", engine=" << py::repr(py::str(g.engine)).cast<std::string>()
+          << ", start=" << py::repr(py::str(g.start)).cast<std::string>() << ", objective=" << g.objective
+          << ", certified=" << (g.certified ? "True" : "False") << ", lowest=" << g.lowest << ")";
+        return o.str();
+      });
+
   py::class_<MinimizerResult, std::shared_ptr<MinimizerResult>>(m, "MinimizerResult", R"doc(
 What a minimizer returns: status (decided by the certificate alone), the point a with the law
 force and reaction of its certificate, F(a), counts, the per-iteration history and timings.
@@ -223,7 +310,16 @@ force and reaction of its certificate, F(a), counts, the per-iteration history a
       .def_readonly("timings", &MinimizerResult::timings)
       .def_readonly("may_be_nonunique", &MinimizerResult::may_be_nonunique)
       .def_property_readonly("history", [](const MinimizerResult& r) { return history_dict(r.history); },
-                             "Per iteration: dict of arrays iteration, reduced_objective, primal, dual, active, seconds.")
+                             "Per iteration (per local run of a global search): dict of arrays iteration,\n"
+                             "reduced_objective, primal, dual, active, seconds.")
+      .def_property_readonly(
+          "critical_points",
+          [](py::object s) {
+            const auto r = s.cast<std::shared_ptr<MinimizerResult>>();
+            return critical_points_list(r, *r, std::nullopt);
+          },
+          "A global search's distinct certified critical points (CriticalPoint), lowest F first (the\n"
+          "point returned is the first); empty for a local engine.")
       .def("__repr__", [](const MinimizerResult& r) {
         std::ostringstream o;
         o << "MinimizerResult(status=" << py::repr(py::str(to_string(r.status))).cast<std::string>()
@@ -441,8 +537,20 @@ The arrays stay valid as long as any of them, or the problem, is referenced.
   m.def(
       "minimize",
       [](std::shared_ptr<ReducedHolder> reduced, const std::string& minimizer, py::object start, double tolerance,
-         int max_iterations, int max_evaluations, py::object callback, const py::kwargs& kwargs) {
-        const auto engine = make_minimizer(minimizer, parameters_from(kwargs));
+         int max_iterations, int max_evaluations, py::object callback, const std::string& search, int max_starts,
+         double time_budget, int seed, py::object progress, const py::kwargs& kwargs) {
+        std::unique_ptr<NonsmoothMinimizer> engine = make_minimizer(minimizer, parameters_from(kwargs));
+        const bool global = is_global_search(search, "search");
+        GlobalSearchOptions go;
+        go.max_starts = max_starts;
+        go.time_budget = time_budget;
+        go.seed = seed;
+        require_valid(go, "global search");
+        if (global && !callback.is_none())
+          throw InputError("a global search reports its local runs to progress=, not iterations to a callback", "callback");
+        if (!global && !progress.is_none())
+          throw InputError("only a global search (search='global') reports local runs; a callback sees iterations",
+                           "progress");
         const ReducedProblem& p = reduced->problem();
         Eigen::VectorXd a0;
         if (!start.is_none()) a0 = vector_from(start, "start");
@@ -464,22 +572,40 @@ The arrays stay valid as long as any of them, or the problem, is referenced.
             return false;
           }
         };
+        if (global) {
+          go.progress = search_progress(watch, progress);
+          engine = make_global_search(std::move(engine), std::move(go));
+        }
         auto result = std::make_shared<MinimizerResult>();
-        {
+        try {
           py::gil_scoped_release release;
           *result = engine->minimize(p, a0, o);
+        } catch (const Interrupted&) {
         }
         watch.raise_if_interrupted();
         return result;
       },
       py::arg("reduced"), py::arg("minimizer") = "ssn", py::kw_only(), py::arg("start") = py::none(),
       py::arg("tolerance") = 1e-10, py::arg("max_iterations") = 1000, py::arg("max_evaluations") = 1000000,
-      py::arg("callback") = py::none(),
-      "Minimizes F over C with a minimizer (available_engines()['minimizer']) from `start`\n"
-      "(projected onto C; default zero). Further keyword arguments are the engine's parameters,\n"
-      "checked as in a scene's [solver.parameters] (InputError naming the engine and the field).\n"
-      "callback(Iteration) after every iteration may return False to stop the run. Runs without\n"
-      "the GIL; Ctrl-C stops it after the current iteration and raises KeyboardInterrupt.");
+      py::arg("callback") = py::none(), py::arg("search") = "local", py::arg("max_starts") = GlobalSearchOptions{}.max_starts,
+      py::arg("time_budget") = GlobalSearchOptions{}.time_budget, py::arg("seed") = GlobalSearchOptions{}.seed,
+      py::arg("progress") = py::none(),
+      R"doc(Minimizes F over C with a minimizer (available_engines()['minimizer']) from `start`
+(projected onto C; default zero). Further keyword arguments are the engine's parameters,
+checked as in a scene's [solver.parameters] (InputError naming the engine and the field).
+callback(Iteration) after every iteration may return False to stop the run.
+
+search="global" (as `hemivem minimize --global`) looks for the lowest of several critical
+points: local runs of every built minimizer, `minimizer` first, from deterministic and
+seeded random starts, then single-coordinate moves; at most max_starts local runs, none
+begun after time_budget seconds, random starts drawn with `seed`. The result is the lowest
+certified critical point; result.critical_points lists every one found (CriticalPoint).
+progress(SearchProgress) is called after every local run (an exception it raises ends the
+search and is raised again); a global search takes no callback. InputError naming the field
+for a bad search name, max_starts < 1, time_budget <= 0 or seed < 0.
+
+Runs without the GIL; Ctrl-C stops a local run after the current iteration, a global search
+after the current local run, and raises KeyboardInterrupt.)doc");
 }
 
 }  // namespace hemivem::python

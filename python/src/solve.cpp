@@ -38,6 +38,15 @@ const std::string& json_text(SolveData& d) {
 
 py::object json_dict(SolveData& d) { return py::module_::import("json").attr("loads")(json_text(d)); }
 
+/// A number as TOML text for an override: a float stays a float ("60" -> "60.0").
+std::string toml_float(double x) {
+  std::ostringstream v;
+  v << std::setprecision(17) << x;
+  std::string text = v.str();
+  if (text.find_first_of(".eEn") == std::string::npos) text += ".0";
+  return text;
+}
+
 /// The contact table as columns (NumPy arrays), one row per contact node.
 struct ContactTable {
   py::dict columns;
@@ -150,7 +159,26 @@ was solved from, and its arrays keep it alive.
                              "Seconds by stage as in result.json: mesh, assembly, condensation, minimize,\n"
                              "back_substitution (or linear_solve), total.")
       .def_property_readonly("linear", [](py::handle s) { return data(s).solved.linear; }, "The linear engine used.")
-      .def_property_readonly("minimizer", [](py::handle s) { return data(s).solved.minimizer; }, "The minimizer used.")
+      .def_property_readonly("minimizer", [](py::handle s) { return data(s).solved.minimizer; },
+                             "The minimizer used (the first engine of a global search).")
+      .def_property_readonly(
+          "search",
+          [](py::handle s) -> py::object {
+            return py::module_::import("json").attr("loads")(data(s).solved.search.dump());
+          },
+          "How the minimizer searched, result.json's \"search\": {'kind': 'local'}, or for a global\n"
+          "search its engines and budget (kind, engines, max_starts, time_budget, seed,\n"
+          "random_starts, agree).")
+      .def_property_readonly(
+          "critical_points",
+          [](py::object s) {
+            const auto d = s.cast<std::shared_ptr<SolveData>>();
+            const ContactSolution& sol = d->solved.solution;
+            return critical_points_list(d, sol.minimizer, sol.energy - sol.minimizer.objective);
+          },
+          "A global search's distinct certified critical points (CriticalPoint), lowest energy first\n"
+          "(the solution is the first), with their potential energies: result.json's\n"
+          "\"critical_points\". Empty for a local search.")
       .def_property_readonly("warnings", [](py::handle s) { return data(s).solved.built->warnings; })
       .def_property_readonly(
           "displacement",
@@ -242,32 +270,32 @@ was solved from, and its arrays keep it alive.
   m.def(
       "solve",
       [](py::object scene_arg, std::optional<std::string> linear, std::optional<std::string> minimizer,
-         std::optional<double> tolerance, std::optional<int> max_iterations, bool keep_reduced, const py::kwargs& kwargs) {
+         std::optional<double> tolerance, std::optional<int> max_iterations, std::optional<std::string> search,
+         std::optional<int> max_starts, std::optional<double> time_budget, std::optional<int> seed, py::object progress,
+         bool keep_reduced, const py::kwargs& kwargs) {
         auto d = std::make_shared<SolveData>();
         d->scene = scene_arg.is_none() ? default_scene() : scene_arg.cast<Scene>();
         // the keywords as the command's flags and --set: validated together with the scene
         std::vector<std::string> overrides;
         if (linear) overrides.push_back("solver.linear=" + toml_string(*linear));
         if (minimizer) overrides.push_back("solver.minimizer=" + toml_string(*minimizer));
-        if (tolerance) {
-          std::ostringstream v;
-          v << std::setprecision(17) << *tolerance;
-          overrides.push_back("solver.tolerance=" + v.str());
-        }
+        if (tolerance) overrides.push_back("solver.tolerance=" + toml_float(*tolerance));
         if (max_iterations) overrides.push_back("solver.max_iterations=" + std::to_string(*max_iterations));
+        if (search) overrides.push_back("solver.search=" + toml_string(*search));
+        if (max_starts) overrides.push_back("solver.max_starts=" + std::to_string(*max_starts));
+        if (time_budget) overrides.push_back("solver.time_budget=" + toml_float(*time_budget));
+        if (seed) overrides.push_back("solver.seed=" + std::to_string(*seed));
         for (const auto& [key, value] : kwargs) {
           const std::string name = key.cast<std::string>();
           if (py::isinstance<py::bool_>(value) || !(py::isinstance<py::float_>(value) || py::isinstance<py::int_>(value)))
             throw InputError("engine parameter '" + name + "' must be a number, got " +
                                  py::str(value.get_type().attr("__name__")).cast<std::string>(),
                              name);
-          std::ostringstream v;
-          v << std::setprecision(17) << value.cast<double>();
-          std::string text = v.str();
-          if (text.find_first_of(".eEn") == std::string::npos) text += ".0";  // a TOML float
-          overrides.push_back("solver.parameters." + name + "=" + text);
+          overrides.push_back("solver.parameters." + name + "=" + toml_float(value.cast<double>()));
         }
         if (!overrides.empty()) apply_overrides(d->scene, overrides);
+        if (!progress.is_none() && !is_global_search(d->scene.solver.search, "solver.search"))
+          throw InputError("only a global search (search='global') reports local runs", "progress");
         SignalWatch watch;
         ReducedProblem reduced;
         try {
@@ -276,7 +304,8 @@ was solved from, and its arrays keep it alive.
             if (watch.poll()) throw Interrupted{};
           };
           auto callback = [&](const IterationRecord&) { return !watch.poll(); };
-          d->solved = cli::solve_scene(d->scene, on_built, callback, keep_reduced ? &reduced : nullptr);
+          d->solved = cli::solve_scene(d->scene, on_built, callback, keep_reduced ? &reduced : nullptr,
+                                       search_progress(watch, progress));
         } catch (const Interrupted&) {
         }
         watch.raise_if_interrupted();
@@ -288,7 +317,9 @@ was solved from, and its arrays keep it alive.
         return d;
       },
       py::arg("scene") = py::none(), py::kw_only(), py::arg("linear") = py::none(), py::arg("minimizer") = py::none(),
-      py::arg("tolerance") = py::none(), py::arg("max_iterations") = py::none(), py::arg("keep_reduced") = true,
+      py::arg("tolerance") = py::none(), py::arg("max_iterations") = py::none(), py::arg("search") = py::none(),
+      py::arg("max_starts") = py::none(), py::arg("time_budget") = py::none(), py::arg("seed") = py::none(),
+      py::arg("progress") = py::none(), py::arg("keep_reduced") = true,
       R"doc(Solves a scene as `hemivem solve` does: mesh -> assembly -> condensation -> minimizer ->
 back-substitution, only the stages the scene needs. Returns a Result.
 
@@ -299,8 +330,14 @@ are the minimizer's parameters (solver.parameters.NAME, e.g. armijo=1e-3), check
 command line. InputError for a bad key, value, engine name or parameter; NumericalError when
 an engine fails. A solve that does not converge is a status, not an error.
 
+search="global" (solver.search, as `hemivem solve --global`) looks for the lowest of several
+critical points with every built minimizer, the scene's first; max_starts, time_budget and
+seed override solver.max_starts, solver.time_budget and solver.seed. The Result's
+critical_points and search are result.json's. progress(SearchProgress) is called after every
+local run of a global search (an exception it raises ends the solve and is raised again).
+
 Runs without the GIL; Ctrl-C is honoured between stages (after the mesh, at every minimizer
-iteration) and raises KeyboardInterrupt.)doc");
+iteration, after every local run of a global search) and raises KeyboardInterrupt.)doc");
 }
 
 }  // namespace hemivem::python
