@@ -11,6 +11,9 @@
 #   4. checks that a component that is unknown, or known but not built, stops the
 #      configuration of a project with a message naming it and listing those that were
 #      built, and that an optional one only sets hemivem_<component>_FOUND to false.
+#   5. imports the installed Python package (when the module was built) with the build's
+#      interpreter and only the prefix on PYTHONPATH, checks that it and the libraries it
+#      loads come from the prefix, and that its solve is the installed command's.
 # Prints one line per check; exits 1 at the first failure.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -162,3 +165,46 @@ cmake -S "$tmp/optional" -B "$tmp/optional/build" "${isolated[@]}" >"$tmp/option
 cmake --build "$tmp/optional/build" >"$tmp/optional-build.log" 2>&1 || { cat "$tmp/optional-build.log"; fail "building against hemivem::linear and hemivem::nonsmooth"; }
 engines="$("$tmp/optional/build/factories")" || fail "a program linking the factories failed"
 ok "an optional unknown component sets hemivem_no-such-engine_FOUND false; the factories link and list: $engines"
+
+# ---- 5. the Python package from the prefix ------------------------------------------------
+pydir="$(cache HEMIVEM_PYTHON_INSTALL_DIR)"
+if [ "$(cache HEMIVEM_BUILD_PYTHON)" != ON ] || [ -z "$pydir" ] ||
+   ! compgen -G "$build/python/hemivem/_hemivem*.so" >/dev/null; then
+  echo "test-install: skipped: the Python module was not built"
+else
+  python="$(cache Python3_EXECUTABLE)"
+  [ -x "$python" ] || fail "the interpreter the Python module was built for, '$python', is missing"
+  site="$prefix/$pydir"
+  compgen -G "$site/hemivem/_hemivem*.so" >/dev/null || fail "the Python module is not installed in $site/hemivem"
+  "$prefix/bin/hemivem" solve --n 8 --out "$tmp/solve-py" -q || fail "installed hemivem solve --n 8 failed"
+  # A clean environment: no LD_LIBRARY_PATH, no user site, not run from the source tree.
+  cat >"$tmp/installed.py" <<'EOF'
+import json, os, sys
+prefix = os.path.realpath(sys.argv[1])
+import hemivem
+for m in (hemivem, hemivem._hemivem):
+    if not os.path.realpath(m.__file__).startswith(prefix + "/"):
+        sys.exit(f"{m.__name__} imported from {m.__file__}, not from {prefix}")
+with open("/proc/self/maps") as f:
+    loaded = {line.split()[-1] for line in f if "/" in line and "hemivem" in line.rsplit("/", 1)[-1]}
+outside = sorted(p for p in loaded if not os.path.realpath(p).startswith(prefix + "/"))
+if outside:
+    sys.exit(f"libraries loaded from outside the prefix: {', '.join(outside)}")
+scene = hemivem.Scene.default()
+scene.set("mesh.n", 8)
+r = hemivem.solve(scene)
+with open(sys.argv[2]) as f:
+    expected = json.load(f)
+u_nu = [n["u_nu"] for n in expected["contact"]]
+scale = max(abs(x) for x in u_nu)
+if (r.status != expected["status"] or len(r.contact) != len(u_nu)
+        or abs(r.energy - expected["potential_energy"]) > 1e-12 * abs(r.energy)
+        or max(abs(a - b) for a, b in zip(r.contact.u_nu, u_nu)) > 1e-12 * scale):
+    sys.exit(f"the package's solve ({r}) differs from the installed command's result.json")
+print(f"{len(loaded)} hemivem libraries loaded, all from the prefix; {r.status}, energy {r.energy:.12g}")
+EOF
+  (cd "$tmp" && env -i PATH=/usr/bin:/bin HOME="$tmp" PYTHONNOUSERSITE=1 PYTHONPATH="$site" \
+     "$python" "$tmp/installed.py" "$prefix" "$tmp/solve-py/result.json") >"$tmp/python.out" 2>&1 ||
+    { cat "$tmp/python.out"; fail "the Python package installed in $site"; }
+  ok "the Python package imports from $site alone ($python): $(tail -1 "$tmp/python.out"), as the installed command"
+fi
