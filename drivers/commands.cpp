@@ -98,7 +98,11 @@ std::unique_ptr<NonsmoothMinimizer> make_scene_search(const Scene& scene,
   go.time_budget = scene.solver.time_budget;
   go.seed = scene.solver.seed;
   go.progress = std::move(progress);
-  return make_global_search(std::move(first), std::move(go));
+  try {
+    return make_global_search(std::move(first), std::move(go), scene.solver.search_engines);
+  } catch (const InputError& e) {
+    throw InputError("solver.search_engines: " + e.detail(), scene.where("solver.search_engines"));
+  }
 }
 
 namespace {
@@ -312,7 +316,7 @@ int run_minimize(const MinimizeOptions& o, std::ostream& out, std::ostream& err)
   if (o.global) {
     GlobalSearchOptions go = o.search;
     if (o.verbosity >= 1 && !o.json) go.progress = [&](const GlobalSearchProgress& g) { err << progress_line(g) << "\n"; };
-    minimizer = make_global_search(std::move(minimizer), std::move(go));
+    minimizer = make_global_search(std::move(minimizer), std::move(go), o.engines);
   }
   MinimizerOptions mo;
   mo.tolerance = o.tolerance;

@@ -107,6 +107,7 @@ struct MinimizeOptions {
   int verbosity = 1;
   bool global = false;                  ///< --global: a GlobalSearch with `minimizer` first
   GlobalSearchOptions search;           ///< its budget (--max-starts, --time-budget, --seed)
+  std::vector<std::string> engines;     ///< --engines: the search's engines besides `minimizer` (empty: every built one)
 };
 
 /// hemivem minimize DIR: the same reduced problem, from files, for any minimizer.

@@ -168,6 +168,9 @@ Command register_minimize(CLI::App& app) {
   cmd->add_option("--time-budget", f->options.search.time_budget, "Global search: seconds after which no run begins")
       ->capture_default_str()
       ->check(kPositive);
+  cmd->add_option("--engines", f->options.engines,
+                  "Global search: the engines besides --minimizer, comma-separated (default: every built one)")
+      ->delimiter(',');
   cmd->add_option("--seed", f->options.search.seed, "Global search: the seed of the random starts")
       ->capture_default_str()
       ->check(CLI::Range(0, 2147483647));

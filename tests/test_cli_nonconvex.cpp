@@ -66,6 +66,7 @@ TEST(CliNonconvex, SolveGlobalReportsTheCriticalPointsAndTheLowest) {
   const std::string toml = slurp(global / "scene.toml");
   EXPECT_NE(toml.find("search = \"global\""), std::string::npos);
   EXPECT_NE(toml.find("max_starts = 64"), std::string::npos);
+  EXPECT_NE(toml.find("search_engines = []"), std::string::npos);
   // history.csv: one line per local run
   const std::string history = slurp(global / "history.csv");
   EXPECT_GE(std::count(history.begin(), history.end(), '\n'), 10);
@@ -87,6 +88,14 @@ TEST(CliNonconvex, MinimizeGlobalOnExportedFiles) {
   const CommandRun budget = run("minimize " + reduced.string() + " --global --max-starts 2 --seed 7");
   EXPECT_NE(budget.out.find("budget spent"), std::string::npos) << budget.out;
   EXPECT_NE(budget.err.find("run 2/2"), std::string::npos) << budget.err;
+  const CommandRun two = run("minimize " + reduced.string() + " --global --engines ceres-active-set,ssn --json");
+  ASSERT_EQ(two.code, 0) << two.err;
+  const auto jt = nlohmann::json::parse(two.out);
+  EXPECT_EQ(jt.at("search").at("engines"), (nlohmann::json{"ssn", "ceres-active-set"}));
+  EXPECT_EQ(jt.at("reduced_objective").get<double>(), F);
+  const CommandRun unknown = run("minimize " + reduced.string() + " --global --engines ssn,newton");
+  EXPECT_EQ(unknown.code, 2);
+  EXPECT_NE(unknown.err.find("unknown minimizer 'newton'"), std::string::npos) << unknown.err;
   const CommandRun zero = run("minimize " + reduced.string() + " --global --max-starts 0");
   EXPECT_EQ(zero.code, 2);
   EXPECT_NE(zero.err.find("--max-starts"), std::string::npos) << zero.err;
@@ -106,6 +115,11 @@ TEST(CliNonconvex, SceneKeysOfTheSearchAndOfJAlone) {
   EXPECT_EQ(starts.code, 2);
   EXPECT_NE(starts.err.find("max_starts"), std::string::npos) << starts.err;
   EXPECT_NE(starts.err.find("must be between 1 and 1000000, got 0"), std::string::npos) << starts.err;
+  const CommandRun engines = error_of("[solver]\nsearch_engines = [\"ssn\", \"bundle-dac\"]\n");
+  EXPECT_EQ(engines.code, 2);
+  EXPECT_NE(engines.err.find(":3"), std::string::npos) << engines.err;
+  EXPECT_NE(engines.err.find("unknown minimizer 'bundle-dac'; did you mean 'bundle-dca'?"), std::string::npos)
+      << engines.err;
   const CommandRun budget = error_of("[solver]\ntime_budget = -1\n");
   EXPECT_EQ(budget.code, 2);
   EXPECT_NE(budget.err.find("time_budget"), std::string::npos) << budget.err;

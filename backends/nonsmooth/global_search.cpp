@@ -295,18 +295,22 @@ MinimizerResult GlobalSearch::run(MinimizerRun& run) const {
   return out;
 }
 
-std::unique_ptr<GlobalSearch> make_global_search(std::unique_ptr<NonsmoothMinimizer> first, GlobalSearchOptions options) {
+std::unique_ptr<GlobalSearch> make_global_search(std::unique_ptr<NonsmoothMinimizer> first, GlobalSearchOptions options,
+                                                 const std::vector<std::string>& others) {
   if (!first) throw InputError("needs a first minimizer", "global search");
   std::vector<std::shared_ptr<const NonsmoothMinimizer>> engines;
   engines.push_back(std::move(first));
-  for (const auto& name : available_minimizers())
-    if (name != engines.front()->name()) engines.push_back(make_minimizer(name));
+  for (const auto& name : others.empty() ? available_minimizers() : others) {
+    auto engine = make_minimizer(name);
+    const bool listed = std::any_of(engines.begin(), engines.end(), [&](const auto& e) { return e->name() == engine->name(); });
+    if (!listed) engines.push_back(std::move(engine));
+  }
   return std::make_unique<GlobalSearch>(std::move(engines), std::move(options));
 }
 
 std::unique_ptr<GlobalSearch> make_global_search(const std::string& first, const std::map<std::string, double>& parameters,
-                                                 GlobalSearchOptions options) {
-  return make_global_search(make_minimizer(first, parameters), std::move(options));
+                                                 GlobalSearchOptions options, const std::vector<std::string>& others) {
+  return make_global_search(make_minimizer(first, parameters), std::move(options), others);
 }
 
 }  // namespace hemivem

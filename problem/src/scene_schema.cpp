@@ -8,6 +8,7 @@
 #include <set>
 #include <sstream>
 
+#include <hemivem/engine_names.hpp>
 #include <hemivem/mesh_generators.hpp>
 #include <hemivem/piecewise_law.hpp>
 
@@ -432,7 +433,7 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
   if (const toml::table* t = r.table("solver")) {
     TableReader v(s, *t, "solver",
                   {"linear", "minimizer", "tolerance", "max_iterations", "parameters", "search", "max_starts",
-                   "time_budget", "seed"});
+                   "time_budget", "seed", "search_engines"});
     if (auto x = v.string("linear")) {
       if (x->empty()) v.fail("linear", v.node("linear"), "empty name");
       s.solver.linear = *x;
@@ -470,6 +471,19 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
         v.fail("seed", v.node("seed"),
                "must be between 0 and " + std::to_string(std::numeric_limits<int>::max()) + ", got " + std::to_string(*x));
       s.solver.seed = static_cast<int>(*x);
+    }
+    if (auto x = v.strings("search_engines", false)) {
+      // names checked here against every known minimizer; whether each was built, when the
+      // search is made (an error naming this key's line)
+      const auto known = known_minimizers();
+      const std::vector<std::string> valid(known.begin(), known.end());
+      for (const auto& name : *x) {
+        const std::string n = normalized_engine_name(name);
+        if (std::find(valid.begin(), valid.end(), n) == valid.end())
+          v.fail("search_engines", v.node("search_engines"),
+                 "unknown minimizer '" + name + "'" + did_you_mean(name, valid) + " (expected some of: " + join(valid) + ")");
+        s.solver.search_engines.push_back(n);
+      }
     }
     // the minimizer's typed options by name: the names and ranges are the engine's, checked
     // when the engine is made (its errors name the key's line through Scene::where)

@@ -161,6 +161,7 @@ std::string to_toml(const Scene& s) {
   o << "max_starts = " << s.solver.max_starts << "\n";
   o << "time_budget = " << fmt(s.solver.time_budget) << "\n";
   o << "seed = " << s.solver.seed << "\n";
+  o << "search_engines = " << list(s.solver.search_engines, quote) << "\n";
   if (!s.solver.parameters.empty()) {
     o << "\n[solver.parameters]\n";
     for (const auto& [k, v] : s.solver.parameters) o << k << " = " << fmt(v) << "\n";

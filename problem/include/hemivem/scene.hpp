@@ -154,6 +154,8 @@ struct SceneSolver {
   int max_starts = 64;        ///< global: the most starts (local runs) of the search
   double time_budget = 60.0;  ///< global: seconds after which no new start begins
   int seed = 1;               ///< global: the seed of the random starts
+  /// global: the engines that run besides `minimizer`, in order; empty: every built minimizer.
+  std::vector<std::string> search_engines;
   bool operator==(const SceneSolver&) const = default;
 };
 

@@ -99,13 +99,16 @@ class GlobalSearch final : public NonsmoothMinimizer {
   GlobalSearchOptions options_;
 };
 
-/// A global search over every built minimizer, `first` first; the others with their defaults.
+/// A global search with `first` first and then `others` by name with their defaults (empty:
+/// every built minimizer; `first` is not repeated). InputError for a name unknown or not built.
 std::unique_ptr<GlobalSearch> make_global_search(std::unique_ptr<NonsmoothMinimizer> first,
-                                                 GlobalSearchOptions options = {});
+                                                 GlobalSearchOptions options = {},
+                                                 const std::vector<std::string>& others = {});
 /// The same with `first` = make_minimizer(first, parameters): InputError for an unknown or
 /// unbuilt name or a bad parameter.
 std::unique_ptr<GlobalSearch> make_global_search(const std::string& first,
                                                  const std::map<std::string, double>& parameters = {},
-                                                 GlobalSearchOptions options = {});
+                                                 GlobalSearchOptions options = {},
+                                                 const std::vector<std::string>& others = {});
 
 }  // namespace hemivem
