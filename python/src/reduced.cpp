@@ -538,7 +538,8 @@ The arrays stay valid as long as any of them, or the problem, is referenced.
       "minimize",
       [](std::shared_ptr<ReducedHolder> reduced, const std::string& minimizer, py::object start, double tolerance,
          int max_iterations, int max_evaluations, py::object callback, const std::string& search, int max_starts,
-         double time_budget, int seed, py::object progress, const py::kwargs& kwargs) {
+         double time_budget, int seed, std::vector<std::string> engines, py::object progress,
+         const py::kwargs& kwargs) {
         std::unique_ptr<NonsmoothMinimizer> engine = make_minimizer(minimizer, parameters_from(kwargs));
         const bool global = is_global_search(search, "search");
         GlobalSearchOptions go;
@@ -574,7 +575,7 @@ The arrays stay valid as long as any of them, or the problem, is referenced.
         };
         if (global) {
           go.progress = search_progress(watch, progress);
-          engine = make_global_search(std::move(engine), std::move(go));
+          engine = make_global_search(std::move(engine), std::move(go), engines);
         }
         auto result = std::make_shared<MinimizerResult>();
         try {
@@ -589,7 +590,7 @@ The arrays stay valid as long as any of them, or the problem, is referenced.
       py::arg("tolerance") = 1e-10, py::arg("max_iterations") = 1000, py::arg("max_evaluations") = 1000000,
       py::arg("callback") = py::none(), py::arg("search") = "local", py::arg("max_starts") = GlobalSearchOptions{}.max_starts,
       py::arg("time_budget") = GlobalSearchOptions{}.time_budget, py::arg("seed") = GlobalSearchOptions{}.seed,
-      py::arg("progress") = py::none(),
+      py::arg("engines") = std::vector<std::string>{}, py::arg("progress") = py::none(),
       R"doc(Minimizes F over C with a minimizer (available_engines()['minimizer']) from `start`
 (projected onto C; default zero). Further keyword arguments are the engine's parameters,
 checked as in a scene's [solver.parameters] (InputError naming the engine and the field).
@@ -598,7 +599,8 @@ callback(Iteration) after every iteration may return False to stop the run.
 search="global" (as `hemivem minimize --global`) looks for the lowest of several critical
 points: local runs of every built minimizer, `minimizer` first, from deterministic and
 seeded random starts, then single-coordinate moves; at most max_starts local runs, none
-begun after time_budget seconds, random starts drawn with `seed`. The result is the lowest
+begun after time_budget seconds, random starts drawn with `seed`; `engines` names the engines
+that run besides `minimizer` (as `--engines`; default every built one). The result is the lowest
 certified critical point; result.critical_points lists every one found (CriticalPoint).
 progress(SearchProgress) is called after every local run (an exception it raises ends the
 search and is raised again); a global search takes no callback. InputError naming the field

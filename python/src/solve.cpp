@@ -271,7 +271,8 @@ was solved from, and its arrays keep it alive.
       "solve",
       [](py::object scene_arg, std::optional<std::string> linear, std::optional<std::string> minimizer,
          std::optional<double> tolerance, std::optional<int> max_iterations, std::optional<std::string> search,
-         std::optional<int> max_starts, std::optional<double> time_budget, std::optional<int> seed, py::object progress,
+         std::optional<int> max_starts, std::optional<double> time_budget, std::optional<int> seed,
+         std::optional<std::vector<std::string>> engines, py::object progress,
          bool keep_reduced, const py::kwargs& kwargs) {
         auto d = std::make_shared<SolveData>();
         d->scene = scene_arg.is_none() ? default_scene() : scene_arg.cast<Scene>();
@@ -285,6 +286,11 @@ was solved from, and its arrays keep it alive.
         if (max_starts) overrides.push_back("solver.max_starts=" + std::to_string(*max_starts));
         if (time_budget) overrides.push_back("solver.time_budget=" + toml_float(*time_budget));
         if (seed) overrides.push_back("solver.seed=" + std::to_string(*seed));
+        if (engines) {
+          std::string list;
+          for (const auto& e : *engines) list += (list.empty() ? "" : ", ") + toml_string(e);
+          overrides.push_back("solver.search_engines=[" + list + "]");
+        }
         for (const auto& [key, value] : kwargs) {
           const std::string name = key.cast<std::string>();
           if (py::isinstance<py::bool_>(value) || !(py::isinstance<py::float_>(value) || py::isinstance<py::int_>(value)))
@@ -319,7 +325,7 @@ was solved from, and its arrays keep it alive.
       py::arg("scene") = py::none(), py::kw_only(), py::arg("linear") = py::none(), py::arg("minimizer") = py::none(),
       py::arg("tolerance") = py::none(), py::arg("max_iterations") = py::none(), py::arg("search") = py::none(),
       py::arg("max_starts") = py::none(), py::arg("time_budget") = py::none(), py::arg("seed") = py::none(),
-      py::arg("progress") = py::none(), py::arg("keep_reduced") = true,
+      py::arg("engines") = py::none(), py::arg("progress") = py::none(), py::arg("keep_reduced") = true,
       R"doc(Solves a scene as `hemivem solve` does: mesh -> assembly -> condensation -> minimizer ->
 back-substitution, only the stages the scene needs. Returns a Result.
 
@@ -331,8 +337,9 @@ command line. InputError for a bad key, value, engine name or parameter; Numeric
 an engine fails. A solve that does not converge is a status, not an error.
 
 search="global" (solver.search, as `hemivem solve --global`) looks for the lowest of several
-critical points with every built minimizer, the scene's first; max_starts, time_budget and
-seed override solver.max_starts, solver.time_budget and solver.seed. The Result's
+critical points with every built minimizer, the scene's first; max_starts, time_budget,
+seed and engines override solver.max_starts, solver.time_budget, solver.seed and
+solver.search_engines (the engines besides the scene's minimizer). The Result's
 critical_points and search are result.json's. progress(SearchProgress) is called after every
 local run of a global search (an exception it raises ends the solve and is raised again).
 

@@ -129,6 +129,20 @@ def test_global_minimize_equals_command(tmp_path, run_command, sawtooth_scene):
     assert np.max(np.abs(m.a - np.array(expected["a"]))) <= 1e-12 * np.max(np.abs(m.a))
 
 
+def test_engines_keyword(sawtooth_scene):
+    p = hemivem.condense(sawtooth_scene)
+    m = hemivem.minimize(p, search="global", engines=["ceres-active-set"], max_starts=6)
+    assert len(m.history["iteration"]) == 6
+    assert {e for q in m.critical_points for e in q.engines} <= {"ssn", "ceres-active-set"}
+    r = hemivem.solve(sawtooth_scene, search="global", engines=["bundle-dca"], max_starts=4)
+    assert r.search["engines"] == ["ssn", "bundle-dca"]
+    assert r.scene.get("solver.search_engines") == ["bundle-dca"]
+    with pytest.raises(hemivem.InputError, match="unknown minimizer 'newton'"):
+        hemivem.minimize(p, search="global", engines=["newton"])
+    with pytest.raises(hemivem.InputError, match="solver.search_engines"):
+        hemivem.solve(sawtooth_scene, search="global", engines=["newton"])
+
+
 def test_budget_and_seed_keywords(sawtooth_scene):
     r = hemivem.solve(sawtooth_scene, search="global", max_starts=5, time_budget=30, seed=7)
     assert r.search["max_starts"] == 5 and r.search["time_budget"] == 30.0 and r.search["seed"] == 7
