@@ -52,6 +52,27 @@ double min_second_derivative(const Polynomial& d2, double lo, double hi) {
   return std::min(at(lo), at(hi));
 }
 
+/// Finite, strictly increasing breakpoints; InputError naming the first that is not.
+void check_breakpoints(const std::vector<double>& b, const std::string& where) {
+  for (std::size_t k = 0; k < b.size(); ++k) {
+    if (!std::isfinite(b[k])) throw InputError("breakpoint " + std::to_string(k) + " is not finite", where);
+    if (k > 0 && !(b[k] > b[k - 1]))
+      throw InputError("breakpoints must increase strictly: b" + std::to_string(k) + " = " + num(b[k]) + " after b" +
+                           std::to_string(k - 1) + " = " + num(b[k - 1]),
+                       where);
+  }
+}
+
+/// Piece k of a part: degree <= 3, finite coefficients.
+void check_piece(const Polynomial& p, const std::string& part, std::size_t k, const std::string& where) {
+  if (p.size() > 4)
+    throw InputError(part + " piece " + std::to_string(k) + " has degree " + std::to_string(p.size() - 1) +
+                         "; pieces of degree <= 3 are supported",
+                     where);
+  for (double c : p)
+    if (!std::isfinite(c)) throw InputError(part + " piece " + std::to_string(k) + " has a non-finite coefficient", where);
+}
+
 }  // namespace
 
 PiecewisePolynomialLaw::PiecewisePolynomialLaw(std::string name, std::vector<double> breakpoints,
@@ -64,25 +85,9 @@ PiecewisePolynomialLaw::PiecewisePolynomialLaw(std::string name, std::vector<dou
                          " pieces for j1 and for j2; got " + std::to_string(j1_.size()) + " and " +
                          std::to_string(j2_.size()),
                      where);
-  for (std::size_t k = 0; k < breaks_.size(); ++k) {
-    if (!std::isfinite(breaks_[k])) throw InputError("breakpoint " + std::to_string(k) + " is not finite", where);
-    if (k > 0 && !(breaks_[k] > breaks_[k - 1]))
-      throw InputError("breakpoints must increase strictly: b" + std::to_string(k) + " = " + num(breaks_[k]) +
-                           " after b" + std::to_string(k - 1) + " = " + num(breaks_[k - 1]),
-                       where);
-  }
-  for (LawPart part : {LawPart::j1, LawPart::j2}) {
-    for (std::size_t k = 0; k < m; ++k) {
-      const Polynomial& p = poly(part, k);
-      if (p.size() > 4)
-        throw InputError(part_name(part) + " piece " + std::to_string(k) + " has degree " + std::to_string(p.size() - 1) +
-                             "; pieces of degree <= 3 are supported",
-                         where);
-      for (double c : p)
-        if (!std::isfinite(c))
-          throw InputError(part_name(part) + " piece " + std::to_string(k) + " has a non-finite coefficient", where);
-    }
-  }
+  check_breakpoints(breaks_, where);
+  for (LawPart part : {LawPart::j1, LawPart::j2})
+    for (std::size_t k = 0; k < m; ++k) check_piece(poly(part, k), part_name(part), k, where);
   j_.resize(m);
   for (std::size_t k = 0; k < m; ++k) j_[k] = subtract(j1_[k], j2_[k]);
   for (LawPart part : {LawPart::j, LawPart::j1, LawPart::j2}) {
@@ -151,21 +156,8 @@ PiecewisePolynomialLaw PiecewisePolynomialLaw::from_j(std::string name, std::vec
     throw InputError(std::to_string(breakpoints.size()) + " breakpoint(s) need " + std::to_string(m) +
                          " pieces for j; got " + std::to_string(j.size()),
                      where);
-  for (std::size_t k = 0; k < m; ++k) {
-    if (j[k].size() > 4)
-      throw InputError("j piece " + std::to_string(k) + " has degree " + std::to_string(j[k].size() - 1) +
-                           "; pieces of degree <= 3 are supported",
-                       where);
-    for (double c : j[k])
-      if (!std::isfinite(c)) throw InputError("j piece " + std::to_string(k) + " has a non-finite coefficient", where);
-  }
-  for (std::size_t k = 0; k < breakpoints.size(); ++k) {
-    if (!std::isfinite(breakpoints[k])) throw InputError("breakpoint " + std::to_string(k) + " is not finite", where);
-    if (k > 0 && !(breakpoints[k] > breakpoints[k - 1]))
-      throw InputError("breakpoints must increase strictly: b" + std::to_string(k) + " = " + num(breakpoints[k]) +
-                           " after b" + std::to_string(k - 1) + " = " + num(breakpoints[k - 1]),
-                       where);
-  }
+  for (std::size_t k = 0; k < m; ++k) check_piece(j[k], "j", k, where);
+  check_breakpoints(breakpoints, where);
   auto tol = [](double a, double b) { return 1e-10 * std::max({1.0, std::abs(a), std::abs(b)}); };
   const double inf = std::numeric_limits<double>::infinity();
   // the curvature j2 needs on each piece, and the drops of j' at the breakpoints

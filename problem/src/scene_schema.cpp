@@ -446,32 +446,27 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
       if (!(*x > 0.0 && *x < 1.0)) v.fail("tolerance", v.node("tolerance"), "must be in (0, 1), got " + fmt(*x));
       s.solver.tolerance = *x;
     }
-    if (auto x = v.integer("max_iterations")) {
-      if (*x < 1 || *x > std::numeric_limits<int>::max())
-        v.fail("max_iterations", v.node("max_iterations"),
-               "must be between 1 and " + std::to_string(std::numeric_limits<int>::max()) + ", got " + std::to_string(*x));
-      s.solver.max_iterations = static_cast<int>(*x);
-    }
+    // an integer key in [lo, hi]
+    auto integer_in = [&](const char* key, long long lo, long long hi) -> std::optional<int> {
+      const auto x = v.integer(key);
+      if (x && (*x < lo || *x > hi))
+        v.fail(key, v.node(key),
+               "must be between " + std::to_string(lo) + " and " + std::to_string(hi) + ", got " + std::to_string(*x));
+      return x ? std::optional<int>(static_cast<int>(*x)) : std::nullopt;
+    };
+    constexpr long long int_max = std::numeric_limits<int>::max();
+    if (auto x = integer_in("max_iterations", 1, int_max)) s.solver.max_iterations = *x;
     if (auto x = v.string("search")) {
       check_name(v, "search", *x, {"local", "global"}, "search");
       s.solver.search = lower(*x);
     }
-    if (auto x = v.integer("max_starts")) {
-      if (*x < 1 || *x > 1000000)
-        v.fail("max_starts", v.node("max_starts"), "must be between 1 and 1000000, got " + std::to_string(*x));
-      s.solver.max_starts = static_cast<int>(*x);
-    }
+    if (auto x = integer_in("max_starts", 1, 1000000)) s.solver.max_starts = *x;
     if (auto x = v.number("time_budget")) {
       if (!(*x > 0.0) || !std::isfinite(*x))
         v.fail("time_budget", v.node("time_budget"), "must be a finite number of seconds > 0, got " + fmt(*x));
       s.solver.time_budget = *x;
     }
-    if (auto x = v.integer("seed")) {
-      if (*x < 0 || *x > std::numeric_limits<int>::max())
-        v.fail("seed", v.node("seed"),
-               "must be between 0 and " + std::to_string(std::numeric_limits<int>::max()) + ", got " + std::to_string(*x));
-      s.solver.seed = static_cast<int>(*x);
-    }
+    if (auto x = integer_in("seed", 0, int_max)) s.solver.seed = *x;
     if (auto x = v.strings("search_engines", false)) {
       // names checked here against every known minimizer; whether each was built, when the
       // search is made (an error naming this key's line)
