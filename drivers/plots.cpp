@@ -144,12 +144,24 @@ std::vector<std::vector<ContactPoint>> contact_chains(const Mesh& mesh, const Co
   return chains;
 }
 
-/// The title line of a solve's figure: what it shows, for which scene on which mesh.
+/// The title of a solve's figure as a gnuplot string: what it shows on the first line, the
+/// scene and the mesh on the second (a long scene name would not fit on one).
 std::string solve_title(const std::string& what, const RunInfo& info) {
-  std::string t = what;
-  if (!info.scene_name.empty()) t += " — " + info.scene_name;
-  if (!info.mesh.empty()) t += ", " + info.mesh;
-  return t;
+  auto escaped = [](const std::string& t) {
+    std::string r;
+    for (char c : t) r += (c == '"' || c == '\\') ? std::string("\\") + c : std::string(1, c);
+    return r;
+  };
+  std::string second = info.scene_name;
+  if (!info.mesh.empty()) second += (second.empty() ? "" : ", ") + info.mesh;
+  return "\"" + escaped(what) + (second.empty() ? "" : "\\n" + escaped(second)) + "\"";
+}
+
+/// A number for a label (6 significant digits).
+std::string label_number(double v) {
+  std::ostringstream s;
+  s << std::setprecision(6) << v;
+  return s.str();
 }
 
 /// The most edges deformed.png draws one by one (a 1000 x 700 picture).
@@ -258,7 +270,7 @@ Figure u_nu_figure(const Mesh& mesh, const ContactSolution& sol, const RunInfo& 
     f.height = 1200;
     s << "set multiplot layout 2,1\n";
   }
-  s << "set title " << gnuplot_quote(solve_title("normal displacement and contact pressure on the contact boundary", info))
+  s << "set title " << solve_title("normal displacement and contact pressure on the contact boundary", info)
     << " noenhanced\n"
     << "set xlabel "
     << (along_x ? "'x (scene units)'" : "'arc length s along the contact boundary {/Symbol G}_3 (scene units)'") << "\n"
@@ -269,7 +281,7 @@ Figure u_nu_figure(const Mesh& mesh, const ContactSolution& sol, const RunInfo& 
   for (std::size_t i = 0; i < breakpoints.size(); ++i)
     s << "set arrow from graph 0, first " << num(breakpoints[i]) << " to graph 1, first " << num(breakpoints[i])
       << " nohead dt 3 lw 1.5 lc rgb '#2ca02c'\n"
-      << "set label " << gnuplot_quote("law breakpoint " + num(breakpoints[i])) << " at graph 0.01, first "
+      << "set label " << gnuplot_quote("law breakpoint " + label_number(breakpoints[i])) << " at graph 0.01, first "
       << num(breakpoints[i]) << " offset 0,0.6 tc rgb '#2ca02c' font ',9'\n";
   const char* x = along_x ? "2" : "1";
   s << "plot 'u_nu.dat' using " << x << ":4 with linespoints pt 7 ps 0.6 lw 2 lc rgb '#1f77b4' title 'u_{/Symbol n}'";
@@ -364,7 +376,7 @@ Figure deformed_figure(const Mesh& mesh, const ContactSolution& sol, const RunIn
         << scale << ")";
   if (boundary_only) title << "; " << mesh.edges().size() << " edges are finer than the picture";
   std::ostringstream s;
-  s << "set title " << gnuplot_quote(solve_title(title.str(), info)) << " noenhanced\n"
+  s << "set title " << solve_title(title.str(), info) << " noenhanced\n"
     << "set size ratio -1\nset offsets graph 0.04, graph 0.04, graph 0.04, graph 0.04\n"
     << "set xlabel 'x (scene units)'\nset ylabel 'y (scene units)'\n"
     << "set key outside bottom center horizontal\n"

@@ -446,13 +446,17 @@ TEST_F(Outputs, FiguresNameTheirSceneMeshUnitsAndReferenceLines) {
   info.gap_bound = true;
   const Figure u = u_nu_figure(s.mesh, s.solution, info);
   EXPECT_EQ(u.png, "u_nu.png");
-  EXPECT_NE(u.script.find("Example 4.1, squares n=8' noenhanced"), std::string::npos) << u.script;
+  EXPECT_NE(u.script.find("contact boundary\\nExample 4.1, squares n=8\" noenhanced"), std::string::npos) << u.script;
   EXPECT_NE(u.script.find("set xlabel 'x (scene units)'"), std::string::npos) << u.script;
   EXPECT_NE(u.script.find("u_{/Symbol n} (scene units)'"), std::string::npos);
   EXPECT_NE(u.script.find("set y2label 'contact pressure (force per unit length, scene units"), std::string::npos);
   EXPECT_NE(u.script.find("title 'gap g (u_{/Symbol n} <= g)'"), std::string::npos);
   for (const char* b : {"'law breakpoint 0'", "'law breakpoint 0.01'", "'law breakpoint 0.02'"})
     EXPECT_NE(u.script.find(b), std::string::npos) << b;
+  // labels in 6 significant digits (-5e-4 is -0.0005000000000000001 in 17)
+  info.law_breakpoints = {-5e-4};
+  EXPECT_NE(u_nu_figure(s.mesh, s.solution, info).script.find("'law breakpoint -0.0005'"), std::string::npos);
+  info.law_breakpoints = {0.0, 0.01, 0.02, 5.0};
   EXPECT_EQ(u.script.find("law breakpoint 5"), std::string::npos);
   const Figure d = deformed_figure(s.mesh, s.solution, info);
   EXPECT_NE(d.script.find("'outline.dat' using 1:2 with lines"), std::string::npos) << d.script;
