@@ -4,7 +4,6 @@
 #include <Eigen/Cholesky>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -154,8 +153,7 @@ MinimizerResult GlobalSearch::run(MinimizerRun& run) const {
   const ReducedProblem& p = run.problem();
   MinimizerOptions local = run.options();
   local.callback = nullptr;  // the search reports its runs, not their iterations
-  const auto t0 = std::chrono::steady_clock::now();
-  auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+  auto seconds = [&] { return run.seconds(); };
 
   std::vector<Found> found;
   MinimizerResult best_uncertified;
@@ -177,9 +175,8 @@ MinimizerResult GlobalSearch::run(MinimizerRun& run) const {
     subgradients += r.subgradient_evaluations;
     const bool certified = r.converged();
     if (certified) {
-      const double scale = std::max(r.certificate.length_scale, 0.0);
       auto same = std::find_if(found.begin(), found.end(), [&](const Found& f) {
-        const double l = std::max(scale, f.point.certificate.length_scale);
+        const double l = std::max(r.certificate.length_scale, f.point.certificate.length_scale);
         return (f.point.a - r.a).lpNorm<Eigen::Infinity>() <= options_.agree * l;
       });
       if (same == found.end()) {
