@@ -277,7 +277,9 @@ MinimizerResult GlobalSearch::run(MinimizerRun& run) const {
   for (const auto& f : found) out.critical_points.push_back(f.point);
   std::ostringstream msg;
   msg << how;
-  if (!found.empty())
+  if (!found.empty() && p.uniqueness_margin > 0.0)
+    msg << "; F = " << num(found.front().point.objective);
+  else if (!found.empty())
     msg << "; lowest F = " << num(found.front().point.objective) << " (reached by "
         << found.front().point.engines.front() << ")";
   else
