@@ -30,3 +30,16 @@ def test_projected_gradient_is_certified_and_agrees_with_ssn():
     out = run("projected_gradient.py", "--n", "16")
     line = next(l for l in out.splitlines() if l.startswith("max |a - a_ssn|"))
     assert float(line.split("=")[1].split(";")[0]) < 1e-8
+
+
+def test_delamination_search_reaches_below_every_engine_alone(tmp_path):
+    out = run("delamination.py", "--n", "32,4", "--loads", "22", "--max-starts", "16", "--out", str(tmp_path / "d.png"))
+    rows = {line.split()[1]: line.split() for line in out.splitlines() if line.strip().startswith("22 ")}
+    assert set(rows) == set(hemivem.available_engines()["minimizer"]) | {"global"}
+    assert rows["global"][2] == "converged" and rows["global"][4] == "0.000%"
+    lowest = float(rows["global"][3])
+    # every engine alone stays on the bonded branch, far above the debonded one the search finds
+    for name, row in rows.items():
+        if name != "global" and row[2] == "converged":
+            assert float(row[3]) > lowest + 0.1 * abs(lowest), name
+    assert (tmp_path / "d.png").stat().st_size > 10000
