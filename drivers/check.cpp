@@ -74,8 +74,7 @@ int run_check(const CheckOptions& o, std::ostream& out, std::ostream& err) {
     pair_max[i] = m;
   }
   // Where distinct critical points are legitimate, the pairs are compared by the energy they
-  // reach: the lowest is named.
-  // Energies within 1e-9 (relative) of the lowest are the same critical point reached to
+  // reach. Energies within 1e-9 (relative) of the lowest are the same critical point reached to
   // round-off: the first such pair in the table is named, with how many others reach it.
   double lowest_energy = nan, highest_energy = nan;
   for (const auto& r : runs)
@@ -116,17 +115,17 @@ int run_check(const CheckOptions& o, std::ostream& out, std::ostream& err) {
   else if (code == kSuccess)
     verdict << "all " << np << " pairs converged; they differ by " << sci(overall) << " > " << sci(o.agree)
             << ", which is not a disagreement: " << margin_text << ", so distinct critical points are legitimate";
-  if (!energy_text.empty()) verdict << "; " << energy_text;
   else if (code == kBackendFailure)
     verdict << "an engine failed (exit " << code << ")";
   else if (code == kNotConverged)
     verdict << "a pair did not converge (exit " << code << ")";
   else
     verdict << "converged pairs differ by " << sci(overall) << " > " << sci(o.agree) << " (exit " << code << ")";
+  if (!energy_text.empty()) verdict << "; " << energy_text;
 
   if (o.json) {
     nlohmann::json j;
-    j["schema"] = "hemivem-check/2";
+    j["schema"] = "hemivem-check/3";
     j["version"] = HEMIVEM_VERSION;
     j["scene"] = base.title;
     j["source"] = base.source;

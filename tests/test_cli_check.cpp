@@ -45,7 +45,7 @@ TEST(CliCheck, EveryPairConvergesAndAgrees) {
   const CommandRun r = run("check --n 8 --json");
   ASSERT_EQ(r.code, 0) << r.out << r.err;
   const auto j = nlohmann::json::parse(r.out);
-  EXPECT_EQ(j["schema"], "hemivem-check/2");
+  EXPECT_EQ(j["schema"], "hemivem-check/3");
   ASSERT_GE(j["pairs"].size(), 1u);
   bool reference = false;
   for (const auto& p : j["pairs"]) {
@@ -59,6 +59,11 @@ TEST(CliCheck, EveryPairConvergesAndAgrees) {
   EXPECT_EQ(j["differences"].size(), j["pairs"].size());
   EXPECT_EQ(j["agree_ok"], true);
   EXPECT_EQ(j["exit_code"], 0);
+  // a unique problem's verdict is the agreement alone
+  const std::string verdict = j["verdict"].get<std::string>();
+  EXPECT_EQ(verdict.rfind("all ", 0), 0u) << verdict;
+  EXPECT_EQ(verdict.find("pairs differ"), std::string::npos) << verdict;
+  EXPECT_EQ(verdict.find("lowest energy"), std::string::npos) << verdict;
 }
 
 TEST(CliCheck, DisagreementBeyondAgreeExitsSix) {
