@@ -323,7 +323,7 @@ int run_minimize(const MinimizeOptions& o, std::ostream& out, std::ostream& err)
   const MinimizerResult r = minimizer->minimize(p, Eigen::VectorXd(), mo);
   if (o.json) {
     nlohmann::json j;
-    j["schema"] = "hemivem-minimize/2";
+    j["schema"] = "hemivem-minimize/3";
     j["minimizer"] = first_engine(*minimizer);
     j["search"] = search_json(*minimizer);
     j["critical_points"] = critical_points_json(r, 0.0);
