@@ -4,7 +4,7 @@
 #
 # gives hemivem::core (always) and one target per component that was built. A component is
 # named as the engine on the command line; the factories are the components linear and
-# nonsmooth.
+# nonsmooth; the application library (scene -> solve -> result.json) is the component app.
 include(CMakePackageConfigHelpers)
 
 set(HEMIVEM_INSTALL_CMAKEDIR "${CMAKE_INSTALL_LIBDIR}/cmake/hemivem" CACHE STRING
@@ -24,7 +24,7 @@ foreach(_kind linear nonsmooth)
     list(APPEND _hemivem_component_table "${_name}|${_target}|${_deps}")
   endforeach()
 endforeach()
-list(APPEND _hemivem_component_table "linear|linear|" "nonsmooth|nonsmooth|")
+list(APPEND _hemivem_component_table "linear|linear|" "nonsmooth|nonsmooth|" "app|app|ZLIB")
 
 set(HEMIVEM_KNOWN_COMPONENTS)
 set(HEMIVEM_BUILT_COMPONENTS)
@@ -47,7 +47,8 @@ endforeach()
 list(REMOVE_DUPLICATES HEMIVEM_STATIC_DEPENDENCIES)
 
 # Every exported library: hemivem::<name without the hemivem_ prefix>, a version and soname,
-# its headers (the include/ folder beside its CMakeLists.txt) installed once.
+# its headers (the include/ folder beside its CMakeLists.txt, or the folders of its property
+# HEMIVEM_HEADER_DIRS: hemivem::core has one per module) installed once.
 foreach(_target IN LISTS _hemivem_exported)
   string(REGEX REPLACE "^hemivem_" "" _export_name ${_target})
   set_target_properties(${_target} PROPERTIES EXPORT_NAME ${_export_name})
@@ -57,10 +58,14 @@ foreach(_target IN LISTS _hemivem_exported)
       VERSION ${PROJECT_VERSION} SOVERSION ${PROJECT_VERSION_MAJOR})
   endif()
   get_target_property(_dir ${_target} SOURCE_DIR)
-  if(EXISTS "${_dir}/include/hemivem")
-    install(DIRECTORY "${_dir}/include/hemivem" DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
-            COMPONENT hemivem_development FILES_MATCHING PATTERN "*.hpp")
+  get_target_property(_header_dirs ${_target} HEMIVEM_HEADER_DIRS)
+  if(NOT _header_dirs AND EXISTS "${_dir}/include/hemivem")
+    set(_header_dirs "${_dir}/include/hemivem")
   endif()
+  foreach(_header_dir IN LISTS _header_dirs)
+    install(DIRECTORY "${_header_dir}" DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
+            COMPONENT hemivem_development FILES_MATCHING PATTERN "*.hpp")
+  endforeach()
 endforeach()
 
 install(TARGETS ${_hemivem_exported} EXPORT hemivemTargets

@@ -3,7 +3,7 @@
 #include <hemivem/error.hpp>
 #include <hemivem/linear_backends.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
-#include <hemivem/scene.hpp>
+#include <hemivem/scene/scene.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -19,7 +19,7 @@
 #include "commands.hpp"
 #include "common.hpp"
 #include "engine_pairs.hpp"
-#include "plots.hpp"
+#include <hemivem/app/figures.hpp>
 
 namespace hemivem::cli {
 

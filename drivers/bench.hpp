@@ -11,7 +11,7 @@
 
 #include <Eigen/Core>
 
-#include <hemivem/mesh.hpp>
+#include <hemivem/mesh/mesh.hpp>
 
 namespace hemivem::cli {
 

@@ -3,7 +3,7 @@
 #include <hemivem/error.hpp>
 #include <hemivem/linear_backends.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
-#include <hemivem/scene.hpp>
+#include <hemivem/scene/scene.hpp>
 
 #include <nlohmann/json.hpp>
 

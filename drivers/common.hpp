@@ -6,14 +6,14 @@
 #include <iosfwd>
 #include <string>
 
-#include <hemivem/certificate.hpp>
-#include <hemivem/global_search.hpp>
-#include <hemivem/mesh.hpp>
-#include <hemivem/nonsmooth_minimizer.hpp>
+#include <hemivem/app/format.hpp>
 
 #include <nlohmann/json.hpp>
 
 namespace hemivem::cli {
+
+// The command stands on the application library.
+using namespace hemivem::app;
 
 /// Exit codes of the hemivem command.
 enum ExitCode : int {
@@ -38,30 +38,5 @@ LaunchedProcesses launched_processes();
 /// True on the process that prints and writes: rank 0 of the launcher and, once a mumps-mpi
 /// engine exists, of that engine.
 bool reporting_process();
-
-/// Writes a file through `write` into a temporary name in the same folder and renames it
-/// into place on success, so a failure never leaves a half-written output behind.
-void write_atomically(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write);
-
-/// v in scientific notation with `precision` digits after the point; "-" for NaN.
-std::string sci(double v, int precision = 2);
-/// v in fixed notation with `precision` digits after the point.
-std::string fixed(double v, int precision = 4);
-/// v as a JSON number, null when it is not finite (JSON has no NaN or Inf).
-nlohmann::json number(double v);
-
-/// The certificate as JSON: {primal, dual, length_scale, force_scale, tolerance}.
-nlohmann::json certificate_json(const Certificate& c);
-/// "primal 1.2e-16, dual 3.4e-15 (tolerance 1.0e-10)".
-std::string certificate_text(const Certificate& c);
-
-/// A global search's critical points as JSON, lowest first: reduced_objective, potential_energy
-/// (reduced_objective + `shift`, the constant between the two energies of the problem; 0 for a
-/// reduced problem alone), certificate, starts, engines.
-nlohmann::json critical_points_json(const MinimizerResult& r, double shift);
-/// The same as lines of the command's summary ("  search  ..." and one line per point, at most 8).
-std::string critical_points_text(const MinimizerResult& r, double shift);
-/// One line of a global search's progress (stderr).
-std::string progress_line(const GlobalSearchProgress& p);
 
 }  // namespace hemivem::cli

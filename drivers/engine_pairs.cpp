@@ -5,8 +5,8 @@
 #include <cmath>
 #include <limits>
 
-#include <hemivem/assembly.hpp>
-#include <hemivem/contact_solver.hpp>
+#include <hemivem/vem/assembly.hpp>
+#include <hemivem/contact/solver.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/linear_backends.hpp>
 #include <hemivem/nonsmooth_backends.hpp>

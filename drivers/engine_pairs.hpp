@@ -16,7 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include <hemivem/certificate.hpp>
-#include <hemivem/scene.hpp>
+#include <hemivem/scene/scene.hpp>
 
 namespace hemivem::cli {
 

@@ -1,10 +1,10 @@
 #include "extreme.hpp"
 
-#include <hemivem/contact_solver.hpp>
+#include <hemivem/contact/solver.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/linear_backends.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
-#include <hemivem/scene.hpp>
+#include <hemivem/scene/scene.hpp>
 
 #include <nlohmann/json.hpp>
 

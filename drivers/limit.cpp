@@ -4,11 +4,11 @@
 
 #include "commands.hpp"
 #include "common.hpp"
-#include "outputs.hpp"
+#include <hemivem/app/outputs.hpp>
 
-#include <hemivem/assembly.hpp>
-#include <hemivem/contact.hpp>
-#include <hemivem/contact_solver.hpp>
+#include <hemivem/vem/assembly.hpp>
+#include <hemivem/contact/condensation.hpp>
+#include <hemivem/contact/solver.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/linear_backends.hpp>
 

@@ -12,10 +12,10 @@
 #include <hemivem/engine_names.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/linear_backends.hpp>
-#include <hemivem/mesh_generators.hpp>
-#include <hemivem/mesh_io.hpp>
-#include <hemivem/resources.hpp>
-#include <hemivem/scene.hpp>
+#include <hemivem/mesh/generators.hpp>
+#include <hemivem/mesh/poly2d.hpp>
+#include <hemivem/scene/resources.hpp>
+#include <hemivem/scene/scene.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
 
 #include <algorithm>

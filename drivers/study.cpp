@@ -1,8 +1,8 @@
 #include "study.hpp"
 
-#include <hemivem/bilinear.hpp>
+#include <hemivem/vem/bilinear.hpp>
 #include <hemivem/error.hpp>
-#include <hemivem/scene.hpp>
+#include <hemivem/scene/scene.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -20,8 +20,8 @@
 
 #include "commands.hpp"
 #include "common.hpp"
-#include "outputs.hpp"
-#include "plots.hpp"
+#include <hemivem/app/outputs.hpp>
+#include <hemivem/app/figures.hpp>
 
 namespace hemivem::cli {
 

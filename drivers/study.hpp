@@ -12,9 +12,11 @@
 #include <string>
 #include <vector>
 
-#include "plots.hpp"
+#include <hemivem/app/figures.hpp>
 
 namespace hemivem::cli {
+
+using namespace hemivem::app;
 
 struct StudyOptions {
   std::string scene;                   ///< scene file; empty: the embedded Example 4.1

@@ -1,7 +1,7 @@
 // libFuzzer target: any bytes as a Gmsh .msh file. A defect must be an InputError (or a
 // MeshError); every other exception, a crash, a hang or undefined behaviour is a finding.
 #include <hemivem/error.hpp>
-#include <hemivem/gmsh.hpp>
+#include <hemivem/mesh/gmsh.hpp>
 
 #include <cstddef>
 #include <cstdint>

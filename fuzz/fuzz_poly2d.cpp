@@ -1,7 +1,7 @@
 // libFuzzer target: any bytes as a .poly2d file. A defect must be an InputError (or a
 // MeshError); every other exception, a crash, a hang or undefined behaviour is a finding.
 #include <hemivem/error.hpp>
-#include <hemivem/mesh_io.hpp>
+#include <hemivem/mesh/poly2d.hpp>
 
 #include <cstddef>
 #include <cstdint>

@@ -4,7 +4,7 @@
 // arbitrary files). A defect must be an InputError; every other exception, a crash, a hang or
 // undefined behaviour is a finding.
 #include <hemivem/error.hpp>
-#include <hemivem/scene.hpp>
+#include <hemivem/scene/scene.hpp>
 
 #include <cstddef>
 #include <cstdint>

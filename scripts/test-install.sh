@@ -4,8 +4,9 @@
 # Installs the build into a fresh temporary prefix and, against that prefix only,
 #   1. compiles every installed header on its own with the prefix and Eigen as the only
 #      include paths, and checks that none pulls in a file of an engine's package;
-#   2. configures, builds and runs examples/host-app, and checks that its answer is the
-#      installed command's;
+#   2. configures, builds and runs examples/step-by-step (the library's pieces) and
+#      examples/host-app (a scene to result.json with hemivem::app), and checks that their
+#      answers are the installed command's;
 #   3. runs the installed command with the mumps-mpi engine (when built) and checks that the
 #      module is loaded from the prefix;
 #   4. checks that a component that is unknown, or known but not built, stops the
@@ -53,53 +54,75 @@ eigen="$(pkg-config --cflags-only-I eigen3 2>/dev/null | sed 's/^ *-I//; s/ *$//
 [ -f "$eigen/Eigen/Core" ] || fail "Eigen not found (looked in $eigen)"
 export cxx eigen prefix tmp
 check_header() {
-  local name
-  name="$(basename "$1" .hpp)"
-  printf '#include <hemivem/%s.hpp>\n' "$name" >"$tmp/h_$name.cpp"
+  local header name
+  header="${1#"$prefix/include/"}"
+  name="$(echo "${header%.hpp}" | tr '/' '_')"
+  printf '#include <%s>\n' "$header" >"$tmp/h_$name.cpp"
   if ! "$cxx" -std=c++20 -fsyntax-only -Wall -Wextra -I"$prefix/include" -I"$eigen" \
        -MD -MF "$tmp/h_$name.d" "$tmp/h_$name.cpp" 2>"$tmp/h_$name.err"; then
-    echo "hemivem/$name.hpp does not compile on its own:"; head -20 "$tmp/h_$name.err"; return 1
+    echo "$header does not compile on its own:"; head -20 "$tmp/h_$name.err"; return 1
   fi
   # Every file it includes, outside the prefix and Eigen, must be the compiler's or libc's.
   tr ' \\' '\n\n' <"$tmp/h_$name.d" | sed '/^$/d;/:$/d' |
     grep -v -e "^$prefix/" -e "^$eigen/" -e "h_$name.cpp" >"$tmp/h_$name.deps" || true
   if grep -E -i 'cholmod|suitesparse|mumps|mpi\.h|nlopt|ceres|cgal|toml|boost|gmp' "$tmp/h_$name.deps"; then
-    echo "hemivem/$name.hpp includes a file of an engine's package (above)"; return 1
+    echo "$header includes a file of an engine's package (above)"; return 1
   fi
 }
 export -f check_header
-headers=("$prefix"/include/hemivem/*.hpp)
+mapfile -t headers < <(find "$prefix/include/hemivem" -name '*.hpp' | sort)
 [ "${#headers[@]}" -ge 20 ] || fail "only ${#headers[@]} headers installed"
 printf '%s\n' "${headers[@]}" | xargs -P 2 -I{} bash -c 'check_header "$1"' _ {} ||
   fail "installed headers (see above)"
 ok "${#headers[@]} installed headers compile on their own with only the prefix and Eigen, none includes an engine's package"
 
-# ---- 2. the host application ------------------------------------------------------------
+# ---- 2. the host applications ------------------------------------------------------------
 if ! has cholmod; then
-  echo "test-install: skipped: examples/host-app needs the component cholmod, which was not built"
+  echo "test-install: skipped: examples/step-by-step needs the component cholmod, which was not built"
 else
-  cmake -S "$root/examples/host-app" -B "$tmp/host-build" "${isolated[@]}" >"$tmp/host-configure.log" 2>&1 ||
-    { cat "$tmp/host-configure.log"; fail "configuring examples/host-app against $prefix"; }
-  found="$(sed -n 's/^hemivem_DIR:PATH=//p' "$tmp/host-build/CMakeCache.txt")"
-  [ "$found" = "$configdir" ] || fail "examples/host-app found hemivem in '$found', not in $configdir"
-  cmake --build "$tmp/host-build" >"$tmp/host-build.log" 2>&1 || { cat "$tmp/host-build.log"; fail "building examples/host-app"; }
-  if ldd "$tmp/host-build/host-app" | grep -E 'libhemivem_(linear|nonsmooth)(\.so| )' ; then
-    fail "host-app links a factory although it names only cholmod and ssn"
+  cmake -S "$root/examples/step-by-step" -B "$tmp/step-build" "${isolated[@]}" >"$tmp/step-configure.log" 2>&1 ||
+    { cat "$tmp/step-configure.log"; fail "configuring examples/step-by-step against $prefix"; }
+  found="$(sed -n 's/^hemivem_DIR:PATH=//p' "$tmp/step-build/CMakeCache.txt")"
+  [ "$found" = "$configdir" ] || fail "examples/step-by-step found hemivem in '$found', not in $configdir"
+  cmake --build "$tmp/step-build" >"$tmp/step-build.log" 2>&1 || { cat "$tmp/step-build.log"; fail "building examples/step-by-step"; }
+  if ldd "$tmp/step-build/step-by-step" | grep -E 'libhemivem_(linear|nonsmooth)(\.so| )' ; then
+    fail "step-by-step links a factory although it names only cholmod and ssn"
   fi
   status=0
-  "$tmp/host-build/host-app" >"$tmp/host.out" 2>&1 || status=$?
+  "$tmp/step-build/step-by-step" >"$tmp/host.out" 2>&1 || status=$?
   cat "$tmp/host.out"
-  [ "$status" -eq 0 ] || fail "host-app exited with $status"
-  grep -q 'minimizer     ssn: converged' "$tmp/host.out" || fail "host-app did not report convergence"
+  [ "$status" -eq 0 ] || fail "step-by-step exited with $status"
+  grep -q 'minimizer     ssn: converged' "$tmp/host.out" || fail "step-by-step did not report convergence"
   # Its contact nodes are those of the installed command on the same problem.
   "$prefix/bin/hemivem" solve --n 32 --linear cholmod --minimizer ssn --out "$tmp/solve32" >"$tmp/cli.out" 2>/dev/null ||
     fail "installed hemivem solve --n 32 failed"
   host_contact="$(sed -n 's/^ *contact *//p' "$tmp/host.out")"
   cli_contact="$(sed -n 's/^ *contact *//p' "$tmp/cli.out")"
   [ -n "$host_contact" ] && [ "$host_contact" = "$cli_contact" ] ||
-    fail "host-app contact '$host_contact' differs from hemivem solve's '$cli_contact'"
-  ok "examples/host-app built against the prefix only ($found), converged, same contact nodes as hemivem solve"
+    fail "step-by-step contact '$host_contact' differs from hemivem solve's '$cli_contact'"
+  ok "examples/step-by-step built against the prefix only ($found), converged, same contact nodes as hemivem solve"
 fi
+
+# A scene file to result.json with hemivem::app: the installed command's result.
+scene="$root/scenes/paper-example-4.1.toml"
+cmake -S "$root/examples/host-app" -B "$tmp/host-build" "${isolated[@]}" >"$tmp/host-configure.log" 2>&1 ||
+  { cat "$tmp/host-configure.log"; fail "configuring examples/host-app against $prefix"; }
+cmake --build "$tmp/host-build" >"$tmp/host-build.log" 2>&1 || { cat "$tmp/host-build.log"; fail "building examples/host-app"; }
+status=0
+"$tmp/host-build/host-app" "$scene" "$tmp/host-out" >"$tmp/host.out" 2>&1 || status=$?
+cat "$tmp/host.out"
+[ "$status" -eq 0 ] || fail "host-app exited with $status"
+"$prefix/bin/hemivem" solve "$scene" --out "$tmp/cli-out" -q >/dev/null 2>&1 || fail "installed hemivem solve failed"
+python3 - "$tmp/host-out/result.json" "$tmp/cli-out/result.json" <<'PY' || fail "host-app's result.json differs from hemivem solve's"
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:])
+for key in ("status", "certificate", "potential_energy", "contact_zone", "iterations"):
+    if a[key] != b[key]:
+        sys.exit(f"{key}: {a[key]} != {b[key]}")
+PY
+cmp -s "$tmp/host-out/displacement.csv" "$tmp/cli-out/displacement.csv" ||
+  fail "host-app's displacement.csv differs from hemivem solve's"
+ok "examples/host-app: a scene to result.json with hemivem::app, the same certificate, energy and displacement as hemivem solve"
 
 # ---- 3. the mumps-mpi module from the prefix ----------------------------------------------
 if has mumps-mpi; then

@@ -1,12 +1,12 @@
 // The bundle-dca engine on its own: the proximal bundle method on a convex nonsmooth problem,
 // monotone decrease of the DC iteration, the bundle-size limit, every status and input errors.
 #include <hemivem/bundle_dca_minimizer.hpp>
-#include <hemivem/contact.hpp>
-#include <hemivem/contact_problem.hpp>
+#include <hemivem/contact/condensation.hpp>
+#include <hemivem/contact/problem.hpp>
 #include <hemivem/linear_backends.hpp>
-#include <hemivem/mesh_generators.hpp>
+#include <hemivem/mesh/generators.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
-#include <hemivem/piecewise_law.hpp>
+#include <hemivem/contact/piecewise_law.hpp>
 
 #include <Eigen/Dense>
 #include <gtest/gtest.h>

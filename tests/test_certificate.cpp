@@ -5,7 +5,7 @@
 #include <hemivem/certificate.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
 #include <hemivem/nonsmooth_minimizer.hpp>
-#include <hemivem/piecewise_law.hpp>
+#include <hemivem/contact/piecewise_law.hpp>
 
 #include <Eigen/Dense>
 #include <gtest/gtest.h>

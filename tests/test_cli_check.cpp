@@ -15,7 +15,7 @@
 #include <unistd.h>
 #include <sys/wait.h>
 
-#include <hemivem/scene.hpp>
+#include <hemivem/scene/scene.hpp>
 
 #include "engine_pairs.hpp"
 #include "test_support.hpp"

@@ -1,6 +1,6 @@
 // End-to-end tests of the hemivem command: they run the built binary.
 #include <hemivem/linear_backends.hpp>
-#include <hemivem/mesh_io.hpp>
+#include <hemivem/mesh/poly2d.hpp>
 #include <nlohmann/json.hpp>
 
 #include <gtest/gtest.h>

@@ -2,8 +2,8 @@
 // [contact.friction] table and the bilateral constraint as read, written and refused; the
 // columns, fields and pictures a frictional solve writes, checked against each other and
 // against the reduced problem's file form.
-#include <hemivem/piecewise_law.hpp>
-#include <hemivem/scene.hpp>
+#include <hemivem/contact/piecewise_law.hpp>
+#include <hemivem/scene/scene.hpp>
 #include <nlohmann/json.hpp>
 
 #include <gtest/gtest.h>

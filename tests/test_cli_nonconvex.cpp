@@ -11,7 +11,7 @@
 #include <fstream>
 #include <string>
 
-#include <hemivem/scene.hpp>
+#include <hemivem/scene/scene.hpp>
 
 #include "test_support.hpp"
 

@@ -1,15 +1,16 @@
 // The output folder of a solve: result.json, the CSV tables, the VTU file (read back with a
 // real VTK reader) and the gnuplot figures.
-#include "outputs.hpp"
-#include "plots.hpp"
+#include <hemivem/app/outputs.hpp>
+#include <hemivem/app/figures.hpp>
 
-#include <hemivem/contact_solver.hpp>
+#include <hemivem/contact/solver.hpp>
 #include <hemivem/error.hpp>
-#include <hemivem/stress.hpp>
+#include <hemivem/vem/stress.hpp>
 #include <hemivem/linear_backends.hpp>
-#include <hemivem/mesh_generators.hpp>
+#include <hemivem/mesh/generators.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
-#include <hemivem/piecewise_law.hpp>
+#include <hemivem/contact/piecewise_law.hpp>
+#include <hemivem/scene/example.hpp>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -22,7 +23,7 @@
 #include <unistd.h>
 
 using namespace hemivem;
-using namespace hemivem::cli;
+using namespace hemivem::app;
 namespace fs = std::filesystem;
 using nlohmann::json;
 

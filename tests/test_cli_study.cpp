@@ -1,8 +1,8 @@
 // hemivem study: the prolongation and the Q1 energy directly, the command end to end.
-#include <hemivem/bilinear.hpp>
+#include <hemivem/vem/bilinear.hpp>
 #include <hemivem/error.hpp>
-#include <hemivem/mesh_generators.hpp>
-#include <hemivem/vem.hpp>
+#include <hemivem/mesh/generators.hpp>
+#include <hemivem/vem/element.hpp>
 
 #include <nlohmann/json.hpp>
 

@@ -1,10 +1,11 @@
 // Static condensation onto the contact normals (DESIGN §3) with every built engine.
-#include <hemivem/contact.hpp>
-#include <hemivem/contact_problem.hpp>
+#include <hemivem/contact/condensation.hpp>
+#include <hemivem/contact/problem.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/linear_backends.hpp>
-#include <hemivem/mesh_generators.hpp>
-#include <hemivem/piecewise_law.hpp>
+#include <hemivem/mesh/generators.hpp>
+#include <hemivem/contact/piecewise_law.hpp>
+#include <hemivem/scene/example.hpp>
 
 #include <Eigen/Dense>
 #include <Eigen/SparseCholesky>

@@ -1,7 +1,7 @@
 // Piecewise-polynomial contact laws: values by hand, DC split, one-sided derivatives,
 // Clarke subdifferential, alpha_j and the validation of malformed laws.
 #include <hemivem/error.hpp>
-#include <hemivem/piecewise_law.hpp>
+#include <hemivem/contact/piecewise_law.hpp>
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,10 @@
 // The whole pipeline: assembly, condensation, minimization, back-substitution.
-#include <hemivem/contact_solver.hpp>
+#include <hemivem/contact/solver.hpp>
 #include <hemivem/linear_backends.hpp>
-#include <hemivem/mesh_generators.hpp>
+#include <hemivem/mesh/generators.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
-#include <hemivem/piecewise_law.hpp>
+#include <hemivem/contact/piecewise_law.hpp>
+#include <hemivem/scene/example.hpp>
 
 #include <gtest/gtest.h>
 

@@ -3,13 +3,13 @@
 // scenes/extreme/ with the properties their titles claim.
 #include <gtest/gtest.h>
 
-#include <hemivem/condition.hpp>
-#include <hemivem/contact_solver.hpp>
+#include <hemivem/support/condition.hpp>
+#include <hemivem/contact/solver.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/linear_backends.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
-#include <hemivem/resources.hpp>
-#include <hemivem/scene.hpp>
+#include <hemivem/scene/resources.hpp>
+#include <hemivem/scene/scene.hpp>
 
 #include <Eigen/Dense>
 

@@ -3,15 +3,16 @@
 // a closed form for one node on a spring, Dirichlet problems for the limits of the friction
 // bound, the frictionless problem for a zero bound, and every engine against ssn.
 #include <hemivem/certificate.hpp>
-#include <hemivem/contact.hpp>
-#include <hemivem/contact_problem.hpp>
-#include <hemivem/contact_solver.hpp>
+#include <hemivem/contact/condensation.hpp>
+#include <hemivem/contact/problem.hpp>
+#include <hemivem/contact/solver.hpp>
 #include <hemivem/linear_backends.hpp>
-#include <hemivem/mesh_generators.hpp>
+#include <hemivem/mesh/generators.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
-#include <hemivem/piecewise_law.hpp>
-#include <hemivem/reduced_io.hpp>
-#include <hemivem/scene.hpp>
+#include <hemivem/contact/piecewise_law.hpp>
+#include <hemivem/contact/reduced_io.hpp>
+#include <hemivem/scene/scene.hpp>
+#include <hemivem/scene/example.hpp>
 
 #include <gtest/gtest.h>
 

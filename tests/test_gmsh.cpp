@@ -3,8 +3,8 @@
 // with two surface groups, non-contiguous node tags, a clockwise element and an unused node,
 // a linear patch test on the read meshes, and a corpus of malformed files
 // (tests/data/gmsh/malformed).
-#include <hemivem/assembly.hpp>
-#include <hemivem/gmsh.hpp>
+#include <hemivem/vem/assembly.hpp>
+#include <hemivem/mesh/gmsh.hpp>
 
 #include <gtest/gtest.h>
 

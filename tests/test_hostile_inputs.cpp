@@ -5,11 +5,11 @@
 #include <gtest/gtest.h>
 
 #include <hemivem/error.hpp>
-#include <hemivem/gmsh.hpp>
-#include <hemivem/mesh.hpp>
-#include <hemivem/mesh_generators.hpp>
-#include <hemivem/mesh_io.hpp>
-#include <hemivem/scene.hpp>
+#include <hemivem/mesh/gmsh.hpp>
+#include <hemivem/mesh/mesh.hpp>
+#include <hemivem/mesh/generators.hpp>
+#include <hemivem/mesh/poly2d.hpp>
+#include <hemivem/scene/scene.hpp>
 
 #include <algorithm>
 #include <filesystem>

@@ -1,4 +1,4 @@
-#include <hemivem/mesh.hpp>
+#include <hemivem/mesh/mesh.hpp>
 
 #include <gtest/gtest.h>
 

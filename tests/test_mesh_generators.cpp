@@ -1,4 +1,4 @@
-#include <hemivem/mesh_generators.hpp>
+#include <hemivem/mesh/generators.hpp>
 
 #include <gtest/gtest.h>
 

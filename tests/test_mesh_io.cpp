@@ -1,6 +1,6 @@
 // Reading and writing .poly2d meshes: round trips, the shared meshes against the table
 // of shared/meshes/README.md, and a corpus of malformed files (tests/data/malformed).
-#include <hemivem/mesh_io.hpp>
+#include <hemivem/mesh/poly2d.hpp>
 
 #include <gtest/gtest.h>
 

@@ -1,12 +1,12 @@
 // Cross-validation of every built nonsmooth minimizer (DESIGN §3, §5): closed forms, the
 // paper's Example 4.1 on four mesh types against ssn, kinked laws, edge cases and a law
 // concave enough to lose uniqueness.
-#include <hemivem/contact.hpp>
-#include <hemivem/contact_problem.hpp>
+#include <hemivem/contact/condensation.hpp>
+#include <hemivem/contact/problem.hpp>
 #include <hemivem/linear_backends.hpp>
-#include <hemivem/mesh_generators.hpp>
+#include <hemivem/mesh/generators.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
-#include <hemivem/piecewise_law.hpp>
+#include <hemivem/contact/piecewise_law.hpp>
 
 #include <Eigen/Dense>
 #include <gtest/gtest.h>

@@ -9,7 +9,7 @@
 #include <hemivem/error.hpp>
 #include <hemivem/global_search.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
-#include <hemivem/piecewise_law.hpp>
+#include <hemivem/contact/piecewise_law.hpp>
 
 #include <algorithm>
 #include <cmath>

@@ -1,7 +1,7 @@
 // Meshes of polygon domains (triangles and voronoi generators): they tile the polygon,
 // keep its corners, name its edges, agree with the rectangle generator on a rectangle, and
 // are deterministic; bad polygons are refused with the defect named.
-#include <hemivem/mesh_generators.hpp>
+#include <hemivem/mesh/generators.hpp>
 
 #include <gtest/gtest.h>
 

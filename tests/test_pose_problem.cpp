@@ -1,14 +1,14 @@
 // Posing one's own problem from a scene: expressions in x and y (gaps, loads, displacements),
 // pressure loads, prescribed displacements and rollers, each against a hand-checkable answer.
-#include <hemivem/assembly.hpp>
-#include <hemivem/contact.hpp>
-#include <hemivem/contact_solver.hpp>
+#include <hemivem/vem/assembly.hpp>
+#include <hemivem/contact/condensation.hpp>
+#include <hemivem/contact/solver.hpp>
 #include <hemivem/linear_backends.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
 #include <hemivem/error.hpp>
-#include <hemivem/expression.hpp>
-#include <hemivem/obstacle.hpp>
-#include <hemivem/scene.hpp>
+#include <hemivem/scene/expression.hpp>
+#include <hemivem/contact/obstacle.hpp>
+#include <hemivem/scene/scene.hpp>
 
 #include <gtest/gtest.h>
 

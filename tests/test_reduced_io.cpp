@@ -1,10 +1,11 @@
 // Reduced problems as files: exact round trip, the coordinate format, and clear errors.
-#include <hemivem/contact.hpp>
-#include <hemivem/contact_problem.hpp>
+#include <hemivem/contact/condensation.hpp>
+#include <hemivem/contact/problem.hpp>
 #include <hemivem/linear_backends.hpp>
-#include <hemivem/mesh_generators.hpp>
-#include <hemivem/piecewise_law.hpp>
-#include <hemivem/reduced_io.hpp>
+#include <hemivem/mesh/generators.hpp>
+#include <hemivem/contact/piecewise_law.hpp>
+#include <hemivem/contact/reduced_io.hpp>
+#include <hemivem/scene/example.hpp>
 
 #include <gtest/gtest.h>
 

@@ -10,11 +10,12 @@
 
 #include <unistd.h>
 
-#include <hemivem/contact_problem.hpp>
+#include <hemivem/contact/problem.hpp>
 #include <hemivem/error.hpp>
-#include <hemivem/mesh_generators.hpp>
-#include <hemivem/mesh_io.hpp>
-#include <hemivem/scene.hpp>
+#include <hemivem/mesh/generators.hpp>
+#include <hemivem/mesh/poly2d.hpp>
+#include <hemivem/scene/scene.hpp>
+#include <hemivem/scene/example.hpp>
 
 #include "default_scene_text.hpp"
 #include "test_support.hpp"

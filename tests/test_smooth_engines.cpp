@@ -1,11 +1,11 @@
 // Engine-specific checks of the smoothing-based minimizers nlopt-mma and ceres-active-set
 // (the shared cross-validation is tests/test_minimizers.cpp).
-#include <hemivem/contact.hpp>
-#include <hemivem/contact_problem.hpp>
+#include <hemivem/contact/condensation.hpp>
+#include <hemivem/contact/problem.hpp>
 #include <hemivem/linear_backends.hpp>
-#include <hemivem/mesh_generators.hpp>
+#include <hemivem/mesh/generators.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
-#include <hemivem/piecewise_law.hpp>
+#include <hemivem/contact/piecewise_law.hpp>
 
 #include <Eigen/Dense>
 #include <gtest/gtest.h>

@@ -1,7 +1,7 @@
 // The smoothed contact law j_eps shared by the smoothing-based engines (nlopt-mma,
 // ceres-active-set): equal to j away from the rounded breakpoints, C^1 across the windows,
 // |j_eps - j| = O(eps |jump of j'|), bounded curvature, accurate differences.
-#include <hemivem/piecewise_law.hpp>
+#include <hemivem/contact/piecewise_law.hpp>
 #include <hemivem/smoothed_law.hpp>
 
 #include <gtest/gtest.h>

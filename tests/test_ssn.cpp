@@ -1,11 +1,11 @@
 // Engine-specific checks of the semismooth Newton / active-set minimizer "ssn": local
 // quadratic convergence, iteration counts on Example 4.1, exact recognition of kinks, the
 // gradient fallback, nonconvex problems, every status it can return and its input errors.
-#include <hemivem/contact.hpp>
-#include <hemivem/contact_problem.hpp>
+#include <hemivem/contact/condensation.hpp>
+#include <hemivem/contact/problem.hpp>
 #include <hemivem/linear_backends.hpp>
-#include <hemivem/mesh_generators.hpp>
-#include <hemivem/piecewise_law.hpp>
+#include <hemivem/mesh/generators.hpp>
+#include <hemivem/contact/piecewise_law.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
 #include <hemivem/ssn_minimizer.hpp>
 

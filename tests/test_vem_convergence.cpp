@@ -1,9 +1,9 @@
 // Manufactured solution u = (sin(pi x) cos(pi y), x^2 sin(pi y)), E = 65, nu = 0.29 (plane
 // strain), Dirichlet data on the whole boundary of the unit square, body force -div sigma(u).
 // Errors of Pi u_h, integrated over each polygon with a signed fan of triangles.
-#include <hemivem/assembly.hpp>
-#include <hemivem/mesh_generators.hpp>
-#include <hemivem/quadrature.hpp>
+#include <hemivem/vem/assembly.hpp>
+#include <hemivem/mesh/generators.hpp>
+#include <hemivem/vem/quadrature.hpp>
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // Element matrices of the lowest-order VEM: symmetry, semi-definiteness, the kernel,
 // consistency on P1 fields and the projection.
-#include <hemivem/vem.hpp>
+#include <hemivem/vem/element.hpp>
 
 #include <Eigen/Dense>
 #include <gtest/gtest.h>

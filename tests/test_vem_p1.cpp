@@ -1,9 +1,9 @@
 // On triangles the virtual element space is P1 and the stabilization vanishes: the VEM
 // stiffness must equal a P1 finite-element stiffness, written here independently from
 // the shape-function gradients of each triangle.
-#include <hemivem/assembly.hpp>
-#include <hemivem/mesh_generators.hpp>
-#include <hemivem/mesh_io.hpp>
+#include <hemivem/vem/assembly.hpp>
+#include <hemivem/mesh/generators.hpp>
+#include <hemivem/mesh/poly2d.hpp>
 
 #include <Eigen/Dense>
 #include <gtest/gtest.h>

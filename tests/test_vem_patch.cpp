@@ -2,10 +2,10 @@
 // generators make and on every mesh in shared/meshes, with Dirichlet data on the whole
 // boundary and with tractions on part of it; the load of a linear body force is exact on
 // linear fields.
-#include <hemivem/assembly.hpp>
-#include <hemivem/gmsh.hpp>
-#include <hemivem/mesh_generators.hpp>
-#include <hemivem/mesh_io.hpp>
+#include <hemivem/vem/assembly.hpp>
+#include <hemivem/mesh/gmsh.hpp>
+#include <hemivem/mesh/generators.hpp>
+#include <hemivem/mesh/poly2d.hpp>
 
 #include <gtest/gtest.h>
 

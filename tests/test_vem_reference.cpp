@@ -5,8 +5,8 @@
 // 1.2e-11 apart on the loaded side (joined by a tiny edge); their displacements differ
 // by 3.1e-3, 4 % of the largest displacement, and the trace-scaled stabilization moves
 // vertex 108 by 5.4e-3.
-#include <hemivem/assembly.hpp>
-#include <hemivem/mesh_io.hpp>
+#include <hemivem/vem/assembly.hpp>
+#include <hemivem/mesh/poly2d.hpp>
 
 #include <gtest/gtest.h>
 

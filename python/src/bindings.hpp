@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include <hemivem/mesh.hpp>
+#include <hemivem/mesh/mesh.hpp>
 
 namespace hemivem::python {
 

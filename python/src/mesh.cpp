@@ -10,9 +10,9 @@
 #include <sstream>
 
 #include <hemivem/error.hpp>
-#include <hemivem/gmsh.hpp>
-#include <hemivem/mesh_generators.hpp>
-#include <hemivem/mesh_io.hpp>
+#include <hemivem/mesh/gmsh.hpp>
+#include <hemivem/mesh/generators.hpp>
+#include <hemivem/mesh/poly2d.hpp>
 
 namespace hemivem::python {
 

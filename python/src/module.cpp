@@ -1,6 +1,8 @@
 // hemivem._hemivem: the module's entry point, NumPy helpers, exceptions, engines, scenes.
 #include "bindings.hpp"
 
+#include <hemivem/app/outputs.hpp>
+
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
@@ -13,7 +15,7 @@
 #include <hemivem/error.hpp>
 #include <hemivem/linear_backends.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
-#include <hemivem/scene.hpp>
+#include <hemivem/scene/scene.hpp>
 
 namespace hemivem::python {
 
@@ -229,7 +231,7 @@ void register_engines(py::module_& m) {
 PYBIND11_MODULE(_hemivem, m) {
   using namespace hemivem::python;
   m.doc() = "hemivem's C++ library for Python (see the package hemivem).";
-  m.attr("__version__") = HEMIVEM_VERSION;
+  m.attr("__version__") = hemivem::app::version();
   register_errors(m);
   register_engines(m);
   register_scene(m);

@@ -10,14 +10,14 @@
 #include <iomanip>
 #include <sstream>
 
-#include <hemivem/assembly.hpp>
+#include <hemivem/vem/assembly.hpp>
 #include <hemivem/certificate.hpp>
-#include <hemivem/contact_solver.hpp>
+#include <hemivem/contact/solver.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/linear_backends.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
-#include <hemivem/piecewise_law.hpp>
-#include <hemivem/reduced_io.hpp>
+#include <hemivem/contact/piecewise_law.hpp>
+#include <hemivem/contact/reduced_io.hpp>
 
 namespace hemivem::python {
 

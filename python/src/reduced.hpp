@@ -10,12 +10,12 @@
 #include <string>
 #include <vector>
 
-#include <hemivem/contact.hpp>
+#include <hemivem/contact/condensation.hpp>
 #include <hemivem/contact_law.hpp>
 #include <hemivem/global_search.hpp>
 #include <hemivem/nonsmooth_minimizer.hpp>
 #include <hemivem/reduced_problem.hpp>
-#include <hemivem/scene.hpp>
+#include <hemivem/scene/scene.hpp>
 
 namespace hemivem::python {
 

@@ -11,10 +11,11 @@
 #include <sstream>
 
 #include <hemivem/error.hpp>
-#include <hemivem/scene.hpp>
+#include <hemivem/scene/scene.hpp>
 
-#include "commands.hpp"
-#include "outputs.hpp"
+#include <hemivem/app/outputs.hpp>
+#include <hemivem/app/report.hpp>
+#include <hemivem/app/solve.hpp>
 
 namespace hemivem::python {
 
@@ -23,15 +24,15 @@ namespace {
 /// One solve: the resolved scene, the command's SceneSolve and the reduced problem.
 struct SolveData {
   Scene scene;
-  cli::SceneSolve solved;
+  app::SceneSolve solved;
   std::shared_ptr<ReducedHolder> reduced;  ///< null unless kept and the scene has contact
   std::string json;                        ///< result.json's text, made once
 };
 
 const std::string& json_text(SolveData& d) {
   if (d.json.empty()) {
-    const cli::RunInfo info = cli::run_info(d.scene, d.solved);
-    d.json = cli::result_json(d.solved.built->mesh, d.solved.solution, info).dump(2);
+    const app::RunInfo info = app::run_info(d.scene, d.solved);
+    d.json = app::result_json(d.solved.built->mesh, d.solved.solution, info).dump(2);
   }
   return d.json;
 }
@@ -233,19 +234,23 @@ was solved from, and its arrays keep it alive.
       .def("json", [](py::handle s) { return json_dict(data(s)); },
            "result.json as a dict (the same document `hemivem solve` writes).")
       .def("to_json", [](py::handle s) { return json_text(data(s)); }, "result.json's text.")
+      .def("brief_report", [](py::handle s) { return app::brief_report(data(s).solved); },
+           "One line: status, certificate, iterations, energy and total time.")
+      .def(
+          "full_report",
+          [](py::handle s) {
+            SolveData& d = data(s);
+            return app::full_report(d.scene, d.solved, app::run_info(d.scene, d.solved));
+          },
+          "Every stage of the solve, as `hemivem solve` prints it between its title and the files it wrote.")
       .def(
           "write",
           [](py::handle s, const std::filesystem::path& folder, std::optional<std::vector<std::string>> files) {
             SolveData& d = data(s);
-            const BuiltProblem& built = *d.solved.built;
-            cli::check_output_folder(folder);
-            const cli::RunInfo info = cli::run_info(d.scene, d.solved);
-            const std::vector<std::string> wanted = files ? *files : cli::wanted_files(d.scene, built.has_contact);
-            cli::OutputReport report;
+            app::OutputReport report;
             {
               py::gil_scoped_release release;
-              report = cli::write_outputs(folder, built.mesh, built.problem.elasticity.materials, d.solved.solution, info,
-                                          wanted);
+              report = app::write_results(folder, d.scene, d.solved, files ? &*files : nullptr);
             }
             std::vector<std::filesystem::path> written = report.written;
             return written;
@@ -306,11 +311,11 @@ was solved from, and its arrays keep it alive.
         ReducedProblem reduced;
         try {
           py::gil_scoped_release release;
-          auto on_built = [&](const BuiltProblem&, const cli::SceneSolve&) {
+          auto on_built = [&](const BuiltProblem&, const app::SceneSolve&) {
             if (watch.poll()) throw Interrupted{};
           };
           auto callback = [&](const IterationRecord&) { return !watch.poll(); };
-          d->solved = cli::solve_scene(d->scene, on_built, callback, keep_reduced ? &reduced : nullptr,
+          d->solved = app::solve_scene(d->scene, on_built, callback, keep_reduced ? &reduced : nullptr,
                                        search_progress(watch, progress));
         } catch (const Interrupted&) {
         }

@@ -3,8 +3,8 @@
 // The counter "elements/s" is the assembly rate (element matrices and the sparse matrix).
 #include <benchmark/benchmark.h>
 
-#include <hemivem/assembly.hpp>
-#include <hemivem/mesh_generators.hpp>
+#include <hemivem/vem/assembly.hpp>
+#include <hemivem/mesh/generators.hpp>
 
 #include <map>
 #include <memory>

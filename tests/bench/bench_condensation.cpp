@@ -5,10 +5,11 @@
 //   /usr/bin/time -v build/tests/bench/bench_condensation --benchmark_filter='condense/cholmod/256$'
 #include <benchmark/benchmark.h>
 
-#include <hemivem/contact.hpp>
-#include <hemivem/contact_problem.hpp>
+#include <hemivem/contact/condensation.hpp>
+#include <hemivem/contact/problem.hpp>
 #include <hemivem/linear_backends.hpp>
-#include <hemivem/mesh_generators.hpp>
+#include <hemivem/mesh/generators.hpp>
+#include <hemivem/scene/example.hpp>
 
 #include <map>
 #include <memory>

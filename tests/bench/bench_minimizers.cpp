@@ -6,11 +6,12 @@
 // subgradient), N1.
 #include <benchmark/benchmark.h>
 
-#include <hemivem/contact.hpp>
-#include <hemivem/contact_problem.hpp>
+#include <hemivem/contact/condensation.hpp>
+#include <hemivem/contact/problem.hpp>
 #include <hemivem/linear_backends.hpp>
-#include <hemivem/mesh_generators.hpp>
+#include <hemivem/mesh/generators.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
+#include <hemivem/scene/example.hpp>
 
 #include <map>
 #include <memory>

@@ -5,13 +5,14 @@
 // that they received the shared status and nothing else. Failures of the minimizer on rank 0
 // must reach every process (a process left waiting in a collective call would hang the test
 // until its CTest timeout). main() reduces the outcome over all processes.
-#include <hemivem/contact_solver.hpp>
+#include <hemivem/contact/solver.hpp>
 #include <hemivem/eigen_factorization.hpp>
 #include <hemivem/error.hpp>
-#include <hemivem/mesh_generators.hpp>
+#include <hemivem/mesh/generators.hpp>
 #include <hemivem/mumps_mpi_factorization.hpp>
 #include <hemivem/process_group.hpp>
 #include <hemivem/ssn_minimizer.hpp>
+#include <hemivem/scene/example.hpp>
 
 #include <gtest/gtest.h>
 #include <mpi.h>

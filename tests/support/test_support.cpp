@@ -62,7 +62,8 @@ std::string input_error_of(const std::function<void()>& f) {
 }  // namespace hemivem::test
 
 #include <hemivem/linear_backends.hpp>
-#include <hemivem/mesh_generators.hpp>
+#include <hemivem/mesh/generators.hpp>
+#include <hemivem/scene/example.hpp>
 
 namespace hemivem::test {
 

@@ -18,7 +18,7 @@ std::filesystem::path scenes_dir();
 
 }  // namespace hemivem::test
 
-#include <hemivem/assembly.hpp>
+#include <hemivem/vem/assembly.hpp>
 
 #include <functional>
 #include <string>
@@ -40,8 +40,8 @@ std::string input_error_of(const std::function<void()>& f);
 
 }  // namespace hemivem::test
 
-#include <hemivem/contact.hpp>
-#include <hemivem/contact_problem.hpp>
+#include <hemivem/contact/condensation.hpp>
+#include <hemivem/contact/problem.hpp>
 
 #include <functional>
 #include <memory>

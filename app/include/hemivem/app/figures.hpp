@@ -1,0 +1,65 @@
+// Figures drawn with gnuplot: the one helper every command draws with (solve's u_nu.png and
+// deformed.png, study.png, bench.png), and the two figures of a solve.
+//
+// A Figure is a gnuplot script and the data files it reads. draw_figures runs gnuplot once
+// for several figures in a private temporary folder (the scripts' working folder, so they
+// name their data files plainly: plot 'u_nu.dat' ...), then moves each PNG made into the
+// output folder atomically. A figure is never worth failing a run for: gnuplot missing or
+// failing is reported per figure, not thrown.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include <hemivem/contact/solver.hpp>
+#include <hemivem/mesh/mesh.hpp>
+
+#include <hemivem/app/outputs.hpp>
+
+namespace hemivem::app {
+
+/// A data file of a figure: its name in the scripts' working folder and what it holds.
+struct PlotData {
+  std::string name;
+  std::function<void(std::ostream&)> write;
+};
+
+/// One PNG: `script` draws it (the terminal and `set output` are set before it runs, `unset
+/// output` and `reset` after), reading `data`.
+struct Figure {
+  std::string png;  ///< the file name in the output folder, e.g. "u_nu.png"
+  int width = 1000, height = 700;
+  std::string script;
+  std::vector<PlotData> data;
+};
+
+/// Draws `figures` into `dir` (which must exist) with one run of gnuplot. For each figure, in
+/// order: empty when its PNG was written, else why not ("gnuplot not found on PATH", "gnuplot
+/// failed (status 1): ...", "gnuplot made no PNG"). Throws InputError when a file cannot be
+/// written.
+std::vector<std::string> draw_figures(const std::filesystem::path& dir, const std::vector<Figure>& figures);
+
+/// A single-quoted gnuplot string ('' stands for a quote).
+std::string gnuplot_quote(const std::string& s);
+/// Whether `p` starts with the PNG signature.
+bool is_png(const std::filesystem::path& p);
+
+/// u_nu.png: the normal displacement u_nu along the contact boundary against x (when Gamma_3
+/// is one horizontal line) or its arc length, with the gap (when u_nu <= g is a constraint),
+/// the contact law's breakpoints near the values shown, and the contact pressure on a second
+/// axis; the title names the scene and the mesh. With friction (has_tangential) a second panel
+/// below: u_tau with its stick and slip nodes marked, and the friction traction on a second
+/// axis. The solution must have contact nodes.
+Figure u_nu_figure(const Mesh& mesh, const ContactSolution& solution, const RunInfo& info);
+
+/// deformed.png: the deformed mesh (its boundary alone above 100000 edges) coloured by |u|,
+/// the displacement magnified so that its largest value is a tenth of the domain's size,
+/// over the undeformed outline; with contact the contact nodes and, when u_nu <= g is a
+/// constraint, the foundation or obstacle where u_nu = g (x_i + g_i nu_i, moved by the same
+/// magnification, so that a node touching it is drawn on it).
+Figure deformed_figure(const Mesh& mesh, const ContactSolution& solution, const RunInfo& info);
+
+}  // namespace hemivem::app

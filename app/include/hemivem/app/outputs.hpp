@@ -1,0 +1,78 @@
+// The files a solve leaves in its output folder (schema and formats: docs/reference/outputs.md):
+// result.json, contact.csv, displacement.csv, history.csv, solution.vtu (vtu.hpp), scene.toml
+// and the gnuplot figures u_nu.png and deformed.png (figures.hpp).
+#pragma once
+
+#include <array>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include <hemivem/contact/solver.hpp>
+#include <hemivem/vem/material.hpp>
+#include <hemivem/mesh/mesh.hpp>
+
+namespace hemivem::app {
+
+/// The version of hemivem ("0.1.0"), as result.json records it.
+const char* version();
+
+/// What the run was, beyond the solution itself: recorded in result.json.
+struct RunInfo {
+  std::string version = hemivem::app::version();
+  std::string scene_name;                     ///< the scene's name (or its file name)
+  std::string scene_toml;                     ///< the scene's full TOML text, copied to scene.toml
+  std::string mesh;                           ///< how the mesh was made ("squares n=8", a file path ...)
+  std::string linear;                         ///< the factorization engine used
+  std::string minimizer;                      ///< the nonsmooth minimizer used (a global search's first engine)
+  nlohmann::json search = {{"kind", "local"}};  ///< how the minimizer searched (commands.hpp: search_json)
+  nlohmann::json options = nlohmann::json::object();  ///< every option in effect, by name (numbers as numbers)
+  double mesh_seconds = 0.0;                  ///< wall time spent making or reading the mesh
+  int dofs = -1;                              ///< free degrees of freedom; < 0: 2 x vertices
+  int processes = 1;                          ///< processes of the linear engine (mpirun -np P with mumps-mpi)
+  std::vector<std::string> files;             ///< the files of the run's output folder (set by write_outputs)
+  std::vector<std::string> warnings;          ///< what the user should know about the problem posed
+  std::vector<double> law_breakpoints;        ///< the contact law's breakpoints (u_nu values), for u_nu.png
+  bool gap_bound = false;                     ///< u_nu <= g is a constraint: the plots draw the gap and foundation
+  std::string friction_law;                   ///< the friction law's name ("" without friction)
+};
+
+/// The result.json document ("schema": "hemivem-result/7").
+nlohmann::json result_json(const Mesh& mesh, const ContactSolution& solution, const RunInfo& info);
+
+/// Whether the contact nodes carry a tangential displacement (friction or a bilateral
+/// constraint): contact.csv, result.json, solution.vtu and u_nu.png then show it.
+bool has_tangential(const ContactSolution& solution);
+
+/// The names write_outputs knows, in the order it writes them: result.json, contact.csv,
+/// displacement.csv, history.csv, solution.vtu, scene.toml, u_nu.png, deformed.png.
+const std::vector<std::string>& all_outputs();
+
+/// What write_outputs did.
+struct OutputReport {
+  std::vector<std::filesystem::path> written;  ///< files written, in order
+  std::vector<std::string> skipped;            ///< "name: reason" for each wanted file not made (plots only)
+  std::vector<std::string> removed;            ///< names of earlier runs' outputs this run did not write
+};
+
+/// Checks, before any work, that `dir` can be the output folder: a folder that can be written
+/// into, or a path that does not exist below a folder that can. Creates nothing; throws
+/// InputError naming the folder otherwise.
+void check_output_folder(const std::filesystem::path& dir);
+
+/// Writes the `wanted` files (names from all_outputs()) into `dir`, creating it. Each file is
+/// written atomically. The plots are made by running gnuplot; when gnuplot is missing or fails
+/// they are skipped and listed in the report, never an error. Throws InputError for an unknown
+/// name (before writing anything) and for any I/O failure; never prints.
+OutputReport write_outputs(const std::filesystem::path& dir, const Mesh& mesh, const MaterialTable& materials,
+                           const ContactSolution& solution, const RunInfo& info,
+                           const std::vector<std::string>& wanted = all_outputs());
+
+/// The boundary edges of Gamma_3 whose both ends are contact nodes, as vertex pairs (the line
+/// cells of solution.vtu, the contact boundary of deformed.png).
+std::vector<std::array<int, 2>> contact_lines(const Mesh& mesh, const ContactSolution& solution);
+
+}  // namespace hemivem::app

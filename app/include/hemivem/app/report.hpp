@@ -1,0 +1,24 @@
+// A solve in words, after Ceres' Solver::Summary: a one-line brief report and a full report
+// of every stage (the lines `hemivem solve` prints between its title and the files it wrote).
+#pragma once
+
+#include <string>
+
+#include <hemivem/app/outputs.hpp>
+#include <hemivem/app/solve.hpp>
+#include <hemivem/scene/scene.hpp>
+
+namespace hemivem::app {
+
+/// One line: the status, the certificate, the iterations, the potential energy and the total
+/// time, e.g. "converged (certificate: primal 0.000e+00, dual 3.4e-15 (tolerance 1.0e-10)),
+/// 4 iterations, energy -0.216339, 0.0557 s".
+std::string brief_report(const SceneSolve& solved);
+
+/// Every line of a solve: mesh, engines, stages, status and certificate, the global search's
+/// critical points, uniqueness, the contact zone, forces, friction, energy and the time of
+/// each stage, one "  name          value" line each, ending in a newline. `scene` is the
+/// resolved scene that was solved, `info` its run_info().
+std::string full_report(const Scene& scene, const SceneSolve& solved, const RunInfo& info);
+
+}  // namespace hemivem::app

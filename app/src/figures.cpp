@@ -1,0 +1,393 @@
+#include <hemivem/app/figures.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <iomanip>
+#include <map>
+#include <random>
+#include <set>
+#include <sstream>
+#include <system_error>
+
+#include <unistd.h>
+
+#include <hemivem/support/atomic_file.hpp>
+#include <hemivem/error.hpp>
+
+#include <hemivem/app/format.hpp>
+#include <hemivem/app/text_writer.hpp>
+
+namespace hemivem::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+/// The full path of `program` found on PATH, or empty.
+fs::path find_on_path(const std::string& program) {
+  const char* path = std::getenv("PATH");
+  if (!path) return {};
+  std::stringstream ss(path);
+  std::string dir;
+  while (std::getline(ss, dir, ':')) {
+    if (dir.empty()) continue;
+    const fs::path candidate = fs::path(dir) / program;
+    if (::access(candidate.c_str(), X_OK) == 0 && !fs::is_directory(candidate)) return candidate;
+  }
+  return {};
+}
+
+/// A single-quoted string for the shell.
+std::string shell_quote(const std::string& s) {
+  std::string r = "'";
+  for (char c : s) r += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return r + "'";
+}
+
+/// A private temporary folder removed on destruction.
+class TempDir {
+ public:
+  TempDir() {
+    static std::atomic<unsigned> counter{0};
+    std::random_device rd;
+    const fs::path base = fs::temp_directory_path();
+    for (int attempt = 0; attempt < 100; ++attempt) {
+      const fs::path p = base / ("hemivem-plots-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) +
+                                 "-" + std::to_string(rd()));
+      std::error_code ec;
+      if (fs::create_directory(p, ec)) {
+        path_ = p;
+        return;
+      }
+    }
+    throw InputError("cannot create a temporary folder", base.string());
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+void write_plain(const fs::path& path, const std::function<void(std::ostream&)>& write) {
+  std::ofstream os(path);
+  if (!os) throw InputError("cannot write", path.string());
+  write(os);
+  os.flush();
+  if (!os) throw InputError("cannot write", path.string());
+}
+
+/// A number as gnuplot reads it back exactly.
+std::string num(double v) {
+  std::ostringstream s;
+  s << std::setprecision(17) << v;
+  return s.str();
+}
+
+/// Contact nodes ordered along Gamma_3, chained through the boundary edges joining them;
+/// each chain is one polyline, with its arc length s from its first node.
+struct ContactPoint {
+  double s = 0.0;
+  const ContactNode* node = nullptr;
+};
+std::vector<std::vector<ContactPoint>> contact_chains(const Mesh& mesh, const ContactSolution& sol) {
+  std::map<int, const ContactNode*> by_vertex;
+  for (const auto& n : sol.contact) by_vertex[n.vertex] = &n;
+  std::map<int, std::vector<int>> next;
+  for (const auto& [v0, v1] : contact_lines(mesh, sol)) {
+    next[v0].push_back(v1);
+    next[v1].push_back(v0);
+  }
+  // start points: chain ends (degree <= 1) first, sorted by (x, y) so the output is stable
+  std::vector<int> starts;
+  for (const auto& [v, n] : by_vertex)
+    if (next[v].size() <= 1) starts.push_back(v);
+  auto lexi = [&](int a, int b) {
+    const Vec2& pa = mesh.vertex(a);
+    const Vec2& pb = mesh.vertex(b);
+    return pa.x() != pb.x() ? pa.x() < pb.x() : pa.y() < pb.y();
+  };
+  std::sort(starts.begin(), starts.end(), lexi);
+  for (const auto& [v, n] : by_vertex) starts.push_back(v);  // closed loops
+
+  std::set<int> seen;
+  std::vector<std::vector<ContactPoint>> chains;
+  for (int start : starts) {
+    if (seen.count(start)) continue;
+    std::vector<ContactPoint> chain;
+    int v = start;
+    double s = 0.0;
+    int prev = -1;
+    while (v >= 0 && !seen.count(v)) {
+      seen.insert(v);
+      if (prev >= 0) s += (mesh.vertex(v) - mesh.vertex(prev)).norm();
+      chain.push_back({s, by_vertex[v]});
+      int following = -1;
+      for (int w : next[v])
+        if (!seen.count(w)) {
+          following = w;
+          break;
+        }
+      prev = v;
+      v = following;
+    }
+    chains.push_back(std::move(chain));
+  }
+  return chains;
+}
+
+/// The title of a solve's figure as a gnuplot string: what it shows on the first line, the
+/// scene and the mesh on the second (a long scene name would not fit on one).
+std::string solve_title(const std::string& what, const RunInfo& info) {
+  auto escaped = [](const std::string& t) {
+    std::string r;
+    for (char c : t) r += (c == '"' || c == '\\') ? std::string("\\") + c : std::string(1, c);
+    return r;
+  };
+  std::string second = info.scene_name;
+  if (!info.mesh.empty()) second += (second.empty() ? "" : ", ") + info.mesh;
+  return "\"" + escaped(what) + (second.empty() ? "" : "\\n" + escaped(second)) + "\"";
+}
+
+/// A number for a label (6 significant digits).
+std::string label_number(double v) {
+  std::ostringstream s;
+  s << std::setprecision(6) << v;
+  return s.str();
+}
+
+/// The most edges deformed.png draws one by one (a 1000 x 700 picture).
+constexpr std::size_t kMaxDrawnEdges = 100000;
+
+}  // namespace
+
+std::string gnuplot_quote(const std::string& s) {
+  std::string r = "'";
+  for (char c : s) r += c == '\'' ? std::string("''") : std::string(1, c);
+  return r + "'";
+}
+
+bool is_png(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  char sig[8] = {};
+  in.read(sig, 8);
+  return in.gcount() == 8 && std::string(sig, 8) == std::string("\x89PNG\r\n\x1a\n", 8);
+}
+
+std::vector<std::string> draw_figures(const fs::path& dir, const std::vector<Figure>& figures) {
+  std::vector<std::string> reasons(figures.size());
+  if (figures.empty()) return reasons;
+  const fs::path gnuplot = find_on_path("gnuplot");
+  if (gnuplot.empty()) {
+    std::fill(reasons.begin(), reasons.end(), "gnuplot not found on PATH");
+    return reasons;
+  }
+  TempDir tmp;
+  const fs::path& t = tmp.path();
+  std::ostringstream script;
+  for (const Figure& f : figures) {
+    for (const auto& d : f.data) write_plain(t / d.name, d.write);
+    const std::string size = std::to_string(f.width) + "," + std::to_string(f.height);
+    // pngcairo when built in, else the gd-based png terminal
+    script << "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) { set terminal pngcairo size " << size
+           << " enhanced font 'sans,11' } else { set terminal png size " << size << " }\n"
+           << "set output " << gnuplot_quote(f.png) << "\n"
+           << f.script << "\nunset output\nreset\n";
+  }
+  write_plain(t / "figures.gp", [&](std::ostream& os) { os << script.str(); });
+  const fs::path log = t / "gnuplot.log";
+  const std::string command = "cd " + shell_quote(t.string()) + " && " + shell_quote(gnuplot.string()) +
+                              " figures.gp >" + shell_quote(log.string()) + " 2>&1";
+  const int rc = std::system(command.c_str());
+  std::string failure;
+  if (rc != 0) {
+    std::ifstream in(log);
+    std::string first_line;
+    std::getline(in, first_line);
+    failure = "gnuplot failed (status " + std::to_string(rc) + ")" + (first_line.empty() ? "" : ": " + first_line);
+  }
+  for (std::size_t i = 0; i < figures.size(); ++i) {
+    const fs::path made = t / figures[i].png;
+    if (!is_png(made)) {
+      reasons[i] = failure.empty() ? "gnuplot made no PNG" : failure;
+      continue;
+    }
+    write_atomically(dir / figures[i].png, [&](std::ostream& os) {
+      std::ifstream in(made, std::ios::binary);
+      if (!in) throw InputError("cannot read", made.string());
+      os << in.rdbuf();
+    });
+  }
+  return reasons;
+}
+
+Figure u_nu_figure(const Mesh& mesh, const ContactSolution& sol, const RunInfo& info) {
+  const auto chains = contact_chains(mesh, sol);
+  // against x when Gamma_3 is one horizontal line, else against its arc length
+  const Rectangle box = mesh.bounding_box();
+  double y_min = sol.contact.front().x.y(), y_max = y_min;
+  for (const auto& n : sol.contact) y_min = std::min(y_min, n.x.y()), y_max = std::max(y_max, n.x.y());
+  const bool along_x = chains.size() == 1 && y_max - y_min <= 1e-12 * std::max(box.width(), box.height());
+  // the range of values shown, and the law's breakpoints near it
+  double lo = 0.0, hi = 0.0;
+  for (const auto& n : sol.contact) {
+    lo = std::min(lo, n.u_nu);
+    hi = std::max(hi, n.u_nu);
+    if (info.gap_bound && std::isfinite(n.gap)) hi = std::max(hi, n.gap);
+  }
+  const double span = std::max(hi - lo, 1e-300);
+  std::vector<double> breakpoints;
+  for (double b : info.law_breakpoints)
+    if (b >= lo - 0.5 * span && b <= hi + 0.5 * span) breakpoints.push_back(b);
+  for (double b : breakpoints) lo = std::min(lo, b), hi = std::max(hi, b);
+  const double margin = 0.06 * std::max(hi - lo, 1e-300);
+
+  Figure f;
+  f.png = "u_nu.png";
+  const bool tangential = has_tangential(sol);
+  f.data.push_back({"u_nu.dat", [chains](std::ostream& os) {
+                      os << std::setprecision(17)
+                         << "# s x y u_nu pressure gap u_tau friction_traction stick\n";
+                      for (const auto& chain : chains) {
+                        for (const auto& p : chain)
+                          os << p.s << ' ' << p.node->x.x() << ' ' << p.node->x.y() << ' ' << p.node->u_nu << ' '
+                             << p.node->pressure() << ' ' << p.node->gap << ' ' << p.node->u_tau << ' '
+                             << p.node->friction_force / p.node->weight << ' '
+                             << (p.node->friction_state == "stick" ? 1 : 0) << '\n';
+                        os << "\n\n";  // a new data block per chain
+                      }
+                    }});
+  std::ostringstream s;
+  if (tangential) {  // a second panel below: u_tau with the stick and slip zones, the friction traction
+    f.height = 1200;
+    s << "set multiplot layout 2,1\n";
+  }
+  s << "set title " << solve_title("normal displacement and contact pressure on the contact boundary", info)
+    << " noenhanced\n"
+    << "set xlabel "
+    << (along_x ? "'x (scene units)'" : "'arc length s along the contact boundary {/Symbol G}_3 (scene units)'") << "\n"
+    << "set ylabel 'normal displacement u_{/Symbol n} (scene units)'\n"
+    << "set y2label 'contact pressure (force per unit length, scene units; compression > 0)'\n"
+    << "set ytics nomirror\nset y2tics\nset grid\nset key outside top center horizontal\n"
+    << "set yrange [" << num(lo - margin) << ":" << num(hi + margin) << "]\n";
+  for (std::size_t i = 0; i < breakpoints.size(); ++i)
+    s << "set arrow from graph 0, first " << num(breakpoints[i]) << " to graph 1, first " << num(breakpoints[i])
+      << " nohead dt 3 lw 1.5 lc rgb '#2ca02c'\n"
+      << "set label " << gnuplot_quote("law breakpoint " + label_number(breakpoints[i])) << " at graph 0.01, first "
+      << num(breakpoints[i]) << " offset 0,0.6 tc rgb '#2ca02c' font ',9'\n";
+  const char* x = along_x ? "2" : "1";
+  s << "plot 'u_nu.dat' using " << x << ":4 with linespoints pt 7 ps 0.6 lw 2 lc rgb '#1f77b4' title 'u_{/Symbol n}'";
+  if (info.gap_bound) s << ", '' using " << x << ":6 with lines dt 2 lw 1.5 lc rgb '#555555' title 'gap g (u_{/Symbol n} <= g)'";
+  s << ", '' using " << x << ":5 axes x1y2 with linespoints pt 6 ps 0.5 lw 1.5 lc rgb '#d62728' title 'contact pressure'";
+  if (!breakpoints.empty()) s << ", NaN with lines dt 3 lw 1.5 lc rgb '#2ca02c' title 'contact law breakpoints'";
+  if (tangential) {
+    double traction = 0.0;
+    for (const auto& n : sol.contact)
+      if (std::isfinite(n.friction_force / n.weight)) traction = std::max(traction, std::abs(n.friction_force / n.weight));
+    s << "\nunset arrow\nunset label\nunset yrange\n";
+    if (traction > 0.0) s << "set y2range [" << num(-1.1 * traction) << ":" << num(1.1 * traction) << "]\n";
+    s
+      << "set title " << gnuplot_quote("tangential displacement and friction on the contact boundary: stick and slip zones")
+      << " noenhanced\n"
+      << "set ylabel 'tangential displacement u_{/Symbol t} (scene units)'\n"
+      << "set y2label 'friction traction (force per unit length, scene units)'\n"
+      << "plot 'u_nu.dat' using " << x << ":7 with lines lw 2 lc rgb '#1f77b4' title 'u_{/Symbol t}'"
+      << ", '' using " << x << ":($9 > 0 ? $7 : NaN) with points pt 5 ps 0.9 lc rgb '#2ca02c' title 'stick'"
+      << ", '' using " << x << ":($9 > 0 ? NaN : $7) with points pt 9 ps 0.9 lc rgb '#ff7f0e' title 'slip'"
+      << ", '' using " << x << ":8 axes x1y2 with linespoints pt 6 ps 0.5 lw 1.5 lc rgb '#d62728' title 'friction traction'"
+      << "\nunset multiplot";
+  }
+  f.script = s.str();
+  return f;
+}
+
+Figure deformed_figure(const Mesh& mesh, const ContactSolution& sol, const RunInfo& info) {
+  // magnify the displacement so that its largest value shows as 10% of the domain's size
+  const Rectangle box = mesh.bounding_box();
+  const double size = std::hypot(box.width(), box.height());
+  double umax = 0.0;
+  for (int v = 0; v < mesh.num_vertices(); ++v) umax = std::max(umax, std::hypot(sol.u(2 * v), sol.u(2 * v + 1)));
+  const double scale = umax > 0.0 && std::isfinite(umax) ? std::max(1.0, 0.1 * size / umax) : 1.0;
+  // Edges finer than the picture's pixels only cost time: a mesh with more edges than
+  // kMaxDrawnEdges is drawn by its boundary.
+  const bool boundary_only = mesh.edges().size() > kMaxDrawnEdges;
+  const bool contact = !sol.contact.empty();
+  const bool foundation = contact && info.gap_bound;
+
+  Figure f;
+  f.png = "deformed.png";
+  f.data.push_back({"edges.dat", [&mesh, &sol, scale, boundary_only](std::ostream& stream) {
+                      TextWriter os(stream);
+                      os << "# x y |u| (deformed edges, one block each)\n";
+                      auto put = [&](const MeshEdge& e) {
+                        for (int v : {e.v0, e.v1}) {
+                          const Vec2 p = mesh.vertex(v) + scale * Vec2(sol.u(2 * v), sol.u(2 * v + 1));
+                          os << p.x() << ' ' << p.y() << ' ' << std::hypot(sol.u(2 * v), sol.u(2 * v + 1)) << '\n';
+                        }
+                        os << '\n';
+                      };
+                      if (boundary_only)
+                        for (int e : mesh.boundary_edges()) put(mesh.edges()[static_cast<std::size_t>(e)]);
+                      else
+                        for (const auto& e : mesh.edges()) put(e);
+                    }});
+  f.data.push_back({"outline.dat", [&mesh](std::ostream& stream) {
+                      TextWriter os(stream);
+                      os << "# x y (undeformed boundary edges, one block each)\n";
+                      for (int e : mesh.boundary_edges())
+                        for (int v : {mesh.edge(e).v0, mesh.edge(e).v1, -1}) {
+                          if (v < 0) os << '\n';
+                          else os << mesh.vertex(v).x() << ' ' << mesh.vertex(v).y() << '\n';
+                        }
+                    }});
+  if (contact)
+    f.data.push_back({"contact.dat", [&mesh, &sol, scale](std::ostream& os) {
+                        os << std::setprecision(17) << "# x y (deformed contact nodes)\n";
+                        for (const auto& n : sol.contact) {
+                          const Vec2 p = mesh.vertex(n.vertex) + scale * Vec2(sol.u(2 * n.vertex), sol.u(2 * n.vertex + 1));
+                          os << p.x() << ' ' << p.y() << '\n';
+                        }
+                      }});
+  if (foundation)
+    f.data.push_back({"foundation.dat", [chains = contact_chains(mesh, sol), scale](std::ostream& os) {
+                        os << std::setprecision(17) << "# x y (where u_nu = g, magnified as the displacement)\n";
+                        for (const auto& chain : chains) {
+                          for (const auto& p : chain) {
+                            if (!std::isfinite(p.node->gap)) {  // a ray that misses the obstacle
+                              os << '\n';
+                              continue;
+                            }
+                            const Vec2 q = p.node->x + scale * p.node->gap * p.node->normal;
+                            os << q.x() << ' ' << q.y() << '\n';
+                          }
+                          os << "\n\n";
+                        }
+                      }});
+  std::ostringstream title;
+  title << (boundary_only ? "deformed boundary" : "deformed mesh") << " (displacement x " << std::setprecision(3)
+        << scale << ")";
+  if (boundary_only) title << "; " << mesh.edges().size() << " edges are finer than the picture";
+  std::ostringstream s;
+  s << "set title " << solve_title(title.str(), info) << " noenhanced\n"
+    << "set size ratio -1\nset offsets graph 0.04, graph 0.04, graph 0.04, graph 0.04\n"
+    << "set xlabel 'x (scene units)'\nset ylabel 'y (scene units)'\n"
+    << "set key outside bottom center horizontal\n"
+    << "set palette rgbformulae 33,13,10\nset cblabel '|u| (scene units)'\n"
+    << "plot 'outline.dat' using 1:2 with lines lw 1.5 dt 2 lc rgb '#444444' title 'undeformed', "
+    << "'edges.dat' using 1:2:3 with lines lc palette lw " << (boundary_only ? 2 : 1) << " notitle";
+  if (foundation)
+    s << ", 'foundation.dat' using 1:2 with lines lw 2.5 lc rgb 'black' title 'foundation or obstacle (u_{/Symbol n} = g)'";
+  if (contact) s << ", 'contact.dat' using 1:2 with points pt 7 ps 0.5 lc rgb 'black' title 'contact nodes'";
+  f.script = s.str();
+  return f;
+}
+
+}  // namespace hemivem::app

@@ -1,0 +1,259 @@
+#include <hemivem/app/outputs.hpp>
+#include <hemivem/app/figures.hpp>
+#include <hemivem/app/text_writer.hpp>
+#include <hemivem/app/vtu.hpp>
+
+#include <hemivem/app/format.hpp>
+
+#include <hemivem/vem/assembly.hpp>
+#include <hemivem/error.hpp>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <array>
+#include <atomic>
+#include <charconv>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <iomanip>
+#include <limits>
+#include <ostream>
+#include <random>
+#include <set>
+#include <sstream>
+#include <string_view>
+#include <system_error>
+
+#include <unistd.h>
+
+namespace hemivem::app {
+
+const char* version() { return HEMIVEM_VERSION; }
+
+namespace fs = std::filesystem;
+
+namespace {
+
+/// A number for JSON: non-finite values become null (JSON has no inf or NaN).
+double timing(const ContactSolution& s, const std::string& stage) {
+  const auto it = s.timings.find(stage);
+  return it == s.timings.end() ? 0.0 : it->second;
+}
+
+
+void write_contact_csv(std::ostream& stream, const ContactSolution& s) {
+  TextWriter os(stream);
+  const bool tangential = has_tangential(s);
+  os << "vertex,x,y,u_nu,law_force,reaction,pressure,state,gap,nx,ny"
+     << (tangential ? ",u_tau,friction_force,friction_traction,friction_state" : "") << "\n";
+  for (const auto& n : s.contact) {
+    os << n.vertex << ',' << n.x.x() << ',' << n.x.y() << ',' << n.u_nu << ',' << n.law_force << ',' << n.reaction
+       << ',' << n.pressure() << ',' << n.state << ',' << n.gap << ',' << n.normal.x() << ',' << n.normal.y();
+    if (tangential)
+      os << ',' << n.u_tau << ',' << n.friction_force << ',' << n.friction_force / n.weight << ',' << n.friction_state;
+    os << '\n';
+  }
+}
+
+void write_displacement_csv(std::ostream& stream, const Mesh& mesh, const Eigen::VectorXd& u) {
+  TextWriter os(stream);
+  os << "vertex,x,y,ux,uy\n";
+  for (int v = 0; v < mesh.num_vertices(); ++v)
+    os << v << ',' << mesh.vertex(v).x() << ',' << mesh.vertex(v).y() << ',' << u(2 * v) << ',' << u(2 * v + 1)
+       << '\n';
+}
+
+void write_history_csv(std::ostream& stream, const ContactSolution& s) {
+  TextWriter os(stream);
+  os << "iteration,reduced_objective,primal,dual,active,seconds\n";
+  for (const auto& r : s.minimizer.history)
+    os << r.iteration << ',' << r.objective << ',' << r.primal << ',' << r.dual << ',' << r.active << ',' << r.seconds
+       << '\n';
+}
+
+}  // namespace
+
+bool has_tangential(const ContactSolution& s) {
+  return std::any_of(s.contact.begin(), s.contact.end(), [](const ContactNode& n) { return !n.friction_state.empty(); });
+}
+
+std::vector<std::array<int, 2>> contact_lines(const Mesh& mesh, const ContactSolution& sol) {
+  std::vector<char> on(static_cast<std::size_t>(mesh.num_vertices()), 0);
+  for (const auto& n : sol.contact) on[static_cast<std::size_t>(n.vertex)] = 1;
+  std::vector<std::array<int, 2>> lines;
+  if (sol.contact.empty()) return lines;
+  for (int e : mesh.boundary_edges()) {
+    const auto& edge = mesh.edge(e);
+    if (on[static_cast<std::size_t>(edge.v0)] && on[static_cast<std::size_t>(edge.v1)]) lines.push_back({edge.v0, edge.v1});
+  }
+  return lines;
+}
+
+nlohmann::json result_json(const Mesh& mesh, const ContactSolution& s, const RunInfo& info) {
+  using nlohmann::json;
+  json j;
+  j["schema"] = "hemivem-result/7";
+  j["version"] = info.version;
+  j["scene"] = {{"name", info.scene_name}, {"toml", info.scene_toml}};
+  j["backends"] = {{"linear", info.linear}, {"minimizer", info.minimizer}};
+  j["processes"] = info.processes;
+  j["files"] = info.files;
+  j["warnings"] = info.warnings;
+  j["options"] = info.options;
+  j["status"] = to_string(s.minimizer.status);
+  j["converged"] = s.converged();
+  j["message"] = s.minimizer.message;
+  j["certificate"] = certificate_json(s.minimizer.certificate);
+  j["uniqueness_margin"] = number(s.uniqueness_margin);
+  j["may_be_nonunique"] = s.minimizer.may_be_nonunique;
+  j["search"] = info.search;
+  j["critical_points"] = critical_points_json(s.minimizer, s.energy - s.minimizer.objective);
+  j["potential_energy"] = number(s.energy);
+  j["iterations"] = s.minimizer.iterations;
+  j["evaluations"] = {{"function", s.minimizer.function_evaluations},
+                      {"subgradient", s.minimizer.subgradient_evaluations}};
+  j["stages"] = s.stages;
+  json t = json::object();
+  for (const auto& [k, v] : s.timings) t[k] = number(v);
+  t["mesh"] = number(info.mesh_seconds);
+  for (const char* stage : {"assembly", "condensation", "minimize", "back_substitution"}) t[stage] = timing(s, stage);
+  t["total"] = number(info.mesh_seconds + timing(s, "total"));
+  j["timings"] = t;
+  j["mesh"] = {{"description", info.mesh},
+               {"vertices", mesh.num_vertices()},
+               {"elements", mesh.num_elements()},
+               {"dofs", info.dofs >= 0 ? info.dofs : 2 * mesh.num_vertices()},
+               {"h", mesh.h()}};
+  const bool tangential = has_tangential(s);
+  json contact = json::array();
+  json friction_states = json::object();
+  for (const auto& n : s.contact) {
+    json node{{"vertex", n.vertex},
+              {"x", n.x.x()},
+              {"y", n.x.y()},
+              {"u_nu", number(n.u_nu)},
+              {"law_force", number(n.law_force)},
+              {"reaction", number(n.reaction)},
+              {"pressure", number(n.pressure())},
+              {"gap", number(n.gap)},
+              {"normal", {number(n.normal.x()), number(n.normal.y())}},
+              {"state", n.state}};
+    if (tangential) {
+      node["u_tau"] = number(n.u_tau);
+      node["friction_force"] = number(n.friction_force);
+      node["friction_traction"] = number(n.friction_force / n.weight);
+      node["friction_state"] = n.friction_state;
+      friction_states[n.friction_state] = friction_states.value(n.friction_state, 0) + 1;
+    }
+    contact.push_back(std::move(node));
+  }
+  j["contact"] = std::move(contact);
+  j["friction"] = tangential ? json{{"law", info.friction_law.empty() ? json(nullptr) : json(info.friction_law)}, {"nodes", friction_states}} : json(nullptr);
+  const Vec2 force = s.contact_force();
+  j["contact_force"] = {number(force.x()), number(force.y())};
+  const ContactZone zone = contact_zone(s);
+  j["contact_zone"] = zone.nodes == 0 ? json(nullptr)
+                                      : json{{"nodes", zone.nodes},
+                                             {"length", number(zone.length)},
+                                             {"x", {number(zone.lower.x()), number(zone.upper.x())}},
+                                             {"y", {number(zone.lower.y()), number(zone.upper.y())}}};
+  return j;
+}
+
+const std::vector<std::string>& all_outputs() {
+  static const std::vector<std::string> names{"result.json",  "contact.csv", "displacement.csv", "history.csv",
+                                              "solution.vtu", "scene.toml",  "u_nu.png",         "deformed.png"};
+  return names;
+}
+
+void check_output_folder(const fs::path& dir) {
+  std::error_code ec;
+  const fs::file_status st = fs::status(dir, ec);
+  if (fs::exists(st)) {
+    if (!fs::is_directory(st)) throw InputError("the output folder is a file, not a folder", dir.string());
+    if (::access(dir.c_str(), W_OK | X_OK) != 0)
+      throw InputError("cannot write into the output folder: " + std::string(std::strerror(errno)), dir.string());
+    return;
+  }
+  // the folder will be made: its nearest existing ancestor must be a writable folder
+  fs::path p = fs::absolute(dir, ec).parent_path();
+  while (!p.empty() && !fs::exists(fs::status(p, ec))) {
+    if (p == p.root_path()) break;
+    p = p.parent_path();
+  }
+  if (!fs::is_directory(fs::status(p, ec)))
+    throw InputError("cannot make the output folder: " + p.string() + " is not a folder", dir.string());
+  if (::access(p.c_str(), W_OK | X_OK) != 0)
+    throw InputError("cannot make the output folder: cannot write into " + p.string() + ": " + std::strerror(errno),
+                     dir.string());
+}
+
+OutputReport write_outputs(const fs::path& dir, const Mesh& mesh, const MaterialTable& materials,
+                           const ContactSolution& solution, const RunInfo& info, const std::vector<std::string>& wanted) {
+  const auto& known = all_outputs();
+  for (const auto& w : wanted)
+    if (std::find(known.begin(), known.end(), w) == known.end()) {
+      std::string list;
+      for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+      throw InputError("unknown output '" + w + "' (known: " + list + ")");
+    }
+  if (solution.u.size() != 2 * mesh.num_vertices())
+    throw InputError("the solution has " + std::to_string(solution.u.size()) + " values for " +
+                     std::to_string(mesh.num_vertices()) + " vertices");
+  auto want = [&](const std::string& name) { return std::find(wanted.begin(), wanted.end(), name) != wanted.end(); };
+
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec || !fs::is_directory(dir))
+    throw InputError("cannot create the output folder" + (ec ? ": " + ec.message() : std::string()), dir.string());
+
+  OutputReport report;
+  auto write = [&](const std::string& name, const std::function<void(std::ostream&)>& body) {
+    if (!want(name)) return;
+    write_atomically(dir / name, body);
+    report.written.push_back(dir / name);
+  };
+  RunInfo listed = info;  // result.json lists the run's files, in the order they are written
+  listed.files.clear();
+  for (const auto& k : known)
+    if (want(k)) listed.files.push_back(k);
+  write("result.json", [&](std::ostream& os) { os << result_json(mesh, solution, listed).dump(2) << '\n'; });
+  write("contact.csv", [&](std::ostream& os) { write_contact_csv(os, solution); });
+  write("displacement.csv", [&](std::ostream& os) { write_displacement_csv(os, mesh, solution.u); });
+  write("history.csv", [&](std::ostream& os) { write_history_csv(os, solution); });
+  write("solution.vtu", [&](std::ostream& os) { write_vtu(os, mesh, materials, solution); });
+  write("scene.toml", [&](std::ostream& os) { os << info.scene_toml; });
+  std::vector<Figure> figures;  // a figure is never worth failing the run for
+  if (want("u_nu.png") && solution.contact.empty()) report.skipped.push_back("u_nu.png: no contact boundary");
+  try {
+    if (want("u_nu.png") && !solution.contact.empty()) figures.push_back(u_nu_figure(mesh, solution, info));
+    if (want("deformed.png")) figures.push_back(deformed_figure(mesh, solution, info));
+    const std::vector<std::string> reasons = draw_figures(dir, figures);
+    for (std::size_t i = 0; i < figures.size(); ++i) {
+      if (reasons[i].empty()) report.written.push_back(dir / figures[i].png);
+      else report.skipped.push_back(figures[i].png + ": " + reasons[i]);
+    }
+  } catch (const std::exception& e) {  // each PNG is moved into place atomically: none is half-written
+    for (const auto& f : figures)
+      if (std::find(report.written.begin(), report.written.end(), dir / f.png) == report.written.end())
+        report.skipped.push_back(f.png + ": " + e.what());
+  }
+  // A plot that could not be made is not in the folder: result.json says so.
+  if (want("result.json") && report.written.size() != listed.files.size()) {
+    listed.files.clear();
+    for (const auto& f : report.written) listed.files.push_back(f.filename().string());
+    write_atomically(dir / "result.json", [&](std::ostream& os) { os << result_json(mesh, solution, listed).dump(2) << '\n'; });
+  }
+  // The folder holds exactly this run's outputs: an earlier run's file of a name this run
+  // did not write goes (never anything else).
+  for (const auto& k : known) {
+    if (std::find(report.written.begin(), report.written.end(), dir / k) != report.written.end()) continue;
+    std::error_code rm;
+    if (fs::is_regular_file(fs::symlink_status(dir / k, rm)) && fs::remove(dir / k, rm)) report.removed.push_back(k);
+  }
+  return report;
+}
+
+}  // namespace hemivem::app

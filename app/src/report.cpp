@@ -1,0 +1,98 @@
+#include <hemivem/app/report.hpp>
+
+#include <hemivem/app/format.hpp>
+
+#include <iomanip>
+#include <map>
+#include <sstream>
+
+namespace hemivem::app {
+
+namespace {
+
+void engines_and_stages(std::ostream& out, const SceneSolve& solved, const RunInfo& info) {
+  const BuiltProblem& built = *solved.built;
+  const ContactSolution& sol = solved.solution;
+  out << "  mesh          " << info.mesh << ": " << built.mesh.num_vertices() << " vertices, "
+      << built.mesh.num_elements() << " elements, h = " << built.mesh.h() << ", " << info.dofs << " unknowns\n"
+      << "  engines       linear " << info.linear
+      << (info.processes > 1 ? " (" + std::to_string(info.processes) + " processes)" : std::string())
+      << (built.has_contact ? ", minimizer " + info.minimizer : std::string(" (no contact: one linear solve)")) << "\n"
+      << "  stages        ";
+  for (std::size_t i = 0; i < sol.stages.size(); ++i) out << (i ? ", " : "") << sol.stages[i];
+  out << "\n";
+}
+
+void status(std::ostream& out, const SceneSolve& solved, const RunInfo& info) {
+  const ContactSolution& sol = solved.solution;
+  const auto& r = sol.minimizer;
+  out << "  status        " << to_string(r.status) << " (certificate: " << certificate_text(r.certificate) << "), "
+      << r.iterations << " iterations\n";
+  if (info.search.value("kind", "local") == "global") out << critical_points_text(r, sol.energy - r.objective);
+}
+
+void contact_zone(std::ostream& out, const Scene& scene, const ContactSolution& sol) {
+  int upper = 0, lower = 0;
+  for (const auto& c : sol.contact) upper += c.state == "upper", lower += c.state == "lower";
+  out << "  uniqueness    lambda_min(S - alpha_j W) = " << sol.uniqueness_margin
+      << (sol.uniqueness_margin > 0 ? " > 0: the solution is unique\n"
+                                    : " <= 0: several critical points are possible; this is one of them\n")
+      << "  contact       " << sol.contact.size() << " nodes: ";
+  if (scene.contact && scene.contact->constraint == ConstraintKind::bilateral) {
+    out << "u_nu = 0 (bilateral)\n";
+    return;
+  }
+  out << upper << " at the upper bound, ";
+  if (scene.contact && scene.contact->constraint == ConstraintKind::box) out << lower << " at the lower bound, ";
+  out << sol.contact.size() - upper - lower << " free\n";
+}
+
+void forces(std::ostream& out, const ContactSolution& sol, const RunInfo& info) {
+  double law = 0.0, reaction = 0.0, friction = 0.0;
+  std::map<std::string, int> states;
+  for (const auto& c : sol.contact) law += c.law_force, reaction += c.reaction, friction += c.friction_force;
+  for (const auto& c : sol.contact)
+    if (!c.friction_state.empty()) ++states[c.friction_state];
+  out << "  forces        contact force " << law + reaction << " in total: law " << law << ", reactions " << reaction
+      << "\n";
+  if (states.empty()) return;
+  out << "  friction      " << (info.friction_law.empty() ? std::string("none") : info.friction_law) << ": ";
+  bool first = true;
+  for (const auto& [state, count] : states) out << (first ? "" : ", ") << count << " " << state, first = false;
+  out << "; friction force " << friction << " in total\n";
+}
+
+void energy_and_time(std::ostream& out, const SceneSolve& solved) {
+  const ContactSolution& sol = solved.solution;
+  out << "  energy        potential " << sol.energy << "\n  time [s]      mesh " << solved.mesh_seconds;
+  for (const char* k : {"assembly", "linear_solve", "condensation", "minimize", "back_substitution"})
+    if (sol.timings.count(k)) out << ", " << k << " " << sol.timings.at(k);
+  out << ", total " << solved.mesh_seconds + sol.timings.at("total") << "\n";
+}
+
+}  // namespace
+
+std::string brief_report(const SceneSolve& solved) {
+  const ContactSolution& sol = solved.solution;
+  const auto& r = sol.minimizer;
+  std::ostringstream out;
+  out << std::setprecision(6) << to_string(r.status) << " (certificate: " << certificate_text(r.certificate) << "), "
+      << r.iterations << " iterations, energy " << sol.energy << ", " << std::setprecision(3) << solved.total_seconds()
+      << " s";
+  return out.str();
+}
+
+std::string full_report(const Scene& scene, const SceneSolve& solved, const RunInfo& info) {
+  std::ostringstream out;
+  out << std::setprecision(6);
+  engines_and_stages(out, solved, info);
+  status(out, solved, info);
+  if (!solved.solution.contact.empty()) {
+    contact_zone(out, scene, solved.solution);
+    forces(out, solved.solution, info);
+  }
+  energy_and_time(out, solved);
+  return out.str();
+}
+
+}  // namespace hemivem::app

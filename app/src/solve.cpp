@@ -1,0 +1,146 @@
+#include <hemivem/app/solve.hpp>
+
+#include <hemivem/error.hpp>
+#include <hemivem/linear_backends.hpp>
+#include <hemivem/nonsmooth_backends.hpp>
+#include <hemivem/process_group.hpp>
+
+#include <algorithm>
+#include <chrono>
+
+namespace hemivem::app {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+}  // namespace
+
+double SceneSolve::total_seconds() const {
+  const auto it = solution.timings.find("total");
+  return mesh_seconds + (it == solution.timings.end() ? 0.0 : it->second);
+}
+
+bool same_engine(const std::string& a, const std::string& b) { return normalized_engine_name(a) == normalized_engine_name(b); }
+
+std::unique_ptr<NonsmoothMinimizer> make_scene_minimizer(const Scene& scene, const std::string& name) {
+  if (scene.solver.parameters.empty() || !same_engine(name, scene.solver.minimizer)) return make_minimizer(name);
+  try {
+    return make_minimizer(name, scene.solver.parameters);
+  } catch (const InputError& e) {
+    throw InputError("solver.parameters: minimizer '" + e.where() + "': " + e.detail(), scene.where("solver.parameters"));
+  }
+}
+
+std::unique_ptr<NonsmoothMinimizer> make_scene_search(const Scene& scene,
+                                                      std::function<void(const GlobalSearchProgress&)> progress) {
+  auto first = make_scene_minimizer(scene, scene.solver.minimizer);
+  if (scene.solver.search != "global") return first;
+  GlobalSearchOptions go;
+  go.max_starts = scene.solver.max_starts;
+  go.time_budget = scene.solver.time_budget;
+  go.seed = scene.solver.seed;
+  go.progress = std::move(progress);
+  try {
+    return make_global_search(std::move(first), std::move(go), scene.solver.search_engines);
+  } catch (const InputError& e) {
+    throw InputError("solver.search_engines: " + e.detail(), scene.where("solver.search_engines"));
+  }
+}
+
+std::string first_engine(const NonsmoothMinimizer& m) {
+  const auto* g = dynamic_cast<const GlobalSearch*>(&m);
+  return g ? g->engine_names().front() : m.name();
+}
+
+nlohmann::json search_json(const NonsmoothMinimizer& minimizer) {
+  const auto* search = dynamic_cast<const GlobalSearch*>(&minimizer);
+  if (!search) return {{"kind", "local"}};
+  const GlobalSearchOptions& go = search->options();
+  return {{"kind", "global"},
+          {"engines", search->engine_names()},
+          {"max_starts", go.max_starts},
+          {"time_budget", go.time_budget},
+          {"seed", go.seed},
+          {"random_starts", go.random_starts},
+          {"agree", go.agree}};
+}
+
+SceneSolve solve_scene(const Scene& scene, const std::function<void(const BuiltProblem&, const SceneSolve&)>& on_built,
+                       std::function<bool(const IterationRecord&)> callback, ReducedProblem* reduced,
+                       std::function<void(const GlobalSearchProgress&)> progress) {
+  // Engines first: a name that was not built is an input error before any work.
+  SceneSolve s;
+  FactorizationOptions fo;
+  fo.engine = scene.solver.linear;
+  auto factorization = make_factorization(fo);
+  const auto minimizer = make_scene_search(scene, std::move(progress));
+  s.linear = factorization->name();
+  s.minimizer = first_engine(*minimizer);
+  s.search = search_json(*minimizer);
+  s.holds_results = processes_of(*factorization).holds_results();
+  s.processes = processes_of(*factorization).num_processes();
+  s.options.tolerance = scene.solver.tolerance;
+  s.options.max_iterations = scene.solver.max_iterations;
+  s.options.callback = std::move(callback);
+
+  const auto t = Clock::now();
+  s.built = build_problem(scene);
+  s.mesh_seconds = since(t);
+  if (on_built) on_built(*s.built, s);
+  s.solution = solve_contact(s.built->problem, std::move(factorization), *minimizer, s.options, reduced);
+  return s;
+}
+
+std::vector<std::string> wanted_files(const Scene& scene, bool has_contact) {
+  static const std::vector<std::pair<std::string, std::string>> map{
+      {"result-json", "result.json"}, {"contact-csv", "contact.csv"}, {"displacement-csv", "displacement.csv"},
+      {"history-csv", "history.csv"}, {"vtu", "solution.vtu"},        {"u-nu-png", "u_nu.png"},
+      {"deformed-png", "deformed.png"}};
+  std::vector<std::string> files;
+  for (const auto& [name, file] : map) {
+    if (!has_contact && (file == "contact.csv" || file == "history.csv" || file == "u_nu.png")) continue;
+    if (std::find(scene.outputs.begin(), scene.outputs.end(), name) != scene.outputs.end()) files.push_back(file);
+  }
+  files.push_back("scene.toml");
+  return files;
+}
+
+RunInfo run_info(const Scene& scene, const SceneSolve& solved) {
+  const BuiltProblem& built = *solved.built;
+  const MinimizerOptions& mo = solved.options;
+  RunInfo info;
+  info.scene_name = scene.title;
+  info.scene_toml = to_toml(scene);
+  info.mesh = scene.mesh.description();
+  info.linear = solved.linear;
+  info.minimizer = solved.minimizer;
+  info.search = solved.search;
+  info.options = {{"tolerance", mo.tolerance},
+                  {"max_iterations", mo.max_iterations},
+                  {"stabilization", to_string(scene.material.stabilization)},
+                  {"plane_model", to_string(scene.material.model)},
+                  {"scene", scene.source}};
+  info.mesh_seconds = solved.mesh_seconds;
+  info.dofs = solved.solution.unknowns;
+  info.processes = solved.processes;
+  info.warnings = built.warnings;
+  if (built.problem.law) info.law_breakpoints = built.problem.law->breakpoints();
+  info.gap_bound = built.has_contact && (built.problem.constraint == ConstraintKind::one_sided ||
+                                         built.problem.constraint == ConstraintKind::box);
+  if (built.problem.friction) info.friction_law = built.problem.friction->name();
+  if (built.problem.constraint == ConstraintKind::bilateral) info.law_breakpoints.clear();
+  return info;
+}
+
+OutputReport write_results(const std::filesystem::path& dir, const Scene& scene, const SceneSolve& solved,
+                           const std::vector<std::string>* files) {
+  const BuiltProblem& built = *solved.built;
+  check_output_folder(dir);
+  const RunInfo info = run_info(scene, solved);
+  return write_outputs(dir, built.mesh, built.problem.elasticity.materials, solved.solution, info,
+                       files ? *files : wanted_files(scene, built.has_contact));
+}
+
+}  // namespace hemivem::app

@@ -1,0 +1,107 @@
+// The contact boundary Gamma_3 and the static condensation onto its normal displacements
+// (DESIGN §1 and §3).
+#pragma once
+
+#include <Eigen/Core>
+
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include <hemivem/vem/assembly.hpp>
+#include <hemivem/mesh/mesh.hpp>
+#include <hemivem/contact/obstacle.hpp>
+#include <hemivem/reduced_problem.hpp>
+#include <hemivem/sparse_factorization.hpp>
+
+namespace hemivem {
+
+/// The contact nodes of Gamma_3 with their outward unit normals, nodal weights and gaps.
+struct ContactBoundary {
+  std::vector<int> edges;   ///< boundary edge ids forming Gamma_3
+  std::vector<int> nodes;   ///< contact nodes (vertex ids), nodes with prescribed displacement excluded
+  std::vector<Vec2> normals;  ///< outward unit normal per contact node
+  Eigen::VectorXd weights;  ///< w_i: half the lengths of the Gamma_3 edges meeting at node i
+  Eigen::VectorXd gaps;     ///< g_i
+
+  int size() const noexcept { return static_cast<int>(nodes.size()); }
+  /// Normal displacements (N u)_i of a full nodal displacement vector.
+  Eigen::VectorXd normal_displacements(const Eigen::VectorXd& u) const;
+};
+
+/// Builds Gamma_3 from boundary edges. The normal of a node is the length-weighted mean of
+/// the outward normals of its Gamma_3 edges (exact on each straight segment; at a corner
+/// of a polyline it bisects the two normals). Nodes whose displacement is prescribed (on
+/// Gamma_1) are excluded; a node with only one prescribed component is an InputError.
+/// `gap` gives g at a node position (constant gaps: a lambda returning a constant); a
+/// negative or non-finite gap is an InputError. With an `obstacle` the gaps are
+/// obstacle->gap(x, nu) instead: any value but NaN.
+ContactBoundary make_contact_boundary(const Mesh& mesh, const std::vector<int>& edges, const DofMap& dofs,
+                                      const std::function<double(const Vec2&)>& gap,
+                                      const Obstacle* obstacle = nullptr);
+
+/// The condensed problem and what back-substitution needs.
+class Condensation {
+ public:
+  /// Rotates the contact-node dofs of `system` to (normal, tangential) components, orders
+  /// the contact unknowns first and computes S, c with `factorization.schur_complement`; the
+  /// factorization keeps A22 for back_substitute(). The contact unknowns are the normal
+  /// displacements (law `law`, bounds of `constraint` and the gaps) and, with a `friction` law,
+  /// the tangential displacements after them (law `friction`, no bounds): the reduced problem's
+  /// coordinate-wise form (docs/friction.md). A bilateral constraint (u_nu = 0) leaves the
+  /// tangential displacements only (law `friction`, or j = 0 without one). Throws NumericalError with the
+  /// engine's message when the engine fails numerically (not_positive_definite,
+  /// numerical_failure, out_of_memory) and InternalError when it reports a broken contract
+  /// (invalid_input, not_ready); back_substitute() does the same.
+  /// With an engine across processes (every process constructs a Condensation, see
+  /// hemivem/process_group.hpp) S, c and the margin exist on the process holding
+  /// the results; elsewhere reduced() has empty S and c and the margin is NaN.
+  Condensation(const LinearSystem& system, const ContactBoundary& boundary,
+               std::unique_ptr<SparseFactorization> factorization, std::shared_ptr<const ContactLaw> law,
+               ConstraintKind constraint, std::shared_ptr<const ContactLaw> friction = nullptr);
+
+  const ReducedProblem& reduced() const noexcept { return reduced_; }
+  /// lambda_min(S - diag(alpha_i w_i)): F is strongly convex when positive; -inf for a law
+  /// with a concave kink.
+  double uniqueness_margin() const noexcept { return margin_; }
+  /// The coordinate of the reduced problem that is contact node i's normal (tangential)
+  /// displacement, or -1 when it is not an unknown (bilateral; frictionless).
+  int normal_coordinate(int node) const noexcept { return has_normal_ ? node : -1; }
+  int tangential_coordinate(int node) const noexcept {
+    return has_tangential_ ? (has_normal_ ? static_cast<int>(normals_.size()) : 0) + node : -1;
+  }
+  /// Full nodal displacement (all 2*num_vertices dofs, prescribed values included) from
+  /// a point a of the reduced problem (the contact unknowns): u2 = A22^{-1} (b2 - A21 a) (one
+  /// backward substitution where the engine splits the interior solve).
+  /// Collective with an engine across processes: a is read, and u returned, on the process
+  /// holding the results; elsewhere a is ignored and the result is empty.
+  Eigen::VectorXd back_substitute(const Eigen::VectorXd& a) const;
+  const SparseFactorization& factorization() const { return *factorization_; }
+  /// Estimate of the 1-norm condition number kappa_1(A22) of the factorized interior block,
+  /// independent of the engine: ||A22||_1 times the Hager-Higham estimate of ||A22^{-1}||_1
+  /// from 7 interior solves (the same calls on every process). +inf when a solve fails.
+  double condition_estimate() const;
+
+ private:
+  DofMap dofs_;
+  std::unique_ptr<SparseFactorization> factorization_;
+  ReducedProblem reduced_;
+  double margin_ = 0.0;
+  bool has_normal_ = true, has_tangential_ = false;
+  std::vector<int> block1_;       // rotated free index of each contact unknown (normals, then tangentials)
+  std::vector<int> block2_;       // remaining rotated free indices, increasing
+  std::vector<int> contact_free_x_, contact_free_y_;  // free index of the x/y dof per contact node
+  std::vector<Vec2> normals_;
+  /// A21_ = At(block2, block1), for an engine that does not split the interior solve.
+  void extract_a21(const SparseMatrix& At);
+  SparseMatrix A21_;              // block2 x block1 of the rotated matrix (when extracted)
+  double a22_norm1_ = 0.0;        // ||A22||_1
+  Eigen::VectorXd b2_;
+};
+
+/// lambda_min(S - alpha W) for a dense symmetric S and weights w; -inf when alpha is +inf.
+double uniqueness_margin(const Eigen::MatrixXd& S, const Eigen::VectorXd& w, double alpha);
+/// lambda_min(S - diag(alpha_i w_i)) with a curvature bound per coordinate; -inf when one is +inf.
+double uniqueness_margin(const Eigen::MatrixXd& S, const Eigen::VectorXd& w, const Eigen::VectorXd& alpha);
+
+}  // namespace hemivem

@@ -1,0 +1,139 @@
+// The whole solve of a contact problem (DESIGN §4):
+//   assembly -> condensation through a SparseFactorization -> ReducedProblem ->
+//   NonsmoothMinimizer -> back-substitution,
+// running only the stages the problem needs: without a contact boundary one linear solve;
+// without gaps no constraint (ConstraintKind::none).
+#pragma once
+
+#include <Eigen/Core>
+
+#include <map>
+#include <limits>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <hemivem/contact/condensation.hpp>
+#include <hemivem/contact/problem.hpp>
+#include <hemivem/nonsmooth_minimizer.hpp>
+#include <hemivem/sparse_factorization.hpp>
+
+namespace hemivem {
+
+/// One contact node of the solution, with the forces of the certificate (DESIGN §3).
+struct ContactNode {
+  int vertex = -1;
+  Vec2 x = Vec2::Zero();
+  double u_nu = 0.0;       ///< normal displacement a_i
+  double law_force = 0.0;  ///< zeta_i in w_i dj(a_i): the force of the contact law
+  double reaction = 0.0;   ///< lambda_i: the reaction of the constraint (>= 0 at the upper bound, <= 0 at the lower, 0 off them)
+  double weight = 0.0;     ///< w_i, the length of boundary the node stands for
+  Vec2 normal = Vec2::Zero();  ///< the outward unit normal nu_i
+  double gap = 0.0;        ///< g_i, the gap used at the node
+  std::string state;       ///< "upper" (a_i at its upper bound), "lower" or "free" ("bilateral": u_nu = 0 imposed)
+  /// With friction (ContactProblem::friction, or a bilateral constraint): the tangential
+  /// displacement u_tau = u . tau (tau = (-nu_y, nu_x)), the friction force zeta_tau in
+  /// w_i dj_tau(u_tau) (the foundation pushes the body by -zeta_tau tau, against the slip:
+  /// positive when it resists u_tau > 0) and its state: "stick" (u_tau at the law's kink 0), "slip", or for slip-weakening
+  /// "slip-weakening" (|u_tau| below the slip distance) and "slip-kinetic"; an empty state
+  /// without friction.
+  double u_tau = 0.0;
+  double friction_force = 0.0;
+  std::string friction_state;
+  /// The contact force zeta_i + lambda_i (a compressive force on the body is positive).
+  double force() const noexcept { return law_force + reaction; }
+  /// The contact pressure (zeta_i + lambda_i) / w_i.
+  double pressure() const noexcept { return force() / weight; }
+};
+
+struct ContactSolution {
+  Eigen::VectorXd u;                    ///< nodal displacements, 2 per vertex
+  int unknowns = 0;                     ///< free degrees of freedom of the assembled system
+  std::vector<ContactNode> contact;     ///< empty without a contact boundary
+  MinimizerResult minimizer;            ///< status, certificate, iterations ... (status converged for a plain linear solve)
+  double uniqueness_margin = std::numeric_limits<double>::infinity();
+  double energy = 0.0;                  ///< potential energy 1/2 u^T A u - b^T u + sum_i w_i j(u_nu,i) (free dofs)
+  /// Reciprocal condition estimate of the matrix the engine factorized (A22 with contact, A
+  /// without), where the engine offers one (SparseFactorization::rcond_estimate); NaN
+  /// otherwise, and NaN unless asked for (estimate_condition).
+  double rcond = std::numeric_limits<double>::quiet_NaN();
+  /// Estimate of the 1-norm condition number of the same matrix, independent of the engine
+  /// (Condensation::condition_estimate); NaN unless asked for.
+  double condition_estimate = std::numeric_limits<double>::quiet_NaN();
+  std::map<std::string, double> timings;  ///< seconds: assembly, condensation, minimize, back_substitution, total
+  std::vector<std::string> stages;      ///< the stages that ran, in order
+  bool converged() const noexcept { return minimizer.converged(); }
+  /// The resultant force of the foundation (or obstacle) on the body: the sum over the
+  /// contact nodes of -(zeta_i + lambda_i) nu_i - zeta_tau,i tau_i (the friction force).
+  /// Zero without contact.
+  Vec2 contact_force() const;
+};
+
+/// The friction state of a tangential displacement under its law: "stick" at a kink of the
+/// law (0 for the shipped friction laws; the certificate puts u_tau exactly there), else
+/// "slip" ("slip-weakening" / "slip-kinetic" for the slip-weakening law, below / beyond its
+/// slip distance).
+std::string friction_state(const ContactLaw& law, double u_tau);
+
+/// The contact zone: the contact nodes that carry a compressive force (zeta_i + lambda_i > 0).
+struct ContactZone {
+  int nodes = 0;              ///< how many
+  double length = 0.0;        ///< the sum of their weights w_i
+  Vec2 lower = Vec2::Zero();  ///< the bounding box of their positions (when nodes > 0)
+  Vec2 upper = Vec2::Zero();
+};
+ContactZone contact_zone(const ContactSolution& solution);
+
+/// The contact boundary of `problem` on the dofs of its assembled system: the nodes, normals,
+/// weights and gaps (problem.gap, or the obstacle's); empty without contact edges. InputError
+/// for an obstacle whose gaps the box constraint cannot take.
+ContactBoundary contact_boundary(const ContactProblem& problem, const DofMap& dofs);
+
+/// The constraint the condensation imposes: problem.constraint, but none when the problem has
+/// neither gaps nor an obstacle (bilateral stays bilateral).
+ConstraintKind constraint_in_effect(const ContactProblem& problem);
+
+/// Solves `problem` with the given engines. The factorization is consumed (it keeps A22 for
+/// back-substitution). Throws InputError for a problem that cannot be set up (e.g. a body
+/// that is not held) and NumericalError when the factorization fails; a minimizer that does
+/// not converge is reported in the result, not thrown.
+/// When `reduced` is not null it receives a copy of the reduced problem (for export).
+///
+/// A solution is never reported as converged unless every displacement is finite and the
+/// certificate holds: a minimizer result that is converged but whose back-substituted
+/// displacement is not finite becomes `failed`. Without contact the certificate's dual residual
+/// is ||A u - b||_inf / max(||b||_inf, ||A u||_inf) of the one linear solve (primal 0), and the
+/// solve is converged when it is finite and below options.tolerance.
+///
+/// With an engine across processes (hemivem/process_group.hpp: holds_results() false on all
+/// but one process) every process calls solve_contact with the same problem: assembly runs on every
+/// process, the engine's calls are collective, the minimizer and the results (u, contact,
+/// energy, margin, `reduced`) belong to the process holding the results. Elsewhere the
+/// solution carries the stages, the timings and the minimizer's status (shared), nothing else.
+/// An exception thrown there by the minimizer is thrown on every process (the others get the
+/// same type with a message saying so).
+ContactSolution solve_contact(const ContactProblem& problem, std::unique_ptr<SparseFactorization> factorization,
+                              const NonsmoothMinimizer& minimizer, const MinimizerOptions& options,
+                              ReducedProblem* reduced = nullptr);
+
+/// The same for several minimizers sharing one assembly and one condensation (the stages
+/// before the minimizer run once; their timings are repeated in every solution): one solution
+/// per minimizer, in order. Without a contact boundary the single linear solve is shared.
+/// `estimate_condition` adds ContactSolution::condition_estimate (7 more solves) and rcond.
+std::vector<ContactSolution> solve_contact(const ContactProblem& problem,
+                                           std::unique_ptr<SparseFactorization> factorization,
+                                           std::span<const NonsmoothMinimizer* const> minimizers,
+                                           const MinimizerOptions& options, ReducedProblem* reduced = nullptr,
+                                           bool estimate_condition = false);
+
+/// The same on a system the caller assembled from problem.elasticity (assemble()), e.g. to
+/// condense one assembly with several engines; the solutions then have no "assembly" stage
+/// and their "total" excludes it.
+std::vector<ContactSolution> solve_contact(const ContactProblem& problem, const LinearSystem& system,
+                                           std::unique_ptr<SparseFactorization> factorization,
+                                           std::span<const NonsmoothMinimizer* const> minimizers,
+                                           const MinimizerOptions& options, ReducedProblem* reduced = nullptr,
+                                           bool estimate_condition = false);
+
+}  // namespace hemivem

@@ -1,0 +1,364 @@
+#include <hemivem/contact/condensation.hpp>
+#include <hemivem/contact/piecewise_law.hpp>
+#include <hemivem/support/condition.hpp>
+#include <hemivem/error.hpp>
+#include <hemivem/process_group.hpp>
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <map>
+
+namespace hemivem {
+
+Eigen::VectorXd ContactBoundary::normal_displacements(const Eigen::VectorXd& u) const {
+  Eigen::VectorXd a(size());
+  for (int i = 0; i < size(); ++i) a(i) = normals[static_cast<std::size_t>(i)].dot(u.segment<2>(2 * nodes[static_cast<std::size_t>(i)]));
+  return a;
+}
+
+ContactBoundary make_contact_boundary(const Mesh& mesh, const std::vector<int>& edges, const DofMap& dofs,
+                                      const std::function<double(const Vec2&)>& gap, const Obstacle* obstacle) {
+  ContactBoundary cb;
+  cb.edges = edges;
+  std::map<int, std::pair<Vec2, double>> acc;  // vertex -> (sum of m_e, sum of |e|/2)
+  for (int id : edges) {
+    if (id < 0 || id >= mesh.num_edges()) throw InputError("contact edge id " + std::to_string(id) + " out of range");
+    const MeshEdge& e = mesh.edge(id);
+    if (!e.on_boundary()) throw InputError("contact edge " + std::to_string(id) + " is not on the boundary");
+    const Vec2 d = mesh.vertex(e.v1) - mesh.vertex(e.v0);
+    const Vec2 m(d.y(), -d.x());  // outward (the edge runs counter-clockwise in its element), length |e|
+    for (int v : {e.v0, e.v1}) {
+      auto& [sum, w] = acc[v];
+      if (w == 0.0) sum = Vec2::Zero();
+      sum += m;
+      w += 0.5 * d.norm();
+    }
+  }
+  for (const auto& [v, entry] : acc) {
+    const bool fx = dofs.free_index[static_cast<std::size_t>(2 * v)] < 0;
+    const bool fy = dofs.free_index[static_cast<std::size_t>(2 * v + 1)] < 0;
+    if (fx && fy) continue;  // on Gamma_1
+    if (fx != fy)
+      throw InputError("contact node " + std::to_string(v) + " at (" + std::to_string(mesh.vertex(v).x()) + ", " +
+                       std::to_string(mesh.vertex(v).y()) +
+                       ") has one prescribed displacement component (a roller); a contact node must be either "
+                       "clamped (both components) or free: end the roller's or the contact's part before it");
+    if (!(entry.first.norm() > 0.0))
+      throw InputError("contact node " + std::to_string(v) + " has no defined normal (its contact edges cancel)");
+    const Vec2 normal = entry.first.normalized();
+    double g = 0.0;
+    if (obstacle != nullptr) {
+      g = obstacle->gap(mesh.vertex(v), normal);
+      if (std::isnan(g)) throw InputError("the obstacle gives no gap at contact node " + std::to_string(v));
+    } else {
+      g = gap ? gap(mesh.vertex(v)) : 0.0;
+      if (!std::isfinite(g) || g < 0.0)
+        throw InputError("gap " + std::to_string(g) + " at contact node " + std::to_string(v) + " must be finite and >= 0");
+    }
+    cb.nodes.push_back(v);
+    cb.normals.push_back(normal);
+    cb.weights.conservativeResize(cb.size());
+    cb.weights(cb.size() - 1) = entry.second;
+    cb.gaps.conservativeResize(cb.size());
+    cb.gaps(cb.size() - 1) = g;
+  }
+  return cb;
+}
+
+namespace {
+
+/// Throws for a failed call of the engine: InternalError when the call broke the engine's
+/// contract (invalid_input, not_ready: a programming error), NumericalError otherwise.
+void require(const FactorizationResult& r, const SparseFactorization& engine, const std::string& what) {
+  if (r.ok()) return;
+  const std::string message =
+      what + " with the " + engine.name() + " engine failed (" + to_string(r.status) + "): " + r.message;
+  if (r.status == FactorizationStatus::invalid_input || r.status == FactorizationStatus::not_ready)
+    throw InternalError(message);
+  throw NumericalError(message);
+}
+
+// The entry (i, j) of the compressed column-major A (0 where it is not stored).
+double entry(const SparseMatrix& A, int i, int j) {
+  const int* begin = A.innerIndexPtr() + A.outerIndexPtr()[j];
+  const int* end = A.innerIndexPtr() + A.outerIndexPtr()[j + 1];
+  const int* it = std::lower_bound(begin, end, i);
+  return it != end && *it == i ? A.valuePtr()[it - A.innerIndexPtr()] : 0.0;
+}
+
+// Q^T A Q for Q the identity but for 2 x 2 blocks at the dof pairs (x[k], y[k]) with columns
+// (nu_k, tau_k), on A's pattern (the two dofs of a node share their pattern, as in every
+// assembled stiffness), computed from the symmetric part of A so that the result is exactly
+// symmetric: each entry of the lower triangle is computed once and mirrored. Exact zeros are
+// dropped. One sweep over A: the columns in increasing order meet the entries above the
+// diagonal of each column in increasing order, so each mirror is found by a cursor.
+SparseMatrix rotate_symmetric(const SparseMatrix& A_in, const std::vector<int>& x, const std::vector<int>& y,
+                              const std::vector<Vec2>& normals) {
+  SparseMatrix compressed;
+  if (!A_in.isCompressed()) {
+    compressed = A_in;
+    compressed.makeCompressed();
+  }
+  const SparseMatrix& A = A_in.isCompressed() ? A_in : compressed;
+  const int n = static_cast<int>(A.rows());
+  // dof -> (the pair's x dof, y dof, the column of Q: Q(x, d), Q(y, d)); pair -1 off the contact
+  std::vector<int> pair(static_cast<std::size_t>(n), -1);
+  std::vector<std::array<double, 2>> column(static_cast<std::size_t>(n));
+  for (std::size_t k = 0; k < x.size(); ++k) {
+    const Vec2 nu = normals[k], tau(-nu.y(), nu.x());
+    pair[static_cast<std::size_t>(x[k])] = pair[static_cast<std::size_t>(y[k])] = static_cast<int>(k);
+    column[static_cast<std::size_t>(x[k])] = {nu.x(), nu.y()};
+    column[static_cast<std::size_t>(y[k])] = {tau.x(), tau.y()};
+  }
+  // the symmetric part of A
+  auto sym = [&](int i, int j) { return 0.5 * (entry(A, i, j) + entry(A, j, i)); };
+  // the dofs and coefficients of column d of Q
+  auto q_column = [&](int d, int* dofs, double* coef) {
+    const int k = pair[static_cast<std::size_t>(d)];
+    if (k < 0) {
+      dofs[0] = d, coef[0] = 1.0;
+      return 1;
+    }
+    const auto& c = column[static_cast<std::size_t>(d)];
+    dofs[0] = x[static_cast<std::size_t>(k)], coef[0] = c[0];
+    dofs[1] = y[static_cast<std::size_t>(k)], coef[1] = c[1];
+    return 2;
+  };
+  SparseMatrix At = A;
+  const int* outer = A.outerIndexPtr();
+  const int* inner = A.innerIndexPtr();
+  const double* a = A.valuePtr();
+  double* out = At.valuePtr();
+  std::vector<int> cursor(outer, outer + n);  // per column: its next entry above the diagonal
+  std::vector<Eigen::Triplet<double, int>> missing;  // mirrors of entries whose mirror A lacks
+  for (int q = 0; q < n; ++q) {
+    for (int k = outer[q]; k < outer[q + 1]; ++k) {
+      const int p = inner[k];
+      if (p < q) continue;
+      int& c = cursor[static_cast<std::size_t>(p)];
+      while (c < outer[p + 1] && inner[c] < q) ++c;
+      const int mirror = c < outer[p + 1] && inner[c] == q && p != q ? c : -1;
+      double v;
+      if (pair[static_cast<std::size_t>(p)] < 0 && pair[static_cast<std::size_t>(q)] < 0) {
+        v = p == q ? a[k] : 0.5 * (a[k] + (mirror >= 0 ? a[mirror] : 0.0));
+      } else {
+        int jq[2], ip[2];
+        double cq[2], cp[2];
+        const int nq = q_column(q, jq, cq), np = q_column(p, ip, cp);
+        v = 0.0;
+        for (int s = 0; s < np; ++s)
+          for (int t = 0; t < nq; ++t) v += cp[s] * sym(ip[s], jq[t]) * cq[t];
+      }
+      out[k] = v;
+      if (mirror >= 0) out[mirror] = v;
+      else if (p != q) missing.emplace_back(q, p, v);
+    }
+  }
+  for (const auto& t : missing) At.coeffRef(t.row(), t.col()) = t.value();
+  At.prune(0.0);
+  return At;
+}
+
+}  // namespace
+
+double uniqueness_margin(const Eigen::MatrixXd& S, const Eigen::VectorXd& w, double alpha) {
+  return uniqueness_margin(S, w, Eigen::VectorXd::Constant(w.size(), alpha));
+}
+
+double uniqueness_margin(const Eigen::MatrixXd& S, const Eigen::VectorXd& w, const Eigen::VectorXd& alpha) {
+  if (S.rows() == 0) return std::numeric_limits<double>::infinity();
+  for (Eigen::Index i = 0; i < alpha.size(); ++i)
+    if (std::isinf(alpha(i))) return -std::numeric_limits<double>::infinity();
+  Eigen::MatrixXd M = S;
+  M.diagonal() -= alpha.cwiseProduct(w);
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(M, Eigen::EigenvaluesOnly);
+  return eig.eigenvalues()(0);
+}
+
+Condensation::Condensation(const LinearSystem& system, const ContactBoundary& boundary,
+                           std::unique_ptr<SparseFactorization> factorization, std::shared_ptr<const ContactLaw> law,
+                           ConstraintKind constraint, std::shared_ptr<const ContactLaw> friction)
+    : dofs_(system.dofs), factorization_(std::move(factorization)) {
+  if (!factorization_) throw InputError("condensation needs a factorization engine");
+  if (!law) throw InputError("condensation needs a contact law");
+  const int n = system.dofs.num_free();
+  const int n1 = boundary.size();
+  normals_ = boundary.normals;
+  has_normal_ = constraint != ConstraintKind::bilateral;
+  has_tangential_ = friction != nullptr || !has_normal_;
+  if (!has_normal_ && !friction) friction = zero_law();
+
+  // the (x, y) -> (normal, tangential) rotation at the contact nodes: A~ = Q^T A Q, b~ = Q^T b
+  for (int i = 0; i < n1; ++i) {
+    const int v = boundary.nodes[static_cast<std::size_t>(i)];
+    const int fx = system.dofs.free_index[static_cast<std::size_t>(2 * v)];
+    const int fy = system.dofs.free_index[static_cast<std::size_t>(2 * v + 1)];
+    if (fx < 0 || fy < 0) throw InputError("contact node " + std::to_string(v) + " is not free");
+    contact_free_x_.push_back(fx);
+    contact_free_y_.push_back(fy);
+    block1_.push_back(fx);
+  }
+  // with friction the tangential displacements follow the normal ones
+  if (has_tangential_)
+    for (int i = 0; i < n1; ++i) block1_.push_back(contact_free_y_[static_cast<std::size_t>(i)]);
+  const SparseMatrix At = rotate_symmetric(system.A, contact_free_x_, contact_free_y_, boundary.normals);
+  Eigen::VectorXd bt = system.b;
+  for (int i = 0; i < n1; ++i) {
+    const int fx = contact_free_x_[static_cast<std::size_t>(i)], fy = contact_free_y_[static_cast<std::size_t>(i)];
+    const Vec2 nu = boundary.normals[static_cast<std::size_t>(i)];
+    bt(fx) = nu.x() * system.b(fx) + nu.y() * system.b(fy);
+    bt(fy) = -nu.y() * system.b(fx) + nu.x() * system.b(fy);
+  }
+
+  std::vector<char> in1(static_cast<std::size_t>(n), 0);
+  for (int k : block1_) in1[static_cast<std::size_t>(k)] = 1;
+  for (int k = 0; k < n; ++k)
+    if (!in1[static_cast<std::size_t>(k)]) block2_.push_back(k);
+  for (int j : block2_) {
+    double sum = 0.0;
+    for (SparseMatrix::InnerIterator it(At, j); it; ++it)
+      if (!in1[static_cast<std::size_t>(it.row())]) sum += std::abs(it.value());
+    a22_norm1_ = std::max(a22_norm1_, sum);
+  }
+
+  reduced_.law = std::move(law);
+  reduced_.constraint = constraint;
+  reduced_.w = boundary.weights;
+  reduced_.g = boundary.gaps;
+  if (has_tangential_) {
+    // the coordinate-wise form: normals (unless bilateral), then tangentials
+    const int nc = (has_normal_ ? n1 : 0) + n1;
+    reduced_.laws.clear();
+    if (has_normal_) reduced_.laws.push_back(reduced_.law);
+    reduced_.laws.push_back(friction);
+    reduced_.law = reduced_.laws.front();
+    reduced_.law_index.resize(nc);
+    reduced_.lo.resize(nc);
+    reduced_.hi.resize(nc);
+    reduced_.w.resize(nc);
+    for (int i = 0; i < n1; ++i) {
+      const int t = tangential_coordinate(i);
+      reduced_.law_index(t) = has_normal_ ? 1 : 0;
+      reduced_.lo(t) = -std::numeric_limits<double>::infinity();
+      reduced_.hi(t) = std::numeric_limits<double>::infinity();
+      reduced_.w(t) = boundary.weights(i);
+      if (!has_normal_) continue;
+      reduced_.law_index(i) = 0;
+      reduced_.lo(i) = lower_bound(constraint, boundary.gaps(i));
+      reduced_.hi(i) = upper_bound(constraint, boundary.gaps(i));
+      reduced_.w(i) = boundary.weights(i);
+    }
+  }
+  Eigen::MatrixXd S1;
+  require(factorization_->schur_complement(At, block1_, &S1), *factorization_, "static condensation");
+  // the reduced coordinates among block 1: all of it, or its tangential half (bilateral)
+  const Eigen::Index first = has_normal_ ? 0 : n1, count = static_cast<Eigen::Index>(block1_.size()) - first;
+  if (S1.size() > 0) {
+    reduced_.S = 0.5 * (S1.block(first, first, count, count) + S1.block(first, first, count, count).transpose());
+  } else {
+    reduced_.S = std::move(S1);
+  }
+
+  if (!processes_of(*factorization_).holds_results()) {
+    // An engine across processes: this process takes part in the interior solve (collective)
+    // but receives no result; S, c and the margin exist where the results are held.
+    Eigen::MatrixXd y;
+    require(factorization_->solve_interior(Eigen::MatrixXd(), &y), *factorization_, "interior solve");
+    margin_ = std::numeric_limits<double>::quiet_NaN();
+    reduced_.uniqueness_margin = margin_;
+    return;
+  }
+
+  Eigen::VectorXd b1(static_cast<Eigen::Index>(block1_.size()));
+  for (std::size_t i = 0; i < block1_.size(); ++i) b1(static_cast<Eigen::Index>(i)) = bt(block1_[i]);
+  b2_.resize(static_cast<Eigen::Index>(block2_.size()));
+  for (std::size_t i = 0; i < block2_.size(); ++i) b2_(static_cast<Eigen::Index>(i)) = bt(block2_[i]);
+  if (factorization_->splits_interior_solve()) {
+    // c = b1 - A12 A22^{-1} b2 in one forward substitution; back_substitute() needs one backward
+    require(factorization_->condense_rhs(b1, b2_, &reduced_.c), *factorization_, "interior solve");
+  } else {
+    extract_a21(At);
+    Eigen::MatrixXd y;
+    require(factorization_->solve_interior(b2_, &y), *factorization_, "interior solve");
+    reduced_.c = b1 - A21_.transpose() * y.col(0);
+  }
+  if (!has_normal_) reduced_.c = reduced_.c.tail(n1).eval();
+  margin_ = hemivem::uniqueness_margin(reduced_.S, reduced_.w, reduced_.alphas());
+  reduced_.uniqueness_margin = margin_;
+}
+
+void Condensation::extract_a21(const SparseMatrix& At) {
+  // A21 = At(block2, block1) (block2 is increasing, so each column's rows stay sorted)
+  const auto n = static_cast<std::size_t>(At.rows());
+  const auto n1 = static_cast<Eigen::Index>(block1_.size());
+  std::vector<int> position2(n, -1);
+  for (std::size_t i = 0; i < block2_.size(); ++i) position2[static_cast<std::size_t>(block2_[i])] = static_cast<int>(i);
+  std::vector<int> a21_outer{0}, a21_inner;
+  std::vector<double> a21_values;
+  for (int j : block1_) {
+    for (SparseMatrix::InnerIterator it(At, j); it; ++it) {
+      const int r = position2[static_cast<std::size_t>(it.row())];
+      if (r < 0) continue;
+      a21_inner.push_back(r);
+      a21_values.push_back(it.value());
+    }
+    a21_outer.push_back(static_cast<int>(a21_inner.size()));
+  }
+  A21_ = Eigen::Map<const SparseMatrix>(static_cast<Eigen::Index>(block2_.size()), n1,
+                                        static_cast<Eigen::Index>(a21_inner.size()), a21_outer.data(),
+                                        a21_inner.data(), a21_values.data());
+}
+
+double Condensation::condition_estimate() const {
+  auto apply = [this](const Eigen::VectorXd& x) {
+    Eigen::MatrixXd y;
+    if (!factorization_->solve_interior(x, &y).ok() || y.cols() != 1) return Eigen::VectorXd();
+    return Eigen::VectorXd(y.col(0));
+  };
+  return a22_norm1_ * estimate_norm1_symmetric(static_cast<int>(block2_.size()), apply);
+}
+
+Eigen::VectorXd Condensation::back_substitute(const Eigen::VectorXd& a) const {
+  const ProcessGroup& processes = processes_of(*factorization_);
+  const bool holds = processes.holds_results();
+  // The check is decided where a lives and shared, so that no process is left in the solve.
+  const auto n1 = static_cast<Eigen::Index>(normals_.size());
+  const Eigen::Index unknowns = static_cast<Eigen::Index>(block1_.size()) - (has_normal_ ? 0 : n1);
+  const bool fits = processes.share(!holds || a.size() == unknowns ? 1 : 0) != 0;
+  if (!fits)
+    throw InputError("back-substitution needs " + std::to_string(unknowns) + " contact displacements, got " +
+                     (holds ? std::to_string(a.size()) : std::string("another number on the process holding the results")));
+  // block 1's values: a, with the normal displacements 0 where they are not unknowns (bilateral)
+  Eigen::VectorXd x1 = a;
+  if (holds && !has_normal_) {
+    x1 = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(block1_.size()));
+    x1.tail(n1) = a;
+  }
+  Eigen::VectorXd u2;
+  if (factorization_->splits_interior_solve()) {
+    require(factorization_->expand(x1, &u2), *factorization_, "back-substitution");
+  } else {
+    Eigen::MatrixXd x2;
+    require(factorization_->solve_interior(holds ? Eigen::MatrixXd(b2_ - A21_ * x1) : Eigen::MatrixXd(), &x2),
+            *factorization_, "back-substitution");
+    if (holds) u2 = x2.col(0);
+  }
+  if (!holds) return Eigen::VectorXd();
+  Eigen::VectorXd ut(dofs_.num_free());
+  for (std::size_t i = 0; i < block1_.size(); ++i) ut(block1_[i]) = x1(static_cast<Eigen::Index>(i));
+  for (std::size_t i = 0; i < block2_.size(); ++i) ut(block2_[i]) = u2(static_cast<Eigen::Index>(i));
+  // u = Q ut at the contact nodes
+  for (std::size_t i = 0; i < normals_.size(); ++i) {
+    const Vec2 nu = normals_[i], tau(-nu.y(), nu.x());
+    const double un = ut(contact_free_x_[i]), ut_ = ut(contact_free_y_[i]);
+    ut(contact_free_x_[i]) = nu.x() * un + tau.x() * ut_;
+    ut(contact_free_y_[i]) = nu.y() * un + tau.y() * ut_;
+  }
+  return dofs_.expand(ut);
+}
+
+}  // namespace hemivem

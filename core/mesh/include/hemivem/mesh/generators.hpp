@@ -1,0 +1,119 @@
+// Deterministic mesh generators for a rectangle [x0,x1] x [y0,y1], and (triangles,
+// voronoi) for a simple polygon. Every generator returns a validated Mesh (see mesh.hpp);
+// the same arguments (including the seed) always give the same mesh, bit for bit.
+//
+// The rectangle generators take the number of cells per side n (an int: n x n cells) or a
+// GridSize {nx, ny} (nx cells along x, ny along y, for domains that are not square).
+// Every generator throws InputError for n < 1 (or n > 20000) and for a rectangle that
+// is not finite with x0 < x1 and y0 < y1. Vertices on the sides have exactly the
+// coordinate x0, x1, y0 or y1, so the boundary edges are exactly the edges on the sides.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <hemivem/mesh/mesh.hpp>
+
+namespace hemivem {
+
+/// Cells of a rectangle generator: nx along x and ny along y; an int n means n x n.
+struct GridSize {
+  int nx = 1, ny = 1;
+  GridSize(int n) : nx(n), ny(n) {}  // NOLINT(google-explicit-constructor): n x n
+  GridSize(int nx_, int ny_) : nx(nx_), ny(ny_) {}
+  /// "8", or "[8, 4]" when nx != ny.
+  std::string text() const;
+  bool operator==(const GridSize&) const = default;
+};
+
+/// nx x ny rectangles (squares for n x n on a square domain). Vertex (i, j) has
+/// index j*(nx+1) + i; element (i, j) has index j*nx + i.
+Mesh make_squares(GridSize n, const Rectangle& domain = {});
+
+/// nx x ny rectangles, each split by its lower-left -> upper-right diagonal into two
+/// triangles (2 nx ny elements); vertices as make_squares. Rectangle (i, j) gives element
+/// 2(j*nx + i) below the diagonal and 2(j*nx + i) + 1 above it.
+Mesh make_triangles(GridSize n, const Rectangle& domain = {});
+
+struct VoronoiOptions {
+  std::uint64_t seed = 1;        ///< random seeds are drawn from std::mt19937_64(seed)
+  int max_lloyd_iterations = 100;
+  /// Lloyd iterations stop when no seed moves by more than this fraction of the
+  /// mean seed spacing sqrt(area / n^2). 0 with max_lloyd_iterations = 0: raw Voronoi.
+  double lloyd_tolerance = 1e-3;
+};
+
+/// Voronoi cells of nx*ny random seeds (uniform in the rectangle), computed with
+/// CGAL's Delaunay triangulation of the seeds and their reflections across the
+/// four sides, so the cells tile the rectangle exactly; vertices on the sides are
+/// placed exactly on them; Lloyd iterations move seeds to cell centroids.
+/// Element e is the cell of seed e; seeds are numbered along a Hilbert curve, so nearby
+/// cells have nearby numbers. Voronoi vertices closer than a tolerance
+/// max(1e-10 * domain size, 1e-7 * seed spacing, 64 eps * largest |coordinate|) are merged
+/// into one, so the mesh has no edge shorter than about that; vertices are numbered in
+/// order of first appearance when walking the cells in seed order, each cell starting at
+/// its lexicographically smallest (x, then y) vertex. Throws InputError for negative max_lloyd_iterations or a
+/// negative or non-finite lloyd_tolerance.
+Mesh make_voronoi(GridSize n, const Rectangle& domain = {}, const VoronoiOptions& options = {});
+
+/// nx x ny macro cells on a (2nx+1) x (2ny+1) point grid; points whose index sum is odd (side
+/// mid-points) are shifted by a quarter of the macro-cell size in x and y; cell
+/// centres and mid-points on the domain boundary are dropped. Interior elements are
+/// non-convex octagons, boundary ones 7- and 6-gons (N = 1: the rectangle itself).
+/// Element (I, J) has index J*nx + I and lists corner (2I,2J), bottom mid-point,
+/// corner (2I+2,2J), right mid-point, corner (2I+2,2J+2), top mid-point, corner
+/// (2I,2J+2), left mid-point, skipping dropped ones; vertices are the kept grid points
+/// in row-major order (j, then i).
+Mesh make_nonconvex(GridSize n, const Rectangle& domain = {});
+
+/// nx x ny rectangles whose interior vertices are moved by a uniform random vector in
+/// [-fraction*hx, fraction*hx] x [-fraction*hy, fraction*hy] (0 <= fraction < 0.5,
+/// else InputError); boundary vertices stay put. Numbering as make_squares.
+Mesh make_distorted(GridSize n, double fraction = 0.2, const Rectangle& domain = {}, std::uint64_t seed = 1);
+
+/// A simple polygon: its corners in order around the boundary (either orientation), the
+/// last joined to the first. Edge k runs from corner k to corner k+1.
+struct PolygonDomain {
+  std::vector<Vec2> corners;
+};
+
+// The polygon generators throw InputError naming the defect for fewer than 3 corners, a
+// corner that is not finite or above 1e150 in magnitude, a corner repeated by the next, a
+// polygon that is not simple (edges that cross or touch), and cells too small for double
+// precision. The boundary edges of the mesh on edge k of the polygon form the edge group
+// "edge<k>" (Mesh::edge_group), so boundary conditions can name the polygon's edges.
+
+/// What is wrong with a polygon domain ("" when nothing): fewer than 3 corners, a corner
+/// not finite or above 1e150, a corner repeated by the next, edges that cross or touch.
+std::string polygon_domain_defect(const PolygonDomain& domain);
+
+/// Triangles in a polygon: CGAL's constrained Delaunay triangulation of the polygon,
+/// refined by CGAL's Delaunay mesher (Delaunay_mesher_2) until no angle is below about
+/// 20.7 degrees and no edge is longer than 1.5 sqrt(area)/n: about 2 n^2 triangles, as on a
+/// rectangle. Vertices on the polygon's edges lie on them to round-off; elements are
+/// numbered along a Hilbert curve through their centroids.
+Mesh make_triangles(int n, const PolygonDomain& domain);
+
+/// Voronoi cells of n*n random seeds uniform in the polygon (drawn in its bounding box
+/// from std::mt19937_64(seed), kept when strictly inside), clipped to the polygon with
+/// CGAL's exact Boolean operations; Lloyd iterations as on a rectangle (a seed whose cell
+/// is cut into pieces whose joint centroid lies outside the polygon stays put). A cell cut
+/// into several pieces by a re-entrant corner gives one element per piece, so there may be
+/// a few more elements than seeds. Polygon corners are mesh vertices exactly; other
+/// vertices on the polygon's edges lie on them to round-off.
+Mesh make_voronoi(int n, const PolygonDomain& domain, const VoronoiOptions& options = {});
+
+/// The generator names: squares, triangles, voronoi, nonconvex, distorted.
+const std::vector<std::string>& mesh_generator_names();
+
+/// Any generator by name with its default options; throws InputError listing the
+/// valid names for an unknown one.
+Mesh make_mesh(std::string_view generator, GridSize n, const Rectangle& domain = {}, std::uint64_t seed = 1);
+
+/// triangles or voronoi by name in a polygon; InputError for the other generators (they
+/// need a rectangle) and for an unknown name.
+Mesh make_mesh(std::string_view generator, int n, const PolygonDomain& domain, std::uint64_t seed = 1);
+
+}  // namespace hemivem

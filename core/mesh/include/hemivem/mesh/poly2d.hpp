@@ -1,0 +1,45 @@
+// Reading and writing meshes in the plain `.poly2d` format (shared/meshes/README.md):
+//
+//   # comment lines start with '#'; blank lines are ignored
+//   vertices NV
+//   x y                  (NV lines)
+//   elements NE
+//   k i1 ... ik          (NE lines, 0-based, counter-clockwise)
+//   boundary NB          (optional)
+//   i                    (NB lines)
+#pragma once
+
+#include <filesystem>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include <hemivem/mesh/mesh.hpp>
+
+namespace hemivem {
+
+struct Poly2dMesh {
+  Mesh mesh;
+  /// The optional `boundary` list of the file, as written (informational only: the
+  /// boundary of a Mesh is always the set of edges that belong to one element).
+  std::vector<int> boundary_list;
+  /// Comment lines of the file, without the leading '#'.
+  std::vector<std::string> comments;
+};
+
+/// Reads and validates a .poly2d file. Every violation (syntax, counts, index
+/// ranges, non-finite coordinates, any rule of find_mesh_defects) throws InputError
+/// (MeshError for mesh rules) whose where() is "path:line" and whose message names the
+/// element or vertex concerned.
+Poly2dMesh read_poly2d(const std::filesystem::path& path);
+/// The same from a stream; `name` is used in messages in place of a path.
+Poly2dMesh read_poly2d(std::istream& in, const std::string& name);
+
+/// Writes a mesh (coordinates with %.17g, so they read back to the same doubles),
+/// the boundary vertex list, and the given comment lines. The file is written to a
+/// temporary name in the same folder and renamed, so no partial file is left behind.
+void write_poly2d(const std::filesystem::path& path, const Mesh& mesh,
+                  const std::vector<std::string>& comments = {});
+void write_poly2d(std::ostream& out, const Mesh& mesh, const std::vector<std::string>& comments = {});
+
+}  // namespace hemivem

@@ -1,0 +1,49 @@
+#include <hemivem/error.hpp>
+#include <hemivem/mesh/boundary.hpp>
+
+#include <algorithm>
+
+namespace hemivem {
+
+bool Segment::contains(const Vec2& p) const {
+  const Vec2 d = b - a;
+  const double len2 = d.squaredNorm();
+  if (len2 == 0.0) return (p - a).norm() <= tolerance;
+  const double t = std::clamp((p - a).dot(d) / len2, 0.0, 1.0);
+  return (p - (a + t * d)).norm() <= tolerance;
+}
+
+std::vector<int> select_boundary_edges(const Mesh& mesh, const std::function<bool(const Vec2&, const Vec2&)>& keep) {
+  std::vector<int> out;
+  for (int id : mesh.boundary_edges()) {
+    const auto& e = mesh.edge(id);
+    if (keep(mesh.vertex(e.v0), mesh.vertex(e.v1))) out.push_back(id);
+  }
+  return out;
+}
+
+std::vector<int> select_boundary_edges(const Mesh& mesh, const std::vector<Segment>& segments) {
+  return select_boundary_edges(mesh, [&](const Vec2& p, const Vec2& q) {
+    return std::any_of(segments.begin(), segments.end(), [&](const Segment& s) { return s.contains(p) && s.contains(q); });
+  });
+}
+
+std::vector<int> select_boundary_edges(const Mesh& mesh, const std::string& group) {
+  const auto& edges = mesh.edge_group(group);
+  for (int id : edges)
+    if (!mesh.edge(id).on_boundary())
+      throw InputError("edge " + std::to_string(id) + " (" + std::to_string(mesh.edge(id).v0) + "-" +
+                           std::to_string(mesh.edge(id).v1) + ") is not on the boundary; a boundary part needs boundary edges",
+                       "edge group '" + group + "'");
+  return edges;
+}
+
+Segment rectangle_side(const Rectangle& r, const std::string& side, double tolerance) {
+  if (side == "left") return {{r.x0, r.y0}, {r.x0, r.y1}, tolerance};
+  if (side == "right") return {{r.x1, r.y0}, {r.x1, r.y1}, tolerance};
+  if (side == "bottom") return {{r.x0, r.y0}, {r.x1, r.y0}, tolerance};
+  if (side == "top") return {{r.x0, r.y1}, {r.x1, r.y1}, tolerance};
+  throw InputError("unknown side '" + side + "'; expected left, right, bottom or top");
+}
+
+}  // namespace hemivem

@@ -1,0 +1,382 @@
+// Reader and writer of the `.poly2d` mesh format (see mesh_io.hpp).
+//
+// The reader takes the whole input into memory, splits it into numbered lines and
+// then walks the significant (non-blank, non-comment) lines section by section.
+// Every count is checked against what the file actually holds before anything is
+// sized from it, so an absurd count costs nothing. Mesh rules are checked by the
+// Mesh constructor (find_mesh_defects); its error is re-thrown with the line of the
+// offending element.
+#include <hemivem/support/atomic_file.hpp>
+#include <hemivem/mesh/poly2d.hpp>
+
+#include <hemivem/support/text_lines.hpp>
+
+#include <algorithm>
+#include <cerrno>
+#include <charconv>
+#include <climits>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <istream>
+#include <ostream>
+#include <string_view>
+#include <system_error>
+
+
+namespace hemivem {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using text::kWhitespace;
+using text::shown;
+
+bool is_keyword(std::string_view t) { return t == "vertices" || t == "elements" || t == "boundary"; }
+
+std::string quote(std::string_view s) {
+  std::string out(1, '\'');
+  out += shown(s);
+  out += '\'';
+  return out;
+}
+
+/// Skips one leading '+' when a digit (or '.' for reals) follows: from_chars rejects it.
+std::string_view strip_plus(std::string_view t, bool real) {
+  if (t.size() >= 2 && t[0] == '+' &&
+      ((t[1] >= '0' && t[1] <= '9') || (real && t[1] == '.')))
+    t.remove_prefix(1);
+  return t;
+}
+
+enum class Parse { ok, bad, out_of_range };
+
+/// The whole token must be an integer.
+Parse parse_integer(std::string_view token, long long& value) {
+  const std::string_view t = strip_plus(token, false);
+  const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), value);
+  if (ec == std::errc::invalid_argument || ptr != t.data() + t.size()) return Parse::bad;
+  if (ec == std::errc::result_out_of_range) return Parse::out_of_range;
+  return Parse::ok;
+}
+
+/// The whole token must be a real number (nan and inf are parsed; the caller rejects them).
+/// A value too small for a double reads as the nearest double (0 or a subnormal);
+/// one too large is out_of_range.
+Parse parse_real(std::string_view token, double& value) {
+  const std::string_view t = strip_plus(token, true);
+  const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), value, std::chars_format::general);
+  if (ec == std::errc::invalid_argument || ptr != t.data() + t.size()) return Parse::bad;
+  if (ec == std::errc::result_out_of_range) {
+    // from_chars does not say whether it overflowed or underflowed; strtod does.
+    const std::string copy(t);
+    errno = 0;
+    const double v = std::strtod(copy.c_str(), nullptr);
+    if (std::isinf(v)) return Parse::out_of_range;
+    value = v;
+  }
+  return Parse::ok;
+}
+
+using text::Line;
+
+class Poly2dReader {
+ public:
+  Poly2dReader(std::string data, std::string name) : data_(std::move(data)), name_(std::move(name)) { split(); }
+
+  Poly2dMesh read() {
+    // ---- vertices
+    const Line vheader = expect_header("vertices", "NV", "vertex count");
+    const int nv = header_count_;
+    std::vector<Vec2> vertices;
+    vertices.reserve(bounded(nv));
+    for (int i = 0; i < nv; ++i) {
+      const Line& line = data_line(i, nv, "vertex", "vertices", vheader);
+      if (tokens_.size() != 2)
+        fail(line, "vertex " + std::to_string(i) + " has " + std::to_string(tokens_.size()) +
+                       (tokens_.size() == 1 ? " value" : " values") +
+                       "; a vertex line holds exactly 2 coordinates 'x y' (found " + quote(line.text) + ")");
+      Vec2 p;
+      for (int c = 0; c < 2; ++c) {
+        const std::string what = "vertex " + std::to_string(i) + " has " + (c == 0 ? "an x" : "a y") + " coordinate ";
+        double v = 0.0;
+        switch (parse_real(tokens_[c], v)) {
+          case Parse::bad: fail(line, what + quote(tokens_[c]) + " that is not a number");
+          case Parse::out_of_range: fail(line, what + quote(tokens_[c]) + " outside the range of double");
+          case Parse::ok: break;
+        }
+        if (!std::isfinite(v)) fail(line, what + quote(tokens_[c]) + " that is not finite");
+        if (std::abs(v) > max_mesh_coordinate)
+          fail(line, what + quote(tokens_[c]) + " of magnitude above 1e150 (element areas would overflow)");
+        p[c] = v;
+      }
+      vertices.push_back(p);
+    }
+
+    // ---- elements
+    const Line eheader = expect_header("elements", "NE", "element count");
+    const int ne = header_count_;
+    std::vector<std::vector<int>> elements;
+    std::vector<int> element_lines;
+    elements.reserve(bounded(ne));
+    element_lines.reserve(bounded(ne));
+    long long total_indices = 0;
+    for (int e = 0; e < ne; ++e) {
+      const Line& line = data_line(e, ne, "element", "elements", eheader);
+      const std::string el = "element " + std::to_string(e);
+      long long k = 0;
+      if (parse_integer(tokens_[0], k) != Parse::ok)
+        fail(line, el + " has a bad vertex count " + quote(tokens_[0]) + " (expected an integer k >= 3)");
+      if (k < 3)
+        throw MeshError(el + " has " + std::to_string(k) + (k == 1 ? " vertex" : " vertices") +
+                            "; an element needs at least 3",
+                        e, where(line));
+      const std::size_t listed = tokens_.size() - 1;
+      if (static_cast<unsigned long long>(k) != listed)
+        fail(line, el + " declares " + std::to_string(k) + " vertices but lists " + std::to_string(listed) +
+                       (listed == 1 ? " index" : " indices"));
+      total_indices += k;
+      if (total_indices > INT_MAX)
+        fail(line, "the elements hold more than " + std::to_string(INT_MAX) + " vertex indices in total");
+      std::vector<int> ids;
+      ids.reserve(listed);
+      for (std::size_t j = 1; j < tokens_.size(); ++j) {
+        long long v = 0;
+        const Parse r = parse_integer(tokens_[j], v);
+        if (r == Parse::bad)
+          fail(line, el + " has a bad vertex index " + quote(tokens_[j]) + " (expected an integer)");
+        if (r == Parse::out_of_range || v < 0 || v >= nv)
+          throw MeshError(el + " has vertex index " + shown(tokens_[j]) + " out of range [0, " +
+                              std::to_string(nv) + ")",
+                          e, where(line));
+        ids.push_back(static_cast<int>(v));
+      }
+      elements.push_back(std::move(ids));
+      element_lines.push_back(line.number);
+    }
+
+    // ---- optional boundary list
+    Poly2dMesh out;
+    if (pos_ < lines_.size()) {
+      const Line& line = lines_[pos_];
+      tokenize(line.text);
+      if (tokens_[0] != "boundary")
+        fail(line, "unexpected content after the element list: " + quote(line.text) +
+                       " (expected 'boundary NB' or the end of the file)");
+      const Line bheader = expect_header("boundary", "NB", "boundary count");
+      const int nb = header_count_;
+      out.boundary_list.reserve(bounded(nb));
+      for (int b = 0; b < nb; ++b) {
+        const Line& bl = data_line(b, nb, "boundary", "boundary", bheader);
+        const std::string entry = "boundary entry " + std::to_string(b);
+        if (tokens_.size() != 1)
+          fail(bl, entry + " has " + std::to_string(tokens_.size()) +
+                       " values; a boundary line holds exactly one vertex index (found " + quote(bl.text) + ")");
+        long long v = 0;
+        const Parse r = parse_integer(tokens_[0], v);
+        if (r == Parse::bad) fail(bl, entry + " has a bad vertex index " + quote(tokens_[0]) + " (expected an integer)");
+        if (r == Parse::out_of_range || v < 0 || v >= nv)
+          fail(bl, entry + " has vertex index " + shown(tokens_[0]) + " out of range [0, " +
+                       std::to_string(nv) + ")");
+        out.boundary_list.push_back(static_cast<int>(v));
+      }
+      if (pos_ < lines_.size())
+        fail(lines_[pos_], "unexpected content after the boundary list: " + quote(lines_[pos_].text) +
+                               " (the file should end here)");
+    }
+
+    // ---- mesh rules
+    try {
+      out.mesh = Mesh(std::move(vertices), std::move(elements));
+    } catch (const MeshError& err) {
+      const int e = err.element();
+      int line = eheader.number;
+      if (e >= 0 && static_cast<std::size_t>(e) < element_lines.size())
+        line = element_lines[static_cast<std::size_t>(e)];
+      else if (nv == 0)
+        line = vheader.number;
+      throw MeshError(err.detail(), e, where(line));
+    }
+    out.comments = std::move(comments_);
+    return out;
+  }
+
+ private:
+  void split() { last_line_ = text::split_lines(data_, name_, lines_, '#', &comments_); }
+  void tokenize(std::string_view line) { text::tokenize(line, tokens_); }
+
+  std::string where(int line) const { return name_ + ":" + std::to_string(line); }
+  std::string where(const Line& line) const { return where(line.number); }
+  [[noreturn]] void fail(int line, const std::string& message) const { throw InputError(message, where(line)); }
+  [[noreturn]] void fail(const Line& line, const std::string& message) const { fail(line.number, message); }
+
+  /// A capacity to reserve for `count` records: never more than the lines left.
+  std::size_t bounded(int count) const {
+    return std::min(static_cast<std::size_t>(count), lines_.size() - std::min(pos_, lines_.size()));
+  }
+
+  /// Reads the header line `keyword N` and stores N in header_count_.
+  Line expect_header(std::string_view keyword, std::string_view count_name, const std::string& count_what) {
+    std::string form(1, '\'');
+    form.append(keyword).append(" ").append(count_name).append("'");
+    if (pos_ >= lines_.size())
+      fail(last_line_, lines_.empty() ? "the file holds no data: expected the header " + form
+                                      : "the file ends before the header " + form);
+    const Line line = lines_[pos_++];
+    tokenize(line.text);
+    if (tokens_[0] != keyword)
+      fail(line, "expected the header " + form + ", found " + quote(line.text));
+    if (tokens_.size() == 1) fail(line, "the header " + form + " has no count");
+    if (tokens_.size() > 2) fail(line, "the header " + form + " has extra content after the count: " + quote(line.text));
+    long long n = 0;
+    switch (parse_integer(tokens_[1], n)) {
+      case Parse::bad:
+        fail(line, "bad " + count_what + " " + quote(tokens_[1]) + " (expected a non-negative integer)");
+      case Parse::out_of_range:
+        n = LLONG_MAX;
+        break;
+      case Parse::ok:
+        break;
+    }
+    if (n < 0) fail(line, count_what + " " + shown(tokens_[1]) + " is negative");
+    if (n > INT_MAX)
+      fail(line, count_what + " " + shown(tokens_[1]) + " is too large (at most " + std::to_string(INT_MAX) + ")");
+    header_count_ = static_cast<int>(n);
+    return line;
+  }
+
+  /// The next line of a list of `count` records, tokenized into tokens_, or an error at
+  /// the line where the list runs out.
+  const Line& data_line(int index, int count, const std::string& record, const std::string& section,
+                        const Line& header) {
+    const std::string expected = "expected " + std::to_string(count) + " " + record + " lines after '" + section +
+                                 " " + std::to_string(count) + "' (line " + std::to_string(header.number) + ")";
+    if (pos_ >= lines_.size())
+      fail(last_line_, expected + ", but the file ends after " + std::to_string(index));
+    const Line& line = lines_[pos_];
+    tokenize(line.text);
+    if (is_keyword(tokens_[0]))
+      fail(line, expected + ", but the list ends after " + std::to_string(index) + " (found " + quote(line.text) + ")");
+    ++pos_;
+    return line;
+  }
+
+  std::string data_;
+  std::string name_;
+  std::vector<Line> lines_;
+  std::vector<std::string> comments_;
+  std::vector<std::string_view> tokens_;
+  std::size_t pos_ = 0;
+  int last_line_ = 1;
+  int header_count_ = 0;
+};
+
+std::string error_text(int err) { return std::system_category().message(err); }
+
+/// Splits a comment into lines and drops trailing whitespace (which the reader drops too).
+void write_comment(std::ostream& out, std::string_view comment) {
+  while (true) {
+    const std::size_t nl = comment.find_first_of("\r\n");
+    std::string_view line = comment.substr(0, nl);
+    const std::size_t last = line.find_last_not_of(kWhitespace);
+    line = last == std::string_view::npos ? std::string_view() : line.substr(0, last + 1);
+    out << '#';
+    if (!line.empty()) out << ' ' << line;
+    out << '\n';
+    if (nl == std::string_view::npos) break;
+    comment.remove_prefix(nl + 1);
+  }
+}
+
+}  // namespace
+
+Poly2dMesh read_poly2d(std::istream& in, const std::string& name) {
+  std::string data;
+  char chunk[1 << 16];
+  while (in.read(chunk, sizeof chunk) || in.gcount() > 0) data.append(chunk, static_cast<std::size_t>(in.gcount()));
+  if (in.bad()) throw InputError("read error while reading the mesh", name);
+  return Poly2dReader(std::move(data), name).read();
+}
+
+Poly2dMesh read_poly2d(const fs::path& path) {
+  const std::string name = path.string();
+  text::require_regular_file(path, "mesh file");
+  errno = 0;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    const int err = errno;
+    throw InputError("cannot open the mesh file" + (err != 0 ? ": " + error_text(err) : std::string()), name);
+  }
+  return read_poly2d(in, name);
+}
+
+void write_poly2d(std::ostream& out, const Mesh& mesh, const std::vector<std::string>& comments) {
+  if (mesh.num_vertices() == 0 || mesh.num_elements() == 0)
+    throw InputError("cannot write an empty mesh (it would not read back)");
+  if (!out) throw InputError("cannot write the mesh: the output stream is in a failed state");
+  for (const auto& c : comments) write_comment(out, c);
+  // Numbers go through to_chars, not the stream or printf, so no locale can change them.
+  // Precision 17 in the general format is %.17g: every double reads back unchanged.
+  std::string text;
+  auto put = [&text](auto value, auto... format) {
+    char buf[64];
+    const auto r = std::to_chars(buf, buf + sizeof buf, value, format...);
+    text.append(buf, r.ptr);
+  };
+  auto emit = [&](bool force) {
+    if (force || text.size() >= (1u << 16)) {
+      out.write(text.data(), static_cast<std::streamsize>(text.size()));
+      text.clear();
+    }
+  };
+  text += "vertices ";
+  put(mesh.num_vertices());
+  text += '\n';
+  for (const auto& p : mesh.vertices()) {
+    put(p.x(), std::chars_format::general, 17);
+    text += ' ';
+    put(p.y(), std::chars_format::general, 17);
+    text += '\n';
+    emit(false);
+  }
+  text += "elements ";
+  put(mesh.num_elements());
+  text += '\n';
+  for (int e = 0; e < mesh.num_elements(); ++e) {
+    put(mesh.element_size(e));
+    for (int v : mesh.element(e)) {
+      text += ' ';
+      put(v);
+    }
+    text += '\n';
+    emit(false);
+  }
+  const std::vector<int> boundary = mesh.boundary_vertices();
+  text += "boundary ";
+  put(boundary.size());
+  text += '\n';
+  for (int v : boundary) {
+    put(v);
+    text += '\n';
+    emit(false);
+  }
+  emit(true);
+  out.flush();
+  if (!out) throw InputError("writing the mesh failed");
+}
+
+void write_poly2d(const fs::path& path, const Mesh& mesh, const std::vector<std::string>& comments) {
+  const std::string name = path.string();
+  if (path.filename().empty()) throw InputError("cannot write the mesh: the path names no file", name);
+  write_file_atomically(path, [&](std::ostream& out) {
+    try {
+      write_poly2d(out, mesh, comments);
+    } catch (const InputError& e) {
+      throw InputError(e.detail(), name);
+    }
+  });
+}
+
+}  // namespace hemivem

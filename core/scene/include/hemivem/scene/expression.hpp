@@ -1,0 +1,37 @@
+// Scalar functions of the position given as text: "0.02 + 0.5*x^2", "-8*(1 - x)", "sin(_pi*x)".
+// Parsed and evaluated by muparser (its operators, functions sin cos tan asin acos atan
+// sinh cosh tanh exp ln log log2 log10 sqrt abs sign rint min max sum avg, the constants _pi
+// and _e to double precision); the variables are x and y.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+
+#include <hemivem/mesh/mesh.hpp>
+
+namespace hemivem {
+
+/// A scalar field of (x, y): a constant or a parsed expression.
+class ScalarExpression {
+ public:
+  /// The constant `value`.
+  explicit ScalarExpression(double value = 0.0);
+  /// Parses `text` (InputError naming the text, the position and what muparser expected, for
+  /// a syntax error or a variable other than x and y).
+  static ScalarExpression parse(const std::string& text);
+
+  /// The value at p; may be non-finite where the expression is (1/x at x = 0).
+  double operator()(const Vec2& p) const;
+  bool is_constant() const noexcept { return !parser_; }
+  /// The text it was parsed from, or the constant's shortest round-trip text.
+  const std::string& text() const noexcept { return text_; }
+
+ private:
+  struct Parser;
+  std::shared_ptr<Parser> parser_;  // null for a constant
+  double value_ = 0.0;
+  std::string text_;
+};
+
+}  // namespace hemivem

@@ -1,0 +1,263 @@
+// Scenes: one contact problem described in a TOML file (schema in scenes/README.md).
+//
+// A Scene is plain data with the defaults of the paper's Example 4.1 on N = 64 squares.
+// parse_scene reads and validates a file; every defect (unknown key, wrong type, value out
+// of range, syntax) is an InputError whose where() is "file:line" (or "file:line:column"
+// for syntax errors). build_problem turns a Scene into a mesh and a ContactProblem.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <hemivem/contact/problem.hpp>
+#include <hemivem/support/names.hpp>
+#include <hemivem/vem/material.hpp>
+#include <hemivem/mesh/mesh.hpp>
+#include <hemivem/mesh/generators.hpp>
+#include <hemivem/reduced_problem.hpp>
+#include <hemivem/vem/element.hpp>
+
+namespace hemivem {
+
+/// The schema version this library reads and writes.
+inline constexpr int scene_schema_version = 1;
+
+/// A set of boundary edges: the union of the sides of the mesh bounding box, named edge
+/// groups of the mesh, and straight segments [x0, y0, x1, y1] (edges whose end points lie
+/// within `tolerance` of a segment or side). At least one of the three is given.
+struct BoundarySelector {
+  std::vector<std::string> sides;                ///< "left", "right", "top", "bottom"
+  std::vector<std::string> groups;               ///< Mesh::edge_group names
+  std::vector<std::array<double, 4>> segments;   ///< x0, y0, x1, y1
+  double tolerance = 1e-8;
+  bool empty() const noexcept { return sides.empty() && groups.empty() && segments.empty(); }
+  bool operator==(const BoundarySelector&) const = default;
+};
+
+/// A number, or an expression in x and y (muparser syntax, hemivem/expression.hpp) given as a
+/// string: "0.02 + 0.5*x^2".
+struct SceneScalar {
+  double value = 0.0;
+  std::string expression;  ///< empty: the number `value`
+  bool is_expression() const noexcept { return !expression.empty(); }
+  bool operator==(const SceneScalar&) const = default;
+};
+
+struct SceneMesh {
+  std::string generator = "squares";   ///< used when `file` is empty
+  std::filesystem::path file;          ///< .poly2d or .msh; absolute once parsed
+  int n = 64;                          ///< cells per side; along x when `ny` is given
+  std::optional<int> ny;               ///< cells along y: mesh.n = [nx, ny] (rectangle domains)
+  std::int64_t seed = 1;
+  std::array<double, 4> domain{0.0, 1.0, 0.0, 1.0};  ///< x0, x1, y0, y1
+  /// A polygon domain's corners (voronoi and triangles); empty: the rectangle `domain`.
+  std::vector<std::array<double, 2>> polygon;
+  /// n x n, or n x ny.
+  GridSize cells() const { return ny ? GridSize(n, *ny) : GridSize(n); }
+  /// How the mesh is made, for reports: "squares n=64", "voronoi n=[32, 8]", or the file.
+  std::string description() const;
+  bool operator==(const SceneMesh&) const = default;
+};
+
+struct SceneRegionMaterial {
+  int region = 0;
+  double young = 1.0;
+  double poisson = 0.0;
+  /// [x0, x1, y0, y1]: when given, the elements whose centroid lies in this rectangle are
+  /// put into `region` (later regions win where boxes overlap); otherwise the region ids of
+  /// the mesh file are used.
+  std::optional<std::array<double, 4>> box;
+  bool operator==(const SceneRegionMaterial&) const = default;
+};
+
+struct SceneMaterial {
+  double young = 65.0;
+  double poisson = 0.29;
+  PlaneModel model = PlaneModel::strain;
+  Stabilization stabilization = Stabilization::two_mu;
+  std::vector<SceneRegionMaterial> regions;  ///< overrides for single regions
+  bool operator==(const SceneMaterial&) const = default;
+};
+
+/// A traction on boundary edges: a vector `value` [tx, ty], or a `pressure` p along the
+/// inward normal of each edge (t = -p n, n the outward normal).
+struct SceneTraction {
+  BoundarySelector boundary;
+  std::array<SceneScalar, 2> value{};
+  std::optional<SceneScalar> pressure;  ///< given: the traction is the pressure, value unused
+  bool operator==(const SceneTraction&) const = default;
+};
+
+/// A prescribed displacement on boundary edges ([[dirichlet]]): both components
+/// (value = [ux, uy]) or one of them (a roller: the other component stays free).
+struct SceneDirichlet {
+  BoundarySelector boundary;
+  std::optional<SceneScalar> ux, uy;
+  bool operator==(const SceneDirichlet&) const = default;
+};
+
+struct SceneLaw {
+  /// A shipped law (contact_law_names()) or "piecewise" (breakpoints + j1/j2 pieces).
+  std::string name = "paper";
+  std::map<std::string, double> parameters;  ///< e.g. stiffness, sigma, r1, residual, r2
+  std::vector<double> breakpoints;
+  std::vector<std::vector<double>> j1, j2;   ///< per piece, coefficients lowest degree first
+  /// The potential alone (piecewise): hemivem computes the DC split (PiecewisePolynomialLaw::from_j);
+  /// empty when j1 and j2 are given.
+  std::vector<std::vector<double>> j;
+  bool operator==(const SceneLaw&) const = default;
+};
+
+/// [contact.obstacle]: a rigid obstacle instead of a gap (hemivem/obstacle.hpp).
+struct SceneObstacle {
+  std::string shape = "plane";              ///< "plane", "circle" or "polyline"
+  std::array<double, 2> point{0.0, 0.0};    ///< plane: a point of it
+  std::array<double, 2> normal{0.0, 1.0};   ///< plane: the normal pointing into the body
+  std::array<double, 2> center{0.0, 0.0};   ///< circle
+  double radius = 1.0;                      ///< circle
+  std::vector<std::array<double, 2>> points;  ///< polyline: the surface, the body on its left
+  bool operator==(const SceneObstacle&) const = default;
+};
+
+struct SceneContact {
+  BoundarySelector boundary{{"bottom"}, {}, {}, 1e-8};
+  SceneLaw law;
+  SceneScalar gap{0.02, {}};  ///< g >= 0 at every contact node (unused with an obstacle)
+  std::optional<SceneObstacle> obstacle;
+  /// box, one-sided, none, or bilateral (u_nu = 0: the body slides on Gamma_3; gap and normal
+  /// law unused).
+  ConstraintKind constraint = ConstraintKind::box;
+  /// [contact.friction]: the law of the tangential displacement ("tresca", "slip-weakening",
+  /// or an even "piecewise" law; parameters bound / static, kinetic, distance); none:
+  /// frictionless.
+  std::optional<SceneLaw> friction;
+  bool operator==(const SceneContact&) const = default;
+};
+
+struct SceneSolver {
+  std::string linear = "auto";  ///< an engine's name, or "auto": the fastest built (chosen by the command)
+  std::string minimizer = "ssn";
+  double tolerance = 1e-10;
+  int max_iterations = 1000;
+  /// The minimizer's parameters by name ([solver.parameters]; checked by the engine).
+  std::map<std::string, double> parameters;
+  /// "local" (one run of the minimizer) or "global" (GlobalSearch: several starts with every
+  /// built minimizer, the lowest certified critical point; a single run when the problem's
+  /// uniqueness margin is positive).
+  std::string search = "local";
+  int max_starts = 64;        ///< global: the most starts (local runs) of the search
+  double time_budget = 60.0;  ///< global: seconds after which no new start begins
+  int seed = 1;               ///< global: the seed of the random starts
+  /// global: the engines that run besides `minimizer`, in order; empty: every built minimizer.
+  std::vector<std::string> search_engines;
+  bool operator==(const SceneSolver&) const = default;
+};
+
+
+/// The output names a scene may ask for.
+const std::vector<std::string>& scene_output_names();
+
+namespace detail {
+struct SceneDocument;  // the parsed TOML a scene was read from (internal)
+}
+
+struct Scene {
+  int schema_version = scene_schema_version;
+  /// Free text recorded in results; a scene file without `title` is named after the file.
+  std::string title = "Example 4.1 (Feng, Han, Huang 2021)";
+  SceneMesh mesh;
+  SceneMaterial material;
+  /// Gamma_1 (u = 0); empty when the scene has [[dirichlet]] entries and no [clamped].
+  BoundarySelector clamped{{"left", "right"}, {}, {}, 1e-8};
+  std::vector<SceneDirichlet> dirichlet;                       ///< other prescribed displacements
+  std::array<SceneScalar, 2> body_force{};                     ///< f0
+  std::vector<SceneTraction> tractions{
+      SceneTraction{{{"top"}, {}, {}, 1e-8}, {SceneScalar{0.0, {}}, SceneScalar{-8.0, {}}}, std::nullopt}};  ///< Gamma_2
+  std::optional<SceneContact> contact = SceneContact{};       ///< Gamma_3; none = no contact
+  SceneSolver solver;
+  std::vector<std::string> outputs = scene_output_names();
+
+  /// Where the scene came from (a path, or a name such as "<default>").
+  std::string source = "<default>";
+  /// Line of each key read from the source, by dotted path ("contact.gap",
+  /// "loads.traction[0].side"); keys set by apply_override map to 0.
+  std::map<std::string, int> lines;
+  /// The parsed document the scene was read from, shared and never modified: apply_overrides
+  /// edits a copy of it, so that every key it does not touch keeps its line in messages. Null
+  /// for a scene made in code; not used once the scene's fields differ from what was read.
+  std::shared_ptr<const detail::SceneDocument> document;
+
+  /// "source:line" for a key read from the source, else "source".
+  std::string where(const std::string& key) const;
+};
+
+/// Equality of the problem data (source and lines are ignored).
+bool operator==(const Scene& a, const Scene& b);
+
+/// Reads and validates a scene file; relative mesh paths are resolved against its folder.
+Scene parse_scene(const std::filesystem::path& path);
+/// The same from text; `name` stands for the file in messages, relative mesh paths are
+/// resolved against the folder of `name` (the current directory when it has none).
+Scene parse_scene_string(std::string_view text, std::string name);
+/// Example 4.1 on N = 64 squares: scenes/paper-example-4.1.toml, embedded in the library
+/// when it is built.
+Scene default_scene();
+
+/// Applies "dotted.key=value" (value in TOML syntax; a bare word is taken as a string), e.g.
+/// "contact.gap=0.01", "mesh.generator=voronoi", "solver.minimizer=bundle-dca". The value
+/// replaces the key in the scene's parsed document (Scene::document; a scene made or changed
+/// in code is written with to_toml first) and the document is read again, so the result is
+/// validated as a whole: an error in an overridden key names "--set key" and the nearest
+/// valid key, an error in a key of the file names its line. Setting
+/// mesh.generator clears mesh.file and vice versa; a relative mesh.file is resolved against
+/// the current directory. Setting a contact.* key on a scene without contact adds the
+/// default contact part (the bottom side, the paper's law).
+void apply_override(Scene& scene, std::string_view key_eq_value);
+
+/// Applies several overrides at once: every value is put in place first and the scene is
+/// validated once, so the order does not matter ("contact.parameters.sigma=0.5" and
+/// "contact.law=kinked" in either order). Later overrides of the same key win.
+void apply_overrides(Scene& scene, const std::vector<std::string>& key_eq_values);
+
+/// The scene as TOML text: every key written, parse_scene_string(to_toml(s), n) == s.
+std::string to_toml(const Scene& scene);
+
+/// Writes to_toml(scene) to `path` atomically (the resolved scene of a run's output folder).
+void write_scene(const std::filesystem::path& path, const Scene& scene);
+
+/// A scene made concrete. Not movable: problem.elasticity.mesh points at mesh.
+struct BuiltProblem {
+  Mesh mesh;
+  ContactProblem problem;  ///< contact_edges empty and law null when has_contact is false
+  bool has_contact = false;
+  std::vector<std::string> warnings;  ///< scene_warnings(scene)
+  BuiltProblem() = default;
+  BuiltProblem(const BuiltProblem&) = delete;
+  BuiltProblem& operator=(const BuiltProblem&) = delete;
+};
+
+/// What a user should know about the problem a scene poses, though it is valid: today, a
+/// problem that nothing drives (no load, no prescribed displacement other than zero, no
+/// obstacle and no gap that pushes), whose solution is u = 0.
+std::vector<std::string> scene_warnings(const Scene& scene);
+
+/// Builds the mesh (generator or file: .poly2d via read_poly2d, .msh via read_gmsh), the
+/// materials, the boundary parts, loads and contact data. Errors (unknown edge group, a
+/// part selecting no edge, a region without material) name the scene key's file:line.
+std::unique_ptr<BuiltProblem> build_problem(const Scene& scene);
+
+/// The contact problem of a scene on a given mesh (the scene's mesh keys are not used): the
+/// materials by the mesh's region ids (the scene's region boxes are applied by build_problem
+/// only), the boundary parts selected on the mesh's bounding box, loads and contact data;
+/// contact_edges empty and law null when the scene has no contact. The result points at
+/// `mesh`. Errors as build_problem's.
+ContactProblem make_contact_problem(const Scene& scene, const Mesh& mesh);
+
+}  // namespace hemivem

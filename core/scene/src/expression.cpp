@@ -1,0 +1,64 @@
+#include <hemivem/scene/expression.hpp>
+
+#include <hemivem/error.hpp>
+
+#include <muParser.h>
+
+#include <charconv>
+#include <mutex>
+#include <numbers>
+
+namespace hemivem {
+
+struct ScalarExpression::Parser {
+  mu::Parser parser;
+  double x = 0.0, y = 0.0;
+  std::mutex mutex;  // the variables are shared by every evaluation
+};
+
+namespace {
+
+std::string shortest(double v) {
+  char buffer[32];
+  const auto r = std::to_chars(buffer, buffer + sizeof buffer, v);
+  return std::string(buffer, r.ptr);
+}
+
+}  // namespace
+
+ScalarExpression::ScalarExpression(double value) : value_(value), text_(shortest(value)) {}
+
+ScalarExpression ScalarExpression::parse(const std::string& text) {
+  ScalarExpression e;
+  e.text_ = text;
+  auto p = std::make_shared<Parser>();
+  try {
+    // muparser's own _pi has 12 digits when built with GCC (3.141592653589): the exact ones
+    p->parser.DefineConst("_pi", std::numbers::pi);
+    p->parser.DefineConst("_e", std::numbers::e);
+    p->parser.DefineVar("x", &p->x);
+    p->parser.DefineVar("y", &p->y);
+    p->parser.SetExpr(text);
+    (void)p->parser.Eval();  // muparser reports syntax errors and unknown names on the first evaluation
+  } catch (const mu::Parser::exception_type& error) {
+    // muparser's message names the offending token and its position (counted from 0)
+    throw InputError("expression '" + text + "': " + error.GetMsg() +
+                     " (expected an expression in x and y such as \"0.02 + 0.5*x^2\")");
+  }
+  e.parser_ = std::move(p);
+  return e;
+}
+
+double ScalarExpression::operator()(const Vec2& p) const {
+  if (!parser_) return value_;
+  const std::lock_guard<std::mutex> lock(parser_->mutex);
+  parser_->x = p.x();
+  parser_->y = p.y();
+  try {
+    return parser_->parser.Eval();
+  } catch (const mu::Parser::exception_type& error) {
+    throw InputError("expression '" + text_ + "' at (" + shortest(p.x()) + ", " + shortest(p.y()) + "): " + error.GetMsg());
+  }
+}
+
+}  // namespace hemivem

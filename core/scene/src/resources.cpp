@@ -1,0 +1,120 @@
+#include <hemivem/error.hpp>
+#include <hemivem/mesh/generators.hpp>
+#include <hemivem/scene/resources.hpp>
+#include <hemivem/support/names.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+
+namespace hemivem {
+
+namespace {
+
+constexpr double kBaseBytes = 24.0 * 1024 * 1024;
+
+// The limit and where it came from.
+struct Limit {
+  double bytes = std::numeric_limits<double>::infinity();
+  std::string source;
+};
+
+Limit memory_limit() {
+  if (const char* env = std::getenv("HEMIVEM_MEMORY_LIMIT"); env && *env) {
+    const std::string text(env);
+    std::size_t used = 0;
+    double value = 0.0;
+    try {
+      value = std::stod(text, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    std::string suffix = to_lower(text.substr(used));
+    if (!suffix.empty() && suffix.back() == 'b') suffix.pop_back();
+    if (suffix.size() == 2 && suffix.back() == 'i') suffix.pop_back();
+    double scale = 1.0;
+    if (suffix == "k") scale = 1024.0;
+    else if (suffix == "m") scale = 1024.0 * 1024;
+    else if (suffix == "g") scale = 1024.0 * 1024 * 1024;
+    else if (suffix == "t") scale = 1024.0 * 1024 * 1024 * 1024;
+    else if (!suffix.empty()) used = 0;
+    if (used == 0 || !(value > 0.0) || !std::isfinite(value))
+      throw InputError("expected a positive number of bytes with an optional suffix K, M, G or T, got '" + text + "'",
+                       "HEMIVEM_MEMORY_LIMIT");
+    return {value * scale, "HEMIVEM_MEMORY_LIMIT"};
+  }
+  std::ifstream meminfo("/proc/meminfo");
+  std::string key;
+  double kib = 0.0;
+  std::string unit;
+  while (meminfo >> key >> kib) {
+    std::getline(meminfo, unit);
+    if (key == "MemAvailable:") return {kib * 1024.0, "MemAvailable in /proc/meminfo"};
+  }
+  return {};
+}
+
+std::string sci(double v) {
+  std::ostringstream s;
+  s << std::setprecision(2) << std::scientific << v;
+  return s.str();
+}
+
+}  // namespace
+
+MemoryEstimate estimate_memory(double vertices, double vertices_per_element) {
+  MemoryEstimate e;
+  e.vertices = std::max(vertices, 1.0);
+  // 1.1 times the largest measured peak of `hemivem solve` over the engines (eigen's): squares
+  // N = 512, Voronoi N = 256 (docs/performance.md)
+  const double c = vertices_per_element > 4.5 ? 468.0 : 258.0;
+  e.solve_bytes = kBaseBytes + c * e.vertices * std::log2(std::max(e.vertices, 2.0));
+  e.mesh_bytes = kBaseBytes + 400.0 * e.vertices;
+  return e;
+}
+
+MemoryEstimate estimate_memory(std::string_view generator, std::int64_t n) { return estimate_memory(generator, n, n); }
+
+MemoryEstimate estimate_memory(std::string_view generator, std::int64_t nx, std::int64_t ny) {
+  if (nx < 1 || ny < 1)
+    throw InputError("the number of cells per side n must be >= 1, got " +
+                     (nx == ny ? std::to_string(nx) : "[" + std::to_string(nx) + ", " + std::to_string(ny) + "]"));
+  const std::string g = to_lower(generator);
+  const double x = static_cast<double>(nx), y = static_cast<double>(ny);
+  if (g == "squares" || g == "distorted") return estimate_memory((x + 1) * (y + 1), 4.0);
+  if (g == "triangles") return estimate_memory((x + 1) * (y + 1), 3.0);
+  if (g == "voronoi") return estimate_memory(2.0 * x * y + 2.0, 6.0);
+  if (g == "nonconvex") return estimate_memory(3.0 * x * y + 1.0, 6.0);
+  std::string names;
+  for (const auto& name : mesh_generator_names()) names += (names.empty() ? "" : ", ") + name;
+  throw InputError("unknown mesh generator '" + std::string(generator) + "' (expected one of: " + names + ")");
+}
+
+double available_memory() { return memory_limit().bytes; }
+
+void require_memory(double bytes, const std::string& what, const std::string& where) {
+  const Limit limit = memory_limit();
+  if (bytes <= limit.bytes) return;
+  throw InputError("needs an estimated " + format_bytes(bytes) + " of memory (" + what + "), more than the " +
+                       format_bytes(limit.bytes) + " available (" + limit.source +
+                       "); use a smaller mesh, or set HEMIVEM_MEMORY_LIMIT to override the limit",
+                   where);
+}
+
+std::string format_bytes(double bytes) {
+  static const char* units[] = {"B", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"};
+  if (!std::isfinite(bytes)) return "unlimited";
+  int k = 0;
+  while (bytes >= 1024.0 && k < 6) bytes /= 1024.0, ++k;
+  if (bytes >= 1024.0) return sci(bytes) + " " + units[k];
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(bytes < 10 ? 1 : 0) << bytes << " " << units[k];
+  return s.str();
+}
+
+}  // namespace hemivem

@@ -1,0 +1,299 @@
+// A scene made concrete: the mesh, the materials, the boundary parts, loads and contact data.
+#include <hemivem/scene/scene.hpp>
+
+#include <cmath>
+#include <iomanip>
+#include <set>
+#include <sstream>
+
+#include <hemivem/mesh/gmsh.hpp>
+#include <hemivem/mesh/generators.hpp>
+#include <hemivem/mesh/poly2d.hpp>
+#include <hemivem/contact/piecewise_law.hpp>
+#include <hemivem/scene/resources.hpp>
+
+#include "scene_reader.hpp"
+
+namespace hemivem {
+
+using detail::fmt;
+using detail::lower;
+
+namespace {
+
+// A vertex count as an integer when small enough to read, else in scientific notation.
+std::string count_text(double v) {
+  if (v < 1e9) return std::to_string(static_cast<long long>(std::llround(v)));
+  std::ostringstream o;
+  o << std::setprecision(2) << std::scientific << v;
+  return o.str();
+}
+
+double param(const SceneLaw& law, const std::string& name, double fallback) {
+  auto it = law.parameters.find(name);
+  return it == law.parameters.end() ? fallback : it->second;
+}
+
+
+}  // namespace
+
+namespace detail {
+
+std::shared_ptr<const ContactLaw> make_law(const SceneLaw& law) {
+  const std::string n = lower(law.name);
+  if (n == "piecewise") {
+    if (!law.j.empty())
+      return std::make_shared<PiecewisePolynomialLaw>(PiecewisePolynomialLaw::from_j(
+          "piecewise", law.breakpoints, std::vector<Polynomial>(law.j.begin(), law.j.end())));
+    std::vector<Polynomial> j1(law.j1.begin(), law.j1.end()), j2(law.j2.begin(), law.j2.end());
+    return std::make_shared<PiecewisePolynomialLaw>("piecewise", law.breakpoints, j1, j2);
+  }
+  if (n == "linear") return linear_law(param(law, "stiffness", 100.0));
+  if (n == "kinked") return kinked_law(param(law, "sigma", 0.3), param(law, "stiffness", 100.0));
+  if (n == "sawtooth")
+    return sawtooth_law(param(law, "stiffness", 100.0), param(law, "r1", 0.01), param(law, "residual", 0.2),
+                        param(law, "r2", 0.02));
+  return make_contact_law(n);
+}
+
+
+std::shared_ptr<const ContactLaw> make_friction_law(const SceneLaw& law) {
+  const std::string n = lower(law.name);
+  if (n == "tresca") return tresca_law(param(law, "bound", 0.1));
+  if (n == "slip-weakening")
+    return slip_weakening_law(param(law, "static", 0.1), param(law, "kinetic", 0.05), param(law, "distance", 0.01));
+  if (n != "piecewise") throw InputError("unknown friction law '" + law.name + "'");
+  auto j = make_law(law);
+  // a friction law acts on u_tau and -u_tau alike: j even, checked at the breakpoints mirrored,
+  // between them and beyond them
+  std::vector<double> points{0.0, 1.0};
+  for (double b : law.breakpoints) points.insert(points.end(), {b, 2.0 * b, 0.5 * b});
+  for (std::size_t k = 0; k + 1 < law.breakpoints.size(); ++k)
+    points.push_back(0.5 * (law.breakpoints[k] + law.breakpoints[k + 1]));
+  for (double r : points) {
+    const double a = j->value(LawPart::j, r), b = j->value(LawPart::j, -r);
+    if (!(std::abs(a - b) <= 1e-9 * (1.0 + std::abs(a) + std::abs(b))))
+      throw InputError("a friction law must be even, j(r) = j(-r); this one has j(" + fmt(r) + ") = " + fmt(a) +
+                       " and j(" + fmt(-r) + ") = " + fmt(b));
+  }
+  return j;
+}
+
+Obstacle make_obstacle(const SceneObstacle& o) {
+  Obstacle b;
+  b.shape = obstacle_shape_from_string(o.shape);
+  b.point = Vec2(o.point[0], o.point[1]);
+  b.normal = Vec2(o.normal[0], o.normal[1]);
+  b.center = Vec2(o.center[0], o.center[1]);
+  b.radius = o.radius;
+  for (const auto& q : o.points) b.points.emplace_back(q[0], q[1]);
+  return b;
+}
+
+}  // namespace detail
+
+using detail::make_friction_law;
+using detail::make_law;
+using detail::make_obstacle;
+
+std::vector<std::string> scene_warnings(const Scene& scene) {
+  auto zero = [](const SceneScalar& v) { return !v.is_expression() && v.value == 0.0; };
+  bool driven = !zero(scene.body_force[0]) || !zero(scene.body_force[1]);
+  for (const auto& t : scene.tractions)
+    driven = driven || (t.pressure ? !zero(*t.pressure) : !zero(t.value[0]) || !zero(t.value[1]));
+  for (const auto& d : scene.dirichlet) driven = driven || (d.ux && !zero(*d.ux)) || (d.uy && !zero(*d.uy));
+  if (scene.contact)
+    driven = driven || scene.contact->obstacle.has_value() || scene.contact->gap.is_expression() ||
+             scene.contact->gap.value < 0.0;
+  std::vector<std::string> out;
+  if (!driven)
+    out.push_back("nothing drives this problem: no load, no prescribed displacement other than zero and no "
+                  "obstacle; its solution is u = 0 unless the contact law pushes at u_nu = 0 (a missing [loads] table "
+                  "means no loads)");
+  return out;
+}
+
+std::unique_ptr<BuiltProblem> build_problem(const Scene& scene) {
+  auto out = std::make_unique<BuiltProblem>();
+  Mesh& mesh = out->mesh;
+  if (!scene.mesh.file.empty()) {
+    const std::string ext = lower(scene.mesh.file.extension().string());
+    if (ext == ".msh") mesh = read_gmsh(scene.mesh.file);
+    else if (ext == ".poly2d") mesh = read_poly2d(scene.mesh.file).mesh;
+    else throw InputError("mesh.file: unknown mesh format; expected .poly2d or .msh", scene.where("mesh.file"));
+    double corners = 0.0;
+    for (int e = 0; e < mesh.num_elements(); ++e) corners += static_cast<double>(mesh.element(e).size());
+    const MemoryEstimate need =
+        estimate_memory(mesh.num_vertices(), mesh.num_elements() ? corners / mesh.num_elements() : 4.0);
+    require_memory(need.solve_bytes, scene.mesh.file.string() + ": " + count_text(need.vertices) + " vertices",
+                   scene.where("mesh.file"));
+  } else {
+    const auto& d = scene.mesh.domain;
+    const GridSize cells = scene.mesh.cells();
+    const MemoryEstimate need = estimate_memory(scene.mesh.generator, cells.nx, cells.ny);
+    require_memory(need.solve_bytes,
+                   scene.mesh.generator + " n = " + cells.text() + ": " + count_text(need.vertices) + " vertices",
+                   scene.where("mesh.n"));
+    try {
+      if (scene.mesh.polygon.empty()) {
+        mesh = make_mesh(scene.mesh.generator, cells, Rectangle{d[0], d[1], d[2], d[3]},
+                         static_cast<std::uint64_t>(scene.mesh.seed));
+      } else {
+        PolygonDomain poly;
+        for (const auto& p : scene.mesh.polygon) poly.corners.emplace_back(p[0], p[1]);
+        mesh = make_mesh(scene.mesh.generator, scene.mesh.n, poly, static_cast<std::uint64_t>(scene.mesh.seed));
+      }
+    } catch (const MeshError& e) {
+      throw MeshError("mesh: the generated mesh is invalid: " + e.detail(), e.element(), scene.where("mesh"));
+    } catch (const InputError& e) {
+      throw InputError("mesh: " + e.detail(), scene.where("mesh"));
+    }
+  }
+
+  // Regions given by boxes, then materials by region.
+  if (std::any_of(scene.material.regions.begin(), scene.material.regions.end(), [](const auto& r) { return r.box; })) {
+    std::vector<int> ids = mesh.regions();
+    ids.resize(static_cast<std::size_t>(mesh.num_elements()), 0);
+    for (const auto& r : scene.material.regions) {
+      if (!r.box) continue;
+      const auto& b = *r.box;
+      for (int e = 0; e < mesh.num_elements(); ++e) {
+        const Vec2 c = mesh.centroid(e);
+        if (c.x() >= b[0] && c.x() <= b[1] && c.y() >= b[2] && c.y() <= b[3]) ids[static_cast<std::size_t>(e)] = r.region;
+      }
+    }
+    mesh.set_regions(std::move(ids));
+  }
+  out->problem = make_contact_problem(scene, mesh);
+  out->has_contact = scene.contact.has_value();
+  out->warnings = scene_warnings(scene);
+  return out;
+}
+
+namespace {
+
+ScalarExpression field(const SceneScalar& v) {
+  return v.is_expression() ? ScalarExpression::parse(v.expression) : ScalarExpression(v.value);
+}
+
+/// A scalar field that refuses a value that is not finite, naming the scene key.
+std::function<double(const Vec2&)> finite_scalar(ScalarExpression e, const Scene& scene, const std::string& key) {
+  return [e = std::move(e), key, where = scene.where(key)](const Vec2& x) {
+    const double value = e(x);
+    if (!std::isfinite(value))
+      throw InputError(key + " = '" + e.text() + "' gives a value that is not finite at (" + fmt(x.x()) + ", " +
+                           fmt(x.y()) + ")",
+                       where);
+    return value;
+  };
+}
+
+/// The vector field (ex, ey) that refuses a value that is not finite, naming the scene key.
+VectorField finite_vector(ScalarExpression ex, ScalarExpression ey, const Scene& scene,
+                          const std::array<std::string, 2>& keys) {
+  auto fx = finite_scalar(std::move(ex), scene, keys[0]);
+  auto fy = finite_scalar(std::move(ey), scene, keys[1]);
+  return [fx, fy](const Vec2& x) { return Vec2(fx(x), fy(x)); };
+}
+
+}  // namespace
+
+ContactProblem make_contact_problem(const Scene& scene, const Mesh& mesh) {
+  int regions = 1;
+  for (int r : mesh.regions()) regions = std::max(regions, r + 1);
+  for (const auto& r : scene.material.regions) regions = std::max(regions, r.region + 1);
+  std::vector<Material> by_region(static_cast<std::size_t>(regions), Material{scene.material.young, scene.material.poisson});
+  for (const auto& r : scene.material.regions) by_region[static_cast<std::size_t>(r.region)] = Material{r.young, r.poisson};
+  ContactProblem p;
+  p.elasticity.mesh = &mesh;
+  p.elasticity.materials = MaterialTable(by_region, scene.material.model);
+  p.elasticity.stabilization = scene.material.stabilization;
+
+  const Rectangle box = mesh.bounding_box();
+  auto select = [&](const BoundarySelector& b, const std::string& key) {
+    std::vector<Segment> segs;
+    for (const auto& side : b.sides) segs.push_back(rectangle_side(box, side, b.tolerance));
+    for (const auto& s : b.segments) segs.push_back(Segment{Vec2(s[0], s[1]), Vec2(s[2], s[3]), b.tolerance});
+    std::vector<int> edges;
+    if (!segs.empty()) edges = select_boundary_edges(mesh, segs);
+    for (const auto& g : b.groups) {
+      try {
+        const auto e = select_boundary_edges(mesh, g);
+        edges.insert(edges.end(), e.begin(), e.end());
+      } catch (const InputError& e) {
+        throw InputError(key + ".group: " + e.detail(), scene.where(key + ".group"));
+      }
+    }
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    if (edges.empty()) throw InputError(key + ": selects no boundary edge of the mesh", scene.where(key));
+    return edges;
+  };
+
+  if (!scene.clamped.empty()) p.elasticity.dirichlet.push_back({select(scene.clamped, "clamped"), {}, {true, true}});
+  for (std::size_t i = 0; i < scene.dirichlet.size(); ++i) {
+    const auto& d = scene.dirichlet[i];
+    const std::string key = "dirichlet[" + std::to_string(i) + "]";
+    const ScalarExpression ux = d.ux ? field(*d.ux) : ScalarExpression(0.0);
+    const ScalarExpression uy = d.uy ? field(*d.uy) : ScalarExpression(0.0);
+    // the keys that gave the components, for messages
+    const bool as_value = scene.lines.count(key + ".value") > 0;
+    const std::array<std::string, 2> keys{as_value ? key + ".value" : key + ".ux", as_value ? key + ".value" : key + ".uy"};
+    p.elasticity.dirichlet.push_back(
+        {select(d.boundary, key), finite_vector(ux, uy, scene, keys), {d.ux.has_value(), d.uy.has_value()}});
+  }
+  const auto& f = scene.body_force;
+  if (f[0].is_expression() || f[1].is_expression() || f[0].value != 0.0 || f[1].value != 0.0)
+    p.elasticity.body_force = finite_vector(field(f[0]), field(f[1]), scene, {"loads.body_force", "loads.body_force"});
+  for (std::size_t i = 0; i < scene.tractions.size(); ++i) {
+    const auto& t = scene.tractions[i];
+    const std::string key = "loads.traction[" + std::to_string(i) + "]";
+    TractionLoad load;
+    load.edges = select(t.boundary, key);
+    if (t.pressure) load.pressure = finite_scalar(field(*t.pressure), scene, key + ".pressure");
+    else load.traction = finite_vector(field(t.value[0]), field(t.value[1]), scene, {key + ".value", key + ".value"});
+    p.elasticity.tractions.push_back(std::move(load));
+  }
+  if (scene.contact) {
+    const auto& c = *scene.contact;
+    p.contact_edges = select(c.boundary, "contact");
+    {  // a part whose every node is clamped leaves nothing to touch: an error, not a silent drop
+      std::set<int> fixed, touching;
+      for (const auto& d : p.elasticity.dirichlet)
+        if (d.fix[0] && d.fix[1])
+          for (int e : d.edges) fixed.insert({mesh.edge(e).v0, mesh.edge(e).v1});
+      for (int e : p.contact_edges) touching.insert({mesh.edge(e).v0, mesh.edge(e).v1});
+      if (std::includes(fixed.begin(), fixed.end(), touching.begin(), touching.end()))
+        throw InputError("contact: every node of the contact part is also clamped ([clamped] or a [[dirichlet]] "
+                         "with both components), so nothing is left to touch; end one of the parts before the other",
+                         scene.where("contact"));
+    }
+    if (c.obstacle) p.obstacle = make_obstacle(*c.obstacle);
+    else p.gap = [g = field(c.gap), where = scene.where("contact.gap")](const Vec2& x) {
+      const double value = g(x);
+      if (!(std::isfinite(value) && value >= 0.0))
+        throw InputError("contact.gap = '" + g.text() + "' gives " + fmt(value) + " at (" + fmt(x.x()) + ", " +
+                             fmt(x.y()) + "); a gap must be finite and >= 0",
+                         where);
+      return value;
+    };
+    try {
+      p.law = make_law(c.law);
+    } catch (const InputError& e) {
+      throw InputError("contact.law: " + e.detail(), scene.where("contact.law"));
+    }
+    p.constraint = c.constraint;
+    if (c.friction) {
+      try {
+        p.friction = make_friction_law(*c.friction);
+      } catch (const InputError& e) {
+        throw InputError("contact.friction: " + e.detail(), scene.where("contact.friction.law"));
+      }
+    }
+  } else {
+    p.constraint = ConstraintKind::none;
+  }
+  return p;
+}
+
+}  // namespace hemivem

@@ -1,0 +1,182 @@
+// --set: "dotted.key=value" overrides of a scene.
+#include <hemivem/scene/scene.hpp>
+
+#include <cctype>
+#include <sstream>
+
+#include "scene_reader.hpp"
+
+namespace hemivem {
+
+using detail::parse_toml;
+using detail::scene_from_table;
+
+namespace {
+
+/// One "dotted.key=value" override: the key, its path ("name[i]" selects element i of an
+/// array of tables) and the value in TOML syntax (a bare word is a string).
+struct Override {
+  std::string key;
+  std::vector<std::pair<std::string, int>> parts;
+  toml::table holder;  ///< the value as "v"
+  std::string text;    ///< "key=value" as given; a relative mesh.file made absolute by edit_table
+  std::string where() const { return "--set " + key; }
+};
+
+Override parse_override(std::string_view key_eq_value) {
+  const auto eq = key_eq_value.find('=');
+  if (eq == std::string_view::npos)
+    throw InputError("expected key=value, got '" + std::string(key_eq_value) + "'", "--set");
+  auto trim = [](std::string_view v) {
+    while (!v.empty() && std::isspace(static_cast<unsigned char>(v.front()))) v.remove_prefix(1);
+    while (!v.empty() && std::isspace(static_cast<unsigned char>(v.back()))) v.remove_suffix(1);
+    return v;
+  };
+  Override o;
+  o.text = std::string(key_eq_value);
+  o.key = std::string(trim(key_eq_value.substr(0, eq)));
+  const std::string value(trim(key_eq_value.substr(eq + 1)));
+  if (o.key.empty()) throw InputError("empty key", "--set");
+  std::size_t start = 0;
+  while (start <= o.key.size()) {
+    const auto dot = o.key.find('.', start);
+    std::string part = o.key.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
+    int index = -1;
+    if (auto lb = part.find('['); lb != std::string::npos) {
+      if (part.back() != ']') throw InputError("bad index in key '" + o.key + "'", o.where());
+      try {
+        index = std::stoi(part.substr(lb + 1, part.size() - lb - 2));
+      } catch (const std::exception&) {
+        throw InputError("bad index in key '" + o.key + "'", o.where());
+      }
+      part = part.substr(0, lb);
+    }
+    if (part.empty()) throw InputError("empty part in key '" + o.key + "'", o.where());
+    o.parts.emplace_back(part, index);
+    if (dot == std::string::npos) break;
+    start = dot + 1;
+  }
+  try {
+    o.holder = toml::parse("v = " + value);
+  } catch (const toml::parse_error&) {
+    o.holder = toml::table{};
+    o.holder.insert("v", value);
+  }
+  return o;
+}
+
+/// Puts the override's value into the scene's table (nothing is validated here).
+void edit_table(toml::table& root, Override& o) {
+  toml::table* t = &root;
+  for (std::size_t i = 0; i + 1 < o.parts.size(); ++i) {
+    const auto& [name, index] = o.parts[i];
+    toml::node* n = t->get(name);
+    if (!n) {
+      t->insert(name, toml::table{});
+      n = t->get(name);
+    }
+    if (index >= 0) {
+      auto* a = n->as_array();
+      if (!a || !a->is_array_of_tables() || index >= static_cast<int>(a->size()))
+        throw InputError("no element " + std::to_string(index) + " in '" + name + "'", o.where());
+      t = (*a)[static_cast<std::size_t>(index)].as_table();
+    } else {
+      t = n->as_table();
+      if (!t) throw InputError("'" + name + "' is not a table", o.where());
+    }
+  }
+  const std::string& leaf = o.parts.back().first;
+  if (o.parts.back().second >= 0)
+    throw InputError("cannot replace a whole element; set one of its keys, e.g. '" + o.key + ".value'", o.where());
+  if (o.parts.size() == 2 && o.parts[0].first == "mesh") {
+    if (leaf == "generator") t->erase("file");
+    if (leaf == "file") {
+      for (const char* k : {"generator", "n", "seed", "domain"}) t->erase(k);
+      if (auto* sv = o.holder.get("v"); sv && sv->is_string()) {
+        std::filesystem::path p(sv->as_string()->get());
+        if (p.is_relative() && !p.empty()) {
+          const toml::value<std::string> absolute(std::filesystem::absolute(p).lexically_normal().string());
+          std::ostringstream value;
+          value << absolute;
+          o.holder.insert_or_assign("v", absolute);
+          o.text = o.key + "=" + value.str();
+        }
+      }
+    }
+  }
+  o.holder.get("v")->visit([&](auto&& v) { t->insert_or_assign(leaf, v); });
+}
+
+}  // namespace
+
+void apply_overrides(Scene& scene, const std::vector<std::string>& key_eq_values) {
+  if (key_eq_values.empty()) return;
+  std::vector<Override> overrides;
+  for (const auto& kv : key_eq_values) overrides.push_back(parse_override(kv));
+  // the text the scene was read from with the overrides applied since, unless the scene was
+  // made or changed in code: then the scene as written by to_toml
+  const detail::SceneDocument* doc = scene.document && scene.document->scene == scene ? scene.document.get() : nullptr;
+  const bool read = doc != nullptr;
+  const std::string source = read ? scene.source : std::string("--set");
+  toml::table root = parse_toml(read ? doc->text : to_toml(scene), read ? source : "<resolved scene>");
+  const std::filesystem::path base = read ? doc->base : std::filesystem::current_path();
+  std::vector<Override> earlier;
+  if (read)
+    for (const auto& kv : doc->overrides) earlier.push_back(parse_override(kv));
+  for (std::vector<Override>* list : {&earlier, &overrides})
+    for (auto& o : *list) {
+      if (o.parts.front().first == "contact" && !root.contains("contact"))  // the default contact part
+        root.insert("contact", toml::table{{"side", toml::array{"bottom"}}});
+      edit_table(root, o);
+    }
+
+  Scene updated;
+  try {
+    updated = scene_from_table(root, source, base);
+  } catch (const InputError& e) {
+    const std::string& m = e.detail();
+    if (read && e.where() != source) {  // at a line of the file: blame an override only when its key is the
+      const std::string key = m.substr(0, m.find(": "));  // message's key, inside it or around it
+      auto within = [](const std::string& inner, const std::string& outer) {
+        return inner.rfind(outer, 0) == 0 && (inner.size() == outer.size() || inner[outer.size()] == '.');
+      };
+      const Override* blamed = nullptr;
+      for (const auto& o : overrides)
+        if (within(o.key, key) || within(key, o.key)) blamed = &o;
+      if (!blamed) throw;
+      throw InputError(m, blamed->where());
+    }
+    // else blame the override whose key the message's key path shares most with (the later
+    // one on a tie); "--set" alone when the message names none of them
+    std::string where = "--set";
+    std::size_t best = 0;
+    for (const auto& o : overrides) {
+      if (m.rfind(o.parts.front().first, 0) != 0) continue;
+      std::size_t k = 0;
+      while (k < o.key.size() && k < m.size() && o.key[k] == m[k]) ++k;
+      if (k >= best) best = k, where = o.where();
+    }
+    if (best == 0)  // "unknown key 'x' in [...]": the override with that key
+      for (const auto& o : overrides)
+        for (const auto& part : o.parts)
+          if (m.find("'" + part.first + "'") != std::string::npos) where = o.where();
+    if (where == "--set" && overrides.size() == 1) where = overrides.front().where();
+    throw InputError(m, where);
+  }
+  updated.source = scene.source;
+  if (!read) updated.lines = scene.lines;
+  for (const auto* list : {&earlier, &overrides})
+    for (const auto& o : *list) updated.lines[o.key] = 0;
+  if (read) {  // lines of a scene written by to_toml would not be the file's
+    detail::SceneDocument next{doc->text, base, doc->overrides, updated};
+    for (const auto& o : overrides) next.overrides.push_back(o.text);
+    updated.document = std::make_shared<const detail::SceneDocument>(std::move(next));
+  }
+  scene = std::move(updated);
+}
+
+void apply_override(Scene& scene, std::string_view key_eq_value) {
+  apply_overrides(scene, {std::string(key_eq_value)});
+}
+
+}  // namespace hemivem

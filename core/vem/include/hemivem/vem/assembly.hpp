@@ -1,0 +1,88 @@
+// Boundary conditions, loads and the global assembly of the VEM elasticity system.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include <array>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <hemivem/vem/material.hpp>
+#include <hemivem/mesh/boundary.hpp>
+#include <hemivem/mesh/mesh.hpp>
+#include <hemivem/vem/element.hpp>
+
+namespace hemivem {
+
+using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+using VectorField = std::function<Vec2(const Vec2&)>;
+
+/// Prescribed displacement on the vertices of a set of boundary edges. `value` empty
+/// means clamped (zero). `fix` selects the components that are prescribed.
+struct DirichletCondition {
+  std::vector<int> edges;
+  VectorField value;
+  std::array<bool, 2> fix{true, true};
+};
+
+/// A surface traction on a set of boundary edges, integrated on each edge with a
+/// 3-point Gauss rule against the linear hat functions (exact for tractions that are
+/// polynomials of degree <= 4 on each edge, in particular piecewise-linear ones). The
+/// traction is `traction`, plus -p n for a `pressure` p (n the edge's outward unit normal:
+/// a positive pressure pushes into the body); at least one of the two is given.
+struct TractionLoad {
+  std::vector<int> edges;
+  VectorField traction;
+  std::function<double(const Vec2&)> pressure;
+};
+
+/// The linear elasticity problem on a mesh.
+struct ElasticityProblem {
+  const Mesh* mesh = nullptr;
+  MaterialTable materials;
+  Stabilization stabilization = Stabilization::two_mu;
+  VectorField body_force;  ///< f0; empty = none
+  std::vector<TractionLoad> tractions;
+  std::vector<DirichletCondition> dirichlet;
+};
+
+/// Global degrees of freedom: 2*v + c for component c of vertex v.
+struct DofMap {
+  std::vector<int> free_index;  ///< per global dof: index among the free dofs, or -1 if prescribed
+  std::vector<int> free_dofs;   ///< global dof of each free dof
+  Eigen::VectorXd prescribed;   ///< per global dof: prescribed value (0 for free dofs)
+  int num_free() const noexcept { return static_cast<int>(free_dofs.size()); }
+  int num_dofs() const noexcept { return static_cast<int>(free_index.size()); }
+  /// Full vector of nodal displacements from the free values.
+  Eigen::VectorXd expand(const Eigen::VectorXd& free_values) const;
+};
+
+/// The reduced system A u_f = b (prescribed dofs eliminated, their values lifted into b).
+struct LinearSystem {
+  SparseMatrix A;     ///< symmetric, both triangles stored
+  Eigen::VectorXd b;
+  DofMap dofs;
+};
+
+/// The global stiffness of all 2*num_vertices dofs (symmetric, both triangles stored).
+/// Cost linear in the number of elements.
+SparseMatrix assemble_stiffness(const Mesh& mesh, const MaterialTable& materials,
+                                Stabilization stabilization = Stabilization::two_mu);
+
+/// The load vector of all dofs: body force through Pi^nabla_1 (3.13) and tractions.
+Eigen::VectorXd assemble_load(const Mesh& mesh, const VectorField& body_force,
+                              const std::vector<TractionLoad>& tractions);
+
+/// The degrees-of-freedom map of a problem's Dirichlet conditions.
+DofMap make_dof_map(const Mesh& mesh, const std::vector<DirichletCondition>& dirichlet);
+
+/// Assembles the reduced system of a problem. Throws InputError, before any assembly, when
+/// the body is not held (no Dirichlet edge, or Dirichlet edges of zero total length).
+LinearSystem assemble(const ElasticityProblem& problem);
+
+/// Per element: the P1 projection Pi u_h of the full nodal vector u.
+std::vector<LinearField> project_solution(const Mesh& mesh, const Eigen::VectorXd& u);
+
+}  // namespace hemivem

@@ -1,0 +1,302 @@
+#include <hemivem/vem/assembly.hpp>
+#include <hemivem/error.hpp>
+#include <hemivem/vem/quadrature.hpp>
+#include <hemivem/sparse_factorization.hpp>
+
+#include <algorithm>
+#include <exception>
+#include <map>
+
+namespace hemivem {
+
+namespace {
+
+void gather(const Mesh& mesh, int e, std::vector<Vec2>& poly) {
+  poly.clear();
+  for (int v : mesh.element(e)) poly.push_back(mesh.vertex(v));
+}
+
+}  // namespace
+
+namespace {
+
+// Calls visit(dofs, K) with the global dofs (2 v, 2 v + 1 per vertex v) and the stiffness K_E of
+// every element (an Eigen::Map of a 2n x 2n matrix), in element order; returns the number of
+// matrix entries visited. The element matrices of a chunk of elements are computed in parallel
+// (OpenMP, where built with it) and visited in order, so that sums built by visit() are the
+// same bit for bit whatever the number of threads.
+template <class Visit>
+std::size_t for_each_element_matrix(const Mesh& mesh, const MaterialTable& materials, Stabilization stabilization,
+                                    Visit&& visit) {
+  std::map<int, Lame> lame_by_region;
+  for (int region : mesh.regions())
+    if (!lame_by_region.count(region)) lame_by_region.emplace(region, materials.lame(region));
+  const int ne = mesh.num_elements();
+  constexpr int chunk = 4096;
+  std::vector<std::size_t> offset(chunk + 1);
+  std::vector<double> matrices;
+  std::vector<int> dof;
+  std::size_t entries = 0;
+  for (int begin = 0; begin < ne; begin += chunk) {
+    const int end = std::min(ne, begin + chunk);
+    offset[0] = 0;
+    for (int e = begin; e < end; ++e) {
+      const auto n2 = static_cast<std::size_t>(2 * mesh.element_size(e));
+      offset[static_cast<std::size_t>(e - begin) + 1] = offset[static_cast<std::size_t>(e - begin)] + n2 * n2;
+    }
+    matrices.resize(offset[static_cast<std::size_t>(end - begin)]);
+    std::exception_ptr failure;
+#if defined(_OPENMP)
+#pragma omp parallel
+#endif
+    {
+      std::vector<Vec2> poly;
+      Eigen::MatrixXd K;
+#if defined(_OPENMP)
+#pragma omp for schedule(static)
+#endif
+      for (int e = begin; e < end; ++e) {
+        try {
+          gather(mesh, e, poly);
+          element_stiffness(poly, lame_by_region.at(mesh.region(e)), stabilization, K);
+          std::copy(K.data(), K.data() + K.size(), matrices.data() + offset[static_cast<std::size_t>(e - begin)]);
+        } catch (...) {
+#if defined(_OPENMP)
+#pragma omp critical(hemivem_element_failure)
+#endif
+          if (!failure) failure = std::current_exception();
+        }
+      }
+    }
+    if (failure) std::rethrow_exception(failure);
+    for (int e = begin; e < end; ++e) {
+      dof.clear();
+      for (int v : mesh.element(e)) {
+        dof.push_back(2 * v);
+        dof.push_back(2 * v + 1);
+      }
+      const auto n2 = static_cast<Eigen::Index>(dof.size());
+      visit(dof, Eigen::Map<const Eigen::MatrixXd>(matrices.data() + offset[static_cast<std::size_t>(e - begin)], n2, n2));
+      entries += dof.size() * dof.size();
+    }
+  }
+  return entries;
+}
+
+/// The pattern of a stiffness matrix over the dofs with index[d] >= 0 (index: dof 2 v + c ->
+/// row and column; increasing in d), built from the mesh: the column of dof d holds every dof
+/// of every vertex sharing an element with d's vertex, rows increasing; values zero.
+SparseMatrix stiffness_pattern(const Mesh& mesh, const std::vector<int>& index, int size) {
+  const int nv = mesh.num_vertices();
+  // the elements of each vertex (compressed rows)
+  std::vector<int> first(static_cast<std::size_t>(nv) + 1, 0), elements;
+  for (int e = 0; e < mesh.num_elements(); ++e)
+    for (int v : mesh.element(e)) ++first[static_cast<std::size_t>(v) + 1];
+  for (int v = 0; v < nv; ++v) first[static_cast<std::size_t>(v) + 1] += first[static_cast<std::size_t>(v)];
+  elements.resize(static_cast<std::size_t>(first[static_cast<std::size_t>(nv)]));
+  {
+    std::vector<int> fill(first.begin(), first.end() - 1);
+    for (int e = 0; e < mesh.num_elements(); ++e)
+      for (int v : mesh.element(e)) elements[static_cast<std::size_t>(fill[static_cast<std::size_t>(v)]++)] = e;
+  }
+  // per vertex its neighbours (itself included), sorted; then the columns of its dofs
+  std::vector<int> outer(static_cast<std::size_t>(size) + 1, 0), inner, neighbours;
+  std::vector<int> seen(static_cast<std::size_t>(nv), -1);
+  inner.reserve(static_cast<std::size_t>(size) * 18);
+  int column = 0;
+  for (int v = 0; v < nv; ++v) {
+    neighbours.clear();
+    for (int k = first[static_cast<std::size_t>(v)]; k < first[static_cast<std::size_t>(v) + 1]; ++k)
+      for (int w : mesh.element(elements[static_cast<std::size_t>(k)]))
+        if (seen[static_cast<std::size_t>(w)] != v) {
+          seen[static_cast<std::size_t>(w)] = v;
+          neighbours.push_back(w);
+        }
+    std::sort(neighbours.begin(), neighbours.end());
+    for (int c = 0; c < 2; ++c) {
+      if (index[static_cast<std::size_t>(2 * v + c)] < 0) continue;
+      for (int w : neighbours)
+        for (int r = 0; r < 2; ++r) {
+          const int row = index[static_cast<std::size_t>(2 * w + r)];
+          if (row >= 0) inner.push_back(row);
+        }
+      outer[static_cast<std::size_t>(++column)] = static_cast<int>(inner.size());
+    }
+  }
+  return pattern_matrix(size, size, outer, inner, 0.0);
+}
+
+/// The stored entry (row, column) of a compressed matrix whose pattern holds it.
+double& stored(SparseMatrix& A, int row, int column) {
+  const int* begin = A.innerIndexPtr() + A.outerIndexPtr()[column];
+  const int* end = A.innerIndexPtr() + A.outerIndexPtr()[column + 1];
+  return A.valuePtr()[std::lower_bound(begin, end, row) - A.innerIndexPtr()];
+}
+
+}  // namespace
+
+SparseMatrix assemble_stiffness(const Mesh& mesh, const MaterialTable& materials, Stabilization stabilization) {
+  const int n = 2 * mesh.num_vertices();
+  std::vector<int> index(static_cast<std::size_t>(n));
+  for (int d = 0; d < n; ++d) index[static_cast<std::size_t>(d)] = d;
+  SparseMatrix K = stiffness_pattern(mesh, index, n);
+  for_each_element_matrix(mesh, materials, stabilization, [&](const std::vector<int>& dof, const Eigen::Map<const Eigen::MatrixXd>& Ke) {
+    for (std::size_t j = 0; j < dof.size(); ++j)
+      for (std::size_t i = 0; i < dof.size(); ++i)
+        stored(K, dof[i], dof[j]) += Ke(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
+  });
+  return K;
+}
+
+Eigen::VectorXd assemble_load(const Mesh& mesh, const VectorField& body_force, const std::vector<TractionLoad>& tractions) {
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(2 * mesh.num_vertices());
+  if (body_force) {
+    std::vector<Vec2> poly;
+    std::vector<LinearField> basis;
+    Eigen::VectorXd unit;
+    for (int e = 0; e < mesh.num_elements(); ++e) {
+      gather(mesh, e, poly);
+      // (3.13): the load of local basis function k is int f0 . Pi^nabla_1 phi_k, with
+      // Pi^nabla_1 phi_k (x) = value + gradient (x - center).
+      const auto n2 = static_cast<Eigen::Index>(2 * poly.size());
+      basis.clear();
+      unit.setZero(n2);
+      for (Eigen::Index k = 0; k < n2; ++k) {
+        unit(k) = 1.0;
+        basis.push_back(project_gradient(poly, unit));
+        unit(k) = 0.0;
+      }
+      const Vec2 center = basis.front().center;
+      // F0 = int f0, M(c, d) = int f0_c (x - center)_d
+      const Vec2 F0 = quadrature::integrate_polygon(poly, [&](const Vec2& x) { return body_force(x); });
+      const Eigen::Matrix2d M = quadrature::integrate_polygon(
+          poly, [&](const Vec2& x) -> Eigen::Matrix2d { return body_force(x) * (x - center).transpose(); });
+      const auto verts = mesh.element(e);
+      for (Eigen::Index k = 0; k < n2; ++k) {
+        const LinearField& phi = basis[static_cast<std::size_t>(k)];
+        f(2 * verts[static_cast<std::size_t>(k / 2)] + k % 2) += F0.dot(phi.value) + M.cwiseProduct(phi.gradient).sum();
+      }
+    }
+  }
+  for (const auto& load : tractions) {
+    if (!load.traction && !load.pressure) throw InputError("a traction load has neither a traction nor a pressure");
+    for (int id : load.edges) {
+      if (id < 0 || id >= mesh.num_edges()) throw InputError("traction edge id " + std::to_string(id) + " out of range");
+      const auto& e = mesh.edge(id);
+      if (load.pressure && !e.on_boundary())
+        throw InputError("pressure edge " + std::to_string(id) + " is not on the boundary (it has no outward normal)");
+      const Vec2 a = mesh.vertex(e.v0), b = mesh.vertex(e.v1);
+      const double len = (b - a).norm();
+      // outward unit normal: a boundary edge runs counter-clockwise in its element
+      const Vec2 normal = len > 0.0 ? Vec2((b - a).y() / len, -(b - a).x() / len) : Vec2::Zero();
+      for (const auto& q : quadrature::segment_rule()) {
+        const Vec2 x = (1.0 - q.t) * a + q.t * b;
+        Vec2 t = load.traction ? load.traction(x) : Vec2::Zero();
+        if (load.pressure) t -= load.pressure(x) * normal;
+        f.segment<2>(2 * e.v0) += q.weight * len * (1.0 - q.t) * t;
+        f.segment<2>(2 * e.v1) += q.weight * len * q.t * t;
+      }
+    }
+  }
+  return f;
+}
+
+Eigen::VectorXd DofMap::expand(const Eigen::VectorXd& free_values) const {
+  if (free_values.size() != num_free())
+    throw InputError("expected " + std::to_string(num_free()) + " free values, got " + std::to_string(free_values.size()));
+  Eigen::VectorXd u = prescribed;
+  for (int i = 0; i < num_free(); ++i) u(free_dofs[static_cast<std::size_t>(i)]) = free_values(i);
+  return u;
+}
+
+DofMap make_dof_map(const Mesh& mesh, const std::vector<DirichletCondition>& dirichlet) {
+  const int ndof = 2 * mesh.num_vertices();
+  DofMap map;
+  map.prescribed = Eigen::VectorXd::Zero(ndof);
+  std::vector<char> fixed(static_cast<std::size_t>(ndof), 0);
+  for (const auto& bc : dirichlet) {
+    for (int id : bc.edges) {
+      if (id < 0 || id >= mesh.num_edges()) throw InputError("Dirichlet edge id " + std::to_string(id) + " out of range");
+      const auto& e = mesh.edge(id);
+      for (int v : {e.v0, e.v1}) {
+        const Vec2 value = bc.value ? bc.value(mesh.vertex(v)) : Vec2::Zero();
+        for (int c = 0; c < 2; ++c) {
+          if (!bc.fix[static_cast<std::size_t>(c)]) continue;
+          fixed[static_cast<std::size_t>(2 * v + c)] = 1;
+          map.prescribed(2 * v + c) = value(c);
+        }
+      }
+    }
+  }
+  map.free_index.assign(static_cast<std::size_t>(ndof), -1);
+  for (int d = 0; d < ndof; ++d) {
+    if (fixed[static_cast<std::size_t>(d)]) continue;
+    map.free_index[static_cast<std::size_t>(d)] = static_cast<int>(map.free_dofs.size());
+    map.free_dofs.push_back(d);
+  }
+  return map;
+}
+
+LinearSystem assemble(const ElasticityProblem& problem) {
+  if (!problem.mesh) throw InputError("the elasticity problem has no mesh");
+  const Mesh& mesh = *problem.mesh;
+  // The body must be held: Gamma_1 (edges with prescribed displacement) of positive length.
+  double held = 0.0;
+  std::size_t held_edges = 0;
+  for (const auto& bc : problem.dirichlet) {
+    held_edges += bc.edges.size();
+    for (int id : bc.edges)
+      if (id >= 0 && id < mesh.num_edges()) held += mesh.edge_length(id);
+  }
+  if (held_edges == 0)
+    throw InputError("the body is not held: no boundary edge has a prescribed displacement (Gamma_1 is empty)");
+  if (!(held > 0.0))
+    throw InputError("the body is not held: the boundary with prescribed displacement (Gamma_1) has zero length");
+  LinearSystem sys;
+  sys.dofs = make_dof_map(mesh, problem.dirichlet);
+  const Eigen::VectorXd f = assemble_load(mesh, problem.body_force, problem.tractions);
+  // A = K restricted to the free dofs and b = (f - K u_prescribed) on them, added element by
+  // element into A's pattern (from the mesh) in the numbering of the free dofs: no global K,
+  // no selection products, no triplets
+  const std::vector<int>& free_index = sys.dofs.free_index;
+  const Eigen::VectorXd& prescribed = sys.dofs.prescribed;
+  sys.b.resize(sys.dofs.num_free());
+  for (int i = 0; i < sys.dofs.num_free(); ++i) sys.b(i) = f(sys.dofs.free_dofs[static_cast<std::size_t>(i)]);
+  sys.A = stiffness_pattern(mesh, free_index, sys.dofs.num_free());
+  for_each_element_matrix(mesh, problem.materials, problem.stabilization,
+                          [&](const std::vector<int>& dof, const Eigen::Map<const Eigen::MatrixXd>& K) {
+                            for (std::size_t j = 0; j < dof.size(); ++j) {
+                              const int fj = free_index[static_cast<std::size_t>(dof[j])];
+                              const double uj = prescribed(dof[j]);
+                              for (std::size_t i = 0; i < dof.size(); ++i) {
+                                const int fi = free_index[static_cast<std::size_t>(dof[i])];
+                                if (fi < 0) continue;
+                                const double k = K(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
+                                if (fj >= 0)
+                                  stored(sys.A, fi, fj) += k;
+                                else if (uj != 0.0)
+                                  sys.b(fi) -= k * uj;
+                              }
+                            }
+                          });
+  return sys;
+}
+
+std::vector<LinearField> project_solution(const Mesh& mesh, const Eigen::VectorXd& u) {
+  if (u.size() != 2 * mesh.num_vertices())
+    throw InputError("displacement vector has " + std::to_string(u.size()) + " entries, expected " +
+                     std::to_string(2 * mesh.num_vertices()));
+  std::vector<LinearField> out(static_cast<std::size_t>(mesh.num_elements()));
+  std::vector<Vec2> poly;
+  Eigen::VectorXd local;
+  for (int e = 0; e < mesh.num_elements(); ++e) {
+    gather(mesh, e, poly);
+    const auto verts = mesh.element(e);
+    local.resize(2 * static_cast<Eigen::Index>(verts.size()));
+    for (std::size_t i = 0; i < verts.size(); ++i) local.segment<2>(2 * static_cast<Eigen::Index>(i)) = u.segment<2>(2 * verts[i]);
+    out[static_cast<std::size_t>(e)] = project_p1(poly, local);
+  }
+  return out;
+}
+
+}  // namespace hemivem

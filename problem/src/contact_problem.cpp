@@ -1,8 +1,0 @@
-#include <hemivem/contact_problem.hpp>
-#include <hemivem/scene.hpp>
-
-namespace hemivem {
-
-ContactProblem example_4_1(const Mesh& mesh) { return make_contact_problem(default_scene(), mesh); }
-
-}  // namespace hemivem
