@@ -1,4 +1,4 @@
-// The files a solve leaves in its output folder (schema and formats: drivers/OUTPUTS.md):
+// The files a solve leaves in its output folder (schema and formats: docs/reference/outputs.md):
 // result.json, contact.csv, displacement.csv, history.csv, solution.vtu (vtu.hpp), scene.toml
 // and the gnuplot figures u_nu.png and deformed.png (plots.hpp).
 #pragma once

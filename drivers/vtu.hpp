@@ -1,4 +1,4 @@
-// solution.vtu: VTK's XML unstructured grid (drivers/OUTPUTS.md), every array in VTK's
+// solution.vtu: VTK's XML unstructured grid (docs/reference/outputs.md), every array in VTK's
 // binary form: zlib-compressed in blocks of 32 KiB, base64-encoded inline, UInt64 headers.
 // ParaView, VisIt and meshio read it.
 #pragma once
