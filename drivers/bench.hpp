@@ -1,6 +1,6 @@
 // hemivem bench: every built (linear, minimizer) pair of engines on one scene, timed by stage
 // against its error for several mesh sizes. Columns, JSON fields and exit codes:
-// drivers/CHECK_BENCH.md.
+// docs/reference/check-bench.md.
 #pragma once
 
 #include <array>

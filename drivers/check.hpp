@@ -1,5 +1,5 @@
 // hemivem check: every built (linear, minimizer) pair of engines on one scene, compared with
-// each other. Columns, JSON fields and exit codes: drivers/CHECK_BENCH.md.
+// each other. Columns, JSON fields and exit codes: docs/reference/check-bench.md.
 #pragma once
 
 #include <iosfwd>

@@ -1,6 +1,6 @@
 // hemivem check --extreme: the stiff and extreme scenes of scenes/extreme/ solved with every
 // built pair of engines, one assembly per scene and one condensation per (scene, linear engine), and a
-// stability table (columns and exit codes: drivers/CHECK_BENCH.md, discussion: docs/stability.md).
+// stability table (columns and exit codes: docs/reference/check-bench.md, discussion: docs/stability.md).
 #pragma once
 
 #include <iosfwd>

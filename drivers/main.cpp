@@ -116,7 +116,7 @@ Command register_solve(CLI::App& app) {
   using namespace hemivem;
   auto f = std::make_shared<Flags>();
   auto* cmd = app.add_subcommand("solve", "Solve a contact scene (no scene: the paper's Example 4.1, squares N = 64)");
-  cmd->add_option("scene", f->options.scene, "Scene file (TOML, see scenes/README.md)")->check(CLI::ExistingFile);
+  cmd->add_option("scene", f->options.scene, "Scene file (TOML, see docs/reference/scenes.md)")->check(CLI::ExistingFile);
   f->o_mesh = cmd->add_option("--mesh", f->mesh, "squares|triangles|voronoi|nonconvex|distorted|PATH.poly2d|PATH.msh");
   f->o_n = cmd->add_option("--n", f->n, "Elements (or Voronoi seeds) per side")->check(CLI::Range(1, 10000000));
   f->o_linear = cmd->add_option("--linear", f->linear,
@@ -240,7 +240,7 @@ Command register_study(CLI::App& app) {
   auto f = std::make_shared<Flags>();
   auto* cmd = app.add_subcommand(
       "study", "Convergence study on nested squares: relative energy error against a reference N (Table 1)");
-  cmd->add_option("scene", f->options.scene, "Scene file (TOML, see scenes/README.md); mesh.generator must be squares")
+  cmd->add_option("scene", f->options.scene, "Scene file (TOML, see docs/reference/scenes.md); mesh.generator must be squares")
       ->check(CLI::ExistingFile);
   cmd->add_option("--n", f->options.n, "Elements per side of the studied meshes, e.g. 4,8,16,32,64")
       ->delimiter(',')
@@ -267,7 +267,7 @@ Command register_backends(CLI::App& app) {
           }};
 }
 
-// check and check --extreme (drivers/check.hpp, drivers/extreme.hpp, drivers/CHECK_BENCH.md)
+// check and check --extreme (drivers/check.hpp, drivers/extreme.hpp, docs/reference/check-bench.md)
 Command register_check(CLI::App& app) {
   struct Flags {
     hemivem::cli::CheckOptions options;
@@ -315,7 +315,7 @@ Command register_check(CLI::App& app) {
           }};
 }
 
-// bench and bench --limit (drivers/bench.hpp, drivers/limit.hpp, drivers/CHECK_BENCH.md)
+// bench and bench --limit (drivers/bench.hpp, drivers/limit.hpp, docs/reference/check-bench.md)
 Command register_bench(CLI::App& app) {
   struct Flags {
     hemivem::cli::BenchOptions options;

@@ -58,7 +58,7 @@ std::optional<double> independent_value(int n) {
 
 constexpr const char* kNote =
     "the paper's Table 1 column is not reproduced (neither here nor by the independent implementation of "
-    "its section 2, DESIGN §6); the independent column is what that implementation gives";
+    "its section 2, docs/table1.md); the independent column is what that implementation gives";
 
 // The values of DESIGN §6 belong to Example 4.1: the default scene up to the mesh size, the
 // engines, the outputs and the two material choices whose effect the study is used to show

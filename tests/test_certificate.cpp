@@ -277,7 +277,7 @@ INSTANTIATE_TEST_SUITE_P(Engines, EveryEngine, ::testing::ValuesIn(available_min
 // ---- the two energies --------------------------------------------------------------------------
 
 TEST(Energies, PotentialEnergyAndReducedObjectiveDifferByAConstant) {
-  // Phi(u(a)) - F(a) must not depend on a (drivers/OUTPUTS.md, "Energies"): u(a) is the
+  // Phi(u(a)) - F(a) must not depend on a (docs/reference/outputs.md, "Energies"): u(a) is the
   // back-substitution, Phi the potential energy over the free dofs
   auto ex = test::example("squares", 8);
   const ReducedProblem& p = ex->condensation->reduced();

@@ -1,4 +1,4 @@
-// Friction in scenes and in the command's outputs (docs/friction.md, scenes/README.md): the
+// Friction in scenes and in the command's outputs (docs/friction.md, docs/reference/scenes.md): the
 // [contact.friction] table and the bilateral constraint as read, written and refused; the
 // columns, fields and pictures a frictional solve writes, checked against each other and
 // against the reduced problem's file form.

@@ -5,7 +5,7 @@ The delamination benchmark of docs/nonconvex.md (scenes/delamination.toml: a lay
 off its adhesive, a law with three concave kinks, several critical points). For each pulling
 traction the scene is condensed once (hemivem.condense); then every built minimizer runs
 alone from a = 0 and the global search runs with all of them (hemivem.minimize(...,
-search="global")). Each result is certified by the one certificate of DESIGN §3; the table
+search="global")). Each result is certified by the one certificate (docs/reference/certificate.md); the table
 gives F (the reduced objective, J/m), how far above the lowest found it is, and the time; the
 figure plots that gap against the time.
 

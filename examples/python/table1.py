@@ -5,8 +5,8 @@ on N x N squares against the h = 1/256 solution, and its figure (table1.png).
 On squares the virtual element space is the bilinear (Q1) space, so each coarse solution is
 prolonged exactly to the reference mesh by bilinear interpolation, and the error is the exact
 energy (sigma(v), eps(v)) of the bilinear difference v, integrated with 2 x 2 Gauss points (exact
-for bilinear fields). `hemivem study` computes the same table in C++ (README, "Reproducing the
-paper"); this script does it with NumPy on hemivem.solve's displacements.
+for bilinear fields). `hemivem study` computes the same table in C++ (docs/table1.md); this
+script does it with NumPy on hemivem.solve's displacements.
 
     PYTHONPATH=build/python python3 examples/python/table1.py [--out table1.png] [--ref 256]
 """

@@ -99,7 +99,7 @@ int main() {
     // Semismooth Newton from a = 0. Whatever the engine does internally, the result is
     // "converged" only when the certificate is below the tolerance: the primal
     // residual ‖dist(a, C)‖∞ / ℓ and the dual residual ‖Sa − c + ζ + λ‖∞ / f (ζ the law force,
-    // λ the reaction of the constraint, ℓ and f the length and force scales: DESIGN §3).
+    // λ the reaction of the constraint, ℓ and f the length and force scales: docs/reference/certificate.md).
     const hemivem::SsnMinimizer ssn;
     hemivem::MinimizerOptions options;
     options.tolerance = 1e-10;

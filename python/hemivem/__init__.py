@@ -109,11 +109,11 @@ def _from_toml(path_or_text):
 
 
 def _from_dict(document, name="<dict>"):
-    """A scene from a nested dict with the keys of a scene file (scenes/README.md), e.g.
+    """A scene from a nested dict with the keys of a scene file (docs/reference/scenes.md), e.g.
 
         Scene.from_dict({"mesh": {"n": 16}, "contact": {"side": "bottom", "gap": 0.01}})
 
-    The dict reads as a scene file would: keys left out take the defaults of scenes/README.md
+    The dict reads as a scene file would: keys left out take the defaults of docs/reference/scenes.md
     (a scene without a "contact" table has no contact); schema_version defaults to the
     version this library reads. Validated as a file is: InputError naming the key."""
     if isinstance(document, dict) and "schema_version" not in document:

@@ -93,7 +93,7 @@ A valid polygonal mesh: vertices, counter-clockwise elements of any number of ve
 edges, boundary edges, element geometry and region ids. Immutable.
 
     mesh = hemivem.Mesh.generate("voronoi", 16, seed=3)
-    mesh = hemivem.Mesh.read("../shared/meshes/sutton-voronoi.poly2d")
+    mesh = hemivem.Mesh.read("scenes/meshes/half-disk.msh")
     mesh = hemivem.Mesh.from_arrays(vertices, offsets, indices)
 
 Arrays: vertices (n, 2) float64 (a read-only view, no copy); elements as CSR (offsets of

@@ -162,7 +162,7 @@ void register_errors(py::module_& m) {
 void register_scene(py::module_& m) {
   py::class_<Scene>(m, "Scene", R"doc(
 A contact problem as data: mesh, material, boundary conditions, contact, solver and outputs
-(every key of scenes/README.md). A Scene is a value: copies are independent.
+(every key of docs/reference/scenes.md). A Scene is a value: copies are independent.
 
     scene = hemivem.Scene.default()                 # Example 4.1 on 64 x 64 squares
     scene = hemivem.Scene.from_toml("scenes/hertz.toml")

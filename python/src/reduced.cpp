@@ -199,7 +199,7 @@ Values and derivatives take a number or an array.
 
 void register_reduced(py::module_& m) {
   py::class_<Certificate>(m, "Certificate", R"doc(
-The certificate of a point of the reduced problem (DESIGN §3): primal = ||dist(a, C)||_inf / l
+The certificate of a point of the reduced problem (docs/reference/certificate.md): primal = ||dist(a, C)||_inf / l
 and dual = ||S a - c + zeta + lambda||_inf / f, dimensionless; converged when both are <= the
 tolerance. One implementation for every engine, the command and Python.
 )doc")
@@ -329,7 +329,7 @@ force and reaction of its certificate, F(a), counts, the per-iteration history a
       });
 
   py::class_<ReducedHolder, std::shared_ptr<ReducedHolder>>(m, "ReducedProblem", R"doc(
-The reduced (condensed) contact problem of DESIGN §3:
+The reduced (condensed) contact problem (docs/reference/certificate.md):
 
     min F(a) = 1/2 a^T S a - c^T a + sum_i w_i j(a_i)   s.t.  lower <= a <= upper
 

@@ -21,7 +21,7 @@ def run(script, *args):
 def test_table1_reproduces_the_independent_column(tmp_path):
     out = run("table1.py", "--out", str(tmp_path / "table1.png"))
     rows = {line.split()[0]: line.split()[1] for line in out.splitlines() if line.strip().startswith("1/")}
-    # README, "Reproducing the paper": hemivem and the independent implementation agree
+    # docs/table1.md: hemivem and the independent implementation agree
     assert rows == {"1/4": "36.26%", "1/8": "22.50%", "1/16": "13.69%", "1/32": "8.17%", "1/64": "4.68%"}
     assert (tmp_path / "table1.png").stat().st_size > 10000
 

@@ -1,4 +1,4 @@
-// The scene schema (scenes/README.md): a parsed TOML document to a validated Scene.
+// The scene schema (docs/reference/scenes.md): a parsed TOML document to a validated Scene.
 #include <hemivem/scene/scene.hpp>
 
 #include <cmath>

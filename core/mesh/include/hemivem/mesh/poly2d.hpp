@@ -1,4 +1,4 @@
-// Reading and writing meshes in the plain `.poly2d` format (shared/meshes/README.md):
+// Reading and writing meshes in the plain `.poly2d` format (docs/reference/poly2d.md):
 //
 //   # comment lines start with '#'; blank lines are ignored
 //   vertices NV

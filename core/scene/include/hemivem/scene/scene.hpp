@@ -1,4 +1,4 @@
-// Scenes: one contact problem described in a TOML file (schema in scenes/README.md).
+// Scenes: one contact problem described in a TOML file (schema in docs/reference/scenes.md).
 //
 // A Scene is plain data with the defaults of the paper's Example 4.1 on N = 64 squares.
 // parse_scene reads and validates a file; every defect (unknown key, wrong type, value out
