@@ -35,53 +35,97 @@
 #include <memory>
 #include <vector>
 
+namespace {
+
+// ---- 1. The problem ------------------------------------------------------------------
+struct Problem {
+  hemivem::Rectangle domain{0.0, 1.0, 0.0, 1.0};
+  int n = 32;
+  hemivem::Mesh mesh;
+  hemivem::ElasticityProblem elasticity;
+  std::shared_ptr<const hemivem::ContactLaw> law;
+};
+
+void make_problem(Problem& p) {
+  // A mesh of 32 × 32 squares on the unit square. Any polygonal mesh would do: the
+  // lowest-order virtual element method needs only the vertices of each element.
+  p.mesh = hemivem::make_squares(p.n, p.domain);
+
+  // Linear elasticity: E = 65, ν = 0.29 in plane strain, no body force. The sides of the
+  // rectangle select boundary edges: Γ1 (clamped, zero displacement) is left and right,
+  // Γ2 (the traction) is the top.
+  p.elasticity.mesh = &p.mesh;
+  p.elasticity.materials = hemivem::MaterialTable(hemivem::Material{65.0, 0.29}, hemivem::PlaneModel::strain);
+  const std::vector<int> clamped = hemivem::select_boundary_edges(
+      p.mesh, std::vector<hemivem::Segment>{hemivem::rectangle_side(p.domain, "left"),
+                                            hemivem::rectangle_side(p.domain, "right")});
+  p.elasticity.dirichlet.push_back({clamped, {}, {true, true}});
+  const std::vector<int> top =
+      hemivem::select_boundary_edges(p.mesh, std::vector<hemivem::Segment>{hemivem::rectangle_side(p.domain, "top")});
+  p.elasticity.tractions.push_back({top, [](const hemivem::Vec2&) { return hemivem::Vec2(0.0, -8.0); }, {}});
+
+  // The contact law is data: j on the pieces between the breakpoints 0, 0.01 and 0.02,
+  // as polynomials in r = u_ν (lowest degree first),
+  //   j(r) = 0,  30 r²,  0.8 r − 10 r² − 0.004,  30 r² − 0.8 r + 0.012,
+  // given with a convex part j1 so that j = j1 − j2 with j2 convex too (the split (4.8),
+  // here j2 = 10 r²). The constructor checks continuity and the convexity of both parts.
+  p.law = std::make_shared<hemivem::PiecewisePolynomialLaw>(hemivem::PiecewisePolynomialLaw::from_potential(
+      "paper (4.7)", {0.0, 0.01, 0.02},
+      {{0.0}, {0.0, 0.0, 30.0}, {-0.004, 0.8, -10.0}, {0.012, -0.8, 30.0}},
+      {{0.0, 0.0, 10.0}, {0.0, 0.0, 40.0}, {-0.004, 0.8}, {0.012, -0.8, 40.0}}));
+}
+
+// Γ3 is the bottom. Each of its nodes i (the clamped corners excluded) gets an outward
+// normal, a weight w_i (half the length of its two Γ3 edges: the nodal quadrature of
+// ∫ j(u_ν) ds) and a gap g_i.
+hemivem::ContactBoundary contact_boundary(const Problem& p, const hemivem::LinearSystem& system) {
+  const std::vector<int> bottom =
+      hemivem::select_boundary_edges(p.mesh, std::vector<hemivem::Segment>{hemivem::rectangle_side(p.domain, "bottom")});
+  return hemivem::make_contact_boundary(p.mesh, bottom, system.dofs, [](const hemivem::Vec2&) { return 0.02; });
+}
+
+// ---- 3. The minimizer ----------------------------------------------------------------
+// Semismooth Newton from a = 0. Whatever the engine does internally, the result is
+// "converged" only when the certificate is below the tolerance: the primal
+// residual ‖dist(a, C)‖∞ / ℓ and the dual residual ‖Sa − c + ζ + λ‖∞ / f (ζ the law force,
+// λ the reaction of the constraint, ℓ and f the length and force scales: docs/reference/certificate.md).
+hemivem::MinimizerResult minimize(const hemivem::ReducedProblem& reduced) {
+  const hemivem::SsnMinimizer ssn;
+  hemivem::MinimizerOptions options;
+  options.tolerance = 1e-10;
+  const hemivem::MinimizerResult result = ssn.minimize(reduced, Eigen::VectorXd(), options);
+  std::printf("  minimizer     %s: %s after %d iterations%s\n", ssn.name().c_str(),
+              hemivem::to_string(result.status).c_str(), result.iterations,
+              result.may_be_nonunique ? " (F may have several critical points)" : "");
+  std::printf("  certificate   primal %.3e, dual %.3e (tolerance %.1e)\n", result.certificate.primal,
+              result.certificate.dual, result.certificate.tolerance);
+
+  // Where the contact nodes ended: on the upper bound a_i = g_i, on the lower one, or free.
+  int upper = 0, lower = 0;
+  for (Eigen::Index i = 0; i < result.a.size(); ++i) {
+    const double tol = 1e-12 * std::max(1.0, std::abs(reduced.upper(i)));
+    if (std::abs(result.a(i) - reduced.upper(i)) <= tol) ++upper;
+    else if (std::abs(result.a(i) - reduced.lower(i)) <= tol) ++lower;
+  }
+  std::printf("  contact       %d nodes: %d at the upper bound, %d at the lower bound, %d free\n",
+              static_cast<int>(result.a.size()), upper, lower, static_cast<int>(result.a.size()) - upper - lower);
+  std::printf("  F(a)          %.10g\n", result.objective);
+  return result;
+}
+
+}  // namespace
+
 int main() {
   try {
-    // ---- 1. The problem --------------------------------------------------------------
-    // A mesh of 32 × 32 squares on the unit square. Any polygonal mesh would do: the
-    // lowest-order virtual element method needs only the vertices of each element.
-    const hemivem::Rectangle domain{0.0, 1.0, 0.0, 1.0};
-    const int n = 32;
-    const hemivem::Mesh mesh = hemivem::make_squares(n, domain);
-
-    // Linear elasticity: E = 65, ν = 0.29 in plane strain, no body force. The sides of the
-    // rectangle select boundary edges: Γ1 (clamped, zero displacement) is left and right,
-    // Γ2 (the traction) is the top.
-    hemivem::ElasticityProblem elasticity;
-    elasticity.mesh = &mesh;
-    elasticity.materials = hemivem::MaterialTable(hemivem::Material{65.0, 0.29}, hemivem::PlaneModel::strain);
-    const std::vector<int> clamped = hemivem::select_boundary_edges(
-        mesh, std::vector<hemivem::Segment>{hemivem::rectangle_side(domain, "left"),
-                                            hemivem::rectangle_side(domain, "right")});
-    elasticity.dirichlet.push_back({clamped, {}, {true, true}});
-    const std::vector<int> top =
-        hemivem::select_boundary_edges(mesh, std::vector<hemivem::Segment>{hemivem::rectangle_side(domain, "top")});
-    elasticity.tractions.push_back({top, [](const hemivem::Vec2&) { return hemivem::Vec2(0.0, -8.0); }});
-
-    // The contact law is data: j on the pieces between the breakpoints 0, 0.01 and 0.02,
-    // as polynomials in r = u_ν (lowest degree first),
-    //   j(r) = 0,  30 r²,  0.8 r − 10 r² − 0.004,  30 r² − 0.8 r + 0.012,
-    // given with a convex part j1 so that j = j1 − j2 with j2 convex too (the split (4.8),
-    // here j2 = 10 r²). The constructor checks continuity and the convexity of both parts.
-    const auto law = std::make_shared<hemivem::PiecewisePolynomialLaw>(hemivem::PiecewisePolynomialLaw::from_potential(
-        "paper (4.7)", {0.0, 0.01, 0.02},
-        {{0.0}, {0.0, 0.0, 30.0}, {-0.004, 0.8, -10.0}, {0.012, -0.8, 30.0}},
-        {{0.0, 0.0, 10.0}, {0.0, 0.0, 40.0}, {-0.004, 0.8}, {0.012, -0.8, 40.0}}));
-
+    Problem problem;
+    make_problem(problem);
     // Assembly gives A u = b on the free degrees of freedom (the clamped ones removed).
-    const hemivem::LinearSystem system = hemivem::assemble(elasticity);
-
-    // Γ3 is the bottom. Each of its nodes i (the clamped corners excluded) gets an outward
-    // normal, a weight w_i (half the length of its two Γ3 edges: the nodal quadrature of
-    // ∫ j(u_ν) ds) and a gap g_i.
-    const std::vector<int> bottom =
-        hemivem::select_boundary_edges(mesh, std::vector<hemivem::Segment>{hemivem::rectangle_side(domain, "bottom")});
-    const hemivem::ContactBoundary gamma3 =
-        hemivem::make_contact_boundary(mesh, bottom, system.dofs, [](const hemivem::Vec2&) { return 0.02; });
-
-    std::printf("step-by-step: Example 4.1 on %d x %d squares, engines cholmod + ssn\n", n, n);
+    const hemivem::LinearSystem system = hemivem::assemble(problem.elasticity);
+    const hemivem::ContactBoundary gamma3 = contact_boundary(problem, system);
+    std::printf("step-by-step: Example 4.1 on %d x %d squares, engines cholmod + ssn\n", problem.n, problem.n);
     std::printf("  problem       %d vertices, %d elements, %d unknowns, %d contact nodes, law '%s'\n",
-                mesh.num_vertices(), mesh.num_elements(), system.dofs.num_free(), gamma3.size(), law->name().c_str());
+                problem.mesh.num_vertices(), problem.mesh.num_elements(), system.dofs.num_free(), gamma3.size(),
+                problem.law->name().c_str());
 
     // ---- 2. Condensation -------------------------------------------------------------
     // Order the unknowns as (normal displacements a of the contact nodes, the rest) and
@@ -90,36 +134,13 @@ int main() {
     // λ_min(S − α_j W) > 0, with α_j the largest negative curvature of j, means F is
     // strongly convex: the critical point is the unique solution.
     auto cholmod = std::make_unique<hemivem::CholmodFactorization>();
-    const hemivem::Condensation condensation(system, gamma3, std::move(cholmod), law, hemivem::ConstraintKind::box);
+    const hemivem::Condensation condensation(system, gamma3, std::move(cholmod), problem.law,
+                                             hemivem::ConstraintKind::box);
     const hemivem::ReducedProblem& reduced = condensation.reduced();
     std::printf("  condensation  S is %d x %d, lambda_min(S - alpha_j W) = %.6g\n", static_cast<int>(reduced.size()),
                 static_cast<int>(reduced.size()), condensation.uniqueness_margin());
 
-    // ---- 3. The minimizer ------------------------------------------------------------
-    // Semismooth Newton from a = 0. Whatever the engine does internally, the result is
-    // "converged" only when the certificate is below the tolerance: the primal
-    // residual ‖dist(a, C)‖∞ / ℓ and the dual residual ‖Sa − c + ζ + λ‖∞ / f (ζ the law force,
-    // λ the reaction of the constraint, ℓ and f the length and force scales: docs/reference/certificate.md).
-    const hemivem::SsnMinimizer ssn;
-    hemivem::MinimizerOptions options;
-    options.tolerance = 1e-10;
-    const hemivem::MinimizerResult result = ssn.minimize(reduced, Eigen::VectorXd(), options);
-    std::printf("  minimizer     %s: %s after %d iterations%s\n", ssn.name().c_str(),
-                hemivem::to_string(result.status).c_str(), result.iterations,
-                result.may_be_nonunique ? " (F may have several critical points)" : "");
-    std::printf("  certificate   primal %.3e, dual %.3e (tolerance %.1e)\n", result.certificate.primal,
-                result.certificate.dual, result.certificate.tolerance);
-
-    // Where the contact nodes ended: on the upper bound a_i = g_i, on the lower one, or free.
-    int upper = 0, lower = 0;
-    for (Eigen::Index i = 0; i < result.a.size(); ++i) {
-      const double tol = 1e-12 * std::max(1.0, std::abs(reduced.upper(i)));
-      if (std::abs(result.a(i) - reduced.upper(i)) <= tol) ++upper;
-      else if (std::abs(result.a(i) - reduced.lower(i)) <= tol) ++lower;
-    }
-    std::printf("  contact       %d nodes: %d at the upper bound, %d at the lower bound, %d free\n",
-                static_cast<int>(result.a.size()), upper, lower, static_cast<int>(result.a.size()) - upper - lower);
-    std::printf("  F(a)          %.10g\n", result.objective);
+    const hemivem::MinimizerResult result = minimize(reduced);
 
     // ---- 4. Back-substitution --------------------------------------------------------
     // The interior follows from a: u2 = A22⁻¹ (b2 − A21 a) with the factor kept in step 2;
