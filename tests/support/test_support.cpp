@@ -93,7 +93,7 @@ std::unique_ptr<Example> example(const std::string& kind, int n, const std::func
 namespace hemivem::test {
 
 std::string slurp(const std::filesystem::path& file) {
-  std::ifstream in(file);
+  std::ifstream in(file, std::ios::binary);
   std::stringstream s;
   s << in.rdbuf();
   return s.str();
