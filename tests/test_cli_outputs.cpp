@@ -2,6 +2,7 @@
 // real VTK reader) and the gnuplot figures.
 #include <hemivem/app/outputs.hpp>
 #include <hemivem/app/figures.hpp>
+#include "test_support.hpp"
 
 #include <hemivem/contact/solver.hpp>
 #include <hemivem/error.hpp>
@@ -26,6 +27,7 @@ using namespace hemivem;
 using namespace hemivem::app;
 namespace fs = std::filesystem;
 using nlohmann::json;
+using hemivem::test::slurp;
 
 namespace {
 
@@ -42,13 +44,6 @@ std::string python_with_meshio() {
   for (const char* python : {"python3", "/usr/bin/python3"})
     if (have_program(std::string(python) + " -c 'import meshio, numpy'")) return python;
   return {};
-}
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
 }
 
 std::vector<std::string> lines(const fs::path& p) {
@@ -114,7 +109,7 @@ TEST_F(Outputs, ResultJsonHasEveryDocumentedField) {
   const OutputReport report = write_outputs(dir.path, s.mesh, s.problem.elasticity.materials, s.solution, s.info,
                                             {"result.json"});
   ASSERT_EQ(report.written.size(), 1u);
-  const json j = json::parse(read_text(dir.path / "result.json"));
+  const json j = json::parse(slurp(dir.path / "result.json"));
   const auto& sol = s.solution;
 
   EXPECT_EQ(j.at("schema"), "hemivem-result/7");
@@ -240,7 +235,7 @@ TEST_F(Outputs, CsvTablesHaveHeadersAndOneRowPerNode) {
   const auto history = lines(dir.path / "history.csv");
   ASSERT_EQ(history.size(), s.solution.minimizer.history.size() + 1);
   EXPECT_EQ(history[0], "iteration,reduced_objective,primal,dual,active,seconds");
-  EXPECT_EQ(read_text(dir.path / "scene.toml"), s.info.scene_toml);
+  EXPECT_EQ(slurp(dir.path / "scene.toml"), s.info.scene_toml);
   EXPECT_FALSE(fs::exists(dir.path / "result.json"));  // only what was asked for
 }
 
@@ -257,7 +252,7 @@ TEST_F(Outputs, VtuIsCompressedBinaryInBlocks) {
   const ContactSolution sol = solve_contact(problem, make_factorization(f), *make_minimizer("ssn"), MinimizerOptions{});
   ScratchDir dir("vtu-blocks");
   write_outputs(dir.path, mesh, problem.elasticity.materials, sol, solved().info, {"solution.vtu", "displacement.csv"});
-  const std::string text = read_text(dir.path / "solution.vtu");
+  const std::string text = slurp(dir.path / "solution.vtu");
   EXPECT_NE(text.find("compressor=\"vtkZLibDataCompressor\""), std::string::npos);
   EXPECT_NE(text.find("header_type=\"UInt64\""), std::string::npos);
   EXPECT_EQ(text.find("format=\"ascii\""), std::string::npos);
@@ -275,7 +270,7 @@ TEST_F(Outputs, VtuIsCompressedBinaryInBlocks) {
   const fs::path py = dir.path / "read.py";
   std::ofstream(py) << script;
   ASSERT_EQ(std::system((python + " '" + py.string() + "' 2>'" + (dir.path / "err.txt").string() + "'").c_str()), 0)
-      << read_text(dir.path / "err.txt");
+      << slurp(dir.path / "err.txt");
   std::ifstream in(report);
   int points = 0, cells = 0;
   double point_error = 1, displacement_error = 1;
@@ -320,7 +315,7 @@ TEST_F(Outputs, VtuLoadsInARealVtkReader) {
   const fs::path py = dir.path / "read.py";
   std::ofstream(py) << script;
   ASSERT_EQ(std::system((python + " '" + py.string() + "' 2>'" + (dir.path / "err.txt").string() + "'").c_str()), 0)
-      << read_text(dir.path / "err.txt");
+      << slurp(dir.path / "err.txt");
 
   std::ifstream in(report);
   const int nv = s.mesh.num_vertices(), ne = s.mesh.num_elements();
@@ -428,7 +423,7 @@ TEST_F(Outputs, PlotsArePngsMadeByGnuplot) {
       write_outputs(dir.path, s.mesh, s.problem.elasticity.materials, s.solution, s.info, {"u_nu.png", "deformed.png"});
   EXPECT_TRUE(report.skipped.empty()) << report.skipped.front();
   for (const char* name : {"u_nu.png", "deformed.png"}) {
-    const std::string data = read_text(dir.path / name);
+    const std::string data = slurp(dir.path / name);
     ASSERT_GT(data.size(), 8u) << name;
     EXPECT_EQ(data.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8)) << name;
   }
@@ -535,7 +530,7 @@ TEST_F(Outputs, AFolderThatIsAFileThrowsAndWritesNothing) {
   const fs::path file = dir.path / "out";
   std::ofstream(file) << "a file\n";
   EXPECT_THROW(write_outputs(file, s.mesh, s.problem.elasticity.materials, s.solution, s.info), InputError);
-  EXPECT_EQ(read_text(file), "a file\n");
+  EXPECT_EQ(slurp(file), "a file\n");
   EXPECT_EQ(std::distance(fs::directory_iterator(dir.path), fs::directory_iterator()), 1);
 }
 
@@ -549,7 +544,7 @@ TEST_F(Outputs, AFailedFileLeavesNoTemporaryBehind) {
   for (const auto& entry : fs::directory_iterator(dir.path)) names.push_back(entry.path().filename().string());
   std::sort(names.begin(), names.end());
   EXPECT_EQ(names, (std::vector<std::string>{"contact.csv", "result.json"}));
-  EXPECT_TRUE(json::accept(read_text(dir.path / "result.json")));
+  EXPECT_TRUE(json::accept(slurp(dir.path / "result.json")));
 }
 
 TEST_F(Outputs, UnknownOutputNameIsAnInputErrorBeforeAnyWrite) {

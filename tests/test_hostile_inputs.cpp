@@ -35,13 +35,6 @@ std::vector<fs::path> files_in(const fs::path& dir) {
   return files;
 }
 
-std::string contents(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 /// Runs `read` and expects an InputError whose message starts with `name` (the input's name).
 template <class F>
 void expect_input_error(const std::string& name, F read) {
@@ -58,7 +51,7 @@ void expect_input_error(const std::string& name, F read) {
 TEST(FuzzFindings, SceneInputsAreInputErrors) {
   for (const fs::path& f : files_in(hostile_dir() / "fuzz" / "scene")) {
     SCOPED_TRACE(f.string());
-    const std::string text = contents(f);
+    const std::string text = hemivem::test::slurp(f);
     expect_input_error("fuzz.toml", [&] {
       const hemivem::Scene s = hemivem::parse_scene_string(text, "fuzz.toml");
       if (s.mesh.file.empty() && s.mesh.n <= 8) (void)hemivem::build_problem(s);
@@ -146,7 +139,7 @@ TEST(StreamReaders, GmshFromAStreamNamesTheGivenName) {
   } catch (const hemivem::InputError& e) {
     EXPECT_EQ(e.where(), "memory.msh:5");
   }
-  std::istringstream ok(contents(hemivem::test::data_dir() / "gmsh" / "unit_square_quads.msh"));
+  std::istringstream ok(hemivem::test::slurp(hemivem::test::data_dir() / "gmsh" / "unit_square_quads.msh"));
   const hemivem::Mesh m = hemivem::read_gmsh(ok, "memory.msh");
   EXPECT_EQ(m.num_elements(), 6);
   EXPECT_EQ(m.num_vertices(), 11);

@@ -1,7 +1,5 @@
-// One conformance suite run by every linear engine that was built (as Ceres'
-// sparse_cholesky_test): solves and Schur complements against dense Eigen references,
-// reuse of the symbolic analysis, detection of matrices that are not positive definite,
-// and the statuses of calls out of order or with bad sizes. Plus the factory.
+// The conformance suite of the linear engines (support/linear_conformance.hpp) run by every
+// linear engine that was built, each made by the factory in one process; plus the factory.
 #include <hemivem/error.hpp>
 #include <hemivem/linear_backends.hpp>
 #include <hemivem/process_group.hpp>
@@ -9,514 +7,32 @@
 
 #include <gtest/gtest.h>
 
-#include <limits>
-
-#include <Eigen/Dense>
 #include <Eigen/SparseCholesky>
+
+#include "linear_conformance.hpp"
+#include "linear_support.hpp"
 
 #include <algorithm>
 #include <cctype>
-#include <numeric>
-#include <random>
 #include <string>
 #include <vector>
 
 namespace hemivem {
 namespace {
 
-constexpr double kTolerance = 1e-10;
-const std::vector<int> kSizes = {1, 5, 40, 200};
-const std::vector<unsigned> kSeeds = {1, 2, 3};
+using test::LinearConformance;
+using test::LinearEngine;
 
-using Triplet = Eigen::Triplet<double, int>;
-
-/// A random sparse SPD matrix B B^T + I (both triangles stored, exactly symmetric).
-SparseMatrix random_spd(int n, unsigned seed, int per_column = 3) {
-  std::mt19937 rng(seed);
-  std::uniform_int_distribution<int> row(0, n - 1);
-  std::uniform_real_distribution<double> value(-1.0, 1.0);
-  std::vector<Triplet> entries;
-  for (int j = 0; j < n; ++j) {
-    entries.emplace_back(j, j, 1.0 + value(rng));
-    for (int k = 0; k < per_column; ++k) entries.emplace_back(row(rng), j, value(rng));
-  }
-  SparseMatrix B(n, n);
-  B.setFromTriplets(entries.begin(), entries.end());
-  SparseMatrix BBt = B * SparseMatrix(B.transpose());
-  SparseMatrix A = SparseMatrix(0.5 * (BBt + SparseMatrix(BBt.transpose())));
-  SparseMatrix I(n, n);
-  I.setIdentity();
-  A += I;
-  A.makeCompressed();
-  return A;
-}
-
-/// The same pattern as A with other (still SPD) values: A + t diag(A) scaled off-diagonal.
-SparseMatrix same_pattern_new_values(const SparseMatrix& A, double t) {
-  SparseMatrix C = A;
-  for (int j = 0; j < C.outerSize(); ++j)
-    for (SparseMatrix::InnerIterator it(C, j); it; ++it)
-      it.valueRef() = it.row() == it.col() ? it.value() * (1.0 + t) : it.value() * (1.0 - 0.5 * t);
-  return C;
-}
-
-/// `count` distinct indices of 0..n-1 in a random order.
-std::vector<int> random_block(int n, int count, unsigned seed) {
-  std::vector<int> all(static_cast<std::size_t>(n));
-  std::iota(all.begin(), all.end(), 0);
-  std::mt19937 rng(seed + 1000);
-  std::shuffle(all.begin(), all.end(), rng);
-  all.resize(static_cast<std::size_t>(count));
-  return all;
-}
-
-std::vector<int> complement(int n, const std::vector<int>& block1) {
-  std::vector<bool> in1(static_cast<std::size_t>(n), false);
-  for (int i : block1) in1[static_cast<std::size_t>(i)] = true;
-  std::vector<int> block2;
-  for (int i = 0; i < n; ++i)
-    if (!in1[static_cast<std::size_t>(i)]) block2.push_back(i);
-  return block2;
-}
-
-Eigen::MatrixXd submatrix(const Eigen::MatrixXd& A, const std::vector<int>& rows, const std::vector<int>& cols) {
-  Eigen::MatrixXd out(static_cast<Eigen::Index>(rows.size()), static_cast<Eigen::Index>(cols.size()));
-  for (std::size_t r = 0; r < rows.size(); ++r)
-    for (std::size_t c = 0; c < cols.size(); ++c)
-      out(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) = A(rows[r], cols[c]);
-  return out;
-}
-
-double relative_error(const Eigen::MatrixXd& x, const Eigen::MatrixXd& reference) {
-  if (x.rows() != reference.rows() || x.cols() != reference.cols()) return 1e300;
-  const double scale = reference.norm();
-  return scale > 0 ? (x - reference).norm() / scale : (x - reference).norm();
-}
-
-Eigen::MatrixXd random_rhs(Eigen::Index rows, Eigen::Index cols, unsigned seed) {
-  std::mt19937 rng(seed + 7);
-  std::uniform_real_distribution<double> value(-1.0, 1.0);
-  Eigen::MatrixXd B(rows, cols);
-  for (Eigen::Index j = 0; j < cols; ++j)
-    for (Eigen::Index i = 0; i < rows; ++i) B(i, j) = value(rng);
-  return B;
-}
-
-/// A symmetric matrix with the pattern of random_spd(n, seed) and exactly one negative
-/// eigenvalue: A - sigma I with sigma between the two smallest eigenvalues of A.
-SparseMatrix one_negative_eigenvalue(int n, unsigned seed) {
-  SparseMatrix A = random_spd(n, seed);
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig{Eigen::MatrixXd(A)};
-  const double sigma = 0.5 * (eig.eigenvalues()(0) + eig.eigenvalues()(1));
-  SparseMatrix I(n, n);
-  I.setIdentity();
-  SparseMatrix C = A - sigma * I;
-  C.makeCompressed();
-  return C;
-}
-
-std::string printable(std::string name) {
-  for (char& c : name)
-    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-  return name;
-}
-
-class LinearConformance : public ::testing::TestWithParam<std::string> {
- protected:
-  std::unique_ptr<SparseFactorization> make() const {
-    FactorizationOptions options;
-    options.engine = GetParam();
-    return make_factorization(options);
-  }
-};
-
-TEST_P(LinearConformance, NameIsTheEngineName) { EXPECT_EQ(make()->name(), GetParam()); }
-
-TEST_P(LinearConformance, SolveMatchesDenseReference) {
-  for (int n : kSizes) {
-    for (unsigned seed : kSeeds) {
-      SCOPED_TRACE("n = " + std::to_string(n) + ", seed = " + std::to_string(seed));
-      const SparseMatrix A = random_spd(n, seed);
-      const Eigen::LLT<Eigen::MatrixXd> reference{Eigen::MatrixXd(A)};
-      ASSERT_EQ(reference.info(), Eigen::Success);
-      auto f = make();
-      const FactorizationResult r = f->factorize(A);
-      ASSERT_TRUE(r.ok()) << to_string(r.status) << ": " << r.message;
-      for (Eigen::Index columns : {1, 4}) {
-        const Eigen::MatrixXd B = random_rhs(n, columns, seed);
-        Eigen::MatrixXd X;
-        const FactorizationResult s = f->solve(B, &X);
-        ASSERT_TRUE(s.ok()) << s.message;
-        EXPECT_LT(relative_error(X, reference.solve(B)), kTolerance) << columns << " right-hand sides";
-      }
-      const double rcond = f->rcond_estimate();
-      if (rcond >= 0) {
-        EXPECT_GT(rcond, 0.0);
-        EXPECT_LE(rcond, 1.0);
-      }
-    }
-  }
-}
-
-TEST_P(LinearConformance, SchurComplementMatchesDenseReference) {
-  for (int n : kSizes) {
-    for (unsigned seed : kSeeds) {
-      SCOPED_TRACE("n = " + std::to_string(n) + ", seed = " + std::to_string(seed));
-      const SparseMatrix A = random_spd(n, seed);
-      const Eigen::MatrixXd D(A);
-      const std::vector<int> block1 = random_block(n, std::max(1, n / 5), seed);
-      const std::vector<int> block2 = complement(n, block1);
-      const Eigen::MatrixXd A11 = submatrix(D, block1, block1), A12 = submatrix(D, block1, block2),
-                            A22 = submatrix(D, block2, block2);
-      const Eigen::LLT<Eigen::MatrixXd> llt22(A22);
-      const Eigen::MatrixXd S_reference =
-          block2.empty() ? A11 : Eigen::MatrixXd(A11 - A12 * llt22.solve(A12.transpose()));
-
-      auto f = make();
-      Eigen::MatrixXd S;
-      const FactorizationResult r = f->schur_complement(A, block1, &S);
-      ASSERT_TRUE(r.ok()) << to_string(r.status) << ": " << r.message;
-      EXPECT_LT(relative_error(S, S_reference), kTolerance);
-
-      const Eigen::MatrixXd B2 = random_rhs(static_cast<Eigen::Index>(block2.size()), 3, seed);
-      Eigen::MatrixXd X2;
-      const FactorizationResult s = f->solve_interior(B2, &X2);
-      ASSERT_TRUE(s.ok()) << s.message;
-      if (!block2.empty()) {
-        EXPECT_LT(relative_error(X2, llt22.solve(B2)), kTolerance);
-      } else {
-        EXPECT_EQ(X2.rows(), 0);
-        EXPECT_EQ(X2.cols(), 3);
-      }
-    }
-  }
-}
-
-/// The 5-point Laplacian of an m x m grid plus the identity: a matrix whose factor has large
-/// supernodes, as a contact problem's has.
-SparseMatrix grid_laplacian(int m) {
-  std::vector<Triplet> entries;
-  auto id = [m](int i, int j) { return i * m + j; };
-  for (int i = 0; i < m; ++i)
-    for (int j = 0; j < m; ++j) {
-      entries.emplace_back(id(i, j), id(i, j), 5.0);
-      if (i + 1 < m) entries.emplace_back(id(i + 1, j), id(i, j), -1.0), entries.emplace_back(id(i, j), id(i + 1, j), -1.0);
-      if (j + 1 < m) entries.emplace_back(id(i, j + 1), id(i, j), -1.0), entries.emplace_back(id(i, j), id(i, j + 1), -1.0);
-    }
-  SparseMatrix A(m * m, m * m);
-  A.setFromTriplets(entries.begin(), entries.end());
-  A.makeCompressed();
-  return A;
-}
-
-/// condense_rhs() and expand() against c = b1 - A12 A22^{-1} b2 and x2 = A22^{-1} (b2 - A21 x1).
-void expect_split_interior_solve(SparseFactorization& f, const SparseMatrix& A, const std::vector<int>& block1,
-                                 unsigned seed) {
-  const int n = static_cast<int>(A.rows());
-  const std::vector<int> block2 = complement(n, block1);
-  const Eigen::MatrixXd D(A);
-  const Eigen::MatrixXd A12 = submatrix(D, block1, block2), A22 = submatrix(D, block2, block2);
-  Eigen::MatrixXd S;
-  ASSERT_TRUE(f.schur_complement(A, block1, &S).ok());
-  const Eigen::VectorXd b1 = random_rhs(static_cast<Eigen::Index>(block1.size()), 1, seed).col(0);
-  const Eigen::VectorXd b2 = random_rhs(static_cast<Eigen::Index>(block2.size()), 1, seed + 1).col(0);
-  const Eigen::VectorXd x1 = random_rhs(static_cast<Eigen::Index>(block1.size()), 1, seed + 2).col(0);
-  Eigen::VectorXd c, x2;
-  if (!f.splits_interior_solve()) {
-    EXPECT_EQ(f.condense_rhs(b1, b2, &c).status, FactorizationStatus::not_ready);
-    EXPECT_EQ(f.expand(x1, &x2).status, FactorizationStatus::not_ready);
-    return;
-  }
-  const FactorizationResult r = f.condense_rhs(b1, b2, &c);
-  ASSERT_TRUE(r.ok()) << r.message;
-  const FactorizationResult e = f.expand(x1, &x2);
-  ASSERT_TRUE(e.ok()) << e.message;
-  if (block2.empty()) {
-    EXPECT_EQ(c, b1);
-    EXPECT_EQ(x2.size(), 0);
-    return;
-  }
-  const Eigen::LLT<Eigen::MatrixXd> llt22(A22);
-  EXPECT_LT(relative_error(c, b1 - A12 * llt22.solve(b2)), kTolerance);
-  EXPECT_LT(relative_error(x2, llt22.solve(b2 - A12.transpose() * x1)), kTolerance);
-  // expand() again with another x1 uses the same b2
-  const Eigen::VectorXd x1b = 2.0 * x1;
-  ASSERT_TRUE(f.expand(x1b, &x2).ok());
-  EXPECT_LT(relative_error(x2, llt22.solve(b2 - A12.transpose() * x1b)), kTolerance);
-}
-
-TEST_P(LinearConformance, SplitInteriorSolveMatchesDenseReference) {
-  for (int n : kSizes) {
-    for (unsigned seed : kSeeds) {
-      for (int size1 : {std::max(1, n / 5), n}) {
-        SCOPED_TRACE("n = " + std::to_string(n) + ", seed = " + std::to_string(seed) + ", block1 " + std::to_string(size1));
-        auto f = make();
-        expect_split_interior_solve(*f, random_spd(n, seed), random_block(n, size1, seed), seed);
-      }
-    }
-  }
-  // a grid with block1 one side of it (as a contact boundary) and a random block1
-  const int m = 30;
-  std::vector<int> side(static_cast<std::size_t>(m));
-  std::iota(side.begin(), side.end(), 0);
-  auto f = make();
-  {
-    SCOPED_TRACE("grid, one side");
-    expect_split_interior_solve(*f, grid_laplacian(m), side, 4);
-  }
-  {
-    SCOPED_TRACE("grid, random block1");
-    expect_split_interior_solve(*f, grid_laplacian(m), random_block(m * m, 2 * m, 5), 5);
-  }
-}
-
-TEST_P(LinearConformance, SplitInteriorSolveOutOfOrderOrWithWrongSizes) {
-  auto f = make();
-  if (!f->splits_interior_solve()) GTEST_SKIP() << GetParam() << " does not split the interior solve";
-  Eigen::VectorXd c, x2;
-  const Eigen::VectorXd one = Eigen::VectorXd::Ones(1), four = Eigen::VectorXd::Ones(4);
-  EXPECT_EQ(f->condense_rhs(one, four, &c).status, FactorizationStatus::not_ready);
-  EXPECT_EQ(f->expand(one, &x2).status, FactorizationStatus::not_ready);
-  const SparseMatrix A = random_spd(5, 2);
-  const std::vector<int> block1{3};
-  Eigen::MatrixXd S;
-  ASSERT_TRUE(f->schur_complement(A, block1, &S).ok());
-  EXPECT_EQ(f->expand(one, &x2).status, FactorizationStatus::not_ready) << "expand() needs condense_rhs() first";
-  EXPECT_EQ(f->condense_rhs(four, four, &c).status, FactorizationStatus::invalid_input);
-  EXPECT_EQ(f->condense_rhs(one, one, &c).status, FactorizationStatus::invalid_input);
-  EXPECT_EQ(f->condense_rhs(one, four, nullptr).status, FactorizationStatus::invalid_input);
-  ASSERT_TRUE(f->condense_rhs(one, four, &c).ok());
-  EXPECT_EQ(f->expand(four, &x2).status, FactorizationStatus::invalid_input);
-  EXPECT_EQ(f->expand(one, nullptr).status, FactorizationStatus::invalid_input);
-  ASSERT_TRUE(f->expand(one, &x2).ok());
-  ASSERT_TRUE(f->schur_complement(A, block1, &S).ok());
-  EXPECT_EQ(f->expand(one, &x2).status, FactorizationStatus::not_ready) << "a new Schur complement forgets b2";
-}
-
-TEST_P(LinearConformance, RefactorizationOnTheSamePatternReusesTheAnalysis) {
-  const int n = 200;
-  const SparseMatrix A = random_spd(n, 5);
-  const SparseMatrix C = same_pattern_new_values(A, 0.3);
-  auto f = make();
-  if (f->num_analyses() < 0) GTEST_SKIP() << GetParam() << " does not count its analyses";
-  ASSERT_TRUE(f->analyze(A).ok());
-  ASSERT_EQ(f->num_analyses(), 1);
-  ASSERT_TRUE(f->factorize(A).ok());
-  EXPECT_EQ(f->num_analyses(), 1) << "factorize() repeated the analysis of an analysed pattern";
-  const FactorizationResult r = f->factorize(C);
-  ASSERT_TRUE(r.ok()) << r.message;
-  EXPECT_EQ(f->num_analyses(), 1) << "new values on the same pattern must not trigger an analysis";
-
-  const Eigen::MatrixXd B = random_rhs(n, 2, 5);
-  Eigen::MatrixXd X;
-  ASSERT_TRUE(f->solve(B, &X).ok());
-  EXPECT_LT(relative_error(X, Eigen::MatrixXd(C).llt().solve(B)), kTolerance);
-}
-
-TEST_P(LinearConformance, PatternChangeTriggersANewAnalysis) {
-  const int n = 40;
-  const SparseMatrix A = random_spd(n, 1);
-  const SparseMatrix C = random_spd(n, 2);  // another pattern
-  const SparseMatrix E = random_spd(n + 1, 1);  // another size
-  auto f = make();
-  if (f->num_analyses() < 0) GTEST_SKIP() << GetParam() << " does not count its analyses";
-  ASSERT_TRUE(f->factorize(A).ok());
-  EXPECT_EQ(f->num_analyses(), 1);
-  ASSERT_TRUE(f->factorize(C).ok());
-  EXPECT_EQ(f->num_analyses(), 2);
-  const Eigen::MatrixXd B = random_rhs(n, 1, 3);
-  Eigen::MatrixXd X;
-  ASSERT_TRUE(f->solve(B, &X).ok());
-  EXPECT_LT(relative_error(X, Eigen::MatrixXd(C).llt().solve(B)), kTolerance);
-  ASSERT_TRUE(f->factorize(E).ok());
-  EXPECT_EQ(f->num_analyses(), 3);
-  ASSERT_TRUE(f->solve(random_rhs(n + 1, 1, 3), &X).ok());
-  EXPECT_EQ(X.rows(), n + 1);
-}
-
-TEST_P(LinearConformance, SchurComplementReusesItsAnalysis) {
-  const int n = 200;
-  const SparseMatrix A = random_spd(n, 4);
-  const SparseMatrix C = same_pattern_new_values(A, 0.2);
-  const std::vector<int> block1 = random_block(n, 30, 4);
-  auto f = make();
-  if (f->num_analyses() < 0) GTEST_SKIP() << GetParam() << " does not count its analyses";
-  Eigen::MatrixXd S;
-  ASSERT_TRUE(f->schur_complement(A, block1, &S).ok());
-  const int after_first = f->num_analyses();
-  EXPECT_GE(after_first, 1);
-  ASSERT_TRUE(f->schur_complement(C, block1, &S).ok());
-  EXPECT_EQ(f->num_analyses(), after_first) << "same pattern and block1 must reuse the analysis";
-
-  const Eigen::MatrixXd D(C);
-  const std::vector<int> block2 = complement(n, block1);
-  const Eigen::MatrixXd S_reference =
-      submatrix(D, block1, block1) -
-      submatrix(D, block1, block2) * submatrix(D, block2, block2).llt().solve(submatrix(D, block2, block1));
-  EXPECT_LT(relative_error(S, S_reference), kTolerance);
-
-  ASSERT_TRUE(f->schur_complement(C, random_block(n, 30, 9), &S).ok());
-  EXPECT_GT(f->num_analyses(), after_first) << "another block1 needs another analysis";
-}
-
-TEST_P(LinearConformance, SmallIndefiniteMatrixIsNotPositiveDefinite) {
-  SparseMatrix A(3, 3);
-  A.insert(0, 0) = 1.0;
-  A.insert(1, 1) = -1.0;
-  A.insert(2, 2) = 2.0;
-  A.makeCompressed();
-  auto f = make();
-  const FactorizationResult r = f->factorize(A);
-  EXPECT_EQ(r.status, FactorizationStatus::not_positive_definite) << r.message;
-  EXPECT_FALSE(r.message.empty());
-  Eigen::MatrixXd X;
-  EXPECT_EQ(f->solve(Eigen::MatrixXd::Ones(3, 1), &X).status, FactorizationStatus::not_ready)
-      << "a failed factorization cannot be used to solve";
-
-  Eigen::MatrixXd S;
-  const std::vector<int> block1 = {2};  // A22 = diag(1, -1)
-  EXPECT_EQ(f->schur_complement(A, block1, &S).status, FactorizationStatus::not_positive_definite);
-  EXPECT_EQ(f->solve_interior(Eigen::MatrixXd::Ones(2, 1), &X).status, FactorizationStatus::not_ready);
-}
-
-TEST_P(LinearConformance, MatrixWithOneNegativeEigenvalueIsNotPositiveDefinite) {
-  for (int n : {40, 200}) {
-    SCOPED_TRACE("n = " + std::to_string(n));
-    const SparseMatrix A = one_negative_eigenvalue(n, 11);
-    auto f = make();
-    const FactorizationResult r = f->factorize(A);
-    EXPECT_EQ(r.status, FactorizationStatus::not_positive_definite) << r.message;
-    Eigen::MatrixXd S;
-    const FactorizationResult s = f->schur_complement(A, std::vector<int>{}, &S);  // A22 = A
-    EXPECT_EQ(s.status, FactorizationStatus::not_positive_definite) << s.message;
-  }
-}
-
-TEST_P(LinearConformance, CallsOutOfOrderAreNotReady) {
-  auto f = make();
-  Eigen::MatrixXd X;
-  EXPECT_EQ(f->solve(Eigen::MatrixXd::Ones(5, 1), &X).status, FactorizationStatus::not_ready);
-  EXPECT_EQ(f->solve_interior(Eigen::MatrixXd::Ones(5, 1), &X).status, FactorizationStatus::not_ready);
-  ASSERT_TRUE(f->analyze(random_spd(5, 1)).ok());
-  EXPECT_EQ(f->solve(Eigen::MatrixXd::Ones(5, 1), &X).status, FactorizationStatus::not_ready)
-      << "analyze() alone does not allow a solve";
-}
-
-TEST_P(LinearConformance, WrongSizesAreInvalidInput) {
-  const SparseMatrix A = random_spd(5, 1);
-  auto f = make();
-  ASSERT_TRUE(f->factorize(A).ok());
-  Eigen::MatrixXd X;
-  EXPECT_EQ(f->solve(Eigen::MatrixXd::Ones(4, 1), &X).status, FactorizationStatus::invalid_input);
-  EXPECT_EQ(f->solve(Eigen::MatrixXd::Ones(6, 2), &X).status, FactorizationStatus::invalid_input);
-  EXPECT_EQ(f->solve(Eigen::MatrixXd::Ones(5, 1), nullptr).status, FactorizationStatus::invalid_input);
-
-  Eigen::MatrixXd S;
-  const std::vector<int> block1 = {3, 1};
-  ASSERT_TRUE(f->schur_complement(A, block1, &S).ok());
-  EXPECT_EQ(f->solve_interior(Eigen::MatrixXd::Ones(5, 1), &X).status, FactorizationStatus::invalid_input);
-  EXPECT_EQ(f->solve_interior(Eigen::MatrixXd::Ones(2, 1), &X).status, FactorizationStatus::invalid_input);
-  EXPECT_TRUE(f->solve_interior(Eigen::MatrixXd::Ones(3, 1), &X).ok());
-  EXPECT_EQ(f->schur_complement(A, block1, nullptr).status, FactorizationStatus::invalid_input);
-
-  SparseMatrix rectangular(4, 5);
-  rectangular.insert(0, 0) = 1.0;
-  EXPECT_EQ(f->analyze(rectangular).status, FactorizationStatus::invalid_input);
-  EXPECT_EQ(f->factorize(rectangular).status, FactorizationStatus::invalid_input);
-  EXPECT_EQ(f->schur_complement(rectangular, block1, &S).status, FactorizationStatus::invalid_input);
-}
-
-TEST_P(LinearConformance, InvalidBlock1IsInvalidInput) {
-  const SparseMatrix A = random_spd(5, 2);
-  auto f = make();
-  Eigen::MatrixXd S;
-  for (const std::vector<int>& block1 :
-       {std::vector<int>{1, 3, 1}, std::vector<int>{5}, std::vector<int>{0, -1}, std::vector<int>{0, 1, 2, 3, 4, 0}}) {
-    const FactorizationResult r = f->schur_complement(A, block1, &S);
-    EXPECT_EQ(r.status, FactorizationStatus::invalid_input) << r.message;
-    EXPECT_FALSE(r.message.empty());
-  }
-  Eigen::MatrixXd X;
-  EXPECT_EQ(f->solve_interior(Eigen::MatrixXd::Ones(3, 1), &X).status, FactorizationStatus::not_ready);
-}
-
-TEST_P(LinearConformance, EmptyBlock1GivesAnEmptySchurComplement) {
-  const int n = 40;
-  const SparseMatrix A = random_spd(n, 3);
-  auto f = make();
-  Eigen::MatrixXd S = Eigen::MatrixXd::Ones(2, 2);
-  const FactorizationResult r = f->schur_complement(A, std::vector<int>{}, &S);
-  ASSERT_TRUE(r.ok()) << r.message;
-  EXPECT_EQ(S.rows(), 0);
-  EXPECT_EQ(S.cols(), 0);
-  const Eigen::MatrixXd B = random_rhs(n, 2, 3);
-  Eigen::MatrixXd X;
-  ASSERT_TRUE(f->solve_interior(B, &X).ok());
-  EXPECT_LT(relative_error(X, Eigen::MatrixXd(A).llt().solve(B)), kTolerance);
-}
-
-TEST_P(LinearConformance, Block1WithEveryIndexGivesTheMatrix) {
-  const int n = 40;
-  const SparseMatrix A = random_spd(n, 3);
-  std::vector<int> block1(n);
-  std::iota(block1.rbegin(), block1.rend(), 0);  // n-1, ..., 0
-  auto f = make();
-  Eigen::MatrixXd S;
-  const FactorizationResult r = f->schur_complement(A, block1, &S);
-  ASSERT_TRUE(r.ok()) << r.message;
-  EXPECT_LT(relative_error(S, submatrix(Eigen::MatrixXd(A), block1, block1)), kTolerance);
-  Eigen::MatrixXd X;
-  ASSERT_TRUE(f->solve_interior(Eigen::MatrixXd(0, 2), &X).ok());
-  EXPECT_EQ(X.rows(), 0);
-}
-
-TEST_P(LinearConformance, UncompressedInputIsAccepted) {
-  const int n = 40;
-  const SparseMatrix A = random_spd(n, 6);
-  SparseMatrix U(n, n);
-  U.reserve(Eigen::VectorXi::Constant(n, 40));
-  for (int j = 0; j < n; ++j)
-    for (SparseMatrix::InnerIterator it(A, j); it; ++it) U.insert(it.row(), it.col()) = it.value();
-  ASSERT_FALSE(U.isCompressed());
-  auto f = make();
-  ASSERT_TRUE(f->factorize(U).ok());
-  const Eigen::MatrixXd B = random_rhs(n, 1, 6);
-  Eigen::MatrixXd X;
-  ASSERT_TRUE(f->solve(B, &X).ok());
-  EXPECT_LT(relative_error(X, Eigen::MatrixXd(A).llt().solve(B)), kTolerance);
-  Eigen::MatrixXd S;
-  ASSERT_TRUE(f->schur_complement(U, random_block(n, 5, 6), &S).ok());
-  EXPECT_EQ(S.rows(), 5);
-}
-
-TEST_P(LinearConformance, NonFiniteEntriesAreANumericalFailure) {
-  for (const double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
-    SparseMatrix A = random_spd(20, 7);
-    A.coeffRef(4, 4) = bad;
-    auto f = make();
-    const FactorizationResult r = f->factorize(A);
-    EXPECT_EQ(r.status, FactorizationStatus::numerical_failure) << r.message;
-    Eigen::MatrixXd X, S;
-    EXPECT_EQ(f->solve(Eigen::MatrixXd::Ones(20, 1), &X).status, FactorizationStatus::not_ready);
-    const FactorizationResult s = f->schur_complement(A, std::vector<int>{1, 4, 9}, &S);
-    EXPECT_EQ(s.status, FactorizationStatus::numerical_failure) << s.message;
-    EXPECT_EQ(f->solve_interior(Eigen::MatrixXd::Ones(17, 1), &X).status, FactorizationStatus::not_ready);
-  }
-}
-
-TEST_P(LinearConformance, InteriorSolveAfterAReusedAnalysisUsesTheNewValues) {
-  const int n = 120;
-  const SparseMatrix A = random_spd(n, 8);
-  const SparseMatrix C = same_pattern_new_values(A, 0.4);
-  const std::vector<int> block1 = random_block(n, 17, 8);
-  const std::vector<int> block2 = complement(n, block1);
-  auto f = make();
-  Eigen::MatrixXd S, X2;
-  ASSERT_TRUE(f->schur_complement(A, block1, &S).ok());
-  ASSERT_TRUE(f->schur_complement(C, block1, &S).ok());
-  const Eigen::MatrixXd B2 = random_rhs(static_cast<Eigen::Index>(block2.size()), 2, 8);
-  ASSERT_TRUE(f->solve_interior(B2, &X2).ok());
-  EXPECT_LT(relative_error(X2, submatrix(Eigen::MatrixXd(C), block2, block2).llt().solve(B2)), kTolerance);
+/// The engines of the factory that were built.
+std::vector<LinearEngine> factory_engines() {
+  std::vector<LinearEngine> engines;
+  for (const std::string& name : available_factorizations())
+    engines.push_back({name, [name] {
+                         FactorizationOptions options;
+                         options.engine = name;
+                         return make_factorization(options);
+                       }});
+  return engines;
 }
 
 TEST_P(LinearConformance, RunsAcrossProcessesOnlyWhenItIsAProcessGroup) {
@@ -525,20 +41,19 @@ TEST_P(LinearConformance, RunsAcrossProcessesOnlyWhenItIsAProcessGroup) {
   const bool group = dynamic_cast<const ProcessGroup*>(f.get()) != nullptr;
   // mumps-mpi (loaded as a module, so the type is checked across the module boundary) is one;
   // without mpirun it runs on one process.
-  EXPECT_EQ(group, GetParam() == "mumps-mpi");
+  EXPECT_EQ(group, engine() == "mumps-mpi");
   EXPECT_EQ(&processes == static_cast<const ProcessGroup*>(dynamic_cast<const ProcessGroup*>(f.get())), group);
   EXPECT_TRUE(processes.holds_results());
   EXPECT_EQ(processes.num_processes(), 1);
   EXPECT_EQ(processes.share(41), 41);
 }
 
-INSTANTIATE_TEST_SUITE_P(Engines, LinearConformance, ::testing::ValuesIn(available_factorizations()),
-                         [](const ::testing::TestParamInfo<std::string>& info) { return printable(info.param); });
+INSTANTIATE_TEST_SUITE_P(Engines, LinearConformance, ::testing::ValuesIn(factory_engines()), test::engine_test_name);
 
 // ---- why every engine must check definiteness itself --------------------------------
 
 TEST(LinearTrap, EigenSimplicialLdltFactorsAMatrixWithANegativeEigenvalue) {
-  const SparseMatrix A = one_negative_eigenvalue(40, 11);
+  const SparseMatrix A = test::one_negative_eigenvalue(40, 11);
   Eigen::SimplicialLDLT<SparseMatrix> ldlt(A);
   EXPECT_EQ(ldlt.info(), Eigen::Success) << "SimplicialLDLT only fails on an exactly zero pivot";
   EXPECT_LT(ldlt.vectorD().minCoeff(), 0.0);

@@ -473,17 +473,8 @@ TEST(SharedMeshes, NonConvexMeshHas399NonConvexElements) {
 
 namespace {
 
-enum class Kind { input, mesh };
-
-struct Malformed {
-  const char* file;      // in tests/data/malformed
-  int line;              // expected line in where()
-  const char* fragment;  // expected in what()
-  Kind kind;             // mesh: a MeshError whose element() is `element`
-  int element = -1;
-};
-
-std::ostream& operator<<(std::ostream& os, const Malformed& m) { return os << m.file; }
+using hemivem::test::Malformed;
+using Kind = hemivem::test::MalformedKind;
 
 // Keep in step with tests/data/malformed/README.md (checked below).
 const Malformed kMalformed[] = {
@@ -531,52 +522,18 @@ class MalformedFile : public ::testing::TestWithParam<Malformed> {};
 }  // namespace
 
 TEST_P(MalformedFile, IsRejectedAtTheRightLine) {
-  const Malformed& c = GetParam();
-  const fs::path file = malformed_dir() / c.file;
-  ASSERT_TRUE(fs::is_regular_file(file)) << file;
   AllocationProbe probe;
-  try {
-    hemivem::read_poly2d(file);
-    FAIL() << "read without error: " << file;
-  } catch (const InputError& e) {
-    const std::string what = e.what();
-    const std::string where = file.string() + ":" + std::to_string(c.line);
-    EXPECT_EQ(e.where(), where);
-    EXPECT_EQ(what.rfind(where + ": ", 0), 0u) << what;
-    EXPECT_NE(what.find(c.file), std::string::npos) << what;
-    EXPECT_NE(what.find(c.fragment), std::string::npos) << what;
-    const auto* mesh_error = dynamic_cast<const MeshError*>(&e);
-    if (c.kind == Kind::mesh) {
-      ASSERT_NE(mesh_error, nullptr) << "expected a MeshError: " << what;
-      EXPECT_EQ(mesh_error->element(), c.element) << what;
-    } else {
-      EXPECT_EQ(mesh_error, nullptr) << "expected a plain InputError: " << what;
-    }
-  }
+  hemivem::test::expect_rejected_at_its_line(malformed_dir(), GetParam(),
+                                             [](const fs::path& file) { hemivem::read_poly2d(file); });
   // Small files: no count in them may size an allocation.
   EXPECT_LT(probe.largest(), std::size_t{1} << 20);
 }
 
 INSTANTIATE_TEST_SUITE_P(Corpus, MalformedFile, ::testing::ValuesIn(kMalformed),
                          [](const ::testing::TestParamInfo<Malformed>& info) {
-                           std::string name = fs::path(info.param.file).stem().string();
-                           std::replace(name.begin(), name.end(), '-', '_');
-                           return name;
+                           return hemivem::test::corpus_test_name(info.param.file);
                          });
 
 TEST(MalformedCorpus, TableCoversEveryFileAndTheReadme) {
-  std::set<std::string> in_table;
-  for (const auto& c : kMalformed) in_table.insert(c.file);
-  EXPECT_EQ(in_table.size(), std::size(kMalformed)) << "a file is listed twice";
-  std::set<std::string> on_disk;
-  for (const auto& e : fs::directory_iterator(malformed_dir()))
-    if (e.path().extension() == ".poly2d") on_disk.insert(e.path().filename().string());
-  EXPECT_EQ(on_disk, in_table);
-  std::ifstream readme(malformed_dir() / "README.md");
-  ASSERT_TRUE(readme) << "tests/data/malformed/README.md is missing";
-  const std::string text((std::istreambuf_iterator<char>(readme)), std::istreambuf_iterator<char>());
-  for (const auto& c : kMalformed) {
-    EXPECT_NE(text.find(std::string("`") + c.file + "`"), std::string::npos) << c.file << " is not in the README";
-    EXPECT_NE(text.find(c.fragment), std::string::npos) << "the README lacks the fragment of " << c.file;
-  }
+  hemivem::test::expect_table_covers_corpus(malformed_dir(), ".poly2d", kMalformed);
 }

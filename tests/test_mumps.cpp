@@ -5,6 +5,8 @@
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
 
+#include "linear_support.hpp"
+
 #include <algorithm>
 #include <numeric>
 #include <random>
@@ -15,6 +17,10 @@ namespace {
 using hemivem::FactorizationStatus;
 using hemivem::MumpsFactorization;
 using hemivem::SparseMatrix;
+using hemivem::test::complement;
+using hemivem::test::random_block;
+using hemivem::test::random_matrix;
+using hemivem::test::relative_error;
 
 /// A random sparse SPD matrix B Bᵀ + shift·I with both triangles stored.
 SparseMatrix random_spd(int n, unsigned seed, double shift = 1.0) {
@@ -39,39 +45,6 @@ SparseMatrix from_dense(const Eigen::MatrixXd& D) {
   SparseMatrix A = D.sparseView();
   A.makeCompressed();
   return A;
-}
-
-Eigen::MatrixXd random_matrix(Eigen::Index rows, Eigen::Index cols, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> value(-1.0, 1.0);
-  Eigen::MatrixXd M(rows, cols);
-  for (Eigen::Index j = 0; j < cols; ++j)
-    for (Eigen::Index i = 0; i < rows; ++i) M(i, j) = value(rng);
-  return M;
-}
-
-double relative_error(const Eigen::MatrixXd& X, const Eigen::MatrixXd& reference) {
-  const double scale = std::max(reference.norm(), 1e-300);
-  return (X - reference).norm() / scale;
-}
-
-/// `count` distinct indices of [0, n) in random order.
-std::vector<int> random_block(int n, int count, unsigned seed) {
-  std::vector<int> all(static_cast<std::size_t>(n));
-  std::iota(all.begin(), all.end(), 0);
-  std::mt19937 rng(seed);
-  std::shuffle(all.begin(), all.end(), rng);
-  all.resize(static_cast<std::size_t>(count));
-  return all;
-}
-
-std::vector<int> complement(int n, const std::vector<int>& block1) {
-  std::vector<char> in(static_cast<std::size_t>(n), 0);
-  for (int i : block1) in[static_cast<std::size_t>(i)] = 1;
-  std::vector<int> rest;
-  for (int i = 0; i < n; ++i)
-    if (!in[static_cast<std::size_t>(i)]) rest.push_back(i);
-  return rest;
 }
 
 constexpr double kTolerance = 1e-10;

@@ -13,16 +13,14 @@
 
 #include <fstream>
 
+#include "test_support.hpp"
+
 using namespace hemivem;
 namespace fs = std::filesystem;
 
 namespace {
 
-fs::path scratch(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() / ("hemivem-test-reduced-io-" + std::to_string(::getpid()) + "-" + name);
-  fs::remove_all(p);
-  return p;
-}
+fs::path scratch(const std::string& name) { return test::scratch("reduced-io-" + name); }
 
 void write(const fs::path& f, const std::string& text) {
   fs::create_directories(f.parent_path());
@@ -82,51 +80,59 @@ TEST(ReducedIo, CoordinateFormatAndDefaults) {
   fs::remove_all(dir);
 }
 
-TEST(ReducedIo, DefectsNameTheFileAndLine) {
-  const fs::path dir = scratch("defects");
-  write(dir / "S.mtx", "%%MatrixMarket matrix array real general\n2 2\n1\n0\n0.5\n1\n");
+/// A valid problem of size 2 in `dir`, over whatever was there.
+void write_valid_problem(const fs::path& dir) {
+  write(dir / "S.mtx", "%%MatrixMarket matrix array real general\n2 2\n1\n0\n0\n1\n");
   write(dir / "c.txt", "1\n2\n");
   write(dir / "w.txt", "1\n1\n");
   write(dir / "g.txt", "0.1\n0.1\n");
   write(dir / "law.txt", "name zero\nbreakpoints\nj1 0\nj2 0\n");
-  expect_error(dir, "S is not symmetric");
-  write(dir / "S.mtx", "%%MatrixMarket matrix array real general\n2 2\n1\n0\n0\n1\n");
+  fs::remove(dir / "problem.txt");
+}
+
+/// One file of a valid problem replaced by `text`, and the fragment of the error reading the
+/// folder must give.
+struct Defect {
+  const char* file;
+  const char* text;
+  const char* fragment;
+};
+
+const Defect kDefects[] = {
+    {"S.mtx", "%%MatrixMarket matrix array real general\n2 2\n1\n0\n0.5\n1\n", "S is not symmetric"},
+    {"c.txt", "1\n", "c.txt: has 1 numbers; S is 2 x 2"},
+    {"c.txt", "1\nnan\n", "c.txt:2: c 'nan' is not finite"},
+    {"g.txt", "0.1\n-1\n", "g.txt: entry 2: gap -1 must be finite and >= 0 with the box constraint"},
+    {"g.txt", "0.1\ninf\n", "g.txt: entry 2: gap inf must be finite and >= 0 with the box constraint"},
+    {"g.txt", "0.1\n-inf\n", "g.txt:2: g '-inf' is not finite"},
+    {"S.mtx", "%%MatrixMarket matrix array complex general\n2 2\n1\n0\n0\n1\n", "S.mtx:1: unsupported Matrix Market header"},
+    {"S.mtx", "%%MatrixMarket matrix array real general\n2 2\n1\n0\n0\n", "S.mtx:2: expected 4 entries after the size line, found 3"},
+    {"S.mtx", "%%MatrixMarket matrix coordinate real general\n2 2 1\n3 1 1\n", "S.mtx:3: entry (3, 1) outside the 2 x 2 matrix"},
+    {"law.txt", "name bad\nbreakpoints 0\nj1 0\nj2 0\nj1 1\nj2 0\n", "j1 is not continuous at breakpoint 0"},
+    {"law.txt", "name zero\nbreakpoints\nj1 0\nj2 0\nslope 3\n", "law.txt:5: unknown key 'slope'"},
+    {"problem.txt", "constraint two-sided\n", "problem.txt:1: unknown constraint 'two-sided'"},
+};
+
+TEST(ReducedIo, DefectsNameTheFileAndLine) {
+  const fs::path dir = scratch("defects");
+  write_valid_problem(dir);
   EXPECT_NO_THROW(read_reduced_problem(dir));
-  write(dir / "c.txt", "1\n");
-  expect_error(dir, "c.txt: has 1 numbers; S is 2 x 2");
-  write(dir / "c.txt", "1\nnan\n");
-  expect_error(dir, "c.txt:2: c 'nan' is not finite");
-  write(dir / "c.txt", "1\n2\n");
-  write(dir / "g.txt", "0.1\n-1\n");
-  expect_error(dir, "g.txt: entry 2: gap -1 must be finite and >= 0 with the box constraint");
-  write(dir / "g.txt", "0.1\ninf\n");
-  expect_error(dir, "g.txt: entry 2: gap inf must be finite and >= 0 with the box constraint");
-  write(dir / "g.txt", "0.1\n-inf\n");
-  expect_error(dir, "g.txt:2: g '-inf' is not finite");
+  for (const Defect& d : kDefects) {
+    SCOPED_TRACE(std::string(d.file) + ": " + d.fragment);
+    write_valid_problem(dir);
+    write(dir / d.file, d.text);
+    expect_error(dir, d.fragment);
+  }
   {
     // one-sided: an obstacle pressed in (g < 0) and a node that cannot touch it (g = inf)
+    write_valid_problem(dir);
     write(dir / "g.txt", "-0.5\ninf\n");
     write(dir / "problem.txt", "constraint one-sided\n");
     const ReducedProblem p = read_reduced_problem(dir);
     EXPECT_EQ(p.g(0), -0.5);
     EXPECT_EQ(p.g(1), std::numeric_limits<double>::infinity());
-    fs::remove(dir / "problem.txt");
   }
-  write(dir / "g.txt", "0.1\n0.1\n");
-  write(dir / "S.mtx", "%%MatrixMarket matrix array complex general\n2 2\n1\n0\n0\n1\n");
-  expect_error(dir, "S.mtx:1: unsupported Matrix Market header");
-  write(dir / "S.mtx", "%%MatrixMarket matrix array real general\n2 2\n1\n0\n0\n");
-  expect_error(dir, "S.mtx:2: expected 4 entries after the size line, found 3");
-  write(dir / "S.mtx", "%%MatrixMarket matrix coordinate real general\n2 2 1\n3 1 1\n");
-  expect_error(dir, "S.mtx:3: entry (3, 1) outside the 2 x 2 matrix");
-  write(dir / "S.mtx", "%%MatrixMarket matrix array real general\n2 2\n1\n0\n0\n1\n");
-  write(dir / "law.txt", "name bad\nbreakpoints 0\nj1 0\nj2 0\nj1 1\nj2 0\n");
-  expect_error(dir, "j1 is not continuous at breakpoint 0");
-  write(dir / "law.txt", "name zero\nbreakpoints\nj1 0\nj2 0\nslope 3\n");
-  expect_error(dir, "law.txt:5: unknown key 'slope'");
-  write(dir / "law.txt", "name zero\nbreakpoints\nj1 0\nj2 0\n");
-  write(dir / "problem.txt", "constraint two-sided\n");
-  expect_error(dir, "problem.txt:1: unknown constraint 'two-sided'");
+  write_valid_problem(dir);
   write(dir / "problem.txt", "format 2\nconstraint box\n");
   fs::remove(dir / "c.txt");
   expect_error(dir, "cannot open the file");

@@ -67,6 +67,26 @@ void expect_monotone(const MinimizerResult& r) {
     EXPECT_LE(r.history[k].objective, r.history[k - 1].objective + 1e-12 * std::abs(r.history[k - 1].objective)) << "step " << k;
 }
 
+struct TimedRun {
+  MinimizerResult result;
+  Eigen::Index size = 0;  // N1
+  double seconds = 0.0;
+};
+
+/// ssn to certificate 1e-10 on Example 4.1 on N x N squares, timed.
+TimedRun ssn_on_squares(int n) {
+  auto ex = example("squares", n);
+  const ReducedProblem& p = ex->condensation->reduced();
+  MinimizerOptions o;
+  o.tolerance = 1e-10;
+  const auto t0 = std::chrono::steady_clock::now();
+  TimedRun run;
+  run.result = SsnMinimizer().minimize(p, Eigen::VectorXd(), o);
+  run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  run.size = p.size();
+  return run;
+}
+
 TEST(Ssn, NameAndFactory) {
   EXPECT_EQ(SsnMinimizer().name(), "ssn");
 }
@@ -96,15 +116,10 @@ TEST(Ssn, QuadraticConvergenceOnASmoothProblem) {
 
 TEST(Ssn, Example41IterationCounts) {
   for (int n : {16, 32, 64}) {
-    auto ex = example("squares", n);
-    const ReducedProblem& p = ex->condensation->reduced();
-    MinimizerOptions o;
-    o.tolerance = 1e-10;
-    const auto t0 = std::chrono::steady_clock::now();
-    const MinimizerResult r = SsnMinimizer().minimize(p, Eigen::VectorXd(), o);
-    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::cout << "squares N = " << n << ": N1 = " << p.size() << ", " << r.iterations << " iterations, residual "
-              << r.certificate.dual << ", " << s << " s (" << r.message << ")\n";
+    const TimedRun run = ssn_on_squares(n);
+    const MinimizerResult& r = run.result;
+    std::cout << "squares N = " << n << ": N1 = " << run.size << ", " << r.iterations << " iterations, residual "
+              << r.certificate.dual << ", " << run.seconds << " s (" << r.message << ")\n";
     ASSERT_TRUE(r.converged()) << r.message;
     EXPECT_LE(r.iterations, 25);
     EXPECT_EQ(count_in_message(r.message, "gradient fallbacks"), 0) << r.message;
@@ -117,15 +132,10 @@ TEST(Ssn, Example41IterationCounts) {
 // Timings for the benchmark sizes (slow to build: run with --gtest_also_run_disabled_tests).
 TEST(Ssn, DISABLED_Example41Timings) {
   for (int n : {64, 128, 256}) {
-    auto ex = example("squares", n);
-    const ReducedProblem& p = ex->condensation->reduced();
-    MinimizerOptions o;
-    o.tolerance = 1e-10;
-    const auto t0 = std::chrono::steady_clock::now();
-    const MinimizerResult r = SsnMinimizer().minimize(p, Eigen::VectorXd(), o);
-    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::cout << "squares N = " << n << ": N1 = " << p.size() << ", " << r.iterations << " iterations, residual "
-              << r.certificate.dual << ", " << s << " s, factorization " << r.timings.at("factorization")
+    const TimedRun run = ssn_on_squares(n);
+    const MinimizerResult& r = run.result;
+    std::cout << "squares N = " << n << ": N1 = " << run.size << ", " << r.iterations << " iterations, residual "
+              << r.certificate.dual << ", " << run.seconds << " s, factorization " << r.timings.at("factorization")
               << " s (" << r.message << ")\n";
     EXPECT_TRUE(r.converged()) << r.message;
   }

@@ -5,38 +5,15 @@
 //   /usr/bin/time -v build/tests/bench/bench_condensation --benchmark_filter='condense/cholmod/256$'
 #include <benchmark/benchmark.h>
 
-#include <hemivem/contact/condensation.hpp>
-#include <hemivem/contact/problem.hpp>
 #include <hemivem/linear_backends.hpp>
-#include <hemivem/mesh/generators.hpp>
-#include <hemivem/scene/example.hpp>
 
-#include <map>
+#include "example_4_1.hpp"
+
 #include <memory>
 
 namespace {
 
 using namespace hemivem;
-
-struct Setup {
-  Mesh mesh;
-  ContactProblem problem;
-  LinearSystem system;
-  ContactBoundary boundary;
-};
-
-const Setup& setup(int n) {
-  static std::map<int, std::unique_ptr<Setup>> cache;
-  auto& s = cache[n];
-  if (!s) {
-    s = std::make_unique<Setup>();
-    s->mesh = make_squares(n);
-    s->problem = example_4_1(s->mesh);
-    s->system = assemble(s->problem.elasticity);
-    s->boundary = make_contact_boundary(s->mesh, s->problem.contact_edges, s->system.dofs, s->problem.gap);
-  }
-  return *s;
-}
 
 std::unique_ptr<SparseFactorization> engine(const std::string& name) {
   FactorizationOptions o;
@@ -45,7 +22,7 @@ std::unique_ptr<SparseFactorization> engine(const std::string& name) {
 }
 
 void factorize(benchmark::State& state, std::string name) {
-  const Setup& s = setup(static_cast<int>(state.range(0)));
+  const bench::Example41& s = bench::example_4_1_on_squares(static_cast<int>(state.range(0)));
   for (auto _ : state) {
     auto f = engine(name);
     const auto r = f->factorize(s.system.A);
@@ -55,7 +32,7 @@ void factorize(benchmark::State& state, std::string name) {
 }
 
 void condense(benchmark::State& state, std::string name) {
-  const Setup& s = setup(static_cast<int>(state.range(0)));
+  const bench::Example41& s = bench::example_4_1_on_squares(static_cast<int>(state.range(0)));
   for (auto _ : state) {
     Condensation c(s.system, s.boundary, engine(name), s.problem.law, s.problem.constraint);
     benchmark::DoNotOptimize(c.reduced().S.data());

@@ -6,12 +6,11 @@
 // subgradient), N1.
 #include <benchmark/benchmark.h>
 
-#include <hemivem/contact/condensation.hpp>
-#include <hemivem/contact/problem.hpp>
 #include <hemivem/linear_backends.hpp>
-#include <hemivem/mesh/generators.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
 #include <hemivem/scene/example.hpp>
+
+#include "example_4_1.hpp"
 
 #include <map>
 #include <memory>
@@ -20,38 +19,28 @@ namespace {
 
 using namespace hemivem;
 
-struct Setup {
-  Mesh mesh;
-  ContactProblem problem;
-  LinearSystem system;
-  std::unique_ptr<Condensation> condensation;
-};
-
-const Setup& setup(int n) {
-  static std::map<int, std::unique_ptr<Setup>> cache;
-  auto& s = cache[n];
-  if (!s) {
-    s = std::make_unique<Setup>();
-    s->mesh = make_squares(n);
-    s->problem = example_4_1(s->mesh);
-    s->system = assemble(s->problem.elasticity);
-    const ContactBoundary cb = make_contact_boundary(s->mesh, s->problem.contact_edges, s->system.dofs, s->problem.gap);
+/// The reduced problem of Example 4.1 on N x N squares, condensed once per N.
+const Condensation& condensation(int n) {
+  static std::map<int, std::unique_ptr<Condensation>> cache;
+  auto& c = cache[n];
+  if (!c) {
+    const bench::Example41& ex = bench::example_4_1_on_squares(n);
     FactorizationOptions fo;
     fo.engine = available_factorizations().size() > 1 ? "cholmod" : "eigen";
-    s->condensation = std::make_unique<Condensation>(s->system, cb, make_factorization(fo), s->problem.law, s->problem.constraint);
+    c = std::make_unique<Condensation>(ex.system, ex.boundary, make_factorization(fo), ex.problem.law, ex.problem.constraint);
   }
-  return *s;
+  return *c;
 }
 
 void minimize(benchmark::State& state, std::string name) {
-  const Setup& s = setup(static_cast<int>(state.range(0)));
+  const Condensation& condensed = condensation(static_cast<int>(state.range(0)));
   const auto engine = make_minimizer(name);
   MinimizerOptions o;
   o.tolerance = 1e-10;
   o.max_iterations = 100000;
   MinimizerResult r;
-  for (auto _ : state) r = engine->minimize(s.condensation->reduced(), Eigen::VectorXd(), o);
-  state.counters["N1"] = static_cast<double>(s.condensation->reduced().size());
+  for (auto _ : state) r = engine->minimize(condensed.reduced(), Eigen::VectorXd(), o);
+  state.counters["N1"] = static_cast<double>(condensed.reduced().size());
   state.counters["converged"] = r.converged() ? 1 : 0;
   state.counters["dual"] = r.certificate.dual;
   state.counters["iterations"] = r.iterations;
@@ -59,7 +48,7 @@ void minimize(benchmark::State& state, std::string name) {
 }
 
 void factorize(benchmark::State& state, std::string name) {
-  const Setup& s = setup(static_cast<int>(state.range(0)));
+  const bench::Example41& s = bench::example_4_1_on_squares(static_cast<int>(state.range(0)));
   for (auto _ : state) {
     FactorizationOptions fo;
     fo.engine = name;

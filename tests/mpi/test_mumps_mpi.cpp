@@ -1,11 +1,14 @@
-// The MPI MUMPS engine against dense Eigen references computed on rank 0.
+// The MPI MUMPS engine under mpiexec: the conformance suite of the linear engines
+// (support/linear_conformance.hpp) run on it, and the checks of its own.
 //
-// Every process runs every call (the engine's methods are collective); the matrices and
-// right-hand sides are given on rank 0 only (empty elsewhere, which the engine ignores), and
-// only rank 0 checks the numbers. Statuses are the same on every process, so every process
-// checks them. Nothing fatal (ASSERT_*) may stop one process before a collective call that the
-// others make; fatal assertions are used on statuses only, which all processes share.
-// main() reduces the outcome over all processes: a failure on any rank fails the program.
+// Every process runs every test and every call (the engine's methods are collective); the
+// matrices, right-hand sides and blocks are given on rank 0 only (empty elsewhere, which the
+// engine ignores). The suite sees the engine through SpmdView, which gives the inputs so,
+// checks that the engine writes its outputs on rank 0 only and returns the same status on
+// every process, and then hands rank 0's outputs to every process, so that every process
+// checks the same numbers and takes the same path (no fatal assertion can stop one process
+// before a collective call that the others make). main() reduces the outcome over all
+// processes: a failure on any rank fails the program.
 #include <hemivem/mumps_mpi_factorization.hpp>
 
 #include <Eigen/Cholesky>
@@ -13,41 +16,99 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include "linear_conformance.hpp"
+#include "linear_support.hpp"
 #include "mpi_test_main.hpp"
 
-#include <algorithm>
-#include <cstdio>
-#include <numeric>
-#include <random>
+#include <memory>
+#include <span>
 #include <vector>
 
 namespace {
 
+using hemivem::FactorizationResult;
 using hemivem::FactorizationStatus;
 using hemivem::MumpsMpiFactorization;
+using hemivem::SparseFactorization;
 using hemivem::SparseMatrix;
+using hemivem::test::LinearConformance;
+using hemivem::test::random_matrix;
+using hemivem::test::relative_error;
 
 int rank() { return MumpsMpiFactorization::mpi_rank(); }
 bool root() { return rank() == 0; }
 
-/// A random sparse SPD matrix B Bᵀ + shift·I with both triangles stored.
-SparseMatrix random_spd(int n, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> value(-1.0, 1.0);
-  std::uniform_int_distribution<int> row(0, n - 1);
-  std::vector<Eigen::Triplet<double>> t;
-  for (int j = 0; j < n; ++j) {
-    t.emplace_back(j, j, value(rng));
-    for (int k = 0; k < 2; ++k) t.emplace_back(row(rng), j, value(rng));
-  }
-  SparseMatrix B(n, n);
-  B.setFromTriplets(t.begin(), t.end());
-  SparseMatrix I(n, n);
-  I.setIdentity();
-  SparseMatrix A = SparseMatrix(B * B.transpose()) + I;
-  A.makeCompressed();
-  return A;
+/// The argument on rank 0, an empty object elsewhere (the engine must ignore it there).
+template <class T>
+T on_root(const T& value) {
+  return root() ? value : T();
 }
+
+/// mumps-mpi as every process of the conformance suite sees it (see the top of the file).
+class SpmdView final : public SparseFactorization {
+ public:
+  std::string name() const override { return engine_.name(); }
+  FactorizationResult analyze(const SparseMatrix& A) override { return same_everywhere(engine_.analyze(on_root(A))); }
+  FactorizationResult factorize(const SparseMatrix& A) override {
+    return same_everywhere(engine_.factorize(on_root(A)));
+  }
+  FactorizationResult solve(const Eigen::MatrixXd& B, Eigen::MatrixXd* X) const override {
+    return written_on_root(X, [&] { return engine_.solve(on_root(B), X); });
+  }
+  FactorizationResult schur_complement(const SparseMatrix& A, std::span<const int> block1,
+                                       Eigen::MatrixXd* S) override {
+    const std::span<const int> given = root() ? block1 : std::span<const int>();
+    return written_on_root(S, [&] { return engine_.schur_complement(on_root(A), given, S); });
+  }
+  FactorizationResult solve_interior(const Eigen::MatrixXd& B2, Eigen::MatrixXd* X2) const override {
+    return written_on_root(X2, [&] { return engine_.solve_interior(on_root(B2), X2); });
+  }
+  bool splits_interior_solve() const override { return engine_.splits_interior_solve(); }
+  FactorizationResult condense_rhs(const Eigen::VectorXd& b1, const Eigen::VectorXd& b2, Eigen::VectorXd* c) override {
+    return written_on_root(c, [&] { return engine_.condense_rhs(on_root(b1), on_root(b2), c); });
+  }
+  FactorizationResult expand(const Eigen::VectorXd& x1, Eigen::VectorXd* x2) const override {
+    return written_on_root(x2, [&] { return engine_.expand(on_root(x1), x2); });
+  }
+  double rcond_estimate() const override { return engine_.rcond_estimate(); }
+  int num_analyses() const override { return static_cast<const SparseFactorization&>(engine_).num_analyses(); }
+
+ private:
+  static FactorizationResult same_everywhere(FactorizationResult r) {
+    int low = static_cast<int>(r.status), high = low;
+    MPI_Allreduce(MPI_IN_PLACE, &low, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+    MPI_Allreduce(MPI_IN_PLACE, &high, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+    EXPECT_EQ(low, high) << "the processes return different statuses";
+    return r;
+  }
+
+  template <class Matrix, class Call>
+  static FactorizationResult written_on_root(Matrix* out, const Call& call) {
+    const Matrix before = out != nullptr ? *out : Matrix();
+    const FactorizationResult r = same_everywhere(call());
+    if (out == nullptr) return r;
+    if (!root()) {
+      EXPECT_TRUE(out->rows() == before.rows() && out->cols() == before.cols() && *out == before)
+          << "outputs are written on rank 0 only";
+    }
+    int written = r.ok() ? 1 : 0;  // rank 0 decides
+    MPI_Bcast(&written, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    if (written) {
+      long shape[2] = {static_cast<long>(out->rows()), static_cast<long>(out->cols())};
+      MPI_Bcast(shape, 2, MPI_LONG, 0, MPI_COMM_WORLD);
+      out->resize(shape[0], shape[1]);
+      MPI_Bcast(out->data(), static_cast<int>(out->size()), MPI_DOUBLE, 0, MPI_COMM_WORLD);
+    }
+    return r;
+  }
+
+  MumpsMpiFactorization engine_;
+};
+
+INSTANTIATE_TEST_SUITE_P(MumpsMpi, LinearConformance,
+                         ::testing::Values(hemivem::test::LinearEngine{
+                             "mumps-mpi", [] { return std::make_unique<SpmdView>(); }}),
+                         hemivem::test::engine_test_name);
 
 /// Vector Laplacian (two unknowns per node) on an m×m grid of nodes with a shift: SPD.
 SparseMatrix grid_matrix(int m) {
@@ -75,68 +136,12 @@ SparseMatrix grid_matrix(int m) {
   return A;
 }
 
-Eigen::MatrixXd random_matrix(Eigen::Index rows, Eigen::Index cols, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> value(-1.0, 1.0);
-  Eigen::MatrixXd M(rows, cols);
-  for (Eigen::Index j = 0; j < cols; ++j)
-    for (Eigen::Index i = 0; i < rows; ++i) M(i, j) = value(rng);
-  return M;
-}
-
-/// Relative error, or infinity when the shapes differ.
-double relative_error(const Eigen::MatrixXd& X, const Eigen::MatrixXd& reference) {
-  if (X.rows() != reference.rows() || X.cols() != reference.cols()) return INFINITY;
-  return (X - reference).norm() / std::max(reference.norm(), 1e-300);
-}
-
-std::vector<int> random_block(int n, int count, unsigned seed) {
-  std::vector<int> all(static_cast<std::size_t>(n));
-  std::iota(all.begin(), all.end(), 0);
-  std::mt19937 rng(seed);
-  std::shuffle(all.begin(), all.end(), rng);
-  all.resize(static_cast<std::size_t>(count));
-  return all;
-}
-
-std::vector<int> complement(int n, const std::vector<int>& block1) {
-  std::vector<char> in(static_cast<std::size_t>(n), 0);
-  for (int i : block1) in[static_cast<std::size_t>(i)] = 1;
-  std::vector<int> rest;
-  for (int i = 0; i < n; ++i)
-    if (!in[static_cast<std::size_t>(i)]) rest.push_back(i);
-  return rest;
-}
-
-/// The argument on rank 0, an empty object elsewhere (the engine must ignore it there).
-template <class T>
-T on_root(const T& value) {
-  return root() ? value : T();
-}
-
 constexpr double kTolerance = 1e-10;
 
-void check_solves(const SparseMatrix& A_full, unsigned seed) {
-  const SparseMatrix A = on_root(A_full);
-  const Eigen::MatrixXd B = on_root(random_matrix(A_full.rows(), 4, seed));
-  MumpsMpiFactorization mumps;
-  EXPECT_EQ(mumps.name(), "mumps-mpi");
-  const auto f = mumps.factorize(A);
-  ASSERT_TRUE(f.ok()) << f.message;
-  Eigen::MatrixXd X;
-  const auto s = mumps.solve(B, &X);
-  ASSERT_TRUE(s.ok()) << s.message;
-  if (root()) {
-    const Eigen::LLT<Eigen::MatrixXd> llt{Eigen::MatrixXd(A_full)};
-    EXPECT_LT(relative_error(X, llt.solve(B)), kTolerance);
-  } else {
-    EXPECT_EQ(X.size(), 0) << "outputs are written on rank 0 only";
-  }
+TEST(MumpsMpi, SolveOfGridMatrixMatchesDenseCholesky) {
+  SpmdView mumps;
+  hemivem::test::expect_solves_match_dense_reference(mumps, grid_matrix(30), 7);
 }
-
-TEST(MumpsMpi, SolveOfRandomMatrixMatchesDenseCholesky) { check_solves(random_spd(200, 5), 3); }
-
-TEST(MumpsMpi, SolveOfGridMatrixMatchesDenseCholesky) { check_solves(grid_matrix(30), 7); }
 
 TEST(MumpsMpi, RefactorizesWithoutNewAnalysis) {
   const SparseMatrix A_full = grid_matrix(20);
@@ -154,41 +159,13 @@ TEST(MumpsMpi, RefactorizesWithoutNewAnalysis) {
   }
 }
 
-void check_schur(const SparseMatrix& A_full, const std::vector<int>& block1_full, unsigned seed) {
-  const int n = static_cast<int>(A_full.rows());
-  const int n1 = static_cast<int>(block1_full.size());
-  MumpsMpiFactorization mumps;
-  Eigen::MatrixXd S;
-  const auto r = mumps.schur_complement(on_root(A_full), on_root(block1_full), &S);
-  ASSERT_TRUE(r.ok()) << r.message;
-  const Eigen::MatrixXd B2 = on_root(random_matrix(n - n1, 3, seed));
-  Eigen::MatrixXd X2;
-  const auto s = mumps.solve_interior(B2, &X2);
-  ASSERT_TRUE(s.ok()) << s.message;
-  if (root()) {
-    const Eigen::MatrixXd D = A_full;
-    const std::vector<int> block2 = complement(n, block1_full);
-    const Eigen::MatrixXd A12 = D(block1_full, block2);
-    const Eigen::LLT<Eigen::MatrixXd> llt22{Eigen::MatrixXd(D(block2, block2))};
-    const Eigen::MatrixXd S_ref = D(block1_full, block1_full) - A12 * llt22.solve(A12.transpose());
-    EXPECT_LT(relative_error(S, S_ref), kTolerance);
-    EXPECT_LT(relative_error(X2, llt22.solve(B2)), kTolerance);
-  } else {
-    EXPECT_EQ(S.size(), 0);
-    EXPECT_EQ(X2.size(), 0);
-  }
-}
-
-TEST(MumpsMpi, SchurComplementOfRandomMatrixMatchesDenseReference) {
-  check_schur(random_spd(200, 13), random_block(200, 40, 17), 19);
-}
-
 TEST(MumpsMpi, SchurComplementOfGridBottomRowMatchesDenseReference) {
   // block1: the second unknown of the interior nodes of the bottom row (as in condensation).
   const int m = 24;
   std::vector<int> block1;
   for (int i = 1; i + 1 < m; ++i) block1.push_back(2 * i + 1);
-  check_schur(grid_matrix(m), block1, 23);
+  SpmdView mumps;
+  hemivem::test::expect_schur_complement_matches_dense_reference(mumps, grid_matrix(m), block1, 23);
 }
 
 TEST(MumpsMpi, NotPositiveDefiniteEverywhere) {
@@ -202,22 +179,6 @@ TEST(MumpsMpi, NotPositiveDefiniteEverywhere) {
             FactorizationStatus::not_positive_definite);
   EXPECT_EQ(mumps.schur_complement(on_root(A_full), on_root(std::vector<int>{0, 1}), &S).status,
             FactorizationStatus::not_positive_definite);
-  const Eigen::MatrixXd D = Eigen::Vector3d(1.0, -1.0, 2.0).asDiagonal();
-  EXPECT_EQ(mumps.factorize(on_root(SparseMatrix(D.sparseView()))).status,
-            FactorizationStatus::not_positive_definite);
-}
-
-TEST(MumpsMpi, BadInputOnRankZeroIsReportedEverywhere) {
-  const SparseMatrix A_full = random_spd(40, 29);
-  MumpsMpiFactorization mumps;
-  Eigen::MatrixXd S, X;
-  EXPECT_EQ(mumps.solve(on_root(Eigen::MatrixXd::Ones(40, 1).eval()), &X).status, FactorizationStatus::not_ready);
-  EXPECT_EQ(mumps.schur_complement(on_root(A_full), on_root(std::vector<int>{1, 1}), &S).status,
-            FactorizationStatus::invalid_input);
-  ASSERT_TRUE(mumps.factorize(on_root(A_full)).ok());
-  const auto r = mumps.solve(on_root(Eigen::MatrixXd::Ones(41, 1).eval()), &X);
-  EXPECT_EQ(r.status, FactorizationStatus::invalid_input);
-  EXPECT_FALSE(r.message.empty());
 }
 
 TEST(MumpsMpi, ReciprocalConditionEstimateIsTheSameEverywhere) {

@@ -94,7 +94,7 @@ std::unique_ptr<Example> example(const std::string& kind, int n, const std::func
 namespace hemivem::test {
 
 std::string slurp(const std::filesystem::path& file) {
-  std::ifstream in(file);
+  std::ifstream in(file, std::ios::binary);
   std::stringstream s;
   s << in.rdbuf();
   return s.str();
@@ -121,5 +121,64 @@ CommandRun run_command(const std::string& command) {
 }
 
 CommandRun run_hemivem(const std::string& args) { return run_command(std::string(HEMIVEM_BINARY) + " " + args); }
+
+}  // namespace hemivem::test
+
+#include <fstream>
+#include <iterator>
+#include <set>
+
+namespace hemivem::test {
+
+std::ostream& operator<<(std::ostream& os, const Malformed& m) { return os << m.file; }
+
+void expect_rejected_at_its_line(const std::filesystem::path& dir, const Malformed& c,
+                                 const std::function<void(const std::filesystem::path&)>& read) {
+  const std::filesystem::path file = dir / c.file;
+  ASSERT_TRUE(std::filesystem::is_regular_file(file)) << file;
+  try {
+    read(file);
+    FAIL() << "read without error: " << file;
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    const std::string where = file.string() + ":" + std::to_string(c.line);
+    EXPECT_EQ(e.where(), where) << what;
+    EXPECT_EQ(what.rfind(where + ": ", 0), 0u) << what;
+    EXPECT_NE(what.find(c.file), std::string::npos) << what;
+    EXPECT_NE(what.find(c.fragment), std::string::npos) << what;
+    const auto* mesh_error = dynamic_cast<const MeshError*>(&e);
+    if (c.kind == MalformedKind::mesh) {
+      ASSERT_NE(mesh_error, nullptr) << "expected a MeshError: " << what;
+      EXPECT_EQ(mesh_error->element(), c.element) << what;
+    } else {
+      EXPECT_EQ(mesh_error, nullptr) << "expected a plain InputError: " << what;
+    }
+  }
+}
+
+void expect_table_covers_corpus(const std::filesystem::path& dir, const std::string& extension,
+                                std::span<const Malformed> table) {
+  std::set<std::string> in_table;
+  for (const auto& c : table) in_table.insert(c.file);
+  EXPECT_EQ(in_table.size(), table.size()) << "a file is listed twice";
+  std::set<std::string> on_disk;
+  for (const auto& e : std::filesystem::directory_iterator(dir))
+    if (e.path().extension() == extension) on_disk.insert(e.path().filename().string());
+  EXPECT_EQ(on_disk, in_table);
+  std::ifstream readme(dir / "README.md");
+  ASSERT_TRUE(readme) << dir / "README.md" << " is missing";
+  const std::string text((std::istreambuf_iterator<char>(readme)), std::istreambuf_iterator<char>());
+  for (const auto& c : table) {
+    EXPECT_NE(text.find(std::string("`") + c.file + "`"), std::string::npos) << c.file << " is not in the README";
+    EXPECT_NE(text.find(c.fragment), std::string::npos) << "the README lacks the fragment of " << c.file;
+  }
+}
+
+std::string corpus_test_name(const char* file, const std::string& prefix) {
+  std::string name = std::filesystem::path(file).stem().string();
+  std::replace(name.begin(), name.end(), '-', '_');
+  std::replace(name.begin(), name.end(), '.', '_');
+  return prefix + name;
+}
 
 }  // namespace hemivem::test

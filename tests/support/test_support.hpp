@@ -80,3 +80,39 @@ std::string slurp(const std::filesystem::path& file);
 std::filesystem::path scratch(const std::string& name);
 
 }  // namespace hemivem::test
+
+#include <functional>
+#include <ostream>
+#include <span>
+
+namespace hemivem::test {
+
+// ---- corpora of malformed files (tests/data/malformed, tests/data/gmsh/malformed) ----------
+
+enum class MalformedKind { input, mesh };
+
+/// A file of a corpus and the error reading it must throw: an InputError at `file:line`
+/// whose message holds `fragment`; of kind mesh, a MeshError whose element() is `element`.
+struct Malformed {
+  const char* file;      // in the corpus folder
+  int line;              // expected line in where()
+  const char* fragment;  // expected in what()
+  MalformedKind kind = MalformedKind::input;
+  int element = -1;
+};
+
+std::ostream& operator<<(std::ostream& os, const Malformed& m);
+
+/// Reads `dir`/`c.file` with `read` and expects the error `c` describes.
+void expect_rejected_at_its_line(const std::filesystem::path& dir, const Malformed& c,
+                                 const std::function<void(const std::filesystem::path&)>& read);
+
+/// The files of `dir` ending in `extension` are those of `table`, each once, and the
+/// README.md of `dir` names each file (in backquotes) and its fragment.
+void expect_table_covers_corpus(const std::filesystem::path& dir, const std::string& extension,
+                                std::span<const Malformed> table);
+
+/// A test name for a file of a corpus: `prefix` and the file's stem, '-' and '.' as '_'.
+std::string corpus_test_name(const char* file, const std::string& prefix = "");
+
+}  // namespace hemivem::test
