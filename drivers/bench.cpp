@@ -134,53 +134,51 @@ std::string bench_plot(const fs::path& dir, const std::vector<Pair>& pairs, cons
   return draw_figures(dir, {f}).front();
 }
 
-}  // namespace
+/// `base` with mesh.n = n.
+Scene at_size(const Scene& base, int n) {
+  Scene s = base;
+  apply_override(s, "mesh.n=" + std::to_string(n));
+  return s;
+}
 
-int run_bench(const BenchOptions& o, std::ostream& out, std::ostream& err) {
-  if (o.n.empty()) throw InputError("give at least one mesh size", "--n");
-  for (int n : o.n)
-    if (n < 1) throw InputError("mesh sizes must be >= 1, got " + std::to_string(n), "--n");
-  if (o.ref < 1) throw InputError("must be >= 1", "--ref");
-  const Scene base = load_pairs_scene(o.scene, std::nullopt, o.tolerance, o.set);
-  // Every size is validated (a scene reading a mesh file refuses mesh.n) before any work.
-  auto at_size = [&](int n) {
-    Scene s = base;
-    apply_override(s, "mesh.n=" + std::to_string(n));
-    return s;
-  };
-  std::vector<Scene> scenes;
-  for (int n : o.n) scenes.push_back(at_size(n));
-  const bool squares = base.mesh.file.empty() && base.mesh.generator == "squares";
+/// The reference solution errors are measured against (on squares meshes only).
+struct Reference {
+  Pair pair;
+  PairRun run;
+  std::vector<Vec2> points;  ///< the vertices of its mesh
+  double scale = 0.0;        ///< max|u_ref|, 1 when that is 0
+};
+
+// The reference: the finest mesh, the exact active-set method on a direct solver.
+Reference run_reference(const Scene& base, const BenchOptions& o, bool squares, std::ostream& err) {
   const bool progress = o.verbosity >= 1;
-  const std::vector<Pair> pairs = available_pairs();
-  fs::create_directories(o.out);
-
-  // The reference: the finest mesh, the exact active-set method on a direct solver.
   const auto linear = available_factorizations();
-  const Pair ref_pair{std::find(linear.begin(), linear.end(), "cholmod") != linear.end() ? "cholmod" : "eigen", "ssn"};
-  PairRun reference;
-  std::vector<Vec2> ref_points;
-  double ref_scale = 0.0;
+  Reference ref;
+  ref.pair = Pair{std::find(linear.begin(), linear.end(), "cholmod") != linear.end() ? "cholmod" : "eigen", "ssn"};
   if (squares) {
-    if (progress) err << "hemivem bench: reference " << ref_pair.label() << " at n = " << o.ref << " ... " << std::flush;
-    PairRuns r = run_pairs(at_size(o.ref), {ref_pair});
-    reference = std::move(r.runs.front());
-    if (reference.failed) throw NumericalError("the reference " + ref_pair.label() + " failed: " + reference.message);
-    ref_points = r.built->mesh.vertices();
-    ref_scale = max_abs(reference.u);
-    if (ref_scale == 0.0) ref_scale = 1.0;
-    if (progress) err << reference.status << " (" << fixed(reference.seconds, 3) << " s)\n";
+    if (progress) err << "hemivem bench: reference " << ref.pair.label() << " at n = " << o.ref << " ... " << std::flush;
+    PairRuns r = run_pairs(at_size(base, o.ref), {ref.pair});
+    ref.run = std::move(r.runs.front());
+    if (ref.run.failed) throw NumericalError("the reference " + ref.pair.label() + " failed: " + ref.run.message);
+    ref.points = r.built->mesh.vertices();
+    ref.scale = max_abs(ref.run.u);
+    if (ref.scale == 0.0) ref.scale = 1.0;
+    if (progress) err << ref.run.status << " (" << fixed(ref.run.seconds, 3) << " s)\n";
   } else if (progress) {
     err << "hemivem bench: the scene's mesh is not squares: errors are not computed\n";
   }
+  return ref;
+}
 
-  // Per size, the pairs share the mesh, the assembly and each linear engine's condensation
-  // (engine_pairs.hpp); the rows are listed pair by pair.
+// Per size, the pairs share the mesh, the assembly and each linear engine's condensation
+// (engine_pairs.hpp); the rows are listed pair by pair. `all_converged` is cleared when a run
+// does not converge.
+std::vector<BenchRow> run_sizes(const std::vector<Scene>& scenes, const std::vector<Pair>& pairs, const BenchOptions& o,
+                                const Reference* ref, bool& all_converged, std::ostream& err) {
   std::vector<std::vector<BenchRow>> by_pair(pairs.size());
-  bool all_converged = !squares || reference.converged;
   for (std::size_t k = 0; k < o.n.size(); ++k) {
     PairRunOptions ro;
-    if (progress)
+    if (o.verbosity >= 1)
       ro.done = [&](const PairRun& r) {
         err << "hemivem bench: " << std::left << std::setw(28) << r.pair.label() << "n = " << std::setw(5) << o.n[k]
             << r.status << " (" << fixed(r.seconds, 3) << " s)\n";
@@ -190,9 +188,9 @@ int run_bench(const BenchOptions& o, std::ostream& out, std::ostream& err) {
       BenchRow row;
       row.n = o.n[k];
       row.run = std::move(shared.runs[p]);
-      if (squares && !row.run.failed) {
-        const Eigen::VectorXd fine = interpolate_squares(shared.built->mesh, row.run.u, o.n[k], scenes[k].mesh.domain, ref_points);
-        row.error = max_abs(fine - reference.u) / ref_scale;
+      if (ref && !row.run.failed) {
+        const Eigen::VectorXd fine = interpolate_squares(shared.built->mesh, row.run.u, o.n[k], scenes[k].mesh.domain, ref->points);
+        row.error = max_abs(fine - ref->run.u) / ref->scale;
       }
       all_converged &= row.run.converged;
       by_pair[p].push_back(std::move(row));
@@ -201,9 +199,10 @@ int run_bench(const BenchOptions& o, std::ostream& out, std::ostream& err) {
   std::vector<BenchRow> rows;
   for (auto& list : by_pair)
     for (auto& row : list) rows.push_back(std::move(row));
+  return rows;
+}
 
-  // bench.csv
-  const fs::path csv = fs::path(o.out) / "bench.csv";
+void write_bench_csv(const fs::path& csv, const std::vector<BenchRow>& rows) {
   write_atomically(csv, [&](std::ostream& os) {
     os << std::setprecision(10) << "linear,minimizer,n,vertices,contact_nodes,status,converged,iterations,primal,dual";
     for (const auto& s : file_stage_names()) os << ',' << s;
@@ -221,8 +220,11 @@ int run_bench(const BenchOptions& o, std::ostream& out, std::ostream& err) {
       os << '\n';
     }
   });
+}
 
-  // bench.json
+/// bench.json (schema hemivem-bench/2) but for the plot.
+nlohmann::json bench_json(const Scene& base, const BenchOptions& o, bool squares, const Reference& ref,
+                          const std::vector<BenchRow>& rows) {
   nlohmann::json j;
   j["schema"] = "hemivem-bench/2";
   j["version"] = HEMIVEM_VERSION;
@@ -236,13 +238,13 @@ int run_bench(const BenchOptions& o, std::ostream& out, std::ostream& err) {
               : "not computed: the scene's mesh is not squares";
   if (squares)
     j["reference"] = {{"n", o.ref},
-                      {"linear", ref_pair.linear},
-                      {"minimizer", ref_pair.minimizer},
-                      {"status", reference.status},
-                      {"converged", reference.converged},
-                      {"vertices", reference.vertices},
-                      {"seconds", reference.seconds},
-                      {"max_abs_u", ref_scale}};
+                      {"linear", ref.pair.linear},
+                      {"minimizer", ref.pair.minimizer},
+                      {"status", ref.run.status},
+                      {"converged", ref.run.converged},
+                      {"vertices", ref.run.vertices},
+                      {"seconds", ref.run.seconds},
+                      {"max_abs_u", ref.scale}};
   else
     j["reference"] = nullptr;
   j["rows"] = nlohmann::json::array();
@@ -262,33 +264,61 @@ int run_bench(const BenchOptions& o, std::ostream& out, std::ostream& err) {
                          {"seconds", times},
                          {"error", number(r.error)}});
   }
+  return j;
+}
+
+void print_bench(std::ostream& out, const Scene& base, const BenchOptions& o, bool squares, const Reference& ref,
+                 const std::vector<BenchRow>& rows, const std::string& plot_failure) {
+  out << "hemivem bench: " << base.title << " (" << base.source << ")";
+  if (squares)
+    out << "; reference " << ref.pair.label() << " on squares n = " << o.ref << " (" << ref.run.status << ", "
+        << fixed(ref.run.seconds, 3) << " s)";
+  out << "\n  times in seconds; error = max|I_h u_h - u_ref| / max|u_ref| at the reference vertices\n\n";
+  out << std::left << std::setw(10) << "linear" << std::setw(18) << "minimizer" << std::right << std::setw(5) << "N"
+      << "  " << std::left << std::setw(16) << "status" << std::right;
+  for (const char* h : {"mesh", "assembly", "condense", "minimize", "back-sub", "total"}) out << std::setw(10) << h;
+  out << std::setw(11) << "error" << "\n";
+  for (const auto& r : rows) {
+    out << std::left << std::setw(10) << r.run.pair.linear << std::setw(18) << r.run.pair.minimizer << std::right
+        << std::setw(5) << r.n << "  " << std::left << std::setw(16) << r.run.status << std::right;
+    for (const auto& s : stage_names()) out << std::setw(10) << fixed(stage(r.run, s));
+    out << std::setw(11) << (std::isfinite(r.error) ? sci(r.error) : std::string("null")) << "\n";
+  }
+  out << "\n  wrote     " << o.out << "/ (bench.csv, bench.json" << (plot_failure.empty() ? ", bench.png" : "")
+      << ")\n";
+  if (!plot_failure.empty()) out << "  skipped   bench.png: " << plot_failure << "\n";
+}
+
+}  // namespace
+
+int run_bench(const BenchOptions& o, std::ostream& out, std::ostream& err) {
+  if (o.n.empty()) throw InputError("give at least one mesh size", "--n");
+  for (int n : o.n)
+    if (n < 1) throw InputError("mesh sizes must be >= 1, got " + std::to_string(n), "--n");
+  if (o.ref < 1) throw InputError("must be >= 1", "--ref");
+  const Scene base = load_pairs_scene(o.scene, std::nullopt, o.tolerance, o.set);
+  // Every size is validated (a scene reading a mesh file refuses mesh.n) before any work.
+  std::vector<Scene> scenes;
+  for (int n : o.n) scenes.push_back(at_size(base, n));
+  const bool squares = base.mesh.file.empty() && base.mesh.generator == "squares";
+  const std::vector<Pair> pairs = available_pairs();
+  fs::create_directories(o.out);
+
+  const Reference ref = run_reference(base, o, squares, err);
+  bool all_converged = !squares || ref.run.converged;
+  const std::vector<BenchRow> rows = run_sizes(scenes, pairs, o, squares ? &ref : nullptr, all_converged, err);
+
+  write_bench_csv(fs::path(o.out) / "bench.csv", rows);
+  nlohmann::json j = bench_json(base, o, squares, ref, rows);
   const std::string plot_failure = bench_plot(o.out, pairs, rows);
   j["plot"] = plot_failure.empty() ? nlohmann::json("bench.png") : nlohmann::json(nullptr);
   if (!plot_failure.empty()) j["plot_skipped"] = plot_failure;
   write_atomically(fs::path(o.out) / "bench.json", [&](std::ostream& os) { os << j.dump(2) << "\n"; });
 
-  if (o.json) {
+  if (o.json)
     out << j.dump(2) << "\n";
-  } else if (o.verbosity >= 1) {
-    out << "hemivem bench: " << base.title << " (" << base.source << ")";
-    if (squares)
-      out << "; reference " << ref_pair.label() << " on squares n = " << o.ref << " (" << reference.status << ", "
-          << fixed(reference.seconds, 3) << " s)";
-    out << "\n  times in seconds; error = max|I_h u_h - u_ref| / max|u_ref| at the reference vertices\n\n";
-    out << std::left << std::setw(10) << "linear" << std::setw(18) << "minimizer" << std::right << std::setw(5) << "N"
-        << "  " << std::left << std::setw(16) << "status" << std::right;
-    for (const char* h : {"mesh", "assembly", "condense", "minimize", "back-sub", "total"}) out << std::setw(10) << h;
-    out << std::setw(11) << "error" << "\n";
-    for (const auto& r : rows) {
-      out << std::left << std::setw(10) << r.run.pair.linear << std::setw(18) << r.run.pair.minimizer << std::right
-          << std::setw(5) << r.n << "  " << std::left << std::setw(16) << r.run.status << std::right;
-      for (const auto& s : stage_names()) out << std::setw(10) << fixed(stage(r.run, s));
-      out << std::setw(11) << (std::isfinite(r.error) ? sci(r.error) : std::string("null")) << "\n";
-    }
-    out << "\n  wrote     " << o.out << "/ (bench.csv, bench.json" << (plot_failure.empty() ? ", bench.png" : "")
-        << ")\n";
-    if (!plot_failure.empty()) out << "  skipped   bench.png: " << plot_failure << "\n";
-  }
+  else if (o.verbosity >= 1)
+    print_bench(out, base, o, squares, ref, rows, plot_failure);
   return all_converged ? kSuccess : kNotConverged;
 }
 

@@ -82,19 +82,106 @@ nlohmann::json pair_json(const PairRun& r) {
           {"iterations", r.iterations}, {"potential_energy", number(r.energy)}};
 }
 
-PairRuns run_pairs(const Scene& scene, const std::vector<Pair>& pairs, const PairRunOptions& o) {
-  // the engines of every pair, before any work (an unknown name is an InputError here)
+namespace {
+
+/// The engines of a list of pairs: the linear engines in order of first use and one minimizer
+/// of each name.
+struct PairEngines {
   std::vector<std::string> linears;
   std::map<std::string, std::unique_ptr<NonsmoothMinimizer>> minimizers;
+};
+
+// the engines of every pair, before any work (an unknown name is an InputError here)
+PairEngines make_engines(const Scene& scene, const std::vector<Pair>& pairs) {
+  PairEngines e;
   for (const auto& p : pairs) {
-    if (std::find(linears.begin(), linears.end(), p.linear) == linears.end()) linears.push_back(p.linear);
-    if (!minimizers.count(p.minimizer)) minimizers[p.minimizer] = make_scene_minimizer(scene, p.minimizer);
+    if (std::find(e.linears.begin(), e.linears.end(), p.linear) == e.linears.end()) e.linears.push_back(p.linear);
+    if (!e.minimizers.count(p.minimizer)) e.minimizers[p.minimizer] = make_scene_minimizer(scene, p.minimizer);
   }
-  for (const auto& l : linears) {
+  for (const auto& l : e.linears) {
     FactorizationOptions fo;
     fo.engine = l;
     (void)make_factorization(fo);
   }
+  return e;
+}
+
+/// What the solution `s` of one pair says, into `r` (its timings completed with the shared
+/// assembly); the solution's displacement is moved into `r`.
+void record_solution(PairRun& r, ContactSolution& s, const PairRuns& out, const ReducedProblem* reduced,
+                     double tolerance) {
+  r.status = to_string(s.minimizer.status);
+  r.message = s.minimizer.message;
+  r.converged = s.converged();
+  r.certificate = s.minimizer.certificate;
+  r.iterations = s.minimizer.iterations;
+  r.margin = s.uniqueness_margin;
+  r.energy = s.energy;
+  r.rcond = s.rcond;
+  r.condition = s.condition_estimate;
+  r.timings = s.timings;
+  r.timings["assembly"] = out.assembly_seconds;
+  r.timings["total"] += out.assembly_seconds;
+  r.seconds = out.mesh_seconds + r.timings["total"];
+  r.contact_nodes = static_cast<int>(s.contact.size());
+  r.at_bound = static_cast<int>(
+      std::count_if(s.contact.begin(), s.contact.end(), [](const ContactNode& c) { return c.state != "free"; }));
+  if (std::any_of(s.contact.begin(), s.contact.end(), [](const ContactNode& c) { return !c.friction_state.empty(); }))
+    r.stick = static_cast<int>(std::count_if(s.contact.begin(), s.contact.end(),
+                                             [](const ContactNode& c) { return c.friction_state == "stick"; }));
+  r.unknowns = s.unknowns;
+  r.vertices = out.built->mesh.num_vertices();
+  check_guarantee(r, s, reduced, tolerance);
+  r.u = std::move(s.u);
+}
+
+/// The pairs of one linear engine: it condenses the assembly once and each of its minimizers
+/// runs on that condensation; a NumericalError (an InputError too, when the options say so)
+/// fails them all.
+void run_engine_pairs(const std::string& linear, const std::vector<Pair>& pairs, const PairEngines& engines,
+                      const LinearSystem& system, const MinimizerOptions& mo, const PairRunOptions& o, PairRuns& out) {
+  const BuiltProblem& built = *out.built;
+  std::vector<std::size_t> mine;  // the pairs of this engine, in order
+  std::vector<const NonsmoothMinimizer*> minimizers;
+  for (std::size_t i = 0; i < pairs.size(); ++i)
+    if (pairs[i].linear == linear) {
+      mine.push_back(i);
+      minimizers.push_back(engines.minimizers.at(pairs[i].minimizer).get());
+    }
+  std::vector<ContactSolution> sols;
+  std::string failure;
+  ReducedProblem reduced;
+  try {
+    FactorizationOptions fo;
+    fo.engine = linear;
+    sols = solve_contact(built.problem, system, make_factorization(fo), minimizers, mo,
+                         built.has_contact ? &reduced : nullptr, o.estimate_condition);
+    ++out.condensations;
+  } catch (const NumericalError& e) {
+    failure = e.what();
+  } catch (const InputError& e) {
+    if (!o.input_errors_fail_pairs) throw;
+    failure = e.what();
+  }
+  for (std::size_t k = 0; k < mine.size(); ++k) {
+    PairRun& r = out.runs[mine[k]];
+    r.pair = pairs[mine[k]];
+    r.mesh_seconds = out.mesh_seconds;
+    if (!failure.empty()) {
+      r.failed = true;
+      r.message = failure;
+      r.seconds = out.mesh_seconds + out.assembly_seconds;
+    } else {
+      record_solution(r, sols[k], out, built.has_contact ? &reduced : nullptr, mo.tolerance);
+    }
+    if (o.done) o.done(r);
+  }
+}
+
+}  // namespace
+
+PairRuns run_pairs(const Scene& scene, const std::vector<Pair>& pairs, const PairRunOptions& o) {
+  const PairEngines engines = make_engines(scene, pairs);
   MinimizerOptions mo;
   mo.tolerance = scene.solver.tolerance;
   mo.max_iterations = scene.solver.max_iterations;
@@ -103,73 +190,13 @@ PairRuns run_pairs(const Scene& scene, const std::vector<Pair>& pairs, const Pai
   const auto t_mesh = Clock::now();
   out.built = build_problem(scene);
   out.mesh_seconds = since(t_mesh);
-  const BuiltProblem& built = *out.built;
   const auto t_assembly = Clock::now();
-  const LinearSystem system = assemble(built.problem.elasticity);
+  const LinearSystem system = assemble(out.built->problem.elasticity);
   out.assembly_seconds = since(t_assembly);
   out.assemblies = 1;
 
   out.runs.resize(pairs.size());
-  for (const auto& linear : linears) {
-    std::vector<std::size_t> mine;  // the pairs of this engine, in order
-    std::vector<const NonsmoothMinimizer*> engines;
-    for (std::size_t i = 0; i < pairs.size(); ++i)
-      if (pairs[i].linear == linear) {
-        mine.push_back(i);
-        engines.push_back(minimizers.at(pairs[i].minimizer).get());
-      }
-    std::vector<ContactSolution> sols;
-    std::string failure;
-    ReducedProblem reduced;
-    try {
-      FactorizationOptions fo;
-      fo.engine = linear;
-      sols = solve_contact(built.problem, system, make_factorization(fo), engines, mo,
-                           built.has_contact ? &reduced : nullptr, o.estimate_condition);
-      ++out.condensations;
-    } catch (const NumericalError& e) {
-      failure = e.what();
-    } catch (const InputError& e) {
-      if (!o.input_errors_fail_pairs) throw;
-      failure = e.what();
-    }
-    for (std::size_t k = 0; k < mine.size(); ++k) {
-      PairRun& r = out.runs[mine[k]];
-      r.pair = pairs[mine[k]];
-      r.mesh_seconds = out.mesh_seconds;
-      if (!failure.empty()) {
-        r.failed = true;
-        r.message = failure;
-        r.seconds = out.mesh_seconds + out.assembly_seconds;
-      } else {
-        ContactSolution& s = sols[k];
-        r.status = to_string(s.minimizer.status);
-        r.message = s.minimizer.message;
-        r.converged = s.converged();
-        r.certificate = s.minimizer.certificate;
-        r.iterations = s.minimizer.iterations;
-        r.margin = s.uniqueness_margin;
-        r.energy = s.energy;
-        r.rcond = s.rcond;
-        r.condition = s.condition_estimate;
-        r.timings = s.timings;
-        r.timings["assembly"] = out.assembly_seconds;
-        r.timings["total"] += out.assembly_seconds;
-        r.seconds = out.mesh_seconds + r.timings["total"];
-        r.contact_nodes = static_cast<int>(s.contact.size());
-        r.at_bound = static_cast<int>(
-            std::count_if(s.contact.begin(), s.contact.end(), [](const ContactNode& c) { return c.state != "free"; }));
-        if (std::any_of(s.contact.begin(), s.contact.end(), [](const ContactNode& c) { return !c.friction_state.empty(); }))
-          r.stick = static_cast<int>(std::count_if(s.contact.begin(), s.contact.end(),
-                                                   [](const ContactNode& c) { return c.friction_state == "stick"; }));
-        r.unknowns = s.unknowns;
-        r.vertices = built.mesh.num_vertices();
-        check_guarantee(r, s, built.has_contact ? &reduced : nullptr, mo.tolerance);
-        r.u = std::move(s.u);
-      }
-      if (o.done) o.done(r);
-    }
-  }
+  for (const auto& linear : engines.linears) run_engine_pairs(linear, pairs, engines, system, mo, o, out);
   return out;
 }
 

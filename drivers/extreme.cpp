@@ -197,60 +197,28 @@ void print_scene(std::ostream& out, const SceneReport& s, double agree) {
   out << "\n";
 }
 
-}  // namespace
-
-int run_check_extreme(const ExtremeOptions& o, std::ostream& out, std::ostream& err) {
-  if (!(o.agree > 0.0)) throw InputError("must be > 0", "--agree");
-  const fs::path dir = o.scenes.empty() ? fs::path(HEMIVEM_EXTREME_SCENES_DIR) : fs::path(o.scenes);
-  std::error_code ec;
-  if (dir.empty() || !fs::is_directory(dir, ec))
-    throw InputError("not a folder of scenes" + std::string(o.scenes.empty() ? " (pass one with --scenes)" : ""),
-                     dir.empty() ? "--scenes" : dir.string());
+/// The *.toml scenes of the folder, sorted, kept to those --only names (each of which must be
+/// there).
+std::vector<fs::path> extreme_scenes(const fs::path& dir, const std::vector<std::string>& only) {
   std::vector<fs::path> files;
   for (const auto& entry : fs::directory_iterator(dir))
     if (entry.is_regular_file() && entry.path().extension() == ".toml") files.push_back(entry.path());
   std::sort(files.begin(), files.end());
-  for (const auto& name : o.only)
+  for (const auto& name : only)
     if (std::none_of(files.begin(), files.end(), [&](const fs::path& f) { return f.stem() == name; })) {
       std::string names;
       for (const auto& f : files) names += (names.empty() ? "" : ", ") + f.stem().string();
       throw InputError("no scene '" + name + "' in " + dir.string() + "; expected one of: " + names, "--only");
     }
-  if (!o.only.empty())
-    std::erase_if(files, [&](const fs::path& f) { return std::find(o.only.begin(), o.only.end(), f.stem()) == o.only.end(); });
+  if (!only.empty())
+    std::erase_if(files, [&](const fs::path& f) { return std::find(only.begin(), only.end(), f.stem()) == only.end(); });
   if (files.empty()) throw InputError("no *.toml scene in the folder", dir.string());
+  return files;
+}
 
-  std::vector<SceneReport> reports;
-  for (const auto& f : files) reports.push_back(run_scene(f, o, err));
-
-  bool broken = false, disagree = false;
-  for (const auto& s : reports) {
-    for (const auto& r : s.rows) broken |= !r.guarantee;
-    disagree |= s.unique && s.max_difference > o.agree;
-  }
-  const int code = broken ? kInternalError : disagree ? kDisagreement : kSuccess;
-
-  if (o.json) {
-    nlohmann::json j;
-    j["schema"] = "hemivem-stability/2";
-    j["version"] = HEMIVEM_VERSION;
-    j["scenes_folder"] = fs::absolute(dir).lexically_normal().string();
-    j["agree"] = o.agree;
-    j["scenes"] = nlohmann::json::array();
-    for (const auto& s : reports) j["scenes"].push_back(scene_json(s, o.agree));
-    j["guarantees_ok"] = !broken;
-    j["exit_code"] = code;
-    out << j.dump(2) << "\n";
-    return code;
-  }
-  if (o.verbosity < 1) return code;
-  out << "hemivem check --extreme: " << reports.size() << " scenes from " << dir.string()
-      << "\n  every built pair of engines; differences are max|u_a - u_b| / max|u_ref| (u_ref: eigen+ssn);"
-      << "\n  kappa_1: estimate of the 1-norm condition number of the factorized matrix (A22; A without contact),"
-      << "\n  the same method for every engine; engine: 1 / the engine's own reciprocal condition estimate, '-' where"
-      << "\n  it gives none; bound: contact nodes at a bound of the constraint; stick: contact nodes that stick (friction); guarantee: a converged pair has finite u and a feasible point (recomputed)\n";
-  for (const auto& s : reports) print_scene(out, s, o.agree);
-
+/// One line per scene: how many pairs converged, the margin, the range of kappa_1, the
+/// largest difference and the slowest pair's time.
+void print_summary(std::ostream& out, const std::vector<SceneReport>& reports) {
   out << "\n  summary\n  " << std::left << std::setw(24) << "scene" << std::right << std::setw(11) << "converged"
       << std::setw(11) << "margin" << std::setw(20) << "kappa_1" << std::setw(11) << "max diff" << std::setw(11)
       << "time [s]" << "\n";
@@ -277,6 +245,56 @@ int run_check_extreme(const ExtremeOptions& o, std::ostream& out, std::ostream& 
     out << std::setw(11) << conv.str() << std::setw(11) << margin_text(s.margin) << std::setw(20) << cond.str()
         << std::setw(11) << sci(s.max_difference) << std::setw(11) << fixed(worst + s.mesh_seconds, 2) << "\n";
   }
+}
+
+/// The report of `hemivem check --extreme --json` (schema hemivem-stability/2).
+nlohmann::json extreme_json(const fs::path& dir, double agree, const std::vector<SceneReport>& reports, bool broken,
+                            int code) {
+  nlohmann::json j;
+  j["schema"] = "hemivem-stability/2";
+  j["version"] = HEMIVEM_VERSION;
+  j["scenes_folder"] = fs::absolute(dir).lexically_normal().string();
+  j["agree"] = agree;
+  j["scenes"] = nlohmann::json::array();
+  for (const auto& s : reports) j["scenes"].push_back(scene_json(s, agree));
+  j["guarantees_ok"] = !broken;
+  j["exit_code"] = code;
+  return j;
+}
+
+}  // namespace
+
+int run_check_extreme(const ExtremeOptions& o, std::ostream& out, std::ostream& err) {
+  if (!(o.agree > 0.0)) throw InputError("must be > 0", "--agree");
+  const fs::path dir = o.scenes.empty() ? fs::path(HEMIVEM_EXTREME_SCENES_DIR) : fs::path(o.scenes);
+  std::error_code ec;
+  if (dir.empty() || !fs::is_directory(dir, ec))
+    throw InputError("not a folder of scenes" + std::string(o.scenes.empty() ? " (pass one with --scenes)" : ""),
+                     dir.empty() ? "--scenes" : dir.string());
+  const std::vector<fs::path> files = extreme_scenes(dir, o.only);
+
+  std::vector<SceneReport> reports;
+  for (const auto& f : files) reports.push_back(run_scene(f, o, err));
+
+  bool broken = false, disagree = false;
+  for (const auto& s : reports) {
+    for (const auto& r : s.rows) broken |= !r.guarantee;
+    disagree |= s.unique && s.max_difference > o.agree;
+  }
+  const int code = broken ? kInternalError : disagree ? kDisagreement : kSuccess;
+
+  if (o.json) {
+    out << extreme_json(dir, o.agree, reports, broken, code).dump(2) << "\n";
+    return code;
+  }
+  if (o.verbosity < 1) return code;
+  out << "hemivem check --extreme: " << reports.size() << " scenes from " << dir.string()
+      << "\n  every built pair of engines; differences are max|u_a - u_b| / max|u_ref| (u_ref: eigen+ssn);"
+      << "\n  kappa_1: estimate of the 1-norm condition number of the factorized matrix (A22; A without contact),"
+      << "\n  the same method for every engine; engine: 1 / the engine's own reciprocal condition estimate, '-' where"
+      << "\n  it gives none; bound: contact nodes at a bound of the constraint; stick: contact nodes that stick (friction); guarantee: a converged pair has finite u and a feasible point (recomputed)\n";
+  for (const auto& s : reports) print_scene(out, s, o.agree);
+  print_summary(out, reports);
   out << "\n  verdict   ";
   if (code == kSuccess) out << "no guarantee broken; converged pairs agree within " << sci(o.agree) << " wherever the solution is unique\n";
   else if (code == kInternalError) out << "a guarantee was broken (exit " << code << ")\n";

@@ -142,11 +142,10 @@ Figure study_figure(const std::vector<StudyPoint>& rows, bool with_references, i
   return f;
 }
 
-int run_study(const StudyOptions& o, std::ostream& out, std::ostream& err) {
-  Scene scene = o.scene.empty() ? default_scene() : parse_scene(o.scene);
-  apply_overrides(scene, o.set);
-  if (!scene.mesh.file.empty() || scene.mesh.generator != "squares")
-    throw InputError("study needs nested square meshes (mesh.generator = squares)", scene.where("mesh.generator"));
+namespace {
+
+/// The coarse sizes N of --n, sorted and distinct, each dividing the reference N.
+std::vector<int> study_sizes(const StudyOptions& o) {
   if (o.n.empty()) throw InputError("no N given", "--n");
   if (o.ref < 1) throw InputError("the reference N must be positive", "--ref");
   std::vector<int> ns = o.n;
@@ -159,11 +158,18 @@ int run_study(const StudyOptions& o, std::ostream& out, std::ostream& err) {
                            " (study needs nested square meshes, coarser than the reference)",
                        "--n");
   }
-  const bool progress = o.verbosity >= 1;
-  const bool references = is_example_41(scene);
+  return ns;
+}
 
+/// Solves the scene on N x N squares, reporting progress; remembers whether every solve
+/// converged.
+struct SquaresSolver {
+  const Scene& scene;
+  bool progress;
+  std::ostream& err;
   bool all_converged = true;
-  auto solve_n = [&](int n) {
+
+  SceneSolve operator()(int n) {
     Scene s = scene;
     s.mesh.n = n;
     s.mesh.ny.reset();  // N x N squares
@@ -175,24 +181,26 @@ int run_study(const StudyOptions& o, std::ostream& out, std::ostream& err) {
           << to_string(r.solution.minimizer.status) << " (" << r.solution.minimizer.iterations << " iterations), "
           << std::fixed << std::setprecision(2) << since(t) << std::defaultfloat << " s\n";
     return r;
-  };
+  }
+};
 
-  // The reference first; its mesh and field stay, each coarse solve is dropped once measured.
-  const SceneSolve ref = solve_n(o.ref);
+/// One row per coarse size: the energy error of its solution, prolonged to the reference mesh,
+/// relative to the reference's norm `ref_norm`, and the rate against the previous size. Each
+/// coarse solve is dropped once measured.
+std::vector<Row> measure(SquaresSolver& solve, const std::vector<int>& ns, int ref_n, const SceneSolve& ref,
+                         double ref_norm, bool references) {
   const Mesh& ref_mesh = ref.built->mesh;
   const MaterialTable& materials = ref.built->problem.elasticity.materials;
   const Eigen::VectorXd& u_ref = ref.solution.u;
-  const double ref_norm = std::sqrt(q1_energy(ref_mesh, materials, u_ref) / 2.0);
-  if (!(ref_norm > 0)) throw InputError("the reference solution is zero: there is no relative error to measure");
-
+  const auto& domain = solve.scene.mesh.domain;
   std::vector<Row> rows;
   for (int n : ns) {
     const auto t = Clock::now();
-    const SceneSolve c = solve_n(n);
-    const Eigen::VectorXd diff = u_ref - prolong_squares(c.solution.u, n, o.ref);
+    const SceneSolve c = solve(n);
+    const Eigen::VectorXd diff = u_ref - prolong_squares(c.solution.u, n, ref_n);
     Row row;
     row.n = n;
-    row.h = std::max(scene.mesh.domain[1] - scene.mesh.domain[0], scene.mesh.domain[3] - scene.mesh.domain[2]) / n;
+    row.h = std::max(domain[1] - domain[0], domain[3] - domain[2]) / n;
     row.error = std::sqrt(q1_energy(ref_mesh, materials, diff) / 2.0) / ref_norm;
     row.converged = c.solution.converged();
     row.iterations = c.solution.minimizer.iterations;
@@ -202,9 +210,12 @@ int run_study(const StudyOptions& o, std::ostream& out, std::ostream& err) {
     if (references) row.paper = paper_value(n), row.independent = independent_value(n);
     rows.push_back(row);
   }
+  return rows;
+}
 
-  // Outputs.
-  fs::create_directories(o.out);
+/// study.json (schema hemivem-study/1).
+nlohmann::json study_json(const Scene& scene, const StudyOptions& o, const SceneSolve& ref, double ref_norm,
+                          bool all_converged, const std::vector<Row>& rows, bool references) {
   nlohmann::json j;
   j["schema"] = "hemivem-study/1";
   j["scene"] = scene.title;
@@ -230,44 +241,75 @@ int run_study(const StudyOptions& o, std::ostream& out, std::ostream& err) {
                          {"iterations", r.iterations},
                          {"seconds", r.seconds}});
   if (references) j["note"] = kNote;
+  return j;
+}
 
-  std::vector<std::string> written{"study.csv", "study.json"};
-  write_atomically(fs::path(o.out) / "study.csv", [&](std::ostream& os) {
+void write_study_csv(const fs::path& path, const std::vector<Row>& rows) {
+  write_atomically(path, [&](std::ostream& os) {
     os << "h,N,error,rate,paper,independent\n" << std::setprecision(10);
     for (const auto& r : rows)
       os << r.h << "," << r.n << "," << r.error << "," << opt_csv(r.rate) << "," << opt_csv(r.paper) << ","
          << opt_csv(r.independent) << "\n";
   });
+}
+
+void print_study(std::ostream& out, const Scene& scene, const StudyOptions& o, const std::vector<Row>& rows,
+                 bool references, const std::vector<std::string>& written, const std::string& skipped) {
+  out << "hemivem study: " << scene.title << " (" << scene.source << "), squares, reference N = " << o.ref << ", "
+      << to_string(scene.material.model) << ", stabilization " << to_string(scene.material.stabilization) << "\n"
+      << "  relative energy error ||u_ref - P u_h||_E / ||u_ref||_E (exact, bilinear, on the reference mesh)\n\n";
+  out << std::right << std::setw(8) << "h" << std::setw(6) << "N" << std::setw(11) << "error" << std::setw(7) << "rate"
+      << std::setw(11) << "paper" << std::setw(14) << "independent" << "\n";
+  for (const auto& r : rows) {
+    std::ostringstream rate;
+    if (r.rate) rate << std::fixed << std::setprecision(2) << *r.rate;
+    else rate << "-";
+    out << std::setw(8) << h_text(r.n, scene.mesh.domain) << std::setw(6) << r.n << std::setw(11) << percent(r.error)
+        << std::setw(7) << rate.str() << std::setw(11) << percent(r.paper, r.n == 64 ? 3 : 2) << std::setw(14)
+        << percent(r.independent) << (r.converged ? "" : "  (not converged)") << "\n";
+  }
+  out << "\n";
+  if (references) out << "  note: " << kNote << ".\n";
+  out << "  wrote " << o.out << "/ (";
+  for (std::size_t i = 0; i < written.size(); ++i) out << (i ? ", " : "") << written[i];
+  out << ")\n";
+  if (!skipped.empty()) out << "  skipped study.png: " << skipped << "\n";
+}
+
+}  // namespace
+
+int run_study(const StudyOptions& o, std::ostream& out, std::ostream& err) {
+  Scene scene = o.scene.empty() ? default_scene() : parse_scene(o.scene);
+  apply_overrides(scene, o.set);
+  if (!scene.mesh.file.empty() || scene.mesh.generator != "squares")
+    throw InputError("study needs nested square meshes (mesh.generator = squares)", scene.where("mesh.generator"));
+  const std::vector<int> ns = study_sizes(o);
+  const bool references = is_example_41(scene);
+  SquaresSolver solve{scene, o.verbosity >= 1, err};
+
+  // The reference first; its mesh and field stay.
+  const SceneSolve ref = solve(o.ref);
+  const double ref_norm =
+      std::sqrt(q1_energy(ref.built->mesh, ref.built->problem.elasticity.materials, ref.solution.u) / 2.0);
+  if (!(ref_norm > 0)) throw InputError("the reference solution is zero: there is no relative error to measure");
+  const std::vector<Row> rows = measure(solve, ns, o.ref, ref, ref_norm, references);
+
+  // Outputs.
+  fs::create_directories(o.out);
+  const nlohmann::json j = study_json(scene, o, ref, ref_norm, solve.all_converged, rows, references);
+  std::vector<std::string> written{"study.csv", "study.json"};
+  write_study_csv(fs::path(o.out) / "study.csv", rows);
   write_atomically(fs::path(o.out) / "study.json", [&](std::ostream& os) { os << j.dump(2) << "\n"; });
   std::vector<StudyPoint> points;
   for (const auto& r : rows) points.push_back({r.h, r.error, r.paper, r.independent});
   const std::string skipped = draw_figures(o.out, {study_figure(points, references, o.ref)}).front();
   if (skipped.empty()) written.emplace_back("study.png");
 
-  if (o.json) {
+  if (o.json)
     out << j.dump(2) << "\n";
-  } else if (o.verbosity >= 1) {
-    out << "hemivem study: " << scene.title << " (" << scene.source << "), squares, reference N = " << o.ref << ", "
-        << to_string(scene.material.model) << ", stabilization " << to_string(scene.material.stabilization) << "\n"
-        << "  relative energy error ||u_ref - P u_h||_E / ||u_ref||_E (exact, bilinear, on the reference mesh)\n\n";
-    out << std::right << std::setw(8) << "h" << std::setw(6) << "N" << std::setw(11) << "error" << std::setw(7) << "rate"
-        << std::setw(11) << "paper" << std::setw(14) << "independent" << "\n";
-    for (const auto& r : rows) {
-      std::ostringstream rate;
-      if (r.rate) rate << std::fixed << std::setprecision(2) << *r.rate;
-      else rate << "-";
-      out << std::setw(8) << h_text(r.n, scene.mesh.domain) << std::setw(6) << r.n << std::setw(11) << percent(r.error)
-          << std::setw(7) << rate.str() << std::setw(11) << percent(r.paper, r.n == 64 ? 3 : 2) << std::setw(14)
-          << percent(r.independent) << (r.converged ? "" : "  (not converged)") << "\n";
-    }
-    out << "\n";
-    if (references) out << "  note: " << kNote << ".\n";
-    out << "  wrote " << o.out << "/ (";
-    for (std::size_t i = 0; i < written.size(); ++i) out << (i ? ", " : "") << written[i];
-    out << ")\n";
-    if (!skipped.empty()) out << "  skipped study.png: " << skipped << "\n";
-  }
-  return all_converged && ref.solution.converged() ? kSuccess : kNotConverged;
+  else if (o.verbosity >= 1)
+    print_study(out, scene, o, rows, references, written, skipped);
+  return solve.all_converged && ref.solution.converged() ? kSuccess : kNotConverged;
 }
 
 }  // namespace hemivem::cli

@@ -85,29 +85,18 @@ Rectangle rectangle_from(const std::optional<std::array<double, 4>>& d) {
 
 const Mesh& get(const PyMesh& m) { return *m.mesh; }
 
-}  // namespace
+using MeshClass = py::class_<PyMesh>;
 
-void register_mesh(py::module_& m) {
-  py::class_<PyMesh>(m, "Mesh", R"doc(
-A valid polygonal mesh: vertices, counter-clockwise elements of any number of vertices,
-edges, boundary edges, element geometry and region ids. Immutable.
-
-    mesh = hemivem.Mesh.generate("voronoi", 16, seed=3)
-    mesh = hemivem.Mesh.read("scenes/meshes/half-disk.msh")
-    mesh = hemivem.Mesh.from_arrays(vertices, offsets, indices)
-
-Arrays: vertices (n, 2) float64 (a read-only view, no copy); elements as CSR (offsets of
-length num_elements + 1 and indices, int32); edges (m, 2) int32 (v0, v1); edge_elements
-(m, 2) int32 (left, right; -1 on the boundary); boundary_edges (edge ids) int32.
-)doc")
-      .def(py::init([](py::handle vertices, py::handle offsets, py::handle indices, py::object regions) {
-             std::vector<int> r;
-             if (!regions.is_none()) r = ints_from(regions, "regions");
-             return own(Mesh(vertices_from(vertices), elements_from(ints_from(offsets, "offsets"), ints_from(indices, "indices")),
-                             std::move(r)));
-           }),
-           py::arg("vertices"), py::arg("offsets"), py::arg("indices"), py::arg("regions") = py::none(),
-           "The same as Mesh.from_arrays.")
+/// Mesh.from_arrays (and the constructor), Mesh.generate, Mesh.read and write_poly2d.
+void def_mesh_sources(MeshClass& c) {
+  c.def(py::init([](py::handle vertices, py::handle offsets, py::handle indices, py::object regions) {
+          std::vector<int> r;
+          if (!regions.is_none()) r = ints_from(regions, "regions");
+          return own(Mesh(vertices_from(vertices), elements_from(ints_from(offsets, "offsets"), ints_from(indices, "indices")),
+                          std::move(r)));
+        }),
+        py::arg("vertices"), py::arg("offsets"), py::arg("indices"), py::arg("regions") = py::none(),
+        "The same as Mesh.from_arrays.")
       .def_static(
           "from_arrays",
           [](py::handle vertices, py::handle offsets, py::handle indices, py::object regions) {
@@ -157,8 +146,12 @@ length num_elements + 1 and indices, int32); edges (m, 2) int32 (v0, v1); edge_e
             write_poly2d(path, get(self), comments);
           },
           py::arg("path"), py::arg("comments") = std::vector<std::string>{},
-          "Writes the mesh as .poly2d (17 significant digits: an exact round trip).")
-      .def_property_readonly("num_vertices", [](const PyMesh& s) { return get(s).num_vertices(); })
+          "Writes the mesh as .poly2d (17 significant digits: an exact round trip).");
+}
+
+/// Sizes, vertices and elements (CSR offsets and indices, lists).
+void def_mesh_elements(MeshClass& c) {
+  c.def_property_readonly("num_vertices", [](const PyMesh& s) { return get(s).num_vertices(); })
       .def_property_readonly("num_elements", [](const PyMesh& s) { return get(s).num_elements(); })
       .def_property_readonly("num_edges", [](const PyMesh& s) { return get(s).num_edges(); })
       .def_property_readonly(
@@ -202,18 +195,22 @@ length num_elements + 1 and indices, int32); edges (m, 2) int32 (v0, v1); edge_e
             const auto span = mesh.element(e);
             return copy(std::vector<std::int32_t>(span.begin(), span.end()));
           },
-          py::arg("e"), "The vertex indices of element e (int32).")
-      .def_property_readonly(
-          "edges",
-          [](const PyMesh& s) {
-            const Mesh& mesh = get(s);
-            py::array_t<std::int32_t> a({mesh.num_edges(), 2});
-            auto r = a.mutable_unchecked<2>();
-            for (int i = 0; i < mesh.num_edges(); ++i) r(i, 0) = mesh.edge(i).v0, r(i, 1) = mesh.edge(i).v1;
-            return a;
-          },
-          "(num_edges, 2) int32: the end points v0, v1 of each edge (v0 -> v1 counter-clockwise in\n"
-          "the element on its left).")
+          py::arg("e"), "The vertex indices of element e (int32).");
+}
+
+/// Edges, the elements beside them, and the boundary.
+void def_mesh_edges(MeshClass& c) {
+  c.def_property_readonly(
+       "edges",
+       [](const PyMesh& s) {
+         const Mesh& mesh = get(s);
+         py::array_t<std::int32_t> a({mesh.num_edges(), 2});
+         auto r = a.mutable_unchecked<2>();
+         for (int i = 0; i < mesh.num_edges(); ++i) r(i, 0) = mesh.edge(i).v0, r(i, 1) = mesh.edge(i).v1;
+         return a;
+       },
+       "(num_edges, 2) int32: the end points v0, v1 of each edge (v0 -> v1 counter-clockwise in\n"
+       "the element on its left).")
       .def_property_readonly(
           "edge_elements",
           [](const PyMesh& s) {
@@ -237,16 +234,20 @@ length num_elements + 1 and indices, int32); edges (m, 2) int32 (v0, v1); edge_e
             const auto b = get(s).boundary_vertices();
             return copy(std::vector<std::int32_t>(b.begin(), b.end()));
           },
-          "End points of the boundary edges (int32, sorted).")
-      .def_property_readonly(
-          "areas",
-          [](const PyMesh& s) {
-            const Mesh& mesh = get(s);
-            py::array_t<double> a(mesh.num_elements());
-            for (int e = 0; e < mesh.num_elements(); ++e) a.mutable_data()[e] = mesh.area(e);
-            return a;
-          },
-          "Element areas (float64).")
+          "End points of the boundary edges (int32, sorted).");
+}
+
+/// Element geometry, regions, edge groups, h, the bounding box, len and repr.
+void def_mesh_geometry(MeshClass& c) {
+  c.def_property_readonly(
+       "areas",
+       [](const PyMesh& s) {
+         const Mesh& mesh = get(s);
+         py::array_t<double> a(mesh.num_elements());
+         for (int e = 0; e < mesh.num_elements(); ++e) a.mutable_data()[e] = mesh.area(e);
+         return a;
+       },
+       "Element areas (float64).")
       .def_property_readonly(
           "centroids",
           [](const PyMesh& s) {
@@ -298,6 +299,27 @@ length num_elements + 1 and indices, int32); edges (m, 2) int32 (v0, v1); edge_e
           << " edges, h=" << mesh.h() << ")";
         return o.str();
       });
+}
+
+}  // namespace
+
+void register_mesh(py::module_& m) {
+  MeshClass c(m, "Mesh", R"doc(
+A valid polygonal mesh: vertices, counter-clockwise elements of any number of vertices,
+edges, boundary edges, element geometry and region ids. Immutable.
+
+    mesh = hemivem.Mesh.generate("voronoi", 16, seed=3)
+    mesh = hemivem.Mesh.read("scenes/meshes/half-disk.msh")
+    mesh = hemivem.Mesh.from_arrays(vertices, offsets, indices)
+
+Arrays: vertices (n, 2) float64 (a read-only view, no copy); elements as CSR (offsets of
+length num_elements + 1 and indices, int32); edges (m, 2) int32 (v0, v1); edge_elements
+(m, 2) int32 (left, right; -1 on the boundary); boundary_edges (edge ids) int32.
+)doc");
+  def_mesh_sources(c);
+  def_mesh_elements(c);
+  def_mesh_edges(c);
+  def_mesh_geometry(c);
   m.def("mesh_generators", &mesh_generator_names, "The generator names of Mesh.generate.");
 }
 

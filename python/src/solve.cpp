@@ -95,9 +95,9 @@ ContactTable contact_table(const ContactSolution& s) {
 
 SolveData& data(py::handle self) { return *self.cast<std::shared_ptr<SolveData>>(); }
 
-}  // namespace
+using ResultClass = py::class_<SolveData, std::shared_ptr<SolveData>>;
 
-void register_solve(py::module_& m) {
+void register_contact_table(py::module_& m) {
   py::class_<ContactTable>(m, "ContactTable", R"doc(
 The contact nodes of a solution as columns (NumPy arrays of equal length, one row per node):
 vertex (int32), x, y, u_nu, law_force, reaction, pressure, gap, weight (float64), normal
@@ -126,21 +126,12 @@ table.u_nu, table["u_nu"]; table.as_dict() gives them all.
       }, "The column names.")
       .def("as_dict", [](const ContactTable& t) { return py::dict(t.columns); }, "The columns by name (a new dict).")
       .def("__repr__", [](const ContactTable& t) { return "ContactTable(" + std::to_string(t.rows) + " nodes)"; });
+}
 
-  py::class_<SolveData, std::shared_ptr<SolveData>>(m, "Result", R"doc(
-One solve of a scene (hemivem.solve): what `hemivem solve` reports and writes.
-
-    r = hemivem.solve(hemivem.Scene.default())
-    r.status, r.converged, r.certificate, r.energy, r.timings
-    r.displacement          # (num_vertices, 2) float64, C order, read-only view
-    r.contact.u_nu          # the contact table as arrays
-    r.write("out/solve")    # the files of `hemivem solve --out out/solve`
-
-A Result holds its own copy of the scene, the mesh and the solution: it outlives the Scene it
-was solved from, and its arrays keep it alive.
-)doc")
-      .def_property_readonly("status", [](py::handle s) { return to_string(data(s).solved.solution.minimizer.status); },
-                             "'converged', 'iteration limit', 'evaluation limit', 'stalled', 'stopped by callback', 'failed'.")
+/// Result's outcome: status, certificate, energy, iterations, engines, search.
+void def_result_outcome(ResultClass& c) {
+  c.def_property_readonly("status", [](py::handle s) { return to_string(data(s).solved.solution.minimizer.status); },
+                          "'converged', 'iteration limit', 'evaluation limit', 'stalled', 'stopped by callback', 'failed'.")
       .def_property_readonly("converged", [](py::handle s) { return data(s).solved.solution.converged(); })
       .def_property_readonly("message", [](py::handle s) { return data(s).solved.solution.minimizer.message; })
       .def_property_readonly("certificate", [](py::handle s) { return data(s).solved.solution.minimizer.certificate; },
@@ -180,14 +171,18 @@ was solved from, and its arrays keep it alive.
           "A global search's distinct certified critical points (CriticalPoint), lowest energy first\n"
           "(the solution is the first), with their potential energies: result.json's\n"
           "\"critical_points\". Empty for a local search.")
-      .def_property_readonly("warnings", [](py::handle s) { return data(s).solved.built->warnings; })
-      .def_property_readonly(
-          "displacement",
-          [](py::object s) {
-            const Eigen::VectorXd& u = data(s).solved.solution.u;
-            return view(u.data(), u.size() / 2, 2, s);
-          },
-          "(num_vertices, 2) float64, C order, read-only view: (ux, uy) per vertex.")
+      .def_property_readonly("warnings", [](py::handle s) { return data(s).solved.built->warnings; });
+}
+
+/// Result's fields: displacement, reduced point, contact table, history, mesh, scene.
+void def_result_fields(ResultClass& c) {
+  c.def_property_readonly(
+       "displacement",
+       [](py::object s) {
+         const Eigen::VectorXd& u = data(s).solved.solution.u;
+         return view(u.data(), u.size() / 2, 2, s);
+       },
+       "(num_vertices, 2) float64, C order, read-only view: (ux, uy) per vertex.")
       .def_property_readonly(
           "a",
           [](py::object s) {
@@ -230,9 +225,13 @@ was solved from, and its arrays keep it alive.
             return r ? py::cast(r) : py::none();
           },
           "The reduced problem the minimizer solved (solve(..., keep_reduced=True), the default; None\n"
-          "without contact). It has no factorization: condense() for back_substitute.")
-      .def("json", [](py::handle s) { return json_dict(data(s)); },
-           "result.json as a dict (the same document `hemivem solve` writes).")
+          "without contact). It has no factorization: condense() for back_substitute.");
+}
+
+/// Result's documents and files: result.json, the files of `hemivem solve --out`, repr.
+void def_result_outputs(ResultClass& c) {
+  c.def("json", [](py::handle s) { return json_dict(data(s)); },
+        "result.json as a dict (the same document `hemivem solve` writes).")
       .def("to_json", [](py::handle s) { return json_text(data(s)); }, "result.json's text.")
       .def("brief_report", [](py::handle s) { return app::brief_report(data(s).solved); },
            "One line: status, certificate, iterations, energy and total time.")
@@ -271,67 +270,92 @@ was solved from, and its arrays keep it alive.
           << ", energy=" << std::setprecision(10) << sol.energy << ")";
         return o.str();
       });
+}
 
-  m.def(
-      "solve",
-      [](py::object scene_arg, std::optional<std::string> linear, std::optional<std::string> minimizer,
-         std::optional<double> tolerance, std::optional<int> max_iterations, std::optional<std::string> search,
-         std::optional<int> max_starts, std::optional<double> time_budget, std::optional<int> seed,
-         std::optional<std::vector<std::string>> engines, py::object progress,
-         bool keep_reduced, const py::kwargs& kwargs) {
-        auto d = std::make_shared<SolveData>();
-        d->scene = scene_arg.is_none() ? default_scene() : scene_arg.cast<Scene>();
-        // the keywords as the command's flags and --set: validated together with the scene
-        std::vector<std::string> overrides;
-        if (linear) overrides.push_back("solver.linear=" + toml_string(*linear));
-        if (minimizer) overrides.push_back("solver.minimizer=" + toml_string(*minimizer));
-        if (tolerance) overrides.push_back("solver.tolerance=" + toml_float(*tolerance));
-        if (max_iterations) overrides.push_back("solver.max_iterations=" + std::to_string(*max_iterations));
-        if (search) overrides.push_back("solver.search=" + toml_string(*search));
-        if (max_starts) overrides.push_back("solver.max_starts=" + std::to_string(*max_starts));
-        if (time_budget) overrides.push_back("solver.time_budget=" + toml_float(*time_budget));
-        if (seed) overrides.push_back("solver.seed=" + std::to_string(*seed));
-        if (engines) {
-          std::string list;
-          for (const auto& e : *engines) list += (list.empty() ? "" : ", ") + toml_string(e);
-          overrides.push_back("solver.search_engines=[" + list + "]");
-        }
-        for (const auto& [key, value] : kwargs) {
-          const std::string name = key.cast<std::string>();
-          if (py::isinstance<py::bool_>(value) || !(py::isinstance<py::float_>(value) || py::isinstance<py::int_>(value)))
-            throw InputError("engine parameter '" + name + "' must be a number, got " +
-                                 py::str(value.get_type().attr("__name__")).cast<std::string>(),
-                             name);
-          overrides.push_back("solver.parameters." + name + "=" + toml_float(value.cast<double>()));
-        }
-        if (!overrides.empty()) apply_overrides(d->scene, overrides);
-        if (!progress.is_none() && !is_global_search(d->scene.solver.search, "solver.search"))
-          throw InputError("only a global search (search='global') reports local runs", "progress");
-        SignalWatch watch;
-        ReducedProblem reduced;
-        try {
-          py::gil_scoped_release release;
-          auto on_built = [&](const BuiltProblem&, const app::SceneSolve&) {
-            if (watch.poll()) throw Interrupted{};
-          };
-          auto callback = [&](const IterationRecord&) { return !watch.poll(); };
-          d->solved = app::solve_scene(d->scene, on_built, callback, keep_reduced ? &reduced : nullptr,
-                                       search_progress(watch, progress));
-        } catch (const Interrupted&) {
-        }
-        watch.raise_if_interrupted();
-        if (keep_reduced && d->solved.built->has_contact && reduced.law) {
-          d->reduced = std::make_shared<ReducedHolder>();
-          d->reduced->own = std::move(reduced);
-          d->reduced->linear = d->solved.linear;
-        }
-        return d;
-      },
-      py::arg("scene") = py::none(), py::kw_only(), py::arg("linear") = py::none(), py::arg("minimizer") = py::none(),
-      py::arg("tolerance") = py::none(), py::arg("max_iterations") = py::none(), py::arg("search") = py::none(),
-      py::arg("max_starts") = py::none(), py::arg("time_budget") = py::none(), py::arg("seed") = py::none(),
-      py::arg("engines") = py::none(), py::arg("progress") = py::none(), py::arg("keep_reduced") = true,
-      R"doc(Solves a scene as `hemivem solve` does: mesh -> assembly -> condensation -> minimizer ->
+void register_result(py::module_& m) {
+  ResultClass c(m, "Result", R"doc(
+One solve of a scene (hemivem.solve): what `hemivem solve` reports and writes.
+
+    r = hemivem.solve(hemivem.Scene.default())
+    r.status, r.converged, r.certificate, r.energy, r.timings
+    r.displacement          # (num_vertices, 2) float64, C order, read-only view
+    r.contact.u_nu          # the contact table as arrays
+    r.write("out/solve")    # the files of `hemivem solve --out out/solve`
+
+A Result holds its own copy of the scene, the mesh and the solution: it outlives the Scene it
+was solved from, and its arrays keep it alive.
+)doc");
+  def_result_outcome(c);
+  def_result_fields(c);
+  def_result_outputs(c);
+}
+
+/// The keywords of hemivem.solve that override the scene's [solver].
+struct SolveKeywords {
+  std::optional<std::string> linear, minimizer;
+  std::optional<double> tolerance;
+  std::optional<int> max_iterations;
+  std::optional<std::string> search;
+  std::optional<int> max_starts;
+  std::optional<double> time_budget;
+  std::optional<int> seed;
+  std::optional<std::vector<std::string>> engines;
+};
+
+/// The keywords as the command's flags and --set, the further ones as the minimizer's
+/// parameters: validated together with the scene.
+std::vector<std::string> keyword_overrides(const SolveKeywords& k, const py::kwargs& kwargs) {
+  std::vector<std::string> overrides;
+  if (k.linear) overrides.push_back("solver.linear=" + toml_string(*k.linear));
+  if (k.minimizer) overrides.push_back("solver.minimizer=" + toml_string(*k.minimizer));
+  if (k.tolerance) overrides.push_back("solver.tolerance=" + toml_float(*k.tolerance));
+  if (k.max_iterations) overrides.push_back("solver.max_iterations=" + std::to_string(*k.max_iterations));
+  if (k.search) overrides.push_back("solver.search=" + toml_string(*k.search));
+  if (k.max_starts) overrides.push_back("solver.max_starts=" + std::to_string(*k.max_starts));
+  if (k.time_budget) overrides.push_back("solver.time_budget=" + toml_float(*k.time_budget));
+  if (k.seed) overrides.push_back("solver.seed=" + std::to_string(*k.seed));
+  if (k.engines) {
+    std::string list;
+    for (const auto& e : *k.engines) list += (list.empty() ? "" : ", ") + toml_string(e);
+    overrides.push_back("solver.search_engines=[" + list + "]");
+  }
+  for (const auto& [key, value] : kwargs) {
+    const std::string name = key.cast<std::string>();
+    if (py::isinstance<py::bool_>(value) || !(py::isinstance<py::float_>(value) || py::isinstance<py::int_>(value)))
+      throw InputError("engine parameter '" + name + "' must be a number, got " +
+                           py::str(value.get_type().attr("__name__")).cast<std::string>(),
+                       name);
+    overrides.push_back("solver.parameters." + name + "=" + toml_float(value.cast<double>()));
+  }
+  return overrides;
+}
+
+/// Solves the resolved scene of `d` without the GIL, honouring Ctrl-C between stages; keeps
+/// the reduced problem when asked and the scene has contact.
+void solve_data(SolveData& d, const py::object& progress, bool keep_reduced) {
+  if (!progress.is_none() && !is_global_search(d.scene.solver.search, "solver.search"))
+    throw InputError("only a global search (search='global') reports local runs", "progress");
+  SignalWatch watch;
+  ReducedProblem reduced;
+  try {
+    py::gil_scoped_release release;
+    auto on_built = [&](const BuiltProblem&, const app::SceneSolve&) {
+      if (watch.poll()) throw Interrupted{};
+    };
+    auto callback = [&](const IterationRecord&) { return !watch.poll(); };
+    d.solved = app::solve_scene(d.scene, on_built, callback, keep_reduced ? &reduced : nullptr,
+                                search_progress(watch, progress));
+  } catch (const Interrupted&) {
+  }
+  watch.raise_if_interrupted();
+  if (keep_reduced && d.solved.built->has_contact && reduced.law) {
+    d.reduced = std::make_shared<ReducedHolder>();
+    d.reduced->own = std::move(reduced);
+    d.reduced->linear = d.solved.linear;
+  }
+}
+
+constexpr const char* kSolveDoc = R"doc(Solves a scene as `hemivem solve` does: mesh -> assembly -> condensation -> minimizer ->
 back-substitution, only the stages the scene needs. Returns a Result.
 
 scene: a Scene (default: Scene.default()), not modified. linear, minimizer, tolerance and
@@ -349,7 +373,36 @@ critical_points and search are result.json's. progress(SearchProgress) is called
 local run of a global search (an exception it raises ends the solve and is raised again).
 
 Runs without the GIL; Ctrl-C is honoured between stages (after the mesh, at every minimizer
-iteration, after every local run of a global search) and raises KeyboardInterrupt.)doc");
+iteration, after every local run of a global search) and raises KeyboardInterrupt.)doc";
+
+void register_solve_function(py::module_& m) {
+  m.def(
+      "solve",
+      [](py::object scene_arg, std::optional<std::string> linear, std::optional<std::string> minimizer,
+         std::optional<double> tolerance, std::optional<int> max_iterations, std::optional<std::string> search,
+         std::optional<int> max_starts, std::optional<double> time_budget, std::optional<int> seed,
+         std::optional<std::vector<std::string>> engines, py::object progress,
+         bool keep_reduced, const py::kwargs& kwargs) {
+        auto d = std::make_shared<SolveData>();
+        d->scene = scene_arg.is_none() ? default_scene() : scene_arg.cast<Scene>();
+        const SolveKeywords k{linear, minimizer, tolerance, max_iterations, search, max_starts, time_budget, seed, engines};
+        const std::vector<std::string> overrides = keyword_overrides(k, kwargs);
+        if (!overrides.empty()) apply_overrides(d->scene, overrides);
+        solve_data(*d, progress, keep_reduced);
+        return d;
+      },
+      py::arg("scene") = py::none(), py::kw_only(), py::arg("linear") = py::none(), py::arg("minimizer") = py::none(),
+      py::arg("tolerance") = py::none(), py::arg("max_iterations") = py::none(), py::arg("search") = py::none(),
+      py::arg("max_starts") = py::none(), py::arg("time_budget") = py::none(), py::arg("seed") = py::none(),
+      py::arg("engines") = py::none(), py::arg("progress") = py::none(), py::arg("keep_reduced") = true, kSolveDoc);
+}
+
+}  // namespace
+
+void register_solve(py::module_& m) {
+  register_contact_table(m);
+  register_result(m);
+  register_solve_function(m);
 }
 
 }  // namespace hemivem::python

@@ -260,53 +260,63 @@ void write_reduced_problem(const fs::path& folder, const ReducedProblem& p) {
   for (int k = p.num_laws(); fs::exists(folder / law_file_name(k), ec); ++k) fs::remove(folder / law_file_name(k), ec);
 }
 
-ReducedProblem read_reduced_problem(const fs::path& folder, std::shared_ptr<const ContactLaw> law) {
-  if (!fs::is_directory(folder)) throw InputError("not a folder", folder.string());
-  ReducedProblem p;
-  p.constraint = ConstraintKind::box;
-  // problem.txt first: the form says which files follow
+namespace {
+
+/// What problem.txt says of the files that follow: the form and the number of laws.
+struct ProblemForm {
   bool coordinatewise = false;
   long laws = 1;
-  if (fs::exists(folder / "problem.txt")) {
-    bool have_constraint = false;
-    for (const auto& l : read_lines(folder / "problem.txt", false)) {
-      const fs::path file = folder / "problem.txt";
-      const std::string where = file.string() + ":" + std::to_string(l.number);
-      if (l.tokens.size() != 2) throw InputError("expected 'key value'", where);
-      const std::string& key = l.tokens[0];
-      if (key == "format") {
-        const long v = integer(l.tokens[1], file, l.number, "format");
-        if (v < 1 || v > reduced_format_version)
-          throw InputError("format " + l.tokens[1] + " is not one this program reads (1 to " +
-                               std::to_string(reduced_format_version) + ")",
-                           where);
-      } else if (key == "form") {
-        if (l.tokens[1] != "coordinate-wise" && l.tokens[1] != "uniform")
-          throw InputError("unknown form '" + l.tokens[1] + "'; expected uniform or coordinate-wise", where);
-        coordinatewise = l.tokens[1] == "coordinate-wise";
-      } else if (key == "laws") {
-        laws = integer(l.tokens[1], file, l.number, "number of laws");
-        if (laws < 1 || laws > 100) throw InputError("expected 1 to 100 laws, got " + l.tokens[1], where);
-      } else if (key == "constraint") {
-        try {
-          p.constraint = constraint_kind_from_string(l.tokens[1]);
-        } catch (const InputError& e) {
-          throw InputError(e.detail(), where);
-        }
-        have_constraint = true;
-      } else if (key == "uniqueness_margin") {
-        p.uniqueness_margin = l.tokens[1] == "-inf" ? -std::numeric_limits<double>::infinity()
-                                                    : number(l.tokens[1], file, l.number, "margin");
-      } else {
-        throw InputError("unknown key '" + key + "'; expected format, form, laws, constraint or uniqueness_margin", where);
+};
+
+/// problem.txt, when there is one: its format, form, laws, constraint and uniqueness margin
+/// (the last two into `p`).
+ProblemForm read_problem_form(const fs::path& folder, ReducedProblem& p) {
+  ProblemForm form;
+  if (!fs::exists(folder / "problem.txt")) return form;
+  bool have_constraint = false;
+  for (const auto& l : read_lines(folder / "problem.txt", false)) {
+    const fs::path file = folder / "problem.txt";
+    const std::string where = file.string() + ":" + std::to_string(l.number);
+    if (l.tokens.size() != 2) throw InputError("expected 'key value'", where);
+    const std::string& key = l.tokens[0];
+    if (key == "format") {
+      const long v = integer(l.tokens[1], file, l.number, "format");
+      if (v < 1 || v > reduced_format_version)
+        throw InputError("format " + l.tokens[1] + " is not one this program reads (1 to " +
+                             std::to_string(reduced_format_version) + ")",
+                         where);
+    } else if (key == "form") {
+      if (l.tokens[1] != "coordinate-wise" && l.tokens[1] != "uniform")
+        throw InputError("unknown form '" + l.tokens[1] + "'; expected uniform or coordinate-wise", where);
+      form.coordinatewise = l.tokens[1] == "coordinate-wise";
+    } else if (key == "laws") {
+      form.laws = integer(l.tokens[1], file, l.number, "number of laws");
+      if (form.laws < 1 || form.laws > 100) throw InputError("expected 1 to 100 laws, got " + l.tokens[1], where);
+    } else if (key == "constraint") {
+      try {
+        p.constraint = constraint_kind_from_string(l.tokens[1]);
+      } catch (const InputError& e) {
+        throw InputError(e.detail(), where);
       }
+      have_constraint = true;
+    } else if (key == "uniqueness_margin") {
+      p.uniqueness_margin = l.tokens[1] == "-inf" ? -std::numeric_limits<double>::infinity()
+                                                  : number(l.tokens[1], file, l.number, "margin");
+    } else {
+      throw InputError("unknown key '" + key + "'; expected format, form, laws, constraint or uniqueness_margin", where);
     }
-    if (coordinatewise && have_constraint)
-      throw InputError("a coordinate-wise problem has its bounds in coordinates.txt, not a constraint",
-                       (folder / "problem.txt").string());
-    if (!coordinatewise && laws != 1)
-      throw InputError("several laws need 'form coordinate-wise'", (folder / "problem.txt").string());
   }
+  if (form.coordinatewise && have_constraint)
+    throw InputError("a coordinate-wise problem has its bounds in coordinates.txt, not a constraint",
+                     (folder / "problem.txt").string());
+  if (!form.coordinatewise && form.laws != 1)
+    throw InputError("several laws need 'form coordinate-wise'", (folder / "problem.txt").string());
+  return form;
+}
+
+/// S.mtx, c.txt, w.txt and (in the uniform form) g.txt, their sizes checked against S and the
+/// weights > 0.
+void read_matrix_and_vectors(const fs::path& folder, bool coordinatewise, ReducedProblem& p) {
   p.S = read_matrix_market(folder / "S.mtx");
   p.c = read_vector(folder / "c.txt", "c");
   p.w = read_vector(folder / "w.txt", "w");
@@ -321,33 +331,52 @@ ReducedProblem read_reduced_problem(const fs::path& folder, std::shared_ptr<cons
   for (Eigen::Index i = 0; i < n; ++i) {
     if (!(p.w(i) > 0.0)) throw InputError("weight " + shortest(p.w(i)) + " must be > 0", (folder / "w.txt").string() + ": entry " + std::to_string(i + 1));
   }
+}
+
+/// The coordinate-wise form: the laws law1.txt ... and coordinates.txt, a line 'law lower
+/// upper' per coordinate.
+void read_coordinates(const fs::path& folder, long laws, ReducedProblem& p) {
+  const Eigen::Index n = p.S.rows();
+  p.laws.push_back(p.law);
+  for (long k = 1; k < laws; ++k) p.laws.push_back(read_law(folder / law_file_name(static_cast<int>(k))));
+  const fs::path file = folder / "coordinates.txt";
+  const auto lines = read_lines(file, false);
+  if (static_cast<Eigen::Index>(lines.size()) != n)
+    throw InputError("has " + std::to_string(lines.size()) + " lines; S is " + std::to_string(n) + " x " + std::to_string(n),
+                     file.string());
+  p.law_index.resize(n);
+  p.lo.resize(n);
+  p.hi.resize(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Line& l = lines[static_cast<std::size_t>(i)];
+    const std::string where = file.string() + ":" + std::to_string(l.number);
+    if (l.tokens.size() != 3) throw InputError("expected 'law lower upper'", where);
+    const long k = integer(l.tokens[0], file, l.number, "law");
+    if (k >= laws) throw InputError("law " + l.tokens[0] + " out of range: problem.txt has " + std::to_string(laws) + " laws", where);
+    p.law_index(i) = static_cast<int>(k);
+    p.lo(i) = bound(l.tokens[1], file, l.number, "lower bound");
+    p.hi(i) = bound(l.tokens[2], file, l.number, "upper bound");
+    if (!(p.lo(i) <= p.hi(i))) throw InputError("lower bound " + l.tokens[1] + " above upper bound " + l.tokens[2], where);
+  }
+}
+
+}  // namespace
+
+ReducedProblem read_reduced_problem(const fs::path& folder, std::shared_ptr<const ContactLaw> law) {
+  if (!fs::is_directory(folder)) throw InputError("not a folder", folder.string());
+  ReducedProblem p;
+  p.constraint = ConstraintKind::box;
+  // problem.txt first: the form says which files follow
+  const ProblemForm form = read_problem_form(folder, p);
+  read_matrix_and_vectors(folder, form.coordinatewise, p);
   p.law = law ? std::move(law) : read_law(folder / "law.txt");
-  if (coordinatewise) {
-    p.laws.push_back(p.law);
-    for (long k = 1; k < laws; ++k) p.laws.push_back(read_law(folder / law_file_name(static_cast<int>(k))));
-    const fs::path file = folder / "coordinates.txt";
-    const auto lines = read_lines(file, false);
-    if (static_cast<Eigen::Index>(lines.size()) != n)
-      throw InputError("has " + std::to_string(lines.size()) + " lines; S is " + std::to_string(n) + " x " + std::to_string(n),
-                       file.string());
-    p.law_index.resize(n);
-    p.lo.resize(n);
-    p.hi.resize(n);
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const Line& l = lines[static_cast<std::size_t>(i)];
-      const std::string where = file.string() + ":" + std::to_string(l.number);
-      if (l.tokens.size() != 3) throw InputError("expected 'law lower upper'", where);
-      const long k = integer(l.tokens[0], file, l.number, "law");
-      if (k >= laws) throw InputError("law " + l.tokens[0] + " out of range: problem.txt has " + std::to_string(laws) + " laws", where);
-      p.law_index(i) = static_cast<int>(k);
-      p.lo(i) = bound(l.tokens[1], file, l.number, "lower bound");
-      p.hi(i) = bound(l.tokens[2], file, l.number, "upper bound");
-      if (!(p.lo(i) <= p.hi(i))) throw InputError("lower bound " + l.tokens[1] + " above upper bound " + l.tokens[2], where);
-    }
+  if (form.coordinatewise) {
+    read_coordinates(folder, form.laws, p);
     return p;
   }
   // negative gaps (an obstacle pressed in) and +inf (a node that cannot touch it) bound a_i <= g_i
   // from one side only; the box |a_i| <= g_i needs 0 <= g_i < inf
+  const Eigen::Index n = p.S.rows();
   if (p.constraint == ConstraintKind::box)
     for (Eigen::Index i = 0; i < n; ++i)
       if (!(p.g(i) >= 0.0 && std::isfinite(p.g(i))))

@@ -502,8 +502,17 @@ class GmshReader {
   }
 
   Mesh build() {
-    // Vertices: the nodes of surface elements, in $Nodes order.
-    std::vector<int> vertex_of(nodes_.size(), -1);
+    std::vector<int> vertex_of;
+    std::vector<Vec2> vertices = surface_vertices(vertex_of);
+    Mesh mesh = surface_mesh(std::move(vertices), vertex_of);
+    add_edge_groups(mesh, vertex_of);
+    return mesh;
+  }
+
+  /// Vertices: the nodes of surface elements, in $Nodes order; `vertex_of` receives the vertex
+  /// of each node (-1 for the others).
+  std::vector<Vec2> surface_vertices(std::vector<int>& vertex_of) const {
+    vertex_of.assign(nodes_.size(), -1);
     for (const auto& s : surfaces_)
       for (int n : s.nodes) vertex_of[static_cast<std::size_t>(n)] = 0;
     std::vector<Vec2> vertices;
@@ -512,8 +521,12 @@ class GmshReader {
         vertex_of[i] = static_cast<int>(vertices.size());
         vertices.emplace_back(nodes_[i].x, nodes_[i].y);
       }
+    return vertices;
+  }
 
-    // Surface physical groups, sorted by tag.
+  /// The region of each surface element: the rank of its entity's first physical group among
+  /// the surface physical groups sorted by tag (0 without one).
+  std::vector<int> surface_regions() const {
     std::set<int> surface_groups;
     for (const auto& [key, name] : physical_names_)
       if (key.first == 2) surface_groups.insert(key.second);
@@ -523,11 +536,17 @@ class GmshReader {
       if (it == entity_physicals_[2].end() || it->second.empty()) return 0;
       return static_cast<int>(std::distance(surface_groups.begin(), surface_groups.find(it->second.front())));
     };
-
-    std::vector<std::vector<int>> elements;
     std::vector<int> regions;
-    elements.reserve(surfaces_.size());
     regions.reserve(surfaces_.size());
+    for (const auto& s : surfaces_) regions.push_back(region_of(s.entity));
+    return regions;
+  }
+
+  /// The mesh of the surface elements, each made counter-clockwise; a mesh error names the
+  /// Gmsh element and its line.
+  Mesh surface_mesh(std::vector<Vec2> vertices, const std::vector<int>& vertex_of) const {
+    std::vector<std::vector<int>> elements;
+    elements.reserve(surfaces_.size());
     for (const auto& s : surfaces_) {
       std::vector<int> e;
       std::vector<Vec2> p;
@@ -537,12 +556,9 @@ class GmshReader {
       }
       if (signed_area(p) < 0) std::reverse(e.begin(), e.end());
       elements.push_back(std::move(e));
-      regions.push_back(region_of(s.entity));
     }
-
-    Mesh mesh;
     try {
-      mesh = Mesh(std::move(vertices), std::move(elements), std::move(regions));
+      return Mesh(std::move(vertices), std::move(elements), surface_regions());
     } catch (const MeshError& err) {
       const int e = err.element();
       if (e >= 0 && static_cast<std::size_t>(e) < surfaces_.size()) {
@@ -551,8 +567,11 @@ class GmshReader {
       }
       throw MeshError(err.detail(), e, where(elements_header_));
     }
+  }
 
-    // Edge groups from the 1D physical groups.
+  /// The edges of each 1D physical group (by tag), from the line elements of its entities;
+  /// a line element that is no edge of the mesh is an error.
+  std::map<int, std::vector<int>> group_edges(const Mesh& mesh, const std::vector<int>& vertex_of) const {
     std::map<std::pair<int, int>, int> edge_of;
     for (int i = 0; i < mesh.num_edges(); ++i) {
       const auto& ed = mesh.edge(i);
@@ -575,8 +594,13 @@ class GmshReader {
       if (ent == entity_physicals_[1].end()) continue;
       for (int t : ent->second) group_edges[t].push_back(it->second);
     }
+    return group_edges;
+  }
+
+  /// Edge groups from the 1D physical groups, named by $PhysicalNames or else by tag.
+  void add_edge_groups(Mesh& mesh, const std::vector<int>& vertex_of) const {
     std::map<std::string, int> names;
-    for (auto& [tag, edges] : group_edges) {
+    for (auto& [tag, edges] : group_edges(mesh, vertex_of)) {
       const auto named = physical_names_.find({1, tag});
       const std::string name = named != physical_names_.end() ? named->second : std::to_string(tag);
       if (const auto [it, fresh] = names.emplace(name, tag); !fresh)
@@ -587,7 +611,6 @@ class GmshReader {
       edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
       mesh.set_edge_group(name, std::move(edges));
     }
-    return mesh;
   }
 
   std::string data_;

@@ -88,6 +88,176 @@ void find_hanging_vertices(const std::vector<Vec2>& vertices,
   }
 }
 
+// Vertices with a non-finite coordinate or one of magnitude above max_mesh_coordinate.
+void find_vertex_defects(const std::vector<Vec2>& vertices, std::vector<MeshDefect>& out, std::size_t max_defects) {
+  for (std::size_t i = 0; i < vertices.size(); ++i) {
+    if (!std::isfinite(vertices[i].x()) || !std::isfinite(vertices[i].y())) {
+      out.push_back({-1, "vertex " + std::to_string(i) + " has a non-finite coordinate"});
+      if (out.size() >= max_defects) return;
+    } else if (std::abs(vertices[i].x()) > max_mesh_coordinate || std::abs(vertices[i].y()) > max_mesh_coordinate) {
+      out.push_back({-1, "vertex " + std::to_string(i) + " " + fmt_point(vertices[i]) +
+                             " has a coordinate of magnitude above 1e150 (element areas would overflow)"});
+      if (out.size() >= max_defects) return;
+    }
+  }
+}
+
+// What is wrong with the vertex list of one element (too short, an index out of [0, nv), a
+// repeated vertex), or "" when nothing is; `sorted` is scratch space.
+std::string element_index_defect(const std::vector<int>& el, int nv, std::vector<int>& sorted) {
+  if (el.size() < 3) return "has " + std::to_string(el.size()) + " vertices; an element needs at least 3";
+  for (int v : el)
+    if (v < 0 || v >= nv) return "vertex index " + std::to_string(v) + " is out of range [0, " + std::to_string(nv) + ")";
+  sorted.assign(el.begin(), el.end());
+  std::sort(sorted.begin(), sorted.end());
+  if (auto it = std::adjacent_find(sorted.begin(), sorted.end()); it != sorted.end())
+    return "repeats vertex " + std::to_string(*it);
+  return "";
+}
+
+// What is wrong with the polygon of one element (zero area, self-intersecting, clockwise, an
+// area below the smallest normal double), or "" when nothing is; `cgal_poly` and `poly` are
+// scratch space.
+std::string element_shape_defect(const std::vector<int>& el, const std::vector<Vec2>& vertices,
+                                 std::vector<Kernel::Point_2>& cgal_poly, std::vector<Vec2>& poly) {
+  // Exact predicates throughout: collinear -> zero area; then simplicity; then the
+  // orientation of the (simple) polygon.
+  cgal_poly.clear();
+  for (int v : el) cgal_poly.emplace_back(vertices[v].x(), vertices[v].y());
+  // A triangle or quadrilateral turning strictly left at every vertex is convex, hence simple
+  // and counter-clockwise (with five vertices or more it could wind twice: a pentagram).
+  bool convex_small = cgal_poly.size() <= 4;
+  for (std::size_t i = 0; i < cgal_poly.size() && convex_small; ++i)
+    convex_small = CGAL::orientation(cgal_poly[i], cgal_poly[(i + 1) % cgal_poly.size()],
+                                     cgal_poly[(i + 2) % cgal_poly.size()]) == CGAL::LEFT_TURN;
+  bool all_collinear = !convex_small;
+  for (std::size_t i = 2; i < cgal_poly.size() && all_collinear; ++i)
+    all_collinear = CGAL::collinear(cgal_poly[0], cgal_poly[1], cgal_poly[i]) &&
+                    CGAL::collinear(cgal_poly[i - 1], cgal_poly[i], cgal_poly[0]);
+  if (all_collinear) return "has zero area (all its vertices are collinear)";
+  if (!convex_small && !CGAL::is_simple_2(cgal_poly.begin(), cgal_poly.end(), Kernel()))
+    return "is self-intersecting (its boundary crosses or touches itself)";
+  poly.clear();
+  for (int v : el) poly.push_back(vertices[v]);
+  char area[32];
+  if (!convex_small && CGAL::orientation_2(cgal_poly.begin(), cgal_poly.end(), Kernel()) != CGAL::COUNTERCLOCKWISE) {
+    std::snprintf(area, sizeof area, "%.3g", signed_area(poly));
+    return std::string("is clockwise (signed area ") + area + "); elements must be counter-clockwise";
+  }
+  if (const double a = signed_area(poly); !(a >= std::numeric_limits<double>::min())) {
+    std::snprintf(area, sizeof area, "%.3g", a);
+    return std::string("has an area (") + area + ") below the smallest normal double 2.2e-308: too small for double precision";
+  }
+  return "";
+}
+
+// One defect at most per element: its vertex list first, then its polygon.
+void find_element_defects(const std::vector<Vec2>& vertices, const std::vector<std::vector<int>>& elements,
+                          std::vector<MeshDefect>& out, std::size_t max_defects) {
+  const int nv = static_cast<int>(vertices.size());
+  std::vector<Vec2> poly;
+  std::vector<Kernel::Point_2> cgal_poly;
+  std::vector<int> sorted;
+  for (std::size_t e = 0; e < elements.size() && out.size() < max_defects; ++e) {
+    std::string defect = element_index_defect(elements[e], nv, sorted);
+    if (defect.empty()) defect = element_shape_defect(elements[e], vertices, cgal_poly, poly);
+    if (!defect.empty()) out.push_back({static_cast<int>(e), std::move(defect)});
+  }
+}
+
+// Distinct vertices used by elements must not sit at the same point (that would be a
+// crack: two boundaries on top of each other). Near-twins (e.g. 1e-13 apart) are legal.
+void find_coincident_vertices(const std::vector<Vec2>& vertices, const std::vector<std::vector<int>>& elements,
+                              std::vector<MeshDefect>& out, std::size_t max_defects) {
+  std::vector<char> used(vertices.size(), 0);
+  std::vector<int> first_element(vertices.size(), -1);
+  for (std::size_t e = 0; e < elements.size(); ++e)
+    for (int v : elements[e]) {
+      used[static_cast<std::size_t>(v)] = 1;
+      if (first_element[static_cast<std::size_t>(v)] < 0) first_element[static_cast<std::size_t>(v)] = static_cast<int>(e);
+    }
+  std::vector<int> order;
+  for (std::size_t i = 0; i < vertices.size(); ++i)
+    if (used[i]) order.push_back(static_cast<int>(i));
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    return std::make_pair(vertices[a].x(), vertices[a].y()) < std::make_pair(vertices[b].x(), vertices[b].y());
+  });
+  for (std::size_t i = 1; i < order.size() && out.size() < max_defects; ++i) {
+    const int a = std::min(order[i - 1], order[i]), b = std::max(order[i - 1], order[i]);
+    if (vertices[a] == vertices[b])
+      out.push_back({first_element[static_cast<std::size_t>(b)],
+                     "uses vertex " + std::to_string(b) + " " + fmt_point(vertices[b]) + ", which coincides with vertex " +
+                         std::to_string(a) + " (duplicate vertices: the mesh is not conforming)"});
+  }
+}
+
+// An undirected edge: the element and direction of its first use, how often it is used, and
+// the element that runs it the other way.
+struct EdgeUse {
+  int element;
+  int from;
+  int to;
+  int count = 0;
+  int second_element = -1;
+};
+
+// Conformity: each undirected edge at most twice, and then in opposite directions. Returns
+// the undirected edges in order of first use, found through the list of edges at their lower
+// vertex (first_at, next): a few entries per vertex.
+std::vector<EdgeUse> find_edge_defects(const std::vector<Vec2>& vertices, const std::vector<std::vector<int>>& elements,
+                                       std::vector<MeshDefect>& out, std::size_t max_defects) {
+  std::vector<EdgeUse> uses;
+  std::vector<int> first_at(vertices.size(), -1), next;
+  std::size_t total = 0;
+  for (const auto& el : elements) total += el.size();
+  uses.reserve(total);
+  next.reserve(total);
+  for (std::size_t e = 0; e < elements.size() && out.size() < max_defects; ++e) {
+    const auto& el = elements[e];
+    const int ie = static_cast<int>(e);
+    for (std::size_t i = 0; i < el.size(); ++i) {
+      const int a = el[i], b = el[(i + 1) % el.size()];
+      const int lo = std::min(a, b), hi = std::max(a, b);
+      int id = first_at[static_cast<std::size_t>(lo)];
+      while (id >= 0 && std::max(uses[static_cast<std::size_t>(id)].from, uses[static_cast<std::size_t>(id)].to) != hi)
+        id = next[static_cast<std::size_t>(id)];
+      if (id < 0) {
+        next.push_back(first_at[static_cast<std::size_t>(lo)]);
+        first_at[static_cast<std::size_t>(lo)] = static_cast<int>(uses.size());
+        uses.push_back(EdgeUse{ie, a, b, 1});
+        continue;
+      }
+      EdgeUse& u = uses[static_cast<std::size_t>(id)];
+      ++u.count;
+      if (u.count == 2 && u.from != a) {
+        u.second_element = ie;
+        continue;
+      }
+      const std::string edge = std::to_string(a) + "-" + std::to_string(b);
+      if (u.count > 2) {
+        out.push_back({ie, "shares edge " + edge + " that already belongs to elements " + std::to_string(u.element) +
+                               " and " + std::to_string(u.second_element) + " (an edge may belong to at most two elements)"});
+      } else {
+        out.push_back({ie, "runs edge " + edge + " in the same direction as element " + std::to_string(u.element) +
+                               " (overlapping or inconsistently oriented elements)"});
+      }
+      if (out.size() >= max_defects) break;
+    }
+  }
+  return uses;
+}
+
+// The edges used once (v0, v1, element), in order of element, then vertices.
+std::vector<std::array<int, 3>> boundary_edges(const std::vector<EdgeUse>& uses) {
+  std::vector<std::array<int, 3>> boundary;
+  for (const auto& u : uses)
+    if (u.count == 1) boundary.push_back({u.from, u.to, u.element});
+  std::sort(boundary.begin(), boundary.end(), [](const auto& x, const auto& y) {
+    return std::tie(x[2], x[0], x[1]) < std::tie(y[2], y[0], y[1]);
+  });
+  return boundary;
+}
+
 }  // namespace
 
 double signed_area(std::span<const Vec2> polygon) {
@@ -112,171 +282,15 @@ std::vector<MeshDefect> find_mesh_defects(const std::vector<Vec2>& vertices,
   if (elements.empty()) out.push_back({-1, "the mesh has no elements"});
   if (!out.empty()) return out;
 
-  for (std::size_t i = 0; i < vertices.size(); ++i) {
-    if (!std::isfinite(vertices[i].x()) || !std::isfinite(vertices[i].y())) {
-      out.push_back({-1, "vertex " + std::to_string(i) + " has a non-finite coordinate"});
-      if (full()) return out;
-    } else if (std::abs(vertices[i].x()) > max_mesh_coordinate || std::abs(vertices[i].y()) > max_mesh_coordinate) {
-      out.push_back({-1, "vertex " + std::to_string(i) + " " + fmt_point(vertices[i]) +
-                             " has a coordinate of magnitude above 1e150 (element areas would overflow)"});
-      if (full()) return out;
-    }
-  }
+  find_vertex_defects(vertices, out, max_defects);
   if (!out.empty()) return out;
-
-  const int nv = static_cast<int>(vertices.size());
-  std::vector<char> element_ok(elements.size(), 0);
-  std::vector<Vec2> poly;
-  std::vector<Kernel::Point_2> cgal_poly;
-  std::vector<int> sorted;
-  for (std::size_t e = 0; e < elements.size() && !full(); ++e) {
-    const auto& el = elements[e];
-    const int ie = static_cast<int>(e);
-    if (el.size() < 3) {
-      out.push_back({ie, "has " + std::to_string(el.size()) + " vertices; an element needs at least 3"});
-      continue;
-    }
-    bool ok = true;
-    for (int v : el) {
-      if (v < 0 || v >= nv) {
-        out.push_back({ie, "vertex index " + std::to_string(v) + " is out of range [0, " + std::to_string(nv) + ")"});
-        ok = false;
-        break;
-      }
-    }
-    if (!ok) continue;
-    sorted.assign(el.begin(), el.end());
-    std::sort(sorted.begin(), sorted.end());
-    if (auto it = std::adjacent_find(sorted.begin(), sorted.end()); it != sorted.end()) {
-      out.push_back({ie, "repeats vertex " + std::to_string(*it)});
-      continue;
-    }
-    // Exact predicates throughout: collinear -> zero area; then simplicity; then the
-    // orientation of the (simple) polygon.
-    cgal_poly.clear();
-    for (int v : el) cgal_poly.emplace_back(vertices[v].x(), vertices[v].y());
-    // A triangle or quadrilateral turning strictly left at every vertex is convex, hence simple
-    // and counter-clockwise (with five vertices or more it could wind twice: a pentagram).
-    bool convex_small = cgal_poly.size() <= 4;
-    for (std::size_t i = 0; i < cgal_poly.size() && convex_small; ++i)
-      convex_small = CGAL::orientation(cgal_poly[i], cgal_poly[(i + 1) % cgal_poly.size()],
-                                       cgal_poly[(i + 2) % cgal_poly.size()]) == CGAL::LEFT_TURN;
-    bool all_collinear = !convex_small;
-    for (std::size_t i = 2; i < cgal_poly.size() && all_collinear; ++i)
-      all_collinear = CGAL::collinear(cgal_poly[0], cgal_poly[1], cgal_poly[i]) &&
-                      CGAL::collinear(cgal_poly[i - 1], cgal_poly[i], cgal_poly[0]);
-    if (all_collinear) {
-      out.push_back({ie, "has zero area (all its vertices are collinear)"});
-      continue;
-    }
-    if (!convex_small && !CGAL::is_simple_2(cgal_poly.begin(), cgal_poly.end(), Kernel())) {
-      out.push_back({ie, "is self-intersecting (its boundary crosses or touches itself)"});
-      continue;
-    }
-    if (!convex_small && CGAL::orientation_2(cgal_poly.begin(), cgal_poly.end(), Kernel()) != CGAL::COUNTERCLOCKWISE) {
-      poly.clear();
-      for (int v : el) poly.push_back(vertices[v]);
-      char area[32];
-      std::snprintf(area, sizeof area, "%.3g", signed_area(poly));
-      out.push_back({ie, std::string("is clockwise (signed area ") + area + "); elements must be counter-clockwise"});
-      continue;
-    }
-    poly.clear();
-    for (int v : el) poly.push_back(vertices[v]);
-    if (const double a = signed_area(poly); !(a >= std::numeric_limits<double>::min())) {
-      char area[32];
-      std::snprintf(area, sizeof area, "%.3g", a);
-      out.push_back({ie, std::string("has an area (") + area +
-                             ") below the smallest normal double 2.2e-308: too small for double precision"});
-      continue;
-    }
-    element_ok[e] = 1;
-  }
+  find_element_defects(vertices, elements, out, max_defects);
   if (full() || !out.empty()) return out;
-
-  // Distinct vertices used by elements must not sit at the same point (that would be a
-  // crack: two boundaries on top of each other). Near-twins (e.g. 1e-13 apart) are legal.
-  {
-    std::vector<char> used(vertices.size(), 0);
-    std::vector<int> first_element(vertices.size(), -1);
-    for (std::size_t e = 0; e < elements.size(); ++e)
-      for (int v : elements[e]) {
-        used[static_cast<std::size_t>(v)] = 1;
-        if (first_element[static_cast<std::size_t>(v)] < 0) first_element[static_cast<std::size_t>(v)] = static_cast<int>(e);
-      }
-    std::vector<int> order;
-    for (std::size_t i = 0; i < vertices.size(); ++i)
-      if (used[i]) order.push_back(static_cast<int>(i));
-    std::sort(order.begin(), order.end(), [&](int a, int b) {
-      return std::make_pair(vertices[a].x(), vertices[a].y()) < std::make_pair(vertices[b].x(), vertices[b].y());
-    });
-    for (std::size_t i = 1; i < order.size() && !full(); ++i) {
-      const int a = std::min(order[i - 1], order[i]), b = std::max(order[i - 1], order[i]);
-      if (vertices[a] == vertices[b])
-        out.push_back({first_element[static_cast<std::size_t>(b)],
-                       "uses vertex " + std::to_string(b) + " " + fmt_point(vertices[b]) + ", which coincides with vertex " +
-                           std::to_string(a) + " (duplicate vertices: the mesh is not conforming)"});
-    }
-    if (!out.empty()) return out;
-  }
-
-  // Conformity: each undirected edge at most twice, and then in opposite directions.
-  struct Use {
-    int element;
-    int from;
-    int to;
-    int count = 0;
-    int second_element = -1;
-  };
-  // the undirected edges in order of first use, found through the list of edges at their lower
-  // vertex (first_at, next): a few entries per vertex
-  std::vector<Use> uses;
-  std::vector<int> first_at(vertices.size(), -1), next;
-  std::size_t total = 0;
-  for (const auto& el : elements) total += el.size();
-  uses.reserve(total);
-  next.reserve(total);
-  for (std::size_t e = 0; e < elements.size() && !full(); ++e) {
-    const auto& el = elements[e];
-    const int ie = static_cast<int>(e);
-    for (std::size_t i = 0; i < el.size(); ++i) {
-      const int a = el[i], b = el[(i + 1) % el.size()];
-      const int lo = std::min(a, b), hi = std::max(a, b);
-      int id = first_at[static_cast<std::size_t>(lo)];
-      while (id >= 0 && std::max(uses[static_cast<std::size_t>(id)].from, uses[static_cast<std::size_t>(id)].to) != hi)
-        id = next[static_cast<std::size_t>(id)];
-      if (id < 0) {
-        next.push_back(first_at[static_cast<std::size_t>(lo)]);
-        first_at[static_cast<std::size_t>(lo)] = static_cast<int>(uses.size());
-        uses.push_back(Use{ie, a, b, 1});
-        continue;
-      }
-      Use& u = uses[static_cast<std::size_t>(id)];
-      ++u.count;
-      if (u.count == 2 && u.from != a) {
-        u.second_element = ie;
-        continue;
-      }
-      const std::string edge = std::to_string(a) + "-" + std::to_string(b);
-      if (u.count > 2) {
-        out.push_back({ie, "shares edge " + edge + " that already belongs to elements " + std::to_string(u.element) +
-                               " and " + std::to_string(u.second_element) + " (an edge may belong to at most two elements)"});
-      } else {
-        out.push_back({ie, "runs edge " + edge + " in the same direction as element " + std::to_string(u.element) +
-                               " (overlapping or inconsistently oriented elements)"});
-      }
-      if (full()) break;
-    }
-  }
+  find_coincident_vertices(vertices, elements, out, max_defects);
   if (!out.empty()) return out;
-
-  std::vector<std::array<int, 3>> boundary;
-  for (const auto& u : uses)
-    if (u.count == 1) boundary.push_back({u.from, u.to, u.element});
-  std::sort(boundary.begin(), boundary.end(), [](const auto& x, const auto& y) {
-    return std::tie(x[2], x[0], x[1]) < std::tie(y[2], y[0], y[1]);
-  });
-  find_hanging_vertices(vertices, boundary, out, max_defects);
+  const std::vector<EdgeUse> uses = find_edge_defects(vertices, elements, out, max_defects);
+  if (!out.empty()) return out;
+  find_hanging_vertices(vertices, boundary_edges(uses), out, max_defects);
   return out;
 }
 

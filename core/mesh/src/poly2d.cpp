@@ -87,105 +87,14 @@ class Poly2dReader {
   Poly2dReader(std::string data, std::string name) : data_(std::move(data)), name_(std::move(name)) { split(); }
 
   Poly2dMesh read() {
-    // ---- vertices
     const Line vheader = expect_header("vertices", "NV", "vertex count");
     const int nv = header_count_;
-    std::vector<Vec2> vertices;
-    vertices.reserve(bounded(nv));
-    for (int i = 0; i < nv; ++i) {
-      const Line& line = data_line(i, nv, "vertex", "vertices", vheader);
-      if (tokens_.size() != 2)
-        fail(line, "vertex " + std::to_string(i) + " has " + std::to_string(tokens_.size()) +
-                       (tokens_.size() == 1 ? " value" : " values") +
-                       "; a vertex line holds exactly 2 coordinates 'x y' (found " + quote(line.text) + ")");
-      Vec2 p;
-      for (int c = 0; c < 2; ++c) {
-        const std::string what = "vertex " + std::to_string(i) + " has " + (c == 0 ? "an x" : "a y") + " coordinate ";
-        double v = 0.0;
-        switch (parse_real(tokens_[c], v)) {
-          case Parse::bad: fail(line, what + quote(tokens_[c]) + " that is not a number");
-          case Parse::out_of_range: fail(line, what + quote(tokens_[c]) + " outside the range of double");
-          case Parse::ok: break;
-        }
-        if (!std::isfinite(v)) fail(line, what + quote(tokens_[c]) + " that is not finite");
-        if (std::abs(v) > max_mesh_coordinate)
-          fail(line, what + quote(tokens_[c]) + " of magnitude above 1e150 (element areas would overflow)");
-        p[c] = v;
-      }
-      vertices.push_back(p);
-    }
-
-    // ---- elements
+    std::vector<Vec2> vertices = read_vertices(nv, vheader);
     const Line eheader = expect_header("elements", "NE", "element count");
-    const int ne = header_count_;
-    std::vector<std::vector<int>> elements;
     std::vector<int> element_lines;
-    elements.reserve(bounded(ne));
-    element_lines.reserve(bounded(ne));
-    long long total_indices = 0;
-    for (int e = 0; e < ne; ++e) {
-      const Line& line = data_line(e, ne, "element", "elements", eheader);
-      const std::string el = "element " + std::to_string(e);
-      long long k = 0;
-      if (parse_integer(tokens_[0], k) != Parse::ok)
-        fail(line, el + " has a bad vertex count " + quote(tokens_[0]) + " (expected an integer k >= 3)");
-      if (k < 3)
-        throw MeshError(el + " has " + std::to_string(k) + (k == 1 ? " vertex" : " vertices") +
-                            "; an element needs at least 3",
-                        e, where(line));
-      const std::size_t listed = tokens_.size() - 1;
-      if (static_cast<unsigned long long>(k) != listed)
-        fail(line, el + " declares " + std::to_string(k) + " vertices but lists " + std::to_string(listed) +
-                       (listed == 1 ? " index" : " indices"));
-      total_indices += k;
-      if (total_indices > INT_MAX)
-        fail(line, "the elements hold more than " + std::to_string(INT_MAX) + " vertex indices in total");
-      std::vector<int> ids;
-      ids.reserve(listed);
-      for (std::size_t j = 1; j < tokens_.size(); ++j) {
-        long long v = 0;
-        const Parse r = parse_integer(tokens_[j], v);
-        if (r == Parse::bad)
-          fail(line, el + " has a bad vertex index " + quote(tokens_[j]) + " (expected an integer)");
-        if (r == Parse::out_of_range || v < 0 || v >= nv)
-          throw MeshError(el + " has vertex index " + shown(tokens_[j]) + " out of range [0, " +
-                              std::to_string(nv) + ")",
-                          e, where(line));
-        ids.push_back(static_cast<int>(v));
-      }
-      elements.push_back(std::move(ids));
-      element_lines.push_back(line.number);
-    }
-
-    // ---- optional boundary list
+    std::vector<std::vector<int>> elements = read_elements(header_count_, nv, eheader, element_lines);
     Poly2dMesh out;
-    if (pos_ < lines_.size()) {
-      const Line& line = lines_[pos_];
-      tokenize(line.text);
-      if (tokens_[0] != "boundary")
-        fail(line, "unexpected content after the element list: " + quote(line.text) +
-                       " (expected 'boundary NB' or the end of the file)");
-      const Line bheader = expect_header("boundary", "NB", "boundary count");
-      const int nb = header_count_;
-      out.boundary_list.reserve(bounded(nb));
-      for (int b = 0; b < nb; ++b) {
-        const Line& bl = data_line(b, nb, "boundary", "boundary", bheader);
-        const std::string entry = "boundary entry " + std::to_string(b);
-        if (tokens_.size() != 1)
-          fail(bl, entry + " has " + std::to_string(tokens_.size()) +
-                       " values; a boundary line holds exactly one vertex index (found " + quote(bl.text) + ")");
-        long long v = 0;
-        const Parse r = parse_integer(tokens_[0], v);
-        if (r == Parse::bad) fail(bl, entry + " has a bad vertex index " + quote(tokens_[0]) + " (expected an integer)");
-        if (r == Parse::out_of_range || v < 0 || v >= nv)
-          fail(bl, entry + " has vertex index " + shown(tokens_[0]) + " out of range [0, " +
-                       std::to_string(nv) + ")");
-        out.boundary_list.push_back(static_cast<int>(v));
-      }
-      if (pos_ < lines_.size())
-        fail(lines_[pos_], "unexpected content after the boundary list: " + quote(lines_[pos_].text) +
-                               " (the file should end here)");
-    }
+    if (pos_ < lines_.size()) out.boundary_list = read_boundary(nv);
 
     // ---- mesh rules
     try {
@@ -204,6 +113,119 @@ class Poly2dReader {
   }
 
  private:
+  /// The `nv` lines `x y` after the header `vertices NV`.
+  std::vector<Vec2> read_vertices(int nv, const Line& vheader) {
+    std::vector<Vec2> vertices;
+    vertices.reserve(bounded(nv));
+    for (int i = 0; i < nv; ++i) {
+      const Line& line = data_line(i, nv, "vertex", "vertices", vheader);
+      if (tokens_.size() != 2)
+        fail(line, "vertex " + std::to_string(i) + " has " + std::to_string(tokens_.size()) +
+                       (tokens_.size() == 1 ? " value" : " values") +
+                       "; a vertex line holds exactly 2 coordinates 'x y' (found " + quote(line.text) + ")");
+      Vec2 p;
+      for (int c = 0; c < 2; ++c) p[c] = coordinate(i, c, line);
+      vertices.push_back(p);
+    }
+    return vertices;
+  }
+
+  /// Coordinate `c` (0: x, 1: y) of vertex `i`, from tokens_: a finite double of magnitude at
+  /// most max_mesh_coordinate.
+  double coordinate(int i, int c, const Line& line) const {
+    const std::string what = "vertex " + std::to_string(i) + " has " + (c == 0 ? "an x" : "a y") + " coordinate ";
+    double v = 0.0;
+    switch (parse_real(tokens_[c], v)) {
+      case Parse::bad: fail(line, what + quote(tokens_[c]) + " that is not a number");
+      case Parse::out_of_range: fail(line, what + quote(tokens_[c]) + " outside the range of double");
+      case Parse::ok: break;
+    }
+    if (!std::isfinite(v)) fail(line, what + quote(tokens_[c]) + " that is not finite");
+    if (std::abs(v) > max_mesh_coordinate)
+      fail(line, what + quote(tokens_[c]) + " of magnitude above 1e150 (element areas would overflow)");
+    return v;
+  }
+
+  /// The `ne` lines `k v1 ... vk` after the header `elements NE`; `element_lines` receives
+  /// the line of each.
+  std::vector<std::vector<int>> read_elements(int ne, int nv, const Line& eheader, std::vector<int>& element_lines) {
+    std::vector<std::vector<int>> elements;
+    elements.reserve(bounded(ne));
+    element_lines.reserve(bounded(ne));
+    long long total_indices = 0;
+    for (int e = 0; e < ne; ++e) {
+      const Line& line = data_line(e, ne, "element", "elements", eheader);
+      elements.push_back(element(e, nv, line, total_indices));
+      element_lines.push_back(line.number);
+    }
+    return elements;
+  }
+
+  /// The vertex indices of element `e`, from tokens_; `total_indices` counts those of all
+  /// elements so far.
+  std::vector<int> element(int e, int nv, const Line& line, long long& total_indices) const {
+    const std::string el = "element " + std::to_string(e);
+    long long k = 0;
+    if (parse_integer(tokens_[0], k) != Parse::ok)
+      fail(line, el + " has a bad vertex count " + quote(tokens_[0]) + " (expected an integer k >= 3)");
+    if (k < 3)
+      throw MeshError(el + " has " + std::to_string(k) + (k == 1 ? " vertex" : " vertices") +
+                          "; an element needs at least 3",
+                      e, where(line));
+    const std::size_t listed = tokens_.size() - 1;
+    if (static_cast<unsigned long long>(k) != listed)
+      fail(line, el + " declares " + std::to_string(k) + " vertices but lists " + std::to_string(listed) +
+                     (listed == 1 ? " index" : " indices"));
+    total_indices += k;
+    if (total_indices > INT_MAX)
+      fail(line, "the elements hold more than " + std::to_string(INT_MAX) + " vertex indices in total");
+    std::vector<int> ids;
+    ids.reserve(listed);
+    for (std::size_t j = 1; j < tokens_.size(); ++j) {
+      long long v = 0;
+      const Parse r = parse_integer(tokens_[j], v);
+      if (r == Parse::bad)
+        fail(line, el + " has a bad vertex index " + quote(tokens_[j]) + " (expected an integer)");
+      if (r == Parse::out_of_range || v < 0 || v >= nv)
+        throw MeshError(el + " has vertex index " + shown(tokens_[j]) + " out of range [0, " +
+                            std::to_string(nv) + ")",
+                        e, where(line));
+      ids.push_back(static_cast<int>(v));
+    }
+    return ids;
+  }
+
+  /// The optional list `boundary NB` and its NB vertex indices, which must end the file.
+  std::vector<int> read_boundary(int nv) {
+    const Line& line = lines_[pos_];
+    tokenize(line.text);
+    if (tokens_[0] != "boundary")
+      fail(line, "unexpected content after the element list: " + quote(line.text) +
+                     " (expected 'boundary NB' or the end of the file)");
+    const Line bheader = expect_header("boundary", "NB", "boundary count");
+    const int nb = header_count_;
+    std::vector<int> boundary_list;
+    boundary_list.reserve(bounded(nb));
+    for (int b = 0; b < nb; ++b) {
+      const Line& bl = data_line(b, nb, "boundary", "boundary", bheader);
+      const std::string entry = "boundary entry " + std::to_string(b);
+      if (tokens_.size() != 1)
+        fail(bl, entry + " has " + std::to_string(tokens_.size()) +
+                     " values; a boundary line holds exactly one vertex index (found " + quote(bl.text) + ")");
+      long long v = 0;
+      const Parse r = parse_integer(tokens_[0], v);
+      if (r == Parse::bad) fail(bl, entry + " has a bad vertex index " + quote(tokens_[0]) + " (expected an integer)");
+      if (r == Parse::out_of_range || v < 0 || v >= nv)
+        fail(bl, entry + " has vertex index " + shown(tokens_[0]) + " out of range [0, " +
+                     std::to_string(nv) + ")");
+      boundary_list.push_back(static_cast<int>(v));
+    }
+    if (pos_ < lines_.size())
+      fail(lines_[pos_], "unexpected content after the boundary list: " + quote(lines_[pos_].text) +
+                             " (the file should end here)");
+    return boundary_list;
+  }
+
   void split() { last_line_ = text::split_lines(data_, name_, lines_, '#', &comments_); }
   void tokenize(std::string_view line) { text::tokenize(line, tokens_); }
 

@@ -196,41 +196,52 @@ VectorField finite_vector(ScalarExpression ex, ScalarExpression ey, const Scene&
   return [fx, fy](const Vec2& x) { return Vec2(fx(x), fy(x)); };
 }
 
-}  // namespace
-
-ContactProblem make_contact_problem(const Scene& scene, const Mesh& mesh) {
+/// The material of each region: the scene's E and nu, but for the regions [[material.region]]
+/// names.
+MaterialTable scene_materials(const Scene& scene, const Mesh& mesh) {
   int regions = 1;
   for (int r : mesh.regions()) regions = std::max(regions, r + 1);
   for (const auto& r : scene.material.regions) regions = std::max(regions, r.region + 1);
   std::vector<Material> by_region(static_cast<std::size_t>(regions), Material{scene.material.young, scene.material.poisson});
   for (const auto& r : scene.material.regions) by_region[static_cast<std::size_t>(r.region)] = Material{r.young, r.poisson};
-  ContactProblem p;
-  p.elasticity.mesh = &mesh;
-  p.elasticity.materials = MaterialTable(by_region, scene.material.model);
-  p.elasticity.stabilization = scene.material.stabilization;
+  return MaterialTable(by_region, scene.material.model);
+}
 
-  const Rectangle box = mesh.bounding_box();
-  auto select = [&](const BoundarySelector& b, const std::string& key) {
+/// The boundary edges of the mesh a selector of the scene picks (sorted, distinct); an error
+/// naming the selector's key when it picks none or names a group the mesh lacks.
+class EdgeSelection {
+ public:
+  EdgeSelection(const Scene& scene, const Mesh& mesh) : scene_(scene), mesh_(mesh), box_(mesh.bounding_box()) {}
+
+  std::vector<int> operator()(const BoundarySelector& b, const std::string& key) const {
     std::vector<Segment> segs;
-    for (const auto& side : b.sides) segs.push_back(rectangle_side(box, side, b.tolerance));
+    for (const auto& side : b.sides) segs.push_back(rectangle_side(box_, side, b.tolerance));
     for (const auto& s : b.segments) segs.push_back(Segment{Vec2(s[0], s[1]), Vec2(s[2], s[3]), b.tolerance});
     std::vector<int> edges;
-    if (!segs.empty()) edges = select_boundary_edges(mesh, segs);
+    if (!segs.empty()) edges = select_boundary_edges(mesh_, segs);
     for (const auto& g : b.groups) {
       try {
-        const auto e = select_boundary_edges(mesh, g);
+        const auto e = select_boundary_edges(mesh_, g);
         edges.insert(edges.end(), e.begin(), e.end());
       } catch (const InputError& e) {
-        throw InputError(key + ".group: " + e.detail(), scene.where(key + ".group"));
+        throw InputError(key + ".group: " + e.detail(), scene_.where(key + ".group"));
       }
     }
     std::sort(edges.begin(), edges.end());
     edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-    if (edges.empty()) throw InputError(key + ": selects no boundary edge of the mesh", scene.where(key));
+    if (edges.empty()) throw InputError(key + ": selects no boundary edge of the mesh", scene_.where(key));
     return edges;
-  };
+  }
 
-  if (!scene.clamped.empty()) p.elasticity.dirichlet.push_back({select(scene.clamped, "clamped"), {}, {true, true}});
+ private:
+  const Scene& scene_;
+  const Mesh& mesh_;
+  const Rectangle box_;
+};
+
+/// [clamped] and each [[dirichlet]]: the prescribed displacements.
+void add_dirichlet(ElasticityProblem& e, const Scene& scene, const EdgeSelection& select) {
+  if (!scene.clamped.empty()) e.dirichlet.push_back({select(scene.clamped, "clamped"), {}, {true, true}});
   for (std::size_t i = 0; i < scene.dirichlet.size(); ++i) {
     const auto& d = scene.dirichlet[i];
     const std::string key = "dirichlet[" + std::to_string(i) + "]";
@@ -239,12 +250,16 @@ ContactProblem make_contact_problem(const Scene& scene, const Mesh& mesh) {
     // the keys that gave the components, for messages
     const bool as_value = scene.lines.count(key + ".value") > 0;
     const std::array<std::string, 2> keys{as_value ? key + ".value" : key + ".ux", as_value ? key + ".value" : key + ".uy"};
-    p.elasticity.dirichlet.push_back(
+    e.dirichlet.push_back(
         {select(d.boundary, key), finite_vector(ux, uy, scene, keys), {d.ux.has_value(), d.uy.has_value()}});
   }
+}
+
+/// [loads]: the body force (when not zero) and each [[loads.traction]].
+void add_loads(ElasticityProblem& e, const Scene& scene, const EdgeSelection& select) {
   const auto& f = scene.body_force;
   if (f[0].is_expression() || f[1].is_expression() || f[0].value != 0.0 || f[1].value != 0.0)
-    p.elasticity.body_force = finite_vector(field(f[0]), field(f[1]), scene, {"loads.body_force", "loads.body_force"});
+    e.body_force = finite_vector(field(f[0]), field(f[1]), scene, {"loads.body_force", "loads.body_force"});
   for (std::size_t i = 0; i < scene.tractions.size(); ++i) {
     const auto& t = scene.tractions[i];
     const std::string key = "loads.traction[" + std::to_string(i) + "]";
@@ -252,47 +267,65 @@ ContactProblem make_contact_problem(const Scene& scene, const Mesh& mesh) {
     load.edges = select(t.boundary, key);
     if (t.pressure) load.pressure = finite_scalar(field(*t.pressure), scene, key + ".pressure");
     else load.traction = finite_vector(field(t.value[0]), field(t.value[1]), scene, {key + ".value", key + ".value"});
-    p.elasticity.tractions.push_back(std::move(load));
+    e.tractions.push_back(std::move(load));
   }
-  if (scene.contact) {
-    const auto& c = *scene.contact;
-    p.contact_edges = select(c.boundary, "contact");
-    {  // a part whose every node is clamped leaves nothing to touch: an error, not a silent drop
-      std::set<int> fixed, touching;
-      for (const auto& d : p.elasticity.dirichlet)
-        if (d.fix[0] && d.fix[1])
-          for (int e : d.edges) fixed.insert({mesh.edge(e).v0, mesh.edge(e).v1});
-      for (int e : p.contact_edges) touching.insert({mesh.edge(e).v0, mesh.edge(e).v1});
-      if (std::includes(fixed.begin(), fixed.end(), touching.begin(), touching.end()))
-        throw InputError("contact: every node of the contact part is also clamped ([clamped] or a [[dirichlet]] "
-                         "with both components), so nothing is left to touch; end one of the parts before the other",
-                         scene.where("contact"));
-    }
-    if (c.obstacle) p.obstacle = make_obstacle(*c.obstacle);
-    else p.gap = [g = field(c.gap), where = scene.where("contact.gap")](const Vec2& x) {
-      const double value = g(x);
-      if (!(std::isfinite(value) && value >= 0.0))
-        throw InputError("contact.gap = '" + g.text() + "' gives " + fmt(value) + " at (" + fmt(x.x()) + ", " +
-                             fmt(x.y()) + "); a gap must be finite and >= 0",
-                         where);
-      return value;
-    };
+}
+
+/// A contact part whose every node is clamped leaves nothing to touch: an error, not a silent
+/// drop.
+void check_contact_not_clamped(const ContactProblem& p, const Mesh& mesh, const Scene& scene) {
+  std::set<int> fixed, touching;
+  for (const auto& d : p.elasticity.dirichlet)
+    if (d.fix[0] && d.fix[1])
+      for (int e : d.edges) fixed.insert({mesh.edge(e).v0, mesh.edge(e).v1});
+  for (int e : p.contact_edges) touching.insert({mesh.edge(e).v0, mesh.edge(e).v1});
+  if (std::includes(fixed.begin(), fixed.end(), touching.begin(), touching.end()))
+    throw InputError("contact: every node of the contact part is also clamped ([clamped] or a [[dirichlet]] "
+                     "with both components), so nothing is left to touch; end one of the parts before the other",
+                     scene.where("contact"));
+}
+
+/// [contact]: the contact edges, the obstacle or gap, the laws and the constraint.
+void add_contact(ContactProblem& p, const SceneContact& c, const Scene& scene, const Mesh& mesh,
+                 const EdgeSelection& select) {
+  p.contact_edges = select(c.boundary, "contact");
+  check_contact_not_clamped(p, mesh, scene);
+  if (c.obstacle) p.obstacle = make_obstacle(*c.obstacle);
+  else p.gap = [g = field(c.gap), where = scene.where("contact.gap")](const Vec2& x) {
+    const double value = g(x);
+    if (!(std::isfinite(value) && value >= 0.0))
+      throw InputError("contact.gap = '" + g.text() + "' gives " + fmt(value) + " at (" + fmt(x.x()) + ", " +
+                           fmt(x.y()) + "); a gap must be finite and >= 0",
+                       where);
+    return value;
+  };
+  try {
+    p.law = make_law(c.law);
+  } catch (const InputError& e) {
+    throw InputError("contact.law: " + e.detail(), scene.where("contact.law"));
+  }
+  p.constraint = c.constraint;
+  if (c.friction) {
     try {
-      p.law = make_law(c.law);
+      p.friction = make_friction_law(*c.friction);
     } catch (const InputError& e) {
-      throw InputError("contact.law: " + e.detail(), scene.where("contact.law"));
+      throw InputError("contact.friction: " + e.detail(), scene.where("contact.friction.law"));
     }
-    p.constraint = c.constraint;
-    if (c.friction) {
-      try {
-        p.friction = make_friction_law(*c.friction);
-      } catch (const InputError& e) {
-        throw InputError("contact.friction: " + e.detail(), scene.where("contact.friction.law"));
-      }
-    }
-  } else {
-    p.constraint = ConstraintKind::none;
   }
+}
+
+}  // namespace
+
+ContactProblem make_contact_problem(const Scene& scene, const Mesh& mesh) {
+  ContactProblem p;
+  p.elasticity.mesh = &mesh;
+  p.elasticity.materials = scene_materials(scene, mesh);
+  p.elasticity.stabilization = scene.material.stabilization;
+  const EdgeSelection select(scene, mesh);
+  add_dirichlet(p.elasticity, scene, select);
+  add_loads(p.elasticity, scene, select);
+  if (scene.contact) add_contact(p, *scene.contact, scene, mesh, select);
+  else p.constraint = ConstraintKind::none;
   return p;
 }
 

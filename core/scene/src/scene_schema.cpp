@@ -153,36 +153,92 @@ SceneLaw read_friction(TableReader& r) {
   return law;
 }
 
-SceneContact read_contact(TableReader& r) {
-  SceneContact c;
-  c.boundary = read_selector(r, true);
-  if (auto law = r.string("law")) {
-    check_name(r, "law", *law, law_names(), "contact law");
-    c.law.name = lower(*law);
+/// [contact.parameters]: the parameters of the law by name; a parameter of another law names
+/// that law.
+void read_law_parameters(TableReader& r, const toml::table& p, SceneLaw& law) {
+  const auto& allowed = law_parameter_names().at(law.name);
+  for (const auto& [k, v] : p) {  // a parameter of another law: name the law
+    const std::string key(k.str());
+    if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
+    std::string owners;
+    for (const auto& [other, names] : law_parameter_names())
+      if (std::find(names.begin(), names.end(), key) != names.end()) owners += (owners.empty() ? "" : ", ") + other;
+    if (owners.empty()) continue;  // unknown to every law: the reader below suggests a name
+    r.fail("parameters", v, "'" + key + "' is a parameter of law " + owners + ", not of law '" + law.name + "'" +
+                                 (allowed.empty() ? " (which has none)" : " (which has: " + join(allowed) + ")"));
   }
-  read_pieces(r, c.law);
-  if (const toml::table* p = r.table("parameters")) {
-    const auto& allowed = law_parameter_names().at(c.law.name);
-    for (const auto& [k, v] : *p) {  // a parameter of another law: name the law
-      const std::string key(k.str());
-      if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
-      std::string owners;
-      for (const auto& [law, names] : law_parameter_names())
-        if (std::find(names.begin(), names.end(), key) != names.end()) owners += (owners.empty() ? "" : ", ") + law;
-      if (owners.empty()) continue;  // unknown to every law: the reader below suggests a name
-      r.fail("parameters", v, "'" + key + "' is a parameter of law " + owners + ", not of law '" + c.law.name + "'" +
-                                   (allowed.empty() ? " (which has none)" : " (which has: " + join(allowed) + ")"));
-    }
-    TableReader pr(r.scene(), *p, r.key_path("parameters"), allowed);
-    for (const auto& name : allowed)
-      if (auto v = pr.number(name)) c.law.parameters[name] = *v;
+  TableReader pr(r.scene(), p, r.key_path("parameters"), allowed);
+  for (const auto& name : allowed)
+    if (auto v = pr.number(name)) law.parameters[name] = *v;
+}
+
+/// The normal law of [contact]: its name, pieces and parameters, checked by making it.
+void read_contact_law(TableReader& r, SceneLaw& law) {
+  if (auto name = r.string("law")) {
+    check_name(r, "law", *name, law_names(), "contact law");
+    law.name = lower(*name);
   }
+  read_pieces(r, law);
+  if (const toml::table* p = r.table("parameters")) read_law_parameters(r, *p, law);
   try {
-    (void)make_law(c.law);
+    (void)make_law(law);
   } catch (const InputError& e) {
     const char* at = r.has("j") ? "j" : "law";
     r.fail(at, r.has(at) ? r.node(at) : static_cast<const toml::node&>(r.self()), e.detail());
   }
+}
+
+/// [contact.obstacle]: a plane (point, normal), a circle (center, radius) or a polyline (points).
+SceneObstacle read_obstacle(TableReader& ob) {
+  SceneObstacle so;
+  if (auto shape = ob.string("shape")) so.shape = lower(*shape);
+  try {
+    (void)obstacle_shape_from_string(so.shape);
+  } catch (const InputError& e) {
+    ob.fail("shape", ob.node("shape"), e.detail());
+  }
+  const std::map<std::string, std::vector<std::string>> keys{
+      {"plane", {"point", "normal"}}, {"circle", {"center", "radius"}}, {"polyline", {"points"}}};
+  const auto it = keys.find(so.shape);
+  for (const char* k : {"point", "normal", "center", "radius", "points"}) {
+    const bool used = std::find(it->second.begin(), it->second.end(), k) != it->second.end();
+    if (!used && ob.has(k)) ob.fail(k, ob.node(k), "not used by a " + so.shape + " obstacle");
+    if (used && !ob.has(k))
+      throw InputError(ob.path() + ": a " + so.shape + " obstacle needs '" + k + "'", ob.at(ob.self()));
+  }
+  if (auto v = ob.fixed<2>("point", "[x, y]")) so.point = *v;
+  if (auto v = ob.fixed<2>("normal", "[nx, ny]")) so.normal = *v;
+  if (auto v = ob.fixed<2>("center", "[x, y]")) so.center = *v;
+  if (auto v = ob.number("radius")) so.radius = *v;
+  if (auto v = ob.points("points")) so.points = *v;
+  const std::string defect = make_obstacle(so).defect();
+  if (!defect.empty()) {
+    const char* key = so.shape == "plane" ? "normal" : (so.shape == "circle" ? "radius" : "points");
+    ob.fail(key, ob.node(key), defect);
+  }
+  return so;
+}
+
+/// contact.constraint: none, one-sided, box or bilateral (which takes no obstacle).
+void read_constraint(TableReader& r, SceneContact& c) {
+  auto k = r.string("constraint");
+  if (!k) return;
+  try {
+    c.constraint = constraint_kind_from_string(*k);
+  } catch (const InputError&) {
+    r.fail("constraint", r.node("constraint"),
+           "unknown constraint '" + *k + "'; expected one of: none, one-sided, box, bilateral");
+  }
+  if (c.constraint == ConstraintKind::bilateral && c.obstacle)
+    r.fail("constraint", r.node("constraint"),
+           "'bilateral' keeps the normal displacement at 0 (the body slides on the contact boundary); it takes no "
+           "[contact.obstacle]");
+}
+
+SceneContact read_contact(TableReader& r) {
+  SceneContact c;
+  c.boundary = read_selector(r, true);
+  read_contact_law(r, c.law);
   if (auto g = r.scalar("gap")) {
     if (!g->is_expression() && g->value < 0.0) r.fail("gap", r.node("gap"), "must be >= 0, got " + fmt(g->value));
     c.gap = *g;
@@ -190,47 +246,10 @@ SceneContact read_contact(TableReader& r) {
   if (const toml::table* o = r.table("obstacle")) {
     if (r.has("gap")) r.fail("gap", r.node("gap"), "not used with [contact.obstacle]; give either a gap or an obstacle");
     TableReader ob(r.scene(), *o, r.key_path("obstacle"), {"shape", "point", "normal", "center", "radius", "points"});
-    SceneObstacle so;
-    if (auto shape = ob.string("shape")) so.shape = lower(*shape);
-    try {
-      (void)obstacle_shape_from_string(so.shape);
-    } catch (const InputError& e) {
-      ob.fail("shape", ob.node("shape"), e.detail());
-    }
-    const std::map<std::string, std::vector<std::string>> keys{
-        {"plane", {"point", "normal"}}, {"circle", {"center", "radius"}}, {"polyline", {"points"}}};
-    const auto it = keys.find(so.shape);
-    for (const char* k : {"point", "normal", "center", "radius", "points"}) {
-      const bool used = std::find(it->second.begin(), it->second.end(), k) != it->second.end();
-      if (!used && ob.has(k)) ob.fail(k, ob.node(k), "not used by a " + so.shape + " obstacle");
-      if (used && !ob.has(k))
-        throw InputError(ob.path() + ": a " + so.shape + " obstacle needs '" + k + "'", ob.at(ob.self()));
-    }
-    if (auto v = ob.fixed<2>("point", "[x, y]")) so.point = *v;
-    if (auto v = ob.fixed<2>("normal", "[nx, ny]")) so.normal = *v;
-    if (auto v = ob.fixed<2>("center", "[x, y]")) so.center = *v;
-    if (auto v = ob.number("radius")) so.radius = *v;
-    if (auto v = ob.points("points")) so.points = *v;
-    const std::string defect = make_obstacle(so).defect();
-    if (!defect.empty()) {
-      const char* key = so.shape == "plane" ? "normal" : (so.shape == "circle" ? "radius" : "points");
-      ob.fail(key, ob.node(key), defect);
-    }
-    c.obstacle = so;
+    c.obstacle = read_obstacle(ob);
     c.constraint = ConstraintKind::one_sided;  // unless the scene says otherwise
   }
-  if (auto k = r.string("constraint")) {
-    try {
-      c.constraint = constraint_kind_from_string(*k);
-    } catch (const InputError&) {
-      r.fail("constraint", r.node("constraint"),
-             "unknown constraint '" + *k + "'; expected one of: none, one-sided, box, bilateral");
-    }
-    if (c.constraint == ConstraintKind::bilateral && c.obstacle)
-      r.fail("constraint", r.node("constraint"),
-             "'bilateral' keeps the normal displacement at 0 (the body slides on the contact boundary); it takes no "
-             "[contact.obstacle]");
-  }
+  read_constraint(r, c);
   if (const toml::table* f = r.table("friction")) {
     TableReader fr(r.scene(), *f, r.key_path("friction"), {"law", "bound", "static", "kinetic", "distance", "breakpoints", "j", "j1", "j2"});
     c.friction = read_friction(fr);
@@ -238,14 +257,9 @@ SceneContact read_contact(TableReader& r) {
   return c;
 }
 
-}  // namespace
-
-Scene scene_from_table(const toml::table& root, std::string source, const std::filesystem::path& base) {
-  Scene s;
-  s.source = std::move(source);
-  s.lines.clear();
-  TableReader r(s, root, "",
-                {"schema_version", "title", "mesh", "material", "clamped", "dirichlet", "loads", "contact", "solver", "output"});
+/// The root's schema_version (required, the one this program reads) and title (else the
+/// file's stem).
+void read_version_and_title(TableReader& r, Scene& s) {
   const auto version = r.integer("schema_version");
   if (!version)
     throw InputError("missing key 'schema_version'; this program reads schema_version = " +
@@ -261,249 +275,303 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
     const std::string stem = std::filesystem::path(s.source).stem().string();
     s.title = stem.empty() || stem.front() == '<' || stem.front() == '-' ? "untitled scene" : stem;
   }
+}
 
-  if (const toml::table* t = r.table("mesh")) {
-    TableReader m(s, *t, "mesh", {"generator", "file", "n", "seed", "domain"});
-    if (m.has("file")) {
-      for (const char* k : {"generator", "n", "seed", "domain"})
-        if (m.has(k)) m.fail(k, m.node(k), "not used with mesh.file; give either a generator or a file");
-      const auto f = *m.string("file");
-      if (f.empty()) m.fail("file", m.node("file"), "empty path");
-      std::filesystem::path p(f);
-      if (p.is_relative()) p = base / p;
-      p = p.lexically_normal();
-      const std::string ext = lower(p.extension().string());
-      if (ext != ".poly2d" && ext != ".msh")
-        m.fail("file", m.node("file"), "unknown mesh format '" + p.extension().string() + "'; expected .poly2d or .msh");
-      s.mesh.file = p;
-    }
-    if (auto g = m.string("generator")) {
-      check_name(m, "generator", *g, mesh_generator_names(), "mesh generator");
-      s.mesh.generator = lower(*g);
-    }
-    if (m.has("n")) {  // an integer, or [nx, ny]
-      const toml::node& node = *m.find("n");
-      auto count = [&](const toml::node& k, const std::string& element) {
-        const auto* i = k.as_integer();
-        if (!i) m.fail("n", k, element + "expected an integer or [nx, ny], got " + type_name(k));
-        if (i->get() < 1 || i->get() > 10000000)
-          m.fail("n", k, element + "must be between 1 and 10000000, got " + std::to_string(i->get()));
-        return static_cast<int>(i->get());
-      };
-      if (const auto* a = node.as_array()) {
-        if (a->size() != 2) m.fail("n", node, "expected [nx, ny] (2 integers), got " + std::to_string(a->size()) + " elements");
-        s.mesh.n = count((*a)[0], "nx: ");
-        s.mesh.ny = count((*a)[1], "ny: ");
-      } else {
-        s.mesh.n = count(node, "");
-      }
-    }
-    if (auto seed = m.integer("seed")) {
-      if (*seed < 0) m.fail("seed", m.node("seed"), "must be >= 0, got " + std::to_string(*seed));
-      s.mesh.seed = *seed;
-    }
-    const toml::array* domain = m.has("domain") ? m.node("domain").as_array() : nullptr;
-    if (domain && !domain->empty() && (*domain)[0].is_array()) {
-      s.mesh.polygon = *m.points("domain");
-      PolygonDomain poly;
-      for (const auto& p : s.mesh.polygon) poly.corners.emplace_back(p[0], p[1]);
-      const std::string defect = polygon_domain_defect(poly);
-      if (!defect.empty()) m.fail("domain", m.node("domain"), "the polygon " + defect);
-      if (s.mesh.generator != "voronoi" && s.mesh.generator != "triangles")
-        m.fail("domain", m.node("domain"),
-               "a polygon domain needs generator = \"voronoi\" or \"triangles\" (the generator is \"" +
-                   s.mesh.generator + "\")");
-      if (s.mesh.ny)
-        m.fail("n", m.node("n"), "a polygon domain takes one n (cells of about sqrt(area)/n), not [nx, ny]");
-    } else if (auto d = m.fixed<4>("domain", "[x0, x1, y0, y1] or a polygon [[x0, y0], [x1, y1], ...]")) {
-      if (!((*d)[0] < (*d)[1] && (*d)[2] < (*d)[3])) m.fail("domain", m.node("domain"), "needs x0 < x1 and y0 < y1");
-      s.mesh.domain = *d;
+/// mesh.file: a .poly2d or .msh file, relative to `base`; no generator keys beside it.
+void read_mesh_file(TableReader& m, SceneMesh& mesh, const std::filesystem::path& base) {
+  for (const char* k : {"generator", "n", "seed", "domain"})
+    if (m.has(k)) m.fail(k, m.node(k), "not used with mesh.file; give either a generator or a file");
+  const auto f = *m.string("file");
+  if (f.empty()) m.fail("file", m.node("file"), "empty path");
+  std::filesystem::path p(f);
+  if (p.is_relative()) p = base / p;
+  p = p.lexically_normal();
+  const std::string ext = lower(p.extension().string());
+  if (ext != ".poly2d" && ext != ".msh")
+    m.fail("file", m.node("file"), "unknown mesh format '" + p.extension().string() + "'; expected .poly2d or .msh");
+  mesh.file = p;
+}
+
+/// mesh.n: an integer, or [nx, ny].
+void read_mesh_cells(TableReader& m, SceneMesh& mesh) {
+  const toml::node& node = *m.find("n");
+  auto count = [&](const toml::node& k, const std::string& element) {
+    const auto* i = k.as_integer();
+    if (!i) m.fail("n", k, element + "expected an integer or [nx, ny], got " + type_name(k));
+    if (i->get() < 1 || i->get() > 10000000)
+      m.fail("n", k, element + "must be between 1 and 10000000, got " + std::to_string(i->get()));
+    return static_cast<int>(i->get());
+  };
+  if (const auto* a = node.as_array()) {
+    if (a->size() != 2) m.fail("n", node, "expected [nx, ny] (2 integers), got " + std::to_string(a->size()) + " elements");
+    mesh.n = count((*a)[0], "nx: ");
+    mesh.ny = count((*a)[1], "ny: ");
+  } else {
+    mesh.n = count(node, "");
+  }
+}
+
+/// mesh.domain: a rectangle [x0, x1, y0, y1], or a polygon [[x0, y0], [x1, y1], ...] for the
+/// generators that mesh one.
+void read_mesh_domain(TableReader& m, SceneMesh& mesh) {
+  const toml::array* domain = m.has("domain") ? m.node("domain").as_array() : nullptr;
+  if (domain && !domain->empty() && (*domain)[0].is_array()) {
+    mesh.polygon = *m.points("domain");
+    PolygonDomain poly;
+    for (const auto& p : mesh.polygon) poly.corners.emplace_back(p[0], p[1]);
+    const std::string defect = polygon_domain_defect(poly);
+    if (!defect.empty()) m.fail("domain", m.node("domain"), "the polygon " + defect);
+    if (mesh.generator != "voronoi" && mesh.generator != "triangles")
+      m.fail("domain", m.node("domain"),
+             "a polygon domain needs generator = \"voronoi\" or \"triangles\" (the generator is \"" +
+                 mesh.generator + "\")");
+    if (mesh.ny)
+      m.fail("n", m.node("n"), "a polygon domain takes one n (cells of about sqrt(area)/n), not [nx, ny]");
+  } else if (auto d = m.fixed<4>("domain", "[x0, x1, y0, y1] or a polygon [[x0, y0], [x1, y1], ...]")) {
+    if (!((*d)[0] < (*d)[1] && (*d)[2] < (*d)[3])) m.fail("domain", m.node("domain"), "needs x0 < x1 and y0 < y1");
+    mesh.domain = *d;
+  }
+}
+
+/// [mesh]: a file, or a generator with its cell count, seed and domain.
+void read_mesh(Scene& s, const toml::table& t, const std::filesystem::path& base) {
+  TableReader m(s, t, "mesh", {"generator", "file", "n", "seed", "domain"});
+  if (m.has("file")) read_mesh_file(m, s.mesh, base);
+  if (auto g = m.string("generator")) {
+    check_name(m, "generator", *g, mesh_generator_names(), "mesh generator");
+    s.mesh.generator = lower(*g);
+  }
+  if (m.has("n")) read_mesh_cells(m, s.mesh);
+  if (auto seed = m.integer("seed")) {
+    if (*seed < 0) m.fail("seed", m.node("seed"), "must be >= 0, got " + std::to_string(*seed));
+    s.mesh.seed = *seed;
+  }
+  read_mesh_domain(m, s.mesh);
+}
+
+/// One [[material.region]]: an id not seen before, E and nu, and an optional box.
+SceneRegionMaterial read_region(TableReader& g, std::set<int>& seen) {
+  SceneRegionMaterial rm;
+  const auto id = g.integer("id");
+  if (!id) throw InputError(g.path() + ": missing key 'id'", g.at(g.self()));
+  if (*id < 0 || *id > 1000000)
+    g.fail("id", g.node("id"), "must be between 0 and 1000000, got " + std::to_string(*id));
+  if (!seen.insert(static_cast<int>(*id)).second) g.fail("id", g.node("id"), "region " + std::to_string(*id) + " given twice");
+  rm.region = static_cast<int>(*id);
+  const auto e = g.number("E");
+  const auto nu = g.number("nu");
+  if (!e || !nu) throw InputError(g.path() + ": needs both E and nu", g.at(g.self()));
+  if (!(*e > 0.0)) g.fail("E", g.node("E"), "must be > 0, got " + fmt(*e));
+  if (!(*nu > -1.0 && *nu < 0.5)) g.fail("nu", g.node("nu"), "must lie in (-1, 0.5), got " + fmt(*nu));
+  rm.young = *e;
+  rm.poisson = *nu;
+  if (auto b = g.fixed<4>("box", "[x0, x1, y0, y1]")) {
+    if (!((*b)[0] < (*b)[1] && (*b)[2] < (*b)[3])) g.fail("box", g.node("box"), "needs x0 < x1 and y0 < y1");
+    rm.box = *b;
+  }
+  return rm;
+}
+
+/// [material]: E, nu, the plane model, the stabilization and the [[material.region]] overrides.
+void read_material(Scene& s, const toml::table& t) {
+  TableReader m(s, t, "material", {"E", "nu", "model", "stabilization", "region"});
+  if (auto e = m.number("E")) {
+    if (!(*e > 0.0)) m.fail("E", m.node("E"), "must be > 0, got " + fmt(*e));
+    s.material.young = *e;
+  }
+  if (auto nu = m.number("nu")) {
+    if (!(*nu > -1.0 && *nu < 0.5)) m.fail("nu", m.node("nu"), "must lie in (-1, 0.5), got " + fmt(*nu));
+    s.material.poisson = *nu;
+  }
+  if (auto model = m.string("model")) {
+    try {
+      s.material.model = plane_model_from_string(*model);
+    } catch (const InputError&) {
+      m.fail("model", m.node("model"), "unknown plane model '" + *model + "'; expected one of: plane-strain, plane-stress");
     }
   }
-
-  if (const toml::table* t = r.table("material")) {
-    TableReader m(s, *t, "material", {"E", "nu", "model", "stabilization", "region"});
-    if (auto e = m.number("E")) {
-      if (!(*e > 0.0)) m.fail("E", m.node("E"), "must be > 0, got " + fmt(*e));
-      s.material.young = *e;
-    }
-    if (auto nu = m.number("nu")) {
-      if (!(*nu > -1.0 && *nu < 0.5)) m.fail("nu", m.node("nu"), "must lie in (-1, 0.5), got " + fmt(*nu));
-      s.material.poisson = *nu;
-    }
-    if (auto model = m.string("model")) {
-      try {
-        s.material.model = plane_model_from_string(*model);
-      } catch (const InputError&) {
-        m.fail("model", m.node("model"), "unknown plane model '" + *model + "'; expected one of: plane-strain, plane-stress");
-      }
-    }
-    if (auto st = m.string("stabilization")) {
-      try {
-        s.material.stabilization = stabilization_from_string(*st);
-      } catch (const InputError&) {
-        m.fail("stabilization", m.node("stabilization"), "unknown stabilization '" + *st + "'; expected one of: 2mu, trace");
-      }
-    }
-    if (const toml::array* regions = m.array_of_tables("region")) {
-      std::set<int> seen;
-      for (std::size_t i = 0; i < regions->size(); ++i) {
-        TableReader g(s, *(*regions)[i].as_table(), "material.region[" + std::to_string(i) + "]", {"id", "E", "nu", "box"});
-        SceneRegionMaterial rm;
-        const auto id = g.integer("id");
-        if (!id) throw InputError(g.path() + ": missing key 'id'", g.at(g.self()));
-        if (*id < 0 || *id > 1000000)
-          g.fail("id", g.node("id"), "must be between 0 and 1000000, got " + std::to_string(*id));
-        if (!seen.insert(static_cast<int>(*id)).second) g.fail("id", g.node("id"), "region " + std::to_string(*id) + " given twice");
-        rm.region = static_cast<int>(*id);
-        const auto e = g.number("E");
-        const auto nu = g.number("nu");
-        if (!e || !nu) throw InputError(g.path() + ": needs both E and nu", g.at(g.self()));
-        if (!(*e > 0.0)) g.fail("E", g.node("E"), "must be > 0, got " + fmt(*e));
-        if (!(*nu > -1.0 && *nu < 0.5)) g.fail("nu", g.node("nu"), "must lie in (-1, 0.5), got " + fmt(*nu));
-        rm.young = *e;
-        rm.poisson = *nu;
-        if (auto b = g.fixed<4>("box", "[x0, x1, y0, y1]")) {
-          if (!((*b)[0] < (*b)[1] && (*b)[2] < (*b)[3])) g.fail("box", g.node("box"), "needs x0 < x1 and y0 < y1");
-          rm.box = *b;
-        }
-        s.material.regions.push_back(rm);
-      }
+  if (auto st = m.string("stabilization")) {
+    try {
+      s.material.stabilization = stabilization_from_string(*st);
+    } catch (const InputError&) {
+      m.fail("stabilization", m.node("stabilization"), "unknown stabilization '" + *st + "'; expected one of: 2mu, trace");
     }
   }
-
-  if (const toml::table* t = r.table("clamped")) {
-    TableReader c(s, *t, "clamped", kSelectorKeys);
-    s.clamped = read_selector(c, true);
+  if (const toml::array* regions = m.array_of_tables("region")) {
+    std::set<int> seen;
+    for (std::size_t i = 0; i < regions->size(); ++i) {
+      TableReader g(s, *(*regions)[i].as_table(), "material.region[" + std::to_string(i) + "]", {"id", "E", "nu", "box"});
+      s.material.regions.push_back(read_region(g, seen));
+    }
   }
+}
+
+/// [clamped]: the boundary held at zero displacement.
+void read_clamped(Scene& s, const toml::table& t) {
+  TableReader c(s, t, "clamped", kSelectorKeys);
+  s.clamped = read_selector(c, true);
+}
+
+/// [[dirichlet]]: prescribed displacements, each value = [ux, uy] or ux and/or uy on a boundary.
+void read_dirichlet(Scene& s, const toml::array& d) {
+  for (std::size_t i = 0; i < d.size(); ++i) {
+    TableReader g(s, *d[i].as_table(), "dirichlet[" + std::to_string(i) + "]", with_selector({"value", "ux", "uy"}));
+    SceneDirichlet sd;
+    sd.boundary = read_selector(g, true);
+    if (auto v = g.scalars<2>("value", "[ux, uy]")) {
+      for (const char* k : {"ux", "uy"})
+        if (g.has(k)) g.fail(k, g.node(k), "not used with value = [ux, uy]; give either value or ux and/or uy");
+      sd.ux = (*v)[0];
+      sd.uy = (*v)[1];
+    }
+    if (auto v = g.scalar("ux")) sd.ux = *v;
+    if (auto v = g.scalar("uy")) sd.uy = *v;
+    if (!sd.ux && !sd.uy)
+      throw InputError(g.path() + ": no displacement given; set value = [ux, uy], or ux or uy (a roller)",
+                       g.at(g.self()));
+    s.dirichlet.push_back(sd);
+  }
+}
+
+/// One [[loads.traction]]: a traction value = [tx, ty] or a pressure on a boundary.
+SceneTraction read_traction(TableReader& g) {
+  SceneTraction st;
+  st.boundary = read_selector(g, true);
+  const auto v = g.scalars<2>("value", "[tx, ty]");
+  st.pressure = g.scalar("pressure");
+  if (v && st.pressure)
+    g.fail("pressure", g.node("pressure"), "not used with value = [tx, ty]; give either value or pressure");
+  if (!v && !st.pressure)
+    throw InputError(g.path() + ": missing key 'value' (a traction [tx, ty]) or 'pressure' (along the inward normal)",
+                     g.at(g.self()));
+  if (v) st.value = *v;
+  return st;
+}
+
+/// [loads]: the body force and the [[loads.traction]] entries (none of either without [loads]).
+void read_loads(Scene& s, const toml::table* t) {
+  s.tractions.clear();
+  if (!t) {
+    s.body_force = {};
+    return;
+  }
+  TableReader l(s, *t, "loads", {"body_force", "traction"});
+  if (auto f = l.scalars<2>("body_force", "[fx, fy]")) s.body_force = *f;
+  if (const toml::array* tr = l.array_of_tables("traction")) {
+    for (std::size_t i = 0; i < tr->size(); ++i) {
+      TableReader g(s, *(*tr)[i].as_table(), "loads.traction[" + std::to_string(i) + "]",
+                    with_selector({"value", "pressure"}));
+      s.tractions.push_back(read_traction(g));
+    }
+  }
+}
+
+/// solver.search_engines: names checked here against every known minimizer; whether each was
+/// built, when the search is made (an error naming this key's line).
+void read_search_engines(TableReader& v, SceneSolver& solver) {
+  auto x = v.strings("search_engines", false);
+  if (!x) return;
+  const auto known = known_minimizers();
+  const std::vector<std::string> valid(known.begin(), known.end());
+  for (const auto& name : *x) {
+    const std::string n = normalized_engine_name(name);
+    if (std::find(valid.begin(), valid.end(), n) == valid.end())
+      v.fail("search_engines", v.node("search_engines"),
+             "unknown minimizer '" + name + "'" + did_you_mean(name, valid) + " (expected some of: " + join(valid) + ")");
+    solver.search_engines.push_back(n);
+  }
+}
+
+/// [solver]: the engines, tolerance, iteration limit, global search and the minimizer's options.
+void read_solver(Scene& s, const toml::table& t) {
+  TableReader v(s, t, "solver",
+                {"linear", "minimizer", "tolerance", "max_iterations", "parameters", "search", "max_starts",
+                 "time_budget", "seed", "search_engines"});
+  if (auto x = v.string("linear")) {
+    if (x->empty()) v.fail("linear", v.node("linear"), "empty name");
+    s.solver.linear = *x;
+  }
+  if (auto x = v.string("minimizer")) {
+    if (x->empty()) v.fail("minimizer", v.node("minimizer"), "empty name");
+    s.solver.minimizer = *x;
+  }
+  if (auto x = v.number("tolerance")) {
+    if (!(*x > 0.0 && *x < 1.0)) v.fail("tolerance", v.node("tolerance"), "must be in (0, 1), got " + fmt(*x));
+    s.solver.tolerance = *x;
+  }
+  // an integer key in [lo, hi]
+  auto integer_in = [&](const char* key, long long lo, long long hi) -> std::optional<int> {
+    const auto x = v.integer(key);
+    if (x && (*x < lo || *x > hi))
+      v.fail(key, v.node(key),
+             "must be between " + std::to_string(lo) + " and " + std::to_string(hi) + ", got " + std::to_string(*x));
+    return x ? std::optional<int>(static_cast<int>(*x)) : std::nullopt;
+  };
+  constexpr long long int_max = std::numeric_limits<int>::max();
+  if (auto x = integer_in("max_iterations", 1, int_max)) s.solver.max_iterations = *x;
+  if (auto x = v.string("search")) {
+    check_name(v, "search", *x, {"local", "global"}, "search");
+    s.solver.search = lower(*x);
+  }
+  if (auto x = integer_in("max_starts", 1, 1000000)) s.solver.max_starts = *x;
+  if (auto x = v.number("time_budget")) {
+    if (!(*x > 0.0) || !std::isfinite(*x))
+      v.fail("time_budget", v.node("time_budget"), "must be a finite number of seconds > 0, got " + fmt(*x));
+    s.solver.time_budget = *x;
+  }
+  if (auto x = integer_in("seed", 0, int_max)) s.solver.seed = *x;
+  read_search_engines(v, s.solver);
+  // the minimizer's typed options by name: the names and ranges are the engine's, checked
+  // when the engine is made (its errors name the key's line through Scene::where)
+  if (const toml::table* p = v.table("parameters")) {
+    std::vector<std::string> names;
+    for (const auto& [k, node] : *p) names.emplace_back(k.str());
+    TableReader pr(s, *p, "solver.parameters", names);
+    for (const auto& name : names)
+      if (auto x = pr.number(name)) s.solver.parameters[name] = *x;
+  }
+}
+
+/// [output]: the files to write, each named once.
+void read_output(Scene& s, const toml::table& t) {
+  TableReader o(s, t, "output", {"write"});
+  auto w = o.strings("write", false);
+  if (!w) return;
+  s.outputs.clear();
+  for (const auto& x : *w) {
+    const auto& valid = scene_output_names();
+    if (std::find(valid.begin(), valid.end(), lower(x)) == valid.end())
+      o.fail("write", o.node("write"),
+             "unknown output '" + x + "'" + did_you_mean(x, valid) + " (expected any of: " + join(valid) + ")");
+    if (std::find(s.outputs.begin(), s.outputs.end(), lower(x)) == s.outputs.end()) s.outputs.push_back(lower(x));
+  }
+}
+
+}  // namespace
+
+Scene scene_from_table(const toml::table& root, std::string source, const std::filesystem::path& base) {
+  Scene s;
+  s.source = std::move(source);
+  s.lines.clear();
+  TableReader r(s, root, "",
+                {"schema_version", "title", "mesh", "material", "clamped", "dirichlet", "loads", "contact", "solver", "output"});
+  read_version_and_title(r, s);
+  if (const toml::table* t = r.table("mesh")) read_mesh(s, *t, base);
+  if (const toml::table* t = r.table("material")) read_material(s, *t);
+  if (const toml::table* t = r.table("clamped")) read_clamped(s, *t);
   if (const toml::array* d = r.array_of_tables("dirichlet")) {
     if (!r.has("clamped")) s.clamped = BoundarySelector{{}, {}, {}, 1e-8};  // only what the scene prescribes
-    for (std::size_t i = 0; i < d->size(); ++i) {
-      TableReader g(s, *(*d)[i].as_table(), "dirichlet[" + std::to_string(i) + "]", with_selector({"value", "ux", "uy"}));
-      SceneDirichlet sd;
-      sd.boundary = read_selector(g, true);
-      if (auto v = g.scalars<2>("value", "[ux, uy]")) {
-        for (const char* k : {"ux", "uy"})
-          if (g.has(k)) g.fail(k, g.node(k), "not used with value = [ux, uy]; give either value or ux and/or uy");
-        sd.ux = (*v)[0];
-        sd.uy = (*v)[1];
-      }
-      if (auto v = g.scalar("ux")) sd.ux = *v;
-      if (auto v = g.scalar("uy")) sd.uy = *v;
-      if (!sd.ux && !sd.uy)
-        throw InputError(g.path() + ": no displacement given; set value = [ux, uy], or ux or uy (a roller)",
-                         g.at(g.self()));
-      s.dirichlet.push_back(sd);
-    }
+    read_dirichlet(s, *d);
   }
-
-  if (const toml::table* t = r.table("loads")) {
-    TableReader l(s, *t, "loads", {"body_force", "traction"});
-    if (auto f = l.scalars<2>("body_force", "[fx, fy]")) s.body_force = *f;
-    s.tractions.clear();
-    if (const toml::array* tr = l.array_of_tables("traction")) {
-      for (std::size_t i = 0; i < tr->size(); ++i) {
-        TableReader g(s, *(*tr)[i].as_table(), "loads.traction[" + std::to_string(i) + "]",
-                      with_selector({"value", "pressure"}));
-        SceneTraction st;
-        st.boundary = read_selector(g, true);
-        const auto v = g.scalars<2>("value", "[tx, ty]");
-        st.pressure = g.scalar("pressure");
-        if (v && st.pressure)
-          g.fail("pressure", g.node("pressure"), "not used with value = [tx, ty]; give either value or pressure");
-        if (!v && !st.pressure)
-          throw InputError(g.path() + ": missing key 'value' (a traction [tx, ty]) or 'pressure' (along the inward normal)",
-                           g.at(g.self()));
-        if (v) st.value = *v;
-        s.tractions.push_back(st);
-      }
-    }
-  } else {
-    s.tractions.clear();
-    s.body_force = {};
-  }
-
+  read_loads(s, r.table("loads"));
   s.contact.reset();
   if (const toml::table* t = r.table("contact")) {
     TableReader c(s, *t, "contact",
                   with_selector({"law", "parameters", "breakpoints", "j", "j1", "j2", "gap", "obstacle", "constraint", "friction"}));
     s.contact = read_contact(c);
   }
-
-  if (const toml::table* t = r.table("solver")) {
-    TableReader v(s, *t, "solver",
-                  {"linear", "minimizer", "tolerance", "max_iterations", "parameters", "search", "max_starts",
-                   "time_budget", "seed", "search_engines"});
-    if (auto x = v.string("linear")) {
-      if (x->empty()) v.fail("linear", v.node("linear"), "empty name");
-      s.solver.linear = *x;
-    }
-    if (auto x = v.string("minimizer")) {
-      if (x->empty()) v.fail("minimizer", v.node("minimizer"), "empty name");
-      s.solver.minimizer = *x;
-    }
-    if (auto x = v.number("tolerance")) {
-      if (!(*x > 0.0 && *x < 1.0)) v.fail("tolerance", v.node("tolerance"), "must be in (0, 1), got " + fmt(*x));
-      s.solver.tolerance = *x;
-    }
-    // an integer key in [lo, hi]
-    auto integer_in = [&](const char* key, long long lo, long long hi) -> std::optional<int> {
-      const auto x = v.integer(key);
-      if (x && (*x < lo || *x > hi))
-        v.fail(key, v.node(key),
-               "must be between " + std::to_string(lo) + " and " + std::to_string(hi) + ", got " + std::to_string(*x));
-      return x ? std::optional<int>(static_cast<int>(*x)) : std::nullopt;
-    };
-    constexpr long long int_max = std::numeric_limits<int>::max();
-    if (auto x = integer_in("max_iterations", 1, int_max)) s.solver.max_iterations = *x;
-    if (auto x = v.string("search")) {
-      check_name(v, "search", *x, {"local", "global"}, "search");
-      s.solver.search = lower(*x);
-    }
-    if (auto x = integer_in("max_starts", 1, 1000000)) s.solver.max_starts = *x;
-    if (auto x = v.number("time_budget")) {
-      if (!(*x > 0.0) || !std::isfinite(*x))
-        v.fail("time_budget", v.node("time_budget"), "must be a finite number of seconds > 0, got " + fmt(*x));
-      s.solver.time_budget = *x;
-    }
-    if (auto x = integer_in("seed", 0, int_max)) s.solver.seed = *x;
-    if (auto x = v.strings("search_engines", false)) {
-      // names checked here against every known minimizer; whether each was built, when the
-      // search is made (an error naming this key's line)
-      const auto known = known_minimizers();
-      const std::vector<std::string> valid(known.begin(), known.end());
-      for (const auto& name : *x) {
-        const std::string n = normalized_engine_name(name);
-        if (std::find(valid.begin(), valid.end(), n) == valid.end())
-          v.fail("search_engines", v.node("search_engines"),
-                 "unknown minimizer '" + name + "'" + did_you_mean(name, valid) + " (expected some of: " + join(valid) + ")");
-        s.solver.search_engines.push_back(n);
-      }
-    }
-    // the minimizer's typed options by name: the names and ranges are the engine's, checked
-    // when the engine is made (its errors name the key's line through Scene::where)
-    if (const toml::table* p = v.table("parameters")) {
-      std::vector<std::string> names;
-      for (const auto& [k, node] : *p) names.emplace_back(k.str());
-      TableReader pr(s, *p, "solver.parameters", names);
-      for (const auto& name : names)
-        if (auto x = pr.number(name)) s.solver.parameters[name] = *x;
-    }
-  }
-
-  if (const toml::table* t = r.table("output")) {
-    TableReader o(s, *t, "output", {"write"});
-    if (auto w = o.strings("write", false)) {
-      s.outputs.clear();
-      for (const auto& x : *w) {
-        const auto& valid = scene_output_names();
-        if (std::find(valid.begin(), valid.end(), lower(x)) == valid.end())
-          o.fail("write", o.node("write"),
-                 "unknown output '" + x + "'" + did_you_mean(x, valid) + " (expected any of: " + join(valid) + ")");
-        if (std::find(s.outputs.begin(), s.outputs.end(), lower(x)) == s.outputs.end()) s.outputs.push_back(lower(x));
-      }
-    }
-  }
+  if (const toml::table* t = r.table("solver")) read_solver(s, *t);
+  if (const toml::table* t = r.table("output")) read_output(s, *t);
   return s;
 }
 

@@ -80,34 +80,35 @@ void write_pieces(std::ostream& o, const SceneLaw& law) {
   o << "j2 = " << pieces(law.j2) << "\n";
 }
 
-}  // namespace
-
-std::string to_toml(const Scene& s) {
-  std::ostringstream o;
-  o << "# hemivem scene (resolved: every key written)\n";
-  o << "schema_version = " << s.schema_version << "\n";
-  o << "title = " << quote(s.title) << "\n\n";
+void write_mesh(std::ostream& o, const SceneMesh& m) {
   o << "[mesh]\n";
-  if (!s.mesh.file.empty()) {
-    o << "file = " << quote(s.mesh.file.generic_string()) << "\n";
-  } else {
-    o << "generator = " << quote(s.mesh.generator) << "\n";
-    o << "n = " << s.mesh.cells().text() << "\n";
-    o << "seed = " << s.mesh.seed << "\n";
-    if (s.mesh.polygon.empty())
-      o << "domain = " << list(s.mesh.domain, fmt) << "\n";
-    else
-      o << "domain = " << list(s.mesh.polygon, [](const std::array<double, 2>& p) { return list(p, fmt); }) << "\n";
+  if (!m.file.empty()) {
+    o << "file = " << quote(m.file.generic_string()) << "\n";
+    return;
   }
+  o << "generator = " << quote(m.generator) << "\n";
+  o << "n = " << m.cells().text() << "\n";
+  o << "seed = " << m.seed << "\n";
+  if (m.polygon.empty())
+    o << "domain = " << list(m.domain, fmt) << "\n";
+  else
+    o << "domain = " << list(m.polygon, [](const std::array<double, 2>& p) { return list(p, fmt); }) << "\n";
+}
+
+void write_material(std::ostream& o, const SceneMaterial& m) {
   o << "\n[material]\n";
-  o << "E = " << fmt(s.material.young) << "\n";
-  o << "nu = " << fmt(s.material.poisson) << "\n";
-  o << "model = " << quote(to_string(s.material.model)) << "\n";
-  o << "stabilization = " << quote(to_string(s.material.stabilization)) << "\n";
-  for (const auto& r : s.material.regions) {
+  o << "E = " << fmt(m.young) << "\n";
+  o << "nu = " << fmt(m.poisson) << "\n";
+  o << "model = " << quote(to_string(m.model)) << "\n";
+  o << "stabilization = " << quote(to_string(m.stabilization)) << "\n";
+  for (const auto& r : m.regions) {
     o << "\n[[material.region]]\nid = " << r.region << "\nE = " << fmt(r.young) << "\nnu = " << fmt(r.poisson) << "\n";
     if (r.box) o << "box = " << list(*r.box, fmt) << "\n";
   }
+}
+
+/// [clamped] (when it selects anything) and each [[dirichlet]].
+void write_dirichlet(std::ostream& o, const Scene& s) {
   if (!s.clamped.empty()) {
     o << "\n[clamped]\n";
     write_selector(o, s.clamped);
@@ -118,6 +119,9 @@ std::string to_toml(const Scene& s) {
     if (d.ux) o << "ux = " << scalar_text(*d.ux) << "\n";
     if (d.uy) o << "uy = " << scalar_text(*d.uy) << "\n";
   }
+}
+
+void write_loads(std::ostream& o, const Scene& s) {
   o << "\n[loads]\n";
   o << "body_force = " << list(s.body_force, scalar_text) << "\n";
   for (const auto& t : s.tractions) {
@@ -126,46 +130,66 @@ std::string to_toml(const Scene& s) {
     if (t.pressure) o << "pressure = " << scalar_text(*t.pressure) << "\n";
     else o << "value = " << list(t.value, scalar_text) << "\n";
   }
-  if (s.contact) {
-    const auto& c = *s.contact;
-    o << "\n[contact]\n";
-    write_selector(o, c.boundary);
-    o << "law = " << quote(c.law.name) << "\n";
-    write_pieces(o, c.law);
-    if (!c.obstacle) o << "gap = " << scalar_text(c.gap) << "\n";
-    o << "constraint = " << quote(to_string(c.constraint)) << "\n";
-    if (c.obstacle) {
-      const auto& b = *c.obstacle;
-      o << "\n[contact.obstacle]\nshape = " << quote(b.shape) << "\n";
-      if (b.shape == "plane") o << "point = " << list(b.point, fmt) << "\nnormal = " << list(b.normal, fmt) << "\n";
-      if (b.shape == "circle") o << "center = " << list(b.center, fmt) << "\nradius = " << fmt(b.radius) << "\n";
-      if (b.shape == "polyline")
-        o << "points = " << list(b.points, [](const std::array<double, 2>& q) { return list(q, fmt); }) << "\n";
-    }
-    if (!c.law.parameters.empty()) {
-      o << "\n[contact.parameters]\n";
-      for (const auto& [k, v] : c.law.parameters) o << k << " = " << fmt(v) << "\n";
-    }
-    if (c.friction) {
-      o << "\n[contact.friction]\nlaw = " << quote(c.friction->name) << "\n";
-      for (const auto& [k, v] : c.friction->parameters) o << k << " = " << fmt(v) << "\n";
-      write_pieces(o, *c.friction);
-    }
+}
+
+void write_obstacle(std::ostream& o, const SceneObstacle& b) {
+  o << "\n[contact.obstacle]\nshape = " << quote(b.shape) << "\n";
+  if (b.shape == "plane") o << "point = " << list(b.point, fmt) << "\nnormal = " << list(b.normal, fmt) << "\n";
+  if (b.shape == "circle") o << "center = " << list(b.center, fmt) << "\nradius = " << fmt(b.radius) << "\n";
+  if (b.shape == "polyline")
+    o << "points = " << list(b.points, [](const std::array<double, 2>& q) { return list(q, fmt); }) << "\n";
+}
+
+/// [contact] and its [contact.obstacle], [contact.parameters] and [contact.friction].
+void write_contact(std::ostream& o, const SceneContact& c) {
+  o << "\n[contact]\n";
+  write_selector(o, c.boundary);
+  o << "law = " << quote(c.law.name) << "\n";
+  write_pieces(o, c.law);
+  if (!c.obstacle) o << "gap = " << scalar_text(c.gap) << "\n";
+  o << "constraint = " << quote(to_string(c.constraint)) << "\n";
+  if (c.obstacle) write_obstacle(o, *c.obstacle);
+  if (!c.law.parameters.empty()) {
+    o << "\n[contact.parameters]\n";
+    for (const auto& [k, v] : c.law.parameters) o << k << " = " << fmt(v) << "\n";
   }
+  if (c.friction) {
+    o << "\n[contact.friction]\nlaw = " << quote(c.friction->name) << "\n";
+    for (const auto& [k, v] : c.friction->parameters) o << k << " = " << fmt(v) << "\n";
+    write_pieces(o, *c.friction);
+  }
+}
+
+void write_solver(std::ostream& o, const SceneSolver& v) {
   o << "\n[solver]\n";
-  o << "linear = " << quote(s.solver.linear) << "\n";
-  o << "minimizer = " << quote(s.solver.minimizer) << "\n";
-  o << "tolerance = " << fmt(s.solver.tolerance) << "\n";
-  o << "max_iterations = " << s.solver.max_iterations << "\n";
-  o << "search = " << quote(s.solver.search) << "\n";
-  o << "max_starts = " << s.solver.max_starts << "\n";
-  o << "time_budget = " << fmt(s.solver.time_budget) << "\n";
-  o << "seed = " << s.solver.seed << "\n";
-  o << "search_engines = " << list(s.solver.search_engines, quote) << "\n";
-  if (!s.solver.parameters.empty()) {
+  o << "linear = " << quote(v.linear) << "\n";
+  o << "minimizer = " << quote(v.minimizer) << "\n";
+  o << "tolerance = " << fmt(v.tolerance) << "\n";
+  o << "max_iterations = " << v.max_iterations << "\n";
+  o << "search = " << quote(v.search) << "\n";
+  o << "max_starts = " << v.max_starts << "\n";
+  o << "time_budget = " << fmt(v.time_budget) << "\n";
+  o << "seed = " << v.seed << "\n";
+  o << "search_engines = " << list(v.search_engines, quote) << "\n";
+  if (!v.parameters.empty()) {
     o << "\n[solver.parameters]\n";
-    for (const auto& [k, v] : s.solver.parameters) o << k << " = " << fmt(v) << "\n";
+    for (const auto& [k, x] : v.parameters) o << k << " = " << fmt(x) << "\n";
   }
+}
+
+}  // namespace
+
+std::string to_toml(const Scene& s) {
+  std::ostringstream o;
+  o << "# hemivem scene (resolved: every key written)\n";
+  o << "schema_version = " << s.schema_version << "\n";
+  o << "title = " << quote(s.title) << "\n\n";
+  write_mesh(o, s.mesh);
+  write_material(o, s.material);
+  write_dirichlet(o, s);
+  write_loads(o, s);
+  if (s.contact) write_contact(o, *s.contact);
+  write_solver(o, s.solver);
   o << "\n[output]\n";
   o << "write = " << list(s.outputs, quote) << "\n";
   return o.str();
