@@ -240,7 +240,6 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   if (o.json) {
     out << result_json(built->mesh, sol, info).dump(2) << "\n";
   } else if (o.verbosity >= 1) {
-    const auto& r = sol.minimizer;
     int upper = 0, lower = 0;
     for (const auto& c : sol.contact) upper += c.state == "upper", lower += c.state == "lower";
     out << std::setprecision(6);
@@ -253,9 +252,11 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
         << "\n"
         << "  stages        ";
     for (std::size_t i = 0; i < sol.stages.size(); ++i) out << (i ? ", " : "") << sol.stages[i];
-    out << "\n  status        " << to_string(r.status) << " (certificate: " << certificate_text(r.certificate) << "), "
-        << r.iterations << " iterations\n";
-    if (info.search.value("kind", "local") == "global") out << critical_points_text(r, sol.energy - r.objective);
+    out << "\n  status        " << to_string(sol.status) << " (certificate: " << certificate_text(sol.certificate)
+        << "), " << sol.iterations() << " iterations\n";
+    if (info.search.value("kind", "local") == "global")
+      out << (sol.minimizer ? critical_points_text(*sol.minimizer, sol.energy - sol.minimizer->objective)
+                            : "  search        " + sol.message + "\n");
     if (!sol.contact.empty()) {
       out << "  uniqueness    lambda_min(S - alpha_j W) = " << sol.uniqueness_margin
           << (sol.uniqueness_margin > 0 ? " > 0: the solution is unique\n"

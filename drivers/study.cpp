@@ -172,7 +172,7 @@ int run_study(const StudyOptions& o, std::ostream& out, std::ostream& err) {
     all_converged = all_converged && r.solution.converged();
     if (progress)
       err << "hemivem study: N = " << n << ": " << r.built->mesh.num_vertices() << " vertices, "
-          << to_string(r.solution.minimizer.status) << " (" << r.solution.minimizer.iterations << " iterations), "
+          << to_string(r.solution.status) << " (" << r.solution.iterations() << " iterations), "
           << std::fixed << std::setprecision(2) << since(t) << std::defaultfloat << " s\n";
     return r;
   };
@@ -195,7 +195,7 @@ int run_study(const StudyOptions& o, std::ostream& out, std::ostream& err) {
     row.h = std::max(scene.mesh.domain[1] - scene.mesh.domain[0], scene.mesh.domain[3] - scene.mesh.domain[2]) / n;
     row.error = std::sqrt(q1_energy(ref_mesh, materials, diff) / 2.0) / ref_norm;
     row.converged = c.solution.converged();
-    row.iterations = c.solution.minimizer.iterations;
+    row.iterations = c.solution.iterations();
     row.seconds = since(t);
     if (!rows.empty())
       row.rate = std::log(rows.back().error / row.error) / std::log(static_cast<double>(n) / rows.back().n);
@@ -213,7 +213,7 @@ int run_study(const StudyOptions& o, std::ostream& out, std::ostream& err) {
   j["reference"] = {{"n", o.ref},
                     {"energy_norm", ref_norm},
                     {"converged", ref.solution.converged()},
-                    {"iterations", ref.solution.minimizer.iterations}};
+                    {"iterations", ref.solution.iterations()}};
   j["plane_model"] = to_string(scene.material.model);
   j["stabilization"] = to_string(scene.material.stabilization);
   j["overrides"] = o.set;

@@ -127,7 +127,7 @@ TEST(ContactMpi, NotConvergedOnRankZeroIsTheStatusEverywhere) {
   Scripted limited(Scripted::Mode::iteration_limit);
   const ContactSolution s = solve_contact(p, mpi_engine(), limited, tight());
   EXPECT_FALSE(s.converged());
-  EXPECT_EQ(s.minimizer.status, MinimizerStatus::iteration_limit);
+  EXPECT_EQ(s.status, MinimizerStatus::iteration_limit);
   EXPECT_EQ(s.stages.back(), "back_substitution");
 }
 
