@@ -287,32 +287,27 @@ void Condensation::compute_schur_complement(const SparseMatrix& At) {
   }
 }
 
-// c = b1 - A12 A22^{-1} b2 and the uniqueness margin.
+// c = b1 - A12 A22^{-1} b2 and the uniqueness margin (where the results are held; NaN elsewhere).
 void Condensation::condense_load(const SparseMatrix& At, const Eigen::VectorXd& bt) {
-  if (!processes_of(*factorization_).holds_results()) {
-    // An engine across processes: this process takes part in the interior solve (collective)
-    // but receives no result; S, c and the margin exist where the results are held.
-    Eigen::MatrixXd y;
-    require(factorization_->solve_interior(Eigen::MatrixXd(), &y), *factorization_, "interior solve");
-    margin_ = std::numeric_limits<double>::quiet_NaN();
-    reduced_.uniqueness_margin = margin_;
-    return;
-  }
   Eigen::VectorXd b1(static_cast<Eigen::Index>(block1_.size()));
   for (std::size_t i = 0; i < block1_.size(); ++i) b1(static_cast<Eigen::Index>(i)) = bt(block1_[i]);
   b2_.resize(static_cast<Eigen::Index>(block2_.size()));
   for (std::size_t i = 0; i < block2_.size(); ++i) b2_(static_cast<Eigen::Index>(i)) = bt(block2_[i]);
-  if (factorization_->splits_interior_solve()) {
+  const bool split = factorization_->splits_interior_solve();
+  Eigen::MatrixXd y;
+  if (split) {
     // c = b1 - A12 A22^{-1} b2 in one forward substitution; back_substitute() needs one backward
     require(factorization_->condense_rhs(b1, b2_, &reduced_.c), *factorization_, "interior solve");
   } else {
     extract_a21(At);
-    Eigen::MatrixXd y;
     require(factorization_->solve_interior(b2_, &y), *factorization_, "interior solve");
-    reduced_.c = b1 - A21_.transpose() * y.col(0);
   }
-  if (!has_normal_) reduced_.c = reduced_.c.tail(static_cast<Eigen::Index>(normals_.size())).eval();
-  margin_ = hemivem::uniqueness_margin(reduced_.S, reduced_.w, reduced_.alphas());
+  margin_ = std::numeric_limits<double>::quiet_NaN();
+  processes_of(*factorization_).run_where_results_are([&] {
+    if (!split) reduced_.c = b1 - A21_.transpose() * y.col(0);
+    if (!has_normal_) reduced_.c = reduced_.c.tail(static_cast<Eigen::Index>(normals_.size())).eval();
+    margin_ = hemivem::uniqueness_margin(reduced_.S, reduced_.w, reduced_.alphas());
+  });
   reduced_.uniqueness_margin = margin_;
 }
 
@@ -349,30 +344,39 @@ double Condensation::condition_estimate() const {
 
 Eigen::VectorXd Condensation::back_substitute(const Eigen::VectorXd& a) const {
   const ProcessGroup& processes = processes_of(*factorization_);
-  const bool holds = processes.holds_results();
-  // The check is decided where a lives and shared, so that no process is left in the solve.
+  const bool split = factorization_->splits_interior_solve();
+  Eigen::VectorXd x1;     // block 1's values
+  Eigen::MatrixXd rhs;    // the interior right-hand side b2 - A21 x1 (without a split solve)
+  processes.run_where_results_are([&] {
+    x1 = block1_values(a);
+    if (!split) rhs = b2_ - A21_ * x1;
+  });
+  Eigen::VectorXd u2;
+  Eigen::MatrixXd x2;
+  if (split)
+    require(factorization_->expand(x1, &u2), *factorization_, "back-substitution");
+  else
+    require(factorization_->solve_interior(rhs, &x2), *factorization_, "back-substitution");
+  Eigen::VectorXd u;
+  processes.run_where_results_are([&] { u = displacement(x1, split ? u2 : Eigen::VectorXd(x2.col(0))); });
+  return u;
+}
+
+// a, with the normal displacements 0 where they are not unknowns (bilateral).
+Eigen::VectorXd Condensation::block1_values(const Eigen::VectorXd& a) const {
   const auto n1 = static_cast<Eigen::Index>(normals_.size());
   const Eigen::Index unknowns = static_cast<Eigen::Index>(block1_.size()) - (has_normal_ ? 0 : n1);
-  const bool fits = processes.share(!holds || a.size() == unknowns ? 1 : 0) != 0;
-  if (!fits)
+  if (a.size() != unknowns)
     throw InputError("back-substitution needs " + std::to_string(unknowns) + " contact displacements, got " +
-                     (holds ? std::to_string(a.size()) : std::string("another number on the process holding the results")));
-  // block 1's values: a, with the normal displacements 0 where they are not unknowns (bilateral)
-  Eigen::VectorXd x1 = a;
-  if (holds && !has_normal_) {
-    x1 = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(block1_.size()));
-    x1.tail(n1) = a;
-  }
-  Eigen::VectorXd u2;
-  if (factorization_->splits_interior_solve()) {
-    require(factorization_->expand(x1, &u2), *factorization_, "back-substitution");
-  } else {
-    Eigen::MatrixXd x2;
-    require(factorization_->solve_interior(holds ? Eigen::MatrixXd(b2_ - A21_ * x1) : Eigen::MatrixXd(), &x2),
-            *factorization_, "back-substitution");
-    if (holds) u2 = x2.col(0);
-  }
-  if (!holds) return Eigen::VectorXd();
+                     std::to_string(a.size()));
+  if (has_normal_) return a;
+  Eigen::VectorXd x1 = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(block1_.size()));
+  x1.tail(n1) = a;
+  return x1;
+}
+
+// The full nodal displacement from block 1's and block 2's values in rotated coordinates.
+Eigen::VectorXd Condensation::displacement(const Eigen::VectorXd& x1, const Eigen::VectorXd& u2) const {
   Eigen::VectorXd ut(dofs_.num_free());
   for (std::size_t i = 0; i < block1_.size(); ++i) ut(block1_[i]) = x1(static_cast<Eigen::Index>(i));
   for (std::size_t i = 0; i < block2_.size(); ++i) ut(block2_[i]) = u2(static_cast<Eigen::Index>(i));

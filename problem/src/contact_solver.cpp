@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <exception>
 #include <limits>
 #include <string>
 
@@ -16,44 +15,6 @@ namespace {
 
 double since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
-
-// What the process holding the results tells the others after the minimizer: 0, or the kind
-// of exception it threw.
-constexpr int kThrewInputError = -1;
-constexpr int kThrewNumericalError = -2;
-constexpr int kThrewOther = -3;
-
-[[noreturn]] void rethrow_elsewhere(int outcome) {
-  const std::string what = "the minimizer failed on the process holding the results (it reports the error)";
-  if (outcome == kThrewInputError) throw InputError(what);
-  if (outcome == kThrewNumericalError) throw NumericalError(what);
-  throw Error(what);
-}
-
-// Collective: runs `work` on the process holding the results; an exception thrown there is
-// rethrown there and, as the same kind of error, on every other process.
-template <class Work>
-void run_where_results_are(const ProcessGroup& processes, Work&& work) {
-  int outcome = 0;
-  std::exception_ptr failure;
-  if (processes.holds_results()) {
-    try {
-      work();
-    } catch (const InputError&) {
-      failure = std::current_exception();
-      outcome = kThrewInputError;
-    } catch (const NumericalError&) {
-      failure = std::current_exception();
-      outcome = kThrewNumericalError;
-    } catch (...) {
-      failure = std::current_exception();
-      outcome = kThrewOther;
-    }
-  }
-  outcome = processes.share(outcome);
-  if (failure) std::rethrow_exception(failure);
-  if (outcome < 0) rethrow_elsewhere(outcome);
 }
 
 double rcond_or_nan(const SparseFactorization& f) {
@@ -140,7 +101,9 @@ std::vector<ContactSolution> ContactSolver::run(std::span<const NonsmoothMinimiz
   common_.unknowns = system_->dofs.num_free();
   boundary_ = contact_boundary(problem_, system_->dofs);
   if (boundary_.size() == 0) {
-    post_process_linear(linear_solve());
+    const Eigen::MatrixXd X = linear_solve();
+    common_.may_be_nonunique = false;
+    processes_->run_where_results_are([&] { post_process_linear(X); });
     agree_on_status(common_);
     common_.timings["total"] = seconds();
     return std::vector<ContactSolution>(minimizers.size(), common_);
@@ -153,7 +116,7 @@ std::vector<ContactSolution> ContactSolver::run(std::span<const NonsmoothMinimiz
     const auto t = Clock::now();
     minimize(*minimizer, solution);
     back_substitute(solution);
-    if (processes_->holds_results()) post_process(solution);
+    processes_->run_where_results_are([&] { post_process(solution); });
     agree_on_status(solution);
     solution.timings["total"] = before_minimize + since(t);
     solutions.push_back(std::move(solution));
@@ -203,8 +166,6 @@ Eigen::MatrixXd ContactSolver::linear_solve() {
 // residual ||A u - b|| / max(||b||, ||A u||) is its dual part.
 void ContactSolver::post_process_linear(const Eigen::MatrixXd& X) {
   ContactSolution& s = common_;
-  s.may_be_nonunique = false;
-  if (!processes_->holds_results()) return;
   const LinearSystem& sys = *system_;
   const Eigen::VectorXd uf = X.col(0);
   s.u = sys.dofs.expand(uf);
@@ -242,13 +203,15 @@ void ContactSolver::condense() {
     common_.rcond = rcond_or_nan(condensation_->factorization());
     common_.condition_estimate = condensation_->condition_estimate();
   }
-  if (reduced_ && processes_->holds_results()) *reduced_ = condensation_->reduced();
+  processes_->run_where_results_are([&] {
+    if (reduced_) *reduced_ = condensation_->reduced();
+  });
 }
 
-// The reduced problem is solved where it lives; the other processes learn that it threw.
+// The reduced problem is solved where it lives.
 void ContactSolver::minimize(const NonsmoothMinimizer& minimizer, ContactSolution& solution) const {
   const auto t = Clock::now();
-  run_where_results_are(*processes_, [&] {
+  processes_->run_where_results_are([&] {
     MinimizerResult m = minimizer.minimize(condensation_->reduced(), Eigen::VectorXd(), options_);
     solution.status = m.status;
     solution.message = m.message;

@@ -138,9 +138,10 @@ ConstraintKind constraint_in_effect(const ContactProblem& problem);
 /// but one process) every process runs the same solver on the same problem: assembly runs on
 /// every process, the engine's calls are collective, the minimizer and the results (u, contact,
 /// energy, margin, the reduced problem) belong to the process holding the results. Elsewhere
-/// the solution carries the stages, the timings and the status (shared), nothing else. An
-/// exception thrown there by the minimizer is thrown on every process (the others get the
-/// same type with a message saying so).
+/// the solution carries the stages, the timings and the status (shared), nothing else. The
+/// work done there alone (the minimizer, the post-processing) runs through
+/// ProcessGroup::run_where_results_are: an exception thrown there is thrown on every process
+/// (the others get the same kind of error with a message saying so).
 class ContactSolver {
  public:
   /// The "assembly" stage assembles problem.elasticity.
