@@ -1,5 +1,5 @@
-// The contact boundary Gamma_3 and the static condensation onto its normal displacements
-// (DESIGN §1 and §3).
+// The contact boundary Gamma_3 and the static condensation onto its contact displacements
+// (the reduced problem of hemivem/reduced_problem.hpp).
 #pragma once
 
 #include <Eigen/Core>

@@ -1,6 +1,6 @@
-// The whole solve of a contact problem (DESIGN §4):
+// The whole solve of a contact problem, in stages (ContactSolver):
 //   assembly -> condensation through a SparseFactorization -> ReducedProblem ->
-//   NonsmoothMinimizer -> back-substitution,
+//   NonsmoothMinimizer -> back-substitution -> post-processing,
 // running only the stages the problem needs: without a contact boundary one linear solve;
 // without gaps no constraint (ConstraintKind::none).
 #pragma once
@@ -25,7 +25,7 @@ namespace hemivem {
 
 class ProcessGroup;
 
-/// One contact node of the solution, with the forces of the certificate (DESIGN §3).
+/// One contact node of the solution, with the forces of the certificate (hemivem/certificate.hpp).
 struct ContactNode {
   int vertex = -1;
   Vec2 x = Vec2::Zero();
