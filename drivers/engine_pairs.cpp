@@ -31,7 +31,7 @@ void check_guarantee(PairRun& r, const ContactSolution& sol, const ReducedProble
     return;
   }
   if (reduced && reduced->size() > 0) {
-    const Certificate c = certificate(*reduced, sol.minimizer.a, tolerance);
+    const Certificate c = certificate(*reduced, sol.minimizer->a, tolerance);
     if (!c.converged()) {
       r.guarantee = false;
       r.broken = "converged, but the recomputed certificate is " + certificate_text(c);
@@ -110,11 +110,11 @@ PairEngines make_engines(const Scene& scene, const std::vector<Pair>& pairs) {
 /// assembly); the solution's displacement is moved into `r`.
 void record_solution(PairRun& r, ContactSolution& s, const PairRuns& out, const ReducedProblem* reduced,
                      double tolerance) {
-  r.status = to_string(s.minimizer.status);
-  r.message = s.minimizer.message;
+  r.status = to_string(s.status);
+  r.message = s.message;
   r.converged = s.converged();
-  r.certificate = s.minimizer.certificate;
-  r.iterations = s.minimizer.iterations;
+  r.certificate = s.certificate;
+  r.iterations = s.iterations();
   r.margin = s.uniqueness_margin;
   r.energy = s.energy;
   r.rcond = s.rcond;

@@ -200,7 +200,7 @@ nlohmann::json measure_solve(const Scene& scene) {
           {"wall", wall},
           {"dofs", s.solution.unknowns},
           {"contact_nodes", reduced.S.rows()},
-          {"status", to_string(s.solution.minimizer.status)},
+          {"status", to_string(s.solution.status)},
           {"peak_rss", peak_rss_bytes()}};
 }
 

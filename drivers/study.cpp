@@ -178,7 +178,7 @@ struct SquaresSolver {
     all_converged = all_converged && r.solution.converged();
     if (progress)
       err << "hemivem study: N = " << n << ": " << r.built->mesh.num_vertices() << " vertices, "
-          << to_string(r.solution.minimizer.status) << " (" << r.solution.minimizer.iterations << " iterations), "
+          << to_string(r.solution.status) << " (" << r.solution.iterations() << " iterations), "
           << std::fixed << std::setprecision(2) << since(t) << std::defaultfloat << " s\n";
     return r;
   }
@@ -203,7 +203,7 @@ std::vector<Row> measure(SquaresSolver& solve, const std::vector<int>& ns, int r
     row.h = std::max(domain[1] - domain[0], domain[3] - domain[2]) / n;
     row.error = std::sqrt(q1_energy(ref_mesh, materials, diff) / 2.0) / ref_norm;
     row.converged = c.solution.converged();
-    row.iterations = c.solution.minimizer.iterations;
+    row.iterations = c.solution.iterations();
     row.seconds = since(t);
     if (!rows.empty())
       row.rate = std::log(rows.back().error / row.error) / std::log(static_cast<double>(n) / rows.back().n);
@@ -224,7 +224,7 @@ nlohmann::json study_json(const Scene& scene, const StudyOptions& o, const Scene
   j["reference"] = {{"n", o.ref},
                     {"energy_norm", ref_norm},
                     {"converged", ref.solution.converged()},
-                    {"iterations", ref.solution.minimizer.iterations}};
+                    {"iterations", ref.solution.iterations()}};
   j["plane_model"] = to_string(scene.material.model);
   j["stabilization"] = to_string(scene.material.stabilization);
   j["overrides"] = o.set;

@@ -68,7 +68,8 @@ void write_displacement_csv(std::ostream& stream, const Mesh& mesh, const Eigen:
 void write_history_csv(std::ostream& stream, const ContactSolution& s) {
   TextWriter os(stream);
   os << "iteration,reduced_objective,primal,dual,active,seconds\n";
-  for (const auto& r : s.minimizer.history)
+  if (!s.minimizer) return;
+  for (const auto& r : s.minimizer->history)
     os << r.iteration << ',' << r.objective << ',' << r.primal << ',' << r.dual << ',' << r.active << ',' << r.seconds
        << '\n';
 }
@@ -102,18 +103,19 @@ nlohmann::json result_json(const Mesh& mesh, const ContactSolution& s, const Run
   j["files"] = info.files;
   j["warnings"] = info.warnings;
   j["options"] = info.options;
-  j["status"] = to_string(s.minimizer.status);
+  j["status"] = to_string(s.status);
   j["converged"] = s.converged();
-  j["message"] = s.minimizer.message;
-  j["certificate"] = certificate_json(s.minimizer.certificate);
+  j["message"] = s.message;
+  j["certificate"] = certificate_json(s.certificate);
   j["uniqueness_margin"] = number(s.uniqueness_margin);
-  j["may_be_nonunique"] = s.minimizer.may_be_nonunique;
+  j["may_be_nonunique"] = s.may_be_nonunique;
   j["search"] = info.search;
-  j["critical_points"] = critical_points_json(s.minimizer, s.energy - s.minimizer.objective);
+  j["critical_points"] =
+      s.minimizer ? critical_points_json(*s.minimizer, s.energy - s.minimizer->objective) : json::array();
   j["potential_energy"] = number(s.energy);
-  j["iterations"] = s.minimizer.iterations;
-  j["evaluations"] = {{"function", s.minimizer.function_evaluations},
-                      {"subgradient", s.minimizer.subgradient_evaluations}};
+  j["iterations"] = s.iterations();
+  j["evaluations"] = {{"function", s.minimizer ? s.minimizer->function_evaluations : 0},
+                      {"subgradient", s.minimizer ? s.minimizer->subgradient_evaluations : 0}};
   j["stages"] = s.stages;
   json t = json::object();
   for (const auto& [k, v] : s.timings) t[k] = number(v);

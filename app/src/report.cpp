@@ -25,10 +25,11 @@ void engines_and_stages(std::ostream& out, const SceneSolve& solved, const RunIn
 
 void status(std::ostream& out, const SceneSolve& solved, const RunInfo& info) {
   const ContactSolution& sol = solved.solution;
-  const auto& r = sol.minimizer;
-  out << "  status        " << to_string(r.status) << " (certificate: " << certificate_text(r.certificate) << "), "
-      << r.iterations << " iterations\n";
-  if (info.search.value("kind", "local") == "global") out << critical_points_text(r, sol.energy - r.objective);
+  out << "  status        " << to_string(sol.status) << " (certificate: " << certificate_text(sol.certificate)
+      << "), " << sol.iterations() << " iterations\n";
+  if (info.search.value("kind", "local") == "global")
+    out << (sol.minimizer ? critical_points_text(*sol.minimizer, sol.energy - sol.minimizer->objective)
+                          : "  search        " + sol.message + "\n");
 }
 
 void contact_zone(std::ostream& out, const Scene& scene, const ContactSolution& sol) {
@@ -74,10 +75,9 @@ void energy_and_time(std::ostream& out, const SceneSolve& solved) {
 
 std::string brief_report(const SceneSolve& solved) {
   const ContactSolution& sol = solved.solution;
-  const auto& r = sol.minimizer;
   std::ostringstream out;
-  out << std::setprecision(6) << to_string(r.status) << " (certificate: " << certificate_text(r.certificate) << "), "
-      << r.iterations << " iterations, energy " << sol.energy << ", " << std::setprecision(3) << solved.total_seconds()
+  out << std::setprecision(6) << to_string(sol.status) << " (certificate: " << certificate_text(sol.certificate)
+      << "), " << sol.iterations() << " iterations, energy " << sol.energy << ", " << std::setprecision(3) << solved.total_seconds()
       << " s";
   return out.str();
 }

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 
 #include <hemivem/error.hpp>
@@ -130,21 +131,24 @@ table.u_nu, table["u_nu"]; table.as_dict() gives them all.
 
 /// Result's outcome: status, certificate, energy, iterations, engines, search.
 void def_result_outcome(ResultClass& c) {
-  c.def_property_readonly("status", [](py::handle s) { return to_string(data(s).solved.solution.minimizer.status); },
+  c.def_property_readonly("status", [](py::handle s) { return to_string(data(s).solved.solution.status); },
                           "'converged', 'iteration limit', 'evaluation limit', 'stalled', 'stopped by callback', 'failed'.")
       .def_property_readonly("converged", [](py::handle s) { return data(s).solved.solution.converged(); })
-      .def_property_readonly("message", [](py::handle s) { return data(s).solved.solution.minimizer.message; })
-      .def_property_readonly("certificate", [](py::handle s) { return data(s).solved.solution.minimizer.certificate; },
+      .def_property_readonly("message", [](py::handle s) { return data(s).solved.solution.message; })
+      .def_property_readonly("certificate", [](py::handle s) { return data(s).solved.solution.certificate; },
                              "The certificate (primal, dual, scales, tolerance); without contact the relative\n"
                              "residual of the linear solve.")
       .def_property_readonly("energy", [](py::handle s) { return data(s).solved.solution.energy; },
                              "The potential energy 1/2 u^T A u - b^T u + sum_i w_i j(u_nu,i).")
-      .def_property_readonly("objective", [](py::handle s) { return data(s).solved.solution.minimizer.objective; },
+      .def_property_readonly("objective", [](py::handle s) {
+                               const auto& m = data(s).solved.solution.minimizer;
+                               return m ? m->objective : std::numeric_limits<double>::quiet_NaN();
+                             },
                              "F(a) of the reduced problem (NaN without contact).")
       .def_property_readonly("uniqueness_margin", [](py::handle s) { return data(s).solved.solution.uniqueness_margin; },
                              "lambda_min(S - alpha_j W) (inf without contact): the solution is unique when positive.")
-      .def_property_readonly("may_be_nonunique", [](py::handle s) { return data(s).solved.solution.minimizer.may_be_nonunique; })
-      .def_property_readonly("iterations", [](py::handle s) { return data(s).solved.solution.minimizer.iterations; })
+      .def_property_readonly("may_be_nonunique", [](py::handle s) { return data(s).solved.solution.may_be_nonunique; })
+      .def_property_readonly("iterations", [](py::handle s) { return data(s).solved.solution.iterations(); })
       .def_property_readonly("stages", [](py::handle s) { return data(s).solved.solution.stages; },
                              "The stages that ran, in order.")
       .def_property_readonly("timings", [](py::handle s) -> py::object { py::object j = json_dict(data(s)); return j["timings"]; },
@@ -166,7 +170,8 @@ void def_result_outcome(ResultClass& c) {
           [](py::object s) {
             const auto d = s.cast<std::shared_ptr<SolveData>>();
             const ContactSolution& sol = d->solved.solution;
-            return critical_points_list(d, sol.minimizer, sol.energy - sol.minimizer.objective);
+            if (!sol.minimizer) return py::list();
+            return critical_points_list(d, *sol.minimizer, sol.energy - sol.minimizer->objective);
           },
           "A global search's distinct certified critical points (CriticalPoint), lowest energy first\n"
           "(the solution is the first), with their potential energies: result.json's\n"
@@ -186,8 +191,8 @@ void def_result_fields(ResultClass& c) {
       .def_property_readonly(
           "a",
           [](py::object s) {
-            const Eigen::VectorXd& a = data(s).solved.solution.minimizer.a;
-            return view(a.data(), a.size(), s);
+            const auto& m = data(s).solved.solution.minimizer;
+            return m ? view(m->a.data(), m->a.size(), s) : view(nullptr, 0, s);
           },
           "The point of the reduced problem (the contact unknowns) the minimizer returned.")
       .def_property_readonly(
@@ -201,15 +206,21 @@ void def_result_fields(ResultClass& c) {
           },
           "The resultant (Fx, Fy) of the foundation or obstacle on the body.")
       .def_property_readonly(
-          "history", [](py::handle s) { return history_dict(data(s).solved.solution.minimizer.history); },
+          "history",
+          [](py::handle s) {
+            const auto& m = data(s).solved.solution.minimizer;
+            return history_dict(m ? m->history : std::vector<IterationRecord>());
+          },
           "The minimizer's iterations (history.csv's columns) as a dict of arrays.")
       .def_property_readonly(
           "minimizer_result",
-          [](py::object s) {
+          [](py::object s) -> py::object {
             auto d = s.cast<std::shared_ptr<SolveData>>();
-            return std::shared_ptr<MinimizerResult>(d, &d->solved.solution.minimizer);
+            auto& m = d->solved.solution.minimizer;
+            if (!m) return py::none();
+            return py::cast(std::shared_ptr<MinimizerResult>(d, &*m));
           },
-          "The minimizer's full result (MinimizerResult).")
+          "The minimizer's full result (MinimizerResult); None without contact (one linear solve).")
       .def_property_readonly(
           "mesh",
           [](py::object s) {
@@ -263,7 +274,7 @@ void def_result_outputs(ResultClass& c) {
         const SolveData& d = data(s);
         const auto& sol = d.solved.solution;
         std::ostringstream o;
-        o << "Result(status=" << py::repr(py::str(to_string(sol.minimizer.status))).cast<std::string>()
+        o << "Result(status=" << py::repr(py::str(to_string(sol.status))).cast<std::string>()
           << ", linear=" << py::repr(py::str(d.solved.linear)).cast<std::string>()
           << ", minimizer=" << py::repr(py::str(d.solved.minimizer)).cast<std::string>() << ", vertices="
           << d.solved.built->mesh.num_vertices() << ", contact_nodes=" << sol.contact.size()

@@ -128,7 +128,7 @@ TEST(ContactMpi, NotConvergedOnRankZeroIsTheStatusEverywhere) {
   Scripted limited(Scripted::Mode::iteration_limit);
   const ContactSolution s = solve_contact(p, mpi_engine(), limited, tight());
   EXPECT_FALSE(s.converged());
-  EXPECT_EQ(s.minimizer.status, MinimizerStatus::iteration_limit);
+  EXPECT_EQ(s.status, MinimizerStatus::iteration_limit);
   EXPECT_EQ(s.stages.back(), "back_substitution");
 }
 
@@ -162,6 +162,33 @@ TEST(ContactMpi, OtherFailuresOfTheMinimizerReachEveryProcess) {
   }
   Scripted ssn(Scripted::Mode::ssn);
   EXPECT_TRUE(solve_contact(p, mpi_engine(), ssn, tight()).converged());
+}
+
+TEST(ContactMpi, WorkWhereTheResultsAreEndsAlikeOnEveryProcess) {
+  const MumpsMpiFactorization engine;
+  int ran = 0;
+  engine.run_where_results_are([&] { ++ran; });
+  EXPECT_EQ(ran, root() ? 1 : 0) << "the work runs on rank 0 only";
+  try {
+    engine.run_where_results_are([] { throw NumericalError("scripted numerical error"); });
+    ADD_FAILURE() << "no exception";
+  } catch (const NumericalError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(root() ? "scripted numerical error" : "process holding the results"), std::string::npos)
+        << what;
+  }
+}
+
+TEST(ContactMpi, AWrongSizeForTheBackSubstitutionIsAnInputErrorEverywhere) {
+  const Mesh mesh = make_squares(8);
+  const ContactProblem p = example_4_1(mesh);
+  const LinearSystem sys = assemble(p.elasticity);
+  const ContactBoundary boundary = contact_boundary(p, sys.dofs);
+  const Condensation cond(sys, boundary, mpi_engine(), p.law, constraint_in_effect(p));
+  EXPECT_THROW(cond.back_substitute(Eigen::VectorXd::Zero(boundary.size() + 1)), InputError);
+  // every process left at the same point: a back-substitution of the right size works
+  const Eigen::VectorXd u = cond.back_substitute(Eigen::VectorXd::Zero(boundary.size()));
+  EXPECT_EQ(u.size(), root() ? 2 * mesh.num_vertices() : 0);
 }
 
 TEST(ContactMpi, EngineReportsWhereTheResultsAre) {

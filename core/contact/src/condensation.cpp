@@ -185,14 +185,23 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
     : dofs_(system.dofs), factorization_(std::move(factorization)) {
   if (!factorization_) throw InputError("condensation needs a factorization engine");
   if (!law) throw InputError("condensation needs a contact law");
-  const int n = system.dofs.num_free();
-  const int n1 = boundary.size();
   normals_ = boundary.normals;
   has_normal_ = constraint != ConstraintKind::bilateral;
   has_tangential_ = friction != nullptr || !has_normal_;
   if (!has_normal_ && !friction) friction = zero_law();
-
+  order_unknowns(system, boundary);
   // the (x, y) -> (normal, tangential) rotation at the contact nodes: A~ = Q^T A Q, b~ = Q^T b
+  const SparseMatrix At = rotate_symmetric(system.A, contact_free_x_, contact_free_y_, normals_);
+  const Eigen::VectorXd bt = rotate_load(system.b);
+  measure_interior(At);
+  pose_reduced_problem(boundary, std::move(law), constraint, std::move(friction));
+  compute_schur_complement(At);
+  condense_load(At, bt);
+}
+
+void Condensation::order_unknowns(const LinearSystem& system, const ContactBoundary& boundary) {
+  const int n = system.dofs.num_free();
+  const int n1 = boundary.size();
   for (int i = 0; i < n1; ++i) {
     const int v = boundary.nodes[static_cast<std::size_t>(i)];
     const int fx = system.dofs.free_index[static_cast<std::size_t>(2 * v)];
@@ -205,89 +214,100 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
   // with friction the tangential displacements follow the normal ones
   if (has_tangential_)
     for (int i = 0; i < n1; ++i) block1_.push_back(contact_free_y_[static_cast<std::size_t>(i)]);
-  const SparseMatrix At = rotate_symmetric(system.A, contact_free_x_, contact_free_y_, boundary.normals);
-  Eigen::VectorXd bt = system.b;
-  for (int i = 0; i < n1; ++i) {
-    const int fx = contact_free_x_[static_cast<std::size_t>(i)], fy = contact_free_y_[static_cast<std::size_t>(i)];
-    const Vec2 nu = boundary.normals[static_cast<std::size_t>(i)];
-    bt(fx) = nu.x() * system.b(fx) + nu.y() * system.b(fy);
-    bt(fy) = -nu.y() * system.b(fx) + nu.x() * system.b(fy);
-  }
-
   std::vector<char> in1(static_cast<std::size_t>(n), 0);
   for (int k : block1_) in1[static_cast<std::size_t>(k)] = 1;
   for (int k = 0; k < n; ++k)
     if (!in1[static_cast<std::size_t>(k)]) block2_.push_back(k);
+}
+
+Eigen::VectorXd Condensation::rotate_load(const Eigen::VectorXd& b) const {
+  Eigen::VectorXd bt = b;
+  for (std::size_t i = 0; i < normals_.size(); ++i) {
+    const int fx = contact_free_x_[i], fy = contact_free_y_[i];
+    const Vec2 nu = normals_[i];
+    bt(fx) = nu.x() * b(fx) + nu.y() * b(fy);
+    bt(fy) = -nu.y() * b(fx) + nu.x() * b(fy);
+  }
+  return bt;
+}
+
+void Condensation::measure_interior(const SparseMatrix& At) {
+  std::vector<char> in1(static_cast<std::size_t>(At.rows()), 0);
+  for (int k : block1_) in1[static_cast<std::size_t>(k)] = 1;
   for (int j : block2_) {
     double sum = 0.0;
     for (SparseMatrix::InnerIterator it(At, j); it; ++it)
       if (!in1[static_cast<std::size_t>(it.row())]) sum += std::abs(it.value());
     a22_norm1_ = std::max(a22_norm1_, sum);
   }
+}
 
+void Condensation::pose_reduced_problem(const ContactBoundary& boundary, std::shared_ptr<const ContactLaw> law,
+                                        ConstraintKind constraint, std::shared_ptr<const ContactLaw> friction) {
+  const int n1 = boundary.size();
   reduced_.law = std::move(law);
   reduced_.constraint = constraint;
   reduced_.w = boundary.weights;
   reduced_.g = boundary.gaps;
-  if (has_tangential_) {
-    // the coordinate-wise form: normals (unless bilateral), then tangentials
-    const int nc = (has_normal_ ? n1 : 0) + n1;
-    reduced_.laws.clear();
-    if (has_normal_) reduced_.laws.push_back(reduced_.law);
-    reduced_.laws.push_back(friction);
-    reduced_.law = reduced_.laws.front();
-    reduced_.law_index.resize(nc);
-    reduced_.lo.resize(nc);
-    reduced_.hi.resize(nc);
-    reduced_.w.resize(nc);
-    for (int i = 0; i < n1; ++i) {
-      const int t = tangential_coordinate(i);
-      reduced_.law_index(t) = has_normal_ ? 1 : 0;
-      reduced_.lo(t) = -std::numeric_limits<double>::infinity();
-      reduced_.hi(t) = std::numeric_limits<double>::infinity();
-      reduced_.w(t) = boundary.weights(i);
-      if (!has_normal_) continue;
-      reduced_.law_index(i) = 0;
-      reduced_.lo(i) = lower_bound(constraint, boundary.gaps(i));
-      reduced_.hi(i) = upper_bound(constraint, boundary.gaps(i));
-      reduced_.w(i) = boundary.weights(i);
-    }
+  if (!has_tangential_) return;
+  // the coordinate-wise form: normals (unless bilateral), then tangentials
+  const int nc = (has_normal_ ? n1 : 0) + n1;
+  reduced_.laws.clear();
+  if (has_normal_) reduced_.laws.push_back(reduced_.law);
+  reduced_.laws.push_back(friction);
+  reduced_.law = reduced_.laws.front();
+  reduced_.law_index.resize(nc);
+  reduced_.lo.resize(nc);
+  reduced_.hi.resize(nc);
+  reduced_.w.resize(nc);
+  for (int i = 0; i < n1; ++i) {
+    const int t = tangential_coordinate(i);
+    reduced_.law_index(t) = has_normal_ ? 1 : 0;
+    reduced_.lo(t) = -std::numeric_limits<double>::infinity();
+    reduced_.hi(t) = std::numeric_limits<double>::infinity();
+    reduced_.w(t) = boundary.weights(i);
+    if (!has_normal_) continue;
+    reduced_.law_index(i) = 0;
+    reduced_.lo(i) = lower_bound(constraint, boundary.gaps(i));
+    reduced_.hi(i) = upper_bound(constraint, boundary.gaps(i));
+    reduced_.w(i) = boundary.weights(i);
   }
+}
+
+void Condensation::compute_schur_complement(const SparseMatrix& At) {
   Eigen::MatrixXd S1;
   require(factorization_->schur_complement(At, block1_, &S1), *factorization_, "static condensation");
   // the reduced coordinates among block 1: all of it, or its tangential half (bilateral)
+  const Eigen::Index n1 = static_cast<Eigen::Index>(normals_.size());
   const Eigen::Index first = has_normal_ ? 0 : n1, count = static_cast<Eigen::Index>(block1_.size()) - first;
   if (S1.size() > 0) {
     reduced_.S = 0.5 * (S1.block(first, first, count, count) + S1.block(first, first, count, count).transpose());
   } else {
     reduced_.S = std::move(S1);
   }
+}
 
-  if (!processes_of(*factorization_).holds_results()) {
-    // An engine across processes: this process takes part in the interior solve (collective)
-    // but receives no result; S, c and the margin exist where the results are held.
-    Eigen::MatrixXd y;
-    require(factorization_->solve_interior(Eigen::MatrixXd(), &y), *factorization_, "interior solve");
-    margin_ = std::numeric_limits<double>::quiet_NaN();
-    reduced_.uniqueness_margin = margin_;
-    return;
-  }
-
+// c = b1 - A12 A22^{-1} b2 and the uniqueness margin (where the results are held; NaN elsewhere).
+void Condensation::condense_load(const SparseMatrix& At, const Eigen::VectorXd& bt) {
   Eigen::VectorXd b1(static_cast<Eigen::Index>(block1_.size()));
   for (std::size_t i = 0; i < block1_.size(); ++i) b1(static_cast<Eigen::Index>(i)) = bt(block1_[i]);
   b2_.resize(static_cast<Eigen::Index>(block2_.size()));
   for (std::size_t i = 0; i < block2_.size(); ++i) b2_(static_cast<Eigen::Index>(i)) = bt(block2_[i]);
-  if (factorization_->splits_interior_solve()) {
+  const bool split = factorization_->splits_interior_solve();
+  Eigen::MatrixXd y;
+  if (split) {
     // c = b1 - A12 A22^{-1} b2 in one forward substitution; back_substitute() needs one backward
     require(factorization_->condense_rhs(b1, b2_, &reduced_.c), *factorization_, "interior solve");
   } else {
     extract_a21(At);
-    Eigen::MatrixXd y;
     require(factorization_->solve_interior(b2_, &y), *factorization_, "interior solve");
-    reduced_.c = b1 - A21_.transpose() * y.col(0);
   }
-  if (!has_normal_) reduced_.c = reduced_.c.tail(n1).eval();
-  margin_ = hemivem::uniqueness_margin(reduced_.S, reduced_.w, reduced_.alphas());
+  margin_ = std::numeric_limits<double>::quiet_NaN();
+  processes_of(*factorization_).run_where_results_are([&] {
+    if (!split) reduced_.c = b1 - A21_.transpose() * y.col(0);
+    if (!has_normal_) reduced_.c = reduced_.c.tail(static_cast<Eigen::Index>(normals_.size())).eval();
+    margin_ = hemivem::uniqueness_margin(reduced_.S, reduced_.w, reduced_.alphas());
+  });
   reduced_.uniqueness_margin = margin_;
 }
 
@@ -324,30 +344,39 @@ double Condensation::condition_estimate() const {
 
 Eigen::VectorXd Condensation::back_substitute(const Eigen::VectorXd& a) const {
   const ProcessGroup& processes = processes_of(*factorization_);
-  const bool holds = processes.holds_results();
-  // The check is decided where a lives and shared, so that no process is left in the solve.
+  const bool split = factorization_->splits_interior_solve();
+  Eigen::VectorXd x1;     // block 1's values
+  Eigen::MatrixXd rhs;    // the interior right-hand side b2 - A21 x1 (without a split solve)
+  processes.run_where_results_are([&] {
+    x1 = block1_values(a);
+    if (!split) rhs = b2_ - A21_ * x1;
+  });
+  Eigen::VectorXd u2;
+  Eigen::MatrixXd x2;
+  if (split)
+    require(factorization_->expand(x1, &u2), *factorization_, "back-substitution");
+  else
+    require(factorization_->solve_interior(rhs, &x2), *factorization_, "back-substitution");
+  Eigen::VectorXd u;
+  processes.run_where_results_are([&] { u = displacement(x1, split ? u2 : Eigen::VectorXd(x2.col(0))); });
+  return u;
+}
+
+// a, with the normal displacements 0 where they are not unknowns (bilateral).
+Eigen::VectorXd Condensation::block1_values(const Eigen::VectorXd& a) const {
   const auto n1 = static_cast<Eigen::Index>(normals_.size());
   const Eigen::Index unknowns = static_cast<Eigen::Index>(block1_.size()) - (has_normal_ ? 0 : n1);
-  const bool fits = processes.share(!holds || a.size() == unknowns ? 1 : 0) != 0;
-  if (!fits)
+  if (a.size() != unknowns)
     throw InputError("back-substitution needs " + std::to_string(unknowns) + " contact displacements, got " +
-                     (holds ? std::to_string(a.size()) : std::string("another number on the process holding the results")));
-  // block 1's values: a, with the normal displacements 0 where they are not unknowns (bilateral)
-  Eigen::VectorXd x1 = a;
-  if (holds && !has_normal_) {
-    x1 = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(block1_.size()));
-    x1.tail(n1) = a;
-  }
-  Eigen::VectorXd u2;
-  if (factorization_->splits_interior_solve()) {
-    require(factorization_->expand(x1, &u2), *factorization_, "back-substitution");
-  } else {
-    Eigen::MatrixXd x2;
-    require(factorization_->solve_interior(holds ? Eigen::MatrixXd(b2_ - A21_ * x1) : Eigen::MatrixXd(), &x2),
-            *factorization_, "back-substitution");
-    if (holds) u2 = x2.col(0);
-  }
-  if (!holds) return Eigen::VectorXd();
+                     std::to_string(a.size()));
+  if (has_normal_) return a;
+  Eigen::VectorXd x1 = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(block1_.size()));
+  x1.tail(n1) = a;
+  return x1;
+}
+
+// The full nodal displacement from block 1's and block 2's values in rotated coordinates.
+Eigen::VectorXd Condensation::displacement(const Eigen::VectorXd& x1, const Eigen::VectorXd& u2) const {
   Eigen::VectorXd ut(dofs_.num_free());
   for (std::size_t i = 0; i < block1_.size(); ++i) ut(block1_[i]) = x1(static_cast<Eigen::Index>(i));
   for (std::size_t i = 0; i < block2_.size(); ++i) ut(block2_[i]) = u2(static_cast<Eigen::Index>(i));

@@ -6,30 +6,15 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <exception>
 #include <limits>
 #include <string>
 
 namespace hemivem {
 
 namespace {
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-}  // namespace
 
-namespace {
-
-// What the process holding the results tells the others after the minimizer: a
-// MinimizerStatus (>= 0) or the kind of exception it threw.
-constexpr int kThrewInputError = -1;
-constexpr int kThrewNumericalError = -2;
-constexpr int kThrewOther = -3;
-
-[[noreturn]] void rethrow_elsewhere(int outcome) {
-  const std::string what = "the minimizer failed on the process holding the results (it reports the error)";
-  if (outcome == kThrewInputError) throw InputError(what);
-  if (outcome == kThrewNumericalError) throw NumericalError(what);
-  throw Error(what);
+double since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
 double rcond_or_nan(const SparseFactorization& f) {
@@ -37,17 +22,22 @@ double rcond_or_nan(const SparseFactorization& f) {
   return r >= 0.0 ? r : std::numeric_limits<double>::quiet_NaN();
 }
 
-// Demotes a "converged" result whose displacement is not finite (the engines' certificates
+// Demotes a "converged" solution whose displacement is not finite (the engines' certificates
 // see only the contact unknowns; back-substitution could still overflow).
 void require_finite(ContactSolution& sol) {
-  if (sol.minimizer.converged() && !sol.u.allFinite()) {
-    sol.minimizer.status = MinimizerStatus::failed;
-    sol.minimizer.message = "the displacement is not finite (NaN or Inf after back-substitution)";
+  if (sol.converged() && !sol.u.allFinite()) {
+    sol.status = MinimizerStatus::failed;
+    sol.message = "the displacement is not finite (NaN or Inf after back-substitution)";
   }
-  if (sol.minimizer.converged() && !std::isfinite(sol.energy)) {
-    sol.minimizer.status = MinimizerStatus::failed;
-    sol.minimizer.message = "the energy of the solution is not finite";
+  if (sol.converged() && !std::isfinite(sol.energy)) {
+    sol.status = MinimizerStatus::failed;
+    sol.message = "the energy of the solution is not finite";
   }
+}
+
+void require_ok(const FactorizationResult& r, const SparseFactorization& f, const std::string& what) {
+  if (!r.ok())
+    throw NumericalError(what + " with " + f.name() + " failed (" + to_string(r.status) + "): " + r.message);
 }
 
 }  // namespace
@@ -74,172 +64,236 @@ ConstraintKind constraint_in_effect(const ContactProblem& problem) {
                                                          : ConstraintKind::none;
 }
 
-std::vector<ContactSolution> solve_contact(const ContactProblem& problem, const LinearSystem& sys,
+// ---- ContactSolver ---------------------------------------------------------------------
+
+ContactSolver::ContactSolver(const ContactProblem& problem, std::unique_ptr<SparseFactorization> factorization,
+                             const MinimizerOptions& options)
+    : problem_(problem), options_(options), factorization_(std::move(factorization)) {
+  if (factorization_) processes_ = &processes_of(*factorization_);
+}
+
+ContactSolver::ContactSolver(const ContactProblem& problem, const LinearSystem& system,
+                             std::unique_ptr<SparseFactorization> factorization, const MinimizerOptions& options)
+    : ContactSolver(problem, std::move(factorization), options) {
+  system_ = &system;
+}
+
+ContactSolver::~ContactSolver() = default;
+
+ContactSolver& ContactSolver::estimate_condition(bool on) noexcept {
+  estimate_condition_ = on;
+  return *this;
+}
+
+ContactSolver& ContactSolver::export_reduced(ReducedProblem* reduced) noexcept {
+  reduced_ = reduced;
+  return *this;
+}
+
+double ContactSolver::seconds() const { return since(start_); }
+
+std::vector<ContactSolution> ContactSolver::run(std::span<const NonsmoothMinimizer* const> minimizers) {
+  if (ran_) throw InternalError("ContactSolver::run is called once");
+  ran_ = true;
+  start_ = Clock::now();
+  if (!system_) assemble();
+  check_arguments(minimizers);
+  common_.unknowns = system_->dofs.num_free();
+  boundary_ = contact_boundary(problem_, system_->dofs);
+  if (boundary_.size() == 0) {
+    const Eigen::MatrixXd X = linear_solve();
+    common_.may_be_nonunique = false;
+    processes_->run_where_results_are([&] { post_process_linear(X); });
+    agree_on_status(common_);
+    common_.timings["total"] = seconds();
+    return std::vector<ContactSolution>(minimizers.size(), common_);
+  }
+  condense();
+  const double before_minimize = seconds();
+  std::vector<ContactSolution> solutions;
+  for (const NonsmoothMinimizer* minimizer : minimizers) {
+    ContactSolution solution = common_;
+    const auto t = Clock::now();
+    minimize(*minimizer, solution);
+    back_substitute(solution);
+    processes_->run_where_results_are([&] { post_process(solution); });
+    agree_on_status(solution);
+    solution.timings["total"] = before_minimize + since(t);
+    solutions.push_back(std::move(solution));
+  }
+  return solutions;
+}
+
+void ContactSolver::check_arguments(std::span<const NonsmoothMinimizer* const> minimizers) const {
+  if (!factorization_) throw InputError("solve_contact needs a factorization engine");
+  if (minimizers.empty()) throw InputError("solve_contact needs at least one minimizer");
+  for (const auto* m : minimizers)
+    if (!m) throw InputError("solve_contact: a minimizer is null");
+  if (std::string why; !options_.is_valid(&why)) throw InputError(why, "MinimizerOptions");
+}
+
+void ContactSolver::assemble() {
+  const auto t = Clock::now();
+  assembled_ = hemivem::assemble(problem_.elasticity);
+  system_ = &*assembled_;
+  common_.timings["assembly"] = since(t);
+  common_.stages.push_back("assembly");
+}
+
+// Without a contact node: A u = b, one factorization and one solve. X on the process holding
+// the results.
+Eigen::MatrixXd ContactSolver::linear_solve() {
+  const auto t = Clock::now();
+  const LinearSystem& sys = *system_;
+  require_ok(factorization_->factorize(sys.A), *factorization_, "factorization");
+  Eigen::MatrixXd X;
+  require_ok(factorization_->solve(sys.b, &X), *factorization_, "solve");
+  common_.timings["linear_solve"] = since(t);
+  common_.stages.push_back("linear_solve");
+  if (estimate_condition_) {
+    common_.rcond = rcond_or_nan(*factorization_);
+    auto apply = [&](const Eigen::VectorXd& x) {
+      Eigen::MatrixXd y;
+      if (!factorization_->solve(x, &y).ok() || y.cols() != 1) return Eigen::VectorXd();
+      return Eigen::VectorXd(y.col(0));
+    };
+    common_.condition_estimate = norm1(sys.A) * estimate_norm1_symmetric(static_cast<int>(sys.A.rows()), apply);
+  }
+  return X;
+}
+
+// The displacement, the energy and the certificate of the linear solve: the relative
+// residual ||A u - b|| / max(||b||, ||A u||) is its dual part.
+void ContactSolver::post_process_linear(const Eigen::MatrixXd& X) {
+  ContactSolution& s = common_;
+  const LinearSystem& sys = *system_;
+  const Eigen::VectorXd uf = X.col(0);
+  s.u = sys.dofs.expand(uf);
+  const Eigen::VectorXd Au = sys.A * uf;
+  s.energy = 0.5 * uf.dot(Au) - uf.dot(sys.b);
+  const double scale = std::max({sys.b.cwiseAbs().maxCoeff(), Au.cwiseAbs().maxCoeff(), force_floor});
+  const double residual = (Au - sys.b).cwiseAbs().maxCoeff();
+  Certificate& c = s.certificate;
+  c.tolerance = options_.tolerance;
+  c.primal = 0.0;
+  c.dual = residual == 0.0 ? 0.0 : (std::isfinite(residual) ? residual / scale : std::numeric_limits<double>::infinity());
+  c.length_scale = uf.cwiseAbs().maxCoeff();
+  c.force_scale = scale;
+  if (uf.allFinite() && c.converged()) {
+    s.status = MinimizerStatus::converged;
+  } else {
+    s.status = MinimizerStatus::failed;
+    s.message = uf.allFinite() ? "the linear solve's relative residual is above the tolerance"
+                               : "the linear solve gave a displacement that is not finite";
+  }
+  require_finite(s);
+}
+
+// The static condensation onto the contact unknowns (the reduced problem), its uniqueness
+// margin and, when asked, the conditioning of the interior block.
+void ContactSolver::condense() {
+  if (!problem_.law) throw InputError("the contact boundary has no contact law");
+  const auto t = Clock::now();
+  condensation_ = std::make_unique<Condensation>(*system_, boundary_, std::move(factorization_), problem_.law,
+                                                 constraint_in_effect(problem_), problem_.friction);
+  common_.timings["condensation"] = since(t);
+  common_.stages.push_back("condensation");
+  common_.uniqueness_margin = condensation_->uniqueness_margin();
+  if (estimate_condition_) {
+    common_.rcond = rcond_or_nan(condensation_->factorization());
+    common_.condition_estimate = condensation_->condition_estimate();
+  }
+  processes_->run_where_results_are([&] {
+    if (reduced_) *reduced_ = condensation_->reduced();
+  });
+}
+
+// The reduced problem is solved where it lives.
+void ContactSolver::minimize(const NonsmoothMinimizer& minimizer, ContactSolution& solution) const {
+  const auto t = Clock::now();
+  processes_->run_where_results_are([&] {
+    MinimizerResult m = minimizer.minimize(condensation_->reduced(), Eigen::VectorXd(), options_);
+    solution.status = m.status;
+    solution.message = m.message;
+    solution.certificate = m.certificate;
+    solution.may_be_nonunique = m.may_be_nonunique;
+    solution.minimizer = std::move(m);
+  });
+  solution.timings["minimize"] = since(t);
+  solution.stages.push_back("minimize");
+}
+
+void ContactSolver::back_substitute(ContactSolution& solution) const {
+  const auto t = Clock::now();
+  solution.u = condensation_->back_substitute(solution.minimizer ? solution.minimizer->a : Eigen::VectorXd());
+  solution.timings["back_substitution"] = since(t);
+  solution.stages.push_back("back_substitution");
+}
+
+// The contact table and the potential energy of the solution.
+void ContactSolver::post_process(ContactSolution& solution) const {
+  const LinearSystem& sys = *system_;
+  const MinimizerResult& m = *solution.minimizer;
+  Eigen::VectorXd uf(sys.dofs.num_free());
+  for (int k = 0; k < sys.dofs.num_free(); ++k) uf(k) = solution.u(sys.dofs.free_dofs[static_cast<std::size_t>(k)]);
+  const Eigen::VectorXd Au = sys.A * uf;
+  const Eigen::VectorXd residual = Au - sys.b;
+  for (int i = 0; i < boundary_.size(); ++i) solution.contact.push_back(contact_node(i, m, residual));
+  // the potential energy of the discrete problem (F(a) differs from it by a constant)
+  const ReducedProblem& rp = condensation_->reduced();
+  solution.energy = 0.5 * uf.dot(Au) - uf.dot(sys.b);
+  for (Eigen::Index i = 0; i < m.a.size(); ++i) solution.energy += rp.w(i) * rp.law_of(i).value(m.a(i));
+  require_finite(solution);
+}
+
+// Contact node i: its position and geometry, and the displacements, forces and states of the
+// minimizer's point; `residual` is A u - b on the free dofs.
+ContactNode ContactSolver::contact_node(int i, const MinimizerResult& m, const Eigen::VectorXd& residual) const {
+  const Condensation& cond = *condensation_;
+  const ReducedProblem& rp = cond.reduced();
+  const bool forces = m.law_force.size() == m.a.size() && m.reaction.size() == m.a.size();
+  ContactNode node;
+  node.vertex = boundary_.nodes[static_cast<std::size_t>(i)];
+  node.x = problem_.elasticity.mesh->vertex(node.vertex);
+  node.weight = boundary_.weights(i);
+  node.normal = boundary_.normals[static_cast<std::size_t>(i)];
+  node.gap = boundary_.gaps(i);
+  if (const int k = cond.normal_coordinate(i); k >= 0) {
+    node.u_nu = m.a(k);
+    node.law_force = forces ? m.law_force(k) : 0.0;
+    node.reaction = forces ? m.reaction(k) : 0.0;
+    node.state = m.a(k) == rp.upper(k) ? "upper" : (m.a(k) == rp.lower(k) ? "lower" : "free");
+  } else {
+    // u_nu = 0 imposed: the normal force is what holds the node there, the normal part of
+    // the residual A u - b at its dofs (NaN where a dof of the node is prescribed)
+    node.state = "bilateral";
+    const int dx = system_->dofs.free_index[static_cast<std::size_t>(2 * node.vertex)];
+    const int dy = system_->dofs.free_index[static_cast<std::size_t>(2 * node.vertex + 1)];
+    node.reaction = dx >= 0 && dy >= 0 ? -Vec2(residual(dx), residual(dy)).dot(node.normal)
+                                       : std::numeric_limits<double>::quiet_NaN();
+  }
+  if (const int k = cond.tangential_coordinate(i); k >= 0) {
+    node.u_tau = m.a(k);
+    node.friction_force = forces ? m.law_force(k) + m.reaction(k) : 0.0;
+    node.friction_state = friction_state(rp.law_of(k), node.u_tau);
+  }
+  return node;
+}
+
+// Collective: every process takes the final status of the process holding the results.
+void ContactSolver::agree_on_status(ContactSolution& solution) const {
+  solution.status = static_cast<MinimizerStatus>(processes_->share(static_cast<int>(solution.status)));
+}
+
+// ---- the free functions -----------------------------------------------------------------
+
+std::vector<ContactSolution> solve_contact(const ContactProblem& problem, const LinearSystem& system,
                                            std::unique_ptr<SparseFactorization> factorization,
                                            std::span<const NonsmoothMinimizer* const> minimizers,
                                            const MinimizerOptions& options, ReducedProblem* reduced,
                                            bool estimate_condition) {
-  if (!factorization) throw InputError("solve_contact needs a factorization engine");
-  if (minimizers.empty()) throw InputError("solve_contact needs at least one minimizer");
-  for (const auto* m : minimizers)
-    if (!m) throw InputError("solve_contact: a minimizer is null");
-  if (std::string why; !options.is_valid(&why)) throw InputError(why, "MinimizerOptions");
-  const auto t_start = Clock::now();
-  const bool holds = processes_of(*factorization).holds_results();
-  ContactSolution shared;
-  auto t = Clock::now();
-  shared.unknowns = sys.dofs.num_free();
-  const Mesh& mesh = *problem.elasticity.mesh;
-
-  const ContactBoundary boundary = contact_boundary(problem, sys.dofs);
-
-  if (boundary.size() == 0) {
-    // No contact node: one linear solve.
-    t = Clock::now();
-    if (auto r = factorization->factorize(sys.A); !r.ok())
-      throw NumericalError("factorization with " + factorization->name() + " failed (" + to_string(r.status) + "): " + r.message);
-    Eigen::MatrixXd X;
-    if (auto r = factorization->solve(sys.b, &X); !r.ok())
-      throw NumericalError("solve with " + factorization->name() + " failed (" + to_string(r.status) + "): " + r.message);
-    shared.timings["linear_solve"] = since(t);
-    shared.stages.push_back("linear_solve");
-    if (estimate_condition) {
-      shared.rcond = rcond_or_nan(*factorization);
-      auto apply = [&](const Eigen::VectorXd& x) {
-        Eigen::MatrixXd y;
-        if (!factorization->solve(x, &y).ok() || y.cols() != 1) return Eigen::VectorXd();
-        return Eigen::VectorXd(y.col(0));
-      };
-      shared.condition_estimate = norm1(sys.A) * estimate_norm1_symmetric(static_cast<int>(sys.A.rows()), apply);
-    }
-    auto& m = shared.minimizer;
-    m.may_be_nonunique = false;
-    if (holds) {
-      const Eigen::VectorXd uf = X.col(0);
-      shared.u = sys.dofs.expand(uf);
-      const Eigen::VectorXd Au = sys.A * uf;
-      shared.energy = 0.5 * uf.dot(Au) - uf.dot(sys.b);
-      const double scale = std::max({sys.b.cwiseAbs().maxCoeff(), Au.cwiseAbs().maxCoeff(), force_floor});
-      const double residual = (Au - sys.b).cwiseAbs().maxCoeff();
-      Certificate& c = m.certificate;
-      c.tolerance = options.tolerance;
-      c.primal = 0.0;
-      c.dual = residual == 0.0 ? 0.0 : (std::isfinite(residual) ? residual / scale : std::numeric_limits<double>::infinity());
-      c.length_scale = uf.cwiseAbs().maxCoeff();
-      c.force_scale = scale;
-      if (uf.allFinite() && c.converged()) {
-        m.status = MinimizerStatus::converged;
-      } else {
-        m.status = MinimizerStatus::failed;
-        m.message = uf.allFinite() ? "the linear solve's relative residual is above the tolerance"
-                                   : "the linear solve gave a displacement that is not finite";
-      }
-      require_finite(shared);
-    }
-    m.status = static_cast<MinimizerStatus>(processes_of(*factorization).share(static_cast<int>(m.status)));
-    shared.timings["total"] = since(t_start);
-    return std::vector<ContactSolution>(minimizers.size(), shared);
-  }
-
-  if (!problem.law) throw InputError("the contact boundary has no contact law");
-  const ConstraintKind constraint = constraint_in_effect(problem);
-  t = Clock::now();
-  const Condensation cond(sys, boundary, std::move(factorization), problem.law, constraint, problem.friction);
-  shared.timings["condensation"] = since(t);
-  shared.stages.push_back("condensation");
-  shared.uniqueness_margin = cond.uniqueness_margin();
-  if (estimate_condition) {
-    shared.rcond = rcond_or_nan(cond.factorization());
-    shared.condition_estimate = cond.condition_estimate();
-  }
-  const ReducedProblem& rp = cond.reduced();
-  if (reduced && holds) *reduced = rp;
-  const double before_minimize = since(t_start);
-
-  std::vector<ContactSolution> solutions;
-  for (const NonsmoothMinimizer* minimizer : minimizers) {
-    ContactSolution sol = shared;
-    const auto t_own = Clock::now();
-    // The reduced problem is solved where it lives; the others learn the status, or that it threw.
-    t = Clock::now();
-    int outcome = 0;
-    std::exception_ptr failure;
-    if (holds) {
-      try {
-        sol.minimizer = minimizer->minimize(rp, Eigen::VectorXd(), options);
-        outcome = static_cast<int>(sol.minimizer.status);
-      } catch (const InputError&) {
-        failure = std::current_exception();
-        outcome = kThrewInputError;
-      } catch (const NumericalError&) {
-        failure = std::current_exception();
-        outcome = kThrewNumericalError;
-      } catch (...) {
-        failure = std::current_exception();
-        outcome = kThrewOther;
-      }
-    }
-    outcome = processes_of(cond.factorization()).share(outcome);
-    if (failure) std::rethrow_exception(failure);
-    if (outcome < 0) rethrow_elsewhere(outcome);
-    sol.timings["minimize"] = since(t);
-    sol.stages.push_back("minimize");
-
-    t = Clock::now();
-    sol.u = cond.back_substitute(sol.minimizer.a);
-    sol.timings["back_substitution"] = since(t);
-    sol.stages.push_back("back_substitution");
-    if (!holds) {
-      // the final status (after the checks below on the process holding the results)
-      sol.minimizer.status = static_cast<MinimizerStatus>(processes_of(cond.factorization()).share(0));
-      sol.timings["total"] = before_minimize + since(t_own);
-      solutions.push_back(std::move(sol));
-      continue;
-    }
-
-    const MinimizerResult& m = sol.minimizer;
-    const bool forces = m.law_force.size() == m.a.size() && m.reaction.size() == m.a.size();
-    Eigen::VectorXd uf(sys.dofs.num_free());
-    for (int k = 0; k < sys.dofs.num_free(); ++k) uf(k) = sol.u(sys.dofs.free_dofs[static_cast<std::size_t>(k)]);
-    const Eigen::VectorXd Au = sys.A * uf;
-    for (int i = 0; i < boundary.size(); ++i) {
-      ContactNode node;
-      node.vertex = boundary.nodes[static_cast<std::size_t>(i)];
-      node.x = mesh.vertex(node.vertex);
-      node.weight = boundary.weights(i);
-      node.normal = boundary.normals[static_cast<std::size_t>(i)];
-      node.gap = boundary.gaps(i);
-      if (const int k = cond.normal_coordinate(i); k >= 0) {
-        node.u_nu = m.a(k);
-        node.law_force = forces ? m.law_force(k) : 0.0;
-        node.reaction = forces ? m.reaction(k) : 0.0;
-        node.state = m.a(k) == rp.upper(k) ? "upper" : (m.a(k) == rp.lower(k) ? "lower" : "free");
-      } else {
-        // u_nu = 0 imposed: the normal force is what holds the node there, the normal part of
-        // the residual A u - b at its dofs (NaN where a dof of the node is prescribed)
-        node.state = "bilateral";
-        const int dx = sys.dofs.free_index[static_cast<std::size_t>(2 * node.vertex)];
-        const int dy = sys.dofs.free_index[static_cast<std::size_t>(2 * node.vertex + 1)];
-        node.reaction = dx >= 0 && dy >= 0 ? -Vec2(Au(dx) - sys.b(dx), Au(dy) - sys.b(dy)).dot(node.normal)
-                                           : std::numeric_limits<double>::quiet_NaN();
-      }
-      if (const int k = cond.tangential_coordinate(i); k >= 0) {
-        node.u_tau = m.a(k);
-        node.friction_force = forces ? m.law_force(k) + m.reaction(k) : 0.0;
-        node.friction_state = friction_state(rp.law_of(k), node.u_tau);
-      }
-      sol.contact.push_back(node);
-    }
-    const Eigen::VectorXd& a = m.a;
-    // the potential energy of the discrete problem (F(a) differs from it by a constant)
-    sol.energy = 0.5 * uf.dot(Au) - uf.dot(sys.b);
-    for (Eigen::Index i = 0; i < a.size(); ++i) sol.energy += rp.w(i) * rp.law_of(i).value(a(i));
-    require_finite(sol);
-    processes_of(cond.factorization()).share(static_cast<int>(sol.minimizer.status));
-    sol.timings["total"] = before_minimize + since(t_own);
-    solutions.push_back(std::move(sol));
-  }
-  return solutions;
+  ContactSolver solver(problem, system, std::move(factorization), options);
+  return solver.estimate_condition(estimate_condition).export_reduced(reduced).run(minimizers);
 }
 
 std::vector<ContactSolution> solve_contact(const ContactProblem& problem,
@@ -247,16 +301,8 @@ std::vector<ContactSolution> solve_contact(const ContactProblem& problem,
                                            std::span<const NonsmoothMinimizer* const> minimizers,
                                            const MinimizerOptions& options, ReducedProblem* reduced,
                                            bool estimate_condition) {
-  const auto t = Clock::now();
-  const LinearSystem sys = assemble(problem.elasticity);
-  const double seconds = since(t);
-  auto solutions = solve_contact(problem, sys, std::move(factorization), minimizers, options, reduced, estimate_condition);
-  for (auto& s : solutions) {
-    s.timings["assembly"] = seconds;
-    s.timings["total"] += seconds;
-    s.stages.insert(s.stages.begin(), "assembly");
-  }
-  return solutions;
+  ContactSolver solver(problem, std::move(factorization), options);
+  return solver.estimate_condition(estimate_condition).export_reduced(reduced).run(minimizers);
 }
 
 ContactSolution solve_contact(const ContactProblem& problem, std::unique_ptr<SparseFactorization> factorization,

@@ -1,5 +1,5 @@
-// The contact boundary Gamma_3 and the static condensation onto its normal displacements
-// (DESIGN §1 and §3).
+// The contact boundary Gamma_3 and the static condensation onto its contact displacements
+// (the reduced problem of hemivem/reduced_problem.hpp).
 #pragma once
 
 #include <Eigen/Core>
@@ -92,6 +92,17 @@ class Condensation {
   std::vector<int> block2_;       // remaining rotated free indices, increasing
   std::vector<int> contact_free_x_, contact_free_y_;  // free index of the x/y dof per contact node
   std::vector<Vec2> normals_;
+  // the steps of the constructor, in order
+  void order_unknowns(const LinearSystem& system, const ContactBoundary& boundary);
+  Eigen::VectorXd rotate_load(const Eigen::VectorXd& b) const;
+  void measure_interior(const SparseMatrix& At);
+  void pose_reduced_problem(const ContactBoundary& boundary, std::shared_ptr<const ContactLaw> law,
+                            ConstraintKind constraint, std::shared_ptr<const ContactLaw> friction);
+  void compute_schur_complement(const SparseMatrix& At);
+  void condense_load(const SparseMatrix& At, const Eigen::VectorXd& bt);
+  // the steps of back_substitute()
+  Eigen::VectorXd block1_values(const Eigen::VectorXd& a) const;
+  Eigen::VectorXd displacement(const Eigen::VectorXd& x1, const Eigen::VectorXd& u2) const;
   /// A21_ = At(block2, block1), for an engine that does not split the interior solve.
   void extract_a21(const SparseMatrix& At);
   SparseMatrix A21_;              // block2 x block1 of the rotated matrix (when extracted)

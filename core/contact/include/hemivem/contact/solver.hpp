@@ -1,15 +1,17 @@
-// The whole solve of a contact problem (DESIGN §4):
+// The whole solve of a contact problem, in stages (ContactSolver):
 //   assembly -> condensation through a SparseFactorization -> ReducedProblem ->
-//   NonsmoothMinimizer -> back-substitution,
+//   NonsmoothMinimizer -> back-substitution -> post-processing,
 // running only the stages the problem needs: without a contact boundary one linear solve;
 // without gaps no constraint (ConstraintKind::none).
 #pragma once
 
 #include <Eigen/Core>
 
+#include <chrono>
 #include <map>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -21,7 +23,9 @@
 
 namespace hemivem {
 
-/// One contact node of the solution, with the forces of the certificate (DESIGN §3).
+class ProcessGroup;
+
+/// One contact node of the solution, with the forces of the certificate (hemivem/certificate.hpp).
 struct ContactNode {
   int vertex = -1;
   Vec2 x = Vec2::Zero();
@@ -51,7 +55,19 @@ struct ContactSolution {
   Eigen::VectorXd u;                    ///< nodal displacements, 2 per vertex
   int unknowns = 0;                     ///< free degrees of freedom of the assembled system
   std::vector<ContactNode> contact;     ///< empty without a contact boundary
-  MinimizerResult minimizer;            ///< status, certificate, iterations ... (status converged for a plain linear solve)
+  /// The verdict on the solution: the minimizer's status and certificate, demoted to failed
+  /// when the displacement or the energy is not finite; without a contact boundary the status
+  /// and certificate of the one linear solve (primal 0, dual its relative residual).
+  MinimizerStatus status = MinimizerStatus::failed;
+  std::string message;                  ///< why the status is not converged (empty otherwise)
+  Certificate certificate;
+  /// The minimizer's flag: F may have several critical points (false for the linear solve).
+  bool may_be_nonunique = false;
+  /// The minimizer's own report (the point a, iterations, evaluations, history, a global
+  /// search's critical points), as it returned it; absent without a contact boundary (no
+  /// minimizer runs) and on the processes of an engine across processes that do not hold
+  /// the results.
+  std::optional<MinimizerResult> minimizer;
   double uniqueness_margin = std::numeric_limits<double>::infinity();
   double energy = 0.0;                  ///< potential energy 1/2 u^T A u - b^T u + sum_i w_i j(u_nu,i) (free dofs)
   /// Reciprocal condition estimate of the matrix the engine factorized (A22 with contact, A
@@ -63,7 +79,9 @@ struct ContactSolution {
   double condition_estimate = std::numeric_limits<double>::quiet_NaN();
   std::map<std::string, double> timings;  ///< seconds: assembly, condensation, minimize, back_substitution, total
   std::vector<std::string> stages;      ///< the stages that ran, in order
-  bool converged() const noexcept { return minimizer.converged(); }
+  bool converged() const noexcept { return status == MinimizerStatus::converged; }
+  /// The minimizer's iterations (0 without a minimizer).
+  int iterations() const noexcept { return minimizer ? minimizer->iterations : 0; }
   /// The resultant force of the foundation (or obstacle) on the body: the sum over the
   /// contact nodes of -(zeta_i + lambda_i) nu_i - zeta_tau,i tau_i (the friction force).
   /// Zero without contact.
@@ -94,11 +112,21 @@ ContactBoundary contact_boundary(const ContactProblem& problem, const DofMap& do
 /// neither gaps nor an obstacle (bilateral stays bilateral).
 ConstraintKind constraint_in_effect(const ContactProblem& problem);
 
-/// Solves `problem` with the given engines. The factorization is consumed (it keeps A22 for
-/// back-substitution). Throws InputError for a problem that cannot be set up (e.g. a body
-/// that is not held) and NumericalError when the factorization fails; a minimizer that does
-/// not converge is reported in the result, not thrown.
-/// When `reduced` is not null it receives a copy of the reduced problem (for export).
+/// The solve of one contact problem in named stages, as deal.II's step-41 tutorial lays out
+/// its obstacle problem: run() calls
+///
+///   assemble -> condense -> (for each minimizer) minimize -> back_substitute -> post_process
+///
+/// and, without a contact boundary, assemble -> linear_solve -> post_process (one linear solve,
+/// shared by every minimizer). ContactSolution::stages names the stages that ran (the
+/// post-processing is not a stage there) and ContactSolution::timings gives their seconds.
+/// The free functions solve_contact() below are thin wrappers around it.
+///
+/// The problem, the options and a system given by the caller must outlive the solver; the
+/// factorization is consumed (the condensation keeps A22 for back-substitution). InputError
+/// for a problem that cannot be set up (e.g. a body that is not held) and NumericalError when
+/// the factorization fails; a minimizer that does not converge is reported in the solution,
+/// not thrown.
 ///
 /// A solution is never reported as converged unless every displacement is finite and the
 /// certificate holds: a minimizer result that is converged but whose back-substituted
@@ -107,18 +135,75 @@ ConstraintKind constraint_in_effect(const ContactProblem& problem);
 /// solve is converged when it is finite and below options.tolerance.
 ///
 /// With an engine across processes (hemivem/process_group.hpp: holds_results() false on all
-/// but one process) every process calls solve_contact with the same problem: assembly runs on every
-/// process, the engine's calls are collective, the minimizer and the results (u, contact,
-/// energy, margin, `reduced`) belong to the process holding the results. Elsewhere the
-/// solution carries the stages, the timings and the minimizer's status (shared), nothing else.
-/// An exception thrown there by the minimizer is thrown on every process (the others get the
-/// same type with a message saying so).
+/// but one process) every process runs the same solver on the same problem: assembly runs on
+/// every process, the engine's calls are collective, the minimizer and the results (u, contact,
+/// energy, margin, the reduced problem) belong to the process holding the results. Elsewhere
+/// the solution carries the stages, the timings and the status (shared), nothing else. The
+/// work done there alone (the minimizer, the post-processing) runs through
+/// ProcessGroup::run_where_results_are: an exception thrown there is thrown on every process
+/// (the others get the same kind of error with a message saying so).
+class ContactSolver {
+ public:
+  /// The "assembly" stage assembles problem.elasticity.
+  ContactSolver(const ContactProblem& problem, std::unique_ptr<SparseFactorization> factorization,
+                const MinimizerOptions& options);
+  /// On a system the caller assembled from problem.elasticity (assemble()), e.g. to condense
+  /// one assembly with several engines: no "assembly" stage, and "total" excludes it.
+  ContactSolver(const ContactProblem& problem, const LinearSystem& system,
+                std::unique_ptr<SparseFactorization> factorization, const MinimizerOptions& options);
+  ContactSolver(const ContactSolver&) = delete;
+  ContactSolver& operator=(const ContactSolver&) = delete;
+  ~ContactSolver();
+
+  /// Adds ContactSolution::condition_estimate (7 more solves) and rcond.
+  ContactSolver& estimate_condition(bool on = true) noexcept;
+  /// `reduced`, when not null, receives a copy of the reduced problem (for export).
+  ContactSolver& export_reduced(ReducedProblem* reduced) noexcept;
+
+  /// Runs the stages once: one solution per minimizer, in order (the stages before the
+  /// minimizer run once; their timings are repeated in every solution).
+  std::vector<ContactSolution> run(std::span<const NonsmoothMinimizer* const> minimizers);
+
+ private:
+  using Clock = std::chrono::steady_clock;
+
+  void check_arguments(std::span<const NonsmoothMinimizer* const> minimizers) const;
+  // the stages
+  void assemble();
+  Eigen::MatrixXd linear_solve();
+  void condense();
+  void minimize(const NonsmoothMinimizer& minimizer, ContactSolution& solution) const;
+  void back_substitute(ContactSolution& solution) const;
+  void post_process(ContactSolution& solution) const;
+  // the post-processing of the linear solve, and its pieces
+  void post_process_linear(const Eigen::MatrixXd& X);
+  ContactNode contact_node(int i, const MinimizerResult& m, const Eigen::VectorXd& residual) const;
+  void agree_on_status(ContactSolution& solution) const;
+  double seconds() const;
+
+  const ContactProblem& problem_;
+  const MinimizerOptions& options_;
+  std::unique_ptr<SparseFactorization> factorization_;  // until condense() hands it on
+  const ProcessGroup* processes_ = nullptr;             // the engine's processes
+  std::optional<LinearSystem> assembled_;
+  const LinearSystem* system_ = nullptr;
+  ContactBoundary boundary_;
+  std::unique_ptr<Condensation> condensation_;
+  bool estimate_condition_ = false;
+  ReducedProblem* reduced_ = nullptr;
+  bool ran_ = false;
+  Clock::time_point start_;
+  ContactSolution common_;  // what every solution shares: the stages before the minimizer
+};
+
+/// Solves `problem` with the given engines: ContactSolver(problem, factorization, options)
+/// run with one minimizer. When `reduced` is not null it receives a copy of the reduced
+/// problem (for export).
 ContactSolution solve_contact(const ContactProblem& problem, std::unique_ptr<SparseFactorization> factorization,
                               const NonsmoothMinimizer& minimizer, const MinimizerOptions& options,
                               ReducedProblem* reduced = nullptr);
 
-/// The same for several minimizers sharing one assembly and one condensation (the stages
-/// before the minimizer run once; their timings are repeated in every solution): one solution
+/// The same for several minimizers sharing one assembly and one condensation: one solution
 /// per minimizer, in order. Without a contact boundary the single linear solve is shared.
 /// `estimate_condition` adds ContactSolution::condition_estimate (7 more solves) and rcond.
 std::vector<ContactSolution> solve_contact(const ContactProblem& problem,
