@@ -138,3 +138,20 @@ def test_ctrl_c_stops_a_solve(small_scene):
         hemivem.solve(s, linear="eigen", minimizer="nlopt-mma")
     timer.cancel()
     assert time.perf_counter() - t0 < 60
+
+
+def test_reports_are_the_commands_summary(tmp_path, run_command, small_scene):
+    p = run_command("solve", "--n", 16, "--linear", "cholmod", "--out", tmp_path / "cmd")
+    printed = p.stdout.splitlines()
+    r = hemivem.solve(small_scene, linear="cholmod")
+    full = r.full_report().splitlines()
+    # the command prints its title, the full report, then the files it wrote
+    assert printed[0].startswith("hemivem solve: ") and printed[len(full) + 1].startswith("  wrote ")
+    for mine, theirs in zip(full, printed[1 : len(full) + 1]):
+        if mine.startswith("  time [s]"):  # the same stages, other seconds
+            assert [w for w in mine.split() if w.isalpha()] == [w for w in theirs.split() if w.isalpha()]
+        else:
+            assert mine == theirs
+    brief = r.brief_report()
+    assert brief.startswith(f"converged (certificate: primal {r.certificate.primal:.3e}, dual {r.certificate.dual:.3e}")
+    assert f"{r.iterations} iterations, energy " in brief and brief.endswith(" s") and "\n" not in brief
