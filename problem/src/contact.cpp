@@ -71,15 +71,12 @@ ContactBoundary make_contact_boundary(const Mesh& mesh, const std::vector<int>& 
 
 namespace {
 
-/// Throws for a failed call of the engine: InternalError when the call broke the engine's
-/// contract (invalid_input, not_ready: a programming error), NumericalError otherwise.
+/// Throws NumericalError for a failed call of the engine (a call that broke the engine's
+/// contract has thrown InternalError already).
 void require(const FactorizationResult& r, const SparseFactorization& engine, const std::string& what) {
   if (r.ok()) return;
-  const std::string message =
-      what + " with the " + engine.name() + " engine failed (" + to_string(r.status) + "): " + r.message;
-  if (r.status == FactorizationStatus::invalid_input || r.status == FactorizationStatus::not_ready)
-    throw InternalError(message);
-  throw NumericalError(message);
+  throw NumericalError(what + " with the " + engine.name() + " engine failed (" + to_string(r.status) + "): " +
+                       r.message);
 }
 
 // The entry (i, j) of the compressed column-major A (0 where it is not stored).
@@ -225,17 +222,13 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
     a22_norm1_ = std::max(a22_norm1_, sum);
   }
 
-  reduced_.law = std::move(law);
-  reduced_.constraint = constraint;
   reduced_.w = boundary.weights;
-  reduced_.g = boundary.gaps;
   if (has_tangential_) {
     // the coordinate-wise form: normals (unless bilateral), then tangentials
     const int nc = (has_normal_ ? n1 : 0) + n1;
     reduced_.laws.clear();
-    if (has_normal_) reduced_.laws.push_back(reduced_.law);
+    if (has_normal_) reduced_.laws.push_back(law);
     reduced_.laws.push_back(friction);
-    reduced_.law = reduced_.laws.front();
     reduced_.law_index.resize(nc);
     reduced_.lo.resize(nc);
     reduced_.hi.resize(nc);
@@ -251,6 +244,17 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
       reduced_.lo(i) = lower_bound(constraint, boundary.gaps(i));
       reduced_.hi(i) = upper_bound(constraint, boundary.gaps(i));
       reduced_.w(i) = boundary.weights(i);
+    }
+  } else {
+    // the normals, with one law and the bounds of the constraint
+    const bool gapped = constraint == ConstraintKind::one_sided || constraint == ConstraintKind::box;
+    reduced_.laws = {law};
+    reduced_.law_index = Eigen::VectorXi::Zero(n1);
+    reduced_.lo.resize(n1);
+    reduced_.hi.resize(n1);
+    for (int i = 0; i < n1; ++i) {
+      reduced_.lo(i) = lower_bound(constraint, gapped ? boundary.gaps(i) : 0.0);
+      reduced_.hi(i) = upper_bound(constraint, gapped ? boundary.gaps(i) : 0.0);
     }
   }
   Eigen::MatrixXd S1;
@@ -277,9 +281,9 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
   for (std::size_t i = 0; i < block1_.size(); ++i) b1(static_cast<Eigen::Index>(i)) = bt(block1_[i]);
   b2_.resize(static_cast<Eigen::Index>(block2_.size()));
   for (std::size_t i = 0; i < block2_.size(); ++i) b2_(static_cast<Eigen::Index>(i)) = bt(block2_[i]);
-  if (factorization_->splits_interior_solve()) {
+  if (SplitInteriorSolve* split = split_interior_solve(*factorization_)) {
     // c = b1 - A12 A22^{-1} b2 in one forward substitution; back_substitute() needs one backward
-    require(factorization_->condense_rhs(b1, b2_, &reduced_.c), *factorization_, "interior solve");
+    require(split->condense_rhs(b1, b2_, &reduced_.c), *factorization_, "interior solve");
   } else {
     extract_a21(At);
     Eigen::MatrixXd y;
@@ -339,8 +343,8 @@ Eigen::VectorXd Condensation::back_substitute(const Eigen::VectorXd& a) const {
     x1.tail(n1) = a;
   }
   Eigen::VectorXd u2;
-  if (factorization_->splits_interior_solve()) {
-    require(factorization_->expand(x1, &u2), *factorization_, "back-substitution");
+  if (const SplitInteriorSolve* split = split_interior_solve(*factorization_)) {
+    require(split->expand(x1, &u2), *factorization_, "back-substitution");
   } else {
     Eigen::MatrixXd x2;
     require(factorization_->solve_interior(holds ? Eigen::MatrixXd(b2_ - A21_ * x1) : Eigen::MatrixXd(), &x2),

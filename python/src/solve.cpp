@@ -315,7 +315,7 @@ was solved from, and its arrays keep it alive.
         } catch (const Interrupted&) {
         }
         watch.raise_if_interrupted();
-        if (keep_reduced && d->solved.built->has_contact && reduced.law) {
+        if (keep_reduced && d->solved.built->has_contact && !reduced.laws.empty()) {
           d->reduced = std::make_shared<ReducedHolder>();
           d->reduced->own = std::move(reduced);
           d->reduced->linear = d->solved.linear;

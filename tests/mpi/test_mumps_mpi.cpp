@@ -6,6 +6,7 @@
 // checks them. Nothing fatal (ASSERT_*) may stop one process before a collective call that the
 // others make; fatal assertions are used on statuses only, which all processes share.
 // main() reduces the outcome over all processes: a failure on any rank fails the program.
+#include <hemivem/error.hpp>
 #include <hemivem/mumps_mpi_factorization.hpp>
 
 #include <Eigen/Cholesky>
@@ -24,6 +25,7 @@
 namespace {
 
 using hemivem::FactorizationStatus;
+using hemivem::InternalError;
 using hemivem::MumpsMpiFactorization;
 using hemivem::SparseMatrix;
 
@@ -211,13 +213,15 @@ TEST(MumpsMpi, BadInputOnRankZeroIsReportedEverywhere) {
   const SparseMatrix A_full = random_spd(40, 29);
   MumpsMpiFactorization mumps;
   Eigen::MatrixXd S, X;
-  EXPECT_EQ(mumps.solve(on_root(Eigen::MatrixXd::Ones(40, 1).eval()), &X).status, FactorizationStatus::not_ready);
-  EXPECT_EQ(mumps.schur_complement(on_root(A_full), on_root(std::vector<int>{1, 1}), &S).status,
-            FactorizationStatus::invalid_input);
+  EXPECT_THROW(mumps.solve(on_root(Eigen::MatrixXd::Ones(40, 1).eval()), &X), InternalError);
+  EXPECT_THROW(mumps.schur_complement(on_root(A_full), on_root(std::vector<int>{1, 1}), &S), InternalError);
   ASSERT_TRUE(mumps.factorize(on_root(A_full)).ok());
-  const auto r = mumps.solve(on_root(Eigen::MatrixXd::Ones(41, 1).eval()), &X);
-  EXPECT_EQ(r.status, FactorizationStatus::invalid_input);
-  EXPECT_FALSE(r.message.empty());
+  try {
+    (void)mumps.solve(on_root(Eigen::MatrixXd::Ones(41, 1).eval()), &X);
+    ADD_FAILURE() << "expected an InternalError";
+  } catch (const InternalError& e) {
+    EXPECT_FALSE(std::string(e.what()).empty());
+  }
 }
 
 TEST(MumpsMpi, ReciprocalConditionEstimateIsTheSameEverywhere) {
