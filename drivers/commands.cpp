@@ -17,6 +17,7 @@
 #include <chrono>
 #include <iomanip>
 #include <map>
+#include <optional>
 #include <ostream>
 #include <sstream>
 
@@ -169,6 +170,7 @@ std::vector<std::string> law_names(const ReducedProblem& p) {
 
 int run_minimize(const MinimizeOptions& o, std::ostream& out, std::ostream& err) {
   const ReducedProblem p = read_reduced_problem(o.folder, o.law.empty() ? nullptr : make_contact_law(o.law));
+  const std::optional<UniformForm> uniform = p.uniform_form();
   std::unique_ptr<NonsmoothMinimizer> minimizer = make_minimizer(o.minimizer);
   if (o.global) {
     GlobalSearchOptions go = o.search;
@@ -184,9 +186,9 @@ int run_minimize(const MinimizeOptions& o, std::ostream& out, std::ostream& err)
     j["minimizer"] = first_engine(*minimizer);
     j["search"] = search_json(*minimizer);
     j["critical_points"] = critical_points_json(r, 0.0);
-    j["law"] = p.law->name();
+    j["law"] = p.law_by_number(0).name();
     j["laws"] = law_names(p);
-    j["constraint"] = p.coordinatewise() ? std::string("coordinate-wise") : to_string(p.constraint);
+    j["constraint"] = uniform ? to_string(uniform->constraint) : std::string("coordinate-wise");
     j["size"] = p.size();
     j["status"] = to_string(r.status);
     j["converged"] = r.converged();
@@ -206,8 +208,8 @@ int run_minimize(const MinimizeOptions& o, std::ostream& out, std::ostream& err)
     std::string laws;
     for (const auto& name : law_names(p)) laws += (laws.empty() ? "" : ", ") + name;
     out << std::setprecision(12) << "hemivem minimize: " << o.folder << " (" << p.size()
-        << (p.coordinatewise() ? " unknowns, laws " + laws + ", bounds per coordinate)\n"
-                               : " contact nodes, law " + laws + ", constraint " + to_string(p.constraint) + ")\n")
+        << (uniform ? " contact nodes, law " + laws + ", constraint " + to_string(uniform->constraint) + ")\n"
+                    : " unknowns, laws " + laws + ", bounds per coordinate)\n")
         << "  minimizer     " << first_engine(*minimizer) << (o.global ? " (global search)" : "") << "\n"
         << "  status        " << to_string(r.status) << " (certificate: " << certificate_text(r.certificate) << "), "
         << r.iterations << " iterations, "

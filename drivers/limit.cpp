@@ -189,7 +189,7 @@ nlohmann::json measure_solve(const Scene& scene) {
   const double wall = since(start);
   // the uniqueness margin runs inside the condensation; timed here on its own
   t = Clock::now();
-  if (reduced.law) (void)uniqueness_margin(reduced.S, reduced.w, reduced.law->alpha());
+  if (!reduced.laws.empty()) (void)uniqueness_margin(reduced.S, reduced.w, reduced.laws.front()->alpha());
   stage["margin"] = since(t);
   t = Clock::now();
   (void)write_outputs(dir / "all", s.built->mesh, s.built->problem.elasticity.materials, s.solution, info, all_outputs());

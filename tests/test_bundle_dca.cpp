@@ -51,17 +51,15 @@ TEST(BundleDca, ConvexKinkedProblemSolvedByTheBundleAlone) {
   // coupled S (tridiagonal, SPD), kinked law: F is convex and nonsmooth, F2 = 0, so the DC
   // loop makes one step and the proximal bundle method alone solves the problem
   const int n = 12;
-  ReducedProblem p;
-  p.law = kinked_law(5.0, 100.0);  // w sigma = 0.25: a wide range of loads keeps a node at the kink
-  p.constraint = ConstraintKind::none;
-  p.S = Eigen::MatrixXd::Zero(n, n);
+  Eigen::MatrixXd S = Eigen::MatrixXd::Zero(n, n);
   for (int i = 0; i < n; ++i) {
-    p.S(i, i) = 120.0;
-    if (i + 1 < n) p.S(i, i + 1) = p.S(i + 1, i) = -40.0;
+    S(i, i) = 120.0;
+    if (i + 1 < n) S(i, i + 1) = S(i + 1, i) = -40.0;
   }
-  p.c = Eigen::VectorXd::LinSpaced(n, -1.0, 2.0);
-  p.w = Eigen::VectorXd::Constant(n, 0.05);
-  p.g = Eigen::VectorXd::Constant(n, 0.02);
+  // w sigma = 0.25: a wide range of loads keeps a node at the kink
+  const ReducedProblem p = ReducedProblem::uniform(S, Eigen::VectorXd::LinSpaced(n, -1.0, 2.0),
+                                                   Eigen::VectorXd::Constant(n, 0.05), kinked_law(5.0, 100.0),
+                                                   ConstraintKind::none, Eigen::VectorXd::Constant(n, 0.02));
   MinimizerOptions o;
   o.tolerance = 1e-11;
   const MinimizerResult r = BundleDcaMinimizer().minimize(p, Eigen::VectorXd(), o);
@@ -81,13 +79,9 @@ TEST(BundleDca, ConvexKinkedProblemSolvedByTheBundleAlone) {
 
 TEST(BundleDca, ConvexKinkedClosedFormOneNodeAtATime) {
   for (double c : {-2.0, 0.0, 0.01, 0.015, 0.5, 3.0}) {
-    ReducedProblem p;
-    p.law = kinked_law(0.3, 100.0);
-    p.constraint = ConstraintKind::box;
-    p.S = Eigen::MatrixXd::Constant(1, 1, 100.0);
-    p.c = Eigen::VectorXd::Constant(1, c);
-    p.w = Eigen::VectorXd::Constant(1, 0.05);
-    p.g = Eigen::VectorXd::Constant(1, 1.0);
+    const ReducedProblem p = ReducedProblem::uniform(Eigen::MatrixXd::Constant(1, 1, 100.0), Eigen::VectorXd::Constant(1, c),
+                                                     Eigen::VectorXd::Constant(1, 0.05), kinked_law(0.3, 100.0),
+                                                     ConstraintKind::box, Eigen::VectorXd::Constant(1, 1.0));
     const double exact = kinked_1d(100.0, c, 0.05, 0.3, 100.0);
     const MinimizerResult r = BundleDcaMinimizer().minimize(p, Eigen::VectorXd(), MinimizerOptions{});
     EXPECT_TRUE(r.converged() || c == 0.0) << c << ": " << r.message;
@@ -180,9 +174,7 @@ TEST(BundleDca, EveryStatus) {
     EXPECT_EQ(calls, 2);
   }
   {  // failed: S not positive definite
-    ReducedProblem bad = p;
-    bad.S = -bad.S;
-    bad.constraint = ConstraintKind::none;
+    ReducedProblem bad = ReducedProblem::uniform(-p.S, p.c, p.w, p.laws.front(), ConstraintKind::none);
     const MinimizerResult r = engine.minimize(bad, Eigen::VectorXd(), MinimizerOptions{});
     EXPECT_EQ(r.status, MinimizerStatus::failed) << r.message;
     EXPECT_TRUE(r.a.allFinite());

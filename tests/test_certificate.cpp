@@ -3,6 +3,7 @@
 // natural residual certified wrongly, the problem with c = 0, and every engine's converged
 // results checked against a recomputation written here from the reduced problem alone.
 #include <hemivem/certificate.hpp>
+#include <hemivem/minimizer_run.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
 #include <hemivem/nonsmooth_minimizer.hpp>
 #include <hemivem/contact/piecewise_law.hpp>
@@ -53,35 +54,28 @@ ReducedProblem random_problem(int n, std::shared_ptr<const ContactLaw> law, Cons
   Eigen::MatrixXd B(n, n);
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) B(i, j) = u(gen);
-  ReducedProblem p;
-  p.S = B * B.transpose() + 100.0 * Eigen::MatrixXd::Identity(n, n);
-  p.c = Eigen::VectorXd(n);
-  p.w = Eigen::VectorXd(n);
-  p.g = Eigen::VectorXd(n);
+  Eigen::VectorXd c(n), w(n), g(n);
   for (int i = 0; i < n; ++i) {
-    p.c(i) = 3.0 * u(gen);
-    p.w(i) = 0.05 + 0.01 * u(gen);
-    p.g(i) = 0.02 + 0.005 * u(gen);
+    c(i) = 3.0 * u(gen);
+    w(i) = 0.05 + 0.01 * u(gen);
+    g(i) = 0.02 + 0.005 * u(gen);
   }
-  p.law = std::move(law);
-  p.constraint = kind;
-  return p;
+  return ReducedProblem::uniform(B * B.transpose() + 100.0 * Eigen::MatrixXd::Identity(n, n), c, w, std::move(law), kind, g);
 }
 
 // The problem in other units: forces x F, lengths x L.
 ReducedProblem rescaled(const ReducedProblem& p, double F, double L) {
-  ReducedProblem q = p;
-  q.S = (F / L) * p.S;
-  q.c = F * p.c;
-  q.g = L * p.g;
-  q.law = std::make_shared<ScaledLaw>(p.law, F, L);
+  const UniformForm u = *p.uniform_form();
+  ReducedProblem q = ReducedProblem::uniform((F / L) * p.S, F * p.c, p.w, std::make_shared<ScaledLaw>(u.law, F, L),
+                                             u.constraint, L * u.g);
+  q.uniqueness_margin = p.uniqueness_margin;
   return q;
 }
 
 // A point with coordinates at bounds, at kinks, inside pieces and one slightly outside C.
 Eigen::VectorXd mixed_point(const ReducedProblem& p) {
   Eigen::VectorXd a(p.size());
-  const std::vector<double> kinks = p.law->kinks();
+  const std::vector<double> kinks = p.law_by_number(0).kinks();
   for (Eigen::Index i = 0; i < p.size(); ++i) {
     switch (i % 4) {
       case 0: a(i) = p.upper(i) < kInf ? p.upper(i) : 0.013; break;
@@ -128,14 +122,10 @@ TEST(Certificate, SolutionsStayCertifiedInOtherUnits) {
 }
 
 // One node pushed by c against a box of width 2e-10 around 0: the solution is the upper bound.
-ReducedProblem tiny_box() {
-  ReducedProblem p;
-  p.S = Eigen::MatrixXd::Constant(1, 1, 100.0);
-  p.c = Eigen::VectorXd::Constant(1, 2.0);
-  p.w = Eigen::VectorXd::Constant(1, 0.05);
-  p.g = Eigen::VectorXd::Constant(1, 1e-10);
-  p.law = paper_law();
-  p.constraint = ConstraintKind::box;
+ReducedProblem tiny_box(double gap = 1e-10, std::shared_ptr<const ContactLaw> law = paper_law()) {
+  ReducedProblem p = ReducedProblem::uniform(Eigen::MatrixXd::Constant(1, 1, 100.0), Eigen::VectorXd::Constant(1, 2.0),
+                                             Eigen::VectorXd::Constant(1, 0.05), std::move(law), ConstraintKind::box,
+                                             Eigen::VectorXd::Constant(1, gap));
   p.uniqueness_margin = 99.0;
   return p;
 }
@@ -187,9 +177,7 @@ TEST(Certificate, ZeroLoadIsSolvedByZero) {
 }
 
 TEST(Certificate, SnapsWithinTheToleranceOntoBoundsAndKinks) {
-  ReducedProblem p = tiny_box();
-  p.g(0) = 0.02;
-  p.law = kinked_law();  // kink at 0
+  const ReducedProblem p = tiny_box(0.02, kinked_law());  // kink at 0
   // l = max(|a|, g, c / S) = 0.02: the window is 2e-12
   const CertifiedPoint far = certify(p, Eigen::VectorXd::Constant(1, 0.02 - 1e-11), 1e-10);
   EXPECT_EQ(far.a(0), 0.02 - 1e-11);
@@ -227,14 +215,15 @@ double recomputed_residual(const ReducedProblem& p, const Eigen::VectorXd& a) {
   const Eigen::VectorXd r = p.S * a - p.c;
   double worst = 0.0, force = std::max(p.c.cwiseAbs().maxCoeff(), (p.S * a).cwiseAbs().maxCoeff());
   double ell = a.cwiseAbs().maxCoeff(), infeasible = 0.0;
+  const UniformForm u = *p.uniform_form();
   for (Eigen::Index i = 0; i < a.size(); ++i) {
     ell = std::max(ell, std::abs(p.c(i)) / p.S(i, i));
-    if (p.constraint != ConstraintKind::none) ell = std::max(ell, p.g(i));
-    const double lo = p.constraint == ConstraintKind::box ? -p.g(i) : -kInf;
-    const double hi = p.constraint == ConstraintKind::none ? kInf : p.g(i);
+    if (u.constraint != ConstraintKind::none) ell = std::max(ell, u.g(i));
+    const double lo = u.constraint == ConstraintKind::box ? -u.g(i) : -kInf;
+    const double hi = u.constraint == ConstraintKind::none ? kInf : u.g(i);
     infeasible = std::max({infeasible, lo - a(i), a(i) - hi});
-    const double d1 = p.w(i) * p.law->derivative(LawPart::j, a(i), -1);
-    const double d2 = p.w(i) * p.law->derivative(LawPart::j, a(i), +1);
+    const double d1 = p.w(i) * u.law->derivative(LawPart::j, a(i), -1);
+    const double d2 = p.w(i) * u.law->derivative(LawPart::j, a(i), +1);
     const double f_lo = std::min(d1, d2) + (a(i) == lo ? -kInf : 0.0);
     const double f_hi = std::max(d1, d2) + (a(i) == hi ? kInf : 0.0);
     const double target = -r(i);
@@ -286,7 +275,7 @@ TEST(Energies, PotentialEnergyAndReducedObjectiveDifferByAConstant) {
     Eigen::VectorXd uf(ex->system.dofs.num_free());
     for (int k = 0; k < uf.size(); ++k) uf(k) = u(ex->system.dofs.free_dofs[static_cast<std::size_t>(k)]);
     double phi = 0.5 * uf.dot(ex->system.A * uf) - uf.dot(ex->system.b);
-    for (Eigen::Index i = 0; i < a.size(); ++i) phi += p.w(i) * p.law->value(a(i));
+    for (Eigen::Index i = 0; i < a.size(); ++i) phi += p.w(i) * p.law_of(i).value(a(i));
     return phi;
   };
   const MinimizerResult r = make_minimizer("ssn")->minimize(p, Eigen::VectorXd(), MinimizerOptions{});
@@ -355,9 +344,8 @@ TEST(MinimizerRun, CountsRecordsAndChecks) {
 }
 
 TEST(MinimizerRun, EveryEngineAnswersTheEmptyProblem) {
-  ReducedProblem p;
-  p.law = paper_law();
-  p.S.resize(0, 0);
+  const ReducedProblem p = ReducedProblem::uniform(Eigen::MatrixXd(0, 0), Eigen::VectorXd(), Eigen::VectorXd(), paper_law(),
+                                                   ConstraintKind::box, Eigen::VectorXd());
   for (const std::string& name : available_minimizers()) {
     const MinimizerResult r = make_minimizer(name)->minimize(p, Eigen::VectorXd(), MinimizerOptions{});
     EXPECT_TRUE(r.converged()) << name;

@@ -35,7 +35,6 @@ ReducedProblem spring(double k, double c, double w, std::shared_ptr<const Contac
   p.c = Eigen::VectorXd::Constant(1, c);
   p.w = Eigen::VectorXd::Constant(1, w);
   p.laws = {law};
-  p.law = law;
   p.law_index = Eigen::VectorXi::Zero(1);
   p.lo = Eigen::VectorXd::Constant(1, -kInf);
   p.hi = Eigen::VectorXd::Constant(1, kInf);
@@ -61,10 +60,10 @@ TEST_P(Friction, OneNodeOnASpringSticksOrSlipsByTheClosedForm) {
       EXPECT_NEAR(r.a(0), exact, 1e-9 * std::max(1.0, std::abs(exact)));
       if (std::abs(c) <= w * g) {
         EXPECT_EQ(r.a(0), 0.0) << "a stuck node is put exactly on the kink";
-        EXPECT_EQ(friction_state(*p.law, r.a(0)), "stick");
+        EXPECT_EQ(friction_state(p.law_by_number(0), r.a(0)), "stick");
         EXPECT_NEAR(r.law_force(0), c, 1e-12) << "the friction force balances the load while stuck";
       } else {
-        EXPECT_EQ(friction_state(*p.law, r.a(0)), "slip");
+        EXPECT_EQ(friction_state(p.law_by_number(0), r.a(0)), "slip");
         EXPECT_NEAR(std::abs(r.law_force(0)), w * g, 1e-12) << "a slipping node carries the friction bound";
       }
     }
@@ -79,7 +78,6 @@ TEST_P(Friction, NormalAndTangentialCoordinatesAgreeWithSsn) {
   p.c = Eigen::Vector4d(0.2, 0.05, 1.0, -0.6);
   p.w = Eigen::Vector4d(0.05, 0.05, 0.05, 0.05);
   p.laws = {paper_law(), tresca_law(0.3)};
-  p.law = p.laws[0];
   p.law_index = Eigen::Vector4i(0, 0, 1, 1);
   p.lo = Eigen::Vector4d(-0.02, -0.02, -kInf, -kInf);
   p.hi = Eigen::Vector4d(0.02, 0.02, kInf, kInf);
@@ -324,6 +322,8 @@ TEST(FrictionFiles, CoordinateWiseProblemsRoundTripThroughFiles) {
 TEST(FrictionFiles, DefectsNameTheFileAndLine) {
   const auto dir = test::scratch("friction-reduced-bad");
   write_reduced_problem(dir, spring(2.0, 0.5, 1.0, tresca_law(0.1)));
+  // one law without bounds is written in the uniform form (constraint none); read it per coordinate
+  write_text(dir / "problem.txt", "form coordinate-wise\nlaws 1\n");
   auto error_with = [&](const std::string& file, const std::string& text) {
     write_text(dir / file, text);
     return test::input_error_of([&] { (void)read_reduced_problem(dir); });

@@ -159,9 +159,11 @@ TEST(LinearFactory, StatusesHaveNames) {
   EXPECT_EQ(to_string(FactorizationStatus::success), "success");
   EXPECT_EQ(to_string(FactorizationStatus::not_positive_definite), "not_positive_definite");
   EXPECT_EQ(to_string(FactorizationStatus::numerical_failure), "numerical_failure");
-  EXPECT_EQ(to_string(FactorizationStatus::invalid_input), "invalid_input");
-  EXPECT_EQ(to_string(FactorizationStatus::not_ready), "not_ready");
   EXPECT_EQ(to_string(FactorizationStatus::out_of_memory), "out_of_memory");
+  for (FactorizationStatus s : {FactorizationStatus::success, FactorizationStatus::not_positive_definite,
+                                FactorizationStatus::numerical_failure, FactorizationStatus::out_of_memory})
+    EXPECT_EQ(factorization_status_from_string(to_string(s)), s);
+  EXPECT_THROW(factorization_status_from_string("not_ready"), InputError);
 }
 
 }  // namespace

@@ -65,23 +65,22 @@ struct ClosedForm {
 ReducedProblem diagonal_problem(const ClosedForm& cf, Eigen::VectorXd* exact) {
   const std::vector<double> cs{-3.0, -0.5, 0.2, 0.5, 0.8, 0.95, 1.2, 1.6, 2.4, 3.0, 6.0};
   const int n = static_cast<int>(cs.size());
-  ReducedProblem p;
-  p.law = make_contact_law(cf.law);
-  p.constraint = cf.constraint;
-  p.S = Eigen::MatrixXd::Zero(n, n);
-  p.c.resize(n);
-  p.w.resize(n);
-  p.g = Eigen::VectorXd::Constant(n, 0.02);
+  Eigen::MatrixXd S = Eigen::MatrixXd::Zero(n, n);
+  Eigen::VectorXd c(n);
+  for (int i = 0; i < n; ++i) {
+    S(i, i) = 100.0 + i;  // distinct diagonal entries
+    c(i) = cs[static_cast<std::size_t>(i)];
+  }
+  ReducedProblem p = ReducedProblem::uniform(S, c, Eigen::VectorXd::Constant(n, 0.05), make_contact_law(cf.law),
+                                             cf.constraint, Eigen::VectorXd::Constant(n, 0.02));
+  const ContactLaw& law = p.law_by_number(0);
   exact->resize(n);
   for (int i = 0; i < n; ++i) {
-    p.S(i, i) = 100.0 + i;  // distinct diagonal entries
-    p.c(i) = cs[static_cast<std::size_t>(i)];
-    p.w(i) = 0.05;
-    const auto mins = local_minimizers_1d(*p.law, p.S(i, i), p.c(i), p.w(i), p.lower(i), p.upper(i));
+    const auto mins = local_minimizers_1d(law, p.S(i, i), p.c(i), p.w(i), p.lower(i), p.upper(i));
     EXPECT_EQ(mins.size(), 1u) << "node " << i << " of the closed form must have a unique local minimizer";
     (*exact)(i) = mins.empty() ? 0.0 : mins[0];
   }
-  p.uniqueness_margin = uniqueness_margin(p.S, p.w, p.law->alpha());
+  p.uniqueness_margin = uniqueness_margin(p.S, p.w, law.alpha());
   return p;
 }
 
@@ -223,7 +222,7 @@ TEST_P(Minimizer, EverythingAtTheBound) {
   const ReducedProblem& p = ex->condensation->reduced();
   const MinimizerResult r = engine()->minimize(p, Eigen::VectorXd(), MinimizerOptions{});
   EXPECT_TRUE(r.converged()) << r.message;
-  EXPECT_LE((r.a - p.g).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_LE((r.a - p.uniform_form()->g).cwiseAbs().maxCoeff(), 1e-12);
   EXPECT_EQ(at_bound(p, r.a).size(), static_cast<std::size_t>(p.size()));
 }
 
@@ -304,13 +303,11 @@ TEST(MinimizerFactory, UnknownNameListsTheBuiltOnes) {
 
 TEST(Certificate, ZeroExactlyAtAHandSolution) {
   // one node: S = 2, c = 1, w = 1, j = 0, box |a| <= 0.2: solution a = 0.2 (the bound)
-  ReducedProblem p;
-  p.S = Eigen::MatrixXd::Constant(1, 1, 2.0);
-  p.c = Eigen::VectorXd::Constant(1, 1.0);
-  p.w = Eigen::VectorXd::Constant(1, 1.0);
-  p.g = Eigen::VectorXd::Constant(1, 0.2);
-  p.law = zero_law();
-  p.constraint = ConstraintKind::box;
+  auto problem = [](ConstraintKind kind) {
+    return ReducedProblem::uniform(Eigen::MatrixXd::Constant(1, 1, 2.0), Eigen::VectorXd::Constant(1, 1.0),
+                                   Eigen::VectorXd::Constant(1, 1.0), zero_law(), kind, Eigen::VectorXd::Constant(1, 0.2));
+  };
+  ReducedProblem p = problem(ConstraintKind::box);
   Eigen::VectorXd a = Eigen::VectorXd::Constant(1, 0.2);
   const CertifiedPoint at = certify(p, a, 1e-10);
   EXPECT_EQ(at.certificate.dual, 0.0);
@@ -320,7 +317,7 @@ TEST(Certificate, ZeroExactlyAtAHandSolution) {
   EXPECT_NEAR(certificate(p, a, 1e-10).dual, 0.8, 1e-15);
   a(0) = 0.3;  // 0.1 beyond the bound; l = max(|a|, g, c / S) = 0.5
   EXPECT_NEAR(certificate(p, a, 1e-10).primal, 0.2, 1e-15);
-  p.constraint = ConstraintKind::none;  // unconstrained: a = 0.5
+  p = problem(ConstraintKind::none);  // unconstrained: a = 0.5
   a(0) = 0.5;
   EXPECT_EQ(certificate(p, a, 1e-10).dual, 0.0);
 }

@@ -1,4 +1,5 @@
 // The sequential MUMPS engine against dense Eigen references.
+#include <hemivem/error.hpp>
 #include <hemivem/mumps_factorization.hpp>
 
 #include <Eigen/Cholesky>
@@ -15,6 +16,7 @@
 namespace {
 
 using hemivem::FactorizationStatus;
+using hemivem::InternalError;
 using hemivem::MumpsFactorization;
 using hemivem::SparseMatrix;
 using hemivem::test::complement;
@@ -228,22 +230,22 @@ TEST(Mumps, Block1WithEveryIndexIsThePermutedMatrix) {
   EXPECT_EQ(X2.rows(), 0);
   EXPECT_EQ(X2.cols(), 2);
   Eigen::MatrixXd X;
-  EXPECT_EQ(mumps.solve(Eigen::MatrixXd::Ones(n, 1), &X).status, FactorizationStatus::not_ready);
+  EXPECT_THROW(mumps.solve(Eigen::MatrixXd::Ones(n, 1), &X), InternalError);
 }
 
-TEST(Mumps, SolveAfterSchurComplementIsNotReady) {
+TEST(Mumps, SolveAfterSchurComplementThrows) {
   const int n = 40;
   const SparseMatrix A = random_spd(n, 55);
   const std::vector<int> block1{3, 1, 4};
   MumpsFactorization mumps;
   Eigen::MatrixXd S, X;
   ASSERT_TRUE(mumps.schur_complement(A, block1, &S).ok());
-  EXPECT_EQ(mumps.solve(Eigen::MatrixXd::Ones(n, 1), &X).status, FactorizationStatus::not_ready);
+  EXPECT_THROW(mumps.solve(Eigen::MatrixXd::Ones(n, 1), &X), InternalError);
   // factorize() brings full solves back (with a new analysis: one without Schur variables).
   ASSERT_TRUE(mumps.factorize(A).ok());
   EXPECT_EQ(mumps.num_analyses(), 2);
   EXPECT_TRUE(mumps.solve(Eigen::MatrixXd::Ones(n, 1), &X).ok());
-  EXPECT_EQ(mumps.solve_interior(Eigen::MatrixXd::Ones(n - 3, 1), &X).status, FactorizationStatus::not_ready);
+  EXPECT_THROW(mumps.solve_interior(Eigen::MatrixXd::Ones(n - 3, 1), &X), InternalError);
 }
 
 // ---- matrices that are not positive definite ------------------------------------------
@@ -255,7 +257,7 @@ TEST(Mumps, IndefiniteDiagonalIsNotPositiveDefinite) {
   EXPECT_EQ(r.status, FactorizationStatus::not_positive_definite) << r.message;
   EXPECT_FALSE(r.message.empty());
   Eigen::MatrixXd X;
-  EXPECT_EQ(mumps.solve(Eigen::MatrixXd::Ones(3, 1), &X).status, FactorizationStatus::not_ready);
+  EXPECT_THROW(mumps.solve(Eigen::MatrixXd::Ones(3, 1), &X), InternalError);
 }
 
 TEST(Mumps, OneVeryNegativeDiagonalEntryIsNotPositiveDefinite) {
@@ -295,7 +297,7 @@ TEST(Mumps, IndefiniteSchurComplementIsNotPositiveDefinite) {
   Eigen::MatrixXd S;
   const auto r = mumps.schur_complement(from_dense(D), std::vector<int>{1}, &S);
   EXPECT_EQ(r.status, FactorizationStatus::not_positive_definite) << r.message;
-  EXPECT_EQ(mumps.solve_interior(Eigen::MatrixXd::Ones(2, 1), &S).status, FactorizationStatus::not_ready);
+  EXPECT_THROW(mumps.solve_interior(Eigen::MatrixXd::Ones(2, 1), &S), InternalError);
   // Every index in block1: the dense check applies as well.
   EXPECT_EQ(mumps.schur_complement(from_dense(D), std::vector<int>{2, 0, 1}, &S).status,
             FactorizationStatus::not_positive_definite);
@@ -303,57 +305,60 @@ TEST(Mumps, IndefiniteSchurComplementIsNotPositiveDefinite) {
 
 // ---- calls out of order and bad arguments -----------------------------------------------
 
-TEST(Mumps, CallsBeforeFactorizationAreNotReady) {
+TEST(Mumps, CallsBeforeFactorizationThrow) {
   MumpsFactorization mumps;
   Eigen::MatrixXd X;
-  EXPECT_EQ(mumps.solve(Eigen::MatrixXd::Ones(3, 1), &X).status, FactorizationStatus::not_ready);
-  EXPECT_EQ(mumps.solve_interior(Eigen::MatrixXd::Ones(3, 1), &X).status, FactorizationStatus::not_ready);
+  EXPECT_THROW(mumps.solve(Eigen::MatrixXd::Ones(3, 1), &X), InternalError);
+  EXPECT_THROW(mumps.solve_interior(Eigen::MatrixXd::Ones(3, 1), &X), InternalError);
   EXPECT_LT(mumps.rcond_estimate(), 0.0);
   ASSERT_TRUE(mumps.analyze(random_spd(5, 71)).ok());
-  EXPECT_EQ(mumps.solve(Eigen::MatrixXd::Ones(5, 1), &X).status, FactorizationStatus::not_ready);
+  EXPECT_THROW(mumps.solve(Eigen::MatrixXd::Ones(5, 1), &X), InternalError);
 }
 
-TEST(Mumps, WrongSizesAreInvalidInput) {
+TEST(Mumps, WrongSizesThrow) {
   const int n = 40;
   const SparseMatrix A = random_spd(n, 73);
   MumpsFactorization mumps;
   SparseMatrix rectangular(4, 5);
-  EXPECT_EQ(mumps.factorize(rectangular).status, FactorizationStatus::invalid_input);
-  EXPECT_EQ(mumps.analyze(rectangular).status, FactorizationStatus::invalid_input);
-  EXPECT_EQ(mumps.factorize(SparseMatrix(0, 0)).status, FactorizationStatus::invalid_input);
+  EXPECT_THROW(mumps.factorize(rectangular), InternalError);
+  EXPECT_THROW(mumps.analyze(rectangular), InternalError);
+  EXPECT_THROW(mumps.factorize(SparseMatrix(0, 0)), InternalError);
 
   ASSERT_TRUE(mumps.factorize(A).ok());
   Eigen::MatrixXd X;
-  EXPECT_EQ(mumps.solve(Eigen::MatrixXd::Ones(n + 1, 1), &X).status, FactorizationStatus::invalid_input);
-  EXPECT_EQ(mumps.solve(Eigen::MatrixXd::Ones(n, 1), nullptr).status, FactorizationStatus::invalid_input);
+  EXPECT_THROW(mumps.solve(Eigen::MatrixXd::Ones(n + 1, 1), &X), InternalError);
+  EXPECT_THROW(mumps.solve(Eigen::MatrixXd::Ones(n, 1), nullptr), InternalError);
 
   Eigen::MatrixXd S;
   ASSERT_TRUE(mumps.schur_complement(A, std::vector<int>{5, 6}, &S).ok());
-  EXPECT_EQ(mumps.solve_interior(Eigen::MatrixXd::Ones(n, 1), &X).status, FactorizationStatus::invalid_input);
-  EXPECT_EQ(mumps.schur_complement(A, std::vector<int>{5, 6}, nullptr).status, FactorizationStatus::invalid_input);
+  EXPECT_THROW(mumps.solve_interior(Eigen::MatrixXd::Ones(n, 1), &X), InternalError);
+  EXPECT_THROW(mumps.schur_complement(A, std::vector<int>{5, 6}, nullptr), InternalError);
 }
 
-TEST(Mumps, BadBlock1IsInvalidInput) {
+TEST(Mumps, BadBlock1Throws) {
   const int n = 40;
   const SparseMatrix A = random_spd(n, 79);
   MumpsFactorization mumps;
   Eigen::MatrixXd S;
-  EXPECT_EQ(mumps.schur_complement(A, std::vector<int>{3, 7, 3}, &S).status, FactorizationStatus::invalid_input);
-  EXPECT_EQ(mumps.schur_complement(A, std::vector<int>{3, n}, &S).status, FactorizationStatus::invalid_input);
-  EXPECT_EQ(mumps.schur_complement(A, std::vector<int>{-1, 3}, &S).status, FactorizationStatus::invalid_input);
+  EXPECT_THROW(mumps.schur_complement(A, std::vector<int>{3, 7, 3}, &S), InternalError);
+  EXPECT_THROW(mumps.schur_complement(A, std::vector<int>{3, n}, &S), InternalError);
+  EXPECT_THROW(mumps.schur_complement(A, std::vector<int>{-1, 3}, &S), InternalError);
   std::vector<int> too_many(static_cast<std::size_t>(n + 1));
   std::iota(too_many.begin(), too_many.end(), 0);
-  EXPECT_EQ(mumps.schur_complement(A, too_many, &S).status, FactorizationStatus::invalid_input);
+  EXPECT_THROW(mumps.schur_complement(A, too_many, &S), InternalError);
   EXPECT_EQ(mumps.num_analyses(), 0);
 }
 
-TEST(Mumps, OneTriangleOnlyIsInvalidInput) {
+TEST(Mumps, OneTriangleOnlyThrows) {
   const SparseMatrix A = random_spd(40, 83);
   const SparseMatrix lower = A.triangularView<Eigen::Lower>();
   MumpsFactorization mumps;
-  const auto r = mumps.factorize(lower);
-  EXPECT_EQ(r.status, FactorizationStatus::invalid_input);
-  EXPECT_NE(r.message.find("symmetric"), std::string::npos) << r.message;
+  try {
+    (void)mumps.factorize(lower);
+    ADD_FAILURE() << "expected an InternalError";
+  } catch (const InternalError& e) {
+    EXPECT_NE(std::string(e.what()).find("symmetric"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Mumps, NonFiniteEntriesAreANumericalFailure) {

@@ -147,7 +147,7 @@ struct Enumerated {
 };
 
 Enumerated enumerate_faces(const ReducedProblem& p) {
-  const auto* law = dynamic_cast<const PiecewisePolynomialLaw*>(p.law.get());
+  const auto* law = dynamic_cast<const PiecewisePolynomialLaw*>(&p.law_by_number(0));
   EXPECT_TRUE(law && !p.coordinatewise());
   const std::vector<double> b = law->breakpoints();
   const std::vector<Polynomial> pieces = law->pieces(LawPart::j);
@@ -229,20 +229,18 @@ Enumerated enumerate_faces(const ReducedProblem& p) {
 /// A box problem of n coupled coordinates with a double-well law j = k/2 (|r| - d)^2 (a concave
 /// kink at 0): 2^n local minima, one per choice of well.
 ReducedProblem double_well_problem(int n) {
-  ReducedProblem p;
   const double k = 40.0, d = 0.01;
-  p.law = std::make_shared<PiecewisePolynomialLaw>(
+  auto law = std::make_shared<PiecewisePolynomialLaw>(
       PiecewisePolynomialLaw::from_j("double-well", {0.0}, {about(0.0, 0.0, 0.5 * k, -d), about(0.0, 0.0, 0.5 * k, d)}));
-  p.S = Eigen::MatrixXd::Zero(n, n);
+  Eigen::MatrixXd S = Eigen::MatrixXd::Zero(n, n);
   for (int i = 0; i < n; ++i) {
-    p.S(i, i) = 30.0 + 4.0 * i;
-    if (i + 1 < n) p.S(i, i + 1) = p.S(i + 1, i) = -12.0;
+    S(i, i) = 30.0 + 4.0 * i;
+    if (i + 1 < n) S(i, i + 1) = S(i + 1, i) = -12.0;
   }
-  p.c = Eigen::VectorXd(n);
-  for (int i = 0; i < n; ++i) p.c(i) = 0.05 * std::sin(1.7 * i + 0.4);
-  p.w = Eigen::VectorXd::Constant(n, 1.0);
-  p.g = Eigen::VectorXd::Constant(n, 0.015);
-  p.constraint = ConstraintKind::box;
+  Eigen::VectorXd c(n);
+  for (int i = 0; i < n; ++i) c(i) = 0.05 * std::sin(1.7 * i + 0.4);
+  ReducedProblem p = ReducedProblem::uniform(S, c, Eigen::VectorXd::Constant(n, 1.0), std::move(law),
+                                             ConstraintKind::box, Eigen::VectorXd::Constant(n, 0.015));
   p.uniqueness_margin = -std::numeric_limits<double>::infinity();  // alpha_j = +inf: a concave kink
   return p;
 }

@@ -50,16 +50,16 @@ TEST(ReducedIo, Example41RoundTripIsExact) {
   EXPECT_EQ((q.S - p.S).cwiseAbs().maxCoeff(), 0.0);
   EXPECT_EQ(q.c, p.c);
   EXPECT_EQ(q.w, p.w);
-  EXPECT_EQ(q.g, p.g);
-  EXPECT_EQ(q.constraint, p.constraint);
+  EXPECT_EQ(q.uniform_form()->g, p.uniform_form()->g);
+  EXPECT_EQ(q.uniform_form()->constraint, p.uniform_form()->constraint);
   EXPECT_EQ(q.uniqueness_margin, p.uniqueness_margin);
-  EXPECT_EQ(q.law->name(), "paper");
-  for (double r = -0.01; r < 0.05; r += 0.0013) EXPECT_EQ(q.law->value(r), p.law->value(r));
-  EXPECT_EQ(q.law->alpha(), 20.0);
+  EXPECT_EQ(q.law_by_number(0).name(), "paper");
+  for (double r = -0.01; r < 0.05; r += 0.0013) EXPECT_EQ(q.law_by_number(0).value(r), p.law_by_number(0).value(r));
+  EXPECT_EQ(q.law_by_number(0).alpha(), 20.0);
   for (const auto& f : fs::directory_iterator(dir)) EXPECT_NE(f.path().extension(), ".part");
   // a law given by name replaces law.txt
   fs::remove(dir / "law.txt");
-  EXPECT_EQ(read_reduced_problem(dir, zero_law()).law->name(), "zero");
+  EXPECT_EQ(read_reduced_problem(dir, zero_law()).law_by_number(0).name(), "zero");
   fs::remove_all(dir);
 }
 
@@ -74,9 +74,9 @@ TEST(ReducedIo, CoordinateFormatAndDefaults) {
   EXPECT_EQ(p.S(1, 0), -1.0);
   EXPECT_EQ(p.S(0, 1), -1.0);
   EXPECT_EQ(p.S(1, 1), 3.0);
-  EXPECT_EQ(p.constraint, ConstraintKind::box);  // no problem.txt: the paper's box
+  EXPECT_EQ(p.uniform_form()->constraint, ConstraintKind::box);  // no problem.txt: the paper's box
   EXPECT_TRUE(std::isnan(p.uniqueness_margin));
-  EXPECT_EQ(p.law->derivative(LawPart::j, 0.0, +1), 0.3);
+  EXPECT_EQ(p.law_by_number(0).derivative(LawPart::j, 0.0, +1), 0.3);
   fs::remove_all(dir);
 }
 
@@ -129,8 +129,9 @@ TEST(ReducedIo, DefectsNameTheFileAndLine) {
     write(dir / "g.txt", "-0.5\ninf\n");
     write(dir / "problem.txt", "constraint one-sided\n");
     const ReducedProblem p = read_reduced_problem(dir);
-    EXPECT_EQ(p.g(0), -0.5);
-    EXPECT_EQ(p.g(1), std::numeric_limits<double>::infinity());
+    EXPECT_EQ(p.uniform_form()->g(0), -0.5);
+    EXPECT_EQ(p.uniform_form()->g(1), std::numeric_limits<double>::infinity());
+    fs::remove(dir / "problem.txt");
   }
   write_valid_problem(dir);
   write(dir / "problem.txt", "format 2\nconstraint box\n");

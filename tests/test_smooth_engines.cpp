@@ -44,16 +44,13 @@ class SmoothEngine : public ::testing::TestWithParam<std::string> {
 ReducedProblem kink_problem(Eigen::VectorXd* exact) {
   const std::vector<double> cs{-1.0, 0.004, 0.01, 0.014, 2.0};
   const int n = static_cast<int>(cs.size());
-  ReducedProblem p;
-  p.law = kinked_law();
-  p.constraint = ConstraintKind::none;
-  p.S = Eigen::MatrixXd::Zero(n, n);
-  p.c = Eigen::Map<const Eigen::VectorXd>(cs.data(), n);
-  p.w = Eigen::VectorXd::Constant(n, 0.05);
-  p.g = Eigen::VectorXd::Constant(n, 0.02);
+  Eigen::MatrixXd S = Eigen::MatrixXd::Zero(n, n);
+  for (int i = 0; i < n; ++i) S(i, i) = 100.0 + i;
+  ReducedProblem p = ReducedProblem::uniform(S, Eigen::Map<const Eigen::VectorXd>(cs.data(), n),
+                                             Eigen::VectorXd::Constant(n, 0.05), kinked_law(), ConstraintKind::none,
+                                             Eigen::VectorXd::Constant(n, 0.02));
   exact->resize(n);
   for (int i = 0; i < n; ++i) {
-    p.S(i, i) = 100.0 + i;
     const double c = cs[static_cast<std::size_t>(i)];
     // a < 0: j = 0, a = c / s; a > 0: (s + w k) a = c - w sigma
     (*exact)(i) = c < 0 ? c / p.S(i, i) : (c > 0.015 ? (c - 0.015) / (p.S(i, i) + 0.05 * 100.0) : 0.0);
@@ -171,9 +168,8 @@ TEST_P(SmoothEngine, PrintsNothing) {
 }
 
 TEST_P(SmoothEngine, EmptyProblem) {
-  ReducedProblem p;
-  p.S.resize(0, 0);
-  p.law = kinked_law();
+  const ReducedProblem p = ReducedProblem::uniform(Eigen::MatrixXd(0, 0), Eigen::VectorXd(), Eigen::VectorXd(), kinked_law(),
+                                                   ConstraintKind::box, Eigen::VectorXd());
   const MinimizerResult r = engine()->minimize(p, Eigen::VectorXd(), MinimizerOptions{});
   EXPECT_TRUE(r.converged());
   EXPECT_EQ(r.a.size(), 0);

@@ -32,18 +32,16 @@ using test::example;
 ReducedProblem random_problem(int n, std::shared_ptr<const ContactLaw> law, ConstraintKind kind, unsigned seed) {
   std::mt19937 gen(seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  ReducedProblem p;
   Eigen::MatrixXd B(n, n);
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) B(i, j) = u(gen);
-  p.S = 10.0 * B * B.transpose() / n + 100.0 * Eigen::MatrixXd::Identity(n, n);
-  p.c.resize(n);
-  for (int i = 0; i < n; ++i) p.c(i) = 2.0 * u(gen) + 1.0;
-  p.w = Eigen::VectorXd::Constant(n, 0.05);
-  p.g = Eigen::VectorXd::Constant(n, 0.02);
-  p.law = std::move(law);
-  p.constraint = kind;
-  p.uniqueness_margin = uniqueness_margin(p.S, p.w, p.law->alpha());
+  Eigen::VectorXd c(n);
+  for (int i = 0; i < n; ++i) c(i) = 2.0 * u(gen) + 1.0;
+  const double alpha = law->alpha();
+  ReducedProblem p = ReducedProblem::uniform(10.0 * B * B.transpose() / n + 100.0 * Eigen::MatrixXd::Identity(n, n), c,
+                                             Eigen::VectorXd::Constant(n, 0.05), std::move(law), kind,
+                                             Eigen::VectorXd::Constant(n, 0.02));
+  p.uniqueness_margin = uniqueness_margin(p.S, p.w, alpha);
   return p;
 }
 
@@ -198,15 +196,11 @@ TEST(Ssn, EveryLawEveryConstraintRandomStarts) {
 TEST(Ssn, KinkIsRecognisedExactly) {
   // two nodes, kinked law (j' jumps from 0 to 0.3 at 0): node 0 rests exactly on the kink
   // with 0 inside its Clarke interval; node 1 is inside the smooth piece r > 0.
-  ReducedProblem p;
-  p.S.resize(2, 2);
-  p.S << 2.0, -0.5, -0.5, 2.0;
-  p.c = Eigen::Vector2d(0.1, 1.0);
-  p.w = Eigen::Vector2d(1.0, 1.0);
-  p.g = Eigen::Vector2d(1.0, 1.0);
-  p.law = kinked_law(0.3, 100.0);
+  Eigen::Matrix2d S;
+  S << 2.0, -0.5, -0.5, 2.0;
   for (ConstraintKind kind : {ConstraintKind::none, ConstraintKind::one_sided, ConstraintKind::box}) {
-    p.constraint = kind;
+    const ReducedProblem p = ReducedProblem::uniform(S, Eigen::Vector2d(0.1, 1.0), Eigen::Vector2d(1.0, 1.0),
+                                                     kinked_law(0.3, 100.0), kind, Eigen::Vector2d(1.0, 1.0));
     for (const Eigen::Vector2d start : {Eigen::Vector2d(0.0, 0.0), Eigen::Vector2d(0.5, -0.3), Eigen::Vector2d(-0.7, 0.9)}) {
       MinimizerOptions o;
       o.tolerance = 1e-14;
@@ -233,7 +227,7 @@ TEST(Ssn, KinkedLawsOnExample41ReachTheCertificate) {
     EXPECT_TRUE(r.converged()) << law << ": " << r.message << " residual " << r.certificate.dual;
     int at_kink = 0;
     for (Eigen::Index i = 0; i < r.a.size(); ++i)
-      for (double b : p.law->breakpoints()) at_kink += r.a(i) == b ? 1 : 0;
+      for (double b : p.law_of(i).breakpoints()) at_kink += r.a(i) == b ? 1 : 0;
     std::cout << law << ": " << r.iterations << " iterations, " << at_kink << " nodes exactly at a breakpoint, residual "
               << r.certificate.dual << "\n";
     expect_monotone(r);
@@ -349,12 +343,8 @@ TEST(Ssn, StatusPaths) {
 }
 
 TEST(Ssn, EmptyProblem) {
-  ReducedProblem p;
-  p.S.resize(0, 0);
-  p.c.resize(0);
-  p.w.resize(0);
-  p.g.resize(0);
-  p.law = zero_law();
+  const ReducedProblem p = ReducedProblem::uniform(Eigen::MatrixXd(0, 0), Eigen::VectorXd(), Eigen::VectorXd(), zero_law(),
+                                                   ConstraintKind::box, Eigen::VectorXd());
   const MinimizerResult r = SsnMinimizer().minimize(p, Eigen::VectorXd(), MinimizerOptions{});
   EXPECT_TRUE(r.converged());
   EXPECT_EQ(r.a.size(), 0);

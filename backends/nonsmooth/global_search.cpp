@@ -1,4 +1,5 @@
 #include <hemivem/global_search.hpp>
+#include <hemivem/minimizer_run.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
 
 #include <Eigen/Cholesky>
@@ -110,7 +111,7 @@ std::vector<SearchStart> GlobalSearch::starts(const ReducedProblem& p, const Eig
       Eigen::VectorXd a(n);
       bool any = false;
       for (Eigen::Index i = 0; i < n; ++i) {
-        const auto& own = (*list)[static_cast<std::size_t>(p.law_number(i))];
+        const auto& own = (*list)[static_cast<std::size_t>(p.law_index(i))];
         a(i) = q < own.size() ? own[q] : quadratic(i);
         any = any || q < own.size();
       }

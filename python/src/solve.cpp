@@ -359,7 +359,7 @@ void solve_data(SolveData& d, const py::object& progress, bool keep_reduced) {
   } catch (const Interrupted&) {
   }
   watch.raise_if_interrupted();
-  if (keep_reduced && d.solved.built->has_contact && reduced.law) {
+  if (keep_reduced && d.solved.built->has_contact && !reduced.laws.empty()) {
     d.reduced = std::make_shared<ReducedHolder>();
     d.reduced->own = std::move(reduced);
     d.reduced->linear = d.solved.linear;

@@ -9,6 +9,7 @@
 #include <hemivem/eigen_factorization.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/mesh/generators.hpp>
+#include <hemivem/minimizer_run.hpp>
 #include <hemivem/mumps_mpi_factorization.hpp>
 #include <hemivem/process_group.hpp>
 #include <hemivem/ssn_minimizer.hpp>

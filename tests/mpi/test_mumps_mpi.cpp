@@ -9,6 +9,7 @@
 // checks the same numbers and takes the same path (no fatal assertion can stop one process
 // before a collective call that the others make). main() reduces the outcome over all
 // processes: a failure on any rank fails the program.
+#include <hemivem/error.hpp>
 #include <hemivem/mumps_mpi_factorization.hpp>
 
 #include <Eigen/Cholesky>
@@ -28,6 +29,7 @@ namespace {
 
 using hemivem::FactorizationResult;
 using hemivem::FactorizationStatus;
+using hemivem::InternalError;
 using hemivem::MumpsMpiFactorization;
 using hemivem::SparseFactorization;
 using hemivem::SparseMatrix;
@@ -62,13 +64,6 @@ class SpmdView final : public SparseFactorization {
   }
   FactorizationResult solve_interior(const Eigen::MatrixXd& B2, Eigen::MatrixXd* X2) const override {
     return written_on_root(X2, [&] { return engine_.solve_interior(on_root(B2), X2); });
-  }
-  bool splits_interior_solve() const override { return engine_.splits_interior_solve(); }
-  FactorizationResult condense_rhs(const Eigen::VectorXd& b1, const Eigen::VectorXd& b2, Eigen::VectorXd* c) override {
-    return written_on_root(c, [&] { return engine_.condense_rhs(on_root(b1), on_root(b2), c); });
-  }
-  FactorizationResult expand(const Eigen::VectorXd& x1, Eigen::VectorXd* x2) const override {
-    return written_on_root(x2, [&] { return engine_.expand(on_root(x1), x2); });
   }
   double rcond_estimate() const override { return engine_.rcond_estimate(); }
   int num_analyses() const override { return static_cast<const SparseFactorization&>(engine_).num_analyses(); }

@@ -152,14 +152,11 @@ void expect_split_interior_solve(SparseFactorization& f, const SparseMatrix& A, 
   const Eigen::VectorXd b2 = random_matrix(static_cast<Eigen::Index>(block2.size()), 1, seed + 1).col(0);
   const Eigen::VectorXd x1 = random_matrix(static_cast<Eigen::Index>(block1.size()), 1, seed + 2).col(0);
   Eigen::VectorXd c, x2;
-  if (!f.splits_interior_solve()) {
-    EXPECT_EQ(f.condense_rhs(b1, b2, &c).status, FactorizationStatus::not_ready);
-    EXPECT_EQ(f.expand(x1, &x2).status, FactorizationStatus::not_ready);
-    return;
-  }
-  const FactorizationResult r = f.condense_rhs(b1, b2, &c);
+  SplitInteriorSolve* split = split_interior_solve(f);
+  if (split == nullptr) return;
+  const FactorizationResult r = split->condense_rhs(b1, b2, &c);
   ASSERT_TRUE(r.ok()) << r.message;
-  const FactorizationResult e = f.expand(x1, &x2);
+  const FactorizationResult e = split->expand(x1, &x2);
   ASSERT_TRUE(e.ok()) << e.message;
   if (block2.empty()) {
     EXPECT_EQ(c, b1);
@@ -171,7 +168,7 @@ void expect_split_interior_solve(SparseFactorization& f, const SparseMatrix& A, 
   EXPECT_LT(relative_error(x2, llt22.solve(b2 - A12.transpose() * x1)), kTolerance);
   // expand() again with another x1 uses the same b2
   const Eigen::VectorXd x1b = 2.0 * x1;
-  ASSERT_TRUE(f.expand(x1b, &x2).ok());
+  ASSERT_TRUE(split->expand(x1b, &x2).ok());
   EXPECT_LT(relative_error(x2, llt22.solve(b2 - A12.transpose() * x1b)), kTolerance);
 }
 
@@ -202,25 +199,26 @@ TEST_P(LinearConformance, SplitInteriorSolveMatchesDenseReference) {
 
 TEST_P(LinearConformance, SplitInteriorSolveOutOfOrderOrWithWrongSizes) {
   auto f = make();
-  if (!f->splits_interior_solve()) GTEST_SKIP() << engine() << " does not split the interior solve";
+  SplitInteriorSolve* split = split_interior_solve(*f);
+  if (split == nullptr) GTEST_SKIP() << engine() << " does not split the interior solve";
   Eigen::VectorXd c, x2;
   const Eigen::VectorXd one = Eigen::VectorXd::Ones(1), four = Eigen::VectorXd::Ones(4);
-  EXPECT_EQ(f->condense_rhs(one, four, &c).status, FactorizationStatus::not_ready);
-  EXPECT_EQ(f->expand(one, &x2).status, FactorizationStatus::not_ready);
+  EXPECT_THROW(split->condense_rhs(one, four, &c), InternalError);
+  EXPECT_THROW(split->expand(one, &x2), InternalError);
   const SparseMatrix A = random_spd(5, 2);
   const std::vector<int> block1{3};
   Eigen::MatrixXd S;
   ASSERT_TRUE(f->schur_complement(A, block1, &S).ok());
-  EXPECT_EQ(f->expand(one, &x2).status, FactorizationStatus::not_ready) << "expand() needs condense_rhs() first";
-  EXPECT_EQ(f->condense_rhs(four, four, &c).status, FactorizationStatus::invalid_input);
-  EXPECT_EQ(f->condense_rhs(one, one, &c).status, FactorizationStatus::invalid_input);
-  EXPECT_EQ(f->condense_rhs(one, four, nullptr).status, FactorizationStatus::invalid_input);
-  ASSERT_TRUE(f->condense_rhs(one, four, &c).ok());
-  EXPECT_EQ(f->expand(four, &x2).status, FactorizationStatus::invalid_input);
-  EXPECT_EQ(f->expand(one, nullptr).status, FactorizationStatus::invalid_input);
-  ASSERT_TRUE(f->expand(one, &x2).ok());
+  EXPECT_THROW(split->expand(one, &x2), InternalError) << "expand() needs condense_rhs() first";
+  EXPECT_THROW(split->condense_rhs(four, four, &c), InternalError);
+  EXPECT_THROW(split->condense_rhs(one, one, &c), InternalError);
+  EXPECT_THROW(split->condense_rhs(one, four, nullptr), InternalError);
+  ASSERT_TRUE(split->condense_rhs(one, four, &c).ok());
+  EXPECT_THROW(split->expand(four, &x2), InternalError);
+  EXPECT_THROW(split->expand(one, nullptr), InternalError);
+  ASSERT_TRUE(split->expand(one, &x2).ok());
   ASSERT_TRUE(f->schur_complement(A, block1, &S).ok());
-  EXPECT_EQ(f->expand(one, &x2).status, FactorizationStatus::not_ready) << "a new Schur complement forgets b2";
+  EXPECT_THROW(split->expand(one, &x2), InternalError) << "a new Schur complement forgets b2";
 }
 
 TEST_P(LinearConformance, RefactorizationOnTheSamePatternReusesTheAnalysis) {
@@ -300,13 +298,13 @@ TEST_P(LinearConformance, SmallIndefiniteMatrixIsNotPositiveDefinite) {
   EXPECT_EQ(r.status, FactorizationStatus::not_positive_definite) << r.message;
   EXPECT_FALSE(r.message.empty());
   Eigen::MatrixXd X;
-  EXPECT_EQ(f->solve(Eigen::MatrixXd::Ones(3, 1), &X).status, FactorizationStatus::not_ready)
+  EXPECT_THROW(f->solve(Eigen::MatrixXd::Ones(3, 1), &X), InternalError)
       << "a failed factorization cannot be used to solve";
 
   Eigen::MatrixXd S;
   const std::vector<int> block1 = {2};  // A22 = diag(1, -1)
   EXPECT_EQ(f->schur_complement(A, block1, &S).status, FactorizationStatus::not_positive_definite);
-  EXPECT_EQ(f->solve_interior(Eigen::MatrixXd::Ones(2, 1), &X).status, FactorizationStatus::not_ready);
+  EXPECT_THROW(f->solve_interior(Eigen::MatrixXd::Ones(2, 1), &X), InternalError);
 }
 
 TEST_P(LinearConformance, MatrixWithOneNegativeEigenvalueIsNotPositiveDefinite) {
@@ -322,53 +320,61 @@ TEST_P(LinearConformance, MatrixWithOneNegativeEigenvalueIsNotPositiveDefinite) 
   }
 }
 
-TEST_P(LinearConformance, CallsOutOfOrderAreNotReady) {
+TEST_P(LinearConformance, CallsOutOfOrderThrow) {
   auto f = make();
   Eigen::MatrixXd X;
-  EXPECT_EQ(f->solve(Eigen::MatrixXd::Ones(5, 1), &X).status, FactorizationStatus::not_ready);
-  EXPECT_EQ(f->solve_interior(Eigen::MatrixXd::Ones(5, 1), &X).status, FactorizationStatus::not_ready);
+  EXPECT_THROW(f->solve(Eigen::MatrixXd::Ones(5, 1), &X), InternalError);
+  EXPECT_THROW(f->solve_interior(Eigen::MatrixXd::Ones(5, 1), &X), InternalError);
   ASSERT_TRUE(f->analyze(random_spd(5, 1)).ok());
-  EXPECT_EQ(f->solve(Eigen::MatrixXd::Ones(5, 1), &X).status, FactorizationStatus::not_ready)
+  EXPECT_THROW(f->solve(Eigen::MatrixXd::Ones(5, 1), &X), InternalError)
       << "analyze() alone does not allow a solve";
 }
 
-TEST_P(LinearConformance, WrongSizesAreInvalidInput) {
+TEST_P(LinearConformance, WrongSizesThrow) {
   const SparseMatrix A = random_spd(5, 1);
   auto f = make();
   ASSERT_TRUE(f->factorize(A).ok());
   Eigen::MatrixXd X;
-  EXPECT_EQ(f->solve(Eigen::MatrixXd::Ones(4, 1), &X).status, FactorizationStatus::invalid_input);
-  EXPECT_EQ(f->solve(Eigen::MatrixXd::Ones(6, 2), &X).status, FactorizationStatus::invalid_input);
-  EXPECT_EQ(f->solve(Eigen::MatrixXd::Ones(5, 1), nullptr).status, FactorizationStatus::invalid_input);
-  EXPECT_FALSE(f->solve(Eigen::MatrixXd::Ones(4, 1), &X).message.empty());
+  EXPECT_THROW(f->solve(Eigen::MatrixXd::Ones(4, 1), &X), InternalError);
+  EXPECT_THROW(f->solve(Eigen::MatrixXd::Ones(6, 2), &X), InternalError);
+  EXPECT_THROW(f->solve(Eigen::MatrixXd::Ones(5, 1), nullptr), InternalError);
+  try {
+    (void)f->solve(Eigen::MatrixXd::Ones(4, 1), &X);
+    ADD_FAILURE() << "expected an InternalError";
+  } catch (const InternalError& e) {
+    EXPECT_FALSE(std::string(e.what()).empty());
+  }
 
   Eigen::MatrixXd S;
   const std::vector<int> block1 = {3, 1};
   ASSERT_TRUE(f->schur_complement(A, block1, &S).ok());
-  EXPECT_EQ(f->solve_interior(Eigen::MatrixXd::Ones(5, 1), &X).status, FactorizationStatus::invalid_input);
-  EXPECT_EQ(f->solve_interior(Eigen::MatrixXd::Ones(2, 1), &X).status, FactorizationStatus::invalid_input);
+  EXPECT_THROW(f->solve_interior(Eigen::MatrixXd::Ones(5, 1), &X), InternalError);
+  EXPECT_THROW(f->solve_interior(Eigen::MatrixXd::Ones(2, 1), &X), InternalError);
   EXPECT_TRUE(f->solve_interior(Eigen::MatrixXd::Ones(3, 1), &X).ok());
-  EXPECT_EQ(f->schur_complement(A, block1, nullptr).status, FactorizationStatus::invalid_input);
+  EXPECT_THROW(f->schur_complement(A, block1, nullptr), InternalError);
 
   SparseMatrix rectangular(4, 5);
   rectangular.insert(0, 0) = 1.0;
-  EXPECT_EQ(f->analyze(rectangular).status, FactorizationStatus::invalid_input);
-  EXPECT_EQ(f->factorize(rectangular).status, FactorizationStatus::invalid_input);
-  EXPECT_EQ(f->schur_complement(rectangular, block1, &S).status, FactorizationStatus::invalid_input);
+  EXPECT_THROW(f->analyze(rectangular), InternalError);
+  EXPECT_THROW(f->factorize(rectangular), InternalError);
+  EXPECT_THROW(f->schur_complement(rectangular, block1, &S), InternalError);
 }
 
-TEST_P(LinearConformance, InvalidBlock1IsInvalidInput) {
+TEST_P(LinearConformance, InvalidBlock1Throws) {
   const SparseMatrix A = random_spd(5, 2);
   auto f = make();
   Eigen::MatrixXd S;
   for (const std::vector<int>& block1 :
        {std::vector<int>{1, 3, 1}, std::vector<int>{5}, std::vector<int>{0, -1}, std::vector<int>{0, 1, 2, 3, 4, 0}}) {
-    const FactorizationResult r = f->schur_complement(A, block1, &S);
-    EXPECT_EQ(r.status, FactorizationStatus::invalid_input) << r.message;
-    EXPECT_FALSE(r.message.empty());
+    try {
+      (void)f->schur_complement(A, block1, &S);
+      ADD_FAILURE() << "expected an InternalError";
+    } catch (const InternalError& e) {
+      EXPECT_FALSE(std::string(e.what()).empty());
+    }
   }
   Eigen::MatrixXd X;
-  EXPECT_EQ(f->solve_interior(Eigen::MatrixXd::Ones(3, 1), &X).status, FactorizationStatus::not_ready);
+  EXPECT_THROW(f->solve_interior(Eigen::MatrixXd::Ones(3, 1), &X), InternalError);
 }
 
 TEST_P(LinearConformance, EmptyBlock1GivesAnEmptySchurComplement) {
@@ -428,10 +434,10 @@ TEST_P(LinearConformance, NonFiniteEntriesAreANumericalFailure) {
     const FactorizationResult r = f->factorize(A);
     EXPECT_EQ(r.status, FactorizationStatus::numerical_failure) << r.message;
     Eigen::MatrixXd X, S;
-    EXPECT_EQ(f->solve(Eigen::MatrixXd::Ones(20, 1), &X).status, FactorizationStatus::not_ready);
+    EXPECT_THROW(f->solve(Eigen::MatrixXd::Ones(20, 1), &X), InternalError);
     const FactorizationResult s = f->schur_complement(A, std::vector<int>{1, 4, 9}, &S);
     EXPECT_EQ(s.status, FactorizationStatus::numerical_failure) << s.message;
-    EXPECT_EQ(f->solve_interior(Eigen::MatrixXd::Ones(17, 1), &X).status, FactorizationStatus::not_ready);
+    EXPECT_THROW(f->solve_interior(Eigen::MatrixXd::Ones(17, 1), &X), InternalError);
   }
 }
 

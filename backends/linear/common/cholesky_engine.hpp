@@ -114,7 +114,7 @@ class CholeskyEngine {
   }
 
   FactorizationResult solve(const Eigen::MatrixXd& B, Eigen::MatrixXd* X) const {
-    if (!main_factorized_) return not_ready("solve() needs a successful factorize() first");
+    if (!main_factorized_) contract_violation("solve() needs a successful factorize() first");
     if (auto r = check_right_hand_sides("solve()", "B", B, X, main_n_, "the matrix"); !r.ok()) return r;
     if (B.cols() == 0) {
       X->resize(main_n_, 0);
@@ -127,7 +127,7 @@ class CholeskyEngine {
     return guarded([&] {
       schur_factorized_ = false;
       rhs_condensed_ = false;
-      if (S == nullptr) return invalid("schur_complement(): S is null");
+      if (S == nullptr) contract_violation("schur_complement(): S is null");
       SparseMatrix storage;
       const SparseMatrix& M = compressed(A, storage);
       if (auto r = check_values(M); !r.ok()) return r;
@@ -159,7 +159,7 @@ class CholeskyEngine {
   }
 
   FactorizationResult solve_interior(const Eigen::MatrixXd& B2, Eigen::MatrixXd* X2) const {
-    if (!schur_factorized_) return not_ready("solve_interior() needs a successful schur_complement() first");
+    if (!schur_factorized_) contract_violation("solve_interior() needs a successful schur_complement() first");
     const auto n2 = static_cast<Eigen::Index>(split_.block2.size());
     if (auto r = check_right_hand_sides("solve_interior()", "B2", B2, X2, n2, "A22"); !r.ok()) return r;
     return guarded([&] {
@@ -178,12 +178,12 @@ class CholeskyEngine {
   /// order, L22 y = b2 and c = b1 - L21 y (L21 = A12 L22^{-T}). y is kept for expand().
   FactorizationResult condense_rhs(const Eigen::VectorXd& b1, const Eigen::VectorXd& b2, Eigen::VectorXd* c) {
     rhs_condensed_ = false;
-    if (!schur_factorized_) return not_ready("condense_rhs() needs a successful schur_complement() first");
+    if (!schur_factorized_) contract_violation("condense_rhs() needs a successful schur_complement() first");
     const auto n1 = static_cast<Eigen::Index>(split_.block1.size());
     const auto n2 = static_cast<Eigen::Index>(split_.block2.size());
-    if (c == nullptr) return invalid("condense_rhs(): c is null");
+    if (c == nullptr) contract_violation("condense_rhs(): c is null");
     if (b1.size() != n1 || b2.size() != n2)
-      return invalid("condense_rhs(): b1 and b2 need " + std::to_string(n1) + " and " + std::to_string(n2) +
+      contract_violation("condense_rhs(): b1 and b2 need " + std::to_string(n1) + " and " + std::to_string(n2) +
                      " rows (block1 and the rest), got " + std::to_string(b1.size()) + " and " +
                      std::to_string(b2.size()));
     return guarded([&] {
@@ -200,12 +200,12 @@ class CholeskyEngine {
 
   /// x2 = A22^{-1} (b2 - A21 x1) = L22^{-T} (y - L21^T x1) by one backward substitution.
   FactorizationResult expand(const Eigen::VectorXd& x1, Eigen::VectorXd* x2) const {
-    if (!rhs_condensed_) return not_ready("expand() needs a successful condense_rhs() first");
+    if (!rhs_condensed_) contract_violation("expand() needs a successful condense_rhs() first");
     const auto n1 = static_cast<Eigen::Index>(split_.block1.size());
     const auto n2 = static_cast<Eigen::Index>(split_.block2.size());
-    if (x2 == nullptr) return invalid("expand(): x2 is null");
+    if (x2 == nullptr) contract_violation("expand(): x2 is null");
     if (x1.size() != n1)
-      return invalid("expand(): x1 needs " + std::to_string(n1) + " rows (block1), got " + std::to_string(x1.size()));
+      contract_violation("expand(): x1 needs " + std::to_string(n1) + " rows (block1), got " + std::to_string(x1.size()));
     return guarded([&] {
       Eigen::MatrixXd z(n1 + n2, 1);
       z.col(0).head(n2) = y_;

@@ -2,6 +2,7 @@
 // Messages do not name the engine: the caller of an engine does.
 #pragma once
 
+#include <hemivem/error.hpp>
 #include <hemivem/sparse_factorization.hpp>
 
 #include <algorithm>
@@ -16,20 +17,16 @@ inline FactorizationResult make_result(FactorizationStatus status, std::string m
   return FactorizationResult{status, std::move(message)};
 }
 
-inline FactorizationResult invalid(std::string message) {
-  return make_result(FactorizationStatus::invalid_input, std::move(message));
-}
+/// A call that breaks the engine's contract (arguments that do not fit, a call out of order):
+/// the caller's mistake, an InternalError; statuses are for numerical outcomes only.
+[[noreturn]] inline void contract_violation(const std::string& message) { throw InternalError(message); }
 
-inline FactorizationResult not_ready(std::string message) {
-  return make_result(FactorizationStatus::not_ready, std::move(message));
-}
-
-/// A square matrix with at least one row.
+/// A square matrix with at least one row (InternalError otherwise).
 inline FactorizationResult check_matrix(const SparseMatrix& A) {
   if (A.rows() != A.cols())
-    return invalid("the matrix is " + std::to_string(A.rows()) + "x" + std::to_string(A.cols()) +
+    contract_violation("the matrix is " + std::to_string(A.rows()) + "x" + std::to_string(A.cols()) +
                    ", not square");
-  if (A.rows() == 0) return invalid("the matrix is empty (0x0)");
+  if (A.rows() == 0) contract_violation("the matrix is empty (0x0)");
   return FactorizationResult::good();
 }
 
@@ -59,13 +56,13 @@ inline bool symmetric_pattern(const SparseMatrix& A) {
 }
 
 /// The arguments of a solve: an output, and `rows` rows in `B` (named `b_name`; `matrix`
-/// names what was factorized).
+/// names what was factorized); InternalError otherwise.
 inline FactorizationResult check_right_hand_sides(const std::string& call, const std::string& b_name,
                                                   const Eigen::MatrixXd& B, const Eigen::MatrixXd* X,
                                                   Eigen::Index rows, const std::string& matrix) {
-  if (X == nullptr) return invalid(call + ": the output is null");
+  if (X == nullptr) contract_violation(call + ": the output is null");
   if (B.rows() != rows)
-    return invalid(call + ": " + b_name + " has " + std::to_string(B.rows()) + " rows, " + matrix + " " +
+    contract_violation(call + ": " + b_name + " has " + std::to_string(B.rows()) + " rows, " + matrix + " " +
                    std::to_string(rows));
   return FactorizationResult::good();
 }
@@ -115,19 +112,19 @@ struct BlockSplit {
   std::vector<int> position;
 };
 
-/// Validates block1 (distinct indices in [0, n)) and fills *out.
+/// Validates block1 (distinct indices in [0, n); InternalError otherwise) and fills *out.
 inline FactorizationResult split_blocks(Eigen::Index n, std::span<const int> block1, BlockSplit* out) {
   if (static_cast<Eigen::Index>(block1.size()) > n)
-    return invalid("block1 has " + std::to_string(block1.size()) + " indices but the matrix only " +
+    contract_violation("block1 has " + std::to_string(block1.size()) + " indices but the matrix only " +
                    std::to_string(n) + " rows");
   std::vector<int> position(static_cast<std::size_t>(n), 0);
   for (std::size_t t = 0; t < block1.size(); ++t) {
     const int i = block1[t];
     if (i < 0 || i >= n)
-      return invalid("block1[" + std::to_string(t) + "] = " + std::to_string(i) + " is outside [0, " +
+      contract_violation("block1[" + std::to_string(t) + "] = " + std::to_string(i) + " is outside [0, " +
                      std::to_string(n) + ")");
     if (position[static_cast<std::size_t>(i)] != 0)
-      return invalid("block1[" + std::to_string(t) + "] = " + std::to_string(i) + " appears twice");
+      contract_violation("block1[" + std::to_string(t) + "] = " + std::to_string(i) + " appears twice");
     position[static_cast<std::size_t>(i)] = -static_cast<int>(t) - 1;
   }
   out->block1.assign(block1.begin(), block1.end());

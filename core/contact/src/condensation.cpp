@@ -71,15 +71,12 @@ ContactBoundary make_contact_boundary(const Mesh& mesh, const std::vector<int>& 
 
 namespace {
 
-/// Throws for a failed call of the engine: InternalError when the call broke the engine's
-/// contract (invalid_input, not_ready: a programming error), NumericalError otherwise.
+/// Throws NumericalError for a failed call of the engine (a call that broke the engine's
+/// contract has thrown InternalError already).
 void require(const FactorizationResult& r, const SparseFactorization& engine, const std::string& what) {
   if (r.ok()) return;
-  const std::string message =
-      what + " with the " + engine.name() + " engine failed (" + to_string(r.status) + "): " + r.message;
-  if (r.status == FactorizationStatus::invalid_input || r.status == FactorizationStatus::not_ready)
-    throw InternalError(message);
-  throw NumericalError(message);
+  throw NumericalError(what + " with the " + engine.name() + " engine failed (" + to_string(r.status) + "): " +
+                       r.message);
 }
 
 // The entry (i, j) of the compressed column-major A (0 where it is not stored).
@@ -245,32 +242,40 @@ void Condensation::measure_interior(const SparseMatrix& At) {
 void Condensation::pose_reduced_problem(const ContactBoundary& boundary, std::shared_ptr<const ContactLaw> law,
                                         ConstraintKind constraint, std::shared_ptr<const ContactLaw> friction) {
   const int n1 = boundary.size();
-  reduced_.law = std::move(law);
-  reduced_.constraint = constraint;
   reduced_.w = boundary.weights;
-  reduced_.g = boundary.gaps;
-  if (!has_tangential_) return;
-  // the coordinate-wise form: normals (unless bilateral), then tangentials
-  const int nc = (has_normal_ ? n1 : 0) + n1;
-  reduced_.laws.clear();
-  if (has_normal_) reduced_.laws.push_back(reduced_.law);
-  reduced_.laws.push_back(friction);
-  reduced_.law = reduced_.laws.front();
-  reduced_.law_index.resize(nc);
-  reduced_.lo.resize(nc);
-  reduced_.hi.resize(nc);
-  reduced_.w.resize(nc);
-  for (int i = 0; i < n1; ++i) {
-    const int t = tangential_coordinate(i);
-    reduced_.law_index(t) = has_normal_ ? 1 : 0;
-    reduced_.lo(t) = -std::numeric_limits<double>::infinity();
-    reduced_.hi(t) = std::numeric_limits<double>::infinity();
-    reduced_.w(t) = boundary.weights(i);
-    if (!has_normal_) continue;
-    reduced_.law_index(i) = 0;
-    reduced_.lo(i) = lower_bound(constraint, boundary.gaps(i));
-    reduced_.hi(i) = upper_bound(constraint, boundary.gaps(i));
-    reduced_.w(i) = boundary.weights(i);
+  if (has_tangential_) {
+    // the coordinate-wise form: normals (unless bilateral), then tangentials
+    const int nc = (has_normal_ ? n1 : 0) + n1;
+    reduced_.laws.clear();
+    if (has_normal_) reduced_.laws.push_back(law);
+    reduced_.laws.push_back(friction);
+    reduced_.law_index.resize(nc);
+    reduced_.lo.resize(nc);
+    reduced_.hi.resize(nc);
+    reduced_.w.resize(nc);
+    for (int i = 0; i < n1; ++i) {
+      const int t = tangential_coordinate(i);
+      reduced_.law_index(t) = has_normal_ ? 1 : 0;
+      reduced_.lo(t) = -std::numeric_limits<double>::infinity();
+      reduced_.hi(t) = std::numeric_limits<double>::infinity();
+      reduced_.w(t) = boundary.weights(i);
+      if (!has_normal_) continue;
+      reduced_.law_index(i) = 0;
+      reduced_.lo(i) = lower_bound(constraint, boundary.gaps(i));
+      reduced_.hi(i) = upper_bound(constraint, boundary.gaps(i));
+      reduced_.w(i) = boundary.weights(i);
+    }
+  } else {
+    // the normals, with one law and the bounds of the constraint
+    const bool gapped = constraint == ConstraintKind::one_sided || constraint == ConstraintKind::box;
+    reduced_.laws = {law};
+    reduced_.law_index = Eigen::VectorXi::Zero(n1);
+    reduced_.lo.resize(n1);
+    reduced_.hi.resize(n1);
+    for (int i = 0; i < n1; ++i) {
+      reduced_.lo(i) = lower_bound(constraint, gapped ? boundary.gaps(i) : 0.0);
+      reduced_.hi(i) = upper_bound(constraint, gapped ? boundary.gaps(i) : 0.0);
+    }
   }
 }
 
@@ -293,11 +298,11 @@ void Condensation::condense_load(const SparseMatrix& At, const Eigen::VectorXd& 
   for (std::size_t i = 0; i < block1_.size(); ++i) b1(static_cast<Eigen::Index>(i)) = bt(block1_[i]);
   b2_.resize(static_cast<Eigen::Index>(block2_.size()));
   for (std::size_t i = 0; i < block2_.size(); ++i) b2_(static_cast<Eigen::Index>(i)) = bt(block2_[i]);
-  const bool split = factorization_->splits_interior_solve();
+  SplitInteriorSolve* split = split_interior_solve(*factorization_);
   Eigen::MatrixXd y;
   if (split) {
     // c = b1 - A12 A22^{-1} b2 in one forward substitution; back_substitute() needs one backward
-    require(factorization_->condense_rhs(b1, b2_, &reduced_.c), *factorization_, "interior solve");
+    require(split->condense_rhs(b1, b2_, &reduced_.c), *factorization_, "interior solve");
   } else {
     extract_a21(At);
     require(factorization_->solve_interior(b2_, &y), *factorization_, "interior solve");
@@ -344,7 +349,7 @@ double Condensation::condition_estimate() const {
 
 Eigen::VectorXd Condensation::back_substitute(const Eigen::VectorXd& a) const {
   const ProcessGroup& processes = processes_of(*factorization_);
-  const bool split = factorization_->splits_interior_solve();
+  const SplitInteriorSolve* split = split_interior_solve(*factorization_);
   Eigen::VectorXd x1;     // block 1's values
   Eigen::MatrixXd rhs;    // the interior right-hand side b2 - A21 x1 (without a split solve)
   processes.run_where_results_are([&] {
@@ -354,7 +359,7 @@ Eigen::VectorXd Condensation::back_substitute(const Eigen::VectorXd& a) const {
   Eigen::VectorXd u2;
   Eigen::MatrixXd x2;
   if (split)
-    require(factorization_->expand(x1, &u2), *factorization_, "back-substitution");
+    require(split->expand(x1, &u2), *factorization_, "back-substitution");
   else
     require(factorization_->solve_interior(rhs, &x2), *factorization_, "back-substitution");
   Eigen::VectorXd u;

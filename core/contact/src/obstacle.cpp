@@ -100,7 +100,7 @@ std::string to_string(Obstacle::Shape shape) {
     case Obstacle::Shape::circle: return "circle";
     case Obstacle::Shape::polyline: return "polyline";
   }
-  return "plane";
+  throw InternalError("an obstacle shape out of range: " + std::to_string(static_cast<int>(shape)));
 }
 
 Obstacle::Shape obstacle_shape_from_string(const std::string& name) {

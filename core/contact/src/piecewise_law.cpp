@@ -219,13 +219,14 @@ const Polynomial& PiecewisePolynomialLaw::poly(LawPart part, std::size_t k, int 
   if (order == 1) return first_[static_cast<std::size_t>(part)][k];
   if (order == 2) return second_[static_cast<std::size_t>(part)][k];
   switch (part) {
+    case LawPart::j:
+      return j_[k];
     case LawPart::j1:
       return j1_[k];
     case LawPart::j2:
       return j2_[k];
-    default:
-      return j_[k];
   }
+  throw InternalError("a LawPart out of range: " + std::to_string(static_cast<int>(part)));
 }
 
 double PiecewisePolynomialLaw::value(LawPart part, double r) const { return eval(poly(part, piece(r, -1)), r); }

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 namespace hemivem {
@@ -220,7 +221,8 @@ std::shared_ptr<const ContactLaw> read_law(const fs::path& file) {
 
 void write_reduced_problem(const fs::path& folder, const ReducedProblem& p) {
   check_sizes(p, folder.string());
-  const bool coordinatewise = p.coordinatewise();
+  const std::optional<UniformForm> uniform = p.uniform_form();
+  const bool coordinatewise = !uniform;
   std::error_code ec;
   fs::create_directories(folder, ec);
   if (ec) throw InputError("cannot create the folder: " + ec.message(), folder.string());
@@ -246,13 +248,13 @@ void write_reduced_problem(const fs::path& folder, const ReducedProblem& p) {
         out << p.law_index(i) << ' ' << bound_text(p.lo(i)) << ' ' << bound_text(p.hi(i)) << '\n';
     });
   } else {
-    vec("g.txt", p.g.size() == n ? p.g : Eigen::VectorXd::Zero(n));
+    vec("g.txt", uniform->g);
   }
   write_file(folder / "problem.txt", [&](std::ostream& out) {
     out << "# hemivem reduced problem: min 1/2 a^T S a - c^T a + sum w_i j_i(a_i) over the constraint set\n"
         << "format " << reduced_format_version << '\n';
     if (coordinatewise) out << "form coordinate-wise\nlaws " << p.num_laws() << '\n';
-    else out << "constraint " << to_string(p.constraint) << '\n';
+    else out << "constraint " << to_string(uniform->constraint) << '\n';
     if (!std::isnan(p.uniqueness_margin)) out << "uniqueness_margin " << shortest(p.uniqueness_margin) << '\n';
   });
   // a folder written before in the other form keeps no file of it
@@ -262,20 +264,19 @@ void write_reduced_problem(const fs::path& folder, const ReducedProblem& p) {
 
 namespace {
 
-/// What problem.txt says of the files that follow: the form and the number of laws.
-struct ProblemForm {
+/// What problem.txt says (all optional: the uniform form with the box constraint).
+struct ProblemHeader {
   bool coordinatewise = false;
   long laws = 1;
+  ConstraintKind constraint = ConstraintKind::box;
+  double uniqueness_margin = std::numeric_limits<double>::quiet_NaN();
 };
 
-/// problem.txt, when there is one: its format, form, laws, constraint and uniqueness margin
-/// (the last two into `p`).
-ProblemForm read_problem_form(const fs::path& folder, ReducedProblem& p) {
-  ProblemForm form;
-  if (!fs::exists(folder / "problem.txt")) return form;
+ProblemHeader read_problem_header(const fs::path& file) {
+  ProblemHeader h;
+  if (!fs::exists(file)) return h;
   bool have_constraint = false;
-  for (const auto& l : read_lines(folder / "problem.txt", false)) {
-    const fs::path file = folder / "problem.txt";
+  for (const auto& l : read_lines(file, false)) {
     const std::string where = file.string() + ":" + std::to_string(l.number);
     if (l.tokens.size() != 2) throw InputError("expected 'key value'", where);
     const std::string& key = l.tokens[0];
@@ -288,75 +289,49 @@ ProblemForm read_problem_form(const fs::path& folder, ReducedProblem& p) {
     } else if (key == "form") {
       if (l.tokens[1] != "coordinate-wise" && l.tokens[1] != "uniform")
         throw InputError("unknown form '" + l.tokens[1] + "'; expected uniform or coordinate-wise", where);
-      form.coordinatewise = l.tokens[1] == "coordinate-wise";
+      h.coordinatewise = l.tokens[1] == "coordinate-wise";
     } else if (key == "laws") {
-      form.laws = integer(l.tokens[1], file, l.number, "number of laws");
-      if (form.laws < 1 || form.laws > 100) throw InputError("expected 1 to 100 laws, got " + l.tokens[1], where);
+      h.laws = integer(l.tokens[1], file, l.number, "number of laws");
+      if (h.laws < 1 || h.laws > 100) throw InputError("expected 1 to 100 laws, got " + l.tokens[1], where);
     } else if (key == "constraint") {
       try {
-        p.constraint = constraint_kind_from_string(l.tokens[1]);
+        h.constraint = constraint_kind_from_string(l.tokens[1]);
       } catch (const InputError& e) {
         throw InputError(e.detail(), where);
       }
       have_constraint = true;
     } else if (key == "uniqueness_margin") {
-      p.uniqueness_margin = l.tokens[1] == "-inf" ? -std::numeric_limits<double>::infinity()
+      h.uniqueness_margin = l.tokens[1] == "-inf" ? -std::numeric_limits<double>::infinity()
                                                   : number(l.tokens[1], file, l.number, "margin");
     } else {
       throw InputError("unknown key '" + key + "'; expected format, form, laws, constraint or uniqueness_margin", where);
     }
   }
-  if (form.coordinatewise && have_constraint)
-    throw InputError("a coordinate-wise problem has its bounds in coordinates.txt, not a constraint",
-                     (folder / "problem.txt").string());
-  if (!form.coordinatewise && form.laws != 1)
-    throw InputError("several laws need 'form coordinate-wise'", (folder / "problem.txt").string());
-  return form;
+  if (h.coordinatewise && have_constraint)
+    throw InputError("a coordinate-wise problem has its bounds in coordinates.txt, not a constraint", file.string());
+  if (!h.coordinatewise && h.laws != 1) throw InputError("several laws need 'form coordinate-wise'", file.string());
+  return h;
 }
 
-/// S.mtx, c.txt, w.txt and (in the uniform form) g.txt, their sizes checked against S and the
-/// weights > 0.
-void read_matrix_and_vectors(const fs::path& folder, bool coordinatewise, ReducedProblem& p) {
-  p.S = read_matrix_market(folder / "S.mtx");
-  p.c = read_vector(folder / "c.txt", "c");
-  p.w = read_vector(folder / "w.txt", "w");
-  if (!coordinatewise) p.g = read_vector(folder / "g.txt", "g", true);
-  const Eigen::Index n = p.S.rows();
-  std::vector<std::pair<const char*, const Eigen::VectorXd*>> vectors{{"c.txt", &p.c}, {"w.txt", &p.w}};
-  if (!coordinatewise) vectors.push_back({"g.txt", &p.g});
-  for (const auto& [name, v] : vectors)
-    if (v->size() != n)
-      throw InputError("has " + std::to_string(v->size()) + " numbers; S is " + std::to_string(n) + " x " + std::to_string(n),
-                       (folder / name).string());
-  for (Eigen::Index i = 0; i < n; ++i) {
-    if (!(p.w(i) > 0.0)) throw InputError("weight " + shortest(p.w(i)) + " must be > 0", (folder / "w.txt").string() + ": entry " + std::to_string(i + 1));
-  }
-}
-
-/// The coordinate-wise form: the laws law1.txt ... and coordinates.txt, a line 'law lower
-/// upper' per coordinate.
-void read_coordinates(const fs::path& folder, long laws, ReducedProblem& p) {
-  const Eigen::Index n = p.S.rows();
-  p.laws.push_back(p.law);
-  for (long k = 1; k < laws; ++k) p.laws.push_back(read_law(folder / law_file_name(static_cast<int>(k))));
-  const fs::path file = folder / "coordinates.txt";
+/// coordinates.txt: the law index and the bounds of each of the n coordinates into *p.
+void read_coordinates(const fs::path& file, Eigen::Index n, long laws, ReducedProblem* p) {
   const auto lines = read_lines(file, false);
   if (static_cast<Eigen::Index>(lines.size()) != n)
     throw InputError("has " + std::to_string(lines.size()) + " lines; S is " + std::to_string(n) + " x " + std::to_string(n),
                      file.string());
-  p.law_index.resize(n);
-  p.lo.resize(n);
-  p.hi.resize(n);
+  p->law_index.resize(n);
+  p->lo.resize(n);
+  p->hi.resize(n);
   for (Eigen::Index i = 0; i < n; ++i) {
     const Line& l = lines[static_cast<std::size_t>(i)];
     const std::string where = file.string() + ":" + std::to_string(l.number);
     if (l.tokens.size() != 3) throw InputError("expected 'law lower upper'", where);
     const long k = integer(l.tokens[0], file, l.number, "law");
     if (k >= laws) throw InputError("law " + l.tokens[0] + " out of range: problem.txt has " + std::to_string(laws) + " laws", where);
-    p.law_index(i) = static_cast<int>(k);
-    p.lo(i) = bound(l.tokens[1], file, l.number, "lower bound");
-    p.hi(i) = bound(l.tokens[2], file, l.number, "upper bound");
-    if (!(p.lo(i) <= p.hi(i))) throw InputError("lower bound " + l.tokens[1] + " above upper bound " + l.tokens[2], where);
+    p->law_index(i) = static_cast<int>(k);
+    p->lo(i) = bound(l.tokens[1], file, l.number, "lower bound");
+    p->hi(i) = bound(l.tokens[2], file, l.number, "upper bound");
+    if (!(p->lo(i) <= p->hi(i))) throw InputError("lower bound " + l.tokens[1] + " above upper bound " + l.tokens[2], where);
   }
 }
 
@@ -364,24 +339,41 @@ void read_coordinates(const fs::path& folder, long laws, ReducedProblem& p) {
 
 ReducedProblem read_reduced_problem(const fs::path& folder, std::shared_ptr<const ContactLaw> law) {
   if (!fs::is_directory(folder)) throw InputError("not a folder", folder.string());
-  ReducedProblem p;
-  p.constraint = ConstraintKind::box;
   // problem.txt first: the form says which files follow
-  const ProblemForm form = read_problem_form(folder, p);
-  read_matrix_and_vectors(folder, form.coordinatewise, p);
-  p.law = law ? std::move(law) : read_law(folder / "law.txt");
-  if (form.coordinatewise) {
-    read_coordinates(folder, form.laws, p);
+  const ProblemHeader h = read_problem_header(folder / "problem.txt");
+  ReducedProblem p;
+  p.S = read_matrix_market(folder / "S.mtx");
+  p.c = read_vector(folder / "c.txt", "c");
+  p.w = read_vector(folder / "w.txt", "w");
+  Eigen::VectorXd g;
+  if (!h.coordinatewise) g = read_vector(folder / "g.txt", "g", true);
+  const Eigen::Index n = p.S.rows();
+  std::vector<std::pair<const char*, const Eigen::VectorXd*>> vectors{{"c.txt", &p.c}, {"w.txt", &p.w}};
+  if (!h.coordinatewise) vectors.push_back({"g.txt", &g});
+  for (const auto& [name, v] : vectors)
+    if (v->size() != n)
+      throw InputError("has " + std::to_string(v->size()) + " numbers; S is " + std::to_string(n) + " x " + std::to_string(n),
+                       (folder / name).string());
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (!(p.w(i) > 0.0)) throw InputError("weight " + shortest(p.w(i)) + " must be > 0", (folder / "w.txt").string() + ": entry " + std::to_string(i + 1));
+  }
+  if (!law) law = read_law(folder / "law.txt");
+  if (h.coordinatewise) {
+    p.laws.push_back(std::move(law));
+    for (long k = 1; k < h.laws; ++k) p.laws.push_back(read_law(folder / law_file_name(static_cast<int>(k))));
+    read_coordinates(folder / "coordinates.txt", n, h.laws, &p);
+    p.uniqueness_margin = h.uniqueness_margin;
     return p;
   }
   // negative gaps (an obstacle pressed in) and +inf (a node that cannot touch it) bound a_i <= g_i
   // from one side only; the box |a_i| <= g_i needs 0 <= g_i < inf
-  const Eigen::Index n = p.S.rows();
-  if (p.constraint == ConstraintKind::box)
+  if (h.constraint == ConstraintKind::box)
     for (Eigen::Index i = 0; i < n; ++i)
-      if (!(p.g(i) >= 0.0 && std::isfinite(p.g(i))))
-        throw InputError("gap " + shortest(p.g(i)) + " must be finite and >= 0 with the box constraint",
+      if (!(g(i) >= 0.0 && std::isfinite(g(i))))
+        throw InputError("gap " + shortest(g(i)) + " must be finite and >= 0 with the box constraint",
                          (folder / "g.txt").string() + ": entry " + std::to_string(i + 1));
+  p = ReducedProblem::uniform(std::move(p.S), std::move(p.c), std::move(p.w), std::move(law), h.constraint, g);
+  p.uniqueness_margin = h.uniqueness_margin;
   return p;
 }
 

@@ -28,9 +28,14 @@ std::string type_name(const toml::node& n) {
       return "an array";
     case toml::node_type::table:
       return "a table";
-    default:
+    case toml::node_type::date:
+    case toml::node_type::time:
+    case toml::node_type::date_time:
       return "a date/time";
+    case toml::node_type::none:
+      break;
   }
+  return "nothing";
 }
 
 std::string fmt(double v) {

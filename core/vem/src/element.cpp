@@ -9,7 +9,13 @@
 
 namespace hemivem {
 
-std::string to_string(Stabilization s) { return s == Stabilization::two_mu ? "2mu" : "trace"; }
+std::string to_string(Stabilization s) {
+  switch (s) {
+    case Stabilization::two_mu: return "2mu";
+    case Stabilization::trace_scaled: return "trace";
+  }
+  throw InternalError("a Stabilization out of range: " + std::to_string(static_cast<int>(s)));
+}
 
 Stabilization stabilization_from_string(std::string_view name) {
   std::string s(name);

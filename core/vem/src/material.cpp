@@ -9,7 +9,13 @@
 
 namespace hemivem {
 
-std::string to_string(PlaneModel model) { return model == PlaneModel::strain ? "plane-strain" : "plane-stress"; }
+std::string to_string(PlaneModel model) {
+  switch (model) {
+    case PlaneModel::strain: return "plane-strain";
+    case PlaneModel::stress: return "plane-stress";
+  }
+  throw InternalError("a PlaneModel out of range: " + std::to_string(static_cast<int>(model)));
+}
 
 PlaneModel plane_model_from_string(std::string_view name) {
   std::string s(name);

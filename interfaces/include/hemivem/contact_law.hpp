@@ -9,12 +9,17 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace hemivem {
 
 /// Which function of the law: the potential j or one of its convex parts j1, j2.
 enum class LawPart { j, j1, j2 };
+/// "j", "j1", "j2".
+std::string to_string(LawPart part);
+/// The names of to_string (case-insensitive); InputError otherwise.
+LawPart law_part_from_string(std::string_view name);
 
 /// A closed interval [lo, hi].
 struct Interval {

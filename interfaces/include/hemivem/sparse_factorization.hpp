@@ -8,15 +8,18 @@
 //   schur_complement(A, block1, S)   dense S = A11 - A12 A22^{-1} A21 for the index set
 //                                    block1, at about the cost of one factorization, and
 //                                    a factorization of A22 kept for
-//   solve_interior(B2, X2)           X2 = A22^{-1} B2 (the rest of the solve);
-// where the engine splits the interior solve (splits_interior_solve()), its two halves:
+//   solve_interior(B2, X2)           X2 = A22^{-1} B2 (the rest of the solve).
+// An engine that factorizes A22 within a factorization of the whole A may also offer the
+// interior solve in two halves (SplitInteriorSolve, found by split_interior_solve()):
 //   condense_rhs(b1, b2, c)          c = b1 - A12 A22^{-1} b2, one forward substitution
 //   expand(x1, x2)                   x2 = A22^{-1} (b2 - A21 x1), one backward substitution.
 //
-// Algorithmic outcomes are statuses with a human message; programming and setup errors
-// (wrong sizes, calls out of order) are statuses too (invalid_input / not_ready), never
-// prints or exits. Every engine must detect a matrix that is not positive definite; a matrix
-// with entries that are not finite is a numerical_failure.
+// Numerical outcomes are statuses with a human message (a matrix that is not positive
+// definite, one with entries that are not finite, memory); a call that breaks the contract
+// (sizes, patterns or index sets that do not fit, a null output, a call out of order such as
+// solve() before a successful factorize()) is the caller's mistake and throws InternalError
+// (hemivem/error.hpp). Nothing prints or exits. Every engine must detect a matrix that is not
+// positive definite; a matrix with entries that are not finite is a numerical_failure.
 //
 // An engine that runs across processes implements hemivem/process_group.hpp's ProcessGroup
 // as well; an engine in one process implements this interface alone.
@@ -31,6 +34,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace hemivem {
@@ -54,11 +58,12 @@ enum class FactorizationStatus {
   success,
   not_positive_definite,  ///< the matrix is not symmetric positive definite
   numerical_failure,      ///< the engine failed for another numerical reason
-  invalid_input,          ///< sizes, pattern or index sets do not fit
-  not_ready,              ///< a call out of order (e.g. solve before factorize)
   out_of_memory,
 };
-inline std::string to_string(FactorizationStatus status);
+/// "success", "not_positive_definite", "numerical_failure", "out_of_memory".
+std::string to_string(FactorizationStatus status);
+/// The names of to_string (case-insensitive, '-' or ' ' as '_'); InputError otherwise.
+FactorizationStatus factorization_status_from_string(std::string_view name);
 
 struct FactorizationResult {
   FactorizationStatus status = FactorizationStatus::success;
@@ -104,24 +109,6 @@ class SparseFactorization {
   /// ordered as the remaining indices in increasing order.
   virtual FactorizationResult solve_interior(const Eigen::MatrixXd& B2, Eigen::MatrixXd* X2) const = 0;
 
-  /// The interior solve in its two halves, for engines that factorize A22 within a
-  /// factorization of the whole A (L = [L22 0; L21 L11]), where each half is one triangular
-  /// substitution instead of a full interior solve. After schur_complement(), with b1 in
-  /// block1's order and b2, x2 ordered as for solve_interior():
-  ///   condense_rhs(b1, b2, c): c = b1 - A12 A22^{-1} b2, the reduced right-hand side; the
-  ///                            engine keeps what expand() needs of b2;
-  ///   expand(x1, x2):          x2 = A22^{-1} (b2 - A21 x1) for the b2 of the last condense_rhs().
-  /// An engine without them returns false here and not_ready from both; callers then use
-  /// solve_interior().
-  virtual bool splits_interior_solve() const { return false; }
-  virtual FactorizationResult condense_rhs(const Eigen::VectorXd& /*b1*/, const Eigen::VectorXd& /*b2*/,
-                                           Eigen::VectorXd* /*c*/) {
-    return {FactorizationStatus::not_ready, name() + " does not split the interior solve (use solve_interior())"};
-  }
-  virtual FactorizationResult expand(const Eigen::VectorXd& /*x1*/, Eigen::VectorXd* /*x2*/) const {
-    return {FactorizationStatus::not_ready, name() + " does not split the interior solve (use solve_interior())"};
-  }
-
   /// Reciprocal condition estimate of the last factorized matrix where the engine
   /// offers one (CHOLMOD's rcond, MUMPS' RINFOG); negative when it does not.
   virtual double rcond_estimate() const { return -1.0; }
@@ -133,31 +120,28 @@ class SparseFactorization {
   virtual int num_analyses() const { return -1; }
 };
 
-// ---- inline definitions (the interfaces layer stays header-only) ------------
+/// The interior solve in its two halves: an optional interface of the engines that factorize
+/// A22 within a factorization of the whole A (L = [L22 0; L21 L11]), where each half is one
+/// triangular substitution instead of a full interior solve. After schur_complement(), with b1
+/// in block1's order and b2, x2 ordered as for solve_interior():
+///   condense_rhs(b1, b2, c): c = b1 - A12 A22^{-1} b2, the reduced right-hand side; the engine
+///                            keeps what expand() needs of b2;
+///   expand(x1, x2):          x2 = A22^{-1} (b2 - A21 x1) for the b2 of the last condense_rhs().
+class SplitInteriorSolve {
+ public:
+  virtual ~SplitInteriorSolve() = default;
+  virtual FactorizationResult condense_rhs(const Eigen::VectorXd& b1, const Eigen::VectorXd& b2,
+                                           Eigen::VectorXd* c) = 0;
+  virtual FactorizationResult expand(const Eigen::VectorXd& x1, Eigen::VectorXd* x2) const = 0;
+};
 
-inline std::string to_string(FactorizationStatus status) {
-  switch (status) {
-    case FactorizationStatus::success: return "success";
-    case FactorizationStatus::not_positive_definite: return "not_positive_definite";
-    case FactorizationStatus::numerical_failure: return "numerical_failure";
-    case FactorizationStatus::invalid_input: return "invalid_input";
-    case FactorizationStatus::not_ready: return "not_ready";
-    case FactorizationStatus::out_of_memory: return "out_of_memory";
-  }
-  return "unknown";
+/// The engine's split interior solve, or null when it has none (callers then use
+/// solve_interior()).
+inline SplitInteriorSolve* split_interior_solve(SparseFactorization& engine) {
+  return dynamic_cast<SplitInteriorSolve*>(&engine);
 }
-
-inline bool FactorizationOptions::is_valid(std::string* error) const {
-  auto fail = [error](std::string message) {
-    if (error != nullptr) *error = std::move(message);
-    return false;
-  };
-  if (!is_known_engine(known_linear_engines(), engine) && normalized_engine_name(engine) != "auto")
-    return fail("engine: unknown linear engine '" + engine + "' (known: " + join_engine_names(known_linear_engines()) +
-                ")");
-  if (verbosity < 0) return fail("verbosity: must be >= 0, got " + std::to_string(verbosity));
-  if (threads < 0) return fail("threads: must be >= 0 (0: engine default), got " + std::to_string(threads));
-  return true;
+inline const SplitInteriorSolve* split_interior_solve(const SparseFactorization& engine) {
+  return dynamic_cast<const SplitInteriorSolve*>(&engine);
 }
 
 }  // namespace hemivem

@@ -56,7 +56,7 @@ FactorizationResult from_status(int status, const std::string& what) {
       return make_result(FactorizationStatus::out_of_memory, what + ": the problem is too large for CHOLMOD");
     case CHOLMOD_NOT_POSDEF:
       return make_result(FactorizationStatus::not_positive_definite, what + ": the matrix is not positive definite");
-    case CHOLMOD_INVALID: return invalid(what + ": CHOLMOD reports invalid input");
+    case CHOLMOD_INVALID: contract_violation(what + ": CHOLMOD reports invalid input");
     case CHOLMOD_NOT_INSTALLED:
       return make_result(FactorizationStatus::numerical_failure, what + ": a CHOLMOD method is not installed");
     default:

@@ -1,3 +1,4 @@
+#include <hemivem/error.hpp>
 #include <hemivem/mumps_mpi_factorization.hpp>
 
 #include <mpi.h>
@@ -59,11 +60,9 @@ class WorldComm {
   int rank_ = 0;
 };
 
+/// A call on an engine constructed after MPI was finalized: a broken contract.
 FactorizationResult mpi_finalized() {
-  FactorizationResult r;
-  r.status = FactorizationStatus::not_ready;
-  r.message = "mumps-mpi: MPI was finalized before the engine was constructed";
-  return r;
+  throw InternalError("mumps-mpi: MPI was finalized before the engine was constructed");
 }
 
 }  // namespace

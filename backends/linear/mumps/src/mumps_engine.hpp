@@ -104,9 +104,7 @@ class MumpsEngine {
     if (!initialized_) return init_error_;
     SparseMatrix storage;
     const SparseMatrix& M = compressed(A, storage);
-    FactorizationResult r;
-    if (comm_.is_root()) r = check_pattern(M);
-    r = agree(std::move(r));
+    FactorizationResult r = checked_on_root([&] { return check_pattern(M); });
     if (!r.ok()) return r;
     if (comm_.is_root()) {
       gather_pattern(M);
@@ -119,13 +117,11 @@ class MumpsEngine {
     if (!initialized_) return init_error_;
     SparseMatrix storage;
     const SparseMatrix& M = compressed(A, storage);
-    FactorizationResult r;
     int need_analysis = 0;
-    if (comm_.is_root()) {
-      r = check_matrix_values(M);
+    FactorizationResult r = checked_on_root([&] {
       need_analysis = !(analysis_ == Analysis::plain && pattern_.matches(M));
-    }
-    r = agree(std::move(r));
+      return check_matrix_values(M);
+    }, /*forgets_factors=*/true);
     if (!r.ok()) return invalidate(std::move(r));
     comm_.broadcast(&need_analysis, sizeof need_analysis);
     if (comm_.is_root() && need_analysis) gather_pattern(M);
@@ -139,18 +135,15 @@ class MumpsEngine {
 
   FactorizationResult solve(const Eigen::MatrixXd& B, Eigen::MatrixXd* X) {
     if (!initialized_) return init_error_;
-    FactorizationResult r;
     std::int64_t nrhs = 0;
-    if (comm_.is_root()) {
+    FactorizationResult r = checked_on_root([&] {
       if (factors_ != Factors::full)
-        r = not_ready(factors_ == Factors::schur ? "solve() after schur_complement(): the factors held are those of "
-                                                   "A22; call factorize() to solve with all of A"
-                                                 : "solve() needs a successful factorize() first");
-      else
-        r = check_solve("solve()", "B", B, X, n_, "the matrix");
+        contract_violation(factors_ == Factors::schur ? "solve() after schur_complement(): the factors held are those "
+                                                        "of A22; call factorize() to solve with all of A"
+                                                      : "solve() needs a successful factorize() first");
       nrhs = B.cols();
-    }
-    r = agree(std::move(r));
+      return check_solve("solve()", "B", B, X, n_, "the matrix");
+    });
     if (!r.ok()) return r;
     comm_.broadcast(&nrhs, sizeof nrhs);
     Eigen::MatrixXd R;
@@ -169,20 +162,19 @@ class MumpsEngine {
     interior_ready_ = false;
     SparseMatrix storage;
     const SparseMatrix& M = compressed(A, storage);
-    FactorizationResult r;
     std::int64_t n1 = 0;
     int need_analysis = 0;
-    if (comm_.is_root()) {
-      r = check_matrix_values(M);
-      if (r.ok() && S == nullptr) r = invalid("schur_complement(): S is null");
-      if (r.ok()) r = split_blocks(M.rows(), block1, &split_);
+    FactorizationResult r = checked_on_root([&] {
+      if (S == nullptr) contract_violation("schur_complement(): S is null");
+      FactorizationResult checked = check_matrix_values(M);
+      if (checked.ok()) checked = split_blocks(M.rows(), block1, &split_);
       n1 = static_cast<std::int64_t>(block1.size());
-      if (r.ok() && n1 > 0 && n1 < M.rows())
+      if (checked.ok() && n1 > 0 && n1 < M.rows())
         need_analysis = !(analysis_ == Analysis::schur && pattern_.matches(M) &&
                           std::equal(block1.begin(), block1.end(), block1_.begin(), block1_.end()));
-      if (r.ok() && n1 == 0) need_analysis = !(analysis_ == Analysis::plain && pattern_.matches(M));
-    }
-    r = agree(std::move(r));
+      if (checked.ok() && n1 == 0) need_analysis = !(analysis_ == Analysis::plain && pattern_.matches(M));
+      return checked;
+    }, /*forgets_factors=*/true);
     if (!r.ok()) return invalidate(std::move(r));
     comm_.broadcast(&n1, sizeof n1);
     comm_.broadcast(&need_analysis, sizeof need_analysis);
@@ -225,16 +217,12 @@ class MumpsEngine {
 
   FactorizationResult solve_interior(const Eigen::MatrixXd& B2, Eigen::MatrixXd* X2) {
     if (!initialized_) return init_error_;
-    FactorizationResult r;
     std::int64_t nrhs = 0;
-    if (comm_.is_root()) {
-      if (!interior_ready_)
-        r = not_ready("solve_interior() needs a successful schur_complement() first");
-      else
-        r = check_solve("solve_interior()", "B2", B2, X2, schur_n_ - n1_, "A22");
+    FactorizationResult r = checked_on_root([&] {
+      if (!interior_ready_) contract_violation("solve_interior() needs a successful schur_complement() first");
       nrhs = B2.cols();
-    }
-    r = agree(std::move(r));
+      return check_solve("solve_interior()", "B2", B2, X2, schur_n_ - n1_, "A22");
+    });
     if (!r.ok()) return r;
     comm_.broadcast(&nrhs, sizeof nrhs);
 
@@ -301,7 +289,7 @@ class MumpsEngine {
   static FactorizationResult check_pattern(const SparseMatrix& A) {
     if (auto r = check_matrix(A); !r.ok()) return r;
     if (!symmetric_pattern(A))
-      return invalid("the pattern of the matrix is not symmetric (both triangles must be stored)");
+      contract_violation("the pattern of the matrix is not symmetric (both triangles must be stored)");
     return FactorizationResult::good();
   }
 
@@ -499,7 +487,7 @@ class MumpsEngine {
     }
   }
 
-  /// A failed call forgets the factors: later solves answer not_ready.
+  /// A failed call forgets the factors: a later solve is a broken contract.
   FactorizationResult invalidate(FactorizationResult r) {
     factors_ = Factors::none;
     interior_ready_ = false;
@@ -507,7 +495,33 @@ class MumpsEngine {
     return r;
   }
 
+  /// Runs `checks` (the arguments of a call) on the root and agrees on their result; a broken
+  /// contract (an InternalError on the root) is thrown on every process, so that none is left
+  /// waiting in a collective call, after forgetting the factors when `forgets_factors` (a
+  /// factorization that fails).
+  template <class Checks>
+  FactorizationResult checked_on_root(Checks&& checks, bool forgets_factors = false) {
+    FactorizationResult r;
+    std::string mistake;
+    if (comm_.is_root()) {
+      try {
+        r = checks();
+      } catch (const InternalError& e) {
+        mistake = e.what();
+      }
+    }
+    const FactorizationResult shared = agree({mistake.empty() ? FactorizationStatus::success
+                                                              : FactorizationStatus::numerical_failure,
+                                              mistake});
+    if (!shared.ok()) {
+      if (forgets_factors) invalidate({});
+      throw InternalError(shared.message);
+    }
+    return agree(std::move(r));
+  }
+
   /// The root's result, on every process.
+
   FactorizationResult agree(FactorizationResult r) const {
     int status = static_cast<int>(r.status);
     comm_.broadcast(&status, sizeof status);

@@ -2,6 +2,7 @@
 #include <hemivem/bundle_dca_minimizer.hpp>
 
 #include <hemivem/error.hpp>
+#include <hemivem/minimizer_run.hpp>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>

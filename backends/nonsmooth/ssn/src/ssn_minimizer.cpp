@@ -1,5 +1,6 @@
 // The semismooth Newton / active-set engine: see ssn_minimizer.hpp and README.md.
 #include <hemivem/ssn_minimizer.hpp>
+#include <hemivem/minimizer_run.hpp>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
@@ -196,7 +197,7 @@ class Solver {
     return accepted;
   }
 
-  const std::vector<double>& kinks(Eigen::Index i) const { return kinks_[static_cast<std::size_t>(p_.law_number(i))]; }
+  const std::vector<double>& kinks(Eigen::Index i) const { return kinks_[static_cast<std::size_t>(p_.law_index(i))]; }
   bool is_kink(Eigen::Index i, double x) const { return std::binary_search(kinks(i).begin(), kinks(i).end(), x); }
   double knot_above(Eigen::Index i, double x) const {
     const auto it = std::upper_bound(kinks(i).begin(), kinks(i).end(), x);

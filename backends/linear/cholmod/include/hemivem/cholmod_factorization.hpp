@@ -46,7 +46,7 @@ struct CholmodReference {
 /// The reference factorization of A with AMD (`metis` false) or METIS (`metis` true), supernodal.
 CholmodReference measure_cholmod_factorization(const SparseMatrix& A, bool metis);
 
-class CholmodFactorization final : public SparseFactorization {
+class CholmodFactorization final : public SparseFactorization, public SplitInteriorSolve {
  public:
   explicit CholmodFactorization(const FactorizationOptions& options = {});
   ~CholmodFactorization() override;
@@ -64,7 +64,6 @@ class CholmodFactorization final : public SparseFactorization {
   FactorizationResult schur_complement(const SparseMatrix& A, std::span<const int> block1,
                                        Eigen::MatrixXd* S) override;
   FactorizationResult solve_interior(const Eigen::MatrixXd& B2, Eigen::MatrixXd* X2) const override;
-  bool splits_interior_solve() const override { return true; }
   FactorizationResult condense_rhs(const Eigen::VectorXd& b1, const Eigen::VectorXd& b2, Eigen::VectorXd* c) override;
   FactorizationResult expand(const Eigen::VectorXd& x1, Eigen::VectorXd* x2) const override;
 

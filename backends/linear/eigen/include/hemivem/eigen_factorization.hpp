@@ -25,7 +25,7 @@
 
 namespace hemivem {
 
-class EigenFactorization final : public SparseFactorization {
+class EigenFactorization final : public SparseFactorization, public SplitInteriorSolve {
  public:
   explicit EigenFactorization(const FactorizationOptions& options = {});
   ~EigenFactorization() override;
@@ -43,7 +43,6 @@ class EigenFactorization final : public SparseFactorization {
   FactorizationResult schur_complement(const SparseMatrix& A, std::span<const int> block1,
                                        Eigen::MatrixXd* S) override;
   FactorizationResult solve_interior(const Eigen::MatrixXd& B2, Eigen::MatrixXd* X2) const override;
-  bool splits_interior_solve() const override { return true; }
   FactorizationResult condense_rhs(const Eigen::VectorXd& b1, const Eigen::VectorXd& b2, Eigen::VectorXd* c) override;
   FactorizationResult expand(const Eigen::VectorXd& x1, Eigen::VectorXd* x2) const override;
 

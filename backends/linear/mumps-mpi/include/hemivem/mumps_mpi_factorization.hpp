@@ -25,7 +25,7 @@
 //     it at program exit (a function-local static guard whose destructor calls MPI_Finalize).
 //     A program started without mpirun is then an MPI singleton (one process).
 //   - If the caller initialized MPI, the caller finalizes it, after destroying every object.
-//   - Constructing an object after MPI_Finalize gives an object whose calls return not_ready.
+//   - Constructing an object after MPI_Finalize gives an object whose calls throw InternalError.
 //
 // Never link this backend and hemivem::linear_mumps into one program: the MPI and the
 // sequential builds of MUMPS export the same symbols. CMake refuses such a target (property

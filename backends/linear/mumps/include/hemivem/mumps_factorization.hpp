@@ -21,7 +21,7 @@
 // problem (ICNTL(26)=0). Special cases: empty block1 gives a 0×0 S and a factorization of all
 // of A (solve() works too); block1 holding every index gives S = A(block1, block1) without a
 // sparse factorization and solve_interior() returns 0-row matrices.
-// After schur_complement() with a non-empty block1, solve() returns not_ready (MUMPS holds
+// After schur_complement() with a non-empty block1, solve() throws InternalError (MUMPS holds
 // the factors of A22 only); call factorize() for solves with all of A.
 //
 // rcond_estimate() after factorize() is 1/cond1, where cond1 is MUMPS' componentwise

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include <hemivem/minimizer_run.hpp>
 #include <hemivem/nonsmooth_minimizer.hpp>
 #include <hemivem/reduced_problem.hpp>
 #include <hemivem/smoothed_law.hpp>
@@ -42,9 +43,9 @@ class SmoothedLaws {
  public:
   SmoothedLaws(const ReducedProblem& p, double epsilon) : p_(&p) {
     for (int k = 0; k < p.num_laws(); ++k)
-      laws_.emplace_back(p.coordinatewise() ? p.laws[static_cast<std::size_t>(k)] : p.law, epsilon);
+      laws_.emplace_back(p.laws[static_cast<std::size_t>(k)], epsilon);
   }
-  const SmoothedLaw& at(Eigen::Index i) const { return laws_[static_cast<std::size_t>(p_->law_number(i))]; }
+  const SmoothedLaw& at(Eigen::Index i) const { return laws_[static_cast<std::size_t>(p_->law_index(i))]; }
   /// The number of kinks smoothed, over all laws.
   int kinks() const {
     int k = 0;

@@ -51,8 +51,8 @@ class Condensation {
   /// coordinate-wise form (docs/friction.md). A bilateral constraint (u_nu = 0) leaves the
   /// tangential displacements only (law `friction`, or j = 0 without one). Throws NumericalError with the
   /// engine's message when the engine fails numerically (not_positive_definite,
-  /// numerical_failure, out_of_memory) and InternalError when it reports a broken contract
-  /// (invalid_input, not_ready); back_substitute() does the same.
+  /// numerical_failure, out_of_memory); an InternalError of the engine (a broken contract)
+  /// passes through; back_substitute() does the same.
   /// With an engine across processes (every process constructs a Condensation, see
   /// hemivem/process_group.hpp) S, c and the margin exist on the process holding
   /// the results; elsewhere reduced() has empty S and c and the margin is NaN.
