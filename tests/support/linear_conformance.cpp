@@ -2,6 +2,8 @@
 
 #include "linear_support.hpp"
 
+#include <hemivem/error.hpp>
+
 #include <Eigen/Dense>
 
 #include <algorithm>
