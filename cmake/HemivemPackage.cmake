@@ -24,7 +24,7 @@ foreach(_kind linear nonsmooth)
     list(APPEND _hemivem_component_table "${_name}|${_target}|${_deps}")
   endforeach()
 endforeach()
-list(APPEND _hemivem_component_table "linear|linear|" "nonsmooth|nonsmooth|")
+list(APPEND _hemivem_component_table "linear|linear|" "nonsmooth|nonsmooth|" "global-search|global_search|")
 
 set(HEMIVEM_KNOWN_COMPONENTS)
 set(HEMIVEM_BUILT_COMPONENTS)
