@@ -12,13 +12,14 @@ set(HEMIVEM_INSTALL_CMAKEDIR "${CMAKE_INSTALL_LIBDIR}/cmake/hemivem" CACHE STRIN
 mark_as_advanced(HEMIVEM_INSTALL_CMAKEDIR)
 
 # component | target (hemivem::<target>) | packages a static build of it links privately;
-# one component per engine of cmake/HemivemEngines.cmake, in between.
+# one component per engine declared with hemivem_add_engine() (cmake/HemivemEngines.cmake), in
+# between.
 set(_hemivem_component_table "core|core|CGAL tomlplusplus muparser")
 foreach(_kind linear nonsmooth)
-  hemivem_engine_names(${_kind} _names)
+  hemivem_engines(${_kind} _names)
   foreach(_name IN LISTS _names)
-    hemivem_engine_field(${_kind} ${_name} TARGET _target)
-    hemivem_engine_field(${_kind} ${_name} DEPENDENCIES _deps)
+    hemivem_engine_property(${_kind} ${_name} TARGET _target)
+    hemivem_engine_property(${_kind} ${_name} PACKAGES _deps)
     string(REGEX REPLACE "^hemivem_" "" _target ${_target})
     string(REPLACE ";" " " _deps "${_deps}")
     list(APPEND _hemivem_component_table "${_name}|${_target}|${_deps}")
