@@ -84,3 +84,16 @@ install(FILES "${PROJECT_BINARY_DIR}/hemivemConfig.cmake" "${PROJECT_BINARY_DIR}
               ${PROJECT_SOURCE_DIR}/cmake/FindCHOLMOD.cmake ${PROJECT_SOURCE_DIR}/cmake/FindMUMPS.cmake
         DESTINATION ${HEMIVEM_INSTALL_CMAKEDIR})
 message(STATUS "hemivem package components: ${HEMIVEM_BUILT_COMPONENTS}")
+
+# hemivem_product: everything installed (the libraries, the command, the mumps-mpi module) and
+# the Python module; what scripts/build.sh builds. scripts/test.sh builds the rest (the tests,
+# the benchmarks, the fuzzers) before running them.
+add_custom_target(hemivem_product)
+foreach(_target IN LISTS _hemivem_exported ITEMS hemivem hemivem_linear_mumps_mpi_plugin hemivem_python)
+  if(TARGET ${_target})
+    get_target_property(_type ${_target} TYPE)
+    if(NOT _type STREQUAL "INTERFACE_LIBRARY")
+      add_dependencies(hemivem_product ${_target})
+    endif()
+  endif()
+endforeach()
