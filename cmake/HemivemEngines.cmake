@@ -1,65 +1,128 @@
-# The engines of hemivem: the one list that the factories, FactorizationOptions::is_valid,
-# the command's help, the build and the package config read.
+# The engines of hemivem. Each engine folder (backends/<kind>/<name>/CMakeLists.txt) declares
+# its engine with one call:
 #
-# One row per engine: name (as on the command line) | class | header | packages a static
-# build of it links privately. Its folder is backends/<kind>/<name>, its target
-# hemivem_<kind>_<name with '-' as '_'>.
+#   hemivem_add_engine(KIND linear NAME cholmod CLASS CholmodFactorization
+#                      HEADER hemivem/cholmod_factorization.hpp
+#                      SOURCES src/cholmod_factorization.cpp
+#                      IF CHOLMOD_FOUND
+#                      DEPENDS CHOLMOD::CHOLMOD PACKAGES CHOLMOD HELPERS hemivem_linear_common)
 #
-# hemivem_write_engine_names(<file>) writes hemivem/engine_names.hpp: every known name, built
-# or not. hemivem_write_engine_registry(<kind> <file> <name>...) writes the registry of the
-# engines named, for the factory of that kind (see backends/*/factory.cpp):
+#   KIND      linear (a SparseFactorization) or nonsmooth (a NonsmoothMinimizer)
+#   NAME      its name on the command line, in scenes and as a package component
+#   CLASS     the class the factory creates, declared in HEADER, with a constructor taking
+#             FactorizationOptions (linear) or the class' Options (nonsmooth)
+#   SOURCES   its sources; its public headers are the folder's include/hemivem/*.hpp
+#   IF        a condition (the words of an if()) under which it is built; default: always
+#   DEPENDS   targets it links privately: its package
+#   PACKAGES  those packages as the package config finds them for a static build (CHOLMOD,
+#             MUMPS_seq, MUMPS_mpi, or a package with a CMake config: NLopt, Ceres)
+#   HELPERS   private header-only targets of this build tree (not installed) it uses
+#   PROPERTIES  more properties of its target (set_target_properties)
+#   LOADED_AT_RUN_TIME  the factory does not link it: it loads a module at run time instead
+#             (mumps-mpi, see backends/linear/factory.cpp)
 #
-#   #include <hemivem/ssn_minimizer.hpp>          one line per built engine
-#   ...
-#   #define HEMIVEM_ENGINES(X) X("ssn", SsnMinimizer) X("bundle-dca", BundleDcaMinimizer) ...
+# Every engine declared is known, built or not; the names of a kind are in the order of the
+# calls, that is the order in which backends/<kind>/CMakeLists.txt adds the folders. When its
+# condition holds the engine is the library hemivem_<kind>_<name with '-' as '_'>, also
+# hemivem::<kind>_<name with '-' as '_'>, exported under that name (cmake/HemivemPackage.cmake).
+#
+# What the rest of the build reads from the calls:
+#   hemivem_engines(<kind> <out> [BUILT] [LINKED])   the names declared, built, or built and
+#       linked by the factory, in order
+#   hemivem_engine_property(<kind> <name> <CLASS|HEADER|TARGET|PACKAGES|BUILT|LINKED> <out>)
+#   hemivem_write_engine_names(<file>)   hemivem/engine_names.hpp: every name known, for
+#       FactorizationOptions::is_valid, the command's help and the scene schema
+#   hemivem_write_engine_registry(<kind> <file>)   the factory's registry: the header of every
+#       engine it links, HEMIVEM_ENGINES(X) calling X("name", Class) for each, and
+#       HEMIVEM_ENGINE_<NAME> (upper case, '-' as '_') defined as 1 for each
+#       (backends/<kind>/factory.cpp)
 
-set(HEMIVEM_LINEAR_ENGINE_TABLE
-  "eigen|EigenFactorization|hemivem/eigen_factorization.hpp|"
-  "cholmod|CholmodFactorization|hemivem/cholmod_factorization.hpp|CHOLMOD"
-  "mumps|MumpsFactorization|hemivem/mumps_factorization.hpp|MUMPS_seq"
-  "mumps-mpi|MumpsMpiFactorization|hemivem/mumps_mpi_factorization.hpp|MUMPS_mpi")
-set(HEMIVEM_NONSMOOTH_ENGINE_TABLE
-  "ssn|SsnMinimizer|hemivem/ssn_minimizer.hpp|"
-  "bundle-dca|BundleDcaMinimizer|hemivem/bundle_dca_minimizer.hpp|"
-  "nlopt-mma|NloptMmaMinimizer|hemivem/nlopt_mma_minimizer.hpp|NLopt"
-  "ceres-active-set|CeresActiveSetMinimizer|hemivem/ceres_active_set_minimizer.hpp|Ceres")
+# Generated public headers (hemivem/engine_names.hpp), on hemivem::interfaces' include path.
+set(HEMIVEM_GENERATED_INCLUDE_DIR ${PROJECT_BINARY_DIR}/generated/include)
 
-# The names of one kind (linear | nonsmooth), in the table's order.
-function(hemivem_engine_names kind out)
-  string(TOUPPER ${kind} KIND)
-  set(names)
-  foreach(row IN LISTS HEMIVEM_${KIND}_ENGINE_TABLE)
-    string(REPLACE "|" ";" row "${row};")
-    list(GET row 0 name)
-    list(APPEND names ${name})
-  endforeach()
-  set(${out} ${names} PARENT_SCOPE)
-endfunction()
-
-# One field of an engine's row: TARGET (hemivem_<kind>_<name>), CLASS, HEADER or DEPENDENCIES.
-function(hemivem_engine_field kind name field out)
-  string(TOUPPER ${kind} KIND)
-  foreach(row IN LISTS HEMIVEM_${KIND}_ENGINE_TABLE)
-    string(REPLACE "|" ";" row "${row};")
-    list(GET row 0 row_name)
-    if(row_name STREQUAL name)
-      string(REPLACE "-" "_" suffix "${name}")
-      list(GET row 1 CLASS)
-      list(GET row 2 HEADER)
-      list(GET row 3 DEPENDENCIES)
-      string(REPLACE " " ";" DEPENDENCIES "${DEPENDENCIES}")
-      set(TARGET hemivem_${kind}_${suffix})
-      set(${out} "${${field}}" PARENT_SCOPE)
-      return()
+function(hemivem_add_engine)
+  cmake_parse_arguments(PARSE_ARGV 0 ARG "LOADED_AT_RUN_TIME" "KIND;NAME;CLASS;HEADER"
+                        "SOURCES;IF;DEPENDS;PACKAGES;HELPERS;PROPERTIES")
+  if(ARG_UNPARSED_ARGUMENTS)
+    message(FATAL_ERROR "hemivem_add_engine: unknown arguments ${ARG_UNPARSED_ARGUMENTS}")
+  endif()
+  foreach(required KIND NAME CLASS HEADER SOURCES)
+    if(NOT ARG_${required})
+      message(FATAL_ERROR "hemivem_add_engine(${ARG_NAME}): ${required} is missing")
     endif()
   endforeach()
-  message(FATAL_ERROR "no ${kind} engine '${name}' in cmake/HemivemEngines.cmake")
+  if(NOT ARG_KIND MATCHES "^(linear|nonsmooth)$")
+    message(FATAL_ERROR "hemivem_add_engine(${ARG_NAME}): KIND is linear or nonsmooth, not '${ARG_KIND}'")
+  endif()
+  hemivem_engines(${ARG_KIND} known)
+  if(ARG_NAME IN_LIST known)
+    message(FATAL_ERROR "hemivem_add_engine: the ${ARG_KIND} engine '${ARG_NAME}' is declared twice")
+  endif()
+
+  string(REPLACE "-" "_" suffix "${ARG_NAME}")
+  set(target hemivem_${ARG_KIND}_${suffix})
+  set(built TRUE)
+  if(DEFINED ARG_IF AND NOT (${ARG_IF}))
+    set(built FALSE)
+  endif()
+  set(linked ${built})
+  if(ARG_LOADED_AT_RUN_TIME)
+    set(linked FALSE)
+  endif()
+
+  set_property(GLOBAL APPEND PROPERTY HEMIVEM_${ARG_KIND}_ENGINES ${ARG_NAME})
+  set(prefix HEMIVEM_ENGINE_${ARG_KIND}_${ARG_NAME})
+  set_property(GLOBAL PROPERTY ${prefix}_CLASS ${ARG_CLASS})
+  set_property(GLOBAL PROPERTY ${prefix}_HEADER ${ARG_HEADER})
+  set_property(GLOBAL PROPERTY ${prefix}_TARGET ${target})
+  set_property(GLOBAL PROPERTY ${prefix}_PACKAGES ${ARG_PACKAGES})
+  set_property(GLOBAL PROPERTY ${prefix}_BUILT ${built})
+  set_property(GLOBAL PROPERTY ${prefix}_LINKED ${linked})
+  if(NOT built)
+    return()
+  endif()
+
+  add_library(${target} ${ARG_SOURCES})
+  add_library(hemivem::${ARG_KIND}_${suffix} ALIAS ${target})
+  set_target_properties(${target} PROPERTIES POSITION_INDEPENDENT_CODE ON ${ARG_PROPERTIES})
+  target_include_directories(${target} PUBLIC
+    $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
+    $<INSTALL_INTERFACE:include>)
+  target_link_libraries(${target} PUBLIC hemivem::interfaces PRIVATE ${ARG_DEPENDS})
+  foreach(helper IN LISTS ARG_HELPERS)
+    target_link_libraries(${target} PRIVATE $<BUILD_INTERFACE:${helper}>)
+  endforeach()
+  target_compile_options(${target} PRIVATE $<$<CXX_COMPILER_ID:GNU,Clang>:-Wall -Wextra -Wpedantic>)
+endfunction()
+
+function(hemivem_engines kind out)
+  cmake_parse_arguments(PARSE_ARGV 2 ARG "BUILT;LINKED" "" "")
+  get_property(names GLOBAL PROPERTY HEMIVEM_${kind}_ENGINES)
+  set(selected)
+  foreach(name IN LISTS names)
+    get_property(built GLOBAL PROPERTY HEMIVEM_ENGINE_${kind}_${name}_BUILT)
+    get_property(linked GLOBAL PROPERTY HEMIVEM_ENGINE_${kind}_${name}_LINKED)
+    if((ARG_BUILT AND NOT built) OR (ARG_LINKED AND NOT linked))
+      continue()
+    endif()
+    list(APPEND selected ${name})
+  endforeach()
+  set(${out} ${selected} PARENT_SCOPE)
+endfunction()
+
+function(hemivem_engine_property kind name field out)
+  get_property(declared GLOBAL PROPERTY HEMIVEM_ENGINE_${kind}_${name}_CLASS SET)
+  if(NOT declared OR NOT field MATCHES "^(CLASS|HEADER|TARGET|PACKAGES|BUILT|LINKED)$")
+    message(FATAL_ERROR "hemivem_engine_property: no ${kind} engine '${name}' or no property ${field}")
+  endif()
+  get_property(value GLOBAL PROPERTY HEMIVEM_ENGINE_${kind}_${name}_${field})
+  set(${out} "${value}" PARENT_SCOPE)
 endfunction()
 
 function(hemivem_write_engine_names file)
   set(body)
   foreach(kind linear nonsmooth)
-    hemivem_engine_names(${kind} names)
+    hemivem_engines(${kind} names)
     list(LENGTH names count)
     list(JOIN names "\", \"" quoted)
     set(function_name known_linear_engines)
@@ -75,7 +138,8 @@ function(hemivem_write_engine_names file)
       "}\n\n")
   endforeach()
   file(CONFIGURE OUTPUT "${file}" @ONLY CONTENT
-"// The names of hemivem's engines, generated from cmake/HemivemEngines.cmake (do not edit).
+"// The names of hemivem's engines, generated from the engine folders' hemivem_add_engine()
+// calls (cmake/HemivemEngines.cmake; do not edit).
 #pragma once
 
 #include <algorithm>
@@ -117,22 +181,27 @@ std::string join_engine_names(const Names& names, std::string_view separator = \
 ")
 endfunction()
 
-# The registry of the engines `names` (of one kind) for that kind's factory.
 function(hemivem_write_engine_registry kind file)
   set(includes)
+  set(defines)
   set(entries)
-  foreach(name IN LISTS ARGN)
-    hemivem_engine_field(${kind} ${name} HEADER header)
-    hemivem_engine_field(${kind} ${name} CLASS class)
+  hemivem_engines(${kind} names LINKED)
+  foreach(name IN LISTS names)
+    hemivem_engine_property(${kind} ${name} HEADER header)
+    hemivem_engine_property(${kind} ${name} CLASS class)
+    string(TOUPPER "${name}" macro)
+    string(REPLACE "-" "_" macro "${macro}")
     string(APPEND includes "#include <${header}>\n")
+    string(APPEND defines "#define HEMIVEM_ENGINE_${macro} 1\n")
     string(APPEND entries " X(\"${name}\", ${class})")
   endforeach()
   file(CONFIGURE OUTPUT "${file}" @ONLY CONTENT
-"// The ${kind} engines linked into this build, generated from cmake/HemivemEngines.cmake
-// (do not edit).
+"// The ${kind} engines the factory links in this build, generated from the engine folders'
+// hemivem_add_engine() calls (cmake/HemivemEngines.cmake; do not edit).
 #pragma once
 
 @includes@
+@defines@
 #define HEMIVEM_ENGINES(X)@entries@
 ")
 endfunction()

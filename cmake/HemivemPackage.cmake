@@ -12,19 +12,20 @@ set(HEMIVEM_INSTALL_CMAKEDIR "${CMAKE_INSTALL_LIBDIR}/cmake/hemivem" CACHE STRIN
 mark_as_advanced(HEMIVEM_INSTALL_CMAKEDIR)
 
 # component | target (hemivem::<target>) | packages a static build of it links privately;
-# one component per engine of cmake/HemivemEngines.cmake, in between.
+# one component per engine declared with hemivem_add_engine() (cmake/HemivemEngines.cmake), in
+# between.
 set(_hemivem_component_table "core|core|CGAL tomlplusplus muparser")
 foreach(_kind linear nonsmooth)
-  hemivem_engine_names(${_kind} _names)
+  hemivem_engines(${_kind} _names)
   foreach(_name IN LISTS _names)
-    hemivem_engine_field(${_kind} ${_name} TARGET _target)
-    hemivem_engine_field(${_kind} ${_name} DEPENDENCIES _deps)
+    hemivem_engine_property(${_kind} ${_name} TARGET _target)
+    hemivem_engine_property(${_kind} ${_name} PACKAGES _deps)
     string(REGEX REPLACE "^hemivem_" "" _target ${_target})
     string(REPLACE ";" " " _deps "${_deps}")
     list(APPEND _hemivem_component_table "${_name}|${_target}|${_deps}")
   endforeach()
 endforeach()
-list(APPEND _hemivem_component_table "linear|linear|" "nonsmooth|nonsmooth|" "app|app|ZLIB")
+list(APPEND _hemivem_component_table "linear|linear|" "nonsmooth|nonsmooth|" "global-search|global_search|" "app|app|ZLIB")
 
 set(HEMIVEM_KNOWN_COMPONENTS)
 set(HEMIVEM_BUILT_COMPONENTS)
@@ -88,3 +89,16 @@ install(FILES "${PROJECT_BINARY_DIR}/hemivemConfig.cmake" "${PROJECT_BINARY_DIR}
               ${PROJECT_SOURCE_DIR}/cmake/FindCHOLMOD.cmake ${PROJECT_SOURCE_DIR}/cmake/FindMUMPS.cmake
         DESTINATION ${HEMIVEM_INSTALL_CMAKEDIR})
 message(STATUS "hemivem package components: ${HEMIVEM_BUILT_COMPONENTS}")
+
+# hemivem_product: everything installed (the libraries, the command, the mumps-mpi module) and
+# the Python module; what scripts/build.sh builds. scripts/test.sh builds the rest (the tests,
+# the benchmarks, the fuzzers) before running them.
+add_custom_target(hemivem_product)
+foreach(_target IN LISTS _hemivem_exported ITEMS hemivem hemivem_linear_mumps_mpi_plugin hemivem_python)
+  if(TARGET ${_target})
+    get_target_property(_type ${_target} TYPE)
+    if(NOT _type STREQUAL "INTERFACE_LIBRARY")
+      add_dependencies(hemivem_product ${_target})
+    endif()
+  endif()
+endforeach()

@@ -1,5 +1,8 @@
 #!/usr/bin/env bash
-# Configures and builds hemivem (Release) in ./build. Usage: scripts/build.sh [extra cmake args]
+# Configures hemivem (Release) in ./build and builds what a run needs: the libraries, the
+# command (build/drivers/hemivem), the mumps-mpi module and the Python module (the target
+# hemivem_product). scripts/test.sh builds the tests and benchmarks. Usage: scripts/build.sh
+# [extra cmake args]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 generator=()
@@ -9,4 +12,4 @@ if [ ! -f build/CMakeCache.txt ]; then
 else
   cmake -S . -B build "$@" >/dev/null
 fi
-cmake --build build --parallel "$(nproc)"
+cmake --build build --parallel "$(nproc)" --target hemivem_product

@@ -165,29 +165,31 @@ mkdir -p "$tmp/optional"
 cat >"$tmp/optional/CMakeLists.txt" <<'EOF'
 cmake_minimum_required(VERSION 3.25)
 project(optional LANGUAGES CXX)
-find_package(hemivem CONFIG REQUIRED COMPONENTS linear nonsmooth OPTIONAL_COMPONENTS no-such-engine)
+find_package(hemivem CONFIG REQUIRED COMPONENTS linear nonsmooth global-search OPTIONAL_COMPONENTS no-such-engine)
 if(NOT hemivem_FOUND OR NOT hemivem_linear_FOUND OR NOT DEFINED hemivem_no-such-engine_FOUND OR hemivem_no-such-engine_FOUND)
   message(FATAL_ERROR "hemivem_FOUND=${hemivem_FOUND} hemivem_no-such-engine_FOUND=${hemivem_no-such-engine_FOUND}")
 endif()
 file(WRITE ${CMAKE_BINARY_DIR}/main.cpp [=[
 #include <hemivem/linear_backends.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
+#include <hemivem/global_search.hpp>
 #include <cstdio>
 int main() {
   for (const auto& name : hemivem::available_factorizations()) std::printf("%s ", name.c_str());
   for (const auto& name : hemivem::available_minimizers()) std::printf("%s ", name.c_str());
   std::printf("\n");
-  return hemivem::make_factorization({.engine = "eigen"})->name() == "eigen" ? 0 : 1;
+  const auto search = hemivem::make_global_search("ssn");
+  return hemivem::make_factorization({.engine = "eigen"})->name() == "eigen" && search->engine_names().front() == "ssn" ? 0 : 1;
 }
 ]=])
 add_executable(factories ${CMAKE_BINARY_DIR}/main.cpp)
-target_link_libraries(factories PRIVATE hemivem::linear hemivem::nonsmooth)
+target_link_libraries(factories PRIVATE hemivem::linear hemivem::nonsmooth hemivem::global_search)
 EOF
 cmake -S "$tmp/optional" -B "$tmp/optional/build" "${isolated[@]}" >"$tmp/optional.log" 2>&1 ||
   { cat "$tmp/optional.log"; fail "OPTIONAL_COMPONENTS no-such-engine"; }
-cmake --build "$tmp/optional/build" >"$tmp/optional-build.log" 2>&1 || { cat "$tmp/optional-build.log"; fail "building against hemivem::linear and hemivem::nonsmooth"; }
+cmake --build "$tmp/optional/build" >"$tmp/optional-build.log" 2>&1 || { cat "$tmp/optional-build.log"; fail "building against hemivem::linear, hemivem::nonsmooth and hemivem::global_search"; }
 engines="$("$tmp/optional/build/factories")" || fail "a program linking the factories failed"
-ok "an optional unknown component sets hemivem_no-such-engine_FOUND false; the factories link and list: $engines"
+ok "an optional unknown component sets hemivem_no-such-engine_FOUND false; the factories and the global search link; built: $engines"
 
 # ---- 5. the Python package from the prefix ------------------------------------------------
 pydir="$(cache HEMIVEM_PYTHON_INSTALL_DIR)"

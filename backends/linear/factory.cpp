@@ -5,9 +5,10 @@
 
 #include <algorithm>
 
-// The engines linked (cmake/HemivemEngines.cmake): their headers and HEMIVEM_ENGINES. The MPI
-// engine is not among them: it is loaded as a module because the sequential and the MPI
-// MUMPS builds export the same symbols (hemivem/mumps_mpi_plugin.hpp).
+// The engines linked (hemivem_add_engine, cmake/HemivemEngines.cmake): their headers,
+// HEMIVEM_ENGINES and HEMIVEM_ENGINE_<NAME>. The MPI engine is not among them: it is loaded as
+// a module because the sequential and the MPI MUMPS builds export the same symbols
+// (hemivem/mumps_mpi_plugin.hpp).
 #include "linear_registry.hpp"
 
 #ifdef HEMIVEM_HAVE_MUMPS_MPI
@@ -114,6 +115,17 @@ std::vector<std::string> available_factorizations() {
   names.emplace_back("mumps-mpi");
 #endif
   return names;
+}
+
+ReferenceFactorization measure_reference_factorization(const SparseMatrix& A, bool metis) {
+#ifdef HEMIVEM_ENGINE_CHOLMOD
+  return measure_cholmod_factorization(A, metis);
+#else
+  (void)A, (void)metis;
+  throw InputError("the reference factorization is CHOLMOD's, and the cholmod engine was not built; available: " +
+                       built_list(),
+                   "engine");
+#endif
 }
 
 int factorization_process_rank() {

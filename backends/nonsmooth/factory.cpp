@@ -2,7 +2,8 @@
 #include <hemivem/error.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
 
-// The minimizers built (cmake/HemivemEngines.cmake): their headers and HEMIVEM_ENGINES.
+// The minimizers built (hemivem_add_engine, cmake/HemivemEngines.cmake): their headers and
+// HEMIVEM_ENGINES.
 #include "nonsmooth_registry.hpp"
 
 namespace hemivem {

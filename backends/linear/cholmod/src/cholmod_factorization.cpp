@@ -206,10 +206,10 @@ class CholmodKernel final : public CholeskyKernel {
 
 }  // namespace
 
-CholmodReference measure_cholmod_factorization(const SparseMatrix& A, bool metis) {
+ReferenceFactorization measure_cholmod_factorization(const SparseMatrix& A, bool metis) {
   using Clock = std::chrono::steady_clock;
   auto seconds = [](Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); };
-  CholmodReference r;
+  ReferenceFactorization r;
   r.ordering = metis ? "metis" : "amd";
   SparseMatrix storage;
   const SparseMatrix& M = compressed(A, storage);

@@ -6,6 +6,7 @@
 // configure time are built; asking for another one is an input error that lists those built.
 #pragma once
 
+#include <hemivem/reference_factorization.hpp>
 #include <hemivem/sparse_factorization.hpp>
 
 #include <memory>
@@ -25,6 +26,12 @@ std::string fastest_factorization();
 
 /// The engines built into this library, in the order eigen, cholmod, mumps, mumps-mpi.
 std::vector<std::string> available_factorizations();
+
+/// The yardstick of `hemivem bench --limit` (docs/performance.md): one analysis and one
+/// numeric factorization of A (its lower triangle) by CHOLMOD alone, supernodal, with AMD
+/// (`metis` false) or METIS (`metis` true), timed. InputError when the cholmod engine was not
+/// built (see available_factorizations()).
+ReferenceFactorization measure_reference_factorization(const SparseMatrix& A, bool metis);
 
 /// This process' rank among the processes of an engine across processes: its rank in
 /// MPI_COMM_WORLD once a mumps-mpi engine has been created (the module is loaded), 0 otherwise.

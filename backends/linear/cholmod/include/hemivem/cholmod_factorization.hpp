@@ -24,6 +24,7 @@
 // The const solves use the object's cholmod_common: one object serves one thread at a time.
 #pragma once
 
+#include <hemivem/reference_factorization.hpp>
 #include <hemivem/sparse_factorization.hpp>
 
 #include <memory>
@@ -33,18 +34,9 @@
 namespace hemivem {
 
 /// One analysis and one numeric factorization of A (its lower triangle) by CHOLMOD alone,
-/// timed: the yardstick of `hemivem bench --limit` (docs/performance.md).
-struct CholmodReference {
-  bool ok = false;               ///< false: the analysis or factorization failed (message says why)
-  std::string message;
-  std::string ordering;          ///< "amd" or "metis"
-  double analysis_seconds = 0.0;
-  double factorization_seconds = 0.0;
-  double factor_bytes = 0.0;     ///< the numeric values and row indices of the supernodal factor
-};
-
-/// The reference factorization of A with AMD (`metis` false) or METIS (`metis` true), supernodal.
-CholmodReference measure_cholmod_factorization(const SparseMatrix& A, bool metis);
+/// supernodal, with AMD (`metis` false) or METIS (`metis` true), timed: the yardstick of
+/// `hemivem bench --limit` (docs/performance.md). factor_bytes: the supernodal factor's.
+ReferenceFactorization measure_cholmod_factorization(const SparseMatrix& A, bool metis);
 
 class CholmodFactorization final : public SparseFactorization, public SplitInteriorSolve {
  public:
