@@ -26,6 +26,22 @@ bool have_ssn() {
   return std::find(m.begin(), m.end(), "ssn") != m.end();
 }
 
+TEST(ContactSolver, EveryDisplacementPrescribedIsAnInputError) {
+  const Mesh mesh = make_squares(1);
+  ContactProblem p;
+  p.elasticity.mesh = &mesh;
+  p.elasticity.materials = MaterialTable(Material{65.0, 0.29}, PlaneModel::strain);
+  std::vector<int> all;
+  for (int e : mesh.boundary_edges()) all.push_back(e);
+  p.elasticity.dirichlet.push_back({all, {}, {true, true}});
+  try {
+    (void)solve_contact(p, eigen_engine(), *make_minimizer(available_minimizers().front()), MinimizerOptions{});
+    ADD_FAILURE() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("nothing to solve"), std::string::npos) << e.what();
+  }
+}
+
 TEST(ContactSolver, Example41RunsEveryStage) {
   if (!have_ssn()) GTEST_SKIP() << "the ssn minimizer was not built";
   const Mesh mesh = make_squares(16);

@@ -99,6 +99,8 @@ std::vector<ContactSolution> ContactSolver::run(std::span<const NonsmoothMinimiz
   if (!system_) assemble();
   check_arguments(minimizers);
   common_.unknowns = system_->dofs.num_free();
+  if (common_.unknowns == 0)
+    throw InputError("the Dirichlet conditions prescribe every displacement of the mesh: there is nothing to solve");
   boundary_ = contact_boundary(problem_, system_->dofs);
   if (boundary_.size() == 0) {
     const Eigen::MatrixXd X = linear_solve();
