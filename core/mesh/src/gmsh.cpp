@@ -632,24 +632,12 @@ class GmshReader {
 }  // namespace
 
 Mesh read_gmsh(const fs::path& path) {
-  const std::string name = path.string();
-  text::require_regular_file(path, "mesh file");
-  errno = 0;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    const int err = errno;
-    throw InputError("cannot open the mesh file" + (err != 0 ? ": " + std::system_category().message(err) : std::string()),
-                     name);
-  }
-  return read_gmsh(in, name);
+  std::ifstream in = text::open_for_reading(path, "mesh file");
+  return read_gmsh(in, path.string());
 }
 
 Mesh read_gmsh(std::istream& in, const std::string& name) {
-  std::string data;
-  char chunk[1 << 16];
-  while (in.read(chunk, sizeof chunk) || in.gcount() > 0) data.append(chunk, static_cast<std::size_t>(in.gcount()));
-  if (in.bad()) throw InputError("read error while reading the mesh", name);
-  return GmshReader(std::move(data), name).read();
+  return GmshReader(text::read_all(in, name, "mesh"), name).read();
 }
 
 }  // namespace hemivem

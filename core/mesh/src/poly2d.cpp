@@ -295,8 +295,6 @@ class Poly2dReader {
   int header_count_ = 0;
 };
 
-std::string error_text(int err) { return std::system_category().message(err); }
-
 /// Splits a comment into lines and drops trailing whitespace (which the reader drops too).
 void write_comment(std::ostream& out, std::string_view comment) {
   while (true) {
@@ -315,23 +313,12 @@ void write_comment(std::ostream& out, std::string_view comment) {
 }  // namespace
 
 Poly2dMesh read_poly2d(std::istream& in, const std::string& name) {
-  std::string data;
-  char chunk[1 << 16];
-  while (in.read(chunk, sizeof chunk) || in.gcount() > 0) data.append(chunk, static_cast<std::size_t>(in.gcount()));
-  if (in.bad()) throw InputError("read error while reading the mesh", name);
-  return Poly2dReader(std::move(data), name).read();
+  return Poly2dReader(text::read_all(in, name, "mesh"), name).read();
 }
 
 Poly2dMesh read_poly2d(const fs::path& path) {
-  const std::string name = path.string();
-  text::require_regular_file(path, "mesh file");
-  errno = 0;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    const int err = errno;
-    throw InputError("cannot open the mesh file" + (err != 0 ? ": " + error_text(err) : std::string()), name);
-  }
-  return read_poly2d(in, name);
+  std::ifstream in = text::open_for_reading(path, "mesh file");
+  return read_poly2d(in, path.string());
 }
 
 void write_poly2d(std::ostream& out, const Mesh& mesh, const std::vector<std::string>& comments) {

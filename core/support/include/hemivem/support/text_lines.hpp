@@ -4,11 +4,15 @@
 #include <hemivem/error.hpp>
 
 #include <algorithm>
+#include <cerrno>
 #include <climits>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <istream>
 #include <string>
 #include <string_view>
+#include <system_error>
 #include <vector>
 
 namespace hemivem::text {
@@ -25,6 +29,30 @@ inline void require_regular_file(const std::filesystem::path& path, const std::s
   if (st.type() == fs::file_type::directory)
     throw InputError("cannot read the " + what + ": it is a directory", path.string());
   throw InputError("cannot read the " + what + ": it is not a regular file (a device, a pipe or a socket)", path.string());
+}
+
+/// `path` opened for reading as bytes, after require_regular_file; InputError (at the path)
+/// with the system's reason when it cannot be opened. `what` is e.g. "mesh file".
+inline std::ifstream open_for_reading(const std::filesystem::path& path, const std::string& what) {
+  require_regular_file(path, what);
+  errno = 0;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    const int err = errno;
+    throw InputError("cannot open the " + what + (err != 0 ? ": " + std::system_category().message(err) : std::string()),
+                     path.string());
+  }
+  return in;
+}
+
+/// Everything `in` holds; InputError (at `name`) when reading fails ("read error while reading
+/// the <what>").
+inline std::string read_all(std::istream& in, const std::string& name, const std::string& what) {
+  std::string data;
+  char chunk[1 << 16];
+  while (in.read(chunk, sizeof chunk) || in.gcount() > 0) data.append(chunk, static_cast<std::size_t>(in.gcount()));
+  if (in.bad()) throw InputError("read error while reading the " + what, name);
+  return data;
 }
 
 /// A token or line for an error message: at most 48 characters, control and non-ASCII
