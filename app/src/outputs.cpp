@@ -109,6 +109,7 @@ nlohmann::json result_json(const Mesh& mesh, const ContactSolution& s, const Run
   j["certificate"] = certificate_json(s.certificate);
   j["uniqueness_margin"] = number(s.uniqueness_margin);
   j["may_be_nonunique"] = s.may_be_nonunique;
+  j["held_by_contact"] = s.held_by_contact;
   j["search"] = info.search;
   j["critical_points"] =
       s.minimizer ? critical_points_json(*s.minimizer, s.energy - s.minimizer->objective) : json::array();

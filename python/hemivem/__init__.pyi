@@ -283,6 +283,9 @@ class Result:
     @property
     def may_be_nonunique(self) -> bool: ...
     @property
+    def held_by_contact(self) -> list[str]:
+        """The rigid motions the Dirichlet conditions leave free, in words; the contact alone holds them."""
+    @property
     def iterations(self) -> int: ...
     @property
     def stages(self) -> list[str]: ...

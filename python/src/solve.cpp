@@ -148,6 +148,9 @@ void def_result_outcome(ResultClass& c) {
       .def_property_readonly("uniqueness_margin", [](py::handle s) { return data(s).solved.solution.uniqueness_margin; },
                              "lambda_min(S - alpha_j W) (inf without contact): the solution is unique when positive.")
       .def_property_readonly("may_be_nonunique", [](py::handle s) { return data(s).solved.solution.may_be_nonunique; })
+      .def_property_readonly(
+          "held_by_contact", [](py::handle s) { return data(s).solved.solution.held_by_contact; },
+          "The rigid motions the Dirichlet conditions leave free, in words; the contact alone holds them.")
       .def_property_readonly("iterations", [](py::handle s) { return data(s).solved.solution.iterations(); })
       .def_property_readonly("stages", [](py::handle s) { return data(s).solved.solution.stages; },
                              "The stages that ran, in order.")

@@ -42,14 +42,23 @@ ContactBoundary make_contact_boundary(const Mesh& mesh, const std::vector<int>& 
     const bool fx = dofs.free_index[static_cast<std::size_t>(2 * v)] < 0;
     const bool fy = dofs.free_index[static_cast<std::size_t>(2 * v + 1)] < 0;
     if (fx && fy) continue;  // on Gamma_1
-    if (fx != fy)
-      throw InputError("contact node " + std::to_string(v) + " at (" + std::to_string(mesh.vertex(v).x()) + ", " +
-                       std::to_string(mesh.vertex(v).y()) +
-                       ") has one prescribed displacement component (a roller); a contact node must be either "
-                       "clamped (both components) or free: end the roller's or the contact's part before it");
     if (!(entry.first.norm() > 0.0))
       throw InputError("contact node " + std::to_string(v) + " has no defined normal (its contact edges cancel)");
-    const Vec2 normal = entry.first.normalized();
+    Vec2 normal = entry.first.normalized();
+    int prescribed = -1;
+    if (fx != fy) {
+      // a roller or symmetry line meeting Gamma_3: allowed where the prescribed component is tangential
+      prescribed = fx ? 0 : 1;
+      if (!(std::abs(normal(prescribed)) <= tangential_tolerance))
+        throw InputError("contact node " + std::to_string(v) + " at (" + std::to_string(mesh.vertex(v).x()) + ", " +
+                         std::to_string(mesh.vertex(v).y()) + ") has its " + (fx ? "x" : "y") +
+                         " displacement prescribed, which is not tangential to its contact normal (" +
+                         std::to_string(normal.x()) + ", " + std::to_string(normal.y()) +
+                         "): a contact node may have prescribed components only along its tangent; end the "
+                         "support's or the contact's part before it");
+      normal(prescribed) = 0.0;
+      normal(1 - prescribed) = normal(1 - prescribed) > 0.0 ? 1.0 : -1.0;
+    }
     double g = 0.0;
     if (obstacle != nullptr) {
       g = obstacle->gap(mesh.vertex(v), normal);
@@ -61,6 +70,7 @@ ContactBoundary make_contact_boundary(const Mesh& mesh, const std::vector<int>& 
     }
     cb.nodes.push_back(v);
     cb.normals.push_back(normal);
+    cb.prescribed_component.push_back(prescribed);
     cb.weights.conservativeResize(cb.size());
     cb.weights(cb.size() - 1) = entry.second;
     cb.gaps.conservativeResize(cb.size());
@@ -88,7 +98,8 @@ double entry(const SparseMatrix& A, int i, int j) {
 }
 
 // Q^T A Q for Q the identity but for 2 x 2 blocks at the dof pairs (x[k], y[k]) with columns
-// (nu_k, tau_k), on A's pattern (the two dofs of a node share their pattern, as in every
+// (nu_k, tau_k) and, where y[k] is -1 (a node with one free component, along its normal),
+// the 1 x 1 block nu_k . e at x[k] (a sign), on A's pattern (the two dofs of a node share their pattern, as in every
 // assembled stiffness), computed from the symmetric part of A so that the result is exactly
 // symmetric: each entry of the lower triangle is computed once and mirrored. Exact zeros are
 // dropped. One sweep over A: the columns in increasing order meet the entries above the
@@ -107,7 +118,12 @@ SparseMatrix rotate_symmetric(const SparseMatrix& A_in, const std::vector<int>& 
   std::vector<std::array<double, 2>> column(static_cast<std::size_t>(n));
   for (std::size_t k = 0; k < x.size(); ++k) {
     const Vec2 nu = normals[k], tau(-nu.y(), nu.x());
-    pair[static_cast<std::size_t>(x[k])] = pair[static_cast<std::size_t>(y[k])] = static_cast<int>(k);
+    pair[static_cast<std::size_t>(x[k])] = static_cast<int>(k);
+    if (y[k] < 0) {
+      column[static_cast<std::size_t>(x[k])] = {nu.x() + nu.y(), 0.0};  // one of them is 0
+      continue;
+    }
+    pair[static_cast<std::size_t>(y[k])] = static_cast<int>(k);
     column[static_cast<std::size_t>(x[k])] = {nu.x(), nu.y()};
     column[static_cast<std::size_t>(y[k])] = {tau.x(), tau.y()};
   }
@@ -121,6 +137,10 @@ SparseMatrix rotate_symmetric(const SparseMatrix& A_in, const std::vector<int>& 
       return 1;
     }
     const auto& c = column[static_cast<std::size_t>(d)];
+    if (y[static_cast<std::size_t>(k)] < 0) {
+      dofs[0] = d, coef[0] = c[0];
+      return 1;
+    }
     dofs[0] = x[static_cast<std::size_t>(k)], coef[0] = c[0];
     dofs[1] = y[static_cast<std::size_t>(k)], coef[1] = c[1];
     return 2;
@@ -178,8 +198,12 @@ double uniqueness_margin(const Eigen::MatrixXd& S, const Eigen::VectorXd& w, con
 
 Condensation::Condensation(const LinearSystem& system, const ContactBoundary& boundary,
                            std::unique_ptr<SparseFactorization> factorization, std::shared_ptr<const ContactLaw> law,
-                           ConstraintKind constraint, std::shared_ptr<const ContactLaw> friction)
-    : dofs_(system.dofs), factorization_(std::move(factorization)) {
+                           ConstraintKind constraint, std::shared_ptr<const ContactLaw> friction,
+                           bool semi_coercive, bool law_from_surface)
+    : dofs_(system.dofs),
+      factorization_(std::move(factorization)),
+      semi_coercive_(semi_coercive),
+      law_from_surface_(law_from_surface && constraint != ConstraintKind::bilateral) {
   if (!factorization_) throw InputError("condensation needs a factorization engine");
   if (!law) throw InputError("condensation needs a contact law");
   normals_ = boundary.normals;
@@ -192,6 +216,8 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
   const Eigen::VectorXd bt = rotate_load(system.b);
   measure_interior(At);
   pose_reduced_problem(boundary, std::move(law), constraint, std::move(friction));
+  origin_ = Eigen::VectorXd::Zero(reduced_.lo.size());
+  if (law_from_surface_) measure_from_surface(boundary);
   compute_schur_complement(At);
   condense_load(At, bt);
 }
@@ -201,9 +227,20 @@ void Condensation::order_unknowns(const LinearSystem& system, const ContactBound
   const int n1 = boundary.size();
   for (int i = 0; i < n1; ++i) {
     const int v = boundary.nodes[static_cast<std::size_t>(i)];
-    const int fx = system.dofs.free_index[static_cast<std::size_t>(2 * v)];
-    const int fy = system.dofs.free_index[static_cast<std::size_t>(2 * v + 1)];
-    if (fx < 0 || fy < 0) throw InputError("contact node " + std::to_string(v) + " is not free");
+    int fx = system.dofs.free_index[static_cast<std::size_t>(2 * v)];
+    int fy = system.dofs.free_index[static_cast<std::size_t>(2 * v + 1)];
+    const int prescribed = boundary.prescribed_component.empty() ? -1 : boundary.prescribed_component[static_cast<std::size_t>(i)];
+    if (prescribed >= 0) {
+      // one free component, along the normal: its free index stands for u_nu
+      if (has_tangential_)
+        throw InputError("contact node " + std::to_string(v) + " has its " + (prescribed == 0 ? "x" : "y") +
+                         " displacement (its tangential one) prescribed; with friction or a bilateral constraint "
+                         "the tangential displacements of the contact nodes are unknowns: end the support's or the "
+                         "contact's part before it");
+      fx = prescribed == 0 ? fy : fx;
+      fy = -1;
+    }
+    if (fx < 0 || (fy < 0 && prescribed < 0)) throw InputError("contact node " + std::to_string(v) + " is not free");
     contact_free_x_.push_back(fx);
     contact_free_y_.push_back(fy);
     block1_.push_back(fx);
@@ -222,6 +259,10 @@ Eigen::VectorXd Condensation::rotate_load(const Eigen::VectorXd& b) const {
   for (std::size_t i = 0; i < normals_.size(); ++i) {
     const int fx = contact_free_x_[i], fy = contact_free_y_[i];
     const Vec2 nu = normals_[i];
+    if (fy < 0) {
+      bt(fx) = (nu.x() + nu.y()) * b(fx);
+      continue;
+    }
     bt(fx) = nu.x() * b(fx) + nu.y() * b(fy);
     bt(fy) = -nu.y() * b(fx) + nu.x() * b(fy);
   }
@@ -279,9 +320,42 @@ void Condensation::pose_reduced_problem(const ContactBoundary& boundary, std::sh
   }
 }
 
+// The normal unknowns become the distances to the surface, a_i - g_i: the bounds shift by -g_i;
+// a node that never meets the surface (g_i infinite) gets the zero law at its own index.
+void Condensation::measure_from_surface(const ContactBoundary& boundary) {
+  int none = -1;
+  for (int i = 0; i < boundary.size(); ++i) {
+    const double g = boundary.gaps(i);
+    if (std::isfinite(g)) {
+      origin_(i) = g;
+      reduced_.lo(i) -= g;
+      reduced_.hi(i) -= g;
+    } else {
+      if (none < 0) {
+        reduced_.laws.push_back(zero_law());
+        none = static_cast<int>(reduced_.laws.size()) - 1;
+      }
+      reduced_.law_index(i) = none;
+    }
+  }
+}
+
 void Condensation::compute_schur_complement(const SparseMatrix& At) {
   Eigen::MatrixXd S1;
-  require(factorization_->schur_complement(At, block1_, &S1), *factorization_, "static condensation");
+  if (semi_coercive_) {
+    // S is singular: condense A + rho E11 (positive definite), then S = (S + rho I) - rho I
+    SparseMatrix shifted = At;
+    double rho = 0.0;
+    for (int k : block1_) rho = std::max(rho, shifted.coeff(k, k));
+    if (!(rho > 0.0)) rho = 1.0;
+    for (int k : block1_) shifted.coeffRef(k, k) += rho;
+    require(factorization_->schur_complement(shifted, block1_, &S1), *factorization_, "static condensation");
+    processes_of(*factorization_).run_where_results_are([&] {
+      if (S1.size() > 0) S1.diagonal().array() -= rho;
+    });
+  } else {
+    require(factorization_->schur_complement(At, block1_, &S1), *factorization_, "static condensation");
+  }
   // the reduced coordinates among block 1: all of it, or its tangential half (bilateral)
   const Eigen::Index n1 = static_cast<Eigen::Index>(normals_.size());
   const Eigen::Index first = has_normal_ ? 0 : n1, count = static_cast<Eigen::Index>(block1_.size()) - first;
@@ -311,6 +385,7 @@ void Condensation::condense_load(const SparseMatrix& At, const Eigen::VectorXd& 
   processes_of(*factorization_).run_where_results_are([&] {
     if (!split) reduced_.c = b1 - A21_.transpose() * y.col(0);
     if (!has_normal_) reduced_.c = reduced_.c.tail(static_cast<Eigen::Index>(normals_.size())).eval();
+    if (law_from_surface_) reduced_.c -= reduced_.S * origin_;
     margin_ = hemivem::uniqueness_margin(reduced_.S, reduced_.w, reduced_.alphas());
   });
   reduced_.uniqueness_margin = margin_;
@@ -374,7 +449,7 @@ Eigen::VectorXd Condensation::block1_values(const Eigen::VectorXd& a) const {
   if (a.size() != unknowns)
     throw InputError("back-substitution needs " + std::to_string(unknowns) + " contact displacements, got " +
                      std::to_string(a.size()));
-  if (has_normal_) return a;
+  if (has_normal_) return a + origin_;
   Eigen::VectorXd x1 = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(block1_.size()));
   x1.tail(n1) = a;
   return x1;
@@ -388,6 +463,10 @@ Eigen::VectorXd Condensation::displacement(const Eigen::VectorXd& x1, const Eige
   // u = Q ut at the contact nodes
   for (std::size_t i = 0; i < normals_.size(); ++i) {
     const Vec2 nu = normals_[i], tau(-nu.y(), nu.x());
+    if (contact_free_y_[i] < 0) {
+      ut(contact_free_x_[i]) *= nu.x() + nu.y();
+      continue;
+    }
     const double un = ut(contact_free_x_[i]), ut_ = ut(contact_free_y_[i]);
     ut(contact_free_x_[i]) = nu.x() * un + tau.x() * ut_;
     ut(contact_free_y_[i]) = nu.y() * un + tau.y() * ut_;

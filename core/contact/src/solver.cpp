@@ -102,6 +102,10 @@ std::vector<ContactSolution> ContactSolver::run(std::span<const NonsmoothMinimiz
   if (common_.unknowns == 0)
     throw InputError("the Dirichlet conditions prescribe every displacement of the mesh: there is nothing to solve");
   boundary_ = contact_boundary(problem_, system_->dofs);
+  common_.held_by_contact = find_supports(*problem_.elasticity.mesh, system_->dofs, boundary_,
+                                          constraint_in_effect(problem_) != ConstraintKind::bilateral,
+                                          problem_.friction != nullptr)
+                                .held_by_contact;
   if (boundary_.size() == 0) {
     const Eigen::MatrixXd X = linear_solve();
     common_.may_be_nonunique = false;
@@ -197,7 +201,8 @@ void ContactSolver::condense() {
   if (!problem_.law) throw InputError("the contact boundary has no contact law");
   const auto t = Clock::now();
   condensation_ = std::make_unique<Condensation>(*system_, boundary_, std::move(factorization_), problem_.law,
-                                                 constraint_in_effect(problem_), problem_.friction);
+                                                 constraint_in_effect(problem_), problem_.friction,
+                                                 !common_.held_by_contact.empty(), problem_.law_from_surface);
   common_.timings["condensation"] = since(t);
   common_.stages.push_back("condensation");
   common_.uniqueness_margin = condensation_->uniqueness_margin();
@@ -261,7 +266,7 @@ ContactNode ContactSolver::contact_node(int i, const MinimizerResult& m, const E
   node.normal = boundary_.normals[static_cast<std::size_t>(i)];
   node.gap = boundary_.gaps(i);
   if (const int k = cond.normal_coordinate(i); k >= 0) {
-    node.u_nu = m.a(k);
+    node.u_nu = m.a(k) + cond.origin()(k);
     node.law_force = forces ? m.law_force(k) : 0.0;
     node.reaction = forces ? m.reaction(k) : 0.0;
     node.state = m.a(k) == rp.upper(k) ? "upper" : (m.a(k) == rp.lower(k) ? "lower" : "free");

@@ -305,6 +305,7 @@ void add_contact(ContactProblem& p, const SceneContact& c, const Scene& scene, c
     throw InputError("contact.law: " + e.detail(), scene.where("contact.law"));
   }
   p.constraint = c.constraint;
+  p.law_from_surface = c.law_origin == "surface";
   if (c.friction) {
     try {
       p.friction = make_friction_law(*c.friction);

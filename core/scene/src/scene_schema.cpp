@@ -250,6 +250,13 @@ SceneContact read_contact(TableReader& r) {
     c.constraint = ConstraintKind::one_sided;  // unless the scene says otherwise
   }
   read_constraint(r, c);
+  if (auto o = r.string("law_origin")) {
+    if (*o != "body" && *o != "surface")
+      r.fail("law_origin", r.node("law_origin"), "unknown law origin '" + *o + "'; expected body or surface");
+    if (*o == "surface" && c.constraint == ConstraintKind::bilateral)
+      r.fail("law_origin", r.node("law_origin"), "the bilateral constraint uses no normal law; remove law_origin");
+    c.law_origin = *o;
+  }
   if (const toml::table* f = r.table("friction")) {
     TableReader fr(r.scene(), *f, r.key_path("friction"), {"law", "bound", "static", "kinetic", "distance", "breakpoints", "j", "j1", "j2"});
     c.friction = read_friction(fr);
@@ -567,7 +574,7 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
   s.contact.reset();
   if (const toml::table* t = r.table("contact")) {
     TableReader c(s, *t, "contact",
-                  with_selector({"law", "parameters", "breakpoints", "j", "j1", "j2", "gap", "obstacle", "constraint", "friction"}));
+                  with_selector({"law", "parameters", "breakpoints", "j", "j1", "j2", "gap", "obstacle", "constraint", "law_origin", "friction"}));
     s.contact = read_contact(c);
   }
   if (const toml::table* t = r.table("solver")) read_solver(s, *t);

@@ -148,6 +148,7 @@ void write_contact(std::ostream& o, const SceneContact& c) {
   write_pieces(o, c.law);
   if (!c.obstacle) o << "gap = " << scalar_text(c.gap) << "\n";
   o << "constraint = " << quote(to_string(c.constraint)) << "\n";
+  o << "law_origin = " << quote(c.law_origin) << "\n";
   if (c.obstacle) write_obstacle(o, *c.obstacle);
   if (!c.law.parameters.empty()) {
     o << "\n[contact.parameters]\n";

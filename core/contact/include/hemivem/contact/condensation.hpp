@@ -23,6 +23,10 @@ struct ContactBoundary {
   std::vector<Vec2> normals;  ///< outward unit normal per contact node
   Eigen::VectorXd weights;  ///< w_i: half the lengths of the Gamma_3 edges meeting at node i
   Eigen::VectorXd gaps;     ///< g_i
+  /// Per node: -1 when both displacement components are free; 0 (x) or 1 (y) when that
+  /// component is prescribed and tangential to the node's normal (a roller or a symmetry line
+  /// meeting Gamma_3); the normal is then exactly perpendicular to it.
+  std::vector<int> prescribed_component;
 
   int size() const noexcept { return static_cast<int>(nodes.size()); }
   /// Normal displacements (N u)_i of a full nodal displacement vector.
@@ -30,12 +34,18 @@ struct ContactBoundary {
 };
 
 /// Builds Gamma_3 from boundary edges. The normal of a node is the length-weighted mean of
-/// the outward normals of its Gamma_3 edges (exact on each straight segment; at a corner
-/// of a polyline it bisects the two normals). Nodes whose displacement is prescribed (on
-/// Gamma_1) are excluded; a node with only one prescribed component is an InputError.
+/// the outward normals of its Gamma_3 edges, normalised (exact on each straight segment; at a
+/// corner of a polyline it leans towards the longer edge). Nodes whose displacement is
+/// prescribed (on Gamma_1) are excluded. A node with one prescribed component is kept when
+/// that component is tangential (|nu . e| <= tangential_tolerance): its normal is then taken
+/// exactly perpendicular to it; a prescribed normal component is an InputError.
 /// `gap` gives g at a node position (constant gaps: a lambda returning a constant); a
 /// negative or non-finite gap is an InputError. With an `obstacle` the gaps are
 /// obstacle->gap(x, nu) instead: any value but NaN.
+/// How far from tangential (|nu . e|, e the prescribed direction) a prescribed component of a
+/// contact node may be.
+inline constexpr double tangential_tolerance = 1e-8;
+
 ContactBoundary make_contact_boundary(const Mesh& mesh, const std::vector<int>& edges, const DofMap& dofs,
                                       const std::function<double(const Vec2&)>& gap,
                                       const Obstacle* obstacle = nullptr);
@@ -56,11 +66,28 @@ class Condensation {
   /// With an engine across processes (every process constructs a Condensation, see
   /// hemivem/process_group.hpp) S, c and the margin exist on the process holding
   /// the results; elsewhere reduced() has empty S and c and the margin is NaN.
+  ///
+  /// `law_from_surface` (ContactProblem::law_from_surface): the normal unknowns are the
+  /// distances a_i = u_nu,i - g_i to the surface where the gap is finite (the reduced problem
+  /// F(a + g): c - S g, bounds shifted by -g; the law unchanged), and a node with an infinite
+  /// gap gets the zero law; origin() gives g per coordinate, back_substitute() adds it.
+  ///
+  /// `semi_coercive`: A itself is singular (rigid motions only the contact holds, see
+  /// hemivem/contact/supports.hpp), A22 is not, and S is positive semidefinite. The engine then
+  /// factorizes A + rho E11 (rho, the largest diagonal entry of A11, added to the diagonal of
+  /// block 1 only), which is positive definite; its Schur complement is exactly S + rho I,
+  /// and rho is subtracted from the result's diagonal. A21, A22 and so c and back-substitution
+  /// are untouched: the solution is the same, S differs from the unshifted one by round-off of
+  /// the order of eps rho.
   Condensation(const LinearSystem& system, const ContactBoundary& boundary,
                std::unique_ptr<SparseFactorization> factorization, std::shared_ptr<const ContactLaw> law,
-               ConstraintKind constraint, std::shared_ptr<const ContactLaw> friction = nullptr);
+               ConstraintKind constraint, std::shared_ptr<const ContactLaw> friction = nullptr,
+               bool semi_coercive = false, bool law_from_surface = false);
 
   const ReducedProblem& reduced() const noexcept { return reduced_; }
+  /// Per reduced coordinate, the normal displacement where it is 0: g_i for the normal
+  /// unknowns with law_from_surface, else 0 (so u_nu = a + origin).
+  const Eigen::VectorXd& origin() const noexcept { return origin_; }
   /// lambda_min(S - diag(alpha_i w_i)): F is strongly convex when positive; -inf for a law
   /// with a concave kink.
   double uniqueness_margin() const noexcept { return margin_; }
@@ -88,6 +115,9 @@ class Condensation {
   ReducedProblem reduced_;
   double margin_ = 0.0;
   bool has_normal_ = true, has_tangential_ = false;
+  bool semi_coercive_ = false;
+  bool law_from_surface_ = false;
+  Eigen::VectorXd origin_;
   std::vector<int> block1_;       // rotated free index of each contact unknown (normals, then tangentials)
   std::vector<int> block2_;       // remaining rotated free indices, increasing
   std::vector<int> contact_free_x_, contact_free_y_;  // free index of the x/y dof per contact node
@@ -98,6 +128,7 @@ class Condensation {
   void measure_interior(const SparseMatrix& At);
   void pose_reduced_problem(const ContactBoundary& boundary, std::shared_ptr<const ContactLaw> law,
                             ConstraintKind constraint, std::shared_ptr<const ContactLaw> friction);
+  void measure_from_surface(const ContactBoundary& boundary);
   void compute_schur_complement(const SparseMatrix& At);
   void condense_load(const SparseMatrix& At, const Eigen::VectorXd& bt);
   // the steps of back_substitute()

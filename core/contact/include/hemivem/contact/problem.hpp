@@ -24,6 +24,13 @@ struct ContactProblem {
   std::optional<Obstacle> obstacle;
   std::shared_ptr<const ContactLaw> law;
   ConstraintKind constraint = ConstraintKind::box;
+  /// Where the normal law's origin lies. false: j acts on u_nu, its origin where the body
+  /// starts (the paper's foundation: a layer of thickness g that the body compresses from the
+  /// start). true: j acts on the distance to the foundation's or obstacle's surface, u_nu - g_i
+  /// (normal compliance or adhesion against an obstacle: zero distance where the body meets
+  /// its surface); a node whose gap is infinite (its ray misses the obstacle) never meets it
+  /// and has no law. The reduced problem's normal unknowns are then those distances.
+  bool law_from_surface = false;
   /// The law of the tangential displacement u_tau on Gamma_3 (friction, docs/friction.md);
   /// null: frictionless (u_tau free). A bilateral constraint without one slides freely.
   std::shared_ptr<const ContactLaw> friction;

@@ -18,6 +18,7 @@
 
 #include <hemivem/contact/condensation.hpp>
 #include <hemivem/contact/problem.hpp>
+#include <hemivem/contact/supports.hpp>
 #include <hemivem/nonsmooth_minimizer.hpp>
 #include <hemivem/sparse_factorization.hpp>
 
@@ -69,6 +70,10 @@ struct ContactSolution {
   /// the results.
   std::optional<MinimizerResult> minimizer;
   double uniqueness_margin = std::numeric_limits<double>::infinity();
+  /// The rigid motions the Dirichlet conditions leave free, in words (a basis); each is held
+  /// by the contact alone (hemivem/contact/supports.hpp: a motion that nothing holds is refused
+  /// before anything is factorized). Empty when the supports hold the body.
+  std::vector<std::string> held_by_contact;
   double energy = 0.0;                  ///< potential energy 1/2 u^T A u - b^T u + sum_i w_i j(u_nu,i) (free dofs)
   /// Reciprocal condition estimate of the matrix the engine factorized (A22 with contact, A
   /// without), where the engine offers one (SparseFactorization::rcond_estimate); NaN

@@ -134,6 +134,9 @@ struct SceneContact {
   /// box, one-sided, none, or bilateral (u_nu = 0: the body slides on Gamma_3; gap and normal
   /// law unused).
   ConstraintKind constraint = ConstraintKind::box;
+  /// contact.law_origin: "body" (the law acts on u_nu, its origin where the body starts) or
+  /// "surface" (on the distance u_nu - g to the foundation's or obstacle's surface).
+  std::string law_origin = "body";
   /// [contact.friction]: the law of the tangential displacement ("tresca", "slip-weakening",
   /// or an even "piecewise" law; parameters bound / static, kinetic, distance); none:
   /// frictionless.

@@ -1,0 +1,37 @@
+// What holds the body: the rigid motions its Dirichlet conditions leave free, and whether the
+// contact can stop them. Decided from the mesh and the boundary alone, before anything is
+// factorized.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <hemivem/contact/condensation.hpp>
+#include <hemivem/mesh/mesh.hpp>
+#include <hemivem/vem/assembly.hpp>
+
+namespace hemivem {
+
+/// The free rigid motions of a problem and what holds them.
+struct Supports {
+  /// The motions (a basis, in words: hemivem/vem/rigid_motions.hpp) that the Dirichlet
+  /// conditions leave free and only the contact holds: each moves the normal displacement of
+  /// some contact node (held at zero by a bilateral constraint, or by the law and the
+  /// constraint) or, with a friction law, a tangential one. A is then singular and S positive
+  /// semidefinite (definite when a bilateral constraint holds every one of them); the contact
+  /// law or the constraint must provide what the supports do not.
+  std::vector<std::string> held_by_contact;
+  bool semi_coercive() const noexcept { return !held_by_contact.empty(); }
+};
+
+/// The supports of a body meshed by `mesh` with the prescribed components of `dofs`, touching
+/// its foundation at `boundary` (empty: no contact). `normal_unknowns`: the normal
+/// displacements are unknowns of the contact (false for a bilateral constraint, which holds
+/// them at zero as a support does); `tangential_law`: a friction law acts on the tangential
+/// displacements. Throws InputError naming every motion that nothing holds: one that moves no
+/// contact unknown (a rotation no contact node resists, tangential sliding without friction),
+/// or any free motion when there is no contact.
+Supports find_supports(const Mesh& mesh, const DofMap& dofs, const ContactBoundary& boundary, bool normal_unknowns,
+                       bool tangential_law);
+
+}  // namespace hemivem

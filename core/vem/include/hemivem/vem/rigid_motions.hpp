@@ -1,0 +1,74 @@
+// The rigid motions the Dirichlet conditions leave free: the kernel of the stiffness matrix
+// after the prescribed displacements are removed, found from the mesh and the prescribed
+// components alone, before anything is factorized.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+#include <hemivem/mesh/mesh.hpp>
+#include <hemivem/vem/assembly.hpp>
+
+namespace hemivem {
+
+/// The displacements of zero strain energy that the prescribed components of a DofMap leave
+/// free. The mesh is cut into pieces, the sets of elements joined through shared edges; a piece
+/// deforms with energy under every motion but its rigid ones (u(x) = t + theta (x - c)^perp),
+/// and two pieces that share only vertices may still move against each other (a hinge). So the
+/// free motions are the piecewise rigid motions that agree at every shared vertex and vanish in
+/// every prescribed component: the null space of a small matrix with three columns per piece.
+///
+/// That null space comes from a singular value decomposition in coordinates scaled by each
+/// piece's size, so that the decision does not depend on the units: every constraint row has
+/// entries of order 1, and a motion whose constraint residual is at most `relative_tolerance`
+/// (1e-8) times max(1, the largest singular value) is free. Supports that hold a
+/// motion only through a lever shorter than that fraction of the body's size (collinear within
+/// round-off) hold it no better than round-off does.
+class RigidMotions {
+ public:
+  static constexpr double relative_tolerance = 1e-8;
+
+  RigidMotions() = default;
+  RigidMotions(const Mesh& mesh, const DofMap& dofs);
+
+  /// The number of independent free motions (0: the supports hold the whole mesh).
+  int size() const noexcept { return static_cast<int>(basis_.cols()); }
+  bool empty() const noexcept { return size() == 0; }
+  /// The number of pieces of the mesh (sets of elements joined through shared edges).
+  int num_pieces() const noexcept { return static_cast<int>(pieces_.size()); }
+
+  /// The displacement of vertex v under free motion k (normalised: its largest displacement
+  /// over the mesh is of order 1).
+  Vec2 displacement(int k, int v) const;
+  /// Free motion k in words: "translation along (0, 1)" or "rotation about (0.5, 2)", of
+  /// "the whole mesh" or of "the piece of N elements around (x, y)" (each moving piece).
+  std::string describe(int k) const;
+  /// The free motions as nodal displacements (2 num_vertices rows, one column per motion).
+  Eigen::MatrixXd nodal() const;
+
+  /// The combinations of the free motions that keep every functional of `constraint` at zero
+  /// (its rows, from functional()), with the same relative tolerance: the free motions that
+  /// those displacements, held at zero, would not hold.
+  RigidMotions without(const Eigen::MatrixXd& constraint) const;
+  /// The functional "the displacement at vertex v along the unit vector `direction`" of the
+  /// piecewise rigid motions (one row, three coefficients per piece), to build the constraint
+  /// of without(). Zero for a vertex of no element.
+  Eigen::RowVectorXd functional(int v, const Vec2& direction) const;
+
+ private:
+  struct Piece {
+    int elements = 0;
+    Vec2 center = Vec2::Zero();  // the mean of the piece's vertices
+    double size = 1.0;           // its largest extent
+  };
+  std::vector<Piece> pieces_;
+  std::vector<Vec2> vertices_;
+  std::vector<int> piece_of_vertex_;  // one piece holding each vertex (-1: no element has it)
+  Eigen::MatrixXd basis_;             // 3 num_pieces x size(): (tx, ty, theta * size) per piece
+
+  Eigen::RowVectorXd functional(int v, const Vec2& direction, int piece) const;
+};
+
+}  // namespace hemivem
