@@ -6,6 +6,7 @@
 #include <hemivem/nonsmooth_backends.hpp>
 #include <hemivem/scene/scene.hpp>
 #include "test_support.hpp"
+#include "bench.hpp"
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -216,6 +217,37 @@ TEST_F(Figures, DeformedUsesAPerceptuallyUniformPalette) {
   const std::string script = deformed_figure(s.mesh(), s.solved.solution, s.info).script;
   EXPECT_NE(script.find("set palette defined (0 '#440154'"), std::string::npos) << script;
   EXPECT_EQ(script.find("rgbformulae"), std::string::npos);
+}
+
+TEST(BenchFigure, KeyGroupsThePairsByLinearEngine) {
+  using cli::BenchSeries;
+  const std::vector<BenchSeries> series{{"eigen", "ssn", {{{0.1, 0.5}}, {{0.05, 2.0}}}},
+                                        {"cholmod", "ssn", {{{0.1, 0.3}}}},
+                                        {"eigen", "bundle-dca", {{{0.1, 0.7}}}},
+                                        {"cholmod", "bundle-dca", {}}};  // no point: not drawn
+  const std::string script = cli::bench_plot_script(series);
+  const auto eigen = script.find("title 'linear engine eigen'");
+  const auto cholmod = script.find("title 'linear engine cholmod'");
+  ASSERT_NE(eigen, std::string::npos) << script;
+  ASSERT_NE(cholmod, std::string::npos) << script;
+  ASSERT_LT(eigen, cholmod);
+  // under each heading its pairs, named by their minimizer; the eigen pairs together although
+  // a cholmod pair came between them
+  const auto plot = script.find("\nplot ");
+  ASSERT_NE(plot, std::string::npos);
+  auto entry = [&](std::size_t data, const std::string& minimizer) {
+    return script.find("$d" + std::to_string(data) + " using 1:2 with linespoints", plot) != std::string::npos &&
+           script.find("title '  " + minimizer + "'", script.find("$d" + std::to_string(data) + " using", plot)) !=
+               std::string::npos;
+  };
+  EXPECT_TRUE(entry(0, "ssn"));
+  EXPECT_TRUE(entry(1, "ssn"));
+  EXPECT_TRUE(entry(2, "bundle-dca"));
+  const auto d0 = script.find("$d0 using", plot), d1 = script.find("$d1 using", plot), d2 = script.find("$d2 using", plot);
+  EXPECT_TRUE(eigen < d0 && d0 < cholmod && eigen < d2 && d2 < cholmod && cholmod < d1) << script;
+  EXPECT_EQ(script.find("$d3"), std::string::npos);
+  EXPECT_EQ(script.find("eigen+ssn"), std::string::npos) << "pairs are named within their group";
+  EXPECT_TRUE(cli::bench_plot_script({{"eigen", "ssn", {}}}).empty());
 }
 
 }  // namespace
