@@ -428,10 +428,10 @@ Figure u_nu_figure(const Mesh& mesh, const ContactSolution& sol, const RunInfo& 
   for (double b : breakpoints)
     s << "set arrow from graph 0, first " << num(b) << " to graph 1, first " << num(b)
       << " nohead dt 3 lw 1.5 lc rgb '#2ca02c'\n";
-  if (!labels.empty()) s << "set style textbox opaque noborder\n";
+  if (!labels.empty()) s << "set style textbox opaque fc rgb '#50ffffff' noborder\n";
   for (const auto& l : labels)
     s << "set label " << gnuplot_quote(l.text) << " at graph 0.01, first " << num(l.at)
-      << " offset 0,0.6 boxed tc rgb '#2ca02c' font ',9'\n";
+      << " offset 0,0.6 boxed front tc rgb '#2ca02c' font ',9'\n";
   const char* x = along_x ? "2" : "1";
   s << "plot 'u_nu.dat' using " << x << ":4 with linespoints pt 7 ps 0.6 lw 2 lc rgb '#1f77b4' title 'u_{/Symbol n}'";
   if (info.gap_bound) {
@@ -565,6 +565,8 @@ Figure deformed_figure(const Mesh& mesh, const ContactSolution& sol, const RunIn
 
   Figure f;
   f.png = "deformed.png";
+  // a flat body gets a lower picture, so that the key and the labels stay near it
+  f.height = static_cast<int>(std::clamp(170.0 + 720.0 * frame.height() / frame.width(), 350.0, 700.0));
   add_body_data(f, mesh, sol, scale, boundary_only);
   if (foundation) f.data.push_back(foundation_data(mesh, sol, scale));
   if (obstacle) {
