@@ -435,9 +435,13 @@ Figure u_nu_figure(const Mesh& mesh, const ContactSolution& sol, const RunInfo& 
   const char* x = along_x ? "2" : "1";
   s << "plot 'u_nu.dat' using " << x << ":4 with linespoints pt 7 ps 0.6 lw 2 lc rgb '#1f77b4' title 'u_{/Symbol n}'";
   if (info.gap_bound) {
-    const std::string clipped = range.gap_clipped ? "; clipped, from " + label_number(range.gap_lo) + " to " +
-                                                        label_number(range.gap_hi)
-                                                  : "";
+    auto short_number = [](double v) {
+      std::ostringstream o;
+      o << std::setprecision(3) << v;
+      return o.str();
+    };
+    const std::string clipped =
+        range.gap_clipped ? "; clipped, from " + short_number(range.gap_lo) + " to " + short_number(range.gap_hi) : "";
     s << ", '' using " << x << ":6 with lines dt 2 lw 1.5 lc rgb '#555555' title "
       << gnuplot_quote("gap g (u_{/Symbol n} <= g" + clipped + ")");
   }
