@@ -125,6 +125,21 @@ TEST_F(Figures, HertzDeformedDrawsTheCylinderAndFramesTheBody) {
   EXPECT_GT(touching, 2);
 }
 
+TEST_F(Figures, AnObstacleOutsideTheFrameIsClippedAwayAndSaidSo) {
+  const Solved& s = hertz();
+  RunInfo info = s.info;
+  Obstacle far;
+  far.shape = Obstacle::Shape::plane;
+  far.point = Vec2(0.0, 5.0);
+  far.normal = Vec2(0.0, -1.0);
+  info.obstacle = far;
+  const Figure d = deformed_figure(s.mesh(), s.solved.solution, info);
+  EXPECT_TRUE(points(d, "obstacle.dat").empty());
+  EXPECT_NE(d.script.find("'rigid obstacle (outside the frame)'"), std::string::npos) << d.script;
+  const auto [y0, y1] = range(d.script, "y");
+  EXPECT_LT(y1, 0.2) << "the frame follows the body, not the obstacle";
+}
+
 TEST_F(Figures, HalfDiskFrameHoldsTheBodyAndTheTitleNoFolder) {
   static const Solved s("half-disk-on-plane.toml", {});
   const Figure d = deformed_figure(s.mesh(), s.solved.solution, s.info);

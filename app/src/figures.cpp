@@ -573,8 +573,10 @@ Figure deformed_figure(const Mesh& mesh, const ContactSolution& sol, const RunIn
   f.height = static_cast<int>(std::clamp(170.0 + 720.0 * frame.height() / frame.width(), 350.0, 700.0));
   add_body_data(f, mesh, sol, scale, boundary_only);
   if (foundation) f.data.push_back(foundation_data(mesh, sol, scale));
+  bool obstacle_seen = false;
   if (obstacle) {
     ObstacleDrawing d = draw_obstacle(*info.obstacle, frame);
+    obstacle_seen = !d.region.empty();
     f.data.push_back(points_data("obstacle.dat", "x y (the rigid obstacle inside the frame)", std::move(d.region)));
     f.data.push_back(points_data("surface.dat", "x y (the obstacle's surface)", std::move(d.surface)));
   }
@@ -593,7 +595,8 @@ Figure deformed_figure(const Mesh& mesh, const ContactSolution& sol, const RunIn
     << kViridis << "set cblabel '|u| (scene units)'\nplot ";
   if (obstacle)
     s << "'obstacle.dat' using 1:2 with filledcurves closed fs solid 0.3 noborder lc rgb '#808080' notitle, "
-      << "'surface.dat' using 1:2 with lines lw 2.5 lc rgb 'black' title 'rigid obstacle', ";
+      << "'surface.dat' using 1:2 with lines lw 2.5 lc rgb 'black' title "
+      << (obstacle_seen ? "'rigid obstacle'" : "'rigid obstacle (outside the frame)'") << ", ";
   s << "'outline.dat' using 1:2 with lines lw 1.5 dt 2 lc rgb '#444444' title 'undeformed', "
     << "'edges.dat' using 1:2:3 with lines lc palette lw " << (boundary_only ? 2 : 1) << " notitle";
   if (foundation)
