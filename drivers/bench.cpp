@@ -95,44 +95,68 @@ struct BenchRow {
 // The work-precision figure: one series per pair, log error (x) against log total time (y).
 // Empty on success, else why it was skipped.
 std::string bench_plot(const fs::path& dir, const std::vector<Pair>& pairs, const std::vector<BenchRow>& rows) {
+  std::vector<BenchSeries> series;
+  for (const Pair& pair : pairs) {
+    BenchSeries s{pair.linear, pair.minimizer, {}};
+    for (const auto& r : rows)
+      if (r.run.pair.label() == pair.label() && std::isfinite(r.error) && r.error > 0.0 && r.run.seconds > 0.0)
+        s.points.push_back({r.error, r.run.seconds});
+    series.push_back(std::move(s));
+  }
+  Figure f;
+  f.script = bench_plot_script(series);
+  if (f.script.empty()) return "no finite positive error to plot";
+  f.png = "bench.png";
+  f.width = 1100;
+  f.height = 750;
+  return draw_figures(dir, {f}).front();
+}
+
+}  // namespace
+
+std::string bench_plot_script(const std::vector<BenchSeries>& series) {
   std::ostringstream script;
   script << std::setprecision(17);
-  std::vector<std::string> series;
-  for (std::size_t p = 0; p < pairs.size(); ++p) {
-    std::ostringstream block;
-    block << std::setprecision(17);
-    int points = 0;
-    for (const auto& r : rows)
-      if (r.run.pair.label() == pairs[p].label() && std::isfinite(r.error) && r.error > 0.0 && r.run.seconds > 0.0) {
-        block << r.error << ' ' << r.run.seconds << ' ' << r.n << '\n';
-        ++points;
-      }
-    if (!points) continue;
-    script << "$d" << p << " << EOD\n" << block.str() << "EOD\n";
-    // colour by minimizer, dash and point type by linear engine
-    const auto linear = available_factorizations();
-    const auto minimizers = available_minimizers();
-    const auto li = static_cast<std::size_t>(std::find(linear.begin(), linear.end(), pairs[p].linear) - linear.begin());
-    const auto mi = static_cast<std::size_t>(std::find(minimizers.begin(), minimizers.end(), pairs[p].minimizer) - minimizers.begin());
-    series.push_back("$d" + std::to_string(p) + " using 1:2 with linespoints lw 2 ps 1.3 lc " + std::to_string(mi + 1) +
-                     " dt " + std::to_string(li + 1) + " pt " + std::to_string(2 * li + 5) + " title " +
-                     gnuplot_quote(pairs[p].label()));
+  const auto linear = available_factorizations();
+  const auto minimizers = available_minimizers();
+  auto index = [](const std::vector<std::string>& names, const std::string& name) {
+    return static_cast<std::size_t>(std::find(names.begin(), names.end(), name) - names.begin());
+  };
+  // the series grouped by linear engine, in the order the engines first appear
+  std::vector<std::string> engines;
+  for (const auto& s : series)
+    if (!s.points.empty() && std::find(engines.begin(), engines.end(), s.linear) == engines.end())
+      engines.push_back(s.linear);
+  if (engines.empty()) return {};
+  std::vector<std::string> plots;
+  for (const std::string& engine : engines) {
+    if (!plots.empty()) plots.push_back("keyentry title ' '");  // a blank line between the groups
+    plots.push_back("keyentry title " + gnuplot_quote("linear engine " + engine));
+    for (std::size_t p = 0; p < series.size(); ++p) {
+      const BenchSeries& s = series[p];
+      if (s.linear != engine || s.points.empty()) continue;
+      script << "$d" << p << " << EOD\n";
+      for (const auto& [error, seconds] : s.points) script << error << ' ' << seconds << '\n';
+      script << "EOD\n";
+      // colour by minimizer, dash and point type by linear engine
+      const std::size_t li = index(linear, s.linear), mi = index(minimizers, s.minimizer);
+      plots.push_back("$d" + std::to_string(p) + " using 1:2 with linespoints lw 2 ps 1.3 lc " + std::to_string(mi + 1) +
+                      " dt " + std::to_string(li + 1) + " pt " + std::to_string(2 * li + 5) + " title " +
+                      gnuplot_quote("  " + s.minimizer));
+    }
   }
-  if (series.empty()) return "no finite positive error to plot";
   script << "set logscale xy\nset format x '10^{%L}'\nset format y '10^{%L}'\n"
          << "set xlabel 'relative error: max|I_h u_h - u_{ref}| / max|u_{ref}| (dimensionless)'\n"
          << "set ylabel 'wall time, whole solve (s)'\n"
          << "set title 'work against precision: every pair of engines on every mesh size'\nset grid\n"
-         << "set key outside right top noenhanced\n"
+         << "set key outside right top Left reverse noenhanced\n"
          << "plot ";
-  for (std::size_t i = 0; i < series.size(); ++i) script << (i ? ", \\\n     " : "") << series[i];
-  Figure f;
-  f.png = "bench.png";
-  f.width = 1100;
-  f.height = 750;
-  f.script = script.str();
-  return draw_figures(dir, {f}).front();
+  for (std::size_t i = 0; i < plots.size(); ++i) script << (i ? ", \\\n     " : "") << plots[i];
+  script << "\n";
+  return script.str();
 }
+
+namespace {
 
 /// `base` with mesh.n = n.
 Scene at_size(const Scene& base, int n) {

@@ -33,6 +33,18 @@ struct BenchOptions {
 /// still written).
 int run_bench(const BenchOptions& options, std::ostream& out, std::ostream& err);
 
+/// One series of bench.png: a pair of engines and its points (relative error, wall time).
+struct BenchSeries {
+  std::string linear, minimizer;
+  std::vector<std::array<double, 2>> points;
+};
+
+/// The gnuplot script of bench.png (its data inline): error (x, log) against time (y, log),
+/// one line per series, coloured by minimizer, dashed and marked by linear engine; the key
+/// groups the series by linear engine, a heading per engine with its pairs named by their
+/// minimizer. Empty when no series has a point.
+std::string bench_plot_script(const std::vector<BenchSeries>& series);
+
 /// The displacement of a squares mesh (u: 2 per vertex) interpolated bilinearly at `points`,
 /// for a mesh made by the squares generator with `n` cells per side on `domain` (x0, x1, y0,
 /// y1). Throws InputError when the mesh is not that grid.

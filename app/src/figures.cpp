@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iomanip>
 #include <map>
+#include <numbers>
 #include <random>
 #include <set>
 #include <sstream>
@@ -144,6 +145,31 @@ std::vector<std::vector<ContactPoint>> contact_chains(const Mesh& mesh, const Co
   return chains;
 }
 
+/// `text` with every word that is a file path (a word with a '/' that starts with '/', '.' or
+/// '~' or ends in a file name with an extension) cut to its file name: a title names a mesh
+/// file, not the folders it was found in.
+std::string without_folders(const std::string& text) {
+  std::string r, word;
+  auto flush = [&] {
+    const auto slash = word.find_last_of('/');
+    const bool rooted = !word.empty() && (word[0] == '/' || word[0] == '.' || word[0] == '~');
+    const bool path = slash != std::string::npos && slash + 1 < word.size() &&
+                      (rooted || word.find('.', slash) != std::string::npos);
+    r += path ? word.substr(slash + 1) : word;
+    word.clear();
+  };
+  for (char c : text) {
+    if (c == ' ' || c == ',' || c == '(' || c == ')') {
+      flush();
+      r += c;
+    } else {
+      word += c;
+    }
+  }
+  flush();
+  return r;
+}
+
 /// The title of a solve's figure as a gnuplot string: what it shows on the first line, the
 /// scene and the mesh on the second (a long scene name would not fit on one).
 std::string solve_title(const std::string& what, const RunInfo& info) {
@@ -152,8 +178,8 @@ std::string solve_title(const std::string& what, const RunInfo& info) {
     for (char c : t) r += (c == '"' || c == '\\') ? std::string("\\") + c : std::string(1, c);
     return r;
   };
-  std::string second = info.scene_name;
-  if (!info.mesh.empty()) second += (second.empty() ? "" : ", ") + info.mesh;
+  std::string second = without_folders(info.scene_name);
+  if (!info.mesh.empty()) second += (second.empty() ? "" : ", ") + without_folders(info.mesh);
   return "\"" + escaped(what) + (second.empty() ? "" : "\\n" + escaped(second)) + "\"";
 }
 
@@ -164,8 +190,138 @@ std::string label_number(double v) {
   return s.str();
 }
 
+/// A perceptually uniform colour map (matplotlib's viridis, sampled at nine points) as a
+/// gnuplot palette.
+constexpr const char* kViridis =
+    "set palette defined (0 '#440154', 1 '#472d7b', 2 '#3b528b', 3 '#2c728e', 4 '#21918c', 5 '#28ae80', "
+    "6 '#5ec962', 7 '#addc30', 8 '#fde725')\n";
+
+/// The polygon `poly` clipped to the half-plane n . (p - a) <= 0 (Sutherland-Hodgman).
+std::vector<Vec2> clip_half_plane(const std::vector<Vec2>& poly, const Vec2& a, const Vec2& n) {
+  std::vector<Vec2> out;
+  for (std::size_t i = 0; i < poly.size(); ++i) {
+    const Vec2& p = poly[i];
+    const Vec2& q = poly[(i + 1) % poly.size()];
+    const double dp = n.dot(p - a), dq = n.dot(q - a);
+    if (dp <= 0.0) out.push_back(p);
+    if ((dp < 0.0 && dq > 0.0) || (dp > 0.0 && dq < 0.0)) out.push_back(p + dp / (dp - dq) * (q - p));
+  }
+  return out;
+}
+
+/// The polygon `poly` clipped to the rectangle `frame`.
+std::vector<Vec2> clip_to_frame(std::vector<Vec2> poly, const Rectangle& frame) {
+  poly = clip_half_plane(poly, Vec2(frame.x0, 0.0), Vec2(-1.0, 0.0));
+  poly = clip_half_plane(poly, Vec2(frame.x1, 0.0), Vec2(1.0, 0.0));
+  poly = clip_half_plane(poly, Vec2(0.0, frame.y0), Vec2(0.0, -1.0));
+  return clip_half_plane(poly, Vec2(0.0, frame.y1), Vec2(0.0, 1.0));
+}
+
+/// The obstacle's surface as a polyline long enough to cross `frame` (a plane's line, the
+/// circle, the polyline itself), and the part of the obstacle inside `frame` as a polygon.
+struct ObstacleDrawing {
+  std::vector<Vec2> surface;
+  std::vector<Vec2> region;
+};
+ObstacleDrawing draw_obstacle(const Obstacle& o, const Rectangle& frame) {
+  const Vec2 centre(0.5 * (frame.x0 + frame.x1), 0.5 * (frame.y0 + frame.y1));
+  ObstacleDrawing d;
+  std::vector<Vec2> outline;  // the obstacle, or a polygon that holds all of it inside the frame
+  switch (o.shape) {
+    case Obstacle::Shape::plane: {
+      const Vec2 n = o.normal.normalized(), t(-n.y(), n.x());
+      const double far = 2.0 * std::hypot(frame.width(), frame.height()) + (o.point - centre).norm();
+      d.surface = {o.point - far * t, o.point + far * t};
+      outline = {o.point - far * t, o.point + far * t, o.point + far * t - far * n, o.point - far * t - far * n};
+      break;
+    }
+    case Obstacle::Shape::circle:
+      for (int k = 0; k <= 720; ++k) {
+        const double a = 2.0 * std::numbers::pi * k / 720.0;
+        d.surface.push_back(o.center + o.radius * Vec2(std::cos(a), std::sin(a)));
+      }
+      outline.assign(d.surface.begin(), d.surface.end() - 1);
+      break;
+    case Obstacle::Shape::polyline: {
+      // the obstacle is on the right of the walk: close it far on that side
+      d.surface = o.points;
+      const double far = 2.0 * std::hypot(frame.width(), frame.height());
+      auto right = [](const Vec2& a, const Vec2& b) {
+        const Vec2 t = (b - a).normalized();
+        return Vec2(t.y(), -t.x());
+      };
+      outline = o.points;
+      outline.push_back(o.points.back() + far * right(o.points[o.points.size() - 2], o.points.back()));
+      outline.push_back(o.points.front() + far * right(o.points[0], o.points[1]));
+      break;
+    }
+  }
+  d.region = clip_to_frame(outline, frame);
+  return d;
+}
+
 /// The most edges deformed.png draws one by one (a 1000 x 700 picture).
 constexpr std::size_t kMaxDrawnEdges = 100000;
+
+/// The values u_nu.png's axis shows: u_nu's range, widened by the law's breakpoints near it
+/// and by the gap where it is near it; a gap farther away is clipped (gap_clipped, with its
+/// finite range gap_lo .. gap_hi) so that u_nu never becomes a flat line.
+struct ValueRange {
+  double lo = 0.0, hi = 0.0;
+  std::vector<double> breakpoints;  ///< the law's breakpoints shown, ascending
+  bool gap_clipped = false;
+  double gap_lo = 0.0, gap_hi = 0.0;
+};
+ValueRange u_nu_range(const ContactSolution& sol, const RunInfo& info) {
+  ValueRange r;
+  r.lo = r.hi = sol.contact.front().u_nu;
+  for (const auto& n : sol.contact) r.lo = std::min(r.lo, n.u_nu), r.hi = std::max(r.hi, n.u_nu);
+  if (!(r.hi > r.lo)) {  // a constant u_nu: a range around it
+    const double half = r.hi != 0.0 ? 0.1 * std::abs(r.hi) : 0.5;
+    r.lo -= half, r.hi += half;
+  }
+  const double span = r.hi - r.lo, lo = r.lo, hi = r.hi;
+  auto near = [&](double v) { return v >= lo - span && v <= hi + span; };
+  for (double b : info.law_breakpoints)
+    if (near(b)) r.breakpoints.push_back(b);
+  std::sort(r.breakpoints.begin(), r.breakpoints.end());
+  bool any_gap = false;
+  for (const auto& n : sol.contact) {
+    if (!info.gap_bound || !std::isfinite(n.gap)) continue;
+    r.gap_lo = any_gap ? std::min(r.gap_lo, n.gap) : n.gap;
+    r.gap_hi = any_gap ? std::max(r.gap_hi, n.gap) : n.gap;
+    any_gap = true;
+    if (near(n.gap)) r.lo = std::min(r.lo, n.gap), r.hi = std::max(r.hi, n.gap);
+    else r.gap_clipped = true;
+  }
+  for (double b : r.breakpoints) r.lo = std::min(r.lo, b), r.hi = std::max(r.hi, b);
+  return r;
+}
+
+/// A label of u_nu.png naming one breakpoint, or several that lie too close to be told apart.
+struct BreakpointLabel {
+  double at = 0.0;
+  std::string text;
+};
+/// The labels of the ascending `breakpoints` on an axis from lo to hi: a breakpoint closer
+/// than 5% of the axis above the last label's is named in that label, so that labels never
+/// print over each other.
+std::vector<BreakpointLabel> breakpoint_labels(const std::vector<double>& breakpoints, double lo, double hi) {
+  std::vector<BreakpointLabel> labels;
+  std::vector<std::size_t> count;
+  for (double b : breakpoints) {
+    if (!labels.empty() && b - labels.back().at < 0.05 * (hi - lo)) {
+      labels.back().text += ", " + label_number(b);
+      ++count.back();
+      continue;
+    }
+    labels.push_back({b, label_number(b)});
+    count.push_back(1);
+  }
+  for (std::size_t i = 0; i < labels.size(); ++i)
+    labels[i].text = (count[i] > 1 ? "law breakpoints " : "law breakpoint ") + labels[i].text;
+  return labels;
+}
 
 }  // namespace
 
@@ -236,19 +392,10 @@ Figure u_nu_figure(const Mesh& mesh, const ContactSolution& sol, const RunInfo& 
   double y_min = sol.contact.front().x.y(), y_max = y_min;
   for (const auto& n : sol.contact) y_min = std::min(y_min, n.x.y()), y_max = std::max(y_max, n.x.y());
   const bool along_x = chains.size() == 1 && y_max - y_min <= 1e-12 * std::max(box.width(), box.height());
-  // the range of values shown, and the law's breakpoints near it
-  double lo = 0.0, hi = 0.0;
-  for (const auto& n : sol.contact) {
-    lo = std::min(lo, n.u_nu);
-    hi = std::max(hi, n.u_nu);
-    if (info.gap_bound && std::isfinite(n.gap)) hi = std::max(hi, n.gap);
-  }
-  const double span = std::max(hi - lo, 1e-300);
-  std::vector<double> breakpoints;
-  for (double b : info.law_breakpoints)
-    if (b >= lo - 0.5 * span && b <= hi + 0.5 * span) breakpoints.push_back(b);
-  for (double b : breakpoints) lo = std::min(lo, b), hi = std::max(hi, b);
-  const double margin = 0.06 * std::max(hi - lo, 1e-300);
+  const ValueRange range = u_nu_range(sol, info);
+  const double lo = range.lo, hi = range.hi, margin = 0.06 * (hi - lo);
+  const std::vector<BreakpointLabel> labels = breakpoint_labels(range.breakpoints, lo - margin, hi + margin);
+  const std::vector<double>& breakpoints = range.breakpoints;
 
   Figure f;
   f.png = "u_nu.png";
@@ -276,16 +423,28 @@ Figure u_nu_figure(const Mesh& mesh, const ContactSolution& sol, const RunInfo& 
     << (along_x ? "'x (scene units)'" : "'arc length s along the contact boundary {/Symbol G}_3 (scene units)'") << "\n"
     << "set ylabel 'normal displacement u_{/Symbol n} (scene units)'\n"
     << "set y2label 'contact pressure (force per unit length, scene units; compression > 0)'\n"
-    << "set ytics nomirror\nset y2tics\nset grid\nset key outside top center horizontal\n"
+    << "set ytics nomirror\nset y2tics\nset grid\nset key outside top center horizontal\nset clip two\n"
     << "set yrange [" << num(lo - margin) << ":" << num(hi + margin) << "]\n";
-  for (std::size_t i = 0; i < breakpoints.size(); ++i)
-    s << "set arrow from graph 0, first " << num(breakpoints[i]) << " to graph 1, first " << num(breakpoints[i])
-      << " nohead dt 3 lw 1.5 lc rgb '#2ca02c'\n"
-      << "set label " << gnuplot_quote("law breakpoint " + label_number(breakpoints[i])) << " at graph 0.01, first "
-      << num(breakpoints[i]) << " offset 0,0.6 tc rgb '#2ca02c' font ',9'\n";
+  for (double b : breakpoints)
+    s << "set arrow from graph 0, first " << num(b) << " to graph 1, first " << num(b)
+      << " nohead dt 3 lw 1.5 lc rgb '#2ca02c'\n";
+  if (!labels.empty()) s << "set style textbox opaque fc rgb '#50ffffff' noborder\n";
+  for (const auto& l : labels)
+    s << "set label " << gnuplot_quote(l.text) << " at graph 0.01, first " << num(l.at)
+      << " offset 0,0.6 boxed front tc rgb '#2ca02c' font ',9'\n";
   const char* x = along_x ? "2" : "1";
   s << "plot 'u_nu.dat' using " << x << ":4 with linespoints pt 7 ps 0.6 lw 2 lc rgb '#1f77b4' title 'u_{/Symbol n}'";
-  if (info.gap_bound) s << ", '' using " << x << ":6 with lines dt 2 lw 1.5 lc rgb '#555555' title 'gap g (u_{/Symbol n} <= g)'";
+  if (info.gap_bound) {
+    auto short_number = [](double v) {
+      std::ostringstream o;
+      o << std::setprecision(3) << v;
+      return o.str();
+    };
+    const std::string clipped =
+        range.gap_clipped ? "; clipped, from " + short_number(range.gap_lo) + " to " + short_number(range.gap_hi) : "";
+    s << ", '' using " << x << ":6 with lines dt 2 lw 1.5 lc rgb '#555555' title "
+      << gnuplot_quote("gap g (u_{/Symbol n} <= g" + clipped + ")");
+  }
   s << ", '' using " << x << ":5 axes x1y2 with linespoints pt 6 ps 0.5 lw 1.5 lc rgb '#d62728' title 'contact pressure'";
   if (!breakpoints.empty()) s << ", NaN with lines dt 3 lw 1.5 lc rgb '#2ca02c' title 'contact law breakpoints'";
   if (tangential) {
@@ -309,21 +468,36 @@ Figure u_nu_figure(const Mesh& mesh, const ContactSolution& sol, const RunInfo& 
   return f;
 }
 
-Figure deformed_figure(const Mesh& mesh, const ContactSolution& sol, const RunInfo& info) {
-  // magnify the displacement so that its largest value shows as 10% of the domain's size
-  const Rectangle box = mesh.bounding_box();
-  const double size = std::hypot(box.width(), box.height());
-  double umax = 0.0;
-  for (int v = 0; v < mesh.num_vertices(); ++v) umax = std::max(umax, std::hypot(sol.u(2 * v), sol.u(2 * v + 1)));
-  const double scale = umax > 0.0 && std::isfinite(umax) ? std::max(1.0, 0.1 * size / umax) : 1.0;
-  // Edges finer than the picture's pixels only cost time: a mesh with more edges than
-  // kMaxDrawnEdges is drawn by its boundary.
-  const bool boundary_only = mesh.edges().size() > kMaxDrawnEdges;
-  const bool contact = !sol.contact.empty();
-  const bool foundation = contact && info.gap_bound;
+namespace {
 
-  Figure f;
-  f.png = "deformed.png";
+/// The frame of deformed.png: the undeformed and the deformed body (displacement x scale)
+/// with a margin of 5% of their size on each side.
+Rectangle body_frame(const Mesh& mesh, const ContactSolution& sol, double scale) {
+  Rectangle f{mesh.vertex(0).x(), mesh.vertex(0).x(), mesh.vertex(0).y(), mesh.vertex(0).y()};
+  auto take = [&f](const Vec2& p) {
+    if (!std::isfinite(p.x()) || !std::isfinite(p.y())) return;
+    f.x0 = std::min(f.x0, p.x()), f.x1 = std::max(f.x1, p.x());
+    f.y0 = std::min(f.y0, p.y()), f.y1 = std::max(f.y1, p.y());
+  };
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    take(mesh.vertex(v));
+    take(mesh.vertex(v) + scale * Vec2(sol.u(2 * v), sol.u(2 * v + 1)));
+  }
+  const double margin = 0.05 * std::max({f.width(), f.height(), 1e-300});
+  return {f.x0 - margin, f.x1 + margin, f.y0 - margin, f.y1 + margin};
+}
+
+/// The data of a polyline or polygon: one "x y" row per point.
+PlotData points_data(const std::string& name, const std::string& header, std::vector<Vec2> points) {
+  return {name, [header, points = std::move(points)](std::ostream& os) {
+            os << std::setprecision(17) << "# " << header << '\n';
+            for (const Vec2& p : points) os << p.x() << ' ' << p.y() << '\n';
+          }};
+}
+
+/// deformed.png's data: the deformed edges coloured by |u|, the undeformed outline, the
+/// contact nodes (displacement x scale).
+void add_body_data(Figure& f, const Mesh& mesh, const ContactSolution& sol, double scale, bool boundary_only) {
   f.data.push_back({"edges.dat", [&mesh, &sol, scale, boundary_only](std::ostream& stream) {
                       TextWriter os(stream);
                       os << "# x y |u| (deformed edges, one block each)\n";
@@ -348,44 +522,86 @@ Figure deformed_figure(const Mesh& mesh, const ContactSolution& sol, const RunIn
                           else os << mesh.vertex(v).x() << ' ' << mesh.vertex(v).y() << '\n';
                         }
                     }});
-  if (contact)
-    f.data.push_back({"contact.dat", [&mesh, &sol, scale](std::ostream& os) {
-                        os << std::setprecision(17) << "# x y (deformed contact nodes)\n";
-                        for (const auto& n : sol.contact) {
-                          const Vec2 p = mesh.vertex(n.vertex) + scale * Vec2(sol.u(2 * n.vertex), sol.u(2 * n.vertex + 1));
-                          os << p.x() << ' ' << p.y() << '\n';
-                        }
-                      }});
-  if (foundation)
-    f.data.push_back({"foundation.dat", [chains = contact_chains(mesh, sol), scale](std::ostream& os) {
-                        os << std::setprecision(17) << "# x y (where u_nu = g, magnified as the displacement)\n";
-                        for (const auto& chain : chains) {
-                          for (const auto& p : chain) {
-                            if (!std::isfinite(p.node->gap)) {  // a ray that misses the obstacle
-                              os << '\n';
-                              continue;
-                            }
-                            const Vec2 q = p.node->x + scale * p.node->gap * p.node->normal;
-                            os << q.x() << ' ' << q.y() << '\n';
-                          }
-                          os << "\n\n";
-                        }
-                      }});
+  if (sol.contact.empty()) return;
+  std::vector<Vec2> nodes;
+  for (const auto& n : sol.contact)
+    nodes.push_back(mesh.vertex(n.vertex) + scale * Vec2(sol.u(2 * n.vertex), sol.u(2 * n.vertex + 1)));
+  f.data.push_back(points_data("contact.dat", "x y (deformed contact nodes)", std::move(nodes)));
+}
+
+/// foundation.dat: where u_nu = g, x_i + g_i nu_i moved by the displacement's magnification
+/// (a node touching it is drawn on it); one block per chain of contact nodes.
+PlotData foundation_data(const Mesh& mesh, const ContactSolution& sol, double scale) {
+  return {"foundation.dat", [chains = contact_chains(mesh, sol), scale](std::ostream& os) {
+            os << std::setprecision(17) << "# x y (where u_nu = g, magnified as the displacement)\n";
+            for (const auto& chain : chains) {
+              for (const auto& p : chain) {
+                if (!std::isfinite(p.node->gap)) {  // a ray that misses the obstacle
+                  os << '\n';
+                  continue;
+                }
+                const Vec2 q = p.node->x + scale * p.node->gap * p.node->normal;
+                os << q.x() << ' ' << q.y() << '\n';
+              }
+              os << "\n\n";
+            }
+          }};
+}
+
+}  // namespace
+
+Figure deformed_figure(const Mesh& mesh, const ContactSolution& sol, const RunInfo& info) {
+  const bool contact = !sol.contact.empty();
+  const bool obstacle = contact && info.obstacle.has_value();
+  // Magnify the displacement so that its largest value shows as 10% of the domain's size;
+  // a rigid obstacle is drawn where it is, so the body with it at its true displacement.
+  const Rectangle box = mesh.bounding_box();
+  const double size = std::hypot(box.width(), box.height());
+  double umax = 0.0;
+  for (int v = 0; v < mesh.num_vertices(); ++v) umax = std::max(umax, std::hypot(sol.u(2 * v), sol.u(2 * v + 1)));
+  const double scale =
+      !obstacle && umax > 0.0 && std::isfinite(umax) ? std::max(1.0, 0.1 * size / umax) : 1.0;
+  // Edges finer than the picture's pixels only cost time: a mesh with more edges than
+  // kMaxDrawnEdges is drawn by its boundary.
+  const bool boundary_only = mesh.edges().size() > kMaxDrawnEdges;
+  const bool foundation = contact && info.gap_bound && !obstacle;
+  const Rectangle frame = body_frame(mesh, sol, scale);
+
+  Figure f;
+  f.png = "deformed.png";
+  // a flat body gets a lower picture, so that the key and the labels stay near it
+  f.height = static_cast<int>(std::clamp(170.0 + 720.0 * frame.height() / frame.width(), 350.0, 700.0));
+  add_body_data(f, mesh, sol, scale, boundary_only);
+  if (foundation) f.data.push_back(foundation_data(mesh, sol, scale));
+  bool obstacle_seen = false;
+  if (obstacle) {
+    ObstacleDrawing d = draw_obstacle(*info.obstacle, frame);
+    obstacle_seen = !d.region.empty();
+    f.data.push_back(points_data("obstacle.dat", "x y (the rigid obstacle inside the frame)", std::move(d.region)));
+    f.data.push_back(points_data("surface.dat", "x y (the obstacle's surface)", std::move(d.surface)));
+  }
   std::ostringstream title;
-  title << (boundary_only ? "deformed boundary" : "deformed mesh") << " (displacement x " << std::setprecision(3)
-        << scale << ")";
+  title << (boundary_only ? "deformed boundary" : "deformed mesh");
+  if (obstacle) title << " at true scale with the rigid obstacle";
+  else title << " (displacement x " << std::setprecision(3) << scale << ")";
   if (boundary_only) title << "; " << mesh.edges().size() << " edges are finer than the picture";
   std::ostringstream s;
   s << "set title " << solve_title(title.str(), info) << " noenhanced\n"
-    << "set size ratio -1\nset offsets graph 0.04, graph 0.04, graph 0.04, graph 0.04\n"
+    << "set size ratio -1\nset clip two\n"
+    << "set xrange [" << num(frame.x0) << ":" << num(frame.x1) << "]\n"
+    << "set yrange [" << num(frame.y0) << ":" << num(frame.y1) << "]\n"
     << "set xlabel 'x (scene units)'\nset ylabel 'y (scene units)'\n"
-    << "set key outside bottom center horizontal\n"
-    << "set palette rgbformulae 33,13,10\nset cblabel '|u| (scene units)'\n"
-    << "plot 'outline.dat' using 1:2 with lines lw 1.5 dt 2 lc rgb '#444444' title 'undeformed', "
+    << "set key outside bottom center horizontal maxrows 1 samplen 2 height 1.5\n"
+    << kViridis << "set cblabel '|u| (scene units)'\nplot ";
+  if (obstacle)
+    s << "'obstacle.dat' using 1:2 with filledcurves closed fs solid 0.3 noborder lc rgb '#808080' notitle, "
+      << "'surface.dat' using 1:2 with lines lw 2.5 lc rgb 'black' title "
+      << (obstacle_seen ? "'rigid obstacle'" : "'rigid obstacle (outside the frame)'") << ", ";
+  s << "'outline.dat' using 1:2 with lines lw 1.5 dt 2 lc rgb '#444444' title 'undeformed', "
     << "'edges.dat' using 1:2:3 with lines lc palette lw " << (boundary_only ? 2 : 1) << " notitle";
   if (foundation)
-    s << ", 'foundation.dat' using 1:2 with lines lw 2.5 lc rgb 'black' title 'foundation or obstacle (u_{/Symbol n} = g)'";
-  if (contact) s << ", 'contact.dat' using 1:2 with points pt 7 ps 0.5 lc rgb 'black' title 'contact nodes'";
+    s << ", 'foundation.dat' using 1:2 with lines lw 2.5 lc rgb 'black' title 'foundation (u_{/Symbol n} = g)'";
+  if (contact) s << ", 'contact.dat' using 1:2 with points pt 7 ps 0.5 lc rgb '#d62728' title 'contact nodes'";
   f.script = s.str();
   return f;
 }

@@ -129,6 +129,7 @@ RunInfo run_info(const Scene& scene, const SceneSolve& solved) {
   if (built.problem.law) info.law_breakpoints = built.problem.law->breakpoints();
   info.gap_bound = built.has_contact && (built.problem.constraint == ConstraintKind::one_sided ||
                                          built.problem.constraint == ConstraintKind::box);
+  if (built.has_contact) info.obstacle = built.problem.obstacle;
   if (built.problem.friction) info.friction_law = built.problem.friction->name();
   if (built.problem.constraint == ConstraintKind::bilateral) info.law_breakpoints.clear();
   return info;

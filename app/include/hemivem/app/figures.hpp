@@ -48,18 +48,22 @@ std::string gnuplot_quote(const std::string& s);
 bool is_png(const std::filesystem::path& p);
 
 /// u_nu.png: the normal displacement u_nu along the contact boundary against x (when Gamma_3
-/// is one horizontal line) or its arc length, with the gap (when u_nu <= g is a constraint),
-/// the contact law's breakpoints near the values shown, and the contact pressure on a second
-/// axis; the title names the scene and the mesh. With friction (has_tangential) a second panel
+/// is one horizontal line) or its arc length, and the contact pressure on a second axis. The
+/// axis follows u_nu: the law's breakpoints and the gap (when u_nu <= g is a constraint) widen
+/// it only where they lie near u_nu's range; a gap farther away is clipped, and its key entry
+/// says so. Breakpoints too close to be told apart share a label. The title names the scene
+/// and the mesh (files without their folders). With friction (has_tangential) a second panel
 /// below: u_tau with its stick and slip nodes marked, and the friction traction on a second
 /// axis. The solution must have contact nodes.
 Figure u_nu_figure(const Mesh& mesh, const ContactSolution& solution, const RunInfo& info);
 
-/// deformed.png: the deformed mesh (its boundary alone above 100000 edges) coloured by |u|,
-/// the displacement magnified so that its largest value is a tenth of the domain's size,
-/// over the undeformed outline; with contact the contact nodes and, when u_nu <= g is a
-/// constraint, the foundation or obstacle where u_nu = g (x_i + g_i nu_i, moved by the same
-/// magnification, so that a node touching it is drawn on it).
+/// deformed.png: the deformed mesh (its boundary alone above 100000 edges) coloured by |u|
+/// (viridis) over the undeformed outline, in a frame that holds the body with a margin. With
+/// a rigid obstacle (info.obstacle) the obstacle's own geometry clipped to the frame, and the
+/// body at its true displacement; else the displacement is magnified so that its largest
+/// value is a tenth of the domain's size, and when u_nu <= g is a constraint the foundation
+/// where u_nu = g (x_i + g_i nu_i, moved by the same magnification, so that a node touching
+/// it is drawn on it). With contact, the contact nodes.
 Figure deformed_figure(const Mesh& mesh, const ContactSolution& solution, const RunInfo& info);
 
 }  // namespace hemivem::app

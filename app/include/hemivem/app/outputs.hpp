@@ -6,11 +6,13 @@
 #include <array>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include <hemivem/contact/obstacle.hpp>
 #include <hemivem/contact/solver.hpp>
 #include <hemivem/vem/material.hpp>
 #include <hemivem/mesh/mesh.hpp>
@@ -37,6 +39,7 @@ struct RunInfo {
   std::vector<std::string> warnings;          ///< what the user should know about the problem posed
   std::vector<double> law_breakpoints;        ///< the contact law's breakpoints (u_nu values), for u_nu.png
   bool gap_bound = false;                     ///< u_nu <= g is a constraint: the plots draw the gap and foundation
+  std::optional<Obstacle> obstacle;           ///< the rigid obstacle of the contact, drawn in deformed.png
   std::string friction_law;                   ///< the friction law's name ("" without friction)
 };
 
