@@ -209,6 +209,20 @@ Eigen::VectorXd DofMap::expand(const Eigen::VectorXd& free_values) const {
   return u;
 }
 
+Eigen::VectorXd apply_stiffness(const Mesh& mesh, const MaterialTable& materials, Stabilization stabilization,
+                                const Eigen::VectorXd& u) {
+  if (u.size() != 2 * mesh.num_vertices())
+    throw InputError("displacement vector has " + std::to_string(u.size()) + " entries, expected " +
+                     std::to_string(2 * mesh.num_vertices()));
+  Eigen::VectorXd Ku = Eigen::VectorXd::Zero(u.size());
+  for_each_element_matrix(mesh, materials, stabilization, [&](const std::vector<int>& dof, const Eigen::Map<const Eigen::MatrixXd>& Ke) {
+    for (std::size_t j = 0; j < dof.size(); ++j)
+      for (std::size_t i = 0; i < dof.size(); ++i)
+        Ku(dof[i]) += Ke(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) * u(dof[j]);
+  });
+  return Ku;
+}
+
 DofMap make_dof_map(const Mesh& mesh, const std::vector<DirichletCondition>& dirichlet) {
   const int ndof = 2 * mesh.num_vertices();
   DofMap map;

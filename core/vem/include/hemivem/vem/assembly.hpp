@@ -25,6 +25,7 @@ struct DirichletCondition {
   std::vector<int> edges;
   VectorField value;
   std::array<bool, 2> fix{true, true};
+  std::string name;  ///< how the problem names the part (e.g. a scene's "clamped"); may be empty
 };
 
 /// A surface traction on a set of boundary edges, integrated on each edge with a
@@ -74,6 +75,11 @@ SparseMatrix assemble_stiffness(const Mesh& mesh, const MaterialTable& materials
 /// The load vector of all dofs: body force through Pi^nabla_1 (3.13) and tractions.
 Eigen::VectorXd assemble_load(const Mesh& mesh, const VectorField& body_force,
                               const std::vector<TractionLoad>& tractions);
+
+/// K u for the global stiffness K of all 2*num_vertices dofs (assemble_stiffness), computed
+/// element by element without storing K.
+Eigen::VectorXd apply_stiffness(const Mesh& mesh, const MaterialTable& materials, Stabilization stabilization,
+                                const Eigen::VectorXd& u);
 
 /// The degrees-of-freedom map of a problem's Dirichlet conditions.
 DofMap make_dof_map(const Mesh& mesh, const std::vector<DirichletCondition>& dirichlet);
