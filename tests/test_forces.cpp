@@ -226,6 +226,26 @@ TEST(Forces, Example41ContactResultantFromContactCsv) {
   fs::remove_all(dir);
 }
 
+// apply_stiffness is K u of the assembled global stiffness on the rows asked for, 0 elsewhere.
+TEST(Forces, ApplyStiffnessIsTheAssembledStiffnessTimesU) {
+  Scene scene = parse_scene(test::scenes_dir() / "paper-example-4.1-voronoi.toml");
+  apply_override(scene, "mesh.n=8");
+  const auto built = build_problem(scene);
+  const ElasticityProblem& e = built->problem.elasticity;
+  const int n = 2 * built->mesh.num_vertices();
+  Eigen::VectorXd u(n);
+  for (int d = 0; d < n; ++d) u(d) = std::sin(1.0 + 0.37 * d);
+  const Eigen::VectorXd Ku = assemble_stiffness(built->mesh, e.materials, e.stabilization) * u;
+  std::vector<char> rows(static_cast<std::size_t>(n), 1);
+  EXPECT_LT((apply_stiffness(built->mesh, e.materials, e.stabilization, u, rows) - Ku).norm(), 1e-12 * Ku.norm());
+  for (int d = 0; d < n; ++d) rows[static_cast<std::size_t>(d)] = d % 3 == 0;
+  const Eigen::VectorXd some = apply_stiffness(built->mesh, e.materials, e.stabilization, u, rows);
+  for (int d = 0; d < n; ++d) {
+    if (d % 3 == 0) EXPECT_NEAR(some(d), Ku(d), 1e-12 * Ku.norm());
+    else EXPECT_EQ(some(d), 0.0);
+  }
+}
+
 // Without a load (an obstacle pushes the body) the residual is relative to the largest force.
 TEST(Forces, ResidualWithoutLoad) {
   ForceBalance b;

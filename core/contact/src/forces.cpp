@@ -27,7 +27,6 @@ ForceBalance force_balance(const ElasticityProblem& problem, const Eigen::Vector
   if (!problem.mesh) throw InputError("the elasticity problem has no mesh");
   const Mesh& mesh = *problem.mesh;
   const Eigen::VectorXd f = assemble_load(mesh, problem.body_force, problem.tractions);
-  const Eigen::VectorXd r = apply_stiffness(mesh, problem.materials, problem.stabilization, u) - f;
   // the condition each dof takes its value from: the last one that prescribes it
   std::vector<int> owner(static_cast<std::size_t>(f.size()), -1);
   for (std::size_t k = 0; k < problem.dirichlet.size(); ++k) {
@@ -37,6 +36,9 @@ ForceBalance force_balance(const ElasticityProblem& problem, const Eigen::Vector
         for (int c = 0; c < 2; ++c)
           if (bc.fix[static_cast<std::size_t>(c)]) owner[static_cast<std::size_t>(2 * v + c)] = static_cast<int>(k);
   }
+  std::vector<char> prescribed(owner.size());
+  for (std::size_t d = 0; d < owner.size(); ++d) prescribed[d] = owner[d] >= 0;
+  const Eigen::VectorXd r = apply_stiffness(mesh, problem.materials, problem.stabilization, u, prescribed) - f;
   ForceBalance balance;
   balance.contact = contact;
   for (std::size_t k = 0; k < problem.dirichlet.size(); ++k)

@@ -33,7 +33,8 @@ struct ForceBalance {
 /// contact resultant `contact`: applied = sum of f, and the reaction of each Dirichlet
 /// condition the sum of r = K u - f over the dofs it prescribes (a dof that several conditions
 /// prescribe counts for the last one, whose value it takes). A condition without a name is
-/// called "dirichlet part i" (i from 0). Costs one pass over the element matrices.
+/// called "dirichlet part i" (i from 0). Costs the load vector and the element matrices of
+/// the elements at prescribed dofs.
 ForceBalance force_balance(const ElasticityProblem& problem, const Eigen::VectorXd& u, const Vec2& contact);
 
 }  // namespace hemivem

@@ -76,10 +76,11 @@ SparseMatrix assemble_stiffness(const Mesh& mesh, const MaterialTable& materials
 Eigen::VectorXd assemble_load(const Mesh& mesh, const VectorField& body_force,
                               const std::vector<TractionLoad>& tractions);
 
-/// K u for the global stiffness K of all 2*num_vertices dofs (assemble_stiffness), computed
-/// element by element without storing K.
+/// (K u)_d on the dofs d with rows[d] != 0 (0 elsewhere), K the global stiffness of all
+/// 2*num_vertices dofs (assemble_stiffness): computed from the elements that hold such a dof
+/// only, without storing K. `u` and `rows` have one entry per dof.
 Eigen::VectorXd apply_stiffness(const Mesh& mesh, const MaterialTable& materials, Stabilization stabilization,
-                                const Eigen::VectorXd& u);
+                                const Eigen::VectorXd& u, const std::vector<char>& rows);
 
 /// The degrees-of-freedom map of a problem's Dirichlet conditions.
 DofMap make_dof_map(const Mesh& mesh, const std::vector<DirichletCondition>& dirichlet);
