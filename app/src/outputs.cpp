@@ -74,6 +74,19 @@ void write_history_csv(std::ostream& stream, const ContactSolution& s) {
        << '\n';
 }
 
+nlohmann::json pair(const Vec2& v) { return {number(v.x()), number(v.y())}; }
+
+/// result.json's "forces": the applied load, the reactions by part, the contact resultant and
+/// the relative residual of their balance.
+nlohmann::json forces_json(const ForceBalance& b) {
+  nlohmann::json reactions = nlohmann::json::object();
+  for (const auto& r : b.reactions) reactions[r.name] = pair(r.force);
+  return {{"applied", pair(b.applied)},
+          {"reactions", std::move(reactions)},
+          {"contact", pair(b.contact)},
+          {"balance_residual", number(b.residual())}};
+}
+
 }  // namespace
 
 bool has_tangential(const ContactSolution& s) {
@@ -95,7 +108,7 @@ std::vector<std::array<int, 2>> contact_lines(const Mesh& mesh, const ContactSol
 nlohmann::json result_json(const Mesh& mesh, const ContactSolution& s, const RunInfo& info) {
   using nlohmann::json;
   json j;
-  j["schema"] = "hemivem-result/7";
+  j["schema"] = "hemivem-result/8";
   j["version"] = info.version;
   j["scene"] = {{"name", info.scene_name}, {"toml", info.scene_toml}};
   j["backends"] = {{"linear", info.linear}, {"minimizer", info.minimizer}};
@@ -156,6 +169,7 @@ nlohmann::json result_json(const Mesh& mesh, const ContactSolution& s, const Run
   j["friction"] = tangential ? json{{"law", info.friction_law.empty() ? json(nullptr) : json(info.friction_law)}, {"nodes", friction_states}} : json(nullptr);
   const Vec2 force = s.contact_force();
   j["contact_force"] = {number(force.x()), number(force.y())};
+  j["forces"] = forces_json(s.forces);
   const ContactZone zone = contact_zone(s);
   j["contact_zone"] = zone.nodes == 0 ? json(nullptr)
                                       : json{{"nodes", zone.nodes},

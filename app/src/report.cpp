@@ -51,19 +51,40 @@ void contact_zone(std::ostream& out, const Scene& scene, const ContactSolution& 
   out << sol.contact.size() - upper - lower << " free\n";
 }
 
-void forces(std::ostream& out, const ContactSolution& sol, const RunInfo& info) {
+std::string pair_text(const Vec2& v) {
+  std::ostringstream o;
+  o << std::setprecision(6) << "(" << v.x() << ", " << v.y() << ")";
+  return o.str();
+}
+
+// The balance of forces on the body: applied load, reactions by part, contact resultant.
+void balance(std::ostream& out, const ContactSolution& sol) {
+  const ForceBalance& b = sol.forces;
+  out << "  forces        applied " << pair_text(b.applied) << ", reactions";
+  if (b.reactions.empty()) out << " none";
+  for (std::size_t i = 0; i < b.reactions.size(); ++i)
+    out << (i ? ", " : " ") << b.reactions[i].name << " " << pair_text(b.reactions[i].force);
+  if (!sol.contact.empty()) out << ", contact " << pair_text(b.contact);
+  out << "\n  balance       |applied + reactions" << (sol.contact.empty() ? "" : " + contact") << "| = "
+      << std::setprecision(2) << b.residual() << std::setprecision(6)
+      << (b.applied.norm() > 0.0 ? " x |applied|\n" : " x the largest force (no load is applied)\n");
+}
+
+// The contact nodes' forces: the sum of the normal forces zeta_i + lambda_i (not a resultant:
+// the normals differ from node to node) and the friction states.
+void contact_forces(std::ostream& out, const ContactSolution& sol, const RunInfo& info) {
   double law = 0.0, reaction = 0.0, friction = 0.0;
   std::map<std::string, int> states;
   for (const auto& c : sol.contact) law += c.law_force, reaction += c.reaction, friction += c.friction_force;
   for (const auto& c : sol.contact)
     if (!c.friction_state.empty()) ++states[c.friction_state];
-  out << "  forces        contact force " << law + reaction << " in total: law " << law << ", reactions " << reaction
-      << "\n";
+  out << "  normal forces " << law + reaction << " summed over the contact nodes (a sum, not a resultant): law "
+      << law << ", constraint " << reaction << "\n";
   if (states.empty()) return;
   out << "  friction      " << (info.friction_law.empty() ? std::string("none") : info.friction_law) << ": ";
   bool first = true;
   for (const auto& [state, count] : states) out << (first ? "" : ", ") << count << " " << state, first = false;
-  out << "; friction force " << friction << " in total\n";
+  out << "; sum of the friction forces " << friction << "\n";
 }
 
 void energy_and_time(std::ostream& out, const SceneSolve& solved) {
@@ -92,8 +113,9 @@ std::string full_report(const Scene& scene, const SceneSolve& solved, const RunI
   status(out, solved, info);
   if (!solved.solution.contact.empty()) {
     contact_zone(out, scene, solved.solution);
-    forces(out, solved.solution, info);
+    contact_forces(out, solved.solution, info);
   }
+  if (solved.holds_results) balance(out, solved.solution);
   energy_and_time(out, solved);
   return out.str();
 }

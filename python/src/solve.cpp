@@ -209,6 +209,24 @@ void def_result_fields(ResultClass& c) {
           },
           "The resultant (Fx, Fy) of the foundation or obstacle on the body.")
       .def_property_readonly(
+          "forces",
+          [](py::handle s) {
+            const ForceBalance& b = data(s).solved.solution.forces;
+            auto pair = [](const Vec2& v) { return py::make_tuple(v.x(), v.y()); };
+            py::dict reactions;
+            for (const auto& r : b.reactions) reactions[py::str(r.name)] = pair(r.force);
+            py::dict d;
+            d["applied"] = pair(b.applied);
+            d["reactions"] = reactions;
+            d["contact"] = pair(b.contact);
+            d["balance_residual"] = b.residual();
+            return d;
+          },
+          "The balance of forces on the body, as result.json's \"forces\": {'applied': (Fx, Fy) of the "
+          "tractions, pressures and body force, 'reactions': {part name: (Fx, Fy)} per Dirichlet part "
+          "('clamped', 'dirichlet[i]'), 'contact': (Fx, Fy) the contact resultant, 'balance_residual': "
+          "|applied + reactions + contact| / |applied|}.")
+      .def_property_readonly(
           "history",
           [](py::handle s) {
             const auto& m = data(s).solved.solution.minimizer;

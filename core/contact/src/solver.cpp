@@ -192,6 +192,7 @@ void ContactSolver::post_process_linear(const Eigen::MatrixXd& X) {
     s.message = uf.allFinite() ? "the linear solve's relative residual is above the tolerance"
                                : "the linear solve gave a displacement that is not finite";
   }
+  s.forces = force_balance(problem_.elasticity, s.u, Vec2::Zero());
   require_finite(s);
 }
 
@@ -237,7 +238,7 @@ void ContactSolver::back_substitute(ContactSolution& solution) const {
   solution.stages.push_back("back_substitution");
 }
 
-// The contact table and the potential energy of the solution.
+// The contact table, the potential energy and the balance of forces of the solution.
 void ContactSolver::post_process(ContactSolution& solution) const {
   const LinearSystem& sys = *system_;
   const MinimizerResult& m = *solution.minimizer;
@@ -250,6 +251,7 @@ void ContactSolver::post_process(ContactSolution& solution) const {
   const ReducedProblem& rp = condensation_->reduced();
   solution.energy = 0.5 * uf.dot(Au) - uf.dot(sys.b);
   for (Eigen::Index i = 0; i < m.a.size(); ++i) solution.energy += rp.w(i) * rp.law_of(i).value(m.a(i));
+  solution.forces = force_balance(problem_.elasticity, solution.u, solution.contact_force());
   require_finite(solution);
 }
 

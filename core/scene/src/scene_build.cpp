@@ -241,7 +241,7 @@ class EdgeSelection {
 
 /// [clamped] and each [[dirichlet]]: the prescribed displacements.
 void add_dirichlet(ElasticityProblem& e, const Scene& scene, const EdgeSelection& select) {
-  if (!scene.clamped.empty()) e.dirichlet.push_back({select(scene.clamped, "clamped"), {}, {true, true}});
+  if (!scene.clamped.empty()) e.dirichlet.push_back({select(scene.clamped, "clamped"), {}, {true, true}, "clamped"});
   for (std::size_t i = 0; i < scene.dirichlet.size(); ++i) {
     const auto& d = scene.dirichlet[i];
     const std::string key = "dirichlet[" + std::to_string(i) + "]";
@@ -251,7 +251,7 @@ void add_dirichlet(ElasticityProblem& e, const Scene& scene, const EdgeSelection
     const bool as_value = scene.lines.count(key + ".value") > 0;
     const std::array<std::string, 2> keys{as_value ? key + ".value" : key + ".ux", as_value ? key + ".value" : key + ".uy"};
     e.dirichlet.push_back(
-        {select(d.boundary, key), finite_vector(ux, uy, scene, keys), {d.ux.has_value(), d.uy.has_value()}});
+        {select(d.boundary, key), finite_vector(ux, uy, scene, keys), {d.ux.has_value(), d.uy.has_value()}, key});
   }
 }
 

@@ -209,6 +209,35 @@ Eigen::VectorXd DofMap::expand(const Eigen::VectorXd& free_values) const {
   return u;
 }
 
+Eigen::VectorXd apply_stiffness(const Mesh& mesh, const MaterialTable& materials, Stabilization stabilization,
+                                const Eigen::VectorXd& u, const std::vector<char>& rows) {
+  if (u.size() != 2 * mesh.num_vertices() || rows.size() != static_cast<std::size_t>(u.size()))
+    throw InputError("displacement vector has " + std::to_string(u.size()) + " entries and " +
+                     std::to_string(rows.size()) + " rows are selected, expected " +
+                     std::to_string(2 * mesh.num_vertices()));
+  Eigen::VectorXd Ku = Eigen::VectorXd::Zero(u.size());
+  std::vector<Vec2> poly;
+  Eigen::MatrixXd K;
+  Eigen::VectorXd local;
+  for (int e = 0; e < mesh.num_elements(); ++e) {
+    const auto verts = mesh.element(e);
+    if (std::none_of(verts.begin(), verts.end(), [&](int v) {
+          return rows[static_cast<std::size_t>(2 * v)] || rows[static_cast<std::size_t>(2 * v + 1)];
+        }))
+      continue;
+    gather(mesh, e, poly);
+    element_stiffness(poly, materials.lame(mesh.region(e)), stabilization, K);
+    local.resize(static_cast<Eigen::Index>(2 * verts.size()));
+    for (std::size_t k = 0; k < verts.size(); ++k)
+      local.segment<2>(static_cast<Eigen::Index>(2 * k)) = u.segment<2>(2 * verts[k]);
+    const Eigen::VectorXd Kl = K * local;
+    for (std::size_t k = 0; k < verts.size(); ++k)
+      for (int c = 0; c < 2; ++c)
+        if (rows[static_cast<std::size_t>(2 * verts[k] + c)]) Ku(2 * verts[k] + c) += Kl(static_cast<Eigen::Index>(2 * k + c));
+  }
+  return Ku;
+}
+
 DofMap make_dof_map(const Mesh& mesh, const std::vector<DirichletCondition>& dirichlet) {
   const int ndof = 2 * mesh.num_vertices();
   DofMap map;

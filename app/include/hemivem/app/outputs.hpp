@@ -43,7 +43,7 @@ struct RunInfo {
   std::string friction_law;                   ///< the friction law's name ("" without friction)
 };
 
-/// The result.json document ("schema": "hemivem-result/7").
+/// The result.json document ("schema": "hemivem-result/8").
 nlohmann::json result_json(const Mesh& mesh, const ContactSolution& solution, const RunInfo& info);
 
 /// Whether the contact nodes carry a tangential displacement (friction or a bilateral

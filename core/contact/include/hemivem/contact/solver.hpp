@@ -17,6 +17,7 @@
 #include <vector>
 
 #include <hemivem/contact/condensation.hpp>
+#include <hemivem/contact/forces.hpp>
 #include <hemivem/contact/problem.hpp>
 #include <hemivem/contact/supports.hpp>
 #include <hemivem/nonsmooth_minimizer.hpp>
@@ -91,6 +92,10 @@ struct ContactSolution {
   /// contact nodes of -(zeta_i + lambda_i) nu_i - zeta_tau,i tau_i (the friction force).
   /// Zero without contact.
   Vec2 contact_force() const;
+  /// The balance of forces (force_balance of u with contact_force()): the applied load, the
+  /// reaction of each Dirichlet part, the contact resultant. Zero on the processes of an
+  /// engine across processes that do not hold the results.
+  ForceBalance forces;
 };
 
 /// The friction state of a tangential displacement under its law: "stick" at a kink of the

@@ -25,6 +25,7 @@ struct DirichletCondition {
   std::vector<int> edges;
   VectorField value;
   std::array<bool, 2> fix{true, true};
+  std::string name;  ///< how the problem names the part (e.g. a scene's "clamped"); may be empty
 };
 
 /// A surface traction on a set of boundary edges, integrated on each edge with a
@@ -74,6 +75,12 @@ SparseMatrix assemble_stiffness(const Mesh& mesh, const MaterialTable& materials
 /// The load vector of all dofs: body force through Pi^nabla_1 (3.13) and tractions.
 Eigen::VectorXd assemble_load(const Mesh& mesh, const VectorField& body_force,
                               const std::vector<TractionLoad>& tractions);
+
+/// (K u)_d on the dofs d with rows[d] != 0 (0 elsewhere), K the global stiffness of all
+/// 2*num_vertices dofs (assemble_stiffness): computed from the elements that hold such a dof
+/// only, without storing K. `u` and `rows` have one entry per dof.
+Eigen::VectorXd apply_stiffness(const Mesh& mesh, const MaterialTable& materials, Stabilization stabilization,
+                                const Eigen::VectorXd& u, const std::vector<char>& rows);
 
 /// The degrees-of-freedom map of a problem's Dirichlet conditions.
 DofMap make_dof_map(const Mesh& mesh, const std::vector<DirichletCondition>& dirichlet);
