@@ -74,6 +74,24 @@ TEST(CliClaims, SolveWarnsWhenTheDisplacementsDigitsAreUnreliable) {
   EXPECT_TRUE(app::conditioning_warning(std::numeric_limits<double>::quiet_NaN()).empty());
 }
 
+TEST(CliClaims, ABodyHeldOnlyByItsContactIsNotCalledUnique) {
+  const fs::path scene = test::data_dir() / "claims" / "block-between-rollers.toml";
+  for (const char* E : {"65", "100"}) {
+    const fs::path out = test::scratch(std::string("claims-block-") + E);
+    const test::CommandRun r = run("solve " + scene.string() + " --set material.E=" + E + " --out " + out.string());
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("lambda_min(S - alpha_j W) = 0 (|computed| <= round-off bound"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("not strongly convex along some direction, so uniqueness is not proved"), std::string::npos);
+    EXPECT_EQ(r.out.find("unique\n"), std::string::npos) << r.out;
+    const auto j = nlohmann::json::parse(test::slurp(out / "result.json"));
+    EXPECT_EQ(j.at("uniqueness_margin").get<double>(), 0.0);
+    EXPECT_EQ(j.at("uniqueness"), "zero");
+    EXPECT_GT(j.at("uniqueness_roundoff").get<double>(), 0.0);
+    EXPECT_LT(j.at("uniqueness_roundoff").get<double>(), 1e-10);
+    EXPECT_EQ(j.at("may_be_nonunique"), true);
+  }
+}
+
 TEST(CliClaims, MinimizeWithAnotherLawRecomputesTheMargin) {
   const fs::path dir = test::scratch("claims-export");
   const test::CommandRun e = run("solve --n 4 -q --out " + test::scratch("claims-export-out").string() +

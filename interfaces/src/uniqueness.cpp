@@ -57,8 +57,7 @@ std::string uniqueness_meaning(double margin) {
   if (std::isnan(margin)) return "the margin is unknown: uniqueness is not proved";
   if (margin > 0.0) return "F is strongly convex, so the solution is unique";
   if (margin == 0.0)
-    return "zero within round-off: F is convex but not strongly convex along some direction, so uniqueness is "
-           "not proved";
+    return "F is convex but not strongly convex along some direction, so uniqueness is not proved";
   return "F may be nonconvex: several critical points are possible, this is one of them";
 }
 
