@@ -184,7 +184,9 @@ void def_result_outcome(ResultClass& c) {
           "A global search's distinct certified critical points (CriticalPoint), lowest energy first\n"
           "(the solution is the first), with their potential energies: result.json's\n"
           "\"critical_points\". Empty for a local search.")
-      .def_property_readonly("warnings", [](py::handle s) { return data(s).solved.warnings; });
+      .def_property_readonly("warnings", [](py::handle s) { return data(s).solved.warnings; },
+                             "What the user should know (result.json's \"warnings\"): the scene's, and a\n"
+                             "condition number so large that round-off may spoil the displacement's digits.");
 }
 
 /// Result's fields: displacement, reduced point, contact table, history, mesh, scene.
