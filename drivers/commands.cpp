@@ -9,6 +9,7 @@
 #include <hemivem/contact/piecewise_law.hpp>
 #include <hemivem/contact/reduced_io.hpp>
 #include <hemivem/scene/scene.hpp>
+#include <hemivem/uniqueness.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -198,6 +199,9 @@ int run_minimize(const MinimizeOptions& o, std::ostream& out, std::ostream& err)
     j["iterations"] = r.iterations;
     j["evaluations"] = {{"function", r.function_evaluations}, {"subgradient", r.subgradient_evaluations}};
     j["may_be_nonunique"] = r.may_be_nonunique;
+    j["uniqueness_margin"] = number(p.uniqueness_margin);
+    j["uniqueness_roundoff"] = number(p.uniqueness_roundoff);
+    j["uniqueness"] = uniqueness_verdict(p.uniqueness_margin);
     j["timings"] = r.timings;
     auto array = [](const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); };
     j["a"] = array(r.a);
@@ -217,7 +221,8 @@ int run_minimize(const MinimizeOptions& o, std::ostream& out, std::ostream& err)
         << "  F(a)          " << r.objective << "\n"
         << "  time [s]      " << (r.timings.count("total") ? r.timings.at("total") : 0.0) << "\n";
     if (o.global) out << critical_points_text(r, 0.0);
-    if (r.may_be_nonunique) out << "  note          uniqueness is not guaranteed (margin not positive or unknown)\n";
+    out << "  uniqueness    lambda_min(S - alpha_j W) = " << p.uniqueness_margin << ": "
+        << uniqueness_meaning(p.uniqueness_margin) << "\n";
   }
   return r.converged() ? kSuccess : kNotConverged;
 }

@@ -9,6 +9,7 @@
 //   hemivem bench [SCENE.toml] [flags]   time against error for every pair of engines
 #include <CLI/CLI.hpp>
 
+#include <hemivem/certificate.hpp>
 #include <hemivem/engine_names.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/linear_backends.hpp>
@@ -59,6 +60,19 @@ const CLI::Validator kPositive(
       return "expected a number > 0, got '" + text + "'";
     },
     "NUMBER > 0");
+
+/// A certificate tolerance: a number in [min_tolerance, max_tolerance] (hemivem/certificate.hpp).
+const CLI::Validator kTolerance(
+    [](std::string& text) -> std::string {
+      try {
+        std::size_t used = 0;
+        const double v = std::stod(text, &used);
+        if (used == text.size()) return hemivem::tolerance_problem(v);
+      } catch (const std::exception&) {
+      }
+      return "expected a number, got '" + text + "'";
+    },
+    "TOLERANCE");
 
 std::vector<std::string> names_of(const std::vector<CLI::App*>& apps) {
   std::vector<std::string> v;
@@ -122,7 +136,7 @@ Command register_solve(CLI::App& app) {
   f->o_linear = cmd->add_option("--linear", f->linear,
                                 join_engine_names(known_linear_engines(), "|") + "|auto (the fastest built; default)");
   f->o_min = cmd->add_option("--minimizer", f->minimizer, join_engine_names(known_minimizers(), "|"));
-  f->o_tol = cmd->add_option("--tol", f->tol, "Certificate tolerance")->check(kPositive);
+  f->o_tol = cmd->add_option("--tol", f->tol, "Certificate tolerance")->check(kPositive)->check(kTolerance);
   cmd->add_option("--set", f->options.set, "Override a scene key: key=value (repeatable), e.g. contact.gap=0.01");
   cmd->add_option("--out", f->options.out, "Output folder")->capture_default_str();
   cmd->add_option("--export-reduced", f->options.export_reduced, "Also write the reduced problem to this folder");
@@ -157,7 +171,7 @@ Command register_minimize(CLI::App& app) {
       ->check(CLI::ExistingDirectory);
   cmd->add_option("--minimizer", f->options.minimizer, join_engine_names(known_minimizers(), "|"))->capture_default_str();
   cmd->add_option("--law", f->options.law, "A shipped law replacing law.txt: paper|linear|kinked|sawtooth|zero");
-  cmd->add_option("--tol", f->options.tolerance, "Certificate tolerance")->capture_default_str()->check(kPositive);
+  cmd->add_option("--tol", f->options.tolerance, "Certificate tolerance")->capture_default_str()->check(kPositive)->check(kTolerance);
   cmd->add_flag("--json", f->options.json, "Print the result as JSON");
   cmd->add_flag("-q,--quiet", f->quiet, "Print nothing on success");
   cmd->add_flag("--global", f->options.global,
@@ -282,7 +296,7 @@ Command register_check(CLI::App& app) {
   auto* cmd = app.add_subcommand("check", "Solve a scene with every built pair of engines and compare the results");
   cmd->add_option("scene", f->options.scene, "Scene file (TOML); none: the paper's Example 4.1")->check(CLI::ExistingFile);
   f->o_n = cmd->add_option("--n", f->n, "Elements per side")->check(CLI::Range(1, 10000000));
-  f->o_tol = cmd->add_option("--tol", f->tol, "Certificate tolerance for every pair")->check(kPositive);
+  f->o_tol = cmd->add_option("--tol", f->tol, "Certificate tolerance for every pair")->check(kPositive)->check(kTolerance);
   cmd->add_option("--set", f->options.set, "Override a scene key: key=value (repeatable)");
   cmd->add_option("--agree", f->options.agree, "Largest accepted max|u_a - u_b| / max|u_ref| between converged pairs")
       ->capture_default_str()
@@ -332,7 +346,7 @@ Command register_bench(CLI::App& app) {
                ->capture_default_str()
                ->check(CLI::Range(1, 10000000));
   cmd->add_option("--ref", f->options.ref, "Mesh size of the reference solution")->capture_default_str()->check(CLI::Range(1, 10000000));
-  f->o_tol = cmd->add_option("--tol", f->tol, "Certificate tolerance for every pair")->check(kPositive);
+  f->o_tol = cmd->add_option("--tol", f->tol, "Certificate tolerance for every pair")->check(kPositive)->check(kTolerance);
   cmd->add_option("--set", f->options.set, "Override a scene key: key=value (repeatable)");
   cmd->add_option("--out", f->options.out, "Output folder (bench.csv, bench.json, bench.png; with --limit: limit.json)")
       ->capture_default_str();

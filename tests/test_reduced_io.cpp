@@ -75,7 +75,9 @@ TEST(ReducedIo, CoordinateFormatAndDefaults) {
   EXPECT_EQ(p.S(0, 1), -1.0);
   EXPECT_EQ(p.S(1, 1), 3.0);
   EXPECT_EQ(p.uniform_form()->constraint, ConstraintKind::box);  // no problem.txt: the paper's box
-  EXPECT_TRUE(std::isnan(p.uniqueness_margin));
+  // no margin in the folder: it is computed, lambda_min(S - alpha W) with W = 0.5 I, whose
+  // exact value is (7 - sqrt(5)) / 2 - alpha / 2
+  EXPECT_NEAR(p.uniqueness_margin, (7.0 - std::sqrt(5.0)) / 2.0 - 0.5 * p.law_by_number(0).alpha(), 1e-14);
   EXPECT_EQ(p.law_by_number(0).derivative(LawPart::j, 0.0, +1), 0.3);
   fs::remove_all(dir);
 }

@@ -4,6 +4,7 @@
 #include <hemivem/app/vtu.hpp>
 
 #include <hemivem/app/format.hpp>
+#include <hemivem/uniqueness.hpp>
 
 #include <hemivem/vem/assembly.hpp>
 #include <hemivem/error.hpp>
@@ -121,8 +122,11 @@ nlohmann::json result_json(const Mesh& mesh, const ContactSolution& s, const Run
   j["message"] = s.message;
   j["certificate"] = certificate_json(s.certificate);
   j["uniqueness_margin"] = number(s.uniqueness_margin);
+  j["uniqueness_roundoff"] = number(s.uniqueness_roundoff);
+  j["uniqueness"] = uniqueness_verdict(s.uniqueness_margin);
   j["may_be_nonunique"] = s.may_be_nonunique;
   j["held_by_contact"] = s.held_by_contact;
+  j["condition_estimate"] = number(s.condition_estimate);
   j["search"] = info.search;
   j["critical_points"] =
       s.minimizer ? critical_points_json(*s.minimizer, s.energy - s.minimizer->objective) : json::array();

@@ -1,6 +1,7 @@
 #include <hemivem/app/report.hpp>
 
 #include <hemivem/app/format.hpp>
+#include <hemivem/uniqueness.hpp>
 
 #include <iomanip>
 #include <map>
@@ -35,12 +36,20 @@ void status(std::ostream& out, const SceneSolve& solved, const RunInfo& info) {
                           : "  search        " + sol.message + "\n");
 }
 
+std::string uniqueness_text(const ContactSolution& sol) {
+  std::ostringstream out;
+  out << "lambda_min(S - alpha_j W) = " << sol.uniqueness_margin;
+  if (sol.uniqueness_margin == 0.0) out << " (|computed| <= round-off bound " << sol.uniqueness_roundoff << ")";
+  else if (sol.uniqueness_margin > 0) out << " > 0";
+  else if (sol.uniqueness_margin < 0) out << " < 0";
+  out << ": " << uniqueness_meaning(sol.uniqueness_margin);
+  return out.str();
+}
+
 void contact_zone(std::ostream& out, const Scene& scene, const ContactSolution& sol) {
   int upper = 0, lower = 0;
   for (const auto& c : sol.contact) upper += c.state == "upper", lower += c.state == "lower";
-  out << "  uniqueness    lambda_min(S - alpha_j W) = " << sol.uniqueness_margin
-      << (sol.uniqueness_margin > 0 ? " > 0: the solution is unique\n"
-                                    : " <= 0: several critical points are possible; this is one of them\n")
+  out << "  uniqueness    " << uniqueness_text(sol) << "\n"
       << "  contact       " << sol.contact.size() << " nodes: ";
   if (scene.contact && scene.contact->constraint == ConstraintKind::bilateral) {
     out << "u_nu = 0 (bilateral)\n";

@@ -7,6 +7,10 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <sstream>
 
 namespace hemivem::app {
 
@@ -89,8 +93,25 @@ SceneSolve solve_scene(const Scene& scene, const std::function<void(const BuiltP
   s.built = build_problem(scene);
   s.mesh_seconds = since(t);
   if (on_built) on_built(*s.built, s);
-  s.solution = solve_contact(s.built->problem, std::move(factorization), *minimizer, s.options, reduced);
+  const NonsmoothMinimizer* minimizers[] = {minimizer.get()};
+  s.solution = std::move(
+      solve_contact(s.built->problem, std::move(factorization), minimizers, s.options, reduced, true).front());
+  s.warnings = s.built->warnings;
+  if (std::string w = conditioning_warning(s.solution.condition_estimate); !w.empty()) s.warnings.push_back(std::move(w));
   return s;
+}
+
+std::string conditioning_warning(double condition) {
+  if (!(condition >= unreliable_condition)) return {};
+  const double digits = -std::log10(condition * std::numeric_limits<double>::epsilon());
+  std::ostringstream out;
+  out << std::setprecision(2) << "the estimated condition number of the factorized matrix is " << condition
+      << ": round-off alone may change the displacement in its "
+      << (digits >= 1.0 ? std::to_string(static_cast<int>(digits) + 1) + "th significant digit"
+                        : std::string("first significant digit"))
+      << " (relative error up to about cond * eps = " << condition * std::numeric_limits<double>::epsilon()
+      << "); elements with nearly coincident vertices or extreme material contrasts cause this";
+  return out.str();
 }
 
 std::vector<std::string> wanted_files(const Scene& scene, bool has_contact) {
@@ -125,7 +146,7 @@ RunInfo run_info(const Scene& scene, const SceneSolve& solved) {
   info.mesh_seconds = solved.mesh_seconds;
   info.dofs = solved.solution.unknowns;
   info.processes = solved.processes;
-  info.warnings = built.warnings;
+  info.warnings = solved.warnings;
   if (built.problem.law) info.law_breakpoints = built.problem.law->breakpoints();
   info.gap_bound = built.has_contact && (built.problem.constraint == ConstraintKind::one_sided ||
                                          built.problem.constraint == ConstraintKind::box);

@@ -1,4 +1,7 @@
 #include <hemivem/certificate.hpp>
+#include <hemivem/error.hpp>
+
+#include <charconv>
 
 #include <algorithm>
 #include <cmath>
@@ -6,6 +9,25 @@
 #include <vector>
 
 namespace hemivem {
+
+namespace {
+
+std::string shortest(double v) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
+
+}  // namespace
+
+std::string tolerance_problem(double tol) {
+  if (tol >= min_tolerance && tol <= max_tolerance) return {};
+  return "must be in [" + shortest(min_tolerance) + ", " + shortest(max_tolerance) + "], got " + shortest(tol);
+}
+
+void check_tolerance(double tol, const std::string& what, const std::string& where) {
+  if (const std::string why = tolerance_problem(tol); !why.empty()) throw InputError(what + ": " + why, where);
+}
 
 double balance(double r, Interval law, Interval reaction, double* zeta, double* lambda) {
   *zeta = law.nearest(-r);
@@ -15,6 +37,7 @@ double balance(double r, Interval law, Interval reaction, double* zeta, double* 
 
 CertifiedPoint certify(const ReducedProblem& p, const Eigen::VectorXd& a, double tol) {
   constexpr double inf = std::numeric_limits<double>::infinity();
+  check_tolerance(tol, "tolerance");
   CertifiedPoint out;
   out.certificate.tolerance = tol;
   const Eigen::Index n = p.size();

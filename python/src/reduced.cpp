@@ -18,6 +18,7 @@
 #include <hemivem/nonsmooth_backends.hpp>
 #include <hemivem/contact/piecewise_law.hpp>
 #include <hemivem/contact/reduced_io.hpp>
+#include <hemivem/uniqueness.hpp>
 
 namespace hemivem::python {
 
@@ -25,6 +26,12 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+std::string number_text(double v) {
+  std::ostringstream o;
+  o << std::setprecision(6) << v;
+  return o.str();
+}
 
 /// f applied to a number (a float back) or to an array-like (an array of the same shape back).
 template <class F>
@@ -282,7 +289,14 @@ referenced.
              ReducedProblem& p = h->own;
              p = ReducedProblem::uniform(std::move(matrix), std::move(cv), std::move(wv), law_from(law), kind, gv);
              check_sizes(p, "ReducedProblem");
-             p.uniqueness_margin = margin ? *margin : uniqueness_margin(p.S, p.w, p.laws.front()->alpha());
+             const UniquenessMargin m = measure_uniqueness(p);
+             if (margin && !margin_agrees(*margin, m))
+               throw InputError("given as " + number_text(*margin) + " but lambda_min(S - alpha_j W) = " +
+                                    number_text(m.margin) + " (round-off bound " + number_text(m.roundoff) +
+                                    "): a margin is computed, leave it out",
+                                "uniqueness_margin");
+             p.uniqueness_margin = m.margin;
+             p.uniqueness_roundoff = m.roundoff;
              return h;
            }),
            py::arg("S"), py::arg("c"), py::arg("w"), py::arg("g") = py::none(), py::kw_only(), py::arg("law") = "paper",
@@ -290,7 +304,8 @@ referenced.
            "A reduced problem from arrays: S (n, n) symmetric, c, w > 0, g >= 0 (needed by the\n"
            "box and one-sided constraints), a law (name or ContactLaw), constraint 'box',\n"
            "'one-sided' or 'none'. InputError naming the array and index of a non-finite entry.\n"
-           "The uniqueness margin lambda_min(S - alpha_j W) is computed unless given.")
+           "The uniqueness margin lambda_min(S - alpha_j W) is always computed (0 within round-off);\n"
+           "a uniqueness_margin given that disagrees with it is an InputError.")
       .def_static(
           "read",
           [](const std::filesystem::path& folder, py::object law) {
@@ -340,7 +355,13 @@ void define_reduced_arrays(ReducedClass& cls) {
       .def_property_readonly("constraint", [](const ReducedHolder& h) { return constraint_name(h.problem()); })
       .def_property_readonly("coordinatewise", [](const ReducedHolder& h) { return h.problem().coordinatewise(); })
       .def_property_readonly("uniqueness_margin", [](const ReducedHolder& h) { return h.problem().uniqueness_margin; },
-                             "lambda_min(S - diag(alpha_i w_i)): the critical point is unique when positive.")
+                             "lambda_min(S - diag(alpha_i w_i)), exactly 0 within round-off: the critical point\n"
+                             "is unique when positive; 0 means F is convex but not strongly convex along some\n"
+                             "direction (uniqueness not proved).")
+      .def_property_readonly("uniqueness_roundoff", [](const ReducedHolder& h) { return h.problem().uniqueness_roundoff; },
+                             "The round-off bound of uniqueness_margin: n eps (||S||_1 + max |alpha_i w_i|).")
+      .def_property_readonly("uniqueness", [](const ReducedHolder& h) { return uniqueness_verdict(h.problem().uniqueness_margin); },
+                             "'unique', 'zero', 'negative' or 'unknown' (the margin's verdict).")
       .def_property_readonly("size", [](const ReducedHolder& h) { return h.problem().size(); })
       .def("__len__", [](const ReducedHolder& h) { return h.problem().size(); });
 }
@@ -502,6 +523,7 @@ std::shared_ptr<MinimizerResult> minimize_reduced(std::shared_ptr<ReducedHolder>
   const ReducedProblem& p = reduced->problem();
   Eigen::VectorXd a0;
   if (!start.is_none()) a0 = vector_from(start, "start");
+  check_tolerance(tolerance, "tolerance");
   MinimizerOptions o;
   o.tolerance = tolerance;
   o.max_iterations = max_iterations;

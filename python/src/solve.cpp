@@ -11,7 +11,9 @@
 #include <limits>
 #include <sstream>
 
+#include <hemivem/certificate.hpp>
 #include <hemivem/error.hpp>
+#include <hemivem/uniqueness.hpp>
 #include <hemivem/scene/scene.hpp>
 
 #include <hemivem/app/outputs.hpp>
@@ -146,7 +148,13 @@ void def_result_outcome(ResultClass& c) {
                              },
                              "F(a) of the reduced problem (NaN without contact).")
       .def_property_readonly("uniqueness_margin", [](py::handle s) { return data(s).solved.solution.uniqueness_margin; },
-                             "lambda_min(S - alpha_j W) (inf without contact): the solution is unique when positive.")
+                             "lambda_min(S - alpha_j W) (inf without contact), exactly 0 within round-off: the\n"
+                             "solution is unique when positive; 0 means F is convex but not strongly convex along\n"
+                             "some direction (uniqueness not proved).")
+      .def_property_readonly("uniqueness_roundoff", [](py::handle s) { return data(s).solved.solution.uniqueness_roundoff; },
+                             "The round-off bound of uniqueness_margin (0 without contact).")
+      .def_property_readonly("uniqueness", [](py::handle s) { return uniqueness_verdict(data(s).solved.solution.uniqueness_margin); },
+                             "'unique', 'zero', 'negative' or 'unknown' (the margin's verdict).")
       .def_property_readonly("may_be_nonunique", [](py::handle s) { return data(s).solved.solution.may_be_nonunique; })
       .def_property_readonly(
           "held_by_contact", [](py::handle s) { return data(s).solved.solution.held_by_contact; },
@@ -179,7 +187,9 @@ void def_result_outcome(ResultClass& c) {
           "A global search's distinct certified critical points (CriticalPoint), lowest energy first\n"
           "(the solution is the first), with their potential energies: result.json's\n"
           "\"critical_points\". Empty for a local search.")
-      .def_property_readonly("warnings", [](py::handle s) { return data(s).solved.built->warnings; });
+      .def_property_readonly("warnings", [](py::handle s) { return data(s).solved.warnings; },
+                             "What the user should know (result.json's \"warnings\"): the scene's, and a\n"
+                             "condition number so large that round-off may spoil the displacement's digits.");
 }
 
 /// Result's fields: displacement, reduced point, contact table, history, mesh, scene.
@@ -340,7 +350,10 @@ std::vector<std::string> keyword_overrides(const SolveKeywords& k, const py::kwa
   std::vector<std::string> overrides;
   if (k.linear) overrides.push_back("solver.linear=" + toml_string(*k.linear));
   if (k.minimizer) overrides.push_back("solver.minimizer=" + toml_string(*k.minimizer));
-  if (k.tolerance) overrides.push_back("solver.tolerance=" + toml_float(*k.tolerance));
+  if (k.tolerance) {
+    check_tolerance(*k.tolerance, "tolerance");
+    overrides.push_back("solver.tolerance=" + toml_float(*k.tolerance));
+  }
   if (k.max_iterations) overrides.push_back("solver.max_iterations=" + std::to_string(*k.max_iterations));
   if (k.search) overrides.push_back("solver.search=" + toml_string(*k.search));
   if (k.max_starts) overrides.push_back("solver.max_starts=" + std::to_string(*k.max_starts));

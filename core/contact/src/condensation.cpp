@@ -182,20 +182,6 @@ SparseMatrix rotate_symmetric(const SparseMatrix& A_in, const std::vector<int>& 
 
 }  // namespace
 
-double uniqueness_margin(const Eigen::MatrixXd& S, const Eigen::VectorXd& w, double alpha) {
-  return uniqueness_margin(S, w, Eigen::VectorXd::Constant(w.size(), alpha));
-}
-
-double uniqueness_margin(const Eigen::MatrixXd& S, const Eigen::VectorXd& w, const Eigen::VectorXd& alpha) {
-  if (S.rows() == 0) return std::numeric_limits<double>::infinity();
-  for (Eigen::Index i = 0; i < alpha.size(); ++i)
-    if (std::isinf(alpha(i))) return -std::numeric_limits<double>::infinity();
-  Eigen::MatrixXd M = S;
-  M.diagonal() -= alpha.cwiseProduct(w);
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(M, Eigen::EigenvaluesOnly);
-  return eig.eigenvalues()(0);
-}
-
 Condensation::Condensation(const LinearSystem& system, const ContactBoundary& boundary,
                            std::unique_ptr<SparseFactorization> factorization, std::shared_ptr<const ContactLaw> law,
                            ConstraintKind constraint, std::shared_ptr<const ContactLaw> friction,
@@ -386,9 +372,9 @@ void Condensation::condense_load(const SparseMatrix& At, const Eigen::VectorXd& 
     if (!split) reduced_.c = b1 - A21_.transpose() * y.col(0);
     if (!has_normal_) reduced_.c = reduced_.c.tail(static_cast<Eigen::Index>(normals_.size())).eval();
     if (law_from_surface_) reduced_.c -= reduced_.S * origin_;
-    margin_ = hemivem::uniqueness_margin(reduced_.S, reduced_.w, reduced_.alphas());
+    set_uniqueness_margin(reduced_);
+    margin_ = reduced_.uniqueness_margin;
   });
-  reduced_.uniqueness_margin = margin_;
 }
 
 void Condensation::extract_a21(const SparseMatrix& At) {

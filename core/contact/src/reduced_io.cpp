@@ -2,6 +2,7 @@
 #include <hemivem/error.hpp>
 #include <hemivem/contact/piecewise_law.hpp>
 #include <hemivem/contact/reduced_io.hpp>
+#include <hemivem/uniqueness.hpp>
 
 #include <charconv>
 #include <cmath>
@@ -270,6 +271,7 @@ struct ProblemHeader {
   long laws = 1;
   ConstraintKind constraint = ConstraintKind::box;
   double uniqueness_margin = std::numeric_limits<double>::quiet_NaN();
+  std::string margin_where;  // file:line of the margin, when given
 };
 
 ProblemHeader read_problem_header(const fs::path& file) {
@@ -303,6 +305,7 @@ ProblemHeader read_problem_header(const fs::path& file) {
     } else if (key == "uniqueness_margin") {
       h.uniqueness_margin = l.tokens[1] == "-inf" ? -std::numeric_limits<double>::infinity()
                                                   : number(l.tokens[1], file, l.number, "margin");
+      h.margin_where = where;
     } else {
       throw InputError("unknown key '" + key + "'; expected format, form, laws, constraint or uniqueness_margin", where);
     }
@@ -335,6 +338,20 @@ void read_coordinates(const fs::path& file, Eigen::Index n, long laws, ReducedPr
   }
 }
 
+/// The margin of p, computed. A margin in problem.txt must be that of the problem as read (an
+/// InputError at its line otherwise); with a replaced law it belongs to another law and is
+/// not used.
+void settle_margin(ReducedProblem& p, const ProblemHeader& h, bool replaced_law) {
+  const UniquenessMargin m = measure_uniqueness(p);
+  if (!replaced_law && !std::isnan(h.uniqueness_margin) && !margin_agrees(h.uniqueness_margin, m))
+    throw InputError("uniqueness_margin " + shortest(h.uniqueness_margin) + " is not the margin of this problem: " +
+                         "lambda_min(S - alpha_j W) = " + shortest(m.margin) + " (round-off bound " +
+                         shortest(m.roundoff) + ")",
+                     h.margin_where);
+  p.uniqueness_margin = m.margin;
+  p.uniqueness_roundoff = m.roundoff;
+}
+
 }  // namespace
 
 ReducedProblem read_reduced_problem(const fs::path& folder, std::shared_ptr<const ContactLaw> law) {
@@ -357,12 +374,13 @@ ReducedProblem read_reduced_problem(const fs::path& folder, std::shared_ptr<cons
   for (Eigen::Index i = 0; i < n; ++i) {
     if (!(p.w(i) > 0.0)) throw InputError("weight " + shortest(p.w(i)) + " must be > 0", (folder / "w.txt").string() + ": entry " + std::to_string(i + 1));
   }
+  const bool replaced_law = law != nullptr;
   if (!law) law = read_law(folder / "law.txt");
   if (h.coordinatewise) {
     p.laws.push_back(std::move(law));
     for (long k = 1; k < h.laws; ++k) p.laws.push_back(read_law(folder / law_file_name(static_cast<int>(k))));
     read_coordinates(folder / "coordinates.txt", n, h.laws, &p);
-    p.uniqueness_margin = h.uniqueness_margin;
+    settle_margin(p, h, replaced_law);
     return p;
   }
   // negative gaps (an obstacle pressed in) and +inf (a node that cannot touch it) bound a_i <= g_i
@@ -373,7 +391,7 @@ ReducedProblem read_reduced_problem(const fs::path& folder, std::shared_ptr<cons
         throw InputError("gap " + shortest(g(i)) + " must be finite and >= 0 with the box constraint",
                          (folder / "g.txt").string() + ": entry " + std::to_string(i + 1));
   p = ReducedProblem::uniform(std::move(p.S), std::move(p.c), std::move(p.w), std::move(law), h.constraint, g);
-  p.uniqueness_margin = h.uniqueness_margin;
+  settle_margin(p, h, replaced_law);
   return p;
 }
 

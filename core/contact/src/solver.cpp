@@ -207,6 +207,7 @@ void ContactSolver::condense() {
   common_.timings["condensation"] = since(t);
   common_.stages.push_back("condensation");
   common_.uniqueness_margin = condensation_->uniqueness_margin();
+  common_.uniqueness_roundoff = condensation_->reduced().uniqueness_roundoff;
   if (estimate_condition_) {
     common_.rcond = rcond_or_nan(condensation_->factorization());
     common_.condition_estimate = condensation_->condition_estimate();

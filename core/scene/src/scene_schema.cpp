@@ -8,6 +8,7 @@
 #include <set>
 #include <sstream>
 
+#include <hemivem/certificate.hpp>
 #include <hemivem/engine_names.hpp>
 #include <hemivem/mesh/generators.hpp>
 #include <hemivem/contact/piecewise_law.hpp>
@@ -503,7 +504,7 @@ void read_solver(Scene& s, const toml::table& t) {
     s.solver.minimizer = *x;
   }
   if (auto x = v.number("tolerance")) {
-    if (!(*x > 0.0 && *x < 1.0)) v.fail("tolerance", v.node("tolerance"), "must be in (0, 1), got " + fmt(*x));
+    if (const std::string why = tolerance_problem(*x); !why.empty()) v.fail("tolerance", v.node("tolerance"), why);
     s.solver.tolerance = *x;
   }
   // an integer key in [lo, hi]

@@ -27,6 +27,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <string>
 
 #include <hemivem/reduced_problem.hpp>
 
@@ -45,6 +46,20 @@ struct Certificate {
   double worst() const noexcept { return std::max(primal, dual); }
 };
 
+/// The range of tolerances the certificate accepts, [min_tolerance, max_tolerance]
+/// (docs/reference/certificate.md says why): above 1e-2 "converged" would certify residuals of
+/// more than a percent of the forces and snap coordinates by more than a percent of the length
+/// scale; below it every positive normal number is accepted (a tolerance under round-off is
+/// never reached, and the engines then report stalled, which is true).
+inline constexpr double min_tolerance = 1e-300;
+inline constexpr double max_tolerance = 1e-2;
+
+/// Empty when tol lies in [min_tolerance, max_tolerance]; otherwise what is wrong with it
+/// ("must be in [1e-300, 0.01], got 0.5"), for a message that names the key, flag or argument.
+std::string tolerance_problem(double tol);
+/// InputError "`what`: must be in [...], got X" (where `where`) unless tol is in range.
+void check_tolerance(double tol, const std::string& what, const std::string& where = {});
+
 /// The smallest force scale: it only keeps 0 / 0 out of the dual residual, so that a problem
 /// whose forces all vanish (c = 0, a = 0) is solved.
 inline constexpr double force_floor = std::numeric_limits<double>::min();
@@ -62,7 +77,8 @@ struct CertifiedPoint {
 double balance(double r, Interval law, Interval reaction, double* zeta, double* lambda);
 
 /// The certificate of `a` for `p` at tolerance `tol` (steps 1 to 4 above). A point of the wrong
-/// size or with a non-finite entry, or a problem without laws, gets infinite residuals.
+/// size or with a non-finite entry, or a problem without laws, gets infinite residuals. A
+/// tolerance outside [min_tolerance, max_tolerance] is an InputError naming "tolerance".
 CertifiedPoint certify(const ReducedProblem& p, const Eigen::VectorXd& a, double tol);
 
 /// The numbers only.

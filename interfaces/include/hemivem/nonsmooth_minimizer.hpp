@@ -64,7 +64,10 @@ struct MinimizerOptions {
   int verbosity = 0;  ///< forwarded to engines that print; hemivem itself never prints
 
   bool is_valid(std::string* error) const {
-    if (!(tolerance > 0.0 && tolerance < 1.0)) return invalid_field(error, "tolerance", "in (0, 1)", tolerance);
+    if (const std::string why = tolerance_problem(tolerance); !why.empty()) {
+      if (error) *error = "tolerance: " + why;
+      return false;
+    }
     if (max_iterations < 0) return invalid_field(error, "max_iterations", ">= 0", max_iterations);
     if (max_evaluations < 1) return invalid_field(error, "max_evaluations", ">= 1", max_evaluations);
     if (verbosity < 0) return invalid_field(error, "verbosity", ">= 0", verbosity);

@@ -63,9 +63,12 @@ struct ReducedProblem {
   Eigen::VectorXi law_index;
   Eigen::VectorXd lo, hi;
   /// lambda_min(S - diag(alpha_i w_i)), alpha_i the curvature bound of coordinate i's law, set
-  /// by whoever builds the problem (NaN: unknown). F is strongly convex, and its critical point
-  /// unique, when it is positive.
+  /// by whoever builds the problem (NaN: unknown), as measure_uniqueness()
+  /// (hemivem/uniqueness.hpp) reports it: exactly 0 within round-off. F is strongly convex, and
+  /// its critical point unique, when it is positive.
   double uniqueness_margin = std::numeric_limits<double>::quiet_NaN();
+  /// The round-off bound of that margin (UniquenessMargin::roundoff; NaN: unknown).
+  double uniqueness_roundoff = std::numeric_limits<double>::quiet_NaN();
 
   /// Every coordinate with `law` and the bounds of `constraint` and the gaps g (g is read for
   /// one-sided and box only and may be empty otherwise). The sizes are not checked here

@@ -50,11 +50,24 @@ struct SceneSolve {
   double mesh_seconds = 0.0;     ///< wall time of build_problem (mesh, materials, boundary parts)
   bool holds_results = true;     ///< false on the ranks > 0 of mumps-mpi under mpirun: no results there
   int processes = 1;             ///< the processes the linear engine runs on
+  /// What the user should know: the scene's warnings (BuiltProblem::warnings), then the
+  /// solve's (conditioning_warning).
+  std::vector<std::string> warnings;
   double total_seconds() const;  ///< mesh_seconds + the solve's total
 };
 
+/// The estimated condition number above which the displacement's digits are unreliable:
+/// cond * eps > 1e-6, i.e. fewer than about six significant digits can be trusted.
+inline constexpr double unreliable_condition = 1e-6 / 2.220446049250313e-16;
+
+/// A warning when `condition` (ContactSolution::condition_estimate, the engine-independent
+/// estimate of the factorized matrix's 1-norm condition number) is at least
+/// unreliable_condition; empty otherwise (also for NaN).
+std::string conditioning_warning(double condition);
+
 /// Creates the engines (an unknown or unbuilt name is an InputError before any work), builds
-/// the problem and solves it. `on_built` (optional) is called between building and solving;
+/// the problem and solves it, with the condition estimate (ContactSolution::condition_estimate)
+/// and the warnings (SceneSolve::warnings). `on_built` (optional) is called between building and solving;
 /// `callback` becomes MinimizerOptions::callback; `reduced`, when not null, receives the
 /// reduced problem.
 SceneSolve solve_scene(const Scene& scene,

@@ -13,6 +13,7 @@
 #include <hemivem/contact/obstacle.hpp>
 #include <hemivem/reduced_problem.hpp>
 #include <hemivem/sparse_factorization.hpp>
+#include <hemivem/uniqueness.hpp>
 
 namespace hemivem {
 
@@ -88,8 +89,9 @@ class Condensation {
   /// Per reduced coordinate, the normal displacement where it is 0: g_i for the normal
   /// unknowns with law_from_surface, else 0 (so u_nu = a + origin).
   const Eigen::VectorXd& origin() const noexcept { return origin_; }
-  /// lambda_min(S - diag(alpha_i w_i)): F is strongly convex when positive; -inf for a law
-  /// with a concave kink.
+  /// lambda_min(S - diag(alpha_i w_i)) as measure_uniqueness() reports it (hemivem/uniqueness.hpp:
+  /// exactly 0 within round-off): F is strongly convex when positive; -inf for a law with a
+  /// concave kink. reduced().uniqueness_roundoff is its round-off bound.
   double uniqueness_margin() const noexcept { return margin_; }
   /// The coordinate of the reduced problem that is contact node i's normal (tangential)
   /// displacement, or -1 when it is not an unknown (bilateral; frictionless).
@@ -140,10 +142,5 @@ class Condensation {
   double a22_norm1_ = 0.0;        // ||A22||_1
   Eigen::VectorXd b2_;
 };
-
-/// lambda_min(S - alpha W) for a dense symmetric S and weights w; -inf when alpha is +inf.
-double uniqueness_margin(const Eigen::MatrixXd& S, const Eigen::VectorXd& w, double alpha);
-/// lambda_min(S - diag(alpha_i w_i)) with a curvature bound per coordinate; -inf when one is +inf.
-double uniqueness_margin(const Eigen::MatrixXd& S, const Eigen::VectorXd& w, const Eigen::VectorXd& alpha);
 
 }  // namespace hemivem

@@ -40,6 +40,10 @@ void write_reduced_problem(const std::filesystem::path& folder, const ReducedPro
 /// when given, replaces law.txt (law 0; the file may then be absent). Throws InputError naming the
 /// file and line of any defect (sizes that disagree, non-finite numbers, an S that is not
 /// square or not symmetric to 1e-12 relative, negative gaps, non-positive weights).
+/// The uniqueness margin is always computed from the problem as read (measure_uniqueness,
+/// hemivem/uniqueness.hpp); a "uniqueness_margin" in problem.txt that disagrees with it (beyond
+/// its round-off bound) is an InputError at its line. With `law` given the file's margin
+/// belongs to another law and is ignored.
 ReducedProblem read_reduced_problem(const std::filesystem::path& folder,
                                     std::shared_ptr<const ContactLaw> law = nullptr);
 

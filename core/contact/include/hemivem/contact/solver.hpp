@@ -70,11 +70,15 @@ struct ContactSolution {
   /// minimizer runs) and on the processes of an engine across processes that do not hold
   /// the results.
   std::optional<MinimizerResult> minimizer;
+  /// lambda_min(S - alpha_j W) as measure_uniqueness() reports it (hemivem/uniqueness.hpp):
+  /// exactly 0 within round-off; +inf without contact.
   double uniqueness_margin = std::numeric_limits<double>::infinity();
   /// The rigid motions the Dirichlet conditions leave free, in words (a basis); each is held
   /// by the contact alone (hemivem/contact/supports.hpp: a motion that nothing holds is refused
   /// before anything is factorized). Empty when the supports hold the body.
   std::vector<std::string> held_by_contact;
+  /// The round-off bound of that margin (0 without contact; NaN where unknown).
+  double uniqueness_roundoff = 0.0;
   double energy = 0.0;                  ///< potential energy 1/2 u^T A u - b^T u + sum_i w_i j(u_nu,i) (free dofs)
   /// Reciprocal condition estimate of the matrix the engine factorized (A22 with contact, A
   /// without), where the engine offers one (SparseFactorization::rcond_estimate); NaN
