@@ -124,6 +124,22 @@ TEST_P(LinearConformance, SchurComplementMatchesDenseReference) {
   }
 }
 
+// Every engine answers a matrix whose entries are all tiny or all huge as it answers the same
+// matrix at unit scale: no absolute pivot threshold may decide (a matrix scaled by 1e-16 once
+// came back from MUMPS wrongly factorized and reported as a success).
+TEST_P(LinearConformance, SolvesAndSchurComplementsDoNotDependOnTheScale) {
+  for (const double scale : {1e-200, 1e-100, 1e-16, 1e16, 1e100, 1e200}) {
+    SCOPED_TRACE("scale " + std::to_string(scale));
+    const SparseMatrix A = SparseMatrix(random_spd(40, 3) * scale);
+    auto f = make();
+    expect_solves_match_dense_reference(*f, A, 3);
+    if (HasFatalFailure()) return;
+    auto g = make();
+    expect_schur_complement_matches_dense_reference(*g, A, random_block(40, 8, 3), 3);
+    if (HasFatalFailure()) return;
+  }
+}
+
 /// The 5-point Laplacian of an m x m grid plus the identity: a matrix whose factor has large
 /// supernodes, as a contact problem's has.
 SparseMatrix grid_laplacian(int m) {

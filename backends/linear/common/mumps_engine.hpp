@@ -152,7 +152,7 @@ class MumpsEngine {
       r = run_solve(R, nrhs, /*error_analysis=*/false);
       if (!r.ok()) return r;
     }
-    if (comm_.is_root()) *X = std::move(R);
+    if (comm_.is_root()) *X = std::move(R) * scaled(-exponent_);
     return r;
   }
 
@@ -202,7 +202,7 @@ class MumpsEngine {
       Eigen::Map<const Eigen::MatrixXd> raw(schur_.data(), m, m);
       Eigen::MatrixXd full = raw.template selfadjointView<Eigen::Upper>();
       r = check_schur_definite(full);
-      if (r.ok()) *S = std::move(full);
+      if (r.ok()) *S = std::move(full) * scaled(exponent_);
     } else if (n1 == 0 && comm_.is_root()) {
       S->resize(0, 0);
     }
@@ -243,6 +243,7 @@ class MumpsEngine {
     r = run_solve(R, nrhs, /*error_analysis=*/false);
     if (!r.ok()) return r;
     if (comm_.is_root()) {
+      R *= scaled(-exponent_);
       if (n1_ == 0) {
         *X2 = std::move(R);
       } else {
@@ -334,10 +335,24 @@ class MumpsEngine {
     values_.assign(positions_.size(), 0.0);
   }
 
+  // The values handed to MUMPS are A scaled by a power of two, 2^-exponent_, that brings its
+  // largest entry to [1, 2): MUMPS' pivot thresholds are absolute, and a matrix whose entries
+  // are all around 1e-16 was factorized wrongly without a word. The scaling is exact; solve()
+  // and solve_interior() multiply their results by 2^-exponent_ and the Schur complement by
+  // 2^exponent_.
   void gather_values(const SparseMatrix& A) {
     values_.resize(positions_.size());
-    for (std::size_t k = 0; k < positions_.size(); ++k) values_[k] = A.valuePtr()[positions_[k]];
+    double largest = 0.0;
+    for (std::size_t k = 0; k < positions_.size(); ++k) {
+      values_[k] = A.valuePtr()[positions_[k]];
+      largest = std::max(largest, std::abs(values_[k]));
+    }
+    exponent_ = largest > 0.0 && std::isfinite(largest) ? std::ilogb(largest) : 0;
+    if (exponent_ != 0)
+      for (double& v : values_) v = std::ldexp(v, -exponent_);
   }
+  /// 2^e for the exponent of the last gathered values.
+  double scaled(int e) const { return std::ldexp(1.0, e); }
 
   // ---- MUMPS phases (collective) --------------------------------------------------------
 
@@ -556,6 +571,7 @@ class MumpsEngine {
   std::vector<MUMPS_INT> irn_, jcn_;     // its lower triangle, 1-based
   std::vector<int> positions_;           // where those entries sit in A's value array
   std::vector<double> values_;
+  int exponent_ = 0;  // the values handed to MUMPS are 2^-exponent_ A
   std::vector<int> block1_;              // Schur indices of the last Schur analysis
   std::vector<MUMPS_INT> listvar_;
   BlockSplit split_;                     // block1 and its complement (block2) of the last schur_complement()
