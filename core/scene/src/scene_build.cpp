@@ -216,7 +216,8 @@ class EdgeSelection {
   std::vector<int> operator()(const BoundarySelector& b, const std::string& key) const {
     std::vector<Segment> segs;
     for (const auto& side : b.sides) segs.push_back(rectangle_side(box_, side, b.tolerance));
-    for (const auto& s : b.segments) segs.push_back(Segment{Vec2(s[0], s[1]), Vec2(s[2], s[3]), b.tolerance});
+    const double size = std::max(box_.width(), box_.height());
+    for (const auto& s : b.segments) segs.push_back(Segment{Vec2(s[0], s[1]), Vec2(s[2], s[3]), b.tolerance * size});
     std::vector<int> edges;
     if (!segs.empty()) edges = select_boundary_edges(mesh_, segs);
     for (const auto& g : b.groups) {
