@@ -121,11 +121,12 @@ std::unique_ptr<BuiltProblem> build_problem(const Scene& scene) {
     if (ext == ".msh") mesh = read_gmsh(scene.mesh.file);
     else if (ext == ".poly2d") mesh = read_poly2d(scene.mesh.file).mesh;
     else throw InputError("mesh.file: unknown mesh format; expected .poly2d or .msh", scene.where("mesh.file"));
-    double corners = 0.0;
-    for (int e = 0; e < mesh.num_elements(); ++e) corners += static_cast<double>(mesh.element(e).size());
-    const MemoryEstimate need =
-        estimate_memory(mesh.num_vertices(), mesh.num_elements() ? corners / mesh.num_elements() : 4.0);
-    require_memory(need.solve_bytes, scene.mesh.file.string() + ": " + count_text(need.vertices) + " vertices",
+    const MemoryEstimate need = estimate_memory(mesh);
+    int largest = 0;
+    for (int e = 0; e < mesh.num_elements(); ++e) largest = std::max(largest, mesh.element_size(e));
+    require_memory(need.solve_bytes,
+                   scene.mesh.file.string() + ": " + count_text(need.vertices) + " vertices, elements of up to " +
+                       std::to_string(largest) + " vertices",
                    scene.where("mesh.file"));
   } else {
     const auto& d = scene.mesh.domain;
