@@ -3,6 +3,7 @@
 #include <hemivem/error.hpp>
 #include <hemivem/linear_backends.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
+#include <hemivem/scene/resources.hpp>
 #include <hemivem/scene/scene.hpp>
 
 #include <nlohmann/json.hpp>
@@ -324,6 +325,13 @@ int run_bench(const BenchOptions& o, std::ostream& out, std::ostream& err) {
   // Every size is validated (a scene reading a mesh file refuses mesh.n) before any work.
   std::vector<Scene> scenes;
   for (int n : o.n) scenes.push_back(at_size(base, n));
+  // Every size must fit in memory before any work, the reference included.
+  for (const Scene& s : scenes)
+    if (s.mesh.file.empty()) {
+      const GridSize cells = s.mesh.cells();
+      require_memory(estimate_memory(s.mesh.generator, cells.nx, cells.ny).solve_bytes,
+                     s.mesh.generator + " n = " + cells.text(), "--n");
+    }
   const bool squares = base.mesh.file.empty() && base.mesh.generator == "squares";
   const std::vector<Pair> pairs = available_pairs();
   fs::create_directories(o.out);

@@ -179,6 +179,13 @@ std::string solve_title(const std::string& what, const RunInfo& info) {
     return r;
   };
   std::string second = without_folders(info.scene_name);
+  // a long title is cut (at a character boundary of UTF-8): gnuplot takes minutes over megabytes
+  constexpr std::size_t kMaxTitle = 160;
+  if (second.size() > kMaxTitle) {
+    std::size_t cut = kMaxTitle;
+    while (cut > 0 && (static_cast<unsigned char>(second[cut]) & 0xC0) == 0x80) --cut;
+    second = second.substr(0, cut) + "...";
+  }
   if (!info.mesh.empty()) second += (second.empty() ? "" : ", ") + without_folders(info.mesh);
   return "\"" + escaped(what) + (second.empty() ? "" : "\\n" + escaped(second)) + "\"";
 }

@@ -2,15 +2,24 @@
 #include <hemivem/mesh/boundary.hpp>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 namespace hemivem {
 
 bool Segment::contains(const Vec2& p) const {
+  // Round-off of the coordinates themselves: a point closer than that counts as on the segment.
+  const double magnitude = std::max({a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff(), p.cwiseAbs().maxCoeff()});
+  const double tol = std::max(tolerance, 16.0 * std::numeric_limits<double>::epsilon() * magnitude);
   const Vec2 d = b - a;
+  const Vec2 pa = p - a;
   const double len2 = d.squaredNorm();
-  if (len2 == 0.0) return (p - a).norm() <= tolerance;
-  const double t = std::clamp((p - a).dot(d) / len2, 0.0, 1.0);
-  return (p - (a + t * d)).norm() <= tolerance;
+  if (len2 == 0.0) return pa.norm() <= tol;
+  const double t = pa.dot(d) / len2;
+  if (t <= 0.0) return pa.norm() <= tol;
+  if (t >= 1.0) return (p - b).norm() <= tol;
+  // the distance to the line from the cross product: exact for points on an axis-parallel side
+  return std::abs(d.x() * pa.y() - d.y() * pa.x()) <= tol * std::sqrt(len2);
 }
 
 std::vector<int> select_boundary_edges(const Mesh& mesh, const std::function<bool(const Vec2&, const Vec2&)>& keep) {
@@ -38,7 +47,8 @@ std::vector<int> select_boundary_edges(const Mesh& mesh, const std::string& grou
   return edges;
 }
 
-Segment rectangle_side(const Rectangle& r, const std::string& side, double tolerance) {
+Segment rectangle_side(const Rectangle& r, const std::string& side, double relative_tolerance) {
+  const double tolerance = relative_tolerance * std::max(r.width(), r.height());
   if (side == "left") return {{r.x0, r.y0}, {r.x0, r.y1}, tolerance};
   if (side == "right") return {{r.x1, r.y0}, {r.x1, r.y1}, tolerance};
   if (side == "bottom") return {{r.x0, r.y0}, {r.x1, r.y0}, tolerance};

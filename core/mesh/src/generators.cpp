@@ -438,6 +438,27 @@ void check_voronoi_options(const VoronoiOptions& options) {
 
 }  // namespace
 
+namespace {
+
+/// The power of two k such that a domain of this size, divided by 2^k, is about unit size;
+/// 0 when CGAL meshes the domain as it is. Delaunay predicates and constructions raise
+/// coordinates to the fourth power: beyond about 1e70 they overflow, below about 1e-70 they
+/// underflow. Scaling by a power of two is exact, so the mesh in scaled coordinates maps back
+/// to the one the generator would make in exact range, sides and corners exactly in place.
+int unit_scale_exponent(double size, double magnitude) {
+  if (size >= 1e-30 && magnitude <= 1e30) return 0;
+  return std::ilogb(size);
+}
+
+/// The mesh with every coordinate multiplied by 2^k (exact), its regions kept.
+Mesh scaled_mesh(const Mesh& m, int k) {
+  std::vector<Vec2> vertices = m.vertices();
+  for (auto& v : vertices) v = Vec2(std::ldexp(v.x(), k), std::ldexp(v.y(), k));
+  return Mesh(std::move(vertices), m.elements(), m.regions());
+}
+
+}  // namespace
+
 std::string GridSize::text() const {
   return nx == ny ? std::to_string(nx) : "[" + std::to_string(nx) + ", " + std::to_string(ny) + "]";
 }
@@ -466,6 +487,13 @@ Mesh make_voronoi(GridSize n, const Rectangle& domain, const VoronoiOptions& opt
   check_n("voronoi mesh", n);
   check_domain("voronoi mesh", domain, n);
   check_voronoi_options(options);
+  if (const int k = unit_scale_exponent(std::max(domain.width(), domain.height()),
+                                        std::max({std::abs(domain.x0), std::abs(domain.x1), std::abs(domain.y0),
+                                                  std::abs(domain.y1)}))) {
+    const Rectangle unit{std::ldexp(domain.x0, -k), std::ldexp(domain.x1, -k), std::ldexp(domain.y0, -k),
+                         std::ldexp(domain.y1, -k)};
+    return scaled_mesh(make_voronoi(n, unit, options), k);
+  }
 
   const std::size_t ns = static_cast<std::size_t>(n.nx) * static_cast<std::size_t>(n.ny);
   const double spacing = std::sqrt(domain.width() * domain.height() / static_cast<double>(ns));
@@ -814,6 +842,68 @@ bool strictly_inside(const CGAL::Polygon_2<Kernel>& poly, const Vec2& p) {
   return poly.bounded_side(Kernel::Point_2(p.x(), p.y())) == CGAL::ON_BOUNDED_SIDE;
 }
 
+/// The polygon divided by 2^k (exact): corners, box, area and tolerance.
+CheckedPolygon scaled_polygon(const CheckedPolygon& d, int k) {
+  CheckedPolygon out = d;
+  for (auto& p : out.corners) p = Vec2(std::ldexp(p.x(), -k), std::ldexp(p.y(), -k));
+  out.box = Rectangle{std::ldexp(d.box.x0, -k), std::ldexp(d.box.x1, -k), std::ldexp(d.box.y0, -k),
+                      std::ldexp(d.box.y1, -k)};
+  out.area = std::ldexp(d.area, -2 * k);
+  out.tol = std::ldexp(d.tol, -k);
+  return out;
+}
+
+/// A polygon generator run in coordinates where CGAL is exact in range (unit_scale_exponent),
+/// the mesh mapped back and its boundary edges named after the polygon's edges.
+template <class Generate>
+Mesh in_unit_coordinates(const PolygonDomain& domain, const CheckedPolygon& dom, Generate generate) {
+  const Rectangle& b = dom.box;
+  const int k = unit_scale_exponent(std::max(b.width(), b.height()),
+                                    std::max({std::abs(b.x0), std::abs(b.x1), std::abs(b.y0), std::abs(b.y1)}));
+  Mesh mesh = k == 0 ? generate(dom, 0) : scaled_mesh(generate(scaled_polygon(dom, k), k), k);
+  name_polygon_edges(mesh, domain.corners, dom.tol);
+  return mesh;
+}
+
+/// The narrowest feature of a polygon as its constrained triangulation sees it: the shortest
+/// distance from a vertex of a face to the face's opposite edge where that edge is a polygon
+/// edge (a corner close to an edge it does not end on: a thin spike, slit or neck).
+struct Feature {
+  double width = std::numeric_limits<double>::infinity();
+  Vec2 corner = Vec2::Zero(), a = Vec2::Zero(), b = Vec2::Zero();  ///< the corner, the edge a-b
+};
+
+template <class Cdt>
+Feature narrowest_feature(const Cdt& cdt) {
+  auto at = [](const auto& v) { return Vec2(v->point().x(), v->point().y()); };
+  Feature out;
+  for (auto f : cdt.finite_face_handles())
+    for (int i = 0; i < 3; ++i) {
+      if (!f->is_constrained(i)) continue;
+      const Vec2 p = at(f->vertex(i)), a = at(f->vertex(Cdt::ccw(i))), b = at(f->vertex(Cdt::cw(i)));
+      const Vec2 d = b - a;
+      const double t = (p - a).dot(d) / d.squaredNorm();
+      const double w = t <= 0.0   ? (p - a).norm()
+                       : t >= 1.0 ? (p - b).norm()
+                                  : std::abs(d.x() * (p - a).y() - d.y() * (p - a).x()) / d.norm();
+      if (w < out.width) out = Feature{w, p, a, b};
+    }
+  return out;
+}
+
+/// Narrowest feature accepted, in units of the triangles' size bound: below it a Delaunay
+/// refiner needs about (length of the feature) / (its width) triangles to keep its angles.
+constexpr double kMinFeatureFraction = 1e-3;
+/// Triangles the refiner may make for n: 16 n^2 + 4096 (a polygon gives about 2 n^2).
+std::size_t triangle_budget(int n) { return 16 * static_cast<std::size_t>(n) * static_cast<std::size_t>(n) + 4096; }
+
+std::string feature_text(const Feature& f, int k) {
+  auto back = [k](const Vec2& p) { return Vec2(std::ldexp(p.x(), k), std::ldexp(p.y(), k)); };
+  return "a feature of width " + fmt(std::ldexp(f.width, k)) + " at " + point_text(back(f.corner)) +
+         " (that corner is this close to the polygon edge from " + point_text(back(f.a)) + " to " +
+         point_text(back(f.b)) + ")";
+}
+
 }  // namespace
 
 std::string polygon_domain_defect(const PolygonDomain& d) {
@@ -837,9 +927,11 @@ std::string polygon_domain_defect(const PolygonDomain& d) {
   return {};
 }
 
-Mesh make_triangles(int n, const PolygonDomain& domain) {
-  check_n("triangles mesh", n);
-  const CheckedPolygon dom = check_polygon("triangles mesh", domain, n);
+namespace {
+
+/// Triangles in a checked polygon; k: the power of two its coordinates were divided by, for
+/// messages.
+Mesh triangulate_polygon(int n, const CheckedPolygon& dom, int k) {
   using MeshVertexBase = CGAL::Delaunay_mesh_vertex_base_2<Kernel>;
   using MeshFaceBase = CGAL::Delaunay_mesh_face_base_2<Kernel>;
   using MeshTds = CGAL::Triangulation_data_structure_2<MeshVertexBase, MeshFaceBase>;
@@ -850,7 +942,23 @@ Mesh make_triangles(int n, const PolygonDomain& domain) {
   for (const auto& p : dom.corners) corner.push_back(cdt.insert(Cdt::Point(p.x(), p.y())));
   for (std::size_t k = 0; k < corner.size(); ++k) cdt.insert_constraint(corner[k], corner[(k + 1) % corner.size()]);
   // Longest edges at most 1.5 sqrt(area)/n: about 2 n^2 triangles, as on a rectangle.
-  CGAL::refine_Delaunay_mesh_2(cdt, Criteria(0.125, kTriangleEdgeFactor * std::sqrt(dom.area) / n));
+  const double size = kTriangleEdgeFactor * std::sqrt(dom.area) / n;
+  const Feature narrowest = narrowest_feature(cdt);
+  if (narrowest.width < kMinFeatureFraction * size) {
+    throw InputError("triangles mesh: the polygon domain has " + feature_text(narrowest, k) + ", narrower than " +
+                     fmt(kMinFeatureFraction) + " of the triangles' size " + fmt(std::ldexp(size, k)) +
+                     " at n = " + std::to_string(n) + "; widen it");
+  }
+  CGAL::Delaunay_mesher_2<Cdt, Criteria> mesher(cdt, Criteria(0.125, size));
+  mesher.init();
+  const std::size_t budget = triangle_budget(n);
+  for (std::size_t steps = 0; !mesher.is_refinement_done(); ++steps) {
+    mesher.try_one_step_refine_mesh();
+    if (cdt.number_of_faces() > budget || steps > 4 * budget)
+      throw InputError("triangles mesh: the polygon domain needs more than " + std::to_string(budget) +
+                       " triangles at n = " + std::to_string(n) + " (16 n^2 + 4096) to keep their angles; its "
+                       "narrowest part is " + feature_text(narrowest, k) + "; widen it");
+  }
 
   std::vector<std::array<Vec2, 3>> faces;
   std::vector<Vec2> centroids;
@@ -876,15 +984,22 @@ Mesh make_triangles(int n, const PolygonDomain& domain) {
     }
     elements.push_back(std::move(el));
   }
-  Mesh mesh(std::move(vertices), std::move(elements));
-  name_polygon_edges(mesh, domain.corners, dom.tol);
-  return mesh;
+  return Mesh(std::move(vertices), std::move(elements));
 }
 
-Mesh make_voronoi(int n, const PolygonDomain& domain, const VoronoiOptions& options) {
-  check_n("voronoi mesh", n);
-  const CheckedPolygon dom = check_polygon("voronoi mesh", domain, n);
-  check_voronoi_options(options);
+}  // namespace
+
+Mesh make_triangles(int n, const PolygonDomain& domain) {
+  check_n("triangles mesh", n);
+  return in_unit_coordinates(domain, check_polygon("triangles mesh", domain, n), [n](const CheckedPolygon& dom, int k) {
+    return triangulate_polygon(n, dom, k);
+  });
+}
+
+namespace {
+
+/// Voronoi cells in a checked polygon (see make_voronoi).
+Mesh voronoi_in_polygon(int n, const CheckedPolygon& dom, const VoronoiOptions& options) {
   const std::size_t ns = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
   const double spacing = std::sqrt(dom.area / static_cast<double>(ns));
   CGAL::Polygon_2<Kernel> inexact;
@@ -930,9 +1045,18 @@ Mesh make_voronoi(int n, const PolygonDomain& domain, const VoronoiOptions& opti
       if ((p - c).norm() <= 4.0 * dom.tol) return c;
     return p;
   };
-  Mesh mesh = voronoi_mesh(cells, dom.tol, snap_to_corners, true);
-  name_polygon_edges(mesh, domain.corners, dom.tol);
-  return mesh;
+  return voronoi_mesh(cells, dom.tol, snap_to_corners, true);
+}
+
+}  // namespace
+
+Mesh make_voronoi(int n, const PolygonDomain& domain, const VoronoiOptions& options) {
+  check_n("voronoi mesh", n);
+  const CheckedPolygon dom = check_polygon("voronoi mesh", domain, n);
+  check_voronoi_options(options);
+  return in_unit_coordinates(domain, dom, [n, &options](const CheckedPolygon& d, int) {
+    return voronoi_in_polygon(n, d, options);
+  });
 }
 
 Mesh make_mesh(std::string_view generator, int n, const PolygonDomain& domain, std::uint64_t seed) {

@@ -121,11 +121,12 @@ std::unique_ptr<BuiltProblem> build_problem(const Scene& scene) {
     if (ext == ".msh") mesh = read_gmsh(scene.mesh.file);
     else if (ext == ".poly2d") mesh = read_poly2d(scene.mesh.file).mesh;
     else throw InputError("mesh.file: unknown mesh format; expected .poly2d or .msh", scene.where("mesh.file"));
-    double corners = 0.0;
-    for (int e = 0; e < mesh.num_elements(); ++e) corners += static_cast<double>(mesh.element(e).size());
-    const MemoryEstimate need =
-        estimate_memory(mesh.num_vertices(), mesh.num_elements() ? corners / mesh.num_elements() : 4.0);
-    require_memory(need.solve_bytes, scene.mesh.file.string() + ": " + count_text(need.vertices) + " vertices",
+    const MemoryEstimate need = estimate_memory(mesh);
+    int largest = 0;
+    for (int e = 0; e < mesh.num_elements(); ++e) largest = std::max(largest, mesh.element_size(e));
+    require_memory(need.solve_bytes,
+                   scene.mesh.file.string() + ": " + count_text(need.vertices) + " vertices, elements of up to " +
+                       std::to_string(largest) + " vertices",
                    scene.where("mesh.file"));
   } else {
     const auto& d = scene.mesh.domain;
@@ -216,7 +217,8 @@ class EdgeSelection {
   std::vector<int> operator()(const BoundarySelector& b, const std::string& key) const {
     std::vector<Segment> segs;
     for (const auto& side : b.sides) segs.push_back(rectangle_side(box_, side, b.tolerance));
-    for (const auto& s : b.segments) segs.push_back(Segment{Vec2(s[0], s[1]), Vec2(s[2], s[3]), b.tolerance});
+    const double size = std::max(box_.width(), box_.height());
+    for (const auto& s : b.segments) segs.push_back(Segment{Vec2(s[0], s[1]), Vec2(s[2], s[3]), b.tolerance * size});
     std::vector<int> edges;
     if (!segs.empty()) edges = select_boundary_edges(mesh_, segs);
     for (const auto& g : b.groups) {

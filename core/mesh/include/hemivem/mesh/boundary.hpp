@@ -11,7 +11,9 @@
 namespace hemivem {
 
 /// A straight segment with a tolerance: the boundary edges whose two end points lie
-/// within `tolerance` of the segment [a, b].
+/// within `tolerance` (a distance) of the segment [a, b]. A point closer than the round-off of
+/// the coordinates (16 machine epsilons of the largest |coordinate| of a, b and the point)
+/// counts as on the segment whatever the tolerance.
 struct Segment {
   Vec2 a = Vec2::Zero();
   Vec2 b = Vec2::Zero();
@@ -26,8 +28,9 @@ std::vector<int> select_boundary_edges(const Mesh& mesh, const std::function<boo
 /// The boundary edges of a named edge group of the mesh; InputError when the group is unknown
 /// or holds an edge that is not on the boundary.
 std::vector<int> select_boundary_edges(const Mesh& mesh, const std::string& group);
-/// The sides of a rectangle as segments: "left" (x = x0), "right", "bottom" (y = y0), "top".
-/// Throws InputError for any other name.
-Segment rectangle_side(const Rectangle& r, const std::string& side, double tolerance = 1e-8);
+/// The sides of a rectangle as segments: "left" (x = x0), "right", "bottom" (y = y0), "top",
+/// with the distance tolerance relative_tolerance * max(width, height): the same selection at
+/// every scale. Throws InputError for any other name.
+Segment rectangle_side(const Rectangle& r, const std::string& side, double relative_tolerance = 1e-8);
 
 }  // namespace hemivem

@@ -84,6 +84,11 @@ struct PolygonDomain {
 // polygon that is not simple (edges that cross or touch), and cells too small for double
 // precision. The boundary edges of the mesh on edge k of the polygon form the edge group
 // "edge<k>" (Mesh::edge_group), so boundary conditions can name the polygon's edges.
+//
+// The CGAL generators (make_voronoi, and make_triangles on a polygon) mesh a domain larger than
+// 1e30 or smaller than 1e-30 in coordinates divided by a power of two that brings it to about
+// unit size (CGAL's Delaunay computations overflow beyond about 1e70), then multiply the mesh
+// back: exact, so every domain the checks accept is meshed with sides and corners in place.
 
 /// What is wrong with a polygon domain ("" when nothing): fewer than 3 corners, a corner
 /// not finite or above 1e150, a corner repeated by the next, edges that cross or touch.
@@ -93,7 +98,10 @@ std::string polygon_domain_defect(const PolygonDomain& domain);
 /// refined by CGAL's Delaunay mesher (Delaunay_mesher_2) until no angle is below about
 /// 20.7 degrees and no edge is longer than 1.5 sqrt(area)/n: about 2 n^2 triangles, as on a
 /// rectangle. Vertices on the polygon's edges lie on them to round-off; elements are
-/// numbered along a Hilbert curve through their centroids.
+/// numbered along a Hilbert curve through their centroids. Throws InputError naming the
+/// feature's width and location for a polygon with a corner closer than 1e-3 of that edge
+/// length to an edge it does not end on (a thin spike, slit or neck), and naming the narrowest
+/// part when the mesher would make more than 16 n^2 + 4096 triangles.
 Mesh make_triangles(int n, const PolygonDomain& domain);
 
 /// Voronoi cells of n*n random seeds uniform in the polygon (drawn in its bounding box

@@ -19,7 +19,10 @@ struct MemoryEstimate {
   double vertices = 0.0;      ///< vertices of the mesh (counted or predicted)
   double mesh_bytes = 0.0;    ///< the mesh alone (coordinates, elements, edges, generator work)
   double solve_bytes = 0.0;   ///< peak of a whole solve (mesh, assembly, factorization, outputs)
+  double element_matrix_entries = 0.0;  ///< sum over the elements of (2 m)^2, m vertices each (0: not counted)
 };
+
+class Mesh;
 
 /// The estimate for a mesh generator (mesh_generator_names()) with n cells per side.
 /// Throws InputError for an unknown generator or n < 1.
@@ -29,6 +32,11 @@ MemoryEstimate estimate_memory(std::string_view generator, std::int64_t nx, std:
 /// The estimate for a mesh of `vertices` vertices whose elements have on average
 /// `vertices_per_element` vertices.
 MemoryEstimate estimate_memory(double vertices, double vertices_per_element);
+
+/// The estimate for a mesh at hand: its vertices, and its element matrices, which grow with the
+/// square of an element's vertex count (an element of 3000 vertices alone needs about 2.5 GB):
+/// the larger of the two models.
+MemoryEstimate estimate_memory(const Mesh& mesh);
 
 /// Bytes this process may use: the environment variable HEMIVEM_MEMORY_LIMIT when set (a
 /// number of bytes with an optional suffix K, M, G or T, powers of 1024), else MemAvailable

@@ -31,7 +31,8 @@ inline constexpr int scene_schema_version = 1;
 
 /// A set of boundary edges: the union of the sides of the mesh bounding box, named edge
 /// groups of the mesh, and straight segments [x0, y0, x1, y1] (edges whose end points lie
-/// within `tolerance` of a segment or side). At least one of the three is given.
+/// within `tolerance` times the mesh's size, the longer side of its bounding box, of a segment
+/// or side: the same selection at every scale). At least one of the three is given.
 struct BoundarySelector {
   std::vector<std::string> sides;                ///< "left", "right", "top", "bottom"
   std::vector<std::string> groups;               ///< Mesh::edge_group names
