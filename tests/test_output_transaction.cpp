@@ -171,10 +171,13 @@ TEST(OutputTransaction, StaleTemporariesOfKilledRunsAreRemoved) {
   // a live process's temporaries are not touched
   const std::string live = std::to_string(::getppid());
   std::ofstream(s.out / (".solution.vtu.tmp." + live + ".0")) << "being written";
+  // nor is a file of another name
+  std::ofstream(s.out / (".notes.tmp." + dead + ".1")) << "mine";
   ASSERT_EQ(solve(s.out).code, 0);
   EXPECT_EQ(beside(s.root), std::vector<std::string>{});
   EXPECT_FALSE(fs::exists(s.out / (".solution.vtu.tmp." + dead + ".3")));
   EXPECT_TRUE(fs::exists(s.out / (".solution.vtu.tmp." + live + ".0")));
+  EXPECT_TRUE(fs::exists(s.out / (".notes.tmp." + dead + ".1")));
 }
 
 TEST(OutputTransaction, ReplacesOwnedFilesAndKeepsOtherContent) {

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <set>
@@ -103,8 +104,25 @@ bool only_owned(const fs::path& dir, const std::vector<std::string>& owned) {
   return !ec;
 }
 
-/// Finishes or removes what runs that no longer run left beside `dir`.
-void recover(const fs::path& dir) {
+/// The process id in `.NAME.tmp.PID.N` (write_file_atomically's temporary) for NAME in
+/// `owned`; 0 for any other name.
+long temporary_of(const std::string& file, const std::vector<std::string>& owned) {
+  for (const auto& name : owned) {
+    std::string prefix(1, '.');
+    prefix.append(name).append(".tmp.");
+    if (file.rfind(prefix, 0) != 0) continue;
+    const std::string rest = file.substr(prefix.size());
+    const auto dot = rest.find('.');
+    const bool digits = dot != std::string::npos && dot > 0 && dot + 1 < rest.size() &&
+                        rest.find_first_not_of("0123456789.") == std::string::npos;
+    return digits ? std::strtol(rest.c_str(), nullptr, 10) : 0;
+  }
+  return 0;
+}
+
+/// Finishes or removes what runs that no longer run left beside `dir`, and the temporaries
+/// of files of the `owned` names inside it.
+void recover(const fs::path& dir, const std::vector<std::string>& owned) {
   const std::string prefix = hidden_prefix(dir);
   std::error_code ec;
   std::vector<std::pair<std::string, long>> left;
@@ -124,12 +142,9 @@ void recover(const fs::path& dir) {
   }
   for (const auto& [kind, pid] : left) remove_all_quietly(beside(dir, kind, pid));
   fs::remove(dir / kManifest, ec);
-  // single files an older hemivem was writing when it was killed (.NAME.tmp.PID.N)
+  // single files of the owned names an older hemivem was writing when it was killed
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
-    const std::string name = entry.path().filename().string();
-    const auto at = name.rfind(".tmp.");
-    if (name.empty() || name[0] != '.' || at == std::string::npos) continue;
-    const long pid = std::strtol(name.c_str() + at + 5, nullptr, 10);
+    const long pid = temporary_of(entry.path().filename().string(), owned);
     std::error_code rm;
     if (pid > 0 && pid != ::getpid() && !running(pid)) fs::remove(entry.path(), rm);
   }
@@ -175,7 +190,7 @@ OutputTransaction::OutputTransaction(fs::path dir, std::vector<std::string> owne
   lock_fd_ = take_lock(dir_);
   if (lock_fd_ < 0) throw InputError("another hemivem run is writing " + dir.string());
   try {
-    recover(dir_);
+    recover(dir_, owned_);
     staging_ = beside(dir_, "new", ::getpid());
     remove_all_quietly(staging_);
     fs::create_directory(staging_, ec);
