@@ -81,7 +81,7 @@ void write_history_csv(std::ostream& stream, const ContactSolution& s) {
 void draw_solve_figures(const OutputTransaction& tx, const fs::path& dir, const Mesh& mesh, const ContactSolution& solution,
                         const RunInfo& info, const std::function<bool(const std::string&)>& want,
                         OutputReport& report) {
-  std::vector<Figure> figures;  // a figure is never worth failing the run for
+  std::vector<Figure> figures;  // a figure that cannot be drawn never fails the run
   if (want("u_nu.png") && solution.contact.empty()) report.skipped.push_back("u_nu.png: no contact boundary");
   try {
     if (want("u_nu.png") && !solution.contact.empty()) figures.push_back(u_nu_figure(mesh, solution, info));
