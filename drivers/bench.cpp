@@ -5,6 +5,7 @@
 #include <hemivem/nonsmooth_backends.hpp>
 #include <hemivem/scene/resources.hpp>
 #include <hemivem/scene/scene.hpp>
+#include <hemivem/support/output_folder.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -334,18 +335,23 @@ int run_bench(const BenchOptions& o, std::ostream& out, std::ostream& err) {
     }
   const bool squares = base.mesh.file.empty() && base.mesh.generator == "squares";
   const std::vector<Pair> pairs = available_pairs();
-  fs::create_directories(o.out);
+  check_output_folder(o.out);
 
   const Reference ref = run_reference(base, o, squares, err);
   bool all_converged = !squares || ref.run.converged;
   const std::vector<BenchRow> rows = run_sizes(scenes, pairs, o, squares ? &ref : nullptr, all_converged, err);
 
-  write_bench_csv(fs::path(o.out) / "bench.csv", rows);
   nlohmann::json j = bench_json(base, o, squares, ref, rows);
-  const std::string plot_failure = bench_plot(o.out, pairs, rows);
-  j["plot"] = plot_failure.empty() ? nlohmann::json("bench.png") : nlohmann::json(nullptr);
-  if (!plot_failure.empty()) j["plot_skipped"] = plot_failure;
-  write_atomically(fs::path(o.out) / "bench.json", [&](std::ostream& os) { os << j.dump(2) << "\n"; });
+  std::string plot_failure;
+  OutputTransaction tx(o.out, {"bench.csv", "bench.json", "bench.png"});  // the folder changes at once
+  tx.stage([&](const fs::path& staging) {
+    write_bench_csv(staging / "bench.csv", rows);
+    plot_failure = bench_plot(staging, pairs, rows);
+    j["plot"] = plot_failure.empty() ? nlohmann::json("bench.png") : nlohmann::json(nullptr);
+    if (!plot_failure.empty()) j["plot_skipped"] = plot_failure;
+    write_atomically(staging / "bench.json", [&](std::ostream& os) { os << j.dump(2) << "\n"; });
+  });
+  (void)tx.commit();
 
   if (o.json)
     out << j.dump(2) << "\n";

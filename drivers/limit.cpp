@@ -11,6 +11,7 @@
 #include <hemivem/contact/solver.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/linear_backends.hpp>
+#include <hemivem/support/output_folder.hpp>
 
 #include <Eigen/Sparse>
 
@@ -388,8 +389,9 @@ int run_bench_limit(const BenchOptions& o, const std::vector<int>& sizes, std::o
                            {"minimizer", base.solver.minimizer},
                            {"repeat", o.repeat},
                            {"rows", rows}};
-  fs::create_directories(o.out);
-  write_atomically(fs::path(o.out) / "limit.json", [&](std::ostream& os) { os << doc.dump(2) << "\n"; });
+  OutputTransaction tx(o.out, {"limit.json"});  // the folder changes at once
+  tx.write("limit.json", [&](std::ostream& os) { os << doc.dump(2) << "\n"; });
+  (void)tx.commit();
   if (o.json) {
     out << doc.dump(2) << "\n";
     return kSuccess;

@@ -3,6 +3,7 @@
 #include <hemivem/vem/bilinear.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/scene/scene.hpp>
+#include <hemivem/support/output_folder.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -285,6 +286,7 @@ int run_study(const StudyOptions& o, std::ostream& out, std::ostream& err) {
     throw InputError("study needs nested square meshes (mesh.generator = squares)", scene.where("mesh.generator"));
   const std::vector<int> ns = study_sizes(o);
   const bool references = is_example_41(scene);
+  check_output_folder(o.out);
   SquaresSolver solve{scene, o.verbosity >= 1, err};
 
   // The reference first; its mesh and field stay.
@@ -295,15 +297,19 @@ int run_study(const StudyOptions& o, std::ostream& out, std::ostream& err) {
   const std::vector<Row> rows = measure(solve, ns, o.ref, ref, ref_norm, references);
 
   // Outputs.
-  fs::create_directories(o.out);
   const nlohmann::json j = study_json(scene, o, ref, ref_norm, solve.all_converged, rows, references);
   std::vector<std::string> written{"study.csv", "study.json"};
-  write_study_csv(fs::path(o.out) / "study.csv", rows);
-  write_atomically(fs::path(o.out) / "study.json", [&](std::ostream& os) { os << j.dump(2) << "\n"; });
   std::vector<StudyPoint> points;
   for (const auto& r : rows) points.push_back({r.h, r.error, r.paper, r.independent});
-  const std::string skipped = draw_figures(o.out, {study_figure(points, references, o.ref)}).front();
+  std::string skipped;
+  OutputTransaction tx(o.out, {"study.csv", "study.json", "study.png"});  // the folder changes at once
+  tx.stage([&](const fs::path& staging) {
+    write_study_csv(staging / "study.csv", rows);
+    write_atomically(staging / "study.json", [&](std::ostream& os) { os << j.dump(2) << "\n"; });
+    skipped = draw_figures(staging, {study_figure(points, references, o.ref)}).front();
+  });
   if (skipped.empty()) written.emplace_back("study.png");
+  (void)tx.commit();
 
   if (o.json)
     out << j.dump(2) << "\n";

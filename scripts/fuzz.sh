@@ -11,7 +11,9 @@ seconds="${1:-60}"
 build="${HEMIVEM_FUZZ_BUILD_DIR:-build-fuzz}"
 shared="${HEMIVEM_SHARED_DIR:-$PWD/../shared}"
 flags="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer -g"
-cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+launcher=()
+if command -v ccache >/dev/null 2>&1; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
+cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo "${launcher[@]}" \
   -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
   -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
   -DBUILD_TESTING=OFF -DHEMIVEM_BUILD_BENCHMARKS=OFF -DHEMIVEM_WITH_MUMPS_MPI=OFF \

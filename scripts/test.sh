@@ -4,7 +4,9 @@
 # runs every registered test; then the Python module's tests (tests/python, pytest, with the
 # interpreter the module was built for); then the installed package against a fresh prefix
 # (scripts/test-install.sh); then the input-facing tests under AddressSanitizer and
-# UndefinedBehaviorSanitizer (scripts/test-sanitizers.sh, its own build in ./build-asan).
+# UndefinedBehaviorSanitizer (scripts/test-sanitizers.sh, its own build in ./build-asan); then
+# the libFuzzer targets, built with Clang and run for 5 seconds each (scripts/fuzz.sh, its own
+# build in ./build-fuzz) so that they keep building.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cmake --build build --parallel "$(nproc)"
@@ -17,3 +19,4 @@ else
 fi
 scripts/test-install.sh build
 scripts/test-sanitizers.sh
+scripts/fuzz.sh 5

@@ -6,6 +6,8 @@
 #include <hemivem/app/format.hpp>
 #include <hemivem/uniqueness.hpp>
 
+#include <hemivem/support/atomic_file.hpp>
+#include <hemivem/support/output_folder.hpp>
 #include <hemivem/vem/assembly.hpp>
 #include <hemivem/error.hpp>
 
@@ -86,6 +88,30 @@ nlohmann::json forces_json(const ForceBalance& b) {
           {"reactions", std::move(reactions)},
           {"contact", pair(b.contact)},
           {"balance_residual", number(b.residual())}};
+}
+
+/// The plots of a solve, drawn into the transaction's staging folder. A plot that cannot be
+/// made is skipped (listed in the report); a file that cannot be written is an error.
+void draw_solve_figures(const OutputTransaction& tx, const fs::path& dir, const Mesh& mesh, const ContactSolution& solution,
+                        const RunInfo& info, const std::function<bool(const std::string&)>& want,
+                        OutputReport& report) {
+  std::vector<Figure> figures;  // a figure that cannot be drawn never fails the run
+  if (want("u_nu.png") && solution.contact.empty()) report.skipped.push_back("u_nu.png: no contact boundary");
+  try {
+    if (want("u_nu.png") && !solution.contact.empty()) figures.push_back(u_nu_figure(mesh, solution, info));
+    if (want("deformed.png")) figures.push_back(deformed_figure(mesh, solution, info));
+    const std::vector<std::string> reasons = draw_figures(tx.staging(), figures);
+    for (std::size_t i = 0; i < figures.size(); ++i) {
+      if (reasons[i].empty()) report.written.push_back(dir / figures[i].png);
+      else report.skipped.push_back(figures[i].png + ": " + reasons[i]);
+    }
+  } catch (const WriteError& e) {  // a full disk is not a skipped figure
+    throw WriteError(e.detail() + "; " + previous_outputs_kept(dir), (dir / fs::path(e.where()).filename()).string());
+  } catch (const std::exception& e) {  // each PNG is moved into place atomically: none is half-written
+    for (const auto& f : figures)
+      if (std::find(report.written.begin(), report.written.end(), dir / f.png) == report.written.end())
+        report.skipped.push_back(f.png + ": " + e.what());
+  }
 }
 
 }  // namespace
@@ -225,15 +251,11 @@ OutputReport write_outputs(const fs::path& dir, const Mesh& mesh, const Material
                      std::to_string(mesh.num_vertices()) + " vertices");
   auto want = [&](const std::string& name) { return std::find(wanted.begin(), wanted.end(), name) != wanted.end(); };
 
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec || !fs::is_directory(dir))
-    throw InputError("cannot create the output folder" + (ec ? ": " + ec.message() : std::string()), dir.string());
-
+  OutputTransaction tx(dir, known);  // the folder changes at once, in commit(), or not at all
   OutputReport report;
   auto write = [&](const std::string& name, const std::function<void(std::ostream&)>& body) {
     if (!want(name)) return;
-    write_atomically(dir / name, body);
+    tx.write(name, body);
     report.written.push_back(dir / name);
   };
   RunInfo listed = info;  // result.json lists the run's files, in the order they are written
@@ -246,34 +268,16 @@ OutputReport write_outputs(const fs::path& dir, const Mesh& mesh, const Material
   write("history.csv", [&](std::ostream& os) { write_history_csv(os, solution); });
   write("solution.vtu", [&](std::ostream& os) { write_vtu(os, mesh, materials, solution); });
   write("scene.toml", [&](std::ostream& os) { os << info.scene_toml; });
-  std::vector<Figure> figures;  // a figure is never worth failing the run for
-  if (want("u_nu.png") && solution.contact.empty()) report.skipped.push_back("u_nu.png: no contact boundary");
-  try {
-    if (want("u_nu.png") && !solution.contact.empty()) figures.push_back(u_nu_figure(mesh, solution, info));
-    if (want("deformed.png")) figures.push_back(deformed_figure(mesh, solution, info));
-    const std::vector<std::string> reasons = draw_figures(dir, figures);
-    for (std::size_t i = 0; i < figures.size(); ++i) {
-      if (reasons[i].empty()) report.written.push_back(dir / figures[i].png);
-      else report.skipped.push_back(figures[i].png + ": " + reasons[i]);
-    }
-  } catch (const std::exception& e) {  // each PNG is moved into place atomically: none is half-written
-    for (const auto& f : figures)
-      if (std::find(report.written.begin(), report.written.end(), dir / f.png) == report.written.end())
-        report.skipped.push_back(f.png + ": " + e.what());
-  }
+  draw_solve_figures(tx, dir, mesh, solution, info, want, report);
   // A plot that could not be made is not in the folder: result.json says so.
   if (want("result.json") && report.written.size() != listed.files.size()) {
     listed.files.clear();
     for (const auto& f : report.written) listed.files.push_back(f.filename().string());
-    write_atomically(dir / "result.json", [&](std::ostream& os) { os << result_json(mesh, solution, listed).dump(2) << '\n'; });
+    tx.write("result.json", [&](std::ostream& os) { os << result_json(mesh, solution, listed).dump(2) << '\n'; });
   }
-  // The folder holds exactly this run's outputs: an earlier run's file of a name this run
+  // The folder then holds exactly this run's outputs: an earlier run's file of a name this run
   // did not write goes (never anything else).
-  for (const auto& k : known) {
-    if (std::find(report.written.begin(), report.written.end(), dir / k) != report.written.end()) continue;
-    std::error_code rm;
-    if (fs::is_regular_file(fs::symlink_status(dir / k, rm)) && fs::remove(dir / k, rm)) report.removed.push_back(k);
-  }
+  report.removed = tx.commit();
   return report;
 }
 

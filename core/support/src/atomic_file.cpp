@@ -1,14 +1,69 @@
 #include <hemivem/support/atomic_file.hpp>
 #include <hemivem/error.hpp>
 
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <cerrno>
+#include <chrono>
+#include <cstdlib>
 #include <cstring>
-#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
 
 namespace hemivem {
+
+namespace {
+
+std::atomic<unsigned> files_written{0};
+
+/// The test hooks (docs/reference/testing.md): HEMIVEM_TEST_FAIL_WRITE=N makes the N-th file
+/// this process writes fail as on a full disk, after half of its bytes; HEMIVEM_TEST_WRITE_DELAY
+/// = seconds sleeps before each written file is moved into place.
+bool injected_failure(unsigned call) {
+  const char* n = std::getenv("HEMIVEM_TEST_FAIL_WRITE");
+  return n != nullptr && std::strtoul(n, nullptr, 10) == call;
+}
+
+void injected_delay() {
+  const char* s = std::getenv("HEMIVEM_TEST_WRITE_DELAY");
+  if (s == nullptr) return;
+  const double seconds = std::strtod(s, nullptr);
+  if (seconds > 0) std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
+}
+
+std::string failure(const char* what, int err) { return std::string(what) + ": " + std::strerror(err); }
+
+/// Writes all of `data` to `fd`, flushes it to the disk and closes it; throws WriteError.
+void write_all(int fd, const std::string& data, const std::string& name, bool fail) {
+  std::size_t done = 0;
+  const std::size_t end = fail ? data.size() / 2 : data.size();
+  while (done < end) {
+    const ssize_t n = ::write(fd, data.data() + done, end - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const int err = n < 0 ? errno : ENOSPC;
+      ::close(fd);
+      throw WriteError(failure("writing the file failed", err), name);
+    }
+    done += static_cast<std::size_t>(n);
+  }
+  if (fail) {
+    ::close(fd);
+    throw WriteError(failure("writing the file failed", ENOSPC), name);
+  }
+  if (::fsync(fd) != 0 && errno != EINVAL && errno != EROFS) {
+    const int err = errno;
+    ::close(fd);
+    throw WriteError(failure("writing the file to the disk failed", err), name);
+  }
+  if (::close(fd) != 0) throw WriteError(failure("closing the written file failed", errno), name);
+}
+
+}  // namespace
 
 void write_file_atomically(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write) {
   namespace fs = std::filesystem;
@@ -22,19 +77,18 @@ void write_file_atomically(const std::filesystem::path& path, const std::functio
       .append(".")
       .append(std::to_string(counter.fetch_add(1)));
   const fs::path tmp = path.parent_path() / tmp_name;
+  std::ostringstream text;
+  write(text);
+  if (!text) throw WriteError("making the file's contents failed", name);
+  const unsigned call = files_written.fetch_add(1) + 1;
   try {
-    errno = 0;
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) {
-      const int err = errno;
-      throw InputError(std::string("cannot create the file") + (err != 0 ? std::string(": ") + std::strerror(err) : ""), name);
-    }
-    write(out);
-    out.close();
-    if (!out) throw InputError("writing the file failed (disk full?)", name);
+    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd < 0) throw WriteError(failure("cannot create the file", errno), name);
+    write_all(fd, text.str(), name, injected_failure(call));
+    injected_delay();
     std::error_code ec;
     fs::rename(tmp, path, ec);
-    if (ec) throw InputError("cannot move the written file into place: " + ec.message(), name);
+    if (ec) throw WriteError("cannot move the written file into place: " + ec.message(), name);
   } catch (...) {
     std::error_code ec;
     fs::remove(tmp, ec);

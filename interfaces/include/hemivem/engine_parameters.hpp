@@ -76,7 +76,9 @@ std::vector<ParameterValue> parameter_values(Options options) {
 template <class Options>
 Options options_from_parameters(const std::map<std::string, double>& values, const std::string& engine) {
   Options options;
-  for (const auto& [name, v] : values) {
+  for (const auto& entry : values) {  // not [name, v]: clang captures structured bindings from 16 on
+    const std::string& name = entry.first;
+    const double v = entry.second;
     bool found = false;
     options.fields([&](std::string_view field, auto& member) {
       if (field != name) return;

@@ -66,10 +66,14 @@ struct OutputReport {
 /// InputError naming the folder otherwise.
 void check_output_folder(const std::filesystem::path& dir);
 
-/// Writes the `wanted` files (names from all_outputs()) into `dir`, creating it. Each file is
-/// written atomically. The plots are made by running gnuplot; when gnuplot is missing or fails
-/// they are skipped and listed in the report, never an error. Throws InputError for an unknown
-/// name (before writing anything) and for any I/O failure; never prints.
+/// Writes the `wanted` files (names from all_outputs()) into `dir`, creating it, as one
+/// transaction (OutputTransaction of hemivem/support/output_folder.hpp): the whole set is
+/// written beside `dir` with every write checked, then replaces the previous set at once; the
+/// names of all_outputs() this run did not write go, other files of `dir` stay. The plots are
+/// made by running gnuplot; when gnuplot is missing or fails they are skipped and listed in
+/// the report, never an error. Throws InputError for an unknown name (before writing
+/// anything), when another process is writing `dir` ("another hemivem run is writing DIR"),
+/// and for any I/O failure (WriteError: `dir` then keeps its previous set); never prints.
 OutputReport write_outputs(const std::filesystem::path& dir, const Mesh& mesh, const MaterialTable& materials,
                            const ContactSolution& solution, const RunInfo& info,
                            const std::vector<std::string>& wanted = all_outputs());
