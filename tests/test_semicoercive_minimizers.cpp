@@ -201,6 +201,32 @@ TEST(Semicoercive, ALoadPullingTheBodyAwayIsReportedUnbounded) {
   EXPECT_EQ(minimizer_status_from_string("Unbounded"), MinimizerStatus::unbounded);
 }
 
+// a law of linear growth (Tresca friction on a free sliding motion): it stops the motion while
+// the load is below the friction bound, and cannot when it is above
+TEST(Semicoercive, ChainHeldByFrictionSticksBelowTheBoundAndSlidesAwayAbove) {
+  const int n = 20;
+  const Eigen::VectorXd w = weights(n);
+  Eigen::VectorXd start(n);
+  for (int i = 0; i < n; ++i) start(i) = 0.01 * std::cos(0.5 * i);
+  const ReducedProblem sticks = ReducedProblem::uniform(chain_laplacian(n, k_spring), 0.1 * w, w, tresca_law(0.25),
+                                                        ConstraintKind::none);
+  EXPECT_TRUE(check_existence(sticks).coercive);
+  for (const auto& [name, engine] : engines()) {
+    const MinimizerResult r = engine->minimize(sticks, start, options());
+    ASSERT_TRUE(r.converged()) << name << ": " << r.message;
+    EXPECT_EQ(r.a.lpNorm<Eigen::Infinity>(), 0.0) << name;  // every node on the kink: stuck
+    EXPECT_LE((r.law_force - 0.1 * w).lpNorm<Eigen::Infinity>(), 1e-8) << name;
+  }
+  const ReducedProblem slides = ReducedProblem::uniform(chain_laplacian(n, k_spring), 0.3 * w, w, tresca_law(0.25),
+                                                        ConstraintKind::none);
+  const Existence e = check_existence(slides);
+  ASSERT_FALSE(e.bounded);
+  EXPECT_LE((e.direction - Eigen::VectorXd::Ones(n)).lpNorm<Eigen::Infinity>(), 1e-10);
+  EXPECT_NEAR(e.slope, -(0.3 - 0.25) * w.sum(), 1e-10);
+  for (const auto& [name, engine] : engines())
+    EXPECT_EQ(engine->minimize(slides, start, options()).status, MinimizerStatus::unbounded) << name;
+}
+
 // (d) a rank-2 null space (translation and rotation of a beam on a foundation)
 TEST(Semicoercive, BeamOnAFoundationWithARankTwoNullSpace) {
   const int n = 20;
