@@ -156,6 +156,30 @@ TEST(Semicoercive, ChainOnAFoundationFromLiftedStarts) {
   }
 }
 
+// the global search's starts stay at the scale of the problem where S^-1 c does not exist
+TEST(Semicoercive, TheGlobalSearchStartsAtTheScaleOfTheProblem) {
+  const int n = 30;
+  const Eigen::VectorXd w = weights(n);
+  Eigen::VectorXd c(n);
+  for (int i = 0; i < n; ++i) c(i) = 0.2 + 0.5 * std::sin(0.7 * i);
+  const ReducedProblem p = ReducedProblem::uniform(chain_laplacian(n, k_spring), c, w, foundation(), ConstraintKind::none);
+  // |S^+ c| <= |c| / lambda_2(S) (lambda_2 = 4 k sin^2(pi / 2n) of the chain) and the random
+  // starts lie in a box a few times larger
+  const double lambda2 = 4.0 * k_spring * std::pow(std::sin(M_PI / (2.0 * n)), 2);
+  const double scale = c.norm() / lambda2;
+  const auto starts = make_global_search("ssn")->starts(p, {});
+  ASSERT_GE(starts.size(), 2u);
+  for (const SearchStart& s : starts) {
+    ASSERT_TRUE(s.a.allFinite()) << s.name;
+    EXPECT_LE(s.a.lpNorm<Eigen::Infinity>(), 4.0 * scale) << s.name;
+  }
+  EXPECT_EQ(starts[1].name, "quadratic minimizer");
+  // S^+ c: orthogonal to the null space, S a = c minus its mean
+  const Eigen::VectorXd& q = starts[1].a;
+  EXPECT_NEAR(q.sum(), 0.0, 1e-10 * scale);
+  EXPECT_LE((p.S * q - (c.array() - c.mean()).matrix()).lpNorm<Eigen::Infinity>(), 1e-10 * c.lpNorm<Eigen::Infinity>());
+}
+
 // (b) a chain pushed towards a unilateral constraint a <= g, no law: it comes to rest on it
 TEST(Semicoercive, ChainPushedAgainstAGapRestsOnIt) {
   for (int n : {10, 30, 50}) {
