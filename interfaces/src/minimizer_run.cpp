@@ -1,5 +1,6 @@
 #include <hemivem/engine_parameters.hpp>
 #include <hemivem/error.hpp>
+#include <hemivem/existence.hpp>
 #include <hemivem/minimizer_run.hpp>
 
 #include <algorithm>
@@ -18,6 +19,7 @@ std::string to_string(MinimizerStatus status) {
     case MinimizerStatus::stalled: return "stalled";
     case MinimizerStatus::stopped_by_callback: return "stopped by callback";
     case MinimizerStatus::failed: return "failed";
+    case MinimizerStatus::unbounded: return "unbounded";
   }
   throw InternalError("a MinimizerStatus out of range: " + std::to_string(static_cast<int>(status)));
 }
@@ -27,16 +29,21 @@ MinimizerStatus minimizer_status_from_string(std::string_view name) {
   for (auto& ch : s) ch = ch == '_' ? ' ' : static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
   for (MinimizerStatus status :
        {MinimizerStatus::converged, MinimizerStatus::iteration_limit, MinimizerStatus::evaluation_limit,
-        MinimizerStatus::stalled, MinimizerStatus::stopped_by_callback, MinimizerStatus::failed})
+        MinimizerStatus::stalled, MinimizerStatus::stopped_by_callback, MinimizerStatus::failed,
+        MinimizerStatus::unbounded})
     if (s == to_string(status)) return status;
   throw InputError("unknown minimizer status '" + std::string(name) +
-                   "'; expected converged, iteration limit, evaluation limit, stalled, stopped by callback or failed");
+                   "'; expected converged, iteration limit, evaluation limit, stalled, stopped by callback, failed or unbounded");
 }
 
 MinimizerResult NonsmoothMinimizer::minimize(const ReducedProblem& problem, const Eigen::VectorXd& start,
                                              const MinimizerOptions& options) const {
   MinimizerRun r(name(), problem, start, options);
   if (r.size() == 0) return r.finish(MinimizerStatus::converged, {}, "empty problem", &r.start());
+  if (options.check_existence) {
+    const Existence e = check_existence(problem);
+    if (!e.bounded) return r.finish(MinimizerStatus::unbounded, e.message, {}, &r.start());
+  }
   if (answers_certified_start() && r.offer(r.start()))
     return r.finish(MinimizerStatus::converged, {}, "the start is certified", &r.start());
   return run(r);
@@ -93,7 +100,7 @@ MinimizerResult MinimizerRun::finish(MinimizerStatus reason, const std::string& 
   r.reaction = std::move(cp.reaction);
   r.objective = r.a.size() == p_.size() && r.a.allFinite() ? p_.energy(r.a) : std::numeric_limits<double>::quiet_NaN();
   r.may_be_nonunique = !(p_.uniqueness_margin > 0.0);
-  r.status = r.certificate.converged() && std::isfinite(r.objective)
+  r.status = reason != MinimizerStatus::unbounded && r.certificate.converged() && std::isfinite(r.objective)
                  ? MinimizerStatus::converged
                  : (reason == MinimizerStatus::converged ? MinimizerStatus::stalled : reason);
   std::string head = r.converged() ? std::string() : (why.empty() ? to_string(r.status) : why);

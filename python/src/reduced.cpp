@@ -225,7 +225,7 @@ force and reaction of its certificate, F(a), counts, the per-iteration history a
 )doc")
       .def_property_readonly("status", [](const MinimizerResult& r) { return to_string(r.status); },
                              "'converged', 'iteration limit', 'evaluation limit', 'stalled', "
-                             "'stopped by callback' or 'failed'.")
+                             "'stopped by callback', 'failed' or 'unbounded' (no solution: F is unbounded below).")
       .def_property_readonly("converged", &MinimizerResult::converged)
       .def_readonly("message", &MinimizerResult::message)
       .def_property_readonly("a", [](py::object s) { auto& r = s.cast<MinimizerResult&>(); return view(r.a.data(), r.a.size(), s); })

@@ -134,7 +134,8 @@ table.u_nu, table["u_nu"]; table.as_dict() gives them all.
 /// Result's outcome: status, certificate, energy, iterations, engines, search.
 void def_result_outcome(ResultClass& c) {
   c.def_property_readonly("status", [](py::handle s) { return to_string(data(s).solved.solution.status); },
-                          "'converged', 'iteration limit', 'evaluation limit', 'stalled', 'stopped by callback', 'failed'.")
+                          "'converged', 'iteration limit', 'evaluation limit', 'stalled', 'stopped by callback', 'failed', "
+                          "'unbounded' (no solution: F is unbounded below).")
       .def_property_readonly("converged", [](py::handle s) { return data(s).solved.solution.converged(); })
       .def_property_readonly("message", [](py::handle s) { return data(s).solved.solution.message; })
       .def_property_readonly("certificate", [](py::handle s) { return data(s).solved.solution.certificate; },

@@ -36,9 +36,11 @@ enum class MinimizerStatus {
   stalled,              ///< no further progress possible at the engine's precision
   stopped_by_callback,  ///< the callback asked to stop
   failed,               ///< the engine failed (message says why)
+  unbounded,            ///< F is unbounded below: there is no solution (existence.hpp; message says along what)
 };
 
-/// "converged", "iteration limit", "evaluation limit", "stalled", "stopped by callback", "failed".
+/// "converged", "iteration limit", "evaluation limit", "stalled", "stopped by callback", "failed",
+/// "unbounded".
 std::string to_string(MinimizerStatus status);
 /// The names of to_string (case-insensitive, '_' as ' '); InputError otherwise.
 MinimizerStatus minimizer_status_from_string(std::string_view name);
@@ -62,6 +64,10 @@ struct MinimizerOptions {
   /// Called after every iteration; returning false stops the run (stopped_by_callback).
   std::function<bool(const IterationRecord&)> callback;
   int verbosity = 0;  ///< forwarded to engines that print; hemivem itself never prints
+  /// Decide first whether F is bounded below (check_existence, existence.hpp) and answer
+  /// "unbounded" without iterating when it is not; a caller that decided it already for the
+  /// same problem may skip it.
+  bool check_existence = true;
 
   bool is_valid(std::string* error) const {
     if (const std::string why = tolerance_problem(tolerance); !why.empty()) {
@@ -117,8 +123,9 @@ class NonsmoothMinimizer {
 
   /// Minimizes from `start` (projected onto C first; empty: zero). Throws InputError for
   /// unusable options, an inconsistent problem or a start of the wrong size; algorithmic
-  /// outcomes are statuses. The empty problem, and a start the certificate accepts, are
-  /// answered at once (0 iterations; the start only for a local engine).
+  /// outcomes are statuses. The empty problem, a problem whose F is unbounded below (status
+  /// unbounded, the start returned) and a start the certificate accepts are answered at once
+  /// (0 iterations; the start only for a local engine).
   MinimizerResult minimize(const ReducedProblem& problem, const Eigen::VectorXd& start,
                            const MinimizerOptions& options) const;
 

@@ -2,7 +2,8 @@
 //
 //   min F(a) = 1/2 a^T S a - c^T a + sum_i w_i j_i(a_i)   s.t. lo_i <= a_i <= hi_i,
 //
-// with S dense symmetric positive definite, w > 0 the nodal weights and per coordinate a
+// with S dense symmetric positive semidefinite (definite unless a rigid motion of the body is
+// left free by its supports: hemivem/existence.hpp), w > 0 the nodal weights and per coordinate a
 // contact law j_i (by index into a short list of laws) and bounds (+-inf where there is none).
 // Without friction every coordinate is a normal displacement with one law and the bounds of
 // one constraint: none, a_i <= g_i (one-sided) or |a_i| <= g_i (the paper's box (4.6));

@@ -1,8 +1,10 @@
+#include <hemivem/existence.hpp>
 #include <hemivem/global_search.hpp>
 #include <hemivem/minimizer_run.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 
 #include <algorithm>
 #include <cmath>
@@ -50,6 +52,20 @@ struct Found {
 
 // ---- the starts of phase 1 ------------------------------------------------------------------
 
+/// S^+ c: c's components along the eigenvectors of S above null_space_tolerance divided by
+/// their eigenvalues (zero where S has no eigenvalue above round-off).
+Eigen::VectorXd pseudo_inverse_solution(const Eigen::MatrixXd& S, const Eigen::VectorXd& c) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(S);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(c.size());
+  if (eig.info() != Eigen::Success) return x;
+  const double top = eig.eigenvalues().cwiseAbs().maxCoeff();
+  for (Eigen::Index k = 0; k < c.size(); ++k) {
+    const double lambda = eig.eigenvalues()(k);
+    if (lambda > null_space_tolerance * top) x += eig.eigenvectors().col(k) * (eig.eigenvectors().col(k).dot(c) / lambda);
+  }
+  return x.allFinite() ? x : Eigen::VectorXd::Zero(c.size());
+}
+
 /// Adds `a` projected onto C as the start `name`, unless that point is a start already.
 void add_start(const ReducedProblem& p, std::vector<SearchStart>& out, std::string name, const Eigen::VectorXd& a) {
   const Eigen::VectorXd x = p.project(a);
@@ -58,16 +74,18 @@ void add_start(const ReducedProblem& p, std::vector<SearchStart>& out, std::stri
   out.push_back({std::move(name), x});
 }
 
-/// The minimizer of the quadratic part alone, S^{-1} c (zero where S cannot be factored).
+/// The minimizer of the quadratic part alone, S^{-1} c (zero where S cannot be factored). When
+/// S is singular (a motion the supports leave free) the quadratic part has no minimizer or
+/// infinitely many: then the least-norm minimizer of |S x - c| over the range of S, S^+ c.
 Eigen::VectorXd quadratic_minimizer(const ReducedProblem& p) {
   const Eigen::Index n = p.size();
   Eigen::VectorXd quadratic = Eigen::VectorXd::Zero(n);
   if (n > 0) {
     const Eigen::LDLT<Eigen::MatrixXd> ldlt(p.S);
-    if (ldlt.info() == Eigen::Success) {
-      const Eigen::VectorXd x = ldlt.solve(p.c);
-      if (x.allFinite()) quadratic = x;
-    }
+    const Eigen::VectorXd D = ldlt.info() == Eigen::Success ? Eigen::VectorXd(ldlt.vectorD()) : Eigen::VectorXd::Zero(n);
+    if (!(D.minCoeff() > 1e-8 * D.cwiseAbs().maxCoeff())) return pseudo_inverse_solution(p.S, p.c);
+    const Eigen::VectorXd x = ldlt.solve(p.c);
+    if (x.allFinite()) quadratic = x;
   }
   return quadratic;
 }
@@ -187,6 +205,7 @@ class Search {
   Search(MinimizerRun& run, const Engines& engines, const GlobalSearchOptions& options)
       : run_(run), p_(run.problem()), engines_(engines), options_(options), local_(run.options()) {
     local_.callback = nullptr;  // the search reports its runs, not their iterations
+    local_.check_existence = false;  // minimize() decided it for the search
   }
 
   /// A problem with one critical point: one run of the first engine from the given start.

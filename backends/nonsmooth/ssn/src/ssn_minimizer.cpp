@@ -17,6 +17,8 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 constexpr double kInf = std::numeric_limits<double>::infinity();
+/// A Cholesky pivot^2 below this fraction of max |H_ii| is round-off: the system is singular.
+constexpr double singular_pivot = 1e-13;
 
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
@@ -134,7 +136,7 @@ class Solver {
   }
 
   /// d_F = -(S + W j'')_FF^-1 (grad_F + S_FE d_E) by a dense LLT, shifted by mu I (growing from
-  /// `shift` max |H_ii|) when the system is not positive definite.
+  /// `shift` max |H_ii|) when the system is not positive definite or singular within round-off.
   bool solve_free_system(const std::vector<NodeState>& st, Eigen::VectorXd& d) {
     const auto nf = static_cast<Eigen::Index>(free_.size());
     Eigen::VectorXd rhs(nf);
@@ -151,7 +153,10 @@ class Solver {
     bool ok = false;
     if (min_diag > 0.0) {
       llt.compute(H);
-      ok = llt.info() == Eigen::Success;
+      // a pivot at round-off level is a singular system (S is only semidefinite when a rigid
+      // motion is free and the law does not stiffen the nodes that carry it): shifted too
+      ok = llt.info() == Eigen::Success &&
+           llt.matrixLLT().diagonal().cwiseAbs2().minCoeff() > singular_pivot * max_diag;
     }
     if (!ok) {
       double mu = std::max(prm_.shift * max_diag, -min_diag + prm_.shift * max_diag);
@@ -209,7 +214,7 @@ class Solver {
   }
 
   /// The diagonal scaling of the gradient steps: the curvature on the side of motion, kept
-  /// away from zero by a fraction of S_ii (S is positive definite).
+  /// away from zero by a fraction of S_ii (positive also where S is only semidefinite).
   double scaling(Eigen::Index i, const NodeState& s) const {
     return std::max({s.hess, 1e-3 * p_.S(i, i), std::numeric_limits<double>::min()});
   }
