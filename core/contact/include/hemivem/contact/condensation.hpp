@@ -31,7 +31,8 @@ struct ContactBoundary {
 
 /// Builds Gamma_3 from boundary edges. The normal of a node is the length-weighted mean of
 /// the outward normals of its Gamma_3 edges (exact on each straight segment; at a corner
-/// of a polyline it bisects the two normals). Nodes whose displacement is prescribed (on
+/// between edges of lengths l1 and l2 it is (l1 n1 + l2 n2) normalized, which is the
+/// bisector only when l1 = l2). Nodes whose displacement is prescribed (on
 /// Gamma_1) are excluded; a node with only one prescribed component is an InputError.
 /// `gap` gives g at a node position (constant gaps: a lambda returning a constant); a
 /// negative or non-finite gap is an InputError. With an `obstacle` the gaps are
