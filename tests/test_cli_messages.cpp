@@ -9,6 +9,7 @@
 #include <hemivem/scene/scene.hpp>
 
 #include <cmath>
+#include <fstream>
 
 #include "test_support.hpp"
 
@@ -80,7 +81,7 @@ namespace {
 
 using test::input_error_of;
 
-TEST(SceneBilateral, NoGapIsReportedWhereNoneIsUsed) {
+TEST(SolveBilateral, NoGapIsReportedWhereNoneIsUsed) {
   const Scene plain = parse_scene_string(
       "schema_version = 1\n[mesh]\nn = 4\n[clamped]\nside = [\"left\", \"right\"]\n[[loads.traction]]\nside = \"top\"\n"
       "value = [1, -1]\n[contact]\nside = \"bottom\"\nconstraint = \"bilateral\"\ngap = 0.05\n",
@@ -88,9 +89,22 @@ TEST(SceneBilateral, NoGapIsReportedWhereNoneIsUsed) {
   const app::SceneSolve solved = app::solve_scene(plain, {}, {}, nullptr, {});
   ASSERT_FALSE(solved.solution.contact.empty());
   for (const auto& n : solved.solution.contact) EXPECT_TRUE(std::isnan(n.gap)) << n.vertex;
+  // the files: an empty gap in contact.csv, null in result.json
+  const auto dir = test::scratch("bilateral_files");
+  std::filesystem::create_directories(dir);
+  { std::ofstream(dir / "b.toml") << to_toml(plain); }
+  const auto r = test::run_hemivem("solve " + (dir / "b.toml").string() + " -q --out " + (dir / "out").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string csv = test::slurp(dir / "out" / "contact.csv");
+  EXPECT_NE(csv.find(",bilateral,,"), std::string::npos) << csv.substr(0, 300);
+  EXPECT_EQ(csv.find("0.05"), std::string::npos);
+  const std::string json = test::slurp(dir / "out" / "result.json");
+  EXPECT_NE(json.find("\"gap\": null"), std::string::npos);
+  EXPECT_EQ(json.find("\"gap\": 0.05"), std::string::npos);
+  std::filesystem::remove_all(dir);
 }
 
-TEST(SceneEngines, AnUnknownMinimizerInTheFileNamesItsLine) {
+TEST(SolveEngineNames, AnUnknownMinimizerInTheFileNamesItsLine) {
   const Scene s = parse_scene_string("schema_version = 1\n[mesh]\nn = 2\n[clamped]\nside = \"left\"\n[solver]\n"
                                      "minimizer = \"newton\"\n",
                                      "engines.toml");
@@ -98,7 +112,7 @@ TEST(SceneEngines, AnUnknownMinimizerInTheFileNamesItsLine) {
   EXPECT_NE(m.find("engines.toml:7: solver.minimizer"), std::string::npos) << m;
 }
 
-TEST(SceneContact, ARollerMeetingTheContactPartNamesTheContactsLine) {
+TEST(SolveContactConflicts, ARollerMeetingTheContactPartNamesTheContactsLine) {
   const Scene s = parse_scene_string(
       "schema_version = 1\n[mesh]\nn = 4\n[[dirichlet]]\nside = \"left\"\nuy = 0.0\n[[dirichlet]]\nside = \"right\"\n"
       "value = [0, 0]\n[[loads.traction]]\nside = \"top\"\nvalue = [0, -1]\n[contact]\nside = \"bottom\"\n"

@@ -44,7 +44,7 @@ TEST(SceneSupports, ThePapersSceneWritesItsSupportsAndIsNotWarnedAbout) {
   EXPECT_FALSE(has_warning(scene_warnings(s), "[clamped]"));
 }
 
-TEST(SceneRegions, ARegionMatchingNoElementIsAnErrorAtItsLine) {
+TEST(SceneRegionIds, ARegionMatchingNoElementIsAnErrorAtItsLine) {
   const Scene s = parse_scene_string("schema_version = 1\n[mesh]\nn = 2\n[clamped]\nside = \"left\"\n"
                                      "[[material.region]]\nid = 3\nE = 10.0\nnu = 0.3\n",
                                      "regions.toml");
@@ -64,7 +64,7 @@ TEST(SceneRegions, ARegionMatchingNoElementIsAnErrorAtItsLine) {
   EXPECT_NE(input_error_of([&] { (void)build_problem(empty); }).find("regions.toml:7"), std::string::npos);
 }
 
-TEST(SceneRegions, GmshSurfaceTagsAreTheRegionIds) {
+TEST(SceneRegionIds, GmshSurfaceTagsAreTheRegionIds) {
   const Mesh mesh = read_gmsh(test::data_dir() / "gmsh" / "two_regions.msh");
   EXPECT_EQ(mesh.regions(), (std::vector<int>{7, 3, 3}));  // "steel" = 7, "rubber" = 3 as in the file
   const std::filesystem::path scene_file = test::scratch("gmsh_regions.toml");
@@ -81,7 +81,7 @@ TEST(SceneRegions, GmshSurfaceTagsAreTheRegionIds) {
   std::filesystem::remove(scene_file);
 }
 
-TEST(SceneRegions, AGmshSurfaceTagBeyondTheRegionIdsIsRefusedAtItsLine) {
+TEST(SceneRegionIds, AGmshSurfaceTagBeyondTheRegionIdsIsRefusedAtItsLine) {
   std::ifstream in(test::data_dir() / "gmsh" / "two_regions.msh");
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const std::string from = "2 1 0 0 2 1 0 1 3 0\n", to = "2 1 0 0 2 1 0 1 2000000 0\n";
