@@ -68,8 +68,33 @@ Scene load_scene(const SolveOptions& o) {
     v << std::setprecision(17) << *o.tolerance;
     overrides.push_back("solver.tolerance=" + v.str());
   }
+  // the flag behind each key a flag sets, for messages
+  std::vector<std::pair<std::string, std::string>> flags;
+  for (const auto& kv : overrides) {
+    const std::string key = kv.substr(0, kv.find('='));
+    flags.emplace_back("--set " + key, key == "mesh.file" || key == "mesh.generator" ? "--mesh"
+                                       : key == "mesh.n"                            ? "--n"
+                                       : key == "solver.linear"                     ? "--linear"
+                                       : key == "solver.minimizer"                  ? "--minimizer"
+                                       : key == "solver.search"                     ? "--global"
+                                                                                    : "--tol");
+  }
   overrides.insert(overrides.end(), o.set.begin(), o.set.end());
-  apply_overrides(scene, overrides);
+  try {
+    apply_overrides(scene, overrides);
+  } catch (const InputError& e) {
+    for (const auto& [set, flag] : flags)
+      if (e.where() == set && std::none_of(o.set.begin(), o.set.end(), [&, &set = set](const std::string& kv) {
+            return "--set " + kv.substr(0, kv.find('=')) == set;
+          })) {
+        std::string m = e.detail();
+        for (const auto& [other, name] : flags)  // "--set solver.tolerance" within the message: the flag
+          for (auto at = m.find(other); at != std::string::npos; at = m.find(other))
+            m.replace(at, other.size(), name);
+        throw InputError(m, flag);
+      }
+    throw;
+  }
   return scene;
 }
 

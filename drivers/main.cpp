@@ -21,6 +21,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
+#include <system_error>
 #include <cmath>
 #include <chrono>
 #include <functional>
@@ -73,6 +75,18 @@ const CLI::Validator kTolerance(
       return "expected a number, got '" + text + "'";
     },
     "TOLERANCE");
+
+/// A cell count: an integer in [1, 10000000] (CLI::Range says "not in range" of a word too).
+const CLI::Validator kCellCount(
+    [](std::string& text) -> std::string {
+      long long v = 0;
+      const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+      if (ec == std::errc::result_out_of_range || (ec == std::errc() && end == text.data() + text.size()))
+        return ec == std::errc() && v >= 1 && v <= 10000000 ? std::string()
+                                                            : "must be in [1, 10000000], got " + text;
+      return "expected an integer, got '" + text + "'";
+    },
+    "INT in [1 - 10000000]");
 
 std::vector<std::string> names_of(const std::vector<CLI::App*>& apps) {
   std::vector<std::string> v;
@@ -132,7 +146,7 @@ Command register_solve(CLI::App& app) {
   auto* cmd = app.add_subcommand("solve", "Solve a contact scene (no scene: the paper's Example 4.1, squares N = 64)");
   cmd->add_option("scene", f->options.scene, "Scene file (TOML, see docs/reference/scenes.md)")->check(CLI::ExistingFile);
   f->o_mesh = cmd->add_option("--mesh", f->mesh, "squares|triangles|voronoi|nonconvex|distorted|PATH.poly2d|PATH.msh");
-  f->o_n = cmd->add_option("--n", f->n, "Elements (or Voronoi seeds) per side")->check(CLI::Range(1, 10000000));
+  f->o_n = cmd->add_option("--n", f->n, "Elements (or Voronoi seeds) per side")->check(kCellCount);
   f->o_linear = cmd->add_option("--linear", f->linear,
                                 join_engine_names(known_linear_engines(), "|") + "|auto (the fastest built; default)");
   f->o_min = cmd->add_option("--minimizer", f->minimizer, join_engine_names(known_minimizers(), "|"));
@@ -206,12 +220,13 @@ Command register_mesh(CLI::App& app) {
   auto f = std::make_shared<Flags>();
   auto* cmd = app.add_subcommand("mesh", "Write a generated mesh as .poly2d");
   cmd->add_option("kind", f->kind, "squares|triangles|voronoi|nonconvex|distorted")->required();
-  cmd->add_option("--n", f->n, "Elements (or seeds) per side; along x with --ny")->capture_default_str()->check(CLI::Range(1, 10000000));
-  auto* o_ny = cmd->add_option("--ny", f->ny, "Elements along y (a rectangle domain; default: --n)")->check(CLI::Range(1, 10000000));
+  cmd->add_option("--n", f->n, "Elements (or seeds) per side; along x with --ny")->capture_default_str()->check(kCellCount);
+  auto* o_ny = cmd->add_option("--ny", f->ny, "Elements along y (a rectangle domain; default: --n)")->check(kCellCount);
   cmd->add_option("--seed", f->seed, "Seed of random meshes")->capture_default_str();
   auto* o_domain = cmd->add_option("--domain", f->domain, "x0 x1 y0 y1")->expected(4)->capture_default_str();
   cmd->add_option("--polygon", f->polygon, "A simple polygon's corners x0 y0 x1 y1 ... (triangles, voronoi)")
-      ->expected(6, 2000000)
+      ->type_name("X Y")
+      ->expected(6, CLI::detail::expected_max_vector_size)
       ->excludes(o_domain)
       ->excludes(o_ny);
   cmd->add_option("-o,--output", f->output, "Output .poly2d file")->required();
@@ -231,6 +246,9 @@ Command register_mesh(CLI::App& app) {
             if (f->polygon.empty()) {
               m = make_mesh(f->kind, cells, Rectangle{f->domain[0], f->domain[1], f->domain[2], f->domain[3]}, f->seed);
             } else {
+              if (f->polygon.size() > 2000000)
+                throw InputError("--polygon takes at most 1000000 corners; got " + std::to_string(f->polygon.size() / 2),
+                                 "mesh --polygon");
               if (f->polygon.size() % 2 != 0)
                 throw InputError("--polygon takes pairs of coordinates x y; got " + std::to_string(f->polygon.size()) +
                                      " numbers",
@@ -259,10 +277,10 @@ Command register_study(CLI::App& app) {
   cmd->add_option("--n", f->options.n, "Elements per side of the studied meshes, e.g. 4,8,16,32,64")
       ->delimiter(',')
       ->capture_default_str()
-      ->check(CLI::Range(1, 10000000));
+      ->check(kCellCount);
   cmd->add_option("--ref", f->options.ref, "Elements per side of the reference mesh (a multiple of every N)")
       ->capture_default_str()
-      ->check(CLI::Range(1, 10000000));
+      ->check(kCellCount);
   cmd->add_option("--set", f->options.set, "Override a scene key for every solve: key=value (repeatable)");
   cmd->add_option("--out", f->options.out, "Output folder (study.csv, study.json, study.png)")->capture_default_str();
   cmd->add_flag("--json", f->options.json, "Print study.json on stdout instead of the table");
@@ -295,7 +313,7 @@ Command register_check(CLI::App& app) {
   auto f = std::make_shared<Flags>();
   auto* cmd = app.add_subcommand("check", "Solve a scene with every built pair of engines and compare the results");
   cmd->add_option("scene", f->options.scene, "Scene file (TOML); none: the paper's Example 4.1")->check(CLI::ExistingFile);
-  f->o_n = cmd->add_option("--n", f->n, "Elements per side")->check(CLI::Range(1, 10000000));
+  f->o_n = cmd->add_option("--n", f->n, "Elements per side")->check(kCellCount);
   f->o_tol = cmd->add_option("--tol", f->tol, "Certificate tolerance for every pair")->check(kPositive)->check(kTolerance);
   cmd->add_option("--set", f->options.set, "Override a scene key: key=value (repeatable)");
   cmd->add_option("--agree", f->options.agree, "Largest accepted max|u_a - u_b| / max|u_ref| between converged pairs")
@@ -344,8 +362,8 @@ Command register_bench(CLI::App& app) {
   f->o_n = cmd->add_option("--n", f->options.n, "Mesh sizes, comma-separated (with --limit: default 128,256,512)")
                ->delimiter(',')
                ->capture_default_str()
-               ->check(CLI::Range(1, 10000000));
-  cmd->add_option("--ref", f->options.ref, "Mesh size of the reference solution")->capture_default_str()->check(CLI::Range(1, 10000000));
+               ->check(kCellCount);
+  cmd->add_option("--ref", f->options.ref, "Mesh size of the reference solution")->capture_default_str()->check(kCellCount);
   f->o_tol = cmd->add_option("--tol", f->tol, "Certificate tolerance for every pair")->check(kPositive)->check(kTolerance);
   cmd->add_option("--set", f->options.set, "Override a scene key: key=value (repeatable)");
   cmd->add_option("--out", f->options.out, "Output folder (bench.csv, bench.json, bench.png; with --limit: limit.json)")

@@ -35,7 +35,7 @@ std::vector<int> side(const Mesh& mesh, const std::string& name) {
   return sorted(select_boundary_edges(mesh, std::vector<Segment>{rectangle_side(mesh.bounding_box(), name)}));
 }
 
-/// The checks shared by the two unit-square files.
+/// The checks shared by the two unit-square files (their surface is physical group 21, "body").
 void check_unit_square(const Mesh& mesh) {
   EXPECT_NEAR(mesh.total_area(), 1.0, 1e-12);
   const Rectangle box = mesh.bounding_box();
@@ -45,7 +45,7 @@ void check_unit_square(const Mesh& mesh) {
   EXPECT_NEAR(box.y1, 1.0, 1e-12);
   for (int e = 0; e < mesh.num_elements(); ++e) {
     EXPECT_GT(mesh.area(e), 0.0) << "element " << e;
-    EXPECT_EQ(mesh.region(e), 0) << "element " << e;
+    EXPECT_EQ(mesh.region(e), 21) << "element " << e;
   }
   // The groups are the sides found geometrically.
   EXPECT_EQ(mesh.edge_groups().size(), 3u);
@@ -137,8 +137,8 @@ TEST(GmshRead, TwoRegionsNonContiguousTagsClockwiseElementUnusedNode) {
   // The quadrangle "10 40 30 20" is clockwise: it is turned around.
   EXPECT_EQ(mesh.elements(), (std::vector<std::vector<int>>{{1, 2, 3, 0}, {1, 4, 5}, {1, 5, 2}}));
   EXPECT_DOUBLE_EQ(mesh.area(0), 1.0);
-  // Surface groups by tag: "rubber" (3) is region 0, "steel" (7) region 1.
-  EXPECT_EQ(mesh.regions(), (std::vector<int>{1, 0, 0}));
+  // Surface groups keep their tags: "steel" (7) is region 7, "rubber" (3) region 3.
+  EXPECT_EQ(mesh.regions(), (std::vector<int>{7, 3, 3}));
   // 1D groups: "bottom" (named) and 9 (unnamed, named by its tag); the 0D group is ignored.
   EXPECT_EQ(mesh.edge_groups().size(), 2u);
   EXPECT_EQ(mesh.edge_group("bottom"), side(mesh, "bottom"));
@@ -154,7 +154,7 @@ TEST(GmshRead, ElementInSeveralSurfaceGroupsTakesTheFirstListed) {
   ASSERT_NE(at, std::string::npos);
   text.replace(at, from.size(), to);
   const TempFile file(text);
-  EXPECT_EQ(read_gmsh(file.path()).regions(), (std::vector<int>{1, 1, 1}));
+  EXPECT_EQ(read_gmsh(file.path()).regions(), (std::vector<int>{7, 7, 7}));
 }
 
 // Every prefix of a valid file that stops at a line end reads or throws an InputError

@@ -283,7 +283,7 @@ TEST(Scene, BadOverridesNameTheKey) {
             std::string::npos);
   EXPECT_NE(override_error("loads.body_force=[0, \"2*z\"]").find("loads.body_force: element 1: expression '2*z'"),
             std::string::npos);
-  EXPECT_NE(override_error("mesh.n=0").find("--set mesh.n: mesh.n: must be between 1"), std::string::npos);
+  EXPECT_NE(override_error("mesh.n=0").find("--set mesh.n: must be between 1"), std::string::npos);
   EXPECT_NE(override_error("mesh.generator=hex").find("unknown mesh generator 'hex'"), std::string::npos);
   EXPECT_NE(override_error("contact.law=nope").find("expected one of: paper"), std::string::npos);
   EXPECT_NE(override_error("no-equals-sign").find("expected key=value"), std::string::npos);

@@ -53,7 +53,9 @@ void write_contact_csv(std::ostream& stream, const ContactSolution& s) {
      << (tangential ? ",u_tau,friction_force,friction_traction,friction_state" : "") << "\n";
   for (const auto& n : s.contact) {
     os << n.vertex << ',' << n.x.x() << ',' << n.x.y() << ',' << n.u_nu << ',' << n.law_force << ',' << n.reaction
-       << ',' << n.pressure() << ',' << n.state << ',' << n.gap << ',' << n.normal.x() << ',' << n.normal.y();
+       << ',' << n.pressure() << ',' << n.state << ',';
+    if (!std::isnan(n.gap)) os << n.gap;  // empty: no gap used (bilateral)
+    os << ',' << n.normal.x() << ',' << n.normal.y();
     if (tangential)
       os << ',' << n.u_tau << ',' << n.friction_force << ',' << n.friction_force / n.weight << ',' << n.friction_state;
     os << '\n';
@@ -215,6 +217,27 @@ const std::vector<std::string>& all_outputs() {
   return names;
 }
 
+namespace {
+
+/// Makes and removes a file (or, with `folder`, a folder) in `dir`: access() grants root
+/// everything, even in a folder such as /sys/kernel where nothing can be made. Empty when it
+/// works, else the reason.
+std::string probe_writing(const fs::path& dir, bool folder) {
+  std::string name = (dir / ".hemivem-probe-XXXXXX").string();
+  if (folder) {
+    if (::mkdtemp(name.data()) == nullptr) return std::strerror(errno);
+    ::rmdir(name.c_str());
+    return {};
+  }
+  const int fd = ::mkstemp(name.data());
+  if (fd < 0) return std::strerror(errno);
+  ::close(fd);
+  ::unlink(name.c_str());
+  return {};
+}
+
+}  // namespace
+
 void check_output_folder(const fs::path& dir) {
   std::error_code ec;
   const fs::file_status st = fs::status(dir, ec);
@@ -222,6 +245,8 @@ void check_output_folder(const fs::path& dir) {
     if (!fs::is_directory(st)) throw InputError("the output folder is a file, not a folder", dir.string());
     if (::access(dir.c_str(), W_OK | X_OK) != 0)
       throw InputError("cannot write into the output folder: " + std::string(std::strerror(errno)), dir.string());
+    if (const std::string why = probe_writing(dir, false); !why.empty())
+      throw InputError("cannot write into the output folder: " + why, dir.string());
     return;
   }
   // the folder will be made: its nearest existing ancestor must be a writable folder
@@ -235,6 +260,8 @@ void check_output_folder(const fs::path& dir) {
   if (::access(p.c_str(), W_OK | X_OK) != 0)
     throw InputError("cannot make the output folder: cannot write into " + p.string() + ": " + std::strerror(errno),
                      dir.string());
+  if (const std::string why = probe_writing(p, true); !why.empty())
+    throw InputError("cannot make the output folder: cannot write into " + p.string() + ": " + why, dir.string());
 }
 
 OutputReport write_outputs(const fs::path& dir, const Mesh& mesh, const MaterialTable& materials,

@@ -28,8 +28,21 @@ double SceneSolve::total_seconds() const {
 
 bool same_engine(const std::string& a, const std::string& b) { return normalized_engine_name(a) == normalized_engine_name(b); }
 
+/// An engine named by a key the scene file gave (line > 0): its error names the file and line.
+template <class Make>
+auto named_engine(const Scene& scene, const std::string& key, Make make) {
+  try {
+    return make();
+  } catch (const InputError& e) {
+    const auto it = scene.lines.find(key);
+    if (it == scene.lines.end() || it->second <= 0) throw;
+    throw InputError(key + ": " + e.detail(), scene.where(key));
+  }
+}
+
 std::unique_ptr<NonsmoothMinimizer> make_scene_minimizer(const Scene& scene, const std::string& name) {
-  if (scene.solver.parameters.empty() || !same_engine(name, scene.solver.minimizer)) return make_minimizer(name);
+  if (scene.solver.parameters.empty() || !same_engine(name, scene.solver.minimizer))
+    return named_engine(scene, "solver.minimizer", [&] { return make_minimizer(name); });
   try {
     return make_minimizer(name, scene.solver.parameters);
   } catch (const InputError& e) {
@@ -78,7 +91,7 @@ SceneSolve solve_scene(const Scene& scene, const std::function<void(const BuiltP
   SceneSolve s;
   FactorizationOptions fo;
   fo.engine = scene.solver.linear;
-  auto factorization = make_factorization(fo);
+  auto factorization = named_engine(scene, "solver.linear", [&] { return make_factorization(fo); });
   const auto minimizer = make_scene_search(scene, std::move(progress));
   s.linear = factorization->name();
   s.minimizer = first_engine(*minimizer);
@@ -94,8 +107,13 @@ SceneSolve solve_scene(const Scene& scene, const std::function<void(const BuiltP
   s.mesh_seconds = since(t);
   if (on_built) on_built(*s.built, s);
   const NonsmoothMinimizer* minimizers[] = {minimizer.get()};
-  s.solution = std::move(
-      solve_contact(s.built->problem, std::move(factorization), minimizers, s.options, reduced, true).front());
+  try {
+    s.solution = std::move(
+        solve_contact(s.built->problem, std::move(factorization), minimizers, s.options, reduced, true).front());
+  } catch (const InputError& e) {  // a defect of the contact part found when it is set up: name the scene's key
+    if (!e.where().empty() || e.detail().rfind("contact node", 0) != 0) throw;
+    throw InputError("contact: " + e.detail(), scene.where("contact"));
+  }
   s.warnings = s.built->warnings;
   if (std::string w = conditioning_warning(s.solution.condition_estimate); !w.empty()) s.warnings.push_back(std::move(w));
   return s;

@@ -125,20 +125,27 @@ def _from_dict(document, name="<dict>"):
     return Scene.from_string(text, name)
 
 
+def _override(key, value):
+    # None removes the key, as `--set key=` does
+    return f"{key}=" if value is None else f"{key}={_toml_value(value, key)}"
+
+
 def _set(self, key, value):
     """Sets one key, as `hemivem solve --set key=value`: scene.set("contact.gap", 0.01).
 
-    The value is a Python bool, number, str, list or dict (written as TOML). The scene is
-    validated as a whole; InputError naming the key (and the nearest valid key) otherwise."""
+    The value is a Python bool, number, str, list or dict (written as TOML); None removes the
+    key (as `--set key=`), e.g. the gap before an obstacle is given. The scene is validated as
+    a whole; InputError naming the key (and the nearest valid key) otherwise."""
     if not isinstance(key, str) or not key:
         raise _input_error("the key must be a non-empty dotted name such as 'contact.gap'", "set")
-    self._apply_overrides([f"{key}={_toml_value(value, key)}"])
+    self._apply_overrides([_override(key, value)])
 
 
 def _update(self, values):
     """Sets several keys at once ({"contact.law": "kinked", "contact.parameters.sigma": 0.5}),
-    validated together: the order does not matter."""
-    self._apply_overrides([f"{k}={_toml_value(v, k)}" for k, v in dict(values).items()])
+    validated together: the order does not matter. None removes a key; keys that contradict
+    each other (mesh.file with mesh.n) are refused as in a scene file."""
+    self._apply_overrides([_override(k, v) for k, v in dict(values).items()])
 
 
 def _to_dict(self):

@@ -39,6 +39,10 @@ Eigen::VectorXd vector_from(const py::handle& values, const std::string& what, b
 /// A TOML basic string holding s (for overrides "key=value"): its JSON form, which TOML reads.
 std::string toml_string(const std::string& s);
 
+/// InputError for mumps-mpi: it runs across the processes an MPI launcher starts, never inside
+/// a Python interpreter (MPI_Init_thread would wait for the other processes forever).
+void refuse_mpi_engine(const std::string& linear, const std::string& where);
+
 /// A mesh shared with whatever owns it (a result, a reduced problem, or itself).
 struct PyMesh {
   std::shared_ptr<const Mesh> mesh;

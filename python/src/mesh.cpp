@@ -2,6 +2,8 @@
 #include "bindings.hpp"
 
 #include <pybind11/stl.h>
+
+#include <algorithm>
 #include <pybind11/stl/filesystem.h>
 
 #include <cmath>
@@ -85,25 +87,47 @@ Rectangle rectangle_from(const std::optional<std::array<double, 4>>& d) {
 
 const Mesh& get(const PyMesh& m) { return *m.mesh; }
 
+/// A mesh from arrays; a MeshError names the offending element in its where.
+PyMesh mesh_from_arrays(py::handle vertices, py::handle offsets, py::handle indices, const py::object& regions) {
+  std::vector<int> r;
+  if (!regions.is_none()) r = ints_from(regions, "regions");
+  auto v = vertices_from(vertices);
+  auto elements = elements_from(ints_from(offsets, "offsets"), ints_from(indices, "indices"));
+  try {
+    return own(Mesh(std::move(v), std::move(elements), std::move(r)));
+  } catch (const MeshError& e) {
+    if (!e.where().empty()) throw;
+    throw MeshError(e.detail(), e.element(), e.element() >= 0 ? "element " + std::to_string(e.element()) : "Mesh");
+  }
+}
+
+/// Refuses to write a mesh's regions or edge groups where the .poly2d format has no place for them.
+void require_nothing_dropped(const Mesh& mesh, bool drop) {
+  if (drop) return;
+  const bool regions = std::any_of(mesh.regions().begin(), mesh.regions().end(), [](int r) { return r != 0; });
+  std::string groups;
+  for (const auto& [name, edges] : mesh.edge_groups()) groups += (groups.empty() ? "" : ", ") + name;
+  if (!regions && groups.empty()) return;
+  throw InputError(std::string("the .poly2d format holds no ") + (regions ? "region ids" : "") +
+                       (regions && !groups.empty() ? " and no " : "") +
+                       (groups.empty() ? "" : "edge groups (this mesh has: " + groups + ")") +
+                       "; pass drop=True to write the mesh without them",
+                   "write_poly2d");
+}
+
 using MeshClass = py::class_<PyMesh>;
 
 /// Mesh.from_arrays (and the constructor), Mesh.generate, Mesh.read and write_poly2d.
 void def_mesh_sources(MeshClass& c) {
   c.def(py::init([](py::handle vertices, py::handle offsets, py::handle indices, py::object regions) {
-          std::vector<int> r;
-          if (!regions.is_none()) r = ints_from(regions, "regions");
-          return own(Mesh(vertices_from(vertices), elements_from(ints_from(offsets, "offsets"), ints_from(indices, "indices")),
-                          std::move(r)));
+          return mesh_from_arrays(vertices, offsets, indices, regions);
         }),
         py::arg("vertices"), py::arg("offsets"), py::arg("indices"), py::arg("regions") = py::none(),
         "The same as Mesh.from_arrays.")
       .def_static(
           "from_arrays",
           [](py::handle vertices, py::handle offsets, py::handle indices, py::object regions) {
-            std::vector<int> r;
-            if (!regions.is_none()) r = ints_from(regions, "regions");
-            return own(Mesh(vertices_from(vertices),
-                            elements_from(ints_from(offsets, "offsets"), ints_from(indices, "indices")), std::move(r)));
+            return mesh_from_arrays(vertices, offsets, indices, regions);
           },
           py::arg("vertices"), py::arg("offsets"), py::arg("indices"), py::arg("regions") = py::none(),
           "A mesh from arrays: vertices (n, 2), elements as CSR offsets and indices (0-based,\n"
@@ -142,11 +166,14 @@ void def_mesh_sources(MeshClass& c) {
           "Reads a .poly2d or Gmsh 4.1 .msh file; InputError (MeshError) naming file:line.")
       .def(
           "write_poly2d",
-          [](const PyMesh& self, const std::filesystem::path& path, const std::vector<std::string>& comments) {
+          [](const PyMesh& self, const std::filesystem::path& path, const std::vector<std::string>& comments, bool drop) {
+            require_nothing_dropped(get(self), drop);
             write_poly2d(path, get(self), comments);
           },
-          py::arg("path"), py::arg("comments") = std::vector<std::string>{},
-          "Writes the mesh as .poly2d (17 significant digits: an exact round trip).");
+          py::arg("path"), py::arg("comments") = std::vector<std::string>{}, py::kw_only(), py::arg("drop") = false,
+          "Writes the mesh as .poly2d (17 significant digits: an exact round trip of the vertices and\n"
+          "elements). The format holds no region ids and no edge groups: a mesh with either is refused\n"
+          "(InputError) unless drop=True, which writes it without them.");
 }
 
 /// Sizes, vertices and elements (CSR offsets and indices, lists).

@@ -58,6 +58,13 @@ Eigen::VectorXd vector_from(const py::handle& values, const std::string& what, b
 
 std::string toml_string(const std::string& s) { return nlohmann::json(s).dump(); }
 
+void refuse_mpi_engine(const std::string& linear, const std::string& where) {
+  if (normalized_engine_name(linear) == "mumps-mpi")
+    throw InputError("'mumps-mpi' runs across processes started by mpirun (hemivem solve --linear mumps-mpi), not "
+                     "inside Python; use 'mumps' or another engine of hemivem.available_engines()['linear']",
+                     where);
+}
+
 // ---- Ctrl-C -------------------------------------------------------------------------------------
 
 SignalWatch::~SignalWatch() {

@@ -465,6 +465,7 @@ void register_condense(py::module_& m) {
         if (linear) apply_override(scene, "solver.linear=" + toml_string(*linear));
         FactorizationOptions fo;
         fo.engine = scene.solver.linear;
+        refuse_mpi_engine(fo.engine, linear ? "linear" : scene.where("solver.linear"));
         auto factorization = make_factorization(fo);
         auto h = std::make_shared<ReducedHolder>();
         h->self = h;
@@ -668,11 +669,13 @@ Values and derivatives take a number or an array.
           },
           py::arg("r"), py::arg("side") = 1, py::arg("part") = "j", "j'(r+) (side=+1) or j'(r-) (side=-1).")
       .def(
-          "clarke", [](const PyLaw& l, double r) {
-            const Interval i = l.law->clarke(r);
-            return py::make_tuple(i.lo, i.hi);
+          "clarke", [](const PyLaw& l, py::handle r) {
+            return py::make_tuple(map_values(r, [&](double x) { return l.law->clarke(x).lo; }),
+                                  map_values(r, [&](double x) { return l.law->clarke(x).hi; }));
           },
-          py::arg("r"), "The Clarke subdifferential of j at r as (lo, hi).")
+          py::arg("r"),
+          "The Clarke subdifferential of j at r as (lo, hi): two floats for a number, two arrays of\n"
+          "r's shape for an array.")
       .def("__repr__", [](const PyLaw& l) {
         std::ostringstream o;
         o << "ContactLaw(" << py::repr(py::str(l.law->name())).cast<std::string>() << ", alpha=" << l.law->alpha()

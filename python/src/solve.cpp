@@ -404,7 +404,8 @@ void solve_data(SolveData& d, const py::object& progress, bool keep_reduced) {
 constexpr const char* kSolveDoc = R"doc(Solves a scene as `hemivem solve` does: mesh -> assembly -> condensation -> minimizer ->
 back-substitution, only the stages the scene needs. Returns a Result.
 
-scene: a Scene (default: Scene.default()), not modified. linear, minimizer, tolerance and
+scene: a Scene (default: Scene.default()), not modified; or a path (str or os.PathLike) to a
+scene file, or TOML text, read as Scene.from_toml reads it. linear, minimizer, tolerance and
 max_iterations override solver.linear, solver.minimizer, solver.tolerance and
 solver.max_iterations (as the flags --linear, --minimizer, --tol); further keyword arguments
 are the minimizer's parameters (solver.parameters.NAME, e.g. armijo=1e-3), checked as on the
@@ -430,10 +431,16 @@ void register_solve_function(py::module_& m) {
          std::optional<std::vector<std::string>> engines, py::object progress,
          bool keep_reduced, const py::kwargs& kwargs) {
         auto d = std::make_shared<SolveData>();
+        if (py::isinstance<py::str>(scene_arg) || py::isinstance(scene_arg, py::module_::import("os").attr("PathLike")))
+          scene_arg = py::module_::import("hemivem").attr("Scene").attr("from_toml")(scene_arg);  // a file or TOML text
+        if (!scene_arg.is_none() && !py::isinstance<Scene>(scene_arg))
+          throw py::type_error("hemivem.solve takes a Scene, a path to a scene file or TOML text, not " +
+                               py::str(scene_arg.get_type().attr("__name__")).cast<std::string>());
         d->scene = scene_arg.is_none() ? default_scene() : scene_arg.cast<Scene>();
         const SolveKeywords k{linear, minimizer, tolerance, max_iterations, search, max_starts, time_budget, seed, engines};
         const std::vector<std::string> overrides = keyword_overrides(k, kwargs);
         if (!overrides.empty()) apply_overrides(d->scene, overrides);
+        refuse_mpi_engine(d->scene.solver.linear, linear ? "linear" : d->scene.where("solver.linear"));
         solve_data(*d, progress, keep_reduced);
         return d;
       },

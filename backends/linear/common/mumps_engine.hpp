@@ -25,6 +25,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <mutex>
 #include <span>
 #include <string>
 #include <utility>
@@ -45,6 +46,15 @@ constexpr MUMPS_INT kJobSolve = 3;
 
 using namespace linear_detail;
 
+/// Every call into MUMPS, one at a time in the process: MUMPS keeps global state (its MPI
+/// stand-in, the ordering libraries' workspaces), so two instances driven from two threads
+/// at once corrupt each other. A solve in one thread waits for a factorization in another.
+void call_mumps(DMUMPS_STRUC_C& id) {
+  static std::mutex mutex;
+  const std::lock_guard<std::mutex> lock(mutex);
+  dmumps_c(&id);
+}
+
 template <class Comm>
 class MumpsEngine {
  public:
@@ -54,7 +64,7 @@ class MumpsEngine {
     id_.par = 1;  // the host works too
     id_.sym = 1;  // symmetric positive definite
     id_.job = kJobInit;
-    dmumps_c(&id_);
+    call_mumps(id_);
     if (id_.HEMIVEM_INFOG(1) < 0) {
       init_error_ = make_result(FactorizationStatus::numerical_failure,
                                 name_ + ": MUMPS initialization failed" + codes());
@@ -82,7 +92,7 @@ class MumpsEngine {
   ~MumpsEngine() {
     if (initialized_) {
       id_.job = kJobEnd;
-      dmumps_c(&id_);
+      call_mumps(id_);
     }
   }
 
@@ -378,7 +388,7 @@ class MumpsEngine {
     }
     id_.HEMIVEM_ICNTL(19) = n1 > 0 ? 1 : 0;  // centralized Schur complement on the host
     id_.job = kJobAnalyze;
-    dmumps_c(&id_);
+    call_mumps(id_);
     ++num_analyses_;
     if (id_.HEMIVEM_INFOG(1) < 0) {
       analysis_ = Analysis::none;
@@ -407,7 +417,7 @@ class MumpsEngine {
     }
     id_.job = kJobFactorize;
     for (int attempt = 0;; ++attempt) {
-      dmumps_c(&id_);
+      call_mumps(id_);
       const MUMPS_INT e = id_.HEMIVEM_INFOG(1);
       const bool workspace = e == -8 || e == -9 || e == -14 || e == -15 || e == -17 || e == -20;
       if (!workspace || attempt >= 4) break;
@@ -437,7 +447,7 @@ class MumpsEngine {
     id_.HEMIVEM_ICNTL(11) = error_analysis ? 1 : 0;
     id_.HEMIVEM_ICNTL(26) = 0;  // with a Schur complement: solve the internal problem
     id_.job = kJobSolve;
-    dmumps_c(&id_);
+    call_mumps(id_);
     id_.HEMIVEM_ICNTL(11) = 0;
     id_.rhs = nullptr;
     if (id_.HEMIVEM_INFOG(1) < 0) return error("solve");

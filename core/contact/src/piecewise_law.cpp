@@ -252,7 +252,7 @@ std::shared_ptr<const ContactLaw> paper_law() {
 }
 
 std::shared_ptr<const ContactLaw> linear_law(double k) {
-  if (!(k >= 0.0) || !std::isfinite(k)) throw InputError("spring stiffness " + num(k) + " must be finite and >= 0", "contact law 'linear'");
+  if (!(k >= 0.0) || !std::isfinite(k)) throw InputError("stiffness " + num(k) + " must be finite and >= 0", "contact law 'linear'");
   return std::make_shared<PiecewisePolynomialLaw>("linear", std::vector<double>{},
                                                   std::vector<Polynomial>{{0.0, 0.0, 0.5 * k}},
                                                   std::vector<Polynomial>{{0.0}});
@@ -261,7 +261,9 @@ std::shared_ptr<const ContactLaw> linear_law(double k) {
 std::shared_ptr<const ContactLaw> sawtooth_law(double k, double r1, double residual, double r2) {
   const std::string where = "contact law 'sawtooth'";
   if (!(k > 0.0) || !(r1 > 0.0) || !(r2 > r1) || !(residual >= 0.0) || !(residual < k * r1))
-    throw InputError("needs k > 0, 0 < r1 < r2 and 0 <= residual < k r1", where);
+    throw InputError("needs stiffness > 0, 0 < r1 < r2 and 0 <= residual < stiffness * r1, got stiffness " + num(k) +
+                         ", r1 " + num(r1) + ", r2 " + num(r2) + ", residual " + num(residual),
+                     where);
   // j = 0 (r <= 0); k r^2 / 2 on (0, r1]; k r1^2/2 + residual (r - r1) on (r1, r2];
   // then + k (r - r2)^2 / 2. j2 = (k r1 - residual) (r - r1)^+ absorbs the concave kink.
   const double drop = k * r1 - residual;
@@ -282,7 +284,8 @@ std::shared_ptr<const ContactLaw> sawtooth_law(double k, double r1, double resid
 
 std::shared_ptr<const ContactLaw> kinked_law(double sigma, double k) {
   if (!(sigma >= 0.0) || !(k >= 0.0) || !std::isfinite(sigma) || !std::isfinite(k))
-    throw InputError("needs finite sigma >= 0 and k >= 0", "contact law 'kinked'");
+    throw InputError("needs finite sigma >= 0 and stiffness >= 0, got sigma " + num(sigma) + ", stiffness " + num(k),
+                     "contact law 'kinked'");
   return std::make_shared<PiecewisePolynomialLaw>("kinked", std::vector<double>{0.0},
                                                   std::vector<Polynomial>{{0.0}, {0.0, sigma, 0.5 * k}},
                                                   std::vector<Polynomial>{{0.0}, {0.0}});

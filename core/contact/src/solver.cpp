@@ -267,7 +267,8 @@ ContactNode ContactSolver::contact_node(int i, const MinimizerResult& m, const E
   node.x = problem_.elasticity.mesh->vertex(node.vertex);
   node.weight = boundary_.weights(i);
   node.normal = boundary_.normals[static_cast<std::size_t>(i)];
-  node.gap = boundary_.gaps(i);
+  // no gap is used where u_nu = 0 is imposed (bilateral)
+  node.gap = cond.normal_coordinate(i) >= 0 ? boundary_.gaps(i) : std::numeric_limits<double>::quiet_NaN();
   if (const int k = cond.normal_coordinate(i); k >= 0) {
     node.u_nu = m.a(k) + cond.origin()(k);
     node.law_force = forces ? m.law_force(k) : 0.0;

@@ -20,10 +20,10 @@
 // The mesh: the nodes used by surface elements become the vertices, numbered 0, 1, ... in
 // their order in $Nodes (nodes used by no surface element, such as the geometry's points,
 // are dropped); triangles and quadrangles become the elements in their order in $Elements,
-// turned counter-clockwise when given clockwise. The region of an element is the index of
-// its surface physical group among all surface physical groups (those of $PhysicalNames and
-// of $Entities) sorted by tag; 0 when its surface has none; when its surface is in several
-// surface groups, the first one listed for the surface in $Entities counts. Every 1D physical
+// turned counter-clockwise when given clockwise. The region of an element is the tag of its
+// surface physical group as the file writes it (1 ... 1000000; a larger tag is refused); 0
+// when its surface has none; when its surface is in several surface groups, the first one
+// listed for the surface in $Entities counts. Every 1D physical
 // group becomes an edge group named by $PhysicalNames (or by its tag, as a decimal string,
 // when unnamed) holding the mesh edges of the line elements of its curves (sorted, without
 // repeats); every line element must lie on a mesh edge. Point elements and 0D groups are
@@ -344,6 +344,9 @@ class GmshReader {
         for (long long k = 0; k < np; ++k) {
           const long long p = integer(line, at + 1 + static_cast<std::size_t>(k), "physical tag");
           if (p < INT_MIN || p > INT_MAX) fail(line, "physical tag " + std::to_string(p) + " is out of range");
+          if (d == 2 && (p < 1 || p > 1000000))
+            fail(line, "physical surface tag " + std::to_string(p) +
+                           " cannot be a region id: surface tags are kept as region ids, from 1 to 1000000");
           tags.push_back(static_cast<int>(p));
         }
         if (!entity_physicals_[d].emplace(tag, std::move(tags)).second)
@@ -524,17 +527,13 @@ class GmshReader {
     return vertices;
   }
 
-  /// The region of each surface element: the rank of its entity's first physical group among
-  /// the surface physical groups sorted by tag (0 without one).
+  /// The region of each surface element: the tag of its entity's first physical group, as
+  /// written in the file (0 without one).
   std::vector<int> surface_regions() const {
-    std::set<int> surface_groups;
-    for (const auto& [key, name] : physical_names_)
-      if (key.first == 2) surface_groups.insert(key.second);
-    for (const auto& [entity, tags] : entity_physicals_[2]) surface_groups.insert(tags.begin(), tags.end());
     auto region_of = [&](long long entity) {
       const auto it = entity_physicals_[2].find(entity);
       if (it == entity_physicals_[2].end() || it->second.empty()) return 0;
-      return static_cast<int>(std::distance(surface_groups.begin(), surface_groups.find(it->second.front())));
+      return it->second.front();
     };
     std::vector<int> regions;
     regions.reserve(surfaces_.size());

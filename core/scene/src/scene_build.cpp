@@ -106,12 +106,38 @@ std::vector<std::string> scene_warnings(const Scene& scene) {
     driven = driven || scene.contact->obstacle.has_value() || scene.contact->gap.is_expression() ||
              scene.contact->gap.value < 0.0;
   std::vector<std::string> out;
+  if (scene.clamped.empty() && scene.dirichlet.empty())
+    out.push_back("the scene has no [clamped] and no [[dirichlet]]: no part of the boundary is held, only what the "
+                  "contact provides (the paper's supports are [clamped] side = [\"left\", \"right\"])");
+  if (scene.contact && scene.contact->constraint == ConstraintKind::bilateral && scene.lines.count("contact.gap"))
+    out.push_back(scene.where("contact.gap") + ": contact.gap is not used with constraint = \"bilateral\" (u_nu = 0)");
   if (!driven)
     out.push_back("nothing drives this problem: no load, no prescribed displacement other than zero and no "
                   "obstacle; its solution is u = 0 unless the contact law pushes at u_nu = 0 (a missing [loads] table "
                   "means no loads)");
   return out;
 }
+
+namespace {
+
+/// Every [[material.region]] (those with a box too when `boxes`) names a region some element
+/// of the mesh is in; an error at the region's id otherwise.
+void check_regions_used(const Scene& scene, const Mesh& mesh, bool boxes) {
+  const std::set<int> present(mesh.regions().begin(), mesh.regions().end());
+  for (std::size_t i = 0; i < scene.material.regions.size(); ++i) {
+    const auto& r = scene.material.regions[i];
+    if ((r.box && !boxes) || present.count(r.region)) continue;
+    std::string ids;
+    for (int id : present) ids += (ids.empty() ? "" : ", ") + std::to_string(id);
+    const std::string key = "material.region[" + std::to_string(i) + "]";
+    throw InputError(key + ".id: region " + std::to_string(r.region) + " matches no element of the mesh " +
+                         (r.box ? "(its box holds no element centroid, or later boxes cover them)"
+                                : "(the mesh's region ids are " + ids + ")"),
+                     scene.where(scene.lines.count(key + ".id") ? key + ".id" : key));
+  }
+}
+
+}  // namespace
 
 std::unique_ptr<BuiltProblem> build_problem(const Scene& scene) {
   auto out = std::make_unique<BuiltProblem>();
@@ -165,6 +191,7 @@ std::unique_ptr<BuiltProblem> build_problem(const Scene& scene) {
     }
     mesh.set_regions(std::move(ids));
   }
+  check_regions_used(scene, mesh, true);
   out->problem = make_contact_problem(scene, mesh);
   out->has_contact = scene.contact.has_value();
   out->warnings = scene_warnings(scene);
@@ -322,6 +349,7 @@ void add_contact(ContactProblem& p, const SceneContact& c, const Scene& scene, c
 ContactProblem make_contact_problem(const Scene& scene, const Mesh& mesh) {
   ContactProblem p;
   p.elasticity.mesh = &mesh;
+  check_regions_used(scene, mesh, false);
   p.elasticity.materials = scene_materials(scene, mesh);
   p.elasticity.stabilization = scene.material.stabilization;
   const EdgeSelection select(scene, mesh);

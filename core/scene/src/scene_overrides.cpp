@@ -2,6 +2,8 @@
 #include <hemivem/scene/scene.hpp>
 
 #include <cctype>
+#include <cerrno>
+#include <cstdlib>
 #include <sstream>
 
 #include "scene_reader.hpp"
@@ -19,6 +21,7 @@ struct Override {
   std::string key;
   std::vector<std::pair<std::string, int>> parts;
   toml::table holder;  ///< the value as "v"
+  bool remove = false; ///< "key=" (nothing after '='): the key is removed
   std::string text;    ///< "key=value" as given; a relative mesh.file made absolute by edit_table
   std::string where() const { return "--set " + key; }
 };
@@ -56,9 +59,18 @@ Override parse_override(std::string_view key_eq_value) {
     if (dot == std::string::npos) break;
     start = dot + 1;
   }
+  if (value.empty()) {
+    o.remove = true;
+    return o;
+  }
   try {
     o.holder = toml::parse("v = " + value);
   } catch (const toml::parse_error&) {
+    char* end = nullptr;
+    errno = 0;
+    const double number = std::strtod(value.c_str(), &end);
+    if (end == value.c_str() + value.size() && errno == ERANGE && number != 0.0)
+      throw InputError(value + " is out of the range of a number (the largest finite one is about 1.8e308)", o.where());
     o.holder = toml::table{};
     o.holder.insert("v", value);
   }
@@ -88,6 +100,10 @@ void edit_table(toml::table& root, Override& o) {
   const std::string& leaf = o.parts.back().first;
   if (o.parts.back().second >= 0)
     throw InputError("cannot replace a whole element; set one of its keys, e.g. '" + o.key + ".value'", o.where());
+  if (o.remove) {
+    if (!t->erase(leaf)) throw InputError("the scene has no key '" + o.key + "' to remove", o.where());
+    return;
+  }
   if (o.parts.size() == 2 && o.parts[0].first == "mesh") {
     if (leaf == "generator") t->erase("file");
     if (leaf == "file") {
@@ -107,12 +123,40 @@ void edit_table(toml::table& root, Override& o) {
   o.holder.get("v")->visit([&](auto&& v) { t->insert_or_assign(leaf, v); });
 }
 
+/// A message blamed on "--set key" without the key (or the table holding it) it starts with
+/// ("key: ..."): `where` names it.
+std::string without_key(const std::string& message, const std::string& where) {
+  if (where.rfind("--set ", 0) != 0) return message;
+  const std::string key = where.substr(6);
+  const auto colon = message.find(": ");
+  if (colon == std::string::npos) return message;
+  const std::string head = message.substr(0, colon);
+  const bool within = key.rfind(head, 0) == 0 && (key.size() == head.size() || key[head.size()] == '.');
+  return within ? message.substr(colon + 2) : message;
+}
+
+/// A mesh file and a generator's keys given together are refused as the scene reader refuses
+/// them: the overrides would contradict each other.
+void refuse_contradictions(const std::vector<Override>& overrides) {
+  const Override* file = nullptr;
+  for (const auto& o : overrides)
+    if (o.key == "mesh.file" && !o.remove) file = &o;
+  if (file)
+    for (const auto& o : overrides)
+      for (const char* k : {"generator", "n", "seed", "domain"})
+        if (!o.remove && o.key == std::string("mesh.") + k)
+          throw InputError("not used with mesh.file (" + file->where() +
+                               "); give either a generator or a file",
+                           o.where());
+}
+
 }  // namespace
 
 void apply_overrides(Scene& scene, const std::vector<std::string>& key_eq_values) {
   if (key_eq_values.empty()) return;
   std::vector<Override> overrides;
   for (const auto& kv : key_eq_values) overrides.push_back(parse_override(kv));
+  refuse_contradictions(overrides);
   // the text the scene was read from with the overrides applied since, unless the scene was
   // made or changed in code: then the scene as written by to_toml
   const detail::SceneDocument* doc = scene.document && scene.document->scene == scene ? scene.document.get() : nullptr;
@@ -125,7 +169,7 @@ void apply_overrides(Scene& scene, const std::vector<std::string>& key_eq_values
     for (const auto& kv : doc->overrides) earlier.push_back(parse_override(kv));
   for (std::vector<Override>* list : {&earlier, &overrides})
     for (auto& o : *list) {
-      if (o.parts.front().first == "contact" && !root.contains("contact"))  // the default contact part
+      if (o.parts.front().first == "contact" && !o.remove && !root.contains("contact"))  // the default contact part
         root.insert("contact", toml::table{{"side", toml::array{"bottom"}}});
       edit_table(root, o);
     }
@@ -144,7 +188,7 @@ void apply_overrides(Scene& scene, const std::vector<std::string>& key_eq_values
       for (const auto& o : overrides)
         if (within(o.key, key) || within(key, o.key)) blamed = &o;
       if (!blamed) throw;
-      throw InputError(m, blamed->where());
+      throw InputError(without_key(m, blamed->where()), blamed->where());
     }
     // else blame the override whose key the message's key path shares most with (the later
     // one on a tie); "--set" alone when the message names none of them
@@ -161,7 +205,7 @@ void apply_overrides(Scene& scene, const std::vector<std::string>& key_eq_values
         for (const auto& part : o.parts)
           if (m.find("'" + part.first + "'") != std::string::npos) where = o.where();
     if (where == "--set" && overrides.size() == 1) where = overrides.front().where();
-    throw InputError(m, where);
+    throw InputError(without_key(m, where), where);
   }
   updated.source = scene.source;
   if (!read) updated.lines = scene.lines;

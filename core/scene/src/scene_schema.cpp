@@ -184,7 +184,8 @@ void read_contact_law(TableReader& r, SceneLaw& law) {
   try {
     (void)make_law(law);
   } catch (const InputError& e) {
-    const char* at = r.has("j") ? "j" : "law";
+    // a shipped law's parameters out of range: blame [contact.parameters]
+    const char* at = r.has("j") ? "j" : (law.parameters.empty() ? "law" : "parameters");
     r.fail(at, r.has(at) ? r.node(at) : static_cast<const toml::node&>(r.self()), e.detail());
   }
 }
@@ -566,11 +567,9 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
   read_version_and_title(r, s);
   if (const toml::table* t = r.table("mesh")) read_mesh(s, *t, base);
   if (const toml::table* t = r.table("material")) read_material(s, *t);
+  if (!r.has("clamped")) s.clamped = BoundarySelector{{}, {}, {}, 1e-8};  // only the supports the scene writes
   if (const toml::table* t = r.table("clamped")) read_clamped(s, *t);
-  if (const toml::array* d = r.array_of_tables("dirichlet")) {
-    if (!r.has("clamped")) s.clamped = BoundarySelector{{}, {}, {}, 1e-8};  // only what the scene prescribes
-    read_dirichlet(s, *d);
-  }
+  if (const toml::array* d = r.array_of_tables("dirichlet")) read_dirichlet(s, *d);
   read_loads(s, r.table("loads"));
   s.contact.reset();
   if (const toml::table* t = r.table("contact")) {

@@ -146,7 +146,9 @@ void write_contact(std::ostream& o, const SceneContact& c) {
   write_selector(o, c.boundary);
   o << "law = " << quote(c.law.name) << "\n";
   write_pieces(o, c.law);
-  if (!c.obstacle) o << "gap = " << scalar_text(c.gap) << "\n";
+  // a bilateral contact uses no gap: written only when it is not the default
+  if (!c.obstacle && (c.constraint != ConstraintKind::bilateral || !(c.gap == SceneContact{}.gap)))
+    o << "gap = " << scalar_text(c.gap) << "\n";
   o << "constraint = " << quote(to_string(c.constraint)) << "\n";
   o << "law_origin = " << quote(c.law_origin) << "\n";
   if (c.obstacle) write_obstacle(o, *c.obstacle);

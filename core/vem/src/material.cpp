@@ -55,7 +55,9 @@ Eigen::Matrix3d elasticity_matrix(const Lame& l) {
   return C;
 }
 
-MaterialTable::MaterialTable(Material material, PlaneModel model) : MaterialTable(std::vector{material}, model) {}
+MaterialTable::MaterialTable(Material material, PlaneModel model) : MaterialTable(std::vector{material}, model) {
+  uniform_ = true;
+}
 
 MaterialTable::MaterialTable(std::vector<Material> by_region, PlaneModel model)
     : materials_(std::move(by_region)), model_(model) {
@@ -69,6 +71,7 @@ MaterialTable::MaterialTable(std::vector<Material> by_region, PlaneModel model)
 }
 
 const Material& MaterialTable::material(int region) const {
+  if (uniform_ && region >= 0) return materials_.front();
   if (region < 0 || static_cast<std::size_t>(region) >= materials_.size())
     throw InputError("no material for region " + std::to_string(region) + " (" + std::to_string(materials_.size()) +
                      " region(s) defined)");

@@ -36,10 +36,11 @@ struct ContactBoundary {
 
 /// Builds Gamma_3 from boundary edges. The normal of a node is the length-weighted mean of
 /// the outward normals of its Gamma_3 edges, normalised (exact on each straight segment; at a
-/// corner of a polyline it leans towards the longer edge). Nodes whose displacement is
-/// prescribed (on Gamma_1) are excluded. A node with one prescribed component is kept when
-/// that component is tangential (|nu . e| <= tangential_tolerance): its normal is then taken
-/// exactly perpendicular to it; a prescribed normal component is an InputError.
+/// corner between edges of lengths l1 and l2 it is (l1 n1 + l2 n2) normalised, which is the
+/// bisector only when l1 = l2). Nodes whose displacement is prescribed (on Gamma_1) are
+/// excluded. A node with one prescribed component is kept when that component is tangential
+/// (|nu . e| <= tangential_tolerance): its normal is then taken exactly perpendicular to it; a
+/// prescribed normal component is an InputError.
 /// `gap` gives g at a node position (constant gaps: a lambda returning a constant); a
 /// negative or non-finite gap is an InputError. With an `obstacle` the gaps are
 /// obstacle->gap(x, nu) instead: any value but NaN.

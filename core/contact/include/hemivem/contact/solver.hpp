@@ -36,7 +36,7 @@ struct ContactNode {
   double reaction = 0.0;   ///< lambda_i: the reaction of the constraint (>= 0 at the upper bound, <= 0 at the lower, 0 off them)
   double weight = 0.0;     ///< w_i, the length of boundary the node stands for
   Vec2 normal = Vec2::Zero();  ///< the outward unit normal nu_i
-  double gap = 0.0;        ///< g_i, the gap used at the node
+  double gap = 0.0;        ///< g_i, the gap used at the node; NaN where none is (bilateral: u_nu = 0)
   std::string state;       ///< "upper" (a_i at its upper bound), "lower" or "free" ("bilateral": u_nu = 0 imposed)
   /// With friction (ContactProblem::friction, or a bilateral constraint): the tangential
   /// displacement u_tau = u . tau (tau = (-nu_y, nu_x)), the friction force zeta_tau in

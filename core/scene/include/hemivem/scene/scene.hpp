@@ -178,7 +178,8 @@ struct Scene {
   std::string title = "Example 4.1 (Feng, Han, Huang 2021)";
   SceneMesh mesh;
   SceneMaterial material;
-  /// Gamma_1 (u = 0); empty when the scene has [[dirichlet]] entries and no [clamped].
+  /// Gamma_1 (u = 0): the paper's sides in a scene made in code; a scene read from text holds
+  /// only the [clamped] it writes (empty without the table).
   BoundarySelector clamped{{"left", "right"}, {}, {}, 1e-8};
   std::vector<SceneDirichlet> dirichlet;                       ///< other prescribed displacements
   std::array<SceneScalar, 2> body_force{};                     ///< f0

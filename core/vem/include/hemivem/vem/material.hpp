@@ -41,7 +41,7 @@ Eigen::Matrix3d elasticity_matrix(const Lame& lame);
 class MaterialTable {
  public:
   MaterialTable() = default;
-  /// One material for every region.
+  /// One material for every region (whatever its id: a Gmsh file's surface tags are kept).
   explicit MaterialTable(Material material, PlaneModel model = PlaneModel::strain);
   MaterialTable(std::vector<Material> by_region, PlaneModel model);
 
@@ -54,6 +54,7 @@ class MaterialTable {
  private:
   std::vector<Material> materials_;
   PlaneModel model_ = PlaneModel::strain;
+  bool uniform_ = false;  ///< one material for every region id
 };
 
 }  // namespace hemivem
