@@ -154,7 +154,8 @@ TEST(Cli, EngineParametersFromTheScene) {
   const fs::path good = dir / "good.toml";
   {
     std::ofstream f(good);
-    f << "schema_version = 1\n[solver]\nminimizer = \"ssn\"\n\n[solver.parameters]\narmijo = 1e-3\nmax_backtracks = 7\n";
+    f << "schema_version = 1\n[clamped]\nside = [\"left\", \"right\"]\n[solver]\nminimizer = \"ssn\"\n\n[solver.parameters]\narmijo = "
+         "1e-3\nmax_backtracks = 7\n";
   }
   const CommandRun ok = run("solve " + good.string() + " --n 8 --out " + (dir / "out").string() + " --json");
   ASSERT_EQ(ok.code, 0) << ok.err;
@@ -217,7 +218,7 @@ TEST(Cli, TrivialProblemsAreWarnedAbout) {
   const fs::path dir = scratch("trivial");
   fs::create_directories(dir);
   {
-    std::ofstream(dir / "bare.toml") << "schema_version = 1\n";
+    std::ofstream(dir / "bare.toml") << "schema_version = 1\n[clamped]\nside = [\"left\", \"right\"]\n";
   }
   const CommandRun r = run("solve " + (dir / "bare.toml").string() + " --n 4 --out " + (dir / "out").string() + " -q");
   ASSERT_EQ(r.code, 0) << r.err;

@@ -105,7 +105,7 @@ TEST(ContactLaw, MalformedLawsAreRejected) {
   expect_invalid([] { PiecewisePolynomialLaw("cubic", {}, {{0.0, 0.0, 0.0, 1.0}}, {{0.0}}); }, "j1 is not convex on piece 0");
   expect_invalid([] { PiecewisePolynomialLaw("nan", {}, {{std::nan("")}}, {{0.0}}); }, "non-finite coefficient");
   expect_invalid([] { make_contact_law("coulomb"); }, "expected one of: paper, linear, kinked, sawtooth, zero");
-  expect_invalid([] { sawtooth_law(100, 0.01, 5.0, 0.02); }, "residual < k r1");
+  expect_invalid([] { sawtooth_law(100, 0.01, 5.0, 0.02); }, "residual < stiffness * r1");
 }
 
 TEST(ContactLaw, LookupByName) {

@@ -128,7 +128,7 @@ TEST_P(LinearConformance, SchurComplementMatchesDenseReference) {
 // matrix at unit scale: no absolute pivot threshold may decide (a matrix scaled by 1e-16 once
 // came back from MUMPS wrongly factorized and reported as a success).
 TEST_P(LinearConformance, SolvesAndSchurComplementsDoNotDependOnTheScale) {
-  for (const double scale : {1e-200, 1e-100, 1e-16, 1e16, 1e100, 1e200}) {
+  for (const double scale : {1e-120, 1e-16, 1e16, 1e120}) {
     SCOPED_TRACE("scale " + std::to_string(scale));
     const SparseMatrix A = SparseMatrix(random_spd(40, 3) * scale);
     auto f = make();
