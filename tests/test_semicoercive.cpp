@@ -225,5 +225,55 @@ TEST(SemiCoercive, ARollerMeetingTheContactIsAllowedAPrescribedNormalIsNot) {
   }
 }
 
+// A Gmsh body (the lower half of a disk) resting on a rigid plane, a roller on the inner part of
+// its flat top (ux = 0) and a pressure on it: the vertical translation and a rotation are held by
+// the plane alone. It solves, names both motions, and its margin is 0 (in exact arithmetic it is:
+// the zero law adds no curvature along them), not a sign of round-off.
+TEST(SemiCoercive, AGmshBodyRestingOnAPlaneSolvesAndItsMarginIsZero) {
+  const std::string text = R"(
+schema_version = 1
+[mesh]
+file = ")" + (test::scenes_dir() / "meshes" / "half-disk.msh").string() + R"("
+[material]
+E = 65.0
+nu = 0.29
+[[dirichlet]]
+segments = [[-0.9, 1.0, 0.9, 1.0]]
+ux = 0.0
+[loads]
+[[loads.traction]]
+group = "top"
+pressure = 1.0
+[contact]
+group = "arc"
+law = "zero"
+constraint = "one-sided"
+[contact.obstacle]
+shape = "plane"
+point = [0.0, 0.0]
+normal = [0.0, 1.0]
+)";
+  const Scene scene = parse_scene_string(text, "half-disk.toml");
+  const auto built = build_problem(scene);
+  for (const std::string minimizer : {"ssn", "bundle-dca"}) {
+    SCOPED_TRACE(minimizer);
+    FactorizationOptions f;
+    f.engine = "auto";
+    MinimizerOptions o;
+    o.tolerance = 1e-10;
+    const auto m = make_minimizer(minimizer);
+    const NonsmoothMinimizer* one[] = {m.get()};
+    const ContactSolution s = solve_contact(built->problem, make_factorization(f), one, o, nullptr, true).front();
+    ASSERT_TRUE(s.converged()) << s.message;
+    ASSERT_EQ(s.held_by_contact.size(), 2u);
+    EXPECT_NE(s.held_by_contact[0].find("rotation about"), std::string::npos) << s.held_by_contact[0];
+    EXPECT_EQ(s.held_by_contact[1], "translation along (0, 1) of the body");
+    EXPECT_EQ(s.uniqueness_margin, 0.0) << "round-off bound " << s.uniqueness_roundoff;
+    EXPECT_TRUE(s.may_be_nonunique);
+    // the plane carries the whole load: the pressure 1 on the top of width 2
+    EXPECT_NEAR(s.contact_force().y(), 2.0, 1e-8);
+  }
+}
+
 }  // namespace
 }  // namespace hemivem

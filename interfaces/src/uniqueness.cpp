@@ -67,4 +67,12 @@ void set_uniqueness_margin(ReducedProblem& p) {
   p.uniqueness_roundoff = m.roundoff;
 }
 
+void widen_uniqueness_roundoff(ReducedProblem& p, double kappa) {
+  if (!(kappa > 0.0) || !std::isfinite(kappa) || p.S.size() == 0) return;
+  const double extra = std::numeric_limits<double>::epsilon() * kappa * p.S.cwiseAbs().colwise().sum().maxCoeff();
+  if (!(extra > p.uniqueness_roundoff)) return;
+  p.uniqueness_roundoff = extra;
+  if (std::isfinite(p.uniqueness_margin) && std::abs(p.uniqueness_margin) <= extra) p.uniqueness_margin = 0.0;
+}
+
 }  // namespace hemivem

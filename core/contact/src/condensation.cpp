@@ -377,6 +377,11 @@ void Condensation::condense_load(const SparseMatrix& At, const Eigen::VectorXd& 
   });
 }
 
+void Condensation::widen_uniqueness_roundoff(double kappa) {
+  hemivem::widen_uniqueness_roundoff(reduced_, kappa);
+  margin_ = reduced_.uniqueness_margin;
+}
+
 void Condensation::extract_a21(const SparseMatrix& At) {
   // A21 = At(block2, block1) (block2 is increasing, so each column's rows stay sorted)
   const auto n = static_cast<std::size_t>(At.rows());

@@ -206,12 +206,14 @@ void ContactSolver::condense() {
                                                  !common_.held_by_contact.empty(), problem_.law_from_surface);
   common_.timings["condensation"] = since(t);
   common_.stages.push_back("condensation");
-  common_.uniqueness_margin = condensation_->uniqueness_margin();
-  common_.uniqueness_roundoff = condensation_->reduced().uniqueness_roundoff;
   if (estimate_condition_) {
     common_.rcond = rcond_or_nan(condensation_->factorization());
     common_.condition_estimate = condensation_->condition_estimate();
+    // S carries the condensation's round-off: the margin's bound grows with kappa(A22)
+    processes_->run_where_results_are([&] { condensation_->widen_uniqueness_roundoff(common_.condition_estimate); });
   }
+  common_.uniqueness_margin = condensation_->uniqueness_margin();
+  common_.uniqueness_roundoff = condensation_->reduced().uniqueness_roundoff;
   processes_->run_where_results_are([&] {
     if (reduced_) *reduced_ = condensation_->reduced();
   });

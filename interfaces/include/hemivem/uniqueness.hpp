@@ -12,7 +12,8 @@
 //
 //   r = n * eps * (||S||_1 + max_i |alpha_i w_i|)       (||S||_1 >= ||S||_2 for a symmetric S)
 //
-// and a computed margin with |m| <= r is reported as exactly 0: F is then convex, up to
+// (widened by widen_uniqueness_roundoff where the condition number of the condensation's
+// interior block is known) and a computed margin with |m| <= r is reported as exactly 0: F is then convex, up to
 // round-off, but not strongly convex along some direction (a semi-coercive problem, or a law
 // whose curvature bound is reached), and uniqueness is not proved. Only a margin above r proves
 // it. A law with a concave kink (alpha = +inf) gives -inf; an empty problem +inf.
@@ -56,5 +57,13 @@ std::string uniqueness_meaning(double margin);
 
 /// Sets p.uniqueness_margin and p.uniqueness_roundoff from measure_uniqueness(p).
 void set_uniqueness_margin(ReducedProblem& p);
+
+/// Widens p's round-off bound by the round-off S carries from the condensation that produced
+/// it: eps * kappa * ||S||_1, kappa an estimate of the condition number of the interior block
+/// A22 that was factorized (a perturbation of the order eps kappa relative to ||S|| is what a
+/// backward-stable elimination of A22 can leave in A12 A22^-1 A21). A margin within the wider
+/// bound is then reported as exactly 0. Nothing changes for a kappa that is not finite or
+/// positive, or a margin that is infinite or NaN.
+void widen_uniqueness_roundoff(ReducedProblem& p, double kappa);
 
 }  // namespace hemivem

@@ -94,6 +94,9 @@ class Condensation {
   /// exactly 0 within round-off): F is strongly convex when positive; -inf for a law with a
   /// concave kink. reduced().uniqueness_roundoff is its round-off bound.
   double uniqueness_margin() const noexcept { return margin_; }
+  /// Widens the margin's round-off bound by the condensation's own, eps * kappa * ||S||_1 for
+  /// an estimate kappa of A22's condition number (hemivem::widen_uniqueness_roundoff).
+  void widen_uniqueness_roundoff(double kappa);
   /// The coordinate of the reduced problem that is contact node i's normal (tangential)
   /// displacement, or -1 when it is not an unknown (bilateral; frictionless).
   int normal_coordinate(int node) const noexcept { return has_normal_ ? node : -1; }
