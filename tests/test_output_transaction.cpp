@@ -273,3 +273,26 @@ TEST(AtomicFile, AShortWriteIsAnErrorAndLeavesTheFileAsItWas) {
   EXPECT_EQ(WEXITSTATUS(status), 0) << "1: the write succeeded; 2: another message";
   EXPECT_EQ(contents(s.out), (std::map<std::string, std::string>{{"a.txt", "old"}}));
 }
+
+// --export-reduced writes its folder as one transaction too: a failed write inside it leaves
+// the previous reduced problem, and nothing beside it.
+TEST(OutputTransaction, AFailedReducedProblemKeepsThePreviousOne) {
+  Scratch s;
+  const fs::path reduced = s.root / "reduced";
+  ASSERT_EQ(solve(s.out, "", "--export-reduced " + reduced.string()).code, 0);
+  const auto before = contents(reduced);
+  ASSERT_TRUE(before.count("S.mtx") && before.count("problem.txt"));
+  // the reduced problem's files are the first this process writes: the second fails
+  const auto run = solve(s.out, "HEMIVEM_TEST_FAIL_WRITE=2", "--export-reduced " + reduced.string() +
+                                                                  " --set contact.gap=0.0123");
+  EXPECT_EQ(run.code, 2);
+  EXPECT_NE(run.err.find("keeps its previous outputs"), std::string::npos) << run.err;
+  EXPECT_EQ(contents(reduced), before);
+  std::vector<std::string> left;
+  for (const auto& e : fs::directory_iterator(s.root))
+    if (e.path().filename() != "out" && e.path().filename() != "reduced") left.push_back(e.path().filename().string());
+  EXPECT_EQ(left, std::vector<std::string>{});
+  // a later run replaces it whole
+  ASSERT_EQ(solve(s.out, "", "--export-reduced " + reduced.string() + " --set contact.gap=0.0123").code, 0);
+  EXPECT_NE(contents(reduced).at("g.txt"), before.at("g.txt"));
+}

@@ -1,4 +1,5 @@
 #include <hemivem/support/atomic_file.hpp>
+#include <hemivem/support/output_folder.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/contact/piecewise_law.hpp>
 #include <hemivem/contact/reduced_io.hpp>
@@ -220,13 +221,11 @@ std::shared_ptr<const ContactLaw> read_law(const fs::path& file) {
   }
 }
 
-void write_reduced_problem(const fs::path& folder, const ReducedProblem& p) {
-  check_sizes(p, folder.string());
-  const std::optional<UniformForm> uniform = p.uniform_form();
+namespace {
+
+// The files of a reduced problem in `folder` (an empty staging folder).
+void write_reduced_files(const fs::path& folder, const ReducedProblem& p, const std::optional<UniformForm>& uniform) {
   const bool coordinatewise = !uniform;
-  std::error_code ec;
-  fs::create_directories(folder, ec);
-  if (ec) throw InputError("cannot create the folder: " + ec.message(), folder.string());
   const Eigen::Index n = p.size();
   write_file(folder / "S.mtx", [&](std::ostream& out) {
     out << "%%MatrixMarket matrix array real symmetric\n% hemivem reduced problem: S (lower triangle, column by column)\n"
@@ -258,9 +257,24 @@ void write_reduced_problem(const fs::path& folder, const ReducedProblem& p) {
     else out << "constraint " << to_string(uniform->constraint) << '\n';
     if (!std::isnan(p.uniqueness_margin)) out << "uniqueness_margin " << shortest(p.uniqueness_margin) << '\n';
   });
-  // a folder written before in the other form keeps no file of it
-  fs::remove(folder / (coordinatewise ? "g.txt" : "coordinates.txt"), ec);
-  for (int k = p.num_laws(); fs::exists(folder / law_file_name(k), ec); ++k) fs::remove(folder / law_file_name(k), ec);
+}
+
+}  // namespace
+
+void write_reduced_problem(const fs::path& folder, const ReducedProblem& p) {
+  check_sizes(p, folder.string());
+  const std::optional<UniformForm> uniform = p.uniform_form();
+  const bool coordinatewise = !uniform;
+  std::error_code ec;
+  if (folder.has_parent_path()) fs::create_directories(folder.parent_path(), ec);
+  if (ec) throw InputError("cannot create the folder: " + ec.message(), folder.parent_path().string());
+  // one transaction: the files of either form and every law file the folder holds are this
+  // writer's; the new set replaces them at once, other files stay
+  std::vector<std::string> owned{"S.mtx", "c.txt", "w.txt", "g.txt", "coordinates.txt", "problem.txt"};
+  for (int k = 0; k < p.num_laws() || fs::exists(folder / law_file_name(k), ec); ++k) owned.push_back(law_file_name(k));
+  OutputTransaction tx(folder, owned);
+  tx.stage([&](const fs::path& staging) { write_reduced_files(staging, p, uniform); });
+  tx.commit();
 }
 
 namespace {

@@ -31,9 +31,12 @@ namespace hemivem {
 /// The version of the folder format written (the "format" line of problem.txt).
 inline constexpr int reduced_format_version = 2;
 
-/// Writes the folder (created if needed); each file is written to a temporary name and
-/// renamed. Every law must be a PiecewisePolynomialLaw (all shipped laws are). Throws
-/// InputError for arrays whose sizes do not fit (check_sizes).
+/// Writes the folder (created if needed) as one transaction (hemivem/support/output_folder.hpp):
+/// the whole set is written beside it, every write checked, and then replaces the files of a
+/// reduced problem the folder held (either form, every law file) at once; other files stay. A
+/// failed write leaves the previous set. Every law must be a PiecewisePolynomialLaw (all
+/// shipped laws are). Throws InputError for arrays whose sizes do not fit (check_sizes) and a
+/// WriteError (an InputError) for a failed write.
 void write_reduced_problem(const std::filesystem::path& folder, const ReducedProblem& problem);
 
 /// Reads a folder written by write_reduced_problem (or by hand in the same format). `law`,
