@@ -33,7 +33,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-// DESIGN §6: the paper's Table 1 and what an independent implementation of its section 2
+// docs/table1.md: the paper's Table 1 and what an independent implementation of its section 2
 // gives (relative energy error against the N = 256 solution), by N.
 std::optional<double> paper_value(int n) {
   switch (n) {
@@ -61,7 +61,7 @@ constexpr const char* kNote =
     "the paper's Table 1 column is not reproduced (neither here nor by the independent implementation of "
     "its section 2, docs/table1.md); the independent column is what that implementation gives";
 
-// The values of DESIGN §6 belong to Example 4.1: the default scene up to the mesh size, the
+// The values of docs/table1.md belong to Example 4.1: the default scene up to the mesh size, the
 // engines, the outputs and the two material choices whose effect the study is used to show
 // (stabilization weight, plane model).
 bool is_example_41(const Scene& scene) {

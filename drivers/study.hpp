@@ -1,4 +1,4 @@
-// hemivem study: the convergence study of the paper's Table 1 (DESIGN §6).
+// hemivem study: the convergence study of the paper's Table 1 (docs/table1.md).
 //
 // The scene is solved on N x N squares for each N and for a reference N that every N divides;
 // each coarse solution is prolonged exactly to the reference mesh (on axis-aligned rectangles
@@ -35,7 +35,7 @@ struct StudyOptions {
 int run_study(const StudyOptions& options, std::ostream& out, std::ostream& err);
 
 /// One mesh size of the study: h, the relative error, and the paper's and the independent
-/// implementation's errors where DESIGN §6 has them.
+/// implementation's errors where docs/table1.md has them.
 struct StudyPoint {
   double h = 0.0;
   double error = 0.0;

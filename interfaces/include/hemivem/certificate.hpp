@@ -1,4 +1,4 @@
-// The certificate of a point of the reduced problem (DESIGN §3): a primal and a dual
+// The certificate of a point of the reduced problem (docs/reference/certificate.md): a primal and a dual
 // residual, each dimensionless, decided by this one implementation for every engine, for
 // the command's reports and for `check`.
 //

@@ -1,4 +1,4 @@
-// The contract of a normal-compliance contact law (DESIGN §1).
+// The contract of a normal-compliance contact law (docs/reference/scenes.md, contact.law).
 //
 // A law is its potential j (locally Lipschitz, possibly nonconvex and nonsmooth) with a
 // DC split j = j1 - j2, j1 and j2 convex. For every r it gives the values, the one-sided

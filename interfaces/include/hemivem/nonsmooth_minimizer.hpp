@@ -1,4 +1,4 @@
-// The contract of a nonsmooth minimizer of the reduced contact problem (DESIGN §3, §5):
+// The contract of a nonsmooth minimizer of the reduced contact problem (docs/reference/certificate.md, docs/reference/engines.md):
 //
 //   min F(a) = 1/2 a^T S a - c^T a + sum_i w_i j(a_i)   s.t. a in C.
 //
@@ -7,7 +7,7 @@
 // and hands the engine a MinimizerRun (hemivem/minimizer_run.hpp), which keeps the clock, the
 // evaluation counts, the history, the best point so far and builds the final result.
 // Whatever the engine's own stopping rule, "converged" is decided by the certificate of
-// DESIGN §3 (certify(), certificate.hpp) at the point returned, never by an engine's flag. A run that does not
+// docs/reference/certificate.md (certify(), certificate.hpp) at the point returned, never by an engine's flag. A run that does not
 // converge still returns its best point with its certificate.
 //
 // Engine-specific parameters are typed options of each engine (engine_parameters.hpp).

@@ -1,4 +1,4 @@
-// The reduced (condensed) contact problem of DESIGN §3:
+// The reduced (condensed) contact problem (docs/tutorial/example-4.1.md, the reduced problem):
 //
 //   min F(a) = 1/2 a^T S a - c^T a + sum_i w_i j_i(a_i)   s.t. lo_i <= a_i <= hi_i,
 //

@@ -4,7 +4,7 @@
 //   analyze(A)     symbolic analysis; reused by factorize() while the pattern holds
 //   factorize(A)   numeric factorization (repeatable for new values, same pattern)
 //   solve(B, X)    X = A^{-1} B for many right-hand sides at once
-// and, for static condensation (DESIGN §3):
+// and, for static condensation (docs/reference/engines.md):
 //   schur_complement(A, block1, S)   dense S = A11 - A12 A22^{-1} A21 for the index set
 //                                    block1, at about the cost of one factorization, and
 //                                    a factorization of A22 kept for

@@ -3,7 +3,7 @@
 // from several starting points, every certified critical point kept.
 //
 // The search is a heuristic. Its claim is "the lowest of the certified critical points found",
-// each certified by the one certificate of DESIGN §3; it is no proof that no lower one exists.
+// each certified by the one certificate of docs/reference/certificate.md; it is no proof that no lower one exists.
 //
 // Phase 1 (multistart): every engine from each start, in this order: the given start, the
 // minimizer of the quadratic part alone (S^{-1} c projected onto C), the lower bounds, the

@@ -1,4 +1,4 @@
-// A smoothed contact law j_eps (DESIGN §5): every breakpoint b where j' jumps (a kink) is
+// A smoothed contact law j_eps (docs/reference/engines.md, the smoothing): every breakpoint b where j' jumps (a kink) is
 // rounded on [b - h, b + h], h = min(eps, a quarter of the distance to the neighbouring
 // breakpoints), by the quintic Hermite interpolant of j, j', j'' at b -+ h. Hence j_eps is C^2
 // across the window ends, C^1 everywhere (C^2 where it was), equal to j outside the windows,

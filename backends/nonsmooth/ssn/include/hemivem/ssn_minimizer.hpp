@@ -1,4 +1,4 @@
-// The semismooth Newton / active-set engine "ssn" (DESIGN §5).
+// The semismooth Newton / active-set engine "ssn" (docs/reference/engines.md).
 //
 // Each iteration splits the nodes into fixed ones (at a bound or at a kink of j whose
 // one-sided derivatives of F say "stay") and moving ones, each moving node confined to its

@@ -1,6 +1,6 @@
 // Bilinear (Q1) fields on meshes of axis-aligned rectangles: the exact prolongation between
 // nested squares and the exact energy (sigma(v), eps(v)) of a bilinear field, the yardstick of
-// the convergence study (DESIGN §6). On such rectangles the lowest-order VEM functions are
+// the convergence study (docs/table1.md). On such rectangles the lowest-order VEM functions are
 // bilinear, so these are exact for VEM solutions there.
 #pragma once
 

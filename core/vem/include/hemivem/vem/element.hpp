@@ -1,4 +1,4 @@
-// The lowest-order virtual element for plane linear elasticity (DESIGN §2).
+// The lowest-order virtual element for plane linear elasticity (docs/tutorial/example-4.1.md, the virtual element method).
 //
 // Local degrees of freedom of an element with vertices z_0..z_{n-1} (counter-clockwise)
 // are interleaved: 2i -> u_x(z_i), 2i+1 -> u_y(z_i).
@@ -17,7 +17,7 @@ namespace hemivem {
 
 /// Scaling of the stabilization S_E = tau (I - Pi)^T (I - Pi).
 enum class Stabilization {
-  two_mu,      ///< tau = 2 mu ("dofi-dofi", the default; DESIGN §2 and §7)
+  two_mu,      ///< tau = 2 mu ("dofi-dofi", the default; docs/tutorial/example-4.1.md)
   trace_scaled ///< tau = tr(K_c) / (2n)
 };
 std::string to_string(Stabilization s);

@@ -1,4 +1,4 @@
-// Isotropic linear elastic materials, one per element region (DESIGN §1).
+// Isotropic linear elastic materials, one per element region (docs/reference/scenes.md, [material]).
 #pragma once
 
 #include <Eigen/Core>
