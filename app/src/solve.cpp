@@ -87,12 +87,21 @@ nlohmann::json search_json(const NonsmoothMinimizer& minimizer) {
 SceneSolve solve_scene(const Scene& scene, const std::function<void(const BuiltProblem&, const SceneSolve&)>& on_built,
                        std::function<bool(const IterationRecord&)> callback, ReducedProblem* reduced,
                        std::function<void(const GlobalSearchProgress&)> progress) {
+  SceneSolveOptions o;
+  o.on_built = on_built;
+  o.callback = std::move(callback);
+  o.reduced = reduced;
+  o.progress = std::move(progress);
+  return solve_scene(scene, std::move(o));
+}
+
+SceneSolve solve_scene(const Scene& scene, SceneSolveOptions o) {
   // Engines first: a name that was not built is an input error before any work.
   SceneSolve s;
   FactorizationOptions fo;
   fo.engine = scene.solver.linear;
   auto factorization = named_engine(scene, "solver.linear", [&] { return make_factorization(fo); });
-  const auto minimizer = make_scene_search(scene, std::move(progress));
+  const auto minimizer = make_scene_search(scene, std::move(o.progress));
   s.linear = factorization->name();
   s.minimizer = first_engine(*minimizer);
   s.search = search_json(*minimizer);
@@ -100,16 +109,19 @@ SceneSolve solve_scene(const Scene& scene, const std::function<void(const BuiltP
   s.processes = processes_of(*factorization).num_processes();
   s.options.tolerance = scene.solver.tolerance;
   s.options.max_iterations = scene.solver.max_iterations;
-  s.options.callback = std::move(callback);
+  s.options.callback = std::move(o.callback);
 
   const auto t = Clock::now();
-  s.built = build_problem(scene);
+  s.built = o.mesh ? build_problem(scene, std::move(*o.mesh), o.apply_region_boxes) : build_problem(scene);
+  s.mesh_description = o.mesh ? o.mesh_description : scene.mesh.description();
   s.mesh_seconds = since(t);
-  if (on_built) on_built(*s.built, s);
+  if (o.on_built) o.on_built(*s.built, s);
   const NonsmoothMinimizer* minimizers[] = {minimizer.get()};
   try {
-    s.solution = std::move(
-        solve_contact(s.built->problem, std::move(factorization), minimizers, s.options, reduced, true).front());
+    ContactSolver solver(s.built->problem, std::move(factorization), s.options);
+    solver.estimate_condition(true).export_reduced(o.reduced);
+    if (o.start.size() > 0) solver.start_from(&o.start);
+    s.solution = std::move(solver.run(minimizers).front());
   } catch (const InputError& e) {  // a defect of the contact part found when it is set up: name the scene's key
     if (!e.where().empty() || e.detail().rfind("contact node", 0) != 0) throw;
     throw InputError("contact: " + e.detail(), scene.where("contact"));
@@ -152,7 +164,7 @@ RunInfo run_info(const Scene& scene, const SceneSolve& solved) {
   RunInfo info;
   info.scene_name = scene.title;
   info.scene_toml = to_toml(scene);
-  info.mesh = scene.mesh.description();
+  info.mesh = solved.mesh_description.empty() ? scene.mesh.description() : solved.mesh_description;
   info.linear = solved.linear;
   info.minimizer = solved.minimizer;
   info.search = solved.search;

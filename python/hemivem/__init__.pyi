@@ -334,6 +334,7 @@ def solve(scene: Union[Scene, PathLike, None] = None, *, linear: Optional[str] =
           tolerance: Optional[float] = None, max_iterations: Optional[int] = None, search: Optional[str] = None,
           max_starts: Optional[int] = None, time_budget: Optional[float] = None, seed: Optional[int] = None,
           engines: Optional[Sequence[str]] = None, progress: Optional[Callable[[SearchProgress], object]] = None, keep_reduced: bool = True,
+          mesh: Optional[Mesh] = None,
           **parameters: float) -> Result: ...
 def condense(scene: Scene, *, linear: Optional[str] = None) -> ReducedProblem: ...
 def minimize(reduced: ReducedProblem, minimizer: str = "ssn", *, start: Optional[ArrayLike] = None,

@@ -378,7 +378,7 @@ std::vector<std::string> keyword_overrides(const SolveKeywords& k, const py::kwa
 
 /// Solves the resolved scene of `d` without the GIL, honouring Ctrl-C between stages; keeps
 /// the reduced problem when asked and the scene has contact.
-void solve_data(SolveData& d, const py::object& progress, bool keep_reduced) {
+void solve_data(SolveData& d, const py::object& progress, bool keep_reduced, const PyMesh* mesh) {
   if (!progress.is_none() && !is_global_search(d.scene.solver.search, "solver.search"))
     throw InputError("only a global search (search='global') reports local runs", "progress");
   SignalWatch watch;
@@ -388,9 +388,13 @@ void solve_data(SolveData& d, const py::object& progress, bool keep_reduced) {
     auto on_built = [&](const BuiltProblem&, const app::SceneSolve&) {
       if (watch.poll()) throw Interrupted{};
     };
-    auto callback = [&](const IterationRecord&) { return !watch.poll(); };
-    d.solved = app::solve_scene(d.scene, on_built, callback, keep_reduced ? &reduced : nullptr,
-                                search_progress(watch, progress));
+    app::SceneSolveOptions o;
+    o.on_built = on_built;
+    o.callback = [&](const IterationRecord&) { return !watch.poll(); };
+    o.reduced = keep_reduced ? &reduced : nullptr;
+    o.progress = search_progress(watch, progress);
+    if (mesh) o.mesh = *mesh->mesh;
+    d.solved = app::solve_scene(d.scene, std::move(o));
   } catch (const Interrupted&) {
   }
   watch.raise_if_interrupted();
@@ -420,7 +424,11 @@ critical_points and search are result.json's. progress(SearchProgress) is called
 local run of a global search (an exception it raises ends the solve and is raised again).
 
 Runs without the GIL; Ctrl-C is honoured between stages (after the mesh, at every minimizer
-iteration, after every local run of a global search) and raises KeyboardInterrupt.)doc";
+iteration, after every local run of a global search) and raises KeyboardInterrupt.
+
+mesh: a Mesh to solve on instead of the scene's (Mesh.generate, Mesh.read, Mesh(vertices,
+elements), or a Result's mesh): the scene's mesh keys are then not used; its boundary parts,
+loads, contact part and region boxes are selected on the given mesh, as on the scene's.)doc";
 
 void register_solve_function(py::module_& m) {
   m.def(
@@ -429,7 +437,7 @@ void register_solve_function(py::module_& m) {
          std::optional<double> tolerance, std::optional<int> max_iterations, std::optional<std::string> search,
          std::optional<int> max_starts, std::optional<double> time_budget, std::optional<int> seed,
          std::optional<std::vector<std::string>> engines, py::object progress,
-         bool keep_reduced, const py::kwargs& kwargs) {
+         bool keep_reduced, py::object mesh, const py::kwargs& kwargs) {
         auto d = std::make_shared<SolveData>();
         if (py::isinstance<py::str>(scene_arg) || py::isinstance(scene_arg, py::module_::import("os").attr("PathLike")))
           scene_arg = py::module_::import("hemivem").attr("Scene").attr("from_toml")(scene_arg);  // a file or TOML text
@@ -441,13 +449,17 @@ void register_solve_function(py::module_& m) {
         const std::vector<std::string> overrides = keyword_overrides(k, kwargs);
         if (!overrides.empty()) apply_overrides(d->scene, overrides);
         refuse_mpi_engine(d->scene.solver.linear, linear ? "linear" : d->scene.where("solver.linear"));
-        solve_data(*d, progress, keep_reduced);
+        if (!mesh.is_none() && !py::isinstance<PyMesh>(mesh))
+          throw py::type_error("hemivem.solve: mesh must be a hemivem.Mesh, not " +
+                               py::str(mesh.get_type().attr("__name__")).cast<std::string>());
+        solve_data(*d, progress, keep_reduced, mesh.is_none() ? nullptr : &mesh.cast<const PyMesh&>());
         return d;
       },
       py::arg("scene") = py::none(), py::kw_only(), py::arg("linear") = py::none(), py::arg("minimizer") = py::none(),
       py::arg("tolerance") = py::none(), py::arg("max_iterations") = py::none(), py::arg("search") = py::none(),
       py::arg("max_starts") = py::none(), py::arg("time_budget") = py::none(), py::arg("seed") = py::none(),
-      py::arg("engines") = py::none(), py::arg("progress") = py::none(), py::arg("keep_reduced") = true, kSolveDoc);
+      py::arg("engines") = py::none(), py::arg("progress") = py::none(), py::arg("keep_reduced") = true,
+      py::arg("mesh") = py::none(), kSolveDoc);
 }
 
 }  // namespace

@@ -80,3 +80,20 @@ def test_mesh_error_names_the_element():
     with pytest.raises(hemivem.MeshError) as e:
         hemivem.Mesh.from_arrays([[0, 0], [1, 0], [1, 1], [0, 1]], [0, 3, 6], [0, 1, 2, 0, 3, 2])
     assert e.value.where == "element 1", e.value.where
+
+
+def test_a_mesh_is_given_to_a_scene():
+    scene = hemivem.Scene.from_toml(SCENE)
+    mesh = hemivem.Mesh.generate("voronoi", 6)
+    given = hemivem.solve(scene, mesh=mesh)
+    scene.set("mesh.generator", "voronoi")
+    built = hemivem.solve(scene)
+    assert given.status == "converged"
+    np.testing.assert_array_equal(given.displacement, built.displacement)
+    assert given.energy == built.energy
+    assert given.json()["mesh"]["description"] == "a mesh given by the caller"
+    # the mesh of a result, solved again with another law
+    again = hemivem.solve(scene, mesh=given.mesh, minimizer="bundle-dca")
+    assert again.displacement.shape == given.displacement.shape
+    with pytest.raises(TypeError, match="mesh must be a hemivem.Mesh"):
+        hemivem.solve(scene, mesh="squares")

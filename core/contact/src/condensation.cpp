@@ -193,6 +193,7 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
   if (!factorization_) throw InputError("condensation needs a factorization engine");
   if (!law) throw InputError("condensation needs a contact law");
   normals_ = boundary.normals;
+  nodes_ = boundary.nodes;
   has_normal_ = constraint != ConstraintKind::bilateral;
   has_tangential_ = friction != nullptr || !has_normal_;
   if (!has_normal_ && !friction) friction = zero_law();
@@ -431,6 +432,21 @@ Eigen::VectorXd Condensation::back_substitute(const Eigen::VectorXd& a) const {
   Eigen::VectorXd u;
   processes.run_where_results_are([&] { u = displacement(x1, split ? u2 : Eigen::VectorXd(x2.col(0))); });
   return u;
+}
+
+Eigen::VectorXd Condensation::reduced_point(const Eigen::VectorXd& u) const {
+  if (u.size() != dofs_.num_dofs())
+    throw InputError("a start needs " + std::to_string(dofs_.num_dofs()) + " nodal displacements, got " +
+                     std::to_string(u.size()));
+  Eigen::VectorXd a(reduced_.lo.size());
+  for (std::size_t i = 0; i < normals_.size(); ++i) {
+    const Vec2 nu = normals_[i], tau(-nu.y(), nu.x());
+    const Vec2 d = u.segment<2>(2 * nodes_[i]);
+    const int node = static_cast<int>(i);
+    if (has_normal_) a(normal_coordinate(node)) = nu.dot(d) - origin_(normal_coordinate(node));
+    if (has_tangential_) a(tangential_coordinate(node)) = tau.dot(d);
+  }
+  return a;
 }
 
 // a, with the normal displacements 0 where they are not unknowns (bilateral).

@@ -90,6 +90,11 @@ ContactSolver& ContactSolver::export_reduced(ReducedProblem* reduced) noexcept {
   return *this;
 }
 
+ContactSolver& ContactSolver::start_from(const Eigen::VectorXd* u) noexcept {
+  start_u_ = u;
+  return *this;
+}
+
 double ContactSolver::seconds() const { return since(start_); }
 
 std::vector<ContactSolution> ContactSolver::run(std::span<const NonsmoothMinimizer* const> minimizers) {
@@ -223,7 +228,9 @@ void ContactSolver::condense() {
 void ContactSolver::minimize(const NonsmoothMinimizer& minimizer, ContactSolution& solution) const {
   const auto t = Clock::now();
   processes_->run_where_results_are([&] {
-    MinimizerResult m = minimizer.minimize(condensation_->reduced(), Eigen::VectorXd(), options_);
+    const Eigen::VectorXd start =
+        start_u_ && start_u_->size() > 0 ? condensation_->reduced_point(*start_u_) : Eigen::VectorXd();
+    MinimizerResult m = minimizer.minimize(condensation_->reduced(), start, options_);
     solution.status = m.status;
     solution.message = m.message;
     solution.certificate = m.certificate;

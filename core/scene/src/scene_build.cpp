@@ -140,8 +140,7 @@ void check_regions_used(const Scene& scene, const Mesh& mesh, bool boxes) {
 }  // namespace
 
 std::unique_ptr<BuiltProblem> build_problem(const Scene& scene) {
-  auto out = std::make_unique<BuiltProblem>();
-  Mesh& mesh = out->mesh;
+  Mesh mesh;
   if (!scene.mesh.file.empty()) {
     const std::string ext = lower(scene.mesh.file.extension().string());
     if (ext == ".msh") mesh = read_gmsh(scene.mesh.file);
@@ -177,8 +176,15 @@ std::unique_ptr<BuiltProblem> build_problem(const Scene& scene) {
     }
   }
 
+  return build_problem(scene, std::move(mesh));
+}
+
+std::unique_ptr<BuiltProblem> build_problem(const Scene& scene, Mesh given, bool apply_region_boxes) {
+  auto out = std::make_unique<BuiltProblem>();
+  Mesh& mesh = out->mesh;
+  mesh = std::move(given);
   // Regions given by boxes, then materials by region.
-  if (std::any_of(scene.material.regions.begin(), scene.material.regions.end(), [](const auto& r) { return r.box; })) {
+  if (apply_region_boxes && std::any_of(scene.material.regions.begin(), scene.material.regions.end(), [](const auto& r) { return r.box; })) {
     std::vector<int> ids = mesh.regions();
     ids.resize(static_cast<std::size_t>(mesh.num_elements()), 0);
     for (const auto& r : scene.material.regions) {

@@ -491,6 +491,15 @@ void read_search_engines(TableReader& v, SceneSolver& solver) {
   }
 }
 
+/// An integer key of `v` in [lo, hi], if given.
+std::optional<int> integer_in(TableReader& v, const char* key, long long lo, long long hi) {
+  const auto x = v.integer(key);
+  if (x && (*x < lo || *x > hi))
+    v.fail(key, v.node(key),
+           "must be between " + std::to_string(lo) + " and " + std::to_string(hi) + ", got " + std::to_string(*x));
+  return x ? std::optional<int>(static_cast<int>(*x)) : std::nullopt;
+}
+
 /// [solver]: the engines, tolerance, iteration limit, global search and the minimizer's options.
 void read_solver(Scene& s, const toml::table& t) {
   TableReader v(s, t, "solver",
@@ -508,27 +517,19 @@ void read_solver(Scene& s, const toml::table& t) {
     if (const std::string why = tolerance_problem(*x); !why.empty()) v.fail("tolerance", v.node("tolerance"), why);
     s.solver.tolerance = *x;
   }
-  // an integer key in [lo, hi]
-  auto integer_in = [&](const char* key, long long lo, long long hi) -> std::optional<int> {
-    const auto x = v.integer(key);
-    if (x && (*x < lo || *x > hi))
-      v.fail(key, v.node(key),
-             "must be between " + std::to_string(lo) + " and " + std::to_string(hi) + ", got " + std::to_string(*x));
-    return x ? std::optional<int>(static_cast<int>(*x)) : std::nullopt;
-  };
   constexpr long long int_max = std::numeric_limits<int>::max();
-  if (auto x = integer_in("max_iterations", 1, int_max)) s.solver.max_iterations = *x;
+  if (auto x = integer_in(v, "max_iterations", 1, int_max)) s.solver.max_iterations = *x;
   if (auto x = v.string("search")) {
     check_name(v, "search", *x, {"local", "global"}, "search");
     s.solver.search = lower(*x);
   }
-  if (auto x = integer_in("max_starts", 1, 1000000)) s.solver.max_starts = *x;
+  if (auto x = integer_in(v, "max_starts", 1, 1000000)) s.solver.max_starts = *x;
   if (auto x = v.number("time_budget")) {
     if (!(*x > 0.0) || !std::isfinite(*x))
       v.fail("time_budget", v.node("time_budget"), "must be a finite number of seconds > 0, got " + fmt(*x));
     s.solver.time_budget = *x;
   }
-  if (auto x = integer_in("seed", 0, int_max)) s.solver.seed = *x;
+  if (auto x = integer_in(v, "seed", 0, int_max)) s.solver.seed = *x;
   read_search_engines(v, s.solver);
   // the minimizer's typed options by name: the names and ranges are the engine's, checked
   // when the engine is made (its errors name the key's line through Scene::where)
@@ -539,6 +540,25 @@ void read_solver(Scene& s, const toml::table& t) {
     for (const auto& name : names)
       if (auto x = pr.number(name)) s.solver.parameters[name] = *x;
   }
+}
+
+/// [adapt]: the target, the budgets and the marking fraction.
+void read_adapt(Scene& s, const toml::table& t) {
+  TableReader v(s, t, "adapt", {"target", "max_unknowns", "max_steps", "fraction"});
+  SceneAdapt a;
+  if (auto x = v.number("target")) {
+    if (!(*x > 0.0 && *x < 1.0))
+      v.fail("target", v.node("target"), "must be a relative error in (0, 1), got " + fmt(*x));
+    a.target = *x;
+  }
+  if (auto x = integer_in(v, "max_unknowns", 1, std::numeric_limits<int>::max())) a.max_unknowns = *x;
+  if (auto x = integer_in(v, "max_steps", 1, 1000)) a.max_steps = *x;
+  if (auto x = v.number("fraction")) {
+    if (!(*x > 0.0 && *x <= 1.0))
+      v.fail("fraction", v.node("fraction"), "must be a fraction in (0, 1], got " + fmt(*x));
+    a.fraction = *x;
+  }
+  s.adapt = a;
 }
 
 /// [output]: the files to write, each named once.
@@ -563,7 +583,7 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
   s.source = std::move(source);
   s.lines.clear();
   TableReader r(s, root, "",
-                {"schema_version", "title", "mesh", "material", "clamped", "dirichlet", "loads", "contact", "solver", "output"});
+                {"schema_version", "title", "mesh", "material", "clamped", "dirichlet", "loads", "contact", "solver", "adapt", "output"});
   read_version_and_title(r, s);
   if (const toml::table* t = r.table("mesh")) read_mesh(s, *t, base);
   if (const toml::table* t = r.table("material")) read_material(s, *t);
@@ -578,6 +598,8 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
     s.contact = read_contact(c);
   }
   if (const toml::table* t = r.table("solver")) read_solver(s, *t);
+  s.adapt.reset();
+  if (const toml::table* t = r.table("adapt")) read_adapt(s, *t);
   if (const toml::table* t = r.table("output")) read_output(s, *t);
   return s;
 }
@@ -608,7 +630,7 @@ bool operator==(const Scene& a, const Scene& b) {
   return a.schema_version == b.schema_version && a.title == b.title && a.mesh == b.mesh && a.material == b.material &&
          a.clamped == b.clamped && a.dirichlet == b.dirichlet && a.body_force == b.body_force &&
          a.tractions == b.tractions && a.contact == b.contact &&
-         a.solver == b.solver && a.outputs == b.outputs;
+         a.solver == b.solver && a.adapt == b.adapt && a.outputs == b.outputs;
 }
 
 Scene parse_scene_string(std::string_view text, std::string name) {

@@ -193,6 +193,13 @@ std::string to_toml(const Scene& s) {
   write_loads(o, s);
   if (s.contact) write_contact(o, *s.contact);
   write_solver(o, s.solver);
+  if (s.adapt) {
+    o << "\n[adapt]\n";
+    o << "target = " << fmt(s.adapt->target) << "\n";
+    o << "max_unknowns = " << s.adapt->max_unknowns << "\n";
+    o << "max_steps = " << s.adapt->max_steps << "\n";
+    o << "fraction = " << fmt(s.adapt->fraction) << "\n";
+  }
   o << "\n[output]\n";
   o << "write = " << list(s.outputs, quote) << "\n";
   return o.str();

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -53,6 +54,9 @@ struct SceneSolve {
   /// What the user should know: the scene's warnings (BuiltProblem::warnings), then the
   /// solve's (conditioning_warning).
   std::vector<std::string> warnings;
+  /// How the mesh solved on was made, for reports (RunInfo::mesh): the scene's
+  /// (SceneMesh::description) unless SceneSolveOptions gave another mesh and its description.
+  std::string mesh_description;
   double total_seconds() const;  ///< mesh_seconds + the solve's total
 };
 
@@ -64,6 +68,29 @@ inline constexpr double unreliable_condition = 1e-6 / 2.220446049250313e-16;
 /// estimate of the factorized matrix's 1-norm condition number) is at least
 /// unreliable_condition; empty otherwise (also for NaN).
 std::string conditioning_warning(double condition);
+
+/// What solve_scene does besides solving the scene as it is written.
+struct SceneSolveOptions {
+  /// Called between building and solving.
+  std::function<void(const BuiltProblem&, const SceneSolve&)> on_built;
+  /// Becomes MinimizerOptions::callback.
+  std::function<bool(const IterationRecord&)> callback;
+  /// When not null, receives the reduced problem.
+  ReducedProblem* reduced = nullptr;
+  /// Reports the runs of a global search.
+  std::function<void(const GlobalSearchProgress&)> progress;
+  /// A mesh to solve on instead of the scene's (build_problem(scene, mesh, apply_region_boxes)).
+  std::optional<Mesh> mesh;
+  bool apply_region_boxes = true;
+  /// How that mesh was made, for reports (SceneSolve::mesh_description).
+  std::string mesh_description = "a mesh given by the caller";
+  /// A full nodal displacement on that mesh (2 per vertex) the minimizer starts from
+  /// (ContactSolver::start_from); empty: zero.
+  Eigen::VectorXd start;
+};
+
+/// Solves `scene` as solve_scene below does, with `options`.
+SceneSolve solve_scene(const Scene& scene, SceneSolveOptions options);
 
 /// Creates the engines (an unknown or unbuilt name is an InputError before any work), builds
 /// the problem and solves it, with the condition estimate (ContactSolution::condition_estimate)

@@ -109,6 +109,11 @@ class Condensation {
   /// Collective with an engine across processes: a is read, and u returned, on the process
   /// holding the results; elsewhere a is ignored and the result is empty.
   Eigen::VectorXd back_substitute(const Eigen::VectorXd& a) const;
+  /// The point of the reduced problem a full nodal displacement u (2*num_vertices entries)
+  /// stands for: per contact node its normal displacement u . nu_i (less origin()) and, with
+  /// tangential unknowns, u . tau_i. A start for the minimizer from a displacement known
+  /// otherwise (the previous step of an adaptive solve). InputError for a u of the wrong size.
+  Eigen::VectorXd reduced_point(const Eigen::VectorXd& u) const;
   const SparseFactorization& factorization() const { return *factorization_; }
   /// Estimate of the 1-norm condition number kappa_1(A22) of the factorized interior block,
   /// independent of the engine: ||A22||_1 times the Hager-Higham estimate of ||A22^{-1}||_1
@@ -128,6 +133,7 @@ class Condensation {
   std::vector<int> block2_;       // remaining rotated free indices, increasing
   std::vector<int> contact_free_x_, contact_free_y_;  // free index of the x/y dof per contact node
   std::vector<Vec2> normals_;
+  std::vector<int> nodes_;        // vertex of each contact node
   // the steps of the constructor, in order
   void order_unknowns(const LinearSystem& system, const ContactBoundary& boundary);
   Eigen::VectorXd rotate_load(const Eigen::VectorXd& b) const;

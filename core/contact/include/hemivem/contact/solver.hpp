@@ -173,6 +173,10 @@ class ContactSolver {
   ContactSolver& estimate_condition(bool on = true) noexcept;
   /// `reduced`, when not null, receives a copy of the reduced problem (for export).
   ContactSolver& export_reduced(ReducedProblem* reduced) noexcept;
+  /// The minimizer starts from the point of the reduced problem that the full nodal
+  /// displacement `u` stands for (Condensation::reduced_point; a warm start, e.g. the previous
+  /// step's solution interpolated onto a refined mesh); empty: from zero. `u` must outlive run().
+  ContactSolver& start_from(const Eigen::VectorXd* u) noexcept;
 
   /// Runs the stages once: one solution per minimizer, in order (the stages before the
   /// minimizer run once; their timings are repeated in every solution).
@@ -205,6 +209,7 @@ class ContactSolver {
   std::unique_ptr<Condensation> condensation_;
   bool estimate_condition_ = false;
   ReducedProblem* reduced_ = nullptr;
+  const Eigen::VectorXd* start_u_ = nullptr;
   bool ran_ = false;
   Clock::time_point start_;
   ContactSolution common_;  // what every solution shares: the stages before the minimizer

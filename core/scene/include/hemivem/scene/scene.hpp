@@ -164,6 +164,17 @@ struct SceneSolver {
   bool operator==(const SceneSolver&) const = default;
 };
 
+/// [adapt]: adaptive refinement (docs/adaptivity.md). Solve, estimate the error
+/// (hemivem/estimate/error_estimate.hpp), mark the elements holding the share `fraction` of the
+/// estimate's square (Dörfler marking), refine them, solve again from the previous solution,
+/// until the relative estimate is at most `target` or a budget is spent.
+struct SceneAdapt {
+  double target = 0.01;          ///< the relative error estimate to reach, in (0, 1)
+  int max_unknowns = 1000000;    ///< no step solves more free degrees of freedom than this
+  int max_steps = 30;            ///< solves at most (the first included)
+  double fraction = 0.5;         ///< Dörfler's theta, in (0, 1]
+  bool operator==(const SceneAdapt&) const = default;
+};
 
 /// The output names a scene may ask for.
 const std::vector<std::string>& scene_output_names();
@@ -187,6 +198,8 @@ struct Scene {
       SceneTraction{{{"top"}, {}, {}, 1e-8}, {SceneScalar{0.0, {}}, SceneScalar{-8.0, {}}}, std::nullopt}};  ///< Gamma_2
   std::optional<SceneContact> contact = SceneContact{};       ///< Gamma_3; none = no contact
   SceneSolver solver;
+  /// [adapt]: solve adaptively; none: one solve on the scene's mesh.
+  std::optional<SceneAdapt> adapt;
   std::vector<std::string> outputs = scene_output_names();
 
   /// Where the scene came from (a path, or a name such as "<default>").
@@ -257,6 +270,12 @@ std::vector<std::string> scene_warnings(const Scene& scene);
 /// materials, the boundary parts, loads and contact data. Errors (unknown edge group, a
 /// part selecting no edge, a region without material) name the scene key's file:line.
 std::unique_ptr<BuiltProblem> build_problem(const Scene& scene);
+
+/// The same on a given mesh instead of the scene's (its mesh keys are not used): the scene's
+/// region boxes are applied to it when `apply_region_boxes` (a mesh of one's own), and not
+/// when its region ids are already the scene's (a mesh refined from the scene's, whose
+/// elements inherit their parents' regions).
+std::unique_ptr<BuiltProblem> build_problem(const Scene& scene, Mesh mesh, bool apply_region_boxes = true);
 
 /// The contact problem of a scene on a given mesh (the scene's mesh keys are not used): the
 /// materials by the mesh's region ids (the scene's region boxes are applied by build_problem
