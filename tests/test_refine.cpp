@@ -398,6 +398,15 @@ TEST(RefineStarShaped, AnElementWithAnEmptyKernelIsRefusedByName) {
   EXPECT_NE(what2.find("one-hanging-node rule"), std::string::npos) << what2;
 }
 
+TEST(RefineStarShaped, AnElementWhoseKernelIsASegmentIsRefused) {
+  // two blocks meeting along [0, 1] x {1}: only the points of that segment see everything
+  const std::vector<Vec2> v{{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {-1, 2}, {-1, 1}, {0, 1}};
+  const Mesh mesh(v, {{0, 1, 2, 3, 4, 5, 6, 7}});
+  const std::string what = test::input_error_of([&] { refine_uniformly(mesh); });
+  EXPECT_NE(what.find("element 0 is not star-shaped"), std::string::npos) << what;
+  EXPECT_NE(what.find("degenerate"), std::string::npos) << what;
+}
+
 TEST(RefineStarShaped, AnElementWhoseCentroidIsOutsideItsKernelIsSplitAroundTheKernelsCentroid) {
   // an L: centroid (1.1, 1.1), kernel [0, 1] x [0, 1]
   const std::vector<Vec2> l{{0, 0}, {3, 0}, {3, 1}, {1, 1}, {1, 3}, {0, 3}};

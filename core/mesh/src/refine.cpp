@@ -234,9 +234,8 @@ Vec2 split_point(const LocalFrame& f, const std::vector<int>& corners, int e, bo
   const auto [kernel_area, kernel_centroid] = area_centroid(kernel);
   const std::string name = "element " + std::to_string(e) + " is not star-shaped: it cannot be split around an interior point";
   const std::string why = added_by_rule ? " (it is split because the one-hanging-node rule requires it)" : "";
-  if (!(kernel_area > 0.0))
-    throw InputError(name + " (no point of it sees its whole boundary: its kernel is empty)" + why);
-  if (!strictly_inside(kernel_centroid))
+  if (kernel.empty()) throw InputError(name + " (no point of it sees its whole boundary: its kernel is empty)" + why);
+  if (!(kernel_area > 0.0) || !strictly_inside(kernel_centroid))
     throw InputError(name + " (the points that see its whole boundary form a degenerate region, of relative area " +
                      fmt_number(kernel_area / area_centroid(f.q).first) + ")" + why);
   return kernel_centroid;
