@@ -16,7 +16,7 @@ namespace hemivem {
 /// The constant C that multiplies the residual part of the estimate (the volume, jump,
 /// traction, contact and friction residuals, weighted by the compliance 1/(2 mu_E)); chosen
 /// once, by calibration on Example 4.1 (docs/error-estimate.md), and never per problem.
-inline constexpr double error_estimate_constant = 0.5;
+inline constexpr double error_estimate_constant = 0.11;
 
 /// An a posteriori estimate of the discretization error in the energy norm ||v||_E^2 = 1/2 a(v, v).
 ///
