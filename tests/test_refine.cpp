@@ -308,6 +308,15 @@ TEST_P(RefineGenerated, RefinedMeshesPassThePatchTest) {
 INSTANTIATE_TEST_SUITE_P(Generators, RefineGenerated,
                          ::testing::Values("squares", "triangles", "voronoi", "distorted", "nonconvex"));
 
+// Meshes of an L-shaped polygon: Voronoi cells cut by the re-entrant corner are non-convex.
+TEST(RefinePolygon, RefinedPolygonMeshesPassThePatchTest) {
+  const PolygonDomain l{{{0.0, 0.0}, {1.0, 0.0}, {1.0, 0.4}, {0.4, 0.4}, {0.4, 1.0}, {0.0, 1.0}}};
+  for (const std::string name : {"triangles", "voronoi"}) {
+    SCOPED_TRACE(name);
+    expect_refinements_pass_patch_test(make_mesh(name, 7, l, 3));
+  }
+}
+
 TEST(RefineShared, RefinedSharedMeshesPassThePatchTest) {
   const auto files = test::shared_meshes();
   if (files.empty()) GTEST_SKIP() << "shared/meshes not found next to the project";
