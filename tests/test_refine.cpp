@@ -4,6 +4,7 @@
 // refined meshes of every kind.
 #include <hemivem/mesh/boundary.hpp>
 #include <hemivem/mesh/generators.hpp>
+#include <hemivem/mesh/gmsh.hpp>
 #include <hemivem/mesh/poly2d.hpp>
 #include <hemivem/mesh/refine.hpp>
 #include <hemivem/vem/assembly.hpp>
@@ -307,6 +308,15 @@ TEST_P(RefineGenerated, RefinedMeshesPassThePatchTest) {
 INSTANTIATE_TEST_SUITE_P(Generators, RefineGenerated,
                          ::testing::Values("squares", "triangles", "voronoi", "distorted", "nonconvex"));
 
+// Meshes of an L-shaped polygon: Voronoi cells cut by the re-entrant corner are non-convex.
+TEST(RefinePolygon, RefinedPolygonMeshesPassThePatchTest) {
+  const PolygonDomain l{{{0.0, 0.0}, {1.0, 0.0}, {1.0, 0.4}, {0.4, 0.4}, {0.4, 1.0}, {0.0, 1.0}}};
+  for (const std::string name : {"triangles", "voronoi"}) {
+    SCOPED_TRACE(name);
+    expect_refinements_pass_patch_test(make_mesh(name, 7, l, 3));
+  }
+}
+
 TEST(RefineShared, RefinedSharedMeshesPassThePatchTest) {
   const auto files = test::shared_meshes();
   if (files.empty()) GTEST_SKIP() << "shared/meshes not found next to the project";
@@ -537,6 +547,25 @@ TEST(RefineEdgeGroups, GroupsCoverTheSameSegments) {
       }
     }
   }
+}
+
+// A Gmsh body with a curved boundary (a half disk, "arc" and "top"): refined along its straight
+// edges, the groups keep their length (the arc's polygon, not the circle's), region 3 is kept.
+TEST(RefineEdgeGroups, GmshGroupsFollowAndTheArcStaysItsPolygon) {
+  const Mesh disk = read_gmsh(test::scenes_dir() / "meshes" / "half-disk.msh");
+  std::vector<int> marked;
+  for (int g : disk.edge_group("arc")) marked.push_back(disk.edge(g).left);
+  const RefinedMesh r = refine_mesh(disk, marked);
+  expect_sound_refinement(disk, r, marked);
+  for (const std::string name : {"arc", "top"}) {
+    double before = 0.0, after = 0.0;
+    for (int g : disk.edge_group(name)) before += disk.edge_length(g);
+    for (int g : r.mesh.edge_group(name)) after += r.mesh.edge_length(g);
+    EXPECT_NEAR(after, before, 1e-13 * before) << name;
+  }
+  EXPECT_EQ(r.mesh.edge_group("arc").size(), 2 * disk.edge_group("arc").size());
+  for (int e = 0; e < r.mesh.num_elements(); ++e) EXPECT_EQ(r.mesh.region(e), 3);
+  EXPECT_LE(patch_dirichlet(r.mesh), 1e-10);
 }
 
 TEST(RefineScale, TheSameTopologyAtEveryScale) {
