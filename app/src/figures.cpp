@@ -21,9 +21,14 @@
 #include <hemivem/app/format.hpp>
 #include <hemivem/app/text_writer.hpp>
 
+#include "figure_style.hpp"
+
 namespace hemivem::app {
 
 namespace fs = std::filesystem;
+using detail::kViridis;
+using detail::num;
+using detail::solve_title;
 
 namespace {
 
@@ -86,13 +91,6 @@ void write_plain(const fs::path& path, const std::function<void(std::ostream&)>&
   if (!os) throw InputError("cannot write", path.string());
 }
 
-/// A number as gnuplot reads it back exactly.
-std::string num(double v) {
-  std::ostringstream s;
-  s << std::setprecision(17) << v;
-  return s.str();
-}
-
 /// Contact nodes ordered along Gamma_3, chained through the boundary edges joining them;
 /// each chain is one polyline, with its arc length s from its first node.
 struct ContactPoint {
@@ -145,63 +143,12 @@ std::vector<std::vector<ContactPoint>> contact_chains(const Mesh& mesh, const Co
   return chains;
 }
 
-/// `text` with every word that is a file path (a word with a '/' that starts with '/', '.' or
-/// '~' or ends in a file name with an extension) cut to its file name: a title names a mesh
-/// file, not the folders it was found in.
-std::string without_folders(const std::string& text) {
-  std::string r, word;
-  auto flush = [&] {
-    const auto slash = word.find_last_of('/');
-    const bool rooted = !word.empty() && (word[0] == '/' || word[0] == '.' || word[0] == '~');
-    const bool path = slash != std::string::npos && slash + 1 < word.size() &&
-                      (rooted || word.find('.', slash) != std::string::npos);
-    r += path ? word.substr(slash + 1) : word;
-    word.clear();
-  };
-  for (char c : text) {
-    if (c == ' ' || c == ',' || c == '(' || c == ')') {
-      flush();
-      r += c;
-    } else {
-      word += c;
-    }
-  }
-  flush();
-  return r;
-}
-
-/// The title of a solve's figure as a gnuplot string: what it shows on the first line, the
-/// scene and the mesh on the second (a long scene name would not fit on one).
-std::string solve_title(const std::string& what, const RunInfo& info) {
-  auto escaped = [](const std::string& t) {
-    std::string r;
-    for (char c : t) r += (c == '"' || c == '\\') ? std::string("\\") + c : std::string(1, c);
-    return r;
-  };
-  std::string second = without_folders(info.scene_name);
-  // a long title is cut (at a character boundary of UTF-8): gnuplot takes minutes over megabytes
-  constexpr std::size_t kMaxTitle = 160;
-  if (second.size() > kMaxTitle) {
-    std::size_t cut = kMaxTitle;
-    while (cut > 0 && (static_cast<unsigned char>(second[cut]) & 0xC0) == 0x80) --cut;
-    second = second.substr(0, cut) + "...";
-  }
-  if (!info.mesh.empty()) second += (second.empty() ? "" : ", ") + without_folders(info.mesh);
-  return "\"" + escaped(what) + (second.empty() ? "" : "\\n" + escaped(second)) + "\"";
-}
-
 /// A number for a label (6 significant digits).
 std::string label_number(double v) {
   std::ostringstream s;
   s << std::setprecision(6) << v;
   return s.str();
 }
-
-/// A perceptually uniform colour map (matplotlib's viridis, sampled at nine points) as a
-/// gnuplot palette.
-constexpr const char* kViridis =
-    "set palette defined (0 '#440154', 1 '#472d7b', 2 '#3b528b', 3 '#2c728e', 4 '#21918c', 5 '#28ae80', "
-    "6 '#5ec962', 7 '#addc30', 8 '#fde725')\n";
 
 /// The polygon `poly` clipped to the half-plane n . (p - a) <= 0 (Sutherland-Hodgman).
 std::vector<Vec2> clip_half_plane(const std::vector<Vec2>& poly, const Vec2& a, const Vec2& n) {
@@ -331,6 +278,65 @@ std::vector<BreakpointLabel> breakpoint_labels(const std::vector<double>& breakp
 }
 
 }  // namespace
+
+namespace detail {
+
+std::string num(double v) {
+  std::ostringstream s;
+  s << std::setprecision(17) << v;
+  return s.str();
+}
+
+/// `text` with every word that is a file path (a word with a '/' that starts with '/', '.' or
+/// '~' or ends in a file name with an extension) cut to its file name: a title names a mesh
+/// file, not the folders it was found in.
+std::string without_folders(const std::string& text) {
+  std::string r, word;
+  auto flush = [&] {
+    const auto slash = word.find_last_of('/');
+    const bool rooted = !word.empty() && (word[0] == '/' || word[0] == '.' || word[0] == '~');
+    const bool path = slash != std::string::npos && slash + 1 < word.size() &&
+                      (rooted || word.find('.', slash) != std::string::npos);
+    r += path ? word.substr(slash + 1) : word;
+    word.clear();
+  };
+  for (char c : text) {
+    if (c == ' ' || c == ',' || c == '(' || c == ')') {
+      flush();
+      r += c;
+    } else {
+      word += c;
+    }
+  }
+  flush();
+  return r;
+}
+
+std::string cut_title(std::string text) {
+  // at a character boundary of UTF-8: gnuplot takes minutes over megabytes
+  constexpr std::size_t kMaxTitle = 160;
+  if (text.size() <= kMaxTitle) return text;
+  std::size_t cut = kMaxTitle;
+  while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut;
+  return text.substr(0, cut) + "...";
+}
+
+/// The title of a solve's figure as a gnuplot string: what it shows on the first line, the
+/// scene and the mesh on the second (a long scene name would not fit on one).
+std::string double_quoted_escape(const std::string& t) {
+  std::string r;
+  for (char c : t) r += (c == '"' || c == '\\') ? std::string("\\") + c : std::string(1, c);
+  return r;
+}
+
+std::string solve_title(const std::string& what, const RunInfo& info) {
+  const auto escaped = double_quoted_escape;
+  std::string second = cut_title(without_folders(info.scene_name));
+  if (!info.mesh.empty()) second += (second.empty() ? "" : ", ") + without_folders(info.mesh);
+  return "\"" + escaped(what) + (second.empty() ? "" : "\\n" + escaped(second)) + "\"";
+}
+
+}  // namespace detail
 
 std::string gnuplot_quote(const std::string& s) {
   std::string r = "'";

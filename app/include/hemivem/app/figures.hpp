@@ -66,4 +66,29 @@ Figure u_nu_figure(const Mesh& mesh, const ContactSolution& solution, const RunI
 /// it is drawn on it). With contact, the contact nodes.
 Figure deformed_figure(const Mesh& mesh, const ContactSolution& solution, const RunInfo& info);
 
+/// error.png: the element error indicators eta_E of an error estimate, each element filled with
+/// its colour on a logarithmic viridis scale (the colour bar labelled "error indicator eta_E"),
+/// the mesh's edges drawn thin (omitted above 20000 elements), the title solve_title("error indicators", info).
+/// indicators has one entry per element (zeros drawn with the scale's lowest colour).
+Figure indicator_figure(const Mesh& mesh, const std::vector<double>& indicators, const RunInfo& info);
+
+/// mesh.png: the mesh's edges (e.g. the final mesh of an adaptive solve), equal axes, title
+/// solve_title(what, info) with `what` e.g. "final mesh, 1234 elements".
+Figure mesh_figure(const Mesh& mesh, const RunInfo& info, const std::string& what);
+
+/// One curve of convergence_figure.
+struct ConvergenceSeries {
+  std::string name;               ///< key entry, e.g. "adaptive (estimate)", "uniform (estimate)", "uniform (true error)"
+  std::vector<double> unknowns;   ///< free degrees of freedom per point
+  std::vector<double> seconds;    ///< elapsed wall time per point
+  std::vector<double> error;      ///< relative error per point (> 0; points with error <= 0 or non-finite are left out)
+  bool dashed = false;            ///< true errors are drawn dashed, estimates solid
+};
+/// adapt.png (or any `png` name given): two panels side by side, relative error against unknowns and against
+/// run time, both log-log, one curve per series (viridis colours by series order, points marked), with a
+/// reference slope triangle or line of (unknowns)^(-1/2) in the first panel, labelled "N^-1/2"; title `title`
+/// (cut like the other titles). Series with no point are left out of the key.
+Figure convergence_figure(const std::vector<ConvergenceSeries>& series, const std::string& title,
+                          const std::string& png = "adapt.png");
+
 }  // namespace hemivem::app

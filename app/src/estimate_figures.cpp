@@ -1,0 +1,285 @@
+// The figures of an error estimate and an adaptive solve: error.png (the element indicators),
+// mesh.png (a mesh's edges) and adapt.png (relative error against unknowns and run time).
+#include <hemivem/app/figures.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+
+#include <hemivem/app/text_writer.hpp>
+
+#include "figure_style.hpp"
+
+namespace hemivem::app {
+
+using detail::cut_title;
+using detail::double_quoted_escape;
+using detail::kViridis;
+using detail::num;
+using detail::solve_title;
+using detail::without_folders;
+
+namespace {
+
+/// error.png draws the mesh's edges over the colours up to this many elements; above it
+/// they would only darken the picture.
+constexpr int kMaxElementsWithEdges = 20000;
+
+/// The widest range of the colour scale in decades: smaller indicators take its lowest
+/// colour, like zeros.
+constexpr double kMaxDecades = 12.0;
+
+/// The mesh's bounding box with a margin of 5% of its size on each side.
+Rectangle mesh_frame(const Mesh& mesh) {
+  const Rectangle b = mesh.bounding_box();
+  const double margin = 0.05 * std::max({b.width(), b.height(), 1e-300});
+  return {b.x0 - margin, b.x1 + margin, b.y0 - margin, b.y1 + margin};
+}
+
+/// The picture's height for a frame drawn at equal axes in a picture 1000 wide: a flat body
+/// gets a lower picture (as deformed.png).
+int frame_height(const Rectangle& frame) {
+  return static_cast<int>(std::clamp(170.0 + 720.0 * frame.height() / frame.width(), 350.0, 700.0));
+}
+
+/// The script lines that set the frame at equal axes and name the axes.
+std::string frame_lines(const Rectangle& frame) {
+  std::ostringstream s;
+  s << "set size ratio -1\nset clip two\n"
+    << "set xrange [" << num(frame.x0) << ":" << num(frame.x1) << "]\n"
+    << "set yrange [" << num(frame.y0) << ":" << num(frame.y1) << "]\n"
+    << "set xlabel 'x (scene units)'\nset ylabel 'y (scene units)'\n";
+  return s.str();
+}
+
+/// A data file of mesh edges, each a block of its two end points: all edges, or the boundary's.
+PlotData edges_data(const std::string& name, const Mesh& mesh, bool boundary_only) {
+  return {name, [&mesh, boundary_only](std::ostream& stream) {
+            TextWriter os(stream);
+            os << (boundary_only ? "# x y (boundary edges, one block each)\n" : "# x y (mesh edges, one block each)\n");
+            auto put = [&](const MeshEdge& e) {
+              const Vec2& a = mesh.vertex(e.v0);
+              const Vec2& b = mesh.vertex(e.v1);
+              os << a.x() << ' ' << a.y() << '\n' << b.x() << ' ' << b.y() << "\n\n";
+            };
+            if (boundary_only)
+              for (int e : mesh.boundary_edges()) put(mesh.edge(e));
+            else
+              for (const auto& e : mesh.edges()) put(e);
+          }};
+}
+
+/// `text` fit for a one-line gnuplot string: control characters (a newline ...) as spaces.
+std::string one_line(std::string text) {
+  for (char& c : text)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = ' ';
+  return text;
+}
+
+/// The colour of viridis at t in [0, 1] as "#rrggbb" (the nine samples of kViridis, linearly
+/// interpolated).
+std::string viridis(double t) {
+  static constexpr std::array<std::uint32_t, 9> samples{0x440154, 0x472d7b, 0x3b528b, 0x2c728e, 0x21918c,
+                                                        0x28ae80, 0x5ec962, 0xaddc30, 0xfde725};
+  const double x = std::clamp(t, 0.0, 1.0) * 8.0;
+  const auto i = std::min<std::size_t>(static_cast<std::size_t>(x), 7);
+  const double w = x - static_cast<double>(i);
+  std::ostringstream s;
+  s << '#' << std::hex << std::setfill('0');
+  for (int shift : {16, 8, 0}) {
+    const double a = (samples[i] >> shift) & 0xff, b = (samples[i + 1] >> shift) & 0xff;
+    s << std::setw(2) << static_cast<int>(std::lround(a + w * (b - a)));
+  }
+  return s.str();
+}
+
+/// A positive range [lo, hi] of a log axis widened by a little on each side (a point on the
+/// frame would be hard to see), and to a decade when it is one value.
+std::pair<double, double> log_range(double lo, double hi) {
+  const double decades = std::log10(hi / lo);
+  const double pad = decades > 0.0 ? std::max(0.05 * decades, 0.05) : 0.5;
+  return {lo * std::pow(10.0, -pad), hi * std::pow(10.0, pad)};
+}
+
+}  // namespace
+
+Figure indicator_figure(const Mesh& mesh, const std::vector<double>& indicators, const RunInfo& info) {
+  const int elements = mesh.num_elements();
+  // the value drawn for element e: its indicator when finite and positive, else 0 (the scale's
+  // lowest colour); an element without an entry counts as 0, and the title says so
+  std::vector<double> eta(static_cast<std::size_t>(elements), 0.0);
+  double hi = 0.0, lo = std::numeric_limits<double>::infinity();
+  for (std::size_t e = 0; e < eta.size() && e < indicators.size(); ++e) {
+    const double v = indicators[e];
+    if (!(std::isfinite(v) && v > 0.0)) continue;
+    eta[e] = v;
+    hi = std::max(hi, v), lo = std::min(lo, v);
+  }
+  // the colour scale: the positive indicators' range (at most kMaxDecades), a decade either
+  // side of one value, any range when none is positive
+  if (hi == 0.0) lo = 0.1, hi = 1.0;
+  else if (lo == hi) lo = hi / 10.0, hi = hi * 10.0;
+  lo = std::max(lo, hi * std::pow(10.0, -kMaxDecades));
+  const bool edges = elements <= kMaxElementsWithEdges;
+  const Rectangle frame = mesh_frame(mesh);
+
+  Figure f;
+  f.png = "error.png";
+  f.height = frame_height(frame);
+  f.data.push_back({"error_polygons.dat", [&mesh, eta = std::move(eta)](std::ostream& stream) {
+                      TextWriter os(stream);
+                      os << "# x y eta_E (one block per element, its vertices counter-clockwise)\n";
+                      for (int e = 0; e < mesh.num_elements(); ++e) {
+                        const double v = eta[static_cast<std::size_t>(e)];
+                        for (int k : mesh.element(e)) os << mesh.vertex(k).x() << ' ' << mesh.vertex(k).y() << ' ' << v << '\n';
+                        os << '\n';
+                      }
+                    }});
+  if (edges) f.data.push_back(edges_data("error_edges.dat", mesh, false));
+  std::string what = "error indicators";
+  if (indicators.size() != static_cast<std::size_t>(elements))
+    what += " (" + std::to_string(indicators.size()) + " for " + std::to_string(elements) + " elements)";
+  std::ostringstream s;
+  s << "set title " << solve_title(what, info) << " noenhanced\n"
+    << frame_lines(frame) << kViridis << "set logscale cb\n"
+    << "set cbrange [" << num(lo) << ":" << num(hi) << "]\n"
+    << "set cblabel 'error indicator eta_E'\nunset key\n"
+    // one plot of all the polygons, a blank line between two, each filled with its value's colour
+    << "plot 'error_polygons.dat' using 1:2:($3 > " << num(lo) << " ? $3 : " << num(lo)
+    << ") with filledcurves closed fillcolor palette fillstyle solid 1.0 noborder notitle";
+  if (edges) s << ", 'error_edges.dat' using 1:2 with lines lw 0.5 lc rgb '#60000000' notitle";
+  f.script = s.str();
+  return f;
+}
+
+Figure mesh_figure(const Mesh& mesh, const RunInfo& info, const std::string& what) {
+  const Rectangle frame = mesh_frame(mesh);
+  Figure f;
+  f.png = "mesh.png";
+  f.height = frame_height(frame);
+  f.data.push_back(edges_data("mesh_edges.dat", mesh, false));
+  f.data.push_back(edges_data("mesh_boundary.dat", mesh, true));
+  std::ostringstream s;
+  s << "set title " << solve_title(cut_title(one_line(what)), info) << " noenhanced\n"
+    << frame_lines(frame) << "unset key\n"
+    << "plot 'mesh_edges.dat' using 1:2 with lines lw 0.6 lc rgb '#3b528b' notitle, "
+    << "'mesh_boundary.dat' using 1:2 with lines lw 1.5 lc rgb '#440154' notitle";
+  f.script = s.str();
+  return f;
+}
+
+Figure convergence_figure(const std::vector<ConvergenceSeries>& series, const std::string& title,
+                          const std::string& png) {
+  // The points drawn: error finite and > 0 and unknowns finite and > 0; a run time that is
+  // not finite and > 0 is left out of the second panel alone.
+  struct Point {
+    double n, seconds, error;
+  };
+  std::vector<std::vector<Point>> points(series.size());
+  double n_lo = 0.0, n_hi = 0.0, e_lo = 0.0, e_hi = 0.0, t_lo = 0.0, t_hi = 0.0;
+  bool any = false, any_time = false;
+  const Point* first = nullptr;  // the point of fewest unknowns (largest error among them)
+  for (std::size_t k = 0; k < series.size(); ++k) {
+    const ConvergenceSeries& c = series[k];
+    for (std::size_t i = 0; i < c.unknowns.size() && i < c.error.size(); ++i) {
+      const double n = c.unknowns[i], e = c.error[i];
+      if (!(std::isfinite(n) && n > 0.0 && std::isfinite(e) && e > 0.0)) continue;
+      const double t = i < c.seconds.size() && std::isfinite(c.seconds[i]) && c.seconds[i] > 0.0 ? c.seconds[i] : -1.0;
+      points[k].push_back({n, t, e});
+      n_lo = any ? std::min(n_lo, n) : n, n_hi = any ? std::max(n_hi, n) : n;
+      e_lo = any ? std::min(e_lo, e) : e, e_hi = any ? std::max(e_hi, e) : e;
+      any = true;
+      if (t > 0.0) {
+        t_lo = any_time ? std::min(t_lo, t) : t, t_hi = any_time ? std::max(t_hi, t) : t;
+        any_time = true;
+      }
+    }
+  }
+  for (const auto& p : points)
+    for (const Point& q : p)
+      if (!first || q.n < first->n || (q.n == first->n && q.error > first->error)) first = &q;
+  // the reference N^-1/2 through half the error of that point, over the unknowns' range
+  const bool reference = any && n_hi > n_lo;
+  const double ref_c = reference ? 0.5 * first->error * std::sqrt(first->n) : 0.0;
+  double r_lo = e_lo, r_hi = e_hi;
+  if (reference) r_lo = std::min(r_lo, ref_c / std::sqrt(n_hi)), r_hi = std::max(r_hi, ref_c / std::sqrt(n_lo));
+
+  Figure f;
+  f.png = png;
+  f.width = 1400;
+  f.height = 600;
+  std::ostringstream s;
+  s << "set multiplot layout 1,2 title \"" << double_quoted_escape(cut_title(one_line(without_folders(title))))
+    << "\" noenhanced\n"
+    << "set logscale xy\nset grid\nset key top right\nset ylabel 'relative error'\n";
+  // the series as data blocks: unknowns, run time (-1: not known), error
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    if (points[k].empty()) continue;
+    s << "$adapt_s" << k << " << EOD\n";
+    for (const Point& p : points[k]) s << num(p.n) << ' ' << num(p.seconds) << ' ' << num(p.error) << '\n';
+    s << "EOD\n";
+  }
+  if (reference)
+    s << "$adapt_ref << EOD\n"
+      << num(n_lo) << ' ' << num(ref_c / std::sqrt(n_lo)) << '\n'
+      << num(n_hi) << ' ' << num(ref_c / std::sqrt(n_hi)) << "\nEOD\n";
+  // one curve per series; `x` is the column drawn on the x axis
+  static constexpr std::array<int, 5> kPointTypes{7, 5, 9, 13, 11};
+  std::size_t drawn = 0;
+  for (const auto& p : points) drawn += !p.empty();
+  auto curves = [&](const std::string& x, bool timed) {
+    std::ostringstream c;
+    std::size_t order = 0;
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      if (points[k].empty()) continue;
+      const double t = drawn > 1 ? 0.85 * static_cast<double>(order) / static_cast<double>(drawn - 1) : 0.0;
+      const bool any_timed =
+          std::any_of(points[k].begin(), points[k].end(), [](const Point& q) { return q.seconds > 0.0; });
+      if (timed && !any_timed) {  // nothing to draw: the key still names the series
+        c << (c.tellp() > 0 ? ", " : "") << "NaN with linespoints";
+      } else {
+        c << (c.tellp() > 0 ? ", " : "") << "$adapt_s" << k << " using " << x << ":3 with linespoints";
+      }
+      c << " pt " << kPointTypes[order % kPointTypes.size()] << " ps 1 lw 2 dt " << (series[k].dashed ? 2 : 1)
+        << " lc rgb '" << viridis(t) << "' title " << gnuplot_quote(one_line(series[k].name)) << " noenhanced";
+      ++order;
+    }
+    return c.str();
+  };
+  auto ranges = [&](double x_lo, double x_hi, double y_lo, double y_hi) {
+    const auto [x0, x1] = log_range(x_lo, x_hi);
+    const auto [y0, y1] = log_range(y_lo, y_hi);
+    s << "set xrange [" << num(x0) << ":" << num(x1) << "]\nset yrange [" << num(y0) << ":" << num(y1) << "]\n";
+  };
+  auto empty_panel = [&](const std::string& why) {
+    s << "set xrange [1:10]\nset yrange [0.1:1]\nset label 1 " << gnuplot_quote(why)
+      << " at graph 0.5, graph 0.5 center\nplot NaN notitle\nunset label 1\n";
+  };
+  // first panel: against unknowns, with the reference slope
+  s << "set title 'relative error against unknowns'\nset xlabel 'free degrees of freedom N'\n";
+  if (!any) {
+    empty_panel("no error to draw");
+  } else {
+    ranges(n_lo, n_hi, r_lo, r_hi);
+    s << "plot " << curves("1", false);
+    if (reference) s << ", $adapt_ref using 1:2 with lines dt 3 lw 1.5 lc rgb '#555555' title 'N^-1/2' noenhanced";
+    s << "\n";
+  }
+  // second panel: against the run time
+  s << "set title 'relative error against run time'\nset xlabel 'run time (s)'\n";
+  if (!any_time) {
+    empty_panel(any ? "no run time to draw" : "no error to draw");
+  } else {
+    ranges(t_lo, t_hi, e_lo, e_hi);
+    s << "plot " << curves("($2 > 0 ? $2 : NaN)", true) << "\n";
+  }
+  s << "unset multiplot";
+  f.script = s.str();
+  return f;
+}
+
+}  // namespace hemivem::app
