@@ -95,6 +95,7 @@ Scene load_scene(const SolveOptions& o) {
       }
     throw;
   }
+  if (o.adapt && !scene.adapt) scene.adapt = SceneAdapt{};
   return scene;
 }
 
@@ -158,8 +159,22 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   require_one_process_or_mumps_mpi(scene);
   SolveProgress progress = solve_progress(o, err);
   ReducedProblem reduced;
-  SceneSolve solved = solve_scene(scene, progress.announce, progress.iteration,
-                                  o.export_reduced.empty() ? nullptr : &reduced, std::move(progress.search));
+  SceneSolveOptions options;
+  options.on_built = progress.announce;
+  options.callback = progress.iteration;
+  options.reduced = o.export_reduced.empty() ? nullptr : &reduced;
+  options.progress = std::move(progress.search);
+  std::optional<AdaptiveSolve> adaptive;
+  if (scene.adapt) {
+    if (!o.export_reduced.empty())
+      throw InputError("an adaptive solve has no one reduced problem; export it from a solve of one mesh", "--export-reduced");
+    auto step_line = [&](const AdaptStep& a) {
+      if (!o.json && o.verbosity >= 1) err << adapt_progress_line(a) << "\n";
+    };
+    adaptive = solve_adaptively(scene, *scene.adapt, std::move(options), step_line);
+  }
+  SceneSolve solved_one = adaptive ? SceneSolve() : solve_scene(scene, std::move(options));
+  SceneSolve& solved = adaptive ? adaptive->last : solved_one;
   const auto& built = solved.built;
   const ContactSolution& sol = solved.solution;
   if (!solved.holds_results) return sol.converged() ? kSuccess : kNotConverged;  // rank > 0: rank 0 reports
@@ -178,6 +193,7 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
     out << result_json(built->mesh, sol, info).dump(2) << "\n";
   } else if (o.verbosity >= 1) {
     out << "hemivem solve: " << scene.title << " (" << scene.source << ")\n" << full_report(scene, solved, info);
+    if (adaptive) out << adapt_report(*adaptive);
     print_files(out, o, report);
   }
   return sol.converged() ? kSuccess : kNotConverged;

@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <hemivem/app/adapt.hpp>
 #include <hemivem/app/solve.hpp>
 #include <hemivem/global_search.hpp>
 #include <hemivem/scene/scene.hpp>
@@ -32,6 +33,7 @@ struct SolveOptions {
   bool json = false;                    ///< result.json on stdout instead of the summary
   int verbosity = 1;                    ///< 0 quiet, 1 summary, 2 summary and iterations
   bool global = false;                  ///< --global: solver.search = "global"
+  bool adapt = false;                   ///< --adapt: refine adaptively ([adapt] with its defaults unless the scene has one)
 };
 
 /// The scene of a command line: the file (empty: the embedded Example 4.1) with the flags

@@ -160,6 +160,9 @@ Command register_solve(CLI::App& app) {
   cmd->add_flag("--global", f->options.global,
                 "Search for the lowest critical point: several starts with every built minimizer (solver.search = "
                 "\"global\"; budget: solver.max_starts, solver.time_budget, solver.seed)");
+  cmd->add_flag("--adapt", f->options.adapt,
+                "Refine adaptively until the error estimate reaches adapt.target (the scene's [adapt], or target 1 %, "
+                "fraction 0.5, max_steps 30, max_unknowns 1000000; change them with --set adapt.KEY=VALUE)");
   return {cmd, [f] {
             cli::SolveOptions& o = f->options;
             if (*f->o_mesh) o.mesh = f->mesh;

@@ -8,6 +8,7 @@
 
 #include <hemivem/support/atomic_file.hpp>
 #include <hemivem/support/output_folder.hpp>
+#include <hemivem/mesh/poly2d.hpp>
 #include <hemivem/vem/assembly.hpp>
 #include <hemivem/error.hpp>
 
@@ -92,6 +93,20 @@ nlohmann::json forces_json(const ForceBalance& b) {
           {"balance_residual", number(b.residual())}};
 }
 
+/// adapt.png: the relative estimate of every step of an adaptive solve against its unknowns
+/// and its elapsed time.
+Figure adapt_figure(const RunInfo& info) {
+  ConvergenceSeries adaptive;
+  adaptive.name = "adaptive (estimate)";
+  for (const auto& step : info.adapt.at("steps")) {
+    if (!step.at("estimate").is_number()) continue;
+    adaptive.unknowns.push_back(step.at("unknowns").get<double>());
+    adaptive.seconds.push_back(step.at("elapsed").get<double>());
+    adaptive.error.push_back(step.at("estimate").get<double>());
+  }
+  return convergence_figure({adaptive}, "adaptive refinement: " + info.scene_name);
+}
+
 /// The plots of a solve, drawn into the transaction's staging folder. A plot that cannot be
 /// made is skipped (listed in the report); a file that cannot be written is an error.
 void draw_solve_figures(const OutputTransaction& tx, const fs::path& dir, const Mesh& mesh, const ContactSolution& solution,
@@ -102,6 +117,12 @@ void draw_solve_figures(const OutputTransaction& tx, const fs::path& dir, const 
   try {
     if (want("u_nu.png") && !solution.contact.empty()) figures.push_back(u_nu_figure(mesh, solution, info));
     if (want("deformed.png")) figures.push_back(deformed_figure(mesh, solution, info));
+    if (want("error.png") && !info.error_estimate) report.skipped.push_back("error.png: no error estimate");
+    if (want("error.png") && info.error_estimate)
+      figures.push_back(indicator_figure(mesh, info.error_estimate->indicators, info));
+    if (want("mesh.png"))
+      figures.push_back(mesh_figure(mesh, info, "mesh, " + std::to_string(mesh.num_elements()) + " elements"));
+    if (want("adapt.png") && !info.adapt.is_null()) figures.push_back(adapt_figure(info));
     const std::vector<std::string> reasons = draw_figures(tx.staging(), figures);
     for (std::size_t i = 0; i < figures.size(); ++i) {
       if (reasons[i].empty()) report.written.push_back(dir / figures[i].png);
@@ -137,7 +158,7 @@ std::vector<std::array<int, 2>> contact_lines(const Mesh& mesh, const ContactSol
 nlohmann::json result_json(const Mesh& mesh, const ContactSolution& s, const RunInfo& info) {
   using nlohmann::json;
   json j;
-  j["schema"] = "hemivem-result/8";
+  j["schema"] = "hemivem-result/9";
   j["version"] = info.version;
   j["scene"] = {{"name", info.scene_name}, {"toml", info.scene_toml}};
   j["backends"] = {{"linear", info.linear}, {"minimizer", info.minimizer}};
@@ -208,12 +229,25 @@ nlohmann::json result_json(const Mesh& mesh, const ContactSolution& s, const Run
                                              {"length", number(zone.length)},
                                              {"x", {number(zone.lower.x()), number(zone.upper.x())}},
                                              {"y", {number(zone.lower.y()), number(zone.upper.y())}}};
+  j["error_estimate"] = info.error_estimate ? error_estimate_json(*info.error_estimate) : json(nullptr);
+  j["adapt"] = info.adapt.is_null() ? json(nullptr) : info.adapt;
   return j;
 }
 
+nlohmann::json error_estimate_json(const ErrorEstimate& e) {
+  nlohmann::json parts = nlohmann::json::object();
+  for (const auto& [name, value] : e.parts) parts[name] = number(value);
+  return {{"energy", number(e.energy)},
+          {"norm", number(e.norm)},
+          {"relative", number(e.relative)},
+          {"parts", std::move(parts)},
+          {"seconds", number(e.seconds)}};
+}
+
 const std::vector<std::string>& all_outputs() {
-  static const std::vector<std::string> names{"result.json",  "contact.csv", "displacement.csv", "history.csv",
-                                              "solution.vtu", "scene.toml",  "u_nu.png",         "deformed.png"};
+  static const std::vector<std::string> names{"result.json", "contact.csv",  "displacement.csv", "history.csv",
+                                              "solution.vtu", "scene.toml",  "mesh.poly2d",      "u_nu.png",
+                                              "deformed.png", "error.png",   "mesh.png",         "adapt.png"};
   return names;
 }
 
@@ -293,8 +327,13 @@ OutputReport write_outputs(const fs::path& dir, const Mesh& mesh, const Material
   write("contact.csv", [&](std::ostream& os) { write_contact_csv(os, solution); });
   write("displacement.csv", [&](std::ostream& os) { write_displacement_csv(os, mesh, solution.u); });
   write("history.csv", [&](std::ostream& os) { write_history_csv(os, solution); });
-  write("solution.vtu", [&](std::ostream& os) { write_vtu(os, mesh, materials, solution); });
+  write("solution.vtu", [&](std::ostream& os) {
+    write_vtu(os, mesh, materials, solution, info.error_estimate ? &info.error_estimate->indicators : nullptr);
+  });
   write("scene.toml", [&](std::ostream& os) { os << info.scene_toml; });
+  write("mesh.poly2d", [&](std::ostream& os) {
+    write_poly2d(os, mesh, {"the mesh of " + info.mesh, "regions and edge groups are not part of this format"});
+  });
   draw_solve_figures(tx, dir, mesh, solution, info, want, report);
   // A plot that could not be made is not in the folder: result.json says so.
   if (want("result.json") && report.written.size() != listed.files.size()) {

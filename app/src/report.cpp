@@ -96,10 +96,21 @@ void contact_forces(std::ostream& out, const ContactSolution& sol, const RunInfo
   out << "; sum of the friction forces " << friction << "\n";
 }
 
+/// The error estimate: absolute, relative, and its largest parts.
+void error_estimate(std::ostream& out, const ErrorEstimate& e) {
+  out << "  error         estimate " << e.energy << " = " << std::setprecision(3) << 100.0 * e.relative
+      << " % of ||u_h||_E (energy norm; parts:";
+  bool first = true;
+  for (const auto& [name, value] : e.parts)
+    if (value > 0.0) out << (first ? " " : ", ") << name << " " << value, first = false;
+  if (first) out << " none";
+  out << ")\n" << std::setprecision(6);
+}
+
 void energy_and_time(std::ostream& out, const SceneSolve& solved) {
   const ContactSolution& sol = solved.solution;
   out << "  energy        potential " << sol.energy << "\n  time [s]      mesh " << solved.mesh_seconds;
-  for (const char* k : {"assembly", "linear_solve", "condensation", "minimize", "back_substitution"})
+  for (const char* k : {"assembly", "linear_solve", "condensation", "minimize", "back_substitution", "estimate"})
     if (sol.timings.count(k)) out << ", " << k << " " << sol.timings.at(k);
   out << ", total " << solved.mesh_seconds + sol.timings.at("total") << "\n";
 }
@@ -125,7 +136,19 @@ std::string full_report(const Scene& scene, const SceneSolve& solved, const RunI
     contact_forces(out, solved.solution, info);
   }
   if (solved.holds_results) balance(out, solved.solution);
+  if (solved.estimate) error_estimate(out, *solved.estimate);
   energy_and_time(out, solved);
+  return out.str();
+}
+
+std::string adapt_report(const AdaptiveSolve& adaptive) {
+  std::ostringstream out;
+  const AdaptStep& first = adaptive.steps.front();
+  const AdaptStep& last = adaptive.steps.back();
+  out << std::setprecision(3) << "  adapt         " << adaptive.steps.size() << " solves in " << adaptive.seconds
+      << " s, " << first.unknowns << " -> " << last.unknowns << " unknowns, estimate " << 100.0 * first.estimate
+      << " % -> " << 100.0 * last.estimate << " %\n"
+      << "  stopped       " << to_string(adaptive.stopped) << ": " << adaptive.reason << "\n";
   return out.str();
 }
 

@@ -128,6 +128,12 @@ SceneSolve solve_scene(const Scene& scene, SceneSolveOptions o) {
   }
   s.warnings = s.built->warnings;
   if (std::string w = conditioning_warning(s.solution.condition_estimate); !w.empty()) s.warnings.push_back(std::move(w));
+  if (s.holds_results && s.solution.u.size() > 0 && s.solution.u.allFinite()) {
+    s.estimate = estimate_error(s.built->problem, s.solution);
+    s.solution.stages.push_back("estimate");
+    s.solution.timings["estimate"] = s.estimate->seconds;
+    s.solution.timings["total"] += s.estimate->seconds;
+  }
   return s;
 }
 
@@ -148,13 +154,18 @@ std::vector<std::string> wanted_files(const Scene& scene, bool has_contact) {
   static const std::vector<std::pair<std::string, std::string>> map{
       {"result-json", "result.json"}, {"contact-csv", "contact.csv"}, {"displacement-csv", "displacement.csv"},
       {"history-csv", "history.csv"}, {"vtu", "solution.vtu"},        {"u-nu-png", "u_nu.png"},
-      {"deformed-png", "deformed.png"}};
+      {"deformed-png", "deformed.png"}, {"error-png", "error.png"}};
   std::vector<std::string> files;
   for (const auto& [name, file] : map) {
     if (!has_contact && (file == "contact.csv" || file == "history.csv" || file == "u_nu.png")) continue;
     if (std::find(scene.outputs.begin(), scene.outputs.end(), name) != scene.outputs.end()) files.push_back(file);
   }
   files.push_back("scene.toml");
+  if (scene.adapt) {  // the final mesh of an adaptive solve
+    files.push_back("mesh.poly2d");
+    if (std::find(scene.outputs.begin(), scene.outputs.end(), "mesh-png") != scene.outputs.end()) files.push_back("mesh.png");
+    if (std::find(scene.outputs.begin(), scene.outputs.end(), "adapt-png") != scene.outputs.end()) files.push_back("adapt.png");
+  }
   return files;
 }
 
@@ -183,6 +194,8 @@ RunInfo run_info(const Scene& scene, const SceneSolve& solved) {
   if (built.has_contact) info.obstacle = built.problem.obstacle;
   if (built.problem.friction) info.friction_law = built.problem.friction->name();
   if (built.problem.constraint == ConstraintKind::bilateral) info.law_breakpoints.clear();
+  info.error_estimate = solved.estimate;
+  info.adapt = solved.adapt;
   return info;
 }
 

@@ -166,7 +166,7 @@ void write_point_data(std::ostream& os, const Mesh& mesh, const ContactSolution&
 
 /// Stresses, von Mises, regions per polygon; the `nl` contact lines carry zeros and contact = 1.
 void write_cell_data(std::ostream& os, const Mesh& mesh, const MaterialTable& materials, const ContactSolution& sol,
-                     std::size_t nl) {
+                     std::size_t nl, const std::vector<double>* indicators) {
   const std::vector<ElementStress> stress = element_stresses(mesh, materials, sol.u);
   const auto ne = static_cast<std::size_t>(mesh.num_elements());
   // ParaView's symmetric-tensor order: XX, YY, ZZ, XY, YZ, XZ; line cells carry zeros
@@ -188,12 +188,18 @@ void write_cell_data(std::ostream& os, const Mesh& mesh, const MaterialTable& ma
   data_array(os, "von_mises", 1, von_mises);
   data_array(os, "region", 1, region);
   if (!sol.contact.empty()) data_array(os, "contact", 1, on_contact);
+  if (indicators && indicators->size() == ne) {
+    std::vector<double> eta(ne + nl, 0.0);
+    std::copy(indicators->begin(), indicators->end(), eta.begin());
+    data_array(os, "error_indicator", 1, eta);
+  }
   os << "      </CellData>\n";
 }
 
 }  // namespace
 
-void write_vtu(std::ostream& os, const Mesh& mesh, const MaterialTable& materials, const ContactSolution& sol) {
+void write_vtu(std::ostream& os, const Mesh& mesh, const MaterialTable& materials, const ContactSolution& sol,
+               const std::vector<double>* indicators) {
   const std::vector<std::array<int, 2>> lines = contact_lines(mesh, sol);
   os << "<?xml version=\"1.0\"?>\n"
      << "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\""
@@ -205,7 +211,7 @@ void write_vtu(std::ostream& os, const Mesh& mesh, const MaterialTable& material
   write_points(os, mesh);
   write_cells(os, mesh, lines);
   write_point_data(os, mesh, sol);
-  write_cell_data(os, mesh, materials, sol, lines.size());
+  write_cell_data(os, mesh, materials, sol, lines.size(), indicators);
   os << "    </Piece>\n"
      << "  </UnstructuredGrid>\n"
      << "</VTKFile>\n";

@@ -254,6 +254,35 @@ void def_result_fields(ResultClass& c) {
           },
           "The minimizer's full result (MinimizerResult); None without contact (one linear solve).")
       .def_property_readonly(
+          "error_estimate",
+          [](py::handle s) -> py::object {
+            const auto& e = data(s).solved.estimate;
+            if (!e) return py::none();
+            return py::module_::import("json").attr("loads")(app::error_estimate_json(*e).dump());
+          },
+          "The estimate of the discretization error, as result.json's \"error_estimate\": {'energy': the "
+          "estimate of ||u - u_h||_E, 'norm': ||u_h||_E, 'relative': their ratio, 'parts': {name: value}, "
+          "'seconds': its time}; None when no estimate was made (a displacement that is not finite).")
+      .def_property_readonly(
+          "indicators",
+          [](py::object s) {
+            const auto& e = data(s).solved.estimate;
+            return e ? view(e->indicators.data(), static_cast<Eigen::Index>(e->indicators.size()), s)
+                     : view(nullptr, 0, s);
+          },
+          "The error indicators eta_E, one per element of `mesh` (float64, read-only view; empty without an "
+          "estimate): eta^2 is their sum of squares.")
+      .def_property_readonly(
+          "adapt",
+          [](py::handle s) -> py::object {
+            const nlohmann::json& a = data(s).solved.adapt;
+            if (a.is_null()) return py::none();
+            return py::module_::import("json").attr("loads")(a.dump());
+          },
+          "An adaptive solve's record, as result.json's \"adapt\": the target and budgets, 'stopped' and "
+          "'reason', and 'steps', per solve its unknowns, estimate, potential_energy and elapsed seconds; None "
+          "for a solve of one mesh.")
+      .def_property_readonly(
           "mesh",
           [](py::object s) {
             auto d = s.cast<std::shared_ptr<SolveData>>();
@@ -394,7 +423,8 @@ void solve_data(SolveData& d, const py::object& progress, bool keep_reduced, con
     o.reduced = keep_reduced ? &reduced : nullptr;
     o.progress = search_progress(watch, progress);
     if (mesh) o.mesh = *mesh->mesh;
-    d.solved = app::solve_scene(d.scene, std::move(o));
+    if (d.scene.adapt) d.solved = std::move(app::solve_adaptively(d.scene, *d.scene.adapt, std::move(o)).last);
+    else d.solved = app::solve_scene(d.scene, std::move(o));
   } catch (const Interrupted&) {
   }
   watch.raise_if_interrupted();
@@ -428,7 +458,11 @@ iteration, after every local run of a global search) and raises KeyboardInterrup
 
 mesh: a Mesh to solve on instead of the scene's (Mesh.generate, Mesh.read, Mesh(vertices,
 elements), or a Result's mesh): the scene's mesh keys are then not used; its boundary parts,
-loads, contact part and region boxes are selected on the given mesh, as on the scene's.)doc";
+loads, contact part and region boxes are selected on the given mesh, as on the scene's.
+
+adapt=True (or a scene with an [adapt] table) refines adaptively as `hemivem solve --adapt`
+does: the Result is the last step's, on the final mesh, with `adapt` holding every step's
+numbers; a scene without [adapt] takes its defaults. An adaptive solve keeps no reduced problem.)doc";
 
 void register_solve_function(py::module_& m) {
   m.def(
@@ -437,7 +471,7 @@ void register_solve_function(py::module_& m) {
          std::optional<double> tolerance, std::optional<int> max_iterations, std::optional<std::string> search,
          std::optional<int> max_starts, std::optional<double> time_budget, std::optional<int> seed,
          std::optional<std::vector<std::string>> engines, py::object progress,
-         bool keep_reduced, py::object mesh, const py::kwargs& kwargs) {
+         bool keep_reduced, py::object mesh, bool adapt, const py::kwargs& kwargs) {
         auto d = std::make_shared<SolveData>();
         if (py::isinstance<py::str>(scene_arg) || py::isinstance(scene_arg, py::module_::import("os").attr("PathLike")))
           scene_arg = py::module_::import("hemivem").attr("Scene").attr("from_toml")(scene_arg);  // a file or TOML text
@@ -448,6 +482,8 @@ void register_solve_function(py::module_& m) {
         const SolveKeywords k{linear, minimizer, tolerance, max_iterations, search, max_starts, time_budget, seed, engines};
         const std::vector<std::string> overrides = keyword_overrides(k, kwargs);
         if (!overrides.empty()) apply_overrides(d->scene, overrides);
+        if (adapt && !d->scene.adapt) d->scene.adapt = SceneAdapt{};
+        if (d->scene.adapt && keep_reduced) keep_reduced = false;  // no one reduced problem
         refuse_mpi_engine(d->scene.solver.linear, linear ? "linear" : d->scene.where("solver.linear"));
         if (!mesh.is_none() && !py::isinstance<PyMesh>(mesh))
           throw py::type_error("hemivem.solve: mesh must be a hemivem.Mesh, not " +
@@ -459,7 +495,7 @@ void register_solve_function(py::module_& m) {
       py::arg("tolerance") = py::none(), py::arg("max_iterations") = py::none(), py::arg("search") = py::none(),
       py::arg("max_starts") = py::none(), py::arg("time_budget") = py::none(), py::arg("seed") = py::none(),
       py::arg("engines") = py::none(), py::arg("progress") = py::none(), py::arg("keep_reduced") = true,
-      py::arg("mesh") = py::none(), kSolveDoc);
+      py::arg("mesh") = py::none(), py::arg("adapt") = false, kSolveDoc);
 }
 
 }  // namespace

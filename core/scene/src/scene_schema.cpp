@@ -612,7 +612,8 @@ using detail::scene_from_table;
 
 const std::vector<std::string>& scene_output_names() {
   static const std::vector<std::string> names{"vtu",         "contact-csv", "displacement-csv", "history-csv",
-                                              "result-json", "u-nu-png",    "deformed-png"};
+                                              "result-json", "u-nu-png",    "deformed-png",     "error-png",
+                                              "mesh-png",    "adapt-png"};
   return names;
 }
 

@@ -14,6 +14,7 @@
 
 #include <hemivem/contact/obstacle.hpp>
 #include <hemivem/contact/solver.hpp>
+#include <hemivem/estimate/error_estimate.hpp>
 #include <hemivem/vem/material.hpp>
 #include <hemivem/mesh/mesh.hpp>
 
@@ -41,7 +42,16 @@ struct RunInfo {
   bool gap_bound = false;                     ///< u_nu <= g is a constraint: the plots draw the gap and foundation
   std::optional<Obstacle> obstacle;           ///< the rigid obstacle of the contact, drawn in deformed.png
   std::string friction_law;                   ///< the friction law's name ("" without friction)
+  /// The estimate of the discretization error: result.json's "error_estimate", solution.vtu's
+  /// "error_indicator", error.png; none: not made (null in result.json).
+  std::optional<ErrorEstimate> error_estimate;
+  /// An adaptive solve's record (adapt_json of hemivem/app/adapt.hpp): result.json's "adapt",
+  /// adapt.png; null for a single solve.
+  nlohmann::json adapt;
 };
+
+/// result.json's "error_estimate" of an estimate: energy, norm, relative, parts, seconds.
+nlohmann::json error_estimate_json(const ErrorEstimate& estimate);
 
 /// The result.json document ("schema": "hemivem-result/8").
 nlohmann::json result_json(const Mesh& mesh, const ContactSolution& solution, const RunInfo& info);
@@ -51,7 +61,9 @@ nlohmann::json result_json(const Mesh& mesh, const ContactSolution& solution, co
 bool has_tangential(const ContactSolution& solution);
 
 /// The names write_outputs knows, in the order it writes them: result.json, contact.csv,
-/// displacement.csv, history.csv, solution.vtu, scene.toml, u_nu.png, deformed.png.
+/// displacement.csv, history.csv, solution.vtu, scene.toml, mesh.poly2d (the mesh solved on),
+/// u_nu.png, deformed.png, error.png (the error indicators; with info.error_estimate),
+/// mesh.png (the mesh) and adapt.png (the estimate of each step against unknowns and time; with info.adapt).
 const std::vector<std::string>& all_outputs();
 
 /// What write_outputs did.

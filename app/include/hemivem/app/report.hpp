@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include <hemivem/app/adapt.hpp>
 #include <hemivem/app/outputs.hpp>
 #include <hemivem/app/solve.hpp>
 #include <hemivem/scene/scene.hpp>
@@ -20,5 +21,9 @@ std::string brief_report(const SceneSolve& solved);
 /// each stage, one "  name          value" line each, ending in a newline. `scene` is the
 /// resolved scene that was solved, `info` its run_info().
 std::string full_report(const Scene& scene, const SceneSolve& solved, const RunInfo& info);
+
+/// The lines of an adaptive solve after full_report of its last solve: how many solves, the
+/// unknowns and the estimate from first to last, and why it stopped.
+std::string adapt_report(const AdaptiveSolve& adaptive);
 
 }  // namespace hemivem::app

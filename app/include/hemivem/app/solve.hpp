@@ -13,6 +13,7 @@
 
 #include <hemivem/app/outputs.hpp>
 #include <hemivem/contact/solver.hpp>
+#include <hemivem/estimate/error_estimate.hpp>
 #include <hemivem/global_search.hpp>
 #include <hemivem/nonsmooth_minimizer.hpp>
 #include <hemivem/reduced_problem.hpp>
@@ -57,6 +58,13 @@ struct SceneSolve {
   /// How the mesh solved on was made, for reports (RunInfo::mesh): the scene's
   /// (SceneMesh::description) unless SceneSolveOptions gave another mesh and its description.
   std::string mesh_description;
+  /// The a posteriori estimate of the discretization error (hemivem/estimate/error_estimate.hpp),
+  /// made after every solve whose displacement is finite, on the process holding the results;
+  /// none otherwise. Its time is the solution's stage "estimate".
+  std::optional<ErrorEstimate> estimate;
+  /// The last solve of an adaptive sequence carries the sequence's record (adapt_json of
+  /// hemivem/app/adapt.hpp; RunInfo::adapt); null otherwise.
+  nlohmann::json adapt;
   double total_seconds() const;  ///< mesh_seconds + the solve's total
 };
 

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <iosfwd>
 #include <string>
+#include <vector>
 
 #include <hemivem/contact/solver.hpp>
 #include <hemivem/vem/material.hpp>
@@ -20,7 +21,9 @@ std::uint8_t friction_state_code(const std::string& state);
 /// The mesh's polygons (then Gamma_3's edges as line cells when there is contact) with the
 /// displacement, the contact values at the contact nodes (with friction also u_tau, the
 /// friction traction and the state code), the projected stresses, the
-/// regions and the contact flag of each cell.
-void write_vtu(std::ostream& stream, const Mesh& mesh, const MaterialTable& materials, const ContactSolution& solution);
+/// regions and the contact flag of each cell; with `indicators` (one per element) the error
+/// indicators eta_E as the cell field "error_indicator" (0 on the contact lines).
+void write_vtu(std::ostream& stream, const Mesh& mesh, const MaterialTable& materials, const ContactSolution& solution,
+               const std::vector<double>* indicators = nullptr);
 
 }  // namespace hemivem::app
