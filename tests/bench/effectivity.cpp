@@ -84,7 +84,7 @@ double effectivity(const Run& r, double phi_ref, double C) {
 
 void table(const std::string& title, const std::vector<Run>& runs, double phi_ref) {
   std::printf("\n### %s (Phi_ref = %.9g)\n\n", title.c_str(), phi_ref);
-  std::printf("| mesh | elements | Phi_h | e_N | e_N / ||u_h|| | eta | eta / ||u_h|| | eta / e_N |"
+  std::printf("| mesh | elements | Phi_h | e_N | e_N / ‖u_h‖_E | eta | eta / ‖u_h‖_E | eta / e_N |"
               " volume | jump | traction | contact | friction | stabilization |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   double lo = 1e300, hi = 0.0;
@@ -128,7 +128,7 @@ double nested_error(const Rectangle& box, int nx, int ny, const Eigen::VectorXd&
 // of nested spaces)
 void nested_table(const std::string& title, const std::vector<Run>& runs, const std::vector<double>& errors,
                   double e_ref) {
-  std::printf("\n### %s (e_ref = %.4e)\n\n| mesh | ||u_h - u_ref||_E | e | e / ||u_h|| | eta | eta / e |\n"
+  std::printf("\n### %s (e_ref = %.4e)\n\n| mesh | ‖u_h − u_ref‖_E | e | e / ‖u_h‖_E | eta | eta / e |\n"
               "|---|---|---|---|---|---|\n", title.c_str(), e_ref);
   double lo = 1e300, hi = 0.0;
   for (std::size_t k = 0; k < runs.size(); ++k) {
