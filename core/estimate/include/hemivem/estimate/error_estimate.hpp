@@ -44,8 +44,9 @@ const std::vector<std::string>& error_estimate_part_names();
 /// Cost linear in the number of elements and edges; nothing is assembled or solved. Without
 /// contact nodes (no contact boundary, or a solution of the elasticity problem alone) the Gamma_3
 /// edges are compared with a zero traction. InputError when solution.u does not have 2 entries
-/// per vertex of the problem's mesh, when the problem has no mesh, or when a contact node names
-/// a vertex outside the mesh.
+/// per vertex of the problem's mesh, when the problem has no mesh, when a contact node names
+/// a vertex outside the mesh, or when an edge id of a Dirichlet, traction or contact part is
+/// out of range.
 ErrorEstimate estimate_error(const ContactProblem& problem, const ContactSolution& solution);
 
 }  // namespace hemivem
