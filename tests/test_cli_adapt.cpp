@@ -1,0 +1,84 @@
+// The command's error estimate and adaptive solves: result.json's error_estimate and adapt,
+// solution.vtu's error_indicator, the final mesh written as .poly2d, the summary's lines and
+// the refusals.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include <hemivem/mesh/poly2d.hpp>
+
+#include "test_support.hpp"
+
+namespace hemivem {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using test::run_hemivem;
+using test::scratch;
+using test::slurp;
+
+TEST(CliAdapt, EverySolveReportsItsErrorEstimate) {
+  const fs::path out = scratch("estimate");
+  const auto r = run_hemivem("solve --n 8 --linear eigen --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("  error         estimate "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("stages        assembly, condensation, minimize, back_substitution, estimate"), std::string::npos);
+  const json j = json::parse(slurp(out / "result.json"));
+  const json& e = j.at("error_estimate");
+  const double energy = e.at("energy").get<double>(), norm = e.at("norm").get<double>();
+  EXPECT_GT(energy, 0.0);
+  EXPECT_NEAR(e.at("relative").get<double>(), energy / norm, 1e-15 * energy / norm);
+  double sum = 0.0;
+  for (const auto& [name, part] : e.at("parts").items()) sum += part.get<double>() * part.get<double>();
+  EXPECT_NEAR(std::sqrt(sum), energy, 1e-12 * energy);
+  EXPECT_TRUE(j.at("adapt").is_null());
+  EXPECT_NE(slurp(out / "solution.vtu").find("Name=\"error_indicator\""), std::string::npos);
+  EXPECT_TRUE(fs::exists(out / "error.png") || r.out.find("skipped       error.png") != std::string::npos);
+  EXPECT_FALSE(fs::exists(out / "mesh.poly2d"));  // a single solve's mesh is the scene's
+  fs::remove_all(out);
+}
+
+TEST(CliAdapt, AnAdaptiveSolveWritesItsStepsAndItsFinalMesh) {
+  const fs::path out = scratch("adapt");
+  const auto r = run_hemivem("solve --n 4 --linear eigen --adapt --set adapt.target=0.1 --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("hemivem: adapt step 0: 16 elements"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("  stopped       target: the relative error estimate"), std::string::npos) << r.out;
+  const json j = json::parse(slurp(out / "result.json"));
+  const json& a = j.at("adapt");
+  EXPECT_EQ(a.at("stopped"), "target");
+  EXPECT_EQ(a.at("target").get<double>(), 0.1);
+  const json& steps = a.at("steps");
+  ASSERT_GE(steps.size(), 2u);
+  EXPECT_GT(steps.front().at("estimate").get<double>(), 0.1);
+  EXPECT_LE(steps.back().at("estimate").get<double>(), 0.1);
+  EXPECT_EQ(steps.back().at("estimate").get<double>(), j.at("error_estimate").at("relative").get<double>());
+  EXPECT_EQ(steps.back().at("potential_energy").get<double>(), j.at("potential_energy").get<double>());
+  // the final mesh, read back, is the one solved on
+  const Poly2dMesh m = read_poly2d(out / "mesh.poly2d");
+  EXPECT_EQ(m.mesh.num_vertices(), j.at("mesh").at("vertices").get<int>());
+  EXPECT_EQ(m.mesh.num_elements(), steps.back().at("elements").get<int>());
+  EXPECT_NE(j.at("mesh").at("description").get<std::string>().find("refined adaptively"), std::string::npos);
+  // the resolved scene keeps the [adapt] table: it runs again as it ran
+  EXPECT_NE(slurp(out / "scene.toml").find("[adapt]\ntarget = 0.1\n"), std::string::npos);
+  fs::remove_all(out);
+}
+
+TEST(CliAdapt, AdaptiveSolvesRefuseWhatTheyCannotDo) {
+  const fs::path out = scratch("adapt-refused");
+  const auto r = run_hemivem("solve --n 4 --adapt --export-reduced " + (out / "red").string() + " --out " + out.string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--export-reduced"), std::string::npos) << r.err;
+  const auto t = run_hemivem("solve --n 4 --set adapt.target=1.5 --out " + out.string());
+  EXPECT_EQ(t.code, 2);
+  EXPECT_NE(t.err.find("adapt.target: must be a relative error in (0, 1)"), std::string::npos) << t.err;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+}  // namespace
+}  // namespace hemivem
