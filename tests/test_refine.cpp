@@ -74,14 +74,7 @@ double patch_dirichlet(const Mesh& mesh) {
   p.mesh = &mesh;
   p.materials = MaterialTable(Material{65.0, 0.29});
   p.dirichlet.push_back(test::dirichlet_everywhere(mesh, exact));
-  const Eigen::VectorXd u = test::solve(assemble(p));
-  double err = 0.0, ref = 0.0;
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
-    const Vec2 e = exact(mesh.vertex(v));
-    err = std::max(err, (u.segment<2>(2 * v) - e).cwiseAbs().maxCoeff());
-    ref = std::max(ref, e.cwiseAbs().maxCoeff());
-  }
-  return err / ref;
+  return test::max_relative_nodal_error(mesh, test::solve(assemble(p)), exact);
 }
 
 // Everything a refinement must keep, checked on any parent and refined mesh: parent vertices

@@ -122,6 +122,7 @@ void draw_solve_figures(const OutputTransaction& tx, const fs::path& dir, const 
       figures.push_back(indicator_figure(mesh, info.error_estimate->indicators, info));
     if (want("mesh.png"))
       figures.push_back(mesh_figure(mesh, info, "mesh, " + std::to_string(mesh.num_elements()) + " elements"));
+    if (want("adapt.png") && info.adapt.is_null()) report.skipped.push_back("adapt.png: not an adaptive solve");
     if (want("adapt.png") && !info.adapt.is_null()) figures.push_back(adapt_figure(info));
     const std::vector<std::string> reasons = draw_figures(tx.staging(), figures);
     for (std::size_t i = 0; i < figures.size(); ++i) {

@@ -39,6 +39,16 @@ Eigen::VectorXd solve(const LinearSystem& system) {
   return system.dofs.expand(uf);
 }
 
+double max_relative_nodal_error(const Mesh& mesh, const Eigen::VectorXd& u, const VectorField& exact) {
+  double err = 0.0, ref = 0.0;
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    const Vec2 e = exact(mesh.vertex(v));
+    err = std::max(err, (u.segment<2>(2 * v) - e).cwiseAbs().maxCoeff());
+    ref = std::max(ref, e.cwiseAbs().maxCoeff());
+  }
+  return err / ref;
+}
+
 DirichletCondition dirichlet_everywhere(const Mesh& mesh, VectorField u) {
   return {mesh.boundary_edges(), std::move(u), {true, true}};
 }

@@ -31,6 +31,9 @@ Eigen::VectorXd solve(const LinearSystem& system);
 
 /// Dirichlet condition with value u on every boundary edge of the mesh.
 DirichletCondition dirichlet_everywhere(const Mesh& mesh, VectorField u);
+/// The largest nodal error of u (2 per vertex) against the field `exact`, relative to the
+/// field's largest component at the vertices.
+double max_relative_nodal_error(const Mesh& mesh, const Eigen::VectorXd& u, const VectorField& exact);
 
 /// The same vertices bit for bit (== on every coordinate) and the same elements.
 bool identical(const Mesh& a, const Mesh& b);
