@@ -254,8 +254,8 @@ TEST(Cli, OutputFolderHoldsExactlyTheRunsFiles) {
   EXPECT_EQ(listing(), files_of());
   const CommandRun lin = run("solve " + (scenes_dir() / "linear-elastic.toml").string() + " --n 4 --out " + out.string());
   ASSERT_EQ(lin.code, 0) << lin.err;
-  EXPECT_EQ(listing(), (std::vector<std::string>{"deformed.png", "displacement.csv", "notes.txt", "result.json",
-                                                 "scene.toml", "solution.vtu"}));
+  EXPECT_EQ(listing(), (std::vector<std::string>{"deformed.png", "displacement.csv", "error.png", "notes.txt",
+                                                 "result.json", "scene.toml", "solution.vtu"}));
   EXPECT_EQ(listing(), files_of());
   EXPECT_NE(lin.out.find("removed       contact.csv, history.csv, u_nu.png"), std::string::npos) << lin.out;
   EXPECT_NE(lin.out.find("(no contact: one linear solve)"), std::string::npos) << lin.out;
