@@ -526,5 +526,21 @@ TEST(EstimateFigures, DrawnTogetherWithoutSharingDataFiles) {
   EXPECT_EQ(std::adjacent_find(names.begin(), names.end()), names.end());
 }
 
+TEST(EstimateFigures, FiguresOutliveTheirMesh) {
+  std::vector<Figure> figures;
+  std::size_t elements = 0, edges = 0;
+  {
+    const Mesh mesh = make_mesh("voronoi", 4);
+    elements = static_cast<std::size_t>(mesh.num_elements());
+    edges = mesh.edges().size();
+    figures.push_back(indicator_figure(mesh, std::vector<double>(elements, 0.5), estimate_info()));
+    figures.push_back(mesh_figure(mesh, estimate_info(), "a mesh gone"));
+  }
+  EXPECT_EQ(blocks(data_text(figures[0], "error_polygons.dat")).size(), elements);
+  EXPECT_EQ(blocks(data_text(figures[0], "error_edges.dat")).size(), edges);
+  EXPECT_EQ(blocks(data_text(figures[1], "mesh_edges.dat")).size(), edges);
+  expect_drawn(figures, "outlive");
+}
+
 }  // namespace
 }  // namespace hemivem::app
