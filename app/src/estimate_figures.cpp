@@ -125,7 +125,7 @@ std::pair<double, double> log_range(double lo, double hi) {
 /// The tics of a log axis from lo to hi: gnuplot's (at the powers of ten) over two decades
 /// and more; over fewer, 1, 2 and 5 times the powers of ten, so that more than one is labelled.
 std::string log_tics(const std::string& axis, double lo, double hi) {
-  if (std::log10(hi / lo) >= 2.0) return "set " + axis + "tics autofreq\n";
+  if (!(lo > 0.0 && hi > lo && std::isfinite(hi) && std::log10(hi / lo) < 2.0)) return "set " + axis + "tics autofreq\n";
   std::string list;
   for (int k = static_cast<int>(std::floor(std::log10(lo))); k <= static_cast<int>(std::ceil(std::log10(hi))); ++k)
     for (double m : {1.0, 2.0, 5.0}) {
