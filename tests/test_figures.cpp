@@ -1,8 +1,10 @@
-// The content of the solve's figures (u_nu.png, deformed.png): what the gnuplot scripts and
-// their data draw, checked without running gnuplot.
+// The content of the solve's figures (u_nu.png, deformed.png) and of the error estimate's and
+// the adaptive solve's (error.png, mesh.png, adapt.png): what the gnuplot scripts and their
+// data draw, checked without running gnuplot, and the PNGs drawn when gnuplot is installed.
 #include <hemivem/app/figures.hpp>
 #include <hemivem/app/outputs.hpp>
 #include <hemivem/app/solve.hpp>
+#include <hemivem/mesh/generators.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
 #include <hemivem/scene/scene.hpp>
 #include "test_support.hpp"
@@ -10,7 +12,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <regex>
@@ -263,6 +267,279 @@ TEST(BenchFigure, KeyGroupsThePairsByLinearEngine) {
   EXPECT_EQ(script.find("$d3"), std::string::npos);
   EXPECT_EQ(script.find("eigen+ssn"), std::string::npos) << "pairs are named within their group";
   EXPECT_TRUE(cli::bench_plot_script({{"eigen", "ssn", {}}}).empty());
+}
+
+
+// ---- error.png, mesh.png, adapt.png ----------------------------------------------------------
+
+/// The text of a figure's data file.
+std::string data_text(const Figure& f, const std::string& name) {
+  std::ostringstream data;
+  bool found = false;
+  for (const auto& d : f.data)
+    if (d.name == name) d.write(data), found = true;
+  EXPECT_TRUE(found) << name << " is not among the figure's data";
+  return data.str();
+}
+
+/// The blocks of numeric rows of a data file (blocks separated by blank lines; comments skipped).
+std::vector<std::vector<std::vector<double>>> blocks(const std::string& text) {
+  std::vector<std::vector<std::vector<double>>> out;
+  std::istringstream rows(text);
+  bool open = false;
+  for (std::string line; std::getline(rows, line);) {
+    if (!line.empty() && line[0] == '#') continue;
+    if (line.empty()) {
+      open = false;
+      continue;
+    }
+    if (!open) out.emplace_back(), open = true;
+    std::istringstream row(line);
+    std::vector<double> values;
+    for (double v; row >> v;) values.push_back(v);
+    out.back().push_back(values);
+  }
+  return out;
+}
+
+/// Draws `figures` in a scratch folder and expects each PNG, unless gnuplot is missing.
+void expect_drawn(const std::vector<Figure>& figures, const std::string& name) {
+  const std::filesystem::path dir = test::scratch("figures-" + name);
+  std::filesystem::create_directories(dir);
+  const std::vector<std::string> reasons = draw_figures(dir, figures);
+  ASSERT_EQ(reasons.size(), figures.size());
+  for (std::size_t i = 0; i < figures.size(); ++i) {
+    if (reasons[i] == "gnuplot not found on PATH") continue;
+    EXPECT_EQ(reasons[i], "") << figures[i].png;
+    EXPECT_TRUE(is_png(dir / figures[i].png)) << figures[i].png;
+  }
+  std::error_code ec;
+  std::filesystem::remove_all(dir, ec);
+}
+
+RunInfo estimate_info() {
+  RunInfo info;
+  info.scene_name = "adaptive test (../scenes/block.toml)";
+  info.mesh = "voronoi n=6";
+  return info;
+}
+
+TEST(EstimateFigures, IndicatorsFillOnePolygonPerElementWithItsValue) {
+  const Mesh mesh = make_mesh("voronoi", 6);
+  std::vector<double> eta(static_cast<std::size_t>(mesh.num_elements()));
+  for (std::size_t e = 0; e < eta.size(); ++e) eta[e] = e % 5 == 0 ? 0.0 : std::pow(10.0, -static_cast<double>(e % 7)) * (1.0 + 0.1 * e);
+  const Figure f = indicator_figure(mesh, eta, estimate_info());
+  EXPECT_EQ(f.png, "error.png");
+  const auto polygons = blocks(data_text(f, "error_polygons.dat"));
+  ASSERT_EQ(polygons.size(), static_cast<std::size_t>(mesh.num_elements()));
+  for (int e = 0; e < mesh.num_elements(); ++e) {
+    const auto& rows = polygons[static_cast<std::size_t>(e)];
+    ASSERT_EQ(rows.size(), static_cast<std::size_t>(mesh.element_size(e))) << "element " << e;
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      ASSERT_EQ(rows[k].size(), 3u);
+      const Vec2& p = mesh.vertex(mesh.element(e)[k]);
+      EXPECT_EQ(rows[k][0], p.x());
+      EXPECT_EQ(rows[k][1], p.y());
+      EXPECT_EQ(rows[k][2], eta[static_cast<std::size_t>(e)]) << "element " << e;
+    }
+  }
+  // a logarithmic viridis scale over the positive indicators, labelled; the edges drawn
+  double lo = INFINITY, hi = 0.0;
+  for (double v : eta)
+    if (v > 0.0) lo = std::min(lo, v), hi = std::max(hi, v);
+  EXPECT_NE(f.script.find("set logscale cb"), std::string::npos) << f.script;
+  EXPECT_NE(f.script.find("set palette defined (0 '#440154'"), std::string::npos);
+  EXPECT_NE(f.script.find("set cblabel 'error indicator eta_E'"), std::string::npos);
+  const auto [c0, c1] = range(f.script, "cb");
+  EXPECT_DOUBLE_EQ(c0, lo);
+  EXPECT_DOUBLE_EQ(c1, hi);
+  EXPECT_NE(f.script.find("with filledcurves closed fillcolor palette"), std::string::npos);
+  EXPECT_EQ(blocks(data_text(f, "error_edges.dat")).size(), mesh.edges().size());
+  // the title: what, then the scene and the mesh without folders
+  EXPECT_NE(f.script.find("set title \"error indicators\\nadaptive test (block.toml), voronoi n=6\""), std::string::npos)
+      << f.script;
+  // the frame follows the body at equal axes
+  const Rectangle b = mesh.bounding_box();
+  const auto [x0, x1] = range(f.script, "x");
+  EXPECT_LT(x0, b.x0);
+  EXPECT_GT(x0, b.x0 - 0.2 * b.width());
+  EXPECT_GT(x1, b.x1);
+  EXPECT_NE(f.script.find("set size ratio -1"), std::string::npos);
+  expect_drawn({f}, "indicators");
+}
+
+TEST(EstimateFigures, ZeroIndicatorsKeepTheLogScale) {
+  const Mesh mesh = make_mesh("squares", 4);
+  // zeros among positive values: drawn with the lowest colour, the scale set by the positive ones
+  std::vector<double> eta(16, 0.0);
+  eta[3] = 1e-3, eta[7] = 2e-1;
+  const Figure some = indicator_figure(mesh, eta, estimate_info());
+  const auto [lo, hi] = range(some.script, "cb");
+  EXPECT_DOUBLE_EQ(lo, 1e-3);
+  EXPECT_DOUBLE_EQ(hi, 2e-1);
+  EXPECT_NE(some.script.find("($3 > 0.001 ? $3 : 0.001)"), std::string::npos) << some.script;
+  // all zeros, and one positive value: a positive range of the scale all the same
+  for (const std::vector<double>& values : {std::vector<double>(16, 0.0), std::vector<double>{0, 0, 0, 5e-2, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0}}) {
+    const Figure f = indicator_figure(mesh, values, estimate_info());
+    const auto [a, b] = range(f.script, "cb");
+    EXPECT_TRUE(std::isfinite(a) && std::isfinite(b) && a > 0.0 && b > a) << f.script;
+    for (const auto& polygon : blocks(data_text(f, "error_polygons.dat")))
+      for (const auto& row : polygon) EXPECT_TRUE(std::isfinite(row[2]));
+  }
+  // non-finite and negative indicators are drawn as zeros, not written as nan
+  std::vector<double> odd(16, 1.0);
+  odd[0] = NAN, odd[1] = -1.0, odd[2] = INFINITY;
+  const auto polygons = blocks(data_text(indicator_figure(mesh, odd, estimate_info()), "error_polygons.dat"));
+  ASSERT_EQ(polygons.size(), 16u);
+  for (int e : {0, 1, 2}) EXPECT_EQ(polygons[static_cast<std::size_t>(e)][0][2], 0.0);
+  expect_drawn({some, indicator_figure(mesh, std::vector<double>(16, 0.0), estimate_info())}, "zeros");
+}
+
+TEST(EstimateFigures, LargeMeshesAreFilledWithoutEdges) {
+  const Mesh mesh = make_mesh("squares", 150);  // 22500 elements
+  const Figure f = indicator_figure(mesh, std::vector<double>(22500, 1.0), estimate_info());
+  EXPECT_EQ(f.script.find("error_edges.dat"), std::string::npos);
+  for (const auto& d : f.data) EXPECT_NE(d.name, "error_edges.dat");
+}
+
+TEST(EstimateFigures, MeshFigureDrawsEveryEdge) {
+  const Mesh mesh = make_mesh("voronoi", 5, Rectangle{0.0, 4.0, 0.0, 1.0});
+  const Figure f = mesh_figure(mesh, estimate_info(), "final mesh, 25 elements");
+  EXPECT_EQ(f.png, "mesh.png");
+  EXPECT_EQ(blocks(data_text(f, "mesh_edges.dat")).size(), mesh.edges().size());
+  EXPECT_EQ(blocks(data_text(f, "mesh_boundary.dat")).size(), mesh.boundary_edges().size());
+  EXPECT_NE(f.script.find("set title \"final mesh, 25 elements\\n"), std::string::npos) << f.script;
+  EXPECT_NE(f.script.find("set size ratio -1"), std::string::npos);
+  EXPECT_LT(f.height, 700) << "a flat body gets a lower picture";
+  const auto [y0, y1] = range(f.script, "y");
+  EXPECT_LT(y0, 0.0);
+  EXPECT_GT(y1, 1.0);
+  EXPECT_LT(y1, 1.5);
+  expect_drawn({f}, "mesh");
+}
+
+/// The rows of the data block `name` of a script.
+std::vector<std::vector<double>> data_block(const std::string& script, const std::string& name) {
+  const auto start = script.find(name + " << EOD\n");
+  if (start == std::string::npos) return {};
+  const auto end = script.find("EOD\n", start + name.size() + 8);
+  const auto b = blocks(script.substr(start + name.size() + 8, end - start - name.size() - 8));
+  return b.empty() ? std::vector<std::vector<double>>{} : b[0];
+}
+
+std::vector<ConvergenceSeries> convergence_series() {
+  ConvergenceSeries adaptive{"adaptive (estimate)", {50, 120, 300, 800}, {0.01, 0.03, 0.09, 0.3}, {0.2, 0.11, 0.06, 0.03}};
+  ConvergenceSeries uniform{"uniform (estimate)", {50, 200, 800, 3200}, {0.01, 0.04, 0.2, 1.1}, {0.2, 0.0, -0.1, NAN}};
+  ConvergenceSeries truth{"uniform (true error)", {50, 200, 800, 3200}, {0.01, 0.0, 0.2, 1.1}, {0.25, 0.13, 0.07, 0.035}, true};
+  ConvergenceSeries none{"empty series", {}, {}, {}};
+  ConvergenceSeries zeros{"all zero", {10, 20}, {1, 2}, {0.0, 0.0}};
+  return {adaptive, uniform, none, truth, zeros};
+}
+
+TEST(EstimateFigures, ConvergenceLeavesOutNonPositiveErrorsAndHasBothPanels) {
+  const Figure f = convergence_figure(convergence_series(), "adaptive against uniform refinement");
+  EXPECT_EQ(f.png, "adapt.png");
+  EXPECT_EQ(convergence_figure(convergence_series(), "t", "adapt-hertz.png").png, "adapt-hertz.png");
+  const std::string& s = f.script;
+  EXPECT_NE(s.find("set multiplot layout 1,2 title \"adaptive against uniform refinement\""), std::string::npos) << s;
+  EXPECT_NE(s.find("set logscale xy"), std::string::npos);
+  std::size_t plots = 0;
+  for (auto p = s.find("\nplot "); p != std::string::npos; p = s.find("\nplot ", p + 1)) ++plots;
+  EXPECT_EQ(plots, 2u) << s;
+  EXPECT_NE(s.find("free degrees of freedom"), std::string::npos);
+  EXPECT_NE(s.find("run time (s)"), std::string::npos);
+  // the uniform estimate keeps its one positive point; the series without one are left out
+  const auto uniform = data_block(s, "$adapt_s1");
+  ASSERT_EQ(uniform.size(), 1u) << s;
+  EXPECT_EQ(uniform[0][0], 50.0);
+  EXPECT_EQ(uniform[0][2], 0.2);
+  EXPECT_EQ(data_block(s, "$adapt_s0").size(), 4u);
+  EXPECT_EQ(data_block(s, "$adapt_s3").size(), 4u);
+  EXPECT_EQ(s.find("$adapt_s2"), std::string::npos);
+  EXPECT_EQ(s.find("$adapt_s4"), std::string::npos);
+  EXPECT_EQ(s.find("empty series"), std::string::npos);
+  EXPECT_EQ(s.find("all zero"), std::string::npos);
+  // a run time of 0 stays out of the second panel only
+  EXPECT_LT(data_block(s, "$adapt_s3")[1][1], 0.0);
+  // every error drawn is positive; the key names the drawn series in both panels
+  for (const char* block : {"$adapt_s0", "$adapt_s1", "$adapt_s3"})
+    for (const auto& row : data_block(s, block)) EXPECT_GT(row[2], 0.0);
+  for (const char* name : {"'adaptive (estimate)'", "'uniform (estimate)'", "'uniform (true error)'"}) {
+    const auto first = s.find(name);
+    ASSERT_NE(first, std::string::npos) << name;
+    EXPECT_NE(s.find(name, first + 1), std::string::npos) << name << " in the second panel";
+  }
+  // true errors dashed, estimates solid, in viridis colours
+  const auto truth = s.find("$adapt_s3 using 1:3");
+  ASSERT_NE(truth, std::string::npos);
+  EXPECT_NE(s.substr(truth, 120).find("dt 2"), std::string::npos) << s.substr(truth, 120);
+  EXPECT_NE(s.substr(s.find("$adapt_s0 using 1:3"), 120).find("dt 1"), std::string::npos);
+  EXPECT_NE(s.find("lc rgb '#440154'"), std::string::npos);
+  // the reference slope in the first panel only
+  const auto ref = s.find("title 'N^-1/2'");
+  ASSERT_NE(ref, std::string::npos) << s;
+  EXPECT_LT(ref, s.find("set title 'relative error against run time'"));
+  const auto line = data_block(s, "$adapt_ref");
+  ASSERT_EQ(line.size(), 2u);
+  EXPECT_NEAR(std::log(line[1][1] / line[0][1]) / std::log(line[1][0] / line[0][0]), -0.5, 1e-12);
+  expect_drawn({f}, "convergence");
+}
+
+TEST(EstimateFigures, ConvergenceWithoutPointsStillDraws) {
+  ConvergenceSeries untimed{"no timing", {10, 40}, {}, {0.3, 0.15}};
+  const Figure a = convergence_figure({}, "nothing", "adapt-empty.png");
+  const Figure b = convergence_figure({untimed}, "no run time", "adapt-untimed.png");
+  const Figure c = convergence_figure({{"one point", {10}, {0.5}, {0.3}}}, "one point", "adapt-one.png");
+  EXPECT_EQ(a.script.find("$adapt_s"), std::string::npos);
+  EXPECT_NE(b.script.find("no run time to draw"), std::string::npos) << b.script;
+  EXPECT_EQ(c.script.find("$adapt_ref"), std::string::npos) << "no slope from one point";
+  expect_drawn({a, b, c}, "convergence-empty");
+}
+
+TEST(EstimateFigures, TitlesOfMegabytesAreCut) {
+  const std::string huge(4u << 20, 'x');
+  const Mesh mesh = make_mesh("squares", 3);
+  RunInfo info = estimate_info();
+  info.scene_name = huge;
+  const std::vector<Figure> figures{indicator_figure(mesh, std::vector<double>(9, 1.0), info),
+                                    mesh_figure(mesh, info, huge),
+                                    convergence_figure(convergence_series(), huge + "\nsecond line")};
+  for (const Figure& f : figures) {
+    EXPECT_LT(f.script.size(), 5000u) << f.png;
+    EXPECT_NE(f.script.find("xxx..."), std::string::npos) << f.png;
+  }
+  const auto start = std::chrono::steady_clock::now();
+  expect_drawn(figures, "huge-titles");
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 20.0);
+}
+
+TEST(EstimateFigures, DrawnTogetherWithoutSharingDataFiles) {
+  const Mesh mesh = make_mesh("squares", 3);
+  RunInfo info = estimate_info();
+  std::vector<std::string> names;
+  for (const Figure& f : {indicator_figure(mesh, std::vector<double>(9, 1.0), info), mesh_figure(mesh, info, "mesh"),
+                          convergence_figure(convergence_series(), "c")})
+    for (const auto& d : f.data) names.push_back(d.name);
+  for (const char* theirs : {"u_nu.dat", "edges.dat", "outline.dat", "contact.dat", "foundation.dat", "obstacle.dat", "surface.dat"})
+    EXPECT_EQ(std::count(names.begin(), names.end(), theirs), 0) << theirs;
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(std::adjacent_find(names.begin(), names.end()), names.end());
+}
+
+TEST(EstimateFigures, FiguresOutliveTheirMesh) {
+  std::vector<Figure> figures;
+  std::size_t elements = 0, edges = 0;
+  {
+    const Mesh mesh = make_mesh("voronoi", 4);
+    elements = static_cast<std::size_t>(mesh.num_elements());
+    edges = mesh.edges().size();
+    figures.push_back(indicator_figure(mesh, std::vector<double>(elements, 0.5), estimate_info()));
+    figures.push_back(mesh_figure(mesh, estimate_info(), "a mesh gone"));
+  }
+  EXPECT_EQ(blocks(data_text(figures[0], "error_polygons.dat")).size(), elements);
+  EXPECT_EQ(blocks(data_text(figures[0], "error_edges.dat")).size(), edges);
+  EXPECT_EQ(blocks(data_text(figures[1], "mesh_edges.dat")).size(), edges);
+  expect_drawn(figures, "outlive");
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <iomanip>
 #include <limits>
+#include <memory>
 #include <sstream>
 
 #include <hemivem/app/text_writer.hpp>
@@ -57,21 +58,37 @@ std::string frame_lines(const Rectangle& frame) {
 }
 
 /// A data file of mesh edges, each a block of its two end points: all edges, or the boundary's.
+/// It holds its own copy of the points: the figure may outlive the mesh.
 PlotData edges_data(const std::string& name, const Mesh& mesh, bool boundary_only) {
-  return {name, [&mesh, boundary_only](std::ostream& stream) {
+  auto ends = std::make_shared<std::vector<Vec2>>();
+  auto put = [&](const MeshEdge& e) {
+    ends->push_back(mesh.vertex(e.v0));
+    ends->push_back(mesh.vertex(e.v1));
+  };
+  if (boundary_only) {
+    ends->reserve(2 * mesh.boundary_edges().size());
+    for (int e : mesh.boundary_edges()) put(mesh.edge(e));
+  } else {
+    ends->reserve(2 * mesh.edges().size());
+    for (const auto& e : mesh.edges()) put(e);
+  }
+  return {name, [ends = std::shared_ptr<const std::vector<Vec2>>(std::move(ends)), boundary_only](std::ostream& stream) {
             TextWriter os(stream);
             os << (boundary_only ? "# x y (boundary edges, one block each)\n" : "# x y (mesh edges, one block each)\n");
-            auto put = [&](const MeshEdge& e) {
-              const Vec2& a = mesh.vertex(e.v0);
-              const Vec2& b = mesh.vertex(e.v1);
-              os << a.x() << ' ' << a.y() << '\n' << b.x() << ' ' << b.y() << "\n\n";
-            };
-            if (boundary_only)
-              for (int e : mesh.boundary_edges()) put(mesh.edge(e));
-            else
-              for (const auto& e : mesh.edges()) put(e);
+            for (std::size_t i = 0; i + 1 < ends->size(); i += 2)
+              os << (*ends)[i].x() << ' ' << (*ends)[i].y() << '\n'
+                 << (*ends)[i + 1].x() << ' ' << (*ends)[i + 1].y() << "\n\n";
           }};
 }
+
+/// What error_polygons.dat draws: the elements' vertices and each element's value (copies:
+/// the figure may outlive the mesh).
+struct IndicatorPolygons {
+  std::vector<Vec2> vertices;
+  std::vector<int> offsets;  ///< element e: ids[offsets[e]] .. ids[offsets[e + 1] - 1]
+  std::vector<int> ids;
+  std::vector<double> eta;
+};
 
 /// `text` fit for a one-line gnuplot string: control characters (a newline ...) as spaces.
 std::string one_line(std::string text) {
@@ -105,6 +122,22 @@ std::pair<double, double> log_range(double lo, double hi) {
   return {lo * std::pow(10.0, -pad), hi * std::pow(10.0, pad)};
 }
 
+/// The tics of a log axis from lo to hi: gnuplot's (at the powers of ten) over two decades
+/// and more; over fewer, 1, 2 and 5 times the powers of ten, so that more than one is labelled.
+std::string log_tics(const std::string& axis, double lo, double hi) {
+  if (!(lo > 0.0 && hi > lo && std::isfinite(hi) && std::log10(hi / lo) < 2.0)) return "set " + axis + "tics autofreq\n";
+  std::string list;
+  for (int k = static_cast<int>(std::floor(std::log10(lo))); k <= static_cast<int>(std::ceil(std::log10(hi))); ++k)
+    for (double m : {1.0, 2.0, 5.0}) {
+      const double v = m * std::pow(10.0, k);
+      if (v < lo || v > hi) continue;
+      std::ostringstream t;
+      t << std::setprecision(6) << v;
+      list += (list.empty() ? "" : ", ") + gnuplot_quote(t.str()) + " " + num(v);
+    }
+  return "set " + axis + "tics (" + list + ")\n";
+}
+
 }  // namespace
 
 Figure indicator_figure(const Mesh& mesh, const std::vector<double>& indicators, const RunInfo& info) {
@@ -130,12 +163,25 @@ Figure indicator_figure(const Mesh& mesh, const std::vector<double>& indicators,
   Figure f;
   f.png = "error.png";
   f.height = frame_height(frame);
-  f.data.push_back({"error_polygons.dat", [&mesh, eta = std::move(eta)](std::ostream& stream) {
+  auto polygons = std::make_shared<IndicatorPolygons>();
+  polygons->vertices = mesh.vertices();
+  polygons->offsets.reserve(static_cast<std::size_t>(elements) + 1);
+  polygons->offsets.push_back(0);
+  for (int e = 0; e < elements; ++e) {
+    for (int k : mesh.element(e)) polygons->ids.push_back(k);
+    polygons->offsets.push_back(static_cast<int>(polygons->ids.size()));
+  }
+  polygons->eta = std::move(eta);
+  f.data.push_back({"error_polygons.dat", [p = std::shared_ptr<const IndicatorPolygons>(std::move(polygons))](
+                                              std::ostream& stream) {
                       TextWriter os(stream);
                       os << "# x y eta_E (one block per element, its vertices counter-clockwise)\n";
-                      for (int e = 0; e < mesh.num_elements(); ++e) {
-                        const double v = eta[static_cast<std::size_t>(e)];
-                        for (int k : mesh.element(e)) os << mesh.vertex(k).x() << ' ' << mesh.vertex(k).y() << ' ' << v << '\n';
+                      for (std::size_t e = 0; e < p->eta.size(); ++e) {
+                        const double v = p->eta[e];
+                        for (int i = p->offsets[e]; i < p->offsets[e + 1]; ++i) {
+                          const Vec2& q = p->vertices[static_cast<std::size_t>(p->ids[static_cast<std::size_t>(i)])];
+                          os << q.x() << ' ' << q.y() << ' ' << v << '\n';
+                        }
                         os << '\n';
                       }
                     }});
@@ -253,10 +299,11 @@ Figure convergence_figure(const std::vector<ConvergenceSeries>& series, const st
   auto ranges = [&](double x_lo, double x_hi, double y_lo, double y_hi) {
     const auto [x0, x1] = log_range(x_lo, x_hi);
     const auto [y0, y1] = log_range(y_lo, y_hi);
-    s << "set xrange [" << num(x0) << ":" << num(x1) << "]\nset yrange [" << num(y0) << ":" << num(y1) << "]\n";
+    s << "set xrange [" << num(x0) << ":" << num(x1) << "]\nset yrange [" << num(y0) << ":" << num(y1) << "]\n"
+      << log_tics("x", x0, x1) << log_tics("y", y0, y1);
   };
   auto empty_panel = [&](const std::string& why) {
-    s << "set xrange [1:10]\nset yrange [0.1:1]\nset label 1 " << gnuplot_quote(why)
+    s << "set xrange [1:10]\nset yrange [0.1:1]\nset xtics autofreq\nset ytics autofreq\nset label 1 " << gnuplot_quote(why)
       << " at graph 0.5, graph 0.5 center\nplot NaN notitle\nunset label 1\n";
   };
   // first panel: against unknowns, with the reference slope
