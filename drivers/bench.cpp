@@ -195,6 +195,7 @@ struct Refinement {
   std::string stopped, reason;
   std::optional<double> reference_energy;
   std::string reference;  ///< how the reference energy was obtained, or why there is none
+  int below_reference = 0;  ///< points whose potential energy is below the reference energy
   bool all_converged = true;
 };
 
@@ -300,6 +301,7 @@ Refinement run_refinement(const Scene& base, const BenchOptions& o, std::ostream
     for (auto* list : {&r.uniform, &r.adaptive})
       for (RefinementPoint& p : *list) {
         if (!(std::isfinite(p.potential_energy) && std::isfinite(p.norm) && p.norm > 0.0)) continue;
+        if (p.potential_energy < *r.reference_energy) ++r.below_reference;
         p.error = std::sqrt(std::max(p.potential_energy - *r.reference_energy, 0.0)) / p.norm;
         if (p.error > 0.0 && std::isfinite(p.estimate)) p.effectivity = p.estimate / p.error;
       }
@@ -323,6 +325,7 @@ nlohmann::json refinement_json(const Refinement& r, const BenchOptions& o) {
   j["levels"] = o.levels;
   j["reference_energy"] = r.reference_energy ? nlohmann::json(*r.reference_energy) : nlohmann::json(nullptr);
   j["reference"] = r.reference;
+  j["below_reference"] = r.below_reference;
   j["error_definition"] =
       "sqrt(max(Phi_h(u_h) - Phi_ref, 0)) / ||u_h||_E, ||v||_E^2 = 1/2 a(v, v); effectivity = estimate / error";
   j["uniform"] = nlohmann::json::array();
@@ -371,6 +374,10 @@ void print_refinement(std::ostream& out, const Refinement& r, const BenchOptions
       << "  reference energy: ";
   if (r.reference_energy) out << std::setprecision(10) << *r.reference_energy << " (" << r.reference << ")\n";
   else out << r.reference << "\n";
+  if (r.below_reference > 0)
+    out << "  warning: " << r.below_reference << " point" << (r.below_reference > 1 ? "s have" : " has")
+        << " a potential energy below the reference: the reference is too high (its true errors are 0 there "
+           "and too small elsewhere); give --reference-energy from a finer run\n";
   out << "  time: uniform the level's solve, adaptive since its start; true error sqrt(Phi_h - Phi_ref) / ||u_h||_E\n\n";
   out << std::left << std::setw(10) << "kind" << std::right << std::setw(6) << "#" << std::setw(11) << "unknowns"
       << std::setw(11) << "time [s]" << std::setw(12) << "estimate" << std::setw(13) << "true error" << std::setw(13)

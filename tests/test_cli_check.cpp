@@ -201,10 +201,11 @@ TEST(CliCheck, BenchRefinementStudyOnATriangleMesh) {
   EXPECT_EQ(f["adaptive"]["steps"][0]["unknowns"], f["uniform"][0]["unknowns"]);
   EXPECT_LE(f["adaptive"]["steps"].back()["unknowns"].get<int>(), f["uniform"][2]["unknowns"].get<int>());
   EXPECT_TRUE(f["reference"].is_string());
+  EXPECT_TRUE(f["below_reference"].is_number_integer());
 
   // With a reference energy every point has a true error and an effectivity.
   const double phi = f["uniform"][2]["potential_energy"].get<double>();
-  const double given = phi - 1e-3 * std::abs(phi);
+  const double given = phi - 2e-2 * std::abs(phi);  // well below every point of the study
   std::ostringstream arg;
   arg << std::setprecision(17) << given;
   const CommandRun g = run("bench " + scene + " --n 4 --set mesh.n=6 --levels 1 --reference-energy " + arg.str() +
@@ -212,6 +213,7 @@ TEST(CliCheck, BenchRefinementStudyOnATriangleMesh) {
   ASSERT_EQ(g.code, 0) << g.err;
   const auto k = nlohmann::json::parse(slurp(out / "bench.json"))["refinement"];
   EXPECT_DOUBLE_EQ(k["reference_energy"].get<double>(), given);
+  EXPECT_EQ(k["below_reference"], 0);
   EXPECT_EQ(k["uniform"].size(), 2u);
   for (const auto* list : {&k["uniform"], &k["adaptive"]["steps"]})
     for (const auto& p : *list) {
