@@ -21,7 +21,10 @@
 #include "commands.hpp"
 #include "common.hpp"
 #include "engine_pairs.hpp"
+#include <hemivem/app/adapt.hpp>
 #include <hemivem/app/figures.hpp>
+#include <hemivem/app/solve.hpp>
+#include <hemivem/mesh/refine.hpp>
 
 namespace hemivem::cli {
 
@@ -157,6 +160,240 @@ std::string bench_plot_script(const std::vector<BenchSeries>& series) {
   script << "\n";
   return script.str();
 }
+
+
+std::optional<double> aitken_reference(double phi0, double phi1, double phi2) {
+  const double d1 = phi0 - phi1, d2 = phi1 - phi2;
+  if (!std::isfinite(d1) || !std::isfinite(d2) || d1 == 0.0) return std::nullopt;
+  const double q = d2 / d1;
+  if (!(q > 0.0 && q < 1.0)) return std::nullopt;
+  const double ref = phi2 - d2 * d2 / (d1 - d2);
+  if (!std::isfinite(ref)) return std::nullopt;
+  return ref;
+}
+
+namespace {
+
+/// One solve of the refinement study: a uniform level or an adaptive step.
+struct RefinementPoint {
+  std::string kind;  ///< "uniform" or "adaptive"
+  int index = 0;     ///< the level or the step
+  int unknowns = 0;
+  double seconds = 0.0;  ///< uniform: the level's solve; adaptive: since the adaptive solve started
+  double estimate = std::numeric_limits<double>::quiet_NaN();  ///< relative estimate eta / ||u_h||_E
+  double norm = std::numeric_limits<double>::quiet_NaN();      ///< ||u_h||_E
+  double potential_energy = std::numeric_limits<double>::quiet_NaN();
+  double error = std::numeric_limits<double>::quiet_NaN();        ///< sqrt(max(Phi_h - Phi_ref, 0)) / ||u_h||_E
+  double effectivity = std::numeric_limits<double>::quiet_NaN();  ///< estimate / error
+  std::string status;
+  bool converged = false;
+};
+
+struct Refinement {
+  std::string engines;  ///< "linear + minimizer" of the scene
+  std::vector<RefinementPoint> uniform, adaptive;
+  std::string stopped, reason;
+  std::optional<double> reference_energy;
+  std::string reference;  ///< how the reference energy was obtained, or why there is none
+  int below_reference = 0;  ///< points whose potential energy is below the reference energy
+  bool all_converged = true;
+};
+
+RefinementPoint uniform_point(const app::SceneSolve& s, int level) {
+  RefinementPoint p;
+  p.kind = "uniform";
+  p.index = level;
+  p.unknowns = s.solution.unknowns;
+  p.seconds = s.total_seconds();
+  if (s.estimate) p.estimate = s.estimate->relative, p.norm = s.estimate->norm;
+  p.potential_energy = s.solution.energy;
+  p.status = to_string(s.solution.status);
+  p.converged = s.solution.converged();
+  return p;
+}
+
+std::string refinement_line(const RefinementPoint& p) {
+  std::ostringstream o;
+  o << "hemivem bench: " << p.kind << (p.kind == "uniform" ? " level " : " step ") << p.index << ": " << p.unknowns
+    << " unknowns, estimate " << (std::isfinite(p.estimate) ? fixed(100.0 * p.estimate, 3) + " %" : std::string("-"))
+    << ", energy " << std::setprecision(10) << p.potential_energy << ", " << p.status << " (" << fixed(p.seconds, 3)
+    << " s)\n";
+  return o.str();
+}
+
+// The refinement study: the scene with its own engines on its own mesh refined uniformly
+// o.levels times, then adaptively to the finest level's estimate, and the true errors against a
+// reference energy (given, or Aitken's extrapolation of the last three uniform levels).
+Refinement run_refinement(const Scene& base, const BenchOptions& o, std::ostream& err) {
+  const bool progress = o.verbosity >= 1;
+  Refinement r;
+  std::optional<Mesh> mesh;  // the previous level's mesh
+  for (int level = 0; level <= o.levels; ++level) {
+    app::SceneSolveOptions so;
+    if (mesh) {
+      so.mesh = refine_uniformly(*mesh).mesh;
+      so.apply_region_boxes = false;
+      so.mesh_description = "the scene's mesh refined uniformly " + std::to_string(level) + " time" + (level > 1 ? "s" : "");
+    }
+    app::SceneSolve s = app::solve_scene(base, std::move(so));
+    if (level == 0) r.engines = s.linear + " + " + s.minimizer;
+    r.uniform.push_back(uniform_point(s, level));
+    r.all_converged &= r.uniform.back().converged;
+    if (progress) err << refinement_line(r.uniform.back());
+    mesh = s.built->mesh;
+  }
+
+  const RefinementPoint& finest = r.uniform.back();
+  if (std::isfinite(finest.estimate) && finest.estimate > 0.0 && finest.estimate < 1.0) {
+    SceneAdapt adapt;
+    adapt.target = finest.estimate;
+    adapt.fraction = 0.5;
+    adapt.max_unknowns = finest.unknowns;
+    adapt.max_steps = 50;
+    const app::AdaptiveSolve a = app::solve_adaptively(base, adapt, {}, [&](const app::AdaptStep& step) {
+      if (!progress) return;
+      err << "hemivem bench: adaptive step " << step.step << ": " << step.unknowns << " unknowns, estimate "
+          << (std::isfinite(step.estimate) ? fixed(100.0 * step.estimate, 3) + " %" : std::string("-")) << ", energy "
+          << std::setprecision(10) << step.potential_energy << ", " << step.status << " (" << fixed(step.elapsed, 3)
+          << " s)\n";
+    });
+    for (const app::AdaptStep& step : a.steps) {
+      RefinementPoint p;
+      p.kind = "adaptive";
+      p.index = step.step;
+      p.unknowns = step.unknowns;
+      p.seconds = step.elapsed;
+      p.estimate = step.estimate;
+      if (std::isfinite(step.estimate) && step.estimate > 0.0) p.norm = step.estimate_energy / step.estimate;
+      p.potential_energy = step.potential_energy;
+      p.status = step.status;
+      p.converged = step.status == to_string(MinimizerStatus::converged);
+      r.adaptive.push_back(p);
+    }
+    r.stopped = app::to_string(a.stopped);
+    r.reason = a.reason;
+  } else {
+    r.stopped = "not_run";
+    r.reason = "the finest uniform level has no relative estimate in (0, 1) to aim at";
+  }
+
+  if (o.reference_energy) {
+    r.reference_energy = o.reference_energy;
+    r.reference = "given by --reference-energy";
+  } else if (r.uniform.size() >= 3) {
+    const std::size_t k = r.uniform.size() - 3;
+    const double e0 = r.uniform[k].potential_energy, e1 = r.uniform[k + 1].potential_energy,
+                 e2 = r.uniform[k + 2].potential_energy;
+    r.reference_energy = aitken_reference(e0, e1, e2);
+    std::ostringstream s;
+    s << std::setprecision(10);
+    if (r.reference_energy)
+      s << "Aitken's delta-squared extrapolation of the potential energies of uniform levels " << k << ", " << k + 1
+        << ", " << k + 2 << " (" << e0 << ", " << e1 << ", " << e2 << ")";
+    else
+      s << "none: the potential energies of uniform levels " << k << ", " << k + 1 << ", " << k + 2 << " (" << e0
+        << ", " << e1 << ", " << e2 << ") do not decrease geometrically, so Aitken's extrapolation is not defined";
+    r.reference = s.str();
+  } else {
+    r.reference = "none: Aitken's extrapolation needs three uniform levels (--levels 2 or more)";
+  }
+  if (r.reference_energy)
+    for (auto* list : {&r.uniform, &r.adaptive})
+      for (RefinementPoint& p : *list) {
+        if (!(std::isfinite(p.potential_energy) && std::isfinite(p.norm) && p.norm > 0.0)) continue;
+        if (p.potential_energy < *r.reference_energy) ++r.below_reference;
+        p.error = std::sqrt(std::max(p.potential_energy - *r.reference_energy, 0.0)) / p.norm;
+        if (p.error > 0.0 && std::isfinite(p.estimate)) p.effectivity = p.estimate / p.error;
+      }
+  return r;
+}
+
+nlohmann::json refinement_point_json(const RefinementPoint& p) {
+  return {{p.kind == "uniform" ? "level" : "step", p.index},
+          {"unknowns", p.unknowns},
+          {"seconds", p.seconds},
+          {"estimate", number(p.estimate)},
+          {"error", number(p.error)},
+          {"effectivity", number(p.effectivity)},
+          {"potential_energy", number(p.potential_energy)},
+          {"status", p.status}};
+}
+
+nlohmann::json refinement_json(const Refinement& r, const BenchOptions& o) {
+  nlohmann::json j;
+  j["engines"] = r.engines;
+  j["levels"] = o.levels;
+  j["reference_energy"] = r.reference_energy ? nlohmann::json(*r.reference_energy) : nlohmann::json(nullptr);
+  j["reference"] = r.reference;
+  j["below_reference"] = r.below_reference;
+  j["error_definition"] =
+      "sqrt(max(Phi_h(u_h) - Phi_ref, 0)) / ||u_h||_E, ||v||_E^2 = 1/2 a(v, v); effectivity = estimate / error";
+  j["uniform"] = nlohmann::json::array();
+  for (const auto& p : r.uniform) j["uniform"].push_back(refinement_point_json(p));
+  nlohmann::json steps = nlohmann::json::array();
+  for (const auto& p : r.adaptive) steps.push_back(refinement_point_json(p));
+  j["adaptive"] = {{"stopped", r.stopped}, {"reason", r.reason}, {"steps", steps}};
+  return j;
+}
+
+// bench-error.png: the estimates (and with a reference the true errors, dashed) against unknowns
+// and run time. Empty on success, else why it was skipped.
+std::string refinement_plot(const fs::path& dir, const Scene& base, const Refinement& r) {
+  std::vector<app::ConvergenceSeries> series;
+  auto add = [&](const std::vector<RefinementPoint>& points, const std::string& name, bool truth) {
+    app::ConvergenceSeries s;
+    s.name = name;
+    s.dashed = truth;
+    for (const auto& p : points) {
+      s.unknowns.push_back(p.unknowns);
+      s.seconds.push_back(p.seconds);
+      s.error.push_back(truth ? p.error : p.estimate);
+    }
+    series.push_back(std::move(s));
+  };
+  add(r.uniform, "uniform (estimate)", false);
+  add(r.adaptive, "adaptive (estimate)", false);
+  if (r.reference_energy) {
+    add(r.uniform, "uniform (true error)", true);
+    add(r.adaptive, "adaptive (true error)", true);
+  }
+  bool any = false;
+  for (const auto& s : series)
+    for (double e : s.error) any |= std::isfinite(e) && e > 0.0;
+  if (!any) return "no finite positive error to plot";
+  return draw_figures(dir, {app::convergence_figure(series, base.title + ": uniform and adaptive refinement",
+                                                    "bench-error.png")})
+      .front();
+}
+
+std::string percent_or_dash(double v) { return std::isfinite(v) ? fixed(100.0 * v, 3) + " %" : std::string("-"); }
+
+void print_refinement(std::ostream& out, const Refinement& r, const BenchOptions& o, const std::string& plot_failure) {
+  out << "\n  refinement study: " << r.engines << " on the scene's mesh refined uniformly " << o.levels
+      << " time" << (o.levels > 1 ? "s" : "") << ", and adaptively (" << r.stopped << ")\n"
+      << "  reference energy: ";
+  if (r.reference_energy) out << std::setprecision(10) << *r.reference_energy << " (" << r.reference << ")\n";
+  else out << r.reference << "\n";
+  if (r.below_reference > 0)
+    out << "  warning: " << r.below_reference << " point" << (r.below_reference > 1 ? "s have" : " has")
+        << " a potential energy below the reference: the reference is too high (its true errors are 0 there "
+           "and too small elsewhere); give --reference-energy from a finer run\n";
+  out << "  time: uniform the level's solve, adaptive since its start; true error sqrt(Phi_h - Phi_ref) / ||u_h||_E\n\n";
+  out << std::left << std::setw(10) << "kind" << std::right << std::setw(6) << "#" << std::setw(11) << "unknowns"
+      << std::setw(11) << "time [s]" << std::setw(12) << "estimate" << std::setw(13) << "true error" << std::setw(13)
+      << "effectivity" << "\n";
+  for (const auto* list : {&r.uniform, &r.adaptive})
+    for (const auto& p : *list)
+      out << std::left << std::setw(10) << p.kind << std::right << std::setw(6) << p.index << std::setw(11)
+          << p.unknowns << std::setw(11) << fixed(p.seconds, 3) << std::setw(12) << percent_or_dash(p.estimate)
+          << std::setw(13) << percent_or_dash(p.error) << std::setw(13)
+          << (std::isfinite(p.effectivity) ? fixed(p.effectivity, 2) : std::string("-")) << "\n";
+  if (!r.reason.empty()) out << "  adaptive: " << r.reason << "\n";
+  if (plot_failure.empty()) out << "  wrote     " << o.out << "/bench-error.png\n";
+  else out << "  skipped   bench-error.png: " << plot_failure << "\n";
+}
+
+}  // namespace
 
 namespace {
 
@@ -322,6 +559,8 @@ int run_bench(const BenchOptions& o, std::ostream& out, std::ostream& err) {
   for (int n : o.n)
     if (n < 1) throw InputError("mesh sizes must be >= 1, got " + std::to_string(n), "--n");
   if (o.ref < 1) throw InputError("must be >= 1", "--ref");
+  if (o.levels < 1) throw InputError("must be >= 1 (uniform refinements of the scene's mesh), got " + std::to_string(o.levels), "--levels");
+  if (o.reference_energy && !std::isfinite(*o.reference_energy)) throw InputError("must be a finite number", "--reference-energy");
   const Scene base = load_pairs_scene(o.scene, std::nullopt, o.tolerance, o.set);
   // Every size is validated (a scene reading a mesh file refuses mesh.n) before any work.
   std::vector<Scene> scenes;
@@ -340,23 +579,32 @@ int run_bench(const BenchOptions& o, std::ostream& out, std::ostream& err) {
   const Reference ref = run_reference(base, o, squares, err);
   bool all_converged = !squares || ref.run.converged;
   const std::vector<BenchRow> rows = run_sizes(scenes, pairs, o, squares ? &ref : nullptr, all_converged, err);
+  const Refinement refinement = run_refinement(base, o, err);
+  all_converged &= refinement.all_converged;
 
   nlohmann::json j = bench_json(base, o, squares, ref, rows);
-  std::string plot_failure;
-  OutputTransaction tx(o.out, {"bench.csv", "bench.json", "bench.png"});  // the folder changes at once
+  j["refinement"] = refinement_json(refinement, o);
+  std::string plot_failure, refinement_plot_failure;
+  // the folder changes at once
+  OutputTransaction tx(o.out, {"bench.csv", "bench.json", "bench.png", "bench-error.png"});
   tx.stage([&](const fs::path& staging) {
     write_bench_csv(staging / "bench.csv", rows);
     plot_failure = bench_plot(staging, pairs, rows);
     j["plot"] = plot_failure.empty() ? nlohmann::json("bench.png") : nlohmann::json(nullptr);
     if (!plot_failure.empty()) j["plot_skipped"] = plot_failure;
+    refinement_plot_failure = refinement_plot(staging, base, refinement);
+    j["refinement"]["plot"] = refinement_plot_failure.empty() ? nlohmann::json("bench-error.png") : nlohmann::json(nullptr);
+    if (!refinement_plot_failure.empty()) j["refinement"]["plot_skipped"] = refinement_plot_failure;
     write_atomically(staging / "bench.json", [&](std::ostream& os) { os << j.dump(2) << "\n"; });
   });
   (void)tx.commit();
 
   if (o.json)
     out << j.dump(2) << "\n";
-  else if (o.verbosity >= 1)
+  else if (o.verbosity >= 1) {
     print_bench(out, base, o, squares, ref, rows, plot_failure);
+    print_refinement(out, refinement, o, refinement_plot_failure);
+  }
   return all_converged ? kSuccess : kNotConverged;
 }
 

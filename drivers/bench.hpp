@@ -25,6 +25,8 @@ struct BenchOptions {
   bool json = false;                    ///< bench.json also on stdout instead of the table
   int verbosity = 1;                    ///< 0 quiet, 1 table and progress
   int repeat = 1;                       ///< bench --limit: measurements per size, the fastest kept
+  int levels = 3;                       ///< refinement study: uniform refinements of the scene's mesh (>= 1)
+  std::optional<double> reference_energy;  ///< refinement study: the exact potential energy, when known
 };
 
 /// hemivem bench [SCENE]: wall time by stage and error against a reference solution for
@@ -32,6 +34,13 @@ struct BenchOptions {
 /// Exit: kSuccess, or kNotConverged when the reference or a pair did not converge (files are
 /// still written).
 int run_bench(const BenchOptions& options, std::ostream& out, std::ostream& err);
+
+/// The reference energy of the refinement study by Aitken's delta-squared extrapolation of the
+/// potential energies of three successive uniform refinements (coarse to fine):
+/// phi2 - (phi1 - phi2)^2 / ((phi0 - phi1) - (phi1 - phi2)). None unless the differences
+/// d1 = phi0 - phi1 and d2 = phi1 - phi2 have the same sign and decay (0 < d2 / d1 < 1) and the
+/// result is finite.
+std::optional<double> aitken_reference(double phi0, double phi1, double phi2);
 
 /// One series of bench.png: a pair of engines and its points (relative error, wall time).
 struct BenchSeries {

@@ -355,8 +355,8 @@ Command register_bench(CLI::App& app) {
   struct Flags {
     hemivem::cli::BenchOptions options;
     bool quiet = false, limit = false;
-    double tol = 0.0;
-    CLI::Option *o_n = nullptr, *o_tol = nullptr;
+    double tol = 0.0, reference_energy = 0.0;
+    CLI::Option *o_n = nullptr, *o_tol = nullptr, *o_reference_energy = nullptr;
   };
   using namespace hemivem;
   auto f = std::make_shared<Flags>();
@@ -373,6 +373,13 @@ Command register_bench(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--json", f->options.json, "Print bench.json on stdout instead of the table");
   cmd->add_flag("-q,--quiet", f->quiet, "Print nothing on stdout or stderr");
+  cmd->add_option("--levels", f->options.levels,
+                  "Refinement study: uniform refinements of the scene's mesh (>= 1; the adaptive run aims at the finest's "
+                  "estimate)")
+      ->capture_default_str();
+  f->o_reference_energy = cmd->add_option("--reference-energy", f->reference_energy,
+                                          "Refinement study: the exact potential energy, for true errors (default: "
+                                          "Aitken's extrapolation of the last three uniform levels)");
   auto* o_limit = cmd->add_flag("--limit", f->limit,
                                 "Every stage of a cholmod solve against the machine's limit (a plain assembly and one CHOLMOD "
                                 "factorization of the same matrix), measured in this run; writes limit.json");
@@ -383,6 +390,7 @@ Command register_bench(CLI::App& app) {
   return {cmd, [f] {
             cli::BenchOptions& o = f->options;
             if (*f->o_tol) o.tolerance = f->tol;
+            if (*f->o_reference_energy) o.reference_energy = f->reference_energy;
             o.verbosity = f->quiet ? 0 : 1;
             if (f->limit) return cli::run_bench_limit(o, *f->o_n ? o.n : std::vector<int>{128, 256, 512}, std::cout, std::cerr);
             return cli::run_bench(o, std::cout, std::cerr);

@@ -83,6 +83,8 @@ struct Row {
   double h = 0.0;
   double error = 0.0;
   std::optional<double> rate, paper, independent;
+  std::optional<double> estimate;     ///< the solve's relative error estimate eta / ||u_h||_E
+  std::optional<double> effectivity;  ///< eta / ||u_ref - P u_h||_E
   bool converged = false;
   int iterations = 0;
   double seconds = 0.0;
@@ -202,7 +204,12 @@ std::vector<Row> measure(SquaresSolver& solve, const std::vector<int>& ns, int r
     Row row;
     row.n = n;
     row.h = std::max(domain[1] - domain[0], domain[3] - domain[2]) / n;
-    row.error = std::sqrt(q1_energy(ref_mesh, materials, diff) / 2.0) / ref_norm;
+    const double error = std::sqrt(q1_energy(ref_mesh, materials, diff) / 2.0);
+    row.error = error / ref_norm;
+    if (c.estimate && std::isfinite(c.estimate->relative)) {
+      row.estimate = c.estimate->relative;
+      if (error > 0.0) row.effectivity = c.estimate->energy / error;
+    }
     row.converged = c.solution.converged();
     row.iterations = c.solution.iterations();
     row.seconds = since(t);
@@ -238,19 +245,23 @@ nlohmann::json study_json(const Scene& scene, const StudyOptions& o, const Scene
                          {"rate", opt_json(r.rate)},
                          {"paper", opt_json(r.paper)},
                          {"independent", opt_json(r.independent)},
+                         {"estimate", opt_json(r.estimate)},
+                         {"effectivity", opt_json(r.effectivity)},
                          {"converged", r.converged},
                          {"iterations", r.iterations},
                          {"seconds", r.seconds}});
+  j["estimate"] = "the solve's a posteriori estimate eta of ||u - u_h||_E relative to ||u_h||_E (docs/error-estimate.md)";
+  j["effectivity"] = "eta / ||u_ref - P u_h||_E: the estimate over the error this study measures, in the same norm";
   if (references) j["note"] = kNote;
   return j;
 }
 
 void write_study_csv(const fs::path& path, const std::vector<Row>& rows) {
   write_atomically(path, [&](std::ostream& os) {
-    os << "h,N,error,rate,paper,independent\n" << std::setprecision(10);
+    os << "h,N,error,rate,paper,independent,estimate,effectivity\n" << std::setprecision(10);
     for (const auto& r : rows)
       os << r.h << "," << r.n << "," << r.error << "," << opt_csv(r.rate) << "," << opt_csv(r.paper) << ","
-         << opt_csv(r.independent) << "\n";
+         << opt_csv(r.independent) << "," << opt_csv(r.estimate) << "," << opt_csv(r.effectivity) << "\n";
   });
 }
 
@@ -258,16 +269,19 @@ void print_study(std::ostream& out, const Scene& scene, const StudyOptions& o, c
                  bool references, const std::vector<std::string>& written, const std::string& skipped) {
   out << "hemivem study: " << scene.title << " (" << scene.source << "), squares, reference N = " << o.ref << ", "
       << to_string(scene.material.model) << ", stabilization " << to_string(scene.material.stabilization) << "\n"
-      << "  relative energy error ||u_ref - P u_h||_E / ||u_ref||_E (exact, bilinear, on the reference mesh)\n\n";
+      << "  relative energy error ||u_ref - P u_h||_E / ||u_ref||_E (exact, bilinear, on the reference mesh);\n"
+      << "  estimate eta / ||u_h||_E (a posteriori), effectivity eta / ||u_ref - P u_h||_E\n\n";
   out << std::right << std::setw(8) << "h" << std::setw(6) << "N" << std::setw(11) << "error" << std::setw(7) << "rate"
-      << std::setw(11) << "paper" << std::setw(14) << "independent" << "\n";
+      << std::setw(11) << "paper" << std::setw(14) << "independent" << std::setw(11) << "estimate" << std::setw(13)
+      << "effectivity" << "\n";
   for (const auto& r : rows) {
     std::ostringstream rate;
     if (r.rate) rate << std::fixed << std::setprecision(2) << *r.rate;
     else rate << "-";
     out << std::setw(8) << h_text(r.n, scene.mesh.domain) << std::setw(6) << r.n << std::setw(11) << percent(r.error)
         << std::setw(7) << rate.str() << std::setw(11) << percent(r.paper, r.n == 64 ? 3 : 2) << std::setw(14)
-        << percent(r.independent) << (r.converged ? "" : "  (not converged)") << "\n";
+        << percent(r.independent) << std::setw(11) << percent(r.estimate) << std::setw(13)
+        << (r.effectivity ? fixed(*r.effectivity, 2) : std::string("-")) << (r.converged ? "" : "  (not converged)") << "\n";
   }
   out << "\n";
   if (references) out << "  note: " << kNote << ".\n";

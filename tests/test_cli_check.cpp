@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <cmath>
+#include <iomanip>
 #include <map>
 #include <sstream>
 #include <string>
@@ -17,6 +19,7 @@
 
 #include <hemivem/scene/scene.hpp>
 
+#include "bench.hpp"
 #include "engine_pairs.hpp"
 #include "test_support.hpp"
 
@@ -151,6 +154,84 @@ TEST(CliCheck, BenchWritesOneRowPerPairAndSizeAndSsnErrorsDecrease) {
     EXPECT_GT(by_n.at(4), 0.0) << pair;
   }
   EXPECT_GE(ssn, 1);
+  fs::remove_all(out);
+}
+
+// Aitken's delta-squared on a geometric sequence gives its limit exactly; sequences that do not
+// decay geometrically in one direction have no reference.
+TEST(BenchAitken, ExtrapolatesAGeometricSequenceAndRefusesOthers) {
+  // Phi_k = -1 + 0.3 * 0.25^k: limit -1
+  const auto ref = hemivem::cli::aitken_reference(-1 + 0.3, -1 + 0.3 * 0.25, -1 + 0.3 * 0.0625);
+  ASSERT_TRUE(ref.has_value());
+  EXPECT_NEAR(*ref, -1.0, 1e-14);
+  // from below as well
+  const auto up = hemivem::cli::aitken_reference(2 - 0.5, 2 - 0.25, 2 - 0.125);
+  ASSERT_TRUE(up.has_value());
+  EXPECT_NEAR(*up, 2.0, 1e-14);
+  EXPECT_FALSE(hemivem::cli::aitken_reference(1.0, 0.5, 0.6).has_value());   // the differences change sign
+  EXPECT_FALSE(hemivem::cli::aitken_reference(1.0, 0.9, 0.7).has_value());   // they grow
+  EXPECT_FALSE(hemivem::cli::aitken_reference(1.0, 0.5, 0.0).has_value());   // they do not decay (ratio 1)
+  EXPECT_FALSE(hemivem::cli::aitken_reference(1.0, 1.0, 1.0).has_value());   // no difference
+  EXPECT_FALSE(hemivem::cli::aitken_reference(1.0, 0.5, 0.5).has_value());   // the last difference is 0
+}
+
+// The refinement study runs on any mesh kind: a triangle mesh, refined uniformly and adaptively.
+TEST(CliCheck, BenchRefinementStudyOnATriangleMesh) {
+  const fs::path out = scratch("bench-refine");
+  const std::string scene = (hemivem::test::scenes_dir() / "polygon-bracket.toml").string();
+  const CommandRun r =
+      run("bench " + scene + " --n 4 --set mesh.n=6 --levels 2 --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("refinement study"), std::string::npos) << r.out;
+  EXPECT_NE(r.err.find("hemivem bench: uniform level 2"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("hemivem bench: adaptive step 0"), std::string::npos) << r.err;
+  const auto j = nlohmann::json::parse(slurp(out / "bench.json"));
+  ASSERT_TRUE(j.contains("refinement")) << j.dump(2);
+  const auto& f = j["refinement"];
+  ASSERT_EQ(f["uniform"].size(), 3u);
+  for (std::size_t k = 1; k < 3; ++k)
+    EXPECT_GT(f["uniform"][k]["unknowns"].get<int>(), f["uniform"][k - 1]["unknowns"].get<int>());
+  for (const auto& p : f["uniform"]) {
+    EXPECT_GT(p["estimate"].get<double>(), 0.0);
+    EXPECT_GT(p["seconds"].get<double>(), 0.0);
+    EXPECT_TRUE(p["potential_energy"].is_number());
+  }
+  ASSERT_GE(f["adaptive"]["steps"].size(), 2u) << f.dump(2);
+  EXPECT_TRUE(f["adaptive"]["stopped"].is_string());
+  EXPECT_EQ(f["adaptive"]["steps"][0]["unknowns"], f["uniform"][0]["unknowns"]);
+  EXPECT_LE(f["adaptive"]["steps"].back()["unknowns"].get<int>(), f["uniform"][2]["unknowns"].get<int>());
+  EXPECT_TRUE(f["reference"].is_string());
+  EXPECT_TRUE(f["below_reference"].is_number_integer());
+
+  // With a reference energy every point has a true error and an effectivity.
+  const double phi = f["uniform"][2]["potential_energy"].get<double>();
+  const double given = phi - 2e-2 * std::abs(phi);  // well below every point of the study
+  std::ostringstream arg;
+  arg << std::setprecision(17) << given;
+  const CommandRun g = run("bench " + scene + " --n 4 --set mesh.n=6 --levels 1 --reference-energy " + arg.str() +
+                           " -q --out " + out.string());
+  ASSERT_EQ(g.code, 0) << g.err;
+  const auto k = nlohmann::json::parse(slurp(out / "bench.json"))["refinement"];
+  EXPECT_DOUBLE_EQ(k["reference_energy"].get<double>(), given);
+  EXPECT_EQ(k["below_reference"], 0);
+  EXPECT_EQ(k["uniform"].size(), 2u);
+  for (const auto* list : {&k["uniform"], &k["adaptive"]["steps"]})
+    for (const auto& p : *list) {
+      ASSERT_TRUE(p["error"].is_number()) << p.dump();
+      EXPECT_GT(p["error"].get<double>(), 0.0);
+      EXPECT_NEAR(p["effectivity"].get<double>(), p["estimate"].get<double>() / p["error"].get<double>(), 1e-12);
+    }
+  fs::remove_all(out);
+}
+
+TEST(CliCheck, BenchRefusesLevelsBelowOne) {
+  const fs::path out = scratch("bench-levels");
+  for (const char* levels : {"0", "-2"}) {
+    const CommandRun r = run(std::string("bench --n 4 --ref 8 --levels ") + levels + " --out " + out.string());
+    EXPECT_EQ(r.code, 2) << levels;
+    EXPECT_NE(r.err.find("--levels"), std::string::npos) << r.err;
+  }
+  EXPECT_FALSE(fs::exists(out / "bench.json"));
   fs::remove_all(out);
 }
 

@@ -142,6 +142,15 @@ TEST(CliStudy, SmallStudyRunsAndItsErrorsDecrease) {
   EXPECT_DOUBLE_EQ(j["rows"][1]["paper"].get<double>(), 0.5207);
   EXPECT_DOUBLE_EQ(j["rows"][1]["independent"].get<double>(), 0.3626);
   EXPECT_TRUE(j["rows"][0]["paper"].is_null());
+  // The a posteriori estimate and its effectivity against the study's own energy error
+  // (both in ||v||_E^2 = 1/2 a(v, v)).
+  for (const auto& row : j["rows"]) {
+    ASSERT_TRUE(row["estimate"].is_number()) << row.dump();
+    ASSERT_TRUE(row["effectivity"].is_number()) << row.dump();
+    EXPECT_GT(row["estimate"].get<double>(), 0.0);
+    EXPECT_GE(row["effectivity"].get<double>(), 0.5) << row.dump();
+    EXPECT_LE(row["effectivity"].get<double>(), 3.0) << row.dump();
+  }
   // One progress line per solve (reference and two), on stderr.
   std::size_t lines = 0;
   for (std::size_t p = r.err.find("hemivem study: N = "); p != std::string::npos; p = r.err.find("hemivem study: N = ", p + 1)) ++lines;
@@ -149,7 +158,7 @@ TEST(CliStudy, SmallStudyRunsAndItsErrorsDecrease) {
   // The files.
   EXPECT_EQ(nlohmann::json::parse(slurp(out / "study.json")), j);
   const std::string csv = slurp(out / "study.csv");
-  EXPECT_EQ(csv.substr(0, csv.find('\n')), "h,N,error,rate,paper,independent");
+  EXPECT_EQ(csv.substr(0, csv.find('\n')), "h,N,error,rate,paper,independent,estimate,effectivity");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 3);
   EXPECT_NE(csv.find("\n0.25,4,"), std::string::npos) << csv;
 }
