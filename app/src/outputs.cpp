@@ -241,8 +241,7 @@ nlohmann::json error_estimate_json(const ErrorEstimate& e) {
   return {{"energy", number(e.energy)},
           {"norm", number(e.norm)},
           {"relative", number(e.relative)},
-          {"parts", std::move(parts)},
-          {"seconds", number(e.seconds)}};
+          {"parts", std::move(parts)}};
 }
 
 const std::vector<std::string>& all_outputs() {

@@ -261,8 +261,8 @@ void def_result_fields(ResultClass& c) {
             return py::module_::import("json").attr("loads")(app::error_estimate_json(*e).dump());
           },
           "The estimate of the discretization error, as result.json's \"error_estimate\": {'energy': the "
-          "estimate of ||u - u_h||_E, 'norm': ||u_h||_E, 'relative': their ratio, 'parts': {name: value}, "
-          "'seconds': its time}; None when no estimate was made (a displacement that is not finite).")
+          "estimate of ||u - u_h||_E, 'norm': ||u_h||_E, 'relative': their ratio, 'parts': {name: value}} (its time is "
+          "timings['estimate']); None when no estimate was made (a displacement that is not finite).")
       .def_property_readonly(
           "indicators",
           [](py::object s) {

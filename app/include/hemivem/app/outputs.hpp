@@ -50,7 +50,8 @@ struct RunInfo {
   nlohmann::json adapt;
 };
 
-/// result.json's "error_estimate" of an estimate: energy, norm, relative, parts, seconds.
+/// result.json's "error_estimate" of an estimate: energy, norm, relative, parts (its time is
+/// the stage "estimate" of the timings).
 nlohmann::json error_estimate_json(const ErrorEstimate& estimate);
 
 /// The result.json document ("schema": "hemivem-result/8").
