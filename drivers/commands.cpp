@@ -168,6 +168,10 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   if (scene.adapt) {
     if (!o.export_reduced.empty())
       throw InputError("an adaptive solve has no one reduced problem; export it from a solve of one mesh", "--export-reduced");
+    if (o.linear && same_engine(*o.linear, "mumps-mpi"))
+      throw InputError("an adaptive solve runs in one process; the linear engine mumps-mpi runs across processes: "
+                       "choose another engine",
+                       "--linear");
     auto step_line = [&](const AdaptStep& a) {
       if (!o.json && o.verbosity >= 1) err << adapt_progress_line(a) << "\n";
     };

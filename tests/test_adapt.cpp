@@ -115,6 +115,13 @@ TEST(Adapt, StopsAtItsBudgetsAndSaysWhich) {
   for (const auto& st : u.steps) EXPECT_LE(st.unknowns, 400);
 }
 
+TEST(Adapt, RunsInOneProcess) {
+  Scene s = example(4);
+  s.solver.linear = "mumps-mpi";
+  const std::string message = test::input_error_of([&] { (void)app::solve_adaptively(s, SceneAdapt{}); });
+  EXPECT_NE(message.find("an adaptive solve runs in one process"), std::string::npos) << message;
+}
+
 // The problem a scene poses on a mesh refined from its own equals the one it poses on the
 // mesh built refined: the same supports, the same contact nodes with the same normals,
 // weights and gaps (numbers, expressions and obstacles re-evaluated at the new nodes).

@@ -77,6 +77,9 @@ TEST(CliAdapt, AdaptiveSolvesRefuseWhatTheyCannotDo) {
   const auto t = run_hemivem("solve --n 4 --set adapt.target=1.5 --out " + out.string());
   EXPECT_EQ(t.code, 2);
   EXPECT_NE(t.err.find("adapt.target: must be a relative error in (0, 1)"), std::string::npos) << t.err;
+  const auto m = run_hemivem("solve --n 4 --adapt --linear mumps-mpi --out " + out.string());
+  EXPECT_EQ(m.code, 2);
+  EXPECT_NE(m.err.find("--linear: an adaptive solve runs in one process"), std::string::npos) << m.err;
   EXPECT_FALSE(fs::exists(out));
 }
 

@@ -52,6 +52,10 @@ std::string to_string(AdaptStop stop) {
 
 AdaptiveSolve solve_adaptively(const Scene& scene, const SceneAdapt& adapt, SceneSolveOptions options,
                                const std::function<void(const AdaptStep&)>& progress) {
+  if (same_engine(scene.solver.linear, "mumps-mpi"))  // its processes would have to refine the same meshes in step
+    throw InputError("an adaptive solve runs in one process; the linear engine mumps-mpi runs across processes: "
+                     "choose another engine (solver.linear)",
+                     scene.where("solver.linear"));
   const auto start = Clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
   AdaptiveSolve out;
@@ -68,10 +72,6 @@ AdaptiveSolve solve_adaptively(const Scene& scene, const SceneAdapt& adapt, Scen
       out.reason = std::move(reason);
       if (progress) progress(now);
     };
-    if (!s.holds_results) {  // the other processes of an engine across processes follow rank 0's meshes: not supported
-      finish(AdaptStop::not_converged, "the results are held by another process");
-      break;
-    }
     if (!s.solution.converged() || !s.estimate) {
       finish(AdaptStop::not_converged, "step " + std::to_string(step) + " did not converge (" + now.status +
                                            "): its error indicators do not describe a solution");
