@@ -212,6 +212,20 @@ RefinementPoint uniform_point(const app::SceneSolve& s, int level) {
   return p;
 }
 
+RefinementPoint adaptive_point(const app::AdaptStep& step) {
+  RefinementPoint p;
+  p.kind = "adaptive";
+  p.index = step.step;
+  p.unknowns = step.unknowns;
+  p.seconds = step.elapsed;
+  p.estimate = step.estimate;
+  if (std::isfinite(step.estimate) && step.estimate > 0.0) p.norm = step.estimate_energy / step.estimate;
+  p.potential_energy = step.potential_energy;
+  p.status = step.status;
+  p.converged = step.status == to_string(MinimizerStatus::converged);
+  return p;
+}
+
 std::string refinement_line(const RefinementPoint& p) {
   std::ostringstream o;
   o << "hemivem bench: " << p.kind << (p.kind == "uniform" ? " level " : " step ") << p.index << ": " << p.unknowns
@@ -240,7 +254,7 @@ Refinement run_refinement(const Scene& base, const BenchOptions& o, std::ostream
     r.uniform.push_back(uniform_point(s, level));
     r.all_converged &= r.uniform.back().converged;
     if (progress) err << refinement_line(r.uniform.back());
-    mesh = s.built->mesh;
+    mesh = std::move(s.built->mesh);  // s is done with
   }
 
   const RefinementPoint& finest = r.uniform.back();
@@ -251,25 +265,9 @@ Refinement run_refinement(const Scene& base, const BenchOptions& o, std::ostream
     adapt.max_unknowns = finest.unknowns;
     adapt.max_steps = 50;
     const app::AdaptiveSolve a = app::solve_adaptively(base, adapt, {}, [&](const app::AdaptStep& step) {
-      if (!progress) return;
-      err << "hemivem bench: adaptive step " << step.step << ": " << step.unknowns << " unknowns, estimate "
-          << (std::isfinite(step.estimate) ? fixed(100.0 * step.estimate, 3) + " %" : std::string("-")) << ", energy "
-          << std::setprecision(10) << step.potential_energy << ", " << step.status << " (" << fixed(step.elapsed, 3)
-          << " s)\n";
+      if (progress) err << refinement_line(adaptive_point(step));
     });
-    for (const app::AdaptStep& step : a.steps) {
-      RefinementPoint p;
-      p.kind = "adaptive";
-      p.index = step.step;
-      p.unknowns = step.unknowns;
-      p.seconds = step.elapsed;
-      p.estimate = step.estimate;
-      if (std::isfinite(step.estimate) && step.estimate > 0.0) p.norm = step.estimate_energy / step.estimate;
-      p.potential_energy = step.potential_energy;
-      p.status = step.status;
-      p.converged = step.status == to_string(MinimizerStatus::converged);
-      r.adaptive.push_back(p);
-    }
+    for (const app::AdaptStep& step : a.steps) r.adaptive.push_back(adaptive_point(step));
     r.stopped = app::to_string(a.stopped);
     r.reason = a.reason;
   } else {
@@ -485,11 +483,11 @@ void write_bench_csv(const fs::path& csv, const std::vector<BenchRow>& rows) {
   });
 }
 
-/// bench.json (schema hemivem-bench/2) but for the plot.
+/// bench.json (schema hemivem-bench/3) but for the plot.
 nlohmann::json bench_json(const Scene& base, const BenchOptions& o, bool squares, const Reference& ref,
                           const std::vector<BenchRow>& rows) {
   nlohmann::json j;
-  j["schema"] = "hemivem-bench/2";
+  j["schema"] = "hemivem-bench/3";
   j["version"] = HEMIVEM_VERSION;
   j["scene"] = base.title;
   j["source"] = base.source;

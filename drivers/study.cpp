@@ -221,11 +221,11 @@ std::vector<Row> measure(SquaresSolver& solve, const std::vector<int>& ns, int r
   return rows;
 }
 
-/// study.json (schema hemivem-study/1).
+/// study.json (schema hemivem-study/2).
 nlohmann::json study_json(const Scene& scene, const StudyOptions& o, const SceneSolve& ref, double ref_norm,
                           bool all_converged, const std::vector<Row>& rows, bool references) {
   nlohmann::json j;
-  j["schema"] = "hemivem-study/1";
+  j["schema"] = "hemivem-study/2";
   j["scene"] = scene.title;
   j["source"] = scene.source;
   j["norm"] = "||v||_E = (1/sqrt 2) (sigma(v), eps(v))^(1/2), exact for the bilinear difference on the reference mesh";

@@ -129,7 +129,7 @@ TEST(CliStudy, SmallStudyRunsAndItsErrorsDecrease) {
   const CommandRun r = run("study --n 2,4 --ref 8 --json --out " + out.string());
   ASSERT_EQ(r.code, 0) << r.out << r.err;
   const auto j = nlohmann::json::parse(r.out);
-  EXPECT_EQ(j["schema"], "hemivem-study/1");
+  EXPECT_EQ(j["schema"], "hemivem-study/2");
   EXPECT_EQ(j["reference"]["n"], 8);
   EXPECT_TRUE(j["converged"].get<bool>());
   ASSERT_EQ(j["rows"].size(), 2u);

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 
 namespace hemivem::app {
@@ -60,9 +61,18 @@ AdaptiveSolve solve_adaptively(const Scene& scene, const SceneAdapt& adapt, Scen
   auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
   AdaptiveSolve out;
   const std::string base = options.mesh ? options.mesh_description : scene.mesh.description();
+  // each step's mesh and start, moved into that step's options (the rest is shared by every step)
+  std::optional<Mesh> mesh = std::move(options.mesh);
+  Eigen::VectorXd start_u = std::move(options.start);
+  options.mesh.reset();
   for (int step = 0;; ++step) {
     SceneSolveOptions o = options;
-    if (step > 0) o.mesh_description = base + ", refined adaptively in " + std::to_string(step) + " steps";
+    o.mesh = std::move(mesh);
+    o.start = std::move(start_u);
+    if (step > 0) {
+      o.mesh_description = base + ", refined adaptively in " + std::to_string(step) + " steps";
+      o.apply_region_boxes = false;  // the children inherit their parents' regions
+    }
     out.last = solve_scene(scene, std::move(o));
     const SceneSolve& s = out.last;
     out.steps.push_back(step_of(s, step, elapsed()));
@@ -102,9 +112,8 @@ AdaptiveSolve solve_adaptively(const Scene& scene, const SceneAdapt& adapt, Scen
     now.marked = static_cast<int>(marked.size());
     now.refined = static_cast<int>(refined.refined.size());
     if (progress) progress(now);
-    options.start = prolongate(refined, s.solution.u);
-    options.mesh = std::move(refined.mesh);
-    options.apply_region_boxes = false;  // the children inherit their parents' regions
+    start_u = prolongate(refined, s.solution.u);
+    mesh = std::move(refined.mesh);
   }
   out.seconds = elapsed();
   out.last.adapt = adapt_json(out, adapt);

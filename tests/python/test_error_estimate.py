@@ -28,7 +28,7 @@ def test_every_result_has_its_estimate_and_indicators():
 
 
 def test_an_adaptive_solve_from_python():
-    r = hemivem.solve(small(4), linear="eigen", adapt=True, **{})
+    r = hemivem.solve(small(4), linear="eigen", adapt=True)
     a = r.adapt
     assert a["stopped"] in ("target", "max_steps", "max_unknowns")
     steps = a["steps"]
