@@ -2,9 +2,11 @@
 // and constraint; and the paper's Example 4.1.
 #pragma once
 
+#include <array>
 #include <functional>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <hemivem/vem/assembly.hpp>
@@ -13,6 +15,30 @@
 #include <hemivem/reduced_problem.hpp>
 
 namespace hemivem {
+
+/// A friction bound that depends on the normal contact (docs/friction.md, "Coulomb's law"):
+/// with it the friction law is Tresca's, j_tau = g_i |u_tau|, and the bound g_i of each node
+/// is set by a fixed point within each step (hemivem/path/path.hpp):
+///   - coulomb: g_i = mu p_i, p_i = (zeta_i + lambda_i) / w_i the node's contact pressure
+///     (the tangential potential mu P_i |u_tau| with P_i its normal contact force);
+///   - normal_displacement: g_i = h(u_nu,i), h piecewise linear through `table`'s points
+///     (u_nu, h) (increasing u_nu), constant beyond the first and the last.
+struct FrictionBound {
+  enum class Kind { coulomb, normal_displacement };
+  Kind kind = Kind::coulomb;
+  double coefficient = 0.0;                  ///< coulomb: mu >= 0
+  std::vector<std::array<double, 2>> table;  ///< normal_displacement: (u_nu, h >= 0) points
+  /// h(u_nu) of the table (normal_displacement).
+  double of_normal_displacement(double u_nu) const;
+  /// The bound at a node of normal displacement u_nu and contact pressure p (negative
+  /// pressures, tension, give mu * 0).
+  double bound(double u_nu, double pressure) const;
+};
+/// "coulomb", "normal-displacement".
+std::string to_string(FrictionBound::Kind kind);
+/// InputError (naming `where`) for a negative or non-finite coefficient, a table with fewer
+/// than one point, u_nu not increasing, or a negative or non-finite h.
+void check_friction_bound(const FrictionBound& bound, const std::string& where = {});
 
 struct ContactProblem {
   ElasticityProblem elasticity;        ///< mesh, materials, loads and Gamma_1
@@ -34,6 +60,10 @@ struct ContactProblem {
   /// The law of the tangential displacement u_tau on Gamma_3 (friction, docs/friction.md);
   /// null: frictionless (u_tau free). A bilateral constraint without one slides freely.
   std::shared_ptr<const ContactLaw> friction;
+  /// A bound that depends on the normal contact (Coulomb's law, or h(u_nu)); `friction` is
+  /// then tresca_law(1) (a unit bound that each node's bound scales). None: the bound of
+  /// `friction` itself (a given number, Tresca).
+  std::optional<FrictionBound> friction_bound;
 };
 
 }  // namespace hemivem

@@ -1,0 +1,154 @@
+// Loading histories (docs/paths.md): a sequence of load factors t_1 < ... < t_K. Step k is the
+// static contact problem at t_k, started from step k - 1's solution and certified on its own.
+// With friction the tangential potential acts on the slip of the step, u_tau - u_tau^(k-1);
+// a friction bound that depends on the normal contact (FrictionBound: Coulomb's mu p, or
+// h(u_nu)) is resolved within each step by a fixed point of Tresca problems. One assembly and
+// one condensation serve the whole path: S does not change along it, and under proportional
+// loading neither does c but for the factor t, so a step costs no linear solve.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <hemivem/certificate.hpp>
+#include <hemivem/contact/forces.hpp>
+#include <hemivem/contact/problem.hpp>
+#include <hemivem/contact/solver.hpp>
+#include <hemivem/nonsmooth_minimizer.hpp>
+#include <hemivem/sparse_factorization.hpp>
+
+namespace hemivem {
+
+/// How the problem's data change along the path.
+struct PathLoading {
+  /// The load factors, finite, > 0 and strictly increasing (at least one).
+  std::vector<double> t;
+  /// Sets the problem's loads, prescribed values, gaps and obstacle to their values at t (the
+  /// mesh, the materials, the boundary parts, the laws and which dofs are prescribed stay;
+  /// InputError otherwise). Empty: proportional loading, the problem as given being the one at
+  /// t = 1: its load vector and its prescribed displacements are multiplied by t, its gaps and
+  /// obstacle stay. A step then costs no linear solve; with `update` it costs one interior
+  /// solve for the condensed load and one for the displacement.
+  std::function<void(double t, ContactProblem& problem)> update;
+  bool proportional() const noexcept { return !update; }
+};
+
+/// The fixed point on the friction bound of each step (FrictionBound): g <- g + theta (G(g) - g),
+/// G(g) the bound the solution of the Tresca problem with bound g implies.
+struct FixedPointOptions {
+  int max_iterations = 100;
+  /// theta, in (0, 1]. Halved (down to 1/64) whenever the change of the bound grew in two
+  /// iterations in a row: a fixed point that does not contract is damped, and reported as not
+  /// converged when it still does not meet the certificate within max_iterations.
+  double relaxation = 1.0;
+};
+
+struct PathOptions {
+  MinimizerOptions minimizer;
+  FixedPointOptions fixed_point;
+  /// A step whose change ||a_k - a_(k-1)||_inf exceeds jump_factor times the change the step
+  /// before predicts (scaled by the ratio of the load increments) is a jump: the critical point
+  /// the path followed stopped existing and the minimizer found another branch.
+  double jump_factor = 10.0;
+  /// Steps (1-based) whose full displacement is computed and handed to on_step
+  /// (PathStep::u, PathStep::forces); the last step always is. Each costs one interior solve.
+  std::function<bool(int step)> frame;
+  /// Called after each step; returning false stops the path after it (the solution then holds
+  /// the steps done).
+  std::function<bool(const struct PathStep&)> on_step;
+};
+
+/// The fixed point of a step with a friction bound that depends on the normal contact.
+struct FixedPointReport {
+  bool used = false;         ///< false without a FrictionBound (one minimization per step)
+  int iterations = 0;        ///< Tresca problems solved
+  /// The last change of the bound, max_i |G(g)_i - g_i| over max_i |G(g)_i| (0 when both vanish).
+  double change = 0.0;
+  double relaxation = 1.0;   ///< theta at the end
+  bool converged = false;    ///< the coupled certificate holds (PathStep::certificate)
+};
+
+struct PathStep {
+  int index = 0;  ///< 1-based
+  double t = 0.0;
+  /// The verdict, as a static solve's: the minimizer's status, demoted to failed when the
+  /// fixed point does not hold (the coupled certificate, friction_bound_certificate).
+  MinimizerStatus status = MinimizerStatus::failed;
+  std::string message;
+  Certificate certificate;
+  bool may_be_nonunique = false;
+  int iterations = 0;  ///< the minimizer's, summed over the fixed point's iterations
+  /// The potential energy of the step's problem (its friction term on the slip of the step).
+  double energy = 0.0;
+  /// The contact nodes: u_nu, the forces, u_tau (the total tangential displacement) and the
+  /// friction force and state of the step (stick: no slip in the step).
+  std::vector<ContactNode> contact;
+  /// The slip of the step, u_tau - u_tau^(k-1), per contact node (empty without friction).
+  Eigen::VectorXd slip;
+  /// The friction bound g_i of each node at the end of the step (empty without friction).
+  Eigen::VectorXd friction_bound;
+  ContactZone zone;
+  Vec2 contact_force = Vec2::Zero();  ///< the resultant of the contact forces on the body
+  Vec2 applied = Vec2::Zero();        ///< the resultant of the applied load (tractions, body force)
+  FixedPointReport fixed_point;
+  double change = 0.0;  ///< ||a_k - a_(k-1)||_inf (a_0 = 0)
+  bool jump = false;    ///< PathOptions::jump_factor
+  Eigen::VectorXd a;    ///< the contact unknowns (u_nu, then u_tau, as the reduced problem orders them)
+  /// A frame's full nodal displacement and balance of forces (PathOptions::frame); empty otherwise.
+  Eigen::VectorXd u;
+  std::optional<ForceBalance> forces;
+  double seconds = 0.0;
+  bool converged() const noexcept { return status == MinimizerStatus::converged; }
+};
+
+struct PathSolution {
+  std::vector<PathStep> steps;
+  /// The last step as a static solve reports it (u, contact, energy, forces, certificate,
+  /// stages and timings of the whole path), for every output that reads a solve.
+  ContactSolution last;
+  bool proportional = true;
+  /// Seconds: assembly, condensation, path (every step), frames (their displacements), total.
+  std::map<std::string, double> timings;
+  /// Every step converged.
+  bool converged() const;
+  int jumps() const;
+};
+
+/// The coupled certificate of a step with a friction bound that depends on the normal contact:
+/// the Tresca certificate `tresca` of the step's problem solved with bounds `used`, and the
+/// mismatch of those bounds against the bounds `implied` by the solution, as a force:
+/// dual = max(tresca.dual, max_i w_i |used_i - implied_i| / tresca.force_scale). It holds when
+/// the normal conditions hold, every tangential force is within w_i implied_i and equals it
+/// (against the slip) where the node slips.
+Certificate friction_bound_certificate(const Certificate& tresca, const Eigen::VectorXd& weights,
+                                       const Eigen::VectorXd& used, const Eigen::VectorXd& implied);
+
+/// The path of one contact problem. `problem` is changed by PathLoading::update and must
+/// outlive the solver, as must the minimizer. InputError for an unusable path (no step, t not
+/// increasing or not positive, an engine across processes) or problem; NumericalError when the
+/// factorization fails. A step that does not converge is reported, and the path goes on from it.
+class PathSolver {
+ public:
+  PathSolver(ContactProblem& problem, std::unique_ptr<SparseFactorization> factorization,
+             const NonsmoothMinimizer& minimizer, PathLoading loading, PathOptions options = {});
+  ~PathSolver();
+  PathSolver(const PathSolver&) = delete;
+  PathSolver& operator=(const PathSolver&) = delete;
+  PathSolution run();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Solves `problem` along `loading` (PathSolver).
+PathSolution solve_path(ContactProblem& problem, std::unique_ptr<SparseFactorization> factorization,
+                        const NonsmoothMinimizer& minimizer, PathLoading loading, PathOptions options = {});
+
+}  // namespace hemivem
