@@ -195,6 +195,8 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
   normals_ = boundary.normals;
   nodes_ = boundary.nodes;
   has_normal_ = constraint != ConstraintKind::bilateral;
+  constraint_ = constraint;
+  gap_at_start_ = boundary.gaps;
   has_tangential_ = friction != nullptr || !has_normal_;
   if (!has_normal_ && !friction) friction = zero_law();
   order_unknowns(system, boundary);
@@ -206,7 +208,51 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
   origin_ = Eigen::VectorXd::Zero(reduced_.lo.size());
   if (law_from_surface_) measure_from_surface(boundary);
   compute_schur_complement(At);
-  condense_load(At, bt);
+  if (!split_interior_solve(*factorization_)) extract_a21(At);
+  condense_load(bt);
+  margin_ = std::numeric_limits<double>::quiet_NaN();
+  processes_of(*factorization_).run_where_results_are([&] {
+    set_uniqueness_margin(reduced_);
+    margin_ = reduced_.uniqueness_margin;
+  });
+}
+
+void Condensation::set_load(const Eigen::VectorXd& b, const Eigen::VectorXd& prescribed) {
+  if (b.size() != dofs_.num_free() || prescribed.size() != dofs_.num_dofs())
+    throw InputError("a load needs " + std::to_string(dofs_.num_free()) + " free and " +
+                     std::to_string(dofs_.num_dofs()) + " prescribed values, got " + std::to_string(b.size()) +
+                     " and " + std::to_string(prescribed.size()));
+  for (int k = 0; k < dofs_.num_dofs(); ++k)
+    if (dofs_.free_index[static_cast<std::size_t>(k)] < 0) dofs_.prescribed(k) = prescribed(k);
+  condense_load(rotate_load(b));
+}
+
+void Condensation::set_gaps(const Eigen::VectorXd& gaps) {
+  if (!has_normal_) return;
+  if (gaps.size() != static_cast<Eigen::Index>(normals_.size()))
+    throw InputError("gaps for " + std::to_string(normals_.size()) + " contact nodes needed, got " +
+                     std::to_string(gaps.size()));
+  for (Eigen::Index i = 0; i < gaps.size(); ++i) {
+    const double g = gaps(i);
+    if (std::isnan(g)) throw InputError("the gap of contact node " + std::to_string(nodes_[static_cast<std::size_t>(i)]) + " is NaN");
+    reduced_.lo(i) = lower_bound(constraint_, g);
+    reduced_.hi(i) = upper_bound(constraint_, g);
+    if (!law_from_surface_) continue;
+    if (std::isfinite(g) != std::isfinite(gap_at_start_(i)))
+      throw InputError("contact node " + std::to_string(nodes_[static_cast<std::size_t>(i)]) +
+                       (std::isfinite(g) ? " starts" : " stops") +
+                       " facing the obstacle along the path (its gap becomes " + (std::isfinite(g) ? "finite" : "infinite") +
+                       "); with contact.law_origin = \"surface\" every node keeps facing it or not");
+    origin_(i) = std::isfinite(g) ? g : 0.0;
+    if (std::isfinite(g)) {
+      reduced_.lo(i) -= g;
+      reduced_.hi(i) -= g;
+    }
+  }
+  processes_of(*factorization_).run_where_results_are([&] {
+    reduced_.c = raw_c_;
+    if (law_from_surface_) reduced_.c -= reduced_.S * origin_;
+  });
 }
 
 void Condensation::order_unknowns(const LinearSystem& system, const ContactBoundary& boundary) {
@@ -353,8 +399,9 @@ void Condensation::compute_schur_complement(const SparseMatrix& At) {
   }
 }
 
-// c = b1 - A12 A22^{-1} b2 and the uniqueness margin (where the results are held; NaN elsewhere).
-void Condensation::condense_load(const SparseMatrix& At, const Eigen::VectorXd& bt) {
+// c = b1 - A12 A22^{-1} b2 (where the results are held), shifted by -S origin with
+// law_from_surface.
+void Condensation::condense_load(const Eigen::VectorXd& bt) {
   Eigen::VectorXd b1(static_cast<Eigen::Index>(block1_.size()));
   for (std::size_t i = 0; i < block1_.size(); ++i) b1(static_cast<Eigen::Index>(i)) = bt(block1_[i]);
   b2_.resize(static_cast<Eigen::Index>(block2_.size()));
@@ -363,18 +410,15 @@ void Condensation::condense_load(const SparseMatrix& At, const Eigen::VectorXd& 
   Eigen::MatrixXd y;
   if (split) {
     // c = b1 - A12 A22^{-1} b2 in one forward substitution; back_substitute() needs one backward
-    require(split->condense_rhs(b1, b2_, &reduced_.c), *factorization_, "interior solve");
+    require(split->condense_rhs(b1, b2_, &raw_c_), *factorization_, "interior solve");
   } else {
-    extract_a21(At);
     require(factorization_->solve_interior(b2_, &y), *factorization_, "interior solve");
   }
-  margin_ = std::numeric_limits<double>::quiet_NaN();
   processes_of(*factorization_).run_where_results_are([&] {
-    if (!split) reduced_.c = b1 - A21_.transpose() * y.col(0);
-    if (!has_normal_) reduced_.c = reduced_.c.tail(static_cast<Eigen::Index>(normals_.size())).eval();
+    if (!split) raw_c_ = b1 - A21_.transpose() * y.col(0);
+    if (!has_normal_) raw_c_ = raw_c_.tail(static_cast<Eigen::Index>(normals_.size())).eval();
+    reduced_.c = raw_c_;
     if (law_from_surface_) reduced_.c -= reduced_.S * origin_;
-    set_uniqueness_margin(reduced_);
-    margin_ = reduced_.uniqueness_margin;
   });
 }
 

@@ -265,19 +265,21 @@ void ContactSolver::post_process(ContactSolution& solution) const {
   require_finite(solution);
 }
 
-// Contact node i: its position and geometry, and the displacements, forces and states of the
-// minimizer's point; `residual` is A u - b on the free dofs.
 ContactNode ContactSolver::contact_node(int i, const MinimizerResult& m, const Eigen::VectorXd& residual) const {
-  const Condensation& cond = *condensation_;
+  return hemivem::contact_node(*problem_.elasticity.mesh, boundary_, *condensation_, system_->dofs, i, m, &residual);
+}
+
+ContactNode contact_node(const Mesh& mesh, const ContactBoundary& boundary, const Condensation& cond,
+                         const DofMap& dofs, int i, const MinimizerResult& m, const Eigen::VectorXd* residual) {
   const ReducedProblem& rp = cond.reduced();
   const bool forces = m.law_force.size() == m.a.size() && m.reaction.size() == m.a.size();
   ContactNode node;
-  node.vertex = boundary_.nodes[static_cast<std::size_t>(i)];
-  node.x = problem_.elasticity.mesh->vertex(node.vertex);
-  node.weight = boundary_.weights(i);
-  node.normal = boundary_.normals[static_cast<std::size_t>(i)];
+  node.vertex = boundary.nodes[static_cast<std::size_t>(i)];
+  node.x = mesh.vertex(node.vertex);
+  node.weight = boundary.weights(i);
+  node.normal = boundary.normals[static_cast<std::size_t>(i)];
   // no gap is used where u_nu = 0 is imposed (bilateral)
-  node.gap = cond.normal_coordinate(i) >= 0 ? boundary_.gaps(i) : std::numeric_limits<double>::quiet_NaN();
+  node.gap = cond.normal_coordinate(i) >= 0 ? boundary.gaps(i) : std::numeric_limits<double>::quiet_NaN();
   if (const int k = cond.normal_coordinate(i); k >= 0) {
     node.u_nu = m.a(k) + cond.origin()(k);
     node.law_force = forces ? m.law_force(k) : 0.0;
@@ -285,12 +287,13 @@ ContactNode ContactSolver::contact_node(int i, const MinimizerResult& m, const E
     node.state = m.a(k) == rp.upper(k) ? "upper" : (m.a(k) == rp.lower(k) ? "lower" : "free");
   } else {
     // u_nu = 0 imposed: the normal force is what holds the node there, the normal part of
-    // the residual A u - b at its dofs (NaN where a dof of the node is prescribed)
+    // the residual A u - b at its dofs (NaN where a dof of the node is prescribed or the
+    // residual is not given)
     node.state = "bilateral";
-    const int dx = system_->dofs.free_index[static_cast<std::size_t>(2 * node.vertex)];
-    const int dy = system_->dofs.free_index[static_cast<std::size_t>(2 * node.vertex + 1)];
-    node.reaction = dx >= 0 && dy >= 0 ? -Vec2(residual(dx), residual(dy)).dot(node.normal)
-                                       : std::numeric_limits<double>::quiet_NaN();
+    const int dx = dofs.free_index[static_cast<std::size_t>(2 * node.vertex)];
+    const int dy = dofs.free_index[static_cast<std::size_t>(2 * node.vertex + 1)];
+    node.reaction = residual && dx >= 0 && dy >= 0 ? -Vec2((*residual)(dx), (*residual)(dy)).dot(node.normal)
+                                                   : std::numeric_limits<double>::quiet_NaN();
   }
   if (const int k = cond.tangential_coordinate(i); k >= 0) {
     node.u_tau = m.a(k);

@@ -311,6 +311,41 @@ LinearSystem assemble(const ElasticityProblem& problem) {
   return sys;
 }
 
+Eigen::VectorXd assemble_rhs(const ElasticityProblem& problem, const DofMap& dofs) {
+  if (!problem.mesh) throw InputError("the elasticity problem has no mesh");
+  const Mesh& mesh = *problem.mesh;
+  if (dofs.num_dofs() != 2 * mesh.num_vertices())
+    throw InputError("a dof map of " + std::to_string(dofs.num_dofs()) + " dofs for a mesh of " +
+                     std::to_string(2 * mesh.num_vertices()));
+  const Eigen::VectorXd f = assemble_load(mesh, problem.body_force, problem.tractions);
+  Eigen::VectorXd b(dofs.num_free());
+  for (int i = 0; i < dofs.num_free(); ++i) b(i) = f(dofs.free_dofs[static_cast<std::size_t>(i)]);
+  std::vector<Vec2> poly;
+  Eigen::MatrixXd K;
+  Eigen::VectorXd local;
+  for (int e = 0; e < mesh.num_elements(); ++e) {
+    const auto verts = mesh.element(e);
+    const bool lifted = std::any_of(verts.begin(), verts.end(), [&](int v) {
+      return dofs.prescribed(2 * v) != 0.0 || dofs.prescribed(2 * v + 1) != 0.0;
+    });
+    if (!lifted) continue;
+    gather(mesh, e, poly);
+    element_stiffness(poly, problem.materials.lame(mesh.region(e)), problem.stabilization, K);
+    local.resize(static_cast<Eigen::Index>(2 * verts.size()));
+    for (std::size_t k = 0; k < verts.size(); ++k)
+      for (int c = 0; c < 2; ++c) {
+        const int d = 2 * verts[k] + c;
+        local(static_cast<Eigen::Index>(2 * k + c)) = dofs.free_index[static_cast<std::size_t>(d)] < 0 ? dofs.prescribed(d) : 0.0;
+      }
+    const Eigen::VectorXd Kl = K * local;
+    for (std::size_t k = 0; k < verts.size(); ++k)
+      for (int c = 0; c < 2; ++c)
+        if (const int fi = dofs.free_index[static_cast<std::size_t>(2 * verts[k] + c)]; fi >= 0)
+          b(fi) -= Kl(static_cast<Eigen::Index>(2 * k + c));
+  }
+  return b;
+}
+
 std::vector<LinearField> project_solution(const Mesh& mesh, const Eigen::VectorXd& u) {
   if (u.size() != 2 * mesh.num_vertices())
     throw InputError("displacement vector has " + std::to_string(u.size()) + " entries, expected " +

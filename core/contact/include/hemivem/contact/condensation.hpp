@@ -114,6 +114,19 @@ class Condensation {
   /// tangential unknowns, u . tau_i. A start for the minimizer from a displacement known
   /// otherwise (the previous step of an adaptive solve). InputError for a u of the wrong size.
   Eigen::VectorXd reduced_point(const Eigen::VectorXd& u) const;
+  /// A new load on the same matrix (a step of a loading history): `b` the load of the free
+  /// dofs (LinearSystem::b at the new data, prescribed values lifted) and `prescribed` every
+  /// dof's prescribed value (DofMap::prescribed; free dofs ignored). c is condensed again (one
+  /// interior solve; collective with an engine across processes) and back_substitute() uses
+  /// the new load and prescribed values. S, the laws and the margin do not change.
+  void set_load(const Eigen::VectorXd& b, const Eigen::VectorXd& prescribed);
+  /// New gaps of the contact nodes (a moving obstacle or gap): the bounds of the normal
+  /// unknowns, and with law_from_surface their origin and c. InputError for a NaN gap, and
+  /// with law_from_surface for a node whose gap changes between finite and infinite.
+  void set_gaps(const Eigen::VectorXd& gaps);
+  /// c before the shift by -S origin(): the condensed load b1 - A12 A22^{-1} b2 (of the
+  /// reduced coordinates) on the process holding the results.
+  const Eigen::VectorXd& condensed_load() const noexcept { return raw_c_; }
   const SparseFactorization& factorization() const { return *factorization_; }
   /// Estimate of the 1-norm condition number kappa_1(A22) of the factorized interior block,
   /// independent of the engine: ||A22||_1 times the Hager-Higham estimate of ||A22^{-1}||_1
@@ -129,6 +142,9 @@ class Condensation {
   bool semi_coercive_ = false;
   bool law_from_surface_ = false;
   Eigen::VectorXd origin_;
+  ConstraintKind constraint_ = ConstraintKind::none;
+  Eigen::VectorXd gap_at_start_;  // the gaps the condensation was built with
+  Eigen::VectorXd raw_c_;         // condensed_load()
   std::vector<int> block1_;       // rotated free index of each contact unknown (normals, then tangentials)
   std::vector<int> block2_;       // remaining rotated free indices, increasing
   std::vector<int> contact_free_x_, contact_free_y_;  // free index of the x/y dof per contact node
@@ -142,7 +158,7 @@ class Condensation {
                             ConstraintKind constraint, std::shared_ptr<const ContactLaw> friction);
   void measure_from_surface(const ContactBoundary& boundary);
   void compute_schur_complement(const SparseMatrix& At);
-  void condense_load(const SparseMatrix& At, const Eigen::VectorXd& bt);
+  void condense_load(const Eigen::VectorXd& bt);
   // the steps of back_substitute()
   Eigen::VectorXd block1_values(const Eigen::VectorXd& a) const;
   Eigen::VectorXd displacement(const Eigen::VectorXd& x1, const Eigen::VectorXd& u2) const;

@@ -108,6 +108,13 @@ struct ContactSolution {
 /// slip distance).
 std::string friction_state(const ContactLaw& law, double u_tau);
 
+/// Contact node i of `boundary` at the point m.a of `cond`'s reduced problem, with the forces
+/// of m's certificate: its position and geometry, u_nu, the law force and reaction, the state
+/// and, with tangential unknowns, u_tau and the friction force and state. `residual` (A u - b
+/// on the free dofs) gives the normal force of a bilateral node (NaN without it).
+ContactNode contact_node(const Mesh& mesh, const ContactBoundary& boundary, const Condensation& cond,
+                         const DofMap& dofs, int i, const MinimizerResult& m, const Eigen::VectorXd* residual);
+
 /// The contact zone: the contact nodes that carry a compressive force (zeta_i + lambda_i > 0).
 struct ContactZone {
   int nodes = 0;              ///< how many

@@ -89,6 +89,12 @@ DofMap make_dof_map(const Mesh& mesh, const std::vector<DirichletCondition>& dir
 /// the body is not held (no Dirichlet edge, or Dirichlet edges of zero total length).
 LinearSystem assemble(const ElasticityProblem& problem);
 
+/// The load of the free dofs of `dofs` (LinearSystem::b): f - K u_p on them, u_p the
+/// prescribed values of `dofs` (which must be make_dof_map of the problem's Dirichlet parts;
+/// their values may differ). Costs the load vector and the element matrices of the elements
+/// holding a nonzero prescribed value: a new load on an assembled matrix.
+Eigen::VectorXd assemble_rhs(const ElasticityProblem& problem, const DofMap& dofs);
+
 /// Per element: the P1 projection Pi u_h of the full nodal vector u.
 std::vector<LinearField> project_solution(const Mesh& mesh, const Eigen::VectorXd& u);
 

@@ -1,0 +1,447 @@
+#include <hemivem/path/path.hpp>
+
+#include <hemivem/contact/condensation.hpp>
+#include <hemivem/contact/piecewise_law.hpp>
+#include <hemivem/contact/supports.hpp>
+#include <hemivem/error.hpp>
+#include <hemivem/process_group.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace hemivem {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+void check_loading(const PathLoading& loading) {
+  if (loading.t.empty()) throw InputError("a loading path needs at least one load factor t");
+  for (std::size_t k = 0; k < loading.t.size(); ++k) {
+    const double t = loading.t[k];
+    if (!(std::isfinite(t) && t > 0.0))
+      throw InputError("load factor " + std::to_string(k + 1) + " of the path must be finite and > 0, got " +
+                       std::to_string(t));
+    if (k > 0 && !(t > loading.t[k - 1]))
+      throw InputError("the load factors of a path must increase: t_" + std::to_string(k + 1) + " = " +
+                       std::to_string(t) + " after t_" + std::to_string(k) + " = " + std::to_string(loading.t[k - 1]));
+  }
+}
+
+// The problem's loads and prescribed displacements multiplied by s (the proportional path's
+// data at t = s), for the balance of forces of a frame.
+ElasticityProblem scaled(const ElasticityProblem& p, double s) {
+  ElasticityProblem q = p;
+  if (p.body_force) q.body_force = [f = p.body_force, s](const Vec2& x) -> Vec2 { return s * f(x); };
+  for (std::size_t i = 0; i < q.tractions.size(); ++i) {
+    if (p.tractions[i].traction)
+      q.tractions[i].traction = [f = p.tractions[i].traction, s](const Vec2& x) -> Vec2 { return s * f(x); };
+    if (p.tractions[i].pressure)
+      q.tractions[i].pressure = [f = p.tractions[i].pressure, s](const Vec2& x) { return s * f(x); };
+  }
+  for (std::size_t i = 0; i < q.dirichlet.size(); ++i)
+    if (p.dirichlet[i].value)
+      q.dirichlet[i].value = [f = p.dirichlet[i].value, s](const Vec2& x) -> Vec2 { return s * f(x); };
+  return q;
+}
+
+Vec2 resultant(const Eigen::VectorXd& f) {
+  Vec2 r = Vec2::Zero();
+  for (Eigen::Index d = 0; d + 1 < f.size(); d += 2) r += Vec2(f(d), f(d + 1));
+  return r;
+}
+
+std::string shortest(double x) {
+  std::ostringstream out;
+  out.precision(3);
+  out << x;
+  return out.str();
+}
+
+}  // namespace
+
+Certificate friction_bound_certificate(const Certificate& tresca, const Eigen::VectorXd& weights,
+                                       const Eigen::VectorXd& used, const Eigen::VectorXd& implied) {
+  Certificate c = tresca;
+  double mismatch = 0.0;
+  for (Eigen::Index i = 0; i < used.size(); ++i) {
+    const double d = weights(i) * std::abs(used(i) - implied(i));
+    mismatch = std::isnan(d) ? std::numeric_limits<double>::infinity() : std::max(mismatch, d);
+  }
+  if (mismatch > 0.0) {
+    const double relative = std::isfinite(mismatch) && c.force_scale > 0.0 ? mismatch / c.force_scale
+                                                                             : std::numeric_limits<double>::infinity();
+    c.dual = std::max(c.dual, relative);
+  }
+  return c;
+}
+
+bool PathSolution::converged() const {
+  return !steps.empty() && std::all_of(steps.begin(), steps.end(), [](const PathStep& s) { return s.converged(); });
+}
+
+int PathSolution::jumps() const {
+  return static_cast<int>(std::count_if(steps.begin(), steps.end(), [](const PathStep& s) { return s.jump; }));
+}
+
+struct PathSolver::Impl {
+  ContactProblem& problem;
+  std::unique_ptr<SparseFactorization> factorization;
+  const NonsmoothMinimizer& minimizer;
+  PathLoading loading;
+  PathOptions options;
+
+  LinearSystem system;
+  ContactBoundary boundary;
+  std::unique_ptr<Condensation> cond;
+  std::vector<std::string> held_by_contact;
+  ReducedProblem step;           // the step's problem: the condensation's, with c, bounds and weights of the step
+  int n1 = 0;                    // contact nodes
+  bool has_normal = true, has_tangential = false;
+  std::optional<FrictionBound> bound_law;
+  // proportional loading: the data at t = 1
+  Eigen::VectorXd c1;            // the condensed load
+  Eigen::VectorXd prescribed1;   // every dof's prescribed value
+  Vec2 applied1 = Vec2::Zero();
+  double kappa1 = 0.0;           // Phi(u) - [1/2 x^T S x - c^T x] at t = 1
+  // along the path
+  Eigen::VectorXd x_prev;        // the previous step's contact unknowns (u_nu, u_tau)
+  Eigen::VectorXd tau_prev;      // the previous step's u_tau per node
+  Eigen::VectorXd g;             // the friction bound per node (FrictionBound)
+  double change_prev = 0.0, t_prev = 0.0, t_before = 0.0;
+  std::map<std::string, double> timings;
+
+  Impl(ContactProblem& p, std::unique_ptr<SparseFactorization> f, const NonsmoothMinimizer& m, PathLoading l,
+       PathOptions o)
+      : problem(p), factorization(std::move(f)), minimizer(m), loading(std::move(l)), options(std::move(o)) {}
+
+  void set_up();
+  PathStep solve_step(int k);
+  void minimize_step(PathStep& s, const Eigen::VectorXd& shift, const Eigen::VectorXd& origin);
+  void describe_step(PathStep& s, const MinimizerResult& m, const Eigen::VectorXd& shift,
+                     const Eigen::VectorXd& c_raw, double kappa, const Eigen::VectorXd* u,
+                     const Eigen::VectorXd* b);
+  ContactSolution last_solution(const PathStep& s, const MinimizerResult& m, const Eigen::VectorXd& shift);
+  MinimizerResult last_result;
+  Eigen::VectorXd last_shift;
+};
+
+void PathSolver::Impl::set_up() {
+  check_loading(loading);
+  if (!factorization) throw InputError("a path needs a factorization engine");
+  if (processes_of(*factorization).num_processes() != 1)
+    throw InputError("a loading path runs in one process; the linear engine " + factorization->name() +
+                     " runs across processes: choose another");
+  if (std::string why; !options.minimizer.is_valid(&why)) throw InputError(why, "MinimizerOptions");
+  if (!(options.jump_factor > 1.0)) throw InputError("the jump factor of a path must be > 1");
+  if (options.fixed_point.max_iterations < 1 || !(options.fixed_point.relaxation > 0.0 && options.fixed_point.relaxation <= 1.0))
+    throw InputError("the fixed point of a path needs max_iterations >= 1 and a relaxation in (0, 1]");
+  if (problem.contact_edges.empty())
+    throw InputError("a loading path needs a contact boundary (without one the displacement at t is t times the one at t = 1)");
+  if (!problem.law) throw InputError("the contact boundary has no contact law");
+  bound_law = problem.friction_bound;
+  if (bound_law) {
+    check_friction_bound(*bound_law, "contact.friction");
+    if (!problem.friction) throw InputError("a friction bound that depends on the normal contact needs the friction law tresca_law(1)");
+    if (constraint_in_effect(problem) == ConstraintKind::bilateral)
+      throw InputError("a friction bound that depends on the normal contact needs the normal displacements as unknowns, "
+                       "which a bilateral constraint (u_nu = 0) removes");
+  }
+  if (!loading.proportional()) loading.update(loading.t.front(), problem);
+  auto t0 = Clock::now();
+  system = assemble(problem.elasticity);
+  timings["assembly"] = since(t0);
+  boundary = contact_boundary(problem, system.dofs);
+  held_by_contact = find_supports(*problem.elasticity.mesh, system.dofs, boundary,
+                                  constraint_in_effect(problem) != ConstraintKind::bilateral, problem.friction != nullptr)
+                        .held_by_contact;
+  if (boundary.size() == 0) throw InputError("the contact boundary of the path has no free node");
+  t0 = Clock::now();
+  cond = std::make_unique<Condensation>(system, boundary, std::move(factorization), problem.law,
+                                        constraint_in_effect(problem), problem.friction, !held_by_contact.empty(),
+                                        problem.law_from_surface);
+  timings["condensation"] = since(t0);
+  step = cond->reduced();
+  n1 = boundary.size();
+  has_normal = cond->normal_coordinate(0) >= 0;
+  has_tangential = cond->tangential_coordinate(0) >= 0;
+  if (bound_law) {
+    // the tangential coordinates' law is g |r| with g = 1: each node's bound is its weight
+    for (int i = 0; i < n1; ++i) {
+      const int k = cond->tangential_coordinate(i);
+      if (step.law_of(k).name() != "tresca" || std::abs(step.law_of(k).derivative(LawPart::j, 1.0, +1) - 1.0) > 0.0)
+        throw InputError("a friction bound that depends on the normal contact needs the friction law tresca_law(1)");
+    }
+  }
+  x_prev = Eigen::VectorXd::Zero(step.size());
+  tau_prev = Eigen::VectorXd::Zero(n1);
+  g = Eigen::VectorXd::Zero(n1);
+  if (loading.proportional()) {
+    c1 = cond->condensed_load();
+    prescribed1 = system.dofs.prescribed;
+    applied1 = resultant(assemble_load(*problem.elasticity.mesh, problem.elasticity.body_force, problem.elasticity.tractions));
+    // kappa: Phi at the displacement whose contact unknowns are 0, which has 1/2 x^T S x - c^T x = 0
+    const Eigen::VectorXd u0 = cond->back_substitute(-cond->origin());
+    Eigen::VectorXd uf(system.dofs.num_free());
+    for (int d = 0; d < system.dofs.num_free(); ++d) uf(d) = u0(system.dofs.free_dofs[static_cast<std::size_t>(d)]);
+    kappa1 = 0.5 * uf.dot(system.A * uf) - uf.dot(system.b);
+  }
+}
+
+// The step's problem is F in the variable a' = x - origin - shift (x the contact unknowns, origin
+// the gaps of law_from_surface, shift the previous u_tau on the tangential coordinates): its c
+// is c_raw - S (origin + shift), its bounds the condensation's.
+PathStep PathSolver::Impl::solve_step(int k) {
+  const auto t_start = Clock::now();
+  PathStep s;
+  s.index = k;
+  s.t = loading.t[static_cast<std::size_t>(k - 1)];
+  const double t = s.t;
+  const bool proportional = loading.proportional();
+  Eigen::VectorXd c_raw, b;
+  if (proportional) {
+    c_raw = t * c1;
+    s.applied = t * applied1;
+  } else {
+    if (k > 1) loading.update(t, problem);
+    const DofMap dofs = make_dof_map(*problem.elasticity.mesh, problem.elasticity.dirichlet);
+    if (dofs.free_dofs != system.dofs.free_dofs)
+      throw InputError("the prescribed degrees of freedom change along the path at t = " + shortest(t) +
+                       ": a path may change prescribed values, not which displacements are prescribed");
+    b = assemble_rhs(problem.elasticity, dofs);
+    cond->set_load(b, dofs.prescribed);
+    system.dofs.prescribed = dofs.prescribed;
+    cond->set_gaps(contact_boundary(problem, system.dofs).gaps);
+    c_raw = cond->condensed_load();
+    step.lo = cond->reduced().lo;
+    step.hi = cond->reduced().hi;
+    s.applied = resultant(assemble_load(*problem.elasticity.mesh, problem.elasticity.body_force, problem.elasticity.tractions));
+  }
+  Eigen::VectorXd shift = Eigen::VectorXd::Zero(step.size());
+  if (has_tangential)
+    for (int i = 0; i < n1; ++i) shift(cond->tangential_coordinate(i)) = tau_prev(i);
+  const Eigen::VectorXd& origin = cond->origin();
+  step.c = c_raw - step.S * (origin + shift);
+  minimize_step(s, shift, origin);
+
+  // the change against the previous step, and what the step before predicted
+  const Eigen::VectorXd x = s.a;
+  s.change = (x - x_prev).cwiseAbs().maxCoeff();
+  const double floor = options.minimizer.tolerance * std::max({x.cwiseAbs().maxCoeff(), x_prev.cwiseAbs().maxCoeff(),
+                                                                std::numeric_limits<double>::min()});
+  if (k > 1) {
+    const double predicted = change_prev * (t - t_prev) / (t_prev - t_before);
+    s.jump = s.change > options.jump_factor * std::max(predicted, floor);
+  }
+  t_before = t_prev;
+  t_prev = t;
+  change_prev = s.change;
+  x_prev = x;
+
+  // the displacement: every step of a general path (its energy and forces need it), the
+  // frames and the last step
+  const bool last = k == static_cast<int>(loading.t.size());
+  const bool frame = last || (options.frame && options.frame(k));
+  Eigen::VectorXd u;
+  double kappa = t * t * kappa1;
+  if (!proportional || frame || !has_normal) {
+    const auto t0 = Clock::now();
+    if (proportional) {
+      b = t * system.b;
+      cond->set_load(b, t * prescribed1);
+    }
+    u = cond->back_substitute(x - origin);
+    timings["frames"] += since(t0);
+  }
+  describe_step(s, last_result, shift, c_raw, kappa, u.size() > 0 ? &u : nullptr, u.size() > 0 ? &b : nullptr);
+  if (frame) {
+    s.u = u;
+    const ElasticityProblem at_t = proportional ? scaled(problem.elasticity, t) : problem.elasticity;
+    s.forces = force_balance(at_t, u, s.contact_force);
+  }
+  if (has_tangential)
+    for (int i = 0; i < n1; ++i) tau_prev(i) = x(cond->tangential_coordinate(i));
+  last_shift = shift;
+  s.seconds = since(t_start);
+  return s;
+}
+
+// One minimization, or the fixed point on the friction bound: each iterate a Tresca problem with
+// the bound g (the tangential weights w_i g_i), until the coupled certificate holds.
+void PathSolver::Impl::minimize_step(PathStep& s, const Eigen::VectorXd& shift, const Eigen::VectorXd& origin) {
+  const Eigen::VectorXd start = x_prev - origin - shift;
+  if (!bound_law) {
+    MinimizerResult m = minimizer.minimize(step, start, options.minimizer);
+    s.status = m.status;
+    s.message = m.message;
+    s.certificate = m.certificate;
+    s.iterations = m.iterations;
+    s.may_be_nonunique = m.may_be_nonunique;
+    s.a = m.a + origin + shift;
+    last_result = std::move(m);
+    return;
+  }
+  FixedPointReport& fp = s.fixed_point;
+  fp.used = true;
+  fp.relaxation = options.fixed_point.relaxation;
+  Eigen::VectorXd from = start;
+  double change_before = std::numeric_limits<double>::infinity();
+  int growing = 0;
+  for (int it = 1; it <= options.fixed_point.max_iterations; ++it) {
+    for (int i = 0; i < n1; ++i) step.w(cond->tangential_coordinate(i)) = boundary.weights(i) * g(i);
+    MinimizerResult m = minimizer.minimize(step, from, options.minimizer);
+    fp.iterations = it;
+    s.iterations += m.iterations;
+    s.may_be_nonunique = m.may_be_nonunique;
+    // the bound the solution implies
+    Eigen::VectorXd implied(n1);
+    const bool forces = m.law_force.size() == m.a.size() && m.reaction.size() == m.a.size();
+    for (int i = 0; i < n1; ++i) {
+      const int kn = cond->normal_coordinate(i);
+      const double force = forces ? m.law_force(kn) + m.reaction(kn) : std::numeric_limits<double>::quiet_NaN();
+      implied(i) = bound_law->bound(m.a(kn) + origin(kn), force / boundary.weights(i));
+    }
+    const double size = implied.cwiseAbs().maxCoeff();
+    const double diff = (implied - g).cwiseAbs().maxCoeff();
+    fp.change = diff == 0.0 ? 0.0 : diff / std::max(size, std::numeric_limits<double>::min());
+    s.certificate = friction_bound_certificate(m.certificate, boundary.weights, g, implied);
+    s.status = m.status;
+    s.message = m.message;
+    s.a = m.a + origin + shift;
+    fp.converged = m.converged() && s.certificate.converged();
+    const bool failed = !m.converged();
+    last_result = std::move(m);
+    if (fp.converged || failed) break;
+    growing = fp.change > change_before ? growing + 1 : 0;
+    if (growing >= 2 && fp.relaxation > 1.0 / 64.0) {
+      fp.relaxation /= 2.0;
+      growing = 0;
+    }
+    change_before = fp.change;
+    g += fp.relaxation * (implied - g);
+    from = last_result.a;
+  }
+  if (s.status == MinimizerStatus::converged && !fp.converged) {
+    s.status = MinimizerStatus::failed;
+    s.message = "the fixed point on the friction bound did not converge in " + std::to_string(fp.iterations) +
+                " iterations (last relative change of the bound " + shortest(fp.change) + ", relaxation " +
+                shortest(fp.relaxation) + "); the friction coefficient may be too large for it to contract";
+  }
+}
+
+// The step's contact nodes, resultant, zone and energy, from the minimizer's point (and the
+// displacement where it was computed).
+void PathSolver::Impl::describe_step(PathStep& s, const MinimizerResult& m, const Eigen::VectorXd& shift,
+                                     const Eigen::VectorXd& c_raw, double kappa, const Eigen::VectorXd* u,
+                                     const Eigen::VectorXd* b) {
+  MinimizerResult raw = m;
+  raw.a = m.a + shift;  // the condensation's coordinates: u_tau total
+  Eigen::VectorXd residual;
+  if (u && b) {
+    Eigen::VectorXd uf(system.dofs.num_free());
+    for (int d = 0; d < system.dofs.num_free(); ++d) uf(d) = (*u)(system.dofs.free_dofs[static_cast<std::size_t>(d)]);
+    const Eigen::VectorXd Au = system.A * uf;
+    residual = Au - *b;
+    s.energy = 0.5 * uf.dot(Au) - uf.dot(*b);
+  } else {
+    const Eigen::VectorXd& x = s.a;
+    s.energy = 0.5 * x.dot(step.S * x) - c_raw.dot(x) + kappa;
+  }
+  for (Eigen::Index i = 0; i < m.a.size(); ++i) s.energy += step.w(i) * step.law_of(i).value(m.a(i));
+  s.contact.reserve(static_cast<std::size_t>(n1));
+  if (has_tangential) {
+    s.slip.resize(n1);
+    s.friction_bound.resize(n1);
+  }
+  for (int i = 0; i < n1; ++i) {
+    ContactNode node = contact_node(*problem.elasticity.mesh, boundary, *cond, system.dofs, i, raw,
+                                    residual.size() > 0 ? &residual : nullptr);
+    if (const int k = cond->tangential_coordinate(i); k >= 0) {
+      s.slip(i) = m.a(k);
+      node.friction_state = friction_state(step.law_of(k), m.a(k));
+      s.friction_bound(i) = step.w(k) / boundary.weights(i) * step.law_of(k).derivative(LawPart::j, 0.0, +1);
+    }
+    s.contact.push_back(std::move(node));
+  }
+  ContactSolution view;
+  view.contact = s.contact;
+  s.contact_force = view.contact_force();
+  s.zone = contact_zone(view);
+  if (!std::isfinite(s.energy) && s.converged()) {
+    s.status = MinimizerStatus::failed;
+    s.message = "the energy of the step is not finite";
+  }
+}
+
+ContactSolution PathSolver::Impl::last_solution(const PathStep& s, const MinimizerResult& m, const Eigen::VectorXd& shift) {
+  ContactSolution sol;
+  sol.u = s.u;
+  sol.unknowns = system.dofs.num_free();
+  sol.contact = s.contact;
+  sol.status = s.status;
+  sol.message = s.message;
+  sol.certificate = s.certificate;
+  sol.may_be_nonunique = s.may_be_nonunique;
+  sol.minimizer = m;
+  sol.minimizer->a = m.a + shift;
+  sol.uniqueness_margin = cond->uniqueness_margin();
+  sol.uniqueness_roundoff = cond->reduced().uniqueness_roundoff;
+  sol.held_by_contact = held_by_contact;
+  sol.energy = s.energy;
+  if (s.forces) sol.forces = *s.forces;
+  sol.stages = {"assembly", "condensation", "path"};
+  if (sol.converged() && !sol.u.allFinite()) {
+    sol.status = MinimizerStatus::failed;
+    sol.message = "the displacement is not finite (NaN or Inf after back-substitution)";
+  }
+  return sol;
+}
+
+PathSolver::PathSolver(ContactProblem& problem, std::unique_ptr<SparseFactorization> factorization,
+                       const NonsmoothMinimizer& minimizer, PathLoading loading, PathOptions options)
+    : impl_(std::make_unique<Impl>(problem, std::move(factorization), minimizer, std::move(loading), std::move(options))) {}
+
+PathSolver::~PathSolver() = default;
+
+PathSolution PathSolver::run() {
+  Impl& p = *impl_;
+  if (!p.factorization && p.cond) throw InternalError("PathSolver::run is called once");
+  const auto start = Clock::now();
+  p.set_up();
+  PathSolution out;
+  out.proportional = p.loading.proportional();
+  const auto t_path = Clock::now();
+  const int K = static_cast<int>(p.loading.t.size());
+  for (int k = 1; k <= K; ++k) {
+    out.steps.push_back(p.solve_step(k));
+    if (p.options.on_step && !p.options.on_step(out.steps.back())) break;
+  }
+  p.timings["path"] = since(t_path) - p.timings["frames"];
+  const PathStep& end = out.steps.back();
+  if (end.u.size() == 0) {
+    // stopped early by on_step: the displacement of the step it stopped at
+    PathStep& s = out.steps.back();
+    Eigen::VectorXd b = s.t * p.system.b;
+    if (out.proportional) p.cond->set_load(b, s.t * p.prescribed1);
+    s.u = p.cond->back_substitute(s.a - p.cond->origin());
+    const ElasticityProblem at_t = out.proportional ? scaled(p.problem.elasticity, s.t) : p.problem.elasticity;
+    s.forces = force_balance(at_t, s.u, s.contact_force);
+  }
+  out.last = p.last_solution(out.steps.back(), p.last_result, p.last_shift);
+  p.timings["total"] = since(start);
+  out.timings = p.timings;
+  out.last.timings = p.timings;
+  return out;
+}
+
+PathSolution solve_path(ContactProblem& problem, std::unique_ptr<SparseFactorization> factorization,
+                        const NonsmoothMinimizer& minimizer, PathLoading loading, PathOptions options) {
+  return PathSolver(problem, std::move(factorization), minimizer, std::move(loading), std::move(options)).run();
+}
+
+}  // namespace hemivem

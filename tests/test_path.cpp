@@ -1,0 +1,292 @@
+// Loading histories (docs/paths.md): each step checked against something independent — the
+// static solve, the same path with its data rebuilt at every step, the frictionless problem,
+// the balance of forces — and the fixed point of Coulomb's law against its coupled certificate.
+#include <hemivem/contact/piecewise_law.hpp>
+#include <hemivem/contact/problem.hpp>
+#include <hemivem/contact/solver.hpp>
+#include <hemivem/linear_backends.hpp>
+#include <hemivem/mesh/generators.hpp>
+#include <hemivem/nonsmooth_backends.hpp>
+#include <hemivem/path/path.hpp>
+#include <hemivem/scene/example.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+using namespace hemivem;
+
+namespace {
+
+std::unique_ptr<SparseFactorization> engine(const std::string& name = "eigen") {
+  FactorizationOptions fo;
+  fo.engine = name;
+  return make_factorization(fo);
+}
+
+// Example 4.1 with the top traction (tx, -8).
+ContactProblem example(const Mesh& mesh, double tx = 0.0) {
+  ContactProblem problem = example_4_1(mesh);
+  for (auto& t : problem.elasticity.tractions) t.traction = [tx](const Vec2&) { return Vec2(tx, -8.0); };
+  return problem;
+}
+
+double max_abs(const Eigen::VectorXd& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; }
+
+std::vector<double> factors(int K) {
+  std::vector<double> t;
+  for (int k = 1; k <= K; ++k) t.push_back(static_cast<double>(k) / K);
+  return t;
+}
+
+// The update of a proportional path written out: the problem's data at t from those at t = 1.
+std::function<void(double, ContactProblem&)> rebuild(const ContactProblem& at_one) {
+  return [at_one](double t, ContactProblem& p) {
+    for (std::size_t i = 0; i < p.elasticity.tractions.size(); ++i)
+      p.elasticity.tractions[i].traction = [f = at_one.elasticity.tractions[i].traction, t](const Vec2& x) -> Vec2 {
+        return t * f(x);
+      };
+  };
+}
+
+}  // namespace
+
+TEST(Path, OneStepIsTheStaticSolve) {
+  const Mesh mesh = make_squares(12);
+  for (const bool friction : {false, true}) {
+    SCOPED_TRACE(friction ? "tresca" : "frictionless");
+    ContactProblem problem = example(mesh, 3.0);
+    if (friction) problem.friction = tresca_law(0.8);
+    const auto minimizer = make_minimizer("ssn");
+    const ContactSolution s = solve_contact(problem, engine(), *minimizer, MinimizerOptions{});
+    ASSERT_TRUE(s.converged()) << s.message;
+    const PathSolution path = solve_path(problem, engine(), *minimizer, PathLoading{{1.0}, {}});
+    ASSERT_EQ(path.steps.size(), 1u);
+    ASSERT_TRUE(path.converged()) << path.steps[0].message;
+    EXPECT_LE(max_abs(path.last.u - s.u), 1e-10 * max_abs(s.u));
+    EXPECT_NEAR(path.steps[0].energy, s.energy, 1e-10 * std::abs(s.energy));
+    ASSERT_EQ(path.last.contact.size(), s.contact.size());
+    for (std::size_t i = 0; i < s.contact.size(); ++i) {
+      EXPECT_NEAR(path.last.contact[i].force(), s.contact[i].force(), 1e-9 * std::abs(s.contact_force().y()));
+      EXPECT_EQ(path.last.contact[i].friction_state, s.contact[i].friction_state);
+    }
+    EXPECT_LE(path.last.forces.residual(), 1e-9);
+  }
+}
+
+// Proportional loading condenses once and scales c; rebuilding the data at every step (one
+// interior solve per step for c and u) must give the same path.
+TEST(Path, ProportionalLoadingEqualsRebuildingTheDataAtEveryStep) {
+  const Mesh mesh = make_squares(12);
+  ContactProblem a = example(mesh, 3.0);
+  a.friction = tresca_law(0.5);
+  ContactProblem b = a;
+  const auto minimizer = make_minimizer("ssn");
+  const PathSolution fast = solve_path(a, engine(), *minimizer, PathLoading{factors(6), {}});
+  const PathSolution slow = solve_path(b, engine("cholmod"), *minimizer, PathLoading{factors(6), rebuild(a)});
+  EXPECT_TRUE(fast.proportional);
+  EXPECT_FALSE(slow.proportional);
+  ASSERT_EQ(fast.steps.size(), 6u);
+  ASSERT_EQ(slow.steps.size(), 6u);
+  for (std::size_t k = 0; k < 6; ++k) {
+    SCOPED_TRACE("step " + std::to_string(k + 1));
+    ASSERT_TRUE(fast.steps[k].converged()) << fast.steps[k].message;
+    ASSERT_TRUE(slow.steps[k].converged()) << slow.steps[k].message;
+    EXPECT_LE(max_abs(fast.steps[k].a - slow.steps[k].a), 1e-8 * max_abs(slow.steps[k].a));
+    EXPECT_NEAR(fast.steps[k].energy, slow.steps[k].energy, 1e-8 * std::abs(slow.steps[k].energy));
+    EXPECT_LE((fast.steps[k].applied - slow.steps[k].applied).norm(), 1e-12 * slow.steps[k].applied.norm());
+    EXPECT_NEAR(fast.steps[k].t, static_cast<double>(k + 1) / 6.0, 1e-15);
+  }
+  EXPECT_LE(max_abs(fast.last.u - slow.last.u), 1e-8 * max_abs(slow.last.u));
+}
+
+// Without friction the history does not matter: every step is the static problem at t_k.
+TEST(Path, FrictionlessStepsAreStaticSolvesAtTheirLoad) {
+  const Mesh mesh = make_squares(10);
+  ContactProblem problem = example(mesh);
+  const auto minimizer = make_minimizer("ssn");
+  PathOptions options;
+  options.frame = [](int) { return true; };
+  const PathSolution path = solve_path(problem, engine(), *minimizer, PathLoading{{0.25, 0.5, 1.0}, {}}, options);
+  for (const PathStep& s : path.steps) {
+    SCOPED_TRACE("t " + std::to_string(s.t));
+    ContactProblem at_t = example(mesh);
+    at_t.elasticity.tractions[0].traction = [t = s.t](const Vec2&) { return Vec2(0.0, -8.0 * t); };
+    const ContactSolution st = solve_contact(at_t, engine(), *minimizer, MinimizerOptions{});
+    ASSERT_TRUE(s.converged());
+    EXPECT_LE(max_abs(s.u - st.u), 1e-9 * max_abs(st.u));
+    EXPECT_NEAR(s.energy, st.energy, 1e-9 * std::abs(st.energy));
+    ASSERT_TRUE(s.forces.has_value());
+    EXPECT_LE(s.forces->residual(), 1e-9);
+  }
+}
+
+// A zero Tresca bound: the slip of each step is free, so the path ends where the frictionless
+// static solve is (the shift of the tangential unknowns by the previous slip is exact).
+TEST(Path, ZeroTrescaBoundEndsAtTheFrictionlessSolution) {
+  const Mesh mesh = make_squares(12);
+  ContactProblem problem = example(mesh, 3.0);
+  const auto minimizer = make_minimizer("ssn");
+  const ContactSolution frictionless = solve_contact(problem, engine(), *minimizer, MinimizerOptions{});
+  problem.friction = tresca_law(0.0);
+  const PathSolution path = solve_path(problem, engine(), *minimizer, PathLoading{factors(4), {}});
+  ASSERT_TRUE(path.converged());
+  EXPECT_LE(max_abs(path.last.u - frictionless.u), 1e-9 * max_abs(frictionless.u));
+}
+
+// Coulomb with mu = 0 is frictionless; a huge mu after a normal load sticks every node in
+// contact while a shear load grows; every step balances its forces.
+TEST(Path, CoulombLimitsAndBalance) {
+  const Mesh mesh = make_squares(12);
+  const auto minimizer = make_minimizer("ssn");
+  ContactProblem frictionless = example(mesh, 3.0);
+  const ContactSolution reference = solve_contact(frictionless, engine(), *minimizer, MinimizerOptions{});
+  {
+    ContactProblem p = example(mesh, 3.0);
+    p.friction = tresca_law(1.0);
+    p.friction_bound = FrictionBound{FrictionBound::Kind::coulomb, 0.0, {}};
+    const PathSolution path = solve_path(p, engine(), *minimizer, PathLoading{{1.0}, {}});
+    ASSERT_TRUE(path.converged()) << path.steps[0].message;
+    EXPECT_TRUE(path.steps[0].fixed_point.used);
+    EXPECT_LE(max_abs(path.last.u - reference.u), 1e-9 * max_abs(reference.u));
+  }
+  // normal load to t = 1, then the shear grows with t - 1
+  ContactProblem p = example(mesh);
+  p.friction = tresca_law(1.0);
+  p.friction_bound = FrictionBound{FrictionBound::Kind::coulomb, 1e6, {}};
+  PathLoading loading{{0.5, 1.0, 1.5, 2.0}, [](double t, ContactProblem& q) {
+                        q.elasticity.tractions[0].traction = [t](const Vec2&) {
+                          return Vec2(3.0 * std::max(t - 1.0, 0.0), -8.0 * std::min(t, 1.0));
+                        };
+                      }};
+  PathOptions options;
+  options.frame = [](int) { return true; };
+  const PathSolution path = solve_path(p, engine(), *minimizer, loading, options);
+  ASSERT_EQ(path.steps.size(), 4u);
+  for (const PathStep& s : path.steps) {
+    SCOPED_TRACE("t " + std::to_string(s.t));
+    ASSERT_TRUE(s.converged()) << s.message;
+    ASSERT_TRUE(s.forces.has_value());
+    EXPECT_LE(s.forces->residual(), 1e-8);
+    EXPECT_LE((s.forces->contact - s.contact_force).norm(), 1e-14 * (1.0 + s.contact_force.norm()));
+    if (s.t <= 1.0) continue;
+    int pressed = 0;
+    for (std::size_t i = 0; i < s.contact.size(); ++i) {
+      if (!(s.contact[i].force() > 0.0)) continue;
+      ++pressed;
+      EXPECT_EQ(s.slip(static_cast<Eigen::Index>(i)), 0.0) << "node " << s.contact[i].vertex;
+      EXPECT_EQ(s.contact[i].friction_state, "stick");
+    }
+    EXPECT_GT(pressed, 0);
+  }
+}
+
+// A moderate mu: the fixed point converges and its certificate holds; the friction force of every
+// node lies within mu times its normal force, with equality where it slips.
+TEST(Path, CoulombFixedPointMeetsTheCoupledConditions) {
+  const Mesh mesh = make_squares(12);
+  const auto minimizer = make_minimizer("ssn");
+  const double mu = 0.3;
+  ContactProblem p = example(mesh, 3.0);
+  p.friction = tresca_law(1.0);
+  p.friction_bound = FrictionBound{FrictionBound::Kind::coulomb, mu, {}};
+  const PathSolution path = solve_path(p, engine(), *minimizer, PathLoading{factors(3), {}});
+  int slipping = 0, sticking = 0;
+  for (const PathStep& s : path.steps) {
+    ASSERT_TRUE(s.converged()) << s.message;
+    EXPECT_TRUE(s.fixed_point.converged);
+    EXPECT_GE(s.fixed_point.iterations, 2);
+    const double f = s.certificate.force_scale;
+    for (const ContactNode& n : s.contact) {
+      const double limit = mu * std::max(n.force(), 0.0);
+      EXPECT_LE(std::abs(n.friction_force), limit + 1e-9 * f);
+      if (n.friction_state == "slip") {
+        ++slipping;
+        EXPECT_NEAR(std::abs(n.friction_force), limit, 1e-9 * f);
+      } else {
+        ++sticking;
+      }
+    }
+  }
+  EXPECT_GT(slipping, 0);
+  EXPECT_GT(sticking, 0);
+}
+
+// One iteration cannot resolve the bound: the step says so, never "converged".
+TEST(Path, AFixedPointThatDoesNotConvergeIsReported) {
+  const Mesh mesh = make_squares(8);
+  const auto minimizer = make_minimizer("ssn");
+  ContactProblem p = example(mesh, 3.0);
+  p.friction = tresca_law(1.0);
+  p.friction_bound = FrictionBound{FrictionBound::Kind::coulomb, 0.3, {}};
+  PathOptions options;
+  options.fixed_point.max_iterations = 1;
+  const PathSolution path = solve_path(p, engine(), *minimizer, PathLoading{{1.0}, {}}, options);
+  const PathStep& s = path.steps[0];
+  EXPECT_FALSE(s.converged());
+  EXPECT_FALSE(s.fixed_point.converged);
+  EXPECT_FALSE(path.last.converged());
+  EXPECT_NE(s.message.find("fixed point"), std::string::npos) << s.message;
+}
+
+// The bound h(u_nu) of a table: a constant table is Tresca's law with that bound.
+TEST(Path, AConstantBoundTableIsTresca) {
+  const Mesh mesh = make_squares(10);
+  const auto minimizer = make_minimizer("ssn");
+  ContactProblem tresca = example(mesh, 3.0);
+  tresca.friction = tresca_law(0.8);
+  const PathSolution a = solve_path(tresca, engine(), *minimizer, PathLoading{factors(2), {}});
+  ContactProblem table = example(mesh, 3.0);
+  table.friction = tresca_law(1.0);
+  table.friction_bound = FrictionBound{FrictionBound::Kind::normal_displacement, 0.0, {{{-1.0, 0.8}}, {{1.0, 0.8}}}};
+  const PathSolution b = solve_path(table, engine(), *minimizer, PathLoading{factors(2), {}});
+  ASSERT_TRUE(a.converged());
+  ASSERT_TRUE(b.converged()) << b.steps.back().message;
+  EXPECT_LE(max_abs(a.last.u - b.last.u), 1e-9 * max_abs(a.last.u));
+  EXPECT_EQ(b.steps[0].fixed_point.iterations, 2);  // g = 0, then g = 0.8 exactly
+}
+
+TEST(Path, FrictionBoundTableInterpolates) {
+  FrictionBound h{FrictionBound::Kind::normal_displacement, 0.0, {{{0.0, 1.0}}, {{0.01, 3.0}}}};
+  EXPECT_EQ(h.of_normal_displacement(-1.0), 1.0);
+  EXPECT_DOUBLE_EQ(h.of_normal_displacement(0.005), 2.0);
+  EXPECT_EQ(h.of_normal_displacement(1.0), 3.0);
+  FrictionBound c{FrictionBound::Kind::coulomb, 0.5, {}};
+  EXPECT_EQ(c.bound(0.0, 4.0), 2.0);
+  EXPECT_EQ(c.bound(0.0, -4.0), 0.0);
+  EXPECT_THROW(check_friction_bound(FrictionBound{FrictionBound::Kind::coulomb, -1.0, {}}), InputError);
+  EXPECT_THROW(check_friction_bound(FrictionBound{FrictionBound::Kind::normal_displacement, 0.0, {{{1.0, 1.0}}, {{0.0, 1.0}}}}),
+               InputError);
+}
+
+TEST(Path, CoupledCertificateCountsTheBoundMismatchAsAForce) {
+  Certificate tresca;
+  tresca.primal = 0.0;
+  tresca.dual = 1e-12;
+  tresca.force_scale = 10.0;
+  tresca.tolerance = 1e-10;
+  const Eigen::VectorXd w = Eigen::VectorXd::Constant(2, 0.5);
+  const Eigen::VectorXd g = Eigen::VectorXd::Constant(2, 1.0);
+  EXPECT_TRUE(friction_bound_certificate(tresca, w, g, g).converged());
+  Eigen::VectorXd off = g;
+  off(1) += 1e-6;
+  const Certificate c = friction_bound_certificate(tresca, w, g, off);
+  EXPECT_FALSE(c.converged());
+  EXPECT_DOUBLE_EQ(c.dual, 0.5 * (off(1) - g(1)) / 10.0);
+}
+
+TEST(Path, StopsWhenAskedAndRefusesBadFactors) {
+  const Mesh mesh = make_squares(8);
+  const auto minimizer = make_minimizer("ssn");
+  ContactProblem p = example(mesh);
+  PathOptions options;
+  options.on_step = [](const PathStep& s) { return s.index < 2; };
+  const PathSolution path = solve_path(p, engine(), *minimizer, PathLoading{factors(5), {}}, options);
+  ASSERT_EQ(path.steps.size(), 2u);
+  EXPECT_EQ(path.last.u.size(), 2 * mesh.num_vertices());
+  EXPECT_LE(path.last.forces.residual(), 1e-9);
+  EXPECT_THROW(solve_path(p, engine(), *minimizer, PathLoading{{0.5, 0.5}, {}}), InputError);
+  EXPECT_THROW(solve_path(p, engine(), *minimizer, PathLoading{{0.0, 1.0}, {}}), InputError);
+  EXPECT_THROW(solve_path(p, engine(), *minimizer, PathLoading{{}, {}}), InputError);
+}
