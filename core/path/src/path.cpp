@@ -115,6 +115,7 @@ struct PathSolver::Impl {
   Eigen::VectorXd g;             // the friction bound per node (FrictionBound)
   double change_prev = 0.0, t_prev = 0.0, t_before = 0.0;
   std::map<std::string, double> timings;
+  bool check_existence_each_step = true;
 
   Impl(ContactProblem& p, std::unique_ptr<SparseFactorization> f, const NonsmoothMinimizer& m, PathLoading l,
        PathOptions o)
@@ -168,6 +169,9 @@ void PathSolver::Impl::set_up() {
   timings["condensation"] = since(t0);
   step = cond->reduced();
   n1 = boundary.size();
+  // S does not change along the path: whether F is bounded below is decided once, at the first
+  // step (every step when a rigid motion is held by the contact only, where it depends on c)
+  check_existence_each_step = !held_by_contact.empty();
   has_normal = cond->normal_coordinate(0) >= 0;
   has_tangential = cond->tangential_coordinate(0) >= 0;
   if (bound_law) {
@@ -275,6 +279,7 @@ PathStep PathSolver::Impl::solve_step(int k) {
 // the bound g (the tangential weights w_i g_i), until the coupled certificate holds.
 void PathSolver::Impl::minimize_step(PathStep& s, const Eigen::VectorXd& shift, const Eigen::VectorXd& origin) {
   const Eigen::VectorXd start = x_prev - origin - shift;
+  if (s.index > 1 && !check_existence_each_step) options.minimizer.check_existence = false;
   if (!bound_law) {
     MinimizerResult m = minimizer.minimize(step, start, options.minimizer);
     s.status = m.status;
