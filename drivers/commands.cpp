@@ -9,6 +9,7 @@
 #include <hemivem/contact/piecewise_law.hpp>
 #include <hemivem/contact/reduced_io.hpp>
 #include <hemivem/scene/scene.hpp>
+#include <hemivem/app/path.hpp>
 #include <hemivem/uniqueness.hpp>
 
 #include <nlohmann/json.hpp>
@@ -165,7 +166,20 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   options.reduced = o.export_reduced.empty() ? nullptr : &reduced;
   options.progress = std::move(progress.search);
   std::optional<AdaptiveSolve> adaptive;
-  if (scene.adapt) {
+  std::optional<SceneSolve> path;
+  if (scene_is_path(scene)) {
+    if (scene.adapt) throw InputError("a loading path is solved on one mesh; remove [adapt] or [path]", scene.where("path"));
+    if (!o.export_reduced.empty())
+      throw InputError("a loading path has a reduced problem per step; export it from a static solve", "--export-reduced");
+    if (o.linear && same_engine(*o.linear, "mumps-mpi"))
+      throw InputError("a loading path runs in one process; the linear engine mumps-mpi runs across processes: choose another engine",
+                       "--linear");
+    const int steps = scene.path ? static_cast<int>(scene.path->factors().size()) : 1;
+    auto step_line = [&, steps](const PathStep& s) {
+      if (!o.json && o.verbosity >= 1) err << path_progress_line(s, steps) << "\n";
+    };
+    path = solve_scene_path(scene, std::move(options), step_line);
+  } else if (scene.adapt) {
     if (!o.export_reduced.empty())
       throw InputError("an adaptive solve has no one reduced problem; export it from a solve of one mesh", "--export-reduced");
     if (o.linear && same_engine(*o.linear, "mumps-mpi"))
@@ -177,8 +191,8 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
     };
     adaptive = solve_adaptively(scene, *scene.adapt, std::move(options), step_line);
   }
-  SceneSolve solved_one = adaptive ? SceneSolve() : solve_scene(scene, std::move(options));
-  SceneSolve& solved = adaptive ? adaptive->last : solved_one;
+  SceneSolve solved_one = adaptive || path ? SceneSolve() : solve_scene(scene, std::move(options));
+  SceneSolve& solved = adaptive ? adaptive->last : path ? *path : solved_one;
   const auto& built = solved.built;
   const ContactSolution& sol = solved.solution;
   if (!solved.holds_results) return sol.converged() ? kSuccess : kNotConverged;  // rank > 0: rank 0 reports
@@ -198,6 +212,7 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   } else if (o.verbosity >= 1) {
     out << "hemivem solve: " << scene.title << " (" << scene.source << ")\n" << full_report(scene, solved, info);
     if (adaptive) out << adapt_report(*adaptive);
+    if (path) out << path_report(*path->path);
     print_files(out, o, report);
   }
   return sol.converged() ? kSuccess : kNotConverged;

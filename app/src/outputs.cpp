@@ -1,4 +1,7 @@
 #include <hemivem/app/outputs.hpp>
+#include <hemivem/app/path.hpp>
+
+#include "path_outputs.hpp"
 #include <hemivem/app/figures.hpp>
 #include <hemivem/app/text_writer.hpp>
 #include <hemivem/app/vtu.hpp>
@@ -124,6 +127,7 @@ void draw_solve_figures(const OutputTransaction& tx, const fs::path& dir, const 
       figures.push_back(mesh_figure(mesh, info, "mesh, " + std::to_string(mesh.num_elements()) + " elements"));
     if (want("adapt.png") && info.adapt.is_null()) report.skipped.push_back("adapt.png: not an adaptive solve");
     if (want("adapt.png") && !info.adapt.is_null()) figures.push_back(adapt_figure(info));
+    if (want("path.png") && info.path) figures.push_back(path_figure(*info.path, info));
     const std::vector<std::string> reasons = draw_figures(tx.staging(), figures);
     for (std::size_t i = 0; i < figures.size(); ++i) {
       if (reasons[i].empty()) report.written.push_back(dir / figures[i].png);
@@ -159,7 +163,7 @@ std::vector<std::array<int, 2>> contact_lines(const Mesh& mesh, const ContactSol
 nlohmann::json result_json(const Mesh& mesh, const ContactSolution& s, const RunInfo& info) {
   using nlohmann::json;
   json j;
-  j["schema"] = "hemivem-result/9";
+  j["schema"] = "hemivem-result/10";
   j["version"] = info.version;
   j["scene"] = {{"name", info.scene_name}, {"toml", info.scene_toml}};
   j["backends"] = {{"linear", info.linear}, {"minimizer", info.minimizer}};
@@ -232,6 +236,7 @@ nlohmann::json result_json(const Mesh& mesh, const ContactSolution& s, const Run
                                              {"y", {number(zone.lower.y()), number(zone.upper.y())}}};
   j["error_estimate"] = info.error_estimate ? error_estimate_json(*info.error_estimate) : json(nullptr);
   j["adapt"] = info.adapt.is_null() ? json(nullptr) : info.adapt;
+  j["path"] = info.path ? path_summary_json(*info.path) : json(nullptr);
   return j;
 }
 
@@ -245,9 +250,11 @@ nlohmann::json error_estimate_json(const ErrorEstimate& e) {
 }
 
 const std::vector<std::string>& all_outputs() {
-  static const std::vector<std::string> names{"result.json", "contact.csv",  "displacement.csv", "history.csv",
-                                              "solution.vtu", "scene.toml",  "mesh.poly2d",      "u_nu.png",
-                                              "deformed.png", "error.png",   "mesh.png",         "adapt.png"};
+  static const std::vector<std::string> names{"result.json",  "contact.csv",      "displacement.csv",      "history.csv",
+                                              "solution.vtu", "scene.toml",       "mesh.poly2d",           "u_nu.png",
+                                              "deformed.png", "error.png",        "mesh.png",              "adapt.png",
+                                              "path.json",    "path-contact.csv", "path-displacement.csv", "solution.pvd",
+                                              "path.png"};
   return names;
 }
 
@@ -312,7 +319,12 @@ OutputReport write_outputs(const fs::path& dir, const Mesh& mesh, const Material
                      std::to_string(mesh.num_vertices()) + " vertices");
   auto want = [&](const std::string& name) { return std::find(wanted.begin(), wanted.end(), name) != wanted.end(); };
 
-  OutputTransaction tx(dir, known);  // the folder changes at once, in commit(), or not at all
+  // the folder changes at once, in commit(), or not at all; an earlier path's frames are ours too
+  std::vector<std::string> owned = known;
+  for (const auto& name : frame_files_in(dir)) owned.push_back(name);
+  if (info.path)
+    for (const auto& name : frame_files(*info.path)) owned.push_back(name);
+  OutputTransaction tx(dir, owned);
   OutputReport report;
   auto write = [&](const std::string& name, const std::function<void(std::ostream&)>& body) {
     if (!want(name)) return;
@@ -323,6 +335,8 @@ OutputReport write_outputs(const fs::path& dir, const Mesh& mesh, const Material
   listed.files.clear();
   for (const auto& k : known)
     if (want(k)) listed.files.push_back(k);
+  if (info.path && want("solution.pvd"))
+    for (const auto& name : frame_files(*info.path)) listed.files.push_back(name);
   write("result.json", [&](std::ostream& os) { os << result_json(mesh, solution, listed).dump(2) << '\n'; });
   write("contact.csv", [&](std::ostream& os) { write_contact_csv(os, solution); });
   write("displacement.csv", [&](std::ostream& os) { write_displacement_csv(os, mesh, solution.u); });
@@ -334,6 +348,24 @@ OutputReport write_outputs(const fs::path& dir, const Mesh& mesh, const Material
   write("mesh.poly2d", [&](std::ostream& os) {
     write_poly2d(os, mesh, {"the mesh of " + info.mesh, "regions and edge groups are not part of this format"});
   });
+  if (info.path) {
+    const PathSolution& path = *info.path;
+    write("path.json", [&](std::ostream& os) { os << path_json(path).dump(2) << '\n'; });
+    write("path-contact.csv", [&](std::ostream& os) { write_path_contact_csv(os, path); });
+    write("path-displacement.csv", [&](std::ostream& os) { write_path_displacement_csv(os, mesh, path); });
+    if (want("solution.pvd")) {
+      for (const PathStep& step : path.steps) {
+        if (step.u.size() == 0) continue;
+        ContactSolution frame;
+        frame.u = step.u;
+        frame.contact = step.contact;
+        const std::string name = frame_file(step);
+        tx.write(name, [&](std::ostream& os) { write_vtu(os, mesh, materials, frame, nullptr); });
+        report.written.push_back(dir / name);
+      }
+      write("solution.pvd", [&](std::ostream& os) { write_pvd(os, path); });
+    }
+  }
   draw_solve_figures(tx, dir, mesh, solution, info, want, report);
   // A plot that could not be made is not in the folder: result.json says so.
   if (want("result.json") && report.written.size() != listed.files.size()) {

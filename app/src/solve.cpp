@@ -1,4 +1,5 @@
 #include <hemivem/app/solve.hpp>
+#include <hemivem/app/path.hpp>
 
 #include <hemivem/error.hpp>
 #include <hemivem/linear_backends.hpp>
@@ -161,6 +162,11 @@ std::vector<std::string> wanted_files(const Scene& scene, bool has_contact) {
     if (std::find(scene.outputs.begin(), scene.outputs.end(), name) != scene.outputs.end()) files.push_back(file);
   }
   files.push_back("scene.toml");
+  if (has_contact && scene_is_path(scene)) {  // the steps of a loading path
+    files.insert(files.end(), {"path.json", "path-contact.csv", "path-displacement.csv"});
+    if (std::find(scene.outputs.begin(), scene.outputs.end(), "vtu") != scene.outputs.end()) files.push_back("solution.pvd");
+    files.push_back("path.png");
+  }
   if (scene.adapt) {  // the final mesh of an adaptive solve
     files.push_back("mesh.poly2d");
     if (std::find(scene.outputs.begin(), scene.outputs.end(), "mesh-png") != scene.outputs.end()) files.push_back("mesh.png");
@@ -196,6 +202,7 @@ RunInfo run_info(const Scene& scene, const SceneSolve& solved) {
   if (built.problem.constraint == ConstraintKind::bilateral) info.law_breakpoints.clear();
   info.error_estimate = solved.estimate;
   info.adapt = solved.adapt;
+  info.path = solved.path.get();
   return info;
 }
 

@@ -37,6 +37,8 @@ from ._hemivem import (  # noqa: F401
     MeshError,
     MinimizerResult,
     NumericalError,
+    Path,
+    PathStep,
     ReducedProblem,
     Result,
     Scene,
@@ -65,6 +67,8 @@ __all__ = [
     "MeshError",
     "MinimizerResult",
     "NumericalError",
+    "Path",
+    "PathStep",
     "ReducedProblem",
     "Result",
     "Scene",
@@ -76,6 +80,7 @@ __all__ = [
     "mesh_generators",
     "minimize",
     "solve",
+    "solve_path",
 ]
 
 
@@ -176,3 +181,34 @@ Scene.set = _set
 Scene.update = _update
 Scene.to_dict = _to_dict
 Scene.get = _get
+
+
+def solve_path(scene=None, *, steps=None, t=None, frames=None, **keywords):
+    """Solves a scene along a loading path (docs/paths.md), as `hemivem solve` does for a scene
+    with a [path] table: each step the static problem at its load factor, started from the step
+    before, with friction acting on the slip of each step. Returns the Result of the last step,
+    whose `path` holds every step (a Path: iterate over its PathStep objects, each with its
+    certificate, contact table, slip, forces and, for a frame, its displacement).
+
+    scene: as hemivem.solve takes it (a Scene, a path to a scene file, TOML text or None for
+    the default). steps (load factors k/steps), t (a list of increasing load factors) and
+    frames (how many steps keep their displacement) set the [path] table; a scene without one
+    gets [path] with its defaults (10 steps). Further keywords are hemivem.solve's."""
+    if scene is None:
+        scene = Scene.default()
+    elif not isinstance(scene, Scene):
+        scene = Scene.from_toml(scene)
+    else:
+        scene = Scene.from_string(scene.to_toml(), scene.source)
+    values = {}
+    if steps is not None:
+        values["path.steps"] = steps
+    if t is not None:
+        values["path.t"] = [float(x) for x in t]
+    if frames is not None:
+        values["path.frames"] = frames
+    if not values and "path" not in scene.to_dict():
+        values["path.steps"] = 10
+    if values:
+        scene.update(values)
+    return solve(scene, **keywords)

@@ -19,6 +19,7 @@
 #include <hemivem/app/outputs.hpp>
 #include <hemivem/app/report.hpp>
 #include <hemivem/app/solve.hpp>
+#include <hemivem/app/path.hpp>
 
 namespace hemivem::python {
 
@@ -99,6 +100,138 @@ ContactTable contact_table(const ContactSolution& s) {
 SolveData& data(py::handle self) { return *self.cast<std::shared_ptr<SolveData>>(); }
 
 using ResultClass = py::class_<SolveData, std::shared_ptr<SolveData>>;
+
+/// A Result's loading path, and one of its steps; both keep the Result alive.
+struct PyPath {
+  std::shared_ptr<SolveData> owner;
+  const PathSolution& path() const { return *owner->solved.path; }
+};
+struct PyPathStep {
+  std::shared_ptr<SolveData> owner;
+  std::size_t index = 0;
+  const PathStep& step() const { return owner->solved.path->steps[index]; }
+};
+
+py::object json_object(const nlohmann::json& j) { return py::module_::import("json").attr("loads")(j.dump()); }
+
+py::array_t<double> pair_array(const Vec2& v) {
+  py::array_t<double> a(2);
+  a.mutable_data()[0] = v.x();
+  a.mutable_data()[1] = v.y();
+  return a;
+}
+
+py::array_t<double> copy_array(const Eigen::VectorXd& v) {
+  py::array_t<double> a(v.size());
+  for (Eigen::Index i = 0; i < v.size(); ++i) a.mutable_data()[i] = v(i);
+  return a;
+}
+
+
+void register_path(py::module_& m) {
+  py::class_<PyPathStep>(m, "PathStep", R"doc(
+One step of a loading path (docs/paths.md), as path.json records it, with its arrays:
+index (1-based), t, status, converged, message, certificate (dict), energy, iterations,
+contact (ContactTable of the step: u_nu, forces, u_tau, friction_state ...), slip (the slip of
+the step per contact node), friction_bound (g_i per node), contact_force and applied_load
+(arrays of 2), zone (dict: nodes, length, lower, upper), fixed_point (dict, or None without
+a friction bound that depends on the normal contact), jump, change, displacement ((vertices, 2)
+array for a frame, else None) and balance (the relative residual of the balance of forces,
+for a frame).
+)doc")
+      .def_property_readonly("index", [](const PyPathStep& s) { return s.step().index; })
+      .def_property_readonly("t", [](const PyPathStep& s) { return s.step().t; })
+      .def_property_readonly("status", [](const PyPathStep& s) { return to_string(s.step().status); })
+      .def_property_readonly("converged", [](const PyPathStep& s) { return s.step().converged(); })
+      .def_property_readonly("message", [](const PyPathStep& s) { return s.step().message; })
+      .def_property_readonly("certificate",
+                             [](const PyPathStep& s) { return json_object(app::certificate_json(s.step().certificate)); })
+      .def_property_readonly("energy", [](const PyPathStep& s) { return s.step().energy; })
+      .def_property_readonly("iterations", [](const PyPathStep& s) { return s.step().iterations; })
+      .def_property_readonly("contact",
+                             [](const PyPathStep& s) {
+                               ContactSolution view;
+                               view.contact = s.step().contact;
+                               return contact_table(view);
+                             })
+      .def_property_readonly("slip", [](const PyPathStep& s) { return copy_array(s.step().slip); })
+      .def_property_readonly("friction_bound", [](const PyPathStep& s) { return copy_array(s.step().friction_bound); })
+      .def_property_readonly("contact_force", [](const PyPathStep& s) { return pair_array(s.step().contact_force); })
+      .def_property_readonly("applied_load", [](const PyPathStep& s) { return pair_array(s.step().applied); })
+      .def_property_readonly("zone",
+                             [](const PyPathStep& s) {
+                               const nlohmann::json j = app::path_json(PathSolution{{s.step()}, {}, true, {}})["steps"][0];
+                               return json_object(j["contact_zone"]);
+                             })
+      .def_property_readonly("fixed_point",
+                             [](const PyPathStep& s) -> py::object {
+                               const nlohmann::json j = app::path_json(PathSolution{{s.step()}, {}, true, {}})["steps"][0];
+                               return j["fixed_point"].is_null() ? py::none() : json_object(j["fixed_point"]);
+                             })
+      .def_property_readonly("jump", [](const PyPathStep& s) { return s.step().jump; })
+      .def_property_readonly("change", [](const PyPathStep& s) { return s.step().change; })
+      .def_property_readonly("displacement",
+                             [](py::object self) -> py::object {
+                               const PyPathStep& s = self.cast<const PyPathStep&>();
+                               const Eigen::VectorXd& u = s.step().u;
+                               if (u.size() == 0) return py::none();
+                               return view(u.data(), u.size() / 2, 2, self);
+                             })
+      .def_property_readonly("balance",
+                             [](const PyPathStep& s) -> py::object {
+                               if (!s.step().forces) return py::none();
+                               return py::float_(s.step().forces->residual());
+                             })
+      .def("__repr__", [](const PyPathStep& s) {
+        std::ostringstream o;
+        o << "PathStep(index=" << s.step().index << ", t=" << s.step().t << ", status='" << to_string(s.step().status)
+          << "', zone_nodes=" << s.step().zone.nodes << ", jump=" << (s.step().jump ? "True" : "False") << ")";
+        return o.str();
+      });
+  py::class_<PyPath>(m, "Path", R"doc(
+The steps of a loading path (Result.path): len(path), path[k] (a PathStep; negative indices
+count from the end), iteration over the steps; t, energy (arrays per step), converged (every
+step), jumps (the indices of the steps that jumped) and json() (path.json as a dict).
+)doc")
+      .def("__len__", [](const PyPath& p) { return p.path().steps.size(); })
+      .def("__getitem__",
+           [](const PyPath& p, py::ssize_t k) {
+             const auto n = static_cast<py::ssize_t>(p.path().steps.size());
+             if (k < 0) k += n;
+             if (k < 0 || k >= n) throw py::index_error("path step index out of range");
+             return PyPathStep{p.owner, static_cast<std::size_t>(k)};
+           })
+      .def("__iter__",
+           [](const PyPath& p) {
+             py::list steps;
+             for (std::size_t k = 0; k < p.path().steps.size(); ++k) steps.append(py::cast(PyPathStep{p.owner, k}));
+             return steps.attr("__iter__")();
+           })
+      .def_property_readonly("t",
+                             [](const PyPath& p) {
+                               Eigen::VectorXd t(static_cast<Eigen::Index>(p.path().steps.size()));
+                               for (std::size_t k = 0; k < p.path().steps.size(); ++k) t(static_cast<Eigen::Index>(k)) = p.path().steps[k].t;
+                               return copy_array(t);
+                             })
+      .def_property_readonly("energy",
+                             [](const PyPath& p) {
+                               Eigen::VectorXd e(static_cast<Eigen::Index>(p.path().steps.size()));
+                               for (std::size_t k = 0; k < p.path().steps.size(); ++k) e(static_cast<Eigen::Index>(k)) = p.path().steps[k].energy;
+                               return copy_array(e);
+                             })
+      .def_property_readonly("converged", [](const PyPath& p) { return p.path().converged(); })
+      .def_property_readonly("jumps",
+                             [](const PyPath& p) {
+                               std::vector<int> j;
+                               for (const PathStep& s : p.path().steps)
+                                 if (s.jump) j.push_back(s.index);
+                               return j;
+                             })
+      .def("json", [](const PyPath& p) { return json_object(app::path_json(p.path())); }, "path.json as a dict.")
+      .def("__repr__", [](const PyPath& p) {
+        return "Path(" + std::to_string(p.path().steps.size()) + " steps, t = " + std::to_string(p.path().steps.back().t) + ")";
+      });
+}
 
 void register_contact_table(py::module_& m) {
   py::class_<ContactTable>(m, "ContactTable", R"doc(
@@ -283,6 +416,15 @@ void def_result_fields(ResultClass& c) {
           "'reason', and 'steps', per solve its unknowns, estimate, potential_energy and elapsed seconds; None "
           "for a solve of one mesh.")
       .def_property_readonly(
+          "path",
+          [](py::object s) -> py::object {
+            auto d = s.cast<std::shared_ptr<SolveData>>();
+            if (!d->solved.path) return py::none();
+            return py::cast(PyPath{d});
+          },
+          "A loading path's steps (hemivem.solve_path, or a scene with [path] or Coulomb friction): a Path, "
+          "a sequence of PathStep; None for a static solve. The Result itself is the last step's.")
+      .def_property_readonly(
           "mesh",
           [](py::object s) {
             auto d = s.cast<std::shared_ptr<SolveData>>();
@@ -423,7 +565,8 @@ void solve_data(SolveData& d, const py::object& progress, bool keep_reduced, con
     o.reduced = keep_reduced ? &reduced : nullptr;
     o.progress = search_progress(watch, progress);
     if (mesh) o.mesh = *mesh->mesh;
-    if (d.scene.adapt) d.solved = std::move(app::solve_adaptively(d.scene, *d.scene.adapt, std::move(o)).last);
+    if (app::scene_is_path(d.scene)) d.solved = app::solve_scene_path(d.scene, std::move(o));
+    else if (d.scene.adapt) d.solved = std::move(app::solve_adaptively(d.scene, *d.scene.adapt, std::move(o)).last);
     else d.solved = app::solve_scene(d.scene, std::move(o));
   } catch (const Interrupted&) {
   }
@@ -483,7 +626,7 @@ void register_solve_function(py::module_& m) {
         const std::vector<std::string> overrides = keyword_overrides(k, kwargs);
         if (!overrides.empty()) apply_overrides(d->scene, overrides);
         if (adapt && !d->scene.adapt) d->scene.adapt = SceneAdapt{};
-        if (d->scene.adapt && keep_reduced) keep_reduced = false;  // no one reduced problem
+        if ((d->scene.adapt || app::scene_is_path(d->scene)) && keep_reduced) keep_reduced = false;  // no one reduced problem
         refuse_mpi_engine(d->scene.solver.linear, linear ? "linear" : d->scene.where("solver.linear"));
         if (!mesh.is_none() && !py::isinstance<PyMesh>(mesh))
           throw py::type_error("hemivem.solve: mesh must be a hemivem.Mesh, not " +
@@ -502,6 +645,7 @@ void register_solve_function(py::module_& m) {
 
 void register_solve(py::module_& m) {
   register_contact_table(m);
+  register_path(m);
   register_result(m);
   register_solve_function(m);
 }

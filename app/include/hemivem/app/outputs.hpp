@@ -14,6 +14,7 @@
 
 #include <hemivem/contact/obstacle.hpp>
 #include <hemivem/contact/solver.hpp>
+#include <hemivem/path/path.hpp>
 #include <hemivem/estimate/error_estimate.hpp>
 #include <hemivem/vem/material.hpp>
 #include <hemivem/mesh/mesh.hpp>
@@ -48,13 +49,17 @@ struct RunInfo {
   /// An adaptive solve's record (adapt_json of hemivem/app/adapt.hpp): result.json's "adapt",
   /// adapt.png; null for a single solve.
   nlohmann::json adapt;
+  /// A loading path's steps (not owned; must outlive write_outputs): result.json's "path"
+  /// summary, path.json, path-contact.csv, path-displacement.csv, solution.pvd with a
+  /// solution-NNNN.vtu per frame, path.png; null for a static solve.
+  const PathSolution* path = nullptr;
 };
 
 /// result.json's "error_estimate" of an estimate: energy, norm, relative, parts (its time is
 /// the stage "estimate" of the timings).
 nlohmann::json error_estimate_json(const ErrorEstimate& estimate);
 
-/// The result.json document ("schema": "hemivem-result/8").
+/// The result.json document ("schema": "hemivem-result/10").
 nlohmann::json result_json(const Mesh& mesh, const ContactSolution& solution, const RunInfo& info);
 
 /// Whether the contact nodes carry a tangential displacement (friction or a bilateral
@@ -64,7 +69,9 @@ bool has_tangential(const ContactSolution& solution);
 /// The names write_outputs knows, in the order it writes them: result.json, contact.csv,
 /// displacement.csv, history.csv, solution.vtu, scene.toml, mesh.poly2d (the mesh solved on),
 /// u_nu.png, deformed.png, error.png (the error indicators; with info.error_estimate),
-/// mesh.png (the mesh) and adapt.png (the estimate of each step against unknowns and time; with info.adapt).
+/// mesh.png (the mesh) and adapt.png (the estimate of each step against unknowns and time; with info.adapt);
+/// with info.path: path.json, path-contact.csv, path-displacement.csv, solution.pvd (and the
+/// frames' solution-NNNN.vtu, which it names) and path.png.
 const std::vector<std::string>& all_outputs();
 
 /// What write_outputs did.

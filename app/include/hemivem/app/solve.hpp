@@ -16,6 +16,7 @@
 #include <hemivem/estimate/error_estimate.hpp>
 #include <hemivem/global_search.hpp>
 #include <hemivem/nonsmooth_minimizer.hpp>
+#include <hemivem/path/path.hpp>
 #include <hemivem/reduced_problem.hpp>
 #include <hemivem/scene/scene.hpp>
 
@@ -65,6 +66,9 @@ struct SceneSolve {
   /// The last solve of an adaptive sequence carries the sequence's record (adapt_json of
   /// hemivem/app/adapt.hpp; RunInfo::adapt); null otherwise.
   nlohmann::json adapt;
+  /// The last step of a loading path carries the path (hemivem/app/path.hpp; RunInfo::path);
+  /// null otherwise.
+  std::shared_ptr<const PathSolution> path;
   double total_seconds() const;  ///< mesh_seconds + the solve's total
 };
 

@@ -1,0 +1,46 @@
+// A scene's loading history (docs/paths.md): the steps of its [path] table solved on one
+// condensation (hemivem/path/path.hpp), what path.json records about them and the line
+// `hemivem solve` prints per step. A scene whose friction bound depends on the normal contact
+// (Coulomb's law, or a bound h(u_nu)) and has no [path] is the one-step path t = 1.
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include <hemivem/app/solve.hpp>
+#include <hemivem/path/path.hpp>
+#include <hemivem/scene/scene.hpp>
+
+namespace hemivem::app {
+
+/// Whether `scene` is solved as a path: it has a [path] table, or a friction bound that depends
+/// on the normal contact.
+bool scene_is_path(const Scene& scene);
+
+/// The load factors of the scene's path (t = 1 alone without [path]) and, unless the scene is
+/// proportional (scene_is_proportional), the update that sets a problem built from it to t.
+PathLoading scene_path_loading(const Scene& scene);
+
+/// Solves the scene's path with the engines it names (an unknown engine or mumps-mpi is an
+/// InputError before any work): the last step as a static solve reports it (its problem set to
+/// the last t, so that every output and report reads the path's end state), with
+/// SceneSolve::path holding every step (the frames, ScenePath::is_frame, with their
+/// displacement). `options` as solve_scene's (its `reduced` and `start` are not used);
+/// `on_step` is called after each step (for progress lines).
+SceneSolve solve_scene_path(const Scene& scene, SceneSolveOptions options = {},
+                            std::function<void(const PathStep&)> on_step = {});
+
+/// path.json ("schema": "hemivem-path/1"): per step t, status, certificate, energy, the
+/// contact zone, the contact resultant, the applied load, the fixed point, jumps (docs/reference/outputs.md).
+nlohmann::json path_json(const PathSolution& path);
+
+/// One line per step for `hemivem solve`: "step 3/10  t = 0.3  converged (primal 0, dual 2e-12)
+/// zone 12 nodes  contact force (0.1, 7.9)  [fixed point 5 iterations]  [jump]".
+std::string path_progress_line(const PathStep& step, int steps);
+
+/// The lines `hemivem solve` adds to its report for a path.
+std::string path_report(const PathSolution& path);
+
+}  // namespace hemivem::app

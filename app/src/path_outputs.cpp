@@ -1,0 +1,133 @@
+#include "path_outputs.hpp"
+
+#include <hemivem/app/format.hpp>
+#include <hemivem/app/text_writer.hpp>
+
+#include "figure_style.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <regex>
+#include <sstream>
+
+namespace hemivem::app {
+
+namespace fs = std::filesystem;
+using detail::num;
+
+void write_path_contact_csv(std::ostream& stream, const PathSolution& path) {
+  TextWriter os(stream);
+  const bool tangential = !path.steps.empty() && path.steps.front().slip.size() > 0;
+  os << "step,t,vertex,x,y,u_nu,law_force,reaction,pressure,state"
+     << (tangential ? ",u_tau,slip,friction_force,friction_bound,friction_state" : "") << "\n";
+  for (const PathStep& s : path.steps)
+    for (std::size_t i = 0; i < s.contact.size(); ++i) {
+      const ContactNode& n = s.contact[i];
+      os << s.index << ',' << s.t << ',' << n.vertex << ',' << n.x.x() << ',' << n.x.y() << ',' << n.u_nu << ','
+         << n.law_force << ',' << n.reaction << ',' << n.pressure() << ',' << n.state;
+      if (tangential) {
+        const auto k = static_cast<Eigen::Index>(i);
+        os << ',' << n.u_tau << ',' << s.slip(k) << ',' << n.friction_force << ',' << s.friction_bound(k) << ','
+           << n.friction_state;
+      }
+      os << '\n';
+    }
+}
+
+void write_path_displacement_csv(std::ostream& stream, const Mesh& mesh, const PathSolution& path) {
+  TextWriter os(stream);
+  os << "step,t,vertex,x,y,ux,uy\n";
+  for (const PathStep& s : path.steps) {
+    if (s.u.size() == 0) continue;
+    for (int v = 0; v < mesh.num_vertices(); ++v)
+      os << s.index << ',' << s.t << ',' << v << ',' << mesh.vertex(v).x() << ',' << mesh.vertex(v).y() << ','
+         << s.u(2 * v) << ',' << s.u(2 * v + 1) << '\n';
+  }
+}
+
+std::string frame_file(const PathStep& step) {
+  char name[32];
+  std::snprintf(name, sizeof name, "solution-%04d.vtu", step.index);
+  return name;
+}
+
+std::vector<std::string> frame_files(const PathSolution& path) {
+  std::vector<std::string> names;
+  for (const PathStep& s : path.steps)
+    if (s.u.size() > 0) names.push_back(frame_file(s));
+  return names;
+}
+
+std::vector<std::string> frame_files_in(const fs::path& dir) {
+  std::vector<std::string> names;
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) return names;
+  static const std::regex frame(R"(solution-[0-9]{4,}\.vtu)");
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (std::regex_match(name, frame)) names.push_back(name);
+  }
+  return names;
+}
+
+void write_pvd(std::ostream& stream, const PathSolution& path) {
+  TextWriter os(stream);
+  os << "<?xml version=\"1.0\"?>\n"
+     << "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+     << "  <Collection>\n";
+  for (const PathStep& s : path.steps)
+    if (s.u.size() > 0)
+      os << "    <DataSet timestep=\"" << s.t << "\" group=\"\" part=\"0\" file=\"" << frame_file(s) << "\"/>\n";
+  os << "  </Collection>\n</VTKFile>\n";
+}
+
+nlohmann::json path_summary_json(const PathSolution& path) {
+  int converged = 0;
+  for (const PathStep& s : path.steps) converged += s.converged() ? 1 : 0;
+  return {{"steps", path.steps.size()},
+          {"converged_steps", converged},
+          {"jumps", path.jumps()},
+          {"t", path.steps.empty() ? nlohmann::json() : nlohmann::json(path.steps.back().t)},
+          {"proportional", path.proportional},
+          {"file", "path.json"}};
+}
+
+Figure path_figure(const PathSolution& path, const RunInfo& info) {
+  Figure f;
+  f.png = "path.png";
+  f.width = 1400;
+  f.height = 600;
+  const bool friction = !path.steps.empty() && path.steps.front().slip.size() > 0;
+  f.data.push_back({"path.dat", [&path](std::ostream& os) {
+                      // t, mean u_nu, normal resultant, friction resultant, zone length, stick length, jump
+                      for (const PathStep& s : path.steps) {
+                        double w = 0.0, un = 0.0, normal = 0.0, tangential = 0.0, stick = 0.0;
+                        for (const ContactNode& n : s.contact) {
+                          w += n.weight;
+                          un += n.weight * n.u_nu;
+                          normal += n.force();
+                          tangential += n.friction_force;
+                          if (n.friction_state == "stick" && n.force() > 0.0) stick += n.weight;
+                        }
+                        os << num(s.t) << ' ' << num(w > 0.0 ? un / w : 0.0) << ' ' << num(normal) << ' '
+                           << num(tangential) << ' ' << num(s.zone.length) << ' ' << num(stick) << ' ' << (s.jump ? 1 : 0)
+                           << '\n';
+                      }
+                    }});
+  std::ostringstream s;
+  s << "set multiplot layout 1,2 title " << detail::solve_title("loading path, " + std::to_string(path.steps.size()) + " steps", info)
+    << " noenhanced\n"
+    << "set grid\nset key top left\n"
+    << "set xlabel 'mean normal displacement of the contact nodes'\nset ylabel 'resultant of the contact forces'\n"
+    << "plot 'path.dat' using 2:3 with linespoints pt 7 ps 0.6 lc rgb '#3b528b' title 'normal (compressive)'"
+    << (friction ? ", 'path.dat' using 2:4 with linespoints pt 7 ps 0.6 lc rgb '#5ec962' title 'friction'" : "")
+    << ", 'path.dat' using 2:($7 > 0 ? $3 : 1/0) with points pt 6 ps 2 lc rgb '#d62728' title 'jump'\n"
+    << "set xlabel 'load factor t'\nset ylabel 'length of boundary'\n"
+    << "plot 'path.dat' using 1:5 with linespoints pt 7 ps 0.6 lc rgb '#3b528b' title 'contact zone'"
+    << (friction ? ", 'path.dat' using 1:6 with linespoints pt 7 ps 0.6 lc rgb '#5ec962' title 'stick zone'" : "") << "\n"
+    << "unset multiplot\n";
+  f.script = s.str();
+  return f;
+}
+
+}  // namespace hemivem::app
