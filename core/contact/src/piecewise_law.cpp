@@ -324,7 +324,7 @@ std::shared_ptr<const ContactLaw> slip_weakening_law(double g_static, double g_k
 }
 
 const std::vector<std::string>& friction_law_names() {
-  static const std::vector<std::string> names{"tresca", "slip-weakening", "piecewise"};
+  static const std::vector<std::string> names{"tresca", "slip-weakening", "piecewise", "coulomb"};
   return names;
 }
 

@@ -12,7 +12,7 @@ namespace hemivem {
 
 struct ScalarExpression::Parser {
   mu::Parser parser;
-  double x = 0.0, y = 0.0;
+  double x = 0.0, y = 0.0, t = 1.0;
   std::mutex mutex;  // the variables are shared by every evaluation
 };
 
@@ -38,26 +38,32 @@ ScalarExpression ScalarExpression::parse(const std::string& text) {
     p->parser.DefineConst("_e", std::numbers::e);
     p->parser.DefineVar("x", &p->x);
     p->parser.DefineVar("y", &p->y);
+    p->parser.DefineVar("t", &p->t);
     p->parser.SetExpr(text);
     (void)p->parser.Eval();  // muparser reports syntax errors and unknown names on the first evaluation
+    const auto& used = p->parser.GetUsedVar();
+    e.uses_t_ = used.count("t") > 0;
+    e.uses_position_ = used.count("x") > 0 || used.count("y") > 0;
   } catch (const mu::Parser::exception_type& error) {
     // muparser's message names the offending token and its position (counted from 0)
     throw InputError("expression '" + text + "': " + error.GetMsg() +
-                     " (expected an expression in x and y such as \"0.02 + 0.5*x^2\")");
+                     " (expected an expression in x, y and t such as \"0.02 + 0.5*x^2\")");
   }
   e.parser_ = std::move(p);
   return e;
 }
 
-double ScalarExpression::operator()(const Vec2& p) const {
+double ScalarExpression::operator()(const Vec2& p, double t) const {
   if (!parser_) return value_;
   const std::lock_guard<std::mutex> lock(parser_->mutex);
   parser_->x = p.x();
   parser_->y = p.y();
+  parser_->t = t;
   try {
     return parser_->parser.Eval();
   } catch (const mu::Parser::exception_type& error) {
-    throw InputError("expression '" + text_ + "' at (" + shortest(p.x()) + ", " + shortest(p.y()) + "): " + error.GetMsg());
+    throw InputError("expression '" + text_ + "' at (" + shortest(p.x()) + ", " + shortest(p.y()) + ")" +
+                     (uses_t_ ? ", t = " + shortest(t) : std::string()) + ": " + error.GetMsg());
   }
 }
 

@@ -59,6 +59,8 @@ std::shared_ptr<const ContactLaw> make_law(const SceneLaw& law) {
 
 std::shared_ptr<const ContactLaw> make_friction_law(const SceneLaw& law) {
   const std::string n = lower(law.name);
+  // a bound that depends on the normal contact scales a unit Tresca law (make_friction_bound)
+  if (n == "coulomb" || (n == "tresca" && !law.bound_table.empty())) return tresca_law(1.0);
   if (n == "tresca") return tresca_law(param(law, "bound", 0.1));
   if (n == "slip-weakening")
     return slip_weakening_law(param(law, "static", 0.1), param(law, "kinetic", 0.05), param(law, "distance", 0.01));
@@ -79,6 +81,14 @@ std::shared_ptr<const ContactLaw> make_friction_law(const SceneLaw& law) {
   return j;
 }
 
+std::optional<FrictionBound> make_friction_bound(const SceneLaw& law) {
+  const std::string n = lower(law.name);
+  if (n == "coulomb") return FrictionBound{FrictionBound::Kind::coulomb, param(law, "coefficient", 0.3), {}};
+  if (n == "tresca" && !law.bound_table.empty())
+    return FrictionBound{FrictionBound::Kind::normal_displacement, 0.0, law.bound_table};
+  return std::nullopt;
+}
+
 Obstacle make_obstacle(const SceneObstacle& o) {
   Obstacle b;
   b.shape = obstacle_shape_from_string(o.shape);
@@ -92,6 +102,7 @@ Obstacle make_obstacle(const SceneObstacle& o) {
 
 }  // namespace detail
 
+using detail::make_friction_bound;
 using detail::make_friction_law;
 using detail::make_law;
 using detail::make_obstacle;
@@ -210,24 +221,90 @@ ScalarExpression field(const SceneScalar& v) {
   return v.is_expression() ? ScalarExpression::parse(v.expression) : ScalarExpression(v.value);
 }
 
-/// A scalar field that refuses a value that is not finite, naming the scene key.
-std::function<double(const Vec2&)> finite_scalar(ScalarExpression e, const Scene& scene, const std::string& key) {
-  return [e = std::move(e), key, where = scene.where(key)](const Vec2& x) {
-    const double value = e(x);
+/// " at t = ..." for a value that depends on t, for messages.
+std::string at_t(const ScalarExpression& e, double t) { return e.uses_t() ? " at t = " + fmt(t) : std::string(); }
+
+/// The scalar field of a driving value of the scene (a load, a prescribed displacement, an
+/// obstacle's motion) at the load factor t: times t when it does not mention t, as written when
+/// it does (scene.hpp). A value that is not finite is an error naming the scene key.
+std::function<double(const Vec2&)> driven_scalar(const SceneScalar& v, double t, const Scene& scene,
+                                                 const std::string& key) {
+  ScalarExpression e = field(v);
+  const double scale = e.uses_t() ? 1.0 : t;
+  return [e = std::move(e), t, scale, key, where = scene.where(key)](const Vec2& x) {
+    const double value = scale * e(x, t);
     if (!std::isfinite(value))
       throw InputError(key + " = '" + e.text() + "' gives a value that is not finite at (" + fmt(x.x()) + ", " +
-                           fmt(x.y()) + ")",
+                           fmt(x.y()) + ")" + at_t(e, t),
                        where);
     return value;
   };
 }
 
-/// The vector field (ex, ey) that refuses a value that is not finite, naming the scene key.
-VectorField finite_vector(ScalarExpression ex, ScalarExpression ey, const Scene& scene,
+/// The vector field of two driving values of the scene at the load factor t (driven_scalar).
+VectorField driven_vector(const std::array<SceneScalar, 2>& v, double t, const Scene& scene,
                           const std::array<std::string, 2>& keys) {
-  auto fx = finite_scalar(std::move(ex), scene, keys[0]);
-  auto fy = finite_scalar(std::move(ey), scene, keys[1]);
+  auto fx = driven_scalar(v[0], t, scene, keys[0]);
+  auto fy = driven_scalar(v[1], t, scene, keys[1]);
   return [fx, fy](const Vec2& x) { return Vec2(fx(x), fy(x)); };
+}
+
+/// loads.body_force at t; empty when both components are the number 0.
+VectorField body_force_at(const Scene& scene, double t) {
+  const auto& f = scene.body_force;
+  if (!(f[0].is_expression() || f[1].is_expression() || f[0].value != 0.0 || f[1].value != 0.0)) return {};
+  return driven_vector(f, t, scene, {"loads.body_force", "loads.body_force"});
+}
+
+/// The traction or pressure of [[loads.traction]] i at t (its edges are not touched).
+void set_traction_at(TractionLoad& load, const Scene& scene, std::size_t i, double t) {
+  const auto& traction = scene.tractions[i];
+  const std::string key = "loads.traction[" + std::to_string(i) + "]";
+  load.traction = {};
+  load.pressure = {};
+  if (traction.pressure) load.pressure = driven_scalar(*traction.pressure, t, scene, key + ".pressure");
+  else load.traction = driven_vector(traction.value, t, scene, {key + ".value", key + ".value"});
+}
+
+/// The prescribed displacement of [[dirichlet]] i at t (a free component reads 0).
+VectorField dirichlet_value_at(const Scene& scene, std::size_t i, double t) {
+  const auto& d = scene.dirichlet[i];
+  const std::string key = "dirichlet[" + std::to_string(i) + "]";
+  // the keys that gave the components, for messages
+  const bool as_value = scene.lines.count(key + ".value") > 0;
+  const std::array<std::string, 2> keys{as_value ? key + ".value" : key + ".ux", as_value ? key + ".value" : key + ".uy"};
+  return driven_vector({d.ux.value_or(SceneScalar{}), d.uy.value_or(SceneScalar{})}, t, scene, keys);
+}
+
+/// contact.gap at t: as written (a gap that does not mention t stays); finite and >= 0 at every
+/// point it is evaluated, else an error naming the key.
+std::function<double(const Vec2&)> gap_at(const Scene& scene, double t) {
+  return [g = field(scene.contact->gap), t, where = scene.where("contact.gap")](const Vec2& x) {
+    const double value = g(x, t);
+    if (!(std::isfinite(value) && value >= 0.0))
+      throw InputError("contact.gap = '" + g.text() + "' gives " + fmt(value) + " at (" + fmt(x.x()) + ", " +
+                           fmt(x.y()) + ")" + at_t(g, t) + "; a gap must be finite and >= 0",
+                       where);
+    return value;
+  };
+}
+
+/// [contact.obstacle] at t: moved by its motion at t.
+Obstacle obstacle_at(const Scene& scene, double t) {
+  const SceneObstacle& o = *scene.contact->obstacle;
+  Obstacle b = make_obstacle(o);
+  if (!o.motion) return b;
+  const Vec2 m = driven_vector(*o.motion, t, scene, {"contact.obstacle.motion", "contact.obstacle.motion"})(Vec2::Zero());
+  b.point += m;
+  b.center += m;
+  for (Vec2& q : b.points) q += m;
+  return b;
+}
+
+/// The gap or the obstacle of the scene's contact at t.
+void set_contact_data_at(ContactProblem& p, const Scene& scene, double t) {
+  if (scene.contact->obstacle) p.obstacle = obstacle_at(scene, t);
+  else p.gap = gap_at(scene, t);
 }
 
 /// The material of each region: the scene's E and nu, but for the regions [[material.region]]
@@ -280,28 +357,18 @@ void add_dirichlet(ElasticityProblem& e, const Scene& scene, const EdgeSelection
   for (std::size_t i = 0; i < scene.dirichlet.size(); ++i) {
     const auto& d = scene.dirichlet[i];
     const std::string key = "dirichlet[" + std::to_string(i) + "]";
-    const ScalarExpression ux = d.ux ? field(*d.ux) : ScalarExpression(0.0);
-    const ScalarExpression uy = d.uy ? field(*d.uy) : ScalarExpression(0.0);
-    // the keys that gave the components, for messages
-    const bool as_value = scene.lines.count(key + ".value") > 0;
-    const std::array<std::string, 2> keys{as_value ? key + ".value" : key + ".ux", as_value ? key + ".value" : key + ".uy"};
-    e.dirichlet.push_back(
-        {select(d.boundary, key), finite_vector(ux, uy, scene, keys), {d.ux.has_value(), d.uy.has_value()}, key});
+    e.dirichlet.push_back({select(d.boundary, key), dirichlet_value_at(scene, i, 1.0),
+                           {d.ux.has_value(), d.uy.has_value()}, key});
   }
 }
 
 /// [loads]: the body force (when not zero) and each [[loads.traction]].
 void add_loads(ElasticityProblem& e, const Scene& scene, const EdgeSelection& select) {
-  const auto& f = scene.body_force;
-  if (f[0].is_expression() || f[1].is_expression() || f[0].value != 0.0 || f[1].value != 0.0)
-    e.body_force = finite_vector(field(f[0]), field(f[1]), scene, {"loads.body_force", "loads.body_force"});
+  e.body_force = body_force_at(scene, 1.0);
   for (std::size_t i = 0; i < scene.tractions.size(); ++i) {
-    const auto& t = scene.tractions[i];
-    const std::string key = "loads.traction[" + std::to_string(i) + "]";
     TractionLoad load;
-    load.edges = select(t.boundary, key);
-    if (t.pressure) load.pressure = finite_scalar(field(*t.pressure), scene, key + ".pressure");
-    else load.traction = finite_vector(field(t.value[0]), field(t.value[1]), scene, {key + ".value", key + ".value"});
+    load.edges = select(scene.tractions[i].boundary, "loads.traction[" + std::to_string(i) + "]");
+    set_traction_at(load, scene, i, 1.0);
     e.tractions.push_back(std::move(load));
   }
 }
@@ -325,15 +392,7 @@ void add_contact(ContactProblem& p, const SceneContact& c, const Scene& scene, c
                  const EdgeSelection& select) {
   p.contact_edges = select(c.boundary, "contact");
   check_contact_not_clamped(p, mesh, scene);
-  if (c.obstacle) p.obstacle = make_obstacle(*c.obstacle);
-  else p.gap = [g = field(c.gap), where = scene.where("contact.gap")](const Vec2& x) {
-    const double value = g(x);
-    if (!(std::isfinite(value) && value >= 0.0))
-      throw InputError("contact.gap = '" + g.text() + "' gives " + fmt(value) + " at (" + fmt(x.x()) + ", " +
-                           fmt(x.y()) + "); a gap must be finite and >= 0",
-                       where);
-    return value;
-  };
+  set_contact_data_at(p, scene, 1.0);
   try {
     p.law = make_law(c.law);
   } catch (const InputError& e) {
@@ -344,6 +403,7 @@ void add_contact(ContactProblem& p, const SceneContact& c, const Scene& scene, c
   if (c.friction) {
     try {
       p.friction = make_friction_law(*c.friction);
+      p.friction_bound = make_friction_bound(*c.friction);
     } catch (const InputError& e) {
       throw InputError("contact.friction: " + e.detail(), scene.where("contact.friction.law"));
     }
@@ -364,6 +424,39 @@ ContactProblem make_contact_problem(const Scene& scene, const Mesh& mesh) {
   if (scene.contact) add_contact(p, *scene.contact, scene, mesh, select);
   else p.constraint = ConstraintKind::none;
   return p;
+}
+
+bool scene_is_proportional(const Scene& scene) {
+  auto mentions_t = [](const SceneScalar& v) { return v.is_expression() && ScalarExpression::parse(v.expression).uses_t(); };
+  auto any = [&](const auto&... v) { return (mentions_t(v) || ...); };
+  if (any(scene.body_force[0], scene.body_force[1])) return false;
+  for (const auto& t : scene.tractions)
+    if (t.pressure ? mentions_t(*t.pressure) : any(t.value[0], t.value[1])) return false;
+  for (const auto& d : scene.dirichlet)
+    if ((d.ux && mentions_t(*d.ux)) || (d.uy && mentions_t(*d.uy))) return false;
+  if (scene.contact) {
+    if (scene.contact->obstacle ? scene.contact->obstacle->motion.has_value() : mentions_t(scene.contact->gap))
+      return false;
+  }
+  return true;
+}
+
+void set_load_factor(const Scene& scene, double t, ContactProblem& problem) {
+  if (!std::isfinite(t)) throw InternalError("set_load_factor: the load factor must be finite, got " + fmt(t));
+  ElasticityProblem& e = problem.elasticity;
+  const std::size_t clamped = scene.clamped.empty() ? 0 : 1;  // [clamped] comes first (add_dirichlet)
+  if (e.tractions.size() != scene.tractions.size() || e.dirichlet.size() != clamped + scene.dirichlet.size() ||
+      scene.contact.has_value() == problem.contact_edges.empty())
+    throw InternalError("set_load_factor: the problem was not built from this scene (" +
+                        std::to_string(e.tractions.size()) + " tractions, " + std::to_string(e.dirichlet.size()) +
+                        " prescribed parts, contact " + (problem.contact_edges.empty() ? "none" : "given") +
+                        "; the scene has " + std::to_string(scene.tractions.size()) + ", " +
+                        std::to_string(clamped + scene.dirichlet.size()) + ", " +
+                        (scene.contact ? "given" : "none") + ")");
+  e.body_force = body_force_at(scene, t);
+  for (std::size_t i = 0; i < scene.tractions.size(); ++i) set_traction_at(e.tractions[i], scene, i, t);
+  for (std::size_t i = 0; i < scene.dirichlet.size(); ++i) e.dirichlet[clamped + i].value = dirichlet_value_at(scene, i, t);
+  if (scene.contact) set_contact_data_at(problem, scene, t);
 }
 
 }  // namespace hemivem

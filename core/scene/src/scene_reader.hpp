@@ -56,6 +56,9 @@ std::shared_ptr<const ContactLaw> make_law(const SceneLaw& law);
 /// The friction law of [contact.friction] (tresca, slip-weakening, or an even piecewise law);
 /// InputError for parameters out of range or a piecewise law that is not even.
 std::shared_ptr<const ContactLaw> make_friction_law(const SceneLaw& law);
+/// The friction bound of [contact.friction] when it depends on the normal contact ("coulomb",
+/// or "tresca" with a bound table; make_friction_law is then tresca_law(1)); none otherwise.
+std::optional<FrictionBound> make_friction_bound(const SceneLaw& law);
 Obstacle make_obstacle(const SceneObstacle& o);
 
 /// Reads one table of the scene: unknown keys are rejected on construction; every read
@@ -111,7 +114,7 @@ class TableReader {
     if (!n) return std::nullopt;
     return as_number(key, *n);
   }
-  /// A number, or a string holding an expression in x and y (parsed here, so that a syntax
+  /// A number, or a string holding an expression in x, y and t (parsed here, so that a syntax
   /// error names the key's line).
   SceneScalar as_scalar(std::string_view key, const toml::node& n, const std::string& element = "") const {
     if (const auto* text = n.as_string()) {

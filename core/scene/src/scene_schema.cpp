@@ -92,7 +92,8 @@ const std::map<std::string, std::vector<std::string>>& law_parameter_names() {
 const std::map<std::string, std::vector<std::string>>& friction_parameter_names() {
   static const std::map<std::string, std::vector<std::string>> m{{"tresca", {"bound"}},
                                                                   {"slip-weakening", {"static", "kinetic", "distance"}},
-                                                                  {"piecewise", {"breakpoints", "j", "j1", "j2"}}};
+                                                                  {"piecewise", {"breakpoints", "j", "j1", "j2"}},
+                                                                  {"coulomb", {"coefficient"}}};
   return m;
 }
 
@@ -126,6 +127,25 @@ void read_pieces(TableReader& r, SceneLaw& law) {
   }
 }
 
+/// friction.bound given as [[u_nu, h], ...] (law = "tresca"): the bound h(u_nu), checked as
+/// FrictionBound checks it.
+void read_bound_table(TableReader& r, SceneLaw& law) {
+  const toml::node& n = *r.find("bound");
+  const toml::array& a = *n.as_array();
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const auto v = r.numbers_of("bound", a[i], "a number or an array of [u_nu, h] points");
+    if (v.size() != 2)
+      r.fail("bound", a[i],
+             "point " + std::to_string(i + 1) + ": expected [u_nu, h], got " + std::to_string(v.size()) + " numbers");
+    law.bound_table.push_back({v[0], v[1]});
+  }
+  try {
+    check_friction_bound(FrictionBound{FrictionBound::Kind::normal_displacement, 0.0, law.bound_table});
+  } catch (const InputError& e) {
+    r.fail("bound", n, e.detail());
+  }
+}
+
 /// [contact.friction]: the law of the tangential displacement and its parameters.
 SceneLaw read_friction(TableReader& r) {
   SceneLaw law;
@@ -142,9 +162,17 @@ SceneLaw read_friction(TableReader& r) {
                "'" + k + "' is a parameter of friction law '" + name + "', not of '" + law.name + "'" +
                    (own.empty() ? "" : " (which has: " + join(own) + ")"));
   read_pieces(r, law);
+  if (law.name == "tresca" && r.has("bound") && r.node("bound").is_array()) read_bound_table(r, law);
   for (const auto& k : own)
-    if (k != "breakpoints" && k != "j" && k != "j1" && k != "j2")
+    if (k != "breakpoints" && k != "j" && k != "j1" && k != "j2" && law.bound_table.empty())
       if (auto v = r.number(k)) law.parameters[k] = *v;
+  if (law.name == "coulomb" && r.has("coefficient")) {
+    try {
+      check_friction_bound(FrictionBound{FrictionBound::Kind::coulomb, law.parameters.at("coefficient"), {}});
+    } catch (const InputError& e) {
+      r.fail("coefficient", r.node("coefficient"), e.detail());
+    }
+  }
   try {
     (void)make_friction_law(law);
   } catch (const InputError& e) {
@@ -213,6 +241,15 @@ SceneObstacle read_obstacle(TableReader& ob) {
   if (auto v = ob.fixed<2>("center", "[x, y]")) so.center = *v;
   if (auto v = ob.number("radius")) so.radius = *v;
   if (auto v = ob.points("points")) so.points = *v;
+  if (auto m = ob.scalars<2>("motion", "[mx, my]")) {
+    const toml::array& a = *ob.node("motion").as_array();
+    for (std::size_t i = 0; i < 2; ++i)
+      if ((*m)[i].is_expression() && ScalarExpression::parse((*m)[i].expression).uses_position())
+        ob.fail("motion", a[i],
+                "element " + std::to_string(i) + ": the obstacle moves as a whole, its motion is a function of t "
+                "alone; '" + (*m)[i].expression + "' mentions x or y");
+    so.motion = *m;
+  }
   const std::string defect = make_obstacle(so).defect();
   if (!defect.empty()) {
     const char* key = so.shape == "plane" ? "normal" : (so.shape == "circle" ? "radius" : "points");
@@ -247,7 +284,8 @@ SceneContact read_contact(TableReader& r) {
   }
   if (const toml::table* o = r.table("obstacle")) {
     if (r.has("gap")) r.fail("gap", r.node("gap"), "not used with [contact.obstacle]; give either a gap or an obstacle");
-    TableReader ob(r.scene(), *o, r.key_path("obstacle"), {"shape", "point", "normal", "center", "radius", "points"});
+    TableReader ob(r.scene(), *o, r.key_path("obstacle"),
+                   {"shape", "point", "normal", "center", "radius", "points", "motion"});
     c.obstacle = read_obstacle(ob);
     c.constraint = ConstraintKind::one_sided;  // unless the scene says otherwise
   }
@@ -260,8 +298,15 @@ SceneContact read_contact(TableReader& r) {
     c.law_origin = *o;
   }
   if (const toml::table* f = r.table("friction")) {
-    TableReader fr(r.scene(), *f, r.key_path("friction"), {"law", "bound", "static", "kinetic", "distance", "breakpoints", "j", "j1", "j2"});
+    TableReader fr(r.scene(), *f, r.key_path("friction"),
+                   {"law", "bound", "static", "kinetic", "distance", "breakpoints", "j", "j1", "j2", "coefficient"});
     c.friction = read_friction(fr);
+    const bool coulomb = c.friction->name == "coulomb";
+    if (c.constraint == ConstraintKind::bilateral && (coulomb || !c.friction->bound_table.empty()))
+      fr.fail(coulomb ? "law" : "bound", fr.node(coulomb ? "law" : "bound"),
+              std::string(coulomb ? "Coulomb's bound mu p" : "a bound h(u_nu)") +
+                  " depends on the normal contact and needs the normal displacements as unknowns; constraint = "
+                  "\"bilateral\" fixes them at 0 (give the friction bound as a number)");
   }
   return c;
 }
@@ -561,6 +606,31 @@ void read_adapt(Scene& s, const toml::table& t) {
   s.adapt = a;
 }
 
+/// [path]: the load factors (steps, or t one by one) and the frames written.
+void read_path(Scene& s, const toml::table& t) {
+  TableReader v(s, t, "path", {"steps", "t", "frames"});
+  ScenePath p;
+  if (v.has("steps") && v.has("t"))
+    throw InputError("path: give either steps (t_k = k / steps) or t (the load factors one by one), not both",
+                     v.at(v.node("t")));
+  if (auto x = integer_in(v, "steps", 1, 1000000)) p.steps = *x;
+  if (auto x = v.numbers("t")) {
+    const toml::array& a = *v.node("t").as_array();
+    if (x->empty()) v.fail("t", v.node("t"), "needs at least one load factor");
+    for (std::size_t i = 0; i < x->size(); ++i) {
+      if (!((*x)[i] > 0.0))
+        v.fail("t", a[i], "element " + std::to_string(i) + ": a load factor must be > 0, got " + fmt((*x)[i]));
+      if (i > 0 && !((*x)[i] > (*x)[i - 1]))
+        v.fail("t", a[i],
+               "element " + std::to_string(i) + ": the load factors must be strictly increasing, got " +
+                   fmt((*x)[i - 1]) + " then " + fmt((*x)[i]));
+    }
+    p.t = *x;
+  }
+  if (auto x = integer_in(v, "frames", 1, 1000000)) p.frames = *x;
+  s.path = p;
+}
+
 /// [output]: the files to write, each named once.
 void read_output(Scene& s, const toml::table& t) {
   TableReader o(s, t, "output", {"write"});
@@ -583,7 +653,8 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
   s.source = std::move(source);
   s.lines.clear();
   TableReader r(s, root, "",
-                {"schema_version", "title", "mesh", "material", "clamped", "dirichlet", "loads", "contact", "solver", "adapt", "output"});
+                {"schema_version", "title", "mesh", "material", "clamped", "dirichlet", "loads", "contact", "solver", "adapt",
+                 "path", "output"});
   read_version_and_title(r, s);
   if (const toml::table* t = r.table("mesh")) read_mesh(s, *t, base);
   if (const toml::table* t = r.table("material")) read_material(s, *t);
@@ -600,6 +671,8 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
   if (const toml::table* t = r.table("solver")) read_solver(s, *t);
   s.adapt.reset();
   if (const toml::table* t = r.table("adapt")) read_adapt(s, *t);
+  s.path.reset();
+  if (const toml::table* t = r.table("path")) read_path(s, *t);
   if (const toml::table* t = r.table("output")) read_output(s, *t);
   return s;
 }
@@ -621,6 +694,25 @@ std::string SceneMesh::description() const {
   return file.empty() ? generator + " n=" + cells().text() : file.string();
 }
 
+std::vector<double> ScenePath::factors() const {
+  if (!t.empty()) return t;
+  std::vector<double> out;
+  out.reserve(static_cast<std::size_t>(std::max(steps, 0)));
+  for (int k = 1; k <= steps; ++k) out.push_back(static_cast<double>(k) / steps);
+  return out;
+}
+
+bool ScenePath::is_frame(int step) const {
+  const long long K = t.empty() ? steps : static_cast<long long>(t.size());
+  const long long k = step, F = frames;
+  if (k < 1 || k > K) return false;
+  return k == K || (k * F) / K != ((k - 1) * F) / K;
+}
+
+bool operator==(const ScenePath& a, const ScenePath& b) {
+  return a.t == b.t && (!a.t.empty() || a.steps == b.steps) && a.frames == b.frames;
+}
+
 std::string Scene::where(const std::string& key) const {
   auto it = lines.find(key);
   if (it == lines.end() || it->second <= 0) return source;
@@ -631,7 +723,7 @@ bool operator==(const Scene& a, const Scene& b) {
   return a.schema_version == b.schema_version && a.title == b.title && a.mesh == b.mesh && a.material == b.material &&
          a.clamped == b.clamped && a.dirichlet == b.dirichlet && a.body_force == b.body_force &&
          a.tractions == b.tractions && a.contact == b.contact &&
-         a.solver == b.solver && a.adapt == b.adapt && a.outputs == b.outputs;
+         a.solver == b.solver && a.adapt == b.adapt && a.path == b.path && a.outputs == b.outputs;
 }
 
 Scene parse_scene_string(std::string_view text, std::string name) {

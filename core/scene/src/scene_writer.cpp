@@ -138,6 +138,7 @@ void write_obstacle(std::ostream& o, const SceneObstacle& b) {
   if (b.shape == "circle") o << "center = " << list(b.center, fmt) << "\nradius = " << fmt(b.radius) << "\n";
   if (b.shape == "polyline")
     o << "points = " << list(b.points, [](const std::array<double, 2>& q) { return list(q, fmt); }) << "\n";
+  if (b.motion) o << "motion = " << list(*b.motion, scalar_text) << "\n";
 }
 
 /// [contact] and its [contact.obstacle], [contact.parameters] and [contact.friction].
@@ -158,7 +159,11 @@ void write_contact(std::ostream& o, const SceneContact& c) {
   }
   if (c.friction) {
     o << "\n[contact.friction]\nlaw = " << quote(c.friction->name) << "\n";
-    for (const auto& [k, v] : c.friction->parameters) o << k << " = " << fmt(v) << "\n";
+    for (const auto& [k, v] : c.friction->parameters)
+      if (k != "bound" || c.friction->bound_table.empty()) o << k << " = " << fmt(v) << "\n";
+    if (!c.friction->bound_table.empty())
+      o << "bound = " << list(c.friction->bound_table, [](const std::array<double, 2>& p) { return list(p, fmt); })
+        << "\n";
     write_pieces(o, *c.friction);
   }
 }
@@ -199,6 +204,12 @@ std::string to_toml(const Scene& s) {
     o << "max_unknowns = " << s.adapt->max_unknowns << "\n";
     o << "max_steps = " << s.adapt->max_steps << "\n";
     o << "fraction = " << fmt(s.adapt->fraction) << "\n";
+  }
+  if (s.path) {
+    o << "\n[path]\n";
+    if (s.path->t.empty()) o << "steps = " << s.path->steps << "\n";
+    else o << "t = " << list(s.path->t, fmt) << "\n";
+    o << "frames = " << s.path->frames << "\n";
   }
   o << "\n[output]\n";
   o << "write = " << list(s.outputs, quote) << "\n";

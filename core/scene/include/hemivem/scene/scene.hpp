@@ -4,6 +4,13 @@
 // parse_scene reads and validates a file; every defect (unknown key, wrong type, value out
 // of range, syntax) is an InputError whose where() is "file:line" (or "file:line:column"
 // for syntax errors). build_problem turns a Scene into a mesh and a ContactProblem.
+//
+// Loading paths ([path], ScenePath): the scene's data as functions of a load factor t. Loads
+// (body force, traction values, pressures) and prescribed displacements ([[dirichlet]] values;
+// [clamped] is zero) that do not mention t are multiplied by t; gaps and obstacles that do not
+// mention t stay fixed; an obstacle's motion is driving data (a number m moves it by t m); any
+// value that mentions t is evaluated at t as written. A static solve is t = 1: a scene means
+// the same problem with or without [path].
 #pragma once
 
 #include <array>
@@ -42,8 +49,8 @@ struct BoundarySelector {
   bool operator==(const BoundarySelector&) const = default;
 };
 
-/// A number, or an expression in x and y (muparser syntax, hemivem/expression.hpp) given as a
-/// string: "0.02 + 0.5*x^2".
+/// A number, or an expression in x, y and the load factor t (muparser syntax,
+/// hemivem/scene/expression.hpp) given as a string: "0.02 + 0.5*x^2", "-8*t^2".
 struct SceneScalar {
   double value = 0.0;
   std::string expression;  ///< empty: the number `value`
@@ -105,14 +112,21 @@ struct SceneDirichlet {
 };
 
 struct SceneLaw {
-  /// A shipped law (contact_law_names()) or "piecewise" (breakpoints + j1/j2 pieces).
+  /// A shipped law (contact_law_names()) or "piecewise" (breakpoints + j1/j2 pieces); for
+  /// friction, a friction law (friction_law_names()).
   std::string name = "paper";
-  std::map<std::string, double> parameters;  ///< e.g. stiffness, sigma, r1, residual, r2
+  /// e.g. stiffness, sigma, r1, residual, r2; friction: bound, static, kinetic, distance,
+  /// coefficient
+  std::map<std::string, double> parameters;
   std::vector<double> breakpoints;
   std::vector<std::vector<double>> j1, j2;   ///< per piece, coefficients lowest degree first
   /// The potential alone (piecewise): hemivem computes the DC split (PiecewisePolynomialLaw::from_j);
   /// empty when j1 and j2 are given.
   std::vector<std::vector<double>> j;
+  /// Friction "tresca" with bound = [[u_nu, h], ...]: the bound h(u_nu), piecewise linear
+  /// through these points (increasing u_nu, h >= 0), constant beyond the first and the last
+  /// (FrictionBound::Kind::normal_displacement); empty: the number parameters["bound"].
+  std::vector<std::array<double, 2>> bound_table;
   bool operator==(const SceneLaw&) const = default;
 };
 
@@ -124,6 +138,10 @@ struct SceneObstacle {
   std::array<double, 2> center{0.0, 0.0};   ///< circle
   double radius = 1.0;                      ///< circle
   std::vector<std::array<double, 2>> points;  ///< polyline: the surface, the body on its left
+  /// [mx, my]: the obstacle translated by the motion at the load factor t (numbers m: t m;
+  /// expressions in t only). None: the obstacle stays where it is given. A static solve (t = 1)
+  /// sees the obstacle moved by the motion at 1.
+  std::optional<std::array<SceneScalar, 2>> motion;
   bool operator==(const SceneObstacle&) const = default;
 };
 
@@ -139,8 +157,10 @@ struct SceneContact {
   /// "surface" (on the distance u_nu - g to the foundation's or obstacle's surface).
   std::string law_origin = "body";
   /// [contact.friction]: the law of the tangential displacement ("tresca", "slip-weakening",
-  /// or an even "piecewise" law; parameters bound / static, kinetic, distance); none:
-  /// frictionless.
+  /// an even "piecewise" law, or "coulomb"; parameters bound (a number, or a table h(u_nu):
+  /// SceneLaw::bound_table) / static, kinetic, distance / coefficient); none: frictionless.
+  /// "coulomb" (the bound mu p, p the contact pressure) and a bound table depend on the normal
+  /// contact: the problem's friction is then tresca_law(1) with a FrictionBound.
   std::optional<SceneLaw> friction;
   bool operator==(const SceneContact&) const = default;
 };
@@ -176,6 +196,26 @@ struct SceneAdapt {
   bool operator==(const SceneAdapt&) const = default;
 };
 
+/// [path]: a loading path (hemivem/path/path.hpp), the problem solved at the load factors
+/// t_1 < ... < t_K, each step a static contact problem started from the one before.
+struct ScenePath {
+  /// K with t_k = k / K (used when `t` is empty), 1 ... 1000000.
+  int steps = 10;
+  /// The load factors given one by one: finite, > 0, strictly increasing; empty: `steps`.
+  std::vector<double> t;
+  /// At most this many steps have their full fields written, evenly spread, the last one
+  /// included (is_frame); 1 ... 1000000.
+  int frames = 100;
+  /// t_1 ... t_K.
+  std::vector<double> factors() const;
+  /// Whether step k (1-based, of K = factors().size()) is a frame: k == K or
+  /// floor(k F / K) != floor((k - 1) F / K), F = frames; every step when F >= K, exactly F
+  /// steps otherwise. False for k outside 1 ... K.
+  bool is_frame(int step) const;
+};
+/// Equal factors and frames: `steps` counts only when `t` is empty.
+bool operator==(const ScenePath& a, const ScenePath& b);
+
 /// The output names a scene may ask for.
 const std::vector<std::string>& scene_output_names();
 
@@ -200,6 +240,8 @@ struct Scene {
   SceneSolver solver;
   /// [adapt]: solve adaptively; none: one solve on the scene's mesh.
   std::optional<SceneAdapt> adapt;
+  /// [path]: solve along a loading path; none: one static solve (t = 1).
+  std::optional<ScenePath> path;
   std::vector<std::string> outputs = scene_output_names();
 
   /// Where the scene came from (a path, or a name such as "<default>").
@@ -267,7 +309,7 @@ struct BuiltProblem {
 std::vector<std::string> scene_warnings(const Scene& scene);
 
 /// Builds the mesh (generator or file: .poly2d via read_poly2d, .msh via read_gmsh), the
-/// materials, the boundary parts, loads and contact data. Errors (unknown edge group, a
+/// materials, the boundary parts, loads and contact data (at t = 1). Errors (unknown edge group, a
 /// part selecting no edge, a region without material) name the scene key's file:line.
 std::unique_ptr<BuiltProblem> build_problem(const Scene& scene);
 
@@ -277,9 +319,26 @@ std::unique_ptr<BuiltProblem> build_problem(const Scene& scene);
 /// elements inherit their parents' regions).
 std::unique_ptr<BuiltProblem> build_problem(const Scene& scene, Mesh mesh, bool apply_region_boxes = true);
 
+/// Whether the scene's data along a path are those at t = 1 scaled: no load, prescribed
+/// displacement, gap or obstacle value mentions t and the obstacle has no motion. The problem
+/// at t is then the one at t = 1 with its load vector and prescribed displacements times t
+/// (PathLoading's proportional loading).
+bool scene_is_proportional(const Scene& scene);
+
+/// Sets the data of `problem`, built from `scene` (build_problem, make_contact_problem), to
+/// their values at the load factor t (the rule at the top of this file): the body force, each
+/// traction or pressure, each prescribed displacement (the [clamped] part stays zero), the gap
+/// or the obstacle (moved by its motion). The mesh, the materials, the boundary parts, the
+/// laws and which components are prescribed are left as they are. A value that is not finite
+/// (or a negative gap) is an InputError naming the scene key, the point and t when it is
+/// evaluated; InternalError for a t that is not finite or a problem whose parts do not match
+/// the scene's.
+void set_load_factor(const Scene& scene, double t, ContactProblem& problem);
+
 /// The contact problem of a scene on a given mesh (the scene's mesh keys are not used): the
 /// materials by the mesh's region ids (the scene's region boxes are applied by build_problem
-/// only), the boundary parts selected on the mesh's bounding box, loads and contact data;
+/// only), the boundary parts selected on the mesh's bounding box, loads and contact data (their
+/// values at t = 1, set_load_factor);
 /// contact_edges empty and law null when the scene has no contact. The result points at
 /// `mesh`. Errors as build_problem's.
 ContactProblem make_contact_problem(const Scene& scene, const Mesh& mesh);
