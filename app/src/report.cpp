@@ -110,7 +110,7 @@ void error_estimate(std::ostream& out, const ErrorEstimate& e) {
 void energy_and_time(std::ostream& out, const SceneSolve& solved) {
   const ContactSolution& sol = solved.solution;
   out << "  energy        potential " << sol.energy << "\n  time [s]      mesh " << solved.mesh_seconds;
-  for (const char* k : {"assembly", "linear_solve", "condensation", "minimize", "back_substitution", "estimate"})
+  for (const char* k : {"assembly", "linear_solve", "condensation", "minimize", "back_substitution", "path", "frames", "estimate"})
     if (sol.timings.count(k)) out << ", " << k << " " << sol.timings.at(k);
   out << ", total " << solved.mesh_seconds + sol.timings.at("total") << "\n";
 }

@@ -16,6 +16,7 @@
 #include <hemivem/uniqueness.hpp>
 #include <hemivem/scene/scene.hpp>
 
+#include <hemivem/app/format.hpp>
 #include <hemivem/app/outputs.hpp>
 #include <hemivem/app/report.hpp>
 #include <hemivem/app/solve.hpp>
