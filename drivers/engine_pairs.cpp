@@ -186,6 +186,7 @@ PairRuns run_pairs(const Scene& scene, const std::vector<Pair>& pairs, const Pai
   mo.tolerance = scene.solver.tolerance;
   mo.max_iterations = scene.solver.max_iterations;
 
+  app::refuse_path(scene, "hemivem check");
   PairRuns out;
   const auto t_mesh = Clock::now();
   out.built = build_problem(scene);

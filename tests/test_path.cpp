@@ -9,6 +9,7 @@
 #include <hemivem/nonsmooth_backends.hpp>
 #include <hemivem/path/path.hpp>
 #include <hemivem/scene/example.hpp>
+#include <hemivem/scene/scene.hpp>
 
 #include <gtest/gtest.h>
 
@@ -289,4 +290,66 @@ TEST(Path, StopsWhenAskedAndRefusesBadFactors) {
   EXPECT_THROW(solve_path(p, engine(), *minimizer, PathLoading{{0.5, 0.5}, {}}), InputError);
   EXPECT_THROW(solve_path(p, engine(), *minimizer, PathLoading{{0.0, 1.0}, {}}), InputError);
   EXPECT_THROW(solve_path(p, engine(), *minimizer, PathLoading{{}, {}}), InputError);
+}
+
+// Every linear engine condenses the new load of each step (a split interior solve keeps the
+// forward substitution of the load it last saw) and back-substitutes it.
+TEST(Path, EveryLinearEngineFollowsTheSameGeneralPath) {
+  const Mesh mesh = make_squares(8);
+  const auto minimizer = make_minimizer("ssn");
+  ContactProblem reference_problem = example(mesh, 3.0);
+  reference_problem.friction = tresca_law(0.5);
+  const PathSolution reference =
+      solve_path(reference_problem, engine("eigen"), *minimizer, PathLoading{factors(3), {}});
+  for (const std::string& name : available_factorizations()) {
+    SCOPED_TRACE(name);
+    ContactProblem p = example(mesh, 3.0);
+    p.friction = tresca_law(0.5);
+    PathOptions options;
+    options.frame = [](int) { return true; };
+    const PathSolution path = solve_path(p, engine(name), *minimizer, PathLoading{factors(3), rebuild(p)}, options);
+    ASSERT_EQ(path.steps.size(), 3u);
+    for (std::size_t k = 0; k < 3; ++k) {
+      ASSERT_TRUE(path.steps[k].converged()) << path.steps[k].message;
+      EXPECT_LE(max_abs(path.steps[k].a - reference.steps[k].a), 1e-8 * max_abs(reference.steps[k].a));
+      EXPECT_LE(path.steps[k].forces->residual(), 1e-9);
+    }
+  }
+}
+
+// A moving obstacle changes the gaps of every step (Condensation::set_gaps); each step must be
+// the static problem with the obstacle where the step puts it. With the law's origin on the
+// obstacle's surface the condensed load shifts with the gaps too.
+TEST(Path, AMovingObstacleGivesTheStaticSolveAtEveryStep) {
+  for (const std::string origin : {"body", "surface"}) {
+    SCOPED_TRACE(origin);
+    auto scene_text = [&](double cy, bool moving) {
+      // the rays of the corner nodes meet the circle well inside it (at x = +-1 they would graze it)
+      return std::string("schema_version = 1\n[mesh]\nn = 16\ndomain = [-0.5, 0.5, -1.0, 0.0]\n"
+                         "[material]\nE = 65.0\nnu = 0.29\n[clamped]\nside = \"bottom\"\n"
+                         "[contact]\nside = \"top\"\nlaw = \"") +
+             (origin == "surface" ? "linear" : "zero") + "\"\nconstraint = \"one-sided\"\nlaw_origin = \"" + origin +
+             "\"\n[contact.obstacle]\nshape = \"circle\"\ncenter = [0.0, " + std::to_string(cy) +
+             "]\nradius = 1.0\n" + (moving ? "motion = [0.0, -0.02]\n" : "");
+    };
+    const Scene moving = parse_scene_string(scene_text(1.005, true), "moving.toml");
+    ASSERT_FALSE(scene_is_proportional(moving));
+    auto built = build_problem(moving);
+    const auto minimizer = make_minimizer("ssn");
+    PathLoading loading{{0.5, 0.75, 1.0}, [&moving](double t, ContactProblem& p) { set_load_factor(moving, t, p); }};
+    PathOptions options;
+    options.frame = [](int) { return true; };
+    const PathSolution path = solve_path(built->problem, engine("cholmod"), *minimizer, loading, options);
+    for (const PathStep& s : path.steps) {
+      SCOPED_TRACE("t " + std::to_string(s.t));
+      ASSERT_TRUE(s.converged()) << s.message;
+      const Scene at_t = parse_scene_string(scene_text(1.005 - 0.02 * s.t, false), "static.toml");
+      auto b = build_problem(at_t);
+      const ContactSolution st = solve_contact(b->problem, engine(), *minimizer, MinimizerOptions{});
+      ASSERT_TRUE(st.converged());
+      EXPECT_GT(contact_zone(st).nodes, 0);
+      EXPECT_LE(max_abs(s.u - st.u), 1e-8 * max_abs(st.u));
+      EXPECT_NEAR(s.energy, st.energy, 1e-8 * std::abs(st.energy));
+    }
+  }
 }

@@ -53,6 +53,7 @@ std::string to_string(AdaptStop stop) {
 
 AdaptiveSolve solve_adaptively(const Scene& scene, const SceneAdapt& adapt, SceneSolveOptions options,
                                const std::function<void(const AdaptStep&)>& progress) {
+  refuse_path(scene, "an adaptive solve");
   if (same_engine(scene.solver.linear, "mumps-mpi"))  // its processes would have to refine the same meshes in step
     throw InputError("an adaptive solve runs in one process; the linear engine mumps-mpi runs across processes: "
                      "choose another engine (solver.linear)",

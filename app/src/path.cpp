@@ -111,9 +111,9 @@ nlohmann::json path_json(const PathSolution& path) {
                          {"upper", s.zone.nodes > 0 ? vec(s.zone.upper) : nlohmann::json()}};
     j["contact_force"] = vec(s.contact_force);
     j["applied_load"] = vec(s.applied);
-    int stick = 0, slip = 0;
+    int stick = 0, slip = 0;  // among the nodes in contact
     for (const ContactNode& n : s.contact) {
-      if (n.friction_state.empty()) continue;
+      if (n.friction_state.empty() || !(n.force() > 0.0)) continue;
       (n.friction_state == "stick" ? stick : slip) += 1;
     }
     j["friction"] = s.slip.size() > 0 ? nlohmann::json{{"stick", stick}, {"slip", slip}} : nlohmann::json();
@@ -146,7 +146,7 @@ std::string path_progress_line(const PathStep& s, int steps) {
       << sci(s.contact_force.x(), 4) << ", " << sci(s.contact_force.y(), 4) << ")";
   if (s.slip.size() > 0) {
     int stick = 0;
-    for (const ContactNode& n : s.contact) stick += n.friction_state == "stick" ? 1 : 0;
+    for (const ContactNode& n : s.contact) stick += n.friction_state == "stick" && n.force() > 0.0 ? 1 : 0;
     out << "  stick " << stick;
   }
   if (s.fixed_point.used)

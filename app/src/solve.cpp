@@ -96,7 +96,17 @@ SceneSolve solve_scene(const Scene& scene, const std::function<void(const BuiltP
   return solve_scene(scene, std::move(o));
 }
 
+void refuse_path(const Scene& scene, const std::string& what) {
+  if (!scene_is_path(scene)) return;
+  const bool table = scene.path.has_value();
+  throw InputError(what + " solves one static problem; this scene is a loading path (" +
+                       (table ? std::string("[path]") : std::string("friction whose bound depends on the normal contact")) +
+                       ", docs/paths.md): `hemivem solve` and hemivem.solve_path solve it step by step",
+                   scene.where(table ? "path" : "contact.friction"));
+}
+
 SceneSolve solve_scene(const Scene& scene, SceneSolveOptions o) {
+  refuse_path(scene, "this solve");
   // Engines first: a name that was not built is an input error before any work.
   SceneSolve s;
   FactorizationOptions fo;

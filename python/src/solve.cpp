@@ -566,6 +566,8 @@ void solve_data(SolveData& d, const py::object& progress, bool keep_reduced, con
     o.reduced = keep_reduced ? &reduced : nullptr;
     o.progress = search_progress(watch, progress);
     if (mesh) o.mesh = *mesh->mesh;
+    if (app::scene_is_path(d.scene) && d.scene.adapt)
+      throw InputError("a loading path is solved on one mesh; remove [adapt] (or adapt=True) or [path]", "adapt");
     if (app::scene_is_path(d.scene)) d.solved = app::solve_scene_path(d.scene, std::move(o));
     else if (d.scene.adapt) d.solved = std::move(app::solve_adaptively(d.scene, *d.scene.adapt, std::move(o)).last);
     else d.solved = app::solve_scene(d.scene, std::move(o));

@@ -196,7 +196,6 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
   nodes_ = boundary.nodes;
   has_normal_ = constraint != ConstraintKind::bilateral;
   constraint_ = constraint;
-  gap_at_start_ = boundary.gaps;
   has_tangential_ = friction != nullptr || !has_normal_;
   if (!has_normal_ && !friction) friction = zero_law();
   order_unknowns(system, boundary);
@@ -206,7 +205,10 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
   measure_interior(At);
   pose_reduced_problem(boundary, std::move(law), constraint, std::move(friction));
   origin_ = Eigen::VectorXd::Zero(reduced_.lo.size());
-  if (law_from_surface_) measure_from_surface(boundary);
+  if (law_from_surface_) {
+    law_at_start_ = reduced_.law_index.head(static_cast<Eigen::Index>(normals_.size()));  // the normal law
+    measure_from_surface(boundary);
+  }
   compute_schur_complement(At);
   if (!split_interior_solve(*factorization_)) extract_a21(At);
   condense_load(bt);
@@ -238,11 +240,17 @@ void Condensation::set_gaps(const Eigen::VectorXd& gaps) {
     reduced_.lo(i) = lower_bound(constraint_, g);
     reduced_.hi(i) = upper_bound(constraint_, g);
     if (!law_from_surface_) continue;
-    if (std::isfinite(g) != std::isfinite(gap_at_start_(i)))
-      throw InputError("contact node " + std::to_string(nodes_[static_cast<std::size_t>(i)]) +
-                       (std::isfinite(g) ? " starts" : " stops") +
-                       " facing the obstacle along the path (its gap becomes " + (std::isfinite(g) ? "finite" : "infinite") +
-                       "); with contact.law_origin = \"surface\" every node keeps facing it or not");
+    // a node whose ray misses the obstacle never meets it: the zero law; one that meets it
+    // again gets its law back
+    if (std::isfinite(g)) {
+      reduced_.law_index(i) = law_at_start_(i);
+    } else {
+      if (zero_law_index_ < 0) {
+        reduced_.laws.push_back(zero_law());
+        zero_law_index_ = static_cast<int>(reduced_.laws.size()) - 1;
+      }
+      reduced_.law_index(i) = zero_law_index_;
+    }
     origin_(i) = std::isfinite(g) ? g : 0.0;
     if (std::isfinite(g)) {
       reduced_.lo(i) -= g;
@@ -371,6 +379,7 @@ void Condensation::measure_from_surface(const ContactBoundary& boundary) {
       reduced_.law_index(i) = none;
     }
   }
+  zero_law_index_ = none;
 }
 
 void Condensation::compute_schur_complement(const SparseMatrix& At) {

@@ -100,6 +100,10 @@ double ContactSolver::seconds() const { return since(start_); }
 std::vector<ContactSolution> ContactSolver::run(std::span<const NonsmoothMinimizer* const> minimizers) {
   if (ran_) throw InternalError("ContactSolver::run is called once");
   ran_ = true;
+  if (problem_.friction_bound)
+    throw InputError("a friction bound that depends on the normal contact (Coulomb's law, or a bound h(u_nu)) "
+                     "depends on the solution and is found by a fixed point along a loading path: solve it with "
+                     "the path solver (hemivem/path/path.hpp)");
   start_ = Clock::now();
   if (!system_) assemble();
   check_arguments(minimizers);

@@ -224,6 +224,8 @@ PathStep PathSolver::Impl::solve_step(int k) {
     c_raw = cond->condensed_load();
     step.lo = cond->reduced().lo;
     step.hi = cond->reduced().hi;
+    if (step.laws.size() != cond->reduced().laws.size()) step.laws = cond->reduced().laws;
+    step.law_index = cond->reduced().law_index;
     s.applied = resultant(assemble_load(*problem.elasticity.mesh, problem.elasticity.body_force, problem.elasticity.tractions));
   }
   Eigen::VectorXd shift = Eigen::VectorXd::Zero(step.size());

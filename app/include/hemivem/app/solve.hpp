@@ -101,7 +101,13 @@ struct SceneSolveOptions {
   Eigen::VectorXd start;
 };
 
-/// Solves `scene` as solve_scene below does, with `options`.
+/// InputError (naming the scene's [path] or friction key) when `scene` is a loading path
+/// (scene_is_path of hemivem/app/path.hpp), which `what` ("hemivem check", an adaptive solve)
+/// cannot solve: it solves static problems.
+void refuse_path(const Scene& scene, const std::string& what);
+
+/// Solves `scene` as solve_scene below does, with `options`. A loading path is refused
+/// (refuse_path): solve_scene_path solves it.
 SceneSolve solve_scene(const Scene& scene, SceneSolveOptions options);
 
 /// Creates the engines (an unknown or unbuilt name is an InputError before any work), builds

@@ -121,8 +121,8 @@ class Condensation {
   /// the new load and prescribed values. S, the laws and the margin do not change.
   void set_load(const Eigen::VectorXd& b, const Eigen::VectorXd& prescribed);
   /// New gaps of the contact nodes (a moving obstacle or gap): the bounds of the normal
-  /// unknowns, and with law_from_surface their origin and c. InputError for a NaN gap, and
-  /// with law_from_surface for a node whose gap changes between finite and infinite.
+  /// unknowns, and with law_from_surface their origin, c, and the zero law for a node whose
+  /// gap is infinite (its law again once it is finite). InputError for a NaN gap.
   void set_gaps(const Eigen::VectorXd& gaps);
   /// c before the shift by -S origin(): the condensed load b1 - A12 A22^{-1} b2 (of the
   /// reduced coordinates) on the process holding the results.
@@ -143,7 +143,8 @@ class Condensation {
   bool law_from_surface_ = false;
   Eigen::VectorXd origin_;
   ConstraintKind constraint_ = ConstraintKind::none;
-  Eigen::VectorXd gap_at_start_;  // the gaps the condensation was built with
+  Eigen::VectorXi law_at_start_;  // law_from_surface: each normal unknown's law where its gap is finite
+  int zero_law_index_ = -1;       // law_from_surface: the zero law's index once a gap is infinite
   Eigen::VectorXd raw_c_;         // condensed_load()
   std::vector<int> block1_;       // rotated free index of each contact unknown (normals, then tangentials)
   std::vector<int> block2_;       // remaining rotated free indices, increasing

@@ -83,7 +83,8 @@ std::shared_ptr<const ContactLaw> tresca_law(double bound = 0.1);
 /// g_kinetic at |r| = slip and stays there (nonconvex: alpha_j = (g_static - g_kinetic) / slip).
 std::shared_ptr<const ContactLaw> slip_weakening_law(double g_static = 0.1, double g_kinetic = 0.05,
                                                      double slip = 0.01);
-/// The friction laws of [contact.friction]: tresca, slip-weakening, piecewise.
+/// The friction laws of [contact.friction]: tresca, slip-weakening, piecewise, coulomb (a Tresca
+/// law whose bound is mu times the contact pressure: ContactProblem::friction_bound).
 const std::vector<std::string>& friction_law_names();
 
 /// The shipped laws by name: paper, linear, kinked, sawtooth, zero.
