@@ -112,7 +112,7 @@ TEST_F(Outputs, ResultJsonHasEveryDocumentedField) {
   const json j = json::parse(slurp(dir.path / "result.json"));
   const auto& sol = s.solution;
 
-  EXPECT_EQ(j.at("schema"), "hemivem-result/9");
+  EXPECT_EQ(j.at("schema"), "hemivem-result/10");
   EXPECT_EQ(j.at("version"), HEMIVEM_VERSION);
   EXPECT_EQ(j.at("scene").at("name"), "example-4-1");
   EXPECT_EQ(j.at("scene").at("toml"), s.info.scene_toml);
@@ -126,7 +126,7 @@ TEST_F(Outputs, ResultJsonHasEveryDocumentedField) {
   EXPECT_EQ(j.at("status"), "converged");
   EXPECT_EQ(j.at("converged"), true);
   EXPECT_TRUE(j.at("message").is_string());
-  EXPECT_EQ(j.at("schema"), "hemivem-result/9");
+  EXPECT_EQ(j.at("schema"), "hemivem-result/10");
   const Certificate& cert = sol.certificate;
   EXPECT_EQ(j.at("certificate").at("primal").get<double>(), cert.primal);
   EXPECT_EQ(j.at("certificate").at("dual").get<double>(), cert.dual);
@@ -515,9 +515,9 @@ TEST_F(Outputs, MissingGnuplotSkipsThePlotsOnly) {
     throw;
   }
   ::setenv("PATH", saved.c_str(), 1);
-  // u_nu.png, deformed.png and mesh.png for want of gnuplot; error.png without an estimate and
-  // adapt.png without an adaptive solve for want of data
-  ASSERT_EQ(report.skipped.size(), 5u);
+  // u_nu.png, deformed.png and mesh.png for want of gnuplot; error.png without an estimate,
+  // adapt.png without an adaptive solve and the five files of a loading path for want of data
+  ASSERT_EQ(report.skipped.size(), 10u);
   const auto skipped = [&](const std::string& file, const std::string& why) {
     return std::any_of(report.skipped.begin(), report.skipped.end(), [&](const std::string& s) {
       return s.rfind(file + ": ", 0) == 0 && s.find(why) != std::string::npos;
@@ -528,7 +528,9 @@ TEST_F(Outputs, MissingGnuplotSkipsThePlotsOnly) {
   EXPECT_TRUE(skipped("mesh.png", "gnuplot"));
   EXPECT_TRUE(skipped("error.png", "no error estimate"));
   EXPECT_TRUE(skipped("adapt.png", "not an adaptive solve"));
-  EXPECT_EQ(report.written.size(), all_outputs().size() - 5);
+  for (const char* file : {"path.json", "path-contact.csv", "path-displacement.csv", "solution.pvd", "path.png"})
+    EXPECT_TRUE(skipped(file, "not a loading path")) << file;
+  EXPECT_EQ(report.written.size(), all_outputs().size() - 10);
   for (const char* name : {"result.json", "contact.csv", "displacement.csv", "history.csv", "solution.vtu", "scene.toml"})
     EXPECT_TRUE(fs::exists(dir.path / "out" / name)) << name;
   EXPECT_FALSE(fs::exists(dir.path / "out" / "u_nu.png"));

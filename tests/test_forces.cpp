@@ -2,6 +2,7 @@
 // Dirichlet part named as in the scene, the contact resultant; in result.json and the summary.
 #include <hemivem/app/outputs.hpp>
 #include <hemivem/app/report.hpp>
+#include <hemivem/app/path.hpp>
 #include <hemivem/app/solve.hpp>
 #include <hemivem/contact/forces.hpp>
 #include <hemivem/scene/scene.hpp>
@@ -158,7 +159,7 @@ TEST(Forces, BalanceOnEveryShippedScene) {
     Scene scene = parse_scene(file);
     if (!scene.mesh.file.empty() && !fs::exists(scene.mesh.file)) continue;  // a mesh of the shared folder
     coarsen(scene);
-    const auto s = app::solve_scene(scene);
+    const auto s = app::scene_is_path(scene) ? app::solve_scene_path(scene) : app::solve_scene(scene);
     ASSERT_TRUE(s.solution.converged()) << s.solution.message;
     const ForceBalance& b = s.solution.forces;
     EXPECT_GT(b.applied.norm() + b.contact.norm(), 0.0) << "something loads the body";
@@ -205,7 +206,7 @@ TEST(Forces, Example41ContactResultantFromContactCsv) {
 
   std::ifstream in(dir / "result.json");
   const json j = json::parse(in);
-  EXPECT_EQ(j.at("schema"), "hemivem-result/9");
+  EXPECT_EQ(j.at("schema"), "hemivem-result/10");
   const json& f = j.at("forces");
   EXPECT_NEAR(f.at("contact")[0].get<double>(), sum.x(), 1e-13 * largest * nodes);
   EXPECT_NEAR(f.at("contact")[1].get<double>(), sum.y(), 1e-13 * largest * nodes);

@@ -127,6 +127,7 @@ void draw_solve_figures(const OutputTransaction& tx, const fs::path& dir, const 
       figures.push_back(mesh_figure(mesh, info, "mesh, " + std::to_string(mesh.num_elements()) + " elements"));
     if (want("adapt.png") && info.adapt.is_null()) report.skipped.push_back("adapt.png: not an adaptive solve");
     if (want("adapt.png") && !info.adapt.is_null()) figures.push_back(adapt_figure(info));
+    if (want("path.png") && !info.path) report.skipped.push_back("path.png: not a loading path");
     if (want("path.png") && info.path) figures.push_back(path_figure(*info.path, info));
     const std::vector<std::string> reasons = draw_figures(tx.staging(), figures);
     for (std::size_t i = 0; i < figures.size(); ++i) {
@@ -348,6 +349,9 @@ OutputReport write_outputs(const fs::path& dir, const Mesh& mesh, const Material
   write("mesh.poly2d", [&](std::ostream& os) {
     write_poly2d(os, mesh, {"the mesh of " + info.mesh, "regions and edge groups are not part of this format"});
   });
+  if (!info.path)
+    for (const char* name : {"path.json", "path-contact.csv", "path-displacement.csv", "solution.pvd"})
+      if (want(name)) report.skipped.push_back(std::string(name) + ": not a loading path");
   if (info.path) {
     const PathSolution& path = *info.path;
     write("path.json", [&](std::ostream& os) { os << path_json(path).dump(2) << '\n'; });
