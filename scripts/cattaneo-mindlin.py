@@ -4,13 +4,14 @@ its path with `hemivem solve` and compares, step by step, the stick zone with
 c = a sqrt(1 - Q / (mu P)), a = sqrt(4 P R / (pi E*)) Hertz's half-width for the computed
 normal force P, Q the computed tangential force.
 
-    scripts/cattaneo-mindlin.py [--build BUILD] [--out OUT] [--fine H] [--set KEY=VALUE ...]
+    scripts/cattaneo-mindlin.py [--build BUILD] [--out OUT] [--fine H] [--block W D] [--set KEY=VALUE ...]
 
 BUILD defaults to build, OUT to out/cattaneo-mindlin. --fine H solves on a mesh refined to H
-under the cylinder instead of the scene's (written to OUT by scripts/make-graded-block-poly2d.py);
+under the cylinder instead of the scene's, --block W D on the block [-W, W] x [-D, 0] instead of
+[-2, 2] x [-2, 0] (either mesh written to OUT by scripts/make-graded-block-poly2d.py);
 --set is passed to `hemivem solve` (e.g. --set material.nu=0.29). Prints the table of docs/paths.md
 and writes OUT/stick-zone.csv (one row per step), OUT/traction.csv (the friction traction over the
-contact at three steps, with Cattaneo and Mindlin's) and, when gnuplot is installed,
+contact at three steps, positive along the tangential force, with Cattaneo and Mindlin's) and, when gnuplot is installed,
 OUT/cattaneo-mindlin.png.
 
 The stick zone measured is the span of the nodes in contact whose slip in the step is zero,
@@ -37,16 +38,21 @@ def main():
     parser.add_argument("--build", default="build")
     parser.add_argument("--out", default="out/cattaneo-mindlin")
     parser.add_argument("--fine", type=float, help="the finest squares' side of a mesh made for this run")
+    parser.add_argument("--block", type=float, nargs=2, metavar=("W", "D"), help="the block [-W, W] x [-D, 0]")
     parser.add_argument("--set", action="append", default=[], dest="overrides")
     args = parser.parse_args()
 
     os.makedirs(args.out, exist_ok=True)
     command = [os.path.join(args.build, "drivers", "hemivem"), "solve", os.path.join(ROOT, "scenes", "cattaneo-mindlin.toml"),
                "--out", os.path.join(args.out, "run"), "-q"]
-    if args.fine:
+    if args.fine or args.block:
         mesh = os.path.abspath(os.path.join(args.out, "graded-block.poly2d"))
-        subprocess.run([sys.executable, os.path.join(HERE, "make-graded-block-poly2d.py"), mesh, "--fine", repr(args.fine)],
-                       check=True)
+        make = [sys.executable, os.path.join(HERE, "make-graded-block-poly2d.py"), mesh]
+        if args.fine:
+            make += ["--fine", repr(args.fine)]
+        if args.block:
+            make += ["--width", repr(args.block[0]), "--depth", repr(args.block[1])]
+        subprocess.run(make, check=True)
         command += ["--set", 'mesh.file="%s"' % mesh]
     for o in args.overrides:
         command += ["--set", o]
@@ -113,15 +119,18 @@ def main():
             contact, P, a, ratio = profiles[r["step"]]
             p0 = 2.0 * P / (math.pi * a)
             c = a * math.sqrt(1.0 - ratio)
+            sign = 1.0 if sum(float(n["friction_force"]) for n in contact) >= 0.0 else -1.0
             for n in contact:
                 x = float(n["x"])
                 weight = force(n) / float(n["pressure"])
-                q = abs(float(n["friction_force"])) / weight
+                q = sign * float(n["friction_force"]) / weight  # positive along the resultant
                 s = lambda half: math.sqrt(max(0.0, 1.0 - (x / half) ** 2))
                 theory = s(a) - (c / a) * s(c)
                 f.write("%d,%.4f,%.6g,%.6g,%.6g\n" % (r["step"], ratio, x / a, q / (mu * p0), theory))
             f.write("\n\n")
     if shutil.which("gnuplot") and chosen:
+        low = "0" if all(float(l.split(",")[3]) >= 0.0 for l in open(os.path.join(args.out, "traction.csv")).read().split("\n")[1:]
+                         if l.count(",") == 4) else "-1.1"
         plots = []
         for i, r in enumerate(chosen):
             plots.append("'%s' index %d using 3:4 with points pt 7 ps 0.5 lc %d title 'Q/(mu P) = %.2f, hemivem'"
@@ -136,8 +145,8 @@ set grid
 set xlabel 'x / a'
 set ylabel 'friction traction / (mu p0)'
 set title 'Cattaneo-Mindlin: E = %g, nu = %g, mu = %g; h = %.3g'
-plot [-1.1:1.1] [0:1.05] %s
-""" % (os.path.join(args.out, "cattaneo-mindlin.png"), E, nu, mu, rows[0]["h"], ", ".join(plots))
+plot [-1.1:1.1] [%s:1.1] %s
+""" % (os.path.join(args.out, "cattaneo-mindlin.png"), E, nu, mu, rows[0]["h"], low, ", ".join(plots))
         subprocess.run(["gnuplot"], input=script, text=True, check=True)
         print("\nwrote %s" % os.path.join(args.out, "cattaneo-mindlin.png"), file=sys.stderr)
 
