@@ -353,3 +353,21 @@ TEST(Path, AMovingObstacleGivesTheStaticSolveAtEveryStep) {
     }
   }
 }
+
+// Loaded and unloaded to exactly zero: the last step is the unloaded body, a = 0, certified.
+TEST(Path, AStepWhoseLoadVanishesIsTheUnloadedBody) {
+  const Mesh mesh = make_squares(8);
+  const auto minimizer = make_minimizer("ssn");
+  ContactProblem p = example(mesh);
+  p.law = zero_law();
+  PathLoading loading{{0.25, 0.5, 0.75, 1.0}, [](double t, ContactProblem& q) {
+                        q.elasticity.tractions[0].traction = [t](const Vec2&) {
+                          return Vec2(0.0, -8.0 * (1.0 - std::abs(2.0 * t - 1.0)));
+                        };
+                      }};
+  const PathSolution path = solve_path(p, engine(), *minimizer, loading);
+  ASSERT_EQ(path.steps.size(), 4u);
+  for (const PathStep& s : path.steps) EXPECT_TRUE(s.converged()) << "t " << s.t << ": " << s.message;
+  EXPECT_EQ(max_abs(path.steps.back().a), 0.0);
+  EXPECT_EQ(max_abs(path.last.u), 0.0);
+}

@@ -123,7 +123,7 @@ struct PathSolver::Impl {
 
   void set_up();
   PathStep solve_step(int k);
-  void minimize_step(PathStep& s, const Eigen::VectorXd& shift, const Eigen::VectorXd& origin);
+  void minimize_step(PathStep& s, const Eigen::VectorXd& shift, const Eigen::VectorXd& origin, bool unloaded);
   void describe_step(PathStep& s, const MinimizerResult& m, const Eigen::VectorXd& shift,
                      const Eigen::VectorXd& c_raw, double kappa, const Eigen::VectorXd* u,
                      const Eigen::VectorXd* b);
@@ -233,7 +233,7 @@ PathStep PathSolver::Impl::solve_step(int k) {
     for (int i = 0; i < n1; ++i) shift(cond->tangential_coordinate(i)) = tau_prev(i);
   const Eigen::VectorXd& origin = cond->origin();
   step.c = c_raw - step.S * (origin + shift);
-  minimize_step(s, shift, origin);
+  minimize_step(s, shift, origin, !has_tangential && c_raw.isZero(0.0));
 
   // the change against the previous step, and what the step before predicted
   const Eigen::VectorXd x = s.a;
@@ -279,8 +279,11 @@ PathStep PathSolver::Impl::solve_step(int k) {
 
 // One minimization, or the fixed point on the friction bound: each iterate a Tresca problem with
 // the bound g (the tangential weights w_i g_i), until the coupled certificate holds.
-void PathSolver::Impl::minimize_step(PathStep& s, const Eigen::VectorXd& shift, const Eigen::VectorXd& origin) {
-  const Eigen::VectorXd start = x_prev - origin - shift;
+void PathSolver::Impl::minimize_step(PathStep& s, const Eigen::VectorXd& shift, const Eigen::VectorXd& origin,
+                                     bool unloaded) {
+  // from the previous step; a frictionless step whose load vanishes exactly starts from the
+  // unloaded state x = 0 (a warm start would shrink towards it by round-off without reaching it)
+  const Eigen::VectorXd start = unloaded ? Eigen::VectorXd(-origin) : Eigen::VectorXd(x_prev - origin - shift);
   if (s.index > 1 && !check_existence_each_step) options.minimizer.check_existence = false;
   if (!bound_law) {
     MinimizerResult m = minimizer.minimize(step, start, options.minimizer);

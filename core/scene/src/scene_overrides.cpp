@@ -104,6 +104,10 @@ void edit_table(toml::table& root, Override& o) {
     if (!t->erase(leaf)) throw InputError("the scene has no key '" + o.key + "' to remove", o.where());
     return;
   }
+  if (o.parts.size() == 2 && o.parts[0].first == "path") {  // the load factors one way or the other
+    if (leaf == "t") t->erase("steps");
+    if (leaf == "steps") t->erase("t");
+  }
   if (o.parts.size() == 2 && o.parts[0].first == "mesh") {
     if (leaf == "generator") t->erase("file");
     if (leaf == "file") {

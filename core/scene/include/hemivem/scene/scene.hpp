@@ -276,7 +276,7 @@ Scene default_scene();
 /// in code is written with to_toml first) and the document is read again, so the result is
 /// validated as a whole: an error in an overridden key names "--set key" and the nearest
 /// valid key, an error in a key of the file names its line. Setting
-/// mesh.generator clears mesh.file and vice versa; a relative mesh.file is resolved against
+/// mesh.generator clears mesh.file and vice versa, setting path.t clears path.steps and vice versa; a relative mesh.file is resolved against
 /// the current directory. Setting a contact.* key on a scene without contact adds the
 /// default contact part (the bottom side, the paper's law).
 void apply_override(Scene& scene, std::string_view key_eq_value);
