@@ -53,15 +53,19 @@ double timing(const ContactSolution& s, const std::string& stage) {
 void write_contact_csv(std::ostream& stream, const ContactSolution& s) {
   TextWriter os(stream);
   const bool tangential = has_tangential(s);
+  const bool parts = s.contact_parts.size() > 1;  // several contact parts: each node's
   os << "vertex,x,y,u_nu,law_force,reaction,pressure,state,gap,nx,ny"
-     << (tangential ? ",u_tau,friction_force,friction_traction,friction_state" : "") << "\n";
+     << (tangential ? ",u_tau,friction_force,friction_traction,friction_state" : "") << (parts ? ",part" : "") << "\n";
   for (const auto& n : s.contact) {
     os << n.vertex << ',' << n.x.x() << ',' << n.x.y() << ',' << n.u_nu << ',' << n.law_force << ',' << n.reaction
        << ',' << n.pressure() << ',' << n.state << ',';
     if (!std::isnan(n.gap)) os << n.gap;  // empty: no gap used (bilateral)
     os << ',' << n.normal.x() << ',' << n.normal.y();
-    if (tangential)
+    if (tangential && !n.friction_state.empty())
       os << ',' << n.u_tau << ',' << n.friction_force << ',' << n.friction_force / n.weight << ',' << n.friction_state;
+    else if (tangential)
+      os << ",,,,";  // a frictionless part beside one with friction
+    if (parts) os << ',' << contact_part_name(s, n);
     os << '\n';
   }
 }
@@ -145,6 +149,11 @@ void draw_solve_figures(const OutputTransaction& tx, const fs::path& dir, const 
 
 }  // namespace
 
+std::string contact_part_name(const ContactSolution& s, const ContactNode& n) {
+  return n.part >= 0 && n.part < static_cast<int>(s.contact_parts.size()) ? s.contact_parts[static_cast<std::size_t>(n.part)]
+                                                                          : std::string("contact");
+}
+
 bool has_tangential(const ContactSolution& s) {
   return std::any_of(s.contact.begin(), s.contact.end(), [](const ContactNode& n) { return !n.friction_state.empty(); });
 }
@@ -214,8 +223,9 @@ nlohmann::json result_json(const Mesh& mesh, const ContactSolution& s, const Run
               {"pressure", number(n.pressure())},
               {"gap", number(n.gap)},
               {"normal", {number(n.normal.x()), number(n.normal.y())}},
-              {"state", n.state}};
-    if (tangential) {
+              {"state", n.state},
+              {"part", contact_part_name(s, n)}};
+    if (tangential && !n.friction_state.empty()) {
       node["u_tau"] = number(n.u_tau);
       node["friction_force"] = number(n.friction_force);
       node["friction_traction"] = number(n.friction_force / n.weight);

@@ -16,9 +16,9 @@ using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 bool bound_depends_on_normal(const Scene& scene) {
-  if (!scene.contact || !scene.contact->friction) return false;
-  const SceneLaw& f = *scene.contact->friction;
-  return f.name == "coulomb" || !f.bound_table.empty();
+  for (const SceneContact& c : contact_parts(scene))
+    if (c.friction && (c.friction->name == "coulomb" || !c.friction->bound_table.empty())) return true;
+  return false;
 }
 
 nlohmann::json vec(const Vec2& v) { return nlohmann::json::array({number(v.x()), number(v.y())}); }

@@ -18,18 +18,22 @@ using detail::num;
 void write_path_contact_csv(std::ostream& stream, const PathSolution& path) {
   TextWriter os(stream);
   const bool tangential = !path.steps.empty() && path.steps.front().slip.size() > 0;
+  const bool parts = path.last.contact_parts.size() > 1;  // several contact parts: each node's
   os << "step,t,vertex,x,y,u_nu,law_force,reaction,pressure,state"
-     << (tangential ? ",u_tau,slip,friction_force,friction_bound,friction_state" : "") << "\n";
+     << (tangential ? ",u_tau,slip,friction_force,friction_bound,friction_state" : "") << (parts ? ",part" : "") << "\n";
   for (const PathStep& s : path.steps)
     for (std::size_t i = 0; i < s.contact.size(); ++i) {
       const ContactNode& n = s.contact[i];
       os << s.index << ',' << s.t << ',' << n.vertex << ',' << n.x.x() << ',' << n.x.y() << ',' << n.u_nu << ','
          << n.law_force << ',' << n.reaction << ',' << n.pressure() << ',' << n.state;
-      if (tangential) {
+      if (tangential && !n.friction_state.empty()) {
         const auto k = static_cast<Eigen::Index>(i);
         os << ',' << n.u_tau << ',' << s.slip(k) << ',' << n.friction_force << ',' << s.friction_bound(k) << ','
            << n.friction_state;
+      } else if (tangential) {
+        os << ",,,,,";  // a frictionless part beside one with friction
       }
+      if (parts) os << ',' << contact_part_name(path.last, n);
       os << '\n';
     }
 }

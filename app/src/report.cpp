@@ -3,6 +3,7 @@
 #include <hemivem/app/format.hpp>
 #include <hemivem/uniqueness.hpp>
 
+#include <algorithm>
 #include <iomanip>
 #include <map>
 #include <sstream>
@@ -50,14 +51,30 @@ void contact_zone(std::ostream& out, const Scene& scene, const ContactSolution& 
   int upper = 0, lower = 0;
   for (const auto& c : sol.contact) upper += c.state == "upper", lower += c.state == "lower";
   out << "  uniqueness    " << uniqueness_text(sol) << "\n"
-      << "  contact       " << sol.contact.size() << " nodes: ";
-  if (scene.contact && scene.contact->constraint == ConstraintKind::bilateral) {
+      << "  contact       " << sol.contact.size() << " nodes";
+  if (sol.contact_parts.size() > 1) {  // several parts: how many nodes each has
+    out << " in " << sol.contact_parts.size() << " parts (";
+    for (std::size_t k = 0; k < sol.contact_parts.size(); ++k)
+      out << (k == 0 ? "" : ", ") << sol.contact_parts[k] << " "
+          << std::count_if(sol.contact.begin(), sol.contact.end(),
+                           [k](const ContactNode& c) { return c.part == static_cast<int>(k); });
+    out << ")";
+  }
+  out << ": ";
+  const std::vector<SceneContact> parts = contact_parts(scene);
+  auto any = [&](ConstraintKind k) {
+    return std::any_of(parts.begin(), parts.end(), [k](const SceneContact& c) { return c.constraint == k; });
+  };
+  const int bilateral = static_cast<int>(
+      std::count_if(sol.contact.begin(), sol.contact.end(), [](const ContactNode& c) { return c.state == "bilateral"; }));
+  if (any(ConstraintKind::bilateral) && bilateral == static_cast<int>(sol.contact.size())) {
     out << "u_nu = 0 (bilateral)\n";
     return;
   }
   out << upper << " at the upper bound, ";
-  if (scene.contact && scene.contact->constraint == ConstraintKind::box) out << lower << " at the lower bound, ";
-  out << sol.contact.size() - upper - lower << " free\n";
+  if (any(ConstraintKind::box)) out << lower << " at the lower bound, ";
+  if (bilateral > 0) out << bilateral << " bilateral, ";
+  out << sol.contact.size() - upper - lower - bilateral << " free\n";
 }
 
 std::string pair_text(const Vec2& v) {

@@ -204,12 +204,19 @@ RunInfo run_info(const Scene& scene, const SceneSolve& solved) {
   info.dofs = solved.solution.unknowns;
   info.processes = solved.processes;
   info.warnings = solved.warnings;
-  if (built.problem.law) info.law_breakpoints = built.problem.law->breakpoints();
-  info.gap_bound = built.has_contact && (built.problem.constraint == ConstraintKind::one_sided ||
-                                         built.problem.constraint == ConstraintKind::box);
-  if (built.has_contact) info.obstacle = built.problem.obstacle;
-  if (built.problem.friction) info.friction_law = built.problem.friction->name();
-  if (built.problem.constraint == ConstraintKind::bilateral) info.law_breakpoints.clear();
+  // every contact part's: the normal laws' breakpoints, whether a gap bounds u_nu, the first
+  // obstacle, the friction laws' names
+  for (const ContactPart& part : built.has_contact ? contact_parts(built.problem) : std::vector<ContactPart>{}) {
+    if (part.law && part.constraint != ConstraintKind::bilateral)
+      for (double b : part.law->breakpoints())
+        if (std::find(info.law_breakpoints.begin(), info.law_breakpoints.end(), b) == info.law_breakpoints.end())
+          info.law_breakpoints.push_back(b);
+    info.gap_bound = info.gap_bound || part.constraint == ConstraintKind::one_sided || part.constraint == ConstraintKind::box;
+    if (part.obstacle && !info.obstacle) info.obstacle = part.obstacle;
+    if (part.friction && info.friction_law.find(part.friction->name()) == std::string::npos)
+      info.friction_law += (info.friction_law.empty() ? "" : ", ") + part.friction->name();
+  }
+  std::sort(info.law_breakpoints.begin(), info.law_breakpoints.end());
   info.error_estimate = solved.estimate;
   info.adapt = solved.adapt;
   info.path = solved.path.get();

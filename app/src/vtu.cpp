@@ -137,6 +137,11 @@ void write_contact_point_data(std::ostream& os, const Mesh& mesh, const ContactS
   data_array(os, "u_nu", 1, u_nu);
   data_array(os, "pressure", 1, pressure);
   data_array(os, "gap", 1, gap);
+  if (sol.contact_parts.size() > 1) {  // several contact parts: each node's index, -1 off the contact
+    std::vector<std::int32_t> part(nv, -1);
+    for (const auto& n : sol.contact) part[static_cast<std::size_t>(n.vertex)] = n.part;
+    data_array(os, "contact_part", 1, part);
+  }
   if (!has_tangential(sol)) return;
   std::vector<double> u_tau(nv, 0.0), traction(nv, 0.0);
   std::vector<std::uint8_t> state(nv, 0);

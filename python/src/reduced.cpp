@@ -484,11 +484,13 @@ void register_condense(py::module_& m) {
           h->boundary = contact_boundary(problem, system.dofs);
           if (h->boundary.size() == 0)
             throw InputError("the scene has no contact boundary: there is no reduced problem", scene.where("contact"));
-          if (!problem.law) throw InputError("the contact boundary has no contact law", scene.where("contact"));
+          const std::vector<ContactPart> parts = contact_parts(problem);
+          for (const ContactPart& part : parts)
+            if (!part.law) throw InputError("the contact boundary has no contact law", scene.where("contact"));
           if (watch.poll()) throw Interrupted{};
           t = Clock::now();
-          h->condensation = std::make_unique<Condensation>(system, h->boundary, std::move(factorization), problem.law,
-                                                           constraint_in_effect(problem), problem.friction);
+          h->condensation = std::make_unique<Condensation>(system, h->boundary, std::move(factorization),
+                                                           part_conditions(parts));
           h->timings["condensation"] = since(t);
         } catch (const Interrupted&) {
         }

@@ -64,7 +64,7 @@ ContactTable contact_table(const ContactSolution& s) {
   py::array_t<std::int32_t> vertex(n);
   py::array_t<double> x(n), y(n), u_nu(n), law_force(n), reaction(n), pressure(n), gap(n), weight(n), u_tau(n),
       friction_force(n), friction_traction(n), normal({n, py::ssize_t(2)});
-  py::list state, friction_state;
+  py::list state, friction_state, part;
   auto nr = normal.mutable_unchecked<2>();
   for (py::ssize_t i = 0; i < n; ++i) {
     const ContactNode& c = s.contact[static_cast<std::size_t>(i)];
@@ -76,6 +76,7 @@ ContactTable contact_table(const ContactSolution& s) {
     friction_traction.mutable_data()[i] = c.friction_force / c.weight;
     nr(i, 0) = c.normal.x(), nr(i, 1) = c.normal.y();
     state.append(c.state), friction_state.append(c.friction_state);
+    part.append(app::contact_part_name(s, c));
   }
   const py::object np = py::module_::import("numpy");
   ContactTable t;
@@ -95,6 +96,7 @@ ContactTable contact_table(const ContactSolution& s) {
   t.columns["friction_force"] = friction_force;
   t.columns["friction_traction"] = friction_traction;
   t.columns["friction_state"] = np.attr("array")(friction_state, py::arg("dtype") = "U");
+  t.columns["part"] = np.attr("array")(part, py::arg("dtype") = "U");
   return t;
 }
 
@@ -153,6 +155,7 @@ for a frame).
                              [](const PyPathStep& s) {
                                ContactSolution view;
                                view.contact = s.step().contact;
+                               view.contact_parts = s.owner->solved.path->last.contact_parts;
                                return contact_table(view);
                              })
       .def_property_readonly("slip", [](const PyPathStep& s) { return copy_array(s.step().slip); })
@@ -238,8 +241,9 @@ void register_contact_table(py::module_& m) {
   py::class_<ContactTable>(m, "ContactTable", R"doc(
 The contact nodes of a solution as columns (NumPy arrays of equal length, one row per node):
 vertex (int32), x, y, u_nu, law_force, reaction, pressure, gap, weight (float64), normal
-(n, 2), state ('upper', 'lower', 'free', 'bilateral'), and with friction u_tau,
-friction_force, friction_traction, friction_state. Columns are attributes or items:
+(n, 2), state ('upper', 'lower', 'free', 'bilateral'), part (the name of the node's contact
+part), and with friction u_tau, friction_force, friction_traction, friction_state (empty, and
+the numbers 0, at the nodes of a frictionless part). Columns are attributes or items:
 table.u_nu, table["u_nu"]; table.as_dict() gives them all.
 )doc")
       .def("__getattr__", [](const ContactTable& t, const std::string& name) -> py::object {

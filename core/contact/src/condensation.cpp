@@ -20,31 +20,40 @@ Eigen::VectorXd ContactBoundary::normal_displacements(const Eigen::VectorXd& u) 
   return a;
 }
 
-ContactBoundary make_contact_boundary(const Mesh& mesh, const std::vector<int>& edges, const DofMap& dofs,
-                                      const std::function<double(const Vec2&)>& gap, const Obstacle* obstacle) {
+namespace {
+
+/// The contact boundary of `edges` (edge id, part index), each node in the first part one of
+/// its edges is in; `gap_of(part, vertex, normal)` gives a node's gap.
+ContactBoundary boundary_of(const Mesh& mesh, const std::vector<std::pair<int, int>>& edges, const DofMap& dofs,
+                            const std::function<double(int, int, const Vec2&)>& gap_of) {
   ContactBoundary cb;
-  cb.edges = edges;
-  std::map<int, std::pair<Vec2, double>> acc;  // vertex -> (sum of m_e, sum of |e|/2)
-  for (int id : edges) {
+  struct Sum {
+    Vec2 normal = Vec2::Zero();  // sum of m_e
+    double weight = 0.0;         // sum of |e|/2
+    int part = -1;
+  };
+  std::map<int, Sum> acc;  // by vertex
+  for (const auto& [id, part] : edges) {
     if (id < 0 || id >= mesh.num_edges()) throw InputError("contact edge id " + std::to_string(id) + " out of range");
     const MeshEdge& e = mesh.edge(id);
     if (!e.on_boundary()) throw InputError("contact edge " + std::to_string(id) + " is not on the boundary");
+    cb.edges.push_back(id);
     const Vec2 d = mesh.vertex(e.v1) - mesh.vertex(e.v0);
     const Vec2 m(d.y(), -d.x());  // outward (the edge runs counter-clockwise in its element), length |e|
     for (int v : {e.v0, e.v1}) {
-      auto& [sum, w] = acc[v];
-      if (w == 0.0) sum = Vec2::Zero();
-      sum += m;
-      w += 0.5 * d.norm();
+      Sum& sum = acc[v];
+      sum.normal += m;
+      sum.weight += 0.5 * d.norm();
+      sum.part = sum.part < 0 ? part : std::min(sum.part, part);
     }
   }
   for (const auto& [v, entry] : acc) {
     const bool fx = dofs.free_index[static_cast<std::size_t>(2 * v)] < 0;
     const bool fy = dofs.free_index[static_cast<std::size_t>(2 * v + 1)] < 0;
     if (fx && fy) continue;  // on Gamma_1
-    if (!(entry.first.norm() > 0.0))
+    if (!(entry.normal.norm() > 0.0))
       throw InputError("contact node " + std::to_string(v) + " has no defined normal (its contact edges cancel)");
-    Vec2 normal = entry.first.normalized();
+    Vec2 normal = entry.normal.normalized();
     int prescribed = -1;
     if (fx != fy) {
       // a roller or symmetry line meeting Gamma_3: allowed where the prescribed component is tangential
@@ -59,24 +68,71 @@ ContactBoundary make_contact_boundary(const Mesh& mesh, const std::vector<int>& 
       normal(prescribed) = 0.0;
       normal(1 - prescribed) = normal(1 - prescribed) > 0.0 ? 1.0 : -1.0;
     }
-    double g = 0.0;
-    if (obstacle != nullptr) {
-      g = obstacle->gap(mesh.vertex(v), normal);
-      if (std::isnan(g)) throw InputError("the obstacle gives no gap at contact node " + std::to_string(v));
-    } else {
-      g = gap ? gap(mesh.vertex(v)) : 0.0;
-      if (!std::isfinite(g) || g < 0.0)
-        throw InputError("gap " + std::to_string(g) + " at contact node " + std::to_string(v) + " must be finite and >= 0");
-    }
+    const double g = gap_of(entry.part, v, normal);
     cb.nodes.push_back(v);
     cb.normals.push_back(normal);
     cb.prescribed_component.push_back(prescribed);
+    cb.part.push_back(entry.part);
     cb.weights.conservativeResize(cb.size());
-    cb.weights(cb.size() - 1) = entry.second;
+    cb.weights(cb.size() - 1) = entry.weight;
     cb.gaps.conservativeResize(cb.size());
     cb.gaps(cb.size() - 1) = g;
   }
   return cb;
+}
+
+/// The gap of node v at x from `obstacle` (along its normal) or from `gap`; `which` names the
+/// part in messages ("" for a boundary of one part).
+double node_gap(const Vec2& x, int v, const Vec2& normal, const std::function<double(const Vec2&)>& gap,
+                const Obstacle* obstacle, const std::string& which) {
+  if (obstacle != nullptr) {
+    const double g = obstacle->gap(x, normal);
+    if (std::isnan(g)) throw InputError("the obstacle gives no gap at contact node " + std::to_string(v) + which);
+    return g;
+  }
+  const double g = gap ? gap(x) : 0.0;
+  if (!std::isfinite(g) || g < 0.0)
+    throw InputError("gap " + std::to_string(g) + " at contact node " + std::to_string(v) + which +
+                     " must be finite and >= 0");
+  return g;
+}
+
+}  // namespace
+
+ContactBoundary make_contact_boundary(const Mesh& mesh, const std::vector<int>& edges, const DofMap& dofs,
+                                      const std::function<double(const Vec2&)>& gap, const Obstacle* obstacle) {
+  std::vector<std::pair<int, int>> in_part;
+  in_part.reserve(edges.size());
+  for (int id : edges) in_part.emplace_back(id, 0);
+  return boundary_of(mesh, in_part, dofs, [&](int, int v, const Vec2& normal) {
+    return node_gap(mesh.vertex(v), v, normal, gap, obstacle, "");
+  });
+}
+
+ContactBoundary make_contact_boundary(const Mesh& mesh, const std::vector<ContactPart>& parts, const DofMap& dofs) {
+  std::vector<std::pair<int, int>> in_part;
+  std::map<int, int> part_of_edge;
+  for (std::size_t k = 0; k < parts.size(); ++k)
+    for (int id : parts[k].edges) {
+      const auto [at, added] = part_of_edge.emplace(id, static_cast<int>(k));
+      if (!added && at->second != static_cast<int>(k))
+        throw InputError("boundary edge " + std::to_string(id) + " is in the contact parts '" +
+                         parts[static_cast<std::size_t>(at->second)].name + "' and '" + parts[k].name +
+                         "'; an edge belongs to one part");
+      in_part.emplace_back(id, static_cast<int>(k));
+    }
+  return boundary_of(mesh, in_part, dofs, [&](int k, int v, const Vec2& normal) {
+    const ContactPart& part = parts[static_cast<std::size_t>(k)];
+    const std::string which = parts.size() > 1 ? " (contact part '" + part.name + "')" : "";
+    return node_gap(mesh.vertex(v), v, normal, part.gap, part.obstacle ? &*part.obstacle : nullptr, which);
+  });
+}
+
+std::vector<PartConditions> part_conditions(const std::vector<ContactPart>& parts) {
+  std::vector<PartConditions> out;
+  out.reserve(parts.size());
+  for (const ContactPart& p : parts) out.push_back({p.law, constraint_in_effect(p), p.friction, p.law_from_surface});
+  return out;
 }
 
 namespace {
@@ -182,33 +238,42 @@ SparseMatrix rotate_symmetric(const SparseMatrix& A_in, const std::vector<int>& 
 
 }  // namespace
 
+namespace {
+
+/// The conditions of the constructor of one part.
+std::vector<PartConditions> one_part(std::shared_ptr<const ContactLaw> law, ConstraintKind constraint,
+                                     std::shared_ptr<const ContactLaw> friction, bool law_from_surface) {
+  if (!law) throw InputError("condensation needs a contact law");
+  return {PartConditions{std::move(law), constraint, std::move(friction), law_from_surface}};
+}
+
+}  // namespace
+
 Condensation::Condensation(const LinearSystem& system, const ContactBoundary& boundary,
                            std::unique_ptr<SparseFactorization> factorization, std::shared_ptr<const ContactLaw> law,
                            ConstraintKind constraint, std::shared_ptr<const ContactLaw> friction,
                            bool semi_coercive, bool law_from_surface)
-    : dofs_(system.dofs),
-      factorization_(std::move(factorization)),
-      semi_coercive_(semi_coercive),
-      law_from_surface_(law_from_surface && constraint != ConstraintKind::bilateral) {
+    : Condensation(system, boundary, std::move(factorization),
+                   one_part(std::move(law), constraint, std::move(friction), law_from_surface), semi_coercive) {}
+
+Condensation::Condensation(const LinearSystem& system, const ContactBoundary& boundary,
+                           std::unique_ptr<SparseFactorization> factorization, const std::vector<PartConditions>& parts,
+                           bool semi_coercive)
+    : dofs_(system.dofs), factorization_(std::move(factorization)), semi_coercive_(semi_coercive) {
   if (!factorization_) throw InputError("condensation needs a factorization engine");
-  if (!law) throw InputError("condensation needs a contact law");
+  if (parts.empty()) throw InputError("condensation needs the conditions of the contact parts");
   normals_ = boundary.normals;
   nodes_ = boundary.nodes;
-  has_normal_ = constraint != ConstraintKind::bilateral;
-  constraint_ = constraint;
-  has_tangential_ = friction != nullptr || !has_normal_;
-  if (!has_normal_ && !friction) friction = zero_law();
+  number_coordinates(boundary, parts);
   order_unknowns(system, boundary);
   // the (x, y) -> (normal, tangential) rotation at the contact nodes: A~ = Q^T A Q, b~ = Q^T b
   const SparseMatrix At = rotate_symmetric(system.A, contact_free_x_, contact_free_y_, normals_);
   const Eigen::VectorXd bt = rotate_load(system.b);
   measure_interior(At);
-  pose_reduced_problem(boundary, std::move(law), constraint, std::move(friction));
+  pose_reduced_problem(boundary, parts);
   origin_ = Eigen::VectorXd::Zero(reduced_.lo.size());
-  if (law_from_surface_) {
-    law_at_start_ = reduced_.law_index.head(static_cast<Eigen::Index>(normals_.size()));  // the normal law
-    measure_from_surface(boundary);
-  }
+  law_at_start_ = reduced_.law_index;  // each coordinate's law where its gap is finite
+  measure_from_surface(boundary);
   compute_schur_complement(At);
   if (!split_interior_solve(*factorization_)) extract_a21(At);
   condense_load(bt);
@@ -230,37 +295,75 @@ void Condensation::set_load(const Eigen::VectorXd& b, const Eigen::VectorXd& pre
 }
 
 void Condensation::set_gaps(const Eigen::VectorXd& gaps) {
-  if (!has_normal_) return;
+  const bool any_normal =
+      std::any_of(normal_coordinate_.begin(), normal_coordinate_.end(), [](int k) { return k >= 0; });
+  if (!any_normal) return;
   if (gaps.size() != static_cast<Eigen::Index>(normals_.size()))
     throw InputError("gaps for " + std::to_string(normals_.size()) + " contact nodes needed, got " +
                      std::to_string(gaps.size()));
   for (Eigen::Index i = 0; i < gaps.size(); ++i) {
+    const int k = normal_coordinate_[static_cast<std::size_t>(i)];
+    if (k < 0) continue;
     const double g = gaps(i);
     if (std::isnan(g)) throw InputError("the gap of contact node " + std::to_string(nodes_[static_cast<std::size_t>(i)]) + " is NaN");
-    reduced_.lo(i) = lower_bound(constraint_, g);
-    reduced_.hi(i) = upper_bound(constraint_, g);
-    if (!law_from_surface_) continue;
+    const ConstraintKind constraint = constraint_[static_cast<std::size_t>(i)];
+    reduced_.lo(k) = lower_bound(constraint, g);
+    reduced_.hi(k) = upper_bound(constraint, g);
+    if (!from_surface_[static_cast<std::size_t>(i)]) continue;
     // a node whose ray misses the obstacle never meets it: the zero law; one that meets it
-    // again gets its law back
+    // again gets its part's law back
     if (std::isfinite(g)) {
-      reduced_.law_index(i) = law_at_start_(i);
+      reduced_.law_index(k) = law_at_start_(k);
     } else {
-      if (zero_law_index_ < 0) {
-        reduced_.laws.push_back(zero_law());
-        zero_law_index_ = static_cast<int>(reduced_.laws.size()) - 1;
-      }
-      reduced_.law_index(i) = zero_law_index_;
+      if (!zero_) zero_ = zero_law();
+      const auto at = std::find(reduced_.laws.begin(), reduced_.laws.end(), zero_);
+      if (at == reduced_.laws.end()) reduced_.laws.push_back(zero_);
+      reduced_.law_index(k) = static_cast<int>(std::find(reduced_.laws.begin(), reduced_.laws.end(), zero_) - reduced_.laws.begin());
     }
-    origin_(i) = std::isfinite(g) ? g : 0.0;
+    origin_(k) = std::isfinite(g) ? g : 0.0;
     if (std::isfinite(g)) {
-      reduced_.lo(i) -= g;
-      reduced_.hi(i) -= g;
+      reduced_.lo(k) -= g;
+      reduced_.hi(k) -= g;
     }
   }
+  const bool shifted = std::any_of(from_surface_.begin(), from_surface_.end(), [](char f) { return f != 0; });
   processes_of(*factorization_).run_where_results_are([&] {
     reduced_.c = raw_c_;
-    if (law_from_surface_) reduced_.c -= reduced_.S * origin_;
+    if (shifted) reduced_.c -= reduced_.S * origin_;
   });
+}
+
+// Each node's conditions, and its coordinates: every normal unknown (node order), then every
+// tangential one.
+void Condensation::number_coordinates(const ContactBoundary& boundary, const std::vector<PartConditions>& parts) {
+  const auto n1 = static_cast<std::size_t>(boundary.size());
+  normal_coordinate_.assign(n1, -1);
+  tangential_coordinate_.assign(n1, -1);
+  constraint_.assign(n1, ConstraintKind::none);
+  from_surface_.assign(n1, 0);
+  auto conditions = [&](std::size_t i) -> const PartConditions& {
+    if (parts.size() == 1) return parts.front();
+    const int k = boundary.part_of(static_cast<int>(i));
+    if (k < 0 || k >= static_cast<int>(parts.size()))
+      throw InputError("contact node " + std::to_string(boundary.nodes[i]) + " is in contact part " +
+                       std::to_string(k) + ", but " + std::to_string(parts.size()) + " parts are given");
+    return parts[static_cast<std::size_t>(k)];
+  };
+  int next = 0;
+  for (std::size_t i = 0; i < n1; ++i) {
+    const PartConditions& c = conditions(i);
+    constraint_[i] = c.constraint;
+    const bool bilateral = c.constraint == ConstraintKind::bilateral;
+    from_surface_[i] = c.law_from_surface && !bilateral;
+    if (!bilateral) {
+      if (!c.law) throw InputError("condensation needs a contact law");
+      normal_coordinate_[i] = next++;
+    }
+  }
+  for (std::size_t i = 0; i < n1; ++i) {
+    const PartConditions& c = conditions(i);
+    if (c.friction || c.constraint == ConstraintKind::bilateral) tangential_coordinate_[i] = next++;
+  }
 }
 
 void Condensation::order_unknowns(const LinearSystem& system, const ContactBoundary& boundary) {
@@ -273,7 +376,7 @@ void Condensation::order_unknowns(const LinearSystem& system, const ContactBound
     const int prescribed = boundary.prescribed_component.empty() ? -1 : boundary.prescribed_component[static_cast<std::size_t>(i)];
     if (prescribed >= 0) {
       // one free component, along the normal: its free index stands for u_nu
-      if (has_tangential_)
+      if (tangential_coordinate(i) >= 0)
         throw InputError("contact node " + std::to_string(v) + " has its " + (prescribed == 0 ? "x" : "y") +
                          " displacement (its tangential one) prescribed; with friction or a bilateral constraint "
                          "the tangential displacements of the contact nodes are unknowns: end the support's or the "
@@ -286,9 +389,20 @@ void Condensation::order_unknowns(const LinearSystem& system, const ContactBound
     contact_free_y_.push_back(fy);
     block1_.push_back(fx);
   }
-  // with friction the tangential displacements follow the normal ones
-  if (has_tangential_)
-    for (int i = 0; i < n1; ++i) block1_.push_back(contact_free_y_[static_cast<std::size_t>(i)]);
+  // the tangential displacements that are unknowns follow the normal ones; the reduced
+  // coordinates are the normal ones that are unknowns, then those
+  coordinate1_.assign(static_cast<std::size_t>(std::count_if(normal_coordinate_.begin(), normal_coordinate_.end(),
+                                                             [](int k) { return k >= 0; }) +
+                                               std::count_if(tangential_coordinate_.begin(), tangential_coordinate_.end(),
+                                                             [](int k) { return k >= 0; })),
+                      -1);
+  for (int i = 0; i < n1; ++i) {
+    if (const int k = normal_coordinate(i); k >= 0) coordinate1_[static_cast<std::size_t>(k)] = i;
+    if (const int k = tangential_coordinate(i); k >= 0) {
+      coordinate1_[static_cast<std::size_t>(k)] = static_cast<int>(block1_.size());
+      block1_.push_back(contact_free_y_[static_cast<std::size_t>(i)]);
+    }
+  }
   std::vector<char> in1(static_cast<std::size_t>(n), 0);
   for (int k : block1_) in1[static_cast<std::size_t>(k)] = 1;
   for (int k = 0; k < n; ++k)
@@ -321,65 +435,67 @@ void Condensation::measure_interior(const SparseMatrix& At) {
   }
 }
 
-void Condensation::pose_reduced_problem(const ContactBoundary& boundary, std::shared_ptr<const ContactLaw> law,
-                                        ConstraintKind constraint, std::shared_ptr<const ContactLaw> friction) {
-  const int n1 = boundary.size();
-  reduced_.w = boundary.weights;
-  if (has_tangential_) {
-    // the coordinate-wise form: normals (unless bilateral), then tangentials
-    const int nc = (has_normal_ ? n1 : 0) + n1;
-    reduced_.laws.clear();
-    if (has_normal_) reduced_.laws.push_back(law);
-    reduced_.laws.push_back(friction);
-    reduced_.law_index.resize(nc);
-    reduced_.lo.resize(nc);
-    reduced_.hi.resize(nc);
-    reduced_.w.resize(nc);
-    for (int i = 0; i < n1; ++i) {
-      const int t = tangential_coordinate(i);
-      reduced_.law_index(t) = has_normal_ ? 1 : 0;
-      reduced_.lo(t) = -std::numeric_limits<double>::infinity();
-      reduced_.hi(t) = std::numeric_limits<double>::infinity();
-      reduced_.w(t) = boundary.weights(i);
-      if (!has_normal_) continue;
-      reduced_.law_index(i) = 0;
-      reduced_.lo(i) = lower_bound(constraint, boundary.gaps(i));
-      reduced_.hi(i) = upper_bound(constraint, boundary.gaps(i));
-      reduced_.w(i) = boundary.weights(i);
-    }
-  } else {
-    // the normals, with one law and the bounds of the constraint
-    const bool gapped = constraint == ConstraintKind::one_sided || constraint == ConstraintKind::box;
-    reduced_.laws = {law};
-    reduced_.law_index = Eigen::VectorXi::Zero(n1);
-    reduced_.lo.resize(n1);
-    reduced_.hi.resize(n1);
-    for (int i = 0; i < n1; ++i) {
-      reduced_.lo(i) = lower_bound(constraint, gapped ? boundary.gaps(i) : 0.0);
-      reduced_.hi(i) = upper_bound(constraint, gapped ? boundary.gaps(i) : 0.0);
-    }
+void Condensation::pose_reduced_problem(const ContactBoundary& boundary, const std::vector<PartConditions>& parts) {
+  const auto nc = static_cast<Eigen::Index>(coordinate1_.size());
+  reduced_.laws.clear();
+  reduced_.law_index.resize(nc);
+  reduced_.lo.resize(nc);
+  reduced_.hi.resize(nc);
+  reduced_.w.resize(nc);
+  auto number_of = [this](const std::shared_ptr<const ContactLaw>& law) {
+    for (std::size_t k = 0; k < reduced_.laws.size(); ++k)
+      if (reduced_.laws[k] == law) return static_cast<int>(k);
+    reduced_.laws.push_back(law);
+    return static_cast<int>(reduced_.laws.size()) - 1;
+  };
+  auto conditions = [&](int i) -> const PartConditions& {
+    return parts.size() == 1 ? parts.front() : parts[static_cast<std::size_t>(boundary.part_of(i))];
+  };
+  // the normals, with their part's law and the bounds of its constraint
+  for (int i = 0; i < boundary.size(); ++i) {
+    const int k = normal_coordinate(i);
+    if (k < 0) continue;
+    reduced_.law_index(k) = number_of(conditions(i).law);
+    reduced_.lo(k) = lower_bound(constraint_[static_cast<std::size_t>(i)], boundary.gaps(i));
+    reduced_.hi(k) = upper_bound(constraint_[static_cast<std::size_t>(i)], boundary.gaps(i));
+    reduced_.w(k) = boundary.weights(i);
+  }
+  // the tangentials, free, with their part's friction law (j = 0 for a bilateral part without one)
+  for (int i = 0; i < boundary.size(); ++i) {
+    const int k = tangential_coordinate(i);
+    if (k < 0) continue;
+    const std::shared_ptr<const ContactLaw>& friction = conditions(i).friction;
+    if (!friction && !zero_) zero_ = zero_law();
+    reduced_.law_index(k) = number_of(friction ? friction : zero_);
+    reduced_.lo(k) = -std::numeric_limits<double>::infinity();
+    reduced_.hi(k) = std::numeric_limits<double>::infinity();
+    reduced_.w(k) = boundary.weights(i);
   }
 }
 
-// The normal unknowns become the distances to the surface, a_i - g_i: the bounds shift by -g_i;
-// a node that never meets the surface (g_i infinite) gets the zero law at its own index.
+// The normal unknowns of the nodes whose law acts from the surface become the distances to it,
+// a_i - g_i: the bounds shift by -g_i; a node that never meets the surface (g_i infinite) gets
+// the zero law.
 void Condensation::measure_from_surface(const ContactBoundary& boundary) {
   int none = -1;
   for (int i = 0; i < boundary.size(); ++i) {
+    const int k = normal_coordinate(i);
+    if (k < 0 || !from_surface_[static_cast<std::size_t>(i)]) continue;
     const double g = boundary.gaps(i);
     if (std::isfinite(g)) {
-      origin_(i) = g;
-      reduced_.lo(i) -= g;
-      reduced_.hi(i) -= g;
+      origin_(k) = g;
+      reduced_.lo(k) -= g;
+      reduced_.hi(k) -= g;
     } else {
       if (none < 0) {
-        reduced_.laws.push_back(zero_law());
-        none = static_cast<int>(reduced_.laws.size()) - 1;
+        if (!zero_) zero_ = zero_law();
+        const auto at = std::find(reduced_.laws.begin(), reduced_.laws.end(), zero_);
+        none = static_cast<int>(at - reduced_.laws.begin());
+        if (at == reduced_.laws.end()) reduced_.laws.push_back(zero_);
       }
-      reduced_.law_index(i) = none;
+      reduced_.law_index(k) = none;
     }
   }
-  zero_law_index_ = none;
 }
 
 void Condensation::compute_schur_complement(const SparseMatrix& At) {
@@ -398,11 +514,14 @@ void Condensation::compute_schur_complement(const SparseMatrix& At) {
   } else {
     require(factorization_->schur_complement(At, block1_, &S1), *factorization_, "static condensation");
   }
-  // the reduced coordinates among block 1: all of it, or its tangential half (bilateral)
-  const Eigen::Index n1 = static_cast<Eigen::Index>(normals_.size());
-  const Eigen::Index first = has_normal_ ? 0 : n1, count = static_cast<Eigen::Index>(block1_.size()) - first;
+  // the reduced coordinates among block 1 (all of it but the normals of bilateral nodes)
   if (S1.size() > 0) {
-    reduced_.S = 0.5 * (S1.block(first, first, count, count) + S1.block(first, first, count, count).transpose());
+    const auto nc = static_cast<Eigen::Index>(coordinate1_.size());
+    Eigen::MatrixXd S(nc, nc);
+    for (Eigen::Index q = 0; q < nc; ++q)
+      for (Eigen::Index p = 0; p < nc; ++p)
+        S(p, q) = S1(coordinate1_[static_cast<std::size_t>(p)], coordinate1_[static_cast<std::size_t>(q)]);
+    reduced_.S = 0.5 * (S + S.transpose());
   } else {
     reduced_.S = std::move(S1);
   }
@@ -425,9 +544,14 @@ void Condensation::condense_load(const Eigen::VectorXd& bt) {
   }
   processes_of(*factorization_).run_where_results_are([&] {
     if (!split) raw_c_ = b1 - A21_.transpose() * y.col(0);
-    if (!has_normal_) raw_c_ = raw_c_.tail(static_cast<Eigen::Index>(normals_.size())).eval();
+    if (static_cast<std::size_t>(raw_c_.size()) != coordinate1_.size()) {
+      Eigen::VectorXd c(static_cast<Eigen::Index>(coordinate1_.size()));
+      for (std::size_t k = 0; k < coordinate1_.size(); ++k) c(static_cast<Eigen::Index>(k)) = raw_c_(coordinate1_[k]);
+      raw_c_ = std::move(c);
+    }
     reduced_.c = raw_c_;
-    if (law_from_surface_) reduced_.c -= reduced_.S * origin_;
+    if (std::any_of(from_surface_.begin(), from_surface_.end(), [](char f) { return f != 0; }))
+      reduced_.c -= reduced_.S * origin_;
   });
 }
 
@@ -496,22 +620,21 @@ Eigen::VectorXd Condensation::reduced_point(const Eigen::VectorXd& u) const {
     const Vec2 nu = normals_[i], tau(-nu.y(), nu.x());
     const Vec2 d = u.segment<2>(2 * nodes_[i]);
     const int node = static_cast<int>(i);
-    if (has_normal_) a(normal_coordinate(node)) = nu.dot(d) - origin_(normal_coordinate(node));
-    if (has_tangential_) a(tangential_coordinate(node)) = tau.dot(d);
+    if (const int k = normal_coordinate(node); k >= 0) a(k) = nu.dot(d) - origin_(k);
+    if (const int k = tangential_coordinate(node); k >= 0) a(k) = tau.dot(d);
   }
   return a;
 }
 
 // a, with the normal displacements 0 where they are not unknowns (bilateral).
 Eigen::VectorXd Condensation::block1_values(const Eigen::VectorXd& a) const {
-  const auto n1 = static_cast<Eigen::Index>(normals_.size());
-  const Eigen::Index unknowns = static_cast<Eigen::Index>(block1_.size()) - (has_normal_ ? 0 : n1);
+  const auto unknowns = static_cast<Eigen::Index>(coordinate1_.size());
   if (a.size() != unknowns)
     throw InputError("back-substitution needs " + std::to_string(unknowns) + " contact displacements, got " +
                      std::to_string(a.size()));
-  if (has_normal_) return a + origin_;
+  if (static_cast<std::size_t>(unknowns) == block1_.size()) return a + origin_;
   Eigen::VectorXd x1 = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(block1_.size()));
-  x1.tail(n1) = a;
+  for (Eigen::Index k = 0; k < unknowns; ++k) x1(coordinate1_[static_cast<std::size_t>(k)]) = a(k) + origin_(k);
   return x1;
 }
 

@@ -43,18 +43,19 @@ void require_ok(const FactorizationResult& r, const SparseFactorization& f, cons
 }  // namespace
 
 ContactBoundary contact_boundary(const ContactProblem& problem, const DofMap& dofs) {
-  ContactBoundary boundary;
-  if (problem.contact_edges.empty()) return boundary;
-  boundary = make_contact_boundary(*problem.elasticity.mesh, problem.contact_edges, dofs,
-                                   problem.gap ? problem.gap : [](const Vec2&) { return 0.0; },
-                                   problem.obstacle ? &*problem.obstacle : nullptr);
-  if (problem.obstacle && problem.constraint == ConstraintKind::box)
-    for (int i = 0; i < boundary.size(); ++i)
-      if (!(std::isfinite(boundary.gaps(i)) && boundary.gaps(i) >= 0.0))
-        throw InputError("the box constraint |u_nu| <= g needs a finite gap >= 0, but the obstacle gives " +
-                         std::to_string(boundary.gaps(i)) + " at contact node " +
-                         std::to_string(boundary.nodes[static_cast<std::size_t>(i)]) +
-                         "; set contact.constraint = \"one-sided\" with an obstacle");
+  const std::vector<ContactPart> parts = contact_parts(problem);
+  if (parts.empty()) return ContactBoundary{};
+  const ContactBoundary boundary = make_contact_boundary(*problem.elasticity.mesh, parts, dofs);
+  for (int i = 0; i < boundary.size(); ++i) {
+    const ContactPart& part = parts[static_cast<std::size_t>(boundary.part_of(i))];
+    if (part.obstacle && part.constraint == ConstraintKind::box &&
+        !(std::isfinite(boundary.gaps(i)) && boundary.gaps(i) >= 0.0))
+      throw InputError("the box constraint |u_nu| <= g needs a finite gap >= 0, but the obstacle gives " +
+                       std::to_string(boundary.gaps(i)) + " at contact node " +
+                       std::to_string(boundary.nodes[static_cast<std::size_t>(i)]) +
+                       (parts.size() > 1 ? " (contact part '" + part.name + "')" : std::string()) +
+                       "; set contact.constraint = \"one-sided\" with an obstacle");
+  }
   return boundary;
 }
 
@@ -110,11 +111,10 @@ std::vector<ContactSolution> ContactSolver::run(std::span<const NonsmoothMinimiz
   common_.unknowns = system_->dofs.num_free();
   if (common_.unknowns == 0)
     throw InputError("the Dirichlet conditions prescribe every displacement of the mesh: there is nothing to solve");
+  parts_ = contact_parts(problem_);
+  for (const ContactPart& part : parts_) common_.contact_parts.push_back(part.name);
   boundary_ = contact_boundary(problem_, system_->dofs);
-  common_.held_by_contact = find_supports(*problem_.elasticity.mesh, system_->dofs, boundary_,
-                                          constraint_in_effect(problem_) != ConstraintKind::bilateral,
-                                          problem_.friction != nullptr)
-                                .held_by_contact;
+  common_.held_by_contact = find_supports(*problem_.elasticity.mesh, system_->dofs, boundary_, parts_).held_by_contact;
   if (boundary_.size() == 0) {
     const Eigen::MatrixXd X = linear_solve();
     common_.may_be_nonunique = false;
@@ -208,11 +208,13 @@ void ContactSolver::post_process_linear(const Eigen::MatrixXd& X) {
 // The static condensation onto the contact unknowns (the reduced problem), its uniqueness
 // margin and, when asked, the conditioning of the interior block.
 void ContactSolver::condense() {
-  if (!problem_.law) throw InputError("the contact boundary has no contact law");
+  for (const ContactPart& part : parts_)
+    if (!part.law)
+      throw InputError(parts_.size() == 1 ? std::string("the contact boundary has no contact law")
+                                          : "contact part '" + part.name + "' has no contact law");
   const auto t = Clock::now();
-  condensation_ = std::make_unique<Condensation>(*system_, boundary_, std::move(factorization_), problem_.law,
-                                                 constraint_in_effect(problem_), problem_.friction,
-                                                 !common_.held_by_contact.empty(), problem_.law_from_surface);
+  condensation_ = std::make_unique<Condensation>(*system_, boundary_, std::move(factorization_),
+                                                 part_conditions(parts_), !common_.held_by_contact.empty());
   common_.timings["condensation"] = since(t);
   common_.stages.push_back("condensation");
   if (estimate_condition_) {
@@ -279,6 +281,7 @@ ContactNode contact_node(const Mesh& mesh, const ContactBoundary& boundary, cons
   const bool forces = m.law_force.size() == m.a.size() && m.reaction.size() == m.a.size();
   ContactNode node;
   node.vertex = boundary.nodes[static_cast<std::size_t>(i)];
+  node.part = boundary.part_of(i);
   node.x = mesh.vertex(node.vertex);
   node.weight = boundary.weights(i);
   node.normal = boundary.normals[static_cast<std::size_t>(i)];

@@ -2,18 +2,24 @@
 #include <hemivem/error.hpp>
 #include <hemivem/vem/rigid_motions.hpp>
 
+#include <algorithm>
+
 namespace hemivem {
 
 namespace {
 
-// The functionals of the motions at the contact nodes along the normals (or the tangents).
-Eigen::MatrixXd along(const RigidMotions& motions, const ContactBoundary& boundary, bool tangents) {
+// The functionals of the motions at the contact nodes `which` (all when empty) along the
+// normals (or the tangents).
+Eigen::MatrixXd along(const RigidMotions& motions, const ContactBoundary& boundary, bool tangents,
+                      const std::vector<char>& which = {}) {
   Eigen::MatrixXd rows(boundary.size(), 3 * motions.num_pieces());
+  Eigen::Index r = 0;
   for (int i = 0; i < boundary.size(); ++i) {
+    if (!which.empty() && !which[static_cast<std::size_t>(i)]) continue;
     const Vec2 nu = boundary.normals[static_cast<std::size_t>(i)];
-    rows.row(i) = motions.functional(boundary.nodes[static_cast<std::size_t>(i)], tangents ? Vec2(-nu.y(), nu.x()) : nu);
+    rows.row(r++) = motions.functional(boundary.nodes[static_cast<std::size_t>(i)], tangents ? Vec2(-nu.y(), nu.x()) : nu);
   }
-  return rows;
+  return rows.topRows(r);
 }
 
 std::string listed(const RigidMotions& motions) {
@@ -22,10 +28,10 @@ std::string listed(const RigidMotions& motions) {
   return text;
 }
 
-}  // namespace
-
-Supports find_supports(const Mesh& mesh, const DofMap& dofs, const ContactBoundary& boundary, bool normal_unknowns,
-                       bool tangential_law) {
+// The supports with, per contact node, whether its normal displacement is an unknown (not
+// bilateral) and whether a tangential law acts on it.
+Supports supports_of(const Mesh& mesh, const DofMap& dofs, const ContactBoundary& boundary,
+                     const std::vector<char>& normal_unknowns, const std::vector<char>& tangential_law) {
   RigidMotions free(mesh, dofs);
   Supports supports;
   if (free.empty()) return supports;
@@ -35,11 +41,17 @@ Supports find_supports(const Mesh& mesh, const DofMap& dofs, const ContactBounda
                      (free.size() == 1 ? "it: " : "them: ") + listed(free) +
                      "; prescribe displacements that hold the body (a clamped side, or rollers in two directions "
                      "away from one line)");
+  const auto all = [](const std::vector<char>& v) { return std::all_of(v.begin(), v.end(), [](char c) { return c != 0; }); };
+  const auto none = [](const std::vector<char>& v) { return std::none_of(v.begin(), v.end(), [](char c) { return c != 0; }); };
+  std::vector<char> bilateral(normal_unknowns.size());
+  for (std::size_t i = 0; i < bilateral.size(); ++i) bilateral[i] = normal_unknowns[i] ? 0 : 1;
   // a bilateral constraint holds the normal displacements as a support would
-  const RigidMotions rest = normal_unknowns ? free : free.without(along(free, boundary, false));
-  Eigen::MatrixXd moved = normal_unknowns ? along(rest, boundary, false) : Eigen::MatrixXd(0, 3 * free.num_pieces());
-  if (tangential_law) {
-    const Eigen::MatrixXd t = along(rest, boundary, true);
+  const RigidMotions rest = all(normal_unknowns) ? free : free.without(along(free, boundary, false, bilateral));
+  Eigen::MatrixXd moved = none(normal_unknowns) ? Eigen::MatrixXd(0, 3 * free.num_pieces())
+                                                : along(rest, boundary, false, normal_unknowns);
+  const bool friction = !none(tangential_law);
+  if (friction) {
+    const Eigen::MatrixXd t = along(rest, boundary, true, tangential_law);
     moved.conservativeResize(moved.rows() + t.rows(), Eigen::NoChange);
     moved.bottomRows(t.rows()) = t;
   }
@@ -47,11 +59,36 @@ Supports find_supports(const Mesh& mesh, const DofMap& dofs, const ContactBounda
   if (!unheld.empty())
     throw InputError("the Dirichlet conditions leave " + listed(unheld) +
                      " free, and the contact cannot hold it: it moves no contact node along its normal" +
-                     (tangential_law ? std::string(" or tangent")
-                                     : std::string(" (frictionless contact does not resist sliding along it)")) +
+                     (friction ? std::string(" or tangent")
+                               : std::string(" (frictionless contact does not resist sliding along it)")) +
                      "; prescribe displacements that hold it");
   for (int k = 0; k < free.size(); ++k) supports.held_by_contact.push_back(free.describe(k));
   return supports;
+}
+
+}  // namespace
+
+Supports find_supports(const Mesh& mesh, const DofMap& dofs, const ContactBoundary& boundary, bool normal_unknowns,
+                       bool tangential_law) {
+  const auto n = static_cast<std::size_t>(boundary.size());
+  return supports_of(mesh, dofs, boundary, std::vector<char>(n, normal_unknowns ? 1 : 0),
+                     std::vector<char>(n, tangential_law ? 1 : 0));
+}
+
+Supports find_supports(const Mesh& mesh, const DofMap& dofs, const ContactBoundary& boundary,
+                       const std::vector<ContactPart>& parts) {
+  const auto n = static_cast<std::size_t>(boundary.size());
+  std::vector<char> normal(n, 1), tangential(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const int k = boundary.part_of(static_cast<int>(i));
+    if (k < 0 || k >= static_cast<int>(parts.size()))
+      throw InputError("contact node " + std::to_string(boundary.nodes[i]) + " is in contact part " + std::to_string(k) +
+                       ", but " + std::to_string(parts.size()) + " parts are given");
+    const ContactPart& part = parts[static_cast<std::size_t>(k)];
+    normal[i] = part.constraint == ConstraintKind::bilateral ? 0 : 1;
+    tangential[i] = part.friction ? 1 : 0;
+  }
+  return supports_of(mesh, dofs, boundary, normal, tangential);
 }
 
 }  // namespace hemivem

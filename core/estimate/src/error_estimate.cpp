@@ -125,11 +125,13 @@ ErrorEstimate estimate_error(const ContactProblem& problem, const ContactSolutio
       if (edge < 0 || edge >= nedges) throw InputError("estimate_error: a traction edge id is out of range");
       loads[static_cast<std::size_t>(edge)].push_back(static_cast<int>(k));
     }
+  // per edge: 0 off Gamma_3, 1 on a frictionless contact part, 2 on one with friction
   std::vector<char> is_contact(static_cast<std::size_t>(nedges), 0);
-  for (int edge : problem.contact_edges) {
-    if (edge < 0 || edge >= nedges) throw InputError("estimate_error: a contact edge id is out of range");
-    is_contact[static_cast<std::size_t>(edge)] = 1;
-  }
+  for (const ContactPart& part : contact_parts(problem))
+    for (int edge : part.edges) {
+      if (edge < 0 || edge >= nedges) throw InputError("estimate_error: a contact edge id is out of range");
+      is_contact[static_cast<std::size_t>(edge)] = part.friction ? 2 : 1;
+    }
   // The traction t_i = -p_i nu_i - q_i tau_i of each contact node (p, q: force / weight).
   std::vector<int> node_of(static_cast<std::size_t>(nv), -1);
   std::vector<Vec2> node_traction(solution.contact.size(), Vec2::Zero());
@@ -144,7 +146,6 @@ ErrorEstimate estimate_error(const ContactProblem& problem, const ContactSolutio
       node_traction[i] = -(node.force() / node.weight) * node.normal - (node.friction_force / node.weight) * tau;
     }
   }
-  const bool has_friction = problem.friction != nullptr;
 
   // ---- edges ----
   for (int id = 0; id < nedges; ++id) {
@@ -185,7 +186,7 @@ ErrorEstimate estimate_error(const ContactProblem& problem, const ContactSolutio
       }
       const double scale = length * length;  // h_e times the edge's length (the rule's Jacobian)
       left.raw[contact] += scale * normal_part;
-      left.raw[has_friction ? friction : contact] += scale * tangential_part;
+      left.raw[is_contact[static_cast<std::size_t>(id)] == 2 ? friction : contact] += scale * tangential_part;
       continue;
     }
     // Gamma_2: the loads on the edge (zero traction on a free edge), in the components that

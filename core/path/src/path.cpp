@@ -102,8 +102,12 @@ struct PathSolver::Impl {
   std::vector<std::string> held_by_contact;
   ReducedProblem step;           // the step's problem: the condensation's, with c, bounds and weights of the step
   int n1 = 0;                    // contact nodes
-  bool has_normal = true, has_tangential = false;
-  std::optional<FrictionBound> bound_law;
+  std::vector<ContactPart> parts;
+  bool any_bilateral = false;    // a node without a normal unknown (its normal force needs the displacement)
+  bool has_tangential = false;   // a node with a tangential unknown
+  /// Per contact node, the friction bound of its part that depends on the normal contact (null: none).
+  std::vector<const FrictionBound*> bound_law;
+  bool bounded = false;          // some node has one
   // proportional loading: the data at t = 1
   Eigen::VectorXd c1;            // the condensed load
   Eigen::VectorXd prescribed1;   // every dof's prescribed value
@@ -142,45 +146,53 @@ void PathSolver::Impl::set_up() {
   if (!(options.jump_factor > 1.0)) throw InputError("the jump factor of a path must be > 1");
   if (options.fixed_point.max_iterations < 1 || !(options.fixed_point.relaxation > 0.0 && options.fixed_point.relaxation <= 1.0))
     throw InputError("the fixed point of a path needs max_iterations >= 1 and a relaxation in (0, 1]");
-  if (problem.contact_edges.empty())
+  if (problem.contact_edges.empty() && problem.more_contact.empty())
     throw InputError("a loading path needs a contact boundary (without one the displacement at t is t times the one at t = 1)");
-  if (!problem.law) throw InputError("the contact boundary has no contact law");
-  bound_law = problem.friction_bound;
-  if (bound_law) {
-    check_friction_bound(*bound_law, "contact.friction");
-    if (!problem.friction) throw InputError("a friction bound that depends on the normal contact needs the friction law tresca_law(1)");
-    if (constraint_in_effect(problem) == ConstraintKind::bilateral)
+  parts = contact_parts(problem);
+  for (const ContactPart& part : parts) {
+    const std::string which = parts.size() == 1 ? std::string() : " of contact part '" + part.name + "'";
+    if (!part.law)
+      throw InputError(parts.size() == 1 ? std::string("the contact boundary has no contact law")
+                                         : "contact part '" + part.name + "' has no contact law");
+    if (!part.friction_bound) continue;
+    check_friction_bound(*part.friction_bound, parts.size() == 1 ? std::string("contact.friction") : "contact part '" + part.name + "'");
+    if (!part.friction)
+      throw InputError("a friction bound that depends on the normal contact needs the friction law tresca_law(1)" + which);
+    if (constraint_in_effect(part) == ConstraintKind::bilateral)
       throw InputError("a friction bound that depends on the normal contact needs the normal displacements as unknowns, "
-                       "which a bilateral constraint (u_nu = 0) removes");
+                       "which a bilateral constraint (u_nu = 0) removes" + which);
   }
-  if (!loading.proportional()) loading.update(loading.t.front(), problem);
+  if (!loading.proportional()) {
+    loading.update(loading.t.front(), problem);
+    parts = contact_parts(problem);
+  }
   auto t0 = Clock::now();
   system = assemble(problem.elasticity);
   timings["assembly"] = since(t0);
   boundary = contact_boundary(problem, system.dofs);
-  held_by_contact = find_supports(*problem.elasticity.mesh, system.dofs, boundary,
-                                  constraint_in_effect(problem) != ConstraintKind::bilateral, problem.friction != nullptr)
-                        .held_by_contact;
+  held_by_contact = find_supports(*problem.elasticity.mesh, system.dofs, boundary, parts).held_by_contact;
   if (boundary.size() == 0) throw InputError("the contact boundary of the path has no free node");
   t0 = Clock::now();
-  cond = std::make_unique<Condensation>(system, boundary, std::move(factorization), problem.law,
-                                        constraint_in_effect(problem), problem.friction, !held_by_contact.empty(),
-                                        problem.law_from_surface);
+  cond = std::make_unique<Condensation>(system, boundary, std::move(factorization), part_conditions(parts),
+                                        !held_by_contact.empty());
   timings["condensation"] = since(t0);
   step = cond->reduced();
   n1 = boundary.size();
   // S does not change along the path: whether F is bounded below is decided once, at the first
   // step (every step when a rigid motion is held by the contact only, where it depends on c)
   check_existence_each_step = !held_by_contact.empty();
-  has_normal = cond->normal_coordinate(0) >= 0;
-  has_tangential = cond->tangential_coordinate(0) >= 0;
-  if (bound_law) {
-    // the tangential coordinates' law is g |r| with g = 1: each node's bound is its weight
-    for (int i = 0; i < n1; ++i) {
-      const int k = cond->tangential_coordinate(i);
-      if (step.law_of(k).name() != "tresca" || std::abs(step.law_of(k).derivative(LawPart::j, 1.0, +1) - 1.0) > 0.0)
-        throw InputError("a friction bound that depends on the normal contact needs the friction law tresca_law(1)");
-    }
+  bound_law.assign(static_cast<std::size_t>(n1), nullptr);
+  for (int i = 0; i < n1; ++i) {
+    any_bilateral = any_bilateral || cond->normal_coordinate(i) < 0;
+    has_tangential = has_tangential || cond->tangential_coordinate(i) >= 0;
+    const ContactPart& part = parts[static_cast<std::size_t>(boundary.part_of(i))];
+    if (!part.friction_bound) continue;
+    bound_law[static_cast<std::size_t>(i)] = &*part.friction_bound;
+    bounded = true;
+    // the tangential coordinate's law is g |r| with g = 1: the node's bound is its weight
+    const int k = cond->tangential_coordinate(i);
+    if (step.law_of(k).name() != "tresca" || std::abs(step.law_of(k).derivative(LawPart::j, 1.0, +1) - 1.0) > 0.0)
+      throw InputError("a friction bound that depends on the normal contact needs the friction law tresca_law(1)");
   }
   x_prev = Eigen::VectorXd::Zero(step.size());
   tau_prev = Eigen::VectorXd::Zero(n1);
@@ -229,8 +241,8 @@ PathStep PathSolver::Impl::solve_step(int k) {
     s.applied = resultant(assemble_load(*problem.elasticity.mesh, problem.elasticity.body_force, problem.elasticity.tractions));
   }
   Eigen::VectorXd shift = Eigen::VectorXd::Zero(step.size());
-  if (has_tangential)
-    for (int i = 0; i < n1; ++i) shift(cond->tangential_coordinate(i)) = tau_prev(i);
+  for (int i = 0; i < n1; ++i)
+    if (const int kt = cond->tangential_coordinate(i); kt >= 0) shift(kt) = tau_prev(i);
   const Eigen::VectorXd& origin = cond->origin();
   step.c = c_raw - step.S * (origin + shift);
   minimize_step(s, shift, origin, !has_tangential && c_raw.isZero(0.0));
@@ -255,7 +267,7 @@ PathStep PathSolver::Impl::solve_step(int k) {
   const bool frame = last || (options.frame && options.frame(k));
   Eigen::VectorXd u;
   double kappa = t * t * kappa1;
-  if (!proportional || frame || !has_normal) {
+  if (!proportional || frame || any_bilateral) {
     const auto t0 = Clock::now();
     if (proportional) {
       b = t * system.b;
@@ -270,8 +282,8 @@ PathStep PathSolver::Impl::solve_step(int k) {
     const ElasticityProblem at_t = proportional ? scaled(problem.elasticity, t) : problem.elasticity;
     s.forces = force_balance(at_t, u, s.contact_force);
   }
-  if (has_tangential)
-    for (int i = 0; i < n1; ++i) tau_prev(i) = x(cond->tangential_coordinate(i));
+  for (int i = 0; i < n1; ++i)
+    if (const int kt = cond->tangential_coordinate(i); kt >= 0) tau_prev(i) = x(kt);
   last_shift = shift;
   s.seconds = since(t_start);
   return s;
@@ -285,7 +297,7 @@ void PathSolver::Impl::minimize_step(PathStep& s, const Eigen::VectorXd& shift, 
   // unloaded state x = 0 (a warm start would shrink towards it by round-off without reaching it)
   const Eigen::VectorXd start = unloaded ? Eigen::VectorXd(-origin) : Eigen::VectorXd(x_prev - origin - shift);
   if (s.index > 1 && !check_existence_each_step) options.minimizer.check_existence = false;
-  if (!bound_law) {
+  if (!bounded) {
     MinimizerResult m = minimizer.minimize(step, start, options.minimizer);
     s.status = m.status;
     s.message = m.message;
@@ -302,24 +314,36 @@ void PathSolver::Impl::minimize_step(PathStep& s, const Eigen::VectorXd& shift, 
   Eigen::VectorXd from = start;
   double change_before = std::numeric_limits<double>::infinity();
   int growing = 0;
+  // the nodes whose bound depends on the normal contact, and their weights
+  std::vector<int> nodes;
+  for (int i = 0; i < n1; ++i)
+    if (bound_law[static_cast<std::size_t>(i)]) nodes.push_back(i);
+  const auto nb = static_cast<Eigen::Index>(nodes.size());
+  Eigen::VectorXd weights(nb), used(nb);
+  for (Eigen::Index j = 0; j < nb; ++j) weights(j) = boundary.weights(nodes[static_cast<std::size_t>(j)]);
   for (int it = 1; it <= options.fixed_point.max_iterations; ++it) {
-    for (int i = 0; i < n1; ++i) step.w(cond->tangential_coordinate(i)) = boundary.weights(i) * g(i);
+    for (int i : nodes) step.w(cond->tangential_coordinate(i)) = boundary.weights(i) * g(i);
     MinimizerResult m = minimizer.minimize(step, from, options.minimizer);
     fp.iterations = it;
     s.iterations += m.iterations;
     s.may_be_nonunique = m.may_be_nonunique;
-    // the bound the solution implies
-    Eigen::VectorXd implied(n1);
+    // the bound the solution implies (g elsewhere: no mismatch where the bound is a number)
+    Eigen::VectorXd implied = g;
     const bool forces = m.law_force.size() == m.a.size() && m.reaction.size() == m.a.size();
-    for (int i = 0; i < n1; ++i) {
+    for (int i : nodes) {
       const int kn = cond->normal_coordinate(i);
       const double force = forces ? m.law_force(kn) + m.reaction(kn) : std::numeric_limits<double>::quiet_NaN();
-      implied(i) = bound_law->bound(m.a(kn) + origin(kn), force / boundary.weights(i));
+      implied(i) = bound_law[static_cast<std::size_t>(i)]->bound(m.a(kn) + origin(kn), force / boundary.weights(i));
     }
-    const double size = implied.cwiseAbs().maxCoeff();
-    const double diff = (implied - g).cwiseAbs().maxCoeff();
+    Eigen::VectorXd implied_b(nb);
+    for (Eigen::Index j = 0; j < nb; ++j) {
+      used(j) = g(nodes[static_cast<std::size_t>(j)]);
+      implied_b(j) = implied(nodes[static_cast<std::size_t>(j)]);
+    }
+    const double size = implied_b.cwiseAbs().maxCoeff();
+    const double diff = (implied_b - used).cwiseAbs().maxCoeff();
     fp.change = diff == 0.0 ? 0.0 : diff / std::max(size, std::numeric_limits<double>::min());
-    s.certificate = friction_bound_certificate(m.certificate, boundary.weights, g, implied);
+    s.certificate = friction_bound_certificate(m.certificate, weights, used, implied_b);
     s.status = m.status;
     s.message = m.message;
     s.a = m.a + origin + shift;
@@ -364,9 +388,9 @@ void PathSolver::Impl::describe_step(PathStep& s, const MinimizerResult& m, cons
   }
   for (Eigen::Index i = 0; i < m.a.size(); ++i) s.energy += step.w(i) * step.law_of(i).value(m.a(i));
   s.contact.reserve(static_cast<std::size_t>(n1));
-  if (has_tangential) {
-    s.slip.resize(n1);
-    s.friction_bound.resize(n1);
+  if (has_tangential) {  // NaN at the nodes without friction
+    s.slip = Eigen::VectorXd::Constant(n1, std::numeric_limits<double>::quiet_NaN());
+    s.friction_bound = s.slip;
   }
   for (int i = 0; i < n1; ++i) {
     ContactNode node = contact_node(*problem.elasticity.mesh, boundary, *cond, system.dofs, i, raw,
@@ -393,6 +417,7 @@ ContactSolution PathSolver::Impl::last_solution(const PathStep& s, const Minimiz
   sol.u = s.u;
   sol.unknowns = system.dofs.num_free();
   sol.contact = s.contact;
+  for (const ContactPart& part : parts) sol.contact_parts.push_back(part.name);
   sol.status = s.status;
   sol.message = s.message;
   sol.certificate = s.certificate;

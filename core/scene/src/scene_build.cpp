@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <iomanip>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -113,15 +114,18 @@ std::vector<std::string> scene_warnings(const Scene& scene) {
   for (const auto& t : scene.tractions)
     driven = driven || (t.pressure ? !zero(*t.pressure) : !zero(t.value[0]) || !zero(t.value[1]));
   for (const auto& d : scene.dirichlet) driven = driven || (d.ux && !zero(*d.ux)) || (d.uy && !zero(*d.uy));
-  if (scene.contact)
-    driven = driven || scene.contact->obstacle.has_value() || scene.contact->gap.is_expression() ||
-             scene.contact->gap.value < 0.0;
+  const std::vector<SceneContact> parts = contact_parts(scene);
+  for (const SceneContact& c : parts)
+    driven = driven || c.obstacle.has_value() || c.gap.is_expression() || c.gap.value < 0.0;
   std::vector<std::string> out;
   if (scene.clamped.empty() && scene.dirichlet.empty())
     out.push_back("the scene has no [clamped] and no [[dirichlet]]: no part of the boundary is held, only what the "
                   "contact provides (the paper's supports are [clamped] side = [\"left\", \"right\"])");
-  if (scene.contact && scene.contact->constraint == ConstraintKind::bilateral && scene.lines.count("contact.gap"))
-    out.push_back(scene.where("contact.gap") + ": contact.gap is not used with constraint = \"bilateral\" (u_nu = 0)");
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    const std::string key = contact_key(scene, i) + ".gap";
+    if (parts[i].constraint == ConstraintKind::bilateral && scene.lines.count(key))
+      out.push_back(scene.where(key) + ": " + key + " is not used with constraint = \"bilateral\" (u_nu = 0)");
+  }
   if (!driven)
     out.push_back("nothing drives this problem: no load, no prescribed displacement other than zero and no "
                   "obstacle; its solution is u = 0 unless the contact law pushes at u_nu = 0 (a missing [loads] table "
@@ -276,35 +280,38 @@ VectorField dirichlet_value_at(const Scene& scene, std::size_t i, double t) {
   return driven_vector({d.ux.value_or(SceneScalar{}), d.uy.value_or(SceneScalar{})}, t, scene, keys);
 }
 
-/// contact.gap at t: as written (a gap that does not mention t stays); finite and >= 0 at every
-/// point it is evaluated, else an error naming the key.
-std::function<double(const Vec2&)> gap_at(const Scene& scene, double t) {
-  return [g = field(scene.contact->gap), t, where = scene.where("contact.gap")](const Vec2& x) {
+/// The gap of contact part i (`c`) at t: as written (a gap that does not mention t stays);
+/// finite and >= 0 at every point it is evaluated, else an error naming the key.
+std::function<double(const Vec2&)> gap_at(const Scene& scene, const SceneContact& c, std::size_t i, double t) {
+  const std::string key = contact_key(scene, i) + ".gap";
+  return [g = field(c.gap), t, key, where = scene.where(key)](const Vec2& x) {
     const double value = g(x, t);
     if (!(std::isfinite(value) && value >= 0.0))
-      throw InputError("contact.gap = '" + g.text() + "' gives " + fmt(value) + " at (" + fmt(x.x()) + ", " +
-                           fmt(x.y()) + ")" + at_t(g, t) + "; a gap must be finite and >= 0",
+      throw InputError(key + " = '" + g.text() + "' gives " + fmt(value) + " at (" + fmt(x.x()) + ", " + fmt(x.y()) +
+                           ")" + at_t(g, t) + "; a gap must be finite and >= 0",
                        where);
     return value;
   };
 }
 
-/// [contact.obstacle] at t: moved by its motion at t.
-Obstacle obstacle_at(const Scene& scene, double t) {
-  const SceneObstacle& o = *scene.contact->obstacle;
+/// The obstacle of contact part i (`c`) at t: moved by its motion at t.
+Obstacle obstacle_at(const Scene& scene, const SceneContact& c, std::size_t i, double t) {
+  const SceneObstacle& o = *c.obstacle;
   Obstacle b = make_obstacle(o);
   if (!o.motion) return b;
-  const Vec2 m = driven_vector(*o.motion, t, scene, {"contact.obstacle.motion", "contact.obstacle.motion"})(Vec2::Zero());
+  const std::string key = contact_key(scene, i) + ".obstacle.motion";
+  const Vec2 m = driven_vector(*o.motion, t, scene, {key, key})(Vec2::Zero());
   b.point += m;
   b.center += m;
   for (Vec2& q : b.points) q += m;
   return b;
 }
 
-/// The gap or the obstacle of the scene's contact at t.
-void set_contact_data_at(ContactProblem& p, const Scene& scene, double t) {
-  if (scene.contact->obstacle) p.obstacle = obstacle_at(scene, t);
-  else p.gap = gap_at(scene, t);
+/// The gap or the obstacle of contact part i at t.
+void set_contact_data_at(std::function<double(const Vec2&)>& gap, std::optional<Obstacle>& obstacle,
+                         const Scene& scene, const SceneContact& c, std::size_t i, double t) {
+  if (c.obstacle) obstacle = obstacle_at(scene, c, i, t);
+  else gap = gap_at(scene, c, i, t);
 }
 
 /// The material of each region: the scene's E and nu, but for the regions [[material.region]]
@@ -375,28 +382,33 @@ void add_loads(ElasticityProblem& e, const Scene& scene, const EdgeSelection& se
 
 /// A contact part whose every node is clamped leaves nothing to touch: an error, not a silent
 /// drop.
-void check_contact_not_clamped(const ContactProblem& p, const Mesh& mesh, const Scene& scene) {
+void check_contact_not_clamped(const ElasticityProblem& e, const std::vector<int>& edges, const Mesh& mesh,
+                               const Scene& scene, const std::string& key) {
   std::set<int> fixed, touching;
-  for (const auto& d : p.elasticity.dirichlet)
+  for (const auto& d : e.dirichlet)
     if (d.fix[0] && d.fix[1])
-      for (int e : d.edges) fixed.insert({mesh.edge(e).v0, mesh.edge(e).v1});
-  for (int e : p.contact_edges) touching.insert({mesh.edge(e).v0, mesh.edge(e).v1});
+      for (int id : d.edges) fixed.insert({mesh.edge(id).v0, mesh.edge(id).v1});
+  for (int id : edges) touching.insert({mesh.edge(id).v0, mesh.edge(id).v1});
   if (std::includes(fixed.begin(), fixed.end(), touching.begin(), touching.end()))
-    throw InputError("contact: every node of the contact part is also clamped ([clamped] or a [[dirichlet]] "
+    throw InputError(key + ": every node of the contact part is also clamped ([clamped] or a [[dirichlet]] "
                      "with both components), so nothing is left to touch; end one of the parts before the other",
-                     scene.where("contact"));
+                     scene.where(key));
 }
 
-/// [contact]: the contact edges, the obstacle or gap, the laws and the constraint.
-void add_contact(ContactProblem& p, const SceneContact& c, const Scene& scene, const Mesh& mesh,
-                 const EdgeSelection& select) {
-  p.contact_edges = select(c.boundary, "contact");
-  check_contact_not_clamped(p, mesh, scene);
-  set_contact_data_at(p, scene, 1.0);
+/// Contact part i ([contact] or [[contact]] i): its edges, the obstacle or gap, the laws and
+/// the constraint.
+ContactPart make_contact_part(const ElasticityProblem& e, const SceneContact& c, std::size_t i, const Scene& scene,
+                              const Mesh& mesh, const EdgeSelection& select) {
+  const std::string key = contact_key(scene, i);
+  ContactPart p;
+  p.name = contact_part_name(scene, i);
+  p.edges = select(c.boundary, key);
+  check_contact_not_clamped(e, p.edges, mesh, scene, key);
+  set_contact_data_at(p.gap, p.obstacle, scene, c, i, 1.0);
   try {
     p.law = make_law(c.law);
-  } catch (const InputError& e) {
-    throw InputError("contact.law: " + e.detail(), scene.where("contact.law"));
+  } catch (const InputError& err) {
+    throw InputError(key + ".law: " + err.detail(), scene.where(key + ".law"));
   }
   p.constraint = c.constraint;
   p.law_from_surface = c.law_origin == "surface";
@@ -404,10 +416,29 @@ void add_contact(ContactProblem& p, const SceneContact& c, const Scene& scene, c
     try {
       p.friction = make_friction_law(*c.friction);
       p.friction_bound = make_friction_bound(*c.friction);
-    } catch (const InputError& e) {
-      throw InputError("contact.friction: " + e.detail(), scene.where("contact.friction.law"));
+    } catch (const InputError& err) {
+      throw InputError(key + ".friction: " + err.detail(), scene.where(key + ".friction.law"));
     }
   }
+  return p;
+}
+
+/// An edge in two contact parts: an error at the later part naming both.
+void check_parts_disjoint(const std::vector<ContactPart>& parts, const Scene& scene, const Mesh& mesh) {
+  std::map<int, std::size_t> owner;
+  for (std::size_t i = 0; i < parts.size(); ++i)
+    for (int id : parts[i].edges) {
+      const auto [at, added] = owner.emplace(id, i);
+      if (added || at->second == i) continue;
+      const MeshEdge& edge = mesh.edge(id);
+      const Vec2 a = mesh.vertex(edge.v0), b = mesh.vertex(edge.v1);
+      const std::string key = contact_key(scene, i);
+      throw InputError(key + ": selects the boundary edge from (" + fmt(a.x()) + ", " + fmt(a.y()) + ") to (" +
+                           fmt(b.x()) + ", " + fmt(b.y()) + "), which " + contact_key(scene, at->second) + " ('" +
+                           parts[at->second].name + "') selects too; each edge belongs to one contact part (parts "
+                           "may meet at a node, which then belongs to the part listed first)",
+                       scene.where(key));
+    }
 }
 
 }  // namespace
@@ -421,8 +452,13 @@ ContactProblem make_contact_problem(const Scene& scene, const Mesh& mesh) {
   const EdgeSelection select(scene, mesh);
   add_dirichlet(p.elasticity, scene, select);
   add_loads(p.elasticity, scene, select);
-  if (scene.contact) add_contact(p, *scene.contact, scene, mesh, select);
-  else p.constraint = ConstraintKind::none;
+  const std::vector<SceneContact> scene_parts = contact_parts(scene);
+  std::vector<ContactPart> parts;
+  for (std::size_t i = 0; i < scene_parts.size(); ++i)
+    parts.push_back(make_contact_part(p.elasticity, scene_parts[i], i, scene, mesh, select));
+  check_parts_disjoint(parts, scene, mesh);
+  if (parts.empty()) p.constraint = ConstraintKind::none;
+  set_contact_parts(p, std::move(parts));
   return p;
 }
 
@@ -434,10 +470,8 @@ bool scene_is_proportional(const Scene& scene) {
     if (t.pressure ? mentions_t(*t.pressure) : any(t.value[0], t.value[1])) return false;
   for (const auto& d : scene.dirichlet)
     if ((d.ux && mentions_t(*d.ux)) || (d.uy && mentions_t(*d.uy))) return false;
-  if (scene.contact) {
-    if (scene.contact->obstacle ? scene.contact->obstacle->motion.has_value() : mentions_t(scene.contact->gap))
-      return false;
-  }
+  for (const SceneContact& c : contact_parts(scene))
+    if (c.obstacle ? c.obstacle->motion.has_value() : mentions_t(c.gap)) return false;
   return true;
 }
 
@@ -445,18 +479,22 @@ void set_load_factor(const Scene& scene, double t, ContactProblem& problem) {
   if (!std::isfinite(t)) throw InternalError("set_load_factor: the load factor must be finite, got " + fmt(t));
   ElasticityProblem& e = problem.elasticity;
   const std::size_t clamped = scene.clamped.empty() ? 0 : 1;  // [clamped] comes first (add_dirichlet)
+  const std::vector<SceneContact> parts = contact_parts(scene);
+  const std::size_t problem_parts = problem.contact_edges.empty() ? 0 : 1 + problem.more_contact.size();
   if (e.tractions.size() != scene.tractions.size() || e.dirichlet.size() != clamped + scene.dirichlet.size() ||
-      scene.contact.has_value() == problem.contact_edges.empty())
+      parts.size() != problem_parts)
     throw InternalError("set_load_factor: the problem was not built from this scene (" +
                         std::to_string(e.tractions.size()) + " tractions, " + std::to_string(e.dirichlet.size()) +
-                        " prescribed parts, contact " + (problem.contact_edges.empty() ? "none" : "given") +
-                        "; the scene has " + std::to_string(scene.tractions.size()) + ", " +
-                        std::to_string(clamped + scene.dirichlet.size()) + ", " +
-                        (scene.contact ? "given" : "none") + ")");
+                        " prescribed parts, " + std::to_string(problem_parts) + " contact parts; the scene has " +
+                        std::to_string(scene.tractions.size()) + ", " + std::to_string(clamped + scene.dirichlet.size()) +
+                        ", " + std::to_string(parts.size()) + ")");
   e.body_force = body_force_at(scene, t);
   for (std::size_t i = 0; i < scene.tractions.size(); ++i) set_traction_at(e.tractions[i], scene, i, t);
   for (std::size_t i = 0; i < scene.dirichlet.size(); ++i) e.dirichlet[clamped + i].value = dirichlet_value_at(scene, i, t);
-  if (scene.contact) set_contact_data_at(problem, scene, t);
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    if (i == 0) set_contact_data_at(problem.gap, problem.obstacle, scene, parts[i], i, t);
+    else set_contact_data_at(problem.more_contact[i - 1].gap, problem.more_contact[i - 1].obstacle, scene, parts[i], i, t);
+  }
 }
 
 }  // namespace hemivem

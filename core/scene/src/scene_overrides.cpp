@@ -87,11 +87,26 @@ void edit_table(toml::table& root, Override& o) {
       t->insert(name, toml::table{});
       n = t->get(name);
     }
-    if (index >= 0) {
-      auto* a = n->as_array();
+    auto* a = n->as_array();
+    if (index == 0 && n->is_table()) {  // "contact[0]": the single [contact] table
+      t = n->as_table();
+    } else if (index >= 0) {
       if (!a || !a->is_array_of_tables() || index >= static_cast<int>(a->size()))
         throw InputError("no element " + std::to_string(index) + " in '" + name + "'", o.where());
       t = (*a)[static_cast<std::size_t>(index)].as_table();
+    } else if (a && a->is_array_of_tables()) {  // "contact.gap": the only table of [[contact]]
+      if (a->size() != 1) {
+        std::string example;
+        for (std::size_t j = 0; j < o.parts.size(); ++j) {
+          example += (j == 0 ? "" : ".") + o.parts[j].first;
+          if (j == i) example += "[1]";
+          else if (o.parts[j].second >= 0) example += "[" + std::to_string(o.parts[j].second) + "]";
+        }
+        throw InputError("'" + name + "' has " + std::to_string(a->size()) + " tables ([[" + name +
+                             "]]); name one by its index, e.g. '" + example + "'",
+                         o.where());
+      }
+      t = (*a)[0].as_table();
     } else {
       t = n->as_table();
       if (!t) throw InputError("'" + name + "' is not a table", o.where());

@@ -1,6 +1,8 @@
 // The scene schema (docs/reference/scenes.md): a parsed TOML document to a validated Scene.
 #include <hemivem/scene/scene.hpp>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -276,6 +278,16 @@ void read_constraint(TableReader& r, SceneContact& c) {
 
 SceneContact read_contact(TableReader& r) {
   SceneContact c;
+  if (auto name = r.string("name")) {
+    const bool valid = !name->empty() && name->size() <= 64 &&
+                       std::all_of(name->begin(), name->end(), [](char ch) {
+                         return std::isalnum(static_cast<unsigned char>(ch)) || ch == '-' || ch == '_' || ch == '.';
+                       });
+    if (!valid)
+      r.fail("name", r.node("name"),
+             "a contact part's name is 1 to 64 letters, digits, '-', '_' or '.', got '" + *name + "'");
+    c.name = *name;
+  }
   c.boundary = read_selector(r, true);
   read_contact_law(r, c.law);
   if (auto g = r.scalar("gap")) {
@@ -309,6 +321,39 @@ SceneContact read_contact(TableReader& r) {
                   "\"bilateral\" fixes them at 0 (give the friction bound as a number)");
   }
   return c;
+}
+
+/// [contact], or the parts of [[contact]] (keyed "contact" when there is one, "contact[i]"
+/// when there are several: contact_key), each named once.
+void read_contact_parts(Scene& s, TableReader& r) {
+  s.contact.reset();
+  s.more_contact.clear();
+  const toml::node* n = r.find("contact");
+  if (!n) return;
+  const std::vector<std::string> keys = with_selector({"name", "law", "parameters", "breakpoints", "j", "j1", "j2", "gap",
+                                                       "obstacle", "constraint", "law_origin", "friction"});
+  std::vector<const toml::table*> tables;
+  if (const toml::table* t = n->as_table()) {
+    tables.push_back(t);
+  } else if (const toml::array* a = n->as_array(); a && a->is_array_of_tables()) {
+    for (const toml::node& e : *a) tables.push_back(e.as_table());
+  } else if (const toml::array* e = n->as_array(); e && e->empty()) {
+    r.fail("contact", *n, "an array of contact parts needs at least one ([[contact]] tables)");
+  } else {
+    r.fail_type("contact", *n, "a table ([contact]) or an array of tables ([[contact]])");
+  }
+  std::map<std::string, std::size_t> named;  // explicit names, by part
+  for (std::size_t i = 0; i < tables.size(); ++i) {
+    const std::string key = tables.size() == 1 ? std::string("contact") : "contact[" + std::to_string(i) + "]";
+    TableReader c(s, *tables[i], key, keys);
+    SceneContact part = read_contact(c);
+    if (!part.name.empty() && !named.emplace(part.name, i).second)
+      c.fail("name", c.node("name"),
+             "contact part " + std::to_string(named.at(part.name)) + " has the name '" + part.name +
+                 "' already; each part has a name of its own");
+    if (i == 0) s.contact = std::move(part);
+    else s.more_contact.push_back(std::move(part));
+  }
 }
 
 /// The root's schema_version (required, the one this program reads) and title (else the
@@ -662,12 +707,7 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
   if (const toml::table* t = r.table("clamped")) read_clamped(s, *t);
   if (const toml::array* d = r.array_of_tables("dirichlet")) read_dirichlet(s, *d);
   read_loads(s, r.table("loads"));
-  s.contact.reset();
-  if (const toml::table* t = r.table("contact")) {
-    TableReader c(s, *t, "contact",
-                  with_selector({"law", "parameters", "breakpoints", "j", "j1", "j2", "gap", "obstacle", "constraint", "law_origin", "friction"}));
-    s.contact = read_contact(c);
-  }
+  read_contact_parts(s, r);
   if (const toml::table* t = r.table("solver")) read_solver(s, *t);
   s.adapt.reset();
   if (const toml::table* t = r.table("adapt")) read_adapt(s, *t);
@@ -722,8 +762,26 @@ std::string Scene::where(const std::string& key) const {
 bool operator==(const Scene& a, const Scene& b) {
   return a.schema_version == b.schema_version && a.title == b.title && a.mesh == b.mesh && a.material == b.material &&
          a.clamped == b.clamped && a.dirichlet == b.dirichlet && a.body_force == b.body_force &&
-         a.tractions == b.tractions && a.contact == b.contact &&
+         a.tractions == b.tractions && a.contact == b.contact && a.more_contact == b.more_contact &&
          a.solver == b.solver && a.adapt == b.adapt && a.path == b.path && a.outputs == b.outputs;
+}
+
+std::vector<SceneContact> contact_parts(const Scene& scene) {
+  std::vector<SceneContact> parts;
+  if (!scene.contact) return parts;
+  parts.push_back(*scene.contact);
+  parts.insert(parts.end(), scene.more_contact.begin(), scene.more_contact.end());
+  return parts;
+}
+
+std::string contact_key(const Scene& scene, std::size_t part) {
+  return scene.more_contact.empty() ? std::string("contact") : "contact[" + std::to_string(part) + "]";
+}
+
+std::string contact_part_name(const Scene& scene, std::size_t part) {
+  const SceneContact* c = part == 0 ? (scene.contact ? &*scene.contact : nullptr)
+                                    : (part - 1 < scene.more_contact.size() ? &scene.more_contact[part - 1] : nullptr);
+  return c && !c->name.empty() ? c->name : contact_key(scene, part);
 }
 
 Scene parse_scene_string(std::string_view text, std::string name) {

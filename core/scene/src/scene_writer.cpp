@@ -141,9 +141,11 @@ void write_obstacle(std::ostream& o, const SceneObstacle& b) {
   if (b.motion) o << "motion = " << list(*b.motion, scalar_text) << "\n";
 }
 
-/// [contact] and its [contact.obstacle], [contact.parameters] and [contact.friction].
-void write_contact(std::ostream& o, const SceneContact& c) {
-  o << "\n[contact]\n";
+/// [contact] (or one table of [[contact]], `in_array`) and its [contact.obstacle],
+/// [contact.parameters] and [contact.friction].
+void write_contact(std::ostream& o, const SceneContact& c, bool in_array) {
+  o << (in_array ? "\n[[contact]]\n" : "\n[contact]\n");
+  if (!c.name.empty()) o << "name = " << quote(c.name) << "\n";
   write_selector(o, c.boundary);
   o << "law = " << quote(c.law.name) << "\n";
   write_pieces(o, c.law);
@@ -196,7 +198,7 @@ std::string to_toml(const Scene& s) {
   write_material(o, s.material);
   write_dirichlet(o, s);
   write_loads(o, s);
-  if (s.contact) write_contact(o, *s.contact);
+  for (const SceneContact& c : contact_parts(s)) write_contact(o, c, !s.more_contact.empty());
   write_solver(o, s.solver);
   if (s.adapt) {
     o << "\n[adapt]\n";

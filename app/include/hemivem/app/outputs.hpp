@@ -66,6 +66,11 @@ nlohmann::json result_json(const Mesh& mesh, const ContactSolution& solution, co
 /// constraint): contact.csv, result.json, solution.vtu and u_nu.png then show it.
 bool has_tangential(const ContactSolution& solution);
 
+/// The name of contact node n's part (solution.contact_parts; "contact" when it has none):
+/// contact.csv's part column (with several parts), result.json's "part", solution.vtu's
+/// contact_part field (its index).
+std::string contact_part_name(const ContactSolution& solution, const ContactNode& n);
+
 /// The names write_outputs knows, in the order it writes them: result.json, contact.csv,
 /// displacement.csv, history.csv, solution.vtu, scene.toml, mesh.poly2d (the mesh solved on),
 /// u_nu.png, deformed.png, error.png (the error indicators; with info.error_estimate),

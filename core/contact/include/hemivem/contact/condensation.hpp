@@ -11,13 +11,14 @@
 #include <hemivem/vem/assembly.hpp>
 #include <hemivem/mesh/mesh.hpp>
 #include <hemivem/contact/obstacle.hpp>
+#include <hemivem/contact/problem.hpp>
 #include <hemivem/reduced_problem.hpp>
 #include <hemivem/sparse_factorization.hpp>
 #include <hemivem/uniqueness.hpp>
 
 namespace hemivem {
 
-/// The contact nodes of Gamma_3 with their outward unit normals, nodal weights and gaps.
+/// The contact nodes of Gamma_3 with their outward unit normals, nodal weights, gaps and parts.
 struct ContactBoundary {
   std::vector<int> edges;   ///< boundary edge ids forming Gamma_3
   std::vector<int> nodes;   ///< contact nodes (vertex ids), nodes with prescribed displacement excluded
@@ -28,8 +29,13 @@ struct ContactBoundary {
   /// component is prescribed and tangential to the node's normal (a roller or a symmetry line
   /// meeting Gamma_3); the normal is then exactly perpendicular to it.
   std::vector<int> prescribed_component;
+  /// Per node: the index of its contact part (contact_parts order); empty: every node is in
+  /// part 0.
+  std::vector<int> part;
 
   int size() const noexcept { return static_cast<int>(nodes.size()); }
+  /// The part of node i (0 when `part` is empty).
+  int part_of(int i) const noexcept { return part.empty() ? 0 : part[static_cast<std::size_t>(i)]; }
   /// Normal displacements (N u)_i of a full nodal displacement vector.
   Eigen::VectorXd normal_displacements(const Eigen::VectorXd& u) const;
 };
@@ -51,6 +57,27 @@ inline constexpr double tangential_tolerance = 1e-8;
 ContactBoundary make_contact_boundary(const Mesh& mesh, const std::vector<int>& edges, const DofMap& dofs,
                                       const std::function<double(const Vec2&)>& gap,
                                       const Obstacle* obstacle = nullptr);
+
+/// The same for a boundary in several parts (contact_parts), each with its gap or obstacle:
+/// the nodes of all parts' edges as one boundary, in the same order, with the same normals
+/// and weights as make_contact_boundary of all the edges together, and per node its part.
+/// A node where two parts meet (the end of one part's edges and the start of the next's)
+/// belongs to the part listed first; its normal and weight still come from all its contact
+/// edges, and its gap from its own part. An edge in two parts is an InputError naming both;
+/// a part whose gap function is empty has gap 0.
+ContactBoundary make_contact_boundary(const Mesh& mesh, const std::vector<ContactPart>& parts, const DofMap& dofs);
+
+/// What the condensation imposes on the nodes of one contact part (ContactBoundary::part).
+struct PartConditions {
+  std::shared_ptr<const ContactLaw> law;             ///< the normal law (unused by a bilateral part)
+  ConstraintKind constraint = ConstraintKind::none;  ///< as imposed (constraint_in_effect)
+  std::shared_ptr<const ContactLaw> friction;        ///< null: frictionless
+  bool law_from_surface = false;                     ///< ContactProblem::law_from_surface
+};
+
+/// The conditions of each part: its laws, its constraint in effect (constraint_in_effect)
+/// and law_from_surface.
+std::vector<PartConditions> part_conditions(const std::vector<ContactPart>& parts);
 
 /// The condensed problem and what back-substitution needs.
 class Condensation {
@@ -86,6 +113,18 @@ class Condensation {
                ConstraintKind constraint, std::shared_ptr<const ContactLaw> friction = nullptr,
                bool semi_coercive = false, bool law_from_surface = false);
 
+  /// A boundary in several parts: node i has the conditions parts[boundary.part_of(i)], so
+  /// that each node has a normal unknown unless its part is bilateral and a tangential one
+  /// when its part has a friction law or is bilateral (law zero without one). The
+  /// coordinates are ordered as above, all normal unknowns (in node order), then all tangential
+  /// ones; normal_coordinate() and tangential_coordinate() give each node's. The reduced
+  /// problem's laws hold each distinct law (by pointer) once: the normal coordinates' laws in
+  /// order of first use, then the tangential ones', then the zero law of nodes that never meet
+  /// their surface. With one part this is the constructor above, to the bit.
+  Condensation(const LinearSystem& system, const ContactBoundary& boundary,
+               std::unique_ptr<SparseFactorization> factorization, const std::vector<PartConditions>& parts,
+               bool semi_coercive = false);
+
   const ReducedProblem& reduced() const noexcept { return reduced_; }
   /// Per reduced coordinate, the normal displacement where it is 0: g_i for the normal
   /// unknowns with law_from_surface, else 0 (so u_nu = a + origin).
@@ -99,10 +138,8 @@ class Condensation {
   void widen_uniqueness_roundoff(double kappa);
   /// The coordinate of the reduced problem that is contact node i's normal (tangential)
   /// displacement, or -1 when it is not an unknown (bilateral; frictionless).
-  int normal_coordinate(int node) const noexcept { return has_normal_ ? node : -1; }
-  int tangential_coordinate(int node) const noexcept {
-    return has_tangential_ ? (has_normal_ ? static_cast<int>(normals_.size()) : 0) + node : -1;
-  }
+  int normal_coordinate(int node) const noexcept { return coordinate(normal_coordinate_, node); }
+  int tangential_coordinate(int node) const noexcept { return coordinate(tangential_coordinate_, node); }
   /// Full nodal displacement (all 2*num_vertices dofs, prescribed values included) from
   /// a point a of the reduced problem (the contact unknowns): u2 = A22^{-1} (b2 - A21 a) (one
   /// backward substitution where the engine splits the interior solve).
@@ -120,9 +157,10 @@ class Condensation {
   /// interior solve; collective with an engine across processes) and back_substitute() uses
   /// the new load and prescribed values. S, the laws and the margin do not change.
   void set_load(const Eigen::VectorXd& b, const Eigen::VectorXd& prescribed);
-  /// New gaps of the contact nodes (a moving obstacle or gap): the bounds of the normal
-  /// unknowns, and with law_from_surface their origin, c, and the zero law for a node whose
-  /// gap is infinite (its law again once it is finite). InputError for a NaN gap.
+  /// New gaps of the contact nodes (a moving obstacle or gap; one per node, bilateral nodes'
+  /// unused): the bounds of the normal unknowns (each under its part's constraint), and with
+  /// law_from_surface their origin, c, and the zero law for a node whose gap is infinite (its
+  /// part's law again once it is finite). InputError for a NaN gap.
   void set_gaps(const Eigen::VectorXd& gaps);
   /// c before the shift by -S origin(): the condensed load b1 - A12 A22^{-1} b2 (of the
   /// reduced coordinates) on the process holding the results.
@@ -138,25 +176,30 @@ class Condensation {
   std::unique_ptr<SparseFactorization> factorization_;
   ReducedProblem reduced_;
   double margin_ = 0.0;
-  bool has_normal_ = true, has_tangential_ = false;
   bool semi_coercive_ = false;
-  bool law_from_surface_ = false;
   Eigen::VectorXd origin_;
-  ConstraintKind constraint_ = ConstraintKind::none;
-  Eigen::VectorXi law_at_start_;  // law_from_surface: each normal unknown's law where its gap is finite
-  int zero_law_index_ = -1;       // law_from_surface: the zero law's index once a gap is infinite
+  // per contact node: its coordinates (-1: none), constraint and whether its law acts from the surface
+  std::vector<int> normal_coordinate_, tangential_coordinate_;
+  std::vector<ConstraintKind> constraint_;
+  std::vector<char> from_surface_;
+  std::shared_ptr<const ContactLaw> zero_;  // the law j = 0 of the coordinates that need one
+  Eigen::VectorXi law_at_start_;  // each coordinate's law where its gap is finite (law_from_surface)
   Eigen::VectorXd raw_c_;         // condensed_load()
-  std::vector<int> block1_;       // rotated free index of each contact unknown (normals, then tangentials)
+  std::vector<int> block1_;       // rotated free index of block 1: every node's normal, then the tangentials
+  std::vector<int> coordinate1_;  // the position in block 1 of each reduced coordinate
   std::vector<int> block2_;       // remaining rotated free indices, increasing
   std::vector<int> contact_free_x_, contact_free_y_;  // free index of the x/y dof per contact node
   std::vector<Vec2> normals_;
   std::vector<int> nodes_;        // vertex of each contact node
+  static int coordinate(const std::vector<int>& of, int node) noexcept {
+    return node >= 0 && node < static_cast<int>(of.size()) ? of[static_cast<std::size_t>(node)] : -1;
+  }
   // the steps of the constructor, in order
+  void number_coordinates(const ContactBoundary& boundary, const std::vector<PartConditions>& parts);
   void order_unknowns(const LinearSystem& system, const ContactBoundary& boundary);
   Eigen::VectorXd rotate_load(const Eigen::VectorXd& b) const;
   void measure_interior(const SparseMatrix& At);
-  void pose_reduced_problem(const ContactBoundary& boundary, std::shared_ptr<const ContactLaw> law,
-                            ConstraintKind constraint, std::shared_ptr<const ContactLaw> friction);
+  void pose_reduced_problem(const ContactBoundary& boundary, const std::vector<PartConditions>& parts);
   void measure_from_surface(const ContactBoundary& boundary);
   void compute_schur_complement(const SparseMatrix& At);
   void condense_load(const Eigen::VectorXd& bt);

@@ -1,5 +1,5 @@
-// A contact problem: the elasticity problem, the contact boundary Gamma_3, its law, gap
-// and constraint; and the paper's Example 4.1.
+// A contact problem: the elasticity problem and the contact boundary Gamma_3 in one or several
+// parts, each with its law, gap or obstacle, constraint and friction.
 #pragma once
 
 #include <array>
@@ -40,9 +40,29 @@ std::string to_string(FrictionBound::Kind kind);
 /// than one point, u_nu not increasing, or a negative or non-finite h.
 void check_friction_bound(const FrictionBound& bound, const std::string& where = {});
 
+/// One part of the contact boundary Gamma_3 (docs/contact-parts.md): its edges and everything
+/// the contact of its nodes obeys. The fields mean what ContactProblem's fields of the same
+/// names mean for its first part.
+struct ContactPart {
+  std::string name;                         ///< names the part in results ("contact" for the first by default)
+  std::vector<int> edges;                   ///< boundary edge ids
+  std::function<double(const Vec2&)> gap;   ///< g >= 0 at a point of the part
+  std::optional<Obstacle> obstacle;         ///< a rigid obstacle instead of `gap`
+  std::shared_ptr<const ContactLaw> law;    ///< the normal law
+  ConstraintKind constraint = ConstraintKind::box;
+  bool law_from_surface = false;
+  std::shared_ptr<const ContactLaw> friction;  ///< null: frictionless
+  std::optional<FrictionBound> friction_bound;
+};
+
+/// A contact problem. Its contact boundary is one or several parts (ContactPart): the fields
+/// contact_edges ... friction_bound below are the first part (named contact_name), and
+/// more_contact holds the parts after it, e.g. a body resting on a support and pressed by an
+/// indenter. Each contact node belongs to one part (make_contact_boundary: a node where two
+/// parts meet belongs to the one listed first).
 struct ContactProblem {
   ElasticityProblem elasticity;        ///< mesh, materials, loads and Gamma_1
-  std::vector<int> contact_edges;      ///< Gamma_3 (boundary edge ids)
+  std::vector<int> contact_edges;      ///< Gamma_3 (boundary edge ids): the first part's
   std::function<double(const Vec2&)> gap;  ///< g >= 0 at a point of Gamma_3
   /// A rigid obstacle instead of `gap`: each node's gap is Obstacle::gap along its normal
   /// (negative where the node starts inside, +inf where its ray misses; one-sided or no
@@ -64,6 +84,23 @@ struct ContactProblem {
   /// then tresca_law(1) (a unit bound that each node's bound scales). None: the bound of
   /// `friction` itself (a given number, Tresca).
   std::optional<FrictionBound> friction_bound;
+  /// The first part's name (ContactNode::part names it in results).
+  std::string contact_name = "contact";
+  /// The contact parts after the first, in order (each with edges of its own).
+  std::vector<ContactPart> more_contact;
 };
+
+/// Every contact part of `problem` in order: the first (from the single-part fields), then
+/// more_contact. Empty without contact (no contact edges and no more parts). InputError for a
+/// part without edges or without a name, and for two parts of the same name.
+std::vector<ContactPart> contact_parts(const ContactProblem& problem);
+
+/// Sets the contact parts of `problem`: parts[0] into the single-part fields (and
+/// contact_name), the others into more_contact; no part clears the contact.
+void set_contact_parts(ContactProblem& problem, std::vector<ContactPart> parts);
+
+/// The constraint the condensation imposes on a part: its constraint, but none when it has
+/// neither a gap nor an obstacle (bilateral stays bilateral).
+ConstraintKind constraint_in_effect(const ContactPart& part);
 
 }  // namespace hemivem

@@ -30,6 +30,9 @@ class ProcessGroup;
 /// One contact node of the solution, with the forces of the certificate (hemivem/certificate.hpp).
 struct ContactNode {
   int vertex = -1;
+  /// The index of the node's contact part (contact_parts(problem); ContactSolution::contact_parts
+  /// names it).
+  int part = 0;
   Vec2 x = Vec2::Zero();
   double u_nu = 0.0;       ///< normal displacement a_i
   double law_force = 0.0;  ///< zeta_i in w_i dj(a_i): the force of the contact law
@@ -38,12 +41,12 @@ struct ContactNode {
   Vec2 normal = Vec2::Zero();  ///< the outward unit normal nu_i
   double gap = 0.0;        ///< g_i, the gap used at the node; NaN where none is (bilateral: u_nu = 0)
   std::string state;       ///< "upper" (a_i at its upper bound), "lower" or "free" ("bilateral": u_nu = 0 imposed)
-  /// With friction (ContactProblem::friction, or a bilateral constraint): the tangential
+  /// With friction (the part's friction law, or a bilateral constraint): the tangential
   /// displacement u_tau = u . tau (tau = (-nu_y, nu_x)), the friction force zeta_tau in
   /// w_i dj_tau(u_tau) (the foundation pushes the body by -zeta_tau tau, against the slip:
   /// positive when it resists u_tau > 0) and its state: "stick" (u_tau at the law's kink 0), "slip", or for slip-weakening
   /// "slip-weakening" (|u_tau| below the slip distance) and "slip-kinetic"; an empty state
-  /// without friction.
+  /// (u_tau and the friction force 0) at a node without friction.
   double u_tau = 0.0;
   double friction_force = 0.0;
   std::string friction_state;
@@ -57,6 +60,8 @@ struct ContactSolution {
   Eigen::VectorXd u;                    ///< nodal displacements, 2 per vertex
   int unknowns = 0;                     ///< free degrees of freedom of the assembled system
   std::vector<ContactNode> contact;     ///< empty without a contact boundary
+  /// The names of the contact parts, by ContactNode::part (empty without contact).
+  std::vector<std::string> contact_parts;
   /// The verdict on the solution: the minimizer's status and certificate, demoted to failed
   /// when the displacement or the energy is not finite; without a contact boundary the status
   /// and certificate of the one linear solve (primal 0, dual its relative residual).
@@ -124,13 +129,15 @@ struct ContactZone {
 };
 ContactZone contact_zone(const ContactSolution& solution);
 
-/// The contact boundary of `problem` on the dofs of its assembled system: the nodes, normals,
-/// weights and gaps (problem.gap, or the obstacle's); empty without contact edges. InputError
-/// for an obstacle whose gaps the box constraint cannot take.
+/// The contact boundary of `problem` on the dofs of its assembled system: the nodes of every
+/// contact part (contact_parts, make_contact_boundary), normals, weights, gaps (each part's
+/// gap, or its obstacle's) and parts; empty without contact edges. InputError for an obstacle
+/// whose gaps the box constraint cannot take.
 ContactBoundary contact_boundary(const ContactProblem& problem, const DofMap& dofs);
 
-/// The constraint the condensation imposes: problem.constraint, but none when the problem has
-/// neither gaps nor an obstacle (bilateral stays bilateral).
+/// The constraint the condensation imposes on the first contact part: problem.constraint, but
+/// none when the problem has neither gaps nor an obstacle (bilateral stays bilateral);
+/// constraint_in_effect(ContactPart) for each part.
 ConstraintKind constraint_in_effect(const ContactProblem& problem);
 
 /// The solve of one contact problem in named stages, as deal.II's step-41 tutorial lays out
@@ -212,6 +219,7 @@ class ContactSolver {
   const ProcessGroup* processes_ = nullptr;             // the engine's processes
   std::optional<LinearSystem> assembled_;
   const LinearSystem* system_ = nullptr;
+  std::vector<ContactPart> parts_;
   ContactBoundary boundary_;
   std::unique_ptr<Condensation> condensation_;
   bool estimate_condition_ = false;

@@ -34,4 +34,9 @@ struct Supports {
 Supports find_supports(const Mesh& mesh, const DofMap& dofs, const ContactBoundary& boundary, bool normal_unknowns,
                        bool tangential_law);
 
+/// The same for a boundary in several parts (ContactBoundary::part): a node has normal
+/// unknowns unless its part is bilateral, and a tangential law when its part has friction.
+Supports find_supports(const Mesh& mesh, const DofMap& dofs, const ContactBoundary& boundary,
+                       const std::vector<ContactPart>& parts);
+
 }  // namespace hemivem

@@ -89,9 +89,11 @@ struct PathStep {
   /// The contact nodes: u_nu, the forces, u_tau (the total tangential displacement) and the
   /// friction force and state of the step (stick: no slip in the step).
   std::vector<ContactNode> contact;
-  /// The slip of the step, u_tau - u_tau^(k-1), per contact node (empty without friction).
+  /// The slip of the step, u_tau - u_tau^(k-1), per contact node (empty without friction;
+  /// NaN at the nodes of a frictionless part beside one with friction).
   Eigen::VectorXd slip;
-  /// The friction bound g_i of each node at the end of the step (empty without friction).
+  /// The friction bound g_i of each node at the end of the step (empty without friction; NaN
+  /// where slip is).
   Eigen::VectorXd friction_bound;
   ContactZone zone;
   Vec2 contact_force = Vec2::Zero();  ///< the resultant of the contact forces on the body

@@ -145,7 +145,11 @@ struct SceneObstacle {
   bool operator==(const SceneObstacle&) const = default;
 };
 
+/// One contact part: [contact], or one table of [[contact]] (docs/reference/scenes.md).
 struct SceneContact {
+  /// Names the part in results (contact.csv, result.json ...): letters, digits, '-', '_' and
+  /// '.'; empty: contact_part_name's default.
+  std::string name;
   BoundarySelector boundary{{"bottom"}, {}, {}, 1e-8};
   SceneLaw law;
   SceneScalar gap{0.02, {}};  ///< g >= 0 at every contact node (unused with an obstacle)
@@ -236,7 +240,9 @@ struct Scene {
   std::array<SceneScalar, 2> body_force{};                     ///< f0
   std::vector<SceneTraction> tractions{
       SceneTraction{{{"top"}, {}, {}, 1e-8}, {SceneScalar{0.0, {}}, SceneScalar{-8.0, {}}}, std::nullopt}};  ///< Gamma_2
-  std::optional<SceneContact> contact = SceneContact{};       ///< Gamma_3; none = no contact
+  std::optional<SceneContact> contact = SceneContact{};       ///< Gamma_3 (its first part); none = no contact
+  /// [[contact]]: the contact parts after the first (empty without contact or with one part).
+  std::vector<SceneContact> more_contact;
   SceneSolver solver;
   /// [adapt]: solve adaptively; none: one solve on the scene's mesh.
   std::optional<SceneAdapt> adapt;
@@ -261,6 +267,15 @@ struct Scene {
 /// Equality of the problem data (source and lines are ignored).
 bool operator==(const Scene& a, const Scene& b);
 
+/// Every contact part of the scene in order: *contact, then more_contact (empty without contact).
+std::vector<SceneContact> contact_parts(const Scene& scene);
+/// The key of contact part i in messages, Scene::lines and overrides: "contact" when the scene
+/// has one part, "contact[i]" when it has several.
+std::string contact_key(const Scene& scene, std::size_t part);
+/// The name of contact part i: its name, or by default its key (contact_key: "contact" for a
+/// scene of one part, "contact[0]", "contact[1]" ... for several).
+std::string contact_part_name(const Scene& scene, std::size_t part);
+
 /// Reads and validates a scene file; relative mesh paths are resolved against its folder.
 Scene parse_scene(const std::filesystem::path& path);
 /// The same from text; `name` stands for the file in messages, relative mesh paths are
@@ -278,7 +293,9 @@ Scene default_scene();
 /// valid key, an error in a key of the file names its line. Setting
 /// mesh.generator clears mesh.file and vice versa, setting path.t clears path.steps and vice versa; a relative mesh.file is resolved against
 /// the current directory. Setting a contact.* key on a scene without contact adds the
-/// default contact part (the bottom side, the paper's law).
+/// default contact part (the bottom side, the paper's law). With several contact parts
+/// ([[contact]]) a key names its part, "contact[1].gap=0.01"; "contact[0].gap" also names
+/// the single [contact] table, and "contact.gap" the single table of a [[contact]] of one.
 void apply_override(Scene& scene, std::string_view key_eq_value);
 
 /// Applies several overrides at once: every value is put in place first and the scene is
@@ -327,8 +344,8 @@ bool scene_is_proportional(const Scene& scene);
 
 /// Sets the data of `problem`, built from `scene` (build_problem, make_contact_problem), to
 /// their values at the load factor t (the rule at the top of this file): the body force, each
-/// traction or pressure, each prescribed displacement (the [clamped] part stays zero), the gap
-/// or the obstacle (moved by its motion). The mesh, the materials, the boundary parts, the
+/// traction or pressure, each prescribed displacement (the [clamped] part stays zero), each
+/// contact part's gap or obstacle (moved by its motion). The mesh, the materials, the boundary parts, the
 /// laws and which components are prescribed are left as they are. A value that is not finite
 /// (or a negative gap) is an InputError naming the scene key, the point and t when it is
 /// evaluated; InternalError for a t that is not finite or a problem whose parts do not match
@@ -338,9 +355,10 @@ void set_load_factor(const Scene& scene, double t, ContactProblem& problem);
 /// The contact problem of a scene on a given mesh (the scene's mesh keys are not used): the
 /// materials by the mesh's region ids (the scene's region boxes are applied by build_problem
 /// only), the boundary parts selected on the mesh's bounding box, loads and contact data (their
-/// values at t = 1, set_load_factor);
-/// contact_edges empty and law null when the scene has no contact. The result points at
-/// `mesh`. Errors as build_problem's.
+/// values at t = 1, set_load_factor), one ContactPart per contact part of the scene, named by
+/// contact_part_name; contact_edges empty and law null when the scene has no contact. An edge
+/// that two contact parts select is an error naming both. The result points at `mesh`. Errors
+/// as build_problem's.
 ContactProblem make_contact_problem(const Scene& scene, const Mesh& mesh);
 
 }  // namespace hemivem
