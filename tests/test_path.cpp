@@ -371,3 +371,40 @@ TEST(Path, AStepWhoseLoadVanishesIsTheUnloadedBody) {
   EXPECT_EQ(max_abs(path.steps.back().a), 0.0);
   EXPECT_EQ(max_abs(path.last.u), 0.0);
 }
+
+// An obstacle moving sideways: nodes near its ends start and stop facing it (their gaps turn
+// infinite and finite again), and with the law's origin on its surface they lose and regain
+// their law. Every step is still the static problem with the obstacle where the step puts it.
+TEST(Path, NodesThatStartOrStopFacingAMovingObstacle) {
+  auto scene_text = [](double cx, bool moving) {
+    return std::string("schema_version = 1\n[mesh]\nn = 16\ndomain = [-1.0, 1.0, -1.0, 0.0]\n"
+                       "[material]\nE = 65.0\nnu = 0.29\n[clamped]\nside = \"bottom\"\n"
+                       "[contact]\nside = \"top\"\nlaw = \"linear\"\nconstraint = \"one-sided\"\nlaw_origin = \"surface\"\n"
+                       "[contact.obstacle]\nshape = \"circle\"\ncenter = [") +
+           std::to_string(cx) + ", 0.905]\nradius = 0.9\n" + (moving ? "motion = [-0.2, 0.0]\n" : "");
+  };
+  const Scene moving = parse_scene_string(scene_text(0.0, true), "moving.toml");
+  auto built = build_problem(moving);
+  const auto minimizer = make_minimizer("ssn");
+  PathLoading loading{{0.3, 0.6, 0.9}, [&moving](double t, ContactProblem& p) { set_load_factor(moving, t, p); }};
+  PathOptions options;
+  options.frame = [](int) { return true; };
+  const PathSolution path = solve_path(built->problem, engine("cholmod"), *minimizer, loading, options);
+  int facing_changes = 0;
+  std::vector<bool> facing_before;
+  for (const PathStep& s : path.steps) {
+    SCOPED_TRACE("t " + std::to_string(s.t));
+    ASSERT_TRUE(s.converged()) << s.message;
+    std::vector<bool> facing;
+    for (const ContactNode& n : s.contact) facing.push_back(std::isfinite(n.gap));
+    if (!facing_before.empty())
+      for (std::size_t i = 0; i < facing.size(); ++i) facing_changes += facing[i] != facing_before[i] ? 1 : 0;
+    facing_before = facing;
+    auto b = build_problem(parse_scene_string(scene_text(-0.2 * s.t, false), "static.toml"));
+    const ContactSolution st = solve_contact(b->problem, engine(), *minimizer, MinimizerOptions{});
+    ASSERT_TRUE(st.converged());
+    EXPECT_LE(max_abs(s.u - st.u), 1e-8 * max_abs(st.u));
+    EXPECT_NEAR(s.energy, st.energy, 1e-8 * std::abs(st.energy));
+  }
+  EXPECT_GE(facing_changes, 2);  // one node starts facing it, another stops
+}

@@ -232,7 +232,8 @@ PathStep PathSolver::Impl::solve_step(int k) {
     b = assemble_rhs(problem.elasticity, dofs);
     cond->set_load(b, dofs.prescribed);
     system.dofs.prescribed = dofs.prescribed;
-    cond->set_gaps(contact_boundary(problem, system.dofs).gaps);
+    boundary.gaps = contact_boundary(problem, system.dofs).gaps;  // the contact nodes report the step's gaps
+    cond->set_gaps(boundary.gaps);
     c_raw = cond->condensed_load();
     step.lo = cond->reduced().lo;
     step.hi = cond->reduced().hi;
