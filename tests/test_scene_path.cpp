@@ -445,5 +445,24 @@ TEST(ScenePath, BilateralRefusesABoundThatDependsOnTheNormalContact) {
   EXPECT_NO_THROW((void)parse_scene_string(bilateral + "bound = 0.2\n", "b.toml"));
 }
 
+
+// A path along which nothing changes is worth a warning; one driven by a load or a motion is not.
+TEST(ScenePath, AWarningWhenThePathChangesNothing) {
+  auto warned = [](const Scene& s) {
+    const auto w = scene_warnings(s);
+    return std::any_of(w.begin(), w.end(), [](const std::string& m) { return has(m, "every step of the path solves the same problem"); });
+  };
+  const std::string obstacle =
+      "schema_version = 1\n[mesh]\nn = 8\n[clamped]\nside = \"bottom\"\n[contact]\nside = \"top\"\nlaw = \"zero\"\n"
+      "constraint = \"one-sided\"\n[contact.obstacle]\nshape = \"circle\"\ncenter = [0.5, 1.99]\nradius = 1.0\n";
+  EXPECT_TRUE(warned(parse_scene_string(obstacle + "[path]\nsteps = 4\n", "still.toml")));
+  EXPECT_FALSE(warned(parse_scene_string(obstacle + "motion = [0.0, -0.01]\n[path]\nsteps = 4\n", "moving.toml")));
+  EXPECT_FALSE(warned(parse_scene_string(obstacle, "static.toml")));
+  EXPECT_FALSE(warned(parse_scene_string(obstacle + "[path]\nt = [1.0]\n", "one-step.toml")));
+  Scene loaded = parse_scene_string(kHead + "[[loads.traction]]\nside = \"top\"\nvalue = [0.0, -8.0]\n[path]\nsteps = 4\n",
+                                    "loaded.toml");
+  EXPECT_FALSE(warned(loaded));
+}
+
 }  // namespace
 }  // namespace hemivem

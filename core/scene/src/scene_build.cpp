@@ -130,6 +130,16 @@ std::vector<std::string> scene_warnings(const Scene& scene) {
     out.push_back("nothing drives this problem: no load, no prescribed displacement other than zero and no "
                   "obstacle; its solution is u = 0 unless the contact law pushes at u_nu = 0 (a missing [loads] table "
                   "means no loads)");
+  // a path along which nothing changes: what t multiplies is zero and no value mentions t
+  bool scaled = !zero(scene.body_force[0]) || !zero(scene.body_force[1]);
+  for (const auto& t : scene.tractions)
+    scaled = scaled || (t.pressure ? !zero(*t.pressure) : !zero(t.value[0]) || !zero(t.value[1]));
+  for (const auto& d : scene.dirichlet) scaled = scaled || (d.ux && !zero(*d.ux)) || (d.uy && !zero(*d.uy));
+  if (scene.path && scene.path->factors().size() > 1 && !scaled && scene_is_proportional(scene))
+    out.push_back(scene.where("path") +
+                  ": every step of the path solves the same problem: no load or prescribed displacement is multiplied "
+                  "by t and no value mentions t (a gap or an obstacle that should move needs an expression in t or "
+                  "contact.obstacle.motion)");
   return out;
 }
 
