@@ -5,15 +5,14 @@
 #include <hemivem/linear_backends.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
 
+#include "scene_setup.hpp"
+
 #include <chrono>
 #include <sstream>
 
 namespace hemivem::app {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 bool bound_depends_on_normal(const Scene& scene) {
   for (const SceneContact& c : contact_parts(scene))
@@ -41,26 +40,9 @@ SceneSolve solve_scene_path(const Scene& scene, SceneSolveOptions o, std::functi
   if (same_engine(scene.solver.linear, "mumps-mpi"))
     throw InputError("a loading path runs in one process; the linear engine mumps-mpi runs across processes: choose another",
                      scene.where("solver.linear"));
-  FactorizationOptions fo;
-  fo.engine = scene.solver.linear;
-  std::unique_ptr<SparseFactorization> factorization;
-  try {
-    factorization = make_factorization(fo);
-  } catch (const InputError& e) {
-    throw InputError("solver.linear: " + e.detail(), scene.where("solver.linear"));
-  }
-  const auto minimizer = make_scene_search(scene, std::move(o.progress));
-  s.linear = factorization->name();
-  s.minimizer = first_engine(*minimizer);
-  s.search = search_json(*minimizer);
-  s.options.tolerance = scene.solver.tolerance;
-  s.options.max_iterations = scene.solver.max_iterations;
-  s.options.callback = std::move(o.callback);
-
-  const auto t = Clock::now();
-  s.built = o.mesh ? build_problem(scene, std::move(*o.mesh), o.apply_region_boxes) : build_problem(scene);
-  s.mesh_description = o.mesh ? o.mesh_description : scene.mesh.description();
-  s.mesh_seconds = since(t);
+  detail::SceneEngines engines = detail::prepare_scene_solve(scene, o, s);
+  auto& factorization = engines.factorization;
+  const auto& minimizer = engines.minimizer;
   if (!s.built->has_contact)
     throw InputError("a loading path needs a contact boundary: the scene has none", scene.where("path"));
   if (o.on_built) o.on_built(*s.built, s);
@@ -92,43 +74,45 @@ SceneSolve solve_scene_path(const Scene& scene, SceneSolveOptions o, std::functi
   return s;
 }
 
+nlohmann::json path_step_json(const PathStep& s) {
+  nlohmann::json j;
+  j["step"] = s.index;
+  j["t"] = s.t;
+  j["status"] = to_string(s.status);
+  j["converged"] = s.converged();
+  j["message"] = s.message;
+  j["certificate"] = certificate_json(s.certificate);
+  j["may_be_nonunique"] = s.may_be_nonunique;
+  j["iterations"] = s.iterations;
+  j["energy"] = number(s.energy);
+  j["contact_zone"] = {{"nodes", s.zone.nodes},
+                       {"length", number(s.zone.length)},
+                       {"lower", s.zone.nodes > 0 ? vec(s.zone.lower) : nlohmann::json()},
+                       {"upper", s.zone.nodes > 0 ? vec(s.zone.upper) : nlohmann::json()}};
+  j["contact_force"] = vec(s.contact_force);
+  j["applied_load"] = vec(s.applied);
+  int stick = 0, slip = 0;  // among the nodes in contact
+  for (const ContactNode& n : s.contact) {
+    if (n.friction_state.empty() || !(n.force() > 0.0)) continue;
+    (n.friction_state == "stick" ? stick : slip) += 1;
+  }
+  j["friction"] = s.slip.size() > 0 ? nlohmann::json{{"stick", stick}, {"slip", slip}} : nlohmann::json();
+  j["fixed_point"] = s.fixed_point.used ? nlohmann::json{{"iterations", s.fixed_point.iterations},
+                                                          {"change", number(s.fixed_point.change)},
+                                                          {"relaxation", s.fixed_point.relaxation},
+                                                          {"converged", s.fixed_point.converged}}
+                                        : nlohmann::json();
+  j["change"] = number(s.change);
+  j["jump"] = s.jump;
+  j["frame"] = s.u.size() > 0;
+  j["balance"] = s.forces ? number(s.forces->residual()) : nlohmann::json();
+  j["seconds"] = s.seconds;
+  return j;
+}
+
 nlohmann::json path_json(const PathSolution& path) {
   nlohmann::json steps = nlohmann::json::array();
-  for (const PathStep& s : path.steps) {
-    nlohmann::json j;
-    j["step"] = s.index;
-    j["t"] = s.t;
-    j["status"] = to_string(s.status);
-    j["converged"] = s.converged();
-    j["message"] = s.message;
-    j["certificate"] = certificate_json(s.certificate);
-    j["may_be_nonunique"] = s.may_be_nonunique;
-    j["iterations"] = s.iterations;
-    j["energy"] = number(s.energy);
-    j["contact_zone"] = {{"nodes", s.zone.nodes},
-                         {"length", number(s.zone.length)},
-                         {"lower", s.zone.nodes > 0 ? vec(s.zone.lower) : nlohmann::json()},
-                         {"upper", s.zone.nodes > 0 ? vec(s.zone.upper) : nlohmann::json()}};
-    j["contact_force"] = vec(s.contact_force);
-    j["applied_load"] = vec(s.applied);
-    int stick = 0, slip = 0;  // among the nodes in contact
-    for (const ContactNode& n : s.contact) {
-      if (n.friction_state.empty() || !(n.force() > 0.0)) continue;
-      (n.friction_state == "stick" ? stick : slip) += 1;
-    }
-    j["friction"] = s.slip.size() > 0 ? nlohmann::json{{"stick", stick}, {"slip", slip}} : nlohmann::json();
-    j["fixed_point"] = s.fixed_point.used ? nlohmann::json{{"iterations", s.fixed_point.iterations},
-                                                            {"change", number(s.fixed_point.change)},
-                                                            {"relaxation", s.fixed_point.relaxation},
-                                                            {"converged", s.fixed_point.converged}}
-                                          : nlohmann::json();
-    j["change"] = number(s.change);
-    j["jump"] = s.jump;
-    j["frame"] = s.u.size() > 0;
-    j["balance"] = s.forces ? number(s.forces->residual()) : nlohmann::json();
-    j["seconds"] = s.seconds;
-    steps.push_back(std::move(j));
-  }
+  for (const PathStep& s : path.steps) steps.push_back(path_step_json(s));
   nlohmann::json j;
   j["schema"] = "hemivem-path/1";
   j["steps"] = std::move(steps);

@@ -1,6 +1,8 @@
 #include <hemivem/app/solve.hpp>
 #include <hemivem/app/path.hpp>
 
+#include "scene_setup.hpp"
+
 #include <hemivem/error.hpp>
 #include <hemivem/linear_backends.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
@@ -105,19 +107,20 @@ void refuse_path(const Scene& scene, const std::string& what) {
                    scene.where(table ? "path" : "contact.friction"));
 }
 
-SceneSolve solve_scene(const Scene& scene, SceneSolveOptions o) {
-  refuse_path(scene, "this solve");
+namespace detail {
+
+SceneEngines prepare_scene_solve(const Scene& scene, SceneSolveOptions& o, SceneSolve& s) {
   // Engines first: a name that was not built is an input error before any work.
-  SceneSolve s;
+  SceneEngines e;
   FactorizationOptions fo;
   fo.engine = scene.solver.linear;
-  auto factorization = named_engine(scene, "solver.linear", [&] { return make_factorization(fo); });
-  const auto minimizer = make_scene_search(scene, std::move(o.progress));
-  s.linear = factorization->name();
-  s.minimizer = first_engine(*minimizer);
-  s.search = search_json(*minimizer);
-  s.holds_results = processes_of(*factorization).holds_results();
-  s.processes = processes_of(*factorization).num_processes();
+  e.factorization = named_engine(scene, "solver.linear", [&] { return make_factorization(fo); });
+  e.minimizer = make_scene_search(scene, std::move(o.progress));
+  s.linear = e.factorization->name();
+  s.minimizer = first_engine(*e.minimizer);
+  s.search = search_json(*e.minimizer);
+  s.holds_results = processes_of(*e.factorization).holds_results();
+  s.processes = processes_of(*e.factorization).num_processes();
   s.options.tolerance = scene.solver.tolerance;
   s.options.max_iterations = scene.solver.max_iterations;
   s.options.callback = std::move(o.callback);
@@ -126,6 +129,17 @@ SceneSolve solve_scene(const Scene& scene, SceneSolveOptions o) {
   s.built = o.mesh ? build_problem(scene, std::move(*o.mesh), o.apply_region_boxes) : build_problem(scene);
   s.mesh_description = o.mesh ? o.mesh_description : scene.mesh.description();
   s.mesh_seconds = since(t);
+  return e;
+}
+
+}  // namespace detail
+
+SceneSolve solve_scene(const Scene& scene, SceneSolveOptions o) {
+  refuse_path(scene, "this solve");
+  SceneSolve s;
+  detail::SceneEngines engines = detail::prepare_scene_solve(scene, o, s);
+  auto& factorization = engines.factorization;
+  const auto& minimizer = engines.minimizer;
   if (o.on_built) o.on_built(*s.built, s);
   const NonsmoothMinimizer* minimizers[] = {minimizer.get()};
   try {

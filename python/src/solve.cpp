@@ -164,12 +164,12 @@ for a frame).
       .def_property_readonly("applied_load", [](const PyPathStep& s) { return pair_array(s.step().applied); })
       .def_property_readonly("zone",
                              [](const PyPathStep& s) {
-                               const nlohmann::json j = app::path_json(PathSolution{{s.step()}, {}, true, {}})["steps"][0];
+                               const nlohmann::json j = app::path_step_json(s.step());
                                return json_object(j["contact_zone"]);
                              })
       .def_property_readonly("fixed_point",
                              [](const PyPathStep& s) -> py::object {
-                               const nlohmann::json j = app::path_json(PathSolution{{s.step()}, {}, true, {}})["steps"][0];
+                               const nlohmann::json j = app::path_step_json(s.step());
                                return j["fixed_point"].is_null() ? py::none() : json_object(j["fixed_point"]);
                              })
       .def_property_readonly("jump", [](const PyPathStep& s) { return s.step().jump; })

@@ -354,15 +354,17 @@ std::string friction_state(const ContactLaw& law, double u_tau) {
   return "slip";
 }
 
-Vec2 ContactSolution::contact_force() const {
+Vec2 contact_resultant(std::span<const ContactNode> nodes) {
   Vec2 total = Vec2::Zero();
-  for (const auto& n : contact) total -= n.force() * n.normal + n.friction_force * Vec2(-n.normal.y(), n.normal.x());
+  for (const auto& n : nodes) total -= n.force() * n.normal + n.friction_force * Vec2(-n.normal.y(), n.normal.x());
   return total;
 }
 
-ContactZone contact_zone(const ContactSolution& solution) {
+Vec2 ContactSolution::contact_force() const { return contact_resultant(contact); }
+
+ContactZone contact_zone(std::span<const ContactNode> nodes) {
   ContactZone zone;
-  for (const auto& n : solution.contact) {
+  for (const auto& n : nodes) {
     if (!(n.force() > 0.0)) continue;
     zone.lower = zone.nodes == 0 ? n.x : zone.lower.cwiseMin(n.x);
     zone.upper = zone.nodes == 0 ? n.x : zone.upper.cwiseMax(n.x);
@@ -371,5 +373,7 @@ ContactZone contact_zone(const ContactSolution& solution) {
   }
   return zone;
 }
+
+ContactZone contact_zone(const ContactSolution& solution) { return contact_zone(solution.contact); }
 
 }  // namespace hemivem

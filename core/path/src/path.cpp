@@ -374,8 +374,10 @@ void PathSolver::Impl::minimize_step(PathStep& s, const Eigen::VectorXd& shift, 
 void PathSolver::Impl::describe_step(PathStep& s, const MinimizerResult& m, const Eigen::VectorXd& shift,
                                      const Eigen::VectorXd& c_raw, double kappa, const Eigen::VectorXd* u,
                                      const Eigen::VectorXd* b) {
-  MinimizerResult raw = m;
-  raw.a = m.a + shift;  // the condensation's coordinates: u_tau total
+  MinimizerResult raw;  // the point in the condensation's coordinates (u_tau total) and its forces
+  raw.a = m.a + shift;
+  raw.law_force = m.law_force;
+  raw.reaction = m.reaction;
   Eigen::VectorXd residual;
   if (u && b) {
     Eigen::VectorXd uf(system.dofs.num_free());
@@ -403,10 +405,8 @@ void PathSolver::Impl::describe_step(PathStep& s, const MinimizerResult& m, cons
     }
     s.contact.push_back(std::move(node));
   }
-  ContactSolution view;
-  view.contact = s.contact;
-  s.contact_force = view.contact_force();
-  s.zone = contact_zone(view);
+  s.contact_force = contact_resultant(s.contact);
+  s.zone = contact_zone(s.contact);
   if (!std::isfinite(s.energy) && s.converged()) {
     s.status = MinimizerStatus::failed;
     s.message = "the energy of the step is not finite";

@@ -35,6 +35,8 @@ SceneSolve solve_scene_path(const Scene& scene, SceneSolveOptions options = {},
 /// path.json ("schema": "hemivem-path/1"): per step t, status, certificate, energy, the
 /// contact zone, the contact resultant, the applied load, the fixed point, jumps (docs/reference/outputs.md).
 nlohmann::json path_json(const PathSolution& path);
+/// One step of path.json's "steps".
+nlohmann::json path_step_json(const PathStep& step);
 
 /// One line per step for `hemivem solve`: "step 3/10  t = 0.3  converged (primal 0, dual 2e-12)
 /// zone 12 nodes  contact force (0.1, 7.9)  [fixed point 5 iterations]  [jump]".

@@ -127,7 +127,10 @@ struct ContactZone {
   Vec2 lower = Vec2::Zero();  ///< the bounding box of their positions (when nodes > 0)
   Vec2 upper = Vec2::Zero();
 };
+ContactZone contact_zone(std::span<const ContactNode> nodes);
 ContactZone contact_zone(const ContactSolution& solution);
+/// The resultant of the contact forces of `nodes` on the body (ContactSolution::contact_force).
+Vec2 contact_resultant(std::span<const ContactNode> nodes);
 
 /// The contact boundary of `problem` on the dofs of its assembled system: the nodes of every
 /// contact part (contact_parts, make_contact_boundary), normals, weights, gaps (each part's
