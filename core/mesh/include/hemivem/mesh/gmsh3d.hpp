@@ -1,0 +1,30 @@
+// Reading and writing Gmsh meshes (.msh, format 4.1 ASCII) of solid domains
+// (docs/three-dimensions.md).
+#pragma once
+
+#include <filesystem>
+#include <iosfwd>
+#include <string>
+
+#include <hemivem/mesh/mesh3d.hpp>
+
+namespace hemivem {
+
+/// Reads a 3D Gmsh 4.1 ASCII mesh: its volume elements (4-node tetrahedra, 8-node hexahedra,
+/// 6-node prisms, 5-node pyramids) become the cells, each face oriented outward; the cell region
+/// is the tag of the element's volume physical group (0 when there is none); every 2D physical
+/// group (a physical surface) becomes a named face group (Mesh3D::face_group) holding the mesh
+/// faces on its surfaces, by its name when the file names it (else its tag as text). Throws
+/// InputError naming the file and line of any defect.
+Mesh3D read_gmsh3d(const std::filesystem::path& path);
+/// The same from a stream; `name` is used in messages in place of a path.
+Mesh3D read_gmsh3d(std::istream& in, const std::string& name);
+
+/// Writes a Gmsh 4.1 ASCII mesh that read_gmsh3d reads back to the same mesh: tetrahedra,
+/// hexahedra, prisms and pyramids (with the vertex orders Gmsh uses); each region a volume
+/// physical group; each face group a physical surface by its name. InputError for a cell of
+/// another shape (a Voronoi polyhedron: Gmsh has no polyhedron element) naming it.
+void write_gmsh3d(const Mesh3D& mesh, std::ostream& out);
+void write_gmsh3d(const Mesh3D& mesh, const std::filesystem::path& path);
+
+}  // namespace hemivem
