@@ -118,18 +118,14 @@ Mesh3D make_tetrahedra(GridSize3 n, const Box& domain) {
 }
 
 const std::vector<std::string>& mesh3d_generator_names() {
-  static const std::vector<std::string> names = {"cubes", "tetrahedra", "voronoi"};
+  static const std::vector<std::string> names = {"cubes", "tetrahedra"};
   return names;
 }
 
 Mesh3D make_mesh3d(std::string_view generator, GridSize3 n, const Box& domain, std::uint64_t seed) {
   if (generator == "cubes") return make_cubes(n, domain);
   if (generator == "tetrahedra") return make_tetrahedra(n, domain);
-  if (generator == "voronoi") {
-    VoronoiOptions options;
-    options.seed = seed;
-    return make_voronoi3d(n, domain, options);
-  }
+  (void)seed;
   std::string names;
   for (const auto& name : mesh3d_generator_names()) names += (names.empty() ? "" : ", ") + name;
   throw InputError("unknown 3D mesh generator '" + std::string(generator) + "'; expected one of " + names);
