@@ -110,15 +110,18 @@ using detail::make_obstacle;
 
 std::vector<std::string> scene_warnings(const Scene& scene) {
   auto zero = [](const SceneScalar& v) { return !v.is_expression() && v.value == 0.0; };
-  bool driven = !zero(scene.body_force[0]) || !zero(scene.body_force[1]);
-  for (const auto& t : scene.tractions)
-    driven = driven || (t.pressure ? !zero(*t.pressure) : !zero(t.value[0]) || !zero(t.value[1]));
-  for (const auto& d : scene.dirichlet) driven = driven || (d.ux && !zero(*d.ux)) || (d.uy && !zero(*d.uy));
+  auto nonzero = [&](const std::array<SceneScalar, 3>& v) { return !zero(v[0]) || !zero(v[1]) || !zero(v[2]); };
+  auto prescribes = [&](const SceneDirichlet& d) {
+    return (d.ux && !zero(*d.ux)) || (d.uy && !zero(*d.uy)) || (d.uz && !zero(*d.uz));
+  };
+  bool driven = nonzero(scene.body_force);
+  for (const auto& t : scene.tractions) driven = driven || (t.pressure ? !zero(*t.pressure) : nonzero(t.value));
+  for (const auto& d : scene.dirichlet) driven = driven || prescribes(d);
   const std::vector<SceneContact> parts = contact_parts(scene);
   for (const SceneContact& c : parts)
     driven = driven || c.obstacle.has_value() || c.gap.is_expression() || c.gap.value < 0.0;
   std::vector<std::string> out;
-  if (scene.clamped.empty() && scene.dirichlet.empty())
+  if (scene.clamped.empty() && scene.dirichlet.empty() && scene.dimension() != 3)  // 3D: refused when solved
     out.push_back("the scene has no [clamped] and no [[dirichlet]]: no part of the boundary is held, only what the "
                   "contact provides (the paper's supports are [clamped] side = [\"left\", \"right\"])");
   for (std::size_t i = 0; i < parts.size(); ++i) {
@@ -131,10 +134,9 @@ std::vector<std::string> scene_warnings(const Scene& scene) {
                   "obstacle; its solution is u = 0 unless the contact law pushes at u_nu = 0 (a missing [loads] table "
                   "means no loads)");
   // a path along which nothing changes: what t multiplies is zero and no value mentions t
-  bool scaled = !zero(scene.body_force[0]) || !zero(scene.body_force[1]);
-  for (const auto& t : scene.tractions)
-    scaled = scaled || (t.pressure ? !zero(*t.pressure) : !zero(t.value[0]) || !zero(t.value[1]));
-  for (const auto& d : scene.dirichlet) scaled = scaled || (d.ux && !zero(*d.ux)) || (d.uy && !zero(*d.uy));
+  bool scaled = nonzero(scene.body_force);
+  for (const auto& t : scene.tractions) scaled = scaled || (t.pressure ? !zero(*t.pressure) : nonzero(t.value));
+  for (const auto& d : scene.dirichlet) scaled = scaled || prescribes(d);
   if (scene.path && scene.path->factors().size() > 1 && !scaled && scene_is_proportional(scene))
     out.push_back(scene.where("path") +
                   ": every step of the path solves the same problem: no load or prescribed displacement is multiplied "
@@ -165,6 +167,10 @@ void check_regions_used(const Scene& scene, const Mesh& mesh, bool boxes) {
 }  // namespace
 
 std::unique_ptr<BuiltProblem> build_problem(const Scene& scene) {
+  if (scene.dimension() == 3)
+    throw InputError("mesh: a three-dimensional scene is built by build_problem_3d and solved by `hemivem solve` (this "
+                     "solve takes two-dimensional scenes)",
+                     scene.where("mesh"));
   Mesh mesh;
   if (!scene.mesh.file.empty()) {
     const std::string ext = lower(scene.mesh.file.extension().string());
@@ -255,8 +261,9 @@ std::function<double(const Vec2&)> driven_scalar(const SceneScalar& v, double t,
   };
 }
 
-/// The vector field of two driving values of the scene at the load factor t (driven_scalar).
-VectorField driven_vector(const std::array<SceneScalar, 2>& v, double t, const Scene& scene,
+/// The vector field of the first two driving values of the scene at the load factor t
+/// (driven_scalar; the third is a 3D scene's).
+VectorField driven_vector(const std::array<SceneScalar, 3>& v, double t, const Scene& scene,
                           const std::array<std::string, 2>& keys) {
   auto fx = driven_scalar(v[0], t, scene, keys[0]);
   auto fy = driven_scalar(v[1], t, scene, keys[1]);
@@ -454,6 +461,8 @@ void check_parts_disjoint(const std::vector<ContactPart>& parts, const Scene& sc
 }  // namespace
 
 ContactProblem make_contact_problem(const Scene& scene, const Mesh& mesh) {
+  if (scene.dimension() == 3)
+    throw InputError("mesh: a three-dimensional scene poses a ContactProblem3D (build_problem_3d)", scene.where("mesh"));
   ContactProblem p;
   p.elasticity.mesh = &mesh;
   check_regions_used(scene, mesh, false);
@@ -473,19 +482,23 @@ ContactProblem make_contact_problem(const Scene& scene, const Mesh& mesh) {
 }
 
 bool scene_is_proportional(const Scene& scene) {
-  auto mentions_t = [](const SceneScalar& v) { return v.is_expression() && ScalarExpression::parse(v.expression).uses_t(); };
+  const int dimension = scene.dimension();
+  auto mentions_t = [dimension](const SceneScalar& v) {
+    return v.is_expression() && ScalarExpression::parse(v.expression, dimension).uses_t();
+  };
   auto any = [&](const auto&... v) { return (mentions_t(v) || ...); };
-  if (any(scene.body_force[0], scene.body_force[1])) return false;
+  if (any(scene.body_force[0], scene.body_force[1], scene.body_force[2])) return false;
   for (const auto& t : scene.tractions)
-    if (t.pressure ? mentions_t(*t.pressure) : any(t.value[0], t.value[1])) return false;
+    if (t.pressure ? mentions_t(*t.pressure) : any(t.value[0], t.value[1], t.value[2])) return false;
   for (const auto& d : scene.dirichlet)
-    if ((d.ux && mentions_t(*d.ux)) || (d.uy && mentions_t(*d.uy))) return false;
+    if ((d.ux && mentions_t(*d.ux)) || (d.uy && mentions_t(*d.uy)) || (d.uz && mentions_t(*d.uz))) return false;
   for (const SceneContact& c : contact_parts(scene))
     if (c.obstacle ? c.obstacle->motion.has_value() : mentions_t(c.gap)) return false;
   return true;
 }
 
 void set_load_factor(const Scene& scene, double t, ContactProblem& problem) {
+  if (scene.dimension() == 3) throw InputError("a three-dimensional scene is solved at t = 1 (it has no loading path)", scene.where("mesh"));
   if (!std::isfinite(t)) throw InternalError("set_load_factor: the load factor must be finite, got " + fmt(t));
   ElasticityProblem& e = problem.elasticity;
   const std::size_t clamped = scene.clamped.empty() ? 0 : 1;  // [clamped] comes first (add_dirichlet)

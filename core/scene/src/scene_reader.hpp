@@ -60,6 +60,8 @@ std::shared_ptr<const ContactLaw> make_friction_law(const SceneLaw& law);
 /// or "tresca" with a bound table; make_friction_law is then tresca_law(1)); none otherwise.
 std::optional<FrictionBound> make_friction_bound(const SceneLaw& law);
 Obstacle make_obstacle(const SceneObstacle& o);
+/// The obstacle of a three-dimensional scene (plane, sphere, cylinder; scene3d.cpp).
+Obstacle3D make_obstacle3d(const SceneObstacle& o);
 
 /// Reads one table of the scene: unknown keys are rejected on construction; every read
 /// records the key's line in the scene and checks its type.
@@ -114,19 +116,22 @@ class TableReader {
     if (!n) return std::nullopt;
     return as_number(key, *n);
   }
-  /// A number, or a string holding an expression in x, y and t (parsed here, so that a syntax
-  /// error names the key's line).
+  /// A number, or a string holding an expression in x, y (z in a three-dimensional scene) and t
+  /// (parsed here, so that a syntax error names the key's line).
   SceneScalar as_scalar(std::string_view key, const toml::node& n, const std::string& element = "") const {
+    const int dimension = scene_.mesh.dimension;
     if (const auto* text = n.as_string()) {
       try {
-        (void)ScalarExpression::parse(text->get());
+        (void)ScalarExpression::parse(text->get(), dimension);
       } catch (const InputError& e) {
         fail(key, n, element + e.detail());
       }
       return SceneScalar{0.0, text->get()};
     }
     if (!n.is_integer() && !n.is_floating_point())
-      fail(key, n, element + "expected a number or an expression in x and y (a string), got " + type_name(n));
+      fail(key, n, element + (dimension == 3 ? "expected a number or an expression in x, y and z (a string), got "
+                                             : "expected a number or an expression in x and y (a string), got ") +
+                       type_name(n));
     return SceneScalar{as_number(key, n), {}};
   }
   std::optional<SceneScalar> scalar(std::string_view key) {

@@ -13,7 +13,9 @@
 #include <hemivem/certificate.hpp>
 #include <hemivem/engine_names.hpp>
 #include <hemivem/mesh/generators.hpp>
+#include <hemivem/mesh/generators3d.hpp>
 #include <hemivem/contact/piecewise_law.hpp>
+#include <hemivem/scene/mesh_files3d.hpp>
 
 #include "default_scene_text.hpp"
 #include "scene_reader.hpp"
@@ -25,6 +27,13 @@ namespace detail {
 namespace {
 
 const std::vector<std::string> kSides{"left", "right", "top", "bottom"};
+/// The sides of a box (select_box_side).
+const std::vector<std::string> kSides3{"x0", "x1", "y0", "y1", "z0", "z1", "bottom", "top"};
+
+/// The key `key` of `r` is refused in a three-dimensional scene: an error at its line.
+[[noreturn]] void refuse_in_3d(TableReader& r, std::string_view key, const std::string& why = "") {
+  r.fail(key, r.node(key), "not available for three-dimensional scenes" + (why.empty() ? "" : " (" + why + ")"));
+}
 
 const std::vector<std::string> kSelectorKeys{"side", "group", "segments", "tolerance"};
 
@@ -45,14 +54,19 @@ void check_name(TableReader& r, std::string_view key, const std::string& value, 
 BoundarySelector read_selector(TableReader& r, bool required) {
   BoundarySelector s;
   s.sides.clear();
+  const bool solid = r.scene().dimension() == 3;
+  const std::vector<std::string>& sides = solid ? kSides3 : kSides;
   if (auto v = r.strings("side", true)) {
     for (const auto& side : *v) {
-      if (std::find(kSides.begin(), kSides.end(), lower(side)) == kSides.end())
+      if (std::find(sides.begin(), sides.end(), lower(side)) == sides.end())
         r.fail("side", r.node("side"),
-               "unknown side '" + side + "'" + did_you_mean(side, kSides) + " (expected one of: " + join(kSides) + ")");
+               "unknown side '" + side + "'" + did_you_mean(side, sides) + " (expected one of: " + join(sides) +
+                   (solid ? ", the sides of the box of a three-dimensional mesh" : "") + ")");
       s.sides.push_back(lower(side));
     }
   }
+  if (solid && r.has("segments"))
+    refuse_in_3d(r, "segments", "select boundary faces by side or by group, a physical surface of a Gmsh file");
   if (auto v = r.strings("group", true)) {
     for (const auto& g : *v)
       if (g.empty()) r.fail("group", r.node("group"), "empty group name");
@@ -75,7 +89,8 @@ BoundarySelector read_selector(TableReader& r, bool required) {
     s.tolerance = *t;
   }
   if (required && s.empty())
-    throw InputError(r.path() + ": no boundary given; set side, group or segments", r.at(r.self()));
+    throw InputError(r.path() + (solid ? ": no boundary given; set side or group" : ": no boundary given; set side, group or segments"),
+                     r.at(r.self()));
   return s;
 }
 
@@ -220,41 +235,84 @@ void read_contact_law(TableReader& r, SceneLaw& law) {
   }
 }
 
-/// [contact.obstacle]: a plane (point, normal), a circle (center, radius) or a polyline (points).
+/// An array of `dims` numbers into the first `dims` coordinates of `out` (the others stay 0).
+void read_point(TableReader& ob, const char* key, int dims, std::array<double, 3>& out) {
+  if (dims == 3) {
+    if (auto v = ob.fixed<3>(key, std::string(key) == "point" || std::string(key) == "center" ? "[x, y, z]" : "[nx, ny, nz]"))
+      out = *v;
+    return;
+  }
+  if (auto v = ob.fixed<2>(key, std::string(key) == "point" || std::string(key) == "center" ? "[x, y]" : "[nx, ny]"))
+    out = {(*v)[0], (*v)[1], 0.0};
+}
+
+/// [contact.obstacle]: a plane (point, normal), a circle (center, radius) or a polyline (points);
+/// in three dimensions a plane (point, normal), a sphere (center, radius) or a cylinder (center,
+/// axis, radius).
 SceneObstacle read_obstacle(TableReader& ob) {
+  const int dims = ob.scene().dimension();
   SceneObstacle so;
   if (auto shape = ob.string("shape")) so.shape = lower(*shape);
-  try {
-    (void)obstacle_shape_from_string(so.shape);
-  } catch (const InputError& e) {
-    ob.fail("shape", ob.node("shape"), e.detail());
+  if (dims == 3) {
+    const std::vector<std::string> solid{"plane", "sphere", "cylinder"};
+    if (so.shape == "circle" || so.shape == "polyline")
+      ob.fail("shape", ob.node("shape"),
+              "'" + so.shape + "' is an obstacle of two-dimensional scenes; a three-dimensional scene takes one of: " +
+                  join(solid));
+    if (std::find(solid.begin(), solid.end(), so.shape) == solid.end())
+      check_name(ob, "shape", so.shape, solid, "obstacle shape");
+  } else {
+    if (so.shape == "sphere" || so.shape == "cylinder")
+      ob.fail("shape", ob.node("shape"),
+              "'" + so.shape + "' is an obstacle of three-dimensional scenes; a two-dimensional scene takes one of: "
+              "plane, circle, polyline");
+    try {
+      (void)obstacle_shape_from_string(so.shape);
+    } catch (const InputError& e) {
+      ob.fail("shape", ob.node("shape"), e.detail());
+    }
   }
-  const std::map<std::string, std::vector<std::string>> keys{
-      {"plane", {"point", "normal"}}, {"circle", {"center", "radius"}}, {"polyline", {"points"}}};
+  const std::map<std::string, std::vector<std::string>> keys{{"plane", {"point", "normal"}},
+                                                             {"circle", {"center", "radius"}},
+                                                             {"polyline", {"points"}},
+                                                             {"sphere", {"center", "radius"}},
+                                                             {"cylinder", {"center", "axis", "radius"}}};
   const auto it = keys.find(so.shape);
-  for (const char* k : {"point", "normal", "center", "radius", "points"}) {
+  for (const char* k : {"point", "normal", "center", "axis", "radius", "points"}) {
     const bool used = std::find(it->second.begin(), it->second.end(), k) != it->second.end();
     if (!used && ob.has(k)) ob.fail(k, ob.node(k), "not used by a " + so.shape + " obstacle");
     if (used && !ob.has(k))
       throw InputError(ob.path() + ": a " + so.shape + " obstacle needs '" + k + "'", ob.at(ob.self()));
   }
-  if (auto v = ob.fixed<2>("point", "[x, y]")) so.point = *v;
-  if (auto v = ob.fixed<2>("normal", "[nx, ny]")) so.normal = *v;
-  if (auto v = ob.fixed<2>("center", "[x, y]")) so.center = *v;
+  read_point(ob, "point", dims, so.point);
+  read_point(ob, "normal", dims, so.normal);
+  read_point(ob, "center", dims, so.center);
+  if (auto v = ob.fixed<3>("axis", "[ax, ay, az]")) so.axis = *v;
   if (auto v = ob.number("radius")) so.radius = *v;
   if (auto v = ob.points("points")) so.points = *v;
-  if (auto m = ob.scalars<2>("motion", "[mx, my]")) {
+  auto check_motion = [&](const auto& m) {
     const toml::array& a = *ob.node("motion").as_array();
-    for (std::size_t i = 0; i < 2; ++i)
-      if ((*m)[i].is_expression() && ScalarExpression::parse((*m)[i].expression).uses_position())
+    for (std::size_t i = 0; i < m.size(); ++i)
+      if (m[i].is_expression() && ScalarExpression::parse(m[i].expression, dims).uses_position())
         ob.fail("motion", a[i],
                 "element " + std::to_string(i) + ": the obstacle moves as a whole, its motion is a function of t "
-                "alone; '" + (*m)[i].expression + "' mentions x or y");
-    so.motion = *m;
+                "alone; '" + m[i].expression + (dims == 3 ? "' mentions x, y or z" : "' mentions x or y"));
+  };
+  if (dims == 3) {
+    if (auto m = ob.scalars<3>("motion", "[mx, my, mz]")) {
+      check_motion(*m);
+      so.motion = *m;
+    }
+  } else if (auto m = ob.scalars<2>("motion", "[mx, my]")) {
+    check_motion(*m);
+    so.motion = std::array<SceneScalar, 3>{(*m)[0], (*m)[1], SceneScalar{}};
   }
-  const std::string defect = make_obstacle(so).defect();
+  const std::string defect = dims == 3 ? make_obstacle3d(so).defect() : make_obstacle(so).defect();
   if (!defect.empty()) {
-    const char* key = so.shape == "plane" ? "normal" : (so.shape == "circle" ? "radius" : "points");
+    const char* key = so.shape == "plane" ? "normal"
+                      : so.shape == "polyline" ? "points"
+                      : so.shape == "cylinder" && !(make_obstacle3d(so).axis.norm() > 0.0) ? "axis"
+                                                                                         : "radius";
     ob.fail(key, ob.node(key), defect);
   }
   return so;
@@ -297,7 +355,7 @@ SceneContact read_contact(TableReader& r) {
   if (const toml::table* o = r.table("obstacle")) {
     if (r.has("gap")) r.fail("gap", r.node("gap"), "not used with [contact.obstacle]; give either a gap or an obstacle");
     TableReader ob(r.scene(), *o, r.key_path("obstacle"),
-                   {"shape", "point", "normal", "center", "radius", "points", "motion"});
+                   {"shape", "point", "normal", "center", "axis", "radius", "points", "motion"});
     c.obstacle = read_obstacle(ob);
     c.constraint = ConstraintKind::one_sided;  // unless the scene says otherwise
   }
@@ -309,6 +367,8 @@ SceneContact read_contact(TableReader& r) {
       r.fail("law_origin", r.node("law_origin"), "the bilateral constraint uses no normal law; remove law_origin");
     c.law_origin = *o;
   }
+  if (r.scene().dimension() == 3 && r.has("friction"))
+    refuse_in_3d(r, "friction", "the contact of a three-dimensional body is frictionless");
   if (const toml::table* f = r.table("friction")) {
     TableReader fr(r.scene(), *f, r.key_path("friction"),
                    {"law", "bound", "static", "kinetic", "distance", "breakpoints", "j", "j1", "j2", "coefficient"});
@@ -342,6 +402,10 @@ void read_contact_parts(Scene& s, TableReader& r) {
   } else {
     r.fail_type("contact", *n, "a table ([contact]) or an array of tables ([[contact]])");
   }
+  if (s.dimension() == 3 && tables.size() > 1)
+    r.fail("contact", *n,
+           "several contact parts ([[contact]] with " + std::to_string(tables.size()) +
+               " tables) are not available for three-dimensional scenes; give one [contact]");
   std::map<std::string, std::size_t> named;  // explicit names, by part
   for (std::size_t i = 0; i < tables.size(); ++i) {
     const std::string key = tables.size() == 1 ? std::string("contact") : "contact[" + std::to_string(i) + "]";
@@ -391,29 +455,50 @@ void read_mesh_file(TableReader& m, SceneMesh& mesh, const std::filesystem::path
   mesh.file = p;
 }
 
-/// mesh.n: an integer, or [nx, ny].
+/// mesh.n: an integer, or [nx, ny] ([nx, ny, nz] in three dimensions).
 void read_mesh_cells(TableReader& m, SceneMesh& mesh) {
   const toml::node& node = *m.find("n");
+  const bool solid = mesh.dimension == 3;
+  const std::string shapes = solid ? "an integer or [nx, ny, nz]" : "an integer or [nx, ny]";
+  const long long most = solid ? 1000 : 10000000;  // the 3D generators take at most 1000 cells per axis
   auto count = [&](const toml::node& k, const std::string& element) {
     const auto* i = k.as_integer();
-    if (!i) m.fail("n", k, element + "expected an integer or [nx, ny], got " + type_name(k));
-    if (i->get() < 1 || i->get() > 10000000)
-      m.fail("n", k, element + "must be between 1 and 10000000, got " + std::to_string(i->get()));
+    if (!i) m.fail("n", k, element + "expected " + shapes + ", got " + type_name(k));
+    if (i->get() < 1 || i->get() > most)
+      m.fail("n", k, element + "must be between 1 and " + std::to_string(most) + (solid ? " in three dimensions" : "") +
+                         ", got " + std::to_string(i->get()));
     return static_cast<int>(i->get());
   };
   if (const auto* a = node.as_array()) {
-    if (a->size() != 2) m.fail("n", node, "expected [nx, ny] (2 integers), got " + std::to_string(a->size()) + " elements");
+    if (solid && a->size() != 3)
+      m.fail("n", node, "expected [nx, ny, nz] (3 integers) for a three-dimensional mesh, got " +
+                            std::to_string(a->size()) + " elements");
+    if (!solid && a->size() != 2)
+      m.fail("n", node, "expected [nx, ny] (2 integers), got " + std::to_string(a->size()) + " elements" +
+                            (a->size() == 3 ? " ([nx, ny, nz] meshes a box: mesh.domain = [x0, x1, y0, y1, z0, z1])" : ""));
     mesh.n = count((*a)[0], "nx: ");
     mesh.ny = count((*a)[1], "ny: ");
+    if (solid) mesh.nz = count((*a)[2], "nz: ");
   } else {
     mesh.n = count(node, "");
   }
 }
 
 /// mesh.domain: a rectangle [x0, x1, y0, y1], or a polygon [[x0, y0], [x1, y1], ...] for the
-/// generators that mesh one.
+/// generators that mesh one; in three dimensions a box [x0, x1, y0, y1, z0, z1].
 void read_mesh_domain(TableReader& m, SceneMesh& mesh) {
   const toml::array* domain = m.has("domain") ? m.node("domain").as_array() : nullptr;
+  if (mesh.dimension == 3) {
+    if (domain && !domain->empty() && (*domain)[0].is_array())
+      m.fail("domain", m.node("domain"), "a polygon domain is two-dimensional; a three-dimensional mesh takes a box "
+                                         "[x0, x1, y0, y1, z0, z1]");
+    if (auto d = m.fixed<6>("domain", "[x0, x1, y0, y1, z0, z1]")) {
+      if (!((*d)[0] < (*d)[1] && (*d)[2] < (*d)[3] && (*d)[4] < (*d)[5]))
+        m.fail("domain", m.node("domain"), "needs x0 < x1, y0 < y1 and z0 < z1");
+      mesh.box = *d;
+    }
+    return;
+  }
   if (domain && !domain->empty() && (*domain)[0].is_array()) {
     mesh.polygon = *m.points("domain");
     PolygonDomain poly;
@@ -426,20 +511,81 @@ void read_mesh_domain(TableReader& m, SceneMesh& mesh) {
                  mesh.generator + "\")");
     if (mesh.ny)
       m.fail("n", m.node("n"), "a polygon domain takes one n (cells of about sqrt(area)/n), not [nx, ny]");
+  } else if (domain && domain->size() != 4) {
+    const auto v = m.numbers_of("domain", m.node("domain"), "an array [x0, x1, y0, y1] or a polygon");
+    m.fail("domain", m.node("domain"),
+           "expected [x0, x1, y0, y1] (a rectangle), [x0, x1, y0, y1, z0, z1] (a box: a three-dimensional scene) or a "
+           "polygon [[x0, y0], [x1, y1], ...], got " + std::to_string(v.size()) + " numbers");
   } else if (auto d = m.fixed<4>("domain", "[x0, x1, y0, y1] or a polygon [[x0, y0], [x1, y1], ...]")) {
     if (!((*d)[0] < (*d)[1] && (*d)[2] < (*d)[3])) m.fail("domain", m.node("domain"), "needs x0 < x1 and y0 < y1");
     mesh.domain = *d;
   }
 }
 
-/// [mesh]: a file, or a generator with its cell count, seed and domain.
+/// The generators that mesh boxes only (cubes, tetrahedra): their name makes a scene
+/// three-dimensional.
+bool solid_only_generator(const std::string& name) {
+  const auto& solid = mesh3d_generator_names();
+  const auto& plane = mesh_generator_names();
+  return std::find(solid.begin(), solid.end(), name) != solid.end() &&
+         std::find(plane.begin(), plane.end(), name) == plane.end();
+}
+
+/// The dimension of a generated mesh: the domain decides when given (six numbers: a box),
+/// else mesh.n = [nx, ny, nz], else a generator that meshes boxes only.
+int generated_dimension(TableReader& m) {
+  if (m.has("domain")) {
+    const toml::array* d = m.node("domain").as_array();
+    return d && d->size() == 6 && !(*d)[0].is_array() ? 3 : 2;
+  }
+  if (m.has("n")) {
+    const toml::array* n = m.node("n").as_array();
+    if (n && n->size() == 3) return 3;
+  }
+  if (m.has("generator"))
+    if (const auto* g = m.node("generator").as_string(); g && solid_only_generator(lower(g->get()))) return 3;
+  return 2;
+}
+
+/// mesh.generator, checked against the generators of the mesh's dimension.
+void read_mesh_generator(TableReader& m, SceneMesh& mesh) {
+  const bool solid = mesh.dimension == 3;
+  if (solid) mesh.generator = "cubes";
+  auto g = m.string("generator");
+  if (!g) return;
+  const std::string name = lower(*g);
+  if (solid) {
+    const auto& valid = mesh3d_generator_names();
+    if (std::find(valid.begin(), valid.end(), name) == valid.end()) {
+      const auto& plane = mesh_generator_names();
+      if (std::find(plane.begin(), plane.end(), name) != plane.end())
+        m.fail("generator", m.node("generator"),
+               "mesh generator '" + *g + "' meshes two-dimensional domains; a three-dimensional mesh (a box "
+               "mesh.domain = [x0, x1, y0, y1, z0, z1] or mesh.n = [nx, ny, nz]) takes one of: " + join(valid));
+      check_name(m, "generator", *g, valid, "three-dimensional mesh generator");
+    }
+  } else {
+    if (solid_only_generator(name))
+      m.fail("generator", m.node("generator"),
+             "mesh generator '" + *g + "' meshes a box; give mesh.domain = [x0, x1, y0, y1, z0, z1] (the domain is a "
+             "rectangle of four numbers)");
+    check_name(m, "generator", *g, mesh_generator_names(), "mesh generator");
+  }
+  mesh.generator = name;
+}
+
+/// [mesh]: a file, or a generator with its cell count, seed and domain; its dimension (2, or 3
+/// for a box, [nx, ny, nz], a generator of boxes or a Gmsh file of volume elements).
 void read_mesh(Scene& s, const toml::table& t, const std::filesystem::path& base) {
   TableReader m(s, t, "mesh", {"generator", "file", "n", "seed", "domain"});
-  if (m.has("file")) read_mesh_file(m, s.mesh, base);
-  if (auto g = m.string("generator")) {
-    check_name(m, "generator", *g, mesh_generator_names(), "mesh generator");
-    s.mesh.generator = lower(*g);
+  if (m.has("file")) {
+    read_mesh_file(m, s.mesh, base);
+    if (lower(s.mesh.file.extension().string()) == ".msh" && gmsh_file_dimension(s.mesh.file) == 3)
+      s.mesh.dimension = 3;
+    return;
   }
+  s.mesh.dimension = generated_dimension(m);
+  read_mesh_generator(m, s.mesh);
   if (m.has("n")) read_mesh_cells(m, s.mesh);
   if (auto seed = m.integer("seed")) {
     if (*seed < 0) m.fail("seed", m.node("seed"), "must be >= 0, got " + std::to_string(*seed));
@@ -464,6 +610,8 @@ SceneRegionMaterial read_region(TableReader& g, std::set<int>& seen) {
   if (!(*nu > -1.0 && *nu < 0.5)) g.fail("nu", g.node("nu"), "must lie in (-1, 0.5), got " + fmt(*nu));
   rm.young = *e;
   rm.poisson = *nu;
+  if (g.scene().dimension() == 3 && g.has("box"))
+    refuse_in_3d(g, "box", "the regions of a three-dimensional mesh are the volume physical groups of its Gmsh file");
   if (auto b = g.fixed<4>("box", "[x0, x1, y0, y1]")) {
     if (!((*b)[0] < (*b)[1] && (*b)[2] < (*b)[3])) g.fail("box", g.node("box"), "needs x0 < x1 and y0 < y1");
     rm.box = *b;
@@ -482,6 +630,10 @@ void read_material(Scene& s, const toml::table& t) {
     if (!(*nu > -1.0 && *nu < 0.5)) m.fail("nu", m.node("nu"), "must lie in (-1, 0.5), got " + fmt(*nu));
     s.material.poisson = *nu;
   }
+  if (s.dimension() == 3 && m.has("model"))
+    m.fail("model", m.node("model"),
+           "a plane model (plane-strain or plane-stress) applies to two-dimensional scenes; a three-dimensional body "
+           "has none: remove the key");
   if (auto model = m.string("model")) {
     try {
       s.material.model = plane_model_from_string(*model);
@@ -511,22 +663,45 @@ void read_clamped(Scene& s, const toml::table& t) {
   s.clamped = read_selector(c, true);
 }
 
-/// [[dirichlet]]: prescribed displacements, each value = [ux, uy] or ux and/or uy on a boundary.
+/// [[dirichlet]]: prescribed displacements, each value = [ux, uy] or ux and/or uy on a boundary
+/// (value = [ux, uy, uz] or any of ux, uy, uz in three dimensions).
 void read_dirichlet(Scene& s, const toml::array& d) {
+  const bool solid = s.dimension() == 3;
+  const std::vector<const char*> components = solid ? std::vector<const char*>{"ux", "uy", "uz"}
+                                                    : std::vector<const char*>{"ux", "uy"};
   for (std::size_t i = 0; i < d.size(); ++i) {
-    TableReader g(s, *d[i].as_table(), "dirichlet[" + std::to_string(i) + "]", with_selector({"value", "ux", "uy"}));
+    TableReader g(s, *d[i].as_table(), "dirichlet[" + std::to_string(i) + "]",
+                  with_selector(solid ? std::vector<std::string>{"value", "ux", "uy", "uz"}
+                                      : std::vector<std::string>{"value", "ux", "uy"}));
     SceneDirichlet sd;
     sd.boundary = read_selector(g, true);
-    if (auto v = g.scalars<2>("value", "[ux, uy]")) {
-      for (const char* k : {"ux", "uy"})
-        if (g.has(k)) g.fail(k, g.node(k), "not used with value = [ux, uy]; give either value or ux and/or uy");
+    auto given = [&] {
+      for (const char* k : components)
+        if (g.has(k))
+          g.fail(k, g.node(k),
+                 std::string("not used with value = ") + (solid ? "[ux, uy, uz]" : "[ux, uy]") +
+                     "; give either value or " + (solid ? "some of ux, uy, uz" : "ux and/or uy"));
+    };
+    if (solid) {
+      if (auto v = g.scalars<3>("value", "[ux, uy, uz]")) {
+        given();
+        sd.ux = (*v)[0];
+        sd.uy = (*v)[1];
+        sd.uz = (*v)[2];
+      }
+    } else if (auto v = g.scalars<2>("value", "[ux, uy]")) {
+      given();
       sd.ux = (*v)[0];
       sd.uy = (*v)[1];
     }
     if (auto v = g.scalar("ux")) sd.ux = *v;
     if (auto v = g.scalar("uy")) sd.uy = *v;
-    if (!sd.ux && !sd.uy)
-      throw InputError(g.path() + ": no displacement given; set value = [ux, uy], or ux or uy (a roller)",
+    if (solid)
+      if (auto v = g.scalar("uz")) sd.uz = *v;
+    if (!sd.ux && !sd.uy && !sd.uz)
+      throw InputError(g.path() + (solid ? ": no displacement given; set value = [ux, uy, uz], or some of ux, uy, uz (a "
+                                           "roller or a symmetry plane: the others stay free)"
+                                         : ": no displacement given; set value = [ux, uy], or ux or uy (a roller)"),
                        g.at(g.self()));
     s.dirichlet.push_back(sd);
   }
@@ -536,12 +711,19 @@ void read_dirichlet(Scene& s, const toml::array& d) {
 SceneTraction read_traction(TableReader& g) {
   SceneTraction st;
   st.boundary = read_selector(g, true);
-  const auto v = g.scalars<2>("value", "[tx, ty]");
+  const bool solid = g.scene().dimension() == 3;
+  const std::string shape = solid ? "[tx, ty, tz]" : "[tx, ty]";
+  std::optional<std::array<SceneScalar, 3>> v;
+  if (solid) {
+    v = g.scalars<3>("value", shape);
+  } else if (auto v2 = g.scalars<2>("value", shape)) {
+    v = std::array<SceneScalar, 3>{(*v2)[0], (*v2)[1], SceneScalar{}};
+  }
   st.pressure = g.scalar("pressure");
   if (v && st.pressure)
-    g.fail("pressure", g.node("pressure"), "not used with value = [tx, ty]; give either value or pressure");
+    g.fail("pressure", g.node("pressure"), "not used with value = " + shape + "; give either value or pressure");
   if (!v && !st.pressure)
-    throw InputError(g.path() + ": missing key 'value' (a traction [tx, ty]) or 'pressure' (along the inward normal)",
+    throw InputError(g.path() + ": missing key 'value' (a traction " + shape + ") or 'pressure' (along the inward normal)",
                      g.at(g.self()));
   if (v) st.value = *v;
   return st;
@@ -555,7 +737,11 @@ void read_loads(Scene& s, const toml::table* t) {
     return;
   }
   TableReader l(s, *t, "loads", {"body_force", "traction"});
-  if (auto f = l.scalars<2>("body_force", "[fx, fy]")) s.body_force = *f;
+  if (s.dimension() == 3) {
+    if (auto f = l.scalars<3>("body_force", "[fx, fy, fz]")) s.body_force = *f;
+  } else if (auto f = l.scalars<2>("body_force", "[fx, fy]")) {
+    s.body_force = {(*f)[0], (*f)[1], SceneScalar{}};
+  }
   if (const toml::array* tr = l.array_of_tables("traction")) {
     for (std::size_t i = 0; i < tr->size(); ++i) {
       TableReader g(s, *(*tr)[i].as_table(), "loads.traction[" + std::to_string(i) + "]",
@@ -710,8 +896,11 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
   read_contact_parts(s, r);
   if (const toml::table* t = r.table("solver")) read_solver(s, *t);
   s.adapt.reset();
+  if (s.dimension() == 3 && r.has("adapt"))
+    refuse_in_3d(r, "adapt", "adaptive refinement and the error estimate are those of two-dimensional meshes");
   if (const toml::table* t = r.table("adapt")) read_adapt(s, *t);
   s.path.reset();
+  if (s.dimension() == 3 && r.has("path")) refuse_in_3d(r, "path", "a three-dimensional scene is solved at t = 1");
   if (const toml::table* t = r.table("path")) read_path(s, *t);
   if (const toml::table* t = r.table("output")) read_output(s, *t);
   return s;
@@ -726,12 +915,13 @@ using detail::scene_from_table;
 const std::vector<std::string>& scene_output_names() {
   static const std::vector<std::string> names{"vtu",         "contact-csv", "displacement-csv", "history-csv",
                                               "result-json", "u-nu-png",    "deformed-png",     "error-png",
-                                              "mesh-png",    "adapt-png"};
+                                              "mesh-png",    "adapt-png",   "pressure-png"};
   return names;
 }
 
 std::string SceneMesh::description() const {
-  return file.empty() ? generator + " n=" + cells().text() : file.string();
+  if (!file.empty()) return file.string();
+  return generator + " n=" + (dimension == 3 ? cells3().text() : cells().text());
 }
 
 std::vector<double> ScenePath::factors() const {

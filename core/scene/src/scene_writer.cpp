@@ -45,6 +45,12 @@ std::string quote(std::string_view s) {
 
 std::string scalar_text(const SceneScalar& v) { return v.is_expression() ? quote(v.expression) : fmt(v.value); }
 
+/// The first `n` elements of an array (its components in `n` dimensions).
+template <class T, std::size_t N>
+std::vector<T> first(const std::array<T, N>& a, int n) {
+  return std::vector<T>(a.begin(), a.begin() + std::min<std::ptrdiff_t>(n, static_cast<std::ptrdiff_t>(N)));
+}
+
 template <class Range, class F>
 std::string list(const Range& r, F f) {
   std::string s = "[";
@@ -87,19 +93,21 @@ void write_mesh(std::ostream& o, const SceneMesh& m) {
     return;
   }
   o << "generator = " << quote(m.generator) << "\n";
-  o << "n = " << m.cells().text() << "\n";
+  o << "n = " << (m.dimension == 3 ? m.cells3().text() : m.cells().text()) << "\n";
   o << "seed = " << m.seed << "\n";
-  if (m.polygon.empty())
+  if (m.dimension == 3)
+    o << "domain = " << list(m.box, fmt) << "\n";
+  else if (m.polygon.empty())
     o << "domain = " << list(m.domain, fmt) << "\n";
   else
     o << "domain = " << list(m.polygon, [](const std::array<double, 2>& p) { return list(p, fmt); }) << "\n";
 }
 
-void write_material(std::ostream& o, const SceneMaterial& m) {
+void write_material(std::ostream& o, const SceneMaterial& m, int dimension) {
   o << "\n[material]\n";
   o << "E = " << fmt(m.young) << "\n";
   o << "nu = " << fmt(m.poisson) << "\n";
-  o << "model = " << quote(to_string(m.model)) << "\n";
+  if (dimension != 3) o << "model = " << quote(to_string(m.model)) << "\n";  // a solid has no plane model
   o << "stabilization = " << quote(to_string(m.stabilization)) << "\n";
   for (const auto& r : m.regions) {
     o << "\n[[material.region]]\nid = " << r.region << "\nE = " << fmt(r.young) << "\nnu = " << fmt(r.poisson) << "\n";
@@ -118,32 +126,37 @@ void write_dirichlet(std::ostream& o, const Scene& s) {
     write_selector(o, d.boundary);
     if (d.ux) o << "ux = " << scalar_text(*d.ux) << "\n";
     if (d.uy) o << "uy = " << scalar_text(*d.uy) << "\n";
+    if (d.uz) o << "uz = " << scalar_text(*d.uz) << "\n";
   }
 }
 
 void write_loads(std::ostream& o, const Scene& s) {
   o << "\n[loads]\n";
-  o << "body_force = " << list(s.body_force, scalar_text) << "\n";
+  const int dims = s.dimension();
+  o << "body_force = " << list(first(s.body_force, dims), scalar_text) << "\n";
   for (const auto& t : s.tractions) {
     o << "\n[[loads.traction]]\n";
     write_selector(o, t.boundary);
     if (t.pressure) o << "pressure = " << scalar_text(*t.pressure) << "\n";
-    else o << "value = " << list(t.value, scalar_text) << "\n";
+    else o << "value = " << list(first(t.value, dims), scalar_text) << "\n";
   }
 }
 
-void write_obstacle(std::ostream& o, const SceneObstacle& b) {
+void write_obstacle(std::ostream& o, const SceneObstacle& b, int dims) {
   o << "\n[contact.obstacle]\nshape = " << quote(b.shape) << "\n";
-  if (b.shape == "plane") o << "point = " << list(b.point, fmt) << "\nnormal = " << list(b.normal, fmt) << "\n";
-  if (b.shape == "circle") o << "center = " << list(b.center, fmt) << "\nradius = " << fmt(b.radius) << "\n";
+  if (b.shape == "plane")
+    o << "point = " << list(first(b.point, dims), fmt) << "\nnormal = " << list(first(b.normal, dims), fmt) << "\n";
+  if (b.shape == "circle" || b.shape == "sphere" || b.shape == "cylinder")
+    o << "center = " << list(first(b.center, dims), fmt) << "\nradius = " << fmt(b.radius) << "\n";
+  if (b.shape == "cylinder") o << "axis = " << list(b.axis, fmt) << "\n";
   if (b.shape == "polyline")
     o << "points = " << list(b.points, [](const std::array<double, 2>& q) { return list(q, fmt); }) << "\n";
-  if (b.motion) o << "motion = " << list(*b.motion, scalar_text) << "\n";
+  if (b.motion) o << "motion = " << list(first(*b.motion, dims), scalar_text) << "\n";
 }
 
 /// [contact] (or one table of [[contact]], `in_array`) and its [contact.obstacle],
 /// [contact.parameters] and [contact.friction].
-void write_contact(std::ostream& o, const SceneContact& c, bool in_array) {
+void write_contact(std::ostream& o, const SceneContact& c, bool in_array, int dims) {
   o << (in_array ? "\n[[contact]]\n" : "\n[contact]\n");
   if (!c.name.empty()) o << "name = " << quote(c.name) << "\n";
   write_selector(o, c.boundary);
@@ -154,7 +167,7 @@ void write_contact(std::ostream& o, const SceneContact& c, bool in_array) {
     o << "gap = " << scalar_text(c.gap) << "\n";
   o << "constraint = " << quote(to_string(c.constraint)) << "\n";
   o << "law_origin = " << quote(c.law_origin) << "\n";
-  if (c.obstacle) write_obstacle(o, *c.obstacle);
+  if (c.obstacle) write_obstacle(o, *c.obstacle, dims);
   if (!c.law.parameters.empty()) {
     o << "\n[contact.parameters]\n";
     for (const auto& [k, v] : c.law.parameters) o << k << " = " << fmt(v) << "\n";
@@ -195,10 +208,10 @@ std::string to_toml(const Scene& s) {
   o << "schema_version = " << s.schema_version << "\n";
   o << "title = " << quote(s.title) << "\n\n";
   write_mesh(o, s.mesh);
-  write_material(o, s.material);
+  write_material(o, s.material, s.dimension());
   write_dirichlet(o, s);
   write_loads(o, s);
-  for (const SceneContact& c : contact_parts(s)) write_contact(o, c, !s.more_contact.empty());
+  for (const SceneContact& c : contact_parts(s)) write_contact(o, c, !s.more_contact.empty(), s.dimension());
   write_solver(o, s.solver);
   if (s.adapt) {
     o << "\n[adapt]\n";

@@ -5,6 +5,11 @@
 // of range, syntax) is an InputError whose where() is "file:line" (or "file:line:column"
 // for syntax errors). build_problem turns a Scene into a mesh and a ContactProblem.
 //
+// Three-dimensional scenes (docs/reference/scenes.md, "Three-dimensional scenes"): a scene whose
+// mesh is a box of six numbers, a 3D generator (cubes, tetrahedra) or a Gmsh file of volume
+// elements has SceneMesh::dimension 3; its vectors have three components, its sides are those of
+// a box and its expressions take z. build_problem_3d makes its mesh and ContactProblem3D.
+//
 // Loading paths ([path], ScenePath): the scene's data as functions of a load factor t. Loads
 // (body force, traction values, pressures) and prescribed displacements ([[dirichlet]] values;
 // [clamped] is zero) that do not mention t are multiplied by t; gaps and obstacles that do not
@@ -23,11 +28,14 @@
 #include <string_view>
 #include <vector>
 
+#include <hemivem/contact/contact3d.hpp>
 #include <hemivem/contact/problem.hpp>
 #include <hemivem/support/names.hpp>
 #include <hemivem/vem/material.hpp>
 #include <hemivem/mesh/mesh.hpp>
 #include <hemivem/mesh/generators.hpp>
+#include <hemivem/mesh/generators3d.hpp>
+#include <hemivem/mesh/mesh3d.hpp>
 #include <hemivem/reduced_problem.hpp>
 #include <hemivem/vem/element.hpp>
 
@@ -39,17 +47,19 @@ inline constexpr int scene_schema_version = 1;
 /// A set of boundary edges: the union of the sides of the mesh bounding box, named edge
 /// groups of the mesh, and straight segments [x0, y0, x1, y1] (edges whose end points lie
 /// within `tolerance` times the mesh's size, the longer side of its bounding box, of a segment
-/// or side: the same selection at every scale). At least one of the three is given.
+/// or side: the same selection at every scale). At least one of the three is given. In three
+/// dimensions a set of boundary faces: the sides of the box, face groups, no segments.
 struct BoundarySelector {
-  std::vector<std::string> sides;                ///< "left", "right", "top", "bottom"
-  std::vector<std::string> groups;               ///< Mesh::edge_group names
+  /// "left", "right", "top", "bottom"; in 3D "x0", "x1", "y0", "y1", "z0", "z1", "bottom" (z0), "top" (z1)
+  std::vector<std::string> sides;
+  std::vector<std::string> groups;               ///< Mesh::edge_group names (3D: Mesh3D::face_group names)
   std::vector<std::array<double, 4>> segments;   ///< x0, y0, x1, y1
   double tolerance = 1e-8;
   bool empty() const noexcept { return sides.empty() && groups.empty() && segments.empty(); }
   bool operator==(const BoundarySelector&) const = default;
 };
 
-/// A number, or an expression in x, y and the load factor t (muparser syntax,
+/// A number, or an expression in x, y (z in 3D) and the load factor t (muparser syntax,
 /// hemivem/scene/expression.hpp) given as a string: "0.02 + 0.5*x^2", "-8*t^2".
 struct SceneScalar {
   double value = 0.0;
@@ -59,16 +69,24 @@ struct SceneScalar {
 };
 
 struct SceneMesh {
-  std::string generator = "squares";   ///< used when `file` is empty
+  /// 2, or 3: a box `box` (mesh.domain of six numbers), a generator of mesh3d_generator_names()
+  /// that meshes boxes only (cubes, tetrahedra), mesh.n = [nx, ny, nz], or a Gmsh file of volume
+  /// elements.
+  int dimension = 2;
+  std::string generator = "squares";   ///< used when `file` is empty ("cubes" by default in 3D)
   std::filesystem::path file;          ///< .poly2d or .msh; absolute once parsed
   int n = 64;                          ///< cells per side; along x when `ny` is given
   std::optional<int> ny;               ///< cells along y: mesh.n = [nx, ny] (rectangle domains)
+  std::optional<int> nz;               ///< 3D: cells along z, with ny: mesh.n = [nx, ny, nz]
+  std::array<double, 6> box{0.0, 1.0, 0.0, 1.0, 0.0, 1.0};  ///< 3D: x0, x1, y0, y1, z0, z1
   std::int64_t seed = 1;
   std::array<double, 4> domain{0.0, 1.0, 0.0, 1.0};  ///< x0, x1, y0, y1
   /// A polygon domain's corners (voronoi and triangles); empty: the rectangle `domain`.
   std::vector<std::array<double, 2>> polygon;
   /// n x n, or n x ny.
   GridSize cells() const { return ny ? GridSize(n, *ny) : GridSize(n); }
+  /// 3D: n x n x n, or nx x ny x nz.
+  GridSize3 cells3() const { return ny && nz ? GridSize3(n, *ny, *nz) : GridSize3(n); }
   /// How the mesh is made, for reports: "squares n=64", "voronoi n=[32, 8]", or the file.
   std::string description() const;
   bool operator==(const SceneMesh&) const = default;
@@ -95,19 +113,20 @@ struct SceneMaterial {
 };
 
 /// A traction on boundary edges: a vector `value` [tx, ty], or a `pressure` p along the
-/// inward normal of each edge (t = -p n, n the outward normal).
+/// inward normal of each edge (t = -p n, n the outward normal). In 3D on faces, [tx, ty, tz].
 struct SceneTraction {
   BoundarySelector boundary;
-  std::array<SceneScalar, 2> value{};
+  std::array<SceneScalar, 3> value{};  ///< [tx, ty] and tz = 0 in 2D
   std::optional<SceneScalar> pressure;  ///< given: the traction is the pressure, value unused
   bool operator==(const SceneTraction&) const = default;
 };
 
 /// A prescribed displacement on boundary edges ([[dirichlet]]): both components
-/// (value = [ux, uy]) or one of them (a roller: the other component stays free).
+/// (value = [ux, uy]) or one of them (a roller: the other component stays free). In 3D on
+/// faces: value = [ux, uy, uz], or any of ux, uy, uz (the others stay free).
 struct SceneDirichlet {
   BoundarySelector boundary;
-  std::optional<SceneScalar> ux, uy;
+  std::optional<SceneScalar> ux, uy, uz;
   bool operator==(const SceneDirichlet&) const = default;
 };
 
@@ -130,18 +149,20 @@ struct SceneLaw {
   bool operator==(const SceneLaw&) const = default;
 };
 
-/// [contact.obstacle]: a rigid obstacle instead of a gap (hemivem/obstacle.hpp).
+/// [contact.obstacle]: a rigid obstacle instead of a gap (hemivem/obstacle.hpp). Points and
+/// vectors have two coordinates in 2D (the third is 0) and three in 3D.
 struct SceneObstacle {
-  std::string shape = "plane";              ///< "plane", "circle" or "polyline"
-  std::array<double, 2> point{0.0, 0.0};    ///< plane: a point of it
-  std::array<double, 2> normal{0.0, 1.0};   ///< plane: the normal pointing into the body
-  std::array<double, 2> center{0.0, 0.0};   ///< circle
-  double radius = 1.0;                      ///< circle
+  std::string shape = "plane";              ///< "plane", "circle" or "polyline"; 3D: "plane", "sphere" or "cylinder"
+  std::array<double, 3> point{0.0, 0.0, 0.0};   ///< plane: a point of it
+  std::array<double, 3> normal{0.0, 1.0, 0.0};  ///< plane: the normal pointing into the body
+  std::array<double, 3> center{0.0, 0.0, 0.0};  ///< circle, sphere, cylinder (a point of its axis)
+  std::array<double, 3> axis{1.0, 0.0, 0.0};    ///< cylinder: the direction of its axis
+  double radius = 1.0;                      ///< circle, sphere, cylinder
   std::vector<std::array<double, 2>> points;  ///< polyline: the surface, the body on its left
-  /// [mx, my]: the obstacle translated by the motion at the load factor t (numbers m: t m;
-  /// expressions in t only). None: the obstacle stays where it is given. A static solve (t = 1)
-  /// sees the obstacle moved by the motion at 1.
-  std::optional<std::array<SceneScalar, 2>> motion;
+  /// [mx, my] ([mx, my, mz] in 3D): the obstacle translated by the motion at the load factor t
+  /// (numbers m: t m; expressions in t only). None: the obstacle stays where it is given. A
+  /// static solve (t = 1) sees the obstacle moved by the motion at 1.
+  std::optional<std::array<SceneScalar, 3>> motion;
   bool operator==(const SceneObstacle&) const = default;
 };
 
@@ -237,7 +258,7 @@ struct Scene {
   /// only the [clamped] it writes (empty without the table).
   BoundarySelector clamped{{"left", "right"}, {}, {}, 1e-8};
   std::vector<SceneDirichlet> dirichlet;                       ///< other prescribed displacements
-  std::array<SceneScalar, 2> body_force{};                     ///< f0
+  std::array<SceneScalar, 3> body_force{};                     ///< f0 (fz = 0 in 2D)
   std::vector<SceneTraction> tractions{
       SceneTraction{{{"top"}, {}, {}, 1e-8}, {SceneScalar{0.0, {}}, SceneScalar{-8.0, {}}}, std::nullopt}};  ///< Gamma_2
   std::optional<SceneContact> contact = SceneContact{};       ///< Gamma_3 (its first part); none = no contact
@@ -262,6 +283,8 @@ struct Scene {
 
   /// "source:line" for a key read from the source, else "source".
   std::string where(const std::string& key) const;
+  /// 2, or 3 for a three-dimensional scene (SceneMesh::dimension).
+  int dimension() const noexcept { return mesh.dimension; }
 };
 
 /// Equality of the problem data (source and lines are ignored).
@@ -327,8 +350,29 @@ std::vector<std::string> scene_warnings(const Scene& scene);
 
 /// Builds the mesh (generator or file: .poly2d via read_poly2d, .msh via read_gmsh), the
 /// materials, the boundary parts, loads and contact data (at t = 1). Errors (unknown edge group, a
-/// part selecting no edge, a region without material) name the scene key's file:line.
+/// part selecting no edge, a region without material) name the scene key's file:line. A
+/// three-dimensional scene is an InputError naming build_problem_3d's users (`hemivem solve`).
 std::unique_ptr<BuiltProblem> build_problem(const Scene& scene);
+
+/// A three-dimensional scene made concrete. Not movable: problem.elasticity.mesh points at mesh.
+struct BuiltProblem3D {
+  Mesh3D mesh;
+  ContactProblem3D problem;  ///< contact_faces empty and law null when has_contact is false
+  bool has_contact = false;
+  std::vector<std::string> warnings;  ///< scene_warnings(scene)
+  BuiltProblem3D() = default;
+  BuiltProblem3D(const BuiltProblem3D&) = delete;
+  BuiltProblem3D& operator=(const BuiltProblem3D&) = delete;
+};
+
+/// Builds a three-dimensional scene (scene.dimension() == 3): the mesh (a generator of
+/// generators3d.hpp on the box, or a Gmsh file of volumes), the materials by region (the 3D
+/// Lame constants), the faces of [clamped], [[dirichlet]] (the components given), the tractions
+/// and pressures, the body force, and the contact part with its gap or obstacle (plane, sphere,
+/// cylinder), law and constraint. Errors name the scene key's file:line as build_problem's do
+/// (a side or group that selects no boundary face, an unknown face group, a region without
+/// material); InputError for a two-dimensional scene.
+std::unique_ptr<BuiltProblem3D> build_problem_3d(const Scene& scene);
 
 /// The same on a given mesh instead of the scene's (its mesh keys are not used): the scene's
 /// region boxes are applied to it when `apply_region_boxes` (a mesh of one's own), and not

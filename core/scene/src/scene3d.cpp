@@ -1,0 +1,334 @@
+// A three-dimensional scene made concrete (build_problem_3d), and the Gmsh files of solids as
+// scenes meet them (mesh_files3d.hpp).
+#include <hemivem/scene/mesh_files3d.hpp>
+#include <hemivem/scene/scene.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include <hemivem/mesh/generators3d.hpp>
+#include <hemivem/mesh/gmsh3d.hpp>
+#include <hemivem/scene/resources.hpp>
+#include <hemivem/support/atomic_file.hpp>
+
+#include "scene_reader.hpp"
+
+namespace hemivem {
+
+using detail::fmt;
+using detail::lower;
+
+namespace detail {
+
+Obstacle3D make_obstacle3d(const SceneObstacle& o) {
+  Obstacle3D b;
+  b.shape = obstacle3d_shape_from_string(o.shape);
+  b.point = Vec3(o.point[0], o.point[1], o.point[2]);
+  b.normal = Vec3(o.normal[0], o.normal[1], o.normal[2]);
+  b.center = Vec3(o.center[0], o.center[1], o.center[2]);
+  b.axis = Vec3(o.axis[0], o.axis[1], o.axis[2]);
+  b.radius = o.radius;
+  return b;
+}
+
+}  // namespace detail
+
+// ---- Gmsh files of solids ---------------------------------------------------------------------
+
+bool gmsh3d_built() {
+#ifdef HEMIVEM_HAVE_GMSH3D
+  return true;
+#else
+  return false;
+#endif
+}
+
+int gmsh_file_dimension(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) return 2;
+  std::string line;
+  auto next = [&]() -> bool {
+    if (!std::getline(in, line)) return false;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    return true;
+  };
+  while (next()) {
+    if (line != "$Elements") continue;
+    // numEntityBlocks numElements minElementTag maxElementTag, then per block
+    // "entityDim entityTag elementType numElementsInBlock" and its element lines
+    if (!next()) return 2;
+    long long blocks = 0;
+    if (!(std::istringstream(line) >> blocks) || blocks < 0) return 2;
+    for (long long b = 0; b < blocks; ++b) {
+      if (!next()) return 2;
+      long long dim = -1, tag = 0, type = 0, count = -1;
+      if (!(std::istringstream(line) >> dim >> tag >> type >> count) || count < 0) return 2;
+      if (dim == 3) return 3;
+      for (long long k = 0; k < count; ++k)
+        if (!next()) return 2;
+    }
+    return 2;
+  }
+  return 2;
+}
+
+namespace {
+
+const char* kNoGmsh3d =
+    "this build of hemivem has no reader or writer of three-dimensional Gmsh files (they come with the mesh "
+    "module's gmsh3d.cpp)";
+
+}  // namespace
+
+Mesh3D read_mesh3d_file(const std::filesystem::path& path) {
+#ifdef HEMIVEM_HAVE_GMSH3D
+  return read_gmsh3d(path);
+#else
+  throw InputError(kNoGmsh3d, path.string());
+#endif
+}
+
+void write_mesh3d_file([[maybe_unused]] const Mesh3D& mesh, const std::filesystem::path& path) {
+#ifdef HEMIVEM_HAVE_GMSH3D
+  write_file_atomically(path, [&](std::ostream& out) { write_gmsh3d(mesh, out); });
+#else
+  throw InputError(kNoGmsh3d, path.string());
+#endif
+}
+
+// ---- build_problem_3d -------------------------------------------------------------------------
+
+namespace {
+
+std::string point_text(const Vec3& x) { return "(" + fmt(x.x()) + ", " + fmt(x.y()) + ", " + fmt(x.z()) + ")"; }
+
+/// A scene value as a field of space: at t = 1, as written (a static solve; scene.hpp).
+ScalarExpression field3(const SceneScalar& v) {
+  return v.is_expression() ? ScalarExpression::parse(v.expression, 3) : ScalarExpression(v.value);
+}
+
+/// The scalar field of a scene value; a value that is not finite is an error naming the key.
+std::function<double(const Vec3&)> scalar_field(const SceneScalar& v, const Scene& scene, const std::string& key) {
+  return [e = field3(v), key, where = scene.where(key)](const Vec3& x) {
+    const double value = e(x, 1.0);
+    if (!std::isfinite(value))
+      throw InputError(key + " = '" + e.text() + "' gives a value that is not finite at " + point_text(x), where);
+    return value;
+  };
+}
+
+VectorField3 vector_field(const std::array<SceneScalar, 3>& v, const Scene& scene, const std::array<std::string, 3>& keys) {
+  auto fx = scalar_field(v[0], scene, keys[0]);
+  auto fy = scalar_field(v[1], scene, keys[1]);
+  auto fz = scalar_field(v[2], scene, keys[2]);
+  return [fx, fy, fz](const Vec3& x) { return Vec3(fx(x), fy(x), fz(x)); };
+}
+
+bool is_zero(const SceneScalar& v) { return !v.is_expression() && v.value == 0.0; }
+
+/// Peak memory of a 3D solve of a mesh of V vertices, a rough model (not fitted like the plane
+/// one of resources.hpp): the mesh and the assembly, about 4 KiB per vertex, and a sparse
+/// Cholesky factor of the 3V unknowns whose fill grows as (3V)^(4/3) (nested dissection of a
+/// three-dimensional mesh), 30 entries of 8 bytes per unit of it.
+double solve_bytes_3d(double vertices) {
+  const double unknowns = 3.0 * vertices;
+  return 32.0 * 1024 * 1024 + 4096.0 * vertices + 240.0 * std::pow(unknowns, 4.0 / 3.0);
+}
+
+std::string count_text(double v) {
+  if (v < 1e9) return std::to_string(static_cast<long long>(std::llround(v)));
+  std::ostringstream o;
+  o << std::setprecision(2) << std::scientific << v;
+  return o.str();
+}
+
+Mesh3D scene_mesh_3d(const Scene& scene) {
+  const SceneMesh& m = scene.mesh;
+  if (!m.file.empty()) {
+    Mesh3D mesh = read_mesh3d_file(m.file);
+    require_memory(solve_bytes_3d(mesh.num_vertices()),
+                   m.file.string() + ": " + count_text(mesh.num_vertices()) + " vertices", scene.where("mesh.file"));
+    return mesh;
+  }
+  const GridSize3 cells = m.cells3();
+  const double vertices = (cells.nx + 1.0) * (cells.ny + 1.0) * (cells.nz + 1.0);
+  require_memory(solve_bytes_3d(vertices), m.generator + " n = " + cells.text() + ": " + count_text(vertices) + " vertices",
+                 scene.where("mesh.n"));
+  const auto& b = m.box;
+  try {
+    return make_mesh3d(m.generator, cells, Box{b[0], b[1], b[2], b[3], b[4], b[5]}, static_cast<std::uint64_t>(m.seed));
+  } catch (const MeshError& e) {
+    throw MeshError("mesh: the generated mesh is invalid: " + e.detail(), e.element(), scene.where("mesh"));
+  } catch (const InputError& e) {
+    throw InputError("mesh: " + e.detail(), scene.where("mesh"));
+  }
+}
+
+/// The material of each region: the scene's E and nu, but for the regions [[material.region]]
+/// names, each of which some cell must be in.
+MaterialTable scene_materials_3d(const Scene& scene, const Mesh3D& mesh) {
+  const std::set<int> present(mesh.regions().begin(), mesh.regions().end());
+  for (std::size_t i = 0; i < scene.material.regions.size(); ++i) {
+    const auto& r = scene.material.regions[i];
+    if (present.count(r.region)) continue;
+    std::string ids;
+    for (int id : present) ids += (ids.empty() ? "" : ", ") + std::to_string(id);
+    const std::string key = "material.region[" + std::to_string(i) + "]";
+    throw InputError(key + ".id: region " + std::to_string(r.region) + " matches no cell of the mesh (the mesh's region ids are " +
+                         ids + ")",
+                     scene.where(scene.lines.count(key + ".id") ? key + ".id" : key));
+  }
+  int regions = 1;
+  for (int r : mesh.regions()) regions = std::max(regions, r + 1);
+  for (const auto& r : scene.material.regions) regions = std::max(regions, r.region + 1);
+  std::vector<Material> by_region(static_cast<std::size_t>(regions), Material{scene.material.young, scene.material.poisson});
+  for (const auto& r : scene.material.regions) by_region[static_cast<std::size_t>(r.region)] = Material{r.young, r.poisson};
+  return MaterialTable(by_region, PlaneModel::strain);  // plane strain's Lame constants are the solid's
+}
+
+/// The boundary faces a selector of the scene picks (sorted, distinct): the sides of the mesh's
+/// bounding box and its face groups; an error naming the selector's key when it picks none or
+/// names a group the mesh lacks.
+class FaceSelection {
+ public:
+  FaceSelection(const Scene& scene, const Mesh3D& mesh) : scene_(scene), mesh_(mesh), box_(mesh.bounding_box()) {}
+
+  std::vector<int> operator()(const BoundarySelector& b, const std::string& key) const {
+    std::vector<int> faces;
+    for (const auto& side : b.sides) {
+      const auto f = select_box_side(mesh_, box_, side, b.tolerance);
+      faces.insert(faces.end(), f.begin(), f.end());
+    }
+    for (const auto& g : b.groups) {
+      try {
+        const auto f = select_boundary_faces(mesh_, g);
+        faces.insert(faces.end(), f.begin(), f.end());
+      } catch (const InputError& e) {
+        throw InputError(key + ".group: " + e.detail(), scene_.where(key + ".group"));
+      }
+    }
+    std::sort(faces.begin(), faces.end());
+    faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+    if (faces.empty()) throw InputError(key + ": selects no boundary face of the mesh", scene_.where(key));
+    return faces;
+  }
+
+ private:
+  const Scene& scene_;
+  const Mesh3D& mesh_;
+  const Box box_;
+};
+
+void add_dirichlet_3d(ElasticityProblem3D& e, const Scene& scene, const FaceSelection& select) {
+  if (!scene.clamped.empty()) e.dirichlet.push_back({select(scene.clamped, "clamped"), {}, {true, true, true}, "clamped"});
+  for (std::size_t i = 0; i < scene.dirichlet.size(); ++i) {
+    const auto& d = scene.dirichlet[i];
+    const std::string key = "dirichlet[" + std::to_string(i) + "]";
+    const bool as_value = scene.lines.count(key + ".value") > 0;  // the keys that gave the components
+    const std::array<std::string, 3> keys{as_value ? key + ".value" : key + ".ux", as_value ? key + ".value" : key + ".uy",
+                                          as_value ? key + ".value" : key + ".uz"};
+    const std::array<SceneScalar, 3> value{d.ux.value_or(SceneScalar{}), d.uy.value_or(SceneScalar{}),
+                                           d.uz.value_or(SceneScalar{})};
+    VectorField3 field;  // empty: zero
+    if (!(is_zero(value[0]) && is_zero(value[1]) && is_zero(value[2]))) field = vector_field(value, scene, keys);
+    e.dirichlet.push_back({select(d.boundary, key), field, {d.ux.has_value(), d.uy.has_value(), d.uz.has_value()}, key});
+  }
+}
+
+void add_loads_3d(ElasticityProblem3D& e, const Scene& scene, const FaceSelection& select) {
+  const auto& f = scene.body_force;
+  if (!(is_zero(f[0]) && is_zero(f[1]) && is_zero(f[2])))
+    e.body_force = vector_field(f, scene, {"loads.body_force", "loads.body_force", "loads.body_force"});
+  for (std::size_t i = 0; i < scene.tractions.size(); ++i) {
+    const SceneTraction& t = scene.tractions[i];
+    const std::string key = "loads.traction[" + std::to_string(i) + "]";
+    TractionLoad3D load;
+    load.faces = select(t.boundary, key);
+    if (t.pressure) load.pressure = scalar_field(*t.pressure, scene, key + ".pressure");
+    else load.traction = vector_field(t.value, scene, {key + ".value", key + ".value", key + ".value"});
+    e.tractions.push_back(std::move(load));
+  }
+}
+
+/// A contact part whose every node is clamped leaves nothing to touch: an error.
+void check_contact_not_clamped_3d(const ElasticityProblem3D& e, const std::vector<int>& faces, const Mesh3D& mesh,
+                                  const Scene& scene, const std::string& key) {
+  std::set<int> fixed, touching;
+  for (const auto& d : e.dirichlet)
+    if (d.fix[0] && d.fix[1] && d.fix[2])
+      for (int f : d.faces) fixed.insert(mesh.face(f).vertices.begin(), mesh.face(f).vertices.end());
+  for (int f : faces) touching.insert(mesh.face(f).vertices.begin(), mesh.face(f).vertices.end());
+  if (std::includes(fixed.begin(), fixed.end(), touching.begin(), touching.end()))
+    throw InputError(key + ": every node of the contact part is also clamped ([clamped] or a [[dirichlet]] "
+                     "with every component), so nothing is left to touch",
+                     scene.where(key));
+}
+
+void add_contact_3d(ContactProblem3D& p, const Scene& scene, const Mesh3D& mesh, const FaceSelection& select) {
+  if (!scene.contact) {
+    p.constraint = ConstraintKind::none;
+    return;
+  }
+  const SceneContact& c = *scene.contact;
+  const std::string key = contact_key(scene, 0);
+  p.contact_name = contact_part_name(scene, 0);
+  p.contact_faces = select(c.boundary, key);
+  check_contact_not_clamped_3d(p.elasticity, p.contact_faces, mesh, scene, key);
+  if (c.obstacle) {
+    Obstacle3D o = detail::make_obstacle3d(*c.obstacle);
+    if (c.obstacle->motion) {  // the obstacle moved by its motion at t = 1
+      const std::string mkey = key + ".obstacle.motion";
+      const Vec3 m = vector_field(*c.obstacle->motion, scene, {mkey, mkey, mkey})(Vec3::Zero());
+      o.point += m;
+      o.center += m;
+    }
+    p.obstacle = o;
+  } else {
+    const std::string gkey = key + ".gap";
+    p.gap = [g = field3(c.gap), gkey, where = scene.where(gkey)](const Vec3& x) {
+      const double value = g(x, 1.0);
+      if (!(std::isfinite(value) && value >= 0.0))
+        throw InputError(gkey + " = '" + g.text() + "' gives " + fmt(value) + " at " + point_text(x) +
+                             "; a gap must be finite and >= 0",
+                         where);
+      return value;
+    };
+  }
+  try {
+    p.law = detail::make_law(c.law);
+  } catch (const InputError& err) {
+    throw InputError(key + ".law: " + err.detail(), scene.where(key + ".law"));
+  }
+  p.constraint = c.constraint;
+  p.law_from_surface = c.law_origin == "surface";
+}
+
+}  // namespace
+
+std::unique_ptr<BuiltProblem3D> build_problem_3d(const Scene& scene) {
+  if (scene.dimension() != 3)
+    throw InputError("mesh: a two-dimensional scene is built by build_problem (build_problem_3d takes a box of six "
+                     "numbers, a 3D generator or a Gmsh file of volumes)",
+                     scene.where("mesh"));
+  auto out = std::make_unique<BuiltProblem3D>();
+  out->mesh = scene_mesh_3d(scene);
+  const Mesh3D& mesh = out->mesh;
+  ContactProblem3D& p = out->problem;
+  p.elasticity.mesh = &mesh;
+  p.elasticity.materials = scene_materials_3d(scene, mesh);
+  p.elasticity.stabilization = scene.material.stabilization;
+  const FaceSelection select(scene, mesh);
+  add_dirichlet_3d(p.elasticity, scene, select);
+  add_loads_3d(p.elasticity, scene, select);
+  add_contact_3d(p, scene, mesh, select);
+  out->has_contact = scene.contact.has_value();
+  out->warnings = scene_warnings(scene);
+  return out;
+}
+
+}  // namespace hemivem
