@@ -173,8 +173,9 @@ std::vector<std::array<int, 2>> contact_lines(const Mesh& mesh, const ContactSol
 nlohmann::json result_json(const Mesh& mesh, const ContactSolution& s, const RunInfo& info) {
   using nlohmann::json;
   json j;
-  j["schema"] = "hemivem-result/10";
+  j["schema"] = "hemivem-result/11";
   j["version"] = info.version;
+  j["dimension"] = 2;
   j["scene"] = {{"name", info.scene_name}, {"toml", info.scene_toml}};
   j["backends"] = {{"linear", info.linear}, {"minimizer", info.minimizer}};
   j["processes"] = info.processes;
@@ -332,6 +333,8 @@ OutputReport write_outputs(const fs::path& dir, const Mesh& mesh, const Material
 
   // the folder changes at once, in commit(), or not at all; an earlier path's frames are ours too
   std::vector<std::string> owned = known;
+  for (const auto& name : all_outputs_3d())  // a three-dimensional run's files too
+    if (std::find(owned.begin(), owned.end(), name) == owned.end()) owned.push_back(name);
   for (const auto& name : frame_files_in(dir)) owned.push_back(name);
   if (info.path)
     for (const auto& name : frame_files(*info.path)) owned.push_back(name);

@@ -10,14 +10,26 @@
 
 namespace hemivem::app::detail {
 
+/// The engines a scene names and what a solve records about them (SceneSolve, SceneSolve3D).
 struct SceneEngines {
   std::unique_ptr<SparseFactorization> factorization;
   std::unique_ptr<NonsmoothMinimizer> minimizer;
+  std::string linear;            ///< the factorization engine's name
+  std::string minimizer_name;    ///< the minimizer's (the first engine of a global search)
+  nlohmann::json search;         ///< search_json
+  bool holds_results = true;     ///< false on the ranks > 0 of mumps-mpi
+  int processes = 1;
+  MinimizerOptions options;      ///< the scene's tolerance and iteration limit, with `callback`
 };
 
-/// The engines the scene names (an unknown or unbuilt name is an InputError naming its key,
-/// before any work), recorded in `s` with the minimizer options (o.callback moved into them),
-/// then the problem built (on o.mesh when given) with its time. on_built is left to the caller.
+/// The engines the scene names (solver.linear, solver.minimizer, solver.search): an unknown or
+/// unbuilt name is an InputError naming its key, before any work.
+SceneEngines make_scene_engines(const Scene& scene, std::function<void(const GlobalSearchProgress&)> progress,
+                                std::function<bool(const IterationRecord&)> callback);
+
+/// The engines the scene names (make_scene_engines), recorded in `s` with the minimizer options
+/// (o.callback moved into them), then the problem built (on o.mesh when given) with its time.
+/// on_built is left to the caller.
 SceneEngines prepare_scene_solve(const Scene& scene, SceneSolveOptions& o, SceneSolve& s);
 
 }  // namespace hemivem::app::detail

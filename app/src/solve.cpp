@@ -109,21 +109,33 @@ void refuse_path(const Scene& scene, const std::string& what) {
 
 namespace detail {
 
-SceneEngines prepare_scene_solve(const Scene& scene, SceneSolveOptions& o, SceneSolve& s) {
-  // Engines first: a name that was not built is an input error before any work.
+SceneEngines make_scene_engines(const Scene& scene, std::function<void(const GlobalSearchProgress&)> progress,
+                                std::function<bool(const IterationRecord&)> callback) {
   SceneEngines e;
   FactorizationOptions fo;
   fo.engine = scene.solver.linear;
   e.factorization = named_engine(scene, "solver.linear", [&] { return make_factorization(fo); });
-  e.minimizer = make_scene_search(scene, std::move(o.progress));
-  s.linear = e.factorization->name();
-  s.minimizer = first_engine(*e.minimizer);
-  s.search = search_json(*e.minimizer);
-  s.holds_results = processes_of(*e.factorization).holds_results();
-  s.processes = processes_of(*e.factorization).num_processes();
-  s.options.tolerance = scene.solver.tolerance;
-  s.options.max_iterations = scene.solver.max_iterations;
-  s.options.callback = std::move(o.callback);
+  e.minimizer = make_scene_search(scene, std::move(progress));
+  e.linear = e.factorization->name();
+  e.minimizer_name = first_engine(*e.minimizer);
+  e.search = search_json(*e.minimizer);
+  e.holds_results = processes_of(*e.factorization).holds_results();
+  e.processes = processes_of(*e.factorization).num_processes();
+  e.options.tolerance = scene.solver.tolerance;
+  e.options.max_iterations = scene.solver.max_iterations;
+  e.options.callback = std::move(callback);
+  return e;
+}
+
+SceneEngines prepare_scene_solve(const Scene& scene, SceneSolveOptions& o, SceneSolve& s) {
+  // Engines first: a name that was not built is an input error before any work.
+  SceneEngines e = make_scene_engines(scene, std::move(o.progress), std::move(o.callback));
+  s.linear = e.linear;
+  s.minimizer = e.minimizer_name;
+  s.search = e.search;
+  s.holds_results = e.holds_results;
+  s.processes = e.processes;
+  s.options = e.options;
 
   const auto t = Clock::now();
   s.built = o.mesh ? build_problem(scene, std::move(*o.mesh), o.apply_region_boxes) : build_problem(scene);

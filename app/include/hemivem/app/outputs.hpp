@@ -59,7 +59,7 @@ struct RunInfo {
 /// the stage "estimate" of the timings).
 nlohmann::json error_estimate_json(const ErrorEstimate& estimate);
 
-/// The result.json document ("schema": "hemivem-result/10").
+/// The result.json document ("schema": "hemivem-result/11", "dimension": 2).
 nlohmann::json result_json(const Mesh& mesh, const ContactSolution& solution, const RunInfo& info);
 
 /// Whether the contact nodes carry a tangential displacement (friction or a bilateral
@@ -79,6 +79,12 @@ std::string contact_part_name(const ContactSolution& solution, const ContactNode
 /// frames' solution-NNNN.vtu, which it names) and path.png.
 const std::vector<std::string>& all_outputs();
 
+/// The names write_outputs_3d knows (outputs3d.hpp), in the order it writes them: result.json,
+/// contact.csv, displacement.csv, history.csv, solution.vtu, contact-surface.vtu, scene.toml,
+/// deformed.png, pressure.png. A run of either dimension owns the names of both: it removes an
+/// earlier run's file of any of them that it did not write.
+const std::vector<std::string>& all_outputs_3d();
+
 /// What write_outputs did.
 struct OutputReport {
   std::vector<std::filesystem::path> written;  ///< files written, in order
@@ -94,7 +100,7 @@ void check_output_folder(const std::filesystem::path& dir);
 /// Writes the `wanted` files (names from all_outputs()) into `dir`, creating it, as one
 /// transaction (OutputTransaction of hemivem/support/output_folder.hpp): the whole set is
 /// written beside `dir` with every write checked, then replaces the previous set at once; the
-/// names of all_outputs() this run did not write go, other files of `dir` stay. The plots are
+/// names of all_outputs() (and all_outputs_3d()) this run did not write go, other files of `dir` stay. The plots are
 /// made by running gnuplot; when gnuplot is missing or fails they are skipped and listed in
 /// the report, never an error. Throws InputError for an unknown name (before writing
 /// anything), when another process is writing `dir` ("another hemivem run is writing DIR"),

@@ -1,0 +1,81 @@
+// A three-dimensional scene solved (docs/reference/scenes.md, "Three-dimensional scenes"): the
+// engines the scene names (those of solve_scene), its ContactProblem3D (build_problem_3d), the
+// solve (solve_contact_3d), and what `hemivem solve` writes and prints about it.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include <hemivem/app/outputs.hpp>
+#include <hemivem/contact/contact3d.hpp>
+#include <hemivem/global_search.hpp>
+#include <hemivem/nonsmooth_minimizer.hpp>
+#include <hemivem/reduced_problem.hpp>
+#include <hemivem/scene/scene.hpp>
+
+namespace hemivem::app {
+
+/// One three-dimensional scene solved with the engines it names.
+struct SceneSolve3D {
+  std::unique_ptr<BuiltProblem3D> built;
+  ContactSolution3D solution;
+  MinimizerOptions options;      ///< the minimizer options in effect
+  std::string linear;            ///< the factorization engine's name
+  std::string minimizer;         ///< the minimizer's name (the first engine of a global search)
+  nlohmann::json search;         ///< search_json
+  double mesh_seconds = 0.0;     ///< wall time of build_problem_3d (mesh, materials, boundary parts)
+  bool holds_results = true;     ///< false on the ranks > 0 of mumps-mpi under mpirun: no results there
+  int processes = 1;             ///< the processes the linear engine runs on
+  std::vector<std::string> warnings;  ///< the scene's warnings (BuiltProblem3D::warnings)
+  std::string mesh_description;  ///< SceneMesh::description
+  double total_seconds() const;  ///< mesh_seconds + the solve's total
+};
+
+/// What solve_scene_3d does besides solving the scene as it is written.
+struct SceneSolve3DOptions {
+  /// Called between building and solving.
+  std::function<void(const BuiltProblem3D&, const SceneSolve3D&)> on_built;
+  /// Becomes MinimizerOptions::callback.
+  std::function<bool(const IterationRecord&)> callback;
+  /// When not null, receives the reduced problem.
+  ReducedProblem* reduced = nullptr;
+  /// Reports the runs of a global search.
+  std::function<void(const GlobalSearchProgress&)> progress;
+};
+
+/// Creates the engines the scene names (an unknown or unbuilt name is an InputError before any
+/// work, as in solve_scene), builds the problem (build_problem_3d) and solves it
+/// (solve_contact_3d). A defect found when the contact part or the supports are set up (a
+/// contact node with a prescribed normal component, rigid motions the supports leave free) is
+/// an InputError naming the scene's key. InputError for a two-dimensional scene.
+SceneSolve3D solve_scene_3d(const Scene& scene, SceneSolve3DOptions options = {});
+
+/// The files `hemivem solve` writes for a three-dimensional scene: of its [output] write,
+/// result.json, contact.csv, displacement.csv, history.csv, solution.vtu and contact-surface.vtu
+/// (vtu), deformed.png, pressure.png, and scene.toml always; without contact no contact.csv,
+/// history.csv, contact-surface.vtu or pressure.png. The pictures of two-dimensional scenes
+/// (u-nu-png, error-png, mesh-png, adapt-png) are not made.
+std::vector<std::string> wanted_files_3d(const Scene& scene, bool has_contact);
+
+/// What result.json records about a 3D solve (run_info's fields that apply: the engines,
+/// search, options, mesh time, unknowns, warnings, the law's breakpoints and whether u_nu <= g
+/// bounds the contact).
+RunInfo run_info_3d(const Scene& scene, const SceneSolve3D& solved);
+
+/// Writes what `hemivem solve --out dir` writes for a 3D solve: the files of wanted_files_3d
+/// (or `files`, names of all_outputs_3d(), when not null) through write_outputs_3d. Checks the
+/// folder first (check_output_folder). Never prints.
+OutputReport write_results_3d(const std::filesystem::path& dir, const Scene& scene, const SceneSolve3D& solved,
+                              const std::vector<std::string>* files = nullptr);
+
+/// The lines of a 3D solve for the command's report (full_report's in 3D): mesh, engines,
+/// stages, status and certificate, uniqueness, contact nodes, normal forces, the balance of
+/// forces, energy and the time of each stage.
+std::string full_report_3d(const SceneSolve3D& solved, const RunInfo& info);
+
+}  // namespace hemivem::app

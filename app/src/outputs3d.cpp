@@ -1,0 +1,258 @@
+// The output folder of a three-dimensional solve (outputs3d.hpp): result.json, the CSV tables,
+// the two VTU files (vtu3d.cpp), scene.toml and the pictures (figures3d.cpp), written as one
+// transaction.
+#include <hemivem/app/outputs3d.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <ostream>
+
+#include <hemivem/app/format.hpp>
+#include <hemivem/app/text_writer.hpp>
+#include <hemivem/error.hpp>
+#include <hemivem/support/atomic_file.hpp>
+#include <hemivem/support/output_folder.hpp>
+#include <hemivem/uniqueness.hpp>
+#include <hemivem/vem/assembly3d.hpp>
+
+#include "path_outputs.hpp"
+
+namespace hemivem::app {
+
+namespace fs = std::filesystem;
+
+const std::vector<std::string>& all_outputs_3d() {
+  static const std::vector<std::string> names{"result.json",         "contact.csv", "displacement.csv",
+                                              "history.csv",         "solution.vtu", "contact-surface.vtu",
+                                              "scene.toml",          "deformed.png", "pressure.png"};
+  return names;
+}
+
+double CellStress3D::von_mises() const {
+  return std::sqrt(0.5 * ((xx - yy) * (xx - yy) + (yy - zz) * (yy - zz) + (zz - xx) * (zz - xx)) +
+                   3.0 * (yz * yz + xz * xz + xy * xy));
+}
+
+std::vector<CellStress3D> cell_stresses_3d(const Mesh3D& mesh, const MaterialTable& materials, const Eigen::VectorXd& u) {
+  if (u.size() != 3 * static_cast<Eigen::Index>(mesh.num_vertices()))
+    throw InputError("a displacement of " + std::to_string(u.size()) + " values for a mesh of " +
+                     std::to_string(mesh.num_vertices()) + " vertices (3 per vertex)");
+  const std::vector<LinearField3> projected = project_solution_3d(mesh, u);
+  std::vector<CellStress3D> out(static_cast<std::size_t>(mesh.num_cells()));
+  for (int c = 0; c < mesh.num_cells(); ++c) {
+    const Eigen::Matrix3d& g = projected[static_cast<std::size_t>(c)].gradient;
+    const Eigen::Matrix3d eps = 0.5 * (g + g.transpose());
+    const Lame l = materials.lame(mesh.region(c));
+    const Eigen::Matrix3d sigma = l.lambda * eps.trace() * Eigen::Matrix3d::Identity() + 2.0 * l.mu * eps;
+    CellStress3D& s = out[static_cast<std::size_t>(c)];
+    s.xx = sigma(0, 0), s.yy = sigma(1, 1), s.zz = sigma(2, 2);
+    s.yz = sigma(1, 2), s.xz = sigma(0, 2), s.xy = sigma(0, 1);
+  }
+  return out;
+}
+
+namespace {
+
+nlohmann::json triple(const Vec3& v) { return {number(v.x()), number(v.y()), number(v.z())}; }
+
+double timing(const ContactSolution3D& s, const std::string& stage) {
+  const auto it = s.timings.find(stage);
+  return it == s.timings.end() ? 0.0 : it->second;
+}
+
+/// The nodes in compression (a positive force): how many, their area and their bounding box.
+nlohmann::json contact_zone_json(const ContactSolution3D& s) {
+  int nodes = 0;
+  double area = 0.0;
+  Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();
+  for (const auto& n : s.contact) {
+    if (!(n.force() > 0.0)) continue;
+    lo = nodes == 0 ? n.x : Vec3(lo.cwiseMin(n.x));
+    hi = nodes == 0 ? n.x : Vec3(hi.cwiseMax(n.x));
+    area += n.weight;
+    ++nodes;
+  }
+  if (nodes == 0) return nullptr;
+  return {{"nodes", nodes},
+          {"area", number(area)},
+          {"x", {number(lo.x()), number(hi.x())}},
+          {"y", {number(lo.y()), number(hi.y())}},
+          {"z", {number(lo.z()), number(hi.z())}}};
+}
+
+nlohmann::json forces_json(const ForceBalance3D& b) {
+  nlohmann::json reactions = nlohmann::json::object();
+  for (const auto& r : b.reactions) reactions[r.name] = triple(r.force);
+  return {{"applied", triple(b.applied)},
+          {"reactions", std::move(reactions)},
+          {"contact", triple(b.contact)},
+          {"balance_residual", number(b.residual())}};
+}
+
+void write_contact_csv(std::ostream& stream, const ContactSolution3D& s) {
+  TextWriter os(stream);
+  os << "vertex,x,y,z,u_nu,law_force,reaction,pressure,state,gap,nx,ny,nz\n";
+  for (const auto& n : s.contact) {
+    os << n.vertex << ',' << n.x.x() << ',' << n.x.y() << ',' << n.x.z() << ',' << n.u_nu << ',' << n.law_force << ','
+       << n.reaction << ',' << n.pressure() << ',' << n.state << ',';
+    if (!std::isnan(n.gap)) os << n.gap;  // empty: no gap used (bilateral)
+    os << ',' << n.normal.x() << ',' << n.normal.y() << ',' << n.normal.z() << '\n';
+  }
+}
+
+void write_displacement_csv(std::ostream& stream, const Mesh3D& mesh, const Eigen::VectorXd& u) {
+  TextWriter os(stream);
+  os << "vertex,x,y,z,ux,uy,uz\n";
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    const Vec3& p = mesh.vertex(v);
+    os << v << ',' << p.x() << ',' << p.y() << ',' << p.z() << ',' << u(3 * v) << ',' << u(3 * v + 1) << ','
+       << u(3 * v + 2) << '\n';
+  }
+}
+
+void write_history_csv(std::ostream& stream, const ContactSolution3D& s) {
+  TextWriter os(stream);
+  os << "iteration,reduced_objective,primal,dual,active,seconds\n";
+  if (!s.minimizer) return;
+  for (const auto& r : s.minimizer->history)
+    os << r.iteration << ',' << r.objective << ',' << r.primal << ',' << r.dual << ',' << r.active << ',' << r.seconds
+       << '\n';
+}
+
+}  // namespace
+
+nlohmann::json result_json_3d(const Mesh3D& mesh, const ContactSolution3D& s, const RunInfo& info) {
+  using nlohmann::json;
+  json j;
+  j["schema"] = "hemivem-result/11";
+  j["version"] = info.version;
+  j["dimension"] = 3;
+  j["scene"] = {{"name", info.scene_name}, {"toml", info.scene_toml}};
+  j["backends"] = {{"linear", info.linear}, {"minimizer", info.minimizer}};
+  j["processes"] = info.processes;
+  j["files"] = info.files;
+  j["warnings"] = info.warnings;
+  j["options"] = info.options;
+  j["status"] = to_string(s.status);
+  j["converged"] = s.converged();
+  j["message"] = s.message;
+  j["certificate"] = certificate_json(s.certificate);
+  j["uniqueness_margin"] = number(s.uniqueness_margin);
+  j["uniqueness_roundoff"] = number(s.uniqueness_roundoff);
+  j["uniqueness"] = uniqueness_verdict(s.uniqueness_margin);
+  j["may_be_nonunique"] = s.may_be_nonunique;
+  j["held_by_contact"] = json::array();  // the supports of a 3D body hold it (solve_contact_3d)
+  j["condition_estimate"] = nullptr;     // not estimated in three dimensions
+  j["search"] = info.search;
+  j["critical_points"] =
+      s.minimizer ? critical_points_json(*s.minimizer, s.energy - s.minimizer->objective) : json::array();
+  j["potential_energy"] = number(s.energy);
+  j["iterations"] = s.iterations();
+  j["evaluations"] = {{"function", s.minimizer ? s.minimizer->function_evaluations : 0},
+                      {"subgradient", s.minimizer ? s.minimizer->subgradient_evaluations : 0}};
+  j["stages"] = s.stages;
+  json t = json::object();
+  for (const auto& [k, v] : s.timings) t[k] = number(v);
+  t["mesh"] = number(info.mesh_seconds);
+  for (const char* stage : {"assembly", "condensation", "minimize", "back_substitution"}) t[stage] = timing(s, stage);
+  t["total"] = number(info.mesh_seconds + timing(s, "total"));
+  j["timings"] = t;
+  j["mesh"] = {{"description", info.mesh},
+               {"vertices", mesh.num_vertices()},
+               {"elements", mesh.num_cells()},
+               {"faces", mesh.num_faces()},
+               {"dofs", info.dofs >= 0 ? info.dofs : 3 * mesh.num_vertices()},
+               {"h", mesh.h()}};
+  json contact = json::array();
+  for (const auto& n : s.contact)
+    contact.push_back({{"vertex", n.vertex},
+                       {"x", triple(n.x)},
+                       {"u_nu", number(n.u_nu)},
+                       {"law_force", number(n.law_force)},
+                       {"reaction", number(n.reaction)},
+                       {"pressure", number(n.pressure())},
+                       {"gap", number(n.gap)},
+                       {"normal", triple(n.normal)},
+                       {"state", n.state},
+                       {"part", "contact"}});
+  j["contact"] = std::move(contact);
+  j["friction"] = nullptr;
+  j["contact_force"] = triple(s.contact_force());
+  j["forces"] = forces_json(s.forces);
+  j["contact_zone"] = contact_zone_json(s);
+  j["error_estimate"] = nullptr;
+  j["adapt"] = nullptr;
+  j["path"] = nullptr;
+  return j;
+}
+
+OutputReport write_outputs_3d(const fs::path& dir, const Mesh3D& mesh, const MaterialTable& materials,
+                              const std::vector<int>& contact_faces, const ContactSolution3D& solution,
+                              const RunInfo& info, const std::vector<std::string>& wanted) {
+  const auto& known = all_outputs_3d();
+  for (const auto& w : wanted)
+    if (std::find(known.begin(), known.end(), w) == known.end()) {
+      std::string list;
+      for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+      throw InputError("unknown output '" + w + "' of a three-dimensional solve (known: " + list + ")");
+    }
+  if (solution.u.size() != 3 * static_cast<Eigen::Index>(mesh.num_vertices()))
+    throw InputError("the solution has " + std::to_string(solution.u.size()) + " values for " +
+                     std::to_string(mesh.num_vertices()) + " vertices (3 per vertex)");
+  auto want = [&](const std::string& name) { return std::find(wanted.begin(), wanted.end(), name) != wanted.end(); };
+
+  // the folder changes at once, in commit(), or not at all; a two-dimensional run's names are ours too
+  std::vector<std::string> owned = known;
+  for (const auto& name : all_outputs())
+    if (std::find(owned.begin(), owned.end(), name) == owned.end()) owned.push_back(name);
+  for (const auto& name : frame_files_in(dir)) owned.push_back(name);
+  OutputTransaction tx(dir, owned);
+  OutputReport report;
+  auto write = [&](const std::string& name, const std::function<void(std::ostream&)>& body) {
+    if (!want(name)) return;
+    tx.write(name, body);
+    report.written.push_back(dir / name);
+  };
+  RunInfo listed = info;  // result.json lists the run's files, in the order they are written
+  listed.files.clear();
+  for (const auto& k : known)
+    if (want(k)) listed.files.push_back(k);
+  write("result.json", [&](std::ostream& os) { os << result_json_3d(mesh, solution, listed).dump(2) << '\n'; });
+  write("contact.csv", [&](std::ostream& os) { write_contact_csv(os, solution); });
+  write("displacement.csv", [&](std::ostream& os) { write_displacement_csv(os, mesh, solution.u); });
+  write("history.csv", [&](std::ostream& os) { write_history_csv(os, solution); });
+  write("solution.vtu", [&](std::ostream& os) { write_vtu_3d(os, mesh, materials, solution); });
+  write("contact-surface.vtu", [&](std::ostream& os) { write_contact_surface_vtu(os, mesh, contact_faces, solution); });
+  write("scene.toml", [&](std::ostream& os) { os << info.scene_toml; });
+
+  // the pictures: one that cannot be drawn is skipped with its reason, never an error
+  std::vector<Figure> figures;
+  if (want("pressure.png") && solution.contact.empty()) report.skipped.push_back("pressure.png: no contact boundary");
+  try {
+    if (want("deformed.png")) figures.push_back(deformed_figure_3d(mesh, solution, info));
+    if (want("pressure.png") && !solution.contact.empty())
+      figures.push_back(pressure_figure(mesh, contact_faces, solution, info));
+    const std::vector<std::string> reasons = draw_figures(tx.staging(), figures);
+    for (std::size_t i = 0; i < figures.size(); ++i) {
+      if (reasons[i].empty()) report.written.push_back(dir / figures[i].png);
+      else report.skipped.push_back(figures[i].png + ": " + reasons[i]);
+    }
+  } catch (const WriteError& e) {  // a full disk is not a skipped picture
+    throw WriteError(e.detail() + "; " + previous_outputs_kept(dir), (dir / fs::path(e.where()).filename()).string());
+  } catch (const std::exception& e) {  // each PNG is moved into place atomically: none is half-written
+    for (const auto& f : figures)
+      if (std::find(report.written.begin(), report.written.end(), dir / f.png) == report.written.end())
+        report.skipped.push_back(f.png + ": " + e.what());
+  }
+  // A picture that could not be made is not in the folder: result.json says so.
+  if (want("result.json") && report.written.size() != listed.files.size()) {
+    listed.files.clear();
+    for (const auto& f : report.written) listed.files.push_back(f.filename().string());
+    tx.write("result.json", [&](std::ostream& os) { os << result_json_3d(mesh, solution, listed).dump(2) << '\n'; });
+  }
+  report.removed = tx.commit();
+  return report;
+}
+
+}  // namespace hemivem::app

@@ -1,0 +1,184 @@
+// A three-dimensional scene solved, written and reported (solve3d.hpp).
+#include <hemivem/app/solve3d.hpp>
+
+#include <hemivem/app/format.hpp>
+#include <hemivem/app/outputs3d.hpp>
+#include <hemivem/error.hpp>
+#include <hemivem/uniqueness.hpp>
+
+#include "scene_setup.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <iomanip>
+#include <sstream>
+
+namespace hemivem::app {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+bool wants(const Scene& scene, const std::string& name) {
+  return std::find(scene.outputs.begin(), scene.outputs.end(), name) != scene.outputs.end();
+}
+
+}  // namespace
+
+double SceneSolve3D::total_seconds() const {
+  const auto it = solution.timings.find("total");
+  return mesh_seconds + (it == solution.timings.end() ? 0.0 : it->second);
+}
+
+SceneSolve3D solve_scene_3d(const Scene& scene, SceneSolve3DOptions o) {
+  if (scene.dimension() != 3)
+    throw InputError("mesh: this solve takes three-dimensional scenes (solve_scene solves this one)", scene.where("mesh"));
+  SceneSolve3D s;
+  detail::SceneEngines e = detail::make_scene_engines(scene, std::move(o.progress), std::move(o.callback));
+  s.linear = e.linear;
+  s.minimizer = e.minimizer_name;
+  s.search = e.search;
+  s.holds_results = e.holds_results;
+  s.processes = e.processes;
+  s.options = e.options;
+  const auto t = Clock::now();
+  s.built = build_problem_3d(scene);
+  s.mesh_description = scene.mesh.description();
+  s.mesh_seconds = since(t);
+  if (o.on_built) o.on_built(*s.built, s);
+  try {
+    s.solution = solve_contact_3d(s.built->problem, std::move(e.factorization), *e.minimizer, s.options, o.reduced);
+  } catch (const InputError& err) {
+    // a defect of the supports or of the contact part found when they are set up: name the scene's key
+    if (!err.where().empty()) throw;
+    const std::string& m = err.detail();
+    if (m.rfind("contact node", 0) == 0 || m.rfind("gap ", 0) == 0 || m.rfind("the obstacle", 0) == 0)
+      throw InputError("contact: " + m, scene.where("contact"));
+    if (m.rfind("the supports leave", 0) == 0 || m.rfind("the Dirichlet conditions", 0) == 0 ||
+        m.rfind("the body is not held", 0) == 0)
+      throw InputError(m + " ([clamped] and [[dirichlet]])",
+                       scene.where(scene.lines.count("clamped") ? "clamped" : scene.lines.count("dirichlet") ? "dirichlet" : ""));
+    throw;
+  }
+  s.warnings = s.built->warnings;
+  return s;
+}
+
+std::vector<std::string> wanted_files_3d(const Scene& scene, bool has_contact) {
+  std::vector<std::string> files;
+  if (wants(scene, "result-json")) files.push_back("result.json");
+  if (has_contact && wants(scene, "contact-csv")) files.push_back("contact.csv");
+  if (wants(scene, "displacement-csv")) files.push_back("displacement.csv");
+  if (has_contact && wants(scene, "history-csv")) files.push_back("history.csv");
+  if (wants(scene, "vtu")) files.push_back("solution.vtu");
+  if (has_contact && wants(scene, "vtu")) files.push_back("contact-surface.vtu");
+  files.push_back("scene.toml");
+  if (wants(scene, "deformed-png")) files.push_back("deformed.png");
+  if (has_contact && wants(scene, "pressure-png")) files.push_back("pressure.png");
+  return files;
+}
+
+RunInfo run_info_3d(const Scene& scene, const SceneSolve3D& solved) {
+  const BuiltProblem3D& built = *solved.built;
+  const MinimizerOptions& mo = solved.options;
+  RunInfo info;
+  info.scene_name = scene.title;
+  info.scene_toml = to_toml(scene);
+  info.mesh = solved.mesh_description.empty() ? scene.mesh.description() : solved.mesh_description;
+  info.linear = solved.linear;
+  info.minimizer = solved.minimizer;
+  info.search = solved.search;
+  info.options = {{"tolerance", mo.tolerance},
+                  {"max_iterations", mo.max_iterations},
+                  {"stabilization", to_string(scene.material.stabilization)},
+                  {"scene", scene.source}};
+  info.mesh_seconds = solved.mesh_seconds;
+  info.dofs = solved.solution.unknowns;
+  info.processes = solved.processes;
+  info.warnings = solved.warnings;
+  const ContactProblem3D& p = built.problem;
+  if (built.has_contact && p.law && p.constraint != ConstraintKind::bilateral) info.law_breakpoints = p.law->breakpoints();
+  std::sort(info.law_breakpoints.begin(), info.law_breakpoints.end());
+  info.gap_bound = built.has_contact && (p.constraint == ConstraintKind::one_sided || p.constraint == ConstraintKind::box);
+  return info;
+}
+
+OutputReport write_results_3d(const std::filesystem::path& dir, const Scene& scene, const SceneSolve3D& solved,
+                              const std::vector<std::string>* files) {
+  const BuiltProblem3D& built = *solved.built;
+  check_output_folder(dir);
+  const RunInfo info = run_info_3d(scene, solved);
+  return write_outputs_3d(dir, built.mesh, built.problem.elasticity.materials, built.problem.contact_faces,
+                          solved.solution, info, files ? *files : wanted_files_3d(scene, built.has_contact));
+}
+
+namespace {
+
+std::string triple_text(const Vec3& v) {
+  std::ostringstream o;
+  o << std::setprecision(6) << "(" << v.x() << ", " << v.y() << ", " << v.z() << ")";
+  return o.str();
+}
+
+}  // namespace
+
+std::string full_report_3d(const SceneSolve3D& solved, const RunInfo& info) {
+  const BuiltProblem3D& built = *solved.built;
+  const ContactSolution3D& sol = solved.solution;
+  std::ostringstream out;
+  out << std::setprecision(6);
+  out << "  mesh          " << info.mesh << ": " << built.mesh.num_vertices() << " vertices, " << built.mesh.num_cells()
+      << " cells, " << built.mesh.num_faces() << " faces, h = " << built.mesh.h() << ", " << info.dofs
+      << " unknowns (three-dimensional)\n"
+      << "  engines       linear " << info.linear
+      << (info.processes > 1 ? " (" + std::to_string(info.processes) + " processes)" : std::string())
+      << (built.has_contact ? ", minimizer " + info.minimizer : std::string(" (no contact: one linear solve)")) << "\n"
+      << "  stages        ";
+  for (std::size_t i = 0; i < sol.stages.size(); ++i) out << (i ? ", " : "") << sol.stages[i];
+  out << "\n  status        " << to_string(sol.status) << " (certificate: " << certificate_text(sol.certificate) << "), "
+      << sol.iterations() << " iterations\n";
+  if (info.search.value("kind", "local") == "global")
+    out << (sol.minimizer ? critical_points_text(*sol.minimizer, sol.energy - sol.minimizer->objective)
+                          : "  search        " + sol.message + "\n");
+  if (!sol.contact.empty()) {
+    out << "  uniqueness    lambda_min(S - alpha_j W) = " << sol.uniqueness_margin;
+    if (sol.uniqueness_margin == 0.0) out << " (|computed| <= round-off bound " << sol.uniqueness_roundoff << ")";
+    else if (sol.uniqueness_margin > 0) out << " > 0";
+    else if (sol.uniqueness_margin < 0) out << " < 0";
+    out << ": " << uniqueness_meaning(sol.uniqueness_margin) << "\n";
+    int upper = 0, lower = 0, bilateral = 0;
+    double law = 0.0, reaction = 0.0, area = 0.0;
+    for (const auto& c : sol.contact) {
+      upper += c.state == "upper", lower += c.state == "lower", bilateral += c.state == "bilateral";
+      law += c.law_force, reaction += c.reaction;
+      if (c.force() > 0.0) area += c.weight;
+    }
+    out << "  contact       " << sol.contact.size() << " nodes: " << upper << " at the upper bound, " << lower
+        << " at the lower bound, ";
+    if (bilateral > 0) out << bilateral << " bilateral, ";
+    out << sol.contact.size() - static_cast<std::size_t>(upper + lower + bilateral) << " free; area in compression "
+        << area << "\n"
+        << "  normal forces " << law + reaction << " summed over the contact nodes (a sum, not a resultant): law " << law
+        << ", constraint " << reaction << "\n";
+  }
+  if (solved.holds_results) {
+    const ForceBalance3D& b = sol.forces;
+    out << "  forces        applied " << triple_text(b.applied) << ", reactions";
+    if (b.reactions.empty()) out << " none";
+    for (std::size_t i = 0; i < b.reactions.size(); ++i)
+      out << (i ? ", " : " ") << b.reactions[i].name << " " << triple_text(b.reactions[i].force);
+    if (!sol.contact.empty()) out << ", contact " << triple_text(b.contact);
+    out << "\n  balance       |applied + reactions" << (sol.contact.empty() ? "" : " + contact") << "| = "
+        << std::setprecision(2) << b.residual() << std::setprecision(6)
+        << (b.applied.norm() > 0.0 ? " x |applied|\n" : " x the largest force (no load is applied)\n");
+  }
+  out << "  energy        potential " << sol.energy << "\n  time [s]      mesh " << solved.mesh_seconds;
+  for (const char* k : {"assembly", "linear_solve", "condensation", "minimize", "back_substitution"})
+    if (sol.timings.count(k)) out << ", " << k << " " << sol.timings.at(k);
+  const auto total = sol.timings.find("total");
+  out << ", total " << solved.mesh_seconds + (total == sol.timings.end() ? 0.0 : total->second) << "\n";
+  return out.str();
+}
+
+}  // namespace hemivem::app
