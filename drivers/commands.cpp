@@ -9,7 +9,10 @@
 #include <hemivem/contact/piecewise_law.hpp>
 #include <hemivem/contact/reduced_io.hpp>
 #include <hemivem/scene/scene.hpp>
+#include <hemivem/app/outputs3d.hpp>
 #include <hemivem/app/path.hpp>
+#include <hemivem/app/solve3d.hpp>
+#include <hemivem/mesh/generators3d.hpp>
 #include <hemivem/uniqueness.hpp>
 
 #include <nlohmann/json.hpp>
@@ -49,7 +52,9 @@ Scene load_scene(const SolveOptions& o) {
   if (o.mesh) {
     const std::string ext = std::filesystem::path(*o.mesh).extension().string();
     const bool file = o.mesh->find('/') != std::string::npos || !ext.empty();
-    const auto& kinds = mesh_generator_names();
+    std::vector<std::string> kinds = mesh_generator_names();  // the generators of either dimension
+    for (const auto& k : mesh3d_generator_names())
+      if (std::find(kinds.begin(), kinds.end(), k) == kinds.end()) kinds.push_back(k);
     std::string list;
     for (const auto& k : kinds) list += (list.empty() ? "" : ", ") + k;
     if (file && ext != ".poly2d" && ext != ".msh")
@@ -152,10 +157,55 @@ void print_files(std::ostream& out, const SolveOptions& o, const OutputReport& r
   if (!o.export_reduced.empty()) out << "  reduced       " << o.export_reduced << "/\n";
 }
 
+/// hemivem solve of a three-dimensional scene (solve_scene_3d): the same flags, outputs
+/// (outputs3d.hpp) and report lines as a plane solve, where they apply.
+int run_solve_3d(const SolveOptions& o, const Scene& scene, std::ostream& out, std::ostream& err) {
+  if (scene.adapt)
+    throw InputError("adaptive refinement is not available for three-dimensional scenes", "--adapt");
+  check_output_folder(o.out);
+  require_one_process_or_mumps_mpi(scene);
+  const SolveProgress progress = solve_progress(o, err);
+  ReducedProblem reduced;
+  SceneSolve3DOptions options;
+  options.callback = progress.iteration;
+  options.reduced = o.export_reduced.empty() ? nullptr : &reduced;
+  options.progress = progress.search;
+  if (!o.json && o.verbosity >= 1)
+    options.on_built = [&err](const BuiltProblem3D& built, const SceneSolve3D& s) {
+      if (s.holds_results)
+        err << "hemivem: " << built.mesh.num_vertices() << " vertices, " << built.mesh.num_cells()
+            << " cells (three-dimensional); solving with " << s.linear << " and " << s.minimizer << "\n";
+    };
+  const SceneSolve3D solved = solve_scene_3d(scene, std::move(options));
+  const ContactSolution3D& sol = solved.solution;
+  if (!solved.holds_results) return sol.converged() ? kSuccess : kNotConverged;  // rank > 0: rank 0 reports
+  if (!o.export_reduced.empty()) {
+    if (!solved.built->has_contact)
+      throw InputError("the scene has no contact boundary: there is no reduced problem", "--export-reduced");
+    write_reduced_problem(o.export_reduced, reduced);
+  }
+  RunInfo info = run_info_3d(scene, solved);
+  for (const auto& w : info.warnings) err << "hemivem: warning: " << w << "\n";
+  const BuiltProblem3D& built = *solved.built;
+  const OutputReport report = write_outputs_3d(o.out, built.mesh, built.problem.elasticity.materials,
+                                               built.problem.contact_faces, sol, info,
+                                               wanted_files_3d(scene, built.has_contact));
+  for (const auto& f : report.written) info.files.push_back(f.filename().string());
+  if (o.json) {
+    out << result_json_3d(built.mesh, sol, info).dump(2) << "\n";
+  } else if (o.verbosity >= 1) {
+    out << "hemivem solve: " << scene.title << " (" << scene.source << ")\n" << full_report_3d(solved, info);
+    print_files(out, o, report);
+  }
+  return sol.converged() ? kSuccess : kNotConverged;
+}
+
+
 }  // namespace
 
 int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   const Scene scene = load_scene(o);
+  if (scene.dimension() == 3) return run_solve_3d(o, scene, out, err);
   check_output_folder(o.out);
   require_one_process_or_mumps_mpi(scene);
   SolveProgress progress = solve_progress(o, err);

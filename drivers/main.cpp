@@ -2,7 +2,8 @@
 //
 //   hemivem solve [SCENE.toml] [flags]   a contact problem (default: the paper's Example 4.1)
 //   hemivem minimize DIR [flags]         a reduced problem from files
-//   hemivem mesh KIND --n N -o FILE      a generated mesh as .poly2d (--ny: cells along y)
+//   hemivem mesh KIND --n N -o FILE      a generated mesh as .poly2d (--ny: cells along y); a 3D
+//                                        one (cubes, tetrahedra, a box --domain of six numbers) as .msh
 //   hemivem study [SCENE.toml] [flags]   the convergence study of Table 1 (squares, reference N)
 //   hemivem backends                     the engines that were built
 //   hemivem check [SCENE.toml] [flags]   every pair of engines on one scene, compared
@@ -14,7 +15,9 @@
 #include <hemivem/error.hpp>
 #include <hemivem/linear_backends.hpp>
 #include <hemivem/mesh/generators.hpp>
+#include <hemivem/mesh/generators3d.hpp>
 #include <hemivem/mesh/poly2d.hpp>
+#include <hemivem/scene/mesh_files3d.hpp>
 #include <hemivem/scene/resources.hpp>
 #include <hemivem/scene/scene.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
@@ -211,29 +214,78 @@ Command register_minimize(CLI::App& app) {
           }};
 }
 
+/// `hemivem mesh` of a three-dimensional kind: the box of `domain` (six numbers, or the unit cube)
+/// meshed by a generator of generators3d.hpp and written as a Gmsh file.
+hemivem::cli::ExitCode write_mesh_3d(const std::string& kind, int nx, int ny, int nz, const std::vector<double>& domain, std::uint64_t seed,
+                  const std::string& output) {
+  using namespace hemivem;
+  const auto& kinds = mesh3d_generator_names();
+  if (std::find(kinds.begin(), kinds.end(), kind) == kinds.end()) {
+    std::string list;
+    for (const auto& k : kinds) list += (list.empty() ? "" : ", ") + k;
+    throw InputError("unknown three-dimensional mesh generator '" + kind + "'" + did_you_mean(kind, kinds) +
+                         " (expected one of: " + list + ")",
+                     "mesh");
+  }
+  if (std::filesystem::path(output).extension() != ".msh")
+    throw InputError("a three-dimensional mesh is written as a Gmsh file: give an output ending in .msh", "mesh -o");
+  const GridSize3 cells(nx, ny, nz);
+  // about a kilobyte per cell (vertices, faces and their geometry, a tetrahedron's six times over): a rough bound
+  const double per_cell = kind == "tetrahedra" ? 6000.0 : 1000.0;
+  require_memory(per_cell * nx * static_cast<double>(ny) * nz, kind + " n = " + cells.text(), "--n");
+  const Box box = domain.size() == 6 ? Box{domain[0], domain[1], domain[2], domain[3], domain[4], domain[5]} : Box{};
+  const Mesh3D m = make_mesh3d(kind, cells, box, seed);
+  write_mesh3d_file(m, output);
+  std::cout << "hemivem mesh: wrote " << output << " (" << m.num_vertices() << " vertices, " << m.num_cells()
+            << " cells)\n";
+  return cli::kSuccess;
+}
+
 Command register_mesh(CLI::App& app) {
   struct Flags {
     std::string kind, output;
-    int n = 8, ny = 0;
+    int n = 8, ny = 0, nz = 0;
     std::uint64_t seed = 1;
     std::vector<double> domain{0.0, 1.0, 0.0, 1.0};
     std::vector<double> polygon;
   };
   using namespace hemivem;
   auto f = std::make_shared<Flags>();
-  auto* cmd = app.add_subcommand("mesh", "Write a generated mesh as .poly2d");
-  cmd->add_option("kind", f->kind, "squares|triangles|voronoi|nonconvex|distorted")->required();
+  auto* cmd = app.add_subcommand("mesh", "Write a generated mesh as .poly2d (a three-dimensional one as .msh)");
+  cmd->add_option("kind", f->kind, "squares|triangles|voronoi|nonconvex|distorted; in 3D cubes|tetrahedra|voronoi")
+      ->required();
   cmd->add_option("--n", f->n, "Elements (or seeds) per side; along x with --ny")->capture_default_str()->check(kCellCount);
   auto* o_ny = cmd->add_option("--ny", f->ny, "Elements along y (a rectangle domain; default: --n)")->check(kCellCount);
+  auto* o_nz = cmd->add_option("--nz", f->nz, "Elements along z (a box: three-dimensional; default: --n)")
+                   ->check(CLI::Range(1, 1000));
   cmd->add_option("--seed", f->seed, "Seed of random meshes")->capture_default_str();
-  auto* o_domain = cmd->add_option("--domain", f->domain, "x0 x1 y0 y1")->expected(4)->capture_default_str();
+  auto* o_domain = cmd->add_option("--domain", f->domain, "x0 x1 y0 y1, or x0 x1 y0 y1 z0 z1 (a box: three-dimensional)")
+                       ->expected(4, 6)
+                       ->capture_default_str();
   cmd->add_option("--polygon", f->polygon, "A simple polygon's corners x0 y0 x1 y1 ... (triangles, voronoi)")
       ->type_name("X Y")
       ->expected(6, CLI::detail::expected_max_vector_size)
       ->excludes(o_domain)
-      ->excludes(o_ny);
-  cmd->add_option("-o,--output", f->output, "Output .poly2d file")->required();
-  return {cmd, [f] {
+      ->excludes(o_ny)
+      ->excludes(o_nz);
+  cmd->add_option("-o,--output", f->output, "Output .poly2d file (.msh for a three-dimensional mesh)")->required();
+  return {cmd, [f, o_nz] {
+            if (f->domain.size() != 4 && f->domain.size() != 6)
+              throw InputError("--domain takes 4 numbers (a rectangle x0 x1 y0 y1) or 6 (a box x0 x1 y0 y1 z0 z1); got " +
+                                   std::to_string(f->domain.size()),
+                               "mesh --domain");
+            const auto& solid = mesh3d_generator_names();
+            const auto& plane = mesh_generator_names();
+            const bool solid_only = std::find(solid.begin(), solid.end(), f->kind) != solid.end() &&
+                                    std::find(plane.begin(), plane.end(), f->kind) == plane.end();
+            if (f->domain.size() == 6 || *o_nz || solid_only) {
+              if (f->n > 1000)
+                throw InputError("a three-dimensional mesh takes at most 1000 cells per axis; got --n " + std::to_string(f->n),
+                                 "mesh --n");
+              const int ny = f->ny > 0 ? f->ny : f->n, nz = f->nz > 0 ? f->nz : f->n;
+              if (ny > 1000) throw InputError("a three-dimensional mesh takes at most 1000 cells per axis", "mesh --ny");
+              return write_mesh_3d(f->kind, f->n, ny, nz, f->domain, f->seed, f->output);
+            }
             const auto& kinds = mesh_generator_names();
             if (std::find(kinds.begin(), kinds.end(), f->kind) == kinds.end()) {
               std::string list;

@@ -79,9 +79,7 @@ int gmsh_file_dimension(const std::filesystem::path& path) {
 
 namespace {
 
-const char* kNoGmsh3d =
-    "this build of hemivem has no reader or writer of three-dimensional Gmsh files (they come with the mesh "
-    "module's gmsh3d.cpp)";
+const char* kNoGmsh3d = "this build of hemivem reads and writes no three-dimensional Gmsh files";
 
 }  // namespace
 
