@@ -4,6 +4,7 @@
 #include <hemivem/app/report.hpp>
 #include <hemivem/app/path.hpp>
 #include <hemivem/app/solve.hpp>
+#include <hemivem/app/solve3d.hpp>
 #include <hemivem/contact/forces.hpp>
 #include <hemivem/scene/scene.hpp>
 #include "test_support.hpp"
@@ -158,6 +159,19 @@ TEST(Forces, BalanceOnEveryShippedScene) {
     SCOPED_TRACE(file.filename().string());
     Scene scene = parse_scene(file);
     if (!scene.mesh.file.empty() && !fs::exists(scene.mesh.file)) continue;  // a mesh of the shared folder
+    if (scene.dimension() == 3) {  // a three-dimensional scene, on at most 6 cells per axis
+      if (scene.mesh.file.empty() && scene.mesh.n > 6) apply_override(scene, "mesh.n=6");
+      const auto s3 = app::solve_scene_3d(scene);
+      ASSERT_TRUE(s3.solution.converged()) << s3.solution.message;
+      const ForceBalance3D& b = s3.solution.forces;
+      EXPECT_GT(b.applied.norm() + b.contact.norm(), 0.0) << "something loads the body";
+      EXPECT_EQ(b.contact, s3.solution.contact_force());
+      EXPECT_LT(b.residual(), 1e-10);
+      worst = std::max(worst, b.residual());
+      std::cout << file.filename().string() << ": balance residual " << b.residual() << "\n";
+      ++solved;
+      continue;
+    }
     coarsen(scene);
     const auto s = app::scene_is_path(scene) ? app::solve_scene_path(scene) : app::solve_scene(scene);
     ASSERT_TRUE(s.solution.converged()) << s.solution.message;

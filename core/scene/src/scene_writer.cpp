@@ -93,7 +93,10 @@ void write_mesh(std::ostream& o, const SceneMesh& m) {
     return;
   }
   o << "generator = " << quote(m.generator) << "\n";
-  o << "n = " << (m.dimension == 3 ? m.cells3().text() : m.cells().text()) << "\n";
+  if (m.dimension == 3 && m.ny && m.nz)  // as given: [nx, ny, nz] reads back to the same scene
+    o << "n = [" << m.n << ", " << *m.ny << ", " << *m.nz << "]\n";
+  else
+    o << "n = " << (m.dimension == 3 ? m.cells3().text() : m.cells().text()) << "\n";
   o << "seed = " << m.seed << "\n";
   if (m.dimension == 3)
     o << "domain = " << list(m.box, fmt) << "\n";
