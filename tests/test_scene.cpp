@@ -120,6 +120,13 @@ TEST(Scene, ShippedScenesParseAndBuild) {
       EXPECT_EQ(f.filename(), "sutton-voronoi.toml") << "missing mesh " << s.mesh.file;
       continue;  // ../shared is absent: SuttonSceneReadsTheSharedMeshInPlace is skipped
     }
+    if (s.dimension() == 3) {  // a solid: build_problem_3d (tests/test_scene3d.cpp)
+      const auto solid = build_problem_3d(s);
+      EXPECT_GT(solid->mesh.num_cells(), 0);
+      EXPECT_FALSE(solid->problem.elasticity.dirichlet.at(0).faces.empty());
+      EXPECT_EQ(solid->has_contact, s.contact.has_value());
+      continue;
+    }
     const auto built = build_problem(s);
     EXPECT_GT(built->mesh.num_elements(), 0);
     EXPECT_FALSE(built->problem.elasticity.dirichlet.at(0).edges.empty());

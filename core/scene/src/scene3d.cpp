@@ -49,6 +49,8 @@ bool gmsh3d_built() {
 }
 
 int gmsh_file_dimension(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return 2;  // never a device or a pipe
   std::ifstream in(path);
   if (!in) return 2;
   std::string line;

@@ -13,9 +13,9 @@ namespace hemivem {
 bool gmsh3d_built();
 
 /// 3 when the Gmsh 4.1 ASCII file `path` has an element block of dimension 3 (volume elements)
-/// in its $Elements section, else 2 (also when it cannot be read or is not such a file: the
-/// two-dimensional reader then says what is wrong with it). Reads the file's section headers and
-/// block headers only, skipping the element lines.
+/// in its $Elements section, else 2 (also when it is not a regular file, cannot be read or is not
+/// such a file: the two-dimensional reader then says what is wrong with it). Reads the lines up
+/// to the end of $Elements, looking only at section headers and block headers.
 int gmsh_file_dimension(const std::filesystem::path& path);
 
 /// read_gmsh3d(path); an InputError naming the file when this build has no 3D Gmsh reader.
