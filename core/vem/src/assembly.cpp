@@ -3,6 +3,8 @@
 #include <hemivem/vem/quadrature.hpp>
 #include <hemivem/sparse_factorization.hpp>
 
+#include "element_loop.hpp"
+
 #include <algorithm>
 #include <exception>
 #include <map>
@@ -20,118 +22,29 @@ void gather(const Mesh& mesh, int e, std::vector<Vec2>& poly) {
 
 namespace {
 
-// Calls visit(dofs, K) with the global dofs (2 v, 2 v + 1 per vertex v) and the stiffness K_E of
-// every element (an Eigen::Map of a 2n x 2n matrix), in element order; returns the number of
-// matrix entries visited. The element matrices of a chunk of elements are computed in parallel
-// (OpenMP, where built with it) and visited in order, so that sums built by visit() are the
-// same bit for bit whatever the number of threads.
+// element matrices of the mesh, in element order (detail::for_each_element_matrix)
 template <class Visit>
-std::size_t for_each_element_matrix(const Mesh& mesh, const MaterialTable& materials, Stabilization stabilization,
-                                    Visit&& visit) {
+void for_each_element_matrix(const Mesh& mesh, const MaterialTable& materials, Stabilization stabilization,
+                             Visit&& visit) {
   std::map<int, Lame> lame_by_region;
   for (int region : mesh.regions())
     if (!lame_by_region.count(region)) lame_by_region.emplace(region, materials.lame(region));
-  const int ne = mesh.num_elements();
-  constexpr int chunk = 4096;
-  std::vector<std::size_t> offset(chunk + 1);
-  std::vector<double> matrices;
-  std::vector<int> dof;
-  std::size_t entries = 0;
-  for (int begin = 0; begin < ne; begin += chunk) {
-    const int end = std::min(ne, begin + chunk);
-    offset[0] = 0;
-    for (int e = begin; e < end; ++e) {
-      const auto n2 = static_cast<std::size_t>(2 * mesh.element_size(e));
-      offset[static_cast<std::size_t>(e - begin) + 1] = offset[static_cast<std::size_t>(e - begin)] + n2 * n2;
-    }
-    matrices.resize(offset[static_cast<std::size_t>(end - begin)]);
-    std::exception_ptr failure;
-#if defined(_OPENMP)
-#pragma omp parallel
-#endif
-    {
-      std::vector<Vec2> poly;
-      Eigen::MatrixXd K;
-#if defined(_OPENMP)
-#pragma omp for schedule(static)
-#endif
-      for (int e = begin; e < end; ++e) {
-        try {
-          gather(mesh, e, poly);
-          element_stiffness(poly, lame_by_region.at(mesh.region(e)), stabilization, K);
-          std::copy(K.data(), K.data() + K.size(), matrices.data() + offset[static_cast<std::size_t>(e - begin)]);
-        } catch (...) {
-#if defined(_OPENMP)
-#pragma omp critical(hemivem_element_failure)
-#endif
-          if (!failure) failure = std::current_exception();
-        }
-      }
-    }
-    if (failure) std::rethrow_exception(failure);
-    for (int e = begin; e < end; ++e) {
-      dof.clear();
-      for (int v : mesh.element(e)) {
-        dof.push_back(2 * v);
-        dof.push_back(2 * v + 1);
-      }
-      const auto n2 = static_cast<Eigen::Index>(dof.size());
-      visit(dof, Eigen::Map<const Eigen::MatrixXd>(matrices.data() + offset[static_cast<std::size_t>(e - begin)], n2, n2));
-      entries += dof.size() * dof.size();
-    }
-  }
-  return entries;
+  detail::for_each_element_matrix<2>(
+      mesh.num_elements(), [&](int e) { return mesh.element(e); },
+      [&](int e, Eigen::MatrixXd& K) {
+        thread_local std::vector<Vec2> poly;
+        gather(mesh, e, poly);
+        element_stiffness(poly, lame_by_region.at(mesh.region(e)), stabilization, K);
+      },
+      visit);
 }
 
-/// The pattern of a stiffness matrix over the dofs with index[d] >= 0 (index: dof 2 v + c ->
-/// row and column; increasing in d), built from the mesh: the column of dof d holds every dof
-/// of every vertex sharing an element with d's vertex, rows increasing; values zero.
 SparseMatrix stiffness_pattern(const Mesh& mesh, const std::vector<int>& index, int size) {
-  const int nv = mesh.num_vertices();
-  // the elements of each vertex (compressed rows)
-  std::vector<int> first(static_cast<std::size_t>(nv) + 1, 0), elements;
-  for (int e = 0; e < mesh.num_elements(); ++e)
-    for (int v : mesh.element(e)) ++first[static_cast<std::size_t>(v) + 1];
-  for (int v = 0; v < nv; ++v) first[static_cast<std::size_t>(v) + 1] += first[static_cast<std::size_t>(v)];
-  elements.resize(static_cast<std::size_t>(first[static_cast<std::size_t>(nv)]));
-  {
-    std::vector<int> fill(first.begin(), first.end() - 1);
-    for (int e = 0; e < mesh.num_elements(); ++e)
-      for (int v : mesh.element(e)) elements[static_cast<std::size_t>(fill[static_cast<std::size_t>(v)]++)] = e;
-  }
-  // per vertex its neighbours (itself included), sorted; then the columns of its dofs
-  std::vector<int> outer(static_cast<std::size_t>(size) + 1, 0), inner, neighbours;
-  std::vector<int> seen(static_cast<std::size_t>(nv), -1);
-  inner.reserve(static_cast<std::size_t>(size) * 18);
-  int column = 0;
-  for (int v = 0; v < nv; ++v) {
-    neighbours.clear();
-    for (int k = first[static_cast<std::size_t>(v)]; k < first[static_cast<std::size_t>(v) + 1]; ++k)
-      for (int w : mesh.element(elements[static_cast<std::size_t>(k)]))
-        if (seen[static_cast<std::size_t>(w)] != v) {
-          seen[static_cast<std::size_t>(w)] = v;
-          neighbours.push_back(w);
-        }
-    std::sort(neighbours.begin(), neighbours.end());
-    for (int c = 0; c < 2; ++c) {
-      if (index[static_cast<std::size_t>(2 * v + c)] < 0) continue;
-      for (int w : neighbours)
-        for (int r = 0; r < 2; ++r) {
-          const int row = index[static_cast<std::size_t>(2 * w + r)];
-          if (row >= 0) inner.push_back(row);
-        }
-      outer[static_cast<std::size_t>(++column)] = static_cast<int>(inner.size());
-    }
-  }
-  return pattern_matrix(size, size, outer, inner, 0.0);
+  return detail::stiffness_pattern<2>(mesh.num_vertices(), mesh.num_elements(), [&](int e) { return mesh.element(e); },
+                                      index, size);
 }
 
-/// The stored entry (row, column) of a compressed matrix whose pattern holds it.
-double& stored(SparseMatrix& A, int row, int column) {
-  const int* begin = A.innerIndexPtr() + A.outerIndexPtr()[column];
-  const int* end = A.innerIndexPtr() + A.outerIndexPtr()[column + 1];
-  return A.valuePtr()[std::lower_bound(begin, end, row) - A.innerIndexPtr()];
-}
+using detail::stored;
 
 }  // namespace
 
@@ -201,6 +114,19 @@ Eigen::VectorXd assemble_load(const Mesh& mesh, const VectorField& body_force, c
   return f;
 }
 
+DofMap detail::dof_map_of(std::vector<char> fixed, Eigen::VectorXd prescribed) {
+  DofMap map;
+  map.prescribed = std::move(prescribed);
+  const int ndof = static_cast<int>(fixed.size());
+  map.free_index.assign(static_cast<std::size_t>(ndof), -1);
+  for (int d = 0; d < ndof; ++d) {
+    if (fixed[static_cast<std::size_t>(d)]) continue;
+    map.free_index[static_cast<std::size_t>(d)] = static_cast<int>(map.free_dofs.size());
+    map.free_dofs.push_back(d);
+  }
+  return map;
+}
+
 Eigen::VectorXd DofMap::expand(const Eigen::VectorXd& free_values) const {
   if (free_values.size() != num_free())
     throw InputError("expected " + std::to_string(num_free()) + " free values, got " + std::to_string(free_values.size()));
@@ -257,13 +183,7 @@ DofMap make_dof_map(const Mesh& mesh, const std::vector<DirichletCondition>& dir
       }
     }
   }
-  map.free_index.assign(static_cast<std::size_t>(ndof), -1);
-  for (int d = 0; d < ndof; ++d) {
-    if (fixed[static_cast<std::size_t>(d)]) continue;
-    map.free_index[static_cast<std::size_t>(d)] = static_cast<int>(map.free_dofs.size());
-    map.free_dofs.push_back(d);
-  }
-  return map;
+  return detail::dof_map_of(std::move(fixed), std::move(map.prescribed));
 }
 
 LinearSystem assemble(const ElasticityProblem& problem) {
@@ -288,26 +208,10 @@ LinearSystem assemble(const ElasticityProblem& problem) {
   // element into A's pattern (from the mesh) in the numbering of the free dofs: no global K,
   // no selection products, no triplets
   const std::vector<int>& free_index = sys.dofs.free_index;
-  const Eigen::VectorXd& prescribed = sys.dofs.prescribed;
   sys.b.resize(sys.dofs.num_free());
   for (int i = 0; i < sys.dofs.num_free(); ++i) sys.b(i) = f(sys.dofs.free_dofs[static_cast<std::size_t>(i)]);
   sys.A = stiffness_pattern(mesh, free_index, sys.dofs.num_free());
-  for_each_element_matrix(mesh, problem.materials, problem.stabilization,
-                          [&](const std::vector<int>& dof, const Eigen::Map<const Eigen::MatrixXd>& K) {
-                            for (std::size_t j = 0; j < dof.size(); ++j) {
-                              const int fj = free_index[static_cast<std::size_t>(dof[j])];
-                              const double uj = prescribed(dof[j]);
-                              for (std::size_t i = 0; i < dof.size(); ++i) {
-                                const int fi = free_index[static_cast<std::size_t>(dof[i])];
-                                if (fi < 0) continue;
-                                const double k = K(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
-                                if (fj >= 0)
-                                  stored(sys.A, fi, fj) += k;
-                                else if (uj != 0.0)
-                                  sys.b(fi) -= k * uj;
-                              }
-                            }
-                          });
+  for_each_element_matrix(mesh, problem.materials, problem.stabilization, detail::FreeSystemAssembler{sys});
   return sys;
 }
 

@@ -1,0 +1,75 @@
+// Boundary conditions, loads and the global assembly of the 3D VEM elasticity system
+// (docs/three-dimensions.md). Dofs are 3 v + c for component c of vertex v; DofMap and
+// LinearSystem are those of the plane problem (hemivem/vem/assembly.hpp).
+#pragma once
+
+#include <Eigen/Core>
+
+#include <array>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <hemivem/mesh/mesh3d.hpp>
+#include <hemivem/vem/assembly.hpp>
+#include <hemivem/vem/element3d.hpp>
+
+namespace hemivem {
+
+using VectorField3 = std::function<Vec3(const Vec3&)>;
+
+/// Prescribed displacement on the vertices of a set of boundary faces; `value` empty means
+/// zero; `fix` selects the prescribed components.
+struct DirichletCondition3D {
+  std::vector<int> faces;
+  VectorField3 value;
+  std::array<bool, 3> fix{true, true, true};
+  std::string name;
+};
+
+/// A surface traction on boundary faces: `traction`, plus -p n for a `pressure` p (n the face's
+/// outward unit normal). The load of vertex i of face f is int_f t . Pi_f phi_i, Pi_f the
+/// face's projection onto linear functions (the enhanced face space): t . omega_i^f for a
+/// constant t, computed by a degree-5 rule on the fan of triangles from the face centroid
+/// (exact for tractions of degree <= 4 on each face).
+struct TractionLoad3D {
+  std::vector<int> faces;
+  VectorField3 traction;
+  std::function<double(const Vec3&)> pressure;
+};
+
+struct ElasticityProblem3D {
+  const Mesh3D* mesh = nullptr;
+  MaterialTable materials;  ///< the three-dimensional Lame constants (MaterialTable::lame of plane strain)
+  Stabilization stabilization = Stabilization::two_mu;
+  VectorField3 body_force;  ///< f0; empty = none; int_E f0 . Pi^nabla_1 phi (a degree-2 rule on a fan of tetrahedra)
+  std::vector<TractionLoad3D> tractions;
+  std::vector<DirichletCondition3D> dirichlet;
+};
+
+/// The global stiffness of all 3 num_vertices dofs (symmetric, both triangles stored).
+SparseMatrix assemble_stiffness_3d(const Mesh3D& mesh, const MaterialTable& materials,
+                                   Stabilization stabilization = Stabilization::two_mu);
+
+/// The load vector of all dofs: the body force and the tractions.
+Eigen::VectorXd assemble_load_3d(const Mesh3D& mesh, const VectorField3& body_force,
+                                 const std::vector<TractionLoad3D>& tractions);
+
+DofMap make_dof_map_3d(const Mesh3D& mesh, const std::vector<DirichletCondition3D>& dirichlet);
+
+/// The reduced system (prescribed dofs eliminated, their values lifted into b). InputError,
+/// before any assembly, when no face has a prescribed displacement or their area is zero.
+LinearSystem assemble_3d(const ElasticityProblem3D& problem);
+
+/// The load of the free dofs of `dofs` at the problem's data (assemble_rhs in 2D).
+Eigen::VectorXd assemble_rhs_3d(const ElasticityProblem3D& problem, const DofMap& dofs);
+
+/// Per cell: the P1 projection Pi u_h of the full nodal vector u (3 per vertex).
+std::vector<LinearField3> project_solution_3d(const Mesh3D& mesh, const Eigen::VectorXd& u);
+
+/// The in-plane scaled vertex normals nu_i = (m_{i-1} + m_i) / 2 of a planar polygon (column i;
+/// m_e = |e| times the edge's outward normal in the face's plane): the face projection of the
+/// vertex-i basis function is 1/n + nu_i . (x - zbar) / |f|.
+Eigen::Matrix3Xd face_vertex_normals(std::span<const Vec3> face);
+
+}  // namespace hemivem

@@ -1,0 +1,275 @@
+#include <hemivem/vem/assembly3d.hpp>
+#include <hemivem/vem/quadrature.hpp>
+#include <hemivem/error.hpp>
+
+#include "element_loop.hpp"
+
+#include <algorithm>
+#include <map>
+
+namespace hemivem {
+
+Eigen::Matrix3Xd face_vertex_normals(std::span<const Vec3> z) {
+  const std::size_t n = z.size();
+  const Vec3 normal = polygon_area_vector(z).normalized();
+  Eigen::Matrix3Xd nu = Eigen::Matrix3Xd::Zero(3, static_cast<Eigen::Index>(n));
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 m = (z[(i + 1) % n] - z[i]).cross(normal);  // |e| times the edge's outward normal in the plane
+    nu.col(static_cast<Eigen::Index>(i)) += 0.5 * m;
+    nu.col(static_cast<Eigen::Index>((i + 1) % n)) += 0.5 * m;
+  }
+  return nu;
+}
+
+namespace {
+
+void gather(const Mesh3D& mesh, int c, std::vector<Vec3>& z) {
+  z.clear();
+  for (int v : mesh.cell_vertices(c)) z.push_back(mesh.vertex(v));
+}
+
+std::vector<Vec3> face_points(const Mesh3D& mesh, int f) {
+  std::vector<Vec3> z;
+  for (int v : mesh.face(f).vertices) z.push_back(mesh.vertex(v));
+  return z;
+}
+
+/// Integral of g over the triangle (a, b, c) in space (degree 5).
+template <class G>
+auto integrate_triangle_3d(const Vec3& a, const Vec3& b, const Vec3& c, G&& g) {
+  const double area = 0.5 * (b - a).cross(c - a).norm();
+  const auto& rule = quadrature::triangle_rule();
+  auto sum = quadrature::detail::materialize(rule[0].weight * g(Vec3(rule[0].l1 * a + rule[0].l2 * b + rule[0].l3 * c)));
+  for (std::size_t q = 1; q < rule.size(); ++q) sum += rule[q].weight * g(Vec3(rule[q].l1 * a + rule[q].l2 * b + rule[q].l3 * c));
+  return quadrature::detail::materialize(area * sum);
+}
+
+/// Integral of g over a cell as a signed fan of tetrahedra (cell vertex mean, face centroid,
+/// edge): a degree-2 rule on each (exact for quadratic g).
+template <class G>
+auto integrate_cell(const std::vector<Vec3>& z, const std::vector<std::vector<int>>& faces, G&& g) {
+  Vec3 apex = Vec3::Zero();
+  for (const Vec3& p : z) apex += p;
+  apex /= static_cast<double>(z.size());
+  constexpr double a = 0.5854101966249685, b = 0.1381966011250105;
+  using R = decltype(quadrature::detail::materialize(g(apex)));
+  R sum = quadrature::detail::materialize(0.0 * g(apex));
+  std::vector<Vec3> loop;
+  for (const auto& face : faces) {
+    loop.clear();
+    for (int i : face) loop.push_back(z[static_cast<std::size_t>(i)]);
+    const Vec3 fc = polygon_centroid(loop);
+    for (std::size_t i = 0; i < loop.size(); ++i) {
+      const Vec3 p[4] = {apex, fc, loop[i], loop[(i + 1) % loop.size()]};
+      const double volume = (p[1] - p[0]).dot((p[2] - p[0]).cross(p[3] - p[0])) / 6.0;
+      for (int q = 0; q < 4; ++q) {
+        Vec3 x = Vec3::Zero();
+        for (int k = 0; k < 4; ++k) x += (k == q ? a : b) * p[k];
+        sum += (0.25 * volume) * g(x);
+      }
+    }
+  }
+  return sum;
+}
+
+template <class Visit>
+void for_each_cell_matrix(const Mesh3D& mesh, const MaterialTable& materials, Stabilization stabilization,
+                          Visit&& visit) {
+  std::map<int, Lame> lame_by_region;
+  for (int region : mesh.regions())
+    if (!lame_by_region.count(region)) lame_by_region.emplace(region, materials.lame(region));
+  detail::for_each_element_matrix<3>(
+      mesh.num_cells(), [&](int c) -> const std::vector<int>& { return mesh.cell_vertices(c); },
+      [&](int c, Eigen::MatrixXd& K) {
+        thread_local std::vector<Vec3> z;
+        gather(mesh, c, z);
+        element_stiffness_3d(z, mesh.local_faces(c), lame_by_region.at(mesh.region(c)), stabilization, K);
+      },
+      visit);
+}
+
+SparseMatrix pattern(const Mesh3D& mesh, const std::vector<int>& index, int size) {
+  return detail::stiffness_pattern<3>(mesh.num_vertices(), mesh.num_cells(),
+                                      [&](int c) -> const std::vector<int>& { return mesh.cell_vertices(c); }, index,
+                                      size);
+}
+
+}  // namespace
+
+SparseMatrix assemble_stiffness_3d(const Mesh3D& mesh, const MaterialTable& materials, Stabilization stabilization) {
+  const int n = 3 * mesh.num_vertices();
+  std::vector<int> index(static_cast<std::size_t>(n));
+  for (int d = 0; d < n; ++d) index[static_cast<std::size_t>(d)] = d;
+  SparseMatrix K = pattern(mesh, index, n);
+  for_each_cell_matrix(mesh, materials, stabilization,
+                       [&](const std::vector<int>& dof, const Eigen::Map<const Eigen::MatrixXd>& Ke) {
+                         for (std::size_t j = 0; j < dof.size(); ++j)
+                           for (std::size_t i = 0; i < dof.size(); ++i)
+                             detail::stored(K, dof[i], dof[j]) += Ke(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
+                       });
+  return K;
+}
+
+Eigen::VectorXd assemble_load_3d(const Mesh3D& mesh, const VectorField3& body_force,
+                                 const std::vector<TractionLoad3D>& tractions) {
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(3 * mesh.num_vertices());
+  if (body_force) {
+    std::vector<Vec3> z;
+    Eigen::VectorXd unit;
+    for (int c = 0; c < mesh.num_cells(); ++c) {
+      gather(mesh, c, z);
+      const auto faces = mesh.local_faces(c);
+      const auto n3 = static_cast<Eigen::Index>(3 * z.size());
+      unit.setZero(n3);
+      // the load of local basis function k is int f0 . Pi^nabla_1 phi_k
+      const LinearField3 first = [&] {
+        unit(0) = 1.0;
+        auto p = project_gradient_3d(z, faces, unit);
+        unit(0) = 0.0;
+        return p;
+      }();
+      const Vec3 center = first.center;
+      const Vec3 F0 = integrate_cell(z, faces, [&](const Vec3& x) { return body_force(x); });
+      const Eigen::Matrix3d M =
+          integrate_cell(z, faces, [&](const Vec3& x) -> Eigen::Matrix3d { return body_force(x) * (x - center).transpose(); });
+      const auto& verts = mesh.cell_vertices(c);
+      for (Eigen::Index k = 0; k < n3; ++k) {
+        unit(k) = 1.0;
+        const LinearField3 phi = project_gradient_3d(z, faces, unit);
+        unit(k) = 0.0;
+        f(3 * verts[static_cast<std::size_t>(k / 3)] + k % 3) += F0.dot(phi.value) + M.cwiseProduct(phi.gradient).sum();
+      }
+    }
+  }
+  for (const auto& load : tractions) {
+    if (!load.traction && !load.pressure) throw InputError("a traction load has neither a traction nor a pressure");
+    for (int id : load.faces) {
+      if (id < 0 || id >= mesh.num_faces()) throw InputError("traction face id " + std::to_string(id) + " out of range");
+      if (!mesh.face(id).on_boundary()) throw InputError("traction face " + std::to_string(id) + " is not on the boundary");
+      const auto z = face_points(mesh, id);
+      const Vec3 normal = mesh.face_normal(id);
+      auto t = [&](const Vec3& x) {
+        Vec3 v = load.traction ? load.traction(x) : Vec3::Zero();
+        if (load.pressure) v -= load.pressure(x) * normal;
+        return v;
+      };
+      Vec3 zbar = Vec3::Zero();
+      for (const Vec3& p : z) zbar += p;
+      zbar /= static_cast<double>(z.size());
+      // T0 = int_f t, T1 = int_f t (x - zbar)^T on the fan from the centroid
+      const Vec3 fc = mesh.face_centroid(id);
+      Vec3 T0 = Vec3::Zero();
+      Eigen::Matrix3d T1 = Eigen::Matrix3d::Zero();
+      for (std::size_t i = 0; i < z.size(); ++i) {
+        const Vec3& a = z[i];
+        const Vec3& b = z[(i + 1) % z.size()];
+        T0 += integrate_triangle_3d(fc, a, b, t);
+        T1 += integrate_triangle_3d(fc, a, b, [&](const Vec3& x) -> Eigen::Matrix3d { return t(x) * (x - zbar).transpose(); });
+      }
+      const Eigen::Matrix3Xd nu = face_vertex_normals(z);
+      const double area = mesh.face_area(id);
+      const auto& loop = mesh.face(id).vertices;
+      for (std::size_t i = 0; i < loop.size(); ++i)
+        f.segment<3>(3 * loop[i]) += T0 / static_cast<double>(loop.size()) + T1 * nu.col(static_cast<Eigen::Index>(i)) / area;
+    }
+  }
+  return f;
+}
+
+DofMap make_dof_map_3d(const Mesh3D& mesh, const std::vector<DirichletCondition3D>& dirichlet) {
+  const int ndof = 3 * mesh.num_vertices();
+  Eigen::VectorXd prescribed = Eigen::VectorXd::Zero(ndof);
+  std::vector<char> fixed(static_cast<std::size_t>(ndof), 0);
+  for (const auto& bc : dirichlet)
+    for (int id : bc.faces) {
+      if (id < 0 || id >= mesh.num_faces()) throw InputError("Dirichlet face id " + std::to_string(id) + " out of range");
+      for (int v : mesh.face(id).vertices) {
+        const Vec3 value = bc.value ? bc.value(mesh.vertex(v)) : Vec3::Zero();
+        for (int c = 0; c < 3; ++c) {
+          if (!bc.fix[static_cast<std::size_t>(c)]) continue;
+          fixed[static_cast<std::size_t>(3 * v + c)] = 1;
+          prescribed(3 * v + c) = value(c);
+        }
+      }
+    }
+  return detail::dof_map_of(std::move(fixed), std::move(prescribed));
+}
+
+LinearSystem assemble_3d(const ElasticityProblem3D& problem) {
+  if (!problem.mesh) throw InputError("the elasticity problem has no mesh");
+  const Mesh3D& mesh = *problem.mesh;
+  double held = 0.0;
+  std::size_t held_faces = 0;
+  for (const auto& bc : problem.dirichlet) {
+    held_faces += bc.faces.size();
+    for (int id : bc.faces)
+      if (id >= 0 && id < mesh.num_faces()) held += mesh.face_area(id);
+  }
+  if (held_faces == 0)
+    throw InputError("the body is not held: no boundary face has a prescribed displacement (Gamma_1 is empty)");
+  if (!(held > 0.0)) throw InputError("the body is not held: the boundary with prescribed displacement has zero area");
+  LinearSystem sys;
+  sys.dofs = make_dof_map_3d(mesh, problem.dirichlet);
+  const Eigen::VectorXd f = assemble_load_3d(mesh, problem.body_force, problem.tractions);
+  sys.b.resize(sys.dofs.num_free());
+  for (int i = 0; i < sys.dofs.num_free(); ++i) sys.b(i) = f(sys.dofs.free_dofs[static_cast<std::size_t>(i)]);
+  sys.A = pattern(mesh, sys.dofs.free_index, sys.dofs.num_free());
+  for_each_cell_matrix(mesh, problem.materials, problem.stabilization, detail::FreeSystemAssembler{sys});
+  return sys;
+}
+
+Eigen::VectorXd assemble_rhs_3d(const ElasticityProblem3D& problem, const DofMap& dofs) {
+  if (!problem.mesh) throw InputError("the elasticity problem has no mesh");
+  const Mesh3D& mesh = *problem.mesh;
+  if (dofs.num_dofs() != 3 * mesh.num_vertices())
+    throw InputError("a dof map of " + std::to_string(dofs.num_dofs()) + " dofs for a mesh of " +
+                     std::to_string(3 * mesh.num_vertices()));
+  LinearSystem sys;
+  sys.dofs = dofs;
+  const Eigen::VectorXd f = assemble_load_3d(mesh, problem.body_force, problem.tractions);
+  sys.b.resize(dofs.num_free());
+  for (int i = 0; i < dofs.num_free(); ++i) sys.b(i) = f(dofs.free_dofs[static_cast<std::size_t>(i)]);
+  std::vector<Vec3> z;
+  Eigen::MatrixXd K;
+  for (int c = 0; c < mesh.num_cells(); ++c) {
+    const auto& verts = mesh.cell_vertices(c);
+    const bool lifted = std::any_of(verts.begin(), verts.end(), [&](int v) {
+      return dofs.prescribed.segment<3>(3 * v).cwiseAbs().maxCoeff() != 0.0;
+    });
+    if (!lifted) continue;
+    gather(mesh, c, z);
+    element_stiffness_3d(z, mesh.local_faces(c), problem.materials.lame(mesh.region(c)), problem.stabilization, K);
+    std::vector<int> dof;
+    for (int v : verts)
+      for (int k = 0; k < 3; ++k) dof.push_back(3 * v + k);
+    const auto n = static_cast<Eigen::Index>(dof.size());
+    for (std::size_t j = 0; j < dof.size(); ++j) {
+      if (dofs.free_index[static_cast<std::size_t>(dof[j])] >= 0) continue;
+      const double uj = dofs.prescribed(dof[j]);
+      if (uj == 0.0) continue;
+      for (Eigen::Index i = 0; i < n; ++i)
+        if (const int fi = dofs.free_index[static_cast<std::size_t>(dof[static_cast<std::size_t>(i)])]; fi >= 0)
+          sys.b(fi) -= K(i, static_cast<Eigen::Index>(j)) * uj;
+    }
+  }
+  return sys.b;
+}
+
+std::vector<LinearField3> project_solution_3d(const Mesh3D& mesh, const Eigen::VectorXd& u) {
+  if (u.size() != 3 * mesh.num_vertices())
+    throw InputError("displacement vector has " + std::to_string(u.size()) + " entries, expected " +
+                     std::to_string(3 * mesh.num_vertices()));
+  std::vector<LinearField3> out(static_cast<std::size_t>(mesh.num_cells()));
+  std::vector<Vec3> z;
+  Eigen::VectorXd local;
+  for (int c = 0; c < mesh.num_cells(); ++c) {
+    gather(mesh, c, z);
+    const auto& verts = mesh.cell_vertices(c);
+    local.resize(3 * static_cast<Eigen::Index>(verts.size()));
+    for (std::size_t i = 0; i < verts.size(); ++i) local.segment<3>(3 * static_cast<Eigen::Index>(i)) = u.segment<3>(3 * verts[i]);
+    out[static_cast<std::size_t>(c)] = project_p1_3d(z, mesh.local_faces(c), local);
+  }
+  return out;
+}
+
+}  // namespace hemivem
