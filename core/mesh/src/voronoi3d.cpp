@@ -13,6 +13,8 @@
 // sets (five seeds on a sphere).
 #include <hemivem/mesh/generators3d.hpp>
 
+#include "box_grid.hpp"
+
 #include <CGAL/Delaunay_triangulation_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Exact_rational.h>
@@ -20,6 +22,8 @@
 #include <CGAL/Interval_nt.h>
 #include <CGAL/Triangulation_data_structure_3.h>
 #include <CGAL/Triangulation_vertex_base_with_info_3.h>
+
+#include <Eigen/Geometry>
 
 #include <algorithm>
 #include <array>
@@ -37,18 +41,11 @@ namespace hemivem {
 
 namespace {
 
-constexpr int kMaxCellsPerAxis = 1000;
-
 std::string fmt(double x) {
   std::ostringstream s;
   s.precision(17);
   s << x;
   return s.str();
-}
-
-std::string box_text(const Box& d) {
-  return "[" + fmt(d.x0) + ", " + fmt(d.x1) + "] x [" + fmt(d.y0) + ", " + fmt(d.y1) + "] x [" + fmt(d.z0) + ", " +
-         fmt(d.z1) + "]";
 }
 
 double box_magnitude(const Box& d) {
@@ -58,30 +55,8 @@ double box_magnitude(const Box& d) {
 double box_largest_side(const Box& d) { return std::max({d.size(0), d.size(1), d.size(2)}); }
 
 void check_input(GridSize3 n, const Box& d, const VoronoiOptions& options) {
-  const char* g = "voronoi3d mesh";
-  for (const int k : {n.nx, n.ny, n.nz})
-    if (k < 1 || k > kMaxCellsPerAxis)
-      throw InputError(std::string(g) + ": the numbers of cells along x, y and z must be between 1 and " +
-                       std::to_string(kMaxCellsPerAxis) + " (got " + n.text() + ")");
-  const std::string got = " (got " + box_text(d) + ")";
-  bool ok = true;
-  for (int a = 0; a < 3; ++a)
-    ok = ok && std::isfinite(d.lower(a)) && std::isfinite(d.upper(a)) && std::isfinite(d.size(a)) && d.lower(a) < d.upper(a);
-  if (!ok)
-    throw InputError(std::string(g) +
-                     ": the domain must be a box [x0,x1] x [y0,y1] x [z0,z1] with finite x0 < x1, y0 < y1 and z0 < z1" +
-                     got);
-  const double magnitude = box_magnitude(d);
-  if (magnitude > max_mesh_coordinate)
-    throw InputError(std::string(g) + ": the domain's coordinates must be at most 1e150 in magnitude" + got);
-  // Cells must be resolvable: a mean cell side well above the spacing of doubles at the box's
-  // coordinates, and a cell volume that is a normal double.
-  const double cx = d.size(0) / n.nx, cy = d.size(1) / n.ny, cz = d.size(2) / n.nz;
-  if (!(std::min({cx, cy, cz}) >= 1e-9 * magnitude) || !(cx * cy * cz >= 1e-250))
-    throw InputError(std::string(g) + ": the cells of the domain with n = " + n.text() +
-                     " are too small for double precision (box side / cells along it must be at least 1e-9 of the "
-                     "largest |coordinate| and the cell volume at least 1e-250)" +
-                     got);
+  const char* g = "voronoi mesh";
+  detail::check_box_grid(g, n, d);
   if (options.max_lloyd_iterations < 0)
     throw InputError(std::string(g) + ": max_lloyd_iterations must be >= 0 (got " +
                      std::to_string(options.max_lloyd_iterations) + ")");
@@ -180,7 +155,7 @@ std::vector<std::vector<int>> neighbours(const std::vector<Vec3>& seeds) {
       handle[static_cast<std::size_t>(i)] = v;
     }
     if (dt.number_of_vertices() != seeds.size())
-      throw NumericalError("voronoi3d mesh: two seeds coincide; the Voronoi diagram is undefined");
+      throw NumericalError("voronoi mesh: two seeds coincide; the Voronoi diagram is undefined");
     if (dt.dimension() < 3) {
       all = true;
     } else {
@@ -203,7 +178,7 @@ std::vector<std::vector<int>> neighbours(const std::vector<Vec3>& seeds) {
     auto& list = nb[static_cast<std::size_t>(i)];
     for (int j : list)
       if (seeds[static_cast<std::size_t>(j)] == p)
-        throw NumericalError("voronoi3d mesh: two seeds coincide; the Voronoi diagram is undefined");
+        throw NumericalError("voronoi mesh: two seeds coincide; the Voronoi diagram is undefined");
     std::sort(list.begin(), list.end(), [&](int a, int b) {
       const double da = (seeds[static_cast<std::size_t>(a)] - p).squaredNorm();
       const double db = (seeds[static_cast<std::size_t>(b)] - p).squaredNorm();
@@ -299,7 +274,7 @@ bool solve_key(const Key& key, const std::vector<Vec3>& seeds, const Box& box, s
     const NT det = m[0][0] * c00 + m[0][1] * c01 + m[0][2] * c02;
     if (!nonzero(det)) return false;
     // Cramer: replace column c by r
-    auto det3 = [](const NT (&q)[3][3]) {
+    auto det3 = [](const NT (&q)[3][3]) -> NT {
       return q[0][0] * (q[1][1] * q[2][2] - q[1][2] * q[2][1]) - q[0][1] * (q[1][0] * q[2][2] - q[1][2] * q[2][0]) +
              q[0][2] * (q[1][0] * q[2][1] - q[1][1] * q[2][0]);
     };
@@ -320,6 +295,7 @@ struct Vertex {
   Key key{};
   Vec3 pos = Vec3::Zero();
   std::array<Interval, 3> box;
+  double error = 0.0;  // bound of |pos - exact position| per coordinate
   bool interval_ok = false;
 };
 
@@ -346,13 +322,19 @@ class VertexMaker {
     if (narrow) {
       for (int k = 0; k < 3; ++k) {
         const Interval& c = v.box[static_cast<std::size_t>(k)];
+        // within [inf, sup]: |pos - exact| <= sup - inf
         v.pos[k] = c.inf() == c.sup() ? c.inf() : 0.5 * c.inf() + 0.5 * c.sup();
+        v.error = std::max(v.error, c.sup() - c.inf());
       }
     } else {
       std::array<Rational, 3> x;
       if (!solve_key(key, seeds_, box_, x))
-        throw NumericalError("voronoi3d mesh: a cell vertex is undefined (its planes do not meet in one point)");
-      for (int k = 0; k < 3; ++k) v.pos[k] = CGAL::to_double(x[static_cast<std::size_t>(k)]);
+        throw NumericalError("voronoi mesh: a cell vertex is undefined (its planes do not meet in one point)");
+      for (int k = 0; k < 3; ++k) {
+        v.pos[k] = CGAL::to_double(x[static_cast<std::size_t>(k)]);
+        v.error = std::max(v.error, 4.0 * std::numeric_limits<double>::epsilon() * std::abs(v.pos[k]));
+      }
+      v.error += std::numeric_limits<double>::denorm_min();
     }
     return v;
   }
@@ -361,6 +343,20 @@ class VertexMaker {
   int side(const Vertex& v, int a, int e) const {
     const Vec3& A = seeds_[static_cast<std::size_t>(a)];
     const Vec3& E = seeds_[static_cast<std::size_t>(e)];
+    {
+      // in doubles, with a bound of the error of pos and of the rounding (each operation
+      // off by at most 2 eps, relative, in any rounding mode)
+      constexpr double eps = std::numeric_limits<double>::epsilon();
+      double g = 0.0, bound = 0.0;
+      for (int k = 0; k < 3; ++k) {
+        const double d = A[k] - E[k];
+        g += d * (2.0 * v.pos[k] - A[k] - E[k]);
+        bound += std::abs(d) * (2.0 * v.error + 16.0 * eps * (2.0 * std::abs(v.pos[k]) + std::abs(A[k]) + std::abs(E[k])));
+      }
+      bound *= 1.0 + 1e-6;
+      if (g > bound) return 1;
+      if (g < -bound) return -1;
+    }
     if (v.interval_ok) {
       Interval g(0);
       for (int k = 0; k < 3; ++k)
@@ -371,7 +367,7 @@ class VertexMaker {
     }
     std::array<Rational, 3> x;
     if (!solve_key(v.key, seeds_, box_, x))
-      throw NumericalError("voronoi3d mesh: a cell vertex is undefined (its planes do not meet in one point)");
+      throw NumericalError("voronoi mesh: a cell vertex is undefined (its planes do not meet in one point)");
     Rational g(0);
     for (int k = 0; k < 3; ++k) {
       const Rational ak(A[k]), ek(E[k]);
@@ -386,13 +382,16 @@ class VertexMaker {
   double accuracy_;
 };
 
-/// A convex cell: vertices and outward faces.
+/// A convex cell: vertices and outward faces (and work space of clip()).
 struct Cell {
   std::vector<Vertex> vertices;
   std::vector<Face> faces;
+  std::vector<int> signs, number;
+  std::vector<std::pair<std::pair<int, int>, int>> crossing;
+  std::vector<std::pair<int, int>> cap;
 };
 
-Cell box_cell(int seed, const Box& box, const VertexMaker& maker) {
+Cell box_cell(int seed, const VertexMaker& maker) {
   Cell c;
   for (int i = 0; i < 8; ++i)
     c.vertices.push_back(maker.make(make_key(seed, side_generator(i & 1), side_generator(2 + ((i >> 1) & 1)),
@@ -403,22 +402,41 @@ Cell box_cell(int seed, const Box& box, const VertexMaker& maker) {
 }
 
 [[noreturn]] void degenerate(int seed) {
-  throw NumericalError("voronoi3d mesh: clipping the cell of seed " + std::to_string(seed) +
+  throw NumericalError("voronoi mesh: clipping the cell of seed " + std::to_string(seed) +
                        " met a degenerate configuration of seeds");
 }
 
+/// The generator other than a and f shared by the keys of u and w (the plane of the face
+/// across the edge u-w of face f), or INT_MIN when there is not exactly one.
+int shared_generator(const Key& u, const Key& w, int a, int f) {
+  int found = std::numeric_limits<int>::min(), count = 0;
+  for (int x : u)
+    if (x != a && x != f && std::find(w.begin(), w.end(), x) != w.end()) {
+      found = x;
+      ++count;
+    }
+  return count == 1 ? found : std::numeric_limits<int>::min();
+}
+
 /// Clips cell `c` of seed a by the bisector of seeds a and e (keeping the side of a).
+///
+/// A vertex strictly on the far side goes; the faces with such vertices are cut where their
+/// edges cross the plane, and the cap (the new face on the plane) is made of the cuts. A vertex
+/// exactly on the plane (a degenerate configuration: five seeds on a sphere) is kept, and the
+/// cap is then found as the edges that no remaining face matches.
 void clip(Cell& c, int a, int e, const VertexMaker& maker) {
   const std::size_t nv = c.vertices.size();
-  std::vector<int> s(nv);
-  bool cut = false;
+  std::vector<int>& s = c.signs;
+  s.resize(nv);
+  bool cut = false, zero = false;
   for (std::size_t i = 0; i < nv; ++i) {
     s[i] = maker.side(c.vertices[i], a, e);
     cut = cut || s[i] < 0;
+    zero = zero || s[i] == 0;
   }
   if (!cut) return;
 
-  // The face across each directed edge u -> w of face f is the face holding w -> u.
+  // The face across the directed edge u -> w is the face holding w -> u.
   auto face_across = [&](int u, int w) {
     for (std::size_t f = 0; f < c.faces.size(); ++f) {
       const auto& L = c.faces[f].loop;
@@ -427,12 +445,15 @@ void clip(Cell& c, int a, int e, const VertexMaker& maker) {
     }
     degenerate(a);
   };
-  std::vector<std::pair<std::pair<int, int>, int>> crossing;  // edge (min, max) -> new vertex
+  auto& crossing = c.crossing;  // edge (min, max) -> new vertex
+  crossing.clear();
   auto crossing_vertex = [&](int u, int w, int generator) {
-    const auto edge = std::minmax(u, w);
+    const std::pair<int, int> edge(std::min(u, w), std::max(u, w));
     for (const auto& [ed, id] : crossing)
       if (ed == edge) return id;
-    const int other = c.faces[static_cast<std::size_t>(face_across(u, w))].generator;
+    int other = shared_generator(c.vertices[static_cast<std::size_t>(u)].key,
+                                 c.vertices[static_cast<std::size_t>(w)].key, a, generator);
+    if (other == std::numeric_limits<int>::min()) other = c.faces[static_cast<std::size_t>(face_across(u, w))].generator;
     const int id = static_cast<int>(c.vertices.size());
     c.vertices.push_back(maker.make(make_key(a, generator, other, e)));
     s.push_back(0);
@@ -440,9 +461,11 @@ void clip(Cell& c, int a, int e, const VertexMaker& maker) {
     return id;
   };
 
+  auto& cap = c.cap;  // directed edges of the cap
+  cap.clear();
   std::vector<Face> faces;
   faces.reserve(c.faces.size() + 1);
-  for (const Face& f : c.faces) {
+  for (Face& f : c.faces) {
     const auto& L = f.loop;
     bool has_negative = false, has_positive = false;
     for (int v : L) {
@@ -450,65 +473,76 @@ void clip(Cell& c, int a, int e, const VertexMaker& maker) {
       has_positive = has_positive || s[static_cast<std::size_t>(v)] > 0;
     }
     if (!has_negative) {
-      faces.push_back(f);
+      faces.push_back(std::move(f));
       continue;
     }
     if (!has_positive) continue;
     Face g{f.generator, {}};
+    int exit = -1, entry = -1;
     for (std::size_t k = 0; k < L.size(); ++k) {
       const int u = L[k], w = L[(k + 1) % L.size()];
       const int su = s[static_cast<std::size_t>(u)], sw = s[static_cast<std::size_t>(w)];
       if (su >= 0) g.loop.push_back(u);
       if ((su > 0 && sw < 0) || (su < 0 && sw > 0)) g.loop.push_back(crossing_vertex(u, w, f.generator));
+      if (su >= 0 && sw < 0) exit = g.loop.back();
+      if (su < 0 && sw >= 0) entry = sw == 0 ? w : g.loop.back();
     }
+    if (!zero) cap.emplace_back(entry, exit);
     if (g.loop.size() >= 3) faces.push_back(std::move(g));
   }
 
-  // The cap: the reversed edges that no remaining face matches, chained into one loop.
-  std::vector<std::pair<int, int>> edges;
-  for (const Face& f : faces)
-    for (std::size_t k = 0; k < f.loop.size(); ++k) edges.emplace_back(f.loop[k], f.loop[(k + 1) % f.loop.size()]);
-  std::sort(edges.begin(), edges.end());
-  std::vector<std::pair<int, int>> cap;  // directed edges of the cap
-  for (const auto& [u, w] : edges)
-    if (!std::binary_search(edges.begin(), edges.end(), std::make_pair(w, u))) cap.emplace_back(w, u);
+  if (zero) {
+    // the cap: the reversed edges that no remaining face matches
+    std::vector<std::pair<int, int>> edges;
+    for (const Face& f : faces)
+      for (std::size_t k = 0; k < f.loop.size(); ++k) edges.emplace_back(f.loop[k], f.loop[(k + 1) % f.loop.size()]);
+    std::sort(edges.begin(), edges.end());
+    for (const auto& [u, w] : edges)
+      if (!std::binary_search(edges.begin(), edges.end(), std::make_pair(w, u))) cap.emplace_back(w, u);
+  }
   if (!cap.empty()) {
-    std::sort(cap.begin(), cap.end());
-    for (std::size_t k = 1; k < cap.size(); ++k)
-      if (cap[k].first == cap[k - 1].first) degenerate(a);
+    // chain the cap's edges into one loop
     Face g{e, {}};
-    int v = cap.front().first;
+    const int start = cap.front().first;
+    int v = start;
     for (std::size_t k = 0; k < cap.size(); ++k) {
       g.loop.push_back(v);
-      const auto it = std::lower_bound(cap.begin(), cap.end(), std::make_pair(v, std::numeric_limits<int>::min()));
-      if (it == cap.end() || it->first != v) degenerate(a);
-      v = it->second;
+      int next = -1;
+      for (const auto& [p, q] : cap)
+        if (p == v) {
+          if (next >= 0) degenerate(a);
+          next = q;
+        }
+      if (next < 0) degenerate(a);
+      v = next;
     }
-    if (v != cap.front().first) degenerate(a);
+    if (v != start) degenerate(a);
     if (g.loop.size() >= 3) faces.push_back(std::move(g));
   }
 
   // Keep the vertices still used, in their order.
-  std::vector<int> number(c.vertices.size(), -1);
+  std::vector<int>& number = c.number;
+  number.assign(c.vertices.size(), -1);
   for (const Face& f : faces)
     for (int v : f.loop) number[static_cast<std::size_t>(v)] = 0;
-  std::vector<Vertex> kept;
+  std::size_t kept = 0;
   for (std::size_t i = 0; i < c.vertices.size(); ++i)
     if (number[i] == 0) {
-      number[i] = static_cast<int>(kept.size());
-      kept.push_back(c.vertices[i]);
+      number[i] = static_cast<int>(kept);
+      if (kept != i) c.vertices[kept] = c.vertices[i];
+      ++kept;
     }
+  c.vertices.resize(kept);
   for (Face& f : faces)
     for (int& v : f.loop) v = number[static_cast<std::size_t>(v)];
-  c.vertices = std::move(kept);
   c.faces = std::move(faces);
 }
 
 /// The cell of seed a: the box clipped by the bisectors with its candidate neighbours
 /// (nearest first; a neighbour farther than twice the cell's radius cannot cut it).
-Cell voronoi_cell(int a, const std::vector<Vec3>& seeds, const std::vector<int>& nb, const Box& box,
-                  const VertexMaker& maker, double margin) {
-  Cell c = box_cell(a, box, maker);
+Cell voronoi_cell(int a, const std::vector<Vec3>& seeds, const std::vector<int>& nb, const VertexMaker& maker,
+                  double margin) {
+  Cell c = box_cell(a, maker);
   const Vec3& p = seeds[static_cast<std::size_t>(a)];
   double radius = 0.0;
   auto update_radius = [&] {
@@ -550,7 +584,7 @@ std::vector<Cell> voronoi_cells(const std::vector<Vec3>& seeds, const Box& box, 
   cells.reserve(seeds.size());
   for (std::size_t i = 0; i < seeds.size(); ++i) {
     const CGAL::Protect_FPU_rounding<true> upward;  // interval arithmetic
-    cells.push_back(voronoi_cell(static_cast<int>(i), seeds, nb[i], box, maker, margin));
+    cells.push_back(voronoi_cell(static_cast<int>(i), seeds, nb[i], maker, margin));
   }
   return cells;
 }
@@ -688,13 +722,13 @@ Mesh3D voronoi_mesh(const std::vector<Cell>& cells, const Box& box, double tol) 
         }
       }
       if (!same)
-        throw NumericalError("voronoi3d mesh: the cells of seeds " + std::to_string(c) + " and " + std::to_string(d) +
+        throw NumericalError("voronoi mesh: the cells of seeds " + std::to_string(c) + " and " + std::to_string(d) +
                              " disagree on their common face (a degenerate configuration of seeds)");
     }
   try {
     return Mesh3D(std::move(vertices), std::move(out));
   } catch (const MeshError& err) {
-    throw NumericalError("voronoi3d mesh: the Voronoi cells do not make a valid mesh (a degenerate configuration of "
+    throw NumericalError("voronoi mesh: the Voronoi cells do not make a valid mesh (a degenerate configuration of "
                          "seeds): " +
                          err.detail());
   }
