@@ -16,7 +16,10 @@ namespace hemivem {
 
 Eigen::VectorXd ContactBoundary::normal_displacements(const Eigen::VectorXd& u) const {
   Eigen::VectorXd a(size());
-  for (int i = 0; i < size(); ++i) a(i) = normals[static_cast<std::size_t>(i)].dot(u.segment<2>(2 * nodes[static_cast<std::size_t>(i)]));
+  for (int i = 0; i < size(); ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    a(i) = dimension == 3 ? normals3d[k].dot(u.segment<3>(3 * nodes[k])) : normals[k].dot(u.segment<2>(2 * nodes[k]));
+  }
   return a;
 }
 
@@ -153,15 +156,14 @@ double entry(const SparseMatrix& A, int i, int j) {
   return it != end && *it == i ? A.valuePtr()[it - A.innerIndexPtr()] : 0.0;
 }
 
-// Q^T A Q for Q the identity but for 2 x 2 blocks at the dof pairs (x[k], y[k]) with columns
-// (nu_k, tau_k) and, where y[k] is -1 (a node with one free component, along its normal),
-// the 1 x 1 block nu_k . e at x[k] (a sign), on A's pattern (the two dofs of a node share their pattern, as in every
-// assembled stiffness), computed from the symmetric part of A so that the result is exactly
-// symmetric: each entry of the lower triangle is computed once and mirrored. Exact zeros are
-// dropped. One sweep over A: the columns in increasing order meet the entries above the
+// Q^T A Q for Q the identity but for one block per contact node: the node's free dofs idx[0..m)
+// with the columns of C (NodeFrame), on A's pattern (the dofs of a node share their pattern, as
+// in every assembled stiffness), computed from the symmetric part of A so that the result is
+// exactly symmetric: each entry of the lower triangle is computed once and mirrored. Exact zeros
+// are dropped. One sweep over A: the columns in increasing order meet the entries above the
 // diagonal of each column in increasing order, so each mirror is found by a cursor.
-SparseMatrix rotate_symmetric(const SparseMatrix& A_in, const std::vector<int>& x, const std::vector<int>& y,
-                              const std::vector<Vec2>& normals) {
+template <class Frame>
+SparseMatrix rotate_symmetric(const SparseMatrix& A_in, const std::vector<Frame>& frames) {
   SparseMatrix compressed;
   if (!A_in.isCompressed()) {
     compressed = A_in;
@@ -169,38 +171,28 @@ SparseMatrix rotate_symmetric(const SparseMatrix& A_in, const std::vector<int>& 
   }
   const SparseMatrix& A = A_in.isCompressed() ? A_in : compressed;
   const int n = static_cast<int>(A.rows());
-  // dof -> (the pair's x dof, y dof, the column of Q: Q(x, d), Q(y, d)); pair -1 off the contact
-  std::vector<int> pair(static_cast<std::size_t>(n), -1);
-  std::vector<std::array<double, 2>> column(static_cast<std::size_t>(n));
-  for (std::size_t k = 0; k < x.size(); ++k) {
-    const Vec2 nu = normals[k], tau(-nu.y(), nu.x());
-    pair[static_cast<std::size_t>(x[k])] = static_cast<int>(k);
-    if (y[k] < 0) {
-      column[static_cast<std::size_t>(x[k])] = {nu.x() + nu.y(), 0.0};  // one of them is 0
-      continue;
+  // dof -> (its node, its slot in the node's frame); node -1 off the contact
+  std::vector<int> node(static_cast<std::size_t>(n), -1), slot(static_cast<std::size_t>(n), -1);
+  for (std::size_t k = 0; k < frames.size(); ++k)
+    for (int j = 0; j < frames[k].m; ++j) {
+      node[static_cast<std::size_t>(frames[k].idx[static_cast<std::size_t>(j)])] = static_cast<int>(k);
+      slot[static_cast<std::size_t>(frames[k].idx[static_cast<std::size_t>(j)])] = j;
     }
-    pair[static_cast<std::size_t>(y[k])] = static_cast<int>(k);
-    column[static_cast<std::size_t>(x[k])] = {nu.x(), nu.y()};
-    column[static_cast<std::size_t>(y[k])] = {tau.x(), tau.y()};
-  }
   // the symmetric part of A
   auto sym = [&](int i, int j) { return 0.5 * (entry(A, i, j) + entry(A, j, i)); };
   // the dofs and coefficients of column d of Q
   auto q_column = [&](int d, int* dofs, double* coef) {
-    const int k = pair[static_cast<std::size_t>(d)];
+    const int k = node[static_cast<std::size_t>(d)];
     if (k < 0) {
       dofs[0] = d, coef[0] = 1.0;
       return 1;
     }
-    const auto& c = column[static_cast<std::size_t>(d)];
-    if (y[static_cast<std::size_t>(k)] < 0) {
-      dofs[0] = d, coef[0] = c[0];
-      return 1;
-    }
-    dofs[0] = x[static_cast<std::size_t>(k)], coef[0] = c[0];
-    dofs[1] = y[static_cast<std::size_t>(k)], coef[1] = c[1];
-    return 2;
+    const Frame& f = frames[static_cast<std::size_t>(k)];
+    const int j = slot[static_cast<std::size_t>(d)];
+    for (int r = 0; r < f.m; ++r) dofs[r] = f.idx[static_cast<std::size_t>(r)], coef[r] = f.C(r, j);
+    return f.m;
   };
+  const auto& pair = node;
   SparseMatrix At = A;
   const int* outer = A.outerIndexPtr();
   const int* inner = A.innerIndexPtr();
@@ -219,8 +211,8 @@ SparseMatrix rotate_symmetric(const SparseMatrix& A_in, const std::vector<int>& 
       if (pair[static_cast<std::size_t>(p)] < 0 && pair[static_cast<std::size_t>(q)] < 0) {
         v = p == q ? a[k] : 0.5 * (a[k] + (mirror >= 0 ? a[mirror] : 0.0));
       } else {
-        int jq[2], ip[2];
-        double cq[2], cp[2];
+        int jq[3], ip[3];
+        double cq[3], cp[3];
         const int nq = q_column(q, jq, cq), np = q_column(p, ip, cp);
         v = 0.0;
         for (int s = 0; s < np; ++s)
@@ -262,12 +254,12 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
     : dofs_(system.dofs), factorization_(std::move(factorization)), semi_coercive_(semi_coercive) {
   if (!factorization_) throw InputError("condensation needs a factorization engine");
   if (parts.empty()) throw InputError("condensation needs the conditions of the contact parts");
-  normals_ = boundary.normals;
   nodes_ = boundary.nodes;
+  dimension_ = boundary.dimension;
   number_coordinates(boundary, parts);
   order_unknowns(system, boundary);
-  // the (x, y) -> (normal, tangential) rotation at the contact nodes: A~ = Q^T A Q, b~ = Q^T b
-  const SparseMatrix At = rotate_symmetric(system.A, contact_free_x_, contact_free_y_, normals_);
+  // the (x, y[, z]) -> (normal, tangential) rotation at the contact nodes: A~ = Q^T A Q, b~ = Q^T b
+  const SparseMatrix At = rotate_symmetric(system.A, frames_);
   const Eigen::VectorXd bt = rotate_load(system.b);
   measure_interior(At);
   pose_reduced_problem(boundary, parts);
@@ -298,8 +290,8 @@ void Condensation::set_gaps(const Eigen::VectorXd& gaps) {
   const bool any_normal =
       std::any_of(normal_coordinate_.begin(), normal_coordinate_.end(), [](int k) { return k >= 0; });
   if (!any_normal) return;
-  if (gaps.size() != static_cast<Eigen::Index>(normals_.size()))
-    throw InputError("gaps for " + std::to_string(normals_.size()) + " contact nodes needed, got " +
+  if (gaps.size() != static_cast<Eigen::Index>(nodes_.size()))
+    throw InputError("gaps for " + std::to_string(nodes_.size()) + " contact nodes needed, got " +
                      std::to_string(gaps.size()));
   for (Eigen::Index i = 0; i < gaps.size(); ++i) {
     const int k = normal_coordinate_[static_cast<std::size_t>(i)];
@@ -362,32 +354,87 @@ void Condensation::number_coordinates(const ContactBoundary& boundary, const std
   }
   for (std::size_t i = 0; i < n1; ++i) {
     const PartConditions& c = conditions(i);
+    if (boundary.dimension == 3) {
+      // the reduced problem is coordinate-wise: isotropic friction in 3D couples two tangentials
+      if (c.friction)
+        throw InputError("friction on a three-dimensional contact boundary is not supported (the contact is frictionless)");
+      continue;
+    }
     if (c.friction || c.constraint == ConstraintKind::bilateral) tangential_coordinate_[i] = next++;
   }
 }
 
+namespace {
+
+/// The frame of a contact node with outward unit normal `nu` (d components; zero on the
+/// prescribed ones) whose free components are those with free[c] >= 0: an orthonormal basis of
+/// their span, the normal first. In 2D with both components free the tangent is
+/// tau = (-nu_y, nu_x); with two free components in 3D, the normal turned by a right angle in their
+/// plane; with three, t1 = e x nu normalised for the axis e least aligned with nu, t2 = nu x t1.
+template <class Frame>
+Frame node_frame(int d, const Vec3& nu, const std::array<int, 3>& free) {
+  Frame f;
+  std::array<int, 3> comp{};
+  for (int c = 0; c < d; ++c)
+    if (free[static_cast<std::size_t>(c)] >= 0) {
+      comp[static_cast<std::size_t>(f.m)] = c;
+      f.idx[static_cast<std::size_t>(f.m++)] = free[static_cast<std::size_t>(c)];
+    }
+  Eigen::Matrix3d B = Eigen::Matrix3d::Zero();  // columns: the slots' directions in all components
+  B.col(0) = nu;
+  if (f.m == 2) {
+    const int a = comp[0], b = comp[1];
+    B(a, 1) = -nu(b);
+    B(b, 1) = nu(a);
+  } else if (f.m == 3) {
+    int e = 0;
+    for (int c = 1; c < 3; ++c)
+      if (std::abs(nu(c)) < std::abs(nu(e))) e = c;
+    const Vec3 t1 = Vec3::Unit(e).cross(nu).normalized();
+    B.col(1) = t1;
+    B.col(2) = nu.cross(t1);
+  }
+  f.full = B;
+  for (int r = 0; r < f.m; ++r)
+    for (int j = 0; j < f.m; ++j) f.C(r, j) = B(comp[static_cast<std::size_t>(r)], j);
+  return f;
+}
+
+}  // namespace
+
 void Condensation::order_unknowns(const LinearSystem& system, const ContactBoundary& boundary) {
   const int n = system.dofs.num_free();
   const int n1 = boundary.size();
+  const int d = boundary.dimension;
   for (int i = 0; i < n1; ++i) {
-    const int v = boundary.nodes[static_cast<std::size_t>(i)];
-    int fx = system.dofs.free_index[static_cast<std::size_t>(2 * v)];
-    int fy = system.dofs.free_index[static_cast<std::size_t>(2 * v + 1)];
-    const int prescribed = boundary.prescribed_component.empty() ? -1 : boundary.prescribed_component[static_cast<std::size_t>(i)];
-    if (prescribed >= 0) {
-      // one free component, along the normal: its free index stands for u_nu
+    const auto k = static_cast<std::size_t>(i);
+    const int v = boundary.nodes[k];
+    std::array<int, 3> free{-1, -1, -1};
+    for (int c = 0; c < d; ++c) free[static_cast<std::size_t>(c)] = system.dofs.free_index[static_cast<std::size_t>(d * v + c)];
+    Vec3 nu = Vec3::Zero();
+    if (d == 3) {
+      nu = boundary.normals3d[k];
+    } else {
+      nu.head<2>() = boundary.normals[k];
+    }
+    const int prescribed = d == 2 && !boundary.prescribed_component.empty() ? boundary.prescribed_component[k] : -1;
+    const int mask = d == 3 && !boundary.prescribed_mask.empty() ? boundary.prescribed_mask[k] : 0;
+    if (prescribed >= 0 || mask != 0) {
+      // free components along the normal and the tangentials not prescribed
       if (tangential_coordinate(i) >= 0)
         throw InputError("contact node " + std::to_string(v) + " has its " + (prescribed == 0 ? "x" : "y") +
                          " displacement (its tangential one) prescribed; with friction or a bilateral constraint "
                          "the tangential displacements of the contact nodes are unknowns: end the support's or the "
                          "contact's part before it");
-      fx = prescribed == 0 ? fy : fx;
-      fy = -1;
+      if (prescribed >= 0) free[static_cast<std::size_t>(prescribed)] = -1;
+      for (int c = 0; c < 3; ++c)
+        if (mask & (1 << c)) free[static_cast<std::size_t>(c)] = -1;
     }
-    if (fx < 0 || (fy < 0 && prescribed < 0)) throw InputError("contact node " + std::to_string(v) + " is not free");
-    contact_free_x_.push_back(fx);
-    contact_free_y_.push_back(fy);
-    block1_.push_back(fx);
+    NodeFrame frame = node_frame<NodeFrame>(d, nu, free);
+    const int expected = d - (prescribed >= 0 ? 1 : 0) - ((mask & 1) + (mask >> 1 & 1) + (mask >> 2 & 1));
+    if (frame.m == 0 || frame.m != expected) throw InputError("contact node " + std::to_string(v) + " is not free");
+    frames_.push_back(frame);
+    block1_.push_back(frame.idx[0]);
   }
   // the tangential displacements that are unknowns follow the normal ones; the reduced
   // coordinates are the normal ones that are unknowns, then those
@@ -400,7 +447,7 @@ void Condensation::order_unknowns(const LinearSystem& system, const ContactBound
     if (const int k = normal_coordinate(i); k >= 0) coordinate1_[static_cast<std::size_t>(k)] = i;
     if (const int k = tangential_coordinate(i); k >= 0) {
       coordinate1_[static_cast<std::size_t>(k)] = static_cast<int>(block1_.size());
-      block1_.push_back(contact_free_y_[static_cast<std::size_t>(i)]);
+      block1_.push_back(frames_[static_cast<std::size_t>(i)].idx[1]);
     }
   }
   std::vector<char> in1(static_cast<std::size_t>(n), 0);
@@ -411,16 +458,12 @@ void Condensation::order_unknowns(const LinearSystem& system, const ContactBound
 
 Eigen::VectorXd Condensation::rotate_load(const Eigen::VectorXd& b) const {
   Eigen::VectorXd bt = b;
-  for (std::size_t i = 0; i < normals_.size(); ++i) {
-    const int fx = contact_free_x_[i], fy = contact_free_y_[i];
-    const Vec2 nu = normals_[i];
-    if (fy < 0) {
-      bt(fx) = (nu.x() + nu.y()) * b(fx);
-      continue;
+  for (const NodeFrame& f : frames_)
+    for (int j = 0; j < f.m; ++j) {
+      double v = 0.0;
+      for (int r = 0; r < f.m; ++r) v += f.C(r, j) * b(f.idx[static_cast<std::size_t>(r)]);
+      bt(f.idx[static_cast<std::size_t>(j)]) = v;
     }
-    bt(fx) = nu.x() * b(fx) + nu.y() * b(fy);
-    bt(fy) = -nu.y() * b(fx) + nu.x() * b(fy);
-  }
   return bt;
 }
 
@@ -616,12 +659,13 @@ Eigen::VectorXd Condensation::reduced_point(const Eigen::VectorXd& u) const {
     throw InputError("a start needs " + std::to_string(dofs_.num_dofs()) + " nodal displacements, got " +
                      std::to_string(u.size()));
   Eigen::VectorXd a(reduced_.lo.size());
-  for (std::size_t i = 0; i < normals_.size(); ++i) {
-    const Vec2 nu = normals_[i], tau(-nu.y(), nu.x());
-    const Vec2 d = u.segment<2>(2 * nodes_[i]);
+  const int d = dimension_;
+  for (std::size_t i = 0; i < frames_.size(); ++i) {
+    const Eigen::Matrix3d& B = frames_[i].full;
+    const Eigen::VectorXd ui = u.segment(d * nodes_[i], d);
     const int node = static_cast<int>(i);
-    if (const int k = normal_coordinate(node); k >= 0) a(k) = nu.dot(d) - origin_(k);
-    if (const int k = tangential_coordinate(node); k >= 0) a(k) = tau.dot(d);
+    if (const int k = normal_coordinate(node); k >= 0) a(k) = B.col(0).head(d).dot(ui) - origin_(k);
+    if (const int k = tangential_coordinate(node); k >= 0) a(k) = B.col(1).head(d).dot(ui);
   }
   return a;
 }
@@ -644,15 +688,14 @@ Eigen::VectorXd Condensation::displacement(const Eigen::VectorXd& x1, const Eige
   for (std::size_t i = 0; i < block1_.size(); ++i) ut(block1_[i]) = x1(static_cast<Eigen::Index>(i));
   for (std::size_t i = 0; i < block2_.size(); ++i) ut(block2_[i]) = u2(static_cast<Eigen::Index>(i));
   // u = Q ut at the contact nodes
-  for (std::size_t i = 0; i < normals_.size(); ++i) {
-    const Vec2 nu = normals_[i], tau(-nu.y(), nu.x());
-    if (contact_free_y_[i] < 0) {
-      ut(contact_free_x_[i]) *= nu.x() + nu.y();
-      continue;
+  for (const NodeFrame& f : frames_) {
+    double rotated[3] = {0.0, 0.0, 0.0};
+    for (int j = 0; j < f.m; ++j) rotated[j] = ut(f.idx[static_cast<std::size_t>(j)]);
+    for (int r = 0; r < f.m; ++r) {
+      double v = 0.0;
+      for (int j = 0; j < f.m; ++j) v += f.C(r, j) * rotated[j];
+      ut(f.idx[static_cast<std::size_t>(r)]) = v;
     }
-    const double un = ut(contact_free_x_[i]), ut_ = ut(contact_free_y_[i]);
-    ut(contact_free_x_[i]) = nu.x() * un + tau.x() * ut_;
-    ut(contact_free_y_[i]) = nu.y() * un + tau.y() * ut_;
   }
   return dofs_.expand(ut);
 }

@@ -110,4 +110,65 @@ Obstacle::Shape obstacle_shape_from_string(const std::string& name) {
   throw InputError("unknown obstacle shape '" + name + "'; expected one of: plane, circle, polyline");
 }
 
+double Obstacle3D::gap(const Vec3& x, const Vec3& nu) const {
+  std::vector<Crossing> crossings;
+  // the crossings of the ray with the quadric |P (x + t nu - center)|^2 = radius^2 (P = I for a
+  // sphere, the projection across the axis for a cylinder)
+  auto quadric = [&](const Eigen::Matrix3d& P) {
+    const Vec3 d = P * (x - center), e = P * nu;
+    const double a = e.squaredNorm();
+    if (!(a > 0.0)) return;  // a ray along a cylinder's axis never crosses its side
+    const double b = e.dot(d) / a;
+    const double disc = b * b - (d.squaredNorm() - radius * radius) / a;
+    if (disc > 0.0) {
+      const double root = std::sqrt(disc);
+      crossings.push_back({-b - root, true});
+      crossings.push_back({-b + root, false});
+    }
+  };
+  switch (shape) {
+    case Shape::plane: {
+      const Vec3 n = normal.normalized();
+      const double rate = n.dot(nu);
+      if (rate != 0.0) crossings.push_back({-n.dot(x - point) / rate, rate < 0.0});
+      break;
+    }
+    case Shape::sphere:
+      quadric(Eigen::Matrix3d::Identity());
+      break;
+    case Shape::cylinder: {
+      const Vec3 a = axis.normalized();
+      quadric(Eigen::Matrix3d::Identity() - a * a.transpose());
+      break;
+    }
+  }
+  return gap_from(std::move(crossings));
+}
+
+std::string Obstacle3D::defect() const {
+  const bool finite = point.allFinite() && normal.allFinite() && center.allFinite() && axis.allFinite() &&
+                      std::isfinite(radius);
+  if (!finite) return "the obstacle's data are not finite";
+  if (shape == Shape::plane && !(normal.norm() > 0.0)) return "the plane's normal is zero";
+  if (shape == Shape::cylinder && !(axis.norm() > 0.0)) return "the cylinder's axis is zero";
+  if (shape != Shape::plane && !(radius > 0.0)) return "the radius must be positive";
+  return {};
+}
+
+std::string to_string(Obstacle3D::Shape shape) {
+  switch (shape) {
+    case Obstacle3D::Shape::plane: return "plane";
+    case Obstacle3D::Shape::sphere: return "sphere";
+    case Obstacle3D::Shape::cylinder: return "cylinder";
+  }
+  throw InternalError("an Obstacle3D::Shape out of range");
+}
+
+Obstacle3D::Shape obstacle3d_shape_from_string(const std::string& name) {
+  if (name == "plane") return Obstacle3D::Shape::plane;
+  if (name == "sphere") return Obstacle3D::Shape::sphere;
+  if (name == "cylinder") return Obstacle3D::Shape::cylinder;
+  throw InputError("unknown obstacle shape '" + name + "' for a three-dimensional body; expected plane, sphere or cylinder");
+}
+
 }  // namespace hemivem

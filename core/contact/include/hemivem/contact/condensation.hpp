@@ -4,12 +4,14 @@
 
 #include <Eigen/Core>
 
+#include <array>
 #include <functional>
 #include <memory>
 #include <vector>
 
 #include <hemivem/vem/assembly.hpp>
 #include <hemivem/mesh/mesh.hpp>
+#include <hemivem/mesh/mesh3d.hpp>
 #include <hemivem/contact/obstacle.hpp>
 #include <hemivem/contact/problem.hpp>
 #include <hemivem/reduced_problem.hpp>
@@ -32,6 +34,13 @@ struct ContactBoundary {
   /// Per node: the index of its contact part (contact_parts order); empty: every node is in
   /// part 0.
   std::vector<int> part;
+  /// 3 for a boundary of a polyhedral mesh (make_contact_boundary_3d): `faces` instead of
+  /// `edges`, the normals in `normals3d` (`normals` empty) and per node the mask of its
+  /// prescribed components (bit c for component c, all tangential) in `prescribed_mask`.
+  int dimension = 2;
+  std::vector<int> faces;
+  std::vector<Vec3> normals3d;
+  std::vector<int> prescribed_mask;
 
   int size() const noexcept { return static_cast<int>(nodes.size()); }
   /// The part of node i (0 when `part` is empty).
@@ -188,8 +197,18 @@ class Condensation {
   std::vector<int> block1_;       // rotated free index of block 1: every node's normal, then the tangentials
   std::vector<int> coordinate1_;  // the position in block 1 of each reduced coordinate
   std::vector<int> block2_;       // remaining rotated free indices, increasing
-  std::vector<int> contact_free_x_, contact_free_y_;  // free index of the x/y dof per contact node
-  std::vector<Vec2> normals_;
+  // Per contact node, the rotation of its free dofs: m free components at the free indices
+  // idx[0..m) (in component order); slot j (the normal for j = 0, then the tangentials) lives at
+  // idx[j], and the dofs are u(idx[r]) = sum_j C(r, j) u~(idx[j]); `full` holds the slots'
+  // directions in all d components (column j), for the reduced point of a displacement.
+  struct NodeFrame {
+    int m = 0;
+    std::array<int, 3> idx{-1, -1, -1};
+    Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+    Eigen::Matrix3d full = Eigen::Matrix3d::Zero();
+  };
+  int dimension_ = 2;
+  std::vector<NodeFrame> frames_;
   std::vector<int> nodes_;        // vertex of each contact node
   static int coordinate(const std::vector<int>& of, int node) noexcept {
     return node >= 0 && node < static_cast<int>(of.size()) ? of[static_cast<std::size_t>(node)] : -1;

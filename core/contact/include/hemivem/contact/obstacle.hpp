@@ -6,6 +6,7 @@
 #include <vector>
 
 #include <hemivem/mesh/mesh.hpp>
+#include <hemivem/mesh/mesh3d.hpp>
 
 namespace hemivem {
 
@@ -35,5 +36,29 @@ struct Obstacle {
 std::string to_string(Obstacle::Shape shape);
 /// The shape of a name; InputError for another name.
 Obstacle::Shape obstacle_shape_from_string(const std::string& name);
+
+/// A rigid obstacle of a three-dimensional body; gap() as Obstacle::gap, along the node's normal.
+struct Obstacle3D {
+  enum class Shape {
+    plane,     ///< the half-space behind `point` with `normal` pointing into the body
+    sphere,    ///< a rigid ball (`center`, `radius`)
+    cylinder,  ///< a rigid infinite cylinder (`center` on its axis, `axis`, `radius`)
+  };
+  Shape shape = Shape::plane;
+  Vec3 point = Vec3::Zero();
+  Vec3 normal = Vec3(0.0, 0.0, 1.0);
+  Vec3 center = Vec3::Zero();
+  Vec3 axis = Vec3(1.0, 0.0, 0.0);
+  double radius = 1.0;
+  /// The t with x + t nu on the surface where the ray enters the obstacle, the one nearest to x
+  /// (t < 0 when x starts inside); +inf when the ray never enters it.
+  double gap(const Vec3& x, const Vec3& nu) const;
+  /// Empty when well formed, else what is wrong (a zero normal or axis, a radius that is not positive).
+  std::string defect() const;
+};
+/// "plane", "sphere", "cylinder".
+std::string to_string(Obstacle3D::Shape shape);
+/// The shape of a name; InputError for another name.
+Obstacle3D::Shape obstacle3d_shape_from_string(const std::string& name);
 
 }  // namespace hemivem

@@ -54,12 +54,16 @@ struct VemElement3D {
 };
 
 /// The face-integral weights omega_i^f of a planar polygon (counter-clockwise seen from
-/// outside the cell): int_f v = sum_i omega_i v(z_i) for v in the enhanced face space.
+/// outside the cell): int_f v = sum_i omega_i v(z_i) for v in the enhanced face space. They sum
+/// to |f| and are exact for linear v. InputError for fewer than 3 vertices, MeshError for a
+/// face of zero area.
 Eigen::VectorXd face_weights(std::span<const Vec3> face);
 
 /// The element matrices of a polyhedron: `vertices` its vertices, `faces` loops of positions in
-/// `vertices`, each counter-clockwise seen from outside (Mesh3D::local_faces). MeshError for a
-/// cell of non-positive volume.
+/// `vertices`, each counter-clockwise seen from outside (Mesh3D::local_faces). InputError for
+/// fewer than 4 vertices or 4 faces, a face of fewer than 3 vertices, a position out of range
+/// or a vertex on no face; MeshError for a face of zero area or a cell of non-positive volume
+/// (faces oriented inward). The same errors for the functions below.
 VemElement3D vem_element_3d(std::span<const Vec3> vertices, const std::vector<std::vector<int>>& faces,
                             const Lame& lame, Stabilization stabilization = Stabilization::two_mu);
 
@@ -67,7 +71,7 @@ VemElement3D vem_element_3d(std::span<const Vec3> vertices, const std::vector<st
 void element_stiffness_3d(std::span<const Vec3> vertices, const std::vector<std::vector<int>>& faces,
                           const Lame& lame, Stabilization stabilization, Eigen::MatrixXd& K);
 
-/// Pi u_h on one cell from its local nodal values (size 3n).
+/// Pi u_h on one cell from its local nodal values (size 3n; InternalError otherwise).
 LinearField3 project_p1_3d(std::span<const Vec3> vertices, const std::vector<std::vector<int>>& faces,
                            const Eigen::Ref<const Eigen::VectorXd>& local_values);
 

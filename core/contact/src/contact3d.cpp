@@ -1,0 +1,377 @@
+#include <hemivem/contact/contact3d.hpp>
+#include <hemivem/certificate.hpp>
+#include <hemivem/error.hpp>
+#include <hemivem/process_group.hpp>
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+
+namespace hemivem {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+std::string point_text(const Vec3& p) {
+  return "(" + std::to_string(p.x()) + ", " + std::to_string(p.y()) + ", " + std::to_string(p.z()) + ")";
+}
+
+}  // namespace
+
+ContactBoundary make_contact_boundary_3d(const Mesh3D& mesh, const std::vector<int>& faces, const DofMap& dofs,
+                                         const std::function<double(const Vec3&)>& gap, const Obstacle3D* obstacle) {
+  if (dofs.num_dofs() != 3 * mesh.num_vertices())
+    throw InputError("a dof map of " + std::to_string(dofs.num_dofs()) + " dofs for a mesh of " +
+                     std::to_string(3 * mesh.num_vertices()));
+  ContactBoundary cb;
+  cb.dimension = 3;
+  struct Sum {
+    Vec3 normal = Vec3::Zero();
+    double weight = 0.0;
+  };
+  std::map<int, Sum> acc;
+  std::vector<Vec3> z;
+  for (int id : faces) {
+    if (id < 0 || id >= mesh.num_faces()) throw InputError("contact face id " + std::to_string(id) + " out of range");
+    if (!mesh.face(id).on_boundary()) throw InputError("contact face " + std::to_string(id) + " is not on the boundary");
+    cb.faces.push_back(id);
+    const auto& loop = mesh.face(id).vertices;
+    const Vec3 c = mesh.face_centroid(id), n = mesh.face_normal(id);
+    const std::size_t m = loop.size();
+    for (std::size_t i = 0; i < m; ++i) {
+      const int a = loop[i], b = loop[(i + 1) % m];
+      const double half = 0.25 * (mesh.vertex(a) - c).cross(mesh.vertex(b) - c).norm();
+      for (int v : {a, b}) {
+        acc[v].weight += half;
+        acc[v].normal += half * n;
+      }
+    }
+  }
+  for (const auto& [v, entry] : acc) {
+    std::array<bool, 3> fixed{};
+    int mask = 0;
+    for (int c = 0; c < 3; ++c) {
+      fixed[static_cast<std::size_t>(c)] = dofs.free_index[static_cast<std::size_t>(3 * v + c)] < 0;
+      if (fixed[static_cast<std::size_t>(c)]) mask |= 1 << c;
+    }
+    if (mask == 7) continue;  // on Gamma_1
+    if (!(entry.normal.norm() > 0.0))
+      throw InputError("contact node " + std::to_string(v) + " has no defined normal (its contact faces cancel)");
+    Vec3 normal = entry.normal.normalized();
+    if (mask != 0) {
+      // a symmetry plane or roller meeting Gamma_3: allowed where every prescribed component is tangential
+      for (int c = 0; c < 3; ++c) {
+        if (!(mask & (1 << c))) continue;
+        if (!(std::abs(normal(c)) <= tangential_tolerance))
+          throw InputError("contact node " + std::to_string(v) + " at " + point_text(mesh.vertex(v)) + " has its " +
+                           std::string(1, "xyz"[c]) + " displacement prescribed, which is not tangential to its contact normal " +
+                           point_text(normal) +
+                           ": a contact node may have prescribed components only in its tangent plane (a symmetry "
+                           "plane); end the support's or the contact's faces before it");
+        normal(c) = 0.0;
+      }
+      normal.normalize();
+    }
+    double g = 0.0;
+    if (obstacle != nullptr) {
+      g = obstacle->gap(mesh.vertex(v), normal);
+      if (std::isnan(g)) throw InputError("the obstacle gives no gap at contact node " + std::to_string(v));
+    } else {
+      g = gap ? gap(mesh.vertex(v)) : 0.0;
+      if (!std::isfinite(g) || g < 0.0)
+        throw InputError("gap " + std::to_string(g) + " at contact node " + std::to_string(v) + " must be finite and >= 0");
+    }
+    cb.nodes.push_back(v);
+    cb.normals3d.push_back(normal);
+    cb.prescribed_mask.push_back(mask);
+    cb.weights.conservativeResize(cb.size());
+    cb.weights(cb.size() - 1) = entry.weight;
+    cb.gaps.conservativeResize(cb.size());
+    cb.gaps(cb.size() - 1) = g;
+  }
+  return cb;
+}
+
+std::vector<std::string> free_rigid_motions_3d(const Mesh3D& mesh, const DofMap& dofs) {
+  // the rigid motions r(x) = t + w x (x - centre) restricted to the prescribed dofs: the motions
+  // in the kernel of that map are free
+  const Box box = mesh.bounding_box();
+  const Vec3 centre(0.5 * (box.x0 + box.x1), 0.5 * (box.y0 + box.y1), 0.5 * (box.z0 + box.z1));
+  const double scale = std::max({box.size(0), box.size(1), box.size(2)});
+  Eigen::Matrix<double, 6, 6> G = Eigen::Matrix<double, 6, 6>::Zero();
+  for (int d = 0; d < dofs.num_dofs(); ++d) {
+    if (dofs.free_index[static_cast<std::size_t>(d)] >= 0) continue;
+    const int v = d / 3, c = d % 3;
+    const Vec3 x = (mesh.vertex(v) - centre) / scale;
+    Eigen::Matrix<double, 6, 1> row = Eigen::Matrix<double, 6, 1>::Zero();
+    row(c) = 1.0;
+    // rotation about axis a: (e_a x x)_c
+    for (int a = 0; a < 3; ++a) row(3 + a) = Vec3::Unit(a).cross(x)(c);
+    G += row * row.transpose();
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(G);
+  const double top = std::max(eig.eigenvalues().maxCoeff(), 1.0);
+  std::vector<std::string> out;
+  static const char* names[6] = {"translation along x", "translation along y", "translation along z",
+                                 "rotation about x", "rotation about y", "rotation about z"};
+  for (int k = 0; k < 6; ++k) {
+    if (eig.eigenvalues()(k) > 1e-10 * top) continue;
+    const Eigen::Matrix<double, 6, 1> m = eig.eigenvectors().col(k);
+    Eigen::Index at = 0;
+    m.cwiseAbs().maxCoeff(&at);
+    std::string words = names[at];
+    if (m.cwiseAbs().maxCoeff() < 0.99) words += " (combined with others)";
+    out.push_back(words);
+  }
+  return out;
+}
+
+Vec3 ForceBalance3D::sum() const {
+  Vec3 total = applied + contact;
+  for (const auto& r : reactions) total += r.force;
+  return total;
+}
+
+double ForceBalance3D::residual() const {
+  double scale = applied.norm();
+  if (scale == 0.0) {
+    scale = contact.norm();
+    for (const auto& r : reactions) scale = std::max(scale, r.force.norm());
+  }
+  const double imbalance = sum().norm();
+  if (scale == 0.0 && imbalance == 0.0) return 0.0;
+  return imbalance / scale;
+}
+
+ForceBalance3D force_balance_3d(const ElasticityProblem3D& problem, const Eigen::VectorXd& u, const Vec3& contact) {
+  if (!problem.mesh) throw InputError("the elasticity problem has no mesh");
+  const Mesh3D& mesh = *problem.mesh;
+  const Eigen::VectorXd f = assemble_load_3d(mesh, problem.body_force, problem.tractions);
+  std::vector<int> owner(static_cast<std::size_t>(f.size()), -1);
+  for (std::size_t k = 0; k < problem.dirichlet.size(); ++k) {
+    const auto& bc = problem.dirichlet[k];
+    for (int id : bc.faces)
+      for (int v : mesh.face(id).vertices)
+        for (int c = 0; c < 3; ++c)
+          if (bc.fix[static_cast<std::size_t>(c)]) owner[static_cast<std::size_t>(3 * v + c)] = static_cast<int>(k);
+  }
+  // r = K u - f at the prescribed dofs, from the cells that hold one
+  Eigen::VectorXd r = -f;
+  std::vector<Vec3> z;
+  Eigen::MatrixXd K;
+  Eigen::VectorXd local;
+  for (int c = 0; c < mesh.num_cells(); ++c) {
+    const auto& verts = mesh.cell_vertices(c);
+    if (std::none_of(verts.begin(), verts.end(), [&](int v) {
+          return owner[static_cast<std::size_t>(3 * v)] >= 0 || owner[static_cast<std::size_t>(3 * v + 1)] >= 0 ||
+                 owner[static_cast<std::size_t>(3 * v + 2)] >= 0;
+        }))
+      continue;
+    z.clear();
+    for (int v : verts) z.push_back(mesh.vertex(v));
+    element_stiffness_3d(z, mesh.local_faces(c), problem.materials.lame(mesh.region(c)), problem.stabilization, K);
+    local.resize(3 * static_cast<Eigen::Index>(verts.size()));
+    for (std::size_t i = 0; i < verts.size(); ++i) local.segment<3>(3 * static_cast<Eigen::Index>(i)) = u.segment<3>(3 * verts[i]);
+    const Eigen::VectorXd Kl = K * local;
+    for (std::size_t i = 0; i < verts.size(); ++i) r.segment<3>(3 * verts[i]) += Kl.segment<3>(3 * static_cast<Eigen::Index>(i));
+  }
+  ForceBalance3D balance;
+  balance.contact = contact;
+  for (std::size_t k = 0; k < problem.dirichlet.size(); ++k)
+    balance.reactions.push_back(
+        {problem.dirichlet[k].name.empty() ? "dirichlet part " + std::to_string(k) : problem.dirichlet[k].name, Vec3::Zero()});
+  for (Eigen::Index d = 0; d < f.size(); ++d) {
+    balance.applied(d % 3) += f(d);
+    if (const int k = owner[static_cast<std::size_t>(d)]; k >= 0) balance.reactions[static_cast<std::size_t>(k)].force(d % 3) -= r(d);
+  }
+  return balance;
+}
+
+Vec3 ContactSolution3D::contact_force() const {
+  Vec3 total = Vec3::Zero();
+  for (const auto& n : contact) total -= n.force() * n.normal;
+  return total;
+}
+
+namespace {
+
+void require_ok(const FactorizationResult& r, const SparseFactorization& f, const std::string& what) {
+  if (!r.ok())
+    throw NumericalError(what + " with " + f.name() + " failed (" + to_string(r.status) + "): " + r.message);
+}
+
+void require_finite(ContactSolution3D& sol) {
+  if (sol.converged() && !sol.u.allFinite()) {
+    sol.status = MinimizerStatus::failed;
+    sol.message = "the displacement is not finite (NaN or Inf after back-substitution)";
+  }
+  if (sol.converged() && !std::isfinite(sol.energy)) {
+    sol.status = MinimizerStatus::failed;
+    sol.message = "the energy of the solution is not finite";
+  }
+}
+
+ContactNode3D node_of(const Mesh3D& mesh, const ContactBoundary& boundary, const Condensation& cond, int i,
+                      const MinimizerResult& m, const DofMap& dofs, const Eigen::VectorXd& residual) {
+  const ReducedProblem& rp = cond.reduced();
+  const bool forces = m.law_force.size() == m.a.size() && m.reaction.size() == m.a.size();
+  ContactNode3D node;
+  const auto k0 = static_cast<std::size_t>(i);
+  node.vertex = boundary.nodes[k0];
+  node.x = mesh.vertex(node.vertex);
+  node.weight = boundary.weights(i);
+  node.normal = boundary.normals3d[k0];
+  node.gap = cond.normal_coordinate(i) >= 0 ? boundary.gaps(i) : std::numeric_limits<double>::quiet_NaN();
+  if (const int k = cond.normal_coordinate(i); k >= 0) {
+    node.u_nu = m.a(k) + cond.origin()(k);
+    node.law_force = forces ? m.law_force(k) : 0.0;
+    node.reaction = forces ? m.reaction(k) : 0.0;
+    node.state = m.a(k) == rp.upper(k) ? "upper" : (m.a(k) == rp.lower(k) ? "lower" : "free");
+  } else {
+    node.state = "bilateral";
+    double f = 0.0;
+    bool known = true;
+    for (int c = 0; c < 3; ++c) {
+      const int d = dofs.free_index[static_cast<std::size_t>(3 * node.vertex + c)];
+      if (d < 0) {
+        if (node.normal(c) != 0.0) known = false;
+        continue;
+      }
+      f -= residual(d) * node.normal(c);
+    }
+    node.reaction = known ? f : std::numeric_limits<double>::quiet_NaN();
+  }
+  return node;
+}
+
+}  // namespace
+
+std::vector<ContactSolution3D> solve_contact_3d(const ContactProblem3D& problem,
+                                                std::unique_ptr<SparseFactorization> factorization,
+                                                std::span<const NonsmoothMinimizer* const> minimizers,
+                                                const MinimizerOptions& options, ReducedProblem* reduced) {
+  if (!factorization) throw InputError("a 3D solve needs a factorization engine");
+  if (!problem.elasticity.mesh) throw InputError("the elasticity problem has no mesh");
+  for (const auto* m : minimizers)
+    if (m == nullptr) throw InputError("a 3D solve was given a null minimizer");
+  const Mesh3D& mesh = *problem.elasticity.mesh;
+  const ProcessGroup& processes = processes_of(*factorization);
+  const auto start = Clock::now();
+  ContactSolution3D common;
+  auto t = Clock::now();
+  const LinearSystem sys = assemble_3d(problem.elasticity);
+  common.timings["assembly"] = since(t);
+  common.stages.push_back("assembly");
+  common.unknowns = sys.dofs.num_free();
+  if (common.unknowns == 0)
+    throw InputError("the Dirichlet conditions prescribe every displacement of the mesh: there is nothing to solve");
+  if (const auto free = free_rigid_motions_3d(mesh, sys.dofs); !free.empty()) {
+    std::string words;
+    for (const auto& w : free) words += (words.empty() ? "" : ", ") + w;
+    throw InputError("the supports leave rigid motions of the body free (" + words +
+                     "); a three-dimensional body must be held by its supports (symmetry planes count), not by its "
+                     "contact alone");
+  }
+  if (problem.obstacle) {
+    if (const std::string d = problem.obstacle->defect(); !d.empty()) throw InputError("the obstacle: " + d);
+  }
+  const ContactBoundary boundary = make_contact_boundary_3d(mesh, problem.contact_faces, sys.dofs, problem.gap,
+                                                            problem.obstacle ? &*problem.obstacle : nullptr);
+  const bool has_gaps = problem.gap || problem.obstacle;
+  const ConstraintKind constraint =
+      problem.constraint == ConstraintKind::bilateral || has_gaps ? problem.constraint : ConstraintKind::none;
+  if (boundary.size() == 0) {
+    // one linear solve
+    t = Clock::now();
+    require_ok(factorization->factorize(sys.A), *factorization, "factorization");
+    Eigen::MatrixXd X;
+    require_ok(factorization->solve(sys.b, &X), *factorization, "solve");
+    common.timings["linear_solve"] = since(t);
+    common.stages.push_back("linear_solve");
+    processes.run_where_results_are([&] {
+      const Eigen::VectorXd uf = X.col(0);
+      common.u = sys.dofs.expand(uf);
+      const Eigen::VectorXd Au = sys.A * uf;
+      common.energy = 0.5 * uf.dot(Au) - uf.dot(sys.b);
+      const double scale = std::max({sys.b.cwiseAbs().maxCoeff(), Au.cwiseAbs().maxCoeff(), force_floor});
+      const double residual = (Au - sys.b).cwiseAbs().maxCoeff();
+      Certificate& c = common.certificate;
+      c.tolerance = options.tolerance;
+      c.primal = 0.0;
+      c.dual = residual == 0.0 ? 0.0 : (std::isfinite(residual) ? residual / scale : std::numeric_limits<double>::infinity());
+      c.length_scale = uf.cwiseAbs().maxCoeff();
+      c.force_scale = scale;
+      common.status = uf.allFinite() && c.converged() ? MinimizerStatus::converged : MinimizerStatus::failed;
+      if (!common.converged()) common.message = "the linear solve's relative residual is above the tolerance";
+      common.forces = force_balance_3d(problem.elasticity, common.u, Vec3::Zero());
+      require_finite(common);
+    });
+    common.status = static_cast<MinimizerStatus>(processes.share(static_cast<int>(common.status)));
+    common.timings["total"] = since(start);
+    return std::vector<ContactSolution3D>(minimizers.size(), common);
+  }
+  if (!problem.law) throw InputError("the contact boundary has no contact law");
+  t = Clock::now();
+  Condensation cond(sys, boundary, std::move(factorization), problem.law, constraint, nullptr, false,
+                    problem.law_from_surface);
+  common.timings["condensation"] = since(t);
+  common.stages.push_back("condensation");
+  common.uniqueness_margin = cond.uniqueness_margin();
+  common.uniqueness_roundoff = cond.reduced().uniqueness_roundoff;
+  processes.run_where_results_are([&] {
+    if (reduced) *reduced = cond.reduced();
+  });
+  const double before = since(start);
+  std::vector<ContactSolution3D> out;
+  for (const NonsmoothMinimizer* minimizer : minimizers) {
+    ContactSolution3D s = common;
+    const auto t0 = Clock::now();
+    t = Clock::now();
+    processes.run_where_results_are([&] {
+      MinimizerResult m = minimizer->minimize(cond.reduced(), Eigen::VectorXd(), options);
+      s.status = m.status;
+      s.message = m.message;
+      s.certificate = m.certificate;
+      s.may_be_nonunique = m.may_be_nonunique;
+      s.minimizer = std::move(m);
+    });
+    s.timings["minimize"] = since(t);
+    s.stages.push_back("minimize");
+    t = Clock::now();
+    s.u = cond.back_substitute(s.minimizer ? s.minimizer->a : Eigen::VectorXd());
+    s.timings["back_substitution"] = since(t);
+    s.stages.push_back("back_substitution");
+    processes.run_where_results_are([&] {
+      const MinimizerResult& m = *s.minimizer;
+      Eigen::VectorXd uf(sys.dofs.num_free());
+      for (int k = 0; k < sys.dofs.num_free(); ++k) uf(k) = s.u(sys.dofs.free_dofs[static_cast<std::size_t>(k)]);
+      const Eigen::VectorXd Au = sys.A * uf;
+      const Eigen::VectorXd residual = Au - sys.b;
+      for (int i = 0; i < boundary.size(); ++i) s.contact.push_back(node_of(mesh, boundary, cond, i, m, sys.dofs, residual));
+      const ReducedProblem& rp = cond.reduced();
+      s.energy = 0.5 * uf.dot(Au) - uf.dot(sys.b);
+      for (Eigen::Index i = 0; i < m.a.size(); ++i) s.energy += rp.w(i) * rp.law_of(i).value(m.a(i));
+      s.forces = force_balance_3d(problem.elasticity, s.u, s.contact_force());
+      require_finite(s);
+    });
+    s.status = static_cast<MinimizerStatus>(processes.share(static_cast<int>(s.status)));
+    s.timings["total"] = before + since(t0);
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
+ContactSolution3D solve_contact_3d(const ContactProblem3D& problem, std::unique_ptr<SparseFactorization> factorization,
+                                   const NonsmoothMinimizer& minimizer, const MinimizerOptions& options,
+                                   ReducedProblem* reduced) {
+  const NonsmoothMinimizer* one[] = {&minimizer};
+  return solve_contact_3d(problem, std::move(factorization), one, options, reduced).front();
+}
+
+}  // namespace hemivem
