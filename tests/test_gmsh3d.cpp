@@ -127,6 +127,67 @@ TEST(Gmsh3D, ReadsMixedElements) {
   EXPECT_DOUBLE_EQ(m.face_area(m.face_group("12")[0]), 1.0);
 }
 
+/// The total area of a face group.
+double group_area(const Mesh3D& m, const std::string& name) {
+  double a = 0.0;
+  for (int f : m.face_group(name)) a += m.face_area(f);
+  return a;
+}
+
+/// Cells per number of faces.
+std::map<std::size_t, int> cell_kinds(const Mesh3D& m) {
+  std::map<std::size_t, int> kinds;
+  for (int c = 0; c < m.num_cells(); ++c) ++kinds[m.cell_faces(c).size()];
+  return kinds;
+}
+
+TEST(Gmsh3D, ReadsFilesMadeByGmsh) {
+  // tests/data/gmsh3d/*.geo made each .msh
+  const auto dir = hemivem::test::data_dir() / "gmsh3d";
+  {
+    // two boxes side by side, their interface in the physical surface with all their surfaces
+    const Mesh3D m = hemivem::read_gmsh3d(dir / "two_boxes_tetrahedra.msh");
+    EXPECT_NEAR(m.total_volume(), 2.0, 1e-14);
+    EXPECT_EQ(cell_kinds(m), (std::map<std::size_t, int>{{4, m.num_cells()}}));
+    for (int c = 0; c < m.num_cells(); ++c)
+      EXPECT_EQ(m.region(c), m.centroid(c).x() < 1.0 ? 5 : 7);
+    EXPECT_NEAR(group_area(m, "bottom"), 2.0 * (2.0 * 2.0 + 2.0 * 0.5 + 2.0 * 0.5) + 2.0 * 0.5, 1e-13);
+    std::size_t inner = 0;
+    for (int f : m.face_group("bottom")) inner += m.face(f).on_boundary() ? 0 : 1;
+    EXPECT_GT(inner, 0u);
+    expect_same_mesh(round_trip(m), m);
+  }
+  {
+    const Mesh3D m = hemivem::read_gmsh3d(dir / "cube_hexahedra.msh");
+    EXPECT_EQ(cell_kinds(m), (std::map<std::size_t, int>{{6, 27}}));
+    EXPECT_NEAR(m.total_volume(), 1.0, 1e-14);
+    EXPECT_EQ(m.regions(), std::vector<int>(27, 2));
+    EXPECT_EQ(m.face_group("base").size(), 9u);
+    EXPECT_NEAR(group_area(m, "top"), 1.0, 1e-14);
+    expect_same_mesh(round_trip(m), m);
+  }
+  {
+    const Mesh3D m = hemivem::read_gmsh3d(dir / "cube_prisms.msh");
+    EXPECT_EQ(cell_kinds(m), (std::map<std::size_t, int>{{5, m.num_cells()}}));
+    EXPECT_NEAR(m.total_volume(), 1.0, 1e-14);
+    EXPECT_NEAR(group_area(m, "top"), 1.0, 1e-14);
+    expect_same_mesh(round_trip(m), m);
+  }
+  {
+    // hexahedra below, tetrahedra above, pyramids between
+    const Mesh3D m = hemivem::read_gmsh3d(dir / "hexahedra_pyramids_tetrahedra.msh");
+    const auto kinds = cell_kinds(m);
+    EXPECT_EQ(kinds.at(6), 8);
+    EXPECT_EQ(kinds.at(5), 4);
+    EXPECT_GT(kinds.at(4), 0);
+    EXPECT_NEAR(m.total_volume(), 2.0, 1e-14);
+    for (int c = 0; c < m.num_cells(); ++c) EXPECT_EQ(m.region(c), m.cell_faces(c).size() == 6 ? 1 : 2);
+    EXPECT_NEAR(group_area(m, "bottom"), 1.0, 1e-14);
+    EXPECT_NEAR(group_area(m, "top"), 1.0, 1e-14);
+    expect_same_mesh(round_trip(m), m);
+  }
+}
+
 TEST(Gmsh3D, ElementsOfNegativeOrientationAreTurnedOutward) {
   // the hexahedron with its bottom and top squares clockwise, the tetrahedron with two nodes swapped
   std::string text = with_line(mixed_text(), 71, "8 1 4 3 2 5 8 7 6");
