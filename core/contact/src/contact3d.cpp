@@ -188,7 +188,7 @@ ForceBalance3D force_balance_3d(const ElasticityProblem3D& problem, const Eigen:
         {problem.dirichlet[k].name.empty() ? "dirichlet part " + std::to_string(k) : problem.dirichlet[k].name, Vec3::Zero()});
   for (Eigen::Index d = 0; d < f.size(); ++d) {
     balance.applied(d % 3) += f(d);
-    if (const int k = owner[static_cast<std::size_t>(d)]; k >= 0) balance.reactions[static_cast<std::size_t>(k)].force(d % 3) -= r(d);
+    if (const int k = owner[static_cast<std::size_t>(d)]; k >= 0) balance.reactions[static_cast<std::size_t>(k)].force(d % 3) += r(d);
   }
   return balance;
 }
