@@ -38,7 +38,7 @@ ContactProblem3D pressed_block(const Mesh3D& mesh, const Box& box) {
   plane.normal = Vec3(0, 0, 1);
   p.obstacle = plane;
   p.law = zero_law();
-  p.constraint = ConstraintKind::box;
+  p.constraint = ConstraintKind::one_sided;
   return p;
 }
 

@@ -120,7 +120,7 @@ TEST(Vem3DAssembly, PatchTestOnEveryMesh) {
   G << 0.01, 0.02, -0.03, 0.015, -0.01, 0.005, 0.02, 0.01, 0.012;
   const VectorField3 exact = [&](const Vec3& x) -> Vec3 { return a + G * x; };
   const Box box{-1.0, 1.0, 0.0, 1.0, 0.0, 0.5};
-  for (const auto& kind : {"cubes", "tetrahedra"}) {
+  for (const auto& kind : {"cubes", "tetrahedra", "voronoi"}) {
     const Mesh3D mesh = make_mesh3d(kind, {4, 3, 3}, box);
     ElasticityProblem3D p;
     p.mesh = &mesh;
@@ -141,7 +141,7 @@ TEST(Vem3DAssembly, UniformPressureGivesUniformStress) {
   const double p0 = 2.5;
   const Box box{0.0, 1.0, 0.0, 2.0, 0.0, 1.5};
   const Material m{100.0, 0.25};
-  for (const auto& kind : {"cubes", "tetrahedra"}) {
+  for (const auto& kind : {"cubes", "tetrahedra", "voronoi"}) {
     const Mesh3D mesh = make_mesh3d(kind, {2, 3, 2}, box);
     ElasticityProblem3D p;
     p.mesh = &mesh;
