@@ -1,6 +1,7 @@
 // The three-dimensional Hertz problem on graded meshes (docs/three-dimensions.md): a plain
 // program printing a Markdown table of the contact radius, the peak pressure and the force
-// against Hertz's formulas as the mesh near the contact is refined. Usage: hertz3d [levels]
+// against Hertz's formulas as the mesh near the contact is refined. Usage: hertz3d [levels [L]]
+// (L: the block's size, 1 by default: 20 contact radii).
 #include "hertz3d.hpp"
 
 #include <hemivem/linear_backends.hpp>
@@ -15,6 +16,7 @@ using namespace hemivem;
 int main(int argc, char** argv) {
   const int levels = argc > 1 ? std::atoi(argv[1]) : 4;
   hertz3d::Setup s;
+  if (argc > 2) s.size = std::atof(argv[2]);
   std::printf("Hertz: a = %.5g, p0 = %.5g, P = %.5g (E = %g, nu = %g, R = %g, d = %g, block %g)\n\n", s.a(), s.p0(),
               s.force(), s.young, s.poisson, s.radius, s.indentation, s.size);
   std::printf("| h/a | cells | dofs | nodes in the disk (whole disk) | a_h/a - 1 | p0_h/p0 - 1 | P_h/P - 1 | certificate | seconds (assembly, condensation, minimize) |\n");
