@@ -194,6 +194,21 @@ TEST_F(MemoryLimit, EstimatesFollowTheMeasuredPeaks) {
   EXPECT_GT(estimate_memory("squares", 1000000).solve_bytes, 1e15);
 }
 
+TEST_F(MemoryLimit, ThreeDimensionalEstimatesFollowTheMeasuredPeaks) {
+  // measured peaks of 3D solves on cubes (cholmod, contact on one side): n = 16: 104 MB,
+  // n = 24: 454 MB, n = 32: 1.36 GB
+  const std::pair<int, double> measured[] = {{16, 104e6}, {24, 454e6}, {32, 1.36e9}};
+  for (const auto& [n, peak] : measured) {
+    const double e = estimate_memory_3d("cubes", n, n, n).solve_bytes;
+    EXPECT_GT(e, peak) << n;
+    EXPECT_LT(e, 1.3 * peak) << n;
+  }
+  // the factor grows like V^(4/3): 64^3 cubes need more than 8 times 32^3
+  EXPECT_GT(estimate_memory_3d("cubes", 64, 64, 64).solve_bytes, 8.0 * estimate_memory_3d("cubes", 32, 32, 32).solve_bytes);
+  EXPECT_THROW(estimate_memory_3d("squares", 4, 4, 4), InputError);
+  EXPECT_THROW(estimate_memory_3d("cubes", 4, 0, 4), InputError);
+}
+
 TEST_F(MemoryLimit, RefusesBeforeBuildingAndNamesTheLimit) {
   setenv("HEMIVEM_MEMORY_LIMIT", "64M", 1);
   EXPECT_DOUBLE_EQ(available_memory(), 64.0 * 1024 * 1024);

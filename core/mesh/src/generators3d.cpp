@@ -73,6 +73,20 @@ std::array<int, 8> box_corners(GridSize3 n, int i, int j, int k) {
   return c;
 }
 
+// the boxes of the grid, each with its faces outward: x0, x1, y0, y1, z0, z1
+std::vector<CellFaces> cube_cells(GridSize3 n) {
+  std::vector<CellFaces> cells;
+  cells.reserve(static_cast<std::size_t>(n.nx) * n.ny * n.nz);
+  for (int k = 0; k < n.nz; ++k)
+    for (int j = 0; j < n.ny; ++j)
+      for (int i = 0; i < n.nx; ++i) {
+        const auto c = box_corners(n, i, j, k);
+        cells.push_back({{c[0], c[4], c[6], c[2]}, {c[1], c[3], c[7], c[5]}, {c[0], c[1], c[5], c[4]},
+                         {c[2], c[6], c[7], c[3]}, {c[0], c[2], c[3], c[1]}, {c[4], c[5], c[7], c[6]}});
+      }
+  return cells;
+}
+
 }  // namespace
 
 std::string GridSize3::text() const {
@@ -82,17 +96,28 @@ std::string GridSize3::text() const {
 
 Mesh3D make_cubes(GridSize3 n, const Box& domain) {
   detail::check_box_grid("cubes mesh", n, domain);
-  std::vector<CellFaces> cells;
-  cells.reserve(static_cast<std::size_t>(n.nx) * n.ny * n.nz);
-  for (int k = 0; k < n.nz; ++k)
-    for (int j = 0; j < n.ny; ++j)
-      for (int i = 0; i < n.nx; ++i) {
-        const auto c = box_corners(n, i, j, k);
-        // outward: x0, x1, y0, y1, z0, z1
-        cells.push_back({{c[0], c[4], c[6], c[2]}, {c[1], c[3], c[7], c[5]}, {c[0], c[1], c[5], c[4]},
-                         {c[2], c[6], c[7], c[3]}, {c[0], c[2], c[3], c[1]}, {c[4], c[5], c[7], c[6]}});
-      }
-  return Mesh3D(grid_vertices(n, domain), std::move(cells));
+  return Mesh3D(grid_vertices(n, domain), cube_cells(n));
+}
+
+Mesh3D make_cubes(const std::vector<double>& x, const std::vector<double>& y, const std::vector<double>& z) {
+  const std::vector<double>* axes[3] = {&x, &y, &z};
+  for (int a = 0; a < 3; ++a) {
+    const auto& c = *axes[a];
+    const std::string which = std::string("cubes mesh: the ") + "xyz"[a] + " coordinates";
+    if (c.size() < 2) throw InputError(which + " need at least two values");
+    for (std::size_t i = 0; i < c.size(); ++i) {
+      if (!std::isfinite(c[i])) throw InputError(which + " must be finite");
+      if (i > 0 && !(c[i] > c[i - 1])) throw InputError(which + " must increase strictly (value " + std::to_string(i) + ")");
+    }
+  }
+  const GridSize3 n(static_cast<int>(x.size()) - 1, static_cast<int>(y.size()) - 1, static_cast<int>(z.size()) - 1);
+  detail::check_box_grid("cubes mesh", n, Box{x.front(), x.back(), y.front(), y.back(), z.front(), z.back()});
+  std::vector<Vec3> vertices;
+  for (int k = 0; k <= n.nz; ++k)
+    for (int j = 0; j <= n.ny; ++j)
+      for (int i = 0; i <= n.nx; ++i)
+        vertices.emplace_back(x[static_cast<std::size_t>(i)], y[static_cast<std::size_t>(j)], z[static_cast<std::size_t>(k)]);
+  return Mesh3D(std::move(vertices), cube_cells(n));
 }
 
 Mesh3D make_tetrahedra(GridSize3 n, const Box& domain) {
@@ -118,14 +143,18 @@ Mesh3D make_tetrahedra(GridSize3 n, const Box& domain) {
 }
 
 const std::vector<std::string>& mesh3d_generator_names() {
-  static const std::vector<std::string> names = {"cubes", "tetrahedra"};
+  static const std::vector<std::string> names = {"cubes", "tetrahedra", "voronoi"};
   return names;
 }
 
 Mesh3D make_mesh3d(std::string_view generator, GridSize3 n, const Box& domain, std::uint64_t seed) {
   if (generator == "cubes") return make_cubes(n, domain);
   if (generator == "tetrahedra") return make_tetrahedra(n, domain);
-  (void)seed;
+  if (generator == "voronoi") {
+    VoronoiOptions options;
+    options.seed = seed;
+    return make_voronoi3d(n, domain, options);
+  }
   std::string names;
   for (const auto& name : mesh3d_generator_names()) names += (names.empty() ? "" : ", ") + name;
   throw InputError("unknown 3D mesh generator '" + std::string(generator) + "'; expected one of " + names);

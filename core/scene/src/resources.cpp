@@ -112,6 +112,27 @@ MemoryEstimate estimate_memory(std::string_view generator, std::int64_t nx, std:
   throw InputError("unknown mesh generator '" + std::string(generator) + "' (expected one of: " + names + ")");
 }
 
+MemoryEstimate estimate_memory_3d(double vertices, double contact_nodes) {
+  MemoryEstimate e;
+  e.vertices = std::max(vertices, 1.0);
+  e.solve_bytes = kBaseBytes + 1200.0 * std::pow(e.vertices, 4.0 / 3.0) + 48.0 * contact_nodes * contact_nodes;
+  e.mesh_bytes = kBaseBytes + 1500.0 * e.vertices;
+  return e;
+}
+
+MemoryEstimate estimate_memory_3d(std::string_view generator, std::int64_t nx, std::int64_t ny, std::int64_t nz) {
+  if (nx < 1 || ny < 1 || nz < 1)
+    throw InputError("the number of cells along each axis must be >= 1, got [" + std::to_string(nx) + ", " +
+                     std::to_string(ny) + ", " + std::to_string(nz) + "]");
+  const std::string g = to_lower(generator);
+  const double x = static_cast<double>(nx), y = static_cast<double>(ny), z = static_cast<double>(nz);
+  const double side = std::max({(x + 1) * (y + 1), (y + 1) * (z + 1), (x + 1) * (z + 1)});
+  if (g == "cubes" || g == "tetrahedra") return estimate_memory_3d((x + 1) * (y + 1) * (z + 1), side);
+  // a 3D Voronoi tessellation has about 6.8 vertices per cell
+  if (g == "voronoi") return estimate_memory_3d(6.8 * x * y * z + 8.0, side);
+  throw InputError("unknown 3D mesh generator '" + std::string(generator) + "' (expected one of: cubes, tetrahedra, voronoi)");
+}
+
 double available_memory() { return memory_limit().bytes; }
 
 void require_memory(double bytes, const std::string& what, const std::string& where) {

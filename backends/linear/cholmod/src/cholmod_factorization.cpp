@@ -114,8 +114,8 @@ class CholmodKernel final : public CholeskyKernel {
   }
   double rcond() const override { return rcond_; }
 
-  /// AMD alone (cholmod_amd: no symbolic factorization of A22; AMD's order is a postorder of
-  /// its assembly tree), its workspace freed at once so that the factorization's peak does not
+  /// AMD (cholmod_amd: no symbolic factorization of A22; AMD's order is a postorder of its
+  /// assembly tree), or METIS where AMD's fill is that of a three-dimensional body, its workspace freed at once so that the factorization's peak does not
   /// carry it. CHOLMOD's default strategy would also try METIS when AMD's fill looks high (from
   /// about 2 million unknowns on squares): there METIS took 23 s against 2 s for AMD and saved
   /// less in the factorization (docs/performance.md).
@@ -125,6 +125,15 @@ class CholmodKernel final : public CholeskyKernel {
     const int ok = cholmod_amd(&Av, nullptr, 0, perm->data(), &c_);
     cholmod_free_work(&c_);
     if (!ok) return failure(c_, "cholmod_amd (A22)");
+    // AMD's factor of a three-dimensional stiffness holds many times the matrix and costs many
+    // flops per entry; there METIS's nested dissection is several times faster
+    // (docs/three-dimensions.md). No plane mesh up to millions of unknowns comes near these
+    // bounds (AMD fills squares of 2 million unknowns 12-fold at 850 flops per entry).
+    if (c_.lnz >= 20.0 * static_cast<double>(lower.nonZeros()) && c_.fl >= 1000.0 * c_.lnz) {
+      const int metis = cholmod_metis(&Av, nullptr, 0, 1, perm->data(), &c_);
+      cholmod_free_work(&c_);
+      if (!metis) return failure(c_, "cholmod_metis (A22)");
+    }
     return FactorizationResult::good();
   }
   /// Supernodal analysis in P's own order (no fill-reducing ordering, no postordering, which

@@ -30,6 +30,12 @@ struct GridSize3 {
 /// (i, j, k) has index (k ny + j) nx + i.
 Mesh3D make_cubes(GridSize3 n, const Box& domain = {});
 
+/// Boxes on the rectilinear grid of the given coordinates (each list strictly increasing, at
+/// least two values): a graded mesh, e.g. fine near a contact and coarse far from it. Numbering
+/// as make_cubes with nx = x.size() - 1 etc.; the domain is [x.front(), x.back()] x ... .
+/// InputError for a list that is too short, not increasing or not finite.
+Mesh3D make_cubes(const std::vector<double>& x, const std::vector<double>& y, const std::vector<double>& z);
+
 /// Each box of make_cubes split into six tetrahedra around its diagonal from corner (0,0,0) to
 /// (1,1,1) (Kuhn's subdivision: conforming across boxes); vertices as make_cubes, box b gives
 /// cells 6b ... 6b+5.

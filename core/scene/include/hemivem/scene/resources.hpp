@@ -38,6 +38,17 @@ MemoryEstimate estimate_memory(double vertices, double vertices_per_element);
 /// the larger of the two models.
 MemoryEstimate estimate_memory(const Mesh& mesh);
 
+/// A three-dimensional solve (docs/three-dimensions.md): the factor of a 3D stiffness grows like
+/// V^(4/3) (nested dissection), far faster than in 2D, and the dense Schur complement on the
+/// contact nodes like their square: 24 MiB + 1200 V^(4/3) + 48 n_c^2 bytes for V vertices and
+/// n_c contact nodes, 1.1 times the measured peaks of solves on cubes n = 12 ... 32 (66 MB ...
+/// 1.3 GB). mesh_bytes: 24 MiB + 1500 V.
+MemoryEstimate estimate_memory_3d(double vertices, double contact_nodes);
+/// The estimate for a 3D generator (cubes, tetrahedra, voronoi) with nx x ny x nz cells, the
+/// contact nodes taken as the vertices of the largest side; InputError for an unknown generator
+/// or a size below 1.
+MemoryEstimate estimate_memory_3d(std::string_view generator, std::int64_t nx, std::int64_t ny, std::int64_t nz);
+
 /// Bytes this process may use: the environment variable HEMIVEM_MEMORY_LIMIT when set (a
 /// number of bytes with an optional suffix K, M, G or T, powers of 1024), else MemAvailable
 /// of /proc/meminfo; +inf when neither is known. Throws InputError naming the variable when

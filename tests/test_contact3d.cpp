@@ -1,0 +1,175 @@
+// Contact of a three-dimensional body: a block pressed onto a rigid plane (an exact linear
+// solution), every minimizer and linear engine on it, obstacles, and what is refused.
+#include <hemivem/contact/contact3d.hpp>
+#include <hemivem/contact/piecewise_law.hpp>
+#include <hemivem/linear_backends.hpp>
+#include <hemivem/mesh/generators3d.hpp>
+#include <hemivem/nonsmooth_backends.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace hemivem;
+
+namespace {
+
+std::unique_ptr<SparseFactorization> engine(const std::string& name = "eigen") {
+  FactorizationOptions o;
+  o.engine = name;
+  return make_factorization(o);
+}
+
+constexpr double young = 100.0, poisson = 0.3, depth = 0.01;
+
+// [0,1] x [0,1] x [0,L]: symmetry planes x0 and y0, the top pushed down by `depth` (its normal
+// component only), the bottom on the rigid plane z = 0 (frictionless, one-sided)
+ContactProblem3D pressed_block(const Mesh3D& mesh, const Box& box) {
+  ContactProblem3D p;
+  p.elasticity.mesh = &mesh;
+  p.elasticity.materials = MaterialTable(Material{young, poisson}, PlaneModel::strain);
+  p.elasticity.dirichlet.push_back({select_box_side(mesh, box, "x0"), {}, {true, false, false}, "x0"});
+  p.elasticity.dirichlet.push_back({select_box_side(mesh, box, "y0"), {}, {false, true, false}, "y0"});
+  p.elasticity.dirichlet.push_back(
+      {select_box_side(mesh, box, "top"), [](const Vec3&) { return Vec3(0, 0, -depth); }, {false, false, true}, "top"});
+  p.contact_faces = select_box_side(mesh, box, "bottom");
+  Obstacle3D plane;
+  plane.point = Vec3::Zero();
+  plane.normal = Vec3(0, 0, 1);
+  p.obstacle = plane;
+  p.law = zero_law();
+  p.constraint = ConstraintKind::one_sided;
+  return p;
+}
+
+}  // namespace
+
+TEST(Contact3D, BlockPressedOnAPlaneIsUniaxialStress) {
+  const Box box{0.0, 1.0, 0.0, 1.0, 0.0, 0.5};
+  for (const auto& kind : {"cubes", "tetrahedra"}) {
+    const Mesh3D mesh = make_mesh3d(kind, {3, 3, 2}, box);
+    const ContactProblem3D p = pressed_block(mesh, box);
+    const ContactSolution3D s = solve_contact_3d(p, engine(), *make_minimizer("ssn"), MinimizerOptions{});
+    ASSERT_TRUE(s.converged()) << kind << ": " << s.message;
+    // every bottom node (the corner on both symmetry planes included) is in contact
+    EXPECT_EQ(s.contact.size(), 16u) << kind;
+    const double strain = depth / 0.5, stress = young * strain;
+    double area = 0.0;
+    for (const ContactNode3D& n : s.contact) {
+      EXPECT_EQ(n.state, "upper") << kind;
+      EXPECT_NEAR(n.u_nu, 0.0, 1e-14);
+      EXPECT_TRUE(n.normal.isApprox(Vec3(0, 0, -1), 1e-15));
+      EXPECT_NEAR(n.pressure(), stress, 1e-9 * stress) << kind << " at " << n.x.transpose();
+      area += n.weight;
+    }
+    EXPECT_NEAR(area, 1.0, 1e-14);
+    for (int v = 0; v < mesh.num_vertices(); ++v) {
+      const Vec3 x = mesh.vertex(v);
+      const Vec3 expected(poisson * strain * x.x(), poisson * strain * x.y(), -strain * x.z());
+      EXPECT_LT((s.u.segment<3>(3 * v) - expected).norm(), 1e-11) << kind;
+    }
+    EXPECT_TRUE(s.contact_force().isApprox(Vec3(0, 0, stress), 1e-9));
+    EXPECT_LT(s.forces.residual(), 1e-10);
+  }
+}
+
+TEST(Contact3D, EveryMinimizerAndLinearEngineAgree) {
+  const Box box{0.0, 1.0, 0.0, 1.0, 0.0, 0.5};
+  const Mesh3D mesh = make_cubes({3, 3, 2}, box);
+  ContactProblem3D p = pressed_block(mesh, box);
+  // a stiff nonmonotone foundation instead of the rigid plane: some nodes on the law, none at a bound
+  p.obstacle.reset();
+  p.gap = [](const Vec3& x) { return 0.002 + 0.004 * x.x() * x.y(); };
+  p.law = paper_law();
+  std::vector<Eigen::VectorXd> answers;
+  for (const std::string& m : available_minimizers()) {
+    if (m == "global-search") continue;
+    for (const std::string& e : available_factorizations()) {
+      if (e == "mumps-mpi") continue;
+      const ContactSolution3D s = solve_contact_3d(p, engine(e), *make_minimizer(m), MinimizerOptions{});
+      ASSERT_TRUE(s.converged()) << m << " with " << e << ": " << s.message;
+      answers.push_back(s.u);
+    }
+  }
+  ASSERT_GE(answers.size(), 2u);
+  for (const auto& u : answers) EXPECT_LT((u - answers.front()).cwiseAbs().maxCoeff(), 1e-6 * answers.front().cwiseAbs().maxCoeff());
+}
+
+TEST(Contact3D, SphereAndCylinderGapsAlongTheNormal) {
+  Obstacle3D sphere;
+  sphere.shape = Obstacle3D::Shape::sphere;
+  sphere.center = Vec3(0, 0, 2);
+  sphere.radius = 1.0;
+  // from below, straight up: the sphere's bottom at z = 1
+  EXPECT_DOUBLE_EQ(sphere.gap(Vec3(0, 0, 0), Vec3(0, 0, 1)), 1.0);
+  EXPECT_NEAR(sphere.gap(Vec3(0.6, 0, 0.5), Vec3(0, 0, 1)), 1.5 - 0.8, 1e-15);
+  EXPECT_TRUE(std::isinf(sphere.gap(Vec3(1.5, 0, 0), Vec3(0, 0, 1))));
+  // inside: a negative gap
+  EXPECT_NEAR(sphere.gap(Vec3(0, 0, 1.5), Vec3(0, 0, 1)), -0.5, 1e-15);
+  Obstacle3D cylinder;
+  cylinder.shape = Obstacle3D::Shape::cylinder;
+  cylinder.center = Vec3(0, 0, 2);
+  cylinder.axis = Vec3(1, 0, 0);
+  cylinder.radius = 1.0;
+  EXPECT_NEAR(cylinder.gap(Vec3(5, 0, 0), Vec3(0, 0, 1)), 1.0, 1e-15);
+  EXPECT_NEAR(cylinder.gap(Vec3(-3, 0.6, 0), Vec3(0, 0, 1)), 2.0 - 0.8, 1e-15);
+  EXPECT_TRUE(std::isinf(cylinder.gap(Vec3(0, 0, 0), Vec3(1, 0, 0))));
+  EXPECT_TRUE(cylinder.defect().empty());
+  cylinder.axis = Vec3::Zero();
+  EXPECT_NE(cylinder.defect().find("axis"), std::string::npos);
+  EXPECT_THROW(obstacle3d_shape_from_string("circle"), InputError);
+}
+
+TEST(Contact3D, RefusesWhatItCannotSolve) {
+  const Box box{0.0, 1.0, 0.0, 1.0, 0.0, 0.5};
+  const Mesh3D mesh = make_cubes(2, box);
+  // a body its supports do not hold
+  ContactProblem3D loose = pressed_block(mesh, box);
+  loose.elasticity.dirichlet.pop_back();
+  try {
+    (void)solve_contact_3d(loose, engine(), *make_minimizer("ssn"), MinimizerOptions{});
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("translation along z"), std::string::npos) << e.what();
+  }
+  // a prescribed normal component at a contact node
+  ContactProblem3D normal_fixed = pressed_block(mesh, box);
+  normal_fixed.elasticity.dirichlet.push_back({select_box_side(mesh, box, "x1"), {}, {false, false, true}, "x1"});
+  try {
+    (void)solve_contact_3d(normal_fixed, engine(), *make_minimizer("ssn"), MinimizerOptions{});
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("not tangential"), std::string::npos) << e.what();
+  }
+  // friction on a 3D boundary
+  const LinearSystem sys = assemble_3d(pressed_block(mesh, box).elasticity);
+  const ContactBoundary b = make_contact_boundary_3d(mesh, select_box_side(mesh, box, "bottom"), sys.dofs, {});
+  EXPECT_EQ(b.dimension, 3);
+  EXPECT_THROW(Condensation(sys, b, engine(), zero_law(), ConstraintKind::box, tresca_law(0.1)), InputError);
+}
+
+TEST(Contact3D, WeightsAreAreaSharesAndNormalsAreAreaWeighted) {
+  // the contact faces of two sides meeting at an edge: the nodes on the edge get both normals
+  const Box box{0.0, 2.0, 0.0, 1.0, 0.0, 1.0};
+  const Mesh3D mesh = make_cubes({2, 1, 1}, box);
+  ElasticityProblem3D e;
+  e.mesh = &mesh;
+  e.materials = MaterialTable(Material{1.0, 0.0}, PlaneModel::strain);
+  e.dirichlet.push_back({select_box_side(mesh, box, "x0"), {}, {true, true, true}, "x0"});
+  const LinearSystem sys = assemble_3d(e);
+  std::vector<int> faces = select_box_side(mesh, box, "top");
+  for (int f : select_box_side(mesh, box, "x1")) faces.push_back(f);
+  const ContactBoundary b = make_contact_boundary_3d(mesh, faces, sys.dofs, {});
+  // nodes off x0: the top's 4 at x = 1, 2 and the x1 side's 4 (two shared)
+  ASSERT_EQ(b.size(), 6);
+  double total = 0.0;
+  for (int i = 0; i < b.size(); ++i) {
+    total += b.weights(i);
+    const Vec3 x = mesh.vertex(b.nodes[static_cast<std::size_t>(i)]);
+    if (x.x() == 2.0 && x.z() == 1.0) {
+      EXPECT_NEAR(b.weights(i), 0.25 + 0.25, 1e-15);
+      EXPECT_TRUE(b.normals3d[static_cast<std::size_t>(i)].isApprox(Vec3(1, 0, 1).normalized(), 1e-15));
+    }
+  }
+  EXPECT_NEAR(total, 3.0 - 0.5, 1e-14);  // the areas of the faces (2 + 1) less the shares of the clamped nodes
+}
