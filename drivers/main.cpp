@@ -17,7 +17,8 @@
 #include <hemivem/mesh/generators.hpp>
 #include <hemivem/mesh/generators3d.hpp>
 #include <hemivem/mesh/poly2d.hpp>
-#include <hemivem/scene/mesh_files3d.hpp>
+#include <hemivem/mesh/gmsh3d.hpp>
+#include <hemivem/support/atomic_file.hpp>
 #include <hemivem/scene/resources.hpp>
 #include <hemivem/scene/scene.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
@@ -230,12 +231,16 @@ hemivem::cli::ExitCode write_mesh_3d(const std::string& kind, int nx, int ny, in
   if (std::filesystem::path(output).extension() != ".msh")
     throw InputError("a three-dimensional mesh is written as a Gmsh file: give an output ending in .msh", "mesh -o");
   const GridSize3 cells(nx, ny, nz);
-  // about a kilobyte per cell (vertices, faces and their geometry, a tetrahedron's six times over): a rough bound
-  const double per_cell = kind == "tetrahedra" ? 6000.0 : 1000.0;
-  require_memory(per_cell * nx * static_cast<double>(ny) * nz, kind + " n = " + cells.text(), "--n");
+  require_memory(estimate_memory_3d(kind, nx, ny, nz).mesh_bytes, kind + " n = " + cells.text(), "--n");
   const Box box = domain.size() == 6 ? Box{domain[0], domain[1], domain[2], domain[3], domain[4], domain[5]} : Box{};
   const Mesh3D m = make_mesh3d(kind, cells, box, seed);
-  write_mesh3d_file(m, output);
+  try {
+    write_gmsh3d(m, std::filesystem::path(output));  // atomically: a failure leaves no half-written file
+  } catch (const WriteError&) {
+    throw;
+  } catch (const InputError& e) {  // a cell Gmsh has no element for (a Voronoi polyhedron)
+    throw InputError("the " + kind + " mesh cannot be written as a Gmsh file: " + e.detail(), output);
+  }
   std::cout << "hemivem mesh: wrote " << output << " (" << m.num_vertices() << " vertices, " << m.num_cells()
             << " cells)\n";
   return cli::kSuccess;

@@ -297,15 +297,28 @@ TEST(Cli3D, MeshCommandOfThreeDimensionalKinds) {
   EXPECT_EQ(wrong.code, 2);
   EXPECT_NE(wrong.err.find("unknown three-dimensional mesh generator 'squares'"), std::string::npos) << wrong.err;
   const CommandRun cubes = run_hemivem("mesh tetrahedra --n 2 --nz 1 -o " + (dir / "t.msh").string());
-  if (hemivem::gmsh3d_built()) {
-    ASSERT_EQ(cubes.code, 0) << cubes.err;
-    EXPECT_NE(cubes.out.find("(18 vertices, 24 cells)"), std::string::npos) << cubes.out;
-    EXPECT_EQ(slurp(dir / "t.msh").rfind("$MeshFormat", 0), 0u);
-    EXPECT_EQ(hemivem::gmsh_file_dimension(dir / "t.msh"), 3);
-  } else {
-    EXPECT_EQ(cubes.code, 2);
-    EXPECT_NE(cubes.err.find("reads and writes no three-dimensional Gmsh files"), std::string::npos) << cubes.err;
-    EXPECT_FALSE(fs::exists(dir / "t.msh"));
-  }
+  ASSERT_EQ(cubes.code, 0) << cubes.err;
+  EXPECT_NE(cubes.out.find("(18 vertices, 24 cells)"), std::string::npos) << cubes.out;
+  EXPECT_EQ(slurp(dir / "t.msh").rfind("$MeshFormat", 0), 0u);
+  EXPECT_EQ(hemivem::gmsh_file_dimension(dir / "t.msh"), 3);
+  // the mesh written is a scene's mesh: solved as the generator's
+  std::ofstream(dir / "t.toml") << "schema_version = 1\n[mesh]\nfile = \"t.msh\"\n[clamped]\nside = \"bottom\"\n"
+                                   "[loads]\nbody_force = [0, 0, -1]\n";
+  const CommandRun file = run_hemivem("solve " + (dir / "t.toml").string() + " --json -q --out " + (dir / "out").string());
+  ASSERT_EQ(file.code, 0) << file.err;
+  const CommandRun generated = run_hemivem("solve " + (dir / "t.toml").string() +
+                                           " --json -q --set mesh.generator=tetrahedra --set mesh.n=[2,2,1] --out " +
+                                           (dir / "out").string());
+  ASSERT_EQ(generated.code, 0) << generated.err;
+  const auto a = nlohmann::json::parse(file.out), b = nlohmann::json::parse(generated.out);
+  EXPECT_EQ(a.at("dimension"), 3);
+  EXPECT_EQ(a.at("mesh").at("elements"), 24);
+  EXPECT_NEAR(a.at("potential_energy").get<double>(), b.at("potential_energy").get<double>(),
+              1e-12 * std::abs(b.at("potential_energy").get<double>()));
+  // a Voronoi polyhedron has no Gmsh element: refused, nothing written
+  const CommandRun voronoi = run_hemivem("mesh voronoi --n 2 --domain 0 1 0 1 0 1 -o " + (dir / "v.msh").string());
+  EXPECT_EQ(voronoi.code, 2);
+  EXPECT_NE(voronoi.err.find("Gmsh has no polyhedron element"), std::string::npos) << voronoi.err;
+  EXPECT_FALSE(fs::exists(dir / "v.msh"));
   fs::remove_all(dir);
 }

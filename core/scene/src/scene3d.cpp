@@ -1,5 +1,5 @@
-// A three-dimensional scene made concrete (build_problem_3d), and the Gmsh files of solids as
-// scenes meet them (mesh_files3d.hpp).
+// A three-dimensional scene made concrete (build_problem_3d), and the peek at a Gmsh file that
+// tells a solid's mesh (mesh_files3d.hpp).
 #include <hemivem/scene/mesh_files3d.hpp>
 #include <hemivem/scene/scene.hpp>
 
@@ -14,7 +14,6 @@
 #include <hemivem/mesh/generators3d.hpp>
 #include <hemivem/mesh/gmsh3d.hpp>
 #include <hemivem/scene/resources.hpp>
-#include <hemivem/support/atomic_file.hpp>
 
 #include "scene_reader.hpp"
 
@@ -39,14 +38,6 @@ Obstacle3D make_obstacle3d(const SceneObstacle& o) {
 }  // namespace detail
 
 // ---- Gmsh files of solids ---------------------------------------------------------------------
-
-bool gmsh3d_built() {
-#ifdef HEMIVEM_HAVE_GMSH3D
-  return true;
-#else
-  return false;
-#endif
-}
 
 int gmsh_file_dimension(const std::filesystem::path& path) {
   std::error_code ec;
@@ -79,28 +70,6 @@ int gmsh_file_dimension(const std::filesystem::path& path) {
   return 2;
 }
 
-namespace {
-
-const char* kNoGmsh3d = "this build of hemivem reads and writes no three-dimensional Gmsh files";
-
-}  // namespace
-
-Mesh3D read_mesh3d_file(const std::filesystem::path& path) {
-#ifdef HEMIVEM_HAVE_GMSH3D
-  return read_gmsh3d(path);
-#else
-  throw InputError(kNoGmsh3d, path.string());
-#endif
-}
-
-void write_mesh3d_file([[maybe_unused]] const Mesh3D& mesh, const std::filesystem::path& path) {
-#ifdef HEMIVEM_HAVE_GMSH3D
-  write_file_atomically(path, [&](std::ostream& out) { write_gmsh3d(mesh, out); });
-#else
-  throw InputError(kNoGmsh3d, path.string());
-#endif
-}
-
 // ---- build_problem_3d -------------------------------------------------------------------------
 
 namespace {
@@ -131,15 +100,6 @@ VectorField3 vector_field(const std::array<SceneScalar, 3>& v, const Scene& scen
 
 bool is_zero(const SceneScalar& v) { return !v.is_expression() && v.value == 0.0; }
 
-/// Peak memory of a 3D solve of a mesh of V vertices, a rough model (not fitted like the plane
-/// one of resources.hpp): the mesh and the assembly, about 4 KiB per vertex, and a sparse
-/// Cholesky factor of the 3V unknowns whose fill grows as (3V)^(4/3) (nested dissection of a
-/// three-dimensional mesh), 30 entries of 8 bytes per unit of it.
-double solve_bytes_3d(double vertices) {
-  const double unknowns = 3.0 * vertices;
-  return 32.0 * 1024 * 1024 + 4096.0 * vertices + 240.0 * std::pow(unknowns, 4.0 / 3.0);
-}
-
 std::string count_text(double v) {
   if (v < 1e9) return std::to_string(static_cast<long long>(std::llround(v)));
   std::ostringstream o;
@@ -147,17 +107,15 @@ std::string count_text(double v) {
   return o.str();
 }
 
+/// The scene's mesh: a Gmsh file (its memory checked once its contact faces are known), or a
+/// generator whose solve's memory (estimate_memory_3d) is checked before the mesh is made.
 Mesh3D scene_mesh_3d(const Scene& scene) {
   const SceneMesh& m = scene.mesh;
-  if (!m.file.empty()) {
-    Mesh3D mesh = read_mesh3d_file(m.file);
-    require_memory(solve_bytes_3d(mesh.num_vertices()),
-                   m.file.string() + ": " + count_text(mesh.num_vertices()) + " vertices", scene.where("mesh.file"));
-    return mesh;
-  }
+  if (!m.file.empty()) return read_gmsh3d(m.file);
   const GridSize3 cells = m.cells3();
-  const double vertices = (cells.nx + 1.0) * (cells.ny + 1.0) * (cells.nz + 1.0);
-  require_memory(solve_bytes_3d(vertices), m.generator + " n = " + cells.text() + ": " + count_text(vertices) + " vertices",
+  const MemoryEstimate need = estimate_memory_3d(m.generator, cells.nx, cells.ny, cells.nz);
+  require_memory(need.solve_bytes,
+                 m.generator + " n = " + cells.text() + ": " + count_text(need.vertices) + " vertices",
                  scene.where("mesh.n"));
   const auto& b = m.box;
   try {
@@ -326,6 +284,15 @@ std::unique_ptr<BuiltProblem3D> build_problem_3d(const Scene& scene) {
   add_dirichlet_3d(p.elasticity, scene, select);
   add_loads_3d(p.elasticity, scene, select);
   add_contact_3d(p, scene, mesh, select);
+  if (!scene.mesh.file.empty()) {  // a mesh read: its vertices and contact nodes counted
+    std::set<int> contact;
+    for (int f : p.contact_faces) contact.insert(mesh.face(f).vertices.begin(), mesh.face(f).vertices.end());
+    const MemoryEstimate need = estimate_memory_3d(mesh.num_vertices(), static_cast<double>(contact.size()));
+    require_memory(need.solve_bytes,
+                   scene.mesh.file.string() + ": " + count_text(mesh.num_vertices()) + " vertices, " +
+                       count_text(static_cast<double>(contact.size())) + " on the contact faces",
+                   scene.where("mesh.file"));
+  }
   out->has_contact = scene.contact.has_value();
   out->warnings = scene_warnings(scene);
   return out;
