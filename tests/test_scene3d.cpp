@@ -98,6 +98,35 @@ TEST(Scene3D, AGmshFileOfASolidSolvesAsItsGenerator) {
   fs::remove_all(dir);
 }
 
+// A Gmsh file of hexahedra (tests/data/gmsh3d/cube_hexahedra.msh): its physical surfaces "base" and
+// "top" are the groups the selectors name, its volume group 2 the region [[material.region]] sets.
+TEST(Scene3D, AGmshFileGivesItsGroupsAndRegions) {
+  const fs::path file = test::data_dir() / "gmsh3d" / "cube_hexahedra.msh";
+  const std::string head = kHead + "[mesh]\nfile = \"" + file.string() + "\"\n[material]\nE = 10.0\nnu = 0.3\n";
+  const std::string rest = "[clamped]\ngroup = \"base\"\n[loads]\n[[loads.traction]]\ngroup = \"top\"\nvalue = [0, 0, -1]\n";
+  const Scene s = parse_scene_string(head + "[[material.region]]\nid = 2\nE = 20.0\nnu = 0.3\n" + rest, "g.toml");
+  ASSERT_EQ(s.dimension(), 3);
+  const auto solved = app::solve_scene_3d(s);
+  ASSERT_TRUE(solved.solution.converged()) << solved.solution.message;
+  EXPECT_EQ(solved.built->mesh.num_cells(), 27);
+  EXPECT_EQ(solved.built->problem.elasticity.dirichlet.at(0).faces.size(), 9u);
+  EXPECT_EQ(solved.built->problem.elasticity.materials.lame(2).mu, 20.0 / 2.6);
+  const ForceBalance3D& b = solved.solution.forces;
+  EXPECT_NEAR(b.applied.z(), -1.0, 1e-12);
+  EXPECT_NEAR(b.reactions.at(0).force.z(), 1.0, 1e-12);
+  EXPECT_LT(b.residual(), 1e-12);
+  // a region the file does not have, a group it does not have: errors naming the key
+  EXPECT_TRUE(holds(test::input_error_of([&] {
+                      (void)build_problem_3d(parse_scene_string(head + "[[material.region]]\nid = 7\nE = 2.0\nnu = 0.3\n" + rest,
+                                                                "g.toml"));
+                    }),
+                    {"g.toml:8", "material.region[0].id: region 7 matches no cell", "region ids are 2"}));
+  EXPECT_TRUE(holds(test::input_error_of([&] {
+                      (void)build_problem_3d(parse_scene_string(head + "[contact]\ngroup = \"side\"\n" + rest, "g.toml"));
+                    }),
+                    {"g.toml:8", "contact.group", "side"}));
+}
+
 TEST(Scene3D, ShippedScenesPoseTheirProblemsAndRoundTrip) {
   const Scene ex = parse_scene(test::scenes_dir() / "example-4.1-3d.toml");
   ASSERT_EQ(ex.dimension(), 3);
