@@ -123,6 +123,15 @@ std::string triple_text(const Vec3& v) {
 
 }  // namespace
 
+std::string brief_report_3d(const SceneSolve3D& solved) {
+  const ContactSolution3D& sol = solved.solution;
+  std::ostringstream out;
+  out << std::setprecision(6) << to_string(sol.status) << " (certificate: " << certificate_text(sol.certificate)
+      << "), " << sol.iterations() << " iterations, energy " << sol.energy << ", " << std::setprecision(3)
+      << solved.total_seconds() << " s";
+  return out.str();
+}
+
 std::string full_report_3d(const SceneSolve3D& solved, const RunInfo& info) {
   const BuiltProblem3D& built = *solved.built;
   const ContactSolution3D& sol = solved.solution;

@@ -73,6 +73,10 @@ RunInfo run_info_3d(const Scene& scene, const SceneSolve3D& solved);
 OutputReport write_results_3d(const std::filesystem::path& dir, const Scene& scene, const SceneSolve3D& solved,
                               const std::vector<std::string>* files = nullptr);
 
+/// One line of a 3D solve, as brief_report's of a plane one: status, certificate, iterations,
+/// energy and total time.
+std::string brief_report_3d(const SceneSolve3D& solved);
+
 /// The lines of a 3D solve for the command's report (full_report's in 3D): mesh, engines,
 /// stages, status and certificate, uniqueness, contact nodes, normal forces, the balance of
 /// forces, energy and the time of each stage.
