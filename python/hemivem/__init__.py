@@ -9,6 +9,9 @@ The same C++ libraries as the `hemivem` command, with NumPy arrays:
     r.contact.u_nu, r.displacement                      # NumPy arrays
     r.write("out/solve")                                # the files of `hemivem solve`
 
+    r3 = hemivem.solve("scenes/example-4.1-3d.toml")    # a three-dimensional scene
+    r3.dimension, r3.displacement.shape                 # 3, (num_vertices, 3)
+
     p = hemivem.condense(hemivem.Scene.default(), linear="cholmod")
     p.S, p.c, p.w, p.g                                  # the reduced problem
     m = hemivem.minimize(p, "ssn")
@@ -34,6 +37,7 @@ from ._hemivem import (  # noqa: F401
     InternalError,
     Iteration,
     Mesh,
+    Mesh3D,
     MeshError,
     MinimizerResult,
     NumericalError,
@@ -64,6 +68,7 @@ __all__ = [
     "InternalError",
     "Iteration",
     "Mesh",
+    "Mesh3D",
     "MeshError",
     "MinimizerResult",
     "NumericalError",

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include <hemivem/mesh/mesh.hpp>
+#include <hemivem/mesh/mesh3d.hpp>
 
 namespace hemivem::python {
 
@@ -46,6 +47,11 @@ void refuse_mpi_engine(const std::string& linear, const std::string& where);
 /// A mesh shared with whatever owns it (a result, a reduced problem, or itself).
 struct PyMesh {
   std::shared_ptr<const Mesh> mesh;
+};
+
+/// A polyhedral mesh shared with the result that owns it.
+struct PyMesh3D {
+  std::shared_ptr<const Mesh3D> mesh;
 };
 
 /// Ctrl-C between the stages of a long call that runs with the GIL released: poll() takes

@@ -202,6 +202,9 @@ A contact problem as data: mesh, material, boundary conditions, contact, solver 
                              "Where the scene came from: a path, '<default>', '<string>', '<dict>'.")
       .def_property_readonly("mesh_description", [](const Scene& s) { return s.mesh.description(); },
                              "How the mesh is made: 'squares n=64', 'voronoi n=[32, 8]', or the file.")
+      .def_property_readonly("dimension", [](const Scene& s) { return s.dimension(); },
+                             "2, or 3 for a three-dimensional scene (a box domain, a 3D generator or a Gmsh file\n"
+                             "of volumes: docs/reference/scenes.md, \"Three-dimensional scenes\").")
       .def_property_readonly("has_contact", [](const Scene& s) { return s.contact.has_value(); },
                              "True when the scene has a contact boundary.")
       .def("where", &Scene::where, py::arg("key"), "'source:line' of a key read from the source, else the source.")

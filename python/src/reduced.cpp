@@ -462,6 +462,11 @@ void register_condense(py::module_& m) {
       "condense",
       [](const Scene& scene_in, std::optional<std::string> linear) {
         Scene scene = scene_in;
+        if (scene.dimension() == 3)
+          throw InputError("hemivem.condense takes two-dimensional scenes; a three-dimensional scene's reduced "
+                           "problem is Result.reduced of hemivem.solve(scene) (without a factorization to "
+                           "back-substitute)",
+                           scene.where("mesh"));
         if (linear) apply_override(scene, "solver.linear=" + toml_string(*linear));
         FactorizationOptions fo;
         fo.engine = scene.solver.linear;

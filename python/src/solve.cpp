@@ -1,5 +1,5 @@
-// hemivem.solve and its Result: the command's `hemivem solve` pipeline (drivers' solve_scene)
-// and its output writers.
+// hemivem.solve and its Result: the command's `hemivem solve` pipeline (drivers' solve_scene,
+// or solve_scene_3d for a three-dimensional scene) and its output writers.
 #include "reduced.hpp"
 
 #include <pybind11/stl.h>
@@ -19,25 +19,43 @@
 #include <hemivem/app/format.hpp>
 #include <hemivem/app/outputs.hpp>
 #include <hemivem/app/report.hpp>
+#include <hemivem/app/outputs3d.hpp>
 #include <hemivem/app/solve.hpp>
+#include <hemivem/app/solve3d.hpp>
 #include <hemivem/app/path.hpp>
 
 namespace hemivem::python {
 
 namespace {
 
-/// One solve: the resolved scene, the command's SceneSolve and the reduced problem.
+/// One solve: the resolved scene, the command's SceneSolve (a plane scene) or SceneSolve3D (a
+/// three-dimensional one) and the reduced problem.
 struct SolveData {
   Scene scene;
-  app::SceneSolve solved;
-  std::shared_ptr<ReducedHolder> reduced;  ///< null unless kept and the scene has contact
-  std::string json;                        ///< result.json's text, made once
+  app::SceneSolve solved;                     ///< a plane scene's solve (empty for a 3D scene)
+  std::optional<app::SceneSolve3D> solved3d;  ///< a three-dimensional scene's solve
+  std::shared_ptr<ReducedHolder> reduced;     ///< null unless kept and the scene has contact
+  std::string json;                           ///< result.json's text, made once
+  int dimension() const noexcept { return solved3d ? 3 : 2; }
 };
+
+/// f applied to the solve of either dimension (SceneSolve or SceneSolve3D: the members they
+/// share, e.g. solution.energy, linear, search); f's results must have one type.
+template <class F>
+auto visit(const SolveData& d, F&& f) {
+  if (d.solved3d) return f(*d.solved3d);
+  return f(d.solved);
+}
 
 const std::string& json_text(SolveData& d) {
   if (d.json.empty()) {
-    const app::RunInfo info = app::run_info(d.scene, d.solved);
-    d.json = app::result_json(d.solved.built->mesh, d.solved.solution, info).dump(2);
+    if (d.solved3d) {
+      const app::RunInfo info = app::run_info_3d(d.scene, *d.solved3d);
+      d.json = app::result_json_3d(d.solved3d->built->mesh, d.solved3d->solution, info).dump(2);
+    } else {
+      const app::RunInfo info = app::run_info(d.scene, d.solved);
+      d.json = app::result_json(d.solved.built->mesh, d.solved.solution, info).dump(2);
+    }
   }
   return d.json;
 }
@@ -57,7 +75,14 @@ std::string toml_float(double x) {
 struct ContactTable {
   py::dict columns;
   py::ssize_t rows = 0;
+  std::map<std::string, std::string> absent;  ///< columns of the other dimension: why this table has none
 };
+
+/// The error for a column the table does not have.
+std::string missing_column(const ContactTable& t, const std::string& name) {
+  const auto it = t.absent.find(name);
+  return "ContactTable has no column '" + name + "'" + (it == t.absent.end() ? "" : ": " + it->second);
+}
 
 ContactTable contact_table(const ContactSolution& s) {
   const auto n = static_cast<py::ssize_t>(s.contact.size());
@@ -100,7 +125,55 @@ ContactTable contact_table(const ContactSolution& s) {
   return t;
 }
 
+/// The contact table of a 3D solve: contact.csv's columns (vertex, x, y, z, u_nu, law_force,
+/// reaction, pressure, state, gap, normal as an (n, 3) array) with weight and part.
+ContactTable contact_table_3d(const ContactSolution3D& s) {
+  const auto n = static_cast<py::ssize_t>(s.contact.size());
+  py::array_t<std::int32_t> vertex(n);
+  py::array_t<double> x(n), y(n), z(n), u_nu(n), law_force(n), reaction(n), pressure(n), gap(n), weight(n),
+      normal({n, py::ssize_t(3)});
+  py::list state, part;
+  auto nr = normal.mutable_unchecked<2>();
+  for (py::ssize_t i = 0; i < n; ++i) {
+    const ContactNode3D& c = s.contact[static_cast<std::size_t>(i)];
+    vertex.mutable_data()[i] = c.vertex;
+    x.mutable_data()[i] = c.x.x(), y.mutable_data()[i] = c.x.y(), z.mutable_data()[i] = c.x.z();
+    u_nu.mutable_data()[i] = c.u_nu, law_force.mutable_data()[i] = c.law_force, reaction.mutable_data()[i] = c.reaction;
+    pressure.mutable_data()[i] = c.pressure(), gap.mutable_data()[i] = c.gap, weight.mutable_data()[i] = c.weight;
+    nr(i, 0) = c.normal.x(), nr(i, 1) = c.normal.y(), nr(i, 2) = c.normal.z();
+    state.append(c.state);
+    part.append("contact");  // one contact part in 3D, named so in result.json
+  }
+  const py::object np = py::module_::import("numpy");
+  ContactTable t;
+  t.rows = n;
+  t.columns["vertex"] = vertex;
+  t.columns["x"] = x;
+  t.columns["y"] = y;
+  t.columns["z"] = z;
+  t.columns["u_nu"] = u_nu;
+  t.columns["law_force"] = law_force;
+  t.columns["reaction"] = reaction;
+  t.columns["pressure"] = pressure;
+  t.columns["gap"] = gap;
+  t.columns["weight"] = weight;
+  t.columns["normal"] = normal;
+  t.columns["state"] = np.attr("array")(state, py::arg("dtype") = "U");
+  t.columns["part"] = np.attr("array")(part, py::arg("dtype") = "U");
+  for (const char* name : {"u_tau", "friction_force", "friction_traction", "friction_state"})
+    t.absent[name] = "the contact of a three-dimensional body is frictionless";
+  return t;
+}
+
 SolveData& data(py::handle self) { return *self.cast<std::shared_ptr<SolveData>>(); }
+
+/// AttributeError for a Result member that a three-dimensional solve does not have.
+[[noreturn]] void not_in_3d(const std::string& member, const std::string& why) {
+  throw py::attribute_error("Result." + member + ": " + why + " (Result.dimension is 3)");
+}
+
+py::tuple vector_tuple(const Vec2& v) { return py::make_tuple(v.x(), v.y()); }
+py::tuple vector_tuple(const Vec3& v) { return py::make_tuple(v.x(), v.y(), v.z()); }
 
 using ResultClass = py::class_<SolveData, std::shared_ptr<SolveData>>;
 
@@ -245,13 +318,18 @@ vertex (int32), x, y, u_nu, law_force, reaction, pressure, gap, weight (float64)
 part), and with friction u_tau, friction_force, friction_traction, friction_state (empty, and
 the numbers 0, at the nodes of a frictionless part). Columns are attributes or items:
 table.u_nu, table["u_nu"]; table.as_dict() gives them all.
+
+A three-dimensional solve's table has contact.csv's columns: vertex, x, y, z, u_nu, law_force,
+reaction, pressure (force per unit area), gap, weight (the node's share of the contact area),
+normal (n, 3), state and part ('contact'); no friction columns (the contact of a solid is
+frictionless: asking for one raises AttributeError, KeyError as an item, saying so).
 )doc")
       .def("__getattr__", [](const ContactTable& t, const std::string& name) -> py::object {
-        if (!t.columns.contains(name)) throw py::attribute_error("ContactTable has no column '" + name + "'");
+        if (!t.columns.contains(name)) throw py::attribute_error(missing_column(t, name));
         return t.columns[py::str(name)];
       })
       .def("__getitem__", [](const ContactTable& t, const std::string& name) -> py::object {
-        if (!t.columns.contains(name)) throw py::key_error("no column '" + name + "'");
+        if (!t.columns.contains(name)) throw py::key_error(missing_column(t, name));
         return t.columns[py::str(name)];
       })
       .def("__len__", [](const ContactTable& t) { return t.rows; })
@@ -271,46 +349,59 @@ table.u_nu, table["u_nu"]; table.as_dict() gives them all.
 
 /// Result's outcome: status, certificate, energy, iterations, engines, search.
 void def_result_outcome(ResultClass& c) {
-  c.def_property_readonly("status", [](py::handle s) { return to_string(data(s).solved.solution.status); },
+  c.def_property_readonly("dimension", [](py::handle s) { return data(s).dimension(); },
+                          "2 for a plane scene, 3 for a three-dimensional one (result.json's \"dimension\"): the\n"
+                          "columns of displacement, mesh.vertices and contact.normal.")
+      .def_property_readonly("status", [](py::handle s) { return visit(data(s), [](const auto& v) { return to_string(v.solution.status); }); },
                           "'converged', 'iteration limit', 'evaluation limit', 'stalled', 'stopped by callback', 'failed', "
                           "'unbounded' (no solution: F is unbounded below).")
-      .def_property_readonly("converged", [](py::handle s) { return data(s).solved.solution.converged(); })
-      .def_property_readonly("message", [](py::handle s) { return data(s).solved.solution.message; })
-      .def_property_readonly("certificate", [](py::handle s) { return data(s).solved.solution.certificate; },
+      .def_property_readonly("converged", [](py::handle s) { return visit(data(s), [](const auto& v) { return v.solution.converged(); }); })
+      .def_property_readonly("message", [](py::handle s) { return visit(data(s), [](const auto& v) { return v.solution.message; }); })
+      .def_property_readonly("certificate", [](py::handle s) { return visit(data(s), [](const auto& v) { return v.solution.certificate; }); },
                              "The certificate (primal, dual, scales, tolerance); without contact the relative\n"
                              "residual of the linear solve.")
-      .def_property_readonly("energy", [](py::handle s) { return data(s).solved.solution.energy; },
+      .def_property_readonly("energy", [](py::handle s) { return visit(data(s), [](const auto& v) { return v.solution.energy; }); },
                              "The potential energy 1/2 u^T A u - b^T u + sum_i w_i j(u_nu,i).")
       .def_property_readonly("objective", [](py::handle s) {
-                               const auto& m = data(s).solved.solution.minimizer;
-                               return m ? m->objective : std::numeric_limits<double>::quiet_NaN();
+                               return visit(data(s), [](const auto& v) {
+                                 const auto& m = v.solution.minimizer;
+                                 return m ? m->objective : std::numeric_limits<double>::quiet_NaN();
+                               });
                              },
                              "F(a) of the reduced problem (NaN without contact).")
-      .def_property_readonly("uniqueness_margin", [](py::handle s) { return data(s).solved.solution.uniqueness_margin; },
+      .def_property_readonly("uniqueness_margin", [](py::handle s) { return visit(data(s), [](const auto& v) { return v.solution.uniqueness_margin; }); },
                              "lambda_min(S - alpha_j W) (inf without contact), exactly 0 within round-off: the\n"
                              "solution is unique when positive; 0 means F is convex but not strongly convex along\n"
                              "some direction (uniqueness not proved).")
-      .def_property_readonly("uniqueness_roundoff", [](py::handle s) { return data(s).solved.solution.uniqueness_roundoff; },
+      .def_property_readonly("uniqueness_roundoff", [](py::handle s) { return visit(data(s), [](const auto& v) { return v.solution.uniqueness_roundoff; }); },
                              "The round-off bound of uniqueness_margin (0 without contact).")
-      .def_property_readonly("uniqueness", [](py::handle s) { return uniqueness_verdict(data(s).solved.solution.uniqueness_margin); },
+      .def_property_readonly("uniqueness", [](py::handle s) {
+                               return visit(data(s), [](const auto& v) { return uniqueness_verdict(v.solution.uniqueness_margin); });
+                             },
                              "'unique', 'zero', 'negative' or 'unknown' (the margin's verdict).")
-      .def_property_readonly("may_be_nonunique", [](py::handle s) { return data(s).solved.solution.may_be_nonunique; })
+      .def_property_readonly("may_be_nonunique", [](py::handle s) { return visit(data(s), [](const auto& v) { return v.solution.may_be_nonunique; }); })
       .def_property_readonly(
-          "held_by_contact", [](py::handle s) { return data(s).solved.solution.held_by_contact; },
-          "The rigid motions the Dirichlet conditions leave free, in words; the contact alone holds them.")
-      .def_property_readonly("iterations", [](py::handle s) { return data(s).solved.solution.iterations(); })
-      .def_property_readonly("stages", [](py::handle s) { return data(s).solved.solution.stages; },
+          "held_by_contact",
+          [](py::handle s) {
+            const SolveData& d = data(s);
+            return d.solved3d ? std::vector<std::string>{} : d.solved.solution.held_by_contact;
+          },
+          "The rigid motions the Dirichlet conditions leave free, in words; the contact alone holds them.\n"
+          "Always [] in 3D: the supports of a three-dimensional body must hold it.")
+      .def_property_readonly("iterations", [](py::handle s) { return visit(data(s), [](const auto& v) { return v.solution.iterations(); }); })
+      .def_property_readonly("stages", [](py::handle s) { return visit(data(s), [](const auto& v) { return v.solution.stages; }); },
                              "The stages that ran, in order.")
       .def_property_readonly("timings", [](py::handle s) -> py::object { py::object j = json_dict(data(s)); return j["timings"]; },
                              "Seconds by stage as in result.json: mesh, assembly, condensation, minimize,\n"
                              "back_substitution (or linear_solve), total.")
-      .def_property_readonly("linear", [](py::handle s) { return data(s).solved.linear; }, "The linear engine used.")
-      .def_property_readonly("minimizer", [](py::handle s) { return data(s).solved.minimizer; },
+      .def_property_readonly("linear", [](py::handle s) { return visit(data(s), [](const auto& v) { return v.linear; }); },
+                             "The linear engine used.")
+      .def_property_readonly("minimizer", [](py::handle s) { return visit(data(s), [](const auto& v) { return v.minimizer; }); },
                              "The minimizer used (the first engine of a global search).")
       .def_property_readonly(
           "search",
           [](py::handle s) -> py::object {
-            return py::module_::import("json").attr("loads")(data(s).solved.search.dump());
+            return py::module_::import("json").attr("loads")(visit(data(s), [](const auto& v) { return v.search.dump(); }));
           },
           "How the minimizer searched, result.json's \"search\": {'kind': 'local'}, or for a global\n"
           "search its engines and budget (kind, engines, max_starts, time_budget, seed,\n"
@@ -319,14 +410,16 @@ void def_result_outcome(ResultClass& c) {
           "critical_points",
           [](py::object s) {
             const auto d = s.cast<std::shared_ptr<SolveData>>();
-            const ContactSolution& sol = d->solved.solution;
-            if (!sol.minimizer) return py::list();
-            return critical_points_list(d, *sol.minimizer, sol.energy - sol.minimizer->objective);
+            return visit(*d, [&](const auto& v) {
+              const auto& sol = v.solution;
+              if (!sol.minimizer) return py::list();
+              return critical_points_list(d, *sol.minimizer, sol.energy - sol.minimizer->objective);
+            });
           },
           "A global search's distinct certified critical points (CriticalPoint), lowest energy first\n"
           "(the solution is the first), with their potential energies: result.json's\n"
           "\"critical_points\". Empty for a local search.")
-      .def_property_readonly("warnings", [](py::handle s) { return data(s).solved.warnings; },
+      .def_property_readonly("warnings", [](py::handle s) { return visit(data(s), [](const auto& v) { return v.warnings; }); },
                              "What the user should know (result.json's \"warnings\"): the scene's, and a\n"
                              "condition number so large that round-off may spoil the displacement's digits.");
 }
@@ -336,59 +429,69 @@ void def_result_fields(ResultClass& c) {
   c.def_property_readonly(
        "displacement",
        [](py::object s) {
-         const Eigen::VectorXd& u = data(s).solved.solution.u;
-         return view(u.data(), u.size() / 2, 2, s);
+         const SolveData& d = data(s);
+         const Eigen::VectorXd& u = *visit(d, [](const auto& v) -> const Eigen::VectorXd* { return &v.solution.u; });
+         return view(u.data(), u.size() / d.dimension(), d.dimension(), s);
        },
-       "(num_vertices, 2) float64, C order, read-only view: (ux, uy) per vertex.")
+       "(num_vertices, 2) float64, C order, read-only view: (ux, uy) per vertex; (num_vertices, 3),\n"
+       "(ux, uy, uz), for a three-dimensional scene.")
       .def_property_readonly(
           "a",
           [](py::object s) {
-            const auto& m = data(s).solved.solution.minimizer;
+            const MinimizerResult* m = visit(data(s), [](const auto& v) -> const MinimizerResult* {
+              return v.solution.minimizer ? &*v.solution.minimizer : nullptr;
+            });
             return m ? view(m->a.data(), m->a.size(), s) : view(nullptr, 0, s);
           },
           "The point of the reduced problem (the contact unknowns) the minimizer returned.")
       .def_property_readonly(
-          "contact", [](py::handle s) { return contact_table(data(s).solved.solution); },
+          "contact",
+          [](py::handle s) {
+            const SolveData& d = data(s);
+            return d.solved3d ? contact_table_3d(d.solved3d->solution) : contact_table(d.solved.solution);
+          },
           "The contact table (ContactTable): one row per contact node.")
       .def_property_readonly(
           "contact_force",
-          [](py::handle s) {
-            const Vec2 f = data(s).solved.solution.contact_force();
-            return py::make_tuple(f.x(), f.y());
-          },
-          "The resultant (Fx, Fy) of the foundation or obstacle on the body.")
+          [](py::handle s) { return visit(data(s), [](const auto& v) { return vector_tuple(v.solution.contact_force()); }); },
+          "The resultant (Fx, Fy) of the foundation or obstacle on the body; (Fx, Fy, Fz) in 3D.")
       .def_property_readonly(
           "forces",
           [](py::handle s) {
-            const ForceBalance& b = data(s).solved.solution.forces;
-            auto pair = [](const Vec2& v) { return py::make_tuple(v.x(), v.y()); };
-            py::dict reactions;
-            for (const auto& r : b.reactions) reactions[py::str(r.name)] = pair(r.force);
-            py::dict d;
-            d["applied"] = pair(b.applied);
-            d["reactions"] = reactions;
-            d["contact"] = pair(b.contact);
-            d["balance_residual"] = b.residual();
-            return d;
+            return visit(data(s), [](const auto& v) {
+              const auto& b = v.solution.forces;
+              py::dict reactions;
+              for (const auto& r : b.reactions) reactions[py::str(r.name)] = vector_tuple(r.force);
+              py::dict d;
+              d["applied"] = vector_tuple(b.applied);
+              d["reactions"] = reactions;
+              d["contact"] = vector_tuple(b.contact);
+              d["balance_residual"] = b.residual();
+              return d;
+            });
           },
           "The balance of forces on the body, as result.json's \"forces\": {'applied': (Fx, Fy) of the "
           "tractions, pressures and body force, 'reactions': {part name: (Fx, Fy)} per Dirichlet part "
           "('clamped', 'dirichlet[i]'), 'contact': (Fx, Fy) the contact resultant, 'balance_residual': "
-          "|applied + reactions + contact| / |applied|}.")
+          "|applied + reactions + contact| / |applied|}; the forces have three components in 3D.")
       .def_property_readonly(
           "history",
           [](py::handle s) {
-            const auto& m = data(s).solved.solution.minimizer;
-            return history_dict(m ? m->history : std::vector<IterationRecord>());
+            return visit(data(s), [](const auto& v) {
+              const auto& m = v.solution.minimizer;
+              return history_dict(m ? m->history : std::vector<IterationRecord>());
+            });
           },
           "The minimizer's iterations (history.csv's columns) as a dict of arrays.")
       .def_property_readonly(
           "minimizer_result",
           [](py::object s) -> py::object {
             auto d = s.cast<std::shared_ptr<SolveData>>();
-            auto& m = d->solved.solution.minimizer;
+            const MinimizerResult* m = visit(*d, [](const auto& v) -> const MinimizerResult* {
+              return v.solution.minimizer ? &*v.solution.minimizer : nullptr;
+            });
             if (!m) return py::none();
-            return py::cast(std::shared_ptr<MinimizerResult>(d, &*m));
+            return py::cast(std::shared_ptr<MinimizerResult>(d, const_cast<MinimizerResult*>(m)));
           },
           "The minimizer's full result (MinimizerResult); None without contact (one linear solve).")
       .def_property_readonly(
@@ -400,42 +503,46 @@ void def_result_fields(ResultClass& c) {
           },
           "The estimate of the discretization error, as result.json's \"error_estimate\": {'energy': the "
           "estimate of ||u - u_h||_E, 'norm': ||u_h||_E, 'relative': their ratio, 'parts': {name: value}} (its time is "
-          "timings['estimate']); None when no estimate was made (a displacement that is not finite).")
+          "timings['estimate']); None when no estimate was made (a displacement that is not finite, a "
+          "three-dimensional scene).")
       .def_property_readonly(
           "indicators",
           [](py::object s) {
+            if (data(s).solved3d) not_in_3d("indicators", "a three-dimensional solve makes no error estimate");
             const auto& e = data(s).solved.estimate;
             return e ? view(e->indicators.data(), static_cast<Eigen::Index>(e->indicators.size()), s)
                      : view(nullptr, 0, s);
           },
           "The error indicators eta_E, one per element of `mesh` (float64, read-only view; empty without an "
-          "estimate): eta^2 is their sum of squares.")
+          "estimate): eta^2 is their sum of squares. AttributeError for a three-dimensional scene.")
       .def_property_readonly(
           "adapt",
           [](py::handle s) -> py::object {
             const nlohmann::json& a = data(s).solved.adapt;
-            if (a.is_null()) return py::none();
+            if (data(s).solved3d || a.is_null()) return py::none();
             return py::module_::import("json").attr("loads")(a.dump());
           },
           "An adaptive solve's record, as result.json's \"adapt\": the target and budgets, 'stopped' and "
           "'reason', and 'steps', per solve its unknowns, estimate, potential_energy and elapsed seconds; None "
-          "for a solve of one mesh.")
+          "for a solve of one mesh (and every three-dimensional solve).")
       .def_property_readonly(
           "path",
           [](py::object s) -> py::object {
             auto d = s.cast<std::shared_ptr<SolveData>>();
-            if (!d->solved.path) return py::none();
+            if (d->solved3d || !d->solved.path) return py::none();
             return py::cast(PyPath{d});
           },
           "A loading path's steps (hemivem.solve_path, or a scene with [path] or Coulomb friction): a Path, "
-          "a sequence of PathStep; None for a static solve. The Result itself is the last step's.")
+          "a sequence of PathStep; None for a static solve (and every three-dimensional solve). The Result "
+          "itself is the last step's.")
       .def_property_readonly(
           "mesh",
-          [](py::object s) {
+          [](py::object s) -> py::object {
             auto d = s.cast<std::shared_ptr<SolveData>>();
-            return PyMesh{std::shared_ptr<const Mesh>(d, &d->solved.built->mesh)};
+            if (d->solved3d) return py::cast(PyMesh3D{std::shared_ptr<const Mesh3D>(d, &d->solved3d->built->mesh)});
+            return py::cast(PyMesh{std::shared_ptr<const Mesh>(d, &d->solved.built->mesh)});
           },
-          "The mesh solved on (shares the result's memory).")
+          "The mesh solved on (shares the result's memory): a Mesh, or a Mesh3D for a three-dimensional scene.")
       .def_property_readonly("scene", [](py::handle s) { return Scene(data(s).scene); },
                              "A copy of the resolved scene (every override applied).")
       .def_property_readonly(
@@ -452,12 +559,16 @@ void def_result_outputs(ResultClass& c) {
   c.def("json", [](py::handle s) { return json_dict(data(s)); },
         "result.json as a dict (the same document `hemivem solve` writes).")
       .def("to_json", [](py::handle s) { return json_text(data(s)); }, "result.json's text.")
-      .def("brief_report", [](py::handle s) { return app::brief_report(data(s).solved); },
+      .def("brief_report", [](py::handle s) {
+             const SolveData& d = data(s);
+             return d.solved3d ? app::brief_report_3d(*d.solved3d) : app::brief_report(d.solved);
+           },
            "One line: status, certificate, iterations, energy and total time.")
       .def(
           "full_report",
           [](py::handle s) {
             SolveData& d = data(s);
+            if (d.solved3d) return app::full_report_3d(*d.solved3d, app::run_info_3d(d.scene, *d.solved3d));
             return app::full_report(d.scene, d.solved, app::run_info(d.scene, d.solved));
           },
           "Every stage of the solve, as `hemivem solve` prints it between its title and the files it wrote.")
@@ -468,7 +579,8 @@ void def_result_outputs(ResultClass& c) {
             app::OutputReport report;
             {
               py::gil_scoped_release release;
-              report = app::write_results(folder, d.scene, d.solved, files ? &*files : nullptr);
+              report = d.solved3d ? app::write_results_3d(folder, d.scene, *d.solved3d, files ? &*files : nullptr)
+                                  : app::write_results(folder, d.scene, d.solved, files ? &*files : nullptr);
             }
             std::vector<std::filesystem::path> written = report.written;
             return written;
@@ -476,17 +588,22 @@ void def_result_outputs(ResultClass& c) {
           py::arg("folder"), py::arg("files") = py::none(),
           "Writes the files `hemivem solve --out folder` writes for this scene (result.json,\n"
           "contact.csv, displacement.csv, history.csv, solution.vtu, scene.toml, and the PNGs when\n"
-          "gnuplot is installed), each atomically; `files` picks some of them by name. Returns the\n"
+          "gnuplot is installed; for a three-dimensional scene also contact-surface.vtu, and\n"
+          "pressure.png), each atomically; `files` picks some of them by name. Returns the\n"
           "paths written.")
       .def("__repr__", [](py::handle s) {
         const SolveData& d = data(s);
-        const auto& sol = d.solved.solution;
         std::ostringstream o;
-        o << "Result(status=" << py::repr(py::str(to_string(sol.status))).cast<std::string>()
-          << ", linear=" << py::repr(py::str(d.solved.linear)).cast<std::string>()
-          << ", minimizer=" << py::repr(py::str(d.solved.minimizer)).cast<std::string>() << ", vertices="
-          << d.solved.built->mesh.num_vertices() << ", contact_nodes=" << sol.contact.size()
-          << ", energy=" << std::setprecision(10) << sol.energy << ")";
+        visit(d, [&](const auto& v) {
+          const auto& sol = v.solution;
+          o << "Result(status=" << py::repr(py::str(to_string(sol.status))).cast<std::string>();
+          if (d.solved3d) o << ", dimension=3";
+          o << ", linear=" << py::repr(py::str(v.linear)).cast<std::string>()
+            << ", minimizer=" << py::repr(py::str(v.minimizer)).cast<std::string>() << ", vertices="
+            << v.built->mesh.num_vertices() << ", contact_nodes=" << sol.contact.size() << ", energy=" << std::setprecision(10)
+            << sol.energy << ")";
+          return 0;
+        });
         return o.str();
       });
 }
@@ -500,6 +617,11 @@ One solve of a scene (hemivem.solve): what `hemivem solve` reports and writes.
     r.displacement          # (num_vertices, 2) float64, C order, read-only view
     r.contact.u_nu          # the contact table as arrays
     r.write("out/solve")    # the files of `hemivem solve --out out/solve`
+
+A three-dimensional scene gives a Result of dimension 3: displacement (num_vertices, 3),
+contact x, y, z and normal (n, 3), forces of three components, mesh a Mesh3D; error_estimate,
+adapt and path are None, indicators raises AttributeError, the contact table has no friction
+columns.
 
 A Result holds its own copy of the scene, the mesh and the solution: it outlives the Scene it
 was solved from, and its arrays keep it alive.
@@ -552,13 +674,35 @@ std::vector<std::string> keyword_overrides(const SolveKeywords& k, const py::kwa
   return overrides;
 }
 
-/// Solves the resolved scene of `d` without the GIL, honouring Ctrl-C between stages; keeps
-/// the reduced problem when asked and the scene has contact.
+/// Solves the resolved scene of `d` without the GIL (solve_scene_3d for a three-dimensional
+/// scene), honouring Ctrl-C between stages; keeps the reduced problem when asked and the scene
+/// has contact.
 void solve_data(SolveData& d, const py::object& progress, bool keep_reduced, const PyMesh* mesh) {
   if (!progress.is_none() && !is_global_search(d.scene.solver.search, "solver.search"))
     throw InputError("only a global search (search='global') reports local runs", "progress");
   SignalWatch watch;
   ReducedProblem reduced;
+  if (d.scene.dimension() == 3) {
+    try {
+      py::gil_scoped_release release;
+      app::SceneSolve3DOptions o;
+      o.on_built = [&](const BuiltProblem3D&, const app::SceneSolve3D&) {
+        if (watch.poll()) throw Interrupted{};
+      };
+      o.callback = [&](const IterationRecord&) { return !watch.poll(); };
+      o.reduced = keep_reduced ? &reduced : nullptr;
+      o.progress = search_progress(watch, progress);
+      d.solved3d = app::solve_scene_3d(d.scene, std::move(o));
+    } catch (const Interrupted&) {
+    }
+    watch.raise_if_interrupted();
+    if (keep_reduced && d.solved3d->built->has_contact && !reduced.laws.empty()) {
+      d.reduced = std::make_shared<ReducedHolder>();
+      d.reduced->own = std::move(reduced);
+      d.reduced->linear = d.solved3d->linear;
+    }
+    return;
+  }
   try {
     py::gil_scoped_release release;
     auto on_built = [&](const BuiltProblem&, const app::SceneSolve&) {
@@ -612,7 +756,12 @@ loads, contact part and region boxes are selected on the given mesh, as on the s
 
 adapt=True (or a scene with an [adapt] table) refines adaptively as `hemivem solve --adapt`
 does: the Result is the last step's, on the final mesh, with `adapt` holding every step's
-numbers; a scene without [adapt] takes its defaults. An adaptive solve keeps no reduced problem.)doc";
+numbers; a scene without [adapt] takes its defaults. An adaptive solve keeps no reduced problem.
+
+A three-dimensional scene (docs/reference/scenes.md, "Three-dimensional scenes") is solved as
+`hemivem solve` solves it (solve_scene_3d): the Result has dimension 3, displacement of shape
+(num_vertices, 3), a contact table with z and an (n, 3) normal, and a Mesh3D; mesh= and
+adapt=True are refused (InputError), as are [path] and [adapt] in the scene.)doc";
 
 void register_solve_function(py::module_& m) {
   m.def(
@@ -632,6 +781,16 @@ void register_solve_function(py::module_& m) {
         const SolveKeywords k{linear, minimizer, tolerance, max_iterations, search, max_starts, time_budget, seed, engines};
         const std::vector<std::string> overrides = keyword_overrides(k, kwargs);
         if (!overrides.empty()) apply_overrides(d->scene, overrides);
+        if (d->scene.dimension() == 3) {
+          if (adapt)
+            throw InputError("adaptive refinement is not available for three-dimensional scenes (no error estimate "
+                             "in 3D); solve without adapt=True",
+                             "adapt");
+          if (!mesh.is_none())
+            throw InputError("a three-dimensional scene is solved on the mesh its [mesh] table makes; hemivem.Mesh is "
+                             "two-dimensional: leave out mesh=, set the scene's mesh keys instead",
+                             "mesh");
+        }
         if (adapt && !d->scene.adapt) d->scene.adapt = SceneAdapt{};
         if ((d->scene.adapt || app::scene_is_path(d->scene)) && keep_reduced) keep_reduced = false;  // no one reduced problem
         refuse_mpi_engine(d->scene.solver.linear, linear ? "linear" : d->scene.where("solver.linear"));
