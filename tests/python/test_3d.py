@@ -1,0 +1,261 @@
+"""hemivem.solve on three-dimensional scenes: (n, 3) arrays, the files of `hemivem solve`, an
+exact solution, what a 3D Result does not have, and 2D unchanged."""
+
+import csv
+import json
+import pathlib
+
+import numpy as np
+import pytest
+
+import hemivem
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+EXAMPLE_3D = ROOT / "scenes" / "example-4.1-3d.toml"
+
+# A block [0, 1] x [0, 1] x [0, 0.5] on the rigid plane z = 0 (frictionless, one-sided, no
+# law), symmetry planes x = 0 and y = 0, the top pushed down by DEPTH (its z component only):
+# uniaxial stress, u = (nu e x, nu e y, -e z) with e = DEPTH / 0.5, pressure E e on the bottom
+# (tests/test_contact3d.cpp, BlockPressedOnAPlaneIsUniaxialStress).
+YOUNG, POISSON, DEPTH, HEIGHT = 100.0, 0.3, 0.01, 0.5
+PRESSED_BLOCK = f"""
+schema_version = 1
+title = "a block pressed onto a plane"
+
+[mesh]
+generator = "cubes"
+n = [3, 3, 2]
+domain = [0.0, 1.0, 0.0, 1.0, 0.0, {HEIGHT}]
+
+[material]
+E = {YOUNG}
+nu = {POISSON}
+
+[[dirichlet]]
+side = "x0"
+ux = 0.0
+
+[[dirichlet]]
+side = "y0"
+uy = 0.0
+
+[[dirichlet]]
+side = "top"
+uz = {-DEPTH}
+
+[contact]
+side = "bottom"
+law = "zero"
+constraint = "one-sided"
+
+[contact.obstacle]
+shape = "plane"
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+"""
+
+
+@pytest.fixture(scope="module")
+def small_3d():
+    """Example 4.1 in 3D on 4 x 4 x 4 cubes, solved once."""
+    s = hemivem.Scene.from_toml(EXAMPLE_3D)
+    s.set("mesh.n", 4)
+    return s, hemivem.solve(s, linear="eigen")
+
+
+def read_csv(path):
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def test_small_scene_converges_with_three_columns(small_3d):
+    scene, r = small_3d
+    assert scene.dimension == 3 and r.dimension == 3
+    assert r.status == "converged" and r.converged and r.certificate.converged
+    mesh = r.mesh
+    assert isinstance(mesh, hemivem.Mesh3D)
+    assert (mesh.num_vertices, mesh.num_cells) == (5 * 5 * 5, 4 * 4 * 4)
+    n = mesh.num_vertices
+    assert mesh.vertices.shape == (n, 3)
+    d = r.displacement
+    assert d.shape == (n, 3) and d.dtype == np.float64
+    assert d.flags.c_contiguous and not d.flags.writeable
+    assert np.all(np.isfinite(d)) and np.max(np.abs(d[:, 2])) > 0.0
+    t = r.contact
+    n_c = len(t)
+    assert n_c > 0
+    for name in ["vertex", "x", "y", "z", "u_nu", "law_force", "reaction", "pressure", "gap", "weight", "state", "part"]:
+        assert t[name].shape == (n_c,), name
+    assert t.normal.shape == (n_c, 3)
+    # the bottom face z = 0 with outward normal -z; its nodes off the clamped sides x = 0, x = 1
+    assert np.all(t.z == 0.0)
+    assert np.allclose(t.normal, [0.0, 0.0, -1.0], rtol=0, atol=1e-15)
+    assert np.array_equal(np.column_stack([t.x, t.y, t.z]), mesh.vertices[t.vertex])
+    assert len(r.contact_force) == 3
+    assert all(len(v) == 3 for v in [r.forces["applied"], r.forces["contact"], *r.forces["reactions"].values()])
+    assert r.forces["balance_residual"] < 1e-10
+
+
+def test_json_is_the_three_dimensional_document(small_3d):
+    _, r = small_3d
+    j = r.json()
+    assert j["schema"] == "hemivem-result/11" and j["dimension"] == 3
+    assert j["status"] == r.status and j["potential_energy"] == r.energy
+    assert j["mesh"]["vertices"] == r.mesh.num_vertices and j["mesh"]["elements"] == r.mesh.num_cells
+    assert len(j["contact"]) == len(r.contact)
+    assert [c["vertex"] for c in j["contact"]] == r.contact.vertex.tolist()
+    assert np.array_equal(np.array([c["x"] for c in j["contact"]]),
+                          np.column_stack([r.contact.x, r.contact.y, r.contact.z]))
+    assert np.array_equal(np.array([c["normal"] for c in j["contact"]]), r.contact.normal)
+    assert [c["u_nu"] for c in j["contact"]] == r.contact.u_nu.tolist()
+    assert j["error_estimate"] is None and j["adapt"] is None and j["path"] is None and j["friction"] is None
+    assert set(r.timings) >= {"mesh", "assembly", "condensation", "minimize", "back_substitution", "total"}
+
+
+def test_write_holds_the_arrays(small_3d, tmp_path):
+    _, r = small_3d
+    written = {p.name for p in r.write(tmp_path / "out")}
+    assert {"result.json", "contact.csv", "displacement.csv", "history.csv", "solution.vtu",
+            "contact-surface.vtu", "scene.toml"} <= written
+    assert not written & {"u_nu.png", "error.png", "mesh.png", "adapt.png"}
+    rows = read_csv(tmp_path / "out" / "displacement.csv")
+    assert list(rows[0]) == ["vertex", "x", "y", "z", "ux", "uy", "uz"]
+    assert [int(row["vertex"]) for row in rows] == list(range(r.mesh.num_vertices))
+    u = np.array([[float(row[k]) for k in ("ux", "uy", "uz")] for row in rows])
+    x = np.array([[float(row[k]) for k in ("x", "y", "z")] for row in rows])
+    # shortest round-trip numbers: the very same doubles
+    assert np.array_equal(u, r.displacement)
+    assert np.array_equal(x, r.mesh.vertices)
+    contact = read_csv(tmp_path / "out" / "contact.csv")
+    assert len(contact) == len(r.contact) == len(r.json()["contact"])
+    assert [float(row["u_nu"]) for row in contact] == r.contact.u_nu.tolist()
+    assert [float(row["pressure"]) for row in contact] == r.contact.pressure.tolist()
+    assert np.array_equal(np.array([[float(row[k]) for k in ("nx", "ny", "nz")] for row in contact]), r.contact.normal)
+    assert json.loads((tmp_path / "out" / "result.json").read_text())["dimension"] == 3
+    # a chosen file, and a name of no 3D output
+    assert [p.name for p in r.write(tmp_path / "one", files=["displacement.csv"])] == ["displacement.csv"]
+    with pytest.raises(hemivem.InputError, match="three-dimensional"):
+        r.write(tmp_path / "bad", files=["u_nu.png"])
+
+
+def test_write_gives_the_files_of_the_command(small_3d, tmp_path, run_command):
+    scene, r = small_3d
+    scene_file = tmp_path / "scene.toml"
+    scene.write(scene_file)
+    out = tmp_path / "cmd"
+    run_command("solve", scene_file, "--linear", "eigen", "--out", out, "--export-reduced", tmp_path / "red", "-q")
+    r2 = hemivem.solve(scene_file, linear="eigen")
+    written = r2.write(tmp_path / "py")
+    assert sorted(p.name for p in written) == sorted(p.name for p in out.iterdir())
+    for name in ["contact.csv", "displacement.csv", "scene.toml"]:
+        assert (tmp_path / "py" / name).read_text() == (out / name).read_text(), name
+    mine = json.loads((tmp_path / "py" / "result.json").read_text())
+    theirs = json.loads((out / "result.json").read_text())
+    for doc in (mine, theirs):
+        doc.pop("timings")
+    assert mine == theirs
+    assert np.array_equal(r2.displacement, r.displacement)
+    exported = hemivem.ReducedProblem.read(tmp_path / "red")
+    assert np.array_equal(exported.S, r2.reduced.S) and np.array_equal(exported.c, r2.reduced.c)
+    assert np.array_equal(exported.w, r2.reduced.w)
+
+
+def test_pressed_block_is_uniaxial_stress():
+    r = hemivem.solve(PRESSED_BLOCK, linear="eigen", minimizer="ssn")
+    assert r.dimension == 3 and r.converged
+    x = r.mesh.vertices
+    strain = DEPTH / HEIGHT
+    expected = np.column_stack([POISSON * strain * x[:, 0], POISSON * strain * x[:, 1], -strain * x[:, 2]])
+    assert r.displacement.shape == (4 * 4 * 3, 3)
+    assert np.max(np.linalg.norm(r.displacement - expected, axis=1)) < 1e-11
+    t = r.contact
+    assert len(t) == 16  # every bottom vertex, those on the symmetry planes included
+    assert list(t.state) == ["upper"] * 16
+    assert np.max(np.abs(t.u_nu)) < 1e-14
+    assert np.allclose(t.normal, [0.0, 0.0, -1.0], rtol=0, atol=1e-15)
+    stress = YOUNG * strain
+    assert np.max(np.abs(t.pressure - stress)) <= 1e-9 * stress
+    assert abs(t.weight.sum() - 1.0) < 1e-14
+    assert np.allclose(r.contact_force, (0.0, 0.0, stress), rtol=0, atol=1e-9 * stress)
+
+
+def test_what_a_three_dimensional_result_has_not(small_3d):
+    _, r = small_3d
+    assert r.error_estimate is None and r.adapt is None and r.path is None
+    assert r.held_by_contact == []
+    with pytest.raises(AttributeError, match="no error estimate"):
+        r.indicators
+    assert not hasattr(r, "indicators")
+    with pytest.raises(AttributeError, match="frictionless"):
+        r.contact.u_tau
+    with pytest.raises(KeyError, match="frictionless"):
+        r.contact["friction_state"]
+    assert "u_tau" not in r.contact.columns and "z" in r.contact.columns
+
+
+def test_reports_and_reduced_problem(small_3d):
+    _, r = small_3d
+    assert r.brief_report().startswith("converged (certificate: ")
+    assert f"{r.iterations} iterations" in r.brief_report()
+    full = r.full_report()
+    assert "(three-dimensional)" in full and f"contact       {len(r.contact)} nodes" in full
+    assert "dimension=3" in repr(r) and f"vertices={r.mesh.num_vertices}" in repr(r)
+    p = r.reduced
+    assert isinstance(p, hemivem.ReducedProblem) and len(p) == len(r.contact)
+    assert p.certificate(r.a, tolerance=r.certificate.tolerance).converged
+    assert p.energy(r.a) == pytest.approx(r.objective, rel=1e-12)
+
+
+def test_global_search_and_no_contact():
+    s = hemivem.Scene.from_toml(EXAMPLE_3D)
+    s.update({"mesh.n": 3, "contact.law": "sawtooth"})
+    runs = []
+    r = hemivem.solve(s, search="global", max_starts=8, progress=lambda g: runs.append(g.run))
+    assert r.converged and r.search["kind"] == "global" and runs
+    j = r.json()
+    assert [c.potential_energy for c in r.critical_points] == [c["potential_energy"] for c in j["critical_points"]]
+    assert r.critical_points[0].potential_energy == pytest.approx(r.energy, rel=1e-12)
+    s.set("contact", None)
+    free = hemivem.solve(s)
+    assert free.dimension == 3 and free.converged and free.displacement.shape == (free.mesh.num_vertices, 3)
+    assert len(free.contact) == 0 and free.contact.normal.shape == (0, 3)
+    assert free.minimizer_result is None and free.reduced is None and free.critical_points == []
+
+
+def test_mesh3d_geometry(small_3d):
+    _, r = small_3d
+    m = r.mesh
+    assert len(m) == m.num_cells == len(m.cells) == len(m.cell_vertices) == len(m.volumes)
+    assert m.bounding_box == (0.0, 1.0, 0.0, 0.5, 0.0, 1.0)
+    assert m.volumes.sum() == pytest.approx(0.5, rel=1e-14)
+    assert m.centroids.shape == (m.num_cells, 3) and m.face_normals.shape == (m.num_faces, 3)
+    assert len(m.faces) == m.num_faces and m.face_cells.shape == (m.num_faces, 2)
+    boundary = m.boundary_faces
+    assert np.all(m.face_cells[boundary, 1] == -1)
+    # the boundary of the box: its six sides' area
+    assert m.face_areas[boundary].sum() == pytest.approx(2 * (0.5 + 1.0 + 0.5), rel=1e-14)
+    assert "Mesh3D(125 vertices, 64 cells" in repr(m)
+
+
+def test_what_a_three_dimensional_scene_refuses(small_3d):
+    scene, _ = small_3d
+    with pytest.raises(hemivem.InputError, match="adaptive refinement is not available for three-dimensional"):
+        hemivem.solve(scene, adapt=True)
+    with pytest.raises(hemivem.InputError, match="hemivem.Mesh is two-dimensional"):
+        hemivem.solve(scene, mesh=hemivem.Mesh.generate("squares", 2))
+    with pytest.raises(hemivem.InputError, match="condense takes two-dimensional scenes"):
+        hemivem.condense(scene)
+    with pytest.raises(hemivem.InputError, match="not available for three-dimensional scenes"):
+        hemivem.solve_path(scene, steps=2)
+
+
+def test_a_plane_scene_keeps_two_columns(small_scene):
+    small_scene.set("mesh.n", 4)
+    r = hemivem.solve(small_scene)
+    assert small_scene.dimension == 2 and r.dimension == 2 and r.converged
+    assert r.displacement.shape == (r.mesh.num_vertices, 2) and r.mesh.vertices.shape[1] == 2
+    assert isinstance(r.mesh, hemivem.Mesh)
+    assert r.contact.normal.shape == (len(r.contact), 2) and "z" not in r.contact.columns
+    assert len(r.contact_force) == 2 and r.json()["dimension"] == 2
+    assert r.indicators.shape == (r.mesh.num_elements,)
+    assert "dimension" not in repr(r)
