@@ -196,7 +196,7 @@ void print_check(std::ostream& out, const Scene& base, const CheckOptions& o, co
   const std::vector<PairRun>& runs = shared.runs;
   const std::size_t np = runs.size();
   out << "hemivem check: " << base.title << " (" << base.source << "), " << base.mesh.description();
-  out << ": " << shared.built->mesh.num_vertices() << " vertices"
+  out << ": " << shared.vertices << " vertices"
       << (runs.empty() ? std::string() : ", " + std::to_string(runs.front().contact_nodes) + " contact nodes");
   out << "\n  tolerance " << sci(base.solver.tolerance) << ", agree " << sci(o.agree)
       << "; differences are max|u_a - u_b| / max|u_ref|, u_ref from eigen+ssn (max|u_ref| = " << sci(c.scale, 4)

@@ -1,12 +1,15 @@
 #include "engine_pairs.hpp"
 
 #include <algorithm>
+#include <type_traits>
 #include <chrono>
 #include <cmath>
 #include <limits>
 
 #include <hemivem/vem/assembly.hpp>
+#include <hemivem/contact/contact3d.hpp>
 #include <hemivem/contact/solver.hpp>
+#include <hemivem/vem/assembly3d.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/linear_backends.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
@@ -20,24 +23,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-
-// The guarantee of solve_contact, checked from the outside: a converged pair has finite
-// displacements and its contact point is feasible (certificate recomputed on the reduced problem).
-void check_guarantee(PairRun& r, const ContactSolution& sol, const ReducedProblem* reduced, double tolerance) {
-  if (!r.converged) return;
-  if (!sol.u.allFinite()) {
-    r.guarantee = false;
-    r.broken = "converged with a non-finite displacement";
-    return;
-  }
-  if (reduced && reduced->size() > 0) {
-    const Certificate c = certificate(*reduced, sol.minimizer->a, tolerance);
-    if (!c.converged()) {
-      r.guarantee = false;
-      r.broken = "converged, but the recomputed certificate is " + certificate_text(c);
-    }
-  }
-}
 
 }  // namespace
 
@@ -106,10 +91,10 @@ PairEngines make_engines(const Scene& scene, const std::vector<Pair>& pairs) {
   return e;
 }
 
-/// What the solution `s` of one pair says, into `r` (its timings completed with the shared
-/// assembly); the solution's displacement is moved into `r`.
-void record_solution(PairRun& r, ContactSolution& s, const PairRuns& out, const ReducedProblem* reduced,
-                     double tolerance) {
+/// What the solution `s` of one pair (plane or 3D) says, into `r` (its timings completed with the
+/// shared assembly); the solution's displacement is moved into `r`.
+template <class Solution>
+void record_solution(PairRun& r, Solution& s, const PairRuns& out, const ReducedProblem* reduced, double tolerance) {
   r.status = to_string(s.status);
   r.message = s.message;
   r.converged = s.converged();
@@ -117,21 +102,32 @@ void record_solution(PairRun& r, ContactSolution& s, const PairRuns& out, const 
   r.iterations = s.iterations();
   r.margin = s.uniqueness_margin;
   r.energy = s.energy;
-  r.rcond = s.rcond;
-  r.condition = s.condition_estimate;
+  if constexpr (std::is_same_v<Solution, ContactSolution>) {
+    r.rcond = s.rcond;
+    r.condition = s.condition_estimate;
+    if (std::any_of(s.contact.begin(), s.contact.end(), [](const ContactNode& c) { return !c.friction_state.empty(); }))
+      r.stick = static_cast<int>(std::count_if(s.contact.begin(), s.contact.end(),
+                                               [](const ContactNode& c) { return c.friction_state == "stick"; }));
+  }
   r.timings = s.timings;
   r.timings["assembly"] = out.assembly_seconds;
   r.timings["total"] += out.assembly_seconds;
   r.seconds = out.mesh_seconds + r.timings["total"];
   r.contact_nodes = static_cast<int>(s.contact.size());
   r.at_bound = static_cast<int>(
-      std::count_if(s.contact.begin(), s.contact.end(), [](const ContactNode& c) { return c.state != "free"; }));
-  if (std::any_of(s.contact.begin(), s.contact.end(), [](const ContactNode& c) { return !c.friction_state.empty(); }))
-    r.stick = static_cast<int>(std::count_if(s.contact.begin(), s.contact.end(),
-                                             [](const ContactNode& c) { return c.friction_state == "stick"; }));
+      std::count_if(s.contact.begin(), s.contact.end(), [](const auto& c) { return c.state != "free"; }));
   r.unknowns = s.unknowns;
-  r.vertices = out.built->mesh.num_vertices();
-  check_guarantee(r, s, reduced, tolerance);
+  r.vertices = out.vertices;
+  if (r.converged && !s.u.allFinite()) {
+    r.guarantee = false;
+    r.broken = "converged with a non-finite displacement";
+  } else if (r.converged && reduced && reduced->size() > 0) {
+    const Certificate c = certificate(*reduced, s.minimizer->a, tolerance);
+    if (!c.converged()) {
+      r.guarantee = false;
+      r.broken = "converged, but the recomputed certificate is " + certificate_text(c);
+    }
+  }
   r.u = std::move(s.u);
 }
 
@@ -140,7 +136,7 @@ void record_solution(PairRun& r, ContactSolution& s, const PairRuns& out, const 
 /// fails them all.
 void run_engine_pairs(const std::string& linear, const std::vector<Pair>& pairs, const PairEngines& engines,
                       const LinearSystem& system, const MinimizerOptions& mo, const PairRunOptions& o, PairRuns& out) {
-  const BuiltProblem& built = *out.built;
+  const bool has_contact = out.built3d ? !out.built3d->problem.contact_faces.empty() : out.built->has_contact;
   std::vector<std::size_t> mine;  // the pairs of this engine, in order
   std::vector<const NonsmoothMinimizer*> minimizers;
   for (std::size_t i = 0; i < pairs.size(); ++i)
@@ -149,13 +145,18 @@ void run_engine_pairs(const std::string& linear, const std::vector<Pair>& pairs,
       minimizers.push_back(engines.minimizers.at(pairs[i].minimizer).get());
     }
   std::vector<ContactSolution> sols;
+  std::vector<ContactSolution3D> sols3d;
   std::string failure;
   ReducedProblem reduced;
   try {
     FactorizationOptions fo;
     fo.engine = linear;
-    sols = solve_contact(built.problem, system, make_factorization(fo), minimizers, mo,
-                         built.has_contact ? &reduced : nullptr, o.estimate_condition);
+    if (out.built3d)
+      sols3d = solve_contact_3d(out.built3d->problem, system, make_factorization(fo), minimizers, mo,
+                                has_contact ? &reduced : nullptr);
+    else
+      sols = solve_contact(out.built->problem, system, make_factorization(fo), minimizers, mo,
+                           has_contact ? &reduced : nullptr, o.estimate_condition);
     ++out.condensations;
   } catch (const NumericalError& e) {
     failure = e.what();
@@ -171,8 +172,10 @@ void run_engine_pairs(const std::string& linear, const std::vector<Pair>& pairs,
       r.failed = true;
       r.message = failure;
       r.seconds = out.mesh_seconds + out.assembly_seconds;
+    } else if (out.built3d) {
+      record_solution(r, sols3d[k], out, has_contact ? &reduced : nullptr, mo.tolerance);
     } else {
-      record_solution(r, sols[k], out, built.has_contact ? &reduced : nullptr, mo.tolerance);
+      record_solution(r, sols[k], out, has_contact ? &reduced : nullptr, mo.tolerance);
     }
     if (o.done) o.done(r);
   }
@@ -189,10 +192,17 @@ PairRuns run_pairs(const Scene& scene, const std::vector<Pair>& pairs, const Pai
   app::refuse_path(scene, "hemivem check");
   PairRuns out;
   const auto t_mesh = Clock::now();
-  out.built = build_problem(scene);
+  const bool solid = scene.dimension() == 3;
+  if (solid) {
+    out.built3d = build_problem_3d(scene);
+    out.vertices = out.built3d->mesh.num_vertices();
+  } else {
+    out.built = build_problem(scene);
+    out.vertices = out.built->mesh.num_vertices();
+  }
   out.mesh_seconds = since(t_mesh);
   const auto t_assembly = Clock::now();
-  const LinearSystem system = assemble(out.built->problem.elasticity);
+  const LinearSystem system = solid ? assemble_3d(out.built3d->problem.elasticity) : assemble(out.built->problem.elasticity);
   out.assembly_seconds = since(t_assembly);
   out.assemblies = 1;
 

@@ -69,7 +69,9 @@ struct PairRunOptions {
 };
 
 struct PairRuns {
-  std::unique_ptr<BuiltProblem> built;  ///< the mesh and problem every pair solved
+  std::unique_ptr<BuiltProblem> built;  ///< the mesh and problem every pair solved (a plane scene)
+  std::unique_ptr<BuiltProblem3D> built3d;  ///< the same for a three-dimensional scene
+  int vertices = 0;                     ///< the vertices of the mesh
   std::vector<PairRun> runs;            ///< in the order of the pairs given
   double mesh_seconds = 0.0;            ///< build_problem
   double assembly_seconds = 0.0;
@@ -95,7 +97,7 @@ double largest_margin(const std::vector<PairRun>& runs);
 /// certificate, iterations, potential_energy.
 nlohmann::json pair_json(const PairRun& run);
 
-/// Runs `pairs` on `scene` (its solver.linear and solver.minimizer are not used; the scene's
+/// Runs `pairs` on `scene`, plane or three-dimensional (its solver.linear and solver.minimizer are not used; the scene's
 /// [solver.parameters] go to its own minimizer only). Throws the InputError of a scene that
 /// cannot be built, and an unknown engine name before any work.
 PairRuns run_pairs(const Scene& scene, const std::vector<Pair>& pairs, const PairRunOptions& options = {});

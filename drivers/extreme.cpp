@@ -97,7 +97,7 @@ SceneReport run_scene(const fs::path& file, const ExtremeOptions& o, std::ostrea
     return rep;
   }
   rep.mesh_seconds = shared.mesh_seconds;
-  rep.vertices = shared.built->mesh.num_vertices();
+  rep.vertices = shared.vertices;
   // differences relative to max|u| of eigen+ssn (else the largest converged pair)
   const double scale = difference_scale(shared.runs);
   rep.margin = largest_margin(shared.runs);

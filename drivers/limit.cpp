@@ -5,6 +5,8 @@
 #include "commands.hpp"
 #include "common.hpp"
 #include <hemivem/app/outputs.hpp>
+#include <hemivem/app/solve3d.hpp>
+#include <hemivem/vem/assembly3d.hpp>
 
 #include <hemivem/vem/assembly.hpp>
 #include <hemivem/contact/condensation.hpp>
@@ -91,6 +93,61 @@ double plain_q1_assembly_seconds(const Mesh& mesh, const DofMap& dofs, double la
   return since(start);
 }
 
+/// The plain assembly of limit3d.cpp, written for hemivem's mesh of boxes and dof numbering: the
+/// trilinear (Q1) stiffness of one hx x hy x hz box (2 x 2 x 2 Gauss), added for every cell with
+/// Eigen triplets (lower triangle), one setFromTriplets. Same sparsity as the VEM matrix on
+/// boxes; refused on other meshes.
+double plain_q1_hex_assembly_seconds(const Mesh3D& mesh, const DofMap& dofs, double lambda, double mu) {
+  for (int c = 0; c < mesh.num_cells(); ++c)
+    if (mesh.cell_vertices(c).size() != 8 || mesh.cell_faces(c).size() != 6)
+      throw InputError("the limit's plain assembly is the Q1 stiffness of boxes: cell " + std::to_string(c) +
+                           " is not a box",
+                       "mesh.generator");
+  const auto start = Clock::now();
+  // the vertices of a box of make_cubes, sorted by id, are its corners a = i + 2 j + 4 k
+  const auto& first = mesh.cell_vertices(0);
+  const Vec3 size = mesh.vertex(first[7]) - mesh.vertex(first[0]);
+  Eigen::Matrix<double, 24, 24> Ke = Eigen::Matrix<double, 24, 24>::Zero();
+  Eigen::Matrix<double, 6, 6> C = Eigen::Matrix<double, 6, 6>::Zero();
+  for (int a = 0; a < 3; ++a) {
+    for (int b = 0; b < 3; ++b) C(a, b) = lambda;
+    C(a, a) = lambda + 2 * mu;
+    C(3 + a, 3 + a) = mu;
+  }
+  const double gauss[2] = {0.5 - 0.5 / std::sqrt(3.0), 0.5 + 0.5 / std::sqrt(3.0)};
+  for (double r : gauss)
+    for (double q : gauss)
+      for (double t : gauss) {
+        Eigen::Matrix<double, 6, 24> B = Eigen::Matrix<double, 6, 24>::Zero();
+        for (int a = 0; a < 8; ++a) {
+          const int cx = a & 1, cy = a >> 1 & 1, cz = a >> 2 & 1;
+          const double fx = cx ? r : 1 - r, fy = cy ? q : 1 - q, fz = cz ? t : 1 - t;
+          const double dx = (cx ? 1 : -1) * fy * fz / size.x(), dy = (cy ? 1 : -1) * fx * fz / size.y(),
+                       dz = (cz ? 1 : -1) * fx * fy / size.z();
+          B(0, 3 * a) = dx, B(1, 3 * a + 1) = dy, B(2, 3 * a + 2) = dz;
+          B(3, 3 * a + 1) = dz, B(3, 3 * a + 2) = dy;
+          B(4, 3 * a) = dz, B(4, 3 * a + 2) = dx;
+          B(5, 3 * a) = dy, B(5, 3 * a + 1) = dx;
+        }
+        Ke += 0.125 * size.prod() * B.transpose() * C * B;
+      }
+  std::vector<Eigen::Triplet<double, int>> triplets;
+  triplets.reserve(static_cast<std::size_t>(mesh.num_cells()) * 300);
+  int d[24];
+  for (int c = 0; c < mesh.num_cells(); ++c) {
+    const auto& v = mesh.cell_vertices(c);
+    for (int a = 0; a < 8; ++a)
+      for (int k = 0; k < 3; ++k) d[3 * a + k] = dofs.free_index[static_cast<std::size_t>(3 * v[static_cast<std::size_t>(a)] + k)];
+    for (int q = 0; q < 24; ++q)
+      for (int p = 0; p < 24; ++p)
+        if (d[p] >= 0 && d[q] >= 0 && d[p] >= d[q]) triplets.emplace_back(d[p], d[q], Ke(p, q));
+  }
+  SparseMatrix A(dofs.num_free(), dofs.num_free());
+  A.setFromTriplets(triplets.begin(), triplets.end());
+  A.makeCompressed();
+  return since(start);
+}
+
 struct LimitRow {
   int n = 0;
   int dofs = 0;
@@ -161,7 +218,42 @@ nlohmann::json in_child(const std::function<nlohmann::json()>& work) {
 /// One solve with cholmod (in this process): its wall time from the scene to result.json (as
 /// `hemivem solve` with `output.write = ["result-json"]`), every stage, then the uniqueness margin
 /// and the writing of all outputs, each timed on its own.
+nlohmann::json measure_solve_3d(const Scene& scene) {
+  const auto start = Clock::now();
+  std::map<std::string, double> stage;
+  ReducedProblem reduced;
+  app::SceneSolve3DOptions so;
+  so.reduced = &reduced;
+  const app::SceneSolve3D s = app::solve_scene_3d(scene, so);
+  stage["mesh"] = s.mesh_seconds;
+  for (const char* k : {"assembly", "condensation", "minimize", "back_substitution"}) {
+    const auto it = s.solution.timings.find(k);
+    stage[k] = it == s.solution.timings.end() ? 0.0 : it->second;
+  }
+  const fs::path dir = fs::temp_directory_path() / ("hemivem-limit-" + std::to_string(::getpid()));
+  const std::vector<std::string> result_only{"result.json"};
+  auto t = Clock::now();
+  (void)app::write_results_3d(dir / "result-only", scene, s, &result_only);
+  stage["result_json"] = since(t);
+  const double wall = since(start);
+  t = Clock::now();
+  if (!reduced.laws.empty()) (void)uniqueness_margin(reduced.S, reduced.w, reduced.laws.front()->alpha());
+  stage["margin"] = since(t);
+  t = Clock::now();
+  (void)app::write_results_3d(dir / "all", scene, s);
+  stage["outputs"] = since(t);
+  std::error_code ec;
+  fs::remove_all(dir, ec);
+  return {{"stages", stage},
+          {"wall", wall},
+          {"dofs", s.solution.unknowns},
+          {"contact_nodes", reduced.S.rows()},
+          {"status", to_string(s.solution.status)},
+          {"peak_rss", peak_rss_bytes()}};
+}
+
 nlohmann::json measure_solve(const Scene& scene) {
+  if (scene.dimension() == 3) return measure_solve_3d(scene);
   const auto start = Clock::now();
   std::map<std::string, double> stage;
   ReducedProblem reduced;
@@ -202,6 +294,20 @@ nlohmann::json measure_solve(const Scene& scene) {
 /// The limit (in this process): the plain assembly, and one CHOLMOD factorization of hemivem's
 /// A with the given ordering.
 nlohmann::json measure_limit(const Scene& scene, bool metis) {
+  if (scene.dimension() == 3) {
+    const auto built = build_problem_3d(scene);
+    const auto& elasticity = built->problem.elasticity;
+    const Lame lame = elasticity.materials.lame(built->mesh.region(0));
+    const double plain =
+        plain_q1_hex_assembly_seconds(built->mesh, make_dof_map_3d(built->mesh, elasticity.dirichlet), lame.lambda, lame.mu);
+    const LinearSystem system = assemble_3d(elasticity);
+    const double matrix_bytes = static_cast<double>(system.A.nonZeros()) * (sizeof(double) + sizeof(int)) +
+                                static_cast<double>(system.A.outerSize() + 1) * sizeof(int);
+    const ReferenceFactorization r = measure_reference_factorization(system.A, metis);
+    if (!r.ok) throw NumericalError("the limit's CHOLMOD factorization (" + r.ordering + ") failed: " + r.message);
+    return {{"plain_assembly", plain},        {"analysis", r.analysis_seconds}, {"factorization", r.factorization_seconds},
+            {"factor_bytes", r.factor_bytes}, {"matrix_bytes", matrix_bytes},   {"ordering", r.ordering}};
+  }
   const auto built = build_problem(scene);
   const auto& elasticity = built->problem.elasticity;
   // the plain assembly first, as in limit.cpp: its memory is as fresh as a program's
@@ -308,9 +414,12 @@ Scene limit_scene(const BenchOptions& o) {
   so.set = o.set;
   so.linear = "cholmod";
   Scene base = load_scene(so);
-  if (!base.mesh.file.empty() || base.mesh.generator != "squares")
-    throw InputError("bench --limit measures against a plain Q1 assembly on squares: the scene's mesh must be "
-                     "generated by 'squares'",
+  const bool solid = base.dimension() == 3;
+  if (!base.mesh.file.empty() || base.mesh.generator != (solid ? "cubes" : "squares"))
+    throw InputError(solid ? "bench --limit measures a solid against a plain Q1 assembly on boxes: the scene's mesh "
+                             "must be generated by 'cubes'"
+                           : "bench --limit measures against a plain Q1 assembly on squares: the scene's mesh must be "
+                             "generated by 'squares'",
                      "mesh.generator");
   return base;
 }

@@ -14,7 +14,8 @@ namespace hemivem::cli {
 /// Measures each size in `sizes` (run in increasing order) and prints the stages, the limits
 /// and their ratios with the targets of docs/performance.md; writes limit.json
 /// ("hemivem-bench-limit/2") into options.out. The scene's mesh must come from the squares
-/// generator (InputError otherwise); without the cholmod engine the limit cannot be measured
+/// generator, or for a three-dimensional scene the cubes generator, against the plain Q1 assembly
+/// of boxes (InputError otherwise); without the cholmod engine the limit cannot be measured
 /// (InputError).
 int run_bench_limit(const BenchOptions& options, const std::vector<int>& sizes, std::ostream& out, std::ostream& err);
 

@@ -303,6 +303,30 @@ TEST(CliBenchLimit, MeasuresEveryStageAndTheLimitInFreshProcesses) {
   fs::remove_all(out);
 }
 
+TEST(CliBenchLimit, MeasuresASolidAgainstItsPlainAssemblyOfBoxes) {
+  const fs::path out = scratch("limit3d");
+  const std::string scene = (hemivem::test::scenes_dir() / "example-4.1-3d.toml").string();
+  const CommandRun r = run("bench --limit " + scene + " --set 'mesh.domain=[0,1,0,1,0,1]' --n 6,4 --out " +
+                           out.string() + " --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["rows"].size(), 2u);
+  for (const auto& row : j["rows"]) {
+    const int n = row["n"];
+    // n^3 boxes, x = 0 and x = 1 clamped: 3 (n + 1)^2 (n - 1) dofs; the bottom's nodes off them
+    EXPECT_EQ(row["dofs"], 3 * (n + 1) * (n + 1) * (n - 1));
+    EXPECT_EQ(row["contact_nodes"], (n + 1) * (n - 1));
+    EXPECT_EQ(row["status"], "converged");
+    EXPECT_GT(row["limit"]["plain_assembly"].get<double>(), 0.0);
+    EXPECT_GT(row["limit"]["factorization"].get<double>(), 0.0);
+    EXPECT_GT(row["ratios"]["solve_over_limit"].get<double>(), 0.0);
+  }
+  const CommandRun tets = run("bench --limit " + scene + " --set mesh.generator=\"tetrahedra\" --n 4 --out " + out.string());
+  EXPECT_EQ(tets.code, 2);
+  EXPECT_NE(tets.err.find("cubes"), std::string::npos) << tets.err;
+  fs::remove_all(out);
+}
+
 TEST(CliBenchLimit, NeedsSquaresAndLeavesNothingOnBadInput) {
   const fs::path out = scratch("limit-bad");
   const CommandRun voronoi = run("bench --limit --n 8 --set mesh.generator=\"voronoi\" --out " + out.string());

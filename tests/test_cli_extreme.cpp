@@ -32,6 +32,26 @@ TEST(CliExtreme, ReportsEveryPairWithItsGuaranteeAsJson) {
   }
 }
 
+// The three-dimensional extreme scenes: a thin plate, a near-penalty law and a grazing sphere,
+// where one node (on the axis) touches; every pair converges with its guarantee and the pairs
+// agree.
+TEST(CliExtreme, ThreeDimensionalScenesConvergeAndAgree) {
+  const auto run = test::run_hemivem("check --extreme --only plate-3d-thin,stiff-law-3d,grazing-sphere-3d --json");
+  ASSERT_EQ(run.code, 0) << run.err;
+  const auto j = nlohmann::json::parse(run.out);
+  ASSERT_EQ(j["scenes"].size(), 3u);
+  for (const auto& s : j["scenes"]) {
+    ASSERT_FALSE(s["pairs"].empty()) << s["name"];
+    EXPECT_LT(s["max_difference"].get<double>(), 1e-6) << s["name"];
+    for (const auto& p : s["pairs"]) {
+      EXPECT_TRUE(p["converged"].get<bool>()) << s["name"] << " " << p["linear"] << "+" << p["minimizer"];
+      EXPECT_TRUE(p["guarantee_ok"].get<bool>()) << s["name"];
+      if (s["name"] == "grazing-sphere-3d") EXPECT_EQ(p["at_bound"].get<int>(), 1);
+    }
+    if (s["name"] == "grazing-sphere-3d") EXPECT_TRUE(s["unique"].get<bool>());
+  }
+}
+
 // A friction bound 10^6 times the load sticks every contact node, a bound of 0 none; every
 // pair converges to the same point.
 TEST(CliExtreme, FrictionBoundsStickEverythingOrNothing) {

@@ -107,6 +107,28 @@ TEST(CliMpi, TwoProcessesAgreeWithEigenAndRankZeroAloneWrites) {
   EXPECT_LE(diff, 1e-10 * largest);
 }
 
+// A three-dimensional scene across two processes: the same solution as eigen on one.
+TEST(CliMpi, ThreeDimensionalSceneOnTwoProcessesAgreesWithEigen) {
+  const std::string scene = std::string(" solve ") + HEMIVEM_SOURCE_DIR + "/scenes/example-4.1-3d.toml --tol 1e-11";
+  const fs::path ref = scratch("eigen3d"), out = scratch("mpi3d");
+  const CommandRun e = run(hemivem() + scene + " --linear eigen -q --out " + ref.string());
+  ASSERT_EQ(e.code, 0) << e.err;
+  const CommandRun m = run(mpiexec() + " " + np(2) + " " + hemivem() + scene + " --linear mumps-mpi -q --out " + out.string());
+  ASSERT_EQ(m.code, 0) << m.out << m.err;
+  const nlohmann::json a = read_json(out / "result.json"), b = read_json(ref / "result.json");
+  EXPECT_EQ(a["dimension"], 3);
+  EXPECT_EQ(a["processes"], 2);
+  EXPECT_TRUE(a["converged"].get<bool>());
+  ASSERT_EQ(a["contact"].size(), b["contact"].size());
+  ASSERT_GT(a["contact"].size(), 0u);
+  for (std::size_t i = 0; i < a["contact"].size(); ++i) {
+    EXPECT_EQ(a["contact"][i]["state"], b["contact"][i]["state"]);
+    EXPECT_NEAR(a["contact"][i]["u_nu"].get<double>(), b["contact"][i]["u_nu"].get<double>(), 1e-12) << "node " << i;
+  }
+  EXPECT_NEAR(a["potential_energy"].get<double>(), b["potential_energy"].get<double>(),
+              1e-10 * std::abs(b["potential_energy"].get<double>()));
+}
+
 TEST(CliMpi, EveryRankExitsWithTheSameCode) {
   // Each rank records its own exit code; the solve stops after one iteration: exit 3 everywhere.
   const fs::path dir = scratch("codes");

@@ -252,10 +252,13 @@ ContactNode3D node_of(const Mesh3D& mesh, const ContactBoundary& boundary, const
 
 }  // namespace
 
-std::vector<ContactSolution3D> solve_contact_3d(const ContactProblem3D& problem,
-                                                std::unique_ptr<SparseFactorization> factorization,
-                                                std::span<const NonsmoothMinimizer* const> minimizers,
-                                                const MinimizerOptions& options, ReducedProblem* reduced) {
+namespace {
+
+// the solve, on `given` (assembled by the caller) or on its own assembly
+std::vector<ContactSolution3D> solve_3d(const ContactProblem3D& problem, const LinearSystem* given,
+                                        std::unique_ptr<SparseFactorization> factorization,
+                                        std::span<const NonsmoothMinimizer* const> minimizers,
+                                        const MinimizerOptions& options, ReducedProblem* reduced) {
   if (!factorization) throw InputError("a 3D solve needs a factorization engine");
   if (!problem.elasticity.mesh) throw InputError("the elasticity problem has no mesh");
   for (const auto* m : minimizers)
@@ -265,9 +268,13 @@ std::vector<ContactSolution3D> solve_contact_3d(const ContactProblem3D& problem,
   const auto start = Clock::now();
   ContactSolution3D common;
   auto t = Clock::now();
-  const LinearSystem sys = assemble_3d(problem.elasticity);
-  common.timings["assembly"] = since(t);
-  common.stages.push_back("assembly");
+  std::optional<LinearSystem> assembled;
+  if (!given) {
+    assembled = assemble_3d(problem.elasticity);
+    common.timings["assembly"] = since(t);
+    common.stages.push_back("assembly");
+  }
+  const LinearSystem& sys = given ? *given : *assembled;
   common.unknowns = sys.dofs.num_free();
   if (common.unknowns == 0)
     throw InputError("the Dirichlet conditions prescribe every displacement of the mesh: there is nothing to solve");
@@ -365,6 +372,22 @@ std::vector<ContactSolution3D> solve_contact_3d(const ContactProblem3D& problem,
     out.push_back(std::move(s));
   }
   return out;
+}
+
+}  // namespace
+
+std::vector<ContactSolution3D> solve_contact_3d(const ContactProblem3D& problem,
+                                                std::unique_ptr<SparseFactorization> factorization,
+                                                std::span<const NonsmoothMinimizer* const> minimizers,
+                                                const MinimizerOptions& options, ReducedProblem* reduced) {
+  return solve_3d(problem, nullptr, std::move(factorization), minimizers, options, reduced);
+}
+
+std::vector<ContactSolution3D> solve_contact_3d(const ContactProblem3D& problem, const LinearSystem& system,
+                                                std::unique_ptr<SparseFactorization> factorization,
+                                                std::span<const NonsmoothMinimizer* const> minimizers,
+                                                const MinimizerOptions& options, ReducedProblem* reduced) {
+  return solve_3d(problem, &system, std::move(factorization), minimizers, options, reduced);
 }
 
 ContactSolution3D solve_contact_3d(const ContactProblem3D& problem, std::unique_ptr<SparseFactorization> factorization,

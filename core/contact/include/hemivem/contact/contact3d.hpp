@@ -113,6 +113,12 @@ std::vector<ContactSolution3D> solve_contact_3d(const ContactProblem3D& problem,
 ContactSolution3D solve_contact_3d(const ContactProblem3D& problem, std::unique_ptr<SparseFactorization> factorization,
                                    const NonsmoothMinimizer& minimizer, const MinimizerOptions& options,
                                    ReducedProblem* reduced = nullptr);
+/// The same on a system the caller assembled from problem.elasticity (assemble_3d), e.g. to
+/// condense one assembly with several engines: no "assembly" stage, and "total" excludes it.
+std::vector<ContactSolution3D> solve_contact_3d(const ContactProblem3D& problem, const LinearSystem& system,
+                                                std::unique_ptr<SparseFactorization> factorization,
+                                                std::span<const NonsmoothMinimizer* const> minimizers,
+                                                const MinimizerOptions& options, ReducedProblem* reduced = nullptr);
 
 /// The rigid motions of a 3D body that prescribed dofs leave free, in words (empty when held).
 std::vector<std::string> free_rigid_motions_3d(const Mesh3D& mesh, const DofMap& dofs);
