@@ -1,7 +1,8 @@
 // The three-dimensional Hertz problem on graded meshes (docs/three-dimensions.md): a plain
 // program printing a Markdown table of the contact radius, the peak pressure and the force
-// against Hertz's formulas as the mesh near the contact is refined. Usage: hertz3d [levels [L]]
-// (L: the block's size, 1 by default: 20 contact radii).
+// against Hertz's formulas as the mesh near the contact is refined. Usage: hertz3d [levels [L
+// [profile.csv]]] (L: the block's size, 1 by default: 20 contact radii; profile.csv: r, p and
+// Hertz's p of every contact node of the finest level).
 #include "hertz3d.hpp"
 
 #include <hemivem/linear_backends.hpp>
@@ -10,6 +11,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 
 using namespace hemivem;
 
@@ -37,6 +39,15 @@ int main(int argc, char** argv) {
                 sol.converged() ? "converged" : "FAILED", seconds, sol.timings.at("assembly"),
                 sol.timings.at("condensation"), sol.timings.at("minimize"));
     std::fflush(stdout);
+    if (argc > 3 && l + 1 == std::min(levels, 5)) {
+      std::ofstream csv(argv[3]);
+      csv << "r,p,p_hertz\n";
+      for (const ContactNode3D& n : sol.contact) {
+        const double r = n.x.head<2>().norm();
+        const double q = r < s.a() ? s.p0() * std::sqrt(1.0 - r * r / (s.a() * s.a())) : 0.0;
+        if (r < 2.0 * s.a()) csv << r << "," << n.pressure() << "," << q << "\n";
+      }
+    }
   }
   return 0;
 }
