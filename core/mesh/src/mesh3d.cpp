@@ -360,8 +360,8 @@ std::vector<int> select_box_side(const Mesh3D& mesh, const Box& box, const std::
   const auto it = sides.find(side);
   if (it == sides.end())
     throw InputError("unknown side '" + side + "' of a box; expected x0, x1, y0, y1, z0, z1, bottom or top");
-  const auto [axis, upper] = it->second;
-  const double at = upper ? box.upper(axis) : box.lower(axis);
+  const int axis = it->second.first;
+  const double at = it->second.second ? box.upper(axis) : box.lower(axis);
   const double tol = relative_tolerance * std::max({box.size(0), box.size(1), box.size(2)});
   return select_boundary_faces(mesh, [&](const Vec3& p) { return std::abs(p(axis) - at) <= tol; });
 }
