@@ -1,4 +1,5 @@
 #include <hemivem/contact/contact3d.hpp>
+#include <hemivem/contact/solver.hpp>
 #include <hemivem/certificate.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/process_group.hpp>
@@ -306,14 +307,8 @@ std::vector<ContactSolution3D> solve_3d(const ContactProblem3D& problem, const L
       common.u = sys.dofs.expand(uf);
       const Eigen::VectorXd Au = sys.A * uf;
       common.energy = 0.5 * uf.dot(Au) - uf.dot(sys.b);
-      const double scale = std::max({sys.b.cwiseAbs().maxCoeff(), Au.cwiseAbs().maxCoeff(), force_floor});
-      const double residual = (Au - sys.b).cwiseAbs().maxCoeff();
-      Certificate& c = common.certificate;
-      c.tolerance = options.tolerance;
-      c.primal = 0.0;
-      c.dual = residual == 0.0 ? 0.0 : (std::isfinite(residual) ? residual / scale : std::numeric_limits<double>::infinity());
-      c.length_scale = uf.cwiseAbs().maxCoeff();
-      c.force_scale = scale;
+      common.certificate = linear_solve_certificate(uf, Au, sys.b, options.tolerance);
+      const Certificate& c = common.certificate;
       common.status = uf.allFinite() && c.converged() ? MinimizerStatus::converged : MinimizerStatus::failed;
       if (!common.converged()) common.message = "the linear solve's relative residual is above the tolerance";
       common.forces = force_balance_3d(problem.elasticity, common.u, Vec3::Zero());

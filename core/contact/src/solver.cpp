@@ -177,6 +177,19 @@ Eigen::MatrixXd ContactSolver::linear_solve() {
   return X;
 }
 
+Certificate linear_solve_certificate(const Eigen::VectorXd& u, const Eigen::VectorXd& Au, const Eigen::VectorXd& b,
+                                     double tolerance) {
+  const double scale = std::max({b.cwiseAbs().maxCoeff(), Au.cwiseAbs().maxCoeff(), force_floor});
+  const double residual = (Au - b).cwiseAbs().maxCoeff();
+  Certificate c;
+  c.tolerance = tolerance;
+  c.primal = 0.0;
+  c.dual = residual == 0.0 ? 0.0 : (std::isfinite(residual) ? residual / scale : std::numeric_limits<double>::infinity());
+  c.length_scale = u.cwiseAbs().maxCoeff();
+  c.force_scale = scale;
+  return c;
+}
+
 // The displacement, the energy and the certificate of the linear solve: the relative
 // residual ||A u - b|| / max(||b||, ||A u||) is its dual part.
 void ContactSolver::post_process_linear(const Eigen::MatrixXd& X) {
@@ -186,15 +199,8 @@ void ContactSolver::post_process_linear(const Eigen::MatrixXd& X) {
   s.u = sys.dofs.expand(uf);
   const Eigen::VectorXd Au = sys.A * uf;
   s.energy = 0.5 * uf.dot(Au) - uf.dot(sys.b);
-  const double scale = std::max({sys.b.cwiseAbs().maxCoeff(), Au.cwiseAbs().maxCoeff(), force_floor});
-  const double residual = (Au - sys.b).cwiseAbs().maxCoeff();
-  Certificate& c = s.certificate;
-  c.tolerance = options_.tolerance;
-  c.primal = 0.0;
-  c.dual = residual == 0.0 ? 0.0 : (std::isfinite(residual) ? residual / scale : std::numeric_limits<double>::infinity());
-  c.length_scale = uf.cwiseAbs().maxCoeff();
-  c.force_scale = scale;
-  if (uf.allFinite() && c.converged()) {
+  s.certificate = linear_solve_certificate(uf, Au, sys.b, options_.tolerance);
+  if (uf.allFinite() && s.certificate.converged()) {
     s.status = MinimizerStatus::converged;
   } else {
     s.status = MinimizerStatus::failed;

@@ -120,6 +120,11 @@ std::string friction_state(const ContactLaw& law, double u_tau);
 ContactNode contact_node(const Mesh& mesh, const ContactBoundary& boundary, const Condensation& cond,
                          const DofMap& dofs, int i, const MinimizerResult& m, const Eigen::VectorXd* residual);
 
+/// The certificate of one linear solve A u = b (no contact): primal 0, dual the relative residual
+/// ||A u - b||_inf / max(||b||_inf, ||A u||_inf) (+inf when not finite); `Au` is A u.
+Certificate linear_solve_certificate(const Eigen::VectorXd& u, const Eigen::VectorXd& Au, const Eigen::VectorXd& b,
+                                     double tolerance);
+
 /// The contact zone: the contact nodes that carry a compressive force (zeta_i + lambda_i > 0).
 struct ContactZone {
   int nodes = 0;              ///< how many
