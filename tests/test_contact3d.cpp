@@ -173,3 +173,21 @@ TEST(Contact3D, WeightsAreAreaSharesAndNormalsAreAreaWeighted) {
   }
   EXPECT_NEAR(total, 3.0 - 0.5, 1e-14);  // the areas of the faces (2 + 1) less the shares of the clamped nodes
 }
+
+// On Voronoi faces (polygons whose vertex mean is not their centroid) the weights are the face
+// integrals of the basis functions, the weights of the load: a uniform pressure gives every
+// node its exact pressure.
+TEST(Contact3D, PressuresAreExactOnVoronoiFaces) {
+  const Box box{0.0, 1.0, 0.0, 1.0, 0.0, 0.5};
+  const Mesh3D mesh = make_mesh3d("voronoi", {4, 4, 2}, box);
+  const ContactProblem3D p = pressed_block(mesh, box);
+  const ContactSolution3D s = solve_contact_3d(p, engine(), *make_minimizer("ssn"), MinimizerOptions{});
+  ASSERT_TRUE(s.converged()) << s.message;
+  const double stress = young * depth / 0.5;
+  double area = 0.0;
+  for (const ContactNode3D& n : s.contact) {
+    EXPECT_NEAR(n.pressure(), stress, 1e-9 * stress) << "at " << n.x.transpose();
+    area += n.weight;
+  }
+  EXPECT_NEAR(area, 1.0, 1e-13);
+}

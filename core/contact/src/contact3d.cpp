@@ -3,6 +3,7 @@
 #include <hemivem/certificate.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/process_group.hpp>
+#include <hemivem/vem/element3d.hpp>
 
 #include <Eigen/Dense>
 
@@ -45,13 +46,14 @@ ContactBoundary make_contact_boundary_3d(const Mesh3D& mesh, const std::vector<i
     const auto& loop = mesh.face(id).vertices;
     const Vec3 c = mesh.face_centroid(id), n = mesh.face_normal(id);
     const std::size_t m = loop.size();
+    z.clear();
+    for (int v : loop) z.push_back(mesh.vertex(v));
+    const Eigen::VectorXd omega = face_weights(z);  // int_f v = sum_i omega_i v_i in the enhanced face space
     for (std::size_t i = 0; i < m; ++i) {
       const int a = loop[i], b = loop[(i + 1) % m];
+      acc[a].weight += omega(static_cast<Eigen::Index>(i));
       const double half = 0.25 * (mesh.vertex(a) - c).cross(mesh.vertex(b) - c).norm();
-      for (int v : {a, b}) {
-        acc[v].weight += half;
-        acc[v].normal += half * n;
-      }
+      for (int v : {a, b}) acc[v].normal += half * n;
     }
   }
   for (const auto& [v, entry] : acc) {
@@ -62,6 +64,11 @@ ContactBoundary make_contact_boundary_3d(const Mesh3D& mesh, const std::vector<i
       if (fixed[static_cast<std::size_t>(c)]) mask |= 1 << c;
     }
     if (mask == 7) continue;  // on Gamma_1
+    if (!(entry.weight > 0.0))
+      throw InputError("contact node " + std::to_string(v) + " at " + point_text(mesh.vertex(v)) +
+                       " has the quadrature weight " + std::to_string(entry.weight) +
+                       " (the sum of its contact faces' weights, which must be positive): a contact face is too far "
+                       "from its vertices' mean to integrate over; split it");
     if (!(entry.normal.norm() > 0.0))
       throw InputError("contact node " + std::to_string(v) + " has no defined normal (its contact faces cancel)");
     Vec3 normal = entry.normal.normalized();
