@@ -258,7 +258,7 @@ TEST(Scene3D, BadInputNamesTheKeyAndWhatWasExpected) {
 // A prism under a uniform pressure on its top, held by three symmetry planes (a roller on each:
 // x = 0, y = 0, z = 0): the exact solution is linear, sigma_zz = -p and every other stress 0,
 // u = (nu p x / E, nu p y / E, -p z / E). The virtual element reproduces it on cubes and on
-// tetrahedra, and the balance of forces holds.
+// tetrahedra, the balance of forces holds, and the error estimate vanishes.
 TEST(Scene3D, UniaxialPressureIsReproducedWithItsStresses) {
   for (const std::string generator : {"cubes", "tetrahedra"}) {
     SCOPED_TRACE(generator);
@@ -271,7 +271,10 @@ TEST(Scene3D, UniaxialPressureIsReproducedWithItsStresses) {
                                        "prism.toml");
     const auto solved = app::solve_scene_3d(s);
     ASSERT_TRUE(solved.solution.converged()) << solved.solution.message;
-    EXPECT_EQ(solved.solution.stages, (std::vector<std::string>{"assembly", "linear_solve"}));
+    EXPECT_EQ(solved.solution.stages, (std::vector<std::string>{"assembly", "linear_solve", "estimate"}));
+    // the discrete solution is exact: so says the error estimate
+    ASSERT_TRUE(solved.estimate);
+    EXPECT_LT(solved.estimate->relative, 1e-10);
     const Mesh3D& mesh = solved.built->mesh;
     for (int v = 0; v < mesh.num_vertices(); ++v) {
       const Vec3& x = mesh.vertex(v);

@@ -181,7 +181,7 @@ nlohmann::json result_json_3d(const Mesh3D& mesh, const ContactSolution3D& s, co
   j["contact_force"] = triple(s.contact_force());
   j["forces"] = forces_json(s.forces);
   j["contact_zone"] = contact_zone_json(s);
-  j["error_estimate"] = nullptr;
+  j["error_estimate"] = info.error_estimate ? error_estimate_json(*info.error_estimate) : json(nullptr);
   j["adapt"] = nullptr;
   j["path"] = nullptr;
   return j;
@@ -222,7 +222,7 @@ OutputReport write_outputs_3d(const fs::path& dir, const Mesh3D& mesh, const Mat
   write("contact.csv", [&](std::ostream& os) { write_contact_csv(os, solution); });
   write("displacement.csv", [&](std::ostream& os) { write_displacement_csv(os, mesh, solution.u); });
   write("history.csv", [&](std::ostream& os) { write_history_csv(os, solution); });
-  write("solution.vtu", [&](std::ostream& os) { write_vtu_3d(os, mesh, materials, solution); });
+  write("solution.vtu", [&](std::ostream& os) { write_vtu_3d(os, mesh, materials, solution, info.error_estimate ? &info.error_estimate->indicators : nullptr); });
   write("contact-surface.vtu", [&](std::ostream& os) { write_contact_surface_vtu(os, mesh, contact_faces, solution); });
   write("scene.toml", [&](std::ostream& os) { os << info.scene_toml; });
 

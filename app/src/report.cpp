@@ -113,16 +113,6 @@ void contact_forces(std::ostream& out, const ContactSolution& sol, const RunInfo
   out << "; sum of the friction forces " << friction << "\n";
 }
 
-/// The error estimate: absolute, relative, and its largest parts.
-void error_estimate(std::ostream& out, const ErrorEstimate& e) {
-  out << "  error         estimate " << e.energy << " = " << std::setprecision(3) << 100.0 * e.relative
-      << " % of ||u_h||_E (energy norm; parts:";
-  bool first = true;
-  for (const auto& [name, value] : e.parts)
-    if (value > 0.0) out << (first ? " " : ", ") << name << " " << value, first = false;
-  if (first) out << " none";
-  out << ")\n" << std::setprecision(6);
-}
 
 void energy_and_time(std::ostream& out, const SceneSolve& solved) {
   const ContactSolution& sol = solved.solution;
@@ -133,6 +123,18 @@ void energy_and_time(std::ostream& out, const SceneSolve& solved) {
 }
 
 }  // namespace
+
+std::string error_estimate_line(const ErrorEstimate& e) {
+  std::ostringstream out;
+  out << std::setprecision(6) << "  error         estimate " << e.energy << " = " << std::setprecision(3)
+      << 100.0 * e.relative << " % of ||u_h||_E (energy norm; parts:" << std::setprecision(6);
+  bool first = true;
+  for (const auto& [name, value] : e.parts)
+    if (value > 0.0) out << (first ? " " : ", ") << name << " " << value, first = false;
+  if (first) out << " none";
+  out << ")\n";
+  return out.str();
+}
 
 std::string brief_report(const SceneSolve& solved) {
   const ContactSolution& sol = solved.solution;
@@ -153,7 +155,7 @@ std::string full_report(const Scene& scene, const SceneSolve& solved, const RunI
     contact_forces(out, solved.solution, info);
   }
   if (solved.holds_results) balance(out, solved.solution);
-  if (solved.estimate) error_estimate(out, *solved.estimate);
+  if (solved.estimate) out << error_estimate_line(*solved.estimate);
   energy_and_time(out, solved);
   return out.str();
 }

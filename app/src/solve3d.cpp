@@ -3,6 +3,7 @@
 
 #include <hemivem/app/format.hpp>
 #include <hemivem/app/outputs3d.hpp>
+#include <hemivem/app/report.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/uniqueness.hpp>
 
@@ -62,6 +63,12 @@ SceneSolve3D solve_scene_3d(const Scene& scene, SceneSolve3DOptions o) {
     throw;
   }
   s.warnings = s.built->warnings;
+  if (s.holds_results && s.solution.u.size() > 0 && s.solution.u.allFinite()) {
+    s.estimate = estimate_error_3d(s.built->problem, s.solution);
+    s.solution.stages.push_back("estimate");
+    s.solution.timings["estimate"] = s.estimate->seconds;
+    s.solution.timings["total"] += s.estimate->seconds;
+  }
   return s;
 }
 
@@ -97,6 +104,7 @@ RunInfo run_info_3d(const Scene& scene, const SceneSolve3D& solved) {
   info.dofs = solved.solution.unknowns;
   info.processes = solved.processes;
   info.warnings = solved.warnings;
+  info.error_estimate = solved.estimate;
   const ContactProblem3D& p = built.problem;
   if (built.has_contact && p.law && p.constraint != ConstraintKind::bilateral) info.law_breakpoints = p.law->breakpoints();
   std::sort(info.law_breakpoints.begin(), info.law_breakpoints.end());
@@ -182,8 +190,9 @@ std::string full_report_3d(const SceneSolve3D& solved, const RunInfo& info) {
         << std::setprecision(2) << b.residual() << std::setprecision(6)
         << (b.applied.norm() > 0.0 ? " x |applied|\n" : " x the largest force (no load is applied)\n");
   }
+  if (solved.estimate) out << error_estimate_line(*solved.estimate);
   out << "  energy        potential " << sol.energy << "\n  time [s]      mesh " << solved.mesh_seconds;
-  for (const char* k : {"assembly", "linear_solve", "condensation", "minimize", "back_substitution"})
+  for (const char* k : {"assembly", "linear_solve", "condensation", "minimize", "back_substitution", "estimate"})
     if (sol.timings.count(k)) out << ", " << k << " " << sol.timings.at(k);
   const auto total = sol.timings.find("total");
   out << ", total " << solved.mesh_seconds + (total == sol.timings.end() ? 0.0 : total->second) << "\n";

@@ -59,7 +59,8 @@ struct ContactFields {
 
 }  // namespace
 
-void write_vtu_3d(std::ostream& os, const Mesh3D& mesh, const MaterialTable& materials, const ContactSolution3D& sol) {
+void write_vtu_3d(std::ostream& os, const Mesh3D& mesh, const MaterialTable& materials, const ContactSolution3D& sol,
+                  const std::vector<double>* indicators) {
   const auto nv = static_cast<std::size_t>(mesh.num_vertices());
   const auto nc = static_cast<std::size_t>(mesh.num_cells());
   file_head(os, nv, nc);
@@ -120,6 +121,7 @@ void write_vtu_3d(std::ostream& os, const Mesh3D& mesh, const MaterialTable& mat
   data_array(os, "stress", 6, tensor);
   data_array(os, "von_mises", 1, von_mises);
   data_array(os, "region", 1, region);
+  if (indicators != nullptr && indicators->size() == nc) data_array(os, "error_indicator", 1, *indicators);
   os << "      </CellData>\n";
   file_tail(os);
 }

@@ -13,11 +13,13 @@
 #include <hemivem/error.hpp>
 #include <hemivem/vem/element.hpp>
 
+#include "estimate_terms.hpp"
+
 namespace hemivem {
 
 namespace {
 
-enum Part { volume, jump, traction, contact, friction, stabilization, part_count };
+using namespace detail;
 
 // The 3-point Gauss rule on [0, 1]: exact for polynomials of degree 5.
 constexpr std::array<double, 3> gauss_points{0.5 - 0.3872983346207417, 0.5, 0.5 + 0.3872983346207417};
@@ -28,12 +30,6 @@ Eigen::Matrix2d stress_of(const LinearField& field, const Lame& lame) {
   const Eigen::Matrix2d eps = 0.5 * (field.gradient + field.gradient.transpose());
   return lame.lambda * eps.trace() * Eigen::Matrix2d::Identity() + 2.0 * lame.mu * eps;
 }
-
-// The residuals of one element, before weighting.
-struct ElementTerms {
-  std::array<double, part_count> raw{};  // volume .. friction: stress^2 area; stabilization: energy
-  double weight = 0.0;                   // C / (2 mu_E)
-};
 
 }  // namespace
 
@@ -58,7 +54,6 @@ ErrorEstimate estimate_error(const ContactProblem& problem, const ContactSolutio
   // ---- per element: Pi u_h, its stress, the volume residual and the stabilization term ----
   std::vector<ElementTerms> terms(static_cast<std::size_t>(ne));
   std::vector<Eigen::Matrix2d> stress(static_cast<std::size_t>(ne));
-  std::vector<double> consistency_energy(static_cast<std::size_t>(ne), 0.0);  // |E| sigma : eps of Pi u_h
   std::vector<Vec2> z;
   Eigen::VectorXd local;
   for (int e = 0; e < ne; ++e) {
@@ -77,8 +72,8 @@ ErrorEstimate estimate_error(const ContactProblem& problem, const ContactSolutio
     const Eigen::Matrix2d sigma = stress_of(field, lame);
     stress[static_cast<std::size_t>(e)] = sigma;
     const Eigen::Matrix2d eps = 0.5 * (field.gradient + field.gradient.transpose());
-    consistency_energy[static_cast<std::size_t>(e)] = mesh.area(e) * (sigma.cwiseProduct(eps)).sum();
     ElementTerms& t = terms[static_cast<std::size_t>(e)];
+    t.consistency_energy = mesh.area(e) * (sigma.cwiseProduct(eps)).sum();
     t.weight = C / (2.0 * lame.mu);
 
     // S_E(u - Pi u, u - Pi u) = tau |(I - Pi) u|^2: the nodal values of u_h minus those of Pi u_h
@@ -208,31 +203,38 @@ ErrorEstimate estimate_error(const ContactProblem& problem, const ContactSolutio
     left.raw[traction] += length * length * value;
   }
 
-  // ---- sums ----
+  return sum_estimate(terms, start);
+}
+
+namespace detail {
+
+ErrorEstimate sum_estimate(const std::vector<ElementTerms>& terms, std::chrono::steady_clock::time_point start) {
   ErrorEstimate out;
-  out.constant = C;
-  out.indicators.assign(static_cast<std::size_t>(ne), 0.0);
+  out.constant = error_estimate_constant;
+  out.indicators.assign(terms.size(), 0.0);
   std::array<double, part_count> part_sq{};
   double energy_sq = 0.0, norm_sq = 0.0;
-  for (int e = 0; e < ne; ++e) {
-    const ElementTerms& t = terms[static_cast<std::size_t>(e)];
+  for (std::size_t e = 0; e < terms.size(); ++e) {
+    const ElementTerms& t = terms[e];
     double eta_sq = 0.0;
-    for (int k = 0; k < part_count; ++k) {
-      const double share = k == stabilization ? 0.5 * t.raw[static_cast<std::size_t>(k)] : t.weight * t.raw[static_cast<std::size_t>(k)];
-      part_sq[static_cast<std::size_t>(k)] += share;
+    for (std::size_t k = 0; k < part_count; ++k) {
+      const double share = k == stabilization ? 0.5 * t.raw[k] : t.weight * t.raw[k];
+      part_sq[k] += share;
       eta_sq += share;
     }
-    out.indicators[static_cast<std::size_t>(e)] = std::sqrt(eta_sq);
+    out.indicators[e] = std::sqrt(eta_sq);
     energy_sq += eta_sq;
-    norm_sq += 0.5 * (consistency_energy[static_cast<std::size_t>(e)] + t.raw[stabilization]);
+    norm_sq += 0.5 * (t.consistency_energy + t.raw[stabilization]);
   }
   const auto& names = error_estimate_part_names();
-  for (int k = 0; k < part_count; ++k) out.parts[names[static_cast<std::size_t>(k)]] = std::sqrt(part_sq[static_cast<std::size_t>(k)]);
+  for (std::size_t k = 0; k < part_count; ++k) out.parts[names[k]] = std::sqrt(part_sq[k]);
   out.energy = std::sqrt(energy_sq);
   out.norm = std::sqrt(norm_sq);
   out.relative = out.norm > 0.0 ? out.energy / out.norm : (out.energy == 0.0 ? 0.0 : std::numeric_limits<double>::infinity());
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }
+
+}  // namespace detail
 
 }  // namespace hemivem

@@ -1,5 +1,5 @@
 #include <hemivem/vem/assembly3d.hpp>
-#include <hemivem/vem/quadrature.hpp>
+#include <hemivem/vem/quadrature3d.hpp>
 #include <hemivem/error.hpp>
 
 #include "element_loop.hpp"
@@ -23,6 +23,9 @@ Eigen::Matrix3Xd face_vertex_normals(std::span<const Vec3> z) {
 
 namespace {
 
+using quadrature::integrate_cell;
+using quadrature::integrate_triangle_3d;
+
 void gather(const Mesh3D& mesh, int c, std::vector<Vec3>& z) {
   z.clear();
   for (int v : mesh.cell_vertices(c)) z.push_back(mesh.vertex(v));
@@ -32,44 +35,6 @@ std::vector<Vec3> face_points(const Mesh3D& mesh, int f) {
   std::vector<Vec3> z;
   for (int v : mesh.face(f).vertices) z.push_back(mesh.vertex(v));
   return z;
-}
-
-/// Integral of g over the triangle (a, b, c) in space (degree 5).
-template <class G>
-auto integrate_triangle_3d(const Vec3& a, const Vec3& b, const Vec3& c, G&& g) {
-  const double area = 0.5 * (b - a).cross(c - a).norm();
-  const auto& rule = quadrature::triangle_rule();
-  auto sum = quadrature::detail::materialize(rule[0].weight * g(Vec3(rule[0].l1 * a + rule[0].l2 * b + rule[0].l3 * c)));
-  for (std::size_t q = 1; q < rule.size(); ++q) sum += rule[q].weight * g(Vec3(rule[q].l1 * a + rule[q].l2 * b + rule[q].l3 * c));
-  return quadrature::detail::materialize(area * sum);
-}
-
-/// Integral of g over a cell as a signed fan of tetrahedra (cell vertex mean, face centroid,
-/// edge): a degree-2 rule on each (exact for quadratic g).
-template <class G>
-auto integrate_cell(const std::vector<Vec3>& z, const std::vector<std::vector<int>>& faces, G&& g) {
-  Vec3 apex = Vec3::Zero();
-  for (const Vec3& p : z) apex += p;
-  apex /= static_cast<double>(z.size());
-  constexpr double a = 0.5854101966249685, b = 0.1381966011250105;
-  using R = decltype(quadrature::detail::materialize(g(apex)));
-  R sum = quadrature::detail::materialize(0.0 * g(apex));
-  std::vector<Vec3> loop;
-  for (const auto& face : faces) {
-    loop.clear();
-    for (int i : face) loop.push_back(z[static_cast<std::size_t>(i)]);
-    const Vec3 fc = polygon_centroid(loop);
-    for (std::size_t i = 0; i < loop.size(); ++i) {
-      const Vec3 p[4] = {apex, fc, loop[i], loop[(i + 1) % loop.size()]};
-      const double volume = (p[1] - p[0]).dot((p[2] - p[0]).cross(p[3] - p[0])) / 6.0;
-      for (int q = 0; q < 4; ++q) {
-        Vec3 x = Vec3::Zero();
-        for (int k = 0; k < 4; ++k) x += (k == q ? a : b) * p[k];
-        sum += (0.25 * volume) * g(x);
-      }
-    }
-  }
-  return sum;
 }
 
 template <class Visit>

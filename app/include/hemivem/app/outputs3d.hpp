@@ -38,9 +38,10 @@ std::vector<CellStress3D> cell_stresses_3d(const Mesh3D& mesh, const MaterialTab
 /// solution.vtu of a 3D solve: the cells as VTK_POLYHEDRON (type 42, with the arrays `faces`
 /// and `faceoffsets`), the point data displacement (3 components) and, with contact, u_nu,
 /// pressure and gap (0 off the contact nodes), the cell data stress (6 components in ParaView's
-/// symmetric-tensor order XX, YY, ZZ, XY, YZ, XZ), von_mises and region. Arrays as write_vtu's.
+/// symmetric-tensor order XX, YY, ZZ, XY, YZ, XZ), von_mises, region and, with `indicators`
+/// (one per cell), error_indicator. Arrays as write_vtu's.
 void write_vtu_3d(std::ostream& stream, const Mesh3D& mesh, const MaterialTable& materials,
-                  const ContactSolution3D& solution);
+                  const ContactSolution3D& solution, const std::vector<double>* indicators = nullptr);
 
 /// contact-surface.vtu: the contact faces `faces` as VTK_POLYGON cells on their own points,
 /// with the point data vertex (the id in the mesh), displacement, u_nu, pressure, gap and

@@ -22,6 +22,10 @@ std::string brief_report(const SceneSolve& solved);
 /// resolved scene that was solved, `info` its run_info().
 std::string full_report(const Scene& scene, const SceneSolve& solved, const RunInfo& info);
 
+/// full_report's line of an error estimate: eta, eta / ||u_h||_E in per cent and the parts
+/// that are not zero, ending in a newline.
+std::string error_estimate_line(const ErrorEstimate& estimate);
+
 /// The lines of an adaptive solve after full_report of its last solve: how many solves, the
 /// unknowns and the estimate from first to last, and why it stopped.
 std::string adapt_report(const AdaptiveSolve& adaptive);

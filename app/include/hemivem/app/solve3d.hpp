@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,7 @@
 
 #include <hemivem/app/outputs.hpp>
 #include <hemivem/contact/contact3d.hpp>
+#include <hemivem/estimate/error_estimate3d.hpp>
 #include <hemivem/global_search.hpp>
 #include <hemivem/nonsmooth_minimizer.hpp>
 #include <hemivem/reduced_problem.hpp>
@@ -33,6 +35,9 @@ struct SceneSolve3D {
   int processes = 1;             ///< the processes the linear engine runs on
   std::vector<std::string> warnings;  ///< the scene's warnings (BuiltProblem3D::warnings)
   std::string mesh_description;  ///< SceneMesh::description
+  /// The estimate of the discretization error (estimate_error_3d; the stage "estimate"); none
+  /// on the ranks that hold no results or when the displacement is not finite.
+  std::optional<ErrorEstimate> estimate;
   double total_seconds() const;  ///< mesh_seconds + the solve's total
 };
 
