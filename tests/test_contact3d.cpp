@@ -8,11 +8,15 @@
 
 #include <gtest/gtest.h>
 
+#include "pressed_block3d.hpp"
+
 #include <cmath>
 
 using namespace hemivem;
 
 namespace {
+
+using test::pressed_block;
 
 std::unique_ptr<SparseFactorization> engine(const std::string& name = "eigen") {
   FactorizationOptions o;
@@ -20,27 +24,8 @@ std::unique_ptr<SparseFactorization> engine(const std::string& name = "eigen") {
   return make_factorization(o);
 }
 
-constexpr double young = 100.0, poisson = 0.3, depth = 0.01;
-
-// [0,1] x [0,1] x [0,L]: symmetry planes x0 and y0, the top pushed down by `depth` (its normal
-// component only), the bottom on the rigid plane z = 0 (frictionless, one-sided)
-ContactProblem3D pressed_block(const Mesh3D& mesh, const Box& box) {
-  ContactProblem3D p;
-  p.elasticity.mesh = &mesh;
-  p.elasticity.materials = MaterialTable(Material{young, poisson}, PlaneModel::strain);
-  p.elasticity.dirichlet.push_back({select_box_side(mesh, box, "x0"), {}, {true, false, false}, "x0"});
-  p.elasticity.dirichlet.push_back({select_box_side(mesh, box, "y0"), {}, {false, true, false}, "y0"});
-  p.elasticity.dirichlet.push_back(
-      {select_box_side(mesh, box, "top"), [](const Vec3&) { return Vec3(0, 0, -depth); }, {false, false, true}, "top"});
-  p.contact_faces = select_box_side(mesh, box, "bottom");
-  Obstacle3D plane;
-  plane.point = Vec3::Zero();
-  plane.normal = Vec3(0, 0, 1);
-  p.obstacle = plane;
-  p.law = zero_law();
-  p.constraint = ConstraintKind::one_sided;
-  return p;
-}
+constexpr double young = test::pressed_block_young, poisson = test::pressed_block_poisson,
+                 depth = test::pressed_block_depth;
 
 }  // namespace
 

@@ -12,6 +12,8 @@
 
 #include <gtest/gtest.h>
 
+#include "pressed_block3d.hpp"
+
 #include <cmath>
 #include <span>
 #include <vector>
@@ -19,6 +21,8 @@
 using namespace hemivem;
 
 namespace {
+
+using test::pressed_block;
 
 std::unique_ptr<SparseFactorization> engine() {
   FactorizationOptions o;
@@ -32,32 +36,14 @@ ContactSolution3D solve(const ContactProblem3D& p) {
   return solve_contact_3d(p, engine(), *make_minimizer("ssn"), o);
 }
 
-constexpr double young = 100.0, poisson = 0.3, depth = 0.01;
+constexpr double young = test::pressed_block_young, poisson = test::pressed_block_poisson,
+                 depth = test::pressed_block_depth;
 
 const MaterialTable& material() {
   static const MaterialTable m(Material{young, poisson}, PlaneModel::strain);
   return m;
 }
 
-// [0,1] x [0,1] x [0,1/2] on the rigid plane z = 0, symmetry planes x0 and y0, the top pushed
-// down by `depth`: uniaxial stress, linear, so the discrete solution is exact
-ContactProblem3D pressed_block(const Mesh3D& mesh, const Box& box) {
-  ContactProblem3D p;
-  p.elasticity.mesh = &mesh;
-  p.elasticity.materials = material();
-  p.elasticity.dirichlet.push_back({select_box_side(mesh, box, "x0"), {}, {true, false, false}, "x0"});
-  p.elasticity.dirichlet.push_back({select_box_side(mesh, box, "y0"), {}, {false, true, false}, "y0"});
-  p.elasticity.dirichlet.push_back(
-      {select_box_side(mesh, box, "top"), [](const Vec3&) { return Vec3(0, 0, -depth); }, {false, false, true}, "top"});
-  p.contact_faces = select_box_side(mesh, box, "bottom");
-  Obstacle3D plane;
-  plane.point = Vec3::Zero();
-  plane.normal = Vec3(0, 0, 1);
-  p.obstacle = plane;
-  p.law = zero_law();
-  p.constraint = ConstraintKind::one_sided;
-  return p;
-}
 
 // A smooth exact solution on the unit cube, zero on x = 0: u = a (xy + xz, x^2, xy - xz), of
 // linear stress and constant body force

@@ -310,7 +310,7 @@ class ContactTable:
 
 class Result:
     """One solve. dimension is 2 or 3; a three-dimensional Result has (n, 3) arrays, a Mesh3D,
-    no friction columns, error_estimate, adapt and path None, and indicators raises AttributeError."""
+    no friction columns, indicators per cell, and adapt and path None."""
     def json(self) -> dict[str, Any]: ...
     def to_json(self) -> str: ...
     def brief_report(self) -> str: ...
@@ -376,7 +376,7 @@ class Result:
     def error_estimate(self) -> Optional[dict[str, Any]]: ...
     @property
     def indicators(self) -> FloatArray:
-        """eta_E per element; AttributeError for a three-dimensional solve (no error estimate)."""
+        """eta_E per element (per cell in 3D); empty without an estimate."""
     @property
     def adapt(self) -> Optional[dict[str, Any]]: ...
     @property

@@ -497,24 +497,22 @@ void def_result_fields(ResultClass& c) {
       .def_property_readonly(
           "error_estimate",
           [](py::handle s) -> py::object {
-            const auto& e = data(s).solved.estimate;
+            const ErrorEstimate* e = visit(data(s), [](const auto& v) -> const ErrorEstimate* { return v.estimate ? &*v.estimate : nullptr; });
             if (!e) return py::none();
             return py::module_::import("json").attr("loads")(app::error_estimate_json(*e).dump());
           },
           "The estimate of the discretization error, as result.json's \"error_estimate\": {'energy': the "
           "estimate of ||u - u_h||_E, 'norm': ||u_h||_E, 'relative': their ratio, 'parts': {name: value}} (its time is "
-          "timings['estimate']); None when no estimate was made (a displacement that is not finite, a "
-          "three-dimensional scene).")
+          "timings['estimate']); None when no estimate was made (a displacement that is not finite).")
       .def_property_readonly(
           "indicators",
           [](py::object s) {
-            if (data(s).solved3d) not_in_3d("indicators", "a three-dimensional solve makes no error estimate");
-            const auto& e = data(s).solved.estimate;
+            const ErrorEstimate* e = visit(data(s), [](const auto& v) -> const ErrorEstimate* { return v.estimate ? &*v.estimate : nullptr; });
             return e ? view(e->indicators.data(), static_cast<Eigen::Index>(e->indicators.size()), s)
                      : view(nullptr, 0, s);
           },
-          "The error indicators eta_E, one per element of `mesh` (float64, read-only view; empty without an "
-          "estimate): eta^2 is their sum of squares. AttributeError for a three-dimensional scene.")
+          "The error indicators eta_E, one per element (cell in 3D) of `mesh` (float64, read-only view; empty "
+          "without an estimate): eta^2 is their sum of squares.")
       .def_property_readonly(
           "adapt",
           [](py::handle s) -> py::object {
@@ -619,9 +617,8 @@ One solve of a scene (hemivem.solve): what `hemivem solve` reports and writes.
     r.write("out/solve")    # the files of `hemivem solve --out out/solve`
 
 A three-dimensional scene gives a Result of dimension 3: displacement (num_vertices, 3),
-contact x, y, z and normal (n, 3), forces of three components, mesh a Mesh3D; error_estimate,
-adapt and path are None, indicators raises AttributeError, the contact table has no friction
-columns.
+contact x, y, z and normal (n, 3), forces of three components, mesh a Mesh3D, indicators one
+per cell; adapt and path are None, the contact table has no friction columns.
 
 A Result holds its own copy of the scene, the mesh and the solution: it outlives the Scene it
 was solved from, and its arrays keep it alive.
@@ -783,8 +780,8 @@ void register_solve_function(py::module_& m) {
         if (!overrides.empty()) apply_overrides(d->scene, overrides);
         if (d->scene.dimension() == 3) {
           if (adapt)
-            throw InputError("adaptive refinement is not available for three-dimensional scenes (no error estimate "
-                             "in 3D); solve without adapt=True",
+            throw InputError("adaptive refinement is not available for three-dimensional scenes (it refines "
+                             "polygonal meshes); solve without adapt=True",
                              "adapt");
           if (!mesh.is_none())
             throw InputError("a three-dimensional scene is solved on the mesh its [mesh] table makes; hemivem.Mesh is "

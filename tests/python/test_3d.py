@@ -108,7 +108,7 @@ def test_json_is_the_three_dimensional_document(small_3d):
                           np.column_stack([r.contact.x, r.contact.y, r.contact.z]))
     assert np.array_equal(np.array([c["normal"] for c in j["contact"]]), r.contact.normal)
     assert [c["u_nu"] for c in j["contact"]] == r.contact.u_nu.tolist()
-    assert j["error_estimate"] is None and j["adapt"] is None and j["path"] is None and j["friction"] is None
+    assert j["error_estimate"] == r.error_estimate and j["adapt"] is None and j["path"] is None and j["friction"] is None
     assert set(r.timings) >= {"mesh", "assembly", "condensation", "minimize", "back_substitution", "total"}
 
 
@@ -181,11 +181,8 @@ def test_pressed_block_is_uniaxial_stress():
 
 def test_what_a_three_dimensional_result_has_not(small_3d):
     _, r = small_3d
-    assert r.error_estimate is None and r.adapt is None and r.path is None
+    assert r.adapt is None and r.path is None
     assert r.held_by_contact == []
-    with pytest.raises(AttributeError, match="no error estimate"):
-        r.indicators
-    assert not hasattr(r, "indicators")
     with pytest.raises(AttributeError, match="frictionless"):
         r.contact.u_tau
     with pytest.raises(KeyError, match="frictionless"):
@@ -259,3 +256,15 @@ def test_a_plane_scene_keeps_two_columns(small_scene):
     assert len(r.contact_force) == 2 and r.json()["dimension"] == 2
     assert r.indicators.shape == (r.mesh.num_elements,)
     assert "dimension" not in repr(r)
+
+
+def test_a_three_dimensional_result_has_its_error_estimate(small_3d):
+    _, r = small_3d
+    e = r.error_estimate
+    assert e is not None and e["energy"] > 0.0 and e["norm"] > 0.0
+    assert e["relative"] == pytest.approx(e["energy"] / e["norm"], rel=1e-14)
+    assert e["parts"]["friction"] == 0.0
+    eta = r.indicators
+    assert eta.shape == (r.mesh.num_cells,) and not eta.flags.writeable
+    assert float(np.sum(eta ** 2)) == pytest.approx(e["energy"] ** 2, rel=1e-12)
+    assert "estimate" in r.timings

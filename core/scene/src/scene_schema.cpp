@@ -897,7 +897,7 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
   if (const toml::table* t = r.table("solver")) read_solver(s, *t);
   s.adapt.reset();
   if (s.dimension() == 3 && r.has("adapt"))
-    refuse_in_3d(r, "adapt", "adaptive refinement and the error estimate are those of two-dimensional meshes");
+    refuse_in_3d(r, "adapt", "adaptive refinement refines polygonal (two-dimensional) meshes");
   if (const toml::table* t = r.table("adapt")) read_adapt(s, *t);
   s.path.reset();
   if (s.dimension() == 3 && r.has("path")) refuse_in_3d(r, "path", "a three-dimensional scene is solved at t = 1");
