@@ -140,23 +140,6 @@ std::vector<std::string> free_rigid_motions_3d(const Mesh3D& mesh, const DofMap&
   return out;
 }
 
-Vec3 ForceBalance3D::sum() const {
-  Vec3 total = applied + contact;
-  for (const auto& r : reactions) total += r.force;
-  return total;
-}
-
-double ForceBalance3D::residual() const {
-  double scale = applied.norm();
-  if (scale == 0.0) {
-    scale = contact.norm();
-    for (const auto& r : reactions) scale = std::max(scale, r.force.norm());
-  }
-  const double imbalance = sum().norm();
-  if (scale == 0.0 && imbalance == 0.0) return 0.0;
-  return imbalance / scale;
-}
-
 ForceBalance3D force_balance_3d(const ElasticityProblem3D& problem, const Eigen::VectorXd& u, const Vec3& contact) {
   if (!problem.mesh) throw InputError("the elasticity problem has no mesh");
   const Mesh3D& mesh = *problem.mesh;

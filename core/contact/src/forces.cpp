@@ -6,23 +6,6 @@
 
 namespace hemivem {
 
-Vec2 ForceBalance::sum() const {
-  Vec2 total = applied + contact;
-  for (const auto& r : reactions) total += r.force;
-  return total;
-}
-
-double ForceBalance::residual() const {
-  double scale = applied.norm();
-  if (scale == 0.0) {
-    scale = contact.norm();
-    for (const auto& r : reactions) scale = std::max(scale, r.force.norm());
-  }
-  const double imbalance = sum().norm();
-  if (scale == 0.0 && imbalance == 0.0) return 0.0;
-  return imbalance / scale;
-}
-
 ForceBalance force_balance(const ElasticityProblem& problem, const Eigen::VectorXd& u, const Vec2& contact) {
   if (!problem.mesh) throw InputError("the elasticity problem has no mesh");
   const Mesh& mesh = *problem.mesh;

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include <hemivem/contact/condensation.hpp>
+#include <hemivem/contact/forces.hpp>
 #include <hemivem/contact/obstacle.hpp>
 #include <hemivem/contact_law.hpp>
 #include <hemivem/nonsmooth_minimizer.hpp>
@@ -65,19 +66,8 @@ struct ContactNode3D {
   double pressure() const noexcept { return force() / weight; }
 };
 
-/// The balance of forces of a 3D solution (ForceBalance in 3D).
-struct ForceBalance3D {
-  struct Reaction {
-    std::string name;
-    Vec3 force = Vec3::Zero();
-  };
-  Vec3 applied = Vec3::Zero();
-  std::vector<Reaction> reactions;
-  Vec3 contact = Vec3::Zero();
-  Vec3 sum() const;
-  double residual() const;
-};
-
+/// The balance of forces of a 3D solution (force_balance in 3D: the reaction of each Dirichlet
+/// condition the sum of K u - f over the dofs it prescribes, the last condition owning a dof).
 ForceBalance3D force_balance_3d(const ElasticityProblem3D& problem, const Eigen::VectorXd& u, const Vec3& contact);
 
 struct ContactSolution3D {

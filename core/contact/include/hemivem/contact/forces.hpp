@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -11,23 +12,41 @@
 
 namespace hemivem {
 
-/// The resultants (Fx, Fy) of the forces on the body. Equilibrium of the discrete problem
-/// says applied + the reactions + contact = 0 (the stiffness K annihilates translations).
-struct ForceBalance {
+/// The resultants ((Fx, Fy) in the plane, (Fx, Fy, Fz) in space) of the forces on the body.
+/// Equilibrium of the discrete problem says applied + the reactions + contact = 0 (the
+/// stiffness K annihilates translations).
+template <class Vector>
+struct BasicForceBalance {
   /// One Dirichlet part's reaction: the force the support exerts on the body.
   struct Reaction {
     std::string name;
-    Vec2 force = Vec2::Zero();
+    Vector force = Vector::Zero();
   };
-  Vec2 applied = Vec2::Zero();      ///< the sum of the load vector f: tractions, pressures and body force
+  Vector applied = Vector::Zero();  ///< the sum of the load vector f: tractions, pressures and body force
   std::vector<Reaction> reactions;  ///< per Dirichlet condition, in the problem's order
-  Vec2 contact = Vec2::Zero();      ///< the resultant of the contact forces (ContactSolution::contact_force)
+  Vector contact = Vector::Zero();  ///< the resultant of the contact forces (the solution's contact_force)
   /// applied + the reactions + contact.
-  Vec2 sum() const;
+  Vector sum() const {
+    Vector total = applied + contact;
+    for (const auto& r : reactions) total += r.force;
+    return total;
+  }
   /// |sum()| / |applied|; for a body without load (driven by prescribed displacements, gaps or
   /// an obstacle) |sum()| over the largest |reaction| or |contact|; 0 when every force is 0.
-  double residual() const;
+  double residual() const {
+    double scale = applied.norm();
+    if (scale == 0.0) {
+      scale = contact.norm();
+      for (const auto& r : reactions) scale = std::max(scale, r.force.norm());
+    }
+    const double imbalance = sum().norm();
+    if (scale == 0.0 && imbalance == 0.0) return 0.0;
+    return imbalance / scale;
+  }
 };
+
+using ForceBalance = BasicForceBalance<Eigen::Vector2d>;
+using ForceBalance3D = BasicForceBalance<Eigen::Vector3d>;
 
 /// The balance of forces of the nodal displacement `u` of `problem` (2 per vertex) with the
 /// contact resultant `contact`: applied = sum of f, and the reaction of each Dirichlet
