@@ -2,6 +2,7 @@
 #include <hemivem/app/path.hpp>
 
 #include "path_outputs.hpp"
+#include "result_json_common.hpp"
 #include <hemivem/app/figures.hpp>
 #include <hemivem/app/text_writer.hpp>
 #include <hemivem/app/vtu.hpp>
@@ -44,10 +45,6 @@ namespace fs = std::filesystem;
 namespace {
 
 /// A number for JSON: non-finite values become null (JSON has no inf or NaN).
-double timing(const ContactSolution& s, const std::string& stage) {
-  const auto it = s.timings.find(stage);
-  return it == s.timings.end() ? 0.0 : it->second;
-}
 
 
 void write_contact_csv(std::ostream& stream, const ContactSolution& s) {
@@ -172,40 +169,9 @@ std::vector<std::array<int, 2>> contact_lines(const Mesh& mesh, const ContactSol
 
 nlohmann::json result_json(const Mesh& mesh, const ContactSolution& s, const RunInfo& info) {
   using nlohmann::json;
-  json j;
-  j["schema"] = "hemivem-result/11";
-  j["version"] = info.version;
-  j["dimension"] = 2;
-  j["scene"] = {{"name", info.scene_name}, {"toml", info.scene_toml}};
-  j["backends"] = {{"linear", info.linear}, {"minimizer", info.minimizer}};
-  j["processes"] = info.processes;
-  j["files"] = info.files;
-  j["warnings"] = info.warnings;
-  j["options"] = info.options;
-  j["status"] = to_string(s.status);
-  j["converged"] = s.converged();
-  j["message"] = s.message;
-  j["certificate"] = certificate_json(s.certificate);
-  j["uniqueness_margin"] = number(s.uniqueness_margin);
-  j["uniqueness_roundoff"] = number(s.uniqueness_roundoff);
-  j["uniqueness"] = uniqueness_verdict(s.uniqueness_margin);
-  j["may_be_nonunique"] = s.may_be_nonunique;
+  json j = detail::result_json_common(s, info, 2);
   j["held_by_contact"] = s.held_by_contact;
   j["condition_estimate"] = number(s.condition_estimate);
-  j["search"] = info.search;
-  j["critical_points"] =
-      s.minimizer ? critical_points_json(*s.minimizer, s.energy - s.minimizer->objective) : json::array();
-  j["potential_energy"] = number(s.energy);
-  j["iterations"] = s.iterations();
-  j["evaluations"] = {{"function", s.minimizer ? s.minimizer->function_evaluations : 0},
-                      {"subgradient", s.minimizer ? s.minimizer->subgradient_evaluations : 0}};
-  j["stages"] = s.stages;
-  json t = json::object();
-  for (const auto& [k, v] : s.timings) t[k] = number(v);
-  t["mesh"] = number(info.mesh_seconds);
-  for (const char* stage : {"assembly", "condensation", "minimize", "back_substitution"}) t[stage] = timing(s, stage);
-  t["total"] = number(info.mesh_seconds + timing(s, "total"));
-  j["timings"] = t;
   j["mesh"] = {{"description", info.mesh},
                {"vertices", mesh.num_vertices()},
                {"elements", mesh.num_elements()},
@@ -246,7 +212,6 @@ nlohmann::json result_json(const Mesh& mesh, const ContactSolution& s, const Run
                                              {"length", number(zone.length)},
                                              {"x", {number(zone.lower.x()), number(zone.upper.x())}},
                                              {"y", {number(zone.lower.y()), number(zone.upper.y())}}};
-  j["error_estimate"] = info.error_estimate ? error_estimate_json(*info.error_estimate) : json(nullptr);
   j["adapt"] = info.adapt.is_null() ? json(nullptr) : info.adapt;
   j["path"] = info.path ? path_summary_json(*info.path) : json(nullptr);
   return j;

@@ -17,6 +17,7 @@
 #include <hemivem/vem/assembly3d.hpp>
 
 #include "path_outputs.hpp"
+#include "result_json_common.hpp"
 
 namespace hemivem::app {
 
@@ -56,10 +57,6 @@ namespace {
 
 nlohmann::json triple(const Vec3& v) { return {number(v.x()), number(v.y()), number(v.z())}; }
 
-double timing(const ContactSolution3D& s, const std::string& stage) {
-  const auto it = s.timings.find(stage);
-  return it == s.timings.end() ? 0.0 : it->second;
-}
 
 /// The nodes in compression (a positive force): how many, their area and their bounding box.
 nlohmann::json contact_zone_json(const ContactSolution3D& s) {
@@ -124,40 +121,9 @@ void write_history_csv(std::ostream& stream, const ContactSolution3D& s) {
 
 nlohmann::json result_json_3d(const Mesh3D& mesh, const ContactSolution3D& s, const RunInfo& info) {
   using nlohmann::json;
-  json j;
-  j["schema"] = "hemivem-result/11";
-  j["version"] = info.version;
-  j["dimension"] = 3;
-  j["scene"] = {{"name", info.scene_name}, {"toml", info.scene_toml}};
-  j["backends"] = {{"linear", info.linear}, {"minimizer", info.minimizer}};
-  j["processes"] = info.processes;
-  j["files"] = info.files;
-  j["warnings"] = info.warnings;
-  j["options"] = info.options;
-  j["status"] = to_string(s.status);
-  j["converged"] = s.converged();
-  j["message"] = s.message;
-  j["certificate"] = certificate_json(s.certificate);
-  j["uniqueness_margin"] = number(s.uniqueness_margin);
-  j["uniqueness_roundoff"] = number(s.uniqueness_roundoff);
-  j["uniqueness"] = uniqueness_verdict(s.uniqueness_margin);
-  j["may_be_nonunique"] = s.may_be_nonunique;
+  json j = detail::result_json_common(s, info, 3);
   j["held_by_contact"] = json::array();  // the supports of a 3D body hold it (solve_contact_3d)
   j["condition_estimate"] = nullptr;     // not estimated in three dimensions
-  j["search"] = info.search;
-  j["critical_points"] =
-      s.minimizer ? critical_points_json(*s.minimizer, s.energy - s.minimizer->objective) : json::array();
-  j["potential_energy"] = number(s.energy);
-  j["iterations"] = s.iterations();
-  j["evaluations"] = {{"function", s.minimizer ? s.minimizer->function_evaluations : 0},
-                      {"subgradient", s.minimizer ? s.minimizer->subgradient_evaluations : 0}};
-  j["stages"] = s.stages;
-  json t = json::object();
-  for (const auto& [k, v] : s.timings) t[k] = number(v);
-  t["mesh"] = number(info.mesh_seconds);
-  for (const char* stage : {"assembly", "condensation", "minimize", "back_substitution"}) t[stage] = timing(s, stage);
-  t["total"] = number(info.mesh_seconds + timing(s, "total"));
-  j["timings"] = t;
   j["mesh"] = {{"description", info.mesh},
                {"vertices", mesh.num_vertices()},
                {"elements", mesh.num_cells()},
@@ -181,7 +147,6 @@ nlohmann::json result_json_3d(const Mesh3D& mesh, const ContactSolution3D& s, co
   j["contact_force"] = triple(s.contact_force());
   j["forces"] = forces_json(s.forces);
   j["contact_zone"] = contact_zone_json(s);
-  j["error_estimate"] = info.error_estimate ? error_estimate_json(*info.error_estimate) : json(nullptr);
   j["adapt"] = nullptr;
   j["path"] = nullptr;
   return j;

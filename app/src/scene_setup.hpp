@@ -3,6 +3,7 @@
 
 #include <memory>
 
+#include <hemivem/app/outputs.hpp>
 #include <hemivem/app/solve.hpp>
 #include <hemivem/nonsmooth_minimizer.hpp>
 #include <hemivem/scene/scene.hpp>
@@ -31,5 +32,30 @@ SceneEngines make_scene_engines(const Scene& scene, std::function<void(const Glo
 /// (o.callback moved into them), then the problem built (on o.mesh when given) with its time.
 /// on_built is left to the caller.
 SceneEngines prepare_scene_solve(const Scene& scene, SceneSolveOptions& o, SceneSolve& s);
+
+/// What result.json records of any solved scene (SceneSolve or SceneSolve3D): the scene, the
+/// mesh's description, the engines, the search, the options in effect, the mesh time, the
+/// unknowns, the processes, the warnings and the error estimate.
+template <class Solved>
+RunInfo run_info_common(const Scene& scene, const Solved& solved) {
+  const MinimizerOptions& mo = solved.options;
+  RunInfo info;
+  info.scene_name = scene.title;
+  info.scene_toml = to_toml(scene);
+  info.mesh = solved.mesh_description.empty() ? scene.mesh.description() : solved.mesh_description;
+  info.linear = solved.linear;
+  info.minimizer = solved.minimizer;
+  info.search = solved.search;
+  info.options = {{"tolerance", mo.tolerance},
+                  {"max_iterations", mo.max_iterations},
+                  {"stabilization", to_string(scene.material.stabilization)},
+                  {"scene", scene.source}};
+  info.mesh_seconds = solved.mesh_seconds;
+  info.dofs = solved.solution.unknowns;
+  info.processes = solved.processes;
+  info.warnings = solved.warnings;
+  info.error_estimate = solved.estimate;
+  return info;
+}
 
 }  // namespace hemivem::app::detail

@@ -213,23 +213,8 @@ std::vector<std::string> wanted_files(const Scene& scene, bool has_contact) {
 
 RunInfo run_info(const Scene& scene, const SceneSolve& solved) {
   const BuiltProblem& built = *solved.built;
-  const MinimizerOptions& mo = solved.options;
-  RunInfo info;
-  info.scene_name = scene.title;
-  info.scene_toml = to_toml(scene);
-  info.mesh = solved.mesh_description.empty() ? scene.mesh.description() : solved.mesh_description;
-  info.linear = solved.linear;
-  info.minimizer = solved.minimizer;
-  info.search = solved.search;
-  info.options = {{"tolerance", mo.tolerance},
-                  {"max_iterations", mo.max_iterations},
-                  {"stabilization", to_string(scene.material.stabilization)},
-                  {"plane_model", to_string(scene.material.model)},
-                  {"scene", scene.source}};
-  info.mesh_seconds = solved.mesh_seconds;
-  info.dofs = solved.solution.unknowns;
-  info.processes = solved.processes;
-  info.warnings = solved.warnings;
+  RunInfo info = detail::run_info_common(scene, solved);
+  info.options["plane_model"] = to_string(scene.material.model);
   // every contact part's: the normal laws' breakpoints, whether a gap bounds u_nu, the first
   // obstacle, the friction laws' names
   for (const ContactPart& part : built.has_contact ? contact_parts(built.problem) : std::vector<ContactPart>{}) {
@@ -243,7 +228,6 @@ RunInfo run_info(const Scene& scene, const SceneSolve& solved) {
       info.friction_law += (info.friction_law.empty() ? "" : ", ") + part.friction->name();
   }
   std::sort(info.law_breakpoints.begin(), info.law_breakpoints.end());
-  info.error_estimate = solved.estimate;
   info.adapt = solved.adapt;
   info.path = solved.path.get();
   return info;

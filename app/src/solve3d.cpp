@@ -88,23 +88,7 @@ std::vector<std::string> wanted_files_3d(const Scene& scene, bool has_contact) {
 
 RunInfo run_info_3d(const Scene& scene, const SceneSolve3D& solved) {
   const BuiltProblem3D& built = *solved.built;
-  const MinimizerOptions& mo = solved.options;
-  RunInfo info;
-  info.scene_name = scene.title;
-  info.scene_toml = to_toml(scene);
-  info.mesh = solved.mesh_description.empty() ? scene.mesh.description() : solved.mesh_description;
-  info.linear = solved.linear;
-  info.minimizer = solved.minimizer;
-  info.search = solved.search;
-  info.options = {{"tolerance", mo.tolerance},
-                  {"max_iterations", mo.max_iterations},
-                  {"stabilization", to_string(scene.material.stabilization)},
-                  {"scene", scene.source}};
-  info.mesh_seconds = solved.mesh_seconds;
-  info.dofs = solved.solution.unknowns;
-  info.processes = solved.processes;
-  info.warnings = solved.warnings;
-  info.error_estimate = solved.estimate;
+  RunInfo info = detail::run_info_common(scene, solved);
   const ContactProblem3D& p = built.problem;
   if (built.has_contact && p.law && p.constraint != ConstraintKind::bilateral) info.law_breakpoints = p.law->breakpoints();
   std::sort(info.law_breakpoints.begin(), info.law_breakpoints.end());

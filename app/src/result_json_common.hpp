@@ -1,0 +1,64 @@
+// The keys of result.json that a plane and a three-dimensional solve fill alike: the run
+// (schema, version, scene, engines, files, warnings, options), the outcome (status,
+// certificate, uniqueness, search, critical points, energy, iterations, evaluations) and the
+// stages with their times.
+#pragma once
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include <hemivem/app/format.hpp>
+#include <hemivem/app/outputs.hpp>
+#include <hemivem/uniqueness.hpp>
+
+namespace hemivem::app::detail {
+
+/// The solution's time of `stage`, 0 when it has none.
+template <class Solution>
+double timing(const Solution& s, const std::string& stage) {
+  const auto it = s.timings.find(stage);
+  return it == s.timings.end() ? 0.0 : it->second;
+}
+
+/// result.json's common keys of a solution `s` (ContactSolution or ContactSolution3D).
+template <class Solution>
+nlohmann::json result_json_common(const Solution& s, const RunInfo& info, int dimension) {
+  using nlohmann::json;
+  json j;
+  j["schema"] = "hemivem-result/11";
+  j["version"] = info.version;
+  j["dimension"] = dimension;
+  j["scene"] = {{"name", info.scene_name}, {"toml", info.scene_toml}};
+  j["backends"] = {{"linear", info.linear}, {"minimizer", info.minimizer}};
+  j["processes"] = info.processes;
+  j["files"] = info.files;
+  j["warnings"] = info.warnings;
+  j["options"] = info.options;
+  j["status"] = to_string(s.status);
+  j["converged"] = s.converged();
+  j["message"] = s.message;
+  j["certificate"] = certificate_json(s.certificate);
+  j["uniqueness_margin"] = number(s.uniqueness_margin);
+  j["uniqueness_roundoff"] = number(s.uniqueness_roundoff);
+  j["uniqueness"] = uniqueness_verdict(s.uniqueness_margin);
+  j["may_be_nonunique"] = s.may_be_nonunique;
+  j["search"] = info.search;
+  j["critical_points"] =
+      s.minimizer ? critical_points_json(*s.minimizer, s.energy - s.minimizer->objective) : json::array();
+  j["potential_energy"] = number(s.energy);
+  j["iterations"] = s.iterations();
+  j["evaluations"] = {{"function", s.minimizer ? s.minimizer->function_evaluations : 0},
+                      {"subgradient", s.minimizer ? s.minimizer->subgradient_evaluations : 0}};
+  j["stages"] = s.stages;
+  json t = json::object();
+  for (const auto& [k, v] : s.timings) t[k] = number(v);
+  t["mesh"] = number(info.mesh_seconds);
+  for (const char* stage : {"assembly", "condensation", "minimize", "back_substitution"}) t[stage] = timing(s, stage);
+  t["total"] = number(info.mesh_seconds + timing(s, "total"));
+  j["timings"] = t;
+  j["error_estimate"] = info.error_estimate ? error_estimate_json(*info.error_estimate) : json(nullptr);
+  return j;
+}
+
+}  // namespace hemivem::app::detail
