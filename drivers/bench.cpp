@@ -496,7 +496,8 @@ void print_refinement(std::ostream& out, const Refinement& r, const BenchOptions
     out << "  warning: " << r.below_reference << " point" << (r.below_reference > 1 ? "s have" : " has")
         << " a potential energy below the reference: the reference is too high (its true errors are 0 there "
            "and too small elsewhere); give --reference-energy from a finer run\n";
-  out << "  time: uniform the level's solve, adaptive since its start; true error sqrt(Phi_h - Phi_ref) / ||u_h||_E\n\n";
+  out << "  time: " << (r.method == "cells_doubled" ? "the level's solve" : "uniform the level's solve, adaptive since its start")
+      << "; true error sqrt(Phi_h - Phi_ref) / ||u_h||_E\n\n";
   out << std::left << std::setw(10) << "kind" << std::right << std::setw(6) << "#" << std::setw(11) << "unknowns"
       << std::setw(11) << "time [s]" << std::setw(12) << "estimate" << std::setw(13) << "true error" << std::setw(13)
       << "effectivity" << "\n";
