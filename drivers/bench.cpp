@@ -24,6 +24,7 @@
 #include <hemivem/app/adapt.hpp>
 #include <hemivem/app/figures.hpp>
 #include <hemivem/app/solve.hpp>
+#include <hemivem/app/solve3d.hpp>
 #include <hemivem/mesh/refine.hpp>
 
 namespace hemivem::cli {
@@ -89,12 +90,64 @@ Eigen::VectorXd interpolate_squares(const Mesh& mesh, const Eigen::VectorXd& u, 
   return r;
 }
 
+Eigen::VectorXd interpolate_cubes(const Mesh3D& mesh, const Eigen::VectorXd& u, const GridSize3& n,
+                                  const std::array<double, 6>& box, const std::vector<Vec3>& points) {
+  const int cells[3] = {n.nx, n.ny, n.nz};
+  double low[3], h[3];
+  for (int a = 0; a < 3; ++a) {
+    low[a] = box[static_cast<std::size_t>(2 * a)];
+    h[a] = (box[static_cast<std::size_t>(2 * a + 1)] - low[a]) / cells[a];
+  }
+  const long sx = n.nx + 1, sy = n.ny + 1, sz = n.nz + 1;
+  if (mesh.num_vertices() != sx * sy * sz || u.size() != 3 * static_cast<Eigen::Index>(mesh.num_vertices()))
+    throw InputError("not a cubes mesh with n = " + n.text(), "bench");
+  std::vector<int> grid(static_cast<std::size_t>(sx * sy * sz), -1);
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    long index[3];
+    for (int a = 0; a < 3; ++a) {
+      const double f = (mesh.vertex(v)(a) - low[a]) / h[a];
+      index[a] = std::lround(f);
+      if (std::abs(f - static_cast<double>(index[a])) > 1e-6 || index[a] < 0 || index[a] > cells[a])
+        throw InputError("vertex " + std::to_string(v) + " is not on the cubes grid", "bench");
+    }
+    grid[static_cast<std::size_t>((index[2] * sy + index[1]) * sx + index[0])] = v;
+  }
+  if (std::count(grid.begin(), grid.end(), -1) != 0) throw InputError("the cubes grid has a missing vertex", "bench");
+
+  Eigen::VectorXd r(3 * static_cast<Eigen::Index>(points.size()));
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    int cell[3];
+    double t[3];
+    for (int a = 0; a < 3; ++a) {
+      const double f = (points[k](a) - low[a]) / h[a];
+      cell[a] = std::clamp(static_cast<int>(std::floor(f)), 0, cells[a] - 1);
+      t[a] = f - cell[a];
+    }
+    double value[3] = {0.0, 0.0, 0.0};
+    for (int corner = 0; corner < 8; ++corner) {  // corner = cx + 2 cy + 4 cz
+      const int c[3] = {corner & 1, corner >> 1 & 1, corner >> 2 & 1};
+      double w = 1.0;
+      for (int a = 0; a < 3; ++a) w *= c[a] ? t[a] : 1.0 - t[a];
+      const int v = grid[static_cast<std::size_t>(((cell[2] + c[2]) * sy + cell[1] + c[1]) * sx + cell[0] + c[0])];
+      for (int a = 0; a < 3; ++a) value[a] += w * u(3 * v + a);
+    }
+    for (int a = 0; a < 3; ++a) r(3 * static_cast<Eigen::Index>(k) + a) = value[a];
+  }
+  return r;
+}
+
+std::vector<int> bench_default_sizes(int dimension) {
+  return dimension == 3 ? std::vector<int>{4, 8, 16} : std::vector<int>{16, 32, 64, 128};
+}
+int bench_default_ref(int dimension) { return dimension == 3 ? 32 : 256; }
+int bench_default_levels(int dimension) { return dimension == 3 ? 2 : 3; }
+
 namespace {
 
 struct BenchRow {
   PairRun run;
   int n = 0;
-  double error = std::numeric_limits<double>::quiet_NaN();  ///< NaN: not defined (not squares)
+  double error = std::numeric_limits<double>::quiet_NaN();  ///< NaN: not defined (not squares or cubes)
 };
 
 // The work-precision figure: one series per pair, log error (x) against log total time (y).
@@ -191,6 +244,9 @@ struct RefinementPoint {
 
 struct Refinement {
   std::string engines;  ///< "linear + minimizer" of the scene
+  /// How the uniform levels are made: "refine_uniformly" (2D: the previous level's mesh refined)
+  /// or "cells_doubled" (3D: the scene's generator with its cell counts times 2^level).
+  std::string method = "refine_uniformly";
   std::vector<RefinementPoint> uniform, adaptive;
   std::string stopped, reason;
   std::optional<double> reference_energy;
@@ -199,7 +255,9 @@ struct Refinement {
   bool all_converged = true;
 };
 
-RefinementPoint uniform_point(const app::SceneSolve& s, int level) {
+// a plane or three-dimensional solve (app::SceneSolve, app::SceneSolve3D)
+template <class Solve>
+RefinementPoint uniform_point(const Solve& s, int level) {
   RefinementPoint p;
   p.kind = "uniform";
   p.index = level;
@@ -235,6 +293,8 @@ std::string refinement_line(const RefinementPoint& p) {
   return o.str();
 }
 
+void measure_true_errors(Refinement& r, const BenchOptions& o);
+
 // The refinement study: the scene with its own engines on its own mesh refined uniformly
 // o.levels times, then adaptively to the finest level's estimate, and the true errors against a
 // reference energy (given, or Aitken's extrapolation of the last three uniform levels).
@@ -242,7 +302,7 @@ Refinement run_refinement(const Scene& base, const BenchOptions& o, std::ostream
   const bool progress = o.verbosity >= 1;
   Refinement r;
   std::optional<Mesh> mesh;  // the previous level's mesh
-  for (int level = 0; level <= o.levels; ++level) {
+  for (int level = 0; level <= *o.levels; ++level) {
     app::SceneSolveOptions so;
     if (mesh) {
       so.mesh = refine_uniformly(*mesh).mesh;
@@ -274,7 +334,61 @@ Refinement run_refinement(const Scene& base, const BenchOptions& o, std::ostream
     r.stopped = "not_run";
     r.reason = "the finest uniform level has no relative estimate in (0, 1) to aim at";
   }
+  measure_true_errors(r, o);
+  return r;
+}
 
+/// The uniform levels of a three-dimensional refinement study of a generated mesh: the scene
+/// (level 0), then the scene with its generator's cell counts times 2^level (Voronoi: seeds per
+/// axis), each level's memory checked. InputError naming --levels for a level beyond the
+/// generators' 1000 cells per axis or the memory available.
+std::vector<Scene> refinement_levels_3d(const Scene& base, int levels) {
+  std::vector<Scene> l;
+  const GridSize3 cells = base.mesh.cells3();
+  for (int level = 0; level <= levels; ++level) {
+    const std::int64_t factor = std::int64_t{1} << level;
+    const std::int64_t n[3] = {cells.nx * factor, cells.ny * factor, cells.nz * factor};
+    if (*std::max_element(n, n + 3) > 1000)
+      throw InputError("refinement level " + std::to_string(level) + " needs " + std::to_string(n[0]) + " x " +
+                           std::to_string(n[1]) + " x " + std::to_string(n[2]) +
+                           " cells (the scene's times 2^" + std::to_string(level) +
+                           "); a three-dimensional generator takes at most 1000 per axis",
+                       "--levels");
+    const GridSize3 size(static_cast<int>(n[0]), static_cast<int>(n[1]), static_cast<int>(n[2]));
+    require_memory(estimate_memory_3d(base.mesh.generator, n[0], n[1], n[2]).solve_bytes,
+                   "refinement level " + std::to_string(level) + ": " + base.mesh.generator + " n = " + size.text(),
+                   "--levels");
+    Scene s = base;
+    if (level > 0)
+      apply_override(s, "mesh.n=[" + std::to_string(n[0]) + ", " + std::to_string(n[1]) + ", " +
+                            std::to_string(n[2]) + "]");
+    l.push_back(std::move(s));
+  }
+  return l;
+}
+
+// The refinement study of a three-dimensional scene: its levels (refinement_levels_3d) solved
+// with the scene's own engines (solve_scene_3d) and the true errors as in 2D; no adaptive run.
+Refinement run_refinement_3d(const std::vector<Scene>& levels, const BenchOptions& o, std::ostream& err) {
+  const bool progress = o.verbosity >= 1;
+  Refinement r;
+  r.method = "cells_doubled";
+  r.stopped = "not_run";
+  r.reason = "adaptive refinement is two-dimensional";
+  for (std::size_t level = 0; level < levels.size(); ++level) {
+    const app::SceneSolve3D s = app::solve_scene_3d(levels[level]);
+    if (level == 0) r.engines = s.linear + " + " + s.minimizer;
+    r.uniform.push_back(uniform_point(s, static_cast<int>(level)));
+    r.all_converged &= r.uniform.back().converged;
+    if (progress) err << refinement_line(r.uniform.back());
+  }
+  measure_true_errors(r, o);
+  return r;
+}
+
+// The reference energy (given, or Aitken's extrapolation of the last three uniform levels) and
+// every point's true error and effectivity against it.
+void measure_true_errors(Refinement& r, const BenchOptions& o) {
   if (o.reference_energy) {
     r.reference_energy = o.reference_energy;
     r.reference = "given by --reference-energy";
@@ -303,7 +417,6 @@ Refinement run_refinement(const Scene& base, const BenchOptions& o, std::ostream
         p.error = std::sqrt(std::max(p.potential_energy - *r.reference_energy, 0.0)) / p.norm;
         if (p.error > 0.0 && std::isfinite(p.estimate)) p.effectivity = p.estimate / p.error;
       }
-  return r;
 }
 
 nlohmann::json refinement_point_json(const RefinementPoint& p) {
@@ -320,7 +433,8 @@ nlohmann::json refinement_point_json(const RefinementPoint& p) {
 nlohmann::json refinement_json(const Refinement& r, const BenchOptions& o) {
   nlohmann::json j;
   j["engines"] = r.engines;
-  j["levels"] = o.levels;
+  j["levels"] = *o.levels;
+  j["uniform_method"] = r.method;
   j["reference_energy"] = r.reference_energy ? nlohmann::json(*r.reference_energy) : nlohmann::json(nullptr);
   j["reference"] = r.reference;
   j["below_reference"] = r.below_reference;
@@ -367,16 +481,23 @@ std::string refinement_plot(const fs::path& dir, const Scene& base, const Refine
 std::string percent_or_dash(double v) { return std::isfinite(v) ? fixed(100.0 * v, 3) + " %" : std::string("-"); }
 
 void print_refinement(std::ostream& out, const Refinement& r, const BenchOptions& o, const std::string& plot_failure) {
-  out << "\n  refinement study: " << r.engines << " on the scene's mesh refined uniformly " << o.levels
-      << " time" << (o.levels > 1 ? "s" : "") << ", and adaptively (" << r.stopped << ")\n"
-      << "  reference energy: ";
+  const int levels = *o.levels;
+  const std::string times = std::to_string(levels) + " time" + (levels > 1 ? "s" : "");
+  if (r.method == "cells_doubled")
+    out << "\n  refinement study: " << r.engines << " on the scene's mesh with its cell counts doubled " << times
+        << " (the generator remade); adaptive not run: " << r.reason << "\n";
+  else
+    out << "\n  refinement study: " << r.engines << " on the scene's mesh refined uniformly " << times
+        << ", and adaptively (" << r.stopped << ")\n";
+  out << "  reference energy: ";
   if (r.reference_energy) out << std::setprecision(10) << *r.reference_energy << " (" << r.reference << ")\n";
   else out << r.reference << "\n";
   if (r.below_reference > 0)
     out << "  warning: " << r.below_reference << " point" << (r.below_reference > 1 ? "s have" : " has")
         << " a potential energy below the reference: the reference is too high (its true errors are 0 there "
            "and too small elsewhere); give --reference-energy from a finer run\n";
-  out << "  time: uniform the level's solve, adaptive since its start; true error sqrt(Phi_h - Phi_ref) / ||u_h||_E\n\n";
+  out << "  time: " << (r.method == "cells_doubled" ? "the level's solve" : "uniform the level's solve, adaptive since its start")
+      << "; true error sqrt(Phi_h - Phi_ref) / ||u_h||_E\n\n";
   out << std::left << std::setw(10) << "kind" << std::right << std::setw(6) << "#" << std::setw(11) << "unknowns"
       << std::setw(11) << "time [s]" << std::setw(12) << "estimate" << std::setw(13) << "true error" << std::setw(13)
       << "effectivity" << "\n";
@@ -386,7 +507,7 @@ void print_refinement(std::ostream& out, const Refinement& r, const BenchOptions
           << p.unknowns << std::setw(11) << fixed(p.seconds, 3) << std::setw(12) << percent_or_dash(p.estimate)
           << std::setw(13) << percent_or_dash(p.error) << std::setw(13)
           << (std::isfinite(p.effectivity) ? fixed(p.effectivity, 2) : std::string("-")) << "\n";
-  if (!r.reason.empty()) out << "  adaptive: " << r.reason << "\n";
+  if (!r.reason.empty() && r.method != "cells_doubled") out << "  adaptive: " << r.reason << "\n";
   if (plot_failure.empty()) out << "  wrote     " << o.out << "/bench-error.png\n";
   else out << "  skipped   bench-error.png: " << plot_failure << "\n";
 }
@@ -395,38 +516,45 @@ void print_refinement(std::ostream& out, const Refinement& r, const BenchOptions
 
 namespace {
 
-/// `base` with mesh.n = n.
+/// `base` with mesh.n = n: n cells per side, as `--set mesh.n=n` gives (n x n x n in 3D).
 Scene at_size(const Scene& base, int n) {
   Scene s = base;
-  apply_override(s, "mesh.n=" + std::to_string(n));
+  const std::string k = std::to_string(n);
+  // [n, n, n] keeps a scene three-dimensional whose dimension only its mesh.n = [nx, ny, nz] gave
+  apply_override(s, base.dimension() == 3 ? "mesh.n=[" + k + ", " + k + ", " + k + "]" : "mesh.n=" + k);
   return s;
 }
 
-/// The reference solution errors are measured against (on squares meshes only).
+/// The generator on whose meshes errors are measured: squares in 2D, cubes in 3D.
+std::string gridded_generator(const Scene& base) { return base.dimension() == 3 ? "cubes" : "squares"; }
+
+/// The reference solution errors are measured against (on squares or cubes meshes only).
 struct Reference {
   Pair pair;
   PairRun run;
-  std::vector<Vec2> points;  ///< the vertices of its mesh
-  double scale = 0.0;        ///< max|u_ref|, 1 when that is 0
+  std::vector<Vec2> points;    ///< the vertices of its mesh (2D)
+  std::vector<Vec3> points3d;  ///< the vertices of its mesh (3D)
+  double scale = 0.0;          ///< max|u_ref|, 1 when that is 0
 };
 
 // The reference: the finest mesh, the exact active-set method on a direct solver.
-Reference run_reference(const Scene& base, const BenchOptions& o, bool squares, std::ostream& err) {
+Reference run_reference(const Scene& base, const BenchOptions& o, bool gridded, std::ostream& err) {
   const bool progress = o.verbosity >= 1;
   const auto linear = available_factorizations();
   Reference ref;
   ref.pair = Pair{std::find(linear.begin(), linear.end(), "cholmod") != linear.end() ? "cholmod" : "eigen", "ssn"};
-  if (squares) {
-    if (progress) err << "hemivem bench: reference " << ref.pair.label() << " at n = " << o.ref << " ... " << std::flush;
-    PairRuns r = run_pairs(at_size(base, o.ref), {ref.pair});
+  if (gridded) {
+    if (progress) err << "hemivem bench: reference " << ref.pair.label() << " at n = " << *o.ref << " ... " << std::flush;
+    PairRuns r = run_pairs(at_size(base, *o.ref), {ref.pair});
     ref.run = std::move(r.runs.front());
     if (ref.run.failed) throw NumericalError("the reference " + ref.pair.label() + " failed: " + ref.run.message);
-    ref.points = r.built->mesh.vertices();
+    if (r.built3d) ref.points3d = r.built3d->mesh.vertices();
+    else ref.points = r.built->mesh.vertices();
     ref.scale = max_abs(ref.run.u);
     if (ref.scale == 0.0) ref.scale = 1.0;
     if (progress) err << ref.run.status << " (" << fixed(ref.run.seconds, 3) << " s)\n";
   } else if (progress) {
-    err << "hemivem bench: the scene's mesh is not squares: errors are not computed\n";
+    err << "hemivem bench: the scene's mesh is not " << gridded_generator(base) << ": errors are not computed\n";
   }
   return ref;
 }
@@ -450,7 +578,10 @@ std::vector<BenchRow> run_sizes(const std::vector<Scene>& scenes, const std::vec
       row.n = o.n[k];
       row.run = std::move(shared.runs[p]);
       if (ref && !row.run.failed) {
-        const Eigen::VectorXd fine = interpolate_squares(shared.built->mesh, row.run.u, o.n[k], scenes[k].mesh.domain, ref->points);
+        const Eigen::VectorXd fine =
+            shared.built3d ? interpolate_cubes(shared.built3d->mesh, row.run.u, scenes[k].mesh.cells3(),
+                                               scenes[k].mesh.box, ref->points3d)
+                           : interpolate_squares(shared.built->mesh, row.run.u, o.n[k], scenes[k].mesh.domain, ref->points);
         row.error = max_abs(fine - ref->run.u) / ref->scale;
       }
       all_converged &= row.run.converged;
@@ -483,22 +614,30 @@ void write_bench_csv(const fs::path& csv, const std::vector<BenchRow>& rows) {
   });
 }
 
-/// bench.json (schema hemivem-bench/3) but for the plot.
-nlohmann::json bench_json(const Scene& base, const BenchOptions& o, bool squares, const Reference& ref,
+/// bench.json (schema hemivem-bench/4) but for the plot.
+nlohmann::json bench_json(const Scene& base, const BenchOptions& o, bool gridded, const Reference& ref,
                           const std::vector<BenchRow>& rows) {
   nlohmann::json j;
-  j["schema"] = "hemivem-bench/3";
+  j["schema"] = "hemivem-bench/4";
   j["version"] = HEMIVEM_VERSION;
   j["scene"] = base.title;
   j["source"] = base.source;
+  j["dimension"] = base.dimension();
   j["mesh"] = base.mesh.file.empty() ? base.mesh.generator : base.mesh.file.string();
   j["tolerance"] = base.solver.tolerance;
-  j["error_definition"] =
-      squares ? "max over the reference vertices and both components of |I_h u_h - u_ref| / max|u_ref|, "
-                "I_h the bilinear interpolation of the squares solution (exact prolongation for nested meshes)"
-              : "not computed: the scene's mesh is not squares";
-  if (squares)
-    j["reference"] = {{"n", o.ref},
+  if (!gridded)
+    j["error_definition"] = "not computed: the scene's mesh is not " + gridded_generator(base);
+  else if (base.dimension() == 3)
+    j["error_definition"] =
+        "max over the reference vertices and the three components of |I_h u_h - u_ref| / max|u_ref|, I_h the "
+        "trilinear interpolation of the cubes solution (exact prolongation: the reference mesh is nested in every "
+        "mesh, --ref a multiple of every --n)";
+  else
+    j["error_definition"] =
+        "max over the reference vertices and both components of |I_h u_h - u_ref| / max|u_ref|, "
+        "I_h the bilinear interpolation of the squares solution (exact prolongation for nested meshes)";
+  if (gridded)
+    j["reference"] = {{"n", *o.ref},
                       {"linear", ref.pair.linear},
                       {"minimizer", ref.pair.minimizer},
                       {"status", ref.run.status},
@@ -528,13 +667,14 @@ nlohmann::json bench_json(const Scene& base, const BenchOptions& o, bool squares
   return j;
 }
 
-void print_bench(std::ostream& out, const Scene& base, const BenchOptions& o, bool squares, const Reference& ref,
+void print_bench(std::ostream& out, const Scene& base, const BenchOptions& o, bool gridded, const Reference& ref,
                  const std::vector<BenchRow>& rows, const std::string& plot_failure) {
   out << "hemivem bench: " << base.title << " (" << base.source << ")";
-  if (squares)
-    out << "; reference " << ref.pair.label() << " on squares n = " << o.ref << " (" << ref.run.status << ", "
-        << fixed(ref.run.seconds, 3) << " s)";
-  out << "\n  times in seconds; error = max|I_h u_h - u_ref| / max|u_ref| at the reference vertices\n\n";
+  if (gridded)
+    out << "; reference " << ref.pair.label() << " on " << gridded_generator(base) << " n = " << *o.ref << " ("
+        << ref.run.status << ", " << fixed(ref.run.seconds, 3) << " s)";
+  out << "\n  " << (base.dimension() == 3 ? "N: N x N x N cells; " : "")
+      << "times in seconds; error = max|I_h u_h - u_ref| / max|u_ref| at the reference vertices\n\n";
   out << std::left << std::setw(10) << "linear" << std::setw(18) << "minimizer" << std::right << std::setw(5) << "N"
       << "  " << std::left << std::setw(16) << "status" << std::right;
   for (const char* h : {"mesh", "assembly", "condense", "minimize", "back-sub", "total"}) out << std::setw(10) << h;
@@ -552,35 +692,67 @@ void print_bench(std::ostream& out, const Scene& base, const BenchOptions& o, bo
 
 }  // namespace
 
-int run_bench(const BenchOptions& o, std::ostream& out, std::ostream& err) {
-  if (o.n.empty()) throw InputError("give at least one mesh size", "--n");
-  for (int n : o.n)
+int run_bench(const BenchOptions& given, std::ostream& out, std::ostream& err) {
+  for (int n : given.n)
     if (n < 1) throw InputError("mesh sizes must be >= 1, got " + std::to_string(n), "--n");
-  if (o.ref < 1) throw InputError("must be >= 1", "--ref");
-  if (o.levels < 1) throw InputError("must be >= 1 (uniform refinements of the scene's mesh), got " + std::to_string(o.levels), "--levels");
-  if (o.reference_energy && !std::isfinite(*o.reference_energy)) throw InputError("must be a finite number", "--reference-energy");
-  const Scene base = load_pairs_scene(o.scene, std::nullopt, o.tolerance, o.set);
-  // Every size is validated (a scene reading a mesh file refuses mesh.n) before any work.
+  if (given.ref && *given.ref < 1) throw InputError("must be >= 1", "--ref");
+  if (given.levels && *given.levels < 1)
+    throw InputError("must be >= 1 (uniform refinements of the scene's mesh), got " + std::to_string(*given.levels),
+                     "--levels");
+  if (given.reference_energy && !std::isfinite(*given.reference_energy))
+    throw InputError("must be a finite number", "--reference-energy");
+  const Scene base = load_pairs_scene(given.scene, std::nullopt, given.tolerance, given.set);
+  const bool solid = base.dimension() == 3;
+  // the defaults of the scene's dimension where a flag was not given
+  BenchOptions o = given;
+  if (o.n.empty()) o.n = bench_default_sizes(base.dimension());
+  if (!o.ref) o.ref = bench_default_ref(base.dimension());
+  if (!o.levels) o.levels = bench_default_levels(base.dimension());
+  // Every size is validated before any work; a mesh read from a file has no size to set.
+  if (!base.mesh.file.empty())
+    throw InputError("the scene reads its mesh from " + base.mesh.file.filename().string() +
+                         ", and bench solves the scene at each mesh size by setting mesh.n: give a scene whose mesh "
+                         "is made by a generator (mesh.generator" +
+                         (solid ? ", e.g. cubes" : ", e.g. squares") + "), or time the file's mesh with hemivem check",
+                     "--n");
   std::vector<Scene> scenes;
   for (int n : o.n) scenes.push_back(at_size(base, n));
-  // Every size must fit in memory before any work, the reference included.
-  for (const Scene& s : scenes)
-    if (s.mesh.file.empty()) {
+  const bool gridded = base.mesh.file.empty() && base.mesh.generator == gridded_generator(base);
+  // In 3D the error is the largest difference of two trilinear fields only when every mesh's
+  // vertices are vertices of the reference mesh.
+  if (gridded && solid)
+    for (int n : o.n)
+      if (*o.ref % n != 0)
+        throw InputError("a three-dimensional scene measures the error at the vertices of the reference mesh, "
+                         "which must be nested in every mesh: --ref " + std::to_string(*o.ref) +
+                             " is not a multiple of --n " + std::to_string(n),
+                         "--ref");
+  // Every size must fit in memory before any work, the reference and the refinement levels included.
+  auto require = [&](const Scene& s, const std::string& where) {
+    if (!s.mesh.file.empty()) return;
+    if (solid) {
+      const GridSize3 cells = s.mesh.cells3();
+      require_memory(estimate_memory_3d(s.mesh.generator, cells.nx, cells.ny, cells.nz).solve_bytes,
+                     s.mesh.generator + " n = " + cells.text(), where);
+    } else {
       const GridSize cells = s.mesh.cells();
       require_memory(estimate_memory(s.mesh.generator, cells.nx, cells.ny).solve_bytes,
-                     s.mesh.generator + " n = " + cells.text(), "--n");
+                     s.mesh.generator + " n = " + cells.text(), where);
     }
-  const bool squares = base.mesh.file.empty() && base.mesh.generator == "squares";
+  };
+  for (const Scene& s : scenes) require(s, "--n");
+  if (gridded) require(at_size(base, *o.ref), "--ref");
+  const std::vector<Scene> levels = solid ? refinement_levels_3d(base, *o.levels) : std::vector<Scene>{};
   const std::vector<Pair> pairs = available_pairs();
   check_output_folder(o.out);
 
-  const Reference ref = run_reference(base, o, squares, err);
-  bool all_converged = !squares || ref.run.converged;
-  const std::vector<BenchRow> rows = run_sizes(scenes, pairs, o, squares ? &ref : nullptr, all_converged, err);
-  const Refinement refinement = run_refinement(base, o, err);
+  const Reference ref = run_reference(base, o, gridded, err);
+  bool all_converged = !gridded || ref.run.converged;
+  const std::vector<BenchRow> rows = run_sizes(scenes, pairs, o, gridded ? &ref : nullptr, all_converged, err);
+  const Refinement refinement = solid ? run_refinement_3d(levels, o, err) : run_refinement(base, o, err);
   all_converged &= refinement.all_converged;
 
-  nlohmann::json j = bench_json(base, o, squares, ref, rows);
+  nlohmann::json j = bench_json(base, o, gridded, ref, rows);
   j["refinement"] = refinement_json(refinement, o);
   std::string plot_failure, refinement_plot_failure;
   // the folder changes at once
@@ -600,7 +772,7 @@ int run_bench(const BenchOptions& o, std::ostream& out, std::ostream& err) {
   if (o.json)
     out << j.dump(2) << "\n";
   else if (o.verbosity >= 1) {
-    print_bench(out, base, o, squares, ref, rows, plot_failure);
+    print_bench(out, base, o, gridded, ref, rows, plot_failure);
     print_refinement(out, refinement, o, refinement_plot_failure);
   }
   return all_converged ? kSuccess : kNotConverged;

@@ -11,23 +11,32 @@
 
 #include <Eigen/Core>
 
+#include <hemivem/mesh/generators3d.hpp>
 #include <hemivem/mesh/mesh.hpp>
+#include <hemivem/mesh/mesh3d.hpp>
 
 namespace hemivem::cli {
 
 struct BenchOptions {
   std::string scene;
-  std::vector<int> n{16, 32, 64, 128};
-  int ref = 256;
+  std::vector<int> n;                   ///< empty: bench_default_sizes of the scene's dimension
+  std::optional<int> ref;               ///< none: bench_default_ref of the scene's dimension
   std::optional<double> tolerance;
   std::vector<std::string> set;
   std::string out = "out/bench";
   bool json = false;                    ///< bench.json also on stdout instead of the table
   int verbosity = 1;                    ///< 0 quiet, 1 table and progress
   int repeat = 1;                       ///< bench --limit: measurements per size, the fastest kept
-  int levels = 3;                       ///< refinement study: uniform refinements of the scene's mesh (>= 1)
+  /// Refinement study: uniform levels beyond the scene's mesh (>= 1); none: bench_default_levels.
+  std::optional<int> levels;
   std::optional<double> reference_energy;  ///< refinement study: the exact potential energy, when known
 };
+
+/// The defaults of a scene of dimension 2 or 3: the mesh sizes (16, 32, 64, 128 in 2D; 4, 8, 16
+/// in 3D), the reference's size (256; 32) and the uniform levels of the refinement study (3; 2).
+std::vector<int> bench_default_sizes(int dimension);
+int bench_default_ref(int dimension);
+int bench_default_levels(int dimension);
 
 /// hemivem bench [SCENE]: wall time by stage and error against a reference solution for
 /// every pair and mesh size; writes bench.csv, bench.json and bench.png into options.out.
@@ -59,5 +68,11 @@ std::string bench_plot_script(const std::vector<BenchSeries>& series);
 /// y1). Throws InputError when the mesh is not that grid.
 Eigen::VectorXd interpolate_squares(const Mesh& mesh, const Eigen::VectorXd& u, int n,
                                     const std::array<double, 4>& domain, const std::vector<Vec2>& points);
+
+/// The displacement of a cubes mesh (u: 3 per vertex) interpolated trilinearly at `points`, for
+/// a mesh made by the cubes generator with `n` cells on `box` (x0, x1, y0, y1, z0, z1). Throws
+/// InputError when the mesh is not that grid.
+Eigen::VectorXd interpolate_cubes(const Mesh3D& mesh, const Eigen::VectorXd& u, const GridSize3& n,
+                                  const std::array<double, 6>& box, const std::vector<Vec3>& points);
 
 }  // namespace hemivem::cli

@@ -413,27 +413,32 @@ Command register_bench(CLI::App& app) {
     hemivem::cli::BenchOptions options;
     bool quiet = false, limit = false;
     double tol = 0.0, reference_energy = 0.0;
-    CLI::Option *o_n = nullptr, *o_tol = nullptr, *o_reference_energy = nullptr;
+    int ref = 0, levels = 0;
+    CLI::Option *o_n = nullptr, *o_tol = nullptr, *o_reference_energy = nullptr, *o_ref = nullptr, *o_levels = nullptr;
   };
   using namespace hemivem;
   auto f = std::make_shared<Flags>();
   auto* cmd = app.add_subcommand("bench", "Wall time by stage and error against a fine reference, for every pair of engines");
   cmd->add_option("scene", f->options.scene, "Scene file (TOML); none: the paper's Example 4.1")->check(CLI::ExistingFile);
-  f->o_n = cmd->add_option("--n", f->options.n, "Mesh sizes, comma-separated (with --limit: default 128,256,512)")
+  f->o_n = cmd->add_option("--n", f->options.n,
+                           "Mesh sizes, comma-separated (default 16,32,64,128; a three-dimensional scene: 4,8,16, "
+                           "N x N x N cells; with --limit: 128,256,512)")
                ->delimiter(',')
-               ->capture_default_str()
                ->check(kCellCount);
-  cmd->add_option("--ref", f->options.ref, "Mesh size of the reference solution")->capture_default_str()->check(kCellCount);
+  f->o_ref = cmd->add_option("--ref", f->ref,
+                             "Mesh size of the reference solution (default 256; a three-dimensional scene: 32, a "
+                             "multiple of every N)")
+                 ->check(kCellCount);
   f->o_tol = cmd->add_option("--tol", f->tol, "Certificate tolerance for every pair")->check(kPositive)->check(kTolerance);
   cmd->add_option("--set", f->options.set, "Override a scene key: key=value (repeatable)");
   cmd->add_option("--out", f->options.out, "Output folder (bench.csv, bench.json, bench.png; with --limit: limit.json)")
       ->capture_default_str();
   cmd->add_flag("--json", f->options.json, "Print bench.json on stdout instead of the table");
   cmd->add_flag("-q,--quiet", f->quiet, "Print nothing on stdout or stderr");
-  cmd->add_option("--levels", f->options.levels,
-                  "Refinement study: uniform refinements of the scene's mesh (>= 1; the adaptive run aims at the finest's "
-                  "estimate)")
-      ->capture_default_str();
+  f->o_levels = cmd->add_option("--levels", f->levels,
+                                "Refinement study: uniform refinements of the scene's mesh (>= 1, default 3; the "
+                                "adaptive run aims at the finest's estimate); a three-dimensional scene: its cell "
+                                "counts doubled, default 2");
   f->o_reference_energy = cmd->add_option("--reference-energy", f->reference_energy,
                                           "Refinement study: the exact potential energy, for true errors (default: "
                                           "Aitken's extrapolation of the last three uniform levels)");
@@ -448,6 +453,8 @@ Command register_bench(CLI::App& app) {
             cli::BenchOptions& o = f->options;
             if (*f->o_tol) o.tolerance = f->tol;
             if (*f->o_reference_energy) o.reference_energy = f->reference_energy;
+            if (*f->o_ref) o.ref = f->ref;
+            if (*f->o_levels) o.levels = f->levels;
             o.verbosity = f->quiet ? 0 : 1;
             if (f->limit) return cli::run_bench_limit(o, *f->o_n ? o.n : std::vector<int>{128, 256, 512}, std::cout, std::cerr);
             return cli::run_bench(o, std::cout, std::cerr);

@@ -113,7 +113,8 @@ TEST(CliCheck, BenchWritesOneRowPerPairAndSizeAndSsnErrorsDecrease) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(r.out.empty()) << r.out;  // -q
   const auto j = nlohmann::json::parse(slurp(out / "bench.json"));
-  EXPECT_EQ(j["schema"], "hemivem-bench/3");
+  EXPECT_EQ(j["schema"], "hemivem-bench/4");
+  EXPECT_EQ(j["dimension"], 2);
   EXPECT_EQ(j["reference"]["n"], 16);
 
   std::ifstream csv(out / "bench.csv");
