@@ -471,12 +471,12 @@ int run_bench_limit(const BenchOptions& o, const std::vector<int>& sizes, std::o
   const std::vector<std::string> built = available_factorizations();
   if (std::find(built.begin(), built.end(), "cholmod") == built.end())
     throw InputError("the limit is one CHOLMOD factorization, and the cholmod engine was not built", "--limit");
-  if (sizes.empty()) throw InputError("give at least one mesh size", "--n");
   if (o.repeat < 1) throw InputError("give at least one measurement per size", "--repeat");
+  const Scene base = limit_scene(o);
   std::vector<int> ns = sizes;
+  if (ns.empty()) ns = base.dimension() == 3 ? std::vector<int>{16, 24, 32} : std::vector<int>{128, 256, 512};
   std::sort(ns.begin(), ns.end());
   ns.erase(std::unique(ns.begin(), ns.end()), ns.end());
-  const Scene base = limit_scene(o);
   std::vector<Scene> scenes;
   for (int n : ns) {
     Scene s = base;

@@ -17,6 +17,8 @@ namespace hemivem::cli {
 /// generator, or for a three-dimensional scene the cubes generator, against the plain Q1 assembly
 /// of boxes (InputError otherwise); without the cholmod engine the limit cannot be measured
 /// (InputError).
+/// `sizes` empty: the default sizes, 128, 256, 512 for a plane scene and 16, 24, 32 for a
+/// three-dimensional one.
 int run_bench_limit(const BenchOptions& options, const std::vector<int>& sizes, std::ostream& out, std::ostream& err);
 
 }  // namespace hemivem::cli

@@ -422,7 +422,7 @@ Command register_bench(CLI::App& app) {
   cmd->add_option("scene", f->options.scene, "Scene file (TOML); none: the paper's Example 4.1")->check(CLI::ExistingFile);
   f->o_n = cmd->add_option("--n", f->options.n,
                            "Mesh sizes, comma-separated (default 16,32,64,128; a three-dimensional scene: 4,8,16, "
-                           "N x N x N cells; with --limit: 128,256,512)")
+                           "N x N x N cells; with --limit: 128,256,512, and 16,24,32 for a three-dimensional scene)")
                ->delimiter(',')
                ->check(kCellCount);
   f->o_ref = cmd->add_option("--ref", f->ref,
@@ -456,7 +456,7 @@ Command register_bench(CLI::App& app) {
             if (*f->o_ref) o.ref = f->ref;
             if (*f->o_levels) o.levels = f->levels;
             o.verbosity = f->quiet ? 0 : 1;
-            if (f->limit) return cli::run_bench_limit(o, *f->o_n ? o.n : std::vector<int>{128, 256, 512}, std::cout, std::cerr);
+            if (f->limit) return cli::run_bench_limit(o, *f->o_n ? o.n : std::vector<int>{}, std::cout, std::cerr);
             return cli::run_bench(o, std::cout, std::cerr);
           }};
 }
