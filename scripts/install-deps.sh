@@ -13,7 +13,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libnlopt-dev libceres-dev
   nlohmann-json3-dev zlib1g-dev python3-meshio gnuplot-nox
-  pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib python3-vtk9
   clang
 )
 
