@@ -33,22 +33,18 @@
 // from it, and every error names "path:line".
 #include <hemivem/mesh/gmsh3d.hpp>
 
+#include "gmsh_sections.hpp"
+
 #include <hemivem/support/atomic_file.hpp>
-#include <hemivem/support/text_lines.hpp>
 
 #include <algorithm>
-#include <array>
 #include <charconv>
-#include <climits>
-#include <cmath>
-#include <cstdlib>
 #include <fstream>
 #include <istream>
 #include <map>
 #include <ostream>
 #include <string_view>
 #include <system_error>
-#include <unordered_map>
 
 namespace hemivem {
 
@@ -56,38 +52,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
+using detail::GmshElement;
+using detail::kGmshMaxRegion;
 using text::Line;
-using text::shown;
-
-/// Region ids (volume physical tags) a file may hold.
-constexpr long long kMaxRegion = 1000000;
-
-std::string quote(std::string_view s) { return "'" + shown(s) + "'"; }
-
-std::string_view strip_plus(std::string_view t, bool real) {
-  if (t.size() >= 2 && t[0] == '+' && ((t[1] >= '0' && t[1] <= '9') || (real && t[1] == '.'))) t.remove_prefix(1);
-  return t;
-}
-
-bool parse_integer(std::string_view token, long long& value) {
-  const std::string_view t = strip_plus(token, false);
-  const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), value);
-  return ec == std::errc() && ptr == t.data() + t.size();
-}
-
-/// A finite real number (the whole token).
-bool parse_real(std::string_view token, double& value) {
-  const std::string_view t = strip_plus(token, true);
-  const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), value, std::chars_format::general);
-  if (ptr != t.data() + t.size()) return false;
-  if (ec == std::errc::result_out_of_range) {
-    const std::string copy(t);
-    value = std::strtod(copy.c_str(), nullptr);
-  } else if (ec != std::errc()) {
-    return false;
-  }
-  return std::isfinite(value);
-}
+using text::quote;
 
 // ---- element shapes --------------------------------------------------------------------
 
@@ -125,26 +93,6 @@ const Shape* volume_shape(long long type) {
   }
 }
 
-/// Element types read: nodes per element and dimension, or 0 nodes when unsupported.
-struct ElementType {
-  int nodes = 0;
-  int dim = -1;
-};
-
-ElementType element_type(long long type) {
-  switch (type) {
-    case 1: return {2, 1};
-    case 2: return {3, 2};
-    case 3: return {4, 2};
-    case 4: return {4, 3};
-    case 5: return {8, 3};
-    case 6: return {6, 3};
-    case 7: return {5, 3};
-    case 15: return {1, 0};
-    default: return {};
-  }
-}
-
 std::string unsupported_type_name(long long type) {
   switch (type) {
     case 8: return "3-node second-order line";
@@ -166,373 +114,41 @@ std::string unsupported_type_name(long long type) {
   }
 }
 
-struct Element {
-  std::vector<int> nodes;  // node indices (into nodes_)
-  const Shape* shape = nullptr;  // volumes only
-  long long tag = 0;
-  long long entity = 0;
-  int line = 0;
-};
-
-struct Node {
-  Vec3 x = Vec3::Zero();
-  long long tag = 0;
-  int tag_line = 0;  // line of the tag
-};
-
-class Gmsh3DReader {
+class Gmsh3DReader final : detail::GmshSections {
  public:
-  Gmsh3DReader(std::string data, std::string name) : data_(std::move(data)), name_(std::move(name)) {
-    last_line_ = text::split_lines(data_, name_, lines_);
-  }
+  Gmsh3DReader(std::string data, std::string name)
+      : GmshSections(std::move(data), std::move(name), {3, 1e100, "1e100 (cell volumes would overflow)"}) {}
 
   Mesh3D read() {
-    bool format = false;
-    while (pos_ < lines_.size()) {
-      const Line line = lines_[pos_++];
-      text::tokenize(line.text, tokens_);
-      const std::string_view section = tokens_[0];
-      if (section.front() != '$' || tokens_.size() != 1)
-        fail(line, "expected a section header such as $Nodes, found " + quote(line.text));
-      if (!format) {
-        if (section != "$MeshFormat")
-          fail(line, "expected $MeshFormat as the first section, found " + quote(line.text) +
-                         " (is this a Gmsh .msh file?)");
-        read_format(line);
-        format = true;
-        continue;
-      }
-      if (section == "$MeshFormat") {
-        fail(line, "a second $MeshFormat section");
-      } else if (section == "$PhysicalNames") {
-        once(physical_names_line_, line);
-        read_physical_names(line);
-      } else if (section == "$Entities") {
-        once(entities_line_, line);
-        read_entities(line);
-      } else if (section == "$Nodes") {
-        once(nodes_line_, line);
-        read_nodes(line);
-      } else if (section == "$Elements") {
-        if (nodes_line_ == 0) fail(line, "missing $Nodes section: $Elements must follow the $Nodes section");
-        once(elements_line_, line);
-        read_elements(line);
-      } else if (section == "$PartitionedEntities") {
-        fail(line, "partitioned meshes are not supported (save the mesh without partitions)");
-      } else if (section.substr(0, 4) == "$End") {
-        fail(line, quote(section) + " closes no open section");
-      } else {
-        skip_section(line);
-      }
-    }
-    if (!format)
-      fail(last_line_, lines_.empty() ? "the file holds no data: expected $MeshFormat"
-                                      : "the file holds no $MeshFormat section");
-    if (nodes_line_ == 0) fail(last_line_, "the file has no $Nodes section");
-    if (elements_line_ == 0) fail(last_line_, "the file has no $Elements section");
-    if (volumes_.empty())
+    read_sections();
+    if (top_.empty())
       fail(elements_header_, "the file has no volume elements (4-node tetrahedra, 8-node hexahedra, 6-node prisms or "
                              "5-node pyramids): a plane mesh is read by read_gmsh");
     return build();
   }
 
  private:
-  // ---- lines and tokens
-
-  std::string where(int line) const { return name_ + ":" + std::to_string(line); }
-  [[noreturn]] void fail(int line, const std::string& message) const { throw InputError(message, where(line)); }
-  [[noreturn]] void fail(const Line& line, const std::string& message) const { fail(line.number, message); }
-
-  void once(int& seen, const Line& line) {
-    if (seen != 0)
-      fail(line, "a second " + std::string(line.text) + " section (the first is at line " + std::to_string(seen) + ")");
-    seen = line.number;
-  }
-
-  std::size_t lines_left() const { return lines_.size() - std::min(pos_, lines_.size()); }
-
-  /// The next data line of the section opened at `header`, tokenized; `what` says what was expected.
-  const Line& data_line(const Line& header, const std::string& what) {
-    const std::string opened = std::string(header.text) + " (line " + std::to_string(header.number) + ")";
-    if (pos_ >= lines_.size()) fail(last_line_, "the file ends inside " + opened + " while expecting " + what);
-    const Line& line = lines_[pos_];
-    if (line.text.front() == '$') fail(line, "expected " + what + " in " + opened + ", found " + quote(line.text));
-    ++pos_;
-    text::tokenize(line.text, tokens_);
-    return line;
-  }
-
-  void end_section(const Line& header) {
-    const std::string end = "$End" + std::string(header.text.substr(1));
-    if (pos_ >= lines_.size())
-      fail(last_line_, "the file ends before " + end + " (closing line " + std::to_string(header.number) + ")");
-    const Line& line = lines_[pos_++];
-    if (line.text != end)
-      fail(line, "expected " + end + " (closing line " + std::to_string(header.number) + "), found " +
-                     quote(line.text));
-  }
-
-  void skip_section(const Line& header) {
-    const std::string end = "$End" + std::string(header.text.substr(1));
-    while (pos_ < lines_.size())
-      if (lines_[pos_++].text == end) return;
-    fail(last_line_, "the file ends before " + end + " (closing line " + std::to_string(header.number) + ")");
-  }
-
-  long long integer(const Line& line, std::size_t i, const std::string& what) {
-    long long v = 0;
-    if (i >= tokens_.size()) fail(line, "missing " + what + " in " + quote(line.text));
-    if (!parse_integer(tokens_[i], v)) fail(line, "bad " + what + " " + quote(tokens_[i]) + " (expected an integer)");
-    return v;
-  }
-
-  /// A count: non-negative and at most INT_MAX.
-  long long count(const Line& line, std::size_t i, const std::string& what) {
-    const long long n = integer(line, i, what);
-    if (n < 0) fail(line, what + " " + std::to_string(n) + " is negative");
-    if (n > INT_MAX) fail(line, what + " " + std::to_string(n) + " is too large (at most " + std::to_string(INT_MAX) + ")");
-    return n;
-  }
-
-  void expect_tokens(const Line& line, std::size_t n, const std::string& what) {
-    if (tokens_.size() != n)
-      fail(line, what + " has " + std::to_string(tokens_.size()) + " values, expected " + std::to_string(n) +
-                     " (found " + quote(line.text) + ")");
-  }
-
-  // ---- sections
-
-  void read_format(const Line& header) {
-    const Line& line = data_line(header, "the format line '4.1 0 8'");
-    if (tokens_.size() != 3) fail(line, "expected the format line '4.1 0 8', found " + quote(line.text));
-    if (tokens_[0] != "4.1")
-      fail(line, "MSH format version " + quote(tokens_[0]) +
-                     " is not supported: only version 4.1 is read (save with Mesh.MshFileVersion = 4.1)");
-    if (tokens_[1] == "1") fail(line, "binary MSH files are not supported: save the mesh as ASCII (Mesh.Binary = 0)");
-    if (tokens_[1] != "0") fail(line, "bad file type " + quote(tokens_[1]) + " (expected 0, ASCII)");
-    long long size = 0;
-    if (!parse_integer(tokens_[2], size)) fail(line, "bad data size " + quote(tokens_[2]) + " (expected 8)");
-    end_section(header);
-  }
-
-  void read_physical_names(const Line& header) {
-    const Line& cl = data_line(header, "the number of physical names");
-    expect_tokens(cl, 1, "the count line of $PhysicalNames");
-    const long long n = count(cl, 0, "physical name count");
-    for (long long i = 0; i < n; ++i) {
-      const Line& line = data_line(header, std::to_string(n) + " physical name lines 'dim tag \"name\"' (found " +
-                                               std::to_string(i) + ")");
-      if (tokens_.size() < 3) fail(line, "expected a physical name 'dim tag \"name\"', found " + quote(line.text));
-      const long long dim = integer(line, 0, "physical group dimension");
-      const long long tag = integer(line, 1, "physical group tag");
-      if (dim < 0 || dim > 3) fail(line, "physical group dimension " + std::to_string(dim) + " is not 0, 1, 2 or 3");
-      if (tag < INT_MIN || tag > INT_MAX) fail(line, "physical group tag " + std::to_string(tag) + " is out of range");
-      // The name is everything between the first and the last double quote.
-      const std::size_t open = line.text.find('"');
-      const std::size_t close = line.text.rfind('"');
-      if (open == std::string_view::npos || close == open ||
-          open != static_cast<std::size_t>(tokens_[2].data() - line.text.data()))
-        fail(line, "the physical name of group " + std::to_string(tag) + " is not in double quotes (found " +
-                       quote(line.text) + ")");
-      if (close != line.text.size() - 1)
-        fail(line, "unexpected content after the physical name: " + quote(line.text.substr(close + 1)));
-      const auto key = std::make_pair(static_cast<int>(dim), static_cast<int>(tag));
-      if (!physical_names_.emplace(key, std::string(line.text.substr(open + 1, close - open - 1))).second)
-        fail(line, "physical group " + std::to_string(tag) + " of dimension " + std::to_string(dim) + " is named twice");
-    }
-    end_section(header);
-  }
-
-  void read_entities(const Line& header) {
-    const Line& cl = data_line(header, "the entity counts 'numPoints numCurves numSurfaces numVolumes'");
-    expect_tokens(cl, 4, "the count line of $Entities");
-    long long n[4];
-    for (int d = 0; d < 4; ++d) n[d] = count(cl, static_cast<std::size_t>(d), "entity count");
-    static const char* const kind[4] = {"point", "curve", "surface", "volume"};
-    for (int d = 0; d < 4; ++d) {
-      for (long long i = 0; i < n[d]; ++i) {
-        const Line& line = data_line(header, std::to_string(n[d]) + " " + kind[d] + " entity lines (found " +
-                                                 std::to_string(i) + ")");
-        const std::string what = std::string(kind[d]) + " ";
-        const long long tag = integer(line, 0, what + "tag");
-        // point: tag x y z; others: tag minX minY minZ maxX maxY maxZ
-        const std::size_t at = d == 0 ? 4 : 7;
-        const long long np = integer(line, at, "number of physical tags of " + what + std::to_string(tag));
-        if (np < 0 || static_cast<unsigned long long>(np) > tokens_.size())
-          fail(line, what + std::to_string(tag) + " declares " + std::to_string(np) + " physical tags; the line holds " +
-                         std::to_string(tokens_.size()) + " values");
-        std::size_t expected = at + 1 + static_cast<std::size_t>(np);
-        if (d > 0) {
-          const long long nb = integer(line, expected, "number of bounding entities of " + what + std::to_string(tag));
-          if (nb < 0 || static_cast<unsigned long long>(nb) > tokens_.size())
-            fail(line, what + std::to_string(tag) + " declares " + std::to_string(nb) +
-                           " bounding entities; the line holds " + std::to_string(tokens_.size()) + " values");
-          expected += 1 + static_cast<std::size_t>(nb);
-        }
-        if (tokens_.size() != expected)
-          fail(line, what + std::to_string(tag) + " has " + std::to_string(tokens_.size()) +
-                         " values where its counts give " + std::to_string(expected));
-        std::vector<int> tags;
-        for (long long k = 0; k < np; ++k) {
-          const long long p = integer(line, at + 1 + static_cast<std::size_t>(k), "physical tag");
-          if (p < INT_MIN || p > INT_MAX) fail(line, "physical tag " + std::to_string(p) + " is out of range");
-          if (d == 3 && (p < 1 || p > kMaxRegion))
-            fail(line, "physical volume tag " + std::to_string(p) +
-                           " cannot be a region id: volume tags are kept as region ids, from 1 to " +
-                           std::to_string(kMaxRegion));
-          tags.push_back(static_cast<int>(p));
-        }
-        if (!entity_physicals_[d].emplace(tag, std::move(tags)).second)
-          fail(line, what + "entity " + std::to_string(tag) + " is listed twice");
-      }
-    }
-    end_section(header);
-  }
-
-  void read_nodes(const Line& header) {
-    const Line& hl = data_line(header, "'numEntityBlocks numNodes minNodeTag maxNodeTag'");
-    expect_tokens(hl, 4, "the count line of $Nodes");
-    const long long blocks = count(hl, 0, "node block count");
-    const long long total = count(hl, 1, "node count");
-    integer(hl, 2, "minimum node tag");
-    integer(hl, 3, "maximum node tag");
-    if (static_cast<unsigned long long>(total) > lines_left())
-      fail(hl, "the node count " + std::to_string(total) + " exceeds what the rest of the file can hold");
-    nodes_.reserve(static_cast<std::size_t>(total));
-    long long read = 0;
-    for (long long b = 0; b < blocks; ++b) {
-      const Line& bl = data_line(header, std::to_string(blocks) + " node blocks (found " + std::to_string(b) +
-                                             "): 'entityDim entityTag parametric numNodesInBlock'");
-      expect_tokens(bl, 4, "a node block header");
-      const long long dim = integer(bl, 0, "entity dimension");
-      integer(bl, 1, "entity tag");
-      const long long parametric = integer(bl, 2, "parametric flag");
-      const long long n = count(bl, 3, "node count of the block");
-      if (dim < 0 || dim > 3) fail(bl, "entity dimension " + std::to_string(dim) + " is not 0, 1, 2 or 3");
-      if (parametric != 0 && parametric != 1)
-        fail(bl, "the parametric flag is " + std::to_string(parametric) + ", not 0 or 1");
-      if (read + n > total)
-        fail(bl, "the node blocks hold more nodes than the " + std::to_string(total) + " declared at line " +
-                     std::to_string(hl.number));
-      const std::size_t first = nodes_.size();
-      for (long long i = 0; i < n; ++i) {
-        const Line& line = data_line(header, std::to_string(n) + " node tags of the block at line " +
-                                                 std::to_string(bl.number) + " (found " + std::to_string(i) + ")");
-        expect_tokens(line, 1, "a node tag line");
-        const long long tag = integer(line, 0, "node tag");
-        if (tag <= 0) fail(line, "node tag " + std::to_string(tag) + " is not positive");
-        const auto [it, fresh] = node_index_.emplace(tag, static_cast<int>(nodes_.size()));
-        if (!fresh)
-          fail(line, "node tag " + std::to_string(tag) + " appears twice (first at line " +
-                         std::to_string(nodes_[static_cast<std::size_t>(it->second)].tag_line) + ")");
-        nodes_.push_back({Vec3::Zero(), tag, line.number});
-      }
-      const std::size_t values = 3 + (parametric == 1 ? static_cast<std::size_t>(dim) : 0);
-      for (long long i = 0; i < n; ++i) {
-        Node& node = nodes_[first + static_cast<std::size_t>(i)];
-        const std::string what = "node " + std::to_string(node.tag);
-        const Line& line = data_line(header, std::to_string(n) + " node coordinate lines of the block at line " +
-                                                 std::to_string(bl.number) + " (found " + std::to_string(i) + ")");
-        expect_tokens(line, values, "the coordinate line of " + what);
-        for (int k = 0; k < 3; ++k) {
-          double c = 0.0;
-          if (!parse_real(tokens_[static_cast<std::size_t>(k)], c))
-            fail(line, what + " has a " + "xyz"[k] + " coordinate " + quote(tokens_[static_cast<std::size_t>(k)]) +
-                           " that is not a finite number");
-          if (std::abs(c) > 1e100)
-            fail(line, what + " has a " + "xyz"[k] + " coordinate " + quote(tokens_[static_cast<std::size_t>(k)]) +
-                           " of magnitude above 1e100 (cell volumes would overflow)");
-          node.x[k] = c;
-        }
-      }
-      read += n;
-    }
-    if (read != total)
-      fail(hl, "$Nodes declares " + std::to_string(total) + " nodes but its blocks hold " + std::to_string(read));
-    end_section(header);
-  }
-
-  void read_elements(const Line& header) {
-    const Line& hl = data_line(header, "'numEntityBlocks numElements minElementTag maxElementTag'");
-    expect_tokens(hl, 4, "the count line of $Elements");
-    elements_header_ = hl.number;
-    const long long blocks = count(hl, 0, "element block count");
-    const long long total = count(hl, 1, "element count");
-    integer(hl, 2, "minimum element tag");
-    integer(hl, 3, "maximum element tag");
-    if (static_cast<unsigned long long>(total) > lines_left())
-      fail(hl, "the element count " + std::to_string(total) + " exceeds what the rest of the file can hold");
-    long long read = 0;
-    for (long long b = 0; b < blocks; ++b) {
-      const Line& bl = data_line(header, std::to_string(blocks) + " element blocks (found " + std::to_string(b) +
-                                             "): 'entityDim entityTag elementType numElementsInBlock'");
-      expect_tokens(bl, 4, "an element block header");
-      const long long dim = integer(bl, 0, "entity dimension");
-      const long long entity = integer(bl, 1, "entity tag");
-      const long long type = integer(bl, 2, "element type");
-      const long long n = count(bl, 3, "element count of the block");
-      const ElementType et = element_type(type);
-      if (et.nodes == 0) {
-        const std::string name = unsupported_type_name(type);
-        fail(bl, "element type " + std::to_string(type) + (name.empty() ? "" : " (" + name + ")") +
-                     " is not supported: only 4-node tetrahedra (4), 8-node hexahedra (5), 6-node prisms (6), 5-node "
-                     "pyramids (7), 3-node triangles (2), 4-node quadrangles (3), 2-node lines (1) and points (15) are "
-                     "read (save a first-order mesh)");
-      }
-      if (dim != et.dim)
-        fail(bl, "element type " + std::to_string(type) + " is of dimension " + std::to_string(et.dim) +
-                     " but its block is on an entity of dimension " + std::to_string(dim));
-      if (read + n > total)
-        fail(bl, "the element blocks hold more elements than the " + std::to_string(total) + " declared at line " +
-                     std::to_string(hl.number));
-      if (dim > 1 && entities_line_ != 0 && !entity_physicals_[dim].count(entity))
-        fail(bl, std::string(dim == 2 ? "surface" : "volume") + " entity " + std::to_string(entity) +
-                     " is not in $Entities");
-      const std::size_t nn = static_cast<std::size_t>(et.nodes);
-      for (long long i = 0; i < n; ++i) {
-        const Line& line = data_line(header, std::to_string(n) + " element lines of the block at line " +
-                                                 std::to_string(bl.number) + " (found " + std::to_string(i) + ")");
-        const long long tag = integer(line, 0, "element tag");
-        const std::string what = "element " + std::to_string(tag);
-        if (tokens_.size() != nn + 1)
-          fail(line, what + " (type " + std::to_string(type) + ") lists " + std::to_string(tokens_.size() - 1) +
-                         " node tags, expected " + std::to_string(nn));
-        std::vector<int> ids(nn);
-        for (std::size_t k = 0; k < nn; ++k) {
-          const long long t = integer(line, k + 1, "node tag of " + what);
-          const auto it = node_index_.find(t);
-          if (it == node_index_.end())
-            fail(line, what + " refers to node tag " + std::to_string(t) + ", which is not in $Nodes");
-          ids[k] = it->second;
-        }
-        if (dim == 3) volumes_.push_back({std::move(ids), volume_shape(type), tag, entity, line.number});
-        else if (dim == 2) surfaces_.push_back({std::move(ids), nullptr, tag, entity, line.number});
-      }
-      read += n;
-    }
-    if (read != total)
-      fail(hl, "$Elements declares " + std::to_string(total) + " elements but its blocks hold " + std::to_string(read));
-    end_section(header);
+  [[noreturn]] void refuse_element_type(const Line& block, long long type) const override {
+    const std::string name = unsupported_type_name(type);
+    fail(block, "element type " + std::to_string(type) + (name.empty() ? "" : " (" + name + ")") +
+                    " is not supported: only 4-node tetrahedra (4), 8-node hexahedra (5), 6-node prisms (6), 5-node "
+                    "pyramids (7), 3-node triangles (2), 4-node quadrangles (3), 2-node lines (1) and points (15) are "
+                    "read (save a first-order mesh)");
   }
 
   // ---- the mesh
 
   Mesh3D build() {
     // vertices: the nodes of volume elements, in $Nodes order
-    vertex_of_.assign(nodes_.size(), -1);
-    for (const auto& e : volumes_)
-      for (int n : e.nodes) vertex_of_[static_cast<std::size_t>(n)] = 0;
+    vertex_of_ = vertex_numbers();
     std::vector<Vec3> vertices;
     for (std::size_t i = 0; i < nodes_.size(); ++i)
-      if (vertex_of_[i] == 0) {
-        vertex_of_[i] = static_cast<int>(vertices.size());
-        vertices.push_back(nodes_[i].x);
-      }
+      if (vertex_of_[i] >= 0) vertices.emplace_back(nodes_[i].x, nodes_[i].y, nodes_[i].z);
     std::vector<CellFaces> cells;
     std::vector<int> regions;
-    cells.reserve(volumes_.size());
-    regions.reserve(volumes_.size());
-    for (const auto& e : volumes_) {
+    cells.reserve(top_.size());
+    regions.reserve(top_.size());
+    for (const GmshElement& e : top_) {
       cells.push_back(cell_of(e, vertices));
       regions.push_back(region_of(e.entity));
     }
@@ -540,13 +156,8 @@ class Gmsh3DReader {
     try {
       mesh = Mesh3D(std::move(vertices), std::move(cells), std::move(regions));
     } catch (const MeshError& err) {
-      const int c = err.element();
-      if (c >= 0 && static_cast<std::size_t>(c) < volumes_.size()) {
-        const auto& e = volumes_[static_cast<std::size_t>(c)];
-        throw MeshError("Gmsh element " + std::to_string(e.tag) + " (" + e.shape->name + "): " + err.detail(), c,
-                        where(e.line));
-      }
-      throw MeshError(err.detail(), c, where(elements_header_));
+      rethrow_at_element(err,
+                         [](const GmshElement& e) { return " (" + std::string(volume_shape(e.type)->name) + ")"; });
     }
     add_face_groups(mesh);
     return mesh;
@@ -554,9 +165,9 @@ class Gmsh3DReader {
 
   /// The faces of a volume element, outward: as Gmsh's node ordering gives them, all reversed
   /// when its volume is negative.
-  CellFaces cell_of(const Element& e, const std::vector<Vec3>& vertices) const {
+  CellFaces cell_of(const GmshElement& e, const std::vector<Vec3>& vertices) const {
     CellFaces faces;
-    for (const auto& f : e.shape->faces) {
+    for (const auto& f : volume_shape(e.type)->faces) {
       std::vector<int> loop;
       for (int k : f) loop.push_back(vertex_of_[static_cast<std::size_t>(e.nodes[static_cast<std::size_t>(k)])]);
       faces.push_back(std::move(loop));
@@ -574,12 +185,6 @@ class Gmsh3DReader {
     return faces;
   }
 
-  int region_of(long long entity) const {
-    const auto it = entity_physicals_[3].find(entity);
-    if (it == entity_physicals_[3].end() || it->second.empty()) return 0;
-    return it->second.front();
-  }
-
   /// Face groups from the 2D physical groups, named by $PhysicalNames or else by tag.
   void add_face_groups(Mesh3D& mesh) const {
     std::map<std::vector<int>, int> face_of;  // sorted vertices -> face
@@ -588,54 +193,29 @@ class Gmsh3DReader {
       std::sort(key.begin(), key.end());
       face_of.emplace(std::move(key), f);
     }
-    std::map<int, std::vector<int>> group_faces;  // 2D physical tag -> faces
-    for (const auto& [key, name] : physical_names_)
-      if (key.first == 2) group_faces[key.second];
-    for (const auto& [entity, tags] : entity_physicals_[2])
-      for (int t : tags) group_faces[t];
-    for (const auto& s : surfaces_) {
-      const auto ent = entity_physicals_[2].find(s.entity);
-      if (ent == entity_physicals_[2].end() || ent->second.empty()) continue;
+    std::map<int, std::vector<int>> group_faces = empty_groups();  // 2D physical tag -> faces
+    for (const GmshElement& s : below_) {
+      const std::vector<int>* tags = groups_of(s.entity);
+      if (!tags || tags->empty()) continue;
       std::vector<int> key;
       for (int n : s.nodes) key.push_back(vertex_of_[static_cast<std::size_t>(n)]);
       std::sort(key.begin(), key.end());
       const auto it = std::find(key.begin(), key.end(), -1) != key.end() ? face_of.end() : face_of.find(key);
       if (it == face_of.end()) {
-        std::string tags;
+        std::string node_tags;
         for (int n : s.nodes) {
-          tags += ' ';
-          tags += std::to_string(nodes_[static_cast<std::size_t>(n)].tag);
+          node_tags += ' ';
+          node_tags += std::to_string(nodes_[static_cast<std::size_t>(n)].tag);
         }
-        fail(s.line, "surface element " + std::to_string(s.tag) + " (nodes" + tags +
+        fail(s.line, "surface element " + std::to_string(s.tag) + " (nodes" + node_tags +
                          ") of a physical surface is not a face of the volume mesh");
       }
-      for (int t : ent->second) group_faces[t].push_back(it->second);
+      for (int t : *tags) group_faces[t].push_back(it->second);
     }
     std::map<std::string, int> names;
-    for (auto& [tag, faces] : group_faces) {
-      const auto named = physical_names_.find({2, tag});
-      const std::string name = named != physical_names_.end() ? named->second : std::to_string(tag);
-      if (const auto [it, fresh] = names.emplace(name, tag); !fresh)
-        fail(physical_names_line_ != 0 ? physical_names_line_ : last_line_,
-             "the 2D physical groups " + std::to_string(it->second) + " and " + std::to_string(tag) +
-                 " have the same name " + quote(name));
-      mesh.set_face_group(name, std::move(faces));
-    }
+    for (auto& [tag, faces] : group_faces) mesh.set_face_group(group_name(tag, names), std::move(faces));
   }
 
-  std::string data_;
-  std::string name_;
-  std::vector<Line> lines_;
-  std::vector<std::string_view> tokens_;
-  std::size_t pos_ = 0;
-  int last_line_ = 1;
-
-  int physical_names_line_ = 0, entities_line_ = 0, nodes_line_ = 0, elements_line_ = 0, elements_header_ = 0;
-  std::map<std::pair<int, int>, std::string> physical_names_;
-  std::map<long long, std::vector<int>> entity_physicals_[4];
-  std::vector<Node> nodes_;
-  std::unordered_map<long long, int> node_index_;
-  std::vector<Element> volumes_, surfaces_;
   std::vector<int> vertex_of_;
 };
 
@@ -759,9 +339,10 @@ void write_gmsh3d(const Mesh3D& mesh, std::ostream& out) {
     if (!cells[static_cast<std::size_t>(c)].shape)
       throw InputError("cell " + std::to_string(c) + " (" + std::to_string(mesh.cell_faces(c).size()) +
                        " faces) is no tetrahedron, hexahedron, prism or pyramid: Gmsh has no polyhedron element");
-    if (mesh.region(c) > kMaxRegion)
+    if (mesh.region(c) > kGmshMaxRegion)
       throw InputError("cell " + std::to_string(c) + " has region " + std::to_string(mesh.region(c)) +
-                       ", above the largest Gmsh volume tag read back as a region (" + std::to_string(kMaxRegion) + ")");
+                       ", above the largest Gmsh volume tag read back as a region (" +
+                       std::to_string(kGmshMaxRegion) + ")");
   }
   for (const auto& [name, faces] : mesh.face_groups()) {
     check_group_name(name);

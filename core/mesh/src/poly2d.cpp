@@ -12,12 +12,9 @@
 #include <hemivem/support/text_lines.hpp>
 
 #include <algorithm>
-#include <cerrno>
 #include <charconv>
 #include <climits>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <fstream>
 #include <istream>
 #include <ostream>
@@ -32,53 +29,14 @@ namespace fs = std::filesystem;
 namespace {
 
 using text::kWhitespace;
+using text::quote;
 using text::shown;
 
 bool is_keyword(std::string_view t) { return t == "vertices" || t == "elements" || t == "boundary"; }
 
-std::string quote(std::string_view s) {
-  std::string out(1, '\'');
-  out += shown(s);
-  out += '\'';
-  return out;
-}
-
-/// Skips one leading '+' when a digit (or '.' for reals) follows: from_chars rejects it.
-std::string_view strip_plus(std::string_view t, bool real) {
-  if (t.size() >= 2 && t[0] == '+' &&
-      ((t[1] >= '0' && t[1] <= '9') || (real && t[1] == '.')))
-    t.remove_prefix(1);
-  return t;
-}
-
-enum class Parse { ok, bad, out_of_range };
-
-/// The whole token must be an integer.
-Parse parse_integer(std::string_view token, long long& value) {
-  const std::string_view t = strip_plus(token, false);
-  const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), value);
-  if (ec == std::errc::invalid_argument || ptr != t.data() + t.size()) return Parse::bad;
-  if (ec == std::errc::result_out_of_range) return Parse::out_of_range;
-  return Parse::ok;
-}
-
-/// The whole token must be a real number (nan and inf are parsed; the caller rejects them).
-/// A value too small for a double reads as the nearest double (0 or a subnormal);
-/// one too large is out_of_range.
-Parse parse_real(std::string_view token, double& value) {
-  const std::string_view t = strip_plus(token, true);
-  const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), value, std::chars_format::general);
-  if (ec == std::errc::invalid_argument || ptr != t.data() + t.size()) return Parse::bad;
-  if (ec == std::errc::result_out_of_range) {
-    // from_chars does not say whether it overflowed or underflowed; strtod does.
-    const std::string copy(t);
-    errno = 0;
-    const double v = std::strtod(copy.c_str(), nullptr);
-    if (std::isinf(v)) return Parse::out_of_range;
-    value = v;
-  }
-  return Parse::ok;
-}
+using text::Parse;
+using text::parse_integer;
+using text::parse_real;
 
 using text::Line;
 

@@ -1,12 +1,15 @@
-// Line splitting and tokenizing shared by the text mesh readers (.poly2d, Gmsh).
+// Line splitting, tokenizing and number parsing shared by the text mesh readers (.poly2d, Gmsh).
 #pragma once
 
 #include <hemivem/error.hpp>
 
 #include <algorithm>
 #include <cerrno>
+#include <charconv>
 #include <climits>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <istream>
@@ -74,6 +77,14 @@ inline std::string shown(std::string_view s) {
   return out;
 }
 
+/// `s` in single quotes, as shown() shows it.
+inline std::string quote(std::string_view s) {
+  std::string out(1, '\'');
+  out += shown(s);
+  out += '\'';
+  return out;
+}
+
 inline constexpr std::string_view kWhitespace = " \t\r\v\f";
 
 struct Line {
@@ -122,6 +133,41 @@ inline void tokenize(std::string_view text, std::vector<std::string_view>& token
     tokens.push_back(text.substr(i, j - i));
     i = j;
   }
+}
+
+/// Skips one leading '+' when a digit (or '.' for reals) follows: from_chars rejects it.
+inline std::string_view strip_plus(std::string_view t, bool real) {
+  if (t.size() >= 2 && t[0] == '+' && ((t[1] >= '0' && t[1] <= '9') || (real && t[1] == '.'))) t.remove_prefix(1);
+  return t;
+}
+
+enum class Parse { ok, bad, out_of_range };
+
+/// The whole token must be an integer (one leading '+' allowed).
+inline Parse parse_integer(std::string_view token, long long& value) {
+  const std::string_view t = strip_plus(token, false);
+  const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), value);
+  if (ec == std::errc::invalid_argument || ptr != t.data() + t.size()) return Parse::bad;
+  if (ec == std::errc::result_out_of_range) return Parse::out_of_range;
+  return Parse::ok;
+}
+
+/// The whole token must be a real number (nan and inf are parsed; the caller rejects them).
+/// A value too small for a double reads as the nearest double (0 or a subnormal);
+/// one too large is out_of_range.
+inline Parse parse_real(std::string_view token, double& value) {
+  const std::string_view t = strip_plus(token, true);
+  const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), value, std::chars_format::general);
+  if (ec == std::errc::invalid_argument || ptr != t.data() + t.size()) return Parse::bad;
+  if (ec == std::errc::result_out_of_range) {
+    // from_chars does not say whether it overflowed or underflowed; strtod does.
+    const std::string copy(t);
+    errno = 0;
+    const double v = std::strtod(copy.c_str(), nullptr);
+    if (std::isinf(v)) return Parse::out_of_range;
+    value = v;
+  }
+  return Parse::ok;
 }
 
 }  // namespace hemivem::text

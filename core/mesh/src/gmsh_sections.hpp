@@ -1,0 +1,147 @@
+// The sections of a Gmsh MSH 4.1 ASCII file, as the readers of plane meshes (gmsh.cpp) and of
+// solid meshes (gmsh3d.cpp) both read them: $MeshFormat, $PhysicalNames, $Entities, $Nodes
+// and the framing of $Elements (block headers, node tags, counts), with every other section
+// skipped and $PartitionedEntities refused. A reader derives from GmshSections, says how it
+// refuses the element types it does not read, calls read_sections() and builds its mesh from
+// what was read.
+//
+// The regions of a mesh are the physical tags of the entities of its top dimension (surfaces
+// in a plane mesh, volumes in a solid one); the groups are those of the dimension below.
+// Elements of these two dimensions are kept; points (and lines in a solid mesh) are only
+// checked.
+#pragma once
+
+#include <hemivem/error.hpp>
+#include <hemivem/support/text_lines.hpp>
+
+#include <algorithm>
+#include <cstddef>
+#include <map>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+namespace hemivem::detail {
+
+/// Region ids (physical tags of the entities of the top dimension) a file may hold.
+inline constexpr long long kGmshMaxRegion = 1000000;
+
+struct GmshNode {
+  double x = 0, y = 0, z = 0;
+  long long tag = 0;
+  int tag_line = 0;  // line of the tag
+  int line = 0;      // line of the coordinates
+};
+
+struct GmshElement {
+  std::vector<int> nodes;  // node indices (into nodes_)
+  long long type = 0;
+  long long tag = 0;
+  long long entity = 0;
+  int line = 0;
+};
+
+class GmshSections {
+ public:
+  /// What the mesh of a reader is made of.
+  struct Dialect {
+    int region_dim = 2;         ///< 2 (plane meshes) or 3 (solid meshes); $Entities above it are skipped
+    double max_coordinate = 0;  ///< the largest |coordinate| read
+    std::string too_large;      ///< said of a larger one: "1e150 (element areas would overflow)"
+  };
+
+  GmshSections(const GmshSections&) = delete;
+  GmshSections& operator=(const GmshSections&) = delete;
+
+ protected:
+  GmshSections(std::string data, std::string name, Dialect dialect);
+  ~GmshSections() = default;
+
+  /// Throws the InputError (at `block`) for an element type the reader does not read.
+  [[noreturn]] virtual void refuse_element_type(const text::Line& block, long long type) const = 0;
+
+  /// Reads every section of the file; throws InputError without $MeshFormat, $Nodes or $Elements.
+  void read_sections();
+
+  std::string where(int line) const { return name_ + ":" + std::to_string(line); }
+  [[noreturn]] void fail(int line, const std::string& message) const;
+  [[noreturn]] void fail(const text::Line& line, const std::string& message) const { fail(line.number, message); }
+
+  /// The vertex of each node: the nodes of the elements of the top dimension, numbered 0, 1,
+  /// ... in $Nodes order; -1 for the other nodes.
+  std::vector<int> vertex_numbers() const;
+  /// Throws `err` (from the mesh constructor, about an element of top_ or none) again naming
+  /// the Gmsh element ("Gmsh element <tag><label>: ...") at its line, else at the $Elements
+  /// count line.
+  [[noreturn]] void rethrow_at_element(const MeshError& err,
+                                       std::string (*label)(const GmshElement&) = nullptr) const;
+  /// The region of an entity of the top dimension: its first physical tag, 0 without one.
+  int region_of(long long entity) const;
+  /// Every group (physical tag of dimension region_dim - 1) named in $PhysicalNames or given
+  /// to an entity, with no members yet.
+  std::map<int, std::vector<int>> empty_groups() const;
+  /// The groups of an entity of dimension region_dim - 1; null when $Entities does not list it.
+  const std::vector<int>* groups_of(long long entity) const;
+  /// The name of the group `tag`: its physical name, else its tag; InputError when an earlier
+  /// group (in `names`, name -> tag, where it is added) has the same name.
+  std::string group_name(int tag, std::map<std::string, int>& names) const;
+
+  int last_line_ = 1;
+  int elements_header_ = 0;  // the count line of $Elements
+  std::vector<GmshNode> nodes_;
+  /// The elements on entities of the top dimension (top_) and of the one below (below_), in file order.
+  std::vector<GmshElement> top_, below_;
+
+ private:
+  std::size_t lines_left() const { return lines_.size() - std::min(pos_, lines_.size()); }
+  void once(int& seen, const text::Line& line);
+  const text::Line& data_line(const text::Line& header, const std::string& what);
+  void end_section(const text::Line& header);
+  void skip_section(const text::Line& header);
+  long long integer(const text::Line& line, std::size_t i, const std::string& what);
+  long long count(const text::Line& line, std::size_t i, const std::string& what);
+  void expect_tokens(const text::Line& line, std::size_t n, const std::string& what);
+
+  /// The words of $Nodes or $Elements in messages: "node", "Node", "a", the third value of a
+  /// block header ("parametric") and what it is ("parametric flag").
+  struct BlockWords {
+    std::string noun, Noun, article, kind_field, kind;
+  };
+  /// The count line 'numEntityBlocks numNodes minNodeTag maxNodeTag' of $Nodes (opened at
+  /// `header`), or its like in $Elements: the block count and the total, which the rest of the
+  /// file has lines for.
+  struct BlockCounts {
+    const text::Line& line;
+    long long blocks, total;
+  };
+  BlockCounts block_counts(const text::Line& header, const BlockWords& words);
+  /// The header 'entityDim entityTag parametric numNodesInBlock' of block `b` of `blocks` (or its
+  /// like in $Elements).
+  struct BlockHeader {
+    const text::Line& line;
+    long long dim, entity, kind, size;
+  };
+  BlockHeader block_header(const text::Line& header, const BlockWords& words, long long blocks, long long b);
+
+  void read_format(const text::Line& header);
+  void read_physical_names(const text::Line& header);
+  void read_entities(const text::Line& header);
+  void read_nodes(const text::Line& header);
+  void read_elements(const text::Line& header);
+
+  std::string data_;
+  std::string name_;
+  Dialect dialect_;
+  std::vector<text::Line> lines_;
+  std::vector<std::string_view> tokens_;
+  std::size_t pos_ = 0;
+
+  int physical_names_line_ = 0, entities_line_ = 0, nodes_line_ = 0, elements_line_ = 0;
+  std::map<std::pair<int, int>, std::string> physical_names_;
+  std::map<long long, std::vector<int>> entity_physicals_[4];
+  std::unordered_map<long long, int> node_index_;
+};
+
+}  // namespace hemivem::detail
