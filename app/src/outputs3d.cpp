@@ -42,10 +42,7 @@ std::vector<CellStress3D> cell_stresses_3d(const Mesh3D& mesh, const MaterialTab
   const std::vector<LinearField3> projected = project_solution_3d(mesh, u);
   std::vector<CellStress3D> out(static_cast<std::size_t>(mesh.num_cells()));
   for (int c = 0; c < mesh.num_cells(); ++c) {
-    const Eigen::Matrix3d& g = projected[static_cast<std::size_t>(c)].gradient;
-    const Eigen::Matrix3d eps = 0.5 * (g + g.transpose());
-    const Lame l = materials.lame(mesh.region(c));
-    const Eigen::Matrix3d sigma = l.lambda * eps.trace() * Eigen::Matrix3d::Identity() + 2.0 * l.mu * eps;
+    const Eigen::Matrix3d sigma = stress_3d(projected[static_cast<std::size_t>(c)].gradient, materials.lame(mesh.region(c)));
     CellStress3D& s = out[static_cast<std::size_t>(c)];
     s.xx = sigma(0, 0), s.yy = sigma(1, 1), s.zz = sigma(2, 2);
     s.yz = sigma(1, 2), s.xz = sigma(0, 2), s.xy = sigma(0, 1);

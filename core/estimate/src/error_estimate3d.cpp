@@ -20,11 +20,6 @@ namespace {
 
 using namespace detail;
 
-Eigen::Matrix3d stress_of(const LinearField3& field, const Lame& lame) {
-  const Eigen::Matrix3d eps = 0.5 * (field.gradient + field.gradient.transpose());
-  return lame.lambda * eps.trace() * Eigen::Matrix3d::Identity() + 2.0 * lame.mu * eps;
-}
-
 double polygon_diameter(std::span<const Vec3> z) {
   double d = 0.0;
   for (std::size_t i = 0; i < z.size(); ++i)
@@ -71,7 +66,7 @@ ErrorEstimate estimate_error_3d(const ContactProblem3D& problem, const ContactSo
     const auto faces = mesh.local_faces(c);
     const Lame lame = elasticity.materials.lame(mesh.region(c));
     const LinearField3 field = project_p1_3d(z, faces, local);
-    const Eigen::Matrix3d sigma = stress_of(field, lame);
+    const Eigen::Matrix3d sigma = stress_3d(field.gradient, lame);
     stress[static_cast<std::size_t>(c)] = sigma;
     const Eigen::Matrix3d eps = 0.5 * (field.gradient + field.gradient.transpose());
     ElementTerms& t = terms[static_cast<std::size_t>(c)];

@@ -39,6 +39,13 @@ struct LinearField3 {
   Vec3 operator()(const Vec3& x) const { return value + gradient * (x - center); }
 };
 
+/// The stress lambda tr(eps) I + 2 mu eps of the strain eps = sym(gradient) (constant on a cell
+/// for the gradient of Pi u_h).
+inline Eigen::Matrix3d stress_3d(const Eigen::Matrix3d& gradient, const Lame& lame) {
+  const Eigen::Matrix3d eps = 0.5 * (gradient + gradient.transpose());
+  return lame.lambda * eps.trace() * Eigen::Matrix3d::Identity() + 2.0 * lame.mu * eps;
+}
+
 /// Everything the method computes on one cell.
 struct VemElement3D {
   double volume = 0.0;
