@@ -272,11 +272,22 @@ CellFaces Mesh3D::cell(int c) const {
 }
 
 std::vector<std::vector<int>> Mesh3D::local_faces(int c) const {
-  const auto& cv = cell_vertices(c);
-  CellFaces faces = cell(c);
-  for (auto& loop : faces)
-    for (int& v : loop) v = static_cast<int>(std::lower_bound(cv.begin(), cv.end(), v) - cv.begin());
+  std::vector<std::vector<int>> faces;
+  local_faces(c, faces);
   return faces;
+}
+
+void Mesh3D::local_faces(int c, std::vector<std::vector<int>>& faces) const {
+  const auto& cv = cell_vertices(c);
+  const auto& ids = cell_faces(c);
+  faces.resize(ids.size());
+  for (std::size_t k = 0; k < ids.size(); ++k) {
+    const MeshFace& face = faces_[static_cast<std::size_t>(ids[k])];
+    auto& loop = faces[k];
+    loop.assign(face.vertices.begin(), face.vertices.end());
+    if (face.inner != c) std::reverse(loop.begin(), loop.end());
+    for (int& v : loop) v = static_cast<int>(std::lower_bound(cv.begin(), cv.end(), v) - cv.begin());
+  }
 }
 
 std::vector<int> Mesh3D::boundary_vertices() const {

@@ -82,8 +82,10 @@ void for_each_cell_matrix(const Mesh3D& mesh, const MaterialTable& materials, St
       mesh.num_cells(), [&](int c) -> const std::vector<int>& { return mesh.cell_vertices(c); },
       [&](int c, Eigen::MatrixXd& K) {
         thread_local std::vector<Vec3> z;
+        thread_local std::vector<std::vector<int>> faces;
         gather(mesh, c, z);
-        element_stiffness_3d(z, mesh.local_faces(c), lame_by_region.at(mesh.region(c)), stabilization, K);
+        mesh.local_faces(c, faces);
+        element_stiffness_3d(z, faces, lame_by_region.at(mesh.region(c)), stabilization, K);
       },
       visit);
 }
