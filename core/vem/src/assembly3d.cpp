@@ -103,11 +103,16 @@ SparseMatrix assemble_stiffness_3d(const Mesh3D& mesh, const MaterialTable& mate
   std::vector<int> index(static_cast<std::size_t>(n));
   for (int d = 0; d < n; ++d) index[static_cast<std::size_t>(d)] = d;
   SparseMatrix K = pattern(mesh, index, n);
+  detail::PatternScatter scatter(K);
   for_each_cell_matrix(mesh, materials, stabilization,
                        [&](const std::vector<int>& dof, const Eigen::Map<const Eigen::MatrixXd>& Ke) {
-                         for (std::size_t j = 0; j < dof.size(); ++j)
+                         scatter.element(dof.data(), dof.size());
+                         double* values = scatter.values();
+                         for (std::size_t j = 0; j < dof.size(); ++j) {
+                           const std::vector<int>& position = scatter.locate(dof[j]);
                            for (std::size_t i = 0; i < dof.size(); ++i)
-                             detail::stored(K, dof[i], dof[j]) += Ke(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
+                             values[position[i]] += Ke(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
+                         }
                        });
   return K;
 }
