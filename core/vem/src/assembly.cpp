@@ -213,7 +213,10 @@ LinearSystem assemble(const ElasticityProblem& problem) {
   const std::vector<int>& free_index = sys.dofs.free_index;
   sys.b.resize(sys.dofs.num_free());
   for (int i = 0; i < sys.dofs.num_free(); ++i) sys.b(i) = f(sys.dofs.free_dofs[static_cast<std::size_t>(i)]);
-  sys.A = stiffness_pattern(mesh, free_index, sys.dofs.num_free());
+  {
+    SparseMatrix A = stiffness_pattern(mesh, free_index, sys.dofs.num_free());
+    sys.A.swap(A);  // no copy (SparseMatrix has no move assignment)
+  }
   for_each_element_matrix(mesh, problem.materials, problem.stabilization, detail::FreeSystemAssembler{sys});
   return sys;
 }

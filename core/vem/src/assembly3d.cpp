@@ -220,7 +220,10 @@ LinearSystem assemble_3d(const ElasticityProblem3D& problem) {
   const Eigen::VectorXd f = assemble_load_3d(mesh, problem.body_force, problem.tractions);
   sys.b.resize(sys.dofs.num_free());
   for (int i = 0; i < sys.dofs.num_free(); ++i) sys.b(i) = f(sys.dofs.free_dofs[static_cast<std::size_t>(i)]);
-  sys.A = pattern(mesh, sys.dofs.free_index, sys.dofs.num_free());
+  {
+    SparseMatrix A = pattern(mesh, sys.dofs.free_index, sys.dofs.num_free());
+    sys.A.swap(A);  // no copy (SparseMatrix has no move assignment)
+  }
   for_each_cell_matrix(mesh, problem.materials, problem.stabilization, detail::FreeSystemAssembler{sys});
   return sys;
 }
