@@ -3,7 +3,10 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -208,12 +211,72 @@ struct Scratch {
   }
 };
 
+/// The lower triangles of K_c and K_s of one cell, with everything they depend on: the
+/// vertices relative to the first one (z_i - z_0, as cell_geometry computes them), the faces,
+/// the Lame constants and the stabilization.
+struct CellSlot {
+  bool valid = false;
+  std::vector<double> relative;  // z_i - z_0 for i >= 1
+  std::vector<int> face_sizes, face_vertices;
+  double lambda = 0.0, mu = 0.0;
+  Stabilization stabilization = Stabilization::two_mu;
+  Scratch Kc, Ks;
+
+  /// True when (z, faces, lame, stabilization) is this slot's cell or a translate of it whose
+  /// relative vertices are the same bit for bit.
+  bool matches(std::span<const Vec3> z, const std::vector<std::vector<int>>& faces, const Lame& lame,
+               Stabilization s) const {
+    if (!valid || relative.size() != 3 * (z.size() - 1) || face_sizes.size() != faces.size() || s != stabilization ||
+        std::memcmp(&lambda, &lame.lambda, sizeof(double)) != 0 || std::memcmp(&mu, &lame.mu, sizeof(double)) != 0)
+      return false;
+    for (std::size_t i = 1; i < z.size(); ++i) {
+      const Vec3 d = z[i] - z[0];
+      if (std::memcmp(d.data(), relative.data() + 3 * (i - 1), 3 * sizeof(double)) != 0) return false;
+    }
+    std::size_t k = 0;
+    for (std::size_t f = 0; f < faces.size(); ++f) {
+      const auto& face = faces[f];
+      if (face.size() != static_cast<std::size_t>(face_sizes[f]) || k + face.size() > face_vertices.size() ||
+          !std::equal(face.begin(), face.end(), face_vertices.begin() + static_cast<std::ptrdiff_t>(k)))
+        return false;
+      k += face.size();
+    }
+    return true;
+  }
+  void set_key(std::span<const Vec3> z, const std::vector<std::vector<int>>& faces, const Lame& lame, Stabilization s) {
+    relative.resize(3 * (z.size() - 1));
+    for (std::size_t i = 1; i < z.size(); ++i) {
+      const Vec3 d = z[i] - z[0];
+      std::memcpy(relative.data() + 3 * (i - 1), d.data(), 3 * sizeof(double));
+    }
+    face_sizes.clear();
+    face_vertices.clear();
+    for (const auto& face : faces) {
+      face_sizes.push_back(static_cast<int>(face.size()));
+      face_vertices.insert(face_vertices.end(), face.begin(), face.end());
+    }
+    lambda = lame.lambda;
+    mu = lame.mu;
+    stabilization = s;
+    valid = true;
+  }
+};
+
 /// What the element matrices of one cell are computed in; one per thread, reused.
+/// element_stiffness_3d keeps the matrices of the last `recent.size()` cells it computed: a
+/// cell that is a translate of one of them, its vertices relative to its first one the same
+/// bit for bit (and its faces, Lame constants and stabilization the same), gets that cell's
+/// matrices back. The computation reads nothing else, so they are the bits it would compute:
+/// on a mesh of translated copies of a few cells (boxes of a grid) most cells cost a
+/// comparison, on other meshes each cell costs one failed comparison more.
 struct ElementWorkspace {
   CellGeometry g;
   std::vector<Vec3> a;                             // N_i / |E|, the columns of vertex i in B
   std::vector<Mat63, Eigen::aligned_allocator<Mat63>> M;  // (R^T R)^{-1} R^T (I - Ds B), by vertex
-  Scratch P, E, Kc, Ks;
+  Scratch P, E;
+  CellSlot single;                 // vem_element_3d's
+  std::array<CellSlot, 8> recent;  // element_stiffness_3d's, replaced in turn
+  std::size_t next = 0;
 };
 
 /// The element matrices of a cell in the workspace: the lower triangles of K_c (Kc) and K_s
@@ -228,7 +291,7 @@ struct ElementWorkspace {
 /// for the isotropic C, and K_s = tau E^T E a symmetric rank update: no product of two
 /// 3n x 3n matrices, no heap allocation once the workspace has grown to the cell's size.
 double element_matrices(std::span<const Vec3> z, const std::vector<std::vector<int>>& faces, const Lame& lame,
-                        Stabilization stabilization, ElementWorkspace& w, bool projection) {
+                        Stabilization stabilization, ElementWorkspace& w, CellSlot& slot, bool projection) {
   cell_geometry(z, faces, w.g);
   const std::size_t n = z.size();
   const auto n3 = static_cast<Eigen::Index>(3 * n);
@@ -274,7 +337,7 @@ double element_matrices(std::span<const Vec3> z, const std::vector<std::vector<i
   }
 
   // K_c, lower triangle (the diagonal blocks in full)
-  auto Kc = w.Kc.matrix(n3, n3);
+  auto Kc = slot.Kc.matrix(n3, n3);
   const double lambda_v = lame.lambda * volume, mu_v = lame.mu * volume;
   double trace = 0.0;
   for (std::size_t j = 0; j < n; ++j) {
@@ -293,7 +356,7 @@ double element_matrices(std::span<const Vec3> z, const std::vector<std::vector<i
   const double tau = stabilization == Stabilization::two_mu ? 2.0 * lame.mu * std::cbrt(volume)
                                                             : trace / static_cast<double>(n3);
   // K_s = tau E^T E, lower triangle
-  auto Ks = w.Ks.matrix(n3, n3);
+  auto Ks = slot.Ks.matrix(n3, n3);
   Ks.setZero();
   Ks.selfadjointView<Eigen::Lower>().rankUpdate(E.transpose(), tau);
   return tau;
@@ -325,7 +388,7 @@ Eigen::VectorXd face_weights(std::span<const Vec3> face) {
 VemElement3D vem_element_3d(std::span<const Vec3> vertices, const std::vector<std::vector<int>>& faces,
                             const Lame& lame, Stabilization stabilization) {
   ElementWorkspace& w = workspace();
-  const double tau = element_matrices(vertices, faces, lame, stabilization, w, true);
+  const double tau = element_matrices(vertices, faces, lame, stabilization, w, w.single, true);
   const auto n3 = static_cast<Eigen::Index>(3 * vertices.size());
   VemElement3D el;
   el.volume = w.g.volume;
@@ -334,9 +397,9 @@ VemElement3D vem_element_3d(std::span<const Vec3> vertices, const std::vector<st
   for (std::size_t i = 0; i < vertices.size(); ++i)
     el.strain.middleCols<3>(static_cast<Eigen::Index>(3 * i)) = strain_columns(w.a[i]);
   el.projection = w.P.matrix(n3, n3);
-  el.consistency = w.Kc.matrix(n3, n3);
+  el.consistency = w.single.Kc.matrix(n3, n3);
   mirror_lower(el.consistency);
-  el.stabilization = w.Ks.matrix(n3, n3);
+  el.stabilization = w.single.Ks.matrix(n3, n3);
   mirror_lower(el.stabilization);
   el.tau = tau;
   return el;
@@ -345,10 +408,22 @@ VemElement3D vem_element_3d(std::span<const Vec3> vertices, const std::vector<st
 void element_stiffness_3d(std::span<const Vec3> vertices, const std::vector<std::vector<int>>& faces,
                           const Lame& lame, Stabilization stabilization, Eigen::MatrixXd& K) {
   ElementWorkspace& w = workspace();
-  element_matrices(vertices, faces, lame, stabilization, w, false);
+  CellSlot* slot = nullptr;
+  for (CellSlot& s : w.recent)
+    if (s.matches(vertices, faces, lame, stabilization)) {
+      slot = &s;
+      break;
+    }
+  if (slot == nullptr) {
+    slot = &w.recent[w.next];
+    w.next = (w.next + 1) % w.recent.size();
+    slot->valid = false;
+    element_matrices(vertices, faces, lame, stabilization, w, *slot, false);
+    slot->set_key(vertices, faces, lame, stabilization);
+  }
   const auto n3 = static_cast<Eigen::Index>(3 * vertices.size());
-  const auto Kc = w.Kc.matrix(n3, n3);
-  const auto Ks = w.Ks.matrix(n3, n3);
+  const auto Kc = slot->Kc.matrix(n3, n3);
+  const auto Ks = slot->Ks.matrix(n3, n3);
   K.resize(n3, n3);
   for (Eigen::Index j = 0; j < n3; ++j)
     for (Eigen::Index i = j; i < n3; ++i) K(i, j) = Kc(i, j) + Ks(i, j);
