@@ -79,6 +79,13 @@ class CholeskyKernel {
   virtual bool supernodes(Supernodes* /*out*/) const { return false; }
   /// The column of P where the last factorize_ordered() stopped, or -1 when not known.
   virtual int failed_pivot() const { return -1; }
+  /// S += L L^T on the lower triangle of S (n x n, column-major, leading dimension lds) for L
+  /// (n x k, leading dimension ld), when the engine has a faster product than Eigen's (its
+  /// BLAS); false, with S untouched, otherwise.
+  virtual bool add_lower_product(int /*n*/, int /*k*/, const double* /*L*/, int /*ld*/, double* /*S*/,
+                                 int /*lds*/) const {
+    return false;
+  }
 };
 
 class CholeskyEngine {
@@ -454,7 +461,8 @@ class CholeskyEngine {
     constexpr int block = 128;
     for (int k = 0; k < n1; k += block) {
       const int w = std::min(block, n1 - k);
-      S->bottomRightCorner(n1 - k, n1 - k).selfadjointView<Eigen::Lower>().rankUpdate(L11.block(k, k, n1 - k, w));
+      if (!kernel_->add_lower_product(n1 - k, w, &L11(k, k), n1, &(*S)(k, k), n1))
+        S->bottomRightCorner(n1 - k, n1 - k).selfadjointView<Eigen::Lower>().rankUpdate(L11.block(k, k, n1 - k, w));
     }
     for (int j = 1; j < n1; ++j)
       for (int i = 0; i < j; ++i) (*S)(i, j) = (*S)(j, i);

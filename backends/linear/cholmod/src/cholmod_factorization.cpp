@@ -6,10 +6,19 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstddef>
 #include <vector>
 
 #if defined(_OPENMP)
 #include <omp.h>
+#endif
+
+#if defined(HEMIVEM_CHOLMOD_WITH_BLAS)
+// the BLAS CHOLMOD calls (Fortran interface; the trailing lengths are those of the character
+// arguments, gfortran's hidden arguments)
+extern "C" void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, const double* alpha,
+                       const double* a, const int* lda, const double* beta, double* c, const int* ldc,
+                       std::size_t uplo_length, std::size_t trans_length);
 #endif
 
 namespace hemivem {
@@ -227,6 +236,15 @@ class CholmodKernel final : public CholeskyKernel {
     return true;
   }
   int failed_pivot() const override { return failed_pivot_; }
+#if defined(HEMIVEM_CHOLMOD_WITH_BLAS)
+  /// S += L L^T by the BLAS's dsyrk (4 times Eigen's speed here: it has the wider kernels).
+  bool add_lower_product(int n, int k, const double* L, int ld, double* S, int lds) const override {
+    const char uplo = 'L', trans = 'N';
+    const double one = 1.0;
+    dsyrk_(&uplo, &trans, &n, &k, &one, L, &ld, &one, S, &lds, 1, 1);
+    return true;
+  }
+#endif
 
  private:
   /// Numeric factorization of `M` into `F`; not_positive_definite keeps where it stopped.
