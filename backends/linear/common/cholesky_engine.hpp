@@ -24,7 +24,6 @@
 #include <new>
 #include <span>
 #include <string>
-#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -80,6 +79,13 @@ class CholeskyKernel {
   virtual bool supernodes(Supernodes* /*out*/) const { return false; }
   /// The column of P where the last factorize_ordered() stopped, or -1 when not known.
   virtual int failed_pivot() const { return -1; }
+  /// S += L L^T on the lower triangle of S (n x n, column-major, leading dimension lds) for L
+  /// (n x k, leading dimension ld), when the engine has a faster product than Eigen's (its
+  /// BLAS); false, with S untouched, otherwise.
+  virtual bool add_lower_product(int /*n*/, int /*k*/, const double* /*L*/, int /*ld*/, double* /*S*/,
+                                 int /*lds*/) const {
+    return false;
+  }
 };
 
 class CholeskyEngine {
@@ -390,34 +396,44 @@ class CholeskyEngine {
     }
   }
 
-  /// P: the lower triangle of A in elimination order, counted and placed column by column,
-  /// then each column sorted by row.
+  /// P: the lower triangle of A in elimination order. Its transpose (the upper triangle, an
+  /// entry (row, column) of P in column `row`) is placed first, in any order within its
+  /// columns; transposing it visits its columns in increasing order, so each column of P
+  /// comes out sorted by row, with no sort.
   void build_ordered_pattern(const SparseMatrix& M) {
     const int n = static_cast<int>(M.rows());
-    std::vector<int> start(static_cast<std::size_t>(n) + 1, 0);
-    for_each_ordered_entry(M, [&](int, int, int column) { ++start[static_cast<std::size_t>(column) + 1]; });
-    for (int j = 0; j < n; ++j) start[static_cast<std::size_t>(j) + 1] += start[static_cast<std::size_t>(j)];
+    const auto at = [](int k) { return static_cast<std::size_t>(k); };
+    std::vector<int> start(at(n) + 1, 0);  // of the columns of the transpose
+    for_each_ordered_entry(M, [&](int, int row, int) { ++start[at(row) + 1]; });
+    for (int j = 0; j < n; ++j) start[at(j) + 1] += start[at(j)];
+    const int nnz = start[at(n)];
+    std::vector<int> upper_row(at(nnz));
+    std::vector<double> upper_value(at(nnz));
+    std::vector<int> column_size(at(n) + 1, 0);  // of P
+    {
+      std::vector<int> next(start.begin(), start.end() - 1);
+      const double* source = M.valuePtr();
+      for_each_ordered_entry(M, [&](int k, int row, int column) {
+        const int p = next[at(row)]++;
+        upper_row[at(p)] = column;
+        upper_value[at(p)] = source[k];
+        ++column_size[at(column) + 1];
+      });
+    }
     P_ = SparseMatrix(n, n);
-    P_.resizeNonZeros(start[static_cast<std::size_t>(n)]);
-    std::copy(start.begin(), start.end(), P_.outerIndexPtr());
+    P_.resizeNonZeros(nnz);
+    int* outer = P_.outerIndexPtr();
+    for (int j = 0; j < n; ++j) column_size[at(j) + 1] += column_size[at(j)];
+    std::copy(column_size.begin(), column_size.end(), outer);
     int* rows = P_.innerIndexPtr();
     double* values = P_.valuePtr();
-    const double* source = M.valuePtr();
-    start.pop_back();  // from here: the next free position in each column
-    for_each_ordered_entry(M, [&](int k, int row, int column) {
-      const int p = start[static_cast<std::size_t>(column)]++;
-      rows[p] = row;
-      values[p] = source[k];
-    });
-    std::vector<std::pair<int, double>> column;
-    for (int j = 0; j < n; ++j) {
-      const int first = P_.outerIndexPtr()[j], last = P_.outerIndexPtr()[j + 1];
-      if (std::is_sorted(rows + first, rows + last)) continue;
-      column.clear();
-      for (int p = first; p < last; ++p) column.emplace_back(rows[p], values[p]);
-      std::sort(column.begin(), column.end());
-      for (int p = first; p < last; ++p) std::tie(rows[p], values[p]) = column[static_cast<std::size_t>(p - first)];
-    }
+    column_size.pop_back();  // from here: the next free position in each column of P
+    for (int b = 0; b < n; ++b)
+      for (int p = start[at(b)]; p < start[at(b) + 1]; ++p) {
+        const int q = column_size[at(upper_row[at(p)])]++;
+        rows[q] = b;
+        values[q] = upper_value[at(p)];
+      }
   }
 
   /// P's values from A's, P's pattern unchanged: each entry found by its row in its column.
@@ -431,7 +447,9 @@ class CholeskyEngine {
     });
   }
 
-  /// S = L11 L11^T from the trailing n - n2 columns of L.
+  /// S = L11 L11^T from the trailing n - n2 columns of L: its lower triangle by blocks of
+  /// columns of L11 (the columns [k, k + w) are zero above row k, so they update S(k:, k:)
+  /// alone: n1^3 / 6 multiplications, a third of a triangular times a full matrix), mirrored.
   void read_schur(int n, int n2, Eigen::MatrixXd* S) const {
     const int n1 = n - n2;
     Eigen::MatrixXd L11 = Eigen::MatrixXd::Zero(n1, n1);
@@ -439,9 +457,15 @@ class CholeskyEngine {
       const FactorColumn c = kernel_->column(j);
       for (int t = 0; t < c.size; ++t) L11(c.rows[t] - n2, j - n2) = c.values[t];
     }
-    S->resize(n1, n1);
-    // (Eigen's triangular product binds a reference to the data of an empty matrix: skip it)
-    if (n1 > 0) S->noalias() = L11.triangularView<Eigen::Lower>() * L11.transpose();
+    S->setZero(n1, n1);
+    constexpr int block = 128;
+    for (int k = 0; k < n1; k += block) {
+      const int w = std::min(block, n1 - k);
+      if (!kernel_->add_lower_product(n1 - k, w, &L11(k, k), n1, &(*S)(k, k), n1))
+        S->bottomRightCorner(n1 - k, n1 - k).selfadjointView<Eigen::Lower>().rankUpdate(L11.block(k, k, n1 - k, w));
+    }
+    for (int j = 1; j < n1; ++j)
+      for (int i = 0; i < j; ++i) (*S)(i, j) = (*S)(j, i);
   }
 
   /// Names, for a factorization of P that is not positive definite, where it stopped.

@@ -179,8 +179,13 @@ SparseMatrix rotate_symmetric(const SparseMatrix& A_in, const std::vector<Frame>
       node[static_cast<std::size_t>(frames[k].idx[static_cast<std::size_t>(j)])] = static_cast<int>(k);
       slot[static_cast<std::size_t>(frames[k].idx[static_cast<std::size_t>(j)])] = j;
     }
-  // the symmetric part of A
-  auto sym = [&](int i, int j) { return 0.5 * (entry(A, i, j) + entry(A, j, i)); };
+  const int* outer = A.outerIndexPtr();
+  const int* inner = A.innerIndexPtr();
+  const double* a = A.valuePtr();
+  // A(i, j), looked for at position `guess` first (any guess is checked)
+  auto entry_near = [&](int i, int j, int guess) {
+    return guess >= outer[j] && guess < outer[j + 1] && inner[guess] == i ? a[guess] : entry(A, i, j);
+  };
   // the dofs and coefficients of column d of Q
   auto q_column = [&](int d, int* dofs, double* coef) {
     const int k = node[static_cast<std::size_t>(d)];
@@ -194,10 +199,13 @@ SparseMatrix rotate_symmetric(const SparseMatrix& A_in, const std::vector<Frame>
     return f.m;
   };
   const auto& pair = node;
-  SparseMatrix At = A;
-  const int* outer = A.outerIndexPtr();
-  const int* inner = A.innerIndexPtr();
-  const double* a = A.valuePtr();
+  // At has A's pattern; the sweep writes each of its values (A's values are not copied first),
+  // but those above the diagonal whose mirror A lacks, which keep A's value
+  SparseMatrix At(n, n);
+  At.resizeNonZeros(A.nonZeros());
+  std::copy(outer, outer + n + 1, At.outerIndexPtr());
+  std::copy(inner, inner + A.nonZeros(), At.innerIndexPtr());
+  Eigen::Index written = 0;
   double* out = At.valuePtr();
   std::vector<int> cursor(outer, outer + n);  // per column: its next entry above the diagonal
   std::vector<Eigen::Triplet<double, int>> missing;  // mirrors of entries whose mirror A lacks
@@ -215,15 +223,37 @@ SparseMatrix rotate_symmetric(const SparseMatrix& A_in, const std::vector<Frame>
         int jq[3], ip[3];
         double cq[3], cp[3];
         const int nq = q_column(q, jq, cq), np = q_column(p, ip, cp);
+        // A(ip[s], jq[t]) is looked for first where the pattern shared by a node's dofs puts it:
+        // at p's offset in column q, in column jq[t], moved by s - (p's slot); A(jq[t], ip[s])
+        // likewise from q's position in column p
+        const int sp = std::max(0, slot[static_cast<std::size_t>(p)]), sq = std::max(0, slot[static_cast<std::size_t>(q)]);
+        const int below = k - outer[q];
+        const int across = p == q ? below : mirror >= 0 ? mirror - outer[p] : -1;
         v = 0.0;
         for (int s = 0; s < np; ++s)
-          for (int t = 0; t < nq; ++t) v += cp[s] * sym(ip[s], jq[t]) * cq[t];
+          for (int t = 0; t < nq; ++t) {
+            const int i = ip[s], j = jq[t];
+            const double aij = entry_near(i, j, outer[j] + below + s - sp);
+            const double aji = across >= 0 ? entry_near(j, i, outer[i] + across + t - sq) : entry(A, j, i);
+            v += cp[s] * (0.5 * (aij + aji)) * cq[t];
+          }
       }
       out[k] = v;
-      if (mirror >= 0) out[mirror] = v;
-      else if (p != q) missing.emplace_back(q, p, v);
+      ++written;
+      if (mirror >= 0) {
+        out[mirror] = v;
+        ++written;
+      } else if (p != q) {
+        missing.emplace_back(q, p, v);
+      }
     }
   }
+  if (written != A.nonZeros())
+    for (int q = 0; q < n; ++q)
+      for (int k = outer[q]; k < outer[q + 1] && inner[k] < q; ++k) {
+        const int p = inner[k];
+        if (!std::binary_search(inner + outer[p], inner + outer[p + 1], q)) out[k] = a[k];
+      }
   for (const auto& t : missing) At.coeffRef(t.row(), t.col()) = t.value();
   if (!keep_pattern) At.prune(0.0);
   return At;

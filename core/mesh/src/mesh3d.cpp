@@ -27,10 +27,11 @@ Vec3 polygon_centroid(std::span<const Vec3> z) {
   if (!(area2 > 0.0)) return mean;
   Vec3 c = Vec3::Zero();
   double total = 0.0;
+  const double length = std::sqrt(area2);
   for (std::size_t i = 0; i < z.size(); ++i) {
     const Vec3& a = z[i];
-    const Vec3& b = z[(i + 1) % z.size()];
-    const double w = 0.5 * (a - mean).cross(b - mean).dot(normal) / std::sqrt(area2);  // signed area
+    const Vec3& b = z[i + 1 < z.size() ? i + 1 : 0];
+    const double w = 0.5 * (a - mean).cross(b - mean).dot(normal) / length;  // signed area
     c += w * (mean + a + b) / 3.0;
     total += w;
   }
@@ -46,53 +47,26 @@ std::string point_text(const Vec3& p) {
   return s.str();
 }
 
-std::vector<Vec3> positions(const std::vector<Vec3>& vertices, const std::vector<int>& loop) {
-  std::vector<Vec3> out;
-  out.reserve(loop.size());
+// the positions of a loop's vertices, into `out` (which keeps its capacity)
+void positions(const std::vector<Vec3>& vertices, const std::vector<int>& loop, std::vector<Vec3>& out) {
+  out.clear();
   for (int v : loop) out.push_back(vertices[static_cast<std::size_t>(v)]);
-  return out;
 }
 
 std::uint64_t edge_key(int a, int b) {
   return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
 }
 
-// the defects of one cell on its own (indices, faces, planarity, closedness, volume)
-std::string cell_defect(const std::vector<Vec3>& vertices, const CellFaces& cell) {
-  const int nv = static_cast<int>(vertices.size());
-  if (cell.size() < 4) return "has " + std::to_string(cell.size()) + " faces; a cell needs at least 4";
-  for (std::size_t f = 0; f < cell.size(); ++f) {
-    const auto& loop = cell[f];
-    const std::string which = "face " + std::to_string(f);
-    if (loop.size() < 3) return which + " has " + std::to_string(loop.size()) + " vertices; a face needs at least 3";
-    for (int v : loop)
-      if (v < 0 || v >= nv)
-        return which + " has vertex index " + std::to_string(v) + " out of range [0, " + std::to_string(nv) + ")";
-    std::vector<int> sorted = loop;
-    std::sort(sorted.begin(), sorted.end());
-    if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
-      return which + " repeats vertex " + std::to_string(*std::adjacent_find(sorted.begin(), sorted.end()));
-    const auto z = positions(vertices, loop);
-    double diameter = 0.0;
-    for (const Vec3& p : z)
-      for (const Vec3& q : z) diameter = std::max(diameter, (p - q).norm());
-    const Vec3 area = polygon_area_vector(z);
-    const double a = area.norm();
-    if (!(a > 1e-14 * diameter * diameter)) return which + " has zero area";
-    const Vec3 n = area / a;
-    const Vec3 c = polygon_centroid(z);
-    for (std::size_t i = 0; i < z.size(); ++i) {
-      const double off = std::abs(n.dot(z[i] - c));
-      if (off > face_planarity_tolerance * diameter) {
-        std::ostringstream s;
-        s.precision(3);
-        s << which << " is not planar: vertex " << loop[i] << " lies " << off << " off its plane (" << off / diameter
-          << " of its diameter; at most " << face_planarity_tolerance << ")";
-        return s.str();
-      }
-    }
-  }
-  // closed and consistently oriented: every directed edge once, and its reverse once
+// What cell_defect computes in, reused from cell to cell.
+struct DefectScratch {
+  std::vector<Vec3> z;
+  std::vector<int> sorted;
+  std::vector<Vec3> area, centroid;  // of each face
+  std::vector<std::uint64_t> directed;
+};
+
+// The message of a cell whose faces do not use every directed edge once and its reverse once.
+std::string orientation_defect(const CellFaces& cell) {
   std::unordered_map<std::uint64_t, int> directed;
   for (const auto& loop : cell)
     for (std::size_t i = 0; i < loop.size(); ++i) ++directed[edge_key(loop[i], loop[(i + 1) % loop.size()])];
@@ -105,21 +79,74 @@ std::string cell_defect(const std::vector<Vec3>& vertices, const CellFaces& cell
              std::to_string(reverse == directed.end() ? 0 : reverse->second) +
              " time(s); each edge must be used once in each direction";
   }
-  double volume = 0.0, size = 0.0;
-  for (const auto& loop : cell) {
-    const auto z = positions(vertices, loop);
-    volume += polygon_area_vector(z).dot(polygon_centroid(z) - vertices[static_cast<std::size_t>(cell[0][0])]) / 3.0;
-    for (const Vec3& p : z) size = std::max(size, (p - vertices[static_cast<std::size_t>(cell[0][0])]).norm());
-  }
-  if (volume == 0.0 || std::abs(volume) <= 1e-14 * size * size * size) return "has zero volume";
-  if (volume < 0.0) return "has negative volume: its faces are oriented inward (they must be counter-clockwise seen from outside)";
   return {};
 }
 
-std::vector<int> sorted_key(const std::vector<int>& loop) {
-  std::vector<int> k = loop;
-  std::sort(k.begin(), k.end());
-  return k;
+// the defects of one cell on its own (indices, faces, planarity, closedness, volume)
+std::string cell_defect(const std::vector<Vec3>& vertices, const CellFaces& cell, DefectScratch& s) {
+  const int nv = static_cast<int>(vertices.size());
+  if (cell.size() < 4) return "has " + std::to_string(cell.size()) + " faces; a cell needs at least 4";
+  s.area.resize(cell.size());
+  s.centroid.resize(cell.size());
+  for (std::size_t f = 0; f < cell.size(); ++f) {
+    const auto& loop = cell[f];
+    const auto which = [&] { return "face " + std::to_string(f); };
+    if (loop.size() < 3) return which() + " has " + std::to_string(loop.size()) + " vertices; a face needs at least 3";
+    for (int v : loop)
+      if (v < 0 || v >= nv)
+        return which() + " has vertex index " + std::to_string(v) + " out of range [0, " + std::to_string(nv) + ")";
+    s.sorted.assign(loop.begin(), loop.end());
+    std::sort(s.sorted.begin(), s.sorted.end());
+    if (std::adjacent_find(s.sorted.begin(), s.sorted.end()) != s.sorted.end())
+      return which() + " repeats vertex " + std::to_string(*std::adjacent_find(s.sorted.begin(), s.sorted.end()));
+    positions(vertices, loop, s.z);
+    const auto& z = s.z;
+    // the largest distance (the square root of the largest squared distance: the same number)
+    double diameter2 = 0.0;
+    for (const Vec3& p : z)
+      for (const Vec3& q : z) diameter2 = std::max(diameter2, (p - q).squaredNorm());
+    const double diameter = std::sqrt(diameter2);
+    const Vec3 area = polygon_area_vector(z);
+    const double a = area.norm();
+    if (!(a > 1e-14 * diameter * diameter)) return which() + " has zero area";
+    const Vec3 n = area / a;
+    const Vec3 c = polygon_centroid(z);
+    s.area[f] = area;
+    s.centroid[f] = c;
+    for (std::size_t i = 0; i < z.size(); ++i) {
+      const double off = std::abs(n.dot(z[i] - c));
+      if (off > face_planarity_tolerance * diameter) {
+        std::ostringstream o;
+        o.precision(3);
+        o << which() << " is not planar: vertex " << loop[i] << " lies " << off << " off its plane (" << off / diameter
+          << " of its diameter; at most " << face_planarity_tolerance << ")";
+        return o.str();
+      }
+    }
+  }
+  // closed and consistently oriented: every directed edge once, and its reverse once
+  s.directed.clear();
+  for (const auto& loop : cell)
+    for (std::size_t i = 0; i < loop.size(); ++i)
+      s.directed.push_back(edge_key(loop[i], loop[i + 1 < loop.size() ? i + 1 : 0]));
+  std::sort(s.directed.begin(), s.directed.end());
+  bool closed = std::adjacent_find(s.directed.begin(), s.directed.end()) == s.directed.end();
+  for (std::size_t k = 0; closed && k < s.directed.size(); ++k) {
+    const std::uint64_t key = s.directed[k];
+    closed = std::binary_search(s.directed.begin(), s.directed.end(), edge_key(static_cast<int>(key & 0xffffffffu),
+                                                                                 static_cast<int>(key >> 32)));
+  }
+  if (!closed) return orientation_defect(cell);  // the message names the edge as it always has
+  const Vec3& x0 = vertices[static_cast<std::size_t>(cell[0][0])];
+  double volume = 0.0, size2 = 0.0;
+  for (std::size_t f = 0; f < cell.size(); ++f) {
+    volume += s.area[f].dot(s.centroid[f] - x0) / 3.0;
+    for (int v : cell[f]) size2 = std::max(size2, (vertices[static_cast<std::size_t>(v)] - x0).squaredNorm());
+  }
+  const double size = std::sqrt(size2);
+  if (volume == 0.0 || std::abs(volume) <= 1e-14 * size * size * size) return "has zero volume";
+  if (volume < 0.0) return "has negative volume: its faces are oriented inward (they must be counter-clockwise seen from outside)";
+  return {};
 }
 
 // true when b is a reversed rotation of a
@@ -134,10 +161,65 @@ bool reversed(const std::vector<int>& a, const std::vector<int>& b) {
   return true;
 }
 
-}  // namespace
+// The faces of all cells grouped by their vertex sets. The faces are numbered in cell order,
+// then local order (face k is local face local[k] of cell cell[k]); order[group_start[g] ..
+// group_start[g + 1]) are the faces of group g, increasing, and the groups come in the
+// lexicographic order of their sorted vertex lists (the order of a std::map keyed by them).
+// The vertex ids must be in [0, num_vertices).
+struct FaceGroups {
+  std::vector<int> cell, local;
+  std::vector<int> group_of;  // by face
+  std::vector<int> order, group_start;
+};
 
-std::vector<Mesh3DDefect> find_mesh3d_defects(const std::vector<Vec3>& vertices, const std::vector<CellFaces>& cells,
-                                              std::size_t max_defects) {
+FaceGroups group_faces(std::size_t num_vertices, const std::vector<CellFaces>& cells) {
+  FaceGroups g;
+  std::vector<std::size_t> key_start{0};
+  std::vector<int> keys;
+  for (std::size_t c = 0; c < cells.size(); ++c)
+    for (std::size_t f = 0; f < cells[c].size(); ++f) {
+      g.cell.push_back(static_cast<int>(c));
+      g.local.push_back(static_cast<int>(f));
+      keys.insert(keys.end(), cells[c][f].begin(), cells[c][f].end());
+      std::sort(keys.begin() + static_cast<std::ptrdiff_t>(key_start.back()), keys.end());
+      key_start.push_back(keys.size());
+    }
+  const std::size_t nf = g.cell.size();
+  const auto key_less = [&](int x, int y) {
+    const auto* xb = keys.data() + key_start[static_cast<std::size_t>(x)];
+    const auto* xe = keys.data() + key_start[static_cast<std::size_t>(x) + 1];
+    const auto* yb = keys.data() + key_start[static_cast<std::size_t>(y)];
+    const auto* ye = keys.data() + key_start[static_cast<std::size_t>(y) + 1];
+    return std::lexicographical_compare(xb, xe, yb, ye);
+  };
+  // by smallest vertex (a counting sort, stable), then by the whole key and the face number
+  std::vector<std::size_t> bucket(num_vertices + 1, 0);
+  for (std::size_t k = 0; k < nf; ++k) ++bucket[static_cast<std::size_t>(keys[key_start[k]]) + 1];
+  for (std::size_t v = 0; v < num_vertices; ++v) bucket[v + 1] += bucket[v];
+  g.order.resize(nf);
+  {
+    std::vector<std::size_t> next(bucket.begin(), bucket.end() - 1);
+    for (std::size_t k = 0; k < nf; ++k) g.order[next[static_cast<std::size_t>(keys[key_start[k]])]++] = static_cast<int>(k);
+  }
+  for (std::size_t v = 0; v < num_vertices; ++v) {
+    const auto first = g.order.begin() + static_cast<std::ptrdiff_t>(bucket[v]);
+    const auto last = g.order.begin() + static_cast<std::ptrdiff_t>(bucket[v + 1]);
+    if (last - first > 1)
+      std::sort(first, last, [&](int x, int y) { return key_less(x, y) || (!key_less(y, x) && x < y); });
+  }
+  g.group_of.assign(nf, -1);
+  for (std::size_t k = 0; k < nf; ++k) {
+    if (k == 0 || key_less(g.order[k - 1], g.order[k])) g.group_start.push_back(static_cast<int>(k));
+    g.group_of[static_cast<std::size_t>(g.order[k])] = static_cast<int>(g.group_start.size()) - 1;
+  }
+  g.group_start.push_back(static_cast<int>(nf));
+  return g;
+}
+
+// find_mesh3d_defects; with `groups`, the faces' groups when every cell is good (they are
+// left empty otherwise)
+std::vector<Mesh3DDefect> mesh3d_defects(const std::vector<Vec3>& vertices, const std::vector<CellFaces>& cells,
+                                         std::size_t max_defects, FaceGroups* groups) {
   std::vector<Mesh3DDefect> out;
   if (vertices.empty()) out.push_back({-1, "the mesh has no vertices"});
   if (cells.empty()) out.push_back({-1, "the mesh has no cells"});
@@ -146,31 +228,31 @@ std::vector<Mesh3DDefect> find_mesh3d_defects(const std::vector<Vec3>& vertices,
       out.push_back({-1, "vertex " + std::to_string(i) + " " + point_text(vertices[i]) +
                              " is not finite or exceeds 1e100 in magnitude"});
   if (!out.empty()) return out;
-  std::vector<char> good(cells.size(), 0);
+  DefectScratch scratch;
   for (std::size_t c = 0; c < cells.size() && out.size() < max_defects; ++c) {
-    const std::string d = cell_defect(vertices, cells[c]);
-    if (d.empty()) good[c] = 1;
-    else out.push_back({static_cast<int>(c), "cell " + std::to_string(c) + " " + d});
+    const std::string d = cell_defect(vertices, cells[c], scratch);
+    if (!d.empty()) out.push_back({static_cast<int>(c), "cell " + std::to_string(c) + " " + d});
   }
   if (!out.empty()) return out;
   // conformity: a face in at most two cells, with opposite orientations
-  std::map<std::vector<int>, std::vector<std::pair<int, int>>> by_key;  // (cell, local face)
-  for (std::size_t c = 0; c < cells.size(); ++c)
-    for (std::size_t f = 0; f < cells[c].size(); ++f)
-      by_key[sorted_key(cells[c][f])].emplace_back(static_cast<int>(c), static_cast<int>(f));
-  std::map<std::uint64_t, int> boundary_edges;  // undirected edge -> number of boundary faces holding it
-  for (const auto& [key, uses] : by_key) {
+  FaceGroups local_groups;
+  FaceGroups& g = groups != nullptr ? *groups : local_groups;
+  g = group_faces(vertices.size(), cells);
+  std::vector<std::uint64_t> boundary_edges;  // undirected edges of the boundary faces, once per face
+  for (std::size_t group = 0; group + 1 < g.group_start.size(); ++group) {
     if (out.size() >= max_defects) break;
-    const auto& [c0, f0] = uses[0];
-    if (uses.size() > 2) {
-      out.push_back({uses[2].first, "cell " + std::to_string(uses[2].first) + " shares a face with cells " +
-                                        std::to_string(c0) + " and " + std::to_string(uses[1].first) +
-                                        "; a face belongs to at most two cells"});
+    const int* uses = g.order.data() + g.group_start[group];
+    const auto count = static_cast<std::size_t>(g.group_start[group + 1] - g.group_start[group]);
+    const int c0 = g.cell[static_cast<std::size_t>(uses[0])], f0 = g.local[static_cast<std::size_t>(uses[0])];
+    if (count > 2) {
+      const int c1 = g.cell[static_cast<std::size_t>(uses[1])], c2 = g.cell[static_cast<std::size_t>(uses[2])];
+      out.push_back({c2, "cell " + std::to_string(c2) + " shares a face with cells " + std::to_string(c0) + " and " +
+                             std::to_string(c1) + "; a face belongs to at most two cells"});
       continue;
     }
     const auto& loop = cells[static_cast<std::size_t>(c0)][static_cast<std::size_t>(f0)];
-    if (uses.size() == 2) {
-      const auto& [c1, f1] = uses[1];
+    if (count == 2) {
+      const int c1 = g.cell[static_cast<std::size_t>(uses[1])], f1 = g.local[static_cast<std::size_t>(uses[1])];
       if (c1 == c0) {
         out.push_back({c0, "cell " + std::to_string(c0) + " has the same face twice"});
       } else if (!reversed(loop, cells[static_cast<std::size_t>(c1)][static_cast<std::size_t>(f1)])) {
@@ -181,13 +263,19 @@ std::vector<Mesh3DDefect> find_mesh3d_defects(const std::vector<Vec3>& vertices,
       continue;
     }
     for (std::size_t i = 0; i < loop.size(); ++i) {
-      const int a = loop[i], b = loop[(i + 1) % loop.size()];
-      ++boundary_edges[edge_key(std::min(a, b), std::max(a, b))];
+      const int a = loop[i], b = loop[i + 1 < loop.size() ? i + 1 : 0];
+      boundary_edges.push_back(edge_key(std::min(a, b), std::max(a, b)));
     }
   }
   if (!out.empty()) return out;
   // no hanging vertex: the boundary is a closed surface whose every edge is in two faces
-  for (const auto& [key, count] : boundary_edges) {
+  std::sort(boundary_edges.begin(), boundary_edges.end());
+  for (std::size_t k = 0; k < boundary_edges.size();) {
+    std::size_t e = k + 1;
+    while (e < boundary_edges.size() && boundary_edges[e] == boundary_edges[k]) ++e;
+    const std::size_t count = e - k;
+    const std::uint64_t key = boundary_edges[k];
+    k = e;
     if (count == 2) continue;
     const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xffffffffu);
     out.push_back({-1, "the boundary edge " + std::to_string(a) + " - " + std::to_string(b) + " at " +
@@ -199,19 +287,34 @@ std::vector<Mesh3DDefect> find_mesh3d_defects(const std::vector<Vec3>& vertices,
   return out;
 }
 
+}  // namespace
+
+std::vector<Mesh3DDefect> find_mesh3d_defects(const std::vector<Vec3>& vertices, const std::vector<CellFaces>& cells,
+                                              std::size_t max_defects) {
+  return mesh3d_defects(vertices, cells, max_defects, nullptr);
+}
+
 Mesh3D::Mesh3D(std::vector<Vec3> vertices, std::vector<CellFaces> cells, std::vector<int> regions)
     : vertices_(std::move(vertices)) {
-  const auto defects = find_mesh3d_defects(vertices_, cells, 1);
+  FaceGroups groups;
+  const auto defects = mesh3d_defects(vertices_, cells, 1, &groups);
   if (!defects.empty()) throw MeshError(defects.front().message, defects.front().cell);
-  std::map<std::vector<int>, int> face_of;
+  // faces numbered in the order they first appear (cell order, then local order)
+  std::vector<int> face_of_group(groups.group_start.size() - 1, -1);
   cell_faces_.resize(cells.size());
   cell_vertices_.resize(cells.size());
+  std::size_t k = 0;  // the face's number in groups
   for (std::size_t c = 0; c < cells.size(); ++c) {
+    cell_faces_[c].reserve(cells[c].size());
     for (const auto& loop : cells[c]) {
-      const auto [at, added] = face_of.emplace(sorted_key(loop), static_cast<int>(faces_.size()));
-      if (added) faces_.push_back(MeshFace{loop, static_cast<int>(c), -1});
-      else faces_[static_cast<std::size_t>(at->second)].outer = static_cast<int>(c);
-      cell_faces_[c].push_back(at->second);
+      int& id = face_of_group[static_cast<std::size_t>(groups.group_of[k++])];
+      if (id < 0) {
+        id = static_cast<int>(faces_.size());
+        faces_.push_back(MeshFace{loop, static_cast<int>(c), -1});
+      } else {
+        faces_[static_cast<std::size_t>(id)].outer = static_cast<int>(c);
+      }
+      cell_faces_[c].push_back(id);
       for (int v : loop) cell_vertices_[c].push_back(v);
     }
     auto& cv = cell_vertices_[c];
@@ -223,8 +326,9 @@ Mesh3D::Mesh3D(std::vector<Vec3> vertices, std::vector<CellFaces> cells, std::ve
   face_area_.resize(faces_.size());
   face_centroid_.resize(faces_.size());
   face_normal_.resize(faces_.size());
+  std::vector<Vec3> z;
   for (std::size_t f = 0; f < faces_.size(); ++f) {
-    const auto z = positions(vertices_, faces_[f].vertices);
+    positions(vertices_, faces_[f].vertices, z);
     const Vec3 a = polygon_area_vector(z);
     face_area_[f] = a.norm();
     face_normal_[f] = a / face_area_[f];
@@ -238,12 +342,17 @@ Mesh3D::Mesh3D(std::vector<Vec3> vertices, std::vector<CellFaces> cells, std::ve
     const Vec3 x0 = vertices_[static_cast<std::size_t>(cell_vertices_[c][0])];
     double volume = 0.0;
     Vec3 moment = Vec3::Zero();
-    for (const auto& loop : cells[c]) {
-      const auto z = positions(vertices_, loop);
-      const Vec3 fc = polygon_centroid(z);
+    for (std::size_t l = 0; l < cells[c].size(); ++l) {
+      const auto& loop = cells[c][l];
+      positions(vertices_, loop, z);
+      // the centroid of the loop as given: the face's own where the face was stored from it
+      const int f = cell_faces_[c][l];
+      const Vec3 fc = faces_[static_cast<std::size_t>(f)].inner == static_cast<int>(c)
+                          ? face_centroid_[static_cast<std::size_t>(f)]
+                          : polygon_centroid(z);
       for (std::size_t i = 0; i < z.size(); ++i) {
         const Vec3& a = z[i];
-        const Vec3& b = z[(i + 1) % z.size()];
+        const Vec3& b = z[i + 1 < z.size() ? i + 1 : 0];
         const double v = (a - x0).cross(b - x0).dot(fc - x0) / 6.0;
         volume += v;
         moment += v * (x0 + a + b + fc) / 4.0;
@@ -251,9 +360,12 @@ Mesh3D::Mesh3D(std::vector<Vec3> vertices, std::vector<CellFaces> cells, std::ve
     }
     volume_[c] = volume;
     centroid_[c] = moment / volume;
-    double d = 0.0;
+    // the largest distance between two vertices (the square root of the largest squared one)
+    double d2 = 0.0;
     for (int p : cell_vertices_[c])
-      for (int q : cell_vertices_[c]) d = std::max(d, (vertices_[static_cast<std::size_t>(p)] - vertices_[static_cast<std::size_t>(q)]).norm());
+      for (int q : cell_vertices_[c])
+        d2 = std::max(d2, (vertices_[static_cast<std::size_t>(p)] - vertices_[static_cast<std::size_t>(q)]).squaredNorm());
+    const double d = std::sqrt(d2);
     diameter_[c] = d;
     h_ = std::max(h_, d);
   }
@@ -272,11 +384,22 @@ CellFaces Mesh3D::cell(int c) const {
 }
 
 std::vector<std::vector<int>> Mesh3D::local_faces(int c) const {
-  const auto& cv = cell_vertices(c);
-  CellFaces faces = cell(c);
-  for (auto& loop : faces)
-    for (int& v : loop) v = static_cast<int>(std::lower_bound(cv.begin(), cv.end(), v) - cv.begin());
+  std::vector<std::vector<int>> faces;
+  local_faces(c, faces);
   return faces;
+}
+
+void Mesh3D::local_faces(int c, std::vector<std::vector<int>>& faces) const {
+  const auto& cv = cell_vertices(c);
+  const auto& ids = cell_faces(c);
+  faces.resize(ids.size());
+  for (std::size_t k = 0; k < ids.size(); ++k) {
+    const MeshFace& face = faces_[static_cast<std::size_t>(ids[k])];
+    auto& loop = faces[k];
+    loop.assign(face.vertices.begin(), face.vertices.end());
+    if (face.inner != c) std::reverse(loop.begin(), loop.end());
+    for (int& v : loop) v = static_cast<int>(std::lower_bound(cv.begin(), cv.end(), v) - cv.begin());
+  }
 }
 
 std::vector<int> Mesh3D::boundary_vertices() const {

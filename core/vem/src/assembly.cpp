@@ -44,8 +44,6 @@ SparseMatrix stiffness_pattern(const Mesh& mesh, const std::vector<int>& index, 
                                       index, size);
 }
 
-using detail::stored;
-
 }  // namespace
 
 SparseMatrix assemble_stiffness(const Mesh& mesh, const MaterialTable& materials, Stabilization stabilization) {
@@ -53,10 +51,15 @@ SparseMatrix assemble_stiffness(const Mesh& mesh, const MaterialTable& materials
   std::vector<int> index(static_cast<std::size_t>(n));
   for (int d = 0; d < n; ++d) index[static_cast<std::size_t>(d)] = d;
   SparseMatrix K = stiffness_pattern(mesh, index, n);
+  detail::PatternScatter scatter(K);
   for_each_element_matrix(mesh, materials, stabilization, [&](const std::vector<int>& dof, const Eigen::Map<const Eigen::MatrixXd>& Ke) {
-    for (std::size_t j = 0; j < dof.size(); ++j)
+    scatter.element(dof.data(), dof.size());
+    double* values = scatter.values();
+    for (std::size_t j = 0; j < dof.size(); ++j) {
+      const std::vector<int>& position = scatter.locate(dof[j]);
       for (std::size_t i = 0; i < dof.size(); ++i)
-        stored(K, dof[i], dof[j]) += Ke(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
+        values[position[i]] += Ke(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
+    }
   });
   return K;
 }
@@ -210,7 +213,10 @@ LinearSystem assemble(const ElasticityProblem& problem) {
   const std::vector<int>& free_index = sys.dofs.free_index;
   sys.b.resize(sys.dofs.num_free());
   for (int i = 0; i < sys.dofs.num_free(); ++i) sys.b(i) = f(sys.dofs.free_dofs[static_cast<std::size_t>(i)]);
-  sys.A = stiffness_pattern(mesh, free_index, sys.dofs.num_free());
+  {
+    SparseMatrix A = stiffness_pattern(mesh, free_index, sys.dofs.num_free());
+    sys.A.swap(A);  // no copy (SparseMatrix has no move assignment)
+  }
   for_each_element_matrix(mesh, problem.materials, problem.stabilization, detail::FreeSystemAssembler{sys});
   return sys;
 }

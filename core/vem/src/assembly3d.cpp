@@ -47,8 +47,10 @@ void for_each_cell_matrix(const Mesh3D& mesh, const MaterialTable& materials, St
       mesh.num_cells(), [&](int c) -> const std::vector<int>& { return mesh.cell_vertices(c); },
       [&](int c, Eigen::MatrixXd& K) {
         thread_local std::vector<Vec3> z;
+        thread_local std::vector<std::vector<int>> faces;
         gather(mesh, c, z);
-        element_stiffness_3d(z, mesh.local_faces(c), lame_by_region.at(mesh.region(c)), stabilization, K);
+        mesh.local_faces(c, faces);
+        element_stiffness_3d(z, faces, lame_by_region.at(mesh.region(c)), stabilization, K);
       },
       visit);
 }
@@ -66,11 +68,16 @@ SparseMatrix assemble_stiffness_3d(const Mesh3D& mesh, const MaterialTable& mate
   std::vector<int> index(static_cast<std::size_t>(n));
   for (int d = 0; d < n; ++d) index[static_cast<std::size_t>(d)] = d;
   SparseMatrix K = pattern(mesh, index, n);
+  detail::PatternScatter scatter(K);
   for_each_cell_matrix(mesh, materials, stabilization,
                        [&](const std::vector<int>& dof, const Eigen::Map<const Eigen::MatrixXd>& Ke) {
-                         for (std::size_t j = 0; j < dof.size(); ++j)
+                         scatter.element(dof.data(), dof.size());
+                         double* values = scatter.values();
+                         for (std::size_t j = 0; j < dof.size(); ++j) {
+                           const std::vector<int>& position = scatter.locate(dof[j]);
                            for (std::size_t i = 0; i < dof.size(); ++i)
-                             detail::stored(K, dof[i], dof[j]) += Ke(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
+                             values[position[i]] += Ke(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
+                         }
                        });
   return K;
 }
@@ -178,7 +185,10 @@ LinearSystem assemble_3d(const ElasticityProblem3D& problem) {
   const Eigen::VectorXd f = assemble_load_3d(mesh, problem.body_force, problem.tractions);
   sys.b.resize(sys.dofs.num_free());
   for (int i = 0; i < sys.dofs.num_free(); ++i) sys.b(i) = f(sys.dofs.free_dofs[static_cast<std::size_t>(i)]);
-  sys.A = pattern(mesh, sys.dofs.free_index, sys.dofs.num_free());
+  {
+    SparseMatrix A = pattern(mesh, sys.dofs.free_index, sys.dofs.num_free());
+    sys.A.swap(A);  // no copy (SparseMatrix has no move assignment)
+  }
   for_each_cell_matrix(mesh, problem.materials, problem.stabilization, detail::FreeSystemAssembler{sys});
   return sys;
 }

@@ -3,8 +3,12 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstring>
 #include <string>
+#include <vector>
 
 namespace hemivem {
 
@@ -37,7 +41,7 @@ FaceGeometry face_geometry(std::size_t n, const At& at) {
   for (std::size_t i = 0; i < n; ++i) g.mean += at(i);
   g.mean /= static_cast<double>(n);
   // area vector of the fan of triangles (zbar, z_i, z_{i+1})
-  for (std::size_t i = 0; i < n; ++i) g.area_vector += (at(i) - g.mean).cross(at((i + 1) % n) - g.mean);
+  for (std::size_t i = 0; i < n; ++i) g.area_vector += (at(i) - g.mean).cross(at(i + 1 < n ? i + 1 : 0) - g.mean);
   g.area_vector *= 0.5;
   g.area = g.area_vector.norm();
   if (!(g.area > 0.0)) throw MeshError("a face of zero area", -1);
@@ -46,7 +50,7 @@ FaceGeometry face_geometry(std::size_t n, const At& at) {
   // has triangles of negative area when its vertex mean lies outside it)
   Vec3 moment = Vec3::Zero();
   for (std::size_t i = 0; i < n; ++i) {
-    const Vec3 a = at(i) - g.mean, b = at((i + 1) % n) - g.mean;
+    const Vec3 a = at(i) - g.mean, b = at(i + 1 < n ? i + 1 : 0) - g.mean;
     moment += 0.5 * a.cross(b).dot(normal) * (a + b) / 3.0;
   }
   g.shift = moment / g.area;
@@ -62,32 +66,18 @@ void face_weights_of(std::size_t n, const At& at, const FaceGeometry& g, const W
   const Vec3 t = normal.cross(g.shift);  // (d x n) . s = d . (n x s)
   const double base = g.area / static_cast<double>(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const Vec3 d = at((i + 1) % n) - at((i + n - 1) % n);
+    const Vec3 d = at(i + 1 < n ? i + 1 : 0) - at(i > 0 ? i - 1 : n - 1);
     weight(i, base + 0.5 * d.dot(t));
   }
 }
 
-/// Everything the projection needs on one cell.
-struct CellOperators {
-  Eigen::MatrixXd B;   // 6 x 3n projected strain
-  Eigen::MatrixXd R;   // 3n x 6 rigid motions at the vertices (centred at the vertex mean)
-  Eigen::MatrixXd Ds;  // 3n x 6 strain modes at the vertices
-  Eigen::Matrix3Xd N;  // column i: sum over the faces at z_i of omega_i^f n_f
-  Eigen::Matrix3Xd r;  // column i: z_i - vertex mean
-  Vec3 mean = Vec3::Zero();
-  double volume = 0.0;
-};
-
-/// The scaled normals N_i = sum_{f ni z_i} omega_i^f n_f (so that sum_f (int_f v) (x) n_f =
-/// sum_i v_i (x) N_i), the volume and the vertex mean of a cell, after checking its input. The
-/// geometry is computed in coordinates relative to the first vertex: a cell far from the origin
-/// loses no more digits than its vertices' coordinates already have.
-CellOperators cell_geometry(std::span<const Vec3> z, const std::vector<std::vector<int>>& faces) {
-  const std::size_t n = z.size();
+/// Throws InputError unless the cell has at least 4 vertices and 4 faces, each face at least 3
+/// vertices, every position in range and every vertex on a face. `used` is scratch.
+void check_cell(std::size_t n, const std::vector<std::vector<int>>& faces, std::vector<char>& used) {
   if (n < 4) throw InputError("a polyhedral virtual element needs at least 4 vertices, got " + std::to_string(n));
   if (faces.size() < 4)
     throw InputError("a polyhedral virtual element needs at least 4 faces, got " + std::to_string(faces.size()));
-  std::vector<char> used(n, 0);
+  used.assign(n, 0);
   for (std::size_t f = 0; f < faces.size(); ++f) {
     const auto& face = faces[f];
     if (face.size() < 3)
@@ -102,119 +92,285 @@ CellOperators cell_geometry(std::span<const Vec3> z, const std::vector<std::vect
   }
   for (std::size_t i = 0; i < n; ++i)
     if (!used[i]) throw InputError("vertex " + std::to_string(i) + " of a cell is on none of its faces");
+}
 
-  CellOperators c;
-  const Eigen::Index cols = static_cast<Eigen::Index>(n);
-  c.r.resize(3, cols);
-  for (Eigen::Index i = 0; i < cols; ++i) c.r.col(i) = z[static_cast<std::size_t>(i)] - z[0];
-  const Vec3 local_mean = c.r.rowwise().mean();
-  c.r.colwise() -= local_mean;
-  c.mean = z[0] + local_mean;
-  c.N.setZero(3, cols);
+/// The geometry of a cell: r_i = z_i - vertex mean, the scaled normals
+/// N_i = sum_{f ni z_i} omega_i^f n_f (so that sum_f (int_f v) (x) n_f = sum_i v_i (x) N_i), the
+/// vertex mean and the volume. Its vectors keep their capacity from cell to cell.
+struct CellGeometry {
+  std::vector<Vec3> r;
+  std::vector<Vec3> N;
+  Vec3 mean = Vec3::Zero();
+  double volume = 0.0;
+  std::vector<char> used;  // scratch of check_cell
+};
+
+/// The geometry of a cell, after checking its input. It is computed in coordinates relative to
+/// the first vertex: a cell far from the origin loses no more digits than its vertices'
+/// coordinates already have (and a translated copy of a cell, whose vertices differ from the
+/// first by the same vectors, gets the same r, N and volume).
+void cell_geometry(std::span<const Vec3> z, const std::vector<std::vector<int>>& faces, CellGeometry& g) {
+  const std::size_t n = z.size();
+  check_cell(n, faces, g.used);
+  g.r.resize(n);
+  g.N.assign(n, Vec3::Zero());
+  Vec3 sum = Vec3::Zero();
+  for (std::size_t i = 0; i < n; ++i) {
+    g.r[i] = z[i] - z[0];
+    sum += g.r[i];
+  }
+  const Vec3 local_mean = sum / static_cast<double>(n);
+  for (Vec3& r : g.r) r -= local_mean;
+  g.mean = z[0] + local_mean;
   double six_volume = 0.0;
   for (const auto& face : faces) {
-    const auto at = [&](std::size_t i) -> Vec3 { return c.r.col(face[i]); };
-    const FaceGeometry g = face_geometry(face.size(), at);
+    const auto at = [&](std::size_t i) -> Vec3 { return g.r[static_cast<std::size_t>(face[i])]; };
+    const FaceGeometry f = face_geometry(face.size(), at);
     // divergence theorem: |E| = (1/3) sum_f int_f (x - x0) . n_f = (1/3) sum_f (c_f - x0) . (|f| n_f),
     // x0 the vertex mean of the cell (the origin of the coordinates r)
-    six_volume += 2.0 * (g.mean + g.shift).dot(g.area_vector);
-    const Vec3 normal = g.area_vector / g.area;
-    face_weights_of(face.size(), at, g, [&](std::size_t i, double w) {
-      c.N.col(face[i]) += w * normal;
+    six_volume += 2.0 * (f.mean + f.shift).dot(f.area_vector);
+    const Vec3 normal = f.area_vector / f.area;
+    face_weights_of(face.size(), at, f, [&](std::size_t i, double w) {
+      g.N[static_cast<std::size_t>(face[i])] += w * normal;
     });
   }
-  c.volume = six_volume / 6.0;
-  if (!(c.volume > 0.0)) throw MeshError("cell has non-positive volume (are its faces oriented outward?)", -1);
-  return c;
+  g.volume = six_volume / 6.0;
+  if (!(g.volume > 0.0)) throw MeshError("cell has non-positive volume (are its faces oriented outward?)", -1);
 }
 
-CellOperators build(std::span<const Vec3> z, const std::vector<std::vector<int>>& faces) {
-  CellOperators c = cell_geometry(z, faces);
-  const Eigen::Index n = static_cast<Eigen::Index>(z.size());
-  c.B.setZero(6, 3 * n);
-  c.R.setZero(3 * n, 6);
-  c.Ds.setZero(3 * n, 6);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const Vec3 a = c.N.col(i) / c.volume;
-    const Eigen::Index x = 3 * i, y = 3 * i + 1, w = 3 * i + 2;
-    // eps_xx, eps_yy, eps_zz, 2 eps_yz, 2 eps_xz, 2 eps_xy of v_i (x) a
-    c.B(0, x) = a.x();
-    c.B(1, y) = a.y();
-    c.B(2, w) = a.z();
-    c.B(3, y) = a.z();
-    c.B(3, w) = a.y();
-    c.B(4, x) = a.z();
-    c.B(4, w) = a.x();
-    c.B(5, x) = a.y();
-    c.B(5, y) = a.x();
-
-    const Vec3 r = c.r.col(i);
-    // translations, then rotations omega x r about x, y, z
-    c.R(x, 0) = c.R(y, 1) = c.R(w, 2) = 1.0;
-    c.R(y, 3) = -r.z();
-    c.R(w, 3) = r.y();
-    c.R(x, 4) = r.z();
-    c.R(w, 4) = -r.x();
-    c.R(x, 5) = -r.y();
-    c.R(y, 5) = r.x();
-    // the fields whose Voigt strain is the unit vector e_k (engineering shear)
-    c.Ds(x, 0) = r.x();
-    c.Ds(y, 1) = r.y();
-    c.Ds(w, 2) = r.z();
-    c.Ds(y, 3) = 0.5 * r.z();
-    c.Ds(w, 3) = 0.5 * r.y();
-    c.Ds(x, 4) = 0.5 * r.z();
-    c.Ds(w, 4) = 0.5 * r.x();
-    c.Ds(x, 5) = 0.5 * r.y();
-    c.Ds(y, 5) = 0.5 * r.x();
-  }
-  return c;
-}
-
-/// The rigid-motion coefficients rho = (R^T R)^{-1} R^T w. Centring at the vertex mean makes
+/// The rigid-motion coefficients rho = (R^T R)^{-1} R^T w, R the rigid motions at the vertices
+/// (translations, then rotations omega x r about x, y, z). Centring at the vertex mean makes
 /// R^T R block diagonal: n I for the translations and the inertia tensor
 /// sum_i (|r_i|^2 I - r_i r_i^T) of the vertices for the rotations (positive definite unless the
 /// vertices are collinear).
 struct RigidSolver {
   double inv_n = 0.0;
-  Eigen::LLT<Eigen::Matrix3d> inertia;
-  explicit RigidSolver(const CellOperators& c) : inv_n(1.0 / static_cast<double>(c.N.cols())) {
-    const Eigen::Matrix3d J =
-        c.r.colwise().squaredNorm().sum() * Eigen::Matrix3d::Identity() - c.r * c.r.transpose();
-    inertia.compute(J);
+  Eigen::Matrix3d inverse_inertia;
+  explicit RigidSolver(const std::vector<Vec3>& r) : inv_n(1.0 / static_cast<double>(r.size())) {
+    double squared = 0.0;
+    Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
+    for (const Vec3& x : r) {
+      squared += x.squaredNorm();
+      second.noalias() += x * x.transpose();
+    }
+    const Eigen::LLT<Eigen::Matrix3d> inertia(squared * Eigen::Matrix3d::Identity() - second);
     if (inertia.info() != Eigen::Success) throw MeshError("cell whose vertices are collinear", -1);
+    inverse_inertia = inertia.solve(Eigen::Matrix3d::Identity());
   }
   /// (R^T R)^{-1} applied to the columns of M (6 x k).
-  Eigen::MatrixXd apply(const Eigen::MatrixXd& M) const {
-    Eigen::MatrixXd out(6, M.cols());
-    out.topRows<3>() = inv_n * M.topRows<3>();
-    out.bottomRows<3>() = inertia.solve(M.bottomRows<3>());
+  template <int Cols>
+  Eigen::Matrix<double, 6, Cols> apply(const Eigen::Matrix<double, 6, Cols>& M) const {
+    Eigen::Matrix<double, 6, Cols> out;
+    out.template topRows<3>() = inv_n * M.template topRows<3>();
+    out.template bottomRows<3>().noalias() = inverse_inertia * M.template bottomRows<3>();
     return out;
   }
 };
 
-struct ElementMatrices {
-  CellOperators c;
-  Eigen::MatrixXd projection, consistency, stabilization;
-  double tau = 0.0;
+using Mat36 = Eigen::Matrix<double, 3, 6>;
+using Mat63 = Eigen::Matrix<double, 6, 3>;
+
+/// The rows of vertex r in R: u = t + omega x r = t - [r]x omega.
+Mat36 rigid_rows(const Vec3& r) {
+  Mat36 R;
+  R << 1.0, 0.0, 0.0, 0.0, r.z(), -r.y(),  //
+      0.0, 1.0, 0.0, -r.z(), 0.0, r.x(),   //
+      0.0, 0.0, 1.0, r.y(), -r.x(), 0.0;
+  return R;
+}
+
+/// The rows of vertex r in Ds: the fields eps r whose Voigt strain (engineering shear) is the
+/// unit vector e_k.
+Mat36 strain_rows(const Vec3& r) {
+  Mat36 D;
+  D << r.x(), 0.0, 0.0, 0.0, 0.5 * r.z(), 0.5 * r.y(),  //
+      0.0, r.y(), 0.0, 0.5 * r.z(), 0.0, 0.5 * r.x(),   //
+      0.0, 0.0, r.z(), 0.5 * r.y(), 0.5 * r.x(), 0.0;
+  return D;
+}
+
+/// The columns of vertex a in B: the Voigt strain (xx, yy, zz, 2yz, 2xz, 2xy) of v (x) a.
+Mat63 strain_columns(const Vec3& a) {
+  Mat63 B;
+  B << a.x(), 0.0, 0.0,  //
+      0.0, a.y(), 0.0,   //
+      0.0, 0.0, a.z(),   //
+      0.0, a.z(), a.y(), //
+      a.z(), 0.0, a.x(), //
+      a.y(), a.x(), 0.0;
+  return B;
+}
+
+/// A dense matrix whose storage keeps its capacity from cell to cell.
+struct Scratch {
+  std::vector<double> data;
+  Eigen::Map<Eigen::MatrixXd> matrix(Eigen::Index rows, Eigen::Index cols) {
+    const auto size = static_cast<std::size_t>(rows * cols);
+    if (data.size() < size) data.resize(size);
+    return {data.data(), rows, cols};
+  }
 };
 
-ElementMatrices element_matrices(std::span<const Vec3> z, const std::vector<std::vector<int>>& faces,
-                                 const Lame& lame, Stabilization stabilization) {
-  ElementMatrices m{build(z, faces), {}, {}, {}, 0.0};
-  const CellOperators& c = m.c;
-  const Eigen::Index n3 = c.B.cols();
-  // Pi = R (R^T R)^{-1} R^T (I - Ds B) + Ds B
-  const RigidSolver rigid(c);
-  const Eigen::MatrixXd DsB = c.Ds * c.B;
-  const Eigen::MatrixXd RtI = rigid.apply(c.R.transpose());
-  m.projection = c.R * (RtI - RtI * DsB) + DsB;
-  m.consistency = (c.volume * c.B.transpose()) * elasticity_matrix_3d(lame) * c.B;
-  m.tau = stabilization == Stabilization::two_mu ? 2.0 * lame.mu * std::cbrt(c.volume)
-                                                 : m.consistency.trace() / static_cast<double>(n3);
-  const Eigen::MatrixXd IminusPi = Eigen::MatrixXd::Identity(n3, n3) - m.projection;
-  m.stabilization = m.tau * (IminusPi.transpose() * IminusPi);
-  return m;
+/// The lower triangles of K_c and K_s of one cell, with everything they depend on: the
+/// vertices relative to the first one (z_i - z_0, as cell_geometry computes them), the faces,
+/// the Lame constants and the stabilization.
+struct CellSlot {
+  bool valid = false;
+  std::vector<double> relative;  // z_i - z_0 for i >= 1
+  std::vector<int> face_sizes, face_vertices;
+  double lambda = 0.0, mu = 0.0;
+  Stabilization stabilization = Stabilization::two_mu;
+  Scratch Kc, Ks;
+
+  /// True when (z, faces, lame, stabilization) is this slot's cell or a translate of it whose
+  /// relative vertices are the same bit for bit.
+  bool matches(std::span<const Vec3> z, const std::vector<std::vector<int>>& faces, const Lame& lame,
+               Stabilization s) const {
+    if (!valid || relative.size() != 3 * (z.size() - 1) || face_sizes.size() != faces.size() || s != stabilization ||
+        std::memcmp(&lambda, &lame.lambda, sizeof(double)) != 0 || std::memcmp(&mu, &lame.mu, sizeof(double)) != 0)
+      return false;
+    for (std::size_t i = 1; i < z.size(); ++i) {
+      const Vec3 d = z[i] - z[0];
+      if (std::memcmp(d.data(), relative.data() + 3 * (i - 1), 3 * sizeof(double)) != 0) return false;
+    }
+    std::size_t k = 0;
+    for (std::size_t f = 0; f < faces.size(); ++f) {
+      const auto& face = faces[f];
+      if (face.size() != static_cast<std::size_t>(face_sizes[f]) || k + face.size() > face_vertices.size() ||
+          !std::equal(face.begin(), face.end(), face_vertices.begin() + static_cast<std::ptrdiff_t>(k)))
+        return false;
+      k += face.size();
+    }
+    return true;
+  }
+  void set_key(std::span<const Vec3> z, const std::vector<std::vector<int>>& faces, const Lame& lame, Stabilization s) {
+    relative.resize(3 * (z.size() - 1));
+    for (std::size_t i = 1; i < z.size(); ++i) {
+      const Vec3 d = z[i] - z[0];
+      std::memcpy(relative.data() + 3 * (i - 1), d.data(), 3 * sizeof(double));
+    }
+    face_sizes.clear();
+    face_vertices.clear();
+    for (const auto& face : faces) {
+      face_sizes.push_back(static_cast<int>(face.size()));
+      face_vertices.insert(face_vertices.end(), face.begin(), face.end());
+    }
+    lambda = lame.lambda;
+    mu = lame.mu;
+    stabilization = s;
+    valid = true;
+  }
+};
+
+/// What the element matrices of one cell are computed in; one per thread, reused.
+/// element_stiffness_3d keeps the matrices of the last `recent.size()` cells it computed: a
+/// cell that is a translate of one of them, its vertices relative to its first one the same
+/// bit for bit (and its faces, Lame constants and stabilization the same), gets that cell's
+/// matrices back. The computation reads nothing else, so they are the bits it would compute:
+/// on a mesh of translated copies of a few cells (boxes of a grid) most cells cost a
+/// comparison, on other meshes each cell costs one failed comparison more.
+struct ElementWorkspace {
+  CellGeometry g;
+  std::vector<Vec3> a;                             // N_i / |E|, the columns of vertex i in B
+  std::vector<Mat63, Eigen::aligned_allocator<Mat63>> M;  // (R^T R)^{-1} R^T (I - Ds B), by vertex
+  Scratch P, E;
+  CellSlot single;                 // vem_element_3d's
+  std::array<CellSlot, 8> recent;  // element_stiffness_3d's, replaced in turn
+  std::size_t next = 0;
+};
+
+/// The element matrices of a cell in the workspace: the lower triangles of K_c (Kc) and K_s
+/// (Ks), E = I - Pi in full, the projection Pi in P when `projection` is set, and tau.
+///
+/// Pi = R (R^T R)^{-1} R^T (I - Ds B) + Ds B = R M + Ds B is formed by 3 x 3 blocks, one per
+/// pair of vertices (i, j):
+///   R_i M_j = M_j^t + M_j^r x r_i (column by column; M_j^t, M_j^r its translation and rotation rows),
+///   Ds_i B_j = ((a_j . r_i) I + a_j r_i^T) / 2 (the strain sym(v (x) a_j) applied to r_i),
+/// with M_j = (R^T R)^{-1} (R_j^T - (R^T Ds) B_j), R^T Ds a 6 x 6 sum over the vertices. The
+/// consistency block is |E| B_i^T C B_j = |E| (lambda a_i a_j^T + mu (a_i . a_j) I + mu a_j a_i^T)
+/// for the isotropic C, and K_s = tau E^T E a symmetric rank update: no product of two
+/// 3n x 3n matrices, no heap allocation once the workspace has grown to the cell's size.
+double element_matrices(std::span<const Vec3> z, const std::vector<std::vector<int>>& faces, const Lame& lame,
+                        Stabilization stabilization, ElementWorkspace& w, CellSlot& slot, bool projection) {
+  cell_geometry(z, faces, w.g);
+  const std::size_t n = z.size();
+  const auto n3 = static_cast<Eigen::Index>(3 * n);
+  const std::vector<Vec3>& r = w.g.r;
+  const double volume = w.g.volume;
+  w.a.resize(n);
+  for (std::size_t i = 0; i < n; ++i) w.a[i] = w.g.N[i] / volume;
+
+  const RigidSolver rigid(r);
+  Eigen::Matrix<double, 6, 6> RtDs = Eigen::Matrix<double, 6, 6>::Zero();
+  for (std::size_t i = 0; i < n; ++i) RtDs.noalias() += rigid_rows(r[i]).transpose() * strain_rows(r[i]);
+  w.M.resize(n);
+  for (std::size_t j = 0; j < n; ++j) {
+    const Mat63 RjT = rigid_rows(r[j]).transpose();
+    w.M[j] = rigid.apply<3>(Mat63(RjT - RtDs * strain_columns(w.a[j])));
+  }
+
+  // Pi and E = I - Pi by blocks, entry by entry (column c of block (i, j) is
+  // M_j^t e_c + M_j^r e_c x r_i + (r_i)_c a_j / 2, plus (a_j . r_i) / 2 on the diagonal)
+  auto P = w.P.matrix(projection ? n3 : 0, projection ? n3 : 0);
+  auto E = w.E.matrix(n3, n3);
+  for (std::size_t j = 0; j < n; ++j) {
+    const double* Mj = w.M[j].data();  // column c: rows 0-2 translation, 3-5 rotation
+    const double ax = w.a[j].x(), ay = w.a[j].y(), az = w.a[j].z();
+    for (std::size_t i = 0; i < n; ++i) {
+      const double rx = r[i].x(), ry = r[i].y(), rz = r[i].z();
+      const double ar = 0.5 * (ax * rx + ay * ry + az * rz);
+      const double half[3] = {0.5 * rx, 0.5 * ry, 0.5 * rz};
+      for (int c = 0; c < 3; ++c) {
+        const double* m = Mj + 6 * c;
+        double p[3] = {m[0] + (m[4] * rz - m[5] * ry) + half[c] * ax, m[1] + (m[5] * rx - m[3] * rz) + half[c] * ay,
+                       m[2] + (m[3] * ry - m[4] * rx) + half[c] * az};
+        p[c] += ar;
+        const Eigen::Index col = static_cast<Eigen::Index>(3 * j) + c;
+        double* e = &E(static_cast<Eigen::Index>(3 * i), col);
+        for (int k = 0; k < 3; ++k) e[k] = (i == j && k == c ? 1.0 : 0.0) - p[k];
+        if (projection) {
+          double* q = &P(static_cast<Eigen::Index>(3 * i), col);
+          for (int k = 0; k < 3; ++k) q[k] = p[k];
+        }
+      }
+    }
+  }
+
+  // K_c, lower triangle (the diagonal blocks in full)
+  auto Kc = slot.Kc.matrix(n3, n3);
+  const double lambda_v = lame.lambda * volume, mu_v = lame.mu * volume;
+  double trace = 0.0;
+  for (std::size_t j = 0; j < n; ++j) {
+    const double aj[3] = {w.a[j].x(), w.a[j].y(), w.a[j].z()};
+    for (std::size_t i = j; i < n; ++i) {
+      const double ai[3] = {w.a[i].x(), w.a[i].y(), w.a[i].z()};
+      const double dot = mu_v * (ai[0] * aj[0] + ai[1] * aj[1] + ai[2] * aj[2]);
+      for (int c = 0; c < 3; ++c) {
+        double* k = &Kc(static_cast<Eigen::Index>(3 * i), static_cast<Eigen::Index>(3 * j) + c);
+        for (int d = 0; d < 3; ++d) k[d] = lambda_v * ai[d] * aj[c] + mu_v * aj[d] * ai[c] + (d == c ? dot : 0.0);
+      }
+      if (i == j)
+        for (int c = 0; c < 3; ++c) trace += Kc(static_cast<Eigen::Index>(3 * i + c), static_cast<Eigen::Index>(3 * j + c));
+    }
+  }
+  const double tau = stabilization == Stabilization::two_mu ? 2.0 * lame.mu * std::cbrt(volume)
+                                                            : trace / static_cast<double>(n3);
+  // K_s = tau E^T E, lower triangle
+  auto Ks = slot.Ks.matrix(n3, n3);
+  Ks.setZero();
+  Ks.selfadjointView<Eigen::Lower>().rankUpdate(E.transpose(), tau);
+  return tau;
+}
+
+/// The full symmetric matrix from its lower triangle.
+void mirror_lower(Eigen::Ref<Eigen::MatrixXd> K) {
+  for (Eigen::Index j = 1; j < K.cols(); ++j)
+    for (Eigen::Index i = 0; i < j; ++i) K(i, j) = K(j, i);
+}
+
+ElementWorkspace& workspace() {
+  thread_local ElementWorkspace w;
+  return w;
 }
 
 }  // namespace
@@ -231,22 +387,47 @@ Eigen::VectorXd face_weights(std::span<const Vec3> face) {
 
 VemElement3D vem_element_3d(std::span<const Vec3> vertices, const std::vector<std::vector<int>>& faces,
                             const Lame& lame, Stabilization stabilization) {
-  ElementMatrices m = element_matrices(vertices, faces, lame, stabilization);
+  ElementWorkspace& w = workspace();
+  const double tau = element_matrices(vertices, faces, lame, stabilization, w, w.single, true);
+  const auto n3 = static_cast<Eigen::Index>(3 * vertices.size());
   VemElement3D el;
-  el.volume = m.c.volume;
-  el.vertex_mean = m.c.mean;
-  el.strain = std::move(m.c.B);
-  el.projection = std::move(m.projection);
-  el.consistency = std::move(m.consistency);
-  el.stabilization = std::move(m.stabilization);
-  el.tau = m.tau;
+  el.volume = w.g.volume;
+  el.vertex_mean = w.g.mean;
+  el.strain.resize(6, n3);
+  for (std::size_t i = 0; i < vertices.size(); ++i)
+    el.strain.middleCols<3>(static_cast<Eigen::Index>(3 * i)) = strain_columns(w.a[i]);
+  el.projection = w.P.matrix(n3, n3);
+  el.consistency = w.single.Kc.matrix(n3, n3);
+  mirror_lower(el.consistency);
+  el.stabilization = w.single.Ks.matrix(n3, n3);
+  mirror_lower(el.stabilization);
+  el.tau = tau;
   return el;
 }
 
 void element_stiffness_3d(std::span<const Vec3> vertices, const std::vector<std::vector<int>>& faces,
                           const Lame& lame, Stabilization stabilization, Eigen::MatrixXd& K) {
-  const ElementMatrices m = element_matrices(vertices, faces, lame, stabilization);
-  K = m.consistency + m.stabilization;
+  ElementWorkspace& w = workspace();
+  CellSlot* slot = nullptr;
+  for (CellSlot& s : w.recent)
+    if (s.matches(vertices, faces, lame, stabilization)) {
+      slot = &s;
+      break;
+    }
+  if (slot == nullptr) {
+    slot = &w.recent[w.next];
+    w.next = (w.next + 1) % w.recent.size();
+    slot->valid = false;
+    element_matrices(vertices, faces, lame, stabilization, w, *slot, false);
+    slot->set_key(vertices, faces, lame, stabilization);
+  }
+  const auto n3 = static_cast<Eigen::Index>(3 * vertices.size());
+  const auto Kc = slot->Kc.matrix(n3, n3);
+  const auto Ks = slot->Ks.matrix(n3, n3);
+  K.resize(n3, n3);
+  for (Eigen::Index j = 0; j < n3; ++j)
+    for (Eigen::Index i = j; i < n3; ++i) K(i, j) = Kc(i, j) + Ks(i, j);
+  mirror_lower(K);
 }
 
 namespace {
@@ -262,12 +443,21 @@ void check_values(std::span<const Vec3> z, const Eigen::Ref<const Eigen::VectorX
 LinearField3 project_p1_3d(std::span<const Vec3> z, const std::vector<std::vector<int>>& faces,
                            const Eigen::Ref<const Eigen::VectorXd>& v) {
   check_values(z, v);
-  const CellOperators c = build(z, faces);
-  const RigidSolver rigid(c);
-  const Eigen::Matrix<double, 6, 1> eps = c.B * v;
-  const Eigen::Matrix<double, 6, 1> rho = rigid.apply(c.R.transpose() * (v - c.Ds * eps));
+  CellGeometry& g = workspace().g;
+  cell_geometry(z, faces, g);
+  const RigidSolver rigid(g.r);
+  // eps = B v, then rho = (R^T R)^{-1} R^T (v - Ds eps)
+  Eigen::Matrix<double, 6, 1> eps = Eigen::Matrix<double, 6, 1>::Zero();
+  for (std::size_t i = 0; i < z.size(); ++i)
+    eps.noalias() += strain_columns(g.N[i] / g.volume) * v.segment<3>(3 * static_cast<Eigen::Index>(i));
+  Eigen::Matrix<double, 6, 1> Rtw = Eigen::Matrix<double, 6, 1>::Zero();
+  for (std::size_t i = 0; i < z.size(); ++i) {
+    const Vec3 wi = v.segment<3>(3 * static_cast<Eigen::Index>(i)) - strain_rows(g.r[i]) * eps;
+    Rtw.noalias() += rigid_rows(g.r[i]).transpose() * wi;
+  }
+  const Eigen::Matrix<double, 6, 1> rho = rigid.apply<1>(Rtw);
   LinearField3 f;
-  f.center = c.mean;
+  f.center = g.mean;
   f.value = rho.head<3>();
   // symmetric part from the Voigt strain, skew part from the rotation vector (omega x r)
   f.gradient << eps(0), 0.5 * eps(5) - rho(5), 0.5 * eps(4) + rho(4),  //
@@ -279,16 +469,17 @@ LinearField3 project_p1_3d(std::span<const Vec3> z, const std::vector<std::vecto
 LinearField3 project_gradient_3d(std::span<const Vec3> z, const std::vector<std::vector<int>>& faces,
                                  const Eigen::Ref<const Eigen::VectorXd>& v) {
   check_values(z, v);
-  const CellOperators c = cell_geometry(z, faces);
+  CellGeometry& g = workspace().g;
+  cell_geometry(z, faces, g);
   LinearField3 f;
-  f.center = c.mean;
-  for (Eigen::Index i = 0; i < c.N.cols(); ++i) {
-    const Vec3 vi = v.segment<3>(3 * i);
+  f.center = g.mean;
+  for (std::size_t i = 0; i < z.size(); ++i) {
+    const Vec3 vi = v.segment<3>(3 * static_cast<Eigen::Index>(i));
     f.value += vi;
-    f.gradient += vi * c.N.col(i).transpose();
+    f.gradient += vi * g.N[i].transpose();
   }
-  f.value /= static_cast<double>(c.N.cols());
-  f.gradient /= c.volume;
+  f.value /= static_cast<double>(z.size());
+  f.gradient /= g.volume;
   return f;
 }
 

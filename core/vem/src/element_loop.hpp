@@ -21,16 +21,20 @@ namespace hemivem::detail {
 // are the same bit for bit whatever the number of threads.
 template <int Dim, class Vertices, class Stiffness, class Visit>
 void for_each_element_matrix(int num_elements, Vertices&& vertices_of, Stiffness&& stiffness, Visit&& visit) {
+  // a chunk holds at most `chunk` elements and about `budget` doubles (a few MB of matrices
+  // that stay in cache between their computation and their visit)
   constexpr int chunk = 4096;
+  constexpr std::size_t budget = std::size_t{1} << 18;
   std::vector<std::size_t> offset(chunk + 1);
   std::vector<double> matrices;
   std::vector<int> dof;
-  for (int begin = 0; begin < num_elements; begin += chunk) {
-    const int end = std::min(num_elements, begin + chunk);
+  for (int begin = 0, end = 0; begin < num_elements; begin = end) {
     offset[0] = 0;
-    for (int e = begin; e < end; ++e) {
-      const auto n = static_cast<std::size_t>(Dim) * std::size(vertices_of(e));
-      offset[static_cast<std::size_t>(e - begin) + 1] = offset[static_cast<std::size_t>(e - begin)] + n * n;
+    for (end = begin; end < num_elements && end - begin < chunk &&
+                      (end == begin || offset[static_cast<std::size_t>(end - begin)] < budget);
+         ++end) {
+      const auto n = static_cast<std::size_t>(Dim) * std::size(vertices_of(end));
+      offset[static_cast<std::size_t>(end - begin) + 1] = offset[static_cast<std::size_t>(end - begin)] + n * n;
     }
     matrices.resize(offset[static_cast<std::size_t>(end - begin)]);
     std::exception_ptr failure;
@@ -67,76 +71,154 @@ void for_each_element_matrix(int num_elements, Vertices&& vertices_of, Stiffness
 
 /// The pattern of a stiffness matrix over the dofs with index[d] >= 0 (index: dof Dim v + c ->
 /// row and column; increasing in d): the column of dof d holds every dof of every vertex
-/// sharing an element with d's vertex, rows increasing; values zero.
+/// sharing an element with d's vertex, rows increasing; values zero. The vertices' neighbours
+/// are found first, so that the matrix's arrays are sized once and written in place.
 template <int Dim, class Vertices>
 SparseMatrix stiffness_pattern(int num_vertices, int num_elements, Vertices&& vertices_of, const std::vector<int>& index,
                                int size) {
   const int nv = num_vertices;
+  const auto at = [](int k) { return static_cast<std::size_t>(k); };
   // the elements of each vertex (compressed rows)
-  std::vector<int> first(static_cast<std::size_t>(nv) + 1, 0), elements;
+  std::vector<int> first(at(nv) + 1, 0), elements;
   for (int e = 0; e < num_elements; ++e)
-    for (int v : vertices_of(e)) ++first[static_cast<std::size_t>(v) + 1];
-  for (int v = 0; v < nv; ++v) first[static_cast<std::size_t>(v) + 1] += first[static_cast<std::size_t>(v)];
-  elements.resize(static_cast<std::size_t>(first[static_cast<std::size_t>(nv)]));
+    for (int v : vertices_of(e)) ++first[at(v) + 1];
+  for (int v = 0; v < nv; ++v) first[at(v) + 1] += first[at(v)];
+  elements.resize(at(first[at(nv)]));
   {
     std::vector<int> fill(first.begin(), first.end() - 1);
     for (int e = 0; e < num_elements; ++e)
-      for (int v : vertices_of(e)) elements[static_cast<std::size_t>(fill[static_cast<std::size_t>(v)]++)] = e;
+      for (int v : vertices_of(e)) elements[at(fill[at(v)]++)] = e;
   }
-  // per vertex its neighbours (itself included), sorted; then the columns of its dofs
-  std::vector<int> outer(static_cast<std::size_t>(size) + 1, 0), inner, neighbours;
-  std::vector<int> seen(static_cast<std::size_t>(nv), -1);
-  inner.reserve(static_cast<std::size_t>(size) * 9 * Dim);
-  int column = 0;
+  // the rows of each vertex's dofs (Dim * w + r with index >= 0) and, per vertex, its
+  // neighbours (itself included), sorted
+  std::vector<int> rows_of(at(nv), 0);
+  for (int v = 0; v < nv; ++v)
+    for (int r = 0; r < Dim; ++r) rows_of[at(v)] += index[at(Dim * v + r)] >= 0 ? 1 : 0;
+  std::vector<int> adjacency_start(at(nv) + 1, 0), adjacency;
+  adjacency.reserve(at(nv) * (Dim == 3 ? 27 : 9));
+  std::vector<int> seen(at(nv), -1);
+  std::vector<std::size_t> column_size(at(nv), 0);  // the entries of a column of v's
   for (int v = 0; v < nv; ++v) {
-    neighbours.clear();
-    for (int k = first[static_cast<std::size_t>(v)]; k < first[static_cast<std::size_t>(v) + 1]; ++k)
-      for (int w : vertices_of(elements[static_cast<std::size_t>(k)]))
-        if (seen[static_cast<std::size_t>(w)] != v) {
-          seen[static_cast<std::size_t>(w)] = v;
-          neighbours.push_back(w);
+    const auto begin = adjacency.size();
+    for (int k = first[at(v)]; k < first[at(v) + 1]; ++k)
+      for (int w : vertices_of(elements[at(k)]))
+        if (seen[at(w)] != v) {
+          seen[at(w)] = v;
+          adjacency.push_back(w);
+          column_size[at(v)] += static_cast<std::size_t>(rows_of[at(w)]);
         }
-    std::sort(neighbours.begin(), neighbours.end());
-    for (int c = 0; c < Dim; ++c) {
-      if (index[static_cast<std::size_t>(Dim * v + c)] < 0) continue;
-      for (int w : neighbours)
-        for (int r = 0; r < Dim; ++r) {
-          const int row = index[static_cast<std::size_t>(Dim * w + r)];
-          if (row >= 0) inner.push_back(row);
-        }
-      outer[static_cast<std::size_t>(++column)] = static_cast<int>(inner.size());
-    }
+    std::sort(adjacency.begin() + static_cast<std::ptrdiff_t>(begin), adjacency.end());
+    adjacency_start[at(v) + 1] = static_cast<int>(adjacency.size());
   }
-  return pattern_matrix(size, size, outer, inner, 0.0);
+  std::size_t nnz = 0;
+  for (int v = 0; v < nv; ++v) nnz += static_cast<std::size_t>(rows_of[at(v)]) * column_size[at(v)];
+  SparseMatrix M(size, size);
+  M.resizeNonZeros(static_cast<Eigen::Index>(nnz));
+  int* outer = M.outerIndexPtr();
+  int* inner = M.innerIndexPtr();
+  std::fill(M.valuePtr(), M.valuePtr() + nnz, 0.0);
+  std::size_t k = 0;
+  int column = 0;
+  outer[0] = 0;
+  for (int v = 0; v < nv; ++v)
+    for (int c = 0; c < Dim; ++c) {
+      if (index[at(Dim * v + c)] < 0) continue;
+      for (int a = adjacency_start[at(v)]; a < adjacency_start[at(v) + 1]; ++a)
+        for (int r = 0; r < Dim; ++r) {
+          const int row = index[at(Dim * adjacency[at(a)] + r)];
+          if (row >= 0) inner[k++] = row;
+        }
+      outer[++column] = static_cast<int>(k);
+    }
+  return M;
 }
 
-/// The stored entry (row, column) of a compressed matrix whose pattern holds it.
-inline double& stored(SparseMatrix& A, int row, int column) {
-  const int* begin = A.innerIndexPtr() + A.outerIndexPtr()[column];
-  const int* end = A.innerIndexPtr() + A.outerIndexPtr()[column + 1];
-  return A.valuePtr()[std::lower_bound(begin, end, row) - A.innerIndexPtr()];
-}
+/// Adds element matrices into a compressed matrix whose pattern holds their entries, column by
+/// column. The positions of a column's entries are found by binary search only where a guess
+/// fails: the position of the same row in the element's previous column, moved to this column
+/// (the dofs of a vertex share their rows in a stiffness pattern), then the position after the
+/// previous row's (a vertex's dofs are consecutive rows). Each guess is checked, so any order of
+/// the element's rows works.
+class PatternScatter {
+ public:
+  explicit PatternScatter(SparseMatrix& A) : A_(A) {}
+
+  /// Starts an element whose rows are rows[0..m) (-1: not in A).
+  void element(const int* rows, std::size_t m) {
+    rows_ = rows;
+    m_ = m;
+    position_.assign(m, -1);
+    previous_begin_ = -1;
+  }
+  /// The positions in A's values of the element's rows in `column` (-1 for rows not in A).
+  const std::vector<int>& locate(int column) {
+    const int* inner = A_.innerIndexPtr();
+    const int begin = A_.outerIndexPtr()[column], end = A_.outerIndexPtr()[column + 1];
+    int last = -1;
+    for (std::size_t i = 0; i < m_; ++i) {
+      const int row = rows_[i];
+      int& p = position_[i];
+      if (row < 0) {
+        p = -1;
+        continue;
+      }
+      if (previous_begin_ >= 0 && p >= 0) {
+        const int guess = p - previous_begin_ + begin;
+        if (guess >= begin && guess < end && inner[guess] == row) {
+          last = p = guess;
+          continue;
+        }
+      }
+      if (last >= 0 && last + 1 < end && inner[last + 1] == row) {
+        last = p = last + 1;
+        continue;
+      }
+      last = p = static_cast<int>(std::lower_bound(inner + begin, inner + end, row) - inner);
+    }
+    previous_begin_ = begin;
+    return position_;
+  }
+  double* values() { return A_.valuePtr(); }
+
+ private:
+  SparseMatrix& A_;
+  const int* rows_ = nullptr;
+  std::size_t m_ = 0;
+  std::vector<int> position_;
+  int previous_begin_ = -1;
+};
 
 /// A = K on the free dofs of `dofs` and b -= K u_prescribed, element by element into A's pattern
 /// (`visit` of for_each_element_matrix).
-struct FreeSystemAssembler {
-  LinearSystem& sys;
-  void operator()(const std::vector<int>& dof, const Eigen::Map<const Eigen::MatrixXd>& K) const {
-    const std::vector<int>& free_index = sys.dofs.free_index;
+class FreeSystemAssembler {
+ public:
+  explicit FreeSystemAssembler(LinearSystem& sys) : sys_(sys), scatter_(sys.A) {}
+  void operator()(const std::vector<int>& dof, const Eigen::Map<const Eigen::MatrixXd>& K) {
+    const std::vector<int>& free_index = sys_.dofs.free_index;
+    free_.resize(dof.size());
+    for (std::size_t i = 0; i < dof.size(); ++i) free_[i] = free_index[static_cast<std::size_t>(dof[i])];
+    scatter_.element(free_.data(), free_.size());
+    double* values = scatter_.values();
     for (std::size_t j = 0; j < dof.size(); ++j) {
-      const int fj = free_index[static_cast<std::size_t>(dof[j])];
-      const double uj = sys.dofs.prescribed(dof[j]);
-      for (std::size_t i = 0; i < dof.size(); ++i) {
-        const int fi = free_index[static_cast<std::size_t>(dof[i])];
-        if (fi < 0) continue;
-        const double k = K(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
-        if (fj >= 0)
-          stored(sys.A, fi, fj) += k;
-        else if (uj != 0.0)
-          sys.b(fi) -= k * uj;
+      const int fj = free_[j];
+      const auto kj = K.col(static_cast<Eigen::Index>(j));
+      if (fj >= 0) {
+        const std::vector<int>& position = scatter_.locate(fj);
+        for (std::size_t i = 0; i < dof.size(); ++i)
+          if (position[i] >= 0) values[position[i]] += kj(static_cast<Eigen::Index>(i));
+        continue;
       }
+      const double uj = sys_.dofs.prescribed(dof[j]);
+      if (uj == 0.0) continue;
+      for (std::size_t i = 0; i < dof.size(); ++i)
+        if (const int fi = free_[i]; fi >= 0) sys_.b(fi) -= kj(static_cast<Eigen::Index>(i)) * uj;
     }
   }
+
+ private:
+  LinearSystem& sys_;
+  PatternScatter scatter_;
+  std::vector<int> free_;
 };
 
 /// The dof map of `ndof` dofs with `fixed[d]` set where dof d is prescribed.

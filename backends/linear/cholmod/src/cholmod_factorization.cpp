@@ -6,13 +6,54 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstddef>
 #include <vector>
+
+#if defined(_OPENMP)
+#include <omp.h>
+#endif
+
+#if defined(HEMIVEM_CHOLMOD_WITH_BLAS)
+// the BLAS CHOLMOD calls (Fortran interface; the trailing lengths are those of the character
+// arguments, gfortran's hidden arguments)
+extern "C" void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, const double* alpha,
+                       const double* a, const int* lda, const double* beta, double* c, const int* ldc,
+                       std::size_t uplo_length, std::size_t trans_length);
+#endif
 
 namespace hemivem {
 
 using namespace linear_detail;
 
 namespace {
+
+/// CHOLMOD's supernodal factorization runs some of its loops (clearing its work arrays, zeroing
+/// and filling supernodes, supernode by supernode) with num_threads(CHOLMOD_OMP_NUM_THREADS),
+/// 4 unless SuiteSparse was built otherwise, whatever OMP_NUM_THREADS asks. Where OpenMP allows
+/// one thread, this guard sets max-active-levels to 0 for the length of a CHOLMOD call, so that
+/// those regions run on the calling thread (their forks and joins made the factorization of
+/// 32^3 boxes 13 % slower on two busy cores; docs/performance.md). Otherwise nothing changes.
+class OneThreadWhereAsked {
+ public:
+  OneThreadWhereAsked() {
+#if defined(_OPENMP)
+    if (omp_get_max_threads() == 1 && !omp_in_parallel()) {
+      saved_ = omp_get_max_active_levels();
+      omp_set_max_active_levels(0);
+    }
+#endif
+  }
+  ~OneThreadWhereAsked() {
+#if defined(_OPENMP)
+    if (saved_ >= 0) omp_set_max_active_levels(saved_);
+#endif
+  }
+  OneThreadWhereAsked(const OneThreadWhereAsked&) = delete;
+  OneThreadWhereAsked& operator=(const OneThreadWhereAsked&) = delete;
+
+ private:
+  int saved_ = -1;
+};
 
 /// A read-only CHOLMOD view of the lower triangle of a compressed Eigen matrix.
 cholmod_sparse lower_view(const SparseMatrix& M) {
@@ -87,6 +128,7 @@ class CholmodKernel final : public CholeskyKernel {
   CholmodKernel& operator=(const CholmodKernel&) = delete;
 
   FactorizationResult analyze(const SparseMatrix& A) override {
+    const OneThreadWhereAsked one_thread;
     cholmod_free_factor(&L_, &c_);
     cholmod_sparse Av = lower_view(A);
     L_ = cholmod_analyze(&Av, &c_);
@@ -99,6 +141,7 @@ class CholmodKernel final : public CholeskyKernel {
     return FactorizationResult::good();
   }
   FactorizationResult solve(const Eigen::MatrixXd& B, Eigen::MatrixXd* X) const override {
+    const OneThreadWhereAsked one_thread;
     cholmod_dense Bv = dense_view(B);
     cholmod_dense* Xc = cholmod_solve(CHOLMOD_A, L_, &Bv, &c_);
     if (Xc == nullptr) return failure(c_, "cholmod_solve");
@@ -120,6 +163,7 @@ class CholmodKernel final : public CholeskyKernel {
   /// about 2 million unknowns on squares): there METIS took 23 s against 2 s for AMD and saved
   /// less in the factorization (docs/performance.md).
   FactorizationResult order(const SparseMatrix& lower, std::vector<int>* perm) override {
+    const OneThreadWhereAsked one_thread;
     cholmod_sparse Av = lower_view(lower);
     perm->assign(static_cast<std::size_t>(lower.rows()), 0);
     const int ok = cholmod_amd(&Av, nullptr, 0, perm->data(), &c_);
@@ -139,6 +183,7 @@ class CholmodKernel final : public CholeskyKernel {
   /// Supernodal analysis in P's own order (no fill-reducing ordering, no postordering, which
   /// could move block1 away from the end).
   FactorizationResult analyze_ordered(const SparseMatrix& P) override {
+    const OneThreadWhereAsked one_thread;
     cholmod_free_factor(&LS_, &c_);
     const int nmethods = c_.nmethods, ordering = c_.method[0].ordering, postorder = c_.postorder;
     c_.nmethods = 1;
@@ -191,12 +236,22 @@ class CholmodKernel final : public CholeskyKernel {
     return true;
   }
   int failed_pivot() const override { return failed_pivot_; }
+#if defined(HEMIVEM_CHOLMOD_WITH_BLAS)
+  /// S += L L^T by the BLAS's dsyrk (4 times Eigen's speed here: it has the wider kernels).
+  bool add_lower_product(int n, int k, const double* L, int ld, double* S, int lds) const override {
+    const char uplo = 'L', trans = 'N';
+    const double one = 1.0;
+    dsyrk_(&uplo, &trans, &n, &k, &one, L, &ld, &one, S, &lds, 1, 1);
+    return true;
+  }
+#endif
 
  private:
   /// Numeric factorization of `M` into `F`; not_positive_definite keeps where it stopped.
   FactorizationResult numeric(const SparseMatrix& M, cholmod_factor* F, const std::string& what) {
     failed_pivot_ = -1;
     cholmod_sparse Av = lower_view(M);
+    const OneThreadWhereAsked one_thread;
     const int ok = cholmod_factorize(&Av, F, &c_);
     if (c_.status == CHOLMOD_NOT_POSDEF || (ok && F->minor < F->n)) {
       if (F->minor < F->n) failed_pivot_ = static_cast<int>(F->minor);
@@ -229,6 +284,7 @@ ReferenceFactorization measure_cholmod_factorization(const SparseMatrix& A, bool
   c.nmethods = 1;
   c.method[0].ordering = metis ? CHOLMOD_METIS : CHOLMOD_AMD;
   cholmod_sparse Av = lower_view(M);
+  const OneThreadWhereAsked one_thread;
   const auto t0 = Clock::now();
   cholmod_factor* L = cholmod_analyze(&Av, &c);
   const auto t1 = Clock::now();

@@ -8,9 +8,16 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <string>
 #include <vector>
+
+#if defined(HEMIVEM_SSN_WITH_LAPACK)
+// LAPACK's Cholesky factorization (Fortran interface; the trailing length is that of the
+// character argument, gfortran's hidden argument)
+extern "C" void dpotrf_(const char* uplo, const int* n, double* a, const int* lda, int* info, std::size_t uplo_length);
+#endif
 
 namespace hemivem {
 namespace {
@@ -21,6 +28,43 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double singular_pivot = 1e-13;
 
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+/// H = L L^T for a dense symmetric H (its lower triangle is read): LAPACK's blocked dpotrf on
+/// the BLAS where it is found (2.6 times Eigen's LLT on 2 303 x 2 303 here), Eigen's LLT
+/// otherwise. compute() is false when H is not positive definite (a pivot <= 0 or NaN).
+class DenseCholesky {
+ public:
+  bool compute(const Eigen::MatrixXd& H) {
+#if defined(HEMIVEM_SSN_WITH_LAPACK)
+    if (H.rows() > 0 && H.rows() <= std::numeric_limits<int>::max() / 64) {
+      L_ = H;
+      const char uplo = 'L';
+      const int n = static_cast<int>(H.rows());
+      int info = 0;
+      dpotrf_(&uplo, &n, L_.data(), &n, &info, 1);
+      return info == 0;
+    }
+#endif
+    L_.resize(0, 0);
+    llt_.compute(H);
+    return llt_.info() == Eigen::Success;
+  }
+  /// The diagonal of L.
+  Eigen::VectorXd diagonal() const {
+    return L_.size() > 0 ? Eigen::VectorXd(L_.diagonal()) : Eigen::VectorXd(llt_.matrixLLT().diagonal());
+  }
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) const {
+    if (L_.size() == 0) return llt_.solve(b);
+    Eigen::VectorXd x = b;
+    L_.triangularView<Eigen::Lower>().solveInPlace(x);
+    L_.triangularView<Eigen::Lower>().transpose().solveInPlace(x);
+    return x;
+  }
+
+ private:
+  Eigen::MatrixXd L_;                // dpotrf's factor (its upper triangle is H's)
+  Eigen::LLT<Eigen::MatrixXd> llt_;  // without LAPACK
+};
 
 /// What an iteration knows about one node.
 struct NodeState {
@@ -149,14 +193,12 @@ class Solver {
       min_diag = std::min(min_diag, H(k, k));
       max_diag = std::max(max_diag, std::abs(H(k, k)));
     }
-    Eigen::LLT<Eigen::MatrixXd> llt;
+    DenseCholesky llt;
     bool ok = false;
     if (min_diag > 0.0) {
-      llt.compute(H);
       // a pivot at round-off level is a singular system (S is only semidefinite when a rigid
       // motion is free and the law does not stiffen the nodes that carry it): shifted too
-      ok = llt.info() == Eigen::Success &&
-           llt.matrixLLT().diagonal().cwiseAbs2().minCoeff() > singular_pivot * max_diag;
+      ok = llt.compute(H) && llt.diagonal().cwiseAbs2().minCoeff() > singular_pivot * max_diag;
     }
     if (!ok) {
       double mu = std::max(prm_.shift * max_diag, -min_diag + prm_.shift * max_diag);
@@ -164,8 +206,7 @@ class Solver {
       for (int k = 0; k < 60 && !ok; ++k, mu *= 4.0) {
         Eigen::MatrixXd Hs = H;
         Hs.diagonal().array() += mu;
-        llt.compute(Hs);
-        ok = llt.info() == Eigen::Success;
+        ok = llt.compute(Hs);
       }
       ++shifted_;
     }

@@ -89,6 +89,9 @@ class Mesh3D {
   CellFaces cell(int c) const;
   /// Cell c's faces as loops of positions in cell_vertices(c), outward as cell().
   std::vector<std::vector<int>> local_faces(int c) const;
+  /// local_faces(c) into `faces`, whose vectors keep their capacity (no allocation once they
+  /// have grown to the cell's size).
+  void local_faces(int c, std::vector<std::vector<int>>& faces) const;
 
   /// Faces in exactly one cell, in face-id order.
   const std::vector<int>& boundary_faces() const noexcept { return boundary_faces_; }

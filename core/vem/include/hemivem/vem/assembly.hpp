@@ -7,6 +7,7 @@
 #include <array>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <hemivem/vem/material.hpp>
@@ -65,6 +66,19 @@ struct LinearSystem {
   SparseMatrix A;     ///< symmetric, both triangles stored
   Eigen::VectorXd b;
   DofMap dofs;
+
+  LinearSystem() = default;
+  LinearSystem(const LinearSystem&) = default;
+  LinearSystem& operator=(const LinearSystem&) = default;
+  /// A move that does not copy A: Eigen 3.4's SparseMatrix has no move constructor (its
+  /// "move" copies every entry), so A's arrays are swapped.
+  LinearSystem(LinearSystem&& other) noexcept : b(std::move(other.b)), dofs(std::move(other.dofs)) { A.swap(other.A); }
+  LinearSystem& operator=(LinearSystem&& other) noexcept {
+    A.swap(other.A);
+    b = std::move(other.b);
+    dofs = std::move(other.dofs);
+    return *this;
+  }
 };
 
 /// The global stiffness of all 2*num_vertices dofs (symmetric, both triangles stored).
