@@ -116,10 +116,7 @@ TEST(Scene, ShippedScenesParseAndBuild) {
   for (const auto& f : files) {
     SCOPED_TRACE(f.string());
     const Scene s = parse_scene(f);
-    if (!s.mesh.file.empty() && !fs::exists(s.mesh.file)) {
-      EXPECT_EQ(f.filename(), "sutton-voronoi.toml") << "missing mesh " << s.mesh.file;
-      continue;  // ../shared is absent: SuttonSceneReadsTheSharedMeshInPlace is skipped
-    }
+    if (!s.mesh.file.empty()) ASSERT_TRUE(fs::exists(s.mesh.file)) << "missing mesh " << s.mesh.file;
     if (s.dimension() == 3) {  // a solid: build_problem_3d (tests/test_scene3d.cpp)
       const auto solid = build_problem_3d(s);
       EXPECT_GT(solid->mesh.num_cells(), 0);
@@ -163,13 +160,25 @@ TEST(Scene, ShippedVariants) {
     EXPECT_EQ(parse_scene(scenes_dir() / ("paper-example-4.1-" + g + ".toml")).mesh.generator, g);
 }
 
-TEST(Scene, SuttonSceneReadsTheSharedMeshInPlace) {
-  if (test::shared_dir().empty()) GTEST_SKIP() << "shared/ (Sutton's meshes) is absent";
+TEST(Scene, SuttonScenesReadTheShippedCopiesOfSuttonsMeshes) {
   const Scene s = parse_scene(scenes_dir() / "sutton-voronoi.toml");
-  EXPECT_EQ(s.mesh.file.filename(), "sutton-voronoi-merged.poly2d");
-  if (!fs::exists(s.mesh.file)) GTEST_SKIP() << "the scene's ../shared is not beside this checkout: " << s.mesh.file;
-  EXPECT_EQ(fs::canonical(s.mesh.file), fs::canonical(test::shared_dir() / "meshes" / "sutton-voronoi-merged.poly2d"));
+  const Scene t = parse_scene(scenes_dir() / "extreme" / "tiny-edges.toml");
+  ASSERT_TRUE(fs::exists(s.mesh.file)) << s.mesh.file;
+  ASSERT_TRUE(fs::exists(t.mesh.file)) << t.mesh.file;
+  EXPECT_EQ(fs::canonical(s.mesh.file), fs::canonical(scenes_dir() / "meshes" / "sutton-voronoi-merged.poly2d"));
+  EXPECT_EQ(fs::canonical(t.mesh.file), fs::canonical(scenes_dir() / "meshes" / "sutton-voronoi.poly2d"));
+  // The copies are the published conversions, byte for byte, where those are beside the checkout.
+  if (!test::shared_dir().empty()) {
+    const auto bytes = [](const fs::path& p) {
+      std::ifstream in(p, std::ios::binary);
+      return std::string(std::istreambuf_iterator<char>(in), {});
+    };
+    for (const char* name : {"sutton-voronoi.poly2d", "sutton-voronoi-merged.poly2d"})
+      EXPECT_EQ(bytes(scenes_dir() / "meshes" / name), bytes(test::shared_dir() / "meshes" / name)) << name;
+  }
   const auto built = build_problem(s);
+  EXPECT_EQ(built->mesh.num_vertices(), 802);
+  EXPECT_EQ(built->mesh.num_elements(), 400);
   EXPECT_FALSE(built->problem.contact_edges.empty());
   EXPECT_FALSE(built->problem.elasticity.tractions.at(0).edges.empty());
 }
