@@ -29,15 +29,17 @@ constexpr double singular_pivot = 1e-13;
 
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-/// H = L L^T for a dense symmetric H (its lower triangle is read): LAPACK's blocked dpotrf on
-/// the BLAS where it is found (2.6 times Eigen's LLT on 2 303 x 2 303 here), Eigen's LLT
-/// otherwise. compute() is false when H is not positive definite (a pivot <= 0 or NaN).
+/// H + shift I = L L^T for a dense symmetric H (its lower triangle is read), formed in the
+/// factor's own storage: LAPACK's blocked dpotrf on the BLAS where it is found (2.6 times
+/// Eigen's LLT on 2 303 x 2 303 here), Eigen's LLT otherwise. compute() is false when
+/// H + shift I is not positive definite (a pivot <= 0 or NaN).
 class DenseCholesky {
  public:
-  bool compute(const Eigen::MatrixXd& H) {
+  bool compute(const Eigen::MatrixXd& H, double shift = 0.0) {
 #if defined(HEMIVEM_SSN_WITH_LAPACK)
     if (H.rows() > 0 && H.rows() <= std::numeric_limits<int>::max() / 64) {
       L_ = H;
+      L_.diagonal().array() += shift;
       const char uplo = 'L';
       const int n = static_cast<int>(H.rows());
       int info = 0;
@@ -46,7 +48,7 @@ class DenseCholesky {
     }
 #endif
     L_.resize(0, 0);
-    llt_.compute(H);
+    llt_.compute(H + shift * Eigen::MatrixXd::Identity(H.rows(), H.cols()));
     return llt_.info() == Eigen::Success;
   }
   /// The diagonal of L.
@@ -203,11 +205,7 @@ class Solver {
     if (!ok) {
       double mu = std::max(prm_.shift * max_diag, -min_diag + prm_.shift * max_diag);
       if (!(mu > 0.0)) mu = std::numeric_limits<double>::min();
-      for (int k = 0; k < 60 && !ok; ++k, mu *= 4.0) {
-        Eigen::MatrixXd Hs = H;
-        Hs.diagonal().array() += mu;
-        ok = llt.compute(Hs);
-      }
+      for (int k = 0; k < 60 && !ok; ++k, mu *= 4.0) ok = llt.compute(H, mu);
       ++shifted_;
     }
     if (!ok) return false;
