@@ -9,9 +9,7 @@
 #include <hemivem/contact/piecewise_law.hpp>
 #include <hemivem/contact/reduced_io.hpp>
 #include <hemivem/scene/scene.hpp>
-#include <hemivem/app/outputs3d.hpp>
-#include <hemivem/app/path.hpp>
-#include <hemivem/app/solve3d.hpp>
+#include <hemivem/app/run.hpp>
 #include <hemivem/mesh/generators3d.hpp>
 #include <hemivem/uniqueness.hpp>
 
@@ -118,29 +116,28 @@ void require_one_process_or_mumps_mpi(const Scene& scene) {
                      "--linear");
 }
 
-/// What run_solve tells while it works: iterations (-v), the problem's size, the global search.
-struct SolveProgress {
-  std::function<bool(const IterationRecord&)> iteration;
-  std::function<void(const BuiltProblem&, const SceneSolve&)> announce;
-  std::function<void(const GlobalSearchProgress&)> search;
-};
-
-SolveProgress solve_progress(const SolveOptions& o, std::ostream& err) {
-  SolveProgress p;
-  if (o.json || o.verbosity < 1) return p;
+/// What run_solve tells while it works: iterations (-v), the problem's size, the steps of a
+/// path or of an adaptive sequence, the global search.
+RunOptions run_options(const SolveOptions& o, std::ostream& err) {
+  RunOptions r;
+  r.reduced_key = "--export-reduced";
+  if (o.json || o.verbosity < 1) return r;
   if (o.verbosity >= 2)
-    p.iteration = [&err](const IterationRecord& r) {
-      err << "  iteration " << r.iteration << ": F = " << std::setprecision(12) << r.objective << ", primal "
-          << sci(r.primal, 3) << ", dual " << sci(r.dual, 3) << ", at bound " << r.active << "\n";
+    r.callback = [&err](const IterationRecord& i) {
+      err << "  iteration " << i.iteration << ": F = " << std::setprecision(12) << i.objective << ", primal "
+          << sci(i.primal, 3) << ", dual " << sci(i.dual, 3) << ", at bound " << i.active << "\n";
       return true;
     };
-  p.announce = [&err](const BuiltProblem& built, const SceneSolve& s) {
-    if (s.holds_results)
-      err << "hemivem: " << built.mesh.num_vertices() << " vertices, " << built.mesh.num_elements()
-          << " elements; solving with " << s.linear << " and " << s.minimizer << "\n";
+  r.on_built = [&err](const BuiltSummary& b) {
+    if (!b.holds_results) return;
+    err << "hemivem: " << b.vertices << " vertices, " << b.cells
+        << (b.dimension == 3 ? " cells (three-dimensional)" : " elements") << "; solving with " << b.linear << " and "
+        << b.minimizer << "\n";
   };
-  p.search = [&err](const GlobalSearchProgress& g) { err << progress_line(g) << "\n"; };
-  return p;
+  r.progress = [&err](const GlobalSearchProgress& g) { err << progress_line(g) << "\n"; };
+  r.on_path_step = [&err](const PathStep& s, int steps) { err << path_progress_line(s, steps) << "\n"; };
+  r.on_adapt_step = [&err](const AdaptStep& a) { err << adapt_progress_line(a) << "\n"; };
+  return r;
 }
 
 /// The lines after the full report: the files written, skipped and removed, the reduced problem.
@@ -157,115 +154,45 @@ void print_files(std::ostream& out, const SolveOptions& o, const OutputReport& r
   if (!o.export_reduced.empty()) out << "  reduced       " << o.export_reduced << "/\n";
 }
 
-/// hemivem solve of a three-dimensional scene (solve_scene_3d): the same flags, outputs
-/// (outputs3d.hpp) and report lines as a plane solve, where they apply.
-int run_solve_3d(const SolveOptions& o, const Scene& scene, std::ostream& out, std::ostream& err) {
-  if (scene.adapt)
+/// The flags a kind of run cannot take, named by flag (run_scene names the scene's keys).
+void check_flags_for(const SolveOptions& o, const Scene& scene, RunKind kind) {
+  if (o.adapt && scene.dimension() == 3)
     throw InputError("adaptive refinement is not available for three-dimensional scenes", "--adapt");
-  check_output_folder(o.out);
-  require_one_process_or_mumps_mpi(scene);
-  const SolveProgress progress = solve_progress(o, err);
-  ReducedProblem reduced;
-  SceneSolve3DOptions options;
-  options.callback = progress.iteration;
-  options.reduced = o.export_reduced.empty() ? nullptr : &reduced;
-  options.progress = progress.search;
-  if (!o.json && o.verbosity >= 1)
-    options.on_built = [&err](const BuiltProblem3D& built, const SceneSolve3D& s) {
-      if (s.holds_results)
-        err << "hemivem: " << built.mesh.num_vertices() << " vertices, " << built.mesh.num_cells()
-            << " cells (three-dimensional); solving with " << s.linear << " and " << s.minimizer << "\n";
-    };
-  const SceneSolve3D solved = solve_scene_3d(scene, std::move(options));
-  const ContactSolution3D& sol = solved.solution;
-  if (!solved.holds_results) return sol.converged() ? kSuccess : kNotConverged;  // rank > 0: rank 0 reports
-  if (!o.export_reduced.empty()) {
-    if (!solved.built->has_contact)
-      throw InputError("the scene has no contact boundary: there is no reduced problem", "--export-reduced");
-    write_reduced_problem(o.export_reduced, reduced);
-  }
-  RunInfo info = run_info_3d(scene, solved);
-  for (const auto& w : info.warnings) err << "hemivem: warning: " << w << "\n";
-  const BuiltProblem3D& built = *solved.built;
-  const OutputReport report = write_outputs_3d(o.out, built.mesh, built.problem.elasticity.materials,
-                                               built.problem.contact_faces, sol, info,
-                                               wanted_files_3d(scene, built.has_contact));
-  for (const auto& f : report.written) info.files.push_back(f.filename().string());
-  if (o.json) {
-    out << result_json_3d(built.mesh, sol, info).dump(2) << "\n";
-  } else if (o.verbosity >= 1) {
-    out << "hemivem solve: " << scene.title << " (" << scene.source << ")\n" << full_report_3d(solved, info);
-    print_files(out, o, report);
-  }
-  return sol.converged() ? kSuccess : kNotConverged;
+  if (kind == RunKind::static_solve || !o.linear || !same_engine(*o.linear, "mumps-mpi")) return;
+  throw InputError(kind == RunKind::path ? "a loading path runs in one process; the linear engine mumps-mpi runs across "
+                                           "processes: choose another engine"
+                                         : "an adaptive solve runs in one process; the linear engine mumps-mpi runs "
+                                           "across processes: choose another engine",
+                   "--linear");
 }
-
 
 }  // namespace
 
 int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   const Scene scene = load_scene(o);
-  if (scene.dimension() == 3) return run_solve_3d(o, scene, out, err);
+  check_flags_for(o, scene, run_kind(scene));
   check_output_folder(o.out);
   require_one_process_or_mumps_mpi(scene);
-  SolveProgress progress = solve_progress(o, err);
   ReducedProblem reduced;
-  SceneSolveOptions options;
-  options.on_built = progress.announce;
-  options.callback = progress.iteration;
+  RunOptions options = run_options(o, err);
   options.reduced = o.export_reduced.empty() ? nullptr : &reduced;
-  options.progress = std::move(progress.search);
-  std::optional<AdaptiveSolve> adaptive;
-  std::optional<SceneSolve> path;
-  if (scene_is_path(scene)) {
-    if (scene.adapt) throw InputError("a loading path is solved on one mesh; remove [adapt] or [path]", scene.where("path"));
-    if (!o.export_reduced.empty())
-      throw InputError("a loading path has a reduced problem per step; export it from a static solve", "--export-reduced");
-    if (o.linear && same_engine(*o.linear, "mumps-mpi"))
-      throw InputError("a loading path runs in one process; the linear engine mumps-mpi runs across processes: choose another engine",
-                       "--linear");
-    const int steps = scene.path ? static_cast<int>(scene.path->factors().size()) : 1;
-    auto step_line = [&, steps](const PathStep& s) {
-      if (!o.json && o.verbosity >= 1) err << path_progress_line(s, steps) << "\n";
-    };
-    path = solve_scene_path(scene, std::move(options), step_line);
-  } else if (scene.adapt) {
-    if (!o.export_reduced.empty())
-      throw InputError("an adaptive solve has no one reduced problem; export it from a solve of one mesh", "--export-reduced");
-    if (o.linear && same_engine(*o.linear, "mumps-mpi"))
-      throw InputError("an adaptive solve runs in one process; the linear engine mumps-mpi runs across processes: "
-                       "choose another engine",
-                       "--linear");
-    auto step_line = [&](const AdaptStep& a) {
-      if (!o.json && o.verbosity >= 1) err << adapt_progress_line(a) << "\n";
-    };
-    adaptive = solve_adaptively(scene, *scene.adapt, std::move(options), step_line);
-  }
-  SceneSolve solved_one = adaptive || path ? SceneSolve() : solve_scene(scene, std::move(options));
-  SceneSolve& solved = adaptive ? adaptive->last : path ? *path : solved_one;
-  const auto& built = solved.built;
-  const ContactSolution& sol = solved.solution;
-  if (!solved.holds_results) return sol.converged() ? kSuccess : kNotConverged;  // rank > 0: rank 0 reports
+  const SceneRun run = run_scene(scene, std::move(options));
+  if (!run.holds_results()) return run.converged() ? kSuccess : kNotConverged;  // rank > 0: rank 0 reports
   if (!o.export_reduced.empty()) {
-    if (!built->has_contact) throw InputError("the scene has no contact boundary: there is no reduced problem", "--export-reduced");
+    if (!run.has_contact()) throw InputError("the scene has no contact boundary: there is no reduced problem", "--export-reduced");
     write_reduced_problem(o.export_reduced, reduced);
   }
-
-  RunInfo info = run_info(scene, solved);
+  RunInfo info = run.info();
   for (const auto& w : info.warnings) err << "hemivem: warning: " << w << "\n";
-  const OutputReport report = write_outputs(o.out, built->mesh, built->problem.elasticity.materials, sol, info,
-                                            wanted_files(scene, built->has_contact));
+  const OutputReport report = run.write(o.out);
   for (const auto& f : report.written) info.files.push_back(f.filename().string());
-
   if (o.json) {
-    out << result_json(built->mesh, sol, info).dump(2) << "\n";
+    out << run.result_json(info.files).dump(2) << "\n";
   } else if (o.verbosity >= 1) {
-    out << "hemivem solve: " << scene.title << " (" << scene.source << ")\n" << full_report(scene, solved, info);
-    if (adaptive) out << adapt_report(*adaptive);
-    if (path) out << path_report(*path->path);
+    out << "hemivem solve: " << scene.title << " (" << scene.source << ")\n" << run.report(info);
     print_files(out, o, report);
   }
-  return sol.converged() ? kSuccess : kNotConverged;
+  return run.converged() ? kSuccess : kNotConverged;
 }
 
 namespace {

@@ -20,43 +20,32 @@
 #include <hemivem/app/outputs.hpp>
 #include <hemivem/app/report.hpp>
 #include <hemivem/app/outputs3d.hpp>
-#include <hemivem/app/solve.hpp>
-#include <hemivem/app/solve3d.hpp>
-#include <hemivem/app/path.hpp>
+#include <hemivem/app/run.hpp>
 
 namespace hemivem::python {
 
 namespace {
 
-/// One solve: the resolved scene, the command's SceneSolve (a plane scene) or SceneSolve3D (a
-/// three-dimensional one) and the reduced problem.
+/// One solve: the resolved scene, the run (app::run_scene) and the reduced problem.
 struct SolveData {
   Scene scene;
-  app::SceneSolve solved;                     ///< a plane scene's solve (empty for a 3D scene)
-  std::optional<app::SceneSolve3D> solved3d;  ///< a three-dimensional scene's solve
-  std::shared_ptr<ReducedHolder> reduced;     ///< null unless kept and the scene has contact
-  std::string json;                           ///< result.json's text, made once
-  int dimension() const noexcept { return solved3d ? 3 : 2; }
+  app::SceneRun run;
+  std::shared_ptr<ReducedHolder> reduced;  ///< null unless kept and the scene has contact
+  std::string json;                        ///< result.json's text, made once
+  int dimension() const noexcept { return run.dimension(); }
+  const app::SceneSolve& plane() const { return *run.plane(); }
 };
 
 /// f applied to the solve of either dimension (SceneSolve or SceneSolve3D: the members they
 /// share, e.g. solution.energy, linear, search); f's results must have one type.
 template <class F>
 auto visit(const SolveData& d, F&& f) {
-  if (d.solved3d) return f(*d.solved3d);
-  return f(d.solved);
+  if (d.run.solid()) return f(*d.run.solid());
+  return f(d.plane());
 }
 
 const std::string& json_text(SolveData& d) {
-  if (d.json.empty()) {
-    if (d.solved3d) {
-      const app::RunInfo info = app::run_info_3d(d.scene, *d.solved3d);
-      d.json = app::result_json_3d(d.solved3d->built->mesh, d.solved3d->solution, info).dump(2);
-    } else {
-      const app::RunInfo info = app::run_info(d.scene, d.solved);
-      d.json = app::result_json(d.solved.built->mesh, d.solved.solution, info).dump(2);
-    }
-  }
+  if (d.json.empty()) d.json = d.run.result_json().dump(2);
   return d.json;
 }
 
@@ -180,12 +169,12 @@ using ResultClass = py::class_<SolveData, std::shared_ptr<SolveData>>;
 /// A Result's loading path, and one of its steps; both keep the Result alive.
 struct PyPath {
   std::shared_ptr<SolveData> owner;
-  const PathSolution& path() const { return *owner->solved.path; }
+  const PathSolution& path() const { return *owner->run.path(); }
 };
 struct PyPathStep {
   std::shared_ptr<SolveData> owner;
   std::size_t index = 0;
-  const PathStep& step() const { return owner->solved.path->steps[index]; }
+  const PathStep& step() const { return owner->run.path()->steps[index]; }
 };
 
 py::object json_object(const nlohmann::json& j) { return py::module_::import("json").attr("loads")(j.dump()); }
@@ -228,7 +217,7 @@ for a frame).
                              [](const PyPathStep& s) {
                                ContactSolution view;
                                view.contact = s.step().contact;
-                               view.contact_parts = s.owner->solved.path->last.contact_parts;
+                               view.contact_parts = s.owner->run.path()->last.contact_parts;
                                return contact_table(view);
                              })
       .def_property_readonly("slip", [](const PyPathStep& s) { return copy_array(s.step().slip); })
@@ -384,7 +373,7 @@ void def_result_outcome(ResultClass& c) {
           "held_by_contact",
           [](py::handle s) {
             const SolveData& d = data(s);
-            return d.solved3d ? std::vector<std::string>{} : d.solved.solution.held_by_contact;
+            return d.run.solid() ? std::vector<std::string>{} : d.plane().solution.held_by_contact;
           },
           "The rigid motions the Dirichlet conditions leave free, in words; the contact alone holds them.\n"
           "Always [] in 3D: the supports of a three-dimensional body must hold it.")
@@ -448,7 +437,7 @@ void def_result_fields(ResultClass& c) {
           "contact",
           [](py::handle s) {
             const SolveData& d = data(s);
-            return d.solved3d ? contact_table_3d(d.solved3d->solution) : contact_table(d.solved.solution);
+            return d.run.solid() ? contact_table_3d(d.run.solid()->solution) : contact_table(d.plane().solution);
           },
           "The contact table (ContactTable): one row per contact node.")
       .def_property_readonly(
@@ -516,8 +505,8 @@ void def_result_fields(ResultClass& c) {
       .def_property_readonly(
           "adapt",
           [](py::handle s) -> py::object {
-            const nlohmann::json& a = data(s).solved.adapt;
-            if (data(s).solved3d || a.is_null()) return py::none();
+            if (data(s).run.solid() || data(s).plane().adapt.is_null()) return py::none();
+            const nlohmann::json& a = data(s).plane().adapt;
             return py::module_::import("json").attr("loads")(a.dump());
           },
           "An adaptive solve's record, as result.json's \"adapt\": the target and budgets, 'stopped' and "
@@ -527,7 +516,7 @@ void def_result_fields(ResultClass& c) {
           "path",
           [](py::object s) -> py::object {
             auto d = s.cast<std::shared_ptr<SolveData>>();
-            if (d->solved3d || !d->solved.path) return py::none();
+            if (!d->run.path()) return py::none();
             return py::cast(PyPath{d});
           },
           "A loading path's steps (hemivem.solve_path, or a scene with [path] or Coulomb friction): a Path, "
@@ -537,8 +526,8 @@ void def_result_fields(ResultClass& c) {
           "mesh",
           [](py::object s) -> py::object {
             auto d = s.cast<std::shared_ptr<SolveData>>();
-            if (d->solved3d) return py::cast(PyMesh3D{std::shared_ptr<const Mesh3D>(d, &d->solved3d->built->mesh)});
-            return py::cast(PyMesh{std::shared_ptr<const Mesh>(d, &d->solved.built->mesh)});
+            if (d->run.solid()) return py::cast(PyMesh3D{std::shared_ptr<const Mesh3D>(d, &d->run.solid()->built->mesh)});
+            return py::cast(PyMesh{std::shared_ptr<const Mesh>(d, &d->plane().built->mesh)});
           },
           "The mesh solved on (shares the result's memory): a Mesh, or a Mesh3D for a three-dimensional scene.")
       .def_property_readonly("scene", [](py::handle s) { return Scene(data(s).scene); },
@@ -558,16 +547,13 @@ void def_result_outputs(ResultClass& c) {
         "result.json as a dict (the same document `hemivem solve` writes).")
       .def("to_json", [](py::handle s) { return json_text(data(s)); }, "result.json's text.")
       .def("brief_report", [](py::handle s) {
-             const SolveData& d = data(s);
-             return d.solved3d ? app::brief_report_3d(*d.solved3d) : app::brief_report(d.solved);
+             return data(s).run.brief();
            },
            "One line: status, certificate, iterations, energy and total time.")
       .def(
           "full_report",
           [](py::handle s) {
-            SolveData& d = data(s);
-            if (d.solved3d) return app::full_report_3d(*d.solved3d, app::run_info_3d(d.scene, *d.solved3d));
-            return app::full_report(d.scene, d.solved, app::run_info(d.scene, d.solved));
+            return data(s).run.report();
           },
           "Every stage of the solve, as `hemivem solve` prints it between its title and the files it wrote.")
       .def(
@@ -577,8 +563,7 @@ void def_result_outputs(ResultClass& c) {
             app::OutputReport report;
             {
               py::gil_scoped_release release;
-              report = d.solved3d ? app::write_results_3d(folder, d.scene, *d.solved3d, files ? &*files : nullptr)
-                                  : app::write_results(folder, d.scene, d.solved, files ? &*files : nullptr);
+              report = d.run.write(folder, files ? &*files : nullptr);
             }
             std::vector<std::filesystem::path> written = report.written;
             return written;
@@ -595,7 +580,7 @@ void def_result_outputs(ResultClass& c) {
         visit(d, [&](const auto& v) {
           const auto& sol = v.solution;
           o << "Result(status=" << py::repr(py::str(to_string(sol.status))).cast<std::string>();
-          if (d.solved3d) o << ", dimension=3";
+          if (d.run.solid()) o << ", dimension=3";
           o << ", linear=" << py::repr(py::str(v.linear)).cast<std::string>()
             << ", minimizer=" << py::repr(py::str(v.minimizer)).cast<std::string>() << ", vertices="
             << v.built->mesh.num_vertices() << ", contact_nodes=" << sol.contact.size() << ", energy=" << std::setprecision(10)
@@ -671,58 +656,33 @@ std::vector<std::string> keyword_overrides(const SolveKeywords& k, const py::kwa
   return overrides;
 }
 
-/// Solves the resolved scene of `d` without the GIL (solve_scene_3d for a three-dimensional
-/// scene), honouring Ctrl-C between stages; keeps the reduced problem when asked and the scene
-/// has contact.
+/// Solves the resolved scene of `d` without the GIL (app::run_scene, as `hemivem solve`),
+/// honouring Ctrl-C between stages; keeps the reduced problem when asked and the scene has
+/// contact.
 void solve_data(SolveData& d, const py::object& progress, bool keep_reduced, const PyMesh* mesh) {
   if (!progress.is_none() && !is_global_search(d.scene.solver.search, "solver.search"))
     throw InputError("only a global search (search='global') reports local runs", "progress");
   SignalWatch watch;
   ReducedProblem reduced;
-  if (d.scene.dimension() == 3) {
-    try {
-      py::gil_scoped_release release;
-      app::SceneSolve3DOptions o;
-      o.on_built = [&](const BuiltProblem3D&, const app::SceneSolve3D&) {
-        if (watch.poll()) throw Interrupted{};
-      };
-      o.callback = [&](const IterationRecord&) { return !watch.poll(); };
-      o.reduced = keep_reduced ? &reduced : nullptr;
-      o.progress = search_progress(watch, progress);
-      d.solved3d = app::solve_scene_3d(d.scene, std::move(o));
-    } catch (const Interrupted&) {
-    }
-    watch.raise_if_interrupted();
-    if (keep_reduced && d.solved3d->built->has_contact && !reduced.laws.empty()) {
-      d.reduced = std::make_shared<ReducedHolder>();
-      d.reduced->own = std::move(reduced);
-      d.reduced->linear = d.solved3d->linear;
-    }
-    return;
-  }
   try {
     py::gil_scoped_release release;
-    auto on_built = [&](const BuiltProblem&, const app::SceneSolve&) {
+    app::RunOptions o;
+    o.on_built = [&](const app::BuiltSummary&) {
       if (watch.poll()) throw Interrupted{};
     };
-    app::SceneSolveOptions o;
-    o.on_built = on_built;
     o.callback = [&](const IterationRecord&) { return !watch.poll(); };
     o.reduced = keep_reduced ? &reduced : nullptr;
+    o.reduced_key = "keep_reduced";
     o.progress = search_progress(watch, progress);
     if (mesh) o.mesh = *mesh->mesh;
-    if (app::scene_is_path(d.scene) && d.scene.adapt)
-      throw InputError("a loading path is solved on one mesh; remove [adapt] (or adapt=True) or [path]", "adapt");
-    if (app::scene_is_path(d.scene)) d.solved = app::solve_scene_path(d.scene, std::move(o));
-    else if (d.scene.adapt) d.solved = std::move(app::solve_adaptively(d.scene, *d.scene.adapt, std::move(o)).last);
-    else d.solved = app::solve_scene(d.scene, std::move(o));
+    d.run = app::run_scene(d.scene, std::move(o));
   } catch (const Interrupted&) {
   }
   watch.raise_if_interrupted();
-  if (keep_reduced && d.solved.built->has_contact && !reduced.laws.empty()) {
+  if (keep_reduced && d.run.has_contact() && !reduced.laws.empty()) {
     d.reduced = std::make_shared<ReducedHolder>();
     d.reduced->own = std::move(reduced);
-    d.reduced->linear = d.solved.linear;
+    d.reduced->linear = d.run.linear();
   }
 }
 
@@ -789,7 +749,7 @@ void register_solve_function(py::module_& m) {
                              "mesh");
         }
         if (adapt && !d->scene.adapt) d->scene.adapt = SceneAdapt{};
-        if ((d->scene.adapt || app::scene_is_path(d->scene)) && keep_reduced) keep_reduced = false;  // no one reduced problem
+        if (app::run_kind(d->scene) != app::RunKind::static_solve) keep_reduced = false;  // no one reduced problem
         refuse_mpi_engine(d->scene.solver.linear, linear ? "linear" : d->scene.where("solver.linear"));
         if (!mesh.is_none() && !py::isinstance<PyMesh>(mesh))
           throw py::type_error("hemivem.solve: mesh must be a hemivem.Mesh, not " +

@@ -1,0 +1,153 @@
+// A scene run, whatever it holds (run.hpp).
+#include <hemivem/app/run.hpp>
+
+#include <hemivem/app/outputs3d.hpp>
+#include <hemivem/app/report.hpp>
+#include <hemivem/error.hpp>
+
+namespace hemivem::app {
+
+std::string to_string(RunKind kind) {
+  switch (kind) {
+    case RunKind::static_solve: return "static";
+    case RunKind::path: return "path";
+    case RunKind::adaptive: return "adaptive";
+  }
+  return "static";
+}
+
+RunKind run_kind(const Scene& scene) {
+  const bool path = scene_is_path(scene);
+  if (path && scene.adapt) throw InputError("a loading path is solved on one mesh; remove [adapt] or [path]", scene.where("path"));
+  return path ? RunKind::path : scene.adapt ? RunKind::adaptive : RunKind::static_solve;
+}
+
+SceneRun::~SceneRun() = default;
+
+const PathSolution* SceneRun::path() const noexcept { return plane_ ? plane_->path.get() : nullptr; }
+
+bool SceneRun::holds_results() const noexcept {
+  return solid_ ? solid_->holds_results : plane_ && plane_->holds_results;
+}
+
+bool SceneRun::has_contact() const noexcept {
+  return solid_ ? solid_->built && solid_->built->has_contact : plane_ && plane_->built && plane_->built->has_contact;
+}
+
+MinimizerStatus SceneRun::status() const noexcept {
+  return solid_ ? solid_->solution.status : plane_ ? plane_->solution.status : MinimizerStatus::failed;
+}
+
+bool SceneRun::converged() const noexcept { return status() == MinimizerStatus::converged; }
+
+const std::string& SceneRun::linear() const noexcept { return solid_ ? solid_->linear : plane_->linear; }
+
+const std::string& SceneRun::minimizer() const noexcept { return solid_ ? solid_->minimizer : plane_->minimizer; }
+
+RunInfo SceneRun::info() const { return solid_ ? run_info_3d(scene_, *solid_) : run_info(scene_, *plane_); }
+
+nlohmann::json SceneRun::result_json(const std::vector<std::string>& files) const {
+  RunInfo i = info();
+  i.files = files;
+  return solid_ ? result_json_3d(solid_->built->mesh, solid_->solution, i)
+                : app::result_json(plane_->built->mesh, plane_->solution, i);
+}
+
+std::vector<std::string> SceneRun::warnings() const { return info().warnings; }
+
+std::vector<std::string> SceneRun::wanted_files() const {
+  return solid_ ? wanted_files_3d(scene_, has_contact()) : app::wanted_files(scene_, has_contact());
+}
+
+OutputReport SceneRun::write(const std::filesystem::path& dir, const std::vector<std::string>* files) const {
+  return solid_ ? write_results_3d(dir, scene_, *solid_, files) : write_results(dir, scene_, *plane_, files);
+}
+
+std::string SceneRun::brief() const { return solid_ ? brief_report_3d(*solid_) : brief_report(*plane_); }
+
+std::string SceneRun::report(const RunInfo& info) const {
+  if (solid_) return full_report_3d(*solid_, info);
+  std::string text = full_report(scene_, *plane_, info);
+  if (adaptive_) text += adapt_report(*adaptive_);
+  if (const PathSolution* p = path()) text += path_report(*p);
+  return text;
+}
+
+namespace {
+
+BuiltSummary summary(const BuiltProblem& built, const SceneSolve& s) {
+  return {2, built.mesh.num_vertices(), built.mesh.num_elements(), s.linear, s.minimizer, s.holds_results};
+}
+
+BuiltSummary summary(const BuiltProblem3D& built, const SceneSolve3D& s) {
+  return {3, built.mesh.num_vertices(), built.mesh.num_cells(), s.linear, s.minimizer, s.holds_results};
+}
+
+/// A solid scene: one static solve.
+SceneSolve3D run_solid(const Scene& scene, RunKind kind, RunOptions& o) {
+  if (kind == RunKind::adaptive)
+    throw InputError("adaptive refinement is not available for three-dimensional scenes (it refines polygonal meshes)",
+                     scene.where("adapt"));
+  if (o.mesh)
+    throw InputError("a three-dimensional scene is solved on the mesh its [mesh] table makes; the mesh given is "
+                     "two-dimensional: set the scene's mesh keys instead",
+                     o.mesh_key);
+  SceneSolve3DOptions s;
+  if (o.on_built)
+    s.on_built = [f = o.on_built](const BuiltProblem3D& built, const SceneSolve3D& solved) { f(summary(built, solved)); };
+  s.callback = std::move(o.callback);
+  s.reduced = o.reduced;
+  s.progress = std::move(o.progress);
+  return solve_scene_3d(scene, std::move(s));
+}
+
+SceneSolveOptions plane_options(RunOptions& o) {
+  SceneSolveOptions s;
+  if (o.on_built)
+    s.on_built = [f = o.on_built](const BuiltProblem& built, const SceneSolve& solved) { f(summary(built, solved)); };
+  s.callback = std::move(o.callback);
+  s.reduced = o.reduced;
+  s.progress = std::move(o.progress);
+  s.mesh = std::move(o.mesh);
+  s.apply_region_boxes = o.apply_region_boxes;
+  s.mesh_description = o.mesh_description;
+  return s;
+}
+
+}  // namespace
+
+SceneRun run_scene(const Scene& scene, RunOptions options) {
+  SceneRun run;
+  run.scene_ = scene;
+  run.kind_ = run_kind(scene);
+  if (options.reduced && run.kind_ != RunKind::static_solve)
+    throw InputError(run.kind_ == RunKind::path
+                         ? "a loading path has a reduced problem per step; export it from a static solve"
+                         : "an adaptive solve has no one reduced problem; export it from a solve of one mesh",
+                     options.reduced_key);
+  if (scene.dimension() == 3) {
+    run.solid_ = std::make_unique<SceneSolve3D>(run_solid(scene, run.kind_, options));
+    return run;
+  }
+  SceneSolveOptions o = plane_options(options);
+  switch (run.kind_) {
+    case RunKind::path: {
+      const int steps = scene.path ? static_cast<int>(scene.path->factors().size()) : 1;
+      std::function<void(const PathStep&)> on_step;
+      if (options.on_path_step) on_step = [f = options.on_path_step, steps](const PathStep& s) { f(s, steps); };
+      run.plane_ = std::make_unique<SceneSolve>(solve_scene_path(scene, std::move(o), std::move(on_step)));
+      break;
+    }
+    case RunKind::adaptive: {
+      run.adaptive_ = std::make_unique<AdaptiveSolve>(solve_adaptively(scene, *scene.adapt, std::move(o), options.on_adapt_step));
+      run.plane_ = std::make_unique<SceneSolve>(std::move(run.adaptive_->last));
+      break;
+    }
+    case RunKind::static_solve:
+      run.plane_ = std::make_unique<SceneSolve>(solve_scene(scene, std::move(o)));
+      break;
+  }
+  return run;
+}
+
+}  // namespace hemivem::app

@@ -1,0 +1,160 @@
+// app::run_scene, the one entry point for a scene: it picks the solve a scene asks for (plane or
+// solid; static, path or adaptive), gives the numbers of that solve called directly, and
+// refuses by key what a kind of run cannot do.
+#include <gtest/gtest.h>
+
+#include <hemivem/app/run.hpp>
+#include <hemivem/error.hpp>
+#include <hemivem/mesh/generators.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "test_support.hpp"
+
+namespace hemivem::app {
+namespace {
+
+Scene small_plane() {
+  Scene s = default_scene();
+  apply_overrides(s, {"mesh.n=8"});
+  return s;
+}
+
+Scene small_solid() {
+  Scene s = parse_scene(test::scenes_dir() / "example-4.1-3d.toml");
+  apply_overrides(s, {"mesh.n=[4, 2, 4]"});
+  return s;
+}
+
+TEST(RunScene, KindIsWhatTheSceneAsksFor) {
+  EXPECT_EQ(run_kind(small_plane()), RunKind::static_solve);
+  Scene path = small_plane();
+  apply_overrides(path, {"path.steps=3"});
+  EXPECT_EQ(run_kind(path), RunKind::path);
+  Scene adaptive = small_plane();
+  adaptive.adapt = SceneAdapt{};
+  EXPECT_EQ(run_kind(adaptive), RunKind::adaptive);
+  path.adapt = SceneAdapt{};
+  EXPECT_THROW(run_kind(path), InputError);
+  EXPECT_EQ(to_string(RunKind::static_solve), "static");
+  EXPECT_EQ(to_string(RunKind::path), "path");
+  EXPECT_EQ(to_string(RunKind::adaptive), "adaptive");
+}
+
+TEST(RunScene, APlaneStaticSolveIsSolveScene) {
+  const Scene scene = small_plane();
+  const SceneRun run = run_scene(scene);
+  const SceneSolve direct = solve_scene(scene);
+  ASSERT_NE(run.plane(), nullptr);
+  EXPECT_EQ(run.solid(), nullptr);
+  EXPECT_EQ(run.dimension(), 2);
+  EXPECT_EQ(run.kind(), RunKind::static_solve);
+  EXPECT_TRUE(run.converged());
+  EXPECT_TRUE(run.has_contact());
+  EXPECT_EQ(run.plane()->solution.energy, direct.solution.energy);
+  EXPECT_EQ(run.plane()->solution.u, direct.solution.u);
+  EXPECT_EQ(run.path(), nullptr);
+  EXPECT_EQ(run.adaptive(), nullptr);
+  EXPECT_EQ(run.result_json()["dimension"], 2);
+}
+
+TEST(RunScene, ASolidSolveIsSolveScene3D) {
+  const Scene scene = small_solid();
+  const SceneRun run = run_scene(scene);
+  const SceneSolve3D direct = solve_scene_3d(scene);
+  ASSERT_NE(run.solid(), nullptr);
+  EXPECT_EQ(run.plane(), nullptr);
+  EXPECT_EQ(run.dimension(), 3);
+  EXPECT_TRUE(run.converged());
+  EXPECT_EQ(run.solid()->solution.energy, direct.solution.energy);
+  EXPECT_EQ(run.solid()->solution.u, direct.solution.u);
+  EXPECT_EQ(run.result_json()["dimension"], 3);
+  EXPECT_EQ(run.brief(), brief_report_3d(*run.solid()).substr(0, run.brief().size()));
+}
+
+TEST(RunScene, APathRunsEveryStepAndEndsWhereTheStaticSolveIs) {
+  Scene scene = small_plane();
+  apply_overrides(scene, {"path.steps=4"});
+  int steps_seen = 0;
+  RunOptions options;
+  options.on_path_step = [&](const PathStep&, int steps) {
+    ++steps_seen;
+    EXPECT_EQ(steps, 4);
+  };
+  const SceneRun run = run_scene(scene, std::move(options));
+  EXPECT_EQ(run.kind(), RunKind::path);
+  ASSERT_NE(run.path(), nullptr);
+  EXPECT_EQ(steps_seen, 4);
+  EXPECT_EQ(run.path()->steps.size(), 4u);
+  EXPECT_TRUE(run.converged());
+  // the last step is the static solve of the whole load (a convex law here: one solution)
+  const SceneRun once = run_scene(small_plane());
+  EXPECT_NEAR(run.plane()->solution.energy, once.plane()->solution.energy,
+              1e-9 * std::abs(once.plane()->solution.energy));
+  EXPECT_NE(run.report().find("path"), std::string::npos);
+}
+
+TEST(RunScene, AnAdaptiveRunKeepsItsSequenceAndEndsOnTheFinalMesh) {
+  Scene scene = small_plane();
+  scene.adapt = SceneAdapt{};
+  scene.adapt->max_steps = 3;
+  int steps_seen = 0;
+  RunOptions options;
+  options.on_adapt_step = [&](const AdaptStep&) { ++steps_seen; };
+  const SceneRun run = run_scene(scene, std::move(options));
+  ASSERT_NE(run.adaptive(), nullptr);
+  EXPECT_EQ(run.kind(), RunKind::adaptive);
+  EXPECT_EQ(static_cast<int>(run.adaptive()->steps.size()), steps_seen);
+  EXPECT_EQ(run.adaptive()->steps.back().vertices, run.plane()->built->mesh.num_vertices());
+  EXPECT_FALSE(run.result_json()["adapt"].is_null());
+  EXPECT_NE(run.report().find("adapt"), std::string::npos);
+}
+
+TEST(RunScene, RefusesByKeyWhatAKindCannotDo) {
+  ReducedProblem reduced;
+  Scene path = small_plane();
+  apply_overrides(path, {"path.steps=2"});
+  RunOptions o;
+  o.reduced = &reduced;
+  o.reduced_key = "--export-reduced";
+  try {
+    run_scene(path, std::move(o));
+    FAIL() << "a path has no one reduced problem";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where(), "--export-reduced");
+  }
+  RunOptions m;
+  m.mesh = make_squares(2, Rectangle{});
+  m.mesh_key = "mesh=";
+  try {
+    run_scene(small_solid(), std::move(m));
+    FAIL() << "a plane mesh for a solid scene";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where(), "mesh=");
+  }
+  Scene solid = small_solid();
+  solid.adapt = SceneAdapt{};
+  EXPECT_THROW(run_scene(solid), InputError);
+}
+
+TEST(RunScene, WritesWhatTheCommandWrites) {
+  const auto dir = std::filesystem::temp_directory_path() / ("hemivem-run-scene-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  const SceneRun run = run_scene(small_solid());
+  const OutputReport report = run.write(dir);
+  EXPECT_FALSE(report.written.empty());
+  std::ifstream in(dir / "result.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["dimension"], 3);
+  EXPECT_EQ(j["potential_energy"].get<double>(), run.solid()->solution.energy);
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace hemivem::app
