@@ -345,15 +345,22 @@ def body_lines(open_line, close_line):
 # The tree
 
 
-def source_files(root):
-    """Every .cpp and .hpp under root, relative, sorted; build*/ and hidden folders left out."""
-    result = []
+def walk_tree(root, skip=()):
+    """os.walk of the repository without hidden folders, build*/, out/ and the top folders `skip`."""
     for folder, dirs, files in os.walk(root):
         rel = os.path.relpath(folder, root)
         dirs[:] = sorted(
             d for d in dirs
-            if not d.startswith(".") and not (rel == "." and (d.startswith("build") or d in OUTPUT_DIRS))
+            if not d.startswith(".")
+            and not (rel == "." and (d.startswith("build") or d in OUTPUT_DIRS or d in skip))
         )
+        yield folder, rel, files
+
+
+def source_files(root):
+    """Every .cpp and .hpp of the repository, relative, sorted."""
+    result = []
+    for _, rel, files in walk_tree(root):
         for f in files:
             if f.endswith(SOURCE_EXTENSIONS):
                 result.append(os.path.normpath(os.path.join(rel, f)))
@@ -477,13 +484,13 @@ def check_twins(root, files, report):
                 report.violation(f"{key[1]}:{line_b}", "twin-overlap",
                                  f"{length} lines the same as {key[0]}:{line_a}")
             report.violation(key[1], "twin-overlap",
-                             f"shares {len(runs)} runs of >= {MIN_TWIN_RUN} lines with {key[0]} (baseline {baseline}): "
+                             f"shares {len(runs)} run(s) of >= {MIN_TWIN_RUN} lines with {key[0]} (baseline {baseline}): "
                              "share the code instead of copying it")
         elif baseline:
             report.info(f"{key[1]}: twin-overlap: known: {len(runs)} shared runs with {key[0]} (baseline {baseline})")
             if len(runs) < baseline:
                 report.warning(key[1], "twin-overlap",
-                               f"shares {len(runs)} runs with {key[0]}: lower its baseline from {baseline} to {len(runs)}")
+                               f"shares {len(runs)} run(s) with {key[0]}: lower its baseline from {baseline} to {len(runs)}")
         else:
             report.info(f"{key[1]}: twin-overlap: no shared runs with {key[0]}")
     for key, baseline in sorted(TWIN_BASELINE.items()):
@@ -508,17 +515,7 @@ def doc_files(root):
 
 def include_dirs(root):
     """The folders that hold hemivem/... headers."""
-    result = []
-    for folder, dirs, files in os.walk(root):
-        rel = os.path.relpath(folder, root)
-        dirs[:] = [
-            d for d in dirs
-            if not d.startswith(".") and not (rel == "." and (d.startswith("build") or d in OUTPUT_DIRS))
-            and d not in ("tests", "fuzz")
-        ]
-        if os.path.basename(folder) == "include":
-            result.append(folder)
-    return sorted(result)
+    return sorted(folder for folder, _, _ in walk_tree(root, SKIPPED_DIRS) if os.path.basename(folder) == "include")
 
 
 def expand_braces(text):
