@@ -690,9 +690,8 @@ void print_bench(std::ostream& out, const Scene& base, const BenchOptions& o, bo
   if (!plot_failure.empty()) out << "  skipped   bench.png: " << plot_failure << "\n";
 }
 
-}  // namespace
-
-int run_bench(const BenchOptions& given, std::ostream& out, std::ostream& err) {
+// The flags that need no scene: the sizes, --ref, --levels, --reference-energy.
+void check_bench_flags(const BenchOptions& given) {
   for (int n : given.n)
     if (n < 1) throw InputError("mesh sizes must be >= 1, got " + std::to_string(n), "--n");
   if (given.ref && *given.ref < 1) throw InputError("must be >= 1", "--ref");
@@ -701,9 +700,12 @@ int run_bench(const BenchOptions& given, std::ostream& out, std::ostream& err) {
                      "--levels");
   if (given.reference_energy && !std::isfinite(*given.reference_energy))
     throw InputError("must be a finite number", "--reference-energy");
-  const Scene base = load_pairs_scene(given.scene, std::nullopt, given.tolerance, given.set);
+}
+
+// The options with the defaults of the scene's dimension where a flag was not given; a scene
+// whose mesh is read from a file is refused (it has no size to set).
+BenchOptions bench_options_for(const BenchOptions& given, const Scene& base) {
   const bool solid = base.dimension() == 3;
-  // the defaults of the scene's dimension where a flag was not given
   BenchOptions o = given;
   if (o.n.empty()) o.n = bench_default_sizes(base.dimension());
   if (!o.ref) o.ref = bench_default_ref(base.dimension());
@@ -715,11 +717,14 @@ int run_bench(const BenchOptions& given, std::ostream& out, std::ostream& err) {
                          "is made by a generator (mesh.generator" +
                          (solid ? ", e.g. cubes" : ", e.g. squares") + "), or time the file's mesh with hemivem check",
                      "--n");
-  std::vector<Scene> scenes;
-  for (int n : o.n) scenes.push_back(at_size(base, n));
-  const bool gridded = base.mesh.file.empty() && base.mesh.generator == gridded_generator(base);
-  // In 3D the error is the largest difference of two trilinear fields only when every mesh's
-  // vertices are vertices of the reference mesh.
+  return o;
+}
+
+// Every size fits in memory before any work, the reference included; in 3D every mesh is nested
+// in the reference mesh (the error is the largest difference of two trilinear fields only when
+// every mesh's vertices are vertices of the reference mesh).
+void check_bench_sizes(const Scene& base, const std::vector<Scene>& scenes, const BenchOptions& o, bool gridded) {
+  const bool solid = base.dimension() == 3;
   if (gridded && solid)
     for (int n : o.n)
       if (*o.ref % n != 0)
@@ -727,7 +732,6 @@ int run_bench(const BenchOptions& given, std::ostream& out, std::ostream& err) {
                          "which must be nested in every mesh: --ref " + std::to_string(*o.ref) +
                              " is not a multiple of --n " + std::to_string(n),
                          "--ref");
-  // Every size must fit in memory before any work, the reference and the refinement levels included.
   auto require = [&](const Scene& s, const std::string& where) {
     if (!s.mesh.file.empty()) return;
     if (solid) {
@@ -742,20 +746,16 @@ int run_bench(const BenchOptions& given, std::ostream& out, std::ostream& err) {
   };
   for (const Scene& s : scenes) require(s, "--n");
   if (gridded) require(at_size(base, *o.ref), "--ref");
-  const std::vector<Scene> levels = solid ? refinement_levels_3d(base, *o.levels) : std::vector<Scene>{};
-  const std::vector<Pair> pairs = available_pairs();
-  check_output_folder(o.out);
+}
 
-  const Reference ref = run_reference(base, o, gridded, err);
-  bool all_converged = !gridded || ref.run.converged;
-  const std::vector<BenchRow> rows = run_sizes(scenes, pairs, o, gridded ? &ref : nullptr, all_converged, err);
-  const Refinement refinement = solid ? run_refinement_3d(levels, o, err) : run_refinement(base, o, err);
-  all_converged &= refinement.all_converged;
-
-  nlohmann::json j = bench_json(base, o, gridded, ref, rows);
-  j["refinement"] = refinement_json(refinement, o);
+// bench.csv, bench.json, bench.png and bench-error.png, the folder changed at once; `j` gets
+// the names of the plots or why they were skipped. Returns why each plot was skipped (empty
+// when written).
+std::pair<std::string, std::string> write_bench_outputs(const Scene& base, const BenchOptions& o,
+                                                        const std::vector<Pair>& pairs,
+                                                        const std::vector<BenchRow>& rows,
+                                                        const Refinement& refinement, nlohmann::json& j) {
   std::string plot_failure, refinement_plot_failure;
-  // the folder changes at once
   OutputTransaction tx(o.out, {"bench.csv", "bench.json", "bench.png", "bench-error.png"});
   tx.stage([&](const fs::path& staging) {
     write_bench_csv(staging / "bench.csv", rows);
@@ -768,6 +768,33 @@ int run_bench(const BenchOptions& given, std::ostream& out, std::ostream& err) {
     write_atomically(staging / "bench.json", [&](std::ostream& os) { os << j.dump(2) << "\n"; });
   });
   (void)tx.commit();
+  return {plot_failure, refinement_plot_failure};
+}
+
+}  // namespace
+
+int run_bench(const BenchOptions& given, std::ostream& out, std::ostream& err) {
+  check_bench_flags(given);
+  const Scene base = load_pairs_scene(given.scene, std::nullopt, given.tolerance, given.set);
+  const bool solid = base.dimension() == 3;
+  const BenchOptions o = bench_options_for(given, base);
+  std::vector<Scene> scenes;
+  for (int n : o.n) scenes.push_back(at_size(base, n));
+  const bool gridded = base.mesh.file.empty() && base.mesh.generator == gridded_generator(base);
+  check_bench_sizes(base, scenes, o, gridded);
+  const std::vector<Scene> levels = solid ? refinement_levels_3d(base, *o.levels) : std::vector<Scene>{};
+  const std::vector<Pair> pairs = available_pairs();
+  check_output_folder(o.out);
+
+  const Reference ref = run_reference(base, o, gridded, err);
+  bool all_converged = !gridded || ref.run.converged;
+  const std::vector<BenchRow> rows = run_sizes(scenes, pairs, o, gridded ? &ref : nullptr, all_converged, err);
+  const Refinement refinement = solid ? run_refinement_3d(levels, o, err) : run_refinement(base, o, err);
+  all_converged &= refinement.all_converged;
+
+  nlohmann::json j = bench_json(base, o, gridded, ref, rows);
+  j["refinement"] = refinement_json(refinement, o);
+  const auto [plot_failure, refinement_plot_failure] = write_bench_outputs(base, o, pairs, rows, refinement, j);
 
   if (o.json)
     out << j.dump(2) << "\n";

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs the whole test suite on the build in ./build (scripts/build.sh): builds what
 # scripts/build.sh left out (the test programs, the benchmarks, the fuzzers when configured);
-# runs every registered test; then the Python module's tests (tests/python, pytest, with the
+# checks the house rules (scripts/check-house.py); runs every registered test; then the Python module's tests (tests/python, pytest, with the
 # interpreter the module was built for); then the installed package against a fresh prefix
 # (scripts/test-install.sh); then the input-facing tests under AddressSanitizer and
 # UndefinedBehaviorSanitizer (scripts/test-sanitizers.sh, its own build in ./build-asan); then
@@ -10,6 +10,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cmake --build build --parallel "$(nproc)"
+/usr/bin/python3 scripts/check-house.py
 ctest --test-dir build --output-on-failure -j2
 python="$(sed -n 's/^Python3_EXECUTABLE:[A-Z]*=//p' build/CMakeCache.txt)"
 if compgen -G "build/python/hemivem/_hemivem*.so" >/dev/null && [ -n "$python" ]; then

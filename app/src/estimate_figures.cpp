@@ -9,6 +9,7 @@
 #include <iomanip>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include <hemivem/app/text_writer.hpp>
@@ -218,40 +219,84 @@ Figure mesh_figure(const Mesh& mesh, const RunInfo& info, const std::string& wha
   return f;
 }
 
-Figure convergence_figure(const std::vector<ConvergenceSeries>& series, const std::string& title,
-                          const std::string& png) {
-  // The points drawn: error finite and > 0 and unknowns finite and > 0; a run time that is
-  // not finite and > 0 is left out of the second panel alone.
-  struct Point {
-    double n, seconds, error;
-  };
-  std::vector<std::vector<Point>> points(series.size());
+namespace {
+
+// A point of the convergence figure: unknowns, run time (-1: not known), error.
+struct ConvergencePoint {
+  double n, seconds, error;
+};
+
+// The points drawn, per series, and their ranges.
+struct ConvergencePoints {
+  std::vector<std::vector<ConvergencePoint>> series;
   double n_lo = 0.0, n_hi = 0.0, e_lo = 0.0, e_hi = 0.0, t_lo = 0.0, t_hi = 0.0;
   bool any = false, any_time = false;
-  const Point* first = nullptr;  // the point of fewest unknowns (largest error among them)
+  std::optional<ConvergencePoint> first;  // the point of fewest unknowns (largest error among them)
+};
+
+// The points drawn: error finite and > 0 and unknowns finite and > 0; a run time that is not
+// finite and > 0 is left out of the second panel alone.
+ConvergencePoints convergence_points(const std::vector<ConvergenceSeries>& series) {
+  ConvergencePoints p;
+  p.series.resize(series.size());
   for (std::size_t k = 0; k < series.size(); ++k) {
     const ConvergenceSeries& c = series[k];
     for (std::size_t i = 0; i < c.unknowns.size() && i < c.error.size(); ++i) {
       const double n = c.unknowns[i], e = c.error[i];
       if (!(std::isfinite(n) && n > 0.0 && std::isfinite(e) && e > 0.0)) continue;
       const double t = i < c.seconds.size() && std::isfinite(c.seconds[i]) && c.seconds[i] > 0.0 ? c.seconds[i] : -1.0;
-      points[k].push_back({n, t, e});
-      n_lo = any ? std::min(n_lo, n) : n, n_hi = any ? std::max(n_hi, n) : n;
-      e_lo = any ? std::min(e_lo, e) : e, e_hi = any ? std::max(e_hi, e) : e;
-      any = true;
+      p.series[k].push_back({n, t, e});
+      p.n_lo = p.any ? std::min(p.n_lo, n) : n, p.n_hi = p.any ? std::max(p.n_hi, n) : n;
+      p.e_lo = p.any ? std::min(p.e_lo, e) : e, p.e_hi = p.any ? std::max(p.e_hi, e) : e;
+      p.any = true;
       if (t > 0.0) {
-        t_lo = any_time ? std::min(t_lo, t) : t, t_hi = any_time ? std::max(t_hi, t) : t;
-        any_time = true;
+        p.t_lo = p.any_time ? std::min(p.t_lo, t) : t, p.t_hi = p.any_time ? std::max(p.t_hi, t) : t;
+        p.any_time = true;
       }
     }
   }
-  for (const auto& p : points)
-    for (const Point& q : p)
-      if (!first || q.n < first->n || (q.n == first->n && q.error > first->error)) first = &q;
-  // the reference N^-1/2 through half the error of that point, over the unknowns' range
-  const bool reference = any && n_hi > n_lo;
-  const double ref_c = reference ? 0.5 * first->error * std::sqrt(first->n) : 0.0;
-  double r_lo = e_lo, r_hi = e_hi;
+  for (const auto& s : p.series)
+    for (const ConvergencePoint& q : s)
+      if (!p.first || q.n < p.first->n || (q.n == p.first->n && q.error > p.first->error)) p.first = q;
+  return p;
+}
+
+// The gnuplot curves of the series, one per series with points; `x` is the column drawn on the
+// x axis; `timed`: against the run time (a series without one is only named in the key).
+std::string convergence_curves(const ConvergencePoints& p, const std::vector<ConvergenceSeries>& series,
+                               const std::string& x, bool timed) {
+  static constexpr std::array<int, 5> kPointTypes{7, 5, 9, 13, 11};
+  std::size_t drawn = 0;
+  for (const auto& s : p.series) drawn += !s.empty();
+  std::ostringstream c;
+  std::size_t order = 0;
+  for (std::size_t k = 0; k < p.series.size(); ++k) {
+    if (p.series[k].empty()) continue;
+    const double t = drawn > 1 ? 0.85 * static_cast<double>(order) / static_cast<double>(drawn - 1) : 0.0;
+    const bool any_timed = std::any_of(p.series[k].begin(), p.series[k].end(),
+                                       [](const ConvergencePoint& q) { return q.seconds > 0.0; });
+    if (timed && !any_timed) {  // nothing to draw: the key still names the series
+      c << (c.tellp() > 0 ? ", " : "") << "NaN with linespoints";
+    } else {
+      c << (c.tellp() > 0 ? ", " : "") << "$adapt_s" << k << " using " << x << ":3 with linespoints";
+    }
+    c << " pt " << kPointTypes[order % kPointTypes.size()] << " ps 1 lw 2 dt " << (series[k].dashed ? 2 : 1)
+      << " lc rgb '" << viridis(t) << "' title " << gnuplot_quote(one_line(series[k].name)) << " noenhanced";
+    ++order;
+  }
+  return c.str();
+}
+
+}  // namespace
+
+Figure convergence_figure(const std::vector<ConvergenceSeries>& series, const std::string& title,
+                          const std::string& png) {
+  const ConvergencePoints points = convergence_points(series);
+  const double n_lo = points.n_lo, n_hi = points.n_hi;
+  // the reference N^-1/2 through half the error of the first point, over the unknowns' range
+  const bool reference = points.any && n_hi > n_lo;
+  const double ref_c = reference ? 0.5 * points.first->error * std::sqrt(points.first->n) : 0.0;
+  double r_lo = points.e_lo, r_hi = points.e_hi;
   if (reference) r_lo = std::min(r_lo, ref_c / std::sqrt(n_hi)), r_hi = std::max(r_hi, ref_c / std::sqrt(n_lo));
 
   Figure f;
@@ -263,39 +308,16 @@ Figure convergence_figure(const std::vector<ConvergenceSeries>& series, const st
     << "\" noenhanced\n"
     << "set logscale xy\nset grid\nset key top right\nset ylabel 'relative error'\n";
   // the series as data blocks: unknowns, run time (-1: not known), error
-  for (std::size_t k = 0; k < points.size(); ++k) {
-    if (points[k].empty()) continue;
+  for (std::size_t k = 0; k < points.series.size(); ++k) {
+    if (points.series[k].empty()) continue;
     s << "$adapt_s" << k << " << EOD\n";
-    for (const Point& p : points[k]) s << num(p.n) << ' ' << num(p.seconds) << ' ' << num(p.error) << '\n';
+    for (const ConvergencePoint& p : points.series[k]) s << num(p.n) << ' ' << num(p.seconds) << ' ' << num(p.error) << '\n';
     s << "EOD\n";
   }
   if (reference)
     s << "$adapt_ref << EOD\n"
       << num(n_lo) << ' ' << num(ref_c / std::sqrt(n_lo)) << '\n'
       << num(n_hi) << ' ' << num(ref_c / std::sqrt(n_hi)) << "\nEOD\n";
-  // one curve per series; `x` is the column drawn on the x axis
-  static constexpr std::array<int, 5> kPointTypes{7, 5, 9, 13, 11};
-  std::size_t drawn = 0;
-  for (const auto& p : points) drawn += !p.empty();
-  auto curves = [&](const std::string& x, bool timed) {
-    std::ostringstream c;
-    std::size_t order = 0;
-    for (std::size_t k = 0; k < points.size(); ++k) {
-      if (points[k].empty()) continue;
-      const double t = drawn > 1 ? 0.85 * static_cast<double>(order) / static_cast<double>(drawn - 1) : 0.0;
-      const bool any_timed =
-          std::any_of(points[k].begin(), points[k].end(), [](const Point& q) { return q.seconds > 0.0; });
-      if (timed && !any_timed) {  // nothing to draw: the key still names the series
-        c << (c.tellp() > 0 ? ", " : "") << "NaN with linespoints";
-      } else {
-        c << (c.tellp() > 0 ? ", " : "") << "$adapt_s" << k << " using " << x << ":3 with linespoints";
-      }
-      c << " pt " << kPointTypes[order % kPointTypes.size()] << " ps 1 lw 2 dt " << (series[k].dashed ? 2 : 1)
-        << " lc rgb '" << viridis(t) << "' title " << gnuplot_quote(one_line(series[k].name)) << " noenhanced";
-      ++order;
-    }
-    return c.str();
-  };
   auto ranges = [&](double x_lo, double x_hi, double y_lo, double y_hi) {
     const auto [x0, x1] = log_range(x_lo, x_hi);
     const auto [y0, y1] = log_range(y_lo, y_hi);
@@ -308,21 +330,21 @@ Figure convergence_figure(const std::vector<ConvergenceSeries>& series, const st
   };
   // first panel: against unknowns, with the reference slope
   s << "set title 'relative error against unknowns'\nset xlabel 'free degrees of freedom N'\n";
-  if (!any) {
+  if (!points.any) {
     empty_panel("no error to draw");
   } else {
     ranges(n_lo, n_hi, r_lo, r_hi);
-    s << "plot " << curves("1", false);
+    s << "plot " << convergence_curves(points, series, "1", false);
     if (reference) s << ", $adapt_ref using 1:2 with lines dt 3 lw 1.5 lc rgb '#555555' title 'N^-1/2' noenhanced";
     s << "\n";
   }
   // second panel: against the run time
   s << "set title 'relative error against run time'\nset xlabel 'run time (s)'\n";
-  if (!any_time) {
-    empty_panel(any ? "no run time to draw" : "no error to draw");
+  if (!points.any_time) {
+    empty_panel(points.any ? "no run time to draw" : "no error to draw");
   } else {
-    ranges(t_lo, t_hi, e_lo, e_hi);
-    s << "plot " << curves("($2 > 0 ? $2 : NaN)", true) << "\n";
+    ranges(points.t_lo, points.t_hi, points.e_lo, points.e_hi);
+    s << "plot " << convergence_curves(points, series, "($2 > 0 ? $2 : NaN)", true) << "\n";
   }
   s << "unset multiplot";
   f.script = s.str();

@@ -310,42 +310,36 @@ std::uint64_t edge_key(int a, int b) {
   return (lo << 32) | hi;
 }
 
-}  // namespace
+// The vertices of a refinement: the old ones, then per split element its side midpoints not made
+// before and its interior point; with the prolongation's rows (each new vertex's weights on the
+// old ones).
+struct NewVertices {
+  std::vector<Vec2> vertices;
+  std::vector<Eigen::Triplet<double>> rows;
+  std::vector<std::vector<std::pair<double, int>>> cut;  // per old edge: (t from v0, vertex), sorted by t
+  std::vector<std::vector<int>> midpoints;               // per split element: each side's midpoint
+  std::vector<int> centre;                               // per split element: its interior point
+};
 
-std::vector<int> element_corners(const Mesh& mesh, int e) {
-  if (e < 0 || e >= mesh.num_elements())
-    throw InputError("element id " + std::to_string(e) + " is out of range [0, " + std::to_string(mesh.num_elements()) + ")");
-  return corners_of(local_frame(mesh, e));
-}
-
-RefinedMesh refine_mesh(const Mesh& mesh, std::span<const int> marked) {
+NewVertices new_vertices(const Mesh& mesh, const std::vector<ElementPlan>& plans, const std::vector<char>& is_marked,
+                         const std::vector<char>& asked) {
   const int ne = mesh.num_elements();
   const int nv = mesh.num_vertices();
-  for (int e : marked)
-    if (e < 0 || e >= ne)
-      throw InputError("marked element id " + std::to_string(e) + " is out of range [0, " + std::to_string(ne) + ")");
-
-  // The sides of every element and where their midpoints go; the closure of the marked set.
-  std::vector<ElementPlan> plans;
-  plans.reserve(static_cast<std::size_t>(ne));
-  for (int e = 0; e < ne; ++e) plans.push_back(plan_element(mesh, e));
-  const std::vector<char> is_marked = close_marked_set(mesh, plans, marked);
-  std::vector<char> asked(static_cast<std::size_t>(ne), 0);
-  for (int e : marked) asked[static_cast<std::size_t>(e)] = 1;
-
-  // New vertices: per split element, its side midpoints not made before, then its interior point.
-  std::vector<Vec2> vertices = mesh.vertices();
-  std::vector<Eigen::Triplet<double>> rows;
+  NewVertices out;
+  std::vector<Vec2>& vertices = out.vertices;
+  std::vector<Eigen::Triplet<double>>& rows = out.rows;
+  auto& cut = out.cut;
+  vertices = mesh.vertices();
   rows.reserve(static_cast<std::size_t>(nv) + 8 * static_cast<std::size_t>(ne));
   for (int v = 0; v < nv; ++v) rows.emplace_back(v, v, 1.0);
-  std::vector<std::vector<std::pair<double, int>>> cut(static_cast<std::size_t>(mesh.num_edges()));  // (t from v0, vertex)
-  std::vector<std::vector<int>> midpoints(static_cast<std::size_t>(ne));
-  std::vector<int> centre(static_cast<std::size_t>(ne), -1);
+  cut.resize(static_cast<std::size_t>(mesh.num_edges()));
+  out.midpoints.resize(static_cast<std::size_t>(ne));
+  out.centre.assign(static_cast<std::size_t>(ne), -1);
   for (int e = 0; e < ne; ++e) {
     if (!is_marked[static_cast<std::size_t>(e)]) continue;
     const auto el = mesh.element(e);
     const auto edges = mesh.element_edges(e);
-    auto& mids = midpoints[static_cast<std::size_t>(e)];
+    auto& mids = out.midpoints[static_cast<std::size_t>(e)];
     for (const SidePlan& s : plans[static_cast<std::size_t>(e)].sides) {
       if (s.reuse >= 0) {
         mids.push_back(el[static_cast<std::size_t>(s.reuse)]);
@@ -376,15 +370,56 @@ RefinedMesh refine_mesh(const Mesh& mesh, std::span<const int> marked) {
     vertices.push_back(f.to_global(c));
     const std::vector<double> weights = mean_value_coordinates(f.q, c);
     for (std::size_t i = 0; i < el.size(); ++i) rows.emplace_back(id, el[i], weights[i]);
-    centre[static_cast<std::size_t>(e)] = id;
+    out.centre[static_cast<std::size_t>(e)] = id;
   }
   for (auto& on_edge : cut) std::sort(on_edge.begin(), on_edge.end());
+  return out;
+}
 
-  // Elements: each parent's polygon with the cut points of its edges spliced in; a split one
-  // cut into one quadrilateral per corner.
+// The elements of a refinement, with their regions and parents.
+struct ChildElements {
   std::vector<std::vector<int>> elements;
   std::vector<int> regions, parent_element;
-  elements.reserve(static_cast<std::size_t>(ne));
+};
+
+// A split element's children, one quadrilateral per corner: its polygon (with the cut points of
+// its edges spliced in) from the corner to the next side's midpoint, the centre, and back from
+// the previous side's midpoint. `local_position`: where each of its vertices is in `polygon`.
+void split_element(const Mesh& mesh, int e, const ElementPlan& plan, const NewVertices& made,
+                   const std::vector<int>& polygon, const std::vector<int>& local_position, ChildElements& out) {
+  const auto& sides = plan.sides;
+  const auto& mids = made.midpoints[static_cast<std::size_t>(e)];
+  const int m = static_cast<int>(polygon.size());
+  const std::size_t k = sides.size();
+  std::vector<int> corner_at(k), mid_at(k);
+  for (std::size_t s = 0; s < k; ++s) {
+    corner_at[s] = local_position[static_cast<std::size_t>(sides[s].corner)];
+    int i = corner_at[s], steps = 0;
+    while (polygon[static_cast<std::size_t>(i)] != mids[s] && ++steps < m) i = (i + 1) % m;
+    if (steps == m) throw InternalError("refine_mesh: the midpoint of a side of element " + std::to_string(e) + " is not on it");
+    mid_at[s] = i;
+  }
+  for (std::size_t s = 0; s < k; ++s) {
+    std::vector<int> child;
+    for (int i = corner_at[s];; i = (i + 1) % m) {
+      child.push_back(polygon[static_cast<std::size_t>(i)]);
+      if (i == mid_at[s]) break;
+    }
+    child.push_back(made.centre[static_cast<std::size_t>(e)]);
+    for (int i = mid_at[(s + k - 1) % k]; i != corner_at[s]; i = (i + 1) % m) child.push_back(polygon[static_cast<std::size_t>(i)]);
+    out.elements.push_back(std::move(child));
+    out.regions.push_back(mesh.region(e));
+    out.parent_element.push_back(e);
+  }
+}
+
+// Elements: each parent's polygon with the cut points of its edges spliced in; a split one cut
+// into one quadrilateral per corner.
+ChildElements child_elements(const Mesh& mesh, const std::vector<ElementPlan>& plans, const std::vector<char>& is_marked,
+                             const NewVertices& made) {
+  const int ne = mesh.num_elements();
+  ChildElements out;
+  out.elements.reserve(static_cast<std::size_t>(ne));
   std::vector<int> polygon, local_position;
   for (int e = 0; e < ne; ++e) {
     const auto el = mesh.element(e);
@@ -394,7 +429,7 @@ RefinedMesh refine_mesh(const Mesh& mesh, std::span<const int> marked) {
     for (std::size_t j = 0; j < el.size(); ++j) {
       local_position[j] = static_cast<int>(polygon.size());
       polygon.push_back(el[j]);
-      const auto& on_edge = cut[static_cast<std::size_t>(edges[j])];
+      const auto& on_edge = made.cut[static_cast<std::size_t>(edges[j])];
       if (mesh.edge(edges[j]).v0 == el[j]) {
         for (const auto& p : on_edge) polygon.push_back(p.second);
       } else {
@@ -402,48 +437,19 @@ RefinedMesh refine_mesh(const Mesh& mesh, std::span<const int> marked) {
       }
     }
     if (!is_marked[static_cast<std::size_t>(e)]) {
-      elements.push_back(polygon);
-      regions.push_back(mesh.region(e));
-      parent_element.push_back(e);
+      out.elements.push_back(polygon);
+      out.regions.push_back(mesh.region(e));
+      out.parent_element.push_back(e);
       continue;
     }
-    const auto& sides = plans[static_cast<std::size_t>(e)].sides;
-    const auto& mids = midpoints[static_cast<std::size_t>(e)];
-    const int m = static_cast<int>(polygon.size());
-    const std::size_t k = sides.size();
-    std::vector<int> corner_at(k), mid_at(k);
-    for (std::size_t s = 0; s < k; ++s) {
-      corner_at[s] = local_position[static_cast<std::size_t>(sides[s].corner)];
-      int i = corner_at[s], steps = 0;
-      while (polygon[static_cast<std::size_t>(i)] != mids[s] && ++steps < m) i = (i + 1) % m;
-      if (steps == m) throw InternalError("refine_mesh: the midpoint of a side of element " + std::to_string(e) + " is not on it");
-      mid_at[s] = i;
-    }
-    for (std::size_t s = 0; s < k; ++s) {
-      std::vector<int> child;
-      for (int i = corner_at[s];; i = (i + 1) % m) {
-        child.push_back(polygon[static_cast<std::size_t>(i)]);
-        if (i == mid_at[s]) break;
-      }
-      child.push_back(centre[static_cast<std::size_t>(e)]);
-      for (int i = mid_at[(s + k - 1) % k]; i != corner_at[s]; i = (i + 1) % m) child.push_back(polygon[static_cast<std::size_t>(i)]);
-      elements.push_back(std::move(child));
-      regions.push_back(mesh.region(e));
-      parent_element.push_back(e);
-    }
+    split_element(mesh, e, plans[static_cast<std::size_t>(e)], made, polygon, local_position, out);
   }
+  return out;
+}
 
-  RefinedMesh out;
-  try {
-    out.mesh = Mesh(std::move(vertices), std::move(elements), std::move(regions));
-  } catch (const MeshError& error) {
-    const int parent = error.element() >= 0 ? parent_element[static_cast<std::size_t>(error.element())] : -1;
-    throw MeshError((parent >= 0 ? "refining element " + std::to_string(parent) : std::string("refining the mesh")) +
-                        " gives an invalid mesh: " + error.what(),
-                    parent);
-  }
-
-  // Each parent edge and its pieces, in order from v0.
+// Each parent edge and its pieces, in order from v0: out.parent_edge, and the edge groups of
+// `mesh` on out.mesh.
+void set_edge_pieces(const Mesh& mesh, const std::vector<std::vector<std::pair<double, int>>>& cut, RefinedMesh& out) {
   std::unordered_map<std::uint64_t, int> edge_id;
   edge_id.reserve(static_cast<std::size_t>(out.mesh.num_edges()));
   for (int i = 0; i < out.mesh.num_edges(); ++i) edge_id.emplace(edge_key(out.mesh.edge(i).v0, out.mesh.edge(i).v1), i);
@@ -468,10 +474,49 @@ RefinedMesh refine_mesh(const Mesh& mesh, std::span<const int> marked) {
                       pieces.begin() + piece_offsets[static_cast<std::size_t>(g) + 1]);
     out.mesh.set_edge_group(name, std::move(children));
   }
+}
 
-  out.parent_element = std::move(parent_element);
+}  // namespace
+
+std::vector<int> element_corners(const Mesh& mesh, int e) {
+  if (e < 0 || e >= mesh.num_elements())
+    throw InputError("element id " + std::to_string(e) + " is out of range [0, " + std::to_string(mesh.num_elements()) + ")");
+  return corners_of(local_frame(mesh, e));
+}
+
+RefinedMesh refine_mesh(const Mesh& mesh, std::span<const int> marked) {
+  const int ne = mesh.num_elements();
+  const int nv = mesh.num_vertices();
+  for (int e : marked)
+    if (e < 0 || e >= ne)
+      throw InputError("marked element id " + std::to_string(e) + " is out of range [0, " + std::to_string(ne) + ")");
+
+  // The sides of every element and where their midpoints go; the closure of the marked set.
+  std::vector<ElementPlan> plans;
+  plans.reserve(static_cast<std::size_t>(ne));
+  for (int e = 0; e < ne; ++e) plans.push_back(plan_element(mesh, e));
+  const std::vector<char> is_marked = close_marked_set(mesh, plans, marked);
+  std::vector<char> asked(static_cast<std::size_t>(ne), 0);
+  for (int e : marked) asked[static_cast<std::size_t>(e)] = 1;
+
+  NewVertices made = new_vertices(mesh, plans, is_marked, asked);
+  ChildElements children = child_elements(mesh, plans, is_marked, made);
+
+  RefinedMesh out;
+  try {
+    out.mesh = Mesh(std::move(made.vertices), std::move(children.elements), std::move(children.regions));
+  } catch (const MeshError& error) {
+    const int parent = error.element() >= 0 ? children.parent_element[static_cast<std::size_t>(error.element())] : -1;
+    throw MeshError((parent >= 0 ? "refining element " + std::to_string(parent) : std::string("refining the mesh")) +
+                        " gives an invalid mesh: " + error.what(),
+                    parent);
+  }
+
+  set_edge_pieces(mesh, made.cut, out);
+
+  out.parent_element = std::move(children.parent_element);
   out.prolongation.resize(out.mesh.num_vertices(), nv);
-  out.prolongation.setFromTriplets(rows.begin(), rows.end());
+  out.prolongation.setFromTriplets(made.rows.begin(), made.rows.end());
   for (int e = 0; e < ne; ++e)
     if (is_marked[static_cast<std::size_t>(e)]) out.refined.push_back(e);
   return out;

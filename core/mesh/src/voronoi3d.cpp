@@ -418,6 +418,46 @@ int shared_generator(const Key& u, const Key& w, int a, int f) {
   return count == 1 ? found : std::numeric_limits<int>::min();
 }
 
+/// The cap of cell a on the bisector with seed e: its directed edges chained into one loop,
+/// added to `faces` when it has three vertices or more.
+void add_cap(const std::vector<std::pair<int, int>>& cap, int a, int e, std::vector<Face>& faces) {
+  Face g{e, {}};
+  const int start = cap.front().first;
+  int v = start;
+  for (std::size_t k = 0; k < cap.size(); ++k) {
+    g.loop.push_back(v);
+    int next = -1;
+    for (const auto& [p, q] : cap)
+      if (p == v) {
+        if (next >= 0) degenerate(a);
+        next = q;
+      }
+    if (next < 0) degenerate(a);
+    v = next;
+  }
+  if (v != start) degenerate(a);
+  if (g.loop.size() >= 3) faces.push_back(std::move(g));
+}
+
+/// `faces` become the faces of cell `c`, which keeps the vertices they use, in their order.
+void keep_used_vertices(Cell& c, std::vector<Face> faces) {
+  std::vector<int>& number = c.number;
+  number.assign(c.vertices.size(), -1);
+  for (const Face& f : faces)
+    for (int v : f.loop) number[static_cast<std::size_t>(v)] = 0;
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < c.vertices.size(); ++i)
+    if (number[i] == 0) {
+      number[i] = static_cast<int>(kept);
+      if (kept != i) c.vertices[kept] = c.vertices[i];
+      ++kept;
+    }
+  c.vertices.resize(kept);
+  for (Face& f : faces)
+    for (int& v : f.loop) v = number[static_cast<std::size_t>(v)];
+  c.faces = std::move(faces);
+}
+
 /// Clips cell `c` of seed a by the bisector of seeds a and e (keeping the side of a).
 ///
 /// A vertex strictly on the far side goes; the faces with such vertices are cut where their
@@ -500,42 +540,8 @@ void clip(Cell& c, int a, int e, const VertexMaker& maker) {
     for (const auto& [u, w] : edges)
       if (!std::binary_search(edges.begin(), edges.end(), std::make_pair(w, u))) cap.emplace_back(w, u);
   }
-  if (!cap.empty()) {
-    // chain the cap's edges into one loop
-    Face g{e, {}};
-    const int start = cap.front().first;
-    int v = start;
-    for (std::size_t k = 0; k < cap.size(); ++k) {
-      g.loop.push_back(v);
-      int next = -1;
-      for (const auto& [p, q] : cap)
-        if (p == v) {
-          if (next >= 0) degenerate(a);
-          next = q;
-        }
-      if (next < 0) degenerate(a);
-      v = next;
-    }
-    if (v != start) degenerate(a);
-    if (g.loop.size() >= 3) faces.push_back(std::move(g));
-  }
-
-  // Keep the vertices still used, in their order.
-  std::vector<int>& number = c.number;
-  number.assign(c.vertices.size(), -1);
-  for (const Face& f : faces)
-    for (int v : f.loop) number[static_cast<std::size_t>(v)] = 0;
-  std::size_t kept = 0;
-  for (std::size_t i = 0; i < c.vertices.size(); ++i)
-    if (number[i] == 0) {
-      number[i] = static_cast<int>(kept);
-      if (kept != i) c.vertices[kept] = c.vertices[i];
-      ++kept;
-    }
-  c.vertices.resize(kept);
-  for (Face& f : faces)
-    for (int& v : f.loop) v = number[static_cast<std::size_t>(v)];
-  c.faces = std::move(faces);
+  if (!cap.empty()) add_cap(cap, a, e, faces);
+  keep_used_vertices(c, std::move(faces));
 }
 
 /// The cell of seed a: the box clipped by the bisectors with its candidate neighbours
@@ -606,17 +612,19 @@ struct UnionFind {
   }
 };
 
-/// The mesh of the cells: vertices of equal keys are one; vertices closer than tol are
-/// merged (to the position of the first one met) and then snapped onto the sides within tol;
-/// repeated consecutive vertices of a face are dropped and so are faces left with fewer than
-/// three. Vertices are numbered in order of first appearance walking the cells in seed order,
-/// their faces by generator (sides, then neighbours by index), each face from its
-/// lexicographically smallest vertex.
-Mesh3D voronoi_mesh(const std::vector<Cell>& cells, const Box& box, double tol) {
-  // distinct keys, in order of first appearance
-  std::unordered_map<Key, int, KeyHash> id_of;
+/// The cells' vertices of distinct keys, in order of first appearance walking the cells in
+/// seed order, and each cell's faces by generator as (generator, vertex ids).
+struct DistinctVertices {
   std::vector<Vec3> pos;
-  std::vector<std::vector<std::pair<int, std::vector<int>>>> cell_faces(cells.size());  // (generator, key ids)
+  std::vector<std::vector<std::pair<int, std::vector<int>>>> cell_faces;
+};
+
+DistinctVertices distinct_vertices(const std::vector<Cell>& cells) {
+  std::unordered_map<Key, int, KeyHash> id_of;
+  DistinctVertices out;
+  std::vector<Vec3>& pos = out.pos;
+  auto& cell_faces = out.cell_faces;
+  cell_faces.resize(cells.size());
   for (std::size_t c = 0; c < cells.size(); ++c) {
     std::vector<Face> faces = cells[c].faces;
     std::sort(faces.begin(), faces.end(), [](const Face& x, const Face& y) { return x.generator < y.generator; });
@@ -631,10 +639,13 @@ Mesh3D voronoi_mesh(const std::vector<Cell>& cells, const Box& box, double tol) 
       cell_faces[c].emplace_back(f.generator, std::move(ids));
     }
   }
+  return out;
+}
 
-  // merge vertices closer than tol: neighbouring buckets of a grid of spacing tol
+/// Unites in `uf` the vertices closer than tol (neighbouring buckets of a grid of spacing tol);
+/// returns each representative's position snapped onto the sides within tol.
+std::vector<Vec3> merge_close_vertices(const std::vector<Vec3>& pos, const Box& box, double tol, UnionFind& uf) {
   const std::size_t np = pos.size();
-  UnionFind uf(np);
   struct Bucket {
     std::int64_t i, j, k;
     bool operator==(const Bucket&) const = default;
@@ -675,6 +686,46 @@ Mesh3D voronoi_mesh(const std::vector<Cell>& cells, const Box& box, double tol) 
     }
     merged[p] = x;
   }
+  return merged;
+}
+
+/// Throws unless the face between two cells is one loop, reversed. `by_neighbour`: per cell,
+/// its faces by the neighbour across them.
+void check_shared_faces(const std::vector<std::map<int, std::vector<int>>>& by_neighbour) {
+  const std::size_t cells = by_neighbour.size();
+  for (std::size_t c = 0; c < cells; ++c)
+    for (const auto& [d, loop] : by_neighbour[c]) {
+      const auto& other = by_neighbour[static_cast<std::size_t>(d)];
+      const auto it = other.find(static_cast<int>(c));
+      bool same = it != other.end() && it->second.size() == loop.size();
+      if (same) {
+        std::vector<int> rev(loop.rbegin(), loop.rend());
+        const auto at = std::find(rev.begin(), rev.end(), it->second.front());
+        same = at != rev.end();
+        if (same) {
+          std::rotate(rev.begin(), at, rev.end());
+          same = rev == it->second;
+        }
+      }
+      if (!same)
+        throw NumericalError("voronoi mesh: the cells of seeds " + std::to_string(c) + " and " + std::to_string(d) +
+                             " disagree on their common face (a degenerate configuration of seeds)");
+    }
+}
+
+/// The mesh of the cells: vertices of equal keys are one; vertices closer than tol are
+/// merged (to the position of the first one met) and then snapped onto the sides within tol;
+/// repeated consecutive vertices of a face are dropped and so are faces left with fewer than
+/// three. Vertices are numbered in order of first appearance walking the cells in seed order,
+/// their faces by generator (sides, then neighbours by index), each face from its
+/// lexicographically smallest vertex.
+Mesh3D voronoi_mesh(const std::vector<Cell>& cells, const Box& box, double tol) {
+  const DistinctVertices distinct = distinct_vertices(cells);
+  const std::vector<Vec3>& pos = distinct.pos;
+  const auto& cell_faces = distinct.cell_faces;
+  const std::size_t np = pos.size();
+  UnionFind uf(np);
+  const std::vector<Vec3> merged = merge_close_vertices(pos, box, tol, uf);
 
   // faces of merged vertices; number the vertices
   std::vector<int> number(np, -1);
@@ -682,7 +733,7 @@ Mesh3D voronoi_mesh(const std::vector<Cell>& cells, const Box& box, double tol) 
   std::vector<CellFaces> out(cells.size());
   std::vector<std::map<int, std::vector<int>>> by_neighbour(cells.size());
   for (std::size_t c = 0; c < cells.size(); ++c) {
-    for (auto& [generator, ids] : cell_faces[c]) {
+    for (const auto& [generator, ids] : cell_faces[c]) {
       std::vector<int> loop;
       for (int id : ids) {
         const int r = uf.find(id);
@@ -706,25 +757,7 @@ Mesh3D voronoi_mesh(const std::vector<Cell>& cells, const Box& box, double tol) 
       out[c].push_back(std::move(loop));
     }
   }
-  // the face between two cells must be one loop, reversed
-  for (std::size_t c = 0; c < cells.size(); ++c)
-    for (const auto& [d, loop] : by_neighbour[c]) {
-      const auto& other = by_neighbour[static_cast<std::size_t>(d)];
-      const auto it = other.find(static_cast<int>(c));
-      bool same = it != other.end() && it->second.size() == loop.size();
-      if (same) {
-        std::vector<int> rev(loop.rbegin(), loop.rend());
-        const auto at = std::find(rev.begin(), rev.end(), it->second.front());
-        same = at != rev.end();
-        if (same) {
-          std::rotate(rev.begin(), at, rev.end());
-          same = rev == it->second;
-        }
-      }
-      if (!same)
-        throw NumericalError("voronoi mesh: the cells of seeds " + std::to_string(c) + " and " + std::to_string(d) +
-                             " disagree on their common face (a degenerate configuration of seeds)");
-    }
+  check_shared_faces(by_neighbour);
   try {
     return Mesh3D(std::move(vertices), std::move(out));
   } catch (const MeshError& err) {
