@@ -105,9 +105,9 @@ void record_solution(PairRun& r, Solution& s, const PairRuns& out, const Reduced
   if constexpr (std::is_same_v<Solution, ContactSolution>) {
     r.rcond = s.rcond;
     r.condition = s.condition_estimate;
-    if (std::any_of(s.contact.begin(), s.contact.end(), [](const ContactNode& c) { return !c.friction_state.empty(); }))
+    if (std::any_of(s.contact.begin(), s.contact.end(), [](const ContactNode& c) { return c.friction_state != FrictionState::none; }))
       r.stick = static_cast<int>(std::count_if(s.contact.begin(), s.contact.end(),
-                                               [](const ContactNode& c) { return c.friction_state == "stick"; }));
+                                               [](const ContactNode& c) { return c.friction_state == FrictionState::stick; }));
   }
   r.timings = s.timings;
   r.timings["assembly"] = out.assembly_seconds;
@@ -115,7 +115,7 @@ void record_solution(PairRun& r, Solution& s, const PairRuns& out, const Reduced
   r.seconds = out.mesh_seconds + r.timings["total"];
   r.contact_nodes = static_cast<int>(s.contact.size());
   r.at_bound = static_cast<int>(
-      std::count_if(s.contact.begin(), s.contact.end(), [](const auto& c) { return c.state != "free"; }));
+      std::count_if(s.contact.begin(), s.contact.end(), [](const auto& c) { return c.state != ContactState::free; }));
   r.unknowns = s.unknowns;
   r.vertices = out.vertices;
   if (r.converged && !s.u.allFinite()) {

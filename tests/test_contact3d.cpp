@@ -41,7 +41,7 @@ TEST(Contact3D, BlockPressedOnAPlaneIsUniaxialStress) {
     const double strain = depth / 0.5, stress = young * strain;
     double area = 0.0;
     for (const ContactNode3D& n : s.contact) {
-      EXPECT_EQ(n.state, "upper") << kind;
+      EXPECT_EQ(n.state, ContactState::upper) << kind;
       EXPECT_NEAR(n.u_nu, 0.0, 1e-14);
       EXPECT_TRUE(n.normal.isApprox(Vec3(0, 0, -1), 1e-15));
       EXPECT_NEAR(n.pressure(), stress, 1e-9 * stress) << kind << " at " << n.x.transpose();

@@ -58,12 +58,12 @@ void split_bottom(ContactProblem& p, const std::function<void(ContactPart& left,
   ContactPart left = parts.front(), right = parts.front();
   left.name = "left";
   right.name = "right";
-  left.edges.clear();
-  right.edges.clear();
+  left.facets.clear();
+  right.facets.clear();
   const Mesh& mesh = *p.elasticity.mesh;
-  for (int id : parts.front().edges) {
+  for (int id : parts.front().facets) {
     const MeshEdge& e = mesh.edge(id);
-    (0.5 * (mesh.vertex(e.v0).x() + mesh.vertex(e.v1).x()) < 0.5 ? left : right).edges.push_back(id);
+    (0.5 * (mesh.vertex(e.v0).x() + mesh.vertex(e.v1).x()) < 0.5 ? left : right).facets.push_back(id);
   }
   if (change) change(left, right);
   set_contact_parts(p, right_first ? std::vector<ContactPart>{right, left} : std::vector<ContactPart>{left, right});
@@ -117,7 +117,7 @@ TEST(ContactParts, OnePartIsTheSingleContactOfTheProblem) {
   const std::vector<ContactPart> parts = contact_parts(p);
   ASSERT_EQ(parts.size(), 1u);
   EXPECT_EQ(parts[0].name, "contact");
-  EXPECT_EQ(parts[0].edges, p.contact_edges);
+  EXPECT_EQ(parts[0].facets, p.contact_edges);
   EXPECT_EQ(parts[0].law, p.law);
   ContactProblem none = example(mesh);
   set_contact_parts(none, {});
@@ -159,7 +159,7 @@ TEST(ContactParts, ANodeWherePartsMeetBelongsToThePartListedFirst) {
 TEST(ContactParts, AnEdgeInTwoPartsOrAPartWithoutNameOrEdgesIsRefused) {
   const Mesh mesh = make_squares(8);
   ContactProblem p = example(mesh);
-  split_bottom(p, [](ContactPart& left, ContactPart& right) { right.edges.push_back(left.edges.back()); });
+  split_bottom(p, [](ContactPart& left, ContactPart& right) { right.facets.push_back(left.facets.back()); });
   const LinearSystem system = assemble(p.elasticity);
   const std::string m = test::input_error_of([&] { (void)contact_boundary(p, system.dofs); });
   EXPECT_NE(m.find("'left' and 'right'"), std::string::npos) << m;
@@ -168,7 +168,7 @@ TEST(ContactParts, AnEdgeInTwoPartsOrAPartWithoutNameOrEdgesIsRefused) {
   EXPECT_NE(test::input_error_of([&] { (void)contact_parts(q); }).find("two contact parts are named 'left'"),
             std::string::npos);
   ContactProblem r = example(mesh);
-  split_bottom(r, [](ContactPart&, ContactPart& right) { right.edges.clear(); });
+  split_bottom(r, [](ContactPart&, ContactPart& right) { right.facets.clear(); });
   EXPECT_NE(test::input_error_of([&] { (void)contact_parts(r); }).find("'right' has no edges"), std::string::npos);
 }
 
@@ -276,12 +276,12 @@ TEST(ContactParts, FrictionOnOnePartBesideAFrictionlessPart) {
   int stick = 0, slip = 0;
   for (const ContactNode& node : mixed.solution.contact) {
     if (node.part == 1) {
-      EXPECT_TRUE(node.friction_state.empty());
+      EXPECT_TRUE(node.friction_state == FrictionState::none);
       EXPECT_EQ(node.friction_force, 0.0);
       continue;
     }
     EXPECT_LE(std::abs(node.friction_force), bound * node.weight * (1.0 + 1e-12));
-    (node.friction_state == "stick" ? stick : slip) += 1;
+    (node.friction_state == FrictionState::stick ? stick : slip) += 1;
   }
   EXPECT_GT(stick + slip, 0);
   for (const std::string& m : available_minimizers()) {
@@ -318,7 +318,7 @@ TEST(ContactParts, ABilateralPartBesideAPartWithALaw) {
   EXPECT_LT(relative(mixed.reduced.S, S), 1e-10);
   EXPECT_LT(relative(mixed.reduced.c, c), 1e-10);
   for (const ContactNode& node : nodes) {
-    EXPECT_EQ(node.state == "bilateral", node.part == 0) << node.vertex;
+    EXPECT_EQ(node.state == ContactState::bilateral, node.part == 0) << node.vertex;
     if (node.part == 0) EXPECT_EQ(node.u_nu, 0.0);
     if (node.part == 0) EXPECT_EQ(node.friction_force, 0.0);
   }
@@ -368,7 +368,7 @@ TEST(ContactParts, TwoLawsAreTheirCoordinatesLawsSolvedByASecondEngine) {
   // the right half is bounded by its own gap, and its nodes at the bound are "upper"
   for (const ContactNode& n : two.solution.contact) {
     if (n.part == 1) EXPECT_LE(n.u_nu, 0.01);
-    if (n.part == 1 && n.u_nu == 0.01) EXPECT_EQ(n.state, "upper");
+    if (n.part == 1 && n.u_nu == 0.01) EXPECT_EQ(n.state, ContactState::upper);
   }
 }
 
@@ -518,8 +518,8 @@ TEST(ContactPartScenes, BuiltIntoTheProblemsParts) {
   ASSERT_EQ(parts.size(), 2u);
   EXPECT_EQ(parts[0].name, "support");
   EXPECT_EQ(parts[1].name, "contact[1]");
-  EXPECT_EQ(parts[0].edges.size(), 16u);
-  EXPECT_EQ(parts[1].edges.size(), 16u);
+  EXPECT_EQ(parts[0].facets.size(), 16u);
+  EXPECT_EQ(parts[1].facets.size(), 16u);
   EXPECT_TRUE(parts[0].gap && !parts[0].obstacle);
   EXPECT_TRUE(parts[1].obstacle && !parts[1].gap);
   EXPECT_EQ(parts[1].law->name(), "zero");

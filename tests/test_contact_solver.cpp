@@ -57,8 +57,8 @@ TEST(ContactSolver, Example41RunsEveryStage) {
     // u_nu is the normal component of the displacement (normal (0, -1) on the bottom)
     EXPECT_NEAR(node.u_nu, -s.u(2 * node.vertex + 1), 1e-12);
     EXPECT_LE(std::abs(node.u_nu), 0.02 + 1e-15);
-    if (node.state == "upper") EXPECT_GE(node.reaction, 0.0);
-    if (node.state == "free") EXPECT_EQ(node.reaction, 0.0);
+    if (node.state == ContactState::upper) EXPECT_GE(node.reaction, 0.0);
+    if (node.state == ContactState::free) EXPECT_EQ(node.reaction, 0.0);
   }
   for (const char* stage : {"assembly", "condensation", "minimize", "back_substitution", "total"})
     EXPECT_TRUE(s.timings.count(stage)) << stage;
@@ -75,7 +75,7 @@ TEST(ContactSolver, WithoutAConstraintNoNodeIsAtABoundAndNoReactionIsReported) {
   ASSERT_EQ(s.contact.size(), 15u);
   double largest = 0.0, deepest = 0.0;
   for (const auto& node : s.contact) {
-    EXPECT_EQ(node.state, "free") << node.vertex;
+    EXPECT_EQ(node.state, ContactState::free) << node.vertex;
     EXPECT_EQ(node.reaction, 0.0) << node.vertex;
     largest = std::max(largest, std::abs(node.law_force));
     deepest = std::max(deepest, node.u_nu);
@@ -95,7 +95,7 @@ TEST(ContactSolver, ContactForcesBalanceTheLoad) {
   for (const auto& node : s.contact) {
     EXPECT_GE(node.force(), -1e-12) << node.vertex;
     EXPECT_DOUBLE_EQ(node.pressure(), node.force() / node.weight);
-    if (node.state == "upper") EXPECT_GT(node.reaction, 0.0) << node.vertex;
+    if (node.state == ContactState::upper) EXPECT_GT(node.reaction, 0.0) << node.vertex;
     total += node.force();
   }
   EXPECT_GT(total, 0.0);
@@ -123,3 +123,23 @@ TEST(ContactSolver, NoContactBoundaryIsOneLinearSolve) {
 }
 
 }  // namespace
+
+namespace hemivem {
+namespace {
+
+TEST(ContactStates, AreWordsBothWays) {
+  for (ContactState s : {ContactState::free, ContactState::upper, ContactState::lower, ContactState::bilateral})
+    EXPECT_EQ(contact_state_from_string(to_string(s)), s);
+  EXPECT_EQ(to_string(ContactState::upper), "upper");
+  EXPECT_EQ(to_string(ContactState::bilateral), "bilateral");
+  EXPECT_THROW(contact_state_from_string("in contact"), InputError);
+  for (FrictionState s : {FrictionState::none, FrictionState::stick, FrictionState::slip, FrictionState::slip_weakening,
+                          FrictionState::slip_kinetic})
+    EXPECT_EQ(friction_state_from_string(to_string(s)), s);
+  EXPECT_EQ(to_string(FrictionState::none), "");
+  EXPECT_EQ(to_string(FrictionState::slip_weakening), "slip-weakening");
+  EXPECT_THROW(friction_state_from_string("sliding"), InputError);
+}
+
+}  // namespace
+}  // namespace hemivem

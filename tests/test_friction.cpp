@@ -60,10 +60,10 @@ TEST_P(Friction, OneNodeOnASpringSticksOrSlipsByTheClosedForm) {
       EXPECT_NEAR(r.a(0), exact, 1e-9 * std::max(1.0, std::abs(exact)));
       if (std::abs(c) <= w * g) {
         EXPECT_EQ(r.a(0), 0.0) << "a stuck node is put exactly on the kink";
-        EXPECT_EQ(friction_state(p.law_by_number(0), r.a(0)), "stick");
+        EXPECT_EQ(friction_state(p.law_by_number(0), r.a(0)), FrictionState::stick);
         EXPECT_NEAR(r.law_force(0), c, 1e-12) << "the friction force balances the load while stuck";
       } else {
-        EXPECT_EQ(friction_state(p.law_by_number(0), r.a(0)), "slip");
+        EXPECT_EQ(friction_state(p.law_by_number(0), r.a(0)), FrictionState::slip);
         EXPECT_NEAR(std::abs(r.law_force(0)), w * g, 1e-12) << "a slipping node carries the friction bound";
       }
     }
@@ -125,9 +125,9 @@ TEST(FrictionLaws, TrescaAndSlipWeakeningAreTheirFormulas) {
   EXPECT_NEAR(s->derivative(LawPart::j, -0.05, +1), -gk, 1e-15);
   EXPECT_EQ(s->kinks(), std::vector<double>{0.0});
   EXPECT_NEAR(s->alpha(), (gs - gk) / d, 1e-9);
-  EXPECT_EQ(friction_state(*s, 0.0), "stick");
-  EXPECT_EQ(friction_state(*s, -0.01), "slip-weakening");
-  EXPECT_EQ(friction_state(*s, 0.03), "slip-kinetic");
+  EXPECT_EQ(friction_state(*s, 0.0), FrictionState::stick);
+  EXPECT_EQ(friction_state(*s, -0.01), FrictionState::slip_weakening);
+  EXPECT_EQ(friction_state(*s, 0.03), FrictionState::slip_kinetic);
   EXPECT_NE(test::input_error_of([] { (void)slip_weakening_law(0.1, 0.2, 0.01); }), "");
   EXPECT_NE(test::input_error_of([] { (void)tresca_law(-1.0); }), "");
 }
@@ -172,7 +172,7 @@ TEST(FrictionExample, BilateralWithoutFrictionIsARollerSupport) {
   const Eigen::VectorXd roller = dirichlet_bottom(mesh, {false, true});
   EXPECT_LT(max_abs(r.solution.u - roller), 1e-10 * max_abs(roller));
   for (const auto& n : r.solution.contact) {
-    EXPECT_EQ(n.state, "bilateral");
+    EXPECT_EQ(n.state, ContactState::bilateral);
     EXPECT_EQ(n.friction_force, 0.0);
   }
 }
@@ -196,7 +196,7 @@ TEST(FrictionExample, BilateralWithAHugeTrescaBoundSticksEverywhereLikeAClampedB
   const double scale = max_abs(reaction);
   for (const auto& n : r.solution.contact) {
     EXPECT_EQ(n.u_tau, 0.0);
-    EXPECT_EQ(n.friction_state, "stick");
+    EXPECT_EQ(n.friction_state, FrictionState::stick);
     EXPECT_NEAR(n.force(), -reaction.segment<2>(2 * n.vertex).dot(n.normal), 1e-8 * scale) << n.vertex;
     EXPECT_NEAR(n.friction_force, -reaction(2 * n.vertex), 1e-8 * scale) << n.vertex;
   }
@@ -227,7 +227,7 @@ TEST(FrictionExample, StickZoneGrowsWithTheBoundAndEveryEngineAgrees) {
     int stick = 0;
     double slip = 0.0;
     for (const auto& n : r.solution.contact) {
-      stick += n.friction_state == "stick";
+      stick += n.friction_state == FrictionState::stick;
       slip = std::max(slip, std::abs(n.u_tau));
       EXPECT_LE(std::abs(n.friction_force), g * n.weight * (1.0 + 1e-12));
     }

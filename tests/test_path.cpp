@@ -177,7 +177,7 @@ TEST(Path, CoulombLimitsAndBalance) {
       if (!(s.contact[i].force() > 0.0)) continue;
       ++pressed;
       EXPECT_EQ(s.slip(static_cast<Eigen::Index>(i)), 0.0) << "node " << s.contact[i].vertex;
-      EXPECT_EQ(s.contact[i].friction_state, "stick");
+      EXPECT_EQ(s.contact[i].friction_state, FrictionState::stick);
     }
     EXPECT_GT(pressed, 0);
   }
@@ -202,7 +202,7 @@ TEST(Path, CoulombFixedPointMeetsTheCoupledConditions) {
     for (const ContactNode& n : s.contact) {
       const double limit = mu * std::max(n.force(), 0.0);
       EXPECT_LE(std::abs(n.friction_force), limit + 1e-9 * f);
-      if (n.friction_state == "slip") {
+      if (n.friction_state == FrictionState::slip) {
         ++slipping;
         EXPECT_NEAR(std::abs(n.friction_force), limit, 1e-9 * f);
       } else {

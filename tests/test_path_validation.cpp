@@ -67,7 +67,7 @@ TEST(PathValidation, CattaneoMindlinStickZone) {
               [](const ContactNode* p, const ContactNode* q) { return p->x.x() < q->x.x(); });
     std::vector<int> stick;
     for (std::size_t i = 0; i < in_contact.size(); ++i)
-      if (in_contact[i]->friction_state == "stick") stick.push_back(static_cast<int>(i));
+      if (in_contact[i]->friction_state == FrictionState::stick) stick.push_back(static_cast<int>(i));
     // the contact zone: Hertz's a within one node spacing
     const double zone = 0.5 * (in_contact.back()->x.x() - in_contact.front()->x.x() + h);
     EXPECT_NEAR(zone, a, h);

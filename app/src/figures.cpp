@@ -421,7 +421,7 @@ Figure u_nu_figure(const Mesh& mesh, const ContactSolution& sol, const RunInfo& 
                           os << p.s << ' ' << p.node->x.x() << ' ' << p.node->x.y() << ' ' << p.node->u_nu << ' '
                              << p.node->pressure() << ' ' << p.node->gap << ' ' << p.node->u_tau << ' '
                              << p.node->friction_force / p.node->weight << ' '
-                             << (p.node->friction_state == "stick" ? 1 : 0) << '\n';
+                             << (p.node->friction_state == FrictionState::stick ? 1 : 0) << '\n';
                         os << "\n\n";  // a new data block per chain
                       }
                     }});

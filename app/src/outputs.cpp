@@ -55,11 +55,11 @@ void write_contact_csv(std::ostream& stream, const ContactSolution& s) {
      << (tangential ? ",u_tau,friction_force,friction_traction,friction_state" : "") << (parts ? ",part" : "") << "\n";
   for (const auto& n : s.contact) {
     os << n.vertex << ',' << n.x.x() << ',' << n.x.y() << ',' << n.u_nu << ',' << n.law_force << ',' << n.reaction
-       << ',' << n.pressure() << ',' << n.state << ',';
+       << ',' << n.pressure() << ',' << to_string(n.state) << ',';
     if (!std::isnan(n.gap)) os << n.gap;  // empty: no gap used (bilateral)
     os << ',' << n.normal.x() << ',' << n.normal.y();
-    if (tangential && !n.friction_state.empty())
-      os << ',' << n.u_tau << ',' << n.friction_force << ',' << n.friction_force / n.weight << ',' << n.friction_state;
+    if (tangential && n.friction_state != FrictionState::none)
+      os << ',' << n.u_tau << ',' << n.friction_force << ',' << n.friction_force / n.weight << ',' << to_string(n.friction_state);
     else if (tangential)
       os << ",,,,";  // a frictionless part beside one with friction
     if (parts) os << ',' << contact_part_name(s, n);
@@ -152,7 +152,7 @@ std::string contact_part_name(const ContactSolution& s, const ContactNode& n) {
 }
 
 bool has_tangential(const ContactSolution& s) {
-  return std::any_of(s.contact.begin(), s.contact.end(), [](const ContactNode& n) { return !n.friction_state.empty(); });
+  return std::any_of(s.contact.begin(), s.contact.end(), [](const ContactNode& n) { return n.friction_state != FrictionState::none; });
 }
 
 std::vector<std::array<int, 2>> contact_lines(const Mesh& mesh, const ContactSolution& sol) {
@@ -190,14 +190,14 @@ nlohmann::json result_json(const Mesh& mesh, const ContactSolution& s, const Run
               {"pressure", number(n.pressure())},
               {"gap", number(n.gap)},
               {"normal", {number(n.normal.x()), number(n.normal.y())}},
-              {"state", n.state},
+              {"state", to_string(n.state)},
               {"part", contact_part_name(s, n)}};
-    if (tangential && !n.friction_state.empty()) {
+    if (tangential && n.friction_state != FrictionState::none) {
       node["u_tau"] = number(n.u_tau);
       node["friction_force"] = number(n.friction_force);
       node["friction_traction"] = number(n.friction_force / n.weight);
-      node["friction_state"] = n.friction_state;
-      friction_states[n.friction_state] = friction_states.value(n.friction_state, 0) + 1;
+      node["friction_state"] = to_string(n.friction_state);
+      friction_states[to_string(n.friction_state)] = friction_states.value(to_string(n.friction_state), 0) + 1;
     }
     contact.push_back(std::move(node));
   }

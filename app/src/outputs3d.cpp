@@ -89,7 +89,7 @@ void write_contact_csv(std::ostream& stream, const ContactSolution3D& s) {
   os << "vertex,x,y,z,u_nu,law_force,reaction,pressure,state,gap,nx,ny,nz\n";
   for (const auto& n : s.contact) {
     os << n.vertex << ',' << n.x.x() << ',' << n.x.y() << ',' << n.x.z() << ',' << n.u_nu << ',' << n.law_force << ','
-       << n.reaction << ',' << n.pressure() << ',' << n.state << ',';
+       << n.reaction << ',' << n.pressure() << ',' << to_string(n.state) << ',';
     if (!std::isnan(n.gap)) os << n.gap;  // empty: no gap used (bilateral)
     os << ',' << n.normal.x() << ',' << n.normal.y() << ',' << n.normal.z() << '\n';
   }
@@ -137,7 +137,7 @@ nlohmann::json result_json_3d(const Mesh3D& mesh, const ContactSolution3D& s, co
                        {"pressure", number(n.pressure())},
                        {"gap", number(n.gap)},
                        {"normal", triple(n.normal)},
-                       {"state", n.state},
+                       {"state", to_string(n.state)},
                        {"part", "contact"}});
   j["contact"] = std::move(contact);
   j["friction"] = nullptr;

@@ -93,8 +93,8 @@ nlohmann::json path_step_json(const PathStep& s) {
   j["applied_load"] = vec(s.applied);
   int stick = 0, slip = 0;  // among the nodes in contact
   for (const ContactNode& n : s.contact) {
-    if (n.friction_state.empty() || !(n.force() > 0.0)) continue;
-    (n.friction_state == "stick" ? stick : slip) += 1;
+    if (n.friction_state == FrictionState::none || !(n.force() > 0.0)) continue;
+    (n.friction_state == FrictionState::stick ? stick : slip) += 1;
   }
   j["friction"] = s.slip.size() > 0 ? nlohmann::json{{"stick", stick}, {"slip", slip}} : nlohmann::json();
   j["fixed_point"] = s.fixed_point.used ? nlohmann::json{{"iterations", s.fixed_point.iterations},
@@ -130,7 +130,7 @@ std::string path_progress_line(const PathStep& s, int steps) {
       << sci(s.contact_force.x(), 4) << ", " << sci(s.contact_force.y(), 4) << ")";
   if (s.slip.size() > 0) {
     int stick = 0;
-    for (const ContactNode& n : s.contact) stick += n.friction_state == "stick" && n.force() > 0.0 ? 1 : 0;
+    for (const ContactNode& n : s.contact) stick += n.friction_state == FrictionState::stick && n.force() > 0.0 ? 1 : 0;
     out << "  stick " << stick;
   }
   if (s.fixed_point.used)

@@ -25,11 +25,11 @@ void write_path_contact_csv(std::ostream& stream, const PathSolution& path) {
     for (std::size_t i = 0; i < s.contact.size(); ++i) {
       const ContactNode& n = s.contact[i];
       os << s.index << ',' << s.t << ',' << n.vertex << ',' << n.x.x() << ',' << n.x.y() << ',' << n.u_nu << ','
-         << n.law_force << ',' << n.reaction << ',' << n.pressure() << ',' << n.state;
-      if (tangential && !n.friction_state.empty()) {
+         << n.law_force << ',' << n.reaction << ',' << n.pressure() << ',' << to_string(n.state);
+      if (tangential && n.friction_state != FrictionState::none) {
         const auto k = static_cast<Eigen::Index>(i);
         os << ',' << n.u_tau << ',' << s.slip(k) << ',' << n.friction_force << ',' << s.friction_bound(k) << ','
-           << n.friction_state;
+           << to_string(n.friction_state);
       } else if (tangential) {
         os << ",,,,,";  // a frictionless part beside one with friction
       }
@@ -111,7 +111,7 @@ Figure path_figure(const PathSolution& path, const RunInfo& info) {
                           un += n.weight * n.u_nu;
                           normal += n.force();
                           tangential += n.friction_force;
-                          if (n.friction_state == "stick" && n.force() > 0.0) stick += n.weight;
+                          if (n.friction_state == FrictionState::stick && n.force() > 0.0) stick += n.weight;
                         }
                         os << num(s.t) << ' ' << num(w > 0.0 ? un / w : 0.0) << ' ' << num(normal) << ' '
                            << num(tangential) << ' ' << num(s.zone.length) << ' ' << num(stick) << ' ' << (s.jump ? 1 : 0)

@@ -49,7 +49,7 @@ std::string uniqueness_text(const ContactSolution& sol) {
 
 void contact_zone(std::ostream& out, const Scene& scene, const ContactSolution& sol) {
   int upper = 0, lower = 0;
-  for (const auto& c : sol.contact) upper += c.state == "upper", lower += c.state == "lower";
+  for (const auto& c : sol.contact) upper += c.state == ContactState::upper, lower += c.state == ContactState::lower;
   out << "  uniqueness    " << uniqueness_text(sol) << "\n"
       << "  contact       " << sol.contact.size() << " nodes";
   if (sol.contact_parts.size() > 1) {  // several parts: how many nodes each has
@@ -66,7 +66,7 @@ void contact_zone(std::ostream& out, const Scene& scene, const ContactSolution& 
     return std::any_of(parts.begin(), parts.end(), [k](const SceneContact& c) { return c.constraint == k; });
   };
   const int bilateral = static_cast<int>(
-      std::count_if(sol.contact.begin(), sol.contact.end(), [](const ContactNode& c) { return c.state == "bilateral"; }));
+      std::count_if(sol.contact.begin(), sol.contact.end(), [](const ContactNode& c) { return c.state == ContactState::bilateral; }));
   if (any(ConstraintKind::bilateral) && bilateral == static_cast<int>(sol.contact.size())) {
     out << "u_nu = 0 (bilateral)\n";
     return;
@@ -103,7 +103,7 @@ void contact_forces(std::ostream& out, const ContactSolution& sol, const RunInfo
   std::map<std::string, int> states;
   for (const auto& c : sol.contact) law += c.law_force, reaction += c.reaction, friction += c.friction_force;
   for (const auto& c : sol.contact)
-    if (!c.friction_state.empty()) ++states[c.friction_state];
+    if (c.friction_state != FrictionState::none) ++states[to_string(c.friction_state)];
   out << "  normal forces " << law + reaction << " summed over the contact nodes (a sum, not a resultant): law "
       << law << ", constraint " << reaction << "\n";
   if (states.empty()) return;

@@ -151,7 +151,7 @@ std::string full_report_3d(const SceneSolve3D& solved, const RunInfo& info) {
     int upper = 0, lower = 0, bilateral = 0;
     double law = 0.0, reaction = 0.0, area = 0.0;
     for (const auto& c : sol.contact) {
-      upper += c.state == "upper", lower += c.state == "lower", bilateral += c.state == "bilateral";
+      upper += c.state == ContactState::upper, lower += c.state == ContactState::lower, bilateral += c.state == ContactState::bilateral;
       law += c.law_force, reaction += c.reaction;
       if (c.force() > 0.0) area += c.weight;
     }

@@ -18,13 +18,7 @@
 
 namespace hemivem::app {
 
-std::uint8_t friction_state_code(const std::string& state) {
-  if (state == "stick") return 1;
-  if (state == "slip") return 2;
-  if (state == "slip-weakening") return 3;
-  if (state == "slip-kinetic") return 4;
-  return 0;
-}
+std::uint8_t friction_state_code(FrictionState state) { return static_cast<std::uint8_t>(state); }
 
 namespace {
 

@@ -89,7 +89,7 @@ ContactTable contact_table(const ContactSolution& s) {
     u_tau.mutable_data()[i] = c.u_tau, friction_force.mutable_data()[i] = c.friction_force;
     friction_traction.mutable_data()[i] = c.friction_force / c.weight;
     nr(i, 0) = c.normal.x(), nr(i, 1) = c.normal.y();
-    state.append(c.state), friction_state.append(c.friction_state);
+    state.append(to_string(c.state)), friction_state.append(to_string(c.friction_state));
     part.append(app::contact_part_name(s, c));
   }
   const py::object np = py::module_::import("numpy");
@@ -130,7 +130,7 @@ ContactTable contact_table_3d(const ContactSolution3D& s) {
     u_nu.mutable_data()[i] = c.u_nu, law_force.mutable_data()[i] = c.law_force, reaction.mutable_data()[i] = c.reaction;
     pressure.mutable_data()[i] = c.pressure(), gap.mutable_data()[i] = c.gap, weight.mutable_data()[i] = c.weight;
     nr(i, 0) = c.normal.x(), nr(i, 1) = c.normal.y(), nr(i, 2) = c.normal.z();
-    state.append(c.state);
+    state.append(to_string(c.state));
     part.append("contact");  // one contact part in 3D, named so in result.json
   }
   const py::object np = py::module_::import("numpy");

@@ -116,7 +116,7 @@ ContactBoundary make_contact_boundary(const Mesh& mesh, const std::vector<Contac
   std::vector<std::pair<int, int>> in_part;
   std::map<int, int> part_of_edge;
   for (std::size_t k = 0; k < parts.size(); ++k)
-    for (int id : parts[k].edges) {
+    for (int id : parts[k].facets) {
       const auto [at, added] = part_of_edge.emplace(id, static_cast<int>(k));
       if (!added && at->second != static_cast<int>(k))
         throw InputError("boundary edge " + std::to_string(id) + " is in the contact parts '" +

@@ -184,11 +184,6 @@ ForceBalance3D force_balance_3d(const ElasticityProblem3D& problem, const Eigen:
   return balance;
 }
 
-Vec3 ContactSolution3D::contact_force() const {
-  Vec3 total = Vec3::Zero();
-  for (const auto& n : contact) total -= n.force() * n.normal;
-  return total;
-}
 
 namespace {
 
@@ -223,9 +218,9 @@ ContactNode3D node_of(const Mesh3D& mesh, const ContactBoundary& boundary, const
     node.u_nu = m.a(k) + cond.origin()(k);
     node.law_force = forces ? m.law_force(k) : 0.0;
     node.reaction = forces ? m.reaction(k) : 0.0;
-    node.state = m.a(k) == rp.upper(k) ? "upper" : (m.a(k) == rp.lower(k) ? "lower" : "free");
+    node.state = m.a(k) == rp.upper(k) ? ContactState::upper : (m.a(k) == rp.lower(k) ? ContactState::lower : ContactState::free);
   } else {
-    node.state = "bilateral";
+    node.state = ContactState::bilateral;
     double f = 0.0;
     bool known = true;
     for (int c = 0; c < 3; ++c) {

@@ -4,6 +4,7 @@
 #include <hemivem/process_group.hpp>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -24,7 +25,8 @@ double rcond_or_nan(const SparseFactorization& f) {
 
 // Demotes a "converged" solution whose displacement is not finite (the engines' certificates
 // see only the contact unknowns; back-substitution could still overflow).
-void require_finite(ContactSolution& sol) {
+template <int dim>
+void require_finite(BasicContactSolution<dim>& sol) {
   if (sol.converged() && !sol.u.allFinite()) {
     sol.status = MinimizerStatus::failed;
     sol.message = "the displacement is not finite (NaN or Inf after back-substitution)";
@@ -65,69 +67,109 @@ ConstraintKind constraint_in_effect(const ContactProblem& problem) {
                                                          : ConstraintKind::none;
 }
 
+// ---- the kernels of each dimension ---------------------------------------------------------
+
+namespace {
+
+template <int dim>
+struct Kernels;
+
+template <>
+struct Kernels<2> {
+  static void check(const ContactProblem& problem) {
+    for (const ContactPart& part : contact_parts(problem))
+      if (part.friction_bound)
+        throw InputError("a friction bound that depends on the normal contact (Coulomb's law, or a bound h(u_nu)) "
+                         "depends on the solution and is found by a fixed point along a loading path: solve it with "
+                         "the path solver (hemivem/path/path.hpp)");
+  }
+  static LinearSystem assemble(const ContactProblem& problem) { return hemivem::assemble(problem.elasticity); }
+  static std::vector<ContactPart> parts(const ContactProblem& problem) { return contact_parts(problem); }
+  static ContactBoundary boundary(const ContactProblem& problem, const std::vector<ContactPart>&, const DofMap& dofs) {
+    return contact_boundary(problem, dofs);
+  }
+  static std::vector<std::string> held_by_contact(const ContactProblem& problem, const DofMap& dofs,
+                                                  const ContactBoundary& boundary, const std::vector<ContactPart>& parts) {
+    return find_supports(*problem.elasticity.mesh, dofs, boundary, parts).held_by_contact;
+  }
+  static ForceBalance balance(const ContactProblem& problem, const Eigen::VectorXd& u, const Vec2& contact) {
+    return force_balance(problem.elasticity, u, contact);
+  }
+};
+
+}  // namespace
+
 // ---- ContactSolver ---------------------------------------------------------------------
 
-ContactSolver::ContactSolver(const ContactProblem& problem, std::unique_ptr<SparseFactorization> factorization,
-                             const MinimizerOptions& options)
+template <int dim>
+BasicContactSolver<dim>::BasicContactSolver(const Problem& problem, std::unique_ptr<SparseFactorization> factorization,
+                                            const MinimizerOptions& options)
     : problem_(problem), options_(options), factorization_(std::move(factorization)) {
   if (factorization_) processes_ = &processes_of(*factorization_);
 }
 
-ContactSolver::ContactSolver(const ContactProblem& problem, const LinearSystem& system,
-                             std::unique_ptr<SparseFactorization> factorization, const MinimizerOptions& options)
-    : ContactSolver(problem, std::move(factorization), options) {
+template <int dim>
+BasicContactSolver<dim>::BasicContactSolver(const Problem& problem, const LinearSystem& system,
+                                            std::unique_ptr<SparseFactorization> factorization,
+                                            const MinimizerOptions& options)
+    : BasicContactSolver(problem, std::move(factorization), options) {
   system_ = &system;
 }
 
-ContactSolver::~ContactSolver() = default;
+template <int dim>
+BasicContactSolver<dim>::~BasicContactSolver() = default;
 
-ContactSolver& ContactSolver::estimate_condition(bool on) noexcept {
+template <int dim>
+BasicContactSolver<dim>& BasicContactSolver<dim>::estimate_condition(bool on) noexcept {
   estimate_condition_ = on;
   return *this;
 }
 
-ContactSolver& ContactSolver::export_reduced(ReducedProblem* reduced) noexcept {
+template <int dim>
+BasicContactSolver<dim>& BasicContactSolver<dim>::export_reduced(ReducedProblem* reduced) noexcept {
   reduced_ = reduced;
   return *this;
 }
 
-ContactSolver& ContactSolver::start_from(const Eigen::VectorXd* u) noexcept {
+template <int dim>
+BasicContactSolver<dim>& BasicContactSolver<dim>::start_from(const Eigen::VectorXd* u) noexcept {
   start_u_ = u;
   return *this;
 }
 
-double ContactSolver::seconds() const { return since(start_); }
+template <int dim>
+double BasicContactSolver<dim>::seconds() const {
+  return since(start_);
+}
 
-std::vector<ContactSolution> ContactSolver::run(std::span<const NonsmoothMinimizer* const> minimizers) {
+template <int dim>
+auto BasicContactSolver<dim>::run(std::span<const NonsmoothMinimizer* const> minimizers) -> std::vector<Solution> {
   if (ran_) throw InternalError("ContactSolver::run is called once");
   ran_ = true;
-  if (problem_.friction_bound)
-    throw InputError("a friction bound that depends on the normal contact (Coulomb's law, or a bound h(u_nu)) "
-                     "depends on the solution and is found by a fixed point along a loading path: solve it with "
-                     "the path solver (hemivem/path/path.hpp)");
+  Kernels<dim>::check(problem_);
   start_ = Clock::now();
   if (!system_) assemble();
   check_arguments(minimizers);
   common_.unknowns = system_->dofs.num_free();
   if (common_.unknowns == 0)
     throw InputError("the Dirichlet conditions prescribe every displacement of the mesh: there is nothing to solve");
-  parts_ = contact_parts(problem_);
-  for (const ContactPart& part : parts_) common_.contact_parts.push_back(part.name);
-  boundary_ = contact_boundary(problem_, system_->dofs);
-  common_.held_by_contact = find_supports(*problem_.elasticity.mesh, system_->dofs, boundary_, parts_).held_by_contact;
+  parts_ = Kernels<dim>::parts(problem_);
+  for (const auto& part : parts_) common_.contact_parts.push_back(part.name);
+  boundary_ = Kernels<dim>::boundary(problem_, parts_, system_->dofs);
+  common_.held_by_contact = Kernels<dim>::held_by_contact(problem_, system_->dofs, boundary_, parts_);
   if (boundary_.size() == 0) {
     const Eigen::MatrixXd X = linear_solve();
     common_.may_be_nonunique = false;
     processes_->run_where_results_are([&] { post_process_linear(X); });
     agree_on_status(common_);
     common_.timings["total"] = seconds();
-    return std::vector<ContactSolution>(minimizers.size(), common_);
+    return std::vector<Solution>(minimizers.size(), common_);
   }
   condense();
   const double before_minimize = seconds();
-  std::vector<ContactSolution> solutions;
+  std::vector<Solution> solutions;
   for (const NonsmoothMinimizer* minimizer : minimizers) {
-    ContactSolution solution = common_;
+    Solution solution = common_;
     const auto t = Clock::now();
     minimize(*minimizer, solution);
     back_substitute(solution);
@@ -139,7 +181,8 @@ std::vector<ContactSolution> ContactSolver::run(std::span<const NonsmoothMinimiz
   return solutions;
 }
 
-void ContactSolver::check_arguments(std::span<const NonsmoothMinimizer* const> minimizers) const {
+template <int dim>
+void BasicContactSolver<dim>::check_arguments(std::span<const NonsmoothMinimizer* const> minimizers) const {
   if (!factorization_) throw InputError("solve_contact needs a factorization engine");
   if (minimizers.empty()) throw InputError("solve_contact needs at least one minimizer");
   for (const auto* m : minimizers)
@@ -147,9 +190,10 @@ void ContactSolver::check_arguments(std::span<const NonsmoothMinimizer* const> m
   if (std::string why; !options_.is_valid(&why)) throw InputError(why, "MinimizerOptions");
 }
 
-void ContactSolver::assemble() {
+template <int dim>
+void BasicContactSolver<dim>::assemble() {
   const auto t = Clock::now();
-  assembled_ = hemivem::assemble(problem_.elasticity);
+  assembled_ = Kernels<dim>::assemble(problem_);
   system_ = &*assembled_;
   common_.timings["assembly"] = since(t);
   common_.stages.push_back("assembly");
@@ -157,7 +201,8 @@ void ContactSolver::assemble() {
 
 // Without a contact node: A u = b, one factorization and one solve. X on the process holding
 // the results.
-Eigen::MatrixXd ContactSolver::linear_solve() {
+template <int dim>
+Eigen::MatrixXd BasicContactSolver<dim>::linear_solve() {
   const auto t = Clock::now();
   const LinearSystem& sys = *system_;
   require_ok(factorization_->factorize(sys.A), *factorization_, "factorization");
@@ -192,8 +237,9 @@ Certificate linear_solve_certificate(const Eigen::VectorXd& u, const Eigen::Vect
 
 // The displacement, the energy and the certificate of the linear solve: the relative
 // residual ||A u - b|| / max(||b||, ||A u||) is its dual part.
-void ContactSolver::post_process_linear(const Eigen::MatrixXd& X) {
-  ContactSolution& s = common_;
+template <int dim>
+void BasicContactSolver<dim>::post_process_linear(const Eigen::MatrixXd& X) {
+  Solution& s = common_;
   const LinearSystem& sys = *system_;
   const Eigen::VectorXd uf = X.col(0);
   s.u = sys.dofs.expand(uf);
@@ -207,14 +253,15 @@ void ContactSolver::post_process_linear(const Eigen::MatrixXd& X) {
     s.message = uf.allFinite() ? "the linear solve's relative residual is above the tolerance"
                                : "the linear solve gave a displacement that is not finite";
   }
-  s.forces = force_balance(problem_.elasticity, s.u, Vec2::Zero());
+  s.forces = Kernels<dim>::balance(problem_, s.u, BasicContactSolution<dim>::Point::Zero());
   require_finite(s);
 }
 
 // The static condensation onto the contact unknowns (the reduced problem), its uniqueness
 // margin and, when asked, the conditioning of the interior block.
-void ContactSolver::condense() {
-  for (const ContactPart& part : parts_)
+template <int dim>
+void BasicContactSolver<dim>::condense() {
+  for (const auto& part : parts_)
     if (!part.law)
       throw InputError(parts_.size() == 1 ? std::string("the contact boundary has no contact law")
                                           : "contact part '" + part.name + "' has no contact law");
@@ -237,7 +284,8 @@ void ContactSolver::condense() {
 }
 
 // The reduced problem is solved where it lives.
-void ContactSolver::minimize(const NonsmoothMinimizer& minimizer, ContactSolution& solution) const {
+template <int dim>
+void BasicContactSolver<dim>::minimize(const NonsmoothMinimizer& minimizer, Solution& solution) const {
   const auto t = Clock::now();
   processes_->run_where_results_are([&] {
     const Eigen::VectorXd start =
@@ -253,7 +301,8 @@ void ContactSolver::minimize(const NonsmoothMinimizer& minimizer, ContactSolutio
   solution.stages.push_back("minimize");
 }
 
-void ContactSolver::back_substitute(ContactSolution& solution) const {
+template <int dim>
+void BasicContactSolver<dim>::back_substitute(Solution& solution) const {
   const auto t = Clock::now();
   solution.u = condensation_->back_substitute(solution.minimizer ? solution.minimizer->a : Eigen::VectorXd());
   solution.timings["back_substitution"] = since(t);
@@ -261,24 +310,23 @@ void ContactSolver::back_substitute(ContactSolution& solution) const {
 }
 
 // The contact table, the potential energy and the balance of forces of the solution.
-void ContactSolver::post_process(ContactSolution& solution) const {
+template <int dim>
+void BasicContactSolver<dim>::post_process(Solution& solution) const {
   const LinearSystem& sys = *system_;
   const MinimizerResult& m = *solution.minimizer;
   Eigen::VectorXd uf(sys.dofs.num_free());
   for (int k = 0; k < sys.dofs.num_free(); ++k) uf(k) = solution.u(sys.dofs.free_dofs[static_cast<std::size_t>(k)]);
   const Eigen::VectorXd Au = sys.A * uf;
   const Eigen::VectorXd residual = Au - sys.b;
-  for (int i = 0; i < boundary_.size(); ++i) solution.contact.push_back(contact_node(i, m, residual));
+  for (int i = 0; i < boundary_.size(); ++i)
+    solution.contact.push_back(
+        hemivem::contact_node(*problem_.elasticity.mesh, boundary_, *condensation_, system_->dofs, i, m, &residual));
   // the potential energy of the discrete problem (F(a) differs from it by a constant)
   const ReducedProblem& rp = condensation_->reduced();
   solution.energy = 0.5 * uf.dot(Au) - uf.dot(sys.b);
   for (Eigen::Index i = 0; i < m.a.size(); ++i) solution.energy += rp.w(i) * rp.law_of(i).value(m.a(i));
-  solution.forces = force_balance(problem_.elasticity, solution.u, solution.contact_force());
+  solution.forces = Kernels<dim>::balance(problem_, solution.u, solution.contact_force());
   require_finite(solution);
-}
-
-ContactNode ContactSolver::contact_node(int i, const MinimizerResult& m, const Eigen::VectorXd& residual) const {
-  return hemivem::contact_node(*problem_.elasticity.mesh, boundary_, *condensation_, system_->dofs, i, m, &residual);
 }
 
 ContactNode contact_node(const Mesh& mesh, const ContactBoundary& boundary, const Condensation& cond,
@@ -297,12 +345,12 @@ ContactNode contact_node(const Mesh& mesh, const ContactBoundary& boundary, cons
     node.u_nu = m.a(k) + cond.origin()(k);
     node.law_force = forces ? m.law_force(k) : 0.0;
     node.reaction = forces ? m.reaction(k) : 0.0;
-    node.state = m.a(k) == rp.upper(k) ? "upper" : (m.a(k) == rp.lower(k) ? "lower" : "free");
+    node.state = m.a(k) == rp.upper(k) ? ContactState::upper : (m.a(k) == rp.lower(k) ? ContactState::lower : ContactState::free);
   } else {
     // u_nu = 0 imposed: the normal force is what holds the node there, the normal part of
     // the residual A u - b at its dofs (NaN where a dof of the node is prescribed or the
     // residual is not given)
-    node.state = "bilateral";
+    node.state = ContactState::bilateral;
     const int dx = dofs.free_index[static_cast<std::size_t>(2 * node.vertex)];
     const int dy = dofs.free_index[static_cast<std::size_t>(2 * node.vertex + 1)];
     node.reaction = residual && dx >= 0 && dy >= 0 ? -Vec2((*residual)(dx), (*residual)(dy)).dot(node.normal)
@@ -317,7 +365,8 @@ ContactNode contact_node(const Mesh& mesh, const ContactBoundary& boundary, cons
 }
 
 // Collective: every process takes the final status of the process holding the results.
-void ContactSolver::agree_on_status(ContactSolution& solution) const {
+template <int dim>
+void BasicContactSolver<dim>::agree_on_status(Solution& solution) const {
   solution.status = static_cast<MinimizerStatus>(processes_->share(static_cast<int>(solution.status)));
 }
 
@@ -350,26 +399,67 @@ ContactSolution solve_contact(const ContactProblem& problem, std::unique_ptr<Spa
                        .front());
 }
 
-std::string friction_state(const ContactLaw& law, double u_tau) {
+template class BasicContactSolver<2>;
+
+FrictionState friction_state(const ContactLaw& law, double u_tau) {
   const std::vector<double> kinks = law.kinks();
-  if (std::binary_search(kinks.begin(), kinks.end(), u_tau)) return "stick";
+  if (std::binary_search(kinks.begin(), kinks.end(), u_tau)) return FrictionState::stick;
   if (law.name() == "slip-weakening") {
     const std::vector<double> b = law.breakpoints();  // -slip, 0, slip
-    return std::abs(u_tau) < b.back() ? "slip-weakening" : "slip-kinetic";
+    return std::abs(u_tau) < b.back() ? FrictionState::slip_weakening : FrictionState::slip_kinetic;
   }
-  return "slip";
+  return FrictionState::slip;
 }
 
-Vec2 contact_resultant(std::span<const ContactNode> nodes) {
-  Vec2 total = Vec2::Zero();
-  for (const auto& n : nodes) total -= n.force() * n.normal + n.friction_force * Vec2(-n.normal.y(), n.normal.x());
+namespace {
+
+template <class Enum, std::size_t n>
+Enum enum_from_string(const std::string& text, const std::array<const char*, n>& words, const char* what) {
+  for (std::size_t k = 0; k < n; ++k)
+    if (text == words[k]) return static_cast<Enum>(k);
+  std::string list;
+  for (const char* w : words) list += std::string(list.empty() ? "" : ", ") + "'" + w + "'";
+  throw InputError("unknown " + std::string(what) + " '" + text + "' (expected one of: " + list + ")");
+}
+
+constexpr std::array<const char*, 4> contact_state_words{"free", "upper", "lower", "bilateral"};
+constexpr std::array<const char*, 5> friction_state_words{"", "stick", "slip", "slip-weakening", "slip-kinetic"};
+
+}  // namespace
+
+std::string to_string(ContactState state) { return contact_state_words[static_cast<std::size_t>(state)]; }
+
+ContactState contact_state_from_string(const std::string& text) {
+  return enum_from_string<ContactState>(text, contact_state_words, "contact state");
+}
+
+std::string to_string(FrictionState state) { return friction_state_words[static_cast<std::size_t>(state)]; }
+
+FrictionState friction_state_from_string(const std::string& text) {
+  return enum_from_string<FrictionState>(text, friction_state_words, "friction state");
+}
+
+template <int dim>
+Eigen::Matrix<double, dim, 1> contact_resultant(const std::vector<BasicContactNode<dim>>& nodes) {
+  using Point = Eigen::Matrix<double, dim, 1>;
+  Point total = Point::Zero();
+  for (const auto& n : nodes) {
+    if constexpr (dim == 2)
+      total -= n.force() * n.normal + n.friction_force * Vec2(-n.normal.y(), n.normal.x());
+    else
+      total -= n.force() * n.normal;
+  }
   return total;
 }
 
-Vec2 ContactSolution::contact_force() const { return contact_resultant(contact); }
+template <int dim>
+typename BasicContactSolution<dim>::Point BasicContactSolution<dim>::contact_force() const {
+  return contact_resultant(contact);
+}
 
-ContactZone contact_zone(std::span<const ContactNode> nodes) {
-  ContactZone zone;
+template <int dim>
+BasicContactZone<dim> contact_zone(const std::vector<BasicContactNode<dim>>& nodes) {
+  BasicContactZone<dim> zone;
   for (const auto& n : nodes) {
     if (!(n.force() > 0.0)) continue;
     zone.lower = zone.nodes == 0 ? n.x : zone.lower.cwiseMin(n.x);
@@ -380,6 +470,11 @@ ContactZone contact_zone(std::span<const ContactNode> nodes) {
   return zone;
 }
 
-ContactZone contact_zone(const ContactSolution& solution) { return contact_zone(solution.contact); }
+template struct BasicContactSolution<2>;
+template struct BasicContactSolution<3>;
+template Vec2 contact_resultant(const std::vector<BasicContactNode<2>>&);
+template Vec3 contact_resultant(const std::vector<BasicContactNode<3>>&);
+template BasicContactZone<2> contact_zone(const std::vector<BasicContactNode<2>>&);
+template BasicContactZone<3> contact_zone(const std::vector<BasicContactNode<3>>&);
 
 }  // namespace hemivem

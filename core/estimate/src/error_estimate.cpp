@@ -123,7 +123,7 @@ ErrorEstimate estimate_error(const ContactProblem& problem, const ContactSolutio
   // per edge: 0 off Gamma_3, 1 on a frictionless contact part, 2 on one with friction
   std::vector<char> is_contact(static_cast<std::size_t>(nedges), 0);
   for (const ContactPart& part : contact_parts(problem))
-    for (int edge : part.edges) {
+    for (int edge : part.facets) {
       if (edge < 0 || edge >= nedges) throw InputError("estimate_error: a contact edge id is out of range");
       is_contact[static_cast<std::size_t>(edge)] = part.friction ? 2 : 1;
     }

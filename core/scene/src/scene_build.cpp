@@ -419,8 +419,8 @@ ContactPart make_contact_part(const ElasticityProblem& e, const SceneContact& c,
   const std::string key = contact_key(scene, i);
   ContactPart p;
   p.name = contact_part_name(scene, i);
-  p.edges = select(c.boundary, key);
-  check_contact_not_clamped(e, p.edges, mesh, scene, key);
+  p.facets = select(c.boundary, key);
+  check_contact_not_clamped(e, p.facets, mesh, scene, key);
   set_contact_data_at(p.gap, p.obstacle, scene, c, i, 1.0);
   try {
     p.law = make_law(c.law);
@@ -444,7 +444,7 @@ ContactPart make_contact_part(const ElasticityProblem& e, const SceneContact& c,
 void check_parts_disjoint(const std::vector<ContactPart>& parts, const Scene& scene, const Mesh& mesh) {
   std::map<int, std::size_t> owner;
   for (std::size_t i = 0; i < parts.size(); ++i)
-    for (int id : parts[i].edges) {
+    for (int id : parts[i].facets) {
       const auto [at, added] = owner.emplace(id, i);
       if (added || at->second == i) continue;
       const MeshEdge& edge = mesh.edge(id);

@@ -16,7 +16,7 @@ namespace hemivem::app {
 
 /// The VTU code of a friction state: 0 not a contact node, 1 stick, 2 slip, 3 slip-weakening,
 /// 4 slip-kinetic.
-std::uint8_t friction_state_code(const std::string& state);
+std::uint8_t friction_state_code(FrictionState state);
 
 /// The mesh's polygons (then Gamma_3's edges as line cells when there is contact) with the
 /// displacement, the contact values at the contact nodes (with friction also u_tau, the

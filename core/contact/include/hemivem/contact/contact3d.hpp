@@ -17,6 +17,7 @@
 #include <hemivem/contact/condensation.hpp>
 #include <hemivem/contact/forces.hpp>
 #include <hemivem/contact/obstacle.hpp>
+#include <hemivem/contact/solver.hpp>
 #include <hemivem/contact_law.hpp>
 #include <hemivem/nonsmooth_minimizer.hpp>
 #include <hemivem/reduced_problem.hpp>
@@ -51,45 +52,14 @@ struct ContactProblem3D {
   std::string contact_name = "contact";
 };
 
-/// One contact node of a 3D solution (ContactNode without friction).
-struct ContactNode3D {
-  int vertex = -1;
-  Vec3 x = Vec3::Zero();
-  double u_nu = 0.0;
-  double law_force = 0.0;
-  double reaction = 0.0;
-  double weight = 0.0;  ///< w_i, the area the node stands for
-  Vec3 normal = Vec3::Zero();
-  double gap = 0.0;
-  std::string state;    ///< "upper", "lower", "free" or "bilateral"
-  double force() const noexcept { return law_force + reaction; }
-  double pressure() const noexcept { return force() / weight; }
-};
+/// One contact node of a 3D solution (frictionless: its friction fields are zero).
+using ContactNode3D = BasicContactNode<3>;
 
 /// The balance of forces of a 3D solution (force_balance in 3D: the reaction of each Dirichlet
 /// condition the sum of K u - f over the dofs it prescribes, the last condition owning a dof).
 ForceBalance3D force_balance_3d(const ElasticityProblem3D& problem, const Eigen::VectorXd& u, const Vec3& contact);
 
-struct ContactSolution3D {
-  Eigen::VectorXd u;  ///< nodal displacements, 3 per vertex
-  int unknowns = 0;
-  std::vector<ContactNode3D> contact;
-  MinimizerStatus status = MinimizerStatus::failed;
-  std::string message;
-  Certificate certificate;
-  bool may_be_nonunique = false;
-  std::optional<MinimizerResult> minimizer;
-  double uniqueness_margin = std::numeric_limits<double>::infinity();
-  double uniqueness_roundoff = 0.0;
-  double energy = 0.0;
-  std::map<std::string, double> timings;
-  std::vector<std::string> stages;
-  ForceBalance3D forces;
-  bool converged() const noexcept { return status == MinimizerStatus::converged; }
-  int iterations() const noexcept { return minimizer ? minimizer->iterations : 0; }
-  /// The resultant of the obstacle's (foundation's) forces on the body: -sum (zeta_i + lambda_i) nu_i.
-  Vec3 contact_force() const;
-};
+using ContactSolution3D = BasicContactSolution<3>;
 
 /// Solves a 3D contact problem with the stages of ContactSolver: assembly, condensation (one
 /// factorization), one minimization per minimizer, back-substitution, post-processing; without

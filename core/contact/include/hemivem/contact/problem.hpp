@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <hemivem/vem/assembly.hpp>
@@ -40,20 +41,25 @@ std::string to_string(FrictionBound::Kind kind);
 /// than one point, u_nu not increasing, or a negative or non-finite h.
 void check_friction_bound(const FrictionBound& bound, const std::string& where = {});
 
-/// One part of the contact boundary Gamma_3 (docs/contact-parts.md): its edges and everything
-/// the contact of its nodes obeys. The fields mean what ContactProblem's fields of the same
-/// names mean for its first part.
-struct ContactPart {
-  std::string name;                         ///< names the part in results ("contact" for the first by default)
-  std::vector<int> edges;                   ///< boundary edge ids
-  std::function<double(const Vec2&)> gap;   ///< g >= 0 at a point of the part
-  std::optional<Obstacle> obstacle;         ///< a rigid obstacle instead of `gap`
-  std::shared_ptr<const ContactLaw> law;    ///< the normal law
+/// One part of the contact boundary Gamma_3 (docs/contact-parts.md) of a plane (dim = 2) or a
+/// solid (dim = 3) body: its facets (boundary edges, or boundary faces) and everything the
+/// contact of its nodes obeys. The fields mean what ContactProblem's fields of the same names
+/// mean for its first part; a solid's contact is frictionless.
+template <int dim>
+struct BasicContactPart {
+  using Point = Eigen::Matrix<double, dim, 1>;
+  using ObstacleType = std::conditional_t<dim == 2, Obstacle, Obstacle3D>;
+  std::string name;                          ///< names the part in results ("contact" for the first by default)
+  std::vector<int> facets;                   ///< boundary edge (2D) or face (3D) ids
+  std::function<double(const Point&)> gap;   ///< g >= 0 at a point of the part (empty: no gap given)
+  std::optional<ObstacleType> obstacle;      ///< a rigid obstacle instead of `gap`
+  std::shared_ptr<const ContactLaw> law;     ///< the normal law
   ConstraintKind constraint = ConstraintKind::box;
   bool law_from_surface = false;
   std::shared_ptr<const ContactLaw> friction;  ///< null: frictionless
   std::optional<FrictionBound> friction_bound;
 };
+using ContactPart = BasicContactPart<2>;
 
 /// A contact problem. Its contact boundary is one or several parts (ContactPart): the fields
 /// contact_edges ... friction_bound below are the first part (named contact_name), and
@@ -95,12 +101,21 @@ struct ContactProblem {
 /// part without edges or without a name, and for two parts of the same name.
 std::vector<ContactPart> contact_parts(const ContactProblem& problem);
 
+/// InputError for a part without facets or without a name, and for two parts of the same name.
+template <int dim>
+void check_contact_parts(const std::vector<BasicContactPart<dim>>& parts);
+
 /// Sets the contact parts of `problem`: parts[0] into the single-part fields (and
 /// contact_name), the others into more_contact; no part clears the contact.
 void set_contact_parts(ContactProblem& problem, std::vector<ContactPart> parts);
 
 /// The constraint the condensation imposes on a part: its constraint, but none when it has
 /// neither a gap nor an obstacle (bilateral stays bilateral).
-ConstraintKind constraint_in_effect(const ContactPart& part);
+template <int dim>
+ConstraintKind constraint_in_effect(const BasicContactPart<dim>& part) {
+  return part.constraint == ConstraintKind::bilateral ? ConstraintKind::bilateral
+         : part.gap || part.obstacle                  ? part.constraint
+                                                      : ConstraintKind::none;
+}
 
 }  // namespace hemivem

@@ -27,40 +27,81 @@ namespace hemivem {
 
 class ProcessGroup;
 
-/// One contact node of the solution, with the forces of the certificate (hemivem/certificate.hpp).
-struct ContactNode {
+struct ContactProblem3D;
+class Mesh3D;
+
+/// The problem and mesh types of a dimension: ContactProblem and Mesh in the plane,
+/// ContactProblem3D and Mesh3D in a solid.
+template <int dim>
+struct ContactTypes;
+template <>
+struct ContactTypes<2> {
+  using Problem = ContactProblem;
+  using MeshType = Mesh;
+};
+template <>
+struct ContactTypes<3> {
+  using Problem = ContactProblem3D;
+  using MeshType = Mesh3D;
+};
+
+/// Where the normal unknown of a contact node is: strictly between its bounds, at its upper
+/// bound (the gap, u_nu = g, or the obstacle's surface), at its lower bound (-g with the box
+/// constraint), or held at u_nu = 0 by a bilateral constraint.
+enum class ContactState { free, upper, lower, bilateral };
+/// "free", "upper", "lower", "bilateral": the words of contact.csv, result.json and Python.
+std::string to_string(ContactState state);
+/// The state of those words; InputError for any other.
+ContactState contact_state_from_string(const std::string& text);
+
+/// How a node's tangential displacement sits under its friction law: no friction; "stick" at
+/// a kink of the law (0 for the shipped laws); "slip"; for the slip-weakening law
+/// "slip-weakening" below its slip distance and "slip-kinetic" beyond it.
+enum class FrictionState { none, stick, slip, slip_weakening, slip_kinetic };
+/// "" (none), "stick", "slip", "slip-weakening", "slip-kinetic".
+std::string to_string(FrictionState state);
+/// The state of those words; InputError for any other.
+FrictionState friction_state_from_string(const std::string& text);
+
+/// One contact node of the solution, with the forces of the certificate
+/// (hemivem/certificate.hpp), in a plane (dim = 2) or a solid (dim = 3) body.
+template <int dim>
+struct BasicContactNode {
+  using Point = Eigen::Matrix<double, dim, 1>;
   int vertex = -1;
-  /// The index of the node's contact part (contact_parts(problem); ContactSolution::contact_parts
-  /// names it).
+  /// The index of the node's contact part (BasicContactSolution::contact_parts names it).
   int part = 0;
-  Vec2 x = Vec2::Zero();
+  Point x = Point::Zero();
   double u_nu = 0.0;       ///< normal displacement a_i
   double law_force = 0.0;  ///< zeta_i in w_i dj(a_i): the force of the contact law
   double reaction = 0.0;   ///< lambda_i: the reaction of the constraint (>= 0 at the upper bound, <= 0 at the lower, 0 off them)
-  double weight = 0.0;     ///< w_i, the length of boundary the node stands for
-  Vec2 normal = Vec2::Zero();  ///< the outward unit normal nu_i
+  double weight = 0.0;     ///< w_i, the length (area in 3D) of boundary the node stands for
+  Point normal = Point::Zero();  ///< the outward unit normal nu_i
   double gap = 0.0;        ///< g_i, the gap used at the node; NaN where none is (bilateral: u_nu = 0)
-  std::string state;       ///< "upper" (a_i at its upper bound), "lower" or "free" ("bilateral": u_nu = 0 imposed)
-  /// With friction (the part's friction law, or a bilateral constraint): the tangential
-  /// displacement u_tau = u . tau (tau = (-nu_y, nu_x)), the friction force zeta_tau in
-  /// w_i dj_tau(u_tau) (the foundation pushes the body by -zeta_tau tau, against the slip:
-  /// positive when it resists u_tau > 0) and its state: "stick" (u_tau at the law's kink 0), "slip", or for slip-weakening
-  /// "slip-weakening" (|u_tau| below the slip distance) and "slip-kinetic"; an empty state
-  /// (u_tau and the friction force 0) at a node without friction.
+  ContactState state = ContactState::free;
+  /// With friction (plane bodies: the part's friction law, or a bilateral constraint): the
+  /// tangential displacement u_tau = u . tau (tau = (-nu_y, nu_x)), the friction force
+  /// zeta_tau in w_i dj_tau(u_tau) (the foundation pushes the body by -zeta_tau tau, against
+  /// the slip: positive when it resists u_tau > 0) and its state; FrictionState::none (u_tau
+  /// and the friction force 0) at a node without friction, and at every node of a solid.
   double u_tau = 0.0;
   double friction_force = 0.0;
-  std::string friction_state;
+  FrictionState friction_state = FrictionState::none;
   /// The contact force zeta_i + lambda_i (a compressive force on the body is positive).
   double force() const noexcept { return law_force + reaction; }
   /// The contact pressure (zeta_i + lambda_i) / w_i.
   double pressure() const noexcept { return force() / weight; }
 };
+using ContactNode = BasicContactNode<2>;
 
-struct ContactSolution {
-  Eigen::VectorXd u;                    ///< nodal displacements, 2 per vertex
+/// The solution of a contact problem in a plane (dim = 2) or a solid (dim = 3) body.
+template <int dim>
+struct BasicContactSolution {
+  using Point = Eigen::Matrix<double, dim, 1>;
+  Eigen::VectorXd u;                    ///< nodal displacements, dim per vertex
   int unknowns = 0;                     ///< free degrees of freedom of the assembled system
-  std::vector<ContactNode> contact;     ///< empty without a contact boundary
-  /// The names of the contact parts, by ContactNode::part (empty without contact).
+  std::vector<BasicContactNode<dim>> contact;  ///< empty without a contact boundary
+  /// The names of the contact parts, by BasicContactNode::part (empty without contact).
   std::vector<std::string> contact_parts;
   /// The verdict on the solution: the minimizer's status and certificate, demoted to failed
   /// when the displacement or the energy is not finite; without a contact boundary the status
@@ -100,18 +141,19 @@ struct ContactSolution {
   /// The resultant force of the foundation (or obstacle) on the body: the sum over the
   /// contact nodes of -(zeta_i + lambda_i) nu_i - zeta_tau,i tau_i (the friction force).
   /// Zero without contact.
-  Vec2 contact_force() const;
+  Point contact_force() const;
   /// The balance of forces (force_balance of u with contact_force()): the applied load, the
   /// reaction of each Dirichlet part, the contact resultant. Zero on the processes of an
   /// engine across processes that do not hold the results.
-  ForceBalance forces;
+  BasicForceBalance<Point> forces;
 };
+using ContactSolution = BasicContactSolution<2>;
 
-/// The friction state of a tangential displacement under its law: "stick" at a kink of the
-/// law (0 for the shipped friction laws; the certificate puts u_tau exactly there), else
-/// "slip" ("slip-weakening" / "slip-kinetic" for the slip-weakening law, below / beyond its
-/// slip distance).
-std::string friction_state(const ContactLaw& law, double u_tau);
+/// The friction state of a tangential displacement under its law: stick at a kink of the law
+/// (0 for the shipped friction laws; the certificate puts u_tau exactly there), else slip
+/// (slip_weakening / slip_kinetic for the slip-weakening law, below / beyond its slip
+/// distance).
+FrictionState friction_state(const ContactLaw& law, double u_tau);
 
 /// Contact node i of `boundary` at the point m.a of `cond`'s reduced problem, with the forces
 /// of m's certificate: its position and geometry, u_nu, the law force and reaction, the state
@@ -119,6 +161,9 @@ std::string friction_state(const ContactLaw& law, double u_tau);
 /// on the free dofs) gives the normal force of a bilateral node (NaN without it).
 ContactNode contact_node(const Mesh& mesh, const ContactBoundary& boundary, const Condensation& cond,
                          const DofMap& dofs, int i, const MinimizerResult& m, const Eigen::VectorXd* residual);
+/// The same for a solid (frictionless).
+BasicContactNode<3> contact_node(const Mesh3D& mesh, const ContactBoundary& boundary, const Condensation& cond,
+                                 const DofMap& dofs, int i, const MinimizerResult& m, const Eigen::VectorXd* residual);
 
 /// The certificate of one linear solve A u = b (no contact): primal 0, dual the relative residual
 /// ||A u - b||_inf / max(||b||_inf, ||A u||_inf) (+inf when not finite); `Au` is A u.
@@ -126,16 +171,24 @@ Certificate linear_solve_certificate(const Eigen::VectorXd& u, const Eigen::Vect
                                      double tolerance);
 
 /// The contact zone: the contact nodes that carry a compressive force (zeta_i + lambda_i > 0).
-struct ContactZone {
-  int nodes = 0;              ///< how many
-  double length = 0.0;        ///< the sum of their weights w_i
-  Vec2 lower = Vec2::Zero();  ///< the bounding box of their positions (when nodes > 0)
-  Vec2 upper = Vec2::Zero();
+template <int dim>
+struct BasicContactZone {
+  using Point = Eigen::Matrix<double, dim, 1>;
+  int nodes = 0;                 ///< how many
+  double length = 0.0;           ///< the sum of their weights w_i (an area in 3D)
+  Point lower = Point::Zero();   ///< the bounding box of their positions (when nodes > 0)
+  Point upper = Point::Zero();
 };
-ContactZone contact_zone(std::span<const ContactNode> nodes);
-ContactZone contact_zone(const ContactSolution& solution);
-/// The resultant of the contact forces of `nodes` on the body (ContactSolution::contact_force).
-Vec2 contact_resultant(std::span<const ContactNode> nodes);
+using ContactZone = BasicContactZone<2>;
+template <int dim>
+BasicContactZone<dim> contact_zone(const std::vector<BasicContactNode<dim>>& nodes);
+template <int dim>
+BasicContactZone<dim> contact_zone(const BasicContactSolution<dim>& solution) {
+  return contact_zone(solution.contact);
+}
+/// The resultant of the contact forces of `nodes` on the body (contact_force()).
+template <int dim>
+Eigen::Matrix<double, dim, 1> contact_resultant(const std::vector<BasicContactNode<dim>>& nodes);
 
 /// The contact boundary of `problem` on the dofs of its assembled system: the nodes of every
 /// contact part (contact_parts, make_contact_boundary), normals, weights, gaps (each part's
@@ -178,31 +231,35 @@ ConstraintKind constraint_in_effect(const ContactProblem& problem);
 /// work done there alone (the minimizer, the post-processing) runs through
 /// ProcessGroup::run_where_results_are: an exception thrown there is thrown on every process
 /// (the others get the same kind of error with a message saying so).
-class ContactSolver {
+template <int dim>
+class BasicContactSolver {
  public:
+  using Problem = typename ContactTypes<dim>::Problem;
+  using Solution = BasicContactSolution<dim>;
+  using Node = BasicContactNode<dim>;
   /// The "assembly" stage assembles problem.elasticity.
-  ContactSolver(const ContactProblem& problem, std::unique_ptr<SparseFactorization> factorization,
-                const MinimizerOptions& options);
+  BasicContactSolver(const Problem& problem, std::unique_ptr<SparseFactorization> factorization,
+                     const MinimizerOptions& options);
   /// On a system the caller assembled from problem.elasticity (assemble()), e.g. to condense
   /// one assembly with several engines: no "assembly" stage, and "total" excludes it.
-  ContactSolver(const ContactProblem& problem, const LinearSystem& system,
-                std::unique_ptr<SparseFactorization> factorization, const MinimizerOptions& options);
-  ContactSolver(const ContactSolver&) = delete;
-  ContactSolver& operator=(const ContactSolver&) = delete;
-  ~ContactSolver();
+  BasicContactSolver(const Problem& problem, const LinearSystem& system,
+                     std::unique_ptr<SparseFactorization> factorization, const MinimizerOptions& options);
+  BasicContactSolver(const BasicContactSolver&) = delete;
+  BasicContactSolver& operator=(const BasicContactSolver&) = delete;
+  ~BasicContactSolver();
 
-  /// Adds ContactSolution::condition_estimate (7 more solves) and rcond.
-  ContactSolver& estimate_condition(bool on = true) noexcept;
+  /// Adds the solution's condition_estimate (7 more solves) and rcond.
+  BasicContactSolver& estimate_condition(bool on = true) noexcept;
   /// `reduced`, when not null, receives a copy of the reduced problem (for export).
-  ContactSolver& export_reduced(ReducedProblem* reduced) noexcept;
+  BasicContactSolver& export_reduced(ReducedProblem* reduced) noexcept;
   /// The minimizer starts from the point of the reduced problem that the full nodal
   /// displacement `u` stands for (Condensation::reduced_point; a warm start, e.g. the previous
   /// step's solution interpolated onto a refined mesh); empty: from zero. `u` must outlive run().
-  ContactSolver& start_from(const Eigen::VectorXd* u) noexcept;
+  BasicContactSolver& start_from(const Eigen::VectorXd* u) noexcept;
 
   /// Runs the stages once: one solution per minimizer, in order (the stages before the
   /// minimizer run once; their timings are repeated in every solution).
-  std::vector<ContactSolution> run(std::span<const NonsmoothMinimizer* const> minimizers);
+  std::vector<Solution> run(std::span<const NonsmoothMinimizer* const> minimizers);
 
  private:
   using Clock = std::chrono::steady_clock;
@@ -212,22 +269,21 @@ class ContactSolver {
   void assemble();
   Eigen::MatrixXd linear_solve();
   void condense();
-  void minimize(const NonsmoothMinimizer& minimizer, ContactSolution& solution) const;
-  void back_substitute(ContactSolution& solution) const;
-  void post_process(ContactSolution& solution) const;
-  // the post-processing of the linear solve, and its pieces
+  void minimize(const NonsmoothMinimizer& minimizer, Solution& solution) const;
+  void back_substitute(Solution& solution) const;
+  void post_process(Solution& solution) const;
+  // the post-processing of the linear solve
   void post_process_linear(const Eigen::MatrixXd& X);
-  ContactNode contact_node(int i, const MinimizerResult& m, const Eigen::VectorXd& residual) const;
-  void agree_on_status(ContactSolution& solution) const;
+  void agree_on_status(Solution& solution) const;
   double seconds() const;
 
-  const ContactProblem& problem_;
+  const Problem& problem_;
   const MinimizerOptions& options_;
   std::unique_ptr<SparseFactorization> factorization_;  // until condense() hands it on
   const ProcessGroup* processes_ = nullptr;             // the engine's processes
   std::optional<LinearSystem> assembled_;
   const LinearSystem* system_ = nullptr;
-  std::vector<ContactPart> parts_;
+  std::vector<BasicContactPart<dim>> parts_;
   ContactBoundary boundary_;
   std::unique_ptr<Condensation> condensation_;
   bool estimate_condition_ = false;
@@ -235,8 +291,9 @@ class ContactSolver {
   const Eigen::VectorXd* start_u_ = nullptr;
   bool ran_ = false;
   Clock::time_point start_;
-  ContactSolution common_;  // what every solution shares: the stages before the minimizer
+  Solution common_;  // what every solution shares: the stages before the minimizer
 };
+using ContactSolver = BasicContactSolver<2>;
 
 /// Solves `problem` with the given engines: ContactSolver(problem, factorization, options)
 /// run with one minimizer. When `reduced` is not null it receives a copy of the reduced
