@@ -52,7 +52,7 @@ ContactBoundary make_contact_boundary_3d(const Mesh3D& mesh, const std::vector<i
     for (std::size_t i = 0; i < m; ++i) {
       const int a = loop[i], b = loop[(i + 1) % m];
       acc[a].weight += omega(static_cast<Eigen::Index>(i));
-      const double half = 0.25 * (mesh.vertex(a) - c).cross(mesh.vertex(b) - c).norm();
+      const double half = 0.25 * scale_free_norm((mesh.vertex(a) - c).cross(mesh.vertex(b) - c));
       for (int v : {a, b}) acc[v].normal += half * n;
     }
   }
@@ -69,9 +69,10 @@ ContactBoundary make_contact_boundary_3d(const Mesh3D& mesh, const std::vector<i
                        " has the quadrature weight " + std::to_string(entry.weight) +
                        " (the sum of its contact faces' weights, which must be positive): a contact face is too far "
                        "from its vertices' mean to integrate over; split it");
-    if (!(entry.normal.norm() > 0.0))
+    const double length = scale_free_norm(entry.normal);
+    if (!(length > 0.0))
       throw InputError("contact node " + std::to_string(v) + " has no defined normal (its contact faces cancel)");
-    Vec3 normal = entry.normal.normalized();
+    Vec3 normal = entry.normal / length;
     if (mask != 0) {
       // a symmetry plane or roller meeting Gamma_3: allowed where every prescribed component is tangential
       for (int c = 0; c < 3; ++c) {

@@ -1,0 +1,87 @@
+// What the plane promises and the solid must keep too: free-floating pieces refused by name,
+// the same answer at every length scale and far from the origin, a negative gap refused under
+// the box constraint, and the condition estimate of a nearly incompressible body.
+#include <hemivem/contact/contact3d.hpp>
+#include <hemivem/contact/piecewise_law.hpp>
+#include <hemivem/linear_backends.hpp>
+#include <hemivem/mesh/generators3d.hpp>
+#include <hemivem/nonsmooth_backends.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <string>
+
+using namespace hemivem;
+
+namespace {
+
+std::unique_ptr<SparseFactorization> engine() {
+  FactorizationOptions o;
+  o.engine = "eigen";
+  return make_factorization(o);
+}
+
+std::string num(double v) {
+  std::ostringstream s;
+  s.precision(17);
+  s << v;
+  return s.str();
+}
+
+/// Example 4.1 in three dimensions at length scale s: the block s [0, 1] x [0, 0.5] x [0, 1]
+/// clamped on x0 and x1, the traction (0, 0, -8) on its top, the paper's law with the box
+/// constraint g = 0.02 on its bottom, Young's modulus 65 s. Stresses, pressures and
+/// displacements are those of s = 1 (the stiffness grows with s, the load with s^2).
+ContactProblem3D example_at_scale(const Mesh3D& mesh, double s, double poisson = 0.29) {
+  const Box box = mesh.bounding_box();
+  ContactProblem3D p;
+  p.elasticity.mesh = &mesh;
+  p.elasticity.materials = MaterialTable(Material{65.0 * s, poisson}, PlaneModel::strain);
+  std::vector<int> sides = select_box_side(mesh, box, "x0");
+  const std::vector<int> x1 = select_box_side(mesh, box, "x1");
+  sides.insert(sides.end(), x1.begin(), x1.end());
+  p.elasticity.dirichlet.push_back({sides, {}, {true, true, true}, "clamped"});
+  TractionLoad3D top;
+  top.faces = select_box_side(mesh, box, "top");
+  top.traction = [](const Vec3&) { return Vec3(0.0, 0.0, -8.0); };
+  p.elasticity.tractions.push_back(top);
+  p.contact_faces = select_box_side(mesh, box, "bottom");
+  p.gap = [](const Vec3&) { return 0.02; };
+  p.law = paper_law();
+  p.constraint = ConstraintKind::box;
+  return p;
+}
+
+}  // namespace
+
+// ---- length scales ------------------------------------------------------------------------
+
+TEST(SolidPromises, SameProblemAtEveryScaleGivesTheSamePressures) {
+  ContactSolution3D reference;
+  for (double s : {1.0, 1e-80, 1e-40, 1e40, 1e80, 1e100}) {
+    SCOPED_TRACE("s = " + num(s));
+    const Mesh3D mesh = make_cubes({4, 2, 4}, Box{0.0, s, 0.0, 0.5 * s, 0.0, s});
+    const ContactProblem3D p = example_at_scale(mesh, s);
+    const ContactSolution3D sol = solve_contact_3d(p, engine(), *make_minimizer("ssn"), MinimizerOptions{});
+    ASSERT_TRUE(sol.converged()) << sol.message;
+    if (s == 1.0) {
+      reference = sol;
+      continue;
+    }
+    ASSERT_EQ(sol.contact.size(), reference.contact.size());
+    for (std::size_t k = 0; k < sol.contact.size(); ++k) {
+      const ContactNode3D& a = sol.contact[k];
+      const ContactNode3D& b = reference.contact[k];
+      EXPECT_EQ(a.state, b.state) << k;
+      EXPECT_NEAR(a.u_nu, b.u_nu, 1e-9 * 0.02) << k;
+      EXPECT_NEAR(a.pressure(), b.pressure(), 1e-8) << k;
+      EXPECT_TRUE(a.normal == b.normal) << k;
+      EXPECT_NEAR(a.weight / (s * s), b.weight, 1e-14 * b.weight) << k;
+    }
+    EXPECT_NEAR(sol.energy / (s * s), reference.energy, 1e-9 * std::abs(reference.energy));
+  }
+}
+
