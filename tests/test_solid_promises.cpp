@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include "pressed_block3d.hpp"
+
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -55,6 +57,16 @@ ContactProblem3D example_at_scale(const Mesh3D& mesh, double s, double poisson =
   return p;
 }
 
+/// The mesh moved by `shift` (built by hand: the generators refuse cells this small against
+/// their coordinates).
+Mesh3D translated(const Mesh3D& mesh, const Vec3& shift) {
+  std::vector<Vec3> vertices = mesh.vertices();
+  for (Vec3& v : vertices) v += shift;
+  std::vector<CellFaces> cells;
+  for (int c = 0; c < mesh.num_cells(); ++c) cells.push_back(mesh.cell(c));
+  return Mesh3D(vertices, cells);
+}
+
 }  // namespace
 
 // ---- length scales ------------------------------------------------------------------------
@@ -85,3 +97,33 @@ TEST(SolidPromises, SameProblemAtEveryScaleGivesTheSamePressures) {
   }
 }
 
+
+// ---- far from the origin ------------------------------------------------------------------
+
+// A tetrahedral block pressed onto a plane (uniaxial stress: an exact linear solution) and the
+// same block translated along x by t. The coordinates t + x carry a round-off of eps t, which
+// moves the vertices by eps t / h relative to the cell size h; the solutions may differ by a
+// small multiple of that, and by nothing larger (a check relative to the coordinates' size
+// instead of the cells' refuses the faces, or loses eps t / h^2).
+TEST(SolidPromises, TetrahedraFarFromTheOriginSolveAsAtTheOrigin) {
+  const double h = 1.0 / 3.0;
+  const Box box{0.0, 1.0, 0.0, 1.0, 0.0, 0.5};
+  const Mesh3D mesh = make_tetrahedra({3, 3, 2}, box);
+  const ContactProblem3D p = test::pressed_block(mesh, box);
+  const ContactSolution3D at_origin = solve_contact_3d(p, engine(), *make_minimizer("ssn"), MinimizerOptions{});
+  ASSERT_TRUE(at_origin.converged()) << at_origin.message;
+  const double scale = at_origin.u.cwiseAbs().maxCoeff();
+  for (double t : {3e7, 1e10}) {
+    SCOPED_TRACE("t = " + num(t));
+    const Box far{t, t + 1.0, 0.0, 1.0, 0.0, 0.5};
+    const Mesh3D moved = translated(mesh, Vec3(t, 0.0, 0.0));
+    const ContactProblem3D q = test::pressed_block(moved, far);
+    const ContactSolution3D s = solve_contact_3d(q, engine(), *make_minimizer("ssn"), MinimizerOptions{});
+    ASSERT_TRUE(s.converged()) << s.message;
+    const double roundoff = std::numeric_limits<double>::epsilon() * t / h;
+    EXPECT_LE((s.u - at_origin.u).cwiseAbs().maxCoeff(), 100.0 * roundoff * scale);
+    ASSERT_EQ(s.contact.size(), at_origin.contact.size());
+    for (std::size_t k = 0; k < s.contact.size(); ++k)
+      EXPECT_NEAR(s.contact[k].pressure(), at_origin.contact[k].pressure(), 100.0 * roundoff * test::pressed_block_young);
+  }
+}
