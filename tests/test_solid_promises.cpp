@@ -127,3 +127,70 @@ TEST(SolidPromises, TetrahedraFarFromTheOriginSolveAsAtTheOrigin) {
       EXPECT_NEAR(s.contact[k].pressure(), at_origin.contact[k].pressure(), 100.0 * roundoff * test::pressed_block_young);
   }
 }
+
+// ---- pieces no support holds ----------------------------------------------------------------
+
+namespace {
+
+/// Two boxes of 2 x 2 x 2 cubes side by side with a gap between them: [0, 1]^3 and
+/// [2, 3] x [0, 1] x [0, 1], one mesh of two pieces.
+Mesh3D two_boxes() {
+  const Mesh3D a = make_cubes(2, Box{0.0, 1.0, 0.0, 1.0, 0.0, 1.0});
+  std::vector<Vec3> vertices = a.vertices();
+  std::vector<CellFaces> cells;
+  for (int c = 0; c < a.num_cells(); ++c) cells.push_back(a.cell(c));
+  const int offset = a.num_vertices();
+  for (const Vec3& v : a.vertices()) vertices.push_back(v + Vec3(2.0, 0.0, 0.0));
+  for (int c = 0; c < a.num_cells(); ++c) {
+    CellFaces cell = a.cell(c);
+    for (auto& loop : cell)
+      for (int& v : loop) v += offset;
+    cells.push_back(cell);
+  }
+  return Mesh3D(vertices, cells);
+}
+
+}  // namespace
+
+TEST(SolidPromises, APieceNoSupportHoldsIsRefusedByName) {
+  const Mesh3D mesh = two_boxes();
+  ASSERT_EQ(mesh.num_cells(), 16);
+  const auto held = [&](double x) { return std::abs(x) < 1e-12; };  // x = 0: the first box's side only
+  const auto top = [&](const Vec3& x) { return std::abs(x.z() - 1.0) < 1e-12; };
+  ContactProblem3D p;
+  p.elasticity.mesh = &mesh;
+  p.elasticity.materials = MaterialTable(Material{65.0, 0.3}, PlaneModel::strain);
+  p.elasticity.dirichlet.push_back({select_boundary_faces(mesh, [&](const Vec3& x) { return held(x.x()); }), {}, {true, true, true}, "clamped"});
+  TractionLoad3D load;
+  load.faces = select_boundary_faces(mesh, top);
+  load.traction = [](const Vec3&) { return Vec3(0.0, 0.0, -1.0); };
+  p.elasticity.tractions.push_back(load);
+  p.contact_faces = select_boundary_faces(mesh, [](const Vec3& x) { return x.z() == 0.0 && x.x() <= 1.0; });
+  p.gap = [](const Vec3&) { return 0.01; };
+  p.law = paper_law();
+  for (bool contact : {true, false}) {
+    SCOPED_TRACE(contact ? "with contact on the first box" : "without contact");
+    ContactProblem3D q = p;
+    if (!contact) q.contact_faces.clear();
+    try {
+      (void)solve_contact_3d(q, engine(), *make_minimizer("ssn"), MinimizerOptions{});
+      FAIL() << "the floating box was solved";
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      // the six motions of the second box, and where it is; nothing of the first
+      for (const char* motion : {"translation along x of the piece", "translation along y of the piece",
+                                 "translation along z of the piece", "rotation about x of the piece",
+                                 "rotation about y of the piece", "rotation about z of the piece"})
+        EXPECT_NE(what.find(motion), std::string::npos) << motion << " in: " << what;
+      EXPECT_NE(what.find("the piece of 8 cells in [2, 3] x [0, 1] x [0, 1]"), std::string::npos) << what;
+      EXPECT_EQ(what.find("[0, 1] x [0, 1] x [0, 1]"), std::string::npos) << what;
+    }
+  }
+  // holding the second box too: solved
+  p.elasticity.dirichlet.push_back(
+      {select_boundary_faces(mesh, [](const Vec3& x) { return std::abs(x.x() - 3.0) < 1e-12; }), {}, {true, true, true}, "x3"});
+  const ContactSolution3D s = solve_contact_3d(p, engine(), *make_minimizer("ssn"), MinimizerOptions{});
+  EXPECT_TRUE(s.converged()) << s.message;
+  EXPECT_LT(s.u.cwiseAbs().maxCoeff(), 1.0);
+  EXPECT_LT(s.forces.residual(), 1e-8);
+}

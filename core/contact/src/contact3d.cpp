@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <map>
 
 namespace hemivem {
@@ -107,36 +108,102 @@ ContactBoundary make_contact_boundary_3d(const Mesh3D& mesh, const std::vector<i
   return cb;
 }
 
+namespace {
+
+// The pieces of a mesh: sets of cells joined through shared vertices (union-find), as a piece
+// number per vertex (-1 for a vertex of no cell) and their count.
+std::vector<int> pieces_of_vertices(const Mesh3D& mesh, int* count) {
+  std::vector<int> parent(static_cast<std::size_t>(mesh.num_vertices()));
+  for (std::size_t v = 0; v < parent.size(); ++v) parent[v] = static_cast<int>(v);
+  auto root = [&](int v) {
+    while (parent[static_cast<std::size_t>(v)] != v)
+      v = parent[static_cast<std::size_t>(v)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(v)])];
+    return v;
+  };
+  std::vector<char> used(parent.size(), 0);
+  for (int c = 0; c < mesh.num_cells(); ++c) {
+    const auto& verts = mesh.cell_vertices(c);
+    for (int v : verts) {
+      used[static_cast<std::size_t>(v)] = 1;
+      parent[static_cast<std::size_t>(root(v))] = root(verts.front());
+    }
+  }
+  std::vector<int> piece(parent.size(), -1), number(parent.size(), -1);
+  *count = 0;
+  for (std::size_t v = 0; v < parent.size(); ++v) {
+    if (!used[v]) continue;
+    int& n = number[static_cast<std::size_t>(root(static_cast<int>(v)))];
+    if (n < 0) n = (*count)++;
+    piece[v] = n;
+  }
+  return piece;
+}
+
+std::string number_text(double x) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.4g", x);
+  return buffer;
+}
+
+}  // namespace
+
 std::vector<std::string> free_rigid_motions_3d(const Mesh3D& mesh, const DofMap& dofs) {
-  // the rigid motions r(x) = t + w x (x - centre) restricted to the prescribed dofs: the motions
-  // in the kernel of that map are free
-  const Box box = mesh.bounding_box();
-  const Vec3 centre(0.5 * (box.x0 + box.x1), 0.5 * (box.y0 + box.y1), 0.5 * (box.z0 + box.z1));
-  const double scale = std::max({box.size(0), box.size(1), box.size(2)});
-  Eigen::Matrix<double, 6, 6> G = Eigen::Matrix<double, 6, 6>::Zero();
+  // per piece of the mesh (cells joined through shared vertices), the rigid motions
+  // r(x) = t + w x (x - centre) restricted to the piece's prescribed dofs: the motions in the
+  // kernel of that map are free
+  int pieces = 0;
+  const std::vector<int> piece = pieces_of_vertices(mesh, &pieces);
+  std::vector<Vec3> lo(static_cast<std::size_t>(pieces), Vec3::Constant(INFINITY)),
+      hi(static_cast<std::size_t>(pieces), Vec3::Constant(-INFINITY));
+  std::vector<int> cells(static_cast<std::size_t>(pieces), 0), first(static_cast<std::size_t>(pieces), -1);
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    const int p = piece[static_cast<std::size_t>(v)];
+    if (p < 0) continue;
+    const auto k = static_cast<std::size_t>(p);
+    lo[k] = lo[k].cwiseMin(mesh.vertex(v));
+    hi[k] = hi[k].cwiseMax(mesh.vertex(v));
+    if (first[k] < 0) first[k] = v;
+  }
+  for (int c = 0; c < mesh.num_cells(); ++c) ++cells[static_cast<std::size_t>(piece[static_cast<std::size_t>(mesh.cell_vertices(c).front())])];
+  std::vector<Eigen::Matrix<double, 6, 6>> G(static_cast<std::size_t>(pieces), Eigen::Matrix<double, 6, 6>::Zero());
   for (int d = 0; d < dofs.num_dofs(); ++d) {
     if (dofs.free_index[static_cast<std::size_t>(d)] >= 0) continue;
     const int v = d / 3, c = d % 3;
+    const int p = piece[static_cast<std::size_t>(v)];
+    if (p < 0) continue;
+    const auto k = static_cast<std::size_t>(p);
+    const Vec3 centre = 0.5 * (lo[k] + hi[k]);
+    const double scale = (hi[k] - lo[k]).maxCoeff();
     const Vec3 x = (mesh.vertex(v) - centre) / scale;
     Eigen::Matrix<double, 6, 1> row = Eigen::Matrix<double, 6, 1>::Zero();
     row(c) = 1.0;
     // rotation about axis a: (e_a x x)_c
     for (int a = 0; a < 3; ++a) row(3 + a) = Vec3::Unit(a).cross(x)(c);
-    G += row * row.transpose();
+    G[k] += row * row.transpose();
   }
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(G);
-  const double top = std::max(eig.eigenvalues().maxCoeff(), 1.0);
   std::vector<std::string> out;
   static const char* names[6] = {"translation along x", "translation along y", "translation along z",
                                  "rotation about x", "rotation about y", "rotation about z"};
-  for (int k = 0; k < 6; ++k) {
-    if (eig.eigenvalues()(k) > 1e-10 * top) continue;
-    const Eigen::Matrix<double, 6, 1> m = eig.eigenvectors().col(k);
-    Eigen::Index at = 0;
-    m.cwiseAbs().maxCoeff(&at);
-    std::string words = names[at];
-    if (m.cwiseAbs().maxCoeff() < 0.99) words += " (combined with others)";
-    out.push_back(words);
+  for (std::size_t k = 0; k < G.size(); ++k) {
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(G[k]);
+    const double top = std::max(eig.eigenvalues().maxCoeff(), 1.0);
+    // where the piece is, when the mesh has more than one
+    const std::string of =
+        pieces == 1 ? std::string()
+                    : " of the piece of " + std::to_string(cells[k]) + (cells[k] == 1 ? " cell" : " cells") + " in [" +
+                          number_text(lo[k].x()) + ", " + number_text(hi[k].x()) + "] x [" + number_text(lo[k].y()) +
+                          ", " + number_text(hi[k].y()) + "] x [" + number_text(lo[k].z()) + ", " +
+                          number_text(hi[k].z()) + "] (vertex " + std::to_string(first[k]) + " at " +
+                          point_text(mesh.vertex(first[k])) + ")";
+    for (int j = 0; j < 6; ++j) {
+      if (eig.eigenvalues()(j) > 1e-10 * top) continue;
+      const Eigen::Matrix<double, 6, 1> m = eig.eigenvectors().col(j);
+      Eigen::Index at = 0;
+      m.cwiseAbs().maxCoeff(&at);
+      std::string words = names[at];
+      if (m.cwiseAbs().maxCoeff() < 0.99) words += " (combined with others)";
+      out.push_back(words + of);
+    }
   }
   return out;
 }
@@ -274,8 +341,8 @@ std::vector<ContactSolution3D> solve_3d(const ContactProblem3D& problem, const L
     std::string words;
     for (const auto& w : free) words += (words.empty() ? "" : ", ") + w;
     throw InputError("the supports leave rigid motions of the body free (" + words +
-                     "); a three-dimensional body must be held by its supports (symmetry planes count), not by its "
-                     "contact alone");
+                     "); a three-dimensional body, and each piece of it, must be held by its supports (symmetry "
+                     "planes count), not by its contact alone");
   }
   if (problem.obstacle) {
     if (const std::string d = problem.obstacle->defect(); !d.empty()) throw InputError("the obstacle: " + d);
