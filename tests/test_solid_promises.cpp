@@ -6,6 +6,7 @@
 #include <hemivem/linear_backends.hpp>
 #include <hemivem/mesh/generators3d.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
+#include <hemivem/scene/scene.hpp>
 
 #include <gtest/gtest.h>
 
@@ -13,6 +14,7 @@
 
 #include <cmath>
 #include <limits>
+#include <map>
 #include <sstream>
 #include <string>
 
@@ -193,4 +195,96 @@ TEST(SolidPromises, APieceNoSupportHoldsIsRefusedByName) {
   EXPECT_TRUE(s.converged()) << s.message;
   EXPECT_LT(s.u.cwiseAbs().maxCoeff(), 1.0);
   EXPECT_LT(s.forces.residual(), 1e-8);
+}
+
+// ---- a negative gap under the box constraint ------------------------------------------------
+
+TEST(SolidPromises, ANegativeObstacleGapUnderTheBoxConstraintIsRefusedBeforeTheEngines) {
+  const Box box{0.0, 1.0, 0.0, 1.0, 0.0, 0.5};
+  const Mesh3D mesh = make_cubes({2, 2, 1}, box);
+  ContactProblem3D p = test::pressed_block(mesh, box);
+  p.obstacle->point = Vec3(0.0, 0.0, 0.1);  // the plane inside the block: g = -0.1
+  p.constraint = ConstraintKind::box;
+  try {
+    (void)solve_contact_3d(p, engine(), *make_minimizer("ssn"), MinimizerOptions{});
+    FAIL() << "a negative gap was solved under the box constraint";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("the box constraint |u_nu| <= g needs a finite gap >= 0, but the obstacle gives -0.1"),
+              std::string::npos)
+        << what;
+    EXPECT_NE(what.find("contact.constraint = \"one-sided\""), std::string::npos) << what;
+  }
+  p.constraint = ConstraintKind::one_sided;  // the same obstacle one-sided: solved
+  EXPECT_TRUE(solve_contact_3d(p, engine(), *make_minimizer("ssn"), MinimizerOptions{}).converged());
+}
+
+TEST(SolidPromises, ANegativeObstacleGapInASceneNamesTheKeyAndLine) {
+  const std::string text =
+      "schema_version = 1\n"               // 1
+      "[mesh]\n"                           // 2
+      "n = [2, 2, 1]\n"                    // 3
+      "domain = [0, 1, 0, 1, 0, 0.5]\n"    // 4
+      "[material]\nE = 100.0\nnu = 0.3\n"  // 5-7
+      "[clamped]\nside = \"top\"\n"        // 8-9
+      "[contact]\n"                        // 10
+      "side = \"bottom\"\n"                // 11
+      "law = \"paper\"\n"                  // 12
+      "constraint = \"box\"\n"             // 13
+      "[contact.obstacle]\nshape = \"plane\"\npoint = [0, 0, 0.1]\nnormal = [0, 0, 1]\n";
+  const Scene scene = parse_scene_string(text, "negative-gap.toml");
+  try {
+    (void)build_problem_3d(scene);
+    FAIL() << "a negative gap was built under the box constraint";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where(), "negative-gap.toml:13") << e.what();
+    EXPECT_EQ(e.detail().rfind("contact.constraint: the box constraint |u_nu| <= g needs a finite gap >= 0", 0), 0u)
+        << e.what();
+  }
+}
+
+// ---- a mesh file that is not there --------------------------------------------------------
+
+TEST(SolidPromises, AMissingGmshFileIsTheMeshFileKeysError) {
+  const std::string text =
+      "schema_version = 1\n"
+      "[mesh]\n"
+      "file = \"no-such-solid.msh\"\n"  // line 3
+      "[clamped]\nside = \"x0\"\n"
+      "[[loads.traction]]\nside = \"top\"\nvalue = [0.0, 0.0, -8.0]\n";
+  try {
+    (void)parse_scene_string(text, "missing.toml");
+    FAIL() << "a scene with a missing mesh file was read";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where(), "missing.toml:3") << e.what();
+    EXPECT_EQ(e.detail().rfind("mesh.file: ", 0), 0u) << e.what();
+    EXPECT_NE(e.detail().find("no-such-solid.msh: cannot open the mesh file"), std::string::npos) << e.what();
+  }
+}
+
+// ---- the condition estimate -----------------------------------------------------------------
+
+TEST(SolidPromises, NearlyIncompressibleBodiesReportALargeConditionEstimate) {
+  const Mesh3D mesh = make_cubes({4, 2, 4}, Box{0.0, 1.0, 0.0, 0.5, 0.0, 1.0});
+  std::map<double, ContactSolution3D> by_nu;
+  for (double nu : {0.3, 0.4999999999999}) {
+    const ContactProblem3D p = example_at_scale(mesh, 1.0, nu);
+    const ContactSolution3D plain = solve_contact_3d(p, engine(), *make_minimizer("ssn"), MinimizerOptions{});
+    EXPECT_TRUE(std::isnan(plain.condition_estimate));  // not asked for
+    EXPECT_TRUE(std::isnan(plain.rcond));
+    const ContactSolution3D s = solve_contact_3d(p, engine(), *make_minimizer("ssn"), MinimizerOptions{}, nullptr, true);
+    ASSERT_TRUE(std::isfinite(s.condition_estimate)) << nu;
+    // the margin's round-off bound grows with the estimate, and nothing else changes
+    EXPECT_GE(s.uniqueness_roundoff, plain.uniqueness_roundoff) << nu;
+    EXPECT_EQ(s.u, plain.u) << nu;
+    by_nu[nu] = s;
+  }
+  constexpr double unreliable = 1e-6 / std::numeric_limits<double>::epsilon();  // app::unreliable_condition
+  EXPECT_GE(by_nu[0.4999999999999].condition_estimate, unreliable);
+  EXPECT_LT(by_nu[0.3].condition_estimate, 1e6);
+  // without contact faces: the estimate of A
+  ContactProblem3D linear = example_at_scale(mesh, 1.0, 0.4999999999999);
+  linear.contact_faces.clear();
+  const ContactSolution3D s = solve_contact_3d(linear, engine(), *make_minimizer("ssn"), MinimizerOptions{}, nullptr, true);
+  EXPECT_GE(s.condition_estimate, unreliable);
 }

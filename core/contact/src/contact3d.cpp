@@ -1,5 +1,7 @@
 #include <hemivem/contact/contact3d.hpp>
+#include <hemivem/support/condition.hpp>
 #include <hemivem/contact/solver.hpp>
+#include <hemivem/contact/supports.hpp>
 #include <hemivem/certificate.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/process_group.hpp>
@@ -260,6 +262,11 @@ Vec3 ContactSolution3D::contact_force() const {
 
 namespace {
 
+double rcond_or_nan(const SparseFactorization& f) {
+  const double r = f.rcond_estimate();
+  return r >= 0.0 ? r : std::numeric_limits<double>::quiet_NaN();
+}
+
 void require_ok(const FactorizationResult& r, const SparseFactorization& f, const std::string& what) {
   if (!r.ok())
     throw NumericalError(what + " with " + f.name() + " failed (" + to_string(r.status) + "): " + r.message);
@@ -317,7 +324,8 @@ namespace {
 std::vector<ContactSolution3D> solve_3d(const ContactProblem3D& problem, const LinearSystem* given,
                                         std::unique_ptr<SparseFactorization> factorization,
                                         std::span<const NonsmoothMinimizer* const> minimizers,
-                                        const MinimizerOptions& options, ReducedProblem* reduced) {
+                                        const MinimizerOptions& options, ReducedProblem* reduced,
+                                        bool estimate_condition) {
   if (!factorization) throw InputError("a 3D solve needs a factorization engine");
   if (!problem.elasticity.mesh) throw InputError("the elasticity problem has no mesh");
   for (const auto* m : minimizers)
@@ -349,6 +357,8 @@ std::vector<ContactSolution3D> solve_3d(const ContactProblem3D& problem, const L
   }
   const ContactBoundary boundary = make_contact_boundary_3d(mesh, problem.contact_faces, sys.dofs, problem.gap,
                                                             problem.obstacle ? &*problem.obstacle : nullptr);
+  if (problem.obstacle && problem.constraint == ConstraintKind::box)
+    for (int i = 0; i < boundary.size(); ++i) require_box_gap(boundary.gaps(i), boundary.nodes[static_cast<std::size_t>(i)]);
   const bool has_gaps = problem.gap || problem.obstacle;
   const ConstraintKind constraint =
       problem.constraint == ConstraintKind::bilateral || has_gaps ? problem.constraint : ConstraintKind::none;
@@ -360,6 +370,15 @@ std::vector<ContactSolution3D> solve_3d(const ContactProblem3D& problem, const L
     require_ok(factorization->solve(sys.b, &X), *factorization, "solve");
     common.timings["linear_solve"] = since(t);
     common.stages.push_back("linear_solve");
+    if (estimate_condition) {
+      common.rcond = rcond_or_nan(*factorization);
+      auto apply = [&](const Eigen::VectorXd& x) {
+        Eigen::MatrixXd y;
+        if (!factorization->solve(x, &y).ok() || y.cols() != 1) return Eigen::VectorXd();
+        return Eigen::VectorXd(y.col(0));
+      };
+      common.condition_estimate = norm1(sys.A) * estimate_norm1_symmetric(static_cast<int>(sys.A.rows()), apply);
+    }
     processes.run_where_results_are([&] {
       const Eigen::VectorXd uf = X.col(0);
       common.u = sys.dofs.expand(uf);
@@ -382,6 +401,12 @@ std::vector<ContactSolution3D> solve_3d(const ContactProblem3D& problem, const L
                     problem.law_from_surface);
   common.timings["condensation"] = since(t);
   common.stages.push_back("condensation");
+  if (estimate_condition) {
+    common.rcond = rcond_or_nan(cond.factorization());
+    common.condition_estimate = cond.condition_estimate();
+    // S carries the condensation's round-off: the margin's bound grows with kappa(A22)
+    processes.run_where_results_are([&] { cond.widen_uniqueness_roundoff(common.condition_estimate); });
+  }
   common.uniqueness_margin = cond.uniqueness_margin();
   common.uniqueness_roundoff = cond.reduced().uniqueness_roundoff;
   processes.run_where_results_are([&] {
@@ -432,22 +457,24 @@ std::vector<ContactSolution3D> solve_3d(const ContactProblem3D& problem, const L
 std::vector<ContactSolution3D> solve_contact_3d(const ContactProblem3D& problem,
                                                 std::unique_ptr<SparseFactorization> factorization,
                                                 std::span<const NonsmoothMinimizer* const> minimizers,
-                                                const MinimizerOptions& options, ReducedProblem* reduced) {
-  return solve_3d(problem, nullptr, std::move(factorization), minimizers, options, reduced);
+                                                const MinimizerOptions& options, ReducedProblem* reduced,
+                                                bool estimate_condition) {
+  return solve_3d(problem, nullptr, std::move(factorization), minimizers, options, reduced, estimate_condition);
 }
 
 std::vector<ContactSolution3D> solve_contact_3d(const ContactProblem3D& problem, const LinearSystem& system,
                                                 std::unique_ptr<SparseFactorization> factorization,
                                                 std::span<const NonsmoothMinimizer* const> minimizers,
-                                                const MinimizerOptions& options, ReducedProblem* reduced) {
-  return solve_3d(problem, &system, std::move(factorization), minimizers, options, reduced);
+                                                const MinimizerOptions& options, ReducedProblem* reduced,
+                                                bool estimate_condition) {
+  return solve_3d(problem, &system, std::move(factorization), minimizers, options, reduced, estimate_condition);
 }
 
 ContactSolution3D solve_contact_3d(const ContactProblem3D& problem, std::unique_ptr<SparseFactorization> factorization,
                                    const NonsmoothMinimizer& minimizer, const MinimizerOptions& options,
-                                   ReducedProblem* reduced) {
+                                   ReducedProblem* reduced, bool estimate_condition) {
   const NonsmoothMinimizer* one[] = {&minimizer};
-  return solve_contact_3d(problem, std::move(factorization), one, options, reduced).front();
+  return solve_contact_3d(problem, std::move(factorization), one, options, reduced, estimate_condition).front();
 }
 
 }  // namespace hemivem

@@ -48,13 +48,8 @@ ContactBoundary contact_boundary(const ContactProblem& problem, const DofMap& do
   const ContactBoundary boundary = make_contact_boundary(*problem.elasticity.mesh, parts, dofs);
   for (int i = 0; i < boundary.size(); ++i) {
     const ContactPart& part = parts[static_cast<std::size_t>(boundary.part_of(i))];
-    if (part.obstacle && part.constraint == ConstraintKind::box &&
-        !(std::isfinite(boundary.gaps(i)) && boundary.gaps(i) >= 0.0))
-      throw InputError("the box constraint |u_nu| <= g needs a finite gap >= 0, but the obstacle gives " +
-                       std::to_string(boundary.gaps(i)) + " at contact node " +
-                       std::to_string(boundary.nodes[static_cast<std::size_t>(i)]) +
-                       (parts.size() > 1 ? " (contact part '" + part.name + "')" : std::string()) +
-                       "; set contact.constraint = \"one-sided\" with an obstacle");
+    if (part.obstacle && part.constraint == ConstraintKind::box)
+      require_box_gap(boundary.gaps(i), boundary.nodes[static_cast<std::size_t>(i)], parts.size() > 1 ? part.name : "");
   }
   return boundary;
 }

@@ -3,6 +3,7 @@
 #include <hemivem/vem/rigid_motions.hpp>
 
 #include <algorithm>
+#include <cmath>
 
 namespace hemivem {
 
@@ -89,6 +90,14 @@ Supports find_supports(const Mesh& mesh, const DofMap& dofs, const ContactBounda
     tangential[i] = part.friction ? 1 : 0;
   }
   return supports_of(mesh, dofs, boundary, normal, tangential);
+}
+
+void require_box_gap(double gap, int node, const std::string& part) {
+  if (std::isfinite(gap) && gap >= 0.0) return;
+  throw InputError("the box constraint |u_nu| <= g needs a finite gap >= 0, but the obstacle gives " + std::to_string(gap) +
+                   " at contact node " + std::to_string(node) +
+                   (part.empty() ? std::string() : " (contact part '" + part + "')") +
+                   "; set contact.constraint = \"one-sided\" with an obstacle");
 }
 
 }  // namespace hemivem

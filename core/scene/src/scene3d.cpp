@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include <hemivem/mesh/generators3d.hpp>
+#include <hemivem/contact/supports.hpp>
 #include <hemivem/mesh/gmsh3d.hpp>
 #include <hemivem/scene/resources.hpp>
 
@@ -227,6 +228,25 @@ void check_contact_not_clamped_3d(const ElasticityProblem3D& e, const std::vecto
                      scene.where(key));
 }
 
+/// The box constraint against an obstacle needs a gap >= 0 at every contact node: an error naming
+/// contact.constraint (the solve checks it too, without the scene). A boundary that cannot be
+/// made is left to the solve to report.
+void check_box_gaps_3d(const ContactProblem3D& p, const Scene& scene, const std::string& key) {
+  ContactBoundary boundary;
+  try {
+    boundary = make_contact_boundary_3d(*p.elasticity.mesh, p.contact_faces, make_dof_map_3d(*p.elasticity.mesh, p.elasticity.dirichlet),
+                                        {}, &*p.obstacle);
+  } catch (const InputError&) {
+    return;
+  }
+  const std::string at = scene.lines.count(key + ".constraint") ? key + ".constraint" : key + ".obstacle";
+  try {
+    for (int i = 0; i < boundary.size(); ++i) require_box_gap(boundary.gaps(i), boundary.nodes[static_cast<std::size_t>(i)]);
+  } catch (const InputError& e) {
+    throw InputError(at + ": " + e.detail(), scene.where(at));
+  }
+}
+
 void add_contact_3d(ContactProblem3D& p, const Scene& scene, const Mesh3D& mesh, const FaceSelection& select) {
   if (!scene.contact) {
     p.constraint = ConstraintKind::none;
@@ -264,6 +284,7 @@ void add_contact_3d(ContactProblem3D& p, const Scene& scene, const Mesh3D& mesh,
   }
   p.constraint = c.constraint;
   p.law_from_surface = c.law_origin == "surface";
+  if (p.obstacle && p.constraint == ConstraintKind::box) check_box_gaps_3d(p, scene, key);
 }
 
 }  // namespace

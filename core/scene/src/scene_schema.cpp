@@ -580,6 +580,10 @@ void read_mesh(Scene& s, const toml::table& t, const std::filesystem::path& base
   TableReader m(s, t, "mesh", {"generator", "file", "n", "seed", "domain"});
   if (m.has("file")) {
     read_mesh_file(m, s.mesh, base);
+    // the file decides the scene's dimension: one that cannot be read is this key's error
+    std::error_code ec;
+    if (lower(s.mesh.file.extension().string()) == ".msh" && !std::filesystem::is_regular_file(s.mesh.file, ec))
+      m.fail("file", m.node("file"), s.mesh.file.string() + ": cannot open the mesh file (no such file, or not a regular file)");
     if (lower(s.mesh.file.extension().string()) == ".msh" && gmsh_file_dimension(s.mesh.file) == 3)
       s.mesh.dimension = 3;
     return;

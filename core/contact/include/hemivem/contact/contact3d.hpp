@@ -81,6 +81,13 @@ struct ContactSolution3D {
   std::optional<MinimizerResult> minimizer;
   double uniqueness_margin = std::numeric_limits<double>::infinity();
   double uniqueness_roundoff = 0.0;
+  /// Reciprocal condition estimate of the matrix the engine factorized (A22 with contact, A
+  /// without), where the engine offers one; NaN otherwise and unless asked for
+  /// (estimate_condition), as ContactSolution::rcond.
+  double rcond = std::numeric_limits<double>::quiet_NaN();
+  /// Estimate of the 1-norm condition number of the same matrix, independent of the engine
+  /// (Condensation::condition_estimate); NaN unless asked for, as ContactSolution::condition_estimate.
+  double condition_estimate = std::numeric_limits<double>::quiet_NaN();
   double energy = 0.0;
   std::map<std::string, double> timings;
   std::vector<std::string> stages;
@@ -96,19 +103,23 @@ struct ContactSolution3D {
 /// contact faces one linear solve. The supports must hold the body (InputError naming the rigid
 /// motions they leave free: a three-dimensional body held by its contact alone is refused).
 /// InputError for a problem that cannot be set up, NumericalError when the factorization fails.
+/// `estimate_condition` adds ContactSolution3D::condition_estimate (7 more solves) and rcond,
+/// and widens the uniqueness margin's round-off bound by the estimate, as solve_contact does.
 std::vector<ContactSolution3D> solve_contact_3d(const ContactProblem3D& problem,
                                                 std::unique_ptr<SparseFactorization> factorization,
                                                 std::span<const NonsmoothMinimizer* const> minimizers,
-                                                const MinimizerOptions& options, ReducedProblem* reduced = nullptr);
+                                                const MinimizerOptions& options, ReducedProblem* reduced = nullptr,
+                                                bool estimate_condition = false);
 ContactSolution3D solve_contact_3d(const ContactProblem3D& problem, std::unique_ptr<SparseFactorization> factorization,
                                    const NonsmoothMinimizer& minimizer, const MinimizerOptions& options,
-                                   ReducedProblem* reduced = nullptr);
+                                   ReducedProblem* reduced = nullptr, bool estimate_condition = false);
 /// The same on a system the caller assembled from problem.elasticity (assemble_3d), e.g. to
 /// condense one assembly with several engines: no "assembly" stage, and "total" excludes it.
 std::vector<ContactSolution3D> solve_contact_3d(const ContactProblem3D& problem, const LinearSystem& system,
                                                 std::unique_ptr<SparseFactorization> factorization,
                                                 std::span<const NonsmoothMinimizer* const> minimizers,
-                                                const MinimizerOptions& options, ReducedProblem* reduced = nullptr);
+                                                const MinimizerOptions& options, ReducedProblem* reduced = nullptr,
+                                                bool estimate_condition = false);
 
 /// The rigid motions of a 3D body that prescribed dofs leave free, in words (empty when held).
 std::vector<std::string> free_rigid_motions_3d(const Mesh3D& mesh, const DofMap& dofs);

@@ -39,4 +39,10 @@ Supports find_supports(const Mesh& mesh, const DofMap& dofs, const ContactBounda
 Supports find_supports(const Mesh& mesh, const DofMap& dofs, const ContactBoundary& boundary,
                        const std::vector<ContactPart>& parts);
 
+/// The box constraint |u_nu| <= g with an obstacle's gap g: throws InputError unless `gap` (at
+/// contact node `node`) is finite and >= 0, naming the node, the contact part `part` (when not
+/// empty) and the remedy (contact.constraint = "one-sided"). The plane and the solid call it
+/// on each node of a box-constrained contact against an obstacle, before anything is factorized.
+void require_box_gap(double gap, int node, const std::string& part = {});
+
 }  // namespace hemivem
