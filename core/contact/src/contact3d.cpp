@@ -1,5 +1,4 @@
 #include <hemivem/contact/contact3d.hpp>
-#include <hemivem/support/condition.hpp>
 #include <hemivem/contact/solver.hpp>
 #include <hemivem/contact/supports.hpp>
 #include <hemivem/certificate.hpp>
@@ -372,12 +371,7 @@ std::vector<ContactSolution3D> solve_3d(const ContactProblem3D& problem, const L
     common.stages.push_back("linear_solve");
     if (estimate_condition) {
       common.rcond = rcond_or_nan(*factorization);
-      auto apply = [&](const Eigen::VectorXd& x) {
-        Eigen::MatrixXd y;
-        if (!factorization->solve(x, &y).ok() || y.cols() != 1) return Eigen::VectorXd();
-        return Eigen::VectorXd(y.col(0));
-      };
-      common.condition_estimate = norm1(sys.A) * estimate_norm1_symmetric(static_cast<int>(sys.A.rows()), apply);
+      common.condition_estimate = factorized_condition_estimate(sys.A, *factorization);
     }
     processes.run_where_results_are([&] {
       const Eigen::VectorXd uf = X.col(0);

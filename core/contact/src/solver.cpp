@@ -162,12 +162,7 @@ Eigen::MatrixXd ContactSolver::linear_solve() {
   common_.stages.push_back("linear_solve");
   if (estimate_condition_) {
     common_.rcond = rcond_or_nan(*factorization_);
-    auto apply = [&](const Eigen::VectorXd& x) {
-      Eigen::MatrixXd y;
-      if (!factorization_->solve(x, &y).ok() || y.cols() != 1) return Eigen::VectorXd();
-      return Eigen::VectorXd(y.col(0));
-    };
-    common_.condition_estimate = norm1(sys.A) * estimate_norm1_symmetric(static_cast<int>(sys.A.rows()), apply);
+    common_.condition_estimate = factorized_condition_estimate(sys.A, *factorization_);
   }
   return X;
 }

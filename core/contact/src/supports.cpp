@@ -1,5 +1,6 @@
 #include <hemivem/contact/supports.hpp>
 #include <hemivem/error.hpp>
+#include <hemivem/support/condition.hpp>
 #include <hemivem/vem/rigid_motions.hpp>
 
 #include <algorithm>
@@ -98,6 +99,15 @@ void require_box_gap(double gap, int node, const std::string& part) {
                    " at contact node " + std::to_string(node) +
                    (part.empty() ? std::string() : " (contact part '" + part + "')") +
                    "; set contact.constraint = \"one-sided\" with an obstacle");
+}
+
+double factorized_condition_estimate(const SparseMatrix& A, const SparseFactorization& f) {
+  auto apply = [&](const Eigen::VectorXd& x) {
+    Eigen::MatrixXd y;
+    if (!f.solve(x, &y).ok() || y.cols() != 1) return Eigen::VectorXd();
+    return Eigen::VectorXd(y.col(0));
+  };
+  return norm1(A) * estimate_norm1_symmetric(static_cast<int>(A.rows()), apply);
 }
 
 }  // namespace hemivem

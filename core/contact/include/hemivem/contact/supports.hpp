@@ -4,6 +4,8 @@
 #pragma once
 
 #include <string>
+
+#include <hemivem/sparse_factorization.hpp>
 #include <vector>
 
 #include <hemivem/contact/condensation.hpp>
@@ -44,5 +46,10 @@ Supports find_supports(const Mesh& mesh, const DofMap& dofs, const ContactBounda
 /// empty) and the remedy (contact.constraint = "one-sided"). The plane and the solid call it
 /// on each node of a box-constrained contact against an obstacle, before anything is factorized.
 void require_box_gap(double gap, int node, const std::string& part = {});
+
+/// The 1-norm condition estimate ||A||_1 ||A^-1||_1 of a matrix `f` has factorized (7 solves
+/// with it), independent of the engine: what the plane's and the solid's linear solves report
+/// as condition_estimate.
+double factorized_condition_estimate(const SparseMatrix& A, const SparseFactorization& f);
 
 }  // namespace hemivem
