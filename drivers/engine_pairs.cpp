@@ -136,7 +136,7 @@ void record_solution(PairRun& r, Solution& s, const PairRuns& out, const Reduced
 /// fails them all.
 void run_engine_pairs(const std::string& linear, const std::vector<Pair>& pairs, const PairEngines& engines,
                       const LinearSystem& system, const MinimizerOptions& mo, const PairRunOptions& o, PairRuns& out) {
-  const bool has_contact = out.built3d ? !out.built3d->problem.contact_faces.empty() : out.built->has_contact;
+  const bool has_contact = out.built3d ? !out.built3d->problem.parts.empty() : out.built->has_contact;
   std::vector<std::size_t> mine;  // the pairs of this engine, in order
   std::vector<const NonsmoothMinimizer*> minimizers;
   for (std::size_t i = 0; i < pairs.size(); ++i)

@@ -156,15 +156,16 @@ TEST(Scene3D, ShippedScenesPoseTheirProblemsAndRoundTrip) {
   ASSERT_EQ(p.elasticity.dirichlet.size(), 1u);
   EXPECT_EQ(p.elasticity.dirichlet[0].faces.size(), 2u * 4 * 8);
   EXPECT_EQ(p.elasticity.tractions.at(0).faces.size(), 8u * 4);
-  EXPECT_EQ(p.contact_faces.size(), 8u * 4);
-  for (int f : p.contact_faces) EXPECT_NEAR(built->mesh.face_centroid(f).z(), 0.0, 1e-15);
-  ASSERT_TRUE(p.gap);
-  EXPECT_EQ(p.gap(Vec3(0.3, 0.2, 0.0)), 0.02);
+  ASSERT_EQ(p.parts.size(), 1u);
+  EXPECT_EQ(p.parts[0].facets.size(), 8u * 4);
+  for (int f : p.parts[0].facets) EXPECT_NEAR(built->mesh.face_centroid(f).z(), 0.0, 1e-15);
+  ASSERT_TRUE(p.parts[0].gap);
+  EXPECT_EQ(p.parts[0].gap(Vec3(0.3, 0.2, 0.0)), 0.02);
   EXPECT_EQ(p.elasticity.tractions[0].traction(Vec3(0.5, 0.25, 1.0)), Vec3(0.0, 0.0, -8.0));
   EXPECT_EQ(p.elasticity.materials.lame(0).mu, 65.0 / (2.0 * 1.29));
   const auto h = build_problem_3d(hertz);
-  ASSERT_TRUE(h->problem.obstacle.has_value());
-  EXPECT_EQ(h->problem.obstacle->shape, Obstacle3D::Shape::sphere);
+  ASSERT_TRUE(h->problem.parts.at(0).obstacle.has_value());
+  EXPECT_EQ(h->problem.parts.at(0).obstacle->shape, Obstacle3D::Shape::sphere);
   EXPECT_EQ(h->problem.elasticity.dirichlet[1].fix, (std::array<bool, 3>{true, false, false}));
   EXPECT_EQ(h->problem.elasticity.dirichlet[2].fix, (std::array<bool, 3>{false, true, false}));
 }
@@ -180,12 +181,12 @@ TEST(Scene3D, ExpressionsTakeZAndOverridesApply) {
   EXPECT_EQ(p.elasticity.body_force(Vec3(0.25, 0.5, 0.75)), Vec3(0.0, 0.25, -1.5));
   EXPECT_EQ(p.elasticity.tractions.at(0).pressure(Vec3(1.0, 0.5, 0.5)), 1.25);
   EXPECT_EQ(p.elasticity.dirichlet.at(1).value(Vec3(0.5, 0.0, 1.0)).z(), -0.005);
-  EXPECT_EQ(p.gap(Vec3(0.0, 0.0, 0.5)), 0.26);
+  EXPECT_EQ(p.parts.at(0).gap(Vec3(0.0, 0.0, 0.5)), 0.26);
   // the same keys by --set, read back as a whole
   apply_overrides(s, {"mesh.n=[2, 3, 4]", "contact.gap=\"0.02*z\"", "loads.body_force=[1, 0, 0]"});
   EXPECT_EQ(s.dimension(), 3);
   EXPECT_EQ(s.mesh.cells3(), GridSize3(2, 3, 4));
-  EXPECT_EQ(build_problem_3d(s)->problem.gap(Vec3(0.0, 0.0, 0.5)), 0.01);
+  EXPECT_EQ(build_problem_3d(s)->problem.parts.at(0).gap(Vec3(0.0, 0.0, 0.5)), 0.01);
   EXPECT_EQ(s.body_force[0], (SceneScalar{1.0, {}}));
   // a two-dimensional scene knows no z
   EXPECT_TRUE(holds(scene_error(kHead + "[loads]\nbody_force = [0, \"z\"]\n"),
@@ -222,8 +223,6 @@ TEST(Scene3D, BadInputNamesTheKeyAndWhatWasExpected) {
                     {"solid.toml:5", "contact.obstacle.shape", "'sphere' is an obstacle of three-dimensional scenes"}));
   EXPECT_TRUE(holds(scene_error(contact + "[contact.friction]\nlaw = \"tresca\"\n"),
                     {"solid.toml:8", "contact.friction", "not available for three-dimensional scenes"}));
-  EXPECT_TRUE(holds(scene_error(kBox + "[[contact]]\nside = \"top\"\n[[contact]]\nside = \"bottom\"\n"),
-                    {"solid.toml:6", "contact", "several contact parts", "not available for three-dimensional scenes"}));
   EXPECT_TRUE(holds(scene_error(kBox + "[path]\nsteps = 4\n"),
                     {"solid.toml:6", "path: not available for three-dimensional scenes"}));
   EXPECT_TRUE(holds(scene_error(kBox + "[adapt]\ntarget = 0.1\n"),

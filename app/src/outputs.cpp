@@ -146,11 +146,6 @@ void draw_solve_figures(const OutputTransaction& tx, const fs::path& dir, const 
 
 }  // namespace
 
-std::string contact_part_name(const ContactSolution& s, const ContactNode& n) {
-  return n.part >= 0 && n.part < static_cast<int>(s.contact_parts.size()) ? s.contact_parts[static_cast<std::size_t>(n.part)]
-                                                                          : std::string("contact");
-}
-
 bool has_tangential(const ContactSolution& s) {
   return std::any_of(s.contact.begin(), s.contact.end(), [](const ContactNode& n) { return n.friction_state != FrictionState::none; });
 }

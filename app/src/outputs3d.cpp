@@ -86,12 +86,15 @@ nlohmann::json forces_json(const ForceBalance3D& b) {
 
 void write_contact_csv(std::ostream& stream, const ContactSolution3D& s) {
   TextWriter os(stream);
-  os << "vertex,x,y,z,u_nu,law_force,reaction,pressure,state,gap,nx,ny,nz\n";
+  const bool parts = s.contact_parts.size() > 1;  // several contact parts: each node's
+  os << "vertex,x,y,z,u_nu,law_force,reaction,pressure,state,gap,nx,ny,nz" << (parts ? ",part" : "") << "\n";
   for (const auto& n : s.contact) {
     os << n.vertex << ',' << n.x.x() << ',' << n.x.y() << ',' << n.x.z() << ',' << n.u_nu << ',' << n.law_force << ','
        << n.reaction << ',' << n.pressure() << ',' << to_string(n.state) << ',';
     if (!std::isnan(n.gap)) os << n.gap;  // empty: no gap used (bilateral)
-    os << ',' << n.normal.x() << ',' << n.normal.y() << ',' << n.normal.z() << '\n';
+    os << ',' << n.normal.x() << ',' << n.normal.y() << ',' << n.normal.z();
+    if (parts) os << ',' << contact_part_name(s, n);
+    os << '\n';
   }
 }
 
@@ -120,7 +123,7 @@ nlohmann::json result_json_3d(const Mesh3D& mesh, const ContactSolution3D& s, co
   using nlohmann::json;
   json j = detail::result_json_common(s, info, 3);
   j["held_by_contact"] = json::array();  // the supports of a 3D body hold it (solve_contact_3d)
-  j["condition_estimate"] = nullptr;     // not estimated in three dimensions
+  j["condition_estimate"] = number(s.condition_estimate);
   j["mesh"] = {{"description", info.mesh},
                {"vertices", mesh.num_vertices()},
                {"elements", mesh.num_cells()},
@@ -138,7 +141,7 @@ nlohmann::json result_json_3d(const Mesh3D& mesh, const ContactSolution3D& s, co
                        {"gap", number(n.gap)},
                        {"normal", triple(n.normal)},
                        {"state", to_string(n.state)},
-                       {"part", "contact"}});
+                       {"part", contact_part_name(s, n)}});
   j["contact"] = std::move(contact);
   j["friction"] = nullptr;
   j["contact_force"] = triple(s.contact_force());

@@ -1,7 +1,9 @@
 // What solve_scene and solve_scene_path do before they solve (private to hemivem::app).
 #pragma once
 
+#include <algorithm>
 #include <memory>
+#include <vector>
 
 #include <hemivem/app/outputs.hpp>
 #include <hemivem/app/solve.hpp>
@@ -56,6 +58,25 @@ RunInfo run_info_common(const Scene& scene, const Solved& solved) {
   info.warnings = solved.warnings;
   info.error_estimate = solved.estimate;
   return info;
+}
+
+/// What result.json and the plots record of a problem's contact parts: the normal laws'
+/// breakpoints (sorted, each once), whether a gap bounds u_nu, the first obstacle (plane), the
+/// friction laws' names.
+template <int dim>
+void add_contact_parts(RunInfo& info, const std::vector<BasicContactPart<dim>>& parts) {
+  for (const auto& part : parts) {
+    if (part.law && part.constraint != ConstraintKind::bilateral)
+      for (double b : part.law->breakpoints())
+        if (std::find(info.law_breakpoints.begin(), info.law_breakpoints.end(), b) == info.law_breakpoints.end())
+          info.law_breakpoints.push_back(b);
+    info.gap_bound = info.gap_bound || part.constraint == ConstraintKind::one_sided || part.constraint == ConstraintKind::box;
+    if constexpr (dim == 2)
+      if (part.obstacle && !info.obstacle) info.obstacle = part.obstacle;
+    if (part.friction && info.friction_law.find(part.friction->name()) == std::string::npos)
+      info.friction_law += (info.friction_law.empty() ? "" : ", ") + part.friction->name();
+  }
+  std::sort(info.law_breakpoints.begin(), info.law_breakpoints.end());
 }
 
 }  // namespace hemivem::app::detail

@@ -215,19 +215,7 @@ RunInfo run_info(const Scene& scene, const SceneSolve& solved) {
   const BuiltProblem& built = *solved.built;
   RunInfo info = detail::run_info_common(scene, solved);
   info.options["plane_model"] = to_string(scene.material.model);
-  // every contact part's: the normal laws' breakpoints, whether a gap bounds u_nu, the first
-  // obstacle, the friction laws' names
-  for (const ContactPart& part : built.has_contact ? contact_parts(built.problem) : std::vector<ContactPart>{}) {
-    if (part.law && part.constraint != ConstraintKind::bilateral)
-      for (double b : part.law->breakpoints())
-        if (std::find(info.law_breakpoints.begin(), info.law_breakpoints.end(), b) == info.law_breakpoints.end())
-          info.law_breakpoints.push_back(b);
-    info.gap_bound = info.gap_bound || part.constraint == ConstraintKind::one_sided || part.constraint == ConstraintKind::box;
-    if (part.obstacle && !info.obstacle) info.obstacle = part.obstacle;
-    if (part.friction && info.friction_law.find(part.friction->name()) == std::string::npos)
-      info.friction_law += (info.friction_law.empty() ? "" : ", ") + part.friction->name();
-  }
-  std::sort(info.law_breakpoints.begin(), info.law_breakpoints.end());
+  if (built.has_contact) detail::add_contact_parts(info, contact_parts(built.problem));
   info.adapt = solved.adapt;
   info.path = solved.path.get();
   return info;

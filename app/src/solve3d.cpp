@@ -49,7 +49,10 @@ SceneSolve3D solve_scene_3d(const Scene& scene, SceneSolve3DOptions o) {
   s.mesh_seconds = since(t);
   if (o.on_built) o.on_built(*s.built, s);
   try {
-    s.solution = solve_contact_3d(s.built->problem, std::move(e.factorization), *e.minimizer, s.options, o.reduced);
+    const NonsmoothMinimizer* minimizers[] = {e.minimizer.get()};
+    ContactSolver3D solver(s.built->problem, std::move(e.factorization), s.options);
+    solver.estimate_condition(true).export_reduced(o.reduced);
+    s.solution = std::move(solver.run(minimizers).front());
   } catch (const InputError& err) {
     // a defect of the supports or of the contact part found when they are set up: name the scene's key
     if (!err.where().empty()) throw;
@@ -63,6 +66,7 @@ SceneSolve3D solve_scene_3d(const Scene& scene, SceneSolve3DOptions o) {
     throw;
   }
   s.warnings = s.built->warnings;
+  if (std::string w = conditioning_warning(s.solution.condition_estimate); !w.empty()) s.warnings.push_back(std::move(w));
   if (s.holds_results && s.solution.u.size() > 0 && s.solution.u.allFinite()) {
     s.estimate = estimate_error_3d(s.built->problem, s.solution);
     s.solution.stages.push_back("estimate");
@@ -89,10 +93,7 @@ std::vector<std::string> wanted_files_3d(const Scene& scene, bool has_contact) {
 RunInfo run_info_3d(const Scene& scene, const SceneSolve3D& solved) {
   const BuiltProblem3D& built = *solved.built;
   RunInfo info = detail::run_info_common(scene, solved);
-  const ContactProblem3D& p = built.problem;
-  if (built.has_contact && p.law && p.constraint != ConstraintKind::bilateral) info.law_breakpoints = p.law->breakpoints();
-  std::sort(info.law_breakpoints.begin(), info.law_breakpoints.end());
-  info.gap_bound = built.has_contact && (p.constraint == ConstraintKind::one_sided || p.constraint == ConstraintKind::box);
+  if (built.has_contact) detail::add_contact_parts(info, contact_parts(built.problem));
   return info;
 }
 
@@ -101,7 +102,7 @@ OutputReport write_results_3d(const std::filesystem::path& dir, const Scene& sce
   const BuiltProblem3D& built = *solved.built;
   check_output_folder(dir);
   const RunInfo info = run_info_3d(scene, solved);
-  return write_outputs_3d(dir, built.mesh, built.problem.elasticity.materials, built.problem.contact_faces,
+  return write_outputs_3d(dir, built.mesh, built.problem.elasticity.materials, contact_faces(built.problem),
                           solved.solution, info, files ? *files : wanted_files_3d(scene, built.has_contact));
 }
 

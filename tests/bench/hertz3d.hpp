@@ -57,14 +57,17 @@ inline ContactProblem3D problem(const Setup& s, const Mesh3D& m) {
   p.elasticity.dirichlet.push_back({select_box_side(m, box, "x0"), {}, {true, false, false}, "symmetry x"});
   p.elasticity.dirichlet.push_back({select_box_side(m, box, "y0"), {}, {false, true, false}, "symmetry y"});
   p.elasticity.dirichlet.push_back({select_box_side(m, box, "bottom"), {}, {true, true, true}, "base"});
-  p.contact_faces = select_box_side(m, box, "top");
+  ContactPart3D contact;
+  contact.name = "contact";
+  contact.facets = select_box_side(m, box, "top");
   Obstacle3D sphere;
   sphere.shape = Obstacle3D::Shape::sphere;
   sphere.center = Vec3(0.0, 0.0, s.size + s.radius - s.indentation);
   sphere.radius = s.radius;
-  p.obstacle = sphere;
-  p.law = zero_law();
-  p.constraint = ConstraintKind::one_sided;
+  contact.obstacle = sphere;
+  contact.law = zero_law();
+  contact.constraint = ConstraintKind::one_sided;
+  p.parts.push_back(std::move(contact));
   return p;
 }
 

@@ -21,13 +21,16 @@ inline ContactProblem3D pressed_block(const Mesh3D& mesh, const Box& box) {
                                     [](const Vec3&) { return Vec3(0, 0, -pressed_block_depth); },
                                     {false, false, true},
                                     "top"});
-  p.contact_faces = select_box_side(mesh, box, "bottom");
+  ContactPart3D contact;
+  contact.name = "contact";
+  contact.facets = select_box_side(mesh, box, "bottom");
   Obstacle3D plane;
   plane.point = Vec3::Zero();
   plane.normal = Vec3(0, 0, 1);
-  p.obstacle = plane;
-  p.law = zero_law();
-  p.constraint = ConstraintKind::one_sided;
+  contact.obstacle = plane;
+  contact.law = zero_law();
+  contact.constraint = ConstraintKind::one_sided;
+  p.parts.push_back(std::move(contact));
   return p;
 }
 

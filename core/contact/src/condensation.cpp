@@ -131,12 +131,6 @@ ContactBoundary make_contact_boundary(const Mesh& mesh, const std::vector<Contac
   });
 }
 
-std::vector<PartConditions> part_conditions(const std::vector<ContactPart>& parts) {
-  std::vector<PartConditions> out;
-  out.reserve(parts.size());
-  for (const ContactPart& p : parts) out.push_back({p.law, constraint_in_effect(p), p.friction, p.law_from_surface});
-  return out;
-}
 
 namespace {
 

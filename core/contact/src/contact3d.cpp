@@ -1,5 +1,9 @@
 #include <hemivem/contact/contact3d.hpp>
 #include <hemivem/contact/solver.hpp>
+#include <hemivem/contact/supports.hpp>
+
+#include "solver.templates.hpp"
+#include <hemivem/contact/supports.hpp>
 #include <hemivem/certificate.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/process_group.hpp>
@@ -10,15 +14,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <map>
 
 namespace hemivem {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 std::string point_text(const Vec3& p) {
   return "(" + std::to_string(p.x()) + ", " + std::to_string(p.y()) + ", " + std::to_string(p.z()) + ")";
@@ -26,8 +27,7 @@ std::string point_text(const Vec3& p) {
 
 }  // namespace
 
-ContactBoundary make_contact_boundary_3d(const Mesh3D& mesh, const std::vector<int>& faces, const DofMap& dofs,
-                                         const std::function<double(const Vec3&)>& gap, const Obstacle3D* obstacle) {
+ContactBoundary make_contact_boundary_3d(const Mesh3D& mesh, const std::vector<ContactPart3D>& parts, const DofMap& dofs) {
   if (dofs.num_dofs() != 3 * mesh.num_vertices())
     throw InputError("a dof map of " + std::to_string(dofs.num_dofs()) + " dofs for a mesh of " +
                      std::to_string(3 * mesh.num_vertices()));
@@ -36,42 +36,50 @@ ContactBoundary make_contact_boundary_3d(const Mesh3D& mesh, const std::vector<i
   struct Sum {
     Vec3 normal = Vec3::Zero();
     double weight = 0.0;
+    int part = -1;  // the first part holding the node
   };
   std::map<int, Sum> acc;
+  std::map<int, std::size_t> face_part;
   std::vector<Vec3> z;
-  for (int id : faces) {
-    if (id < 0 || id >= mesh.num_faces()) throw InputError("contact face id " + std::to_string(id) + " out of range");
-    if (!mesh.face(id).on_boundary()) throw InputError("contact face " + std::to_string(id) + " is not on the boundary");
-    cb.faces.push_back(id);
-    const auto& loop = mesh.face(id).vertices;
-    const Vec3 c = mesh.face_centroid(id), n = mesh.face_normal(id);
-    const std::size_t m = loop.size();
-    z.clear();
-    for (int v : loop) z.push_back(mesh.vertex(v));
-    const Eigen::VectorXd omega = face_weights(z);  // int_f v = sum_i omega_i v_i in the enhanced face space
-    for (std::size_t i = 0; i < m; ++i) {
-      const int a = loop[i], b = loop[(i + 1) % m];
-      acc[a].weight += omega(static_cast<Eigen::Index>(i));
-      const double half = 0.25 * (mesh.vertex(a) - c).cross(mesh.vertex(b) - c).norm();
-      for (int v : {a, b}) acc[v].normal += half * n;
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    for (int id : parts[k].facets) {
+      if (id < 0 || id >= mesh.num_faces()) throw InputError("contact face id " + std::to_string(id) + " out of range");
+      if (!mesh.face(id).on_boundary()) throw InputError("contact face " + std::to_string(id) + " is not on the boundary");
+      if (const auto [at, added] = face_part.emplace(id, k); !added)
+        throw InputError("contact face " + std::to_string(id) + " at " + point_text(mesh.face_centroid(id)) +
+                         " is in contact parts '" + parts[at->second].name + "' and '" + parts[k].name +
+                         "'; each face belongs to one contact part (parts may meet at an edge or a node, which then "
+                         "belongs to the part listed first)");
+      cb.faces.push_back(id);
+      const auto& loop = mesh.face(id).vertices;
+      const Vec3 c = mesh.face_centroid(id), n = mesh.face_normal(id);
+      const std::size_t m = loop.size();
+      z.clear();
+      for (int v : loop) z.push_back(mesh.vertex(v));
+      const Eigen::VectorXd omega = face_weights(z);  // int_f v = sum_i omega_i v_i in the enhanced face space
+      for (std::size_t i = 0; i < m; ++i) {
+        const int a = loop[i], b = loop[(i + 1) % m];
+        acc[a].weight += omega(static_cast<Eigen::Index>(i));
+        if (acc[a].part < 0) acc[a].part = static_cast<int>(k);
+        const double half = 0.25 * scale_free_norm((mesh.vertex(a) - c).cross(mesh.vertex(b) - c));
+        for (int v : {a, b}) acc[v].normal += half * n;
+      }
     }
   }
   for (const auto& [v, entry] : acc) {
-    std::array<bool, 3> fixed{};
     int mask = 0;
-    for (int c = 0; c < 3; ++c) {
-      fixed[static_cast<std::size_t>(c)] = dofs.free_index[static_cast<std::size_t>(3 * v + c)] < 0;
-      if (fixed[static_cast<std::size_t>(c)]) mask |= 1 << c;
-    }
+    for (int c = 0; c < 3; ++c)
+      if (dofs.free_index[static_cast<std::size_t>(3 * v + c)] < 0) mask |= 1 << c;
     if (mask == 7) continue;  // on Gamma_1
     if (!(entry.weight > 0.0))
       throw InputError("contact node " + std::to_string(v) + " at " + point_text(mesh.vertex(v)) +
                        " has the quadrature weight " + std::to_string(entry.weight) +
                        " (the sum of its contact faces' weights, which must be positive): a contact face is too far "
                        "from its vertices' mean to integrate over; split it");
-    if (!(entry.normal.norm() > 0.0))
+    const double length = scale_free_norm(entry.normal);
+    if (!(length > 0.0))
       throw InputError("contact node " + std::to_string(v) + " has no defined normal (its contact faces cancel)");
-    Vec3 normal = entry.normal.normalized();
+    Vec3 normal = entry.normal / length;
     if (mask != 0) {
       // a symmetry plane or roller meeting Gamma_3: allowed where every prescribed component is tangential
       for (int c = 0; c < 3; ++c) {
@@ -86,18 +94,20 @@ ContactBoundary make_contact_boundary_3d(const Mesh3D& mesh, const std::vector<i
       }
       normal.normalize();
     }
+    const ContactPart3D& part = parts[static_cast<std::size_t>(entry.part)];
     double g = 0.0;
-    if (obstacle != nullptr) {
-      g = obstacle->gap(mesh.vertex(v), normal);
+    if (part.obstacle) {
+      g = part.obstacle->gap(mesh.vertex(v), normal);
       if (std::isnan(g)) throw InputError("the obstacle gives no gap at contact node " + std::to_string(v));
     } else {
-      g = gap ? gap(mesh.vertex(v)) : 0.0;
+      g = part.gap ? part.gap(mesh.vertex(v)) : 0.0;
       if (!std::isfinite(g) || g < 0.0)
         throw InputError("gap " + std::to_string(g) + " at contact node " + std::to_string(v) + " must be finite and >= 0");
     }
     cb.nodes.push_back(v);
     cb.normals3d.push_back(normal);
     cb.prescribed_mask.push_back(mask);
+    cb.part.push_back(entry.part);
     cb.weights.conservativeResize(cb.size());
     cb.weights(cb.size() - 1) = entry.weight;
     cb.gaps.conservativeResize(cb.size());
@@ -106,36 +116,139 @@ ContactBoundary make_contact_boundary_3d(const Mesh3D& mesh, const std::vector<i
   return cb;
 }
 
+ContactBoundary make_contact_boundary_3d(const Mesh3D& mesh, const std::vector<int>& faces, const DofMap& dofs,
+                                         const std::function<double(const Vec3&)>& gap, const Obstacle3D* obstacle) {
+  ContactPart3D part;
+  part.name = "contact";
+  part.facets = faces;
+  part.gap = gap;
+  if (obstacle) part.obstacle = *obstacle;
+  return make_contact_boundary_3d(mesh, std::vector<ContactPart3D>{std::move(part)}, dofs);
+}
+
+std::vector<int> contact_faces(const ContactProblem3D& problem) {
+  std::vector<int> faces;
+  for (const ContactPart3D& part : problem.parts) faces.insert(faces.end(), part.facets.begin(), part.facets.end());
+  return faces;
+}
+
+std::vector<ContactPart3D> contact_parts(const ContactProblem3D& problem) {
+  check_contact_parts(problem.parts);
+  return problem.parts;
+}
+
+ContactBoundary contact_boundary(const ContactProblem3D& problem, const DofMap& dofs) {
+  const std::vector<ContactPart3D> parts = contact_parts(problem);
+  if (parts.empty()) return ContactBoundary{};
+  for (const ContactPart3D& part : parts)
+    if (part.obstacle)
+      if (const std::string d = part.obstacle->defect(); !d.empty())
+        throw InputError("the obstacle" + (parts.size() > 1 ? " of contact part '" + part.name + "'" : std::string()) + ": " + d);
+  const ContactBoundary boundary = make_contact_boundary_3d(*problem.elasticity.mesh, parts, dofs);
+  for (int i = 0; i < boundary.size(); ++i) {
+    const ContactPart3D& part = parts[static_cast<std::size_t>(boundary.part_of(i))];
+    if (part.obstacle && part.constraint == ConstraintKind::box)
+      require_box_gap(boundary.gaps(i), boundary.nodes[static_cast<std::size_t>(i)], parts.size() > 1 ? part.name : "");
+  }
+  return boundary;
+}
+
+namespace {
+
+// The pieces of a mesh: sets of cells joined through shared vertices (union-find), as a piece
+// number per vertex (-1 for a vertex of no cell) and their count.
+std::vector<int> pieces_of_vertices(const Mesh3D& mesh, int* count) {
+  std::vector<int> parent(static_cast<std::size_t>(mesh.num_vertices()));
+  for (std::size_t v = 0; v < parent.size(); ++v) parent[v] = static_cast<int>(v);
+  auto root = [&](int v) {
+    while (parent[static_cast<std::size_t>(v)] != v)
+      v = parent[static_cast<std::size_t>(v)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(v)])];
+    return v;
+  };
+  std::vector<char> used(parent.size(), 0);
+  for (int c = 0; c < mesh.num_cells(); ++c) {
+    const auto& verts = mesh.cell_vertices(c);
+    for (int v : verts) {
+      used[static_cast<std::size_t>(v)] = 1;
+      parent[static_cast<std::size_t>(root(v))] = root(verts.front());
+    }
+  }
+  std::vector<int> piece(parent.size(), -1), number(parent.size(), -1);
+  *count = 0;
+  for (std::size_t v = 0; v < parent.size(); ++v) {
+    if (!used[v]) continue;
+    int& n = number[static_cast<std::size_t>(root(static_cast<int>(v)))];
+    if (n < 0) n = (*count)++;
+    piece[v] = n;
+  }
+  return piece;
+}
+
+std::string number_text(double x) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.4g", x);
+  return buffer;
+}
+
+}  // namespace
+
 std::vector<std::string> free_rigid_motions_3d(const Mesh3D& mesh, const DofMap& dofs) {
-  // the rigid motions r(x) = t + w x (x - centre) restricted to the prescribed dofs: the motions
-  // in the kernel of that map are free
-  const Box box = mesh.bounding_box();
-  const Vec3 centre(0.5 * (box.x0 + box.x1), 0.5 * (box.y0 + box.y1), 0.5 * (box.z0 + box.z1));
-  const double scale = std::max({box.size(0), box.size(1), box.size(2)});
-  Eigen::Matrix<double, 6, 6> G = Eigen::Matrix<double, 6, 6>::Zero();
+  // per piece of the mesh (cells joined through shared vertices), the rigid motions
+  // r(x) = t + w x (x - centre) restricted to the piece's prescribed dofs: the motions in the
+  // kernel of that map are free
+  int pieces = 0;
+  const std::vector<int> piece = pieces_of_vertices(mesh, &pieces);
+  std::vector<Vec3> lo(static_cast<std::size_t>(pieces), Vec3::Constant(INFINITY)),
+      hi(static_cast<std::size_t>(pieces), Vec3::Constant(-INFINITY));
+  std::vector<int> cells(static_cast<std::size_t>(pieces), 0), first(static_cast<std::size_t>(pieces), -1);
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    const int p = piece[static_cast<std::size_t>(v)];
+    if (p < 0) continue;
+    const auto k = static_cast<std::size_t>(p);
+    lo[k] = lo[k].cwiseMin(mesh.vertex(v));
+    hi[k] = hi[k].cwiseMax(mesh.vertex(v));
+    if (first[k] < 0) first[k] = v;
+  }
+  for (int c = 0; c < mesh.num_cells(); ++c) ++cells[static_cast<std::size_t>(piece[static_cast<std::size_t>(mesh.cell_vertices(c).front())])];
+  std::vector<Eigen::Matrix<double, 6, 6>> G(static_cast<std::size_t>(pieces), Eigen::Matrix<double, 6, 6>::Zero());
   for (int d = 0; d < dofs.num_dofs(); ++d) {
     if (dofs.free_index[static_cast<std::size_t>(d)] >= 0) continue;
     const int v = d / 3, c = d % 3;
+    const int p = piece[static_cast<std::size_t>(v)];
+    if (p < 0) continue;
+    const auto k = static_cast<std::size_t>(p);
+    const Vec3 centre = 0.5 * (lo[k] + hi[k]);
+    const double scale = (hi[k] - lo[k]).maxCoeff();
     const Vec3 x = (mesh.vertex(v) - centre) / scale;
     Eigen::Matrix<double, 6, 1> row = Eigen::Matrix<double, 6, 1>::Zero();
     row(c) = 1.0;
     // rotation about axis a: (e_a x x)_c
     for (int a = 0; a < 3; ++a) row(3 + a) = Vec3::Unit(a).cross(x)(c);
-    G += row * row.transpose();
+    G[k] += row * row.transpose();
   }
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(G);
-  const double top = std::max(eig.eigenvalues().maxCoeff(), 1.0);
   std::vector<std::string> out;
   static const char* names[6] = {"translation along x", "translation along y", "translation along z",
                                  "rotation about x", "rotation about y", "rotation about z"};
-  for (int k = 0; k < 6; ++k) {
-    if (eig.eigenvalues()(k) > 1e-10 * top) continue;
-    const Eigen::Matrix<double, 6, 1> m = eig.eigenvectors().col(k);
-    Eigen::Index at = 0;
-    m.cwiseAbs().maxCoeff(&at);
-    std::string words = names[at];
-    if (m.cwiseAbs().maxCoeff() < 0.99) words += " (combined with others)";
-    out.push_back(words);
+  for (std::size_t k = 0; k < G.size(); ++k) {
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(G[k]);
+    const double top = std::max(eig.eigenvalues().maxCoeff(), 1.0);
+    // where the piece is, when the mesh has more than one
+    const std::string of =
+        pieces == 1 ? std::string()
+                    : " of the piece of " + std::to_string(cells[k]) + (cells[k] == 1 ? " cell" : " cells") + " in [" +
+                          number_text(lo[k].x()) + ", " + number_text(hi[k].x()) + "] x [" + number_text(lo[k].y()) +
+                          ", " + number_text(hi[k].y()) + "] x [" + number_text(lo[k].z()) + ", " +
+                          number_text(hi[k].z()) + "] (vertex " + std::to_string(first[k]) + " at " +
+                          point_text(mesh.vertex(first[k])) + ")";
+    for (int j = 0; j < 6; ++j) {
+      if (eig.eigenvalues()(j) > 1e-10 * top) continue;
+      const Eigen::Matrix<double, 6, 1> m = eig.eigenvectors().col(j);
+      Eigen::Index at = 0;
+      m.cwiseAbs().maxCoeff(&at);
+      std::string words = names[at];
+      if (m.cwiseAbs().maxCoeff() < 0.99) words += " (combined with others)";
+      out.push_back(words + of);
+    }
   }
   return out;
 }
@@ -185,31 +298,14 @@ ForceBalance3D force_balance_3d(const ElasticityProblem3D& problem, const Eigen:
 }
 
 
-namespace {
-
-void require_ok(const FactorizationResult& r, const SparseFactorization& f, const std::string& what) {
-  if (!r.ok())
-    throw NumericalError(what + " with " + f.name() + " failed (" + to_string(r.status) + "): " + r.message);
-}
-
-void require_finite(ContactSolution3D& sol) {
-  if (sol.converged() && !sol.u.allFinite()) {
-    sol.status = MinimizerStatus::failed;
-    sol.message = "the displacement is not finite (NaN or Inf after back-substitution)";
-  }
-  if (sol.converged() && !std::isfinite(sol.energy)) {
-    sol.status = MinimizerStatus::failed;
-    sol.message = "the energy of the solution is not finite";
-  }
-}
-
-ContactNode3D node_of(const Mesh3D& mesh, const ContactBoundary& boundary, const Condensation& cond, int i,
-                      const MinimizerResult& m, const DofMap& dofs, const Eigen::VectorXd& residual) {
+BasicContactNode<3> contact_node(const Mesh3D& mesh, const ContactBoundary& boundary, const Condensation& cond,
+                                 const DofMap& dofs, int i, const MinimizerResult& m, const Eigen::VectorXd* residual) {
   const ReducedProblem& rp = cond.reduced();
   const bool forces = m.law_force.size() == m.a.size() && m.reaction.size() == m.a.size();
   ContactNode3D node;
   const auto k0 = static_cast<std::size_t>(i);
   node.vertex = boundary.nodes[k0];
+  node.part = boundary.part_of(i);
   node.x = mesh.vertex(node.vertex);
   node.weight = boundary.weights(i);
   node.normal = boundary.normals3d[k0];
@@ -222,136 +318,72 @@ ContactNode3D node_of(const Mesh3D& mesh, const ContactBoundary& boundary, const
   } else {
     node.state = ContactState::bilateral;
     double f = 0.0;
-    bool known = true;
-    for (int c = 0; c < 3; ++c) {
+    bool known = residual != nullptr;
+    for (int c = 0; c < 3 && known; ++c) {
       const int d = dofs.free_index[static_cast<std::size_t>(3 * node.vertex + c)];
       if (d < 0) {
         if (node.normal(c) != 0.0) known = false;
         continue;
       }
-      f -= residual(d) * node.normal(c);
+      f -= (*residual)(d) * node.normal(c);
     }
     node.reaction = known ? f : std::numeric_limits<double>::quiet_NaN();
   }
   return node;
 }
 
-}  // namespace
+namespace detail {
+
+template <>
+struct Kernels<3> {
+  static void check(const ContactProblem3D& problem) {
+    if (!problem.elasticity.mesh) throw InputError("the elasticity problem has no mesh");
+  }
+  static LinearSystem assemble(const ContactProblem3D& problem) { return assemble_3d(problem.elasticity); }
+  static std::vector<ContactPart3D> parts(const ContactProblem3D& problem) { return contact_parts(problem); }
+  static ContactBoundary boundary(const ContactProblem3D& problem, const std::vector<ContactPart3D>&, const DofMap& dofs) {
+    return contact_boundary(problem, dofs);
+  }
+  // The free motions the contact holds (find_supports); one that nothing holds is refused with
+  // every free motion of each piece, and where the piece is.
+  static std::vector<std::string> held_by_contact(const ContactProblem3D& problem, const DofMap& dofs,
+                                                  const ContactBoundary& boundary,
+                                                  const std::vector<ContactPart3D>& parts) {
+    const Mesh3D& mesh = *problem.elasticity.mesh;
+    const auto free = free_rigid_motions_3d(mesh, dofs);
+    if (free.empty()) return {};
+    try {
+      return find_supports(mesh, dofs, boundary, parts).held_by_contact;
+    } catch (const InputError& e) {
+      std::string words;
+      for (const auto& w : free) words += (words.empty() ? "" : ", ") + w;
+      throw InputError("the supports leave rigid motions of the body free (" + words + "), and " +
+                       (boundary.size() == 0 ? std::string("there is no contact to hold them")
+                                             : "its contact cannot hold them all (" + e.detail() + ")") +
+                       "; a three-dimensional body, and each piece of it, must be held by its supports (symmetry "
+                       "planes count) or by the normal contact of its nodes");
+    }
+  }
+  static ForceBalance3D balance(const ContactProblem3D& problem, const Eigen::VectorXd& u, const Vec3& contact) {
+    return force_balance_3d(problem.elasticity, u, contact);
+  }
+};
+
+}  // namespace detail
+
+template class BasicContactSolver<3>;
 
 namespace {
 
-// the solve, on `given` (assembled by the caller) or on its own assembly
 std::vector<ContactSolution3D> solve_3d(const ContactProblem3D& problem, const LinearSystem* given,
                                         std::unique_ptr<SparseFactorization> factorization,
                                         std::span<const NonsmoothMinimizer* const> minimizers,
-                                        const MinimizerOptions& options, ReducedProblem* reduced) {
-  if (!factorization) throw InputError("a 3D solve needs a factorization engine");
-  if (!problem.elasticity.mesh) throw InputError("the elasticity problem has no mesh");
-  for (const auto* m : minimizers)
-    if (m == nullptr) throw InputError("a 3D solve was given a null minimizer");
-  const Mesh3D& mesh = *problem.elasticity.mesh;
-  const ProcessGroup& processes = processes_of(*factorization);
-  const auto start = Clock::now();
-  ContactSolution3D common;
-  auto t = Clock::now();
-  std::optional<LinearSystem> assembled;
-  if (!given) {
-    assembled = assemble_3d(problem.elasticity);
-    common.timings["assembly"] = since(t);
-    common.stages.push_back("assembly");
-  }
-  const LinearSystem& sys = given ? *given : *assembled;
-  common.unknowns = sys.dofs.num_free();
-  if (common.unknowns == 0)
-    throw InputError("the Dirichlet conditions prescribe every displacement of the mesh: there is nothing to solve");
-  if (const auto free = free_rigid_motions_3d(mesh, sys.dofs); !free.empty()) {
-    std::string words;
-    for (const auto& w : free) words += (words.empty() ? "" : ", ") + w;
-    throw InputError("the supports leave rigid motions of the body free (" + words +
-                     "); a three-dimensional body must be held by its supports (symmetry planes count), not by its "
-                     "contact alone");
-  }
-  if (problem.obstacle) {
-    if (const std::string d = problem.obstacle->defect(); !d.empty()) throw InputError("the obstacle: " + d);
-  }
-  const ContactBoundary boundary = make_contact_boundary_3d(mesh, problem.contact_faces, sys.dofs, problem.gap,
-                                                            problem.obstacle ? &*problem.obstacle : nullptr);
-  const bool has_gaps = problem.gap || problem.obstacle;
-  const ConstraintKind constraint =
-      problem.constraint == ConstraintKind::bilateral || has_gaps ? problem.constraint : ConstraintKind::none;
-  if (boundary.size() == 0) {
-    // one linear solve
-    t = Clock::now();
-    require_ok(factorization->factorize(sys.A), *factorization, "factorization");
-    Eigen::MatrixXd X;
-    require_ok(factorization->solve(sys.b, &X), *factorization, "solve");
-    common.timings["linear_solve"] = since(t);
-    common.stages.push_back("linear_solve");
-    processes.run_where_results_are([&] {
-      const Eigen::VectorXd uf = X.col(0);
-      common.u = sys.dofs.expand(uf);
-      const Eigen::VectorXd Au = sys.A * uf;
-      common.energy = 0.5 * uf.dot(Au) - uf.dot(sys.b);
-      common.certificate = linear_solve_certificate(uf, Au, sys.b, options.tolerance);
-      const Certificate& c = common.certificate;
-      common.status = uf.allFinite() && c.converged() ? MinimizerStatus::converged : MinimizerStatus::failed;
-      if (!common.converged()) common.message = "the linear solve's relative residual is above the tolerance";
-      common.forces = force_balance_3d(problem.elasticity, common.u, Vec3::Zero());
-      require_finite(common);
-    });
-    common.status = static_cast<MinimizerStatus>(processes.share(static_cast<int>(common.status)));
-    common.timings["total"] = since(start);
-    return std::vector<ContactSolution3D>(minimizers.size(), common);
-  }
-  if (!problem.law) throw InputError("the contact boundary has no contact law");
-  t = Clock::now();
-  Condensation cond(sys, boundary, std::move(factorization), problem.law, constraint, nullptr, false,
-                    problem.law_from_surface);
-  common.timings["condensation"] = since(t);
-  common.stages.push_back("condensation");
-  common.uniqueness_margin = cond.uniqueness_margin();
-  common.uniqueness_roundoff = cond.reduced().uniqueness_roundoff;
-  processes.run_where_results_are([&] {
-    if (reduced) *reduced = cond.reduced();
-  });
-  const double before = since(start);
-  std::vector<ContactSolution3D> out;
-  for (const NonsmoothMinimizer* minimizer : minimizers) {
-    ContactSolution3D s = common;
-    const auto t0 = Clock::now();
-    t = Clock::now();
-    processes.run_where_results_are([&] {
-      MinimizerResult m = minimizer->minimize(cond.reduced(), Eigen::VectorXd(), options);
-      s.status = m.status;
-      s.message = m.message;
-      s.certificate = m.certificate;
-      s.may_be_nonunique = m.may_be_nonunique;
-      s.minimizer = std::move(m);
-    });
-    s.timings["minimize"] = since(t);
-    s.stages.push_back("minimize");
-    t = Clock::now();
-    s.u = cond.back_substitute(s.minimizer ? s.minimizer->a : Eigen::VectorXd());
-    s.timings["back_substitution"] = since(t);
-    s.stages.push_back("back_substitution");
-    processes.run_where_results_are([&] {
-      const MinimizerResult& m = *s.minimizer;
-      Eigen::VectorXd uf(sys.dofs.num_free());
-      for (int k = 0; k < sys.dofs.num_free(); ++k) uf(k) = s.u(sys.dofs.free_dofs[static_cast<std::size_t>(k)]);
-      const Eigen::VectorXd Au = sys.A * uf;
-      const Eigen::VectorXd residual = Au - sys.b;
-      for (int i = 0; i < boundary.size(); ++i) s.contact.push_back(node_of(mesh, boundary, cond, i, m, sys.dofs, residual));
-      const ReducedProblem& rp = cond.reduced();
-      s.energy = 0.5 * uf.dot(Au) - uf.dot(sys.b);
-      for (Eigen::Index i = 0; i < m.a.size(); ++i) s.energy += rp.w(i) * rp.law_of(i).value(m.a(i));
-      s.forces = force_balance_3d(problem.elasticity, s.u, s.contact_force());
-      require_finite(s);
-    });
-    s.status = static_cast<MinimizerStatus>(processes.share(static_cast<int>(s.status)));
-    s.timings["total"] = before + since(t0);
-    out.push_back(std::move(s));
-  }
-  return out;
+                                        const MinimizerOptions& options, ReducedProblem* reduced,
+                                        bool estimate_condition) {
+  std::optional<ContactSolver3D> solver;
+  if (given) solver.emplace(problem, *given, std::move(factorization), options);
+  else solver.emplace(problem, std::move(factorization), options);
+  return solver->estimate_condition(estimate_condition).export_reduced(reduced).run(minimizers);
 }
 
 }  // namespace
@@ -359,22 +391,24 @@ std::vector<ContactSolution3D> solve_3d(const ContactProblem3D& problem, const L
 std::vector<ContactSolution3D> solve_contact_3d(const ContactProblem3D& problem,
                                                 std::unique_ptr<SparseFactorization> factorization,
                                                 std::span<const NonsmoothMinimizer* const> minimizers,
-                                                const MinimizerOptions& options, ReducedProblem* reduced) {
-  return solve_3d(problem, nullptr, std::move(factorization), minimizers, options, reduced);
+                                                const MinimizerOptions& options, ReducedProblem* reduced,
+                                                bool estimate_condition) {
+  return solve_3d(problem, nullptr, std::move(factorization), minimizers, options, reduced, estimate_condition);
 }
 
 std::vector<ContactSolution3D> solve_contact_3d(const ContactProblem3D& problem, const LinearSystem& system,
                                                 std::unique_ptr<SparseFactorization> factorization,
                                                 std::span<const NonsmoothMinimizer* const> minimizers,
-                                                const MinimizerOptions& options, ReducedProblem* reduced) {
-  return solve_3d(problem, &system, std::move(factorization), minimizers, options, reduced);
+                                                const MinimizerOptions& options, ReducedProblem* reduced,
+                                                bool estimate_condition) {
+  return solve_3d(problem, &system, std::move(factorization), minimizers, options, reduced, estimate_condition);
 }
 
 ContactSolution3D solve_contact_3d(const ContactProblem3D& problem, std::unique_ptr<SparseFactorization> factorization,
                                    const NonsmoothMinimizer& minimizer, const MinimizerOptions& options,
-                                   ReducedProblem* reduced) {
+                                   ReducedProblem* reduced, bool estimate_condition) {
   const NonsmoothMinimizer* one[] = {&minimizer};
-  return solve_contact_3d(problem, std::move(factorization), one, options, reduced).front();
+  return solve_contact_3d(problem, std::move(factorization), one, options, reduced, estimate_condition).front();
 }
 
 }  // namespace hemivem

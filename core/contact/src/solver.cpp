@@ -1,5 +1,7 @@
 #include <hemivem/support/condition.hpp>
 #include <hemivem/contact/solver.hpp>
+
+#include "solver.templates.hpp"
 #include <hemivem/error.hpp>
 #include <hemivem/process_group.hpp>
 
@@ -12,37 +14,6 @@
 
 namespace hemivem {
 
-namespace {
-
-double since(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
-
-double rcond_or_nan(const SparseFactorization& f) {
-  const double r = f.rcond_estimate();
-  return r >= 0.0 ? r : std::numeric_limits<double>::quiet_NaN();
-}
-
-// Demotes a "converged" solution whose displacement is not finite (the engines' certificates
-// see only the contact unknowns; back-substitution could still overflow).
-template <int dim>
-void require_finite(BasicContactSolution<dim>& sol) {
-  if (sol.converged() && !sol.u.allFinite()) {
-    sol.status = MinimizerStatus::failed;
-    sol.message = "the displacement is not finite (NaN or Inf after back-substitution)";
-  }
-  if (sol.converged() && !std::isfinite(sol.energy)) {
-    sol.status = MinimizerStatus::failed;
-    sol.message = "the energy of the solution is not finite";
-  }
-}
-
-void require_ok(const FactorizationResult& r, const SparseFactorization& f, const std::string& what) {
-  if (!r.ok())
-    throw NumericalError(what + " with " + f.name() + " failed (" + to_string(r.status) + "): " + r.message);
-}
-
-}  // namespace
 
 ContactBoundary contact_boundary(const ContactProblem& problem, const DofMap& dofs) {
   const std::vector<ContactPart> parts = contact_parts(problem);
@@ -50,13 +21,8 @@ ContactBoundary contact_boundary(const ContactProblem& problem, const DofMap& do
   const ContactBoundary boundary = make_contact_boundary(*problem.elasticity.mesh, parts, dofs);
   for (int i = 0; i < boundary.size(); ++i) {
     const ContactPart& part = parts[static_cast<std::size_t>(boundary.part_of(i))];
-    if (part.obstacle && part.constraint == ConstraintKind::box &&
-        !(std::isfinite(boundary.gaps(i)) && boundary.gaps(i) >= 0.0))
-      throw InputError("the box constraint |u_nu| <= g needs a finite gap >= 0, but the obstacle gives " +
-                       std::to_string(boundary.gaps(i)) + " at contact node " +
-                       std::to_string(boundary.nodes[static_cast<std::size_t>(i)]) +
-                       (parts.size() > 1 ? " (contact part '" + part.name + "')" : std::string()) +
-                       "; set contact.constraint = \"one-sided\" with an obstacle");
+    if (part.obstacle && part.constraint == ConstraintKind::box)
+      require_box_gap(boundary.gaps(i), boundary.nodes[static_cast<std::size_t>(i)], parts.size() > 1 ? part.name : "");
   }
   return boundary;
 }
@@ -69,10 +35,7 @@ ConstraintKind constraint_in_effect(const ContactProblem& problem) {
 
 // ---- the kernels of each dimension ---------------------------------------------------------
 
-namespace {
-
-template <int dim>
-struct Kernels;
+namespace detail {
 
 template <>
 struct Kernels<2> {
@@ -97,130 +60,7 @@ struct Kernels<2> {
   }
 };
 
-}  // namespace
-
-// ---- ContactSolver ---------------------------------------------------------------------
-
-template <int dim>
-BasicContactSolver<dim>::BasicContactSolver(const Problem& problem, std::unique_ptr<SparseFactorization> factorization,
-                                            const MinimizerOptions& options)
-    : problem_(problem), options_(options), factorization_(std::move(factorization)) {
-  if (factorization_) processes_ = &processes_of(*factorization_);
-}
-
-template <int dim>
-BasicContactSolver<dim>::BasicContactSolver(const Problem& problem, const LinearSystem& system,
-                                            std::unique_ptr<SparseFactorization> factorization,
-                                            const MinimizerOptions& options)
-    : BasicContactSolver(problem, std::move(factorization), options) {
-  system_ = &system;
-}
-
-template <int dim>
-BasicContactSolver<dim>::~BasicContactSolver() = default;
-
-template <int dim>
-BasicContactSolver<dim>& BasicContactSolver<dim>::estimate_condition(bool on) noexcept {
-  estimate_condition_ = on;
-  return *this;
-}
-
-template <int dim>
-BasicContactSolver<dim>& BasicContactSolver<dim>::export_reduced(ReducedProblem* reduced) noexcept {
-  reduced_ = reduced;
-  return *this;
-}
-
-template <int dim>
-BasicContactSolver<dim>& BasicContactSolver<dim>::start_from(const Eigen::VectorXd* u) noexcept {
-  start_u_ = u;
-  return *this;
-}
-
-template <int dim>
-double BasicContactSolver<dim>::seconds() const {
-  return since(start_);
-}
-
-template <int dim>
-auto BasicContactSolver<dim>::run(std::span<const NonsmoothMinimizer* const> minimizers) -> std::vector<Solution> {
-  if (ran_) throw InternalError("ContactSolver::run is called once");
-  ran_ = true;
-  Kernels<dim>::check(problem_);
-  start_ = Clock::now();
-  if (!system_) assemble();
-  check_arguments(minimizers);
-  common_.unknowns = system_->dofs.num_free();
-  if (common_.unknowns == 0)
-    throw InputError("the Dirichlet conditions prescribe every displacement of the mesh: there is nothing to solve");
-  parts_ = Kernels<dim>::parts(problem_);
-  for (const auto& part : parts_) common_.contact_parts.push_back(part.name);
-  boundary_ = Kernels<dim>::boundary(problem_, parts_, system_->dofs);
-  common_.held_by_contact = Kernels<dim>::held_by_contact(problem_, system_->dofs, boundary_, parts_);
-  if (boundary_.size() == 0) {
-    const Eigen::MatrixXd X = linear_solve();
-    common_.may_be_nonunique = false;
-    processes_->run_where_results_are([&] { post_process_linear(X); });
-    agree_on_status(common_);
-    common_.timings["total"] = seconds();
-    return std::vector<Solution>(minimizers.size(), common_);
-  }
-  condense();
-  const double before_minimize = seconds();
-  std::vector<Solution> solutions;
-  for (const NonsmoothMinimizer* minimizer : minimizers) {
-    Solution solution = common_;
-    const auto t = Clock::now();
-    minimize(*minimizer, solution);
-    back_substitute(solution);
-    processes_->run_where_results_are([&] { post_process(solution); });
-    agree_on_status(solution);
-    solution.timings["total"] = before_minimize + since(t);
-    solutions.push_back(std::move(solution));
-  }
-  return solutions;
-}
-
-template <int dim>
-void BasicContactSolver<dim>::check_arguments(std::span<const NonsmoothMinimizer* const> minimizers) const {
-  if (!factorization_) throw InputError("solve_contact needs a factorization engine");
-  if (minimizers.empty()) throw InputError("solve_contact needs at least one minimizer");
-  for (const auto* m : minimizers)
-    if (!m) throw InputError("solve_contact: a minimizer is null");
-  if (std::string why; !options_.is_valid(&why)) throw InputError(why, "MinimizerOptions");
-}
-
-template <int dim>
-void BasicContactSolver<dim>::assemble() {
-  const auto t = Clock::now();
-  assembled_ = Kernels<dim>::assemble(problem_);
-  system_ = &*assembled_;
-  common_.timings["assembly"] = since(t);
-  common_.stages.push_back("assembly");
-}
-
-// Without a contact node: A u = b, one factorization and one solve. X on the process holding
-// the results.
-template <int dim>
-Eigen::MatrixXd BasicContactSolver<dim>::linear_solve() {
-  const auto t = Clock::now();
-  const LinearSystem& sys = *system_;
-  require_ok(factorization_->factorize(sys.A), *factorization_, "factorization");
-  Eigen::MatrixXd X;
-  require_ok(factorization_->solve(sys.b, &X), *factorization_, "solve");
-  common_.timings["linear_solve"] = since(t);
-  common_.stages.push_back("linear_solve");
-  if (estimate_condition_) {
-    common_.rcond = rcond_or_nan(*factorization_);
-    auto apply = [&](const Eigen::VectorXd& x) {
-      Eigen::MatrixXd y;
-      if (!factorization_->solve(x, &y).ok() || y.cols() != 1) return Eigen::VectorXd();
-      return Eigen::VectorXd(y.col(0));
-    };
-    common_.condition_estimate = norm1(sys.A) * estimate_norm1_symmetric(static_cast<int>(sys.A.rows()), apply);
-  }
-  return X;
-}
+}  // namespace detail
 
 Certificate linear_solve_certificate(const Eigen::VectorXd& u, const Eigen::VectorXd& Au, const Eigen::VectorXd& b,
                                      double tolerance) {
@@ -233,100 +73,6 @@ Certificate linear_solve_certificate(const Eigen::VectorXd& u, const Eigen::Vect
   c.length_scale = u.cwiseAbs().maxCoeff();
   c.force_scale = scale;
   return c;
-}
-
-// The displacement, the energy and the certificate of the linear solve: the relative
-// residual ||A u - b|| / max(||b||, ||A u||) is its dual part.
-template <int dim>
-void BasicContactSolver<dim>::post_process_linear(const Eigen::MatrixXd& X) {
-  Solution& s = common_;
-  const LinearSystem& sys = *system_;
-  const Eigen::VectorXd uf = X.col(0);
-  s.u = sys.dofs.expand(uf);
-  const Eigen::VectorXd Au = sys.A * uf;
-  s.energy = 0.5 * uf.dot(Au) - uf.dot(sys.b);
-  s.certificate = linear_solve_certificate(uf, Au, sys.b, options_.tolerance);
-  if (uf.allFinite() && s.certificate.converged()) {
-    s.status = MinimizerStatus::converged;
-  } else {
-    s.status = MinimizerStatus::failed;
-    s.message = uf.allFinite() ? "the linear solve's relative residual is above the tolerance"
-                               : "the linear solve gave a displacement that is not finite";
-  }
-  s.forces = Kernels<dim>::balance(problem_, s.u, BasicContactSolution<dim>::Point::Zero());
-  require_finite(s);
-}
-
-// The static condensation onto the contact unknowns (the reduced problem), its uniqueness
-// margin and, when asked, the conditioning of the interior block.
-template <int dim>
-void BasicContactSolver<dim>::condense() {
-  for (const auto& part : parts_)
-    if (!part.law)
-      throw InputError(parts_.size() == 1 ? std::string("the contact boundary has no contact law")
-                                          : "contact part '" + part.name + "' has no contact law");
-  const auto t = Clock::now();
-  condensation_ = std::make_unique<Condensation>(*system_, boundary_, std::move(factorization_),
-                                                 part_conditions(parts_), !common_.held_by_contact.empty());
-  common_.timings["condensation"] = since(t);
-  common_.stages.push_back("condensation");
-  if (estimate_condition_) {
-    common_.rcond = rcond_or_nan(condensation_->factorization());
-    common_.condition_estimate = condensation_->condition_estimate();
-    // S carries the condensation's round-off: the margin's bound grows with kappa(A22)
-    processes_->run_where_results_are([&] { condensation_->widen_uniqueness_roundoff(common_.condition_estimate); });
-  }
-  common_.uniqueness_margin = condensation_->uniqueness_margin();
-  common_.uniqueness_roundoff = condensation_->reduced().uniqueness_roundoff;
-  processes_->run_where_results_are([&] {
-    if (reduced_) *reduced_ = condensation_->reduced();
-  });
-}
-
-// The reduced problem is solved where it lives.
-template <int dim>
-void BasicContactSolver<dim>::minimize(const NonsmoothMinimizer& minimizer, Solution& solution) const {
-  const auto t = Clock::now();
-  processes_->run_where_results_are([&] {
-    const Eigen::VectorXd start =
-        start_u_ && start_u_->size() > 0 ? condensation_->reduced_point(*start_u_) : Eigen::VectorXd();
-    MinimizerResult m = minimizer.minimize(condensation_->reduced(), start, options_);
-    solution.status = m.status;
-    solution.message = m.message;
-    solution.certificate = m.certificate;
-    solution.may_be_nonunique = m.may_be_nonunique;
-    solution.minimizer = std::move(m);
-  });
-  solution.timings["minimize"] = since(t);
-  solution.stages.push_back("minimize");
-}
-
-template <int dim>
-void BasicContactSolver<dim>::back_substitute(Solution& solution) const {
-  const auto t = Clock::now();
-  solution.u = condensation_->back_substitute(solution.minimizer ? solution.minimizer->a : Eigen::VectorXd());
-  solution.timings["back_substitution"] = since(t);
-  solution.stages.push_back("back_substitution");
-}
-
-// The contact table, the potential energy and the balance of forces of the solution.
-template <int dim>
-void BasicContactSolver<dim>::post_process(Solution& solution) const {
-  const LinearSystem& sys = *system_;
-  const MinimizerResult& m = *solution.minimizer;
-  Eigen::VectorXd uf(sys.dofs.num_free());
-  for (int k = 0; k < sys.dofs.num_free(); ++k) uf(k) = solution.u(sys.dofs.free_dofs[static_cast<std::size_t>(k)]);
-  const Eigen::VectorXd Au = sys.A * uf;
-  const Eigen::VectorXd residual = Au - sys.b;
-  for (int i = 0; i < boundary_.size(); ++i)
-    solution.contact.push_back(
-        hemivem::contact_node(*problem_.elasticity.mesh, boundary_, *condensation_, system_->dofs, i, m, &residual));
-  // the potential energy of the discrete problem (F(a) differs from it by a constant)
-  const ReducedProblem& rp = condensation_->reduced();
-  solution.energy = 0.5 * uf.dot(Au) - uf.dot(sys.b);
-  for (Eigen::Index i = 0; i < m.a.size(); ++i) solution.energy += rp.w(i) * rp.law_of(i).value(m.a(i));
-  solution.forces = Kernels<dim>::balance(problem_, solution.u, solution.contact_force());
-  require_finite(solution);
 }
 
 ContactNode contact_node(const Mesh& mesh, const ContactBoundary& boundary, const Condensation& cond,
@@ -362,12 +108,6 @@ ContactNode contact_node(const Mesh& mesh, const ContactBoundary& boundary, cons
     node.friction_state = friction_state(rp.law_of(k), node.u_tau);
   }
   return node;
-}
-
-// Collective: every process takes the final status of the process holding the results.
-template <int dim>
-void BasicContactSolver<dim>::agree_on_status(Solution& solution) const {
-  solution.status = static_cast<MinimizerStatus>(processes_->share(static_cast<int>(solution.status)));
 }
 
 // ---- the free functions -----------------------------------------------------------------

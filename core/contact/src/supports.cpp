@@ -1,8 +1,10 @@
 #include <hemivem/contact/supports.hpp>
 #include <hemivem/error.hpp>
+#include <hemivem/support/condition.hpp>
 #include <hemivem/vem/rigid_motions.hpp>
 
 #include <algorithm>
+#include <cmath>
 
 namespace hemivem {
 
@@ -10,19 +12,26 @@ namespace {
 
 // The functionals of the motions at the contact nodes `which` (all when empty) along the
 // normals (or the tangents).
-Eigen::MatrixXd along(const RigidMotions& motions, const ContactBoundary& boundary, bool tangents,
+template <int dim>
+Eigen::MatrixXd along(const BasicRigidMotions<dim>& motions, const ContactBoundary& boundary, bool tangents,
                       const std::vector<char>& which = {}) {
-  Eigen::MatrixXd rows(boundary.size(), 3 * motions.num_pieces());
+  Eigen::MatrixXd rows(boundary.size(), BasicRigidMotions<dim>::per_piece * motions.num_pieces());
   Eigen::Index r = 0;
   for (int i = 0; i < boundary.size(); ++i) {
     if (!which.empty() && !which[static_cast<std::size_t>(i)]) continue;
-    const Vec2 nu = boundary.normals[static_cast<std::size_t>(i)];
-    rows.row(r++) = motions.functional(boundary.nodes[static_cast<std::size_t>(i)], tangents ? Vec2(-nu.y(), nu.x()) : nu);
+    const int node = boundary.nodes[static_cast<std::size_t>(i)];
+    if constexpr (dim == 2) {
+      const Vec2 nu = boundary.normals[static_cast<std::size_t>(i)];
+      rows.row(r++) = motions.functional(node, tangents ? Vec2(-nu.y(), nu.x()) : nu);
+    } else {  // a solid's contact is frictionless: normals only
+      if (!tangents) rows.row(r++) = motions.functional(node, boundary.normals3d[static_cast<std::size_t>(i)]);
+    }
   }
   return rows.topRows(r);
 }
 
-std::string listed(const RigidMotions& motions) {
+template <int dim>
+std::string listed(const BasicRigidMotions<dim>& motions) {
   std::string text;
   for (int k = 0; k < motions.size(); ++k) text += (k == 0 ? "" : "; ") + motions.describe(k);
   return text;
@@ -30,9 +39,10 @@ std::string listed(const RigidMotions& motions) {
 
 // The supports with, per contact node, whether its normal displacement is an unknown (not
 // bilateral) and whether a tangential law acts on it.
-Supports supports_of(const Mesh& mesh, const DofMap& dofs, const ContactBoundary& boundary,
+template <int dim, class M>
+Supports supports_of(const M& mesh, const DofMap& dofs, const ContactBoundary& boundary,
                      const std::vector<char>& normal_unknowns, const std::vector<char>& tangential_law) {
-  RigidMotions free(mesh, dofs);
+  const BasicRigidMotions<dim> free(mesh, dofs);
   Supports supports;
   if (free.empty()) return supports;
   const std::string count = free.size() == 1 ? "a rigid motion" : std::to_string(free.size()) + " rigid motions";
@@ -46,8 +56,8 @@ Supports supports_of(const Mesh& mesh, const DofMap& dofs, const ContactBoundary
   std::vector<char> bilateral(normal_unknowns.size());
   for (std::size_t i = 0; i < bilateral.size(); ++i) bilateral[i] = normal_unknowns[i] ? 0 : 1;
   // a bilateral constraint holds the normal displacements as a support would
-  const RigidMotions rest = all(normal_unknowns) ? free : free.without(along(free, boundary, false, bilateral));
-  Eigen::MatrixXd moved = none(normal_unknowns) ? Eigen::MatrixXd(0, 3 * free.num_pieces())
+  const BasicRigidMotions<dim> rest = all(normal_unknowns) ? free : free.without(along(free, boundary, false, bilateral));
+  Eigen::MatrixXd moved = none(normal_unknowns) ? Eigen::MatrixXd(0, BasicRigidMotions<dim>::per_piece * free.num_pieces())
                                                 : along(rest, boundary, false, normal_unknowns);
   const bool friction = !none(tangential_law);
   if (friction) {
@@ -55,7 +65,7 @@ Supports supports_of(const Mesh& mesh, const DofMap& dofs, const ContactBoundary
     moved.conservativeResize(moved.rows() + t.rows(), Eigen::NoChange);
     moved.bottomRows(t.rows()) = t;
   }
-  const RigidMotions unheld = rest.without(moved);
+  const BasicRigidMotions<dim> unheld = rest.without(moved);
   if (!unheld.empty())
     throw InputError("the Dirichlet conditions leave " + listed(unheld) +
                      " free, and the contact cannot hold it: it moves no contact node along its normal" +
@@ -71,12 +81,15 @@ Supports supports_of(const Mesh& mesh, const DofMap& dofs, const ContactBoundary
 Supports find_supports(const Mesh& mesh, const DofMap& dofs, const ContactBoundary& boundary, bool normal_unknowns,
                        bool tangential_law) {
   const auto n = static_cast<std::size_t>(boundary.size());
-  return supports_of(mesh, dofs, boundary, std::vector<char>(n, normal_unknowns ? 1 : 0),
-                     std::vector<char>(n, tangential_law ? 1 : 0));
+  return supports_of<2>(mesh, dofs, boundary, std::vector<char>(n, normal_unknowns ? 1 : 0),
+                        std::vector<char>(n, tangential_law ? 1 : 0));
 }
 
-Supports find_supports(const Mesh& mesh, const DofMap& dofs, const ContactBoundary& boundary,
-                       const std::vector<ContactPart>& parts) {
+namespace {
+
+template <int dim, class M>
+Supports supports_of_parts(const M& mesh, const DofMap& dofs, const ContactBoundary& boundary,
+                           const std::vector<BasicContactPart<dim>>& parts) {
   const auto n = static_cast<std::size_t>(boundary.size());
   std::vector<char> normal(n, 1), tangential(n, 0);
   for (std::size_t i = 0; i < n; ++i) {
@@ -84,11 +97,40 @@ Supports find_supports(const Mesh& mesh, const DofMap& dofs, const ContactBounda
     if (k < 0 || k >= static_cast<int>(parts.size()))
       throw InputError("contact node " + std::to_string(boundary.nodes[i]) + " is in contact part " + std::to_string(k) +
                        ", but " + std::to_string(parts.size()) + " parts are given");
-    const ContactPart& part = parts[static_cast<std::size_t>(k)];
+    const auto& part = parts[static_cast<std::size_t>(k)];
     normal[i] = part.constraint == ConstraintKind::bilateral ? 0 : 1;
     tangential[i] = part.friction ? 1 : 0;
   }
-  return supports_of(mesh, dofs, boundary, normal, tangential);
+  return supports_of<dim>(mesh, dofs, boundary, normal, tangential);
+}
+
+}  // namespace
+
+Supports find_supports(const Mesh& mesh, const DofMap& dofs, const ContactBoundary& boundary,
+                       const std::vector<ContactPart>& parts) {
+  return supports_of_parts<2>(mesh, dofs, boundary, parts);
+}
+
+Supports find_supports(const Mesh3D& mesh, const DofMap& dofs, const ContactBoundary& boundary,
+                       const std::vector<BasicContactPart<3>>& parts) {
+  return supports_of_parts<3>(mesh, dofs, boundary, parts);
+}
+
+void require_box_gap(double gap, int node, const std::string& part) {
+  if (std::isfinite(gap) && gap >= 0.0) return;
+  throw InputError("the box constraint |u_nu| <= g needs a finite gap >= 0, but the obstacle gives " + std::to_string(gap) +
+                   " at contact node " + std::to_string(node) +
+                   (part.empty() ? std::string() : " (contact part '" + part + "')") +
+                   "; set contact.constraint = \"one-sided\" with an obstacle");
+}
+
+double factorized_condition_estimate(const SparseMatrix& A, const SparseFactorization& f) {
+  auto apply = [&](const Eigen::VectorXd& x) {
+    Eigen::MatrixXd y;
+    if (!f.solve(x, &y).ok() || y.cols() != 1) return Eigen::VectorXd();
+    return Eigen::VectorXd(y.col(0));
+  };
+  return norm1(A) * estimate_norm1_symmetric(static_cast<int>(A.rows()), apply);
 }
 
 }  // namespace hemivem

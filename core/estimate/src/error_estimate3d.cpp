@@ -102,9 +102,10 @@ ErrorEstimate estimate_error_3d(const ContactProblem3D& problem, const ContactSo
     check_face_ids(elasticity.tractions[k].faces, nfaces, "traction");
     for (int f : elasticity.tractions[k].faces) loads[static_cast<std::size_t>(f)].push_back(static_cast<int>(k));
   }
-  check_face_ids(problem.contact_faces, nfaces, "contact");
+  const std::vector<int> contact_face_ids = contact_faces(problem);
+  check_face_ids(contact_face_ids, nfaces, "contact");
   std::vector<char> is_contact(static_cast<std::size_t>(nfaces), 0);
-  for (int f : problem.contact_faces) is_contact[static_cast<std::size_t>(f)] = 1;
+  for (int f : contact_face_ids) is_contact[static_cast<std::size_t>(f)] = 1;
   // the traction t_i = -p_i nu_i of each contact node
   std::vector<int> node_of(static_cast<std::size_t>(nv), -1);
   std::vector<Vec3> node_traction(solution.contact.size(), Vec3::Zero());

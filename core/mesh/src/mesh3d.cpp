@@ -3,11 +3,23 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <unordered_map>
 
 namespace hemivem {
+
+double scale_free_norm(const Vec3& v) {
+  const double squared = v.squaredNorm();
+  if (squared >= std::numeric_limits<double>::min() / std::numeric_limits<double>::epsilon() &&
+      squared <= std::numeric_limits<double>::max())
+    return std::sqrt(squared);
+  const double largest = v.cwiseAbs().maxCoeff();
+  if (!(largest > 0.0) || !std::isfinite(largest)) return v.norm();  // 0, Inf or NaN
+  const int e = std::ilogb(largest);
+  return std::ldexp((v * std::ldexp(1.0, -e)).norm(), e);
+}
 
 Vec3 polygon_area_vector(std::span<const Vec3> z) {
   Vec3 a = Vec3::Zero();
@@ -23,15 +35,19 @@ Vec3 polygon_centroid(std::span<const Vec3> z) {
   for (const Vec3& p : z) mean += p;
   mean /= static_cast<double>(z.size());
   const Vec3 normal = polygon_area_vector(z);
-  const double area2 = normal.squaredNorm();
-  if (!(area2 > 0.0)) return mean;
+  const double length = scale_free_norm(normal);
+  if (!(length > 0.0)) return mean;
+  // the signed areas along the area vector divided by its length, or along the unit normal where
+  // their product with the area vector (a fourth power of lengths) would leave the range of doubles
+  const bool in_range = length == std::sqrt(normal.squaredNorm());
+  const Vec3 unit = normal / length;
   Vec3 c = Vec3::Zero();
   double total = 0.0;
-  const double length = std::sqrt(area2);
   for (std::size_t i = 0; i < z.size(); ++i) {
     const Vec3& a = z[i];
     const Vec3& b = z[i + 1 < z.size() ? i + 1 : 0];
-    const double w = 0.5 * (a - mean).cross(b - mean).dot(normal) / length;  // signed area
+    const Vec3 twice = (a - mean).cross(b - mean);
+    const double w = in_range ? 0.5 * twice.dot(normal) / length : 0.5 * twice.dot(unit);  // signed area
     c += w * (mean + a + b) / 3.0;
     total += w;
   }
@@ -59,7 +75,7 @@ std::uint64_t edge_key(int a, int b) {
 
 // What cell_defect computes in, reused from cell to cell.
 struct DefectScratch {
-  std::vector<Vec3> z;
+  std::vector<Vec3> z, relative;
   std::vector<int> sorted;
   std::vector<Vec3> area, centroid;  // of each face
   std::vector<std::uint64_t> directed;
@@ -107,14 +123,18 @@ std::string cell_defect(const std::vector<Vec3>& vertices, const CellFaces& cell
       for (const Vec3& q : z) diameter2 = std::max(diameter2, (p - q).squaredNorm());
     const double diameter = std::sqrt(diameter2);
     const Vec3 area = polygon_area_vector(z);
-    const double a = area.norm();
+    const double a = scale_free_norm(area);
     if (!(a > 1e-14 * diameter * diameter)) return which() + " has zero area";
     const Vec3 n = area / a;
-    const Vec3 c = polygon_centroid(z);
+    // the distances off the plane in coordinates relative to the face's first vertex, so that
+    // their round-off is relative to the face's size, not to its distance from the origin
+    s.relative.clear();
+    for (const Vec3& p : z) s.relative.push_back(p - z[0]);
+    const Vec3 c = polygon_centroid(s.relative);
     s.area[f] = area;
-    s.centroid[f] = c;
+    s.centroid[f] = z[0] + c;
     for (std::size_t i = 0; i < z.size(); ++i) {
-      const double off = std::abs(n.dot(z[i] - c));
+      const double off = std::abs(n.dot(s.relative[i] - c));
       if (off > face_planarity_tolerance * diameter) {
         std::ostringstream o;
         o.precision(3);
@@ -330,7 +350,7 @@ Mesh3D::Mesh3D(std::vector<Vec3> vertices, std::vector<CellFaces> cells, std::ve
   for (std::size_t f = 0; f < faces_.size(); ++f) {
     positions(vertices_, faces_[f].vertices, z);
     const Vec3 a = polygon_area_vector(z);
-    face_area_[f] = a.norm();
+    face_area_[f] = scale_free_norm(a);
     face_normal_[f] = a / face_area_[f];
     face_centroid_[f] = polygon_centroid(z);
   }
@@ -355,11 +375,11 @@ Mesh3D::Mesh3D(std::vector<Vec3> vertices, std::vector<CellFaces> cells, std::ve
         const Vec3& b = z[i + 1 < z.size() ? i + 1 : 0];
         const double v = (a - x0).cross(b - x0).dot(fc - x0) / 6.0;
         volume += v;
-        moment += v * (x0 + a + b + fc) / 4.0;
+        moment += v * ((a - x0) + (b - x0) + (fc - x0)) / 4.0;  // about x0: no fourth power of coordinates
       }
     }
     volume_[c] = volume;
-    centroid_[c] = moment / volume;
+    centroid_[c] = x0 + moment / volume;
     // the largest distance between two vertices (the square root of the largest squared one)
     double d2 = 0.0;
     for (int p : cell_vertices_[c])

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include <hemivem/mesh/generators3d.hpp>
+#include <hemivem/contact/supports.hpp>
 #include <hemivem/mesh/gmsh3d.hpp>
 #include <hemivem/scene/resources.hpp>
 
@@ -227,16 +228,33 @@ void check_contact_not_clamped_3d(const ElasticityProblem3D& e, const std::vecto
                      scene.where(key));
 }
 
-void add_contact_3d(ContactProblem3D& p, const Scene& scene, const Mesh3D& mesh, const FaceSelection& select) {
-  if (!scene.contact) {
-    p.constraint = ConstraintKind::none;
+/// The box constraint against an obstacle needs a gap >= 0 at every contact node: an error naming
+/// the part's constraint key (the solve checks it too, without the scene). A boundary that
+/// cannot be made is left to the solve to report.
+void check_box_gaps_3d(const ContactProblem3D& p, const ContactPart3D& part, const Scene& scene, const std::string& key) {
+  ContactBoundary boundary;
+  try {
+    boundary = make_contact_boundary_3d(*p.elasticity.mesh, {part}, make_dof_map_3d(*p.elasticity.mesh, p.elasticity.dirichlet));
+  } catch (const InputError&) {
     return;
   }
-  const SceneContact& c = *scene.contact;
-  const std::string key = contact_key(scene, 0);
-  p.contact_name = contact_part_name(scene, 0);
-  p.contact_faces = select(c.boundary, key);
-  check_contact_not_clamped_3d(p.elasticity, p.contact_faces, mesh, scene, key);
+  const std::string at = scene.lines.count(key + ".constraint") ? key + ".constraint" : key + ".obstacle";
+  try {
+    for (int i = 0; i < boundary.size(); ++i) require_box_gap(boundary.gaps(i), boundary.nodes[static_cast<std::size_t>(i)]);
+  } catch (const InputError& e) {
+    throw InputError(at + ": " + e.detail(), scene.where(at));
+  }
+}
+
+/// Contact part i ([contact] or [[contact]] i): its faces, the obstacle or gap, the law and the
+/// constraint.
+ContactPart3D make_contact_part_3d(const ContactProblem3D& p, const SceneContact& c, std::size_t i, const Scene& scene,
+                                   const Mesh3D& mesh, const FaceSelection& select) {
+  const std::string key = contact_key(scene, i);
+  ContactPart3D part;
+  part.name = contact_part_name(scene, i);
+  part.facets = select(c.boundary, key);
+  check_contact_not_clamped_3d(p.elasticity, part.facets, mesh, scene, key);
   if (c.obstacle) {
     Obstacle3D o = detail::make_obstacle3d(*c.obstacle);
     if (c.obstacle->motion) {  // the obstacle moved by its motion at t = 1
@@ -245,10 +263,10 @@ void add_contact_3d(ContactProblem3D& p, const Scene& scene, const Mesh3D& mesh,
       o.point += m;
       o.center += m;
     }
-    p.obstacle = o;
+    part.obstacle = o;
   } else {
     const std::string gkey = key + ".gap";
-    p.gap = [g = field3(c.gap), gkey, where = scene.where(gkey)](const Vec3& x) {
+    part.gap = [g = field3(c.gap), gkey, where = scene.where(gkey)](const Vec3& x) {
       const double value = g(x, 1.0);
       if (!(std::isfinite(value) && value >= 0.0))
         throw InputError(gkey + " = '" + g.text() + "' gives " + fmt(value) + " at " + point_text(x) +
@@ -258,12 +276,37 @@ void add_contact_3d(ContactProblem3D& p, const Scene& scene, const Mesh3D& mesh,
     };
   }
   try {
-    p.law = detail::make_law(c.law);
+    part.law = detail::make_law(c.law);
   } catch (const InputError& err) {
     throw InputError(key + ".law: " + err.detail(), scene.where(key + ".law"));
   }
-  p.constraint = c.constraint;
-  p.law_from_surface = c.law_origin == "surface";
+  part.constraint = c.constraint;
+  part.law_from_surface = c.law_origin == "surface";
+  if (part.obstacle && part.constraint == ConstraintKind::box) check_box_gaps_3d(p, part, scene, key);
+  return part;
+}
+
+/// A face in two contact parts: an error at the later part naming both.
+void check_parts_disjoint_3d(const std::vector<ContactPart3D>& parts, const Scene& scene, const Mesh3D& mesh) {
+  std::map<int, std::size_t> owner;
+  for (std::size_t i = 0; i < parts.size(); ++i)
+    for (int id : parts[i].facets) {
+      const auto [at, added] = owner.emplace(id, i);
+      if (added || at->second == i) continue;
+      const std::string key = contact_key(scene, i);
+      throw InputError(key + ": selects the boundary face at " + point_text(mesh.face_centroid(id)) + ", which " +
+                           contact_key(scene, at->second) + " ('" + parts[at->second].name +
+                           "') selects too; each face belongs to one contact part (parts may meet at an edge or a "
+                           "node, which then belongs to the part listed first)",
+                       scene.where(key));
+    }
+}
+
+void add_contact_3d(ContactProblem3D& p, const Scene& scene, const Mesh3D& mesh, const FaceSelection& select) {
+  const std::vector<SceneContact> scene_parts = contact_parts(scene);
+  for (std::size_t i = 0; i < scene_parts.size(); ++i)
+    p.parts.push_back(make_contact_part_3d(p, scene_parts[i], i, scene, mesh, select));
+  check_parts_disjoint_3d(p.parts, scene, mesh);
 }
 
 }  // namespace
@@ -286,7 +329,8 @@ std::unique_ptr<BuiltProblem3D> build_problem_3d(const Scene& scene) {
   add_contact_3d(p, scene, mesh, select);
   if (!scene.mesh.file.empty()) {  // a mesh read: its vertices and contact nodes counted
     std::set<int> contact;
-    for (int f : p.contact_faces) contact.insert(mesh.face(f).vertices.begin(), mesh.face(f).vertices.end());
+    for (const ContactPart3D& part : p.parts)
+      for (int f : part.facets) contact.insert(mesh.face(f).vertices.begin(), mesh.face(f).vertices.end());
     const MemoryEstimate need = estimate_memory_3d(mesh.num_vertices(), static_cast<double>(contact.size()));
     require_memory(need.solve_bytes,
                    scene.mesh.file.string() + ": " + count_text(mesh.num_vertices()) + " vertices, " +

@@ -402,10 +402,6 @@ void read_contact_parts(Scene& s, TableReader& r) {
   } else {
     r.fail_type("contact", *n, "a table ([contact]) or an array of tables ([[contact]])");
   }
-  if (s.dimension() == 3 && tables.size() > 1)
-    r.fail("contact", *n,
-           "several contact parts ([[contact]] with " + std::to_string(tables.size()) +
-               " tables) are not available for three-dimensional scenes; give one [contact]");
   std::map<std::string, std::size_t> named;  // explicit names, by part
   for (std::size_t i = 0; i < tables.size(); ++i) {
     const std::string key = tables.size() == 1 ? std::string("contact") : "contact[" + std::to_string(i) + "]";
@@ -580,6 +576,10 @@ void read_mesh(Scene& s, const toml::table& t, const std::filesystem::path& base
   TableReader m(s, t, "mesh", {"generator", "file", "n", "seed", "domain"});
   if (m.has("file")) {
     read_mesh_file(m, s.mesh, base);
+    // the file decides the scene's dimension: one that cannot be read is this key's error
+    std::error_code ec;
+    if (lower(s.mesh.file.extension().string()) == ".msh" && !std::filesystem::is_regular_file(s.mesh.file, ec))
+      m.fail("file", m.node("file"), s.mesh.file.string() + ": cannot open the mesh file (no such file, or not a regular file)");
     if (lower(s.mesh.file.extension().string()) == ".msh" && gmsh_file_dimension(s.mesh.file) == 3)
       s.mesh.dimension = 3;
     return;

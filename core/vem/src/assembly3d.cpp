@@ -5,13 +5,15 @@
 #include "element_loop.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 
 namespace hemivem {
 
 Eigen::Matrix3Xd face_vertex_normals(std::span<const Vec3> z) {
   const std::size_t n = z.size();
-  const Vec3 normal = polygon_area_vector(z).normalized();
+  const Vec3 area = polygon_area_vector(z);
+  const Vec3 normal = area / scale_free_norm(area);
   Eigen::Matrix3Xd nu = Eigen::Matrix3Xd::Zero(3, static_cast<Eigen::Index>(n));
   for (std::size_t i = 0; i < n; ++i) {
     const Vec3 m = (z[(i + 1) % n] - z[i]).cross(normal);  // |e| times the edge's outward normal in the plane
@@ -138,8 +140,12 @@ Eigen::VectorXd assemble_load_3d(const Mesh3D& mesh, const VectorField3& body_fo
         T0 += integrate_triangle_3d(fc, a, b, t);
         T1 += integrate_triangle_3d(fc, a, b, [&](const Vec3& x) -> Eigen::Matrix3d { return t(x) * (x - zbar).transpose(); });
       }
-      const Eigen::Matrix3Xd nu = face_vertex_normals(z);
-      const double area = mesh.face_area(id);
+      // T1 nu_i / |f| with nu_i and |f| scaled by 2^(-k), 2^k about the face's size: T1 nu_i (a
+      // fourth power of lengths) may leave the range of doubles where T1 nu_i / |f| does not; the
+      // scaling changes no bit of a result that stays in range
+      const int k = std::ilogb(mesh.face_area(id)) / 2;
+      const Eigen::Matrix3Xd nu = std::ldexp(1.0, -k) * face_vertex_normals(z);
+      const double area = std::ldexp(mesh.face_area(id), -k);
       const auto& loop = mesh.face(id).vertices;
       for (std::size_t i = 0; i < loop.size(); ++i)
         f.segment<3>(3 * loop[i]) += T0 / static_cast<double>(loop.size()) + T1 * nu.col(static_cast<Eigen::Index>(i)) / area;

@@ -43,7 +43,7 @@ FaceGeometry face_geometry(std::size_t n, const At& at) {
   // area vector of the fan of triangles (zbar, z_i, z_{i+1})
   for (std::size_t i = 0; i < n; ++i) g.area_vector += (at(i) - g.mean).cross(at(i + 1 < n ? i + 1 : 0) - g.mean);
   g.area_vector *= 0.5;
-  g.area = g.area_vector.norm();
+  g.area = scale_free_norm(g.area_vector);
   if (!(g.area > 0.0)) throw MeshError("a face of zero area", -1);
   const Vec3 normal = g.area_vector / g.area;
   // centroid of the fan, with the triangles' areas signed along the normal (a non-convex face
@@ -336,14 +336,21 @@ double element_matrices(std::span<const Vec3> z, const std::vector<std::vector<i
     }
   }
 
-  // K_c, lower triangle (the diagonal blocks in full)
+  // K_c, lower triangle (the diagonal blocks in full). |E| a_i a_j is a length, but |E| and the
+  // Lame constants alone may leave the range of doubles (|E| = 1e-240 for a cell of side 1e-80):
+  // |E| is scaled by 2^(-2k) and the a_i by 2^k, 2^k about the cell's size, which changes no bit
+  // of a product that stays in range.
   auto Kc = slot.Kc.matrix(n3, n3);
-  const double lambda_v = lame.lambda * volume, mu_v = lame.mu * volume;
+  const int k = std::ilogb(volume) / 3;
+  const double scaled_volume = std::ldexp(volume, -2 * k);
+  const double lambda_v = lame.lambda * scaled_volume, mu_v = lame.mu * scaled_volume;
   double trace = 0.0;
   for (std::size_t j = 0; j < n; ++j) {
-    const double aj[3] = {w.a[j].x(), w.a[j].y(), w.a[j].z()};
+    const Vec3 bj = std::ldexp(1.0, k) * w.a[j];
+    const double aj[3] = {bj.x(), bj.y(), bj.z()};
     for (std::size_t i = j; i < n; ++i) {
-      const double ai[3] = {w.a[i].x(), w.a[i].y(), w.a[i].z()};
+      const Vec3 bi = std::ldexp(1.0, k) * w.a[i];
+      const double ai[3] = {bi.x(), bi.y(), bi.z()};
       const double dot = mu_v * (ai[0] * aj[0] + ai[1] * aj[1] + ai[2] * aj[2]);
       for (int c = 0; c < 3; ++c) {
         double* k = &Kc(static_cast<Eigen::Index>(3 * i), static_cast<Eigen::Index>(3 * j) + c);

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numeric>
+#include <span>
 #include <set>
 #include <utility>
 
@@ -14,19 +15,37 @@ namespace hemivem {
 
 namespace {
 
-// The pieces of the mesh: element -> piece, joined through interior edges (union-find).
-std::vector<int> pieces_of_elements(const Mesh& mesh, int* count) {
-  std::vector<int> parent(static_cast<std::size_t>(mesh.num_elements()));
+int num_cells(const Mesh& mesh) { return mesh.num_elements(); }
+int num_cells(const Mesh3D& mesh) { return mesh.num_cells(); }
+
+std::span<const int> cell_vertices(const Mesh& mesh, int e) { return mesh.element(e); }
+std::span<const int> cell_vertices(const Mesh3D& mesh, int c) { return mesh.cell_vertices(c); }
+
+// Each pair of cells sharing a facet (an interior edge, or an interior face).
+template <class F>
+void for_each_interior_facet(const Mesh& mesh, F&& f) {
+  for (const MeshEdge& e : mesh.edges())
+    if (!e.on_boundary()) f(e.left, e.right);
+}
+template <class F>
+void for_each_interior_facet(const Mesh3D& mesh, F&& f) {
+  for (const MeshFace& face : mesh.faces())
+    if (!face.on_boundary()) f(face.inner, face.outer);
+}
+
+// The pieces of the mesh: cell -> piece, joined through interior facets (union-find).
+template <class M>
+std::vector<int> pieces_of_elements(const M& mesh, int* count) {
+  std::vector<int> parent(static_cast<std::size_t>(num_cells(mesh)));
   std::iota(parent.begin(), parent.end(), 0);
   auto root = [&](int e) {
     while (parent[static_cast<std::size_t>(e)] != e) e = parent[static_cast<std::size_t>(e)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(e)])];
     return e;
   };
-  for (const MeshEdge& e : mesh.edges())
-    if (!e.on_boundary()) parent[static_cast<std::size_t>(root(e.left))] = root(e.right);
+  for_each_interior_facet(mesh, [&](int a, int b) { parent[static_cast<std::size_t>(root(a))] = root(b); });
   std::vector<int> piece(parent.size(), -1), number(parent.size(), -1);
   *count = 0;
-  for (int e = 0; e < mesh.num_elements(); ++e) {
+  for (int e = 0; e < num_cells(mesh); ++e) {
     int& n = number[static_cast<std::size_t>(root(e))];
     if (n < 0) n = (*count)++;
     piece[static_cast<std::size_t>(e)] = n;
@@ -41,6 +60,7 @@ Eigen::MatrixXd null_space(const Eigen::MatrixXd& M, Eigen::Index columns) {
   Eigen::JacobiSVD<Eigen::MatrixXd> svd(M, Eigen::ComputeFullV);
   const Eigen::VectorXd& sigma = svd.singularValues();
   const double bound = RigidMotions::relative_tolerance * std::max(1.0, sigma.size() ? sigma(0) : 0.0);
+  static_assert(BasicRigidMotions<3>::relative_tolerance == RigidMotions::relative_tolerance);
   Eigen::Index rank = 0;
   while (rank < sigma.size() && sigma(rank) > bound) ++rank;
   return svd.matrixV().rightCols(columns - rank);
@@ -80,23 +100,31 @@ std::string number(double x) {
 }
 
 std::string point(const Vec2& p) { return "(" + number(p.x()) + ", " + number(p.y()) + ")"; }
+std::string point(const Vec3& p) { return "(" + number(p.x()) + ", " + number(p.y()) + ", " + number(p.z()) + ")"; }
 
 Vec2 perp(const Vec2& v) { return {-v.y(), v.x()}; }
 
+// The unit vectors along the axes.
+template <int dim>
+Eigen::Matrix<double, dim, 1> axis(int d) {
+  return Eigen::Matrix<double, dim, 1>::Unit(d);
+}
+
 }  // namespace
 
-RigidMotions::RigidMotions(const Mesh& mesh, const DofMap& dofs) : vertices_(mesh.vertices()) {
+template <int dim>
+BasicRigidMotions<dim>::BasicRigidMotions(const MeshType& mesh, const DofMap& dofs) : vertices_(mesh.vertices()) {
   int count = 0;
   const std::vector<int> piece = pieces_of_elements(mesh, &count);
   pieces_.resize(static_cast<std::size_t>(count));
-  std::vector<Vec2> lo(pieces_.size(), Vec2::Constant(INFINITY)), hi(pieces_.size(), Vec2::Constant(-INFINITY));
+  std::vector<Point> lo(pieces_.size(), Point::Constant(INFINITY)), hi(pieces_.size(), Point::Constant(-INFINITY));
   std::vector<int> vertices(pieces_.size(), 0);
   piece_of_vertex_.assign(static_cast<std::size_t>(mesh.num_vertices()), -1);
   std::set<std::pair<int, int>> also;  // (vertex, a second piece holding it)
-  for (int e = 0; e < mesh.num_elements(); ++e) {
+  for (int e = 0; e < num_cells(mesh); ++e) {
     const auto p = static_cast<std::size_t>(piece[static_cast<std::size_t>(e)]);
     ++pieces_[p].elements;
-    for (int v : mesh.element(e)) {
+    for (int v : cell_vertices(mesh, e)) {
       int& first = piece_of_vertex_[static_cast<std::size_t>(v)];
       if (first < 0) {
         first = static_cast<int>(p);
@@ -117,74 +145,109 @@ RigidMotions::RigidMotions(const Mesh& mesh, const DofMap& dofs) : vertices_(mes
   // the constraints: every prescribed component is zero, and pieces agree at shared vertices
   std::vector<Eigen::RowVectorXd> rows;
   for (int v = 0; v < mesh.num_vertices(); ++v)
-    for (int d = 0; d < 2; ++d)
-      if (dofs.free_index[static_cast<std::size_t>(2 * v + d)] < 0)
-        rows.push_back(functional(v, d == 0 ? Vec2(1, 0) : Vec2(0, 1)));
+    for (int d = 0; d < dim; ++d)
+      if (dofs.free_index[static_cast<std::size_t>(dim * v + d)] < 0) rows.push_back(functional(v, axis<dim>(d)));
   for (const auto& [v, p] : also)
-    for (const Vec2& d : {Vec2(1, 0), Vec2(0, 1)}) rows.push_back(functional(v, d) - functional(v, d, p));
-  const Eigen::Index columns = 3 * static_cast<Eigen::Index>(pieces_.size());
+    for (int d = 0; d < dim; ++d) rows.push_back(functional(v, axis<dim>(d)) - functional(v, axis<dim>(d), p));
+  const Eigen::Index columns = per_piece * static_cast<Eigen::Index>(pieces_.size());
   Eigen::MatrixXd M(static_cast<Eigen::Index>(rows.size()), columns);
   for (std::size_t i = 0; i < rows.size(); ++i) M.row(static_cast<Eigen::Index>(i)) = rows[i];
   const Eigen::MatrixXd free = null_space(M, columns);
   basis_ = free.cols() > 0 ? readable(free) : Eigen::MatrixXd(columns, 0);
 }
 
-Eigen::RowVectorXd RigidMotions::functional(int v, const Vec2& direction) const {
+template <int dim>
+Eigen::RowVectorXd BasicRigidMotions<dim>::functional(int v, const Point& direction) const {
   return functional(v, direction, piece_of_vertex_.at(static_cast<std::size_t>(v)));
 }
 
-Eigen::RowVectorXd RigidMotions::functional(int v, const Vec2& direction, int piece) const {
-  Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(3 * static_cast<Eigen::Index>(pieces_.size()));
+template <int dim>
+Eigen::RowVectorXd BasicRigidMotions<dim>::functional(int v, const Point& direction, int piece) const {
+  Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(per_piece * static_cast<Eigen::Index>(pieces_.size()));
   if (piece < 0) return row;
   const Piece& P = pieces_[static_cast<std::size_t>(piece)];
-  const Vec2 arm = perp((vertices_[static_cast<std::size_t>(v)] - P.center) / P.size);
-  row.segment<3>(3 * piece) << direction.x(), direction.y(), direction.dot(arm);
+  const Point arm = (vertices_[static_cast<std::size_t>(v)] - P.center) / P.size;
+  if constexpr (dim == 2) {
+    row.template segment<3>(3 * piece) << direction.x(), direction.y(), direction.dot(perp(arm));
+  } else {  // d . (omega x arm) = omega . (arm x d)
+    row.template segment<3>(6 * piece) = direction.transpose();
+    row.template segment<3>(6 * piece + 3) = arm.cross(direction).transpose();
+  }
   return row;
 }
 
-RigidMotions RigidMotions::without(const Eigen::MatrixXd& constraint) const {
-  RigidMotions r = *this;
+template <int dim>
+BasicRigidMotions<dim> BasicRigidMotions<dim>::without(const Eigen::MatrixXd& constraint) const {
+  BasicRigidMotions r = *this;
   if (empty()) return r;
   const Eigen::MatrixXd keep = null_space(constraint * basis_, basis_.cols());
   r.basis_ = keep.cols() > 0 ? readable(basis_ * keep) : Eigen::MatrixXd(basis_.rows(), 0);
   return r;
 }
 
-Vec2 RigidMotions::displacement(int k, int v) const {
+template <int dim>
+auto BasicRigidMotions<dim>::displacement(int k, int v) const -> Point {
   const int p = piece_of_vertex_.at(static_cast<std::size_t>(v));
-  if (p < 0) return Vec2::Zero();
+  if (p < 0) return Point::Zero();
   const Piece& P = pieces_[static_cast<std::size_t>(p)];
-  const Eigen::Vector3d c = basis_.col(k).segment<3>(3 * p);
-  return Vec2(c(0), c(1)) + c(2) * perp((vertices_[static_cast<std::size_t>(v)] - P.center) / P.size);
+  const Eigen::Matrix<double, per_piece, 1> c = basis_.col(k).template segment<per_piece>(per_piece * p);
+  const Point arm = (vertices_[static_cast<std::size_t>(v)] - P.center) / P.size;
+  if constexpr (dim == 2)
+    return Vec2(c(0), c(1)) + c(2) * perp(arm);
+  else
+    return c.template head<3>() + c.template tail<3>().cross(arm);
 }
 
-Eigen::MatrixXd RigidMotions::nodal() const {
-  Eigen::MatrixXd U(2 * static_cast<Eigen::Index>(vertices_.size()), size());
+template <int dim>
+Eigen::MatrixXd BasicRigidMotions<dim>::nodal() const {
+  Eigen::MatrixXd U(dim * static_cast<Eigen::Index>(vertices_.size()), size());
   for (int k = 0; k < size(); ++k)
-    for (int v = 0; v < static_cast<int>(vertices_.size()); ++v) U.col(k).segment<2>(2 * v) = displacement(k, v);
+    for (int v = 0; v < static_cast<int>(vertices_.size()); ++v)
+      U.col(k).template segment<dim>(dim * v) = displacement(k, v);
   return U;
 }
 
-std::string RigidMotions::describe(int k) const {
+namespace {
+
+// One piece's motion in words: (t, theta) in a plane, (t, omega) in a solid, in the piece's
+// scaled coordinates about its centre.
+std::string motion_words(const Eigen::Vector3d& c, const Vec2& center, double size) {
+  const Vec2 t(c(0), c(1));
+  if (c(2) == 0.0) return "translation along " + point(Vec2(t.normalized()));
+  // the centre of rotation: the point the motion t + theta (x - center)^perp / size leaves still
+  return "rotation about " + point(Vec2(center + size * Vec2(-t.y(), t.x()) / c(2)));
+}
+
+std::string motion_words(const Eigen::Matrix<double, 6, 1>& c, const Vec3& center, double size) {
+  const Vec3 t = c.head<3>(), omega = c.tail<3>();
+  if (omega.cwiseAbs().maxCoeff() == 0.0) return "translation along " + point(Vec3(t.normalized()));
+  // the axis: along omega, through the point nearest the centre that moves along it only
+  const double w2 = omega.squaredNorm();
+  const Vec3 through = center + size * omega.cross(t) / w2;
+  std::string words = "rotation about the axis " + point(Vec3(omega.normalized())) + " through " + point(through);
+  if (std::abs(t.dot(omega)) > 1e-12 * t.norm() * std::sqrt(w2)) words += " with a slide along it";
+  return words;
+}
+
+}  // namespace
+
+template <int dim>
+std::string BasicRigidMotions<dim>::describe(int k) const {
   std::string text;
   for (std::size_t p = 0; p < pieces_.size(); ++p) {
-    const Eigen::Vector3d c = basis_.col(k).segment<3>(3 * static_cast<Eigen::Index>(p));
+    const Eigen::Matrix<double, per_piece, 1> c =
+        basis_.col(k).template segment<per_piece>(per_piece * static_cast<Eigen::Index>(p));
     if (c.cwiseAbs().maxCoeff() == 0.0) continue;
     const Piece& P = pieces_[p];
-    const Vec2 t(c(0), c(1));
-    std::string what;
-    if (c(2) == 0.0) {
-      what = "translation along " + point(t.normalized());
-    } else {
-      // the centre of rotation: the point the motion t + theta (x - center)^perp / size leaves still
-      what = "rotation about " + point(P.center + P.size * Vec2(-t.y(), t.x()) / c(2));
-    }
     const std::string of = pieces_.size() == 1 ? "of the body"
                                                : "of the piece of " + std::to_string(P.elements) +
-                                                     " elements around " + point(P.center);
-    text += (text.empty() ? "" : " with a ") + what + " " + of;
+                                                     (dim == 2 ? " elements around " : " cells around ") + point(P.center);
+    text += (text.empty() ? "" : " with a ") + motion_words(c, P.center, P.size) + " " + of;
   }
   return text;
 }
+
+template class BasicRigidMotions<2>;
+template class BasicRigidMotions<3>;
 
 }  // namespace hemivem

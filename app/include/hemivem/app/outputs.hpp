@@ -69,7 +69,12 @@ bool has_tangential(const ContactSolution& solution);
 /// The name of contact node n's part (solution.contact_parts; "contact" when it has none):
 /// contact.csv's part column (with several parts), result.json's "part", solution.vtu's
 /// contact_part field (its index).
-std::string contact_part_name(const ContactSolution& solution, const ContactNode& n);
+template <int dim>
+std::string contact_part_name(const BasicContactSolution<dim>& solution, const BasicContactNode<dim>& n) {
+  return n.part >= 0 && n.part < static_cast<int>(solution.contact_parts.size())
+             ? solution.contact_parts[static_cast<std::size_t>(n.part)]
+             : std::string("contact");
+}
 
 /// The names write_outputs knows, in the order it writes them: result.json, contact.csv,
 /// displacement.csv, history.csv, solution.vtu, scene.toml, mesh.poly2d (the mesh solved on),

@@ -21,8 +21,8 @@ namespace hemivem::app {
 
 /// The result.json document of a 3D solve ("schema": "hemivem-result/11", "dimension": 3): the
 /// keys of result_json that apply, points and vectors with three components (contact[].x and
-/// contact[].normal [x, y, z]), contact_zone with its area, condition_estimate null (not
-/// estimated in 3D), error_estimate, adapt, path and friction null.
+/// contact[].normal [x, y, z]), contact_zone with its area, error_estimate; adapt, path and
+/// friction null.
 nlohmann::json result_json_3d(const Mesh3D& mesh, const ContactSolution3D& solution, const RunInfo& info);
 
 /// The projected stress of each cell: the stress of the P1 projection Pi u_h (constant on the

@@ -86,7 +86,13 @@ struct PartConditions {
 
 /// The conditions of each part: its laws, its constraint in effect (constraint_in_effect)
 /// and law_from_surface.
-std::vector<PartConditions> part_conditions(const std::vector<ContactPart>& parts);
+template <int dim>
+std::vector<PartConditions> part_conditions(const std::vector<BasicContactPart<dim>>& parts) {
+  std::vector<PartConditions> out;
+  out.reserve(parts.size());
+  for (const auto& p : parts) out.push_back({p.law, constraint_in_effect(p), p.friction, p.law_from_surface});
+  return out;
+}
 
 /// The condensed problem and what back-substitution needs.
 class Condensation {

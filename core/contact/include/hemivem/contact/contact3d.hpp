@@ -26,31 +26,48 @@
 
 namespace hemivem {
 
-/// Gamma_3 of a polyhedral mesh from boundary faces. The weight of a node is its share of the
-/// contact area: each face is cut into the triangles (centroid, z_i, z_{i+1}) and each triangle
-/// gives half its area to each of its two vertices on the face's boundary, so that the weights
-/// of a face sum to its area (exact for constants; positive on faces star-shaped about their
-/// centroid; |f|/n on a regular n-gon, |f|/4 on a rectangle). The normal of a node is the
-/// weighted mean of the outward unit normals of its faces (by those shares), normalised.
+/// One part of the contact boundary of a solid (BasicContactPart: boundary faces, gap or
+/// obstacle, normal law, constraint; frictionless).
+using ContactPart3D = BasicContactPart<3>;
+
+/// Gamma_3 of a polyhedral mesh from the boundary faces of its contact parts. The weight of a
+/// node is its share of the contact area: each face is cut into the triangles (centroid, z_i,
+/// z_{i+1}) and each triangle gives half its area to each of its two vertices on the face's
+/// boundary, so that the weights of a face sum to its area (exact for constants; positive on
+/// faces star-shaped about their centroid; |f|/n on a regular n-gon, |f|/4 on a rectangle). The
+/// normal of a node is the weighted mean of the outward unit normals of its faces (by those
+/// shares), normalised. The nodes of every part form one boundary, in vertex order; a node
+/// where two parts meet belongs to the part listed first (ContactBoundary::part), its normal
+/// and weight still from all its contact faces and its gap from its own part. A face in two
+/// parts is an InputError naming both.
 /// Nodes whose displacement is prescribed (on Gamma_1) are excluded; a node with prescribed
 /// components is kept when they are all tangential (|nu . e_c| <= tangential_tolerance: a
 /// symmetry plane meeting Gamma_3) and its normal is then made exactly perpendicular to them; a
-/// prescribed normal component is an InputError. Gaps: `gap` at the node (finite, >= 0), or
-/// obstacle->gap(x, nu) with an obstacle (anything but NaN).
+/// prescribed normal component is an InputError. Gaps: the part's `gap` at the node (finite,
+/// >= 0; 0 without one), or its obstacle's gap(x, nu) (anything but NaN).
+ContactBoundary make_contact_boundary_3d(const Mesh3D& mesh, const std::vector<ContactPart3D>& parts, const DofMap& dofs);
+/// The same for one part: `faces` with `gap`, or `obstacle`.
 ContactBoundary make_contact_boundary_3d(const Mesh3D& mesh, const std::vector<int>& faces, const DofMap& dofs,
                                          const std::function<double(const Vec3&)>& gap,
                                          const Obstacle3D* obstacle = nullptr);
 
+/// A contact problem of a solid: the elasticity problem and the contact boundary in parts
+/// (none: no contact), each part with its faces, gap or obstacle, law and constraint.
 struct ContactProblem3D {
-  ElasticityProblem3D elasticity;        ///< mesh, materials, loads and Gamma_1
-  std::vector<int> contact_faces;         ///< Gamma_3 (boundary face ids)
-  std::function<double(const Vec3&)> gap;  ///< g >= 0 at a point of Gamma_3 (empty: no gap given)
-  std::optional<Obstacle3D> obstacle;     ///< a rigid obstacle instead of `gap`
-  std::shared_ptr<const ContactLaw> law;  ///< the normal law
-  ConstraintKind constraint = ConstraintKind::box;
-  bool law_from_surface = false;
-  std::string contact_name = "contact";
+  ElasticityProblem3D elasticity;   ///< mesh, materials, loads and Gamma_1
+  std::vector<ContactPart3D> parts;  ///< Gamma_3, in parts
 };
+
+/// The faces of every contact part of `problem`, part after part.
+std::vector<int> contact_faces(const ContactProblem3D& problem);
+
+/// The parts of `problem` (problem.parts), checked (check_contact_parts).
+std::vector<ContactPart3D> contact_parts(const ContactProblem3D& problem);
+
+/// The contact boundary of `problem` on the dofs of its assembled system
+/// (make_contact_boundary_3d of its parts); InputError for an obstacle with a defect, and for
+/// a gap the box constraint cannot take.
+ContactBoundary contact_boundary(const ContactProblem3D& problem, const DofMap& dofs);
 
 /// One contact node of a 3D solution (frictionless: its friction fields are zero).
 using ContactNode3D = BasicContactNode<3>;
@@ -61,24 +78,31 @@ ForceBalance3D force_balance_3d(const ElasticityProblem3D& problem, const Eigen:
 
 using ContactSolution3D = BasicContactSolution<3>;
 
-/// Solves a 3D contact problem with the stages of ContactSolver: assembly, condensation (one
+/// The solver of a solid: BasicContactSolver<3>, the stages of the plane's ContactSolver.
+using ContactSolver3D = BasicContactSolver<3>;
+
+/// Solves a 3D contact problem with ContactSolver3D: assembly, condensation (one
 /// factorization), one minimization per minimizer, back-substitution, post-processing; without
 /// contact faces one linear solve. The supports must hold the body (InputError naming the rigid
 /// motions they leave free: a three-dimensional body held by its contact alone is refused).
 /// InputError for a problem that cannot be set up, NumericalError when the factorization fails.
+/// `estimate_condition` adds ContactSolution3D::condition_estimate (7 more solves) and rcond,
+/// and widens the uniqueness margin's round-off bound by the estimate, as solve_contact does.
 std::vector<ContactSolution3D> solve_contact_3d(const ContactProblem3D& problem,
                                                 std::unique_ptr<SparseFactorization> factorization,
                                                 std::span<const NonsmoothMinimizer* const> minimizers,
-                                                const MinimizerOptions& options, ReducedProblem* reduced = nullptr);
+                                                const MinimizerOptions& options, ReducedProblem* reduced = nullptr,
+                                                bool estimate_condition = false);
 ContactSolution3D solve_contact_3d(const ContactProblem3D& problem, std::unique_ptr<SparseFactorization> factorization,
                                    const NonsmoothMinimizer& minimizer, const MinimizerOptions& options,
-                                   ReducedProblem* reduced = nullptr);
+                                   ReducedProblem* reduced = nullptr, bool estimate_condition = false);
 /// The same on a system the caller assembled from problem.elasticity (assemble_3d), e.g. to
 /// condense one assembly with several engines: no "assembly" stage, and "total" excludes it.
 std::vector<ContactSolution3D> solve_contact_3d(const ContactProblem3D& problem, const LinearSystem& system,
                                                 std::unique_ptr<SparseFactorization> factorization,
                                                 std::span<const NonsmoothMinimizer* const> minimizers,
-                                                const MinimizerOptions& options, ReducedProblem* reduced = nullptr);
+                                                const MinimizerOptions& options, ReducedProblem* reduced = nullptr,
+                                                bool estimate_condition = false);
 
 /// The rigid motions of a 3D body that prescribed dofs leave free, in words (empty when held).
 std::vector<std::string> free_rigid_motions_3d(const Mesh3D& mesh, const DofMap& dofs);

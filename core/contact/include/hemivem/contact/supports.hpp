@@ -4,10 +4,13 @@
 #pragma once
 
 #include <string>
+
+#include <hemivem/sparse_factorization.hpp>
 #include <vector>
 
 #include <hemivem/contact/condensation.hpp>
 #include <hemivem/mesh/mesh.hpp>
+#include <hemivem/mesh/mesh3d.hpp>
 #include <hemivem/vem/assembly.hpp>
 
 namespace hemivem {
@@ -38,5 +41,21 @@ Supports find_supports(const Mesh& mesh, const DofMap& dofs, const ContactBounda
 /// unknowns unless its part is bilateral, and a tangential law when its part has friction.
 Supports find_supports(const Mesh& mesh, const DofMap& dofs, const ContactBoundary& boundary,
                        const std::vector<ContactPart>& parts);
+/// The same for a solid: six rigid motions per piece of the mesh (cells joined through shared
+/// faces), held by the normal displacements of its contact nodes (a solid's contact is
+/// frictionless: a motion that moves no contact node along its normal is refused).
+Supports find_supports(const Mesh3D& mesh, const DofMap& dofs, const ContactBoundary& boundary,
+                       const std::vector<BasicContactPart<3>>& parts);
+
+/// The box constraint |u_nu| <= g with an obstacle's gap g: throws InputError unless `gap` (at
+/// contact node `node`) is finite and >= 0, naming the node, the contact part `part` (when not
+/// empty) and the remedy (contact.constraint = "one-sided"). The plane and the solid call it
+/// on each node of a box-constrained contact against an obstacle, before anything is factorized.
+void require_box_gap(double gap, int node, const std::string& part = {});
+
+/// The 1-norm condition estimate ||A||_1 ||A^-1||_1 of a matrix `f` has factorized (7 solves
+/// with it), independent of the engine: what the plane's and the solid's linear solves report
+/// as condition_estimate.
+double factorized_condition_estimate(const SparseMatrix& A, const SparseFactorization& f);
 
 }  // namespace hemivem

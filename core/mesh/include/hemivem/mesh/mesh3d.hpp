@@ -136,6 +136,12 @@ class Mesh3D {
   double h_ = 0.0;
 };
 
+/// The Euclidean length of v without overflow or underflow in its squares: sqrt(|v|^2) where
+/// |v|^2 is a normal number (bit for bit v.norm()), else computed on v scaled by a power of two,
+/// so that lengths from 1e-154 to 1e154 and beyond, and areas of faces of any size the mesh
+/// allows, keep full precision.
+double scale_free_norm(const Vec3& v);
+
 /// The area vector of a planar polygon, (1/2) sum_i z_i x z_{i+1}: its length is the area and
 /// its direction the normal of the counter-clockwise loop.
 Vec3 polygon_area_vector(std::span<const Vec3> polygon);

@@ -12,7 +12,7 @@ namespace hemivem::quadrature {
 /// Integral of g over the triangle (a, b, c) in space (degree 5).
 template <class G>
 auto integrate_triangle_3d(const Vec3& a, const Vec3& b, const Vec3& c, G&& g) {
-  const double area = 0.5 * (b - a).cross(c - a).norm();
+  const double area = 0.5 * scale_free_norm((b - a).cross(c - a));
   const auto& rule = triangle_rule();
   auto sum = detail::materialize(rule[0].weight * g(Vec3(rule[0].l1 * a + rule[0].l2 * b + rule[0].l3 * c)));
   for (std::size_t q = 1; q < rule.size(); ++q) sum += rule[q].weight * g(Vec3(rule[q].l1 * a + rule[q].l2 * b + rule[q].l3 * c));

@@ -6,9 +6,11 @@
 #include <Eigen/Core>
 
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <hemivem/mesh/mesh.hpp>
+#include <hemivem/mesh/mesh3d.hpp>
 #include <hemivem/vem/assembly.hpp>
 
 namespace hemivem {
@@ -26,49 +28,60 @@ namespace hemivem {
 /// (1e-8) times max(1, the largest singular value) is free. Supports that hold a
 /// motion only through a lever shorter than that fraction of the body's size (collinear within
 /// round-off) hold it no better than round-off does.
-class RigidMotions {
+///
+/// In a solid (dim = 3) the pieces are the cells joined through shared faces and each has six
+/// rigid motions, u(x) = t + omega x (x - c).
+template <int dim>
+class BasicRigidMotions {
  public:
+  using Point = Eigen::Matrix<double, dim, 1>;
+  using MeshType = std::conditional_t<dim == 2, Mesh, Mesh3D>;
+  /// The rigid motions of one piece: 3 in a plane, 6 in a solid.
+  static constexpr int per_piece = dim == 2 ? 3 : 6;
   static constexpr double relative_tolerance = 1e-8;
 
-  RigidMotions() = default;
-  RigidMotions(const Mesh& mesh, const DofMap& dofs);
+  BasicRigidMotions() = default;
+  BasicRigidMotions(const MeshType& mesh, const DofMap& dofs);
 
   /// The number of independent free motions (0: the supports hold the whole mesh).
   int size() const noexcept { return static_cast<int>(basis_.cols()); }
   bool empty() const noexcept { return size() == 0; }
-  /// The number of pieces of the mesh (sets of elements joined through shared edges).
+  /// The number of pieces of the mesh (sets of elements joined through shared edges, or of
+  /// cells joined through shared faces).
   int num_pieces() const noexcept { return static_cast<int>(pieces_.size()); }
 
   /// The displacement of vertex v under free motion k (normalised: its largest displacement
   /// over the mesh is of order 1).
-  Vec2 displacement(int k, int v) const;
-  /// Free motion k in words: "translation along (0, 1)" or "rotation about (0.5, 2)", of
-  /// "the whole mesh" or of "the piece of N elements around (x, y)" (each moving piece).
+  Point displacement(int k, int v) const;
+  /// Free motion k in words: "translation along (0, 1)" or "rotation about (0.5, 2)" (in a
+  /// solid "rotation about the axis (0, 0, 1) through (0.5, 0.5, 0)"), of "the body" or of
+  /// "the piece of N elements around (x, y)" (each moving piece).
   std::string describe(int k) const;
-  /// The free motions as nodal displacements (2 num_vertices rows, one column per motion).
+  /// The free motions as nodal displacements (dim num_vertices rows, one column per motion).
   Eigen::MatrixXd nodal() const;
 
   /// The combinations of the free motions that keep every functional of `constraint` at zero
   /// (its rows, from functional()), with the same relative tolerance: the free motions that
   /// those displacements, held at zero, would not hold.
-  RigidMotions without(const Eigen::MatrixXd& constraint) const;
+  BasicRigidMotions without(const Eigen::MatrixXd& constraint) const;
   /// The functional "the displacement at vertex v along the unit vector `direction`" of the
-  /// piecewise rigid motions (one row, three coefficients per piece), to build the constraint
-  /// of without(). Zero for a vertex of no element.
-  Eigen::RowVectorXd functional(int v, const Vec2& direction) const;
+  /// piecewise rigid motions (one row, per_piece coefficients per piece), to build the
+  /// constraint of without(). Zero for a vertex of no element.
+  Eigen::RowVectorXd functional(int v, const Point& direction) const;
 
  private:
   struct Piece {
     int elements = 0;
-    Vec2 center = Vec2::Zero();  // the mean of the piece's vertices
-    double size = 1.0;           // its largest extent
+    Point center = Point::Zero();  // the mean of the piece's vertices
+    double size = 1.0;             // its largest extent
   };
   std::vector<Piece> pieces_;
-  std::vector<Vec2> vertices_;
+  std::vector<Point> vertices_;
   std::vector<int> piece_of_vertex_;  // one piece holding each vertex (-1: no element has it)
-  Eigen::MatrixXd basis_;             // 3 num_pieces x size(): (tx, ty, theta * size) per piece
+  Eigen::MatrixXd basis_;             // per_piece num_pieces x size(): (t, rotation * size) per piece
 
-  Eigen::RowVectorXd functional(int v, const Vec2& direction, int piece) const;
+  Eigen::RowVectorXd functional(int v, const Point& direction, int piece) const;
 };
+using RigidMotions = BasicRigidMotions<2>;
 
 }  // namespace hemivem

@@ -1,0 +1,278 @@
+// The template of the staged contact solver (hemivem/contact/solver.hpp), instantiated for
+// the plane in solver.cpp and for the solid in contact3d.cpp, each with its Kernels: the
+// pieces of the solve that differ by dimension (assembly, the contact boundary, the supports,
+// the balance of forces).
+#pragma once
+
+#include <hemivem/contact/solver.hpp>
+#include <hemivem/error.hpp>
+#include <hemivem/process_group.hpp>
+#include <hemivem/support/condition.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace hemivem {
+
+namespace detail {
+
+/// The pieces of BasicContactSolver<dim> that differ by dimension: a specialization per
+/// dimension with static check(problem), assemble(problem), parts(problem),
+/// boundary(problem, parts, dofs), held_by_contact(problem, dofs, boundary, parts) and
+/// balance(problem, u, contact).
+template <int dim>
+struct Kernels;
+
+
+inline double since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+inline double rcond_or_nan(const SparseFactorization& f) {
+  const double r = f.rcond_estimate();
+  return r >= 0.0 ? r : std::numeric_limits<double>::quiet_NaN();
+}
+
+// Demotes a "converged" solution whose displacement is not finite (the engines' certificates
+// see only the contact unknowns; back-substitution could still overflow).
+template <int dim>
+void require_finite(BasicContactSolution<dim>& sol) {
+  if (sol.converged() && !sol.u.allFinite()) {
+    sol.status = MinimizerStatus::failed;
+    sol.message = "the displacement is not finite (NaN or Inf after back-substitution)";
+  }
+  if (sol.converged() && !std::isfinite(sol.energy)) {
+    sol.status = MinimizerStatus::failed;
+    sol.message = "the energy of the solution is not finite";
+  }
+}
+
+inline void require_ok(const FactorizationResult& r, const SparseFactorization& f, const std::string& what) {
+  if (!r.ok())
+    throw NumericalError(what + " with " + f.name() + " failed (" + to_string(r.status) + "): " + r.message);
+}
+
+
+}  // namespace detail
+
+// ---- ContactSolver ---------------------------------------------------------------------
+
+template <int dim>
+BasicContactSolver<dim>::BasicContactSolver(const Problem& problem, std::unique_ptr<SparseFactorization> factorization,
+                                            const MinimizerOptions& options)
+    : problem_(problem), options_(options), factorization_(std::move(factorization)) {
+  if (factorization_) processes_ = &processes_of(*factorization_);
+}
+
+template <int dim>
+BasicContactSolver<dim>::BasicContactSolver(const Problem& problem, const LinearSystem& system,
+                                            std::unique_ptr<SparseFactorization> factorization,
+                                            const MinimizerOptions& options)
+    : BasicContactSolver(problem, std::move(factorization), options) {
+  system_ = &system;
+}
+
+template <int dim>
+BasicContactSolver<dim>::~BasicContactSolver() = default;
+
+template <int dim>
+BasicContactSolver<dim>& BasicContactSolver<dim>::estimate_condition(bool on) noexcept {
+  estimate_condition_ = on;
+  return *this;
+}
+
+template <int dim>
+BasicContactSolver<dim>& BasicContactSolver<dim>::export_reduced(ReducedProblem* reduced) noexcept {
+  reduced_ = reduced;
+  return *this;
+}
+
+template <int dim>
+BasicContactSolver<dim>& BasicContactSolver<dim>::start_from(const Eigen::VectorXd* u) noexcept {
+  start_u_ = u;
+  return *this;
+}
+
+template <int dim>
+double BasicContactSolver<dim>::seconds() const {
+  return detail::since(start_);
+}
+
+template <int dim>
+auto BasicContactSolver<dim>::run(std::span<const NonsmoothMinimizer* const> minimizers) -> std::vector<Solution> {
+  if (ran_) throw InternalError("ContactSolver::run is called once");
+  ran_ = true;
+  detail::Kernels<dim>::check(problem_);
+  start_ = Clock::now();
+  if (!system_) assemble();
+  check_arguments(minimizers);
+  common_.unknowns = system_->dofs.num_free();
+  if (common_.unknowns == 0)
+    throw InputError("the Dirichlet conditions prescribe every displacement of the mesh: there is nothing to solve");
+  parts_ = detail::Kernels<dim>::parts(problem_);
+  for (const auto& part : parts_) common_.contact_parts.push_back(part.name);
+  boundary_ = detail::Kernels<dim>::boundary(problem_, parts_, system_->dofs);
+  common_.held_by_contact = detail::Kernels<dim>::held_by_contact(problem_, system_->dofs, boundary_, parts_);
+  if (boundary_.size() == 0) {
+    const Eigen::MatrixXd X = linear_solve();
+    common_.may_be_nonunique = false;
+    processes_->run_where_results_are([&] { post_process_linear(X); });
+    agree_on_status(common_);
+    common_.timings["total"] = seconds();
+    return std::vector<Solution>(minimizers.size(), common_);
+  }
+  condense();
+  const double before_minimize = seconds();
+  std::vector<Solution> solutions;
+  for (const NonsmoothMinimizer* minimizer : minimizers) {
+    Solution solution = common_;
+    const auto t = Clock::now();
+    minimize(*minimizer, solution);
+    back_substitute(solution);
+    processes_->run_where_results_are([&] { post_process(solution); });
+    agree_on_status(solution);
+    solution.timings["total"] = before_minimize + detail::since(t);
+    solutions.push_back(std::move(solution));
+  }
+  return solutions;
+}
+
+template <int dim>
+void BasicContactSolver<dim>::check_arguments(std::span<const NonsmoothMinimizer* const> minimizers) const {
+  if (!factorization_) throw InputError("solve_contact needs a factorization engine");
+  if (minimizers.empty()) throw InputError("solve_contact needs at least one minimizer");
+  for (const auto* m : minimizers)
+    if (!m) throw InputError("solve_contact: a minimizer is null");
+  if (std::string why; !options_.is_valid(&why)) throw InputError(why, "MinimizerOptions");
+}
+
+template <int dim>
+void BasicContactSolver<dim>::assemble() {
+  const auto t = Clock::now();
+  assembled_ = detail::Kernels<dim>::assemble(problem_);
+  system_ = &*assembled_;
+  common_.timings["assembly"] = detail::since(t);
+  common_.stages.push_back("assembly");
+}
+
+// Without a contact node: A u = b, one factorization and one solve. X on the process holding
+// the results.
+template <int dim>
+Eigen::MatrixXd BasicContactSolver<dim>::linear_solve() {
+  const auto t = Clock::now();
+  const LinearSystem& sys = *system_;
+  detail::require_ok(factorization_->factorize(sys.A), *factorization_, "factorization");
+  Eigen::MatrixXd X;
+  detail::require_ok(factorization_->solve(sys.b, &X), *factorization_, "solve");
+  common_.timings["linear_solve"] = detail::since(t);
+  common_.stages.push_back("linear_solve");
+  if (estimate_condition_) {
+    common_.rcond = detail::rcond_or_nan(*factorization_);
+    common_.condition_estimate = factorized_condition_estimate(sys.A, *factorization_);
+  }
+  return X;
+}
+
+// The displacement, the energy and the certificate of the linear solve: the relative
+// residual ||A u - b|| / max(||b||, ||A u||) is its dual part.
+template <int dim>
+void BasicContactSolver<dim>::post_process_linear(const Eigen::MatrixXd& X) {
+  Solution& s = common_;
+  const LinearSystem& sys = *system_;
+  const Eigen::VectorXd uf = X.col(0);
+  s.u = sys.dofs.expand(uf);
+  const Eigen::VectorXd Au = sys.A * uf;
+  s.energy = 0.5 * uf.dot(Au) - uf.dot(sys.b);
+  s.certificate = linear_solve_certificate(uf, Au, sys.b, options_.tolerance);
+  if (uf.allFinite() && s.certificate.converged()) {
+    s.status = MinimizerStatus::converged;
+  } else {
+    s.status = MinimizerStatus::failed;
+    s.message = uf.allFinite() ? "the linear solve's relative residual is above the tolerance"
+                               : "the linear solve gave a displacement that is not finite";
+  }
+  s.forces = detail::Kernels<dim>::balance(problem_, s.u, BasicContactSolution<dim>::Point::Zero());
+  detail::require_finite(s);
+}
+
+// The static condensation onto the contact unknowns (the reduced problem), its uniqueness
+// margin and, when asked, the conditioning of the interior block.
+template <int dim>
+void BasicContactSolver<dim>::condense() {
+  for (const auto& part : parts_)
+    if (!part.law)
+      throw InputError(parts_.size() == 1 ? std::string("the contact boundary has no contact law")
+                                          : "contact part '" + part.name + "' has no contact law");
+  const auto t = Clock::now();
+  condensation_ = std::make_unique<Condensation>(*system_, boundary_, std::move(factorization_),
+                                                 part_conditions(parts_), !common_.held_by_contact.empty());
+  common_.timings["condensation"] = detail::since(t);
+  common_.stages.push_back("condensation");
+  if (estimate_condition_) {
+    common_.rcond = detail::rcond_or_nan(condensation_->factorization());
+    common_.condition_estimate = condensation_->condition_estimate();
+    // S carries the condensation's round-off: the margin's bound grows with kappa(A22)
+    processes_->run_where_results_are([&] { condensation_->widen_uniqueness_roundoff(common_.condition_estimate); });
+  }
+  common_.uniqueness_margin = condensation_->uniqueness_margin();
+  common_.uniqueness_roundoff = condensation_->reduced().uniqueness_roundoff;
+  processes_->run_where_results_are([&] {
+    if (reduced_) *reduced_ = condensation_->reduced();
+  });
+}
+
+// The reduced problem is solved where it lives.
+template <int dim>
+void BasicContactSolver<dim>::minimize(const NonsmoothMinimizer& minimizer, Solution& solution) const {
+  const auto t = Clock::now();
+  processes_->run_where_results_are([&] {
+    const Eigen::VectorXd start =
+        start_u_ && start_u_->size() > 0 ? condensation_->reduced_point(*start_u_) : Eigen::VectorXd();
+    MinimizerResult m = minimizer.minimize(condensation_->reduced(), start, options_);
+    solution.status = m.status;
+    solution.message = m.message;
+    solution.certificate = m.certificate;
+    solution.may_be_nonunique = m.may_be_nonunique;
+    solution.minimizer = std::move(m);
+  });
+  solution.timings["minimize"] = detail::since(t);
+  solution.stages.push_back("minimize");
+}
+
+template <int dim>
+void BasicContactSolver<dim>::back_substitute(Solution& solution) const {
+  const auto t = Clock::now();
+  solution.u = condensation_->back_substitute(solution.minimizer ? solution.minimizer->a : Eigen::VectorXd());
+  solution.timings["back_substitution"] = detail::since(t);
+  solution.stages.push_back("back_substitution");
+}
+
+// The contact table, the potential energy and the balance of forces of the solution.
+template <int dim>
+void BasicContactSolver<dim>::post_process(Solution& solution) const {
+  const LinearSystem& sys = *system_;
+  const MinimizerResult& m = *solution.minimizer;
+  Eigen::VectorXd uf(sys.dofs.num_free());
+  for (int k = 0; k < sys.dofs.num_free(); ++k) uf(k) = solution.u(sys.dofs.free_dofs[static_cast<std::size_t>(k)]);
+  const Eigen::VectorXd Au = sys.A * uf;
+  const Eigen::VectorXd residual = Au - sys.b;
+  for (int i = 0; i < boundary_.size(); ++i)
+    solution.contact.push_back(
+        hemivem::contact_node(*problem_.elasticity.mesh, boundary_, *condensation_, system_->dofs, i, m, &residual));
+  // the potential energy of the discrete problem (F(a) differs from it by a constant)
+  const ReducedProblem& rp = condensation_->reduced();
+  solution.energy = 0.5 * uf.dot(Au) - uf.dot(sys.b);
+  for (Eigen::Index i = 0; i < m.a.size(); ++i) solution.energy += rp.w(i) * rp.law_of(i).value(m.a(i));
+  solution.forces = detail::Kernels<dim>::balance(problem_, solution.u, solution.contact_force());
+  detail::require_finite(solution);
+}
+
+// Collective: every process takes the final status of the process holding the results.
+template <int dim>
+void BasicContactSolver<dim>::agree_on_status(Solution& solution) const {
+  solution.status = static_cast<MinimizerStatus>(processes_->share(static_cast<int>(solution.status)));
+}
+
+}  // namespace hemivem
