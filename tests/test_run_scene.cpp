@@ -1,11 +1,13 @@
 // app::run_scene, the one entry point for a scene: it picks the solve a scene asks for (plane or
 // solid; static, path or adaptive), gives the numbers of that solve called directly, and
-// refuses by key what a kind of run cannot do.
+// refuses by key what a kind of run cannot do; a defect found in the problem names its scene key.
 #include <gtest/gtest.h>
 
 #include <hemivem/app/run.hpp>
 #include <hemivem/error.hpp>
+#include <hemivem/linear_backends.hpp>
 #include <hemivem/mesh/generators.hpp>
+#include <hemivem/nonsmooth_backends.hpp>
 
 #include <filesystem>
 #include <fstream>
@@ -154,6 +156,59 @@ TEST(RunScene, WritesWhatTheCommandWrites) {
   EXPECT_EQ(j["dimension"], 3);
   EXPECT_EQ(j["potential_energy"].get<double>(), run.solid()->solution.energy);
   std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace hemivem::app
+
+namespace hemivem::app {
+namespace {
+
+// A defect the solver finds when it sets the problem up carries what it is about as data
+// (InputError::about), and the run names the scene's key of it: the same in both dimensions.
+TEST(RunScene, ADefectOfTheSupportsOrTheContactNamesItsSceneKey) {
+  // a plane body nothing holds horizontally (rollers ux = 0 nowhere, uy = 0 on the bottom)
+  Scene plane = parse_scene_string(R"(schema_version = 1
+[mesh]
+generator = "squares"
+n = 2
+[[dirichlet]]
+side = "bottom"
+uy = 0.0
+[[loads.traction]]
+side = "top"
+value = [0.0, -1.0]
+)",
+                                   "loose.toml");
+  try {
+    run_scene(plane);
+    FAIL() << "a body nothing holds was solved";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.about(), ProblemPart::supports);
+    EXPECT_EQ(e.where(), plane.where("dirichlet")) << e.what();
+  }
+  // a solid whose contact node has its normal component prescribed
+  Scene solid = small_solid();
+  apply_overrides(solid, {"clamped.side=[\"x0\", \"x1\", \"bottom\"]"});
+  try {
+    run_scene(solid);
+    FAIL() << "a clamped contact part was solved";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("contact"), std::string::npos) << e.what();
+  }
+  // the core marks what a defect is about
+  Scene pinned = default_scene();
+  apply_overrides(pinned, {"mesh.n=4"});
+  auto built = build_problem(pinned);
+  built->problem.elasticity.dirichlet.push_back({built->problem.contact_edges, {}, {false, true}, "pinned"});
+  try {
+    (void)solve_contact(built->problem, make_factorization(FactorizationOptions{}), *make_minimizer("ssn"),
+                        MinimizerOptions{});
+    FAIL() << "a prescribed normal component at the contact was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.about(), ProblemPart::contact) << e.what();
+    EXPECT_TRUE(e.where().empty());
+  }
 }
 
 }  // namespace

@@ -20,6 +20,7 @@
 
 #include <unistd.h>
 
+#include "pressed_block3d.hpp"
 #include "test_support.hpp"
 
 using namespace hemivem;
@@ -32,28 +33,10 @@ std::unique_ptr<SparseFactorization> engine() {
   return make_factorization(o);
 }
 
-/// Example 4.1 in three dimensions on 4 x 2 x 4 cubes: clamped at x = 0 and x = 1, pressed
-/// down by (0, 0, -8) on its top, on the paper's foundation behind g = 0.02 on its bottom.
+/// Example 4.1 in three dimensions (test::example_4_1_3d), its contact part named "foundation".
 ContactProblem3D example(const Mesh3D& mesh) {
-  const Box box = mesh.bounding_box();
-  ContactProblem3D p;
-  p.elasticity.mesh = &mesh;
-  p.elasticity.materials = MaterialTable(Material{65.0, 0.29}, PlaneModel::strain);
-  std::vector<int> sides = select_box_side(mesh, box, "x0");
-  const std::vector<int> x1 = select_box_side(mesh, box, "x1");
-  sides.insert(sides.end(), x1.begin(), x1.end());
-  p.elasticity.dirichlet.push_back({sides, {}, {true, true, true}, "clamped"});
-  TractionLoad3D top;
-  top.faces = select_box_side(mesh, box, "top");
-  top.traction = [](const Vec3&) { return Vec3(0.0, 0.0, -8.0); };
-  p.elasticity.tractions.push_back(top);
-  ContactPart3D bottom;
-  bottom.name = "foundation";
-  bottom.facets = select_box_side(mesh, box, "bottom");
-  bottom.gap = [](const Vec3&) { return 0.02; };
-  bottom.law = paper_law();
-  bottom.constraint = ConstraintKind::box;
-  p.parts.push_back(std::move(bottom));
+  ContactProblem3D p = test::example_4_1_3d(mesh);
+  p.parts[0].name = "foundation";
   return p;
 }
 

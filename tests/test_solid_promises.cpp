@@ -40,26 +40,7 @@ std::string num(double v) {
 /// constraint g = 0.02 on its bottom, Young's modulus 65 s. Stresses, pressures and
 /// displacements are those of s = 1 (the stiffness grows with s, the load with s^2).
 ContactProblem3D example_at_scale(const Mesh3D& mesh, double s, double poisson = 0.29) {
-  const Box box = mesh.bounding_box();
-  ContactProblem3D p;
-  p.elasticity.mesh = &mesh;
-  p.elasticity.materials = MaterialTable(Material{65.0 * s, poisson}, PlaneModel::strain);
-  std::vector<int> sides = select_box_side(mesh, box, "x0");
-  const std::vector<int> x1 = select_box_side(mesh, box, "x1");
-  sides.insert(sides.end(), x1.begin(), x1.end());
-  p.elasticity.dirichlet.push_back({sides, {}, {true, true, true}, "clamped"});
-  TractionLoad3D top;
-  top.faces = select_box_side(mesh, box, "top");
-  top.traction = [](const Vec3&) { return Vec3(0.0, 0.0, -8.0); };
-  p.elasticity.tractions.push_back(top);
-  ContactPart3D contact;
-  contact.name = "contact";
-  contact.facets = select_box_side(mesh, box, "bottom");
-  contact.gap = [](const Vec3&) { return 0.02; };
-  contact.law = paper_law();
-  contact.constraint = ConstraintKind::box;
-  p.parts.push_back(std::move(contact));
-  return p;
+  return test::example_4_1_3d(mesh, s, poisson);
 }
 
 /// The mesh moved by `shift` (built by hand: the generators refuse cells this small against

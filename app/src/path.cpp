@@ -56,9 +56,8 @@ SceneSolve solve_scene_path(const Scene& scene, SceneSolveOptions o, std::functi
     };
   try {
     path = solve_path(s.built->problem, std::move(factorization), *minimizer, scene_path_loading(scene), std::move(po));
-  } catch (const InputError& e) {  // a defect of the contact part found when it is set up: name the scene's key
-    if (!e.where().empty() || e.detail().rfind("contact node", 0) != 0) throw;
-    throw InputError("contact: " + e.detail(), scene.where("contact"));
+  } catch (const InputError& e) {  // a defect found when the problem is set up: name the scene's key
+    detail::rethrow_naming_scene_key(scene, e);
   }
   s.solution = path.last;
   s.warnings = s.built->warnings;

@@ -5,6 +5,8 @@
 #include <hemivem/app/report.hpp>
 #include <hemivem/error.hpp>
 
+#include <type_traits>
+
 namespace hemivem::app {
 
 std::string to_string(RunKind kind) {
@@ -75,12 +77,17 @@ std::string SceneRun::report(const RunInfo& info) const {
 
 namespace {
 
-BuiltSummary summary(const BuiltProblem& built, const SceneSolve& s) {
-  return {2, built.mesh.num_vertices(), built.mesh.num_elements(), s.linear, s.minimizer, s.holds_results};
-}
+int cells(const Mesh& mesh) { return mesh.num_elements(); }
+int cells(const Mesh3D& mesh) { return mesh.num_cells(); }
 
-BuiltSummary summary(const BuiltProblem3D& built, const SceneSolve3D& s) {
-  return {3, built.mesh.num_vertices(), built.mesh.num_cells(), s.linear, s.minimizer, s.holds_results};
+/// The on_built callback of a solve of either dimension that tells `f` a BuiltSummary.
+template <class Built, class Solved>
+std::function<void(const Built&, const Solved&)> announce(const std::function<void(const BuiltSummary&)>& f) {
+  if (!f) return {};
+  return [f](const Built& built, const Solved& s) {
+    f({std::is_same_v<Built, BuiltProblem3D> ? 3 : 2, built.mesh.num_vertices(), cells(built.mesh), s.linear,
+       s.minimizer, s.holds_results});
+  };
 }
 
 /// A solid scene: one static solve.
@@ -93,8 +100,7 @@ SceneSolve3D run_solid(const Scene& scene, RunKind kind, RunOptions& o) {
                      "two-dimensional: set the scene's mesh keys instead",
                      o.mesh_key);
   SceneSolve3DOptions s;
-  if (o.on_built)
-    s.on_built = [f = o.on_built](const BuiltProblem3D& built, const SceneSolve3D& solved) { f(summary(built, solved)); };
+  s.on_built = announce<BuiltProblem3D, SceneSolve3D>(o.on_built);
   s.callback = std::move(o.callback);
   s.reduced = o.reduced;
   s.progress = std::move(o.progress);
@@ -103,8 +109,7 @@ SceneSolve3D run_solid(const Scene& scene, RunKind kind, RunOptions& o) {
 
 SceneSolveOptions plane_options(RunOptions& o) {
   SceneSolveOptions s;
-  if (o.on_built)
-    s.on_built = [f = o.on_built](const BuiltProblem& built, const SceneSolve& solved) { f(summary(built, solved)); };
+  s.on_built = announce<BuiltProblem, SceneSolve>(o.on_built);
   s.callback = std::move(o.callback);
   s.reduced = o.reduced;
   s.progress = std::move(o.progress);

@@ -79,4 +79,16 @@ void add_contact_parts(RunInfo& info, const std::vector<BasicContactPart<dim>>& 
   std::sort(info.law_breakpoints.begin(), info.law_breakpoints.end());
 }
 
+/// An InputError a solve of `scene` found without a key, again with the scene's key of what it
+/// is about (InputError::about): `contact` for the contact boundary, `clamped` or `dirichlet`
+/// (whichever the scene has) for the supports; any other error as it is.
+[[noreturn]] inline void rethrow_naming_scene_key(const Scene& scene, const InputError& e) {
+  if (!e.where().empty() || e.about() == ProblemPart::unknown) throw;  // the error as it was thrown
+  if (e.about() == ProblemPart::contact)
+    throw InputError("contact: " + e.detail(), scene.where("contact")).mark_about(e.about());
+  throw InputError(e.detail() + " ([clamped] and [[dirichlet]])",
+                   scene.where(scene.lines.count("clamped") ? "clamped" : scene.lines.count("dirichlet") ? "dirichlet" : ""))
+      .mark_about(e.about());
+}
+
 }  // namespace hemivem::app::detail

@@ -159,9 +159,8 @@ SceneSolve solve_scene(const Scene& scene, SceneSolveOptions o) {
     solver.estimate_condition(true).export_reduced(o.reduced);
     if (o.start.size() > 0) solver.start_from(&o.start);
     s.solution = std::move(solver.run(minimizers).front());
-  } catch (const InputError& e) {  // a defect of the contact part found when it is set up: name the scene's key
-    if (!e.where().empty() || e.detail().rfind("contact node", 0) != 0) throw;
-    throw InputError("contact: " + e.detail(), scene.where("contact"));
+  } catch (const InputError& e) {  // a defect found when the problem is set up: name the scene's key
+    detail::rethrow_naming_scene_key(scene, e);
   }
   s.warnings = s.built->warnings;
   if (std::string w = conditioning_warning(s.solution.condition_estimate); !w.empty()) s.warnings.push_back(std::move(w));

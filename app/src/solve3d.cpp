@@ -53,17 +53,8 @@ SceneSolve3D solve_scene_3d(const Scene& scene, SceneSolve3DOptions o) {
     ContactSolver3D solver(s.built->problem, std::move(e.factorization), s.options);
     solver.estimate_condition(true).export_reduced(o.reduced);
     s.solution = std::move(solver.run(minimizers).front());
-  } catch (const InputError& err) {
-    // a defect of the supports or of the contact part found when they are set up: name the scene's key
-    if (!err.where().empty()) throw;
-    const std::string& m = err.detail();
-    if (m.rfind("contact node", 0) == 0 || m.rfind("gap ", 0) == 0 || m.rfind("the obstacle", 0) == 0)
-      throw InputError("contact: " + m, scene.where("contact"));
-    if (m.rfind("the supports leave", 0) == 0 || m.rfind("the Dirichlet conditions", 0) == 0 ||
-        m.rfind("the body is not held", 0) == 0)
-      throw InputError(m + " ([clamped] and [[dirichlet]])",
-                       scene.where(scene.lines.count("clamped") ? "clamped" : scene.lines.count("dirichlet") ? "dirichlet" : ""));
-    throw;
+  } catch (const InputError& e) {  // a defect found when the problem is set up: name the scene's key
+    detail::rethrow_naming_scene_key(scene, e);
   }
   s.warnings = s.built->warnings;
   if (std::string w = conditioning_warning(s.solution.condition_estimate); !w.empty()) s.warnings.push_back(std::move(w));

@@ -1,5 +1,6 @@
 // A block on a frictionless rigid plane pushed down on its top: the three-dimensional contact
-// problem with an exact (linear) solution, shared by the contact and error-estimate tests.
+// problem with an exact (linear) solution, shared by the contact and error-estimate tests; and
+// Example 4.1 in three dimensions.
 #pragma once
 
 #include <hemivem/contact/contact3d.hpp>
@@ -30,6 +31,33 @@ inline ContactProblem3D pressed_block(const Mesh3D& mesh, const Box& box) {
   contact.obstacle = plane;
   contact.law = zero_law();
   contact.constraint = ConstraintKind::one_sided;
+  p.parts.push_back(std::move(contact));
+  return p;
+}
+
+/// Example 4.1 in three dimensions on `mesh` (a box): clamped at its sides x0 and x1, pressed
+/// down by (0, 0, -8) on its top, on the paper's foundation behind g = 0.02 (the box
+/// constraint) on its bottom; lengths scaled by s (Young's modulus 65 s) and Poisson's ratio
+/// `poisson`.
+inline ContactProblem3D example_4_1_3d(const Mesh3D& mesh, double s = 1.0, double poisson = 0.29) {
+  const Box box = mesh.bounding_box();
+  ContactProblem3D p;
+  p.elasticity.mesh = &mesh;
+  p.elasticity.materials = MaterialTable(Material{65.0 * s, poisson}, PlaneModel::strain);
+  std::vector<int> sides = select_box_side(mesh, box, "x0");
+  const std::vector<int> x1 = select_box_side(mesh, box, "x1");
+  sides.insert(sides.end(), x1.begin(), x1.end());
+  p.elasticity.dirichlet.push_back({sides, {}, {true, true, true}, "clamped"});
+  TractionLoad3D top;
+  top.faces = select_box_side(mesh, box, "top");
+  top.traction = [](const Vec3&) { return Vec3(0.0, 0.0, -8.0); };
+  p.elasticity.tractions.push_back(top);
+  ContactPart3D contact;
+  contact.name = "contact";
+  contact.facets = select_box_side(mesh, box, "bottom");
+  contact.gap = [](const Vec3&) { return 0.02; };
+  contact.law = paper_law();
+  contact.constraint = ConstraintKind::box;
   p.parts.push_back(std::move(contact));
   return p;
 }

@@ -27,6 +27,32 @@ std::string point_text(const Vec3& p) {
 
 }  // namespace
 
+namespace {
+
+// The unit normal of contact node v from the sum of its faces' weighted normals; with
+// prescribed components (bit c of `mask` for component c: a symmetry plane or a roller meeting
+// Gamma_3) made exactly perpendicular to them, which must be tangential.
+Vec3 node_normal(const Mesh3D& mesh, int v, const Vec3& sum, int mask) {
+  const double length = scale_free_norm(sum);
+  if (!(length > 0.0))
+    throw InputError("contact node " + std::to_string(v) + " has no defined normal (its contact faces cancel)");
+  Vec3 normal = sum / length;
+  if (mask == 0) return normal;
+  for (int c = 0; c < 3; ++c) {
+    if (!(mask & (1 << c))) continue;
+    if (!(std::abs(normal(c)) <= tangential_tolerance))
+      throw InputError("contact node " + std::to_string(v) + " at " + point_text(mesh.vertex(v)) + " has its " +
+                       std::string(1, "xyz"[c]) + " displacement prescribed, which is not tangential to its contact normal " +
+                       point_text(normal) +
+                       ": a contact node may have prescribed components only in its tangent plane (a symmetry "
+                       "plane); end the support's or the contact's faces before it");
+    normal(c) = 0.0;
+  }
+  return normal.normalized();
+}
+
+}  // namespace
+
 ContactBoundary make_contact_boundary_3d(const Mesh3D& mesh, const std::vector<ContactPart3D>& parts, const DofMap& dofs) {
   if (dofs.num_dofs() != 3 * mesh.num_vertices())
     throw InputError("a dof map of " + std::to_string(dofs.num_dofs()) + " dofs for a mesh of " +
@@ -76,24 +102,7 @@ ContactBoundary make_contact_boundary_3d(const Mesh3D& mesh, const std::vector<C
                        " has the quadrature weight " + std::to_string(entry.weight) +
                        " (the sum of its contact faces' weights, which must be positive): a contact face is too far "
                        "from its vertices' mean to integrate over; split it");
-    const double length = scale_free_norm(entry.normal);
-    if (!(length > 0.0))
-      throw InputError("contact node " + std::to_string(v) + " has no defined normal (its contact faces cancel)");
-    Vec3 normal = entry.normal / length;
-    if (mask != 0) {
-      // a symmetry plane or roller meeting Gamma_3: allowed where every prescribed component is tangential
-      for (int c = 0; c < 3; ++c) {
-        if (!(mask & (1 << c))) continue;
-        if (!(std::abs(normal(c)) <= tangential_tolerance))
-          throw InputError("contact node " + std::to_string(v) + " at " + point_text(mesh.vertex(v)) + " has its " +
-                           std::string(1, "xyz"[c]) + " displacement prescribed, which is not tangential to its contact normal " +
-                           point_text(normal) +
-                           ": a contact node may have prescribed components only in its tangent plane (a symmetry "
-                           "plane); end the support's or the contact's faces before it");
-        normal(c) = 0.0;
-      }
-      normal.normalize();
-    }
+    const Vec3 normal = node_normal(mesh, v, entry.normal, mask);
     const ContactPart3D& part = parts[static_cast<std::size_t>(entry.part)];
     double g = 0.0;
     if (part.obstacle) {

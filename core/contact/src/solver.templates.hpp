@@ -110,11 +110,14 @@ auto BasicContactSolver<dim>::run(std::span<const NonsmoothMinimizer* const> min
   check_arguments(minimizers);
   common_.unknowns = system_->dofs.num_free();
   if (common_.unknowns == 0)
-    throw InputError("the Dirichlet conditions prescribe every displacement of the mesh: there is nothing to solve");
-  parts_ = detail::Kernels<dim>::parts(problem_);
+    throw InputError("the Dirichlet conditions prescribe every displacement of the mesh: there is nothing to solve")
+        .mark_about(ProblemPart::supports);
+  parts_ = about(ProblemPart::contact, [&] { return detail::Kernels<dim>::parts(problem_); });
   for (const auto& part : parts_) common_.contact_parts.push_back(part.name);
-  boundary_ = detail::Kernels<dim>::boundary(problem_, parts_, system_->dofs);
-  common_.held_by_contact = detail::Kernels<dim>::held_by_contact(problem_, system_->dofs, boundary_, parts_);
+  boundary_ = about(ProblemPart::contact, [&] { return detail::Kernels<dim>::boundary(problem_, parts_, system_->dofs); });
+  common_.held_by_contact = about(ProblemPart::supports, [&] {
+    return detail::Kernels<dim>::held_by_contact(problem_, system_->dofs, boundary_, parts_);
+  });
   if (boundary_.size() == 0) {
     const Eigen::MatrixXd X = linear_solve();
     common_.may_be_nonunique = false;
@@ -206,8 +209,10 @@ void BasicContactSolver<dim>::condense() {
       throw InputError(parts_.size() == 1 ? std::string("the contact boundary has no contact law")
                                           : "contact part '" + part.name + "' has no contact law");
   const auto t = Clock::now();
-  condensation_ = std::make_unique<Condensation>(*system_, boundary_, std::move(factorization_),
-                                                 part_conditions(parts_), !common_.held_by_contact.empty());
+  condensation_ = about(ProblemPart::contact, [&] {
+    return std::make_unique<Condensation>(*system_, boundary_, std::move(factorization_), part_conditions(parts_),
+                                          !common_.held_by_contact.empty());
+  });
   common_.timings["condensation"] = detail::since(t);
   common_.stages.push_back("condensation");
   if (estimate_condition_) {

@@ -169,12 +169,16 @@ void PathSolver::Impl::set_up() {
   auto t0 = Clock::now();
   system = assemble(problem.elasticity);
   timings["assembly"] = since(t0);
-  boundary = contact_boundary(problem, system.dofs);
-  held_by_contact = find_supports(*problem.elasticity.mesh, system.dofs, boundary, parts).held_by_contact;
+  boundary = about(ProblemPart::contact, [&] { return contact_boundary(problem, system.dofs); });
+  held_by_contact = about(ProblemPart::supports, [&] {
+    return find_supports(*problem.elasticity.mesh, system.dofs, boundary, parts).held_by_contact;
+  });
   if (boundary.size() == 0) throw InputError("the contact boundary of the path has no free node");
   t0 = Clock::now();
-  cond = std::make_unique<Condensation>(system, boundary, std::move(factorization), part_conditions(parts),
-                                        !held_by_contact.empty());
+  cond = about(ProblemPart::contact, [&] {
+    return std::make_unique<Condensation>(system, boundary, std::move(factorization), part_conditions(parts),
+                                          !held_by_contact.empty());
+  });
   timings["condensation"] = since(t0);
   step = cond->reduced();
   n1 = boundary.size();

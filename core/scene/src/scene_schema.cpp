@@ -579,7 +579,10 @@ void read_mesh(Scene& s, const toml::table& t, const std::filesystem::path& base
     // the file decides the scene's dimension: one that cannot be read is this key's error
     std::error_code ec;
     if (lower(s.mesh.file.extension().string()) == ".msh" && !std::filesystem::is_regular_file(s.mesh.file, ec))
-      m.fail("file", m.node("file"), s.mesh.file.string() + ": cannot open the mesh file (no such file, or not a regular file)");
+      m.fail("file", m.node("file"),
+             s.mesh.file.string() + (std::filesystem::is_directory(s.mesh.file, ec)
+                                         ? ": cannot read the mesh file: it is a directory"
+                                         : ": cannot open the mesh file (no such file, or not a regular file)"));
     if (lower(s.mesh.file.extension().string()) == ".msh" && gmsh_file_dimension(s.mesh.file) == 3)
       s.mesh.dimension = 3;
     return;

@@ -19,6 +19,11 @@ class Error : public std::runtime_error {
 
 /// Bad input: a file, a parameter or a problem definition that cannot be used.
 /// `where()` names the file and line (or field) when one is known.
+/// What part of a problem an InputError is about, when the code that finds it knows no key of
+/// the input (the contact boundary, the supports): the application names its own key from it
+/// (a scene's `contact` or `clamped`), so that no caller matches messages.
+enum class ProblemPart { unknown, contact, supports };
+
 class InputError : public Error {
  public:
   explicit InputError(const std::string& message, std::string where = {})
@@ -27,11 +32,30 @@ class InputError : public Error {
         detail_(message) {}
   const std::string& where() const noexcept { return where_; }
   const std::string& detail() const noexcept { return detail_; }
+  /// What the error is about (ProblemPart::unknown unless marked).
+  ProblemPart about() const noexcept { return about_; }
+  /// Marks the error as about `part`, unless it is marked already.
+  InputError& mark_about(ProblemPart part) noexcept {
+    if (about_ == ProblemPart::unknown) about_ = part;
+    return *this;
+  }
 
  private:
   std::string where_;
   std::string detail_;
+  ProblemPart about_ = ProblemPart::unknown;
 };
+
+/// Runs f(); an InputError it throws leaves marked as about `part` (InputError::mark_about).
+template <class F>
+decltype(auto) about(ProblemPart part, F&& f) {
+  try {
+    return f();
+  } catch (InputError& e) {
+    e.mark_about(part);
+    throw;
+  }
+}
 
 /// A mesh that violates the rules of a valid polygonal mesh. `element()` is the
 /// offending element (or -1 when the defect is not tied to one element).
