@@ -53,7 +53,6 @@ FUNCTION_TO_SPLIT = {
 TWIN_BASELINE = {
     ("app/include/hemivem/app/solve.hpp", "app/include/hemivem/app/solve3d.hpp"): 1,
     ("app/src/outputs.cpp", "app/src/outputs3d.cpp"): 3,
-    ("app/src/solve.cpp", "app/src/solve3d.cpp"): 1,
     ("core/vem/include/hemivem/vem/element.hpp", "core/vem/include/hemivem/vem/element3d.hpp"): 1,
     ("core/vem/src/assembly.cpp", "core/vem/src/assembly3d.cpp"): 1,
 }

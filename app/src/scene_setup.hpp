@@ -30,6 +30,18 @@ struct SceneEngines {
 SceneEngines make_scene_engines(const Scene& scene, std::function<void(const GlobalSearchProgress&)> progress,
                                 std::function<bool(const IterationRecord&)> callback);
 
+/// Records the engines `e` and the minimizer options in a solve of either dimension
+/// (SceneSolve, SceneSolve3D).
+template <class Solved>
+void record_engines(const SceneEngines& e, Solved& s) {
+  s.linear = e.linear;
+  s.minimizer = e.minimizer_name;
+  s.search = e.search;
+  s.holds_results = e.holds_results;
+  s.processes = e.processes;
+  s.options = e.options;
+}
+
 /// The engines the scene names (make_scene_engines), recorded in `s` with the minimizer options
 /// (o.callback moved into them), then the problem built (on o.mesh when given) with its time.
 /// on_built is left to the caller.
@@ -89,6 +101,34 @@ void add_contact_parts(RunInfo& info, const std::vector<BasicContactPart<dim>>& 
   throw InputError(e.detail() + " ([clamped] and [[dirichlet]])",
                    scene.where(scene.lines.count("clamped") ? "clamped" : scene.lines.count("dirichlet") ? "dirichlet" : ""))
       .mark_about(e.about());
+}
+
+/// Solves s.built->problem with the engines `e` as every static solve of a scene does, in
+/// either dimension: BasicContactSolver<dim> with the condition estimate, the reduced problem
+/// when `reduced` is not null and a warm start from `start` when it is not empty, a defect
+/// found in setting the problem up named by the scene's key (rethrow_naming_scene_key); then
+/// the warnings (the scene's, the conditioning's) and, on the process holding the results, the
+/// error estimate estimate(problem, solution) as the stage "estimate".
+template <int dim, class Solved, class Estimate>
+void solve_built(const Scene& scene, SceneEngines& e, Solved& s, ReducedProblem* reduced, const Eigen::VectorXd& start,
+                 Estimate&& estimate) {
+  const NonsmoothMinimizer* minimizers[] = {e.minimizer.get()};
+  try {
+    BasicContactSolver<dim> solver(s.built->problem, std::move(e.factorization), s.options);
+    solver.estimate_condition(true).export_reduced(reduced);
+    if (start.size() > 0) solver.start_from(&start);
+    s.solution = std::move(solver.run(minimizers).front());
+  } catch (const InputError& error) {
+    rethrow_naming_scene_key(scene, error);
+  }
+  s.warnings = s.built->warnings;
+  if (std::string w = conditioning_warning(s.solution.condition_estimate); !w.empty()) s.warnings.push_back(std::move(w));
+  if (s.holds_results && s.solution.u.size() > 0 && s.solution.u.allFinite()) {
+    s.estimate = estimate(s.built->problem, s.solution);
+    s.solution.stages.push_back("estimate");
+    s.solution.timings["estimate"] = s.estimate->seconds;
+    s.solution.timings["total"] += s.estimate->seconds;
+  }
 }
 
 }  // namespace hemivem::app::detail

@@ -130,12 +130,7 @@ SceneEngines make_scene_engines(const Scene& scene, std::function<void(const Glo
 SceneEngines prepare_scene_solve(const Scene& scene, SceneSolveOptions& o, SceneSolve& s) {
   // Engines first: a name that was not built is an input error before any work.
   SceneEngines e = make_scene_engines(scene, std::move(o.progress), std::move(o.callback));
-  s.linear = e.linear;
-  s.minimizer = e.minimizer_name;
-  s.search = e.search;
-  s.holds_results = e.holds_results;
-  s.processes = e.processes;
-  s.options = e.options;
+  record_engines(e, s);
 
   const auto t = Clock::now();
   s.built = o.mesh ? build_problem(scene, std::move(*o.mesh), o.apply_region_boxes) : build_problem(scene);
@@ -150,26 +145,9 @@ SceneSolve solve_scene(const Scene& scene, SceneSolveOptions o) {
   refuse_path(scene, "this solve");
   SceneSolve s;
   detail::SceneEngines engines = detail::prepare_scene_solve(scene, o, s);
-  auto& factorization = engines.factorization;
-  const auto& minimizer = engines.minimizer;
   if (o.on_built) o.on_built(*s.built, s);
-  const NonsmoothMinimizer* minimizers[] = {minimizer.get()};
-  try {
-    ContactSolver solver(s.built->problem, std::move(factorization), s.options);
-    solver.estimate_condition(true).export_reduced(o.reduced);
-    if (o.start.size() > 0) solver.start_from(&o.start);
-    s.solution = std::move(solver.run(minimizers).front());
-  } catch (const InputError& e) {  // a defect found when the problem is set up: name the scene's key
-    detail::rethrow_naming_scene_key(scene, e);
-  }
-  s.warnings = s.built->warnings;
-  if (std::string w = conditioning_warning(s.solution.condition_estimate); !w.empty()) s.warnings.push_back(std::move(w));
-  if (s.holds_results && s.solution.u.size() > 0 && s.solution.u.allFinite()) {
-    s.estimate = estimate_error(s.built->problem, s.solution);
-    s.solution.stages.push_back("estimate");
-    s.solution.timings["estimate"] = s.estimate->seconds;
-    s.solution.timings["total"] += s.estimate->seconds;
-  }
+  detail::solve_built<2>(scene, engines, s, o.reduced, o.start,
+                         [](const ContactProblem& p, const ContactSolution& u) { return estimate_error(p, u); });
   return s;
 }
 

@@ -37,33 +37,14 @@ SceneSolve3D solve_scene_3d(const Scene& scene, SceneSolve3DOptions o) {
     throw InputError("mesh: this solve takes three-dimensional scenes (solve_scene solves this one)", scene.where("mesh"));
   SceneSolve3D s;
   detail::SceneEngines e = detail::make_scene_engines(scene, std::move(o.progress), std::move(o.callback));
-  s.linear = e.linear;
-  s.minimizer = e.minimizer_name;
-  s.search = e.search;
-  s.holds_results = e.holds_results;
-  s.processes = e.processes;
-  s.options = e.options;
+  detail::record_engines(e, s);
   const auto t = Clock::now();
   s.built = build_problem_3d(scene);
   s.mesh_description = scene.mesh.description();
   s.mesh_seconds = since(t);
   if (o.on_built) o.on_built(*s.built, s);
-  try {
-    const NonsmoothMinimizer* minimizers[] = {e.minimizer.get()};
-    ContactSolver3D solver(s.built->problem, std::move(e.factorization), s.options);
-    solver.estimate_condition(true).export_reduced(o.reduced);
-    s.solution = std::move(solver.run(minimizers).front());
-  } catch (const InputError& e) {  // a defect found when the problem is set up: name the scene's key
-    detail::rethrow_naming_scene_key(scene, e);
-  }
-  s.warnings = s.built->warnings;
-  if (std::string w = conditioning_warning(s.solution.condition_estimate); !w.empty()) s.warnings.push_back(std::move(w));
-  if (s.holds_results && s.solution.u.size() > 0 && s.solution.u.allFinite()) {
-    s.estimate = estimate_error_3d(s.built->problem, s.solution);
-    s.solution.stages.push_back("estimate");
-    s.solution.timings["estimate"] = s.estimate->seconds;
-    s.solution.timings["total"] += s.estimate->seconds;
-  }
+  detail::solve_built<3>(scene, e, s, o.reduced, Eigen::VectorXd(),
+                         [](const ContactProblem3D& p, const ContactSolution3D& u) { return estimate_error_3d(p, u); });
   return s;
 }
 
