@@ -20,7 +20,7 @@
 
 #include "commands.hpp"
 #include "common.hpp"
-#include "engine_pairs.hpp"
+#include <hemivem/app/engine_pairs.hpp>
 #include <hemivem/app/adapt.hpp>
 #include <hemivem/app/figures.hpp>
 #include <hemivem/app/solve.hpp>
