@@ -48,7 +48,7 @@ def test_check_refuses_an_agree_that_is_not_positive():
 
 def test_study_is_the_commands_study(run_command, tmp_path):
     r = hemivem.study(n=[4, 8], ref=16, out=tmp_path / "py")
-    cmd = json.loads(run_command("study", "--n", "4", "--n", "8", "--ref", "16", "--out", tmp_path / "cmd",
+    cmd = json.loads(run_command("study", "--n", "4,8", "--ref", "16", "--out", tmp_path / "cmd",
                                  "--json").stdout)
     assert r["schema"] == cmd["schema"] == "hemivem-study/2"
     assert same(r["reference"]["energy_norm"], cmd["reference"]["energy_norm"])
@@ -72,7 +72,7 @@ def test_study_refuses_sizes_that_do_not_nest():
 
 def test_bench_is_the_commands_bench(run_command, tmp_path):
     r = hemivem.bench(n=[4, 8], ref=16, levels=1, pairs=[("eigen", "ssn")])
-    cmd = json.loads(run_command("bench", "--n", "4", "--n", "8", "--ref", "16", "--levels", "1", "--out",
+    cmd = json.loads(run_command("bench", "--n", "4,8", "--ref", "16", "--levels", "1", "--out",
                                  tmp_path, "--json").stdout)
     assert r["schema"] == cmd["schema"] == "hemivem-bench/4"
     rows = {(c["linear"], c["minimizer"], c["n"]): c for c in cmd["rows"]}
