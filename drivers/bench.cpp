@@ -1,287 +1,27 @@
 #include "bench.hpp"
 
-#include <hemivem/error.hpp>
-#include <hemivem/linear_backends.hpp>
-#include <hemivem/nonsmooth_backends.hpp>
-#include <hemivem/scene/resources.hpp>
 #include <hemivem/scene/scene.hpp>
-#include <hemivem/support/output_folder.hpp>
 
 #include <nlohmann/json.hpp>
 
-#include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <iomanip>
-#include <limits>
-#include <memory>
 #include <ostream>
 #include <sstream>
 
 #include "commands.hpp"
 #include "common.hpp"
-#include "engine_pairs.hpp"
-#include <hemivem/app/adapt.hpp>
-#include <hemivem/app/figures.hpp>
-#include <hemivem/app/solve.hpp>
-#include <hemivem/app/solve3d.hpp>
-#include <hemivem/mesh/refine.hpp>
+#include <hemivem/app/outputs.hpp>
 
 namespace hemivem::cli {
 
-namespace fs = std::filesystem;
-
 namespace {
-
-double stage(const PairRun& r, const std::string& name) {
-  if (name == "mesh") return r.mesh_seconds;
-  if (name == "total") return r.seconds;
-  const auto it = r.timings.find(name);
-  return it == r.timings.end() ? 0.0 : it->second;
-}
 
 // The stages of the terminal table; the files also have linear_solve (the single solve of a
 // scene without contact).
 const std::vector<std::string>& stage_names() {
   static const std::vector<std::string> names{"mesh", "assembly", "condensation", "minimize", "back_substitution", "total"};
   return names;
-}
-const std::vector<std::string>& file_stage_names() {
-  static const std::vector<std::string> names{"mesh",     "assembly",          "linear_solve", "condensation",
-                                              "minimize", "back_substitution", "total"};
-  return names;
-}
-
-}  // namespace
-
-Eigen::VectorXd interpolate_squares(const Mesh& mesh, const Eigen::VectorXd& u, int n,
-                                    const std::array<double, 4>& domain, const std::vector<Vec2>& points) {
-  const double x0 = domain[0], y0 = domain[2];
-  const double hx = (domain[1] - domain[0]) / n, hy = (domain[3] - domain[2]) / n;
-  const int side = n + 1;
-  if (mesh.num_vertices() != side * side || u.size() != 2 * mesh.num_vertices())
-    throw InputError("not a squares mesh with n = " + std::to_string(n), "bench");
-  std::vector<int> grid(static_cast<std::size_t>(side * side), -1);
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
-    const double fi = (mesh.vertex(v).x() - x0) / hx, fj = (mesh.vertex(v).y() - y0) / hy;
-    const long i = std::lround(fi), j = std::lround(fj);
-    if (std::abs(fi - i) > 1e-6 || std::abs(fj - j) > 1e-6 || i < 0 || j < 0 || i > n || j > n)
-      throw InputError("vertex " + std::to_string(v) + " is not on the squares grid", "bench");
-    grid[static_cast<std::size_t>(j * side + i)] = v;
-  }
-  if (std::count(grid.begin(), grid.end(), -1) != 0)
-    throw InputError("the squares grid has a missing vertex", "bench");
-  auto at = [&](int i, int j) { return grid[static_cast<std::size_t>(j * side + i)]; };
-
-  Eigen::VectorXd r(2 * static_cast<Eigen::Index>(points.size()));
-  for (std::size_t k = 0; k < points.size(); ++k) {
-    const double fx = (points[k].x() - x0) / hx, fy = (points[k].y() - y0) / hy;
-    const int i = std::clamp(static_cast<int>(std::floor(fx)), 0, n - 1);
-    const int j = std::clamp(static_cast<int>(std::floor(fy)), 0, n - 1);
-    const double s = fx - i, t = fy - j;
-    const double w[4] = {(1 - s) * (1 - t), s * (1 - t), (1 - s) * t, s * t};
-    const int v[4] = {at(i, j), at(i + 1, j), at(i, j + 1), at(i + 1, j + 1)};
-    for (int c = 0; c < 2; ++c) {
-      double value = 0.0;
-      for (int q = 0; q < 4; ++q) value += w[q] * u(2 * v[q] + c);
-      r(2 * static_cast<Eigen::Index>(k) + c) = value;
-    }
-  }
-  return r;
-}
-
-Eigen::VectorXd interpolate_cubes(const Mesh3D& mesh, const Eigen::VectorXd& u, const GridSize3& n,
-                                  const std::array<double, 6>& box, const std::vector<Vec3>& points) {
-  const int cells[3] = {n.nx, n.ny, n.nz};
-  double low[3], h[3];
-  for (int a = 0; a < 3; ++a) {
-    low[a] = box[static_cast<std::size_t>(2 * a)];
-    h[a] = (box[static_cast<std::size_t>(2 * a + 1)] - low[a]) / cells[a];
-  }
-  const long sx = n.nx + 1, sy = n.ny + 1, sz = n.nz + 1;
-  if (mesh.num_vertices() != sx * sy * sz || u.size() != 3 * static_cast<Eigen::Index>(mesh.num_vertices()))
-    throw InputError("not a cubes mesh with n = " + n.text(), "bench");
-  std::vector<int> grid(static_cast<std::size_t>(sx * sy * sz), -1);
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
-    long index[3];
-    for (int a = 0; a < 3; ++a) {
-      const double f = (mesh.vertex(v)(a) - low[a]) / h[a];
-      index[a] = std::lround(f);
-      if (std::abs(f - static_cast<double>(index[a])) > 1e-6 || index[a] < 0 || index[a] > cells[a])
-        throw InputError("vertex " + std::to_string(v) + " is not on the cubes grid", "bench");
-    }
-    grid[static_cast<std::size_t>((index[2] * sy + index[1]) * sx + index[0])] = v;
-  }
-  if (std::count(grid.begin(), grid.end(), -1) != 0) throw InputError("the cubes grid has a missing vertex", "bench");
-
-  Eigen::VectorXd r(3 * static_cast<Eigen::Index>(points.size()));
-  for (std::size_t k = 0; k < points.size(); ++k) {
-    int cell[3];
-    double t[3];
-    for (int a = 0; a < 3; ++a) {
-      const double f = (points[k](a) - low[a]) / h[a];
-      cell[a] = std::clamp(static_cast<int>(std::floor(f)), 0, cells[a] - 1);
-      t[a] = f - cell[a];
-    }
-    double value[3] = {0.0, 0.0, 0.0};
-    for (int corner = 0; corner < 8; ++corner) {  // corner = cx + 2 cy + 4 cz
-      const int c[3] = {corner & 1, corner >> 1 & 1, corner >> 2 & 1};
-      double w = 1.0;
-      for (int a = 0; a < 3; ++a) w *= c[a] ? t[a] : 1.0 - t[a];
-      const int v = grid[static_cast<std::size_t>(((cell[2] + c[2]) * sy + cell[1] + c[1]) * sx + cell[0] + c[0])];
-      for (int a = 0; a < 3; ++a) value[a] += w * u(3 * v + a);
-    }
-    for (int a = 0; a < 3; ++a) r(3 * static_cast<Eigen::Index>(k) + a) = value[a];
-  }
-  return r;
-}
-
-std::vector<int> bench_default_sizes(int dimension) {
-  return dimension == 3 ? std::vector<int>{4, 8, 16} : std::vector<int>{16, 32, 64, 128};
-}
-int bench_default_ref(int dimension) { return dimension == 3 ? 32 : 256; }
-int bench_default_levels(int dimension) { return dimension == 3 ? 2 : 3; }
-
-namespace {
-
-struct BenchRow {
-  PairRun run;
-  int n = 0;
-  double error = std::numeric_limits<double>::quiet_NaN();  ///< NaN: not defined (not squares or cubes)
-};
-
-// The work-precision figure: one series per pair, log error (x) against log total time (y).
-// Empty on success, else why it was skipped.
-std::string bench_plot(const fs::path& dir, const std::vector<Pair>& pairs, const std::vector<BenchRow>& rows) {
-  std::vector<BenchSeries> series;
-  for (const Pair& pair : pairs) {
-    BenchSeries s{pair.linear, pair.minimizer, {}};
-    for (const auto& r : rows)
-      if (r.run.pair.label() == pair.label() && std::isfinite(r.error) && r.error > 0.0 && r.run.seconds > 0.0)
-        s.points.push_back({r.error, r.run.seconds});
-    series.push_back(std::move(s));
-  }
-  Figure f;
-  f.script = bench_plot_script(series);
-  if (f.script.empty()) return "no finite positive error to plot";
-  f.png = "bench.png";
-  f.width = 1100;
-  f.height = 750;
-  return draw_figures(dir, {f}).front();
-}
-
-}  // namespace
-
-std::string bench_plot_script(const std::vector<BenchSeries>& series) {
-  std::ostringstream script;
-  script << std::setprecision(17);
-  const auto linear = available_factorizations();
-  const auto minimizers = available_minimizers();
-  auto index = [](const std::vector<std::string>& names, const std::string& name) {
-    return static_cast<std::size_t>(std::find(names.begin(), names.end(), name) - names.begin());
-  };
-  // the series grouped by linear engine, in the order the engines first appear
-  std::vector<std::string> engines;
-  for (const auto& s : series)
-    if (!s.points.empty() && std::find(engines.begin(), engines.end(), s.linear) == engines.end())
-      engines.push_back(s.linear);
-  if (engines.empty()) return {};
-  std::vector<std::string> plots;
-  for (const std::string& engine : engines) {
-    if (!plots.empty()) plots.push_back("keyentry title ' '");  // a blank line between the groups
-    plots.push_back("keyentry title " + gnuplot_quote("linear engine " + engine));
-    for (std::size_t p = 0; p < series.size(); ++p) {
-      const BenchSeries& s = series[p];
-      if (s.linear != engine || s.points.empty()) continue;
-      script << "$d" << p << " << EOD\n";
-      for (const auto& [error, seconds] : s.points) script << error << ' ' << seconds << '\n';
-      script << "EOD\n";
-      // colour by minimizer, dash and point type by linear engine
-      const std::size_t li = index(linear, s.linear), mi = index(minimizers, s.minimizer);
-      plots.push_back("$d" + std::to_string(p) + " using 1:2 with linespoints lw 2 ps 1.3 lc " + std::to_string(mi + 1) +
-                      " dt " + std::to_string(li + 1) + " pt " + std::to_string(2 * li + 5) + " title " +
-                      gnuplot_quote("  " + s.minimizer));
-    }
-  }
-  script << "set logscale xy\nset format x '10^{%L}'\nset format y '10^{%L}'\n"
-         << "set xlabel 'relative error: max|I_h u_h - u_{ref}| / max|u_{ref}| (dimensionless)'\n"
-         << "set ylabel 'wall time, whole solve (s)'\n"
-         << "set title 'work against precision: every pair of engines on every mesh size'\nset grid\n"
-         << "set key outside right top Left reverse noenhanced\n"
-         << "plot ";
-  for (std::size_t i = 0; i < plots.size(); ++i) script << (i ? ", \\\n     " : "") << plots[i];
-  script << "\n";
-  return script.str();
-}
-
-
-std::optional<double> aitken_reference(double phi0, double phi1, double phi2) {
-  const double d1 = phi0 - phi1, d2 = phi1 - phi2;
-  if (!std::isfinite(d1) || !std::isfinite(d2) || d1 == 0.0) return std::nullopt;
-  const double q = d2 / d1;
-  if (!(q > 0.0 && q < 1.0)) return std::nullopt;
-  const double ref = phi2 - d2 * d2 / (d1 - d2);
-  if (!std::isfinite(ref)) return std::nullopt;
-  return ref;
-}
-
-namespace {
-
-/// One solve of the refinement study: a uniform level or an adaptive step.
-struct RefinementPoint {
-  std::string kind;  ///< "uniform" or "adaptive"
-  int index = 0;     ///< the level or the step
-  int unknowns = 0;
-  double seconds = 0.0;  ///< uniform: the level's solve; adaptive: since the adaptive solve started
-  double estimate = std::numeric_limits<double>::quiet_NaN();  ///< relative estimate eta / ||u_h||_E
-  double norm = std::numeric_limits<double>::quiet_NaN();      ///< ||u_h||_E
-  double potential_energy = std::numeric_limits<double>::quiet_NaN();
-  double error = std::numeric_limits<double>::quiet_NaN();        ///< sqrt(max(Phi_h - Phi_ref, 0)) / ||u_h||_E
-  double effectivity = std::numeric_limits<double>::quiet_NaN();  ///< estimate / error
-  std::string status;
-  bool converged = false;
-};
-
-struct Refinement {
-  std::string engines;  ///< "linear + minimizer" of the scene
-  /// How the uniform levels are made: "refine_uniformly" (2D: the previous level's mesh refined)
-  /// or "cells_doubled" (3D: the scene's generator with its cell counts times 2^level).
-  std::string method = "refine_uniformly";
-  std::vector<RefinementPoint> uniform, adaptive;
-  std::string stopped, reason;
-  std::optional<double> reference_energy;
-  std::string reference;  ///< how the reference energy was obtained, or why there is none
-  int below_reference = 0;  ///< points whose potential energy is below the reference energy
-  bool all_converged = true;
-};
-
-// a plane or three-dimensional solve (app::SceneSolve, app::SceneSolve3D)
-template <class Solve>
-RefinementPoint uniform_point(const Solve& s, int level) {
-  RefinementPoint p;
-  p.kind = "uniform";
-  p.index = level;
-  p.unknowns = s.solution.unknowns;
-  p.seconds = s.total_seconds();
-  if (s.estimate) p.estimate = s.estimate->relative, p.norm = s.estimate->norm;
-  p.potential_energy = s.solution.energy;
-  p.status = to_string(s.solution.status);
-  p.converged = s.solution.converged();
-  return p;
-}
-
-RefinementPoint adaptive_point(const app::AdaptStep& step) {
-  RefinementPoint p;
-  p.kind = "adaptive";
-  p.index = step.step;
-  p.unknowns = step.unknowns;
-  p.seconds = step.elapsed;
-  p.estimate = step.estimate;
-  if (std::isfinite(step.estimate) && step.estimate > 0.0) p.norm = step.estimate_energy / step.estimate;
-  p.potential_energy = step.potential_energy;
-  p.status = step.status;
-  p.converged = step.status == to_string(MinimizerStatus::converged);
-  return p;
 }
 
 std::string refinement_line(const RefinementPoint& p) {
@@ -293,195 +33,10 @@ std::string refinement_line(const RefinementPoint& p) {
   return o.str();
 }
 
-void measure_true_errors(Refinement& r, const BenchOptions& o);
-
-// The refinement study: the scene with its own engines on its own mesh refined uniformly
-// o.levels times, then adaptively to the finest level's estimate, and the true errors against a
-// reference energy (given, or Aitken's extrapolation of the last three uniform levels).
-Refinement run_refinement(const Scene& base, const BenchOptions& o, std::ostream& err) {
-  const bool progress = o.verbosity >= 1;
-  Refinement r;
-  std::optional<Mesh> mesh;  // the previous level's mesh
-  for (int level = 0; level <= *o.levels; ++level) {
-    app::SceneSolveOptions so;
-    if (mesh) {
-      so.mesh = refine_uniformly(*mesh).mesh;
-      so.apply_region_boxes = false;
-      so.mesh_description = "the scene's mesh refined uniformly " + std::to_string(level) + " time" + (level > 1 ? "s" : "");
-    }
-    app::SceneSolve s = app::solve_scene(base, std::move(so));
-    if (level == 0) r.engines = s.linear + " + " + s.minimizer;
-    r.uniform.push_back(uniform_point(s, level));
-    r.all_converged &= r.uniform.back().converged;
-    if (progress) err << refinement_line(r.uniform.back());
-    mesh = std::move(s.built->mesh);  // s is done with
-  }
-
-  const RefinementPoint& finest = r.uniform.back();
-  if (std::isfinite(finest.estimate) && finest.estimate > 0.0 && finest.estimate < 1.0) {
-    SceneAdapt adapt;
-    adapt.target = finest.estimate;
-    adapt.fraction = 0.5;
-    adapt.max_unknowns = finest.unknowns;
-    adapt.max_steps = 50;
-    const app::AdaptiveSolve a = app::solve_adaptively(base, adapt, {}, [&](const app::AdaptStep& step) {
-      if (progress) err << refinement_line(adaptive_point(step));
-    });
-    for (const app::AdaptStep& step : a.steps) r.adaptive.push_back(adaptive_point(step));
-    r.stopped = app::to_string(a.stopped);
-    r.reason = a.reason;
-  } else {
-    r.stopped = "not_run";
-    r.reason = "the finest uniform level has no relative estimate in (0, 1) to aim at";
-  }
-  measure_true_errors(r, o);
-  return r;
-}
-
-/// The uniform levels of a three-dimensional refinement study of a generated mesh: the scene
-/// (level 0), then the scene with its generator's cell counts times 2^level (Voronoi: seeds per
-/// axis), each level's memory checked. InputError naming --levels for a level beyond the
-/// generators' 1000 cells per axis or the memory available.
-std::vector<Scene> refinement_levels_3d(const Scene& base, int levels) {
-  std::vector<Scene> l;
-  const GridSize3 cells = base.mesh.cells3();
-  for (int level = 0; level <= levels; ++level) {
-    const std::int64_t factor = std::int64_t{1} << level;
-    const std::int64_t n[3] = {cells.nx * factor, cells.ny * factor, cells.nz * factor};
-    if (*std::max_element(n, n + 3) > 1000)
-      throw InputError("refinement level " + std::to_string(level) + " needs " + std::to_string(n[0]) + " x " +
-                           std::to_string(n[1]) + " x " + std::to_string(n[2]) +
-                           " cells (the scene's times 2^" + std::to_string(level) +
-                           "); a three-dimensional generator takes at most 1000 per axis",
-                       "--levels");
-    const GridSize3 size(static_cast<int>(n[0]), static_cast<int>(n[1]), static_cast<int>(n[2]));
-    require_memory(estimate_memory_3d(base.mesh.generator, n[0], n[1], n[2]).solve_bytes,
-                   "refinement level " + std::to_string(level) + ": " + base.mesh.generator + " n = " + size.text(),
-                   "--levels");
-    Scene s = base;
-    if (level > 0)
-      apply_override(s, "mesh.n=[" + std::to_string(n[0]) + ", " + std::to_string(n[1]) + ", " +
-                            std::to_string(n[2]) + "]");
-    l.push_back(std::move(s));
-  }
-  return l;
-}
-
-// The refinement study of a three-dimensional scene: its levels (refinement_levels_3d) solved
-// with the scene's own engines (solve_scene_3d) and the true errors as in 2D; no adaptive run.
-Refinement run_refinement_3d(const std::vector<Scene>& levels, const BenchOptions& o, std::ostream& err) {
-  const bool progress = o.verbosity >= 1;
-  Refinement r;
-  r.method = "cells_doubled";
-  r.stopped = "not_run";
-  r.reason = "adaptive refinement is two-dimensional";
-  for (std::size_t level = 0; level < levels.size(); ++level) {
-    const app::SceneSolve3D s = app::solve_scene_3d(levels[level]);
-    if (level == 0) r.engines = s.linear + " + " + s.minimizer;
-    r.uniform.push_back(uniform_point(s, static_cast<int>(level)));
-    r.all_converged &= r.uniform.back().converged;
-    if (progress) err << refinement_line(r.uniform.back());
-  }
-  measure_true_errors(r, o);
-  return r;
-}
-
-// The reference energy (given, or Aitken's extrapolation of the last three uniform levels) and
-// every point's true error and effectivity against it.
-void measure_true_errors(Refinement& r, const BenchOptions& o) {
-  if (o.reference_energy) {
-    r.reference_energy = o.reference_energy;
-    r.reference = "given by --reference-energy";
-  } else if (r.uniform.size() >= 3) {
-    const std::size_t k = r.uniform.size() - 3;
-    const double e0 = r.uniform[k].potential_energy, e1 = r.uniform[k + 1].potential_energy,
-                 e2 = r.uniform[k + 2].potential_energy;
-    r.reference_energy = aitken_reference(e0, e1, e2);
-    std::ostringstream s;
-    s << std::setprecision(10);
-    if (r.reference_energy)
-      s << "Aitken's delta-squared extrapolation of the potential energies of uniform levels " << k << ", " << k + 1
-        << ", " << k + 2 << " (" << e0 << ", " << e1 << ", " << e2 << ")";
-    else
-      s << "none: the potential energies of uniform levels " << k << ", " << k + 1 << ", " << k + 2 << " (" << e0
-        << ", " << e1 << ", " << e2 << ") do not decrease geometrically, so Aitken's extrapolation is not defined";
-    r.reference = s.str();
-  } else {
-    r.reference = "none: Aitken's extrapolation needs three uniform levels (--levels 2 or more)";
-  }
-  if (r.reference_energy)
-    for (auto* list : {&r.uniform, &r.adaptive})
-      for (RefinementPoint& p : *list) {
-        if (!(std::isfinite(p.potential_energy) && std::isfinite(p.norm) && p.norm > 0.0)) continue;
-        if (p.potential_energy < *r.reference_energy) ++r.below_reference;
-        p.error = std::sqrt(std::max(p.potential_energy - *r.reference_energy, 0.0)) / p.norm;
-        if (p.error > 0.0 && std::isfinite(p.estimate)) p.effectivity = p.estimate / p.error;
-      }
-}
-
-nlohmann::json refinement_point_json(const RefinementPoint& p) {
-  return {{p.kind == "uniform" ? "level" : "step", p.index},
-          {"unknowns", p.unknowns},
-          {"seconds", p.seconds},
-          {"estimate", number(p.estimate)},
-          {"error", number(p.error)},
-          {"effectivity", number(p.effectivity)},
-          {"potential_energy", number(p.potential_energy)},
-          {"status", p.status}};
-}
-
-nlohmann::json refinement_json(const Refinement& r, const BenchOptions& o) {
-  nlohmann::json j;
-  j["engines"] = r.engines;
-  j["levels"] = *o.levels;
-  j["uniform_method"] = r.method;
-  j["reference_energy"] = r.reference_energy ? nlohmann::json(*r.reference_energy) : nlohmann::json(nullptr);
-  j["reference"] = r.reference;
-  j["below_reference"] = r.below_reference;
-  j["error_definition"] =
-      "sqrt(max(Phi_h(u_h) - Phi_ref, 0)) / ||u_h||_E, ||v||_E^2 = 1/2 a(v, v); effectivity = estimate / error";
-  j["uniform"] = nlohmann::json::array();
-  for (const auto& p : r.uniform) j["uniform"].push_back(refinement_point_json(p));
-  nlohmann::json steps = nlohmann::json::array();
-  for (const auto& p : r.adaptive) steps.push_back(refinement_point_json(p));
-  j["adaptive"] = {{"stopped", r.stopped}, {"reason", r.reason}, {"steps", steps}};
-  return j;
-}
-
-// bench-error.png: the estimates (and with a reference the true errors, dashed) against unknowns
-// and run time. Empty on success, else why it was skipped.
-std::string refinement_plot(const fs::path& dir, const Scene& base, const Refinement& r) {
-  std::vector<app::ConvergenceSeries> series;
-  auto add = [&](const std::vector<RefinementPoint>& points, const std::string& name, bool truth) {
-    app::ConvergenceSeries s;
-    s.name = name;
-    s.dashed = truth;
-    for (const auto& p : points) {
-      s.unknowns.push_back(p.unknowns);
-      s.seconds.push_back(p.seconds);
-      s.error.push_back(truth ? p.error : p.estimate);
-    }
-    series.push_back(std::move(s));
-  };
-  add(r.uniform, "uniform (estimate)", false);
-  add(r.adaptive, "adaptive (estimate)", false);
-  if (r.reference_energy) {
-    add(r.uniform, "uniform (true error)", true);
-    add(r.adaptive, "adaptive (true error)", true);
-  }
-  bool any = false;
-  for (const auto& s : series)
-    for (double e : s.error) any |= std::isfinite(e) && e > 0.0;
-  if (!any) return "no finite positive error to plot";
-  return draw_figures(dir, {app::convergence_figure(series, base.title + ": uniform and adaptive refinement",
-                                                    "bench-error.png")})
-      .front();
-}
-
 std::string percent_or_dash(double v) { return std::isfinite(v) ? fixed(100.0 * v, 3) + " %" : std::string("-"); }
 
 void print_refinement(std::ostream& out, const Refinement& r, const BenchOptions& o, const std::string& plot_failure) {
-  const int levels = *o.levels;
+  const int levels = r.levels;
   const std::string times = std::to_string(levels) + " time" + (levels > 1 ? "s" : "");
   if (r.method == "cells_doubled")
     out << "\n  refinement study: " << r.engines << " on the scene's mesh with its cell counts doubled " << times
@@ -512,166 +67,14 @@ void print_refinement(std::ostream& out, const Refinement& r, const BenchOptions
   else out << "  skipped   bench-error.png: " << plot_failure << "\n";
 }
 
-}  // namespace
 
-namespace {
-
-/// `base` with mesh.n = n: n cells per side, as `--set mesh.n=n` gives (n x n x n in 3D).
-Scene at_size(const Scene& base, int n) {
-  Scene s = base;
-  const std::string k = std::to_string(n);
-  // [n, n, n] keeps a scene three-dimensional whose dimension only its mesh.n = [nx, ny, nz] gave
-  apply_override(s, base.dimension() == 3 ? "mesh.n=[" + k + ", " + k + ", " + k + "]" : "mesh.n=" + k);
-  return s;
-}
-
-/// The generator on whose meshes errors are measured: squares in 2D, cubes in 3D.
-std::string gridded_generator(const Scene& base) { return base.dimension() == 3 ? "cubes" : "squares"; }
-
-/// The reference solution errors are measured against (on squares or cubes meshes only).
-struct Reference {
-  Pair pair;
-  PairRun run;
-  std::vector<Vec2> points;    ///< the vertices of its mesh (2D)
-  std::vector<Vec3> points3d;  ///< the vertices of its mesh (3D)
-  double scale = 0.0;          ///< max|u_ref|, 1 when that is 0
-};
-
-// The reference: the finest mesh, the exact active-set method on a direct solver.
-Reference run_reference(const Scene& base, const BenchOptions& o, bool gridded, std::ostream& err) {
-  const bool progress = o.verbosity >= 1;
-  const auto linear = available_factorizations();
-  Reference ref;
-  ref.pair = Pair{std::find(linear.begin(), linear.end(), "cholmod") != linear.end() ? "cholmod" : "eigen", "ssn"};
-  if (gridded) {
-    if (progress) err << "hemivem bench: reference " << ref.pair.label() << " at n = " << *o.ref << " ... " << std::flush;
-    PairRuns r = run_pairs(at_size(base, *o.ref), {ref.pair});
-    ref.run = std::move(r.runs.front());
-    if (ref.run.failed) throw NumericalError("the reference " + ref.pair.label() + " failed: " + ref.run.message);
-    if (r.built3d) ref.points3d = r.built3d->mesh.vertices();
-    else ref.points = r.built->mesh.vertices();
-    ref.scale = max_abs(ref.run.u);
-    if (ref.scale == 0.0) ref.scale = 1.0;
-    if (progress) err << ref.run.status << " (" << fixed(ref.run.seconds, 3) << " s)\n";
-  } else if (progress) {
-    err << "hemivem bench: the scene's mesh is not " << gridded_generator(base) << ": errors are not computed\n";
-  }
-  return ref;
-}
-
-// Per size, the pairs share the mesh, the assembly and each linear engine's condensation
-// (engine_pairs.hpp); the rows are listed pair by pair. `all_converged` is cleared when a run
-// does not converge.
-std::vector<BenchRow> run_sizes(const std::vector<Scene>& scenes, const std::vector<Pair>& pairs, const BenchOptions& o,
-                                const Reference* ref, bool& all_converged, std::ostream& err) {
-  std::vector<std::vector<BenchRow>> by_pair(pairs.size());
-  for (std::size_t k = 0; k < o.n.size(); ++k) {
-    PairRunOptions ro;
-    if (o.verbosity >= 1)
-      ro.done = [&](const PairRun& r) {
-        err << "hemivem bench: " << std::left << std::setw(28) << r.pair.label() << "n = " << std::setw(5) << o.n[k]
-            << r.status << " (" << fixed(r.seconds, 3) << " s)\n";
-      };
-    PairRuns shared = run_pairs(scenes[k], pairs, ro);
-    for (std::size_t p = 0; p < pairs.size(); ++p) {
-      BenchRow row;
-      row.n = o.n[k];
-      row.run = std::move(shared.runs[p]);
-      if (ref && !row.run.failed) {
-        const Eigen::VectorXd fine =
-            shared.built3d ? interpolate_cubes(shared.built3d->mesh, row.run.u, scenes[k].mesh.cells3(),
-                                               scenes[k].mesh.box, ref->points3d)
-                           : interpolate_squares(shared.built->mesh, row.run.u, o.n[k], scenes[k].mesh.domain, ref->points);
-        row.error = max_abs(fine - ref->run.u) / ref->scale;
-      }
-      all_converged &= row.run.converged;
-      by_pair[p].push_back(std::move(row));
-    }
-  }
-  std::vector<BenchRow> rows;
-  for (auto& list : by_pair)
-    for (auto& row : list) rows.push_back(std::move(row));
-  return rows;
-}
-
-void write_bench_csv(const fs::path& csv, const std::vector<BenchRow>& rows) {
-  write_atomically(csv, [&](std::ostream& os) {
-    os << std::setprecision(10) << "linear,minimizer,n,vertices,contact_nodes,status,converged,iterations,primal,dual";
-    for (const auto& s : file_stage_names()) os << ',' << s;
-    os << ",error\n";
-    for (const auto& r : rows) {
-      os << r.run.pair.linear << ',' << r.run.pair.minimizer << ',' << r.n << ',' << r.run.vertices << ','
-         << r.run.contact_nodes << ',' << r.run.status << ',' << (r.run.converged ? "true" : "false") << ','
-         << r.run.iterations << ',';
-      if (std::isfinite(r.run.certificate.primal)) os << r.run.certificate.primal;
-      os << ',';
-      if (std::isfinite(r.run.certificate.dual)) os << r.run.certificate.dual;
-      for (const auto& s : file_stage_names()) os << ',' << stage(r.run, s);
-      os << ',';
-      if (std::isfinite(r.error)) os << r.error;
-      os << '\n';
-    }
-  });
-}
-
-/// bench.json (schema hemivem-bench/4) but for the plot.
-nlohmann::json bench_json(const Scene& base, const BenchOptions& o, bool gridded, const Reference& ref,
-                          const std::vector<BenchRow>& rows) {
-  nlohmann::json j;
-  j["schema"] = "hemivem-bench/4";
-  j["version"] = HEMIVEM_VERSION;
-  j["scene"] = base.title;
-  j["source"] = base.source;
-  j["dimension"] = base.dimension();
-  j["mesh"] = base.mesh.file.empty() ? base.mesh.generator : base.mesh.file.string();
-  j["tolerance"] = base.solver.tolerance;
-  if (!gridded)
-    j["error_definition"] = "not computed: the scene's mesh is not " + gridded_generator(base);
-  else if (base.dimension() == 3)
-    j["error_definition"] =
-        "max over the reference vertices and the three components of |I_h u_h - u_ref| / max|u_ref|, I_h the "
-        "trilinear interpolation of the cubes solution (exact prolongation: the reference mesh is nested in every "
-        "mesh, --ref a multiple of every --n)";
-  else
-    j["error_definition"] =
-        "max over the reference vertices and both components of |I_h u_h - u_ref| / max|u_ref|, "
-        "I_h the bilinear interpolation of the squares solution (exact prolongation for nested meshes)";
-  if (gridded)
-    j["reference"] = {{"n", *o.ref},
-                      {"linear", ref.pair.linear},
-                      {"minimizer", ref.pair.minimizer},
-                      {"status", ref.run.status},
-                      {"converged", ref.run.converged},
-                      {"vertices", ref.run.vertices},
-                      {"seconds", ref.run.seconds},
-                      {"max_abs_u", ref.scale}};
-  else
-    j["reference"] = nullptr;
-  j["rows"] = nlohmann::json::array();
-  for (const auto& r : rows) {
-    nlohmann::json times;
-    for (const auto& s : file_stage_names()) times[s] = stage(r.run, s);
-    j["rows"].push_back({{"linear", r.run.pair.linear},
-                         {"minimizer", r.run.pair.minimizer},
-                         {"n", r.n},
-                         {"vertices", r.run.vertices},
-                         {"contact_nodes", r.run.contact_nodes},
-                         {"status", r.run.status},
-                         {"converged", r.run.converged},
-                         {"message", r.run.message},
-                         {"iterations", r.run.iterations},
-                         {"certificate", certificate_json(r.run.certificate)},
-                         {"seconds", times},
-                         {"error", number(r.error)}});
-  }
-  return j;
-}
-
-void print_bench(std::ostream& out, const Scene& base, const BenchOptions& o, bool gridded, const Reference& ref,
-                 const std::vector<BenchRow>& rows, const std::string& plot_failure) {
+void print_bench(std::ostream& out, const BenchOptions& o, const app::BenchResult& result, const std::string& plot_failure) {
+  const Scene& base = result.plan.base;
+  const app::BenchReference& ref = result.reference;
+  const int ref_n = *result.plan.options.ref;
   out << "hemivem bench: " << base.title << " (" << base.source << ")";
-  if (gridded)
-    out << "; reference " << ref.pair.label() << " on " << gridded_generator(base) << " n = " << *o.ref << " ("
+  if (result.plan.gridded)
+    out << "; reference " << ref.pair.label() << " on " << gridded_generator(base) << " n = " << ref_n << " ("
         << ref.run.status << ", " << fixed(ref.run.seconds, 3) << " s)";
   out << "\n  " << (base.dimension() == 3 ? "N: N x N x N cells; " : "")
       << "times in seconds; error = max|I_h u_h - u_ref| / max|u_ref| at the reference vertices\n\n";
@@ -679,10 +82,10 @@ void print_bench(std::ostream& out, const Scene& base, const BenchOptions& o, bo
       << "  " << std::left << std::setw(16) << "status" << std::right;
   for (const char* h : {"mesh", "assembly", "condense", "minimize", "back-sub", "total"}) out << std::setw(10) << h;
   out << std::setw(11) << "error" << "\n";
-  for (const auto& r : rows) {
+  for (const auto& r : result.rows) {
     out << std::left << std::setw(10) << r.run.pair.linear << std::setw(18) << r.run.pair.minimizer << std::right
         << std::setw(5) << r.n << "  " << std::left << std::setw(16) << r.run.status << std::right;
-    for (const auto& s : stage_names()) out << std::setw(10) << fixed(stage(r.run, s));
+    for (const auto& s : stage_names()) out << std::setw(10) << fixed(app::bench_stage(r.run, s));
     out << std::setw(11) << (std::isfinite(r.error) ? sci(r.error) : std::string("null")) << "\n";
   }
   out << "\n  wrote     " << o.out << "/ (bench.csv, bench.json" << (plot_failure.empty() ? ", bench.png" : "")
@@ -690,119 +93,47 @@ void print_bench(std::ostream& out, const Scene& base, const BenchOptions& o, bo
   if (!plot_failure.empty()) out << "  skipped   bench.png: " << plot_failure << "\n";
 }
 
-// The flags that need no scene: the sizes, --ref, --levels, --reference-energy.
-void check_bench_flags(const BenchOptions& given) {
-  for (int n : given.n)
-    if (n < 1) throw InputError("mesh sizes must be >= 1, got " + std::to_string(n), "--n");
-  if (given.ref && *given.ref < 1) throw InputError("must be >= 1", "--ref");
-  if (given.levels && *given.levels < 1)
-    throw InputError("must be >= 1 (uniform refinements of the scene's mesh), got " + std::to_string(*given.levels),
-                     "--levels");
-  if (given.reference_energy && !std::isfinite(*given.reference_energy))
-    throw InputError("must be a finite number", "--reference-energy");
-}
-
-// The options with the defaults of the scene's dimension where a flag was not given; a scene
-// whose mesh is read from a file is refused (it has no size to set).
-BenchOptions bench_options_for(const BenchOptions& given, const Scene& base) {
-  const bool solid = base.dimension() == 3;
-  BenchOptions o = given;
-  if (o.n.empty()) o.n = bench_default_sizes(base.dimension());
-  if (!o.ref) o.ref = bench_default_ref(base.dimension());
-  if (!o.levels) o.levels = bench_default_levels(base.dimension());
-  // Every size is validated before any work; a mesh read from a file has no size to set.
-  if (!base.mesh.file.empty())
-    throw InputError("the scene reads its mesh from " + base.mesh.file.filename().string() +
-                         ", and bench solves the scene at each mesh size by setting mesh.n: give a scene whose mesh "
-                         "is made by a generator (mesh.generator" +
-                         (solid ? ", e.g. cubes" : ", e.g. squares") + "), or time the file's mesh with hemivem check",
-                     "--n");
-  return o;
-}
-
-// Every size fits in memory before any work, the reference included; in 3D every mesh is nested
-// in the reference mesh (the error is the largest difference of two trilinear fields only when
-// every mesh's vertices are vertices of the reference mesh).
-void check_bench_sizes(const Scene& base, const std::vector<Scene>& scenes, const BenchOptions& o, bool gridded) {
-  const bool solid = base.dimension() == 3;
-  if (gridded && solid)
-    for (int n : o.n)
-      if (*o.ref % n != 0)
-        throw InputError("a three-dimensional scene measures the error at the vertices of the reference mesh, "
-                         "which must be nested in every mesh: --ref " + std::to_string(*o.ref) +
-                             " is not a multiple of --n " + std::to_string(n),
-                         "--ref");
-  auto require = [&](const Scene& s, const std::string& where) {
-    if (!s.mesh.file.empty()) return;
-    if (solid) {
-      const GridSize3 cells = s.mesh.cells3();
-      require_memory(estimate_memory_3d(s.mesh.generator, cells.nx, cells.ny, cells.nz).solve_bytes,
-                     s.mesh.generator + " n = " + cells.text(), where);
-    } else {
-      const GridSize cells = s.mesh.cells();
-      require_memory(estimate_memory(s.mesh.generator, cells.nx, cells.ny).solve_bytes,
-                     s.mesh.generator + " n = " + cells.text(), where);
-    }
+/// The bench's progress lines (stderr).
+app::BenchProgress bench_progress(std::ostream& err) {
+  app::BenchProgress p;
+  p.reference_started = [&err](const Pair& pair, int n) {
+    err << "hemivem bench: reference " << pair.label() << " at n = " << n << " ... " << std::flush;
   };
-  for (const Scene& s : scenes) require(s, "--n");
-  if (gridded) require(at_size(base, *o.ref), "--ref");
-}
-
-// bench.csv, bench.json, bench.png and bench-error.png, the folder changed at once; `j` gets
-// the names of the plots or why they were skipped. Returns why each plot was skipped (empty
-// when written).
-std::pair<std::string, std::string> write_bench_outputs(const Scene& base, const BenchOptions& o,
-                                                        const std::vector<Pair>& pairs,
-                                                        const std::vector<BenchRow>& rows,
-                                                        const Refinement& refinement, nlohmann::json& j) {
-  std::string plot_failure, refinement_plot_failure;
-  OutputTransaction tx(o.out, {"bench.csv", "bench.json", "bench.png", "bench-error.png"});
-  tx.stage([&](const fs::path& staging) {
-    write_bench_csv(staging / "bench.csv", rows);
-    plot_failure = bench_plot(staging, pairs, rows);
-    j["plot"] = plot_failure.empty() ? nlohmann::json("bench.png") : nlohmann::json(nullptr);
-    if (!plot_failure.empty()) j["plot_skipped"] = plot_failure;
-    refinement_plot_failure = refinement_plot(staging, base, refinement);
-    j["refinement"]["plot"] = refinement_plot_failure.empty() ? nlohmann::json("bench-error.png") : nlohmann::json(nullptr);
-    if (!refinement_plot_failure.empty()) j["refinement"]["plot_skipped"] = refinement_plot_failure;
-    write_atomically(staging / "bench.json", [&](std::ostream& os) { os << j.dump(2) << "\n"; });
-  });
-  (void)tx.commit();
-  return {plot_failure, refinement_plot_failure};
+  p.reference_done = [&err](const PairRun& run) { err << run.status << " (" << fixed(run.seconds, 3) << " s)\n"; };
+  p.not_gridded = [&err](const std::string& generator) {
+    err << "hemivem bench: the scene's mesh is not " << generator << ": errors are not computed\n";
+  };
+  p.pair_done = [&err](const PairRun& r, int n) {
+    err << "hemivem bench: " << std::left << std::setw(28) << r.pair.label() << "n = " << std::setw(5) << n << r.status
+        << " (" << fixed(r.seconds, 3) << " s)\n";
+  };
+  p.refinement = [&err](const RefinementPoint& point) { err << refinement_line(point); };
+  return p;
 }
 
 }  // namespace
 
 int run_bench(const BenchOptions& given, std::ostream& out, std::ostream& err) {
-  check_bench_flags(given);
+  app::BenchOptions ao;
+  ao.n = given.n;
+  ao.ref = given.ref;
+  ao.levels = given.levels;
+  ao.reference_energy = given.reference_energy;
+  ao.keys = {"--n", "--ref", "--levels", "--reference-energy"};
+  app::check_bench_options(ao);
   const Scene base = load_pairs_scene(given.scene, std::nullopt, given.tolerance, given.set);
-  const bool solid = base.dimension() == 3;
-  const BenchOptions o = bench_options_for(given, base);
-  std::vector<Scene> scenes;
-  for (int n : o.n) scenes.push_back(at_size(base, n));
-  const bool gridded = base.mesh.file.empty() && base.mesh.generator == gridded_generator(base);
-  check_bench_sizes(base, scenes, o, gridded);
-  const std::vector<Scene> levels = solid ? refinement_levels_3d(base, *o.levels) : std::vector<Scene>{};
-  const std::vector<Pair> pairs = available_pairs();
-  check_output_folder(o.out);
-
-  const Reference ref = run_reference(base, o, gridded, err);
-  bool all_converged = !gridded || ref.run.converged;
-  const std::vector<BenchRow> rows = run_sizes(scenes, pairs, o, gridded ? &ref : nullptr, all_converged, err);
-  const Refinement refinement = solid ? run_refinement_3d(levels, o, err) : run_refinement(base, o, err);
-  all_converged &= refinement.all_converged;
-
-  nlohmann::json j = bench_json(base, o, gridded, ref, rows);
-  j["refinement"] = refinement_json(refinement, o);
-  const auto [plot_failure, refinement_plot_failure] = write_bench_outputs(base, o, pairs, rows, refinement, j);
-
-  if (o.json)
-    out << j.dump(2) << "\n";
-  else if (o.verbosity >= 1) {
-    print_bench(out, base, o, gridded, ref, rows, plot_failure);
-    print_refinement(out, refinement, o, refinement_plot_failure);
+  app::BenchPlan plan = app::plan_bench(base, ao);
+  check_output_folder(given.out);
+  if (given.verbosity >= 1) plan.options.progress = bench_progress(err);
+  const app::BenchResult result = app::run_bench(plan);
+  const app::BenchFiles files = app::write_bench(given.out, result);
+  if (given.json)
+    out << files.json.dump(2) << "\n";
+  else if (given.verbosity >= 1) {
+    print_bench(out, given, result, files.plot_skipped);
+    print_refinement(out, result.refinement, given, files.refinement_plot_skipped);
   }
-  return all_converged ? kSuccess : kNotConverged;
+  return result.converged ? kSuccess : kNotConverged;
 }
 
 }  // namespace hemivem::cli

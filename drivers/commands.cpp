@@ -168,6 +168,16 @@ void check_flags_for(const SolveOptions& o, const Scene& scene, RunKind kind) {
 
 }  // namespace
 
+Scene load_pairs_scene(const std::string& scene, std::optional<int> n, std::optional<double> tolerance,
+                       const std::vector<std::string>& set) {
+  SolveOptions so;
+  so.scene = scene;
+  so.n = n;
+  so.tolerance = tolerance;
+  so.set = set;
+  return load_scene(so);
+}
+
 int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   const Scene scene = load_scene(o);
   check_flags_for(o, scene, run_kind(scene));

@@ -41,6 +41,11 @@ struct SolveOptions {
 /// and bad values are InputErrors (nothing is built).
 Scene load_scene(const SolveOptions& options);
 
+/// The scene of check and bench: the file (empty: Example 4.1) with --n, --tol and the --set
+/// overrides, read as hemivem solve reads it.
+Scene load_pairs_scene(const std::string& scene, std::optional<int> n, std::optional<double> tolerance,
+                       const std::vector<std::string>& set);
+
 /// hemivem solve [SCENE.toml]: scene -> mesh -> assembly -> condensation -> minimizer ->
 /// back-substitution -> the output folder. Exit 0 when converged, kNotConverged otherwise
 /// (outputs are still written and marked). Under an MPI launcher with several processes only

@@ -1,105 +1,11 @@
-// Every (linear engine, minimizer) pair on one scene, sharing what the pairs have in common:
-// the mesh and the problem are built once and assembled once; each linear engine condenses
-// that assembly once and every minimizer runs on its condensation. hemivem check, hemivem
-// bench and hemivem check --extreme compare and time the pairs this runner gives them.
+// The pairs of engines of check and bench (hemivem/app/engine_pairs.hpp), under the command's
+// namespace as well.
 #pragma once
 
-#include <functional>
-#include <limits>
-#include <map>
-#include <memory>
-#include <optional>
-#include <string>
-#include <vector>
-
-#include <Eigen/Core>
-#include <nlohmann/json.hpp>
-
-#include <hemivem/certificate.hpp>
-#include <hemivem/scene/scene.hpp>
+#include <hemivem/app/engine_pairs.hpp>
 
 namespace hemivem::cli {
 
-struct Pair {
-  std::string linear, minimizer;
-  std::string label() const { return linear + "+" + minimizer; }
-};
-
-/// Every built pair, linear engine major, in the order of `hemivem backends`. mumps-mpi is
-/// included: the factory runs it as one process (one MPI rank), which needs no launcher.
-std::vector<Pair> available_pairs();
-
-/// What one pair did.
-struct PairRun {
-  Pair pair;
-  bool failed = false;        ///< the linear engine threw: no solution
-  std::string status = "failed";
-  std::string message;
-  bool converged = false;
-  Certificate certificate;
-  int iterations = 0;
-  double margin = std::numeric_limits<double>::quiet_NaN();     ///< lambda_min(S - alpha_j W)
-  double energy = std::numeric_limits<double>::quiet_NaN();     ///< the potential energy at the pair's solution
-  double rcond = std::numeric_limits<double>::quiet_NaN();      ///< the engine's estimate (estimate_condition)
-  double condition = std::numeric_limits<double>::quiet_NaN();  ///< kappa_1 estimate (estimate_condition)
-  /// Seconds by stage as if the pair had run alone: the shared mesh, assembly and its linear
-  /// engine's condensation, then its own minimize and back-substitution; "total" excludes mesh.
-  std::map<std::string, double> timings;
-  double mesh_seconds = 0.0;
-  double seconds = 0.0;       ///< mesh_seconds + timings["total"]
-  int contact_nodes = 0;
-  int at_bound = 0;           ///< contact nodes at a bound of the constraint
-  int stick = -1;             ///< contact nodes that stick (-1: no tangential unknowns)
-  int unknowns = 0;
-  int vertices = 0;
-  /// Converged implies a finite displacement and a feasible contact point whose certificate,
-  /// recomputed from the reduced problem, holds; `broken` says what failed otherwise.
-  bool guarantee = true;
-  std::string broken;
-  Eigen::VectorXd u;
-};
-
-struct PairRunOptions {
-  bool estimate_condition = false;  ///< fill PairRun::rcond and condition (7 more solves per engine)
-  /// An InputError of a linear engine (a problem it refuses) fails that engine's pairs instead
-  /// of being thrown.
-  bool input_errors_fail_pairs = false;
-  /// Called as each pair is done (a linear engine's pairs together, when its minimizers are done).
-  std::function<void(const PairRun&)> done;
-};
-
-struct PairRuns {
-  std::unique_ptr<BuiltProblem> built;  ///< the mesh and problem every pair solved (a plane scene)
-  std::unique_ptr<BuiltProblem3D> built3d;  ///< the same for a three-dimensional scene
-  int vertices = 0;                     ///< the vertices of the mesh
-  std::vector<PairRun> runs;            ///< in the order of the pairs given
-  double mesh_seconds = 0.0;            ///< build_problem
-  double assembly_seconds = 0.0;
-  int assemblies = 0;                   ///< times the problem was assembled: 1
-  int condensations = 0;                ///< linear engines that condensed it: one each
-};
-
-/// The scene of check and bench: the file (empty: Example 4.1) with --n, --tol and the --set
-/// overrides, read as hemivem solve reads it.
-Scene load_pairs_scene(const std::string& scene, std::optional<int> n, std::optional<double> tolerance,
-                       const std::vector<std::string>& set);
-
-/// max |v_i| (0 for an empty vector).
-double max_abs(const Eigen::VectorXd& v);
-/// The scale differences between pairs are relative to: max|u| of eigen+ssn when it
-/// converged, else the largest max|u| of a converged pair, else 1 (no displacement at all).
-double difference_scale(const std::vector<PairRun>& runs);
-/// The uniqueness margin of a scene: the largest over the pairs that did not fail (they agree
-/// to round-off); NaN when none has one.
-double largest_margin(const std::vector<PairRun>& runs);
-
-/// The fields every report of a pair has: linear, minimizer, status, converged, message,
-/// certificate, iterations, potential_energy.
-nlohmann::json pair_json(const PairRun& run);
-
-/// Runs `pairs` on `scene`, plane or three-dimensional (its solver.linear and solver.minimizer are not used; the scene's
-/// [solver.parameters] go to its own minimizer only). Throws the InputError of a scene that
-/// cannot be built, and an unknown engine name before any work.
-PairRuns run_pairs(const Scene& scene, const std::vector<Pair>& pairs, const PairRunOptions& options = {});
+using namespace hemivem::app;
 
 }  // namespace hemivem::cli

@@ -20,7 +20,7 @@
 
 #include "commands.hpp"
 #include "common.hpp"
-#include "engine_pairs.hpp"
+#include <hemivem/app/engine_pairs.hpp>
 
 #ifndef HEMIVEM_EXTREME_SCENES_DIR
 #define HEMIVEM_EXTREME_SCENES_DIR ""

@@ -48,12 +48,15 @@ from ._hemivem import (  # noqa: F401
     Scene,
     SearchProgress,
     available_engines,
+    bench,
+    check,
     condense,
     contact_law,
     contact_laws,
     mesh_generators,
     minimize,
     solve,
+    study,
 )
 from . import _scene_dict
 
@@ -79,6 +82,8 @@ __all__ = [
     "Scene",
     "SearchProgress",
     "available_engines",
+    "bench",
+    "check",
     "condense",
     "contact_law",
     "contact_laws",
@@ -86,6 +91,7 @@ __all__ = [
     "minimize",
     "solve",
     "solve_path",
+    "study",
 ]
 
 

@@ -14,6 +14,7 @@
 
 #include <hemivem/mesh/mesh.hpp>
 #include <hemivem/mesh/mesh3d.hpp>
+#include <hemivem/scene/scene.hpp>
 
 namespace hemivem::python {
 
@@ -43,6 +44,11 @@ std::string toml_string(const std::string& s);
 /// InputError for mumps-mpi: it runs across the processes an MPI launcher starts, never inside
 /// a Python interpreter (MPI_Init_thread would wait for the other processes forever).
 void refuse_mpi_engine(const std::string& linear, const std::string& where);
+
+/// The scene argument of a function: a Scene (copied), None (Scene.default()), or a path (str
+/// or os.PathLike) to a scene file or TOML text, read as Scene.from_toml reads it; TypeError
+/// naming `function` otherwise.
+Scene scene_argument(py::object scene, const std::string& function);
 
 /// A mesh shared with whatever owns it (a result, a reduced problem, or itself).
 struct PyMesh {
@@ -87,5 +93,6 @@ void register_mesh(py::module_& m);
 void register_laws(py::module_& m);
 void register_reduced(py::module_& m);
 void register_solve(py::module_& m);
+void register_studies(py::module_& m);
 
 }  // namespace hemivem::python

@@ -58,6 +58,15 @@ Eigen::VectorXd vector_from(const py::handle& values, const std::string& what, b
 
 std::string toml_string(const std::string& s) { return nlohmann::json(s).dump(); }
 
+Scene scene_argument(py::object scene, const std::string& function) {
+  if (py::isinstance<py::str>(scene) || py::isinstance(scene, py::module_::import("os").attr("PathLike")))
+    scene = py::module_::import("hemivem").attr("Scene").attr("from_toml")(scene);  // a file or TOML text
+  if (!scene.is_none() && !py::isinstance<Scene>(scene))
+    throw py::type_error(function + " takes a Scene, a path to a scene file or TOML text, not " +
+                         py::str(scene.get_type().attr("__name__")).cast<std::string>());
+  return scene.is_none() ? default_scene() : scene.cast<Scene>();
+}
+
 void refuse_mpi_engine(const std::string& linear, const std::string& where) {
   if (normalized_engine_name(linear) == "mumps-mpi")
     throw InputError("'mumps-mpi' runs across processes started by mpirun (hemivem solve --linear mumps-mpi), not "
@@ -249,4 +258,5 @@ PYBIND11_MODULE(_hemivem, m) {
   register_laws(m);
   register_reduced(m);
   register_solve(m);
+  register_studies(m);
 }

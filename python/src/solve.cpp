@@ -729,12 +729,7 @@ void register_solve_function(py::module_& m) {
          std::optional<std::vector<std::string>> engines, py::object progress,
          bool keep_reduced, py::object mesh, bool adapt, const py::kwargs& kwargs) {
         auto d = std::make_shared<SolveData>();
-        if (py::isinstance<py::str>(scene_arg) || py::isinstance(scene_arg, py::module_::import("os").attr("PathLike")))
-          scene_arg = py::module_::import("hemivem").attr("Scene").attr("from_toml")(scene_arg);  // a file or TOML text
-        if (!scene_arg.is_none() && !py::isinstance<Scene>(scene_arg))
-          throw py::type_error("hemivem.solve takes a Scene, a path to a scene file or TOML text, not " +
-                               py::str(scene_arg.get_type().attr("__name__")).cast<std::string>());
-        d->scene = scene_arg.is_none() ? default_scene() : scene_arg.cast<Scene>();
+        d->scene = scene_argument(scene_arg, "hemivem.solve");
         const SolveKeywords k{linear, minimizer, tolerance, max_iterations, search, max_starts, time_budget, seed, engines};
         const std::vector<std::string> overrides = keyword_overrides(k, kwargs);
         if (!overrides.empty()) apply_overrides(d->scene, overrides);

@@ -1,4 +1,4 @@
-#include "engine_pairs.hpp"
+#include <hemivem/app/engine_pairs.hpp>
 
 #include <algorithm>
 #include <type_traits>
@@ -14,10 +14,11 @@
 #include <hemivem/linear_backends.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
 
-#include "commands.hpp"
-#include "common.hpp"
+#include <hemivem/app/format.hpp>
+#include <hemivem/app/solve.hpp>
+#include <hemivem/app/solve3d.hpp>
 
-namespace hemivem::cli {
+namespace hemivem::app {
 
 namespace {
 
@@ -31,16 +32,6 @@ std::vector<Pair> available_pairs() {
   for (const auto& l : available_factorizations())
     for (const auto& m : available_minimizers()) pairs.push_back({l, m});
   return pairs;
-}
-
-Scene load_pairs_scene(const std::string& scene, std::optional<int> n, std::optional<double> tolerance,
-                       const std::vector<std::string>& set) {
-  SolveOptions so;
-  so.scene = scene;
-  so.n = n;
-  so.tolerance = tolerance;
-  so.set = set;
-  return load_scene(so);
 }
 
 double max_abs(const Eigen::VectorXd& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; }
@@ -189,7 +180,7 @@ PairRuns run_pairs(const Scene& scene, const std::vector<Pair>& pairs, const Pai
   mo.tolerance = scene.solver.tolerance;
   mo.max_iterations = scene.solver.max_iterations;
 
-  app::refuse_path(scene, "hemivem check");
+  refuse_path(scene, "hemivem check");
   PairRuns out;
   const auto t_mesh = Clock::now();
   const bool solid = scene.dimension() == 3;
@@ -211,4 +202,4 @@ PairRuns run_pairs(const Scene& scene, const std::vector<Pair>& pairs, const Pai
   return out;
 }
 
-}  // namespace hemivem::cli
+}  // namespace hemivem::app

@@ -1,0 +1,91 @@
+"""hemivem.check, hemivem.study and hemivem.bench give the numbers of `hemivem check --json`,
+`hemivem study --json` and `hemivem bench --json` (app::run_check, run_study, run_bench): the
+module and the command are two routes to one computation, compared here number by number."""
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+import hemivem
+
+
+def same(a, b, rel=1e-9):
+    if a is None or b is None:
+        return a is None and b is None
+    return math.isclose(a, b, rel_tol=rel, abs_tol=1e-300)
+
+
+def test_check_is_the_commands_check(run_command, small_scene):
+    others = [m for m in hemivem.available_engines()["minimizer"] if m != "ssn"]
+    pairs = [("eigen", "ssn")] + [("eigen", m) for m in others[:1]]
+    r = hemivem.check(small_scene, tolerance=1e-10, pairs=pairs)
+    cmd = json.loads(run_command("check", "--n", "16", "--tol", "1e-10", "--json").stdout)
+    assert r["schema"] == cmd["schema"] == "hemivem-check/3"
+    assert r["unique"] and r["exit_code"] == 0
+    by_label = {(p["linear"], p["minimizer"]): p for p in cmd["pairs"]}
+    for p in r["pairs"]:
+        c = by_label[(p["linear"], p["minimizer"])]
+        assert p["status"] == c["status"]
+        assert p["iterations"] == c["iterations"]
+        assert same(p["potential_energy"], c["potential_energy"])
+        assert p["displacement"].shape == (2 * 17 * 17,)
+    assert same(r["reference"]["max_abs_u"], cmd["reference"]["max_abs_u"])
+    d = r["differences"]
+    assert isinstance(d, np.ndarray) and d.shape == (len(r["pairs"]), len(r["pairs"]))
+    # the matrix is the displacements' difference, relative to the reference's max|u|
+    if len(r["pairs"]) > 1:
+        u0, u1 = r["pairs"][0]["displacement"], r["pairs"][1]["displacement"]
+        assert same(d[0, 1], np.max(np.abs(u0 - u1)) / r["reference"]["max_abs_u"], 1e-12)
+
+
+def test_check_refuses_an_agree_that_is_not_positive():
+    with pytest.raises(hemivem.InputError) as e:
+        hemivem.check(agree=0.0, pairs=[("eigen", "ssn")])
+    assert e.value.where == "agree"
+
+
+def test_study_is_the_commands_study(run_command, tmp_path):
+    r = hemivem.study(n=[4, 8], ref=16, out=tmp_path / "py")
+    cmd = json.loads(run_command("study", "--n", "4,8", "--ref", "16", "--out", tmp_path / "cmd",
+                                 "--json").stdout)
+    assert r["schema"] == cmd["schema"] == "hemivem-study/2"
+    assert same(r["reference"]["energy_norm"], cmd["reference"]["energy_norm"])
+    assert [row["n"] for row in r["rows"]] == [row["n"] for row in cmd["rows"]] == [4, 8]
+    for a, b in zip(r["rows"], cmd["rows"]):
+        for key in ("h", "error", "rate", "paper", "independent", "estimate", "effectivity"):
+            assert same(a[key], b[key]), key
+    assert np.allclose(r["error"], [row["error"] for row in cmd["rows"]], rtol=1e-9, atol=0)
+    assert list(r["h"]) == [0.25, 0.125]
+    # the files are the command's, but for the seconds
+    written = json.loads((tmp_path / "py" / "study.json").read_text())
+    assert written["rows"][1]["error"] == r["rows"][1]["error"]
+    assert "study.csv" in r["files"]
+
+
+def test_study_refuses_sizes_that_do_not_nest():
+    with pytest.raises(hemivem.InputError) as e:
+        hemivem.study(n=[3], ref=16)
+    assert e.value.where == "n"
+
+
+def test_bench_is_the_commands_bench(run_command, tmp_path):
+    r = hemivem.bench(n=[4, 8], ref=16, levels=1, pairs=[("eigen", "ssn")])
+    cmd = json.loads(run_command("bench", "--n", "4,8", "--ref", "16", "--levels", "1", "--out",
+                                 tmp_path, "--json").stdout)
+    assert r["schema"] == cmd["schema"] == "hemivem-bench/4"
+    rows = {(c["linear"], c["minimizer"], c["n"]): c for c in cmd["rows"]}
+    assert len(r["rows"]) == 2
+    for row in r["rows"]:
+        c = rows[(row["linear"], row["minimizer"], row["n"])]
+        assert row["status"] == c["status"] and row["iterations"] == c["iterations"]
+        assert same(row["error"], c["error"], 1e-6)
+    assert r["reference"]["n"] == cmd["reference"]["n"] == 16
+    assert same(r["reference"]["max_abs_u"], cmd["reference"]["max_abs_u"])
+    ru, cu = r["refinement"]["uniform"], cmd["refinement"]["uniform"]
+    assert len(ru) == len(cu) == 2
+    for a, b in zip(ru, cu):
+        assert a["unknowns"] == b["unknowns"]
+        assert same(a["potential_energy"], b["potential_energy"])
+        assert same(a["estimate"], b["estimate"])
