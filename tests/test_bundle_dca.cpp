@@ -92,7 +92,7 @@ TEST(BundleDca, ConvexKinkedClosedFormOneNodeAtATime) {
 TEST(BundleDca, DcIterationDecreasesTheEnergyMonotonically) {
   for (const std::string law : {"paper", "sawtooth"}) {
     SCOPED_TRACE(law);
-    auto ex = example("voronoi", 16, [&](ContactProblem& p) { p.law = make_contact_law(law); });
+    auto ex = example("voronoi", 16, [&](ContactProblem& p) { p.parts[0].law = make_contact_law(law); });
     const ReducedProblem& p = ex->condensation->reduced();
     MinimizerOptions o;
     o.tolerance = 1e-10;

@@ -242,8 +242,8 @@ TEST_P(EveryEngine, ConvergedResultsPassAnIndependentRecomputation) {
     for (ConstraintKind kind : {ConstraintKind::box, ConstraintKind::one_sided, ConstraintKind::none}) {
       SCOPED_TRACE(law + " / " + to_string(kind));
       auto ex = test::example("squares", 16, [&](ContactProblem& cp) {
-        cp.law = make_contact_law(law);
-        cp.constraint = kind;
+        cp.parts[0].law = make_contact_law(law);
+        cp.parts[0].constraint = kind;
       });
       const ReducedProblem& p = ex->condensation->reduced();
       const MinimizerResult r = make_minimizer(GetParam())->minimize(p, Eigen::VectorXd(), MinimizerOptions{});

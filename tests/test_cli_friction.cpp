@@ -44,17 +44,17 @@ TEST(FrictionScene, ShippedScenesPoseTheirLawsAndRoundTrip) {
   for (const Scene* s : {&tresca, &weakening}) EXPECT_EQ(parse_scene_string(to_toml(*s), "again.toml"), *s);
   // the law built is the one of the library, with the scene's parameters
   const auto built = build_problem(weakening);
-  ASSERT_TRUE(built->problem.friction);
+  ASSERT_TRUE(built->problem.parts[0].friction);
   const auto reference = slip_weakening_law(1.5, 0.5, 1e-3);
   for (double r : {-0.01, -5e-4, 0.0, 2e-4, 1e-3, 0.02})
-    EXPECT_EQ(built->problem.friction->value(LawPart::j, r), reference->value(LawPart::j, r)) << r;
+    EXPECT_EQ(built->problem.parts[0].friction->value(LawPart::j, r), reference->value(LawPart::j, r)) << r;
 }
 
 TEST(FrictionScene, DefaultsBilateralPiecewiseAndOverrides) {
   Scene s = parse_scene_string(kContact + "constraint = \"bilateral\"\n[contact.friction]\n", "f.toml");
   EXPECT_EQ(s.contact->constraint, ConstraintKind::bilateral);
   EXPECT_EQ(s.contact->friction->name, "tresca");  // the default law, bound 0.1
-  EXPECT_EQ(build_problem(s)->problem.friction->value(LawPart::j, -2.0), 0.2);
+  EXPECT_EQ(build_problem(s)->problem.parts[0].friction->value(LawPart::j, -2.0), 0.2);
   apply_override(s, "contact.friction.bound=0.7");
   EXPECT_EQ(s.contact->friction->parameters.at("bound"), 0.7);
   // switching the law leaves the old law's key behind: named, with the keys the new law has
@@ -71,7 +71,7 @@ TEST(FrictionScene, DefaultsBilateralPiecewiseAndOverrides) {
   const Scene p = parse_scene_string(kContact + "[contact.friction]\nlaw = \"piecewise\"\nbreakpoints = [0.0]\n"
                                                 "j1 = [[0.0, -0.3], [0.0, 0.3]]\nj2 = [[0.0], [0.0]]\n",
                                      "p.toml");
-  EXPECT_EQ(build_problem(p)->problem.friction->value(LawPart::j, -1.0), 0.3);
+  EXPECT_EQ(build_problem(p)->problem.parts[0].friction->value(LawPart::j, -1.0), 0.3);
   EXPECT_EQ(parse_scene_string(to_toml(p), "again.toml"), p);
 }
 

@@ -574,7 +574,7 @@ TEST_F(Outputs, UnknownOutputNameIsAnInputErrorBeforeAnyWrite) {
 TEST(OutputsWithoutContact, LinearSolveSkipsTheContactPlotOnly) {
   const Mesh mesh = make_squares(4);
   ContactProblem p = example_4_1(mesh);
-  p.contact_edges.clear();
+  p.parts.clear();
   FactorizationOptions f;
   f.engine = "eigen";
   struct Unused final : NonsmoothMinimizer {

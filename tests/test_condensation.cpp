@@ -33,17 +33,17 @@ std::unique_ptr<Example> example(int n, std::shared_ptr<const ContactLaw> law = 
   auto ex = std::make_unique<Example>();
   ex->mesh = make_squares(n);
   ex->problem = example_4_1(ex->mesh);
-  ex->problem.law = std::move(law);
-  ex->problem.constraint = constraint;
+  ex->problem.parts[0].law = std::move(law);
+  ex->problem.parts[0].constraint = constraint;
   ex->system = assemble(ex->problem.elasticity);
-  ex->boundary = make_contact_boundary(ex->mesh, ex->problem.contact_edges, ex->system.dofs, ex->problem.gap);
+  ex->boundary = make_contact_boundary(ex->mesh, ex->problem.parts[0].facets, ex->system.dofs, ex->problem.parts[0].gap);
   return ex;
 }
 
 Condensation condense(const Example& ex, const std::string& engine) {
   FactorizationOptions opt;
   opt.engine = engine;
-  return Condensation(ex.system, ex.boundary, make_factorization(opt), ex.problem.law, ex.problem.constraint);
+  return Condensation(ex.system, ex.boundary, make_factorization(opt), ex.problem.parts[0].law, ex.problem.parts[0].constraint);
 }
 
 double rel(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) { return (a - b).norm() / b.norm(); }
@@ -252,23 +252,23 @@ void expect_error_kind(FactorizationStatus status, Call call) {
 TEST_P(CondensationFailures, OfTheSchurComplement) {
   auto ex = example(4);
   expect_error_kind(GetParam(), [&] {
-    Condensation(ex->system, ex->boundary, std::make_unique<FailingFactorization>(GetParam(), 0), ex->problem.law,
-                 ex->problem.constraint);
+    Condensation(ex->system, ex->boundary, std::make_unique<FailingFactorization>(GetParam(), 0), ex->problem.parts[0].law,
+                 ex->problem.parts[0].constraint);
   });
 }
 
 TEST_P(CondensationFailures, OfTheInteriorSolveForTheLoad) {
   auto ex = example(4);
   expect_error_kind(GetParam(), [&] {
-    Condensation(ex->system, ex->boundary, std::make_unique<FailingFactorization>(GetParam(), 1), ex->problem.law,
-                 ex->problem.constraint);
+    Condensation(ex->system, ex->boundary, std::make_unique<FailingFactorization>(GetParam(), 1), ex->problem.parts[0].law,
+                 ex->problem.parts[0].constraint);
   });
 }
 
 TEST_P(CondensationFailures, OfTheBackSubstitution) {
   auto ex = example(4);
   const Condensation cond(ex->system, ex->boundary, std::make_unique<FailingFactorization>(GetParam(), 2),
-                          ex->problem.law, ex->problem.constraint);
+                          ex->problem.parts[0].law, ex->problem.parts[0].constraint);
   expect_error_kind(GetParam(), [&] { cond.back_substitute(Eigen::VectorXd::Zero(ex->boundary.size())); });
 }
 

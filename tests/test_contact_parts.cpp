@@ -66,7 +66,7 @@ void split_bottom(ContactProblem& p, const std::function<void(ContactPart& left,
     (0.5 * (mesh.vertex(e.v0).x() + mesh.vertex(e.v1).x()) < 0.5 ? left : right).facets.push_back(id);
   }
   if (change) change(left, right);
-  set_contact_parts(p, right_first ? std::vector<ContactPart>{right, left} : std::vector<ContactPart>{left, right});
+  p.parts = right_first ? std::vector<ContactPart>{right, left} : std::vector<ContactPart>{left, right};
 }
 
 struct Solved {
@@ -117,16 +117,16 @@ TEST(ContactParts, OnePartIsTheSingleContactOfTheProblem) {
   const std::vector<ContactPart> parts = contact_parts(p);
   ASSERT_EQ(parts.size(), 1u);
   EXPECT_EQ(parts[0].name, "contact");
-  EXPECT_EQ(parts[0].facets, p.contact_edges);
-  EXPECT_EQ(parts[0].law, p.law);
+  EXPECT_EQ(parts[0].facets, p.parts[0].facets);
+  EXPECT_EQ(parts[0].law, p.parts[0].law);
   ContactProblem none = example(mesh);
-  set_contact_parts(none, {});
+  none.parts.clear();
   EXPECT_TRUE(contact_parts(none).empty());
-  EXPECT_TRUE(none.contact_edges.empty());
+  EXPECT_TRUE(none.parts.empty());
   // the boundary of one part is make_contact_boundary's of its edges
   const LinearSystem system = assemble(p.elasticity);
   const ContactBoundary a = contact_boundary(p, system.dofs);
-  const ContactBoundary b = make_contact_boundary(mesh, p.contact_edges, system.dofs, p.gap);
+  const ContactBoundary b = make_contact_boundary(mesh, p.parts[0].facets, system.dofs, p.parts[0].gap);
   EXPECT_EQ(a.nodes, b.nodes);
   EXPECT_EQ(a.weights, b.weights);
   EXPECT_EQ(a.gaps, b.gaps);
@@ -213,11 +213,11 @@ TEST(ContactParts, TheConditionsOfOnePartCondenseAsBefore) {
   for (const int kind : {0, 1, 2}) {
     SCOPED_TRACE(kind);
     ContactProblem p = example(mesh, 3.0);
-    if (kind == 1) p.friction = tresca_law(0.5);
-    if (kind == 2) p.constraint = ConstraintKind::bilateral;
+    if (kind == 1) p.parts[0].friction = tresca_law(0.5);
+    if (kind == 2) p.parts[0].constraint = ConstraintKind::bilateral;
     const LinearSystem system = assemble(p.elasticity);
     const ContactBoundary boundary = contact_boundary(p, system.dofs);
-    const Condensation a(system, boundary, engine(), p.law, constraint_in_effect(p), p.friction);
+    const Condensation a(system, boundary, engine(), p.parts[0].law, constraint_in_effect(p.parts[0]), p.parts[0].friction);
     const Condensation b(system, boundary, engine(), part_conditions(contact_parts(p)));
     EXPECT_EQ(a.reduced().S, b.reduced().S);
     EXPECT_EQ(a.reduced().c, b.reduced().c);
@@ -240,7 +240,7 @@ TEST(ContactParts, FrictionOnOnePartBesideAFrictionlessPart) {
   const Mesh mesh = make_squares(16);
   const double bound = 0.8;
   ContactProblem everywhere = example(mesh, 3.0);
-  everywhere.friction = tresca_law(bound);
+  everywhere.parts[0].friction = tresca_law(bound);
   const Solved full = solve(everywhere);
   ContactProblem p = example(mesh, 3.0);
   split_bottom(p, [bound](ContactPart& left, ContactPart&) { left.friction = tresca_law(bound); });
@@ -299,7 +299,7 @@ TEST(ContactParts, FrictionOnOnePartBesideAFrictionlessPart) {
 TEST(ContactParts, ABilateralPartBesideAPartWithALaw) {
   const Mesh mesh = make_squares(12);
   ContactProblem everywhere = example(mesh, 3.0);
-  everywhere.friction = zero_law();
+  everywhere.parts[0].friction = zero_law();
   const Solved full = solve(everywhere);
   ContactProblem p = example(mesh, 3.0);
   split_bottom(p, [](ContactPart& left, ContactPart&) { left.constraint = ConstraintKind::bilateral; });
@@ -378,9 +378,9 @@ TEST(ContactParts, TheErrorEstimateOfASplitSideIsTheSidesOwn) {
   for (const bool friction : {false, true}) {
     SCOPED_TRACE(friction ? "tresca" : "frictionless");
     ContactProblem one = example(mesh, 3.0);
-    if (friction) one.friction = tresca_law(0.8);
+    if (friction) one.parts[0].friction = tresca_law(0.8);
     ContactProblem two = example(mesh, 3.0);
-    if (friction) two.friction = tresca_law(0.8);
+    if (friction) two.parts[0].friction = tresca_law(0.8);
     split_bottom(two);
     const ErrorEstimate a = estimate_error(one, solve(one).solution);
     const ErrorEstimate b = estimate_error(two, solve(two).solution);
@@ -530,8 +530,8 @@ TEST(ContactPartScenes, BuiltIntoTheProblemsParts) {
   EXPECT_FALSE(scene_is_proportional(moving));
   auto mb = build_problem(moving);
   set_load_factor(moving, 0.5, mb->problem);
-  EXPECT_DOUBLE_EQ(mb->problem.gap(Vec2(0.5, 0.0)), 0.01);
-  EXPECT_DOUBLE_EQ(mb->problem.more_contact[0].obstacle->center.y(), 0.72 - 0.005);
+  EXPECT_DOUBLE_EQ(mb->problem.parts[0].gap(Vec2(0.5, 0.0)), 0.01);
+  EXPECT_DOUBLE_EQ(mb->problem.parts[1].obstacle->center.y(), 0.72 - 0.005);
 }
 
 TEST(ContactPartScenes, OverridesNameTheirPart) {

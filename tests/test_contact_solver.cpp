@@ -69,7 +69,7 @@ TEST(ContactSolver, WithoutAConstraintNoNodeIsAtABoundAndNoReactionIsReported) {
   // is the law's alone (balancing S a - c to the tolerance)
   const Mesh mesh = make_squares(16);
   ContactProblem p = example_4_1(mesh);
-  p.constraint = ConstraintKind::none;
+  p.parts[0].constraint = ConstraintKind::none;
   const ContactSolution s = solve_contact(p, eigen_engine(), *make_minimizer("ssn"), MinimizerOptions{});
   ASSERT_TRUE(s.converged()) << s.message;
   ASSERT_EQ(s.contact.size(), 15u);
@@ -105,7 +105,7 @@ TEST(ContactSolver, ContactForcesBalanceTheLoad) {
 TEST(ContactSolver, NoContactBoundaryIsOneLinearSolve) {
   const Mesh mesh = make_squares(8);
   ContactProblem p = example_4_1(mesh);
-  p.contact_edges.clear();
+  p.parts.clear();
   // any minimizer object will do: it is not called
   struct Unused final : NonsmoothMinimizer {
     std::string name() const override { return "unused"; }

@@ -55,6 +55,7 @@ void expect_exact_on_linear_fields(const Mesh& mesh, const std::string& name, do
   const PatchCase exact;
   const Material material{65.0, 0.29};
   ContactProblem p;
+  p.parts.emplace_back();
   p.elasticity.mesh = &mesh;
   p.elasticity.materials = MaterialTable(material, PlaneModel::strain);
   const Lame l = lame(material, PlaneModel::strain);
@@ -72,7 +73,7 @@ void expect_exact_on_linear_fields(const Mesh& mesh, const std::string& name, do
   for (int id : mesh.boundary_edges()) {
     if (on(left, id)) continue;
     if (on(bottom, id)) {
-      p.contact_edges.push_back(id);
+      p.parts[0].facets.push_back(id);
       for (int v : {mesh.edge(id).v0, mesh.edge(id).v1}) weight[static_cast<std::size_t>(v)] += 0.5 * mesh.edge_length(id);
       continue;
     }
@@ -84,9 +85,9 @@ void expect_exact_on_linear_fields(const Mesh& mesh, const std::string& name, do
     p.elasticity.tractions.push_back({{id}, [t, n](const Vec2&) { return Vec2(t - 0.5 * t.dot(n) * n); },
                                       [pressure](const Vec2&) { return pressure; }});
   }
-  ASSERT_FALSE(p.contact_edges.empty()) << name;
-  p.law = zero_law();
-  p.friction = tresca_law(1.0);
+  ASSERT_FALSE(p.parts[0].facets.empty()) << name;
+  p.parts[0].law = zero_law();
+  p.parts[0].friction = tresca_law(1.0);
   ContactSolution s;
   s.u.resize(2 * mesh.num_vertices());
   for (int v = 0; v < mesh.num_vertices(); ++v) s.u.segment<2>(2 * v) = exact(mesh.vertex(v));
@@ -154,8 +155,8 @@ TEST(ErrorEstimate, TheNormIsTheEnergyOfTheDiscreteSolution) {
   // values) the minimum of 1/2 u^T K u - b^T u is -1/2 u^T K u = -||u_h||_E^2
   const Mesh mesh = make_voronoi(8);
   ContactProblem p = example_4_1(mesh);
-  p.contact_edges.clear();
-  p.law = nullptr;
+  p.parts.clear();
+  p.parts[0].law = nullptr;
   const ContactSolution s = solve(p);
   const ErrorEstimate e = estimate_error(p, s);
   EXPECT_NEAR(e.norm * e.norm, -s.energy, 1e-10 * std::abs(s.energy));
@@ -183,7 +184,7 @@ TEST(ErrorEstimate, ScalingYoungsModulusScalesTheEstimateAndTheNormAlike) {
   const Mesh mesh = make_voronoi(8);
   ContactProblem p = example_4_1(mesh);
   p.elasticity.body_force = [](const Vec2& x) { return Vec2(1.0 + x.y(), -2.0 * x.x()); };
-  p.friction = tresca_law(0.5);
+  p.parts[0].friction = tresca_law(0.5);
   const ContactSolution s = solve(p);
   const ErrorEstimate e = estimate_error(p, s);
   ASSERT_GT(e.parts.at("volume"), 0.0);
@@ -226,8 +227,8 @@ TEST(ErrorEstimate, EachPartIsPresentWhereItsTermIs) {
   {
     // without contact: the elasticity problem alone
     ContactProblem p = example_4_1(mesh);
-    p.contact_edges.clear();
-    p.law = nullptr;
+    p.parts.clear();
+    p.parts[0].law = nullptr;
     const ErrorEstimate e = estimate_error(p, solve(p));
     EXPECT_EQ(e.parts.at("contact"), 0.0);
     EXPECT_EQ(e.parts.at("friction"), 0.0);

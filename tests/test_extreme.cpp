@@ -290,7 +290,7 @@ TEST(ExtremeScenes, PolylineNormalBisectsAtTheKink) {
   const Scene scene = parse_scene(extreme_dir() / "polyline-contact.toml");
   const auto built = build_problem(scene);
   const LinearSystem sys = assemble(built->problem.elasticity);
-  const ContactBoundary b = make_contact_boundary(built->mesh, built->problem.contact_edges, sys.dofs,
+  const ContactBoundary b = make_contact_boundary(built->mesh, built->problem.parts[0].facets, sys.dofs,
                                                   [](const Vec2&) { return 0.02; });
   ASSERT_EQ(b.size(), 31);
   const double s = 1.0 / std::sqrt(1.0 + 0.04);  // edge normals (+-0.2, -1)/|.|

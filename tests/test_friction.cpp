@@ -160,13 +160,13 @@ void write_text(const std::filesystem::path& file, const std::string& text) { st
 Eigen::VectorXd dirichlet_bottom(const Mesh& mesh, std::array<bool, 2> fix) {
   ContactProblem problem = example_4_1(mesh);
   for (auto& t : problem.elasticity.tractions) t.traction = [](const Vec2&) { return Vec2(3.0, -8.0); };
-  problem.elasticity.dirichlet.push_back({problem.contact_edges, {}, fix});
+  problem.elasticity.dirichlet.push_back({problem.parts[0].facets, {}, fix});
   return test::solve(assemble(problem.elasticity));
 }
 
 TEST(FrictionExample, BilateralWithoutFrictionIsARollerSupport) {
   const Mesh mesh = make_squares(12);
-  const FrictionRun r = solve(mesh, [](ContactProblem& p) { p.constraint = ConstraintKind::bilateral; });
+  const FrictionRun r = solve(mesh, [](ContactProblem& p) { p.parts[0].constraint = ConstraintKind::bilateral; });
   ASSERT_TRUE(r.solution.converged()) << r.solution.message;
   EXPECT_EQ(r.reduced.size(), static_cast<Eigen::Index>(r.solution.contact.size())) << "tangential unknowns only";
   const Eigen::VectorXd roller = dirichlet_bottom(mesh, {false, true});
@@ -180,8 +180,8 @@ TEST(FrictionExample, BilateralWithoutFrictionIsARollerSupport) {
 TEST(FrictionExample, BilateralWithAHugeTrescaBoundSticksEverywhereLikeAClampedBottom) {
   const Mesh mesh = make_squares(12);
   const FrictionRun r = solve(mesh, [](ContactProblem& p) {
-    p.constraint = ConstraintKind::bilateral;
-    p.friction = tresca_law(1e6);
+    p.parts[0].constraint = ConstraintKind::bilateral;
+    p.parts[0].friction = tresca_law(1e6);
   });
   ASSERT_TRUE(r.solution.converged()) << r.solution.message;
   const Eigen::VectorXd clamped = dirichlet_bottom(mesh, {true, true});
@@ -209,7 +209,7 @@ TEST(FrictionExample, BilateralWithAHugeTrescaBoundSticksEverywhereLikeAClampedB
 TEST(FrictionExample, ZeroFrictionBoundGivesTheFrictionlessSolution) {
   const Mesh mesh = make_squares(16);
   const FrictionRun plain = solve(mesh, [](ContactProblem&) {});
-  const FrictionRun zero = solve(mesh, [](ContactProblem& p) { p.friction = tresca_law(0.0); });
+  const FrictionRun zero = solve(mesh, [](ContactProblem& p) { p.parts[0].friction = tresca_law(0.0); });
   ASSERT_TRUE(plain.solution.converged() && zero.solution.converged());
   EXPECT_EQ(zero.reduced.size(), 2 * plain.reduced.size());
   EXPECT_LT(max_abs(zero.solution.u - plain.solution.u), 1e-9 * max_abs(plain.solution.u));
@@ -222,7 +222,7 @@ TEST(FrictionExample, StickZoneGrowsWithTheBoundAndEveryEngineAgrees) {
   double previous_slip = kInf;
   for (const double g : {0.0, 0.2, 0.8, 1.5, 5.0}) {
     SCOPED_TRACE("g_F " + std::to_string(g));
-    const FrictionRun r = solve(mesh, [g](ContactProblem& p) { p.friction = tresca_law(g); });
+    const FrictionRun r = solve(mesh, [g](ContactProblem& p) { p.parts[0].friction = tresca_law(g); });
     ASSERT_TRUE(r.solution.converged()) << r.solution.message;
     int stick = 0;
     double slip = 0.0;
@@ -251,7 +251,7 @@ TEST(FrictionExample, StickZoneGrowsWithTheBoundAndEveryEngineAgrees) {
 
 TEST(FrictionExample, EnginesAcrossLinearBackendsAgree) {
   const Mesh mesh = make_squares(12);
-  const auto change = [](ContactProblem& p) { p.friction = tresca_law(0.2); };
+  const auto change = [](ContactProblem& p) { p.parts[0].friction = tresca_law(0.2); };
   const FrictionRun ref = solve(mesh, change);
   for (const std::string& linear : available_factorizations()) {
     if (linear == "mumps-mpi") continue;
@@ -266,7 +266,7 @@ TEST(FrictionExample, SlipWeakeningLosesTheMarginAndSaysSo) {
   const Mesh mesh = make_squares(16);
   // alpha = (g_s - g_k) / slip = 3500 against S's tangential diagonal ~ 50-80 and w = 1/16: the
   // margin goes negative and the problem may have several critical points
-  const auto weakening = [](ContactProblem& p) { p.friction = slip_weakening_law(0.4, 0.05, 1e-4); };
+  const auto weakening = [](ContactProblem& p) { p.parts[0].friction = slip_weakening_law(0.4, 0.05, 1e-4); };
   const FrictionRun r = solve(mesh, weakening, "ceres-active-set");
   EXPECT_LT(r.solution.uniqueness_margin, 0.0);
   EXPECT_TRUE(r.solution.may_be_nonunique);
@@ -280,7 +280,7 @@ TEST(FrictionExample, SlipWeakeningLosesTheMarginAndSaysSo) {
     if (other.converged()) EXPECT_TRUE(certificate(r.reduced, other.a, 1e-10).converged());
   }
   // a gentle weakening keeps the margin positive
-  const FrictionRun mild = solve(mesh, [](ContactProblem& p) { p.friction = slip_weakening_law(0.4, 0.35, 1.0); });
+  const FrictionRun mild = solve(mesh, [](ContactProblem& p) { p.parts[0].friction = slip_weakening_law(0.4, 0.35, 1.0); });
   EXPECT_GT(mild.solution.uniqueness_margin, 0.0);
   EXPECT_FALSE(mild.solution.may_be_nonunique);
 }
@@ -289,7 +289,7 @@ TEST(FrictionExample, SlipWeakeningLosesTheMarginAndSaysSo) {
 // written and read back, and the same point reached from the file.
 TEST(FrictionFiles, CoordinateWiseProblemsRoundTripThroughFiles) {
   const Mesh mesh = make_squares(8);
-  const FrictionRun r = solve(mesh, [](ContactProblem& p) { p.friction = slip_weakening_law(0.4, 0.1, 0.01); });
+  const FrictionRun r = solve(mesh, [](ContactProblem& p) { p.parts[0].friction = slip_weakening_law(0.4, 0.1, 0.01); });
   ASSERT_TRUE(r.reduced.coordinatewise());
   const auto dir = test::scratch("friction-reduced");
   write_reduced_problem(dir, r.reduced);

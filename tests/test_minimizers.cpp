@@ -162,8 +162,8 @@ TEST_P(Minimizer, KinkedLaws) {
   for (const auto& [label, law] : laws) {
     SCOPED_TRACE(label);
     auto ex = example("squares", 16, [&](ContactProblem& p) {
-      p.law = law;
-      p.constraint = ConstraintKind::one_sided;
+      p.parts[0].law = law;
+      p.parts[0].constraint = ConstraintKind::one_sided;
     });
     const ReducedProblem& p = ex->condensation->reduced();
     MinimizerOptions o;
@@ -204,7 +204,7 @@ TEST_P(Minimizer, NothingInContact) {
   // the load lifts the body: a < 0, j = 0 there, no bound active (one-sided a <= g)
   auto ex = example("squares", 16, [](ContactProblem& p) {
     p.elasticity.tractions[0].traction = [](const Vec2&) { return Vec2(0.0, 8.0); };
-    p.constraint = ConstraintKind::one_sided;
+    p.parts[0].constraint = ConstraintKind::one_sided;
   });
   const ReducedProblem& p = ex->condensation->reduced();
   const Eigen::VectorXd linear = p.S.llt().solve(p.c);
@@ -229,8 +229,8 @@ TEST_P(Minimizer, EverythingAtTheBound) {
 TEST_P(Minimizer, ZeroGap) {
   for (ConstraintKind kind : {ConstraintKind::box, ConstraintKind::one_sided}) {
     auto ex = example("squares", 16, [&](ContactProblem& p) {
-      p.gap = [](const Vec2&) { return 0.0; };
-      p.constraint = kind;
+      p.parts[0].gap = [](const Vec2&) { return 0.0; };
+      p.parts[0].constraint = kind;
     });
     const ReducedProblem& p = ex->condensation->reduced();
     const MinimizerResult r = engine()->minimize(p, Eigen::VectorXd(), MinimizerOptions{});
@@ -261,7 +261,7 @@ TEST_P(Minimizer, ConcaveLawFlagsPossibleNonUniqueness) {
   };
   const auto law = std::make_shared<PiecewisePolynomialLaw>("paper-x20", base->breakpoints(), scale(base->pieces(LawPart::j1)),
                                                             scale(base->pieces(LawPart::j2)));
-  auto ex = example("squares", 16, [&](ContactProblem& p) { p.law = law; });
+  auto ex = example("squares", 16, [&](ContactProblem& p) { p.parts[0].law = law; });
   const ReducedProblem& p = ex->condensation->reduced();
   ASSERT_LT(p.uniqueness_margin, 0.0);
   MinimizerOptions o;

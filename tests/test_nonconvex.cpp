@@ -123,7 +123,7 @@ TEST(SplitFromJ, TheDcEngineReachesTheSameSolutionWithEitherSplit) {
   const auto mine = std::make_shared<PiecewisePolynomialLaw>(PiecewisePolynomialLaw::from_j(
       "paper-j", {0.0, 0.01, 0.02}, {{0.0}, {0.0, 0.0, 30.0}, {-0.004, 0.8, -10.0}, {0.012, -0.8, 30.0}}));
   auto with_paper = test::example("squares", 16);
-  auto with_mine = test::example("squares", 16, [&](ContactProblem& p) { p.law = mine; });
+  auto with_mine = test::example("squares", 16, [&](ContactProblem& p) { p.parts[0].law = mine; });
   ASSERT_GT(with_mine->condensation->reduced().uniqueness_margin, 0.0);
   const auto dca = make_minimizer("bundle-dca");
   const MinimizerResult a = dca->minimize(with_paper->condensation->reduced(), {}, {});
@@ -304,7 +304,7 @@ TEST(GlobalSearch, ALocalEngineFromABadStartLandsHigherTheSearchDoesNot) {
 
 TEST(GlobalSearch, Example41WithTheSawtoothLawAgainstEnumeration) {
   // N = 6: 5 contact nodes; every face of the box problem enumerated (9^5)
-  auto ex = test::example("squares", 6, [](ContactProblem& p) { p.law = sawtooth_law(); });
+  auto ex = test::example("squares", 6, [](ContactProblem& p) { p.parts[0].law = sawtooth_law(); });
   const ReducedProblem& p = ex->condensation->reduced();
   ASSERT_EQ(p.size(), 5);
   ASSERT_LT(p.uniqueness_margin, 0.0);

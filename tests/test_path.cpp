@@ -58,7 +58,7 @@ TEST(Path, OneStepIsTheStaticSolve) {
   for (const bool friction : {false, true}) {
     SCOPED_TRACE(friction ? "tresca" : "frictionless");
     ContactProblem problem = example(mesh, 3.0);
-    if (friction) problem.friction = tresca_law(0.8);
+    if (friction) problem.parts[0].friction = tresca_law(0.8);
     const auto minimizer = make_minimizer("ssn");
     const ContactSolution s = solve_contact(problem, engine(), *minimizer, MinimizerOptions{});
     ASSERT_TRUE(s.converged()) << s.message;
@@ -81,7 +81,7 @@ TEST(Path, OneStepIsTheStaticSolve) {
 TEST(Path, ProportionalLoadingEqualsRebuildingTheDataAtEveryStep) {
   const Mesh mesh = make_squares(12);
   ContactProblem a = example(mesh, 3.0);
-  a.friction = tresca_law(0.5);
+  a.parts[0].friction = tresca_law(0.5);
   ContactProblem b = a;
   const auto minimizer = make_minimizer("ssn");
   const PathSolution fast = solve_path(a, engine(), *minimizer, PathLoading{factors(6), {}});
@@ -130,7 +130,7 @@ TEST(Path, ZeroTrescaBoundEndsAtTheFrictionlessSolution) {
   ContactProblem problem = example(mesh, 3.0);
   const auto minimizer = make_minimizer("ssn");
   const ContactSolution frictionless = solve_contact(problem, engine(), *minimizer, MinimizerOptions{});
-  problem.friction = tresca_law(0.0);
+  problem.parts[0].friction = tresca_law(0.0);
   const PathSolution path = solve_path(problem, engine(), *minimizer, PathLoading{factors(4), {}});
   ASSERT_TRUE(path.converged());
   EXPECT_LE(max_abs(path.last.u - frictionless.u), 1e-9 * max_abs(frictionless.u));
@@ -145,8 +145,8 @@ TEST(Path, CoulombLimitsAndBalance) {
   const ContactSolution reference = solve_contact(frictionless, engine(), *minimizer, MinimizerOptions{});
   {
     ContactProblem p = example(mesh, 3.0);
-    p.friction = tresca_law(1.0);
-    p.friction_bound = FrictionBound{FrictionBound::Kind::coulomb, 0.0, {}};
+    p.parts[0].friction = tresca_law(1.0);
+    p.parts[0].friction_bound = FrictionBound{FrictionBound::Kind::coulomb, 0.0, {}};
     const PathSolution path = solve_path(p, engine(), *minimizer, PathLoading{{1.0}, {}});
     ASSERT_TRUE(path.converged()) << path.steps[0].message;
     EXPECT_TRUE(path.steps[0].fixed_point.used);
@@ -154,8 +154,8 @@ TEST(Path, CoulombLimitsAndBalance) {
   }
   // normal load to t = 1, then the shear grows with t - 1
   ContactProblem p = example(mesh);
-  p.friction = tresca_law(1.0);
-  p.friction_bound = FrictionBound{FrictionBound::Kind::coulomb, 1e6, {}};
+  p.parts[0].friction = tresca_law(1.0);
+  p.parts[0].friction_bound = FrictionBound{FrictionBound::Kind::coulomb, 1e6, {}};
   PathLoading loading{{0.5, 1.0, 1.5, 2.0}, [](double t, ContactProblem& q) {
                         q.elasticity.tractions[0].traction = [t](const Vec2&) {
                           return Vec2(3.0 * std::max(t - 1.0, 0.0), -8.0 * std::min(t, 1.0));
@@ -190,8 +190,8 @@ TEST(Path, CoulombFixedPointMeetsTheCoupledConditions) {
   const auto minimizer = make_minimizer("ssn");
   const double mu = 0.3;
   ContactProblem p = example(mesh, 3.0);
-  p.friction = tresca_law(1.0);
-  p.friction_bound = FrictionBound{FrictionBound::Kind::coulomb, mu, {}};
+  p.parts[0].friction = tresca_law(1.0);
+  p.parts[0].friction_bound = FrictionBound{FrictionBound::Kind::coulomb, mu, {}};
   const PathSolution path = solve_path(p, engine(), *minimizer, PathLoading{factors(3), {}});
   int slipping = 0, sticking = 0;
   for (const PathStep& s : path.steps) {
@@ -219,8 +219,8 @@ TEST(Path, AFixedPointThatDoesNotConvergeIsReported) {
   const Mesh mesh = make_squares(8);
   const auto minimizer = make_minimizer("ssn");
   ContactProblem p = example(mesh, 3.0);
-  p.friction = tresca_law(1.0);
-  p.friction_bound = FrictionBound{FrictionBound::Kind::coulomb, 0.3, {}};
+  p.parts[0].friction = tresca_law(1.0);
+  p.parts[0].friction_bound = FrictionBound{FrictionBound::Kind::coulomb, 0.3, {}};
   PathOptions options;
   options.fixed_point.max_iterations = 1;
   const PathSolution path = solve_path(p, engine(), *minimizer, PathLoading{{1.0}, {}}, options);
@@ -236,11 +236,11 @@ TEST(Path, AConstantBoundTableIsTresca) {
   const Mesh mesh = make_squares(10);
   const auto minimizer = make_minimizer("ssn");
   ContactProblem tresca = example(mesh, 3.0);
-  tresca.friction = tresca_law(0.8);
+  tresca.parts[0].friction = tresca_law(0.8);
   const PathSolution a = solve_path(tresca, engine(), *minimizer, PathLoading{factors(2), {}});
   ContactProblem table = example(mesh, 3.0);
-  table.friction = tresca_law(1.0);
-  table.friction_bound = FrictionBound{FrictionBound::Kind::normal_displacement, 0.0, {{{-1.0, 0.8}}, {{1.0, 0.8}}}};
+  table.parts[0].friction = tresca_law(1.0);
+  table.parts[0].friction_bound = FrictionBound{FrictionBound::Kind::normal_displacement, 0.0, {{{-1.0, 0.8}}, {{1.0, 0.8}}}};
   const PathSolution b = solve_path(table, engine(), *minimizer, PathLoading{factors(2), {}});
   ASSERT_TRUE(a.converged());
   ASSERT_TRUE(b.converged()) << b.steps.back().message;
@@ -298,13 +298,13 @@ TEST(Path, EveryLinearEngineFollowsTheSameGeneralPath) {
   const Mesh mesh = make_squares(8);
   const auto minimizer = make_minimizer("ssn");
   ContactProblem reference_problem = example(mesh, 3.0);
-  reference_problem.friction = tresca_law(0.5);
+  reference_problem.parts[0].friction = tresca_law(0.5);
   const PathSolution reference =
       solve_path(reference_problem, engine("eigen"), *minimizer, PathLoading{factors(3), {}});
   for (const std::string& name : available_factorizations()) {
     SCOPED_TRACE(name);
     ContactProblem p = example(mesh, 3.0);
-    p.friction = tresca_law(0.5);
+    p.parts[0].friction = tresca_law(0.5);
     PathOptions options;
     options.frame = [](int) { return true; };
     const PathSolution path = solve_path(p, engine(name), *minimizer, PathLoading{factors(3), rebuild(p)}, options);
@@ -359,7 +359,7 @@ TEST(Path, AStepWhoseLoadVanishesIsTheUnloadedBody) {
   const Mesh mesh = make_squares(8);
   const auto minimizer = make_minimizer("ssn");
   ContactProblem p = example(mesh);
-  p.law = zero_law();
+  p.parts[0].law = zero_law();
   PathLoading loading{{0.25, 0.5, 0.75, 1.0}, [](double t, ContactProblem& q) {
                         q.elasticity.tractions[0].traction = [t](const Vec2&) {
                           return Vec2(0.0, -8.0 * (1.0 - std::abs(2.0 * t - 1.0)));

@@ -199,7 +199,7 @@ StepBound step_bound(const ContactProblem& problem) {
 TEST(PathValidation, EveryMinimizerFollowsATrescaPath) {
   const Mesh mesh = make_squares(8);
   ContactProblem problem = pressed_then_sheared(mesh);
-  problem.friction = tresca_law(0.8);
+  problem.parts[0].friction = tresca_law(0.8);
   const StepBound bound = step_bound(problem);
   ASSERT_GT(bound.m, 0.0) << "the certificates bound the distance only where the margin is positive";
   every_minimizer_follows(problem, bound, "tresca");
@@ -211,10 +211,10 @@ TEST(PathValidation, EveryMinimizerFollowsATrescaPath) {
 TEST(PathValidation, EveryMinimizerFollowsACoulombPath) {
   const Mesh mesh = make_squares(8);
   ContactProblem problem = pressed_then_sheared(mesh);
-  problem.friction = tresca_law(1.0);
+  problem.parts[0].friction = tresca_law(1.0);
   const StepBound bound = step_bound(problem);
   ASSERT_GT(bound.m, 0.0);
-  problem.friction_bound = FrictionBound{FrictionBound::Kind::coulomb, 0.3, {}};
+  problem.parts[0].friction_bound = FrictionBound{FrictionBound::Kind::coulomb, 0.3, {}};
   every_minimizer_follows(problem, bound, "coulomb");
 }
 

@@ -193,7 +193,7 @@ TEST(PoseProblem, GapExpressionIsEvaluatedAtEachContactNode) {
   const auto built = build_problem(scene);
   const auto& p = built->problem;
   const DofMap dofs = make_dof_map(built->mesh, p.elasticity.dirichlet);
-  const ContactBoundary cb = make_contact_boundary(built->mesh, p.contact_edges, dofs, p.gap);
+  const ContactBoundary cb = make_contact_boundary(built->mesh, p.parts[0].facets, dofs, p.parts[0].gap);
   ASSERT_EQ(cb.size(), 7);
   for (int i = 0; i < cb.size(); ++i) {
     const double x = built->mesh.vertex(cb.nodes[static_cast<std::size_t>(i)]).x();

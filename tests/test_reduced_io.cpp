@@ -40,9 +40,9 @@ TEST(ReducedIo, Example41RoundTripIsExact) {
   const Mesh mesh = make_squares(8);
   const ContactProblem cp = example_4_1(mesh);
   const LinearSystem sys = assemble(cp.elasticity);
-  const ContactBoundary cb = make_contact_boundary(mesh, cp.contact_edges, sys.dofs, cp.gap);
+  const ContactBoundary cb = make_contact_boundary(mesh, cp.parts[0].facets, sys.dofs, cp.parts[0].gap);
   FactorizationOptions fo;
-  const Condensation cond(sys, cb, make_factorization(fo), cp.law, cp.constraint);
+  const Condensation cond(sys, cb, make_factorization(fo), cp.parts[0].law, cp.parts[0].constraint);
   const fs::path dir = scratch("example");
   write_reduced_problem(dir, cond.reduced());
   const ReducedProblem q = read_reduced_problem(dir);

@@ -200,7 +200,7 @@ value = [0.0, -1.0]
   Scene pinned = default_scene();
   apply_overrides(pinned, {"mesh.n=4"});
   auto built = build_problem(pinned);
-  built->problem.elasticity.dirichlet.push_back({built->problem.contact_edges, {}, {false, true}, "pinned"});
+  built->problem.elasticity.dirichlet.push_back({built->problem.parts[0].facets, {}, {false, true}, "pinned"});
   try {
     (void)solve_contact(built->problem, make_factorization(FactorizationOptions{}), *make_minimizer("ssn"),
                         MinimizerOptions{});

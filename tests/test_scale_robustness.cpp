@@ -49,7 +49,7 @@ Scene example_at_scale(double L, int n) {
 /// Distinct vertices of the contact edges of a built problem.
 std::set<int> contact_nodes(const BuiltProblem& b) {
   std::set<int> out;
-  for (int e : b.problem.contact_edges) out.insert({b.mesh.edge(e).v0, b.mesh.edge(e).v1});
+  for (int e : b.problem.parts[0].facets) out.insert({b.mesh.edge(e).v0, b.mesh.edge(e).v1});
   return out;
 }
 
@@ -74,7 +74,7 @@ TEST(ScaleRobustness, RectangleSideToleranceIsRelativeToTheRectangle) {
 
 TEST(ScaleRobustness, SquareOfSide1e12KeepsEveryBottomNodeOnGammaThree) {
   const auto built = build_problem(example_at_scale(1e12, 16));
-  EXPECT_EQ(built->problem.contact_edges.size(), 16u);
+  EXPECT_EQ(built->problem.parts[0].facets.size(), 16u);
   const std::set<int> nodes = contact_nodes(*built);
   EXPECT_EQ(nodes.size(), 17u);
   int clamped_corners = 0;
@@ -94,7 +94,7 @@ TEST(ScaleRobustness, ContactPartAt1e150IsNotMistakenForTheClampedSides) {
   const Scene scene = example_at_scale(1.0, 4);
   ContactProblem p;
   ASSERT_NO_THROW(p = make_contact_problem(scene, mesh));
-  EXPECT_EQ(p.contact_edges.size(), 4u);
+  EXPECT_EQ(p.parts[0].facets.size(), 4u);
   ASSERT_EQ(p.elasticity.dirichlet.size(), 1u);
   EXPECT_EQ(p.elasticity.dirichlet[0].edges.size(), 8u);  // left and right sides only
 }

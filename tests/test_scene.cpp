@@ -95,14 +95,14 @@ TEST(Scene, DefaultSceneAndExample41AreThePapersProblem) {
     std::sort(t.begin(), t.end());
     EXPECT_EQ(t, top);
     EXPECT_EQ(p->elasticity.tractions[0].traction(Vec2(0.5, 1.0)), Vec2(0.0, -8.0));
-    std::vector<int> c = p->contact_edges;
+    std::vector<int> c = p->parts[0].facets;
     std::sort(c.begin(), c.end());
     EXPECT_EQ(c, bottom);
-    EXPECT_EQ(p->gap(Vec2(0.3, 0.0)), 0.02);
-    ASSERT_TRUE(p->law);
-    EXPECT_EQ(p->law->name(), "paper");
-    EXPECT_EQ(p->law->alpha(), 20.0);
-    EXPECT_EQ(p->constraint, ConstraintKind::box);
+    EXPECT_EQ(p->parts[0].gap(Vec2(0.3, 0.0)), 0.02);
+    ASSERT_TRUE(p->parts[0].law);
+    EXPECT_EQ(p->parts[0].law->name(), "paper");
+    EXPECT_EQ(p->parts[0].law->alpha(), 20.0);
+    EXPECT_EQ(p->parts[0].constraint, ConstraintKind::box);
   }
   // The assembled systems agree.
   const LinearSystem a = assemble(built->problem.elasticity), b = assemble(example.elasticity);
@@ -129,8 +129,8 @@ TEST(Scene, ShippedScenesParseAndBuild) {
     EXPECT_FALSE(built->problem.elasticity.dirichlet.at(0).edges.empty());
     EXPECT_EQ(built->has_contact, s.contact.has_value());
     if (built->has_contact) {
-      EXPECT_FALSE(built->problem.contact_edges.empty());
-      ASSERT_TRUE(built->problem.law);
+      EXPECT_FALSE(built->problem.parts[0].facets.empty());
+      ASSERT_TRUE(built->problem.parts[0].law);
     }
     EXPECT_NO_THROW((void)assemble(built->problem.elasticity));
   }
@@ -179,7 +179,7 @@ TEST(Scene, SuttonScenesReadTheShippedCopiesOfSuttonsMeshes) {
   const auto built = build_problem(s);
   EXPECT_EQ(built->mesh.num_vertices(), 802);
   EXPECT_EQ(built->mesh.num_elements(), 400);
-  EXPECT_FALSE(built->problem.contact_edges.empty());
+  EXPECT_FALSE(built->problem.parts[0].facets.empty());
   EXPECT_FALSE(built->problem.elasticity.tractions.at(0).edges.empty());
 }
 
@@ -456,7 +456,7 @@ segments = [[0.0, 0.0, 0.5, 0.0]]
                                      "regions.toml");
   const auto built = build_problem(s);
   EXPECT_DOUBLE_EQ(built->problem.elasticity.materials.material(0).young, 10.0);
-  EXPECT_EQ(built->problem.contact_edges.size(), 2u);
+  EXPECT_EQ(built->problem.parts[0].facets.size(), 2u);
   EXPECT_EQ(built->problem.elasticity.dirichlet[0].edges.size(), 4u);
 }
 
@@ -472,7 +472,7 @@ TEST(Scene, MeshFileBesideTheScene) {
   EXPECT_EQ(s.mesh.file, dir / "meshes" / "tri.poly2d");
   const auto built = build_problem(s);
   EXPECT_EQ(built->mesh.num_elements(), 32);
-  EXPECT_EQ(built->problem.contact_edges.size(), 4u);  // the bottom of the bounding box [0, 2] x [0, 1]
+  EXPECT_EQ(built->problem.parts[0].facets.size(), 4u);  // the bottom of the bounding box [0, 2] x [0, 1]
   EXPECT_EQ(built->problem.elasticity.tractions.size(), 0u);  // no [loads]: no loads
   fs::remove_all(dir);
 }
@@ -489,7 +489,7 @@ TEST(Scene, BoundaryPartsByGmshPhysicalGroup) {
   }
   const auto built = build_problem(parse_scene(dir / "scene.toml"));
   const Rectangle unit{};
-  EXPECT_EQ(built->problem.contact_edges,
+  EXPECT_EQ(built->problem.parts[0].facets,
             select_boundary_edges(built->mesh, std::vector<Segment>{rectangle_side(unit, "bottom")}));
   EXPECT_EQ(built->problem.elasticity.tractions.at(0).edges,
             select_boundary_edges(built->mesh, std::vector<Segment>{rectangle_side(unit, "top")}));
@@ -517,7 +517,7 @@ TEST(Scene, PolygonDomainNamesItsEdges) {
     const auto slope = select_boundary_edges(m, std::vector<Segment>{Segment{Vec2(2, 1), Vec2(0, 1.5), 1e-8}});
     const auto left = select_boundary_edges(m, std::vector<Segment>{Segment{Vec2(0, 1.5), Vec2(0, 0), 1e-8}});
     EXPECT_FALSE(bottom.empty());
-    EXPECT_EQ(sorted(built->problem.contact_edges), sorted(bottom));
+    EXPECT_EQ(sorted(built->problem.parts[0].facets), sorted(bottom));
     EXPECT_EQ(sorted(built->problem.elasticity.tractions.at(0).edges), sorted(slope));
     EXPECT_EQ(sorted(built->problem.elasticity.dirichlet.at(0).edges), sorted(left));
   }
@@ -529,7 +529,7 @@ TEST(Scene, LawsWithParametersAndBreakpoints) {
   apply_override(s, "contact.law=sawtooth");
   apply_override(s, "contact.parameters.r1=0.005");
   auto built = build_problem(s);
-  const auto b = built->problem.law->breakpoints();
+  const auto b = built->problem.parts[0].law->breakpoints();
   EXPECT_NE(std::find(b.begin(), b.end(), 0.005), b.end());
 
   const Scene p = parse_scene_string(R"(schema_version = 1
@@ -544,7 +544,7 @@ j2 = [[0.0], [0.0, 1.0]]
 )",
                                      "piecewise.toml");
   built = build_problem(p);
-  EXPECT_DOUBLE_EQ(built->problem.law->value(0.1), 50.0 * 0.01 - 0.1);
+  EXPECT_DOUBLE_EQ(built->problem.parts[0].law->value(0.1), 50.0 * 0.01 - 0.1);
 
   try {  // j2 is not convex: rejected with the line of the law
     (void)parse_scene_string("schema_version = 1\n[contact]\nside = \"bottom\"\nlaw = \"piecewise\"\n"

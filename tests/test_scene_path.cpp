@@ -263,7 +263,7 @@ TEST(ScenePath, DataAtALoadFactor) {
   EXPECT_DOUBLE_EQ(p.elasticity.tractions[1].pressure(top), 1.25);
   EXPECT_DOUBLE_EQ(p.elasticity.body_force(top).y(), -2.0);
   EXPECT_DOUBLE_EQ(p.elasticity.dirichlet[1].value(Vec2(1.0, 0.5)).x(), 0.01);
-  EXPECT_DOUBLE_EQ(p.gap(Vec2(0.5, 0.0)), 0.02);
+  EXPECT_DOUBLE_EQ(p.parts[0].gap(Vec2(0.5, 0.0)), 0.02);
 
   set_load_factor(s, 0.5, p);
   EXPECT_EQ(p.elasticity.tractions[0].traction(top), Vec2(0.0, -4.0));   // a number: times t
@@ -277,8 +277,8 @@ TEST(ScenePath, DataAtALoadFactor) {
   EXPECT_FALSE(p.elasticity.dirichlet[0].value);  // clamped: zero
   EXPECT_TRUE(p.elasticity.dirichlet[1].fix[0]);
   EXPECT_FALSE(p.elasticity.dirichlet[1].fix[1]);
-  EXPECT_DOUBLE_EQ(p.gap(Vec2(0.5, 0.0)), 0.02);  // a gap number stays
-  EXPECT_FALSE(p.obstacle.has_value());
+  EXPECT_DOUBLE_EQ(p.parts[0].gap(Vec2(0.5, 0.0)), 0.02);  // a gap number stays
+  EXPECT_FALSE(p.parts[0].obstacle.has_value());
 
   set_load_factor(s, 1.0, p);
   EXPECT_EQ(p.elasticity.tractions[0].traction(top), Vec2(0.0, -8.0));
@@ -297,9 +297,9 @@ TEST(ScenePath, GapsAndObstaclesAtALoadFactor) {
   const Scene g = parse_scene_string(gap_text, "path.toml");
   auto built = build_problem(g);
   set_load_factor(g, 0.5, built->problem);
-  EXPECT_DOUBLE_EQ(built->problem.gap(Vec2(0.5, 0.0)), 0.01);
+  EXPECT_DOUBLE_EQ(built->problem.parts[0].gap(Vec2(0.5, 0.0)), 0.01);
   set_load_factor(g, 1.0, built->problem);  // -0.02: refused where it is evaluated, naming the key and t
-  const auto negative = error_of([&] { (void)built->problem.gap(Vec2(0.5, 0.0)); });
+  const auto negative = error_of([&] { (void)built->problem.parts[0].gap(Vec2(0.5, 0.0)); });
   ASSERT_TRUE(negative.has_value());
   EXPECT_EQ(negative->where(), line_of(gap_text, "gap ="));
   EXPECT_TRUE(has(negative->detail(), "at t = 1.0; a gap must be finite and >= 0")) << negative->what();
@@ -309,14 +309,14 @@ TEST(ScenePath, GapsAndObstaclesAtALoadFactor) {
                             "[contact.obstacle]\npoint = [0, -0.02]\nnormal = [0, 1]\nmotion = [0.2, 0.1]\n";
   const Scene o = parse_scene_string(plane, "path.toml");
   auto moved = build_problem(o);
-  ASSERT_TRUE(moved->problem.obstacle.has_value());
-  EXPECT_DOUBLE_EQ(moved->problem.obstacle->point.x(), 0.2);  // t = 1: moved by the motion
-  EXPECT_DOUBLE_EQ(moved->problem.obstacle->point.y(), 0.08);
+  ASSERT_TRUE(moved->problem.parts[0].obstacle.has_value());
+  EXPECT_DOUBLE_EQ(moved->problem.parts[0].obstacle->point.x(), 0.2);  // t = 1: moved by the motion
+  EXPECT_DOUBLE_EQ(moved->problem.parts[0].obstacle->point.y(), 0.08);
   set_load_factor(o, 0.5, moved->problem);
-  EXPECT_DOUBLE_EQ(moved->problem.obstacle->point.x(), 0.1);
-  EXPECT_DOUBLE_EQ(moved->problem.obstacle->point.y(), 0.03);
-  EXPECT_EQ(moved->problem.obstacle->normal, Vec2(0.0, 1.0));
-  EXPECT_FALSE(moved->problem.gap);
+  EXPECT_DOUBLE_EQ(moved->problem.parts[0].obstacle->point.x(), 0.1);
+  EXPECT_DOUBLE_EQ(moved->problem.parts[0].obstacle->point.y(), 0.03);
+  EXPECT_EQ(moved->problem.parts[0].obstacle->normal, Vec2(0.0, 1.0));
+  EXPECT_FALSE(moved->problem.parts[0].gap);
 
   const std::string circle = kHead +
                              "[mesh]\nn = 4\n[clamped]\nside = \"left\"\n[contact]\nside = \"bottom\"\n"
@@ -325,9 +325,9 @@ TEST(ScenePath, GapsAndObstaclesAtALoadFactor) {
   const Scene c = parse_scene_string(circle, "path.toml");
   auto disk = build_problem(c);
   set_load_factor(c, 0.5, disk->problem);
-  EXPECT_DOUBLE_EQ(disk->problem.obstacle->center.y(), -0.975);  // an expression in t as written
-  EXPECT_DOUBLE_EQ(disk->problem.obstacle->center.x(), 0.5);     // the number 0: 0 at any t
-  EXPECT_DOUBLE_EQ(disk->problem.obstacle->radius, 1.0);
+  EXPECT_DOUBLE_EQ(disk->problem.parts[0].obstacle->center.y(), -0.975);  // an expression in t as written
+  EXPECT_DOUBLE_EQ(disk->problem.parts[0].obstacle->center.x(), 0.5);     // the number 0: 0 at any t
+  EXPECT_DOUBLE_EQ(disk->problem.parts[0].obstacle->radius, 1.0);
 
   const std::string poly = kHead +
                            "[mesh]\nn = 4\n[clamped]\nside = \"left\"\n[contact]\nside = \"bottom\"\n"
@@ -336,10 +336,10 @@ TEST(ScenePath, GapsAndObstaclesAtALoadFactor) {
   const Scene l = parse_scene_string(poly, "path.toml");
   auto line = build_problem(l);
   set_load_factor(l, 0.25, line->problem);
-  ASSERT_EQ(line->problem.obstacle->points.size(), 2u);
-  EXPECT_DOUBLE_EQ(line->problem.obstacle->points[0].y(), -0.01);
-  EXPECT_DOUBLE_EQ(line->problem.obstacle->points[1].y(), -0.01);
-  EXPECT_DOUBLE_EQ(line->problem.obstacle->points[1].x(), 0.0);
+  ASSERT_EQ(line->problem.parts[0].obstacle->points.size(), 2u);
+  EXPECT_DOUBLE_EQ(line->problem.parts[0].obstacle->points[0].y(), -0.01);
+  EXPECT_DOUBLE_EQ(line->problem.parts[0].obstacle->points[1].y(), -0.01);
+  EXPECT_DOUBLE_EQ(line->problem.parts[0].obstacle->points[1].x(), 0.0);
 }
 
 TEST(ScenePath, MotionIsAFunctionOfTAlone) {
@@ -378,29 +378,29 @@ TEST(ScenePath, CoulombAndBoundTablesPoseAFrictionBound) {
   ASSERT_TRUE(c.contact->friction.has_value());
   EXPECT_EQ(c.contact->friction->name, "coulomb");
   auto built = build_problem(c);
-  ASSERT_TRUE(built->problem.friction != nullptr);
-  EXPECT_DOUBLE_EQ(built->problem.friction->value(LawPart::j, -2.0), 2.0);  // Tresca with bound 1
-  ASSERT_TRUE(built->problem.friction_bound.has_value());
-  EXPECT_EQ(built->problem.friction_bound->kind, FrictionBound::Kind::coulomb);
-  EXPECT_EQ(built->problem.friction_bound->coefficient, 0.4);
+  ASSERT_TRUE(built->problem.parts[0].friction != nullptr);
+  EXPECT_DOUBLE_EQ(built->problem.parts[0].friction->value(LawPart::j, -2.0), 2.0);  // Tresca with bound 1
+  ASSERT_TRUE(built->problem.parts[0].friction_bound.has_value());
+  EXPECT_EQ(built->problem.parts[0].friction_bound->kind, FrictionBound::Kind::coulomb);
+  EXPECT_EQ(built->problem.parts[0].friction_bound->coefficient, 0.4);
 
   const Scene d = parse_scene_string(contact + "[contact.friction]\nlaw = \"coulomb\"\n", "d.toml");
-  EXPECT_EQ(build_problem(d)->problem.friction_bound->coefficient, 0.3);
+  EXPECT_EQ(build_problem(d)->problem.parts[0].friction_bound->coefficient, 0.3);
 
   const Scene h = parse_scene_string(contact + "[contact.friction]\nlaw = \"tresca\"\nbound = [[0, 2], [0.01, 1]]\n",
                                      "h.toml");
   auto table = build_problem(h);
-  EXPECT_DOUBLE_EQ(table->problem.friction->value(LawPart::j, 3.0), 3.0);
-  ASSERT_TRUE(table->problem.friction_bound.has_value());
-  EXPECT_EQ(table->problem.friction_bound->kind, FrictionBound::Kind::normal_displacement);
-  EXPECT_EQ(table->problem.friction_bound->table, (std::vector<std::array<double, 2>>{{0.0, 2.0}, {0.01, 1.0}}));
+  EXPECT_DOUBLE_EQ(table->problem.parts[0].friction->value(LawPart::j, 3.0), 3.0);
+  ASSERT_TRUE(table->problem.parts[0].friction_bound.has_value());
+  EXPECT_EQ(table->problem.parts[0].friction_bound->kind, FrictionBound::Kind::normal_displacement);
+  EXPECT_EQ(table->problem.parts[0].friction_bound->table, (std::vector<std::array<double, 2>>{{0.0, 2.0}, {0.01, 1.0}}));
 
   // a number bound: Tresca as before, no FrictionBound
   const Scene n = parse_scene_string(contact + "[contact.friction]\nbound = 0.7\n", "n.toml");
   auto plain = build_problem(n);
-  EXPECT_DOUBLE_EQ(plain->problem.friction->value(LawPart::j, 1.0), 0.7);
-  EXPECT_FALSE(plain->problem.friction_bound.has_value());
-  EXPECT_FALSE(build_problem(parse_scene_string(contact, "none.toml"))->problem.friction_bound.has_value());
+  EXPECT_DOUBLE_EQ(plain->problem.parts[0].friction->value(LawPart::j, 1.0), 0.7);
+  EXPECT_FALSE(plain->problem.parts[0].friction_bound.has_value());
+  EXPECT_FALSE(build_problem(parse_scene_string(contact, "none.toml"))->problem.parts[0].friction_bound.has_value());
 }
 
 TEST(ScenePath, FrictionBoundDefects) {

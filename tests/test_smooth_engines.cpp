@@ -156,7 +156,7 @@ TEST_P(SmoothEngine, WarmStartAtTheSolutionIsCheap) {
 }
 
 TEST_P(SmoothEngine, PrintsNothing) {
-  auto ex = example("squares", 16, [](ContactProblem& p) { p.law = make_contact_law("sawtooth"); });
+  auto ex = example("squares", 16, [](ContactProblem& p) { p.parts[0].law = make_contact_law("sawtooth"); });
   testing::internal::CaptureStdout();
   testing::internal::CaptureStderr();
   MinimizerOptions o;

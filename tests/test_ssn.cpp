@@ -217,8 +217,8 @@ TEST(Ssn, KinkIsRecognisedExactly) {
 TEST(Ssn, KinkedLawsOnExample41ReachTheCertificate) {
   for (const std::string law : {"kinked", "sawtooth"}) {
     auto ex = example("squares", 32, [&](ContactProblem& q) {
-      q.law = make_contact_law(law);
-      q.constraint = ConstraintKind::one_sided;
+      q.parts[0].law = make_contact_law(law);
+      q.parts[0].constraint = ConstraintKind::one_sided;
     });
     const ReducedProblem& p = ex->condensation->reduced();
     MinimizerOptions o;

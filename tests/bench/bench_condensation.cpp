@@ -34,7 +34,7 @@ void factorize(benchmark::State& state, std::string name) {
 void condense(benchmark::State& state, std::string name) {
   const bench::Example41& s = bench::example_4_1_on_squares(static_cast<int>(state.range(0)));
   for (auto _ : state) {
-    Condensation c(s.system, s.boundary, engine(name), s.problem.law, s.problem.constraint);
+    Condensation c(s.system, s.boundary, engine(name), s.problem.parts[0].law, s.problem.parts[0].constraint);
     benchmark::DoNotOptimize(c.reduced().S.data());
   }
   state.counters["dofs"] = static_cast<double>(s.system.A.rows());

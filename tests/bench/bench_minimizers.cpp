@@ -27,7 +27,7 @@ const Condensation& condensation(int n) {
     const bench::Example41& ex = bench::example_4_1_on_squares(n);
     FactorizationOptions fo;
     fo.engine = available_factorizations().size() > 1 ? "cholmod" : "eigen";
-    c = std::make_unique<Condensation>(ex.system, ex.boundary, make_factorization(fo), ex.problem.law, ex.problem.constraint);
+    c = std::make_unique<Condensation>(ex.system, ex.boundary, make_factorization(fo), ex.problem.parts[0].law, ex.problem.parts[0].constraint);
   }
   return *c;
 }

@@ -40,10 +40,10 @@ ContactProblem problem_of(const Mesh& mesh, Kind kind) {
   if (kind == Kind::frictionless) return p;
   p.elasticity.tractions[0].traction = [](const Vec2&) { return Vec2(3.0, -8.0); };
   if (kind == Kind::tresca) {
-    p.friction = tresca_law(0.8);
+    p.parts[0].friction = tresca_law(0.8);
   } else {
-    p.friction = tresca_law(1.0);
-    p.friction_bound = FrictionBound{FrictionBound::Kind::coulomb, 0.3, {}};
+    p.parts[0].friction = tresca_law(1.0);
+    p.parts[0].friction_bound = FrictionBound{FrictionBound::Kind::coulomb, 0.3, {}};
   }
   return p;
 }

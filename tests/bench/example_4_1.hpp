@@ -27,7 +27,7 @@ inline const Example41& example_4_1_on_squares(int n) {
     s->mesh = make_squares(n);
     s->problem = example_4_1(s->mesh);
     s->system = assemble(s->problem.elasticity);
-    s->boundary = make_contact_boundary(s->mesh, s->problem.contact_edges, s->system.dofs, s->problem.gap);
+    s->boundary = make_contact_boundary(s->mesh, s->problem.parts[0].facets, s->system.dofs, s->problem.parts[0].gap);
   }
   return *s;
 }

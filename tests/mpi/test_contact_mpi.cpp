@@ -107,7 +107,7 @@ TEST(ContactMpi, Example41MatchesEigenOnRankZero) {
 TEST(ContactMpi, NoContactBoundaryIsOneCollectiveLinearSolve) {
   const Mesh mesh = make_squares(8);
   ContactProblem p = example_4_1(mesh);
-  p.contact_edges.clear();
+  p.parts.clear();
   Scripted unused(Scripted::Mode::ssn);
   const ContactSolution s = solve_contact(p, mpi_engine(), unused, tight());
   EXPECT_EQ(unused.calls, 0);
@@ -185,7 +185,7 @@ TEST(ContactMpi, AWrongSizeForTheBackSubstitutionIsAnInputErrorEverywhere) {
   const ContactProblem p = example_4_1(mesh);
   const LinearSystem sys = assemble(p.elasticity);
   const ContactBoundary boundary = contact_boundary(p, sys.dofs);
-  const Condensation cond(sys, boundary, mpi_engine(), p.law, constraint_in_effect(p));
+  const Condensation cond(sys, boundary, mpi_engine(), p.parts[0].law, constraint_in_effect(p.parts[0]));
   EXPECT_THROW(cond.back_substitute(Eigen::VectorXd::Zero(boundary.size() + 1)), InputError);
   // every process left at the same point: a back-substitution of the right size works
   const Eigen::VectorXd u = cond.back_substitute(Eigen::VectorXd::Zero(boundary.size()));

@@ -83,11 +83,11 @@ std::unique_ptr<Example> example(const std::string& kind, int n, const std::func
   ex->problem = example_4_1(ex->mesh);
   if (change) change(ex->problem);
   ex->system = assemble(ex->problem.elasticity);
-  ex->boundary = make_contact_boundary(ex->mesh, ex->problem.contact_edges, ex->system.dofs, ex->problem.gap);
+  ex->boundary = make_contact_boundary(ex->mesh, ex->problem.parts[0].facets, ex->system.dofs, ex->problem.parts[0].gap);
   FactorizationOptions fo;
   fo.engine = "eigen";
-  ex->condensation = std::make_unique<Condensation>(ex->system, ex->boundary, make_factorization(fo), ex->problem.law,
-                                                    ex->problem.constraint, ex->problem.friction);
+  ex->condensation = std::make_unique<Condensation>(ex->system, ex->boundary, make_factorization(fo), ex->problem.parts[0].law,
+                                                    ex->problem.parts[0].constraint, ex->problem.parts[0].friction);
   return ex;
 }
 

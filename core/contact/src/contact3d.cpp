@@ -141,11 +141,6 @@ std::vector<int> contact_faces(const ContactProblem3D& problem) {
   return faces;
 }
 
-std::vector<ContactPart3D> contact_parts(const ContactProblem3D& problem) {
-  check_contact_parts(problem.parts);
-  return problem.parts;
-}
-
 ContactBoundary contact_boundary(const ContactProblem3D& problem, const DofMap& dofs) {
   const std::vector<ContactPart3D> parts = contact_parts(problem);
   if (parts.empty()) return ContactBoundary{};

@@ -27,11 +27,6 @@ ContactBoundary contact_boundary(const ContactProblem& problem, const DofMap& do
   return boundary;
 }
 
-ConstraintKind constraint_in_effect(const ContactProblem& problem) {
-  return problem.constraint == ConstraintKind::bilateral ? ConstraintKind::bilateral
-         : problem.gap || problem.obstacle               ? problem.constraint
-                                                         : ConstraintKind::none;
-}
 
 // ---- the kernels of each dimension ---------------------------------------------------------
 

@@ -146,7 +146,7 @@ void PathSolver::Impl::set_up() {
   if (!(options.jump_factor > 1.0)) throw InputError("the jump factor of a path must be > 1");
   if (options.fixed_point.max_iterations < 1 || !(options.fixed_point.relaxation > 0.0 && options.fixed_point.relaxation <= 1.0))
     throw InputError("the fixed point of a path needs max_iterations >= 1 and a relaxation in (0, 1]");
-  if (problem.contact_edges.empty() && problem.more_contact.empty())
+  if (problem.parts.empty())
     throw InputError("a loading path needs a contact boundary (without one the displacement at t is t times the one at t = 1)");
   parts = contact_parts(problem);
   for (const ContactPart& part : parts) {

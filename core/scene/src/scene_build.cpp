@@ -476,8 +476,7 @@ ContactProblem make_contact_problem(const Scene& scene, const Mesh& mesh) {
   for (std::size_t i = 0; i < scene_parts.size(); ++i)
     parts.push_back(make_contact_part(p.elasticity, scene_parts[i], i, scene, mesh, select));
   check_parts_disjoint(parts, scene, mesh);
-  if (parts.empty()) p.constraint = ConstraintKind::none;
-  set_contact_parts(p, std::move(parts));
+  p.parts = std::move(parts);
   return p;
 }
 
@@ -503,7 +502,7 @@ void set_load_factor(const Scene& scene, double t, ContactProblem& problem) {
   ElasticityProblem& e = problem.elasticity;
   const std::size_t clamped = scene.clamped.empty() ? 0 : 1;  // [clamped] comes first (add_dirichlet)
   const std::vector<SceneContact> parts = contact_parts(scene);
-  const std::size_t problem_parts = problem.contact_edges.empty() ? 0 : 1 + problem.more_contact.size();
+  const std::size_t problem_parts = problem.parts.size();
   if (e.tractions.size() != scene.tractions.size() || e.dirichlet.size() != clamped + scene.dirichlet.size() ||
       parts.size() != problem_parts)
     throw InternalError("set_load_factor: the problem was not built from this scene (" +
@@ -514,10 +513,8 @@ void set_load_factor(const Scene& scene, double t, ContactProblem& problem) {
   e.body_force = body_force_at(scene, t);
   for (std::size_t i = 0; i < scene.tractions.size(); ++i) set_traction_at(e.tractions[i], scene, i, t);
   for (std::size_t i = 0; i < scene.dirichlet.size(); ++i) e.dirichlet[clamped + i].value = dirichlet_value_at(scene, i, t);
-  for (std::size_t i = 0; i < parts.size(); ++i) {
-    if (i == 0) set_contact_data_at(problem.gap, problem.obstacle, scene, parts[i], i, t);
-    else set_contact_data_at(problem.more_contact[i - 1].gap, problem.more_contact[i - 1].obstacle, scene, parts[i], i, t);
-  }
+  for (std::size_t i = 0; i < parts.size(); ++i)
+    set_contact_data_at(problem.parts[i].gap, problem.parts[i].obstacle, scene, parts[i], i, t);
 }
 
 }  // namespace hemivem

@@ -51,18 +51,12 @@ ContactBoundary make_contact_boundary_3d(const Mesh3D& mesh, const std::vector<i
                                          const std::function<double(const Vec3&)>& gap,
                                          const Obstacle3D* obstacle = nullptr);
 
-/// A contact problem of a solid: the elasticity problem and the contact boundary in parts
-/// (none: no contact), each part with its faces, gap or obstacle, law and constraint.
-struct ContactProblem3D {
-  ElasticityProblem3D elasticity;   ///< mesh, materials, loads and Gamma_1
-  std::vector<ContactPart3D> parts;  ///< Gamma_3, in parts
-};
+/// A contact problem of a solid (BasicContactProblem<3>: the elasticity problem and the
+/// contact boundary in parts, each with its faces, gap or obstacle, law and constraint).
+using ContactProblem3D = BasicContactProblem<3>;
 
 /// The faces of every contact part of `problem`, part after part.
 std::vector<int> contact_faces(const ContactProblem3D& problem);
-
-/// The parts of `problem` (problem.parts), checked (check_contact_parts).
-std::vector<ContactPart3D> contact_parts(const ContactProblem3D& problem);
 
 /// The contact boundary of `problem` on the dofs of its assembled system
 /// (make_contact_boundary_3d of its parts); InputError for an obstacle with a defect, and for

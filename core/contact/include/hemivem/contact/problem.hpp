@@ -11,6 +11,7 @@
 #include <vector>
 
 #include <hemivem/vem/assembly.hpp>
+#include <hemivem/vem/assembly3d.hpp>
 #include <hemivem/contact_law.hpp>
 #include <hemivem/contact/obstacle.hpp>
 #include <hemivem/reduced_problem.hpp>
@@ -43,38 +44,19 @@ void check_friction_bound(const FrictionBound& bound, const std::string& where =
 
 /// One part of the contact boundary Gamma_3 (docs/contact-parts.md) of a plane (dim = 2) or a
 /// solid (dim = 3) body: its facets (boundary edges, or boundary faces) and everything the
-/// contact of its nodes obeys. The fields mean what ContactProblem's fields of the same names
-/// mean for its first part; a solid's contact is frictionless.
+/// contact of its nodes obeys. A solid's contact is frictionless.
 template <int dim>
 struct BasicContactPart {
   using Point = Eigen::Matrix<double, dim, 1>;
   using ObstacleType = std::conditional_t<dim == 2, Obstacle, Obstacle3D>;
-  std::string name;                          ///< names the part in results ("contact" for the first by default)
+  std::string name = "contact";              ///< names the part in results
   std::vector<int> facets;                   ///< boundary edge (2D) or face (3D) ids
   std::function<double(const Point&)> gap;   ///< g >= 0 at a point of the part (empty: no gap given)
-  std::optional<ObstacleType> obstacle;      ///< a rigid obstacle instead of `gap`
-  std::shared_ptr<const ContactLaw> law;     ///< the normal law
-  ConstraintKind constraint = ConstraintKind::box;
-  bool law_from_surface = false;
-  std::shared_ptr<const ContactLaw> friction;  ///< null: frictionless
-  std::optional<FrictionBound> friction_bound;
-};
-using ContactPart = BasicContactPart<2>;
-
-/// A contact problem. Its contact boundary is one or several parts (ContactPart): the fields
-/// contact_edges ... friction_bound below are the first part (named contact_name), and
-/// more_contact holds the parts after it, e.g. a body resting on a support and pressed by an
-/// indenter. Each contact node belongs to one part (make_contact_boundary: a node where two
-/// parts meet belongs to the one listed first).
-struct ContactProblem {
-  ElasticityProblem elasticity;        ///< mesh, materials, loads and Gamma_1
-  std::vector<int> contact_edges;      ///< Gamma_3 (boundary edge ids): the first part's
-  std::function<double(const Vec2&)> gap;  ///< g >= 0 at a point of Gamma_3
-  /// A rigid obstacle instead of `gap`: each node's gap is Obstacle::gap along its normal
+  /// A rigid obstacle instead of `gap`: each node's gap is the obstacle's gap along its normal
   /// (negative where the node starts inside, +inf where its ray misses; one-sided or no
   /// constraint only).
-  std::optional<Obstacle> obstacle;
-  std::shared_ptr<const ContactLaw> law;
+  std::optional<ObstacleType> obstacle;
+  std::shared_ptr<const ContactLaw> law;     ///< the normal law
   ConstraintKind constraint = ConstraintKind::box;
   /// Where the normal law's origin lies. false: j acts on u_nu, its origin where the body
   /// starts (the paper's foundation: a layer of thickness g that the body compresses from the
@@ -83,31 +65,34 @@ struct ContactProblem {
   /// its surface); a node whose gap is infinite (its ray misses the obstacle) never meets it
   /// and has no law. The reduced problem's normal unknowns are then those distances.
   bool law_from_surface = false;
-  /// The law of the tangential displacement u_tau on Gamma_3 (friction, docs/friction.md);
+  /// The law of the tangential displacement u_tau (friction, docs/friction.md; plane bodies);
   /// null: frictionless (u_tau free). A bilateral constraint without one slides freely.
   std::shared_ptr<const ContactLaw> friction;
   /// A bound that depends on the normal contact (Coulomb's law, or h(u_nu)); `friction` is
   /// then tresca_law(1) (a unit bound that each node's bound scales). None: the bound of
   /// `friction` itself (a given number, Tresca).
   std::optional<FrictionBound> friction_bound;
-  /// The first part's name (ContactNode::part names it in results).
-  std::string contact_name = "contact";
-  /// The contact parts after the first, in order (each with edges of its own).
-  std::vector<ContactPart> more_contact;
 };
+using ContactPart = BasicContactPart<2>;
 
-/// Every contact part of `problem` in order: the first (from the single-part fields), then
-/// more_contact. Empty without contact (no contact edges and no more parts). InputError for a
-/// part without edges or without a name, and for two parts of the same name.
-std::vector<ContactPart> contact_parts(const ContactProblem& problem);
+/// A contact problem of a plane (dim = 2) or a solid (dim = 3) body: the elasticity problem and
+/// the contact boundary Gamma_3 as a list of parts (none: no contact), e.g. a body resting on a
+/// support and pressed by an indenter. Each contact node belongs to one part (a node where two
+/// parts meet belongs to the one listed first).
+template <int dim>
+struct BasicContactProblem {
+  std::conditional_t<dim == 2, ElasticityProblem, ElasticityProblem3D> elasticity;  ///< mesh, materials, loads, Gamma_1
+  std::vector<BasicContactPart<dim>> parts;  ///< Gamma_3, in parts
+};
+using ContactProblem = BasicContactProblem<2>;
+
+/// The parts of `problem` (problem.parts), checked (check_contact_parts). Empty without contact.
+template <int dim>
+std::vector<BasicContactPart<dim>> contact_parts(const BasicContactProblem<dim>& problem);
 
 /// InputError for a part without facets or without a name, and for two parts of the same name.
 template <int dim>
 void check_contact_parts(const std::vector<BasicContactPart<dim>>& parts);
-
-/// Sets the contact parts of `problem`: parts[0] into the single-part fields (and
-/// contact_name), the others into more_contact; no part clears the contact.
-void set_contact_parts(ContactProblem& problem, std::vector<ContactPart> parts);
 
 /// The constraint the condensation imposes on a part: its constraint, but none when it has
 /// neither a gap nor an obstacle (bilateral stays bilateral).

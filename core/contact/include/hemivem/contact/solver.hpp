@@ -27,22 +27,11 @@ namespace hemivem {
 
 class ProcessGroup;
 
-struct ContactProblem3D;
-class Mesh3D;
-
-/// The problem and mesh types of a dimension: ContactProblem and Mesh in the plane,
-/// ContactProblem3D and Mesh3D in a solid.
+/// The problem and mesh types of a dimension.
 template <int dim>
-struct ContactTypes;
-template <>
-struct ContactTypes<2> {
-  using Problem = ContactProblem;
-  using MeshType = Mesh;
-};
-template <>
-struct ContactTypes<3> {
-  using Problem = ContactProblem3D;
-  using MeshType = Mesh3D;
+struct ContactTypes {
+  using Problem = BasicContactProblem<dim>;
+  using MeshType = std::conditional_t<dim == 2, Mesh, Mesh3D>;
 };
 
 /// Where the normal unknown of a contact node is: strictly between its bounds, at its upper
@@ -196,10 +185,6 @@ Eigen::Matrix<double, dim, 1> contact_resultant(const std::vector<BasicContactNo
 /// whose gaps the box constraint cannot take.
 ContactBoundary contact_boundary(const ContactProblem& problem, const DofMap& dofs);
 
-/// The constraint the condensation imposes on the first contact part: problem.constraint, but
-/// none when the problem has neither gaps nor an obstacle (bilateral stays bilateral);
-/// constraint_in_effect(ContactPart) for each part.
-ConstraintKind constraint_in_effect(const ContactProblem& problem);
 
 /// The solve of one contact problem in named stages, as deal.II's step-41 tutorial lays out
 /// its obstacle problem: run() calls

@@ -335,7 +335,7 @@ void write_scene(const std::filesystem::path& path, const Scene& scene);
 /// A scene made concrete. Not movable: problem.elasticity.mesh points at mesh.
 struct BuiltProblem {
   Mesh mesh;
-  ContactProblem problem;  ///< contact_edges empty and law null when has_contact is false
+  ContactProblem problem;  ///< no contact parts when has_contact is false
   bool has_contact = false;
   std::vector<std::string> warnings;  ///< scene_warnings(scene)
   BuiltProblem() = default;
@@ -400,7 +400,7 @@ void set_load_factor(const Scene& scene, double t, ContactProblem& problem);
 /// materials by the mesh's region ids (the scene's region boxes are applied by build_problem
 /// only), the boundary parts selected on the mesh's bounding box, loads and contact data (their
 /// values at t = 1, set_load_factor), one ContactPart per contact part of the scene, named by
-/// contact_part_name; contact_edges empty and law null when the scene has no contact. An edge
+/// contact_part_name; no part when the scene has no contact. An edge
 /// that two contact parts select is an error naming both. The result points at `mesh`. Errors
 /// as build_problem's.
 ContactProblem make_contact_problem(const Scene& scene, const Mesh& mesh);
