@@ -122,7 +122,7 @@ void write_history_csv(std::ostream& stream, const ContactSolution3D& s) {
 nlohmann::json result_json_3d(const Mesh3D& mesh, const ContactSolution3D& s, const RunInfo& info) {
   using nlohmann::json;
   json j = detail::result_json_common(s, info, 3);
-  j["held_by_contact"] = json::array();  // the supports of a 3D body hold it (solve_contact_3d)
+  j["held_by_contact"] = s.held_by_contact;
   j["condition_estimate"] = number(s.condition_estimate);
   j["mesh"] = {{"description", info.mesh},
                {"vertices", mesh.num_vertices()},

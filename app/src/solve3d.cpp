@@ -112,6 +112,9 @@ std::string full_report_3d(const SceneSolve3D& solved, const RunInfo& info) {
   for (std::size_t i = 0; i < sol.stages.size(); ++i) out << (i ? ", " : "") << sol.stages[i];
   out << "\n  status        " << to_string(sol.status) << " (certificate: " << certificate_text(sol.certificate) << "), "
       << sol.iterations() << " iterations\n";
+  for (std::size_t k = 0; k < sol.held_by_contact.size(); ++k)
+    out << (k == 0 ? "  supports      free, held by the contact alone: " : "                and ")
+        << sol.held_by_contact[k] << "\n";
   if (info.search.value("kind", "local") == "global")
     out << (sol.minimizer ? critical_points_text(*sol.minimizer, sol.energy - sol.minimizer->objective)
                           : "  search        " + sol.message + "\n");

@@ -373,10 +373,10 @@ void def_result_outcome(ResultClass& c) {
           "held_by_contact",
           [](py::handle s) {
             const SolveData& d = data(s);
-            return d.run.solid() ? std::vector<std::string>{} : d.plane().solution.held_by_contact;
+            return visit(d, [](const auto& v) { return v.solution.held_by_contact; });
           },
-          "The rigid motions the Dirichlet conditions leave free, in words; the contact alone holds them.\n"
-          "Always [] in 3D: the supports of a three-dimensional body must hold it.")
+          "The rigid motions the Dirichlet conditions leave free, in words; the contact alone holds them\n"
+          "(in 2D and 3D alike).")
       .def_property_readonly("iterations", [](py::handle s) { return visit(data(s), [](const auto& v) { return v.solution.iterations(); }); })
       .def_property_readonly("stages", [](py::handle s) { return visit(data(s), [](const auto& v) { return v.solution.stages; }); },
                              "The stages that ran, in order.")

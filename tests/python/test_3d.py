@@ -268,3 +268,37 @@ def test_a_three_dimensional_result_has_its_error_estimate(small_3d):
     assert eta.shape == (r.mesh.num_cells,) and not eta.flags.writeable
     assert float(np.sum(eta ** 2)) == pytest.approx(e["energy"] ** 2, rel=1e-12)
     assert "estimate" in r.timings
+
+
+def test_a_solid_held_by_its_foundation_names_the_motion():
+    # a block between rollers on its four sides, on a linear foundation: held vertically by it alone
+    text = """schema_version = 1
+[mesh]
+generator = "cubes"
+n = [2, 2, 2]
+domain = [0.0, 1.0, 0.0, 1.0, 0.0, 1.0]
+[material]
+E = 100.0
+nu = 0.3
+[[dirichlet]]
+side = ["x0", "x1"]
+ux = 0.0
+[[dirichlet]]
+side = ["y0", "y1"]
+uy = 0.0
+[[loads.traction]]
+side = "top"
+value = [0.0, 0.0, -2.0]
+[contact]
+side = "bottom"
+law = "linear"
+constraint = "none"
+[contact.parameters]
+stiffness = 50.0
+"""
+    r = hemivem.solve(text)
+    assert r.converged
+    assert len(r.held_by_contact) == 1 and "translation along (0, 0, 1)" in r.held_by_contact[0]
+    assert r.json()["held_by_contact"] == r.held_by_contact
+    # every contact node settles by the pressure over the stiffness
+    assert np.allclose(r.contact.u_nu, 2.0 / 50.0, rtol=0, atol=1e-10)
