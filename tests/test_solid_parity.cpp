@@ -7,6 +7,7 @@
 #include <hemivem/contact/contact3d.hpp>
 #include <hemivem/contact/piecewise_law.hpp>
 #include <hemivem/linear_backends.hpp>
+#include <hemivem/mesh/generators.hpp>
 #include <hemivem/mesh/generators3d.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
 #include <hemivem/scene/scene.hpp>
@@ -234,4 +235,33 @@ stiffness = 50.0
     if (mesh.vertex(v).z() == 1.0) EXPECT_NEAR(s.u(3 * v + 2), top, 1e-10) << v;
   // the forces balance: the foundation carries the load
   EXPECT_NEAR(s.contact_force().z(), 2.0 * 2.0 * 1.5, 1e-9);
+}
+
+TEST(SolidParity, AMeshOfOnesOwnIsSolvedAsTheScenesOwn) {
+  Scene scene = parse_scene(test::scenes_dir() / "example-4.1-3d.toml");
+  apply_overrides(scene, {"mesh.n=[4, 2, 4]"});
+  const app::SceneRun own = app::run_scene(scene);
+  // the same cubes made by hand, and cubes of another size: the scene's sides are the mesh's
+  app::RunOptions same;
+  same.mesh = make_mesh3d("cubes", {4, 2, 4}, kBox);
+  const app::SceneRun given = app::run_scene(scene, std::move(same));
+  ASSERT_TRUE(given.converged());
+  EXPECT_EQ(given.solid()->solution.u, own.solid()->solution.u);
+  EXPECT_EQ(given.solid()->solution.energy, own.solid()->solution.energy);
+  EXPECT_EQ(given.solid()->mesh_description, "a mesh given by the caller");
+  app::RunOptions finer;
+  finer.mesh = make_mesh3d("tetrahedra", {4, 2, 4}, kBox);
+  const app::SceneRun tets = app::run_scene(scene, std::move(finer));
+  ASSERT_TRUE(tets.converged());
+  EXPECT_EQ(tets.solid()->built->mesh.num_cells(), make_mesh3d("tetrahedra", {4, 2, 4}, kBox).num_cells());
+  // a plane mesh for a solid scene is refused by key
+  app::RunOptions plane;
+  plane.mesh = make_squares(2);
+  plane.mesh_key = "mesh";
+  try {
+    (void)app::run_scene(scene, std::move(plane));
+    FAIL() << "a plane mesh was taken for a solid";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where(), "mesh");
+  }
 }

@@ -95,11 +95,13 @@ SceneSolve3D run_solid(const Scene& scene, RunKind kind, RunOptions& o) {
   if (kind == RunKind::adaptive)
     throw InputError("adaptive refinement is not available for three-dimensional scenes (it refines polygonal meshes)",
                      scene.where("adapt"));
-  if (o.mesh)
-    throw InputError("a three-dimensional scene is solved on the mesh its [mesh] table makes; the mesh given is "
-                     "two-dimensional: set the scene's mesh keys instead",
+  if (o.mesh && !std::holds_alternative<Mesh3D>(*o.mesh))
+    throw InputError("a three-dimensional scene is solved on a three-dimensional mesh (Mesh3D); the mesh given is "
+                     "two-dimensional",
                      o.mesh_key);
   SceneSolve3DOptions s;
+  if (o.mesh) s.mesh = std::get<Mesh3D>(std::move(*o.mesh));
+  s.mesh_description = o.mesh_description;
   s.on_built = announce<BuiltProblem3D, SceneSolve3D>(o.on_built);
   s.callback = std::move(o.callback);
   s.reduced = o.reduced;
@@ -113,7 +115,10 @@ SceneSolveOptions plane_options(RunOptions& o) {
   s.callback = std::move(o.callback);
   s.reduced = o.reduced;
   s.progress = std::move(o.progress);
-  s.mesh = std::move(o.mesh);
+  if (o.mesh && !std::holds_alternative<Mesh>(*o.mesh))
+    throw InputError("a two-dimensional scene is solved on a plane mesh (Mesh); the mesh given is three-dimensional",
+                     o.mesh_key);
+  if (o.mesh) s.mesh = std::get<Mesh>(std::move(*o.mesh));
   s.apply_region_boxes = o.apply_region_boxes;
   s.mesh_description = o.mesh_description;
   return s;

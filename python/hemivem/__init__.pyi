@@ -116,6 +116,9 @@ class Mesh:
 
 class Mesh3D:
     """The polyhedral mesh of a three-dimensional solve (Result.mesh when Result.dimension is 3); read-only."""
+    @staticmethod
+    def generate(kind: str, n: Sequence[int], box: Sequence[float] = ..., seed: int = ...) -> Mesh3D:
+        """A generated mesh of the box [x0, x1, y0, y1, z0, z1]: cubes, tetrahedra or voronoi."""
     def __len__(self) -> int: ...
     @property
     def num_vertices(self) -> int: ...
@@ -446,7 +449,7 @@ def solve(scene: Union[Scene, PathLike, None] = None, *, linear: Optional[str] =
           tolerance: Optional[float] = None, max_iterations: Optional[int] = None, search: Optional[str] = None,
           max_starts: Optional[int] = None, time_budget: Optional[float] = None, seed: Optional[int] = None,
           engines: Optional[Sequence[str]] = None, progress: Optional[Callable[[SearchProgress], object]] = None, keep_reduced: bool = True,
-          mesh: Optional[Mesh] = None, adapt: bool = False,
+          mesh: Optional[Union[Mesh, Mesh3D]] = None, adapt: bool = False,
           **parameters: float) -> Result: ...
 def solve_path(scene: Union[Scene, PathLike, None] = None, *, steps: Optional[int] = None,
                t: Optional[Sequence[float]] = None, frames: Optional[int] = None, **keywords: Any) -> Result: ...

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include <hemivem/error.hpp>
+#include <hemivem/mesh/generators3d.hpp>
 #include <hemivem/mesh/gmsh.hpp>
 #include <hemivem/mesh/generators.hpp>
 #include <hemivem/mesh/poly2d.hpp>
@@ -352,7 +353,24 @@ and region ids. Read-only; it shares the Result's memory.
     m.vertices                  # (num_vertices, 3) float64, C order, read-only view
     m.faces[f]                  # the vertex loop of face f, counter-clockwise seen from outside face_cells[f, 0]
     m.cells[c]                  # the face ids of cell c
+
+Mesh3D.generate(kind, n, box) makes one (a generator of three-dimensional scenes: cubes,
+tetrahedra, voronoi), to solve a scene on with hemivem.solve(scene, mesh=m).
 )doc");
+  c.def_static(
+      "generate",
+      [](const std::string& kind, std::array<int, 3> n, std::array<double, 6> box, std::uint64_t seed) {
+        Mesh3D mesh;
+        {
+          py::gil_scoped_release release;
+          mesh = make_mesh3d(kind, GridSize3(n[0], n[1], n[2]), Box{box[0], box[1], box[2], box[3], box[4], box[5]}, seed);
+        }
+        return PyMesh3D{std::make_shared<const Mesh3D>(std::move(mesh))};
+      },
+      py::arg("kind"), py::arg("n"), py::arg("box") = std::array<double, 6>{0.0, 1.0, 0.0, 1.0, 0.0, 1.0},
+      py::arg("seed") = 1,
+      "A generated mesh of the box [x0, x1, y0, y1, z0, z1] with n = [nx, ny, nz] cells along each side "
+      "(InputError for an unknown kind or a bad size).");
   c.def_property_readonly("num_vertices", [get3](const PyMesh3D& s) { return get3(s).num_vertices(); })
       .def_property_readonly("num_cells", [get3](const PyMesh3D& s) { return get3(s).num_cells(); })
       .def_property_readonly("num_faces", [get3](const PyMesh3D& s) { return get3(s).num_faces(); })

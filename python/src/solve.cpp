@@ -10,6 +10,7 @@
 #include <iomanip>
 #include <limits>
 #include <sstream>
+#include <variant>
 
 #include <hemivem/certificate.hpp>
 #include <hemivem/error.hpp>
@@ -659,7 +660,8 @@ std::vector<std::string> keyword_overrides(const SolveKeywords& k, const py::kwa
 /// Solves the resolved scene of `d` without the GIL (app::run_scene, as `hemivem solve`),
 /// honouring Ctrl-C between stages; keeps the reduced problem when asked and the scene has
 /// contact.
-void solve_data(SolveData& d, const py::object& progress, bool keep_reduced, const PyMesh* mesh) {
+void solve_data(SolveData& d, const py::object& progress, bool keep_reduced,
+                std::optional<std::variant<Mesh, Mesh3D>> mesh) {
   if (!progress.is_none() && !is_global_search(d.scene.solver.search, "solver.search"))
     throw InputError("only a global search (search='global') reports local runs", "progress");
   SignalWatch watch;
@@ -674,7 +676,7 @@ void solve_data(SolveData& d, const py::object& progress, bool keep_reduced, con
     o.reduced = keep_reduced ? &reduced : nullptr;
     o.reduced_key = "keep_reduced";
     o.progress = search_progress(watch, progress);
-    if (mesh) o.mesh = *mesh->mesh;
+    o.mesh = std::move(mesh);
     d.run = app::run_scene(d.scene, std::move(o));
   } catch (const Interrupted&) {
   }
@@ -707,9 +709,11 @@ local run of a global search (an exception it raises ends the solve and is raise
 Runs without the GIL; Ctrl-C is honoured between stages (after the mesh, at every minimizer
 iteration, after every local run of a global search) and raises KeyboardInterrupt.
 
-mesh: a Mesh to solve on instead of the scene's (Mesh.generate, Mesh.read, Mesh(vertices,
-elements), or a Result's mesh): the scene's mesh keys are then not used; its boundary parts,
-loads, contact part and region boxes are selected on the given mesh, as on the scene's.
+mesh: a mesh to solve on instead of the scene's: a Mesh for a plane scene (Mesh.generate,
+Mesh.read, Mesh(vertices, elements), or a Result's mesh), a Mesh3D for a solid one
+(Mesh3D.generate, or a Result's mesh); the scene's mesh keys are then not used; its boundary
+parts, loads, contact parts and region boxes are selected on the given mesh, as on the scene's.
+A mesh of the other dimension is an InputError.
 
 adapt=True (or a scene with an [adapt] table) refines adaptively as `hemivem solve --adapt`
 does: the Result is the last step's, on the final mesh, with `adapt` holding every step's
@@ -717,8 +721,8 @@ numbers; a scene without [adapt] takes its defaults. An adaptive solve keeps no 
 
 A three-dimensional scene (docs/reference/scenes.md, "Three-dimensional scenes") is solved as
 `hemivem solve` solves it (solve_scene_3d): the Result has dimension 3, displacement of shape
-(num_vertices, 3), a contact table with z and an (n, 3) normal, and a Mesh3D; mesh= and
-adapt=True are refused (InputError), as are [path] and [adapt] in the scene.)doc";
+(num_vertices, 3), a contact table with z and an (n, 3) normal, and a Mesh3D; adapt=True is
+refused (InputError), as are [path] and [adapt] in the scene.)doc";
 
 void register_solve_function(py::module_& m) {
   m.def(
@@ -738,18 +742,17 @@ void register_solve_function(py::module_& m) {
             throw InputError("adaptive refinement is not available for three-dimensional scenes (it refines "
                              "polygonal meshes); solve without adapt=True",
                              "adapt");
-          if (!mesh.is_none())
-            throw InputError("a three-dimensional scene is solved on the mesh its [mesh] table makes; hemivem.Mesh is "
-                             "two-dimensional: leave out mesh=, set the scene's mesh keys instead",
-                             "mesh");
         }
         if (adapt && !d->scene.adapt) d->scene.adapt = SceneAdapt{};
         if (app::run_kind(d->scene) != app::RunKind::static_solve) keep_reduced = false;  // no one reduced problem
         refuse_mpi_engine(d->scene.solver.linear, linear ? "linear" : d->scene.where("solver.linear"));
-        if (!mesh.is_none() && !py::isinstance<PyMesh>(mesh))
-          throw py::type_error("hemivem.solve: mesh must be a hemivem.Mesh, not " +
+        std::optional<std::variant<Mesh, Mesh3D>> given;
+        if (py::isinstance<PyMesh>(mesh)) given = *mesh.cast<const PyMesh&>().mesh;
+        else if (py::isinstance<PyMesh3D>(mesh)) given = *mesh.cast<const PyMesh3D&>().mesh;
+        else if (!mesh.is_none())
+          throw py::type_error("hemivem.solve: mesh must be a hemivem.Mesh or a hemivem.Mesh3D, not " +
                                py::str(mesh.get_type().attr("__name__")).cast<std::string>());
-        solve_data(*d, progress, keep_reduced, mesh.is_none() ? nullptr : &mesh.cast<const PyMesh&>());
+        solve_data(*d, progress, keep_reduced, std::move(given));
         return d;
       },
       py::arg("scene") = py::none(), py::kw_only(), py::arg("linear") = py::none(), py::arg("minimizer") = py::none(),

@@ -238,7 +238,7 @@ def test_what_a_three_dimensional_scene_refuses(small_3d):
     scene, _ = small_3d
     with pytest.raises(hemivem.InputError, match="adaptive refinement is not available for three-dimensional"):
         hemivem.solve(scene, adapt=True)
-    with pytest.raises(hemivem.InputError, match="hemivem.Mesh is two-dimensional"):
+    with pytest.raises(hemivem.InputError, match="the mesh given is two-dimensional"):
         hemivem.solve(scene, mesh=hemivem.Mesh.generate("squares", 2))
     with pytest.raises(hemivem.InputError, match="condense takes two-dimensional scenes"):
         hemivem.condense(scene)
@@ -302,3 +302,18 @@ stiffness = 50.0
     assert r.json()["held_by_contact"] == r.held_by_contact
     # every contact node settles by the pressure over the stiffness
     assert np.allclose(r.contact.u_nu, 2.0 / 50.0, rtol=0, atol=1e-10)
+
+
+def test_a_solid_on_a_mesh_of_ones_own(small_3d):
+    scene, r = small_3d
+    # the Result's own mesh again: the same solve, bit for bit
+    again = hemivem.solve(scene, mesh=r.mesh, linear="eigen")
+    assert again.energy == r.energy
+    assert np.array_equal(again.displacement, r.displacement)
+    # a generated mesh of the same box
+    box = r.mesh.bounding_box
+    m = hemivem.Mesh3D.generate("tetrahedra", [2, 2, 2], box)
+    t = hemivem.solve(scene, mesh=m, linear="eigen")
+    assert t.converged and t.mesh.num_cells == m.num_cells
+    with pytest.raises(TypeError, match="hemivem.Mesh or a hemivem.Mesh3D"):
+        hemivem.solve(scene, mesh="not a mesh")

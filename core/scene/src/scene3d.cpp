@@ -311,13 +311,20 @@ void add_contact_3d(ContactProblem3D& p, const Scene& scene, const Mesh3D& mesh,
 
 }  // namespace
 
-std::unique_ptr<BuiltProblem3D> build_problem_3d(const Scene& scene) {
+namespace {
+
+void require_solid_scene(const Scene& scene) {
   if (scene.dimension() != 3)
     throw InputError("mesh: a two-dimensional scene is built by build_problem (build_problem_3d takes a box of six "
                      "numbers, a 3D generator or a Gmsh file of volumes)",
                      scene.where("mesh"));
+}
+
+/// The problem of `scene` on `mesh`; `given` when the mesh is not the scene's (its memory is
+/// then checked under the scene's mesh key, as a mesh file's is).
+std::unique_ptr<BuiltProblem3D> build_on(const Scene& scene, Mesh3D given_mesh, bool given) {
   auto out = std::make_unique<BuiltProblem3D>();
-  out->mesh = scene_mesh_3d(scene);
+  out->mesh = std::move(given_mesh);
   const Mesh3D& mesh = out->mesh;
   ContactProblem3D& p = out->problem;
   p.elasticity.mesh = &mesh;
@@ -327,19 +334,32 @@ std::unique_ptr<BuiltProblem3D> build_problem_3d(const Scene& scene) {
   add_dirichlet_3d(p.elasticity, scene, select);
   add_loads_3d(p.elasticity, scene, select);
   add_contact_3d(p, scene, mesh, select);
-  if (!scene.mesh.file.empty()) {  // a mesh read: its vertices and contact nodes counted
+  if (given || !scene.mesh.file.empty()) {  // a mesh read or given: its vertices and contact nodes counted
     std::set<int> contact;
     for (const ContactPart3D& part : p.parts)
       for (int f : part.facets) contact.insert(mesh.face(f).vertices.begin(), mesh.face(f).vertices.end());
     const MemoryEstimate need = estimate_memory_3d(mesh.num_vertices(), static_cast<double>(contact.size()));
     require_memory(need.solve_bytes,
-                   scene.mesh.file.string() + ": " + count_text(mesh.num_vertices()) + " vertices, " +
-                       count_text(static_cast<double>(contact.size())) + " on the contact faces",
-                   scene.where("mesh.file"));
+                   (given ? std::string("the mesh given") : scene.mesh.file.string()) + ": " +
+                       count_text(mesh.num_vertices()) + " vertices, " + count_text(static_cast<double>(contact.size())) +
+                       " on the contact faces",
+                   given ? scene.where("mesh") : scene.where("mesh.file"));
   }
   out->has_contact = scene.contact.has_value();
   out->warnings = scene_warnings(scene);
   return out;
+}
+
+}  // namespace
+
+std::unique_ptr<BuiltProblem3D> build_problem_3d(const Scene& scene) {
+  require_solid_scene(scene);
+  return build_on(scene, scene_mesh_3d(scene), false);
+}
+
+std::unique_ptr<BuiltProblem3D> build_problem_3d(const Scene& scene, Mesh3D mesh) {
+  require_solid_scene(scene);
+  return build_on(scene, std::move(mesh), true);
 }
 
 }  // namespace hemivem

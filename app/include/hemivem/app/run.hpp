@@ -9,6 +9,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -63,9 +64,10 @@ struct RunOptions {
   /// Called after each step of a path (with the number of steps) or of an adaptive sequence.
   std::function<void(const PathStep&, int steps)> on_path_step;
   std::function<void(const AdaptStep&)> on_adapt_step;
-  /// A plane mesh to solve on instead of the scene's (SceneSolveOptions::mesh); InputError
-  /// (naming `mesh_key`) for a solid scene.
-  std::optional<Mesh> mesh;
+  /// A mesh of one's own to solve on instead of the scene's (SceneSolveOptions::mesh,
+  /// SceneSolve3DOptions::mesh): a Mesh for a plane scene, a Mesh3D for a solid one; the other
+  /// is an InputError naming `mesh_key`.
+  std::optional<std::variant<Mesh, Mesh3D>> mesh;
   std::string mesh_key = "mesh";
   bool apply_region_boxes = true;
   std::string mesh_description = "a mesh given by the caller";

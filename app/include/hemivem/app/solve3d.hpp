@@ -51,6 +51,10 @@ struct SceneSolve3DOptions {
   ReducedProblem* reduced = nullptr;
   /// Reports the runs of a global search.
   std::function<void(const GlobalSearchProgress&)> progress;
+  /// A mesh to solve on instead of the scene's (build_problem_3d(scene, mesh)).
+  std::optional<Mesh3D> mesh;
+  /// How that mesh was made, for reports (SceneSolve3D::mesh_description).
+  std::string mesh_description = "a mesh given by the caller";
 };
 
 /// Creates the engines the scene names (an unknown or unbuilt name is an InputError before any

@@ -357,7 +357,7 @@ std::unique_ptr<BuiltProblem> build_problem(const Scene& scene);
 /// A three-dimensional scene made concrete. Not movable: problem.elasticity.mesh points at mesh.
 struct BuiltProblem3D {
   Mesh3D mesh;
-  ContactProblem3D problem;  ///< contact_faces empty and law null when has_contact is false
+  ContactProblem3D problem;  ///< no contact parts when has_contact is false
   bool has_contact = false;
   std::vector<std::string> warnings;  ///< scene_warnings(scene)
   BuiltProblem3D() = default;
@@ -373,6 +373,11 @@ struct BuiltProblem3D {
 /// (a side or group that selects no boundary face, an unknown face group, a region without
 /// material); InputError for a two-dimensional scene.
 std::unique_ptr<BuiltProblem3D> build_problem_3d(const Scene& scene);
+/// The same on a mesh of one's own instead of the scene's (its mesh keys are not used): the
+/// scene's sides are the sides of this mesh's bounding box, its groups this mesh's face groups
+/// and its regions this mesh's region ids; the memory the solve needs is checked under the
+/// scene's `mesh` key.
+std::unique_ptr<BuiltProblem3D> build_problem_3d(const Scene& scene, Mesh3D mesh);
 
 /// The same on a given mesh instead of the scene's (its mesh keys are not used): the scene's
 /// region boxes are applied to it when `apply_region_boxes` (a mesh of one's own), and not
