@@ -28,11 +28,7 @@ using namespace hemivem;
 
 namespace {
 
-std::unique_ptr<SparseFactorization> engine() {
-  FactorizationOptions o;
-  o.engine = "eigen";
-  return make_factorization(o);
-}
+std::unique_ptr<SparseFactorization> engine() { return test::eigen_engine(); }
 
 /// Example 4.1 in three dimensions (test::example_4_1_3d), its contact part named "foundation".
 ContactProblem3D example(const Mesh3D& mesh) {
@@ -192,32 +188,7 @@ TEST(SolidParity, TheConditionEstimateWarnsForANearlyIncompressibleBlock) {
 TEST(SolidParity, ABlockBetweenRollersOnALinearFoundationSettlesByLoadOverStiffness) {
   // rollers on the four sides (the normal component only): nothing but the foundation holds the
   // block vertically; every contact node settles by the pressure over the stiffness, 2 / 50
-  const std::string text = R"(schema_version = 1
-title = "block between rollers"
-[mesh]
-generator = "cubes"
-n = [4, 3, 2]
-domain = [0.0, 2.0, 0.0, 1.5, 0.0, 1.0]
-[material]
-E = 100.0
-nu = 0.3
-[[dirichlet]]
-side = ["x0", "x1"]
-ux = 0.0
-[[dirichlet]]
-side = ["y0", "y1"]
-uy = 0.0
-[[loads.traction]]
-side = "top"
-value = [0.0, 0.0, -2.0]
-[contact]
-side = "bottom"
-law = "linear"
-constraint = "none"
-[contact.parameters]
-stiffness = 50.0
-)";
-  const app::SceneRun run = app::run_scene(parse_scene_string(text, "rollers.toml"));
+  const app::SceneRun run = app::run_scene(parse_scene(test::scenes_dir() / "block-between-rollers-3d.toml"));
   const ContactSolution3D& s = run.solid()->solution;
   ASSERT_TRUE(s.converged()) << s.message;
   ASSERT_EQ(s.held_by_contact.size(), 1u);

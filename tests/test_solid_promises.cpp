@@ -22,11 +22,7 @@ using namespace hemivem;
 
 namespace {
 
-std::unique_ptr<SparseFactorization> engine() {
-  FactorizationOptions o;
-  o.engine = "eigen";
-  return make_factorization(o);
-}
+std::unique_ptr<SparseFactorization> engine() { return test::eigen_engine(); }
 
 std::string num(double v) {
   std::ostringstream s;

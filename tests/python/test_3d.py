@@ -272,31 +272,7 @@ def test_a_three_dimensional_result_has_its_error_estimate(small_3d):
 
 def test_a_solid_held_by_its_foundation_names_the_motion():
     # a block between rollers on its four sides, on a linear foundation: held vertically by it alone
-    text = """schema_version = 1
-[mesh]
-generator = "cubes"
-n = [2, 2, 2]
-domain = [0.0, 1.0, 0.0, 1.0, 0.0, 1.0]
-[material]
-E = 100.0
-nu = 0.3
-[[dirichlet]]
-side = ["x0", "x1"]
-ux = 0.0
-[[dirichlet]]
-side = ["y0", "y1"]
-uy = 0.0
-[[loads.traction]]
-side = "top"
-value = [0.0, 0.0, -2.0]
-[contact]
-side = "bottom"
-law = "linear"
-constraint = "none"
-[contact.parameters]
-stiffness = 50.0
-"""
-    r = hemivem.solve(text)
+    r = hemivem.solve(ROOT / "scenes" / "block-between-rollers-3d.toml")
     assert r.converged
     assert len(r.held_by_contact) == 1 and "translation along (0, 0, 1)" in r.held_by_contact[0]
     assert r.json()["held_by_contact"] == r.held_by_contact

@@ -5,6 +5,7 @@
 
 #include <hemivem/contact/contact3d.hpp>
 #include <hemivem/contact/piecewise_law.hpp>
+#include <hemivem/linear_backends.hpp>
 
 namespace hemivem::test {
 
@@ -60,6 +61,13 @@ inline ContactProblem3D example_4_1_3d(const Mesh3D& mesh, double s = 1.0, doubl
   contact.constraint = ConstraintKind::box;
   p.parts.push_back(std::move(contact));
   return p;
+}
+
+/// The Eigen factorization, the engine the 3D tests solve with.
+inline std::unique_ptr<SparseFactorization> eigen_engine() {
+  FactorizationOptions o;
+  o.engine = "eigen";
+  return make_factorization(o);
 }
 
 }  // namespace hemivem::test
