@@ -194,7 +194,8 @@ value = [0.0, -1.0]
     run_scene(solid);
     FAIL() << "a clamped contact part was solved";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("contact"), std::string::npos) << e.what();
+    EXPECT_EQ(e.where(), solid.where("contact")) << e.what();
+    EXPECT_NE(e.detail().find("every node of the contact part is also clamped"), std::string::npos) << e.what();
   }
   // the core marks what a defect is about
   Scene pinned = default_scene();

@@ -59,7 +59,7 @@ struct RunInfo {
 /// the stage "estimate" of the timings).
 nlohmann::json error_estimate_json(const ErrorEstimate& estimate);
 
-/// The result.json document ("schema": "hemivem-result/11", "dimension": 2).
+/// The result.json document ("schema": "hemivem-result/12", "dimension": 2).
 nlohmann::json result_json(const Mesh& mesh, const ContactSolution& solution, const RunInfo& info);
 
 /// Whether the contact nodes carry a tangential displacement (friction or a bilateral
