@@ -135,7 +135,7 @@ RunOptions run_options(const SolveOptions& o, std::ostream& err) {
         << b.minimizer << "\n";
   };
   r.progress = [&err](const GlobalSearchProgress& g) { err << progress_line(g) << "\n"; };
-  r.on_path_step = [&err](const PathStep& s, int steps) { err << path_progress_line(s, steps) << "\n"; };
+  r.on_path_step = [&err](const PathProgress& p) { err << p.line << "\n"; };
   r.on_adapt_step = [&err](const AdaptStep& a) { err << adapt_progress_line(a) << "\n"; };
   return r;
 }

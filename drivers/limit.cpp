@@ -299,8 +299,8 @@ nlohmann::json measure_limit(const Scene& scene, bool metis) {
     const auto& elasticity = built->problem.elasticity;
     const Lame lame = elasticity.materials.lame(built->mesh.region(0));
     const double plain =
-        plain_q1_hex_assembly_seconds(built->mesh, make_dof_map_3d(built->mesh, elasticity.dirichlet), lame.lambda, lame.mu);
-    const LinearSystem system = assemble_3d(elasticity);
+        plain_q1_hex_assembly_seconds(built->mesh, make_dof_map(built->mesh, elasticity.dirichlet), lame.lambda, lame.mu);
+    const LinearSystem system = assemble(elasticity);
     const double matrix_bytes = static_cast<double>(system.A.nonZeros()) * (sizeof(double) + sizeof(int)) +
                                 static_cast<double>(system.A.outerSize() + 1) * sizeof(int);
     const ReferenceFactorization r = measure_reference_factorization(system.A, metis);

@@ -46,7 +46,7 @@ const Cube& cube() {
       p.dirichlet.push_back({select_box_side(mesh, box, side), {}, {true, true, true}, side});
     p.tractions.push_back({select_box_side(mesh, box, "top"), [](const Vec3& x) { return Vec3(x[1], -x[0], 10.0); }, {}});
     Cube out;
-    out.system = assemble_3d(p);
+    out.system = assemble(p);
     for (int v = 0; v < mesh.num_vertices(); ++v) {
       const int k = out.system.dofs.free_index[static_cast<std::size_t>(3 * v + 2)];
       if (mesh.vertex(v)[2] == 0.0 && k >= 0) out.block1.push_back(k);

@@ -34,7 +34,7 @@ TEST(Contact3D, BlockPressedOnAPlaneIsUniaxialStress) {
   for (const auto& kind : {"cubes", "tetrahedra"}) {
     const Mesh3D mesh = make_mesh3d(kind, {3, 3, 2}, box);
     const ContactProblem3D p = pressed_block(mesh, box);
-    const ContactSolution3D s = solve_contact_3d(p, engine(), *make_minimizer("ssn"), MinimizerOptions{});
+    const ContactSolution3D s = solve_contact(p, engine(), *make_minimizer("ssn"), MinimizerOptions{});
     ASSERT_TRUE(s.converged()) << kind << ": " << s.message;
     // every bottom node (the corner on both symmetry planes included) is in contact
     EXPECT_EQ(s.contact.size(), 16u) << kind;
@@ -71,7 +71,7 @@ TEST(Contact3D, EveryMinimizerAndLinearEngineAgree) {
     if (m == "global-search") continue;
     for (const std::string& e : available_factorizations()) {
       if (e == "mumps-mpi") continue;
-      const ContactSolution3D s = solve_contact_3d(p, engine(e), *make_minimizer(m), MinimizerOptions{});
+      const ContactSolution3D s = solve_contact(p, engine(e), *make_minimizer(m), MinimizerOptions{});
       ASSERT_TRUE(s.converged()) << m << " with " << e << ": " << s.message;
       answers.push_back(s.u);
     }
@@ -113,7 +113,7 @@ TEST(Contact3D, RefusesWhatItCannotSolve) {
   ContactProblem3D loose = pressed_block(mesh, box);
   loose.elasticity.dirichlet.erase(loose.elasticity.dirichlet.begin() + 1);
   try {
-    (void)solve_contact_3d(loose, engine(), *make_minimizer("ssn"), MinimizerOptions{});
+    (void)solve_contact(loose, engine(), *make_minimizer("ssn"), MinimizerOptions{});
     FAIL();
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("translation along y"), std::string::npos) << e.what();
@@ -123,14 +123,14 @@ TEST(Contact3D, RefusesWhatItCannotSolve) {
   ContactProblem3D normal_fixed = pressed_block(mesh, box);
   normal_fixed.elasticity.dirichlet.push_back({select_box_side(mesh, box, "x1"), {}, {false, false, true}, "x1"});
   try {
-    (void)solve_contact_3d(normal_fixed, engine(), *make_minimizer("ssn"), MinimizerOptions{});
+    (void)solve_contact(normal_fixed, engine(), *make_minimizer("ssn"), MinimizerOptions{});
     FAIL();
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("not tangential"), std::string::npos) << e.what();
   }
   // friction on a 3D boundary
-  const LinearSystem sys = assemble_3d(pressed_block(mesh, box).elasticity);
-  const ContactBoundary b = make_contact_boundary_3d(mesh, select_box_side(mesh, box, "bottom"), sys.dofs, {});
+  const LinearSystem sys = assemble(pressed_block(mesh, box).elasticity);
+  const ContactBoundary b = make_contact_boundary(mesh, select_box_side(mesh, box, "bottom"), sys.dofs, {});
   EXPECT_EQ(b.dimension, 3);
   EXPECT_THROW(Condensation(sys, b, engine(), zero_law(), ConstraintKind::box, tresca_law(0.1)), InputError);
 }
@@ -143,10 +143,10 @@ TEST(Contact3D, WeightsAreAreaSharesAndNormalsAreAreaWeighted) {
   e.mesh = &mesh;
   e.materials = MaterialTable(Material{1.0, 0.0}, PlaneModel::strain);
   e.dirichlet.push_back({select_box_side(mesh, box, "x0"), {}, {true, true, true}, "x0"});
-  const LinearSystem sys = assemble_3d(e);
+  const LinearSystem sys = assemble(e);
   std::vector<int> faces = select_box_side(mesh, box, "top");
   for (int f : select_box_side(mesh, box, "x1")) faces.push_back(f);
-  const ContactBoundary b = make_contact_boundary_3d(mesh, faces, sys.dofs, {});
+  const ContactBoundary b = make_contact_boundary(mesh, faces, sys.dofs, {});
   // nodes off x0: the top's 4 at x = 1, 2 and the x1 side's 4 (two shared)
   ASSERT_EQ(b.size(), 6);
   double total = 0.0;
@@ -168,7 +168,7 @@ TEST(Contact3D, PressuresAreExactOnVoronoiFaces) {
   const Box box{0.0, 1.0, 0.0, 1.0, 0.0, 0.5};
   const Mesh3D mesh = make_mesh3d("voronoi", {4, 4, 2}, box);
   const ContactProblem3D p = pressed_block(mesh, box);
-  const ContactSolution3D s = solve_contact_3d(p, engine(), *make_minimizer("ssn"), MinimizerOptions{});
+  const ContactSolution3D s = solve_contact(p, engine(), *make_minimizer("ssn"), MinimizerOptions{});
   ASSERT_TRUE(s.converged()) << s.message;
   const double stress = young * depth / 0.5;
   double area = 0.0;

@@ -33,7 +33,7 @@ std::unique_ptr<SparseFactorization> engine() {
 ContactSolution3D solve(const ContactProblem3D& p) {
   MinimizerOptions o;
   o.tolerance = 1e-11;
-  return solve_contact_3d(p, engine(), *make_minimizer("ssn"), o);
+  return solve_contact(p, engine(), *make_minimizer("ssn"), o);
 }
 
 constexpr double young = test::pressed_block_young, poisson = test::pressed_block_poisson,
@@ -128,7 +128,7 @@ TEST(ErrorEstimate3D, VanishesWhereTheDiscreteSolutionIsExact) {
     const ContactProblem3D p = pressed_block(mesh, box);
     const ContactSolution3D s = solve(p);
     ASSERT_TRUE(s.converged()) << kind << ": " << s.message;
-    const ErrorEstimate e = estimate_error_3d(p, s);
+    const ErrorEstimate e = estimate_error(p, s);
     EXPECT_GT(e.norm, 0.0) << kind;
     EXPECT_LT(e.relative, 1e-9) << kind << ": contact " << e.parts.at("contact") << ", jump " << e.parts.at("jump")
                                 << ", traction " << e.parts.at("traction") << ", stabilization "
@@ -147,7 +147,7 @@ TEST(ErrorEstimate3D, AWrongContactTractionShowsInTheContactPart) {
   ASSERT_TRUE(s.converged()) << s.message;
   ASSERT_FALSE(s.contact.empty());
   s.contact.front().reaction *= 2.0;  // twice the pressure at one node
-  const ErrorEstimate e = estimate_error_3d(p, s);
+  const ErrorEstimate e = estimate_error(p, s);
   EXPECT_GT(e.parts.at("contact"), 1e-3 * e.norm);
   EXPECT_LT(e.parts.at("jump"), 1e-9 * e.norm);
   // only the cells with a face at that node carry it
@@ -174,7 +174,7 @@ TEST(ErrorEstimate3D, EffectivityOnASmoothSolutionIsSteady) {
       const ContactProblem3D p = smooth_problem(mesh);
       const ContactSolution3D s = solve(p);
       ASSERT_TRUE(s.converged()) << band.kind << " n = " << n << ": " << s.message;
-      const ErrorEstimate e = estimate_error_3d(p, s);
+      const ErrorEstimate e = estimate_error(p, s);
       const double err = std::sqrt(s.energy - exact_energy(p));
       errors.push_back(err);
       estimates.push_back(e.energy);
@@ -201,7 +201,7 @@ TEST(ErrorEstimate3D, ASolutionOfTheWrongSizeIsAnInputError) {
   const ContactProblem3D p = smooth_problem(mesh);
   ContactSolution3D s;
   s.u = Eigen::VectorXd::Zero(2 * mesh.num_vertices());
-  EXPECT_THROW(estimate_error_3d(p, s), InputError);
+  EXPECT_THROW(estimate_error(p, s), InputError);
   ContactProblem3D no_mesh;
-  EXPECT_THROW(estimate_error_3d(no_mesh, s), InputError);
+  EXPECT_THROW(estimate_error(no_mesh, s), InputError);
 }

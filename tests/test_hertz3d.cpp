@@ -19,7 +19,7 @@ TEST(Hertz3D, ContactRadiusAndPeakPressureWithinFivePercent) {
   const auto available = available_factorizations();
   if (std::find(available.begin(), available.end(), "cholmod") == available.end()) o.engine = "eigen";
   const ContactSolution3D sol =
-      solve_contact_3d(hertz3d::problem(s, mesh), make_factorization(o), *make_minimizer("ssn"), MinimizerOptions{});
+      solve_contact(hertz3d::problem(s, mesh), make_factorization(o), *make_minimizer("ssn"), MinimizerOptions{});
   ASSERT_TRUE(sol.converged()) << sol.message;
   const hertz3d::Measured m = hertz3d::measure(s, sol);
   EXPECT_GE(m.full_disk, 100);

@@ -85,9 +85,11 @@ TEST(RunScene, APathRunsEveryStepAndEndsWhereTheStaticSolveIs) {
   apply_overrides(scene, {"path.steps=4"});
   int steps_seen = 0;
   RunOptions options;
-  options.on_path_step = [&](const PathStep&, int steps) {
+  options.on_path_step = [&](const PathProgress& p) {
     ++steps_seen;
-    EXPECT_EQ(steps, 4);
+    EXPECT_EQ(p.steps, 4);
+    EXPECT_EQ(p.step, steps_seen);
+    EXPECT_NE(p.line.find("step " + std::to_string(p.step) + "/4"), std::string::npos) << p.line;
   };
   const SceneRun run = run_scene(scene, std::move(options));
   EXPECT_EQ(run.kind(), RunKind::path);

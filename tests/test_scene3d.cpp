@@ -223,8 +223,8 @@ TEST(Scene3D, BadInputNamesTheKeyAndWhatWasExpected) {
                     {"solid.toml:5", "contact.obstacle.shape", "'sphere' is an obstacle of three-dimensional scenes"}));
   EXPECT_TRUE(holds(scene_error(contact + "[contact.friction]\nlaw = \"tresca\"\n"),
                     {"solid.toml:8", "contact.friction", "not available for three-dimensional scenes"}));
-  EXPECT_TRUE(holds(scene_error(kBox + "[path]\nsteps = 4\n"),
-                    {"solid.toml:6", "path: not available for three-dimensional scenes"}));
+  // a loading path is a solid's as a plane's (tests/test_path_solid.cpp solves them)
+  EXPECT_EQ(parse_scene_string(kBox + "[path]\nsteps = 4\n", "solid.toml").path->factors().size(), 4u);
   EXPECT_TRUE(holds(scene_error(kBox + "[adapt]\ntarget = 0.1\n"),
                     {"solid.toml:6", "adapt: not available for three-dimensional scenes"}));
   EXPECT_TRUE(holds(scene_error(kBox + "[material]\nmodel = \"plane-strain\"\n"),

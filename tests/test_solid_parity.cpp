@@ -58,8 +58,8 @@ TEST(SolidParity, APartThatNeverTouchesChangesNothing) {
   lid.law = zero_law();
   lid.constraint = ConstraintKind::one_sided;
   two.parts.push_back(lid);
-  const ContactSolution3D a = solve_contact_3d(one, engine(), *make_minimizer("ssn"), MinimizerOptions{});
-  const ContactSolution3D b = solve_contact_3d(two, engine(), *make_minimizer("ssn"), MinimizerOptions{});
+  const ContactSolution3D a = solve_contact(one, engine(), *make_minimizer("ssn"), MinimizerOptions{});
+  const ContactSolution3D b = solve_contact(two, engine(), *make_minimizer("ssn"), MinimizerOptions{});
   ASSERT_TRUE(a.converged()) << a.message;
   ASSERT_TRUE(b.converged()) << b.message;
   EXPECT_LE(max_abs(a.u - b.u), 1e-9 * max_abs(a.u));
@@ -86,7 +86,7 @@ TEST(SolidParity, AFaceInTwoPartsIsRefusedNamingBoth) {
   again.name = "again";
   p.parts.push_back(again);
   try {
-    (void)solve_contact_3d(p, engine(), *make_minimizer("ssn"), MinimizerOptions{});
+    (void)solve_contact(p, engine(), *make_minimizer("ssn"), MinimizerOptions{});
     FAIL() << "a face in two parts was accepted";
   } catch (const InputError& e) {
     const std::string what = e.what();
@@ -98,7 +98,7 @@ TEST(SolidParity, AFaceInTwoPartsIsRefusedNamingBoth) {
 TEST(SolidParity, AWarmStartFromTheSolutionNeedsNoNewtonStep) {
   const Mesh3D mesh = make_mesh3d("cubes", {4, 2, 4}, kBox);
   const ContactProblem3D p = example(mesh);
-  const ContactSolution3D cold = solve_contact_3d(p, engine(), *make_minimizer("ssn"), MinimizerOptions{});
+  const ContactSolution3D cold = solve_contact(p, engine(), *make_minimizer("ssn"), MinimizerOptions{});
   ASSERT_TRUE(cold.converged());
   ASSERT_GT(cold.iterations(), 1);
   const auto minimizer = make_minimizer("ssn");
@@ -149,7 +149,7 @@ normal = [0.0, 0.0, -1.0]
   EXPECT_EQ(run.solid()->solution.contact_parts, (std::vector<std::string>{"foundation", "lid"}));
   // the same as the problem posed in code
   const Mesh3D mesh = make_mesh3d("cubes", {4, 2, 4}, kBox);
-  const ContactSolution3D direct = solve_contact_3d(example(mesh), engine(), *make_minimizer("ssn"), MinimizerOptions{});
+  const ContactSolution3D direct = solve_contact(example(mesh), engine(), *make_minimizer("ssn"), MinimizerOptions{});
   EXPECT_NEAR(run.solid()->solution.energy, direct.energy, 1e-9 * std::abs(direct.energy));
   const auto dir = std::filesystem::temp_directory_path() / ("hemivem-solid-parts-" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);

@@ -59,7 +59,7 @@ TEST(SolidPromises, SameProblemAtEveryScaleGivesTheSamePressures) {
     SCOPED_TRACE("s = " + num(s));
     const Mesh3D mesh = make_cubes({4, 2, 4}, Box{0.0, s, 0.0, 0.5 * s, 0.0, s});
     const ContactProblem3D p = example_at_scale(mesh, s);
-    const ContactSolution3D sol = solve_contact_3d(p, engine(), *make_minimizer("ssn"), MinimizerOptions{});
+    const ContactSolution3D sol = solve_contact(p, engine(), *make_minimizer("ssn"), MinimizerOptions{});
     ASSERT_TRUE(sol.converged()) << sol.message;
     if (s == 1.0) {
       reference = sol;
@@ -92,7 +92,7 @@ TEST(SolidPromises, TetrahedraFarFromTheOriginSolveAsAtTheOrigin) {
   const Box box{0.0, 1.0, 0.0, 1.0, 0.0, 0.5};
   const Mesh3D mesh = make_tetrahedra({3, 3, 2}, box);
   const ContactProblem3D p = test::pressed_block(mesh, box);
-  const ContactSolution3D at_origin = solve_contact_3d(p, engine(), *make_minimizer("ssn"), MinimizerOptions{});
+  const ContactSolution3D at_origin = solve_contact(p, engine(), *make_minimizer("ssn"), MinimizerOptions{});
   ASSERT_TRUE(at_origin.converged()) << at_origin.message;
   const double scale = at_origin.u.cwiseAbs().maxCoeff();
   for (double t : {3e7, 1e10}) {
@@ -100,7 +100,7 @@ TEST(SolidPromises, TetrahedraFarFromTheOriginSolveAsAtTheOrigin) {
     const Box far{t, t + 1.0, 0.0, 1.0, 0.0, 0.5};
     const Mesh3D moved = translated(mesh, Vec3(t, 0.0, 0.0));
     const ContactProblem3D q = test::pressed_block(moved, far);
-    const ContactSolution3D s = solve_contact_3d(q, engine(), *make_minimizer("ssn"), MinimizerOptions{});
+    const ContactSolution3D s = solve_contact(q, engine(), *make_minimizer("ssn"), MinimizerOptions{});
     ASSERT_TRUE(s.converged()) << s.message;
     const double roundoff = std::numeric_limits<double>::epsilon() * t / h;
     EXPECT_LE((s.u - at_origin.u).cwiseAbs().maxCoeff(), 100.0 * roundoff * scale);
@@ -158,7 +158,7 @@ TEST(SolidPromises, APieceNoSupportHoldsIsRefusedByName) {
     ContactProblem3D q = p;
     if (!contact) q.parts.clear();
     try {
-      (void)solve_contact_3d(q, engine(), *make_minimizer("ssn"), MinimizerOptions{});
+      (void)solve_contact(q, engine(), *make_minimizer("ssn"), MinimizerOptions{});
       FAIL() << "the floating box was solved";
     } catch (const InputError& e) {
       const std::string what = e.what();
@@ -174,7 +174,7 @@ TEST(SolidPromises, APieceNoSupportHoldsIsRefusedByName) {
   // holding the second box too: solved
   p.elasticity.dirichlet.push_back(
       {select_boundary_faces(mesh, [](const Vec3& x) { return std::abs(x.x() - 3.0) < 1e-12; }), {}, {true, true, true}, "x3"});
-  const ContactSolution3D s = solve_contact_3d(p, engine(), *make_minimizer("ssn"), MinimizerOptions{});
+  const ContactSolution3D s = solve_contact(p, engine(), *make_minimizer("ssn"), MinimizerOptions{});
   EXPECT_TRUE(s.converged()) << s.message;
   EXPECT_LT(s.u.cwiseAbs().maxCoeff(), 1.0);
   EXPECT_LT(s.forces.residual(), 1e-8);
@@ -189,7 +189,7 @@ TEST(SolidPromises, ANegativeObstacleGapUnderTheBoxConstraintIsRefusedBeforeTheE
   p.parts[0].obstacle->point = Vec3(0.0, 0.0, 0.1);  // the plane inside the block: g = -0.1
   p.parts[0].constraint = ConstraintKind::box;
   try {
-    (void)solve_contact_3d(p, engine(), *make_minimizer("ssn"), MinimizerOptions{});
+    (void)solve_contact(p, engine(), *make_minimizer("ssn"), MinimizerOptions{});
     FAIL() << "a negative gap was solved under the box constraint";
   } catch (const InputError& e) {
     const std::string what = e.what();
@@ -199,7 +199,7 @@ TEST(SolidPromises, ANegativeObstacleGapUnderTheBoxConstraintIsRefusedBeforeTheE
     EXPECT_NE(what.find("contact.constraint = \"one-sided\""), std::string::npos) << what;
   }
   p.parts[0].constraint = ConstraintKind::one_sided;  // the same obstacle one-sided: solved
-  EXPECT_TRUE(solve_contact_3d(p, engine(), *make_minimizer("ssn"), MinimizerOptions{}).converged());
+  EXPECT_TRUE(solve_contact(p, engine(), *make_minimizer("ssn"), MinimizerOptions{}).converged());
 }
 
 TEST(SolidPromises, ANegativeObstacleGapInASceneNamesTheKeyAndLine) {
@@ -252,10 +252,10 @@ TEST(SolidPromises, NearlyIncompressibleBodiesReportALargeConditionEstimate) {
   std::map<double, ContactSolution3D> by_nu;
   for (double nu : {0.3, 0.4999999999999}) {
     const ContactProblem3D p = example_at_scale(mesh, 1.0, nu);
-    const ContactSolution3D plain = solve_contact_3d(p, engine(), *make_minimizer("ssn"), MinimizerOptions{});
+    const ContactSolution3D plain = solve_contact(p, engine(), *make_minimizer("ssn"), MinimizerOptions{});
     EXPECT_TRUE(std::isnan(plain.condition_estimate));  // not asked for
     EXPECT_TRUE(std::isnan(plain.rcond));
-    const ContactSolution3D s = solve_contact_3d(p, engine(), *make_minimizer("ssn"), MinimizerOptions{}, nullptr, true);
+    const ContactSolution3D s = solve_contact(p, engine(), *make_minimizer("ssn"), MinimizerOptions{}, nullptr, true);
     ASSERT_TRUE(std::isfinite(s.condition_estimate)) << nu;
     // the margin's round-off bound grows with the estimate, and nothing else changes
     EXPECT_GE(s.uniqueness_roundoff, plain.uniqueness_roundoff) << nu;
@@ -268,6 +268,6 @@ TEST(SolidPromises, NearlyIncompressibleBodiesReportALargeConditionEstimate) {
   // without contact faces: the estimate of A
   ContactProblem3D linear = example_at_scale(mesh, 1.0, 0.4999999999999);
   linear.parts.clear();
-  const ContactSolution3D s = solve_contact_3d(linear, engine(), *make_minimizer("ssn"), MinimizerOptions{}, nullptr, true);
+  const ContactSolution3D s = solve_contact(linear, engine(), *make_minimizer("ssn"), MinimizerOptions{}, nullptr, true);
   EXPECT_GE(s.condition_estimate, unreliable);
 }

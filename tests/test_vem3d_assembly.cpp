@@ -107,7 +107,7 @@ TEST(Vem3DAssembly, TetrahedraEqualP1FiniteElements) {
   const VectorField3 traction = [](const Vec3& x) { return Vec3(3.0 * x.y(), -1.0 + x.x(), -2.0); };
   p.tractions.push_back({top, traction, {}});
   p.dirichlet.push_back({left, {}, {true, true, true}, "clamped"});
-  const Eigen::VectorXd u = solve_free(assemble_3d(p));
+  const Eigen::VectorXd u = solve_free(assemble(p));
   const Eigen::VectorXd reference = p1_solve(mesh, steel().lame(0), p.body_force, top, traction, left);
   EXPECT_GT(reference.cwiseAbs().maxCoeff(), 1e-3);
   EXPECT_LT((u - reference).cwiseAbs().maxCoeff(), 1e-10 * reference.cwiseAbs().maxCoeff());
@@ -126,12 +126,12 @@ TEST(Vem3DAssembly, PatchTestOnEveryMesh) {
     p.mesh = &mesh;
     p.materials = steel();
     p.dirichlet.push_back({mesh.boundary_faces(), exact, {true, true, true}, "all"});
-    const Eigen::VectorXd u = solve_free(assemble_3d(p));
+    const Eigen::VectorXd u = solve_free(assemble(p));
     double err = 0.0;
     for (int v = 0; v < mesh.num_vertices(); ++v) err = std::max(err, (u.segment<3>(3 * v) - exact(mesh.vertex(v))).norm());
     EXPECT_LT(err, 1e-13) << kind;
     // the projection of each cell is the field itself
-    for (const LinearField3& f : project_solution_3d(mesh, u)) EXPECT_LT((f.gradient - G).norm(), 1e-12) << kind;
+    for (const LinearField3& f : project_solution(mesh, u)) EXPECT_LT((f.gradient - G).norm(), 1e-12) << kind;
   }
 }
 
@@ -150,7 +150,7 @@ TEST(Vem3DAssembly, UniformPressureGivesUniformStress) {
     p.dirichlet.push_back({select_box_side(mesh, box, "y0"), {}, {false, true, false}, "y0"});
     p.dirichlet.push_back({select_box_side(mesh, box, "z0"), {}, {false, false, true}, "z0"});
     p.tractions.push_back({select_box_side(mesh, box, "top"), {}, [&](const Vec3&) { return p0; }});
-    const Eigen::VectorXd u = solve_free(assemble_3d(p));
+    const Eigen::VectorXd u = solve_free(assemble(p));
     for (int v = 0; v < mesh.num_vertices(); ++v) {
       const Vec3 x = mesh.vertex(v);
       const Vec3 expected(m.poisson * p0 / m.young * x.x(), m.poisson * p0 / m.young * x.y(), -p0 / m.young * x.z());

@@ -143,7 +143,7 @@ void run_engine_pairs(const std::string& linear, const std::vector<Pair>& pairs,
     FactorizationOptions fo;
     fo.engine = linear;
     if (out.built3d)
-      sols3d = solve_contact_3d(out.built3d->problem, system, make_factorization(fo), minimizers, mo,
+      sols3d = solve_contact(out.built3d->problem, system, make_factorization(fo), minimizers, mo,
                                 has_contact ? &reduced : nullptr);
     else
       sols = solve_contact(out.built->problem, system, make_factorization(fo), minimizers, mo,
@@ -193,7 +193,7 @@ PairRuns run_pairs(const Scene& scene, const std::vector<Pair>& pairs, const Pai
   }
   out.mesh_seconds = since(t_mesh);
   const auto t_assembly = Clock::now();
-  const LinearSystem system = solid ? assemble_3d(out.built3d->problem.elasticity) : assemble(out.built->problem.elasticity);
+  const LinearSystem system = solid ? assemble(out.built3d->problem.elasticity) : assemble(out.built->problem.elasticity);
   out.assembly_seconds = since(t_assembly);
   out.assemblies = 1;
 

@@ -128,8 +128,8 @@ void draw_solve_figures(const OutputTransaction& tx, const fs::path& dir, const 
       figures.push_back(mesh_figure(mesh, info, "mesh, " + std::to_string(mesh.num_elements()) + " elements"));
     if (want("adapt.png") && info.adapt.is_null()) report.skipped.push_back("adapt.png: not an adaptive solve");
     if (want("adapt.png") && !info.adapt.is_null()) figures.push_back(adapt_figure(info));
-    if (want("path.png") && !info.path) report.skipped.push_back("path.png: not a loading path");
-    if (want("path.png") && info.path) figures.push_back(path_figure(*info.path, info));
+    if (want("path.png") && !path_of<2>(info)) report.skipped.push_back("path.png: not a loading path");
+    if (want("path.png") && path_of<2>(info)) figures.push_back(path_figure(*path_of<2>(info), info));
     const std::vector<std::string> reasons = draw_figures(tx.staging(), figures);
     for (std::size_t i = 0; i < figures.size(); ++i) {
       if (reasons[i].empty()) report.written.push_back(dir / figures[i].png);
@@ -208,7 +208,7 @@ nlohmann::json result_json(const Mesh& mesh, const ContactSolution& s, const Run
                                              {"x", {number(zone.lower.x()), number(zone.upper.x())}},
                                              {"y", {number(zone.lower.y()), number(zone.upper.y())}}};
   j["adapt"] = info.adapt.is_null() ? json(nullptr) : info.adapt;
-  j["path"] = info.path ? path_summary_json(*info.path) : json(nullptr);
+  j["path"] = path_of<2>(info) ? path_summary_json(*path_of<2>(info)) : json(nullptr);
   return j;
 }
 
@@ -296,8 +296,9 @@ OutputReport write_outputs(const fs::path& dir, const Mesh& mesh, const Material
   for (const auto& name : all_outputs_3d())  // a three-dimensional run's files too
     if (std::find(owned.begin(), owned.end(), name) == owned.end()) owned.push_back(name);
   for (const auto& name : frame_files_in(dir)) owned.push_back(name);
-  if (info.path)
-    for (const auto& name : frame_files(*info.path)) owned.push_back(name);
+  const PathSolution* path = path_of<2>(info);
+  if (path)
+    for (const auto& name : frame_files(*path)) owned.push_back(name);
   OutputTransaction tx(dir, owned);
   OutputReport report;
   auto write = [&](const std::string& name, const std::function<void(std::ostream&)>& body) {
@@ -309,8 +310,7 @@ OutputReport write_outputs(const fs::path& dir, const Mesh& mesh, const Material
   listed.files.clear();
   for (const auto& k : known)
     if (want(k)) listed.files.push_back(k);
-  if (info.path && want("solution.pvd"))
-    for (const auto& name : frame_files(*info.path)) listed.files.push_back(name);
+  for (const auto& name : listed_frames(path, want)) listed.files.push_back(name);
   write("result.json", [&](std::ostream& os) { os << result_json(mesh, solution, listed).dump(2) << '\n'; });
   write("contact.csv", [&](std::ostream& os) { write_contact_csv(os, solution); });
   write("displacement.csv", [&](std::ostream& os) { write_displacement_csv(os, mesh, solution.u); });
@@ -322,27 +322,9 @@ OutputReport write_outputs(const fs::path& dir, const Mesh& mesh, const Material
   write("mesh.poly2d", [&](std::ostream& os) {
     write_poly2d(os, mesh, {"the mesh of " + info.mesh, "regions and edge groups are not part of this format"});
   });
-  if (!info.path)
-    for (const char* name : {"path.json", "path-contact.csv", "path-displacement.csv", "solution.pvd"})
-      if (want(name)) report.skipped.push_back(std::string(name) + ": not a loading path");
-  if (info.path) {
-    const PathSolution& path = *info.path;
-    write("path.json", [&](std::ostream& os) { os << path_json(path).dump(2) << '\n'; });
-    write("path-contact.csv", [&](std::ostream& os) { write_path_contact_csv(os, path); });
-    write("path-displacement.csv", [&](std::ostream& os) { write_path_displacement_csv(os, mesh, path); });
-    if (want("solution.pvd")) {
-      for (const PathStep& step : path.steps) {
-        if (step.u.size() == 0) continue;
-        ContactSolution frame;
-        frame.u = step.u;
-        frame.contact = step.contact;
-        const std::string name = frame_file(step);
-        tx.write(name, [&](std::ostream& os) { write_vtu(os, mesh, materials, frame, nullptr); });
-        report.written.push_back(dir / name);
-      }
-      write("solution.pvd", [&](std::ostream& os) { write_pvd(os, path); });
-    }
-  }
+  write_path_files<Mesh, 2>(tx, dir, mesh, path, want,
+                            [&](std::ostream& os, const ContactSolution& frame) { write_vtu(os, mesh, materials, frame, nullptr); },
+                            report);
   draw_solve_figures(tx, dir, mesh, solution, info, want, report);
   // A plot that could not be made is not in the folder: result.json says so.
   if (want("result.json") && report.written.size() != listed.files.size()) {

@@ -3,6 +3,8 @@
 // transaction.
 #include <hemivem/app/outputs3d.hpp>
 
+#include "path_outputs.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -26,7 +28,9 @@ namespace fs = std::filesystem;
 const std::vector<std::string>& all_outputs_3d() {
   static const std::vector<std::string> names{"result.json",         "contact.csv", "displacement.csv",
                                               "history.csv",         "solution.vtu", "contact-surface.vtu",
-                                              "scene.toml",          "deformed.png", "pressure.png"};
+                                              "scene.toml",          "deformed.png", "pressure.png",
+                                              "path.json",           "path-contact.csv", "path-displacement.csv",
+                                              "solution.pvd",        "path.png"};
   return names;
 }
 
@@ -39,7 +43,7 @@ std::vector<CellStress3D> cell_stresses_3d(const Mesh3D& mesh, const MaterialTab
   if (u.size() != 3 * static_cast<Eigen::Index>(mesh.num_vertices()))
     throw InputError("a displacement of " + std::to_string(u.size()) + " values for a mesh of " +
                      std::to_string(mesh.num_vertices()) + " vertices (3 per vertex)");
-  const std::vector<LinearField3> projected = project_solution_3d(mesh, u);
+  const std::vector<LinearField3> projected = project_solution(mesh, u);
   std::vector<CellStress3D> out(static_cast<std::size_t>(mesh.num_cells()));
   for (int c = 0; c < mesh.num_cells(); ++c) {
     const Eigen::Matrix3d sigma = stress_3d(projected[static_cast<std::size_t>(c)].gradient, materials.lame(mesh.region(c)));
@@ -148,7 +152,7 @@ nlohmann::json result_json_3d(const Mesh3D& mesh, const ContactSolution3D& s, co
   j["forces"] = forces_json(s.forces);
   j["contact_zone"] = contact_zone_json(s);
   j["adapt"] = nullptr;
-  j["path"] = nullptr;
+  j["path"] = path_of<3>(info) ? path_summary_json(*path_of<3>(info)) : nlohmann::json(nullptr);
   return j;
 }
 
@@ -172,6 +176,9 @@ OutputReport write_outputs_3d(const fs::path& dir, const Mesh3D& mesh, const Mat
   for (const auto& name : all_outputs())
     if (std::find(owned.begin(), owned.end(), name) == owned.end()) owned.push_back(name);
   for (const auto& name : frame_files_in(dir)) owned.push_back(name);
+  const BasicPathSolution<3>* path = path_of<3>(info);
+  if (path)
+    for (const auto& name : frame_files(*path)) owned.push_back(name);
   OutputTransaction tx(dir, owned);
   OutputReport report;
   auto write = [&](const std::string& name, const std::function<void(std::ostream&)>& body) {
@@ -183,6 +190,7 @@ OutputReport write_outputs_3d(const fs::path& dir, const Mesh3D& mesh, const Mat
   listed.files.clear();
   for (const auto& k : known)
     if (want(k)) listed.files.push_back(k);
+  for (const auto& name : listed_frames(path, want)) listed.files.push_back(name);
   write("result.json", [&](std::ostream& os) { os << result_json_3d(mesh, solution, listed).dump(2) << '\n'; });
   write("contact.csv", [&](std::ostream& os) { write_contact_csv(os, solution); });
   write("displacement.csv", [&](std::ostream& os) { write_displacement_csv(os, mesh, solution.u); });
@@ -190,12 +198,17 @@ OutputReport write_outputs_3d(const fs::path& dir, const Mesh3D& mesh, const Mat
   write("solution.vtu", [&](std::ostream& os) { write_vtu_3d(os, mesh, materials, solution, info.error_estimate ? &info.error_estimate->indicators : nullptr); });
   write("contact-surface.vtu", [&](std::ostream& os) { write_contact_surface_vtu(os, mesh, contact_faces, solution); });
   write("scene.toml", [&](std::ostream& os) { os << info.scene_toml; });
+  write_path_files<Mesh3D, 3>(tx, dir, mesh, path, want,
+                              [&](std::ostream& os, const ContactSolution3D& frame) { write_vtu_3d(os, mesh, materials, frame); },
+                              report);
 
   // the pictures: one that cannot be drawn is skipped with its reason, never an error
   std::vector<Figure> figures;
   if (want("pressure.png") && solution.contact.empty()) report.skipped.push_back("pressure.png: no contact boundary");
   try {
     if (want("deformed.png")) figures.push_back(deformed_figure_3d(mesh, solution, info));
+    if (want("path.png") && !path) report.skipped.push_back("path.png: not a loading path");
+    if (want("path.png") && path) figures.push_back(path_figure(*path, info));
     if (want("pressure.png") && !solution.contact.empty())
       figures.push_back(pressure_figure(mesh, contact_faces, solution, info));
     const std::vector<std::string> reasons = draw_figures(tx.staging(), figures);

@@ -1,12 +1,14 @@
 #include <hemivem/app/path.hpp>
 
 #include <hemivem/app/format.hpp>
+#include <hemivem/app/solve3d.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/linear_backends.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
 
 #include "scene_setup.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <sstream>
 
@@ -20,44 +22,61 @@ bool bound_depends_on_normal(const Scene& scene) {
   return false;
 }
 
-nlohmann::json vec(const Vec2& v) { return nlohmann::json::array({number(v.x()), number(v.y())}); }
+template <int dim>
+nlohmann::json vec(const Eigen::Matrix<double, dim, 1>& v) {
+  nlohmann::json out = nlohmann::json::array();
+  for (int c = 0; c < dim; ++c) out.push_back(number(v(c)));
+  return out;
+}
 
 }  // namespace
 
 bool scene_is_path(const Scene& scene) { return scene.path.has_value() || bound_depends_on_normal(scene); }
 
-PathLoading scene_path_loading(const Scene& scene) {
-  PathLoading loading;
+std::vector<std::string> path_files(const Scene& scene, bool has_contact) {
+  if (!has_contact || !scene_is_path(scene)) return {};
+  std::vector<std::string> files{"path.json", "path-contact.csv", "path-displacement.csv"};
+  if (std::find(scene.outputs.begin(), scene.outputs.end(), "vtu") != scene.outputs.end()) files.push_back("solution.pvd");
+  files.push_back("path.png");
+  return files;
+}
+
+template <int dim>
+BasicPathLoading<dim> scene_path_loading(const Scene& scene) {
+  BasicPathLoading<dim> loading;
   loading.t = scene.path ? scene.path->factors() : std::vector<double>{1.0};
   if (!scene_is_proportional(scene))
-    loading.update = [scene](double t, ContactProblem& problem) { set_load_factor(scene, t, problem); };
+    loading.update = [scene](double t, BasicContactProblem<dim>& problem) { set_load_factor(scene, t, problem); };
   return loading;
 }
 
-SceneSolve solve_scene_path(const Scene& scene, SceneSolveOptions o, std::function<void(const PathStep&)> on_step) {
-  SceneSolve s;
-  PathSolution path;
+namespace detail {
+
+void refuse_path_across_processes(const Scene& scene) {
   if (same_engine(scene.solver.linear, "mumps-mpi"))
     throw InputError("a loading path runs in one process; the linear engine mumps-mpi runs across processes: choose another",
                      scene.where("solver.linear"));
-  detail::SceneEngines engines = detail::prepare_scene_solve(scene, o, s);
-  auto& factorization = engines.factorization;
-  const auto& minimizer = engines.minimizer;
+}
+
+template <int dim, class Solved>
+void solve_path_built(const Scene& scene, SceneEngines& e, Solved& s,
+                      std::function<void(const BasicPathStep<dim>&)> on_step) {
   if (!s.built->has_contact)
     throw InputError("a loading path needs a contact boundary: the scene has none", scene.where("path"));
-  if (o.on_built) o.on_built(*s.built, s);
-  PathOptions po;
+  BasicPathOptions<dim> po;
   po.minimizer = s.options;
   if (scene.path) po.frame = [path = *scene.path](int k) { return path.is_frame(k); };
   if (on_step)
-    po.on_step = [&](const PathStep& step) {
+    po.on_step = [&](const BasicPathStep<dim>& step) {
       on_step(step);
       return true;
     };
+  BasicPathSolution<dim> path;
   try {
-    path = solve_path(s.built->problem, std::move(factorization), *minimizer, scene_path_loading(scene), std::move(po));
-  } catch (const InputError& e) {  // a defect found when the problem is set up: name the scene's key
-    detail::rethrow_naming_scene_key(scene, e);
+    path = solve_path(s.built->problem, std::move(e.factorization), *e.minimizer, scene_path_loading<dim>(scene),
+                      std::move(po));
+  } catch (const InputError& error) {  // a defect found when the problem is set up: name the scene's key
+    rethrow_naming_scene_key(scene, error);
   }
   s.solution = path.last;
   s.warnings = s.built->warnings;
@@ -69,11 +88,25 @@ SceneSolve solve_scene_path(const Scene& scene, SceneSolveOptions o, std::functi
     s.solution.timings["estimate"] = s.estimate->seconds;
     s.solution.timings["total"] += s.estimate->seconds;
   }
-  s.path = std::make_shared<const PathSolution>(std::move(path));
+  s.path = std::make_shared<const BasicPathSolution<dim>>(std::move(path));
+}
+
+template void solve_path_built(const Scene&, SceneEngines&, SceneSolve&, std::function<void(const BasicPathStep<2>&)>);
+template void solve_path_built(const Scene&, SceneEngines&, SceneSolve3D&, std::function<void(const BasicPathStep<3>&)>);
+
+}  // namespace detail
+
+SceneSolve solve_scene_path(const Scene& scene, SceneSolveOptions o, std::function<void(const PathStep&)> on_step) {
+  detail::refuse_path_across_processes(scene);
+  SceneSolve s;
+  detail::SceneEngines engines = detail::prepare_scene_solve(scene, o, s);
+  if (o.on_built && s.built->has_contact) o.on_built(*s.built, s);
+  detail::solve_path_built<2>(scene, engines, s, std::move(on_step));
   return s;
 }
 
-nlohmann::json path_step_json(const PathStep& s) {
+template <int dim>
+nlohmann::json path_step_json(const BasicPathStep<dim>& s) {
   nlohmann::json j;
   j["step"] = s.index;
   j["t"] = s.t;
@@ -86,12 +119,12 @@ nlohmann::json path_step_json(const PathStep& s) {
   j["energy"] = number(s.energy);
   j["contact_zone"] = {{"nodes", s.zone.nodes},
                        {"length", number(s.zone.length)},
-                       {"lower", s.zone.nodes > 0 ? vec(s.zone.lower) : nlohmann::json()},
-                       {"upper", s.zone.nodes > 0 ? vec(s.zone.upper) : nlohmann::json()}};
-  j["contact_force"] = vec(s.contact_force);
-  j["applied_load"] = vec(s.applied);
+                       {"lower", s.zone.nodes > 0 ? vec<dim>(s.zone.lower) : nlohmann::json()},
+                       {"upper", s.zone.nodes > 0 ? vec<dim>(s.zone.upper) : nlohmann::json()}};
+  j["contact_force"] = vec<dim>(s.contact_force);
+  j["applied_load"] = vec<dim>(s.applied);
   int stick = 0, slip = 0;  // among the nodes in contact
-  for (const ContactNode& n : s.contact) {
+  for (const auto& n : s.contact) {
     if (n.friction_state == FrictionState::none || !(n.force() > 0.0)) continue;
     (n.friction_state == FrictionState::stick ? stick : slip) += 1;
   }
@@ -109,9 +142,10 @@ nlohmann::json path_step_json(const PathStep& s) {
   return j;
 }
 
-nlohmann::json path_json(const PathSolution& path) {
+template <int dim>
+nlohmann::json path_json(const BasicPathSolution<dim>& path) {
   nlohmann::json steps = nlohmann::json::array();
-  for (const PathStep& s : path.steps) steps.push_back(path_step_json(s));
+  for (const auto& s : path.steps) steps.push_back(path_step_json(s));
   nlohmann::json j;
   j["schema"] = "hemivem-path/1";
   j["steps"] = std::move(steps);
@@ -122,14 +156,16 @@ nlohmann::json path_json(const PathSolution& path) {
   return j;
 }
 
-std::string path_progress_line(const PathStep& s, int steps) {
+template <int dim>
+std::string path_progress_line(const BasicPathStep<dim>& s, int steps) {
   std::ostringstream out;
   out << "  step " << s.index << "/" << steps << "  t = " << fixed(s.t, 4) << "  " << to_string(s.status) << " ("
-      << certificate_text(s.certificate) << ")  zone " << s.zone.nodes << " nodes  contact force ("
-      << sci(s.contact_force.x(), 4) << ", " << sci(s.contact_force.y(), 4) << ")";
+      << certificate_text(s.certificate) << ")  zone " << s.zone.nodes << " nodes  contact force (";
+  for (int c = 0; c < dim; ++c) out << (c ? ", " : "") << sci(s.contact_force(c), 4);
+  out << ")";
   if (s.slip.size() > 0) {
     int stick = 0;
-    for (const ContactNode& n : s.contact) stick += n.friction_state == FrictionState::stick && n.force() > 0.0 ? 1 : 0;
+    for (const auto& n : s.contact) stick += n.friction_state == FrictionState::stick && n.force() > 0.0 ? 1 : 0;
     out << "  stick " << stick;
   }
   if (s.fixed_point.used)
@@ -138,14 +174,31 @@ std::string path_progress_line(const PathStep& s, int steps) {
   return out.str();
 }
 
-std::string path_report(const PathSolution& path) {
+template <int dim>
+PathProgress path_progress(const BasicPathStep<dim>& step, int steps) {
+  return {step.index, steps, step.t, step.status, path_progress_line(step, steps)};
+}
+
+template <int dim>
+std::string path_report(const BasicPathSolution<dim>& path) {
   int converged = 0;
-  for (const PathStep& s : path.steps) converged += s.converged() ? 1 : 0;
+  for (const auto& s : path.steps) converged += s.converged() ? 1 : 0;
   std::ostringstream out;
   out << "  path          " << path.steps.size() << " steps to t = " << path.steps.back().t << ", " << converged
       << " converged, " << path.jumps() << " jumps" << (path.proportional ? " (proportional: one condensation, no solve per step)" : "")
       << "\n";
   return out.str();
 }
+
+#define HEMIVEM_APP_PATH(dim)                                                               \
+  template BasicPathLoading<dim> scene_path_loading(const Scene&);                          \
+  template nlohmann::json path_json(const BasicPathSolution<dim>&);                         \
+  template nlohmann::json path_step_json(const BasicPathStep<dim>&);                        \
+  template std::string path_progress_line(const BasicPathStep<dim>&, int);                  \
+  template PathProgress path_progress(const BasicPathStep<dim>&, int);                      \
+  template std::string path_report(const BasicPathSolution<dim>&);
+
+HEMIVEM_APP_PATH(2)
+HEMIVEM_APP_PATH(3)
 
 }  // namespace hemivem::app

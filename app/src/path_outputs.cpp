@@ -1,6 +1,7 @@
 #include "path_outputs.hpp"
 
 #include <hemivem/app/format.hpp>
+#include <hemivem/app/path.hpp>
 #include <hemivem/app/text_writer.hpp>
 
 #include "figure_style.hpp"
@@ -15,16 +16,19 @@ namespace hemivem::app {
 namespace fs = std::filesystem;
 using detail::num;
 
-void write_path_contact_csv(std::ostream& stream, const PathSolution& path) {
+template <int dim>
+void write_path_contact_csv(std::ostream& stream, const BasicPathSolution<dim>& path) {
   TextWriter os(stream);
   const bool tangential = !path.steps.empty() && path.steps.front().slip.size() > 0;
   const bool parts = path.last.contact_parts.size() > 1;  // several contact parts: each node's
-  os << "step,t,vertex,x,y,u_nu,law_force,reaction,pressure,state"
+  os << "step,t,vertex," << (dim == 2 ? "x,y" : "x,y,z") << ",u_nu,law_force,reaction,pressure,state"
      << (tangential ? ",u_tau,slip,friction_force,friction_bound,friction_state" : "") << (parts ? ",part" : "") << "\n";
-  for (const PathStep& s : path.steps)
+  for (const auto& s : path.steps)
     for (std::size_t i = 0; i < s.contact.size(); ++i) {
-      const ContactNode& n = s.contact[i];
-      os << s.index << ',' << s.t << ',' << n.vertex << ',' << n.x.x() << ',' << n.x.y() << ',' << n.u_nu << ','
+      const auto& n = s.contact[i];
+      os << s.index << ',' << s.t << ',' << n.vertex;
+      for (int c = 0; c < dim; ++c) os << ',' << n.x(c);
+      os << ',' << n.u_nu << ','
          << n.law_force << ',' << n.reaction << ',' << n.pressure() << ',' << to_string(n.state);
       if (tangential && n.friction_state != FrictionState::none) {
         const auto k = static_cast<Eigen::Index>(i);
@@ -38,27 +42,32 @@ void write_path_contact_csv(std::ostream& stream, const PathSolution& path) {
     }
 }
 
-void write_path_displacement_csv(std::ostream& stream, const Mesh& mesh, const PathSolution& path) {
+template <class MeshType, int dim>
+void write_path_displacement_csv(std::ostream& stream, const MeshType& mesh, const BasicPathSolution<dim>& path) {
   TextWriter os(stream);
-  os << "step,t,vertex,x,y,ux,uy\n";
-  for (const PathStep& s : path.steps) {
+  os << (dim == 2 ? "step,t,vertex,x,y,ux,uy\n" : "step,t,vertex,x,y,z,ux,uy,uz\n");
+  for (const auto& s : path.steps) {
     if (s.u.size() == 0) continue;
-    for (int v = 0; v < mesh.num_vertices(); ++v)
-      os << s.index << ',' << s.t << ',' << v << ',' << mesh.vertex(v).x() << ',' << mesh.vertex(v).y() << ','
-         << s.u(2 * v) << ',' << s.u(2 * v + 1) << '\n';
+    for (int v = 0; v < mesh.num_vertices(); ++v) {
+      os << s.index << ',' << s.t << ',' << v;
+      for (int c = 0; c < dim; ++c) os << ',' << mesh.vertex(v)(c);
+      for (int c = 0; c < dim; ++c) os << ',' << s.u(dim * v + c);
+      os << '\n';
+    }
   }
 }
 
-std::string frame_file(const PathStep& step) {
+std::string frame_file(int step) {
   char name[32];
-  std::snprintf(name, sizeof name, "solution-%04d.vtu", step.index);
+  std::snprintf(name, sizeof name, "solution-%04d.vtu", step);
   return name;
 }
 
-std::vector<std::string> frame_files(const PathSolution& path) {
+template <int dim>
+std::vector<std::string> frame_files(const BasicPathSolution<dim>& path) {
   std::vector<std::string> names;
-  for (const PathStep& s : path.steps)
-    if (s.u.size() > 0) names.push_back(frame_file(s));
+  for (const auto& s : path.steps)
+    if (s.u.size() > 0) names.push_back(frame_file(s.index));
   return names;
 }
 
@@ -74,20 +83,22 @@ std::vector<std::string> frame_files_in(const fs::path& dir) {
   return names;
 }
 
-void write_pvd(std::ostream& stream, const PathSolution& path) {
+template <int dim>
+void write_pvd(std::ostream& stream, const BasicPathSolution<dim>& path) {
   TextWriter os(stream);
   os << "<?xml version=\"1.0\"?>\n"
      << "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
      << "  <Collection>\n";
-  for (const PathStep& s : path.steps)
+  for (const auto& s : path.steps)
     if (s.u.size() > 0)
-      os << "    <DataSet timestep=\"" << s.t << "\" group=\"\" part=\"0\" file=\"" << frame_file(s) << "\"/>\n";
+      os << "    <DataSet timestep=\"" << s.t << "\" group=\"\" part=\"0\" file=\"" << frame_file(s.index) << "\"/>\n";
   os << "  </Collection>\n</VTKFile>\n";
 }
 
-nlohmann::json path_summary_json(const PathSolution& path) {
+template <int dim>
+nlohmann::json path_summary_json(const BasicPathSolution<dim>& path) {
   int converged = 0;
-  for (const PathStep& s : path.steps) converged += s.converged() ? 1 : 0;
+  for (const auto& s : path.steps) converged += s.converged() ? 1 : 0;
   return {{"steps", path.steps.size()},
           {"converged_steps", converged},
           {"jumps", path.jumps()},
@@ -96,7 +107,8 @@ nlohmann::json path_summary_json(const PathSolution& path) {
           {"file", "path.json"}};
 }
 
-Figure path_figure(const PathSolution& path, const RunInfo& info) {
+template <int dim>
+Figure path_figure(const BasicPathSolution<dim>& path, const RunInfo& info) {
   Figure f;
   f.png = "path.png";
   f.width = 1400;
@@ -104,9 +116,9 @@ Figure path_figure(const PathSolution& path, const RunInfo& info) {
   const bool friction = !path.steps.empty() && path.steps.front().slip.size() > 0;
   f.data.push_back({"path.dat", [&path](std::ostream& os) {
                       // t, mean u_nu, normal resultant, friction resultant, zone length, stick length, jump
-                      for (const PathStep& s : path.steps) {
+                      for (const auto& s : path.steps) {
                         double w = 0.0, un = 0.0, normal = 0.0, tangential = 0.0, stick = 0.0;
-                        for (const ContactNode& n : s.contact) {
+                        for (const auto& n : s.contact) {
                           w += n.weight;
                           un += n.weight * n.u_nu;
                           normal += n.force();
@@ -133,5 +145,59 @@ Figure path_figure(const PathSolution& path, const RunInfo& info) {
   f.script = s.str();
   return f;
 }
+
+template <class MeshType, int dim>
+void write_path_files(OutputTransaction& tx, const fs::path& dir, const MeshType& mesh, const BasicPathSolution<dim>* path,
+                      const std::function<bool(const std::string&)>& want,
+                      const std::function<void(std::ostream&, const BasicContactSolution<dim>&)>& write_frame,
+                      OutputReport& report) {
+  if (!path) {
+    for (const char* name : {"path.json", "path-contact.csv", "path-displacement.csv", "solution.pvd"})
+      if (want(name)) report.skipped.push_back(std::string(name) + ": not a loading path");
+    return;
+  }
+  auto write = [&](const std::string& name, const std::function<void(std::ostream&)>& body) {
+    if (!want(name)) return;
+    tx.write(name, body);
+    report.written.push_back(dir / name);
+  };
+  write("path.json", [&](std::ostream& os) { os << path_json(*path).dump(2) << '\n'; });
+  write("path-contact.csv", [&](std::ostream& os) { write_path_contact_csv(os, *path); });
+  write("path-displacement.csv", [&](std::ostream& os) { write_path_displacement_csv(os, mesh, *path); });
+  if (!want("solution.pvd")) return;
+  for (const auto& step : path->steps) {
+    if (step.u.size() == 0) continue;
+    BasicContactSolution<dim> frame;
+    frame.u = step.u;
+    frame.contact = step.contact;
+    const std::string name = frame_file(step.index);
+    tx.write(name, [&](std::ostream& os) { write_frame(os, frame); });
+    report.written.push_back(dir / name);
+  }
+  write("solution.pvd", [&](std::ostream& os) { write_pvd(os, *path); });
+}
+
+template <int dim>
+std::vector<std::string> listed_frames(const BasicPathSolution<dim>* path,
+                                       const std::function<bool(const std::string&)>& want) {
+  return path && want("solution.pvd") ? frame_files(*path) : std::vector<std::string>();
+}
+
+#define HEMIVEM_PATH_OUTPUTS(dim, MeshType)                                                                         \
+  template void write_path_contact_csv(std::ostream&, const BasicPathSolution<dim>&);                              \
+  template void write_path_displacement_csv(std::ostream&, const MeshType&, const BasicPathSolution<dim>&);        \
+  template void write_pvd(std::ostream&, const BasicPathSolution<dim>&);                                           \
+  template std::vector<std::string> frame_files(const BasicPathSolution<dim>&);                                    \
+  template nlohmann::json path_summary_json(const BasicPathSolution<dim>&);                                        \
+  template Figure path_figure(const BasicPathSolution<dim>&, const RunInfo&);                                      \
+  template void write_path_files(OutputTransaction&, const fs::path&, const MeshType&, const BasicPathSolution<dim>*, \
+                                 const std::function<bool(const std::string&)>&,                                   \
+                                 const std::function<void(std::ostream&, const BasicContactSolution<dim>&)>&,      \
+                                 OutputReport&);                                                                   \
+  template std::vector<std::string> listed_frames(const BasicPathSolution<dim>*,                                   \
+                                                  const std::function<bool(const std::string&)>&);
+
+HEMIVEM_PATH_OUTPUTS(2, Mesh)
+HEMIVEM_PATH_OUTPUTS(3, Mesh3D)
 
 }  // namespace hemivem::app

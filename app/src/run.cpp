@@ -28,6 +28,8 @@ SceneRun::~SceneRun() = default;
 
 const PathSolution* SceneRun::path() const noexcept { return plane_ ? plane_->path.get() : nullptr; }
 
+const BasicPathSolution<3>* SceneRun::solid_path() const noexcept { return solid_ ? solid_->path.get() : nullptr; }
+
 bool SceneRun::holds_results() const noexcept {
   return solid_ ? solid_->holds_results : plane_ && plane_->holds_results;
 }
@@ -68,7 +70,7 @@ OutputReport SceneRun::write(const std::filesystem::path& dir, const std::vector
 std::string SceneRun::brief() const { return solid_ ? brief_report_3d(*solid_) : brief_report(*plane_); }
 
 std::string SceneRun::report(const RunInfo& info) const {
-  if (solid_) return full_report_3d(*solid_, info);
+  if (solid_) return full_report_3d(*solid_, info) + (solid_->path ? path_report(*solid_->path) : std::string());
   std::string text = full_report(scene_, *plane_, info);
   if (adaptive_) text += adapt_report(*adaptive_);
   if (const PathSolution* p = path()) text += path_report(*p);
@@ -90,7 +92,16 @@ std::function<void(const Built&, const Solved&)> announce(const std::function<vo
   };
 }
 
-/// A solid scene: one static solve.
+/// The path step callback of a path of dimension dim that tells `f` the step's progress.
+template <int dim>
+std::function<void(const BasicPathStep<dim>&)> announce_steps(const Scene& scene,
+                                                              const std::function<void(const PathProgress&)>& f) {
+  if (!f) return {};
+  const int steps = scene.path ? static_cast<int>(scene.path->factors().size()) : 1;
+  return [f, steps](const BasicPathStep<dim>& s) { f(path_progress(s, steps)); };
+}
+
+/// A solid scene: a static solve or a loading path.
 SceneSolve3D run_solid(const Scene& scene, RunKind kind, RunOptions& o) {
   if (kind == RunKind::adaptive)
     throw InputError("adaptive refinement is not available for three-dimensional scenes (it refines polygonal meshes)",
@@ -106,6 +117,7 @@ SceneSolve3D run_solid(const Scene& scene, RunKind kind, RunOptions& o) {
   s.callback = std::move(o.callback);
   s.reduced = o.reduced;
   s.progress = std::move(o.progress);
+  s.on_path_step = announce_steps<3>(scene, o.on_path_step);
   return solve_scene_3d(scene, std::move(s));
 }
 
@@ -141,13 +153,9 @@ SceneRun run_scene(const Scene& scene, RunOptions options) {
   }
   SceneSolveOptions o = plane_options(options);
   switch (run.kind_) {
-    case RunKind::path: {
-      const int steps = scene.path ? static_cast<int>(scene.path->factors().size()) : 1;
-      std::function<void(const PathStep&)> on_step;
-      if (options.on_path_step) on_step = [f = options.on_path_step, steps](const PathStep& s) { f(s, steps); };
-      run.plane_ = std::make_unique<SceneSolve>(solve_scene_path(scene, std::move(o), std::move(on_step)));
+    case RunKind::path:
+      run.plane_ = std::make_unique<SceneSolve>(solve_scene_path(scene, std::move(o), announce_steps<2>(scene, options.on_path_step)));
       break;
-    }
     case RunKind::adaptive: {
       run.adaptive_ = std::make_unique<AdaptiveSolve>(solve_adaptively(scene, *scene.adapt, std::move(o), options.on_adapt_step));
       run.plane_ = std::make_unique<SceneSolve>(std::move(run.adaptive_->last));

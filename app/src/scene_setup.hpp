@@ -131,4 +131,17 @@ void solve_built(const Scene& scene, SceneEngines& e, Solved& s, ReducedProblem*
   }
 }
 
+/// InputError naming solver.linear when the scene's engine runs across processes (mumps-mpi):
+/// a loading path runs in one.
+void refuse_path_across_processes(const Scene& scene);
+
+/// Solves the scene's loading path on s.built (a problem with contact; InputError naming the
+/// scene's [path] otherwise) with the engines `e`, in either dimension: BasicPathSolver<dim>
+/// over the scene's load factors and frames, a defect found in setting it up named by the
+/// scene's key; s.solution is the last step as a static solve reports it (its problem set to the
+/// last t, so that the error estimate and every output read the path's end state) and s.path
+/// every step. `on_step` is called after each step.
+template <int dim, class Solved>
+void solve_path_built(const Scene& scene, SceneEngines& e, Solved& s, std::function<void(const BasicPathStep<dim>&)> on_step);
+
 }  // namespace hemivem::app::detail

@@ -175,11 +175,7 @@ std::vector<std::string> wanted_files(const Scene& scene, bool has_contact) {
     if (std::find(scene.outputs.begin(), scene.outputs.end(), name) != scene.outputs.end()) files.push_back(file);
   }
   files.push_back("scene.toml");
-  if (has_contact && scene_is_path(scene)) {  // the steps of a loading path
-    files.insert(files.end(), {"path.json", "path-contact.csv", "path-displacement.csv"});
-    if (std::find(scene.outputs.begin(), scene.outputs.end(), "vtu") != scene.outputs.end()) files.push_back("solution.pvd");
-    files.push_back("path.png");
-  }
+  for (auto& name : path_files(scene, has_contact)) files.push_back(std::move(name));
   if (scene.adapt) {  // the final mesh of an adaptive solve
     files.push_back("mesh.poly2d");
     if (std::find(scene.outputs.begin(), scene.outputs.end(), "mesh-png") != scene.outputs.end()) files.push_back("mesh.png");

@@ -3,6 +3,7 @@
 
 #include <hemivem/app/format.hpp>
 #include <hemivem/app/outputs3d.hpp>
+#include <hemivem/app/path.hpp>
 #include <hemivem/app/report.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/uniqueness.hpp>
@@ -35,6 +36,7 @@ double SceneSolve3D::total_seconds() const {
 SceneSolve3D solve_scene_3d(const Scene& scene, SceneSolve3DOptions o) {
   if (scene.dimension() != 3)
     throw InputError("mesh: this solve takes three-dimensional scenes (solve_scene solves this one)", scene.where("mesh"));
+  if (scene_is_path(scene)) detail::refuse_path_across_processes(scene);
   SceneSolve3D s;
   detail::SceneEngines e = detail::make_scene_engines(scene, std::move(o.progress), std::move(o.callback));
   detail::record_engines(e, s);
@@ -43,8 +45,12 @@ SceneSolve3D solve_scene_3d(const Scene& scene, SceneSolve3DOptions o) {
   s.mesh_description = o.mesh ? o.mesh_description : scene.mesh.description();
   s.mesh_seconds = since(t);
   if (o.on_built) o.on_built(*s.built, s);
+  if (scene_is_path(scene)) {
+    detail::solve_path_built<3>(scene, e, s, std::move(o.on_path_step));
+    return s;
+  }
   detail::solve_built<3>(scene, e, s, o.reduced, Eigen::VectorXd(),
-                         [](const ContactProblem3D& p, const ContactSolution3D& u) { return estimate_error_3d(p, u); });
+                         [](const ContactProblem3D& p, const ContactSolution3D& u) { return estimate_error(p, u); });
   return s;
 }
 
@@ -59,6 +65,7 @@ std::vector<std::string> wanted_files_3d(const Scene& scene, bool has_contact) {
   files.push_back("scene.toml");
   if (wants(scene, "deformed-png")) files.push_back("deformed.png");
   if (has_contact && wants(scene, "pressure-png")) files.push_back("pressure.png");
+  for (auto& name : path_files(scene, has_contact)) files.push_back(std::move(name));
   return files;
 }
 
@@ -66,6 +73,7 @@ RunInfo run_info_3d(const Scene& scene, const SceneSolve3D& solved) {
   const BuiltProblem3D& built = *solved.built;
   RunInfo info = detail::run_info_common(scene, solved);
   if (built.has_contact) detail::add_contact_parts(info, contact_parts(built.problem));
+  info.path = solved.path.get();
   return info;
 }
 

@@ -117,7 +117,7 @@ ContactTable contact_table(const ContactSolution& s) {
 
 /// The contact table of a 3D solve: contact.csv's columns (vertex, x, y, z, u_nu, law_force,
 /// reaction, pressure, state, gap, normal as an (n, 3) array) with weight and part.
-ContactTable contact_table_3d(const ContactSolution3D& s) {
+ContactTable contact_table(const ContactSolution3D& s) {
   const auto n = static_cast<py::ssize_t>(s.contact.size());
   py::array_t<std::int32_t> vertex(n);
   py::array_t<double> x(n), y(n), z(n), u_nu(n), law_force(n), reaction(n), pressure(n), gap(n), weight(n),
@@ -167,23 +167,35 @@ py::tuple vector_tuple(const Vec3& v) { return py::make_tuple(v.x(), v.y(), v.z(
 
 using ResultClass = py::class_<SolveData, std::shared_ptr<SolveData>>;
 
-/// A Result's loading path, and one of its steps; both keep the Result alive.
+/// A Result's loading path, plane or solid, and one of its steps; both keep the Result alive.
+/// visit(f) calls f with the path (the step) of the Result's dimension.
 struct PyPath {
   std::shared_ptr<SolveData> owner;
-  const PathSolution& path() const { return *owner->run.path(); }
+  template <class F>
+  auto visit(F&& f) const {
+    if (const auto* p = owner->run.solid_path()) return f(*p);
+    return f(*owner->run.path());
+  }
+  std::size_t size() const {
+    return visit([](const auto& path) { return path.steps.size(); });
+  }
 };
 struct PyPathStep {
   std::shared_ptr<SolveData> owner;
   std::size_t index = 0;
-  const PathStep& step() const { return owner->run.path()->steps[index]; }
+  template <class F>
+  auto visit(F&& f) const {
+    if (const auto* p = owner->run.solid_path()) return f(p->steps[index]);
+    return f(owner->run.path()->steps[index]);
+  }
 };
 
 py::object json_object(const nlohmann::json& j) { return py::module_::import("json").attr("loads")(j.dump()); }
 
-py::array_t<double> pair_array(const Vec2& v) {
-  py::array_t<double> a(2);
-  a.mutable_data()[0] = v.x();
-  a.mutable_data()[1] = v.y();
+template <int dim>
+py::array_t<double> vector_array(const Eigen::Matrix<double, dim, 1>& v) {
+  py::array_t<double> a(dim);
+  for (int c = 0; c < dim; ++c) a.mutable_data()[c] = v(c);
   return a;
 }
 
@@ -194,76 +206,92 @@ py::array_t<double> copy_array(const Eigen::VectorXd& v) {
 }
 
 
-void register_path(py::module_& m) {
-  py::class_<PyPathStep>(m, "PathStep", R"doc(
+/// The PathStep property `name`: f(step) for the step of the Result's dimension.
+template <class F>
+void def_step_property(py::class_<PyPathStep>& c, const char* name, F f) {
+  c.def_property_readonly(name, [f](const PyPathStep& s) { return s.visit(f); });
+}
+
+void register_path_step(py::module_& m) {
+  py::class_<PyPathStep> c(m, "PathStep", R"doc(
 One step of a loading path (docs/paths.md), as path.json records it, with its arrays:
 index (1-based), t, status, converged, message, certificate (dict), energy, iterations,
 contact (ContactTable of the step: u_nu, forces, u_tau, friction_state ...), slip (the slip of
 the step per contact node), friction_bound (g_i per node), contact_force and applied_load
-(arrays of 2), zone (dict: nodes, length, lower, upper), fixed_point (dict, or None without
-a friction bound that depends on the normal contact), jump, change, displacement ((vertices, 2)
-array for a frame, else None) and balance (the relative residual of the balance of forces,
-for a frame).
-)doc")
-      .def_property_readonly("index", [](const PyPathStep& s) { return s.step().index; })
-      .def_property_readonly("t", [](const PyPathStep& s) { return s.step().t; })
-      .def_property_readonly("status", [](const PyPathStep& s) { return to_string(s.step().status); })
-      .def_property_readonly("converged", [](const PyPathStep& s) { return s.step().converged(); })
-      .def_property_readonly("message", [](const PyPathStep& s) { return s.step().message; })
-      .def_property_readonly("certificate",
-                             [](const PyPathStep& s) { return json_object(app::certificate_json(s.step().certificate)); })
-      .def_property_readonly("energy", [](const PyPathStep& s) { return s.step().energy; })
-      .def_property_readonly("iterations", [](const PyPathStep& s) { return s.step().iterations; })
-      .def_property_readonly("contact",
-                             [](const PyPathStep& s) {
-                               ContactSolution view;
-                               view.contact = s.step().contact;
-                               view.contact_parts = s.owner->run.path()->last.contact_parts;
-                               return contact_table(view);
-                             })
-      .def_property_readonly("slip", [](const PyPathStep& s) { return copy_array(s.step().slip); })
-      .def_property_readonly("friction_bound", [](const PyPathStep& s) { return copy_array(s.step().friction_bound); })
-      .def_property_readonly("contact_force", [](const PyPathStep& s) { return pair_array(s.step().contact_force); })
-      .def_property_readonly("applied_load", [](const PyPathStep& s) { return pair_array(s.step().applied); })
-      .def_property_readonly("zone",
-                             [](const PyPathStep& s) {
-                               const nlohmann::json j = app::path_step_json(s.step());
-                               return json_object(j["contact_zone"]);
-                             })
-      .def_property_readonly("fixed_point",
-                             [](const PyPathStep& s) -> py::object {
-                               const nlohmann::json j = app::path_step_json(s.step());
-                               return j["fixed_point"].is_null() ? py::none() : json_object(j["fixed_point"]);
-                             })
-      .def_property_readonly("jump", [](const PyPathStep& s) { return s.step().jump; })
-      .def_property_readonly("change", [](const PyPathStep& s) { return s.step().change; })
-      .def_property_readonly("displacement",
-                             [](py::object self) -> py::object {
-                               const PyPathStep& s = self.cast<const PyPathStep&>();
-                               const Eigen::VectorXd& u = s.step().u;
-                               if (u.size() == 0) return py::none();
-                               return view(u.data(), u.size() / 2, 2, self);
-                             })
-      .def_property_readonly("balance",
-                             [](const PyPathStep& s) -> py::object {
-                               if (!s.step().forces) return py::none();
-                               return py::float_(s.step().forces->residual());
-                             })
-      .def("__repr__", [](const PyPathStep& s) {
-        std::ostringstream o;
-        o << "PathStep(index=" << s.step().index << ", t=" << s.step().t << ", status='" << to_string(s.step().status)
-          << "', zone_nodes=" << s.step().zone.nodes << ", jump=" << (s.step().jump ? "True" : "False") << ")";
-        return o.str();
-      });
+(arrays of 2, or 3 for a solid), zone (dict: nodes, length, lower, upper), fixed_point (dict,
+or None without a friction bound that depends on the normal contact), jump, change,
+displacement ((vertices, 2 or 3) array for a frame, else None) and balance (the relative
+residual of the balance of forces, for a frame).
+)doc");
+  def_step_property(c, "index", [](const auto& s) { return s.index; });
+  def_step_property(c, "t", [](const auto& s) { return s.t; });
+  def_step_property(c, "status", [](const auto& s) { return to_string(s.status); });
+  def_step_property(c, "converged", [](const auto& s) { return s.converged(); });
+  def_step_property(c, "message", [](const auto& s) { return s.message; });
+  def_step_property(c, "certificate", [](const auto& s) { return json_object(app::certificate_json(s.certificate)); });
+  def_step_property(c, "energy", [](const auto& s) { return s.energy; });
+  def_step_property(c, "iterations", [](const auto& s) { return s.iterations; });
+  def_step_property(c, "slip", [](const auto& s) { return copy_array(s.slip); });
+  def_step_property(c, "friction_bound", [](const auto& s) { return copy_array(s.friction_bound); });
+  def_step_property(c, "contact_force", [](const auto& s) { return vector_array(s.contact_force); });
+  def_step_property(c, "applied_load", [](const auto& s) { return vector_array(s.applied); });
+  def_step_property(c, "zone", [](const auto& s) { return json_object(app::path_step_json(s)["contact_zone"]); });
+  def_step_property(c, "fixed_point", [](const auto& s) -> py::object {
+    const nlohmann::json j = app::path_step_json(s);
+    return j["fixed_point"].is_null() ? py::none() : json_object(j["fixed_point"]);
+  });
+  def_step_property(c, "jump", [](const auto& s) { return s.jump; });
+  def_step_property(c, "change", [](const auto& s) { return s.change; });
+  def_step_property(c, "balance", [](const auto& s) -> py::object {
+    return s.forces ? py::object(py::float_(s.forces->residual())) : py::object(py::none());
+  });
+  c.def_property_readonly("contact", [](const PyPathStep& p) {
+    return p.visit([&p](const auto& s) {
+      BasicContactSolution<std::decay_t<decltype(s)>::Point::RowsAtCompileTime> view;
+      view.contact = s.contact;
+      view.contact_parts = PyPath{p.owner}.visit([](const auto& path) { return path.last.contact_parts; });
+      return contact_table(view);
+    });
+  });
+  c.def_property_readonly("displacement", [](py::object self) -> py::object {
+    const PyPathStep& p = self.cast<const PyPathStep&>();
+    return p.visit([&self](const auto& s) -> py::object {
+      constexpr int dim = std::decay_t<decltype(s)>::Point::RowsAtCompileTime;
+      if (s.u.size() == 0) return py::none();
+      return view(s.u.data(), s.u.size() / dim, dim, self);
+    });
+  });
+  c.def("__repr__", [](const PyPathStep& p) {
+    return p.visit([](const auto& s) {
+      std::ostringstream o;
+      o << "PathStep(index=" << s.index << ", t=" << s.t << ", status='" << to_string(s.status)
+        << "', zone_nodes=" << s.zone.nodes << ", jump=" << (s.jump ? "True" : "False") << ")";
+      return o.str();
+    });
+  });
+}
+
+/// Per step of the path, f(step), as an array.
+template <class F>
+py::array_t<double> per_step(const PyPath& p, F f) {
+  return p.visit([&f](const auto& path) {
+    Eigen::VectorXd v(static_cast<Eigen::Index>(path.steps.size()));
+    for (std::size_t k = 0; k < path.steps.size(); ++k) v(static_cast<Eigen::Index>(k)) = f(path.steps[k]);
+    return copy_array(v);
+  });
+}
+
+void register_path_class(py::module_& m) {
   py::class_<PyPath>(m, "Path", R"doc(
-The steps of a loading path (Result.path): len(path), path[k] (a PathStep; negative indices
-count from the end), iteration over the steps; t, energy (arrays per step), converged (every
-step), jumps (the indices of the steps that jumped) and json() (path.json as a dict).
+The steps of a loading path (Result.path), plane or solid: len(path), path[k] (a PathStep;
+negative indices count from the end), iteration over the steps; t, energy (arrays per step),
+converged (every step), jumps (the indices of the steps that jumped) and json() (path.json as a
+dict).
 )doc")
-      .def("__len__", [](const PyPath& p) { return p.path().steps.size(); })
+      .def("__len__", [](const PyPath& p) { return p.size(); })
       .def("__getitem__",
            [](const PyPath& p, py::ssize_t k) {
-             const auto n = static_cast<py::ssize_t>(p.path().steps.size());
+             const auto n = static_cast<py::ssize_t>(p.size());
              if (k < 0) k += n;
              if (k < 0 || k >= n) throw py::index_error("path step index out of range");
              return PyPathStep{p.owner, static_cast<std::size_t>(k)};
@@ -271,33 +299,33 @@ step), jumps (the indices of the steps that jumped) and json() (path.json as a d
       .def("__iter__",
            [](const PyPath& p) {
              py::list steps;
-             for (std::size_t k = 0; k < p.path().steps.size(); ++k) steps.append(py::cast(PyPathStep{p.owner, k}));
+             for (std::size_t k = 0; k < p.size(); ++k) steps.append(py::cast(PyPathStep{p.owner, k}));
              return steps.attr("__iter__")();
            })
-      .def_property_readonly("t",
-                             [](const PyPath& p) {
-                               Eigen::VectorXd t(static_cast<Eigen::Index>(p.path().steps.size()));
-                               for (std::size_t k = 0; k < p.path().steps.size(); ++k) t(static_cast<Eigen::Index>(k)) = p.path().steps[k].t;
-                               return copy_array(t);
-                             })
-      .def_property_readonly("energy",
-                             [](const PyPath& p) {
-                               Eigen::VectorXd e(static_cast<Eigen::Index>(p.path().steps.size()));
-                               for (std::size_t k = 0; k < p.path().steps.size(); ++k) e(static_cast<Eigen::Index>(k)) = p.path().steps[k].energy;
-                               return copy_array(e);
-                             })
-      .def_property_readonly("converged", [](const PyPath& p) { return p.path().converged(); })
+      .def_property_readonly("t", [](const PyPath& p) { return per_step(p, [](const auto& s) { return s.t; }); })
+      .def_property_readonly("energy", [](const PyPath& p) { return per_step(p, [](const auto& s) { return s.energy; }); })
+      .def_property_readonly("converged", [](const PyPath& p) { return p.visit([](const auto& path) { return path.converged(); }); })
       .def_property_readonly("jumps",
                              [](const PyPath& p) {
-                               std::vector<int> j;
-                               for (const PathStep& s : p.path().steps)
-                                 if (s.jump) j.push_back(s.index);
-                               return j;
+                               return p.visit([](const auto& path) {
+                                 std::vector<int> j;
+                                 for (const auto& s : path.steps)
+                                   if (s.jump) j.push_back(s.index);
+                                 return j;
+                               });
                              })
-      .def("json", [](const PyPath& p) { return json_object(app::path_json(p.path())); }, "path.json as a dict.")
+      .def("json", [](const PyPath& p) { return p.visit([](const auto& path) { return json_object(app::path_json(path)); }); },
+           "path.json as a dict.")
       .def("__repr__", [](const PyPath& p) {
-        return "Path(" + std::to_string(p.path().steps.size()) + " steps, t = " + std::to_string(p.path().steps.back().t) + ")";
+        return p.visit([](const auto& path) {
+          return "Path(" + std::to_string(path.steps.size()) + " steps, t = " + std::to_string(path.steps.back().t) + ")";
+        });
       });
+}
+
+void register_path(py::module_& m) {
+  register_path_step(m);
+  register_path_class(m);
 }
 
 void register_contact_table(py::module_& m) {
@@ -438,7 +466,7 @@ void def_result_fields(ResultClass& c) {
           "contact",
           [](py::handle s) {
             const SolveData& d = data(s);
-            return d.run.solid() ? contact_table_3d(d.run.solid()->solution) : contact_table(d.plane().solution);
+            return d.run.solid() ? contact_table(d.run.solid()->solution) : contact_table(d.plane().solution);
           },
           "The contact table (ContactTable): one row per contact node.")
       .def_property_readonly(
@@ -517,11 +545,11 @@ void def_result_fields(ResultClass& c) {
           "path",
           [](py::object s) -> py::object {
             auto d = s.cast<std::shared_ptr<SolveData>>();
-            if (!d->run.path()) return py::none();
+            if (!d->run.path() && !d->run.solid_path()) return py::none();
             return py::cast(PyPath{d});
           },
           "A loading path's steps (hemivem.solve_path, or a scene with [path] or Coulomb friction): a Path, "
-          "a sequence of PathStep; None for a static solve (and every three-dimensional solve). The Result "
+          "a sequence of PathStep; None for a static solve. The Result "
           "itself is the last step's.")
       .def_property_readonly(
           "mesh",
@@ -604,7 +632,7 @@ One solve of a scene (hemivem.solve): what `hemivem solve` reports and writes.
 
 A three-dimensional scene gives a Result of dimension 3: displacement (num_vertices, 3),
 contact x, y, z and normal (n, 3), forces of three components, mesh a Mesh3D, indicators one
-per cell; adapt and path are None, the contact table has no friction columns.
+per cell; adapt is None, the contact table has no friction columns.
 
 A Result holds its own copy of the scene, the mesh and the solution: it outlives the Scene it
 was solved from, and its arrays keep it alive.
@@ -722,7 +750,7 @@ numbers; a scene without [adapt] takes its defaults. An adaptive solve keeps no 
 A three-dimensional scene (docs/reference/scenes.md, "Three-dimensional scenes") is solved as
 `hemivem solve` solves it (solve_scene_3d): the Result has dimension 3, displacement of shape
 (num_vertices, 3), a contact table with z and an (n, 3) normal, and a Mesh3D; adapt=True is
-refused (InputError), as are [path] and [adapt] in the scene.)doc";
+refused (InputError), as is [adapt] in the scene; a [path] is solved as for a plane scene.)doc";
 
 void register_solve_function(py::module_& m) {
   m.def(

@@ -31,7 +31,7 @@ int main(int argc, char** argv) {
     const ContactProblem3D p = hertz3d::problem(s, m);
     FactorizationOptions o;
     o.engine = "cholmod";
-    const ContactSolution3D sol = solve_contact_3d(p, make_factorization(o), *make_minimizer("ssn"), MinimizerOptions{});
+    const ContactSolution3D sol = solve_contact(p, make_factorization(o), *make_minimizer("ssn"), MinimizerOptions{});
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const hertz3d::Measured r = hertz3d::measure(s, sol);
     std::printf("| 1/%.0f | %d | %d | %d (%d) | %+.2e | %+.2e | %+.2e | %s | %.1f (%.1f, %.1f, %.2f) |\n", 1.0 / s.h_over_a, m.num_cells(),

@@ -242,8 +242,6 @@ def test_what_a_three_dimensional_scene_refuses(small_3d):
         hemivem.solve(scene, mesh=hemivem.Mesh.generate("squares", 2))
     with pytest.raises(hemivem.InputError, match="condense takes two-dimensional scenes"):
         hemivem.condense(scene)
-    with pytest.raises(hemivem.InputError, match="not available for three-dimensional scenes"):
-        hemivem.solve_path(scene, steps=2)
 
 
 def test_a_plane_scene_keeps_two_columns(small_scene):
@@ -293,3 +291,23 @@ def test_a_solid_on_a_mesh_of_ones_own(small_3d):
     assert t.converged and t.mesh.num_cells == m.num_cells
     with pytest.raises(TypeError, match="hemivem.Mesh or a hemivem.Mesh3D"):
         hemivem.solve(scene, mesh="not a mesh")
+
+
+def test_a_solid_path_settles_by_the_load_over_the_stiffness():
+    # the block between rollers on a linear foundation: uniaxial strain, u_nu = t * 2 / 50 at
+    # every contact node and step, the foundation carrying 2 t on an area of 3
+    scene = ROOT / "scenes" / "block-between-rollers-3d.toml"
+    r = hemivem.solve_path(scene, steps=4, frames=2)
+    assert r.dimension == 3 and r.converged and len(r.path) == 4 and r.path.converged
+    np.testing.assert_allclose(r.path.t, [0.25, 0.5, 0.75, 1.0], rtol=0, atol=1e-15)
+    for step in r.path:
+        assert step.converged and len(step.contact_force) == 3 and len(step.applied_load) == 3
+        np.testing.assert_allclose(step.contact.u_nu, 0.04 * step.t, rtol=0, atol=1e-10)
+        assert step.contact_force[2] == pytest.approx(6.0 * step.t, rel=1e-9)
+        assert "z" in step.contact.columns
+    frames = [s.index for s in r.path if s.displacement is not None]
+    assert frames[-1] == 4 and len(frames) == 2
+    assert r.path[-1].displacement.shape == (r.mesh.num_vertices, 3)
+    static = hemivem.solve(scene)
+    np.testing.assert_allclose(r.displacement, static.displacement, rtol=0, atol=1e-10 * np.abs(static.displacement).max())
+    assert r.path.json()["steps"][-1]["contact_force"][2] == pytest.approx(6.0, rel=1e-9)

@@ -53,7 +53,7 @@ Vec3 node_normal(const Mesh3D& mesh, int v, const Vec3& sum, int mask) {
 
 }  // namespace
 
-ContactBoundary make_contact_boundary_3d(const Mesh3D& mesh, const std::vector<ContactPart3D>& parts, const DofMap& dofs) {
+ContactBoundary make_contact_boundary(const Mesh3D& mesh, const std::vector<ContactPart3D>& parts, const DofMap& dofs) {
   if (dofs.num_dofs() != 3 * mesh.num_vertices())
     throw InputError("a dof map of " + std::to_string(dofs.num_dofs()) + " dofs for a mesh of " +
                      std::to_string(3 * mesh.num_vertices()));
@@ -125,14 +125,14 @@ ContactBoundary make_contact_boundary_3d(const Mesh3D& mesh, const std::vector<C
   return cb;
 }
 
-ContactBoundary make_contact_boundary_3d(const Mesh3D& mesh, const std::vector<int>& faces, const DofMap& dofs,
+ContactBoundary make_contact_boundary(const Mesh3D& mesh, const std::vector<int>& faces, const DofMap& dofs,
                                          const std::function<double(const Vec3&)>& gap, const Obstacle3D* obstacle) {
   ContactPart3D part;
   part.name = "contact";
   part.facets = faces;
   part.gap = gap;
   if (obstacle) part.obstacle = *obstacle;
-  return make_contact_boundary_3d(mesh, std::vector<ContactPart3D>{std::move(part)}, dofs);
+  return make_contact_boundary(mesh, std::vector<ContactPart3D>{std::move(part)}, dofs);
 }
 
 std::vector<int> contact_faces(const ContactProblem3D& problem) {
@@ -148,7 +148,7 @@ ContactBoundary contact_boundary(const ContactProblem3D& problem, const DofMap& 
     if (part.obstacle)
       if (const std::string d = part.obstacle->defect(); !d.empty())
         throw InputError("the obstacle" + (parts.size() > 1 ? " of contact part '" + part.name + "'" : std::string()) + ": " + d);
-  const ContactBoundary boundary = make_contact_boundary_3d(*problem.elasticity.mesh, parts, dofs);
+  const ContactBoundary boundary = make_contact_boundary(*problem.elasticity.mesh, parts, dofs);
   for (int i = 0; i < boundary.size(); ++i) {
     const ContactPart3D& part = parts[static_cast<std::size_t>(boundary.part_of(i))];
     if (part.obstacle && part.constraint == ConstraintKind::box)
@@ -257,10 +257,10 @@ std::vector<std::string> free_rigid_motions_3d(const Mesh3D& mesh, const DofMap&
   return out;
 }
 
-ForceBalance3D force_balance_3d(const ElasticityProblem3D& problem, const Eigen::VectorXd& u, const Vec3& contact) {
+ForceBalance3D force_balance(const ElasticityProblem3D& problem, const Eigen::VectorXd& u, const Vec3& contact) {
   if (!problem.mesh) throw InputError("the elasticity problem has no mesh");
   const Mesh3D& mesh = *problem.mesh;
-  const Eigen::VectorXd f = assemble_load_3d(mesh, problem.body_force, problem.tractions);
+  const Eigen::VectorXd f = assemble_load(mesh, problem.body_force, problem.tractions);
   std::vector<int> owner(static_cast<std::size_t>(f.size()), -1);
   for (std::size_t k = 0; k < problem.dirichlet.size(); ++k) {
     const auto& bc = problem.dirichlet[k];
@@ -343,7 +343,7 @@ struct Kernels<3> {
   static void check(const ContactProblem3D& problem) {
     if (!problem.elasticity.mesh) throw InputError("the elasticity problem has no mesh");
   }
-  static LinearSystem assemble(const ContactProblem3D& problem) { return assemble_3d(problem.elasticity); }
+  static LinearSystem assemble(const ContactProblem3D& problem) { return hemivem::assemble(problem.elasticity); }
   static std::vector<ContactPart3D> parts(const ContactProblem3D& problem) { return contact_parts(problem); }
   static ContactBoundary boundary(const ContactProblem3D& problem, const std::vector<ContactPart3D>&, const DofMap& dofs) {
     return contact_boundary(problem, dofs);
@@ -369,7 +369,7 @@ struct Kernels<3> {
     }
   }
   static ForceBalance3D balance(const ContactProblem3D& problem, const Eigen::VectorXd& u, const Vec3& contact) {
-    return force_balance_3d(problem.elasticity, u, contact);
+    return force_balance(problem.elasticity, u, contact);
   }
 };
 
@@ -392,7 +392,7 @@ std::vector<ContactSolution3D> solve_3d(const ContactProblem3D& problem, const L
 
 }  // namespace
 
-std::vector<ContactSolution3D> solve_contact_3d(const ContactProblem3D& problem,
+std::vector<ContactSolution3D> solve_contact(const ContactProblem3D& problem,
                                                 std::unique_ptr<SparseFactorization> factorization,
                                                 std::span<const NonsmoothMinimizer* const> minimizers,
                                                 const MinimizerOptions& options, ReducedProblem* reduced,
@@ -400,7 +400,7 @@ std::vector<ContactSolution3D> solve_contact_3d(const ContactProblem3D& problem,
   return solve_3d(problem, nullptr, std::move(factorization), minimizers, options, reduced, estimate_condition);
 }
 
-std::vector<ContactSolution3D> solve_contact_3d(const ContactProblem3D& problem, const LinearSystem& system,
+std::vector<ContactSolution3D> solve_contact(const ContactProblem3D& problem, const LinearSystem& system,
                                                 std::unique_ptr<SparseFactorization> factorization,
                                                 std::span<const NonsmoothMinimizer* const> minimizers,
                                                 const MinimizerOptions& options, ReducedProblem* reduced,
@@ -408,11 +408,11 @@ std::vector<ContactSolution3D> solve_contact_3d(const ContactProblem3D& problem,
   return solve_3d(problem, &system, std::move(factorization), minimizers, options, reduced, estimate_condition);
 }
 
-ContactSolution3D solve_contact_3d(const ContactProblem3D& problem, std::unique_ptr<SparseFactorization> factorization,
+ContactSolution3D solve_contact(const ContactProblem3D& problem, std::unique_ptr<SparseFactorization> factorization,
                                    const NonsmoothMinimizer& minimizer, const MinimizerOptions& options,
                                    ReducedProblem* reduced, bool estimate_condition) {
   const NonsmoothMinimizer* one[] = {&minimizer};
-  return solve_contact_3d(problem, std::move(factorization), one, options, reduced, estimate_condition).front();
+  return solve_contact(problem, std::move(factorization), one, options, reduced, estimate_condition).front();
 }
 
 }  // namespace hemivem

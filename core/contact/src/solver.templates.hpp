@@ -108,16 +108,7 @@ auto BasicContactSolver<dim>::run(std::span<const NonsmoothMinimizer* const> min
   start_ = Clock::now();
   if (!system_) assemble();
   check_arguments(minimizers);
-  common_.unknowns = system_->dofs.num_free();
-  if (common_.unknowns == 0)
-    throw InputError("the Dirichlet conditions prescribe every displacement of the mesh: there is nothing to solve")
-        .mark_about(ProblemPart::supports);
-  parts_ = about(ProblemPart::contact, [&] { return detail::Kernels<dim>::parts(problem_); });
-  for (const auto& part : parts_) common_.contact_parts.push_back(part.name);
-  boundary_ = about(ProblemPart::contact, [&] { return detail::Kernels<dim>::boundary(problem_, parts_, system_->dofs); });
-  common_.held_by_contact = about(ProblemPart::supports, [&] {
-    return detail::Kernels<dim>::held_by_contact(problem_, system_->dofs, boundary_, parts_);
-  });
+  set_up_contact();
   if (boundary_.size() == 0) {
     const Eigen::MatrixXd X = linear_solve();
     common_.may_be_nonunique = false;
@@ -140,6 +131,34 @@ auto BasicContactSolver<dim>::run(std::span<const NonsmoothMinimizer* const> min
     solutions.push_back(std::move(solution));
   }
   return solutions;
+}
+
+template <int dim>
+void BasicContactSolver<dim>::prepare() {
+  if (ran_) throw InternalError("ContactSolver::prepare is called once, instead of run");
+  ran_ = true;
+  if (!factorization_) throw InputError("solve_contact needs a factorization engine");
+  if (!problem_.elasticity.mesh) throw InputError("the elasticity problem has no mesh");
+  start_ = Clock::now();
+  if (!system_) assemble();
+  set_up_contact();
+  if (boundary_.size() > 0) condense();
+  common_.timings["total"] = seconds();
+}
+
+// The unknowns, the contact parts, the contact boundary and the rigid motions the contact holds.
+template <int dim>
+void BasicContactSolver<dim>::set_up_contact() {
+  common_.unknowns = system_->dofs.num_free();
+  if (common_.unknowns == 0)
+    throw InputError("the Dirichlet conditions prescribe every displacement of the mesh: there is nothing to solve")
+        .mark_about(ProblemPart::supports);
+  parts_ = about(ProblemPart::contact, [&] { return detail::Kernels<dim>::parts(problem_); });
+  for (const auto& part : parts_) common_.contact_parts.push_back(part.name);
+  boundary_ = about(ProblemPart::contact, [&] { return detail::Kernels<dim>::boundary(problem_, parts_, system_->dofs); });
+  common_.held_by_contact = about(ProblemPart::supports, [&] {
+    return detail::Kernels<dim>::held_by_contact(problem_, system_->dofs, boundary_, parts_);
+  });
 }
 
 template <int dim>

@@ -30,21 +30,21 @@ double polygon_diameter(std::span<const Vec3> z) {
 void check_face_ids(const std::vector<int>& faces, int nfaces, const char* what) {
   for (int f : faces)
     if (f < 0 || f >= nfaces)
-      throw InputError(std::string("estimate_error_3d: a ") + what + " face id (" + std::to_string(f) + ") is out of range");
+      throw InputError(std::string("estimate_error: a ") + what + " face id (" + std::to_string(f) + ") is out of range");
 }
 
 }  // namespace
 
-ErrorEstimate estimate_error_3d(const ContactProblem3D& problem, const ContactSolution3D& solution) {
+ErrorEstimate estimate_error(const ContactProblem3D& problem, const ContactSolution3D& solution) {
   const auto start = std::chrono::steady_clock::now();
   const ElasticityProblem3D& elasticity = problem.elasticity;
-  if (elasticity.mesh == nullptr) throw InputError("estimate_error_3d: the problem has no mesh");
+  if (elasticity.mesh == nullptr) throw InputError("estimate_error: the problem has no mesh");
   const Mesh3D& mesh = *elasticity.mesh;
   const int nv = mesh.num_vertices();
   const int nc = mesh.num_cells();
   const int nfaces = mesh.num_faces();
   if (solution.u.size() != 3 * static_cast<Eigen::Index>(nv))
-    throw InputError("estimate_error_3d: the solution has " + std::to_string(solution.u.size()) +
+    throw InputError("estimate_error: the solution has " + std::to_string(solution.u.size()) +
                      " displacement entries, the mesh " + std::to_string(nv) + " vertices (3 entries per vertex expected)");
   const Eigen::VectorXd& u = solution.u;
 
@@ -112,7 +112,7 @@ ErrorEstimate estimate_error_3d(const ContactProblem3D& problem, const ContactSo
   for (std::size_t i = 0; i < solution.contact.size(); ++i) {
     const ContactNode3D& node = solution.contact[i];
     if (node.vertex < 0 || node.vertex >= nv)
-      throw InputError("estimate_error_3d: contact node " + std::to_string(i) + " names vertex " +
+      throw InputError("estimate_error: contact node " + std::to_string(i) + " names vertex " +
                        std::to_string(node.vertex) + ", outside the mesh");
     node_of[static_cast<std::size_t>(node.vertex)] = static_cast<int>(i);
     if (node.weight > 0.0) node_traction[i] = -node.pressure() * node.normal;

@@ -3,6 +3,7 @@
 #include <hemivem/contact/condensation.hpp>
 #include <hemivem/contact/piecewise_law.hpp>
 #include <hemivem/contact/supports.hpp>
+#include <hemivem/vem/assembly3d.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/process_group.hpp>
 
@@ -20,7 +21,8 @@ using Clock = std::chrono::steady_clock;
 
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-void check_loading(const PathLoading& loading) {
+template <int dim>
+void check_loading(const BasicPathLoading<dim>& loading) {
   if (loading.t.empty()) throw InputError("a loading path needs at least one load factor t");
   for (std::size_t k = 0; k < loading.t.size(); ++k) {
     const double t = loading.t[k];
@@ -33,26 +35,36 @@ void check_loading(const PathLoading& loading) {
   }
 }
 
+// A field (of points to numbers or to vectors) multiplied by s; empty stays empty.
+template <class Field>
+Field times(const Field& f, double s) {
+  if (!f) return f;
+  return [f, s](const auto& x) {
+    auto v = f(x);
+    v *= s;
+    return v;
+  };
+}
+
 // The problem's loads and prescribed displacements multiplied by s (the proportional path's
 // data at t = s), for the balance of forces of a frame.
-ElasticityProblem scaled(const ElasticityProblem& p, double s) {
-  ElasticityProblem q = p;
-  if (p.body_force) q.body_force = [f = p.body_force, s](const Vec2& x) -> Vec2 { return s * f(x); };
-  for (std::size_t i = 0; i < q.tractions.size(); ++i) {
-    if (p.tractions[i].traction)
-      q.tractions[i].traction = [f = p.tractions[i].traction, s](const Vec2& x) -> Vec2 { return s * f(x); };
-    if (p.tractions[i].pressure)
-      q.tractions[i].pressure = [f = p.tractions[i].pressure, s](const Vec2& x) { return s * f(x); };
+template <class Elasticity>
+Elasticity scaled(const Elasticity& p, double s) {
+  Elasticity q = p;
+  q.body_force = times(p.body_force, s);
+  for (auto& load : q.tractions) {
+    load.traction = times(load.traction, s);
+    load.pressure = times(load.pressure, s);
   }
-  for (std::size_t i = 0; i < q.dirichlet.size(); ++i)
-    if (p.dirichlet[i].value)
-      q.dirichlet[i].value = [f = p.dirichlet[i].value, s](const Vec2& x) -> Vec2 { return s * f(x); };
+  for (auto& d : q.dirichlet) d.value = times(d.value, s);
   return q;
 }
 
-Vec2 resultant(const Eigen::VectorXd& f) {
-  Vec2 r = Vec2::Zero();
-  for (Eigen::Index d = 0; d + 1 < f.size(); d += 2) r += Vec2(f(d), f(d + 1));
+// The resultant of a vector of dim components per vertex.
+template <int dim>
+Eigen::Matrix<double, dim, 1> resultant(const Eigen::VectorXd& f) {
+  Eigen::Matrix<double, dim, 1> r = Eigen::Matrix<double, dim, 1>::Zero();
+  for (Eigen::Index d = 0; d + dim - 1 < f.size(); d += dim) r += f.segment<dim>(d);
   return r;
 }
 
@@ -81,28 +93,37 @@ Certificate friction_bound_certificate(const Certificate& tresca, const Eigen::V
   return c;
 }
 
-bool PathSolution::converged() const {
-  return !steps.empty() && std::all_of(steps.begin(), steps.end(), [](const PathStep& s) { return s.converged(); });
+template <int dim>
+bool BasicPathSolution<dim>::converged() const {
+  return !steps.empty() && std::all_of(steps.begin(), steps.end(), [](const auto& s) { return s.converged(); });
 }
 
-int PathSolution::jumps() const {
-  return static_cast<int>(std::count_if(steps.begin(), steps.end(), [](const PathStep& s) { return s.jump; }));
+template <int dim>
+int BasicPathSolution<dim>::jumps() const {
+  return static_cast<int>(std::count_if(steps.begin(), steps.end(), [](const auto& s) { return s.jump; }));
 }
 
-struct PathSolver::Impl {
-  ContactProblem& problem;
+template <int dim>
+struct BasicPathSolver<dim>::Impl {
+  using Problem = BasicContactProblem<dim>;
+  using Point = Eigen::Matrix<double, dim, 1>;
+  using Step = BasicPathStep<dim>;
+  Problem& problem;
   std::unique_ptr<SparseFactorization> factorization;
   const NonsmoothMinimizer& minimizer;
-  PathLoading loading;
-  PathOptions options;
+  BasicPathLoading<dim> loading;
+  BasicPathOptions<dim> options;
 
-  LinearSystem system;
-  ContactBoundary boundary;
-  std::unique_ptr<Condensation> cond;
+  // the stages of the static solve that set the path up: assembly, boundary, supports, condensation
+  std::unique_ptr<BasicContactSolver<dim>> pipeline;
+  const LinearSystem* system = nullptr;
+  DofMap dofs;                   // the system's, with the prescribed values of the step
+  ContactBoundary boundary;      // the pipeline's, with the gaps of the step
+  Condensation* cond = nullptr;
   std::vector<std::string> held_by_contact;
   ReducedProblem step;           // the step's problem: the condensation's, with c, bounds and weights of the step
   int n1 = 0;                    // contact nodes
-  std::vector<ContactPart> parts;
+  std::vector<BasicContactPart<dim>> parts;
   bool any_bilateral = false;    // a node without a normal unknown (its normal force needs the displacement)
   bool has_tangential = false;   // a node with a tangential unknown
   /// Per contact node, the friction bound of its part that depends on the normal contact (null: none).
@@ -111,7 +132,7 @@ struct PathSolver::Impl {
   // proportional loading: the data at t = 1
   Eigen::VectorXd c1;            // the condensed load
   Eigen::VectorXd prescribed1;   // every dof's prescribed value
-  Vec2 applied1 = Vec2::Zero();
+  Point applied1 = Point::Zero();
   double kappa1 = 0.0;           // Phi(u) - [1/2 x^T S x - c^T x] at t = 1
   // along the path
   Eigen::VectorXd x_prev;        // the previous step's contact unknowns (u_nu, u_tau)
@@ -121,22 +142,25 @@ struct PathSolver::Impl {
   std::map<std::string, double> timings;
   bool check_existence_each_step = true;
 
-  Impl(ContactProblem& p, std::unique_ptr<SparseFactorization> f, const NonsmoothMinimizer& m, PathLoading l,
-       PathOptions o)
+  Impl(Problem& p, std::unique_ptr<SparseFactorization> f, const NonsmoothMinimizer& m, BasicPathLoading<dim> l,
+       BasicPathOptions<dim> o)
       : problem(p), factorization(std::move(f)), minimizer(m), loading(std::move(l)), options(std::move(o)) {}
 
   void set_up();
-  PathStep solve_step(int k);
-  void minimize_step(PathStep& s, const Eigen::VectorXd& shift, const Eigen::VectorXd& origin, bool unloaded);
-  void describe_step(PathStep& s, const MinimizerResult& m, const Eigen::VectorXd& shift,
+  void condense();
+  void find_friction_bounds();
+  Step solve_step(int k);
+  void minimize_step(Step& s, const Eigen::VectorXd& shift, const Eigen::VectorXd& origin, bool unloaded);
+  void describe_step(Step& s, const MinimizerResult& m, const Eigen::VectorXd& shift,
                      const Eigen::VectorXd& c_raw, double kappa, const Eigen::VectorXd* u,
                      const Eigen::VectorXd* b);
-  ContactSolution last_solution(const PathStep& s, const MinimizerResult& m, const Eigen::VectorXd& shift);
+  BasicContactSolution<dim> last_solution(const Step& s, const MinimizerResult& m, const Eigen::VectorXd& shift);
   MinimizerResult last_result;
   Eigen::VectorXd last_shift;
 };
 
-void PathSolver::Impl::set_up() {
+template <int dim>
+void BasicPathSolver<dim>::Impl::set_up() {
   check_loading(loading);
   if (!factorization) throw InputError("a path needs a factorization engine");
   if (processes_of(*factorization).num_processes() != 1)
@@ -149,7 +173,7 @@ void PathSolver::Impl::set_up() {
   if (problem.parts.empty())
     throw InputError("a loading path needs a contact boundary (without one the displacement at t is t times the one at t = 1)");
   parts = contact_parts(problem);
-  for (const ContactPart& part : parts) {
+  for (const auto& part : parts) {
     const std::string which = parts.size() == 1 ? std::string() : " of contact part '" + part.name + "'";
     if (!part.law)
       throw InputError(parts.size() == 1 ? std::string("the contact boundary has no contact law")
@@ -162,34 +186,54 @@ void PathSolver::Impl::set_up() {
       throw InputError("a friction bound that depends on the normal contact needs the normal displacements as unknowns, "
                        "which a bilateral constraint (u_nu = 0) removes" + which);
   }
-  if (!loading.proportional()) {
-    loading.update(loading.t.front(), problem);
-    parts = contact_parts(problem);
+  if (!loading.proportional()) loading.update(loading.t.front(), problem);
+  condense();
+  find_friction_bounds();
+  x_prev = Eigen::VectorXd::Zero(step.size());
+  tau_prev = Eigen::VectorXd::Zero(n1);
+  g = Eigen::VectorXd::Zero(n1);
+  if (loading.proportional()) {
+    c1 = cond->condensed_load();
+    prescribed1 = dofs.prescribed;
+    applied1 = resultant<dim>(assemble_load(*problem.elasticity.mesh, problem.elasticity.body_force, problem.elasticity.tractions));
+    // kappa: Phi at the displacement whose contact unknowns are 0, which has 1/2 x^T S x - c^T x = 0
+    const Eigen::VectorXd u0 = cond->back_substitute(-cond->origin());
+    Eigen::VectorXd uf(dofs.num_free());
+    for (int d = 0; d < dofs.num_free(); ++d) uf(d) = u0(dofs.free_dofs[static_cast<std::size_t>(d)]);
+    kappa1 = 0.5 * uf.dot(system->A * uf) - uf.dot(system->b);
   }
-  auto t0 = Clock::now();
-  system = assemble(problem.elasticity);
-  timings["assembly"] = since(t0);
-  boundary = about(ProblemPart::contact, [&] { return contact_boundary(problem, system.dofs); });
-  held_by_contact = about(ProblemPart::supports, [&] {
-    return find_supports(*problem.elasticity.mesh, system.dofs, boundary, parts).held_by_contact;
-  });
+}
+
+// The stages of the static solve up to the condensation (BasicContactSolver::prepare).
+template <int dim>
+void BasicPathSolver<dim>::Impl::condense() {
+  pipeline = std::make_unique<BasicContactSolver<dim>>(problem, std::move(factorization), options.minimizer);
+  pipeline->prepare();
+  system = &pipeline->system();
+  dofs = system->dofs;
+  parts = pipeline->parts();
+  boundary = pipeline->boundary();
+  held_by_contact = pipeline->prepared().held_by_contact;
+  for (const char* stage : {"assembly", "condensation"})
+    if (const auto it = pipeline->prepared().timings.find(stage); it != pipeline->prepared().timings.end())
+      timings[stage] = it->second;
   if (boundary.size() == 0) throw InputError("the contact boundary of the path has no free node");
-  t0 = Clock::now();
-  cond = about(ProblemPart::contact, [&] {
-    return std::make_unique<Condensation>(system, boundary, std::move(factorization), part_conditions(parts),
-                                          !held_by_contact.empty());
-  });
-  timings["condensation"] = since(t0);
+  cond = pipeline->condensation();
   step = cond->reduced();
   n1 = boundary.size();
   // S does not change along the path: whether F is bounded below is decided once, at the first
   // step (every step when a rigid motion is held by the contact only, where it depends on c)
   check_existence_each_step = !held_by_contact.empty();
+}
+
+// Per node, the friction bound that depends on the normal contact (FrictionBound), if any.
+template <int dim>
+void BasicPathSolver<dim>::Impl::find_friction_bounds() {
   bound_law.assign(static_cast<std::size_t>(n1), nullptr);
   for (int i = 0; i < n1; ++i) {
     any_bilateral = any_bilateral || cond->normal_coordinate(i) < 0;
     has_tangential = has_tangential || cond->tangential_coordinate(i) >= 0;
-    const ContactPart& part = parts[static_cast<std::size_t>(boundary.part_of(i))];
+    const auto& part = parts[static_cast<std::size_t>(boundary.part_of(i))];
     if (!part.friction_bound) continue;
     bound_law[static_cast<std::size_t>(i)] = &*part.friction_bound;
     bounded = true;
@@ -198,27 +242,15 @@ void PathSolver::Impl::set_up() {
     if (step.law_of(k).name() != "tresca" || std::abs(step.law_of(k).derivative(LawPart::j, 1.0, +1) - 1.0) > 0.0)
       throw InputError("a friction bound that depends on the normal contact needs the friction law tresca_law(1)");
   }
-  x_prev = Eigen::VectorXd::Zero(step.size());
-  tau_prev = Eigen::VectorXd::Zero(n1);
-  g = Eigen::VectorXd::Zero(n1);
-  if (loading.proportional()) {
-    c1 = cond->condensed_load();
-    prescribed1 = system.dofs.prescribed;
-    applied1 = resultant(assemble_load(*problem.elasticity.mesh, problem.elasticity.body_force, problem.elasticity.tractions));
-    // kappa: Phi at the displacement whose contact unknowns are 0, which has 1/2 x^T S x - c^T x = 0
-    const Eigen::VectorXd u0 = cond->back_substitute(-cond->origin());
-    Eigen::VectorXd uf(system.dofs.num_free());
-    for (int d = 0; d < system.dofs.num_free(); ++d) uf(d) = u0(system.dofs.free_dofs[static_cast<std::size_t>(d)]);
-    kappa1 = 0.5 * uf.dot(system.A * uf) - uf.dot(system.b);
-  }
 }
 
 // The step's problem is F in the variable a' = x - origin - shift (x the contact unknowns, origin
 // the gaps of law_from_surface, shift the previous u_tau on the tangential coordinates): its c
 // is c_raw - S (origin + shift), its bounds the condensation's.
-PathStep PathSolver::Impl::solve_step(int k) {
+template <int dim>
+auto BasicPathSolver<dim>::Impl::solve_step(int k) -> Step {
   const auto t_start = Clock::now();
-  PathStep s;
+  Step s;
   s.index = k;
   s.t = loading.t[static_cast<std::size_t>(k - 1)];
   const double t = s.t;
@@ -229,21 +261,21 @@ PathStep PathSolver::Impl::solve_step(int k) {
     s.applied = t * applied1;
   } else {
     if (k > 1) loading.update(t, problem);
-    const DofMap dofs = make_dof_map(*problem.elasticity.mesh, problem.elasticity.dirichlet);
-    if (dofs.free_dofs != system.dofs.free_dofs)
+    const DofMap at_t = make_dof_map(*problem.elasticity.mesh, problem.elasticity.dirichlet);
+    if (at_t.free_dofs != dofs.free_dofs)
       throw InputError("the prescribed degrees of freedom change along the path at t = " + shortest(t) +
                        ": a path may change prescribed values, not which displacements are prescribed");
-    b = assemble_rhs(problem.elasticity, dofs);
-    cond->set_load(b, dofs.prescribed);
-    system.dofs.prescribed = dofs.prescribed;
-    boundary.gaps = contact_boundary(problem, system.dofs).gaps;  // the contact nodes report the step's gaps
+    b = assemble_rhs(problem.elasticity, at_t);
+    cond->set_load(b, at_t.prescribed);
+    dofs.prescribed = at_t.prescribed;
+    boundary.gaps = contact_boundary(problem, dofs).gaps;  // the contact nodes report the step's gaps
     cond->set_gaps(boundary.gaps);
     c_raw = cond->condensed_load();
     step.lo = cond->reduced().lo;
     step.hi = cond->reduced().hi;
     if (step.laws.size() != cond->reduced().laws.size()) step.laws = cond->reduced().laws;
     step.law_index = cond->reduced().law_index;
-    s.applied = resultant(assemble_load(*problem.elasticity.mesh, problem.elasticity.body_force, problem.elasticity.tractions));
+    s.applied = resultant<dim>(assemble_load(*problem.elasticity.mesh, problem.elasticity.body_force, problem.elasticity.tractions));
   }
   Eigen::VectorXd shift = Eigen::VectorXd::Zero(step.size());
   for (int i = 0; i < n1; ++i)
@@ -275,7 +307,7 @@ PathStep PathSolver::Impl::solve_step(int k) {
   if (!proportional || frame || any_bilateral) {
     const auto t0 = Clock::now();
     if (proportional) {
-      b = t * system.b;
+      b = t * system->b;
       cond->set_load(b, t * prescribed1);
     }
     u = cond->back_substitute(x - origin);
@@ -284,7 +316,7 @@ PathStep PathSolver::Impl::solve_step(int k) {
   describe_step(s, last_result, shift, c_raw, kappa, u.size() > 0 ? &u : nullptr, u.size() > 0 ? &b : nullptr);
   if (frame) {
     s.u = u;
-    const ElasticityProblem at_t = proportional ? scaled(problem.elasticity, t) : problem.elasticity;
+    const auto at_t = proportional ? scaled(problem.elasticity, t) : problem.elasticity;
     s.forces = force_balance(at_t, u, s.contact_force);
   }
   for (int i = 0; i < n1; ++i)
@@ -296,7 +328,8 @@ PathStep PathSolver::Impl::solve_step(int k) {
 
 // One minimization, or the fixed point on the friction bound: each iterate a Tresca problem with
 // the bound g (the tangential weights w_i g_i), until the coupled certificate holds.
-void PathSolver::Impl::minimize_step(PathStep& s, const Eigen::VectorXd& shift, const Eigen::VectorXd& origin,
+template <int dim>
+void BasicPathSolver<dim>::Impl::minimize_step(Step& s, const Eigen::VectorXd& shift, const Eigen::VectorXd& origin,
                                      bool unloaded) {
   // from the previous step; a frictionless step whose load vanishes exactly starts from the
   // unloaded state x = 0 (a warm start would shrink towards it by round-off without reaching it)
@@ -375,7 +408,8 @@ void PathSolver::Impl::minimize_step(PathStep& s, const Eigen::VectorXd& shift, 
 
 // The step's contact nodes, resultant, zone and energy, from the minimizer's point (and the
 // displacement where it was computed).
-void PathSolver::Impl::describe_step(PathStep& s, const MinimizerResult& m, const Eigen::VectorXd& shift,
+template <int dim>
+void BasicPathSolver<dim>::Impl::describe_step(Step& s, const MinimizerResult& m, const Eigen::VectorXd& shift,
                                      const Eigen::VectorXd& c_raw, double kappa, const Eigen::VectorXd* u,
                                      const Eigen::VectorXd* b) {
   MinimizerResult raw;  // the point in the condensation's coordinates (u_tau total) and its forces
@@ -384,9 +418,9 @@ void PathSolver::Impl::describe_step(PathStep& s, const MinimizerResult& m, cons
   raw.reaction = m.reaction;
   Eigen::VectorXd residual;
   if (u && b) {
-    Eigen::VectorXd uf(system.dofs.num_free());
-    for (int d = 0; d < system.dofs.num_free(); ++d) uf(d) = (*u)(system.dofs.free_dofs[static_cast<std::size_t>(d)]);
-    const Eigen::VectorXd Au = system.A * uf;
+    Eigen::VectorXd uf(dofs.num_free());
+    for (int d = 0; d < dofs.num_free(); ++d) uf(d) = (*u)(dofs.free_dofs[static_cast<std::size_t>(d)]);
+    const Eigen::VectorXd Au = system->A * uf;
     residual = Au - *b;
     s.energy = 0.5 * uf.dot(Au) - uf.dot(*b);
   } else {
@@ -400,7 +434,7 @@ void PathSolver::Impl::describe_step(PathStep& s, const MinimizerResult& m, cons
     s.friction_bound = s.slip;
   }
   for (int i = 0; i < n1; ++i) {
-    ContactNode node = contact_node(*problem.elasticity.mesh, boundary, *cond, system.dofs, i, raw,
+    auto node = contact_node(*problem.elasticity.mesh, boundary, *cond, dofs, i, raw,
                                     residual.size() > 0 ? &residual : nullptr);
     if (const int k = cond->tangential_coordinate(i); k >= 0) {
       s.slip(i) = m.a(k);
@@ -417,12 +451,14 @@ void PathSolver::Impl::describe_step(PathStep& s, const MinimizerResult& m, cons
   }
 }
 
-ContactSolution PathSolver::Impl::last_solution(const PathStep& s, const MinimizerResult& m, const Eigen::VectorXd& shift) {
-  ContactSolution sol;
+template <int dim>
+auto BasicPathSolver<dim>::Impl::last_solution(const Step& s, const MinimizerResult& m, const Eigen::VectorXd& shift)
+    -> BasicContactSolution<dim> {
+  BasicContactSolution<dim> sol;
   sol.u = s.u;
-  sol.unknowns = system.dofs.num_free();
+  sol.unknowns = dofs.num_free();
   sol.contact = s.contact;
-  for (const ContactPart& part : parts) sol.contact_parts.push_back(part.name);
+  for (const auto& part : parts) sol.contact_parts.push_back(part.name);
   sol.status = s.status;
   sol.message = s.message;
   sol.certificate = s.certificate;
@@ -442,18 +478,22 @@ ContactSolution PathSolver::Impl::last_solution(const PathStep& s, const Minimiz
   return sol;
 }
 
-PathSolver::PathSolver(ContactProblem& problem, std::unique_ptr<SparseFactorization> factorization,
-                       const NonsmoothMinimizer& minimizer, PathLoading loading, PathOptions options)
+template <int dim>
+BasicPathSolver<dim>::BasicPathSolver(BasicContactProblem<dim>& problem, std::unique_ptr<SparseFactorization> factorization,
+                                      const NonsmoothMinimizer& minimizer, BasicPathLoading<dim> loading,
+                                      BasicPathOptions<dim> options)
     : impl_(std::make_unique<Impl>(problem, std::move(factorization), minimizer, std::move(loading), std::move(options))) {}
 
-PathSolver::~PathSolver() = default;
+template <int dim>
+BasicPathSolver<dim>::~BasicPathSolver() = default;
 
-PathSolution PathSolver::run() {
+template <int dim>
+BasicPathSolution<dim> BasicPathSolver<dim>::run() {
   Impl& p = *impl_;
-  if (!p.factorization && p.cond) throw InternalError("PathSolver::run is called once");
+  if (p.pipeline) throw InternalError("PathSolver::run is called once");
   const auto start = Clock::now();
   p.set_up();
-  PathSolution out;
+  BasicPathSolution<dim> out;
   out.proportional = p.loading.proportional();
   const auto t_path = Clock::now();
   const int K = static_cast<int>(p.loading.t.size());
@@ -462,14 +502,13 @@ PathSolution PathSolver::run() {
     if (p.options.on_step && !p.options.on_step(out.steps.back())) break;
   }
   p.timings["path"] = since(t_path) - p.timings["frames"];
-  const PathStep& end = out.steps.back();
-  if (end.u.size() == 0) {
+  if (out.steps.back().u.size() == 0) {
     // stopped early by on_step: the displacement of the step it stopped at
-    PathStep& s = out.steps.back();
-    Eigen::VectorXd b = s.t * p.system.b;
+    auto& s = out.steps.back();
+    Eigen::VectorXd b = s.t * p.system->b;
     if (out.proportional) p.cond->set_load(b, s.t * p.prescribed1);
     s.u = p.cond->back_substitute(s.a - p.cond->origin());
-    const ElasticityProblem at_t = out.proportional ? scaled(p.problem.elasticity, s.t) : p.problem.elasticity;
+    const auto at_t = out.proportional ? scaled(p.problem.elasticity, s.t) : p.problem.elasticity;
     s.forces = force_balance(at_t, s.u, s.contact_force);
   }
   out.last = p.last_solution(out.steps.back(), p.last_result, p.last_shift);
@@ -479,9 +518,20 @@ PathSolution PathSolver::run() {
   return out;
 }
 
-PathSolution solve_path(ContactProblem& problem, std::unique_ptr<SparseFactorization> factorization,
-                        const NonsmoothMinimizer& minimizer, PathLoading loading, PathOptions options) {
-  return PathSolver(problem, std::move(factorization), minimizer, std::move(loading), std::move(options)).run();
+template <int dim>
+BasicPathSolution<dim> solve_path(BasicContactProblem<dim>& problem, std::unique_ptr<SparseFactorization> factorization,
+                                  const NonsmoothMinimizer& minimizer, BasicPathLoading<dim> loading,
+                                  BasicPathOptions<dim> options) {
+  return BasicPathSolver<dim>(problem, std::move(factorization), minimizer, std::move(loading), std::move(options)).run();
 }
+
+template struct BasicPathSolution<2>;
+template struct BasicPathSolution<3>;
+template class BasicPathSolver<2>;
+template class BasicPathSolver<3>;
+template BasicPathSolution<2> solve_path(ContactProblem&, std::unique_ptr<SparseFactorization>, const NonsmoothMinimizer&,
+                                         PathLoading, PathOptions);
+template BasicPathSolution<3> solve_path(ContactProblem3D&, std::unique_ptr<SparseFactorization>,
+                                         const NonsmoothMinimizer&, BasicPathLoading<3>, BasicPathOptions<3>);
 
 }  // namespace hemivem

@@ -16,6 +16,7 @@
 #include <hemivem/mesh/gmsh3d.hpp>
 #include <hemivem/scene/resources.hpp>
 
+#include "scene_fields.hpp"
 #include "scene_reader.hpp"
 
 namespace hemivem {
@@ -75,31 +76,7 @@ int gmsh_file_dimension(const std::filesystem::path& path) {
 
 namespace {
 
-std::string point_text(const Vec3& x) { return "(" + fmt(x.x()) + ", " + fmt(x.y()) + ", " + fmt(x.z()) + ")"; }
-
-/// A scene value as a field of space: at t = 1, as written (a static solve; scene.hpp).
-ScalarExpression field3(const SceneScalar& v) {
-  return v.is_expression() ? ScalarExpression::parse(v.expression, 3) : ScalarExpression(v.value);
-}
-
-/// The scalar field of a scene value; a value that is not finite is an error naming the key.
-std::function<double(const Vec3&)> scalar_field(const SceneScalar& v, const Scene& scene, const std::string& key) {
-  return [e = field3(v), key, where = scene.where(key)](const Vec3& x) {
-    const double value = e(x, 1.0);
-    if (!std::isfinite(value))
-      throw InputError(key + " = '" + e.text() + "' gives a value that is not finite at " + point_text(x), where);
-    return value;
-  };
-}
-
-VectorField3 vector_field(const std::array<SceneScalar, 3>& v, const Scene& scene, const std::array<std::string, 3>& keys) {
-  auto fx = scalar_field(v[0], scene, keys[0]);
-  auto fy = scalar_field(v[1], scene, keys[1]);
-  auto fz = scalar_field(v[2], scene, keys[2]);
-  return [fx, fy, fz](const Vec3& x) { return Vec3(fx(x), fy(x), fz(x)); };
-}
-
-bool is_zero(const SceneScalar& v) { return !v.is_expression() && v.value == 0.0; }
+std::string point_text(const Vec3& x) { return detail::point_text<3>(x); }
 
 std::string count_text(double v) {
   if (v < 1e9) return std::to_string(static_cast<long long>(std::llround(v)));
@@ -188,28 +165,17 @@ void add_dirichlet_3d(ElasticityProblem3D& e, const Scene& scene, const FaceSele
   for (std::size_t i = 0; i < scene.dirichlet.size(); ++i) {
     const auto& d = scene.dirichlet[i];
     const std::string key = "dirichlet[" + std::to_string(i) + "]";
-    const bool as_value = scene.lines.count(key + ".value") > 0;  // the keys that gave the components
-    const std::array<std::string, 3> keys{as_value ? key + ".value" : key + ".ux", as_value ? key + ".value" : key + ".uy",
-                                          as_value ? key + ".value" : key + ".uz"};
-    const std::array<SceneScalar, 3> value{d.ux.value_or(SceneScalar{}), d.uy.value_or(SceneScalar{}),
-                                           d.uz.value_or(SceneScalar{})};
-    VectorField3 field;  // empty: zero
-    if (!(is_zero(value[0]) && is_zero(value[1]) && is_zero(value[2]))) field = vector_field(value, scene, keys);
-    e.dirichlet.push_back({select(d.boundary, key), field, {d.ux.has_value(), d.uy.has_value(), d.uz.has_value()}, key});
+    e.dirichlet.push_back({select(d.boundary, key), detail::dirichlet_value_at<3>(scene, i, 1.0),
+                           {d.ux.has_value(), d.uy.has_value(), d.uz.has_value()}, key});
   }
 }
 
 void add_loads_3d(ElasticityProblem3D& e, const Scene& scene, const FaceSelection& select) {
-  const auto& f = scene.body_force;
-  if (!(is_zero(f[0]) && is_zero(f[1]) && is_zero(f[2])))
-    e.body_force = vector_field(f, scene, {"loads.body_force", "loads.body_force", "loads.body_force"});
+  e.body_force = detail::body_force_at<3>(scene, 1.0);
   for (std::size_t i = 0; i < scene.tractions.size(); ++i) {
-    const SceneTraction& t = scene.tractions[i];
-    const std::string key = "loads.traction[" + std::to_string(i) + "]";
     TractionLoad3D load;
-    load.faces = select(t.boundary, key);
-    if (t.pressure) load.pressure = scalar_field(*t.pressure, scene, key + ".pressure");
-    else load.traction = vector_field(t.value, scene, {key + ".value", key + ".value", key + ".value"});
+    load.faces = select(scene.tractions[i].boundary, "loads.traction[" + std::to_string(i) + "]");
+    detail::set_traction_at<3>(load, scene, i, 1.0);
     e.tractions.push_back(std::move(load));
   }
 }
@@ -234,7 +200,7 @@ void check_contact_not_clamped_3d(const ElasticityProblem3D& e, const std::vecto
 void check_box_gaps_3d(const ContactProblem3D& p, const ContactPart3D& part, const Scene& scene, const std::string& key) {
   ContactBoundary boundary;
   try {
-    boundary = make_contact_boundary_3d(*p.elasticity.mesh, {part}, make_dof_map_3d(*p.elasticity.mesh, p.elasticity.dirichlet));
+    boundary = make_contact_boundary(*p.elasticity.mesh, {part}, make_dof_map(*p.elasticity.mesh, p.elasticity.dirichlet));
   } catch (const InputError&) {
     return;
   }
@@ -255,26 +221,7 @@ ContactPart3D make_contact_part_3d(const ContactProblem3D& p, const SceneContact
   part.name = contact_part_name(scene, i);
   part.facets = select(c.boundary, key);
   check_contact_not_clamped_3d(p.elasticity, part.facets, mesh, scene, key);
-  if (c.obstacle) {
-    Obstacle3D o = detail::make_obstacle3d(*c.obstacle);
-    if (c.obstacle->motion) {  // the obstacle moved by its motion at t = 1
-      const std::string mkey = key + ".obstacle.motion";
-      const Vec3 m = vector_field(*c.obstacle->motion, scene, {mkey, mkey, mkey})(Vec3::Zero());
-      o.point += m;
-      o.center += m;
-    }
-    part.obstacle = o;
-  } else {
-    const std::string gkey = key + ".gap";
-    part.gap = [g = field3(c.gap), gkey, where = scene.where(gkey)](const Vec3& x) {
-      const double value = g(x, 1.0);
-      if (!(std::isfinite(value) && value >= 0.0))
-        throw InputError(gkey + " = '" + g.text() + "' gives " + fmt(value) + " at " + point_text(x) +
-                             "; a gap must be finite and >= 0",
-                         where);
-      return value;
-    };
-  }
+  detail::set_contact_data_at<3>(part, scene, c, i, 1.0);
   try {
     part.law = detail::make_law(c.law);
   } catch (const InputError& err) {

@@ -13,6 +13,7 @@
 #include <hemivem/contact/piecewise_law.hpp>
 #include <hemivem/scene/resources.hpp>
 
+#include "scene_fields.hpp"
 #include "scene_reader.hpp"
 
 namespace hemivem {
@@ -237,100 +238,6 @@ std::unique_ptr<BuiltProblem> build_problem(const Scene& scene, Mesh given, bool
 
 namespace {
 
-ScalarExpression field(const SceneScalar& v) {
-  return v.is_expression() ? ScalarExpression::parse(v.expression) : ScalarExpression(v.value);
-}
-
-/// " at t = ..." for a value that depends on t, for messages.
-std::string at_t(const ScalarExpression& e, double t) { return e.uses_t() ? " at t = " + fmt(t) : std::string(); }
-
-/// The scalar field of a driving value of the scene (a load, a prescribed displacement, an
-/// obstacle's motion) at the load factor t: times t when it does not mention t, as written when
-/// it does (scene.hpp). A value that is not finite is an error naming the scene key.
-std::function<double(const Vec2&)> driven_scalar(const SceneScalar& v, double t, const Scene& scene,
-                                                 const std::string& key) {
-  ScalarExpression e = field(v);
-  const double scale = e.uses_t() ? 1.0 : t;
-  return [e = std::move(e), t, scale, key, where = scene.where(key)](const Vec2& x) {
-    const double value = scale * e(x, t);
-    if (!std::isfinite(value))
-      throw InputError(key + " = '" + e.text() + "' gives a value that is not finite at (" + fmt(x.x()) + ", " +
-                           fmt(x.y()) + ")" + at_t(e, t),
-                       where);
-    return value;
-  };
-}
-
-/// The vector field of the first two driving values of the scene at the load factor t
-/// (driven_scalar; the third is a 3D scene's).
-VectorField driven_vector(const std::array<SceneScalar, 3>& v, double t, const Scene& scene,
-                          const std::array<std::string, 2>& keys) {
-  auto fx = driven_scalar(v[0], t, scene, keys[0]);
-  auto fy = driven_scalar(v[1], t, scene, keys[1]);
-  return [fx, fy](const Vec2& x) { return Vec2(fx(x), fy(x)); };
-}
-
-/// loads.body_force at t; empty when both components are the number 0.
-VectorField body_force_at(const Scene& scene, double t) {
-  const auto& f = scene.body_force;
-  if (!(f[0].is_expression() || f[1].is_expression() || f[0].value != 0.0 || f[1].value != 0.0)) return {};
-  return driven_vector(f, t, scene, {"loads.body_force", "loads.body_force"});
-}
-
-/// The traction or pressure of [[loads.traction]] i at t (its edges are not touched).
-void set_traction_at(TractionLoad& load, const Scene& scene, std::size_t i, double t) {
-  const auto& traction = scene.tractions[i];
-  const std::string key = "loads.traction[" + std::to_string(i) + "]";
-  load.traction = {};
-  load.pressure = {};
-  if (traction.pressure) load.pressure = driven_scalar(*traction.pressure, t, scene, key + ".pressure");
-  else load.traction = driven_vector(traction.value, t, scene, {key + ".value", key + ".value"});
-}
-
-/// The prescribed displacement of [[dirichlet]] i at t (a free component reads 0).
-VectorField dirichlet_value_at(const Scene& scene, std::size_t i, double t) {
-  const auto& d = scene.dirichlet[i];
-  const std::string key = "dirichlet[" + std::to_string(i) + "]";
-  // the keys that gave the components, for messages
-  const bool as_value = scene.lines.count(key + ".value") > 0;
-  const std::array<std::string, 2> keys{as_value ? key + ".value" : key + ".ux", as_value ? key + ".value" : key + ".uy"};
-  return driven_vector({d.ux.value_or(SceneScalar{}), d.uy.value_or(SceneScalar{})}, t, scene, keys);
-}
-
-/// The gap of contact part i (`c`) at t: as written (a gap that does not mention t stays);
-/// finite and >= 0 at every point it is evaluated, else an error naming the key.
-std::function<double(const Vec2&)> gap_at(const Scene& scene, const SceneContact& c, std::size_t i, double t) {
-  const std::string key = contact_key(scene, i) + ".gap";
-  return [g = field(c.gap), t, key, where = scene.where(key)](const Vec2& x) {
-    const double value = g(x, t);
-    if (!(std::isfinite(value) && value >= 0.0))
-      throw InputError(key + " = '" + g.text() + "' gives " + fmt(value) + " at (" + fmt(x.x()) + ", " + fmt(x.y()) +
-                           ")" + at_t(g, t) + "; a gap must be finite and >= 0",
-                       where);
-    return value;
-  };
-}
-
-/// The obstacle of contact part i (`c`) at t: moved by its motion at t.
-Obstacle obstacle_at(const Scene& scene, const SceneContact& c, std::size_t i, double t) {
-  const SceneObstacle& o = *c.obstacle;
-  Obstacle b = make_obstacle(o);
-  if (!o.motion) return b;
-  const std::string key = contact_key(scene, i) + ".obstacle.motion";
-  const Vec2 m = driven_vector(*o.motion, t, scene, {key, key})(Vec2::Zero());
-  b.point += m;
-  b.center += m;
-  for (Vec2& q : b.points) q += m;
-  return b;
-}
-
-/// The gap or the obstacle of contact part i at t.
-void set_contact_data_at(std::function<double(const Vec2&)>& gap, std::optional<Obstacle>& obstacle,
-                         const Scene& scene, const SceneContact& c, std::size_t i, double t) {
-  if (c.obstacle) obstacle = obstacle_at(scene, c, i, t);
-  else gap = gap_at(scene, c, i, t);
-}
-
 /// The material of each region: the scene's E and nu, but for the regions [[material.region]]
 /// names.
 MaterialTable scene_materials(const Scene& scene, const Mesh& mesh) {
@@ -381,18 +288,18 @@ void add_dirichlet(ElasticityProblem& e, const Scene& scene, const EdgeSelection
   for (std::size_t i = 0; i < scene.dirichlet.size(); ++i) {
     const auto& d = scene.dirichlet[i];
     const std::string key = "dirichlet[" + std::to_string(i) + "]";
-    e.dirichlet.push_back({select(d.boundary, key), dirichlet_value_at(scene, i, 1.0),
+    e.dirichlet.push_back({select(d.boundary, key), detail::dirichlet_value_at<2>(scene, i, 1.0),
                            {d.ux.has_value(), d.uy.has_value()}, key});
   }
 }
 
 /// [loads]: the body force (when not zero) and each [[loads.traction]].
 void add_loads(ElasticityProblem& e, const Scene& scene, const EdgeSelection& select) {
-  e.body_force = body_force_at(scene, 1.0);
+  e.body_force = detail::body_force_at<2>(scene, 1.0);
   for (std::size_t i = 0; i < scene.tractions.size(); ++i) {
     TractionLoad load;
     load.edges = select(scene.tractions[i].boundary, "loads.traction[" + std::to_string(i) + "]");
-    set_traction_at(load, scene, i, 1.0);
+    detail::set_traction_at<2>(load, scene, i, 1.0);
     e.tractions.push_back(std::move(load));
   }
 }
@@ -421,7 +328,7 @@ ContactPart make_contact_part(const ElasticityProblem& e, const SceneContact& c,
   p.name = contact_part_name(scene, i);
   p.facets = select(c.boundary, key);
   check_contact_not_clamped(e, p.facets, mesh, scene, key);
-  set_contact_data_at(p.gap, p.obstacle, scene, c, i, 1.0);
+  detail::set_contact_data_at<2>(p, scene, c, i, 1.0);
   try {
     p.law = make_law(c.law);
   } catch (const InputError& err) {
@@ -496,25 +403,8 @@ bool scene_is_proportional(const Scene& scene) {
   return true;
 }
 
-void set_load_factor(const Scene& scene, double t, ContactProblem& problem) {
-  if (scene.dimension() == 3) throw InputError("a three-dimensional scene is solved at t = 1 (it has no loading path)", scene.where("mesh"));
-  if (!std::isfinite(t)) throw InternalError("set_load_factor: the load factor must be finite, got " + fmt(t));
-  ElasticityProblem& e = problem.elasticity;
-  const std::size_t clamped = scene.clamped.empty() ? 0 : 1;  // [clamped] comes first (add_dirichlet)
-  const std::vector<SceneContact> parts = contact_parts(scene);
-  const std::size_t problem_parts = problem.parts.size();
-  if (e.tractions.size() != scene.tractions.size() || e.dirichlet.size() != clamped + scene.dirichlet.size() ||
-      parts.size() != problem_parts)
-    throw InternalError("set_load_factor: the problem was not built from this scene (" +
-                        std::to_string(e.tractions.size()) + " tractions, " + std::to_string(e.dirichlet.size()) +
-                        " prescribed parts, " + std::to_string(problem_parts) + " contact parts; the scene has " +
-                        std::to_string(scene.tractions.size()) + ", " + std::to_string(clamped + scene.dirichlet.size()) +
-                        ", " + std::to_string(parts.size()) + ")");
-  e.body_force = body_force_at(scene, t);
-  for (std::size_t i = 0; i < scene.tractions.size(); ++i) set_traction_at(e.tractions[i], scene, i, t);
-  for (std::size_t i = 0; i < scene.dirichlet.size(); ++i) e.dirichlet[clamped + i].value = dirichlet_value_at(scene, i, t);
-  for (std::size_t i = 0; i < parts.size(); ++i)
-    set_contact_data_at(problem.parts[i].gap, problem.parts[i].obstacle, scene, parts[i], i, t);
-}
+void set_load_factor(const Scene& scene, double t, ContactProblem& problem) { detail::set_problem_at(scene, t, problem); }
+
+void set_load_factor(const Scene& scene, double t, ContactProblem3D& problem) { detail::set_problem_at(scene, t, problem); }
 
 }  // namespace hemivem

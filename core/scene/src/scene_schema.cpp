@@ -903,7 +903,6 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
     refuse_in_3d(r, "adapt", "adaptive refinement refines polygonal (two-dimensional) meshes");
   if (const toml::table* t = r.table("adapt")) read_adapt(s, *t);
   s.path.reset();
-  if (s.dimension() == 3 && r.has("path")) refuse_in_3d(r, "path", "a three-dimensional scene is solved at t = 1");
   if (const toml::table* t = r.table("path")) read_path(s, *t);
   if (const toml::table* t = r.table("output")) read_output(s, *t);
   return s;

@@ -65,7 +65,7 @@ SparseMatrix pattern(const Mesh3D& mesh, const std::vector<int>& index, int size
 
 }  // namespace
 
-SparseMatrix assemble_stiffness_3d(const Mesh3D& mesh, const MaterialTable& materials, Stabilization stabilization) {
+SparseMatrix assemble_stiffness(const Mesh3D& mesh, const MaterialTable& materials, Stabilization stabilization) {
   const int n = 3 * mesh.num_vertices();
   std::vector<int> index(static_cast<std::size_t>(n));
   for (int d = 0; d < n; ++d) index[static_cast<std::size_t>(d)] = d;
@@ -84,7 +84,7 @@ SparseMatrix assemble_stiffness_3d(const Mesh3D& mesh, const MaterialTable& mate
   return K;
 }
 
-Eigen::VectorXd assemble_load_3d(const Mesh3D& mesh, const VectorField3& body_force,
+Eigen::VectorXd assemble_load(const Mesh3D& mesh, const VectorField3& body_force,
                                  const std::vector<TractionLoad3D>& tractions) {
   Eigen::VectorXd f = Eigen::VectorXd::Zero(3 * mesh.num_vertices());
   if (body_force) {
@@ -154,7 +154,7 @@ Eigen::VectorXd assemble_load_3d(const Mesh3D& mesh, const VectorField3& body_fo
   return f;
 }
 
-DofMap make_dof_map_3d(const Mesh3D& mesh, const std::vector<DirichletCondition3D>& dirichlet) {
+DofMap make_dof_map(const Mesh3D& mesh, const std::vector<DirichletCondition3D>& dirichlet) {
   const int ndof = 3 * mesh.num_vertices();
   Eigen::VectorXd prescribed = Eigen::VectorXd::Zero(ndof);
   std::vector<char> fixed(static_cast<std::size_t>(ndof), 0);
@@ -173,7 +173,7 @@ DofMap make_dof_map_3d(const Mesh3D& mesh, const std::vector<DirichletCondition3
   return detail::dof_map_of(std::move(fixed), std::move(prescribed));
 }
 
-LinearSystem assemble_3d(const ElasticityProblem3D& problem) {
+LinearSystem assemble(const ElasticityProblem3D& problem) {
   if (!problem.mesh) throw InputError("the elasticity problem has no mesh");
   const Mesh3D& mesh = *problem.mesh;
   double held = 0.0;
@@ -187,8 +187,8 @@ LinearSystem assemble_3d(const ElasticityProblem3D& problem) {
     throw InputError("the body is not held: no boundary face has a prescribed displacement (Gamma_1 is empty)");
   if (!(held > 0.0)) throw InputError("the body is not held: the boundary with prescribed displacement has zero area");
   LinearSystem sys;
-  sys.dofs = make_dof_map_3d(mesh, problem.dirichlet);
-  const Eigen::VectorXd f = assemble_load_3d(mesh, problem.body_force, problem.tractions);
+  sys.dofs = make_dof_map(mesh, problem.dirichlet);
+  const Eigen::VectorXd f = assemble_load(mesh, problem.body_force, problem.tractions);
   sys.b.resize(sys.dofs.num_free());
   for (int i = 0; i < sys.dofs.num_free(); ++i) sys.b(i) = f(sys.dofs.free_dofs[static_cast<std::size_t>(i)]);
   {
@@ -199,7 +199,7 @@ LinearSystem assemble_3d(const ElasticityProblem3D& problem) {
   return sys;
 }
 
-Eigen::VectorXd assemble_rhs_3d(const ElasticityProblem3D& problem, const DofMap& dofs) {
+Eigen::VectorXd assemble_rhs(const ElasticityProblem3D& problem, const DofMap& dofs) {
   if (!problem.mesh) throw InputError("the elasticity problem has no mesh");
   const Mesh3D& mesh = *problem.mesh;
   if (dofs.num_dofs() != 3 * mesh.num_vertices())
@@ -207,7 +207,7 @@ Eigen::VectorXd assemble_rhs_3d(const ElasticityProblem3D& problem, const DofMap
                      std::to_string(3 * mesh.num_vertices()));
   LinearSystem sys;
   sys.dofs = dofs;
-  const Eigen::VectorXd f = assemble_load_3d(mesh, problem.body_force, problem.tractions);
+  const Eigen::VectorXd f = assemble_load(mesh, problem.body_force, problem.tractions);
   sys.b.resize(dofs.num_free());
   for (int i = 0; i < dofs.num_free(); ++i) sys.b(i) = f(dofs.free_dofs[static_cast<std::size_t>(i)]);
   std::vector<Vec3> z;
@@ -236,7 +236,7 @@ Eigen::VectorXd assemble_rhs_3d(const ElasticityProblem3D& problem, const DofMap
   return sys.b;
 }
 
-std::vector<LinearField3> project_solution_3d(const Mesh3D& mesh, const Eigen::VectorXd& u) {
+std::vector<LinearField3> project_solution(const Mesh3D& mesh, const Eigen::VectorXd& u) {
   if (u.size() != 3 * mesh.num_vertices())
     throw InputError("displacement vector has " + std::to_string(u.size()) + " entries, expected " +
                      std::to_string(3 * mesh.num_vertices()));

@@ -8,6 +8,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -51,9 +52,17 @@ struct RunInfo {
   nlohmann::json adapt;
   /// A loading path's steps (not owned; must outlive write_outputs): result.json's "path"
   /// summary, path.json, path-contact.csv, path-displacement.csv, solution.pvd with a
-  /// solution-NNNN.vtu per frame, path.png; null for a static solve.
-  const PathSolution* path = nullptr;
+  /// solution-NNNN.vtu per frame, path.png; none for a static solve. The path of a plane or
+  /// of a solid body (path_of).
+  std::variant<std::monostate, const BasicPathSolution<2>*, const BasicPathSolution<3>*> path;
 };
+
+/// The run's path of a body of dimension dim (RunInfo::path), or null.
+template <int dim>
+const BasicPathSolution<dim>* path_of(const RunInfo& info) {
+  const auto* p = std::get_if<const BasicPathSolution<dim>*>(&info.path);
+  return p ? *p : nullptr;
+}
 
 /// result.json's "error_estimate" of an estimate: energy, norm, relative, parts (its time is
 /// the stage "estimate" of the timings).

@@ -61,8 +61,9 @@ struct RunOptions {
   std::string reduced_key = "reduced";
   /// Reports the runs of a global search.
   std::function<void(const GlobalSearchProgress&)> progress;
-  /// Called after each step of a path (with the number of steps) or of an adaptive sequence.
-  std::function<void(const PathStep&, int steps)> on_path_step;
+  /// Called after each step of a path, plane or solid (the step, the number of steps and the
+  /// line `hemivem solve` prints), and of an adaptive sequence.
+  std::function<void(const PathProgress&)> on_path_step;
   std::function<void(const AdaptStep&)> on_adapt_step;
   /// A mesh of one's own to solve on instead of the scene's (SceneSolveOptions::mesh,
   /// SceneSolve3DOptions::mesh): a Mesh for a plane scene, a Mesh3D for a solid one; the other
@@ -96,6 +97,8 @@ class SceneRun {
   const AdaptiveSolve* adaptive() const noexcept { return adaptive_.get(); }
   /// The loading path's steps, or null.
   const PathSolution* path() const noexcept;
+  /// The loading path's steps of a solid, or null.
+  const BasicPathSolution<3>* solid_path() const noexcept;
 
   /// False on the processes of mumps-mpi that hold no results (they report nothing).
   bool holds_results() const noexcept;
@@ -135,9 +138,10 @@ class SceneRun {
 };
 
 /// Solves `scene`, whatever it holds (run_kind): a plane static solve (solve_scene), a loading
-/// path (solve_scene_path), an adaptive sequence (solve_adaptively) or a solid (solve_scene_3d).
-/// Errors as those functions', and InputError for what a kind cannot do (a path or an
-/// adaptive solid, a plane mesh given for a solid scene, a reduced problem asked of a path).
+/// path (solve_scene_path), an adaptive sequence (solve_adaptively) or a solid, static or along
+/// a path (solve_scene_3d).
+/// Errors as those functions', and InputError for what a kind cannot do (an adaptive
+/// solid, a plane mesh given for a solid scene, a reduced problem asked of a path).
 SceneRun run_scene(const Scene& scene, RunOptions options = {});
 
 }  // namespace hemivem::app

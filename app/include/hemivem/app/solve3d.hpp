@@ -1,6 +1,6 @@
 // A three-dimensional scene solved (docs/reference/scenes.md, "Three-dimensional scenes"): the
 // engines the scene names (those of solve_scene), its ContactProblem3D (build_problem_3d), the
-// solve (solve_contact_3d), and what `hemivem solve` writes and prints about it.
+// solve (solve_contact), and what `hemivem solve` writes and prints about it.
 #pragma once
 
 #include <filesystem>
@@ -17,6 +17,7 @@
 #include <hemivem/estimate/error_estimate3d.hpp>
 #include <hemivem/global_search.hpp>
 #include <hemivem/nonsmooth_minimizer.hpp>
+#include <hemivem/path/path.hpp>
 #include <hemivem/reduced_problem.hpp>
 #include <hemivem/scene/scene.hpp>
 
@@ -35,9 +36,11 @@ struct SceneSolve3D {
   int processes = 1;             ///< the processes the linear engine runs on
   std::vector<std::string> warnings;  ///< the scene's warnings (BuiltProblem3D::warnings)
   std::string mesh_description;  ///< SceneMesh::description
-  /// The estimate of the discretization error (estimate_error_3d; the stage "estimate"); none
+  /// The estimate of the discretization error (estimate_error; the stage "estimate"); none
   /// on the ranks that hold no results or when the displacement is not finite.
   std::optional<ErrorEstimate> estimate;
+  /// The last step of a loading path carries the path (hemivem/app/path.hpp); null otherwise.
+  std::shared_ptr<const BasicPathSolution<3>> path;
   double total_seconds() const;  ///< mesh_seconds + the solve's total
 };
 
@@ -55,11 +58,14 @@ struct SceneSolve3DOptions {
   std::optional<Mesh3D> mesh;
   /// How that mesh was made, for reports (SceneSolve3D::mesh_description).
   std::string mesh_description = "a mesh given by the caller";
+  /// Called after each step of a loading path.
+  std::function<void(const BasicPathStep<3>&)> on_path_step;
 };
 
 /// Creates the engines the scene names (an unknown or unbuilt name is an InputError before any
 /// work, as in solve_scene), builds the problem (build_problem_3d) and solves it
-/// (solve_contact_3d). A defect found when the contact part or the supports are set up (a
+/// (solve_contact), or its loading path when it is one (scene_is_path: the path's steps in
+/// SceneSolve3D::path, its last step in the solution; `reduced` is then not used). A defect found when the contact part or the supports are set up (a
 /// contact node with a prescribed normal component, rigid motions the supports leave free) is
 /// an InputError naming the scene's key. InputError for a two-dimensional scene.
 SceneSolve3D solve_scene_3d(const Scene& scene, SceneSolve3DOptions options = {});

@@ -34,7 +34,7 @@ struct ContactBoundary {
   /// Per node: the index of its contact part (contact_parts order); empty: every node is in
   /// part 0.
   std::vector<int> part;
-  /// 3 for a boundary of a polyhedral mesh (make_contact_boundary_3d): `faces` instead of
+  /// 3 for a boundary of a polyhedral mesh (make_contact_boundary): `faces` instead of
   /// `edges`, the normals in `normals3d` (`normals` empty) and per node the mask of its
   /// prescribed components (bit c for component c, all tangential) in `prescribed_mask`.
   int dimension = 2;

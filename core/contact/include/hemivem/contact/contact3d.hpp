@@ -45,9 +45,9 @@ using ContactPart3D = BasicContactPart<3>;
 /// symmetry plane meeting Gamma_3) and its normal is then made exactly perpendicular to them; a
 /// prescribed normal component is an InputError. Gaps: the part's `gap` at the node (finite,
 /// >= 0; 0 without one), or its obstacle's gap(x, nu) (anything but NaN).
-ContactBoundary make_contact_boundary_3d(const Mesh3D& mesh, const std::vector<ContactPart3D>& parts, const DofMap& dofs);
+ContactBoundary make_contact_boundary(const Mesh3D& mesh, const std::vector<ContactPart3D>& parts, const DofMap& dofs);
 /// The same for one part: `faces` with `gap`, or `obstacle`.
-ContactBoundary make_contact_boundary_3d(const Mesh3D& mesh, const std::vector<int>& faces, const DofMap& dofs,
+ContactBoundary make_contact_boundary(const Mesh3D& mesh, const std::vector<int>& faces, const DofMap& dofs,
                                          const std::function<double(const Vec3&)>& gap,
                                          const Obstacle3D* obstacle = nullptr);
 
@@ -59,7 +59,7 @@ using ContactProblem3D = BasicContactProblem<3>;
 std::vector<int> contact_faces(const ContactProblem3D& problem);
 
 /// The contact boundary of `problem` on the dofs of its assembled system
-/// (make_contact_boundary_3d of its parts); InputError for an obstacle with a defect, and for
+/// (make_contact_boundary of its parts); InputError for an obstacle with a defect, and for
 /// a gap the box constraint cannot take.
 ContactBoundary contact_boundary(const ContactProblem3D& problem, const DofMap& dofs);
 
@@ -68,7 +68,7 @@ using ContactNode3D = BasicContactNode<3>;
 
 /// The balance of forces of a 3D solution (force_balance in 3D: the reaction of each Dirichlet
 /// condition the sum of K u - f over the dofs it prescribes, the last condition owning a dof).
-ForceBalance3D force_balance_3d(const ElasticityProblem3D& problem, const Eigen::VectorXd& u, const Vec3& contact);
+ForceBalance3D force_balance(const ElasticityProblem3D& problem, const Eigen::VectorXd& u, const Vec3& contact);
 
 using ContactSolution3D = BasicContactSolution<3>;
 
@@ -82,17 +82,17 @@ using ContactSolver3D = BasicContactSolver<3>;
 /// InputError for a problem that cannot be set up, NumericalError when the factorization fails.
 /// `estimate_condition` adds ContactSolution3D::condition_estimate (7 more solves) and rcond,
 /// and widens the uniqueness margin's round-off bound by the estimate, as solve_contact does.
-std::vector<ContactSolution3D> solve_contact_3d(const ContactProblem3D& problem,
+std::vector<ContactSolution3D> solve_contact(const ContactProblem3D& problem,
                                                 std::unique_ptr<SparseFactorization> factorization,
                                                 std::span<const NonsmoothMinimizer* const> minimizers,
                                                 const MinimizerOptions& options, ReducedProblem* reduced = nullptr,
                                                 bool estimate_condition = false);
-ContactSolution3D solve_contact_3d(const ContactProblem3D& problem, std::unique_ptr<SparseFactorization> factorization,
+ContactSolution3D solve_contact(const ContactProblem3D& problem, std::unique_ptr<SparseFactorization> factorization,
                                    const NonsmoothMinimizer& minimizer, const MinimizerOptions& options,
                                    ReducedProblem* reduced = nullptr, bool estimate_condition = false);
-/// The same on a system the caller assembled from problem.elasticity (assemble_3d), e.g. to
+/// The same on a system the caller assembled from problem.elasticity (assemble), e.g. to
 /// condense one assembly with several engines: no "assembly" stage, and "total" excludes it.
-std::vector<ContactSolution3D> solve_contact_3d(const ContactProblem3D& problem, const LinearSystem& system,
+std::vector<ContactSolution3D> solve_contact(const ContactProblem3D& problem, const LinearSystem& system,
                                                 std::unique_ptr<SparseFactorization> factorization,
                                                 std::span<const NonsmoothMinimizer* const> minimizers,
                                                 const MinimizerOptions& options, ReducedProblem* reduced = nullptr,

@@ -246,12 +246,29 @@ class BasicContactSolver {
   /// minimizer run once; their timings are repeated in every solution).
   std::vector<Solution> run(std::span<const NonsmoothMinimizer* const> minimizers);
 
+  /// The stages before the minimizer, for a caller that minimizes on its own (a loading path,
+  /// hemivem/path/path.hpp): assembly (unless the system was given), the contact parts, the
+  /// contact boundary, the supports and, when the boundary has a node, the condensation, with
+  /// the errors of run(). Called instead of run(), once; the problem's own checks for a static
+  /// solve (e.g. a friction bound that needs a path) are run()'s. Then system(), parts(),
+  /// boundary(), condensation() and prepared() give what the stages made.
+  void prepare();
+  const LinearSystem& system() const { return *system_; }
+  const std::vector<BasicContactPart<dim>>& parts() const noexcept { return parts_; }
+  const ContactBoundary& boundary() const noexcept { return boundary_; }
+  /// Null when the boundary has no node.
+  Condensation* condensation() noexcept { return condensation_.get(); }
+  /// What every solution shares: unknowns, contact parts, held_by_contact, the uniqueness
+  /// margin, stages and timings of the stages that ran.
+  const Solution& prepared() const noexcept { return common_; }
+
  private:
   using Clock = std::chrono::steady_clock;
 
   void check_arguments(std::span<const NonsmoothMinimizer* const> minimizers) const;
   // the stages
   void assemble();
+  void set_up_contact();
   Eigen::MatrixXd linear_solve();
   void condense();
   void minimize(const NonsmoothMinimizer& minimizer, Solution& solution) const;

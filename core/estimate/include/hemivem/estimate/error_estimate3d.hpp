@@ -22,6 +22,6 @@ namespace hemivem {
 /// the cells and faces; nothing is assembled or solved. InputError when solution.u does not have
 /// 3 entries per vertex, the problem has no mesh, a contact node names a vertex outside the
 /// mesh, or a face id of a Dirichlet, traction or contact part is out of range.
-ErrorEstimate estimate_error_3d(const ContactProblem3D& problem, const ContactSolution3D& solution);
+ErrorEstimate estimate_error(const ContactProblem3D& problem, const ContactSolution3D& solution);
 
 }  // namespace hemivem

@@ -4,7 +4,8 @@
 // a friction bound that depends on the normal contact (FrictionBound: Coulomb's mu p, or
 // h(u_nu)) is resolved within each step by a fixed point of Tresca problems. One assembly and
 // one condensation serve the whole path: S does not change along it, and under proportional
-// loading neither does c but for the factor t, so a step costs no linear solve.
+// loading neither does c but for the factor t, so a step costs no linear solve. Written once
+// for plane (dim = 2) and solid (dim = 3) bodies; the plane's names are the <2> instances.
 #pragma once
 
 #include <Eigen/Core>
@@ -19,6 +20,7 @@
 #include <hemivem/certificate.hpp>
 #include <hemivem/contact/forces.hpp>
 #include <hemivem/contact/problem.hpp>
+#include <hemivem/contact/contact3d.hpp>
 #include <hemivem/contact/solver.hpp>
 #include <hemivem/nonsmooth_minimizer.hpp>
 #include <hemivem/sparse_factorization.hpp>
@@ -26,7 +28,8 @@
 namespace hemivem {
 
 /// How the problem's data change along the path.
-struct PathLoading {
+template <int dim>
+struct BasicPathLoading {
   /// The load factors, finite, > 0 and strictly increasing (at least one).
   std::vector<double> t;
   /// Sets the problem's loads, prescribed values, gaps and obstacle to their values at t (the
@@ -35,9 +38,10 @@ struct PathLoading {
   /// t = 1: its load vector and its prescribed displacements are multiplied by t, its gaps and
   /// obstacle stay. A step then costs no linear solve; with `update` it costs one interior
   /// solve for the condensed load and one for the displacement.
-  std::function<void(double t, ContactProblem& problem)> update;
+  std::function<void(double t, BasicContactProblem<dim>& problem)> update;
   bool proportional() const noexcept { return !update; }
 };
+using PathLoading = BasicPathLoading<2>;
 
 /// The fixed point on the friction bound of each step (FrictionBound): g <- g + theta (G(g) - g),
 /// G(g) the bound the solution of the Tresca problem with bound g implies.
@@ -49,7 +53,11 @@ struct FixedPointOptions {
   double relaxation = 1.0;
 };
 
-struct PathOptions {
+template <int dim>
+struct BasicPathStep;
+
+template <int dim>
+struct BasicPathOptions {
   MinimizerOptions minimizer;
   FixedPointOptions fixed_point;
   /// A step whose change ||a_k - a_(k-1)||_inf exceeds jump_factor times the change the step
@@ -61,8 +69,9 @@ struct PathOptions {
   std::function<bool(int step)> frame;
   /// Called after each step; returning false stops the path after it (the solution then holds
   /// the steps done).
-  std::function<bool(const struct PathStep&)> on_step;
+  std::function<bool(const BasicPathStep<dim>&)> on_step;
 };
+using PathOptions = BasicPathOptions<2>;
 
 /// The fixed point of a step with a friction bound that depends on the normal contact.
 struct FixedPointReport {
@@ -74,7 +83,9 @@ struct FixedPointReport {
   bool converged = false;    ///< the coupled certificate holds (PathStep::certificate)
 };
 
-struct PathStep {
+template <int dim>
+struct BasicPathStep {
+  using Point = Eigen::Matrix<double, dim, 1>;
   int index = 0;  ///< 1-based
   double t = 0.0;
   /// The verdict, as a static solve's: the minimizer's status, demoted to failed when the
@@ -88,32 +99,34 @@ struct PathStep {
   double energy = 0.0;
   /// The contact nodes: u_nu, the forces, u_tau (the total tangential displacement) and the
   /// friction force and state of the step (stick: no slip in the step).
-  std::vector<ContactNode> contact;
+  std::vector<BasicContactNode<dim>> contact;
   /// The slip of the step, u_tau - u_tau^(k-1), per contact node (empty without friction;
   /// NaN at the nodes of a frictionless part beside one with friction).
   Eigen::VectorXd slip;
   /// The friction bound g_i of each node at the end of the step (empty without friction; NaN
   /// where slip is).
   Eigen::VectorXd friction_bound;
-  ContactZone zone;
-  Vec2 contact_force = Vec2::Zero();  ///< the resultant of the contact forces on the body
-  Vec2 applied = Vec2::Zero();        ///< the resultant of the applied load (tractions, body force)
+  BasicContactZone<dim> zone;
+  Point contact_force = Point::Zero();  ///< the resultant of the contact forces on the body
+  Point applied = Point::Zero();        ///< the resultant of the applied load (tractions, body force)
   FixedPointReport fixed_point;
   double change = 0.0;  ///< ||a_k - a_(k-1)||_inf (a_0 = 0)
   bool jump = false;    ///< PathOptions::jump_factor
   Eigen::VectorXd a;    ///< the contact unknowns (u_nu, then u_tau, as the reduced problem orders them)
   /// A frame's full nodal displacement and balance of forces (PathOptions::frame); empty otherwise.
   Eigen::VectorXd u;
-  std::optional<ForceBalance> forces;
+  std::optional<BasicForceBalance<Point>> forces;
   double seconds = 0.0;
   bool converged() const noexcept { return status == MinimizerStatus::converged; }
 };
+using PathStep = BasicPathStep<2>;
 
-struct PathSolution {
-  std::vector<PathStep> steps;
+template <int dim>
+struct BasicPathSolution {
+  std::vector<BasicPathStep<dim>> steps;
   /// The last step as a static solve reports it (u, contact, energy, forces, certificate,
   /// stages and timings of the whole path), for every output that reads a solve.
-  ContactSolution last;
+  BasicContactSolution<dim> last;
   bool proportional = true;
   /// Seconds: assembly, condensation, path (every step), frames (their displacements), total.
   std::map<std::string, double> timings;
@@ -121,6 +134,7 @@ struct PathSolution {
   bool converged() const;
   int jumps() const;
 };
+using PathSolution = BasicPathSolution<2>;
 
 /// The coupled certificate of a step with a friction bound that depends on the normal contact:
 /// the Tresca certificate `tresca` of the step's problem solved with bounds `used`, and the
@@ -131,26 +145,32 @@ struct PathSolution {
 Certificate friction_bound_certificate(const Certificate& tresca, const Eigen::VectorXd& weights,
                                        const Eigen::VectorXd& used, const Eigen::VectorXd& implied);
 
-/// The path of one contact problem. `problem` is changed by PathLoading::update and must
-/// outlive the solver, as must the minimizer. InputError for an unusable path (no step, t not
-/// increasing or not positive, an engine across processes) or problem; NumericalError when the
-/// factorization fails. A step that does not converge is reported, and the path goes on from it.
-class PathSolver {
+/// The path of one contact problem, set up by the stages of the static solve
+/// (BasicContactSolver::prepare: assembly, contact boundary, supports, condensation).
+/// `problem` is changed by the loading's update and must outlive the solver, as must the
+/// minimizer. InputError for an unusable path (no step, t not increasing or not positive, an
+/// engine across processes) or problem; NumericalError when the factorization fails. A step
+/// that does not converge is reported, and the path goes on from it.
+template <int dim>
+class BasicPathSolver {
  public:
-  PathSolver(ContactProblem& problem, std::unique_ptr<SparseFactorization> factorization,
-             const NonsmoothMinimizer& minimizer, PathLoading loading, PathOptions options = {});
-  ~PathSolver();
-  PathSolver(const PathSolver&) = delete;
-  PathSolver& operator=(const PathSolver&) = delete;
-  PathSolution run();
+  BasicPathSolver(BasicContactProblem<dim>& problem, std::unique_ptr<SparseFactorization> factorization,
+                  const NonsmoothMinimizer& minimizer, BasicPathLoading<dim> loading, BasicPathOptions<dim> options = {});
+  ~BasicPathSolver();
+  BasicPathSolver(const BasicPathSolver&) = delete;
+  BasicPathSolver& operator=(const BasicPathSolver&) = delete;
+  BasicPathSolution<dim> run();
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+using PathSolver = BasicPathSolver<2>;
 
-/// Solves `problem` along `loading` (PathSolver).
-PathSolution solve_path(ContactProblem& problem, std::unique_ptr<SparseFactorization> factorization,
-                        const NonsmoothMinimizer& minimizer, PathLoading loading, PathOptions options = {});
+/// Solves `problem` along `loading` (BasicPathSolver).
+template <int dim>
+BasicPathSolution<dim> solve_path(BasicContactProblem<dim>& problem, std::unique_ptr<SparseFactorization> factorization,
+                                  const NonsmoothMinimizer& minimizer, BasicPathLoading<dim> loading,
+                                  BasicPathOptions<dim> options = {});
 
 }  // namespace hemivem

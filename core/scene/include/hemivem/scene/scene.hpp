@@ -400,6 +400,8 @@ bool scene_is_proportional(const Scene& scene);
 /// evaluated; InternalError for a t that is not finite or a problem whose parts do not match
 /// the scene's.
 void set_load_factor(const Scene& scene, double t, ContactProblem& problem);
+/// The same for a solid's problem (build_problem_3d).
+void set_load_factor(const Scene& scene, double t, ContactProblem3D& problem);
 
 /// The contact problem of a scene on a given mesh (the scene's mesh keys are not used): the
 /// materials by the mesh's region ids (the scene's region boxes are applied by build_problem

@@ -48,24 +48,24 @@ struct ElasticityProblem3D {
 };
 
 /// The global stiffness of all 3 num_vertices dofs (symmetric, both triangles stored).
-SparseMatrix assemble_stiffness_3d(const Mesh3D& mesh, const MaterialTable& materials,
+SparseMatrix assemble_stiffness(const Mesh3D& mesh, const MaterialTable& materials,
                                    Stabilization stabilization = Stabilization::two_mu);
 
 /// The load vector of all dofs: the body force and the tractions.
-Eigen::VectorXd assemble_load_3d(const Mesh3D& mesh, const VectorField3& body_force,
+Eigen::VectorXd assemble_load(const Mesh3D& mesh, const VectorField3& body_force,
                                  const std::vector<TractionLoad3D>& tractions);
 
-DofMap make_dof_map_3d(const Mesh3D& mesh, const std::vector<DirichletCondition3D>& dirichlet);
+DofMap make_dof_map(const Mesh3D& mesh, const std::vector<DirichletCondition3D>& dirichlet);
 
 /// The reduced system (prescribed dofs eliminated, their values lifted into b). InputError,
 /// before any assembly, when no face has a prescribed displacement or their area is zero.
-LinearSystem assemble_3d(const ElasticityProblem3D& problem);
+LinearSystem assemble(const ElasticityProblem3D& problem);
 
-/// The load of the free dofs of `dofs` at the problem's data (assemble_rhs in 2D).
-Eigen::VectorXd assemble_rhs_3d(const ElasticityProblem3D& problem, const DofMap& dofs);
+/// The load of the free dofs of `dofs` at the problem's data (as assemble_rhs of a plane problem).
+Eigen::VectorXd assemble_rhs(const ElasticityProblem3D& problem, const DofMap& dofs);
 
 /// Per cell: the P1 projection Pi u_h of the full nodal vector u (3 per vertex).
-std::vector<LinearField3> project_solution_3d(const Mesh3D& mesh, const Eigen::VectorXd& u);
+std::vector<LinearField3> project_solution(const Mesh3D& mesh, const Eigen::VectorXd& u);
 
 /// The in-plane scaled vertex normals nu_i = (m_{i-1} + m_i) / 2 of a planar polygon (column i;
 /// m_e = |e| times the edge's outward normal in the face's plane): the face projection of the
