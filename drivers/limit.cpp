@@ -233,14 +233,14 @@ nlohmann::json measure_solve_3d(const Scene& scene) {
   const fs::path dir = fs::temp_directory_path() / ("hemivem-limit-" + std::to_string(::getpid()));
   const std::vector<std::string> result_only{"result.json"};
   auto t = Clock::now();
-  (void)app::write_results_3d(dir / "result-only", scene, s, &result_only);
+  (void)app::write_results(dir / "result-only", scene, s, &result_only);
   stage["result_json"] = since(t);
   const double wall = since(start);
   t = Clock::now();
   if (!reduced.laws.empty()) (void)uniqueness_margin(reduced.S, reduced.w, reduced.laws.front()->alpha());
   stage["margin"] = since(t);
   t = Clock::now();
-  (void)app::write_results_3d(dir / "all", scene, s);
+  (void)app::write_results(dir / "all", scene, s);
   stage["outputs"] = since(t);
   std::error_code ec;
   fs::remove_all(dir, ec);

@@ -366,7 +366,7 @@ TEST(Scene3D, OutputsOfASolve) {
   std::ofstream(dir / "u_nu.png") << "an earlier plane run's picture";
   std::ofstream(dir / "notes.txt") << "not ours";
   const std::vector<std::string> files{"result.json", "displacement.csv", "solution.vtu", "scene.toml"};
-  const app::OutputReport report = app::write_results_3d(dir, s, solved, &files);
+  const app::OutputReport report = app::write_results(dir, s, solved, &files);
   EXPECT_EQ(report.written.size(), 4u);
   EXPECT_EQ(report.removed, (std::vector<std::string>{"u_nu.png"}));
   EXPECT_FALSE(fs::exists(dir / "u_nu.png"));
@@ -379,7 +379,7 @@ TEST(Scene3D, OutputsOfASolve) {
   EXPECT_EQ(parse_scene_string(test::slurp(dir / "scene.toml"), "again.toml"), s);
   // an unknown name or a solution of another mesh: refused before anything is written
   const std::vector<std::string> unknown{"result.json", "u_nu.png"};
-  EXPECT_TRUE(holds(test::input_error_of([&] { (void)app::write_results_3d(dir, s, solved, &unknown); }),
+  EXPECT_TRUE(holds(test::input_error_of([&] { (void)app::write_results(dir, s, solved, &unknown); }),
                     {"unknown output 'u_nu.png'"}));
   EXPECT_TRUE(fs::exists(dir / "solution.vtu"));
   fs::remove_all(dir);

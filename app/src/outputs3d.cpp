@@ -123,7 +123,7 @@ void write_history_csv(std::ostream& stream, const ContactSolution3D& s) {
 
 }  // namespace
 
-nlohmann::json result_json_3d(const Mesh3D& mesh, const ContactSolution3D& s, const RunInfo& info) {
+nlohmann::json result_json(const Mesh3D& mesh, const ContactSolution3D& s, const RunInfo& info) {
   using nlohmann::json;
   json j = detail::result_json_common(s, info, 3);
   j["held_by_contact"] = s.held_by_contact;
@@ -156,7 +156,7 @@ nlohmann::json result_json_3d(const Mesh3D& mesh, const ContactSolution3D& s, co
   return j;
 }
 
-OutputReport write_outputs_3d(const fs::path& dir, const Mesh3D& mesh, const MaterialTable& materials,
+OutputReport write_outputs(const fs::path& dir, const Mesh3D& mesh, const MaterialTable& materials,
                               const std::vector<int>& contact_faces, const ContactSolution3D& solution,
                               const RunInfo& info, const std::vector<std::string>& wanted) {
   const auto& known = all_outputs_3d();
@@ -191,15 +191,15 @@ OutputReport write_outputs_3d(const fs::path& dir, const Mesh3D& mesh, const Mat
   for (const auto& k : known)
     if (want(k)) listed.files.push_back(k);
   for (const auto& name : listed_frames(path, want)) listed.files.push_back(name);
-  write("result.json", [&](std::ostream& os) { os << result_json_3d(mesh, solution, listed).dump(2) << '\n'; });
+  write("result.json", [&](std::ostream& os) { os << result_json(mesh, solution, listed).dump(2) << '\n'; });
   write("contact.csv", [&](std::ostream& os) { write_contact_csv(os, solution); });
   write("displacement.csv", [&](std::ostream& os) { write_displacement_csv(os, mesh, solution.u); });
   write("history.csv", [&](std::ostream& os) { write_history_csv(os, solution); });
-  write("solution.vtu", [&](std::ostream& os) { write_vtu_3d(os, mesh, materials, solution, info.error_estimate ? &info.error_estimate->indicators : nullptr); });
+  write("solution.vtu", [&](std::ostream& os) { write_vtu(os, mesh, materials, solution, info.error_estimate ? &info.error_estimate->indicators : nullptr); });
   write("contact-surface.vtu", [&](std::ostream& os) { write_contact_surface_vtu(os, mesh, contact_faces, solution); });
   write("scene.toml", [&](std::ostream& os) { os << info.scene_toml; });
   write_path_files<Mesh3D, 3>(tx, dir, mesh, path, want,
-                              [&](std::ostream& os, const ContactSolution3D& frame) { write_vtu_3d(os, mesh, materials, frame); },
+                              [&](std::ostream& os, const ContactSolution3D& frame) { write_vtu(os, mesh, materials, frame); },
                               report);
 
   // the pictures: one that cannot be drawn is skipped with its reason, never an error
@@ -227,7 +227,7 @@ OutputReport write_outputs_3d(const fs::path& dir, const Mesh3D& mesh, const Mat
   if (want("result.json") && report.written.size() != listed.files.size()) {
     listed.files.clear();
     for (const auto& f : report.written) listed.files.push_back(f.filename().string());
-    tx.write("result.json", [&](std::ostream& os) { os << result_json_3d(mesh, solution, listed).dump(2) << '\n'; });
+    tx.write("result.json", [&](std::ostream& os) { os << result_json(mesh, solution, listed).dump(2) << '\n'; });
   }
   report.removed = tx.commit();
   return report;

@@ -12,11 +12,17 @@ namespace hemivem::app {
 
 namespace {
 
-void engines_and_stages(std::ostream& out, const SceneSolve& solved, const RunInfo& info) {
-  const BuiltProblem& built = *solved.built;
-  const ContactSolution& sol = solved.solution;
-  out << "  mesh          " << info.mesh << ": " << built.mesh.num_vertices() << " vertices, "
-      << built.mesh.num_elements() << " elements, h = " << built.mesh.h() << ", " << info.dofs << " unknowns\n"
+std::string cell_counts(const Mesh& mesh) { return std::to_string(mesh.num_elements()) + " elements"; }
+std::string cell_counts(const Mesh3D& mesh) {
+  return std::to_string(mesh.num_cells()) + " cells, " + std::to_string(mesh.num_faces()) + " faces";
+}
+
+template <int dim>
+void engines_and_stages(std::ostream& out, const BasicSceneSolve<dim>& solved, const RunInfo& info) {
+  const auto& built = *solved.built;
+  const auto& sol = solved.solution;
+  out << "  mesh          " << info.mesh << ": " << built.mesh.num_vertices() << " vertices, " << cell_counts(built.mesh)
+      << ", h = " << built.mesh.h() << ", " << info.dofs << " unknowns" << (dim == 3 ? " (three-dimensional)" : "") << "\n"
       << "  engines       linear " << info.linear
       << (info.processes > 1 ? " (" + std::to_string(info.processes) + " processes)" : std::string())
       << (built.has_contact ? ", minimizer " + info.minimizer : std::string(" (no contact: one linear solve)")) << "\n"
@@ -25,8 +31,9 @@ void engines_and_stages(std::ostream& out, const SceneSolve& solved, const RunIn
   out << "\n";
 }
 
-void status(std::ostream& out, const SceneSolve& solved, const RunInfo& info) {
-  const ContactSolution& sol = solved.solution;
+template <int dim>
+void status(std::ostream& out, const BasicSceneSolve<dim>& solved, const RunInfo& info) {
+  const auto& sol = solved.solution;
   out << "  status        " << to_string(sol.status) << " (certificate: " << certificate_text(sol.certificate)
       << "), " << sol.iterations() << " iterations\n";
   for (std::size_t k = 0; k < sol.held_by_contact.size(); ++k)
@@ -37,7 +44,8 @@ void status(std::ostream& out, const SceneSolve& solved, const RunInfo& info) {
                           : "  search        " + sol.message + "\n");
 }
 
-std::string uniqueness_text(const ContactSolution& sol) {
+template <int dim>
+std::string uniqueness_text(const BasicContactSolution<dim>& sol) {
   std::ostringstream out;
   out << "lambda_min(S - alpha_j W) = " << sol.uniqueness_margin;
   if (sol.uniqueness_margin == 0.0) out << " (|computed| <= round-off bound " << sol.uniqueness_roundoff << ")";
@@ -47,7 +55,9 @@ std::string uniqueness_text(const ContactSolution& sol) {
   return out.str();
 }
 
-void contact_zone(std::ostream& out, const Scene& scene, const ContactSolution& sol) {
+// The contact nodes by state (and by part, with several parts); in 3D the area in compression.
+template <int dim>
+void contact_zone(std::ostream& out, const Scene& scene, const BasicContactSolution<dim>& sol) {
   int upper = 0, lower = 0;
   for (const auto& c : sol.contact) upper += c.state == ContactState::upper, lower += c.state == ContactState::lower;
   out << "  uniqueness    " << uniqueness_text(sol) << "\n"
@@ -57,7 +67,7 @@ void contact_zone(std::ostream& out, const Scene& scene, const ContactSolution& 
     for (std::size_t k = 0; k < sol.contact_parts.size(); ++k)
       out << (k == 0 ? "" : ", ") << sol.contact_parts[k] << " "
           << std::count_if(sol.contact.begin(), sol.contact.end(),
-                           [k](const ContactNode& c) { return c.part == static_cast<int>(k); });
+                           [k](const auto& c) { return c.part == static_cast<int>(k); });
     out << ")";
   }
   out << ": ";
@@ -66,7 +76,7 @@ void contact_zone(std::ostream& out, const Scene& scene, const ContactSolution& 
     return std::any_of(parts.begin(), parts.end(), [k](const SceneContact& c) { return c.constraint == k; });
   };
   const int bilateral = static_cast<int>(
-      std::count_if(sol.contact.begin(), sol.contact.end(), [](const ContactNode& c) { return c.state == ContactState::bilateral; }));
+      std::count_if(sol.contact.begin(), sol.contact.end(), [](const auto& c) { return c.state == ContactState::bilateral; }));
   if (any(ConstraintKind::bilateral) && bilateral == static_cast<int>(sol.contact.size())) {
     out << "u_nu = 0 (bilateral)\n";
     return;
@@ -74,23 +84,34 @@ void contact_zone(std::ostream& out, const Scene& scene, const ContactSolution& 
   out << upper << " at the upper bound, ";
   if (any(ConstraintKind::box)) out << lower << " at the lower bound, ";
   if (bilateral > 0) out << bilateral << " bilateral, ";
-  out << sol.contact.size() - upper - lower - bilateral << " free\n";
+  out << sol.contact.size() - upper - lower - bilateral << " free";
+  if constexpr (dim == 3) {
+    double area = 0.0;
+    for (const auto& c : sol.contact)
+      if (c.force() > 0.0) area += c.weight;
+    out << "; area in compression " << area;
+  }
+  out << "\n";
 }
 
-std::string pair_text(const Vec2& v) {
+template <class Vector>
+std::string vector_text(const Vector& v) {
   std::ostringstream o;
-  o << std::setprecision(6) << "(" << v.x() << ", " << v.y() << ")";
+  o << std::setprecision(6) << "(";
+  for (Eigen::Index c = 0; c < v.size(); ++c) o << (c ? ", " : "") << v(c);
+  o << ")";
   return o.str();
 }
 
 // The balance of forces on the body: applied load, reactions by part, contact resultant.
-void balance(std::ostream& out, const ContactSolution& sol) {
-  const ForceBalance& b = sol.forces;
-  out << "  forces        applied " << pair_text(b.applied) << ", reactions";
+template <int dim>
+void balance(std::ostream& out, const BasicContactSolution<dim>& sol) {
+  const auto& b = sol.forces;
+  out << "  forces        applied " << vector_text(b.applied) << ", reactions";
   if (b.reactions.empty()) out << " none";
   for (std::size_t i = 0; i < b.reactions.size(); ++i)
-    out << (i ? ", " : " ") << b.reactions[i].name << " " << pair_text(b.reactions[i].force);
-  if (!sol.contact.empty()) out << ", contact " << pair_text(b.contact);
+    out << (i ? ", " : " ") << b.reactions[i].name << " " << vector_text(b.reactions[i].force);
+  if (!sol.contact.empty()) out << ", contact " << vector_text(b.contact);
   out << "\n  balance       |applied + reactions" << (sol.contact.empty() ? "" : " + contact") << "| = "
       << std::setprecision(2) << b.residual() << std::setprecision(6)
       << (b.applied.norm() > 0.0 ? " x |applied|\n" : " x the largest force (no load is applied)\n");
@@ -98,7 +119,8 @@ void balance(std::ostream& out, const ContactSolution& sol) {
 
 // The contact nodes' forces: the sum of the normal forces zeta_i + lambda_i (not a resultant:
 // the normals differ from node to node) and the friction states.
-void contact_forces(std::ostream& out, const ContactSolution& sol, const RunInfo& info) {
+template <int dim>
+void contact_forces(std::ostream& out, const BasicContactSolution<dim>& sol, const RunInfo& info) {
   double law = 0.0, reaction = 0.0, friction = 0.0;
   std::map<std::string, int> states;
   for (const auto& c : sol.contact) law += c.law_force, reaction += c.reaction, friction += c.friction_force;
@@ -114,12 +136,13 @@ void contact_forces(std::ostream& out, const ContactSolution& sol, const RunInfo
 }
 
 
-void energy_and_time(std::ostream& out, const SceneSolve& solved) {
-  const ContactSolution& sol = solved.solution;
+template <int dim>
+void energy_and_time(std::ostream& out, const BasicSceneSolve<dim>& solved) {
+  const auto& sol = solved.solution;
   out << "  energy        potential " << sol.energy << "\n  time [s]      mesh " << solved.mesh_seconds;
   for (const char* k : {"assembly", "linear_solve", "condensation", "minimize", "back_substitution", "path", "frames", "estimate"})
     if (sol.timings.count(k)) out << ", " << k << " " << sol.timings.at(k);
-  out << ", total " << solved.mesh_seconds + sol.timings.at("total") << "\n";
+  out << ", total " << solved.total_seconds() << "\n";
 }
 
 }  // namespace
@@ -136,8 +159,9 @@ std::string error_estimate_line(const ErrorEstimate& e) {
   return out.str();
 }
 
-std::string brief_report(const SceneSolve& solved) {
-  const ContactSolution& sol = solved.solution;
+template <int dim>
+std::string brief_report(const BasicSceneSolve<dim>& solved) {
+  const auto& sol = solved.solution;
   std::ostringstream out;
   out << std::setprecision(6) << to_string(sol.status) << " (certificate: " << certificate_text(sol.certificate)
       << "), " << sol.iterations() << " iterations, energy " << sol.energy << ", " << std::setprecision(3) << solved.total_seconds()
@@ -145,7 +169,8 @@ std::string brief_report(const SceneSolve& solved) {
   return out.str();
 }
 
-std::string full_report(const Scene& scene, const SceneSolve& solved, const RunInfo& info) {
+template <int dim>
+std::string full_report(const Scene& scene, const BasicSceneSolve<dim>& solved, const RunInfo& info) {
   std::ostringstream out;
   out << std::setprecision(6);
   engines_and_stages(out, solved, info);
@@ -159,6 +184,11 @@ std::string full_report(const Scene& scene, const SceneSolve& solved, const RunI
   energy_and_time(out, solved);
   return out.str();
 }
+
+template std::string brief_report(const BasicSceneSolve<2>&);
+template std::string brief_report(const BasicSceneSolve<3>&);
+template std::string full_report(const Scene&, const BasicSceneSolve<2>&, const RunInfo&);
+template std::string full_report(const Scene&, const BasicSceneSolve<3>&, const RunInfo&);
 
 std::string adapt_report(const AdaptiveSolve& adaptive) {
   std::ostringstream out;

@@ -48,12 +48,12 @@ const std::string& SceneRun::linear() const noexcept { return solid_ ? solid_->l
 
 const std::string& SceneRun::minimizer() const noexcept { return solid_ ? solid_->minimizer : plane_->minimizer; }
 
-RunInfo SceneRun::info() const { return solid_ ? run_info_3d(scene_, *solid_) : run_info(scene_, *plane_); }
+RunInfo SceneRun::info() const { return solid_ ? run_info(scene_, *solid_) : run_info(scene_, *plane_); }
 
 nlohmann::json SceneRun::result_json(const std::vector<std::string>& files) const {
   RunInfo i = info();
   i.files = files;
-  return solid_ ? result_json_3d(solid_->built->mesh, solid_->solution, i)
+  return solid_ ? app::result_json(solid_->built->mesh, solid_->solution, i)
                 : app::result_json(plane_->built->mesh, plane_->solution, i);
 }
 
@@ -64,13 +64,13 @@ std::vector<std::string> SceneRun::wanted_files() const {
 }
 
 OutputReport SceneRun::write(const std::filesystem::path& dir, const std::vector<std::string>* files) const {
-  return solid_ ? write_results_3d(dir, scene_, *solid_, files) : write_results(dir, scene_, *plane_, files);
+  return solid_ ? write_results(dir, scene_, *solid_, files) : write_results(dir, scene_, *plane_, files);
 }
 
-std::string SceneRun::brief() const { return solid_ ? brief_report_3d(*solid_) : brief_report(*plane_); }
+std::string SceneRun::brief() const { return solid_ ? brief_report(*solid_) : brief_report(*plane_); }
 
 std::string SceneRun::report(const RunInfo& info) const {
-  if (solid_) return full_report_3d(*solid_, info) + (solid_->path ? path_report(*solid_->path) : std::string());
+  if (solid_) return full_report(scene_, *solid_, info) + (solid_->path ? path_report(*solid_->path) : std::string());
   std::string text = full_report(scene_, *plane_, info);
   if (adaptive_) text += adapt_report(*adaptive_);
   if (const PathSolution* p = path()) text += path_report(*p);

@@ -24,11 +24,6 @@ double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::
 
 }  // namespace
 
-double SceneSolve::total_seconds() const {
-  const auto it = solution.timings.find("total");
-  return mesh_seconds + (it == solution.timings.end() ? 0.0 : it->second);
-}
-
 bool same_engine(const std::string& a, const std::string& b) { return normalized_engine_name(a) == normalized_engine_name(b); }
 
 /// An engine named by a key the scene file gave (line > 0): its error names the file and line.

@@ -59,7 +59,7 @@ struct ContactFields {
 
 }  // namespace
 
-void write_vtu_3d(std::ostream& os, const Mesh3D& mesh, const MaterialTable& materials, const ContactSolution3D& sol,
+void write_vtu(std::ostream& os, const Mesh3D& mesh, const MaterialTable& materials, const ContactSolution3D& sol,
                   const std::vector<double>* indicators) {
   const auto nv = static_cast<std::size_t>(mesh.num_vertices());
   const auto nc = static_cast<std::size_t>(mesh.num_cells());

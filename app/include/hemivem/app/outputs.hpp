@@ -93,7 +93,7 @@ std::string contact_part_name(const BasicContactSolution<dim>& solution, const B
 /// frames' solution-NNNN.vtu, which it names) and path.png.
 const std::vector<std::string>& all_outputs();
 
-/// The names write_outputs_3d knows (outputs3d.hpp), in the order it writes them: result.json,
+/// The names write_outputs knows (outputs3d.hpp), in the order it writes them: result.json,
 /// contact.csv, displacement.csv, history.csv, solution.vtu, contact-surface.vtu, scene.toml,
 /// deformed.png, pressure.png. A run of either dimension owns the names of both: it removes an
 /// earlier run's file of any of them that it did not write.

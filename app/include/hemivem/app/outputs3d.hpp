@@ -23,7 +23,7 @@ namespace hemivem::app {
 /// keys of result_json that apply, points and vectors with three components (contact[].x and
 /// contact[].normal [x, y, z]), contact_zone with its area, error_estimate; adapt, path and
 /// friction null.
-nlohmann::json result_json_3d(const Mesh3D& mesh, const ContactSolution3D& solution, const RunInfo& info);
+nlohmann::json result_json(const Mesh3D& mesh, const ContactSolution3D& solution, const RunInfo& info);
 
 /// The projected stress of each cell: the stress of the P1 projection Pi u_h (constant on the
 /// cell), sigma = lambda tr(eps) I + 2 mu eps with MaterialTable::lame(region), eps the
@@ -40,7 +40,7 @@ std::vector<CellStress3D> cell_stresses_3d(const Mesh3D& mesh, const MaterialTab
 /// pressure and gap (0 off the contact nodes), the cell data stress (6 components in ParaView's
 /// symmetric-tensor order XX, YY, ZZ, XY, YZ, XZ), von_mises, region and, with `indicators`
 /// (one per cell), error_indicator. Arrays as write_vtu's.
-void write_vtu_3d(std::ostream& stream, const Mesh3D& mesh, const MaterialTable& materials,
+void write_vtu(std::ostream& stream, const Mesh3D& mesh, const MaterialTable& materials,
                   const ContactSolution3D& solution, const std::vector<double>* indicators = nullptr);
 
 /// contact-surface.vtu: the contact faces `faces` as VTK_POLYGON cells on their own points,
@@ -68,7 +68,7 @@ Figure pressure_figure(const Mesh3D& mesh, const std::vector<int>& faces, const 
 /// fails. Throws InputError for an unknown name (before writing anything), a solution whose size
 /// does not match the mesh, when another process is writing `dir`, and for any I/O failure
 /// (`dir` then keeps its previous set); never prints.
-OutputReport write_outputs_3d(const std::filesystem::path& dir, const Mesh3D& mesh, const MaterialTable& materials,
+OutputReport write_outputs(const std::filesystem::path& dir, const Mesh3D& mesh, const MaterialTable& materials,
                               const std::vector<int>& contact_faces, const ContactSolution3D& solution,
                               const RunInfo& info, const std::vector<std::string>& wanted = all_outputs_3d());
 

@@ -14,13 +14,16 @@ namespace hemivem::app {
 /// One line: the status, the certificate, the iterations, the potential energy and the total
 /// time, e.g. "converged (certificate: primal 0.000e+00, dual 3.4e-15 (tolerance 1.0e-10)),
 /// 4 iterations, energy -0.216339, 0.0557 s".
-std::string brief_report(const SceneSolve& solved);
+template <int dim>
+std::string brief_report(const BasicSceneSolve<dim>& solved);
 
 /// Every line of a solve: mesh, engines, stages, status and certificate, the global search's
 /// critical points, uniqueness, the contact zone, forces, friction, energy and the time of
 /// each stage, one "  name          value" line each, ending in a newline. `scene` is the
-/// resolved scene that was solved, `info` its run_info().
-std::string full_report(const Scene& scene, const SceneSolve& solved, const RunInfo& info);
+/// resolved scene that was solved, `info` its run_info(). A plane's or a solid's solve (the
+/// mesh's cells and faces, the area in compression, forces of three components).
+template <int dim>
+std::string full_report(const Scene& scene, const BasicSceneSolve<dim>& solved, const RunInfo& info);
 
 /// full_report's line of an error estimate: eta, eta / ||u_h||_E in per cent and the parts
 /// that are not zero, ending in a newline.

@@ -109,7 +109,7 @@ class SceneRun {
   const std::string& linear() const noexcept;
   const std::string& minimizer() const noexcept;
 
-  /// What result.json records about the run (run_info, or run_info_3d).
+  /// What result.json records about the run (run_info, or run_info).
   RunInfo info() const;
   /// result.json of the run (files: the names `write` wrote, when given).
   nlohmann::json result_json(const std::vector<std::string>& files = {}) const;
@@ -117,7 +117,7 @@ class SceneRun {
   std::vector<std::string> warnings() const;
   /// The files `hemivem solve` writes for this run (wanted_files, wanted_files_3d).
   std::vector<std::string> wanted_files() const;
-  /// Writes what `hemivem solve --out dir` writes (write_results, write_results_3d): the files
+  /// Writes what `hemivem solve --out dir` writes (write_results, write_results): the files
   /// of wanted_files(), or `files` when not null. Never prints.
   OutputReport write(const std::filesystem::path& dir, const std::vector<std::string>* files = nullptr) const;
   /// One line: status, certificate, iterations, energy and total time.

@@ -14,6 +14,7 @@
 #include <hemivem/app/outputs.hpp>
 #include <hemivem/contact/solver.hpp>
 #include <hemivem/estimate/error_estimate.hpp>
+#include <hemivem/estimate/error_estimate3d.hpp>
 #include <hemivem/global_search.hpp>
 #include <hemivem/nonsmooth_minimizer.hpp>
 #include <hemivem/path/path.hpp>
@@ -42,35 +43,44 @@ nlohmann::json search_json(const NonsmoothMinimizer& minimizer);
 /// True when two engine names are the same engine (case-insensitive, '_' read as '-').
 bool same_engine(const std::string& a, const std::string& b);
 
-/// One scene solved with the engines it names (scene.solver.linear / .minimizer).
-struct SceneSolve {
-  std::unique_ptr<BuiltProblem> built;
-  ContactSolution solution;
+/// One scene solved with the engines it names (scene.solver.linear / .minimizer), a plane
+/// (dim = 2, SceneSolve) or a solid (dim = 3, SceneSolve3D) body.
+template <int dim>
+struct BasicSceneSolve {
+  using Built = std::conditional_t<dim == 2, BuiltProblem, BuiltProblem3D>;
+  std::unique_ptr<Built> built;
+  BasicContactSolution<dim> solution;
   MinimizerOptions options;      ///< the minimizer options in effect
   std::string linear;            ///< the factorization engine's name
   std::string minimizer;         ///< the minimizer's name (the first engine of a global search)
   nlohmann::json search;         ///< search_json
-  double mesh_seconds = 0.0;     ///< wall time of build_problem (mesh, materials, boundary parts)
+  double mesh_seconds = 0.0;     ///< wall time of building the problem (mesh, materials, boundary parts)
   bool holds_results = true;     ///< false on the ranks > 0 of mumps-mpi under mpirun: no results there
   int processes = 1;             ///< the processes the linear engine runs on
   /// What the user should know: the scene's warnings (BuiltProblem::warnings), then the
   /// solve's (conditioning_warning).
   std::vector<std::string> warnings;
   /// How the mesh solved on was made, for reports (RunInfo::mesh): the scene's
-  /// (SceneMesh::description) unless SceneSolveOptions gave another mesh and its description.
+  /// (SceneMesh::description) unless the options gave another mesh and its description.
   std::string mesh_description;
   /// The a posteriori estimate of the discretization error (hemivem/estimate/error_estimate.hpp),
   /// made after every solve whose displacement is finite, on the process holding the results;
   /// none otherwise. Its time is the solution's stage "estimate".
   std::optional<ErrorEstimate> estimate;
-  /// The last solve of an adaptive sequence carries the sequence's record (adapt_json of
-  /// hemivem/app/adapt.hpp; RunInfo::adapt); null otherwise.
+  /// The last solve of an adaptive sequence (plane bodies) carries the sequence's record
+  /// (adapt_json of hemivem/app/adapt.hpp; RunInfo::adapt); null otherwise.
   nlohmann::json adapt;
   /// The last step of a loading path carries the path (hemivem/app/path.hpp; RunInfo::path);
   /// null otherwise.
-  std::shared_ptr<const PathSolution> path;
-  double total_seconds() const;  ///< mesh_seconds + the solve's total
+  std::shared_ptr<const BasicPathSolution<dim>> path;
+  /// mesh_seconds + the solve's total.
+  double total_seconds() const {
+    const auto it = solution.timings.find("total");
+    return mesh_seconds + (it == solution.timings.end() ? 0.0 : it->second);
+  }
 };
+using SceneSolve = BasicSceneSolve<2>;
+using SceneSolve3D = BasicSceneSolve<3>;
 
 /// The estimated condition number above which the displacement's digits are unreliable:
 /// cond * eps > 1e-6, i.e. fewer than about six significant digits can be trusted.

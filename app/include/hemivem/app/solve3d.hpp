@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include <hemivem/app/outputs.hpp>
+#include <hemivem/app/solve.hpp>
 #include <hemivem/contact/contact3d.hpp>
 #include <hemivem/estimate/error_estimate3d.hpp>
 #include <hemivem/global_search.hpp>
@@ -22,27 +23,6 @@
 #include <hemivem/scene/scene.hpp>
 
 namespace hemivem::app {
-
-/// One three-dimensional scene solved with the engines it names.
-struct SceneSolve3D {
-  std::unique_ptr<BuiltProblem3D> built;
-  ContactSolution3D solution;
-  MinimizerOptions options;      ///< the minimizer options in effect
-  std::string linear;            ///< the factorization engine's name
-  std::string minimizer;         ///< the minimizer's name (the first engine of a global search)
-  nlohmann::json search;         ///< search_json
-  double mesh_seconds = 0.0;     ///< wall time of build_problem_3d (mesh, materials, boundary parts)
-  bool holds_results = true;     ///< false on the ranks > 0 of mumps-mpi under mpirun: no results there
-  int processes = 1;             ///< the processes the linear engine runs on
-  std::vector<std::string> warnings;  ///< the scene's warnings (BuiltProblem3D::warnings)
-  std::string mesh_description;  ///< SceneMesh::description
-  /// The estimate of the discretization error (estimate_error; the stage "estimate"); none
-  /// on the ranks that hold no results or when the displacement is not finite.
-  std::optional<ErrorEstimate> estimate;
-  /// The last step of a loading path carries the path (hemivem/app/path.hpp); null otherwise.
-  std::shared_ptr<const BasicPathSolution<3>> path;
-  double total_seconds() const;  ///< mesh_seconds + the solve's total
-};
 
 /// What solve_scene_3d does besides solving the scene as it is written.
 struct SceneSolve3DOptions {
@@ -80,21 +60,12 @@ std::vector<std::string> wanted_files_3d(const Scene& scene, bool has_contact);
 /// What result.json records about a 3D solve (run_info's fields that apply: the engines,
 /// search, options, mesh time, unknowns, warnings, the law's breakpoints and whether u_nu <= g
 /// bounds the contact).
-RunInfo run_info_3d(const Scene& scene, const SceneSolve3D& solved);
+RunInfo run_info(const Scene& scene, const SceneSolve3D& solved);
 
 /// Writes what `hemivem solve --out dir` writes for a 3D solve: the files of wanted_files_3d
-/// (or `files`, names of all_outputs_3d(), when not null) through write_outputs_3d. Checks the
+/// (or `files`, names of all_outputs_3d(), when not null) through write_outputs. Checks the
 /// folder first (check_output_folder). Never prints.
-OutputReport write_results_3d(const std::filesystem::path& dir, const Scene& scene, const SceneSolve3D& solved,
+OutputReport write_results(const std::filesystem::path& dir, const Scene& scene, const SceneSolve3D& solved,
                               const std::vector<std::string>* files = nullptr);
-
-/// One line of a 3D solve, as brief_report's of a plane one: status, certificate, iterations,
-/// energy and total time.
-std::string brief_report_3d(const SceneSolve3D& solved);
-
-/// The lines of a 3D solve for the command's report (full_report's in 3D): mesh, engines,
-/// stages, status and certificate, uniqueness, contact nodes, normal forces, the balance of
-/// forces, energy and the time of each stage.
-std::string full_report_3d(const SceneSolve3D& solved, const RunInfo& info);
 
 }  // namespace hemivem::app
