@@ -42,7 +42,6 @@ FUNCTION_TO_SPLIT = {
         "its three sections: per element, what each boundary edge is, the edges",
     ("core/estimate/src/error_estimate3d.cpp", "estimate_error"):
         "its three sections: per cell, what each boundary face is, the faces",
-    ("python/src/mesh.cpp", "register_mesh3d"): "the binding of Mesh3D, by group of methods",
     ("python/src/solve.cpp", "def_result_fields"): "the fields by group",
 }
 
