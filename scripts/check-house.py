@@ -38,12 +38,6 @@ FUNCTION_ALLOWLIST = {
 # To split: long functions that are plumbing, in files being changed elsewhere. Printed as
 # warnings, not failures, until they are split into named steps.
 FUNCTION_TO_SPLIT = {
-    ("core/estimate/src/error_estimate.cpp", "estimate_error"):
-        "its three sections: per element, what each boundary edge is, the edges",
-    ("core/estimate/src/error_estimate3d.cpp", "estimate_error"):
-        "its three sections: per cell, what each boundary face is, the faces",
-    ("core/mesh/src/gmsh3d.cpp", "write_gmsh3d"): "one writer per section of the file",
-    ("python/src/mesh.cpp", "register_mesh3d"): "the binding of Mesh3D, by group of methods",
     ("python/src/solve.cpp", "def_result_fields"): "the fields by group",
 }
 

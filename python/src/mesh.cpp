@@ -329,34 +329,27 @@ void def_mesh_geometry(MeshClass& c) {
       });
 }
 
-/// hemivem.Mesh3D: the polyhedral mesh of a three-dimensional solve (Result.mesh), read-only.
-void register_mesh3d(py::module_& m) {
-  using Mesh3DClass = py::class_<PyMesh3D>;
-  auto get3 = [](const PyMesh3D& s) -> const Mesh3D& { return *s.mesh; };
-  auto ints = [](const std::vector<int>& v) { return copy(std::vector<std::int32_t>(v.begin(), v.end())); };
-  auto rows3 = [](int n, const auto& at) {
-    py::array_t<double> a({static_cast<py::ssize_t>(n), py::ssize_t(3)});
-    auto r = a.mutable_unchecked<2>();
-    for (int i = 0; i < n; ++i) {
-      const Vec3 v = at(i);
-      r(i, 0) = v.x(), r(i, 1) = v.y(), r(i, 2) = v.z();
-    }
-    return a;
-  };
-  Mesh3DClass c(m, "Mesh3D", R"doc(
-The polyhedral mesh of a three-dimensional solve (Result.mesh of a scene whose dimension is
-3; docs/three-dimensions.md): vertices, cells bounded by planar polygonal faces, face groups
-and region ids. Read-only; it shares the Result's memory.
+using Mesh3DClass = py::class_<PyMesh3D>;
 
-    r = hemivem.solve("scenes/example-4.1-3d.toml")
-    m = r.mesh                  # Mesh3D(405 vertices, 256 cells, 896 faces, h=0.216506)
-    m.vertices                  # (num_vertices, 3) float64, C order, read-only view
-    m.faces[f]                  # the vertex loop of face f, counter-clockwise seen from outside face_cells[f, 0]
-    m.cells[c]                  # the face ids of cell c
+const Mesh3D& get3(const PyMesh3D& s) { return *s.mesh; }
 
-Mesh3D.generate(kind, n, box) makes one (a generator of three-dimensional scenes: cubes,
-tetrahedra, voronoi), to solve a scene on with hemivem.solve(scene, mesh=m).
-)doc");
+/// An int32 array of ids.
+py::array_t<std::int32_t> int32s(const std::vector<int>& v) { return copy(std::vector<std::int32_t>(v.begin(), v.end())); }
+
+/// An (n, 3) float64 array whose row i is at(i).
+template <class At>
+py::array_t<double> rows3(int n, const At& at) {
+  py::array_t<double> a({static_cast<py::ssize_t>(n), py::ssize_t(3)});
+  auto r = a.mutable_unchecked<2>();
+  for (int i = 0; i < n; ++i) {
+    const Vec3 v = at(i);
+    r(i, 0) = v.x(), r(i, 1) = v.y(), r(i, 2) = v.z();
+  }
+  return a;
+}
+
+/// Mesh3D.generate.
+void def_mesh3d_sources(Mesh3DClass& c) {
   c.def_static(
       "generate",
       [](const std::string& kind, std::array<int, 3> n, std::array<double, 6> box, std::uint64_t seed) {
@@ -371,19 +364,23 @@ tetrahedra, voronoi), to solve a scene on with hemivem.solve(scene, mesh=m).
       py::arg("seed") = 1,
       "A generated mesh of the box [x0, x1, y0, y1, z0, z1] with n = [nx, ny, nz] cells along each side "
       "(InputError for an unknown kind or a bad size).");
-  c.def_property_readonly("num_vertices", [get3](const PyMesh3D& s) { return get3(s).num_vertices(); })
-      .def_property_readonly("num_cells", [get3](const PyMesh3D& s) { return get3(s).num_cells(); })
-      .def_property_readonly("num_faces", [get3](const PyMesh3D& s) { return get3(s).num_faces(); })
+}
+
+/// Sizes, vertices, faces, cells and the boundary.
+void def_mesh3d_topology(Mesh3DClass& c) {
+  c.def_property_readonly("num_vertices", [](const PyMesh3D& s) { return get3(s).num_vertices(); })
+      .def_property_readonly("num_cells", [](const PyMesh3D& s) { return get3(s).num_cells(); })
+      .def_property_readonly("num_faces", [](const PyMesh3D& s) { return get3(s).num_faces(); })
       .def_property_readonly(
           "vertices",
-          [get3](py::object self) {
+          [](py::object self) {
             const Mesh3D& mesh = get3(self.cast<const PyMesh3D&>());
             return view(mesh.vertices().empty() ? nullptr : mesh.vertices().front().data(), mesh.num_vertices(), 3, self);
           },
           "(num_vertices, 3) float64, C order, read-only view of the mesh's coordinates.")
       .def_property_readonly(
           "faces",
-          [get3](const PyMesh3D& s) {
+          [](const PyMesh3D& s) {
             py::list out;
             for (const MeshFace& f : get3(s).faces()) out.append(py::cast(f.vertices));
             return out;
@@ -392,7 +389,7 @@ tetrahedra, voronoi), to solve a scene on with hemivem.solve(scene, mesh=m).
           "face_cells[f, 0] (the face's normal points from that cell to face_cells[f, 1]).")
       .def_property_readonly(
           "face_cells",
-          [get3](const PyMesh3D& s) {
+          [](const PyMesh3D& s) {
             const Mesh3D& mesh = get3(s);
             py::array_t<std::int32_t> a({static_cast<py::ssize_t>(mesh.num_faces()), py::ssize_t(2)});
             auto r = a.mutable_unchecked<2>();
@@ -402,7 +399,7 @@ tetrahedra, voronoi), to solve a scene on with hemivem.solve(scene, mesh=m).
           "(num_faces, 2) int32: the cell inside and outside each face (-1 outside a boundary face).")
       .def_property_readonly(
           "cells",
-          [get3](const PyMesh3D& s) {
+          [](const PyMesh3D& s) {
             const Mesh3D& mesh = get3(s);
             py::list out;
             for (int c = 0; c < mesh.num_cells(); ++c) out.append(py::cast(mesh.cell_faces(c)));
@@ -411,7 +408,7 @@ tetrahedra, voronoi), to solve a scene on with hemivem.solve(scene, mesh=m).
           "The cells as a list of lists of face ids.")
       .def_property_readonly(
           "cell_vertices",
-          [get3](const PyMesh3D& s) {
+          [](const PyMesh3D& s) {
             const Mesh3D& mesh = get3(s);
             py::list out;
             for (int c = 0; c < mesh.num_cells(); ++c) out.append(py::cast(mesh.cell_vertices(c)));
@@ -419,30 +416,34 @@ tetrahedra, voronoi), to solve a scene on with hemivem.solve(scene, mesh=m).
           },
           "The sorted vertex ids of each cell (a list of lists).")
       .def_property_readonly(
-          "boundary_faces", [get3, ints](const PyMesh3D& s) { return ints(get3(s).boundary_faces()); },
+          "boundary_faces", [](const PyMesh3D& s) { return int32s(get3(s).boundary_faces()); },
           "Ids of the faces of exactly one cell (int32, increasing).")
       .def_property_readonly(
-          "boundary_vertices", [get3, ints](const PyMesh3D& s) { return ints(get3(s).boundary_vertices()); },
-          "The vertices of the boundary faces (int32, sorted).")
-      .def_property_readonly(
-          "volumes",
-          [get3](const PyMesh3D& s) {
-            const Mesh3D& mesh = get3(s);
-            py::array_t<double> a(mesh.num_cells());
-            for (int c = 0; c < mesh.num_cells(); ++c) a.mutable_data()[c] = mesh.volume(c);
-            return a;
-          },
-          "Cell volumes (float64).")
+          "boundary_vertices", [](const PyMesh3D& s) { return int32s(get3(s).boundary_vertices()); },
+          "The vertices of the boundary faces (int32, sorted).");
+}
+
+/// Cell and face geometry.
+void def_mesh3d_geometry(Mesh3DClass& c) {
+  c.def_property_readonly(
+       "volumes",
+       [](const PyMesh3D& s) {
+         const Mesh3D& mesh = get3(s);
+         py::array_t<double> a(mesh.num_cells());
+         for (int c = 0; c < mesh.num_cells(); ++c) a.mutable_data()[c] = mesh.volume(c);
+         return a;
+       },
+       "Cell volumes (float64).")
       .def_property_readonly(
           "centroids",
-          [get3, rows3](const PyMesh3D& s) {
+          [](const PyMesh3D& s) {
             const Mesh3D& mesh = get3(s);
             return rows3(mesh.num_cells(), [&](int c) { return mesh.centroid(c); });
           },
           "(num_cells, 3) cell centroids.")
       .def_property_readonly(
           "diameters",
-          [get3](const PyMesh3D& s) {
+          [](const PyMesh3D& s) {
             const Mesh3D& mesh = get3(s);
             py::array_t<double> a(mesh.num_cells());
             for (int c = 0; c < mesh.num_cells(); ++c) a.mutable_data()[c] = mesh.diameter(c);
@@ -451,7 +452,7 @@ tetrahedra, voronoi), to solve a scene on with hemivem.solve(scene, mesh=m).
           "Cell diameters (largest distance between two of its vertices).")
       .def_property_readonly(
           "face_areas",
-          [get3](const PyMesh3D& s) {
+          [](const PyMesh3D& s) {
             const Mesh3D& mesh = get3(s);
             py::array_t<double> a(mesh.num_faces());
             for (int f = 0; f < mesh.num_faces(); ++f) a.mutable_data()[f] = mesh.face_area(f);
@@ -460,38 +461,64 @@ tetrahedra, voronoi), to solve a scene on with hemivem.solve(scene, mesh=m).
           "Face areas (float64).")
       .def_property_readonly(
           "face_normals",
-          [get3, rows3](const PyMesh3D& s) {
+          [](const PyMesh3D& s) {
             const Mesh3D& mesh = get3(s);
             return rows3(mesh.num_faces(), [&](int f) { return mesh.face_normal(f); });
           },
-          "(num_faces, 3) unit normals, pointing out of face_cells[f, 0] (outward on the boundary).")
-      .def_property_readonly(
-          "regions", [get3, ints](const PyMesh3D& s) { return ints(get3(s).regions()); },
-          "Material region id of each cell (int32).")
+          "(num_faces, 3) unit normals, pointing out of face_cells[f, 0] (outward on the boundary).");
+}
+
+/// Regions, face groups, h, the bounding box, len and repr.
+void def_mesh3d_parts(Mesh3DClass& c) {
+  c.def_property_readonly(
+       "regions", [](const PyMesh3D& s) { return int32s(get3(s).regions()); },
+       "Material region id of each cell (int32).")
       .def_property_readonly(
           "face_groups",
-          [get3, ints](const PyMesh3D& s) {
+          [](const PyMesh3D& s) {
             py::dict d;
-            for (const auto& [name, faces] : get3(s).face_groups()) d[py::str(name)] = ints(faces);
+            for (const auto& [name, faces] : get3(s).face_groups()) d[py::str(name)] = int32s(faces);
             return d;
           },
           "Named face sets (a Gmsh file's physical surfaces): name -> face ids.")
-      .def_property_readonly("h", [get3](const PyMesh3D& s) { return get3(s).h(); }, "The largest cell diameter.")
+      .def_property_readonly("h", [](const PyMesh3D& s) { return get3(s).h(); }, "The largest cell diameter.")
       .def_property_readonly(
           "bounding_box",
-          [get3](const PyMesh3D& s) {
+          [](const PyMesh3D& s) {
             const Box b = get3(s).bounding_box();
             return py::make_tuple(b.x0, b.x1, b.y0, b.y1, b.z0, b.z1);
           },
           "(x0, x1, y0, y1, z0, z1).")
-      .def("__len__", [get3](const PyMesh3D& s) { return get3(s).num_cells(); })
-      .def("__repr__", [get3](const PyMesh3D& s) {
+      .def("__len__", [](const PyMesh3D& s) { return get3(s).num_cells(); })
+      .def("__repr__", [](const PyMesh3D& s) {
         const Mesh3D& mesh = get3(s);
         std::ostringstream o;
         o << "Mesh3D(" << mesh.num_vertices() << " vertices, " << mesh.num_cells() << " cells, " << mesh.num_faces()
           << " faces, h=" << mesh.h() << ")";
         return o.str();
       });
+}
+
+/// hemivem.Mesh3D: the polyhedral mesh of a three-dimensional solve (Result.mesh), read-only.
+void register_mesh3d(py::module_& m) {
+  Mesh3DClass c(m, "Mesh3D", R"doc(
+The polyhedral mesh of a three-dimensional solve (Result.mesh of a scene whose dimension is
+3; docs/three-dimensions.md): vertices, cells bounded by planar polygonal faces, face groups
+and region ids. Read-only; it shares the Result's memory.
+
+    r = hemivem.solve("scenes/example-4.1-3d.toml")
+    m = r.mesh                  # Mesh3D(405 vertices, 256 cells, 896 faces, h=0.216506)
+    m.vertices                  # (num_vertices, 3) float64, C order, read-only view
+    m.faces[f]                  # the vertex loop of face f, counter-clockwise seen from outside face_cells[f, 0]
+    m.cells[c]                  # the face ids of cell c
+
+Mesh3D.generate(kind, n, box) makes one (a generator of three-dimensional scenes: cubes,
+tetrahedra, voronoi), to solve a scene on with hemivem.solve(scene, mesh=m).
+)doc");
+  def_mesh3d_sources(c);
+  def_mesh3d_topology(c);
+  def_mesh3d_geometry(c);
+  def_mesh3d_parts(c);
 }
 
 }  // namespace

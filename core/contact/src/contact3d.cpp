@@ -8,13 +8,13 @@
 #include <hemivem/error.hpp>
 #include <hemivem/process_group.hpp>
 #include <hemivem/vem/element3d.hpp>
+#include <hemivem/vem/rigid_motions.hpp>
 
 #include <Eigen/Dense>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <map>
 
 namespace hemivem {
@@ -157,106 +157,6 @@ ContactBoundary contact_boundary(const ContactProblem3D& problem, const DofMap& 
   return boundary;
 }
 
-namespace {
-
-// The pieces of a mesh: sets of cells joined through shared vertices (union-find), as a piece
-// number per vertex (-1 for a vertex of no cell) and their count.
-std::vector<int> pieces_of_vertices(const Mesh3D& mesh, int* count) {
-  std::vector<int> parent(static_cast<std::size_t>(mesh.num_vertices()));
-  for (std::size_t v = 0; v < parent.size(); ++v) parent[v] = static_cast<int>(v);
-  auto root = [&](int v) {
-    while (parent[static_cast<std::size_t>(v)] != v)
-      v = parent[static_cast<std::size_t>(v)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(v)])];
-    return v;
-  };
-  std::vector<char> used(parent.size(), 0);
-  for (int c = 0; c < mesh.num_cells(); ++c) {
-    const auto& verts = mesh.cell_vertices(c);
-    for (int v : verts) {
-      used[static_cast<std::size_t>(v)] = 1;
-      parent[static_cast<std::size_t>(root(v))] = root(verts.front());
-    }
-  }
-  std::vector<int> piece(parent.size(), -1), number(parent.size(), -1);
-  *count = 0;
-  for (std::size_t v = 0; v < parent.size(); ++v) {
-    if (!used[v]) continue;
-    int& n = number[static_cast<std::size_t>(root(static_cast<int>(v)))];
-    if (n < 0) n = (*count)++;
-    piece[v] = n;
-  }
-  return piece;
-}
-
-std::string number_text(double x) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.4g", x);
-  return buffer;
-}
-
-}  // namespace
-
-std::vector<std::string> free_rigid_motions_3d(const Mesh3D& mesh, const DofMap& dofs) {
-  // per piece of the mesh (cells joined through shared vertices), the rigid motions
-  // r(x) = t + w x (x - centre) restricted to the piece's prescribed dofs: the motions in the
-  // kernel of that map are free
-  int pieces = 0;
-  const std::vector<int> piece = pieces_of_vertices(mesh, &pieces);
-  std::vector<Vec3> lo(static_cast<std::size_t>(pieces), Vec3::Constant(INFINITY)),
-      hi(static_cast<std::size_t>(pieces), Vec3::Constant(-INFINITY));
-  std::vector<int> cells(static_cast<std::size_t>(pieces), 0), first(static_cast<std::size_t>(pieces), -1);
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
-    const int p = piece[static_cast<std::size_t>(v)];
-    if (p < 0) continue;
-    const auto k = static_cast<std::size_t>(p);
-    lo[k] = lo[k].cwiseMin(mesh.vertex(v));
-    hi[k] = hi[k].cwiseMax(mesh.vertex(v));
-    if (first[k] < 0) first[k] = v;
-  }
-  for (int c = 0; c < mesh.num_cells(); ++c) ++cells[static_cast<std::size_t>(piece[static_cast<std::size_t>(mesh.cell_vertices(c).front())])];
-  std::vector<Eigen::Matrix<double, 6, 6>> G(static_cast<std::size_t>(pieces), Eigen::Matrix<double, 6, 6>::Zero());
-  for (int d = 0; d < dofs.num_dofs(); ++d) {
-    if (dofs.free_index[static_cast<std::size_t>(d)] >= 0) continue;
-    const int v = d / 3, c = d % 3;
-    const int p = piece[static_cast<std::size_t>(v)];
-    if (p < 0) continue;
-    const auto k = static_cast<std::size_t>(p);
-    const Vec3 centre = 0.5 * (lo[k] + hi[k]);
-    const double scale = (hi[k] - lo[k]).maxCoeff();
-    const Vec3 x = (mesh.vertex(v) - centre) / scale;
-    Eigen::Matrix<double, 6, 1> row = Eigen::Matrix<double, 6, 1>::Zero();
-    row(c) = 1.0;
-    // rotation about axis a: (e_a x x)_c
-    for (int a = 0; a < 3; ++a) row(3 + a) = Vec3::Unit(a).cross(x)(c);
-    G[k] += row * row.transpose();
-  }
-  std::vector<std::string> out;
-  static const char* names[6] = {"translation along x", "translation along y", "translation along z",
-                                 "rotation about x", "rotation about y", "rotation about z"};
-  for (std::size_t k = 0; k < G.size(); ++k) {
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(G[k]);
-    const double top = std::max(eig.eigenvalues().maxCoeff(), 1.0);
-    // where the piece is, when the mesh has more than one
-    const std::string of =
-        pieces == 1 ? std::string()
-                    : " of the piece of " + std::to_string(cells[k]) + (cells[k] == 1 ? " cell" : " cells") + " in [" +
-                          number_text(lo[k].x()) + ", " + number_text(hi[k].x()) + "] x [" + number_text(lo[k].y()) +
-                          ", " + number_text(hi[k].y()) + "] x [" + number_text(lo[k].z()) + ", " +
-                          number_text(hi[k].z()) + "] (vertex " + std::to_string(first[k]) + " at " +
-                          point_text(mesh.vertex(first[k])) + ")";
-    for (int j = 0; j < 6; ++j) {
-      if (eig.eigenvalues()(j) > 1e-10 * top) continue;
-      const Eigen::Matrix<double, 6, 1> m = eig.eigenvectors().col(j);
-      Eigen::Index at = 0;
-      m.cwiseAbs().maxCoeff(&at);
-      std::string words = names[at];
-      if (m.cwiseAbs().maxCoeff() < 0.99) words += " (combined with others)";
-      out.push_back(words + of);
-    }
-  }
-  return out;
-}
-
 ForceBalance3D force_balance(const ElasticityProblem3D& problem, const Eigen::VectorXd& u, const Vec3& contact) {
   if (!problem.mesh) throw InputError("the elasticity problem has no mesh");
   const Mesh3D& mesh = *problem.mesh;
@@ -349,18 +249,18 @@ struct Kernels<3> {
     return contact_boundary(problem, dofs);
   }
   // The free motions the contact holds (find_supports); one that nothing holds is refused with
-  // every free motion of each piece, and where the piece is.
+  // every free motion of each piece by the axes, and where the piece is.
   static std::vector<std::string> held_by_contact(const ContactProblem3D& problem, const DofMap& dofs,
                                                   const ContactBoundary& boundary,
                                                   const std::vector<ContactPart3D>& parts) {
     const Mesh3D& mesh = *problem.elasticity.mesh;
-    const auto free = free_rigid_motions_3d(mesh, dofs);
+    const BasicRigidMotions<3> free(mesh, dofs);
     if (free.empty()) return {};
     try {
       return find_supports(mesh, dofs, boundary, parts).held_by_contact;
     } catch (const InputError& e) {
       std::string words;
-      for (const auto& w : free) words += (words.empty() ? "" : ", ") + w;
+      for (int k = 0; k < free.size(); ++k) words += (k == 0 ? "" : ", ") + free.describe_by_axes(k);
       throw InputError("the supports leave rigid motions of the body free (" + words + "), and " +
                        (boundary.size() == 0 ? std::string("there is no contact to hold them")
                                              : "its contact cannot hold them all (" + e.detail() + ")") +

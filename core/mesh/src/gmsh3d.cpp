@@ -320,18 +320,9 @@ void check_group_name(const std::string& name) {
                        " cannot be a Gmsh physical name (it holds a double quote or a control character)");
 }
 
-}  // namespace
-
-Mesh3D read_gmsh3d(const fs::path& path) {
-  std::ifstream in = text::open_for_reading(path, "mesh file");
-  return read_gmsh3d(in, path.string());
-}
-
-Mesh3D read_gmsh3d(std::istream& in, const std::string& name) {
-  return Gmsh3DReader(text::read_all(in, name, "mesh"), name).read();
-}
-
-void write_gmsh3d(const Mesh3D& mesh, std::ostream& out) {
+// The Gmsh element of each cell; InputError for a cell that is no Gmsh element or whose region
+// is above the largest volume tag read back as a region.
+std::vector<GmshCell> gmsh_cells(const Mesh3D& mesh) {
   const int nc = mesh.num_cells();
   std::vector<GmshCell> cells(static_cast<std::size_t>(nc));
   for (int c = 0; c < nc; ++c) {
@@ -344,6 +335,11 @@ void write_gmsh3d(const Mesh3D& mesh, std::ostream& out) {
                        ", above the largest Gmsh volume tag read back as a region (" +
                        std::to_string(kGmshMaxRegion) + ")");
   }
+  return cells;
+}
+
+// InputError for a face group whose name Gmsh cannot hold or with a face of more than 4 vertices.
+void check_face_groups(const Mesh3D& mesh) {
   for (const auto& [name, faces] : mesh.face_groups()) {
     check_group_name(name);
     for (int f : faces)
@@ -351,26 +347,35 @@ void write_gmsh3d(const Mesh3D& mesh, std::ostream& out) {
         throw InputError("face " + std::to_string(f) + " of face group " + quote(name) + " has " +
                          std::to_string(mesh.face(f).vertices.size()) + " vertices: Gmsh has no polygon element");
   }
+}
 
-  // volume entities: one per region, tagged 1, 2, ... in the order of the regions
+// The volume entities: one per region, tagged 1, 2, ... in the order of the regions.
+std::map<int, int> volume_entities(const Mesh3D& mesh) {
   std::map<int, int> entity_of_region;
-  for (int c = 0; c < nc; ++c) entity_of_region.emplace(mesh.region(c), 0);
+  for (int c = 0; c < mesh.num_cells(); ++c) entity_of_region.emplace(mesh.region(c), 0);
   int tag = 0;
   for (auto& [region, entity] : entity_of_region) entity = ++tag;
+  return entity_of_region;
+}
+
+// $PhysicalNames: each face group a physical surface, tagged 1, 2, ... (none without groups).
+void write_physical_names(const Mesh3D& mesh, std::ostream& out) {
+  const auto& groups = mesh.face_groups();
+  if (groups.empty()) return;
+  out << "$PhysicalNames\n" << groups.size() << "\n";
+  int g = 0;
+  for (const auto& [name, faces] : groups) out << "2 " << ++g << " \"" << name << "\"\n";
+  out << "$EndPhysicalNames\n";
+}
+
+// $Entities: a surface per face group and a volume per region, each with the mesh's bounding box.
+void write_entities(const Mesh3D& mesh, const std::map<int, int>& entity_of_region, std::ostream& out) {
   const Box box = mesh.bounding_box();
   const std::string bounds = number(box.x0) + " " + number(box.y0) + " " + number(box.z0) + " " + number(box.x1) +
                              " " + number(box.y1) + " " + number(box.z1);
-  const auto& groups = mesh.face_groups();
-
-  out << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n";
-  if (!groups.empty()) {
-    out << "$PhysicalNames\n" << groups.size() << "\n";
-    int g = 0;
-    for (const auto& [name, faces] : groups) out << "2 " << ++g << " \"" << name << "\"\n";
-    out << "$EndPhysicalNames\n";
-  }
-  out << "$Entities\n0 0 " << groups.size() << " " << entity_of_region.size() << "\n";
-  for (std::size_t g = 1; g <= groups.size(); ++g) out << g << " " << bounds << " 1 " << g << " 0\n";
+  const std::size_t ngroups = mesh.face_groups().size();
+  out << "$Entities\n0 0 " << ngroups << " " << entity_of_region.size() << "\n";
+  for (std::size_t g = 1; g <= ngroups; ++g) out << g << " " << bounds << " 1 " << g << " 0\n";
   for (const auto& [region, entity] : entity_of_region) {
     out << entity << " " << bounds;
     if (region > 0) out << " 1 " << region;
@@ -378,21 +383,29 @@ void write_gmsh3d(const Mesh3D& mesh, std::ostream& out) {
     out << " 0\n";
   }
   out << "$EndEntities\n";
+}
 
+// $Nodes: the vertices in one block, tagged 1, 2, ...
+void write_nodes(const Mesh3D& mesh, std::ostream& out) {
   const int nv = mesh.num_vertices();
   out << "$Nodes\n1 " << nv << " 1 " << nv << "\n3 1 0 " << nv << "\n";
   for (int v = 1; v <= nv; ++v) out << v << "\n";
   for (const Vec3& p : mesh.vertices()) out << number(p.x()) << " " << number(p.y()) << " " << number(p.z()) << "\n";
   out << "$EndNodes\n";
+}
 
-  // element blocks: runs of cells of one region and shape, in cell order; then the faces of
-  // each group, triangles and quadrangles
-  struct Block {
-    int dim, entity, type;
-    std::vector<const std::vector<int>*> elements;
-  };
+// One block of $Elements: elements of one dimension, entity and Gmsh type.
+struct Block {
+  int dim, entity, type;
+  std::vector<const std::vector<int>*> elements;
+};
+
+// The element blocks: runs of cells of one region and shape, in cell order; then the faces of
+// each group, triangles and quadrangles.
+std::vector<Block> element_blocks(const Mesh3D& mesh, const std::vector<GmshCell>& cells,
+                                  const std::map<int, int>& entity_of_region) {
   std::vector<Block> blocks;
-  for (int c = 0; c < nc; ++c) {
+  for (int c = 0; c < mesh.num_cells(); ++c) {
     const GmshCell& g = cells[static_cast<std::size_t>(c)];
     const int entity = entity_of_region.at(mesh.region(c));
     if (blocks.empty() || blocks.back().entity != entity || blocks.back().type != g.shape->type)
@@ -400,7 +413,7 @@ void write_gmsh3d(const Mesh3D& mesh, std::ostream& out) {
     blocks.back().elements.push_back(&g.nodes);
   }
   int g = 0;
-  for (const auto& [name, faces] : groups) {
+  for (const auto& [name, faces] : mesh.face_groups()) {
     ++g;
     for (const int type : {2, 3}) {
       Block b{2, g, type, {}};
@@ -409,6 +422,11 @@ void write_gmsh3d(const Mesh3D& mesh, std::ostream& out) {
       if (!b.elements.empty()) blocks.push_back(std::move(b));
     }
   }
+  return blocks;
+}
+
+// $Elements: the blocks, elements tagged 1, 2, ... across them, vertices numbered from 1.
+void write_elements(const std::vector<Block>& blocks, std::ostream& out) {
   std::size_t total = 0;
   for (const Block& b : blocks) total += b.elements.size();
   out << "$Elements\n" << blocks.size() << " " << total << " " << (total > 0 ? 1 : 0) << " " << total << "\n";
@@ -422,6 +440,28 @@ void write_gmsh3d(const Mesh3D& mesh, std::ostream& out) {
     }
   }
   out << "$EndElements\n";
+}
+
+}  // namespace
+
+Mesh3D read_gmsh3d(const fs::path& path) {
+  std::ifstream in = text::open_for_reading(path, "mesh file");
+  return read_gmsh3d(in, path.string());
+}
+
+Mesh3D read_gmsh3d(std::istream& in, const std::string& name) {
+  return Gmsh3DReader(text::read_all(in, name, "mesh"), name).read();
+}
+
+void write_gmsh3d(const Mesh3D& mesh, std::ostream& out) {
+  const std::vector<GmshCell> cells = gmsh_cells(mesh);
+  check_face_groups(mesh);
+  const std::map<int, int> entity_of_region = volume_entities(mesh);
+  out << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n";
+  write_physical_names(mesh, out);
+  write_entities(mesh, entity_of_region, out);
+  write_nodes(mesh, out);
+  write_elements(element_blocks(mesh, cells, entity_of_region), out);
 }
 
 void write_gmsh3d(const Mesh3D& mesh, const fs::path& path) {

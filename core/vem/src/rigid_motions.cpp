@@ -135,12 +135,15 @@ BasicRigidMotions<dim>::BasicRigidMotions(const MeshType& mesh, const DofMap& do
       }
       lo[p] = lo[p].cwiseMin(mesh.vertex(v));
       hi[p] = hi[p].cwiseMax(mesh.vertex(v));
+      if (pieces_[p].first_vertex < 0 || v < pieces_[p].first_vertex) pieces_[p].first_vertex = v;
     }
   }
   for (std::size_t p = 0; p < pieces_.size(); ++p) {
     pieces_[p].center /= std::max(1, vertices[p]);
     pieces_[p].size = (hi[p] - lo[p]).maxCoeff();
     if (!(pieces_[p].size > 0.0) || !std::isfinite(pieces_[p].size)) pieces_[p].size = 1.0;
+    pieces_[p].lo = lo[p];
+    pieces_[p].hi = hi[p];
   }
   // the constraints: every prescribed component is zero, and pieces agree at shared vertices
   std::vector<Eigen::RowVectorXd> rows;
@@ -243,6 +246,50 @@ std::string BasicRigidMotions<dim>::describe(int k) const {
                                                : "of the piece of " + std::to_string(P.elements) +
                                                      (dim == 2 ? " elements around " : " cells around ") + point(P.center);
     text += (text.empty() ? "" : " with a ") + motion_words(c, P.center, P.size) + " " + of;
+  }
+  return text;
+}
+
+namespace {
+
+// The motion of coefficient j of a piece: translations along the axes, then rotations.
+template <int dim>
+const char* axis_motion(Eigen::Index j) {
+  static constexpr const char* plane[] = {"translation along x", "translation along y", "rotation"};
+  static constexpr const char* solid[] = {"translation along x", "translation along y", "translation along z",
+                                          "rotation about x",    "rotation about y",    "rotation about z"};
+  return dim == 2 ? plane[j] : solid[j];
+}
+
+// "[x0, x1] x [y0, y1]" (x [z0, z1]).
+template <class Vector>
+std::string box_text(const Vector& lo, const Vector& hi) {
+  std::string text;
+  for (Eigen::Index d = 0; d < lo.size(); ++d)
+    text += (d == 0 ? "[" : " x [") + number(lo(d)) + ", " + number(hi(d)) + "]";
+  return text;
+}
+
+}  // namespace
+
+template <int dim>
+std::string BasicRigidMotions<dim>::describe_by_axes(int k) const {
+  std::string text;
+  for (std::size_t p = 0; p < pieces_.size(); ++p) {
+    const Eigen::Matrix<double, per_piece, 1> c =
+        basis_.col(k).template segment<per_piece>(per_piece * static_cast<Eigen::Index>(p));
+    Eigen::Index at = 0;
+    const double largest = c.cwiseAbs().maxCoeff(&at);
+    if (largest == 0.0) continue;
+    std::string words = axis_motion<dim>(at);
+    if (largest < 0.99 * c.norm()) words += " (combined with others)";
+    if (pieces_.size() > 1) {
+      const Piece& P = pieces_[p];
+      words += " of the piece of " + std::to_string(P.elements) + (dim == 2 ? " element" : " cell") +
+               (P.elements == 1 ? "" : "s") + " in " + box_text(P.lo, P.hi) + " (vertex " +
+               std::to_string(P.first_vertex) + " at " + point(vertices_[static_cast<std::size_t>(P.first_vertex)]) + ")";
+    }
+    text += (text.empty() ? "" : " with a ") + words;
   }
   return text;
 }

@@ -98,7 +98,4 @@ std::vector<ContactSolution3D> solve_contact(const ContactProblem3D& problem, co
                                                 const MinimizerOptions& options, ReducedProblem* reduced = nullptr,
                                                 bool estimate_condition = false);
 
-/// The rigid motions of a 3D body that prescribed dofs leave free, in words (empty when held).
-std::vector<std::string> free_rigid_motions_3d(const Mesh3D& mesh, const DofMap& dofs);
-
 }  // namespace hemivem

@@ -57,6 +57,12 @@ class BasicRigidMotions {
   /// solid "rotation about the axis (0, 0, 1) through (0.5, 0.5, 0)"), of "the body" or of
   /// "the piece of N elements around (x, y)" (each moving piece).
   std::string describe(int k) const;
+  /// Free motion k by the motions along and about the axes: for each piece it moves, the one
+  /// of largest coefficient ("translation along x", "rotation about z"; in a plane "rotation"),
+  /// with "(combined with others)" when others take part, and when the mesh has more than one
+  /// piece where the piece is: "of the piece of N cells in [x0, x1] x [y0, y1] x [z0, z1]
+  /// (vertex v at (x, y, z))" (in a plane "N elements in [x0, x1] x [y0, y1]").
+  std::string describe_by_axes(int k) const;
   /// The free motions as nodal displacements (dim num_vertices rows, one column per motion).
   Eigen::MatrixXd nodal() const;
 
@@ -74,6 +80,9 @@ class BasicRigidMotions {
     int elements = 0;
     Point center = Point::Zero();  // the mean of the piece's vertices
     double size = 1.0;             // its largest extent
+    Point lo = Point::Zero();      // its bounding box
+    Point hi = Point::Zero();
+    int first_vertex = -1;         // its smallest vertex
   };
   std::vector<Piece> pieces_;
   std::vector<Point> vertices_;
