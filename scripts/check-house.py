@@ -38,7 +38,6 @@ FUNCTION_ALLOWLIST = {
 # To split: long functions that are plumbing, in files being changed elsewhere. Printed as
 # warnings, not failures, until they are split into named steps.
 FUNCTION_TO_SPLIT = {
-    ("python/src/solve.cpp", "def_result_fields"): "the fields by group",
 }
 
 # Twin pairs that share runs of lines today: (file, twin) -> number of shared runs. The check

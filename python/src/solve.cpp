@@ -443,7 +443,9 @@ void def_result_outcome(ResultClass& c) {
 }
 
 /// Result's fields: displacement, reduced point, contact table, history, mesh, scene.
-void def_result_fields(ResultClass& c) {
+/// Result's solution: the displacement, the minimizer's point and result, the contact table,
+/// the forces and the history.
+void def_result_solution(ResultClass& c) {
   c.def_property_readonly(
        "displacement",
        [](py::object s) {
@@ -464,10 +466,7 @@ void def_result_fields(ResultClass& c) {
           "The point of the reduced problem (the contact unknowns) the minimizer returned.")
       .def_property_readonly(
           "contact",
-          [](py::handle s) {
-            const SolveData& d = data(s);
-            return d.run.solid() ? contact_table(d.run.solid()->solution) : contact_table(d.plane().solution);
-          },
+          [](py::handle s) { return visit(data(s), [](const auto& v) { return contact_table(v.solution); }); },
           "The contact table (ContactTable): one row per contact node.")
       .def_property_readonly(
           "contact_force",
@@ -511,8 +510,12 @@ void def_result_fields(ResultClass& c) {
             if (!m) return py::none();
             return py::cast(std::shared_ptr<MinimizerResult>(d, const_cast<MinimizerResult*>(m)));
           },
-          "The minimizer's full result (MinimizerResult); None without contact (one linear solve).")
-      .def_property_readonly(
+          "The minimizer's full result (MinimizerResult); None without contact (one linear solve).");
+}
+
+/// Result's error estimate and indicators.
+void def_result_estimate(ResultClass& c) {
+  c.def_property_readonly(
           "error_estimate",
           [](py::handle s) -> py::object {
             const ErrorEstimate* e = visit(data(s), [](const auto& v) -> const ErrorEstimate* { return v.estimate ? &*v.estimate : nullptr; });
@@ -530,8 +533,12 @@ void def_result_fields(ResultClass& c) {
                      : view(nullptr, 0, s);
           },
           "The error indicators eta_E, one per element (cell in 3D) of `mesh` (float64, read-only view; empty "
-          "without an estimate): eta^2 is their sum of squares.")
-      .def_property_readonly(
+          "without an estimate): eta^2 is their sum of squares.");
+}
+
+/// Result's sequences: an adaptive solve's record, a loading path's steps.
+void def_result_sequences(ResultClass& c) {
+  c.def_property_readonly(
           "adapt",
           [](py::handle s) -> py::object {
             if (data(s).run.solid() || data(s).plane().adapt.is_null()) return py::none();
@@ -550,8 +557,12 @@ void def_result_fields(ResultClass& c) {
           },
           "A loading path's steps (hemivem.solve_path, or a scene with [path] or Coulomb friction): a Path, "
           "a sequence of PathStep; None for a static solve. The Result "
-          "itself is the last step's.")
-      .def_property_readonly(
+          "itself is the last step's.");
+}
+
+/// Result's model: the mesh, the scene and the reduced problem.
+void def_result_model(ResultClass& c) {
+  c.def_property_readonly(
           "mesh",
           [](py::object s) -> py::object {
             auto d = s.cast<std::shared_ptr<SolveData>>();
@@ -638,7 +649,10 @@ A Result holds its own copy of the scene, the mesh and the solution: it outlives
 was solved from, and its arrays keep it alive.
 )doc");
   def_result_outcome(c);
-  def_result_fields(c);
+  def_result_solution(c);
+  def_result_estimate(c);
+  def_result_sequences(c);
+  def_result_model(c);
   def_result_outputs(c);
 }
 

@@ -93,6 +93,12 @@ class SceneRun {
   SceneSolve* plane() noexcept { return plane_.get(); }
   /// The solid solve, or null in 2D.
   const SceneSolve3D* solid() const noexcept { return solid_.get(); }
+  /// The solve of dimension dim (plane() or solid(), for code written once for both), or null.
+  template <int dim>
+  const BasicSceneSolve<dim>* solve() const noexcept {
+    if constexpr (dim == 2) return plane_.get();
+    else return solid_.get();
+  }
   /// The adaptive sequence (its last solve is plane()), or null.
   const AdaptiveSolve* adaptive() const noexcept { return adaptive_.get(); }
   /// The loading path's steps, or null.
