@@ -1,6 +1,7 @@
 #include <hemivem/app/outputs.hpp>
 #include <hemivem/app/path.hpp>
 
+#include "output_run.hpp"
 #include "path_outputs.hpp"
 #include "result_json_common.hpp"
 #include <hemivem/app/figures.hpp>
@@ -75,15 +76,6 @@ void write_displacement_csv(std::ostream& stream, const Mesh& mesh, const Eigen:
        << '\n';
 }
 
-void write_history_csv(std::ostream& stream, const ContactSolution& s) {
-  TextWriter os(stream);
-  os << "iteration,reduced_objective,primal,dual,active,seconds\n";
-  if (!s.minimizer) return;
-  for (const auto& r : s.minimizer->history)
-    os << r.iteration << ',' << r.objective << ',' << r.primal << ',' << r.dual << ',' << r.active << ',' << r.seconds
-       << '\n';
-}
-
 nlohmann::json pair(const Vec2& v) { return {number(v.x()), number(v.y())}; }
 
 /// result.json's "forces": the applied load, the reactions by part, the contact resultant and
@@ -111,37 +103,23 @@ Figure adapt_figure(const RunInfo& info) {
   return convergence_figure({adaptive}, "adaptive refinement: " + info.scene_name);
 }
 
-/// The plots of a solve, drawn into the transaction's staging folder. A plot that cannot be
-/// made is skipped (listed in the report); a file that cannot be written is an error.
-void draw_solve_figures(const OutputTransaction& tx, const fs::path& dir, const Mesh& mesh, const ContactSolution& solution,
-                        const RunInfo& info, const std::function<bool(const std::string&)>& want,
-                        OutputReport& report) {
-  std::vector<Figure> figures;  // a figure that cannot be drawn never fails the run
+/// The plots of a solve (OutputRun::draw): those wanted, and the reason for each that cannot be
+/// made in `report`.
+void solve_figures(std::vector<Figure>& figures, const Mesh& mesh, const ContactSolution& solution, const RunInfo& info,
+                   const detail::OutputRun& run, OutputReport& report) {
+  auto want = [&run](const std::string& name) { return run.want(name); };
   if (want("u_nu.png") && solution.contact.empty()) report.skipped.push_back("u_nu.png: no contact boundary");
-  try {
-    if (want("u_nu.png") && !solution.contact.empty()) figures.push_back(u_nu_figure(mesh, solution, info));
-    if (want("deformed.png")) figures.push_back(deformed_figure(mesh, solution, info));
-    if (want("error.png") && !info.error_estimate) report.skipped.push_back("error.png: no error estimate");
-    if (want("error.png") && info.error_estimate)
-      figures.push_back(indicator_figure(mesh, info.error_estimate->indicators, info));
-    if (want("mesh.png"))
-      figures.push_back(mesh_figure(mesh, info, "mesh, " + std::to_string(mesh.num_elements()) + " elements"));
-    if (want("adapt.png") && info.adapt.is_null()) report.skipped.push_back("adapt.png: not an adaptive solve");
-    if (want("adapt.png") && !info.adapt.is_null()) figures.push_back(adapt_figure(info));
-    if (want("path.png") && !path_of<2>(info)) report.skipped.push_back("path.png: not a loading path");
-    if (want("path.png") && path_of<2>(info)) figures.push_back(path_figure(*path_of<2>(info), info));
-    const std::vector<std::string> reasons = draw_figures(tx.staging(), figures);
-    for (std::size_t i = 0; i < figures.size(); ++i) {
-      if (reasons[i].empty()) report.written.push_back(dir / figures[i].png);
-      else report.skipped.push_back(figures[i].png + ": " + reasons[i]);
-    }
-  } catch (const WriteError& e) {  // a full disk is not a skipped figure
-    throw WriteError(e.detail() + "; " + previous_outputs_kept(dir), (dir / fs::path(e.where()).filename()).string());
-  } catch (const std::exception& e) {  // each PNG is moved into place atomically: none is half-written
-    for (const auto& f : figures)
-      if (std::find(report.written.begin(), report.written.end(), dir / f.png) == report.written.end())
-        report.skipped.push_back(f.png + ": " + e.what());
-  }
+  if (want("u_nu.png") && !solution.contact.empty()) figures.push_back(u_nu_figure(mesh, solution, info));
+  if (want("deformed.png")) figures.push_back(deformed_figure(mesh, solution, info));
+  if (want("error.png") && !info.error_estimate) report.skipped.push_back("error.png: no error estimate");
+  if (want("error.png") && info.error_estimate)
+    figures.push_back(indicator_figure(mesh, info.error_estimate->indicators, info));
+  if (want("mesh.png"))
+    figures.push_back(mesh_figure(mesh, info, "mesh, " + std::to_string(mesh.num_elements()) + " elements"));
+  if (want("adapt.png") && info.adapt.is_null()) report.skipped.push_back("adapt.png: not an adaptive solve");
+  if (want("adapt.png") && !info.adapt.is_null()) figures.push_back(adapt_figure(info));
+  if (want("path.png") && !path_of<2>(info)) report.skipped.push_back("path.png: not a loading path");
+  if (want("path.png") && path_of<2>(info)) figures.push_back(path_figure(*path_of<2>(info), info));
 }
 
 }  // namespace
@@ -279,63 +257,31 @@ void check_output_folder(const fs::path& dir) {
 
 OutputReport write_outputs(const fs::path& dir, const Mesh& mesh, const MaterialTable& materials,
                            const ContactSolution& solution, const RunInfo& info, const std::vector<std::string>& wanted) {
-  const auto& known = all_outputs();
-  for (const auto& w : wanted)
-    if (std::find(known.begin(), known.end(), w) == known.end()) {
-      std::string list;
-      for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
-      throw InputError("unknown output '" + w + "' (known: " + list + ")");
-    }
+  detail::require_known_outputs(wanted, all_outputs(), "");
   if (solution.u.size() != 2 * mesh.num_vertices())
     throw InputError("the solution has " + std::to_string(solution.u.size()) + " values for " +
                      std::to_string(mesh.num_vertices()) + " vertices");
-  auto want = [&](const std::string& name) { return std::find(wanted.begin(), wanted.end(), name) != wanted.end(); };
-
-  // the folder changes at once, in commit(), or not at all; an earlier path's frames are ours too
-  std::vector<std::string> owned = known;
-  for (const auto& name : all_outputs_3d())  // a three-dimensional run's files too
-    if (std::find(owned.begin(), owned.end(), name) == owned.end()) owned.push_back(name);
-  for (const auto& name : frame_files_in(dir)) owned.push_back(name);
+  // the folder changes at once, in commit(), or not at all; a solid's names and an earlier
+  // path's frames are ours too
   const PathSolution* path = path_of<2>(info);
-  if (path)
-    for (const auto& name : frame_files(*path)) owned.push_back(name);
-  OutputTransaction tx(dir, owned);
-  OutputReport report;
-  auto write = [&](const std::string& name, const std::function<void(std::ostream&)>& body) {
-    if (!want(name)) return;
-    tx.write(name, body);
-    report.written.push_back(dir / name);
-  };
-  RunInfo listed = info;  // result.json lists the run's files, in the order they are written
-  listed.files.clear();
-  for (const auto& k : known)
-    if (want(k)) listed.files.push_back(k);
-  for (const auto& name : listed_frames(path, want)) listed.files.push_back(name);
-  write("result.json", [&](std::ostream& os) { os << result_json(mesh, solution, listed).dump(2) << '\n'; });
-  write("contact.csv", [&](std::ostream& os) { write_contact_csv(os, solution); });
-  write("displacement.csv", [&](std::ostream& os) { write_displacement_csv(os, mesh, solution.u); });
-  write("history.csv", [&](std::ostream& os) { write_history_csv(os, solution); });
-  write("solution.vtu", [&](std::ostream& os) {
+  detail::OutputRun run(dir, all_outputs(), all_outputs_3d(), wanted, info, path ? frame_files(*path) : std::vector<std::string>());
+  auto result = [&](const RunInfo& listed) { return result_json(mesh, solution, listed); };
+  run.write("result.json", [&](std::ostream& os) { os << result(run.listed()).dump(2) << '\n'; });
+  run.write("contact.csv", [&](std::ostream& os) { write_contact_csv(os, solution); });
+  run.write("displacement.csv", [&](std::ostream& os) { write_displacement_csv(os, mesh, solution.u); });
+  run.write("history.csv", [&](std::ostream& os) { detail::write_history_csv(os, solution); });
+  run.write("solution.vtu", [&](std::ostream& os) {
     write_vtu(os, mesh, materials, solution, info.error_estimate ? &info.error_estimate->indicators : nullptr);
   });
-  write("scene.toml", [&](std::ostream& os) { os << info.scene_toml; });
-  write("mesh.poly2d", [&](std::ostream& os) {
+  run.write("scene.toml", [&](std::ostream& os) { os << info.scene_toml; });
+  run.write("mesh.poly2d", [&](std::ostream& os) {
     write_poly2d(os, mesh, {"the mesh of " + info.mesh, "regions and edge groups are not part of this format"});
   });
-  write_path_files<Mesh, 2>(tx, dir, mesh, path, want,
+  write_path_files<Mesh, 2>(run.transaction(), dir, mesh, path, [&run](const std::string& n) { return run.want(n); },
                             [&](std::ostream& os, const ContactSolution& frame) { write_vtu(os, mesh, materials, frame, nullptr); },
-                            report);
-  draw_solve_figures(tx, dir, mesh, solution, info, want, report);
-  // A plot that could not be made is not in the folder: result.json says so.
-  if (want("result.json") && report.written.size() != listed.files.size()) {
-    listed.files.clear();
-    for (const auto& f : report.written) listed.files.push_back(f.filename().string());
-    tx.write("result.json", [&](std::ostream& os) { os << result_json(mesh, solution, listed).dump(2) << '\n'; });
-  }
-  // The folder then holds exactly this run's outputs: an earlier run's file of a name this run
-  // did not write goes (never anything else).
-  report.removed = tx.commit();
-  return report;
+                            run.report());
+  run.draw([&](std::vector<Figure>& figures) { solve_figures(figures, mesh, solution, info, run, run.report()); });
+  return run.finish(result);
 }
 
 }  // namespace hemivem::app

@@ -3,6 +3,7 @@
 // transaction.
 #include <hemivem/app/outputs3d.hpp>
 
+#include "output_run.hpp"
 #include "path_outputs.hpp"
 
 #include <algorithm>
@@ -112,15 +113,6 @@ void write_displacement_csv(std::ostream& stream, const Mesh3D& mesh, const Eige
   }
 }
 
-void write_history_csv(std::ostream& stream, const ContactSolution3D& s) {
-  TextWriter os(stream);
-  os << "iteration,reduced_objective,primal,dual,active,seconds\n";
-  if (!s.minimizer) return;
-  for (const auto& r : s.minimizer->history)
-    os << r.iteration << ',' << r.objective << ',' << r.primal << ',' << r.dual << ',' << r.active << ',' << r.seconds
-       << '\n';
-}
-
 }  // namespace
 
 nlohmann::json result_json(const Mesh3D& mesh, const ContactSolution3D& s, const RunInfo& info) {
@@ -159,78 +151,39 @@ nlohmann::json result_json(const Mesh3D& mesh, const ContactSolution3D& s, const
 OutputReport write_outputs(const fs::path& dir, const Mesh3D& mesh, const MaterialTable& materials,
                               const std::vector<int>& contact_faces, const ContactSolution3D& solution,
                               const RunInfo& info, const std::vector<std::string>& wanted) {
-  const auto& known = all_outputs_3d();
-  for (const auto& w : wanted)
-    if (std::find(known.begin(), known.end(), w) == known.end()) {
-      std::string list;
-      for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
-      throw InputError("unknown output '" + w + "' of a three-dimensional solve (known: " + list + ")");
-    }
+  detail::require_known_outputs(wanted, all_outputs_3d(), " of a three-dimensional solve");
   if (solution.u.size() != 3 * static_cast<Eigen::Index>(mesh.num_vertices()))
     throw InputError("the solution has " + std::to_string(solution.u.size()) + " values for " +
                      std::to_string(mesh.num_vertices()) + " vertices (3 per vertex)");
-  auto want = [&](const std::string& name) { return std::find(wanted.begin(), wanted.end(), name) != wanted.end(); };
-
-  // the folder changes at once, in commit(), or not at all; a two-dimensional run's names are ours too
-  std::vector<std::string> owned = known;
-  for (const auto& name : all_outputs())
-    if (std::find(owned.begin(), owned.end(), name) == owned.end()) owned.push_back(name);
-  for (const auto& name : frame_files_in(dir)) owned.push_back(name);
+  // the folder changes at once, in commit(), or not at all; a plane's names and an earlier
+  // path's frames are ours too
   const BasicPathSolution<3>* path = path_of<3>(info);
-  if (path)
-    for (const auto& name : frame_files(*path)) owned.push_back(name);
-  OutputTransaction tx(dir, owned);
-  OutputReport report;
-  auto write = [&](const std::string& name, const std::function<void(std::ostream&)>& body) {
-    if (!want(name)) return;
-    tx.write(name, body);
-    report.written.push_back(dir / name);
-  };
-  RunInfo listed = info;  // result.json lists the run's files, in the order they are written
-  listed.files.clear();
-  for (const auto& k : known)
-    if (want(k)) listed.files.push_back(k);
-  for (const auto& name : listed_frames(path, want)) listed.files.push_back(name);
-  write("result.json", [&](std::ostream& os) { os << result_json(mesh, solution, listed).dump(2) << '\n'; });
-  write("contact.csv", [&](std::ostream& os) { write_contact_csv(os, solution); });
-  write("displacement.csv", [&](std::ostream& os) { write_displacement_csv(os, mesh, solution.u); });
-  write("history.csv", [&](std::ostream& os) { write_history_csv(os, solution); });
-  write("solution.vtu", [&](std::ostream& os) { write_vtu(os, mesh, materials, solution, info.error_estimate ? &info.error_estimate->indicators : nullptr); });
-  write("contact-surface.vtu", [&](std::ostream& os) { write_contact_surface_vtu(os, mesh, contact_faces, solution); });
-  write("scene.toml", [&](std::ostream& os) { os << info.scene_toml; });
-  write_path_files<Mesh3D, 3>(tx, dir, mesh, path, want,
+  detail::OutputRun run(dir, all_outputs_3d(), all_outputs(), wanted, info,
+                        path ? frame_files(*path) : std::vector<std::string>());
+  auto result = [&](const RunInfo& listed) { return result_json(mesh, solution, listed); };
+  run.write("result.json", [&](std::ostream& os) { os << result(run.listed()).dump(2) << '\n'; });
+  run.write("contact.csv", [&](std::ostream& os) { write_contact_csv(os, solution); });
+  run.write("displacement.csv", [&](std::ostream& os) { write_displacement_csv(os, mesh, solution.u); });
+  run.write("history.csv", [&](std::ostream& os) { detail::write_history_csv(os, solution); });
+  run.write("solution.vtu", [&](std::ostream& os) {
+    write_vtu(os, mesh, materials, solution, info.error_estimate ? &info.error_estimate->indicators : nullptr);
+  });
+  run.write("contact-surface.vtu", [&](std::ostream& os) { write_contact_surface_vtu(os, mesh, contact_faces, solution); });
+  run.write("scene.toml", [&](std::ostream& os) { os << info.scene_toml; });
+  write_path_files<Mesh3D, 3>(run.transaction(), dir, mesh, path, [&run](const std::string& n) { return run.want(n); },
                               [&](std::ostream& os, const ContactSolution3D& frame) { write_vtu(os, mesh, materials, frame); },
-                              report);
-
+                              run.report());
   // the pictures: one that cannot be drawn is skipped with its reason, never an error
-  std::vector<Figure> figures;
-  if (want("pressure.png") && solution.contact.empty()) report.skipped.push_back("pressure.png: no contact boundary");
-  try {
-    if (want("deformed.png")) figures.push_back(deformed_figure_3d(mesh, solution, info));
-    if (want("path.png") && !path) report.skipped.push_back("path.png: not a loading path");
-    if (want("path.png") && path) figures.push_back(path_figure(*path, info));
-    if (want("pressure.png") && !solution.contact.empty())
+  run.draw([&](std::vector<Figure>& figures) {
+    OutputReport& report = run.report();
+    if (run.want("pressure.png") && solution.contact.empty()) report.skipped.push_back("pressure.png: no contact boundary");
+    if (run.want("deformed.png")) figures.push_back(deformed_figure_3d(mesh, solution, info));
+    if (run.want("path.png") && !path) report.skipped.push_back("path.png: not a loading path");
+    if (run.want("path.png") && path) figures.push_back(path_figure(*path, info));
+    if (run.want("pressure.png") && !solution.contact.empty())
       figures.push_back(pressure_figure(mesh, contact_faces, solution, info));
-    const std::vector<std::string> reasons = draw_figures(tx.staging(), figures);
-    for (std::size_t i = 0; i < figures.size(); ++i) {
-      if (reasons[i].empty()) report.written.push_back(dir / figures[i].png);
-      else report.skipped.push_back(figures[i].png + ": " + reasons[i]);
-    }
-  } catch (const WriteError& e) {  // a full disk is not a skipped picture
-    throw WriteError(e.detail() + "; " + previous_outputs_kept(dir), (dir / fs::path(e.where()).filename()).string());
-  } catch (const std::exception& e) {  // each PNG is moved into place atomically: none is half-written
-    for (const auto& f : figures)
-      if (std::find(report.written.begin(), report.written.end(), dir / f.png) == report.written.end())
-        report.skipped.push_back(f.png + ": " + e.what());
-  }
-  // A picture that could not be made is not in the folder: result.json says so.
-  if (want("result.json") && report.written.size() != listed.files.size()) {
-    listed.files.clear();
-    for (const auto& f : report.written) listed.files.push_back(f.filename().string());
-    tx.write("result.json", [&](std::ostream& os) { os << result_json(mesh, solution, listed).dump(2) << '\n'; });
-  }
-  report.removed = tx.commit();
-  return report;
+  });
+  return run.finish(result);
 }
 
 }  // namespace hemivem::app
