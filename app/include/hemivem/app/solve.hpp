@@ -47,8 +47,7 @@ bool same_engine(const std::string& a, const std::string& b);
 /// (dim = 2, SceneSolve) or a solid (dim = 3, SceneSolve3D) body.
 template <int dim>
 struct BasicSceneSolve {
-  using Built = std::conditional_t<dim == 2, BuiltProblem, BuiltProblem3D>;
-  std::unique_ptr<Built> built;
+  std::unique_ptr<BasicBuiltProblem<dim>> built;
   BasicContactSolution<dim> solution;
   MinimizerOptions options;      ///< the minimizer options in effect
   std::string linear;            ///< the factorization engine's name

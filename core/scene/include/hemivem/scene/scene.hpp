@@ -332,16 +332,20 @@ std::string to_toml(const Scene& scene);
 /// Writes to_toml(scene) to `path` atomically (the resolved scene of a run's output folder).
 void write_scene(const std::filesystem::path& path, const Scene& scene);
 
-/// A scene made concrete. Not movable: problem.elasticity.mesh points at mesh.
-struct BuiltProblem {
-  Mesh mesh;
-  ContactProblem problem;  ///< no contact parts when has_contact is false
+/// A scene made concrete, a plane (dim = 2, BuiltProblem: build_problem) or a solid (dim = 3,
+/// BuiltProblem3D: build_problem_3d) body. Not movable: problem.elasticity.mesh points at mesh.
+template <int dim>
+struct BasicBuiltProblem {
+  typename ContactTypes<dim>::MeshType mesh;
+  BasicContactProblem<dim> problem;  ///< no contact parts when has_contact is false
   bool has_contact = false;
   std::vector<std::string> warnings;  ///< scene_warnings(scene)
-  BuiltProblem() = default;
-  BuiltProblem(const BuiltProblem&) = delete;
-  BuiltProblem& operator=(const BuiltProblem&) = delete;
+  BasicBuiltProblem() = default;
+  BasicBuiltProblem(const BasicBuiltProblem&) = delete;
+  BasicBuiltProblem& operator=(const BasicBuiltProblem&) = delete;
 };
+using BuiltProblem = BasicBuiltProblem<2>;
+using BuiltProblem3D = BasicBuiltProblem<3>;
 
 /// What a user should know about the problem a scene poses, though it is valid: today, a
 /// problem that nothing drives (no load, no prescribed displacement other than zero, no
@@ -353,17 +357,6 @@ std::vector<std::string> scene_warnings(const Scene& scene);
 /// part selecting no edge, a region without material) name the scene key's file:line. A
 /// three-dimensional scene is an InputError naming build_problem_3d's users (`hemivem solve`).
 std::unique_ptr<BuiltProblem> build_problem(const Scene& scene);
-
-/// A three-dimensional scene made concrete. Not movable: problem.elasticity.mesh points at mesh.
-struct BuiltProblem3D {
-  Mesh3D mesh;
-  ContactProblem3D problem;  ///< no contact parts when has_contact is false
-  bool has_contact = false;
-  std::vector<std::string> warnings;  ///< scene_warnings(scene)
-  BuiltProblem3D() = default;
-  BuiltProblem3D(const BuiltProblem3D&) = delete;
-  BuiltProblem3D& operator=(const BuiltProblem3D&) = delete;
-};
 
 /// Builds a three-dimensional scene (scene.dimension() == 3): the mesh (a generator of
 /// generators3d.hpp on the box, or a Gmsh file of volumes), the materials by region (the 3D
