@@ -1,7 +1,6 @@
 // hemivem bench --limit: every stage of a solve (cholmod and the scene's minimizer) against the
-// limit of the same job, measured in the same process: a plain Q1 triplet assembly of the same
-// sparsity and one CHOLMOD analysis and factorization of hemivem's A with the faster of AMD and
-// METIS (docs/performance.md).
+// limit of the same job, measured by hemivem::app::run_limit (hemivem/app/limit.hpp); here its
+// table, ratios and limit.json (docs/performance.md, docs/reference/check-bench.md).
 #pragma once
 
 #include "bench.hpp"
@@ -11,14 +10,11 @@
 
 namespace hemivem::cli {
 
-/// Measures each size in `sizes` (run in increasing order) and prints the stages, the limits
-/// and their ratios with the targets of docs/performance.md; writes limit.json
-/// ("hemivem-bench-limit/2") into options.out. The scene's mesh must come from the squares
-/// generator, or for a three-dimensional scene the cubes generator, against the plain Q1 assembly
-/// of boxes (InputError otherwise); without the cholmod engine the limit cannot be measured
-/// (InputError).
-/// `sizes` empty: the default sizes, 128, 256, 512 for a plane scene and 16, 24, 32 for a
-/// three-dimensional one.
+/// Measures each size in `sizes` (app::run_limit, in increasing order) and prints the stages,
+/// the limits and their ratios with the targets of docs/performance.md; writes limit.json
+/// (app::limit_json, "hemivem-bench-limit/2") into options.out. InputErrors as app::plan_limit's:
+/// a scene whose mesh is not made by the squares (a solid: cubes) generator, no cholmod engine
+/// (at --limit), --repeat < 1. `sizes` empty: app::limit_default_sizes of the scene's dimension.
 int run_bench_limit(const BenchOptions& options, const std::vector<int>& sizes, std::ostream& out, std::ostream& err);
 
 }  // namespace hemivem::cli

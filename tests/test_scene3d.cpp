@@ -349,17 +349,17 @@ TEST(Scene3D, HertzSphereQuarterSolves) {
   EXPECT_GE(pressed, 1);
 }
 
-// The outputs of a 3D solve, written through hemivem::app: the files of wanted_files_3d, and an
+// The outputs of a 3D solve, written through hemivem::app: the files of wanted_files, and an
 // earlier plane run's files of other names removed by the transaction.
 TEST(Scene3D, OutputsOfASolve) {
   Scene s = parse_scene(test::scenes_dir() / "example-4.1-3d.toml");
   apply_override(s, "mesh.n=[2, 2, 2]");
   const auto solved = app::solve_scene_3d(s);
   ASSERT_TRUE(solved.solution.converged());
-  EXPECT_EQ(app::wanted_files_3d(s, true),
+  EXPECT_EQ(app::wanted_files(s, true),
             (std::vector<std::string>{"result.json", "contact.csv", "displacement.csv", "history.csv", "solution.vtu",
                                       "contact-surface.vtu", "scene.toml", "deformed.png", "pressure.png"}));
-  EXPECT_EQ(app::wanted_files_3d(s, false),
+  EXPECT_EQ(app::wanted_files(s, false),
             (std::vector<std::string>{"result.json", "displacement.csv", "solution.vtu", "scene.toml", "deformed.png"}));
   const fs::path dir = test::scratch("outputs3d");
   fs::create_directories(dir);

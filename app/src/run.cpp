@@ -31,49 +31,54 @@ const PathSolution* SceneRun::path() const noexcept { return plane_ ? plane_->pa
 const BasicPathSolution<3>* SceneRun::solid_path() const noexcept { return solid_ ? solid_->path.get() : nullptr; }
 
 bool SceneRun::holds_results() const noexcept {
-  return solid_ ? solid_->holds_results : plane_ && plane_->holds_results;
+  return ran() && visit([](const auto& s) { return s.holds_results; });
 }
 
 bool SceneRun::has_contact() const noexcept {
-  return solid_ ? solid_->built && solid_->built->has_contact : plane_ && plane_->built && plane_->built->has_contact;
+  return ran() && visit([](const auto& s) { return s.built && s.built->has_contact; });
 }
 
 MinimizerStatus SceneRun::status() const noexcept {
-  return solid_ ? solid_->solution.status : plane_ ? plane_->solution.status : MinimizerStatus::failed;
+  return ran() ? visit([](const auto& s) { return s.solution.status; }) : MinimizerStatus::failed;
 }
 
 bool SceneRun::converged() const noexcept { return status() == MinimizerStatus::converged; }
 
-const std::string& SceneRun::linear() const noexcept { return solid_ ? solid_->linear : plane_->linear; }
+const std::string& SceneRun::linear() const noexcept {
+  return visit([](const auto& s) -> const std::string& { return s.linear; });
+}
 
-const std::string& SceneRun::minimizer() const noexcept { return solid_ ? solid_->minimizer : plane_->minimizer; }
+const std::string& SceneRun::minimizer() const noexcept {
+  return visit([](const auto& s) -> const std::string& { return s.minimizer; });
+}
 
-RunInfo SceneRun::info() const { return solid_ ? run_info(scene_, *solid_) : run_info(scene_, *plane_); }
+RunInfo SceneRun::info() const {
+  return visit([this](const auto& s) { return run_info(scene_, s); });
+}
 
 nlohmann::json SceneRun::result_json(const std::vector<std::string>& files) const {
   RunInfo i = info();
   i.files = files;
-  return solid_ ? app::result_json(solid_->built->mesh, solid_->solution, i)
-                : app::result_json(plane_->built->mesh, plane_->solution, i);
+  return visit([&i](const auto& s) { return app::result_json(s.built->mesh, s.solution, i); });
 }
 
 std::vector<std::string> SceneRun::warnings() const { return info().warnings; }
 
-std::vector<std::string> SceneRun::wanted_files() const {
-  return solid_ ? wanted_files_3d(scene_, has_contact()) : app::wanted_files(scene_, has_contact());
-}
+std::vector<std::string> SceneRun::wanted_files() const { return app::wanted_files(scene_, has_contact()); }
 
 OutputReport SceneRun::write(const std::filesystem::path& dir, const std::vector<std::string>* files) const {
-  return solid_ ? write_results(dir, scene_, *solid_, files) : write_results(dir, scene_, *plane_, files);
+  return visit([&](const auto& s) { return write_results(dir, scene_, s, files); });
 }
 
-std::string SceneRun::brief() const { return solid_ ? brief_report(*solid_) : brief_report(*plane_); }
+std::string SceneRun::brief() const {
+  return visit([](const auto& s) { return brief_report(s); });
+}
 
 std::string SceneRun::report(const RunInfo& info) const {
-  if (solid_) return full_report(scene_, *solid_, info) + (solid_->path ? path_report(*solid_->path) : std::string());
-  std::string text = full_report(scene_, *plane_, info);
+  std::string text = visit([&](const auto& s) {
+    return full_report(scene_, s, info) + (s.path ? path_report(*s.path) : std::string());
+  });
   if (adaptive_) text += adapt_report(*adaptive_);
-  if (const PathSolution* p = path()) text += path_report(*p);
   return text;
 }
 

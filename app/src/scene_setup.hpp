@@ -131,6 +131,9 @@ void solve_built(const Scene& scene, SceneEngines& e, Solved& s, ReducedProblem*
   }
 }
 
+/// wanted_files of a three-dimensional scene.
+std::vector<std::string> solid_files(const Scene& scene, bool has_contact);
+
 /// InputError naming solver.linear when the scene's engine runs across processes (mumps-mpi):
 /// a loading path runs in one.
 void refuse_path_across_processes(const Scene& scene);

@@ -49,7 +49,7 @@ SceneSolve3D solve_scene_3d(const Scene& scene, SceneSolve3DOptions o) {
   return s;
 }
 
-std::vector<std::string> wanted_files_3d(const Scene& scene, bool has_contact) {
+std::vector<std::string> detail::solid_files(const Scene& scene, bool has_contact) {
   std::vector<std::string> files;
   if (wants(scene, "result-json")) files.push_back("result.json");
   if (has_contact && wants(scene, "contact-csv")) files.push_back("contact.csv");
@@ -78,7 +78,7 @@ OutputReport write_results(const std::filesystem::path& dir, const Scene& scene,
   check_output_folder(dir);
   const RunInfo info = run_info(scene, solved);
   return write_outputs(dir, built.mesh, built.problem.elasticity.materials, contact_faces(built.problem),
-                          solved.solution, info, files ? *files : wanted_files_3d(scene, built.has_contact));
+                          solved.solution, info, files ? *files : wanted_files(scene, built.has_contact));
 }
 
 }  // namespace hemivem::app

@@ -461,6 +461,8 @@ def study(scene: Union[Scene, PathLike, None] = None, *, n: Sequence[int] = (4, 
 def bench(scene: Union[Scene, PathLike, None] = None, *, n: Sequence[int] = (), ref: Optional[int] = None,
           levels: Optional[int] = None, reference_energy: Optional[float] = None, tolerance: Optional[float] = None,
           pairs: Optional[Sequence[tuple[str, str]]] = None, out: Optional[PathLike] = None) -> dict[str, Any]: ...
+def limit(scene: Union[Scene, PathLike, None] = None, *, n: Sequence[int] = (), repeat: int = 1,
+          tolerance: Optional[float] = None) -> dict[str, Any]: ...
 def minimize(reduced: ReducedProblem, minimizer: str = "ssn", *, start: Optional[ArrayLike] = None,
              tolerance: float = 1e-10, max_iterations: int = 1000, max_evaluations: int = 1000000,
              callback: Optional[Callable[[Iteration], Optional[bool]]] = None, search: str = "local",

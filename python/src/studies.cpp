@@ -1,6 +1,7 @@
-// hemivem.check, hemivem.study and hemivem.bench: the computations of `hemivem check`,
-// `hemivem study` and `hemivem bench` (app::run_check, app::run_study, app::run_bench) as
-// dicts of their JSON reports, with NumPy arrays for the numbers one plots.
+// hemivem.check, hemivem.study, hemivem.bench and hemivem.limit: the computations of `hemivem
+// check`, `hemivem study`, `hemivem bench` and `hemivem bench --limit` (app::run_check,
+// app::run_study, app::run_bench, app::run_limit) as dicts of their JSON reports, with NumPy
+// arrays for the numbers one plots.
 #include "bindings.hpp"
 
 #include <pybind11/stl.h>
@@ -14,6 +15,7 @@
 
 #include <hemivem/app/bench.hpp>
 #include <hemivem/app/check.hpp>
+#include <hemivem/app/limit.hpp>
 #include <hemivem/app/study.hpp>
 
 namespace hemivem::python {
@@ -150,6 +152,22 @@ py::object bench(const py::object& scene_arg, const BenchKeywords& k, const std:
   return to_dict(j);
 }
 
+py::object limit(const py::object& scene_arg, const std::vector<int>& n, int repeat, std::optional<double> tolerance) {
+  app::LimitOptions o;
+  o.sizes = n;
+  o.repeat = repeat;
+  app::check_limit_options(o);
+  const Scene scene = studies_scene(scene_arg, "hemivem.limit", tolerance);
+  SignalWatch watch;
+  o.size_done = [&](const app::LimitRow&) {
+    if (watch.poll()) throw Interrupted{};
+  };
+  const app::LimitPlan plan = app::plan_limit(scene, o);
+  nlohmann::json j;
+  without_gil(watch, [&] { j = app::limit_json(app::run_limit(plan)); });
+  return to_dict(j);
+}
+
 constexpr const char* kCheckDoc = R"doc(Solves a scene with every pair of engines and compares them, as `hemivem check --json`
 does (app::run_check): returns the dict of that report (schema hemivem-check/3: pairs,
 differences, uniqueness_margin, verdict, exit_code ...), with "differences" a NumPy matrix
@@ -177,6 +195,21 @@ for check. out: a folder to write bench.csv, bench.json, bench.png and bench-err
 (the dict then names the plots, as the file does). Runs without the GIL; Ctrl-C is honoured
 after each pair and each refinement step.)doc";
 
+constexpr const char* kLimitDoc = R"doc(Every stage of a cholmod solve against the limit of the same job on this machine, as
+`hemivem bench --limit --json` (app::run_limit): for each mesh size, the solve (the scene's
+minimizer on cholmod) and the limit (a plain Q1 triplet assembly of the same sparsity and one
+CHOLMOD analysis and factorization of hemivem's A, with AMD and with METIS), each measured in a
+fresh child process. Returns limit.json's dict (schema hemivem-bench-limit/2): per row n, dofs,
+contact_nodes, status, stages (seconds), solve, peak_rss_bytes (of the child, which starts as a
+copy of this process), limit {plain_assembly, ordering, analysis, factorization,
+other_orderings, factor_bytes, matrix_bytes} and ratios (solve_over_limit, ...).
+
+scene: a Scene (default: Scene.default()), a path to a scene file or TOML text; its mesh must
+come from the squares generator (a solid's: cubes), InputError at mesh.generator otherwise.
+n: the mesh sizes (default 128, 256, 512; a solid: 16, 24, 32). repeat: measurements per size,
+the fastest of each kept. tolerance: solver.tolerance (--tol). InputError without the cholmod
+engine. Runs without the GIL; Ctrl-C is honoured after each size.)doc";
+
 }  // namespace
 
 void register_studies(py::module_& m) {
@@ -194,6 +227,8 @@ void register_studies(py::module_& m) {
       py::arg("scene") = py::none(), py::kw_only(), py::arg("n") = std::vector<int>{}, py::arg("ref") = py::none(),
       py::arg("levels") = py::none(), py::arg("reference_energy") = py::none(), py::arg("tolerance") = py::none(),
       py::arg("pairs") = py::none(), py::arg("out") = py::none(), kBenchDoc);
+  m.def("limit", &limit, py::arg("scene") = py::none(), py::kw_only(), py::arg("n") = std::vector<int>{},
+        py::arg("repeat") = 1, py::arg("tolerance") = py::none(), kLimitDoc);
 }
 
 }  // namespace hemivem::python

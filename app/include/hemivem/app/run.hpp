@@ -115,15 +115,15 @@ class SceneRun {
   const std::string& linear() const noexcept;
   const std::string& minimizer() const noexcept;
 
-  /// What result.json records about the run (run_info, or run_info).
+  /// What result.json records about the run (run_info).
   RunInfo info() const;
   /// result.json of the run (files: the names `write` wrote, when given).
   nlohmann::json result_json(const std::vector<std::string>& files = {}) const;
   /// The warnings of info(), in order.
   std::vector<std::string> warnings() const;
-  /// The files `hemivem solve` writes for this run (wanted_files, wanted_files_3d).
+  /// The files `hemivem solve` writes for this run (wanted_files).
   std::vector<std::string> wanted_files() const;
-  /// Writes what `hemivem solve --out dir` writes (write_results, write_results): the files
+  /// Writes what `hemivem solve --out dir` writes (write_results): the files
   /// of wanted_files(), or `files` when not null. Never prints.
   OutputReport write(const std::filesystem::path& dir, const std::vector<std::string>* files = nullptr) const;
   /// One line: status, certificate, iterations, energy and total time.
@@ -136,6 +136,13 @@ class SceneRun {
 
  private:
   friend SceneRun run_scene(const Scene& scene, RunOptions options);
+  bool ran() const noexcept { return plane_ || solid_; }
+  /// f of the solve of the run's dimension (f's results have one type).
+  template <class F>
+  decltype(auto) visit(F&& f) const {
+    if (solid_) return f(*solid_);
+    return f(*plane_);
+  }
   Scene scene_;
   RunKind kind_ = RunKind::static_solve;
   std::unique_ptr<SceneSolve> plane_;

@@ -50,22 +50,15 @@ struct SceneSolve3DOptions {
 /// an InputError naming the scene's key. InputError for a two-dimensional scene.
 SceneSolve3D solve_scene_3d(const Scene& scene, SceneSolve3DOptions options = {});
 
-/// The files `hemivem solve` writes for a three-dimensional scene: of its [output] write,
-/// result.json, contact.csv, displacement.csv, history.csv, solution.vtu and contact-surface.vtu
-/// (vtu), deformed.png, pressure.png, and scene.toml always; without contact no contact.csv,
-/// history.csv, contact-surface.vtu or pressure.png. The pictures of two-dimensional scenes
-/// (u-nu-png, error-png, mesh-png, adapt-png) are not made.
-std::vector<std::string> wanted_files_3d(const Scene& scene, bool has_contact);
-
 /// What result.json records about a 3D solve (run_info's fields that apply: the engines,
 /// search, options, mesh time, unknowns, warnings, the law's breakpoints and whether u_nu <= g
 /// bounds the contact).
 RunInfo run_info(const Scene& scene, const SceneSolve3D& solved);
 
-/// Writes what `hemivem solve --out dir` writes for a 3D solve: the files of wanted_files_3d
+/// Writes what `hemivem solve --out dir` writes for a 3D solve: the files of wanted_files
 /// (or `files`, names of all_outputs_3d(), when not null) through write_outputs. Checks the
 /// folder first (check_output_folder). Never prints.
 OutputReport write_results(const std::filesystem::path& dir, const Scene& scene, const SceneSolve3D& solved,
-                              const std::vector<std::string>* files = nullptr);
+                           const std::vector<std::string>* files = nullptr);
 
 }  // namespace hemivem::app
