@@ -27,16 +27,6 @@ bool cholmod_built() {
   return std::find(built.begin(), built.end(), "cholmod") != built.end();
 }
 
-/// The key of the InputError `f` throws ("" when it throws none).
-template <class F>
-std::string refused_at(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.where();
-  }
-  return "";
-}
 
 /// u^T K u for K given by its lower triangle.
 double energy_of_lower(const SparseMatrix& lower, const Eigen::VectorXd& u) {
@@ -130,10 +120,10 @@ TEST(AppLimit, PlainQ1MatrixHasTheSparsityOfTheVemMatrix) {
 
 TEST(AppLimit, PlainQ1MatrixRefusesOtherElements) {
   const Mesh triangles = make_triangles(GridSize(2, 2));
-  EXPECT_EQ(refused_at([&] { (void)plain_q1_matrix(triangles, make_dof_map(triangles, {}), 1.0, 1.0); }),
+  EXPECT_EQ(test::input_error_key([&] { (void)plain_q1_matrix(triangles, make_dof_map(triangles, {}), 1.0, 1.0); }),
             "mesh.generator");
   const Mesh3D tets = make_tetrahedra(GridSize3(1, 1, 1));
-  EXPECT_EQ(refused_at([&] {
+  EXPECT_EQ(test::input_error_key([&] {
               (void)plain_q1_matrix(tets, make_dof_map(tets, std::vector<DirichletCondition3D>{}), 1.0, 1.0);
             }),
             "mesh.generator");
@@ -223,26 +213,26 @@ TEST(AppLimit, MeasuresASolidAgainstItsBoxes) {
 
 TEST(AppLimit, RefusesWhatItCannotMeasureAtItsKey) {
   if (!cholmod_built()) {
-    EXPECT_EQ(refused_at([] { (void)plan_limit(plane(8), {}); }), "limit");
+    EXPECT_EQ(test::input_error_key([] { (void)plan_limit(plane(8), {}); }), "limit");
     return;
   }
   Scene voronoi = plane(8);
   apply_overrides(voronoi, {"mesh.generator=\"voronoi\""});
-  EXPECT_EQ(refused_at([&] { (void)plan_limit(voronoi, {}); }), "mesh.generator");
+  EXPECT_EQ(test::input_error_key([&] { (void)plan_limit(voronoi, {}); }), "mesh.generator");
   Scene tets = solid();
   apply_overrides(tets, {"mesh.generator=\"tetrahedra\""});
-  EXPECT_EQ(refused_at([&] { (void)plan_limit(tets, {}); }), "mesh.generator");
+  EXPECT_EQ(test::input_error_key([&] { (void)plan_limit(tets, {}); }), "mesh.generator");
   LimitOptions o;
   o.repeat = 0;
-  EXPECT_EQ(refused_at([&] { (void)plan_limit(plane(8), o); }), "repeat");
+  EXPECT_EQ(test::input_error_key([&] { (void)plan_limit(plane(8), o); }), "repeat");
   o = {};
   o.sizes = {4, 0};
-  EXPECT_EQ(refused_at([&] { (void)plan_limit(plane(8), o); }), "n");
+  EXPECT_EQ(test::input_error_key([&] { (void)plan_limit(plane(8), o); }), "n");
   o.keys.sizes = "--n";
-  EXPECT_EQ(refused_at([&] { check_limit_options(o); }), "--n");
+  EXPECT_EQ(test::input_error_key([&] { check_limit_options(o); }), "--n");
   o = {};
   o.sizes = {1000000};
-  EXPECT_EQ(refused_at([&] { (void)plan_limit(plane(8), o); }), "n");  // beyond the memory
+  EXPECT_EQ(test::input_error_key([&] { (void)plan_limit(plane(8), o); }), "n");  // beyond the memory
 }
 
 TEST(AppLimit, DefaultSizesByDimension) {

@@ -35,16 +35,6 @@ SceneRun solve_with(Scene scene, const std::string& linear, const std::string& m
 
 double max_abs_of(const Eigen::VectorXd& v) { return v.cwiseAbs().maxCoeff(); }
 
-/// The key of the InputError `f` throws ("" when it throws none).
-template <class F>
-std::string refused_at(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.where();
-  }
-  return "";
-}
 
 TEST(AppCheck, TwoEnginesAgreeAndEachIsTheSolveOfItsPair) {
   const Scene scene = small_plane(8);
@@ -84,7 +74,7 @@ TEST(AppCheck, AnAgreeThatIsNotPositiveIsRefusedAtItsKey) {
   CheckOptions o;
   o.agree = 0.0;
   o.agree_key = "--agree";
-  EXPECT_EQ(refused_at([&] { (void)run_check(small_plane(4), o); }), "--agree");
+  EXPECT_EQ(test::input_error_key([&] { (void)run_check(small_plane(4), o); }), "--agree");
 }
 
 TEST(AppStudy, TheErrorIsTheEnergyOfTheProlongedDifferenceOfTwoSolves) {
@@ -123,7 +113,7 @@ TEST(AppStudy, SizesThatDoNotNestAreRefusedAtTheirKey) {
   o.n = {3};
   o.ref = 8;
   o.n_key = "--n";
-  EXPECT_EQ(refused_at([&] { (void)study_sizes(small_plane(8), o); }), "--n");  // 3 does not divide 8
+  EXPECT_EQ(test::input_error_key([&] { (void)study_sizes(small_plane(8), o); }), "--n");  // 3 does not divide 8
   o.n = {2};
   o.ref = 0;
   EXPECT_THROW((void)study_sizes(small_plane(8), o), InputError);
@@ -173,7 +163,7 @@ TEST(AppBench, ALevelThatIsNotPositiveIsRefusedAtItsKey) {
   BenchOptions o;
   o.levels = 0;
   o.keys.levels = "--levels";
-  EXPECT_EQ(refused_at([&] { check_bench_options(o); }), "--levels");
+  EXPECT_EQ(test::input_error_key([&] { check_bench_options(o); }), "--levels");
 }
 
 }  // namespace

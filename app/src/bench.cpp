@@ -19,6 +19,8 @@
 #include <hemivem/app/solve.hpp>
 #include <hemivem/app/solve3d.hpp>
 
+#include "scene_setup.hpp"
+
 namespace hemivem::app {
 
 namespace fs = std::filesystem;
@@ -537,16 +539,7 @@ void check_bench_sizes(const Scene& base, const std::vector<Scene>& scenes, cons
                              " is not a multiple of " + o.keys.n + " " + std::to_string(n),
                          o.keys.ref);
   auto require = [&](const Scene& s, const std::string& where) {
-    if (!s.mesh.file.empty()) return;
-    if (solid) {
-      const GridSize3 cells = s.mesh.cells3();
-      require_memory(estimate_memory_3d(s.mesh.generator, cells.nx, cells.ny, cells.nz).solve_bytes,
-                     s.mesh.generator + " n = " + cells.text(), where);
-    } else {
-      const GridSize cells = s.mesh.cells();
-      require_memory(estimate_memory(s.mesh.generator, cells.nx, cells.ny).solve_bytes,
-                     s.mesh.generator + " n = " + cells.text(), where);
-    }
+    if (s.mesh.file.empty()) detail::require_memory_of(s, where);
   };
   for (const Scene& s : scenes) require(s, o.keys.n);
   if (gridded) require(at_size(base, *o.ref), o.keys.ref);

@@ -29,6 +29,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "scene_setup.hpp"
+
 namespace hemivem::app {
 
 namespace fs = std::filesystem;
@@ -379,18 +381,6 @@ LimitRow measure(const Scene& scene, int n, int repeat) {
   return row_of(n, solve, limit, plain);
 }
 
-/// Each size fits in memory before any work (require_memory), at `where`.
-void require_memory_of(const Scene& s, const std::string& where) {
-  if (s.dimension() == 3) {
-    const GridSize3 cells = s.mesh.cells3();
-    require_memory(estimate_memory_3d(s.mesh.generator, cells.nx, cells.ny, cells.nz).solve_bytes,
-                   s.mesh.generator + " n = " + cells.text(), where);
-  } else {
-    const GridSize cells = s.mesh.cells();
-    require_memory(estimate_memory(s.mesh.generator, cells.nx, cells.ny).solve_bytes,
-                   s.mesh.generator + " n = " + cells.text(), where);
-  }
-}
 
 }  // namespace
 
@@ -446,7 +436,7 @@ LimitPlan plan_limit(const Scene& scene, const LimitOptions& options) {
     } catch (const InputError& e) {
       throw InputError(e.what(), options.keys.sizes);
     }
-    require_memory_of(s, options.keys.sizes);
+    detail::require_memory_of(s, options.keys.sizes);
     plan.scenes.push_back(std::move(s));
   }
   return plan;

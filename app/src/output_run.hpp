@@ -1,18 +1,23 @@
 // The writing of one run's output folder, shared by the writers of plane and solid solves
 // (private to hemivem::app): the names the run owns, the transaction, the files wanted,
-// result.json's list of files, the figures, the history.
+// result.json's list of files, the figures, and the files every solve writes.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <functional>
 #include <iosfwd>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include <hemivem/app/figures.hpp>
 #include <hemivem/app/outputs.hpp>
+#include <hemivem/app/outputs3d.hpp>
+#include <hemivem/app/vtu.hpp>
 #include <hemivem/app/text_writer.hpp>
 #include <hemivem/contact/solver.hpp>
 #include <hemivem/support/output_folder.hpp>
@@ -29,6 +34,63 @@ void write_history_csv(std::ostream& stream, const BasicContactSolution<dim>& s)
     os << r.iteration << ',' << r.objective << ',' << r.primal << ',' << r.dual << ',' << r.active << ',' << r.seconds
        << '\n';
 }
+
+/// contact.csv: one row per contact node: vertex, position, u_nu, forces, pressure, state,
+/// gap, normal; with friction (plane bodies) u_tau, the friction force and traction and the
+/// friction state; with several parts the node's part.
+template <int dim>
+void write_contact_csv(std::ostream& stream, const BasicContactSolution<dim>& s) {
+  static constexpr const char* axes[] = {"x", "y", "z"};
+  TextWriter os(stream);
+  const bool tangential = std::any_of(s.contact.begin(), s.contact.end(),
+                                      [](const auto& n) { return n.friction_state != FrictionState::none; });
+  const bool parts = s.contact_parts.size() > 1;  // several contact parts: each node's
+  os << "vertex";
+  for (int c = 0; c < dim; ++c) os << ',' << axes[c];
+  os << ",u_nu,law_force,reaction,pressure,state,gap";
+  for (int c = 0; c < dim; ++c) os << ",n" << axes[c];
+  os << (tangential ? ",u_tau,friction_force,friction_traction,friction_state" : "") << (parts ? ",part" : "") << "\n";
+  for (const auto& n : s.contact) {
+    os << n.vertex;
+    for (int c = 0; c < dim; ++c) os << ',' << n.x(c);
+    os << ',' << n.u_nu << ',' << n.law_force << ',' << n.reaction << ',' << n.pressure() << ',' << to_string(n.state) << ',';
+    if (!std::isnan(n.gap)) os << n.gap;  // empty: no gap used (bilateral)
+    for (int c = 0; c < dim; ++c) os << ',' << n.normal(c);
+    if (tangential && n.friction_state != FrictionState::none)
+      os << ',' << n.u_tau << ',' << n.friction_force << ',' << n.friction_force / n.weight << ',' << to_string(n.friction_state);
+    else if (tangential)
+      os << ",,,,";  // a frictionless part beside one with friction
+    if (parts) os << ',' << contact_part_name(s, n);
+    os << '\n';
+  }
+}
+
+/// displacement.csv: one row per vertex: vertex, position, displacement.
+template <class MeshType>
+void write_displacement_csv(std::ostream& stream, const MeshType& mesh, const Eigen::VectorXd& u) {
+  static constexpr const char* axes[] = {"x", "y", "z"};
+  constexpr int dim = std::is_same_v<MeshType, Mesh3D> ? 3 : 2;
+  TextWriter os(stream);
+  os << "vertex";
+  for (int c = 0; c < dim; ++c) os << ',' << axes[c];
+  for (int c = 0; c < dim; ++c) os << ",u" << axes[c];
+  os << '\n';
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    os << v;
+    for (int c = 0; c < dim; ++c) os << ',' << mesh.vertex(v)(c);
+    for (int c = 0; c < dim; ++c) os << ',' << u(dim * v + c);
+    os << '\n';
+  }
+}
+
+class OutputRun;
+
+/// The files every solve writes, in either dimension, when wanted: result.json (`result` of the
+/// run's listed record), contact.csv, displacement.csv, history.csv and solution.vtu (with the
+/// error indicators).
+template <class MeshType, int dim, class Result>
+void write_solve_files(OutputRun& run, const MeshType& mesh, const MaterialTable& materials,
+                       const BasicContactSolution<dim>& solution, const RunInfo& info, const Result& result);
 
 /// InputError for a name of `wanted` that is not in `known` (`what`: "", or " of a
 /// three-dimensional solve"), listing the known names.
@@ -66,5 +128,17 @@ class OutputRun {
   OutputReport report_;
   RunInfo listed_;
 };
+
+template <class MeshType, int dim, class Result>
+void write_solve_files(OutputRun& run, const MeshType& mesh, const MaterialTable& materials,
+                       const BasicContactSolution<dim>& solution, const RunInfo& info, const Result& result) {
+  run.write("result.json", [&](std::ostream& os) { os << result(run.listed()).dump(2) << '\n'; });
+  run.write("contact.csv", [&](std::ostream& os) { write_contact_csv(os, solution); });
+  run.write("displacement.csv", [&](std::ostream& os) { write_displacement_csv(os, mesh, solution.u); });
+  run.write("history.csv", [&](std::ostream& os) { write_history_csv(os, solution); });
+  run.write("solution.vtu", [&](std::ostream& os) {
+    write_vtu(os, mesh, materials, solution, info.error_estimate ? &info.error_estimate->indicators : nullptr);
+  });
+}
 
 }  // namespace hemivem::app::detail

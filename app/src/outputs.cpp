@@ -48,33 +48,6 @@ namespace {
 /// A number for JSON: non-finite values become null (JSON has no inf or NaN).
 
 
-void write_contact_csv(std::ostream& stream, const ContactSolution& s) {
-  TextWriter os(stream);
-  const bool tangential = has_tangential(s);
-  const bool parts = s.contact_parts.size() > 1;  // several contact parts: each node's
-  os << "vertex,x,y,u_nu,law_force,reaction,pressure,state,gap,nx,ny"
-     << (tangential ? ",u_tau,friction_force,friction_traction,friction_state" : "") << (parts ? ",part" : "") << "\n";
-  for (const auto& n : s.contact) {
-    os << n.vertex << ',' << n.x.x() << ',' << n.x.y() << ',' << n.u_nu << ',' << n.law_force << ',' << n.reaction
-       << ',' << n.pressure() << ',' << to_string(n.state) << ',';
-    if (!std::isnan(n.gap)) os << n.gap;  // empty: no gap used (bilateral)
-    os << ',' << n.normal.x() << ',' << n.normal.y();
-    if (tangential && n.friction_state != FrictionState::none)
-      os << ',' << n.u_tau << ',' << n.friction_force << ',' << n.friction_force / n.weight << ',' << to_string(n.friction_state);
-    else if (tangential)
-      os << ",,,,";  // a frictionless part beside one with friction
-    if (parts) os << ',' << contact_part_name(s, n);
-    os << '\n';
-  }
-}
-
-void write_displacement_csv(std::ostream& stream, const Mesh& mesh, const Eigen::VectorXd& u) {
-  TextWriter os(stream);
-  os << "vertex,x,y,ux,uy\n";
-  for (int v = 0; v < mesh.num_vertices(); ++v)
-    os << v << ',' << mesh.vertex(v).x() << ',' << mesh.vertex(v).y() << ',' << u(2 * v) << ',' << u(2 * v + 1)
-       << '\n';
-}
 
 nlohmann::json pair(const Vec2& v) { return {number(v.x()), number(v.y())}; }
 
@@ -266,13 +239,7 @@ OutputReport write_outputs(const fs::path& dir, const Mesh& mesh, const Material
   const PathSolution* path = path_of<2>(info);
   detail::OutputRun run(dir, all_outputs(), all_outputs_3d(), wanted, info, path ? frame_files(*path) : std::vector<std::string>());
   auto result = [&](const RunInfo& listed) { return result_json(mesh, solution, listed); };
-  run.write("result.json", [&](std::ostream& os) { os << result(run.listed()).dump(2) << '\n'; });
-  run.write("contact.csv", [&](std::ostream& os) { write_contact_csv(os, solution); });
-  run.write("displacement.csv", [&](std::ostream& os) { write_displacement_csv(os, mesh, solution.u); });
-  run.write("history.csv", [&](std::ostream& os) { detail::write_history_csv(os, solution); });
-  run.write("solution.vtu", [&](std::ostream& os) {
-    write_vtu(os, mesh, materials, solution, info.error_estimate ? &info.error_estimate->indicators : nullptr);
-  });
+  detail::write_solve_files(run, mesh, materials, solution, info, result);
   run.write("scene.toml", [&](std::ostream& os) { os << info.scene_toml; });
   run.write("mesh.poly2d", [&](std::ostream& os) {
     write_poly2d(os, mesh, {"the mesh of " + info.mesh, "regions and edge groups are not part of this format"});

@@ -89,29 +89,6 @@ nlohmann::json forces_json(const ForceBalance3D& b) {
           {"balance_residual", number(b.residual())}};
 }
 
-void write_contact_csv(std::ostream& stream, const ContactSolution3D& s) {
-  TextWriter os(stream);
-  const bool parts = s.contact_parts.size() > 1;  // several contact parts: each node's
-  os << "vertex,x,y,z,u_nu,law_force,reaction,pressure,state,gap,nx,ny,nz" << (parts ? ",part" : "") << "\n";
-  for (const auto& n : s.contact) {
-    os << n.vertex << ',' << n.x.x() << ',' << n.x.y() << ',' << n.x.z() << ',' << n.u_nu << ',' << n.law_force << ','
-       << n.reaction << ',' << n.pressure() << ',' << to_string(n.state) << ',';
-    if (!std::isnan(n.gap)) os << n.gap;  // empty: no gap used (bilateral)
-    os << ',' << n.normal.x() << ',' << n.normal.y() << ',' << n.normal.z();
-    if (parts) os << ',' << contact_part_name(s, n);
-    os << '\n';
-  }
-}
-
-void write_displacement_csv(std::ostream& stream, const Mesh3D& mesh, const Eigen::VectorXd& u) {
-  TextWriter os(stream);
-  os << "vertex,x,y,z,ux,uy,uz\n";
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
-    const Vec3& p = mesh.vertex(v);
-    os << v << ',' << p.x() << ',' << p.y() << ',' << p.z() << ',' << u(3 * v) << ',' << u(3 * v + 1) << ','
-       << u(3 * v + 2) << '\n';
-  }
-}
 
 }  // namespace
 
@@ -161,13 +138,7 @@ OutputReport write_outputs(const fs::path& dir, const Mesh3D& mesh, const Materi
   detail::OutputRun run(dir, all_outputs_3d(), all_outputs(), wanted, info,
                         path ? frame_files(*path) : std::vector<std::string>());
   auto result = [&](const RunInfo& listed) { return result_json(mesh, solution, listed); };
-  run.write("result.json", [&](std::ostream& os) { os << result(run.listed()).dump(2) << '\n'; });
-  run.write("contact.csv", [&](std::ostream& os) { write_contact_csv(os, solution); });
-  run.write("displacement.csv", [&](std::ostream& os) { write_displacement_csv(os, mesh, solution.u); });
-  run.write("history.csv", [&](std::ostream& os) { detail::write_history_csv(os, solution); });
-  run.write("solution.vtu", [&](std::ostream& os) {
-    write_vtu(os, mesh, materials, solution, info.error_estimate ? &info.error_estimate->indicators : nullptr);
-  });
+  detail::write_solve_files(run, mesh, materials, solution, info, result);
   run.write("contact-surface.vtu", [&](std::ostream& os) { write_contact_surface_vtu(os, mesh, contact_faces, solution); });
   run.write("scene.toml", [&](std::ostream& os) { os << info.scene_toml; });
   write_path_files<Mesh3D, 3>(run.transaction(), dir, mesh, path, [&run](const std::string& n) { return run.want(n); },

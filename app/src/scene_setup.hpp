@@ -131,6 +131,10 @@ void solve_built(const Scene& scene, SceneEngines& e, Solved& s, ReducedProblem*
   }
 }
 
+/// The memory a solve of the scene's generated mesh needs fits (require_memory, the
+/// estimate of scene/resources.hpp), or an InputError at `where`, before any work.
+void require_memory_of(const Scene& scene, const std::string& where);
+
 /// wanted_files of a three-dimensional scene.
 std::vector<std::string> solid_files(const Scene& scene, bool has_contact);
 

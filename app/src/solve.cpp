@@ -1,4 +1,6 @@
 #include <hemivem/app/solve.hpp>
+
+#include <hemivem/scene/resources.hpp>
 #include <hemivem/app/path.hpp>
 
 #include "scene_setup.hpp"
@@ -120,6 +122,18 @@ SceneEngines make_scene_engines(const Scene& scene, std::function<void(const Glo
   e.options.max_iterations = scene.solver.max_iterations;
   e.options.callback = std::move(callback);
   return e;
+}
+
+void require_memory_of(const Scene& s, const std::string& where) {
+  if (s.dimension() == 3) {
+    const GridSize3 cells = s.mesh.cells3();
+    require_memory(estimate_memory_3d(s.mesh.generator, cells.nx, cells.ny, cells.nz).solve_bytes,
+                   s.mesh.generator + " n = " + cells.text(), where);
+  } else {
+    const GridSize cells = s.mesh.cells();
+    require_memory(estimate_memory(s.mesh.generator, cells.nx, cells.ny).solve_bytes,
+                   s.mesh.generator + " n = " + cells.text(), where);
+  }
 }
 
 SceneEngines prepare_scene_solve(const Scene& scene, SceneSolveOptions& o, SceneSolve& s) {

@@ -69,6 +69,15 @@ std::string input_error_of(const std::function<void()>& f) {
   return "";
 }
 
+std::string input_error_key(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.where();
+  }
+  return "";
+}
+
 }  // namespace hemivem::test
 
 #include <hemivem/linear_backends.hpp>

@@ -40,6 +40,9 @@ bool identical(const Mesh& a, const Mesh& b);
 
 /// The message of the InputError that f throws ("" when it throws none).
 std::string input_error_of(const std::function<void()>& f);
+/// Where the InputError that f throws is (InputError::where: a scene key or a file:line; ""
+/// when it throws none).
+std::string input_error_key(const std::function<void()>& f);
 
 }  // namespace hemivem::test
 
