@@ -138,7 +138,7 @@ Figure path_figure(const BasicPathSolution<dim>& path, const RunInfo& info) {
     << "plot 'path.dat' using 2:3 with linespoints pt 7 ps 0.6 lc rgb '#3b528b' title 'normal (compressive)'"
     << (friction ? ", 'path.dat' using 2:4 with linespoints pt 7 ps 0.6 lc rgb '#5ec962' title 'friction'" : "")
     << ", 'path.dat' using 2:($7 > 0 ? $3 : 1/0) with points pt 6 ps 2 lc rgb '#d62728' title 'jump'\n"
-    << "set xlabel 'load factor t'\nset ylabel 'length of boundary'\n"
+    << "set xlabel 'load factor t'\nset ylabel '" << (dim == 2 ? "length" : "area") << " of boundary'\n"
     << "plot 'path.dat' using 1:5 with linespoints pt 7 ps 0.6 lc rgb '#3b528b' title 'contact zone'"
     << (friction ? ", 'path.dat' using 1:6 with linespoints pt 7 ps 0.6 lc rgb '#5ec962' title 'stick zone'" : "") << "\n"
     << "unset multiplot\n";
