@@ -1,19 +1,14 @@
 // A three-dimensional scene solved, written and reported (solve3d.hpp).
 #include <hemivem/app/solve3d.hpp>
 
-#include <hemivem/app/format.hpp>
 #include <hemivem/app/outputs3d.hpp>
 #include <hemivem/app/path.hpp>
-#include <hemivem/app/report.hpp>
 #include <hemivem/error.hpp>
-#include <hemivem/uniqueness.hpp>
 
 #include "scene_setup.hpp"
 
 #include <algorithm>
 #include <chrono>
-#include <iomanip>
-#include <sstream>
 
 namespace hemivem::app {
 

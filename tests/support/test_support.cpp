@@ -60,22 +60,26 @@ bool identical(const Mesh& a, const Mesh& b) {
   return true;
 }
 
-std::string input_error_of(const std::function<void()>& f) {
+namespace {
+
+// What `part` says of the InputError that f throws ("" when it throws none).
+std::string of_input_error(const std::function<void()>& f, std::string (*part)(const InputError&)) {
   try {
     f();
   } catch (const InputError& e) {
-    return e.what();
+    return part(e);
   }
   return "";
 }
 
+}  // namespace
+
+std::string input_error_of(const std::function<void()>& f) {
+  return of_input_error(f, [](const InputError& e) { return std::string(e.what()); });
+}
+
 std::string input_error_key(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.where();
-  }
-  return "";
+  return of_input_error(f, [](const InputError& e) { return std::string(e.where()); });
 }
 
 }  // namespace hemivem::test

@@ -68,7 +68,7 @@ const BasicPathSolution<dim>* path_of(const RunInfo& info) {
 /// the stage "estimate" of the timings).
 nlohmann::json error_estimate_json(const ErrorEstimate& estimate);
 
-/// The result.json document ("schema": "hemivem-result/12", "dimension": 2).
+/// The result.json document ("schema": "hemivem-result/13", "dimension": 2).
 nlohmann::json result_json(const Mesh& mesh, const ContactSolution& solution, const RunInfo& info);
 
 /// Whether the contact nodes carry a tangential displacement (friction or a bilateral

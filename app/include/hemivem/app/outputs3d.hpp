@@ -19,7 +19,7 @@
 
 namespace hemivem::app {
 
-/// The result.json document of a 3D solve ("schema": "hemivem-result/12", "dimension": 3): the
+/// The result.json document of a 3D solve ("schema": "hemivem-result/13", "dimension": 3): the
 /// keys of result_json that apply, points and vectors with three components (contact[].x and
 /// contact[].normal [x, y, z]), contact_zone with its area, error_estimate; adapt, path and
 /// friction null.
