@@ -3,7 +3,7 @@
 // of at most 8 x 8 cells (with mesh.n = [nx, ny], both at most 8); scenes naming a mesh file
 // are only parsed (the fuzzer must not read arbitrary files: parsing looks at the headers of an
 // existing regular .msh file alone, to tell a solid's mesh). A three-dimensional scene of at
-// most 8 x 8 x 8 cells is built by build_problem_3d. A defect must be an InputError; every other exception, a crash, a hang or
+// most 8 x 8 x 8 cells is built by build_problem<3>. A defect must be an InputError; every other exception, a crash, a hang or
 // undefined behaviour is a finding.
 #include <hemivem/error.hpp>
 #include <hemivem/scene/scene.hpp>
@@ -20,7 +20,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const bool small = scene.mesh.n <= 8 && scene.mesh.ny.value_or(scene.mesh.n) <= 8 &&
                        scene.mesh.nz.value_or(scene.mesh.n) <= 8;  // every side bounded
     if (scene.mesh.file.empty() && small) {
-      if (scene.dimension() == 3) (void)hemivem::build_problem_3d(scene);
+      if (scene.dimension() == 3) (void)hemivem::build_problem<3>(scene);
       else (void)hemivem::build_problem(scene);
     }
   } catch (const hemivem::InputError&) {

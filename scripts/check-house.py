@@ -44,7 +44,6 @@ FUNCTION_TO_SPLIT = {
 # fails when a pair shares more; lower the number when a pair shares fewer.
 TWIN_BASELINE = {
     ("core/vem/include/hemivem/vem/element.hpp", "core/vem/include/hemivem/vem/element3d.hpp"): 1,
-    ("core/vem/src/assembly.cpp", "core/vem/src/assembly3d.cpp"): 1,
 }
 
 # Doc references that look like repository paths but are not: (doc, path) -> reason.

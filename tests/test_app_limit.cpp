@@ -109,7 +109,7 @@ TEST(AppLimit, PlainQ1MatrixHasTheSparsityOfTheVemMatrix) {
   {
     Scene s = solid();
     apply_overrides(s, {"mesh.n=3"});
-    const auto built = build_problem_3d(s);
+    const auto built = build_problem<3>(s);
     const auto& elasticity = built->problem.elasticity;
     const LinearSystem vem = assemble(elasticity);
     const SparseMatrix q1 = plain_q1_matrix(built->mesh, make_dof_map(built->mesh, elasticity.dirichlet), 1.0, 1.0);

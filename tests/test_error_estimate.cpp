@@ -68,7 +68,7 @@ void expect_exact_on_linear_fields(const Mesh& mesh, const std::string& name, do
     return s.contains(mesh.vertex(mesh.edge(id).v0)) && s.contains(mesh.vertex(mesh.edge(id).v1));
   };
   p.elasticity.dirichlet.push_back({select_boundary_edges(mesh, std::vector<Segment>{left}), exact, {true, true}});
-  ASSERT_FALSE(p.elasticity.dirichlet.back().edges.empty()) << name;
+  ASSERT_FALSE(p.elasticity.dirichlet.back().facets.empty()) << name;
   std::vector<double> weight(static_cast<std::size_t>(mesh.num_vertices()), 0.0);
   for (int id : mesh.boundary_edges()) {
     if (on(left, id)) continue;

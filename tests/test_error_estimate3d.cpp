@@ -87,7 +87,7 @@ ContactProblem3D smooth_problem(const Mesh3D& mesh) {
                                                 {"z0", Vec3(0, 0, -1)}, {"z1", Vec3(0, 0, 1)}};
   for (const auto& [side, normal] : sides) {
     TractionLoad3D load;
-    load.faces = select_box_side(mesh, box, side);
+    load.facets = select_box_side(mesh, box, side);
     load.traction = [n = normal](const Vec3& x) -> Vec3 { return exact_stress(x) * n; };
     p.elasticity.tractions.push_back(load);
   }
@@ -110,7 +110,7 @@ double exact_energy(const ContactProblem3D& p) {
     load += quadrature::integrate_cell(z, mesh.local_faces(c), [&](const Vec3& x) { return body_force(x).dot(exact_u(x)); });
   }
   for (const TractionLoad3D& t : p.elasticity.tractions)
-    for (int f : t.faces) {
+    for (int f : t.facets) {
       z.clear();
       for (int v : mesh.face(f).vertices) z.push_back(mesh.vertex(v));
       load += quadrature::integrate_polygon_3d(std::span<const Vec3>(z),

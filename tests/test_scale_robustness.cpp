@@ -79,7 +79,7 @@ TEST(ScaleRobustness, SquareOfSide1e12KeepsEveryBottomNodeOnGammaThree) {
   EXPECT_EQ(nodes.size(), 17u);
   int clamped_corners = 0;
   for (const auto& d : built->problem.elasticity.dirichlet)
-    for (int e : d.edges) clamped_corners += built->mesh.edge(e).v0 == 0 || built->mesh.edge(e).v1 == 0;
+    for (int e : d.facets) clamped_corners += built->mesh.edge(e).v0 == 0 || built->mesh.edge(e).v1 == 0;
   EXPECT_GT(clamped_corners, 0);
   for (int v : nodes) EXPECT_EQ(built->mesh.vertex(v).y(), 0.0) << v;
 }
@@ -96,7 +96,7 @@ TEST(ScaleRobustness, ContactPartAt1e150IsNotMistakenForTheClampedSides) {
   ASSERT_NO_THROW(p = make_contact_problem(scene, mesh));
   EXPECT_EQ(p.parts[0].facets.size(), 4u);
   ASSERT_EQ(p.elasticity.dirichlet.size(), 1u);
-  EXPECT_EQ(p.elasticity.dirichlet[0].edges.size(), 8u);  // left and right sides only
+  EXPECT_EQ(p.elasticity.dirichlet[0].facets.size(), 8u);  // left and right sides only
 }
 
 // The same problem at every scale L: coordinates times L, Young's modulus times L, tractions,

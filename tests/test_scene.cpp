@@ -86,12 +86,12 @@ TEST(Scene, DefaultSceneAndExample41AreThePapersProblem) {
     EXPECT_EQ(p->elasticity.stabilization, Stabilization::two_mu);
     EXPECT_FALSE(static_cast<bool>(p->elasticity.body_force));
     ASSERT_EQ(p->elasticity.dirichlet.size(), 1u);
-    std::vector<int> d = p->elasticity.dirichlet[0].edges;
+    std::vector<int> d = p->elasticity.dirichlet[0].facets;
     std::sort(d.begin(), d.end());
     EXPECT_EQ(d, clamped);
     EXPECT_TRUE(p->elasticity.dirichlet[0].fix[0] && p->elasticity.dirichlet[0].fix[1]);
     ASSERT_EQ(p->elasticity.tractions.size(), 1u);
-    std::vector<int> t = p->elasticity.tractions[0].edges;
+    std::vector<int> t = p->elasticity.tractions[0].facets;
     std::sort(t.begin(), t.end());
     EXPECT_EQ(t, top);
     EXPECT_EQ(p->elasticity.tractions[0].traction(Vec2(0.5, 1.0)), Vec2(0.0, -8.0));
@@ -117,16 +117,16 @@ TEST(Scene, ShippedScenesParseAndBuild) {
     SCOPED_TRACE(f.string());
     const Scene s = parse_scene(f);
     if (!s.mesh.file.empty()) ASSERT_TRUE(fs::exists(s.mesh.file)) << "missing mesh " << s.mesh.file;
-    if (s.dimension() == 3) {  // a solid: build_problem_3d (tests/test_scene3d.cpp)
-      const auto solid = build_problem_3d(s);
+    if (s.dimension() == 3) {  // a solid: build_problem<3> (tests/test_scene3d.cpp)
+      const auto solid = build_problem<3>(s);
       EXPECT_GT(solid->mesh.num_cells(), 0);
-      EXPECT_FALSE(solid->problem.elasticity.dirichlet.at(0).faces.empty());
+      EXPECT_FALSE(solid->problem.elasticity.dirichlet.at(0).facets.empty());
       EXPECT_EQ(solid->has_contact, s.contact.has_value());
       continue;
     }
     const auto built = build_problem(s);
     EXPECT_GT(built->mesh.num_elements(), 0);
-    EXPECT_FALSE(built->problem.elasticity.dirichlet.at(0).edges.empty());
+    EXPECT_FALSE(built->problem.elasticity.dirichlet.at(0).facets.empty());
     EXPECT_EQ(built->has_contact, s.contact.has_value());
     if (built->has_contact) {
       EXPECT_FALSE(built->problem.parts[0].facets.empty());
@@ -180,7 +180,7 @@ TEST(Scene, SuttonScenesReadTheShippedCopiesOfSuttonsMeshes) {
   EXPECT_EQ(built->mesh.num_vertices(), 802);
   EXPECT_EQ(built->mesh.num_elements(), 400);
   EXPECT_FALSE(built->problem.parts[0].facets.empty());
-  EXPECT_FALSE(built->problem.elasticity.tractions.at(0).edges.empty());
+  EXPECT_FALSE(built->problem.elasticity.tractions.at(0).facets.empty());
 }
 
 TEST(Scene, RoundTripThroughToml) {
@@ -457,7 +457,7 @@ segments = [[0.0, 0.0, 0.5, 0.0]]
   const auto built = build_problem(s);
   EXPECT_DOUBLE_EQ(built->problem.elasticity.materials.material(0).young, 10.0);
   EXPECT_EQ(built->problem.parts[0].facets.size(), 2u);
-  EXPECT_EQ(built->problem.elasticity.dirichlet[0].edges.size(), 4u);
+  EXPECT_EQ(built->problem.elasticity.dirichlet[0].facets.size(), 4u);
 }
 
 TEST(Scene, MeshFileBesideTheScene) {
@@ -491,9 +491,9 @@ TEST(Scene, BoundaryPartsByGmshPhysicalGroup) {
   const Rectangle unit{};
   EXPECT_EQ(built->problem.parts[0].facets,
             select_boundary_edges(built->mesh, std::vector<Segment>{rectangle_side(unit, "bottom")}));
-  EXPECT_EQ(built->problem.elasticity.tractions.at(0).edges,
+  EXPECT_EQ(built->problem.elasticity.tractions.at(0).facets,
             select_boundary_edges(built->mesh, std::vector<Segment>{rectangle_side(unit, "top")}));
-  EXPECT_FALSE(built->problem.elasticity.dirichlet.at(0).edges.empty());
+  EXPECT_FALSE(built->problem.elasticity.dirichlet.at(0).facets.empty());
   fs::remove_all(dir);
 }
 
@@ -518,8 +518,8 @@ TEST(Scene, PolygonDomainNamesItsEdges) {
     const auto left = select_boundary_edges(m, std::vector<Segment>{Segment{Vec2(0, 1.5), Vec2(0, 0), 1e-8}});
     EXPECT_FALSE(bottom.empty());
     EXPECT_EQ(sorted(built->problem.parts[0].facets), sorted(bottom));
-    EXPECT_EQ(sorted(built->problem.elasticity.tractions.at(0).edges), sorted(slope));
-    EXPECT_EQ(sorted(built->problem.elasticity.dirichlet.at(0).edges), sorted(left));
+    EXPECT_EQ(sorted(built->problem.elasticity.tractions.at(0).facets), sorted(slope));
+    EXPECT_EQ(sorted(built->problem.elasticity.dirichlet.at(0).facets), sorted(left));
   }
 }
 

@@ -1,5 +1,5 @@
 // Three-dimensional scenes (docs/reference/scenes.md, "Three-dimensional scenes"): what makes a
-// scene 3D, its keys as read, written back and refused, the problem build_problem_3d poses, and
+// scene 3D, its keys as read, written back and refused, the problem build_problem<3> poses, and
 // solves of small 3D scenes through hemivem::app with their stresses, forces and outputs.
 #include <hemivem/app/outputs3d.hpp>
 #include <hemivem/app/solve3d.hpp>
@@ -76,7 +76,7 @@ TEST(Scene3D, AGmshFileOfVolumeElementsIsThreeDimensional) {
   const Scene plane = parse_scene_string(kHead + "[mesh]\nfile = \"plane.msh\"\n", (dir / "s.toml").string());
   EXPECT_EQ(plane.dimension(), 2);
   // the solid's reader reads it: this one has no nodes
-  EXPECT_TRUE(holds(test::input_error_of([&] { (void)build_problem_3d(solid); }), {"solid.msh"}));
+  EXPECT_TRUE(holds(test::input_error_of([&] { (void)build_problem<3>(solid); }), {"solid.msh"}));
   fs::remove_all(dir);
 }
 
@@ -109,7 +109,7 @@ TEST(Scene3D, AGmshFileGivesItsGroupsAndRegions) {
   const auto solved = app::solve_scene_3d(s);
   ASSERT_TRUE(solved.solution.converged()) << solved.solution.message;
   EXPECT_EQ(solved.built->mesh.num_cells(), 27);
-  EXPECT_EQ(solved.built->problem.elasticity.dirichlet.at(0).faces.size(), 9u);
+  EXPECT_EQ(solved.built->problem.elasticity.dirichlet.at(0).facets.size(), 9u);
   EXPECT_EQ(solved.built->problem.elasticity.materials.lame(2).mu, 20.0 / 2.6);
   const ForceBalance3D& b = solved.solution.forces;
   EXPECT_NEAR(b.applied.z(), -1.0, 1e-12);
@@ -117,12 +117,12 @@ TEST(Scene3D, AGmshFileGivesItsGroupsAndRegions) {
   EXPECT_LT(b.residual(), 1e-12);
   // a region the file does not have, a group it does not have: errors naming the key
   EXPECT_TRUE(holds(test::input_error_of([&] {
-                      (void)build_problem_3d(parse_scene_string(head + "[[material.region]]\nid = 7\nE = 2.0\nnu = 0.3\n" + rest,
+                      (void)build_problem<3>(parse_scene_string(head + "[[material.region]]\nid = 7\nE = 2.0\nnu = 0.3\n" + rest,
                                                                 "g.toml"));
                     }),
                     {"g.toml:8", "material.region[0].id: region 7 matches no cell", "region ids are 2"}));
   EXPECT_TRUE(holds(test::input_error_of([&] {
-                      (void)build_problem_3d(parse_scene_string(head + "[contact]\ngroup = \"side\"\n" + rest, "g.toml"));
+                      (void)build_problem<3>(parse_scene_string(head + "[contact]\ngroup = \"side\"\n" + rest, "g.toml"));
                     }),
                     {"g.toml:8", "contact.group", "side"}));
 }
@@ -150,12 +150,12 @@ TEST(Scene3D, ShippedScenesPoseTheirProblemsAndRoundTrip) {
     EXPECT_EQ(parse_scene_string(text, "again.toml"), *s) << text;
   }
   // the faces each part selects on 8 x 4 x 8 cubes
-  const auto built = build_problem_3d(ex);
+  const auto built = build_problem<3>(ex);
   const ContactProblem3D& p = built->problem;
   EXPECT_EQ(built->mesh.num_cells(), 8 * 4 * 8);
   ASSERT_EQ(p.elasticity.dirichlet.size(), 1u);
-  EXPECT_EQ(p.elasticity.dirichlet[0].faces.size(), 2u * 4 * 8);
-  EXPECT_EQ(p.elasticity.tractions.at(0).faces.size(), 8u * 4);
+  EXPECT_EQ(p.elasticity.dirichlet[0].facets.size(), 2u * 4 * 8);
+  EXPECT_EQ(p.elasticity.tractions.at(0).facets.size(), 8u * 4);
   ASSERT_EQ(p.parts.size(), 1u);
   EXPECT_EQ(p.parts[0].facets.size(), 8u * 4);
   for (int f : p.parts[0].facets) EXPECT_NEAR(built->mesh.face_centroid(f).z(), 0.0, 1e-15);
@@ -163,7 +163,7 @@ TEST(Scene3D, ShippedScenesPoseTheirProblemsAndRoundTrip) {
   EXPECT_EQ(p.parts[0].gap(Vec3(0.3, 0.2, 0.0)), 0.02);
   EXPECT_EQ(p.elasticity.tractions[0].traction(Vec3(0.5, 0.25, 1.0)), Vec3(0.0, 0.0, -8.0));
   EXPECT_EQ(p.elasticity.materials.lame(0).mu, 65.0 / (2.0 * 1.29));
-  const auto h = build_problem_3d(hertz);
+  const auto h = build_problem<3>(hertz);
   ASSERT_TRUE(h->problem.parts.at(0).obstacle.has_value());
   EXPECT_EQ(h->problem.parts.at(0).obstacle->shape, Obstacle3D::Shape::sphere);
   EXPECT_EQ(h->problem.elasticity.dirichlet[1].fix, (std::array<bool, 3>{true, false, false}));
@@ -176,7 +176,7 @@ TEST(Scene3D, ExpressionsTakeZAndOverridesApply) {
                                       "[[dirichlet]]\nside = \"top\"\nuz = \"-0.01*x\"\n"
                                       "[contact]\nside = \"y0\"\ngap = \"0.01 + 0.5*z\"\n",
                                "z.toml");
-  const auto built = build_problem_3d(s);
+  const auto built = build_problem<3>(s);
   const ContactProblem3D& p = built->problem;
   EXPECT_EQ(p.elasticity.body_force(Vec3(0.25, 0.5, 0.75)), Vec3(0.0, 0.25, -1.5));
   EXPECT_EQ(p.elasticity.tractions.at(0).pressure(Vec3(1.0, 0.5, 0.5)), 1.25);
@@ -186,7 +186,7 @@ TEST(Scene3D, ExpressionsTakeZAndOverridesApply) {
   apply_overrides(s, {"mesh.n=[2, 3, 4]", "contact.gap=\"0.02*z\"", "loads.body_force=[1, 0, 0]"});
   EXPECT_EQ(s.dimension(), 3);
   EXPECT_EQ(s.mesh.cells3(), GridSize3(2, 3, 4));
-  EXPECT_EQ(build_problem_3d(s)->problem.parts.at(0).gap(Vec3(0.0, 0.0, 0.5)), 0.01);
+  EXPECT_EQ(build_problem<3>(s)->problem.parts.at(0).gap(Vec3(0.0, 0.0, 0.5)), 0.01);
   EXPECT_EQ(s.body_force[0], (SceneScalar{1.0, {}}));
   // a two-dimensional scene knows no z
   EXPECT_TRUE(holds(scene_error(kHead + "[loads]\nbody_force = [0, \"z\"]\n"),
@@ -239,10 +239,10 @@ TEST(Scene3D, BadInputNamesTheKeyAndWhatWasExpected) {
                     {"solid.toml:4", "unknown key 'uz' in [dirichlet[0]]"}));
   // errors found when the problem is built name the key too
   const std::string group = test::input_error_of(
-      [&] { (void)build_problem_3d(parse_scene_string(kBox + "[clamped]\ngroup = \"base\"\n", "solid.toml")); });
+      [&] { (void)build_problem<3>(parse_scene_string(kBox + "[clamped]\ngroup = \"base\"\n", "solid.toml")); });
   EXPECT_TRUE(holds(group, {"solid.toml:7", "clamped.group", "base"}));
   const std::string clamped = test::input_error_of([&] {
-    (void)build_problem_3d(parse_scene_string(kBox + "[clamped]\nside = \"top\"\n[contact]\nside = \"top\"\n", "solid.toml"));
+    (void)build_problem<3>(parse_scene_string(kBox + "[clamped]\nside = \"top\"\n[contact]\nside = \"top\"\n", "solid.toml"));
   });
   EXPECT_TRUE(holds(clamped, {"solid.toml:8", "contact: every node of the contact part is also clamped"}));
   const std::string unheld = test::input_error_of([&] {

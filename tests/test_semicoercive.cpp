@@ -80,7 +80,7 @@ TEST(RigidMotions, TheFreeMotionsOfTheSupportsAreNamed) {
   EXPECT_EQ(all.describe(2), "rotation about (0.5, 0.5) of the body");
   // ux = 0 on the left side: the vertical translation is left
   DirichletCondition roller;
-  roller.edges = select_boundary_edges(mesh, [](const Vec2& a, const Vec2& b) { return a.x() == 0.0 && b.x() == 0.0; });
+  roller.facets = select_boundary_edges(mesh, [](const Vec2& a, const Vec2& b) { return a.x() == 0.0 && b.x() == 0.0; });
   roller.value = [](const Vec2&) { return Vec2::Zero(); };
   roller.fix = {true, false};
   const RigidMotions one(mesh, make_dof_map(mesh, {roller}));
@@ -88,7 +88,7 @@ TEST(RigidMotions, TheFreeMotionsOfTheSupportsAreNamed) {
   EXPECT_EQ(one.describe(0), "translation along (0, 1) of the body");
   // uy = 0 at the bottom as well: held
   DirichletCondition bottom = roller;
-  bottom.edges = select_boundary_edges(mesh, [](const Vec2& a, const Vec2& b) { return a.y() == 0.0 && b.y() == 0.0; });
+  bottom.facets = select_boundary_edges(mesh, [](const Vec2& a, const Vec2& b) { return a.y() == 0.0 && b.y() == 0.0; });
   bottom.fix = {false, true};
   EXPECT_TRUE(RigidMotions(mesh, make_dof_map(mesh, {roller, bottom})).empty());
 }
@@ -98,7 +98,7 @@ TEST(RigidMotions, TheDecisionDoesNotDependOnTheUnits) {
     SCOPED_TRACE(scale);
     const Mesh mesh = make_squares(3, Rectangle{0, scale, 0, scale});
     DirichletCondition pin;  // ux = 0 on the left side only: vertical translation left
-    pin.edges = select_boundary_edges(mesh, [](const Vec2& a, const Vec2& b) { return a.x() == 0.0 && b.x() == 0.0; });
+    pin.facets = select_boundary_edges(mesh, [](const Vec2& a, const Vec2& b) { return a.x() == 0.0 && b.x() == 0.0; });
     pin.value = [](const Vec2&) { return Vec2::Zero(); };
     pin.fix = {true, false};
     const RigidMotions m(mesh, make_dof_map(mesh, {pin}));

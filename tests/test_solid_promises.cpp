@@ -144,7 +144,7 @@ TEST(SolidPromises, APieceNoSupportHoldsIsRefusedByName) {
   p.elasticity.materials = MaterialTable(Material{65.0, 0.3}, PlaneModel::strain);
   p.elasticity.dirichlet.push_back({select_boundary_faces(mesh, [&](const Vec3& x) { return held(x.x()); }), {}, {true, true, true}, "clamped"});
   TractionLoad3D load;
-  load.faces = select_boundary_faces(mesh, top);
+  load.facets = select_boundary_faces(mesh, top);
   load.traction = [](const Vec3&) { return Vec3(0.0, 0.0, -1.0); };
   p.elasticity.tractions.push_back(load);
   ContactPart3D contact;
@@ -217,7 +217,7 @@ TEST(SolidPromises, ANegativeObstacleGapInASceneNamesTheKeyAndLine) {
       "[contact.obstacle]\nshape = \"plane\"\npoint = [0, 0, 0.1]\nnormal = [0, 0, 1]\n";
   const Scene scene = parse_scene_string(text, "negative-gap.toml");
   try {
-    (void)build_problem_3d(scene);
+    (void)build_problem<3>(scene);
     FAIL() << "a negative gap was built under the box constraint";
   } catch (const InputError& e) {
     EXPECT_EQ(e.where(), "negative-gap.toml:13") << e.what();

@@ -55,7 +55,7 @@ double patch_traction(const Mesh& mesh) {
   const Rectangle box = mesh.bounding_box();
   const Segment left = rectangle_side(box, "left", 1e-8 * box.width());
   p.dirichlet.push_back({select_boundary_edges(mesh, std::vector<Segment>{left}), exact, {true, true}});
-  EXPECT_FALSE(p.dirichlet.back().edges.empty());
+  EXPECT_FALSE(p.dirichlet.back().facets.empty());
   for (int id : mesh.boundary_edges()) {
     const auto& e = mesh.edge(id);
     if (left.contains(mesh.vertex(e.v0)) && left.contains(mesh.vertex(e.v1))) continue;

@@ -185,7 +185,7 @@ PairRuns run_pairs(const Scene& scene, const std::vector<Pair>& pairs, const Pai
   const auto t_mesh = Clock::now();
   const bool solid = scene.dimension() == 3;
   if (solid) {
-    out.built3d = build_problem_3d(scene);
+    out.built3d = build_problem<3>(scene);
     out.vertices = out.built3d->mesh.num_vertices();
   } else {
     out.built = build_problem(scene);

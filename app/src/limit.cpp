@@ -333,7 +333,7 @@ nlohmann::json limit_of(const Built& built, bool metis) {
 }
 
 nlohmann::json measure_limit(const Scene& scene, bool metis) {
-  if (scene.dimension() == 3) return limit_of(*build_problem_3d(scene), metis);
+  if (scene.dimension() == 3) return limit_of(*build_problem<3>(scene), metis);
   return limit_of(*build_problem(scene), metis);
 }
 

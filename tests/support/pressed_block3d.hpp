@@ -50,7 +50,7 @@ inline ContactProblem3D example_4_1_3d(const Mesh3D& mesh, double s = 1.0, doubl
   sides.insert(sides.end(), x1.begin(), x1.end());
   p.elasticity.dirichlet.push_back({sides, {}, {true, true, true}, "clamped"});
   TractionLoad3D top;
-  top.faces = select_box_side(mesh, box, "top");
+  top.facets = select_box_side(mesh, box, "top");
   top.traction = [](const Vec3&) { return Vec3(0.0, 0.0, -8.0); };
   p.elasticity.tractions.push_back(top);
   ContactPart3D contact;

@@ -157,51 +157,6 @@ ContactBoundary contact_boundary(const ContactProblem3D& problem, const DofMap& 
   return boundary;
 }
 
-ForceBalance3D force_balance(const ElasticityProblem3D& problem, const Eigen::VectorXd& u, const Vec3& contact) {
-  if (!problem.mesh) throw InputError("the elasticity problem has no mesh");
-  const Mesh3D& mesh = *problem.mesh;
-  const Eigen::VectorXd f = assemble_load(mesh, problem.body_force, problem.tractions);
-  std::vector<int> owner(static_cast<std::size_t>(f.size()), -1);
-  for (std::size_t k = 0; k < problem.dirichlet.size(); ++k) {
-    const auto& bc = problem.dirichlet[k];
-    for (int id : bc.faces)
-      for (int v : mesh.face(id).vertices)
-        for (int c = 0; c < 3; ++c)
-          if (bc.fix[static_cast<std::size_t>(c)]) owner[static_cast<std::size_t>(3 * v + c)] = static_cast<int>(k);
-  }
-  // r = K u - f at the prescribed dofs, from the cells that hold one
-  Eigen::VectorXd r = -f;
-  std::vector<Vec3> z;
-  Eigen::MatrixXd K;
-  Eigen::VectorXd local;
-  for (int c = 0; c < mesh.num_cells(); ++c) {
-    const auto& verts = mesh.cell_vertices(c);
-    if (std::none_of(verts.begin(), verts.end(), [&](int v) {
-          return owner[static_cast<std::size_t>(3 * v)] >= 0 || owner[static_cast<std::size_t>(3 * v + 1)] >= 0 ||
-                 owner[static_cast<std::size_t>(3 * v + 2)] >= 0;
-        }))
-      continue;
-    z.clear();
-    for (int v : verts) z.push_back(mesh.vertex(v));
-    element_stiffness_3d(z, mesh.local_faces(c), problem.materials.lame(mesh.region(c)), problem.stabilization, K);
-    local.resize(3 * static_cast<Eigen::Index>(verts.size()));
-    for (std::size_t i = 0; i < verts.size(); ++i) local.segment<3>(3 * static_cast<Eigen::Index>(i)) = u.segment<3>(3 * verts[i]);
-    const Eigen::VectorXd Kl = K * local;
-    for (std::size_t i = 0; i < verts.size(); ++i) r.segment<3>(3 * verts[i]) += Kl.segment<3>(3 * static_cast<Eigen::Index>(i));
-  }
-  ForceBalance3D balance;
-  balance.contact = contact;
-  for (std::size_t k = 0; k < problem.dirichlet.size(); ++k)
-    balance.reactions.push_back(
-        {problem.dirichlet[k].name.empty() ? "dirichlet part " + std::to_string(k) : problem.dirichlet[k].name, Vec3::Zero()});
-  for (Eigen::Index d = 0; d < f.size(); ++d) {
-    balance.applied(d % 3) += f(d);
-    if (const int k = owner[static_cast<std::size_t>(d)]; k >= 0) balance.reactions[static_cast<std::size_t>(k)].force(d % 3) += r(d);
-  }
-  return balance;
-}
-
-
 BasicContactNode<3> contact_node(const Mesh3D& mesh, const ContactBoundary& boundary, const Condensation& cond,
                                  const DofMap& dofs, int i, const MinimizerResult& m, const Eigen::VectorXd* residual) {
   const ReducedProblem& rp = cond.reduced();

@@ -104,15 +104,6 @@ double nodal_defect(const std::vector<Point<dim>>& z, const Eigen::VectorXd& loc
 
 // ---- what each boundary facet is ----
 
-/// The facets of a Dirichlet condition or a traction load: its edges (2D) or faces (3D).
-template <class Part>
-const std::vector<int>& facets_of(const Part& part) {
-  if constexpr (requires { part.edges; })
-    return part.edges;
-  else
-    return part.faces;
-}
-
 /// InputError for a facet id of a `what` part (Dirichlet, traction, contact) outside [0, count).
 template <int dim>
 void check_facet_ids(const std::vector<int>& ids, int count, const char* what) {
@@ -139,8 +130,8 @@ std::vector<std::array<bool, dim>> fixed_components(const std::vector<Dirichlet>
   std::array<bool, dim> none{};
   std::vector<std::array<bool, dim>> fixed(static_cast<std::size_t>(nfacets), none);
   for (const Dirichlet& d : dirichlet) {
-    check_facet_ids<dim>(facets_of(d), nfacets, "Dirichlet");
-    for (int f : facets_of(d))
+    check_facet_ids<dim>(d.facets, nfacets, "Dirichlet");
+    for (int f : d.facets)
       for (std::size_t k = 0; k < dim; ++k) fixed[static_cast<std::size_t>(f)][k] |= d.fix[k];
   }
   return fixed;
@@ -151,8 +142,8 @@ template <int dim, class Load>
 std::vector<std::vector<int>> facet_loads(const std::vector<Load>& tractions, int nfacets) {
   std::vector<std::vector<int>> loads(static_cast<std::size_t>(nfacets));
   for (std::size_t k = 0; k < tractions.size(); ++k) {
-    check_facet_ids<dim>(facets_of(tractions[k]), nfacets, "traction");
-    for (int f : facets_of(tractions[k])) loads[static_cast<std::size_t>(f)].push_back(static_cast<int>(k));
+    check_facet_ids<dim>(tractions[k].facets, nfacets, "traction");
+    for (int f : tractions[k].facets) loads[static_cast<std::size_t>(f)].push_back(static_cast<int>(k));
   }
   return loads;
 }

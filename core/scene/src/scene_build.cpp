@@ -14,6 +14,7 @@
 #include <hemivem/scene/resources.hpp>
 
 #include "scene_fields.hpp"
+#include "scene_problem.hpp"
 #include "scene_reader.hpp"
 
 namespace hemivem {
@@ -22,14 +23,6 @@ using detail::fmt;
 using detail::lower;
 
 namespace {
-
-// A vertex count as an integer when small enough to read, else in scientific notation.
-std::string count_text(double v) {
-  if (v < 1e9) return std::to_string(static_cast<long long>(std::llround(v)));
-  std::ostringstream o;
-  o << std::setprecision(2) << std::scientific << v;
-  return o.str();
-}
 
 double param(const SceneLaw& law, const std::string& name, double fallback) {
   auto it = law.parameters.find(name);
@@ -146,32 +139,7 @@ std::vector<std::string> scene_warnings(const Scene& scene) {
   return out;
 }
 
-namespace {
-
-/// Every [[material.region]] (those with a box too when `boxes`) names a region some element
-/// of the mesh is in; an error at the region's id otherwise.
-void check_regions_used(const Scene& scene, const Mesh& mesh, bool boxes) {
-  const std::set<int> present(mesh.regions().begin(), mesh.regions().end());
-  for (std::size_t i = 0; i < scene.material.regions.size(); ++i) {
-    const auto& r = scene.material.regions[i];
-    if ((r.box && !boxes) || present.count(r.region)) continue;
-    std::string ids;
-    for (int id : present) ids += (ids.empty() ? "" : ", ") + std::to_string(id);
-    const std::string key = "material.region[" + std::to_string(i) + "]";
-    throw InputError(key + ".id: region " + std::to_string(r.region) + " matches no element of the mesh " +
-                         (r.box ? "(its box holds no element centroid, or later boxes cover them)"
-                                : "(the mesh's region ids are " + ids + ")"),
-                     scene.where(scene.lines.count(key + ".id") ? key + ".id" : key));
-  }
-}
-
-}  // namespace
-
-std::unique_ptr<BuiltProblem> build_problem(const Scene& scene) {
-  if (scene.dimension() == 3)
-    throw InputError("mesh: a three-dimensional scene is built by build_problem_3d and solved by `hemivem solve` (this "
-                     "solve takes two-dimensional scenes)",
-                     scene.where("mesh"));
+std::unique_ptr<BuiltProblem> detail::built_plane(const Scene& scene) {
   Mesh mesh;
   if (!scene.mesh.file.empty()) {
     const std::string ext = lower(scene.mesh.file.extension().string());
@@ -182,7 +150,7 @@ std::unique_ptr<BuiltProblem> build_problem(const Scene& scene) {
     int largest = 0;
     for (int e = 0; e < mesh.num_elements(); ++e) largest = std::max(largest, mesh.element_size(e));
     require_memory(need.solve_bytes,
-                   scene.mesh.file.string() + ": " + count_text(need.vertices) + " vertices, elements of up to " +
+                   scene.mesh.file.string() + ": " + detail::count_text(need.vertices) + " vertices, elements of up to " +
                        std::to_string(largest) + " vertices",
                    scene.where("mesh.file"));
   } else {
@@ -190,7 +158,7 @@ std::unique_ptr<BuiltProblem> build_problem(const Scene& scene) {
     const GridSize cells = scene.mesh.cells();
     const MemoryEstimate need = estimate_memory(scene.mesh.generator, cells.nx, cells.ny);
     require_memory(need.solve_bytes,
-                   scene.mesh.generator + " n = " + cells.text() + ": " + count_text(need.vertices) + " vertices",
+                   scene.mesh.generator + " n = " + cells.text() + ": " + detail::count_text(need.vertices) + " vertices",
                    scene.where("mesh.n"));
     try {
       if (scene.mesh.polygon.empty()) {
@@ -212,9 +180,7 @@ std::unique_ptr<BuiltProblem> build_problem(const Scene& scene) {
 }
 
 std::unique_ptr<BuiltProblem> build_problem(const Scene& scene, Mesh given, bool apply_region_boxes) {
-  auto out = std::make_unique<BuiltProblem>();
-  Mesh& mesh = out->mesh;
-  mesh = std::move(given);
+  Mesh mesh = std::move(given);
   // Regions given by boxes, then materials by region.
   if (apply_region_boxes && std::any_of(scene.material.regions.begin(), scene.material.regions.end(), [](const auto& r) { return r.box; })) {
     std::vector<int> ids = mesh.regions();
@@ -229,162 +195,8 @@ std::unique_ptr<BuiltProblem> build_problem(const Scene& scene, Mesh given, bool
     }
     mesh.set_regions(std::move(ids));
   }
-  check_regions_used(scene, mesh, true);
-  out->problem = make_contact_problem(scene, mesh);
-  out->has_contact = scene.contact.has_value();
-  out->warnings = scene_warnings(scene);
-  return out;
-}
-
-namespace {
-
-/// The material of each region: the scene's E and nu, but for the regions [[material.region]]
-/// names.
-MaterialTable scene_materials(const Scene& scene, const Mesh& mesh) {
-  int regions = 1;
-  for (int r : mesh.regions()) regions = std::max(regions, r + 1);
-  for (const auto& r : scene.material.regions) regions = std::max(regions, r.region + 1);
-  std::vector<Material> by_region(static_cast<std::size_t>(regions), Material{scene.material.young, scene.material.poisson});
-  for (const auto& r : scene.material.regions) by_region[static_cast<std::size_t>(r.region)] = Material{r.young, r.poisson};
-  return MaterialTable(by_region, scene.material.model);
-}
-
-/// The boundary edges of the mesh a selector of the scene picks (sorted, distinct); an error
-/// naming the selector's key when it picks none or names a group the mesh lacks.
-class EdgeSelection {
- public:
-  EdgeSelection(const Scene& scene, const Mesh& mesh) : scene_(scene), mesh_(mesh), box_(mesh.bounding_box()) {}
-
-  std::vector<int> operator()(const BoundarySelector& b, const std::string& key) const {
-    std::vector<Segment> segs;
-    for (const auto& side : b.sides) segs.push_back(rectangle_side(box_, side, b.tolerance));
-    const double size = std::max(box_.width(), box_.height());
-    for (const auto& s : b.segments) segs.push_back(Segment{Vec2(s[0], s[1]), Vec2(s[2], s[3]), b.tolerance * size});
-    std::vector<int> edges;
-    if (!segs.empty()) edges = select_boundary_edges(mesh_, segs);
-    for (const auto& g : b.groups) {
-      try {
-        const auto e = select_boundary_edges(mesh_, g);
-        edges.insert(edges.end(), e.begin(), e.end());
-      } catch (const InputError& e) {
-        throw InputError(key + ".group: " + e.detail(), scene_.where(key + ".group"));
-      }
-    }
-    std::sort(edges.begin(), edges.end());
-    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-    if (edges.empty()) throw InputError(key + ": selects no boundary edge of the mesh", scene_.where(key));
-    return edges;
-  }
-
- private:
-  const Scene& scene_;
-  const Mesh& mesh_;
-  const Rectangle box_;
-};
-
-/// [clamped] and each [[dirichlet]]: the prescribed displacements.
-void add_dirichlet(ElasticityProblem& e, const Scene& scene, const EdgeSelection& select) {
-  if (!scene.clamped.empty()) e.dirichlet.push_back({select(scene.clamped, "clamped"), {}, {true, true}, "clamped"});
-  for (std::size_t i = 0; i < scene.dirichlet.size(); ++i) {
-    const auto& d = scene.dirichlet[i];
-    const std::string key = "dirichlet[" + std::to_string(i) + "]";
-    e.dirichlet.push_back({select(d.boundary, key), detail::dirichlet_value_at<2>(scene, i, 1.0),
-                           {d.ux.has_value(), d.uy.has_value()}, key});
-  }
-}
-
-/// [loads]: the body force (when not zero) and each [[loads.traction]].
-void add_loads(ElasticityProblem& e, const Scene& scene, const EdgeSelection& select) {
-  e.body_force = detail::body_force_at<2>(scene, 1.0);
-  for (std::size_t i = 0; i < scene.tractions.size(); ++i) {
-    TractionLoad load;
-    load.edges = select(scene.tractions[i].boundary, "loads.traction[" + std::to_string(i) + "]");
-    detail::set_traction_at<2>(load, scene, i, 1.0);
-    e.tractions.push_back(std::move(load));
-  }
-}
-
-/// A contact part whose every node is clamped leaves nothing to touch: an error, not a silent
-/// drop.
-void check_contact_not_clamped(const ElasticityProblem& e, const std::vector<int>& edges, const Mesh& mesh,
-                               const Scene& scene, const std::string& key) {
-  std::set<int> fixed, touching;
-  for (const auto& d : e.dirichlet)
-    if (d.fix[0] && d.fix[1])
-      for (int id : d.edges) fixed.insert({mesh.edge(id).v0, mesh.edge(id).v1});
-  for (int id : edges) touching.insert({mesh.edge(id).v0, mesh.edge(id).v1});
-  if (std::includes(fixed.begin(), fixed.end(), touching.begin(), touching.end()))
-    throw InputError(key + ": every node of the contact part is also clamped ([clamped] or a [[dirichlet]] "
-                     "with both components), so nothing is left to touch; end one of the parts before the other",
-                     scene.where(key));
-}
-
-/// Contact part i ([contact] or [[contact]] i): its edges, the obstacle or gap, the laws and
-/// the constraint.
-ContactPart make_contact_part(const ElasticityProblem& e, const SceneContact& c, std::size_t i, const Scene& scene,
-                              const Mesh& mesh, const EdgeSelection& select) {
-  const std::string key = contact_key(scene, i);
-  ContactPart p;
-  p.name = contact_part_name(scene, i);
-  p.facets = select(c.boundary, key);
-  check_contact_not_clamped(e, p.facets, mesh, scene, key);
-  detail::set_contact_data_at<2>(p, scene, c, i, 1.0);
-  try {
-    p.law = make_law(c.law);
-  } catch (const InputError& err) {
-    throw InputError(key + ".law: " + err.detail(), scene.where(key + ".law"));
-  }
-  p.constraint = c.constraint;
-  p.law_from_surface = c.law_origin == "surface";
-  if (c.friction) {
-    try {
-      p.friction = make_friction_law(*c.friction);
-      p.friction_bound = make_friction_bound(*c.friction);
-    } catch (const InputError& err) {
-      throw InputError(key + ".friction: " + err.detail(), scene.where(key + ".friction.law"));
-    }
-  }
-  return p;
-}
-
-/// An edge in two contact parts: an error at the later part naming both.
-void check_parts_disjoint(const std::vector<ContactPart>& parts, const Scene& scene, const Mesh& mesh) {
-  std::map<int, std::size_t> owner;
-  for (std::size_t i = 0; i < parts.size(); ++i)
-    for (int id : parts[i].facets) {
-      const auto [at, added] = owner.emplace(id, i);
-      if (added || at->second == i) continue;
-      const MeshEdge& edge = mesh.edge(id);
-      const Vec2 a = mesh.vertex(edge.v0), b = mesh.vertex(edge.v1);
-      const std::string key = contact_key(scene, i);
-      throw InputError(key + ": selects the boundary edge from (" + fmt(a.x()) + ", " + fmt(a.y()) + ") to (" +
-                           fmt(b.x()) + ", " + fmt(b.y()) + "), which " + contact_key(scene, at->second) + " ('" +
-                           parts[at->second].name + "') selects too; each edge belongs to one contact part (parts "
-                           "may meet at a node, which then belongs to the part listed first)",
-                       scene.where(key));
-    }
-}
-
-}  // namespace
-
-ContactProblem make_contact_problem(const Scene& scene, const Mesh& mesh) {
-  if (scene.dimension() == 3)
-    throw InputError("mesh: a three-dimensional scene poses a ContactProblem3D (build_problem_3d)", scene.where("mesh"));
-  ContactProblem p;
-  p.elasticity.mesh = &mesh;
-  check_regions_used(scene, mesh, false);
-  p.elasticity.materials = scene_materials(scene, mesh);
-  p.elasticity.stabilization = scene.material.stabilization;
-  const EdgeSelection select(scene, mesh);
-  add_dirichlet(p.elasticity, scene, select);
-  add_loads(p.elasticity, scene, select);
-  const std::vector<SceneContact> scene_parts = contact_parts(scene);
-  std::vector<ContactPart> parts;
-  for (std::size_t i = 0; i < scene_parts.size(); ++i)
-    parts.push_back(make_contact_part(p.elasticity, scene_parts[i], i, scene, mesh, select));
-  check_parts_disjoint(parts, scene, mesh);
-  p.parts = std::move(parts);
-  return p;
+  detail::check_regions_used<2>(scene, mesh, true);
+  return detail::built_on<2>(scene, std::move(mesh));
 }
 
 bool scene_is_proportional(const Scene& scene) {

@@ -39,50 +39,7 @@ std::vector<Vec3> face_points(const Mesh3D& mesh, int f) {
   return z;
 }
 
-template <class Visit>
-void for_each_cell_matrix(const Mesh3D& mesh, const MaterialTable& materials, Stabilization stabilization,
-                          Visit&& visit) {
-  std::map<int, Lame> lame_by_region;
-  for (int region : mesh.regions())
-    if (!lame_by_region.count(region)) lame_by_region.emplace(region, materials.lame(region));
-  detail::for_each_element_matrix<3>(
-      mesh.num_cells(), [&](int c) -> const std::vector<int>& { return mesh.cell_vertices(c); },
-      [&](int c, Eigen::MatrixXd& K) {
-        thread_local std::vector<Vec3> z;
-        thread_local std::vector<std::vector<int>> faces;
-        gather(mesh, c, z);
-        mesh.local_faces(c, faces);
-        element_stiffness_3d(z, faces, lame_by_region.at(mesh.region(c)), stabilization, K);
-      },
-      visit);
-}
-
-SparseMatrix pattern(const Mesh3D& mesh, const std::vector<int>& index, int size) {
-  return detail::stiffness_pattern<3>(mesh.num_vertices(), mesh.num_cells(),
-                                      [&](int c) -> const std::vector<int>& { return mesh.cell_vertices(c); }, index,
-                                      size);
-}
-
 }  // namespace
-
-SparseMatrix assemble_stiffness(const Mesh3D& mesh, const MaterialTable& materials, Stabilization stabilization) {
-  const int n = 3 * mesh.num_vertices();
-  std::vector<int> index(static_cast<std::size_t>(n));
-  for (int d = 0; d < n; ++d) index[static_cast<std::size_t>(d)] = d;
-  SparseMatrix K = pattern(mesh, index, n);
-  detail::PatternScatter scatter(K);
-  for_each_cell_matrix(mesh, materials, stabilization,
-                       [&](const std::vector<int>& dof, const Eigen::Map<const Eigen::MatrixXd>& Ke) {
-                         scatter.element(dof.data(), dof.size());
-                         double* values = scatter.values();
-                         for (std::size_t j = 0; j < dof.size(); ++j) {
-                           const std::vector<int>& position = scatter.locate(dof[j]);
-                           for (std::size_t i = 0; i < dof.size(); ++i)
-                             values[position[i]] += Ke(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
-                         }
-                       });
-  return K;
-}
 
 Eigen::VectorXd assemble_load(const Mesh3D& mesh, const VectorField3& body_force,
                                  const std::vector<TractionLoad3D>& tractions) {
@@ -117,7 +74,7 @@ Eigen::VectorXd assemble_load(const Mesh3D& mesh, const VectorField3& body_force
   }
   for (const auto& load : tractions) {
     if (!load.traction && !load.pressure) throw InputError("a traction load has neither a traction nor a pressure");
-    for (int id : load.faces) {
+    for (int id : load.facets) {
       if (id < 0 || id >= mesh.num_faces()) throw InputError("traction face id " + std::to_string(id) + " out of range");
       if (!mesh.face(id).on_boundary()) throw InputError("traction face " + std::to_string(id) + " is not on the boundary");
       const auto z = face_points(mesh, id);
@@ -152,88 +109,6 @@ Eigen::VectorXd assemble_load(const Mesh3D& mesh, const VectorField3& body_force
     }
   }
   return f;
-}
-
-DofMap make_dof_map(const Mesh3D& mesh, const std::vector<DirichletCondition3D>& dirichlet) {
-  const int ndof = 3 * mesh.num_vertices();
-  Eigen::VectorXd prescribed = Eigen::VectorXd::Zero(ndof);
-  std::vector<char> fixed(static_cast<std::size_t>(ndof), 0);
-  for (const auto& bc : dirichlet)
-    for (int id : bc.faces) {
-      if (id < 0 || id >= mesh.num_faces()) throw InputError("Dirichlet face id " + std::to_string(id) + " out of range");
-      for (int v : mesh.face(id).vertices) {
-        const Vec3 value = bc.value ? bc.value(mesh.vertex(v)) : Vec3::Zero();
-        for (int c = 0; c < 3; ++c) {
-          if (!bc.fix[static_cast<std::size_t>(c)]) continue;
-          fixed[static_cast<std::size_t>(3 * v + c)] = 1;
-          prescribed(3 * v + c) = value(c);
-        }
-      }
-    }
-  return detail::dof_map_of(std::move(fixed), std::move(prescribed));
-}
-
-LinearSystem assemble(const ElasticityProblem3D& problem) {
-  if (!problem.mesh) throw InputError("the elasticity problem has no mesh");
-  const Mesh3D& mesh = *problem.mesh;
-  double held = 0.0;
-  std::size_t held_faces = 0;
-  for (const auto& bc : problem.dirichlet) {
-    held_faces += bc.faces.size();
-    for (int id : bc.faces)
-      if (id >= 0 && id < mesh.num_faces()) held += mesh.face_area(id);
-  }
-  if (held_faces == 0)
-    throw InputError("the body is not held: no boundary face has a prescribed displacement (Gamma_1 is empty)");
-  if (!(held > 0.0)) throw InputError("the body is not held: the boundary with prescribed displacement has zero area");
-  LinearSystem sys;
-  sys.dofs = make_dof_map(mesh, problem.dirichlet);
-  const Eigen::VectorXd f = assemble_load(mesh, problem.body_force, problem.tractions);
-  sys.b.resize(sys.dofs.num_free());
-  for (int i = 0; i < sys.dofs.num_free(); ++i) sys.b(i) = f(sys.dofs.free_dofs[static_cast<std::size_t>(i)]);
-  {
-    SparseMatrix A = pattern(mesh, sys.dofs.free_index, sys.dofs.num_free());
-    sys.A.swap(A);  // no copy (SparseMatrix has no move assignment)
-  }
-  for_each_cell_matrix(mesh, problem.materials, problem.stabilization, detail::FreeSystemAssembler{sys});
-  return sys;
-}
-
-Eigen::VectorXd assemble_rhs(const ElasticityProblem3D& problem, const DofMap& dofs) {
-  if (!problem.mesh) throw InputError("the elasticity problem has no mesh");
-  const Mesh3D& mesh = *problem.mesh;
-  if (dofs.num_dofs() != 3 * mesh.num_vertices())
-    throw InputError("a dof map of " + std::to_string(dofs.num_dofs()) + " dofs for a mesh of " +
-                     std::to_string(3 * mesh.num_vertices()));
-  LinearSystem sys;
-  sys.dofs = dofs;
-  const Eigen::VectorXd f = assemble_load(mesh, problem.body_force, problem.tractions);
-  sys.b.resize(dofs.num_free());
-  for (int i = 0; i < dofs.num_free(); ++i) sys.b(i) = f(dofs.free_dofs[static_cast<std::size_t>(i)]);
-  std::vector<Vec3> z;
-  Eigen::MatrixXd K;
-  for (int c = 0; c < mesh.num_cells(); ++c) {
-    const auto& verts = mesh.cell_vertices(c);
-    const bool lifted = std::any_of(verts.begin(), verts.end(), [&](int v) {
-      return dofs.prescribed.segment<3>(3 * v).cwiseAbs().maxCoeff() != 0.0;
-    });
-    if (!lifted) continue;
-    gather(mesh, c, z);
-    element_stiffness_3d(z, mesh.local_faces(c), problem.materials.lame(mesh.region(c)), problem.stabilization, K);
-    std::vector<int> dof;
-    for (int v : verts)
-      for (int k = 0; k < 3; ++k) dof.push_back(3 * v + k);
-    const auto n = static_cast<Eigen::Index>(dof.size());
-    for (std::size_t j = 0; j < dof.size(); ++j) {
-      if (dofs.free_index[static_cast<std::size_t>(dof[j])] >= 0) continue;
-      const double uj = dofs.prescribed(dof[j]);
-      if (uj == 0.0) continue;
-      for (Eigen::Index i = 0; i < n; ++i)
-        if (const int fi = dofs.free_index[static_cast<std::size_t>(dof[static_cast<std::size_t>(i)])]; fi >= 0)
-          sys.b(fi) -= K(i, static_cast<Eigen::Index>(j)) * uj;
-    }
-  }
-  return sys.b;
 }
 
 std::vector<LinearField3> project_solution(const Mesh3D& mesh, const Eigen::VectorXd& u) {

@@ -1,5 +1,5 @@
 // A three-dimensional scene solved (docs/reference/scenes.md, "Three-dimensional scenes"): the
-// engines the scene names (those of solve_scene), its ContactProblem3D (build_problem_3d), the
+// engines the scene names (those of solve_scene), its ContactProblem3D (build_problem<3>), the
 // solve (solve_contact), and what `hemivem solve` writes and prints about it.
 #pragma once
 
@@ -34,7 +34,7 @@ struct SceneSolve3DOptions {
   ReducedProblem* reduced = nullptr;
   /// Reports the runs of a global search.
   std::function<void(const GlobalSearchProgress&)> progress;
-  /// A mesh to solve on instead of the scene's (build_problem_3d(scene, mesh)).
+  /// A mesh to solve on instead of the scene's (build_problem(scene, mesh)).
   std::optional<Mesh3D> mesh;
   /// How that mesh was made, for reports (SceneSolve3D::mesh_description).
   std::string mesh_description = "a mesh given by the caller";
@@ -43,7 +43,7 @@ struct SceneSolve3DOptions {
 };
 
 /// Creates the engines the scene names (an unknown or unbuilt name is an InputError before any
-/// work, as in solve_scene), builds the problem (build_problem_3d) and solves it
+/// work, as in solve_scene), builds the problem (build_problem<3>) and solves it
 /// (solve_contact), or its loading path when it is one (scene_is_path: the path's steps in
 /// SceneSolve3D::path, its last step in the solution; `reduced` is then not used). A defect found when the contact part or the supports are set up (a
 /// contact node with a prescribed normal component, rigid motions the supports leave free) is

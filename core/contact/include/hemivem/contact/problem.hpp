@@ -47,7 +47,7 @@ void check_friction_bound(const FrictionBound& bound, const std::string& where =
 /// contact of its nodes obeys. A solid's contact is frictionless.
 template <int dim>
 struct BasicContactPart {
-  using Point = Eigen::Matrix<double, dim, 1>;
+  using Point = PointOf<dim>;
   using ObstacleType = std::conditional_t<dim == 2, Obstacle, Obstacle3D>;
   std::string name = "contact";              ///< names the part in results
   std::vector<int> facets;                   ///< boundary edge (2D) or face (3D) ids
@@ -81,7 +81,7 @@ using ContactPart = BasicContactPart<2>;
 /// parts meet belongs to the one listed first).
 template <int dim>
 struct BasicContactProblem {
-  std::conditional_t<dim == 2, ElasticityProblem, ElasticityProblem3D> elasticity;  ///< mesh, materials, loads, Gamma_1
+  BasicElasticityProblem<dim> elasticity;  ///< mesh, materials, loads, Gamma_1
   std::vector<BasicContactPart<dim>> parts;  ///< Gamma_3, in parts
 };
 using ContactProblem = BasicContactProblem<2>;

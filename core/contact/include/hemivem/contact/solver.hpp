@@ -31,7 +31,7 @@ class ProcessGroup;
 template <int dim>
 struct ContactTypes {
   using Problem = BasicContactProblem<dim>;
-  using MeshType = std::conditional_t<dim == 2, Mesh, Mesh3D>;
+  using MeshType = MeshOf<dim>;
 };
 
 /// Where the normal unknown of a contact node is: strictly between its bounds, at its upper

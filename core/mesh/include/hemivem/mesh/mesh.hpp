@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 
+#include <array>
 #include <map>
 #include <span>
 #include <string>
@@ -110,6 +111,13 @@ class Mesh {
   void set_edge_group(const std::string& name, std::vector<int> edges);
   const std::vector<int>& edge_group(const std::string& name) const;
   const std::map<std::string, std::vector<int>>& edge_groups() const noexcept { return edge_groups_; }
+
+  /// The vocabulary of a mesh of either dimension (MeshOf<dim>): cells (the elements),
+  /// facets (the edges) and the vertices of a facet.
+  int num_cells() const noexcept { return num_elements(); }
+  int num_facets() const noexcept { return num_edges(); }
+  std::array<int, 2> facet_vertices(int f) const { return {edge(f).v0, edge(f).v1}; }
+  const std::vector<int>& boundary_facets() const noexcept { return boundary_edges_; }
 
   int region(int e) const { return regions_[e]; }
   const std::vector<int>& regions() const noexcept { return regions_; }

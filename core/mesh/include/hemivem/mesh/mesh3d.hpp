@@ -119,6 +119,12 @@ class Mesh3D {
   const std::vector<int>& face_group(const std::string& name) const;
   const std::map<std::string, std::vector<int>>& face_groups() const noexcept { return face_groups_; }
 
+  /// The vocabulary of a mesh of either dimension (MeshOf<dim>): cells, facets (the faces)
+  /// and the vertices of a facet.
+  int num_facets() const noexcept { return num_faces(); }
+  const std::vector<int>& facet_vertices(int f) const { return face(f).vertices; }
+  const std::vector<int>& boundary_facets() const noexcept { return boundary_faces_; }
+
   int region(int c) const { return regions_[static_cast<std::size_t>(c)]; }
   const std::vector<int>& regions() const noexcept { return regions_; }
   void set_regions(std::vector<int> regions);

@@ -8,7 +8,7 @@
 // Three-dimensional scenes (docs/reference/scenes.md, "Three-dimensional scenes"): a scene whose
 // mesh is a box of six numbers, a 3D generator (cubes, tetrahedra) or a Gmsh file of volume
 // elements has SceneMesh::dimension 3; its vectors have three components, its sides are those of
-// a box and its expressions take z. build_problem_3d makes its mesh and ContactProblem3D.
+// a box and its expressions take z. build_problem<3> makes its mesh and ContactProblem3D.
 //
 // Loading paths ([path], ScenePath): the scene's data as functions of a load factor t. Loads
 // (body force, traction values, pressures) and prescribed displacements ([[dirichlet]] values;
@@ -332,11 +332,11 @@ std::string to_toml(const Scene& scene);
 /// Writes to_toml(scene) to `path` atomically (the resolved scene of a run's output folder).
 void write_scene(const std::filesystem::path& path, const Scene& scene);
 
-/// A scene made concrete, a plane (dim = 2, BuiltProblem: build_problem) or a solid (dim = 3,
-/// BuiltProblem3D: build_problem_3d) body. Not movable: problem.elasticity.mesh points at mesh.
+/// A scene made concrete (build_problem<dim>), a plane (dim = 2, BuiltProblem) or a solid
+/// (dim = 3, BuiltProblem3D) body. Not movable: problem.elasticity.mesh points at mesh.
 template <int dim>
 struct BasicBuiltProblem {
-  typename ContactTypes<dim>::MeshType mesh;
+  MeshOf<dim> mesh;
   BasicContactProblem<dim> problem;  ///< no contact parts when has_contact is false
   bool has_contact = false;
   std::vector<std::string> warnings;  ///< scene_warnings(scene)
@@ -352,25 +352,24 @@ using BuiltProblem3D = BasicBuiltProblem<3>;
 /// obstacle and no gap that pushes), whose solution is u = 0.
 std::vector<std::string> scene_warnings(const Scene& scene);
 
-/// Builds the mesh (generator or file: .poly2d via read_poly2d, .msh via read_gmsh), the
-/// materials, the boundary parts, loads and contact data (at t = 1). Errors (unknown edge group, a
-/// part selecting no edge, a region without material) name the scene key's file:line. A
-/// three-dimensional scene is an InputError naming build_problem_3d's users (`hemivem solve`).
-std::unique_ptr<BuiltProblem> build_problem(const Scene& scene);
+/// Builds a scene of dimension dim (scene.dimension()): the mesh, the materials by region, the
+/// boundary parts its selectors pick, the prescribed displacements ([clamped], [[dirichlet]]:
+/// the components given), the loads (body force, tractions and pressures) and the contact parts
+/// with their gap or obstacle, laws and constraint (at t = 1). Plane bodies (build_problem,
+/// build_problem<2>): a generator of generators.hpp on the rectangle or polygon, or a file
+/// (.poly2d via read_poly2d, .msh via read_gmsh), region boxes applied; solids
+/// (build_problem<3>): a generator of generators3d.hpp on the box, or a Gmsh file of volumes,
+/// with the 3D Lame constants. Errors name the scene key's file:line (a side or group that
+/// selects no boundary facet, an unknown group, a region without material); a scene of the
+/// other dimension is an InputError at its `mesh` key.
+template <int dim = 2>
+std::unique_ptr<BasicBuiltProblem<dim>> build_problem(const Scene& scene);
 
-/// Builds a three-dimensional scene (scene.dimension() == 3): the mesh (a generator of
-/// generators3d.hpp on the box, or a Gmsh file of volumes), the materials by region (the 3D
-/// Lame constants), the faces of [clamped], [[dirichlet]] (the components given), the tractions
-/// and pressures, the body force, and the contact part with its gap or obstacle (plane, sphere,
-/// cylinder), law and constraint. Errors name the scene key's file:line as build_problem's do
-/// (a side or group that selects no boundary face, an unknown face group, a region without
-/// material); InputError for a two-dimensional scene.
-std::unique_ptr<BuiltProblem3D> build_problem_3d(const Scene& scene);
-/// The same on a mesh of one's own instead of the scene's (its mesh keys are not used): the
-/// scene's sides are the sides of this mesh's bounding box, its groups this mesh's face groups
-/// and its regions this mesh's region ids; the memory the solve needs is checked under the
-/// scene's `mesh` key.
-std::unique_ptr<BuiltProblem3D> build_problem_3d(const Scene& scene, Mesh3D mesh);
+/// A solid scene on a mesh of one's own instead of the scene's (its mesh keys are not used):
+/// the scene's sides are the sides of this mesh's bounding box, its groups this mesh's face
+/// groups and its regions this mesh's region ids; the memory the solve needs is checked under
+/// the scene's `mesh` key.
+std::unique_ptr<BuiltProblem3D> build_problem(const Scene& scene, Mesh3D mesh);
 
 /// The same on a given mesh instead of the scene's (its mesh keys are not used): the scene's
 /// region boxes are applied to it when `apply_region_boxes` (a mesh of one's own), and not
@@ -393,7 +392,7 @@ bool scene_is_proportional(const Scene& scene);
 /// evaluated; InternalError for a t that is not finite or a problem whose parts do not match
 /// the scene's.
 void set_load_factor(const Scene& scene, double t, ContactProblem& problem);
-/// The same for a solid's problem (build_problem_3d).
+/// The same for a solid's problem (build_problem<3>).
 void set_load_factor(const Scene& scene, double t, ContactProblem3D& problem);
 
 /// The contact problem of a scene on a given mesh (the scene's mesh keys are not used): the
@@ -404,5 +403,7 @@ void set_load_factor(const Scene& scene, double t, ContactProblem3D& problem);
 /// that two contact parts select is an error naming both. The result points at `mesh`. Errors
 /// as build_problem's.
 ContactProblem make_contact_problem(const Scene& scene, const Mesh& mesh);
+/// The same for a solid scene on a polyhedral mesh.
+ContactProblem3D make_contact_problem(const Scene& scene, const Mesh3D& mesh);
 
 }  // namespace hemivem

@@ -14,41 +14,11 @@
 #include <hemivem/mesh/boundary.hpp>
 #include <hemivem/mesh/mesh.hpp>
 #include <hemivem/vem/element.hpp>
+#include <hemivem/vem/problem.hpp>
 
 namespace hemivem {
 
 using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
-using VectorField = std::function<Vec2(const Vec2&)>;
-
-/// Prescribed displacement on the vertices of a set of boundary edges. `value` empty
-/// means clamped (zero). `fix` selects the components that are prescribed.
-struct DirichletCondition {
-  std::vector<int> edges;
-  VectorField value;
-  std::array<bool, 2> fix{true, true};
-  std::string name;  ///< how the problem names the part (e.g. a scene's "clamped"); may be empty
-};
-
-/// A surface traction on a set of boundary edges, integrated on each edge with a
-/// 3-point Gauss rule against the linear hat functions (exact for tractions that are
-/// polynomials of degree <= 4 on each edge, in particular piecewise-linear ones). The
-/// traction is `traction`, plus -p n for a `pressure` p (n the edge's outward unit normal:
-/// a positive pressure pushes into the body); at least one of the two is given.
-struct TractionLoad {
-  std::vector<int> edges;
-  VectorField traction;
-  std::function<double(const Vec2&)> pressure;
-};
-
-/// The linear elasticity problem on a mesh.
-struct ElasticityProblem {
-  const Mesh* mesh = nullptr;
-  MaterialTable materials;
-  Stabilization stabilization = Stabilization::two_mu;
-  VectorField body_force;  ///< f0; empty = none
-  std::vector<TractionLoad> tractions;
-  std::vector<DirichletCondition> dirichlet;
-};
 
 /// Global degrees of freedom: 2*v + c for component c of vertex v.
 struct DofMap {

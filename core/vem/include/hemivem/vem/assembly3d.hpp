@@ -16,37 +16,6 @@
 
 namespace hemivem {
 
-using VectorField3 = std::function<Vec3(const Vec3&)>;
-
-/// Prescribed displacement on the vertices of a set of boundary faces; `value` empty means
-/// zero; `fix` selects the prescribed components.
-struct DirichletCondition3D {
-  std::vector<int> faces;
-  VectorField3 value;
-  std::array<bool, 3> fix{true, true, true};
-  std::string name;
-};
-
-/// A surface traction on boundary faces: `traction`, plus -p n for a `pressure` p (n the face's
-/// outward unit normal). The load of vertex i of face f is int_f t . Pi_f phi_i, Pi_f the
-/// face's projection onto linear functions (the enhanced face space): t . omega_i^f for a
-/// constant t, computed by a degree-5 rule on the fan of triangles from the face centroid
-/// (exact for tractions of degree <= 4 on each face).
-struct TractionLoad3D {
-  std::vector<int> faces;
-  VectorField3 traction;
-  std::function<double(const Vec3&)> pressure;
-};
-
-struct ElasticityProblem3D {
-  const Mesh3D* mesh = nullptr;
-  MaterialTable materials;  ///< the three-dimensional Lame constants (MaterialTable::lame of plane strain)
-  Stabilization stabilization = Stabilization::two_mu;
-  VectorField3 body_force;  ///< f0; empty = none; int_E f0 . Pi^nabla_1 phi (a degree-2 rule on a fan of tetrahedra)
-  std::vector<TractionLoad3D> tractions;
-  std::vector<DirichletCondition3D> dirichlet;
-};
-
 /// The global stiffness of all 3 num_vertices dofs (symmetric, both triangles stored).
 SparseMatrix assemble_stiffness(const Mesh3D& mesh, const MaterialTable& materials,
                                    Stabilization stabilization = Stabilization::two_mu);
@@ -54,6 +23,10 @@ SparseMatrix assemble_stiffness(const Mesh3D& mesh, const MaterialTable& materia
 /// The load vector of all dofs: the body force and the tractions.
 Eigen::VectorXd assemble_load(const Mesh3D& mesh, const VectorField3& body_force,
                                  const std::vector<TractionLoad3D>& tractions);
+
+/// (K u)_d on the dofs d with rows[d] != 0 (0 elsewhere), as apply_stiffness of a plane mesh.
+Eigen::VectorXd apply_stiffness(const Mesh3D& mesh, const MaterialTable& materials, Stabilization stabilization,
+                                const Eigen::VectorXd& u, const std::vector<char>& rows);
 
 DofMap make_dof_map(const Mesh3D& mesh, const std::vector<DirichletCondition3D>& dirichlet);
 

@@ -35,7 +35,7 @@ template <int dim>
 class BasicRigidMotions {
  public:
   using Point = Eigen::Matrix<double, dim, 1>;
-  using MeshType = std::conditional_t<dim == 2, Mesh, Mesh3D>;
+  using MeshType = MeshOf<dim>;
   /// The rigid motions of one piece: 3 in a plane, 6 in a solid.
   static constexpr int per_piece = dim == 2 ? 3 : 6;
   static constexpr double relative_tolerance = 1e-8;

@@ -1,0 +1,35 @@
+// What the scene builders of plane and solid bodies share (private to the scene module): the
+// problem on a mesh (scene_problem.cpp) and the words of their messages.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include <hemivem/mesh/dimension.hpp>
+#include <hemivem/scene/scene.hpp>
+
+namespace hemivem::detail {
+
+/// A vertex count as an integer when small enough to read, else in scientific notation.
+std::string count_text(double v);
+
+/// Every [[material.region]] (those with a box too when `boxes`) names a region some element
+/// (cell) of the mesh is in; an error at the region's id otherwise.
+template <int dim>
+void check_regions_used(const Scene& scene, const MeshOf<dim>& mesh, bool boxes);
+
+/// The built problem of `scene` on `mesh` (make_contact_problem), with has_contact and the
+/// scene's warnings.
+template <int dim>
+std::unique_ptr<BasicBuiltProblem<dim>> built_on(const Scene& scene, MeshOf<dim> mesh);
+
+/// InputError naming the scene's `mesh` key when the scene is not of dimension dim.
+template <int dim>
+void require_dimension(const Scene& scene);
+
+/// The problem of a plane scene on its own mesh (its generator or file; region boxes applied).
+std::unique_ptr<BuiltProblem> built_plane(const Scene& scene);
+/// The problem of a solid scene on its own mesh (its generator or Gmsh file).
+std::unique_ptr<BuiltProblem3D> built_solid(const Scene& scene);
+
+}  // namespace hemivem::detail

@@ -1,0 +1,243 @@
+// The global assembly of the elasticity system, written once for plane (dim = 2) and solid
+// (dim = 3) bodies: the stiffness and its product with a displacement, the dof map of the
+// prescribed displacements, the reduced system and its right-hand side. Per dimension only the
+// element's stiffness (element_stiffness, element_stiffness_3d) and a facet's measure differ;
+// the loads and the projections are each dimension's own file (assembly.cpp, assembly3d.cpp).
+#include <hemivem/vem/assembly.hpp>
+#include <hemivem/vem/assembly3d.hpp>
+#include <hemivem/error.hpp>
+
+#include "element_loop.hpp"
+
+#include <algorithm>
+#include <map>
+
+namespace hemivem {
+
+namespace {
+
+// ---- the kernels of each dimension ----
+
+std::span<const int> cell_vertices(const Mesh& mesh, int e) { return mesh.element(e); }
+const std::vector<int>& cell_vertices(const Mesh3D& mesh, int c) { return mesh.cell_vertices(c); }
+
+/// K_E of cell c (a thread's own buffers: called from several threads at once).
+void cell_stiffness(const Mesh& mesh, int e, const Lame& lame, Stabilization stabilization, Eigen::MatrixXd& K) {
+  thread_local std::vector<Vec2> poly;
+  poly.clear();
+  for (int v : mesh.element(e)) poly.push_back(mesh.vertex(v));
+  element_stiffness(poly, lame, stabilization, K);
+}
+void cell_stiffness(const Mesh3D& mesh, int c, const Lame& lame, Stabilization stabilization, Eigen::MatrixXd& K) {
+  thread_local std::vector<Vec3> z;
+  thread_local std::vector<std::vector<int>> faces;
+  z.clear();
+  for (int v : mesh.cell_vertices(c)) z.push_back(mesh.vertex(v));
+  mesh.local_faces(c, faces);
+  element_stiffness_3d(z, faces, lame, stabilization, K);
+}
+
+double facet_measure(const Mesh& mesh, int f) { return mesh.edge_length(f); }
+double facet_measure(const Mesh3D& mesh, int f) { return mesh.face_area(f); }
+
+template <int dim>
+constexpr const char* facet_word() {
+  return dim == 2 ? "edge" : "face";
+}
+
+// ---- written once ----
+
+/// The cell matrices of the mesh, in cell order (detail::for_each_element_matrix).
+template <int dim, class Visit>
+void for_each_cell_matrix(const MeshOf<dim>& mesh, const MaterialTable& materials, Stabilization stabilization,
+                          Visit&& visit) {
+  std::map<int, Lame> lame_by_region;
+  for (int region : mesh.regions())
+    if (!lame_by_region.count(region)) lame_by_region.emplace(region, materials.lame(region));
+  detail::for_each_element_matrix<dim>(
+      mesh.num_cells(), [&](int c) -> decltype(auto) { return cell_vertices(mesh, c); },
+      [&](int c, Eigen::MatrixXd& K) { cell_stiffness(mesh, c, lame_by_region.at(mesh.region(c)), stabilization, K); },
+      visit);
+}
+
+template <int dim>
+SparseMatrix pattern(const MeshOf<dim>& mesh, const std::vector<int>& index, int size) {
+  return detail::stiffness_pattern<dim>(mesh.num_vertices(), mesh.num_cells(),
+                                        [&](int c) -> decltype(auto) { return cell_vertices(mesh, c); }, index, size);
+}
+
+template <int dim>
+SparseMatrix stiffness_of(const MeshOf<dim>& mesh, const MaterialTable& materials, Stabilization stabilization) {
+  const int n = dim * mesh.num_vertices();
+  std::vector<int> index(static_cast<std::size_t>(n));
+  for (int d = 0; d < n; ++d) index[static_cast<std::size_t>(d)] = d;
+  SparseMatrix K = pattern<dim>(mesh, index, n);
+  detail::PatternScatter scatter(K);
+  for_each_cell_matrix<dim>(mesh, materials, stabilization,
+                            [&](const std::vector<int>& dof, const Eigen::Map<const Eigen::MatrixXd>& Ke) {
+                              scatter.element(dof.data(), dof.size());
+                              double* values = scatter.values();
+                              for (std::size_t j = 0; j < dof.size(); ++j) {
+                                const std::vector<int>& position = scatter.locate(dof[j]);
+                                for (std::size_t i = 0; i < dof.size(); ++i)
+                                  values[position[i]] += Ke(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
+                              }
+                            });
+  return K;
+}
+
+/// sum over the cells holding a dof `touches` accepts of K_E applied to `local_of(dof)`, added by
+/// `add(dof, value)`: the part of K u that those cells give.
+template <int dim, class Touches, class LocalOf, class Add>
+void apply_cells(const MeshOf<dim>& mesh, const MaterialTable& materials, Stabilization stabilization, Touches&& touches,
+                 LocalOf&& local_of, Add&& add) {
+  Eigen::MatrixXd K;
+  Eigen::VectorXd local;
+  for (int c = 0; c < mesh.num_cells(); ++c) {
+    const auto& verts = cell_vertices(mesh, c);
+    if (std::none_of(verts.begin(), verts.end(), [&](int v) {
+          for (int d = 0; d < dim; ++d)
+            if (touches(dim * v + d)) return true;
+          return false;
+        }))
+      continue;
+    cell_stiffness(mesh, c, materials.lame(mesh.region(c)), stabilization, K);
+    local.resize(dim * static_cast<Eigen::Index>(verts.size()));
+    for (std::size_t k = 0; k < verts.size(); ++k)
+      for (int d = 0; d < dim; ++d) local(dim * static_cast<Eigen::Index>(k) + d) = local_of(dim * verts[k] + d);
+    const Eigen::VectorXd Kl = K * local;
+    for (std::size_t k = 0; k < verts.size(); ++k)
+      for (int d = 0; d < dim; ++d) add(dim * verts[k] + d, Kl(dim * static_cast<Eigen::Index>(k) + d));
+  }
+}
+
+template <int dim>
+Eigen::VectorXd apply_of(const MeshOf<dim>& mesh, const MaterialTable& materials, Stabilization stabilization,
+                         const Eigen::VectorXd& u, const std::vector<char>& rows) {
+  if (u.size() != dim * mesh.num_vertices() || rows.size() != static_cast<std::size_t>(u.size()))
+    throw InputError("displacement vector has " + std::to_string(u.size()) + " entries and " +
+                     std::to_string(rows.size()) + " rows are selected, expected " +
+                     std::to_string(dim * mesh.num_vertices()));
+  Eigen::VectorXd Ku = Eigen::VectorXd::Zero(u.size());
+  const auto row = [&](int d) { return rows[static_cast<std::size_t>(d)] != 0; };
+  apply_cells<dim>(
+      mesh, materials, stabilization, row, [&](int d) { return u(d); },
+      [&](int d, double value) {
+        if (row(d)) Ku(d) += value;
+      });
+  return Ku;
+}
+
+template <int dim>
+DofMap dof_map_of(const MeshOf<dim>& mesh, const std::vector<BasicDirichletCondition<dim>>& dirichlet) {
+  const int ndof = dim * mesh.num_vertices();
+  Eigen::VectorXd prescribed = Eigen::VectorXd::Zero(ndof);
+  std::vector<char> fixed(static_cast<std::size_t>(ndof), 0);
+  for (const auto& bc : dirichlet)
+    for (int id : bc.facets) {
+      if (id < 0 || id >= mesh.num_facets())
+        throw InputError(std::string("Dirichlet ") + facet_word<dim>() + " id " + std::to_string(id) + " out of range");
+      for (int v : mesh.facet_vertices(id)) {
+        const PointOf<dim> value = bc.value ? bc.value(mesh.vertex(v)) : PointOf<dim>::Zero();
+        for (int c = 0; c < dim; ++c) {
+          if (!bc.fix[static_cast<std::size_t>(c)]) continue;
+          fixed[static_cast<std::size_t>(dim * v + c)] = 1;
+          prescribed(dim * v + c) = value(c);
+        }
+      }
+    }
+  return detail::dof_map_of(std::move(fixed), std::move(prescribed));
+}
+
+/// InputError, before any assembly, when no facet has a prescribed displacement or their
+/// measure is zero.
+template <int dim>
+void require_held(const BasicElasticityProblem<dim>& problem) {
+  double held = 0.0;
+  std::size_t held_facets = 0;
+  for (const auto& bc : problem.dirichlet) {
+    held_facets += bc.facets.size();
+    for (int id : bc.facets)
+      if (id >= 0 && id < problem.mesh->num_facets()) held += facet_measure(*problem.mesh, id);
+  }
+  if (held_facets == 0)
+    throw InputError(std::string("the body is not held: no boundary ") + facet_word<dim>() +
+                     " has a prescribed displacement (Gamma_1 is empty)");
+  if (!(held > 0.0))
+    throw InputError(std::string("the body is not held: the boundary with prescribed displacement (Gamma_1) has zero ") +
+                     (dim == 2 ? "length" : "area"));
+}
+
+template <int dim>
+LinearSystem assemble_of(const BasicElasticityProblem<dim>& problem) {
+  if (!problem.mesh) throw InputError("the elasticity problem has no mesh");
+  const MeshOf<dim>& mesh = *problem.mesh;
+  require_held(problem);
+  LinearSystem sys;
+  sys.dofs = make_dof_map(mesh, problem.dirichlet);
+  const Eigen::VectorXd f = assemble_load(mesh, problem.body_force, problem.tractions);
+  // A = K restricted to the free dofs and b = (f - K u_prescribed) on them, added cell by cell
+  // into A's pattern (from the mesh) in the numbering of the free dofs: no global K, no
+  // selection products, no triplets
+  sys.b.resize(sys.dofs.num_free());
+  for (int i = 0; i < sys.dofs.num_free(); ++i) sys.b(i) = f(sys.dofs.free_dofs[static_cast<std::size_t>(i)]);
+  {
+    SparseMatrix A = pattern<dim>(mesh, sys.dofs.free_index, sys.dofs.num_free());
+    sys.A.swap(A);  // no copy (SparseMatrix has no move assignment)
+  }
+  for_each_cell_matrix<dim>(mesh, problem.materials, problem.stabilization, detail::FreeSystemAssembler{sys});
+  return sys;
+}
+
+template <int dim>
+Eigen::VectorXd rhs_of(const BasicElasticityProblem<dim>& problem, const DofMap& dofs) {
+  if (!problem.mesh) throw InputError("the elasticity problem has no mesh");
+  const MeshOf<dim>& mesh = *problem.mesh;
+  if (dofs.num_dofs() != dim * mesh.num_vertices())
+    throw InputError("a dof map of " + std::to_string(dofs.num_dofs()) + " dofs for a mesh of " +
+                     std::to_string(dim * mesh.num_vertices()));
+  const Eigen::VectorXd f = assemble_load(mesh, problem.body_force, problem.tractions);
+  Eigen::VectorXd b(dofs.num_free());
+  for (int i = 0; i < dofs.num_free(); ++i) b(i) = f(dofs.free_dofs[static_cast<std::size_t>(i)]);
+  const auto lifted = [&](int d) { return dofs.prescribed(d) != 0.0; };
+  apply_cells<dim>(
+      mesh, problem.materials, problem.stabilization, lifted,
+      [&](int d) { return dofs.free_index[static_cast<std::size_t>(d)] < 0 ? dofs.prescribed(d) : 0.0; },
+      [&](int d, double value) {
+        if (const int fi = dofs.free_index[static_cast<std::size_t>(d)]; fi >= 0) b(fi) -= value;
+      });
+  return b;
+}
+
+}  // namespace
+
+SparseMatrix assemble_stiffness(const Mesh& mesh, const MaterialTable& materials, Stabilization stabilization) {
+  return stiffness_of<2>(mesh, materials, stabilization);
+}
+SparseMatrix assemble_stiffness(const Mesh3D& mesh, const MaterialTable& materials, Stabilization stabilization) {
+  return stiffness_of<3>(mesh, materials, stabilization);
+}
+
+Eigen::VectorXd apply_stiffness(const Mesh& mesh, const MaterialTable& materials, Stabilization stabilization,
+                                const Eigen::VectorXd& u, const std::vector<char>& rows) {
+  return apply_of<2>(mesh, materials, stabilization, u, rows);
+}
+Eigen::VectorXd apply_stiffness(const Mesh3D& mesh, const MaterialTable& materials, Stabilization stabilization,
+                                const Eigen::VectorXd& u, const std::vector<char>& rows) {
+  return apply_of<3>(mesh, materials, stabilization, u, rows);
+}
+
+DofMap make_dof_map(const Mesh& mesh, const std::vector<DirichletCondition>& dirichlet) {
+  return dof_map_of<2>(mesh, dirichlet);
+}
+DofMap make_dof_map(const Mesh3D& mesh, const std::vector<DirichletCondition3D>& dirichlet) {
+  return dof_map_of<3>(mesh, dirichlet);
+}
+
+LinearSystem assemble(const ElasticityProblem& problem) { return assemble_of<2>(problem); }
+LinearSystem assemble(const ElasticityProblem3D& problem) { return assemble_of<3>(problem); }
+
+Eigen::VectorXd assemble_rhs(const ElasticityProblem& problem, const DofMap& dofs) { return rhs_of<2>(problem, dofs); }
+Eigen::VectorXd assemble_rhs(const ElasticityProblem3D& problem, const DofMap& dofs) { return rhs_of<3>(problem, dofs); }
+
+}  // namespace hemivem
