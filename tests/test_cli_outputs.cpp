@@ -2,6 +2,7 @@
 // real VTK reader) and the gnuplot figures.
 #include <hemivem/app/outputs.hpp>
 #include <hemivem/app/figures.hpp>
+#include <hemivem/app/vtu.hpp>
 #include "test_support.hpp"
 
 #include <hemivem/contact/solver.hpp>
@@ -416,6 +417,41 @@ TEST(OutputStress, PlaneStrainVonMisesIncludesSigmaZz) {
   }
 }
 
+TEST_F(Outputs, CellStressesOfAPlaneAreItsElementStresses) {
+  // solution.vtu's stress and von_mises of a plane are element_stresses', bit for bit
+  const Solved& s = solved();
+  const auto elements = element_stresses(s.mesh, s.problem.elasticity.materials, s.solution.u);
+  const std::vector<CellStress> cells = cell_stresses(s.mesh, s.problem.elasticity.materials, s.solution.u);
+  ASSERT_EQ(cells.size(), elements.size());
+  for (std::size_t e = 0; e < cells.size(); ++e) {
+    EXPECT_EQ(cells[e].xx, elements[e].xx);
+    EXPECT_EQ(cells[e].yy, elements[e].yy);
+    EXPECT_EQ(cells[e].zz, elements[e].zz);
+    EXPECT_EQ(cells[e].xy, elements[e].xy);
+    EXPECT_EQ(cells[e].yz, 0.0);
+    EXPECT_EQ(cells[e].xz, 0.0);
+    EXPECT_EQ(cells[e].von_mises(), elements[e].von_mises()) << e;
+  }
+  EXPECT_THROW((void)cell_stresses(s.mesh, s.problem.elasticity.materials, Eigen::VectorXd::Zero(3)), InputError);
+}
+
+TEST(OutputNames, EachDimensionKnowsItsOwnFilesAndBothShareTheRest) {
+  const std::vector<std::string>& plane = all_outputs(2);
+  const std::vector<std::string>& solid = all_outputs(3);
+  auto has = [](const std::vector<std::string>& names, const std::string& name) {
+    return std::find(names.begin(), names.end(), name) != names.end();
+  };
+  for (const char* both : {"result.json", "contact.csv", "displacement.csv", "history.csv", "solution.vtu", "scene.toml",
+                           "deformed.png", "path.json", "solution.pvd", "path.png"})
+    EXPECT_TRUE(has(plane, both) && has(solid, both)) << both;
+  for (const char* own : {"mesh.poly2d", "u_nu.png", "error.png", "mesh.png", "adapt.png"})
+    EXPECT_TRUE(has(plane, own) && !has(solid, own)) << own;
+  for (const char* own : {"contact-surface.vtu", "pressure.png"}) EXPECT_TRUE(has(solid, own) && !has(plane, own)) << own;
+  EXPECT_EQ(plane.front(), "result.json");
+  EXPECT_EQ(solid.back(), "path.png");
+  EXPECT_THROW((void)all_outputs(1), InputError);
+}
+
 TEST_F(Outputs, PlotsArePngsMadeByGnuplot) {
   if (!have_gnuplot()) GTEST_SKIP() << "gnuplot is not on PATH";
   const Solved& s = solved();
@@ -531,7 +567,7 @@ TEST_F(Outputs, MissingGnuplotSkipsThePlotsOnly) {
   EXPECT_TRUE(skipped("adapt.png", "not an adaptive solve"));
   for (const char* file : {"path.json", "path-contact.csv", "path-displacement.csv", "solution.pvd", "path.png"})
     EXPECT_TRUE(skipped(file, "not a loading path")) << file;
-  EXPECT_EQ(report.written.size(), all_outputs().size() - 10);
+  EXPECT_EQ(report.written.size(), all_outputs(2).size() - 10);
   for (const char* name : {"result.json", "contact.csv", "displacement.csv", "history.csv", "solution.vtu", "scene.toml"})
     EXPECT_TRUE(fs::exists(dir.path / "out" / name)) << name;
   EXPECT_FALSE(fs::exists(dir.path / "out" / "u_nu.png"));

@@ -1,8 +1,8 @@
 // Three-dimensional scenes (docs/reference/scenes.md, "Three-dimensional scenes"): what makes a
 // scene 3D, its keys as read, written back and refused, the problem build_problem<3> poses, and
 // solves of small 3D scenes through hemivem::app with their stresses, forces and outputs.
-#include <hemivem/app/outputs3d.hpp>
 #include <hemivem/app/solve3d.hpp>
+#include <hemivem/app/vtu.hpp>
 #include <hemivem/mesh/generators3d.hpp>
 #include <hemivem/mesh/gmsh3d.hpp>
 #include <hemivem/scene/mesh_files3d.hpp>
@@ -280,7 +280,7 @@ TEST(Scene3D, UniaxialPressureIsReproducedWithItsStresses) {
       const Vec3 exact(0.25 * 3.0 * x.x() / 10.0, 0.25 * 3.0 * x.y() / 10.0, -3.0 * x.z() / 10.0);
       EXPECT_LT((solved.solution.u.segment<3>(3 * v) - exact).norm(), 1e-12) << v;
     }
-    for (const auto& c : app::cell_stresses_3d(mesh, solved.built->problem.elasticity.materials, solved.solution.u)) {
+    for (const auto& c : app::cell_stresses(mesh, solved.built->problem.elasticity.materials, solved.solution.u)) {
       EXPECT_NEAR(c.zz, -3.0, 1e-11);
       for (double other : {c.xx, c.yy, c.yz, c.xz, c.xy}) EXPECT_NEAR(other, 0.0, 1e-11);
       EXPECT_NEAR(c.von_mises(), 3.0, 1e-11);

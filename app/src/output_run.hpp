@@ -16,7 +16,6 @@
 
 #include <hemivem/app/figures.hpp>
 #include <hemivem/app/outputs.hpp>
-#include <hemivem/app/outputs3d.hpp>
 #include <hemivem/app/vtu.hpp>
 #include <hemivem/app/text_writer.hpp>
 #include <hemivem/contact/solver.hpp>

@@ -1,39 +1,28 @@
+// The output folder of a solve of a plane or a solid body (outputs.hpp): result.json, the list
+// of outputs and the folder's transaction are written once for both dimensions; each has its
+// own files (a plane's mesh.poly2d, a solid's contact-surface.vtu) and figures.
 #include <hemivem/app/outputs.hpp>
-#include <hemivem/app/path.hpp>
 
 #include "output_run.hpp"
 #include "path_outputs.hpp"
 #include "result_json_common.hpp"
+
 #include <hemivem/app/figures.hpp>
-#include <hemivem/app/text_writer.hpp>
-#include <hemivem/app/vtu.hpp>
-
 #include <hemivem/app/format.hpp>
-#include <hemivem/uniqueness.hpp>
-
-#include <hemivem/support/atomic_file.hpp>
-#include <hemivem/support/output_folder.hpp>
-#include <hemivem/mesh/poly2d.hpp>
-#include <hemivem/vem/assembly.hpp>
+#include <hemivem/app/path.hpp>
+#include <hemivem/app/vtu.hpp>
 #include <hemivem/error.hpp>
+#include <hemivem/mesh/poly2d.hpp>
+#include <hemivem/support/output_folder.hpp>
 
-#include <algorithm>
-#include <cerrno>
-#include <cstring>
 #include <array>
-#include <atomic>
-#include <charconv>
-#include <cmath>
+#include <cerrno>
 #include <cstdlib>
-#include <fstream>
-#include <iomanip>
-#include <limits>
+#include <cstring>
 #include <ostream>
-#include <random>
-#include <set>
-#include <sstream>
-#include <string_view>
+#include <string>
 #include <system_error>
+#include <vector>
 
 #include <unistd.h>
 
@@ -45,20 +34,23 @@ namespace fs = std::filesystem;
 
 namespace {
 
-/// A number for JSON: non-finite values become null (JSON has no inf or NaN).
-
-
-
-nlohmann::json pair(const Vec2& v) { return {number(v.x()), number(v.y())}; }
+/// A point or vector of a result.json: its dim components (non-finite ones null).
+template <class Vector>
+nlohmann::json vector_json(const Vector& v) {
+  nlohmann::json out = nlohmann::json::array();
+  for (Eigen::Index c = 0; c < v.size(); ++c) out.push_back(number(v(c)));
+  return out;
+}
 
 /// result.json's "forces": the applied load, the reactions by part, the contact resultant and
 /// the relative residual of their balance.
-nlohmann::json forces_json(const ForceBalance& b) {
+template <class Vector>
+nlohmann::json forces_json(const BasicForceBalance<Vector>& b) {
   nlohmann::json reactions = nlohmann::json::object();
-  for (const auto& r : b.reactions) reactions[r.name] = pair(r.force);
-  return {{"applied", pair(b.applied)},
+  for (const auto& r : b.reactions) reactions[r.name] = vector_json(r.force);
+  return {{"applied", vector_json(b.applied)},
           {"reactions", std::move(reactions)},
-          {"contact", pair(b.contact)},
+          {"contact", vector_json(b.contact)},
           {"balance_residual", number(b.residual())}};
 }
 
@@ -76,30 +68,16 @@ Figure adapt_figure(const RunInfo& info) {
   return convergence_figure({adaptive}, "adaptive refinement: " + info.scene_name);
 }
 
-/// The plots of a solve (OutputRun::draw): those wanted, and the reason for each that cannot be
-/// made in `report`.
-void solve_figures(std::vector<Figure>& figures, const Mesh& mesh, const ContactSolution& solution, const RunInfo& info,
-                   const detail::OutputRun& run, OutputReport& report) {
-  auto want = [&run](const std::string& name) { return run.want(name); };
-  if (want("u_nu.png") && solution.contact.empty()) report.skipped.push_back("u_nu.png: no contact boundary");
-  if (want("u_nu.png") && !solution.contact.empty()) figures.push_back(u_nu_figure(mesh, solution, info));
-  if (want("deformed.png")) figures.push_back(deformed_figure(mesh, solution, info));
-  if (want("error.png") && !info.error_estimate) report.skipped.push_back("error.png: no error estimate");
-  if (want("error.png") && info.error_estimate)
-    figures.push_back(indicator_figure(mesh, info.error_estimate->indicators, info));
-  if (want("mesh.png"))
-    figures.push_back(mesh_figure(mesh, info, "mesh, " + std::to_string(mesh.num_elements()) + " elements"));
-  if (want("adapt.png") && info.adapt.is_null()) report.skipped.push_back("adapt.png: not an adaptive solve");
-  if (want("adapt.png") && !info.adapt.is_null()) figures.push_back(adapt_figure(info));
-  if (want("path.png") && !path_of<2>(info)) report.skipped.push_back("path.png: not a loading path");
-  if (want("path.png") && path_of<2>(info)) figures.push_back(path_figure(*path_of<2>(info), info));
+/// path.png of a run with a loading path of a body of dimension dim; without one the reason
+/// in `report`.
+template <int dim>
+void path_figures(std::vector<Figure>& figures, const RunInfo& info, const detail::OutputRun& run,
+                  OutputReport& report) {
+  if (run.want("path.png") && !path_of<dim>(info)) report.skipped.push_back("path.png: not a loading path");
+  if (run.want("path.png") && path_of<dim>(info)) figures.push_back(path_figure(*path_of<dim>(info), info));
 }
 
 }  // namespace
-
-bool has_tangential(const ContactSolution& s) {
-  return std::any_of(s.contact.begin(), s.contact.end(), [](const ContactNode& n) { return n.friction_state != FrictionState::none; });
-}
 
 std::vector<std::array<int, 2>> contact_lines(const Mesh& mesh, const ContactSolution& sol) {
   std::vector<char> on(static_cast<std::size_t>(mesh.num_vertices()), 0);
@@ -113,31 +91,48 @@ std::vector<std::array<int, 2>> contact_lines(const Mesh& mesh, const ContactSol
   return lines;
 }
 
-nlohmann::json result_json(const Mesh& mesh, const ContactSolution& s, const RunInfo& info) {
-  using nlohmann::json;
-  json j = detail::result_json_common(s, info, 2);
-  j["held_by_contact"] = s.held_by_contact;
-  j["condition_estimate"] = number(s.condition_estimate);
-  j["mesh"] = {{"description", info.mesh},
-               {"vertices", mesh.num_vertices()},
-               {"elements", mesh.num_elements()},
-               {"dofs", info.dofs >= 0 ? info.dofs : 2 * mesh.num_vertices()},
-               {"h", mesh.h()}};
-  const bool tangential = has_tangential(s);
-  json contact = json::array();
-  json friction_states = json::object();
+namespace {
+
+/// result.json's "mesh": how it was made, its size and h; a solid's also its faces.
+nlohmann::json mesh_json(const Mesh& mesh, const RunInfo& info) {
+  return {{"description", info.mesh},
+          {"vertices", mesh.num_vertices()},
+          {"elements", mesh.num_elements()},
+          {"dofs", info.dofs >= 0 ? info.dofs : 2 * mesh.num_vertices()},
+          {"h", mesh.h()}};
+}
+nlohmann::json mesh_json(const Mesh3D& mesh, const RunInfo& info) {
+  return {{"description", info.mesh},
+          {"vertices", mesh.num_vertices()},
+          {"elements", mesh.num_cells()},
+          {"faces", mesh.num_faces()},
+          {"dofs", info.dofs >= 0 ? info.dofs : 3 * mesh.num_vertices()},
+          {"h", mesh.h()}};
+}
+
+/// A contact node's position in result.json: a plane's "x" and "y", a solid's "x" [x, y, z].
+void put_position(nlohmann::json& node, const Vec2& x) {
+  node["x"] = x.x();
+  node["y"] = x.y();
+}
+void put_position(nlohmann::json& node, const Vec3& x) { node["x"] = vector_json(x); }
+
+/// result.json's "contact": one entry per contact node; with friction (tangential) its
+/// friction values, counted by state in `friction_states`.
+template <int dim>
+nlohmann::json contact_json(const BasicContactSolution<dim>& s, bool tangential, nlohmann::json& friction_states) {
+  nlohmann::json contact = nlohmann::json::array();
   for (const auto& n : s.contact) {
-    json node{{"vertex", n.vertex},
-              {"x", n.x.x()},
-              {"y", n.x.y()},
-              {"u_nu", number(n.u_nu)},
-              {"law_force", number(n.law_force)},
-              {"reaction", number(n.reaction)},
-              {"pressure", number(n.pressure())},
-              {"gap", number(n.gap)},
-              {"normal", {number(n.normal.x()), number(n.normal.y())}},
-              {"state", to_string(n.state)},
-              {"part", contact_part_name(s, n)}};
+    nlohmann::json node{{"vertex", n.vertex},
+                        {"u_nu", number(n.u_nu)},
+                        {"law_force", number(n.law_force)},
+                        {"reaction", number(n.reaction)},
+                        {"pressure", number(n.pressure())},
+                        {"gap", number(n.gap)},
+                        {"normal", vector_json(n.normal)},
+                        {"state", to_string(n.state)},
+                        {"part", contact_part_name(s, n)}};
+    put_position(node, n.x);
     if (tangential && n.friction_state != FrictionState::none) {
       node["u_tau"] = number(n.u_tau);
       node["friction_force"] = number(n.friction_force);
@@ -147,20 +142,50 @@ nlohmann::json result_json(const Mesh& mesh, const ContactSolution& s, const Run
     }
     contact.push_back(std::move(node));
   }
-  j["contact"] = std::move(contact);
-  j["friction"] = tangential ? json{{"law", info.friction_law.empty() ? json(nullptr) : json(info.friction_law)}, {"nodes", friction_states}} : json(nullptr);
-  const Vec2 force = s.contact_force();
-  j["contact_force"] = {number(force.x()), number(force.y())};
-  j["forces"] = forces_json(s.forces);
-  const ContactZone zone = contact_zone(s);
-  j["contact_zone"] = zone.nodes == 0 ? json(nullptr)
-                                      : json{{"nodes", zone.nodes},
-                                             {"length", number(zone.length)},
-                                             {"x", {number(zone.lower.x()), number(zone.upper.x())}},
-                                             {"y", {number(zone.lower.y()), number(zone.upper.y())}}};
-  j["adapt"] = info.adapt.is_null() ? json(nullptr) : info.adapt;
-  j["path"] = path_of<2>(info) ? path_summary_json(*path_of<2>(info)) : json(nullptr);
+  return contact;
+}
+
+/// result.json's "contact_zone": the nodes in compression, their length (a solid's area) and
+/// their bounding box; null without one.
+template <int dim>
+nlohmann::json contact_zone_json(const BasicContactSolution<dim>& s) {
+  static constexpr const char* axes[] = {"x", "y", "z"};
+  const BasicContactZone<dim> zone = contact_zone(s);
+  if (zone.nodes == 0) return nullptr;
+  nlohmann::json j{{"nodes", zone.nodes}, {dim == 2 ? "length" : "area", number(zone.length)}};
+  for (int c = 0; c < dim; ++c) j[axes[c]] = {number(zone.lower(c)), number(zone.upper(c))};
   return j;
+}
+
+template <class MeshType, int dim>
+nlohmann::json result_json_of(const MeshType& mesh, const BasicContactSolution<dim>& s, const RunInfo& info) {
+  using nlohmann::json;
+  json j = detail::result_json_common(s, info, dim);
+  j["held_by_contact"] = s.held_by_contact;
+  j["condition_estimate"] = number(s.condition_estimate);
+  j["mesh"] = mesh_json(mesh, info);
+  const bool tangential = has_tangential(s);
+  json friction_states = json::object();
+  j["contact"] = contact_json(s, tangential, friction_states);
+  j["friction"] = tangential ? json{{"law", info.friction_law.empty() ? json(nullptr) : json(info.friction_law)},
+                                    {"nodes", friction_states}}
+                             : json(nullptr);
+  j["contact_force"] = vector_json(s.contact_force());
+  j["forces"] = forces_json(s.forces);
+  j["contact_zone"] = contact_zone_json(s);
+  j["adapt"] = info.adapt.is_null() ? json(nullptr) : info.adapt;
+  j["path"] = path_of<dim>(info) ? path_summary_json(*path_of<dim>(info)) : json(nullptr);
+  return j;
+}
+
+}  // namespace
+
+nlohmann::json result_json(const Mesh& mesh, const ContactSolution& s, const RunInfo& info) {
+  return result_json_of(mesh, s, info);
+}
+
+nlohmann::json result_json(const Mesh3D& mesh, const ContactSolution3D& s, const RunInfo& info) {
+  return result_json_of(mesh, s, info);
 }
 
 nlohmann::json error_estimate_json(const ErrorEstimate& e) {
@@ -172,13 +197,29 @@ nlohmann::json error_estimate_json(const ErrorEstimate& e) {
           {"parts", std::move(parts)}};
 }
 
-const std::vector<std::string>& all_outputs() {
-  static const std::vector<std::string> names{"result.json",  "contact.csv",      "displacement.csv",      "history.csv",
-                                              "solution.vtu", "scene.toml",       "mesh.poly2d",           "u_nu.png",
-                                              "deformed.png", "error.png",        "mesh.png",              "adapt.png",
-                                              "path.json",    "path-contact.csv", "path-displacement.csv", "solution.pvd",
-                                              "path.png"};
-  return names;
+const std::vector<std::string>& all_outputs(int dim) {
+  // every name in the order a run writes it, with the dimensions that write it
+  struct Output {
+    const char* name;
+    bool plane, solid;
+  };
+  static constexpr Output outputs[] = {
+      {"result.json", true, true},      {"contact.csv", true, true},      {"displacement.csv", true, true},
+      {"history.csv", true, true},      {"solution.vtu", true, true},     {"contact-surface.vtu", false, true},
+      {"scene.toml", true, true},       {"mesh.poly2d", true, false},     {"u_nu.png", true, false},
+      {"deformed.png", true, true},     {"error.png", true, false},       {"mesh.png", true, false},
+      {"adapt.png", true, false},       {"pressure.png", false, true},    {"path.json", true, true},
+      {"path-contact.csv", true, true}, {"path-displacement.csv", true, true}, {"solution.pvd", true, true},
+      {"path.png", true, true}};
+  auto of = [](bool solid) {
+    std::vector<std::string> names;
+    for (const Output& o : outputs)
+      if (solid ? o.solid : o.plane) names.emplace_back(o.name);
+    return names;
+  };
+  static const std::vector<std::string> plane = of(false), solid = of(true);
+  if (dim != 2 && dim != 3) throw InputError("no outputs for a body of dimension " + std::to_string(dim));
+  return dim == 2 ? plane : solid;
 }
 
 namespace {
@@ -228,27 +269,85 @@ void check_output_folder(const fs::path& dir) {
     throw InputError("cannot make the output folder: cannot write into " + p.string() + ": " + why, dir.string());
 }
 
-OutputReport write_outputs(const fs::path& dir, const Mesh& mesh, const MaterialTable& materials,
-                           const ContactSolution& solution, const RunInfo& info, const std::vector<std::string>& wanted) {
-  detail::require_known_outputs(wanted, all_outputs(), "");
-  if (solution.u.size() != 2 * mesh.num_vertices())
+namespace {
+
+/// The figures of a plane's solve (OutputRun::draw): those wanted, and the reason for each that
+/// cannot be made in `report`.
+void solve_figures(std::vector<Figure>& figures, const Mesh& mesh, const ContactSolution& solution, const RunInfo& info,
+                   const std::vector<int>*, const detail::OutputRun& run, OutputReport& report) {
+  auto want = [&run](const std::string& name) { return run.want(name); };
+  if (want("u_nu.png") && solution.contact.empty()) report.skipped.push_back("u_nu.png: no contact boundary");
+  if (want("u_nu.png") && !solution.contact.empty()) figures.push_back(u_nu_figure(mesh, solution, info));
+  if (want("deformed.png")) figures.push_back(deformed_figure(mesh, solution, info));
+  if (want("error.png") && !info.error_estimate) report.skipped.push_back("error.png: no error estimate");
+  if (want("error.png") && info.error_estimate)
+    figures.push_back(indicator_figure(mesh, info.error_estimate->indicators, info));
+  if (want("mesh.png"))
+    figures.push_back(mesh_figure(mesh, info, "mesh, " + std::to_string(mesh.num_elements()) + " elements"));
+  if (want("adapt.png") && info.adapt.is_null()) report.skipped.push_back("adapt.png: not an adaptive solve");
+  if (want("adapt.png") && !info.adapt.is_null()) figures.push_back(adapt_figure(info));
+  path_figures<2>(figures, info, run, report);
+}
+
+/// The figures of a solid's solve: deformed.png, path.png, then pressure.png over the contact
+/// faces `faces`.
+void solve_figures(std::vector<Figure>& figures, const Mesh3D& mesh, const ContactSolution3D& solution,
+                   const RunInfo& info, const std::vector<int>* faces, const detail::OutputRun& run,
+                   OutputReport& report) {
+  if (run.want("pressure.png") && solution.contact.empty()) report.skipped.push_back("pressure.png: no contact boundary");
+  if (run.want("deformed.png")) figures.push_back(deformed_figure(mesh, solution, info));
+  path_figures<3>(figures, info, run, report);
+  if (run.want("pressure.png") && !solution.contact.empty())
+    figures.push_back(pressure_figure(mesh, *faces, solution, info));
+}
+
+/// The output folder of a solve of either dimension: the files every solve writes, a solid's
+/// contact-surface.vtu (over `contact_faces`), scene.toml, a plane's mesh.poly2d, the path's
+/// files and the figures, as one transaction.
+template <class MeshType, int dim>
+OutputReport write_outputs_of(const fs::path& dir, const MeshType& mesh, const MaterialTable& materials,
+                              const std::vector<int>* contact_faces, const BasicContactSolution<dim>& solution,
+                              const RunInfo& info, const std::vector<std::string>& wanted) {
+  detail::require_known_outputs(wanted, all_outputs(dim), dim == 3 ? " of a three-dimensional solve" : "");
+  if (solution.u.size() != dim * static_cast<Eigen::Index>(mesh.num_vertices()))
     throw InputError("the solution has " + std::to_string(solution.u.size()) + " values for " +
-                     std::to_string(mesh.num_vertices()) + " vertices");
-  // the folder changes at once, in commit(), or not at all; a solid's names and an earlier
-  // path's frames are ours too
-  const PathSolution* path = path_of<2>(info);
-  detail::OutputRun run(dir, all_outputs(), all_outputs_3d(), wanted, info, path ? frame_files(*path) : std::vector<std::string>());
+                     std::to_string(mesh.num_vertices()) + " vertices" + (dim == 3 ? " (3 per vertex)" : ""));
+  // the folder changes at once, in commit(), or not at all; the other dimension's names and an
+  // earlier path's frames are ours too
+  const BasicPathSolution<dim>* path = path_of<dim>(info);
+  detail::OutputRun run(dir, all_outputs(dim), all_outputs(5 - dim), wanted, info,
+                        path ? frame_files(*path) : std::vector<std::string>());
   auto result = [&](const RunInfo& listed) { return result_json(mesh, solution, listed); };
   detail::write_solve_files(run, mesh, materials, solution, info, result);
+  if constexpr (dim == 3)
+    run.write("contact-surface.vtu", [&](std::ostream& os) { write_contact_surface_vtu(os, mesh, *contact_faces, solution); });
   run.write("scene.toml", [&](std::ostream& os) { os << info.scene_toml; });
-  run.write("mesh.poly2d", [&](std::ostream& os) {
-    write_poly2d(os, mesh, {"the mesh of " + info.mesh, "regions and edge groups are not part of this format"});
+  if constexpr (dim == 2)
+    run.write("mesh.poly2d", [&](std::ostream& os) {
+      write_poly2d(os, mesh, {"the mesh of " + info.mesh, "regions and edge groups are not part of this format"});
+    });
+  write_path_files<MeshType, dim>(
+      run.transaction(), dir, mesh, path, [&run](const std::string& n) { return run.want(n); },
+      [&](std::ostream& os, const BasicContactSolution<dim>& frame) { write_vtu(os, mesh, materials, frame, nullptr); },
+      run.report());
+  // the figures: one that cannot be drawn is skipped with its reason, never an error
+  run.draw([&](std::vector<Figure>& figures) {
+    solve_figures(figures, mesh, solution, info, contact_faces, run, run.report());
   });
-  write_path_files<Mesh, 2>(run.transaction(), dir, mesh, path, [&run](const std::string& n) { return run.want(n); },
-                            [&](std::ostream& os, const ContactSolution& frame) { write_vtu(os, mesh, materials, frame, nullptr); },
-                            run.report());
-  run.draw([&](std::vector<Figure>& figures) { solve_figures(figures, mesh, solution, info, run, run.report()); });
   return run.finish(result);
+}
+
+}  // namespace
+
+OutputReport write_outputs(const fs::path& dir, const Mesh& mesh, const MaterialTable& materials,
+                           const ContactSolution& solution, const RunInfo& info, const std::vector<std::string>& wanted) {
+  return write_outputs_of(dir, mesh, materials, nullptr, solution, info, wanted);
+}
+
+OutputReport write_outputs(const fs::path& dir, const Mesh3D& mesh, const MaterialTable& materials,
+                           const std::vector<int>& contact_faces, const ContactSolution3D& solution,
+                           const RunInfo& info, const std::vector<std::string>& wanted) {
+  return write_outputs_of(dir, mesh, materials, &contact_faces, solution, info, wanted);
 }
 
 }  // namespace hemivem::app

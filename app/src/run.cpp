@@ -1,7 +1,7 @@
 // A scene run, whatever it holds (run.hpp).
 #include <hemivem/app/run.hpp>
 
-#include <hemivem/app/outputs3d.hpp>
+#include <hemivem/app/outputs.hpp>
 #include <hemivem/app/report.hpp>
 #include <hemivem/error.hpp>
 

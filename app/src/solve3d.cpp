@@ -1,7 +1,7 @@
 // A three-dimensional scene solved, written and reported (solve3d.hpp).
 #include <hemivem/app/solve3d.hpp>
 
-#include <hemivem/app/outputs3d.hpp>
+#include <hemivem/app/outputs.hpp>
 #include <hemivem/app/path.hpp>
 #include <hemivem/error.hpp>
 

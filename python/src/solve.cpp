@@ -20,7 +20,6 @@
 #include <hemivem/app/format.hpp>
 #include <hemivem/app/outputs.hpp>
 #include <hemivem/app/report.hpp>
-#include <hemivem/app/outputs3d.hpp>
 #include <hemivem/app/run.hpp>
 
 namespace hemivem::python {

@@ -1,5 +1,5 @@
-// Figures drawn with gnuplot: the one helper every command draws with (solve's u_nu.png and
-// deformed.png, study.png, bench.png), and the two figures of a solve.
+// Figures drawn with gnuplot: the one helper every command draws with (solve's figures,
+// study.png, bench.png), and the figures of a solve of a plane or a solid body.
 //
 // A Figure is a gnuplot script and the data files it reads. draw_figures runs gnuplot once
 // for several figures in a private temporary folder (the scripts' working folder, so they
@@ -14,8 +14,10 @@
 #include <string>
 #include <vector>
 
+#include <hemivem/contact/contact3d.hpp>
 #include <hemivem/contact/solver.hpp>
 #include <hemivem/mesh/mesh.hpp>
+#include <hemivem/mesh/mesh3d.hpp>
 
 #include <hemivem/app/outputs.hpp>
 
@@ -65,6 +67,17 @@ Figure u_nu_figure(const Mesh& mesh, const ContactSolution& solution, const RunI
 /// where u_nu = g (x_i + g_i nu_i, moved by the same magnification, so that a node touching
 /// it is drawn on it). With contact, the contact nodes.
 Figure deformed_figure(const Mesh& mesh, const ContactSolution& solution, const RunInfo& info);
+/// deformed.png of a solid: the boundary faces of the deformed body in perspective, filled with
+/// the colour of |u| (viridis), the displacement magnified so that its largest value is a tenth
+/// of the body's size (the title says by how much).
+Figure deformed_figure(const Mesh3D& mesh, const ContactSolution3D& solution, const RunInfo& info);
+
+/// pressure.png of a solid: the contact pressure over the contact faces `faces`, a colour map
+/// seen along the axis nearest to the contact nodes' mean normal (over x and y for a contact on
+/// a bottom or top face), each face filled from its nodes' pressures (0 at a node that is not a
+/// contact node); the solution must have contact nodes.
+Figure pressure_figure(const Mesh3D& mesh, const std::vector<int>& faces, const ContactSolution3D& solution,
+                       const RunInfo& info);
 
 /// error.png: the element error indicators eta_E of an error estimate, each element filled with
 /// its colour on a logarithmic viridis scale (the colour bar labelled "error indicator eta_E"),

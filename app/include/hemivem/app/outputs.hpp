@@ -1,6 +1,8 @@
-// The files a solve leaves in its output folder (schema and formats: docs/reference/outputs.md):
-// result.json, contact.csv, displacement.csv, history.csv, solution.vtu (vtu.hpp), scene.toml
-// and the gnuplot figures u_nu.png and deformed.png (figures.hpp).
+// The files a solve of a plane or a solid body leaves in its output folder (schema and formats:
+// docs/reference/outputs.md): result.json, contact.csv, displacement.csv, history.csv,
+// solution.vtu (vtu.hpp; a solid's also contact-surface.vtu), scene.toml and the gnuplot figures
+// (figures.hpp). One writer serves both dimensions; the plane and the solid each have their
+// overload of result_json and write_outputs.
 #pragma once
 
 #include <array>
@@ -13,12 +15,14 @@
 
 #include <nlohmann/json.hpp>
 
+#include <hemivem/contact/contact3d.hpp>
 #include <hemivem/contact/obstacle.hpp>
 #include <hemivem/contact/solver.hpp>
 #include <hemivem/path/path.hpp>
 #include <hemivem/estimate/error_estimate.hpp>
 #include <hemivem/vem/material.hpp>
 #include <hemivem/mesh/mesh.hpp>
+#include <hemivem/mesh/mesh3d.hpp>
 
 namespace hemivem::app {
 
@@ -70,10 +74,19 @@ nlohmann::json error_estimate_json(const ErrorEstimate& estimate);
 
 /// The result.json document ("schema": "hemivem-result/13", "dimension": 2).
 nlohmann::json result_json(const Mesh& mesh, const ContactSolution& solution, const RunInfo& info);
+/// The result.json document of a solid ("dimension": 3): the same keys, points and vectors with
+/// three components (contact[].x and contact[].normal [x, y, z]), mesh.faces, contact_zone with
+/// its area; adapt and friction null.
+nlohmann::json result_json(const Mesh3D& mesh, const ContactSolution3D& solution, const RunInfo& info);
 
 /// Whether the contact nodes carry a tangential displacement (friction or a bilateral
-/// constraint): contact.csv, result.json, solution.vtu and u_nu.png then show it.
-bool has_tangential(const ContactSolution& solution);
+/// constraint; never a solid's): contact.csv, result.json, solution.vtu and u_nu.png then show it.
+template <int dim>
+bool has_tangential(const BasicContactSolution<dim>& solution) {
+  for (const auto& n : solution.contact)
+    if (n.friction_state != FrictionState::none) return true;
+  return false;
+}
 
 /// The name of contact node n's part (solution.contact_parts; "contact" when it has none):
 /// contact.csv's part column (with several parts), result.json's "part", solution.vtu's
@@ -85,19 +98,16 @@ std::string contact_part_name(const BasicContactSolution<dim>& solution, const B
              : std::string("contact");
 }
 
-/// The names write_outputs knows, in the order it writes them: result.json, contact.csv,
-/// displacement.csv, history.csv, solution.vtu, scene.toml, mesh.poly2d (the mesh solved on),
-/// u_nu.png, deformed.png, error.png (the error indicators; with info.error_estimate),
-/// mesh.png (the mesh) and adapt.png (the estimate of each step against unknowns and time; with info.adapt);
-/// with info.path: path.json, path-contact.csv, path-displacement.csv, solution.pvd (and the
-/// frames' solution-NNNN.vtu, which it names) and path.png.
-const std::vector<std::string>& all_outputs();
-
-/// The names write_outputs knows (outputs3d.hpp), in the order it writes them: result.json,
-/// contact.csv, displacement.csv, history.csv, solution.vtu, contact-surface.vtu, scene.toml,
-/// deformed.png, pressure.png. A run of either dimension owns the names of both: it removes an
-/// earlier run's file of any of them that it did not write.
-const std::vector<std::string>& all_outputs_3d();
+/// The names write_outputs knows for a body of dimension `dim` (2 or 3), in the order it writes
+/// them. Both: result.json, contact.csv, displacement.csv, history.csv, solution.vtu, then a
+/// solid's contact-surface.vtu, scene.toml, a plane's mesh.poly2d (the mesh solved on), u_nu.png,
+/// both's deformed.png, a plane's error.png (the error indicators; with info.error_estimate),
+/// mesh.png (the mesh) and adapt.png (the estimate of each step against unknowns and time; with
+/// info.adapt), a solid's pressure.png, and with info.path: path.json, path-contact.csv,
+/// path-displacement.csv, solution.pvd (and the frames' solution-NNNN.vtu, which it names) and
+/// path.png. A run of either dimension owns the names of both: it removes an earlier run's file
+/// of any of them that it did not write. InputError for another dimension.
+const std::vector<std::string>& all_outputs(int dim);
 
 /// What write_outputs did.
 struct OutputReport {
@@ -111,17 +121,23 @@ struct OutputReport {
 /// InputError naming the folder otherwise.
 void check_output_folder(const std::filesystem::path& dir);
 
-/// Writes the `wanted` files (names from all_outputs()) into `dir`, creating it, as one
+/// Writes the `wanted` files (names from all_outputs(2)) into `dir`, creating it, as one
 /// transaction (OutputTransaction of hemivem/support/output_folder.hpp): the whole set is
 /// written beside `dir` with every write checked, then replaces the previous set at once; the
-/// names of all_outputs() (and all_outputs_3d()) this run did not write go, other files of `dir` stay. The plots are
-/// made by running gnuplot; when gnuplot is missing or fails they are skipped and listed in
-/// the report, never an error. Throws InputError for an unknown name (before writing
-/// anything), when another process is writing `dir` ("another hemivem run is writing DIR"),
-/// and for any I/O failure (WriteError: `dir` then keeps its previous set); never prints.
+/// names of all_outputs(2) and all_outputs(3) this run did not write go, other files of `dir`
+/// stay. The plots are made by running gnuplot; when gnuplot is missing or fails they are
+/// skipped and listed in the report, never an error. Throws InputError for an unknown name
+/// (before writing anything), a solution whose size does not match the mesh, when another
+/// process is writing `dir` ("another hemivem run is writing DIR"), and for any I/O failure
+/// (WriteError: `dir` then keeps its previous set); never prints.
 OutputReport write_outputs(const std::filesystem::path& dir, const Mesh& mesh, const MaterialTable& materials,
                            const ContactSolution& solution, const RunInfo& info,
-                           const std::vector<std::string>& wanted = all_outputs());
+                           const std::vector<std::string>& wanted = all_outputs(2));
+/// The same for a solid: the names of all_outputs(3), contact-surface.vtu and pressure.png
+/// showing the contact faces `contact_faces`.
+OutputReport write_outputs(const std::filesystem::path& dir, const Mesh3D& mesh, const MaterialTable& materials,
+                           const std::vector<int>& contact_faces, const ContactSolution3D& solution,
+                           const RunInfo& info, const std::vector<std::string>& wanted = all_outputs(3));
 
 /// The boundary edges of Gamma_3 whose both ends are contact nodes, as vertex pairs (the line
 /// cells of solution.vtu, the contact boundary of deformed.png).

@@ -139,7 +139,7 @@ SceneSolve solve_scene(const Scene& scene,
 std::vector<std::string> wanted_files(const Scene& scene, bool has_contact);
 
 /// Writes what `hemivem solve --out dir` writes for a solve of `scene`: the files of
-/// wanted_files (or `files`, names of all_outputs(), when not null) through write_outputs,
+/// wanted_files (or `files`, names of all_outputs(2), when not null) through write_outputs,
 /// with run_info's record. Checks the folder first (check_output_folder). Never prints.
 OutputReport write_results(const std::filesystem::path& dir, const Scene& scene, const SceneSolve& solved,
                            const std::vector<std::string>* files = nullptr);

@@ -56,7 +56,7 @@ SceneSolve3D solve_scene_3d(const Scene& scene, SceneSolve3DOptions options = {}
 RunInfo run_info(const Scene& scene, const SceneSolve3D& solved);
 
 /// Writes what `hemivem solve --out dir` writes for a 3D solve: the files of wanted_files
-/// (or `files`, names of all_outputs_3d(), when not null) through write_outputs. Checks the
+/// (or `files`, names of all_outputs(3), when not null) through write_outputs. Checks the
 /// folder first (check_output_folder). Never prints.
 OutputReport write_results(const std::filesystem::path& dir, const Scene& scene, const SceneSolve3D& solved,
                            const std::vector<std::string>* files = nullptr);

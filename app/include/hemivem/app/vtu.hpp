@@ -1,6 +1,8 @@
-// solution.vtu: VTK's XML unstructured grid (docs/reference/outputs.md), every array in VTK's
-// binary form: zlib-compressed in blocks of 32 KiB, base64-encoded inline, UInt64 headers.
-// ParaView, VisIt and meshio read it.
+// solution.vtu (and a solid's contact-surface.vtu): VTK's XML unstructured grid
+// (docs/reference/outputs.md), every array in VTK's binary form: zlib-compressed in blocks of
+// 32 KiB, base64-encoded inline, UInt64 headers. ParaView, VisIt and meshio read it. One writer
+// serves plane and solid bodies; only the cells differ (polygons and the contact lines of a
+// plane, VTK_POLYHEDRON cells of a solid).
 #pragma once
 
 #include <cstdint>
@@ -8,9 +10,13 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
+#include <hemivem/contact/contact3d.hpp>
 #include <hemivem/contact/solver.hpp>
-#include <hemivem/vem/material.hpp>
 #include <hemivem/mesh/mesh.hpp>
+#include <hemivem/mesh/mesh3d.hpp>
+#include <hemivem/vem/material.hpp>
 
 namespace hemivem::app {
 
@@ -18,12 +24,43 @@ namespace hemivem::app {
 /// 4 slip-kinetic.
 std::uint8_t friction_state_code(FrictionState state);
 
-/// The mesh's polygons (then Gamma_3's edges as line cells when there is contact) with the
-/// displacement, the contact values at the contact nodes (with friction also u_tau, the
-/// friction traction and the state code), the projected stresses, the
-/// regions and the contact flag of each cell; with `indicators` (one per element) the error
-/// indicators eta_E as the cell field "error_indicator" (0 on the contact lines).
+/// The projected stress of a cell (solution.vtu's stress and von_mises) of a body of dimension
+/// dim: the stress of the projection Pi u_h, constant on the cell, with the material of the
+/// cell's region. A plane body's yz and xz are 0 and its zz is lambda (eps_xx + eps_yy) in
+/// plane strain, 0 in plane stress (element_stresses of hemivem/vem/stress.hpp); a solid's
+/// sigma = lambda tr(eps) I + 2 mu eps, eps the symmetric part of the projection's gradient.
+template <int dim>
+struct BasicCellStress {
+  double xx = 0.0, yy = 0.0, zz = 0.0, yz = 0.0, xz = 0.0, xy = 0.0;
+  /// sqrt(((xx - yy)^2 + (yy - zz)^2 + (zz - xx)^2) / 2 + 3 (yz^2 + xz^2 + xy^2)); a plane
+  /// cell's as sqrt(... + 3 xy^2).
+  double von_mises() const;
+};
+using CellStress = BasicCellStress<2>;
+/// The projected stress of each element of a plane mesh or cell of a solid one; InputError for
+/// a displacement whose size does not match the mesh (dim values per vertex).
+std::vector<CellStress> cell_stresses(const Mesh& mesh, const MaterialTable& materials, const Eigen::VectorXd& u);
+std::vector<BasicCellStress<3>> cell_stresses(const Mesh3D& mesh, const MaterialTable& materials,
+                                              const Eigen::VectorXd& u);
+
+/// The mesh's cells with the point data displacement (3 components) and, with contact, u_nu,
+/// pressure and gap (0 off the contact nodes), and the cell data stress (6 components in
+/// ParaView's symmetric-tensor order XX, YY, ZZ, XY, YZ, XZ), von_mises, region and, with
+/// `indicators` (one per cell), the error indicators eta_E as "error_indicator".
+/// A plane's cells are its polygons then Gamma_3's edges as line cells when there is contact
+/// (flagged by the cell data "contact", carrying zeros elsewhere); with several contact parts
+/// the point data contact_part, and with friction also u_tau, the friction traction and the
+/// state code.
 void write_vtu(std::ostream& stream, const Mesh& mesh, const MaterialTable& materials, const ContactSolution& solution,
                const std::vector<double>* indicators = nullptr);
+/// A solid's cells are VTK_POLYHEDRON (type 42, with the arrays `faces` and `faceoffsets`).
+void write_vtu(std::ostream& stream, const Mesh3D& mesh, const MaterialTable& materials,
+               const ContactSolution3D& solution, const std::vector<double>* indicators = nullptr);
+
+/// contact-surface.vtu: the contact faces `faces` of a solid as VTK_POLYGON cells on their own
+/// points, with the point data vertex (the id in the mesh), displacement, u_nu, pressure, gap
+/// and contact_node (1 at the contact nodes; the other points, prescribed ones, carry 0 values).
+void write_contact_surface_vtu(std::ostream& stream, const Mesh3D& mesh, const std::vector<int>& faces,
+                               const ContactSolution3D& solution);
 
 }  // namespace hemivem::app
