@@ -157,7 +157,7 @@ CheckResult run_check(const Scene& scene, const CheckOptions& o) {
   return r;
 }
 
-/// The report of `hemivem check --json` (schema hemivem-check/3).
+/// The report of `hemivem check --json` (schema hemivem-check/4).
 nlohmann::json check_json(const Scene& base, const CheckResult& result) {
   const std::vector<PairRun>& runs = result.runs;
   const CheckComparison& c = result.comparison;
