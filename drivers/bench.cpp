@@ -43,7 +43,7 @@ void print_refinement(std::ostream& out, const Refinement& r, const BenchOptions
         << " (the generator remade); adaptive not run: " << r.reason << "\n";
   else
     out << "\n  refinement study: " << r.engines << " on the scene's mesh refined uniformly " << times
-        << ", and adaptively (" << r.stopped << ")\n";
+        << (r.stopped == "not_run" ? ", adaptive not run" : ", and adaptively (" + r.stopped + ")") << "\n";
   out << "  reference energy: ";
   if (r.reference_energy) out << std::setprecision(10) << *r.reference_energy << " (" << r.reference << ")\n";
   else out << r.reference << "\n";
@@ -79,7 +79,8 @@ void print_bench(std::ostream& out, const BenchOptions& o, const app::BenchResul
   out << "\n  " << (base.dimension() == 3 ? "N: N x N x N cells; " : "")
       << "times in seconds; error = max|I_h u_h - u_ref| / max|u_ref| at the reference vertices\n";
   if (const nlohmann::json path = app::bench_path_json(base); !path.is_null())
-    out << "  a loading path of " << path["steps"].get<std::size_t>() << " step(s): " << path["measured"].get<std::string>()
+    out << "  a loading path of " << path["steps"].get<std::size_t>() << " step(s), measured at "
+        << path["measured"].get<std::string>()
         << "\n";
   out << "\n";
   out << std::left << std::setw(10) << "linear" << std::setw(18) << "minimizer" << std::right << std::setw(5) << "N"

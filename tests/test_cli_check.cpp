@@ -259,7 +259,7 @@ TEST(CliCheck, BenchRefusesAListWithABadEntryNamingTheFlagAndTheEntry) {
 
 TEST(CliCheck, CheckAndBenchRunACoulombPath) {
   const std::string scene = (hemivem::test::scenes_dir() / "friction-coulomb.toml").string();
-  const std::string path = " --set 'path.t=[0.5, 1.0, 1.5]'";
+  const std::string path = " --set 'path.t=[0.5, 1.0, 1.5]' --set mesh.n=4";
   const CommandRun c = run("check " + scene + " --n 4" + path + " --json");
   ASSERT_EQ(c.code, 0) << c.out << c.err;
   const auto j = nlohmann::json::parse(c.out);

@@ -119,7 +119,7 @@ def test_check_compares_a_coulomb_path_at_every_step_as_solve_path_solves_it():
     alone = hemivem.solve_path(COULOMB, t=[0.5, 1.0, 1.5], frames=3)
     for step, u in zip(alone.path, pair["path_displacements"]):
         scale = np.abs(step.displacement).max()
-        np.testing.assert_allclose(u, step.displacement, rtol=0, atol=1e-10 * scale)
+        np.testing.assert_allclose(u, step.displacement.reshape(-1), rtol=0, atol=1e-10 * scale)
     np.testing.assert_array_equal(pair["displacement"], pair["path_displacements"][-1])
 
 
