@@ -149,6 +149,25 @@ TEST(AppCheck, CoulombFrictionWithoutAPathIsTheOneStepPath) {
   EXPECT_LE(max_abs_of(r.runs[0].u - solo.plane()->solution.u), 1e-10 * max_abs_of(r.runs[0].u));
 }
 
+TEST(AppCheck, ASolidPathIsComparedAtEveryStep) {
+  Scene scene = parse_scene(test::scenes_dir() / "example-4.1-3d.toml");
+  apply_overrides(scene, {"mesh.n=[2, 1, 2]", "path.t=[0.5, 1.0]", "path.frames=2"});
+  CheckOptions o;
+  o.pairs = two_ssn_pairs();
+  const CheckResult r = run_check(scene, o);
+  EXPECT_EQ(r.outcome, CheckOutcome::agree) << r.verdict;
+  EXPECT_EQ(r.path_t, (std::vector<double>{0.5, 1.0}));
+  for (const PairRun& run : r.runs) {
+    ASSERT_EQ(run.path_u.size(), 2u) << run.pair.label();
+    const SceneRun solo = solve_with(scene, run.pair.linear, run.pair.minimizer);
+    ASSERT_TRUE(solo.solid() && solo.solid()->path);
+    for (std::size_t k = 0; k < 2; ++k) {
+      const Eigen::VectorXd& u = solo.solid()->path->steps[k].u;
+      EXPECT_LE(max_abs_of(run.path_u[k] - u), 1e-10 * max_abs_of(u)) << run.pair.label() << " " << k;
+    }
+  }
+}
+
 TEST(AppStudy, TheErrorIsTheEnergyOfTheProlongedDifferenceOfTwoSolves) {
   const Scene scene = small_plane(8);
   StudyOptions o;
