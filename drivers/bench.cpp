@@ -43,14 +43,14 @@ void print_refinement(std::ostream& out, const Refinement& r, const BenchOptions
         << " (the generator remade); adaptive not run: " << r.reason << "\n";
   else
     out << "\n  refinement study: " << r.engines << " on the scene's mesh refined uniformly " << times
-        << ", and adaptively (" << r.stopped << ")\n";
+        << (r.stopped == "not_run" ? ", adaptive not run" : ", and adaptively (" + r.stopped + ")") << "\n";
   out << "  reference energy: ";
   if (r.reference_energy) out << std::setprecision(10) << *r.reference_energy << " (" << r.reference << ")\n";
   else out << r.reference << "\n";
   if (r.below_reference > 0)
     out << "  warning: " << r.below_reference << " point" << (r.below_reference > 1 ? "s have" : " has")
-        << " a potential energy below the reference: the reference is too high (its true errors are 0 there "
-           "and too small elsewhere); give --reference-energy from a finer run\n";
+        << " a potential energy below the reference: the reference is too high (no true error there, and too "
+           "small ones elsewhere); give --reference-energy from a finer run\n";
   out << "  time: " << (r.method == "cells_doubled" ? "the level's solve" : "uniform the level's solve, adaptive since its start")
       << "; true error sqrt(Phi_h - Phi_ref) / ||u_h||_E\n\n";
   out << std::left << std::setw(10) << "kind" << std::right << std::setw(6) << "#" << std::setw(11) << "unknowns"
@@ -74,10 +74,15 @@ void print_bench(std::ostream& out, const BenchOptions& o, const app::BenchResul
   const int ref_n = *result.plan.options.ref;
   out << "hemivem bench: " << base.title << " (" << base.source << ")";
   if (result.plan.gridded)
-    out << "; reference " << ref.pair.label() << " on " << gridded_generator(base) << " n = " << ref_n << " ("
+    out << "; reference " << ref.pair.label() << " on " << base.mesh.generator << " n = " << ref_n << " ("
         << ref.run.status << ", " << fixed(ref.run.seconds, 3) << " s)";
   out << "\n  " << (base.dimension() == 3 ? "N: N x N x N cells; " : "")
-      << "times in seconds; error = max|I_h u_h - u_ref| / max|u_ref| at the reference vertices\n\n";
+      << "times in seconds; error = max|I_h u_h - u_ref| / max|u_ref| at the reference vertices\n";
+  if (const nlohmann::json path = app::bench_path_json(base); !path.is_null())
+    out << "  a loading path of " << path["steps"].get<std::size_t>() << " step(s), measured at "
+        << path["measured"].get<std::string>()
+        << "\n";
+  out << "\n";
   out << std::left << std::setw(10) << "linear" << std::setw(18) << "minimizer" << std::right << std::setw(5) << "N"
       << "  " << std::left << std::setw(16) << "status" << std::right;
   for (const char* h : {"mesh", "assembly", "condense", "minimize", "back-sub", "total"}) out << std::setw(10) << h;

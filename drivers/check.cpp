@@ -26,7 +26,11 @@ void print_check(std::ostream& out, const Scene& base, const app::CheckResult& r
       << (runs.empty() ? std::string() : ", " + std::to_string(runs.front().contact_nodes) + " contact nodes");
   out << "\n  tolerance " << sci(base.solver.tolerance) << ", agree " << sci(result.agree)
       << "; differences are max|u_a - u_b| / max|u_ref|, u_ref from eigen+ssn (max|u_ref| = " << sci(c.scale, 4)
-      << ")\n  " << c.margin_text
+      << ")\n  ";
+  if (!result.path_t.empty())
+    out << "a loading path of " << result.path_t.size()
+        << " steps: every pair solves every step and is compared at each; a difference is the largest over the steps\n  ";
+  out << c.margin_text
       << (c.unique ? ": the solution is unique, converged pairs must agree\n\n"
                    : ": several critical points are possible, differences between converged pairs are reported "
                      "but are not a disagreement\n\n");
@@ -50,6 +54,10 @@ void print_check(std::ostream& out, const Scene& base, const app::CheckResult& r
     for (std::size_t j = 0; j < np; ++j) out << std::setw(9) << (i == j ? std::string("-") : sci(c.diff[i][j], 1));
     out << "\n";
   }
+  if (!result.path_t.empty()) out << "\n  largest difference between converged pairs at each step\n";
+  for (std::size_t k = 0; k < result.path_t.size(); ++k)
+    out << "    step " << std::setw(3) << k + 1 << "  t = " << std::left << std::setw(10) << std::setprecision(6)
+        << result.path_t[k] << std::right << sci(c.step_max[k]) << "\n";
   out << "\n  verdict   " << result.verdict << "\n";
   for (const auto& r : runs)
     if (r.failed) out << "  failed    " << r.pair.label() << ": " << r.message << "\n";

@@ -4,6 +4,7 @@
 #include <hemivem/linear_backends.hpp>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -38,5 +39,28 @@ LaunchedProcesses launched_processes() {
 }
 
 bool reporting_process() { return launched_processes().rank == 0 && factorization_process_rank() == 0; }
+
+std::vector<int> parse_sizes(const std::string& text, const std::string& flag) {
+  std::vector<int> sizes;
+  std::size_t start = 0;
+  for (int place = 1;; ++place) {
+    const std::size_t comma = text.find(',', start);
+    std::string entry = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    entry.erase(0, entry.find_first_not_of(" \t"));
+    entry.erase(entry.find_last_not_of(" \t") + 1);
+    const std::string where = "entry " + std::to_string(place) + " of '" + text + "'";
+    if (entry.empty())
+      throw InputError(where + " is empty: give the sizes separated by single commas, e.g. 4,8,16", flag);
+    long long v = 0;
+    const auto [end, ec] = std::from_chars(entry.data(), entry.data() + entry.size(), v);
+    if (ec == std::errc::invalid_argument || end != entry.data() + entry.size())
+      throw InputError(where + ", '" + entry + "', is not an integer", flag);
+    if (ec == std::errc::result_out_of_range || v < 1 || v > 10000000)
+      throw InputError(where + ", " + entry + ", is not in [1, 10000000]", flag);
+    sizes.push_back(static_cast<int>(v));
+    if (comma == std::string::npos) return sizes;
+    start = comma + 1;
+  }
+}
 
 }  // namespace hemivem::cli

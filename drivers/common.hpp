@@ -5,6 +5,7 @@
 #include <functional>
 #include <iosfwd>
 #include <string>
+#include <vector>
 
 #include <hemivem/app/format.hpp>
 
@@ -38,5 +39,10 @@ LaunchedProcesses launched_processes();
 /// True on the process that prints and writes: rank 0 of the launcher and, once a mumps-mpi
 /// engine exists, of that engine.
 bool reporting_process();
+
+/// The mesh sizes of a comma-separated list such as "4,8,16" (a flag's value): InputError at
+/// `flag` naming the bad entry and its place when an entry is empty ("4,,8"), not an integer or
+/// not in [1, 10000000].
+std::vector<int> parse_sizes(const std::string& text, const std::string& flag);
 
 }  // namespace hemivem::cli

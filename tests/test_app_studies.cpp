@@ -9,12 +9,15 @@
 #include <hemivem/app/run.hpp>
 #include <hemivem/app/study.hpp>
 #include <hemivem/error.hpp>
+#include <hemivem/linear_backends.hpp>
 #include <hemivem/mesh/generators.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
 #include <hemivem/vem/bilinear.hpp>
 
 #include <cmath>
+#include <limits>
 #include <string>
+#include <vector>
 
 #include "test_support.hpp"
 
@@ -34,6 +37,22 @@ SceneRun solve_with(Scene scene, const std::string& linear, const std::string& m
 }
 
 double max_abs_of(const Eigen::VectorXd& v) { return v.cwiseAbs().maxCoeff(); }
+
+/// scenes/friction-coulomb.toml (Coulomb friction along a path: pressed, then sheared) on n x n
+/// squares, its path cut to t = 0.5, 1, 1.5, every step a frame (its displacement kept).
+Scene coulomb_path(int n) {
+  Scene s = parse_scene(test::scenes_dir() / "friction-coulomb.toml");
+  apply_overrides(s, {"mesh.n=" + std::to_string(n), "path.t=[0.5, 1.0, 1.5]", "path.frames=3"});
+  return s;
+}
+
+/// The linear engines to pair with ssn: eigen and one more when another was built.
+std::vector<Pair> two_ssn_pairs() {
+  std::vector<Pair> pairs{{"eigen", "ssn"}};
+  for (const auto& l : available_factorizations())
+    if (l != "eigen" && l != "mumps-mpi" && pairs.size() < 2) pairs.push_back({l, "ssn"});
+  return pairs;
+}
 
 
 TEST(AppCheck, TwoEnginesAgreeAndEachIsTheSolveOfItsPair) {
@@ -64,7 +83,7 @@ TEST(AppCheck, TwoEnginesAgreeAndEachIsTheSolveOfItsPair) {
   EXPECT_DOUBLE_EQ(r.comparison.diff[0][1], d);
   EXPECT_TRUE(r.comparison.unique);
   const nlohmann::json j = check_json(scene, r);
-  EXPECT_EQ(j["schema"], "hemivem-check/3");
+  EXPECT_EQ(j["schema"], "hemivem-check/4");
   EXPECT_EQ(j["exit_code"], 0);
   EXPECT_EQ(j["pairs"].size(), 2u);
   EXPECT_EQ(j["verdict"], r.verdict);
@@ -75,6 +94,78 @@ TEST(AppCheck, AnAgreeThatIsNotPositiveIsRefusedAtItsKey) {
   o.agree = 0.0;
   o.agree_key = "--agree";
   EXPECT_EQ(test::input_error_key([&] { (void)run_check(small_plane(4), o); }), "--agree");
+}
+
+TEST(AppCheck, ACoulombPathIsComparedAtEveryStepAndEachPairIsItsOwnPathSolve) {
+  const Scene scene = coulomb_path(6);
+  CheckOptions o;
+  o.pairs = two_ssn_pairs();
+  const CheckResult r = run_check(scene, o);
+  ASSERT_EQ(r.runs.size(), o.pairs.size());
+  EXPECT_EQ(r.path_t, (std::vector<double>{0.5, 1.0, 1.5}));
+  EXPECT_EQ(r.outcome, CheckOutcome::agree) << r.verdict;
+  for (const PairRun& run : r.runs) {
+    ASSERT_TRUE(run.converged) << run.pair.label() << ": " << run.message;
+    ASSERT_EQ(run.path_u.size(), 3u);
+    // every step is the step of the same path solved through run_scene with the pair's engines
+    const SceneRun solo = solve_with(scene, run.pair.linear, run.pair.minimizer);
+    ASSERT_TRUE(solo.converged());
+    ASSERT_TRUE(solo.plane()->path);
+    const auto& steps = solo.plane()->path->steps;
+    ASSERT_EQ(steps.size(), 3u);
+    for (std::size_t k = 0; k < 3; ++k)
+      EXPECT_LE(max_abs_of(run.path_u[k] - steps[k].u), 1e-10 * max_abs_of(steps[k].u)) << run.pair.label() << " " << k;
+    EXPECT_NEAR(run.energy, solo.plane()->solution.energy, 1e-10 * std::abs(run.energy));
+    EXPECT_GT(run.stick, -1);  // friction states are reported
+  }
+  // the difference of two pairs is the largest over the steps, each step's by hand
+  if (r.runs.size() == 2) {
+    double largest = 0.0, scale = 0.0;
+    for (std::size_t k = 0; k < 3; ++k) {
+      largest = std::max(largest, max_abs_of(r.runs[0].path_u[k] - r.runs[1].path_u[k]));
+      scale = std::max(scale, max_abs_of(r.runs[0].path_u[k]));
+    }
+    EXPECT_DOUBLE_EQ(r.comparison.scale, scale);
+    EXPECT_DOUBLE_EQ(r.comparison.diff[0][1], largest / scale);
+    ASSERT_EQ(r.comparison.step_max.size(), 3u);
+    EXPECT_DOUBLE_EQ(r.comparison.step_max[2], max_abs_of(r.runs[0].path_u[2] - r.runs[1].path_u[2]) / scale);
+  }
+  const nlohmann::json j = check_json(scene, r);
+  ASSERT_TRUE(j["path"].is_object()) << j.dump(2);
+  EXPECT_EQ(j["path"]["steps"].size(), 3u);
+  EXPECT_EQ(j["path"]["steps"][1]["t"], 1.0);
+}
+
+TEST(AppCheck, CoulombFrictionWithoutAPathIsTheOneStepPath) {
+  Scene scene = coulomb_path(4);
+  scene.path.reset();  // Coulomb friction alone: the one-step path t = 1
+  CheckOptions o;
+  o.pairs = {{"eigen", "ssn"}};
+  const CheckResult r = run_check(scene, o);
+  ASSERT_EQ(r.runs.size(), 1u);
+  ASSERT_TRUE(r.runs[0].converged) << r.runs[0].message;
+  EXPECT_EQ(r.path_t, std::vector<double>{1.0});
+  const SceneRun solo = solve_with(scene, "eigen", "ssn");
+  EXPECT_LE(max_abs_of(r.runs[0].u - solo.plane()->solution.u), 1e-10 * max_abs_of(r.runs[0].u));
+}
+
+TEST(AppCheck, ASolidPathIsComparedAtEveryStep) {
+  Scene scene = parse_scene(test::scenes_dir() / "example-4.1-3d.toml");
+  apply_overrides(scene, {"mesh.n=[2, 1, 2]", "path.t=[0.5, 1.0]", "path.frames=2"});
+  CheckOptions o;
+  o.pairs = two_ssn_pairs();
+  const CheckResult r = run_check(scene, o);
+  EXPECT_EQ(r.outcome, CheckOutcome::agree) << r.verdict;
+  EXPECT_EQ(r.path_t, (std::vector<double>{0.5, 1.0}));
+  for (const PairRun& run : r.runs) {
+    ASSERT_EQ(run.path_u.size(), 2u) << run.pair.label();
+    const SceneRun solo = solve_with(scene, run.pair.linear, run.pair.minimizer);
+    ASSERT_TRUE(solo.solid() && solo.solid()->path);
+    for (std::size_t k = 0; k < 2; ++k) {
+      const Eigen::VectorXd& u = solo.solid()->path->steps[k].u;
+      EXPECT_LE(max_abs_of(run.path_u[k] - u), 1e-10 * max_abs_of(u)) << run.pair.label() << " " << k;
+    }
+  }
 }
 
 TEST(AppStudy, TheErrorIsTheEnergyOfTheProlongedDifferenceOfTwoSolves) {
@@ -154,9 +245,100 @@ TEST(AppBench, ThePairOnTheReferenceMeshHasNoErrorAndACoarserOneHas) {
   EXPECT_EQ(r.refinement.uniform.size(), 2u);
   EXPECT_FALSE(r.refinement.reference_energy.has_value());  // Aitken needs three levels
   const nlohmann::json j = bench_json(r);
-  EXPECT_EQ(j["schema"], "hemivem-bench/4");
+  EXPECT_EQ(j["schema"], "hemivem-bench/5");
   EXPECT_EQ(j["rows"].size(), 2u);
   EXPECT_EQ(j["refinement"]["levels"], 1);
+}
+
+TEST(AppBench, APathIsBenchmarkedAtItsLastStep) {
+  BenchOptions o;
+  o.n = {4};
+  o.ref = 8;
+  o.levels = 1;
+  o.pairs = {{"eigen", "ssn"}};
+  const BenchResult r = run_bench(coulomb_path(4), o);
+  ASSERT_EQ(r.rows.size(), 1u);
+  ASSERT_TRUE(r.converged) << r.rows[0].run.message;
+  // the row and the reference are the last steps of the paths run_scene solves at n = 4 and 8
+  const SceneRun coarse = solve_with(coulomb_path(4), "eigen", "ssn");
+  const SceneRun fine = solve_with(coulomb_path(8), r.reference.pair.linear, r.reference.pair.minimizer);
+  EXPECT_LE(max_abs_of(r.rows[0].run.u - coarse.plane()->solution.u), 1e-10 * max_abs_of(r.rows[0].run.u));
+  EXPECT_LE(max_abs_of(r.reference.run.u - fine.plane()->solution.u), 1e-10 * r.reference.scale);
+  const Eigen::VectorXd at_fine = interpolate_squares(coarse.plane()->built->mesh, coarse.plane()->solution.u, 4,
+                                                      coulomb_path(4).mesh.domain, fine.plane()->built->mesh.vertices());
+  const double expected = max_abs_of(at_fine - fine.plane()->solution.u) / max_abs_of(fine.plane()->solution.u);
+  EXPECT_NEAR(r.rows[0].error, expected, 1e-8 * expected);
+  EXPECT_GT(r.rows[0].error, 0.0);
+  // the refinement study: level 0 is the scene's path, measured at its last step; no adaptive run
+  ASSERT_EQ(r.refinement.uniform.size(), 2u);
+  EXPECT_NEAR(r.refinement.uniform[0].potential_energy, coarse.plane()->solution.energy,
+              1e-10 * std::abs(coarse.plane()->solution.energy));
+  EXPECT_EQ(r.refinement.stopped, "not_run");
+  const nlohmann::json j = bench_json(r);
+  ASSERT_TRUE(j["path"].is_object());
+  EXPECT_EQ(j["path"]["steps"], 3);
+}
+
+TEST(AppBench, ATriangleMeshHasErrorsAgainstItsReference) {
+  Scene scene = small_plane(4);
+  apply_overrides(scene, {"mesh.generator=\"triangles\""});
+  BenchOptions o;
+  o.n = {4, 8};
+  o.ref = 8;
+  o.levels = 1;
+  o.pairs = {{"eigen", "ssn"}};
+  const BenchResult r = run_bench(scene, o);
+  EXPECT_TRUE(r.plan.gridded);
+  ASSERT_EQ(r.rows.size(), 2u);
+  EXPECT_LT(r.rows[1].error, 1e-8);  // the reference's own mesh
+  EXPECT_GT(r.rows[0].error, 1e-4);
+  EXPECT_TRUE(bench_json(r)["rows"][0]["error"].is_number());
+}
+
+TEST(AppBench, TriangleInterpolationIsExactForALinearField) {
+  const Mesh mesh = make_mesh("triangles", GridSize(3, 3), Rectangle{0.0, 1.0, 0.0, 1.0}, 0);
+  Eigen::VectorXd u(2 * mesh.num_vertices());
+  auto field = [](const Vec2& p) { return Vec2(0.3 + 2.0 * p.x() - p.y(), -1.0 + 0.5 * p.x() + 4.0 * p.y()); };
+  for (int v = 0; v < mesh.num_vertices(); ++v) u.segment<2>(2 * v) = field(mesh.vertex(v));
+  const std::vector<Vec2> points{{0.0, 0.0}, {1.0, 1.0}, {0.123, 0.877}, {0.5, 0.25}, {0.999, 0.001}, {0.4, 1.0}};
+  const Eigen::VectorXd at = interpolate_triangles(mesh, u, points);
+  for (std::size_t k = 0; k < points.size(); ++k)
+    EXPECT_LE((at.segment<2>(2 * static_cast<Eigen::Index>(k)) - field(points[k])).norm(), 1e-13) << k;
+  EXPECT_EQ(test::input_error_key([&] { (void)interpolate_triangles(mesh, u, {Vec2(1.5, 0.5)}); }), "bench");
+}
+
+TEST(AppBench, ARefSizeForAMeshWithoutErrorsIsRefusedAtItsKey) {
+  Scene scene = small_plane(4);
+  apply_overrides(scene, {"mesh.generator=\"voronoi\""});
+  BenchOptions o;
+  o.n = {4};
+  o.keys.ref = "--ref";
+  EXPECT_NO_THROW((void)plan_bench(scene, o));  // without --ref: no error is measured, and none is claimed
+  o.ref = 8;
+  EXPECT_EQ(test::input_error_key([&] { (void)plan_bench(scene, o); }), "--ref");
+}
+
+TEST(AppBench, AReferenceEnergyAboveALevelGivesThatLevelNoError) {
+  BenchOptions o;
+  o.n = {4};
+  o.ref = 4;
+  o.levels = 1;
+  o.pairs = {{"eigen", "ssn"}};
+  const BenchResult first = run_bench(small_plane(4), o);
+  const auto& levels = first.refinement.uniform;
+  ASSERT_EQ(levels.size(), 2u);
+  // between the two levels: above the finer one's energy (Phi_1 < Phi_0: refinement lowers it)
+  const double phi0 = levels[0].potential_energy, phi1 = levels[1].potential_energy;
+  ASSERT_LT(phi1, phi0);
+  o.reference_energy = 0.5 * (phi0 + phi1);
+  const BenchResult r = run_bench(small_plane(4), o);
+  const auto& u = r.refinement.uniform;
+  EXPECT_NEAR(u[0].energy_difference, phi0 - *o.reference_energy, 1e-12 * std::abs(phi0));
+  EXPECT_NEAR(u[0].error, std::sqrt(phi0 - *o.reference_energy) / u[0].norm, 1e-12);
+  EXPECT_LT(u[1].energy_difference, 0.0);
+  EXPECT_TRUE(std::isnan(u[1].error)) << u[1].error;  // not 0: the reference is above this level
+  EXPECT_GE(r.refinement.below_reference, 1);
+  EXPECT_TRUE(bench_json(r)["refinement"]["uniform"][1]["error"].is_null());
 }
 
 TEST(AppBench, ALevelThatIsNotPositiveIsRefusedAtItsKey) {

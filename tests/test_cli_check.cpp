@@ -48,7 +48,7 @@ TEST(CliCheck, EveryPairConvergesAndAgrees) {
   const CommandRun r = run("check --n 8 --json");
   ASSERT_EQ(r.code, 0) << r.out << r.err;
   const auto j = nlohmann::json::parse(r.out);
-  EXPECT_EQ(j["schema"], "hemivem-check/3");
+  EXPECT_EQ(j["schema"], "hemivem-check/4");
   ASSERT_GE(j["pairs"].size(), 1u);
   bool reference = false;
   for (const auto& p : j["pairs"]) {
@@ -113,7 +113,7 @@ TEST(CliCheck, BenchWritesOneRowPerPairAndSizeAndSsnErrorsDecrease) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(r.out.empty()) << r.out;  // -q
   const auto j = nlohmann::json::parse(slurp(out / "bench.json"));
-  EXPECT_EQ(j["schema"], "hemivem-bench/4");
+  EXPECT_EQ(j["schema"], "hemivem-bench/5");
   EXPECT_EQ(j["dimension"], 2);
   EXPECT_EQ(j["reference"]["n"], 16);
 
@@ -181,12 +181,16 @@ TEST(CliCheck, BenchRefinementStudyOnATriangleMesh) {
   const fs::path out = scratch("bench-refine");
   const std::string scene = (hemivem::test::scenes_dir() / "polygon-bracket.toml").string();
   const CommandRun r =
-      run("bench " + scene + " --n 4 --set mesh.n=6 --levels 2 --out " + out.string());
+      run("bench " + scene + " --n 4 --ref 8 --set mesh.n=6 --levels 2 --out " + out.string());
   ASSERT_EQ(r.code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("refinement study"), std::string::npos) << r.out;
   EXPECT_NE(r.err.find("hemivem bench: uniform level 2"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("hemivem bench: adaptive step 0"), std::string::npos) << r.err;
   const auto j = nlohmann::json::parse(slurp(out / "bench.json"));
+  // a triangle mesh has errors against its reference (on triangles n = --ref)
+  ASSERT_TRUE(j["reference"].is_object()) << j.dump(2);
+  EXPECT_EQ(j["reference"]["n"], 8);
+  for (const auto& row : j["rows"]) EXPECT_GT(row["error"].get<double>(), 0.0) << row;
   ASSERT_TRUE(j.contains("refinement")) << j.dump(2);
   const auto& f = j["refinement"];
   ASSERT_EQ(f["uniform"].size(), 3u);
@@ -209,7 +213,7 @@ TEST(CliCheck, BenchRefinementStudyOnATriangleMesh) {
   const double given = phi - 2e-2 * std::abs(phi);  // well below every point of the study
   std::ostringstream arg;
   arg << std::setprecision(17) << given;
-  const CommandRun g = run("bench " + scene + " --n 4 --set mesh.n=6 --levels 1 --reference-energy " + arg.str() +
+  const CommandRun g = run("bench " + scene + " --n 4 --ref 8 --set mesh.n=6 --levels 1 --reference-energy " + arg.str() +
                            " -q --out " + out.string());
   ASSERT_EQ(g.code, 0) << g.err;
   const auto k = nlohmann::json::parse(slurp(out / "bench.json"))["refinement"];
@@ -233,6 +237,45 @@ TEST(CliCheck, BenchRefusesLevelsBelowOne) {
     EXPECT_NE(r.err.find("--levels"), std::string::npos) << r.err;
   }
   EXPECT_FALSE(fs::exists(out / "bench.json"));
+  fs::remove_all(out);
+}
+
+TEST(CliCheck, BenchRefusesAListWithABadEntryNamingTheFlagAndTheEntry) {
+  const fs::path out = scratch("bench-list");
+  const CommandRun empty = run("bench --n 4,,8 --ref 8 --levels 1 --out " + out.string());
+  EXPECT_EQ(empty.code, 2) << empty.err;
+  EXPECT_NE(empty.err.find("--n"), std::string::npos) << empty.err;
+  EXPECT_NE(empty.err.find("entry 2 of '4,,8' is empty"), std::string::npos) << empty.err;
+  const CommandRun word = run("bench --n 4,x8 --ref 8 --levels 1 --out " + out.string());
+  EXPECT_EQ(word.code, 2);
+  EXPECT_NE(word.err.find("'x8'"), std::string::npos) << word.err;
+  for (const char* list : {"4,", ",4", "4,0"}) EXPECT_EQ(run(std::string("bench --n ") + list + " --out " + out.string()).code, 2) << list;
+  const CommandRun study = run("study --n 4,,8 --ref 16 --out " + out.string());
+  EXPECT_EQ(study.code, 2);
+  EXPECT_NE(study.err.find("entry 2"), std::string::npos) << study.err;
+  EXPECT_FALSE(fs::exists(out / "bench.json"));
+  fs::remove_all(out);
+}
+
+TEST(CliCheck, CheckAndBenchRunACoulombPath) {
+  const std::string scene = (hemivem::test::scenes_dir() / "friction-coulomb.toml").string();
+  const std::string path = " --set 'path.t=[0.5, 1.0, 1.5]' --set mesh.n=4";
+  const CommandRun c = run("check " + scene + " --n 4" + path + " --json");
+  ASSERT_EQ(c.code, 0) << c.out << c.err;
+  const auto j = nlohmann::json::parse(c.out);
+  ASSERT_EQ(j["path"]["steps"].size(), 3u) << j.dump(2);
+  EXPECT_EQ(j["path"]["compared"], "every step");
+  for (const auto& step : j["path"]["steps"]) EXPECT_LT(step["max_difference"].get<double>(), 1e-6) << step;
+  const CommandRun table = run("check " + scene + " --n 4" + path);
+  EXPECT_NE(table.out.find("a loading path of 3 steps"), std::string::npos) << table.out;
+
+  const fs::path out = scratch("bench-path");
+  const CommandRun b = run("bench " + scene + " --n 4 --ref 8 --levels 1" + path + " -q --out " + out.string());
+  ASSERT_EQ(b.code, 0) << b.err;
+  EXPECT_EQ(b.err.find("static problem"), std::string::npos) << b.err;
+  const auto k = nlohmann::json::parse(slurp(out / "bench.json"));
+  EXPECT_EQ(k["path"]["steps"], 3);
+  for (const auto& row : k["rows"]) EXPECT_TRUE(row["error"].is_number()) << row;
   fs::remove_all(out);
 }
 

@@ -9,13 +9,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <iomanip>
 #include <ostream>
 #include <sstream>
+#include <utility>
 
 #include <hemivem/app/adapt.hpp>
 #include <hemivem/app/figures.hpp>
 #include <hemivem/app/format.hpp>
+#include <hemivem/app/path.hpp>
 #include <hemivem/app/solve.hpp>
 #include <hemivem/app/solve3d.hpp>
 
@@ -32,7 +35,13 @@ double bench_stage(const PairRun& r, const std::string& name) {
   return it == r.timings.end() ? 0.0 : it->second;
 }
 
-std::string gridded_generator(const Scene& base) { return base.dimension() == 3 ? "cubes" : "squares"; }
+std::string gridded_generator(const Scene& base) { return base.dimension() == 3 ? "cubes" : "squares or triangles"; }
+
+bool measures_errors(const Scene& base) {
+  if (!base.mesh.file.empty()) return false;
+  const std::string& g = base.mesh.generator;
+  return base.dimension() == 3 ? g == "cubes" : g == "squares" || g == "triangles";
+}
 
 namespace {
 
@@ -122,6 +131,82 @@ Eigen::VectorXd interpolate_cubes(const Mesh3D& mesh, const Eigen::VectorXd& u, 
       for (int a = 0; a < 3; ++a) value[a] += w * u(3 * v + a);
     }
     for (int a = 0; a < 3; ++a) r(3 * static_cast<Eigen::Index>(k) + a) = value[a];
+  }
+  return r;
+}
+
+namespace {
+
+/// The triangles of a mesh in buckets of a uniform grid over its bounding box (each triangle in
+/// every bucket its bounding box meets), to find the triangle that holds a point.
+struct TriangleBuckets {
+  Rectangle box;
+  int m = 1;  ///< buckets per side
+  std::vector<std::vector<int>> cells;
+
+  explicit TriangleBuckets(const Mesh& mesh) : box(mesh.bounding_box()) {
+    m = std::max(1, static_cast<int>(std::sqrt(static_cast<double>(mesh.num_elements()))));
+    cells.resize(static_cast<std::size_t>(m * m));
+    for (int e = 0; e < mesh.num_elements(); ++e) {
+      const auto v = mesh.element(e);
+      const double inf = std::numeric_limits<double>::infinity();
+      double lo[2] = {inf, inf}, hi[2] = {-inf, -inf};
+      for (int k : v)
+        for (int a = 0; a < 2; ++a) lo[a] = std::min(lo[a], mesh.vertex(k)(a)), hi[a] = std::max(hi[a], mesh.vertex(k)(a));
+      const auto [i0, j0] = bucket(Vec2(lo[0], lo[1]));
+      const auto [i1, j1] = bucket(Vec2(hi[0], hi[1]));
+      for (int j = j0; j <= j1; ++j)
+        for (int i = i0; i <= i1; ++i) cells[static_cast<std::size_t>(j * m + i)].push_back(e);
+    }
+  }
+  std::pair<int, int> bucket(const Vec2& p) const {
+    const double fx = (p.x() - box.x0) / std::max(box.width(), 1e-300) * m;
+    const double fy = (p.y() - box.y0) / std::max(box.height(), 1e-300) * m;
+    return {std::clamp(static_cast<int>(std::floor(fx)), 0, m - 1), std::clamp(static_cast<int>(std::floor(fy)), 0, m - 1)};
+  }
+};
+
+/// The barycentric coordinates of `p` in triangle `e` of `mesh`.
+std::array<double, 3> barycentric(const Mesh& mesh, int e, const Vec2& p) {
+  const auto v = mesh.element(e);
+  const Vec2 a = mesh.vertex(v[0]), b = mesh.vertex(v[1]), c = mesh.vertex(v[2]);
+  const double det = (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
+  const double l1 = ((p - a).x() * (c - a).y() - (p - a).y() * (c - a).x()) / det;
+  const double l2 = ((b - a).x() * (p - a).y() - (b - a).y() * (p - a).x()) / det;
+  return {1.0 - l1 - l2, l1, l2};
+}
+
+}  // namespace
+
+Eigen::VectorXd interpolate_triangles(const Mesh& mesh, const Eigen::VectorXd& u, const std::vector<Vec2>& points) {
+  if (u.size() != 2 * static_cast<Eigen::Index>(mesh.num_vertices()))
+    throw InputError("the displacement has " + std::to_string(u.size()) + " entries for " +
+                         std::to_string(mesh.num_vertices()) + " vertices",
+                     "bench");
+  for (int e = 0; e < mesh.num_elements(); ++e)
+    if (mesh.element_size(e) != 3)
+      throw InputError("element " + std::to_string(e) + " has " + std::to_string(mesh.element_size(e)) +
+                           " vertices: not a triangle mesh",
+                       "bench");
+  const TriangleBuckets buckets(mesh);
+  Eigen::VectorXd r(2 * static_cast<Eigen::Index>(points.size()));
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const auto [i, j] = buckets.bucket(points[k]);
+    int best = -1;
+    std::array<double, 3> w{};
+    double inside = -std::numeric_limits<double>::infinity();  // the smallest barycentric coordinate of the best triangle
+    for (int e : buckets.cells[static_cast<std::size_t>(j * buckets.m + i)]) {
+      const auto l = barycentric(mesh, e, points[k]);
+      const double least = std::min({l[0], l[1], l[2]});
+      if (least > inside) inside = least, best = e, w = l;
+    }
+    if (best < 0 || inside < -1e-8)
+      throw InputError("the point (" + std::to_string(points[k].x()) + ", " + std::to_string(points[k].y()) +
+                           ") is outside the triangle mesh",
+                       "bench");
+    const auto v = mesh.element(best);
+    for (int c = 0; c < 2; ++c)
+      r(2 * static_cast<Eigen::Index>(k) + c) = w[0] * u(2 * v[0] + c) + w[1] * u(2 * v[1] + c) + w[2] * u(2 * v[2] + c);
   }
   return r;
 }
@@ -248,6 +333,7 @@ Refinement run_refinement(const Scene& base, const BenchOptions& o) {
   const auto& progress = o.progress.refinement;
   Refinement r;
   std::optional<Mesh> mesh;  // the previous level's mesh
+  const bool path = scene_is_path(base);  // each level solved along the path, its last step measured
   r.levels = *o.levels;
   for (int level = 0; level <= *o.levels; ++level) {
     app::SceneSolveOptions so;
@@ -256,7 +342,7 @@ Refinement run_refinement(const Scene& base, const BenchOptions& o) {
       so.apply_region_boxes = false;
       so.mesh_description = "the scene's mesh refined uniformly " + std::to_string(level) + " time" + (level > 1 ? "s" : "");
     }
-    app::SceneSolve s = app::solve_scene(base, std::move(so));
+    app::SceneSolve s = path ? app::solve_scene_path(base, std::move(so)) : app::solve_scene(base, std::move(so));
     if (level == 0) r.engines = s.linear + " + " + s.minimizer;
     r.uniform.push_back(uniform_point(s, level));
     r.all_converged &= r.uniform.back().converged;
@@ -265,7 +351,11 @@ Refinement run_refinement(const Scene& base, const BenchOptions& o) {
   }
 
   const RefinementPoint& finest = r.uniform.back();
-  if (std::isfinite(finest.estimate) && finest.estimate > 0.0 && finest.estimate < 1.0) {
+  if (path) {
+    r.stopped = "not_run";
+    r.reason = "adaptive refinement solves one static problem and the scene is a loading path: the uniform levels "
+               "are measured at the path's last step";
+  } else if (std::isfinite(finest.estimate) && finest.estimate > 0.0 && finest.estimate < 1.0) {
     SceneAdapt adapt;
     adapt.target = finest.estimate;
     adapt.fraction = 0.5;
@@ -361,8 +451,14 @@ void measure_true_errors(Refinement& r, const BenchOptions& o) {
     for (auto* list : {&r.uniform, &r.adaptive})
       for (RefinementPoint& p : *list) {
         if (!(std::isfinite(p.potential_energy) && std::isfinite(p.norm) && p.norm > 0.0)) continue;
-        if (p.potential_energy < *r.reference_energy) ++r.below_reference;
-        p.error = std::sqrt(std::max(p.potential_energy - *r.reference_energy, 0.0)) / p.norm;
+        // Phi_h(u_h) >= Phi(u) for a conforming minimization: a point below the reference says
+        // the reference is too high, and has no error (null, not 0) but its energy difference
+        p.energy_difference = p.potential_energy - *r.reference_energy;
+        if (p.energy_difference < 0.0) {
+          ++r.below_reference;
+          continue;
+        }
+        p.error = std::sqrt(p.energy_difference) / p.norm;
         if (p.error > 0.0 && std::isfinite(p.estimate)) p.effectivity = p.estimate / p.error;
       }
 }
@@ -375,6 +471,7 @@ nlohmann::json refinement_point_json(const RefinementPoint& p) {
           {"error", number(p.error)},
           {"effectivity", number(p.effectivity)},
           {"potential_energy", number(p.potential_energy)},
+          {"energy_difference", number(p.energy_difference)},
           {"status", p.status}};
 }
 
@@ -387,7 +484,9 @@ nlohmann::json refinement_json(const Refinement& r) {
   j["reference"] = r.reference;
   j["below_reference"] = r.below_reference;
   j["error_definition"] =
-      "sqrt(max(Phi_h(u_h) - Phi_ref, 0)) / ||u_h||_E, ||v||_E^2 = 1/2 a(v, v); effectivity = estimate / error";
+      "sqrt(Phi_h(u_h) - Phi_ref) / ||u_h||_E, ||v||_E^2 = 1/2 a(v, v), null where Phi_h(u_h) < Phi_ref (the "
+      "reference is then too high: energy_difference = Phi_h(u_h) - Phi_ref is negative); effectivity = estimate / "
+      "error";
   j["uniform"] = nlohmann::json::array();
   for (const auto& p : r.uniform) j["uniform"].push_back(refinement_point_json(p));
   nlohmann::json steps = nlohmann::json::array();
@@ -473,9 +572,11 @@ std::vector<BenchRow> run_sizes(const std::vector<Scene>& scenes, const std::vec
       row.run = std::move(shared.runs[p]);
       if (ref && !row.run.failed) {
         const Eigen::VectorXd fine =
-            shared.built3d ? interpolate_cubes(shared.built3d->mesh, row.run.u, scenes[k].mesh.cells3(),
-                                               scenes[k].mesh.box, ref->points3d)
-                           : interpolate_squares(shared.built->mesh, row.run.u, o.n[k], scenes[k].mesh.domain, ref->points);
+            shared.built3d                             ? interpolate_cubes(shared.built3d->mesh, row.run.u, scenes[k].mesh.cells3(),
+                                                                           scenes[k].mesh.box, ref->points3d)
+            : scenes[k].mesh.generator == "triangles" ? interpolate_triangles(shared.built->mesh, row.run.u, ref->points)
+                                                       : interpolate_squares(shared.built->mesh, row.run.u, o.n[k],
+                                                                             scenes[k].mesh.domain, ref->points);
         row.error = max_abs(fine - ref->run.u) / ref->scale;
       }
       all_converged &= row.run.converged;
@@ -547,12 +648,24 @@ void check_bench_sizes(const Scene& base, const std::vector<Scene>& scenes, cons
 
 }  // namespace
 
+nlohmann::json bench_path_json(const Scene& base) {
+  if (!scene_is_path(base)) return nullptr;
+  const std::vector<double> t = base.path ? base.path->factors() : std::vector<double>{1.0};
+  std::ostringstream last;
+  last << std::setprecision(10) << t.back();
+  return {{"steps", t.size()},
+          {"t", t},
+          {"measured", "the last step: every pair, the reference and every refinement level solve the whole path, and "
+                       "the displacement, error and energy are those of its last step (t = " +
+                           last.str() + "), the times those of the whole path"}};
+}
+
 nlohmann::json bench_json(const BenchResult& result) {
   const Scene& base = result.plan.base;
   const bool gridded = result.plan.gridded;
   const BenchReference& ref = result.reference;
   nlohmann::json j;
-  j["schema"] = "hemivem-bench/4";
+  j["schema"] = "hemivem-bench/5";
   j["version"] = HEMIVEM_VERSION;
   j["scene"] = base.title;
   j["source"] = base.source;
@@ -566,10 +679,16 @@ nlohmann::json bench_json(const BenchResult& result) {
         "max over the reference vertices and the three components of |I_h u_h - u_ref| / max|u_ref|, I_h the "
         "trilinear interpolation of the cubes solution (exact prolongation: the reference mesh is nested in every "
         "mesh, --ref a multiple of every --n)";
+  else if (base.mesh.generator == "triangles")
+    j["error_definition"] =
+        "max over the reference vertices and both components of |u_h - u_ref| / max|u_ref|, u_h evaluated at the "
+        "reference vertices by linear interpolation on its triangle (on triangles the lowest-order virtual element "
+        "space is the linear P1 space: the value of u_h itself; the meshes need not nest)";
   else
     j["error_definition"] =
         "max over the reference vertices and both components of |I_h u_h - u_ref| / max|u_ref|, "
         "I_h the bilinear interpolation of the squares solution (exact prolongation for nested meshes)";
+  j["path"] = bench_path_json(base);
   if (gridded)
     j["reference"] = {{"n", *result.plan.options.ref},
                       {"linear", ref.pair.linear},
@@ -621,7 +740,13 @@ BenchPlan plan_bench(const Scene& scene, const BenchOptions& given) {
   plan.options = bench_options_for(given, scene);
   BenchOptions& o = plan.options;
   for (int n : o.n) plan.scenes.push_back(at_size(scene, n));
-  plan.gridded = scene.mesh.file.empty() && scene.mesh.generator == gridded_generator(scene);
+  plan.gridded = measures_errors(scene);
+  if (!plan.gridded && given.ref)
+    throw InputError("errors are measured against a reference solution on " + gridded_generator(scene) +
+                         " meshes only, and the scene's mesh is " + scene.mesh.generator +
+                         ": no reference is solved; drop " + o.keys.ref + ", or set mesh.generator to " +
+                         (scene.dimension() == 3 ? std::string("cubes") : std::string("squares or triangles")),
+                     o.keys.ref);
   check_bench_sizes(scene, plan.scenes, o, plan.gridded);
   if (scene.dimension() == 3) plan.levels = refinement_levels_3d(scene, *o.levels, o.keys.levels);
   if (o.pairs.empty()) o.pairs = available_pairs();

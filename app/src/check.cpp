@@ -23,8 +23,14 @@ CheckComparison compare(const std::vector<PairRun>& runs, double agree) {
   c.diff.assign(np, std::vector<double>(np, nan));
   for (std::size_t i = 0; i < np; ++i)
     for (std::size_t j = 0; j < np; ++j)
-      if (!runs[i].failed && !runs[j].failed && runs[i].u.size() == runs[j].u.size())
-        c.diff[i][j] = max_abs(runs[i].u - runs[j].u) / c.scale;
+      if (!runs[i].failed && !runs[j].failed) c.diff[i][j] = max_difference(runs[i], runs[j]) / c.scale;
+  const std::size_t steps = np ? runs.front().path_u.size() : 0;
+  c.step_max.assign(steps, 0.0);
+  for (std::size_t k = 0; k < steps; ++k)
+    for (std::size_t i = 0; i < np; ++i)
+      for (std::size_t j = i + 1; j < np; ++j)
+        if (runs[i].converged && runs[j].converged)
+          c.step_max[k] = std::max(c.step_max[k], step_difference(runs[i], runs[j], k) / c.scale);
 
   // The uniqueness margin (the largest over the pairs: they agree to round-off). Where it is
   // not positive the problem may have several critical points, and converged pairs may
@@ -138,6 +144,12 @@ CheckResult run_check(const Scene& scene, const CheckOptions& o) {
   r.agree = o.agree;
   r.vertices = shared.vertices;
   r.runs = std::move(shared.runs);
+  if (shared.path)
+    for (const PairRun& run : r.runs)
+      if (!run.failed) {
+        r.path_t = run.path_t;
+        break;
+      }
   r.comparison = compare(r.runs, o.agree);
   r.energies = rank_energies(r.runs);
   r.outcome = outcome_of(r.comparison);
@@ -145,14 +157,14 @@ CheckResult run_check(const Scene& scene, const CheckOptions& o) {
   return r;
 }
 
-/// The report of `hemivem check --json` (schema hemivem-check/3).
+/// The report of `hemivem check --json` (schema hemivem-check/4).
 nlohmann::json check_json(const Scene& base, const CheckResult& result) {
   const std::vector<PairRun>& runs = result.runs;
   const CheckComparison& c = result.comparison;
   const CheckEnergies& e = result.energies;
   const std::size_t np = runs.size();
   nlohmann::json j;
-  j["schema"] = "hemivem-check/3";
+  j["schema"] = "hemivem-check/4";
   j["version"] = HEMIVEM_VERSION;
   j["scene"] = base.title;
   j["source"] = base.source;
@@ -176,6 +188,15 @@ nlohmann::json check_json(const Scene& base, const CheckResult& result) {
     m.push_back(jr);
   }
   j["differences"] = m;
+  if (!result.path_t.empty()) {
+    nlohmann::json steps = nlohmann::json::array();
+    for (std::size_t k = 0; k < result.path_t.size(); ++k)
+      steps.push_back({{"step", k + 1}, {"t", result.path_t[k]},
+                       {"max_difference", k < c.step_max.size() ? number(c.step_max[k]) : nlohmann::json(nullptr)}});
+    j["path"] = {{"compared", "every step"}, {"steps", steps}};
+  } else {
+    j["path"] = nullptr;
+  }
   j["max_difference"] = c.overall;
   j["agree_ok"] = !c.disagree;
   j["lowest_energy"] = e.lowest == np ? nlohmann::json(nullptr)

@@ -14,9 +14,14 @@
 #include <hemivem/linear_backends.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
 
+#include <hemivem/path/path.hpp>
+
 #include <hemivem/app/format.hpp>
+#include <hemivem/app/path.hpp>
 #include <hemivem/app/solve.hpp>
 #include <hemivem/app/solve3d.hpp>
+
+#include "scene_setup.hpp"
 
 namespace hemivem::app {
 
@@ -36,12 +41,32 @@ std::vector<Pair> available_pairs() {
 
 double max_abs(const Eigen::VectorXd& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; }
 
+double max_abs_u(const PairRun& r) {
+  double m = max_abs(r.u);
+  for (const auto& u : r.path_u) m = std::max(m, max_abs(u));
+  return m;
+}
+
+double step_difference(const PairRun& a, const PairRun& b, std::size_t k) {
+  if (k >= a.path_u.size() || k >= b.path_u.size() || a.path_u[k].size() != b.path_u[k].size())
+    return std::numeric_limits<double>::quiet_NaN();
+  return max_abs(a.path_u[k] - b.path_u[k]);
+}
+
+double max_difference(const PairRun& a, const PairRun& b) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  if (a.u.size() != b.u.size() || a.path_u.size() != b.path_u.size()) return nan;
+  double d = max_abs(a.u - b.u);
+  for (std::size_t k = 0; k < a.path_u.size(); ++k) d = std::max(d, step_difference(a, b, k));  // NaN stays NaN
+  return d;
+}
+
 double difference_scale(const std::vector<PairRun>& runs) {
   for (const auto& r : runs)
-    if (r.pair.linear == "eigen" && r.pair.minimizer == "ssn" && r.converged && max_abs(r.u) > 0.0) return max_abs(r.u);
+    if (r.pair.linear == "eigen" && r.pair.minimizer == "ssn" && r.converged && max_abs_u(r) > 0.0) return max_abs_u(r);
   double scale = 0.0;
   for (const auto& r : runs)
-    if (r.converged) scale = std::max(scale, max_abs(r.u));
+    if (r.converged) scale = std::max(scale, max_abs_u(r));
   return scale > 0.0 ? scale : 1.0;
 }
 
@@ -172,6 +197,69 @@ void run_engine_pairs(const std::string& linear, const std::vector<Pair>& pairs,
   }
 }
 
+/// The path of one pair into `r`: its last step as a static solve (record_solution), converged
+/// when every step is, with the status and message of the first step that is not, the
+/// iterations of every step, each step's t and displacement, and the path's own timings
+/// (minimize: every step's; back_substitution: every step's displacement).
+template <int dim>
+void record_path(PairRun& r, BasicPathSolution<dim>& path, const PairRuns& out, double tolerance) {
+  record_solution(r, path.last, out, nullptr, tolerance);
+  r.iterations = 0;
+  for (auto& step : path.steps) {
+    r.iterations += step.iterations;
+    r.path_t.push_back(step.t);
+    r.path_u.push_back(std::move(step.u));
+  }
+  const auto bad = std::find_if(path.steps.begin(), path.steps.end(), [](const auto& s) { return !s.converged(); });
+  if (bad != path.steps.end()) {
+    r.converged = false;
+    r.status = to_string(bad->status);
+    r.message = "step " + std::to_string(bad->index) + " (t = " + sci(bad->t, 3) + "): " + bad->message;
+  }
+  r.timings = path.timings;
+  r.timings["minimize"] = path.timings["path"];
+  r.timings["back_substitution"] = path.timings["frames"];
+  r.seconds = out.mesh_seconds + r.timings["total"];
+}
+
+/// Every pair along the scene's path, one after the other on `problem` (each path sets the
+/// problem to the t of each of its steps): each pair assembles and condenses it itself, every
+/// step is a frame (its displacement is kept). A NumericalError fails the pair; so does an
+/// InputError when the options say so, else it is thrown naming the scene's key.
+template <int dim>
+void run_path_pairs(const Scene& scene, BasicContactProblem<dim>& problem, const std::vector<Pair>& pairs,
+                    const PairEngines& engines, const MinimizerOptions& mo, const PairRunOptions& o, PairRuns& out) {
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    PairRun& r = out.runs[i];
+    r.pair = pairs[i];
+    r.mesh_seconds = out.mesh_seconds;
+    std::string failure;
+    try {
+      FactorizationOptions fo;
+      fo.engine = pairs[i].linear;
+      BasicPathOptions<dim> po;
+      po.minimizer = mo;
+      po.frame = [](int) { return true; };
+      BasicPathSolution<dim> path = solve_path(problem, make_factorization(fo), *engines.minimizers.at(pairs[i].minimizer),
+                                               scene_path_loading<dim>(scene), std::move(po));
+      ++out.assemblies;
+      ++out.condensations;
+      record_path(r, path, out, mo.tolerance);
+    } catch (const NumericalError& e) {
+      failure = e.what();
+    } catch (const InputError& e) {
+      if (!o.input_errors_fail_pairs) detail::rethrow_naming_scene_key(scene, e);
+      failure = e.what();
+    }
+    if (!failure.empty()) {
+      r.failed = true;
+      r.message = failure;
+      r.seconds = out.mesh_seconds;
+    }
+    if (o.done) o.done(r);
+  }
+}
+
 }  // namespace
 
 PairRuns run_pairs(const Scene& scene, const std::vector<Pair>& pairs, const PairRunOptions& o) {
@@ -180,7 +268,6 @@ PairRuns run_pairs(const Scene& scene, const std::vector<Pair>& pairs, const Pai
   mo.tolerance = scene.solver.tolerance;
   mo.max_iterations = scene.solver.max_iterations;
 
-  refuse_path(scene, "hemivem check");
   PairRuns out;
   const auto t_mesh = Clock::now();
   const bool solid = scene.dimension() == 3;
@@ -192,12 +279,17 @@ PairRuns run_pairs(const Scene& scene, const std::vector<Pair>& pairs, const Pai
     out.vertices = out.built->mesh.num_vertices();
   }
   out.mesh_seconds = since(t_mesh);
+  out.runs.resize(pairs.size());
+  out.path = scene_is_path(scene);
+  if (out.path) {
+    if (solid) run_path_pairs(scene, out.built3d->problem, pairs, engines, mo, o, out);
+    else run_path_pairs(scene, out.built->problem, pairs, engines, mo, o, out);
+    return out;
+  }
   const auto t_assembly = Clock::now();
   const LinearSystem system = solid ? assemble(out.built3d->problem.elasticity) : assemble(out.built->problem.elasticity);
   out.assembly_seconds = since(t_assembly);
   out.assemblies = 1;
-
-  out.runs.resize(pairs.size());
   for (const auto& linear : engines.linears) run_engine_pairs(linear, pairs, engines, system, mo, o, out);
   return out;
 }

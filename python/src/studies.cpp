@@ -90,7 +90,13 @@ py::object check(const py::object& scene_arg, double agree, std::optional<double
   py::dict d = to_dict(app::check_json(scene, r));
   d["differences"] = matrix(r.comparison.diff);
   py::list list = d["pairs"];
-  for (std::size_t i = 0; i < r.runs.size(); ++i) list[i]["displacement"] = copy(r.runs[i].u);
+  for (std::size_t i = 0; i < r.runs.size(); ++i) {
+    list[i]["displacement"] = copy(r.runs[i].u);
+    if (r.path_t.empty()) continue;
+    py::list steps;  // a loading path: the displacement of every step
+    for (const auto& u : r.runs[i].path_u) steps.append(copy(u));
+    list[i]["path_displacements"] = steps;
+  }
   return std::move(d);
 }
 
@@ -169,9 +175,12 @@ py::object limit(const py::object& scene_arg, const std::vector<int>& n, int rep
 }
 
 constexpr const char* kCheckDoc = R"doc(Solves a scene with every pair of engines and compares them, as `hemivem check --json`
-does (app::run_check): returns the dict of that report (schema hemivem-check/3: pairs,
+does (app::run_check): returns the dict of that report (schema hemivem-check/4: pairs,
 differences, uniqueness_margin, verdict, exit_code ...), with "differences" a NumPy matrix
 (NaN where a pair failed) and each pair's "displacement" (2 or 3 per vertex) a NumPy array.
+A loading path (a [path] table, or Coulomb friction) is solved by every pair along the whole
+path and compared at every step ("path": the steps, each with its largest difference); each
+pair's "path_displacements" lists every step's displacement, "displacement" being the last.
 
 scene: a Scene (default: Scene.default()), a path to a scene file or TOML text. agree: the
 largest relative difference of u accepted between converged pairs (--agree). tolerance:
@@ -189,7 +198,7 @@ the GIL; Ctrl-C is honoured after each solve.)doc";
 
 constexpr const char* kBenchDoc = R"doc(Every pair of engines timed against its error for several mesh sizes, and the refinement
 study, as `hemivem bench --json` (app::run_bench). Returns bench.json's dict (schema
-hemivem-bench/4). n, ref, levels, reference_energy, tolerance: as the flags --n, --ref,
+hemivem-bench/5; a loading path is measured at its last step, "path" says so). n, ref, levels, reference_energy, tolerance: as the flags --n, --ref,
 --levels, --reference-energy, --tol (None: the defaults of the scene's dimension). pairs: as
 for check. out: a folder to write bench.csv, bench.json, bench.png and bench-error.png into
 (the dict then names the plots, as the file does). Runs without the GIL; Ctrl-C is honoured

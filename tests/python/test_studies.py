@@ -22,7 +22,7 @@ def test_check_is_the_commands_check(run_command, small_scene):
     pairs = [("eigen", "ssn")] + [("eigen", m) for m in others[:1]]
     r = hemivem.check(small_scene, tolerance=1e-10, pairs=pairs)
     cmd = json.loads(run_command("check", "--n", "16", "--tol", "1e-10", "--json").stdout)
-    assert r["schema"] == cmd["schema"] == "hemivem-check/3"
+    assert r["schema"] == cmd["schema"] == "hemivem-check/4"
     assert r["unique"] and r["exit_code"] == 0
     by_label = {(p["linear"], p["minimizer"]): p for p in cmd["pairs"]}
     for p in r["pairs"]:
@@ -74,7 +74,7 @@ def test_bench_is_the_commands_bench(run_command, tmp_path):
     r = hemivem.bench(n=[4, 8], ref=16, levels=1, pairs=[("eigen", "ssn")])
     cmd = json.loads(run_command("bench", "--n", "4,8", "--ref", "16", "--levels", "1", "--out",
                                  tmp_path, "--json").stdout)
-    assert r["schema"] == cmd["schema"] == "hemivem-bench/4"
+    assert r["schema"] == cmd["schema"] == "hemivem-bench/5"
     rows = {(c["linear"], c["minimizer"], c["n"]): c for c in cmd["rows"]}
     assert len(r["rows"]) == 2
     for row in r["rows"]:
@@ -89,3 +89,42 @@ def test_bench_is_the_commands_bench(run_command, tmp_path):
         assert a["unknowns"] == b["unknowns"]
         assert same(a["potential_energy"], b["potential_energy"])
         assert same(a["estimate"], b["estimate"])
+
+
+COULOMB = """schema_version = 1
+[mesh]
+n = 4
+[clamped]
+side = ["left", "right"]
+[[loads.traction]]
+side = "top"
+value = ["4*max(t - 1, 0)", "-8*min(t, 1)"]
+[contact]
+side = "bottom"
+gap = 0.02
+[contact.friction]
+law = "coulomb"
+coefficient = 0.3
+[path]
+t = [0.5, 1.0, 1.5]
+frames = 3
+"""
+
+
+def test_check_compares_a_coulomb_path_at_every_step_as_solve_path_solves_it():
+    r = hemivem.check(COULOMB, pairs=[("eigen", "ssn")])
+    assert r["exit_code"] == 0, r["verdict"]
+    assert [s["t"] for s in r["path"]["steps"]] == [0.5, 1.0, 1.5]
+    pair = r["pairs"][0]
+    alone = hemivem.solve_path(COULOMB, t=[0.5, 1.0, 1.5], frames=3)
+    for step, u in zip(alone.path, pair["path_displacements"]):
+        scale = np.abs(step.displacement).max()
+        np.testing.assert_allclose(u, step.displacement.reshape(-1), rtol=0, atol=1e-10 * scale)
+    np.testing.assert_array_equal(pair["displacement"], pair["path_displacements"][-1])
+
+
+def test_bench_measures_a_coulomb_path_at_its_last_step():
+    r = hemivem.bench(COULOMB, n=[4], ref=8, levels=1, pairs=[("eigen", "ssn")])
+    assert r["path"]["steps"] == 3
+    assert r["rows"][0]["error"] > 0
+    assert r["refinement"]["adaptive"]["stopped"] == "not_run"

@@ -72,7 +72,9 @@ struct RefinementPoint {
   double estimate = std::numeric_limits<double>::quiet_NaN();  ///< relative estimate eta / ||u_h||_E
   double norm = std::numeric_limits<double>::quiet_NaN();      ///< ||u_h||_E
   double potential_energy = std::numeric_limits<double>::quiet_NaN();
-  double error = std::numeric_limits<double>::quiet_NaN();        ///< sqrt(max(Phi_h - Phi_ref, 0)) / ||u_h||_E
+  /// Phi_h - Phi_ref (NaN without a reference); negative: the reference is too high.
+  double energy_difference = std::numeric_limits<double>::quiet_NaN();
+  double error = std::numeric_limits<double>::quiet_NaN();        ///< sqrt(Phi_h - Phi_ref) / ||u_h||_E; NaN below the reference
   double effectivity = std::numeric_limits<double>::quiet_NaN();  ///< estimate / error
   std::string status;
   bool converged = false;
@@ -91,7 +93,7 @@ struct Refinement {
   std::string stopped, reason;
   std::optional<double> reference_energy;
   std::string reference;  ///< how the reference energy was obtained, or why there is none
-  int below_reference = 0;  ///< points whose potential energy is below the reference energy
+  int below_reference = 0;  ///< points whose potential energy is below the reference energy (their error is NaN)
   bool all_converged = true;
 };
 
@@ -99,10 +101,10 @@ struct Refinement {
 struct BenchRow {
   PairRun run;
   int n = 0;
-  double error = std::numeric_limits<double>::quiet_NaN();  ///< NaN: not defined (not squares or cubes)
+  double error = std::numeric_limits<double>::quiet_NaN();  ///< NaN: not defined (not squares, triangles or cubes)
 };
 
-/// The reference solution errors are measured against (on squares or cubes meshes only).
+/// The reference solution errors are measured against (on squares, triangles or cubes meshes only).
 struct BenchReference {
   Pair pair;
   PairRun run;
@@ -142,7 +144,7 @@ struct BenchPlan {
   BenchOptions options;      ///< n, ref, levels and pairs resolved
   std::vector<Scene> scenes;  ///< at each size of options.n
   std::vector<Scene> levels;  ///< 3D: the scene at each uniform level
-  bool gridded = false;       ///< the scene's mesh is squares (2D) or cubes (3D): errors are measured
+  bool gridded = false;       ///< the scene's mesh is squares or triangles (2D) or cubes (3D): errors are measured
 };
 
 /// The options that need no scene (sizes, ref, levels >= 1, a finite reference energy):
@@ -150,7 +152,8 @@ struct BenchPlan {
 void check_bench_options(const BenchOptions& options);
 
 /// Checks `options` against `scene` before any work (a mesh read from a file, sizes that do not
-/// nest or do not fit in memory are InputErrors) and resolves the defaults.
+/// nest or do not fit in memory, a reference size given for a mesh whose errors are not measured
+/// are InputErrors) and resolves the defaults. A loading path is benchmarked at its last step.
 BenchPlan plan_bench(const Scene& scene, const BenchOptions& options);
 
 struct BenchResult {
@@ -166,7 +169,11 @@ BenchResult run_bench(const BenchPlan& plan);
 /// plan_bench, then run_bench.
 BenchResult run_bench(const Scene& scene, const BenchOptions& options);
 
-/// bench.json (schema hemivem-bench/4) without the names of the plots (write_bench adds them).
+/// bench.json's "path": {steps, t, measured} of a loading path (scene_is_path), whose last
+/// step is what bench measures; null for a static scene.
+nlohmann::json bench_path_json(const Scene& scene);
+
+/// bench.json (schema hemivem-bench/5) without the names of the plots (write_bench adds them).
 nlohmann::json bench_json(const BenchResult& result);
 
 /// What write_bench wrote: bench.json's content as written, and why each plot was skipped
@@ -183,7 +190,15 @@ BenchFiles write_bench(const std::filesystem::path& dir, const BenchResult& resu
 /// back_substitution or total.
 double bench_stage(const PairRun& run, const std::string& name);
 
-/// The generator on whose meshes errors are measured: squares in 2D, cubes in 3D.
+/// The generators on whose meshes errors are measured, in words: "squares or triangles" in 2D,
+/// "cubes" in 3D.
 std::string gridded_generator(const Scene& scene);
+/// Whether bench measures the errors of `scene`: its mesh is made by one of those generators.
+bool measures_errors(const Scene& scene);
+
+/// The displacement of a triangle mesh (u: 2 per vertex) interpolated linearly at `points`
+/// (on triangles the lowest-order virtual element function is linear: its value there). Throws
+/// InputError when an element is not a triangle or a point is outside the mesh.
+Eigen::VectorXd interpolate_triangles(const Mesh& mesh, const Eigen::VectorXd& u, const std::vector<Vec2>& points);
 
 }  // namespace hemivem::app

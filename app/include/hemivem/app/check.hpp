@@ -25,11 +25,14 @@ struct CheckOptions {
   std::function<void(const PairRun&)> done;  ///< called as each pair is done
 };
 
-/// How the pairs compare: max|u_a - u_b| / scale between every two, the largest per pair and
-/// overall, and the uniqueness margin that says whether converged pairs must agree.
+/// How the pairs compare: max|u_a - u_b| / scale between every two (along a loading path the
+/// largest over its steps), the largest per pair and overall, and the uniqueness margin that
+/// says whether converged pairs must agree.
 struct CheckComparison {
   double scale = 0.0;                          ///< max|u| of eigen+ssn (else the largest converged pair; else 1)
   std::vector<std::vector<double>> diff;       ///< NaN where a pair failed
+  /// A loading path: per step, the largest difference between two converged pairs (/ scale).
+  std::vector<double> step_max;
   double margin = 0.0;                         ///< the largest uniqueness margin of the pairs (NaN: unknown)
   bool unique = false;                         ///< margin > 0: converged pairs must agree
   std::string margin_text;
@@ -56,6 +59,9 @@ std::string to_string(CheckOutcome outcome);
 struct CheckResult {
   double agree = 1e-6;
   int vertices = 0;                    ///< the vertices of the mesh every pair solved
+  /// A loading path (scene_is_path): the load factor of each step, at each of which the pairs
+  /// are compared; empty for a static scene.
+  std::vector<double> path_t;
   std::vector<PairRun> runs;           ///< in the order of the pairs
   CheckComparison comparison;
   CheckEnergies energies;
@@ -63,12 +69,12 @@ struct CheckResult {
   CheckOutcome outcome = CheckOutcome::agree;
 };
 
-/// Solves `scene` (plane or solid; its solver.tolerance for every pair) with every pair and
-/// compares them. Never prints. InputError (at options.agree_key) when agree is not positive,
+/// Solves `scene` (plane or solid, static or a loading path; its solver.tolerance for every
+/// pair) with every pair and compares them. Never prints. InputError (at options.agree_key) when agree is not positive,
 /// and for a scene that cannot be built or an unknown engine, before any work.
 CheckResult run_check(const Scene& scene, const CheckOptions& options = {});
 
-/// The report of `hemivem check --json` (schema hemivem-check/3) for `result` of `scene`.
+/// The report of `hemivem check --json` (schema hemivem-check/4) for `result` of `scene`.
 nlohmann::json check_json(const Scene& scene, const CheckResult& result);
 
 }  // namespace hemivem::app
