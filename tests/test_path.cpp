@@ -231,6 +231,34 @@ TEST(Path, AFixedPointThatDoesNotConvergeIsReported) {
   EXPECT_NE(s.message.find("fixed point"), std::string::npos) << s.message;
 }
 
+// A failed step in the middle of a path makes the path fail: its last solution carries the
+// failed step's status and names it, though every later step converged.
+TEST(Path, AFailedStepBeforeConvergedOnesFailsThePath) {
+  const Mesh mesh = make_squares(8);
+  const auto minimizer = make_minimizer("ssn");
+  ContactProblem p = example(mesh);
+  PathOptions options;
+  int finished = 0;
+  options.on_step = [&finished](const PathStep&) {
+    ++finished;
+    return true;
+  };
+  // step 2 jumps from t = 0.05 to t = 1 (a new contact zone); its first iteration is stopped
+  options.minimizer.callback = [&finished](const IterationRecord&) { return finished != 1; };
+  const PathSolution path = solve_path(p, engine(), *minimizer, PathLoading{{0.05, 1.0, 1.05, 1.1}, {}}, options);
+  ASSERT_EQ(path.steps.size(), 4u);
+  EXPECT_TRUE(path.steps[0].converged());
+  EXPECT_EQ(path.steps[1].status, MinimizerStatus::stopped_by_callback);
+  EXPECT_TRUE(path.steps[2].converged());
+  EXPECT_TRUE(path.steps[3].converged());
+  EXPECT_FALSE(path.converged());
+  EXPECT_EQ(path.last.status, MinimizerStatus::stopped_by_callback);
+  EXPECT_NE(path.last.message.find("step 2 (t = 1) did not converge"), std::string::npos) << path.last.message;
+  EXPECT_NE(path.last.message.find("the 2 steps after it"), std::string::npos) << path.last.message;
+  // the last step's own numbers are kept: its displacement is the last step's
+  EXPECT_EQ(path.last.u, path.steps[3].u);
+}
+
 // The bound h(u_nu) of a table: a constant table is Tresca's law with that bound.
 TEST(Path, AConstantBoundTableIsTresca) {
   const Mesh mesh = make_squares(10);

@@ -60,6 +60,22 @@ Elasticity scaled(const Elasticity& p, double s) {
   return q;
 }
 
+// The path's verdict is its first failure: when a step did not converge, the last solution
+// (what a run reports, its status and exit code) carries that step's status and says which step
+// it was and that the steps after it started from its uncertified state.
+template <int dim>
+void carry_first_failure(BasicPathSolution<dim>& out) {
+  const auto failed = std::find_if(out.steps.begin(), out.steps.end(), [](const auto& s) { return !s.converged(); });
+  if (failed == out.steps.end()) return;
+  std::ostringstream why;
+  why << "step " << failed->index << " (t = " << failed->t << ") did not converge: " << to_string(failed->status);
+  if (!failed->message.empty()) why << " (" << failed->message << ")";
+  if (const auto later = std::distance(failed, out.steps.end()) - 1; later > 0)
+    why << "; the " << later << (later == 1 ? " step" : " steps") << " after it started from its uncertified state";
+  if (out.last.converged()) out.last.status = failed->status;
+  out.last.message = why.str();
+}
+
 // The resultant of a vector of dim components per vertex.
 template <int dim>
 Eigen::Matrix<double, dim, 1> resultant(const Eigen::VectorXd& f) {
@@ -512,6 +528,7 @@ BasicPathSolution<dim> BasicPathSolver<dim>::run() {
     s.forces = force_balance(at_t, s.u, s.contact_force);
   }
   out.last = p.last_solution(out.steps.back(), p.last_result, p.last_shift);
+  carry_first_failure(out);
   p.timings["total"] = since(start);
   out.timings = p.timings;
   out.last.timings = p.timings;

@@ -125,7 +125,10 @@ template <int dim>
 struct BasicPathSolution {
   std::vector<BasicPathStep<dim>> steps;
   /// The last step as a static solve reports it (u, contact, energy, forces, certificate,
-  /// stages and timings of the whole path), for every output that reads a solve.
+  /// stages and timings of the whole path), for every output that reads a solve. When a step
+  /// did not converge, its status and message are the first such step's (its index, t, status
+  /// and why, and that the steps after it started from its uncertified state), so that the
+  /// path is never reported converged past a failed step.
   BasicContactSolution<dim> last;
   bool proportional = true;
   /// Seconds: assembly, condensation, path (every step), frames (their displacements), total.
@@ -150,7 +153,8 @@ Certificate friction_bound_certificate(const Certificate& tresca, const Eigen::V
 /// `problem` is changed by the loading's update and must outlive the solver, as must the
 /// minimizer. InputError for an unusable path (no step, t not increasing or not positive, an
 /// engine across processes) or problem; NumericalError when the factorization fails. A step
-/// that does not converge is reported, and the path goes on from it.
+/// that does not converge is reported, and the path goes on from it; the path then has not
+/// converged (BasicPathSolution::last carries that step's status).
 template <int dim>
 class BasicPathSolver {
  public:
