@@ -10,6 +10,7 @@
 #include <hemivem/mesh/generators.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -103,6 +104,34 @@ TEST(RunScene, APathRunsEveryStepAndEndsWhereTheStaticSolveIs) {
   EXPECT_NEAR(run.plane()->solution.energy, once.plane()->solution.energy,
               1e-9 * std::abs(once.plane()->solution.energy));
   EXPECT_NE(run.report().find("path"), std::string::npos);
+}
+
+// A path's frames cost an interior solve and memory each: computed only for a run that writes
+// them (displacement-csv, vtu); the last step always has its displacement, the same either way.
+TEST(RunScene, APathComputesFramesOnlyWhenAFileOfFramesIsWritten) {
+  Scene with = small_plane();
+  apply_overrides(with, {"path.steps=4", "output.write=[\"result-json\", \"displacement-csv\"]"});
+  Scene without = small_plane();
+  apply_overrides(without, {"path.steps=4", "output.write=[\"result-json\"]"});
+  const SceneRun a = run_scene(with);
+  const SceneRun b = run_scene(without);
+  ASSERT_NE(a.path(), nullptr);
+  ASSERT_NE(b.path(), nullptr);
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_GT(a.path()->steps[static_cast<std::size_t>(k)].u.size(), 0) << k;  // 4 steps, 100 frames: every step
+    EXPECT_EQ(b.path()->steps[static_cast<std::size_t>(k)].u.size() > 0, k == 3) << k;
+  }
+  EXPECT_EQ(a.plane()->solution.u, b.plane()->solution.u);
+  // a step's energy is that of its full displacement where it has one, else of its contact
+  // unknowns: the same number to round-off
+  EXPECT_NEAR(a.path()->steps[1].energy, b.path()->steps[1].energy, 1e-12 * std::abs(b.path()->steps[1].energy));
+  const auto listed = [](const SceneRun& r, const std::string& name) {
+    const auto files = r.wanted_files();
+    return std::find(files.begin(), files.end(), name) != files.end();
+  };
+  EXPECT_TRUE(listed(a, "path-displacement.csv"));
+  EXPECT_FALSE(listed(b, "path-displacement.csv"));
+  EXPECT_TRUE(listed(b, "path.json"));
 }
 
 TEST(RunScene, AnAdaptiveRunKeepsItsSequenceAndEndsOnTheFinalMesh) {

@@ -29,14 +29,21 @@ nlohmann::json vec(const Eigen::Matrix<double, dim, 1>& v) {
   return out;
 }
 
+bool wants(const Scene& scene, const char* output) {
+  return std::find(scene.outputs.begin(), scene.outputs.end(), output) != scene.outputs.end();
+}
+
 }  // namespace
+
+bool writes_frames(const Scene& scene) { return wants(scene, "displacement-csv") || wants(scene, "vtu"); }
 
 bool scene_is_path(const Scene& scene) { return scene.path.has_value() || bound_depends_on_normal(scene); }
 
 std::vector<std::string> path_files(const Scene& scene, bool has_contact) {
   if (!has_contact || !scene_is_path(scene)) return {};
-  std::vector<std::string> files{"path.json", "path-contact.csv", "path-displacement.csv"};
-  if (std::find(scene.outputs.begin(), scene.outputs.end(), "vtu") != scene.outputs.end()) files.push_back("solution.pvd");
+  std::vector<std::string> files{"path.json", "path-contact.csv"};
+  if (wants(scene, "displacement-csv")) files.push_back("path-displacement.csv");
+  if (wants(scene, "vtu")) files.push_back("solution.pvd");
   files.push_back("path.png");
   return files;
 }
@@ -65,7 +72,9 @@ void solve_path_built(const Scene& scene, SceneEngines& e, Solved& s,
     throw InputError("a loading path needs a contact boundary: the scene has none", scene.where("path"));
   BasicPathOptions<dim> po;
   po.minimizer = s.options;
-  if (scene.path) po.frame = [path = *scene.path](int k) { return path.is_frame(k); };
+  // a frame costs an interior solve and a displacement kept until the files are written: only
+  // for a run that writes them
+  if (scene.path && writes_frames(scene)) po.frame = [path = *scene.path](int k) { return path.is_frame(k); };
   if (on_step)
     po.on_step = [&](const BasicPathStep<dim>& step) {
       on_step(step);

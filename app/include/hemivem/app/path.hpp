@@ -22,9 +22,15 @@ namespace hemivem::app {
 bool scene_is_path(const Scene& scene);
 
 /// The files a path adds to the run's folder (wanted_files): path.json, path-contact.csv,
-/// path-displacement.csv, solution.pvd (with the output vtu) and path.png; none when the scene is
-/// not a path or has no contact.
+/// path-displacement.csv (with the output displacement-csv), solution.pvd (with the output vtu)
+/// and path.png; none when the scene is not a path or has no contact.
 std::vector<std::string> path_files(const Scene& scene, bool has_contact);
+
+/// Whether the scene's outputs hold a file of the path's frames (displacement-csv, vtu): only
+/// then are the frames' displacements computed ([path] frames), each at the cost of an interior
+/// solve and kept until the files are written; otherwise the last step alone has its
+/// displacement.
+bool writes_frames(const Scene& scene);
 
 /// The load factors of the scene's path (t = 1 alone without [path]) and, unless the scene is
 /// proportional (scene_is_proportional), the update that sets a problem built from it to t.
