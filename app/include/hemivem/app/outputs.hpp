@@ -114,6 +114,9 @@ struct OutputReport {
   std::vector<std::filesystem::path> written;  ///< files written, in order
   std::vector<std::string> skipped;            ///< "name: reason" for each wanted file not made (plots only)
   std::vector<std::string> removed;            ///< names of earlier runs' outputs this run did not write
+  /// The figures wanted that could not be drawn (gnuplot missing or failing), one sentence per
+  /// reason naming them; also in result.json's "warnings". The command prints them on stderr.
+  std::vector<std::string> warnings;
 };
 
 /// Checks, before any work, that `dir` can be the output folder: a folder that can be written
@@ -126,7 +129,8 @@ void check_output_folder(const std::filesystem::path& dir);
 /// written beside `dir` with every write checked, then replaces the previous set at once; the
 /// names of all_outputs(2) and all_outputs(3) this run did not write go, other files of `dir`
 /// stay. The plots are made by running gnuplot; when gnuplot is missing or fails they are
-/// skipped and listed in the report, never an error. Throws InputError for an unknown name
+/// skipped, listed in the report and warned of (OutputReport::warnings, result.json's
+/// "warnings"), never an error. Throws InputError for an unknown name
 /// (before writing anything), a solution whose size does not match the mesh, when another
 /// process is writing `dir` ("another hemivem run is writing DIR"), and for any I/O failure
 /// (WriteError: `dir` then keeps its previous set); never prints.
