@@ -47,7 +47,16 @@ struct RunInfo {
   std::vector<double> law_breakpoints;        ///< the contact law's breakpoints (u_nu values), for u_nu.png
   bool gap_bound = false;                     ///< u_nu <= g is a constraint: the plots draw the gap and foundation
   std::optional<Obstacle> obstacle;           ///< the rigid obstacle of the contact, drawn in deformed.png
-  std::string friction_law;                   ///< the friction law's name ("" without friction)
+  /// The friction models as a scene names them ("coulomb", "tresca", "slip-weakening",
+  /// "piecewise"; several: ", "-joined, each once; "" without friction): Coulomb's law is
+  /// "coulomb", though it is solved as Tresca problems with bounds set by a fixed point.
+  std::string friction_law;
+  /// The same with what sets each bound, for the summary: "coulomb (mu = 0.3)", "tresca (bound
+  /// table h(u_nu) of 2 points)", "tresca".
+  std::string friction_summary;
+  /// result.json's friction.models: per contact part with friction, {"part", "law", and
+  /// "coefficient" (coulomb) or "bound_table" (tresca with a table of [u_nu, h])}.
+  nlohmann::json friction_models = nlohmann::json::array();
   /// The estimate of the discretization error: result.json's "error_estimate", solution.vtu's
   /// "error_indicator", error.png; none: not made (null in result.json).
   std::optional<ErrorEstimate> error_estimate;
@@ -72,7 +81,7 @@ const BasicPathSolution<dim>* path_of(const RunInfo& info) {
 /// the stage "estimate" of the timings).
 nlohmann::json error_estimate_json(const ErrorEstimate& estimate);
 
-/// The result.json document ("schema": "hemivem-result/13", "dimension": 2).
+/// The result.json document ("schema": "hemivem-result/14", "dimension": 2).
 nlohmann::json result_json(const Mesh& mesh, const ContactSolution& solution, const RunInfo& info);
 /// The result.json document of a solid ("dimension": 3): the same keys, points and vectors with
 /// three components (contact[].x and contact[].normal [x, y, z]), mesh.faces, contact_zone with
