@@ -195,9 +195,12 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   RunInfo info = run.info();
   for (const auto& w : info.warnings) err << "hemivem: warning: " << w << "\n";
   const OutputReport report = run.write(o.out);
+  for (const auto& w : report.warnings) err << "hemivem: warning: " << w << "\n";  // a figure not drawn
   for (const auto& f : report.written) info.files.push_back(f.filename().string());
   if (o.json) {
-    out << run.result_json(info.files).dump(2) << "\n";
+    nlohmann::json j = run.result_json(info.files);
+    for (const auto& w : report.warnings) j["warnings"].push_back(w);  // as result.json records them
+    out << j.dump(2) << "\n";
   } else if (o.verbosity >= 1) {
     out << "hemivem solve: " << scene.title << " (" << scene.source << ")\n" << run.report(info);
     print_files(out, o, report);

@@ -122,7 +122,7 @@ TEST(FrictionCli, SolveWritesTheTangentialDisplacementForcesAndStates) {
   ASSERT_EQ(r.code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("friction      tresca: "), std::string::npos) << r.out;
   const auto j = nlohmann::json::parse(slurp(out / "result.json"));
-  EXPECT_EQ(j.at("schema"), "hemivem-result/13");
+  EXPECT_EQ(j.at("schema"), "hemivem-result/14");
   EXPECT_EQ(j.at("friction").at("law"), "tresca");
   const auto rows = read_csv(out / "contact.csv");
   ASSERT_EQ(rows.size(), j.at("contact").size());
@@ -199,6 +199,47 @@ TEST(FrictionCli, FrictionlessResultsSayNoFriction) {
   EXPECT_TRUE(j.at("friction").is_null());
   EXPECT_FALSE(j.at("contact")[0].contains("u_tau"));
   EXPECT_EQ(slurp(out / "contact.csv").find("u_tau"), std::string::npos);
+}
+
+// Coulomb's law is solved as Tresca problems of bound mu p set by a fixed point; every output
+// names the model the scene poses, with what sets its bound.
+TEST(FrictionCli, CoulombIsNamedCoulombWithItsCoefficient) {
+  const fs::path scene = scenes_dir() / "friction-coulomb.toml";
+  const Scene written = parse_scene(scene);
+  ASSERT_EQ(written.contact->friction->name, "coulomb");
+  const double mu = written.contact->friction->parameters.at("coefficient");
+  const fs::path out = scratch("friction-coulomb-named");
+  const CommandRun r = test::run_hemivem("solve " + scene.string() + " --n 8 --set 'path.t=[1.0, 2.0]' --out " +
+                                         out.string());
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  std::ostringstream line;
+  line << "friction      coulomb (mu = " << mu << "): ";
+  EXPECT_NE(r.out.find(line.str()), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("tresca"), std::string::npos) << r.out;
+  const auto j = nlohmann::json::parse(slurp(out / "result.json"));
+  EXPECT_EQ(j.at("friction").at("law"), "coulomb");
+  const nlohmann::json models = nlohmann::json::array(
+      {{{"part", contact_part_name(written, 0)}, {"law", "coulomb"}, {"coefficient", mu}}});
+  EXPECT_EQ(j.at("friction").at("models"), models);
+  EXPECT_EQ(slurp(out / "result.json").find("tresca"), std::string::npos);
+  fs::remove_all(out);
+}
+
+TEST(FrictionCli, ATrescaBoundTableIsNamedAsSuch) {
+  const fs::path out = scratch("friction-table-named");
+  const CommandRun r = test::run_hemivem(
+      "solve " + (scenes_dir() / "friction-coulomb.toml").string() +
+      " --n 8 --set 'path.t=[1.0, 2.0]' --set contact.friction.law=tresca --set contact.friction.coefficient= "
+      "--set 'contact.friction.bound=[[0, 1.5], [0.01, 0.5]]' --out " +
+      out.string());
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("friction      tresca (bound table h(u_nu) of 2 points): "), std::string::npos) << r.out;
+  const auto j = nlohmann::json::parse(slurp(out / "result.json"));
+  EXPECT_EQ(j.at("friction").at("law"), "tresca");
+  const nlohmann::json models = nlohmann::json::array(
+      {{{"part", "contact"}, {"law", "tresca"}, {"bound_table", {{0.0, 1.5}, {0.01, 0.5}}}}});
+  EXPECT_EQ(j.at("friction").at("models"), models);
+  fs::remove_all(out);
 }
 
 }  // namespace

@@ -8,8 +8,12 @@
 #include <hemivem/app/solve.hpp>
 #include <hemivem/scene/scene.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "test_support.hpp"
 
@@ -120,6 +124,47 @@ TEST(SolveContactConflicts, ARollerMeetingTheContactPartNamesTheContactsLine) {
       "roller.toml");
   const std::string m = input_error_of([&] { (void)app::solve_scene(s, {}, {}, nullptr, {}); });
   EXPECT_NE(m.find("roller.toml:13"), std::string::npos) << m;
+}
+
+// the shipped Example 4.1 with a roller added: replacing the array of [[dirichlet]] is reported
+std::filesystem::path scene_with_roller(const std::string& name) {
+  const auto dir = scratch(name);
+  std::filesystem::create_directories(dir);
+  const auto file = dir / "roller.toml";
+  std::ofstream(file) << test::slurp(test::scenes_dir() / "paper-example-4.1.toml")
+                      << "\n[[dirichlet]]\nside = \"left\"\nux = 0.0\n";
+  return file;
+}
+
+TEST(CliMessages, ReplacingAnArrayOfTablesIsAWarningOnStderrAndInResultJson) {
+  const auto scene = scene_with_roller("cli_replace_array");
+  const auto out = scratch("cli_replace_array_out");
+  const auto r = run_hemivem("solve " + scene.string() + " --n 4 --set 'dirichlet=[{side=\"right\", uy=0}]' --out " +
+                             out.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string notice =
+      "--set dirichlet replaced the whole array [[dirichlet]]: its 1 table by 1 (to add one table instead: --set "
+      "'dirichlet[+]={...}')";
+  EXPECT_NE(r.err.find("hemivem: warning: " + notice), std::string::npos) << r.err;
+  const auto j = nlohmann::json::parse(test::slurp(out / "result.json"));
+  const auto& w = j.at("warnings");
+  EXPECT_NE(std::find(w.begin(), w.end(), notice), w.end()) << w.dump();
+  const Scene resolved = parse_scene(out / "scene.toml");  // the scene solved, as written
+  ASSERT_EQ(resolved.dirichlet.size(), 1u);
+  EXPECT_EQ(resolved.dirichlet[0].boundary.sides, std::vector<std::string>{"right"});
+}
+
+TEST(CliMessages, AppendingATableKeepsTheScenesOwn) {
+  const auto scene = scene_with_roller("cli_append_array");
+  const auto out = scratch("cli_append_array_out");
+  const auto r = run_hemivem("solve " + scene.string() + " --n 4 --set 'dirichlet[+]={side=\"right\", uy=0}' --out " +
+                             out.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.err.find("replaced"), std::string::npos) << r.err;
+  const Scene resolved = parse_scene(out / "scene.toml");
+  ASSERT_EQ(resolved.dirichlet.size(), 2u);
+  EXPECT_EQ(resolved.dirichlet[0].boundary.sides, std::vector<std::string>{"left"});  // the file's roller
+  EXPECT_EQ(resolved.dirichlet[1].boundary.sides, std::vector<std::string>{"right"});
 }
 
 }  // namespace

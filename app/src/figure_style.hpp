@@ -19,7 +19,8 @@ std::string without_folders(const std::string& text);
 /// `text` cut to 160 bytes (at a character boundary of UTF-8) followed by "...", when longer.
 std::string cut_title(std::string text);
 
-/// `t` with its '"' and '\\' escaped, for a double-quoted gnuplot string.
+/// `t` with its '"' and '\\' escaped, a newline as \\n (a line break in the figure) and other
+/// control characters as spaces, for a double-quoted gnuplot string.
 std::string double_quoted_escape(const std::string& t);
 
 /// The title of a solve's figure as a gnuplot string: what it shows on the first line, the

@@ -15,6 +15,7 @@
 #include <sstream>
 #include <system_error>
 
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <hemivem/support/atomic_file.hpp>
@@ -327,7 +328,12 @@ std::string cut_title(std::string text) {
 /// scene and the mesh on the second (a long scene name would not fit on one).
 std::string double_quoted_escape(const std::string& t) {
   std::string r;
-  for (char c : t) r += (c == '"' || c == '\\') ? std::string("\\") + c : std::string(1, c);
+  for (char c : t) {
+    if (c == '"' || c == '\\') r += std::string("\\") + c;
+    else if (c == '\n') r += "\\n";  // a line break in the figure, not in the script
+    else if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) r += ' ';
+    else r += c;
+  }
   return r;
 }
 
@@ -342,7 +348,11 @@ std::string solve_title(const std::string& what, const RunInfo& info) {
 
 std::string gnuplot_quote(const std::string& s) {
   std::string r = "'";
-  for (char c : s) r += c == '\'' ? std::string("''") : std::string(1, c);
+  for (char c : s) {
+    if (c == '\'') r += "''";
+    else if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) r += ' ';  // a newline would end the command
+    else r += c;
+  }
   return r + "'";
 }
 
@@ -383,7 +393,8 @@ std::vector<std::string> draw_figures(const fs::path& dir, const std::vector<Fig
     std::ifstream in(log);
     std::string first_line;
     std::getline(in, first_line);
-    failure = "gnuplot failed (status " + std::to_string(rc) + ")" + (first_line.empty() ? "" : ": " + first_line);
+    const int status = rc > 0 && WIFEXITED(rc) ? WEXITSTATUS(rc) : rc;  // std::system's wait status
+    failure = "gnuplot failed (exit status " + std::to_string(status) + ")" + (first_line.empty() ? "" : ": " + first_line);
   }
   for (std::size_t i = 0; i < figures.size(); ++i) {
     const fs::path made = t / figures[i].png;

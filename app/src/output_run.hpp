@@ -116,8 +116,9 @@ class OutputRun {
   /// with its reason (make may also skip one in the report); a file that cannot be written is a
   /// WriteError.
   void draw(const std::function<void(std::vector<Figure>&)>& make);
-  /// result.json again when a file could not be made (it lists what was written), then the
-  /// commit: the folder holds exactly this run's outputs.
+  /// result.json again when a file could not be made (it lists what was written, and the
+  /// figures that failed among its warnings), then the commit: the folder holds exactly this
+  /// run's outputs.
   OutputReport finish(const std::function<nlohmann::json(const RunInfo&)>& result_json);
 
  private:
@@ -126,6 +127,7 @@ class OutputRun {
   OutputTransaction tx_;
   OutputReport report_;
   RunInfo listed_;
+  std::vector<std::pair<std::string, std::string>> failed_;  ///< figures not drawn: name, why
 };
 
 template <class MeshType, int dim, class Result>

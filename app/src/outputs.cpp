@@ -168,6 +168,7 @@ nlohmann::json result_json_of(const MeshType& mesh, const BasicContactSolution<d
   json friction_states = json::object();
   j["contact"] = contact_json(s, tangential, friction_states);
   j["friction"] = tangential ? json{{"law", info.friction_law.empty() ? json(nullptr) : json(info.friction_law)},
+                                    {"models", info.friction_models},
                                     {"nodes", friction_states}}
                              : json(nullptr);
   j["contact_force"] = vector_json(s.contact_force());

@@ -129,7 +129,7 @@ void contact_forces(std::ostream& out, const BasicContactSolution<dim>& sol, con
   out << "  normal forces " << law + reaction << " summed over the contact nodes (a sum, not a resultant): law "
       << law << ", constraint " << reaction << "\n";
   if (states.empty()) return;
-  out << "  friction      " << (info.friction_law.empty() ? std::string("none") : info.friction_law) << ": ";
+  out << "  friction      " << (info.friction_summary.empty() ? std::string("none") : info.friction_summary) << ": ";
   bool first = true;
   for (const auto& [state, count] : states) out << (first ? "" : ", ") << count << " " << state, first = false;
   out << "; sum of the friction forces " << friction << "\n";

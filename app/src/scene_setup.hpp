@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <memory>
+#include <sstream>
+#include <string>
 #include <vector>
 
 #include <hemivem/app/outputs.hpp>
@@ -72,9 +74,46 @@ RunInfo run_info_common(const Scene& scene, const Solved& solved) {
   return info;
 }
 
+/// The friction model of a contact part with friction as its scene names it, for result.json's
+/// friction.models: {"part", "law"} with "coefficient" for Coulomb's law and "bound_table" for
+/// a Tresca bound given as a table (both solved as Tresca laws of bound 1 scaled node by node,
+/// FrictionBound), else the law's own name.
+template <int dim>
+nlohmann::json friction_model_json(const BasicContactPart<dim>& part) {
+  nlohmann::json m{{"part", part.name}, {"law", part.friction->name()}};
+  if (part.friction_bound && part.friction_bound->kind == FrictionBound::Kind::coulomb) {
+    m["law"] = "coulomb";
+    m["coefficient"] = part.friction_bound->coefficient;
+  } else if (part.friction_bound) {
+    m["bound_table"] = part.friction_bound->table;
+  }
+  return m;
+}
+
+/// A friction model of friction_model_json in the summary's words: "coulomb (mu = 0.3)",
+/// "tresca (bound table h(u_nu) of 2 points)", "tresca".
+inline std::string friction_model_text(const nlohmann::json& m) {
+  std::ostringstream o;
+  o << m.at("law").get<std::string>();
+  if (m.contains("coefficient")) o << " (mu = " << m.at("coefficient").get<double>() << ")";
+  if (m.contains("bound_table"))
+    o << " (bound table h(u_nu) of " << m.at("bound_table").size() << (m.at("bound_table").size() == 1 ? " point)" : " points)");
+  return o.str();
+}
+
+/// `items` ", "-joined, each once, in order.
+inline std::string joined_once(const std::vector<std::string>& items) {
+  std::vector<std::string> once;
+  for (const auto& i : items)
+    if (std::find(once.begin(), once.end(), i) == once.end()) once.push_back(i);
+  std::string r;
+  for (const auto& i : once) r += (r.empty() ? "" : ", ") + i;
+  return r;
+}
+
 /// What result.json and the plots record of a problem's contact parts: the normal laws'
 /// breakpoints (sorted, each once), whether a gap bounds u_nu, the first obstacle (plane), the
-/// friction laws' names.
+/// friction models as the scene names them (friction_model_json).
 template <int dim>
 void add_contact_parts(RunInfo& info, const std::vector<BasicContactPart<dim>>& parts) {
   for (const auto& part : parts) {
@@ -85,10 +124,13 @@ void add_contact_parts(RunInfo& info, const std::vector<BasicContactPart<dim>>& 
     info.gap_bound = info.gap_bound || part.constraint == ConstraintKind::one_sided || part.constraint == ConstraintKind::box;
     if constexpr (dim == 2)
       if (part.obstacle && !info.obstacle) info.obstacle = part.obstacle;
-    if (part.friction && info.friction_law.find(part.friction->name()) == std::string::npos)
-      info.friction_law += (info.friction_law.empty() ? "" : ", ") + part.friction->name();
+    if (part.friction) info.friction_models.push_back(friction_model_json(part));
   }
   std::sort(info.law_breakpoints.begin(), info.law_breakpoints.end());
+  std::vector<std::string> laws, texts;
+  for (const auto& m : info.friction_models) laws.push_back(m.at("law")), texts.push_back(friction_model_text(m));
+  info.friction_law = joined_once(laws);
+  info.friction_summary = joined_once(texts);
 }
 
 /// An InputError a solve of `scene` found without a key, again with the scene's key of what it

@@ -604,6 +604,8 @@ void def_result_outputs(ResultClass& c) {
               py::gil_scoped_release release;
               report = d.run.write(folder, files ? &*files : nullptr);
             }
+            for (const auto& w : report.warnings)  // a figure not drawn (also in result.json's warnings)
+              if (PyErr_WarnEx(PyExc_UserWarning, w.c_str(), 1) != 0) throw py::error_already_set();
             std::vector<std::filesystem::path> written = report.written;
             return written;
           },
@@ -612,7 +614,8 @@ void def_result_outputs(ResultClass& c) {
           "contact.csv, displacement.csv, history.csv, solution.vtu, scene.toml, and the PNGs when\n"
           "gnuplot is installed; for a three-dimensional scene also contact-surface.vtu, and\n"
           "pressure.png), each atomically; `files` picks some of them by name. Returns the\n"
-          "paths written.")
+          "paths written; a figure that could not be drawn is a UserWarning (and in result.json's\n"
+          "warnings).")
       .def("__repr__", [](py::handle s) {
         const SolveData& d = data(s);
         std::ostringstream o;

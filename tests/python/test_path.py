@@ -81,3 +81,13 @@ def test_bad_path_keys_are_input_errors():
         hemivem.solve_path(SCENE, t=[1.0, 0.5])
     with pytest.raises(hemivem.InputError):
         hemivem.solve_path(SCENE, steps=0)
+
+
+def test_coulomb_is_named_coulomb_with_its_coefficient():
+    # solved as Tresca problems whose bounds a fixed point sets; named as the scene poses it
+    r = hemivem.solve_path(SCENE, t=[1.0, 2.0])
+    friction = r.json()["friction"]
+    assert friction["law"] == "coulomb"
+    assert friction["models"] == [{"part": "contact", "law": "coulomb", "coefficient": 0.3}]
+    assert "friction      coulomb (mu = 0.3): " in r.full_report()
+    assert "tresca" not in r.full_report() and "tresca" not in r.to_json()

@@ -114,7 +114,7 @@ std::vector<std::string> scene_warnings(const Scene& scene) {
   const std::vector<SceneContact> parts = contact_parts(scene);
   for (const SceneContact& c : parts)
     driven = driven || c.obstacle.has_value() || c.gap.is_expression() || c.gap.value < 0.0;
-  std::vector<std::string> out;
+  std::vector<std::string> out = scene.override_notices;
   if (scene.clamped.empty() && scene.dirichlet.empty() && scene.dimension() != 3)  // 3D: refused when solved
     out.push_back("the scene has no [clamped] and no [[dirichlet]]: no part of the boundary is held, only what the "
                   "contact provides (the paper's supports are [clamped] side = [\"left\", \"right\"])");

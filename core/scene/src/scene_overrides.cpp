@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cerrno>
 #include <cstdlib>
+#include <optional>
 #include <sstream>
 
 #include "scene_reader.hpp"
@@ -15,8 +16,11 @@ using detail::scene_from_table;
 
 namespace {
 
+/// The index of "name[+]" in Override::parts: append a table to the array of tables.
+constexpr int kAppend = -2;
+
 /// One "dotted.key=value" override: the key, its path ("name[i]" selects element i of an
-/// array of tables) and the value in TOML syntax (a bare word is a string).
+/// array of tables, "name[+]" appends one) and the value in TOML syntax (a bare word is a string).
 struct Override {
   std::string key;
   std::vector<std::pair<std::string, int>> parts;
@@ -47,10 +51,21 @@ Override parse_override(std::string_view key_eq_value) {
     int index = -1;
     if (auto lb = part.find('['); lb != std::string::npos) {
       if (part.back() != ']') throw InputError("bad index in key '" + o.key + "'", o.where());
-      try {
-        index = std::stoi(part.substr(lb + 1, part.size() - lb - 2));
-      } catch (const std::exception&) {
-        throw InputError("bad index in key '" + o.key + "'", o.where());
+      const std::string inside = part.substr(lb + 1, part.size() - lb - 2);
+      if (inside == "+") {
+        if (dot != std::string::npos)
+          throw InputError("'[+]' appends a whole table and ends the key, e.g. 'dirichlet[+]={side=\"left\", ux=0}'",
+                           o.where());
+        index = kAppend;
+      } else {
+        std::size_t used = 0;
+        try {
+          index = std::stoi(inside, &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        if (used == 0 || used != inside.size() || index < 0)
+          throw InputError("bad index in key '" + o.key + "' (an index from 0, or '+' to append)", o.where());
       }
       part = part.substr(0, lb);
     }
@@ -77,8 +92,54 @@ Override parse_override(std::string_view key_eq_value) {
   return o;
 }
 
-/// Puts the override's value into the scene's table (nothing is validated here).
-void edit_table(toml::table& root, Override& o) {
+/// How many tables `node` holds as an array of tables: its size, 1 for a single table (a
+/// [contact] that "contact=[...]" replaces), none for anything else.
+std::optional<std::size_t> tables_in(const toml::node* node) {
+  if (!node) return std::nullopt;
+  if (node->is_table()) return 1;
+  const auto* a = node->as_array();
+  if (a && !a->empty() && a->is_array_of_tables()) return a->size();
+  return std::nullopt;
+}
+
+/// "key[+]={...}": appends the value, a table, to the array of tables `leaf` of `t` (made when
+/// missing; a single table becomes the first of two).
+void append_table(toml::table& t, const std::string& leaf, const Override& o) {
+  const auto* value = o.holder.get("v") ? o.holder.get("v")->as_table() : nullptr;
+  if (!value)
+    throw InputError("'[+]' appends one table: give it as {key = value, ...}, e.g. 'dirichlet[+]={side=\"left\", ux=0}'",
+                     o.where());
+  toml::node* n = t.get(leaf);
+  if (!n) {
+    t.insert(leaf, toml::array{*value});
+  } else if (auto* a = n->as_array(); a && (a->empty() || a->is_array_of_tables())) {
+    a->push_back(*value);
+  } else if (const auto* single = n->as_table()) {
+    toml::array both{*single, *value};
+    t.insert_or_assign(leaf, std::move(both));
+  } else {
+    throw InputError("'" + leaf + "' is not an array of tables: nothing to append to", o.where());
+  }
+}
+
+/// What replacing (or removing) the key `leaf` of `t` by the override drops, as a sentence, when
+/// the key holds tables and the new value is not the single table it replaces; "" otherwise.
+std::string replacement_notice(const toml::table& t, const std::string& leaf, const Override& o) {
+  const toml::node* old = t.get(leaf);
+  const std::optional<std::size_t> before = tables_in(old);
+  if (!before) return "";
+  const toml::node* value = o.remove ? nullptr : o.holder.get("v");
+  if (old->is_table() && (o.remove || !value->is_array())) return "";  // a table set or removed as such
+  const std::string count = *before == 1 ? "its 1 table" : "its " + std::to_string(*before) + " tables";
+  if (o.remove) return o.where() + " removed [[" + o.key + "]] with " + count;
+  const std::size_t after = value->is_array() ? value->as_array()->size() : 1;
+  return o.where() + " replaced the whole array [[" + o.key + "]]: " + count + " by " + std::to_string(after) +
+         " (to add one table instead: --set '" + o.key + "[+]={...}')";
+}
+
+/// Puts the override's value into the scene's table (nothing is validated here); returns what
+/// it dropped beyond the key (replacement_notice), "" when nothing.
+std::string edit_table(toml::table& root, Override& o) {
   toml::table* t = &root;
   for (std::size_t i = 0; i + 1 < o.parts.size(); ++i) {
     const auto& [name, index] = o.parts[i];
@@ -92,7 +153,10 @@ void edit_table(toml::table& root, Override& o) {
       t = n->as_table();
     } else if (index >= 0) {
       if (!a || !a->is_array_of_tables() || index >= static_cast<int>(a->size()))
-        throw InputError("no element " + std::to_string(index) + " in '" + name + "'", o.where());
+        throw InputError("no element " + std::to_string(index) + " in '" + name + "' (" +
+                             std::to_string(a && a->is_array_of_tables() ? a->size() : n->is_table() ? 1 : 0) +
+                             " table(s)); '" + name + "[+]={...}' appends one",
+                         o.where());
       t = (*a)[static_cast<std::size_t>(index)].as_table();
     } else if (a && a->is_array_of_tables()) {  // "contact.gap": the only table of [[contact]]
       if (a->size() != 1) {
@@ -113,11 +177,17 @@ void edit_table(toml::table& root, Override& o) {
     }
   }
   const std::string& leaf = o.parts.back().first;
+  if (o.parts.back().second == kAppend) {
+    if (o.remove) throw InputError("'[+]' appends a table: give one, e.g. '" + o.key + "={...}'", o.where());
+    append_table(*t, leaf, o);
+    return "";
+  }
   if (o.parts.back().second >= 0)
     throw InputError("cannot replace a whole element; set one of its keys, e.g. '" + o.key + ".value'", o.where());
+  std::string notice = replacement_notice(*t, leaf, o);
   if (o.remove) {
     if (!t->erase(leaf)) throw InputError("the scene has no key '" + o.key + "' to remove", o.where());
-    return;
+    return notice;
   }
   if (o.parts.size() == 2 && o.parts[0].first == "path") {  // the load factors one way or the other
     if (leaf == "t") t->erase("steps");
@@ -140,6 +210,7 @@ void edit_table(toml::table& root, Override& o) {
     }
   }
   o.holder.get("v")->visit([&](auto&& v) { t->insert_or_assign(leaf, v); });
+  return notice;
 }
 
 /// A message blamed on "--set key" without the key (or the table holding it) it starts with
@@ -186,11 +257,14 @@ void apply_overrides(Scene& scene, const std::vector<std::string>& key_eq_values
   std::vector<Override> earlier;
   if (read)
     for (const auto& kv : doc->overrides) earlier.push_back(parse_override(kv));
+  std::vector<std::string> notices;
   for (std::vector<Override>* list : {&earlier, &overrides})
     for (auto& o : *list) {
-      if (o.parts.front().first == "contact" && !o.remove && !root.contains("contact"))  // the default contact part
+      const bool whole = o.parts.size() == 1;  // "contact=[...]", "contact[+]={...}": no default part first
+      if (o.parts.front().first == "contact" && !o.remove && !whole && !root.contains("contact"))  // the default part
         root.insert("contact", toml::table{{"side", toml::array{"bottom"}}});
-      edit_table(root, o);
+      std::string notice = edit_table(root, o);
+      if (list == &overrides && !notice.empty()) notices.push_back(std::move(notice));
     }
 
   Scene updated;
@@ -227,6 +301,8 @@ void apply_overrides(Scene& scene, const std::vector<std::string>& key_eq_values
     throw InputError(without_key(m, where), where);
   }
   updated.source = scene.source;
+  updated.override_notices = scene.override_notices;
+  updated.override_notices.insert(updated.override_notices.end(), notices.begin(), notices.end());
   if (!read) updated.lines = scene.lines;
   for (const auto* list : {&earlier, &overrides})
     for (const auto& o : *list) updated.lines[o.key] = 0;

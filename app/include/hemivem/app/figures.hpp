@@ -44,7 +44,8 @@ struct Figure {
 /// written.
 std::vector<std::string> draw_figures(const std::filesystem::path& dir, const std::vector<Figure>& figures);
 
-/// A single-quoted gnuplot string ('' stands for a quote).
+/// A single-quoted gnuplot string ('' stands for a quote; control characters, a newline among
+/// them, as spaces: gnuplot's single-quoted strings have no escapes).
 std::string gnuplot_quote(const std::string& s);
 /// Whether `p` starts with the PNG signature.
 bool is_png(const std::filesystem::path& p);

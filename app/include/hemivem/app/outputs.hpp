@@ -47,7 +47,16 @@ struct RunInfo {
   std::vector<double> law_breakpoints;        ///< the contact law's breakpoints (u_nu values), for u_nu.png
   bool gap_bound = false;                     ///< u_nu <= g is a constraint: the plots draw the gap and foundation
   std::optional<Obstacle> obstacle;           ///< the rigid obstacle of the contact, drawn in deformed.png
-  std::string friction_law;                   ///< the friction law's name ("" without friction)
+  /// The friction models as a scene names them ("coulomb", "tresca", "slip-weakening",
+  /// "piecewise"; several: ", "-joined, each once; "" without friction): Coulomb's law is
+  /// "coulomb", though it is solved as Tresca problems with bounds set by a fixed point.
+  std::string friction_law;
+  /// The same with what sets each bound, for the summary: "coulomb (mu = 0.3)", "tresca (bound
+  /// table h(u_nu) of 2 points)", "tresca".
+  std::string friction_summary;
+  /// result.json's friction.models: per contact part with friction, {"part", "law", and
+  /// "coefficient" (coulomb) or "bound_table" (tresca with a table of [u_nu, h])}.
+  nlohmann::json friction_models = nlohmann::json::array();
   /// The estimate of the discretization error: result.json's "error_estimate", solution.vtu's
   /// "error_indicator", error.png; none: not made (null in result.json).
   std::optional<ErrorEstimate> error_estimate;
@@ -72,7 +81,7 @@ const BasicPathSolution<dim>* path_of(const RunInfo& info) {
 /// the stage "estimate" of the timings).
 nlohmann::json error_estimate_json(const ErrorEstimate& estimate);
 
-/// The result.json document ("schema": "hemivem-result/13", "dimension": 2).
+/// The result.json document ("schema": "hemivem-result/14", "dimension": 2).
 nlohmann::json result_json(const Mesh& mesh, const ContactSolution& solution, const RunInfo& info);
 /// The result.json document of a solid ("dimension": 3): the same keys, points and vectors with
 /// three components (contact[].x and contact[].normal [x, y, z]), mesh.faces, contact_zone with
@@ -114,6 +123,9 @@ struct OutputReport {
   std::vector<std::filesystem::path> written;  ///< files written, in order
   std::vector<std::string> skipped;            ///< "name: reason" for each wanted file not made (plots only)
   std::vector<std::string> removed;            ///< names of earlier runs' outputs this run did not write
+  /// The figures wanted that could not be drawn (gnuplot missing or failing), one sentence per
+  /// reason naming them; also in result.json's "warnings". The command prints them on stderr.
+  std::vector<std::string> warnings;
 };
 
 /// Checks, before any work, that `dir` can be the output folder: a folder that can be written
@@ -126,7 +138,8 @@ void check_output_folder(const std::filesystem::path& dir);
 /// written beside `dir` with every write checked, then replaces the previous set at once; the
 /// names of all_outputs(2) and all_outputs(3) this run did not write go, other files of `dir`
 /// stay. The plots are made by running gnuplot; when gnuplot is missing or fails they are
-/// skipped and listed in the report, never an error. Throws InputError for an unknown name
+/// skipped, listed in the report and warned of (OutputReport::warnings, result.json's
+/// "warnings"), never an error. Throws InputError for an unknown name
 /// (before writing anything), a solution whose size does not match the mesh, when another
 /// process is writing `dir` ("another hemivem run is writing DIR"), and for any I/O failure
 /// (WriteError: `dir` then keeps its previous set); never prints.

@@ -280,6 +280,10 @@ struct Scene {
   /// edits a copy of it, so that every key it does not touch keeps its line in messages. Null
   /// for a scene made in code; not used once the scene's fields differ from what was read.
   std::shared_ptr<const detail::SceneDocument> document;
+  /// What apply_overrides did that changes more than one key (an array of tables replaced or
+  /// removed as a whole), one sentence each, in the order given; scene_warnings lists them.
+  /// Not problem data: operator== ignores them.
+  std::vector<std::string> override_notices;
 
   /// "source:line" for a key read from the source, else "source".
   std::string where(const std::string& key) const;
@@ -319,6 +323,10 @@ Scene default_scene();
 /// default contact part (the bottom side, the paper's law). With several contact parts
 /// ([[contact]]) a key names its part, "contact[1].gap=0.01"; "contact[0].gap" also names
 /// the single [contact] table, and "contact.gap" the single table of a [[contact]] of one.
+/// "key[+]={...}" appends one table to an array of tables ("dirichlet[+]={side=\"left\", ux=0}",
+/// "contact[+]", "loads.traction[+]", "material.region[+]"; a single [contact] table becomes the
+/// first of two). "key=[...]" replaces the whole array and "key=" removes it: both are allowed
+/// and recorded in Scene::override_notices (the key, how many tables by how many).
 void apply_override(Scene& scene, std::string_view key_eq_value);
 
 /// Applies several overrides at once: every value is put in place first and the scene is
@@ -347,7 +355,8 @@ struct BasicBuiltProblem {
 using BuiltProblem = BasicBuiltProblem<2>;
 using BuiltProblem3D = BasicBuiltProblem<3>;
 
-/// What a user should know about the problem a scene poses, though it is valid: today, a
+/// What a user should know about the problem a scene poses, though it is valid: the
+/// overrides that replaced or removed an array of tables (Scene::override_notices), a
 /// problem that nothing drives (no load, no prescribed displacement other than zero, no
 /// obstacle and no gap that pushes), whose solution is u = 0.
 std::vector<std::string> scene_warnings(const Scene& scene);
