@@ -48,3 +48,29 @@ def small_scene():
     s = hemivem.Scene.default()
     s.set("mesh.n", 16)
     return s
+
+
+COULOMB_SCENE = """schema_version = 1
+[mesh]
+n = {n}
+[clamped]
+side = ["left", "right"]
+[[loads.traction]]
+side = "top"
+value = ["4*max(t - 1, 0)", "-8*min(t, 1)"]
+[contact]
+side = "bottom"
+gap = 0.02
+[contact.friction]
+law = "coulomb"
+coefficient = 0.3
+"""
+
+
+@pytest.fixture(scope="session")
+def coulomb_scene():
+    """The unit square pressed to t = 1 and sheared after, on a gap of 0.02 with Coulomb's
+    friction (mu = 0.3): the scene's text on n x n squares, `extra` (e.g. a [path]) appended."""
+    def scene(n=8, extra=""):
+        return COULOMB_SCENE.format(n=n) + extra
+    return scene

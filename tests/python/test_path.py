@@ -9,23 +9,6 @@ import pytest
 import hemivem
 
 
-SCENE = """schema_version = 1
-[mesh]
-n = 8
-[clamped]
-side = ["left", "right"]
-[[loads.traction]]
-side = "top"
-value = ["4*max(t - 1, 0)", "-8*min(t, 1)"]
-[contact]
-side = "bottom"
-gap = 0.02
-[contact.friction]
-law = "coulomb"
-coefficient = 0.3
-"""
-
-
 def test_a_one_step_path_is_the_static_solve():
     static = hemivem.solve(hemivem.Scene.default())
     r = hemivem.solve_path(hemivem.Scene.default(), t=[1.0])
@@ -34,8 +17,8 @@ def test_a_one_step_path_is_the_static_solve():
     assert static.path is None
 
 
-def test_steps_carry_their_arrays_and_the_last_step_is_the_result():
-    r = hemivem.solve_path(SCENE, t=[0.5, 1.0, 1.5, 2.0], frames=4)
+def test_steps_carry_their_arrays_and_the_last_step_is_the_result(coulomb_scene):
+    r = hemivem.solve_path(coulomb_scene(), t=[0.5, 1.0, 1.5, 2.0], frames=4)
     path = r.path
     assert len(path) == 4 and path.converged
     np.testing.assert_array_equal(path.t, [0.5, 1.0, 1.5, 2.0])
@@ -64,8 +47,8 @@ def test_steps_carry_their_arrays_and_the_last_step_is_the_result():
     assert r.json()["path"]["steps"] == 4
 
 
-def test_solve_path_writes_the_path_files(tmp_path):
-    r = hemivem.solve_path(SCENE, steps=3)
+def test_solve_path_writes_the_path_files(tmp_path, coulomb_scene):
+    r = hemivem.solve_path(coulomb_scene(), steps=3)
     written = {p.name for p in r.write(tmp_path / "out")}
     for name in ("path.json", "path-contact.csv", "path-displacement.csv", "solution.pvd", "solution-0003.vtu"):
         assert name in written
@@ -76,16 +59,16 @@ def test_solve_path_writes_the_path_files(tmp_path):
     assert len(rows) == 1 + 3 * len(r.contact)
 
 
-def test_bad_path_keys_are_input_errors():
+def test_bad_path_keys_are_input_errors(coulomb_scene):
     with pytest.raises(hemivem.InputError):
-        hemivem.solve_path(SCENE, t=[1.0, 0.5])
+        hemivem.solve_path(coulomb_scene(), t=[1.0, 0.5])
     with pytest.raises(hemivem.InputError):
-        hemivem.solve_path(SCENE, steps=0)
+        hemivem.solve_path(coulomb_scene(), steps=0)
 
 
-def test_coulomb_is_named_coulomb_with_its_coefficient():
+def test_coulomb_is_named_coulomb_with_its_coefficient(coulomb_scene):
     # solved as Tresca problems whose bounds a fixed point sets; named as the scene poses it
-    r = hemivem.solve_path(SCENE, t=[1.0, 2.0])
+    r = hemivem.solve_path(coulomb_scene(), t=[1.0, 2.0])
     friction = r.json()["friction"]
     assert friction["law"] == "coulomb"
     assert friction["models"] == [{"part": "contact", "law": "coulomb", "coefficient": 0.3}]

@@ -91,40 +91,24 @@ def test_bench_is_the_commands_bench(run_command, tmp_path):
         assert same(a["estimate"], b["estimate"])
 
 
-COULOMB = """schema_version = 1
-[mesh]
-n = 4
-[clamped]
-side = ["left", "right"]
-[[loads.traction]]
-side = "top"
-value = ["4*max(t - 1, 0)", "-8*min(t, 1)"]
-[contact]
-side = "bottom"
-gap = 0.02
-[contact.friction]
-law = "coulomb"
-coefficient = 0.3
-[path]
-t = [0.5, 1.0, 1.5]
-frames = 3
-"""
+COULOMB_PATH = "[path]\nt = [0.5, 1.0, 1.5]\nframes = 3\n"
 
 
-def test_check_compares_a_coulomb_path_at_every_step_as_solve_path_solves_it():
-    r = hemivem.check(COULOMB, pairs=[("eigen", "ssn")])
+def test_check_compares_a_coulomb_path_at_every_step_as_solve_path_solves_it(coulomb_scene):
+    scene = coulomb_scene(4, COULOMB_PATH)
+    r = hemivem.check(scene, pairs=[("eigen", "ssn")])
     assert r["exit_code"] == 0, r["verdict"]
     assert [s["t"] for s in r["path"]["steps"]] == [0.5, 1.0, 1.5]
     pair = r["pairs"][0]
-    alone = hemivem.solve_path(COULOMB, t=[0.5, 1.0, 1.5], frames=3)
+    alone = hemivem.solve_path(scene, t=[0.5, 1.0, 1.5], frames=3)
     for step, u in zip(alone.path, pair["path_displacements"]):
         scale = np.abs(step.displacement).max()
         np.testing.assert_allclose(u, step.displacement.reshape(-1), rtol=0, atol=1e-10 * scale)
     np.testing.assert_array_equal(pair["displacement"], pair["path_displacements"][-1])
 
 
-def test_bench_measures_a_coulomb_path_at_its_last_step():
-    r = hemivem.bench(COULOMB, n=[4], ref=8, levels=1, pairs=[("eigen", "ssn")])
+def test_bench_measures_a_coulomb_path_at_its_last_step(coulomb_scene):
+    r = hemivem.bench(coulomb_scene(4, COULOMB_PATH), n=[4], ref=8, levels=1, pairs=[("eigen", "ssn")])
     assert r["path"]["steps"] == 3
     assert r["rows"][0]["error"] > 0
     assert r["refinement"]["adaptive"]["stopped"] == "not_run"
