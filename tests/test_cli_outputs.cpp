@@ -113,7 +113,7 @@ TEST_F(Outputs, ResultJsonHasEveryDocumentedField) {
   const json j = json::parse(slurp(dir.path / "result.json"));
   const auto& sol = s.solution;
 
-  EXPECT_EQ(j.at("schema"), "hemivem-result/14");
+  EXPECT_EQ(j.at("schema"), "hemivem-result/15");
   EXPECT_EQ(j.at("version"), HEMIVEM_VERSION);
   EXPECT_EQ(j.at("scene").at("name"), "example-4-1");
   EXPECT_EQ(j.at("scene").at("toml"), s.info.scene_toml);
@@ -127,7 +127,7 @@ TEST_F(Outputs, ResultJsonHasEveryDocumentedField) {
   EXPECT_EQ(j.at("status"), "converged");
   EXPECT_EQ(j.at("converged"), true);
   EXPECT_TRUE(j.at("message").is_string());
-  EXPECT_EQ(j.at("schema"), "hemivem-result/14");
+  EXPECT_EQ(j.at("schema"), "hemivem-result/15");
   EXPECT_EQ(j.at("dimension"), 2);
   const Certificate& cert = sol.certificate;
   EXPECT_EQ(j.at("certificate").at("primal").get<double>(), cert.primal);
@@ -519,7 +519,7 @@ TEST_F(Outputs, FiguresNameTheirSceneMeshUnitsAndReferenceLines) {
     const auto below = std::find_if(foundation.begin(), foundation.end(), [&](const Vec2& q) { return q.x() == n.x.x(); });
     ASSERT_NE(below, foundation.end()) << "no foundation point below node " << n.vertex;
     EXPECT_LT(below->y(), n.x.y());
-    if (n.state == ContactState::upper) {
+    if (n.state == ContactState::at_gap) {
       ++touching;
       EXPECT_NEAR(nodes[i].y(), below->y(), 1e-12) << n.vertex;
     } else {

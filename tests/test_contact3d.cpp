@@ -41,7 +41,7 @@ TEST(Contact3D, BlockPressedOnAPlaneIsUniaxialStress) {
     const double strain = depth / 0.5, stress = young * strain;
     double area = 0.0;
     for (const ContactNode3D& n : s.contact) {
-      EXPECT_EQ(n.state, ContactState::upper) << kind;
+      EXPECT_EQ(n.state, ContactState::at_gap) << kind;
       EXPECT_NEAR(n.u_nu, 0.0, 1e-14);
       EXPECT_TRUE(n.normal.isApprox(Vec3(0, 0, -1), 1e-15));
       EXPECT_NEAR(n.pressure(), stress, 1e-9 * stress) << kind << " at " << n.x.transpose();
@@ -119,14 +119,22 @@ TEST(Contact3D, RefusesWhatItCannotSolve) {
     EXPECT_NE(std::string(e.what()).find("translation along y"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("cannot hold"), std::string::npos) << e.what();
   }
-  // a prescribed normal component at a contact node
+  // a prescribed normal component takes a contact node out of the contact (the support holds
+  // it); on every contact node it leaves the part nothing to touch
   ContactProblem3D normal_fixed = pressed_block(mesh, box);
+  const ContactSolution3D all = solve_contact(normal_fixed, engine(), *make_minimizer("ssn"), MinimizerOptions{});
   normal_fixed.elasticity.dirichlet.push_back({select_box_side(mesh, box, "x1"), {}, {false, false, true}, "x1"});
+  const ContactSolution3D fewer = solve_contact(normal_fixed, engine(), *make_minimizer("ssn"), MinimizerOptions{});
+  ASSERT_TRUE(fewer.converged()) << fewer.message;
+  EXPECT_EQ(fewer.contact.size(), all.contact.size() - 3);  // the three bottom nodes on x = 1
+  for (const auto& n : fewer.contact) EXPECT_LT(n.x.x(), 1.0);
+  EXPECT_LT(fewer.forces.sum().norm(), 1e-10 * fewer.forces.contact.norm());  // driven by a displacement: no load
+  normal_fixed.elasticity.dirichlet.push_back({select_box_side(mesh, box, "bottom"), {}, {false, false, true}, "z0"});
   try {
     (void)solve_contact(normal_fixed, engine(), *make_minimizer("ssn"), MinimizerOptions{});
     FAIL();
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("not tangential"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("has no contact node left"), std::string::npos) << e.what();
   }
   // friction on a 3D boundary
   const LinearSystem sys = assemble(pressed_block(mesh, box).elasticity);

@@ -318,7 +318,7 @@ TEST(ContactParts, ABilateralPartBesideAPartWithALaw) {
   EXPECT_LT(relative(mixed.reduced.S, S), 1e-10);
   EXPECT_LT(relative(mixed.reduced.c, c), 1e-10);
   for (const ContactNode& node : nodes) {
-    EXPECT_EQ(node.state == ContactState::bilateral, node.part == 0) << node.vertex;
+    EXPECT_EQ(node.state == ContactState::tied, node.part == 0) << node.vertex;
     if (node.part == 0) EXPECT_EQ(node.u_nu, 0.0);
     if (node.part == 0) EXPECT_EQ(node.friction_force, 0.0);
   }
@@ -365,10 +365,10 @@ TEST(ContactParts, TwoLawsAreTheirCoordinatesLawsSolvedByASecondEngine) {
     ++solved_by_others;
   }
   EXPECT_GT(solved_by_others, 0) << "no second engine is built";
-  // the right half is bounded by its own gap, and its nodes at the bound are "upper"
+  // the right half is bounded by its own gap, and its nodes at the bound are "at-gap"
   for (const ContactNode& n : two.solution.contact) {
     if (n.part == 1) EXPECT_LE(n.u_nu, 0.01);
-    if (n.part == 1 && n.u_nu == 0.01) EXPECT_EQ(n.state, ContactState::upper);
+    if (n.part == 1 && n.u_nu == 0.01) EXPECT_EQ(n.state, ContactState::at_gap);
   }
 }
 

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 using namespace hemivem;
 
@@ -57,8 +58,8 @@ TEST(ContactSolver, Example41RunsEveryStage) {
     // u_nu is the normal component of the displacement (normal (0, -1) on the bottom)
     EXPECT_NEAR(node.u_nu, -s.u(2 * node.vertex + 1), 1e-12);
     EXPECT_LE(std::abs(node.u_nu), 0.02 + 1e-15);
-    if (node.state == ContactState::upper) EXPECT_GE(node.reaction, 0.0);
-    if (node.state == ContactState::free) EXPECT_EQ(node.reaction, 0.0);
+    if (node.state == ContactState::at_gap) EXPECT_GE(node.reaction, 0.0);
+    if (!at_a_bound(node.state)) EXPECT_EQ(node.reaction, 0.0);
   }
   for (const char* stage : {"assembly", "condensation", "minimize", "back_substitution", "total"})
     EXPECT_TRUE(s.timings.count(stage)) << stage;
@@ -75,7 +76,9 @@ TEST(ContactSolver, WithoutAConstraintNoNodeIsAtABoundAndNoReactionIsReported) {
   ASSERT_EQ(s.contact.size(), 15u);
   double largest = 0.0, deepest = 0.0;
   for (const auto& node : s.contact) {
-    EXPECT_EQ(node.state, ContactState::free) << node.vertex;
+    EXPECT_FALSE(at_a_bound(node.state)) << node.vertex;
+    // off the bounds the state is the sign of the law's force: pressed in, or separated
+    EXPECT_EQ(node.state, node.law_force > 0.0 ? ContactState::in_contact : ContactState::separated) << node.vertex;
     EXPECT_EQ(node.reaction, 0.0) << node.vertex;
     largest = std::max(largest, std::abs(node.law_force));
     deepest = std::max(deepest, node.u_nu);
@@ -95,7 +98,7 @@ TEST(ContactSolver, ContactForcesBalanceTheLoad) {
   for (const auto& node : s.contact) {
     EXPECT_GE(node.force(), -1e-12) << node.vertex;
     EXPECT_DOUBLE_EQ(node.pressure(), node.force() / node.weight);
-    if (node.state == ContactState::upper) EXPECT_GT(node.reaction, 0.0) << node.vertex;
+    if (node.state == ContactState::at_gap) EXPECT_GT(node.reaction, 0.0) << node.vertex;
     total += node.force();
   }
   EXPECT_GT(total, 0.0);
@@ -128,11 +131,22 @@ namespace hemivem {
 namespace {
 
 TEST(ContactStates, AreWordsBothWays) {
-  for (ContactState s : {ContactState::free, ContactState::upper, ContactState::lower, ContactState::bilateral})
+  for (ContactState s : {ContactState::separated, ContactState::in_contact, ContactState::in_tension,
+                         ContactState::at_gap, ContactState::at_minus_gap, ContactState::tied})
     EXPECT_EQ(contact_state_from_string(to_string(s)), s);
-  EXPECT_EQ(to_string(ContactState::upper), "upper");
-  EXPECT_EQ(to_string(ContactState::bilateral), "bilateral");
+  EXPECT_EQ(to_string(ContactState::at_gap), "at-gap");
+  EXPECT_EQ(to_string(ContactState::in_contact), "in-contact");
+  EXPECT_EQ(to_string(ContactState::tied), "tied");
   EXPECT_THROW(contact_state_from_string("in contact"), InputError);
+  EXPECT_THROW(contact_state_from_string("upper"), InputError);
+  // at a bound by position, off them by the sign of the law's force
+  EXPECT_EQ(contact_state(0.02, -0.02, 0.02, 0.0), ContactState::at_gap);
+  EXPECT_EQ(contact_state(-0.02, -0.02, 0.02, 5.0), ContactState::at_minus_gap);
+  EXPECT_EQ(contact_state(0.01, -0.02, 0.02, 3.0), ContactState::in_contact);
+  EXPECT_EQ(contact_state(-0.01, -0.02, 0.02, -3.0), ContactState::in_tension);
+  EXPECT_EQ(contact_state(-0.01, -std::numeric_limits<double>::infinity(), 0.02, 0.0), ContactState::separated);
+  EXPECT_TRUE(at_a_bound(ContactState::tied));
+  EXPECT_FALSE(at_a_bound(ContactState::in_contact));
   for (FrictionState s : {FrictionState::none, FrictionState::stick, FrictionState::slip, FrictionState::slip_weakening,
                           FrictionState::slip_kinetic})
     EXPECT_EQ(friction_state_from_string(to_string(s)), s);

@@ -172,7 +172,7 @@ TEST(FrictionExample, BilateralWithoutFrictionIsARollerSupport) {
   const Eigen::VectorXd roller = dirichlet_bottom(mesh, {false, true});
   EXPECT_LT(max_abs(r.solution.u - roller), 1e-10 * max_abs(roller));
   for (const auto& n : r.solution.contact) {
-    EXPECT_EQ(n.state, ContactState::bilateral);
+    EXPECT_EQ(n.state, ContactState::tied);
     EXPECT_EQ(n.friction_force, 0.0);
   }
 }

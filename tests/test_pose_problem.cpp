@@ -325,7 +325,7 @@ uy = 0.01
     ASSERT_EQ(s.contact.size(), 7u);
     for (const auto& n : s.contact) {
       EXPECT_DOUBLE_EQ(n.gap, -0.01);
-      EXPECT_EQ(n.state, ContactState::upper);
+      EXPECT_EQ(n.state, ContactState::at_gap);
       EXPECT_GT(n.reaction, 0.0) << "the plane pushes up at every node";
     }
     EXPECT_LT((s.u - reference).cwiseAbs().maxCoeff(), 1e-8 * reference.cwiseAbs().maxCoeff());

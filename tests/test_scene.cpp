@@ -207,7 +207,7 @@ TEST(Scene, RoundTripThroughToml) {
   piecewise.contact->law = SceneLaw{"piecewise", {}, {0.0}, {{0.0}, {0.0, 0.0, 50.0}}, {{0.0}, {0.0}}};
   scenes.push_back(piecewise);
   Scene rollers = default_scene();  // [[dirichlet]] alone: nothing clamped
-  rollers.clamped = BoundarySelector{{}, {}, {}, 1e-8};
+  rollers.clamped = BoundarySelector{{}, {}, {}, 1e-8, {}};
   rollers.dirichlet.push_back({{{"left"}, {}, {}, 1e-8}, SceneScalar{0.0, {}}, std::nullopt});
   rollers.contact.reset();
   scenes.push_back(rollers);

@@ -69,7 +69,7 @@ TEST(SolidParity, APartThatNeverTouchesChangesNothing) {
   for (const ContactNode3D& n : b.contact) {
     if (n.part != 1) continue;
     ++lid_nodes;
-    EXPECT_EQ(n.state, ContactState::free) << n.vertex;
+    EXPECT_EQ(n.state, ContactState::separated) << n.vertex;
     EXPECT_EQ(n.force(), 0.0) << n.vertex;
     EXPECT_NEAR(n.gap, 0.5, 1e-15) << n.vertex;
   }

@@ -131,7 +131,7 @@ void record_solution(PairRun& r, Solution& s, const PairRuns& out, const Reduced
   r.seconds = out.mesh_seconds + r.timings["total"];
   r.contact_nodes = static_cast<int>(s.contact.size());
   r.at_bound = static_cast<int>(
-      std::count_if(s.contact.begin(), s.contact.end(), [](const auto& c) { return c.state != ContactState::free; }));
+      std::count_if(s.contact.begin(), s.contact.end(), [](const auto& c) { return at_a_bound(c.state); }));
   r.unknowns = s.unknowns;
   r.vertices = out.vertices;
   if (r.converged && !s.u.allFinite()) {

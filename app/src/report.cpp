@@ -4,6 +4,7 @@
 #include <hemivem/uniqueness.hpp>
 
 #include <algorithm>
+#include <array>
 #include <iomanip>
 #include <map>
 #include <sstream>
@@ -57,9 +58,9 @@ std::string uniqueness_text(const BasicContactSolution<dim>& sol) {
 
 // The contact nodes by state (and by part, with several parts); in 3D the area in compression.
 template <int dim>
-void contact_zone(std::ostream& out, const Scene& scene, const BasicContactSolution<dim>& sol) {
-  int upper = 0, lower = 0;
-  for (const auto& c : sol.contact) upper += c.state == ContactState::upper, lower += c.state == ContactState::lower;
+void contact_zone(std::ostream& out, const BasicContactSolution<dim>& sol) {
+  std::array<int, 6> count{};
+  for (const auto& c : sol.contact) ++count[static_cast<std::size_t>(c.state)];
   out << "  uniqueness    " << uniqueness_text(sol) << "\n"
       << "  contact       " << sol.contact.size() << " nodes";
   if (sol.contact_parts.size() > 1) {  // several parts: how many nodes each has
@@ -71,20 +72,22 @@ void contact_zone(std::ostream& out, const Scene& scene, const BasicContactSolut
     out << ")";
   }
   out << ": ";
-  const std::vector<SceneContact> parts = contact_parts(scene);
-  auto any = [&](ConstraintKind k) {
-    return std::any_of(parts.begin(), parts.end(), [k](const SceneContact& c) { return c.constraint == k; });
-  };
-  const int bilateral = static_cast<int>(
-      std::count_if(sol.contact.begin(), sol.contact.end(), [](const auto& c) { return c.state == ContactState::bilateral; }));
-  if (any(ConstraintKind::bilateral) && bilateral == static_cast<int>(sol.contact.size())) {
-    out << "u_nu = 0 (bilateral)\n";
+  const std::size_t tied = static_cast<std::size_t>(count[static_cast<std::size_t>(ContactState::tied)]);
+  if (tied > 0 && tied == sol.contact.size()) {
+    out << "tied, u_nu = 0 (bilateral)\n";
     return;
   }
-  out << upper << " at the upper bound, ";
-  if (any(ConstraintKind::box)) out << lower << " at the lower bound, ";
-  if (bilateral > 0) out << bilateral << " bilateral, ";
-  out << sol.contact.size() - upper - lower - bilateral << " free";
+  // the states in words, those that occur: "19 at the gap, 40 in contact, 4 separated"
+  const std::pair<ContactState, const char*> words[] = {
+      {ContactState::at_gap, "at the gap"},         {ContactState::in_contact, "in contact"},
+      {ContactState::in_tension, "in tension"},     {ContactState::separated, "separated"},
+      {ContactState::at_minus_gap, "at minus the gap"}, {ContactState::tied, "tied (bilateral)"}};
+  bool first = true;
+  for (const auto& [state, text] : words)
+    if (const int n = count[static_cast<std::size_t>(state)]; n > 0) {
+      out << (first ? "" : ", ") << n << " " << text;
+      first = false;
+    }
   if constexpr (dim == 3) {
     double area = 0.0;
     for (const auto& c : sol.contact)
@@ -176,7 +179,7 @@ std::string full_report(const Scene& scene, const BasicSceneSolve<dim>& solved, 
   engines_and_stages(out, solved, info);
   status(out, solved, info);
   if (!solved.solution.contact.empty()) {
-    contact_zone(out, scene, solved.solution);
+    contact_zone(out, solved.solution);
     contact_forces(out, solved.solution, info);
   }
   if (solved.holds_results) balance(out, solved.solution);

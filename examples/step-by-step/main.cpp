@@ -24,6 +24,7 @@
 #include <hemivem/vem/assembly.hpp>
 #include <hemivem/cholmod_factorization.hpp>
 #include <hemivem/contact/condensation.hpp>
+#include <hemivem/contact/solver.hpp>
 #include <hemivem/mesh/generators.hpp>
 #include <hemivem/contact/piecewise_law.hpp>
 #include <hemivem/ssn_minimizer.hpp>
@@ -33,6 +34,7 @@
 #include <cstdio>
 #include <exception>
 #include <memory>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -100,15 +102,26 @@ hemivem::MinimizerResult minimize(const hemivem::ReducedProblem& reduced) {
   std::printf("  certificate   primal %.3e, dual %.3e (tolerance %.1e)\n", result.certificate.primal,
               result.certificate.dual, result.certificate.tolerance);
 
-  // Where the contact nodes ended: on the upper bound a_i = g_i, on the lower one, or free.
-  int upper = 0, lower = 0;
+  // How the contact nodes ended, in the words of `hemivem solve`: at the gap (the upper bound
+  // a_i = g_i), or between the bounds by the sign of the law's force (in contact: pressed into
+  // the foundation; in tension; separated: no force).
+  int count[6] = {};
   for (Eigen::Index i = 0; i < result.a.size(); ++i) {
-    const double tol = 1e-12 * std::max(1.0, std::abs(reduced.upper(i)));
-    if (std::abs(result.a(i) - reduced.upper(i)) <= tol) ++upper;
-    else if (std::abs(result.a(i) - reduced.lower(i)) <= tol) ++lower;
+    const double force = result.law_force.size() == result.a.size() ? result.law_force(i) : 0.0;
+    ++count[static_cast<int>(hemivem::contact_state(result.a(i), reduced.lower(i), reduced.upper(i), force))];
   }
-  std::printf("  contact       %d nodes: %d at the upper bound, %d at the lower bound, %d free\n",
-              static_cast<int>(result.a.size()), upper, lower, static_cast<int>(result.a.size()) - upper - lower);
+  std::printf("  contact       %d nodes: ", static_cast<int>(result.a.size()));
+  const std::pair<hemivem::ContactState, const char*> words[] = {
+      {hemivem::ContactState::at_gap, "at the gap"},           {hemivem::ContactState::in_contact, "in contact"},
+      {hemivem::ContactState::in_tension, "in tension"},       {hemivem::ContactState::separated, "separated"},
+      {hemivem::ContactState::at_minus_gap, "at minus the gap"}};
+  const char* separator = "";
+  for (const auto& [state, text] : words)
+    if (const int n = count[static_cast<int>(state)]; n > 0) {
+      std::printf("%s%d %s", separator, n, text);
+      separator = ", ";
+    }
+  std::printf("\n");
   std::printf("  F(a)          %.10g\n", result.objective);
   return result;
 }

@@ -99,7 +99,7 @@ def test_small_scene_converges_with_three_columns(small_3d):
 def test_json_is_the_three_dimensional_document(small_3d):
     _, r = small_3d
     j = r.json()
-    assert j["schema"] == "hemivem-result/14" and j["dimension"] == 3
+    assert j["schema"] == "hemivem-result/15" and j["dimension"] == 3
     assert j["status"] == r.status and j["potential_energy"] == r.energy
     assert j["mesh"]["vertices"] == r.mesh.num_vertices and j["mesh"]["elements"] == r.mesh.num_cells
     assert len(j["contact"]) == len(r.contact)
@@ -170,7 +170,7 @@ def test_pressed_block_is_uniaxial_stress():
     assert np.max(np.linalg.norm(r.displacement - expected, axis=1)) < 1e-11
     t = r.contact
     assert len(t) == 16  # every bottom vertex, those on the symmetry planes included
-    assert list(t.state) == ["upper"] * 16
+    assert list(t.state) == ["at-gap"] * 16
     assert np.max(np.abs(t.u_nu)) < 1e-14
     assert np.allclose(t.normal, [0.0, 0.0, -1.0], rtol=0, atol=1e-15)
     stress = YOUNG * strain

@@ -83,7 +83,7 @@ def test_arrays_shapes_dtypes_and_order(small_scene):
     for name in ["x", "y", "u_nu", "law_force", "reaction", "pressure", "gap", "weight"]:
         assert t[name].shape == (n,) and t[name].dtype == np.float64, name
     assert t.vertex.dtype == np.int32 and t.normal.shape == (n, 2)
-    assert t.state.dtype.kind == "U" and set(t.state) <= {"upper", "lower", "free"}
+    assert t.state.dtype.kind == "U" and set(t.state) <= {"at-gap", "at-minus-gap", "in-contact", "separated"}
     assert np.allclose(t.pressure * t.weight, t.law_force + t.reaction, rtol=1e-14, atol=0)
     assert np.array_equal(t.u_nu, r.a)
     assert np.allclose(mesh.vertices[t.vertex][:, 1], 0.0)

@@ -59,15 +59,18 @@ ContactBoundary boundary_of(const Mesh& mesh, const std::vector<std::pair<int, i
     Vec2 normal = entry.normal.normalized();
     int prescribed = -1;
     if (fx != fy) {
-      // a roller or symmetry line meeting Gamma_3: allowed where the prescribed component is tangential
+      // a roller or symmetry line meeting Gamma_3: allowed where the prescribed component is
+      // tangential; a prescribed normal component takes the node out of the contact (the
+      // support holds it)
       prescribed = fx ? 0 : 1;
+      if (std::abs(normal(1 - prescribed)) <= tangential_tolerance) continue;
       if (!(std::abs(normal(prescribed)) <= tangential_tolerance))
         throw InputError("contact node " + std::to_string(v) + " at (" + std::to_string(mesh.vertex(v).x()) + ", " +
                          std::to_string(mesh.vertex(v).y()) + ") has its " + (fx ? "x" : "y") +
                          " displacement prescribed, which is not tangential to its contact normal (" +
                          std::to_string(normal.x()) + ", " + std::to_string(normal.y()) +
-                         "): a contact node may have prescribed components only along its tangent; end the "
-                         "support's or the contact's part before it");
+                         "): a contact node may have a prescribed component along its tangent or its normal, not "
+                         "oblique to them; end the support's or the contact's part before it");
       normal(prescribed) = 0.0;
       normal(1 - prescribed) = normal(1 - prescribed) > 0.0 ? 1.0 : -1.0;
     }
@@ -389,7 +392,10 @@ void Condensation::number_coordinates(const ContactBoundary& boundary, const std
         throw InputError("friction on a three-dimensional contact boundary is not supported (the contact is frictionless)");
       continue;
     }
-    if (c.friction || c.constraint == ConstraintKind::bilateral) tangential_coordinate_[i] = next++;
+    // a node whose tangential displacement is prescribed (a roller or symmetry line meeting the
+    // contact) has no tangential unknown: its tangential reaction is the support's
+    const bool tangent_held = !boundary.prescribed_component.empty() && boundary.prescribed_component[i] >= 0;
+    if ((c.friction || c.constraint == ConstraintKind::bilateral) && !tangent_held) tangential_coordinate_[i] = next++;
   }
 }
 
@@ -450,11 +456,6 @@ void Condensation::order_unknowns(const LinearSystem& system, const ContactBound
     const int mask = d == 3 && !boundary.prescribed_mask.empty() ? boundary.prescribed_mask[k] : 0;
     if (prescribed >= 0 || mask != 0) {
       // free components along the normal and the tangentials not prescribed
-      if (tangential_coordinate(i) >= 0)
-        throw InputError("contact node " + std::to_string(v) + " has its " + (prescribed == 0 ? "x" : "y") +
-                         " displacement (its tangential one) prescribed; with friction or a bilateral constraint "
-                         "the tangential displacements of the contact nodes are unknowns: end the support's or the "
-                         "contact's part before it");
       if (prescribed >= 0) free[static_cast<std::size_t>(prescribed)] = -1;
       for (int c = 0; c < 3; ++c)
         if (mask & (1 << c)) free[static_cast<std::size_t>(c)] = -1;

@@ -16,6 +16,7 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <optional>
 
 namespace hemivem {
 
@@ -31,21 +32,24 @@ namespace {
 
 // The unit normal of contact node v from the sum of its faces' weighted normals; with
 // prescribed components (bit c of `mask` for component c: a symmetry plane or a roller meeting
-// Gamma_3) made exactly perpendicular to them, which must be tangential.
-Vec3 node_normal(const Mesh3D& mesh, int v, const Vec3& sum, int mask) {
+// Gamma_3) made exactly perpendicular to them, which must be tangential. Empty when a prescribed
+// component is the normal one: the support holds the node, which leaves the contact.
+std::optional<Vec3> node_normal(const Mesh3D& mesh, int v, const Vec3& sum, int mask) {
   const double length = scale_free_norm(sum);
   if (!(length > 0.0))
     throw InputError("contact node " + std::to_string(v) + " has no defined normal (its contact faces cancel)");
   Vec3 normal = sum / length;
   if (mask == 0) return normal;
+  for (int c = 0; c < 3; ++c)
+    if ((mask & (1 << c)) && 1.0 - std::abs(normal(c)) <= tangential_tolerance) return std::nullopt;
   for (int c = 0; c < 3; ++c) {
     if (!(mask & (1 << c))) continue;
     if (!(std::abs(normal(c)) <= tangential_tolerance))
       throw InputError("contact node " + std::to_string(v) + " at " + point_text(mesh.vertex(v)) + " has its " +
                        std::string(1, "xyz"[c]) + " displacement prescribed, which is not tangential to its contact normal " +
                        point_text(normal) +
-                       ": a contact node may have prescribed components only in its tangent plane (a symmetry "
-                       "plane); end the support's or the contact's faces before it");
+                       ": a contact node may have prescribed components in its tangent plane (a symmetry plane) "
+                       "or along its normal, not oblique to them; end the support's or the contact's faces before it");
     normal(c) = 0.0;
   }
   return normal.normalized();
@@ -102,7 +106,9 @@ ContactBoundary make_contact_boundary(const Mesh3D& mesh, const std::vector<Cont
                        " has the quadrature weight " + std::to_string(entry.weight) +
                        " (the sum of its contact faces' weights, which must be positive): a contact face is too far "
                        "from its vertices' mean to integrate over; split it");
-    const Vec3 normal = node_normal(mesh, v, entry.normal, mask);
+    const std::optional<Vec3> held = node_normal(mesh, v, entry.normal, mask);
+    if (!held) continue;  // its normal displacement is prescribed
+    const Vec3 normal = *held;
     const ContactPart3D& part = parts[static_cast<std::size_t>(entry.part)];
     double g = 0.0;
     if (part.obstacle) {
@@ -149,6 +155,9 @@ ContactBoundary contact_boundary(const ContactProblem3D& problem, const DofMap& 
       if (const std::string d = part.obstacle->defect(); !d.empty())
         throw InputError("the obstacle" + (parts.size() > 1 ? " of contact part '" + part.name + "'" : std::string()) + ": " + d);
   const ContactBoundary boundary = make_contact_boundary(*problem.elasticity.mesh, parts, dofs);
+  std::vector<std::string> names;
+  for (const ContactPart3D& part : parts) names.push_back(part.name);
+  require_nodes_in_every_part(boundary, names);
   for (int i = 0; i < boundary.size(); ++i) {
     const ContactPart3D& part = parts[static_cast<std::size_t>(boundary.part_of(i))];
     if (part.obstacle && part.constraint == ConstraintKind::box)
@@ -173,9 +182,9 @@ BasicContactNode<3> contact_node(const Mesh3D& mesh, const ContactBoundary& boun
     node.u_nu = m.a(k) + cond.origin()(k);
     node.law_force = forces ? m.law_force(k) : 0.0;
     node.reaction = forces ? m.reaction(k) : 0.0;
-    node.state = m.a(k) == rp.upper(k) ? ContactState::upper : (m.a(k) == rp.lower(k) ? ContactState::lower : ContactState::free);
+    node.state = contact_state(m.a(k), rp.lower(k), rp.upper(k), node.law_force);
   } else {
-    node.state = ContactState::bilateral;
+    node.state = ContactState::tied;
     double f = 0.0;
     bool known = residual != nullptr;
     for (int c = 0; c < 3 && known; ++c) {

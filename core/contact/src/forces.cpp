@@ -20,10 +20,9 @@ BasicForceBalance<PointOf<dim>> balance_of(const BasicElasticityProblem<dim>& pr
   std::vector<int> owner(static_cast<std::size_t>(f.size()), -1);
   for (std::size_t k = 0; k < problem.dirichlet.size(); ++k) {
     const BasicDirichletCondition<dim>& bc = problem.dirichlet[k];
-    for (int id : bc.facets)
-      for (int v : mesh.facet_vertices(id))
-        for (int c = 0; c < dim; ++c)
-          if (bc.fix[static_cast<std::size_t>(c)]) owner[static_cast<std::size_t>(dim * v + c)] = static_cast<int>(k);
+    for (int v : bc.held_vertices(mesh))
+      for (int c = 0; c < dim; ++c)
+        if (bc.fix[static_cast<std::size_t>(c)]) owner[static_cast<std::size_t>(dim * v + c)] = static_cast<int>(k);
   }
   std::vector<char> prescribed(owner.size());
   for (std::size_t d = 0; d < owner.size(); ++d) prescribed[d] = owner[d] >= 0;

@@ -19,6 +19,9 @@ ContactBoundary contact_boundary(const ContactProblem& problem, const DofMap& do
   const std::vector<ContactPart> parts = contact_parts(problem);
   if (parts.empty()) return ContactBoundary{};
   const ContactBoundary boundary = make_contact_boundary(*problem.elasticity.mesh, parts, dofs);
+  std::vector<std::string> names;
+  for (const ContactPart& part : parts) names.push_back(part.name);
+  require_nodes_in_every_part(boundary, names);
   for (int i = 0; i < boundary.size(); ++i) {
     const ContactPart& part = parts[static_cast<std::size_t>(boundary.part_of(i))];
     if (part.obstacle && part.constraint == ConstraintKind::box)
@@ -86,12 +89,12 @@ ContactNode contact_node(const Mesh& mesh, const ContactBoundary& boundary, cons
     node.u_nu = m.a(k) + cond.origin()(k);
     node.law_force = forces ? m.law_force(k) : 0.0;
     node.reaction = forces ? m.reaction(k) : 0.0;
-    node.state = m.a(k) == rp.upper(k) ? ContactState::upper : (m.a(k) == rp.lower(k) ? ContactState::lower : ContactState::free);
+    node.state = contact_state(m.a(k), rp.lower(k), rp.upper(k), node.law_force);
   } else {
     // u_nu = 0 imposed: the normal force is what holds the node there, the normal part of
     // the residual A u - b at its dofs (NaN where a dof of the node is prescribed or the
     // residual is not given)
-    node.state = ContactState::bilateral;
+    node.state = ContactState::tied;
     const int dx = dofs.free_index[static_cast<std::size_t>(2 * node.vertex)];
     const int dy = dofs.free_index[static_cast<std::size_t>(2 * node.vertex + 1)];
     node.reaction = residual && dx >= 0 && dy >= 0 ? -Vec2((*residual)(dx), (*residual)(dy)).dot(node.normal)
@@ -157,7 +160,8 @@ Enum enum_from_string(const std::string& text, const std::array<const char*, n>&
   throw InputError("unknown " + std::string(what) + " '" + text + "' (expected one of: " + list + ")");
 }
 
-constexpr std::array<const char*, 4> contact_state_words{"free", "upper", "lower", "bilateral"};
+constexpr std::array<const char*, 6> contact_state_words{"separated", "in-contact", "in-tension",
+                                                         "at-gap",    "at-minus-gap", "tied"};
 constexpr std::array<const char*, 5> friction_state_words{"", "stick", "slip", "slip-weakening", "slip-kinetic"};
 
 }  // namespace
@@ -166,6 +170,12 @@ std::string to_string(ContactState state) { return contact_state_words[static_ca
 
 ContactState contact_state_from_string(const std::string& text) {
   return enum_from_string<ContactState>(text, contact_state_words, "contact state");
+}
+
+ContactState contact_state(double a, double lo, double hi, double law_force) noexcept {
+  if (a == hi) return ContactState::at_gap;
+  if (a == lo) return ContactState::at_minus_gap;
+  return law_force > 0.0 ? ContactState::in_contact : (law_force < 0.0 ? ContactState::in_tension : ContactState::separated);
 }
 
 std::string to_string(FrictionState state) { return friction_state_words[static_cast<std::size_t>(state)]; }

@@ -124,6 +124,18 @@ void require_box_gap(double gap, int node, const std::string& part) {
                    "; set contact.constraint = \"one-sided\" with an obstacle");
 }
 
+void require_nodes_in_every_part(const ContactBoundary& boundary, const std::vector<std::string>& names) {
+  std::vector<char> touched(names.size(), 0);
+  for (int i = 0; i < boundary.size(); ++i)
+    if (const int k = boundary.part_of(i); k >= 0 && k < static_cast<int>(touched.size())) touched[static_cast<std::size_t>(k)] = 1;
+  for (std::size_t k = 0; k < names.size(); ++k)
+    if (!touched[k])
+      throw InputError((names.size() > 1 ? "contact part '" + names[k] + "'" : std::string("the contact part")) +
+                       " has no contact node left: the supports prescribe the normal displacement of every one of its "
+                       "nodes (a prescribed normal component takes a node out of the contact); end the support's or "
+                       "the contact's part before the other");
+}
+
 double factorized_condition_estimate(const SparseMatrix& A, const SparseFactorization& f) {
   auto apply = [&](const Eigen::VectorXd& x) {
     Eigen::MatrixXd y;

@@ -250,7 +250,8 @@ void BasicPathSolver<dim>::Impl::find_friction_bounds() {
     any_bilateral = any_bilateral || cond->normal_coordinate(i) < 0;
     has_tangential = has_tangential || cond->tangential_coordinate(i) >= 0;
     const auto& part = parts[static_cast<std::size_t>(boundary.part_of(i))];
-    if (!part.friction_bound) continue;
+    // a node whose tangential displacement a support prescribes has no friction coordinate
+    if (!part.friction_bound || cond->tangential_coordinate(i) < 0) continue;
     bound_law[static_cast<std::size_t>(i)] = &*part.friction_bound;
     bounded = true;
     // the tangential coordinate's law is g |r| with g = 1: the node's bound is its weight

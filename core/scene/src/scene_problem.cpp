@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <map>
 #include <iomanip>
+#include <limits>
 #include <set>
 #include <sstream>
 
@@ -33,6 +34,7 @@ class FacetSelection {
   FacetSelection(const Scene& scene, const MeshOf<dim>& mesh) : scene_(scene), mesh_(mesh), box_(mesh.bounding_box()) {}
 
   std::vector<int> operator()(const BoundarySelector& b, const std::string& key) const {
+    if (!b.has_facets() && !b.points.empty()) return {};  // a support at single vertices only
     std::vector<int> facets = by_place(b);
     for (const auto& g : b.groups) {
       try {
@@ -49,7 +51,43 @@ class FacetSelection {
     return facets;
   }
 
+  /// The vertex at each of the selector's points: the nearest one, within `tolerance` times the
+  /// mesh's size (the longest side of its bounding box); an error naming `key`.point otherwise.
+  std::vector<int> vertices(const BoundarySelector& b, const std::string& key) const {
+    double size = 0.0;
+    for (int c = 0; c < dim; ++c) size = std::max(size, extent(c));
+    std::vector<int> found;
+    for (const auto& q : b.points) {
+      const PointOf<dim> x = Eigen::Map<const Eigen::Vector3d>(q.data()).head<dim>();
+      int best = -1;
+      double distance = std::numeric_limits<double>::infinity();
+      for (int v = 0; v < mesh_.num_vertices(); ++v)
+        if (const double d = (mesh_.vertex(v) - x).norm(); d < distance) {
+          distance = d;
+          best = v;
+        }
+      if (best < 0 || !(distance <= b.tolerance * size))
+        throw InputError(key + ".point: no vertex of the mesh at " + detail::point_text<dim>(x) +
+                             (best < 0 ? std::string()
+                                       : " (the nearest, vertex " + std::to_string(best) + " at " +
+                                             detail::point_text<dim>(mesh_.vertex(best)) + ", is " + fmt(distance) +
+                                             " away; the tolerance is " + fmt(b.tolerance) + " x the mesh size " +
+                                             fmt(size) + ")") +
+                             "; a point support holds a vertex of the mesh",
+                         scene_.where(key + ".point"));
+      found.push_back(best);
+    }
+    return found;
+  }
+
  private:
+  double extent(int axis) const {
+    if constexpr (dim == 2)
+      return axis == 0 ? box_.width() : box_.height();
+    else
+      return box_.size(axis);
+  }
+
   std::vector<int> by_place(const BoundarySelector& b) const {
     if constexpr (dim == 2) {
       std::vector<Segment> segs;
@@ -110,14 +148,16 @@ MaterialTable scene_materials(const Scene& scene, const MeshOf<dim>& mesh) {
 template <int dim>
 void add_dirichlet(BasicElasticityProblem<dim>& e, const Scene& scene, const FacetSelection<dim>& select) {
   if (!scene.clamped.empty())
-    e.dirichlet.push_back({select(scene.clamped, "clamped"), {}, BasicDirichletCondition<dim>::all_components(), "clamped"});
+    e.dirichlet.push_back({select(scene.clamped, "clamped"), {}, BasicDirichletCondition<dim>::all_components(), "clamped",
+                           select.vertices(scene.clamped, "clamped")});
   for (std::size_t i = 0; i < scene.dirichlet.size(); ++i) {
     const auto& d = scene.dirichlet[i];
     const std::string key = "dirichlet[" + std::to_string(i) + "]";
     const std::array<bool, 3> given{d.ux.has_value(), d.uy.has_value(), d.uz.has_value()};
     std::array<bool, dim> fix{};
     std::copy_n(given.begin(), dim, fix.begin());
-    e.dirichlet.push_back({select(d.boundary, key), detail::dirichlet_value_at<dim>(scene, i, 1.0), fix, key});
+    e.dirichlet.push_back(
+        {select(d.boundary, key), detail::dirichlet_value_at<dim>(scene, i, 1.0), fix, key, select.vertices(d.boundary, key)});
   }
 }
 
@@ -140,8 +180,10 @@ void check_contact_not_clamped(const BasicElasticityProblem<dim>& e, const std::
                                const std::string& key) {
   std::set<int> fixed, touching;
   for (const auto& d : e.dirichlet)
-    if (std::all_of(d.fix.begin(), d.fix.end(), [](bool f) { return f; }))
-      for (int f : d.facets) insert_facet_vertices(fixed, *e.mesh, f);
+    if (std::all_of(d.fix.begin(), d.fix.end(), [](bool f) { return f; })) {
+      const std::vector<int> held = d.held_vertices(*e.mesh);
+      fixed.insert(held.begin(), held.end());
+    }
   for (int f : facets) insert_facet_vertices(touching, *e.mesh, f);
   if (std::includes(fixed.begin(), fixed.end(), touching.begin(), touching.end()))
     throw InputError(key + ": every node of the contact part is also clamped ([clamped] or a [[dirichlet]] "

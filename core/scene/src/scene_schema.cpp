@@ -36,6 +36,32 @@ const std::vector<std::string> kSides3{"x0", "x1", "y0", "y1", "z0", "z1", "bott
 }
 
 const std::vector<std::string> kSelectorKeys{"side", "group", "segments", "tolerance"};
+/// A support's selector ([clamped], [[dirichlet]]) may also hold single vertices.
+const std::vector<std::string> kSupportKeys{"side", "group", "segments", "tolerance", "point"};
+
+/// `point` of a support: [x, y] ([x, y, z] in 3D) or an array of them.
+std::vector<std::array<double, 3>> read_points(TableReader& r, int dim) {
+  std::vector<std::array<double, 3>> out;
+  const toml::node* n = r.find("point");
+  if (!n) return out;
+  const std::string shape = dim == 2 ? "[x, y]" : "[x, y, z]";
+  const auto* a = n->as_array();
+  if (!a) r.fail_type("point", *n, "an array " + shape + " or an array of them");
+  const bool several = !a->empty() && (*a)[0].is_array();
+  const std::size_t count = several ? a->size() : 1;
+  for (std::size_t i = 0; i < count; ++i) {
+    const toml::node& one = several ? (*a)[i] : *n;
+    const auto v = r.numbers_of("point", one, "an array " + shape + " or an array of them");
+    if (v.size() != static_cast<std::size_t>(dim))
+      r.fail("point", one,
+             (several ? "point " + std::to_string(i) + ": " : std::string()) + "expected " + shape + " (" +
+                 std::to_string(dim) + " numbers), got " + std::to_string(v.size()) + " numbers");
+    std::array<double, 3> x{0.0, 0.0, 0.0};
+    std::copy(v.begin(), v.end(), x.begin());
+    out.push_back(x);
+  }
+  return out;
+}
 
 std::vector<std::string> with_selector(std::vector<std::string> keys) {
   keys.insert(keys.end(), kSelectorKeys.begin(), kSelectorKeys.end());
@@ -51,7 +77,8 @@ void check_name(TableReader& r, std::string_view key, const std::string& value, 
          "unknown " + what + " '" + value + "'" + did_you_mean(value, valid) + " (expected one of: " + join(valid) + ")");
 }
 
-BoundarySelector read_selector(TableReader& r, bool required) {
+/// `support`: the table is a support's, which may hold single vertices (`point`).
+BoundarySelector read_selector(TableReader& r, bool required, bool support = false) {
   BoundarySelector s;
   s.sides.clear();
   const bool solid = r.scene().dimension() == 3;
@@ -88,8 +115,10 @@ BoundarySelector read_selector(TableReader& r, bool required) {
     if (!(*t > 0.0)) r.fail("tolerance", r.node("tolerance"), "must be > 0, got " + fmt(*t));
     s.tolerance = *t;
   }
+  if (support) s.points = read_points(r, solid ? 3 : 2);
   if (required && s.empty())
-    throw InputError(r.path() + (solid ? ": no boundary given; set side or group" : ": no boundary given; set side, group or segments"),
+    throw InputError(r.path() + (solid ? ": no boundary given; set side or group" : ": no boundary given; set side, group or segments") +
+                         (support ? ", or point" : ""),
                      r.at(r.self()));
   return s;
 }
@@ -662,8 +691,8 @@ void read_material(Scene& s, const toml::table& t) {
 
 /// [clamped]: the boundary held at zero displacement.
 void read_clamped(Scene& s, const toml::table& t) {
-  TableReader c(s, t, "clamped", kSelectorKeys);
-  s.clamped = read_selector(c, true);
+  TableReader c(s, t, "clamped", kSupportKeys);
+  s.clamped = read_selector(c, true, true);
 }
 
 /// [[dirichlet]]: prescribed displacements, each value = [ux, uy] or ux and/or uy on a boundary
@@ -674,10 +703,10 @@ void read_dirichlet(Scene& s, const toml::array& d) {
                                                     : std::vector<const char*>{"ux", "uy"};
   for (std::size_t i = 0; i < d.size(); ++i) {
     TableReader g(s, *d[i].as_table(), "dirichlet[" + std::to_string(i) + "]",
-                  with_selector(solid ? std::vector<std::string>{"value", "ux", "uy", "uz"}
-                                      : std::vector<std::string>{"value", "ux", "uy"}));
+                  with_selector(solid ? std::vector<std::string>{"value", "ux", "uy", "uz", "point"}
+                                      : std::vector<std::string>{"value", "ux", "uy", "point"}));
     SceneDirichlet sd;
-    sd.boundary = read_selector(g, true);
+    sd.boundary = read_selector(g, true, true);
     auto given = [&] {
       for (const char* k : components)
         if (g.has(k))
@@ -892,7 +921,7 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
   read_version_and_title(r, s);
   if (const toml::table* t = r.table("mesh")) read_mesh(s, *t, base);
   if (const toml::table* t = r.table("material")) read_material(s, *t);
-  if (!r.has("clamped")) s.clamped = BoundarySelector{{}, {}, {}, 1e-8};  // only the supports the scene writes
+  if (!r.has("clamped")) s.clamped = BoundarySelector{{}, {}, {}, 1e-8, {}};  // only the supports the scene writes
   if (const toml::table* t = r.table("clamped")) read_clamped(s, *t);
   if (const toml::array* d = r.array_of_tables("dirichlet")) read_dirichlet(s, *d);
   read_loads(s, r.table("loads"));

@@ -62,12 +62,15 @@ std::string list(const Range& r, F f) {
   return s + "]";
 }
 
-void write_selector(std::ostream& o, const BoundarySelector& b) {
+void write_selector(std::ostream& o, const BoundarySelector& b, int dims = 2) {
   if (!b.sides.empty()) o << "side = " << list(b.sides, quote) << "\n";
   if (!b.groups.empty()) o << "group = " << list(b.groups, quote) << "\n";
   if (!b.segments.empty())
     o << "segments = " << list(b.segments, [](const std::array<double, 4>& a) { return list(a, fmt); }) << "\n";
   o << "tolerance = " << fmt(b.tolerance) << "\n";
+  if (b.points.empty()) return;
+  const auto point = [dims](const std::array<double, 3>& x) { return list(first(x, dims), fmt); };
+  o << "point = " << (b.points.size() == 1 ? point(b.points.front()) : list(b.points, point)) << "\n";
 }
 
 
@@ -122,11 +125,11 @@ void write_material(std::ostream& o, const SceneMaterial& m, int dimension) {
 void write_dirichlet(std::ostream& o, const Scene& s) {
   if (!s.clamped.empty()) {
     o << "\n[clamped]\n";
-    write_selector(o, s.clamped);
+    write_selector(o, s.clamped, s.dimension());
   }
   for (const auto& d : s.dirichlet) {
     o << "\n[[dirichlet]]\n";
-    write_selector(o, d.boundary);
+    write_selector(o, d.boundary, s.dimension());
     if (d.ux) o << "ux = " << scalar_text(*d.ux) << "\n";
     if (d.uy) o << "uy = " << scalar_text(*d.uy) << "\n";
     if (d.uz) o << "uz = " << scalar_text(*d.uz) << "\n";

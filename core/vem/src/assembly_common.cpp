@@ -128,42 +128,64 @@ Eigen::VectorXd apply_of(const MeshOf<dim>& mesh, const MaterialTable& materials
   return Ku;
 }
 
+}  // namespace
+
+template <int dim>
+std::vector<int> BasicDirichletCondition<dim>::held_vertices(const MeshOf<dim>& mesh) const {
+  std::vector<int> held;
+  for (int id : facets) {
+    if (id < 0 || id >= mesh.num_facets())
+      throw InputError(std::string("Dirichlet ") + facet_word<dim>() + " id " + std::to_string(id) + " out of range");
+    for (int v : mesh.facet_vertices(id)) held.push_back(v);
+  }
+  for (int v : vertices) {
+    if (v < 0 || v >= mesh.num_vertices())
+      throw InputError("Dirichlet vertex id " + std::to_string(v) + " out of range (the mesh has " +
+                       std::to_string(mesh.num_vertices()) + " vertices)");
+    held.push_back(v);
+  }
+  return held;
+}
+
+template struct BasicDirichletCondition<2>;
+template struct BasicDirichletCondition<3>;
+
+namespace {
+
 template <int dim>
 DofMap dof_map_of(const MeshOf<dim>& mesh, const std::vector<BasicDirichletCondition<dim>>& dirichlet) {
   const int ndof = dim * mesh.num_vertices();
   Eigen::VectorXd prescribed = Eigen::VectorXd::Zero(ndof);
   std::vector<char> fixed(static_cast<std::size_t>(ndof), 0);
   for (const auto& bc : dirichlet)
-    for (int id : bc.facets) {
-      if (id < 0 || id >= mesh.num_facets())
-        throw InputError(std::string("Dirichlet ") + facet_word<dim>() + " id " + std::to_string(id) + " out of range");
-      for (int v : mesh.facet_vertices(id)) {
-        const PointOf<dim> value = bc.value ? bc.value(mesh.vertex(v)) : PointOf<dim>::Zero();
-        for (int c = 0; c < dim; ++c) {
-          if (!bc.fix[static_cast<std::size_t>(c)]) continue;
-          fixed[static_cast<std::size_t>(dim * v + c)] = 1;
-          prescribed(dim * v + c) = value(c);
-        }
+    for (int v : bc.held_vertices(mesh)) {
+      const PointOf<dim> value = bc.value ? bc.value(mesh.vertex(v)) : PointOf<dim>::Zero();
+      for (int c = 0; c < dim; ++c) {
+        if (!bc.fix[static_cast<std::size_t>(c)]) continue;
+        fixed[static_cast<std::size_t>(dim * v + c)] = 1;
+        prescribed(dim * v + c) = value(c);
       }
     }
   return detail::dof_map_of(std::move(fixed), std::move(prescribed));
 }
 
-/// InputError, before any assembly, when no facet has a prescribed displacement or their
-/// measure is zero.
+/// InputError, before any assembly, when nothing has a prescribed displacement, or only facets
+/// whose measure is zero. Single vertices hold the body as far as the rigid motions they stop
+/// (find_supports decides that).
 template <int dim>
 void require_held(const BasicElasticityProblem<dim>& problem) {
   double held = 0.0;
-  std::size_t held_facets = 0;
+  std::size_t held_facets = 0, held_points = 0;
   for (const auto& bc : problem.dirichlet) {
     held_facets += bc.facets.size();
+    held_points += bc.vertices.size();
     for (int id : bc.facets)
       if (id >= 0 && id < problem.mesh->num_facets()) held += facet_measure(*problem.mesh, id);
   }
-  if (held_facets == 0)
+  if (held_facets == 0 && held_points == 0)
     throw InputError(std::string("the body is not held: no boundary ") + facet_word<dim>() +
-                     " has a prescribed displacement (Gamma_1 is empty)");
-  if (!(held > 0.0))
+                     " or vertex has a prescribed displacement (Gamma_1 is empty)");
+  if (held_points == 0 && !(held > 0.0))
     throw InputError(std::string("the body is not held: the boundary with prescribed displacement (Gamma_1) has zero ") +
                      (dim == 2 ? "length" : "area"));
 }

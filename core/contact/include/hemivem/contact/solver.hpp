@@ -34,14 +34,24 @@ struct ContactTypes {
   using MeshType = MeshOf<dim>;
 };
 
-/// Where the normal unknown of a contact node is: strictly between its bounds, at its upper
-/// bound (the gap, u_nu = g, or the obstacle's surface), at its lower bound (-g with the box
-/// constraint), or held at u_nu = 0 by a bilateral constraint.
-enum class ContactState { free, upper, lower, bilateral };
-/// "free", "upper", "lower", "bilateral": the words of contact.csv, result.json and Python.
+/// How a contact node touches, in the words of contact.csv, result.json and Python. At a bound
+/// of its normal unknown: "at-gap" (u_nu = g: the gap is closed, the node rests on the rigid
+/// support behind the foundation or on the obstacle) or "at-minus-gap" (u_nu = -g, the other
+/// side of the box constraint). Between its bounds, by the sign of the law's force zeta on it:
+/// "in-contact" (zeta > 0: pressed into the foundation, which pushes back), "in-tension"
+/// (zeta < 0: an adhesive law holds it) or "separated" (zeta = 0: no force). "tied": held at
+/// u_nu = 0 by a bilateral constraint.
+enum class ContactState { separated, in_contact, in_tension, at_gap, at_minus_gap, tied };
+/// "separated", "in-contact", "in-tension", "at-gap", "at-minus-gap", "tied".
 std::string to_string(ContactState state);
 /// The state of those words; InputError for any other.
 ContactState contact_state_from_string(const std::string& text);
+/// The state of a normal unknown `a` with bounds [lo, hi] and the law's force `law_force` on it.
+ContactState contact_state(double a, double lo, double hi, double law_force) noexcept;
+/// At a bound of its normal unknown or tied: the node's position is the constraint's.
+constexpr bool at_a_bound(ContactState s) noexcept {
+  return s == ContactState::at_gap || s == ContactState::at_minus_gap || s == ContactState::tied;
+}
 
 /// How a node's tangential displacement sits under its friction law: no friction; "stick" at
 /// a kink of the law (0 for the shipped laws); "slip"; for the slip-weakening law
@@ -67,7 +77,7 @@ struct BasicContactNode {
   double weight = 0.0;     ///< w_i, the length (area in 3D) of boundary the node stands for
   Point normal = Point::Zero();  ///< the outward unit normal nu_i
   double gap = 0.0;        ///< g_i, the gap used at the node; NaN where none is (bilateral: u_nu = 0)
-  ContactState state = ContactState::free;
+  ContactState state = ContactState::separated;
   /// With friction (plane bodies: the part's friction law, or a bilateral constraint): the
   /// tangential displacement u_tau = u . tau (tau = (-nu_y, nu_x)), the friction force
   /// zeta_tau in w_i dj_tau(u_tau) (the foundation pushes the body by -zeta_tau tau, against

@@ -53,6 +53,12 @@ Supports find_supports(const Mesh3D& mesh, const DofMap& dofs, const ContactBoun
 /// on each node of a box-constrained contact against an obstacle, before anything is factorized.
 void require_box_gap(double gap, int node, const std::string& part = {});
 
+/// Throws InputError when a contact part (named by `names`, in part order) has no contact node
+/// left: a support prescribes every one of its nodes' normal displacement (or every
+/// component), so the part touches nothing. The plane and the solid call it on the boundary
+/// they built, before anything is factorized.
+void require_nodes_in_every_part(const ContactBoundary& boundary, const std::vector<std::string>& names);
+
 /// The 1-norm condition estimate ||A||_1 ||A^-1||_1 of a matrix `f` has factorized (7 solves
 /// with it), independent of the engine: what the plane's and the solid's linear solves report
 /// as condition_estimate.

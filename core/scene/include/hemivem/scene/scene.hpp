@@ -49,13 +49,17 @@ inline constexpr int scene_schema_version = 1;
 /// within `tolerance` times the mesh's size, the longer side of its bounding box, of a segment
 /// or side: the same selection at every scale). At least one of the three is given. In three
 /// dimensions a set of boundary faces: the sides of the box, face groups, no segments.
+/// A support ([clamped], [[dirichlet]]) may also hold single vertices: `points`, each matched
+/// to the mesh vertex within `tolerance` times the mesh's size.
 struct BoundarySelector {
   /// "left", "right", "top", "bottom"; in 3D "x0", "x1", "y0", "y1", "z0", "z1", "bottom" (z0), "top" (z1)
   std::vector<std::string> sides;
   std::vector<std::string> groups;               ///< Mesh::edge_group names (3D: Mesh3D::face_group names)
   std::vector<std::array<double, 4>> segments;   ///< x0, y0, x1, y1
   double tolerance = 1e-8;
-  bool empty() const noexcept { return sides.empty() && groups.empty() && segments.empty(); }
+  std::vector<std::array<double, 3>> points;     ///< supports only: x, y (z = 0 in 2D)
+  bool has_facets() const noexcept { return !sides.empty() || !groups.empty() || !segments.empty(); }
+  bool empty() const noexcept { return !has_facets() && points.empty(); }
   bool operator==(const BoundarySelector&) const = default;
 };
 
@@ -121,9 +125,10 @@ struct SceneTraction {
   bool operator==(const SceneTraction&) const = default;
 };
 
-/// A prescribed displacement on boundary edges ([[dirichlet]]): both components
-/// (value = [ux, uy]) or one of them (a roller: the other component stays free). In 3D on
-/// faces: value = [ux, uy, uz], or any of ux, uy, uz (the others stay free).
+/// A prescribed displacement on boundary edges ([[dirichlet]]) and at single vertices
+/// (`point`): both components (value = [ux, uy]) or one of them (a roller: the other
+/// component stays free). In 3D on faces: value = [ux, uy, uz], or any of ux, uy, uz (the
+/// others stay free).
 struct SceneDirichlet {
   BoundarySelector boundary;
   std::optional<SceneScalar> ux, uy, uz;
@@ -171,7 +176,7 @@ struct SceneContact {
   /// Names the part in results (contact.csv, result.json ...): letters, digits, '-', '_' and
   /// '.'; empty: contact_part_name's default.
   std::string name;
-  BoundarySelector boundary{{"bottom"}, {}, {}, 1e-8};
+  BoundarySelector boundary{{"bottom"}, {}, {}, 1e-8, {}};
   SceneLaw law;
   SceneScalar gap{0.02, {}};  ///< g >= 0 at every contact node (unused with an obstacle)
   std::optional<SceneObstacle> obstacle;
@@ -256,11 +261,11 @@ struct Scene {
   SceneMaterial material;
   /// Gamma_1 (u = 0): the paper's sides in a scene made in code; a scene read from text holds
   /// only the [clamped] it writes (empty without the table).
-  BoundarySelector clamped{{"left", "right"}, {}, {}, 1e-8};
+  BoundarySelector clamped{{"left", "right"}, {}, {}, 1e-8, {}};
   std::vector<SceneDirichlet> dirichlet;                       ///< other prescribed displacements
   std::array<SceneScalar, 3> body_force{};                     ///< f0 (fz = 0 in 2D)
   std::vector<SceneTraction> tractions{
-      SceneTraction{{{"top"}, {}, {}, 1e-8}, {SceneScalar{0.0, {}}, SceneScalar{-8.0, {}}}, std::nullopt}};  ///< Gamma_2
+      SceneTraction{{{"top"}, {}, {}, 1e-8, {}}, {SceneScalar{0.0, {}}, SceneScalar{-8.0, {}}}, std::nullopt}};  ///< Gamma_2
   std::optional<SceneContact> contact = SceneContact{};       ///< Gamma_3 (its first part); none = no contact
   /// [[contact]]: the contact parts after the first (empty without contact or with one part).
   std::vector<SceneContact> more_contact;

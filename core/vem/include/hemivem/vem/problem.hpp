@@ -16,14 +16,20 @@ namespace hemivem {
 using VectorField = VectorFieldOf<2>;
 using VectorField3 = VectorFieldOf<3>;
 
-/// Prescribed displacement on the vertices of a set of boundary facets. `value` empty means
-/// clamped (zero). `fix` selects the components that are prescribed.
+/// Prescribed displacement on the vertices of a set of boundary facets and on single vertices
+/// (a pinned node, a point support). `value` empty means clamped (zero). `fix` selects the
+/// components that are prescribed.
 template <int dim>
 struct BasicDirichletCondition {
   std::vector<int> facets;  ///< boundary edge (2D) or face (3D) ids
   VectorFieldOf<dim> value;
   std::array<bool, dim> fix = all_components();
   std::string name;  ///< how the problem names the part (e.g. a scene's "clamped"); may be empty
+  std::vector<int> vertices;  ///< single vertex ids held besides the facets' vertices
+
+  /// Every vertex the condition holds: its facets' vertices, then `vertices` (a vertex may
+  /// repeat). InputError naming the facet or vertex id that `mesh` lacks.
+  std::vector<int> held_vertices(const MeshOf<dim>& mesh) const;
 
   static constexpr std::array<bool, dim> all_components() {
     std::array<bool, dim> all{};
