@@ -129,6 +129,7 @@ int run_bench(const BenchOptions& given, std::ostream& out, std::ostream& err) {
   const Scene base = load_pairs_scene(given.scene, std::nullopt, given.tolerance, given.set);
   app::BenchPlan plan = app::plan_bench(base, ao);
   check_output_folder(given.out);
+  say_what_an_interruption_keeps(given.out);
   if (given.verbosity >= 1) plan.options.progress = bench_progress(err);
   const app::BenchResult result = app::run_bench(plan);
   const app::BenchFiles files = app::write_bench(given.out, result);

@@ -182,6 +182,7 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   const Scene scene = load_scene(o);
   check_flags_for(o, scene, run_kind(scene));
   check_output_folder(o.out);
+  say_what_an_interruption_keeps(o.out);
   require_one_process_or_mumps_mpi(scene);
   ReducedProblem reduced;
   RunOptions options = run_options(o, err);

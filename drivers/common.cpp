@@ -2,11 +2,16 @@
 
 #include <hemivem/error.hpp>
 #include <hemivem/linear_backends.hpp>
+#include <hemivem/support/output_folder.hpp>
+
+#include <signal.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <iomanip>
 #include <sstream>
@@ -36,6 +41,45 @@ LaunchedProcesses launched_processes() {
     return {rank < 0 ? 0 : rank, size};
   }
   return {};
+}
+
+namespace {
+
+/// The two endings of the interruption message, made before any signal can arrive.
+struct InterruptionText {
+  std::string kept;  ///< ": DIR keeps its previous outputs\n" (or no outputs were written)
+  std::string put;   ///< ": DIR holds this run's outputs\n"
+};
+InterruptionText interruption_text;
+
+void write_all(const char* text, std::size_t size) {
+  while (size > 0) {
+    const ssize_t n = ::write(STDERR_FILENO, text, size);
+    if (n <= 0) return;
+    text += n;
+    size -= static_cast<std::size_t>(n);
+  }
+}
+
+extern "C" void on_interruption(int sig) {
+  const char* name = sig == SIGINT ? "hemivem: interrupted by SIGINT" : "hemivem: interrupted by SIGTERM";
+  write_all(name, std::strlen(name));
+  const std::string& end = committed_transactions() > 0 ? interruption_text.put : interruption_text.kept;
+  write_all(end.data(), end.size());
+  ::signal(sig, SIG_DFL);
+  ::raise(sig);
+}
+
+}  // namespace
+
+void say_what_an_interruption_keeps(const std::filesystem::path& dir) {
+  if (!reporting_process()) return;
+  interruption_text.kept = ": " + previous_outputs_kept(dir) + "\n";
+  interruption_text.put = ": " + dir.string() + " holds this run's outputs\n";
+  struct sigaction action {};
+  action.sa_handler = on_interruption;
+  sigemptyset(&action.sa_mask);
+  for (int sig : {SIGINT, SIGTERM}) ::sigaction(sig, &action, nullptr);
 }
 
 bool reporting_process() { return launched_processes().rank == 0 && factorization_process_rank() == 0; }

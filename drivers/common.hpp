@@ -40,6 +40,12 @@ LaunchedProcesses launched_processes();
 /// engine exists, of that engine.
 bool reporting_process();
 
+/// Arms what an interrupted run says: on SIGINT or SIGTERM the command prints "hemivem:
+/// interrupted by SIGINT: DIR keeps its previous outputs" (or "no outputs were written to DIR";
+/// "DIR holds this run's outputs" once they are in place) on stderr, then ends by the signal
+/// (its exit status). Called once the output folder `dir` is known, on the process that reports.
+void say_what_an_interruption_keeps(const std::filesystem::path& dir);
+
 /// The mesh sizes of a comma-separated list such as "4,8,16" (a flag's value): InputError at
 /// `flag` naming the bad entry and its place when an entry is empty ("4,,8"), not an integer or
 /// not in [1, 10000000].

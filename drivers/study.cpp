@@ -70,6 +70,7 @@ int run_study(const StudyOptions& o, std::ostream& out, std::ostream& err) {
   so.ref_key = "--ref";
   (void)app::study_sizes(scene, so);
   check_output_folder(o.out);
+  say_what_an_interruption_keeps(o.out);
   if (o.verbosity >= 1)
     so.solved = [&](const app::StudySolveInfo& s) {
       err << "hemivem study: N = " << s.n << ": " << s.vertices << " vertices, " << s.status << " (" << s.iterations

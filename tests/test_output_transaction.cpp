@@ -49,7 +49,7 @@ std::map<std::string, std::string> contents(const fs::path& dir) {
 std::vector<std::string> beside(const fs::path& root) {
   std::vector<std::string> names;
   for (const auto& e : fs::directory_iterator(root))
-    if (e.path().filename() != "out") names.push_back(e.path().filename().string());
+    if (e.path().filename() != "out" && e.path().filename() != "stderr.txt") names.push_back(e.path().filename().string());
   return names;
 }
 
@@ -60,14 +60,16 @@ hemivem::test::CommandRun solve(const fs::path& out, const std::string& env = ""
   return run_command(env + " " + HEMIVEM_BINARY + kSolve + out.string() + " " + set);
 }
 
-/// Starts `hemivem solve` into `out`, each written file delayed by `delay` seconds; returns its id.
-pid_t start_slow_solve(const fs::path& out, const std::string& delay, const std::string& set = "") {
+/// Starts `hemivem solve` into `out`, each written file delayed by `delay` seconds, its standard
+/// error into `err` (discarded when empty); returns its id.
+pid_t start_slow_solve(const fs::path& out, const std::string& delay, const std::string& set = "",
+                       const fs::path& err = {}) {
   const pid_t pid = ::fork();
   if (pid == 0) {
     ::setenv("HEMIVEM_TEST_WRITE_DELAY", delay.c_str(), 1);
     const int null = ::open("/dev/null", O_WRONLY);
     ::dup2(null, 1);
-    ::dup2(null, 2);
+    ::dup2(err.empty() ? null : ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644), 2);
     const std::string cmd = std::string("exec ") + HEMIVEM_BINARY + kSolve + out.string() + " " + set;
     ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
     ::_exit(127);
@@ -104,12 +106,19 @@ void expect_previous_set_after_signal(int signal) {
   Scratch s;
   ASSERT_EQ(solve(s.out).code, 0);
   const auto before = contents(s.out);
-  const pid_t pid = start_slow_solve(s.out, "0.5", "--set contact.gap=0.0123");
+  const pid_t pid = start_slow_solve(s.out, "0.5", "--set contact.gap=0.0123", s.root / "stderr.txt");
   ASSERT_TRUE(writing_started(s.out, pid)) << "the run never started writing beside the folder";
   ::kill(pid, signal);
   const int status = wait_for(pid);
-  EXPECT_TRUE(WIFSIGNALED(status));
+  ASSERT_TRUE(WIFSIGNALED(status));
+  EXPECT_EQ(WTERMSIG(status), signal) << "the signal is the run's exit status";
   EXPECT_EQ(contents(s.out), before) << "the folder must hold the complete previous set";
+  // it says so, naming the signal
+  const std::string said = slurp(s.root / "stderr.txt");
+  EXPECT_NE(said.find(std::string("hemivem: interrupted by ") + (signal == SIGINT ? "SIGINT" : "SIGTERM") + ": " +
+                      s.out.string() + " keeps its previous outputs\n"),
+            std::string::npos)
+      << said;
   // the next run removes what the killed one left and writes its complete set
   ASSERT_EQ(solve(s.out, "", "--set contact.gap=0.0123").code, 0);
   EXPECT_EQ(beside(s.root), std::vector<std::string>{});
@@ -143,6 +152,20 @@ TEST(OutputTransaction, InjectedWriteFailureOnAFirstRunLeavesNoFolder) {
 }
 
 TEST(OutputTransaction, SigtermDuringWritingLeavesThePreviousSet) { expect_previous_set_after_signal(SIGTERM); }
+
+TEST(OutputTransaction, AnInterruptedFirstRunSaysItWroteNothing) {
+  Scratch s;
+  const pid_t pid = start_slow_solve(s.out, "0.5", "", s.root / "stderr.txt");
+  ASSERT_TRUE(writing_started(s.out, pid)) << "the run never started writing beside the folder";
+  ::kill(pid, SIGINT);
+  const int status = wait_for(pid);
+  ASSERT_TRUE(WIFSIGNALED(status));
+  EXPECT_EQ(WTERMSIG(status), SIGINT);
+  EXPECT_FALSE(fs::exists(s.out));
+  const std::string said = slurp(s.root / "stderr.txt");
+  EXPECT_NE(said.find("hemivem: interrupted by SIGINT: no outputs were written to " + s.out.string()), std::string::npos)
+      << said;
+}
 
 TEST(OutputTransaction, SigintDuringWritingLeavesThePreviousSet) { expect_previous_set_after_signal(SIGINT); }
 

@@ -4,6 +4,8 @@
 
 #include <fcntl.h>
 #include <signal.h>
+
+#include <csignal>
 #include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -168,7 +170,11 @@ class SignalsHeld {
   sigset_t old_{};
 };
 
+volatile std::sig_atomic_t committed_count = 0;
+
 }  // namespace
+
+int committed_transactions() noexcept { return committed_count; }
 
 std::string previous_outputs_kept(const fs::path& dir) {
   std::error_code ec;
@@ -244,6 +250,7 @@ std::vector<std::string> OutputTransaction::commit() {
   if (ec) throw WriteError("cannot move the new outputs into place: " + ec.message() + "; " + previous_outputs_kept(shown_),
                                 shown_.string());
   committed_ = true;
+  committed_count = committed_count + 1;  // signals are held: no handler reads it meanwhile
   if (only_owned(dir_, owned_) &&
       ::renameat2(AT_FDCWD, ready.c_str(), AT_FDCWD, dir_.c_str(), RENAME_EXCHANGE) == 0) {
     fs::remove(dir_ / kManifest, ec);  // the folders swapped at once: `ready` holds the previous set

@@ -57,6 +57,11 @@ class OutputTransaction {
   bool committed_ = false;
 };
 
+/// How many transactions of this process have moved their set into place. A signal handler
+/// may call it (it reads one std::sig_atomic_t): the command's says whether an interrupted
+/// run's outputs were in place.
+int committed_transactions() noexcept;
+
 /// What a failed write of a transaction appends to its message: "DIR keeps its previous
 /// outputs" (or "no outputs were written to DIR" when it held none).
 std::string previous_outputs_kept(const std::filesystem::path& dir);
