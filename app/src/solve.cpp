@@ -110,7 +110,8 @@ SceneEngines make_scene_engines(const Scene& scene, std::function<void(const Glo
                                 std::function<bool(const IterationRecord&)> callback) {
   SceneEngines e;
   FactorizationOptions fo;
-  fo.engine = scene.solver.linear;
+  // "auto": the fastest engine for the body's dimension
+  fo.engine = same_engine(scene.solver.linear, "auto") ? fastest_factorization(scene.dimension()) : scene.solver.linear;
   e.factorization = named_engine(scene, "solver.linear", [&] { return make_factorization(fo); });
   e.minimizer = make_scene_search(scene, std::move(progress));
   e.linear = e.factorization->name();
