@@ -11,11 +11,15 @@
 #include <array>
 #include <vector>
 
+#include <stdlib.h>
+
 #include <hemivem/app/adapt.hpp>
 #include <hemivem/app/solve.hpp>
 #include <hemivem/contact/solver.hpp>
 #include <hemivem/error.hpp>
+#include <hemivem/mesh/generators.hpp>
 #include <hemivem/mesh/refine.hpp>
+#include <hemivem/scene/resources.hpp>
 #include <hemivem/scene/scene.hpp>
 
 #include "test_support.hpp"
@@ -113,6 +117,24 @@ TEST(Adapt, StopsAtItsBudgetsAndSaysWhich) {
   EXPECT_EQ(u.stopped, AdaptStop::max_unknowns);
   EXPECT_NE(u.reason.find("max_unknowns = 400"), std::string::npos) << u.reason;
   for (const auto& st : u.steps) EXPECT_LE(st.unknowns, 400);
+}
+
+TEST(Adapt, StopsBeforeAMeshThatWouldNotFitInMemory) {
+  // a limit that holds the first mesh's solve and not the refined one's: the sequence stops on
+  // the mesh it solved and says why, instead of running out of memory
+  const Scene s = example(4);
+  const double first = estimate_memory(make_squares(4)).solve_bytes;
+  ::setenv("HEMIVEM_MEMORY_LIMIT", std::to_string(static_cast<long long>(first) + 1).c_str(), 1);
+  SceneAdapt a;
+  a.target = 1e-4;
+  const app::AdaptiveSolve r = app::solve_adaptively(s, a);
+  ::unsetenv("HEMIVEM_MEMORY_LIMIT");
+  EXPECT_EQ(r.stopped, AdaptStop::memory);
+  EXPECT_EQ(r.steps.size(), 1u);
+  EXPECT_TRUE(r.last.solution.converged());
+  EXPECT_NE(r.reason.find("HEMIVEM_MEMORY_LIMIT"), std::string::npos) << r.reason;
+  EXPECT_NE(r.reason.find("the next mesh ("), std::string::npos) << r.reason;
+  EXPECT_EQ(r.last.adapt.at("stopped"), "memory");
 }
 
 TEST(Adapt, RunsInOneProcess) {

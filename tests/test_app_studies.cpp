@@ -4,6 +4,8 @@
 // extrapolation of a geometric sequence, and a mesh compared with itself.
 #include <gtest/gtest.h>
 
+#include <stdlib.h>
+
 #include <hemivem/app/bench.hpp>
 #include <hemivem/app/check.hpp>
 #include <hemivem/app/run.hpp>
@@ -339,6 +341,28 @@ TEST(AppBench, AReferenceEnergyAboveALevelGivesThatLevelNoError) {
   EXPECT_TRUE(std::isnan(u[1].error)) << u[1].error;  // not 0: the reference is above this level
   EXPECT_GE(r.refinement.below_reference, 1);
   EXPECT_TRUE(bench_json(r)["refinement"]["uniform"][1]["error"].is_null());
+}
+
+TEST(AppBench, LevelsThatWouldNotFitInMemoryAreRefusedBeforeAnyIsRefined) {
+  // 16 levels of 4 x 4 squares: about 25 * 4^16 vertices; refused at the flag, naming the first
+  // level that does not fit, once the first level is solved and before any is refined
+  const Scene scene = small_plane(4);
+  BenchOptions o;
+  o.n = {4};
+  o.ref = 8;
+  o.levels = 16;
+  o.keys.levels = "--levels";
+  o.pairs = {{"eigen", "ssn"}};
+  int levels_done = 0;
+  o.progress.refinement = [&](const RefinementPoint&) { ++levels_done; };
+  ::setenv("HEMIVEM_MEMORY_LIMIT", "4G", 1);
+  const std::string message = test::input_error_of([&] { (void)run_bench(scene, o); });
+  const std::string key = test::input_error_key([&] { (void)run_bench(scene, o); });
+  ::unsetenv("HEMIVEM_MEMORY_LIMIT");
+  EXPECT_EQ(key, "--levels");
+  EXPECT_NE(message.find("refinement level "), std::string::npos) << message;
+  EXPECT_NE(message.find("HEMIVEM_MEMORY_LIMIT"), std::string::npos) << message;
+  EXPECT_EQ(levels_done, 0) << "the check comes before the first level is reported";
 }
 
 TEST(AppBench, ALevelThatIsNotPositiveIsRefusedAtItsKey) {

@@ -2,6 +2,7 @@
 
 #include <hemivem/error.hpp>
 #include <hemivem/mesh/refine.hpp>
+#include <hemivem/scene/resources.hpp>
 
 #include <chrono>
 #include <cmath>
@@ -46,6 +47,7 @@ std::string to_string(AdaptStop stop) {
     case AdaptStop::target: return "target";
     case AdaptStop::max_steps: return "max_steps";
     case AdaptStop::max_unknowns: return "max_unknowns";
+    case AdaptStop::memory: return "memory";
     case AdaptStop::not_converged: return "not_converged";
   }
   return "unknown";
@@ -108,6 +110,16 @@ AdaptiveSolve solve_adaptively(const Scene& scene, const SceneAdapt& adapt, Scen
                                           " displacement components), more than max_unknowns = " +
                                           std::to_string(adapt.max_unknowns) + "; the relative error estimate is " +
                                           percent(now.estimate) + ", above the target " + percent(adapt.target));
+      break;
+    }
+    // the next solve's memory, estimated as for a mesh file (HEMIVEM_MEMORY_LIMIT, or what the
+    // machine has available): beyond it the sequence stops on the mesh it solved
+    try {
+      require_memory(estimate_memory(refined.mesh).solve_bytes,
+                     "the next mesh (" + std::to_string(refined.mesh.num_vertices()) + " vertices)", "adapt");
+    } catch (const InputError& e) {
+      finish(AdaptStop::memory, e.detail() + "; the relative error estimate is " + percent(now.estimate) +
+                                    ", above the target " + percent(adapt.target));
       break;
     }
     now.marked = static_cast<int>(marked.size());

@@ -326,6 +326,21 @@ RefinementPoint adaptive_point(const app::AdaptStep& step) {
 
 void measure_true_errors(Refinement& r, const BenchOptions& o);
 
+// Every uniform level of the refinement study fits in memory, checked once the first level's
+// mesh is known and before any level is refined: uniform refinement gives a mesh of V + E + F
+// vertices (the vertices, a midpoint per edge, a centre per element, all quadrilaterals), then
+// four times as many per further level. InputError at `key` naming the first level that does
+// not fit.
+void require_level_memory(const Mesh& first, int levels, const std::string& key) {
+  double vertices = first.num_vertices();
+  for (int level = 1; level <= levels; ++level) {
+    vertices = level == 1 ? vertices + first.num_edges() + first.num_elements() : 4.0 * vertices;
+    require_memory(estimate_memory(vertices, 4.0).solve_bytes,
+                   "refinement level " + std::to_string(level) + " (about " + sci(vertices) + " vertices)",
+                   key);
+  }
+}
+
 // The refinement study: the scene with its own engines on its own mesh refined uniformly
 // o.levels times, then adaptively to the finest level's estimate, and the true errors against a
 // reference energy (given, or Aitken's extrapolation of the last three uniform levels).
@@ -343,7 +358,10 @@ Refinement run_refinement(const Scene& base, const BenchOptions& o) {
       so.mesh_description = "the scene's mesh refined uniformly " + std::to_string(level) + " time" + (level > 1 ? "s" : "");
     }
     app::SceneSolve s = path ? app::solve_scene_path(base, std::move(so)) : app::solve_scene(base, std::move(so));
-    if (level == 0) r.engines = s.linear + " + " + s.minimizer;
+    if (level == 0) {
+      r.engines = s.linear + " + " + s.minimizer;
+      require_level_memory(s.built->mesh, *o.levels, o.keys.levels);
+    }
     r.uniform.push_back(uniform_point(s, level));
     r.all_converged &= r.uniform.back().converged;
     if (progress) progress(r.uniform.back());

@@ -34,6 +34,7 @@ enum class AdaptStop {
   target,         ///< the relative estimate reached the target
   max_steps,      ///< max_steps solves were done
   max_unknowns,   ///< the next mesh would have had more unknowns than max_unknowns
+  memory,         ///< the next mesh's solve would have needed more memory than is available
   not_converged,  ///< a solve did not converge: refining its solution would mean nothing
 };
 std::string to_string(AdaptStop stop);
