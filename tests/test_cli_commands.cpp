@@ -30,7 +30,7 @@ TEST(Cli, DefaultSolveIsExample41AndWritesEveryOutput) {
   const CommandRun r = run("solve --n 16 --out " + out.string() + " --json");
   ASSERT_EQ(r.code, 0) << r.out;
   const auto j = nlohmann::json::parse(r.out);
-  EXPECT_EQ(j["schema"], "hemivem-result/14");
+  EXPECT_EQ(j["schema"], "hemivem-result/15");
   EXPECT_EQ(j["status"], "converged");
   // options are typed: numbers as JSON numbers, the tolerance exactly as given
   ASSERT_TRUE(j["options"]["tolerance"].is_number_float()) << j["options"];
@@ -254,7 +254,7 @@ TEST(Cli, OutputFolderHoldsExactlyTheRunsFiles) {
   const CommandRun lin = run("solve " + (scenes_dir() / "linear-elastic.toml").string() + " --n 4 --out " + out.string());
   ASSERT_EQ(lin.code, 0) << lin.err;
   EXPECT_EQ(listing(), (std::vector<std::string>{"deformed.png", "displacement.csv", "error.png", "notes.txt",
-                                                 "result.json", "scene.toml", "solution.vtu"}));
+                                                 "result.json", "scene.toml", "solution.vtu", "stress.csv"}));
   EXPECT_EQ(listing(), files_of());
   EXPECT_NE(lin.out.find("removed       contact.csv, history.csv, u_nu.png"), std::string::npos) << lin.out;
   EXPECT_NE(lin.out.find("(no contact: one linear solve)"), std::string::npos) << lin.out;

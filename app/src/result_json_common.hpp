@@ -26,7 +26,7 @@ template <class Solution>
 nlohmann::json result_json_common(const Solution& s, const RunInfo& info, int dimension) {
   using nlohmann::json;
   json j;
-  j["schema"] = "hemivem-result/14";
+  j["schema"] = "hemivem-result/15";
   j["version"] = info.version;
   j["dimension"] = dimension;
   j["scene"] = {{"name", info.scene_name}, {"toml", info.scene_toml}};
@@ -58,6 +58,10 @@ nlohmann::json result_json_common(const Solution& s, const RunInfo& info, int di
   t["total"] = number(info.mesh_seconds + timing(s, "total"));
   j["timings"] = t;
   j["error_estimate"] = info.error_estimate ? error_estimate_json(*info.error_estimate) : json(nullptr);
+  j["stress"] = info.stress ? json{{"max_von_mises", number(info.stress->von_mises)},
+                                   {"cell", info.stress->cell},
+                                   {"centroid", info.stress->centroid}}
+                            : json(nullptr);
   return j;
 }
 

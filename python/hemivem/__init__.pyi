@@ -311,6 +311,24 @@ class ContactTable:
     @property
     def columns(self) -> list[str]: ...
 
+class StressTable:
+    """The projected stress of every cell (Result.stress; stress.csv): tensor (num_cells, 4) with
+    columns xx, yy, zz, xy in the plane, (num_cells, 6) with xx, yy, zz, yz, xz, xy in 3D;
+    von_mises (num_cells,); centroids (num_cells, dimension)."""
+    def __len__(self) -> int: ...
+    @property
+    def tensor(self) -> FloatArray: ...
+    @property
+    def von_mises(self) -> FloatArray: ...
+    @property
+    def centroids(self) -> FloatArray: ...
+    @property
+    def components(self) -> tuple[str, ...]: ...
+    @property
+    def max_von_mises(self) -> Optional[float]: ...
+    @property
+    def max_cell(self) -> Optional[int]: ...
+
 class Result:
     """One solve. dimension is 2 or 3; a three-dimensional Result has (n, 3) arrays, a Mesh3D,
     no friction columns, indicators per cell, and adapt and path None."""
@@ -380,6 +398,9 @@ class Result:
     @property
     def indicators(self) -> FloatArray:
         """eta_E per element (per cell in 3D); empty without an estimate."""
+    @property
+    def stress(self) -> StressTable:
+        """The projected stress of every cell of mesh, as stress.csv."""
     @property
     def adapt(self) -> Optional[dict[str, Any]]: ...
     @property

@@ -10,6 +10,7 @@
 #include <iomanip>
 #include <limits>
 #include <sstream>
+#include <type_traits>
 #include <variant>
 
 #include <hemivem/certificate.hpp>
@@ -21,6 +22,7 @@
 #include <hemivem/app/outputs.hpp>
 #include <hemivem/app/report.hpp>
 #include <hemivem/app/run.hpp>
+#include <hemivem/app/stress.hpp>
 
 namespace hemivem::python {
 
@@ -535,6 +537,94 @@ void def_result_estimate(ResultClass& c) {
           "without an estimate): eta^2 is their sum of squares.");
 }
 
+/// The projected stress of every cell of a solve (Result.stress): copies, one row per cell.
+struct StressTable {
+  py::array_t<double> tensor, von_mises, centroids;
+  std::vector<std::string> components;
+  std::optional<app::StressPeak> peak;
+};
+
+template <class MeshType>
+StressTable stress_table(const MeshType& mesh, const MaterialTable& materials, const Eigen::VectorXd& u) {
+  constexpr int dim = std::is_same_v<MeshType, Mesh3D> ? 3 : 2;
+  const auto cells = app::cell_stresses(mesh, materials, u);
+  const auto n = static_cast<py::ssize_t>(cells.size());
+  StressTable t;
+  t.components = dim == 2 ? std::vector<std::string>{"xx", "yy", "zz", "xy"}
+                          : std::vector<std::string>{"xx", "yy", "zz", "yz", "xz", "xy"};
+  const auto k = static_cast<py::ssize_t>(t.components.size());
+  t.tensor = py::array_t<double>({n, k});
+  t.von_mises = py::array_t<double>(n);
+  t.centroids = py::array_t<double>({n, py::ssize_t(dim)});
+  auto tensor = t.tensor.mutable_unchecked<2>();
+  auto centroids = t.centroids.mutable_unchecked<2>();
+  for (py::ssize_t e = 0; e < n; ++e) {
+    const auto& c = cells[static_cast<std::size_t>(e)];
+    if constexpr (dim == 2) {
+      tensor(e, 0) = c.xx, tensor(e, 1) = c.yy, tensor(e, 2) = c.zz, tensor(e, 3) = c.xy;
+    } else {
+      const double values[] = {c.xx, c.yy, c.zz, c.yz, c.xz, c.xy};
+      for (py::ssize_t j = 0; j < 6; ++j) tensor(e, j) = values[j];
+    }
+    t.von_mises.mutable_data()[e] = c.von_mises();
+    const auto x = mesh.centroid(static_cast<int>(e));
+    for (int j = 0; j < dim; ++j) centroids(e, j) = x(j);
+  }
+  t.peak = app::stress_peak(mesh, cells);
+  return t;
+}
+
+void register_stress_table(py::module_& m) {
+  py::class_<StressTable>(m, "StressTable", R"doc(
+The projected stress of every cell of a solve (Result.stress; stress.csv's rows), constant on
+each cell: the stress of the projection Pi u_h with the material of the cell's region.
+
+tensor: (num_cells, 4) for a plane solve, columns xx, yy, zz, xy (zz: lambda (eps_xx + eps_yy)
+in plane strain, 0 in plane stress); (num_cells, 6) for a solid, columns xx, yy, zz, yz, xz,
+xy. components names the columns. von_mises: (num_cells,), sqrt(((xx - yy)^2 + (yy - zz)^2 +
+(zz - xx)^2) / 2 + 3 (yz^2 + xz^2 + xy^2)). centroids: (num_cells, 2 or 3), each cell's
+centroid. max_von_mises and max_cell: the largest von Mises stress and the first cell that has
+it, as the summary and result.json's "stress" report them (None when a value is not finite).
+The arrays are float64 copies, made at each access of Result.stress.
+)doc")
+      .def_readonly("tensor", &StressTable::tensor)
+      .def_readonly("von_mises", &StressTable::von_mises)
+      .def_readonly("centroids", &StressTable::centroids)
+      .def_property_readonly("components", [](const StressTable& t) { return py::tuple(py::cast(t.components)); })
+      .def_property_readonly("max_von_mises",
+                             [](const StressTable& t) -> py::object {
+                               return t.peak ? py::object(py::float_(t.peak->von_mises)) : py::object(py::none());
+                             })
+      .def_property_readonly("max_cell",
+                             [](const StressTable& t) -> py::object {
+                               return t.peak ? py::object(py::int_(t.peak->cell)) : py::object(py::none());
+                             })
+      .def("__len__", [](const StressTable& t) { return t.von_mises.size(); })
+      .def("__repr__", [](const StressTable& t) {
+        std::ostringstream o;
+        o << std::setprecision(6) << "StressTable(" << t.von_mises.size() << " cells, components=(";
+        for (std::size_t j = 0; j < t.components.size(); ++j) o << (j ? ", " : "") << "'" << t.components[j] << "'";
+        o << ")";
+        if (t.peak) o << ", max_von_mises=" << t.peak->von_mises << ", max_cell=" << t.peak->cell;
+        o << ")";
+        return o.str();
+      });
+}
+
+/// Result's stresses.
+void def_result_stress(ResultClass& c) {
+  c.def_property_readonly(
+      "stress",
+      [](py::handle s) {
+        return visit(data(s), [](const auto& v) {
+          return stress_table(v.built->mesh, v.built->problem.elasticity.materials, v.solution.u);
+        });
+      },
+      "The projected stress of every cell (element in the plane) of `mesh`, as stress.csv: a StressTable\n"
+      "with tensor ((num_cells, 4): xx, yy, zz, xy in the plane; (num_cells, 6): xx, yy, zz, yz, xz, xy in\n"
+      "3D), von_mises (num_cells,), centroids (num_cells, 2 or 3), components, max_von_mises and max_cell.");
+}
+
 /// Result's sequences: an adaptive solve's record, a loading path's steps.
 void def_result_sequences(ResultClass& c) {
   c.def_property_readonly(
@@ -611,7 +701,7 @@ void def_result_outputs(ResultClass& c) {
           },
           py::arg("folder"), py::arg("files") = py::none(),
           "Writes the files `hemivem solve --out folder` writes for this scene (result.json,\n"
-          "contact.csv, displacement.csv, history.csv, solution.vtu, scene.toml, and the PNGs when\n"
+          "contact.csv, displacement.csv, stress.csv, history.csv, solution.vtu, scene.toml, and the PNGs when\n"
           "gnuplot is installed; for a three-dimensional scene also contact-surface.vtu, and\n"
           "pressure.png), each atomically; `files` picks some of them by name. Returns the\n"
           "paths written; a figure that could not be drawn is a UserWarning (and in result.json's\n"
@@ -653,6 +743,7 @@ was solved from, and its arrays keep it alive.
   def_result_outcome(c);
   def_result_solution(c);
   def_result_estimate(c);
+  def_result_stress(c);
   def_result_sequences(c);
   def_result_model(c);
   def_result_outputs(c);
@@ -810,6 +901,7 @@ void register_solve_function(py::module_& m) {
 
 void register_solve(py::module_& m) {
   register_contact_table(m);
+  register_stress_table(m);
   register_path(m);
   register_result(m);
   register_solve_function(m);

@@ -99,7 +99,7 @@ def test_small_scene_converges_with_three_columns(small_3d):
 def test_json_is_the_three_dimensional_document(small_3d):
     _, r = small_3d
     j = r.json()
-    assert j["schema"] == "hemivem-result/14" and j["dimension"] == 3
+    assert j["schema"] == "hemivem-result/15" and j["dimension"] == 3
     assert j["status"] == r.status and j["potential_energy"] == r.energy
     assert j["mesh"]["vertices"] == r.mesh.num_vertices and j["mesh"]["elements"] == r.mesh.num_cells
     assert len(j["contact"]) == len(r.contact)
@@ -147,7 +147,7 @@ def test_write_gives_the_files_of_the_command(small_3d, tmp_path, run_command):
     r2 = hemivem.solve(scene_file, linear="eigen")
     written = r2.write(tmp_path / "py")
     assert sorted(p.name for p in written) == sorted(p.name for p in out.iterdir())
-    for name in ["contact.csv", "displacement.csv", "scene.toml"]:
+    for name in ["contact.csv", "displacement.csv", "stress.csv", "scene.toml"]:
         assert (tmp_path / "py" / name).read_text() == (out / name).read_text(), name
     mine = json.loads((tmp_path / "py" / "result.json").read_text())
     theirs = json.loads((out / "result.json").read_text())
