@@ -469,7 +469,7 @@ class Path:
 def solve(scene: Union[Scene, PathLike, None] = None, *, linear: Optional[str] = None, minimizer: Optional[str] = None,
           tolerance: Optional[float] = None, max_iterations: Optional[int] = None, search: Optional[str] = None,
           max_starts: Optional[int] = None, time_budget: Optional[float] = None, seed: Optional[int] = None,
-          engines: Optional[Sequence[str]] = None, progress: Optional[Callable[[SearchProgress], object]] = None, keep_reduced: bool = True,
+          engines: Optional[Sequence[str]] = None, progress: Optional[Callable[[SearchProgress], object]] = None, keep_reduced: Optional[bool] = None,
           mesh: Optional[Union[Mesh, Mesh3D]] = None, adapt: bool = False,
           **parameters: float) -> Result: ...
 def solve_path(scene: Union[Scene, PathLike, None] = None, *, steps: Optional[int] = None,
@@ -487,5 +487,6 @@ def limit(scene: Union[Scene, PathLike, None] = None, *, n: Sequence[int] = (), 
 def minimize(reduced: ReducedProblem, minimizer: str = "ssn", *, start: Optional[ArrayLike] = None,
              tolerance: float = 1e-10, max_iterations: int = 1000, max_evaluations: int = 1000000,
              callback: Optional[Callable[[Iteration], Optional[bool]]] = None, search: str = "local",
-             max_starts: int = 64, time_budget: float = 60.0, seed: int = 1, engines: Sequence[str] = (),
+             max_starts: Optional[int] = None, time_budget: Optional[float] = None, seed: Optional[int] = None,
+             engines: Optional[Sequence[str]] = None,
              progress: Optional[Callable[[SearchProgress], object]] = None, **parameters: float) -> MinimizerResult: ...

@@ -837,7 +837,9 @@ an engine fails. A solve that does not converge is a status, not an error.
 search="global" (solver.search, as `hemivem solve --global`) looks for the lowest of several
 critical points with every built minimizer, the scene's first; max_starts, time_budget,
 seed and engines override solver.max_starts, solver.time_budget, solver.seed and
-solver.search_engines (the engines besides the scene's minimizer). The Result's
+solver.search_engines (the engines besides the scene's minimizer); given when the search is a
+local one (neither search="global" nor the scene's solver.search), they are an InputError naming
+them, since they would have no effect. The Result's
 critical_points and search are result.json's. progress(SearchProgress) is called after every
 local run of a global search (an exception it raises ends the solve and is raised again).
 
@@ -852,7 +854,9 @@ A mesh of the other dimension is an InputError.
 
 adapt=True (or a scene with an [adapt] table) refines adaptively as `hemivem solve --adapt`
 does: the Result is the last step's, on the final mesh, with `adapt` holding every step's
-numbers; a scene without [adapt] takes its defaults. An adaptive solve keeps no reduced problem.
+numbers; a scene without [adapt] takes its defaults. An adaptive solve keeps no reduced problem
+(nor does a loading path): keep_reduced=True with either is an InputError. keep_reduced
+defaults to True for a static solve.
 
 A three-dimensional scene (docs/reference/scenes.md, "Three-dimensional scenes") is solved as
 `hemivem solve` solves it (solve_scene_3d): the Result has dimension 3, displacement of shape
@@ -866,12 +870,18 @@ void register_solve_function(py::module_& m) {
          std::optional<double> tolerance, std::optional<int> max_iterations, std::optional<std::string> search,
          std::optional<int> max_starts, std::optional<double> time_budget, std::optional<int> seed,
          std::optional<std::vector<std::string>> engines, py::object progress,
-         bool keep_reduced, py::object mesh, bool adapt, const py::kwargs& kwargs) {
+         std::optional<bool> keep, py::object mesh, bool adapt, const py::kwargs& kwargs) {
         auto d = std::make_shared<SolveData>();
         d->scene = scene_argument(scene_arg, "hemivem.solve");
         const SolveKeywords k{linear, minimizer, tolerance, max_iterations, search, max_starts, time_budget, seed, engines};
         const std::vector<std::string> overrides = keyword_overrides(k, kwargs);
         if (!overrides.empty()) apply_overrides(d->scene, overrides);
+        if (!is_global_search(d->scene.solver.search, "solver.search"))
+          refuse_global_keywords({{"max_starts", max_starts.has_value()},
+                                  {"time_budget", time_budget.has_value()},
+                                  {"seed", seed.has_value()},
+                                  {"engines", engines.has_value()}},
+                                 "the scene's solver.search = '" + d->scene.solver.search + "'");
         if (d->scene.dimension() == 3) {
           if (adapt)
             throw InputError("adaptive refinement is not available for three-dimensional scenes (it refines "
@@ -879,8 +889,13 @@ void register_solve_function(py::module_& m) {
                              "adapt");
         }
         if (adapt && !d->scene.adapt) d->scene.adapt = SceneAdapt{};
-        if (app::run_kind(d->scene) != app::RunKind::static_solve) keep_reduced = false;  // no one reduced problem
-        refuse_mpi_engine(d->scene.solver.linear, linear ? "linear" : d->scene.where("solver.linear"));
+        const app::RunKind kind = app::run_kind(d->scene);
+        if (kind != app::RunKind::static_solve && keep.value_or(false))
+          throw InputError("a" + std::string(kind == app::RunKind::path ? " loading path" : "n adaptive solve") +
+                               " has no one reduced problem to keep; leave keep_reduced out",
+                           "keep_reduced");
+        const bool keep_reduced = kind == app::RunKind::static_solve && keep.value_or(true);
+        check_linear_engine(d->scene.solver.linear, linear ? "linear" : d->scene.where("solver.linear"));
         std::optional<std::variant<Mesh, Mesh3D>> given;
         if (py::isinstance<PyMesh>(mesh)) given = *mesh.cast<const PyMesh&>().mesh;
         else if (py::isinstance<PyMesh3D>(mesh)) given = *mesh.cast<const PyMesh3D&>().mesh;
@@ -893,7 +908,7 @@ void register_solve_function(py::module_& m) {
       py::arg("scene") = py::none(), py::kw_only(), py::arg("linear") = py::none(), py::arg("minimizer") = py::none(),
       py::arg("tolerance") = py::none(), py::arg("max_iterations") = py::none(), py::arg("search") = py::none(),
       py::arg("max_starts") = py::none(), py::arg("time_budget") = py::none(), py::arg("seed") = py::none(),
-      py::arg("engines") = py::none(), py::arg("progress") = py::none(), py::arg("keep_reduced") = true,
+      py::arg("engines") = py::none(), py::arg("progress") = py::none(), py::arg("keep_reduced") = py::none(),
       py::arg("mesh") = py::none(), py::arg("adapt") = false, kSolveDoc);
 }
 
