@@ -14,6 +14,7 @@ packages=(
   libnlopt-dev libceres-dev
   nlohmann-json3-dev zlib1g-dev python3-meshio gnuplot-nox
   pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib python3-vtk9
+  python3-venv python3-pip python3-setuptools python3-wheel
   clang
 )
 

@@ -140,8 +140,8 @@ TEST(Cli3D, SolveWritesEveryOutput) {
   ASSERT_EQ(j.at("contact_force").size(), 3u);
   std::set<std::string> listed;
   for (const auto& f : j.at("files")) listed.insert(f.get<std::string>());
-  std::set<std::string> expected{"result.json", "contact.csv", "displacement.csv", "history.csv", "solution.vtu",
-                                 "contact-surface.vtu", "scene.toml"};
+  std::set<std::string> expected{"result.json", "contact.csv",         "displacement.csv", "stress.csv",
+                                 "history.csv", "solution.vtu",        "contact-surface.vtu", "scene.toml"};
   if (gnuplot_on_path()) expected.insert({"deformed.png", "pressure.png"});
   EXPECT_EQ(listed, expected);
   for (const auto& f : expected) EXPECT_TRUE(fs::exists(out / f)) << f;

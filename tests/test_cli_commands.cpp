@@ -254,7 +254,7 @@ TEST(Cli, OutputFolderHoldsExactlyTheRunsFiles) {
   const CommandRun lin = run("solve " + (scenes_dir() / "linear-elastic.toml").string() + " --n 4 --out " + out.string());
   ASSERT_EQ(lin.code, 0) << lin.err;
   EXPECT_EQ(listing(), (std::vector<std::string>{"deformed.png", "displacement.csv", "error.png", "notes.txt",
-                                                 "result.json", "scene.toml", "solution.vtu"}));
+                                                 "result.json", "scene.toml", "solution.vtu", "stress.csv"}));
   EXPECT_EQ(listing(), files_of());
   EXPECT_NE(lin.out.find("removed       contact.csv, history.csv, u_nu.png"), std::string::npos) << lin.out;
   EXPECT_NE(lin.out.find("(no contact: one linear solve)"), std::string::npos) << lin.out;

@@ -20,6 +20,8 @@
 #include <algorithm>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
+#include <optional>
 #include <sstream>
 
 #include <unistd.h>
@@ -435,14 +437,36 @@ TEST_F(Outputs, CellStressesOfAPlaneAreItsElementStresses) {
   EXPECT_THROW((void)cell_stresses(s.mesh, s.problem.elasticity.materials, Eigen::VectorXd::Zero(3)), InputError);
 }
 
+TEST_F(Outputs, StressPeakIsTheFirstCellOfTheLargestVonMisesStress) {
+  const Solved& s = solved();
+  std::vector<CellStress> cells = cell_stresses(s.mesh, s.problem.elasticity.materials, s.solution.u);
+  std::size_t largest = 0;
+  for (std::size_t e = 1; e < cells.size(); ++e)
+    if (cells[e].von_mises() > cells[largest].von_mises()) largest = e;
+  const std::optional<StressPeak> peak = stress_peak(s.mesh, cells);
+  ASSERT_TRUE(peak.has_value());
+  EXPECT_EQ(peak->cell, static_cast<int>(largest));
+  EXPECT_EQ(peak->von_mises, cells[largest].von_mises());
+  EXPECT_EQ(peak->centroid, (std::vector<double>{s.mesh.centroid(peak->cell).x(), s.mesh.centroid(peak->cell).y()}));
+  // a tie goes to the first cell; a value that is not finite leaves no peak
+  std::vector<CellStress> tie = cells;
+  const std::size_t later = largest + 1 < tie.size() ? largest + 1 : 0;
+  tie[later] = tie[largest];
+  EXPECT_EQ(stress_peak(s.mesh, tie)->cell, static_cast<int>(std::min(largest, later)));
+  cells[cells.size() / 2].xx = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(stress_peak(s.mesh, cells).has_value());
+  cells.pop_back();
+  EXPECT_THROW((void)stress_peak(s.mesh, cells), InputError);
+}
+
 TEST(OutputNames, EachDimensionKnowsItsOwnFilesAndBothShareTheRest) {
   const std::vector<std::string>& plane = all_outputs(2);
   const std::vector<std::string>& solid = all_outputs(3);
   auto has = [](const std::vector<std::string>& names, const std::string& name) {
     return std::find(names.begin(), names.end(), name) != names.end();
   };
-  for (const char* both : {"result.json", "contact.csv", "displacement.csv", "history.csv", "solution.vtu", "scene.toml",
-                           "deformed.png", "path.json", "solution.pvd", "path.png"})
+  for (const char* both : {"result.json", "contact.csv", "displacement.csv", "stress.csv", "history.csv", "solution.vtu",
+                           "scene.toml", "deformed.png", "path.json", "solution.pvd", "path.png"})
     EXPECT_TRUE(has(plane, both) && has(solid, both)) << both;
   for (const char* own : {"mesh.poly2d", "u_nu.png", "error.png", "mesh.png", "adapt.png"})
     EXPECT_TRUE(has(plane, own) && !has(solid, own)) << own;

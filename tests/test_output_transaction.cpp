@@ -131,7 +131,7 @@ TEST(OutputTransaction, InjectedWriteFailureKeepsThePreviousSet) {
   Scratch s;
   ASSERT_EQ(solve(s.out).code, 0);
   const auto before = contents(s.out);
-  ASSERT_EQ(before.size(), 9u);
+  ASSERT_EQ(before.size(), 10u);
   for (const char* n : {"1", "3", "9"}) {  // the first file, one in the middle, a figure or the last
     const auto run = solve(s.out, std::string("HEMIVEM_TEST_FAIL_WRITE=") + n, "--set contact.gap=0.0123");
     EXPECT_EQ(run.code, 2) << n;
@@ -179,7 +179,7 @@ TEST(OutputTransaction, ASecondWriterIsRefused) {
   const int status = wait_for(first);
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 0);
-  EXPECT_EQ(contents(s.out).size(), 9u);
+  EXPECT_EQ(contents(s.out).size(), 10u);
   EXPECT_EQ(contents(s.out).at("scene.toml").find("gap = 0.0123"), std::string::npos) << "the first run's set";
   EXPECT_EQ(beside(s.root), std::vector<std::string>{});
 }

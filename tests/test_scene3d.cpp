@@ -357,10 +357,11 @@ TEST(Scene3D, OutputsOfASolve) {
   const auto solved = app::solve_scene_3d(s);
   ASSERT_TRUE(solved.solution.converged());
   EXPECT_EQ(app::wanted_files(s, true),
-            (std::vector<std::string>{"result.json", "contact.csv", "displacement.csv", "history.csv", "solution.vtu",
-                                      "contact-surface.vtu", "scene.toml", "deformed.png", "pressure.png"}));
-  EXPECT_EQ(app::wanted_files(s, false),
-            (std::vector<std::string>{"result.json", "displacement.csv", "solution.vtu", "scene.toml", "deformed.png"}));
+            (std::vector<std::string>{"result.json", "contact.csv", "displacement.csv", "stress.csv", "history.csv",
+                                      "solution.vtu", "contact-surface.vtu", "scene.toml", "deformed.png",
+                                      "pressure.png"}));
+  EXPECT_EQ(app::wanted_files(s, false), (std::vector<std::string>{"result.json", "displacement.csv", "stress.csv",
+                                                                    "solution.vtu", "scene.toml", "deformed.png"}));
   const fs::path dir = test::scratch("outputs3d");
   fs::create_directories(dir);
   std::ofstream(dir / "u_nu.png") << "an earlier plane run's picture";

@@ -82,11 +82,33 @@ void write_displacement_csv(std::ostream& stream, const MeshType& mesh, const Ei
   }
 }
 
+/// stress.csv: one row per cell: cell, its centroid, the components of its projected stress
+/// (a plane's sxx, syy, szz, sxy; a solid's sxx, syy, szz, syz, sxz, sxy) and von_mises.
+template <class MeshType>
+void write_stress_csv(std::ostream& stream, const MeshType& mesh, const MaterialTable& materials, const Eigen::VectorXd& u) {
+  static constexpr const char* axes[] = {"x", "y", "z"};
+  constexpr int dim = std::is_same_v<MeshType, Mesh3D> ? 3 : 2;
+  const auto stresses = cell_stresses(mesh, materials, u);
+  TextWriter os(stream);
+  os << "cell";
+  for (int c = 0; c < dim; ++c) os << ',' << axes[c];
+  os << (dim == 2 ? ",sxx,syy,szz,sxy" : ",sxx,syy,szz,syz,sxz,sxy") << ",von_mises\n";
+  for (std::size_t e = 0; e < stresses.size(); ++e) {
+    const auto& s = stresses[e];
+    os << static_cast<long long>(e);
+    const auto x = mesh.centroid(static_cast<int>(e));
+    for (int c = 0; c < dim; ++c) os << ',' << x(c);
+    os << ',' << s.xx << ',' << s.yy << ',' << s.zz;
+    if constexpr (dim == 3) os << ',' << s.yz << ',' << s.xz;
+    os << ',' << s.xy << ',' << s.von_mises() << '\n';
+  }
+}
+
 class OutputRun;
 
 /// The files every solve writes, in either dimension, when wanted: result.json (`result` of the
-/// run's listed record), contact.csv, displacement.csv, history.csv and solution.vtu (with the
-/// error indicators).
+/// run's listed record), contact.csv, displacement.csv, stress.csv, history.csv and solution.vtu
+/// (with the error indicators).
 template <class MeshType, int dim, class Result>
 void write_solve_files(OutputRun& run, const MeshType& mesh, const MaterialTable& materials,
                        const BasicContactSolution<dim>& solution, const RunInfo& info, const Result& result);
@@ -136,6 +158,7 @@ void write_solve_files(OutputRun& run, const MeshType& mesh, const MaterialTable
   run.write("result.json", [&](std::ostream& os) { os << result(run.listed()).dump(2) << '\n'; });
   run.write("contact.csv", [&](std::ostream& os) { write_contact_csv(os, solution); });
   run.write("displacement.csv", [&](std::ostream& os) { write_displacement_csv(os, mesh, solution.u); });
+  run.write("stress.csv", [&](std::ostream& os) { write_stress_csv(os, mesh, materials, solution.u); });
   run.write("history.csv", [&](std::ostream& os) { write_history_csv(os, solution); });
   run.write("solution.vtu", [&](std::ostream& os) {
     write_vtu(os, mesh, materials, solution, info.error_estimate ? &info.error_estimate->indicators : nullptr);

@@ -206,7 +206,7 @@ const std::vector<std::string>& all_outputs(int dim) {
   };
   static constexpr Output outputs[] = {
       {"result.json", true, true},      {"contact.csv", true, true},      {"displacement.csv", true, true},
-      {"history.csv", true, true},      {"solution.vtu", true, true},     {"contact-surface.vtu", false, true},
+      {"stress.csv", true, true},       {"history.csv", true, true},      {"solution.vtu", true, true},     {"contact-surface.vtu", false, true},
       {"scene.toml", true, true},       {"mesh.poly2d", true, false},     {"u_nu.png", true, false},
       {"deformed.png", true, true},     {"error.png", true, false},       {"mesh.png", true, false},
       {"adapt.png", true, false},       {"pressure.png", false, true},    {"path.json", true, true},

@@ -138,6 +138,12 @@ void contact_forces(std::ostream& out, const BasicContactSolution<dim>& sol, con
   out << "; sum of the friction forces " << friction << "\n";
 }
 
+// The cell of the largest von Mises stress and its centroid.
+void stress_line(std::ostream& out, const StressPeak& peak) {
+  out << "  stress        max von Mises " << peak.von_mises << " in cell " << peak.cell << ", centroid (";
+  for (std::size_t c = 0; c < peak.centroid.size(); ++c) out << (c ? ", " : "") << peak.centroid[c];
+  out << ")\n";
+}
 
 template <int dim>
 void energy_and_time(std::ostream& out, const BasicSceneSolve<dim>& solved) {
@@ -183,6 +189,7 @@ std::string full_report(const Scene& scene, const BasicSceneSolve<dim>& solved, 
     contact_forces(out, solved.solution, info);
   }
   if (solved.holds_results) balance(out, solved.solution);
+  if (info.stress) stress_line(out, *info.stress);
   if (solved.estimate) out << error_estimate_line(*solved.estimate);
   energy_and_time(out, solved);
   return out.str();

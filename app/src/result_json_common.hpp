@@ -58,6 +58,10 @@ nlohmann::json result_json_common(const Solution& s, const RunInfo& info, int di
   t["total"] = number(info.mesh_seconds + timing(s, "total"));
   j["timings"] = t;
   j["error_estimate"] = info.error_estimate ? error_estimate_json(*info.error_estimate) : json(nullptr);
+  j["stress"] = info.stress ? json{{"max_von_mises", number(info.stress->von_mises)},
+                                   {"cell", info.stress->cell},
+                                   {"centroid", info.stress->centroid}}
+                            : json(nullptr);
   return j;
 }
 

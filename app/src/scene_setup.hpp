@@ -5,6 +5,7 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <hemivem/app/outputs.hpp>
@@ -51,7 +52,8 @@ SceneEngines prepare_scene_solve(const Scene& scene, SceneSolveOptions& o, Scene
 
 /// What result.json records of any solved scene (SceneSolve or SceneSolve3D): the scene, the
 /// mesh's description, the engines, the search, the options in effect, the mesh time, the
-/// unknowns, the processes, the warnings and the error estimate.
+/// unknowns, the processes, the warnings, the error estimate and the cell of the largest von
+/// Mises stress (when the run holds the displacement).
 template <class Solved>
 RunInfo run_info_common(const Scene& scene, const Solved& solved) {
   const MinimizerOptions& mo = solved.options;
@@ -71,6 +73,10 @@ RunInfo run_info_common(const Scene& scene, const Solved& solved) {
   info.processes = solved.processes;
   info.warnings = solved.warnings;
   info.error_estimate = solved.estimate;
+  const auto& mesh = solved.built->mesh;
+  constexpr int dim = std::is_same_v<std::decay_t<decltype(mesh)>, Mesh3D> ? 3 : 2;
+  if (solved.holds_results && solved.solution.u.size() == dim * static_cast<Eigen::Index>(mesh.num_vertices()))
+    info.stress = stress_peak(mesh, cell_stresses(mesh, solved.built->problem.elasticity.materials, solved.solution.u));
   return info;
 }
 

@@ -178,7 +178,8 @@ std::vector<std::string> wanted_files(const Scene& scene, bool has_contact) {
   if (scene.dimension() == 3) return detail::solid_files(scene, has_contact);
   static const std::vector<std::pair<std::string, std::string>> map{
       {"result-json", "result.json"}, {"contact-csv", "contact.csv"}, {"displacement-csv", "displacement.csv"},
-      {"history-csv", "history.csv"}, {"vtu", "solution.vtu"},        {"u-nu-png", "u_nu.png"},
+      {"stress-csv", "stress.csv"},   {"history-csv", "history.csv"}, {"vtu", "solution.vtu"},
+      {"u-nu-png", "u_nu.png"},
       {"deformed-png", "deformed.png"}, {"error-png", "error.png"}};
   std::vector<std::string> files;
   for (const auto& [name, file] : map) {

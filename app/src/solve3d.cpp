@@ -49,6 +49,7 @@ std::vector<std::string> detail::solid_files(const Scene& scene, bool has_contac
   if (wants(scene, "result-json")) files.push_back("result.json");
   if (has_contact && wants(scene, "contact-csv")) files.push_back("contact.csv");
   if (wants(scene, "displacement-csv")) files.push_back("displacement.csv");
+  if (wants(scene, "stress-csv")) files.push_back("stress.csv");
   if (has_contact && wants(scene, "history-csv")) files.push_back("history.csv");
   if (wants(scene, "vtu")) files.push_back("solution.vtu");
   if (has_contact && wants(scene, "vtu")) files.push_back("contact-surface.vtu");

@@ -17,47 +17,10 @@
 #include <vector>
 
 #include <hemivem/error.hpp>
-#include <hemivem/vem/assembly3d.hpp>
-#include <hemivem/vem/element3d.hpp>
-#include <hemivem/vem/stress.hpp>
 
 namespace hemivem::app {
 
 std::uint8_t friction_state_code(FrictionState state) { return static_cast<std::uint8_t>(state); }
-
-template <int dim>
-double BasicCellStress<dim>::von_mises() const {
-  const double normal = 0.5 * ((xx - yy) * (xx - yy) + (yy - zz) * (yy - zz) + (zz - xx) * (zz - xx));
-  if constexpr (dim == 2) return std::sqrt(normal + 3.0 * xy * xy);  // yz = xz = 0
-  else return std::sqrt(normal + 3.0 * (yz * yz + xz * xz + xy * xy));
-}
-template struct BasicCellStress<2>;
-template struct BasicCellStress<3>;
-
-std::vector<CellStress> cell_stresses(const Mesh& mesh, const MaterialTable& materials, const Eigen::VectorXd& u) {
-  if (u.size() != 2 * static_cast<Eigen::Index>(mesh.num_vertices()))
-    throw InputError("a displacement of " + std::to_string(u.size()) + " values for a mesh of " +
-                     std::to_string(mesh.num_vertices()) + " vertices (2 per vertex)");
-  std::vector<CellStress> out;
-  for (const ElementStress& s : element_stresses(mesh, materials, u)) out.push_back({s.xx, s.yy, s.zz, 0.0, 0.0, s.xy});
-  return out;
-}
-
-std::vector<BasicCellStress<3>> cell_stresses(const Mesh3D& mesh, const MaterialTable& materials,
-                                              const Eigen::VectorXd& u) {
-  if (u.size() != 3 * static_cast<Eigen::Index>(mesh.num_vertices()))
-    throw InputError("a displacement of " + std::to_string(u.size()) + " values for a mesh of " +
-                     std::to_string(mesh.num_vertices()) + " vertices (3 per vertex)");
-  const std::vector<LinearField3> projected = project_solution(mesh, u);
-  std::vector<BasicCellStress<3>> out(static_cast<std::size_t>(mesh.num_cells()));
-  for (int c = 0; c < mesh.num_cells(); ++c) {
-    const Eigen::Matrix3d sigma = stress_3d(projected[static_cast<std::size_t>(c)].gradient, materials.lame(mesh.region(c)));
-    BasicCellStress<3>& s = out[static_cast<std::size_t>(c)];
-    s.xx = sigma(0, 0), s.yy = sigma(1, 1), s.zz = sigma(2, 2);
-    s.yz = sigma(1, 2), s.xz = sigma(0, 2), s.xy = sigma(0, 1);
-  }
-  return out;
-}
 
 namespace {
 

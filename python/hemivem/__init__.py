@@ -23,7 +23,20 @@ Documentation: python/README.md.
 """
 
 import os as _os
+import sys as _sys
 import tomllib as _tomllib
+
+try:
+    import numpy as _numpy  # noqa: F401
+except ImportError as _error:
+    raise ModuleNotFoundError(
+        f"hemivem needs NumPy, which this Python ({_sys.executable}) cannot import ({_error}). "
+        "For Debian's /usr/bin/python3 install the package python3-numpy "
+        "(sudo apt-get install python3-numpy); in a virtual environment made with "
+        "--system-site-packages it comes from there, in another one install numpy into it "
+        "(python -m pip install numpy).",
+        name="numpy",
+    ) from None
 
 from ._hemivem import (  # noqa: F401
     __version__,
@@ -47,6 +60,7 @@ from ._hemivem import (  # noqa: F401
     Result,
     Scene,
     SearchProgress,
+    StressTable,
     available_engines,
     bench,
     check,
@@ -82,6 +96,7 @@ __all__ = [
     "Result",
     "Scene",
     "SearchProgress",
+    "StressTable",
     "available_engines",
     "bench",
     "check",
@@ -205,14 +220,19 @@ def solve_path(scene=None, *, steps=None, t=None, frames=None, **keywords):
 
     scene: as hemivem.solve takes it (a Scene, a path to a scene file, TOML text or None for
     the default). steps (load factors k/steps), t (a list of increasing load factors) and
-    frames (how many steps keep their displacement) set the [path] table; a scene without one
-    gets [path] with its defaults (10 steps). Further keywords are hemivem.solve's."""
+    frames (how many steps keep their displacement) set the [path] table, steps or t replacing
+    the scene's own steps or t; a scene without one gets [path] with its defaults (10 steps).
+    steps and t together are an InputError naming both. Further keywords are hemivem.solve's."""
     if scene is None:
         scene = Scene.default()
     elif not isinstance(scene, Scene):
         scene = Scene.from_toml(scene)
     else:
         scene = Scene.from_string(scene.to_toml(), scene.source)
+    if steps is not None and t is not None:
+        raise _input_error(
+            "give either steps (load factors k / steps) or t (the load factors one by one), not both",
+            "steps, t")
     values = {}
     if steps is not None:
         values["path.steps"] = steps

@@ -311,6 +311,24 @@ class ContactTable:
     @property
     def columns(self) -> list[str]: ...
 
+class StressTable:
+    """The projected stress of every cell (Result.stress; stress.csv): tensor (num_cells, 4) with
+    columns xx, yy, zz, xy in the plane, (num_cells, 6) with xx, yy, zz, yz, xz, xy in 3D;
+    von_mises (num_cells,); centroids (num_cells, dimension)."""
+    def __len__(self) -> int: ...
+    @property
+    def tensor(self) -> FloatArray: ...
+    @property
+    def von_mises(self) -> FloatArray: ...
+    @property
+    def centroids(self) -> FloatArray: ...
+    @property
+    def components(self) -> tuple[str, ...]: ...
+    @property
+    def max_von_mises(self) -> Optional[float]: ...
+    @property
+    def max_cell(self) -> Optional[int]: ...
+
 class Result:
     """One solve. dimension is 2 or 3; a three-dimensional Result has (n, 3) arrays, a Mesh3D,
     no friction columns, indicators per cell, and adapt and path None."""
@@ -381,6 +399,9 @@ class Result:
     def indicators(self) -> FloatArray:
         """eta_E per element (per cell in 3D); empty without an estimate."""
     @property
+    def stress(self) -> StressTable:
+        """The projected stress of every cell of mesh, as stress.csv."""
+    @property
     def adapt(self) -> Optional[dict[str, Any]]: ...
     @property
     def mesh(self) -> Union[Mesh, Mesh3D]: ...
@@ -448,7 +469,7 @@ class Path:
 def solve(scene: Union[Scene, PathLike, None] = None, *, linear: Optional[str] = None, minimizer: Optional[str] = None,
           tolerance: Optional[float] = None, max_iterations: Optional[int] = None, search: Optional[str] = None,
           max_starts: Optional[int] = None, time_budget: Optional[float] = None, seed: Optional[int] = None,
-          engines: Optional[Sequence[str]] = None, progress: Optional[Callable[[SearchProgress], object]] = None, keep_reduced: bool = True,
+          engines: Optional[Sequence[str]] = None, progress: Optional[Callable[[SearchProgress], object]] = None, keep_reduced: Optional[bool] = None,
           mesh: Optional[Union[Mesh, Mesh3D]] = None, adapt: bool = False,
           **parameters: float) -> Result: ...
 def solve_path(scene: Union[Scene, PathLike, None] = None, *, steps: Optional[int] = None,
@@ -466,5 +487,6 @@ def limit(scene: Union[Scene, PathLike, None] = None, *, n: Sequence[int] = (), 
 def minimize(reduced: ReducedProblem, minimizer: str = "ssn", *, start: Optional[ArrayLike] = None,
              tolerance: float = 1e-10, max_iterations: int = 1000, max_evaluations: int = 1000000,
              callback: Optional[Callable[[Iteration], Optional[bool]]] = None, search: str = "local",
-             max_starts: int = 64, time_budget: float = 60.0, seed: int = 1, engines: Sequence[str] = (),
+             max_starts: Optional[int] = None, time_budget: Optional[float] = None, seed: Optional[int] = None,
+             engines: Optional[Sequence[str]] = None,
              progress: Optional[Callable[[SearchProgress], object]] = None, **parameters: float) -> MinimizerResult: ...

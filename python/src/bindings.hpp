@@ -10,6 +10,7 @@
 
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <hemivem/mesh/mesh.hpp>
@@ -41,9 +42,18 @@ Eigen::VectorXd vector_from(const py::handle& values, const std::string& what, b
 /// A TOML basic string holding s (for overrides "key=value"): its JSON form, which TOML reads.
 std::string toml_string(const std::string& s);
 
-/// InputError for mumps-mpi: it runs across the processes an MPI launcher starts, never inside
-/// a Python interpreter (MPI_Init_thread would wait for the other processes forever).
-void refuse_mpi_engine(const std::string& linear, const std::string& where);
+/// The linear engines built that Python runs: every one but mumps-mpi, which runs across the
+/// processes an MPI launcher starts, never inside a Python interpreter (MPI_Init_thread would
+/// wait for the other processes forever).
+std::vector<std::string> python_linear_engines();
+
+/// InputError (naming `where`) for a linear engine Python does not run: mumps-mpi, or a name
+/// that is not one of python_linear_engines() nor "auto", listing those.
+void check_linear_engine(const std::string& linear, const std::string& where);
+
+/// InputError naming the keywords of `given` that were given (name, given) when they apply to a
+/// global search only and the search is a local one (`search`, as the caller names it).
+void refuse_global_keywords(const std::vector<std::pair<std::string, bool>>& given, const std::string& search);
 
 /// The scene argument of a function: a Scene (copied), None (Scene.default()), or a path (str
 /// or os.PathLike) to a scene file or TOML text, read as Scene.from_toml reads it; TypeError

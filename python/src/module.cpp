@@ -6,6 +6,7 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
@@ -67,11 +68,36 @@ Scene scene_argument(py::object scene, const std::string& function) {
   return scene.is_none() ? default_scene() : scene.cast<Scene>();
 }
 
-void refuse_mpi_engine(const std::string& linear, const std::string& where) {
-  if (normalized_engine_name(linear) == "mumps-mpi")
+std::vector<std::string> python_linear_engines() {
+  std::vector<std::string> engines;
+  for (const std::string& name : available_factorizations())
+    if (normalized_engine_name(name) != "mumps-mpi") engines.push_back(name);
+  return engines;
+}
+
+void check_linear_engine(const std::string& linear, const std::string& where) {
+  const std::string name = normalized_engine_name(linear);
+  if (name == "mumps-mpi")
     throw InputError("'mumps-mpi' runs across processes started by mpirun (hemivem solve --linear mumps-mpi), not "
                      "inside Python; use 'mumps' or another engine of hemivem.available_engines()['linear']",
                      where);
+  const std::vector<std::string> engines = python_linear_engines();
+  if (name == "auto" || std::find(engines.begin(), engines.end(), name) != engines.end()) return;
+  const std::string available = "; available: " + (engines.empty() ? std::string("none") : join_engine_names(engines));
+  throw InputError(is_known_engine(known_linear_engines(), name)
+                       ? "linear engine '" + linear + "' was not built" + available
+                       : "unknown linear engine '" + linear + "'" + available,
+                   where);
+}
+
+void refuse_global_keywords(const std::vector<std::pair<std::string, bool>>& given, const std::string& search) {
+  std::string names;
+  for (const auto& [name, is_given] : given)
+    if (is_given) names += (names.empty() ? "" : ", ") + name;
+  if (names.empty()) return;
+  throw InputError("applies to a global search only, and the search is " + search +
+                       "; give search='global', or leave these out",
+                   names);
 }
 
 // ---- Ctrl-C -------------------------------------------------------------------------------------
@@ -235,14 +261,21 @@ void register_engines(py::module_& m) {
   m.def(
       "available_engines",
       []() {
+        const std::vector<std::string> linear = python_linear_engines();
+        std::vector<std::string> command_only;
+        for (const std::string& name : available_factorizations())
+          if (std::find(linear.begin(), linear.end(), name) == linear.end()) command_only.push_back(name);
         py::dict d;
-        d["linear"] = available_factorizations();
+        d["linear"] = linear;
         d["minimizer"] = available_minimizers();
         d["fastest_linear"] = fastest_factorization();
+        d["command_only"] = command_only;
         return d;
       },
-      "The engines built into this module: {'linear': [...], 'minimizer': [...], 'fastest_linear': name}.\n"
-      "'auto' (the default linear engine) is 'fastest_linear'.");
+      "The engines this module runs: {'linear': [...], 'minimizer': [...], 'fastest_linear': name,\n"
+      "'command_only': [...]}. 'auto' (the default linear engine) is 'fastest_linear'. 'command_only'\n"
+      "lists the linear engines built that only the hemivem command runs ('mumps-mpi', across the\n"
+      "processes mpirun starts); Python refuses them (InputError).");
 }
 
 }  // namespace hemivem::python

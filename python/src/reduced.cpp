@@ -470,7 +470,7 @@ void register_condense(py::module_& m) {
         if (linear) apply_override(scene, "solver.linear=" + toml_string(*linear));
         FactorizationOptions fo;
         fo.engine = scene.solver.linear;
-        refuse_mpi_engine(fo.engine, linear ? "linear" : scene.where("solver.linear"));
+        check_linear_engine(fo.engine, linear ? "linear" : scene.where("solver.linear"));
         auto factorization = make_factorization(fo);
         auto h = std::make_shared<ReducedHolder>();
         h->self = h;
@@ -513,15 +513,21 @@ void register_condense(py::module_& m) {
 std::shared_ptr<MinimizerResult> minimize_reduced(std::shared_ptr<ReducedHolder> reduced, const std::string& minimizer,
                                                   py::object start, double tolerance, int max_iterations,
                                                   int max_evaluations, py::object callback, const std::string& search,
-                                                  int max_starts, double time_budget, int seed,
-                                                  std::vector<std::string> engines, py::object progress,
-                                                  const py::kwargs& kwargs) {
+                                                  std::optional<int> max_starts, std::optional<double> time_budget,
+                                                  std::optional<int> seed, std::optional<std::vector<std::string>> engines,
+                                                  py::object progress, const py::kwargs& kwargs) {
   std::unique_ptr<NonsmoothMinimizer> engine = make_minimizer(minimizer, parameters_from(kwargs));
   const bool global = is_global_search(search, "search");
+  if (!global)
+    refuse_global_keywords({{"max_starts", max_starts.has_value()},
+                            {"time_budget", time_budget.has_value()},
+                            {"seed", seed.has_value()},
+                            {"engines", engines.has_value()}},
+                           "search='" + search + "'");
   GlobalSearchOptions go;
-  go.max_starts = max_starts;
-  go.time_budget = time_budget;
-  go.seed = seed;
+  if (max_starts) go.max_starts = *max_starts;
+  if (time_budget) go.time_budget = *time_budget;
+  if (seed) go.seed = *seed;
   require_valid(go, "global search");
   if (global && !callback.is_none())
     throw InputError("a global search reports its local runs to progress=, not iterations to a callback", "callback");
@@ -552,7 +558,7 @@ std::shared_ptr<MinimizerResult> minimize_reduced(std::shared_ptr<ReducedHolder>
   };
   if (global) {
     go.progress = search_progress(watch, progress);
-    engine = make_global_search(std::move(engine), std::move(go), engines);
+    engine = make_global_search(std::move(engine), std::move(go), engines.value_or(std::vector<std::string>{}));
   }
   auto result = std::make_shared<MinimizerResult>();
   try {
@@ -571,9 +577,9 @@ void register_minimize(py::module_& m) {
       &minimize_reduced,
       py::arg("reduced"), py::arg("minimizer") = "ssn", py::kw_only(), py::arg("start") = py::none(),
       py::arg("tolerance") = 1e-10, py::arg("max_iterations") = 1000, py::arg("max_evaluations") = 1000000,
-      py::arg("callback") = py::none(), py::arg("search") = "local", py::arg("max_starts") = GlobalSearchOptions{}.max_starts,
-      py::arg("time_budget") = GlobalSearchOptions{}.time_budget, py::arg("seed") = GlobalSearchOptions{}.seed,
-      py::arg("engines") = std::vector<std::string>{}, py::arg("progress") = py::none(),
+      py::arg("callback") = py::none(), py::arg("search") = "local", py::arg("max_starts") = py::none(),
+      py::arg("time_budget") = py::none(), py::arg("seed") = py::none(),
+      py::arg("engines") = py::none(), py::arg("progress") = py::none(),
       R"doc(Minimizes F over C with a minimizer (available_engines()['minimizer']) from `start`
 (projected onto C; default zero). Further keyword arguments are the engine's parameters,
 checked as in a scene's [solver.parameters] (InputError naming the engine and the field).
@@ -585,6 +591,8 @@ seeded random starts, then single-coordinate moves; at most max_starts local run
 begun after time_budget seconds, random starts drawn with `seed`; `engines` names the engines
 that run besides `minimizer` (as `--engines`; default every built one). The result is the lowest
 certified critical point; result.critical_points lists every one found (CriticalPoint).
+max_starts, time_budget, seed and engines default to 64, 60 s, 1 and every built minimizer;
+given with a local search they are an InputError naming them (they would have no effect).
 progress(SearchProgress) is called after every local run (an exception it raises ends the
 search and is raised again); a global search takes no callback. InputError naming the field
 for a bad search name, max_starts < 1, time_budget <= 0 or seed < 0.

@@ -10,6 +10,7 @@
 #include <iomanip>
 #include <limits>
 #include <sstream>
+#include <type_traits>
 #include <variant>
 
 #include <hemivem/certificate.hpp>
@@ -21,6 +22,7 @@
 #include <hemivem/app/outputs.hpp>
 #include <hemivem/app/report.hpp>
 #include <hemivem/app/run.hpp>
+#include <hemivem/app/stress.hpp>
 
 namespace hemivem::python {
 
@@ -535,6 +537,94 @@ void def_result_estimate(ResultClass& c) {
           "without an estimate): eta^2 is their sum of squares.");
 }
 
+/// The projected stress of every cell of a solve (Result.stress): copies, one row per cell.
+struct StressTable {
+  py::array_t<double> tensor, von_mises, centroids;
+  std::vector<std::string> components;
+  std::optional<app::StressPeak> peak;
+};
+
+template <class MeshType>
+StressTable stress_table(const MeshType& mesh, const MaterialTable& materials, const Eigen::VectorXd& u) {
+  constexpr int dim = std::is_same_v<MeshType, Mesh3D> ? 3 : 2;
+  const auto cells = app::cell_stresses(mesh, materials, u);
+  const auto n = static_cast<py::ssize_t>(cells.size());
+  StressTable t;
+  t.components = dim == 2 ? std::vector<std::string>{"xx", "yy", "zz", "xy"}
+                          : std::vector<std::string>{"xx", "yy", "zz", "yz", "xz", "xy"};
+  const auto k = static_cast<py::ssize_t>(t.components.size());
+  t.tensor = py::array_t<double>({n, k});
+  t.von_mises = py::array_t<double>(n);
+  t.centroids = py::array_t<double>({n, py::ssize_t(dim)});
+  auto tensor = t.tensor.mutable_unchecked<2>();
+  auto centroids = t.centroids.mutable_unchecked<2>();
+  for (py::ssize_t e = 0; e < n; ++e) {
+    const auto& c = cells[static_cast<std::size_t>(e)];
+    if constexpr (dim == 2) {
+      tensor(e, 0) = c.xx, tensor(e, 1) = c.yy, tensor(e, 2) = c.zz, tensor(e, 3) = c.xy;
+    } else {
+      const double values[] = {c.xx, c.yy, c.zz, c.yz, c.xz, c.xy};
+      for (py::ssize_t j = 0; j < 6; ++j) tensor(e, j) = values[j];
+    }
+    t.von_mises.mutable_data()[e] = c.von_mises();
+    const auto x = mesh.centroid(static_cast<int>(e));
+    for (int j = 0; j < dim; ++j) centroids(e, j) = x(j);
+  }
+  t.peak = app::stress_peak(mesh, cells);
+  return t;
+}
+
+void register_stress_table(py::module_& m) {
+  py::class_<StressTable>(m, "StressTable", R"doc(
+The projected stress of every cell of a solve (Result.stress; stress.csv's rows), constant on
+each cell: the stress of the projection Pi u_h with the material of the cell's region.
+
+tensor: (num_cells, 4) for a plane solve, columns xx, yy, zz, xy (zz: lambda (eps_xx + eps_yy)
+in plane strain, 0 in plane stress); (num_cells, 6) for a solid, columns xx, yy, zz, yz, xz,
+xy. components names the columns. von_mises: (num_cells,), sqrt(((xx - yy)^2 + (yy - zz)^2 +
+(zz - xx)^2) / 2 + 3 (yz^2 + xz^2 + xy^2)). centroids: (num_cells, 2 or 3), each cell's
+centroid. max_von_mises and max_cell: the largest von Mises stress and the first cell that has
+it, as the summary and result.json's "stress" report them (None when a value is not finite).
+The arrays are float64 copies, made at each access of Result.stress.
+)doc")
+      .def_readonly("tensor", &StressTable::tensor)
+      .def_readonly("von_mises", &StressTable::von_mises)
+      .def_readonly("centroids", &StressTable::centroids)
+      .def_property_readonly("components", [](const StressTable& t) { return py::tuple(py::cast(t.components)); })
+      .def_property_readonly("max_von_mises",
+                             [](const StressTable& t) -> py::object {
+                               return t.peak ? py::object(py::float_(t.peak->von_mises)) : py::object(py::none());
+                             })
+      .def_property_readonly("max_cell",
+                             [](const StressTable& t) -> py::object {
+                               return t.peak ? py::object(py::int_(t.peak->cell)) : py::object(py::none());
+                             })
+      .def("__len__", [](const StressTable& t) { return t.von_mises.size(); })
+      .def("__repr__", [](const StressTable& t) {
+        std::ostringstream o;
+        o << std::setprecision(6) << "StressTable(" << t.von_mises.size() << " cells, components=(";
+        for (std::size_t j = 0; j < t.components.size(); ++j) o << (j ? ", " : "") << "'" << t.components[j] << "'";
+        o << ")";
+        if (t.peak) o << ", max_von_mises=" << t.peak->von_mises << ", max_cell=" << t.peak->cell;
+        o << ")";
+        return o.str();
+      });
+}
+
+/// Result's stresses.
+void def_result_stress(ResultClass& c) {
+  c.def_property_readonly(
+      "stress",
+      [](py::handle s) {
+        return visit(data(s), [](const auto& v) {
+          return stress_table(v.built->mesh, v.built->problem.elasticity.materials, v.solution.u);
+        });
+      },
+      "The projected stress of every cell (element in the plane) of `mesh`, as stress.csv: a StressTable\n"
+      "with tensor ((num_cells, 4): xx, yy, zz, xy in the plane; (num_cells, 6): xx, yy, zz, yz, xz, xy in\n"
+      "3D), von_mises (num_cells,), centroids (num_cells, 2 or 3), components, max_von_mises and max_cell.");
+}
+
 /// Result's sequences: an adaptive solve's record, a loading path's steps.
 void def_result_sequences(ResultClass& c) {
   c.def_property_readonly(
@@ -611,7 +701,7 @@ void def_result_outputs(ResultClass& c) {
           },
           py::arg("folder"), py::arg("files") = py::none(),
           "Writes the files `hemivem solve --out folder` writes for this scene (result.json,\n"
-          "contact.csv, displacement.csv, history.csv, solution.vtu, scene.toml, and the PNGs when\n"
+          "contact.csv, displacement.csv, stress.csv, history.csv, solution.vtu, scene.toml, and the PNGs when\n"
           "gnuplot is installed; for a three-dimensional scene also contact-surface.vtu, and\n"
           "pressure.png), each atomically; `files` picks some of them by name. Returns the\n"
           "paths written; a figure that could not be drawn is a UserWarning (and in result.json's\n"
@@ -653,6 +743,7 @@ was solved from, and its arrays keep it alive.
   def_result_outcome(c);
   def_result_solution(c);
   def_result_estimate(c);
+  def_result_stress(c);
   def_result_sequences(c);
   def_result_model(c);
   def_result_outputs(c);
@@ -746,7 +837,9 @@ an engine fails. A solve that does not converge is a status, not an error.
 search="global" (solver.search, as `hemivem solve --global`) looks for the lowest of several
 critical points with every built minimizer, the scene's first; max_starts, time_budget,
 seed and engines override solver.max_starts, solver.time_budget, solver.seed and
-solver.search_engines (the engines besides the scene's minimizer). The Result's
+solver.search_engines (the engines besides the scene's minimizer); given when the search is a
+local one (neither search="global" nor the scene's solver.search), they are an InputError naming
+them, since they would have no effect. The Result's
 critical_points and search are result.json's. progress(SearchProgress) is called after every
 local run of a global search (an exception it raises ends the solve and is raised again).
 
@@ -761,7 +854,9 @@ A mesh of the other dimension is an InputError.
 
 adapt=True (or a scene with an [adapt] table) refines adaptively as `hemivem solve --adapt`
 does: the Result is the last step's, on the final mesh, with `adapt` holding every step's
-numbers; a scene without [adapt] takes its defaults. An adaptive solve keeps no reduced problem.
+numbers; a scene without [adapt] takes its defaults. An adaptive solve keeps no reduced problem
+(nor does a loading path): keep_reduced=True with either is an InputError. keep_reduced
+defaults to True for a static solve.
 
 A three-dimensional scene (docs/reference/scenes.md, "Three-dimensional scenes") is solved as
 `hemivem solve` solves it (solve_scene_3d): the Result has dimension 3, displacement of shape
@@ -775,12 +870,18 @@ void register_solve_function(py::module_& m) {
          std::optional<double> tolerance, std::optional<int> max_iterations, std::optional<std::string> search,
          std::optional<int> max_starts, std::optional<double> time_budget, std::optional<int> seed,
          std::optional<std::vector<std::string>> engines, py::object progress,
-         bool keep_reduced, py::object mesh, bool adapt, const py::kwargs& kwargs) {
+         std::optional<bool> keep, py::object mesh, bool adapt, const py::kwargs& kwargs) {
         auto d = std::make_shared<SolveData>();
         d->scene = scene_argument(scene_arg, "hemivem.solve");
         const SolveKeywords k{linear, minimizer, tolerance, max_iterations, search, max_starts, time_budget, seed, engines};
         const std::vector<std::string> overrides = keyword_overrides(k, kwargs);
         if (!overrides.empty()) apply_overrides(d->scene, overrides);
+        if (!is_global_search(d->scene.solver.search, "solver.search"))
+          refuse_global_keywords({{"max_starts", max_starts.has_value()},
+                                  {"time_budget", time_budget.has_value()},
+                                  {"seed", seed.has_value()},
+                                  {"engines", engines.has_value()}},
+                                 "the scene's solver.search = '" + d->scene.solver.search + "'");
         if (d->scene.dimension() == 3) {
           if (adapt)
             throw InputError("adaptive refinement is not available for three-dimensional scenes (it refines "
@@ -788,8 +889,13 @@ void register_solve_function(py::module_& m) {
                              "adapt");
         }
         if (adapt && !d->scene.adapt) d->scene.adapt = SceneAdapt{};
-        if (app::run_kind(d->scene) != app::RunKind::static_solve) keep_reduced = false;  // no one reduced problem
-        refuse_mpi_engine(d->scene.solver.linear, linear ? "linear" : d->scene.where("solver.linear"));
+        const app::RunKind kind = app::run_kind(d->scene);
+        if (kind != app::RunKind::static_solve && keep.value_or(false))
+          throw InputError("a" + std::string(kind == app::RunKind::path ? " loading path" : "n adaptive solve") +
+                               " has no one reduced problem to keep; leave keep_reduced out",
+                           "keep_reduced");
+        const bool keep_reduced = kind == app::RunKind::static_solve && keep.value_or(true);
+        check_linear_engine(d->scene.solver.linear, linear ? "linear" : d->scene.where("solver.linear"));
         std::optional<std::variant<Mesh, Mesh3D>> given;
         if (py::isinstance<PyMesh>(mesh)) given = *mesh.cast<const PyMesh&>().mesh;
         else if (py::isinstance<PyMesh3D>(mesh)) given = *mesh.cast<const PyMesh3D&>().mesh;
@@ -802,7 +908,7 @@ void register_solve_function(py::module_& m) {
       py::arg("scene") = py::none(), py::kw_only(), py::arg("linear") = py::none(), py::arg("minimizer") = py::none(),
       py::arg("tolerance") = py::none(), py::arg("max_iterations") = py::none(), py::arg("search") = py::none(),
       py::arg("max_starts") = py::none(), py::arg("time_budget") = py::none(), py::arg("seed") = py::none(),
-      py::arg("engines") = py::none(), py::arg("progress") = py::none(), py::arg("keep_reduced") = true,
+      py::arg("engines") = py::none(), py::arg("progress") = py::none(), py::arg("keep_reduced") = py::none(),
       py::arg("mesh") = py::none(), py::arg("adapt") = false, kSolveDoc);
 }
 
@@ -810,6 +916,7 @@ void register_solve_function(py::module_& m) {
 
 void register_solve(py::module_& m) {
   register_contact_table(m);
+  register_stress_table(m);
   register_path(m);
   register_result(m);
   register_solve_function(m);

@@ -41,7 +41,7 @@ std::vector<app::Pair> pairs_of(const PairList& given) {
   std::vector<app::Pair> pairs;
   if (given) {
     for (const auto& [linear, minimizer] : *given) {
-      refuse_mpi_engine(linear, "pairs");
+      check_linear_engine(linear, "pairs");
       pairs.push_back({linear, minimizer});
     }
     if (pairs.empty()) throw InputError("give at least one (linear, minimizer) pair", "pairs");

@@ -49,7 +49,7 @@ def test_write_gives_the_files_of_the_command(tmp_path, run_command, small_scene
     r = hemivem.solve(small_scene, linear="cholmod")
     written = r.write(tmp_path / "py")
     assert sorted(p.name for p in written) == sorted(p.name for p in out.iterdir())
-    for name in ["contact.csv", "displacement.csv", "scene.toml"]:
+    for name in ["contact.csv", "displacement.csv", "stress.csv", "scene.toml"]:
         assert (tmp_path / "py" / name).read_text() == (out / name).read_text(), name
     mine = json.loads((tmp_path / "py" / "result.json").read_text())
     theirs = json.loads((out / "result.json").read_text())

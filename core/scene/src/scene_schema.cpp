@@ -944,9 +944,9 @@ using detail::parse_toml;
 using detail::scene_from_table;
 
 const std::vector<std::string>& scene_output_names() {
-  static const std::vector<std::string> names{"vtu",         "contact-csv", "displacement-csv", "history-csv",
-                                              "result-json", "u-nu-png",    "deformed-png",     "error-png",
-                                              "mesh-png",    "adapt-png",   "pressure-png"};
+  static const std::vector<std::string> names{"vtu",         "contact-csv", "displacement-csv", "stress-csv",
+                                              "history-csv", "result-json", "u-nu-png",         "deformed-png",
+                                              "error-png",   "mesh-png",    "adapt-png",        "pressure-png"};
   return names;
 }
 

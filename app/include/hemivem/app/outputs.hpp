@@ -1,6 +1,6 @@
 // The files a solve of a plane or a solid body leaves in its output folder (schema and formats:
-// docs/reference/outputs.md): result.json, contact.csv, displacement.csv, history.csv,
-// solution.vtu (vtu.hpp; a solid's also contact-surface.vtu), scene.toml and the gnuplot figures
+// docs/reference/outputs.md): result.json, contact.csv, displacement.csv, stress.csv (stress.hpp),
+// history.csv, solution.vtu (vtu.hpp; a solid's also contact-surface.vtu), scene.toml and the gnuplot figures
 // (figures.hpp). One writer serves both dimensions; the plane and the solid each have their
 // overload of result_json and write_outputs.
 #pragma once
@@ -15,6 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <hemivem/app/stress.hpp>
 #include <hemivem/contact/contact3d.hpp>
 #include <hemivem/contact/obstacle.hpp>
 #include <hemivem/contact/solver.hpp>
@@ -60,6 +61,9 @@ struct RunInfo {
   /// The estimate of the discretization error: result.json's "error_estimate", solution.vtu's
   /// "error_indicator", error.png; none: not made (null in result.json).
   std::optional<ErrorEstimate> error_estimate;
+  /// The cell of the largest von Mises stress (stress_peak): result.json's "stress" and the
+  /// summary's stress line; none when the displacement is not known or not finite (null).
+  std::optional<StressPeak> stress;
   /// An adaptive solve's record (adapt_json of hemivem/app/adapt.hpp): result.json's "adapt",
   /// adapt.png; null for a single solve.
   nlohmann::json adapt;
@@ -108,7 +112,8 @@ std::string contact_part_name(const BasicContactSolution<dim>& solution, const B
 }
 
 /// The names write_outputs knows for a body of dimension `dim` (2 or 3), in the order it writes
-/// them. Both: result.json, contact.csv, displacement.csv, history.csv, solution.vtu, then a
+/// them. Both: result.json, contact.csv, displacement.csv, stress.csv (the projected stress of
+/// every cell), history.csv, solution.vtu, then a
 /// solid's contact-surface.vtu, scene.toml, a plane's mesh.poly2d (the mesh solved on), u_nu.png,
 /// both's deformed.png, a plane's error.png (the error indicators; with info.error_estimate),
 /// mesh.png (the mesh) and adapt.png (the estimate of each step against unknowns and time; with

@@ -18,7 +18,8 @@ template <int dim>
 std::string brief_report(const BasicSceneSolve<dim>& solved);
 
 /// Every line of a solve: mesh, engines, stages, status and certificate, the global search's
-/// critical points, uniqueness, the contact zone, forces, friction, energy and the time of
+/// critical points, uniqueness, the contact zone, forces, friction, the largest von Mises
+/// stress (info.stress), the error estimate, energy and the time of
 /// each stage, one "  name          value" line each, ending in a newline. `scene` is the
 /// resolved scene that was solved, `info` its run_info(). A plane's or a solid's solve (the
 /// mesh's cells and faces, the area in compression, forces of three components).

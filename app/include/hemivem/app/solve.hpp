@@ -132,7 +132,7 @@ SceneSolve solve_scene(const Scene& scene,
 /// The files `hemivem solve` writes for a scene: its [output] write as file names of
 /// write_outputs, and scene.toml always; without contact no contact.csv, history.csv or u_nu.png;
 /// a path's files (path_files). For a three-dimensional scene: result.json, contact.csv,
-/// displacement.csv, history.csv, solution.vtu and contact-surface.vtu (vtu), deformed.png,
+/// displacement.csv, stress.csv, history.csv, solution.vtu and contact-surface.vtu (vtu), deformed.png,
 /// pressure.png and scene.toml always (without contact no contact.csv, history.csv,
 /// contact-surface.vtu or pressure.png; the pictures of plane solves, u-nu-png, error-png,
 /// mesh-png and adapt-png, are not made), and a path's files.

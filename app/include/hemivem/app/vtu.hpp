@@ -12,6 +12,7 @@
 
 #include <Eigen/Core>
 
+#include <hemivem/app/stress.hpp>
 #include <hemivem/contact/contact3d.hpp>
 #include <hemivem/contact/solver.hpp>
 #include <hemivem/mesh/mesh.hpp>
@@ -23,25 +24,6 @@ namespace hemivem::app {
 /// The VTU code of a friction state: 0 not a contact node, 1 stick, 2 slip, 3 slip-weakening,
 /// 4 slip-kinetic.
 std::uint8_t friction_state_code(FrictionState state);
-
-/// The projected stress of a cell (solution.vtu's stress and von_mises) of a body of dimension
-/// dim: the stress of the projection Pi u_h, constant on the cell, with the material of the
-/// cell's region. A plane body's yz and xz are 0 and its zz is lambda (eps_xx + eps_yy) in
-/// plane strain, 0 in plane stress (element_stresses of hemivem/vem/stress.hpp); a solid's
-/// sigma = lambda tr(eps) I + 2 mu eps, eps the symmetric part of the projection's gradient.
-template <int dim>
-struct BasicCellStress {
-  double xx = 0.0, yy = 0.0, zz = 0.0, yz = 0.0, xz = 0.0, xy = 0.0;
-  /// sqrt(((xx - yy)^2 + (yy - zz)^2 + (zz - xx)^2) / 2 + 3 (yz^2 + xz^2 + xy^2)); a plane
-  /// cell's as sqrt(... + 3 xy^2).
-  double von_mises() const;
-};
-using CellStress = BasicCellStress<2>;
-/// The projected stress of each element of a plane mesh or cell of a solid one; InputError for
-/// a displacement whose size does not match the mesh (dim values per vertex).
-std::vector<CellStress> cell_stresses(const Mesh& mesh, const MaterialTable& materials, const Eigen::VectorXd& u);
-std::vector<BasicCellStress<3>> cell_stresses(const Mesh3D& mesh, const MaterialTable& materials,
-                                              const Eigen::VectorXd& u);
 
 /// The mesh's cells with the point data displacement (3 components) and, with contact, u_nu,
 /// pressure and gap (0 off the contact nodes), and the cell data stress (6 components in
