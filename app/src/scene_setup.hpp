@@ -51,7 +51,7 @@ SceneEngines prepare_scene_solve(const Scene& scene, SceneSolveOptions& o, Scene
 
 /// What result.json records of any solved scene (SceneSolve or SceneSolve3D): the scene, the
 /// mesh's description, the engines, the search, the options in effect, the mesh time, the
-/// unknowns, the processes, the warnings and the error estimate.
+/// unknowns, the processes, the warnings, the error estimate and the figures' formats.
 template <class Solved>
 RunInfo run_info_common(const Scene& scene, const Solved& solved) {
   const MinimizerOptions& mo = solved.options;
@@ -71,6 +71,7 @@ RunInfo run_info_common(const Scene& scene, const Solved& solved) {
   info.processes = solved.processes;
   info.warnings = solved.warnings;
   info.error_estimate = solved.estimate;
+  info.figure_formats = scene.figure_formats;
   return info;
 }
 
