@@ -133,6 +133,7 @@ int run_bench(const BenchOptions& given, std::ostream& out, std::ostream& err) {
   if (given.verbosity >= 1) plan.options.progress = bench_progress(err);
   const app::BenchResult result = app::run_bench(plan);
   const app::BenchFiles files = app::write_bench(given.out, result);
+  for (const auto& w : files.warnings) err << "hemivem: warning: " << w << "\n";  // a plot not drawn
   if (given.json)
     out << files.json.dump(2) << "\n";
   else if (given.verbosity >= 1) {

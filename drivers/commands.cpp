@@ -72,6 +72,12 @@ Scene load_scene(const SolveOptions& o) {
     v << std::setprecision(17) << *o.tolerance;
     overrides.push_back("solver.tolerance=" + v.str());
   }
+  if (o.figures) {  // "png,pdf" as the array ["png", "pdf"]
+    std::string list;
+    std::stringstream names(*o.figures);
+    for (std::string name; std::getline(names, name, ',');) list += (list.empty() ? "" : ", ") + toml_string(name);
+    overrides.push_back("output.figure_format=[" + list + "]");
+  }
   // the flag behind each key a flag sets, for messages
   std::vector<std::pair<std::string, std::string>> flags;
   for (const auto& kv : overrides) {
@@ -81,6 +87,7 @@ Scene load_scene(const SolveOptions& o) {
                                        : key == "solver.linear"                     ? "--linear"
                                        : key == "solver.minimizer"                  ? "--minimizer"
                                        : key == "solver.search"                     ? "--global"
+                                       : key == "output.figure_format"              ? "--figures"
                                                                                     : "--tol");
   }
   overrides.insert(overrides.end(), o.set.begin(), o.set.end());

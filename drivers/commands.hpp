@@ -34,10 +34,11 @@ struct SolveOptions {
   int verbosity = 1;                    ///< 0 quiet, 1 summary, 2 summary and iterations
   bool global = false;                  ///< --global: solver.search = "global"
   bool adapt = false;                   ///< --adapt: refine adaptively ([adapt] with its defaults unless the scene has one)
+  std::optional<std::string> figures;   ///< --figures png,pdf: output.figure_format, comma-separated
 };
 
 /// The scene of a command line: the file (empty: the embedded Example 4.1) with the flags
-/// applied in order --mesh, --n, --linear, --minimizer, --tol, then every --set. Unknown keys
+/// applied in order --mesh, --n, --linear, --minimizer, --tol, --figures, then every --set. Unknown keys
 /// and bad values are InputErrors (nothing is built).
 Scene load_scene(const SolveOptions& options);
 

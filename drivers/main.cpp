@@ -140,7 +140,7 @@ Command register_solve(CLI::App& app) {
   struct Flags {
     hemivem::cli::SolveOptions options;
     bool quiet = false, verbose = false;
-    std::string mesh, linear, minimizer;
+    std::string mesh, linear, minimizer, figures;
     int n = 0;
     double tol = 0.0;
     CLI::Option *o_mesh = nullptr, *o_n = nullptr, *o_linear = nullptr, *o_min = nullptr, *o_tol = nullptr;
@@ -167,8 +167,11 @@ Command register_solve(CLI::App& app) {
   cmd->add_flag("--adapt", f->options.adapt,
                 "Refine adaptively until the error estimate reaches adapt.target (the scene's [adapt], or target 1 %, "
                 "fraction 0.5, max_steps 30, max_unknowns 1000000; change them with --set adapt.KEY=VALUE)");
-  return {cmd, [f] {
+  auto* o_figures = cmd->add_option("--figures", f->figures,
+                                    "The figures' formats, comma-separated: png, pdf, svg (output.figure_format; default png)");
+  return {cmd, [f, o_figures] {
             cli::SolveOptions& o = f->options;
+            if (*o_figures) o.figures = f->figures;
             if (*f->o_mesh) o.mesh = f->mesh;
             if (*f->o_n) o.n = f->n;
             if (*f->o_linear) o.linear = f->linear;

@@ -78,8 +78,9 @@ int run_study(const StudyOptions& o, std::ostream& out, std::ostream& err) {
     };
   const app::StudyResult result = app::run_study(scene, so);
   const app::StudyFiles files = app::write_study(o.out, scene, so, result);
+  for (const auto& w : files.warnings) err << "hemivem: warning: " << w << "\n";  // a figure not drawn
   if (o.json)
-    out << app::study_json(scene, so, result).dump(2) << "\n";
+    out << files.json.dump(2) << "\n";
   else if (o.verbosity >= 1)
     print_study(out, scene, o, result, files);
   return result.converged && result.ref_converged ? kSuccess : kNotConverged;

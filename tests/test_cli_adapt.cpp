@@ -4,7 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <algorithm>
 #include <filesystem>
+#include <regex>
+#include <vector>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -21,6 +24,13 @@ using nlohmann::json;
 using test::run_hemivem;
 using test::scratch;
 using test::slurp;
+
+/// Whether `file` parses as XML whose root element is `root` (Python's xml.etree).
+bool xml_root_is(const fs::path& file, const std::string& root) {
+  const auto r = test::run_command("/usr/bin/python3 -c \"import sys, xml.etree.ElementTree as E; "
+                                   "print(E.parse(sys.argv[1]).getroot().tag)\" " + file.string());
+  return r.code == 0 && r.out == root + "\n";
+}
 
 TEST(CliAdapt, EverySolveReportsItsErrorEstimate) {
   const fs::path out = scratch("estimate");
@@ -66,6 +76,49 @@ TEST(CliAdapt, AnAdaptiveSolveWritesItsStepsAndItsFinalMesh) {
   EXPECT_NE(j.at("mesh").at("description").get<std::string>().find("refined adaptively"), std::string::npos);
   // the resolved scene keeps the [adapt] table: it runs again as it ran
   EXPECT_NE(slurp(out / "scene.toml").find("[adapt]\ntarget = 0.1\n"), std::string::npos);
+  fs::remove_all(out);
+}
+
+TEST(CliAdapt, TheStepsAreAParaViewSeries) {
+  const fs::path out = scratch("adapt-series");
+  const auto r = run_hemivem("solve --n 4 --linear eigen --adapt --set adapt.target=0.1 --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const json j = json::parse(slurp(out / "result.json"));
+  const json& steps = j.at("adapt").at("steps");
+  ASSERT_GE(steps.size(), 2u);
+  const std::vector<std::string> files = j.at("files").get<std::vector<std::string>>();
+  auto listed = [&files](const std::string& f) { return std::find(files.begin(), files.end(), f) != files.end(); };
+  EXPECT_TRUE(listed("adapt.pvd")) << j.at("files");
+  // the collection names every step's file with the step as its time, in order
+  const std::string pvd = slurp(out / "adapt.pvd");
+  const std::regex data_set("<DataSet timestep=\"([0-9]+)\" group=\"\" part=\"0\" file=\"([^\"]+)\"/>");
+  std::vector<std::pair<int, std::string>> entries;
+  for (std::sregex_iterator it(pvd.begin(), pvd.end(), data_set), end; it != end; ++it)
+    entries.emplace_back(std::stoi((*it)[1]), (*it)[2]);
+  ASSERT_EQ(entries.size(), steps.size()) << pvd;
+  EXPECT_TRUE(xml_root_is(out / "adapt.pvd", "VTKFile"));
+  for (std::size_t k = 0; k < steps.size(); ++k) {
+    EXPECT_EQ(entries[k].first, static_cast<int>(k));
+    EXPECT_EQ(entries[k].second, "adapt-step-" + std::to_string(k) + ".vtu");
+    const fs::path file = out / entries[k].second;
+    ASSERT_TRUE(fs::exists(file)) << file;
+    EXPECT_TRUE(listed(entries[k].second)) << entries[k].second;
+    EXPECT_TRUE(xml_root_is(file, "VTKFile")) << file;
+    // each step's own mesh
+    const std::string vtu = slurp(file);
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(vtu, m, std::regex("<Piece NumberOfPoints=\"([0-9]+)\" NumberOfCells=\"([0-9]+)\"")));
+    EXPECT_EQ(std::stoi(m[1]), steps[k].at("vertices").get<int>()) << file;
+    EXPECT_GE(std::stoi(m[2]), steps[k].at("elements").get<int>()) << file;
+  }
+  // the last step is the solve the folder holds
+  EXPECT_EQ(slurp(out / ("adapt-step-" + std::to_string(steps.size() - 1) + ".vtu")), slurp(out / "solution.vtu"));
+  // without the output vtu there is no series; the earlier run's steps go
+  const auto again = run_hemivem("solve --n 4 --linear eigen --adapt --set adapt.target=0.1 "
+                                 "--set 'output.write=[\"result-json\"]' --out " + out.string());
+  ASSERT_EQ(again.code, 0) << again.err;
+  EXPECT_FALSE(fs::exists(out / "adapt.pvd"));
+  EXPECT_FALSE(fs::exists(out / "adapt-step-0.vtu"));
   fs::remove_all(out);
 }
 

@@ -577,8 +577,9 @@ TEST_F(Outputs, MissingGnuplotSkipsThePlotsOnly) {
   }
   ::setenv("PATH", saved.c_str(), 1);
   // u_nu.png, deformed.png and mesh.png for want of gnuplot; error.png without an estimate,
-  // adapt.png without an adaptive solve and the five files of a loading path for want of data
-  ASSERT_EQ(report.skipped.size(), 10u);
+  // adapt.png and adapt.pvd without an adaptive solve and the five files of a loading path for
+  // want of data
+  ASSERT_EQ(report.skipped.size(), 11u);
   const auto skipped = [&](const std::string& file, const std::string& why) {
     return std::any_of(report.skipped.begin(), report.skipped.end(), [&](const std::string& s) {
       return s.rfind(file + ": ", 0) == 0 && s.find(why) != std::string::npos;
@@ -589,9 +590,10 @@ TEST_F(Outputs, MissingGnuplotSkipsThePlotsOnly) {
   EXPECT_TRUE(skipped("mesh.png", "gnuplot"));
   EXPECT_TRUE(skipped("error.png", "no error estimate"));
   EXPECT_TRUE(skipped("adapt.png", "not an adaptive solve"));
+  EXPECT_TRUE(skipped("adapt.pvd", "not an adaptive solve"));
   for (const char* file : {"path.json", "path-contact.csv", "path-displacement.csv", "solution.pvd", "path.png"})
     EXPECT_TRUE(skipped(file, "not a loading path")) << file;
-  EXPECT_EQ(report.written.size(), all_outputs(2).size() - 10);
+  EXPECT_EQ(report.written.size(), all_outputs(2).size() - 11);
   for (const char* name : {"result.json", "contact.csv", "displacement.csv", "history.csv", "solution.vtu", "scene.toml"})
     EXPECT_TRUE(fs::exists(dir.path / "out" / name)) << name;
   EXPECT_FALSE(fs::exists(dir.path / "out" / "u_nu.png"));
@@ -663,9 +665,9 @@ TEST(OutputsWithoutContact, LinearSolveSkipsTheContactPlotOnly) {
   EXPECT_TRUE(std::any_of(report.skipped.begin(), report.skipped.end(),
                           [](const std::string& s) { return s.rfind("u_nu.png: no contact boundary", 0) == 0; }))
       << report.skipped[0];
-  if (have_gnuplot()) {  // and error.png (no estimate given), adapt.png (not an adaptive solve) and
-                         // the five files of a loading path (not a loading path)
-    EXPECT_EQ(report.skipped.size(), 8u);
+  if (have_gnuplot()) {  // and error.png (no estimate given), adapt.png and adapt.pvd (not an
+                         // adaptive solve) and the five files of a loading path (not a loading path)
+    EXPECT_EQ(report.skipped.size(), 9u);
     EXPECT_TRUE(fs::exists(dir.path / "deformed.png"));
   }
 }

@@ -2,9 +2,12 @@
 // the adaptive solve's (error.png, mesh.png, adapt.png): what the gnuplot scripts and their
 // data draw, checked without running gnuplot, and the PNGs drawn when gnuplot is installed.
 #include <hemivem/app/figures.hpp>
+#include <hemivem/error.hpp>
 #include <hemivem/app/outputs.hpp>
 #include <hemivem/app/solve.hpp>
 #include <hemivem/mesh/generators.hpp>
+#include <hemivem/mesh/generators3d.hpp>
+#include <hemivem/mesh/refine.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
 #include <hemivem/scene/scene.hpp>
 #include "test_support.hpp"
@@ -14,10 +17,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <memory>
 #include <regex>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -538,6 +544,192 @@ TEST(EstimateFigures, FiguresOutliveTheirMesh) {
   EXPECT_EQ(blocks(data_text(figures[0], "error_edges.dat")).size(), edges);
   EXPECT_EQ(blocks(data_text(figures[1], "mesh_edges.dat")).size(), edges);
   expect_drawn(figures, "outlive");
+}
+
+/// The labels of the ticks gnuplot may draw from lo to hi, at a step of 1, 2 or 5 times a
+/// power of ten giving up to `intervals` intervals, printed with `format` as gnuplot prints
+/// them (C's printf); `extend`: also the ticks just outside, as gnuplot's autoscale extends an
+/// axis to them.
+std::vector<std::string> tick_labels(const std::string& format, double lo, double hi, int intervals,
+                                     bool extend = false) {
+  const double step = tick_step(lo, hi, intervals);
+  std::vector<std::string> labels;
+  const double first = extend ? std::floor(lo / step + 1e-9) : std::ceil(lo / step - 1e-9);
+  const double last = extend ? std::ceil(hi / step - 1e-9) : std::floor(hi / step + 1e-9);
+  for (double k = first; k <= last; k += 1.0) {
+    char text[64];
+    std::snprintf(text, sizeof text, format.c_str(), k * step);
+    labels.emplace_back(text);
+  }
+  return labels;
+}
+
+/// Whether the strings of `labels` all differ.
+bool distinct(const std::vector<std::string>& labels) {
+  return std::set<std::string>(labels.begin(), labels.end()).size() == labels.size();
+}
+
+TEST(TickLabels, DifferAtEveryScaleFrom1eMinus12To1e6) {
+  // the labels of path.png at small displacements were "-0.00000003, -0.00000003, ..."
+  EXPECT_EQ(tick_format(-3.1e-8, -2.9e-8), "%.3g");
+  EXPECT_EQ(tick_labels(tick_format(-3.1e-8, -2.9e-8), -3.1e-8, -2.9e-8, 4),
+            (std::vector<std::string>{"-3.1e-08", "-3.05e-08", "-3e-08", "-2.95e-08", "-2.9e-08"}));
+  for (double centre : {-1e6, -3.3e-8, 1e-12, 2.5e-9, 7e-5, 0.3, 1.0, 42.0, 12345.0, 1e6})
+    for (double relative : {1e-9, 1e-6, 1e-3, 0.1, 1.0, 10.0}) {
+      const double half = 0.5 * relative * std::abs(centre), lo = centre - half, hi = centre + half;
+      const std::string format = tick_format(lo, hi);
+      for (int intervals : {1, 2, 5, 10, 20}) {
+        const std::vector<std::string> labels = tick_labels(format, lo, hi, intervals, true);
+        ASSERT_GE(labels.size(), 2u);
+        EXPECT_TRUE(distinct(labels)) << format << " from " << lo << " to " << hi << ": " << labels.front() << " ...";
+        for (const auto& l : labels) EXPECT_LE(l.size(), 22u) << l;
+      }
+    }
+  // whole numbers below 1e7 print in full; a range that is not finite or all zero, plainly
+  char text[64];
+  std::snprintf(text, sizeof text, tick_format(0.0, 20000.0).c_str(), 12500.0);
+  EXPECT_STREQ(text, "12500");
+  EXPECT_EQ(tick_format(0.0, 0.0), "%g");
+  EXPECT_EQ(tick_format(0.0, NAN), "%g");
+  EXPECT_EQ(axis_format("y2", -3.1e-8, -2.9e-8), "set format y2 \"%.3g\"\n");
+}
+
+TEST(TickLabels, TickStepsAreOneTwoOrFiveTimesAPowerOfTen) {
+  EXPECT_DOUBLE_EQ(tick_step(0.0, 1.0, 5), 0.2);
+  EXPECT_DOUBLE_EQ(tick_step(0.0, 1.0, 1), 1.0);
+  EXPECT_DOUBLE_EQ(tick_step(0.0, 0.1, 1), 0.1);
+  EXPECT_DOUBLE_EQ(tick_step(0.0, 0.13, 1), 0.2);
+  EXPECT_DOUBLE_EQ(tick_step(-3.1e-8, -2.9e-8, 4), 5e-10);
+  EXPECT_EQ(tick_step(1.0, 1.0, 5), 0.0);
+}
+
+/// The `set format AXIS "..."` of a script, empty when not set.
+std::string format_of(const std::string& script, const std::string& axis) {
+  const std::regex re("set format " + axis + " \"([^\"]*)\"");
+  std::smatch m;
+  return std::regex_search(script, m, re) ? std::string(m[1]) : std::string();
+}
+
+TEST_F(Figures, TinyDisplacementsGetTickLabelsThatDiffer) {
+  // Example 4.1 ten orders of magnitude stiffer: u_nu of about 1e-11
+  static const Solved s("paper-example-4.1.toml", {"mesh.n=8", "material.E=65e10"});
+  double lo = 0.0, hi = 0.0;
+  for (const auto& n : s.solved.solution.contact) lo = std::min(lo, n.u_nu), hi = std::max(hi, n.u_nu);
+  ASSERT_LT(hi - lo, 1e-9);
+  ASSERT_GT(hi - lo, 0.0);
+  const std::string script = u_nu_figure(s.mesh(), s.solved.solution, s.info).script;
+  const auto [y0, y1] = range(script, "y");
+  ASSERT_TRUE(std::isfinite(y0)) << script;
+  const std::string format = format_of(script, "y");
+  ASSERT_FALSE(format.empty()) << script;
+  for (int intervals : {2, 5, 10, 20}) EXPECT_TRUE(distinct(tick_labels(format, y0, y1, intervals))) << format;
+  for (const char* axis : {"x", "y2"}) EXPECT_FALSE(format_of(script, axis).empty()) << axis << "\n" << script;
+  const std::string deformed = deformed_figure(s.mesh(), s.solved.solution, s.info).script;
+  EXPECT_FALSE(format_of(deformed, "cb").empty()) << deformed;  // |u| of about 1e-11
+}
+
+TEST(SolidFigures, AFlatBlockHasFewTicksOnItsShortAxis) {
+  const Mesh3D mesh = make_cubes(GridSize3(8, 8, 1), Box{0.0, 1.0, 0.0, 1.0, 0.0, 0.1});
+  ContactSolution3D solution;
+  solution.u = Eigen::VectorXd::Zero(3 * mesh.num_vertices());
+  const std::string script = deformed_figure(mesh, solution, estimate_info()).script;
+  std::map<std::string, double> step;
+  const std::regex re("set ([xyz])tics ([^ \\n]+)\\n");
+  for (std::sregex_iterator it(script.begin(), script.end(), re), end; it != end; ++it) step[(*it)[1]] = std::stod((*it)[2]);
+  ASSERT_EQ(step.size(), 3u) << script;
+  // the long axes have a few ticks, the short one its two ends: no labels over each other
+  EXPECT_DOUBLE_EQ(step["x"], 0.2);
+  EXPECT_DOUBLE_EQ(step["y"], 0.2);
+  EXPECT_GE(step["z"], 0.1);
+  EXPECT_LE(0.1 / step["z"], 1.0 + 1e-12);
+  for (const char* axis : {"x", "y", "z"}) EXPECT_FALSE(format_of(script, axis).empty()) << axis;
+  expect_drawn({deformed_figure(mesh, solution, estimate_info())}, "flat-block");
+}
+
+/// The line width of the mesh's edges in each panel of mesh.png, in order.
+std::vector<double> edge_widths(const std::string& script) {
+  std::vector<double> widths;
+  const std::regex re("'mesh_edges.dat' using 1:2 with lines lw ([^ ]+)");
+  for (std::sregex_iterator it(script.begin(), script.end(), re), end; it != end; ++it) widths.push_back(std::stod((*it)[1]));
+  return widths;
+}
+
+TEST(EstimateFigures, MeshLinesThinAsTheCellsMultiply) {
+  EXPECT_EQ(mesh_line_width(16), 1.0);
+  EXPECT_EQ(mesh_line_width(100), 1.0);
+  EXPECT_LT(mesh_line_width(4096), mesh_line_width(1024));
+  EXPECT_LT(mesh_line_width(1024), mesh_line_width(256));
+  EXPECT_EQ(mesh_line_width(100000000), 0.05);
+  double previous = 2.0;
+  for (int n : {4, 16, 32, 64}) {
+    const Mesh mesh = make_mesh("squares", n);
+    const std::vector<double> widths = edge_widths(mesh_figure(mesh, estimate_info(), "mesh").script);
+    ASSERT_EQ(widths.size(), 1u) << "a uniform mesh has no zoomed panel";
+    EXPECT_LE(widths[0], previous);
+    EXPECT_DOUBLE_EQ(widths[0], mesh_line_width(n * n));
+    previous = widths[0];
+  }
+  EXPECT_LT(previous, 0.2);
+}
+
+TEST(EstimateFigures, ALocallyRefinedMeshIsShownWholeAndZoomedOnItsSmallestCells) {
+  Mesh mesh = make_mesh("squares", 16);
+  for (int level = 0; level < 4; ++level) {  // refine towards the corner (0, 0)
+    int corner = 0;
+    for (int e = 0; e < mesh.num_elements(); ++e)
+      if (mesh.centroid(e).norm() < mesh.centroid(corner).norm()) corner = e;
+    std::vector<int> marked{corner};
+    mesh = refine_mesh(mesh, marked).mesh;
+  }
+  const Figure f = mesh_figure(mesh, estimate_info(), "final mesh");
+  EXPECT_NE(f.script.find("set multiplot layout 1,2"), std::string::npos) << f.script;
+  const std::regex re("set object 1 rect from ([^,]+),([^ ]+) to ([^,]+),([^ ]+) ");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(f.script, m, re)) << f.script;
+  const double x0 = std::stod(m[1]), y0 = std::stod(m[2]), x1 = std::stod(m[3]), y1 = std::stod(m[4]);
+  EXPECT_LE(x0, 0.0);  // the zoomed square holds the corner, and is a small part of the mesh
+  EXPECT_LE(y0, 0.0);
+  EXPECT_GT(x1, 0.0);
+  EXPECT_LT(x1 - x0, 0.5);
+  EXPECT_NEAR(x1 - x0, y1 - y0, 1e-12);
+  EXPECT_EQ(range(f.script.substr(f.script.find("unset object 1")), "x"), std::make_pair(x0, x1));
+  const std::vector<double> widths = edge_widths(f.script);
+  ASSERT_EQ(widths.size(), 2u);
+  EXPECT_DOUBLE_EQ(widths[0], mesh_line_width(mesh.num_elements()));
+  EXPECT_GT(widths[1], widths[0]) << "the zoomed panel shows fewer cells, with thicker lines";
+  expect_drawn({f}, "zoomed-mesh");
+}
+
+TEST(FigureFormats, EveryFigureIsAlsoAPdfAndAnSvg) {
+  if (std::system("command -v gnuplot >/dev/null 2>&1") != 0) GTEST_SKIP() << "no gnuplot";
+  const std::filesystem::path dir = test::scratch("figure-formats");
+  std::filesystem::create_directories(dir);
+  const Mesh mesh = make_mesh("voronoi", 6);
+  const std::vector<Figure> figures{mesh_figure(mesh, estimate_info(), "mesh"),
+                                    indicator_figure(mesh, std::vector<double>(36, 1.0), estimate_info()),
+                                    convergence_figure(convergence_series(), "c")};
+  const std::vector<std::string> reasons = draw_figures(dir, figures, {"png", "pdf", "svg"});
+  for (std::size_t i = 0; i < figures.size(); ++i) {
+    EXPECT_EQ(reasons[i], "") << figures[i].png;
+    const std::vector<std::string> files = figure_files(figures[i], {"png", "pdf", "svg"});
+    ASSERT_EQ(files.size(), 3u);
+    EXPECT_EQ(files[0], figures[i].png);
+    EXPECT_TRUE(is_png(dir / files[0])) << files[0];
+    EXPECT_EQ(test::slurp(dir / files[1]).rfind("%PDF-", 0), 0u) << files[1];
+    EXPECT_TRUE(is_figure_file(dir / files[2], "svg")) << files[2];
+  }
+  EXPECT_EQ(figure_files(figures[0], {"svg"}), std::vector<std::string>{"mesh.svg"});
+  EXPECT_FALSE(is_figure_file(dir / "mesh.png", "pdf"));
+  EXPECT_FALSE(is_figure_file(dir / "mesh.pdf", "svg"));
+  EXPECT_THROW(draw_figures(dir, figures, {"png", "jpg"}), InputError);
+  std::error_code ec;
+  std::filesystem::remove_all(dir, ec);
+}
+
+TEST(FigureWarnings, OneWarningPerReasonNamingItsFigures) {
+  EXPECT_EQ(figure_warnings({{"a.png", "r1"}, {"b.png", "r2"}, {"c.png", "r1"}}),
+            (std::vector<std::string>{"figure not drawn: a.png, c.png: r1", "figure not drawn: b.png: r2"}));
+  EXPECT_TRUE(figure_warnings({}).empty());
 }
 
 }  // namespace

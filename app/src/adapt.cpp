@@ -1,8 +1,12 @@
 #include <hemivem/app/adapt.hpp>
 
+#include <hemivem/app/vtu.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/mesh/refine.hpp>
 #include <hemivem/scene/resources.hpp>
+
+#include <algorithm>
+#include <memory>
 
 #include <chrono>
 #include <cmath>
@@ -68,6 +72,9 @@ AdaptiveSolve solve_adaptively(const Scene& scene, const SceneAdapt& adapt, Scen
   std::optional<Mesh> mesh = std::move(options.mesh);
   Eigen::VectorXd start_u = std::move(options.start);
   options.mesh.reset();
+  // each step's solution.vtu, for adapt.pvd, when the scene writes the output vtu
+  const bool keep_steps = std::find(scene.outputs.begin(), scene.outputs.end(), "vtu") != scene.outputs.end();
+  auto steps_vtu = std::make_shared<std::vector<std::string>>();
   for (int step = 0;; ++step) {
     SceneSolveOptions o = options;
     o.mesh = std::move(mesh);
@@ -78,6 +85,12 @@ AdaptiveSolve solve_adaptively(const Scene& scene, const SceneAdapt& adapt, Scen
     }
     out.last = solve_scene(scene, std::move(o));
     const SceneSolve& s = out.last;
+    if (keep_steps) {
+      std::ostringstream vtu;
+      write_vtu(vtu, s.built->mesh, s.built->problem.elasticity.materials, s.solution,
+                s.estimate ? &s.estimate->indicators : nullptr);
+      steps_vtu->push_back(vtu.str());
+    }
     out.steps.push_back(step_of(s, step, elapsed()));
     AdaptStep& now = out.steps.back();
     auto finish = [&](AdaptStop why, std::string reason) {
@@ -130,6 +143,7 @@ AdaptiveSolve solve_adaptively(const Scene& scene, const SceneAdapt& adapt, Scen
   }
   out.seconds = elapsed();
   out.last.adapt = adapt_json(out, adapt);
+  if (keep_steps) out.last.adapt_steps = std::move(steps_vtu);
   return out;
 }
 

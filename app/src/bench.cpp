@@ -219,9 +219,19 @@ int bench_default_levels(int dimension) { return dimension == 3 ? 2 : 3; }
 
 namespace {
 
+// Draws `f` into `dir` in `formats`: empty when drawn, else why not, which is also added to
+// `failed` (the figure's name and the reason: a warning).
+std::string draw_plot(const fs::path& dir, const Figure& f, const std::vector<std::string>& formats,
+                      std::vector<std::pair<std::string, std::string>>& failed) {
+  std::string reason = draw_figures(dir, {f}, formats).front();
+  if (!reason.empty()) failed.emplace_back(f.png, reason);
+  return reason;
+}
+
 // The work-precision figure: one series per pair, log error (x) against log total time (y).
 // Empty on success, else why it was skipped.
-std::string bench_plot(const fs::path& dir, const std::vector<Pair>& pairs, const std::vector<BenchRow>& rows) {
+std::string bench_plot(const fs::path& dir, const std::vector<Pair>& pairs, const std::vector<BenchRow>& rows,
+                       const std::vector<std::string>& formats, std::vector<std::pair<std::string, std::string>>& failed) {
   std::vector<BenchSeries> series;
   for (const Pair& pair : pairs) {
     BenchSeries s{pair.linear, pair.minimizer, {}};
@@ -236,7 +246,7 @@ std::string bench_plot(const fs::path& dir, const std::vector<Pair>& pairs, cons
   f.png = "bench.png";
   f.width = 1100;
   f.height = 750;
-  return draw_figures(dir, {f}).front();
+  return draw_plot(dir, f, formats, failed);
 }
 
 }  // namespace
@@ -515,7 +525,8 @@ nlohmann::json refinement_json(const Refinement& r) {
 
 // bench-error.png: the estimates (and with a reference the true errors, dashed) against unknowns
 // and run time. Empty on success, else why it was skipped.
-std::string refinement_plot(const fs::path& dir, const Scene& base, const Refinement& r) {
+std::string refinement_plot(const fs::path& dir, const Scene& base, const Refinement& r,
+                            std::vector<std::pair<std::string, std::string>>& failed) {
   std::vector<app::ConvergenceSeries> series;
   auto add = [&](const std::vector<RefinementPoint>& points, const std::string& name, bool truth) {
     app::ConvergenceSeries s;
@@ -538,9 +549,8 @@ std::string refinement_plot(const fs::path& dir, const Scene& base, const Refine
   for (const auto& s : series)
     for (double e : s.error) any |= std::isfinite(e) && e > 0.0;
   if (!any) return "no finite positive error to plot";
-  return draw_figures(dir, {app::convergence_figure(series, base.title + ": uniform and adaptive refinement",
-                                                    "bench-error.png")})
-      .front();
+  return draw_plot(dir, app::convergence_figure(series, base.title + ": uniform and adaptive refinement", "bench-error.png"),
+                   base.figure_formats, failed);
 }
 
 /// `base` with mesh.n = n: n cells per side, as `--set mesh.n=n` gives (n x n x n in 3D).
@@ -789,16 +799,29 @@ BenchFiles write_bench(const fs::path& dir, const BenchResult& result) {
   BenchFiles files;
   nlohmann::json& j = files.json;
   j = bench_json(result);
-  OutputTransaction tx(dir, {"bench.csv", "bench.json", "bench.png", "bench-error.png"});
+  const std::vector<std::string>& formats = result.plan.base.figure_formats;
+  std::vector<std::string> owned{"bench.csv", "bench.json"};
+  for (const char* figure : {"bench", "bench-error"})  // in every format: an earlier run's goes
+    for (const auto& format : figure_formats()) owned.push_back(std::string(figure) + "." + format);
+  OutputTransaction tx(dir, owned);
   tx.stage([&](const fs::path& staging) {
     write_bench_csv(staging / "bench.csv", result.rows);
-    files.plot_skipped = bench_plot(staging, result.plan.options.pairs, result.rows);
-    j["plot"] = files.plot_skipped.empty() ? nlohmann::json("bench.png") : nlohmann::json(nullptr);
+    std::vector<std::pair<std::string, std::string>> failed;
+    Figure named;
+    files.plot_skipped = bench_plot(staging, result.plan.options.pairs, result.rows, formats, failed);
+    named.png = "bench.png";
+    j["plot"] = files.plot_skipped.empty() ? nlohmann::json(figure_files(named, formats).front()) : nlohmann::json(nullptr);
+    j["plot_files"] = files.plot_skipped.empty() ? figure_files(named, formats) : std::vector<std::string>();
     if (!files.plot_skipped.empty()) j["plot_skipped"] = files.plot_skipped;
-    files.refinement_plot_skipped = refinement_plot(staging, result.plan.base, result.refinement);
-    j["refinement"]["plot"] =
-        files.refinement_plot_skipped.empty() ? nlohmann::json("bench-error.png") : nlohmann::json(nullptr);
+    files.refinement_plot_skipped = refinement_plot(staging, result.plan.base, result.refinement, failed);
+    named.png = "bench-error.png";
+    j["refinement"]["plot"] = files.refinement_plot_skipped.empty() ? nlohmann::json(figure_files(named, formats).front())
+                                                                    : nlohmann::json(nullptr);
+    j["refinement"]["plot_files"] =
+        files.refinement_plot_skipped.empty() ? figure_files(named, formats) : std::vector<std::string>();
     if (!files.refinement_plot_skipped.empty()) j["refinement"]["plot_skipped"] = files.refinement_plot_skipped;
+    files.warnings = figure_warnings(failed);
+    j["warnings"] = files.warnings;
     write_atomically(staging / "bench.json", [&](std::ostream& os) { os << j.dump(2) << "\n"; });
   });
   (void)tx.commit();

@@ -31,6 +31,13 @@ namespace {
 /// they would only darken the picture.
 constexpr int kMaxElementsWithEdges = 20000;
 
+/// mesh.png zooms on its smallest element when the mesh has at least this many elements and
+/// its largest element diameter is at least kZoomDiameterRatio times its smallest; the zoomed
+/// square's side is kZoomDiameters smallest diameters (at most half the mesh's longer side).
+constexpr int kMinElementsZoomed = 200;
+constexpr double kZoomDiameterRatio = 8.0;
+constexpr double kZoomDiameters = 40.0;
+
 /// The widest range of the colour scale in decades: smaller indicators take its lowest
 /// colour, like zeros.
 constexpr double kMaxDecades = 12.0;
@@ -54,6 +61,7 @@ std::string frame_lines(const Rectangle& frame) {
   s << "set size ratio -1\nset clip two\n"
     << "set xrange [" << num(frame.x0) << ":" << num(frame.x1) << "]\n"
     << "set yrange [" << num(frame.y0) << ":" << num(frame.y1) << "]\n"
+    << axis_format("x", frame.x0, frame.x1) << axis_format("y", frame.y0, frame.y1)
     << "set xlabel 'x (scene units)'\nset ylabel 'y (scene units)'\n";
   return s.str();
 }
@@ -198,23 +206,68 @@ Figure indicator_figure(const Mesh& mesh, const std::vector<double>& indicators,
     // one plot of all the polygons, a blank line between two, each filled with its value's colour
     << "plot 'error_polygons.dat' using 1:2:($3 > " << num(lo) << " ? $3 : " << num(lo)
     << ") with filledcurves closed fillcolor palette fillstyle solid 1.0 noborder notitle";
-  if (edges) s << ", 'error_edges.dat' using 1:2 with lines lw 0.5 lc rgb '#60000000' notitle";
+  if (edges)
+    s << ", 'error_edges.dat' using 1:2 with lines lw " << num(0.5 * mesh_line_width(elements))
+      << " lc rgb '#60000000' notitle";
   f.script = s.str();
   return f;
 }
 
 Figure mesh_figure(const Mesh& mesh, const RunInfo& info, const std::string& what) {
   const Rectangle frame = mesh_frame(mesh);
+  const int elements = mesh.num_elements();
+  // a mesh refined locally: a second panel zooms on its smallest element, where a picture of
+  // the whole mesh is a blot
+  double d_min = 0.0, d_max = 0.0;
+  int smallest = -1;
+  for (int e = 0; e < elements; ++e) {
+    if (smallest < 0 || mesh.diameter(e) < d_min) d_min = mesh.diameter(e), smallest = e;
+    d_max = std::max(d_max, mesh.diameter(e));
+  }
+  const bool zoom = elements >= kMinElementsZoomed && d_min > 0.0 && d_max >= kZoomDiameterRatio * d_min;
+  Rectangle box = frame;
+  int in_box = elements;
+  if (zoom) {
+    // the square around the smallest element, moved into the mesh's bounding box
+    const Rectangle b = mesh.bounding_box();
+    const double half = 0.5 * std::min(kZoomDiameters * d_min, 0.5 * std::max(b.width(), b.height()));
+    const Vec2 c = mesh.centroid(smallest);
+    const double x0 = std::clamp(c.x() - half, b.x0, std::max(b.x0, b.x1 - 2.0 * half));
+    const double y0 = std::clamp(c.y() - half, b.y0, std::max(b.y0, b.y1 - 2.0 * half));
+    box = {x0, x0 + 2.0 * half, y0, y0 + 2.0 * half};
+    in_box = 0;
+    for (int e = 0; e < elements; ++e) {
+      const Vec2 p = mesh.centroid(e);
+      in_box += p.x() >= box.x0 && p.x() <= box.x1 && p.y() >= box.y0 && p.y() <= box.y1;
+    }
+  }
   Figure f;
   f.png = "mesh.png";
-  f.height = frame_height(frame);
+  f.height = zoom ? 700 : frame_height(frame);
+  if (zoom) f.width = 1500;
   f.data.push_back(edges_data("mesh_edges.dat", mesh, false));
   f.data.push_back(edges_data("mesh_boundary.dat", mesh, true));
+  auto edges = [](double lw) {
+    std::ostringstream p;
+    p << "plot 'mesh_edges.dat' using 1:2 with lines lw " << num(lw) << " lc rgb '#3b528b' notitle, "
+      << "'mesh_boundary.dat' using 1:2 with lines lw 1.5 lc rgb '#440154' notitle";
+    return p.str();
+  };
   std::ostringstream s;
+  if (zoom) s << "set multiplot layout 1,2\n";
   s << "set title " << solve_title(cut_title(one_line(what)), info) << " noenhanced\n"
-    << frame_lines(frame) << "unset key\n"
-    << "plot 'mesh_edges.dat' using 1:2 with lines lw 0.6 lc rgb '#3b528b' notitle, "
-    << "'mesh_boundary.dat' using 1:2 with lines lw 1.5 lc rgb '#440154' notitle";
+    << frame_lines(frame) << "unset key\n";
+  if (zoom)
+    s << "set object 1 rect from " << num(box.x0) << "," << num(box.y0) << " to " << num(box.x1) << "," << num(box.y1)
+      << " front fillstyle empty border lc rgb '#d62728' lw 1.5\n";
+  s << edges(mesh_line_width(elements));
+  if (zoom) {
+    std::ostringstream t;
+    t << "the framed square enlarged: the smallest elements, " << in_box << " elements";
+    s << "\nunset object 1\nset title " << gnuplot_quote(t.str()) << " noenhanced\n"
+      << frame_lines(box) << "set border lc rgb '#d62728' lw 1.5\n"
+      << edges(mesh_line_width(in_box)) << "\nunset multiplot";
+  }
   f.script = s.str();
   return f;
 }

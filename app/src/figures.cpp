@@ -3,7 +3,9 @@
 #include <hemivem/app/figures.hpp>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -356,6 +358,38 @@ std::string gnuplot_quote(const std::string& s) {
   return r + "'";
 }
 
+std::string tick_format(double lo, double hi) {
+  const double mag = std::max(std::abs(lo), std::abs(hi));
+  if (!std::isfinite(lo) || !std::isfinite(hi) || !(mag > 0.0)) return "%g";
+  const double span = std::abs(hi - lo) > 0.0 ? std::abs(hi - lo) : 0.1 * mag;
+  // the exponents of the largest number (a tenth of the span beyond the range: gnuplot may
+  // extend an axis to its next tick) and of the smallest step, 1e-9 above round-off
+  const int top = static_cast<int>(std::floor(std::log10(mag + 0.1 * span) + 1e-9));
+  const int step = static_cast<int>(std::floor(std::log10(span / 20.0) + 1e-9));
+  int digits = std::max(3, top - step + 1);
+  if (top >= 0 && top < 7) digits = std::max(digits, top + 1);  // 12500, not 1.25e+04
+  return "%." + std::to_string(std::min(digits, 15)) + "g";
+}
+
+std::string axis_format(const std::string& axis, double lo, double hi) {
+  return "set format " + axis + " \"" + tick_format(lo, hi) + "\"\n";
+}
+
+double tick_step(double lo, double hi, int intervals) {
+  const double span = std::abs(hi - lo);
+  if (!std::isfinite(span) || !(span > 0.0)) return 0.0;
+  intervals = std::max(intervals, 1);
+  double step = std::pow(10.0, std::floor(std::log10(span / intervals)));
+  for (double m : {1.0, 2.0, 5.0, 10.0})
+    if (span / (m * step) <= intervals * (1.0 + 1e-9)) return m * step;
+  return 10.0 * step;
+}
+
+double mesh_line_width(long long elements) {
+  if (elements <= 100) return 1.0;
+  return std::max(0.05, 10.0 / std::sqrt(static_cast<double>(elements)));
+}
+
 bool is_png(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
   char sig[8] = {};
@@ -363,9 +397,76 @@ bool is_png(const fs::path& p) {
   return in.gcount() == 8 && std::string(sig, 8) == std::string("\x89PNG\r\n\x1a\n", 8);
 }
 
-std::vector<std::string> draw_figures(const fs::path& dir, const std::vector<Figure>& figures) {
+std::vector<std::string> figure_warnings(const std::vector<std::pair<std::string, std::string>>& failed) {
+  std::vector<std::pair<std::string, std::string>> by_reason;  // names, reason; in the order drawn
+  for (const auto& [name, reason] : failed) {
+    auto same = std::find_if(by_reason.begin(), by_reason.end(), [&](const auto& r) { return r.second == reason; });
+    if (same == by_reason.end()) by_reason.emplace_back(name, reason);
+    else same->first += ", " + name;
+  }
+  std::vector<std::string> out;
+  for (const auto& [names, reason] : by_reason) out.push_back("figure not drawn: " + names + ": " + reason);
+  return out;
+}
+
+const std::vector<std::string>& figure_formats() {
+  static const std::vector<std::string> formats{"png", "pdf", "svg"};
+  return formats;
+}
+
+std::vector<std::string> figure_files(const Figure& figure, const std::vector<std::string>& formats) {
+  const std::string stem = fs::path(figure.png).replace_extension().string();
+  std::vector<std::string> files;
+  for (const auto& format : formats) files.push_back(format == "png" ? figure.png : stem + "." + format);
+  return files;
+}
+
+bool is_figure_file(const fs::path& p, const std::string& format) {
+  if (format == "png") return is_png(p);
+  std::ifstream in(p, std::ios::binary);
+  std::string head(4096, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  if (format == "pdf") return head.rfind("%PDF-", 0) == 0;
+  if (format == "svg") return head.find("<svg") != std::string::npos;
+  return false;
+}
+
+namespace {
+
+/// The gnuplot lines that make `format` the terminal of a picture of width x height points.
+std::string terminal_lines(const std::string& format, int width, int height) {
+  const std::string size = std::to_string(width) + "," + std::to_string(height);
+  std::ostringstream t;
+  // a terminal this gnuplot lacks draws nothing (the terminal unknown): the figure is then
+  // reported as not drawn, and the other figures are drawn
+  if (format == "pdf") {  // a hundred points to the inch: the PNG's proportions, its fonts as large
+    t << "if (strstrt(GPVAL_TERMINALS, ' pdfcairo ') > 0) { set terminal pdfcairo size " << num(width / 100.0) << "in,"
+      << num(height / 100.0) << "in enhanced font 'sans,11' } else { set terminal unknown }\n";
+  } else if (format == "svg") {
+    t << "if (strstrt(GPVAL_TERMINALS, ' svg ') > 0) { set terminal svg size "
+      << size << " enhanced font 'sans,11' background '#ffffff' } else { set terminal unknown }\n";
+  } else {  // pngcairo when built in, else the gd-based png terminal
+    t << "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) { set terminal pngcairo size " << size
+      << " enhanced font 'sans,11' } else { set terminal png size " << size << " }\n";
+  }
+  return t.str();
+}
+
+/// The terminal gnuplot needs for `format`.
+std::string terminal_of(const std::string& format) {
+  return format == "pdf" ? "pdfcairo" : format == "svg" ? "svg" : "png";
+}
+
+}  // namespace
+
+std::vector<std::string> draw_figures(const fs::path& dir, const std::vector<Figure>& figures,
+                                      const std::vector<std::string>& formats) {
   std::vector<std::string> reasons(figures.size());
   if (figures.empty()) return reasons;
+  for (const auto& format : formats)
+    if (std::find(figure_formats().begin(), figure_formats().end(), format) == figure_formats().end())
+      throw InputError("unknown figure format '" + format + "' (expected any of: png, pdf, svg)");
   const fs::path gnuplot = find_on_path("gnuplot");
   if (gnuplot.empty()) {
     std::fill(reasons.begin(), reasons.end(), "gnuplot not found on PATH");
@@ -376,12 +477,11 @@ std::vector<std::string> draw_figures(const fs::path& dir, const std::vector<Fig
   std::ostringstream script;
   for (const Figure& f : figures) {
     for (const auto& d : f.data) write_plain(t / d.name, d.write);
-    const std::string size = std::to_string(f.width) + "," + std::to_string(f.height);
-    // pngcairo when built in, else the gd-based png terminal
-    script << "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) { set terminal pngcairo size " << size
-           << " enhanced font 'sans,11' } else { set terminal png size " << size << " }\n"
-           << "set output " << gnuplot_quote(f.png) << "\n"
-           << f.script << "\nunset output\nreset\n";
+    const std::vector<std::string> files = figure_files(f, formats);
+    for (std::size_t k = 0; k < formats.size(); ++k) {
+      script << terminal_lines(formats[k], f.width, f.height) << "set output " << gnuplot_quote(files[k]) << "\n"
+             << f.script << "\nunset output\nreset\n";
+    }
   }
   write_plain(t / "figures.gp", [&](std::ostream& os) { os << script.str(); });
   const fs::path log = t / "gnuplot.log";
@@ -397,19 +497,69 @@ std::vector<std::string> draw_figures(const fs::path& dir, const std::vector<Fig
     failure = "gnuplot failed (exit status " + std::to_string(status) + ")" + (first_line.empty() ? "" : ": " + first_line);
   }
   for (std::size_t i = 0; i < figures.size(); ++i) {
-    const fs::path made = t / figures[i].png;
-    if (!is_png(made)) {
-      reasons[i] = failure.empty() ? "gnuplot made no PNG" : failure;
-      continue;
-    }
-    write_atomically(dir / figures[i].png, [&](std::ostream& os) {
-      std::ifstream in(made, std::ios::binary);
-      if (!in) throw InputError("cannot read", made.string());
-      os << in.rdbuf();
-    });
+    // a figure is moved into place in every format or in none
+    const std::vector<std::string> files = figure_files(figures[i], formats);
+    for (std::size_t k = 0; k < formats.size() && reasons[i].empty(); ++k)
+      if (!is_figure_file(t / files[k], formats[k])) {
+        std::string upper = formats[k];
+        for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+        reasons[i] = !failure.empty() ? failure
+                     : formats[k] == "png" ? "gnuplot made no PNG"
+                                           : "gnuplot made no " + upper + " (it needs gnuplot's " +
+                                                 terminal_of(formats[k]) + " terminal)";
+      }
+    if (!reasons[i].empty()) continue;
+    for (const auto& name : files)
+      write_atomically(dir / name, [&](std::ostream& os) {
+        std::ifstream in(t / name, std::ios::binary);
+        if (!in) throw InputError("cannot read", (t / name).string());
+        os << in.rdbuf();
+      });
   }
   return reasons;
 }
+
+namespace {
+
+/// The formats of u_nu.png's x axis (x or the arc length) and pressure axis: tick labels that
+/// differ at any scale.
+std::string u_nu_formats(const std::vector<std::vector<ContactPoint>>& chains, bool along_x) {
+  double x_lo = 0.0, x_hi = 0.0, p_lo = 0.0, p_hi = 0.0;
+  bool first = true;
+  for (const auto& chain : chains)
+    for (const auto& p : chain) {
+      const double at = along_x ? p.node->x.x() : p.s, pressure = p.node->pressure();
+      x_lo = first ? at : std::min(x_lo, at), x_hi = first ? at : std::max(x_hi, at);
+      if (std::isfinite(pressure)) p_lo = std::min(p_lo, pressure), p_hi = std::max(p_hi, pressure);
+      first = false;
+    }
+  return axis_format("x", x_lo, x_hi) + axis_format("y2", p_lo, p_hi);
+}
+
+/// u_nu.png's second panel with friction: u_tau along the column `x` of u_nu.dat, its stick and
+/// slip nodes marked, and the friction traction on the second axis.
+std::string friction_panel(const ContactSolution& sol, const char* x) {
+  double traction = 0.0, t_lo = 0.0, t_hi = 0.0;
+  for (const auto& n : sol.contact) {
+    if (std::isfinite(n.friction_force / n.weight)) traction = std::max(traction, std::abs(n.friction_force / n.weight));
+    if (std::isfinite(n.u_tau)) t_lo = std::min(t_lo, n.u_tau), t_hi = std::max(t_hi, n.u_tau);
+  }
+  std::ostringstream s;
+  s << "unset arrow\nunset label\nunset yrange\n" << axis_format("y", t_lo, t_hi)
+    << axis_format("y2", -1.1 * traction, 1.1 * traction);
+  if (traction > 0.0) s << "set y2range [" << num(-1.1 * traction) << ":" << num(1.1 * traction) << "]\n";
+  s << "set title " << gnuplot_quote("tangential displacement and friction on the contact boundary: stick and slip zones")
+    << " noenhanced\n"
+    << "set ylabel 'tangential displacement u_{/Symbol t} (scene units)'\n"
+    << "set y2label 'friction traction (force per unit length, scene units)'\n"
+    << "plot 'u_nu.dat' using " << x << ":7 with lines lw 2 lc rgb '#1f77b4' title 'u_{/Symbol t}'"
+    << ", '' using " << x << ":($9 > 0 ? $7 : NaN) with points pt 5 ps 0.9 lc rgb '#2ca02c' title 'stick'"
+    << ", '' using " << x << ":($9 > 0 ? NaN : $7) with points pt 9 ps 0.9 lc rgb '#ff7f0e' title 'slip'"
+    << ", '' using " << x << ":8 axes x1y2 with linespoints pt 6 ps 0.5 lw 1.5 lc rgb '#d62728' title 'friction traction'";
+  return s.str();
+}
+
+}  // namespace
 
 Figure u_nu_figure(const Mesh& mesh, const ContactSolution& sol, const RunInfo& info) {
   const auto chains = contact_chains(mesh, sol);
@@ -451,6 +601,7 @@ Figure u_nu_figure(const Mesh& mesh, const ContactSolution& sol, const RunInfo& 
     << "set y2label 'contact pressure (force per unit length, scene units; compression > 0)'\n"
     << "set ytics nomirror\nset y2tics\nset grid\nset key outside top center horizontal\nset clip two\n"
     << "set yrange [" << num(lo - margin) << ":" << num(hi + margin) << "]\n";
+  s << u_nu_formats(chains, along_x) << axis_format("y", lo - margin, hi + margin);
   for (double b : breakpoints)
     s << "set arrow from graph 0, first " << num(b) << " to graph 1, first " << num(b)
       << " nohead dt 3 lw 1.5 lc rgb '#2ca02c'\n";
@@ -473,23 +624,7 @@ Figure u_nu_figure(const Mesh& mesh, const ContactSolution& sol, const RunInfo& 
   }
   s << ", '' using " << x << ":5 axes x1y2 with linespoints pt 6 ps 0.5 lw 1.5 lc rgb '#d62728' title 'contact pressure'";
   if (!breakpoints.empty()) s << ", NaN with lines dt 3 lw 1.5 lc rgb '#2ca02c' title 'contact law breakpoints'";
-  if (tangential) {
-    double traction = 0.0;
-    for (const auto& n : sol.contact)
-      if (std::isfinite(n.friction_force / n.weight)) traction = std::max(traction, std::abs(n.friction_force / n.weight));
-    s << "\nunset arrow\nunset label\nunset yrange\n";
-    if (traction > 0.0) s << "set y2range [" << num(-1.1 * traction) << ":" << num(1.1 * traction) << "]\n";
-    s
-      << "set title " << gnuplot_quote("tangential displacement and friction on the contact boundary: stick and slip zones")
-      << " noenhanced\n"
-      << "set ylabel 'tangential displacement u_{/Symbol t} (scene units)'\n"
-      << "set y2label 'friction traction (force per unit length, scene units)'\n"
-      << "plot 'u_nu.dat' using " << x << ":7 with lines lw 2 lc rgb '#1f77b4' title 'u_{/Symbol t}'"
-      << ", '' using " << x << ":($9 > 0 ? $7 : NaN) with points pt 5 ps 0.9 lc rgb '#2ca02c' title 'stick'"
-      << ", '' using " << x << ":($9 > 0 ? NaN : $7) with points pt 9 ps 0.9 lc rgb '#ff7f0e' title 'slip'"
-      << ", '' using " << x << ":8 axes x1y2 with linespoints pt 6 ps 0.5 lw 1.5 lc rgb '#d62728' title 'friction traction'"
-      << "\nunset multiplot";
-  }
+  if (tangential) s << "\n" << friction_panel(sol, x) << "\nunset multiplot";
   f.script = s.str();
   return f;
 }
@@ -621,6 +756,7 @@ Figure deformed_figure(const Mesh& mesh, const ContactSolution& sol, const RunIn
     << "set size ratio -1\nset clip two\n"
     << "set xrange [" << num(frame.x0) << ":" << num(frame.x1) << "]\n"
     << "set yrange [" << num(frame.y0) << ":" << num(frame.y1) << "]\n"
+    << axis_format("x", frame.x0, frame.x1) << axis_format("y", frame.y0, frame.y1) << axis_format("cb", 0.0, umax)
     << "set xlabel 'x (scene units)'\nset ylabel 'y (scene units)'\n"
     << "set key outside bottom center horizontal maxrows 1 samplen 2 height 1.5\n"
     << kViridis << "set cblabel '|u| (scene units)'\nplot ";
@@ -641,6 +777,9 @@ namespace {
 
 // The figures of a solid: polygons as pm3d patches, each quadrilateral one patch and any other
 // polygon a fan of triangles from its centroid, coloured by a value at the vertices.
+
+/// The most tick intervals of an axis of a solid's deformed.png (its longest axis has them).
+constexpr int kMaxTicIntervals3D = 5;
 
 /// The most boundary faces deformed.png draws (a 1000 x 800 picture): beyond, the faces are
 /// finer than the picture's pixels and only cost time.
@@ -705,13 +844,37 @@ Figure deformed_figure(const Mesh3D& mesh, const ContactSolution3D& sol, const R
                         put_polygon(os, p, value);
                       }
                     }});
+  // the deformed body's extent per axis: each axis has ticks in proportion to its length, so
+  // that the short axis of a flat body is not crowded with labels
+  std::array<double, 3> lo{}, hi{};
+  for (int c = 0; c < 3; ++c) lo[c] = hi[c] = mesh.vertex(0)(c);
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    const Vec3 x = mesh.vertex(v) + scale * displacement(sol, v);
+    for (int c = 0; c < 3; ++c)
+      if (std::isfinite(x(c))) lo[c] = std::min(lo[c], x(c)), hi[c] = std::max(hi[c], x(c));
+  }
+  const double longest = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+  std::ostringstream tics;
+  for (int c = 0; c < 3; ++c) {
+    const std::string axis(1, "xyz"[c]);
+    const int intervals =
+        longest > 0.0 ? static_cast<int>(std::clamp(std::round(kMaxTicIntervals3D * (hi[c] - lo[c]) / longest), 1.0,
+                                                    static_cast<double>(kMaxTicIntervals3D)))
+                      : kMaxTicIntervals3D;
+    const double step = tick_step(lo[c], hi[c], intervals);
+    if (step > 0.0)  // the body's own extent: gnuplot would widen it to the next ticks
+      tics << "set " << axis << "range [" << num(lo[c]) << ":" << num(hi[c]) << "]\nset " << axis << "tics " << num(step)
+           << "\n";
+    tics << axis_format(axis, lo[c], hi[c]);
+  }
+  tics << axis_format("cb", 0.0, umax);
   std::ostringstream title;
   title << "deformed body (displacement x " << std::setprecision(3) << scale << "), coloured by |u|";
   if (!all) title << "; " << faces.size() << " boundary faces, one in " << (faces.size() + kMaxDrawnFaces - 1) / kMaxDrawnFaces << " drawn";
   std::ostringstream s;
   s << "set title " << solve_title(title.str(), info) << " noenhanced\n"
     << "set view 62, 32\nset view equal xyz\nset xyplane at " << num(box.z0 - 0.05 * size) << "\n"
-    << "set xlabel 'x'\nset ylabel 'y'\nset zlabel 'z'\nset tics font ',9'\n"
+    << "set xlabel 'x'\nset ylabel 'y'\nset zlabel 'z'\nset tics font ',9'\n" << tics.str()
     << "set pm3d depthorder border lc rgb '#303030' lw 0.4\nunset key\n"
     << kViridis << "set cblabel '|u| (scene units)'\n"
     << "splot 'faces.dat' using 1:2:3:4 with pm3d notitle";
@@ -774,6 +937,7 @@ Figure pressure_figure(const Mesh3D& mesh, const std::vector<int>& faces, const 
     << "set pm3d interpolate 4,4\n"
     << kViridis << "set cblabel 'contact pressure (force per unit area, scene units; compression > 0)'\n";
   if (hi > lo) s << "set cbrange [" << num(lo) << ":" << num(hi) << "]\n";
+  s << axis_format("x", a_lo, a_hi) << axis_format("y", b_lo, b_hi) << axis_format("cb", lo, hi);
   s << "splot 'pressure.dat' using 1:2:3:4 with pm3d notitle";
   f.script = s.str();
   return f;

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <ostream>
+#include <regex>
 
 namespace hemivem::app::detail {
 
@@ -19,14 +20,39 @@ bool contains(const std::vector<std::string>& names, const std::string& name) {
   return std::find(names.begin(), names.end(), name) != names.end();
 }
 
-// The names a run may own: its own, the other dimension's, an earlier path's frames, its frames.
+// The steps of an earlier adaptive solve in `dir`: adapt-step-<digits>.vtu.
+std::vector<std::string> adapt_steps_in(const fs::path& dir) {
+  std::vector<std::string> names;
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) return names;
+  static const std::regex step(R"(adapt-step-[0-9]+\.vtu)");
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (std::regex_match(name, step)) names.push_back(name);
+  }
+  return names;
+}
+
+// The names a run may own: its own, the other dimension's, its figures' in every format, an
+// earlier path's frames, its frames, an earlier adaptive solve's steps and its own.
 std::vector<std::string> owned_names(const fs::path& dir, const std::vector<std::string>& known,
-                                     const std::vector<std::string>& others, const std::vector<std::string>& frames) {
+                                     const std::vector<std::string>& others, const std::vector<std::string>& frames,
+                                     const RunInfo& info) {
   std::vector<std::string> owned = known;
   for (const auto& name : others)
     if (!contains(owned, name)) owned.push_back(name);
+  for (std::size_t i = 0, n = owned.size(); i < n; ++i)  // a figure's files in the other formats
+    if (fs::path(owned[i]).extension() == ".png")
+      for (const auto& format : figure_formats())
+        if (const std::string file = fs::path(owned[i]).replace_extension(format).string(); !contains(owned, file))
+          owned.push_back(file);
   for (const auto& name : frame_files_in(dir)) owned.push_back(name);
   owned.insert(owned.end(), frames.begin(), frames.end());
+  for (const auto& name : adapt_steps_in(dir))
+    if (!contains(owned, name)) owned.push_back(name);
+  if (info.adapt_steps)
+    for (std::size_t k = 0; k < info.adapt_steps->size(); ++k)
+      if (!contains(owned, adapt_step_file(k))) owned.push_back(adapt_step_file(k));
   return owned;
 }
 
@@ -44,14 +70,44 @@ void require_known_outputs(const std::vector<std::string>& wanted, const std::ve
 
 OutputRun::OutputRun(const fs::path& dir, const std::vector<std::string>& known, const std::vector<std::string>& others,
                      const std::vector<std::string>& wanted, const RunInfo& info, const std::vector<std::string>& frames)
-    : dir_(dir), wanted_(wanted), tx_(dir, owned_names(dir, known, others, frames)), listed_(info) {
+    : dir_(dir), wanted_(wanted), tx_(dir, owned_names(dir, known, others, frames, info)), listed_(info) {
   listed_.files.clear();
-  for (const auto& k : known)
-    if (want(k)) listed_.files.push_back(k);
+  for (const auto& k : known) {
+    if (!want(k)) continue;
+    if (k == "adapt.pvd" && info.adapt_steps)
+      for (std::size_t step = 0; step < info.adapt_steps->size(); ++step) listed_.files.push_back(adapt_step_file(step));
+    if (fs::path(k).extension() != ".png") listed_.files.push_back(k);
+    else
+      for (const auto& format : info.figure_formats) listed_.files.push_back(fs::path(k).replace_extension(format).string());
+  }
   if (want("solution.pvd")) listed_.files.insert(listed_.files.end(), frames.begin(), frames.end());
 }
 
 bool OutputRun::want(const std::string& name) const { return contains(wanted_, name); }
+
+std::string adapt_step_file(std::size_t step) { return "adapt-step-" + std::to_string(step) + ".vtu"; }
+
+void write_adapt_steps(OutputRun& run, const RunInfo& info) {
+  if (!run.want("adapt.pvd")) return;
+  if (!info.adapt_steps) {
+    run.report().skipped.push_back(info.adapt.is_null() ? "adapt.pvd: not an adaptive solve"
+                                                        : "adapt.pvd: the steps were not kept (the output vtu)");
+    return;
+  }
+  const std::vector<std::string>& steps = *info.adapt_steps;
+  for (std::size_t k = 0; k < steps.size(); ++k) {
+    run.transaction().write(adapt_step_file(k), [&](std::ostream& os) { os << steps[k]; });
+    run.report().written.push_back(run.dir() / adapt_step_file(k));
+  }
+  run.write("adapt.pvd", [&](std::ostream& os) {
+    os << "<?xml version=\"1.0\"?>\n"
+       << "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+       << "  <Collection>\n";
+    for (std::size_t k = 0; k < steps.size(); ++k)
+      os << "    <DataSet timestep=\"" << k << "\" group=\"\" part=\"0\" file=\"" << adapt_step_file(k) << "\"/>\n";
+    os << "  </Collection>\n</VTKFile>\n";
+  });
+}
 
 void OutputRun::write(const std::string& name, const std::function<void(std::ostream&)>& body) {
   if (!want(name)) return;
@@ -63,10 +119,10 @@ void OutputRun::draw(const std::function<void(std::vector<Figure>&)>& make) {
   std::vector<Figure> figures;  // a figure that cannot be drawn never fails the run
   try {
     make(figures);
-    const std::vector<std::string> reasons = draw_figures(tx_.staging(), figures);
+    const std::vector<std::string> reasons = draw_figures(tx_.staging(), figures, listed_.figure_formats);
     for (std::size_t i = 0; i < figures.size(); ++i) {
       if (reasons[i].empty()) {
-        report_.written.push_back(dir_ / figures[i].png);
+        for (const auto& file : figure_files(figures[i], listed_.figure_formats)) report_.written.push_back(dir_ / file);
       } else {
         report_.skipped.push_back(figures[i].png + ": " + reasons[i]);
         failed_.emplace_back(figures[i].png, reasons[i]);
@@ -76,30 +132,13 @@ void OutputRun::draw(const std::function<void(std::vector<Figure>&)>& make) {
     throw WriteError(e.detail() + "; " + previous_outputs_kept(dir_), (dir_ / fs::path(e.where()).filename()).string());
   } catch (const std::exception& e) {  // each PNG is moved into place atomically: none is half-written
     for (const auto& f : figures)
-      if (std::find(report_.written.begin(), report_.written.end(), dir_ / f.png) == report_.written.end()) {
+      if (std::find(report_.written.begin(), report_.written.end(), dir_ / figure_files(f, listed_.figure_formats).front()) ==
+          report_.written.end()) {
         report_.skipped.push_back(f.png + ": " + e.what());
         failed_.emplace_back(f.png, e.what());
       }
   }
 }
-
-namespace {
-
-/// One warning per reason, naming the figures it kept from being drawn:
-/// "figure not drawn: u_nu.png, deformed.png: gnuplot failed (status 1): ...".
-std::vector<std::string> figure_warnings(const std::vector<std::pair<std::string, std::string>>& failed) {
-  std::vector<std::pair<std::string, std::string>> by_reason;  // names, reason; in the order drawn
-  for (const auto& [name, reason] : failed) {
-    auto same = std::find_if(by_reason.begin(), by_reason.end(), [&](const auto& r) { return r.second == reason; });
-    if (same == by_reason.end()) by_reason.emplace_back(name, reason);
-    else same->first += ", " + name;
-  }
-  std::vector<std::string> out;
-  for (const auto& [names, reason] : by_reason) out.push_back("figure not drawn: " + names + ": " + reason);
-  return out;
-}
-
-}  // namespace
 
 OutputReport OutputRun::finish(const std::function<nlohmann::json(const RunInfo&)>& result_json) {
   report_.warnings = figure_warnings(failed_);

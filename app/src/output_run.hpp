@@ -113,21 +113,33 @@ template <class MeshType, int dim, class Result>
 void write_solve_files(OutputRun& run, const MeshType& mesh, const MaterialTable& materials,
                        const BasicContactSolution<dim>& solution, const RunInfo& info, const Result& result);
 
+/// The file of step `step` of an adaptive solve in its output folder: "adapt-step-3.vtu".
+std::string adapt_step_file(std::size_t step);
+
+/// adapt.pvd, when wanted: an adapt-step-K.vtu per step of info.adapt_steps (K = 0, 1, ...),
+/// then the collection naming them with K as their time; without the steps (not an adaptive
+/// solve, or the output vtu not kept) the reason in the run's report.
+void write_adapt_steps(OutputRun& run, const RunInfo& info);
+
 /// InputError for a name of `wanted` that is not in `known` (`what`: "", or " of a
 /// three-dimensional solve"), listing the known names.
 void require_known_outputs(const std::vector<std::string>& wanted, const std::vector<std::string>& known,
                            const std::string& what);
 
 /// One run's folder: the files are written into a transaction that owns `known`, `others` (the
-/// other dimension's names), an earlier path's frames and `frames` (this run's), and that
-/// commit() makes the folder at once. result.json lists the files wanted, in the order of
-/// `known`, then the frames when solution.pvd is wanted.
+/// other dimension's names), the figures' names in every format, an earlier path's frames and
+/// `frames` (this run's), an earlier adaptive solve's steps and this run's (adapt_step_file),
+/// and that commit() makes the folder at once. result.json lists the files wanted, in the
+/// order of `known` (a figure in each of info.figure_formats, an adaptive solve's steps before
+/// adapt.pvd), then the frames when solution.pvd is wanted.
 class OutputRun {
  public:
   OutputRun(const std::filesystem::path& dir, const std::vector<std::string>& known, const std::vector<std::string>& others,
             const std::vector<std::string>& wanted, const RunInfo& info, const std::vector<std::string>& frames);
 
   bool want(const std::string& name) const;
+  /// The output folder as given.
+  const std::filesystem::path& dir() const noexcept { return dir_; }
   /// Writes `name` when it is wanted.
   void write(const std::string& name, const std::function<void(std::ostream&)>& body);
   /// The run's record with the files it lists (RunInfo::files).

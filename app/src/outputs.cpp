@@ -209,7 +209,7 @@ const std::vector<std::string>& all_outputs(int dim) {
       {"stress.csv", true, true},       {"history.csv", true, true},      {"solution.vtu", true, true},     {"contact-surface.vtu", false, true},
       {"scene.toml", true, true},       {"mesh.poly2d", true, false},     {"u_nu.png", true, false},
       {"deformed.png", true, true},     {"error.png", true, false},       {"mesh.png", true, false},
-      {"adapt.png", true, false},       {"pressure.png", false, true},    {"path.json", true, true},
+      {"adapt.png", true, false},       {"adapt.pvd", true, false},       {"pressure.png", false, true},    {"path.json", true, true},
       {"path-contact.csv", true, true}, {"path-displacement.csv", true, true}, {"solution.pvd", true, true},
       {"path.png", true, true}};
   auto of = [](bool solid) {
@@ -323,10 +323,12 @@ OutputReport write_outputs_of(const fs::path& dir, const MeshType& mesh, const M
   if constexpr (dim == 3)
     run.write("contact-surface.vtu", [&](std::ostream& os) { write_contact_surface_vtu(os, mesh, *contact_faces, solution); });
   run.write("scene.toml", [&](std::ostream& os) { os << info.scene_toml; });
-  if constexpr (dim == 2)
+  if constexpr (dim == 2) {
     run.write("mesh.poly2d", [&](std::ostream& os) {
       write_poly2d(os, mesh, {"the mesh of " + info.mesh, "regions and edge groups are not part of this format"});
     });
+    detail::write_adapt_steps(run, info);
+  }
   write_path_files<MeshType, dim>(
       run.transaction(), dir, mesh, path, [&run](const std::string& n) { return run.want(n); },
       [&](std::ostream& os, const BasicContactSolution<dim>& frame) { write_vtu(os, mesh, materials, frame, nullptr); },

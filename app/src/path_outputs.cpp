@@ -6,6 +6,8 @@
 
 #include "figure_style.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <regex>
@@ -114,30 +116,48 @@ Figure path_figure(const BasicPathSolution<dim>& path, const RunInfo& info) {
   f.width = 1400;
   f.height = 600;
   const bool friction = !path.steps.empty() && path.steps.front().slip.size() > 0;
-  f.data.push_back({"path.dat", [&path](std::ostream& os) {
-                      // t, mean u_nu, normal resultant, friction resultant, zone length, stick length, jump
-                      for (const auto& s : path.steps) {
-                        double w = 0.0, un = 0.0, normal = 0.0, tangential = 0.0, stick = 0.0;
-                        for (const auto& n : s.contact) {
-                          w += n.weight;
-                          un += n.weight * n.u_nu;
-                          normal += n.force();
-                          tangential += n.friction_force;
-                          if (n.friction_state == FrictionState::stick && n.force() > 0.0) stick += n.weight;
-                        }
-                        os << num(s.t) << ' ' << num(w > 0.0 ? un / w : 0.0) << ' ' << num(normal) << ' '
-                           << num(tangential) << ' ' << num(s.zone.length) << ' ' << num(stick) << ' ' << (s.jump ? 1 : 0)
-                           << '\n';
+  // per step: t, mean u_nu, normal resultant, friction resultant, zone length, stick length, jump
+  std::vector<std::array<double, 7>> rows;
+  for (const auto& s : path.steps) {
+    double w = 0.0, un = 0.0, normal = 0.0, tangential = 0.0, stick = 0.0;
+    for (const auto& n : s.contact) {
+      w += n.weight;
+      un += n.weight * n.u_nu;
+      normal += n.force();
+      tangential += n.friction_force;
+      if (n.friction_state == FrictionState::stick && n.force() > 0.0) stick += n.weight;
+    }
+    rows.push_back({s.t, w > 0.0 ? un / w : 0.0, normal, tangential, s.zone.length, stick, s.jump ? 1.0 : 0.0});
+  }
+  // the range of the columns `columns` over the steps, for tick labels that differ at any scale
+  auto format = [&rows](const std::string& axis, const std::vector<int>& columns) {
+    double lo = 0.0, hi = 0.0;
+    bool first = true;
+    for (const auto& r : rows)
+      for (int c : columns)
+        if (std::isfinite(r[static_cast<std::size_t>(c)])) {
+          const double v = r[static_cast<std::size_t>(c)];
+          lo = first ? v : std::min(lo, v), hi = first ? v : std::max(hi, v);
+          first = false;
+        }
+    return axis_format(axis, lo, hi);
+  };
+  f.data.push_back({"path.dat", [rows](std::ostream& os) {
+                      for (const auto& r : rows) {
+                        for (std::size_t c = 0; c + 1 < r.size(); ++c) os << num(r[c]) << ' ';
+                        os << (r.back() > 0.0 ? 1 : 0) << '\n';
                       }
                     }});
   std::ostringstream s;
   s << "set multiplot layout 1,2 title " << detail::solve_title("loading path, " + std::to_string(path.steps.size()) + " steps", info)
     << " noenhanced\n"
     << "set grid\nset key top left\n"
+    << format("x", {1}) << format("y", friction ? std::vector<int>{2, 3} : std::vector<int>{2})
     << "set xlabel 'mean normal displacement of the contact nodes'\nset ylabel 'resultant of the contact forces'\n"
     << "plot 'path.dat' using 2:3 with linespoints pt 7 ps 0.6 lc rgb '#3b528b' title 'normal (compressive)'"
     << (friction ? ", 'path.dat' using 2:4 with linespoints pt 7 ps 0.6 lc rgb '#5ec962' title 'friction'" : "")
     << ", 'path.dat' using 2:($7 > 0 ? $3 : 1/0) with points pt 6 ps 2 lc rgb '#d62728' title 'jump'\n"
+    << format("x", {0}) << format("y", friction ? std::vector<int>{4, 5} : std::vector<int>{4})
     << "set xlabel 'load factor t'\nset ylabel '" << (dim == 2 ? "length" : "area") << " of boundary'\n"
     << "plot 'path.dat' using 1:5 with linespoints pt 7 ps 0.6 lc rgb '#3b528b' title 'contact zone'"
     << (friction ? ", 'path.dat' using 1:6 with linespoints pt 7 ps 0.6 lc rgb '#5ec962' title 'stick zone'" : "") << "\n"

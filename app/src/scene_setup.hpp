@@ -52,8 +52,8 @@ SceneEngines prepare_scene_solve(const Scene& scene, SceneSolveOptions& o, Scene
 
 /// What result.json records of any solved scene (SceneSolve or SceneSolve3D): the scene, the
 /// mesh's description, the engines, the search, the options in effect, the mesh time, the
-/// unknowns, the processes, the warnings, the error estimate and the cell of the largest von
-/// Mises stress (when the run holds the displacement).
+/// unknowns, the processes, the warnings, the error estimate, the cell of the largest von
+/// Mises stress (when the run holds the displacement) and the figures' formats.
 template <class Solved>
 RunInfo run_info_common(const Scene& scene, const Solved& solved) {
   const MinimizerOptions& mo = solved.options;
@@ -77,6 +77,7 @@ RunInfo run_info_common(const Scene& scene, const Solved& solved) {
   constexpr int dim = std::is_same_v<std::decay_t<decltype(mesh)>, Mesh3D> ? 3 : 2;
   if (solved.holds_results && solved.solution.u.size() == dim * static_cast<Eigen::Index>(mesh.num_vertices()))
     info.stress = stress_peak(mesh, cell_stresses(mesh, solved.built->problem.elasticity.materials, solved.solution.u));
+  info.figure_formats = scene.figure_formats;
   return info;
 }
 

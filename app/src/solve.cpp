@@ -192,6 +192,7 @@ std::vector<std::string> wanted_files(const Scene& scene, bool has_contact) {
     files.push_back("mesh.poly2d");
     if (std::find(scene.outputs.begin(), scene.outputs.end(), "mesh-png") != scene.outputs.end()) files.push_back("mesh.png");
     if (std::find(scene.outputs.begin(), scene.outputs.end(), "adapt-png") != scene.outputs.end()) files.push_back("adapt.png");
+    if (std::find(scene.outputs.begin(), scene.outputs.end(), "vtu") != scene.outputs.end()) files.push_back("adapt.pvd");
   }
   return files;
 }
@@ -202,6 +203,7 @@ RunInfo run_info(const Scene& scene, const SceneSolve& solved) {
   info.options["plane_model"] = to_string(scene.material.model);
   if (built.has_contact) detail::add_contact_parts(info, contact_parts(built.problem));
   info.adapt = solved.adapt;
+  info.adapt_steps = solved.adapt_steps;
   info.path = solved.path.get();
   return info;
 }

@@ -243,18 +243,27 @@ nlohmann::json study_json(const Scene& scene, const StudyOptions& o, const Study
 }
 
 StudyFiles write_study(const fs::path& dir, const Scene& scene, const StudyOptions& o, const StudyResult& result) {
-  const nlohmann::json j = study_json(scene, o, result);
   StudyFiles files;
+  nlohmann::json& j = files.json;
+  j = study_json(scene, o, result);
   files.written = {"study.csv", "study.json"};
   std::vector<StudyPoint> points;
   for (const auto& r : result.rows) points.push_back({r.h, r.error, r.paper, r.independent});
-  OutputTransaction tx(dir, {"study.csv", "study.json", "study.png"});  // the folder changes at once
+  std::vector<std::string> owned{"study.csv", "study.json"};
+  for (const auto& format : figure_formats()) owned.push_back("study." + format);
+  OutputTransaction tx(dir, owned);  // the folder changes at once
   tx.stage([&](const fs::path& staging) {
     write_study_csv(staging / "study.csv", result.rows);
+    const Figure figure = study_figure(points, result.references, result.ref);
+    files.skipped = draw_figures(staging, {figure}, scene.figure_formats).front();
+    if (files.skipped.empty())
+      for (const auto& file : figure_files(figure, scene.figure_formats)) files.written.push_back(file);
+    else
+      files.warnings = figure_warnings({{figure.png, files.skipped}});
+    j["files"] = files.written;
+    j["warnings"] = files.warnings;
     write_atomically(staging / "study.json", [&](std::ostream& os) { os << j.dump(2) << "\n"; });
-    files.skipped = draw_figures(staging, {study_figure(points, result.references, result.ref)}).front();
   });
-  if (files.skipped.empty()) files.written.emplace_back("study.png");
   (void)tx.commit();
   return files;
 }

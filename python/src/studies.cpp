@@ -122,7 +122,12 @@ py::object study(const py::object& scene_arg, const std::vector<int>& n, int ref
   for (const auto& row : r.rows) h.push_back(row.h), error.push_back(row.error);
   d["h"] = copy(h);
   d["error"] = copy(error);
-  if (out) d["files"] = files.written;
+  if (out) {
+    d["files"] = files.written;
+    d["warnings"] = files.warnings;
+  }
+  for (const auto& w : files.warnings)  // a figure not drawn (also in study.json's warnings)
+    if (PyErr_WarnEx(PyExc_UserWarning, w.c_str(), 1) != 0) throw py::error_already_set();
   return std::move(d);
 }
 
@@ -151,10 +156,19 @@ py::object bench(const py::object& scene_arg, const BenchKeywords& k, const std:
   };
   const app::BenchPlan plan = app::plan_bench(scene, o);
   nlohmann::json j;
+  std::vector<std::string> warnings;
   without_gil(watch, [&] {
     const app::BenchResult r = app::run_bench(plan);
-    j = out ? app::write_bench(*out, r).json : app::bench_json(r);
+    if (!out) {
+      j = app::bench_json(r);
+      return;
+    }
+    app::BenchFiles files = app::write_bench(*out, r);
+    j = std::move(files.json);
+    warnings = std::move(files.warnings);
   });
+  for (const auto& w : warnings)  // a plot not drawn (also in bench.json's warnings)
+    if (PyErr_WarnEx(PyExc_UserWarning, w.c_str(), 1) != 0) throw py::error_already_set();
   return to_dict(j);
 }
 

@@ -4,6 +4,7 @@ module and the command are two routes to one computation, compared here number b
 
 import json
 import math
+import os
 
 import numpy as np
 import pytest
@@ -112,3 +113,18 @@ def test_bench_measures_a_coulomb_path_at_its_last_step(coulomb_scene):
     assert r["path"]["steps"] == 3
     assert r["rows"][0]["error"] > 0
     assert r["refinement"]["adaptive"]["stopped"] == "not_run"
+
+
+def test_a_study_whose_figure_fails_is_a_user_warning(tmp_path, monkeypatch):
+    fake = tmp_path / "bin" / "gnuplot"
+    fake.parent.mkdir()
+    fake.write_text("#!/bin/sh\necho 'broken on purpose' >&2\nexit 1\n")
+    fake.chmod(0o755)
+    monkeypatch.setenv("PATH", f"{fake.parent}:{os.environ['PATH']}")
+    expected = "figure not drawn: study.png: gnuplot failed (exit status 1): broken on purpose"
+    with pytest.warns(UserWarning, match="figure not drawn: study.png"):
+        s = hemivem.study(n=[2, 4], ref=8, out=str(tmp_path / "out"))
+    assert s["warnings"] == [expected]
+    assert s["files"] == ["study.csv", "study.json"]
+    assert json.loads((tmp_path / "out" / "study.json").read_text())["warnings"] == [expected]
+    assert len(s["h"]) == 2, "the numbers are returned all the same"

@@ -894,9 +894,21 @@ void read_path(Scene& s, const toml::table& t) {
   s.path = p;
 }
 
-/// [output]: the files to write, each named once.
+/// [output]: the files to write, each named once, and the formats of the figures.
 void read_output(Scene& s, const toml::table& t) {
-  TableReader o(s, t, "output", {"write"});
+  TableReader o(s, t, "output", {"write", "figure_format"});
+  if (auto f = o.strings("figure_format", true)) {
+    const auto& valid = scene_figure_formats();
+    if (f->empty()) o.fail("figure_format", o.node("figure_format"), "needs at least one format (expected any of: " + join(valid) + ")");
+    s.figure_formats.clear();
+    for (const auto& x : *f) {
+      if (std::find(valid.begin(), valid.end(), lower(x)) == valid.end())
+        o.fail("figure_format", o.node("figure_format"),
+               "unknown figure format '" + x + "'" + did_you_mean(x, valid) + " (expected any of: " + join(valid) + ")");
+      if (std::find(s.figure_formats.begin(), s.figure_formats.end(), lower(x)) == s.figure_formats.end())
+        s.figure_formats.push_back(lower(x));
+    }
+  }
   auto w = o.strings("write", false);
   if (!w) return;
   s.outputs.clear();
@@ -950,6 +962,11 @@ const std::vector<std::string>& scene_output_names() {
   return names;
 }
 
+const std::vector<std::string>& scene_figure_formats() {
+  static const std::vector<std::string> formats{"png", "pdf", "svg"};
+  return formats;
+}
+
 std::string SceneMesh::description() const {
   if (!file.empty()) return file.string();
   return generator + " n=" + (dimension == 3 ? cells3().text() : cells().text());
@@ -984,7 +1001,8 @@ bool operator==(const Scene& a, const Scene& b) {
   return a.schema_version == b.schema_version && a.title == b.title && a.mesh == b.mesh && a.material == b.material &&
          a.clamped == b.clamped && a.dirichlet == b.dirichlet && a.body_force == b.body_force &&
          a.tractions == b.tractions && a.contact == b.contact && a.more_contact == b.more_contact &&
-         a.solver == b.solver && a.adapt == b.adapt && a.path == b.path && a.outputs == b.outputs;
+         a.solver == b.solver && a.adapt == b.adapt && a.path == b.path && a.outputs == b.outputs &&
+         a.figure_formats == b.figure_formats;
 }
 
 std::vector<SceneContact> contact_parts(const Scene& scene) {

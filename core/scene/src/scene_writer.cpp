@@ -234,6 +234,7 @@ std::string to_toml(const Scene& s) {
   }
   o << "\n[output]\n";
   o << "write = " << list(s.outputs, quote) << "\n";
+  o << "figure_format = " << list(s.figure_formats, quote) << "\n";
   return o.str();
 }
 

@@ -57,7 +57,8 @@ struct AdaptiveSolve {
 /// again on the refined mesh, regions inherited from the parents) and solves again, the
 /// minimizer starting from the previous solution interpolated onto the new mesh. `options`
 /// serves every step (its mesh and start are set per step; a given mesh replaces the scene's
-/// at step 0); `progress`, when given, is called after every step. Errors as solve_scene's, and
+/// at step 0); `progress`, when given, is called after every step. When the scene writes the
+/// output vtu, the last solve carries every step's solution.vtu (SceneSolve::adapt_steps). Errors as solve_scene's, and
 /// an InputError for the engine mumps-mpi (an adaptive solve runs in one process).
 AdaptiveSolve solve_adaptively(const Scene& scene, const SceneAdapt& adapt, SceneSolveOptions options = {},
                                const std::function<void(const AdaptStep&)>& progress = {});

@@ -176,14 +176,17 @@ nlohmann::json bench_path_json(const Scene& scene);
 /// bench.json (schema hemivem-bench/5) without the names of the plots (write_bench adds them).
 nlohmann::json bench_json(const BenchResult& result);
 
-/// What write_bench wrote: bench.json's content as written, and why each plot was skipped
-/// (empty: drawn).
+/// What write_bench wrote: bench.json's content as written, why each plot was skipped (empty:
+/// drawn), and the plots gnuplot could not draw as warnings (figure_warnings of figures.hpp;
+/// bench.json's "warnings"), which the command prints on stderr.
 struct BenchFiles {
   nlohmann::json json;
   std::string plot_skipped, refinement_plot_skipped;
+  std::vector<std::string> warnings;
 };
 
-/// bench.csv, bench.json, bench.png and bench-error.png into `dir`, the folder changed at once.
+/// bench.csv, bench.json, bench.png and bench-error.png (each plot in the formats of the
+/// scene's output.figure_format) into `dir`, the folder changed at once.
 BenchFiles write_bench(const std::filesystem::path& dir, const BenchResult& result);
 
 /// A stage's seconds of a pair: mesh, assembly, linear_solve, condensation, minimize,

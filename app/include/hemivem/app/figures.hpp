@@ -3,15 +3,17 @@
 //
 // A Figure is a gnuplot script and the data files it reads. draw_figures runs gnuplot once
 // for several figures in a private temporary folder (the scripts' working folder, so they
-// name their data files plainly: plot 'u_nu.dat' ...), then moves each PNG made into the
-// output folder atomically. A figure is never worth failing a run for: gnuplot missing or
-// failing is reported per figure, not thrown.
+// name their data files plainly: plot 'u_nu.dat' ...), in each format asked (PNG, PDF, SVG),
+// then moves each file made into the output folder atomically. A figure is never worth failing
+// a run for: gnuplot missing or failing is reported per figure, not thrown. The helpers of the
+// house style (tick labels, line widths) are here too.
 #pragma once
 
 #include <filesystem>
 #include <functional>
 #include <iosfwd>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <hemivem/contact/contact3d.hpp>
@@ -29,26 +31,60 @@ struct PlotData {
   std::function<void(std::ostream&)> write;
 };
 
-/// One PNG: `script` draws it (the terminal and `set output` are set before it runs, `unset
+/// One figure: `script` draws it (the terminal and `set output` are set before it runs, `unset
 /// output` and `reset` after), reading `data`.
 struct Figure {
-  std::string png;  ///< the file name in the output folder, e.g. "u_nu.png"
+  std::string png;  ///< the PNG's name in the output folder, e.g. "u_nu.png" (another format: its extension)
   int width = 1000, height = 700;
   std::string script;
   std::vector<PlotData> data;
 };
 
-/// Draws `figures` into `dir` (which must exist) with one run of gnuplot. For each figure, in
-/// order: empty when its PNG was written, else why not ("gnuplot not found on PATH", "gnuplot
-/// failed (status 1): ...", "gnuplot made no PNG"). Throws InputError when a file cannot be
-/// written.
-std::vector<std::string> draw_figures(const std::filesystem::path& dir, const std::vector<Figure>& figures);
+/// The formats a figure can be drawn in: png (pngcairo, or gnuplot's gd-based png), pdf
+/// (pdfcairo) and svg.
+const std::vector<std::string>& figure_formats();
+/// The files of `figure` in `formats`, in their order: its PNG name (Figure::png) with the
+/// format's extension ("u_nu.png", "u_nu.pdf", "u_nu.svg").
+std::vector<std::string> figure_files(const Figure& figure, const std::vector<std::string>& formats);
+/// Whether `p` is a file of `format`: a PNG's signature, a PDF's "%PDF-", an <svg element in
+/// the first 4096 bytes of an SVG.
+bool is_figure_file(const std::filesystem::path& p, const std::string& format);
+
+/// Draws `figures` into `dir` (which must exist) with one run of gnuplot, each in every one of
+/// `formats` (figure_formats; InputError for another). For each figure, in order: empty when
+/// its files were written (figure_files), else why not ("gnuplot not found on PATH", "gnuplot
+/// failed (exit status 1): ...", "gnuplot made no PNG", "gnuplot made no PDF (it needs
+/// gnuplot's pdfcairo terminal)"); a figure is written in every format or in none. Throws
+/// InputError when a file cannot be written.
+std::vector<std::string> draw_figures(const std::filesystem::path& dir, const std::vector<Figure>& figures,
+                                      const std::vector<std::string>& formats = {"png"});
+
+/// One warning per reason of the figures not drawn (`failed`: each figure's name and why),
+/// naming the figures it kept from being drawn, in the order given: "figure not drawn:
+/// u_nu.png, deformed.png: gnuplot failed (exit status 1): ...".
+std::vector<std::string> figure_warnings(const std::vector<std::pair<std::string, std::string>>& failed);
 
 /// A single-quoted gnuplot string ('' stands for a quote; control characters, a newline among
 /// them, as spaces: gnuplot's single-quoted strings have no escapes).
 std::string gnuplot_quote(const std::string& s);
 /// Whether `p` starts with the PNG signature.
 bool is_png(const std::filesystem::path& p);
+
+/// A printf format of gnuplot for the tick labels of an axis from `lo` to `hi`: "%.Ng" with N
+/// (3 ... 15) significant digits, enough that ticks a twentieth of the span apart print
+/// differently ("%.3g" from -3.1e-8 to -2.9e-8: -3.1e-08, -3.05e-08, ...) and that numbers
+/// below 1e7 print in full (12500, not 1.25e+04); "%g" for a range that is not finite.
+std::string tick_format(double lo, double hi);
+/// `set format AXIS "..."` (tick_format) as a line of a script; `axis` is x, y, x2, y2, z or cb.
+std::string axis_format(const std::string& axis, double lo, double hi);
+/// The step of the ticks of an axis from `lo` to `hi`: 1, 2 or 5 times a power of ten, the
+/// smallest such that the axis has at most `intervals` (>= 1) intervals; 0 for an empty or
+/// not finite range.
+double tick_step(double lo, double hi, int intervals);
+/// The width of the lines of a mesh of `elements` elements drawn in a picture about 1000 points
+/// wide: 1 up to 100 elements, then falling as 1 / sqrt(elements) (the edges' spacing) down to
+/// 0.05, so that a fine mesh shows its cells rather than a solid blob.
+double mesh_line_width(long long elements);
 
 /// u_nu.png: the normal displacement u_nu along the contact boundary against x (when Gamma_3
 /// is one horizontal line) or its arc length, and the contact pressure on a second axis. The
@@ -86,8 +122,12 @@ Figure pressure_figure(const Mesh3D& mesh, const std::vector<int>& faces, const 
 /// indicators has one entry per element (zeros drawn with the scale's lowest colour).
 Figure indicator_figure(const Mesh& mesh, const std::vector<double>& indicators, const RunInfo& info);
 
-/// mesh.png: the mesh's edges (e.g. the final mesh of an adaptive solve), equal axes, title
-/// solve_title(what, info) with `what` e.g. "final mesh, 1234 elements".
+/// mesh.png: the mesh's edges (e.g. the final mesh of an adaptive solve) at the width
+/// mesh_line_width of its element count, equal axes, title solve_title(what, info) with `what`
+/// e.g. "final mesh, 1234 elements". A mesh refined locally (at least 200 elements, the largest
+/// diameter at least 8 times the smallest) gets a second panel: a square 40 smallest diameters
+/// wide around the smallest element (moved into the mesh's bounding box), framed in red on the
+/// first panel, enlarged, its lines as wide as the number of elements it shows allows.
 Figure mesh_figure(const Mesh& mesh, const RunInfo& info, const std::string& what);
 
 /// One curve of convergence_figure.

@@ -8,6 +8,7 @@
 #include <array>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <variant>
@@ -44,6 +45,9 @@ struct RunInfo {
   int dofs = -1;                              ///< free degrees of freedom; < 0: 2 x vertices
   int processes = 1;                          ///< processes of the linear engine (mpirun -np P with mumps-mpi)
   std::vector<std::string> files;             ///< the files of the run's output folder (set by write_outputs)
+  /// The formats of the figures (figure_formats of figures.hpp: png, pdf, svg; the scene's
+  /// output.figure_format): each figure is written in each, e.g. u_nu.png and u_nu.pdf.
+  std::vector<std::string> figure_formats{"png"};
   std::vector<std::string> warnings;          ///< what the user should know about the problem posed
   std::vector<double> law_breakpoints;        ///< the contact law's breakpoints (u_nu values), for u_nu.png
   bool gap_bound = false;                     ///< u_nu <= g is a constraint: the plots draw the gap and foundation
@@ -67,6 +71,9 @@ struct RunInfo {
   /// An adaptive solve's record (adapt_json of hemivem/app/adapt.hpp): result.json's "adapt",
   /// adapt.png; null for a single solve.
   nlohmann::json adapt;
+  /// An adaptive solve's steps as VTU documents, step 0 first (SceneSolve::adapt_steps):
+  /// adapt-step-K.vtu and adapt.pvd; null when not kept.
+  std::shared_ptr<const std::vector<std::string>> adapt_steps;
   /// A loading path's steps (not owned; must outlive write_outputs): result.json's "path"
   /// summary, path.json, path-contact.csv, path-displacement.csv, solution.pvd with a
   /// solution-NNNN.vtu per frame, path.png; none for a static solve. The path of a plane or
@@ -117,7 +124,8 @@ std::string contact_part_name(const BasicContactSolution<dim>& solution, const B
 /// solid's contact-surface.vtu, scene.toml, a plane's mesh.poly2d (the mesh solved on), u_nu.png,
 /// both's deformed.png, a plane's error.png (the error indicators; with info.error_estimate),
 /// mesh.png (the mesh) and adapt.png (the estimate of each step against unknowns and time; with
-/// info.adapt), a solid's pressure.png, and with info.path: path.json, path-contact.csv,
+/// info.adapt), a plane's adapt.pvd (with info.adapt_steps: the steps of an adaptive solve as
+/// a ParaView series, with an adapt-step-K.vtu per step, which it names), a solid's pressure.png, and with info.path: path.json, path-contact.csv,
 /// path-displacement.csv, solution.pvd (and the frames' solution-NNNN.vtu, which it names) and
 /// path.png. A run of either dimension owns the names of both: it removes an earlier run's file
 /// of any of them that it did not write. InputError for another dimension.

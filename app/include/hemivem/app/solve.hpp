@@ -69,6 +69,9 @@ struct BasicSceneSolve {
   /// The last solve of an adaptive sequence (plane bodies) carries the sequence's record
   /// (adapt_json of hemivem/app/adapt.hpp; RunInfo::adapt); null otherwise.
   nlohmann::json adapt;
+  /// The last solve of an adaptive sequence whose scene writes the output vtu carries every
+  /// step's solution.vtu, step 0 first (RunInfo::adapt_steps: adapt.pvd); null otherwise.
+  std::shared_ptr<const std::vector<std::string>> adapt_steps;
   /// The last step of a loading path carries the path (hemivem/app/path.hpp; RunInfo::path);
   /// null otherwise.
   std::shared_ptr<const BasicPathSolution<dim>> path;

@@ -79,14 +79,19 @@ nlohmann::json study_json(const Scene& scene, const StudyOptions& options, const
 /// The note on the paper's column that Example 4.1's study prints and writes.
 std::string study_note();
 
-/// What write_study wrote: the files' names, and why study.png was skipped (empty: drawn).
+/// What write_study wrote: the files' names, why study.png was skipped (empty: drawn), the
+/// figure gnuplot could not draw as a warning (figure_warnings of figures.hpp; study.json's
+/// "warnings"), which the command prints on stderr, and study.json's content as written.
 struct StudyFiles {
   std::vector<std::string> written;
   std::string skipped;
+  std::vector<std::string> warnings;
+  nlohmann::json json;
 };
 
-/// study.csv, study.json and study.png (when gnuplot is found) into `dir`, the folder changed
-/// at once (OutputTransaction).
+/// study.csv, study.json (with "files", the files written, and "warnings") and study.png (in
+/// the formats of the scene's output.figure_format, when gnuplot draws it) into `dir`, the
+/// folder changed at once (OutputTransaction).
 StudyFiles write_study(const std::filesystem::path& dir, const Scene& scene, const StudyOptions& options,
                        const StudyResult& result);
 

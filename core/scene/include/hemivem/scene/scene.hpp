@@ -248,6 +248,8 @@ bool operator==(const ScenePath& a, const ScenePath& b);
 
 /// The output names a scene may ask for.
 const std::vector<std::string>& scene_output_names();
+/// The formats a scene's figures may be written in (output.figure_format): png, pdf, svg.
+const std::vector<std::string>& scene_figure_formats();
 
 namespace detail {
 struct SceneDocument;  // the parsed TOML a scene was read from (internal)
@@ -275,6 +277,9 @@ struct Scene {
   /// [path]: solve along a loading path; none: one static solve (t = 1).
   std::optional<ScenePath> path;
   std::vector<std::string> outputs = scene_output_names();
+  /// output.figure_format: the formats each figure named in `outputs` is written in, each
+  /// once (scene_figure_formats; u_nu.png, u_nu.pdf, u_nu.svg).
+  std::vector<std::string> figure_formats{"png"};
 
   /// Where the scene came from (a path, or a name such as "<default>").
   std::string source = "<default>";
