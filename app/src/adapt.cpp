@@ -12,6 +12,8 @@
 #include <cmath>
 #include <iomanip>
 #include <limits>
+#include <optional>
+#include <utility>
 #include <sstream>
 
 namespace hemivem::app {
@@ -36,6 +38,25 @@ AdaptStep step_of(const SceneSolve& s, int step, double elapsed) {
   a.elapsed = elapsed;
   a.status = to_string(s.solution.status);
   return a;
+}
+
+// Why the next mesh is not solved, if it is too large: more unknowns than max_unknowns, or a
+// solve whose estimated memory (as for a mesh file: HEMIVEM_MEMORY_LIMIT, or what the machine has
+// available) would not fit.
+std::optional<std::pair<AdaptStop, std::string>> too_large(const Mesh& next, const SceneAdapt& adapt) {
+  const long long unknowns = 2LL * next.num_vertices();
+  if (unknowns > adapt.max_unknowns)
+    return std::pair{AdaptStop::max_unknowns, "the next mesh would have " + std::to_string(next.num_vertices()) +
+                                                  " vertices (" + std::to_string(unknowns) +
+                                                  " displacement components), more than max_unknowns = " +
+                                                  std::to_string(adapt.max_unknowns)};
+  try {
+    require_memory(estimate_memory(next).solve_bytes, "the next mesh (" + std::to_string(next.num_vertices()) + " vertices)",
+                   "adapt");
+  } catch (const InputError& e) {
+    return std::pair{AdaptStop::memory, e.detail()};
+  }
+  return std::nullopt;
 }
 
 std::string percent(double x) {
@@ -116,23 +137,9 @@ AdaptiveSolve solve_adaptively(const Scene& scene, const SceneAdapt& adapt, Scen
     }
     const std::vector<int> marked = dorfler_marking(s.estimate->indicators, adapt.fraction);
     RefinedMesh refined = refine_mesh(s.built->mesh, marked);
-    const long long next_unknowns = 2LL * refined.mesh.num_vertices();
-    if (next_unknowns > adapt.max_unknowns) {
-      finish(AdaptStop::max_unknowns, "the next mesh would have " + std::to_string(refined.mesh.num_vertices()) +
-                                          " vertices (" + std::to_string(next_unknowns) +
-                                          " displacement components), more than max_unknowns = " +
-                                          std::to_string(adapt.max_unknowns) + "; the relative error estimate is " +
-                                          percent(now.estimate) + ", above the target " + percent(adapt.target));
-      break;
-    }
-    // the next solve's memory, estimated as for a mesh file (HEMIVEM_MEMORY_LIMIT, or what the
-    // machine has available): beyond it the sequence stops on the mesh it solved
-    try {
-      require_memory(estimate_memory(refined.mesh).solve_bytes,
-                     "the next mesh (" + std::to_string(refined.mesh.num_vertices()) + " vertices)", "adapt");
-    } catch (const InputError& e) {
-      finish(AdaptStop::memory, e.detail() + "; the relative error estimate is " + percent(now.estimate) +
-                                    ", above the target " + percent(adapt.target));
+    if (auto stop = too_large(refined.mesh, adapt)) {
+      finish(stop->first, stop->second + "; the relative error estimate is " + percent(now.estimate) +
+                              ", above the target " + percent(adapt.target));
       break;
     }
     now.marked = static_cast<int>(marked.size());

@@ -8,7 +8,6 @@
 
 #include <algorithm>
 #include <ostream>
-#include <regex>
 
 namespace hemivem::app::detail {
 
@@ -21,17 +20,7 @@ bool contains(const std::vector<std::string>& names, const std::string& name) {
 }
 
 // The steps of an earlier adaptive solve in `dir`: adapt-step-<digits>.vtu.
-std::vector<std::string> adapt_steps_in(const fs::path& dir) {
-  std::vector<std::string> names;
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec)) return names;
-  static const std::regex step(R"(adapt-step-[0-9]+\.vtu)");
-  for (const auto& entry : fs::directory_iterator(dir, ec)) {
-    const std::string name = entry.path().filename().string();
-    if (std::regex_match(name, step)) names.push_back(name);
-  }
-  return names;
-}
+std::vector<std::string> adapt_steps_in(const fs::path& dir) { return files_matching(dir, R"(adapt-step-[0-9]+\.vtu)"); }
 
 // The names a run may own: its own, the other dimension's, its figures' in every format, an
 // earlier path's frames, its frames, an earlier adaptive solve's steps and its own.

@@ -73,17 +73,19 @@ std::vector<std::string> frame_files(const BasicPathSolution<dim>& path) {
   return names;
 }
 
-std::vector<std::string> frame_files_in(const fs::path& dir) {
+std::vector<std::string> files_matching(const fs::path& dir, const std::string& pattern) {
   std::vector<std::string> names;
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) return names;
-  static const std::regex frame(R"(solution-[0-9]{4,}\.vtu)");
+  const std::regex whole(pattern);
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
     const std::string name = entry.path().filename().string();
-    if (std::regex_match(name, frame)) names.push_back(name);
+    if (std::regex_match(name, whole)) names.push_back(name);
   }
   return names;
 }
+
+std::vector<std::string> frame_files_in(const fs::path& dir) { return files_matching(dir, R"(solution-[0-9]{4,}\.vtu)"); }
 
 template <int dim>
 void write_pvd(std::ostream& stream, const BasicPathSolution<dim>& path) {

@@ -36,6 +36,9 @@ template <int dim>
 std::vector<std::string> frame_files(const BasicPathSolution<dim>& path);
 /// The names solution-<digits>.vtu already in `dir` (an earlier path's frames).
 std::vector<std::string> frame_files_in(const std::filesystem::path& dir);
+/// The names of the files in `dir` that the regular expression `pattern` matches whole (none
+/// when `dir` is not a folder).
+std::vector<std::string> files_matching(const std::filesystem::path& dir, const std::string& pattern);
 /// result.json's "path": steps, converged steps, jumps, the last t and the file with the rest.
 template <int dim>
 nlohmann::json path_summary_json(const BasicPathSolution<dim>& path);

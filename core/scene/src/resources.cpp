@@ -112,10 +112,10 @@ MemoryEstimate estimate_memory(std::string_view generator, std::int64_t nx, std:
   throw InputError("unknown mesh generator '" + std::string(generator) + "' (expected one of: " + names + ")");
 }
 
-MemoryEstimate estimate_memory_3d(double vertices, double contact_nodes) {
+MemoryEstimate estimate_memory_3d(double vertices, double contact_nodes, double per_vertex) {
   MemoryEstimate e;
   e.vertices = std::max(vertices, 1.0);
-  e.solve_bytes = kBaseBytes + 1200.0 * std::pow(e.vertices, 4.0 / 3.0) + 48.0 * contact_nodes * contact_nodes;
+  e.solve_bytes = kBaseBytes + per_vertex * std::pow(e.vertices, 4.0 / 3.0) + 48.0 * contact_nodes * contact_nodes;
   e.mesh_bytes = kBaseBytes + 1500.0 * e.vertices;
   return e;
 }
@@ -129,7 +129,7 @@ MemoryEstimate estimate_memory_3d(std::string_view generator, std::int64_t nx, s
   const double side = std::max({(x + 1) * (y + 1), (y + 1) * (z + 1), (x + 1) * (z + 1)});
   if (g == "cubes" || g == "tetrahedra") return estimate_memory_3d((x + 1) * (y + 1) * (z + 1), side);
   // a 3D Voronoi tessellation has about 6.8 vertices per cell
-  if (g == "voronoi") return estimate_memory_3d(6.8 * x * y * z + 8.0, side);
+  if (g == "voronoi") return estimate_memory_3d(6.8 * x * y * z + 8.0, side, 3600.0);
   throw InputError("unknown 3D mesh generator '" + std::string(generator) + "' (expected one of: cubes, tetrahedra, voronoi)");
 }
 

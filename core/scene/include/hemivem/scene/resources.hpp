@@ -43,7 +43,10 @@ MemoryEstimate estimate_memory(const Mesh& mesh);
 /// contact nodes like their square: 24 MiB + 1200 V^(4/3) + 48 n_c^2 bytes for V vertices and
 /// n_c contact nodes, 1.1 times the measured peaks of solves on cubes n = 12 ... 32 (66 MB ...
 /// 1.3 GB). mesh_bytes: 24 MiB + 1500 V.
-MemoryEstimate estimate_memory_3d(double vertices, double contact_nodes);
+/// `per_vertex`, the coefficient of V^(4/3): 1200 for cubes and tetrahedra; Voronoi cells, with
+/// their many faces and vertices per cell, couple each vertex with more neighbours and fill
+/// their factor more: 3600, 1.1 times the peak measured at n = 16 (2.8 GB, 27 861 vertices).
+MemoryEstimate estimate_memory_3d(double vertices, double contact_nodes, double per_vertex = 1200.0);
 /// The estimate for a 3D generator (cubes, tetrahedra, voronoi) with nx x ny x nz cells, the
 /// contact nodes taken as the vertices of the largest side; InputError for an unknown generator
 /// or a size below 1.
