@@ -30,19 +30,6 @@
 
 namespace hemivem::cli {
 
-namespace {
-
-std::string toml_string(const std::string& s) {
-  std::string q = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') q += '\\';
-    q += c;
-  }
-  return q + "\"";
-}
-
-}  // namespace
-
 Scene load_scene(const SolveOptions& o) {
   Scene scene = o.scene.empty() ? default_scene() : parse_scene(o.scene);
   // every flag and --set at once: validated together, in no particular order
@@ -72,12 +59,7 @@ Scene load_scene(const SolveOptions& o) {
     v << std::setprecision(17) << *o.tolerance;
     overrides.push_back("solver.tolerance=" + v.str());
   }
-  if (o.figures) {  // "png,pdf" as the array ["png", "pdf"]
-    std::string list;
-    std::stringstream names(*o.figures);
-    for (std::string name; std::getline(names, name, ',');) list += (list.empty() ? "" : ", ") + toml_string(name);
-    overrides.push_back("output.figure_format=[" + list + "]");
-  }
+  if (o.figures) overrides.push_back(figure_format_override(*o.figures));
   // the flag behind each key a flag sets, for messages
   std::vector<std::pair<std::string, std::string>> flags;
   for (const auto& kv : overrides) {

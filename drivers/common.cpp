@@ -82,6 +82,22 @@ void say_what_an_interruption_keeps(const std::filesystem::path& dir) {
   for (int sig : {SIGINT, SIGTERM}) ::sigaction(sig, &action, nullptr);
 }
 
+std::string toml_string(const std::string& s) {
+  std::string q = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') q += '\\';
+    q += c;
+  }
+  return q + "\"";
+}
+
+std::string figure_format_override(const std::string& formats) {
+  std::string list;
+  std::stringstream names(formats);
+  for (std::string name; std::getline(names, name, ',');) list += (list.empty() ? "" : ", ") + toml_string(name);
+  return "output.figure_format=[" + list + "]";
+}
+
 bool reporting_process() { return launched_processes().rank == 0 && factorization_process_rank() == 0; }
 
 std::vector<int> parse_sizes(const std::string& text, const std::string& flag) {

@@ -46,6 +46,13 @@ bool reporting_process();
 /// (its exit status). Called once the output folder `dir` is known, on the process that reports.
 void say_what_an_interruption_keeps(const std::filesystem::path& dir);
 
+/// `s` as a TOML basic string: quoted, with '"' and '\\' escaped.
+std::string toml_string(const std::string& s);
+
+/// The override that --figures FORMATS (comma-separated, "png,pdf") stands for:
+/// output.figure_format=["png", "pdf"]; the scene's reader checks the names.
+std::string figure_format_override(const std::string& formats);
+
 /// The mesh sizes of a comma-separated list such as "4,8,16" (a flag's value): InputError at
 /// `flag` naming the bad entry and its place when an entry is empty ("4,,8"), not an integer or
 /// not in [1, 10000000].

@@ -332,6 +332,7 @@ Command register_study(CLI::App& app) {
     hemivem::cli::StudyOptions options;
     bool quiet = false;
     std::string n = "4,8,16,32,64";  ///< --n as given: parsed by parse_sizes, which names a bad entry
+    std::string figures;             ///< --figures as given
   };
   auto f = std::make_shared<Flags>();
   auto* cmd = app.add_subcommand(
@@ -344,9 +345,13 @@ Command register_study(CLI::App& app) {
       ->check(kCellCount);
   cmd->add_option("--set", f->options.set, "Override a scene key for every solve: key=value (repeatable)");
   cmd->add_option("--out", f->options.out, "Output folder (study.csv, study.json, study.png)")->capture_default_str();
+  auto* o_figures = cmd->add_option("--figures", f->figures,
+                                    "The figure's formats, comma-separated: png, pdf, svg (output.figure_format; default png)");
   cmd->add_flag("--json", f->options.json, "Print study.json on stdout instead of the table");
   cmd->add_flag("-q,--quiet", f->quiet, "Print nothing on success (no progress lines)");
-  return {cmd, [f] {
+  return {cmd, [f, o_figures] {
+            // before every --set, so that an explicit --set output.figure_format wins
+            if (*o_figures) f->options.set.insert(f->options.set.begin(), hemivem::cli::figure_format_override(f->figures));
             f->options.verbosity = f->quiet ? 0 : 1;
             f->options.n = hemivem::cli::parse_sizes(f->n, "--n");
             return hemivem::cli::run_study(f->options, std::cout, std::cerr);
@@ -417,6 +422,7 @@ Command register_bench(CLI::App& app) {
     double tol = 0.0, reference_energy = 0.0;
     int ref = 0, levels = 0;
     std::string n;  ///< --n as given: parsed by parse_sizes, which names a bad entry
+    std::string figures;  ///< --figures as given
     CLI::Option *o_n = nullptr, *o_tol = nullptr, *o_reference_energy = nullptr, *o_ref = nullptr, *o_levels = nullptr;
   };
   using namespace hemivem;
@@ -434,6 +440,8 @@ Command register_bench(CLI::App& app) {
   cmd->add_option("--set", f->options.set, "Override a scene key: key=value (repeatable)");
   cmd->add_option("--out", f->options.out, "Output folder (bench.csv, bench.json, bench.png; with --limit: limit.json)")
       ->capture_default_str();
+  auto* o_figures = cmd->add_option("--figures", f->figures,
+                                    "The plots' formats, comma-separated: png, pdf, svg (output.figure_format; default png)");
   cmd->add_flag("--json", f->options.json, "Print bench.json on stdout instead of the table");
   cmd->add_flag("-q,--quiet", f->quiet, "Print nothing on stdout or stderr");
   f->o_levels = cmd->add_option("--levels", f->levels,
@@ -450,8 +458,9 @@ Command register_bench(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::Range(1, 100))
       ->needs(o_limit);
-  return {cmd, [f] {
+  return {cmd, [f, o_figures] {
             cli::BenchOptions& o = f->options;
+            if (*o_figures) o.set.insert(o.set.begin(), cli::figure_format_override(f->figures));
             if (*f->o_n) o.n = cli::parse_sizes(f->n, "--n");
             if (*f->o_tol) o.tolerance = f->tol;
             if (*f->o_reference_energy) o.reference_energy = f->reference_energy;

@@ -190,4 +190,20 @@ TEST(FigureFormats, AnUnknownFormatIsRefusedNamingTheKey) {
   fs::remove_all(dir);
 }
 
+TEST(FigureFormats, StudyAndBenchTakeTheFiguresFlag) {
+  const auto dir = scratch("figure_format_study_bench");
+  const auto study = run_hemivem("study --n 2,4 --ref 8 -q --figures svg --out " + (dir / "study").string());
+  ASSERT_EQ(study.code, 0) << study.err;
+  EXPECT_TRUE(fs::exists(dir / "study" / "study.svg"));
+  EXPECT_FALSE(fs::exists(dir / "study" / "study.png"));
+  const auto bench = run_hemivem("bench --n 4 --ref 8 --levels 1 -q --figures png,pdf --out " + (dir / "bench").string());
+  ASSERT_EQ(bench.code, 0) << bench.err;
+  EXPECT_TRUE(fs::exists(dir / "bench" / "bench.png"));
+  EXPECT_EQ(slurp(dir / "bench" / "bench.pdf").substr(0, 5), "%PDF-");
+  const auto bad = run_hemivem("study --n 2,4 --ref 8 -q --figures gif --out " + (dir / "bad").string());
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.err.find("unknown figure format 'gif'"), std::string::npos) << bad.err;
+  fs::remove_all(dir);
+}
+
 }  // namespace

@@ -19,6 +19,15 @@ namespace hemivem {
 namespace {
 
 std::atomic<unsigned> files_written{0};
+std::atomic<pid_t> counting_process{0};  // the process files_written counts for
+
+/// The number of this file among those this process wrote (1 for the first): a forked child
+/// starts its own count rather than going on with its parent's.
+unsigned next_file_number() {
+  const pid_t self = ::getpid();
+  if (counting_process.exchange(self) != self) files_written = 0;
+  return files_written.fetch_add(1) + 1;
+}
 
 /// The test hooks (docs/reference/testing.md): HEMIVEM_TEST_FAIL_WRITE=N makes the N-th file
 /// this process writes fail as on a full disk, after half of its bytes; HEMIVEM_TEST_WRITE_DELAY
@@ -80,7 +89,7 @@ void write_file_atomically(const std::filesystem::path& path, const std::functio
   std::ostringstream text;
   write(text);
   if (!text) throw WriteError("making the file's contents failed", name);
-  const unsigned call = files_written.fetch_add(1) + 1;
+  const unsigned call = next_file_number();
   try {
     const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     if (fd < 0) throw WriteError(failure("cannot create the file", errno), name);
