@@ -47,13 +47,10 @@ std::vector<BasicCellStress<3>> cell_stresses(const Mesh3D& mesh, const Material
 
 namespace {
 
-int num_cells(const Mesh& mesh) { return mesh.num_elements(); }
-int num_cells(const Mesh3D& mesh) { return mesh.num_cells(); }
-
 template <class MeshType, int dim>
 std::optional<StressPeak> peak_of(const MeshType& mesh, const std::vector<BasicCellStress<dim>>& stresses) {
-  if (stresses.size() != static_cast<std::size_t>(num_cells(mesh)))
-    throw InputError(std::to_string(stresses.size()) + " cell stresses for a mesh of " + std::to_string(num_cells(mesh)) +
+  if (stresses.size() != static_cast<std::size_t>(mesh.num_cells()))
+    throw InputError(std::to_string(stresses.size()) + " cell stresses for a mesh of " + std::to_string(mesh.num_cells()) +
                      " cells");
   std::optional<StressPeak> peak;
   for (std::size_t c = 0; c < stresses.size(); ++c) {
