@@ -77,7 +77,7 @@ TEST(Path, OneStepIsTheStaticSolve) {
 }
 
 // Proportional loading condenses once and scales c; rebuilding the data at every step (one
-// interior solve per step for c and u) must give the same path.
+// interior solve per step for c and u, no load kept) must give the same path.
 TEST(Path, ProportionalLoadingEqualsRebuildingTheDataAtEveryStep) {
   const Mesh mesh = make_squares(12);
   ContactProblem a = example(mesh, 3.0);
@@ -85,9 +85,14 @@ TEST(Path, ProportionalLoadingEqualsRebuildingTheDataAtEveryStep) {
   ContactProblem b = a;
   const auto minimizer = make_minimizer("ssn");
   const PathSolution fast = solve_path(a, engine(), *minimizer, PathLoading{factors(6), {}});
-  const PathSolution slow = solve_path(b, engine("cholmod"), *minimizer, PathLoading{factors(6), rebuild(a)});
+  PathOptions every_step;
+  every_step.solved_loads = 0;
+  const PathSolution slow =
+      solve_path(b, engine("cholmod"), *minimizer, PathLoading{factors(6), rebuild(a)}, every_step);
   EXPECT_TRUE(fast.proportional);
   EXPECT_FALSE(slow.proportional);
+  EXPECT_EQ(fast.condensed_loads, 1);
+  EXPECT_EQ(slow.condensed_loads, 6);
   ASSERT_EQ(fast.steps.size(), 6u);
   ASSERT_EQ(slow.steps.size(), 6u);
   for (std::size_t k = 0; k < 6; ++k) {
@@ -333,16 +338,81 @@ TEST(Path, EveryLinearEngineFollowsTheSameGeneralPath) {
     SCOPED_TRACE(name);
     ContactProblem p = example(mesh, 3.0);
     p.parts[0].friction = tresca_law(0.5);
-    PathOptions options;
-    options.frame = [](int) { return true; };
-    const PathSolution path = solve_path(p, engine(name), *minimizer, PathLoading{factors(3), rebuild(p)}, options);
-    ASSERT_EQ(path.steps.size(), 3u);
-    for (std::size_t k = 0; k < 3; ++k) {
-      ASSERT_TRUE(path.steps[k].converged()) << path.steps[k].message;
-      EXPECT_LE(max_abs(path.steps[k].a - reference.steps[k].a), 1e-8 * max_abs(reference.steps[k].a));
-      EXPECT_LE(path.steps[k].forces->residual(), 1e-9);
+    for (const int kept : {0, 6}) {  // every step's load condensed; or each a multiple of the first
+      SCOPED_TRACE("loads kept " + std::to_string(kept));
+      ContactProblem q = p;
+      PathOptions options;
+      options.frame = [](int) { return true; };
+      options.solved_loads = kept;
+      const PathSolution path = solve_path(q, engine(name), *minimizer, PathLoading{factors(3), rebuild(p)}, options);
+      ASSERT_EQ(path.steps.size(), 3u);
+      EXPECT_EQ(path.condensed_loads, kept == 0 ? 3 : 1);
+      for (std::size_t k = 0; k < 3; ++k) {
+        ASSERT_TRUE(path.steps[k].converged()) << path.steps[k].message;
+        EXPECT_LE(max_abs(path.steps[k].a - reference.steps[k].a), 1e-8 * max_abs(reference.steps[k].a));
+        EXPECT_LE(path.steps[k].forces->residual(), 1e-9);
+      }
     }
   }
+}
+
+// Loads that combine two fields with coefficients in t, (3t, -8t) on the top and (0, -20 t^2) in
+// the body: two loads are condensed, every other step's is their combination, and each step is
+// still the static problem at its load (no friction: the history does not matter).
+TEST(Path, ALoadCombiningFieldsWithCoefficientsInTCondensesEachFieldOnce) {
+  const Mesh mesh = make_squares(10);
+  const auto minimizer = make_minimizer("ssn");
+  auto at = [](double t, ContactProblem& q) {
+    q.elasticity.tractions[0].traction = [t](const Vec2&) { return Vec2(3.0 * t, -8.0 * t); };
+    q.elasticity.body_force = [t](const Vec2&) { return Vec2(0.0, -20.0 * t * t); };
+  };
+  ContactProblem problem = example(mesh);
+  PathOptions options;
+  options.frame = [](int k) { return k % 2 == 0; };
+  const PathSolution path = solve_path(problem, engine("cholmod"), *minimizer, PathLoading{factors(6), at}, options);
+  ASSERT_EQ(path.steps.size(), 6u);
+  EXPECT_EQ(path.condensed_loads, 2);
+  for (const PathStep& s : path.steps) {
+    SCOPED_TRACE("t " + std::to_string(s.t));
+    ContactProblem at_t = example(mesh);
+    at(s.t, at_t);
+    const ContactSolution st = solve_contact(at_t, engine(), *minimizer, MinimizerOptions{});
+    ASSERT_TRUE(s.converged()) << s.message;
+    ASSERT_TRUE(st.converged());
+    EXPECT_LE(max_abs(s.a - st.minimizer->a), 1e-9 * max_abs(st.minimizer->a));
+    EXPECT_NEAR(s.energy, st.energy, 1e-9 * std::abs(st.energy));
+    EXPECT_LE((s.applied - Vec2(3.0 * s.t, -8.0 * s.t - 20.0 * s.t * s.t)).norm(), 1e-12 * s.applied.norm());
+    if (s.u.size() > 0) {
+      EXPECT_LE(max_abs(s.u - st.u), 1e-9 * max_abs(st.u));
+      EXPECT_LE(s.forces->residual(), 1e-9);
+    }
+  }
+}
+
+// A load that is no combination of a few fields (sin(pi t x) on the top): each step condenses
+// its own, the first six are kept and the later ones are not in their span; the path is the one
+// that keeps none.
+TEST(Path, ALoadOutsideTheSpanOfThoseKeptIsCondensedAtItsStep) {
+  const Mesh mesh = make_squares(16);
+  const auto minimizer = make_minimizer("ssn");
+  auto at = [](double t, ContactProblem& q) {
+    q.elasticity.tractions[0].traction = [t](const Vec2& x) { return Vec2(0.0, -8.0 * (1.0 + std::sin(M_PI * t * x.x()))); };
+  };
+  ContactProblem a = example(mesh), b = example(mesh);
+  PathOptions none;
+  none.solved_loads = 0;
+  const PathSolution kept = solve_path(a, engine(), *minimizer, PathLoading{factors(8), at});
+  const PathSolution every = solve_path(b, engine(), *minimizer, PathLoading{factors(8), at}, none);
+  EXPECT_EQ(kept.condensed_loads, 8);
+  EXPECT_EQ(every.condensed_loads, 8);
+  ASSERT_EQ(kept.steps.size(), 8u);
+  for (std::size_t k = 0; k < 8; ++k) {
+    SCOPED_TRACE("step " + std::to_string(k + 1));
+    ASSERT_TRUE(kept.steps[k].converged()) << kept.steps[k].message;
+    EXPECT_LE(max_abs(kept.steps[k].a - every.steps[k].a), 1e-10 * max_abs(every.steps[k].a));
+    EXPECT_NEAR(kept.steps[k].energy, every.steps[k].energy, 1e-10 * std::abs(every.steps[k].energy));
+  }
+  EXPECT_LE(max_abs(kept.last.u - every.last.u), 1e-10 * max_abs(every.last.u));
 }
 
 // A moving obstacle changes the gaps of every step (Condensation::set_gaps); each step must be

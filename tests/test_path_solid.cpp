@@ -79,6 +79,27 @@ TEST(SolidPath, TheLastStepIsTheStaticSolve) {
   }
   EXPECT_TRUE(proportional.solid_path()->proportional);
   EXPECT_FALSE(general.solid_path()->proportional);
+  // "-2*t" is t times the field at t = 1: the condensation's load serves every step
+  EXPECT_EQ(proportional.solid_path()->condensed_loads, 1);
+  EXPECT_EQ(general.solid_path()->condensed_loads, 1);
+}
+
+// The top's pressure t + t^2 written as two traction entries on one side: one field times a
+// function of t, found from the loads themselves (one load condensed), and every step settles
+// by its load.
+TEST(SolidPath, TwoEntriesOfOneFieldAreOneLoad) {
+  Scene scene = rollers({"path.steps=4", "loads.traction[0].value=[0, 0, \"-t\"]"});
+  scene.tractions.push_back(scene.tractions.front());
+  apply_overrides(scene, {"loads.traction[1].value=[0, 0, \"-(t^2)\"]"});
+  const SceneRun run = run_scene(scene);
+  ASSERT_NE(run.solid_path(), nullptr);
+  ASSERT_TRUE(run.converged()) << run.solid()->solution.message;
+  EXPECT_EQ(run.solid_path()->condensed_loads, 1);
+  for (const auto& step : run.solid_path()->steps) {
+    const double p = step.t + step.t * step.t;  // the pressure: u_nu = p / 50 at every contact node
+    for (const auto& n : step.contact) EXPECT_NEAR(n.u_nu, p / 50.0, 1e-10) << "step " << step.index;
+    EXPECT_NEAR(step.applied.z(), -3.0 * p, 1e-12) << step.index;
+  }
 }
 
 // Hertz's sphere (scenes/hertz-sphere-3d.toml, coarse) lowered onto the block by a motion of
@@ -126,6 +147,7 @@ TEST(SolidPath, ThePathsFilesHoldEveryStep) {
   EXPECT_EQ(result["dimension"], 3);
   EXPECT_EQ(result["path"]["steps"], 3);
   EXPECT_EQ(result["path"]["converged_steps"], 3);
+  EXPECT_EQ(result["path"]["condensed_loads"], 1);
   std::ifstream contact(dir / "path-contact.csv");
   std::string header;
   std::getline(contact, header);

@@ -52,8 +52,11 @@ template <int dim>
 BasicPathLoading<dim> scene_path_loading(const Scene& scene) {
   BasicPathLoading<dim> loading;
   loading.t = scene.path ? scene.path->factors() : std::vector<double>{1.0};
-  if (!scene_is_proportional(scene))
+  if (!scene_is_proportional(scene)) {
     loading.update = [scene](double t, BasicContactProblem<dim>& problem) { set_load_factor(scene, t, problem); };
+    loading.updates_prescribed = !scene.dirichlet.empty();  // [clamped] stays zero
+    loading.updates_gaps = scene_path_moves_gaps(scene);
+  }
   return loading;
 }
 

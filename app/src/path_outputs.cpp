@@ -108,6 +108,7 @@ nlohmann::json path_summary_json(const BasicPathSolution<dim>& path) {
           {"jumps", path.jumps()},
           {"t", path.steps.empty() ? nlohmann::json() : nlohmann::json(path.steps.back().t)},
           {"proportional", path.proportional},
+          {"condensed_loads", path.condensed_loads},
           {"file", "path.json"}};
 }
 

@@ -1,11 +1,14 @@
 #include <hemivem/path/path.hpp>
 
+#include "solved_loads.hpp"
+
 #include <hemivem/contact/condensation.hpp>
 #include <hemivem/contact/piecewise_law.hpp>
 #include <hemivem/contact/supports.hpp>
 #include <hemivem/vem/assembly3d.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/process_group.hpp>
+#include <hemivem/support/blas_threads.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -84,6 +87,29 @@ Eigen::Matrix<double, dim, 1> resultant(const Eigen::VectorXd& f) {
   return r;
 }
 
+// The prescribed dofs, in order.
+std::vector<int> held_dofs(const DofMap& dofs) {
+  std::vector<int> held;
+  for (int k = 0; k < dofs.num_dofs(); ++k)
+    if (dofs.free_index[static_cast<std::size_t>(k)] < 0) held.push_back(k);
+  return held;
+}
+
+// One vector of a step's load for SolvedLoads, into v: the free dofs' right-hand side b, then
+// the values of the prescribed dofs `held`; and back.
+void stack(const std::vector<int>& held, const Eigen::VectorXd& b, const Eigen::VectorXd& prescribed, Eigen::VectorXd* v) {
+  v->resize(b.size() + static_cast<Eigen::Index>(held.size()));
+  v->head(b.size()) = b;
+  for (std::size_t j = 0; j < held.size(); ++j) (*v)(b.size() + static_cast<Eigen::Index>(j)) = prescribed(held[j]);
+}
+
+void unstack(const std::vector<int>& held, const Eigen::VectorXd& v, Eigen::VectorXd* b, Eigen::VectorXd* prescribed) {
+  const Eigen::Index free = v.size() - static_cast<Eigen::Index>(held.size());
+  *b = v.head(free);
+  *prescribed = Eigen::VectorXd::Zero(v.size());
+  for (std::size_t j = 0; j < held.size(); ++j) (*prescribed)(held[j]) = v(free + static_cast<Eigen::Index>(j));
+}
+
 std::string shortest(double x) {
   std::ostringstream out;
   out.precision(3);
@@ -145,11 +171,19 @@ struct BasicPathSolver<dim>::Impl {
   /// Per contact node, the friction bound of its part that depends on the normal contact (null: none).
   std::vector<const FrictionBound*> bound_law;
   bool bounded = false;          // some node has one
-  // proportional loading: the data at t = 1
-  Eigen::VectorXd c1;            // the condensed load
-  Eigen::VectorXd prescribed1;   // every dof's prescribed value
-  Point applied1 = Point::Zero();
-  double kappa1 = 0.0;           // Phi(u) - [1/2 x^T S x - c^T x] at t = 1
+  // The loads condensed so far (a proportional path: the one at t = 1; a path whose load is a
+  // combination of fields with coefficients in t: one per field) and what each gives: its
+  // condensed load (column j of load_c), its applied resultant, and load_kappa, with
+  // kappa(V alpha) = alpha^T K alpha = Phi(u) - [1/2 x^T S x - c^T x] for the load V alpha.
+  detail::SolvedLoads loads;
+  std::vector<int> held;         // the prescribed dofs
+  Eigen::VectorXd v;             // the step's load, stacked
+  Eigen::MatrixXd load_c;
+  Eigen::Matrix<double, dim, Eigen::Dynamic> load_applied;
+  Eigen::MatrixXd load_kappa;
+  Eigen::VectorXd alpha;         // the step's load is V alpha (empty: a load outside the span)
+  bool load_current = true;      // the condensation holds the step's load (set_load)
+  int condensed_loads = 1;       // the condensation's own, then one per interior solve of a step's load
   // along the path
   Eigen::VectorXd x_prev;        // the previous step's contact unknowns (u_nu, u_tau)
   Eigen::VectorXd tau_prev;      // the previous step's u_tau per node
@@ -164,6 +198,9 @@ struct BasicPathSolver<dim>::Impl {
 
   void set_up();
   void condense();
+  void remember_load(const Eigen::VectorXd& b);
+  Eigen::VectorXd step_load(Step& s, Eigen::VectorXd* b, double* kappa);
+  void make_load_current(Eigen::VectorXd* b);
   void find_friction_bounds();
   Step solve_step(int k);
   void minimize_step(Step& s, const Eigen::VectorXd& shift, const Eigen::VectorXd& origin, bool unloaded);
@@ -184,6 +221,7 @@ void BasicPathSolver<dim>::Impl::set_up() {
                      " runs across processes: choose another");
   if (std::string why; !options.minimizer.is_valid(&why)) throw InputError(why, "MinimizerOptions");
   if (!(options.jump_factor > 1.0)) throw InputError("the jump factor of a path must be > 1");
+  if (options.solved_loads < 0) throw InputError("the number of loads a path keeps condensed must be >= 0");
   if (options.fixed_point.max_iterations < 1 || !(options.fixed_point.relaxation > 0.0 && options.fixed_point.relaxation <= 1.0))
     throw InputError("the fixed point of a path needs max_iterations >= 1 and a relaxation in (0, 1]");
   if (problem.parts.empty())
@@ -208,16 +246,106 @@ void BasicPathSolver<dim>::Impl::set_up() {
   x_prev = Eigen::VectorXd::Zero(step.size());
   tau_prev = Eigen::VectorXd::Zero(n1);
   g = Eigen::VectorXd::Zero(n1);
+  // a proportional path keeps its load at t = 1 whatever the capacity
+  const int capacity = loading.proportional() ? std::max(1, options.solved_loads) : options.solved_loads;
+  loads = detail::SolvedLoads(dofs.num_dofs(), capacity, 1e-12);
+  load_c.resize(step.size(), 0);
+  load_applied.resize(dim, 0);
+  held = held_dofs(dofs);
+  stack(held, system->b, dofs.prescribed, &v);
+  if (!loads.full() && !v.isZero(0.0)) remember_load(system->b);
+}
+
+// Keeps the load the condensation holds (the first step's; a proportional path's at t = 1)
+// with its condensed load, resultant and kappa: Phi at the displacement u0 whose contact
+// unknowns are 0 (1/2 x^T S x - c^T x = 0 there), K_jj = 1/2 u0.A u0 - u0.b_j and, as A u0 = b
+// away from the contact unknowns, K_ij = -1/2 u0_j . b_i.
+template <int dim>
+void BasicPathSolver<dim>::Impl::remember_load(const Eigen::VectorXd& b) {
+  stack(held, b, dofs.prescribed, &v);
+  const auto j = static_cast<Eigen::Index>(loads.add(v));
+  load_c.conservativeResize(Eigen::NoChange, j + 1);
+  load_c.col(j) = cond->condensed_load();
+  load_applied.conservativeResize(Eigen::NoChange, j + 1);
+  load_applied.col(j) =
+      resultant<dim>(assemble_load(*problem.elasticity.mesh, problem.elasticity.body_force, problem.elasticity.tractions));
+  const Eigen::VectorXd u0 = cond->back_substitute(-cond->origin());
+  Eigen::VectorXd uf(dofs.num_free());
+  for (int d = 0; d < dofs.num_free(); ++d) uf(d) = u0(dofs.free_dofs[static_cast<std::size_t>(d)]);
+  load_kappa.conservativeResize(j + 1, j + 1);
+  load_kappa(j, j) = 0.5 * uf.dot(system->A * uf) - uf.dot(b);
+  for (Eigen::Index i = 0; i < j; ++i)
+    load_kappa(i, j) = load_kappa(j, i) = -0.5 * uf.dot(loads.loads().col(i).head(dofs.num_free()));
+}
+
+// The step's condensed load c_raw, its resultant (s.applied) and, when the load is in the span of
+// those kept, kappa (else NaN) and alpha: a proportional path's is t times the load at t = 1;
+// otherwise the scene's data at t are assembled (b) and written as a combination of the loads
+// kept, or condensed anew (one interior solve) and kept while there is room.
+template <int dim>
+Eigen::VectorXd BasicPathSolver<dim>::Impl::step_load(Step& s, Eigen::VectorXd* b, double* kappa) {
+  load_current = false;
   if (loading.proportional()) {
-    c1 = cond->condensed_load();
-    prescribed1 = dofs.prescribed;
-    applied1 = resultant<dim>(assemble_load(*problem.elasticity.mesh, problem.elasticity.body_force, problem.elasticity.tractions));
-    // kappa: Phi at the displacement whose contact unknowns are 0, which has 1/2 x^T S x - c^T x = 0
-    const Eigen::VectorXd u0 = cond->back_substitute(-cond->origin());
-    Eigen::VectorXd uf(dofs.num_free());
-    for (int d = 0; d < dofs.num_free(); ++d) uf(d) = u0(dofs.free_dofs[static_cast<std::size_t>(d)]);
-    kappa1 = 0.5 * uf.dot(system->A * uf) - uf.dot(system->b);
+    alpha = Eigen::VectorXd::Constant(loads.size(), s.t);
+  } else {
+    if (s.index > 1) loading.update(s.t, problem);
+    if (loading.updates_prescribed) {
+      const DofMap at_t = make_dof_map(*problem.elasticity.mesh, problem.elasticity.dirichlet);
+      if (at_t.free_dofs != dofs.free_dofs)
+        throw InputError("the prescribed degrees of freedom change along the path at t = " + shortest(s.t) +
+                         ": a path may change prescribed values, not which displacements are prescribed");
+      dofs.prescribed = at_t.prescribed;
+    }
+    *b = assemble_rhs(problem.elasticity, dofs);
+    if (loading.updates_gaps) {
+      boundary.gaps = contact_boundary(problem, dofs).gaps;  // the contact nodes report the step's gaps
+      cond->set_gaps(boundary.gaps);
+      step.lo = cond->reduced().lo;
+      step.hi = cond->reduced().hi;
+      if (step.laws.size() != cond->reduced().laws.size()) step.laws = cond->reduced().laws;
+      step.law_index = cond->reduced().law_index;
+    }
+    stack(held, *b, dofs.prescribed, &v);
+    if (auto found = loads.coefficients(v)) {
+      alpha = std::move(*found);
+    } else {
+      if (s.index > 1) {  // the first step's load is the condensation's own
+        cond->set_load(*b, dofs.prescribed);
+        ++condensed_loads;
+      }
+      load_current = true;
+      if (loads.full()) {
+        alpha.resize(0);
+        *kappa = std::numeric_limits<double>::quiet_NaN();
+        const auto& e = problem.elasticity;
+        s.applied = resultant<dim>(assemble_load(*e.mesh, e.body_force, e.tractions));
+        return cond->condensed_load();
+      }
+      remember_load(*b);
+      alpha = Eigen::VectorXd::Unit(loads.size(), loads.size() - 1);
+    }
   }
+  // kappa as the proportional path always formed it, (t t) K_11
+  *kappa = 0.0;
+  for (Eigen::Index i = 0; i < alpha.size(); ++i)
+    for (Eigen::Index j = 0; j < alpha.size(); ++j) *kappa += alpha(i) * alpha(j) * load_kappa(i, j);
+  s.applied = alpha.size() == 1 ? Point(alpha(0) * load_applied.col(0)) : Point(load_applied * alpha);
+  return alpha.size() == 1 ? Eigen::VectorXd(alpha(0) * load_c.col(0)) : Eigen::VectorXd(load_c * alpha);
+}
+
+// Sets the condensation's load to the step's, for its displacement: b as assembled, or (empty)
+// the combination of the loads kept, which it is then set to.
+template <int dim>
+void BasicPathSolver<dim>::Impl::make_load_current(Eigen::VectorXd* b) {
+  if (load_current) return;
+  if (b->size() == dofs.num_free()) {
+    cond->set_load(*b, dofs.prescribed);
+  } else {
+    Eigen::VectorXd prescribed;
+    unstack(held, loads.combination(alpha), b, &prescribed);
+    cond->set_load(*b, prescribed);
+  }
+  load_current = true;
 }
 
 // The stages of the static solve up to the condensation (BasicContactSolver::prepare).
@@ -272,28 +400,9 @@ auto BasicPathSolver<dim>::Impl::solve_step(int k) -> Step {
   s.t = loading.t[static_cast<std::size_t>(k - 1)];
   const double t = s.t;
   const bool proportional = loading.proportional();
-  Eigen::VectorXd c_raw, b;
-  if (proportional) {
-    c_raw = t * c1;
-    s.applied = t * applied1;
-  } else {
-    if (k > 1) loading.update(t, problem);
-    const DofMap at_t = make_dof_map(*problem.elasticity.mesh, problem.elasticity.dirichlet);
-    if (at_t.free_dofs != dofs.free_dofs)
-      throw InputError("the prescribed degrees of freedom change along the path at t = " + shortest(t) +
-                       ": a path may change prescribed values, not which displacements are prescribed");
-    b = assemble_rhs(problem.elasticity, at_t);
-    cond->set_load(b, at_t.prescribed);
-    dofs.prescribed = at_t.prescribed;
-    boundary.gaps = contact_boundary(problem, dofs).gaps;  // the contact nodes report the step's gaps
-    cond->set_gaps(boundary.gaps);
-    c_raw = cond->condensed_load();
-    step.lo = cond->reduced().lo;
-    step.hi = cond->reduced().hi;
-    if (step.laws.size() != cond->reduced().laws.size()) step.laws = cond->reduced().laws;
-    step.law_index = cond->reduced().law_index;
-    s.applied = resultant<dim>(assemble_load(*problem.elasticity.mesh, problem.elasticity.body_force, problem.elasticity.tractions));
-  }
+  Eigen::VectorXd b;
+  double kappa = 0.0;
+  const Eigen::VectorXd c_raw = step_load(s, &b, &kappa);
   Eigen::VectorXd shift = Eigen::VectorXd::Zero(step.size());
   for (int i = 0; i < n1; ++i)
     if (const int kt = cond->tangential_coordinate(i); kt >= 0) shift(kt) = tau_prev(i);
@@ -315,18 +424,14 @@ auto BasicPathSolver<dim>::Impl::solve_step(int k) -> Step {
   change_prev = s.change;
   x_prev = x;
 
-  // the displacement: every step of a general path (its energy and forces need it), the
-  // frames and the last step
+  // the displacement: the frames, the last step, and every step whose forces (a bilateral
+  // node's) or energy (a load outside the span of those kept) need it
   const bool last = k == static_cast<int>(loading.t.size());
   const bool frame = last || (options.frame && options.frame(k));
   Eigen::VectorXd u;
-  double kappa = t * t * kappa1;
-  if (!proportional || frame || any_bilateral) {
+  if (frame || any_bilateral || std::isnan(kappa)) {
     const auto t0 = Clock::now();
-    if (proportional) {
-      b = t * system->b;
-      cond->set_load(b, t * prescribed1);
-    }
+    make_load_current(&b);
     u = cond->back_substitute(x - origin);
     timings["frames"] += since(t0);
   }
@@ -514,16 +619,18 @@ BasicPathSolution<dim> BasicPathSolver<dim>::run() {
   out.proportional = p.loading.proportional();
   const auto t_path = Clock::now();
   const int K = static_cast<int>(p.loading.t.size());
+  const SingleThreadedBlas one_thread;  // each step's dense work is small
   for (int k = 1; k <= K; ++k) {
     out.steps.push_back(p.solve_step(k));
     if (p.options.on_step && !p.options.on_step(out.steps.back())) break;
   }
   p.timings["path"] = since(t_path) - p.timings["frames"];
+  out.condensed_loads = p.condensed_loads;
   if (out.steps.back().u.size() == 0) {
     // stopped early by on_step: the displacement of the step it stopped at
     auto& s = out.steps.back();
-    Eigen::VectorXd b = s.t * p.system->b;
-    if (out.proportional) p.cond->set_load(b, s.t * p.prescribed1);
+    Eigen::VectorXd b;
+    p.make_load_current(&b);
     s.u = p.cond->back_substitute(s.a - p.cond->origin());
     const auto at_t = out.proportional ? scaled(p.problem.elasticity, s.t) : p.problem.elasticity;
     s.forces = force_balance(at_t, s.u, s.contact_force);

@@ -199,20 +199,29 @@ std::unique_ptr<BuiltProblem> build_problem(const Scene& scene, Mesh given, bool
   return detail::built_on<2>(scene, std::move(mesh));
 }
 
+namespace {
+
+bool mentions_t(const Scene& scene, const SceneScalar& v) {
+  return v.is_expression() && ScalarExpression::parse(v.expression, scene.dimension()).uses_t();
+}
+
+}  // namespace
+
 bool scene_is_proportional(const Scene& scene) {
-  const int dimension = scene.dimension();
-  auto mentions_t = [dimension](const SceneScalar& v) {
-    return v.is_expression() && ScalarExpression::parse(v.expression, dimension).uses_t();
-  };
-  auto any = [&](const auto&... v) { return (mentions_t(v) || ...); };
+  auto any = [&](const auto&... v) { return (mentions_t(scene, v) || ...); };
   if (any(scene.body_force[0], scene.body_force[1], scene.body_force[2])) return false;
   for (const auto& t : scene.tractions)
-    if (t.pressure ? mentions_t(*t.pressure) : any(t.value[0], t.value[1], t.value[2])) return false;
+    if (t.pressure ? mentions_t(scene, *t.pressure) : any(t.value[0], t.value[1], t.value[2])) return false;
   for (const auto& d : scene.dirichlet)
-    if ((d.ux && mentions_t(*d.ux)) || (d.uy && mentions_t(*d.uy)) || (d.uz && mentions_t(*d.uz))) return false;
+    if ((d.ux && mentions_t(scene, *d.ux)) || (d.uy && mentions_t(scene, *d.uy)) || (d.uz && mentions_t(scene, *d.uz)))
+      return false;
+  return !scene_path_moves_gaps(scene);
+}
+
+bool scene_path_moves_gaps(const Scene& scene) {
   for (const SceneContact& c : contact_parts(scene))
-    if (c.obstacle ? c.obstacle->motion.has_value() : mentions_t(c.gap)) return false;
-  return true;
+    if (c.obstacle ? c.obstacle->motion.has_value() : mentions_t(scene, c.gap)) return true;
+  return false;
 }
 
 void set_load_factor(const Scene& scene, double t, ContactProblem& problem) { detail::set_problem_at(scene, t, problem); }

@@ -222,12 +222,13 @@ Eigen::VectorXd rhs_of(const BasicElasticityProblem<dim>& problem, const DofMap&
   Eigen::VectorXd b(dofs.num_free());
   for (int i = 0; i < dofs.num_free(); ++i) b(i) = f(dofs.free_dofs[static_cast<std::size_t>(i)]);
   const auto lifted = [&](int d) { return dofs.prescribed(d) != 0.0; };
-  apply_cells<dim>(
-      mesh, problem.materials, problem.stabilization, lifted,
-      [&](int d) { return dofs.free_index[static_cast<std::size_t>(d)] < 0 ? dofs.prescribed(d) : 0.0; },
-      [&](int d, double value) {
-        if (const int fi = dofs.free_index[static_cast<std::size_t>(d)]; fi >= 0) b(fi) -= value;
-      });
+  if (!dofs.prescribed.isZero(0.0))  // 0 at the free dofs
+    apply_cells<dim>(
+        mesh, problem.materials, problem.stabilization, lifted,
+        [&](int d) { return dofs.free_index[static_cast<std::size_t>(d)] < 0 ? dofs.prescribed(d) : 0.0; },
+        [&](int d, double value) {
+          if (const int fi = dofs.free_index[static_cast<std::size_t>(d)]; fi >= 0) b(fi) -= value;
+        });
   return b;
 }
 

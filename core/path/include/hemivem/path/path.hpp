@@ -36,9 +36,14 @@ struct BasicPathLoading {
   /// mesh, the materials, the boundary parts, the laws and which dofs are prescribed stay;
   /// InputError otherwise). Empty: proportional loading, the problem as given being the one at
   /// t = 1: its load vector and its prescribed displacements are multiplied by t, its gaps and
-  /// obstacle stay. A step then costs no linear solve; with `update` it costs one interior
-  /// solve for the condensed load and one for the displacement.
+  /// obstacle stay. A step then costs no linear solve; with `update` it costs none when its
+  /// load is a combination of loads already condensed (PathOptions::solved_loads), else one
+  /// interior solve for the condensed load and one for the displacement.
   std::function<void(double t, BasicContactProblem<dim>& problem)> update;
+  /// Whether `update` may change prescribed values, and gaps or obstacles: a step rebuilds
+  /// the dof map's prescribed values, and the contact boundary's gaps, only where it may.
+  bool updates_prescribed = true;
+  bool updates_gaps = true;
   bool proportional() const noexcept { return !update; }
 };
 using PathLoading = BasicPathLoading<2>;
@@ -67,6 +72,11 @@ struct BasicPathOptions {
   /// Steps (1-based) whose full displacement is computed and handed to on_step
   /// (PathStep::u, PathStep::forces); the last step always is. Each costs one interior solve.
   std::function<bool(int step)> frame;
+  /// At most this many loads are kept condensed (docs/paths.md, "What a step costs"): a step
+  /// whose load (the free dofs' right-hand side and the prescribed values) is a combination of
+  /// them, within 1e-12 of its norm, is condensed without an interior solve. 0: every step of a
+  /// path with an update condenses its own load.
+  int solved_loads = 6;
   /// Called after each step; returning false stops the path after it (the solution then holds
   /// the steps done).
   std::function<bool(const BasicPathStep<dim>&)> on_step;
@@ -131,6 +141,10 @@ struct BasicPathSolution {
   /// path is never reported converged past a failed step.
   BasicContactSolution<dim> last;
   bool proportional = true;
+  /// The loads condensed along the path, each one interior solve (frames' not counted): 1 on
+  /// a proportional path or when every step's load is a multiple of the first's; one per field
+  /// when the loads combine fields with coefficients in t; at most one per step otherwise.
+  int condensed_loads = 0;
   /// Seconds: assembly, condensation, path (every step), frames (their displacements), total.
   std::map<std::string, double> timings;
   /// Every step converged.

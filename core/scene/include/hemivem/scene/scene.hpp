@@ -401,6 +401,9 @@ std::unique_ptr<BuiltProblem> build_problem(const Scene& scene, Mesh mesh, bool 
 /// at t is then the one at t = 1 with its load vector and prescribed displacements times t
 /// (PathLoading's proportional loading).
 bool scene_is_proportional(const Scene& scene);
+/// Whether a contact part's gap mentions t or its obstacle moves: the contact boundary's gaps
+/// then change along the path (PathLoading::updates_gaps).
+bool scene_path_moves_gaps(const Scene& scene);
 
 /// Sets the data of `problem`, built from `scene` (build_problem, make_contact_problem), to
 /// their values at the load factor t (the rule at the top of this file): the body force, each
