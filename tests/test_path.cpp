@@ -188,6 +188,37 @@ TEST(Path, CoulombLimitsAndBalance) {
   }
 }
 
+// Coulomb (mu = 0.3) along 200 small steps, pressed to t = 1/2 then sheared: each step's first
+// bound is extrapolated from the last two steps' and the fixed point is accelerated (Anderson),
+// so that it takes at most two Tresca problems a step on average; every step is certified, and
+// the path is the one the plain relaxed iteration finds.
+TEST(Path, CoulombAlongSmallStepsTakesAtMostTwoTrescaSolvesAStep) {
+  const Mesh mesh = make_squares(16);
+  const auto minimizer = make_minimizer("ssn");
+  auto run = [&](int depth) {
+    ContactProblem p = example(mesh);
+    p.parts[0].friction = tresca_law(1.0);
+    p.parts[0].friction_bound = FrictionBound{FrictionBound::Kind::coulomb, 0.3, {}};
+    PathLoading loading{factors(200), [](double t, ContactProblem& q) {
+                          q.elasticity.tractions[0].traction = [t](const Vec2&) {
+                            return Vec2(4.0 * std::max(2.0 * t - 1.0, 0.0), -8.0 * std::min(2.0 * t, 1.0));
+                          };
+                        }};
+    PathOptions options;
+    options.fixed_point.anderson_depth = depth;
+    return solve_path(p, engine(), *minimizer, loading, options);
+  };
+  const PathSolution fast = run(3), plain = run(0);
+  ASSERT_TRUE(fast.converged()) << fast.last.message;
+  ASSERT_TRUE(plain.converged()) << plain.last.message;
+  int solves = 0;
+  for (const PathStep& s : fast.steps) solves += s.fixed_point.iterations;
+  EXPECT_LE(solves, 2 * 200);
+  for (std::size_t k = 0; k < fast.steps.size(); k += 20)
+    EXPECT_LE(max_abs(fast.steps[k].a - plain.steps[k].a), 1e-7 * max_abs(plain.steps[k].a)) << "step " << k + 1;
+  EXPECT_LE(max_abs(fast.last.u - plain.last.u), 1e-7 * max_abs(plain.last.u));
+}
+
 // A moderate mu: the fixed point converges and its certificate holds; the friction force of every
 // node lies within mu times its normal force, with equality where it slips.
 TEST(Path, CoulombFixedPointMeetsTheCoupledConditions) {

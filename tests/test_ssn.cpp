@@ -375,3 +375,34 @@ TEST(Ssn, InputErrors) {
 }
 
 }  // namespace
+
+// Started next to the solution, as a step of a loading path is: Example 4.1 with Tresca friction
+// and a traction (3, -8), from the solution moved by 1e-6 to 1e-9 of its size in random
+// directions. Near the solution the energy changes by less than its round-off, where Armijo's
+// comparison of F is noise; every run must still reach the certificate (a step there is taken
+// on the decrease of the residual). The path that showed the failure this guards against (ssn
+// cycling between active sets until it stalled, two steps in a 1000-step Coulomb path on
+// 256 x 256 squares) is measured in docs/paths.md.
+TEST(Ssn, AStartNextToTheSolutionReachesTheCertificate) {
+  auto ex = example("squares", 32, [](ContactProblem& p) {
+    p.parts[0].friction = tresca_law(0.8);
+    for (auto& t : p.elasticity.tractions) t.traction = [](const Vec2&) { return Vec2(3.0, -8.0); };
+  });
+  const ReducedProblem& p = ex->condensation->reduced();
+  MinimizerOptions o;
+  o.tolerance = 1e-10;
+  const MinimizerResult cold = SsnMinimizer().minimize(p, Eigen::VectorXd(), o);
+  ASSERT_TRUE(cold.converged()) << cold.message;
+  std::mt19937 gen(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const double size = cold.a.cwiseAbs().maxCoeff();
+  for (int run = 0; run < 40; ++run) {
+    SCOPED_TRACE("run " + std::to_string(run));
+    Eigen::VectorXd start = cold.a;
+    for (Eigen::Index i = 0; i < start.size(); ++i) start(i) += std::pow(10.0, -6.0 - run % 4) * size * u(gen);
+    o.check_existence = false;
+    const MinimizerResult warm = SsnMinimizer().minimize(p, start, o);
+    EXPECT_TRUE(warm.converged()) << to_string(warm.status) << ": " << warm.message;
+    EXPECT_LE((warm.a - cold.a).cwiseAbs().maxCoeff(), 1e-8 * size);
+  }
+}

@@ -1,5 +1,6 @@
 #include <hemivem/path/path.hpp>
 
+#include "anderson.hpp"
 #include "solved_loads.hpp"
 
 #include <hemivem/contact/condensation.hpp>
@@ -188,6 +189,7 @@ struct BasicPathSolver<dim>::Impl {
   Eigen::VectorXd x_prev;        // the previous step's contact unknowns (u_nu, u_tau)
   Eigen::VectorXd tau_prev;      // the previous step's u_tau per node
   Eigen::VectorXd g;             // the friction bound per node (FrictionBound)
+  Eigen::VectorXd g_before;      // the bound the step before the last ended with (empty before it)
   double change_prev = 0.0, t_prev = 0.0, t_before = 0.0;
   std::map<std::string, double> timings;
   bool check_existence_each_step = true;
@@ -203,6 +205,7 @@ struct BasicPathSolver<dim>::Impl {
   void make_load_current(Eigen::VectorXd* b);
   void find_friction_bounds();
   Step solve_step(int k);
+  void extrapolate_bound(double t);
   void minimize_step(Step& s, const Eigen::VectorXd& shift, const Eigen::VectorXd& origin, bool unloaded);
   void describe_step(Step& s, const MinimizerResult& m, const Eigen::VectorXd& shift,
                      const Eigen::VectorXd& c_raw, double kappa, const Eigen::VectorXd* u,
@@ -448,6 +451,21 @@ auto BasicPathSolver<dim>::Impl::solve_step(int k) -> Step {
   return s;
 }
 
+// The first bound of the step at t: extrapolated linearly in t from the last two steps' (the
+// mismatch the fixed point starts from is then of the order of the increment squared rather
+// than the increment), never below 0; the last step's alone at the second step.
+template <int dim>
+void BasicPathSolver<dim>::Impl::extrapolate_bound(double t) {
+  if (g_before.size() != g.size() || !(t_prev > t_before)) {
+    g_before = g;
+    return;
+  }
+  const double r = (t - t_prev) / (t_prev - t_before);
+  const Eigen::VectorXd last = g;
+  g = (g + r * (g - g_before)).cwiseMax(0.0);
+  g_before = last;
+}
+
 // One minimization, or the fixed point on the friction bound: each iterate a Tresca problem with
 // the bound g (the tangential weights w_i g_i), until the coupled certificate holds.
 template <int dim>
@@ -468,10 +486,12 @@ void BasicPathSolver<dim>::Impl::minimize_step(Step& s, const Eigen::VectorXd& s
     last_result = std::move(m);
     return;
   }
+  extrapolate_bound(s.t);
   FixedPointReport& fp = s.fixed_point;
   fp.used = true;
   fp.relaxation = options.fixed_point.relaxation;
   Eigen::VectorXd from = start;
+  detail::AndersonMixing mixing(options.fixed_point.anderson_depth);
   double change_before = std::numeric_limits<double>::infinity();
   int growing = 0;
   // the nodes whose bound depends on the normal contact, and their weights
@@ -512,12 +532,16 @@ void BasicPathSolver<dim>::Impl::minimize_step(Step& s, const Eigen::VectorXd& s
     last_result = std::move(m);
     if (fp.converged || failed) break;
     growing = fp.change > change_before ? growing + 1 : 0;
+    if (growing > 0) mixing.restart();
     if (growing >= 2 && fp.relaxation > 1.0 / 64.0) {
       fp.relaxation /= 2.0;
       growing = 0;
     }
     change_before = fp.change;
-    g += fp.relaxation * (implied - g);
+    // the next bound: Anderson's mixing of the last iterates (the relaxed step without
+    // history), never below 0
+    const Eigen::VectorXd next = mixing.next(used, implied_b - used, fp.relaxation);
+    for (Eigen::Index j = 0; j < nb; ++j) g(nodes[static_cast<std::size_t>(j)]) = std::max(0.0, next(j));
     from = last_result.a;
   }
   if (s.status == MinimizerStatus::converged && !fp.converged) {

@@ -303,8 +303,9 @@ class Solver {
     return m;
   }
 
-  /// Trial point P_box(a + t d); accepted on Armijo's condition, or, when the change of F is
-  /// at round-off level, on a decrease of the certificate's residual.
+  /// Trial point P_box(a + t d); accepted on Armijo's condition, or, when the change of F (or
+  /// the decrease the condition asks for) is at round-off level, on a decrease of the
+  /// certificate's residual.
   bool try_step(const Eigen::VectorXd& a, const std::vector<NodeState>& st, const Eigen::VectorXd& d, double t, double F,
                 double res, Eigen::VectorXd& trial, Eigen::VectorXd& qt, double& Ft) {
     double dec = 0.0;
@@ -319,8 +320,11 @@ class Solver {
     if (!moved) return false;
     Ft = energy(trial, &qt);
     if (!std::isfinite(Ft)) return false;
-    if (dec < 0.0 && Ft <= F + prm_.armijo * dec) return true;
-    if (Ft <= F + roundoff_level(a, F)) {
+    // Armijo's condition where the decrease it asks for is above F's round-off; below it the
+    // comparison of F is noise, and a step must lower the residual instead
+    const double level = roundoff_level(a, F);
+    if (dec < -level && Ft <= F + prm_.armijo * dec && F - Ft > level) return true;
+    if (Ft <= F + level) {
       const Certificate current = cert_;
       if (residual(trial) < res) return true;
       cert_ = current;

@@ -49,13 +49,17 @@ struct BasicPathLoading {
 using PathLoading = BasicPathLoading<2>;
 
 /// The fixed point on the friction bound of each step (FrictionBound): g <- g + theta (G(g) - g),
-/// G(g) the bound the solution of the Tresca problem with bound g implies.
+/// G(g) the bound the solution of the Tresca problem with bound g implies, accelerated.
 struct FixedPointOptions {
   int max_iterations = 100;
   /// theta, in (0, 1]. Halved (down to 1/64) whenever the change of the bound grew in two
   /// iterations in a row: a fixed point that does not contract is damped, and reported as not
   /// converged when it still does not meet the certificate within max_iterations.
   double relaxation = 1.0;
+  /// Anderson's acceleration: each bound mixes the last anderson_depth + 1 iterates so that
+  /// their combined mismatch G(g) - g is least (bounds below 0 are set to 0); its history is
+  /// forgotten when the change of the bound grows. 0: the relaxed iteration alone.
+  int anderson_depth = 3;
 };
 
 template <int dim>
