@@ -483,6 +483,30 @@ TEST(Path, AMovingObstacleGivesTheStaticSolveAtEveryStep) {
   }
 }
 
+// A disk lowered through the top of the body: pressed in at the first step (the nodes under it
+// start inside it), then below the surface, where the rays out of the nodes above it miss it and
+// their gaps turn infinite. That step fails, naming the node, instead of dropping the contact.
+TEST(Path, AnObstacleMovedThroughTheBodyFailsItsStep) {
+  const std::string text =
+      "schema_version = 1\n[mesh]\nn = 20\ndomain = [-0.5, 0.5, -1.0, 0.0]\n"
+      "[material]\nE = 65.0\nnu = 0.29\n[clamped]\nside = \"bottom\"\n"
+      "[contact]\nside = \"top\"\nlaw = \"zero\"\nconstraint = \"one-sided\"\n"
+      "[contact.obstacle]\nshape = \"circle\"\ncenter = [0.0, 0.105]\nradius = 0.1\nmotion = [0.0, -0.5]\n";
+  const Scene scene = parse_scene_string(text, "through.toml");
+  auto built = build_problem(scene);
+  const auto minimizer = make_minimizer("ssn");
+  PathLoading loading{{0.02, 0.5, 1.0}, [&scene](double t, ContactProblem& p) { set_load_factor(scene, t, p); }};
+  const PathSolution path = solve_path(built->problem, engine(), *minimizer, loading);
+  ASSERT_EQ(path.steps.size(), 3u);
+  EXPECT_TRUE(path.steps[0].converged()) << path.steps[0].message;
+  EXPECT_GT(contact_zone(path.steps[0].contact).nodes, 0);
+  EXPECT_FALSE(path.steps[1].converged());
+  EXPECT_NE(path.steps[1].message.find("has moved through the body's surface at vertex"), std::string::npos)
+      << path.steps[1].message;
+  EXPECT_FALSE(path.converged());
+  EXPECT_NE(path.last.message.find("step 2 (t = 0.5) did not converge"), std::string::npos) << path.last.message;
+}
+
 // Loaded and unloaded to exactly zero: the last step is the unloaded body, a = 0, certified.
 TEST(Path, AStepWhoseLoadVanishesIsTheUnloadedBody) {
   const Mesh mesh = make_squares(8);

@@ -183,6 +183,7 @@ std::string path_progress_line(const BasicPathStep<dim>& s, int steps) {
   if (s.fixed_point.used)
     out << "  fixed point " << s.fixed_point.iterations << " iterations" << (s.fixed_point.converged ? "" : " (not converged)");
   if (s.jump) out << "  jump";
+  if (!s.converged() && !s.message.empty()) out << ": " << s.message;
   return out.str();
 }
 

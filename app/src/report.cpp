@@ -37,6 +37,7 @@ void status(std::ostream& out, const BasicSceneSolve<dim>& solved, const RunInfo
   const auto& sol = solved.solution;
   out << "  status        " << to_string(sol.status) << " (certificate: " << certificate_text(sol.certificate)
       << "), " << sol.iterations() << " iterations\n";
+  if (!sol.converged() && !sol.message.empty()) out << "  why           " << sol.message << "\n";
   for (std::size_t k = 0; k < sol.held_by_contact.size(); ++k)
     out << (k == 0 ? "  supports      free, held by the contact alone: " : "                and ")
         << sol.held_by_contact[k] << "\n";

@@ -111,6 +111,15 @@ void unstack(const std::vector<int>& held, const Eigen::VectorXd& v, Eigen::Vect
   for (std::size_t j = 0; j < held.size(); ++j) (*prescribed)(held[j]) = v(free + static_cast<Eigen::Index>(j));
 }
 
+// Contact node i's outward normal.
+template <int dim>
+Eigen::Matrix<double, dim, 1> normal_of(const ContactBoundary& boundary, int i) {
+  if constexpr (dim == 2)
+    return boundary.normals[static_cast<std::size_t>(i)];
+  else
+    return boundary.normals3d[static_cast<std::size_t>(i)];
+}
+
 std::string shortest(double x) {
   std::ostringstream out;
   out.precision(3);
@@ -184,6 +193,7 @@ struct BasicPathSolver<dim>::Impl {
   Eigen::MatrixXd load_kappa;
   Eigen::VectorXd alpha;         // the step's load is V alpha (empty: a load outside the span)
   bool load_current = true;      // the condensation holds the step's load (set_load)
+  std::string through;           // the step's obstacle has moved through the body (passed_through)
   int condensed_loads = 1;       // the condensation's own, then one per interior solve of a step's load
   // along the path
   Eigen::VectorXd x_prev;        // the previous step's contact unknowns (u_nu, u_tau)
@@ -206,6 +216,7 @@ struct BasicPathSolver<dim>::Impl {
   void find_friction_bounds();
   Step solve_step(int k);
   void extrapolate_bound(double t);
+  std::string passed_through(const Eigen::VectorXd& before) const;
   void minimize_step(Step& s, const Eigen::VectorXd& shift, const Eigen::VectorXd& origin, bool unloaded);
   void describe_step(Step& s, const MinimizerResult& m, const Eigen::VectorXd& shift,
                      const Eigen::VectorXd& c_raw, double kappa, const Eigen::VectorXd* u,
@@ -288,6 +299,7 @@ void BasicPathSolver<dim>::Impl::remember_load(const Eigen::VectorXd& b) {
 template <int dim>
 Eigen::VectorXd BasicPathSolver<dim>::Impl::step_load(Step& s, Eigen::VectorXd* b, double* kappa) {
   load_current = false;
+  through.clear();
   if (loading.proportional()) {
     alpha = Eigen::VectorXd::Constant(loads.size(), s.t);
   } else {
@@ -301,7 +313,9 @@ Eigen::VectorXd BasicPathSolver<dim>::Impl::step_load(Step& s, Eigen::VectorXd* 
     }
     *b = assemble_rhs(problem.elasticity, dofs);
     if (loading.updates_gaps) {
+      const Eigen::VectorXd before = boundary.gaps;
       boundary.gaps = contact_boundary(problem, dofs).gaps;  // the contact nodes report the step's gaps
+      through = passed_through(before);
       cond->set_gaps(boundary.gaps);
       step.lo = cond->reduced().lo;
       step.hi = cond->reduced().hi;
@@ -334,6 +348,31 @@ Eigen::VectorXd BasicPathSolver<dim>::Impl::step_load(Step& s, Eigen::VectorXd* 
     for (Eigen::Index j = 0; j < alpha.size(); ++j) *kappa += alpha(i) * alpha(j) * load_kappa(i, j);
   s.applied = alpha.size() == 1 ? Point(alpha(0) * load_applied.col(0)) : Point(load_applied * alpha);
   return alpha.size() == 1 ? Eigen::VectorXd(alpha(0) * load_c.col(0)) : Eigen::VectorXd(load_c * alpha);
+}
+
+// A contact node whose gap was finite and is infinite now, with its part's obstacle behind it
+// (the ray into the body meets it): the obstacle has moved through the body's surface there, and
+// the contact (a rigid obstacle outside the body) no longer describes it. Empty when there is none,
+// else what happened, naming the first such node.
+template <int dim>
+std::string BasicPathSolver<dim>::Impl::passed_through(const Eigen::VectorXd& before) const {
+  for (int i = 0; i < n1; ++i) {
+    if (!std::isfinite(before(i)) || std::isfinite(boundary.gaps(i))) continue;
+    const auto& part = problem.parts[static_cast<std::size_t>(boundary.part_of(i))];
+    if (!part.obstacle) continue;
+    const int v = boundary.nodes[static_cast<std::size_t>(i)];
+    const auto x = problem.elasticity.mesh->vertex(v);
+    const auto nu = normal_of<dim>(boundary, i);
+    if (!std::isfinite(part.obstacle->gap(x, -nu))) continue;
+    std::ostringstream out;
+    out << "the obstacle of contact part '" << part.name << "' has moved through the body's surface at vertex " << v
+        << " (";
+    for (int d = 0; d < dim; ++d) out << (d ? ", " : "") << shortest(x(d));
+    out << "): its gap went from " << shortest(before(i))
+        << " to infinite, with the obstacle behind the node; the contact holds for an obstacle outside the body";
+    return out.str();
+  }
+  return {};
 }
 
 // Sets the condensation's load to the step's, for its displacement: b as assembled, or (empty)
@@ -412,6 +451,10 @@ auto BasicPathSolver<dim>::Impl::solve_step(int k) -> Step {
   const Eigen::VectorXd& origin = cond->origin();
   step.c = c_raw - step.S * (origin + shift);
   minimize_step(s, shift, origin, !has_tangential && c_raw.isZero(0.0));
+  if (!through.empty()) {
+    s.status = MinimizerStatus::failed;
+    s.message = through;
+  }
 
   // the change against the previous step, and what the step before predicted
   const Eigen::VectorXd x = s.a;
