@@ -139,9 +139,21 @@ TEST(ConditionEstimate, MatchesTheExactOneNormOfInversesWithinItsGuarantee) {
       ++calls;
       return Eigen::VectorXd(Ainv * x);
     });
-    EXPECT_EQ(calls, 7) << "a fixed number of solves";
+    EXPECT_EQ(calls, 6) << "a fixed number of solves";
     EXPECT_LE(est, exact * (1 + 1e-12)) << n;
     EXPECT_GE(est, exact / 3.0) << n;
+    // the condensation's form: blocks, two iterations, the first block of two columns
+    int blocks = 0;
+    const double two = estimate_norm1_symmetric_blocks(
+        n,
+        [&](const Eigen::MatrixXd& x) {
+          ++blocks;
+          return Eigen::MatrixXd(Ainv * x);
+        },
+        2);
+    EXPECT_EQ(blocks, 3) << "a fixed number of solves";
+    EXPECT_LE(two, est * (1 + 1e-12)) << n;
+    EXPECT_GE(two, exact / 3.0) << n;
   }
 }
 

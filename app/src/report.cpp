@@ -150,7 +150,8 @@ template <int dim>
 void energy_and_time(std::ostream& out, const BasicSceneSolve<dim>& solved) {
   const auto& sol = solved.solution;
   out << "  energy        potential " << sol.energy << "\n  time [s]      mesh " << solved.mesh_seconds;
-  for (const char* k : {"assembly", "linear_solve", "condensation", "minimize", "back_substitution", "path", "frames", "estimate"})
+  for (const char* k : {"assembly", "linear_solve", "condensation", "condition", "minimize", "back_substitution", "path", "frames",
+                      "estimate"})
     if (sol.timings.count(k)) out << ", " << k << " " << sol.timings.at(k);
   out << ", total " << solved.total_seconds() << "\n";
 }

@@ -656,12 +656,12 @@ void Condensation::extract_a21(const SparseMatrix& At) {
 }
 
 double Condensation::condition_estimate() const {
-  auto apply = [this](const Eigen::VectorXd& x) {
+  auto apply = [this](const Eigen::MatrixXd& x) {
     Eigen::MatrixXd y;
-    if (!factorization_->solve_interior(x, &y).ok() || y.cols() != 1) return Eigen::VectorXd();
-    return Eigen::VectorXd(y.col(0));
+    if (!factorization_->solve_interior(x, &y).ok() || y.cols() != x.cols()) return Eigen::MatrixXd();
+    return y;
   };
-  return a22_norm1_ * estimate_norm1_symmetric(static_cast<int>(block2_.size()), apply);
+  return a22_norm1_ * estimate_norm1_symmetric_blocks(static_cast<int>(block2_.size()), apply, 2);
 }
 
 Eigen::VectorXd Condensation::back_substitute(const Eigen::VectorXd& a) const {

@@ -235,8 +235,10 @@ void BasicContactSolver<dim>::condense() {
   common_.timings["condensation"] = detail::since(t);
   common_.stages.push_back("condensation");
   if (estimate_condition_) {
+    const auto tc = Clock::now();
     common_.rcond = detail::rcond_or_nan(condensation_->factorization());
     common_.condition_estimate = condensation_->condition_estimate();
+    common_.timings["condition"] = detail::since(tc);
     // S carries the condensation's round-off: the margin's bound grows with kappa(A22)
     processes_->run_where_results_are([&] { condensation_->widen_uniqueness_roundoff(common_.condition_estimate); });
   }

@@ -183,7 +183,8 @@ class Condensation {
   const SparseFactorization& factorization() const { return *factorization_; }
   /// Estimate of the 1-norm condition number kappa_1(A22) of the factorized interior block,
   /// independent of the engine: ||A22||_1 times the Hager-Higham estimate of ||A22^{-1}||_1
-  /// from 7 interior solves (the same calls on every process). +inf when a solve fails.
+  /// from 3 interior solves, the first of two right-hand sides (the same calls on every
+  /// process). +inf when a solve fails.
   double condition_estimate() const;
 
  private:
