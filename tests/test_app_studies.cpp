@@ -4,6 +4,8 @@
 // extrapolation of a geometric sequence, and a mesh compared with itself.
 #include <gtest/gtest.h>
 
+#include <sstream>
+
 #include <stdlib.h>
 
 #include <hemivem/app/bench.hpp>
@@ -136,6 +138,16 @@ TEST(AppCheck, ACoulombPathIsComparedAtEveryStepAndEachPairIsItsOwnPathSolve) {
   ASSERT_TRUE(j["path"].is_object()) << j.dump(2);
   EXPECT_EQ(j["path"]["steps"].size(), 3u);
   EXPECT_EQ(j["path"]["steps"][1]["t"], 1.0);
+}
+
+// path.json is written a step at a time; its text is the whole document's, friction, fixed
+// points and frames included.
+TEST(AppPath, PathJsonWrittenAStepAtATimeIsTheWholeDocument) {
+  const SceneRun run = run_scene(coulomb_path(6));
+  ASSERT_NE(run.path(), nullptr);
+  std::ostringstream streamed;
+  write_path_json(streamed, *run.path());
+  EXPECT_EQ(streamed.str(), path_json(*run.path()).dump(2));
 }
 
 TEST(AppCheck, CoulombFrictionWithoutAPathIsTheOneStepPath) {

@@ -154,18 +154,65 @@ nlohmann::json path_step_json(const BasicPathStep<dim>& s) {
   return j;
 }
 
+// path.json without its steps.
 template <int dim>
-nlohmann::json path_json(const BasicPathSolution<dim>& path) {
-  nlohmann::json steps = nlohmann::json::array();
-  for (const auto& s : path.steps) steps.push_back(path_step_json(s));
+nlohmann::json path_json_head(const BasicPathSolution<dim>& path) {
   nlohmann::json j;
   j["schema"] = "hemivem-path/1";
-  j["steps"] = std::move(steps);
   j["converged"] = path.converged();
   j["jumps"] = path.jumps();
   j["proportional"] = path.proportional;
   j["timings"] = path.timings;
   return j;
+}
+
+template <int dim>
+nlohmann::json path_json(const BasicPathSolution<dim>& path) {
+  nlohmann::json steps = nlohmann::json::array();
+  for (const auto& s : path.steps) steps.push_back(path_step_json(s));
+  nlohmann::json j = path_json_head(path);
+  j["steps"] = std::move(steps);
+  return j;
+}
+
+namespace {
+
+// A value dumped with an indent of 2, its lines after the first indented by `indent` more.
+std::string indented(const nlohmann::json& value, const std::string& indent) {
+  std::string text = value.dump(2);
+  for (std::size_t at = text.find('\n'); at != std::string::npos; at = text.find('\n', at + 1 + indent.size()))
+    text.insert(at + 1, indent);
+  return text;
+}
+
+}  // namespace
+
+template <int dim>
+void write_path_json(std::ostream& os, const BasicPathSolution<dim>& path) {
+  // path_json(path).dump(2), one step at a time: the members in nlohmann's (sorted) order
+  const nlohmann::json head = path_json_head(path);
+  os << "{";
+  bool first = true;
+  auto member = [&](const std::string& key, const std::string& text) {
+    os << (first ? "\n" : ",\n") << "  " << nlohmann::json(key).dump() << ": " << text;
+    first = false;
+  };
+  for (auto it = head.begin(); it != head.end(); ++it) {
+    if (it.key() > std::string("steps")) break;
+    member(it.key(), indented(it.value(), "  "));
+  }
+  if (path.steps.empty()) {
+    member("steps", "[]");
+  } else {
+    os << (first ? "\n" : ",\n") << "  \"steps\": [";
+    first = false;
+    for (std::size_t k = 0; k < path.steps.size(); ++k)
+      os << (k ? ",\n    " : "\n    ") << indented(path_step_json(path.steps[k]), "    ");
+    os << "\n  ]";
+  }
+  for (auto it = head.begin(); it != head.end(); ++it)
+    if (it.key() > std::string("steps")) member(it.key(), indented(it.value(), "  "));
+  os << "\n}";
 }
 
 template <int dim>
@@ -206,6 +253,7 @@ std::string path_report(const BasicPathSolution<dim>& path) {
 #define HEMIVEM_APP_PATH(dim)                                                               \
   template BasicPathLoading<dim> scene_path_loading(const Scene&);                          \
   template nlohmann::json path_json(const BasicPathSolution<dim>&);                         \
+  template void write_path_json(std::ostream&, const BasicPathSolution<dim>&);              \
   template nlohmann::json path_step_json(const BasicPathStep<dim>&);                        \
   template std::string path_progress_line(const BasicPathStep<dim>&, int);                  \
   template PathProgress path_progress(const BasicPathStep<dim>&, int);                      \

@@ -184,7 +184,10 @@ void write_path_files(OutputTransaction& tx, const fs::path& dir, const MeshType
     tx.write(name, body);
     report.written.push_back(dir / name);
   };
-  write("path.json", [&](std::ostream& os) { os << path_json(*path).dump(2) << '\n'; });
+  write("path.json", [&](std::ostream& os) {
+    write_path_json(os, *path);
+    os << '\n';
+  });
   write("path-contact.csv", [&](std::ostream& os) { write_path_contact_csv(os, *path); });
   write("path-displacement.csv", [&](std::ostream& os) { write_path_displacement_csv(os, mesh, *path); });
   if (!want("solution.pvd")) return;
