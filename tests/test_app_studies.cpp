@@ -150,6 +150,26 @@ TEST(AppPath, PathJsonWrittenAStepAtATimeIsTheWholeDocument) {
   EXPECT_EQ(streamed.str(), path_json(*run.path()).dump(2));
 }
 
+// A path keeps every step's contact nodes until its files are written: a million steps do not
+// fit in 1 GiB, and are refused where [path] is before anything is solved, with the memory's source.
+TEST(AppPath, APathThatWouldNotFitIsRefusedBeforeItsFirstStep) {
+  Scene scene = small_plane(16);
+  apply_overrides(scene, {"path.steps=1000000"});
+  ::setenv("HEMIVEM_MEMORY_LIMIT", "1G", 1);
+  const std::string message = test::input_error_of([&] { (void)run_scene(scene); });
+  const std::string key = test::input_error_key([&] { (void)run_scene(scene); });
+  ::unsetenv("HEMIVEM_MEMORY_LIMIT");
+  EXPECT_EQ(key, scene.where("path"));
+  EXPECT_NE(message.find("a path of 1000000 steps"), std::string::npos) << message;
+  EXPECT_NE(message.find("HEMIVEM_MEMORY_LIMIT"), std::string::npos) << message;
+  // the same path with 100 steps fits
+  apply_overrides(scene, {"path.steps=100"});
+  ::setenv("HEMIVEM_MEMORY_LIMIT", "1G", 1);
+  const SceneRun run = run_scene(scene);
+  ::unsetenv("HEMIVEM_MEMORY_LIMIT");
+  EXPECT_TRUE(run.converged());
+}
+
 TEST(AppCheck, CoulombFrictionWithoutAPathIsTheOneStepPath) {
   Scene scene = coulomb_path(4);
   scene.path.reset();  // Coulomb friction alone: the one-step path t = 1

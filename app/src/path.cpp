@@ -5,6 +5,7 @@
 #include <hemivem/error.hpp>
 #include <hemivem/linear_backends.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
+#include <hemivem/scene/resources.hpp>
 
 #include "scene_setup.hpp"
 
@@ -68,11 +69,37 @@ void refuse_path_across_processes(const Scene& scene) {
                      scene.where("solver.linear"));
 }
 
+// A path keeps each step's contact nodes (for path.json, path-contact.csv and path.png, written
+// after its last step) and each frame's displacement: about 400 bytes per contact node and step
+// (340 measured) and 8 per dof and frame, beside the solve. Refused before the path's first
+// solve when that exceeds the memory available.
+template <int dim>
+void require_path_memory(const Scene& scene, const BasicContactProblem<dim>& problem) {
+  const auto& mesh = *problem.elasticity.mesh;
+  std::vector<char> on_contact(static_cast<std::size_t>(mesh.num_vertices()), 0);
+  double nodes = 0.0;
+  for (const auto& part : problem.parts)
+    for (int facet : part.facets)
+      for (int v : mesh.facet_vertices(facet))
+        if (!on_contact[static_cast<std::size_t>(v)]) on_contact[static_cast<std::size_t>(v)] = 1, nodes += 1.0;
+  const double steps = scene.path ? static_cast<double>(scene.path->factors().size()) : 1.0;
+  const double frames = scene.path && writes_frames(scene) ? std::min(steps, static_cast<double>(scene.path->frames)) : 1.0;
+  const double vertices = mesh.num_vertices();
+  const double solve = dim == 2 ? estimate_memory(vertices, 4.0).solve_bytes : estimate_memory_3d(vertices, nodes).solve_bytes;
+  const double path = 400.0 * nodes * (steps + frames) + 8.0 * dim * vertices * frames;
+  std::ostringstream what;
+  what << "a path of " << static_cast<long long>(steps) << " steps and " << static_cast<long long>(frames) << " frames on "
+       << static_cast<long long>(vertices) << " vertices, " << static_cast<long long>(nodes)
+       << " on the contact: " << format_bytes(path) << " beside the solve";
+  require_memory(solve + path, what.str(), scene.where("path"));
+}
+
 template <int dim, class Solved>
 void solve_path_built(const Scene& scene, SceneEngines& e, Solved& s,
                       std::function<void(const BasicPathStep<dim>&)> on_step) {
   if (!s.built->has_contact)
     throw InputError("a loading path needs a contact boundary: the scene has none", scene.where("path"));
+  require_path_memory<dim>(scene, s.built->problem);
   BasicPathOptions<dim> po;
   po.minimizer = s.options;
   // a frame costs an interior solve and a displacement kept until the files are written: only
