@@ -85,7 +85,11 @@ void require_path_memory(const Scene& scene, const BasicContactProblem<dim>& pro
   const double steps = scene.path ? static_cast<double>(scene.path->factors().size()) : 1.0;
   const double frames = scene.path && writes_frames(scene) ? std::min(steps, static_cast<double>(scene.path->frames)) : 1.0;
   const double vertices = mesh.num_vertices();
-  const double solve = dim == 2 ? estimate_memory(vertices, 4.0).solve_bytes : estimate_memory_3d(vertices, nodes).solve_bytes;
+  double solve = 0.0;  // the solve's own estimate, for the mesh at hand in the plane
+  if constexpr (dim == 2)
+    solve = estimate_memory(mesh).solve_bytes;
+  else
+    solve = estimate_memory_3d(vertices, nodes).solve_bytes;
   const double path = 400.0 * nodes * (steps + frames) + 8.0 * dim * vertices * frames;
   std::ostringstream what;
   what << "a path of " << static_cast<long long>(steps) << " steps and " << static_cast<long long>(frames) << " frames on "
