@@ -176,6 +176,7 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   ReducedProblem reduced;
   RunOptions options = run_options(o, err);
   options.reduced = o.export_reduced.empty() ? nullptr : &reduced;
+  options.out = o.out;  // a path writes its steps there as it solves them
   const SceneRun run = run_scene(scene, std::move(options));
   if (!run.holds_results()) return run.converged() ? kSuccess : kNotConverged;  // rank > 0: rank 0 reports
   if (!o.export_reduced.empty()) {

@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <sstream>
+#include <fstream>
+#include <filesystem>
 
 #include <stdlib.h>
 
@@ -140,14 +142,55 @@ TEST(AppCheck, ACoulombPathIsComparedAtEveryStepAndEachPairIsItsOwnPathSolve) {
   EXPECT_EQ(j["path"]["steps"][1]["t"], 1.0);
 }
 
-// path.json is written a step at a time; its text is the whole document's, friction, fixed
-// points and frames included.
-TEST(AppPath, PathJsonWrittenAStepAtATimeIsTheWholeDocument) {
-  const SceneRun run = run_scene(coulomb_path(6));
-  ASSERT_NE(run.path(), nullptr);
-  std::ostringstream streamed;
-  write_path_json(streamed, *run.path());
-  EXPECT_EQ(streamed.str(), path_json(*run.path()).dump(2));
+// A path given its output folder writes each step's files into the folder's transaction as it
+// solves it and keeps only its last step; the files are those of the path that kept every step
+// (path.json but for its times, the contact rows, the frames and their collection, to the byte),
+// and nothing is in the folder before the run is written.
+TEST(AppPath, APathWritingAsItRunsKeepsOneStepAndWritesTheFilesOfAPathThatKeptThemAll) {
+  Scene scene = coulomb_path(6);
+  apply_overrides(scene, {"output.write=[\"result-json\", \"vtu\", \"displacement-csv\"]"});
+  const std::filesystem::path base =
+      std::filesystem::temp_directory_path() / ("hemivem-streamed-path-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(base);
+  const SceneRun kept = run_scene(scene);
+  (void)kept.write(base / "kept");
+  RunOptions o;
+  o.out = base / "streamed";
+  const SceneRun streamed = run_scene(scene, o);
+  EXPECT_FALSE(std::filesystem::exists(base / "streamed" / "path.json"));  // nothing before the commit
+  ASSERT_NE(streamed.path(), nullptr);
+  EXPECT_EQ(streamed.path()->steps.size(), 1u);
+  EXPECT_EQ(streamed.path()->solved_steps, 3);
+  EXPECT_EQ(streamed.path()->converged_steps, kept.path()->converged_steps);
+  EXPECT_EQ(kept.path()->steps.size(), 3u);
+  // another folder, or a chosen list of files, cannot be written: the steps are gone
+  EXPECT_FALSE(test::input_error_of([&] { (void)streamed.write(base / "elsewhere"); }).empty());
+  const OutputReport report = streamed.write(base / "streamed");
+  auto text = [](const std::filesystem::path& file) {
+    std::ostringstream out;
+    out << std::ifstream(file).rdbuf();
+    return out.str();
+  };
+  auto without_times = [](nlohmann::json j) {
+    j.erase("timings");
+    for (auto& step : j["steps"]) step.erase("seconds");
+    return j;
+  };
+  const nlohmann::json a = nlohmann::json::parse(text(base / "kept" / "path.json"));
+  const nlohmann::json b = nlohmann::json::parse(text(base / "streamed" / "path.json"));
+  ASSERT_EQ(b["steps"].size(), 3u);
+  EXPECT_EQ(without_times(a), without_times(b));
+  EXPECT_TRUE(b["steps"][0]["fixed_point"].is_object());
+  for (const char* name : {"path-contact.csv", "path-displacement.csv", "solution.pvd", "solution-0001.vtu",
+                           "solution-0002.vtu", "solution-0003.vtu"}) {
+    ASSERT_TRUE(std::filesystem::exists(base / "streamed" / name)) << name;
+    EXPECT_EQ(text(base / "kept" / name), text(base / "streamed" / name)) << name;
+  }
+  EXPECT_EQ(text(base / "kept" / "path-contact.csv").substr(0, 5), "step,");
+  EXPECT_FALSE(report.written.empty());
+  // written once
+  EXPECT_FALSE(test::input_error_of([&] { (void)streamed.write(base / "streamed"); }).empty());
+  std::filesystem::remove_all(base);
 }
 
 // A path keeps every step's contact nodes until its files are written: a million steps do not

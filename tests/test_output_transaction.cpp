@@ -142,6 +142,27 @@ TEST(OutputTransaction, InjectedWriteFailureKeepsThePreviousSet) {
   }
 }
 
+// A loading path writes its steps into the transaction while it solves them: a write that fails
+// then (path.json, opened before the first step; a frame) or after leaves the previous set whole.
+TEST(OutputTransaction, APathWritingAsItRunsKeepsThePreviousSetWhenAWriteFails) {
+  Scratch s;
+  const std::string path = "--set path.steps=4 --set 'output.write=[\"result-json\",\"vtu\"]'";
+  ASSERT_EQ(solve(s.out, "", path).code, 0);
+  const auto before = contents(s.out);
+  ASSERT_EQ(before.count("solution-0004.vtu"), 1u);
+  ASSERT_EQ(before.count("path-contact.csv"), 1u);
+  for (const char* n : {"1", "4", "8"}) {  // path.json, a frame while the path runs, a file after it
+    const auto run = solve(s.out, std::string("HEMIVEM_TEST_FAIL_WRITE=") + n, path + " --set contact.gap=0.0123");
+    EXPECT_EQ(run.code, 2) << n;
+    EXPECT_NE(run.err.find("No space left on device"), std::string::npos) << run.err;
+    EXPECT_NE(run.err.find("keeps its previous outputs"), std::string::npos) << run.err;
+    EXPECT_EQ(contents(s.out), before) << "write " << n;
+    EXPECT_EQ(beside(s.root), std::vector<std::string>{}) << "write " << n;
+  }
+  ASSERT_EQ(solve(s.out, "", path + " --set contact.gap=0.0123").code, 0);
+  EXPECT_NE(contents(s.out).at("path.json"), before.at("path.json"));
+}
+
 TEST(OutputTransaction, InjectedWriteFailureOnAFirstRunLeavesNoFolder) {
   Scratch s;
   const auto run = solve(s.out, "HEMIVEM_TEST_FAIL_WRITE=2");

@@ -26,7 +26,7 @@ std::vector<std::string> adapt_steps_in(const fs::path& dir) { return files_matc
 // earlier path's frames, its frames, an earlier adaptive solve's steps and its own.
 std::vector<std::string> owned_names(const fs::path& dir, const std::vector<std::string>& known,
                                      const std::vector<std::string>& others, const std::vector<std::string>& frames,
-                                     const RunInfo& info) {
+                                     std::size_t adapt_steps) {
   std::vector<std::string> owned = known;
   for (const auto& name : others)
     if (!contains(owned, name)) owned.push_back(name);
@@ -39,9 +39,8 @@ std::vector<std::string> owned_names(const fs::path& dir, const std::vector<std:
   owned.insert(owned.end(), frames.begin(), frames.end());
   for (const auto& name : adapt_steps_in(dir))
     if (!contains(owned, name)) owned.push_back(name);
-  if (info.adapt_steps)
-    for (std::size_t k = 0; k < info.adapt_steps->size(); ++k)
-      if (!contains(owned, adapt_step_file(k))) owned.push_back(adapt_step_file(k));
+  for (std::size_t k = 0; k < adapt_steps; ++k)
+    if (!contains(owned, adapt_step_file(k))) owned.push_back(adapt_step_file(k));
   return owned;
 }
 
@@ -59,9 +58,18 @@ void require_known_outputs(const std::vector<std::string>& wanted, const std::ve
 
 OutputRun::OutputRun(const fs::path& dir, const std::vector<std::string>& known, const std::vector<std::string>& others,
                      const std::vector<std::string>& wanted, const RunInfo& info, const std::vector<std::string>& frames)
-    : dir_(dir), wanted_(wanted), tx_(dir, owned_names(dir, known, others, frames, info)), listed_(info) {
+    : OutputRun(dir, known, others, wanted, info.adapt_steps ? info.adapt_steps->size() : 0, frames) {
+  list(info, frames);
+}
+
+OutputRun::OutputRun(const fs::path& dir, const std::vector<std::string>& known, const std::vector<std::string>& others,
+                     const std::vector<std::string>& wanted, std::size_t adapt_steps, const std::vector<std::string>& frames)
+    : dir_(dir), known_(known), wanted_(wanted), tx_(dir, owned_names(dir, known, others, frames, adapt_steps)) {}
+
+void OutputRun::list(const RunInfo& info, const std::vector<std::string>& frames) {
+  listed_ = info;
   listed_.files.clear();
-  for (const auto& k : known) {
+  for (const auto& k : known_) {
     if (!want(k)) continue;
     if (k == "adapt.pvd" && info.adapt_steps)
       for (std::size_t step = 0; step < info.adapt_steps->size(); ++step) listed_.files.push_back(adapt_step_file(step));

@@ -136,6 +136,13 @@ class OutputRun {
  public:
   OutputRun(const std::filesystem::path& dir, const std::vector<std::string>& known, const std::vector<std::string>& others,
             const std::vector<std::string>& wanted, const RunInfo& info, const std::vector<std::string>& frames);
+  /// The folder's transaction opened before the run is known (a path writing its steps as
+  /// they come), owning `frames` (the frames it may write) and `adapt_steps` steps of an
+  /// adaptive solve; list() then records the run.
+  OutputRun(const std::filesystem::path& dir, const std::vector<std::string>& known, const std::vector<std::string>& others,
+            const std::vector<std::string>& wanted, std::size_t adapt_steps, const std::vector<std::string>& frames);
+  /// Records the run `info` with the files result.json lists: the wanted ones, and `frames`.
+  void list(const RunInfo& info, const std::vector<std::string>& frames);
 
   bool want(const std::string& name) const;
   /// The output folder as given.
@@ -157,6 +164,7 @@ class OutputRun {
 
  private:
   std::filesystem::path dir_;
+  std::vector<std::string> known_;
   std::vector<std::string> wanted_;
   OutputTransaction tx_;
   OutputReport report_;
@@ -176,5 +184,39 @@ void write_solve_files(OutputRun& run, const MeshType& mesh, const MaterialTable
     write_vtu(os, mesh, materials, solution, info.error_estimate ? &info.error_estimate->indicators : nullptr);
   });
 }
+
+}  // namespace hemivem::app::detail
+
+#include "path_outputs.hpp"
+
+namespace hemivem::app::detail {
+
+/// The output folder of a loading path opened before the path runs (SceneSolveOptions::out):
+/// its transaction (locked, nothing in the folder changes before the commit), and the path's
+/// files, to which each step is added as it is solved; write_results to the same folder then
+/// writes the rest and commits (write_path_outputs).
+template <int dim>
+struct PathOutput {
+  using MeshType = std::conditional_t<dim == 2, Mesh, Mesh3D>;
+  /// `frames`: the frames the path may write (owned by the transaction); `parts`: the names of
+  /// the contact parts.
+  PathOutput(const std::filesystem::path& dir, const std::vector<std::string>& wanted, const std::vector<std::string>& frames,
+             const MeshType& mesh, const MaterialTable& materials, std::vector<std::string> parts);
+  OutputRun run;
+  PathFiles<dim> files;
+  bool written = false;  ///< write_path_outputs has committed it
+};
+
+/// InputError unless `dir` is the folder `out` writes and `files` is null (its steps were
+/// written there as they came), or when the outputs were written already.
+template <int dim>
+void require_path_output_folder(const PathOutput<dim>& out, const std::filesystem::path& dir,
+                                const std::vector<std::string>* files);
+
+/// The outputs of a path solved with `out` open: as write_outputs, into out's folder.
+OutputReport write_path_outputs(PathOutput<2>& out, const Mesh& mesh, const MaterialTable& materials,
+                                const ContactSolution& solution, const RunInfo& info);
+OutputReport write_path_outputs(PathOutput<3>& out, const Mesh3D& mesh, const MaterialTable& materials,
+                                const std::vector<int>& contact_faces, const ContactSolution3D& solution, const RunInfo& info);
 
 }  // namespace hemivem::app::detail

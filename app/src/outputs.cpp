@@ -19,6 +19,8 @@
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
+#include <memory>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <system_error>
@@ -68,13 +70,13 @@ Figure adapt_figure(const RunInfo& info) {
   return convergence_figure({adaptive}, "adaptive refinement: " + info.scene_name);
 }
 
-/// path.png of a run with a loading path of a body of dimension dim; without one the reason
-/// in `report`.
+/// path.png of a run with a loading path of a body of dimension dim (`files` wrote its files);
+/// without one the reason in `report`.
 template <int dim>
-void path_figures(std::vector<Figure>& figures, const RunInfo& info, const detail::OutputRun& run,
-                  OutputReport& report) {
-  if (run.want("path.png") && !path_of<dim>(info)) report.skipped.push_back("path.png: not a loading path");
-  if (run.want("path.png") && path_of<dim>(info)) figures.push_back(path_figure(*path_of<dim>(info), info));
+void path_figures(std::vector<Figure>& figures, const RunInfo& info, const PathFiles<dim>* files,
+                  const detail::OutputRun& run, OutputReport& report) {
+  if (run.want("path.png") && !files) report.skipped.push_back("path.png: not a loading path");
+  if (run.want("path.png") && files) figures.push_back(files->figure(info));
 }
 
 }  // namespace
@@ -275,7 +277,7 @@ namespace {
 /// The figures of a plane's solve (OutputRun::draw): those wanted, and the reason for each that
 /// cannot be made in `report`.
 void solve_figures(std::vector<Figure>& figures, const Mesh& mesh, const ContactSolution& solution, const RunInfo& info,
-                   const std::vector<int>*, const detail::OutputRun& run, OutputReport& report) {
+                   const std::vector<int>*, const PathFiles<2>* path, const detail::OutputRun& run, OutputReport& report) {
   auto want = [&run](const std::string& name) { return run.want(name); };
   if (want("u_nu.png") && solution.contact.empty()) report.skipped.push_back("u_nu.png: no contact boundary");
   if (want("u_nu.png") && !solution.contact.empty()) figures.push_back(u_nu_figure(mesh, solution, info));
@@ -287,28 +289,30 @@ void solve_figures(std::vector<Figure>& figures, const Mesh& mesh, const Contact
     figures.push_back(mesh_figure(mesh, info, "mesh, " + std::to_string(mesh.num_elements()) + " elements"));
   if (want("adapt.png") && info.adapt.is_null()) report.skipped.push_back("adapt.png: not an adaptive solve");
   if (want("adapt.png") && !info.adapt.is_null()) figures.push_back(adapt_figure(info));
-  path_figures<2>(figures, info, run, report);
+  path_figures<2>(figures, info, path, run, report);
 }
 
 /// The figures of a solid's solve: deformed.png, path.png, then pressure.png over the contact
 /// faces `faces`.
 void solve_figures(std::vector<Figure>& figures, const Mesh3D& mesh, const ContactSolution3D& solution,
-                   const RunInfo& info, const std::vector<int>* faces, const detail::OutputRun& run,
-                   OutputReport& report) {
+                   const RunInfo& info, const std::vector<int>* faces, const PathFiles<3>* path,
+                   const detail::OutputRun& run, OutputReport& report) {
   if (run.want("pressure.png") && solution.contact.empty()) report.skipped.push_back("pressure.png: no contact boundary");
   if (run.want("deformed.png")) figures.push_back(deformed_figure(mesh, solution, info));
-  path_figures<3>(figures, info, run, report);
+  path_figures<3>(figures, info, path, run, report);
   if (run.want("pressure.png") && !solution.contact.empty())
     figures.push_back(pressure_figure(mesh, *faces, solution, info));
 }
 
 /// The output folder of a solve of either dimension: the files every solve writes, a solid's
 /// contact-surface.vtu (over `contact_faces`), scene.toml, a plane's mesh.poly2d, the path's
-/// files and the figures, as one transaction.
+/// files and the figures, as one transaction: `streamed`'s, opened before its path ran and
+/// holding its steps' files, or a new one.
 template <class MeshType, int dim>
 OutputReport write_outputs_of(const fs::path& dir, const MeshType& mesh, const MaterialTable& materials,
                               const std::vector<int>* contact_faces, const BasicContactSolution<dim>& solution,
-                              const RunInfo& info, const std::vector<std::string>& wanted) {
+                              const RunInfo& info, const std::vector<std::string>& wanted,
+                              detail::PathOutput<dim>* streamed = nullptr) {
   detail::require_known_outputs(wanted, all_outputs(dim), dim == 3 ? " of a three-dimensional solve" : "");
   if (solution.u.size() != dim * static_cast<Eigen::Index>(mesh.num_vertices()))
     throw InputError("the solution has " + std::to_string(solution.u.size()) + " values for " +
@@ -316,8 +320,13 @@ OutputReport write_outputs_of(const fs::path& dir, const MeshType& mesh, const M
   // the folder changes at once, in commit(), or not at all; the other dimension's names and an
   // earlier path's frames are ours too
   const BasicPathSolution<dim>* path = path_of<dim>(info);
-  detail::OutputRun run(dir, all_outputs(dim), all_outputs(5 - dim), wanted, info,
-                        path ? frame_files(*path) : std::vector<std::string>());
+  std::optional<detail::OutputRun> own;
+  if (streamed) {
+    streamed->run.list(info, streamed->files.frames());
+  } else {
+    own.emplace(dir, all_outputs(dim), all_outputs(5 - dim), wanted, info, path ? frame_files(*path) : std::vector<std::string>());
+  }
+  detail::OutputRun& run = streamed ? streamed->run : *own;
   auto result = [&](const RunInfo& listed) { return result_json(mesh, solution, listed); };
   detail::write_solve_files(run, mesh, materials, solution, info, result);
   if constexpr (dim == 3)
@@ -329,13 +338,22 @@ OutputReport write_outputs_of(const fs::path& dir, const MeshType& mesh, const M
     });
     detail::write_adapt_steps(run, info);
   }
-  write_path_files<MeshType, dim>(
-      run.transaction(), dir, mesh, path, [&run](const std::string& n) { return run.want(n); },
-      [&](std::ostream& os, const BasicContactSolution<dim>& frame) { write_vtu(os, mesh, materials, frame, nullptr); },
-      run.report());
+  std::unique_ptr<PathFiles<dim>> own_files;
+  const PathFiles<dim>* files = nullptr;
+  if (streamed) {
+    if (!path) throw InternalError("a path's outputs without its path");
+    streamed->files.finish(*path, run.report());
+    files = &streamed->files;
+  } else {
+    own_files = write_path_files<MeshType, dim>(
+        run.transaction(), mesh, path, [&run](const std::string& n) { return run.want(n); },
+        [&](std::ostream& os, const BasicContactSolution<dim>& frame) { write_vtu(os, mesh, materials, frame, nullptr); },
+        run.report());
+    files = own_files.get();
+  }
   // the figures: one that cannot be drawn is skipped with its reason, never an error
   run.draw([&](std::vector<Figure>& figures) {
-    solve_figures(figures, mesh, solution, info, contact_faces, run, run.report());
+    solve_figures(figures, mesh, solution, info, contact_faces, files, run, run.report());
   });
   return run.finish(result);
 }
@@ -352,5 +370,53 @@ OutputReport write_outputs(const fs::path& dir, const Mesh3D& mesh, const Materi
                            const RunInfo& info, const std::vector<std::string>& wanted) {
   return write_outputs_of(dir, mesh, materials, &contact_faces, solution, info, wanted);
 }
+
+namespace detail {
+
+template <int dim>
+PathOutput<dim>::PathOutput(const fs::path& dir, const std::vector<std::string>& wanted, const std::vector<std::string>& frames,
+                            const MeshType& mesh, const MaterialTable& materials, std::vector<std::string> parts)
+    : run(dir, all_outputs(dim), all_outputs(5 - dim), wanted, 0, frames),
+      files(run.transaction(), [this](const std::string& n) { return run.want(n); }, mesh, std::move(parts),
+            [&mesh, &materials](std::ostream& os, const BasicContactSolution<dim>& frame) {
+              write_vtu(os, mesh, materials, frame, nullptr);
+            }) {
+  require_known_outputs(wanted, all_outputs(dim), dim == 3 ? " of a three-dimensional solve" : "");
+}
+
+template <int dim>
+void require_path_output_folder(const PathOutput<dim>& out, const fs::path& dir, const std::vector<std::string>* files) {
+  std::error_code ec;
+  const bool same = fs::weakly_canonical(dir, ec) == fs::weakly_canonical(out.run.dir(), ec);
+  if (out.written)
+    throw InputError("the loading path's outputs were written to " + out.run.dir().string() +
+                         " as its steps were solved, and committed: a path writing as it runs is written once",
+                     dir.string());
+  if (!same || files)
+    throw InputError("the loading path wrote its steps into the transaction of " + out.run.dir().string() +
+                         " as it solved them and kept none: its outputs go there, all of them (solve without an "
+                         "output folder to keep the steps)",
+                     dir.string());
+}
+
+template void require_path_output_folder(const PathOutput<2>&, const fs::path&, const std::vector<std::string>*);
+template void require_path_output_folder(const PathOutput<3>&, const fs::path&, const std::vector<std::string>*);
+
+template struct PathOutput<2>;
+template struct PathOutput<3>;
+
+OutputReport write_path_outputs(PathOutput<2>& out, const Mesh& mesh, const MaterialTable& materials,
+                                const ContactSolution& solution, const RunInfo& info) {
+  out.written = true;
+  return write_outputs_of(out.run.dir(), mesh, materials, nullptr, solution, info, {}, &out);
+}
+
+OutputReport write_path_outputs(PathOutput<3>& out, const Mesh3D& mesh, const MaterialTable& materials,
+                                const std::vector<int>& contact_faces, const ContactSolution3D& solution, const RunInfo& info) {
+  out.written = true;
+  return write_outputs_of(out.run.dir(), mesh, materials, &contact_faces, solution, info, {}, &out);
+}
+
+}  // namespace detail
 
 }  // namespace hemivem::app

@@ -7,6 +7,7 @@
 #include <hemivem/nonsmooth_backends.hpp>
 #include <hemivem/scene/resources.hpp>
 
+#include "output_run.hpp"
 #include "scene_setup.hpp"
 
 #include <algorithm>
@@ -69,12 +70,14 @@ void refuse_path_across_processes(const Scene& scene) {
                      scene.where("solver.linear"));
 }
 
-// A path keeps each step's contact nodes (for path.json, path-contact.csv and path.png, written
-// after its last step) and each frame's displacement: about 400 bytes per contact node and step
-// (340 measured) and 8 per dof and frame, beside the solve. Refused before the path's first
-// solve when that exceeds the memory available.
+// A path that keeps its steps (for path.json, path-contact.csv and path.png, written after its
+// last step) holds each step's contact nodes and each frame's displacement: about 400 bytes per
+// contact node and step (340 measured) and 8 per dof and frame, beside the solve. A path writing
+// its steps as they come (`streamed`) holds one step and one frame at a time, and 56 bytes per
+// step (path.png's row). Refused before the path's first solve when that exceeds the memory
+// available.
 template <int dim>
-void require_path_memory(const Scene& scene, const BasicContactProblem<dim>& problem) {
+void require_path_memory(const Scene& scene, const BasicContactProblem<dim>& problem, bool streamed) {
   const auto& mesh = *problem.elasticity.mesh;
   std::vector<char> on_contact(static_cast<std::size_t>(mesh.num_vertices()), 0);
   double nodes = 0.0;
@@ -90,7 +93,8 @@ void require_path_memory(const Scene& scene, const BasicContactProblem<dim>& pro
     solve = estimate_memory(mesh).solve_bytes;
   else
     solve = estimate_memory_3d(vertices, nodes).solve_bytes;
-  const double path = 400.0 * nodes * (steps + frames) + 8.0 * dim * vertices * frames;
+  const double path = streamed ? 400.0 * nodes * 2.0 + 56.0 * steps + 8.0 * dim * vertices
+                               : 400.0 * nodes * (steps + frames) + 8.0 * dim * vertices * frames;
   std::ostringstream what;
   what << "a path of " << static_cast<long long>(steps) << " steps and " << static_cast<long long>(frames) << " frames on "
        << static_cast<long long>(vertices) << " vertices, " << static_cast<long long>(nodes)
@@ -98,20 +102,39 @@ void require_path_memory(const Scene& scene, const BasicContactProblem<dim>& pro
   require_memory(solve + path, what.str(), scene.where("path"));
 }
 
+// The frames a path writes (SceneSolveOptions::out owns them before it runs).
+std::vector<std::string> planned_frames(const Scene& scene) {
+  std::vector<std::string> frames;
+  if (!scene.path || !writes_frames(scene)) return frames;
+  const int steps = static_cast<int>(scene.path->factors().size());
+  for (int k = 1; k <= steps; ++k)
+    if (scene.path->is_frame(k)) frames.push_back(frame_file(k));
+  return frames;
+}
+
 template <int dim, class Solved>
 void solve_path_built(const Scene& scene, SceneEngines& e, Solved& s,
-                      std::function<void(const BasicPathStep<dim>&)> on_step) {
+                      std::function<void(const BasicPathStep<dim>&)> on_step, const std::filesystem::path& out) {
   if (!s.built->has_contact)
     throw InputError("a loading path needs a contact boundary: the scene has none", scene.where("path"));
-  require_path_memory<dim>(scene, s.built->problem);
+  require_path_memory<dim>(scene, s.built->problem, !out.empty());
+  if (!out.empty()) {  // the folder's transaction, before the first step: each step is written as it comes
+    check_output_folder(out);
+    std::vector<std::string> parts;
+    for (const auto& part : s.built->problem.parts) parts.push_back(part.name);
+    s.path_output = std::make_shared<PathOutput<dim>>(out, wanted_files(scene, true), planned_frames(scene), s.built->mesh,
+                                                      s.built->problem.elasticity.materials, std::move(parts));
+  }
   BasicPathOptions<dim> po;
   po.minimizer = s.options;
   // a frame costs an interior solve and a displacement kept until the files are written: only
   // for a run that writes them
   if (scene.path && writes_frames(scene)) po.frame = [path = *scene.path](int k) { return path.is_frame(k); };
-  if (on_step)
+  po.keep_steps = !s.path_output;
+  if (on_step || s.path_output)
     po.on_step = [&](const BasicPathStep<dim>& step) {
-      on_step(step);
+      if (s.path_output) s.path_output->files.add(step);
+      if (on_step) on_step(step);
       return true;
     };
   BasicPathSolution<dim> path;
@@ -134,8 +157,10 @@ void solve_path_built(const Scene& scene, SceneEngines& e, Solved& s,
   s.path = std::make_shared<const BasicPathSolution<dim>>(std::move(path));
 }
 
-template void solve_path_built(const Scene&, SceneEngines&, SceneSolve&, std::function<void(const BasicPathStep<2>&)>);
-template void solve_path_built(const Scene&, SceneEngines&, SceneSolve3D&, std::function<void(const BasicPathStep<3>&)>);
+template void solve_path_built(const Scene&, SceneEngines&, SceneSolve&, std::function<void(const BasicPathStep<2>&)>,
+                               const std::filesystem::path&);
+template void solve_path_built(const Scene&, SceneEngines&, SceneSolve3D&, std::function<void(const BasicPathStep<3>&)>,
+                               const std::filesystem::path&);
 
 }  // namespace detail
 
@@ -144,7 +169,7 @@ SceneSolve solve_scene_path(const Scene& scene, SceneSolveOptions o, std::functi
   SceneSolve s;
   detail::SceneEngines engines = detail::prepare_scene_solve(scene, o, s);
   if (o.on_built && s.built->has_contact) o.on_built(*s.built, s);
-  detail::solve_path_built<2>(scene, engines, s, std::move(on_step));
+  detail::solve_path_built<2>(scene, engines, s, std::move(on_step), o.out);
   return s;
 }
 
@@ -185,9 +210,8 @@ nlohmann::json path_step_json(const BasicPathStep<dim>& s) {
   return j;
 }
 
-// path.json without its steps.
 template <int dim>
-nlohmann::json path_json_head(const BasicPathSolution<dim>& path) {
+nlohmann::json path_json_members(const BasicPathSolution<dim>& path) {
   nlohmann::json j;
   j["schema"] = "hemivem-path/1";
   j["converged"] = path.converged();
@@ -201,49 +225,9 @@ template <int dim>
 nlohmann::json path_json(const BasicPathSolution<dim>& path) {
   nlohmann::json steps = nlohmann::json::array();
   for (const auto& s : path.steps) steps.push_back(path_step_json(s));
-  nlohmann::json j = path_json_head(path);
+  nlohmann::json j = path_json_members(path);
   j["steps"] = std::move(steps);
   return j;
-}
-
-namespace {
-
-// A value dumped with an indent of 2, its lines after the first indented by `indent` more.
-std::string indented(const nlohmann::json& value, const std::string& indent) {
-  std::string text = value.dump(2);
-  for (std::size_t at = text.find('\n'); at != std::string::npos; at = text.find('\n', at + 1 + indent.size()))
-    text.insert(at + 1, indent);
-  return text;
-}
-
-}  // namespace
-
-template <int dim>
-void write_path_json(std::ostream& os, const BasicPathSolution<dim>& path) {
-  // path_json(path).dump(2), one step at a time: the members in nlohmann's (sorted) order
-  const nlohmann::json head = path_json_head(path);
-  os << "{";
-  bool first = true;
-  auto member = [&](const std::string& key, const std::string& text) {
-    os << (first ? "\n" : ",\n") << "  " << nlohmann::json(key).dump() << ": " << text;
-    first = false;
-  };
-  for (auto it = head.begin(); it != head.end(); ++it) {
-    if (it.key() > std::string("steps")) break;
-    member(it.key(), indented(it.value(), "  "));
-  }
-  if (path.steps.empty()) {
-    member("steps", "[]");
-  } else {
-    os << (first ? "\n" : ",\n") << "  \"steps\": [";
-    first = false;
-    for (std::size_t k = 0; k < path.steps.size(); ++k)
-      os << (k ? ",\n    " : "\n    ") << indented(path_step_json(path.steps[k]), "    ");
-    os << "\n  ]";
-  }
-  for (auto it = head.begin(); it != head.end(); ++it)
-    if (it.key() > std::string("steps")) member(it.key(), indented(it.value(), "  "));
-  os << "\n}";
 }
 
 template <int dim>
@@ -272,10 +256,8 @@ PathProgress path_progress(const BasicPathStep<dim>& step, int steps) {
 
 template <int dim>
 std::string path_report(const BasicPathSolution<dim>& path) {
-  int converged = 0;
-  for (const auto& s : path.steps) converged += s.converged() ? 1 : 0;
   std::ostringstream out;
-  out << "  path          " << path.steps.size() << " steps to t = " << path.steps.back().t << ", " << converged
+  out << "  path          " << path.solved_steps << " steps to t = " << path.steps.back().t << ", " << path.converged_steps
       << " converged, " << path.jumps() << " jumps" << (path.proportional ? " (proportional: one condensation, no solve per step)" : "")
       << "\n";
   return out.str();
@@ -284,7 +266,7 @@ std::string path_report(const BasicPathSolution<dim>& path) {
 #define HEMIVEM_APP_PATH(dim)                                                               \
   template BasicPathLoading<dim> scene_path_loading(const Scene&);                          \
   template nlohmann::json path_json(const BasicPathSolution<dim>&);                         \
-  template void write_path_json(std::ostream&, const BasicPathSolution<dim>&);              \
+  template nlohmann::json path_json_members(const BasicPathSolution<dim>&);                 \
   template nlohmann::json path_step_json(const BasicPathStep<dim>&);                        \
   template std::string path_progress_line(const BasicPathStep<dim>&, int);                  \
   template PathProgress path_progress(const BasicPathStep<dim>&, int);                      \

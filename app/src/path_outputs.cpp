@@ -18,47 +18,6 @@ namespace hemivem::app {
 namespace fs = std::filesystem;
 using detail::num;
 
-template <int dim>
-void write_path_contact_csv(std::ostream& stream, const BasicPathSolution<dim>& path) {
-  TextWriter os(stream);
-  const bool tangential = !path.steps.empty() && path.steps.front().slip.size() > 0;
-  const bool parts = path.last.contact_parts.size() > 1;  // several contact parts: each node's
-  os << "step,t,vertex," << (dim == 2 ? "x,y" : "x,y,z") << ",u_nu,law_force,reaction,pressure,state"
-     << (tangential ? ",u_tau,slip,friction_force,friction_bound,friction_state" : "") << (parts ? ",part" : "") << "\n";
-  for (const auto& s : path.steps)
-    for (std::size_t i = 0; i < s.contact.size(); ++i) {
-      const auto& n = s.contact[i];
-      os << s.index << ',' << s.t << ',' << n.vertex;
-      for (int c = 0; c < dim; ++c) os << ',' << n.x(c);
-      os << ',' << n.u_nu << ','
-         << n.law_force << ',' << n.reaction << ',' << n.pressure() << ',' << to_string(n.state);
-      if (tangential && n.friction_state != FrictionState::none) {
-        const auto k = static_cast<Eigen::Index>(i);
-        os << ',' << n.u_tau << ',' << s.slip(k) << ',' << n.friction_force << ',' << s.friction_bound(k) << ','
-           << to_string(n.friction_state);
-      } else if (tangential) {
-        os << ",,,,,";  // a frictionless part beside one with friction
-      }
-      if (parts) os << ',' << contact_part_name(path.last, n);
-      os << '\n';
-    }
-}
-
-template <class MeshType, int dim>
-void write_path_displacement_csv(std::ostream& stream, const MeshType& mesh, const BasicPathSolution<dim>& path) {
-  TextWriter os(stream);
-  os << (dim == 2 ? "step,t,vertex,x,y,ux,uy\n" : "step,t,vertex,x,y,z,ux,uy,uz\n");
-  for (const auto& s : path.steps) {
-    if (s.u.size() == 0) continue;
-    for (int v = 0; v < mesh.num_vertices(); ++v) {
-      os << s.index << ',' << s.t << ',' << v;
-      for (int c = 0; c < dim; ++c) os << ',' << mesh.vertex(v)(c);
-      for (int c = 0; c < dim; ++c) os << ',' << s.u(dim * v + c);
-      os << '\n';
-    }
-  }
-}
-
 std::string frame_file(int step) {
   char name[32];
   std::snprintf(name, sizeof name, "solution-%04d.vtu", step);
@@ -88,23 +47,9 @@ std::vector<std::string> files_matching(const fs::path& dir, const std::string& 
 std::vector<std::string> frame_files_in(const fs::path& dir) { return files_matching(dir, R"(solution-[0-9]{4,}\.vtu)"); }
 
 template <int dim>
-void write_pvd(std::ostream& stream, const BasicPathSolution<dim>& path) {
-  TextWriter os(stream);
-  os << "<?xml version=\"1.0\"?>\n"
-     << "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
-     << "  <Collection>\n";
-  for (const auto& s : path.steps)
-    if (s.u.size() > 0)
-      os << "    <DataSet timestep=\"" << s.t << "\" group=\"\" part=\"0\" file=\"" << frame_file(s.index) << "\"/>\n";
-  os << "  </Collection>\n</VTKFile>\n";
-}
-
-template <int dim>
 nlohmann::json path_summary_json(const BasicPathSolution<dim>& path) {
-  int converged = 0;
-  for (const auto& s : path.steps) converged += s.converged() ? 1 : 0;
-  return {{"steps", path.steps.size()},
-          {"converged_steps", converged},
+  return {{"steps", path.solved_steps},
+          {"converged_steps", path.converged_steps},
           {"jumps", path.jumps()},
           {"t", path.steps.empty() ? nlohmann::json() : nlohmann::json(path.steps.back().t)},
           {"proportional", path.proportional},
@@ -112,31 +57,168 @@ nlohmann::json path_summary_json(const BasicPathSolution<dim>& path) {
           {"file", "path.json"}};
 }
 
+namespace {
+
+// A value dumped with an indent of 2, its lines after the first indented by `indent` more.
+std::string indented(const nlohmann::json& value, const std::string& indent) {
+  std::string text = value.dump(2);
+  for (std::size_t at = text.find('\n'); at != std::string::npos; at = text.find('\n', at + 1 + indent.size()))
+    text.insert(at + 1, indent);
+  return text;
+}
+
+}  // namespace
+
 template <int dim>
-Figure path_figure(const BasicPathSolution<dim>& path, const RunInfo& info) {
+PathFiles<dim>::PathFiles(OutputTransaction& tx, std::function<bool(const std::string&)> want, const MeshType& mesh,
+                          std::vector<std::string> parts, WriteFrame write_frame)
+    : tx_(tx), want_(std::move(want)), mesh_(mesh), parts_(std::move(parts)), write_frame_(std::move(write_frame)) {
+  stage([&] {
+    if (want_("path.json")) {
+      json_ = std::make_unique<FileInPieces>(tx_.staging() / "path.json");
+      json_->write([](std::ostream& os) { os << "{\n  \"schema\": \"hemivem-path/1\",\n  \"steps\": ["; });
+    }
+    if (want_("path-contact.csv")) contact_ = std::make_unique<FileInPieces>(tx_.staging() / "path-contact.csv");
+    if (want_("path-displacement.csv")) {
+      displacement_ = std::make_unique<FileInPieces>(tx_.staging() / "path-displacement.csv");
+      displacement_->write(
+          [](std::ostream& os) { os << (dim == 2 ? "step,t,vertex,x,y,ux,uy\n" : "step,t,vertex,x,y,z,ux,uy,uz\n"); });
+    }
+  });
+}
+
+template <int dim>
+PathFiles<dim>::~PathFiles() = default;
+
+template <int dim>
+void PathFiles<dim>::stage(const std::function<void()>& writes) {
+  tx_.stage([&](const fs::path&) { writes(); });
+}
+
+template <int dim>
+void PathFiles<dim>::add(const BasicPathStep<dim>& s) {
+  const bool first = steps_++ == 0;
+  if (first) tangential_ = s.slip.size() > 0;
+  const bool parts = parts_.size() > 1;  // several contact parts: each node's
+  auto part_name = [&](const BasicContactNode<dim>& n) {
+    return n.part >= 0 && n.part < static_cast<int>(parts_.size()) ? parts_[static_cast<std::size_t>(n.part)]
+                                                                   : std::string("contact");
+  };
+  stage([&] {
+    if (json_)
+      json_->write([&](std::ostream& os) { os << (first ? "\n    " : ",\n    ") << indented(path_step_json(s), "    "); });
+    if (contact_)
+      contact_->write([&](std::ostream& stream) {
+        TextWriter os(stream);
+        if (first)
+          os << "step,t,vertex," << (dim == 2 ? "x,y" : "x,y,z") << ",u_nu,law_force,reaction,pressure,state"
+             << (tangential_ ? ",u_tau,slip,friction_force,friction_bound,friction_state" : "") << (parts ? ",part" : "")
+             << "\n";
+        for (std::size_t i = 0; i < s.contact.size(); ++i) {
+          const auto& n = s.contact[i];
+          os << s.index << ',' << s.t << ',' << n.vertex;
+          for (int c = 0; c < dim; ++c) os << ',' << n.x(c);
+          os << ',' << n.u_nu << ',' << n.law_force << ',' << n.reaction << ',' << n.pressure() << ',' << to_string(n.state);
+          if (tangential_ && n.friction_state != FrictionState::none) {
+            const auto k = static_cast<Eigen::Index>(i);
+            os << ',' << n.u_tau << ',' << s.slip(k) << ',' << n.friction_force << ',' << s.friction_bound(k) << ','
+               << to_string(n.friction_state);
+          } else if (tangential_) {
+            os << ",,,,,";  // a frictionless part beside one with friction
+          }
+          if (parts) os << ',' << part_name(n);
+          os << '\n';
+        }
+      });
+    if (s.u.size() > 0 && displacement_)
+      displacement_->write([&](std::ostream& stream) {
+        TextWriter os(stream);
+        for (int v = 0; v < mesh_.num_vertices(); ++v) {
+          os << s.index << ',' << s.t << ',' << v;
+          for (int c = 0; c < dim; ++c) os << ',' << mesh_.vertex(v)(c);
+          for (int c = 0; c < dim; ++c) os << ',' << s.u(dim * v + c);
+          os << '\n';
+        }
+      });
+  });
+  if (s.u.size() > 0 && want_("solution.pvd")) {
+    BasicContactSolution<dim> frame;
+    frame.u = s.u;
+    frame.contact = s.contact;
+    frame.contact_parts = parts_;
+    const std::string name = frame_file(s.index);
+    tx_.write(name, [&](std::ostream& os) { write_frame_(os, frame); });
+    frames_.emplace_back(s.t, name);
+  }
+  double w = 0.0, un = 0.0, normal = 0.0, tangential = 0.0, stick = 0.0;
+  for (const auto& n : s.contact) {
+    w += n.weight;
+    un += n.weight * n.u_nu;
+    normal += n.force();
+    tangential += n.friction_force;
+    if (n.friction_state == FrictionState::stick && n.force() > 0.0) stick += n.weight;
+  }
+  rows_.push_back({s.t, w > 0.0 ? un / w : 0.0, normal, tangential, s.zone.length, stick, s.jump ? 1.0 : 0.0});
+}
+
+template <int dim>
+void PathFiles<dim>::finish(const BasicPathSolution<dim>& path, OutputReport& report) {
+  const fs::path& dir = tx_.dir();
+  stage([&] {
+    if (json_) {
+      nlohmann::json members = path_json_members(path);
+      members.erase("schema");
+      json_->write([&](std::ostream& os) {
+        os << (steps_ > 0 ? "\n  ]" : "]");
+        for (auto it = members.begin(); it != members.end(); ++it)
+          os << ",\n  " << nlohmann::json(it.key()).dump() << ": " << indented(it.value(), "  ");
+        os << "\n}\n";
+      });
+      json_->close();
+      report.written.push_back(dir / "path.json");
+    }
+    if (contact_) {
+      contact_->close();
+      report.written.push_back(dir / "path-contact.csv");
+    }
+    if (displacement_) {
+      displacement_->close();
+      report.written.push_back(dir / "path-displacement.csv");
+    }
+  });
+  if (!want_("solution.pvd")) return;
+  for (const auto& frame : frames_) report.written.push_back(dir / frame.second);
+  tx_.write("solution.pvd", [&](std::ostream& stream) {
+    TextWriter os(stream);
+    os << "<?xml version=\"1.0\"?>\n"
+       << "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+       << "  <Collection>\n";
+    for (const auto& [t, file] : frames_)
+      os << "    <DataSet timestep=\"" << t << "\" group=\"\" part=\"0\" file=\"" << file << "\"/>\n";
+    os << "  </Collection>\n</VTKFile>\n";
+  });
+  report.written.push_back(dir / "solution.pvd");
+}
+
+template <int dim>
+std::vector<std::string> PathFiles<dim>::frames() const {
+  std::vector<std::string> names;
+  for (const auto& frame : frames_) names.push_back(frame.second);
+  return names;
+}
+
+template <int dim>
+Figure PathFiles<dim>::figure(const RunInfo& info) const {
   Figure f;
   f.png = "path.png";
   f.width = 1400;
   f.height = 600;
-  const bool friction = !path.steps.empty() && path.steps.front().slip.size() > 0;
-  // per step: t, mean u_nu, normal resultant, friction resultant, zone length, stick length, jump
-  std::vector<std::array<double, 7>> rows;
-  for (const auto& s : path.steps) {
-    double w = 0.0, un = 0.0, normal = 0.0, tangential = 0.0, stick = 0.0;
-    for (const auto& n : s.contact) {
-      w += n.weight;
-      un += n.weight * n.u_nu;
-      normal += n.force();
-      tangential += n.friction_force;
-      if (n.friction_state == FrictionState::stick && n.force() > 0.0) stick += n.weight;
-    }
-    rows.push_back({s.t, w > 0.0 ? un / w : 0.0, normal, tangential, s.zone.length, stick, s.jump ? 1.0 : 0.0});
-  }
+  const bool friction = tangential_;
   // the range of the columns `columns` over the steps, for tick labels that differ at any scale
-  auto format = [&rows](const std::string& axis, const std::vector<int>& columns) {
+  auto format = [this](const std::string& axis, const std::vector<int>& columns) {
     double lo = 0.0, hi = 0.0;
     bool first = true;
-    for (const auto& r : rows)
+    for (const auto& r : rows_)
       for (int c : columns)
         if (std::isfinite(r[static_cast<std::size_t>(c)])) {
           const double v = r[static_cast<std::size_t>(c)];
@@ -145,14 +227,14 @@ Figure path_figure(const BasicPathSolution<dim>& path, const RunInfo& info) {
         }
     return axis_format(axis, lo, hi);
   };
-  f.data.push_back({"path.dat", [rows](std::ostream& os) {
-                      for (const auto& r : rows) {
+  f.data.push_back({"path.dat", [this](std::ostream& os) {
+                      for (const auto& r : rows_) {
                         for (std::size_t c = 0; c + 1 < r.size(); ++c) os << num(r[c]) << ' ';
                         os << (r.back() > 0.0 ? 1 : 0) << '\n';
                       }
                     }});
   std::ostringstream s;
-  s << "set multiplot layout 1,2 title " << detail::solve_title("loading path, " + std::to_string(path.steps.size()) + " steps", info)
+  s << "set multiplot layout 1,2 title " << detail::solve_title("loading path, " + std::to_string(steps_) + " steps", info)
     << " noenhanced\n"
     << "set grid\nset key top left\n"
     << format("x", {1}) << format("y", friction ? std::vector<int>{2, 3} : std::vector<int>{2})
@@ -170,58 +252,28 @@ Figure path_figure(const BasicPathSolution<dim>& path, const RunInfo& info) {
 }
 
 template <class MeshType, int dim>
-void write_path_files(OutputTransaction& tx, const fs::path& dir, const MeshType& mesh, const BasicPathSolution<dim>* path,
-                      const std::function<bool(const std::string&)>& want,
-                      const std::function<void(std::ostream&, const BasicContactSolution<dim>&)>& write_frame,
-                      OutputReport& report) {
+std::unique_ptr<PathFiles<dim>> write_path_files(OutputTransaction& tx, const MeshType& mesh, const BasicPathSolution<dim>* path,
+                                                 const std::function<bool(const std::string&)>& want,
+                                                 const typename PathFiles<dim>::WriteFrame& write_frame, OutputReport& report) {
   if (!path) {
     for (const char* name : {"path.json", "path-contact.csv", "path-displacement.csv", "solution.pvd"})
       if (want(name)) report.skipped.push_back(std::string(name) + ": not a loading path");
-    return;
+    return nullptr;
   }
-  auto write = [&](const std::string& name, const std::function<void(std::ostream&)>& body) {
-    if (!want(name)) return;
-    tx.write(name, body);
-    report.written.push_back(dir / name);
-  };
-  write("path.json", [&](std::ostream& os) {
-    write_path_json(os, *path);
-    os << '\n';
-  });
-  write("path-contact.csv", [&](std::ostream& os) { write_path_contact_csv(os, *path); });
-  write("path-displacement.csv", [&](std::ostream& os) { write_path_displacement_csv(os, mesh, *path); });
-  if (!want("solution.pvd")) return;
-  for (const auto& step : path->steps) {
-    if (step.u.size() == 0) continue;
-    BasicContactSolution<dim> frame;
-    frame.u = step.u;
-    frame.contact = step.contact;
-    const std::string name = frame_file(step.index);
-    tx.write(name, [&](std::ostream& os) { write_frame(os, frame); });
-    report.written.push_back(dir / name);
-  }
-  write("solution.pvd", [&](std::ostream& os) { write_pvd(os, *path); });
+  auto files = std::make_unique<PathFiles<dim>>(tx, want, mesh, path->last.contact_parts, write_frame);
+  for (const auto& step : path->steps) files->add(step);
+  files->finish(*path, report);
+  return files;
 }
 
-template <int dim>
-std::vector<std::string> listed_frames(const BasicPathSolution<dim>* path,
-                                       const std::function<bool(const std::string&)>& want) {
-  return path && want("solution.pvd") ? frame_files(*path) : std::vector<std::string>();
-}
-
-#define HEMIVEM_PATH_OUTPUTS(dim, MeshType)                                                                         \
-  template void write_path_contact_csv(std::ostream&, const BasicPathSolution<dim>&);                              \
-  template void write_path_displacement_csv(std::ostream&, const MeshType&, const BasicPathSolution<dim>&);        \
-  template void write_pvd(std::ostream&, const BasicPathSolution<dim>&);                                           \
-  template std::vector<std::string> frame_files(const BasicPathSolution<dim>&);                                    \
-  template nlohmann::json path_summary_json(const BasicPathSolution<dim>&);                                        \
-  template Figure path_figure(const BasicPathSolution<dim>&, const RunInfo&);                                      \
-  template void write_path_files(OutputTransaction&, const fs::path&, const MeshType&, const BasicPathSolution<dim>*, \
-                                 const std::function<bool(const std::string&)>&,                                   \
-                                 const std::function<void(std::ostream&, const BasicContactSolution<dim>&)>&,      \
-                                 OutputReport&);                                                                   \
-  template std::vector<std::string> listed_frames(const BasicPathSolution<dim>*,                                   \
-                                                  const std::function<bool(const std::string&)>&);
+#define HEMIVEM_PATH_OUTPUTS(dim, MeshType)                                                                       \
+  template class PathFiles<dim>;                                                                                 \
+  template std::vector<std::string> frame_files(const BasicPathSolution<dim>&);                                  \
+  template nlohmann::json path_summary_json(const BasicPathSolution<dim>&);                                      \
+  template std::unique_ptr<PathFiles<dim>> write_path_files(OutputTransaction&, const MeshType&,                 \
+                                                            const BasicPathSolution<dim>*,                      \
+                                                            const std::function<bool(const std::string&)>&,     \
+                                                            const PathFiles<dim>::WriteFrame&, OutputReport&);
 
 HEMIVEM_PATH_OUTPUTS(2, Mesh)
 HEMIVEM_PATH_OUTPUTS(3, Mesh3D)

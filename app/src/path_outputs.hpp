@@ -1,12 +1,18 @@
-// The files of a loading path in an output folder (docs/reference/outputs.md): the contact nodes
-// of every step, the displacement of every frame, the ParaView collection of the frames and
-// the load-displacement figure, written once for plane (dim = 2) and solid (dim = 3) bodies.
+// The files of a loading path in an output folder (docs/reference/outputs.md): path.json, the
+// contact nodes of every step, the displacement of every frame, the ParaView collection of the
+// frames and the load-displacement figure, written once for plane (dim = 2) and solid (dim = 3)
+// bodies, one step at a time: while the path runs (a run given its output folder) or from the
+// steps it kept.
 #pragma once
 
+#include <array>
 #include <filesystem>
 #include <functional>
 #include <iosfwd>
+#include <memory>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -16,22 +22,14 @@
 #include <hemivem/mesh/mesh.hpp>
 #include <hemivem/mesh/mesh3d.hpp>
 #include <hemivem/path/path.hpp>
+#include <hemivem/support/atomic_file.hpp>
 #include <hemivem/support/output_folder.hpp>
 
 namespace hemivem::app {
 
-/// path-contact.csv: one row per step and contact node.
-template <int dim>
-void write_path_contact_csv(std::ostream& stream, const BasicPathSolution<dim>& path);
-/// path-displacement.csv: one row per frame and vertex.
-template <class MeshType, int dim>
-void write_path_displacement_csv(std::ostream& stream, const MeshType& mesh, const BasicPathSolution<dim>& path);
-/// solution.pvd: the frames' files with their t as ParaView's timesteps.
-template <int dim>
-void write_pvd(std::ostream& stream, const BasicPathSolution<dim>& path);
 /// "solution-0007.vtu" for step 7 (four digits at least).
 std::string frame_file(int step);
-/// The frame files of a path, in order.
+/// The frame files of the steps a path kept, in order.
 template <int dim>
 std::vector<std::string> frame_files(const BasicPathSolution<dim>& path);
 /// The names solution-<digits>.vtu already in `dir` (an earlier path's frames).
@@ -42,20 +40,55 @@ std::vector<std::string> files_matching(const std::filesystem::path& dir, const 
 /// result.json's "path": steps, converged steps, jumps, the last t and the file with the rest.
 template <int dim>
 nlohmann::json path_summary_json(const BasicPathSolution<dim>& path);
-/// path.png: the normal (and friction) resultant of the contact forces against the mean normal
-/// displacement of the contact nodes, and the contact and stick zones against t; jumps marked.
-template <int dim>
-Figure path_figure(const BasicPathSolution<dim>& path, const RunInfo& info);
 
-/// The files of the run's path (RunInfo::path) that `want` names: path.json, path-contact.csv,
-/// path-displacement.csv and, for solution.pvd, a VTU per frame (`write_frame` writes one
-/// frame's solution) with the collection; each file written is added to `report`. Without a
-/// path, the names wanted are reported as skipped.
+/// The files of a path that `want` names, written into the staging folder of `tx` as the steps
+/// come (add), each step once and never kept: path.json (its steps, then the members that
+/// sum the path up), path-contact.csv (a row per step and contact node), path-displacement.csv
+/// (a row per frame and vertex) and, for solution.pvd, a VTU per frame (`write_frame`); finish()
+/// completes them. What is kept per step is one row of path.png's data (7 numbers).
+template <int dim>
+class PathFiles {
+ public:
+  using MeshType = std::conditional_t<dim == 2, Mesh, Mesh3D>;
+  using WriteFrame = std::function<void(std::ostream&, const BasicContactSolution<dim>&)>;
+  /// `parts`: the names of the contact parts, by BasicContactNode::part.
+  PathFiles(OutputTransaction& tx, std::function<bool(const std::string&)> want, const MeshType& mesh,
+            std::vector<std::string> parts, WriteFrame write_frame);
+  ~PathFiles();
+
+  /// Writes step `s`: its record, its contact rows, its frame when it has a displacement.
+  void add(const BasicPathStep<dim>& s);
+  /// path.json's members after the steps and solution.pvd; each file written is added to `report`.
+  void finish(const BasicPathSolution<dim>& path, OutputReport& report);
+  /// The frames written, in order.
+  std::vector<std::string> frames() const;
+  /// path.png: the normal (and friction) resultant of the contact forces against the mean
+  /// normal displacement of the contact nodes, and the contact and stick zones against t;
+  /// jumps marked.
+  Figure figure(const RunInfo& info) const;
+
+ private:
+  void stage(const std::function<void()>& writes);
+  OutputTransaction& tx_;
+  std::function<bool(const std::string&)> want_;
+  const MeshType& mesh_;
+  std::vector<std::string> parts_;
+  WriteFrame write_frame_;
+  std::unique_ptr<FileInPieces> json_, contact_, displacement_;
+  bool tangential_ = false;
+  int steps_ = 0;
+  std::vector<std::pair<double, std::string>> frames_;  ///< t and file of each frame
+  /// per step: t, mean u_nu, normal resultant, friction resultant, zone length, stick length, jump
+  std::vector<std::array<double, 7>> rows_;
+};
+
+/// The files of the run's path (RunInfo::path) that `want` names, from the steps it kept, with
+/// PathFiles; without a path, the names wanted are reported as skipped. Returns the files'
+/// writer (its figure is path.png), or null without a path.
 template <class MeshType, int dim>
-void write_path_files(OutputTransaction& tx, const std::filesystem::path& dir, const MeshType& mesh,
-                      const BasicPathSolution<dim>* path, const std::function<bool(const std::string&)>& want,
-                      const std::function<void(std::ostream&, const BasicContactSolution<dim>&)>& write_frame,
-                      OutputReport& report);
+std::unique_ptr<PathFiles<dim>> write_path_files(OutputTransaction& tx, const MeshType& mesh, const BasicPathSolution<dim>* path,
+                                                 const std::function<bool(const std::string&)>& want,
+                                                 const typename PathFiles<dim>::WriteFrame& write_frame, OutputReport& report);
 
 /// The names a run with this path may own in its folder: the path's frames, when solution.pvd
 /// is wanted (for result.json's list of files).

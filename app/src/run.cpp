@@ -123,6 +123,7 @@ SceneSolve3D run_solid(const Scene& scene, RunKind kind, RunOptions& o) {
   s.reduced = o.reduced;
   s.progress = std::move(o.progress);
   s.on_path_step = announce_steps<3>(scene, o.on_path_step);
+  s.out = o.out;
   return solve_scene_3d(scene, std::move(s));
 }
 
@@ -138,6 +139,7 @@ SceneSolveOptions plane_options(RunOptions& o) {
   if (o.mesh) s.mesh = std::get<Mesh>(std::move(*o.mesh));
   s.apply_region_boxes = o.apply_region_boxes;
   s.mesh_description = o.mesh_description;
+  s.out = o.out;
   return s;
 }
 

@@ -198,6 +198,7 @@ void refuse_path_across_processes(const Scene& scene);
 /// last t, so that the error estimate and every output read the path's end state) and s.path
 /// every step. `on_step` is called after each step.
 template <int dim, class Solved>
-void solve_path_built(const Scene& scene, SceneEngines& e, Solved& s, std::function<void(const BasicPathStep<dim>&)> on_step);
+void solve_path_built(const Scene& scene, SceneEngines& e, Solved& s, std::function<void(const BasicPathStep<dim>&)> on_step,
+                      const std::filesystem::path& out = {});
 
 }  // namespace hemivem::app::detail

@@ -3,6 +3,7 @@
 #include <hemivem/scene/resources.hpp>
 #include <hemivem/app/path.hpp>
 
+#include "output_run.hpp"
 #include "scene_setup.hpp"
 
 #include <hemivem/error.hpp>
@@ -211,8 +212,12 @@ RunInfo run_info(const Scene& scene, const SceneSolve& solved) {
 OutputReport write_results(const std::filesystem::path& dir, const Scene& scene, const SceneSolve& solved,
                            const std::vector<std::string>* files) {
   const BuiltProblem& built = *solved.built;
-  check_output_folder(dir);
   const RunInfo info = run_info(scene, solved);
+  if (solved.path_output) {
+    detail::require_path_output_folder(*solved.path_output, dir, files);
+    return detail::write_path_outputs(*solved.path_output, built.mesh, built.problem.elasticity.materials, solved.solution, info);
+  }
+  check_output_folder(dir);
   return write_outputs(dir, built.mesh, built.problem.elasticity.materials, solved.solution, info,
                        files ? *files : wanted_files(scene, built.has_contact));
 }

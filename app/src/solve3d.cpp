@@ -5,6 +5,7 @@
 #include <hemivem/app/path.hpp>
 #include <hemivem/error.hpp>
 
+#include "output_run.hpp"
 #include "scene_setup.hpp"
 
 #include <algorithm>
@@ -36,7 +37,7 @@ SceneSolve3D solve_scene_3d(const Scene& scene, SceneSolve3DOptions o) {
   s.mesh_seconds = since(t);
   if (o.on_built) o.on_built(*s.built, s);
   if (scene_is_path(scene)) {
-    detail::solve_path_built<3>(scene, e, s, std::move(o.on_path_step));
+    detail::solve_path_built<3>(scene, e, s, std::move(o.on_path_step), o.out);
     return s;
   }
   detail::solve_built<3>(scene, e, s, o.reduced, Eigen::VectorXd(),
@@ -71,8 +72,13 @@ RunInfo run_info(const Scene& scene, const SceneSolve3D& solved) {
 OutputReport write_results(const std::filesystem::path& dir, const Scene& scene, const SceneSolve3D& solved,
                               const std::vector<std::string>* files) {
   const BuiltProblem3D& built = *solved.built;
-  check_output_folder(dir);
   const RunInfo info = run_info(scene, solved);
+  if (solved.path_output) {
+    detail::require_path_output_folder(*solved.path_output, dir, files);
+    return detail::write_path_outputs(*solved.path_output, built.mesh, built.problem.elasticity.materials,
+                                      contact_faces(built.problem), solved.solution, info);
+  }
+  check_output_folder(dir);
   return write_outputs(dir, built.mesh, built.problem.elasticity.materials, contact_faces(built.problem),
                           solved.solution, info, files ? *files : wanted_files(scene, built.has_contact));
 }

@@ -15,6 +15,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 namespace hemivem {
@@ -68,13 +69,12 @@ Elasticity scaled(const Elasticity& p, double s) {
 // (what a run reports, its status and exit code) carries that step's status and says which step
 // it was and that the steps after it started from its uncertified state.
 template <int dim>
-void carry_first_failure(BasicPathSolution<dim>& out) {
-  const auto failed = std::find_if(out.steps.begin(), out.steps.end(), [](const auto& s) { return !s.converged(); });
-  if (failed == out.steps.end()) return;
+void carry_first_failure(BasicPathSolution<dim>& out, const std::optional<BasicPathStep<dim>>& failed) {
+  if (!failed) return;
   std::ostringstream why;
   why << "step " << failed->index << " (t = " << failed->t << ") did not converge: " << to_string(failed->status);
   if (!failed->message.empty()) why << " (" << failed->message << ")";
-  if (const auto later = std::distance(failed, out.steps.end()) - 1; later > 0)
+  if (const int later = out.solved_steps - failed->index; later > 0)
     why << "; the " << later << (later == 1 ? " step" : " steps") << " after it started from its uncertified state";
   if (out.last.converged()) out.last.status = failed->status;
   out.last.message = why.str();
@@ -143,16 +143,6 @@ Certificate friction_bound_certificate(const Certificate& tresca, const Eigen::V
     c.dual = std::max(c.dual, relative);
   }
   return c;
-}
-
-template <int dim>
-bool BasicPathSolution<dim>::converged() const {
-  return !steps.empty() && std::all_of(steps.begin(), steps.end(), [](const auto& s) { return s.converged(); });
-}
-
-template <int dim>
-int BasicPathSolution<dim>::jumps() const {
-  return static_cast<int>(std::count_if(steps.begin(), steps.end(), [](const auto& s) { return s.jump; }));
 }
 
 template <int dim>
@@ -687,9 +677,19 @@ BasicPathSolution<dim> BasicPathSolver<dim>::run() {
   const auto t_path = Clock::now();
   const int K = static_cast<int>(p.loading.t.size());
   const SingleThreadedBlas one_thread;  // each step's dense work is small
+  std::optional<BasicPathStep<dim>> failed;  // the first step that did not converge (its scalars)
   for (int k = 1; k <= K; ++k) {
+    if (!p.options.keep_steps) out.steps.clear();
     out.steps.push_back(p.solve_step(k));
-    if (p.options.on_step && !p.options.on_step(out.steps.back())) break;
+    const BasicPathStep<dim>& step = out.steps.back();
+    out.solved_steps += 1;
+    out.converged_steps += step.converged() ? 1 : 0;
+    out.jump_count += step.jump ? 1 : 0;
+    if (!step.converged() && !failed) {
+      failed.emplace();
+      failed->index = step.index, failed->t = step.t, failed->status = step.status, failed->message = step.message;
+    }
+    if (p.options.on_step && !p.options.on_step(step)) break;
   }
   p.timings["path"] = since(t_path) - p.timings["frames"];
   out.condensed_loads = p.condensed_loads;
@@ -703,7 +703,7 @@ BasicPathSolution<dim> BasicPathSolver<dim>::run() {
     s.forces = force_balance(at_t, s.u, s.contact_force);
   }
   out.last = p.last_solution(out.steps.back(), p.last_result, p.last_shift);
-  carry_first_failure(out);
+  carry_first_failure(out, failed);
   p.timings["total"] = since(start);
   out.timings = p.timings;
   out.last.timings = p.timings;

@@ -46,12 +46,11 @@ void injected_delay() {
 
 std::string failure(const char* what, int err) { return std::string(what) + ": " + std::strerror(err); }
 
-/// Writes all of `data` to `fd`, flushes it to the disk and closes it; throws WriteError.
-void write_all(int fd, const std::string& data, const std::string& name, bool fail) {
+/// Writes `size` bytes of `data` to `fd`; closes it and throws WriteError when a write fails.
+void write_bytes(int fd, const char* data, std::size_t size, const std::string& name) {
   std::size_t done = 0;
-  const std::size_t end = fail ? data.size() / 2 : data.size();
-  while (done < end) {
-    const ssize_t n = ::write(fd, data.data() + done, end - done);
+  while (done < size) {
+    const ssize_t n = ::write(fd, data + done, size - done);
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) {
       const int err = n < 0 ? errno : ENOSPC;
@@ -60,16 +59,27 @@ void write_all(int fd, const std::string& data, const std::string& name, bool fa
     }
     done += static_cast<std::size_t>(n);
   }
-  if (fail) {
-    ::close(fd);
-    throw WriteError(failure("writing the file failed", ENOSPC), name);
-  }
+}
+
+/// Flushes `fd` to the disk and closes it; throws WriteError.
+void sync_and_close(int fd, const std::string& name) {
   if (::fsync(fd) != 0 && errno != EINVAL && errno != EROFS) {
     const int err = errno;
     ::close(fd);
     throw WriteError(failure("writing the file to the disk failed", err), name);
   }
   if (::close(fd) != 0) throw WriteError(failure("closing the written file failed", errno), name);
+}
+
+/// Writes all of `data` to `fd`, flushes it to the disk and closes it; throws WriteError (after
+/// half of the bytes when `fail`, as on a full disk).
+void write_all(int fd, const std::string& data, const std::string& name, bool fail) {
+  write_bytes(fd, data.data(), fail ? data.size() / 2 : data.size(), name);
+  if (fail) {
+    ::close(fd);
+    throw WriteError(failure("writing the file failed", ENOSPC), name);
+  }
+  sync_and_close(fd, name);
 }
 
 }  // namespace
@@ -103,6 +113,48 @@ void write_file_atomically(const std::filesystem::path& path, const std::functio
     fs::remove(tmp, ec);
     throw;
   }
+}
+
+FileInPieces::FileInPieces(std::filesystem::path path) : name_(path.string()) {
+  if (path.filename().empty()) throw InputError("the path names no file", name_);
+  fail_ = injected_failure(next_file_number());
+  fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+  if (fd_ < 0) throw WriteError(failure("cannot create the file", errno), name_);
+}
+
+FileInPieces::~FileInPieces() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+void FileInPieces::write(const std::function<void(std::ostream&)>& piece) {
+  if (fd_ < 0) throw WriteError("the file was closed or failed before", name_);
+  std::ostringstream text;
+  piece(text);
+  if (!text) throw WriteError("making the file's contents failed", name_);
+  buffer_ += text.str();
+  if (buffer_.size() >= kFlushBytes) flush();
+}
+
+void FileInPieces::flush() {
+  const int fd = fd_;
+  fd_ = -1;  // write_bytes closes it when it fails
+  if (fail_) {
+    write_bytes(fd, buffer_.data(), buffer_.size() / 2, name_);
+    ::close(fd);
+    throw WriteError(failure("writing the file failed", ENOSPC), name_);
+  }
+  write_bytes(fd, buffer_.data(), buffer_.size(), name_);
+  fd_ = fd;
+  written_ += buffer_.size();
+  buffer_.clear();
+}
+
+void FileInPieces::close() {
+  if (fd_ < 0) throw WriteError("the file was closed or failed before", name_);
+  flush();
+  const int fd = fd_;
+  fd_ = -1;
+  sync_and_close(fd, name_);
 }
 
 }  // namespace hemivem

@@ -50,10 +50,9 @@ SceneSolve solve_scene_path(const Scene& scene, SceneSolveOptions options = {},
 /// contact zone, the contact resultant, the applied load, the fixed point, jumps (docs/reference/outputs.md).
 template <int dim>
 nlohmann::json path_json(const BasicPathSolution<dim>& path);
-/// path.json's text, path_json(path).dump(2) to the byte, written one step at a time (the
-/// document of every step is never held at once).
+/// path.json's members besides its steps: schema, converged, jumps, proportional, timings.
 template <int dim>
-void write_path_json(std::ostream& os, const BasicPathSolution<dim>& path);
+nlohmann::json path_json_members(const BasicPathSolution<dim>& path);
 /// One step of path.json's "steps".
 template <int dim>
 nlohmann::json path_step_json(const BasicPathStep<dim>& step);

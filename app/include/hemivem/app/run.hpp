@@ -72,6 +72,11 @@ struct RunOptions {
   std::string mesh_key = "mesh";
   bool apply_region_boxes = true;
   std::string mesh_description = "a mesh given by the caller";
+  /// The output folder the run is written to (SceneSolveOptions::out): a loading path writes
+  /// each step's files there as it solves it, in the folder's transaction, and keeps only its
+  /// last step, so that its memory does not grow with its steps; SceneRun::write must then be
+  /// given this folder and no list of files. Empty: a path keeps its steps until written.
+  std::filesystem::path out;
 };
 
 /// A scene solved: the solve of a plane or a solid body, the steps of its path or of its

@@ -43,6 +43,11 @@ nlohmann::json search_json(const NonsmoothMinimizer& minimizer);
 /// True when two engine names are the same engine (case-insensitive, '_' read as '-').
 bool same_engine(const std::string& a, const std::string& b);
 
+namespace detail {
+template <int dim>
+struct PathOutput;
+}  // namespace detail
+
 /// One scene solved with the engines it names (scene.solver.linear / .minimizer), a plane
 /// (dim = 2, SceneSolve) or a solid (dim = 3, SceneSolve3D) body.
 template <int dim>
@@ -75,6 +80,10 @@ struct BasicSceneSolve {
   /// The last step of a loading path carries the path (hemivem/app/path.hpp; RunInfo::path);
   /// null otherwise.
   std::shared_ptr<const BasicPathSolution<dim>> path;
+  /// A path solved with an output folder (SceneSolveOptions::out) has written its steps there
+  /// as they were made, and kept only its last: write_results to that folder finishes the
+  /// outputs. Null otherwise.
+  std::shared_ptr<detail::PathOutput<dim>> path_output;
   /// mesh_seconds + the solve's total.
   double total_seconds() const {
     const auto it = solution.timings.find("total");
@@ -111,6 +120,11 @@ struct SceneSolveOptions {
   /// A full nodal displacement on that mesh (2 per vertex) the minimizer starts from
   /// (ContactSolver::start_from); empty: zero.
   Eigen::VectorXd start;
+  /// The output folder a loading path writes its steps' files into as it solves them, in the
+  /// folder's transaction (nothing changes there before write_results commits): its memory then
+  /// does not grow with its steps. write_results must then be given this folder and no list of
+  /// files. Empty: the path keeps its steps (SceneSolve::path) until they are written.
+  std::filesystem::path out;
 };
 
 /// InputError (naming the scene's [path] or friction key) when `scene` is a loading path

@@ -40,6 +40,8 @@ struct SceneSolve3DOptions {
   std::string mesh_description = "a mesh given by the caller";
   /// Called after each step of a loading path.
   std::function<void(const BasicPathStep<3>&)> on_path_step;
+  /// As SceneSolveOptions::out.
+  std::filesystem::path out;
 };
 
 /// Creates the engines the scene names (an unknown or unbuilt name is an InputError before any

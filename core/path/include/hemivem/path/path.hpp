@@ -84,6 +84,10 @@ struct BasicPathOptions {
   /// Called after each step; returning false stops the path after it (the solution then holds
   /// the steps done).
   std::function<bool(const BasicPathStep<dim>&)> on_step;
+  /// false: BasicPathSolution::steps holds the last step alone, each earlier one is dropped once
+  /// on_step has seen it, and the solution's counts say the rest (solved_steps, converged_steps,
+  /// jumps, the first failure): the memory of a path then does not grow with its steps.
+  bool keep_steps = true;
 };
 using PathOptions = BasicPathOptions<2>;
 
@@ -137,7 +141,10 @@ using PathStep = BasicPathStep<2>;
 
 template <int dim>
 struct BasicPathSolution {
+  /// Every step, or the last alone (BasicPathOptions::keep_steps).
   std::vector<BasicPathStep<dim>> steps;
+  int solved_steps = 0;     ///< the steps solved, whether kept or not
+  int converged_steps = 0;  ///< of them, those that converged
   /// The last step as a static solve reports it (u, contact, energy, forces, certificate,
   /// stages and timings of the whole path), for every output that reads a solve. When a step
   /// did not converge, its status and message are the first such step's (its index, t, status
@@ -152,8 +159,10 @@ struct BasicPathSolution {
   /// Seconds: assembly, condensation, path (every step), frames (their displacements), total.
   std::map<std::string, double> timings;
   /// Every step converged.
-  bool converged() const;
-  int jumps() const;
+  bool converged() const { return solved_steps > 0 && converged_steps == solved_steps; }
+  /// The steps that were jumps (BasicPathStep::jump).
+  int jumps() const { return jump_count; }
+  int jump_count = 0;
 };
 using PathSolution = BasicPathSolution<2>;
 
