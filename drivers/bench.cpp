@@ -38,12 +38,10 @@ std::string percent_or_dash(double v) { return std::isfinite(v) ? fixed(100.0 * 
 void print_refinement(std::ostream& out, const Refinement& r, const BenchOptions& o, const std::string& plot_failure) {
   const int levels = r.levels;
   const std::string times = std::to_string(levels) + " time" + (levels > 1 ? "s" : "");
-  if (r.method == "cells_doubled")
-    out << "\n  refinement study: " << r.engines << " on the scene's mesh with its cell counts doubled " << times
-        << " (the generator remade); adaptive not run: " << r.reason << "\n";
-  else
-    out << "\n  refinement study: " << r.engines << " on the scene's mesh refined uniformly " << times
-        << (r.stopped == "not_run" ? ", adaptive not run" : ", and adaptively (" + r.stopped + ")") << "\n";
+  out << "\n  refinement study: " << r.engines
+      << (r.method == "cells_doubled" ? " on the scene's mesh with its cell counts doubled " + times + " (the generator remade)"
+                                      : " on the scene's mesh refined uniformly " + times)
+      << (r.stopped == "not_run" ? ", adaptive not run: " + r.reason : ", and adaptively (" + r.stopped + ")") << "\n";
   out << "  reference energy: ";
   if (r.reference_energy) out << std::setprecision(10) << *r.reference_energy << " (" << r.reference << ")\n";
   else out << r.reference << "\n";

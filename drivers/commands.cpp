@@ -145,8 +145,6 @@ void print_files(std::ostream& out, const SolveOptions& o, const OutputReport& r
 
 /// The flags a kind of run cannot take, named by flag (run_scene names the scene's keys).
 void check_flags_for(const SolveOptions& o, const Scene& scene, RunKind kind) {
-  if (o.adapt && scene.dimension() == 3)
-    throw InputError("adaptive refinement is not available for three-dimensional scenes", "--adapt");
   if (kind == RunKind::static_solve || !o.linear || !same_engine(*o.linear, "mumps-mpi")) return;
   throw InputError(kind == RunKind::path ? "a loading path runs in one process; the linear engine mumps-mpi runs across "
                                            "processes: choose another engine"

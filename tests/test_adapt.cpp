@@ -74,7 +74,7 @@ TEST(Adapt, ReachesItsTargetAndRecordsEveryStep) {
   SceneAdapt a;
   a.target = 0.08;
   std::vector<int> seen;
-  const app::AdaptiveSolve r = app::solve_adaptively(s, a, {}, [&](const app::AdaptStep& st) { seen.push_back(st.step); });
+  const app::AdaptiveSolve r = app::solve_adaptively(s, a, app::SceneSolveOptions{}, [&](const app::AdaptStep& st) { seen.push_back(st.step); });
   ASSERT_TRUE(r.reached_target()) << r.reason;
   ASSERT_GE(r.steps.size(), 3u);
   EXPECT_EQ(seen.size(), r.steps.size());

@@ -259,11 +259,6 @@ TEST(Cli3D, AnUndrivenBodySolvesWithAWarningAndTheAdaptFlagIsRefused) {
   EXPECT_NE(r.err.find("hemivem: warning: nothing drives this problem"), std::string::npos) << r.err;
   EXPECT_NE(r.out.find("(no contact: one linear solve)"), std::string::npos) << r.out;
   EXPECT_FALSE(fs::exists(dir / "out" / "contact.csv"));
-  const CommandRun a = run_hemivem("solve " + (dir / "still.toml").string() + " --adapt --out " + (dir / "out2").string());
-  EXPECT_EQ(a.code, 2);
-  EXPECT_NE(a.err.find("--adapt: adaptive refinement is not available for three-dimensional scenes"), std::string::npos)
-      << a.err;
-  EXPECT_FALSE(fs::exists(dir / "out2"));
   fs::remove_all(dir);
 }
 

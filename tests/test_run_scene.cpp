@@ -172,9 +172,14 @@ TEST(RunScene, RefusesByKeyWhatAKindCannotDo) {
   } catch (const InputError& e) {
     EXPECT_EQ(e.where(), "mesh=");
   }
+  // an adaptive solid is a kind of run as an adaptive plane is
   Scene solid = small_solid();
   solid.adapt = SceneAdapt{};
-  EXPECT_THROW(run_scene(solid), InputError);
+  solid.adapt->max_steps = 2;
+  const SceneRun adaptive = run_scene(solid);
+  EXPECT_EQ(adaptive.kind(), RunKind::adaptive);
+  ASSERT_NE(adaptive.solid_adaptive(), nullptr);
+  EXPECT_EQ(adaptive.solid_adaptive()->steps.size(), 2u);
 }
 
 TEST(RunScene, WritesWhatTheCommandWrites) {

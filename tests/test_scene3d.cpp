@@ -225,8 +225,8 @@ TEST(Scene3D, BadInputNamesTheKeyAndWhatWasExpected) {
                     {"solid.toml:8", "contact.friction", "not available for three-dimensional scenes"}));
   // a loading path is a solid's as a plane's (tests/test_path_solid.cpp solves them)
   EXPECT_EQ(parse_scene_string(kBox + "[path]\nsteps = 4\n", "solid.toml").path->factors().size(), 4u);
-  EXPECT_TRUE(holds(scene_error(kBox + "[adapt]\ntarget = 0.1\n"),
-                    {"solid.toml:6", "adapt: not available for three-dimensional scenes"}));
+  // adaptive refinement is a solid's as a plane's (tests/test_adapt3d.cpp solves them)
+  EXPECT_DOUBLE_EQ(parse_scene_string(kBox + "[adapt]\ntarget = 0.1\n", "solid.toml").adapt->target, 0.1);
   EXPECT_TRUE(holds(scene_error(kBox + "[material]\nmodel = \"plane-strain\"\n"),
                     {"solid.toml:7", "material.model", "two-dimensional scenes", "remove the key"}));
   EXPECT_TRUE(holds(scene_error(kBox + "[loads]\nbody_force = [0, -1]\n"),

@@ -2,7 +2,9 @@
 
 #include <hemivem/app/vtu.hpp>
 #include <hemivem/error.hpp>
+#include <hemivem/mesh/dimension.hpp>
 #include <hemivem/mesh/refine.hpp>
+#include <hemivem/mesh/refine3d.hpp>
 #include <hemivem/scene/resources.hpp>
 
 #include <algorithm>
@@ -22,10 +24,14 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-AdaptStep step_of(const SceneSolve& s, int step, double elapsed) {
+int cells(const Mesh& mesh) { return mesh.num_elements(); }
+int cells(const Mesh3D& mesh) { return mesh.num_cells(); }
+
+template <int dim>
+AdaptStep step_of(const BasicSceneSolve<dim>& s, int step, double elapsed) {
   AdaptStep a;
   a.step = step;
-  a.elements = s.built->mesh.num_elements();
+  a.elements = cells(s.built->mesh);
   a.vertices = s.built->mesh.num_vertices();
   a.unknowns = s.solution.unknowns;
   if (s.estimate) {
@@ -40,24 +46,52 @@ AdaptStep step_of(const SceneSolve& s, int step, double elapsed) {
   return a;
 }
 
+// The memory the solve of a refined mesh needs (resources.hpp): a plane's from its elements; a
+// solid's from its vertices and the contact nodes of the faces that refine the contact faces of
+// `built`, with the coefficient of polyhedra when a cell has more than eight vertices.
+double solve_bytes(const RefinedMesh& refined, const BuiltProblem&) { return estimate_memory(refined.mesh).solve_bytes; }
+
+double solve_bytes(const RefinedMesh3D& refined, const BuiltProblem3D& built) {
+  const Mesh3D& next = refined.mesh;
+  std::vector<char> contact_face(static_cast<std::size_t>(built.mesh.num_faces()), 0);
+  for (const auto& part : built.problem.parts)
+    for (int f : part.facets) contact_face[static_cast<std::size_t>(f)] = 1;
+  std::vector<char> on_contact(static_cast<std::size_t>(next.num_vertices()), 0);
+  double nodes = 0.0;
+  for (int f : next.boundary_faces()) {
+    const int parent = refined.parent_face[static_cast<std::size_t>(f)];
+    if (parent < 0 || !contact_face[static_cast<std::size_t>(parent)]) continue;
+    for (int v : next.face(f).vertices)
+      if (!on_contact[static_cast<std::size_t>(v)]) on_contact[static_cast<std::size_t>(v)] = 1, nodes += 1.0;
+  }
+  bool polyhedra = false;
+  for (int c = 0; c < next.num_cells() && !polyhedra; ++c) polyhedra = next.cell_vertices(c).size() > 8;
+  return estimate_memory_3d(next.num_vertices(), nodes, polyhedra ? 3600.0 : 1200.0).solve_bytes;
+}
+
 // Why the next mesh is not solved, if it is too large: more unknowns than max_unknowns, or a
 // solve whose estimated memory (as for a mesh file: HEMIVEM_MEMORY_LIMIT, or what the machine has
 // available) would not fit.
-std::optional<std::pair<AdaptStop, std::string>> too_large(const Mesh& next, const SceneAdapt& adapt) {
-  const long long unknowns = 2LL * next.num_vertices();
+template <int dim, class Refined>
+std::optional<std::pair<AdaptStop, std::string>> too_large(const Refined& refined, const BasicBuiltProblem<dim>& built,
+                                                           const SceneAdapt& adapt) {
+  const long long vertices = refined.mesh.num_vertices();
+  const long long unknowns = dim * vertices;
   if (unknowns > adapt.max_unknowns)
-    return std::pair{AdaptStop::max_unknowns, "the next mesh would have " + std::to_string(next.num_vertices()) +
-                                                  " vertices (" + std::to_string(unknowns) +
+    return std::pair{AdaptStop::max_unknowns, "the next mesh would have " + std::to_string(vertices) + " vertices (" +
+                                                  std::to_string(unknowns) +
                                                   " displacement components), more than max_unknowns = " +
                                                   std::to_string(adapt.max_unknowns)};
   try {
-    require_memory(estimate_memory(next).solve_bytes, "the next mesh (" + std::to_string(next.num_vertices()) + " vertices)",
-                   "adapt");
+    require_memory(solve_bytes(refined, built), "the next mesh (" + std::to_string(vertices) + " vertices)", "adapt");
   } catch (const InputError& e) {
     return std::pair{AdaptStop::memory, e.detail()};
   }
   return std::nullopt;
 }
+
+SceneSolve solve_step(const Scene& scene, SceneSolveOptions o) { return solve_scene(scene, std::move(o)); }
+SceneSolve3D solve_step(const Scene& scene, SceneSolve3DOptions o) { return solve_scene_3d(scene, std::move(o)); }
 
 std::string percent(double x) {
   std::ostringstream o;
@@ -78,8 +112,11 @@ std::string to_string(AdaptStop stop) {
   return "unknown";
 }
 
-AdaptiveSolve solve_adaptively(const Scene& scene, const SceneAdapt& adapt, SceneSolveOptions options,
-                               const std::function<void(const AdaptStep&)>& progress) {
+namespace {
+
+template <int dim, class Options>
+BasicAdaptiveSolve<dim> adapt_scene(const Scene& scene, const SceneAdapt& adapt, Options options,
+                                    const std::function<void(const AdaptStep&)>& progress) {
   refuse_path(scene, "an adaptive solve");
   if (same_engine(scene.solver.linear, "mumps-mpi"))  // its processes would have to refine the same meshes in step
     throw InputError("an adaptive solve runs in one process; the linear engine mumps-mpi runs across processes: "
@@ -87,25 +124,25 @@ AdaptiveSolve solve_adaptively(const Scene& scene, const SceneAdapt& adapt, Scen
                      scene.where("solver.linear"));
   const auto start = Clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
-  AdaptiveSolve out;
+  BasicAdaptiveSolve<dim> out;
   const std::string base = options.mesh ? options.mesh_description : scene.mesh.description();
   // each step's mesh and start, moved into that step's options (the rest is shared by every step)
-  std::optional<Mesh> mesh = std::move(options.mesh);
+  std::optional<MeshOf<dim>> mesh = std::move(options.mesh);
   Eigen::VectorXd start_u = std::move(options.start);
   options.mesh.reset();
   // each step's solution.vtu, for adapt.pvd, when the scene writes the output vtu
   const bool keep_steps = std::find(scene.outputs.begin(), scene.outputs.end(), "vtu") != scene.outputs.end();
   auto steps_vtu = std::make_shared<std::vector<std::string>>();
   for (int step = 0;; ++step) {
-    SceneSolveOptions o = options;
+    Options o = options;
     o.mesh = std::move(mesh);
     o.start = std::move(start_u);
     if (step > 0) {
       o.mesh_description = base + ", refined adaptively in " + std::to_string(step) + " steps";
-      o.apply_region_boxes = false;  // the children inherit their parents' regions
+      if constexpr (dim == 2) o.apply_region_boxes = false;  // the children inherit their parents' regions
     }
-    out.last = solve_scene(scene, std::move(o));
-    const SceneSolve& s = out.last;
+    out.last = solve_step(scene, std::move(o));
+    const BasicSceneSolve<dim>& s = out.last;
     if (keep_steps) {
       std::ostringstream vtu;
       write_vtu(vtu, s.built->mesh, s.built->problem.elasticity.materials, s.solution,
@@ -136,8 +173,8 @@ AdaptiveSolve solve_adaptively(const Scene& scene, const SceneAdapt& adapt, Scen
       break;
     }
     const std::vector<int> marked = dorfler_marking(s.estimate->indicators, adapt.fraction);
-    RefinedMesh refined = refine_mesh(s.built->mesh, marked);
-    if (auto stop = too_large(refined.mesh, adapt)) {
+    auto refined = refine_mesh(s.built->mesh, marked);
+    if (auto stop = too_large<dim>(refined, *s.built, adapt)) {
       finish(stop->first, stop->second + "; the relative error estimate is " + percent(now.estimate) +
                               ", above the target " + percent(adapt.target));
       break;
@@ -154,7 +191,22 @@ AdaptiveSolve solve_adaptively(const Scene& scene, const SceneAdapt& adapt, Scen
   return out;
 }
 
-nlohmann::json adapt_json(const AdaptiveSolve& solved, const SceneAdapt& adapt) {
+}  // namespace
+
+AdaptiveSolve solve_adaptively(const Scene& scene, const SceneAdapt& adapt, SceneSolveOptions options,
+                               const std::function<void(const AdaptStep&)>& progress) {
+  return adapt_scene<2>(scene, adapt, std::move(options), progress);
+}
+
+AdaptiveSolve3D solve_adaptively(const Scene& scene, const SceneAdapt& adapt, SceneSolve3DOptions options,
+                                 const std::function<void(const AdaptStep&)>& progress) {
+  if (scene.dimension() != 3)
+    throw InputError("mesh: this adaptive solve takes three-dimensional scenes", scene.where("mesh"));
+  return adapt_scene<3>(scene, adapt, std::move(options), progress);
+}
+
+template <int dim>
+nlohmann::json adapt_json(const BasicAdaptiveSolve<dim>& solved, const SceneAdapt& adapt) {
   nlohmann::json steps = nlohmann::json::array();
   for (const AdaptStep& a : solved.steps)
     steps.push_back({{"step", a.step},
@@ -180,6 +232,9 @@ nlohmann::json adapt_json(const AdaptiveSolve& solved, const SceneAdapt& adapt) 
           {"seconds", solved.seconds},
           {"steps", std::move(steps)}};
 }
+
+template nlohmann::json adapt_json(const BasicAdaptiveSolve<2>&, const SceneAdapt&);
+template nlohmann::json adapt_json(const BasicAdaptiveSolve<3>&, const SceneAdapt&);
 
 std::string adapt_progress_line(const AdaptStep& a) {
   std::ostringstream o;

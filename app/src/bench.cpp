@@ -336,6 +336,30 @@ RefinementPoint adaptive_point(const app::AdaptStep& step) {
 
 void measure_true_errors(Refinement& r, const BenchOptions& o);
 
+// The adaptive run of a refinement study, of a plane or a solid scene: from the scene's mesh to
+// the finest uniform level's relative estimate, within its unknowns (Doerfler fraction 0.5).
+template <int dim>
+void run_adaptive(const Scene& base, Refinement& r, const std::function<void(const RefinementPoint&)>& progress) {
+  const RefinementPoint& finest = r.uniform.back();
+  if (!(std::isfinite(finest.estimate) && finest.estimate > 0.0 && finest.estimate < 1.0)) {
+    r.stopped = "not_run";
+    r.reason = "the finest uniform level has no relative estimate in (0, 1) to aim at";
+    return;
+  }
+  SceneAdapt adapt;
+  adapt.target = finest.estimate;
+  adapt.fraction = 0.5;
+  adapt.max_unknowns = finest.unknowns;
+  adapt.max_steps = 50;
+  std::conditional_t<dim == 2, app::SceneSolveOptions, app::SceneSolve3DOptions> options;
+  const auto a = app::solve_adaptively(base, adapt, std::move(options), [&](const app::AdaptStep& step) {
+    if (progress) progress(adaptive_point(step));
+  });
+  for (const app::AdaptStep& step : a.steps) r.adaptive.push_back(adaptive_point(step));
+  r.stopped = app::to_string(a.stopped);
+  r.reason = a.reason;
+}
+
 // Every uniform level of the refinement study fits in memory, checked once the first level's
 // mesh is known and before any level is refined: uniform refinement gives a mesh of V + E + F
 // vertices (the vertices, a midpoint per edge, a centre per element, all quadrilaterals), then
@@ -378,26 +402,12 @@ Refinement run_refinement(const Scene& base, const BenchOptions& o) {
     mesh = std::move(s.built->mesh);  // s is done with
   }
 
-  const RefinementPoint& finest = r.uniform.back();
   if (path) {
     r.stopped = "not_run";
     r.reason = "adaptive refinement solves one static problem and the scene is a loading path: the uniform levels "
                "are measured at the path's last step";
-  } else if (std::isfinite(finest.estimate) && finest.estimate > 0.0 && finest.estimate < 1.0) {
-    SceneAdapt adapt;
-    adapt.target = finest.estimate;
-    adapt.fraction = 0.5;
-    adapt.max_unknowns = finest.unknowns;
-    adapt.max_steps = 50;
-    const app::AdaptiveSolve a = app::solve_adaptively(base, adapt, {}, [&](const app::AdaptStep& step) {
-      if (progress) progress(adaptive_point(step));
-    });
-    for (const app::AdaptStep& step : a.steps) r.adaptive.push_back(adaptive_point(step));
-    r.stopped = app::to_string(a.stopped);
-    r.reason = a.reason;
   } else {
-    r.stopped = "not_run";
-    r.reason = "the finest uniform level has no relative estimate in (0, 1) to aim at";
+    run_adaptive<2>(base, r, progress);
   }
   measure_true_errors(r, o);
   return r;
@@ -433,13 +443,12 @@ std::vector<Scene> refinement_levels_3d(const Scene& base, int levels, const std
 }
 
 // The refinement study of a three-dimensional scene: its levels (refinement_levels_3d) solved
-// with the scene's own engines (solve_scene_3d) and the true errors as in 2D; no adaptive run.
+// with the scene's own engines (solve_scene_3d), the adaptive run from the first level's mesh,
+// and the true errors, as in 2D.
 Refinement run_refinement_3d(const std::vector<Scene>& levels, const BenchOptions& o) {
   const auto& progress = o.progress.refinement;
   Refinement r;
   r.method = "cells_doubled";
-  r.stopped = "not_run";
-  r.reason = "adaptive refinement is two-dimensional";
   r.levels = *o.levels;
   for (std::size_t level = 0; level < levels.size(); ++level) {
     const app::SceneSolve3D s = app::solve_scene_3d(levels[level]);
@@ -447,6 +456,13 @@ Refinement run_refinement_3d(const std::vector<Scene>& levels, const BenchOption
     r.uniform.push_back(uniform_point(s, static_cast<int>(level)));
     r.all_converged &= r.uniform.back().converged;
     if (progress) progress(r.uniform.back());
+  }
+  if (scene_is_path(levels.front())) {
+    r.stopped = "not_run";
+    r.reason = "adaptive refinement solves one static problem and the scene is a loading path: the uniform levels "
+               "are measured at the path's last step";
+  } else {
+    run_adaptive<3>(levels.front(), r, progress);
   }
   measure_true_errors(r, o);
   return r;

@@ -211,7 +211,7 @@ const std::vector<std::string>& all_outputs(int dim) {
       {"stress.csv", true, true},       {"history.csv", true, true},      {"solution.vtu", true, true},     {"contact-surface.vtu", false, true},
       {"scene.toml", true, true},       {"mesh.poly2d", true, false},     {"u_nu.png", true, false},
       {"deformed.png", true, true},     {"error.png", true, false},       {"mesh.png", true, false},
-      {"adapt.png", true, false},       {"adapt.pvd", true, false},       {"pressure.png", false, true},    {"path.json", true, true},
+      {"adapt.png", true, true},        {"adapt.pvd", true, true},       {"pressure.png", false, true},    {"path.json", true, true},
       {"path-contact.csv", true, true}, {"path-displacement.csv", true, true}, {"solution.pvd", true, true},
       {"path.png", true, true}};
   auto of = [](bool solid) {
@@ -299,6 +299,8 @@ void solve_figures(std::vector<Figure>& figures, const Mesh3D& mesh, const Conta
                    const detail::OutputRun& run, OutputReport& report) {
   if (run.want("pressure.png") && solution.contact.empty()) report.skipped.push_back("pressure.png: no contact boundary");
   if (run.want("deformed.png")) figures.push_back(deformed_figure(mesh, solution, info));
+  if (run.want("adapt.png") && info.adapt.is_null()) report.skipped.push_back("adapt.png: not an adaptive solve");
+  if (run.want("adapt.png") && !info.adapt.is_null()) figures.push_back(adapt_figure(info));
   path_figures<3>(figures, info, path, run, report);
   if (run.want("pressure.png") && !solution.contact.empty())
     figures.push_back(pressure_figure(mesh, *faces, solution, info));
@@ -336,8 +338,8 @@ OutputReport write_outputs_of(const fs::path& dir, const MeshType& mesh, const M
     run.write("mesh.poly2d", [&](std::ostream& os) {
       write_poly2d(os, mesh, {"the mesh of " + info.mesh, "regions and edge groups are not part of this format"});
     });
-    detail::write_adapt_steps(run, info);
   }
+  detail::write_adapt_steps(run, info);
   std::unique_ptr<PathFiles<dim>> own_files;
   const PathFiles<dim>* files = nullptr;
   if (streamed) {

@@ -202,7 +202,8 @@ template std::string brief_report(const BasicSceneSolve<3>&);
 template std::string full_report(const Scene&, const BasicSceneSolve<2>&, const RunInfo&);
 template std::string full_report(const Scene&, const BasicSceneSolve<3>&, const RunInfo&);
 
-std::string adapt_report(const AdaptiveSolve& adaptive) {
+template <int dim>
+std::string adapt_report(const BasicAdaptiveSolve<dim>& adaptive) {
   std::ostringstream out;
   const AdaptStep& first = adaptive.steps.front();
   const AdaptStep& last = adaptive.steps.back();
@@ -212,5 +213,8 @@ std::string adapt_report(const AdaptiveSolve& adaptive) {
       << "  stopped       " << to_string(adaptive.stopped) << ": " << adaptive.reason << "\n";
   return out.str();
 }
+
+template std::string adapt_report(const BasicAdaptiveSolve<2>&);
+template std::string adapt_report(const BasicAdaptiveSolve<3>&);
 
 }  // namespace hemivem::app

@@ -79,6 +79,7 @@ std::string SceneRun::report(const RunInfo& info) const {
     return full_report(scene_, s, info) + (s.path ? path_report(*s.path) : std::string());
   });
   if (adaptive_) text += adapt_report(*adaptive_);
+  if (solid_adaptive_) text += adapt_report(*solid_adaptive_);
   return text;
 }
 
@@ -106,11 +107,8 @@ std::function<void(const BasicPathStep<dim>&)> announce_steps(const Scene& scene
   return [f, steps](const BasicPathStep<dim>& s) { f(path_progress(s, steps)); };
 }
 
-/// A solid scene: a static solve or a loading path.
-SceneSolve3D run_solid(const Scene& scene, RunKind kind, RunOptions& o) {
-  if (kind == RunKind::adaptive)
-    throw InputError("adaptive refinement is not available for three-dimensional scenes (it refines polygonal meshes)",
-                     scene.where("adapt"));
+/// The options of a solid scene's solve.
+SceneSolve3DOptions solid_options(const Scene& scene, RunOptions& o) {
   if (o.mesh && !std::holds_alternative<Mesh3D>(*o.mesh))
     throw InputError("a three-dimensional scene is solved on a three-dimensional mesh (Mesh3D); the mesh given is "
                      "two-dimensional",
@@ -124,7 +122,7 @@ SceneSolve3D run_solid(const Scene& scene, RunKind kind, RunOptions& o) {
   s.progress = std::move(o.progress);
   s.on_path_step = announce_steps<3>(scene, o.on_path_step);
   s.out = o.out;
-  return solve_scene_3d(scene, std::move(s));
+  return s;
 }
 
 SceneSolveOptions plane_options(RunOptions& o) {
@@ -155,7 +153,14 @@ SceneRun run_scene(const Scene& scene, RunOptions options) {
                          : "an adaptive solve has no one reduced problem; export it from a solve of one mesh",
                      options.reduced_key);
   if (scene.dimension() == 3) {
-    run.solid_ = std::make_unique<SceneSolve3D>(run_solid(scene, run.kind_, options));
+    SceneSolve3DOptions o = solid_options(scene, options);
+    if (run.kind_ == RunKind::adaptive) {
+      run.solid_adaptive_ =
+          std::make_unique<AdaptiveSolve3D>(solve_adaptively(scene, *scene.adapt, std::move(o), options.on_adapt_step));
+      run.solid_ = std::make_unique<SceneSolve3D>(std::move(run.solid_adaptive_->last));
+    } else {
+      run.solid_ = std::make_unique<SceneSolve3D>(solve_scene_3d(scene, std::move(o)));
+    }
     return run;
   }
   SceneSolveOptions o = plane_options(options);

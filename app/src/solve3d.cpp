@@ -40,7 +40,7 @@ SceneSolve3D solve_scene_3d(const Scene& scene, SceneSolve3DOptions o) {
     detail::solve_path_built<3>(scene, e, s, std::move(o.on_path_step), o.out);
     return s;
   }
-  detail::solve_built<3>(scene, e, s, o.reduced, Eigen::VectorXd(),
+  detail::solve_built<3>(scene, e, s, o.reduced, std::move(o.start),
                          [](const ContactProblem3D& p, const ContactSolution3D& u) { return estimate_error(p, u); });
   return s;
 }
@@ -58,6 +58,10 @@ std::vector<std::string> detail::solid_files(const Scene& scene, bool has_contac
   if (wants(scene, "deformed-png")) files.push_back("deformed.png");
   if (has_contact && wants(scene, "pressure-png")) files.push_back("pressure.png");
   for (auto& name : path_files(scene, has_contact)) files.push_back(std::move(name));
+  if (scene.adapt) {  // an adaptive solve: its final mesh is solution.vtu's
+    if (wants(scene, "adapt-png")) files.push_back("adapt.png");
+    if (wants(scene, "vtu")) files.push_back("adapt.pvd");
+  }
   return files;
 }
 
@@ -65,6 +69,8 @@ RunInfo run_info(const Scene& scene, const SceneSolve3D& solved) {
   const BuiltProblem3D& built = *solved.built;
   RunInfo info = detail::run_info_common(scene, solved);
   if (built.has_contact) detail::add_contact_parts(info, contact_parts(built.problem));
+  info.adapt = solved.adapt;
+  info.adapt_steps = solved.adapt_steps;
   info.path = solved.path.get();
   return info;
 }

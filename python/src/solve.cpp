@@ -630,13 +630,14 @@ void def_result_sequences(ResultClass& c) {
   c.def_property_readonly(
           "adapt",
           [](py::handle s) -> py::object {
-            if (data(s).run.solid() || data(s).plane().adapt.is_null()) return py::none();
-            const nlohmann::json& a = data(s).plane().adapt;
+            const auto& run = data(s).run;
+            const nlohmann::json& a = run.solid() ? run.solid()->adapt : run.plane()->adapt;
+            if (a.is_null()) return py::none();
             return py::module_::import("json").attr("loads")(a.dump());
           },
           "An adaptive solve's record, as result.json's \"adapt\": the target and budgets, 'stopped' and "
           "'reason', and 'steps', per solve its unknowns, estimate, potential_energy and elapsed seconds; None "
-          "for a solve of one mesh (and every three-dimensional solve).")
+          "for a solve of one mesh.")
       .def_property_readonly(
           "path",
           [](py::object s) -> py::object {
@@ -860,8 +861,8 @@ defaults to True for a static solve.
 
 A three-dimensional scene (docs/reference/scenes.md, "Three-dimensional scenes") is solved as
 `hemivem solve` solves it (solve_scene_3d): the Result has dimension 3, displacement of shape
-(num_vertices, 3), a contact table with z and an (n, 3) normal, and a Mesh3D; adapt=True is
-refused (InputError), as is [adapt] in the scene; a [path] is solved as for a plane scene.)doc";
+(num_vertices, 3), a contact table with z and an (n, 3) normal, and a Mesh3D; adapt=True and a
+[path] are solved as for a plane scene, the adaptive steps refining the solid's cells.)doc";
 
 void register_solve_function(py::module_& m) {
   m.def(
@@ -882,12 +883,6 @@ void register_solve_function(py::module_& m) {
                                   {"seed", seed.has_value()},
                                   {"engines", engines.has_value()}},
                                  "the scene's solver.search = '" + d->scene.solver.search + "'");
-        if (d->scene.dimension() == 3) {
-          if (adapt)
-            throw InputError("adaptive refinement is not available for three-dimensional scenes (it refines "
-                             "polygonal meshes); solve without adapt=True",
-                             "adapt");
-        }
         if (adapt && !d->scene.adapt) d->scene.adapt = SceneAdapt{};
         const app::RunKind kind = app::run_kind(d->scene);
         if (kind != app::RunKind::static_solve && keep.value_or(false))

@@ -236,8 +236,6 @@ def test_mesh3d_geometry(small_3d):
 
 def test_what_a_three_dimensional_scene_refuses(small_3d):
     scene, _ = small_3d
-    with pytest.raises(hemivem.InputError, match="adaptive refinement is not available for three-dimensional"):
-        hemivem.solve(scene, adapt=True)
     with pytest.raises(hemivem.InputError, match="the mesh given is two-dimensional"):
         hemivem.solve(scene, mesh=hemivem.Mesh.generate("squares", 2))
     with pytest.raises(hemivem.InputError, match="condense takes two-dimensional scenes"):
@@ -311,3 +309,22 @@ def test_a_solid_path_settles_by_the_load_over_the_stiffness():
     static = hemivem.solve(scene)
     np.testing.assert_allclose(r.displacement, static.displacement, rtol=0, atol=1e-10 * np.abs(static.displacement).max())
     assert r.path.json()["steps"][-1]["contact_force"][2] == pytest.approx(6.0, rel=1e-9)
+
+
+def test_an_adaptive_solve_of_a_solid(small_3d):
+    _, first = small_3d
+    scene = hemivem.Scene.from_toml(EXAMPLE_3D)
+    scene.set("mesh.n", 4)
+    scene.set("adapt.max_steps", 3)
+    scene.set("adapt.target", 0.001)
+    r = hemivem.solve(scene, linear="eigen")
+    a = r.adapt
+    assert a["stopped"] == "max_steps"
+    steps = a["steps"]
+    assert len(steps) == 3
+    assert steps[0]["potential_energy"] == pytest.approx(first.energy, rel=1e-10)
+    assert steps[-1]["unknowns"] > steps[0]["unknowns"]
+    assert steps[-1]["estimate"] < steps[0]["estimate"]
+    assert r.mesh.num_cells == steps[-1]["elements"]
+    assert r.indicators.shape == (r.mesh.num_cells,)
+    assert r.displacement.shape == (r.mesh.num_vertices, 3)

@@ -1,5 +1,7 @@
 #include <hemivem/mesh/refine.hpp>
 
+#include "mean_value.hpp"
+
 #include <Eigen/SparseCore>
 
 #include <algorithm>
@@ -15,6 +17,8 @@
 namespace hemivem {
 
 namespace {
+
+using detail::mean_value_coordinates;
 
 // A vertex is hanging in an element when its distance to the line through its neighbours is
 // at most this fraction of the element's diameter.
@@ -239,31 +243,6 @@ Vec2 split_point(const LocalFrame& f, const std::vector<int>& corners, int e, bo
     throw InputError(name + " (the points that see its whole boundary form a degenerate region, of relative area " +
                      fmt_number(kernel_area / area_centroid(f.q).first) + ")" + why);
   return kernel_centroid;
-}
-
-// Mean value coordinates of c with respect to the polygon q (both local): exact for linear
-// fields at any point from which the whole boundary is seen.
-std::vector<double> mean_value_coordinates(const std::vector<Vec2>& q, const Vec2& c) {
-  const std::size_t n = q.size();
-  std::vector<Vec2> d(n);
-  std::vector<double> r(n), tan_half(n), w(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    d[i] = q[i] - c;
-    r[i] = d[i].norm();
-  }
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t j = (i + 1) % n;
-    const double cr = cross(d[i], d[j]), dt = d[i].dot(d[j]), rr = r[i] * r[j];
-    // tan(alpha/2) = sin / (1 + cos) = (1 - cos) / sin, each form where it does not cancel.
-    tan_half[i] = dt >= 0.0 ? cr / (rr + dt) : (rr - dt) / cr;
-  }
-  double sum = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    w[i] = (tan_half[(i + n - 1) % n] + tan_half[i]) / r[i];
-    sum += w[i];
-  }
-  for (double& x : w) x /= sum;
-  return w;
 }
 
 // The one-hanging-node closure of the marked set: marks every element one of whose sides

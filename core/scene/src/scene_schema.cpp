@@ -940,8 +940,6 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
   read_contact_parts(s, r);
   if (const toml::table* t = r.table("solver")) read_solver(s, *t);
   s.adapt.reset();
-  if (s.dimension() == 3 && r.has("adapt"))
-    refuse_in_3d(r, "adapt", "adaptive refinement refines polygonal (two-dimensional) meshes");
   if (const toml::table* t = r.table("adapt")) read_adapt(s, *t);
   s.path.reset();
   if (const toml::table* t = r.table("path")) read_path(s, *t);

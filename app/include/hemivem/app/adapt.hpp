@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include <hemivem/app/solve.hpp>
+#include <hemivem/app/solve3d.hpp>
 #include <hemivem/scene/scene.hpp>
 
 namespace hemivem::app {
@@ -17,7 +18,7 @@ namespace hemivem::app {
 /// One solve of an adaptive sequence.
 struct AdaptStep {
   int step = 0;                  ///< 0 for the scene's own mesh
-  int elements = 0;
+  int elements = 0;              ///< elements of a plane mesh, cells of a solid one
   int vertices = 0;
   int unknowns = 0;              ///< free degrees of freedom
   double estimate = 0.0;         ///< the relative error estimate eta / ||u_h||_E
@@ -39,22 +40,27 @@ enum class AdaptStop {
 };
 std::string to_string(AdaptStop stop);
 
-/// An adaptive solve: its steps and its last solve, whose mesh is the final mesh.
-struct AdaptiveSolve {
-  SceneSolve last;
+/// An adaptive solve of a plane (dim = 2) or a solid (dim = 3) body: its steps and its last
+/// solve, whose mesh is the final mesh.
+template <int dim>
+struct BasicAdaptiveSolve {
+  BasicSceneSolve<dim> last;
   std::vector<AdaptStep> steps;
   AdaptStop stopped = AdaptStop::target;
   std::string reason;  ///< why it stopped, in words
   double seconds = 0.0;  ///< wall time of the whole sequence
   bool reached_target() const noexcept { return stopped == AdaptStop::target; }
 };
+using AdaptiveSolve = BasicAdaptiveSolve<2>;
+using AdaptiveSolve3D = BasicAdaptiveSolve<3>;
 
 /// Solves `scene` adaptively with the parameters of `adapt` (the scene's [adapt], or the
 /// defaults for `hemivem solve --adapt`). Step 0 solves the scene's mesh; each further step
-/// marks the elements of the previous one by Doerfler marking with adapt.fraction on the
-/// error indicators (hemivem/estimate/error_estimate.hpp), refines them (refine_mesh of
-/// hemivem/mesh/refine.hpp: every part, load, gap, obstacle and region of the scene is selected
-/// again on the refined mesh, regions inherited from the parents) and solves again, the
+/// marks the elements (cells) of the previous one by Doerfler marking with adapt.fraction on the
+/// error indicators (hemivem/estimate/error_estimate.hpp, error_estimate3d.hpp), refines them
+/// (refine_mesh of hemivem/mesh/refine.hpp, refine3d.hpp: every part, load, gap, obstacle and
+/// region of the scene is selected again on the refined mesh, regions and a solid's face groups
+/// inherited from the parents) and solves again, the
 /// minimizer starting from the previous solution interpolated onto the new mesh. `options`
 /// serves every step (its mesh and start are set per step; a given mesh replaces the scene's
 /// at step 0); `progress`, when given, is called after every step. When the scene writes the
@@ -62,9 +68,13 @@ struct AdaptiveSolve {
 /// an InputError for the engine mumps-mpi (an adaptive solve runs in one process).
 AdaptiveSolve solve_adaptively(const Scene& scene, const SceneAdapt& adapt, SceneSolveOptions options = {},
                                const std::function<void(const AdaptStep&)>& progress = {});
+/// The same for a solid scene (solve_scene_3d per step).
+AdaptiveSolve3D solve_adaptively(const Scene& scene, const SceneAdapt& adapt, SceneSolve3DOptions options,
+                                 const std::function<void(const AdaptStep&)>& progress = {});
 
 /// result.json's "adapt": the parameters, why it stopped, and per step its numbers.
-nlohmann::json adapt_json(const AdaptiveSolve& solved, const SceneAdapt& adapt);
+template <int dim>
+nlohmann::json adapt_json(const BasicAdaptiveSolve<dim>& solved, const SceneAdapt& adapt);
 
 /// A progress line for stderr: "adapt step 3: 1234 unknowns, estimate 2.31 %, energy -0.2169, 1.2 s".
 std::string adapt_progress_line(const AdaptStep& step);

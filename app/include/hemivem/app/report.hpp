@@ -32,6 +32,7 @@ std::string error_estimate_line(const ErrorEstimate& estimate);
 
 /// The lines of an adaptive solve after full_report of its last solve: how many solves, the
 /// unknowns and the estimate from first to last, and why it stopped.
-std::string adapt_report(const AdaptiveSolve& adaptive);
+template <int dim>
+std::string adapt_report(const BasicAdaptiveSolve<dim>& adaptive);
 
 }  // namespace hemivem::app

@@ -104,8 +104,10 @@ class SceneRun {
     if constexpr (dim == 2) return plane_.get();
     else return solid_.get();
   }
-  /// The adaptive sequence (its last solve is plane()), or null.
+  /// The adaptive sequence of a plane body (its last solve is plane()), or null.
   const AdaptiveSolve* adaptive() const noexcept { return adaptive_.get(); }
+  /// The adaptive sequence of a solid body (its last solve is solid()), or null.
+  const AdaptiveSolve3D* solid_adaptive() const noexcept { return solid_adaptive_.get(); }
   /// The loading path's steps, or null.
   const PathSolution* path() const noexcept;
   /// The loading path's steps of a solid, or null.
@@ -153,13 +155,14 @@ class SceneRun {
   std::unique_ptr<SceneSolve> plane_;
   std::unique_ptr<SceneSolve3D> solid_;
   std::unique_ptr<AdaptiveSolve> adaptive_;
+  std::unique_ptr<AdaptiveSolve3D> solid_adaptive_;
 };
 
 /// Solves `scene`, whatever it holds (run_kind): a plane static solve (solve_scene), a loading
-/// path (solve_scene_path), an adaptive sequence (solve_adaptively) or a solid, static or along
-/// a path (solve_scene_3d).
-/// Errors as those functions', and InputError for what a kind cannot do (an adaptive
-/// solid, a plane mesh given for a solid scene, a reduced problem asked of a path).
+/// path (solve_scene_path), an adaptive sequence (solve_adaptively, in either dimension) or a
+/// solid, static or along a path (solve_scene_3d).
+/// Errors as those functions', and InputError for what a kind cannot do (a plane mesh given
+/// for a solid scene, a reduced problem asked of a path).
 SceneRun run_scene(const Scene& scene, RunOptions options = {});
 
 }  // namespace hemivem::app

@@ -42,6 +42,8 @@ struct SceneSolve3DOptions {
   std::function<void(const BasicPathStep<3>&)> on_path_step;
   /// As SceneSolveOptions::out.
   std::filesystem::path out;
+  /// A full nodal displacement on that mesh (3 per vertex) the minimizer starts from; empty: zero.
+  Eigen::VectorXd start;
 };
 
 /// Creates the engines the scene names (an unknown or unbuilt name is an InputError before any

@@ -15,7 +15,9 @@ namespace hemivem {
 ///           + sum_{f of E on Gamma_2} h_f ||f2 - sigma n||^2_f + sum_{f of E on Gamma_3} h_f ||t_c - sigma n||^2_f)
 ///         + 1/2 (u_E - Pi u_E)^T S_E (u_E - Pi u_E),
 ///
-/// sigma the stress of Pi u_h (constant on a cell), h_E the cell's and h_f the face's diameter,
+/// sigma the stress of Pi u_h (constant on a cell), h_E the cell's diameter and h_f = |f|^(1/2)
+/// the face's size (as an edge's length |e| in the plane: the measure of the face to the power
+/// 1/(d - 1)),
 /// t_c = -(p_i nu_i) at the contact nodes, linear on the fan of triangles (face centroid, z_i,
 /// z_{i+1}) with the mean of the face's nodes at the centroid, and C = error_estimate_constant,
 /// the plane problem's. The "friction" part is 0 (a 3D contact is frictionless). Cost linear in
