@@ -1,6 +1,6 @@
 #include <hemivem/mesh/refine.hpp>
 
-#include "mean_value.hpp"
+#include "polygon_kernels.hpp"
 
 #include <Eigen/SparseCore>
 
@@ -18,7 +18,10 @@ namespace hemivem {
 
 namespace {
 
+using detail::area_centroid;
+using detail::clip_left;
 using detail::mean_value_coordinates;
+using detail::cross2;
 
 // A vertex is hanging in an element when its distance to the line through its neighbours is
 // at most this fraction of the element's diameter.
@@ -29,8 +32,6 @@ constexpr double midpoint_tolerance = 1e-8;
 // The interior point of a split element is at least this fraction of its diameter away from
 // the line of every side.
 constexpr double kernel_margin = 1e-8;
-
-double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
 
 std::string fmt_number(double x) {
   char buf[32];
@@ -87,7 +88,7 @@ std::vector<int> corners_of(const LocalFrame& f) {
     const double len = w.norm();
     if (!(len > 0.0) || !((v - a).dot(w) > 0.0) || !((v - b).dot(a - b) > 0.0))
       return std::numeric_limits<double>::infinity();
-    return std::abs(cross(w, v - a)) / (len * f.diameter);
+    return std::abs(cross2(w, v - a)) / (len * f.diameter);
   };
   for (int left = n; left > 3; --left) {
     int best = -1;
@@ -180,37 +181,6 @@ ElementPlan plan_element(const Mesh& mesh, int e) {
   return plan;
 }
 
-// The polygon clipped to the half-plane left of the line a -> b (Sutherland-Hodgman).
-std::vector<Vec2> clip_left(const std::vector<Vec2>& poly, const Vec2& a, const Vec2& b) {
-  std::vector<Vec2> out;
-  const Vec2 d = b - a;
-  const std::size_t n = poly.size();
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec2& p = poly[i];
-    const Vec2& r = poly[(i + 1) % n];
-    const double sp = cross(d, p - a), sr = cross(d, r - a);
-    if (sp >= 0.0) out.push_back(p);
-    if ((sp > 0.0 && sr < 0.0) || (sp < 0.0 && sr > 0.0)) out.push_back(p + (sp / (sp - sr)) * (r - p));
-  }
-  return out;
-}
-
-// Area and centroid of a polygon in local coordinates (a fan around its first vertex).
-std::pair<double, Vec2> area_centroid(const std::vector<Vec2>& poly) {
-  if (poly.size() < 3) return {0.0, Vec2::Zero()};
-  const Vec2 o = poly[0];
-  double twice = 0.0;
-  Vec2 moment = Vec2::Zero();
-  for (std::size_t i = 1; i + 1 < poly.size(); ++i) {
-    const Vec2 a = poly[i] - o, b = poly[i + 1] - o;
-    const double cr = cross(a, b);
-    twice += cr;
-    moment += cr * (a + b);
-  }
-  if (!(twice > 0.0)) return {0.0, Vec2::Zero()};
-  return {0.5 * twice, o + moment / (3.0 * twice)};
-}
-
 // The point an element is split around, in its local frame: its centroid when that lies
 // strictly inside the kernel of the polygon of its geometric sides, else the kernel's centroid.
 Vec2 split_point(const LocalFrame& f, const std::vector<int>& corners, int e, bool added_by_rule) {
@@ -221,7 +191,7 @@ Vec2 split_point(const LocalFrame& f, const std::vector<int>& corners, int e, bo
   auto strictly_inside = [&](const Vec2& c) {
     for (std::size_t i = 0; i < k; ++i) {
       const Vec2 d = chords[(i + 1) % k] - chords[i];
-      if (!(cross(d, c - chords[i]) > kernel_margin * d.norm() * f.diameter)) return false;
+      if (!(cross2(d, c - chords[i]) > kernel_margin * d.norm() * f.diameter)) return false;
     }
     return true;
   };

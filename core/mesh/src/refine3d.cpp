@@ -1,6 +1,6 @@
 #include <hemivem/mesh/refine3d.hpp>
 
-#include "mean_value.hpp"
+#include "polygon_kernels.hpp"
 
 #include <Eigen/Dense>
 #include <Eigen/SparseCore>
@@ -20,6 +20,11 @@ namespace hemivem {
 
 namespace {
 
+using detail::area_centroid;
+using detail::clip_left;
+using detail::cross2;
+using detail::mean_value_coordinates;
+
 // A vertex is hanging in a geometric face when its distance to the segment between its
 // neighbours along the face's boundary is at most this fraction of the face's diameter.
 constexpr double hanging_tolerance = 1e-10;
@@ -37,8 +42,6 @@ constexpr double coplanar_tolerance = 1e-9;
 constexpr double fold_tolerance = 1e-12;
 
 using Point2 = Eigen::Vector2d;
-
-double cross2(const Point2& a, const Point2& b) { return a.x() * b.y() - a.y() * b.x(); }
 
 std::string fmt_number(double x) {
   char buf[32];
@@ -752,37 +755,6 @@ std::vector<char> close_marked_set(const Mesh3D& mesh, const EdgeTable& edges, c
   return is_marked;
 }
 
-// The polygon clipped to the half-plane left of the line a -> b (Sutherland-Hodgman).
-std::vector<Point2> clip_left(const std::vector<Point2>& poly, const Point2& a, const Point2& b) {
-  std::vector<Point2> out;
-  const Point2 d = b - a;
-  const std::size_t n = poly.size();
-  for (std::size_t i = 0; i < n; ++i) {
-    const Point2& p = poly[i];
-    const Point2& r = poly[(i + 1) % n];
-    const double sp = cross2(d, p - a), sr = cross2(d, r - a);
-    if (sp >= 0.0) out.push_back(p);
-    if ((sp > 0.0 && sr < 0.0) || (sp < 0.0 && sr > 0.0)) out.push_back(p + (sp / (sp - sr)) * (r - p));
-  }
-  return out;
-}
-
-// Area and centroid of a polygon (a fan around its first vertex).
-std::pair<double, Point2> area_centroid(const std::vector<Point2>& poly) {
-  if (poly.size() < 3) return {0.0, Point2::Zero()};
-  const Point2 o = poly[0];
-  double twice = 0.0;
-  Point2 moment = Point2::Zero();
-  for (std::size_t i = 1; i + 1 < poly.size(); ++i) {
-    const Point2 a = poly[i] - o, b = poly[i + 1] - o;
-    const double cr = cross2(a, b);
-    twice += cr;
-    moment += cr * (a + b);
-  }
-  if (!(twice > 0.0)) return {0.0, Point2::Zero()};
-  return {0.5 * twice, o + moment / (3.0 * twice)};
-}
-
 // A point of a face (global coordinates) and its weights on the face's vertices.
 struct WeightedPoint {
   Vec3 point;
@@ -827,7 +799,7 @@ WeightedPoint face_point(const Mesh3D& mesh, int f, const std::vector<int>& corn
                        fmt_number(kernel_area / area_centroid(q).first) + ")");
     c = kernel_centroid;
   }
-  return {p.frame.global(c.x() * u + c.y() * v), detail::mean_value_coordinates(q, c)};
+  return {p.frame.global(c.x() * u + c.y() * v), mean_value_coordinates(q, c)};
 }
 
 // A convex polytope as its faces, each a convex polygon counter-clockwise seen from outside.
