@@ -73,9 +73,9 @@ void refuse_path_across_processes(const Scene& scene) {
 // A path that keeps its steps (for path.json, path-contact.csv and path.png, written after its
 // last step) holds each step's contact nodes and each frame's displacement: about 400 bytes per
 // contact node and step (340 measured) and 8 per dof and frame, beside the solve. A path writing
-// its steps as they come (`streamed`) holds one step and one frame at a time, and 56 bytes per
-// step (path.png's row). Refused before the path's first solve when that exceeds the memory
-// available.
+// its steps as they come (`streamed`) holds one step and one frame at a time, and path.png's
+// row of each step (56 bytes, up to twice that as its array grows; 170 bytes a step measured
+// in all). Refused before the path's first solve when that exceeds the memory available.
 template <int dim>
 void require_path_memory(const Scene& scene, const BasicContactProblem<dim>& problem, bool streamed) {
   const auto& mesh = *problem.elasticity.mesh;
@@ -93,7 +93,7 @@ void require_path_memory(const Scene& scene, const BasicContactProblem<dim>& pro
     solve = estimate_memory(mesh).solve_bytes;
   else
     solve = estimate_memory_3d(vertices, nodes).solve_bytes;
-  const double path = streamed ? 400.0 * nodes * 2.0 + 56.0 * steps + 8.0 * dim * vertices
+  const double path = streamed ? 400.0 * nodes * 2.0 + 200.0 * steps + 8.0 * dim * vertices
                                : 400.0 * nodes * (steps + frames) + 8.0 * dim * vertices * frames;
   std::ostringstream what;
   what << "a path of " << static_cast<long long>(steps) << " steps and " << static_cast<long long>(frames) << " frames on "
