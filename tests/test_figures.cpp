@@ -488,6 +488,12 @@ TEST(EstimateFigures, ConvergenceLeavesOutNonPositiveErrorsAndHasBothPanels) {
   const auto line = data_block(s, "$adapt_ref");
   ASSERT_EQ(line.size(), 2u);
   EXPECT_NEAR(std::log(line[1][1] / line[0][1]) / std::log(line[1][0] / line[0][0]), -0.5, 1e-12);
+  // a solid's: N^(-1/3), h in three dimensions
+  const std::string solid = convergence_figure(convergence_series(), "solid", "adapt.png", 3).script;
+  EXPECT_NE(solid.find("title 'N^-1/3'"), std::string::npos) << solid;
+  const auto line3 = data_block(solid, "$adapt_ref");
+  ASSERT_EQ(line3.size(), 2u);
+  EXPECT_NEAR(std::log(line3[1][1] / line3[0][1]) / std::log(line3[1][0] / line3[0][0]), -1.0 / 3.0, 1e-12);
   expect_drawn({f}, "convergence");
 }
 

@@ -565,7 +565,8 @@ std::string refinement_plot(const fs::path& dir, const Scene& base, const Refine
   for (const auto& s : series)
     for (double e : s.error) any |= std::isfinite(e) && e > 0.0;
   if (!any) return "no finite positive error to plot";
-  return draw_plot(dir, app::convergence_figure(series, base.title + ": uniform and adaptive refinement", "bench-error.png"),
+  return draw_plot(dir, app::convergence_figure(series, base.title + ": uniform and adaptive refinement", "bench-error.png",
+                                                   base.dimension()),
                    base.figure_formats, failed);
 }
 

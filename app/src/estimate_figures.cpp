@@ -343,14 +343,17 @@ std::string convergence_curves(const ConvergencePoints& p, const std::vector<Con
 }  // namespace
 
 Figure convergence_figure(const std::vector<ConvergenceSeries>& series, const std::string& title,
-                          const std::string& png) {
+                          const std::string& png, int dimension) {
   const ConvergencePoints points = convergence_points(series);
   const double n_lo = points.n_lo, n_hi = points.n_hi;
-  // the reference N^-1/2 through half the error of the first point, over the unknowns' range
+  // the reference N^(-1/d) (h in d dimensions) through half the error of the first point, over
+  // the unknowns' range
   const bool reference = points.any && n_hi > n_lo;
-  const double ref_c = reference ? 0.5 * points.first->error * std::sqrt(points.first->n) : 0.0;
+  const double rate = 1.0 / (dimension == 3 ? 3.0 : 2.0);
+  auto slope = [rate](double n) { return std::pow(n, -rate); };
+  const double ref_c = reference ? 0.5 * points.first->error / slope(points.first->n) : 0.0;
   double r_lo = points.e_lo, r_hi = points.e_hi;
-  if (reference) r_lo = std::min(r_lo, ref_c / std::sqrt(n_hi)), r_hi = std::max(r_hi, ref_c / std::sqrt(n_lo));
+  if (reference) r_lo = std::min(r_lo, ref_c * slope(n_hi)), r_hi = std::max(r_hi, ref_c * slope(n_lo));
 
   Figure f;
   f.png = png;
@@ -369,8 +372,8 @@ Figure convergence_figure(const std::vector<ConvergenceSeries>& series, const st
   }
   if (reference)
     s << "$adapt_ref << EOD\n"
-      << num(n_lo) << ' ' << num(ref_c / std::sqrt(n_lo)) << '\n'
-      << num(n_hi) << ' ' << num(ref_c / std::sqrt(n_hi)) << "\nEOD\n";
+      << num(n_lo) << ' ' << num(ref_c * slope(n_lo)) << '\n'
+      << num(n_hi) << ' ' << num(ref_c * slope(n_hi)) << "\nEOD\n";
   auto ranges = [&](double x_lo, double x_hi, double y_lo, double y_hi) {
     const auto [x0, x1] = log_range(x_lo, x_hi);
     const auto [y0, y1] = log_range(y_lo, y_hi);
@@ -388,7 +391,9 @@ Figure convergence_figure(const std::vector<ConvergenceSeries>& series, const st
   } else {
     ranges(n_lo, n_hi, r_lo, r_hi);
     s << "plot " << convergence_curves(points, series, "1", false);
-    if (reference) s << ", $adapt_ref using 1:2 with lines dt 3 lw 1.5 lc rgb '#555555' title 'N^-1/2' noenhanced";
+    if (reference)
+      s << ", $adapt_ref using 1:2 with lines dt 3 lw 1.5 lc rgb '#555555' title 'N^-1/" << (dimension == 3 ? 3 : 2)
+        << "' noenhanced";
     s << "\n";
   }
   // second panel: against the run time

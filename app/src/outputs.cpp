@@ -57,8 +57,8 @@ nlohmann::json forces_json(const BasicForceBalance<Vector>& b) {
 }
 
 /// adapt.png: the relative estimate of every step of an adaptive solve against its unknowns
-/// and its elapsed time.
-Figure adapt_figure(const RunInfo& info) {
+/// and its elapsed time, for a body of dimension `dimension`.
+Figure adapt_figure(const RunInfo& info, int dimension) {
   ConvergenceSeries adaptive;
   adaptive.name = "adaptive (estimate)";
   for (const auto& step : info.adapt.at("steps")) {
@@ -67,7 +67,7 @@ Figure adapt_figure(const RunInfo& info) {
     adaptive.seconds.push_back(step.at("elapsed").get<double>());
     adaptive.error.push_back(step.at("estimate").get<double>());
   }
-  return convergence_figure({adaptive}, "adaptive refinement: " + info.scene_name);
+  return convergence_figure({adaptive}, "adaptive refinement: " + info.scene_name, "adapt.png", dimension);
 }
 
 /// path.png of a run with a loading path of a body of dimension dim (`files` wrote its files);
@@ -288,7 +288,7 @@ void solve_figures(std::vector<Figure>& figures, const Mesh& mesh, const Contact
   if (want("mesh.png"))
     figures.push_back(mesh_figure(mesh, info, "mesh, " + std::to_string(mesh.num_elements()) + " elements"));
   if (want("adapt.png") && info.adapt.is_null()) report.skipped.push_back("adapt.png: not an adaptive solve");
-  if (want("adapt.png") && !info.adapt.is_null()) figures.push_back(adapt_figure(info));
+  if (want("adapt.png") && !info.adapt.is_null()) figures.push_back(adapt_figure(info, 2));
   path_figures<2>(figures, info, path, run, report);
 }
 
@@ -300,7 +300,7 @@ void solve_figures(std::vector<Figure>& figures, const Mesh3D& mesh, const Conta
   if (run.want("pressure.png") && solution.contact.empty()) report.skipped.push_back("pressure.png: no contact boundary");
   if (run.want("deformed.png")) figures.push_back(deformed_figure(mesh, solution, info));
   if (run.want("adapt.png") && info.adapt.is_null()) report.skipped.push_back("adapt.png: not an adaptive solve");
-  if (run.want("adapt.png") && !info.adapt.is_null()) figures.push_back(adapt_figure(info));
+  if (run.want("adapt.png") && !info.adapt.is_null()) figures.push_back(adapt_figure(info, 3));
   path_figures<3>(figures, info, path, run, report);
   if (run.want("pressure.png") && !solution.contact.empty())
     figures.push_back(pressure_figure(mesh, *faces, solution, info));

@@ -140,9 +140,10 @@ struct ConvergenceSeries {
 };
 /// adapt.png (or any `png` name given): two panels side by side, relative error against unknowns and against
 /// run time, both log-log, one curve per series (viridis colours by series order, points marked), with a
-/// reference slope triangle or line of (unknowns)^(-1/2) in the first panel, labelled "N^-1/2"; title `title`
-/// (cut like the other titles). Series with no point are left out of the key.
+/// reference line of (unknowns)^(-1/d) in the first panel (the rate of h for a body of dimension d =
+/// `dimension`), labelled "N^-1/2" or "N^-1/3"; title `title` (cut like the other titles). Series with no
+/// point are left out of the key.
 Figure convergence_figure(const std::vector<ConvergenceSeries>& series, const std::string& title,
-                          const std::string& png = "adapt.png");
+                          const std::string& png = "adapt.png", int dimension = 2);
 
 }  // namespace hemivem::app
