@@ -100,10 +100,6 @@ void PathFiles<dim>::add(const BasicPathStep<dim>& s) {
   const bool first = steps_++ == 0;
   if (first) tangential_ = s.slip.size() > 0;
   const bool parts = parts_.size() > 1;  // several contact parts: each node's
-  auto part_name = [&](const BasicContactNode<dim>& n) {
-    return n.part >= 0 && n.part < static_cast<int>(parts_.size()) ? parts_[static_cast<std::size_t>(n.part)]
-                                                                   : std::string("contact");
-  };
   stage([&] {
     if (json_)
       json_->write([&](std::ostream& os) { os << (first ? "\n    " : ",\n    ") << indented(path_step_json(s), "    "); });
@@ -126,7 +122,7 @@ void PathFiles<dim>::add(const BasicPathStep<dim>& s) {
           } else if (tangential_) {
             os << ",,,,,";  // a frictionless part beside one with friction
           }
-          if (parts) os << ',' << part_name(n);
+          if (parts) os << ',' << contact_part_name(parts_, n);
           os << '\n';
         }
       });

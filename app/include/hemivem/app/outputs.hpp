@@ -92,7 +92,7 @@ const BasicPathSolution<dim>* path_of(const RunInfo& info) {
 /// the stage "estimate" of the timings).
 nlohmann::json error_estimate_json(const ErrorEstimate& estimate);
 
-/// The result.json document ("schema": "hemivem-result/15", "dimension": 2).
+/// The result.json document ("schema": "hemivem-result/16", "dimension": 2).
 nlohmann::json result_json(const Mesh& mesh, const ContactSolution& solution, const RunInfo& info);
 /// The result.json document of a solid ("dimension": 3): the same keys, points and vectors with
 /// three components (contact[].x and contact[].normal [x, y, z]), mesh.faces, contact_zone with
@@ -108,14 +108,17 @@ bool has_tangential(const BasicContactSolution<dim>& solution) {
   return false;
 }
 
-/// The name of contact node n's part (solution.contact_parts; "contact" when it has none):
+/// The name of contact node n's part (by `parts`, or solution.contact_parts; "contact" when it has none):
 /// contact.csv's part column (with several parts), result.json's "part", solution.vtu's
 /// contact_part field (its index).
 template <int dim>
+std::string contact_part_name(const std::vector<std::string>& parts, const BasicContactNode<dim>& n) {
+  return n.part >= 0 && n.part < static_cast<int>(parts.size()) ? parts[static_cast<std::size_t>(n.part)]
+                                                                : std::string("contact");
+}
+template <int dim>
 std::string contact_part_name(const BasicContactSolution<dim>& solution, const BasicContactNode<dim>& n) {
-  return n.part >= 0 && n.part < static_cast<int>(solution.contact_parts.size())
-             ? solution.contact_parts[static_cast<std::size_t>(n.part)]
-             : std::string("contact");
+  return contact_part_name(solution.contact_parts, n);
 }
 
 /// The names write_outputs knows for a body of dimension `dim` (2 or 3), in the order it writes
