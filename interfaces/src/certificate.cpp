@@ -63,8 +63,10 @@ CertifiedPoint certify(const ReducedProblem& p, const Eigen::VectorXd& a, double
   for (int k = 0; k < p.num_laws(); ++k) kinks_of[static_cast<std::size_t>(k)] = p.law_by_number(k).kinks();
   const double window = tol * ell;
   Eigen::VectorXd& x = out.a;
+  const Eigen::VectorXi group_of = p.group_of();
   double primal = 0.0;
   for (Eigen::Index i = 0; i < n; ++i) {
+    if (group_of(i) >= 0) continue;
     const double lo = p.lower(i), hi = p.upper(i);
     double target = x(i), distance = inf;
     for (double b : {lo, hi}) {
@@ -81,10 +83,48 @@ CertifiedPoint certify(const ReducedProblem& p, const Eigen::VectorXd& a, double
     x(i) = target;
     primal = std::max(primal, std::max(lo - x(i), x(i) - hi));
   }
+  // a group: its norm onto the nearest kink of j(|v|) in the window, the origin included
+  // where j'(0+) > 0 (the cone point of the norm)
+  for (const CoordinateGroup& g : p.groups) {
+    const double r = group_norm(x, g);
+    const ContactLaw& law = p.law_of(g.first);
+    double target = r, distance = inf;
+    if (law.derivative(LawPart::j, 0.0, +1) > 0.0 && r <= window) target = 0.0, distance = r;
+    for (double k : kinks_of[static_cast<std::size_t>(p.law_index(g.first))]) {
+      const double d = std::abs(r - k);
+      if (k > 0.0 && d <= window && d < distance) target = k, distance = d;
+    }
+    if (target == r) continue;
+    const double scale = target == 0.0 ? 0.0 : target / r;
+    x(g.first) *= scale;
+    x(g.second) *= scale;
+  }
   // 3. forces
   const Eigen::VectorXd Sa = p.S * x;
   double worst = 0.0, zeta_max = 0.0;
+  for (const CoordinateGroup& g : p.groups) {
+    const Eigen::Vector2d res(Sa(g.first) - p.c(g.first), Sa(g.second) - p.c(g.second));
+    const Eigen::Vector2d v(x(g.first), x(g.second));
+    const double r = v.norm(), wg = p.w(g.first);
+    const ContactLaw& law = p.law_of(g.first);
+    Eigen::Vector2d zeta;
+    if (r > 0.0) {
+      // the law force lies on the ray of v: its length is the nearest of w [j'(r-), j'(r+)] to -res . e
+      const Eigen::Vector2d e = v / r;
+      const Interval dj = law.clarke(r);
+      zeta = Interval{wg * dj.lo, wg * dj.hi}.nearest(-res.dot(e)) * e;
+    } else {
+      // the disc of radius w j'(0+): -res itself where it lies in the disc, else its radial projection
+      const double rho = wg * law.derivative(LawPart::j, 0.0, +1), m = res.norm();
+      zeta = m <= rho ? Eigen::Vector2d(-res) : Eigen::Vector2d(-res * (rho / m));
+    }
+    out.law_force(g.first) = zeta(0);
+    out.law_force(g.second) = zeta(1);
+    worst = std::max(worst, (res + zeta).norm());
+    zeta_max = std::max(zeta_max, zeta.cwiseAbs().maxCoeff());
+  }
   for (Eigen::Index i = 0; i < n; ++i) {
+    if (group_of(i) >= 0) continue;
     const double lo = p.lower(i), hi = p.upper(i);
     const Interval dj = p.law_of(i).clarke(x(i));
     const Interval law{p.w(i) * dj.lo, p.w(i) * dj.hi};

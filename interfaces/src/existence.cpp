@@ -47,6 +47,12 @@ double relative_rate(const ReducedProblem& p, const Rates& rates, const Eigen::M
   d /= top;
   double sum = 0.0, size = 0.0;
   bool plus_inf = false, minus_inf = false;
+  auto add_law = [&](double h) {
+    plus_inf = plus_inf || h == kInf;
+    minus_inf = minus_inf || h == -kInf;
+    if (std::isfinite(h)) sum += h, size += std::abs(h);
+  };
+  const Eigen::VectorXi group_of = p.group_of();
   for (Eigen::Index i = 0; i < d.size(); ++i) {
     if (std::abs(d(i)) <= zero_entry) {
       d(i) = 0.0;
@@ -55,14 +61,14 @@ double relative_rate(const ReducedProblem& p, const Rates& rates, const Eigen::M
     const bool right = d(i) > 0.0;
     if (right ? std::isfinite(p.upper(i)) : std::isfinite(p.lower(i))) return std::numeric_limits<double>::quiet_NaN();
     const auto k = static_cast<std::size_t>(p.law_index(i));
-    const double per_unit = right ? rates.right[k] : rates.left[k];
-    const double h = p.w(i) * std::abs(d(i)) * per_unit;
-    plus_inf = plus_inf || h == kInf;
-    minus_inf = minus_inf || h == -kInf;
-    if (std::isfinite(h)) sum += h, size += std::abs(h);
+    if (group_of(i) < 0) add_law(p.w(i) * std::abs(d(i)) * (right ? rates.right[k] : rates.left[k]));
     sum -= p.c(i) * d(i);
     size += std::abs(p.c(i) * d(i));
   }
+  // a group costs its law's rate at +inf times the length of its part of d
+  for (const CoordinateGroup& g : p.groups)
+    if (const double len = std::hypot(d(g.first), d(g.second)); len > 0.0)
+      add_law(p.w(g.first) * len * rates.right[static_cast<std::size_t>(p.law_index(g.first))]);
   // a law growing faster than linearly stops the motion (even against one that falls so)
   if (plus_inf) return *phi = kInf;
   if (minus_inf) return *phi = -kInf;
@@ -172,7 +178,18 @@ Existence check_existence(const ReducedProblem& p, const Eigen::MatrixXd& null_b
   const Rates r = rates_of(p);
   double lowest = kInf, lowest_phi = kInf;
   Eigen::VectorXd d, worst;
-  for (const Eigen::VectorXd& y : rays(null_basis)) {
+  std::vector<Eigen::VectorXd> candidates = rays(null_basis);
+  if (!p.groups.empty()) {
+    // a group's term is smallest against the load: the null part of c, whole and per group
+    candidates.push_back(null_basis.transpose() * p.c);
+    for (const CoordinateGroup& g : p.groups) {
+      Eigen::VectorXd cg = Eigen::VectorXd::Zero(p.size());
+      cg(g.first) = p.c(g.first);
+      cg(g.second) = p.c(g.second);
+      candidates.push_back(null_basis.transpose() * cg);
+    }
+  }
+  for (const Eigen::VectorXd& y : candidates) {
     double phi = kInf;
     const double rel = relative_rate(p, r, null_basis, y, d, &phi);
     if (std::isnan(rel) || !(rel < lowest)) continue;

@@ -38,6 +38,10 @@ MinimizerStatus minimizer_status_from_string(std::string_view name) {
 
 MinimizerResult NonsmoothMinimizer::minimize(const ReducedProblem& problem, const Eigen::VectorXd& start,
                                              const MinimizerOptions& options) const {
+  if (!problem.groups.empty() && !takes_groups())
+    throw InputError(name() + " does not take groups of coordinates (the law of a tangential displacement's norm: "
+                     "friction on a solid's surface); choose an engine that does",
+                     name());
   MinimizerRun r(name(), problem, start, options);
   if (r.size() == 0) return r.finish(MinimizerStatus::converged, {}, "empty problem", &r.start());
   if (options.check_existence) {

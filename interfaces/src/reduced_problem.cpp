@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <vector>
 
 namespace hemivem {
 
@@ -74,7 +75,7 @@ bool bounds_of(const ReducedProblem& p, ConstraintKind kind) {
 }  // namespace
 
 std::optional<UniformForm> ReducedProblem::uniform_form() const {
-  if (laws.size() != 1 || law_index.size() != size() || (law_index.size() > 0 && law_index.maxCoeff() != 0))
+  if (!groups.empty() || laws.size() != 1 || law_index.size() != size() || (law_index.size() > 0 && law_index.maxCoeff() != 0))
     return std::nullopt;
   // the first kind that fits: a problem without bounds is "none", not one-sided with infinite gaps
   for (ConstraintKind kind :
@@ -90,15 +91,34 @@ bool ReducedProblem::all_laws_convex() const {
   return std::all_of(laws.begin(), laws.end(), [](const auto& law) { return law->is_convex(); });
 }
 
+Eigen::VectorXi ReducedProblem::group_of() const {
+  Eigen::VectorXi of = Eigen::VectorXi::Constant(size(), -1);
+  for (std::size_t k = 0; k < groups.size(); ++k) of(groups[k].first) = of(groups[k].second) = static_cast<int>(k);
+  return of;
+}
+
 double ReducedProblem::energy(const Eigen::VectorXd& a) const {
   double f = 0.5 * a.dot(S * a) - c.dot(a);
-  for (Eigen::Index i = 0; i < a.size(); ++i) f += w(i) * law_of(i).value(LawPart::j, a(i));
+  if (groups.empty()) {
+    for (Eigen::Index i = 0; i < a.size(); ++i) f += w(i) * law_of(i).value(LawPart::j, a(i));
+    return f;
+  }
+  const Eigen::VectorXi of = group_of();
+  for (Eigen::Index i = 0; i < a.size(); ++i)
+    if (of(i) < 0) f += w(i) * law_of(i).value(LawPart::j, a(i));
+  for (const CoordinateGroup& g : groups) f += w(g.first) * law_of(g.first).value(LawPart::j, group_norm(a, g));
   return f;
 }
 
 Eigen::VectorXd ReducedProblem::subgradient_convex2(const Eigen::VectorXd& a) const {
   Eigen::VectorXd g2(a.size());
   for (Eigen::Index i = 0; i < a.size(); ++i) g2(i) = w(i) * law_of(i).derivative(LawPart::j2, a(i), +1);
+  for (const CoordinateGroup& g : groups) {
+    const double r = group_norm(a, g);
+    const double s = r > 0.0 ? w(g.first) * law_of(g.first).derivative(LawPart::j2, r, +1) / r : 0.0;
+    g2(g.first) = s * a(g.first);
+    g2(g.second) = s * a(g.second);
+  }
   return g2;
 }
 
@@ -135,6 +155,29 @@ void check_sizes(const ReducedProblem& p, const std::string& where) {
       throw InputError("coordinate " + std::to_string(i) + " has bounds [" + std::to_string(p.lo(i)) + ", " +
                            std::to_string(p.hi(i)) + "]; expected lower <= upper",
                        where);
+  }
+  std::vector<char> grouped(static_cast<std::size_t>(n), 0);
+  for (std::size_t k = 0; k < p.groups.size(); ++k) {
+    const CoordinateGroup& g = p.groups[k];
+    const std::string name = "group " + std::to_string(k) + " (coordinates " + std::to_string(g.first) + " and " +
+                             std::to_string(g.second) + ")";
+    if (g.first < 0 || g.first >= n || g.second < 0 || g.second >= n || g.first == g.second)
+      throw InputError(name + ": expected two distinct coordinates in 0.." + std::to_string(n - 1), where);
+    for (Eigen::Index i : {g.first, g.second}) {
+      if (grouped[static_cast<std::size_t>(i)]) throw InputError(name + ": coordinate " + std::to_string(i) + " is in another group", where);
+      grouped[static_cast<std::size_t>(i)] = 1;
+      if (std::isfinite(p.lo(i)) || std::isfinite(p.hi(i)))
+        throw InputError(name + ": coordinate " + std::to_string(i) + " has a bound; a group's coordinates have none", where);
+    }
+    if (p.law_index(g.first) != p.law_index(g.second) || p.w(g.first) != p.w(g.second))
+      throw InputError(name + ": its coordinates differ in law or weight; a group has one of each", where);
+    const ContactLaw& law = p.law_of(g.first);
+    for (LawPart part : {LawPart::j, LawPart::j1, LawPart::j2})
+      if (!(law.derivative(part, 0.0, +1) >= 0.0))
+        throw InputError(name + ": its law '" + law.name() + "' falls from 0 (" + to_string(part) + "'(0+) = " +
+                             std::to_string(law.derivative(part, 0.0, +1)) +
+                             "); a law of a norm must rise from 0, as every even law does",
+                         where);
   }
 }
 

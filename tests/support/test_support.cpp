@@ -205,3 +205,72 @@ std::string corpus_test_name(const char* file, const std::string& prefix) {
 }
 
 }  // namespace hemivem::test
+
+#include <hemivem/contact/piecewise_law.hpp>
+
+#include <limits>
+#include <random>
+
+namespace hemivem::test {
+
+ReducedProblem frictional_solid_problem(int nodes, std::shared_ptr<const ContactLaw> normal,
+                                        std::shared_ptr<const ContactLaw> friction, unsigned seed, double load) {
+  std::mt19937 gen(seed);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const int n = 3 * nodes;
+  Eigen::MatrixXd B(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) B(i, j) = unit(gen);
+  Eigen::MatrixXd S = 2.0 * B * B.transpose() / n;
+  S.diagonal().array() += 100.0;
+  Eigen::VectorXd c(n), w(n), g(n);
+  for (int i = 0; i < n; ++i) c(i) = load * unit(gen);
+  for (int k = 0; k < nodes; ++k) {
+    const double wk = 1.0 + 0.5 * unit(gen);
+    w(k) = w(nodes + 2 * k) = w(nodes + 2 * k + 1) = wk;
+    g(k) = 0.01 * (1.0 + unit(gen));
+  }
+  ReducedProblem p;
+  p.S = std::move(S);
+  p.c = std::move(c);
+  p.w = std::move(w);
+  p.laws = {std::move(normal), std::move(friction)};
+  p.law_index = Eigen::VectorXi::Ones(n);
+  p.law_index.head(nodes).setZero();
+  p.lo = Eigen::VectorXd::Constant(n, -std::numeric_limits<double>::infinity());
+  p.hi = Eigen::VectorXd::Constant(n, std::numeric_limits<double>::infinity());
+  p.hi.head(nodes) = g.head(nodes);
+  for (int k = 0; k < nodes; ++k) p.groups.push_back({nodes + 2 * k, nodes + 2 * k + 1});
+  return p;
+}
+
+ReducedProblem tresca_springs(int groups, double bound, unsigned seed) {
+  std::mt19937 gen(seed);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const int n = 2 * groups;
+  Eigen::VectorXd k(n), c(n);
+  for (int i = 0; i < groups; ++i) {
+    k(2 * i) = k(2 * i + 1) = 2.0 + unit(gen);
+    c(2 * i) = 1.5 * bound * unit(gen);
+    c(2 * i + 1) = 1.5 * bound * unit(gen);
+  }
+  ReducedProblem p = ReducedProblem::uniform(k.asDiagonal(), c, Eigen::VectorXd::Ones(n), tresca_law(bound),
+                                             ConstraintKind::none);
+  for (int i = 0; i < groups; ++i) p.groups.push_back({2 * i, 2 * i + 1});
+  return p;
+}
+
+Eigen::VectorXd tresca_springs_solution(const ReducedProblem& springs, double bound) {
+  Eigen::VectorXd a = Eigen::VectorXd::Zero(springs.size());
+  for (const CoordinateGroup& g : springs.groups) {
+    const Eigen::Vector2d cg(springs.c(g.first), springs.c(g.second));
+    const double m = cg.norm();
+    if (m <= bound) continue;
+    const Eigen::Vector2d ag = cg * ((m - bound) / (springs.S(g.first, g.first) * m));
+    a(g.first) = ag(0);
+    a(g.second) = ag(1);
+  }
+  return a;
+}
+
+}  // namespace hemivem::test

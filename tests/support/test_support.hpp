@@ -122,3 +122,30 @@ void expect_table_covers_corpus(const std::filesystem::path& dir, const std::str
 std::string corpus_test_name(const char* file, const std::string& prefix = "");
 
 }  // namespace hemivem::test
+
+#include <hemivem/reduced_problem.hpp>
+
+#include <memory>
+
+namespace hemivem::test {
+
+// ---- reduced problems with groups of coordinates (a solid's friction) ----------------------
+
+/// Shaped as a solid's frictional contact on `nodes` nodes: coordinates 0..nodes-1 the normal
+/// displacements (law `normal`, one-sided bounds a_i <= g_i with g_i in [0, 0.02]), then per node
+/// the group (nodes + 2k, nodes + 2k + 1) of its tangential displacements with law `friction`
+/// (weight w_i in [0.5, 1.5], shared by the node's three coordinates); S symmetric positive
+/// definite with a dominant diagonal (about 100) and random couplings, c random with entries
+/// of size about `load`. Reproducible for a seed.
+ReducedProblem frictional_solid_problem(int nodes, std::shared_ptr<const ContactLaw> normal,
+                                        std::shared_ptr<const ContactLaw> friction, unsigned seed, double load = 2.0);
+
+/// `groups` uncoupled groups on springs: S = diag(k_i) with k_i in [1, 3] equal within a group,
+/// c random (about half the groups stuck under Tresca's bound `bound` with weight 1), the
+/// coordinates (2k, 2k + 1) in group k.
+ReducedProblem tresca_springs(int groups, double bound, unsigned seed);
+/// Their solution: group k stuck (0) when |c_G| <= bound, else slipping along c_G by
+/// (|c_G| - bound) / k_i.
+Eigen::VectorXd tresca_springs_solution(const ReducedProblem& springs, double bound);
+
+}  // namespace hemivem::test

@@ -247,6 +247,11 @@ void write_reduced_files(const fs::path& folder, const ReducedProblem& p, const 
       for (Eigen::Index i = 0; i < n; ++i)
         out << p.law_index(i) << ' ' << bound_text(p.lo(i)) << ' ' << bound_text(p.hi(i)) << '\n';
     });
+    if (!p.groups.empty())
+      write_file(folder / "groups.txt", [&](std::ostream& out) {
+        out << "# first second (coordinates, from 0, whose law acts on their Euclidean norm)\n";
+        for (const CoordinateGroup& g : p.groups) out << g.first << ' ' << g.second << '\n';
+      });
   } else {
     vec("g.txt", uniform->g);
   }
@@ -254,7 +259,8 @@ void write_reduced_files(const fs::path& folder, const ReducedProblem& p, const 
     out << "# hemivem reduced problem: min 1/2 a^T S a - c^T a + sum w_i j_i(a_i) over the constraint set\n"
         << "format " << reduced_format_version << '\n';
     if (coordinatewise) out << "form coordinate-wise\nlaws " << p.num_laws() << '\n';
-    else out << "constraint " << to_string(uniform->constraint) << '\n';
+    if (!p.groups.empty()) out << "groups " << p.groups.size() << '\n';
+    if (!coordinatewise) out << "constraint " << to_string(uniform->constraint) << '\n';
     if (!std::isnan(p.uniqueness_margin)) out << "uniqueness_margin " << shortest(p.uniqueness_margin) << '\n';
   });
 }
@@ -264,13 +270,12 @@ void write_reduced_files(const fs::path& folder, const ReducedProblem& p, const 
 void write_reduced_problem(const fs::path& folder, const ReducedProblem& p) {
   check_sizes(p, folder.string());
   const std::optional<UniformForm> uniform = p.uniform_form();
-  const bool coordinatewise = !uniform;
   std::error_code ec;
   if (folder.has_parent_path()) fs::create_directories(folder.parent_path(), ec);
   if (ec) throw InputError("cannot create the folder: " + ec.message(), folder.parent_path().string());
   // one transaction: the files of either form and every law file the folder holds are this
   // writer's; the new set replaces them at once, other files stay
-  std::vector<std::string> owned{"S.mtx", "c.txt", "w.txt", "g.txt", "coordinates.txt", "problem.txt"};
+  std::vector<std::string> owned{"S.mtx", "c.txt", "w.txt", "g.txt", "coordinates.txt", "groups.txt", "problem.txt"};
   for (int k = 0; k < p.num_laws() || fs::exists(folder / law_file_name(k), ec); ++k) owned.push_back(law_file_name(k));
   OutputTransaction tx(folder, owned);
   tx.stage([&](const fs::path& staging) { write_reduced_files(staging, p, uniform); });
@@ -283,6 +288,7 @@ namespace {
 struct ProblemHeader {
   bool coordinatewise = false;
   long laws = 1;
+  long groups = 0;
   ConstraintKind constraint = ConstraintKind::box;
   double uniqueness_margin = std::numeric_limits<double>::quiet_NaN();
   std::string margin_where;  // file:line of the margin, when given
@@ -309,6 +315,9 @@ ProblemHeader read_problem_header(const fs::path& file) {
     } else if (key == "laws") {
       h.laws = integer(l.tokens[1], file, l.number, "number of laws");
       if (h.laws < 1 || h.laws > 100) throw InputError("expected 1 to 100 laws, got " + l.tokens[1], where);
+    } else if (key == "groups") {
+      h.groups = integer(l.tokens[1], file, l.number, "number of groups");
+      if (h.groups < 0) throw InputError("expected a number of groups >= 0, got " + l.tokens[1], where);
     } else if (key == "constraint") {
       try {
         h.constraint = constraint_kind_from_string(l.tokens[1]);
@@ -321,12 +330,13 @@ ProblemHeader read_problem_header(const fs::path& file) {
                                                   : number(l.tokens[1], file, l.number, "margin");
       h.margin_where = where;
     } else {
-      throw InputError("unknown key '" + key + "'; expected format, form, laws, constraint or uniqueness_margin", where);
+      throw InputError("unknown key '" + key + "'; expected format, form, laws, groups, constraint or uniqueness_margin", where);
     }
   }
   if (h.coordinatewise && have_constraint)
     throw InputError("a coordinate-wise problem has its bounds in coordinates.txt, not a constraint", file.string());
   if (!h.coordinatewise && h.laws != 1) throw InputError("several laws need 'form coordinate-wise'", file.string());
+  if (!h.coordinatewise && h.groups > 0) throw InputError("groups need 'form coordinate-wise'", file.string());
   return h;
 }
 
@@ -349,6 +359,28 @@ void read_coordinates(const fs::path& file, Eigen::Index n, long laws, ReducedPr
     p->lo(i) = bound(l.tokens[1], file, l.number, "lower bound");
     p->hi(i) = bound(l.tokens[2], file, l.number, "upper bound");
     if (!(p->lo(i) <= p->hi(i))) throw InputError("lower bound " + l.tokens[1] + " above upper bound " + l.tokens[2], where);
+  }
+}
+
+/// groups.txt: `count` lines "first second" (coordinates from 0) into p->groups, checked by
+/// check_sizes with the rest.
+void read_groups(const fs::path& file, long count, Eigen::Index n, ReducedProblem* p) {
+  const auto lines = read_lines(file, false);
+  if (static_cast<long>(lines.size()) != count)
+    throw InputError("has " + std::to_string(lines.size()) + " lines; problem.txt says groups " + std::to_string(count),
+                     file.string());
+  for (const Line& l : lines) {
+    const std::string where = file.string() + ":" + std::to_string(l.number);
+    if (l.tokens.size() != 2) throw InputError("expected 'first second'", where);
+    const long a = integer(l.tokens[0], file, l.number, "coordinate"), b = integer(l.tokens[1], file, l.number, "coordinate");
+    if (a < 0 || a >= n || b < 0 || b >= n || a == b)
+      throw InputError("expected two distinct coordinates in 0.." + std::to_string(n - 1), where);
+    p->groups.push_back({a, b});
+  }
+  try {
+    check_sizes(*p, file.string());
+  } catch (const InputError& e) {
+    throw InputError(e.detail(), file.string());
   }
 }
 
@@ -394,6 +426,7 @@ ReducedProblem read_reduced_problem(const fs::path& folder, std::shared_ptr<cons
     p.laws.push_back(std::move(law));
     for (long k = 1; k < h.laws; ++k) p.laws.push_back(read_law(folder / law_file_name(static_cast<int>(k))));
     read_coordinates(folder / "coordinates.txt", n, h.laws, &p);
+    if (h.groups > 0) read_groups(folder / "groups.txt", h.groups, n, &p);
     settle_margin(p, h, replaced_law);
     return p;
   }

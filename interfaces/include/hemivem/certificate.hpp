@@ -8,13 +8,18 @@
 //        f = max(||c||_inf, ||S a||_inf, ||zeta||_inf, force_floor).
 //   2. Snap. Every coordinate within tol * l of one of its bounds or of a kink of the law
 //      (ContactLaw::kinks of the coordinate's law) is put exactly there (the nearer one; a bound before a kink at the
-//      same distance). The snapped point is the one reported and certified.
+//      same distance). A group of coordinates (ReducedProblem::groups) has its norm snapped
+//      instead: onto a positive kink of its law, or onto 0 where j'(0+) > 0, by scaling the
+//      pair. The snapped point is the one reported and certified.
 //   3. Forces. Per coordinate the law force zeta_i in w_i [j'(a_i-), j'(a_i+)] and the reaction
 //      lambda_i of the constraint (0 off the bounds, >= 0 at an upper bound, <= 0 at a lower
 //      one, free where both bounds coincide) minimise |(S a - c)_i + zeta_i + lambda_i|; of the
 //      minimisers the one with the smallest |lambda_i| is taken. The contact force of node i
-//      is zeta_i + lambda_i.
-//   4. primal = ||dist(a, C)||_inf / l, dual = ||S a - c + zeta + lambda||_inf / f;
+//      is zeta_i + lambda_i. A group's law force zeta_G (a pair, no reaction) is the point
+//      nearest to -(S a - c)_G of w times its Clarke subdifferential: on the ray of a_G at a
+//      length in w [j'(r-), j'(r+)], r = |a_G| > 0; in the disc of radius w j'(0+) at a_G = 0.
+//   4. primal = ||dist(a, C)||_inf / l, dual = ||S a - c + zeta + lambda||_inf / f, the
+//      maximum over single coordinates of |.| and over groups of the pair's Euclidean norm;
 //      converged <=> primal <= tol and dual <= tol.
 //
 // Both numbers are unchanged when S, c and w j are multiplied by one factor (a change of the

@@ -11,14 +11,16 @@
 //
 // (j_inf the recession function of the law: its slope far from the origin, +inf where the
 // law grows faster than linearly), over the directions the bounds allow (d_i <= 0 where a_i
-// has an upper bound, d_i >= 0 where it has a lower one). If phi(d) < 0 for such a d, F is
+// has an upper bound, d_i >= 0 where it has a lower one); a group of coordinates
+// (ReducedProblem::groups) adds w j'(+inf) |d_G| instead of a term per coordinate. If phi(d) < 0 for such a d, F is
 // unbounded below along d: the load pushes the body away from its support and there is no
 // solution. If phi(d) > 0 for every such d != 0 the law or the constraint stops every free
 // motion and F has a minimizer.
 //
 // The test is exact for a null space of dimension at most 3 (the rigid motions of a plane
 // body) and laws that are polynomials of degree <= 3 beyond their outermost breakpoints (the
-// shipped laws); for a larger null space a finite set of directions is tried. Only the null
+// shipped laws) without groups; for a larger null space, and with groups (whose term is not
+// linear in d on any cell), a finite set of directions is tried. Only the null
 // space of S is examined: a law whose curvature far from the origin is negative enough to
 // overcome S's is not.
 #pragma once

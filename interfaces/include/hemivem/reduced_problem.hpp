@@ -9,11 +9,14 @@
 // one constraint: none, a_i <= g_i (one-sided) or |a_i| <= g_i (the paper's box (4.6));
 // ReducedProblem::uniform() builds that case and uniform_form() recognises it. With friction
 // (docs/friction.md) the coordinates are the normal and the tangential displacements of the
-// contact nodes, each with its own law and bounds.
+// contact nodes, each with its own law and bounds. A solid's isotropic friction acts on the
+// Euclidean norm of a node's two tangential displacements: such pairs of coordinates form a
+// group (CoordinateGroup) whose law is a law of the pair's norm.
 #pragma once
 
 #include <Eigen/Core>
 
+#include <cmath>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -55,6 +58,18 @@ struct UniformForm {
   Eigen::VectorXd g;
 };
 
+/// Two coordinates whose law acts on their Euclidean norm (isotropic friction in a solid's
+/// tangent plane): F has w j(|(a_first, a_second)|) for them instead of a term per coordinate.
+/// Both have the same law and weight and no bounds, and the law rises from 0
+/// (j'(0+), j1'(0+) and j2'(0+) >= 0, as for every even law), so that j(|v|) has the DC split
+/// j1(|v|) - j2(|v|) and the curvature bound alpha of j (check_sizes checks all of it).
+/// The Clarke subdifferential of j(|v|) is {s v/|v| : s in [j'(r-), j'(r+)]} at v != 0,
+/// r = |v|, and the disc of radius j'(0+) at v = 0.
+struct CoordinateGroup {
+  Eigen::Index first = 0;
+  Eigen::Index second = 0;
+};
+
 struct ReducedProblem {
   Eigen::MatrixXd S;
   Eigen::VectorXd c;
@@ -63,6 +78,8 @@ struct ReducedProblem {
   std::vector<std::shared_ptr<const ContactLaw>> laws;
   Eigen::VectorXi law_index;
   Eigen::VectorXd lo, hi;
+  /// The groups of coordinates with a law of their norm (none in the plane and without friction).
+  std::vector<CoordinateGroup> groups;
   /// lambda_min(S - diag(alpha_i w_i)), alpha_i the curvature bound of coordinate i's law, set
   /// by whoever builds the problem (NaN: unknown), as measure_uniqueness()
   /// (hemivem/uniqueness.hpp) reports it: exactly 0 within round-off. F is strongly convex, and
@@ -79,7 +96,8 @@ struct ReducedProblem {
                                 const Eigen::VectorXd& g = {});
 
   /// The problem as uniform() would build it (law 0, the constraint and g), or nothing when
-  /// its coordinates differ in law or kind of bound: how files and reports describe it.
+  /// its coordinates differ in law or kind of bound or form groups: how files and reports
+  /// describe it.
   std::optional<UniformForm> uniform_form() const;
   /// True when the problem has no uniform form (its bounds and laws are per coordinate).
   bool coordinatewise() const { return !uniform_form().has_value(); }
@@ -94,12 +112,15 @@ struct ReducedProblem {
   double lower(Eigen::Index i) const { return lo(i); }
   double upper(Eigen::Index i) const { return hi(i); }
 
+  /// Per coordinate the index of its group in `groups`, -1 for a coordinate on its own.
+  Eigen::VectorXi group_of() const;
   /// True when every law is convex (no DC loop is needed).
   bool all_laws_convex() const;
   /// F(a).
   double energy(const Eigen::VectorXd& a) const;
-  /// A subgradient of F2 = sum_i w_i j2_i(a_i), the concave part of F = F1 - F2 (right
-  /// derivatives of j2; j2 is convex, so either side is one).
+  /// A subgradient of F2 = sum_i w_i j2_i(a_i) (and w j2(|a_G|) per group), the concave part of
+  /// F = F1 - F2 (right derivatives of j2; j2 is convex, so either side is one; 0 for a group at
+  /// the origin).
   Eigen::VectorXd subgradient_convex2(const Eigen::VectorXd& a) const;
   /// The projection onto C.
   Eigen::VectorXd project(const Eigen::VectorXd& a) const;
@@ -108,8 +129,16 @@ struct ReducedProblem {
 };
 
 /// Checks that the arrays fit together (S n x n, w, law_index, lo and hi of size n, at least
-/// one law and none null, every law index in range, lo <= hi, no NaN bound); throws
-/// InputError naming `where` otherwise.
+/// one law and none null, every law index in range, lo <= hi, no NaN bound) and that every group
+/// is one (two distinct coordinates in range, in no other group, of one law and one weight,
+/// without bounds, its law rising from 0); throws InputError naming `where` otherwise.
+/// A minimizer that cannot take groups refuses a problem with them by name
+/// (InputError "ENGINE does not take groups of coordinates ...").
 void check_sizes(const ReducedProblem& p, const std::string& where);
+
+/// |(a_first, a_second)|: the norm of group g's coordinates in a.
+inline double group_norm(const Eigen::VectorXd& a, const CoordinateGroup& g) {
+  return std::hypot(a(g.first), a(g.second));
+}
 
 }  // namespace hemivem

@@ -6,14 +6,17 @@
 //   c.txt, w.txt     one number per line (n lines)
 //   law.txt          the contact law (format below); in the coordinate-wise form law 0, and
 //                    law1.txt, law2.txt ... the others
-//   problem.txt      "format 2"; "constraint none|one-sided|box|bilateral" (uniform form) or
-//                    "form coordinate-wise" and "laws L"; "uniqueness_margin X" (all optional
+//   problem.txt      "format 3"; "constraint none|one-sided|box|bilateral" (uniform form) or
+//                    "form coordinate-wise", "laws L" and "groups K" (K > 0 only, read as 0
+//                    when absent); "uniqueness_margin X" (all optional
 //                    when read: without them the uniform form with the box constraint)
 //   g.txt            the gaps, one per line (uniform form)
 //   coordinates.txt  "law lower upper" per coordinate, bounds numbers or inf / -inf
 //                    (coordinate-wise form: friction, docs/friction.md)
+//   groups.txt       "first second" per group (coordinates from 0 whose law acts on their
+//                    norm: a solid's friction; written when K > 0)
 //
-// Format 1 (no "format" line) is the uniform form; it is still read.
+// Format 1 (no "format" line) is the uniform form and format 2 has no groups; both are still read.
 //
 // law.txt: '#' comments, then "name NAME", "breakpoints b0 b1 ..." (possibly none), and one
 // line "j1 c0 c1 ..." and one line "j2 c0 c1 ..." per piece, in piece order (coefficients
@@ -29,7 +32,7 @@
 namespace hemivem {
 
 /// The version of the folder format written (the "format" line of problem.txt).
-inline constexpr int reduced_format_version = 2;
+inline constexpr int reduced_format_version = 3;
 
 /// Writes the folder (created if needed) as one transaction (hemivem/support/output_folder.hpp):
 /// the whole set is written beside it, every write checked, and then replaces the files of a
