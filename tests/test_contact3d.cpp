@@ -136,11 +136,25 @@ TEST(Contact3D, RefusesWhatItCannotSolve) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("has no contact node left"), std::string::npos) << e.what();
   }
-  // friction on a 3D boundary
+  // friction on a 3D boundary: two tangentials per node (one where a symmetry plane holds the
+  // other, none on the corner held by both), each pair a group
   const LinearSystem sys = assemble(pressed_block(mesh, box).elasticity);
   const ContactBoundary b = make_contact_boundary(mesh, select_box_side(mesh, box, "bottom"), sys.dofs, {});
   EXPECT_EQ(b.dimension, 3);
-  EXPECT_THROW(Condensation(sys, b, engine(), zero_law(), ConstraintKind::box, tresca_law(0.1)), InputError);
+  const Condensation friction(sys, b, engine(), zero_law(), ConstraintKind::box, tresca_law(0.1));
+  int pairs = 0, singles = 0, none = 0;
+  for (int i = 0; i < b.size(); ++i) {
+    const Vec3 x = mesh.vertex(b.nodes[static_cast<std::size_t>(i)]);
+    const int held = (x.x() == 0.0) + (x.y() == 0.0);
+    const bool first = friction.tangential_coordinate(i) >= 0, second = friction.second_tangential_coordinate(i) >= 0;
+    EXPECT_EQ(first, held < 2) << x.transpose();
+    EXPECT_EQ(second, held == 0) << x.transpose();
+    pairs += second, singles += first && !second, none += !first;
+  }
+  EXPECT_EQ(static_cast<int>(friction.reduced().groups.size()), pairs);
+  EXPECT_EQ(pairs, 4);
+  EXPECT_EQ(singles, 4);
+  EXPECT_EQ(none, 1);
 }
 
 TEST(Contact3D, WeightsAreAreaSharesAndNormalsAreAreaWeighted) {

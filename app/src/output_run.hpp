@@ -35,8 +35,9 @@ void write_history_csv(std::ostream& stream, const BasicContactSolution<dim>& s)
 }
 
 /// contact.csv: one row per contact node: vertex, position, u_nu, forces, pressure, state,
-/// gap, normal; with friction (plane bodies) u_tau, the friction force and traction and the
-/// friction state; with several parts the node's part.
+/// gap, normal; with friction u_tau, the friction force and traction (a plane's along tau; a
+/// solid's as vectors u_tau_x.., friction_force_x.. and the traction's length) and the friction
+/// state; with several parts the node's part.
 template <int dim>
 void write_contact_csv(std::ostream& stream, const BasicContactSolution<dim>& s) {
   static constexpr const char* axes[] = {"x", "y", "z"};
@@ -48,17 +49,27 @@ void write_contact_csv(std::ostream& stream, const BasicContactSolution<dim>& s)
   for (int c = 0; c < dim; ++c) os << ',' << axes[c];
   os << ",u_nu,law_force,reaction,pressure,state,gap";
   for (int c = 0; c < dim; ++c) os << ",n" << axes[c];
-  os << (tangential ? ",u_tau,friction_force,friction_traction,friction_state" : "") << (parts ? ",part" : "") << "\n";
+  if (tangential && dim == 2) os << ",u_tau,friction_force,friction_traction,friction_state";
+  if (tangential && dim == 3)
+    os << ",u_tau_x,u_tau_y,u_tau_z,friction_force_x,friction_force_y,friction_force_z,friction_traction,friction_state";
+  os << (parts ? ",part" : "") << "\n";
   for (const auto& n : s.contact) {
     os << n.vertex;
     for (int c = 0; c < dim; ++c) os << ',' << n.x(c);
     os << ',' << n.u_nu << ',' << n.law_force << ',' << n.reaction << ',' << n.pressure() << ',' << to_string(n.state) << ',';
     if (!std::isnan(n.gap)) os << n.gap;  // empty: no gap used (bilateral)
     for (int c = 0; c < dim; ++c) os << ',' << n.normal(c);
-    if (tangential && n.friction_state != FrictionState::none)
-      os << ',' << n.u_tau << ',' << n.friction_force << ',' << n.friction_force / n.weight << ',' << to_string(n.friction_state);
-    else if (tangential)
-      os << ",,,,";  // a frictionless part beside one with friction
+    if (tangential && n.friction_state != FrictionState::none) {
+      if constexpr (dim == 2) {
+        os << ',' << n.u_tau << ',' << n.friction_force;
+      } else {
+        for (int c = 0; c < 3; ++c) os << ',' << n.u_tangential(c);
+        for (int c = 0; c < 3; ++c) os << ',' << n.friction_vector(c);
+      }
+      os << ',' << n.friction_force / n.weight << ',' << to_string(n.friction_state);
+    } else if (tangential) {
+      os << (dim == 2 ? ",,,," : ",,,,,,,,");  // a frictionless part beside one with friction
+    }
     if (parts) os << ',' << contact_part_name(s, n);
     os << '\n';
   }

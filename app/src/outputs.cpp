@@ -136,9 +136,16 @@ nlohmann::json contact_json(const BasicContactSolution<dim>& s, bool tangential,
                         {"part", contact_part_name(s, n)}};
     put_position(node, n.x);
     if (tangential && n.friction_state != FrictionState::none) {
-      node["u_tau"] = number(n.u_tau);
-      node["friction_force"] = number(n.friction_force);
-      node["friction_traction"] = number(n.friction_force / n.weight);
+      // a plane's along tau; a solid's as vectors in the tangent plane
+      if constexpr (dim == 2) {
+        node["u_tau"] = number(n.u_tau);
+        node["friction_force"] = number(n.friction_force);
+        node["friction_traction"] = number(n.friction_force / n.weight);
+      } else {
+        node["u_tau"] = vector_json(n.u_tangential);
+        node["friction_force"] = vector_json(n.friction_vector);
+        node["friction_traction"] = vector_json(Vec3(n.friction_vector / n.weight));
+      }
       node["friction_state"] = to_string(n.friction_state);
       friction_states[to_string(n.friction_state)] = friction_states.value(to_string(n.friction_state), 0) + 1;
     }

@@ -118,7 +118,7 @@ void balance(std::ostream& out, const BasicContactSolution<dim>& sol) {
   if (!sol.contact.empty()) out << ", contact " << vector_text(b.contact);
   out << "\n  balance       |applied + reactions" << (sol.contact.empty() ? "" : " + contact") << "| = "
       << std::setprecision(2) << b.residual() << std::setprecision(6)
-      << (b.applied.norm() > 0.0 ? " x |applied|\n" : " x the largest force (no load is applied)\n");
+      << " x the largest force\n";
 }
 
 // The contact nodes' forces: the sum of the normal forces zeta_i + lambda_i (not a resultant:

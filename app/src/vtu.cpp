@@ -130,19 +130,28 @@ struct ContactFields {
   }
 };
 
-/// With friction: u_tau, the friction traction and the state code, 0 off the contact nodes.
+/// With friction: u_tau, the friction traction (a plane's along tau, a solid's as vectors of
+/// three components) and the state code, 0 off the contact nodes.
 template <int dim>
 void write_friction_point_data(std::ostream& os, std::size_t nv, const BasicContactSolution<dim>& sol) {
-  std::vector<double> u_tau(nv, 0.0), traction(nv, 0.0);
+  constexpr std::size_t width = dim == 2 ? 1 : 3;
+  std::vector<double> u_tau(width * nv, 0.0), traction(width * nv, 0.0);
   std::vector<std::uint8_t> state(nv, 0);
   for (const auto& n : sol.contact) {
     const auto v = static_cast<std::size_t>(n.vertex);
-    u_tau[v] = n.u_tau;
-    traction[v] = n.friction_force / n.weight;
+    if constexpr (dim == 2) {
+      u_tau[v] = n.u_tau;
+      traction[v] = n.friction_force / n.weight;
+    } else {
+      for (std::size_t c = 0; c < 3; ++c) {
+        u_tau[3 * v + c] = n.u_tangential(static_cast<Eigen::Index>(c));
+        traction[3 * v + c] = n.friction_vector(static_cast<Eigen::Index>(c)) / n.weight;
+      }
+    }
     state[v] = friction_state_code(n.friction_state);
   }
-  data_array(os, "u_tau", 1, u_tau);
-  data_array(os, "friction_traction", 1, traction);
+  data_array(os, "u_tau", static_cast<int>(width), u_tau);
+  data_array(os, "friction_traction", static_cast<int>(width), traction);
   data_array(os, "friction_state", 1, state);
 }
 
@@ -269,6 +278,24 @@ void write_contact_surface_vtu(std::ostream& os, const Mesh3D& mesh, const std::
   data_array(os, "pressure", 1, pressure);
   data_array(os, "gap", 1, gap);
   data_array(os, "contact_node", 1, node);
+  if (has_tangential(sol)) {
+    // the friction's point data, picked at the surface's points
+    std::vector<double> u_tau, traction;
+    std::vector<std::uint8_t> state;
+    std::vector<const ContactNode3D*> of(static_cast<std::size_t>(mesh.num_vertices()), nullptr);
+    for (const ContactNode3D& n : sol.contact) of[static_cast<std::size_t>(n.vertex)] = &n;
+    for (std::int64_t v : vertex) {
+      const ContactNode3D* n = of[static_cast<std::size_t>(v)];
+      for (int c = 0; c < 3; ++c) {
+        u_tau.push_back(n ? n->u_tangential(c) : 0.0);
+        traction.push_back(n ? n->friction_vector(c) / n->weight : 0.0);
+      }
+      state.push_back(n ? friction_state_code(n->friction_state) : 0);
+    }
+    data_array(os, "u_tau", 3, u_tau);
+    data_array(os, "friction_traction", 3, traction);
+    data_array(os, "friction_state", 1, state);
+  }
   os << "      </PointData>\n";
   file_tail(os);
 }

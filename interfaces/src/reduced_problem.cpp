@@ -97,8 +97,10 @@ Eigen::VectorXi ReducedProblem::group_of() const {
   return of;
 }
 
-double ReducedProblem::energy(const Eigen::VectorXd& a) const {
-  double f = 0.5 * a.dot(S * a) - c.dot(a);
+double ReducedProblem::energy(const Eigen::VectorXd& a) const { return law_energy(a, 0.5 * a.dot(S * a) - c.dot(a)); }
+
+double ReducedProblem::law_energy(const Eigen::VectorXd& a, double onto) const {
+  double f = onto;
   if (groups.empty()) {
     for (Eigen::Index i = 0; i < a.size(); ++i) f += w(i) * law_of(i).value(LawPart::j, a(i));
     return f;

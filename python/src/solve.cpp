@@ -113,6 +113,7 @@ ContactTable contact_table(const ContactSolution& s) {
   t.columns["friction_traction"] = friction_traction;
   t.columns["friction_state"] = np.attr("array")(friction_state, py::arg("dtype") = "U");
   t.columns["part"] = np.attr("array")(part, py::arg("dtype") = "U");
+  t.absent["z"] = "the contact nodes of a plane body have x and y only";
   return t;
 }
 
@@ -122,18 +123,27 @@ ContactTable contact_table(const ContactSolution3D& s) {
   const auto n = static_cast<py::ssize_t>(s.contact.size());
   py::array_t<std::int32_t> vertex(n);
   py::array_t<double> x(n), y(n), z(n), u_nu(n), law_force(n), reaction(n), pressure(n), gap(n), weight(n),
-      normal({n, py::ssize_t(3)});
-  py::list state, part;
+      normal({n, py::ssize_t(3)}), u_tau({n, py::ssize_t(3)}), friction_force({n, py::ssize_t(3)}),
+      friction_traction({n, py::ssize_t(3)});
+  py::list state, friction_state, part;
   auto nr = normal.mutable_unchecked<2>();
+  auto ut = u_tau.mutable_unchecked<2>();
+  auto ff = friction_force.mutable_unchecked<2>();
+  auto ft = friction_traction.mutable_unchecked<2>();
   for (py::ssize_t i = 0; i < n; ++i) {
     const ContactNode3D& c = s.contact[static_cast<std::size_t>(i)];
     vertex.mutable_data()[i] = c.vertex;
     x.mutable_data()[i] = c.x.x(), y.mutable_data()[i] = c.x.y(), z.mutable_data()[i] = c.x.z();
     u_nu.mutable_data()[i] = c.u_nu, law_force.mutable_data()[i] = c.law_force, reaction.mutable_data()[i] = c.reaction;
     pressure.mutable_data()[i] = c.pressure(), gap.mutable_data()[i] = c.gap, weight.mutable_data()[i] = c.weight;
-    nr(i, 0) = c.normal.x(), nr(i, 1) = c.normal.y(), nr(i, 2) = c.normal.z();
-    state.append(to_string(c.state));
-    part.append("contact");  // one contact part in 3D, named so in result.json
+    for (int d = 0; d < 3; ++d) {
+      nr(i, d) = c.normal(d);
+      ut(i, d) = c.u_tangential(d);
+      ff(i, d) = c.friction_vector(d);
+      ft(i, d) = c.friction_vector(d) / c.weight;
+    }
+    state.append(to_string(c.state)), friction_state.append(to_string(c.friction_state));
+    part.append(app::contact_part_name(s, c));
   }
   const py::object np = py::module_::import("numpy");
   ContactTable t;
@@ -150,9 +160,11 @@ ContactTable contact_table(const ContactSolution3D& s) {
   t.columns["weight"] = weight;
   t.columns["normal"] = normal;
   t.columns["state"] = np.attr("array")(state, py::arg("dtype") = "U");
+  t.columns["u_tau"] = u_tau;
+  t.columns["friction_force"] = friction_force;
+  t.columns["friction_traction"] = friction_traction;
+  t.columns["friction_state"] = np.attr("array")(friction_state, py::arg("dtype") = "U");
   t.columns["part"] = np.attr("array")(part, py::arg("dtype") = "U");
-  for (const char* name : {"u_tau", "friction_force", "friction_traction", "friction_state"})
-    t.absent[name] = "the contact of a three-dimensional body is frictionless";
   return t;
 }
 
@@ -340,8 +352,10 @@ table.u_nu, table["u_nu"]; table.as_dict() gives them all.
 
 A three-dimensional solve's table has contact.csv's columns: vertex, x, y, z, u_nu, law_force,
 reaction, pressure (force per unit area), gap, weight (the node's share of the contact area),
-normal (n, 3), state and part ('contact'); no friction columns (the contact of a solid is
-frictionless: asking for one raises AttributeError, KeyError as an item, saying so).
+normal (n, 3), state, part, and the friction columns as vectors in the tangent plane: u_tau
+(n, 3) the tangential displacement, friction_force (n, 3) the friction force zeta_t (the
+foundation pushes the body by -zeta_t), friction_traction (n, 3) that force per unit area, and
+friction_state (zeros and '' at the nodes of a frictionless part).
 )doc")
       .def("__getattr__", [](const ContactTable& t, const std::string& name) -> py::object {
         if (!t.columns.contains(name)) throw py::attribute_error(missing_column(t, name));

@@ -363,6 +363,7 @@ void Condensation::number_coordinates(const ContactBoundary& boundary, const std
   const auto n1 = static_cast<std::size_t>(boundary.size());
   normal_coordinate_.assign(n1, -1);
   tangential_coordinate_.assign(n1, -1);
+  second_tangential_coordinate_.assign(n1, -1);
   constraint_.assign(n1, ConstraintKind::none);
   from_surface_.assign(n1, 0);
   auto conditions = [&](std::size_t i) -> const PartConditions& {
@@ -386,16 +387,19 @@ void Condensation::number_coordinates(const ContactBoundary& boundary, const std
   }
   for (std::size_t i = 0; i < n1; ++i) {
     const PartConditions& c = conditions(i);
+    if (!c.friction && c.constraint != ConstraintKind::bilateral) continue;
+    // a tangential displacement that is prescribed (a roller, a symmetry line or plane meeting
+    // the contact) is no unknown: its tangential reaction is the support's. A solid's node with
+    // both tangentials free has two, the group of the friction law of their norm.
+    int free_tangentials = 0;
     if (boundary.dimension == 3) {
-      // the reduced problem is coordinate-wise: isotropic friction in 3D couples two tangentials
-      if (c.friction)
-        throw InputError("friction on a three-dimensional contact boundary is not supported (the contact is frictionless)");
-      continue;
+      const int mask = boundary.prescribed_mask.empty() ? 0 : boundary.prescribed_mask[i];
+      free_tangentials = 2 - ((mask & 1) + (mask >> 1 & 1) + (mask >> 2 & 1));
+    } else {
+      free_tangentials = !boundary.prescribed_component.empty() && boundary.prescribed_component[i] >= 0 ? 0 : 1;
     }
-    // a node whose tangential displacement is prescribed (a roller or symmetry line meeting the
-    // contact) has no tangential unknown: its tangential reaction is the support's
-    const bool tangent_held = !boundary.prescribed_component.empty() && boundary.prescribed_component[i] >= 0;
-    if ((c.friction || c.constraint == ConstraintKind::bilateral) && !tangent_held) tangential_coordinate_[i] = next++;
+    if (free_tangentials >= 1) tangential_coordinate_[i] = next++;
+    if (free_tangentials == 2) second_tangential_coordinate_[i] = next++;
   }
 }
 
@@ -471,13 +475,19 @@ void Condensation::order_unknowns(const LinearSystem& system, const ContactBound
   coordinate1_.assign(static_cast<std::size_t>(std::count_if(normal_coordinate_.begin(), normal_coordinate_.end(),
                                                              [](int k) { return k >= 0; }) +
                                                std::count_if(tangential_coordinate_.begin(), tangential_coordinate_.end(),
-                                                             [](int k) { return k >= 0; })),
+                                                             [](int k) { return k >= 0; }) +
+                                               std::count_if(second_tangential_coordinate_.begin(),
+                                                             second_tangential_coordinate_.end(), [](int k) { return k >= 0; })),
                       -1);
   for (int i = 0; i < n1; ++i) {
     if (const int k = normal_coordinate(i); k >= 0) coordinate1_[static_cast<std::size_t>(k)] = i;
     if (const int k = tangential_coordinate(i); k >= 0) {
       coordinate1_[static_cast<std::size_t>(k)] = static_cast<int>(block1_.size());
       block1_.push_back(frames_[static_cast<std::size_t>(i)].idx[1]);
+    }
+    if (const int k = second_tangential_coordinate(i); k >= 0) {
+      coordinate1_[static_cast<std::size_t>(k)] = static_cast<int>(block1_.size());
+      block1_.push_back(frames_[static_cast<std::size_t>(i)].idx[2]);
     }
   }
   std::vector<char> in1(static_cast<std::size_t>(n), 0);
@@ -533,16 +543,20 @@ void Condensation::pose_reduced_problem(const ContactBoundary& boundary, const s
     reduced_.hi(k) = upper_bound(constraint_[static_cast<std::size_t>(i)], boundary.gaps(i));
     reduced_.w(k) = boundary.weights(i);
   }
-  // the tangentials, free, with their part's friction law (j = 0 for a bilateral part without one)
+  // the tangentials, free, with their part's friction law (j = 0 for a bilateral part without
+  // one); a solid's two tangentials form a group, the law acting on their norm
+  reduced_.groups.clear();
   for (int i = 0; i < boundary.size(); ++i) {
-    const int k = tangential_coordinate(i);
-    if (k < 0) continue;
     const std::shared_ptr<const ContactLaw>& friction = conditions(i).friction;
-    if (!friction && !zero_) zero_ = zero_law();
-    reduced_.law_index(k) = number_of(friction ? friction : zero_);
-    reduced_.lo(k) = -std::numeric_limits<double>::infinity();
-    reduced_.hi(k) = std::numeric_limits<double>::infinity();
-    reduced_.w(k) = boundary.weights(i);
+    for (const int k : {tangential_coordinate(i), second_tangential_coordinate(i)}) {
+      if (k < 0) continue;
+      if (!friction && !zero_) zero_ = zero_law();
+      reduced_.law_index(k) = number_of(friction ? friction : zero_);
+      reduced_.lo(k) = -std::numeric_limits<double>::infinity();
+      reduced_.hi(k) = std::numeric_limits<double>::infinity();
+      reduced_.w(k) = boundary.weights(i);
+    }
+    if (const int k2 = second_tangential_coordinate(i); k2 >= 0) reduced_.groups.push_back({tangential_coordinate(i), k2});
   }
 }
 
@@ -696,8 +710,15 @@ Eigen::VectorXd Condensation::reduced_point(const Eigen::VectorXd& u) const {
     const int node = static_cast<int>(i);
     if (const int k = normal_coordinate(node); k >= 0) a(k) = B.col(0).head(d).dot(ui) - origin_(k);
     if (const int k = tangential_coordinate(node); k >= 0) a(k) = B.col(1).head(d).dot(ui);
+    if (const int k = second_tangential_coordinate(node); k >= 0) a(k) = B.col(2).head(d).dot(ui);
   }
   return a;
+}
+
+Vec3 Condensation::slot_direction(int node, int slot) const {
+  if (node < 0 || node >= static_cast<int>(frames_.size()) || slot < 0 || slot > 2)
+    throw InputError("no slot " + std::to_string(slot) + " of contact node " + std::to_string(node));
+  return frames_[static_cast<std::size_t>(node)].full.col(slot);
 }
 
 // a, with the normal displacements 0 where they are not unknowns (bilateral).

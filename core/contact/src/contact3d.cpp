@@ -197,6 +197,20 @@ BasicContactNode<3> contact_node(const Mesh3D& mesh, const ContactBoundary& boun
     }
     node.reaction = known ? f : std::numeric_limits<double>::quiet_NaN();
   }
+  // the tangential slots (one where a tangential component is prescribed, two otherwise): the
+  // vectors, their lengths and the state of the law of the norm
+  for (const int slot : {1, 2}) {
+    const int k = slot == 1 ? cond.tangential_coordinate(i) : cond.second_tangential_coordinate(i);
+    if (k < 0) continue;
+    const Vec3 t = cond.slot_direction(i, slot);
+    node.u_tangential += m.a(k) * t;
+    if (forces) node.friction_vector += (m.law_force(k) + m.reaction(k)) * t;
+  }
+  if (const int k = cond.tangential_coordinate(i); k >= 0) {
+    node.u_tau = node.u_tangential.norm();
+    node.friction_force = node.friction_vector.norm();
+    node.friction_state = friction_state(rp.law_of(k), node.u_tau);
+  }
   return node;
 }
 

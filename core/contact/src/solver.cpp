@@ -104,6 +104,9 @@ ContactNode contact_node(const Mesh& mesh, const ContactBoundary& boundary, cons
     node.u_tau = m.a(k);
     node.friction_force = forces ? m.law_force(k) + m.reaction(k) : 0.0;
     node.friction_state = friction_state(rp.law_of(k), node.u_tau);
+    const Vec2 tau(-node.normal.y(), node.normal.x());
+    node.u_tangential = node.u_tau * tau;
+    node.friction_vector = node.friction_force * tau;
   }
   return node;
 }
@@ -188,12 +191,7 @@ template <int dim>
 Eigen::Matrix<double, dim, 1> contact_resultant(const std::vector<BasicContactNode<dim>>& nodes) {
   using Point = Eigen::Matrix<double, dim, 1>;
   Point total = Point::Zero();
-  for (const auto& n : nodes) {
-    if constexpr (dim == 2)
-      total -= n.force() * n.normal + n.friction_force * Vec2(-n.normal.y(), n.normal.x());
-    else
-      total -= n.force() * n.normal;
-  }
+  for (const auto& n : nodes) total -= n.force() * n.normal + n.friction_vector;
   return total;
 }
 

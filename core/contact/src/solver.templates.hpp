@@ -290,7 +290,7 @@ void BasicContactSolver<dim>::post_process(Solution& solution) const {
   // the potential energy of the discrete problem (F(a) differs from it by a constant)
   const ReducedProblem& rp = condensation_->reduced();
   solution.energy = 0.5 * uf.dot(Au) - uf.dot(sys.b);
-  for (Eigen::Index i = 0; i < m.a.size(); ++i) solution.energy += rp.w(i) * rp.law_of(i).value(m.a(i));
+  solution.energy = rp.law_energy(m.a, solution.energy);
   solution.forces = detail::Kernels<dim>::balance(problem_, solution.u, solution.contact_force());
   detail::require_finite(solution);
 }

@@ -159,18 +159,12 @@ std::vector<char> contact_kinds(const std::vector<BasicContactPart<dim>>& parts,
   return kind;
 }
 
-/// The traction of a contact node: t_i = -p_i nu_i - q_i tau_i (p, q: the normal and the
-/// friction force per weight; a solid's contact is frictionless), zero where its weight is not
-/// positive.
+/// The traction of a contact node: t_i = -(p_i nu_i + zeta_t,i) / w_i (p: the normal force,
+/// zeta_t: the friction force vector), zero where its weight is not positive.
 template <int dim>
 Point<dim> node_traction(const BasicContactNode<dim>& node) {
   if (!(node.weight > 0.0)) return Point<dim>::Zero();
-  if constexpr (dim == 2) {
-    const Point<dim> tau(-node.normal.y(), node.normal.x());
-    return -(node.force() / node.weight) * node.normal - (node.friction_force / node.weight) * tau;
-  } else {
-    return -node.pressure() * node.normal;
-  }
+  return -(node.force() * node.normal + node.friction_vector) / node.weight;
 }
 
 /// The contact node of each vertex and the traction of each node into `b`. InputError for a

@@ -12,6 +12,7 @@
 #include <hemivem/support/blas_threads.hpp>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -187,7 +188,7 @@ struct BasicPathSolver<dim>::Impl {
   int condensed_loads = 1;       // the condensation's own, then one per interior solve of a step's load
   // along the path
   Eigen::VectorXd x_prev;        // the previous step's contact unknowns (u_nu, u_tau)
-  Eigen::VectorXd tau_prev;      // the previous step's u_tau per node
+  Eigen::VectorXd tau_prev;      // the previous step's tangential displacements, per reduced coordinate (0 on the normals)
   Eigen::VectorXd g;             // the friction bound per node (FrictionBound)
   Eigen::VectorXd g_before;      // the bound the step before the last ended with (empty before it)
   double change_prev = 0.0, t_prev = 0.0, t_before = 0.0;
@@ -204,6 +205,11 @@ struct BasicPathSolver<dim>::Impl {
   Eigen::VectorXd step_load(Step& s, Eigen::VectorXd* b, double* kappa);
   void make_load_current(Eigen::VectorXd* b);
   void find_friction_bounds();
+  /// Contact node i's tangential coordinates (-1: none): one in the plane, two (a group) on a
+  /// solid's surface with both tangentials free.
+  std::array<int, 2> tangential_coordinates(int i) const {
+    return {cond->tangential_coordinate(i), cond->second_tangential_coordinate(i)};
+  }
   Step solve_step(int k);
   void extrapolate_bound(double t);
   std::string passed_through(const Eigen::VectorXd& before) const;
@@ -248,7 +254,7 @@ void BasicPathSolver<dim>::Impl::set_up() {
   condense();
   find_friction_bounds();
   x_prev = Eigen::VectorXd::Zero(step.size());
-  tau_prev = Eigen::VectorXd::Zero(n1);
+  tau_prev = Eigen::VectorXd::Zero(step.size());
   g = Eigen::VectorXd::Zero(n1);
   // a proportional path keeps its load at t = 1 whatever the capacity
   const int capacity = loading.proportional() ? std::max(1, options.solved_loads) : options.solved_loads;
@@ -437,7 +443,8 @@ auto BasicPathSolver<dim>::Impl::solve_step(int k) -> Step {
   const Eigen::VectorXd c_raw = step_load(s, &b, &kappa);
   Eigen::VectorXd shift = Eigen::VectorXd::Zero(step.size());
   for (int i = 0; i < n1; ++i)
-    if (const int kt = cond->tangential_coordinate(i); kt >= 0) shift(kt) = tau_prev(i);
+    for (const int kt : tangential_coordinates(i))
+      if (kt >= 0) shift(kt) = tau_prev(kt);
   const Eigen::VectorXd& origin = cond->origin();
   step.c = c_raw - step.S * (origin + shift);
   minimize_step(s, shift, origin, !has_tangential && c_raw.isZero(0.0));
@@ -478,7 +485,8 @@ auto BasicPathSolver<dim>::Impl::solve_step(int k) -> Step {
     s.forces = force_balance(at_t, u, s.contact_force);
   }
   for (int i = 0; i < n1; ++i)
-    if (const int kt = cond->tangential_coordinate(i); kt >= 0) tau_prev(i) = x(kt);
+    for (const int kt : tangential_coordinates(i))
+      if (kt >= 0) tau_prev(kt) = x(kt);
   last_shift = shift;
   s.seconds = since(t_start);
   return s;
@@ -535,7 +543,9 @@ void BasicPathSolver<dim>::Impl::minimize_step(Step& s, const Eigen::VectorXd& s
   Eigen::VectorXd weights(nb), used(nb);
   for (Eigen::Index j = 0; j < nb; ++j) weights(j) = boundary.weights(nodes[static_cast<std::size_t>(j)]);
   for (int it = 1; it <= options.fixed_point.max_iterations; ++it) {
-    for (int i : nodes) step.w(cond->tangential_coordinate(i)) = boundary.weights(i) * g(i);
+    for (int i : nodes)
+      for (const int kt : tangential_coordinates(i))
+        if (kt >= 0) step.w(kt) = boundary.weights(i) * g(i);
     MinimizerResult m = minimizer.minimize(step, from, options.minimizer);
     fp.iterations = it;
     s.iterations += m.iterations;
@@ -606,7 +616,7 @@ void BasicPathSolver<dim>::Impl::describe_step(Step& s, const MinimizerResult& m
     const Eigen::VectorXd& x = s.a;
     s.energy = 0.5 * x.dot(step.S * x) - c_raw.dot(x) + kappa;
   }
-  for (Eigen::Index i = 0; i < m.a.size(); ++i) s.energy += step.w(i) * step.law_of(i).value(m.a(i));
+  s.energy = step.law_energy(m.a, s.energy);
   s.contact.reserve(static_cast<std::size_t>(n1));
   if (has_tangential) {  // NaN at the nodes without friction
     s.slip = Eigen::VectorXd::Constant(n1, std::numeric_limits<double>::quiet_NaN());
@@ -616,8 +626,10 @@ void BasicPathSolver<dim>::Impl::describe_step(Step& s, const MinimizerResult& m
     auto node = contact_node(*problem.elasticity.mesh, boundary, *cond, dofs, i, raw,
                                     residual.size() > 0 ? &residual : nullptr);
     if (const int k = cond->tangential_coordinate(i); k >= 0) {
-      s.slip(i) = m.a(k);
-      node.friction_state = friction_state(step.law_of(k), m.a(k));
+      // the slip of the step: its length for a solid's pair
+      const int k2 = cond->second_tangential_coordinate(i);
+      s.slip(i) = k2 >= 0 ? std::hypot(m.a(k), m.a(k2)) : m.a(k);
+      node.friction_state = friction_state(step.law_of(k), s.slip(i));
       s.friction_bound(i) = step.w(k) / boundary.weights(i) * step.law_of(k).derivative(LawPart::j, 0.0, +1);
     }
     s.contact.push_back(std::move(node));

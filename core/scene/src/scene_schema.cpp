@@ -396,8 +396,6 @@ SceneContact read_contact(TableReader& r) {
       r.fail("law_origin", r.node("law_origin"), "the bilateral constraint uses no normal law; remove law_origin");
     c.law_origin = *o;
   }
-  if (r.scene().dimension() == 3 && r.has("friction"))
-    refuse_in_3d(r, "friction", "the contact of a three-dimensional body is frictionless");
   if (const toml::table* f = r.table("friction")) {
     TableReader fr(r.scene(), *f, r.key_path("friction"),
                    {"law", "bound", "static", "kinetic", "distance", "breakpoints", "j", "j1", "j2", "coefficient"});

@@ -118,6 +118,9 @@ struct ReducedProblem {
   bool all_laws_convex() const;
   /// F(a).
   double energy(const Eigen::VectorXd& a) const;
+  /// The laws' part of F(a), sum_i w_i j_i(a_i) over single coordinates and w j(|a_G|) over
+  /// groups, added term by term to `onto`.
+  double law_energy(const Eigen::VectorXd& a, double onto = 0.0) const;
   /// A subgradient of F2 = sum_i w_i j2_i(a_i) (and w j2(|a_G|) per group), the concave part of
   /// F = F1 - F2 (right derivatives of j2; j2 is convex, so either side is one; 0 for a group at
   /// the origin).

@@ -155,6 +155,13 @@ class Condensation {
   /// displacement, or -1 when it is not an unknown (bilateral; frictionless).
   int normal_coordinate(int node) const noexcept { return coordinate(normal_coordinate_, node); }
   int tangential_coordinate(int node) const noexcept { return coordinate(tangential_coordinate_, node); }
+  /// A solid's node with both tangential displacements unknown: the coordinate of the second
+  /// (along slot_direction(node, 2)); the pair is a group of the reduced problem, the friction
+  /// law acting on its norm. -1 in the plane and where a tangential component is prescribed.
+  int second_tangential_coordinate(int node) const noexcept { return coordinate(second_tangential_coordinate_, node); }
+  /// The unit direction (x, y, z; z = 0 in the plane) of contact node i's slot s: 0 its normal,
+  /// 1 the tangential of tangential_coordinate(), 2 that of second_tangential_coordinate().
+  Vec3 slot_direction(int node, int slot) const;
   /// Full nodal displacement (all 2*num_vertices dofs, prescribed values included) from
   /// a point a of the reduced problem (the contact unknowns): u2 = A22^{-1} (b2 - A21 a) (one
   /// backward substitution where the engine splits the interior solve).
@@ -195,7 +202,7 @@ class Condensation {
   bool semi_coercive_ = false;
   Eigen::VectorXd origin_;
   // per contact node: its coordinates (-1: none), constraint and whether its law acts from the surface
-  std::vector<int> normal_coordinate_, tangential_coordinate_;
+  std::vector<int> normal_coordinate_, tangential_coordinate_, second_tangential_coordinate_;
   std::vector<ConstraintKind> constraint_;
   std::vector<char> from_surface_;
   std::shared_ptr<const ContactLaw> zero_;  // the law j = 0 of the coordinates that need one

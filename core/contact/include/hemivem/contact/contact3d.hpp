@@ -1,6 +1,8 @@
 // Contact of a three-dimensional body (docs/three-dimensions.md): the contact boundary a union
-// of planar boundary faces, frictionless, with the normal laws, constraints, gaps and obstacles
-// of the plane problem. The reduced problem, the engines and the certificate are those of 2D.
+// of planar boundary faces, with the normal laws, constraints, gaps and obstacles of the plane
+// problem and friction laws of the norm of the tangential displacement (docs/friction.md). The
+// reduced problem, the engines and the certificate are those of 2D; a node's two tangential
+// displacements are a group of the reduced problem.
 #pragma once
 
 #include <Eigen/Core>
@@ -27,7 +29,7 @@
 namespace hemivem {
 
 /// One part of the contact boundary of a solid (BasicContactPart: boundary faces, gap or
-/// obstacle, normal law, constraint; frictionless).
+/// obstacle, normal law, constraint, friction).
 using ContactPart3D = BasicContactPart<3>;
 
 /// Gamma_3 of a polyhedral mesh from the boundary faces of its contact parts. The weight of a
@@ -63,7 +65,7 @@ std::vector<int> contact_faces(const ContactProblem3D& problem);
 /// a gap the box constraint cannot take.
 ContactBoundary contact_boundary(const ContactProblem3D& problem, const DofMap& dofs);
 
-/// One contact node of a 3D solution (frictionless: its friction fields are zero).
+/// One contact node of a 3D solution.
 using ContactNode3D = BasicContactNode<3>;
 
 /// The balance of forces of a 3D solution (force_balance in 3D: the reaction of each Dirichlet

@@ -31,14 +31,12 @@ struct BasicForceBalance {
     for (const auto& r : reactions) total += r.force;
     return total;
   }
-  /// |sum()| / |applied|; for a body without load (driven by prescribed displacements, gaps or
-  /// an obstacle) |sum()| over the largest |reaction| or |contact|; 0 when every force is 0.
+  /// |sum()| over the largest of |applied|, |contact| and the |reaction|s (a load that cancels
+  /// out, or none, leaves the supports' and the contact's forces as the scale); 0 when every
+  /// force is 0.
   double residual() const {
-    double scale = applied.norm();
-    if (scale == 0.0) {
-      scale = contact.norm();
-      for (const auto& r : reactions) scale = std::max(scale, r.force.norm());
-    }
+    double scale = std::max(applied.norm(), contact.norm());
+    for (const auto& r : reactions) scale = std::max(scale, r.force.norm());
     const double imbalance = sum().norm();
     if (scale == 0.0 && imbalance == 0.0) return 0.0;
     return imbalance / scale;

@@ -44,7 +44,7 @@ void check_friction_bound(const FrictionBound& bound, const std::string& where =
 
 /// One part of the contact boundary Gamma_3 (docs/contact-parts.md) of a plane (dim = 2) or a
 /// solid (dim = 3) body: its facets (boundary edges, or boundary faces) and everything the
-/// contact of its nodes obeys. A solid's contact is frictionless.
+/// contact of its nodes obeys.
 template <int dim>
 struct BasicContactPart {
   using Point = PointOf<dim>;
@@ -65,8 +65,9 @@ struct BasicContactPart {
   /// its surface); a node whose gap is infinite (its ray misses the obstacle) never meets it
   /// and has no law. The reduced problem's normal unknowns are then those distances.
   bool law_from_surface = false;
-  /// The law of the tangential displacement u_tau (friction, docs/friction.md; plane bodies);
-  /// null: frictionless (u_tau free). A bilateral constraint without one slides freely.
+  /// The law of the tangential displacement u_tau (friction, docs/friction.md): of u_tau in the
+  /// plane, of |u_t| on a solid's surface (an even law); null: frictionless (u_tau free). A
+  /// bilateral constraint without one slides freely.
   std::shared_ptr<const ContactLaw> friction;
   /// A bound that depends on the normal contact (Coulomb's law, or h(u_nu)); `friction` is
   /// then tresca_law(1) (a unit bound that each node's bound scales). None: the bound of

@@ -78,14 +78,20 @@ struct BasicContactNode {
   Point normal = Point::Zero();  ///< the outward unit normal nu_i
   double gap = 0.0;        ///< g_i, the gap used at the node; NaN where none is (bilateral: u_nu = 0)
   ContactState state = ContactState::separated;
-  /// With friction (plane bodies: the part's friction law, or a bilateral constraint): the
+  /// With friction (the part's friction law, or a bilateral constraint): in the plane the
   /// tangential displacement u_tau = u . tau (tau = (-nu_y, nu_x)), the friction force
   /// zeta_tau in w_i dj_tau(u_tau) (the foundation pushes the body by -zeta_tau tau, against
-  /// the slip: positive when it resists u_tau > 0) and its state; FrictionState::none (u_tau
-  /// and the friction force 0) at a node without friction, and at every node of a solid.
+  /// the slip: positive when it resists u_tau > 0) and its state; in a solid, whose friction law
+  /// acts on the norm of the tangential displacement, u_tau = |u_t| and friction_force =
+  /// |zeta_t| (>= 0). FrictionState::none (everything 0) at a node without friction.
   double u_tau = 0.0;
   double friction_force = 0.0;
   FrictionState friction_state = FrictionState::none;
+  /// The same as vectors (x, y[, z]): the tangential displacement u_t = u - u_nu nu and the
+  /// friction force zeta_t (the foundation pushes the body by -zeta_t); in the plane u_tau tau
+  /// and friction_force tau.
+  Point u_tangential = Point::Zero();
+  Point friction_vector = Point::Zero();
   /// The contact force zeta_i + lambda_i (a compressive force on the body is positive).
   double force() const noexcept { return law_force + reaction; }
   /// The contact pressure (zeta_i + lambda_i) / w_i.
@@ -138,7 +144,7 @@ struct BasicContactSolution {
   /// The minimizer's iterations (0 without a minimizer).
   int iterations() const noexcept { return minimizer ? minimizer->iterations : 0; }
   /// The resultant force of the foundation (or obstacle) on the body: the sum over the
-  /// contact nodes of -(zeta_i + lambda_i) nu_i - zeta_tau,i tau_i (the friction force).
+  /// contact nodes of -(zeta_i + lambda_i) nu_i - friction_vector_i.
   /// Zero without contact.
   Point contact_force() const;
   /// The balance of forces (force_balance of u with contact_force()): the applied load, the
@@ -160,7 +166,7 @@ FrictionState friction_state(const ContactLaw& law, double u_tau);
 /// on the free dofs) gives the normal force of a bilateral node (NaN without it).
 ContactNode contact_node(const Mesh& mesh, const ContactBoundary& boundary, const Condensation& cond,
                          const DofMap& dofs, int i, const MinimizerResult& m, const Eigen::VectorXd* residual);
-/// The same for a solid (frictionless).
+/// The same for a solid (with friction: the vectors of its one or two tangential slots).
 BasicContactNode<3> contact_node(const Mesh3D& mesh, const ContactBoundary& boundary, const Condensation& cond,
                                  const DofMap& dofs, int i, const MinimizerResult& m, const Eigen::VectorXd* residual);
 
