@@ -124,7 +124,7 @@ TEST(Cli3D, SolveWritesEveryOutput) {
     EXPECT_NE(r.out.find(line), std::string::npos) << line << " in\n" << r.out;
 
   const auto j = nlohmann::json::parse(slurp(out / "result.json"));
-  EXPECT_EQ(j.at("schema"), "hemivem-result/16");
+  EXPECT_EQ(j.at("schema"), "hemivem-result/17");
   EXPECT_EQ(j.at("dimension"), 3);
   EXPECT_EQ(j.at("converged"), true);
   EXPECT_EQ(j.at("mesh").at("vertices"), 125);
@@ -240,8 +240,9 @@ TEST(Cli3D, BadInputIsRefusedWithNothingWritten) {
     for (const auto& f : fragments) EXPECT_NE(r.err.find(f), std::string::npos) << f << " in " << r.err;
     EXPECT_FALSE(fs::exists(out)) << body;
   };
-  refused("[clamped]\nside = \"bottom\"\n[contact]\nside = \"top\"\n[contact.friction]\nlaw = \"tresca\"\n",
-          {"bad.toml:9: contact.friction: not available for three-dimensional scenes"});
+  refused("[clamped]\nside = \"bottom\"\n[contact]\nside = \"top\"\n[contact.friction]\nlaw = \"coulomb\"\n"
+          "coefficient = -0.3\n",
+          {"bad.toml:11: contact.friction.coefficient"});
   refused("[clamped]\nside = \"west\"\n", {"bad.toml:6: clamped.side: unknown side 'west'"});
   refused("[clamped]\nside = \"bottom\"\n[contact]\nside = \"top\"\n[contact.obstacle]\nshape = \"polyline\"\n"
           "points = [[0, 1], [1, 1]]\n",

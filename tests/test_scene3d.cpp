@@ -221,8 +221,12 @@ TEST(Scene3D, BadInputNamesTheKeyAndWhatWasExpected) {
   EXPECT_TRUE(holds(scene_error(kHead + "[contact]\nside = \"top\"\n[contact.obstacle]\nshape = \"sphere\"\n"
                                         "center = [0, 0]\nradius = 1\n"),
                     {"solid.toml:5", "contact.obstacle.shape", "'sphere' is an obstacle of three-dimensional scenes"}));
-  EXPECT_TRUE(holds(scene_error(contact + "[contact.friction]\nlaw = \"tresca\"\n"),
-                    {"solid.toml:8", "contact.friction", "not available for three-dimensional scenes"}));
+  // friction is a solid's as a plane's (tests/test_friction3d.cpp solves it); its laws are checked alike
+  EXPECT_EQ(parse_scene_string(contact + "[contact.friction]\nlaw = \"tresca\"\nbound = 0.3\n", "solid.toml")
+                .contact->friction->name,
+            "tresca");
+  EXPECT_TRUE(holds(scene_error(contact + "[contact.friction]\nlaw = \"tresca\"\nbound = -1\n"),
+                    {"solid.toml:9", "contact.friction", "friction bound g -1 must be finite and >= 0"}));
   // a loading path is a solid's as a plane's (tests/test_path_solid.cpp solves them)
   EXPECT_EQ(parse_scene_string(kBox + "[path]\nsteps = 4\n", "solid.toml").path->factors().size(), 4u);
   // adaptive refinement is a solid's as a plane's (tests/test_adapt3d.cpp solves them)

@@ -108,8 +108,11 @@ void PathFiles<dim>::add(const BasicPathStep<dim>& s) {
         TextWriter os(stream);
         if (first)
           os << "step,t,vertex," << (dim == 2 ? "x,y" : "x,y,z") << ",u_nu,law_force,reaction,pressure,state"
-             << (tangential_ ? ",u_tau,slip,friction_force,friction_bound,friction_state" : "") << (parts ? ",part" : "")
-             << "\n";
+             << (!tangential_ ? ""
+                 : dim == 2  ? ",u_tau,slip,friction_force,friction_bound,friction_state"
+                             : ",u_tau_x,u_tau_y,u_tau_z,slip,friction_force_x,friction_force_y,friction_force_z,"
+                               "friction_bound,friction_state")
+             << (parts ? ",part" : "") << "\n";
         for (std::size_t i = 0; i < s.contact.size(); ++i) {
           const auto& n = s.contact[i];
           os << s.index << ',' << s.t << ',' << n.vertex;
@@ -117,10 +120,17 @@ void PathFiles<dim>::add(const BasicPathStep<dim>& s) {
           os << ',' << n.u_nu << ',' << n.law_force << ',' << n.reaction << ',' << n.pressure() << ',' << to_string(n.state);
           if (tangential_ && n.friction_state != FrictionState::none) {
             const auto k = static_cast<Eigen::Index>(i);
-            os << ',' << n.u_tau << ',' << s.slip(k) << ',' << n.friction_force << ',' << s.friction_bound(k) << ','
-               << to_string(n.friction_state);
+            // a plane's along tau, a solid's as vectors (the slip of the step: its length)
+            if constexpr (dim == 2) {
+              os << ',' << n.u_tau << ',' << s.slip(k) << ',' << n.friction_force;
+            } else {
+              for (int c = 0; c < 3; ++c) os << ',' << n.u_tangential(c);
+              os << ',' << s.slip(k);
+              for (int c = 0; c < 3; ++c) os << ',' << n.friction_vector(c);
+            }
+            os << ',' << s.friction_bound(k) << ',' << to_string(n.friction_state);
           } else if (tangential_) {
-            os << ",,,,,";  // a frictionless part beside one with friction
+            os << (dim == 2 ? ",,,,," : ",,,,,,,,,");  // a frictionless part beside one with friction
           }
           if (parts) os << ',' << contact_part_name(parts_, n);
           os << '\n';
