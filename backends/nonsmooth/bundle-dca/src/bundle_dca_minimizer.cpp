@@ -5,6 +5,7 @@
 #include <hemivem/minimizer_run.hpp>
 
 #include <Eigen/Cholesky>
+#include <Eigen/LU>
 #include <Eigen/Core>
 
 #include <algorithm>
@@ -306,6 +307,234 @@ double model_value(const std::vector<std::vector<Cut>>& cuts, const Eigen::Vecto
   return m;
 }
 
+// ---- groups of coordinates: the bundle subproblem with models of a pair --------------------
+//
+// A group's term phi_G(v) = w j1(|v|) is a convex function of the pair v = (a_first, a_second)
+// and is modelled as one: psi_G(v) = max_l (b_l + s_l . v), the linearisations of phi_G in the
+// plane (s = w j1'(r) v / r at r = |v| > 0, any s in the disc of radius w j1'(0+) at v = 0;
+// b = w j1(r) - w j1'(r) r is computed in one dimension, so that the cuts of a law that is
+// linear in r, such as Tresca's, pass through the origin exactly). The subproblem
+//
+//   min 1/2 a^T H a - q^T a + sum_i psi_i(a_i) + sum_G psi_G(a_G)
+//
+// is solved by exact block minimisation (every coordinate on its own and every group as a
+// pair, the others fixed) and, on the face the blocks identify, one Newton step on the face:
+// a block's minimiser of a polyhedral model is the minimiser of the model on one of its faces
+// (a piece or a node of psi_i, a bound; a cell, an edge or a vertex of psi_G), so the
+// candidates are enumerated and the lowest value taken. A vertex is the intersection of cut
+// planes, so a stuck group whose cuts meet at the origin is placed there exactly.
+
+struct PlaneCut {
+  double b = 0.0;
+  Eigen::Vector2d s = Eigen::Vector2d::Zero();
+  double at(const Eigen::Vector2d& v) const { return b + s.dot(v); }
+};
+
+double plane_model(const std::vector<PlaneCut>& cuts, const Eigen::Vector2d& v) {
+  double m = -kInf;
+  for (const PlaneCut& c : cuts) m = std::max(m, c.at(v));
+  return m;
+}
+
+double line_model(const std::vector<Cut>& cuts, double t) {
+  double m = -kInf;
+  for (const Cut& c : cuts) m = std::max(m, c.at(t));
+  return m;
+}
+
+// The face of one block at its minimiser: the free dimensions left on it (scalar: 1 on a piece,
+// 0 at a node or bound; group: 2 in a cell, 1 on an edge, 0 at a vertex), the active cuts and,
+// on a piece, cell or edge, the slope of the model there; on an edge its direction.
+struct BlockFace {
+  int free_dims = 0;
+  std::vector<int> active;
+  Eigen::Vector2d slope = Eigen::Vector2d::Zero();
+  Eigen::Vector2d direction = Eigen::Vector2d::Zero();
+};
+
+// min_t 1/2 h t^2 - r t + psi(t) over [lo, hi]: among the stationary points of the pieces, the
+// breakpoints of the cuts and the bounds (each clamped into [lo, hi]), the lowest value.
+double solve_scalar_block(double h, double r, const std::vector<Cut>& cuts, double lo, double hi, BlockFace& face) {
+  auto value = [&](double t) { return 0.5 * h * t * t - r * t + line_model(cuts, t); };
+  double best = 0.0, best_value = kInf;
+  auto consider = [&](double t, int free_dims, std::vector<int> active) {
+    const double clamped = std::min(std::max(t, lo), hi);
+    if (clamped != t) free_dims = 0, active.clear();
+    const double v = value(clamped);
+    if (v < best_value) {
+      best_value = v;
+      best = clamped;
+      face.free_dims = free_dims;
+      face.active = std::move(active);
+    }
+  };
+  for (double b : {lo, hi})
+    if (std::isfinite(b)) consider(b, 0, {});
+  const int m = static_cast<int>(cuts.size());
+  for (int k = 0; k < m; ++k)
+    for (int l = 0; l < m; ++l)
+      if (cuts[static_cast<std::size_t>(k)].slope < cuts[static_cast<std::size_t>(l)].slope)
+        consider(intersection(cuts[static_cast<std::size_t>(k)], cuts[static_cast<std::size_t>(l)]), 0, {k, l});
+  for (int k = 0; k < m; ++k) consider((r - cuts[static_cast<std::size_t>(k)].slope) / h, 1, {k});
+  if (face.free_dims == 1) face.slope(0) = cuts[static_cast<std::size_t>(face.active.front())].slope;
+  return best;
+}
+
+// min_v 1/2 v^T A v - r^T v + psi_G(v): among the vertices, the minimisers on the edge lines and
+// the stationary points of the cells, the lowest value (vertices first: the most constrained
+// wins a tie).
+Eigen::Vector2d solve_group_block(const Eigen::Matrix2d& A, const Eigen::Vector2d& r, const std::vector<PlaneCut>& cuts,
+                                  BlockFace& face) {
+  const Eigen::Matrix2d Ainv = A.inverse();
+  auto value = [&](const Eigen::Vector2d& v) { return 0.5 * v.dot(A * v) - r.dot(v) + plane_model(cuts, v); };
+  Eigen::Vector2d best = Eigen::Vector2d::Zero();
+  double best_value = kInf;
+  auto consider = [&](const Eigen::Vector2d& v, int free_dims, std::vector<int> active, const Eigen::Vector2d& direction) {
+    if (!v.allFinite()) return;
+    const double f = value(v);
+    if (f < best_value) {
+      best_value = f;
+      best = v;
+      face.free_dims = free_dims;
+      face.active = std::move(active);
+      face.direction = direction;
+    }
+  };
+  const int m = static_cast<int>(cuts.size());
+  auto cut = [&](int k) -> const PlaneCut& { return cuts[static_cast<std::size_t>(k)]; };
+  auto distinct = [](const Eigen::Vector2d& d, const Eigen::Vector2d& s) {
+    return d.norm() > 64.0 * std::numeric_limits<double>::epsilon() * s.norm();
+  };
+  for (int k = 0; k < m; ++k)
+    for (int l = k + 1; l < m; ++l) {
+      const Eigen::Vector2d d1 = cut(k).s - cut(l).s;
+      if (!distinct(d1, cut(k).s.cwiseAbs() + cut(l).s.cwiseAbs())) continue;
+      for (int o = l + 1; o < m; ++o) {
+        const Eigen::Vector2d d2 = cut(k).s - cut(o).s;
+        Eigen::Matrix2d M;
+        M << d1(0), d1(1), d2(0), d2(1);
+        const double det = M.determinant();
+        if (!(std::abs(det) > 64.0 * std::numeric_limits<double>::epsilon() * d1.norm() * d2.norm())) continue;
+        const Eigen::Vector2d rhs(cut(l).b - cut(k).b, cut(o).b - cut(k).b);
+        consider(M.inverse() * rhs, 0, {k, l, o}, Eigen::Vector2d::Zero());
+      }
+    }
+  for (int k = 0; k < m; ++k)
+    for (int l = k + 1; l < m; ++l) {
+      // min 1/2 v^T A v - r^T v + b_k + s_k . v on the line d . v = beta, d = s_k - s_l, as
+      // v = v0 + t u. Two cuts of one intercept and slopes of one length (the cuts of a law
+      // linear in r at two directions) meet on the line through the origin along s_k + s_l,
+      // which is exact where the difference of nearby slopes would lose its digits.
+      const Eigen::Vector2d d = cut(k).s - cut(l).s;
+      if (!distinct(d, cut(k).s.cwiseAbs() + cut(l).s.cwiseAbs())) continue;
+      Eigen::Vector2d v0 = Eigen::Vector2d::Zero(), u = Eigen::Vector2d(-d(1), d(0)).normalized();
+      if (cut(k).b == cut(l).b) {
+        const Eigen::Vector2d sum = cut(k).s + cut(l).s;
+        if (cut(k).s.norm() == cut(l).s.norm() && sum.norm() > 0.0) u = sum.normalized();
+      } else {
+        v0 = d * ((cut(l).b - cut(k).b) / d.squaredNorm());
+      }
+      const double t = (r - A * v0 - cut(k).s).dot(u) / u.dot(A * u);
+      consider(v0 + t * u, 1, {k, l}, u);
+    }
+  for (int k = 0; k < m; ++k) consider(Ainv * (r - cut(k).s), 2, {k}, Eigen::Vector2d::Zero());
+  if (face.free_dims >= 1) face.slope = cut(face.active.front()).s;
+  return best;
+}
+
+// The bundle subproblem of a problem with groups; false when a diagonal block of H or H on a
+// face is not positive definite. `faces` (one per coordinate, the group's at its first) keeps
+// the faces of the solution (the active cuts, for the compression of the bundle).
+bool solve_group_qp(const ReducedProblem& p, const Eigen::VectorXi& group_of, const Eigen::MatrixXd& H,
+                    const Eigen::VectorXd& q, const std::vector<std::vector<Cut>>& cuts,
+                    const std::vector<std::vector<PlaneCut>>& plane_cuts, Eigen::VectorXd& a,
+                    std::vector<BlockFace>& faces, QpStats& stats) {
+  const Eigen::Index n = a.size();
+  const auto U = [](Eigen::Index i) { return static_cast<std::size_t>(i); };
+  faces.assign(U(n), BlockFace{});
+  a = p.project(a);
+  auto model = [&](const Eigen::VectorXd& x) {
+    double v = 0.5 * x.dot(H * x) - q.dot(x);
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (group_of(i) < 0) v += line_model(cuts[U(i)], x(i));
+    for (std::size_t g = 0; g < p.groups.size(); ++g)
+      v += plane_model(plane_cuts[g], Eigen::Vector2d(x(p.groups[g].first), x(p.groups[g].second)));
+    return v;
+  };
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (!(H(i, i) > 0.0)) return false;
+  for (const CoordinateGroup& g : p.groups)
+    if (!(H(g.first, g.first) * H(g.second, g.second) > H(g.first, g.second) * H(g.second, g.first))) return false;
+  double current = model(a);
+  const int max_sweeps = 100 + 10 * static_cast<int>(n);
+  for (int sweep = 0; sweep < max_sweeps; ++sweep) {
+    ++stats.steps;
+    const Eigen::VectorXd before = a;
+    // one sweep of exact block minimisation
+    for (Eigen::Index i = 0; i < n; ++i) {
+      if (group_of(i) >= 0) continue;
+      const double r = q(i) - H.row(i).dot(a) + H(i, i) * a(i);
+      a(i) = solve_scalar_block(H(i, i), r, cuts[U(i)], p.lower(i), p.upper(i), faces[U(i)]);
+    }
+    for (std::size_t k = 0; k < p.groups.size(); ++k) {
+      const Eigen::Index f = p.groups[k].first, s = p.groups[k].second;
+      Eigen::Matrix2d A;
+      A << H(f, f), H(f, s), H(s, f), H(s, s);
+      const Eigen::Vector2d v(a(f), a(s));
+      const Eigen::Vector2d r = Eigen::Vector2d(q(f) - H.row(f).dot(a), q(s) - H.row(s).dot(a)) + A * v;
+      const Eigen::Vector2d x = solve_group_block(A, r, plane_cuts[k], faces[U(f)]);
+      a(f) = x(0);
+      a(s) = x(1);
+    }
+    // one Newton step on the face of the blocks: a = a0 + N z, the model linear there
+    std::vector<Eigen::VectorXd> columns;
+    Eigen::VectorXd slope = Eigen::VectorXd::Zero(n);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      if (group_of(i) >= 0 || faces[U(i)].free_dims == 0) continue;
+      columns.push_back(Eigen::VectorXd::Unit(n, i));
+      slope(i) = faces[U(i)].slope(0);
+    }
+    for (const CoordinateGroup& g : p.groups) {
+      const BlockFace& face = faces[U(g.first)];
+      if (face.free_dims == 0) continue;
+      slope(g.first) = face.slope(0);
+      slope(g.second) = face.slope(1);
+      if (face.free_dims == 2) {
+        columns.push_back(Eigen::VectorXd::Unit(n, g.first));
+        columns.push_back(Eigen::VectorXd::Unit(n, g.second));
+      } else {
+        Eigen::VectorXd c = Eigen::VectorXd::Zero(n);
+        c(g.first) = face.direction(0);
+        c(g.second) = face.direction(1);
+        columns.push_back(c);
+      }
+    }
+    double after_sweep = model(a);
+    if (!columns.empty()) {
+      Eigen::MatrixXd N(n, static_cast<Eigen::Index>(columns.size()));
+      for (std::size_t c = 0; c < columns.size(); ++c) N.col(static_cast<Eigen::Index>(c)) = columns[c];
+      const Eigen::LLT<Eigen::MatrixXd> llt(N.transpose() * H * N);
+      if (llt.info() != Eigen::Success) return false;
+      const Eigen::VectorXd z = llt.solve(N.transpose() * (q - slope - H * a));
+      if (z.allFinite()) {
+        const Eigen::VectorXd newton = a + N * z;
+        const double m = model(newton);
+        bool inside = true;
+        for (Eigen::Index i = 0; i < n; ++i) inside = inside && newton(i) >= p.lower(i) && newton(i) <= p.upper(i);
+        if (inside && m <= after_sweep) a = newton, after_sweep = m;
+      }
+    }
+    if (after_sweep > current) {  // rounding: the point before the sweep is no worse
+      a = before;
+      break;
+    }
+    const bool lower = after_sweep < current;
+    current = after_sweep;
+    if (!lower || (a - before).cwiseAbs().maxCoeff() <= 1e-15 * a.cwiseAbs().maxCoeff()) break;
+  }
+  return true;
+}
+
 // ---- the DC algorithm ---------------------------------------------------------------------------
 
 // What one DC subproblem (the bundle loop) ended with.
@@ -319,16 +548,20 @@ struct SubproblemEnd {
 class DcBundle {
  public:
   DcBundle(MinimizerRun& run, const BundleDcaOptions& options)
-      : run_(run), p_(run.problem()), o_(options), n_(p_.size()), cuts_(U(n_)), added_(U(n_), 0) {
+      : run_(run), p_(run.problem()), o_(options), n_(p_.size()), cuts_(U(n_)), added_(U(n_), 0),
+        group_of_(p_.group_of()), plane_cuts_(p_.groups.size()), plane_added_(p_.groups.size(), 0) {
     mu_ = o_.proximal_weight * p_.S.diagonal().cwiseAbs().maxCoeff();
     H_ = p_.S;
     H_.diagonal().array() += mu_;
   }
 
-  // The cuts of phi_i(t) = w_i j1(t) at a: one subgradient evaluation of F1.
-  void add_cuts(const Eigen::VectorXd& a) {
+  // The cuts of phi_i(t) = w_i j1(t) at a (and of phi_G(v) = w j1(|v|) per group, where y, the
+  // linearisation of F2, gives the residual of the subproblem): one subgradient evaluation of F1.
+  void add_cuts(const Eigen::VectorXd& a, const Eigen::VectorXd& y) {
     run_.count_subgradients();
+    if (!p_.groups.empty()) add_plane_cuts(a, y);
     for (Eigen::Index i = 0; i < n_; ++i) {
+      if (group_of_(i) >= 0) continue;
       const double t = a(i);
       const double v = p_.w(i) * p_.law_of(i).value(LawPart::j1, t);
       const double sr = p_.w(i) * p_.law_of(i).derivative(LawPart::j1, t, +1);
@@ -360,22 +593,32 @@ class DcBundle {
         break;
       }
       ++bundle_iterations;
-      std::vector<Envelope> env(U(n_));
-      for (Eigen::Index i = 0; i < n_; ++i) env[U(i)] = envelope(cuts_[U(i)], p_.lower(i), p_.upper(i));
+      std::vector<Envelope> env;
       QpStats qs;
-      if (!solve_qp(H_, cy + mu_ * center, cuts_, env, trial, state_, qs)) {
+      if (p_.groups.empty()) {
+        env.resize(U(n_));
+        for (Eigen::Index i = 0; i < n_; ++i) env[U(i)] = envelope(cuts_[U(i)], p_.lower(i), p_.upper(i));
+        if (!solve_qp(H_, cy + mu_ * center, cuts_, env, trial, state_, qs)) {
+          end.qp_failed = true;
+          break;
+        }
+      } else if (!solve_group_qp(p_, group_of_, H_, cy + mu_ * center, cuts_, plane_cuts_, trial, faces_, qs)) {
         end.qp_failed = true;
         break;
       }
       qp_steps += qs.steps;
       double quad = 0.0;
-      const double model = 0.5 * trial.dot(p_.S * trial) - cy.dot(trial) + model_value(cuts_, trial);
+      const double model = 0.5 * trial.dot(p_.S * trial) - cy.dot(trial) + model_value(trial);
       const double predicted = fc - model;
       const double ft = f1(trial, &quad) - y.dot(trial);
       const double rt = residual(trial, y);
-      add_cuts(trial);
-      compress(env);
+      add_cuts(trial, y);
+      if (p_.groups.empty())
+        compress(env);
+      else
+        compress_groups();
       for (const auto& ci : cuts_) largest_bundle = std::max(largest_bundle, ci.size());
+      for (const auto& ci : plane_cuts_) largest_bundle = std::max(largest_bundle, ci.size());
       // near the solution the decrease is below the rounding of F (it is of the order of the
       // squared residual): there a trial no worse than the center up to rounding and with a
       // smaller residual is taken as a serious step too
@@ -392,6 +635,7 @@ class DcBundle {
           break;
         }
       }
+      if (!p_.groups.empty() && rc > inner_tol && run_.budget_left(2)) polish(center, fc, rc, y);
     }
     return end;
   }
@@ -408,8 +652,135 @@ class DcBundle {
     const double qp = 0.5 * a.dot(p_.S * a) - p_.c.dot(a);
     if (quadratic_part) *quadratic_part = qp;
     double s = qp;
-    for (Eigen::Index i = 0; i < n_; ++i) s += p_.w(i) * p_.law_of(i).value(LawPart::j1, a(i));
+    if (p_.groups.empty()) {
+      for (Eigen::Index i = 0; i < n_; ++i) s += p_.w(i) * p_.law_of(i).value(LawPart::j1, a(i));
+      return s;
+    }
+    for (Eigen::Index i = 0; i < n_; ++i)
+      if (group_of_(i) < 0) s += p_.w(i) * p_.law_of(i).value(LawPart::j1, a(i));
+    for (const CoordinateGroup& g : p_.groups) s += p_.w(g.first) * p_.law_of(g.first).value(LawPart::j1, group_norm(a, g));
     return s;
+  }
+
+  // With groups, a cutting-plane model of a pair resolves the direction of a slipping group only
+  // to about the square root of the rounding (the linearisation error is quadratic in the angle
+  // it misses): Newton steps on f_k itself, on the face of the center (a group at the origin, a
+  // coordinate at a kink of j1 or at a bound stays there; elsewhere j1 is smooth), replace the
+  // center when they lower f_k (up to rounding) and its residual.
+  void polish(Eigen::VectorXd& center, double& fc, double& rc, const Eigen::VectorXd& y) {
+    for (int step = 0; step < 4 && run_.budget_left(2); ++step) {
+      Eigen::MatrixXd K = p_.S;
+      Eigen::VectorXd grad = p_.S * center - p_.c - y;
+      std::vector<char> fixed(U(n_), 0);
+      for (Eigen::Index i = 0; i < n_; ++i) {
+        if (group_of_(i) >= 0) continue;
+        const ContactLaw& law = p_.law_of(i);
+        const double x = center(i), dl = law.derivative(LawPart::j1, x, -1), dr = law.derivative(LawPart::j1, x, +1);
+        if (dl != dr || x == p_.lower(i) || x == p_.upper(i)) {
+          fixed[U(i)] = 1;
+          continue;
+        }
+        grad(i) += p_.w(i) * dr;
+        K(i, i) += p_.w(i) * law.second_derivative(LawPart::j1, x, +1);
+      }
+      for (const CoordinateGroup& g : p_.groups) {
+        const Eigen::Vector2d v(center(g.first), center(g.second));
+        const double r = v.norm(), w = p_.w(g.first);
+        const ContactLaw& law = p_.law_of(g.first);
+        const double dl = law.derivative(LawPart::j1, r, -1), dr = law.derivative(LawPart::j1, r, +1);
+        if (r == 0.0 || dl != dr) {
+          fixed[U(g.first)] = fixed[U(g.second)] = 1;
+          continue;
+        }
+        const Eigen::Vector2d e = v / r;
+        const Eigen::Matrix2d P = e * e.transpose();
+        const Eigen::Matrix2d Hg = w * law.second_derivative(LawPart::j1, r, +1) * P + (w * dr / r) * (Eigen::Matrix2d::Identity() - P);
+        grad(g.first) += w * dr * e(0);
+        grad(g.second) += w * dr * e(1);
+        K(g.first, g.first) += Hg(0, 0);
+        K(g.first, g.second) += Hg(0, 1);
+        K(g.second, g.first) += Hg(1, 0);
+        K(g.second, g.second) += Hg(1, 1);
+      }
+      std::vector<Eigen::Index> free;
+      for (Eigen::Index i = 0; i < n_; ++i)
+        if (!fixed[U(i)]) free.push_back(i);
+      if (free.empty()) return;
+      const Eigen::Index nf = static_cast<Eigen::Index>(free.size());
+      Eigen::MatrixXd Kff(nf, nf);
+      Eigen::VectorXd gf(nf);
+      for (Eigen::Index a = 0; a < nf; ++a) {
+        gf(a) = grad(free[U(a)]);
+        for (Eigen::Index b = 0; b < nf; ++b) Kff(a, b) = K(free[U(a)], free[U(b)]);
+      }
+      const Eigen::LLT<Eigen::MatrixXd> llt(Kff);
+      if (llt.info() != Eigen::Success) return;
+      const Eigen::VectorXd d = llt.solve(-gf);
+      if (!d.allFinite()) return;
+      Eigen::VectorXd x = center;
+      for (Eigen::Index a = 0; a < nf; ++a) x(free[U(a)]) += d(a);
+      x = p_.project(x);
+      const double fx = f1(x) - y.dot(x);
+      run_.count_subgradients();
+      const double rx = residual(x, y);
+      const double noise = 1e-13 * (std::abs(fc) + 1e-300);
+      if (!(fx <= fc + noise && rx < rc)) return;
+      center = x;
+      fc = fx;
+      rc = rx;
+    }
+  }
+
+  // The value of the cutting-plane model of the nonsmooth part of F1 at a.
+  double model_value(const Eigen::VectorXd& a) const {
+    if (p_.groups.empty()) return hemivem::model_value(cuts_, a);
+    double m = 0.0;
+    for (Eigen::Index i = 0; i < n_; ++i)
+      if (group_of_(i) < 0) m += line_model(cuts_[U(i)], a(i));
+    for (std::size_t k = 0; k < p_.groups.size(); ++k)
+      m += plane_model(plane_cuts_[k], Eigen::Vector2d(a(p_.groups[k].first), a(p_.groups[k].second)));
+    return m;
+  }
+
+  // The cuts of phi_G(v) = w j1(|v|) at a's pairs: at r = |v| > 0 the linearisations with the
+  // one-sided derivatives of j1 along v / r; at the origin, and wherever the residual
+  // rho = (c + y - S a)_G of the subproblem lies in the disc of radius w j1'(0+) (the group
+  // looks stuck), the cut of slope rho projected onto the disc and, when the disc is not a
+  // point, the two of slope on its circle at +-120 degrees from it: their maximum has a vertex
+  // at the origin whose subdifferential contains that slope.
+  void add_plane_cuts(const Eigen::VectorXd& a, const Eigen::VectorXd& y) {
+    const Eigen::VectorXd rho = p_.c + y - p_.S * a;
+    for (std::size_t k = 0; k < p_.groups.size(); ++k) {
+      const CoordinateGroup& g = p_.groups[k];
+      const ContactLaw& law = p_.law_of(g.first);
+      const double w = p_.w(g.first);
+      const Eigen::Vector2d v(a(g.first), a(g.second)), res(rho(g.first), rho(g.second));
+      const double r = v.norm(), radius = w * law.derivative(LawPart::j1, 0.0, +1);
+      auto& ck = plane_cuts_[k];
+      const std::size_t before = ck.size();
+      if (r > 0.0) {
+        const double value = w * law.value(LawPart::j1, r);
+        const double sr = w * law.derivative(LawPart::j1, r, +1);
+        ck.push_back({value - sr * r, sr * (v / r)});
+        if (o_.two_sided_cuts) {
+          const double sl = w * law.derivative(LawPart::j1, r, -1);
+          if (sl != sr) ck.push_back({value - sl * r, sl * (v / r)});
+        }
+      }
+      const double m = res.norm();
+      if (r == 0.0 || m <= radius) {
+        const double base = w * law.value(LawPart::j1, 0.0);
+        const Eigen::Vector2d s = m <= radius ? res : Eigen::Vector2d(res * (radius / m));
+        ck.push_back({base, s});
+        if (radius > 0.0) {
+          const Eigen::Vector2d e = m > 0.0 ? Eigen::Vector2d(res / m) : Eigen::Vector2d(1.0, 0.0);
+          const double c = -0.5, sn = 0.5 * std::sqrt(3.0);
+          ck.push_back({base, radius * Eigen::Vector2d(c * e(0) - sn * e(1), sn * e(0) + c * e(1))});
+          ck.push_back({base, radius * Eigen::Vector2d(c * e(0) + sn * e(1), -sn * e(0) + c * e(1))});
+        }
+      }
+      plane_added_[k] = static_cast<int>(ck.size() - before);
+    }
   }
 
   // The dual residual of the DC subproblem min_C F1 - y^T a (the certificate's rule with j1
@@ -417,7 +788,28 @@ class DcBundle {
   double residual(const Eigen::VectorXd& a, const Eigen::VectorXd& y) const {
     const Eigen::VectorXd Sa = p_.S * a;
     double worst = 0.0, scale = std::max((p_.c + y).cwiseAbs().maxCoeff(), Sa.cwiseAbs().maxCoeff());
+    for (const CoordinateGroup& g : p_.groups) {
+      // the certificate's rule for a pair, with j1: the law force on the ray of v at a length in
+      // w [j1'(r-), j1'(r+)], or in the disc of radius w j1'(0+) at the origin
+      const Eigen::Vector2d res(Sa(g.first) - p_.c(g.first) - y(g.first), Sa(g.second) - p_.c(g.second) - y(g.second));
+      const Eigen::Vector2d v(a(g.first), a(g.second));
+      const double r = v.norm(), w = p_.w(g.first);
+      const ContactLaw& law = p_.law_of(g.first);
+      Eigen::Vector2d zeta;
+      if (r > 0.0) {
+        const Eigen::Vector2d e = v / r;
+        double dl = law.derivative(LawPart::j1, r, -1), dr = law.derivative(LawPart::j1, r, +1);
+        if (dl > dr) std::swap(dl, dr);
+        zeta = Interval{w * dl, w * dr}.nearest(-res.dot(e)) * e;
+      } else {
+        const double radius = w * law.derivative(LawPart::j1, 0.0, +1), m = res.norm();
+        zeta = m <= radius ? Eigen::Vector2d(-res) : Eigen::Vector2d(-res * (radius / m));
+      }
+      worst = std::max(worst, (res + zeta).norm());
+      scale = std::max(scale, zeta.cwiseAbs().maxCoeff());
+    }
     for (Eigen::Index i = 0; i < n_; ++i) {
+      if (group_of_(i) >= 0) continue;
       double dl = p_.law_of(i).derivative(LawPart::j1, a(i), -1), dr = p_.law_of(i).derivative(LawPart::j1, a(i), +1);
       if (dl > dr) std::swap(dl, dr);
       const Interval law{p_.w(i) * dl, p_.w(i) * dr};
@@ -455,15 +847,42 @@ class DcBundle {
     }
   }
 
+  // compress() for a problem with groups: per coordinate on its own and per group, the cuts
+  // active at the subproblem solution, the newest, then the most recent others.
+  void compress_groups() {
+    auto keep_some = [&](auto& list, const std::vector<int>& active, int newest) {
+      if (static_cast<int>(list.size()) <= o_.bundle_size) return;
+      std::vector<char> keep(list.size(), 0);
+      for (int k : active)
+        if (k >= 0 && U(k) < list.size()) keep[U(k)] = 1;
+      for (int j = 0; j < newest; ++j) keep[list.size() - 1 - U(j)] = 1;
+      int count = static_cast<int>(std::count(keep.begin(), keep.end(), 1));
+      for (std::size_t j = list.size(); j-- > 0 && count < o_.bundle_size;)
+        if (!keep[j]) keep[j] = 1, ++count;
+      std::remove_reference_t<decltype(list)> kept;
+      for (std::size_t j = 0; j < list.size(); ++j)
+        if (keep[j]) kept.push_back(list[j]);
+      list.swap(kept);
+    };
+    for (Eigen::Index i = 0; i < n_; ++i)
+      if (group_of_(i) < 0) keep_some(cuts_[U(i)], faces_[U(i)].active, added_[U(i)]);
+    for (std::size_t k = 0; k < p_.groups.size(); ++k)
+      keep_some(plane_cuts_[k], faces_[U(p_.groups[k].first)].active, plane_added_[k]);
+  }
+
   MinimizerRun& run_;
   const ReducedProblem& p_;
   const BundleDcaOptions& o_;
   const Eigen::Index n_;
   double mu_ = 0.0;
   Eigen::MatrixXd H_;                   // S + mu I
-  std::vector<std::vector<Cut>> cuts_;  // per coordinate
+  std::vector<std::vector<Cut>> cuts_;  // per coordinate (on its own)
   std::vector<int> added_;              // cuts added last per coordinate (at the tail)
   QpState state_;
+  const Eigen::VectorXi group_of_;                 // per coordinate its group or -1
+  std::vector<std::vector<PlaneCut>> plane_cuts_;  // per group
+  std::vector<int> plane_added_;                   // cuts added last per group (at the tail)
+  std::vector<BlockFace> faces_;                   // the faces of the last subproblem solution
 };
 
 }  // namespace
@@ -486,10 +905,10 @@ MinimizerResult BundleDcaMinimizer::run(MinimizerRun& run) const {
       why = MinimizerStatus::evaluation_limit;
       break;
     }
-    if (k == 1) bundle.add_cuts(a);
     // DC step: linearise F2 at a, solve min_C F1 - y^T a. With j convex (j2 = 0 for the shipped
     // convex laws) the subproblem is F itself, solved to the final accuracy at once.
     const Eigen::VectorXd y = p.subgradient_convex2(a);
+    if (k == 1) bundle.add_cuts(a, y);
     run.count_subgradients();
     const double floor = options_.inner_tolerance_floor * run.options().tolerance;
     const double inner_tol = convex ? floor : std::max(options_.inner_tolerance_factor * cert.worst(), floor);

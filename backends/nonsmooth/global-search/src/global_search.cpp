@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <random>
 #include <sstream>
 
@@ -42,6 +43,30 @@ std::vector<double> landmarks(const ContactLaw& law, double lo, double hi) {
   std::sort(in.begin(), in.end());
   in.erase(std::unique(in.begin(), in.end()), in.end());
   return in;
+}
+
+/// The radii a group of law `law` is moved to or started at (its "breakpoints": j acts on the
+/// pair's norm): 0, the law's positive breakpoints and the middles of the pieces between them.
+std::vector<double> radii(const ContactLaw& law) {
+  std::vector<double> b{0.0};
+  for (double x : law.breakpoints())
+    if (x > 0.0) b.push_back(x);
+  std::vector<double> v;
+  for (std::size_t k = 0; k < b.size(); ++k) {
+    v.push_back(b[k]);
+    if (k + 1 < b.size()) v.push_back(0.5 * (b[k] + b[k + 1]));
+  }
+  return v;
+}
+
+/// The pair of group g in a.
+Eigen::Vector2d pair_of(const Eigen::VectorXd& a, const CoordinateGroup& g) { return {a(g.first), a(g.second)}; }
+
+/// A unit vector along `preferred`, else along `fallback`, else (1, 0).
+Eigen::Vector2d direction(const Eigen::Vector2d& preferred, const Eigen::Vector2d& fallback) {
+  if (preferred.norm() > 0.0) return preferred.normalized();
+  if (fallback.norm() > 0.0) return fallback.normalized();
+  return {1.0, 0.0};
 }
 
 /// One certified critical point with the result of the first run that reached it.
@@ -106,10 +131,14 @@ void add_bound_starts(const ReducedProblem& p, std::vector<SearchStart>& out) {
 }
 
 /// The k-th breakpoint and the k-th middle of a piece of each coordinate's own law, for every
-/// k (a coordinate whose law has fewer keeps its value in `quadratic`).
+/// k (a coordinate whose law has fewer keeps its value in `quadratic`). A group's breakpoints
+/// are radii (0 and its law's positive breakpoints, with the middles between them): the pair is
+/// put at the k-th along the quadratic minimizer's pair (along c_G where that vanishes).
 void add_breakpoint_starts(const ReducedProblem& p, const Eigen::VectorXd& quadratic, std::vector<SearchStart>& out) {
   const Eigen::Index n = p.size();
+  const Eigen::VectorXi group_of = p.group_of();
   std::vector<std::vector<double>> points(static_cast<std::size_t>(p.num_laws())), middles(points.size());
+  std::vector<std::vector<double>> radii_at(points.size()), radii_between(points.size());
   std::size_t most = 0;
   for (int k = 0; k < p.num_laws(); ++k) {
     const auto b = p.law_by_number(k).breakpoints();
@@ -117,26 +146,45 @@ void add_breakpoint_starts(const ReducedProblem& p, const Eigen::VectorXd& quadr
     for (std::size_t q = 0; q + 1 < b.size(); ++q) middles[static_cast<std::size_t>(k)].push_back(0.5 * (b[q] + b[q + 1]));
     most = std::max(most, b.size());
   }
+  for (const CoordinateGroup& g : p.groups) {
+    const auto k = static_cast<std::size_t>(p.law_index(g.first));
+    if (!radii_at[k].empty()) continue;
+    const std::vector<double> r = radii(p.law_by_number(p.law_index(g.first)));  // points and middles in turn
+    for (std::size_t q = 0; q < r.size(); ++q) (q % 2 == 0 ? radii_at[k] : radii_between[k]).push_back(r[q]);
+    most = std::max(most, radii_at[k].size());
+  }
   for (std::size_t q = 0; q < most; ++q) {
-    for (const auto* list : {&points, &middles}) {
+    for (const bool at_points : {true, false}) {
+      const auto& list = at_points ? points : middles;
       Eigen::VectorXd a(n);
       bool any = false;
       for (Eigen::Index i = 0; i < n; ++i) {
-        const auto& own = (*list)[static_cast<std::size_t>(p.law_index(i))];
+        if (group_of(i) >= 0) continue;
+        const auto& own = list[static_cast<std::size_t>(p.law_index(i))];
         a(i) = q < own.size() ? own[q] : quadratic(i);
         any = any || q < own.size();
       }
+      for (const CoordinateGroup& g : p.groups) {
+        const auto& own = (at_points ? radii_at : radii_between)[static_cast<std::size_t>(p.law_index(g.first))];
+        const Eigen::Vector2d v = pair_of(quadratic, g);
+        const Eigen::Vector2d x = q < own.size() ? Eigen::Vector2d(own[q] * direction(v, pair_of(p.c, g))) : v;
+        a(g.first) = x(0);
+        a(g.second) = x(1);
+        any = any || q < own.size();
+      }
       if (!any) continue;
-      if (p.num_laws() == 1)
-        add_start(p, out, (list == &points ? "breakpoint " : "middle of piece ") + num((*list)[0][q]), a);
+      if (p.num_laws() == 1 && q < list[0].size())
+        add_start(p, out, (at_points ? "breakpoint " : "middle of piece ") + num(list[0][q]), a);
       else
-        add_start(p, out, (list == &points ? "breakpoint #" : "middle of piece #") + std::to_string(q), a);
+        add_start(p, out, (at_points ? "breakpoint #" : "middle of piece #") + std::to_string(q), a);
     }
   }
 }
 
 /// `count` points drawn uniformly (std::mt19937_64 seeded by `seed`) in a box around the
-/// bounds, the breakpoints and the quadratic minimizer.
+/// bounds, the breakpoints and the quadratic minimizer; a group's pair in the disc around the
+/// origin that holds its law's positive breakpoints and the quadratic minimizer's pair (with
+/// the same pad), uniformly in area (two draws at its first coordinate).
 void add_random_starts(const ReducedProblem& p, const Eigen::VectorXd& quadratic, int seed, int count,
                        std::vector<SearchStart>& out) {
   const Eigen::Index n = p.size();
@@ -149,9 +197,21 @@ void add_random_starts(const ReducedProblem& p, const Eigen::VectorXd& quadratic
   if (!(scale > 0.0)) scale = 1.0;
   std::mt19937_64 engine(static_cast<std::uint64_t>(seed));
   std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const Eigen::VectorXi group_of = p.group_of();
   for (int r = 0; r < count; ++r) {
     Eigen::VectorXd a(n);
     for (Eigen::Index i = 0; i < n; ++i) {
+      if (group_of(i) >= 0) {
+        const CoordinateGroup& g = p.groups[static_cast<std::size_t>(group_of(i))];
+        if (i != g.first) continue;
+        double M = pair_of(quadratic, g).norm();
+        for (double b : p.law_of(i).breakpoints()) M = std::max(M, b);
+        const double R = M + 0.5 * M + 0.1 * scale;
+        const double radius = R * std::sqrt(unit(engine)), angle = 2.0 * std::numbers::pi * unit(engine);
+        a(g.first) = radius * std::cos(angle);
+        a(g.second) = radius * std::sin(angle);
+        continue;
+      }
       double m = std::min(0.0, quadratic(i)), M = std::max(0.0, quadratic(i));
       for (double b : p.law_of(i).breakpoints()) {
         m = std::min(m, b);
@@ -167,19 +227,27 @@ void add_random_starts(const ReducedProblem& p, const Eigen::VectorXd& quadratic
 
 // ---- the moves of phase 2 -------------------------------------------------------------------
 
-/// One coordinate moved to a landmark of its law, and the change of F by that move alone.
+/// One coordinate moved to a landmark of its law, or one group's pair moved to a radius of its
+/// law (to = (to, to_second) along a direction), and the change of F by that move alone.
 struct Move {
   double change;
   Eigen::Index i;
   double to;
+  Eigen::Index second = -1;  ///< the group's second coordinate (-1: a single coordinate)
+  double to_second = 0.0;
+  double radius = 0.0;       ///< the group's radius
 };
 
 /// The moves from x, most promising (smallest change of F) first; none to a landmark within
-/// `near` of the coordinate.
+/// `near` of the coordinate (of the pair, in the largest component). A group's norm is moved,
+/// not one coordinate: to 0 (stuck) and to each positive radius of radii() along its current
+/// direction and along -(S x - c)_G, the direction the force pulls it.
 std::vector<Move> moves_from(const ReducedProblem& p, const Eigen::VectorXd& x, double near) {
   const Eigen::VectorXd g = p.S * x - p.c;
+  const Eigen::VectorXi group_of = p.group_of();
   std::vector<Move> candidates;
   for (Eigen::Index i = 0; i < p.size(); ++i) {
+    if (group_of(i) >= 0) continue;
     const ContactLaw& law = p.law_of(i);
     for (double v : landmarks(law, p.lower(i), p.upper(i))) {
       const double d = v - x(i);
@@ -188,6 +256,28 @@ std::vector<Move> moves_from(const ReducedProblem& p, const Eigen::VectorXd& x, 
           g(i) * d + 0.5 * p.S(i, i) * d * d + p.w(i) * (law.value(LawPart::j, v) - law.value(LawPart::j, x(i)));
       candidates.push_back({change, i, v});
     }
+  }
+  for (const CoordinateGroup& G : p.groups) {
+    const ContactLaw& law = p.law_of(G.first);
+    const Eigen::Vector2d v = pair_of(x, G), force = -pair_of(g, G);
+    Eigen::Matrix2d SG;
+    SG << p.S(G.first, G.first), p.S(G.first, G.second), p.S(G.second, G.first), p.S(G.second, G.second);
+    std::vector<Eigen::Vector2d> directions;
+    if (v.norm() > 0.0) directions.push_back(v.normalized());
+    if (force.norm() > 0.0) directions.push_back(force.normalized());
+    if (directions.empty()) directions.push_back({1.0, 0.0});
+    std::vector<Eigen::Vector2d> targets;
+    for (double radius : radii(law))
+      for (const Eigen::Vector2d& e : directions) {
+        const Eigen::Vector2d to = radius * e;
+        if (std::any_of(targets.begin(), targets.end(), [&](const Eigen::Vector2d& t) { return t == to; })) continue;
+        targets.push_back(to);
+        const Eigen::Vector2d d = to - v;
+        if (d.cwiseAbs().maxCoeff() <= near) continue;
+        const double change = pair_of(g, G).dot(d) + 0.5 * d.dot(SG * d) +
+                              p.w(G.first) * (law.value(LawPart::j, radius) - law.value(LawPart::j, v.norm()));
+        candidates.push_back({change, G.first, to(0), G.second, to(1), radius});
+      }
   }
   std::stable_sort(candidates.begin(), candidates.end(),
                    [](const Move& a, const Move& b) { return a.change < b.change; });
@@ -313,8 +403,8 @@ class Search {
     }
   }
 
-  /// Phase 2: the first engine from single-coordinate moves of the lowest point, most promising
-  /// first; a lower certified point starts the moves again from it.
+  /// Phase 2: the first engine from single-coordinate (or single-group) moves of the lowest
+  /// point, most promising first; a lower certified point starts the moves again from it.
   void descend() {
     bool improved = true;
     while (improved && budget_left() && lowest()) {
@@ -326,8 +416,13 @@ class Search {
         if (!budget_left()) break;
         Eigen::VectorXd start = x;
         start(m.i) = m.to;
+        std::string name = "move " + std::to_string(m.i) + " -> " + num(m.to);
+        if (m.second >= 0) {
+          start(m.second) = m.to_second;
+          name = "move group (" + std::to_string(m.i) + ", " + std::to_string(m.second) + ") -> radius " + num(m.radius);
+        }
         ++moves_;
-        const MinimizerResult r = local_run(*engines_.front(), "move " + std::to_string(m.i) + " -> " + num(m.to), start);
+        const MinimizerResult r = local_run(*engines_.front(), name, start);
         if (r.converged() && r.objective < fx - 1e-12 * std::max(1.0, std::abs(fx))) {
           improved = true;
           ++improvements_;
@@ -358,6 +453,17 @@ GlobalSearch::GlobalSearch(std::vector<std::shared_ptr<const NonsmoothMinimizer>
   for (const auto& e : engines_)
     if (!e) throw InputError("a minimizer of the list is null", "global search");
   require_valid(options_, "global search");
+}
+
+bool GlobalSearch::takes_groups() const noexcept {
+  return std::all_of(engines_.begin(), engines_.end(), [](const auto& e) { return e->takes_groups(); });
+}
+
+std::vector<std::string> GlobalSearch::engines_without_groups() const {
+  std::vector<std::string> n;
+  for (const auto& e : engines_)
+    if (!e->takes_groups()) n.push_back(e->name());
+  return n;
 }
 
 std::vector<std::string> GlobalSearch::engine_names() const {

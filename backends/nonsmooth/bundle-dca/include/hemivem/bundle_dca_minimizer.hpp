@@ -1,7 +1,8 @@
 // "bundle-dca": the DC algorithm for F = F1 - F2 (paper, section 4) whose convex subproblems
 // min_{a in C} F1(a) - y^T a are solved by a proximal bundle method. The quadratic part of F1
-// and the constraint set are kept exactly in the bundle subproblem; only the separable
-// nonsmooth part sum_i w_i j1(a_i) is modelled by cutting planes (see README.md).
+// and the constraint set are kept exactly in the bundle subproblem; only the nonsmooth part
+// sum_i w_i j1(a_i) (and w j1(|a_G|) per group of coordinates, as a function of the pair) is
+// modelled by cutting planes (see README.md).
 #pragma once
 
 #include <string>
@@ -55,6 +56,8 @@ class BundleDcaMinimizer final : public NonsmoothMinimizer {
     require_valid(options_, "bundle-dca");
   }
   std::string name() const override { return "bundle-dca"; }
+  /// Groups of coordinates are modelled by cuts of their pair (README.md).
+  bool takes_groups() const noexcept override { return true; }
   const BundleDcaOptions& options() const noexcept { return options_; }
 
  protected:

@@ -22,6 +22,14 @@
 //
 // A problem whose uniqueness margin is positive has one critical point: it is solved once by
 // the first engine and the result says so.
+//
+// Groups of coordinates (ReducedProblem::groups: a law of a pair's norm) are taken when every
+// engine takes them (takes_groups()); otherwise minimize() refuses such a problem and
+// engines_without_groups() names the engines that do not. A group's breakpoints are radii: its
+// starts put the pair at 0, at the law's positive breakpoints or at the middles between them
+// along the quadratic minimizer's pair, its random starts are drawn in a disc, and its moves
+// put the pair's norm at 0 (stuck) or at such a radius along its current direction or along
+// -(S a - c)_G.
 #pragma once
 
 #include <Eigen/Core>
@@ -85,6 +93,11 @@ class GlobalSearch final : public NonsmoothMinimizer {
   const GlobalSearchOptions& options() const noexcept { return options_; }
   /// The names of the engines, in order.
   std::vector<std::string> engine_names() const;
+  /// True when every engine takes groups of coordinates.
+  bool takes_groups() const noexcept override;
+  /// The names of the engines that do not take groups of coordinates, in order (empty when
+  /// the search takes them).
+  std::vector<std::string> engines_without_groups() const;
 
   /// The starts of phase 1 for `problem` (the given start first; projected onto C; duplicates
   /// removed), deterministic for a given seed.
