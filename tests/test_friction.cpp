@@ -333,7 +333,7 @@ TEST(FrictionFiles, DefectsNameTheFileAndLine) {
   EXPECT_NE(error_with("coordinates.txt", "3 -inf inf\n").find("out of range"), std::string::npos);
   EXPECT_NE(error_with("coordinates.txt", "0 -inf\n").find("expected 'law lower upper'"), std::string::npos);
   write_text(dir / "coordinates.txt", "0 -inf inf\n");
-  EXPECT_NE(error_with("problem.txt", "format 3\n").find("not one this program reads"), std::string::npos);
+  EXPECT_NE(error_with("problem.txt", "format 4\n").find("not one this program reads"), std::string::npos);
   const std::string mixed = error_with("problem.txt", "form coordinate-wise\nconstraint box\n");
   EXPECT_NE(mixed.find("not a constraint"), std::string::npos) << mixed;
 }

@@ -85,7 +85,11 @@ CertifiedPoint certify(const ReducedProblem& p, const Eigen::VectorXd& a, double
   }
   // a group: its norm onto the nearest kink of j(|v|) in the window, the origin included
   // where j'(0+) > 0 (the cone point of the norm)
-  for (const CoordinateGroup& g : p.groups) {
+  // (the radius of each group as snapped: the kink itself, which the scaled pair's norm may miss
+  // by an ulp)
+  std::vector<double> radius(p.groups.size());
+  for (std::size_t k = 0; k < p.groups.size(); ++k) {
+    const CoordinateGroup& g = p.groups[k];
     const double r = group_norm(x, g);
     const ContactLaw& law = p.law_of(g.first);
     double target = r, distance = inf;
@@ -94,6 +98,7 @@ CertifiedPoint certify(const ReducedProblem& p, const Eigen::VectorXd& a, double
       const double d = std::abs(r - k);
       if (k > 0.0 && d <= window && d < distance) target = k, distance = d;
     }
+    radius[k] = target;
     if (target == r) continue;
     const double scale = target == 0.0 ? 0.0 : target / r;
     x(g.first) *= scale;
@@ -102,15 +107,16 @@ CertifiedPoint certify(const ReducedProblem& p, const Eigen::VectorXd& a, double
   // 3. forces
   const Eigen::VectorXd Sa = p.S * x;
   double worst = 0.0, zeta_max = 0.0;
-  for (const CoordinateGroup& g : p.groups) {
+  for (std::size_t k = 0; k < p.groups.size(); ++k) {
+    const CoordinateGroup& g = p.groups[k];
     const Eigen::Vector2d res(Sa(g.first) - p.c(g.first), Sa(g.second) - p.c(g.second));
     const Eigen::Vector2d v(x(g.first), x(g.second));
-    const double r = v.norm(), wg = p.w(g.first);
+    const double r = radius[k], wg = p.w(g.first);
     const ContactLaw& law = p.law_of(g.first);
     Eigen::Vector2d zeta;
     if (r > 0.0) {
       // the law force lies on the ray of v: its length is the nearest of w [j'(r-), j'(r+)] to -res . e
-      const Eigen::Vector2d e = v / r;
+      const Eigen::Vector2d e = v.normalized();
       const Interval dj = law.clarke(r);
       zeta = Interval{wg * dj.lo, wg * dj.hi}.nearest(-res.dot(e)) * e;
     } else {

@@ -626,9 +626,9 @@ void BasicPathSolver<dim>::Impl::describe_step(Step& s, const MinimizerResult& m
     auto node = contact_node(*problem.elasticity.mesh, boundary, *cond, dofs, i, raw,
                                     residual.size() > 0 ? &residual : nullptr);
     if (const int k = cond->tangential_coordinate(i); k >= 0) {
-      // the slip of the step: its length for a solid's pair
+      // the slip of the step: along tau in the plane, its length on a solid's surface
       const int k2 = cond->second_tangential_coordinate(i);
-      s.slip(i) = k2 >= 0 ? std::hypot(m.a(k), m.a(k2)) : m.a(k);
+      s.slip(i) = dim == 3 ? std::hypot(m.a(k), k2 >= 0 ? m.a(k2) : 0.0) : m.a(k);
       node.friction_state = friction_state(step.law_of(k), s.slip(i));
       s.friction_bound(i) = step.w(k) / boundary.weights(i) * step.law_of(k).derivative(LawPart::j, 0.0, +1);
     }

@@ -29,6 +29,22 @@ constexpr double singular_pivot = 1e-13;
 
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
+/// x scaled onto radius `radius` > 0 (x != 0), its entries then moved by single ulps until
+/// hypot(x) == radius where a few such moves reach it: a norm that is exactly a kink is the
+/// kink for every later test (the certificate's too), a norm one ulp off is not.
+Eigen::Vector2d onto_radius(const Eigen::Vector2d& x, double radius) {
+  Eigen::Vector2d y = x * (radius / x.norm());
+  for (const int i : {std::abs(y(0)) >= std::abs(y(1)) ? 0 : 1, std::abs(y(0)) >= std::abs(y(1)) ? 1 : 0}) {
+    for (int k = 0; k < 4; ++k) {
+      const double h = std::hypot(y(0), y(1));
+      if (h == radius) return y;
+      const double away = std::copysign(kInf, y(i));
+      y(i) = std::nextafter(y(i), h < radius ? away : -away);
+    }
+  }
+  return y;
+}
+
 /// H + shift I = L L^T for a dense symmetric H (its lower triangle is read), formed in the
 /// factor's own storage: LAPACK's blocked dpotrf on the BLAS where it is found (2.6 times
 /// Eigen's LLT on 2 303 x 2 303 here), Eigen's LLT otherwise. compute() is false when
@@ -76,10 +92,42 @@ struct NodeState {
   int side = 1;
 };
 
+/// What an iteration knows about one group of coordinates (a law of the pair's norm), in the
+/// radial frame e = v / |v| (at v = 0: the direction it leaves along) and t = e turned a
+/// quarter counter-clockwise. Its radius is confined to the piece [r_lo, r_hi] between the
+/// neighbouring knots in radius (the kinks of j, and 0 where j'(0+) > 0).
+struct GroupState {
+  enum class Mode {
+    stuck,   ///< at v = 0 with 0 in its subdifferential disc: no motion
+    ray,     ///< at v = 0, leaving along e: the one unknown is its length along e
+    held,    ///< on a positive kink with the radial force in the Clarke interval: moves along the circle
+    plane,   ///< r > 0 inside its piece: both directions (e, t) are unknowns
+  };
+  Mode mode = Mode::stuck;
+  Eigen::Vector2d v = Eigen::Vector2d::Zero();  ///< (a_first, a_second)
+  Eigen::Vector2d e = Eigen::Vector2d::Zero(), t = Eigen::Vector2d::Zero();
+  Eigen::Vector2d grad = Eigen::Vector2d::Zero();  ///< gradient of F on the side of motion
+  double r = 0.0;
+  double r_lo = 0.0, r_hi = 0.0;
+  bool lo_is_knot = false;       ///< r_lo is a kink of j(|v|) (0 only where j'(0+) > 0)
+  double radial_curvature = 0.0;      ///< w j''(r, side)
+  double tangential_curvature = 0.0;  ///< w j'(r, side) / r
+  double scale = 1.0;                 ///< of the gradient steps
+  /// The radius the Newton direction sends it onto (NaN: none).
+  double pin = std::numeric_limits<double>::quiet_NaN();
+};
+
+/// An unknown of the reduced Newton system: a coordinate, or a direction u in a group's plane.
+struct Unknown {
+  Eigen::Index first = 0, second = -1;  ///< second < 0: a single coordinate
+  double u_first = 1.0, u_second = 0.0;
+  double curvature = 0.0;  ///< the law's curvature along u (a coordinate's hess is its whole diagonal)
+};
+
 class Solver {
  public:
   Solver(MinimizerRun& run, const SsnOptions& prm)
-      : run_(run), p_(run.problem()), prm_(prm), n_(p_.size()) {
+      : run_(run), p_(run.problem()), prm_(prm), n_(p_.size()), group_of_(p_.group_of()), gst_(p_.groups.size()) {
     for (int k = 0; k < p_.num_laws(); ++k) kinks_.push_back(p_.law_by_number(k).kinks());
   }
 
@@ -136,7 +184,11 @@ class Solver {
     run_.count_functions();
     *q = p_.S * a - p_.c;
     double f = 0.5 * a.dot(*q - p_.c);
-    for (Eigen::Index i = 0; i < n_; ++i) f += p_.w(i) * p_.law_of(i).value(LawPart::j, a(i));
+    for (Eigen::Index i = 0; i < n_; ++i) {
+      if (group_of_(i) >= 0) continue;
+      f += p_.w(i) * p_.law_of(i).value(LawPart::j, a(i));
+    }
+    for (const CoordinateGroup& g : p_.groups) f += p_.w(g.first) * p_.law_of(g.first).value(LawPart::j, group_norm(a, g));
     return f;
   }
 
@@ -154,8 +206,12 @@ class Solver {
     double eps = 0.0;
     for (Eigen::Index i = 0; i < n_; ++i) {
       const NodeState& s = st[static_cast<std::size_t>(i)];
-      if (s.lo == s.hi) continue;
+      if (s.lo == s.hi || group_of_(i) >= 0) continue;
       eps = std::max(eps, std::abs(std::clamp(a(i) - s.grad / scaling(i, s), s.lo, s.hi) - a(i)));
+    }
+    for (const GroupState& g : gst_) {
+      if (g.mode == GroupState::Mode::stuck) continue;
+      eps = std::max(eps, (group_trial(g, -g.grad / g.scale, 1.0) - g.v).norm());
     }
     eps *= prm_.active_scale;
     free_.clear();
@@ -163,7 +219,7 @@ class Solver {
     d.setZero();
     for (Eigen::Index i = 0; i < n_; ++i) {
       const NodeState& s = st[static_cast<std::size_t>(i)];
-      if (s.lo == s.hi) continue;
+      if (s.lo == s.hi || group_of_(i) >= 0) continue;
       if (s.grad > 0.0 && a(i) - s.lo <= eps) {
         d(i) = s.lo - a(i);
         pinned_.push_back(i);
@@ -174,11 +230,107 @@ class Solver {
         free_.push_back(i);
       }
     }
+    if (!p_.groups.empty()) return grouped_newton_direction(st, eps, d);
     if (free_.empty()) return !pinned_.empty();
     const auto tf = Clock::now();
     const bool ok = solve_free_system(st, d);
     t_factor_ += since(tf);
     return ok;
+  }
+
+  /// The groups' part of the projected Newton direction: a group within epsilon of a knot in
+  /// radius that it is pushed against is sent onto it (onto 0 by d_G = -v, exactly), the other
+  /// moving groups contribute their directions as unknowns; then the system of all unknowns.
+  bool grouped_newton_direction(const std::vector<NodeState>& st, double eps, Eigen::VectorXd& d) {
+    using Mode = GroupState::Mode;
+    unknowns_.clear();
+    for (Eigen::Index i : free_) unknowns_.push_back({i, -1, 1.0, 0.0, 0.0});
+    bool pinned = !pinned_.empty();
+    for (std::size_t k = 0; k < gst_.size(); ++k) {
+      GroupState& g = gst_[k];
+      const CoordinateGroup& grp = p_.groups[k];
+      Eigen::Vector2d dg = Eigen::Vector2d::Zero();
+      const double radial = g.grad.dot(g.e);
+      if (g.mode == Mode::ray) {
+        if (g.r_hi <= eps) g.pin = g.r_hi;
+      } else if (g.mode == Mode::plane) {
+        if (radial > 0.0 && g.lo_is_knot && g.r - g.r_lo <= eps)
+          g.pin = g.r_lo;
+        else if (radial < 0.0 && g.r_hi - g.r <= eps)
+          g.pin = g.r_hi;
+      }
+      const auto add = [&](const Eigen::Vector2d& u, double curvature) {
+        unknowns_.push_back({grp.first, grp.second, u(0), u(1), curvature});
+      };
+      switch (g.mode) {
+        case Mode::stuck: break;
+        case Mode::ray:
+          if (std::isnan(g.pin)) add(g.e, g.radial_curvature);
+          else dg = g.pin * g.e;
+          break;
+        case Mode::held: add(g.t, g.tangential_curvature); break;
+        case Mode::plane:
+          if (std::isnan(g.pin)) {
+            add(g.e, g.radial_curvature);
+            add(g.t, g.tangential_curvature);
+          } else if (g.pin == 0.0) {
+            dg = -g.v;
+          } else {
+            dg = (g.pin - g.r) * g.e;
+            add(g.t, g.tangential_curvature);
+          }
+          break;
+      }
+      pinned = pinned || !std::isnan(g.pin);
+      d(grp.first) = dg(0);
+      d(grp.second) = dg(1);
+    }
+    if (unknowns_.empty()) return pinned;
+    const auto tf = Clock::now();
+    const bool ok = solve_unknowns_system(st, d);
+    t_factor_ += since(tf);
+    return ok;
+  }
+
+  /// u^T S u' for two unknowns.
+  double coupling(const Unknown& u, const Unknown& v) const {
+    double h = u.u_first * v.u_first * p_.S(u.first, v.first);
+    if (v.second >= 0) h += u.u_first * v.u_second * p_.S(u.first, v.second);
+    if (u.second >= 0) {
+      h += u.u_second * v.u_first * p_.S(u.second, v.first);
+      if (v.second >= 0) h += u.u_second * v.u_second * p_.S(u.second, v.second);
+    }
+    return h;
+  }
+
+  /// The reduced system over the unknowns (coordinates and directions in groups' planes):
+  /// (U^T (S + W j'') U) x = -U^T (grad + S d_E), d = d_E + U x, shifted like the free-set system.
+  bool solve_unknowns_system(const std::vector<NodeState>& st, Eigen::VectorXd& d) {
+    const auto nf = static_cast<Eigen::Index>(unknowns_.size());
+    const Eigen::VectorXd Sd = p_.S * d;
+    Eigen::VectorXd rhs(nf);
+    Eigen::MatrixXd H(nf, nf);
+    double min_diag = kInf, max_diag = 0.0;
+    for (Eigen::Index k = 0; k < nf; ++k) {
+      const Unknown& u = unknowns_[static_cast<std::size_t>(k)];
+      const auto grad = [&](Eigen::Index i) { return st[static_cast<std::size_t>(i)].grad + Sd(i); };
+      rhs(k) = -u.u_first * grad(u.first) - (u.second >= 0 ? u.u_second * grad(u.second) : 0.0);
+      for (Eigen::Index l = 0; l < k; ++l) H(k, l) = H(l, k) = coupling(u, unknowns_[static_cast<std::size_t>(l)]);
+      const double elastic = u.second < 0 ? st[static_cast<std::size_t>(u.first)].hess : coupling(u, u);
+      H(k, k) = elastic + u.curvature;
+      min_diag = std::min(min_diag, H(k, k));
+      // a positive curvature of the law only adds to a definite system: the round-off level of
+      // its pivots is that of the rest (the tangential curvature j'(r)/r grows without bound at 0)
+      max_diag = std::max(max_diag, std::abs(u.curvature > 0.0 ? elastic : H(k, k)));
+    }
+    Eigen::VectorXd x;
+    if (!factor_and_solve(H, rhs, min_diag, max_diag, x)) return false;
+    for (Eigen::Index k = 0; k < nf; ++k) {
+      const Unknown& u = unknowns_[static_cast<std::size_t>(k)];
+      d(u.first) += u.u_first * x(k);
+      if (u.second >= 0) d(u.second) += u.u_second * x(k);
+    }
+    return true;
   }
 
   /// d_F = -(S + W j'')_FF^-1 (grad_F + S_FE d_E) by a dense LLT, shifted by mu I (growing from
@@ -195,6 +347,16 @@ class Solver {
       min_diag = std::min(min_diag, H(k, k));
       max_diag = std::max(max_diag, std::abs(H(k, k)));
     }
+    Eigen::VectorXd dF;
+    if (!factor_and_solve(H, rhs, min_diag, max_diag, dF)) return false;
+    d(free_) = dF;
+    return true;
+  }
+
+  /// x = H^-1 rhs by a dense LLT, shifted by mu I (growing from `shift` max_diag) when H is not
+  /// positive definite or singular within round-off (min_diag, max_diag: of H's diagonal).
+  bool factor_and_solve(const Eigen::MatrixXd& H, const Eigen::VectorXd& rhs, double min_diag, double max_diag,
+                        Eigen::VectorXd& x) {
     DenseCholesky llt;
     bool ok = false;
     if (min_diag > 0.0) {
@@ -209,10 +371,8 @@ class Solver {
       ++shifted_;
     }
     if (!ok) return false;
-    const Eigen::VectorXd dF = llt.solve(rhs);
-    if (!dF.allFinite()) return false;
-    d(free_) = dF;
-    return true;
+    x = llt.solve(rhs);
+    return x.allFinite();
   }
 
   /// Backtracking along the projection arc onto the piece boxes: the Newton direction first,
@@ -232,6 +392,13 @@ class Solver {
       for (Eigen::Index i = 0; i < n_; ++i) {
         const NodeState& s = st[static_cast<std::size_t>(i)];
         d(i) = s.lo == s.hi ? 0.0 : -s.grad / scaling(i, s);
+      }
+      for (std::size_t k = 0; k < gst_.size(); ++k) {
+        GroupState& g = gst_[k];
+        g.pin = std::numeric_limits<double>::quiet_NaN();
+        const Eigen::Vector2d dg = g.mode == GroupState::Mode::stuck ? Eigen::Vector2d::Zero() : Eigen::Vector2d(-g.grad / g.scale);
+        d(p_.groups[k].first) = dg(0);
+        d(p_.groups[k].second) = dg(1);
       }
       double t = 1.0;
       for (int k = 0; k < 80 && !accepted && run_.budget_left(); ++k, t *= 0.5)
@@ -258,8 +425,9 @@ class Solver {
     return std::max({s.hess, 1e-3 * p_.S(i, i), std::numeric_limits<double>::min()});
   }
 
-  void classify(const Eigen::VectorXd& a, std::vector<NodeState>& st) const {
+  void classify(const Eigen::VectorXd& a, std::vector<NodeState>& st) {
     for (Eigen::Index i = 0; i < n_; ++i) {
+      if (group_of_(i) >= 0) continue;
       NodeState& s = st[static_cast<std::size_t>(i)];
       const double x = a(i), l = p_.lower(i), u = p_.upper(i), wi = p_.w(i);
       const ContactLaw& law = p_.law_of(i);
@@ -290,6 +458,145 @@ class Solver {
       }
       s.hess = p_.S(i, i) + wi * law.second_derivative(LawPart::j, x, s.side);
     }
+    for (std::size_t k = 0; k < gst_.size(); ++k) {
+      const CoordinateGroup& grp = p_.groups[k];
+      GroupState& g = gst_[k];
+      classify_group(grp, a, g);
+      for (const Eigen::Index i : {grp.first, grp.second}) {
+        NodeState& s = st[static_cast<std::size_t>(i)];
+        s.grad = g.grad(i == grp.first ? 0 : 1);
+        s.lo = s.hi = 0.0;
+        s.hess = 0.0;
+        s.side = 1;
+      }
+    }
+  }
+
+  /// The positive kinks of a group's law (its knots in radius besides 0), sorted.
+  std::vector<double> radius_kinks(const CoordinateGroup& grp) const {
+    std::vector<double> out;
+    for (double k : kinks(grp.first))
+      if (k > 0.0) out.push_back(k);
+    return out;
+  }
+
+  /// The state of a group at a: stuck, leaving 0 along a ray, held on a positive kink, or
+  /// moving in its piece [r_lo, r_hi] of radius, with the gradient and curvatures on the side
+  /// of motion.
+  void classify_group(const CoordinateGroup& grp, const Eigen::VectorXd& a, GroupState& g) const {
+    using Mode = GroupState::Mode;
+    const ContactLaw& law = p_.law_of(grp.first);
+    const double wg = p_.w(grp.first);
+    const std::vector<double> knots = radius_kinks(grp);
+    const Eigen::Vector2d gq(q_(grp.first), q_(grp.second));
+    const double slope0 = law.derivative(LawPart::j, 0.0, +1);
+    g.v = Eigen::Vector2d(a(grp.first), a(grp.second));
+    g.r = group_norm(a, grp);
+    g.pin = std::numeric_limits<double>::quiet_NaN();
+    g.radial_curvature = g.tangential_curvature = 0.0;
+    const auto above = [&](double r) {
+      const auto it = std::upper_bound(knots.begin(), knots.end(), r);
+      return it == knots.end() ? kInf : *it;
+    };
+    const auto below = [&](double r) {
+      const auto it = std::lower_bound(knots.begin(), knots.end(), r);
+      return it == knots.begin() ? 0.0 : *(it - 1);
+    };
+    int side = 1;
+    if (g.r == 0.0) {
+      const double m = gq.norm();
+      g.e = m > 0.0 ? Eigen::Vector2d(-gq / m) : Eigen::Vector2d(1.0, 0.0);
+      g.t = Eigen::Vector2d(-g.e(1), g.e(0));
+      g.r_lo = 0.0;
+      if (m <= wg * slope0) {
+        g.mode = Mode::stuck;
+        g.grad.setZero();
+        g.r_hi = 0.0;
+      } else {
+        g.mode = Mode::ray;
+        g.grad = gq + wg * slope0 * g.e;
+        g.r_hi = above(0.0);
+        g.radial_curvature = wg * law.second_derivative(LawPart::j, 0.0, +1);
+      }
+    } else {
+      g.e = g.v / g.r;
+      g.t = Eigen::Vector2d(-g.e(1), g.e(0));
+      const double radial = gq.dot(g.e);
+      // a norm within a few ulps of a positive kink is on it (radial scaling rounds)
+      const auto on = std::find_if(knots.begin(), knots.end(), [&](double k) {
+        return std::abs(g.r - k) <= 8.0 * std::numeric_limits<double>::epsilon() * k;
+      });
+      double slope = 0.0;
+      if (on != knots.end()) {
+        const double k = *on;
+        const double dr = radial + wg * law.derivative(LawPart::j, k, +1);
+        const double dl = radial + wg * law.derivative(LawPart::j, k, -1);
+        const bool right = dr < 0.0, left = dl > 0.0;
+        if (right && (!left || -dr >= dl)) {
+          g.mode = Mode::plane;
+          g.r_lo = k;
+          g.r_hi = above(k);
+          slope = law.derivative(LawPart::j, k, +1);
+        } else if (left) {
+          g.mode = Mode::plane;
+          side = -1;
+          g.r_lo = below(k);
+          g.r_hi = k;
+          slope = law.derivative(LawPart::j, k, -1);
+        } else {
+          g.mode = Mode::held;
+          g.r_lo = g.r_hi = k;
+          slope = -radial / wg;  // the radial law force that balances: in [j'(k-), j'(k+)]
+        }
+        g.grad = g.mode == Mode::held ? Eigen::Vector2d(gq - radial * g.e) : Eigen::Vector2d(gq + wg * slope * g.e);
+      } else {
+        g.mode = Mode::plane;
+        g.grad = gq + wg * law.derivative(LawPart::j, g.r, +1) * g.e;
+        side = g.grad.dot(g.e) <= 0.0 ? 1 : -1;
+        slope = law.derivative(LawPart::j, g.r, side);
+        g.r_lo = below(g.r);
+        g.r_hi = above(g.r);
+      }
+      g.radial_curvature = wg * law.second_derivative(LawPart::j, g.r, side);
+      g.tangential_curvature = wg * slope / g.r;
+    }
+    g.lo_is_knot = g.r_lo > 0.0 || slope0 > 0.0;
+    const Eigen::Matrix2d S_G{{p_.S(grp.first, grp.first), p_.S(grp.first, grp.second)},
+                              {p_.S(grp.second, grp.first), p_.S(grp.second, grp.second)}};
+    const double curvature = g.mode == Mode::held ? g.t.dot(S_G * g.t) + g.tangential_curvature
+                                                  : g.e.dot(S_G * g.e) + g.radial_curvature;
+    g.scale = std::max({curvature, 1e-3 * S_G.diagonal().maxCoeff(), std::numeric_limits<double>::min()});
+  }
+
+  /// A group's point on the projection arc at step t along its direction dg: the radius kept
+  /// in the piece [r_lo, r_hi] by radial scaling; at v = 0 the length along the ray in
+  /// [0, r_hi]; a group whose piece starts at the cone point 0 goes exactly onto 0 when the
+  /// step crosses the line through 0 normal to e; a pinned group's radius goes linearly to its pin.
+  Eigen::Vector2d group_trial(const GroupState& g, const Eigen::Vector2d& dg, double t) const {
+    using Mode = GroupState::Mode;
+    switch (g.mode) {
+      case Mode::stuck: return g.v;
+      case Mode::ray: {
+        const double length = t * dg.dot(g.e);
+        return length >= g.r_hi ? onto_radius(g.e, g.r_hi) : Eigen::Vector2d(std::max(length, 0.0) * g.e);
+      }
+      case Mode::held: {
+        const Eigen::Vector2d x = g.v + t * dg;
+        return x.norm() > 0.0 ? onto_radius(x, g.r_lo) : g.v;
+      }
+      case Mode::plane: break;
+    }
+    const Eigen::Vector2d x = g.v + t * dg;
+    if (!std::isnan(g.pin)) {
+      if (g.pin == 0.0) return x;
+      if (!(x.norm() > 0.0)) return g.v;
+      return t == 1.0 ? onto_radius(x, g.pin) : Eigen::Vector2d(x * ((g.r + t * (g.pin - g.r)) / x.norm()));
+    }
+    if (g.r_lo == 0.0 && g.lo_is_knot && x.dot(g.e) <= 0.0) return Eigen::Vector2d::Zero();
+    const double m = x.norm();
+    if (m < g.r_lo) return m > 0.0 ? onto_radius(x, g.r_lo) : onto_radius(g.e, g.r_lo);
+    if (m > g.r_hi) return onto_radius(x, g.r_hi);
+    return x;
   }
 
   /// The size of the rounding errors in F(a) (q_ = S a - c).
@@ -310,9 +617,15 @@ class Solver {
                 double res, Eigen::VectorXd& trial, Eigen::VectorXd& qt, double& Ft) {
     double dec = 0.0;
     bool moved = false;
+    for (std::size_t k = 0; k < gst_.size(); ++k) {
+      const CoordinateGroup& grp = p_.groups[k];
+      const Eigen::Vector2d x = group_trial(gst_[k], Eigen::Vector2d(d(grp.first), d(grp.second)), t);
+      trial(grp.first) = x(0);
+      trial(grp.second) = x(1);
+    }
     for (Eigen::Index i = 0; i < n_; ++i) {
       const NodeState& s = st[static_cast<std::size_t>(i)];
-      trial(i) = s.lo == s.hi ? a(i) : std::clamp(a(i) + t * d(i), s.lo, s.hi);
+      if (group_of_(i) < 0) trial(i) = s.lo == s.hi ? a(i) : std::clamp(a(i) + t * d(i), s.lo, s.hi);
       const double step = trial(i) - a(i);
       moved = moved || step != 0.0;
       dec += s.grad * step;
@@ -336,6 +649,9 @@ class Solver {
   const ReducedProblem& p_;
   const SsnOptions& prm_;
   const Eigen::Index n_;
+  const Eigen::VectorXi group_of_;  ///< per coordinate its group, -1 on its own
+  std::vector<GroupState> gst_;     ///< per group
+  std::vector<Unknown> unknowns_;   ///< of the reduced system when the problem has groups
   std::vector<std::vector<double>> kinks_;  ///< the kinks of each law
   Certificate cert_;   ///< at the current point (or the last trial point whose certificate was taken)
   std::vector<Eigen::Index> free_, pinned_;  ///< moving nodes solved for, and those sent onto a knot

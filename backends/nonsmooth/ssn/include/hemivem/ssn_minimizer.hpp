@@ -9,7 +9,10 @@
 // diagonal shift when that system is indefinite) with Armijo backtracking along the
 // projection arc, and a scaled projected-gradient fallback, decreases F monotonically.
 // Nodes land exactly on knots, so kinks with 0 in the Clarke interval are recognised like
-// active bounds and the certificate reaches round-off level.
+// active bounds and the certificate reaches round-off level. A group of coordinates (a law of
+// the pair's norm) moves in its plane with its radius confined to the piece between the
+// neighbouring kinks of j in radius, by radial scaling; a group stuck at 0 stays there while
+// -(S a - c)_G lies in its subdifferential disc, and lands exactly on 0 like a node on a knot.
 #pragma once
 
 #include <string>
@@ -52,6 +55,8 @@ class SsnMinimizer final : public NonsmoothMinimizer {
   explicit SsnMinimizer(SsnOptions options = {}) : options_(options) { require_valid(options_, "ssn"); }
   std::string name() const override { return "ssn"; }
   const SsnOptions& options() const noexcept { return options_; }
+  /// Groups of coordinates (a law of a pair's norm) are minimized in their plane (README.md).
+  bool takes_groups() const noexcept override { return true; }
 
  protected:
   MinimizerResult run(MinimizerRun& run) const override;

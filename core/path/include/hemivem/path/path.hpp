@@ -118,8 +118,9 @@ struct BasicPathStep {
   /// The contact nodes: u_nu, the forces, u_tau (the total tangential displacement) and the
   /// friction force and state of the step (stick: no slip in the step).
   std::vector<BasicContactNode<dim>> contact;
-  /// The slip of the step, u_tau - u_tau^(k-1), per contact node (empty without friction;
-  /// NaN at the nodes of a frictionless part beside one with friction).
+  /// The slip of the step, u_tau - u_tau^(k-1), per contact node: along tau in the plane, its
+  /// length |u_t - u_t^(k-1)| on a solid's surface (empty without friction; NaN at the nodes of
+  /// a frictionless part beside one with friction).
   Eigen::VectorXd slip;
   /// The friction bound g_i of each node at the end of the step (empty without friction; NaN
   /// where slip is).
