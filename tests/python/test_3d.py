@@ -327,3 +327,27 @@ def test_an_adaptive_solve_of_a_solid(small_3d):
     assert r.mesh.num_cells == steps[-1]["elements"]
     assert r.indicators.shape == (r.mesh.num_cells,)
     assert r.displacement.shape == (r.mesh.num_vertices, 3)
+
+
+def test_friction_on_a_solid_has_vectors_in_the_tangent_plane():
+    # Tresca's law of bound g on the length of u_tau: a stuck node has u_tau = 0 and a friction
+    # force inside the disc of radius g w; a slipping one the force g w along its u_tau
+    r = hemivem.solve(ROOT / "scenes" / "friction-block-3d.toml")
+    assert r.converged
+    t, g = r.contact, 0.8
+    n = len(t)
+    assert t.u_tau.shape == (n, 3) and t.friction_force.shape == (n, 3) and t.friction_traction.shape == (n, 3)
+    np.testing.assert_allclose(np.einsum("ij,ij->i", t.u_tau, t.normal), 0.0, atol=1e-15)
+    np.testing.assert_allclose(np.einsum("ij,ij->i", t.friction_force, t.normal), 0.0, atol=1e-15)
+    np.testing.assert_allclose(t.friction_traction, t.friction_force / t.weight[:, None], rtol=1e-14, atol=0)
+    force = np.linalg.norm(t.friction_force, axis=1)
+    stick, slip = t.friction_state == "stick", t.friction_state == "slip"
+    assert stick.any() and slip.any() and (stick | slip).all()
+    assert not t.u_tau[stick].any()
+    assert (force[stick] <= g * t.weight[stick] * (1 + 1e-10)).all()
+    np.testing.assert_allclose(force[slip], g * t.weight[slip], rtol=1e-10)
+    direction = t.u_tau[slip] / np.linalg.norm(t.u_tau[slip], axis=1)[:, None]
+    np.testing.assert_allclose(t.friction_force[slip], force[slip][:, None] * direction, rtol=0, atol=1e-10 * g)
+    j = r.json()
+    assert j["friction"]["nodes"] == {"stick": int(stick.sum()), "slip": int(slip.sum())}
+    assert len(j["contact"][0]["u_tau"]) == 3

@@ -166,6 +166,14 @@ struct PassDriver : smoothing::EngineState {
       act[static_cast<std::size_t>(i)] = (x(i) == p.upper(i) && g(i) <= 0.0) || (x(i) == p.lower(i) && g(i) >= 0.0);
     return act;
   }
+
+  // The active set at the point a: the nodes pushed_out(), and the groups stuck at v = 0 (an
+  // active pair: smoothing::hold_stuck_groups puts them there); a slipping group is free.
+  std::vector<char> active_set(const SmoothedLaws& law) {
+    std::vector<char> act = pushed_out(law, a);
+    smoothing::hold_stuck_groups(p, &a, &act);
+    return act;
+  }
 };
 
 }  // namespace
@@ -191,7 +199,7 @@ MinimizerResult CeresActiveSetMinimizer::run(MinimizerRun& run) const {
   for (std::size_t k = 0; k < schedule.size() && !done && !stop; ++k) {
     const bool final_stage = k + 1 == schedule.size();
     const SmoothedLaws law(p, schedule[k]);
-    std::vector<char> active = passes.pushed_out(law, a);
+    std::vector<char> active = passes.active_set(law);
     double last_residual = std::numeric_limits<double>::infinity();
     for (int pass = 0; pass < prm.max_passes && !done && !stop; ++pass) {
       if (!run.iterations_left()) {
@@ -217,7 +225,7 @@ MinimizerResult CeresActiveSetMinimizer::run(MinimizerRun& run) const {
       // multiplier has the wrong sign leave
       // (an unchanged active set ends the stage unless the final stage still improves: LBFGS
       // restarted from the new point, with a fresh memory and anchor)
-      const std::vector<char> next = passes.pushed_out(law, a);
+      const std::vector<char> next = passes.active_set(law);
       if (next == active) {
         if (!final_stage || !(c.worst() < 0.5 * last_residual)) break;
       }
@@ -235,7 +243,7 @@ MinimizerResult CeresActiveSetMinimizer::run(MinimizerRun& run) const {
     a = smoothing::snap_to_kinks(p, law, a, &stuck);
     double last = std::numeric_limits<double>::infinity();
     for (int round = 0; round < smoothing::kink_rounds && !done && run.iterations_left(); ++round) {
-      std::vector<char> fixed = passes.pushed_out(law, a);
+      std::vector<char> fixed = passes.active_set(law);
       for (std::size_t i = 0; i < fixed.size(); ++i) fixed[i] = fixed[i] || stuck[i];
       done = passes.solve(law, fixed, true);
       if (done) break;

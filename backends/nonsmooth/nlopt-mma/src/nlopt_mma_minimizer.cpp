@@ -147,7 +147,9 @@ MinimizerResult NloptMmaMinimizer::run(MinimizerRun& run) const {
     }
     const bool final_stage = k + 1 == schedule.size();
     const SmoothedLaws law(p, schedule[k]);
-    done = mma.stage(law, none, final_stage, false);
+    std::vector<char> held = none;  // the groups stuck at v = 0 stay there during the stage
+    smoothing::hold_stuck_groups(p, &a, &held);
+    done = mma.stage(law, held, final_stage, false);
     if (!run.record(a)) {
       reason = MinimizerStatus::stopped_by_callback;
       stop = true;
@@ -169,6 +171,7 @@ MinimizerResult NloptMmaMinimizer::run(MinimizerRun& run) const {
       a = smoothing::snap_to_bounds(p, a, g, snap, smoothing::snap_push(p, o));
       std::vector<char> pinned(static_cast<std::size_t>(n), 0);
       for (Eigen::Index i = 0; i < n; ++i) pinned[static_cast<std::size_t>(i)] = a(i) == p.upper(i) || a(i) == p.lower(i);
+      smoothing::hold_stuck_groups(p, &a, &pinned);
       done = mma.stage(law, pinned, true, true);
       if (!run.record(a)) {
         reason = MinimizerStatus::stopped_by_callback;
@@ -188,6 +191,7 @@ MinimizerResult NloptMmaMinimizer::run(MinimizerRun& run) const {
         std::vector<char> pinned(static_cast<std::size_t>(n), 0);
         for (Eigen::Index i = 0; i < n; ++i)
           pinned[static_cast<std::size_t>(i)] = stuck[static_cast<std::size_t>(i)] || a(i) == p.upper(i) || a(i) == p.lower(i);
+        smoothing::hold_stuck_groups(p, &a, &pinned);
         done = mma.stage(law, pinned, true, true);
         if (done) break;
         // again with the stuck nodes let go, or from the point reached while it still improves

@@ -37,6 +37,8 @@ class CeresActiveSetMinimizer final : public NonsmoothMinimizer {
   /// InputError naming the field when the options are not valid.
   explicit CeresActiveSetMinimizer(CeresActiveSetOptions options = {}) : options_(options) { require_valid(options_, "ceres-active-set"); }
   std::string name() const override { return "ceres-active-set"; }
+  /// Groups of coordinates are smoothed as laws of their norm (README.md).
+  bool takes_groups() const noexcept override { return true; }
   const CeresActiveSetOptions& options() const noexcept { return options_; }
 
  protected:

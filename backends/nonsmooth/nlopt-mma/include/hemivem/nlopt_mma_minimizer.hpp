@@ -38,6 +38,8 @@ class NloptMmaMinimizer final : public NonsmoothMinimizer {
   /// InputError naming the field when the options are not valid.
   explicit NloptMmaMinimizer(NloptMmaOptions options = {}) : options_(options) { require_valid(options_, "nlopt-mma"); }
   std::string name() const override { return "nlopt-mma"; }
+  /// Groups of coordinates are smoothed as laws of their norm (README.md).
+  bool takes_groups() const noexcept override { return true; }
   const NloptMmaOptions& options() const noexcept { return options_; }
 
  protected:

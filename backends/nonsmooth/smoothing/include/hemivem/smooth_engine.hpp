@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,10 +20,13 @@
 
 namespace hemivem::smoothing {
 
-/// Whether a law of the problem has a kink (smoothing changes the problem only then).
+/// Whether a law of the problem has a kink, or a group's law of its norm one (at 0 where
+/// j'(0+) > 0: the EvenExtension's kinks); smoothing changes the problem only then.
 inline bool has_kinks(const ReducedProblem& p) {
   for (int k = 0; k < p.num_laws(); ++k)
     if (!p.law_by_number(k).kinks().empty()) return true;
+  for (const CoordinateGroup& g : p.groups)
+    if (!EvenExtension(p.laws[static_cast<std::size_t>(p.law_index(g.first))]).kinks().empty()) return true;
   return false;
 }
 
@@ -38,25 +43,58 @@ inline std::vector<double> schedule(const ReducedProblem& p, double epsilon, dou
   return s;
 }
 
-/// The laws of a problem smoothed at one scale: at(i) is coordinate i's.
+/// The laws of a problem smoothed at one scale: at(i) is coordinate i's; a group's law of its
+/// norm is the smoothed EvenExtension of its law, of_group(g), taken at r = |v| >= 0.
 class SmoothedLaws {
  public:
   SmoothedLaws(const ReducedProblem& p, double epsilon) : p_(&p) {
     for (int k = 0; k < p.num_laws(); ++k)
       laws_.emplace_back(p.laws[static_cast<std::size_t>(k)], epsilon);
+    if (p.groups.empty()) return;
+    group_laws_.resize(laws_.size());
+    grouped_.assign(static_cast<std::size_t>(p.size()), 0);
+    for (const CoordinateGroup& g : p.groups) {
+      const auto k = static_cast<std::size_t>(p.law_index(g.first));
+      if (!group_laws_[k]) group_laws_[k].emplace(std::make_shared<const EvenExtension>(p.laws[k]), epsilon);
+      grouped_[static_cast<std::size_t>(g.first)] = grouped_[static_cast<std::size_t>(g.second)] = 1;
+    }
   }
   const SmoothedLaw& at(Eigen::Index i) const { return laws_[static_cast<std::size_t>(p_->law_index(i))]; }
-  /// The number of kinks smoothed, over all laws.
+  /// The smoothed law of group g's norm.
+  const SmoothedLaw& of_group(const CoordinateGroup& g) const {
+    return *group_laws_[static_cast<std::size_t>(p_->law_index(g.first))];
+  }
+  /// True when coordinate i belongs to a group (its law term is the group's).
+  bool grouped(Eigen::Index i) const { return !grouped_.empty() && grouped_[static_cast<std::size_t>(i)]; }
+  /// The number of kinks smoothed, over all laws and the laws of the groups' norms.
   int kinks() const {
     int k = 0;
     for (const auto& l : laws_) k += l.kinks();
+    for (const auto& l : group_laws_)
+      if (l) k += l->kinks();
     return k;
   }
 
  private:
   const ReducedProblem* p_;
   std::vector<SmoothedLaw> laws_;
+  std::vector<std::optional<SmoothedLaw>> group_laws_;  // by law number, for the laws of groups
+  std::vector<char> grouped_;                           // per coordinate (empty without groups)
 };
+
+/// w j_eps(|v|) of group g at the point a (v = (a_first, a_second)), and its gradient added to
+/// *gradient: w j_eps'(|v|) v / |v|, 0 at v = 0 (j_eps' vanishes there: EvenExtension).
+inline double group_term(const ReducedProblem& p, const SmoothedLaws& law, const CoordinateGroup& g,
+                         const Eigen::VectorXd& a, Eigen::VectorXd* gradient) {
+  const double r = group_norm(a, g), w = p.w(g.first);
+  const SmoothedLaw& j = law.of_group(g);
+  if (gradient && r > 0.0) {
+    const double s = w * j.derivative(r) / r;
+    (*gradient)(g.first) += s * a(g.first);
+    (*gradient)(g.second) += s * a(g.second);
+  }
+  return w * j.value(r);
+}
 
 /// The checks of the fields the smoothing engines' options share: the continuation and the
 /// snapping distance.
@@ -68,17 +106,35 @@ inline bool shared_fields_valid(double epsilon, double epsilon0, double reductio
   return true;
 }
 
-/// F_eps(a) = 1/2 a^T S a - c^T a + sum w_i j_eps(a_i) and its gradient.
+/// F_eps(a) = 1/2 a^T S a - c^T a + sum w_i j_eps(a_i) (+ w j_eps(|a_G|) per group) and its
+/// gradient.
 inline double smoothed_energy(const ReducedProblem& p, const SmoothedLaws& law, const Eigen::VectorXd& a,
                               Eigen::VectorXd* gradient) {
   const Eigen::VectorXd Sa = p.S * a;
   double f = 0.5 * a.dot(Sa) - p.c.dot(a);
   if (gradient) *gradient = Sa - p.c;
   for (Eigen::Index i = 0; i < a.size(); ++i) {
+    if (law.grouped(i)) continue;
     f += p.w(i) * law.at(i).value(a(i));
     if (gradient) (*gradient)(i) += p.w(i) * law.at(i).derivative(a(i));
   }
+  for (const CoordinateGroup& g : p.groups) f += group_term(p, law, g, a, gradient);
   return f;
+}
+
+/// j_eps(|v|) - j_eps(|v0|) for group g's pair v in a and v0 in a0, without cancellation: the
+/// mean of j_eps' over [|v0|, |v|] (SmoothedLaw::difference) times |v| - |v0|, the latter as
+/// (v - v0).(v + v0) / (|v| + |v0|) (near a minimizer |v| - |v0| is far below the round-off of
+/// the norms themselves).
+inline double group_difference(const SmoothedLaw& j, const CoordinateGroup& g, const Eigen::VectorXd& a0,
+                               const Eigen::VectorXd& a) {
+  const double r0 = group_norm(a0, g), r = group_norm(a, g);
+  if (r + r0 == 0.0) return 0.0;
+  const double dr = ((a(g.first) - a0(g.first)) * (a(g.first) + a0(g.first)) +
+                     (a(g.second) - a0(g.second)) * (a(g.second) + a0(g.second))) /
+                    (r + r0);
+  if (r == r0) return j.derivative(r) * dr;
+  return j.difference(r0, r) / (r - r0) * dr;
 }
 
 /// F_eps(a) - F_eps(a0) computed without cancellation (the engines minimize it: near a
@@ -95,10 +151,15 @@ struct AnchoredEnergy {
     const Eigen::VectorXd d = a - a0;
     const Eigen::VectorXd Sd = p->S * d;
     double f = d.dot(g0) + 0.5 * d.dot(Sd);
-    for (Eigen::Index i = 0; i < a.size(); ++i) f += p->w(i) * law->at(i).difference(a0(i), a(i));
+    for (Eigen::Index i = 0; i < a.size(); ++i)
+      if (!law->grouped(i)) f += p->w(i) * law->at(i).difference(a0(i), a(i));
+    for (const CoordinateGroup& g : p->groups)
+      f += p->w(g.first) * group_difference(law->of_group(g), g, a0, a);
     if (gradient) {
       *gradient = g0 + Sd;
-      for (Eigen::Index i = 0; i < a.size(); ++i) (*gradient)(i) += p->w(i) * law->at(i).derivative(a(i));
+      for (Eigen::Index i = 0; i < a.size(); ++i)
+        if (!law->grouped(i)) (*gradient)(i) += p->w(i) * law->at(i).derivative(a(i));
+      for (const CoordinateGroup& g : p->groups) group_term(*p, *law, g, a, gradient);
     }
     return f;
   }
@@ -119,28 +180,64 @@ inline Eigen::VectorXd snap_to_bounds(const ReducedProblem& p, const Eigen::Vect
 /// Nodes strictly inside the rounding window of a kink of their law are put on the kink, and
 /// marked in *on_kink: where the smoothed problem holds a node within epsilon of a kink, the
 /// nonsmooth one sticks it there (the Clarke interval at the kink takes up the force; the
-/// certificate decides).
+/// certificate decides). A group whose norm lies inside the window of a kink of its norm's law
+/// is scaled onto it, v = 0 for the kink at 0, and both its coordinates are marked.
 inline Eigen::VectorXd snap_to_kinks(const ReducedProblem& p, const SmoothedLaws& law, const Eigen::VectorXd& a,
                                      std::vector<char>* on_kink) {
   Eigen::VectorXd s = a;
   on_kink->assign(static_cast<std::size_t>(a.size()), 0);
-  for (Eigen::Index i = 0; i < a.size(); ++i)
+  for (Eigen::Index i = 0; i < a.size(); ++i) {
+    if (law.grouped(i)) continue;
     for (const auto& w : law.at(i).windows())
       if (w.kink && a(i) > w.lo && a(i) < w.hi && w.breakpoint >= p.lower(i) && w.breakpoint <= p.upper(i)) {
         s(i) = w.breakpoint;
         (*on_kink)[static_cast<std::size_t>(i)] = 1;
       }
+  }
+  for (const CoordinateGroup& g : p.groups) {
+    const double r = group_norm(a, g);
+    for (const auto& w : law.of_group(g).windows()) {
+      if (!w.kink || w.breakpoint < 0.0 || !(r > w.lo && r < w.hi)) continue;
+      const double scale = w.breakpoint == 0.0 ? 0.0 : w.breakpoint / r;
+      s(g.first) = scale * a(g.first);
+      s(g.second) = scale * a(g.second);
+      (*on_kink)[static_cast<std::size_t>(g.first)] = (*on_kink)[static_cast<std::size_t>(g.second)] = 1;
+    }
+  }
   return s;
 }
 
 /// Nodes stuck on a kink (marked in *on_kink) whose force c_i - (S a)_i lies outside the
 /// kink's interval w_i [j'(b-), j'(b+)] by more than `slack` are let go (unmarked): the
-/// nonsmooth problem moves them off the kink. True when any was.
+/// nonsmooth problem moves them off the kink. A stuck group is let go when its force
+/// f = (c - S a)_G leaves w times the Clarke subdifferential of j(|v|) by more than `slack`: at
+/// v = 0 when |f| > w j'(0+) + slack; at |v| = b > 0 when f's component along v leaves
+/// w [j'(b-), j'(b+)] or its component across v exceeds `slack`. True when any was.
 inline bool release_from_kinks(const ReducedProblem& p, const Eigen::VectorXd& a, double slack,
                                std::vector<char>* on_kink) {
   bool released = false;
+  const Eigen::VectorXi group_of = p.groups.empty() ? Eigen::VectorXi() : p.group_of();
+  for (const CoordinateGroup& g : p.groups) {
+    if (!(*on_kink)[static_cast<std::size_t>(g.first)]) continue;
+    const Eigen::Vector2d force(p.c(g.first) - p.S.row(g.first).dot(a), p.c(g.second) - p.S.row(g.second).dot(a));
+    const ContactLaw& j = p.law_of(g.first);
+    const double w = p.w(g.first), r = group_norm(a, g);
+    bool leaves = false;
+    if (r == 0.0) {
+      leaves = force.norm() > w * j.derivative(LawPart::j, 0.0, +1) + slack;
+    } else {
+      const Eigen::Vector2d e = Eigen::Vector2d(a(g.first), a(g.second)) / r;
+      const double along = force.dot(e), across = (force - along * e).norm();
+      const double lo = w * j.derivative(LawPart::j, r, -1), hi = w * j.derivative(LawPart::j, r, +1);
+      leaves = along > hi + slack || along < lo - slack || across > slack;
+    }
+    if (leaves) {
+      (*on_kink)[static_cast<std::size_t>(g.first)] = (*on_kink)[static_cast<std::size_t>(g.second)] = 0;
+      released = true;
+    }
+  }
   for (Eigen::Index i = 0; i < a.size(); ++i) {
-    if (!(*on_kink)[static_cast<std::size_t>(i)]) continue;
+    if (!(*on_kink)[static_cast<std::size_t>(i)] || (group_of.size() && group_of(i) >= 0)) continue;
     const double force = p.c(i) - p.S.row(i).dot(a);
     const ContactLaw& j = p.law_of(i);
     const double lo = p.w(i) * j.derivative(LawPart::j, a(i), -1), hi = p.w(i) * j.derivative(LawPart::j, a(i), +1);
@@ -150,6 +247,25 @@ inline bool release_from_kinks(const ReducedProblem& p, const Eigen::VectorXd& a
     }
   }
   return released;
+}
+
+/// Groups that the force at v = 0 keeps there, |(c - S a)_G + S_GG v_G| <= w j'(0+) (stuck in the
+/// nonsmooth problem, the other coordinates held), are put at v = 0 in *a and marked in *held
+/// (both coordinates); the other groups are left alone. Nothing happens without groups.
+inline void hold_stuck_groups(const ReducedProblem& p, Eigen::VectorXd* a, std::vector<char>* held) {
+  if (p.groups.empty()) return;
+  const Eigen::VectorXd force = p.c - p.S * *a;
+  std::vector<const CoordinateGroup*> stuck;
+  for (const CoordinateGroup& g : p.groups) {
+    const double v1 = (*a)(g.first), v2 = (*a)(g.second);
+    const double f1 = force(g.first) + p.S(g.first, g.first) * v1 + p.S(g.first, g.second) * v2;
+    const double f2 = force(g.second) + p.S(g.second, g.first) * v1 + p.S(g.second, g.second) * v2;
+    if (std::hypot(f1, f2) <= p.w(g.first) * p.law_of(g.first).derivative(LawPart::j, 0.0, +1)) stuck.push_back(&g);
+  }
+  for (const CoordinateGroup* g : stuck) {
+    (*a)(g->first) = (*a)(g->second) = 0.0;
+    (*held)[static_cast<std::size_t>(g->first)] = (*held)[static_cast<std::size_t>(g->second)] = 1;
+  }
 }
 
 /// How often the stuck nodes are solved for and let go (release_from_kinks) at most.

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <hemivem/contact_law.hpp>
@@ -142,6 +143,46 @@ class SmoothedLaw {
   std::vector<double> cuts_;  ///< the breakpoints and window ends, sorted: where j_eps' may change piece
   int kinks_ = 0;
   std::vector<Window> windows_;
+};
+
+/// The law r -> j(|r|) of a group's norm (ReducedProblem::groups): j on r >= 0 extended evenly
+/// to r < 0, every part. For an even law it is the law itself; for any other law rising from
+/// 0 it is even, so its smoothing (SmoothedLaw) is even too: the smoothed j_eps has j_eps'(0) = 0
+/// and j_eps(|v|) is C^1 in the pair v, with a kink of the extension at 0 exactly where
+/// j'(0+) > 0 (the cone point of w j(|v|)).
+class EvenExtension final : public ContactLaw {
+ public:
+  explicit EvenExtension(std::shared_ptr<const ContactLaw> law) : law_(std::move(law)) {}
+  std::string name() const override { return law_->name(); }
+  double value(LawPart part, double r) const override { return law_->value(part, std::abs(r)); }
+  double derivative(LawPart part, double r, int side) const override {
+    if (r > 0.0) return law_->derivative(part, r, side);
+    if (r < 0.0) return -law_->derivative(part, -r, -side);
+    const double right = law_->derivative(part, 0.0, +1);
+    return side > 0 ? right : -right;
+  }
+  double second_derivative(LawPart part, double r, int side) const override {
+    if (r > 0.0) return law_->second_derivative(part, r, side);
+    if (r < 0.0) return law_->second_derivative(part, -r, -side);
+    return law_->second_derivative(part, 0.0, +1);
+  }
+  /// The positive breakpoints of the law, their mirror images and 0.
+  std::vector<double> breakpoints() const override {
+    std::vector<double> positive;
+    for (double b : law_->breakpoints())
+      if (b > 0.0) positive.push_back(b);
+    std::vector<double> b;
+    for (auto it = positive.rbegin(); it != positive.rend(); ++it) b.push_back(-*it);
+    b.push_back(0.0);
+    b.insert(b.end(), positive.begin(), positive.end());
+    return b;
+  }
+  /// The law's bound (the extension's curvature on r > 0 is the law's; its kink at 0 is convex).
+  double alpha() const override { return law_->alpha(); }
+  using ContactLaw::value;
+
+ private:
+  std::shared_ptr<const ContactLaw> law_;
 };
 
 }  // namespace hemivem::smoothing
