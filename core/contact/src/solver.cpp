@@ -191,7 +191,12 @@ template <int dim>
 Eigen::Matrix<double, dim, 1> contact_resultant(const std::vector<BasicContactNode<dim>>& nodes) {
   using Point = Eigen::Matrix<double, dim, 1>;
   Point total = Point::Zero();
-  for (const auto& n : nodes) total -= n.force() * n.normal + n.friction_vector;
+  for (const auto& n : nodes) {
+    if constexpr (dim == 2)
+      total -= n.force() * n.normal + n.friction_force * Vec2(-n.normal.y(), n.normal.x());
+    else
+      total -= n.force() * n.normal + n.friction_vector;
+  }
   return total;
 }
 

@@ -15,7 +15,7 @@ namespace {
 template <int dim>
 Eigen::MatrixXd along(const BasicRigidMotions<dim>& motions, const ContactBoundary& boundary, bool tangents,
                       const std::vector<char>& which = {}) {
-  Eigen::MatrixXd rows(boundary.size(), BasicRigidMotions<dim>::per_piece * motions.num_pieces());
+  Eigen::MatrixXd rows(2 * boundary.size(), BasicRigidMotions<dim>::per_piece * motions.num_pieces());
   Eigen::Index r = 0;
   for (int i = 0; i < boundary.size(); ++i) {
     if (!which.empty() && !which[static_cast<std::size_t>(i)]) continue;
@@ -23,8 +23,18 @@ Eigen::MatrixXd along(const BasicRigidMotions<dim>& motions, const ContactBounda
     if constexpr (dim == 2) {
       const Vec2 nu = boundary.normals[static_cast<std::size_t>(i)];
       rows.row(r++) = motions.functional(node, tangents ? Vec2(-nu.y(), nu.x()) : nu);
-    } else {  // a solid's contact is frictionless: normals only
-      if (!tangents) rows.row(r++) = motions.functional(node, boundary.normals3d[static_cast<std::size_t>(i)]);
+    } else {
+      const Vec3 nu = boundary.normals3d[static_cast<std::size_t>(i)];
+      if (!tangents) {
+        rows.row(r++) = motions.functional(node, nu);
+        continue;
+      }
+      // a solid's friction acts in the whole tangent plane: two directions spanning it
+      Eigen::Index least = 0;
+      nu.cwiseAbs().minCoeff(&least);
+      const Vec3 t1 = Vec3::Unit(least).cross(nu).normalized();
+      rows.row(r++) = motions.functional(node, t1);
+      rows.row(r++) = motions.functional(node, nu.cross(t1));
     }
   }
   return rows.topRows(r);

@@ -160,11 +160,17 @@ std::vector<char> contact_kinds(const std::vector<BasicContactPart<dim>>& parts,
 }
 
 /// The traction of a contact node: t_i = -(p_i nu_i + zeta_t,i) / w_i (p: the normal force,
-/// zeta_t: the friction force vector), zero where its weight is not positive.
+/// zeta_t: the friction force, in the plane friction_force along tau, on a solid's surface the
+/// vector friction_vector), zero where its weight is not positive.
 template <int dim>
 Point<dim> node_traction(const BasicContactNode<dim>& node) {
   if (!(node.weight > 0.0)) return Point<dim>::Zero();
-  return -(node.force() * node.normal + node.friction_vector) / node.weight;
+  if constexpr (dim == 2) {
+    const Point<dim> tau(-node.normal.y(), node.normal.x());
+    return -(node.force() / node.weight) * node.normal - (node.friction_force / node.weight) * tau;
+  } else {
+    return -node.pressure() * node.normal - node.friction_vector / node.weight;
+  }
 }
 
 /// The contact node of each vertex and the traction of each node into `b`. InputError for a
