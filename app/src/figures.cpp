@@ -882,6 +882,36 @@ Figure deformed_figure(const Mesh3D& mesh, const ContactSolution3D& sol, const R
   return f;
 }
 
+namespace {
+
+// The stick/slip map over pressure.png: stuck nodes as dots, slipping ones as arrows of their
+// tangential displacement in the picture's plane (axes a, b), the longest a twelfth of `extent`.
+void add_stick_slip_map(Figure& f, std::ostringstream& s, const ContactSolution3D& sol, int a, int b, double extent) {
+  double longest = 0.0;
+  for (const auto& n : sol.contact)
+    if (n.friction_state != FrictionState::none && n.friction_state != FrictionState::stick)
+      longest = std::max(longest, std::hypot(n.u_tangential(a), n.u_tangential(b)));
+  const double scale = longest > 0.0 ? extent / (12.0 * longest) : 0.0;
+  f.data.push_back({"friction.dat", [nodes = sol.contact, a, b, scale](std::ostream& stream) {
+                      TextWriter os(stream);
+                      os << "# a b 0 da db 0 (stuck nodes, then a blank line and the slipping ones)\n";
+                      for (const bool stuck : {true, false}) {
+                        for (const auto& n : nodes) {
+                          if (n.friction_state == FrictionState::none || (n.friction_state == FrictionState::stick) != stuck)
+                            continue;
+                          os << n.x(a) << ' ' << n.x(b) << " 0 " << scale * n.u_tangential(a) << ' '
+                             << scale * n.u_tangential(b) << " 0\n";
+                        }
+                        os << "\n\n";
+                      }
+                    }});
+  s << ", \\\n  'friction.dat' index 0 using 1:2:3 with points pt 7 ps 0.6 lc rgb '#000000' title 'stick', \\\n"
+    << "  'friction.dat' index 1 using 1:2:3:4:5:6 with vectors head filled size screen 0.008,20 lc rgb '#d62728' "
+       "title 'slip (tangential displacement)'";
+}
+
+}  // namespace
+
 Figure pressure_figure(const Mesh3D& mesh, const std::vector<int>& faces, const ContactSolution3D& sol,
                        const RunInfo& info) {
   // the axis the contact faces are seen along: the largest component of their mean normal
@@ -939,32 +969,7 @@ Figure pressure_figure(const Mesh3D& mesh, const std::vector<int>& faces, const 
   if (hi > lo) s << "set cbrange [" << num(lo) << ":" << num(hi) << "]\n";
   s << axis_format("x", a_lo, a_hi) << axis_format("y", b_lo, b_hi) << axis_format("cb", lo, hi);
   s << "splot 'pressure.dat' using 1:2:3:4 with pm3d notitle";
-  if (has_tangential(sol)) {
-    // the stick/slip map: stuck nodes as dots, slipping ones as arrows of their tangential
-    // displacement in the picture's plane, the longest a twelfth of the map's extent
-    double longest = 0.0;
-    for (const auto& n : sol.contact)
-      if (n.friction_state != FrictionState::none && n.friction_state != FrictionState::stick)
-        longest = std::max(longest, std::hypot(n.u_tangential(a), n.u_tangential(b)));
-    const double extent = std::max(a_hi - a_lo, b_hi - b_lo);
-    const double scale = longest > 0.0 ? extent / (12.0 * longest) : 0.0;
-    f.data.push_back({"friction.dat", [nodes = sol.contact, a, b, scale](std::ostream& stream) {
-                        TextWriter os(stream);
-                        os << "# a b 0 da db 0 (stuck nodes, then a blank line and the slipping ones)\n";
-                        for (const bool stuck : {true, false}) {
-                          for (const auto& n : nodes) {
-                            if (n.friction_state == FrictionState::none || (n.friction_state == FrictionState::stick) != stuck)
-                              continue;
-                            os << n.x(a) << ' ' << n.x(b) << " 0 " << scale * n.u_tangential(a) << ' '
-                               << scale * n.u_tangential(b) << " 0\n";
-                          }
-                          os << "\n\n";
-                        }
-                      }});
-    s << ", \\\n  'friction.dat' index 0 using 1:2:3 with points pt 7 ps 0.6 lc rgb '#000000' title 'stick', \\\n"
-      << "  'friction.dat' index 1 using 1:2:3:4:5:6 with vectors head filled size screen 0.008,20 lc rgb '#d62728' "
-         "title 'slip (tangential displacement)'";
-  }
+  if (has_tangential(sol)) add_stick_slip_map(f, s, sol, a, b, std::max(a_hi - a_lo, b_hi - b_lo));
   f.script = s.str();
   return f;
 }

@@ -35,37 +35,28 @@ double balance(double r, Interval law, Interval reaction, double* zeta, double* 
   return std::abs(r + *zeta + *lambda);
 }
 
-CertifiedPoint certify(const ReducedProblem& p, const Eigen::VectorXd& a, double tol) {
-  constexpr double inf = std::numeric_limits<double>::infinity();
-  check_tolerance(tol, "tolerance");
-  CertifiedPoint out;
-  out.certificate.tolerance = tol;
-  const Eigen::Index n = p.size();
-  if (a.size() != n || !a.allFinite() || p.laws.empty()) return out;
-  out.a = a;
-  out.law_force = Eigen::VectorXd::Zero(n);
-  out.reaction = Eigen::VectorXd::Zero(n);
-  if (n == 0) {
-    out.certificate.primal = out.certificate.dual = 0.0;
-    out.certificate.length_scale = out.certificate.force_scale = 0.0;
-    return out;
-  }
-  // 1. the length scale
+namespace {
+
+constexpr double inf = std::numeric_limits<double>::infinity();
+
+// 1. The length scale l.
+double length_scale(const ReducedProblem& p, const Eigen::VectorXd& a) {
   double ell = a.cwiseAbs().maxCoeff();
-  for (Eigen::Index i = 0; i < n; ++i) {
+  for (Eigen::Index i = 0; i < p.size(); ++i) {
     for (double b : {p.lower(i), p.upper(i)})
       if (std::isfinite(b)) ell = std::max(ell, std::abs(b));
     const double d = p.S(i, i);
     ell = std::max(ell, d > 0.0 ? std::abs(p.c(i)) / d : (p.c(i) == 0.0 ? 0.0 : inf));
   }
-  // 2. snapping onto bounds and kinks (of each coordinate's law)
-  std::vector<std::vector<double>> kinks_of(static_cast<std::size_t>(p.num_laws()));
-  for (int k = 0; k < p.num_laws(); ++k) kinks_of[static_cast<std::size_t>(k)] = p.law_by_number(k).kinks();
-  const double window = tol * ell;
-  Eigen::VectorXd& x = out.a;
-  const Eigen::VectorXi group_of = p.group_of();
+  return ell;
+}
+
+// 2. Every single coordinate within `window` of a bound or a kink of its law put there; returns
+// the largest distance from the bounds.
+double snap_coordinates(const ReducedProblem& p, const std::vector<std::vector<double>>& kinks_of, double window,
+                        const Eigen::VectorXi& group_of, Eigen::VectorXd& x) {
   double primal = 0.0;
-  for (Eigen::Index i = 0; i < n; ++i) {
+  for (Eigen::Index i = 0; i < p.size(); ++i) {
     if (group_of(i) >= 0) continue;
     const double lo = p.lower(i), hi = p.upper(i);
     double target = x(i), distance = inf;
@@ -83,10 +74,14 @@ CertifiedPoint certify(const ReducedProblem& p, const Eigen::VectorXd& a, double
     x(i) = target;
     primal = std::max(primal, std::max(lo - x(i), x(i) - hi));
   }
-  // a group: its norm onto the nearest kink of j(|v|) in the window, the origin included
-  // where j'(0+) > 0 (the cone point of the norm)
-  // (the radius of each group as snapped: the kink itself, which the scaled pair's norm may miss
-  // by an ulp)
+  return primal;
+}
+
+// 2. Every group's norm within `window` of a kink of j(|v|) put there by scaling the pair, the
+// origin included where j'(0+) > 0 (the cone point of the norm); returns each group's radius as
+// snapped (the kink itself, which the scaled pair's norm may miss by an ulp).
+std::vector<double> snap_groups(const ReducedProblem& p, const std::vector<std::vector<double>>& kinks_of,
+                                double window, Eigen::VectorXd& x) {
   std::vector<double> radius(p.groups.size());
   for (std::size_t k = 0; k < p.groups.size(); ++k) {
     const CoordinateGroup& g = p.groups[k];
@@ -94,9 +89,9 @@ CertifiedPoint certify(const ReducedProblem& p, const Eigen::VectorXd& a, double
     const ContactLaw& law = p.law_of(g.first);
     double target = r, distance = inf;
     if (law.derivative(LawPart::j, 0.0, +1) > 0.0 && r <= window) target = 0.0, distance = r;
-    for (double k : kinks_of[static_cast<std::size_t>(p.law_index(g.first))]) {
-      const double d = std::abs(r - k);
-      if (k > 0.0 && d <= window && d < distance) target = k, distance = d;
+    for (double kink : kinks_of[static_cast<std::size_t>(p.law_index(g.first))]) {
+      const double d = std::abs(r - kink);
+      if (kink > 0.0 && d <= window && d < distance) target = kink, distance = d;
     }
     radius[k] = target;
     if (target == r) continue;
@@ -104,26 +99,55 @@ CertifiedPoint certify(const ReducedProblem& p, const Eigen::VectorXd& a, double
     x(g.first) *= scale;
     x(g.second) *= scale;
   }
+  return radius;
+}
+
+// 3. A group's law force: the point of w times the Clarke subdifferential of j(|v|) nearest to
+// -res, on the ray of v at radius r > 0, in the disc of radius w j'(0+) at v = 0.
+Eigen::Vector2d group_law_force(const ContactLaw& law, double w, const Eigen::Vector2d& v, double r,
+                                const Eigen::Vector2d& res) {
+  if (r > 0.0) {
+    const Eigen::Vector2d e = v.normalized();
+    const Interval dj = law.clarke(r);
+    return Interval{w * dj.lo, w * dj.hi}.nearest(-res.dot(e)) * e;
+  }
+  const double rho = w * law.derivative(LawPart::j, 0.0, +1), m = res.norm();
+  return m <= rho ? Eigen::Vector2d(-res) : Eigen::Vector2d(-res * (rho / m));
+}
+
+}  // namespace
+
+CertifiedPoint certify(const ReducedProblem& p, const Eigen::VectorXd& a, double tol) {
+  check_tolerance(tol, "tolerance");
+  CertifiedPoint out;
+  out.certificate.tolerance = tol;
+  const Eigen::Index n = p.size();
+  if (a.size() != n || !a.allFinite() || p.laws.empty()) return out;
+  out.a = a;
+  out.law_force = Eigen::VectorXd::Zero(n);
+  out.reaction = Eigen::VectorXd::Zero(n);
+  if (n == 0) {
+    out.certificate.primal = out.certificate.dual = 0.0;
+    out.certificate.length_scale = out.certificate.force_scale = 0.0;
+    return out;
+  }
+  const double ell = length_scale(p, a);
+  // 2. snapping onto bounds and kinks (of each coordinate's law), a group's norm onto its law's
+  std::vector<std::vector<double>> kinks_of(static_cast<std::size_t>(p.num_laws()));
+  for (int k = 0; k < p.num_laws(); ++k) kinks_of[static_cast<std::size_t>(k)] = p.law_by_number(k).kinks();
+  const double window = tol * ell;
+  Eigen::VectorXd& x = out.a;
+  const Eigen::VectorXi group_of = p.group_of();
+  const double primal = snap_coordinates(p, kinks_of, window, group_of, x);
+  const std::vector<double> radius = snap_groups(p, kinks_of, window, x);
   // 3. forces
   const Eigen::VectorXd Sa = p.S * x;
   double worst = 0.0, zeta_max = 0.0;
   for (std::size_t k = 0; k < p.groups.size(); ++k) {
     const CoordinateGroup& g = p.groups[k];
     const Eigen::Vector2d res(Sa(g.first) - p.c(g.first), Sa(g.second) - p.c(g.second));
-    const Eigen::Vector2d v(x(g.first), x(g.second));
-    const double r = radius[k], wg = p.w(g.first);
-    const ContactLaw& law = p.law_of(g.first);
-    Eigen::Vector2d zeta;
-    if (r > 0.0) {
-      // the law force lies on the ray of v: its length is the nearest of w [j'(r-), j'(r+)] to -res . e
-      const Eigen::Vector2d e = v.normalized();
-      const Interval dj = law.clarke(r);
-      zeta = Interval{wg * dj.lo, wg * dj.hi}.nearest(-res.dot(e)) * e;
-    } else {
-      // the disc of radius w j'(0+): -res itself where it lies in the disc, else its radial projection
-      const double rho = wg * law.derivative(LawPart::j, 0.0, +1), m = res.norm();
-      zeta = m <= rho ? Eigen::Vector2d(-res) : Eigen::Vector2d(-res * (rho / m));
-    }
+    const Eigen::Vector2d zeta =
+        group_law_force(p.law_of(g.first), p.w(g.first), Eigen::Vector2d(x(g.first), x(g.second)), radius[k], res);
     out.law_force(g.first) = zeta(0);
     out.law_force(g.second) = zeta(1);
     worst = std::max(worst, (res + zeta).norm());

@@ -205,6 +205,13 @@ struct BasicPathSolver<dim>::Impl {
   Eigen::VectorXd step_load(Step& s, Eigen::VectorXd* b, double* kappa);
   void make_load_current(Eigen::VectorXd* b);
   void find_friction_bounds();
+  /// The tangential weights w_i g_i of `nodes` (those whose bound depends on the normal
+  /// contact) on each of their tangential coordinates: the step's Tresca problem for the bound g.
+  void set_bound_weights(const std::vector<int>& nodes) {
+    for (int i : nodes)
+      for (const int kt : tangential_coordinates(i))
+        if (kt >= 0) step.w(kt) = boundary.weights(i) * g(i);
+  }
   /// Contact node i's tangential coordinates (-1: none): one in the plane, two (a group) on a
   /// solid's surface with both tangentials free.
   std::array<int, 2> tangential_coordinates(int i) const {
@@ -543,9 +550,7 @@ void BasicPathSolver<dim>::Impl::minimize_step(Step& s, const Eigen::VectorXd& s
   Eigen::VectorXd weights(nb), used(nb);
   for (Eigen::Index j = 0; j < nb; ++j) weights(j) = boundary.weights(nodes[static_cast<std::size_t>(j)]);
   for (int it = 1; it <= options.fixed_point.max_iterations; ++it) {
-    for (int i : nodes)
-      for (const int kt : tangential_coordinates(i))
-        if (kt >= 0) step.w(kt) = boundary.weights(i) * g(i);
+    set_bound_weights(nodes);
     MinimizerResult m = minimizer.minimize(step, from, options.minimizer);
     fp.iterations = it;
     s.iterations += m.iterations;

@@ -442,6 +442,35 @@ Eigen::Vector2d solve_group_block(const Eigen::Matrix2d& A, const Eigen::Vector2
   return best;
 }
 
+// The face the blocks' solutions lie on: the directions in which each stays on its face (a
+// coordinate off its kinks and bounds; a group's plane, or the line of its one free direction)
+// as `columns`, and the model's slope there.
+void face_basis(const ReducedProblem& p, const Eigen::VectorXi& group_of, const std::vector<BlockFace>& faces,
+                std::vector<Eigen::VectorXd>& columns, Eigen::VectorXd& slope) {
+  const Eigen::Index n = slope.size();
+  const auto U = [](Eigen::Index i) { return static_cast<std::size_t>(i); };
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (group_of(i) >= 0 || faces[U(i)].free_dims == 0) continue;
+    columns.push_back(Eigen::VectorXd::Unit(n, i));
+    slope(i) = faces[U(i)].slope(0);
+  }
+  for (const CoordinateGroup& g : p.groups) {
+    const BlockFace& face = faces[U(g.first)];
+    if (face.free_dims == 0) continue;
+    slope(g.first) = face.slope(0);
+    slope(g.second) = face.slope(1);
+    if (face.free_dims == 2) {
+      columns.push_back(Eigen::VectorXd::Unit(n, g.first));
+      columns.push_back(Eigen::VectorXd::Unit(n, g.second));
+    } else {
+      Eigen::VectorXd c = Eigen::VectorXd::Zero(n);
+      c(g.first) = face.direction(0);
+      c(g.second) = face.direction(1);
+      columns.push_back(c);
+    }
+  }
+}
+
 // The bundle subproblem of a problem with groups; false when a diagonal block of H or H on a
 // face is not positive definite. `faces` (one per coordinate, the group's at its first) keeps
 // the faces of the solution (the active cuts, for the compression of the bundle).
@@ -489,26 +518,7 @@ bool solve_group_qp(const ReducedProblem& p, const Eigen::VectorXi& group_of, co
     // one Newton step on the face of the blocks: a = a0 + N z, the model linear there
     std::vector<Eigen::VectorXd> columns;
     Eigen::VectorXd slope = Eigen::VectorXd::Zero(n);
-    for (Eigen::Index i = 0; i < n; ++i) {
-      if (group_of(i) >= 0 || faces[U(i)].free_dims == 0) continue;
-      columns.push_back(Eigen::VectorXd::Unit(n, i));
-      slope(i) = faces[U(i)].slope(0);
-    }
-    for (const CoordinateGroup& g : p.groups) {
-      const BlockFace& face = faces[U(g.first)];
-      if (face.free_dims == 0) continue;
-      slope(g.first) = face.slope(0);
-      slope(g.second) = face.slope(1);
-      if (face.free_dims == 2) {
-        columns.push_back(Eigen::VectorXd::Unit(n, g.first));
-        columns.push_back(Eigen::VectorXd::Unit(n, g.second));
-      } else {
-        Eigen::VectorXd c = Eigen::VectorXd::Zero(n);
-        c(g.first) = face.direction(0);
-        c(g.second) = face.direction(1);
-        columns.push_back(c);
-      }
-    }
+    face_basis(p, group_of, faces, columns, slope);
     double after_sweep = model(a);
     if (!columns.empty()) {
       Eigen::MatrixXd N(n, static_cast<Eigen::Index>(columns.size()));

@@ -480,6 +480,27 @@ class Solver {
     return out;
   }
 
+  /// A group at v = 0 whose smooth part's gradient is gq: stuck while |gq| <= w j'(0+), else
+  /// leaving 0 along the ray e = -gq / |gq| up to the first knot `first_knot`.
+  static void classify_at_origin(const ContactLaw& law, double wg, const Eigen::Vector2d& gq, double first_knot,
+                                 GroupState& g) {
+    const double slope0 = law.derivative(LawPart::j, 0.0, +1);
+    const double m = gq.norm();
+    g.e = m > 0.0 ? Eigen::Vector2d(-gq / m) : Eigen::Vector2d(1.0, 0.0);
+    g.t = Eigen::Vector2d(-g.e(1), g.e(0));
+    g.r_lo = 0.0;
+    if (m <= wg * slope0) {
+      g.mode = GroupState::Mode::stuck;
+      g.grad.setZero();
+      g.r_hi = 0.0;
+    } else {
+      g.mode = GroupState::Mode::ray;
+      g.grad = gq + wg * slope0 * g.e;
+      g.r_hi = first_knot;
+      g.radial_curvature = wg * law.second_derivative(LawPart::j, 0.0, +1);
+    }
+  }
+
   /// The state of a group at a: stuck, leaving 0 along a ray, held on a positive kink, or
   /// moving in its piece [r_lo, r_hi] of radius, with the gradient and curvatures on the side
   /// of motion.
@@ -504,20 +525,7 @@ class Solver {
     };
     int side = 1;
     if (g.r == 0.0) {
-      const double m = gq.norm();
-      g.e = m > 0.0 ? Eigen::Vector2d(-gq / m) : Eigen::Vector2d(1.0, 0.0);
-      g.t = Eigen::Vector2d(-g.e(1), g.e(0));
-      g.r_lo = 0.0;
-      if (m <= wg * slope0) {
-        g.mode = Mode::stuck;
-        g.grad.setZero();
-        g.r_hi = 0.0;
-      } else {
-        g.mode = Mode::ray;
-        g.grad = gq + wg * slope0 * g.e;
-        g.r_hi = above(0.0);
-        g.radial_curvature = wg * law.second_derivative(LawPart::j, 0.0, +1);
-      }
+      classify_at_origin(law, wg, gq, above(0.0), g);
     } else {
       g.e = g.v / g.r;
       g.t = Eigen::Vector2d(-g.e(1), g.e(0));
