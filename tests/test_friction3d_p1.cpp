@@ -1,7 +1,7 @@
 // Coulomb friction on a solid against an independent solver of the same discrete problem. On
 // tetrahedra the virtual element space is P1, so the problem hemivem solves is that of a P1
 // finite-element code: written here from scratch (element stiffness from the inverse of
-// [1 x y z], nodal weights a third of each bottom triangle), condensed onto the bottom nodes by a
+// [1 x y z], test_support's, nodal weights a third of each bottom triangle), condensed onto the bottom nodes by a
 // dense Cholesky factorization and minimised by accelerated proximal gradients (the exact prox of
 // w g |v| on each node's tangential pair, the projection onto u_z >= 0), Coulomb's bound g_i =
 // mu p_i by a plain fixed point around it. A block pressed by a rigid platen and sheared, with
@@ -13,6 +13,8 @@
 #include <hemivem/mesh/generators3d.hpp>
 
 #include <Eigen/Dense>
+
+#include "test_support.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -49,27 +51,9 @@ Reference p1_coulomb(const Mesh3D& mesh) {
   const int nv = mesh.num_vertices(), n = 3 * nv;
   const double lambda = young * poisson / ((1 + poisson) * (1 - 2 * poisson)), shear = young / (2 * (1 + poisson));
   Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n, n);
-  Eigen::Matrix<double, 6, 6> C = Eigen::Matrix<double, 6, 6>::Zero();
-  for (int a = 0; a < 3; ++a) {
-    for (int c = 0; c < 3; ++c) C(a, c) = lambda;
-    C(a, a) += 2 * shear;
-    C(3 + a, 3 + a) = shear;
-  }
   for (int c = 0; c < mesh.num_cells(); ++c) {
     const auto& v = mesh.cell_vertices(c);
-    Eigen::Matrix4d P;
-    for (int i = 0; i < 4; ++i) P.row(i) << 1.0, (mesh.vertex(v[i]) - mesh.vertex(v[0])).transpose();
-    const double volume = std::abs(P.determinant()) / 6.0;
-    const Eigen::Matrix4d G = P.inverse();
-    Eigen::Matrix<double, 6, 12> B = Eigen::Matrix<double, 6, 12>::Zero();
-    for (int i = 0; i < 4; ++i) {
-      const Vec3 g = G.col(i).tail<3>();
-      B(0, 3 * i) = g.x(), B(1, 3 * i + 1) = g.y(), B(2, 3 * i + 2) = g.z();
-      B(3, 3 * i + 1) = g.z(), B(3, 3 * i + 2) = g.y();
-      B(4, 3 * i) = g.z(), B(4, 3 * i + 2) = g.x();
-      B(5, 3 * i) = g.y(), B(5, 3 * i + 1) = g.x();
-    }
-    const Eigen::Matrix<double, 12, 12> Ke = volume * B.transpose() * C * B;
+    const Eigen::Matrix<double, 12, 12> Ke = test::p1_tetrahedron_stiffness(mesh, c, lambda, shear);
     for (int i = 0; i < 4; ++i)
       for (int j = 0; j < 4; ++j) K.block<3, 3>(3 * v[i], 3 * v[j]) += Ke.block<3, 3>(3 * i, 3 * j);
   }

@@ -10,6 +10,8 @@
 
 #include <array>
 
+#include "test_support.hpp"
+
 using namespace hemivem;
 
 namespace {
@@ -22,7 +24,7 @@ Eigen::VectorXd solve_free(const LinearSystem& sys) {
   return sys.dofs.expand(ldlt.solve(sys.b));
 }
 
-// An independent P1 code: K = V B^T C B per tetrahedron from the inverse of [1 x y z]; a body
+// An independent P1 code: K = V B^T C B per tetrahedron (test::p1_tetrahedron_stiffness); a body
 // force linear in x with the exact mass matrix V/20 (1 + delta_ij); a traction linear on each
 // triangle with A/12 (1 + delta_ij); clamped dofs eliminated.
 Eigen::VectorXd p1_solve(const Mesh3D& mesh, const Lame& lame, const VectorField3& f, const std::vector<int>& traction_faces,
@@ -30,28 +32,10 @@ Eigen::VectorXd p1_solve(const Mesh3D& mesh, const Lame& lame, const VectorField
   const int n = 3 * mesh.num_vertices();
   Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n, n);
   Eigen::VectorXd b = Eigen::VectorXd::Zero(n);
-  Eigen::Matrix<double, 6, 6> C = Eigen::Matrix<double, 6, 6>::Zero();
-  for (int a = 0; a < 3; ++a) {
-    for (int c = 0; c < 3; ++c) C(a, c) = lame.lambda;
-    C(a, a) += 2 * lame.mu;
-    C(3 + a, 3 + a) = lame.mu;
-  }
   for (int c = 0; c < mesh.num_cells(); ++c) {
     const auto& v = mesh.cell_vertices(c);
-    EXPECT_EQ(v.size(), 4u);
-    Eigen::Matrix4d P;
-    for (int i = 0; i < 4; ++i) P.row(i) << 1.0, (mesh.vertex(v[i]) - mesh.vertex(v[0])).transpose();
-    const double volume = std::abs(P.determinant()) / 6.0;
-    const Eigen::Matrix4d G = P.inverse();  // column i: the coefficients of barycentric i
-    Eigen::Matrix<double, 6, 12> B = Eigen::Matrix<double, 6, 12>::Zero();
-    for (int i = 0; i < 4; ++i) {
-      const Vec3 g = G.col(i).tail<3>();
-      B(0, 3 * i) = g.x(), B(1, 3 * i + 1) = g.y(), B(2, 3 * i + 2) = g.z();
-      B(3, 3 * i + 1) = g.z(), B(3, 3 * i + 2) = g.y();
-      B(4, 3 * i) = g.z(), B(4, 3 * i + 2) = g.x();
-      B(5, 3 * i) = g.y(), B(5, 3 * i + 1) = g.x();
-    }
-    const Eigen::Matrix<double, 12, 12> Ke = volume * B.transpose() * C * B;
+    double volume = 0.0;
+    const Eigen::Matrix<double, 12, 12> Ke = test::p1_tetrahedron_stiffness(mesh, c, lame.lambda, lame.mu, &volume);
     for (int i = 0; i < 4; ++i)
       for (int j = 0; j < 4; ++j) {
         K.block<3, 3>(3 * v[i], 3 * v[j]) += Ke.block<3, 3>(3 * i, 3 * j);

@@ -274,3 +274,33 @@ Eigen::VectorXd tresca_springs_solution(const ReducedProblem& springs, double bo
 }
 
 }  // namespace hemivem::test
+
+namespace hemivem::test {
+
+Eigen::Matrix<double, 12, 12> p1_tetrahedron_stiffness(const Mesh3D& mesh, int cell, double lambda, double mu,
+                                                       double* volume) {
+  Eigen::Matrix<double, 6, 6> C = Eigen::Matrix<double, 6, 6>::Zero();
+  for (int a = 0; a < 3; ++a) {
+    for (int c = 0; c < 3; ++c) C(a, c) = lambda;
+    C(a, a) += 2 * mu;
+    C(3 + a, 3 + a) = mu;
+  }
+  const auto& v = mesh.cell_vertices(cell);
+  EXPECT_EQ(v.size(), 4u);
+  Eigen::Matrix4d P;
+  for (int i = 0; i < 4; ++i) P.row(i) << 1.0, (mesh.vertex(v[i]) - mesh.vertex(v[0])).transpose();
+  const double V = std::abs(P.determinant()) / 6.0;
+  const Eigen::Matrix4d G = P.inverse();  // column i: the coefficients of barycentric i
+  Eigen::Matrix<double, 6, 12> B = Eigen::Matrix<double, 6, 12>::Zero();
+  for (int i = 0; i < 4; ++i) {
+    const Vec3 g = G.col(i).tail<3>();
+    B(0, 3 * i) = g.x(), B(1, 3 * i + 1) = g.y(), B(2, 3 * i + 2) = g.z();
+    B(3, 3 * i + 1) = g.z(), B(3, 3 * i + 2) = g.y();
+    B(4, 3 * i) = g.z(), B(4, 3 * i + 2) = g.x();
+    B(5, 3 * i) = g.y(), B(5, 3 * i + 1) = g.x();
+  }
+  if (volume) *volume = V;
+  return V * B.transpose() * C * B;
+}
+
+}  // namespace hemivem::test

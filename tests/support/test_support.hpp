@@ -149,3 +149,16 @@ ReducedProblem tresca_springs(int groups, double bound, unsigned seed);
 Eigen::VectorXd tresca_springs_solution(const ReducedProblem& springs, double bound);
 
 }  // namespace hemivem::test
+
+#include <hemivem/mesh/mesh3d.hpp>
+
+namespace hemivem::test {
+
+/// The P1 finite-element stiffness of tetrahedron `cell` of `mesh` (12 x 12: the x, y, z dofs of
+/// its vertices in cell_vertices order) for the Lame constants lambda, mu: V B^T C B with the
+/// gradients of the barycentric coordinates from the inverse of [1 x y z]; its volume V into
+/// *volume when given. An independent code for the tests of the virtual elements on tetrahedra.
+Eigen::Matrix<double, 12, 12> p1_tetrahedron_stiffness(const Mesh3D& mesh, int cell, double lambda, double mu,
+                                                       double* volume = nullptr);
+
+}  // namespace hemivem::test
