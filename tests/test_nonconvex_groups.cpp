@@ -130,6 +130,7 @@ TEST(GlobalSearchGroups, AnEngineListWithAnEngineWithoutGroupsIsRefusedByName) {
     ADD_FAILURE() << "a problem with groups was accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("does not take groups"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("with the engine(s) no-groups"), std::string::npos) << e.what();
   }
 }
 

@@ -38,10 +38,7 @@ MinimizerStatus minimizer_status_from_string(std::string_view name) {
 
 MinimizerResult NonsmoothMinimizer::minimize(const ReducedProblem& problem, const Eigen::VectorXd& start,
                                              const MinimizerOptions& options) const {
-  if (!problem.groups.empty() && !takes_groups())
-    throw InputError(name() + " does not take groups of coordinates (the law of a tangential displacement's norm: "
-                     "friction on a solid's surface); choose an engine that does",
-                     name());
+  if (!problem.groups.empty() && !takes_groups()) throw InputError(groups_refusal(), name());
   MinimizerRun r(name(), problem, start, options);
   if (r.size() == 0) return r.finish(MinimizerStatus::converged, {}, "empty problem", &r.start());
   if (options.check_existence) {
@@ -51,6 +48,11 @@ MinimizerResult NonsmoothMinimizer::minimize(const ReducedProblem& problem, cons
   if (answers_certified_start() && r.offer(r.start()))
     return r.finish(MinimizerStatus::converged, {}, "the start is certified", &r.start());
   return run(r);
+}
+
+std::string NonsmoothMinimizer::groups_refusal() const {
+  return name() + " does not take groups of coordinates (the law of a tangential displacement's norm: friction on a "
+                  "solid's surface); choose an engine that does";
 }
 
 int count_at_bound(const ReducedProblem& p, const Eigen::VectorXd& a) {

@@ -126,11 +126,15 @@ class NonsmoothMinimizer {
   /// outcomes are statuses. The empty problem, a problem whose F is unbounded below (status
   /// unbounded, the start returned) and a start the certificate accepts are answered at once
   /// (0 iterations; the start only for a local engine). A problem with groups of coordinates
-  /// (ReducedProblem::groups) is an InputError naming the engine unless it takes_groups().
+  /// (ReducedProblem::groups) is an InputError naming the engine (groups_refusal()) unless it
+  /// takes_groups().
   MinimizerResult minimize(const ReducedProblem& problem, const Eigen::VectorXd& start,
                            const MinimizerOptions& options) const;
   /// True when the engine minimizes laws of a group's norm (a solid's friction).
   virtual bool takes_groups() const noexcept { return false; }
+  /// Why a problem with groups is refused, when takes_groups() is false: "NAME does not take
+  /// groups of coordinates ...", or what an engine made of others names.
+  virtual std::string groups_refusal() const;
 
  protected:
   /// A local engine answers a start the certificate accepts at once; a search for the lowest

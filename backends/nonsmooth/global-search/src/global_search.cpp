@@ -459,6 +459,13 @@ bool GlobalSearch::takes_groups() const noexcept {
   return std::all_of(engines_.begin(), engines_.end(), [](const auto& e) { return e->takes_groups(); });
 }
 
+std::string GlobalSearch::groups_refusal() const {
+  std::string names;
+  for (const std::string& e : engines_without_groups()) names += (names.empty() ? "" : ", ") + e;
+  return "the global search does not take groups of coordinates (the law of a tangential displacement's norm: "
+         "friction on a solid's surface) with the engine(s) " + names + ", which do not; choose engines that do";
+}
+
 std::vector<std::string> GlobalSearch::engines_without_groups() const {
   std::vector<std::string> n;
   for (const auto& e : engines_)

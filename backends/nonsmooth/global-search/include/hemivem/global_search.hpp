@@ -95,6 +95,8 @@ class GlobalSearch final : public NonsmoothMinimizer {
   std::vector<std::string> engine_names() const;
   /// True when every engine takes groups of coordinates.
   bool takes_groups() const noexcept override;
+  /// Names the engines that do not take groups.
+  std::string groups_refusal() const override;
   /// The names of the engines that do not take groups of coordinates, in order (empty when
   /// the search takes them).
   std::vector<std::string> engines_without_groups() const;
