@@ -170,11 +170,6 @@ ContactTable contact_table(const ContactSolution3D& s) {
 
 SolveData& data(py::handle self) { return *self.cast<std::shared_ptr<SolveData>>(); }
 
-/// AttributeError for a Result member that a three-dimensional solve does not have.
-[[noreturn]] void not_in_3d(const std::string& member, const std::string& why) {
-  throw py::attribute_error("Result." + member + ": " + why + " (Result.dimension is 3)");
-}
-
 py::tuple vector_tuple(const Vec2& v) { return py::make_tuple(v.x(), v.y()); }
 py::tuple vector_tuple(const Vec3& v) { return py::make_tuple(v.x(), v.y(), v.z()); }
 
