@@ -101,10 +101,6 @@ double ReducedProblem::energy(const Eigen::VectorXd& a) const { return law_energ
 
 double ReducedProblem::law_energy(const Eigen::VectorXd& a, double onto) const {
   double f = onto;
-  if (groups.empty()) {
-    for (Eigen::Index i = 0; i < a.size(); ++i) f += w(i) * law_of(i).value(LawPart::j, a(i));
-    return f;
-  }
   const Eigen::VectorXi of = group_of();
   for (Eigen::Index i = 0; i < a.size(); ++i)
     if (of(i) < 0) f += w(i) * law_of(i).value(LawPart::j, a(i));

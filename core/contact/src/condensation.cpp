@@ -7,6 +7,7 @@
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
+#include <bit>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -394,7 +395,7 @@ void Condensation::number_coordinates(const ContactBoundary& boundary, const std
     int free_tangentials = 0;
     if (boundary.dimension == 3) {
       const int mask = boundary.prescribed_mask.empty() ? 0 : boundary.prescribed_mask[i];
-      free_tangentials = 2 - ((mask & 1) + (mask >> 1 & 1) + (mask >> 2 & 1));
+      free_tangentials = 2 - std::popcount(static_cast<unsigned>(mask));
     } else {
       free_tangentials = !boundary.prescribed_component.empty() && boundary.prescribed_component[i] >= 0 ? 0 : 1;
     }
@@ -426,12 +427,9 @@ Frame node_frame(int d, const Vec3& nu, const std::array<int, 3>& free) {
     B(a, 1) = -nu(b);
     B(b, 1) = nu(a);
   } else if (f.m == 3) {
-    int e = 0;
-    for (int c = 1; c < 3; ++c)
-      if (std::abs(nu(c)) < std::abs(nu(e))) e = c;
-    const Vec3 t1 = Vec3::Unit(e).cross(nu).normalized();
-    B.col(1) = t1;
-    B.col(2) = nu.cross(t1);
+    const std::array<Vec3, 2> t = tangent_frame(nu);
+    B.col(1) = t[0];
+    B.col(2) = t[1];
   }
   f.full = B;
   for (int r = 0; r < f.m; ++r)
@@ -465,7 +463,7 @@ void Condensation::order_unknowns(const LinearSystem& system, const ContactBound
         if (mask & (1 << c)) free[static_cast<std::size_t>(c)] = -1;
     }
     NodeFrame frame = node_frame<NodeFrame>(d, nu, free);
-    const int expected = d - (prescribed >= 0 ? 1 : 0) - ((mask & 1) + (mask >> 1 & 1) + (mask >> 2 & 1));
+    const int expected = d - (prescribed >= 0 ? 1 : 0) - std::popcount(static_cast<unsigned>(mask));
     if (frame.m == 0 || frame.m != expected) throw InputError("contact node " + std::to_string(v) + " is not free");
     frames_.push_back(frame);
     block1_.push_back(frame.idx[0]);

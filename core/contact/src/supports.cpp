@@ -30,11 +30,7 @@ Eigen::MatrixXd along(const BasicRigidMotions<dim>& motions, const ContactBounda
         continue;
       }
       // a solid's friction acts in the whole tangent plane: two directions spanning it
-      Eigen::Index least = 0;
-      nu.cwiseAbs().minCoeff(&least);
-      const Vec3 t1 = Vec3::Unit(least).cross(nu).normalized();
-      rows.row(r++) = motions.functional(node, t1);
-      rows.row(r++) = motions.functional(node, nu.cross(t1));
+      for (const Vec3& t : tangent_frame(nu)) rows.row(r++) = motions.functional(node, t);
     }
   }
   return rows.topRows(r);

@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 
 #include <array>
+#include <cmath>
 #include <functional>
 #include <memory>
 #include <vector>
@@ -75,6 +76,16 @@ ContactBoundary make_contact_boundary(const Mesh& mesh, const std::vector<int>& 
 /// edges, and its gap from its own part. An edge in two parts is an InputError naming both;
 /// a part whose gap function is empty has gap 0.
 ContactBoundary make_contact_boundary(const Mesh& mesh, const std::vector<ContactPart>& parts, const DofMap& dofs);
+
+/// The tangent frame of a solid's contact node with unit normal nu: t1 = e x nu normalised for
+/// the axis e least aligned with nu, and t2 = nu x t1 (the condensation's tangential slots).
+inline std::array<Vec3, 2> tangent_frame(const Vec3& nu) {
+  int e = 0;
+  for (int c = 1; c < 3; ++c)
+    if (std::abs(nu(c)) < std::abs(nu(e))) e = c;
+  const Vec3 t1 = Vec3::Unit(e).cross(nu).normalized();
+  return {t1, nu.cross(t1)};
+}
 
 /// What the condensation imposes on the nodes of one contact part (ContactBoundary::part).
 struct PartConditions {
