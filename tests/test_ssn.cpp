@@ -18,6 +18,7 @@
 #include <iostream>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "test_support.hpp"
 
@@ -404,5 +405,27 @@ TEST(Ssn, AStartNextToTheSolutionReachesTheCertificate) {
     const MinimizerResult warm = SsnMinimizer().minimize(p, start, o);
     EXPECT_TRUE(warm.converged()) << to_string(warm.status) << ": " << warm.message;
     EXPECT_LE((warm.a - cold.a).cwiseAbs().maxCoeff(), 1e-8 * size);
+  }
+}
+
+// One engine instance keeps the last Newton system's factor for the next system with the same
+// matrix (a path's steps): its results are those of a fresh instance bit for bit, on the same
+// matrix with another load (where the factor is reused) and on a matrix that differs.
+TEST(Ssn, KeptFactorGivesTheFreshResultBitForBit) {
+  // a spring j = k a^2 / 2 without kinks: every coordinate is free, the system S + k W each time
+  const auto spring = std::make_shared<PiecewisePolynomialLaw>("spring", std::vector<double>{},
+                                                               std::vector<Polynomial>{{0.0, 0.0, 500.0}},
+                                                               std::vector<Polynomial>{{0.0}});
+  const ReducedProblem p = random_problem(60, spring, ConstraintKind::none, 2);
+  ReducedProblem other_load = p, other_matrix = p;
+  other_load.c *= -1.5;
+  other_matrix.S *= 1.001;
+  const SsnMinimizer kept;
+  for (const ReducedProblem* r : std::vector<const ReducedProblem*>{&p, &other_load, &other_matrix, &p}) {
+    const MinimizerResult fresh = SsnMinimizer().minimize(*r, Eigen::VectorXd(), MinimizerOptions{});
+    const MinimizerResult again = kept.minimize(*r, Eigen::VectorXd(), MinimizerOptions{});
+    ASSERT_TRUE(fresh.converged()) << fresh.message;
+    EXPECT_EQ(again.message, fresh.message);
+    EXPECT_TRUE(again.a == fresh.a) << "max difference " << (again.a - fresh.a).cwiseAbs().maxCoeff();
   }
 }

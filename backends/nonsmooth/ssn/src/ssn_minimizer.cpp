@@ -10,6 +10,8 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -48,10 +50,14 @@ Eigen::Vector2d onto_radius(const Eigen::Vector2d& x, double radius) {
 /// H + shift I = L L^T for a dense symmetric H (its lower triangle is read), formed in the
 /// factor's own storage: LAPACK's blocked dpotrf on the BLAS where it is found (2.6 times
 /// Eigen's LLT on 2 303 x 2 303 here), Eigen's LLT otherwise. compute() is false when
-/// H + shift I is not positive definite (a pivot <= 0 or NaN).
+/// H + shift I is not positive definite (a pivot <= 0 or NaN). The factor remembers the H it
+/// was made from (in its strict upper triangle and a copy of the diagonal), so that
+/// factors(H) tells, exactly, whether it is H's.
 class DenseCholesky {
  public:
   bool compute(const Eigen::MatrixXd& H, double shift = 0.0) {
+    diag_ = H.diagonal();
+    shift_ = shift;
 #if defined(HEMIVEM_SSN_WITH_LAPACK)
     if (H.rows() > 0 && H.rows() <= std::numeric_limits<int>::max() / 64) {
       L_ = H;
@@ -71,6 +77,17 @@ class DenseCholesky {
   Eigen::VectorXd diagonal() const {
     return L_.size() > 0 ? Eigen::VectorXd(L_.diagonal()) : Eigen::VectorXd(llt_.matrixLLT().diagonal());
   }
+  /// The shift it was computed with.
+  double shift() const noexcept { return shift_; }
+  /// True when it was computed from exactly this H (bit for bit).
+  bool factors(const Eigen::MatrixXd& H) const {
+    if (H.rows() != diag_.size() || H.cols() != diag_.size() || H.diagonal() != diag_) return false;
+    // the strict upper triangle of the factor's storage is the H it was made from
+    const Eigen::MatrixXd& kept = L_.size() > 0 ? L_ : llt_.matrixLLT();
+    for (Eigen::Index j = 1; j < H.cols(); ++j)
+      if (H.col(j).head(j) != kept.col(j).head(j)) return false;
+    return true;
+  }
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const {
     if (L_.size() == 0) return llt_.solve(b);
     Eigen::VectorXd x = b;
@@ -81,8 +98,29 @@ class DenseCholesky {
 
  private:
   Eigen::MatrixXd L_;                // dpotrf's factor (its upper triangle is H's)
-  Eigen::LLT<Eigen::MatrixXd> llt_;  // without LAPACK
+  Eigen::LLT<Eigen::MatrixXd> llt_;  // without LAPACK (its upper triangle is H's too)
+  Eigen::VectorXd diag_;             // H's diagonal
+  double shift_ = 0.0;
 };
+
+}  // namespace
+
+/// The last factor of a Newton system, kept for the next system when it is the same matrix (a
+/// path's steps, and the iterations of one solve, mostly keep their free set).
+struct SsnMinimizer::Memo {
+  std::shared_ptr<const DenseCholesky> get() const {
+    const std::lock_guard<std::mutex> lock(mutex);
+    return last;
+  }
+  void set(std::shared_ptr<const DenseCholesky> factor) {
+    const std::lock_guard<std::mutex> lock(mutex);
+    last = std::move(factor);
+  }
+  mutable std::mutex mutex;
+  std::shared_ptr<const DenseCholesky> last;
+};
+
+namespace {
 
 /// What an iteration knows about one node.
 struct NodeState {
@@ -126,8 +164,8 @@ struct Unknown {
 
 class Solver {
  public:
-  Solver(MinimizerRun& run, const SsnOptions& prm)
-      : run_(run), p_(run.problem()), prm_(prm), n_(p_.size()), group_of_(p_.group_of()), gst_(p_.groups.size()) {
+  Solver(MinimizerRun& run, const SsnOptions& prm, SsnMinimizer::Memo& memo)
+      : run_(run), p_(run.problem()), prm_(prm), memo_(memo), n_(p_.size()), group_of_(p_.group_of()), gst_(p_.groups.size()) {
     for (int k = 0; k < p_.num_laws(); ++k) kinks_.push_back(p_.law_by_number(k).kinks());
   }
 
@@ -357,21 +395,32 @@ class Solver {
   /// positive definite or singular within round-off (min_diag, max_diag: of H's diagonal).
   bool factor_and_solve(const Eigen::MatrixXd& H, const Eigen::VectorXd& rhs, double min_diag, double max_diag,
                         Eigen::VectorXd& x) {
-    DenseCholesky llt;
+    // the same H as the last system's (the free set did not change and the law's curvature is
+    // the same): its factor, and the decisions taken on it, are those it would be made again
+    std::shared_ptr<const DenseCholesky> kept = memo_.get();
+    if (kept && kept->factors(H)) {
+      if (kept->shift() > 0.0) ++shifted_;
+      x = kept->solve(rhs);
+      return x.allFinite();
+    }
+    kept.reset();
+    memo_.set(nullptr);  // its memory is the new factor's
+    auto llt = std::make_shared<DenseCholesky>();
     bool ok = false;
     if (min_diag > 0.0) {
       // a pivot at round-off level is a singular system (S is only semidefinite when a rigid
       // motion is free and the law does not stiffen the nodes that carry it): shifted too
-      ok = llt.compute(H) && llt.diagonal().cwiseAbs2().minCoeff() > singular_pivot * max_diag;
+      ok = llt->compute(H) && llt->diagonal().cwiseAbs2().minCoeff() > singular_pivot * max_diag;
     }
     if (!ok) {
       double mu = std::max(prm_.shift * max_diag, -min_diag + prm_.shift * max_diag);
       if (!(mu > 0.0)) mu = std::numeric_limits<double>::min();
-      for (int k = 0; k < 60 && !ok; ++k, mu *= 4.0) ok = llt.compute(H, mu);
+      for (int k = 0; k < 60 && !ok; ++k, mu *= 4.0) ok = llt->compute(H, mu);
       ++shifted_;
     }
     if (!ok) return false;
-    x = llt.solve(rhs);
+    memo_.set(llt);
+    x = llt->solve(rhs);
     return x.allFinite();
   }
 
@@ -656,6 +705,7 @@ class Solver {
   MinimizerRun& run_;
   const ReducedProblem& p_;
   const SsnOptions& prm_;
+  SsnMinimizer::Memo& memo_;
   const Eigen::Index n_;
   const Eigen::VectorXi group_of_;  ///< per coordinate its group, -1 on its own
   std::vector<GroupState> gst_;     ///< per group
@@ -670,6 +720,10 @@ class Solver {
 
 }  // namespace
 
-MinimizerResult SsnMinimizer::run(MinimizerRun& run) const { return Solver(run, options_).solve(); }
+SsnMinimizer::SsnMinimizer(SsnOptions options) : options_(options), memo_(std::make_shared<Memo>()) {
+  require_valid(options_, "ssn");
+}
+
+MinimizerResult SsnMinimizer::run(MinimizerRun& run) const { return Solver(run, options_, *memo_).solve(); }
 
 }  // namespace hemivem

@@ -15,6 +15,7 @@
 // -(S a - c)_G lies in its subdifferential disc, and lands exactly on 0 like a node on a knot.
 #pragma once
 
+#include <memory>
 #include <string>
 
 #include <hemivem/nonsmooth_minimizer.hpp>
@@ -52,7 +53,7 @@ class SsnMinimizer final : public NonsmoothMinimizer {
  public:
   using Options = SsnOptions;
   /// InputError naming the field when the options are not valid.
-  explicit SsnMinimizer(SsnOptions options = {}) : options_(options) { require_valid(options_, "ssn"); }
+  explicit SsnMinimizer(SsnOptions options = {});
   std::string name() const override { return "ssn"; }
   const SsnOptions& options() const noexcept { return options_; }
   /// Groups of coordinates (a law of a pair's norm) are minimized in their plane (README.md).
@@ -61,8 +62,12 @@ class SsnMinimizer final : public NonsmoothMinimizer {
  protected:
   MinimizerResult run(MinimizerRun& run) const override;
 
+ public:
+  struct Memo;  ///< the last Newton system's factor, reused (only) for the same matrix
+
  private:
   SsnOptions options_;
+  std::shared_ptr<Memo> memo_;
 };
 
 }  // namespace hemivem
