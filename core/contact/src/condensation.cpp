@@ -128,11 +128,13 @@ ContactBoundary make_contact_boundary(const Mesh& mesh, const std::vector<Contac
                          "'; an edge belongs to one part");
       in_part.emplace_back(id, static_cast<int>(k));
     }
-  return boundary_of(mesh, in_part, dofs, [&](int k, int v, const Vec2& normal) {
+  ContactBoundary boundary = boundary_of(mesh, in_part, dofs, [&](int k, int v, const Vec2& normal) {
     const ContactPart& part = parts[static_cast<std::size_t>(k)];
     const std::string which = parts.size() > 1 ? " (contact part '" + part.name + "')" : "";
     return node_gap(mesh.vertex(v), v, normal, part.gap, part.obstacle ? &*part.obstacle : nullptr, which);
   });
+  pair_with_other_body<2>(mesh, parts, boundary);
+  return boundary;
 }
 
 
@@ -285,15 +287,26 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
   if (parts.empty()) throw InputError("condensation needs the conditions of the contact parts");
   nodes_ = boundary.nodes;
   dimension_ = boundary.dimension;
+  // two bodies: the system in the coordinates relative at the pairs
+  LinearSystem joined;
+  if (!boundary.partner.empty()) {
+    std::vector<std::array<int, 2>> pairs;
+    for (int i = 0; i < boundary.size(); ++i)
+      if (const int q = boundary.partner_of(i); q >= 0) pairs.push_back({boundary.nodes[static_cast<std::size_t>(i)], q});
+    joining_ = Joining(system.dofs, std::move(pairs), dimension_);
+    joined = joining_.join(system);
+    dofs_ = joined.dofs;
+  }
+  const LinearSystem& sys = joining_.empty() ? system : joined;
   number_coordinates(boundary, parts);
-  order_unknowns(system, boundary);
+  order_unknowns(sys, boundary);
   // the (x, y[, z]) -> (normal, tangential) rotation at the contact nodes: A~ = Q^T A Q, b~ = Q^T b.
   // In 3D it keeps A's pattern, exact zeros included (on cubes up to a third of the entries
   // cancel exactly, depending on the mesh size): the 3 dofs of a vertex then share their pattern
   // and METIS, which orders 3D bodies, compresses them to one vertex, three times faster than on
   // the pruned pattern (docs/performance.md). In 2D, where AMD orders, the pruned copy is smaller.
-  const SparseMatrix At = rotate_symmetric(system.A, frames_, dimension_ == 3);
-  const Eigen::VectorXd bt = rotate_load(system.b);
+  const SparseMatrix At = rotate_symmetric(sys.A, frames_, dimension_ == 3);
+  const Eigen::VectorXd bt = rotate_load(sys.b);
   measure_interior(At);
   pose_reduced_problem(boundary, parts);
   origin_ = Eigen::VectorXd::Zero(reduced_.lo.size());
@@ -314,6 +327,14 @@ void Condensation::set_load(const Eigen::VectorXd& b, const Eigen::VectorXd& pre
     throw InputError("a load needs " + std::to_string(dofs_.num_free()) + " free and " +
                      std::to_string(dofs_.num_dofs()) + " prescribed values, got " + std::to_string(b.size()) +
                      " and " + std::to_string(prescribed.size()));
+  if (!joining_.empty()) {
+    Eigen::VectorXd joined_prescribed;
+    const Eigen::VectorXd joined_b = joining_.join_load(b, prescribed, joined_prescribed);
+    for (int k = 0; k < dofs_.num_dofs(); ++k)
+      if (dofs_.free_index[static_cast<std::size_t>(k)] < 0) dofs_.prescribed(k) = joined_prescribed(k);
+    condense_load(rotate_load(joined_b));
+    return;
+  }
   for (int k = 0; k < dofs_.num_dofs(); ++k)
     if (dofs_.free_index[static_cast<std::size_t>(k)] < 0) dofs_.prescribed(k) = prescribed(k);
   condense_load(rotate_load(b));
@@ -702,9 +723,10 @@ Eigen::VectorXd Condensation::reduced_point(const Eigen::VectorXd& u) const {
                      std::to_string(u.size()));
   Eigen::VectorXd a(reduced_.lo.size());
   const int d = dimension_;
+  const Eigen::VectorXd v = joining_.empty() ? u : joining_.relative(u);
   for (std::size_t i = 0; i < frames_.size(); ++i) {
     const Eigen::Matrix3d& B = frames_[i].full;
-    const Eigen::VectorXd ui = u.segment(d * nodes_[i], d);
+    const Eigen::VectorXd ui = v.segment(d * nodes_[i], d);
     const int node = static_cast<int>(i);
     if (const int k = normal_coordinate(node); k >= 0) a(k) = B.col(0).head(d).dot(ui) - origin_(k);
     if (const int k = tangential_coordinate(node); k >= 0) a(k) = B.col(1).head(d).dot(ui);
@@ -746,7 +768,7 @@ Eigen::VectorXd Condensation::displacement(const Eigen::VectorXd& x1, const Eige
       ut(f.idx[static_cast<std::size_t>(r)]) = v;
     }
   }
-  return dofs_.expand(ut);
+  return joining_.empty() ? dofs_.expand(ut) : joining_.displacement(dofs_.expand(ut));
 }
 
 }  // namespace hemivem

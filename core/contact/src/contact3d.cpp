@@ -128,6 +128,7 @@ ContactBoundary make_contact_boundary(const Mesh3D& mesh, const std::vector<Cont
     cb.gaps.conservativeResize(cb.size());
     cb.gaps(cb.size() - 1) = g;
   }
+  pair_with_other_body<3>(mesh, parts, cb);
   return cb;
 }
 
@@ -174,6 +175,7 @@ BasicContactNode<3> contact_node(const Mesh3D& mesh, const ContactBoundary& boun
   const auto k0 = static_cast<std::size_t>(i);
   node.vertex = boundary.nodes[k0];
   node.part = boundary.part_of(i);
+  node.partner = boundary.partner_of(i);
   node.x = mesh.vertex(node.vertex);
   node.weight = boundary.weights(i);
   node.normal = boundary.normals3d[k0];

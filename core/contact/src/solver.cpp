@@ -6,6 +6,7 @@
 #include <hemivem/process_group.hpp>
 
 #include <algorithm>
+#include <iterator>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -80,6 +81,7 @@ ContactNode contact_node(const Mesh& mesh, const ContactBoundary& boundary, cons
   ContactNode node;
   node.vertex = boundary.nodes[static_cast<std::size_t>(i)];
   node.part = boundary.part_of(i);
+  node.partner = boundary.partner_of(i);
   node.x = mesh.vertex(node.vertex);
   node.weight = boundary.weights(i);
   node.normal = boundary.normals[static_cast<std::size_t>(i)];
@@ -201,6 +203,13 @@ Eigen::Matrix<double, dim, 1> contact_resultant(const std::vector<BasicContactNo
 }
 
 template <int dim>
+Eigen::Matrix<double, dim, 1> external_contact_resultant(const std::vector<BasicContactNode<dim>>& nodes) {
+  std::vector<BasicContactNode<dim>> external;
+  std::copy_if(nodes.begin(), nodes.end(), std::back_inserter(external), [](const auto& n) { return n.partner < 0; });
+  return contact_resultant(external);
+}
+
+template <int dim>
 typename BasicContactSolution<dim>::Point BasicContactSolution<dim>::contact_force() const {
   return contact_resultant(contact);
 }
@@ -222,6 +231,8 @@ template struct BasicContactSolution<2>;
 template struct BasicContactSolution<3>;
 template Vec2 contact_resultant(const std::vector<BasicContactNode<2>>&);
 template Vec3 contact_resultant(const std::vector<BasicContactNode<3>>&);
+template Vec2 external_contact_resultant(const std::vector<BasicContactNode<2>>&);
+template Vec3 external_contact_resultant(const std::vector<BasicContactNode<3>>&);
 template BasicContactZone<2> contact_zone(const std::vector<BasicContactNode<2>>&);
 template BasicContactZone<3> contact_zone(const std::vector<BasicContactNode<3>>&);
 

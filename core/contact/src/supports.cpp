@@ -20,17 +20,24 @@ Eigen::MatrixXd along(const BasicRigidMotions<dim>& motions, const ContactBounda
   for (int i = 0; i < boundary.size(); ++i) {
     if (!which.empty() && !which[static_cast<std::size_t>(i)]) continue;
     const int node = boundary.nodes[static_cast<std::size_t>(i)];
+    // at a pair of two bodies, the motion of the node relative to its partner
+    const int partner = boundary.partner_of(i);
+    const auto functional = [&](const PointOf<dim>& direction) -> Eigen::RowVectorXd {
+      Eigen::RowVectorXd row = motions.functional(node, direction);
+      if (partner >= 0) row -= motions.functional(partner, direction);
+      return row;
+    };
     if constexpr (dim == 2) {
       const Vec2 nu = boundary.normals[static_cast<std::size_t>(i)];
-      rows.row(r++) = motions.functional(node, tangents ? Vec2(-nu.y(), nu.x()) : nu);
+      rows.row(r++) = functional(tangents ? Vec2(-nu.y(), nu.x()) : nu);
     } else {
       const Vec3 nu = boundary.normals3d[static_cast<std::size_t>(i)];
       if (!tangents) {
-        rows.row(r++) = motions.functional(node, nu);
+        rows.row(r++) = functional(nu);
         continue;
       }
       // a solid's friction acts in the whole tangent plane: two directions spanning it
-      for (const Vec3& t : tangent_frame(nu)) rows.row(r++) = motions.functional(node, t);
+      for (const Vec3& t : tangent_frame(nu)) rows.row(r++) = functional(t);
     }
   }
   return rows.topRows(r);

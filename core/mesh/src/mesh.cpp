@@ -32,7 +32,7 @@ std::string fmt_point(const Vec2& p) {
 // both end points, so near-coincident twins of an end point (edges of ~1e-13) are legal.
 void find_hanging_vertices(const std::vector<Vec2>& vertices,
                            const std::vector<std::array<int, 3>>& boundary,  // v0, v1, element
-                           std::vector<MeshDefect>& out, std::size_t max_defects) {
+                           std::vector<MeshDefect>& out, std::size_t max_defects, const std::vector<int>& pieces) {
   if (boundary.empty()) return;
   std::vector<int> bverts;
   bverts.reserve(2 * boundary.size());
@@ -73,6 +73,8 @@ void find_hanging_vertices(const std::vector<Vec2>& vertices,
       for (int ix = ix0; ix <= ix1; ++ix) {
         for (int v : grid[static_cast<std::size_t>(iy) * cells + ix]) {
           if (v == b[0] || v == b[1]) continue;
+          // another body's vertex may lie on this body's boundary (bodies in contact)
+          if (!pieces.empty() && pieces[static_cast<std::size_t>(v)] != pieces[static_cast<std::size_t>(b[0])]) continue;
           const Vec2 p = vertices[v] - a;
           const double t = p.dot(d) / len2;
           if (t <= 1e-6 || t >= 1.0 - 1e-6) continue;
@@ -168,7 +170,8 @@ void find_element_defects(const std::vector<Vec2>& vertices, const std::vector<s
 // Distinct vertices used by elements must not sit at the same point (that would be a
 // crack: two boundaries on top of each other). Near-twins (e.g. 1e-13 apart) are legal.
 void find_coincident_vertices(const std::vector<Vec2>& vertices, const std::vector<std::vector<int>>& elements,
-                              std::vector<MeshDefect>& out, std::size_t max_defects) {
+                              std::vector<MeshDefect>& out, std::size_t max_defects, const std::vector<int>& pieces) {
+  const auto piece = [&](int v) { return pieces.empty() ? 0 : pieces[static_cast<std::size_t>(v)]; };
   std::vector<char> used(vertices.size(), 0);
   std::vector<int> first_element(vertices.size(), -1);
   for (std::size_t e = 0; e < elements.size(); ++e)
@@ -180,11 +183,12 @@ void find_coincident_vertices(const std::vector<Vec2>& vertices, const std::vect
   for (std::size_t i = 0; i < vertices.size(); ++i)
     if (used[i]) order.push_back(static_cast<int>(i));
   std::sort(order.begin(), order.end(), [&](int a, int b) {
-    return std::make_pair(vertices[a].x(), vertices[a].y()) < std::make_pair(vertices[b].x(), vertices[b].y());
+    return std::make_tuple(vertices[a].x(), vertices[a].y(), piece(a)) <
+           std::make_tuple(vertices[b].x(), vertices[b].y(), piece(b));
   });
   for (std::size_t i = 1; i < order.size() && out.size() < max_defects; ++i) {
     const int a = std::min(order[i - 1], order[i]), b = std::max(order[i - 1], order[i]);
-    if (vertices[a] == vertices[b])
+    if (vertices[a] == vertices[b] && piece(a) == piece(b))
       out.push_back({first_element[static_cast<std::size_t>(b)],
                      "uses vertex " + std::to_string(b) + " " + fmt_point(vertices[b]) + ", which coincides with vertex " +
                          std::to_string(a) + " (duplicate vertices: the mesh is not conforming)"});
@@ -275,7 +279,7 @@ double signed_area(std::span<const Vec2> polygon) {
 
 std::vector<MeshDefect> find_mesh_defects(const std::vector<Vec2>& vertices,
                                           const std::vector<std::vector<int>>& elements,
-                                          std::size_t max_defects) {
+                                          std::size_t max_defects, const std::vector<int>& pieces) {
   std::vector<MeshDefect> out;
   auto full = [&] { return out.size() >= max_defects; };
   if (vertices.empty()) out.push_back({-1, "the mesh has no vertices"});
@@ -286,16 +290,21 @@ std::vector<MeshDefect> find_mesh_defects(const std::vector<Vec2>& vertices,
   if (!out.empty()) return out;
   find_element_defects(vertices, elements, out, max_defects);
   if (full() || !out.empty()) return out;
-  find_coincident_vertices(vertices, elements, out, max_defects);
+  if (!pieces.empty() && pieces.size() != vertices.size())
+    out.push_back({-1, "the pieces of the vertices are given for " + std::to_string(pieces.size()) + " of " +
+                           std::to_string(vertices.size()) + " vertices"});
+  if (!out.empty()) return out;
+  find_coincident_vertices(vertices, elements, out, max_defects, pieces);
   if (!out.empty()) return out;
   const std::vector<EdgeUse> uses = find_edge_defects(vertices, elements, out, max_defects);
   if (!out.empty()) return out;
-  find_hanging_vertices(vertices, boundary_edges(uses), out, max_defects);
+  find_hanging_vertices(vertices, boundary_edges(uses), out, max_defects, pieces);
   return out;
 }
 
-Mesh::Mesh(std::vector<Vec2> vertices, std::vector<std::vector<int>> elements, std::vector<int> regions) {
-  if (auto defects = find_mesh_defects(vertices, elements, 1); !defects.empty()) {
+Mesh::Mesh(std::vector<Vec2> vertices, std::vector<std::vector<int>> elements, std::vector<int> regions,
+           const std::vector<int>& bodies) {
+  if (auto defects = find_mesh_defects(vertices, elements, 1, bodies); !defects.empty()) {
     const auto& d = defects.front();
     throw MeshError(d.element >= 0 ? "element " + std::to_string(d.element) + " " + d.message : d.message, d.element);
   }

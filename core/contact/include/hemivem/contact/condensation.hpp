@@ -13,6 +13,7 @@
 #include <hemivem/vem/assembly.hpp>
 #include <hemivem/mesh/mesh.hpp>
 #include <hemivem/mesh/mesh3d.hpp>
+#include <hemivem/contact/joining.hpp>
 #include <hemivem/contact/obstacle.hpp>
 #include <hemivem/contact/problem.hpp>
 #include <hemivem/reduced_problem.hpp>
@@ -42,10 +43,17 @@ struct ContactBoundary {
   std::vector<int> faces;
   std::vector<Vec3> normals3d;
   std::vector<int> prescribed_mask;
+  /// Per node: the vertex of the other body at its point when its part meets another body
+  /// (BasicContactPart::against), -1 otherwise; empty when no part does. The condensation then
+  /// joins the bodies at these pairs (hemivem/contact/joining.hpp): the node's unknowns are its
+  /// displacements relative to its partner's.
+  std::vector<int> partner;
 
   int size() const noexcept { return static_cast<int>(nodes.size()); }
   /// The part of node i (0 when `part` is empty).
   int part_of(int i) const noexcept { return part.empty() ? 0 : part[static_cast<std::size_t>(i)]; }
+  /// The partner of node i (-1: none).
+  int partner_of(int i) const noexcept { return partner.empty() ? -1 : partner[static_cast<std::size_t>(i)]; }
   /// Normal displacements (N u)_i of a full nodal displacement vector.
   Eigen::VectorXd normal_displacements(const Eigen::VectorXd& u) const;
 };
@@ -76,6 +84,16 @@ ContactBoundary make_contact_boundary(const Mesh& mesh, const std::vector<int>& 
 /// edges, and its gap from its own part. An edge in two parts is an InputError naming both;
 /// a part whose gap function is empty has gap 0.
 ContactBoundary make_contact_boundary(const Mesh& mesh, const std::vector<ContactPart>& parts, const DofMap& dofs);
+
+/// Pairs each node of `boundary` whose part meets another body (BasicContactPart::against) with
+/// the vertex of that body's surface at its point (boundary.partner), within 1e-9 of the mesh's
+/// size. InputError naming the part and the node when there is none (the two bodies' meshes
+/// do not match along the contact: hemivem/mesh/interface.hpp matches them), when the vertex
+/// found is itself a node of the contact, or when two nodes find the same vertex. The plane's
+/// and the solid's make_contact_boundary call it.
+template <int dim>
+void pair_with_other_body(const MeshOf<dim>& mesh, const std::vector<BasicContactPart<dim>>& parts,
+                          ContactBoundary& boundary);
 
 /// The tangent frame of a solid's contact node with unit normal nu: t1 = e x nu normalised for
 /// the axis e least aligned with nu, and t2 = nu x t1 (the condensation's tangential slots).
@@ -207,6 +225,7 @@ class Condensation {
 
  private:
   DofMap dofs_;
+  Joining joining_;  // two bodies: their pairs (empty: one body)
   std::unique_ptr<SparseFactorization> factorization_;
   ReducedProblem reduced_;
   double margin_ = 0.0;

@@ -73,6 +73,11 @@ struct BasicContactPart {
   /// then tresca_law(1) (a unit bound that each node's bound scales). None: the bound of
   /// `friction` itself (a given number, Tresca).
   std::optional<FrictionBound> friction_bound;
+  /// Two bodies (docs/two-bodies.md): the facets of the other body's surface that this part's
+  /// facets meet, the two bodies being pieces of one mesh. Each node of the part is paired with
+  /// the vertex of these facets at its point, and the laws act on its displacement relative to
+  /// that vertex's (hemivem/contact/joining.hpp). Empty: a foundation or an obstacle.
+  std::vector<int> against;
 };
 using ContactPart = BasicContactPart<2>;
 

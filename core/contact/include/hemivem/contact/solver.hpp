@@ -70,6 +70,10 @@ struct BasicContactNode {
   int vertex = -1;
   /// The index of the node's contact part (BasicContactSolution::contact_parts names it).
   int part = 0;
+  /// Two bodies: the vertex of the other body across the contact (u_nu, u_tau and the forces
+  /// are then relative: this node's body's less the other's); -1 against a foundation or an
+  /// obstacle.
+  int partner = -1;
   Point x = Point::Zero();
   double u_nu = 0.0;       ///< normal displacement a_i
   double law_force = 0.0;  ///< zeta_i in w_i dj(a_i): the force of the contact law
@@ -194,6 +198,11 @@ BasicContactZone<dim> contact_zone(const BasicContactSolution<dim>& solution) {
 /// The resultant of the contact forces of `nodes` on the body (contact_force()).
 template <int dim>
 Eigen::Matrix<double, dim, 1> contact_resultant(const std::vector<BasicContactNode<dim>>& nodes);
+/// The resultant of the forces of foundations and obstacles alone: a contact between two
+/// bodies (BasicContactNode::partner) pushes both, and its forces cancel in the sum over the
+/// bodies. What the balance of the bodies' forces takes as their contact.
+template <int dim>
+Eigen::Matrix<double, dim, 1> external_contact_resultant(const std::vector<BasicContactNode<dim>>& nodes);
 
 /// The contact boundary of `problem` on the dofs of its assembled system: the nodes of every
 /// contact part (contact_parts, make_contact_boundary), normals, weights, gaps (each part's

@@ -56,18 +56,21 @@ inline constexpr double max_mesh_coordinate = 1e150;
 ///   DBL_MIN, which coordinates of about 1e-154 and less give); conformity: each edge in at most two elements
 ///   and with opposite directions when in two; no hanging vertex (a vertex lying inside
 ///   a boundary edge it does not belong to).
-/// Edges of any positive length, including ~1e-13, are legal.
+/// Edges of any positive length, including ~1e-13, are legal. `bodies` (optional, one per
+/// vertex) numbers the bodies of a mesh of several (hemivem/mesh/bodies.hpp): vertices of
+/// different bodies may coincide, and one body's vertex may lie on another's boundary edge.
 std::vector<MeshDefect> find_mesh_defects(const std::vector<Vec2>& vertices,
                                           const std::vector<std::vector<int>>& elements,
-                                          std::size_t max_defects = 20);
+                                          std::size_t max_defects = 20, const std::vector<int>& bodies = {});
 
 class Mesh {
  public:
   Mesh() = default;
   /// Builds and validates a mesh; throws MeshError naming the first defect.
-  /// `regions` (optional) gives a material region id per element (default 0).
+  /// `regions` (optional) gives a material region id per element (default 0); `bodies`
+  /// (optional) the body of each vertex of a mesh of several bodies (find_mesh_defects).
   Mesh(std::vector<Vec2> vertices, std::vector<std::vector<int>> elements,
-       std::vector<int> regions = {});
+       std::vector<int> regions = {}, const std::vector<int>& bodies = {});
 
   int num_vertices() const noexcept { return static_cast<int>(vertices_.size()); }
   int num_elements() const noexcept { return static_cast<int>(offsets_.empty() ? 0 : offsets_.size() - 1); }
