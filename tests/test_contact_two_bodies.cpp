@@ -10,6 +10,7 @@
 #include <hemivem/mesh/generators.hpp>
 #include <hemivem/mesh/interface.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
+#include <hemivem/path/path.hpp>
 #include <hemivem/error.hpp>
 
 #include <gtest/gtest.h>
@@ -264,5 +265,119 @@ TEST(TwoBodies, AFoundationPosedAsAStiffBodyGivesTheOneBodyAnswer) {
     EXPECT_LT(difference, 300.0 / stiff);
     if (previous > 0.0) EXPECT_LT(difference, 0.02 * previous);
     previous = difference;
+  }
+}
+
+// Tresca friction between the bodies, on the relative tangential displacement: the upper block,
+// held by the contact alone (normal and tangential), is pressed by p and sheared by tau < g on
+// its top, with the complementary shear on both blocks' sides; the lower block is clamped at its
+// bottom. With nu = 0 the exact field is linear in each block (sigma_yy = -p, sigma_xy = tau),
+// the interface stuck: the relative displacement 0 and the friction force tau at every node.
+namespace {
+
+struct Sheared {
+  double p = 2.0, tau = 0.7, g = 1.0;
+  Material upper{10.0, 0.0}, lower{4.0, 0.0};
+  /// The exact displacement at vertex x of the upper (or lower) block.
+  Vec2 exact(const Vec2& x, bool up) const {
+    const double y0 = up ? 0.5 : 0.0;
+    const Material& m = up ? upper : lower;
+    // below: u = (tau/mu_l y, -p/E_l y); above: continuous at y = 0.5 (mu = E/2 with nu = 0)
+    const Vec2 base = up ? Vec2(tau / (lower.young / 2.0) * 0.5, -p / lower.young * 0.5) : Vec2(0.0, 0.0);
+    return base + Vec2(tau / (m.young / 2.0) * (x.y() - y0), -p / m.young * (x.y() - y0));
+  }
+};
+
+/// The sheared stack's problem; `load` is read when the tractions are evaluated.
+ContactProblem sheared_problem(const Stack& s, const Sheared& load) {
+  const Mesh& mesh = s.joined.mesh;
+  ContactProblem problem;
+  problem.elasticity.mesh = &mesh;
+  std::vector<Material> by_region(static_cast<std::size_t>(s.joined.first_region[1] + 1), load.upper);
+  by_region.back() = load.lower;
+  problem.elasticity.materials = MaterialTable(by_region, PlaneModel::strain);
+  const auto zero = [](const Vec2&) { return Vec2(0.0, 0.0); };
+  problem.elasticity.dirichlet.push_back({edges_at_y(mesh, 0.0), zero, {true, true}, "lower.bottom", {}});
+  TractionLoad top, left, right;
+  top.facets = edges_at_y(mesh, 1.0);
+  top.traction = [&load](const Vec2&) { return Vec2(load.tau, -load.p); };
+  left.facets = edges_at_x(mesh, 0.0);
+  left.traction = [&load](const Vec2&) { return Vec2(0.0, -load.tau); };
+  right.facets = edges_at_x(mesh, 1.0);
+  right.traction = [&load](const Vec2&) { return Vec2(0.0, load.tau); };
+  problem.elasticity.tractions = {top, left, right};
+  ContactPart part;
+  part.name = "interface";
+  part.facets = s.upper_bottom;
+  part.against = s.lower_top;
+  part.gap = [](const Vec2&) { return 0.0; };
+  part.law = zero_law();
+  part.constraint = ConstraintKind::one_sided;
+  part.friction = tresca_law(load.g);
+  problem.parts.push_back(part);
+  return problem;
+}
+
+double worst_error(const Stack& s, const Sheared& load, const Eigen::VectorXd& u) {
+  double worst = 0.0;
+  for (int v = 0; v < s.joined.mesh.num_vertices(); ++v)
+    worst = std::max(worst, (Vec2(u(2 * v), u(2 * v + 1)) - load.exact(s.joined.mesh.vertex(v), v < s.joined.first_vertex[1])).norm());
+  return worst;
+}
+
+}  // namespace
+
+TEST(TwoBodies, TrescaFrictionHoldsAStuckInterfaceExactly) {
+  const Stack s = stack(make_voronoi({5, 3}, {0.0, 1.0, 0.5, 1.0}), make_squares({3, 2}, {0.0, 1.0, 0.0, 0.5}));
+  const Sheared load;
+  const double p = load.p, tau = load.tau;
+  const ContactProblem problem = sheared_problem(s, load);
+  for (const std::string minimizer : {"ssn", "bundle-dca"}) {
+    SCOPED_TRACE(minimizer);
+    const ContactSolution sol = solve(problem, minimizer);
+    ASSERT_TRUE(sol.converged()) << sol.message;
+    EXPECT_EQ(sol.held_by_contact.size(), 3u);  // the upper block's rigid motions
+    const double worst = worst_error(s, load, sol.u);
+    EXPECT_LT(worst, 1e-10);
+    for (const ContactNode& n : sol.contact) {
+      EXPECT_NEAR(n.u_tau, 0.0, 1e-12);
+      EXPECT_EQ(n.friction_state, FrictionState::stick);
+      // the lower body pushes the upper one by -zeta along the tangent tau = (-nu_y, nu_x) = (1, 0)
+      EXPECT_NEAR(n.friction_force / n.weight, tau, 1e-9) << "node at x = " << n.x.x();
+      EXPECT_NEAR(n.force() / n.weight, p, 1e-9);
+    }
+  }
+}
+
+// The same stack along a loading path whose load is not proportional (p t^2 and tau t): each
+// step condenses its load through the joining, and is the exact field at its t.
+TEST(TwoBodies, APathOfTwoBodiesIsExactAtEveryStep) {
+  const Stack s = stack(make_voronoi({5, 3}, {0.0, 1.0, 0.5, 1.0}), make_squares({3, 2}, {0.0, 1.0, 0.0, 0.5}));
+  Sheared load;
+  ContactProblem problem = sheared_problem(s, load);
+  const Sheared full = load;
+  PathLoading loading;
+  loading.t = {0.25, 0.5, 0.75, 1.0};
+  loading.update = [&](double t, ContactProblem&) {
+    load.p = full.p * t * t;
+    load.tau = full.tau * t;
+  };
+  loading.updates_prescribed = false;
+  loading.updates_gaps = false;
+  FactorizationOptions f;
+  f.engine = "auto";
+  PathOptions options;
+  options.minimizer.tolerance = 1e-12;
+  options.frame = [](int) { return true; };
+  const PathSolution path = solve_path(problem, make_factorization(f), *make_minimizer("ssn"), loading, options);
+  ASSERT_TRUE(path.converged());
+  ASSERT_EQ(path.steps.size(), 4u);
+  for (const PathStep& step : path.steps) {
+    SCOPED_TRACE(step.t);
+    Sheared at = full;
+    at.p = full.p * step.t * step.t;
+    at.tau = full.tau * step.t;
+    ASSERT_EQ(step.u.size(), 2 * s.joined.mesh.num_vertices());
+    EXPECT_LT(worst_error(s, at, step.u), 1e-10);
   }
 }
