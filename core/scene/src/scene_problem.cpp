@@ -322,6 +322,15 @@ void check_regions_used(const Scene& scene, const MeshOf<dim>& mesh, bool boxes)
 }
 
 template void check_regions_used<2>(const Scene&, const Mesh&, bool);
+
+template <int dim>
+std::vector<int> select_facets(const Scene& scene, const MeshOf<dim>& mesh, const BoundarySelector& selector,
+                               const std::string& key) {
+  return FacetSelection<dim>(scene, mesh)(selector, key);
+}
+
+template std::vector<int> select_facets<2>(const Scene&, const Mesh&, const BoundarySelector&, const std::string&);
+template std::vector<int> select_facets<3>(const Scene&, const Mesh3D&, const BoundarySelector&, const std::string&);
 template void check_regions_used<3>(const Scene&, const Mesh3D&, bool);
 
 template <int dim>
@@ -343,7 +352,7 @@ template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> build_problem(const Scene& scene) {
   detail::require_dimension<dim>(scene);
   if constexpr (dim == 2)
-    return detail::built_plane(scene);
+    return scene.bodies.empty() ? detail::built_plane(scene) : detail::built_bodies(scene);
   else
     return detail::built_solid(scene);
 }

@@ -27,6 +27,18 @@ std::unique_ptr<BasicBuiltProblem<dim>> built_on(const Scene& scene, MeshOf<dim>
 template <int dim>
 void require_dimension(const Scene& scene);
 
+/// The boundary facets of `mesh` that `selector` picks (sorted, distinct); an error naming `key`
+/// of `scene` when it picks none or names a group the mesh lacks.
+template <int dim>
+std::vector<int> select_facets(const Scene& scene, const MeshOf<dim>& mesh, const BoundarySelector& selector,
+                               const std::string& key);
+
+/// The problem of a scene of several bodies ([[body]], docs/two-bodies.md): each body's mesh
+/// made as a scene of one body makes it, the meshes of the bodies that meet matched along each
+/// contact part against another body (match_interface), joined into one mesh of several pieces
+/// (join_meshes), and each body's materials, supports, loads and contact parts on it.
+std::unique_ptr<BuiltProblem> built_bodies(const Scene& scene);
+
 /// The problem of a plane scene on its own mesh (its generator or file; region boxes applied).
 std::unique_ptr<BuiltProblem> built_plane(const Scene& scene);
 /// The problem of a solid scene on its own mesh (its generator or Gmsh file).

@@ -348,6 +348,81 @@ SceneObstacle read_obstacle(TableReader& ob) {
 }
 
 /// contact.constraint: none, one-sided, box or bilateral (which takes no obstacle).
+/// "body.name" of a scene of several bodies: the body (which must exist, and be `body` when that
+/// is not empty) and the name.
+std::pair<std::string, std::string> body_and_name(TableReader& r, std::string_view key, const std::string& value,
+                                                  const std::string& body) {
+  const auto& bodies = r.scene().bodies;
+  std::vector<std::string> names;
+  for (const SceneBody& b : bodies) names.push_back(b.name);
+  const auto dot = value.find('.');
+  const std::string which = dot == std::string::npos ? std::string() : value.substr(0, dot);
+  if (dot == std::string::npos || dot + 1 == value.size() || std::find(names.begin(), names.end(), which) == names.end())
+    r.fail(key, r.node(key),
+           "'" + value + "': in a scene of several bodies a side or group is named after its body, \"body.side\" (the bodies: " +
+               join(names) + ")" + (dot == std::string::npos ? "" : did_you_mean(which, names)));
+  if (!body.empty() && which != body)
+    r.fail(key, r.node(key), "'" + value + "' is on body '" + which + "', and this part's boundary is on body '" + body +
+                                 "': a contact part lies on one body");
+  return {which, value.substr(dot + 1)};
+}
+
+/// The boundary of a contact part in a scene of several bodies: sides and groups named
+/// "body.side", "body.group" (all on one body, `body`).
+BoundarySelector read_body_selector(TableReader& r, std::string& body) {
+  BoundarySelector s;
+  s.sides.clear();
+  const bool solid = r.scene().dimension() == 3;
+  const std::vector<std::string>& sides = solid ? kSides3 : kSides;
+  if (r.has("segments"))
+    r.fail("segments", r.node("segments"), "a contact part of a scene of several bodies is selected by side or group (\"body.side\")");
+  if (auto v = r.strings("side", true))
+    for (const auto& x : *v) {
+      auto [b, side] = body_and_name(r, "side", x, body);
+      body = b;
+      if (std::find(sides.begin(), sides.end(), lower(side)) == sides.end())
+        r.fail("side", r.node("side"), "unknown side '" + side + "' of body '" + b + "'" + did_you_mean(side, sides) +
+                                           " (expected one of: " + join(sides) + ")");
+      s.sides.push_back(lower(side));
+    }
+  if (auto v = r.strings("group", true))
+    for (const auto& x : *v) {
+      auto [b, group] = body_and_name(r, "group", x, body);
+      body = b;
+      s.groups.push_back(group);
+    }
+  if (auto t = r.number("tolerance")) {
+    if (!(*t > 0.0)) r.fail("tolerance", r.node("tolerance"), "must be > 0, got " + fmt(*t));
+    s.tolerance = *t;
+  }
+  if (!s.has_facets())
+    throw InputError(r.path() + ": no boundary given; set side or group, named after the body (\"body.side\")", r.at(r.self()));
+  return s;
+}
+
+/// contact.against = "body.side" (or "body.group"): the other body's surface a part meets. Its
+/// gap is 0 and its constraint one-sided unless the part says otherwise.
+void read_against(TableReader& r, SceneContact& c) {
+  auto a = r.string("against");
+  if (!a) return;
+  if (r.scene().bodies.empty())
+    r.fail("against", r.node("against"), "names another body's surface; a scene of one body has no other ([[body]] tables)");
+  if (r.has("obstacle")) r.fail("against", r.node("against"), "a part meets another body or an obstacle, not both");
+  auto [b, name] = body_and_name(r, "against", *a, "");
+  if (b == c.body) r.fail("against", r.node("against"), "'" + *a + "' is on the part's own body '" + b + "'");
+  const bool solid = r.scene().dimension() == 3;
+  const std::vector<std::string>& sides = solid ? kSides3 : kSides;
+  BoundarySelector s;
+  s.sides.clear();
+  if (std::find(sides.begin(), sides.end(), lower(name)) != sides.end()) s.sides.push_back(lower(name));
+  else s.groups.push_back(name);
+  s.tolerance = c.boundary.tolerance;
+  c.against = s;
+  c.against_body = b;
+  if (!r.has("gap")) c.gap = SceneScalar{0.0, {}};
+  if (!r.has("constraint")) c.constraint = ConstraintKind::one_sided;
+}
+
 void read_constraint(TableReader& r, SceneContact& c) {
   auto k = r.string("constraint");
   if (!k) return;
@@ -375,7 +450,11 @@ SceneContact read_contact(TableReader& r) {
              "a contact part's name is 1 to 64 letters, digits, '-', '_' or '.', got '" + *name + "'");
     c.name = *name;
   }
-  c.boundary = read_selector(r, true);
+  if (r.scene().bodies.empty()) {
+    c.boundary = read_selector(r, true);
+  } else {
+    c.boundary = read_body_selector(r, c.body);
+  }
   read_contact_law(r, c.law);
   if (auto g = r.scalar("gap")) {
     if (!g->is_expression() && g->value < 0.0) r.fail("gap", r.node("gap"), "must be >= 0, got " + fmt(g->value));
@@ -389,6 +468,7 @@ SceneContact read_contact(TableReader& r) {
     c.constraint = ConstraintKind::one_sided;  // unless the scene says otherwise
   }
   read_constraint(r, c);
+  read_against(r, c);
   if (auto o = r.string("law_origin")) {
     if (*o != "body" && *o != "surface")
       r.fail("law_origin", r.node("law_origin"), "unknown law origin '" + *o + "'; expected body or surface");
@@ -418,7 +498,7 @@ void read_contact_parts(Scene& s, TableReader& r) {
   const toml::node* n = r.find("contact");
   if (!n) return;
   const std::vector<std::string> keys = with_selector({"name", "law", "parameters", "breakpoints", "j", "j1", "j2", "gap",
-                                                       "obstacle", "constraint", "law_origin", "friction"});
+                                                       "obstacle", "constraint", "law_origin", "friction", "against"});
   std::vector<const toml::table*> tables;
   if (const toml::table* t = n->as_table()) {
     tables.push_back(t);
@@ -919,6 +999,68 @@ void read_output(Scene& s, const toml::table& t) {
   }
 }
 
+/// One [[body]] table: its name, mesh (required), material, supports and loads, read as a scene
+/// of one body reads them.
+SceneBody read_body(Scene& s, const toml::table& t, std::size_t i, const std::filesystem::path& base) {
+  Scene one;
+  one.source = s.source;
+  one.lines.clear();
+  const std::string key = "body[" + std::to_string(i) + "]";
+  TableReader r(one, t, key, {"name", "mesh", "material", "clamped", "dirichlet", "loads"});
+  SceneBody body;
+  auto name = r.string("name");
+  if (!name) throw InputError(key + ": missing key 'name' (each body is named: name = \"upper\")", r.at(r.self()));
+  const bool valid = !name->empty() && name->size() <= 64 && std::all_of(name->begin(), name->end(), [](char ch) {
+    return std::isalnum(static_cast<unsigned char>(ch)) || ch == '-' || ch == '_';
+  });
+  if (!valid) r.fail("name", r.node("name"), "a body's name is 1 to 64 letters, digits, '-' or '_', got '" + *name + "'");
+  for (const SceneBody& b : s.bodies)
+    if (b.name == *name) r.fail("name", r.node("name"), "two bodies are named '" + *name + "'");
+  body.name = *name;
+  const toml::table* mesh = r.table("mesh");
+  if (!mesh) throw InputError(key + ": missing table 'mesh' (each body has its own mesh)", r.at(r.self()));
+  read_mesh(one, *mesh, base);
+  if (const toml::table* m = r.table("material")) read_material(one, *m);
+  one.clamped = BoundarySelector{{}, {}, {}, 1e-8, {}};
+  if (const toml::table* c = r.table("clamped")) read_clamped(one, *c);
+  if (const toml::array* d = r.array_of_tables("dirichlet")) read_dirichlet(one, *d);
+  read_loads(one, r.table("loads"));
+  body.mesh = one.mesh;
+  body.material = one.material;
+  body.clamped = one.clamped;
+  body.dirichlet = one.dirichlet;
+  body.body_force = one.body_force;
+  body.tractions = one.tractions;
+  body.lines = one.lines;
+  for (const auto& [k, line] : one.lines) s.lines[k.rfind(key, 0) == 0 ? k : key + "." + k] = line;
+  return body;
+}
+
+/// [[body]]: the bodies of a scene of several, all of one dimension; the scene's own mesh,
+/// material, supports and loads are then refused.
+void read_bodies(Scene& s, TableReader& r, const std::filesystem::path& base) {
+  s.bodies.clear();
+  const toml::array* a = r.array_of_tables("body");
+  if (!a) return;
+  if (a->size() < 2) r.fail("body", r.node("body"), "a scene of several bodies has at least two [[body]] tables");
+  for (const char* k : {"mesh", "material", "clamped", "dirichlet", "loads"})
+    if (r.has(k))
+      r.fail(k, r.node(k), "not used in a scene of several bodies: each [[body]] has its own mesh, material, supports and loads");
+  for (std::size_t i = 0; i < a->size(); ++i) {
+    s.bodies.push_back(read_body(s, *(*a)[i].as_table(), i, base));
+    if (s.bodies.back().mesh.dimension != s.bodies.front().mesh.dimension)
+      r.fail("body", (*a)[i], "body '" + s.bodies.back().name + "' is of dimension " +
+                                  std::to_string(s.bodies.back().mesh.dimension) + " and body '" + s.bodies.front().name +
+                                  "' of dimension " + std::to_string(s.bodies.front().mesh.dimension) +
+                                  ": the bodies of a scene are all plane or all solid");
+  }
+  s.mesh.dimension = s.bodies.front().mesh.dimension;
+  s.clamped = BoundarySelector{{}, {}, {}, 1e-8, {}};
+  s.dirichlet.clear();
+  s.tractions.clear();
+  s.body_force = {};
+}
+
 }  // namespace
 
 Scene scene_from_table(const toml::table& root, std::string source, const std::filesystem::path& base) {
@@ -927,14 +1069,17 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
   s.lines.clear();
   TableReader r(s, root, "",
                 {"schema_version", "title", "mesh", "material", "clamped", "dirichlet", "loads", "contact", "solver", "adapt",
-                 "path", "output"});
+                 "path", "output", "body"});
   read_version_and_title(r, s);
-  if (const toml::table* t = r.table("mesh")) read_mesh(s, *t, base);
-  if (const toml::table* t = r.table("material")) read_material(s, *t);
-  if (!r.has("clamped")) s.clamped = BoundarySelector{{}, {}, {}, 1e-8, {}};  // only the supports the scene writes
-  if (const toml::table* t = r.table("clamped")) read_clamped(s, *t);
-  if (const toml::array* d = r.array_of_tables("dirichlet")) read_dirichlet(s, *d);
-  read_loads(s, r.table("loads"));
+  read_bodies(s, r, base);
+  if (s.bodies.empty()) {
+    if (const toml::table* t = r.table("mesh")) read_mesh(s, *t, base);
+    if (const toml::table* t = r.table("material")) read_material(s, *t);
+    if (!r.has("clamped")) s.clamped = BoundarySelector{{}, {}, {}, 1e-8, {}};  // only the supports the scene writes
+    if (const toml::table* t = r.table("clamped")) read_clamped(s, *t);
+    if (const toml::array* d = r.array_of_tables("dirichlet")) read_dirichlet(s, *d);
+    read_loads(s, r.table("loads"));
+  }
   read_contact_parts(s, r);
   if (const toml::table* t = r.table("solver")) read_solver(s, *t);
   s.adapt.reset();
@@ -942,6 +1087,11 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
   s.path.reset();
   if (const toml::table* t = r.table("path")) read_path(s, *t);
   if (const toml::table* t = r.table("output")) read_output(s, *t);
+  if (!s.bodies.empty())
+    for (const char* k : {"adapt", "path"})
+      if (r.has(k))
+        r.fail(k, r.node(k), std::string("a scene of several bodies is solved statically; [") + k +
+                                 "] is not available for it");
   return s;
 }
 
@@ -998,7 +1148,38 @@ bool operator==(const Scene& a, const Scene& b) {
          a.clamped == b.clamped && a.dirichlet == b.dirichlet && a.body_force == b.body_force &&
          a.tractions == b.tractions && a.contact == b.contact && a.more_contact == b.more_contact &&
          a.solver == b.solver && a.adapt == b.adapt && a.path == b.path && a.outputs == b.outputs &&
-         a.figure_formats == b.figure_formats;
+         a.figure_formats == b.figure_formats && a.bodies == b.bodies;
+}
+
+Scene body_scene(const Scene& scene, std::size_t b) {
+  if (b >= scene.bodies.size())
+    throw InputError("body " + std::to_string(b) + " of a scene of " + std::to_string(scene.bodies.size()) + " bodies");
+  const SceneBody& body = scene.bodies[b];
+  Scene one;
+  one.title = scene.title;
+  one.source = scene.source;
+  one.lines = body.lines;
+  one.mesh = body.mesh;
+  one.material = body.material;
+  one.clamped = body.clamped;
+  one.dirichlet = body.dirichlet;
+  one.body_force = body.body_force;
+  one.tractions = body.tractions;
+  one.solver = scene.solver;
+  one.outputs = scene.outputs;
+  one.figure_formats = scene.figure_formats;
+  one.contact.reset();
+  for (std::size_t k = 0; k < contact_parts(scene).size(); ++k) {
+    SceneContact part = contact_parts(scene)[k];
+    if (part.body != body.name) continue;
+    if (part.name.empty()) part.name = contact_part_name(scene, k);
+    part.body.clear();
+    part.against.reset();
+    part.against_body.clear();
+    if (!one.contact) one.contact = std::move(part);
+    else one.more_contact.push_back(std::move(part));
+  }
+  return one;
 }
 
 std::vector<SceneContact> contact_parts(const Scene& scene) {

@@ -89,8 +89,8 @@ void write_pieces(std::ostream& o, const SceneLaw& law) {
   o << "j2 = " << pieces(law.j2) << "\n";
 }
 
-void write_mesh(std::ostream& o, const SceneMesh& m) {
-  o << "[mesh]\n";
+void write_mesh(std::ostream& o, const SceneMesh& m, const std::string& at = "") {
+  o << "[" << at << "mesh]\n";
   if (!m.file.empty()) {
     o << "file = " << quote(m.file.generic_string()) << "\n";
     return;
@@ -109,26 +109,26 @@ void write_mesh(std::ostream& o, const SceneMesh& m) {
     o << "domain = " << list(m.polygon, [](const std::array<double, 2>& p) { return list(p, fmt); }) << "\n";
 }
 
-void write_material(std::ostream& o, const SceneMaterial& m, int dimension) {
-  o << "\n[material]\n";
+void write_material(std::ostream& o, const SceneMaterial& m, int dimension, const std::string& at = "") {
+  o << "\n[" << at << "material]\n";
   o << "E = " << fmt(m.young) << "\n";
   o << "nu = " << fmt(m.poisson) << "\n";
   if (dimension != 3) o << "model = " << quote(to_string(m.model)) << "\n";  // a solid has no plane model
   o << "stabilization = " << quote(to_string(m.stabilization)) << "\n";
   for (const auto& r : m.regions) {
-    o << "\n[[material.region]]\nid = " << r.region << "\nE = " << fmt(r.young) << "\nnu = " << fmt(r.poisson) << "\n";
+    o << "\n[[" << at << "material.region]]\nid = " << r.region << "\nE = " << fmt(r.young) << "\nnu = " << fmt(r.poisson) << "\n";
     if (r.box) o << "box = " << list(*r.box, fmt) << "\n";
   }
 }
 
 /// [clamped] (when it selects anything) and each [[dirichlet]].
-void write_dirichlet(std::ostream& o, const Scene& s) {
+void write_dirichlet(std::ostream& o, const Scene& s, const std::string& at = "") {
   if (!s.clamped.empty()) {
-    o << "\n[clamped]\n";
+    o << "\n[" << at << "clamped]\n";
     write_selector(o, s.clamped, s.dimension());
   }
   for (const auto& d : s.dirichlet) {
-    o << "\n[[dirichlet]]\n";
+    o << "\n[[" << at << "dirichlet]]\n";
     write_selector(o, d.boundary, s.dimension());
     if (d.ux) o << "ux = " << scalar_text(*d.ux) << "\n";
     if (d.uy) o << "uy = " << scalar_text(*d.uy) << "\n";
@@ -136,12 +136,12 @@ void write_dirichlet(std::ostream& o, const Scene& s) {
   }
 }
 
-void write_loads(std::ostream& o, const Scene& s) {
-  o << "\n[loads]\n";
+void write_loads(std::ostream& o, const Scene& s, const std::string& at = "") {
+  o << "\n[" << at << "loads]\n";
   const int dims = s.dimension();
   o << "body_force = " << list(first(s.body_force, dims), scalar_text) << "\n";
   for (const auto& t : s.tractions) {
-    o << "\n[[loads.traction]]\n";
+    o << "\n[[" << at << "loads.traction]]\n";
     write_selector(o, t.boundary);
     if (t.pressure) o << "pressure = " << scalar_text(*t.pressure) << "\n";
     else o << "value = " << list(first(t.value, dims), scalar_text) << "\n";
@@ -165,7 +165,19 @@ void write_obstacle(std::ostream& o, const SceneObstacle& b, int dims) {
 void write_contact(std::ostream& o, const SceneContact& c, bool in_array, int dims) {
   o << (in_array ? "\n[[contact]]\n" : "\n[contact]\n");
   if (!c.name.empty()) o << "name = " << quote(c.name) << "\n";
-  write_selector(o, c.boundary);
+  if (c.body.empty()) {
+    write_selector(o, c.boundary);
+  } else {
+    // a scene of several bodies names a part's sides and groups after its body
+    BoundarySelector named = c.boundary;
+    for (auto& x : named.sides) x = c.body + "." + x;
+    for (auto& x : named.groups) x = c.body + "." + x;
+    write_selector(o, named);
+  }
+  if (c.against) {
+    const std::string name = c.against->sides.empty() ? c.against->groups.front() : c.against->sides.front();
+    o << "against = " << quote(c.against_body + "." + name) << "\n";
+  }
   o << "law = " << quote(c.law.name) << "\n";
   write_pieces(o, c.law);
   // a bilateral contact uses no gap: written only when it is not the default
@@ -213,10 +225,20 @@ std::string to_toml(const Scene& s) {
   o << "# hemivem scene (resolved: every key written)\n";
   o << "schema_version = " << s.schema_version << "\n";
   o << "title = " << quote(s.title) << "\n\n";
-  write_mesh(o, s.mesh);
-  write_material(o, s.material, s.dimension());
-  write_dirichlet(o, s);
-  write_loads(o, s);
+  if (s.bodies.empty()) {
+    write_mesh(o, s.mesh);
+    write_material(o, s.material, s.dimension());
+    write_dirichlet(o, s);
+    write_loads(o, s);
+  }
+  for (std::size_t b = 0; b < s.bodies.size(); ++b) {
+    o << (b == 0 ? "" : "\n") << "[[body]]\nname = " << quote(s.bodies[b].name) << "\n\n";
+    const Scene one = body_scene(s, b);
+    write_mesh(o, one.mesh, "body.");
+    write_material(o, one.material, one.dimension(), "body.");
+    write_dirichlet(o, one, "body.");
+    write_loads(o, one, "body.");
+  }
   for (const SceneContact& c : contact_parts(s)) write_contact(o, c, !s.more_contact.empty(), s.dimension());
   write_solver(o, s.solver);
   if (s.adapt) {

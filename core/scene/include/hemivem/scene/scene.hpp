@@ -192,7 +192,33 @@ struct SceneContact {
   /// "coulomb" (the bound mu p, p the contact pressure) and a bound table depend on the normal
   /// contact: the problem's friction is then tresca_law(1) with a FrictionBound.
   std::optional<SceneLaw> friction;
+  /// In a scene of several bodies ([[body]]): the body whose boundary `boundary` selects (its
+  /// side and group names written "body.side", "body.group"); empty in a scene of one body.
+  std::string body;
+  /// Two bodies (docs/two-bodies.md): the other body's surface this part meets, `against =
+  /// "body.side"` (or "body.group"); the part's law, constraint, gap and friction then act on
+  /// the displacement relative to that body's. None: a foundation or an obstacle.
+  std::optional<BoundarySelector> against;
+  std::string against_body;
   bool operator==(const SceneContact&) const = default;
+};
+
+/// [[body]]: one body of a scene of several (docs/two-bodies.md), with the keys a scene of one
+/// body has for its mesh, material, supports and loads.
+struct SceneBody {
+  std::string name;  ///< letters, digits, '-' and '_'; unique
+  SceneMesh mesh;
+  SceneMaterial material;
+  BoundarySelector clamped{{}, {}, {}, 1e-8, {}};
+  std::vector<SceneDirichlet> dirichlet;
+  std::array<SceneScalar, 3> body_force{};
+  std::vector<SceneTraction> tractions;
+  /// Line of each key of the body's table, by dotted path within it ("mesh.n").
+  std::map<std::string, int> lines;
+  bool operator==(const SceneBody& o) const {
+    return name == o.name && mesh == o.mesh && material == o.material && clamped == o.clamped &&
+           dirichlet == o.dirichlet && body_force == o.body_force && tractions == o.tractions;
+  }
 };
 
 struct SceneSolver {
@@ -281,6 +307,11 @@ struct Scene {
   /// once (scene_figure_formats; u_nu.png, u_nu.pdf, u_nu.svg).
   std::vector<std::string> figure_formats{"png"};
 
+  /// [[body]]: the bodies of a scene of several (docs/two-bodies.md); empty for one body, whose
+  /// mesh, material, supports and loads are the keys above. With bodies those keys are not
+  /// used (mesh.dimension is the bodies'), and contact parts name their body.
+  std::vector<SceneBody> bodies;
+
   /// Where the scene came from (a path, or a name such as "<default>").
   std::string source = "<default>";
   /// Line of each key read from the source, by dotted path ("contact.gap",
@@ -303,6 +334,12 @@ struct Scene {
 
 /// Equality of the problem data (source and lines are ignored).
 bool operator==(const Scene& a, const Scene& b);
+
+/// Body b of a scene of several as a scene of one body: its mesh, material, supports and loads,
+/// the scene's contact parts on that body (their sides and groups, without the body's name;
+/// a part against another body as a part against nothing, with no gap), solver and outputs,
+/// and the lines of its keys. InputError for b out of range.
+Scene body_scene(const Scene& scene, std::size_t b);
 
 /// Every contact part of the scene in order: *contact, then more_contact (empty without contact).
 std::vector<SceneContact> contact_parts(const Scene& scene);

@@ -1,0 +1,130 @@
+// A scene of several bodies made concrete (docs/two-bodies.md): the bodies' meshes matched along
+// their contact and joined into one, each body's data moved onto it.
+#include <hemivem/scene/scene.hpp>
+
+#include <algorithm>
+
+#include <hemivem/mesh/bodies.hpp>
+#include <hemivem/mesh/interface.hpp>
+
+#include "scene_problem.hpp"
+
+namespace hemivem::detail {
+
+namespace {
+
+std::size_t body_index(const Scene& scene, const std::string& name) {
+  for (std::size_t b = 0; b < scene.bodies.size(); ++b)
+    if (scene.bodies[b].name == name) return b;
+  throw InputError("no body named '" + name + "'");
+}
+
+/// The meshes of the bodies, each as its scene of one body makes it, matched along every
+/// contact part against another body.
+std::vector<Mesh> matched_meshes(const Scene& scene) {
+  std::vector<Mesh> meshes;
+  for (std::size_t b = 0; b < scene.bodies.size(); ++b) meshes.push_back(built_plane(body_scene(scene, b))->mesh);
+  const std::vector<SceneContact> parts = contact_parts(scene);
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    const SceneContact& c = parts[k];
+    if (!c.against) continue;
+    const std::size_t a = body_index(scene, c.body), b = body_index(scene, c.against_body);
+    const std::string key = contact_key(scene, k);
+    const std::vector<int> side = select_facets<2>(scene, meshes[a], c.boundary, key);
+    const std::vector<int> other = select_facets<2>(scene, meshes[b], *c.against, key + ".against");
+    try {
+      MatchedInterface m = match_interface(meshes[a], side, meshes[b], other, std::max(c.boundary.tolerance, 1e-8));
+      meshes[a] = std::move(m.first);
+      meshes[b] = std::move(m.second);
+    } catch (const InputError& e) {
+      throw InputError(key + ": body '" + c.body + "' and body '" + c.against_body +
+                           "' do not meet along this part: " + e.detail(),
+                       scene.where(key));
+    }
+  }
+  return meshes;
+}
+
+/// Body b's materials, supports and loads on the joined mesh.
+void add_body(const Scene& scene, std::size_t b, const BuiltProblem& body, const JoinedMeshes& joined,
+              ContactProblem& into, std::vector<Material>& by_region) {
+  const auto& e = body.problem.elasticity;
+  const std::vector<int>& edge_of = joined.edge_of[b];
+  int largest = 0;
+  for (int r : body.mesh.regions()) largest = std::max(largest, r);
+  for (int r = 0; r <= largest; ++r) {
+    const auto at = static_cast<std::size_t>(joined.first_region[b] + r);
+    if (by_region.size() <= at) by_region.resize(at + 1);
+    by_region[at] = e.materials.material(r);
+  }
+  const std::string& name = scene.bodies[b].name;
+  for (auto d : e.dirichlet) {
+    for (int& f : d.facets) f = edge_of[static_cast<std::size_t>(f)];
+    for (int& v : d.vertices) v += joined.first_vertex[b];
+    d.name = name + "." + d.name;
+    into.elasticity.dirichlet.push_back(std::move(d));
+  }
+  for (auto t : e.tractions) {
+    for (int& f : t.facets) f = edge_of[static_cast<std::size_t>(f)];
+    into.elasticity.tractions.push_back(std::move(t));
+  }
+}
+
+/// The plane model, the stabilization and the body force are one for all bodies.
+void require_shared(const Scene& scene) {
+  const SceneBody& first = scene.bodies.front();
+  for (std::size_t b = 1; b < scene.bodies.size(); ++b) {
+    const SceneBody& other = scene.bodies[b];
+    const std::string key = "body[" + std::to_string(b) + "]";
+    if (other.material.model != first.material.model || other.material.stabilization != first.material.stabilization)
+      throw InputError(key + ".material: the bodies of a scene share one plane model and one stabilization",
+                       scene.where(key + ".material"));
+    if (other.body_force != first.body_force)
+      throw InputError(key + ".loads.body_force: the bodies of a scene share one body force", scene.where(key + ".loads"));
+  }
+}
+
+}  // namespace
+
+std::unique_ptr<BuiltProblem> built_bodies(const Scene& scene) {
+  require_shared(scene);
+  std::vector<Mesh> meshes = matched_meshes(scene);
+  std::vector<std::unique_ptr<BuiltProblem>> bodies;
+  std::vector<const Mesh*> pieces;
+  std::vector<std::string> names;
+  for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
+    bodies.push_back(built_on<2>(body_scene(scene, b), std::move(meshes[b])));
+    pieces.push_back(&bodies.back()->mesh);
+    names.push_back(scene.bodies[b].name);
+  }
+  JoinedMeshes joined = join_meshes(pieces, names);
+  auto out = std::make_unique<BuiltProblem>();
+  out->mesh = std::move(joined.mesh);
+  ContactProblem& p = out->problem;
+  p.elasticity.mesh = &out->mesh;
+  p.elasticity.stabilization = bodies.front()->problem.elasticity.stabilization;
+  p.elasticity.body_force = bodies.front()->problem.elasticity.body_force;
+  std::vector<Material> by_region;
+  for (std::size_t b = 0; b < bodies.size(); ++b) add_body(scene, b, *bodies[b], joined, p, by_region);
+  p.elasticity.materials = MaterialTable(by_region, bodies.front()->problem.elasticity.materials.model());
+  // the contact parts, in the scene's order, each from its body's problem
+  const std::vector<SceneContact> parts = contact_parts(scene);
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    const std::size_t a = body_index(scene, parts[k].body);
+    const std::string name = contact_part_name(scene, k);
+    const auto& own = bodies[a]->problem.parts;
+    auto part = *std::find_if(own.begin(), own.end(), [&](const ContactPart& x) { return x.name == name; });
+    for (int& f : part.facets) f = joined.edge_of[a][static_cast<std::size_t>(f)];
+    if (parts[k].against) {
+      const std::size_t b = body_index(scene, parts[k].against_body);
+      for (int f : select_facets<2>(scene, bodies[b]->mesh, *parts[k].against, contact_key(scene, k) + ".against"))
+        part.against.push_back(joined.edge_of[b][static_cast<std::size_t>(f)]);
+    }
+    p.parts.push_back(std::move(part));
+  }
+  out->has_contact = !p.parts.empty();
+  out->warnings = scene_warnings(scene);
+  return out;
+}
+
+}  // namespace hemivem::detail
