@@ -21,7 +21,7 @@ void print_check(std::ostream& out, const Scene& base, const app::CheckResult& r
   const app::CheckComparison& c = result.comparison;
   const app::CheckEnergies& e = result.energies;
   const std::size_t np = runs.size();
-  out << "hemivem check: " << base.title << " (" << base.source << "), " << base.mesh.description();
+  out << "hemivem check: " << base.title << " (" << base.source << "), " << scene_mesh_description(base);
   out << ": " << result.vertices << " vertices"
       << (runs.empty() ? std::string() : ", " + std::to_string(runs.front().contact_nodes) + " contact nodes");
   out << "\n  tolerance " << sci(base.solver.tolerance) << ", agree " << sci(result.agree)

@@ -55,7 +55,7 @@ struct SceneReport {
 std::string mesh_text(const Scene& s) {
   if (!s.mesh.file.empty()) return s.mesh.file.filename().string();
   std::ostringstream o;
-  o << s.mesh.description();
+  o << scene_mesh_description(s);
   const auto& d = s.mesh.domain;
   if (!s.mesh.polygon.empty())
     o << " in a polygon of " << s.mesh.polygon.size() << " corners";

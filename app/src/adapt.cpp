@@ -125,7 +125,7 @@ BasicAdaptiveSolve<dim> adapt_scene(const Scene& scene, const SceneAdapt& adapt,
   const auto start = Clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
   BasicAdaptiveSolve<dim> out;
-  const std::string base = options.mesh ? options.mesh_description : scene.mesh.description();
+  const std::string base = options.mesh ? options.mesh_description : scene_mesh_description(scene);
   // each step's mesh and start, moved into that step's options (the rest is shared by every step)
   std::optional<MeshOf<dim>> mesh = std::move(options.mesh);
   Eigen::VectorXd start_u = std::move(options.start);

@@ -168,7 +168,7 @@ nlohmann::json check_json(const Scene& base, const CheckResult& result) {
   j["version"] = HEMIVEM_VERSION;
   j["scene"] = base.title;
   j["source"] = base.source;
-  j["mesh"] = base.mesh.description();
+  j["mesh"] = scene_mesh_description(base);
   j["tolerance"] = base.solver.tolerance;
   j["agree"] = result.agree;
   j["uniqueness_margin"] = number(c.margin);

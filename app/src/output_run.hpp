@@ -45,6 +45,8 @@ void write_contact_csv(std::ostream& stream, const BasicContactSolution<dim>& s)
   const bool tangential = std::any_of(s.contact.begin(), s.contact.end(),
                                       [](const auto& n) { return n.friction_state != FrictionState::none; });
   const bool parts = s.contact_parts.size() > 1;  // several contact parts: each node's
+  // two bodies: the other body's vertex across the contact
+  const bool pairs = std::any_of(s.contact.begin(), s.contact.end(), [](const auto& n) { return n.partner >= 0; });
   os << "vertex";
   for (int c = 0; c < dim; ++c) os << ',' << axes[c];
   os << ",u_nu,law_force,reaction,pressure,state,gap";
@@ -52,7 +54,7 @@ void write_contact_csv(std::ostream& stream, const BasicContactSolution<dim>& s)
   if (tangential && dim == 2) os << ",u_tau,friction_force,friction_traction,friction_state";
   if (tangential && dim == 3)
     os << ",u_tau_x,u_tau_y,u_tau_z,friction_force_x,friction_force_y,friction_force_z,friction_traction,friction_state";
-  os << (parts ? ",part" : "") << "\n";
+  os << (parts ? ",part" : "") << (pairs ? ",partner" : "") << "\n";
   for (const auto& n : s.contact) {
     os << n.vertex;
     for (int c = 0; c < dim; ++c) os << ',' << n.x(c);
@@ -71,24 +73,35 @@ void write_contact_csv(std::ostream& stream, const BasicContactSolution<dim>& s)
       os << (dim == 2 ? ",,,," : ",,,,,,,,");  // a frictionless part beside one with friction
     }
     if (parts) os << ',' << contact_part_name(s, n);
+    if (pairs) {
+      os << ',';
+      if (n.partner >= 0) os << n.partner;  // empty: a foundation's or an obstacle's node
+    }
     os << '\n';
   }
 }
 
-/// displacement.csv: one row per vertex: vertex, position, displacement.
+/// displacement.csv: one row per vertex: vertex, position, displacement; with several bodies,
+/// the vertex's body.
 template <class MeshType>
-void write_displacement_csv(std::ostream& stream, const MeshType& mesh, const Eigen::VectorXd& u) {
+void write_displacement_csv(std::ostream& stream, const MeshType& mesh, const Eigen::VectorXd& u,
+                            const std::vector<BodyRange>& bodies = {}) {
   static constexpr const char* axes[] = {"x", "y", "z"};
   constexpr int dim = std::is_same_v<MeshType, Mesh3D> ? 3 : 2;
   TextWriter os(stream);
   os << "vertex";
   for (int c = 0; c < dim; ++c) os << ',' << axes[c];
   for (int c = 0; c < dim; ++c) os << ",u" << axes[c];
-  os << '\n';
+  os << (bodies.empty() ? "" : ",body") << '\n';
+  std::size_t b = 0;
   for (int v = 0; v < mesh.num_vertices(); ++v) {
     os << v;
     for (int c = 0; c < dim; ++c) os << ',' << mesh.vertex(v)(c);
     for (int c = 0; c < dim; ++c) os << ',' << u(dim * v + c);
+    if (!bodies.empty()) {
+      while (b + 1 < bodies.size() && !bodies[b].has_vertex(v)) ++b;
+      os << ',' << bodies[b].name;
+    }
     os << '\n';
   }
 }
@@ -188,7 +201,7 @@ void write_solve_files(OutputRun& run, const MeshType& mesh, const MaterialTable
                        const BasicContactSolution<dim>& solution, const RunInfo& info, const Result& result) {
   run.write("result.json", [&](std::ostream& os) { os << result(run.listed()).dump(2) << '\n'; });
   run.write("contact.csv", [&](std::ostream& os) { write_contact_csv(os, solution); });
-  run.write("displacement.csv", [&](std::ostream& os) { write_displacement_csv(os, mesh, solution.u); });
+  run.write("displacement.csv", [&](std::ostream& os) { write_displacement_csv(os, mesh, solution.u, info.bodies); });
   run.write("stress.csv", [&](std::ostream& os) { write_stress_csv(os, mesh, materials, solution.u); });
   run.write("history.csv", [&](std::ostream& os) { write_history_csv(os, solution); });
   run.write("solution.vtu", [&](std::ostream& os) {

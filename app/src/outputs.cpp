@@ -183,6 +183,7 @@ nlohmann::json result_json_of(const MeshType& mesh, const BasicContactSolution<d
   j["contact_force"] = vector_json(s.contact_force());
   j["forces"] = forces_json(s.forces);
   j["contact_zone"] = contact_zone_json(s);
+  j["bodies"] = info.bodies_record.is_null() ? json(nullptr) : info.bodies_record;
   j["adapt"] = info.adapt.is_null() ? json(nullptr) : info.adapt;
   j["path"] = path_of<dim>(info) ? path_summary_json(*path_of<dim>(info)) : json(nullptr);
   return j;

@@ -9,6 +9,8 @@
 #include <vector>
 
 #include <hemivem/app/outputs.hpp>
+
+#include "bodies.hpp"
 #include <hemivem/app/solve.hpp>
 #include <hemivem/nonsmooth_minimizer.hpp>
 #include <hemivem/scene/scene.hpp>
@@ -60,7 +62,7 @@ RunInfo run_info_common(const Scene& scene, const Solved& solved) {
   RunInfo info;
   info.scene_name = scene.title;
   info.scene_toml = to_toml(scene);
-  info.mesh = solved.mesh_description.empty() ? scene.mesh.description() : solved.mesh_description;
+  info.mesh = solved.mesh_description.empty() ? scene_mesh_description(scene) : solved.mesh_description;
   info.linear = solved.linear;
   info.minimizer = solved.minimizer;
   info.search = solved.search;
@@ -78,6 +80,9 @@ RunInfo run_info_common(const Scene& scene, const Solved& solved) {
   if (solved.holds_results && solved.solution.u.size() == dim * static_cast<Eigen::Index>(mesh.num_vertices()))
     info.stress = stress_peak(mesh, cell_stresses(mesh, solved.built->problem.elasticity.materials, solved.solution.u));
   info.figure_formats = scene.figure_formats;
+  info.bodies = solved.built->bodies;
+  if (solved.holds_results && !info.bodies.empty())
+    info.bodies_record = detail::bodies_json(solved.built->problem, solved.solution, info.bodies);
   return info;
 }
 

@@ -145,7 +145,7 @@ SceneEngines prepare_scene_solve(const Scene& scene, SceneSolveOptions& o, Scene
 
   const auto t = Clock::now();
   s.built = o.mesh ? build_problem(scene, std::move(*o.mesh), o.apply_region_boxes) : build_problem(scene);
-  s.mesh_description = o.mesh ? o.mesh_description : scene.mesh.description();
+  s.mesh_description = o.mesh ? o.mesh_description : scene_mesh_description(scene);
   s.mesh_seconds = since(t);
   return e;
 }

@@ -33,7 +33,7 @@ SceneSolve3D solve_scene_3d(const Scene& scene, SceneSolve3DOptions o) {
   detail::record_engines(e, s);
   const auto t = Clock::now();
   s.built = o.mesh ? build_problem(scene, std::move(*o.mesh)) : build_problem<3>(scene);
-  s.mesh_description = o.mesh ? o.mesh_description : scene.mesh.description();
+  s.mesh_description = o.mesh ? o.mesh_description : scene_mesh_description(scene);
   s.mesh_seconds = since(t);
   if (o.on_built) o.on_built(*s.built, s);
   if (scene_is_path(scene)) {

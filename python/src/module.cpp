@@ -235,7 +235,7 @@ A contact problem as data: mesh, material, boundary conditions, contact, solver 
       .def_property_readonly("title", [](const Scene& s) { return s.title; }, "The scene's title.")
       .def_property_readonly("source", [](const Scene& s) { return s.source; },
                              "Where the scene came from: a path, '<default>', '<string>', '<dict>'.")
-      .def_property_readonly("mesh_description", [](const Scene& s) { return s.mesh.description(); },
+      .def_property_readonly("mesh_description", [](const Scene& s) { return scene_mesh_description(s); },
                              "How the mesh is made: 'squares n=64', 'voronoi n=[32, 8]', or the file.")
       .def_property_readonly("dimension", [](const Scene& s) { return s.dimension(); },
                              "2, or 3 for a three-dimensional scene (a box domain, a 3D generator or a Gmsh file\n"
@@ -249,7 +249,7 @@ A contact problem as data: mesh, material, boundary conditions, contact, solver 
         std::ostringstream o;
         o << "Scene(" << py::repr(py::str(s.title)).cast<std::string>() << ", source="
           << py::repr(py::str(s.source)).cast<std::string>() << ", mesh="
-          << py::repr(py::str(s.mesh.description())).cast<std::string>() << ", contact=" << (s.contact ? "True" : "False")
+          << py::repr(py::str(scene_mesh_description(s))).cast<std::string>() << ", contact=" << (s.contact ? "True" : "False")
           << ")";
         return o.str();
       });

@@ -97,7 +97,7 @@ py::object check(const py::object& scene_arg, double agree, std::optional<double
     for (const auto& u : r.runs[i].path_u) steps.append(copy(u));
     list[i]["path_displacements"] = steps;
   }
-  return std::move(d);
+  return d;
 }
 
 py::object study(const py::object& scene_arg, const std::vector<int>& n, int ref,
@@ -128,7 +128,7 @@ py::object study(const py::object& scene_arg, const std::vector<int>& n, int ref
   }
   for (const auto& w : files.warnings)  // a figure not drawn (also in study.json's warnings)
     if (PyErr_WarnEx(PyExc_UserWarning, w.c_str(), 1) != 0) throw py::error_already_set();
-  return std::move(d);
+  return d;
 }
 
 struct BenchKeywords {

@@ -148,13 +148,16 @@ std::vector<std::vector<int>> facet_loads(const std::vector<Load>& tractions, in
   return loads;
 }
 
-/// Per facet: 0 off Gamma_3, 1 on a frictionless part of `parts`, 2 on one with friction.
+/// Per facet: 0 off Gamma_3, 1 on a frictionless part of `parts`, 2 on one with friction (the
+/// other body's facets that a part meets, BasicContactPart::against, as the part's own).
 template <int dim>
 std::vector<char> contact_kinds(const std::vector<BasicContactPart<dim>>& parts, int nfacets) {
   std::vector<char> kind(static_cast<std::size_t>(nfacets), 0);
   for (const BasicContactPart<dim>& part : parts) {
     check_facet_ids<dim>(part.facets, nfacets, "contact");
+    check_facet_ids<dim>(part.against, nfacets, "contact");
     for (int f : part.facets) kind[static_cast<std::size_t>(f)] = part.friction ? 2 : 1;
+    for (int f : part.against) kind[static_cast<std::size_t>(f)] = part.friction ? 2 : 1;
   }
   return kind;
 }
@@ -173,19 +176,25 @@ Point<dim> node_traction(const BasicContactNode<dim>& node) {
   }
 }
 
-/// The contact node of each vertex and the traction of each node into `b`. InputError for a
-/// node that names a vertex outside the mesh.
+/// The contact node of each vertex and the traction of each node into `b`; the vertex of the
+/// other body paired with a node (BasicContactNode::partner) bears the opposite traction.
+/// InputError for a node that names a vertex outside the mesh.
 template <int dim>
 void contact_tractions(const std::vector<BasicContactNode<dim>>& nodes, int nv, BoundaryFacets<dim>& b) {
   b.node_of.assign(static_cast<std::size_t>(nv), -1);
   b.node_traction.assign(nodes.size(), Point<dim>::Zero());
   for (std::size_t i = 0; i < nodes.size(); ++i) {
     const BasicContactNode<dim>& node = nodes[i];
-    if (node.vertex < 0 || node.vertex >= nv)
-      throw InputError("estimate_error: contact node " + std::to_string(i) + " names vertex " + std::to_string(node.vertex) +
-                       ", outside the mesh");
+    for (int v : {node.vertex, node.partner})
+      if ((v != node.partner || v >= 0) && (v < 0 || v >= nv))
+        throw InputError("estimate_error: contact node " + std::to_string(i) + " names vertex " + std::to_string(v) +
+                         ", outside the mesh");
     b.node_of[static_cast<std::size_t>(node.vertex)] = static_cast<int>(i);
     b.node_traction[i] = node_traction<dim>(node);
+    if (node.partner >= 0) {
+      b.node_of[static_cast<std::size_t>(node.partner)] = static_cast<int>(b.node_traction.size());
+      b.node_traction.push_back(-b.node_traction[i]);
+    }
   }
 }
 

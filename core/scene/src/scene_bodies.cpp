@@ -122,6 +122,9 @@ std::unique_ptr<BuiltProblem> built_bodies(const Scene& scene) {
     }
     p.parts.push_back(std::move(part));
   }
+  for (std::size_t b = 0; b < bodies.size(); ++b)
+    out->bodies.push_back({scene.bodies[b].name, joined.first_vertex[b], bodies[b]->mesh.num_vertices(),
+                           joined.first_element[b], bodies[b]->mesh.num_elements()});
   out->has_contact = !p.parts.empty();
   out->warnings = scene_warnings(scene);
   return out;

@@ -102,7 +102,34 @@ using detail::make_friction_law;
 using detail::make_law;
 using detail::make_obstacle;
 
-std::vector<std::string> scene_warnings(const Scene& scene) {
+namespace {
+
+/// A scene of several bodies with their supports and loads together, as one body's would be:
+/// what scene_warnings judges.
+Scene bodies_together(const Scene& scene) {
+  Scene flat = scene;
+  flat.bodies.clear();
+  for (const SceneBody& b : scene.bodies) {
+    if (!b.clamped.empty()) flat.clamped = b.clamped;
+    flat.dirichlet.insert(flat.dirichlet.end(), b.dirichlet.begin(), b.dirichlet.end());
+    flat.tractions.insert(flat.tractions.end(), b.tractions.begin(), b.tractions.end());
+  }
+  if (!scene.bodies.empty()) flat.body_force = scene.bodies.front().body_force;
+  return flat;
+}
+
+}  // namespace
+
+std::string scene_mesh_description(const Scene& scene) {
+  if (scene.bodies.empty()) return scene.mesh.description();
+  std::string text;
+  for (const SceneBody& b : scene.bodies) text += (text.empty() ? "" : "; ") + b.name + ": " + b.mesh.description();
+  return text;
+}
+
+std::vector<std::string> scene_warnings(const Scene& given) {
+  if (!given.bodies.empty()) return scene_warnings(bodies_together(given));
+  const Scene& scene = given;
   auto zero = [](const SceneScalar& v) { return !v.is_expression() && v.value == 0.0; };
   auto nonzero = [&](const std::array<SceneScalar, 3>& v) { return !zero(v[0]) || !zero(v[1]) || !zero(v[2]); };
   auto prescribes = [&](const SceneDirichlet& d) {

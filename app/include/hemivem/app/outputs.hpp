@@ -23,6 +23,7 @@
 #include <hemivem/path/path.hpp>
 #include <hemivem/estimate/error_estimate.hpp>
 #include <hemivem/vem/material.hpp>
+#include <hemivem/mesh/body_range.hpp>
 #include <hemivem/mesh/mesh.hpp>
 #include <hemivem/mesh/mesh3d.hpp>
 
@@ -79,6 +80,12 @@ struct RunInfo {
   /// solution-NNNN.vtu per frame, path.png; none for a static solve. The path of a plane or
   /// of a solid body (path_of).
   std::variant<std::monostate, const BasicPathSolution<2>*, const BasicPathSolution<3>*> path;
+  /// A scene of several bodies (BasicBuiltProblem::bodies): result.json's "bodies" (each body's
+  /// vertices, cells and balance of forces), displacement.csv's and stress.csv's body column,
+  /// solution.vtu's body field. Empty for one body.
+  std::vector<BodyRange> bodies;
+  /// result.json's "bodies": each body's range and balance of forces (null for one body).
+  nlohmann::json bodies_record;
 };
 
 /// The run's path of a body of dimension dim (RunInfo::path), or null.

@@ -32,6 +32,7 @@
 #include <hemivem/contact/problem.hpp>
 #include <hemivem/support/names.hpp>
 #include <hemivem/vem/material.hpp>
+#include <hemivem/mesh/body_range.hpp>
 #include <hemivem/mesh/mesh.hpp>
 #include <hemivem/mesh/generators.hpp>
 #include <hemivem/mesh/generators3d.hpp>
@@ -335,6 +336,10 @@ struct Scene {
 /// Equality of the problem data (source and lines are ignored).
 bool operator==(const Scene& a, const Scene& b);
 
+/// How the scene's mesh is made, for reports: SceneMesh::description(), or for a scene of several
+/// bodies each body's ("upper: voronoi n=[5, 3]; lower: squares n=[7, 3]").
+std::string scene_mesh_description(const Scene& scene);
+
 /// Body b of a scene of several as a scene of one body: its mesh, material, supports and loads,
 /// the scene's contact parts on that body (their sides and groups, without the body's name;
 /// a part against another body as a part against nothing, with no gap), solver and outputs,
@@ -395,6 +400,8 @@ struct BasicBuiltProblem {
   BasicContactProblem<dim> problem;  ///< no contact parts when has_contact is false
   bool has_contact = false;
   std::vector<std::string> warnings;  ///< scene_warnings(scene)
+  /// A scene of several bodies: each body's part of `mesh`, in the scene's order; empty for one.
+  std::vector<BodyRange> bodies;
   BasicBuiltProblem() = default;
   BasicBuiltProblem(const BasicBuiltProblem&) = delete;
   BasicBuiltProblem& operator=(const BasicBuiltProblem&) = delete;

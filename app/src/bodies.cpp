@@ -1,0 +1,80 @@
+// result.json's "bodies" of a scene of several bodies (docs/two-bodies.md): each body's part of
+// the mesh and the balance of the forces on it.
+#include "bodies.hpp"
+
+#include <hemivem/vem/assembly.hpp>
+#include <hemivem/vem/assembly3d.hpp>
+
+#include <hemivem/app/format.hpp>
+
+namespace hemivem::app::detail {
+
+namespace {
+
+template <class Vector>
+nlohmann::json vector_of(const Vector& v) {
+  nlohmann::json out = nlohmann::json::array();
+  for (Eigen::Index c = 0; c < v.size(); ++c) out.push_back(number(v(c)));
+  return out;
+}
+
+/// The force contact node n exerts on its own body (the foundation's, the obstacle's or the
+/// other body's push on it).
+template <int dim>
+Eigen::Matrix<double, dim, 1> force_on_body(const BasicContactNode<dim>& n) {
+  std::vector<BasicContactNode<dim>> one{n};
+  return contact_resultant(one);
+}
+
+int body_of(const std::vector<BodyRange>& bodies, int vertex) {
+  for (std::size_t b = 0; b < bodies.size(); ++b)
+    if (bodies[b].has_vertex(vertex)) return static_cast<int>(b);
+  return -1;
+}
+
+}  // namespace
+
+template <int dim>
+nlohmann::json bodies_json(const BasicContactProblem<dim>& problem, const BasicContactSolution<dim>& s,
+                           const std::vector<BodyRange>& bodies) {
+  using Point = Eigen::Matrix<double, dim, 1>;
+  if (bodies.empty()) return nullptr;
+  const Eigen::VectorXd f =
+      assemble_load(*problem.elasticity.mesh, problem.elasticity.body_force, problem.elasticity.tractions);
+  std::vector<BasicForceBalance<Point>> balance(bodies.size());
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    for (int v = bodies[b].first_vertex; v < bodies[b].first_vertex + bodies[b].vertices; ++v)
+      balance[b].applied += f.segment<dim>(dim * v);
+    for (const auto& r : s.forces.reactions)
+      if (r.name.rfind(bodies[b].name + ".", 0) == 0) balance[b].reactions.push_back(r);
+  }
+  for (const auto& n : s.contact) {
+    const Point on = force_on_body(n);
+    if (const int b = body_of(bodies, n.vertex); b >= 0) balance[static_cast<std::size_t>(b)].contact += on;
+    if (const int b = n.partner >= 0 ? body_of(bodies, n.partner) : -1; b >= 0)
+      balance[static_cast<std::size_t>(b)].contact -= on;
+  }
+  nlohmann::json out = nlohmann::json::array();
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    nlohmann::json reactions = nlohmann::json::object();
+    for (const auto& r : balance[b].reactions) reactions[r.name] = vector_of(r.force);
+    out.push_back({{"name", bodies[b].name},
+                   {"first_vertex", bodies[b].first_vertex},
+                   {"vertices", bodies[b].vertices},
+                   {"first_cell", bodies[b].first_cell},
+                   {"cells", bodies[b].cells},
+                   {"forces",
+                    {{"applied", vector_of(balance[b].applied)},
+                     {"reactions", std::move(reactions)},
+                     {"contact", vector_of(balance[b].contact)},
+                     {"balance_residual", number(balance[b].residual())}}}});
+  }
+  return out;
+}
+
+template nlohmann::json bodies_json(const BasicContactProblem<2>&, const BasicContactSolution<2>&,
+                                    const std::vector<BodyRange>&);
+template nlohmann::json bodies_json(const BasicContactProblem<3>&, const BasicContactSolution<3>&,
+                                    const std::vector<BodyRange>&);
+
+}  // namespace hemivem::app::detail
