@@ -158,3 +158,33 @@ TEST(SceneBodies, TheShippedSceneIsTheContactPatchTestAsTheCommandSolvesIt) {
   EXPECT_NE(contact.substr(0, contact.find('\n')).find(",partner"), std::string::npos);
   fs::remove_all(dir);
 }
+
+// The same in three dimensions (scenes/two-boxes-3d.toml): tetrahedra on cubes, matched along
+// z = 0.5; uniaxial stress sigma_zz = -2 in each box, free lateral expansion.
+TEST(SceneBodies, TwoBoxesAreTheContactPatchTestInThreeDimensions) {
+  const app::SceneRun run = app::run_scene(parse_scene(test::scenes_dir() / "two-boxes-3d.toml"));
+  ASSERT_EQ(run.dimension(), 3);
+  ASSERT_TRUE(run.converged());
+  const auto* solve = run.solid();
+  ASSERT_NE(solve, nullptr);
+  const Mesh3D& mesh = solve->built->mesh;
+  const auto& bodies = solve->built->bodies;
+  ASSERT_EQ(bodies.size(), 2u);
+  EXPECT_EQ(bodies[1].cells, 8);
+  const auto exact = [](const Vec3& x, bool upper) {
+    const auto eps = [](double E, double nu) { return Vec3(2.0 * nu / E, 2.0 * nu / E, -2.0 / E); };
+    const Vec3 lo = eps(4.0, 0.1), up = eps(10.0, 0.3);
+    if (!upper) return Vec3(lo.x() * x.x(), lo.y() * x.y(), lo.z() * x.z());
+    return Vec3(up.x() * x.x(), up.y() * x.y(), lo.z() * 0.5 + up.z() * (x.z() - 0.5));
+  };
+  double worst = 0.0;
+  for (int v = 0; v < mesh.num_vertices(); ++v)
+    worst = std::max(worst, (Vec3(solve->solution.u.segment<3>(3 * v)) - exact(mesh.vertex(v), bodies[0].has_vertex(v))).norm());
+  EXPECT_LT(worst, 1e-10);
+  ASSERT_FALSE(solve->solution.contact.empty());
+  for (const ContactNode3D& n : solve->solution.contact) {
+    EXPECT_GE(n.partner, bodies[1].first_vertex);
+    EXPECT_NEAR(n.pressure(), 2.0, 1e-10);
+  }
+  EXPECT_LT(solve->solution.forces.residual(), 1e-10);
+}

@@ -6,6 +6,7 @@
 
 #include <hemivem/mesh/bodies.hpp>
 #include <hemivem/mesh/interface.hpp>
+#include <hemivem/mesh/interface3d.hpp>
 
 #include "scene_problem.hpp"
 
@@ -19,21 +20,38 @@ std::size_t body_index(const Scene& scene, const std::string& name) {
   throw InputError("no body named '" + name + "'");
 }
 
+// What differs between the dimensions: how a body's mesh is made, matched and joined.
+Mesh body_mesh(const Scene& one, const Mesh*) { return built_plane(one)->mesh; }
+Mesh3D body_mesh(const Scene& one, const Mesh3D*) { return built_solid(one)->mesh; }
+MatchedInterface match(const Mesh& a, const std::vector<int>& fa, const Mesh& b, const std::vector<int>& fb, double tol) {
+  return match_interface(a, fa, b, fb, tol);
+}
+MatchedInterface3D match(const Mesh3D& a, const std::vector<int>& fa, const Mesh3D& b, const std::vector<int>& fb,
+                         double tol) {
+  return match_interface_3d(a, fa, b, fb, tol);
+}
+const std::vector<int>& facets_of(const JoinedMeshes& j, std::size_t b) { return j.edge_of[b]; }
+const std::vector<int>& facets_of(const JoinedMeshes3D& j, std::size_t b) { return j.face_of[b]; }
+int first_cell(const JoinedMeshes& j, std::size_t b) { return j.first_element[b]; }
+int first_cell(const JoinedMeshes3D& j, std::size_t b) { return j.first_cell[b]; }
+
 /// The meshes of the bodies, each as its scene of one body makes it, matched along every
 /// contact part against another body.
-std::vector<Mesh> matched_meshes(const Scene& scene) {
-  std::vector<Mesh> meshes;
-  for (std::size_t b = 0; b < scene.bodies.size(); ++b) meshes.push_back(built_plane(body_scene(scene, b))->mesh);
+template <int dim>
+std::vector<MeshOf<dim>> matched_meshes(const Scene& scene) {
+  std::vector<MeshOf<dim>> meshes;
+  for (std::size_t b = 0; b < scene.bodies.size(); ++b)
+    meshes.push_back(body_mesh(body_scene(scene, b), static_cast<const MeshOf<dim>*>(nullptr)));
   const std::vector<SceneContact> parts = contact_parts(scene);
   for (std::size_t k = 0; k < parts.size(); ++k) {
     const SceneContact& c = parts[k];
     if (!c.against) continue;
     const std::size_t a = body_index(scene, c.body), b = body_index(scene, c.against_body);
     const std::string key = contact_key(scene, k);
-    const std::vector<int> side = select_facets<2>(scene, meshes[a], c.boundary, key);
-    const std::vector<int> other = select_facets<2>(scene, meshes[b], *c.against, key + ".against");
+    const std::vector<int> side = select_facets<dim>(scene, meshes[a], c.boundary, key);
+    const std::vector<int> other = select_facets<dim>(scene, meshes[b], *c.against, key + ".against");
     try {
-      MatchedInterface m = match_interface(meshes[a], side, meshes[b], other, std::max(c.boundary.tolerance, 1e-8));
+      auto m = match(meshes[a], side, meshes[b], other, std::max(c.boundary.tolerance, 1e-8));
       meshes[a] = std::move(m.first);
       meshes[b] = std::move(m.second);
     } catch (const InputError& e) {
@@ -46,10 +64,11 @@ std::vector<Mesh> matched_meshes(const Scene& scene) {
 }
 
 /// Body b's materials, supports and loads on the joined mesh.
-void add_body(const Scene& scene, std::size_t b, const BuiltProblem& body, const JoinedMeshes& joined,
-              ContactProblem& into, std::vector<Material>& by_region) {
+template <int dim, class Joined>
+void add_body(const Scene& scene, std::size_t b, const BasicBuiltProblem<dim>& body, const Joined& joined,
+              BasicContactProblem<dim>& into, std::vector<Material>& by_region) {
   const auto& e = body.problem.elasticity;
-  const std::vector<int>& edge_of = joined.edge_of[b];
+  const std::vector<int>& edge_of = facets_of(joined, b);
   int largest = 0;
   for (int r : body.mesh.regions()) largest = std::max(largest, r);
   for (int r = 0; r <= largest; ++r) {
@@ -86,21 +105,22 @@ void require_shared(const Scene& scene) {
 
 }  // namespace
 
-std::unique_ptr<BuiltProblem> built_bodies(const Scene& scene) {
+template <int dim>
+std::unique_ptr<BasicBuiltProblem<dim>> built_bodies(const Scene& scene) {
   require_shared(scene);
-  std::vector<Mesh> meshes = matched_meshes(scene);
-  std::vector<std::unique_ptr<BuiltProblem>> bodies;
-  std::vector<const Mesh*> pieces;
+  std::vector<MeshOf<dim>> meshes = matched_meshes<dim>(scene);
+  std::vector<std::unique_ptr<BasicBuiltProblem<dim>>> bodies;
+  std::vector<const MeshOf<dim>*> pieces;
   std::vector<std::string> names;
   for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
-    bodies.push_back(built_on<2>(body_scene(scene, b), std::move(meshes[b])));
+    bodies.push_back(built_on<dim>(body_scene(scene, b), std::move(meshes[b])));
     pieces.push_back(&bodies.back()->mesh);
     names.push_back(scene.bodies[b].name);
   }
-  JoinedMeshes joined = join_meshes(pieces, names);
-  auto out = std::make_unique<BuiltProblem>();
+  auto joined = join_meshes(pieces, names);
+  auto out = std::make_unique<BasicBuiltProblem<dim>>();
   out->mesh = std::move(joined.mesh);
-  ContactProblem& p = out->problem;
+  BasicContactProblem<dim>& p = out->problem;
   p.elasticity.mesh = &out->mesh;
   p.elasticity.stabilization = bodies.front()->problem.elasticity.stabilization;
   p.elasticity.body_force = bodies.front()->problem.elasticity.body_force;
@@ -113,21 +133,24 @@ std::unique_ptr<BuiltProblem> built_bodies(const Scene& scene) {
     const std::size_t a = body_index(scene, parts[k].body);
     const std::string name = contact_part_name(scene, k);
     const auto& own = bodies[a]->problem.parts;
-    auto part = *std::find_if(own.begin(), own.end(), [&](const ContactPart& x) { return x.name == name; });
-    for (int& f : part.facets) f = joined.edge_of[a][static_cast<std::size_t>(f)];
+    auto part = *std::find_if(own.begin(), own.end(), [&](const auto& x) { return x.name == name; });
+    for (int& f : part.facets) f = facets_of(joined, a)[static_cast<std::size_t>(f)];
     if (parts[k].against) {
       const std::size_t b = body_index(scene, parts[k].against_body);
-      for (int f : select_facets<2>(scene, bodies[b]->mesh, *parts[k].against, contact_key(scene, k) + ".against"))
-        part.against.push_back(joined.edge_of[b][static_cast<std::size_t>(f)]);
+      for (int f : select_facets<dim>(scene, bodies[b]->mesh, *parts[k].against, contact_key(scene, k) + ".against"))
+        part.against.push_back(facets_of(joined, b)[static_cast<std::size_t>(f)]);
     }
     p.parts.push_back(std::move(part));
   }
   for (std::size_t b = 0; b < bodies.size(); ++b)
     out->bodies.push_back({scene.bodies[b].name, joined.first_vertex[b], bodies[b]->mesh.num_vertices(),
-                           joined.first_element[b], bodies[b]->mesh.num_elements()});
+                           first_cell(joined, b), bodies[b]->mesh.num_cells()});
   out->has_contact = !p.parts.empty();
   out->warnings = scene_warnings(scene);
   return out;
 }
+
+template std::unique_ptr<BuiltProblem> built_bodies<2>(const Scene&);
+template std::unique_ptr<BuiltProblem3D> built_bodies<3>(const Scene&);
 
 }  // namespace hemivem::detail

@@ -352,9 +352,9 @@ template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> build_problem(const Scene& scene) {
   detail::require_dimension<dim>(scene);
   if constexpr (dim == 2)
-    return scene.bodies.empty() ? detail::built_plane(scene) : detail::built_bodies(scene);
+    return scene.bodies.empty() ? detail::built_plane(scene) : detail::built_bodies<2>(scene);
   else
-    return detail::built_solid(scene);
+    return scene.bodies.empty() ? detail::built_solid(scene) : detail::built_bodies<3>(scene);
 }
 
 template std::unique_ptr<BuiltProblem> build_problem<2>(const Scene&);

@@ -37,7 +37,8 @@ std::vector<int> select_facets(const Scene& scene, const MeshOf<dim>& mesh, cons
 /// made as a scene of one body makes it, the meshes of the bodies that meet matched along each
 /// contact part against another body (match_interface), joined into one mesh of several pieces
 /// (join_meshes), and each body's materials, supports, loads and contact parts on it.
-std::unique_ptr<BuiltProblem> built_bodies(const Scene& scene);
+template <int dim>
+std::unique_ptr<BasicBuiltProblem<dim>> built_bodies(const Scene& scene);
 
 /// The problem of a plane scene on its own mesh (its generator or file; region boxes applied).
 std::unique_ptr<BuiltProblem> built_plane(const Scene& scene);
