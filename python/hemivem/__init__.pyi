@@ -382,6 +382,9 @@ class Result:
     def displacement(self) -> FloatArray:
         """(num_vertices, dimension) float64, C order, read-only view."""
     @property
+    def bodies(self) -> dict[str, dict[str, Any]]:
+        """Per body of a scene of several: first_vertex, vertices, first_cell, cells, displacement."""
+    @property
     def a(self) -> FloatArray: ...
     @property
     def contact(self) -> ContactTable: ...

@@ -466,6 +466,28 @@ void def_result_solution(ResultClass& c) {
        "(num_vertices, 2) float64, C order, read-only view: (ux, uy) per vertex; (num_vertices, 3),\n"
        "(ux, uy, uz), for a three-dimensional scene.")
       .def_property_readonly(
+          "bodies",
+          [](py::object s) {
+            const SolveData& d = data(s);
+            const auto& u = *visit(d, [](const auto& v) -> const Eigen::VectorXd* { return &v.solution.u; });
+            const auto& bodies = *visit(d, [](const auto& v) -> const std::vector<BodyRange>* { return &v.built->bodies; });
+            py::dict out;
+            for (const BodyRange& b : bodies) {
+              py::dict e;
+              e["first_vertex"] = b.first_vertex;
+              e["vertices"] = b.vertices;
+              e["first_cell"] = b.first_cell;
+              e["cells"] = b.cells;
+              e["displacement"] = view(u.data() + static_cast<Eigen::Index>(d.dimension()) * b.first_vertex, b.vertices,
+                                       d.dimension(), s);
+              out[py::str(b.name)] = e;
+            }
+            return out;
+          },
+          "A scene of several bodies ([[body]]): per body, by name, its vertices and cells in the mesh\n"
+          "(first_vertex, vertices, first_cell, cells) and its displacement, a (vertices, dimension)\n"
+          "read-only view of `displacement`'s rows. Empty for a scene of one body.")
+      .def_property_readonly(
           "a",
           [](py::object s) {
             const MinimizerResult* m = visit(data(s), [](const auto& v) -> const MinimizerResult* {
