@@ -452,21 +452,10 @@ void def_result_outcome(ResultClass& c) {
                              "condition number so large that round-off may spoil the displacement's digits.");
 }
 
-/// Result's fields: displacement, reduced point, contact table, history, mesh, scene.
-/// Result's solution: the displacement, the minimizer's point and result, the contact table,
-/// the forces and the history.
-void def_result_solution(ResultClass& c) {
+/// Result.bodies: each body's range and displacement (a scene of several bodies).
+void def_result_bodies(ResultClass& c) {
   c.def_property_readonly(
-       "displacement",
-       [](py::object s) {
-         const SolveData& d = data(s);
-         const Eigen::VectorXd& u = *visit(d, [](const auto& v) -> const Eigen::VectorXd* { return &v.solution.u; });
-         return view(u.data(), u.size() / d.dimension(), d.dimension(), s);
-       },
-       "(num_vertices, 2) float64, C order, read-only view: (ux, uy) per vertex; (num_vertices, 3),\n"
-       "(ux, uy, uz), for a three-dimensional scene.")
-      .def_property_readonly(
-          "bodies",
+      "bodies",
           [](py::object s) {
             const SolveData& d = data(s);
             const auto& u = *visit(d, [](const auto& v) -> const Eigen::VectorXd* { return &v.solution.u; });
@@ -486,7 +475,22 @@ void def_result_solution(ResultClass& c) {
           },
           "A scene of several bodies ([[body]]): per body, by name, its vertices and cells in the mesh\n"
           "(first_vertex, vertices, first_cell, cells) and its displacement, a (vertices, dimension)\n"
-          "read-only view of `displacement`'s rows. Empty for a scene of one body.")
+          "read-only view of `displacement`'s rows. Empty for a scene of one body.");
+}
+
+/// Result's fields: displacement, reduced point, contact table, history, mesh, scene.
+/// Result's solution: the displacement, the minimizer's point and result, the contact table,
+/// the forces and the history.
+void def_result_solution(ResultClass& c) {
+  c.def_property_readonly(
+       "displacement",
+       [](py::object s) {
+         const SolveData& d = data(s);
+         const Eigen::VectorXd& u = *visit(d, [](const auto& v) -> const Eigen::VectorXd* { return &v.solution.u; });
+         return view(u.data(), u.size() / d.dimension(), d.dimension(), s);
+       },
+       "(num_vertices, 2) float64, C order, read-only view: (ux, uy) per vertex; (num_vertices, 3),\n"
+       "(ux, uy, uz), for a three-dimensional scene.")
       .def_property_readonly(
           "a",
           [](py::object s) {
@@ -774,6 +778,7 @@ was solved from, and its arrays keep it alive.
 )doc");
   def_result_outcome(c);
   def_result_solution(c);
+  def_result_bodies(c);
   def_result_estimate(c);
   def_result_stress(c);
   def_result_sequences(c);

@@ -79,8 +79,10 @@ using ContactSolver3D = BasicContactSolver<3>;
 
 /// Solves a 3D contact problem with ContactSolver3D: assembly, condensation (one
 /// factorization), one minimization per minimizer, back-substitution, post-processing; without
-/// contact faces one linear solve. The supports must hold the body (InputError naming the rigid
-/// motions they leave free: a three-dimensional body held by its contact alone is refused).
+/// contact faces one linear solve. A rigid motion the supports leave free must move some contact
+/// node along its normal (or, with friction, its tangent plane), relative to its partner across
+/// a contact between two bodies: the contact then holds it (Supports); InputError naming the
+/// motions nothing holds.
 /// InputError for a problem that cannot be set up, NumericalError when the factorization fails.
 /// `estimate_condition` adds ContactSolution3D::condition_estimate (7 more solves) and rcond,
 /// and widens the uniqueness margin's round-off bound by the estimate, as solve_contact does.
