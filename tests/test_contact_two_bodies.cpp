@@ -51,6 +51,20 @@ Stack stack(const Mesh& upper, const Mesh& lower) {
   return s;
 }
 
+/// The contact part of the upper block's bottom against the lower block's top: Signorini
+/// contact (gap 0, zero law, one-sided), with the friction law `friction` when given.
+ContactPart interface_part(const Stack& s, std::shared_ptr<const ContactLaw> friction = nullptr) {
+  ContactPart part;
+  part.name = "interface";
+  part.facets = s.upper_bottom;
+  part.against = s.lower_top;
+  part.gap = [](const Vec2&) { return 0.0; };
+  part.law = zero_law();
+  part.constraint = ConstraintKind::one_sided;
+  part.friction = std::move(friction);
+  return part;
+}
+
 struct Patch {
   double p = 2.0;                       // the pressure on the upper block's top
   Material upper{10.0, 0.3}, lower{4.0, 0.1};
@@ -83,14 +97,7 @@ ContactProblem patch_problem(const Stack& s, const Patch& patch) {
   const double p = patch.p;
   load.pressure = [p](const Vec2&) { return p; };
   problem.elasticity.tractions.push_back(load);
-  ContactPart part;
-  part.name = "interface";
-  part.facets = s.upper_bottom;
-  part.against = s.lower_top;
-  part.gap = [](const Vec2&) { return 0.0; };
-  part.law = zero_law();
-  part.constraint = ConstraintKind::one_sided;
-  problem.parts.push_back(part);
+  problem.parts.push_back(interface_part(s));
   return problem;
 }
 
@@ -306,15 +313,7 @@ ContactProblem sheared_problem(const Stack& s, const Sheared& load) {
   right.facets = edges_at_x(mesh, 1.0);
   right.traction = [&load](const Vec2&) { return Vec2(0.0, load.tau); };
   problem.elasticity.tractions = {top, left, right};
-  ContactPart part;
-  part.name = "interface";
-  part.facets = s.upper_bottom;
-  part.against = s.lower_top;
-  part.gap = [](const Vec2&) { return 0.0; };
-  part.law = zero_law();
-  part.constraint = ConstraintKind::one_sided;
-  part.friction = tresca_law(load.g);
-  problem.parts.push_back(part);
+  problem.parts.push_back(interface_part(s, tresca_law(load.g)));
   return problem;
 }
 

@@ -11,13 +11,6 @@ namespace hemivem::app::detail {
 
 namespace {
 
-template <class Vector>
-nlohmann::json vector_of(const Vector& v) {
-  nlohmann::json out = nlohmann::json::array();
-  for (Eigen::Index c = 0; c < v.size(); ++c) out.push_back(number(v(c)));
-  return out;
-}
-
 /// The force contact node n exerts on its own body (the foundation's, the obstacle's or the
 /// other body's push on it).
 template <int dim>
@@ -57,16 +50,16 @@ nlohmann::json bodies_json(const BasicContactProblem<dim>& problem, const BasicC
   nlohmann::json out = nlohmann::json::array();
   for (std::size_t b = 0; b < bodies.size(); ++b) {
     nlohmann::json reactions = nlohmann::json::object();
-    for (const auto& r : balance[b].reactions) reactions[r.name] = vector_of(r.force);
+    for (const auto& r : balance[b].reactions) reactions[r.name] = vector_json(r.force);
     out.push_back({{"name", bodies[b].name},
                    {"first_vertex", bodies[b].first_vertex},
                    {"vertices", bodies[b].vertices},
                    {"first_cell", bodies[b].first_cell},
                    {"cells", bodies[b].cells},
                    {"forces",
-                    {{"applied", vector_of(balance[b].applied)},
+                    {{"applied", vector_json(balance[b].applied)},
                      {"reactions", std::move(reactions)},
-                     {"contact", vector_of(balance[b].contact)},
+                     {"contact", vector_json(balance[b].contact)},
                      {"balance_residual", number(balance[b].residual())}}}});
   }
   return out;

@@ -36,14 +36,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-/// A point or vector of a result.json: its dim components (non-finite ones null).
-template <class Vector>
-nlohmann::json vector_json(const Vector& v) {
-  nlohmann::json out = nlohmann::json::array();
-  for (Eigen::Index c = 0; c < v.size(); ++c) out.push_back(number(v(c)));
-  return out;
-}
-
 /// result.json's "forces": the applied load, the reactions by part, the contact resultant and
 /// the relative residual of their balance.
 template <class Vector>

@@ -11,6 +11,7 @@
 #include <hemivem/global_search.hpp>
 #include <hemivem/nonsmooth_minimizer.hpp>
 
+#include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
 namespace hemivem::app {
@@ -25,6 +26,13 @@ std::string sci(double v, int precision = 2);
 std::string fixed(double v, int precision = 4);
 /// v as a JSON number, null when it is not finite (JSON has no NaN or Inf).
 nlohmann::json number(double v);
+/// A point or vector as a JSON array of its components (number(): non-finite ones null).
+template <class Vector>
+nlohmann::json vector_json(const Vector& v) {
+  nlohmann::json out = nlohmann::json::array();
+  for (Eigen::Index c = 0; c < v.size(); ++c) out.push_back(number(v(c)));
+  return out;
+}
 
 /// The certificate as JSON: {primal, dual, length_scale, force_scale, tolerance}.
 nlohmann::json certificate_json(const Certificate& c);
