@@ -46,8 +46,8 @@ Stack stack(const Mesh& upper, const Mesh& lower) {
   const MatchedInterface m = match_interface(upper, edges_at_y(upper, 0.5), lower, edges_at_y(lower, 0.5), 1e-6);
   Stack s;
   s.joined = join_meshes({&m.first, &m.second}, {"upper", "lower"});
-  for (int e : m.first_edges) s.upper_bottom.push_back(s.joined.edge_of[0][static_cast<std::size_t>(e)]);
-  for (int e : m.second_edges) s.lower_top.push_back(s.joined.edge_of[1][static_cast<std::size_t>(e)]);
+  for (int e : m.first_edges) s.upper_bottom.push_back(s.joined.facet_of[0][static_cast<std::size_t>(e)]);
+  for (int e : m.second_edges) s.lower_top.push_back(s.joined.facet_of[1][static_cast<std::size_t>(e)]);
   return s;
 }
 
@@ -200,8 +200,8 @@ TEST(TwoBodies, UnmatchedMeshesAreRefusedByName) {
   const Mesh upper = make_squares({4, 3}, {0.0, 1.0, 0.5, 1.0}), lower = make_squares({3, 2}, {0.0, 1.0, 0.0, 0.5});
   Stack s;
   s.joined = join_meshes({&upper, &lower}, {"upper", "lower"});
-  for (int e : edges_at_y(upper, 0.5)) s.upper_bottom.push_back(s.joined.edge_of[0][static_cast<std::size_t>(e)]);
-  for (int e : edges_at_y(lower, 0.5)) s.lower_top.push_back(s.joined.edge_of[1][static_cast<std::size_t>(e)]);
+  for (int e : edges_at_y(upper, 0.5)) s.upper_bottom.push_back(s.joined.facet_of[0][static_cast<std::size_t>(e)]);
+  for (int e : edges_at_y(lower, 0.5)) s.lower_top.push_back(s.joined.facet_of[1][static_cast<std::size_t>(e)]);
   try {
     solve(patch_problem(s, patch));
     FAIL() << "unmatched meshes were solved";
@@ -254,7 +254,7 @@ TEST(TwoBodies, AFoundationPosedAsAStiffBodyGivesTheOneBodyAnswer) {
   const Mesh upper = [&] {
     std::vector<Vec2> v(s.joined.mesh.vertices().begin(), s.joined.mesh.vertices().begin() + s.joined.first_vertex[1]);
     std::vector<std::vector<int>> elements;
-    for (int e = 0; e < s.joined.first_element[1]; ++e)
+    for (int e = 0; e < s.joined.first_cell[1]; ++e)
       elements.emplace_back(s.joined.mesh.element(e).begin(), s.joined.mesh.element(e).end());
     return Mesh(v, elements);
   }();

@@ -49,14 +49,14 @@ Stack stack(const Mesh3D& upper, const Mesh3D& lower, bool match = true) {
   Stack s;
   if (!match) {
     s.joined = join_meshes({&upper, &lower}, {"upper", "lower"});
-    for (int f : bottom) s.upper_bottom.push_back(s.joined.face_of[0][static_cast<std::size_t>(f)]);
-    for (int f : top) s.lower_top.push_back(s.joined.face_of[1][static_cast<std::size_t>(f)]);
+    for (int f : bottom) s.upper_bottom.push_back(s.joined.facet_of[0][static_cast<std::size_t>(f)]);
+    for (int f : top) s.lower_top.push_back(s.joined.facet_of[1][static_cast<std::size_t>(f)]);
     return s;
   }
   const MatchedInterface3D m = match_interface_3d(upper, bottom, lower, top, 1e-6);
   s.joined = join_meshes({&m.first, &m.second}, {"upper", "lower"});
-  for (int f : m.first_faces) s.upper_bottom.push_back(s.joined.face_of[0][static_cast<std::size_t>(f)]);
-  for (int f : m.second_faces) s.lower_top.push_back(s.joined.face_of[1][static_cast<std::size_t>(f)]);
+  for (int f : m.first_faces) s.upper_bottom.push_back(s.joined.facet_of[0][static_cast<std::size_t>(f)]);
+  for (int f : m.second_faces) s.lower_top.push_back(s.joined.facet_of[1][static_cast<std::size_t>(f)]);
   return s;
 }
 
@@ -179,9 +179,9 @@ TEST(TwoBodies3D, JoinedSolidsTouchingStayTwoPieces) {
   EXPECT_NEAR(mesh.total_volume(), 1.0, 1e-14);
   for (int b = 0; b < 2; ++b) {
     const Mesh3D& own = b == 0 ? m.first : m.second;
-    ASSERT_EQ(j.face_of[static_cast<std::size_t>(b)].size(), static_cast<std::size_t>(own.num_faces()));
+    ASSERT_EQ(j.facet_of[static_cast<std::size_t>(b)].size(), static_cast<std::size_t>(own.num_faces()));
     for (int f = 0; f < own.num_faces(); ++f) {
-      const MeshFace& face = mesh.face(j.face_of[static_cast<std::size_t>(b)][static_cast<std::size_t>(f)]);
+      const MeshFace& face = mesh.face(j.facet_of[static_cast<std::size_t>(b)][static_cast<std::size_t>(f)]);
       std::vector<int> shifted = own.face(f).vertices;
       for (int& v : shifted) v += j.first_vertex[static_cast<std::size_t>(b)];
       EXPECT_EQ(face.vertices, shifted);
@@ -191,7 +191,7 @@ TEST(TwoBodies3D, JoinedSolidsTouchingStayTwoPieces) {
   // the interface vertices of the two bodies coincide, pair by pair
   for (const auto& [a, b] : m.pairs) EXPECT_EQ(mesh.vertex(a), mesh.vertex(j.first_vertex[1] + b));
   std::vector<int> bottom;
-  for (int f : m.first.face_group("bottom")) bottom.push_back(j.face_of[0][static_cast<std::size_t>(f)]);
+  for (int f : m.first.face_group("bottom")) bottom.push_back(j.facet_of[0][static_cast<std::size_t>(f)]);
   EXPECT_EQ(mesh.face_group("upper.bottom"), bottom);
   EXPECT_EQ(mesh.face_groups().size(), 1u);
   // a body joined with itself: every vertex and face doubled at its place, every face of one

@@ -11,14 +11,6 @@ namespace hemivem::app::detail {
 
 namespace {
 
-/// The force contact node n exerts on its own body (the foundation's, the obstacle's or the
-/// other body's push on it).
-template <int dim>
-Eigen::Matrix<double, dim, 1> force_on_body(const BasicContactNode<dim>& n) {
-  std::vector<BasicContactNode<dim>> one{n};
-  return contact_resultant(one);
-}
-
 int body_of(const std::vector<BodyRange>& bodies, int vertex) {
   for (std::size_t b = 0; b < bodies.size(); ++b)
     if (bodies[b].has_vertex(vertex)) return static_cast<int>(b);
@@ -42,7 +34,7 @@ nlohmann::json bodies_json(const BasicContactProblem<dim>& problem, const BasicC
       if (r.name.rfind(bodies[b].name + ".", 0) == 0) balance[b].reactions.push_back(r);
   }
   for (const auto& n : s.contact) {
-    const Point on = force_on_body(n);
+    const Point on = n.force_on_body();
     if (const int b = body_of(bodies, n.vertex); b >= 0) balance[static_cast<std::size_t>(b)].contact += on;
     if (const int b = n.partner >= 0 ? body_of(bodies, n.partner) : -1; b >= 0)
       balance[static_cast<std::size_t>(b)].contact -= on;

@@ -8,7 +8,7 @@
 namespace hemivem {
 
 Joining::Joining(const DofMap& dofs, std::vector<std::array<int, 2>> pairs, int dim)
-    : pairs_(std::move(pairs)), dim_(dim), dofs_(dofs) {
+    : pairs_(std::move(pairs)), num_free_(dofs.num_free()), num_dofs_(dofs.num_dofs()) {
   const int nv = dofs.num_dofs() / dim;
   std::vector<char> seen(static_cast<std::size_t>(nv), 0);
   for (const auto& [p, q] : pairs_) {
@@ -49,8 +49,8 @@ Joining::Joining(const DofMap& dofs, std::vector<std::array<int, 2>> pairs, int 
 }
 
 LinearSystem Joining::join(const LinearSystem& system) {
-  if (system.dofs.num_free() != dofs_.num_free() || system.dofs.num_dofs() != dofs_.num_dofs())
-    throw InputError("a joined system needs " + std::to_string(dofs_.num_free()) + " free dofs, got " +
+  if (system.dofs.num_free() != num_free_ || system.dofs.num_dofs() != num_dofs_)
+    throw InputError("a joined system needs " + std::to_string(num_free_) + " free dofs, got " +
                      std::to_string(system.dofs.num_free()));
   LinearSystem joined;
   const SparseMatrix TA = SparseMatrix(T_.transpose()) * system.A;

@@ -40,22 +40,34 @@ void pair_with_other_body(const MeshOf<dim>& mesh, const std::vector<BasicContac
   const double tolerance = 1e-9 * mesh_size<dim>(mesh);
   std::set<int> nodes(boundary.nodes.begin(), boundary.nodes.end()), taken;
   boundary.partner.assign(boundary.nodes.size(), -1);
+  // per part meeting another body: the vertices of its `against` facets, by their x
+  std::vector<std::vector<std::pair<double, int>>> by_x(parts.size());
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    std::set<int> vertices;
+    for (int f : parts[k].against) {
+      if (f < 0 || f >= mesh.num_facets())
+        throw InputError("contact part '" + parts[k].name + "': facet " + std::to_string(f) +
+                         " of the other body is out of range");
+      for (int q : mesh.facet_vertices(f)) vertices.insert(q);
+    }
+    for (int q : vertices) by_x[k].emplace_back(mesh.vertex(q)(0), q);
+    std::sort(by_x[k].begin(), by_x[k].end());
+  }
   for (int i = 0; i < boundary.size(); ++i) {
-    const auto& part = parts[static_cast<std::size_t>(boundary.part_of(i))];
+    const auto k = static_cast<std::size_t>(boundary.part_of(i));
+    const auto& part = parts[k];
     if (part.against.empty()) continue;
     const int p = boundary.nodes[static_cast<std::size_t>(i)];
     const PointOf<dim>& x = mesh.vertex(p);
     int best = -1;
     double distance = tolerance;
-    for (int f : part.against) {
-      if (f < 0 || f >= mesh.num_facets())
-        throw InputError("contact part '" + part.name + "': facet " + std::to_string(f) + " of the other body is out of range");
-      for (int q : mesh.facet_vertices(f))
-        if (const double d = (mesh.vertex(q) - x).norm(); d <= distance && q != p) {
-          best = q;
-          distance = d;
-        }
-    }
+    const auto& candidates = by_x[k];
+    for (auto it = std::lower_bound(candidates.begin(), candidates.end(), std::make_pair(x(0) - tolerance, -1));
+         it != candidates.end() && it->first <= x(0) + tolerance; ++it)
+      if (const double d = (mesh.vertex(it->second) - x).norm(); d <= distance && it->second != p) {
+        best = it->second;
+        distance = d;
+      }
     if (best < 0)
       throw InputError("contact part '" + part.name + "': its node " + std::to_string(p) + " at " + point_text<dim>(x) +
                        " has no vertex of the other body's surface at its point; the two bodies' meshes must match along "

@@ -6,7 +6,6 @@
 #include <hemivem/process_group.hpp>
 
 #include <algorithm>
-#include <iterator>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -193,20 +192,17 @@ template <int dim>
 Eigen::Matrix<double, dim, 1> contact_resultant(const std::vector<BasicContactNode<dim>>& nodes) {
   using Point = Eigen::Matrix<double, dim, 1>;
   Point total = Point::Zero();
-  for (const auto& n : nodes) {
-    if constexpr (dim == 2)
-      total -= n.force() * n.normal + n.friction_force * Vec2(-n.normal.y(), n.normal.x());
-    else
-      total -= n.force() * n.normal + n.friction_vector;
-  }
+  for (const auto& n : nodes) total += n.force_on_body();
   return total;
 }
 
 template <int dim>
 Eigen::Matrix<double, dim, 1> external_contact_resultant(const std::vector<BasicContactNode<dim>>& nodes) {
-  std::vector<BasicContactNode<dim>> external;
-  std::copy_if(nodes.begin(), nodes.end(), std::back_inserter(external), [](const auto& n) { return n.partner < 0; });
-  return contact_resultant(external);
+  using Point = Eigen::Matrix<double, dim, 1>;
+  Point total = Point::Zero();
+  for (const auto& n : nodes)
+    if (n.partner < 0) total += n.force_on_body();
+  return total;
 }
 
 template <int dim>

@@ -185,10 +185,10 @@ void contact_tractions(const std::vector<BasicContactNode<dim>>& nodes, int nv, 
   b.node_traction.assign(nodes.size(), Point<dim>::Zero());
   for (std::size_t i = 0; i < nodes.size(); ++i) {
     const BasicContactNode<dim>& node = nodes[i];
-    for (int v : {node.vertex, node.partner})
-      if ((v != node.partner || v >= 0) && (v < 0 || v >= nv))
-        throw InputError("estimate_error: contact node " + std::to_string(i) + " names vertex " + std::to_string(v) +
-                         ", outside the mesh");
+    const auto outside = [nv](int v) { return v < 0 || v >= nv; };
+    if (outside(node.vertex) || (node.partner >= 0 && outside(node.partner)))
+      throw InputError("estimate_error: contact node " + std::to_string(i) + " names vertex " +
+                       std::to_string(outside(node.vertex) ? node.vertex : node.partner) + ", outside the mesh");
     b.node_of[static_cast<std::size_t>(node.vertex)] = static_cast<int>(i);
     b.node_traction[i] = node_traction<dim>(node);
     if (node.partner >= 0) {

@@ -30,10 +30,6 @@ MatchedInterface3D match(const Mesh3D& a, const std::vector<int>& fa, const Mesh
                          double tol) {
   return match_interface_3d(a, fa, b, fb, tol);
 }
-const std::vector<int>& facets_of(const JoinedMeshes& j, std::size_t b) { return j.edge_of[b]; }
-const std::vector<int>& facets_of(const JoinedMeshes3D& j, std::size_t b) { return j.face_of[b]; }
-int first_cell(const JoinedMeshes& j, std::size_t b) { return j.first_element[b]; }
-int first_cell(const JoinedMeshes3D& j, std::size_t b) { return j.first_cell[b]; }
 
 /// The meshes of the bodies, each as its scene of one body makes it, matched along every
 /// contact part against another body.
@@ -64,11 +60,11 @@ std::vector<MeshOf<dim>> matched_meshes(const Scene& scene) {
 }
 
 /// Body b's materials, supports and loads on the joined mesh.
-template <int dim, class Joined>
-void add_body(const Scene& scene, std::size_t b, const BasicBuiltProblem<dim>& body, const Joined& joined,
+template <int dim>
+void add_body(const Scene& scene, std::size_t b, const BasicBuiltProblem<dim>& body, const BasicJoinedMeshes<dim>& joined,
               BasicContactProblem<dim>& into, std::vector<Material>& by_region) {
   const auto& e = body.problem.elasticity;
-  const std::vector<int>& edge_of = facets_of(joined, b);
+  const std::vector<int>& edge_of = joined.facet_of[b];
   int largest = 0;
   for (int r : body.mesh.regions()) largest = std::max(largest, r);
   for (int r = 0; r <= largest; ++r) {
@@ -134,17 +130,17 @@ std::unique_ptr<BasicBuiltProblem<dim>> built_bodies(const Scene& scene) {
     const std::string name = contact_part_name(scene, k);
     const auto& own = bodies[a]->problem.parts;
     auto part = *std::find_if(own.begin(), own.end(), [&](const auto& x) { return x.name == name; });
-    for (int& f : part.facets) f = facets_of(joined, a)[static_cast<std::size_t>(f)];
+    for (int& f : part.facets) f = joined.facet_of[a][static_cast<std::size_t>(f)];
     if (parts[k].against) {
       const std::size_t b = body_index(scene, parts[k].against_body);
       for (int f : select_facets<dim>(scene, bodies[b]->mesh, *parts[k].against, contact_key(scene, k) + ".against"))
-        part.against.push_back(facets_of(joined, b)[static_cast<std::size_t>(f)]);
+        part.against.push_back(joined.facet_of[b][static_cast<std::size_t>(f)]);
     }
     p.parts.push_back(std::move(part));
   }
   for (std::size_t b = 0; b < bodies.size(); ++b)
     out->bodies.push_back({scene.bodies[b].name, joined.first_vertex[b], bodies[b]->mesh.num_vertices(),
-                           first_cell(joined, b), bodies[b]->mesh.num_cells()});
+                           joined.first_cell[b], bodies[b]->mesh.num_cells()});
   out->has_contact = !p.parts.empty();
   out->warnings = scene_warnings(scene);
   return out;

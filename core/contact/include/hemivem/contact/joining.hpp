@@ -51,8 +51,7 @@ class Joining {
 
  private:
   std::vector<std::array<int, 2>> pairs_;
-  int dim_ = 2;
-  DofMap dofs_;
+  int num_free_ = 0, num_dofs_ = 0;  // of the system joined
   // per paired component: (free index of p's dof or -1, dof of p, dof of q)
   struct Component {
     int free_p = -1, free_q = -1, dof_p = 0, dof_q = 0;

@@ -100,6 +100,14 @@ struct BasicContactNode {
   double force() const noexcept { return law_force + reaction; }
   /// The contact pressure (zeta_i + lambda_i) / w_i.
   double pressure() const noexcept { return force() / weight; }
+  /// The force the contact exerts on the node's body: -(zeta_i + lambda_i) nu_i less the friction
+  /// force (in the plane zeta_tau tau, tau = (-nu_y, nu_x); on a solid's surface friction_vector).
+  Point force_on_body() const {
+    if constexpr (dim == 2)
+      return -(force() * normal + friction_force * Point(-normal.y(), normal.x()));
+    else
+      return -(force() * normal + friction_vector);
+  }
 };
 using ContactNode = BasicContactNode<2>;
 
