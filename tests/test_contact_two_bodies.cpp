@@ -169,7 +169,7 @@ TEST(TwoBodies, JoiningIsTheChangeOfCoordinatesItSays) {
   dofs.free_dofs = {0, 1, 2, 3};
   dofs.prescribed = Eigen::VectorXd::Zero(6);
   dofs.prescribed(4) = 0.5;
-  Joining j(dofs, {{0, 1}}, 2);
+  Joining j(dofs, {{0, Across::vertex_at(1)}}, 2);
   const Eigen::VectorXd u = (Eigen::VectorXd(6) << 1.0, 2.0, 0.25, -1.0, 0.5, 0.0).finished();
   const Eigen::VectorXd v = j.relative(u);
   EXPECT_EQ(v(0), 0.75);
@@ -191,8 +191,8 @@ TEST(TwoBodies, JoiningIsTheChangeOfCoordinatesItSays) {
   // a component prescribed on one side only, against a free one, is refused by name
   DofMap held = dofs;
   held.free_index = {-1, 0, 1, 2, 3, -1};
-  EXPECT_THROW(Joining(held, {{0, 1}}, 2), InputError);
-  EXPECT_THROW(Joining(dofs, {{0, 1}, {1, 2}}, 2), InputError);
+  EXPECT_THROW(Joining(held, {{0, Across::vertex_at(1)}}, 2), InputError);
+  EXPECT_THROW(Joining(dofs, {{0, Across::vertex_at(1)}, {1, Across::vertex_at(2)}}, 2), InputError);
 }
 
 TEST(TwoBodies, UnmatchedMeshesAreRefusedByName) {

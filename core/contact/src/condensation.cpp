@@ -289,10 +289,11 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
   dimension_ = boundary.dimension;
   // two bodies: the system in the coordinates relative at the pairs
   LinearSystem joined;
-  if (!boundary.partner.empty()) {
-    std::vector<std::array<int, 2>> pairs;
+  if (!boundary.across.empty()) {
+    std::vector<std::pair<int, Across>> pairs;
     for (int i = 0; i < boundary.size(); ++i)
-      if (const int q = boundary.partner_of(i); q >= 0) pairs.push_back({boundary.nodes[static_cast<std::size_t>(i)], q});
+      if (const Across& a = boundary.across[static_cast<std::size_t>(i)]; a.size() > 0)
+        pairs.emplace_back(boundary.nodes[static_cast<std::size_t>(i)], a);
     joining_ = Joining(system.dofs, std::move(pairs), dimension_);
     joined = joining_.join(system);
     dofs_ = joined.dofs;

@@ -7,42 +7,60 @@
 
 namespace hemivem {
 
-Joining::Joining(const DofMap& dofs, std::vector<std::array<int, 2>> pairs, int dim)
+Joining::Joining(const DofMap& dofs, std::vector<std::pair<int, Across>> pairs, int dim)
     : pairs_(std::move(pairs)), num_free_(dofs.num_free()), num_dofs_(dofs.num_dofs()) {
   const int nv = dofs.num_dofs() / dim;
-  std::vector<char> seen(static_cast<std::size_t>(nv), 0);
-  for (const auto& [p, q] : pairs_) {
-    for (int v : {p, q}) {
-      if (v < 0 || v >= nv)
-        throw InputError("contact pair (" + std::to_string(p) + ", " + std::to_string(q) + "): vertex " +
-                         std::to_string(v) + " out of range (the mesh has " + std::to_string(nv) + " vertices)");
-      if (seen[static_cast<std::size_t>(v)])
-        throw InputError("vertex " + std::to_string(v) +
-                         " is in two contact pairs: a vertex meets at most one vertex of the other body");
-      seen[static_cast<std::size_t>(v)] = 1;
+  // 1: a node p, 2: some pair's q_k
+  std::vector<char> role(static_cast<std::size_t>(nv), 0);
+  const auto in_range = [&](int v, int p) {
+    if (v < 0 || v >= nv)
+      throw InputError("contact pair of node " + std::to_string(p) + ": vertex " + std::to_string(v) +
+                       " out of range (the mesh has " + std::to_string(nv) + " vertices)");
+  };
+  for (const auto& [p, across] : pairs_) {
+    in_range(p, p);
+    if (role[static_cast<std::size_t>(p)] == 1)
+      throw InputError("vertex " + std::to_string(p) + " is in two contact pairs: a node meets one point of the other body");
+    role[static_cast<std::size_t>(p)] = 1;
+  }
+  for (const auto& [p, across] : pairs_)
+    for (int k = 0; k < across.size(); ++k) {
+      const int q = across.vertex[static_cast<std::size_t>(k)];
+      in_range(q, p);
+      if (role[static_cast<std::size_t>(q)] == 1)
+        throw InputError("vertex " + std::to_string(q) + " is a contact node and across from node " + std::to_string(p) +
+                         ": a surface meets another body from one side only");
     }
+  for (const auto& [p, across] : pairs_)
     for (int c = 0; c < dim; ++c) {
       Component k;
       k.dof_p = dim * p + c;
-      k.dof_q = dim * q + c;
       k.free_p = dofs.free_index[static_cast<std::size_t>(k.dof_p)];
-      k.free_q = dofs.free_index[static_cast<std::size_t>(k.dof_q)];
-      if (k.free_p < 0 && k.free_q >= 0)
-        throw InputError("vertex " + std::to_string(p) + " has its " + std::string(1, "xyz"[c]) +
-                         " displacement prescribed and the vertex " + std::to_string(q) +
-                         " of the other body at its point has it free: the two bodies' vertices at one point of their "
-                         "contact take the same supports, or the one across the contact from the prescribed one does");
-      components_.push_back(k);
+      for (int j = 0; j < across.size(); ++j) {
+        Term t;
+        t.dof = dim * across.vertex[static_cast<std::size_t>(j)] + c;
+        t.free = dofs.free_index[static_cast<std::size_t>(t.dof)];
+        t.weight = across.weight[static_cast<std::size_t>(j)];
+        if (k.free_p < 0 && t.free >= 0)
+          throw InputError("vertex " + std::to_string(p) + " has its " + std::string(1, "xyz"[c]) +
+                           " displacement prescribed and the vertex " + std::to_string(t.dof / dim) +
+                           " of the other body across from it has it free: the two bodies' vertices at one point of "
+                           "their contact take the same supports, or the one across the contact from the prescribed one does");
+        if (k.free_p >= 0 && t.free < 0) k.shifted = true;
+        k.across.push_back(t);
+      }
+      components_.push_back(std::move(k));
     }
-  }
   const int n = dofs.num_free();
   std::vector<Eigen::Triplet<double, int>> t;
-  t.reserve(static_cast<std::size_t>(n) + components_.size());
+  t.reserve(static_cast<std::size_t>(n) + 3 * components_.size());
   for (int k = 0; k < n; ++k) t.emplace_back(k, k, 1.0);
   for (std::size_t k = 0; k < components_.size(); ++k) {
     const Component& c = components_[k];
-    if (c.free_p >= 0 && c.free_q >= 0) t.emplace_back(c.free_p, c.free_q, 1.0);
-    if (c.free_p >= 0 && c.free_q < 0) shifted_.push_back(static_cast<int>(k));
+    if (c.free_p < 0) continue;
+    for (const Term& q : c.across)
+      if (q.free >= 0) t.emplace_back(c.free_p, q.free, q.weight);
+    if (c.shifted) shifted_.push_back(static_cast<int>(k));
   }
   T_.resize(n, n);
   T_.setFromTriplets(t.begin(), t.end());
@@ -55,7 +73,7 @@ LinearSystem Joining::join(const LinearSystem& system) {
   LinearSystem joined;
   const SparseMatrix TA = SparseMatrix(T_.transpose()) * system.A;
   joined.A = TA * T_;
-  // the columns of A whose dof's partner is prescribed: b - A s for every later load
+  // the columns of A whose dof's combination has a prescribed part: b - A s for every later load
   std::vector<Eigen::Triplet<double, int>> t;
   for (std::size_t j = 0; j < shifted_.size(); ++j)
     for (SparseMatrix::InnerIterator it(system.A, components_[static_cast<std::size_t>(shifted_[j])].free_p); it; ++it)
@@ -71,10 +89,15 @@ Eigen::VectorXd Joining::join_load(const Eigen::VectorXd& b, const Eigen::Vector
                                    Eigen::VectorXd& joined_prescribed) const {
   joined_prescribed = prescribed;
   for (const Component& c : components_)
-    if (c.free_p < 0) joined_prescribed(c.dof_p) = prescribed(c.dof_p) - prescribed(c.dof_q);
+    if (c.free_p < 0)
+      for (const Term& q : c.across) joined_prescribed(c.dof_p) -= q.weight * prescribed(q.dof);
   Eigen::VectorXd s(static_cast<Eigen::Index>(shifted_.size()));
-  for (std::size_t j = 0; j < shifted_.size(); ++j)
-    s(static_cast<Eigen::Index>(j)) = prescribed(components_[static_cast<std::size_t>(shifted_[j])].dof_q);
+  for (std::size_t j = 0; j < shifted_.size(); ++j) {
+    double value = 0.0;
+    for (const Term& q : components_[static_cast<std::size_t>(shifted_[j])].across)
+      if (q.free < 0) value += q.weight * prescribed(q.dof);
+    s(static_cast<Eigen::Index>(j)) = value;
+  }
   Eigen::VectorXd shifted = b;
   if (s.size() > 0) shifted -= shift_ * s;
   return T_.transpose() * shifted;
@@ -82,13 +105,15 @@ Eigen::VectorXd Joining::join_load(const Eigen::VectorXd& b, const Eigen::Vector
 
 Eigen::VectorXd Joining::displacement(const Eigen::VectorXd& v) const {
   Eigen::VectorXd u = v;
-  for (const Component& c : components_) u(c.dof_p) = v(c.dof_p) + v(c.dof_q);
+  for (const Component& c : components_)
+    for (const Term& q : c.across) u(c.dof_p) += q.weight * v(q.dof);
   return u;
 }
 
 Eigen::VectorXd Joining::relative(const Eigen::VectorXd& u) const {
   Eigen::VectorXd v = u;
-  for (const Component& c : components_) v(c.dof_p) = u(c.dof_p) - u(c.dof_q);
+  for (const Component& c : components_)
+    for (const Term& q : c.across) v(c.dof_p) -= q.weight * u(q.dof);
   return v;
 }
 

@@ -20,11 +20,12 @@ Eigen::MatrixXd along(const BasicRigidMotions<dim>& motions, const ContactBounda
   for (int i = 0; i < boundary.size(); ++i) {
     if (!which.empty() && !which[static_cast<std::size_t>(i)]) continue;
     const int node = boundary.nodes[static_cast<std::size_t>(i)];
-    // at a pair of two bodies, the motion of the node relative to its partner
-    const int partner = boundary.partner_of(i);
+    // at a pair of two bodies, the motion of the node relative to the point across from it
+    const Across across = boundary.across.empty() ? Across{} : boundary.across[static_cast<std::size_t>(i)];
     const auto functional = [&](const PointOf<dim>& direction) -> Eigen::RowVectorXd {
       Eigen::RowVectorXd row = motions.functional(node, direction);
-      if (partner >= 0) row -= motions.functional(partner, direction);
+      for (int k = 0; k < across.size(); ++k)
+        row -= across.weight[static_cast<std::size_t>(k)] * motions.functional(across.vertex[static_cast<std::size_t>(k)], direction);
       return row;
     };
     if constexpr (dim == 2) {

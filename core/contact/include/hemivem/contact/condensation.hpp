@@ -43,10 +43,15 @@ struct ContactBoundary {
   std::vector<int> faces;
   std::vector<Vec3> normals3d;
   std::vector<int> prescribed_mask;
-  /// Per node: the vertex of the other body at its point when its part meets another body
-  /// (BasicContactPart::against), -1 otherwise; empty when no part does. The condensation then
-  /// joins the bodies at these pairs (hemivem/contact/joining.hpp): the node's unknowns are its
-  /// displacements relative to its partner's.
+  /// Per node whose part meets another body (BasicContactPart::against): the point of the other
+  /// body across from it (the vertex at its point, or with BodyPairing::projection the point of
+  /// its surface along the node's normal); empty (no vertex) where there is none. Empty when
+  /// no part meets another body. The condensation joins the bodies at these pairs
+  /// (hemivem/contact/joining.hpp): the node's unknowns are its displacements relative to
+  /// that point's.
+  std::vector<Across> across;
+  /// Per node: the vertex of the largest weight in `across` (the vertex at the node's point when
+  /// the meshes match), -1 where there is none; empty when `across` is.
   std::vector<int> partner;
 
   int size() const noexcept { return static_cast<int>(nodes.size()); }
@@ -85,12 +90,20 @@ ContactBoundary make_contact_boundary(const Mesh& mesh, const std::vector<int>& 
 /// a part whose gap function is empty has gap 0.
 ContactBoundary make_contact_boundary(const Mesh& mesh, const std::vector<ContactPart>& parts, const DofMap& dofs);
 
-/// Pairs each node of `boundary` whose part meets another body (BasicContactPart::against) with
-/// the vertex of that body's surface at its point (boundary.partner), within 1e-9 of the mesh's
-/// size. InputError naming the part and the node when there is none (the two bodies' meshes
-/// do not match along the contact: hemivem/mesh/interface.hpp matches them), when the vertex
-/// found is itself a node of the contact, or when two nodes find the same vertex. The plane's
-/// and the solid's make_contact_boundary call it.
+/// Pairs each node of `boundary` whose part meets another body (BasicContactPart::against)
+/// with the point of that body's surface across from it (boundary.across, boundary.partner):
+///   - BodyPairing::vertex: the vertex of `against` at its point, within 1e-9 of the mesh's
+///     size. InputError naming the part and the node when there is none (the two bodies'
+///     meshes do not match along the contact: hemivem/mesh/interface.hpp matches them), or when
+///     two nodes find the same vertex.
+///   - BodyPairing::projection: the first point of `against` that the line through the node
+///     along its normal meets (the least distance |s|, either way), on an edge of a plane body
+///     or a triangular face of a solid (InputError naming a face of more corners: the virtual
+///     space is linear on a triangle only); s is added to the node's gap (negative where the
+///     bodies overlap). A node whose line misses every facet of `against` has no pair and the
+///     gap +inf: it never meets the other body.
+/// InputError when a vertex found is itself a node of the contact. The plane's and the solid's
+/// make_contact_boundary call it.
 template <int dim>
 void pair_with_other_body(const MeshOf<dim>& mesh, const std::vector<BasicContactPart<dim>>& parts,
                           ContactBoundary& boundary);

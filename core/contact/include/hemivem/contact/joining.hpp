@@ -1,5 +1,5 @@
 // Two bodies in contact as one linear system: the displacements of one body's contact nodes
-// replaced by their displacements relative to the other body's nodes they are paired with.
+// replaced by their displacements relative to the point of the other body across from them.
 #pragma once
 
 #include <Eigen/Core>
@@ -11,34 +11,66 @@
 
 namespace hemivem {
 
+/// The point of the other body across from a contact node: the combination sum_k w_k x_{q_k} of
+/// up to three of its vertices (unused slots -1). At a vertex: one vertex of weight 1; on an
+/// edge of a plane body: the edge's two ends; on a triangular face of a solid: its three
+/// corners. The lowest-order virtual space is linear on such an edge or triangle, so the
+/// displacement of that point is sum_k w_k u_{q_k} exactly.
+struct Across {
+  std::array<int, 3> vertex{-1, -1, -1};
+  std::array<double, 3> weight{0.0, 0.0, 0.0};
+  /// The vertex q itself (weight 1).
+  static Across vertex_at(int q) {
+    Across a;
+    a.vertex[0] = q;
+    a.weight[0] = 1.0;
+    return a;
+  }
+  /// The number of vertices used.
+  int size() const noexcept {
+    int n = 0;
+    while (n < 3 && vertex[static_cast<std::size_t>(n)] >= 0) ++n;
+    return n;
+  }
+  /// The vertex of the largest weight (-1 for none).
+  int nearest() const noexcept {
+    int best = -1;
+    for (int k = 0; k < size(); ++k)
+      if (best < 0 || weight[static_cast<std::size_t>(k)] > weight[static_cast<std::size_t>(best)]) best = k;
+    return best < 0 ? -1 : vertex[static_cast<std::size_t>(best)];
+  }
+};
+
 /// The change of coordinates that joins two bodies at their contact pairs (docs/two-bodies.md).
 ///
 /// The bodies are one mesh of two pieces (their vertices numbered together) and one linear
-/// system of all their dofs. At a pair (p, q), p a contact node of one body and q the vertex of
-/// the other body at the same point, the coordinates of p become r = u_p - u_q, the relative
-/// displacement, and q keeps u_q: u = T v with u_p = v_p + v_q and every other dof as it is. The
-/// joined system is T^T A T v = T^T b over the same free dofs, so that a contact law of the
-/// relative normal displacement r . nu acts on coordinates of the system as a foundation's law
-/// acts on u . nu, and the condensation, the reduced problem and every engine are those of one
-/// body.
+/// system of all their dofs. At a pair (p, a), p a contact node of one body and a the point of
+/// the other body across from it (the vertex at its point, or a point of an edge or triangle:
+/// Across), the coordinates of p become r = u_p - sum_k w_k u_{q_k}, the relative displacement,
+/// and each q_k keeps its own: u = T v with u_p = v_p + sum_k w_k v_{q_k} and every other dof as
+/// it is. The joined system is T^T A T v = T^T b over the same free dofs, so that a contact law
+/// of the relative normal displacement r . nu acts on coordinates of the system as a
+/// foundation's law acts on u . nu, and the condensation, the reduced problem and every engine
+/// are those of one body.
 ///
-/// Prescribed displacements: a component prescribed at q and free at p leaves r free (u_p = r +
-/// g_q, g_q moved into the load); prescribed at both, r is prescribed to g_p - g_q; prescribed
-/// at p alone it cannot be one coordinate of the joined system: InputError naming the vertices.
+/// Prescribed displacements: a component prescribed at some q_k and free at p leaves r free
+/// (the prescribed part of the combination moved into the load); prescribed at p and at every
+/// q_k, r is prescribed to g_p - sum_k w_k g_{q_k}; prescribed at p and free at some q_k it
+/// cannot be one coordinate of the joined system: InputError naming the vertices.
 class Joining {
  public:
   /// No pairs: the identity.
   Joining() = default;
-  /// The pairs (p, q) of vertices of the system's mesh (`dim` dofs per vertex, dof d * v + c).
-  /// InputError for a vertex out of range, a vertex in two pairs or on both sides, and a
-  /// component prescribed at p but free at q.
-  Joining(const DofMap& dofs, std::vector<std::array<int, 2>> pairs, int dim);
+  /// The pairs (p, a) of the system's mesh (`dim` dofs per vertex, dof d * v + c). InputError
+  /// for a vertex out of range, a node p in two pairs, a vertex on both sides (a node p that is
+  /// some pair's q_k), and a component prescribed at p but free at some q_k.
+  Joining(const DofMap& dofs, std::vector<std::pair<int, Across>> pairs, int dim);
 
   bool empty() const noexcept { return pairs_.empty(); }
-  const std::vector<std::array<int, 2>>& pairs() const noexcept { return pairs_; }
+  const std::vector<std::pair<int, Across>>& pairs() const noexcept { return pairs_; }
 
-  /// The joined system T^T A T v = T^T (b - A s) (s: the prescribed values of the partners of
-  /// free components), with the joined prescribed values (prescribed()).
+  /// The joined system T^T A T v = T^T (b - A s) (s: the prescribed part of the combinations
+  /// of free components), with the joined prescribed values (prescribed()).
   LinearSystem join(const LinearSystem& system);
   /// The joined load of a new load `b` of the same system with the prescribed values
   /// `prescribed` (all dofs), and those values joined in `joined_prescribed`.
@@ -50,15 +82,21 @@ class Joining {
   Eigen::VectorXd relative(const Eigen::VectorXd& u) const;
 
  private:
-  std::vector<std::array<int, 2>> pairs_;
+  std::vector<std::pair<int, Across>> pairs_;
   int num_free_ = 0, num_dofs_ = 0;  // of the system joined
-  // per paired component: (free index of p's dof or -1, dof of p, dof of q)
+  // per paired component: p's dof and free index (-1: prescribed), and the q_k's
+  struct Term {
+    int dof = 0, free = -1;
+    double weight = 0.0;
+  };
   struct Component {
-    int free_p = -1, free_q = -1, dof_p = 0, dof_q = 0;
+    int free_p = -1, dof_p = 0;
+    std::vector<Term> across;
+    bool shifted = false;  // p free and some q_k prescribed
   };
   std::vector<Component> components_;
-  SparseMatrix T_;       // on the free dofs: u_f = T_ v_f (+ s)
-  SparseMatrix shift_;   // the columns of A at the free p-dofs whose q is prescribed
+  SparseMatrix T_;            // on the free dofs: u_f = T_ v_f (+ s)
+  SparseMatrix shift_;        // the columns of A at the free p-dofs some of whose q_k are prescribed
   std::vector<int> shifted_;  // their components (index into components_)
 };
 

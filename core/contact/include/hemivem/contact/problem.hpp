@@ -42,6 +42,15 @@ std::string to_string(FrictionBound::Kind kind);
 /// than one point, u_nu not increasing, or a negative or non-finite h.
 void check_friction_bound(const FrictionBound& bound, const std::string& where = {});
 
+/// How the nodes of a part that meets another body are paired with that body's surface
+/// (docs/two-bodies.md): at the vertex at each node's point (the meshes matched along a contact
+/// where the surfaces coincide), or at the point of the surface along each node's normal, with
+/// its distance as the node's gap (surfaces that do not coincide: curved bodies touching at a
+/// point, or overlapping by an interference).
+enum class BodyPairing { vertex, projection };
+/// "vertex", "projection".
+std::string to_string(BodyPairing pairing);
+
 /// One part of the contact boundary Gamma_3 (docs/contact-parts.md) of a plane (dim = 2) or a
 /// solid (dim = 3) body: its facets (boundary edges, or boundary faces) and everything the
 /// contact of its nodes obeys.
@@ -78,6 +87,10 @@ struct BasicContactPart {
   /// the vertex of these facets at its point, and the laws act on its displacement relative to
   /// that vertex's (hemivem/contact/joining.hpp). Empty: a foundation or an obstacle.
   std::vector<int> against;
+  /// How the part's nodes meet `against`: at the vertex at their point, or (projection) at the
+  /// point along their normal, whose distance is added to `gap` (hemivem/contact/condensation.hpp,
+  /// pair_with_other_body).
+  BodyPairing pairing = BodyPairing::vertex;
 };
 using ContactPart = BasicContactPart<2>;
 
@@ -101,11 +114,13 @@ template <int dim>
 void check_contact_parts(const std::vector<BasicContactPart<dim>>& parts);
 
 /// The constraint the condensation imposes on a part: its constraint, but none when it has
-/// neither a gap nor an obstacle (bilateral stays bilateral).
+/// neither a gap, nor an obstacle, nor a surface of another body projected onto (bilateral
+/// stays bilateral).
 template <int dim>
 ConstraintKind constraint_in_effect(const BasicContactPart<dim>& part) {
+  const bool gapped = part.gap || part.obstacle || (!part.against.empty() && part.pairing == BodyPairing::projection);
   return part.constraint == ConstraintKind::bilateral ? ConstraintKind::bilateral
-         : part.gap || part.obstacle                  ? part.constraint
+         : gapped                                     ? part.constraint
                                                       : ConstraintKind::none;
 }
 

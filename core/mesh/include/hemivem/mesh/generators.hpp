@@ -73,6 +73,18 @@ Mesh make_nonconvex(GridSize n, const Rectangle& domain = {});
 /// else InputError); boundary vertices stay put. Numbering as make_squares.
 Mesh make_distorted(GridSize n, double fraction = 0.2, const Rectangle& domain = {}, std::uint64_t seed = 1);
 
+/// The cells of a polar grid around `center`: between consecutive radii r_0 < r_1 < ... < r_m
+/// and consecutive angles theta_0 < ... < theta_n (radians, counter-clockwise from the x axis,
+/// spanning at most a full turn), quadrilaterals, and triangles at r_0 = 0 (the centre is one
+/// vertex): a ring, a disk or a sector of either, graded as the lists say. Vertex (i, j) lies at
+/// center + r_i (cos theta_j, sin theta_j), exactly on an axis at the multiples of pi/2, so the
+/// vertices on a circle lie on it to round-off and the boundary is a polygon inscribed in the
+/// circles. Element (i, j) (the ring i, the sector j) has index j m + i. Edge groups: "outer"
+/// (on r_m), "inner" (on r_0 > 0), and unless the angles make a full turn "start" (on theta_0)
+/// and "end" (on theta_n). InputError for fewer than two radii or angles (or more than 20001),
+/// values that do not increase or are not finite, a negative r_0, or more than a full turn.
+Mesh make_polar(const Vec2& center, const std::vector<double>& radii, const std::vector<double>& angles);
+
 /// A simple polygon: its corners in order around the boundary (either orientation), the
 /// last joined to the first. Edge k runs from corner k to corner k+1.
 struct PolygonDomain {
