@@ -176,6 +176,7 @@ BasicContactNode<3> contact_node(const Mesh3D& mesh, const ContactBoundary& boun
   node.vertex = boundary.nodes[k0];
   node.part = boundary.part_of(i);
   node.partner = boundary.partner_of(i);
+  if (!boundary.across.empty()) node.across = boundary.across[static_cast<std::size_t>(i)];
   node.x = mesh.vertex(node.vertex);
   node.weight = boundary.weights(i);
   node.normal = boundary.normals3d[k0];

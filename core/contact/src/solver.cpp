@@ -81,6 +81,7 @@ ContactNode contact_node(const Mesh& mesh, const ContactBoundary& boundary, cons
   node.vertex = boundary.nodes[static_cast<std::size_t>(i)];
   node.part = boundary.part_of(i);
   node.partner = boundary.partner_of(i);
+  if (!boundary.across.empty()) node.across = boundary.across[static_cast<std::size_t>(i)];
   node.x = mesh.vertex(node.vertex);
   node.weight = boundary.weights(i);
   node.normal = boundary.normals[static_cast<std::size_t>(i)];

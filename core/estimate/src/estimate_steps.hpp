@@ -176,26 +176,45 @@ Point<dim> node_traction(const BasicContactNode<dim>& node) {
   }
 }
 
-/// The contact node of each vertex and the traction of each node into `b`; the vertex of the
-/// other body paired with a node (BasicContactNode::partner) bears the opposite traction.
-/// InputError for a node that names a vertex outside the mesh.
+/// The contact node of each vertex and the traction of each node into `b`; a vertex of the
+/// other body across from nodes (BasicContactNode::across) bears the opposite of their
+/// tractions, weighted as the vertex's share of each point across (the opposite of the node's
+/// traction at the vertex at its point). InputError for a node that names a vertex outside the
+/// mesh.
 template <int dim>
 void contact_tractions(const std::vector<BasicContactNode<dim>>& nodes, int nv, BoundaryFacets<dim>& b) {
   b.node_of.assign(static_cast<std::size_t>(nv), -1);
   b.node_traction.assign(nodes.size(), Point<dim>::Zero());
+  std::vector<double> share(static_cast<std::size_t>(nv), 0.0);  // per vertex across: its weights summed
+  const auto outside = [nv](int v) { return v < 0 || v >= nv; };
   for (std::size_t i = 0; i < nodes.size(); ++i) {
     const BasicContactNode<dim>& node = nodes[i];
-    const auto outside = [nv](int v) { return v < 0 || v >= nv; };
     if (outside(node.vertex) || (node.partner >= 0 && outside(node.partner)))
       throw InputError("estimate_error: contact node " + std::to_string(i) + " names vertex " +
                        std::to_string(outside(node.vertex) ? node.vertex : node.partner) + ", outside the mesh");
     b.node_of[static_cast<std::size_t>(node.vertex)] = static_cast<int>(i);
     b.node_traction[i] = node_traction<dim>(node);
-    if (node.partner >= 0) {
-      b.node_of[static_cast<std::size_t>(node.partner)] = static_cast<int>(b.node_traction.size());
-      b.node_traction.push_back(-b.node_traction[i]);
+  }
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    const Across& across = nodes[i].across;
+    for (int k = 0; k < across.size(); ++k) {
+      const int q = across.vertex[static_cast<std::size_t>(k)];
+      const double w = across.weight[static_cast<std::size_t>(k)];
+      if (outside(q))
+        throw InputError("estimate_error: contact node " + std::to_string(i) + " names vertex " + std::to_string(q) +
+                         ", outside the mesh");
+      int& at = b.node_of[static_cast<std::size_t>(q)];
+      if (at < 0) {
+        at = static_cast<int>(b.node_traction.size());
+        b.node_traction.push_back(Point<dim>::Zero());
+      }
+      b.node_traction[static_cast<std::size_t>(at)] -= w * b.node_traction[i];
+      share[static_cast<std::size_t>(q)] += w;
     }
   }
+  for (int q = 0; q < nv; ++q)
+    if (share[static_cast<std::size_t>(q)] > 0.0)
+      b.node_traction[static_cast<std::size_t>(b.node_of[static_cast<std::size_t>(q)])] /= share[static_cast<std::size_t>(q)];
 }
 
 /// What each of the mesh's `nfacets` facets is: the components fixed on it, its loads, its

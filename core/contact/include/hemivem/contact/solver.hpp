@@ -74,6 +74,10 @@ struct BasicContactNode {
   /// are then relative: this node's body's less the other's); -1 against a foundation or an
   /// obstacle.
   int partner = -1;
+  /// Two bodies: the point of the other body across from the node, as a combination of its
+  /// vertices (ContactBoundary::across; `partner` is the one of the largest weight); no vertex
+  /// against a foundation or an obstacle.
+  Across across;
   Point x = Point::Zero();
   double u_nu = 0.0;       ///< normal displacement a_i
   double law_force = 0.0;  ///< zeta_i in w_i dj(a_i): the force of the contact law
