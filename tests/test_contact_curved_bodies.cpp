@@ -14,6 +14,10 @@
 
 #include <gtest/gtest.h>
 
+#include "projected_part.hpp"
+
+#include "lame_rings.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -42,8 +46,10 @@ std::vector<double> graded(double from, double to, double h, double flat, double
     d.push_back(d.back() + step);
     if (d.back() >= flat) step *= ratio;
   }
-  if (length - d.back() < 0.5 * step && d.size() > 1) d.back() = length;
-  else d.push_back(length);
+  if (length - d.back() < 0.5 * step && d.size() > 1)
+    d.back() = length;
+  else
+    d.push_back(length);
   std::vector<double> out;
   for (double x : d) out.push_back(from + sign * x);
   out.back() = to;
@@ -70,18 +76,6 @@ std::vector<int> in_body(const JoinedMeshes& joined, int body, const std::vector
   return out;
 }
 
-/// Signorini contact of `facets` against `against`, paired by projection.
-ContactPart projected(const std::vector<int>& facets, const std::vector<int>& against) {
-  ContactPart part;
-  part.name = "interface";
-  part.facets = facets;
-  part.against = against;
-  part.pairing = BodyPairing::projection;
-  part.law = zero_law();
-  part.constraint = ConstraintKind::one_sided;
-  return part;
-}
-
 ContactSolution solve(const ContactProblem& problem) {
   FactorizationOptions f;
   f.engine = "auto";
@@ -102,7 +96,8 @@ TEST(CurvedBodies, ProjectionPairsEachNodeWithThePointAlongItsNormal) {
   };
   ContactProblem problem;
   problem.elasticity.mesh = &joined.mesh;
-  problem.parts.push_back(projected(in_body(joined, 0, at_y(upper, 0.6)), in_body(joined, 1, at_y(lower, 0.5))));
+  problem.parts.push_back(
+      test::projected_part<2>(in_body(joined, 0, at_y(upper, 0.6)), in_body(joined, 1, at_y(lower, 0.5))));
   problem.parts.back().gap = [](const Vec2& x) { return 0.01 * x.x(); };  // added to the distance
   const DofMap dofs = make_dof_map(joined.mesh, {});
   const ContactBoundary b = make_contact_boundary(joined.mesh, problem.parts, dofs);
@@ -129,13 +124,14 @@ TEST(CurvedBodies, ProjectionPairsEachNodeWithThePointAlongItsNormal) {
   const Mesh deep = make_squares({2, 1}, {0.0, 1.0, 0.45, 1.0});
   const JoinedMeshes overlap = join_meshes({&deep, &lower}, {"upper", "lower"});
   problem.elasticity.mesh = &overlap.mesh;
-  problem.parts = {projected(in_body(overlap, 0, at_y(deep, 0.45)), in_body(overlap, 1, at_y(lower, 0.5)))};
+  problem.parts = {
+      test::projected_part<2>(in_body(overlap, 0, at_y(deep, 0.45)), in_body(overlap, 1, at_y(lower, 0.5)))};
   const ContactBoundary o = make_contact_boundary(overlap.mesh, problem.parts, make_dof_map(overlap.mesh, {}));
   for (int i = 0; i < o.size(); ++i) EXPECT_NEAR(o.gaps(i), -0.05, 1e-15);
   const Mesh aside = make_squares({2, 1}, {2.0, 3.0, 0.6, 1.0});
   const JoinedMeshes apart = join_meshes({&aside, &lower}, {"upper", "lower"});
   problem.elasticity.mesh = &apart.mesh;
-  problem.parts = {projected(in_body(apart, 0, at_y(aside, 0.6)), in_body(apart, 1, at_y(lower, 0.5)))};
+  problem.parts = {test::projected_part<2>(in_body(apart, 0, at_y(aside, 0.6)), in_body(apart, 1, at_y(lower, 0.5)))};
   const ContactBoundary m = make_contact_boundary(apart.mesh, problem.parts, make_dof_map(apart.mesh, {}));
   for (int i = 0; i < m.size(); ++i) {
     EXPECT_TRUE(std::isinf(m.gaps(i)));
@@ -145,40 +141,13 @@ TEST(CurvedBodies, ProjectionPairsEachNodeWithThePointAlongItsNormal) {
 
 namespace {
 
-/// Two rings pressed into each other: the inner one (radii a and b + delta) inside the outer
-/// one (radii b and c), whole rings held against rigid motions at four vertices each, the
-/// inner ring's outer surface (n_inner angles) paired by projection with the outer ring's inner
-/// surface (n_outer angles): the meshes do not match.
-struct Rings {
-  double a = 0.5, b = 1.0, c = 2.0, delta = 1e-3;
-  Material inner{2.0, 0.3}, outer{1.0, 0.25};
+/// Two rings pressed into each other (test::LameRings): the inner one inside the outer one,
+/// whole rings held against rigid motions at three vertices each, the inner ring's outer surface
+/// (n_inner angles) paired by projection with the outer ring's inner surface (n_outer angles):
+/// the meshes do not match.
+struct Rings : test::LameRings {
   int n_inner = 512, n_outer = 448, radial = 8;
 };
-
-/// Lame's solution of the interference fit in plane strain: the pressure on the outer ring's
-/// inner surface and the radial displacement of its outer surface. u_r = A r + B / r in each ring, sigma_rr = 2 (lambda + mu) A - 2 mu B / r^2;
-/// free surfaces at a and c, the radial displacements closing the overlap delta (inner ring at
-/// b + delta, outer at b), and the forces per unit angle equal and opposite.
-std::array<double, 2> lame(const Rings& r) {
-  const auto moduli = [](const Material& m) {
-    const double mu = m.young / (2.0 * (1.0 + m.poisson));
-    const double lambda = m.young * m.poisson / ((1.0 + m.poisson) * (1.0 - 2.0 * m.poisson));
-    return std::array<double, 2>{2.0 * (lambda + mu), 2.0 * mu};
-  };
-  const auto [ki, mi] = moduli(r.inner);
-  const auto [ko, mo] = moduli(r.outer);
-  const double s = r.b + r.delta;
-  // unknowns (A1, B1, A2, B2)
-  Eigen::Matrix4d m;
-  Eigen::Vector4d rhs;
-  m << ki, -mi / (r.a * r.a), 0, 0,             // sigma_rr of the inner ring at a: 0
-      0, 0, ko, -mo / (r.c * r.c),              // sigma_rr of the outer ring at c: 0
-      -s, -1.0 / s, r.b, 1.0 / r.b,             // u_outer(b) - u_inner(s) = delta
-      s * ki, -s * mi / (s * s), -r.b * ko, r.b * mo / (r.b * r.b);  // s sigma_inner(s) = b sigma_outer(b)
-  rhs << 0, 0, r.delta, 0;
-  const Eigen::Vector4d x = m.partialPivLu().solve(rhs);
-  return {-(ko * x(2) - mo * x(3) / (r.b * r.b)), x(2) * r.c + x(3) / r.c};
-}
 
 struct RingResult {
   double worst = 0.0;      // the largest |p_i / p - 1| over the contact nodes
@@ -213,10 +182,11 @@ RingResult press_rings(const Rings& r) {
   };
   held(0, r.a);
   held(1, r.b);
-  problem.parts.push_back(projected(in_body(joined, 0, inner.edge_group("outer")), in_body(joined, 1, outer.edge_group("inner"))));
+  problem.parts.push_back(test::projected_part<2>(in_body(joined, 0, inner.edge_group("outer")),
+                                                  in_body(joined, 1, outer.edge_group("inner"))));
   const ContactSolution sol = solve(problem);
   EXPECT_TRUE(sol.converged()) << sol.message;
-  const auto [outer_pressure, expansion] = lame(r);
+  const auto [outer_pressure, expansion] = test::lame_interference(r);
   const double p = outer_pressure * r.b / s;  // on the inner ring's surface
   RingResult out;
   double force = 0.0, length = 0.0;
@@ -278,7 +248,7 @@ struct Cylinders {
 };
 
 struct HertzResult {
-  double a = 0.0, p0 = 0.0;             // Hertz's, of the force measured
+  double a = 0.0, p0 = 0.0;                // Hertz's, of the force measured
   double fitted_a = 0.0, fitted_p0 = 0.0;  // p^2 = p0^2 (1 - x^2 / a^2) fitted to the nodes
   double peak = 0.0;
   int pressed = 0;
@@ -296,13 +266,17 @@ HertzResult press_cylinders(const Cylinders& c) {
   ContactProblem problem;
   problem.elasticity.mesh = &joined.mesh;
   problem.elasticity.materials = two_materials(joined, c.upper, c.lower);
-  std::vector<int> top = in_body(joined, 0, upper.edge_group("start")), bottom = in_body(joined, 1, lower.edge_group("start"));
+  std::vector<int> top = in_body(joined, 0, upper.edge_group("start")),
+                   bottom = in_body(joined, 1, lower.edge_group("start"));
   for (int e : in_body(joined, 0, upper.edge_group("end"))) top.push_back(e);
   for (int e : in_body(joined, 1, lower.edge_group("end"))) bottom.push_back(e);
   const double push = c.push;
-  problem.elasticity.dirichlet.push_back({top, [push](const Vec2&) { return Vec2(0.0, -push); }, {true, true}, "top", {}});
-  problem.elasticity.dirichlet.push_back({bottom, [](const Vec2&) { return Vec2(0.0, 0.0); }, {true, true}, "bottom", {}});
-  problem.parts.push_back(projected(in_body(joined, 0, upper.edge_group("outer")), in_body(joined, 1, lower.edge_group("outer"))));
+  problem.elasticity.dirichlet.push_back(
+      {top, [push](const Vec2&) { return Vec2(0.0, -push); }, {true, true}, "top", {}});
+  problem.elasticity.dirichlet.push_back(
+      {bottom, [](const Vec2&) { return Vec2(0.0, 0.0); }, {true, true}, "bottom", {}});
+  problem.parts.push_back(test::projected_part<2>(in_body(joined, 0, upper.edge_group("outer")),
+                                                  in_body(joined, 1, lower.edge_group("outer"))));
   const ContactSolution sol = solve(problem);
   EXPECT_TRUE(sol.converged()) << sol.message;
   EXPECT_LT(sol.forces.residual(), 1e-9);

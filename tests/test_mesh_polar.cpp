@@ -26,7 +26,8 @@ TEST(Polar, QuarterRingHasItsCellsVerticesAndSides) {
   // the vertices on the axes through the centre lie on them exactly
   for (int v = 0; v < m.num_vertices(); ++v) {
     const Vec2 d = m.vertex(v) - Vec2(1.0, 2.0);
-    EXPECT_TRUE(std::abs(d.norm() - 1.0) < 1e-15 || std::abs(d.norm() - 1.5) < 1e-15 || std::abs(d.norm() - 2.0) < 1e-15);
+    EXPECT_TRUE(std::abs(d.norm() - 1.0) < 1e-15 || std::abs(d.norm() - 1.5) < 1e-15 ||
+                std::abs(d.norm() - 2.0) < 1e-15);
     if (std::abs(d.x()) < 1e-12) EXPECT_EQ(m.vertex(v).x(), 1.0);
     if (std::abs(d.y()) < 1e-12) EXPECT_EQ(m.vertex(v).y(), 2.0);
   }
@@ -43,7 +44,7 @@ TEST(Polar, QuarterRingHasItsCellsVerticesAndSides) {
 TEST(Polar, DiskAndFullRingClose) {
   const Mesh disk = make_polar({0.0, 0.0}, {0.0, 0.5, 1.0}, {0.0, pi / 2, pi, 1.5 * pi, 2 * pi});
   EXPECT_EQ(disk.num_vertices(), 1 + 2 * 4);
-  EXPECT_EQ(disk.num_elements(), 8);  // 4 triangles at the centre, 4 quadrilaterals
+  EXPECT_EQ(disk.num_elements(), 8);           // 4 triangles at the centre, 4 quadrilaterals
   EXPECT_NEAR(disk.total_area(), 2.0, 1e-15);  // the square inscribed in the unit circle
   EXPECT_EQ(disk.boundary_edges().size(), 4u);
   EXPECT_EQ(disk.edge_group("outer").size(), 4u);

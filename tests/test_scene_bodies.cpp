@@ -21,28 +21,12 @@ namespace fs = std::filesystem;
 
 namespace {
 
-Scene two_blocks() { return parse_scene(test::scenes_dir() / "two-blocks.toml"); }
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-/// The scene text with `from` replaced by `to` (once), parsed; the InputError's message.
+/// The shipped scene with `from` replaced by `to`, parsed: the InputError's message.
 std::string refusal(const std::string& from, const std::string& to) {
-  std::string text = read_text(test::scenes_dir() / "two-blocks.toml");
-  const auto at = text.find(from);
-  if (at == std::string::npos) return "scene text not found: " + from;
-  text.replace(at, from.size(), to);
-  try {
-    parse_scene_string(text, "two-blocks.toml");
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "accepted";
+  return test::scene_refusal("two-blocks.toml", from, to);
 }
+
+Scene two_blocks() { return parse_scene(test::scenes_dir() / "two-blocks.toml"); }
 
 }  // namespace
 
@@ -80,7 +64,7 @@ TEST(SceneBodies, WhatASceneOfSeveralBodiesRefusesIsNamed) {
   EXPECT_NE(refusal("name = \"lower\"", "name = \"upper\"").find("two bodies are named 'upper'"), std::string::npos);
   EXPECT_NE(refusal("law = \"zero\"", "law = \"zero\"\n[mesh]\nn = 4").find("each [[body]] has its own mesh"),
             std::string::npos);
-  EXPECT_NE(refusal("law = \"zero\"", "law = \"zero\"\n[path]\nsteps = 3").find("[path] is not available"),
+  EXPECT_NE(refusal("law = \"zero\"", "law = \"zero\"\n[adapt]\ntarget = 0.05").find("[adapt] is not available"),
             std::string::npos);
   EXPECT_NE(refusal("[body.mesh]\ngenerator = \"squares\"", "[body.mesh2]\ngenerator = \"squares\"").find("unknown key"),
             std::string::npos);
@@ -143,7 +127,7 @@ TEST(SceneBodies, TheShippedSceneIsTheContactPatchTestAsTheCommandSolvesIt) {
   // the outputs per body
   const fs::path dir = test::scratch("two-blocks");
   run.write(dir);
-  const nlohmann::json r = nlohmann::json::parse(read_text(dir / "result.json"));
+  const nlohmann::json r = nlohmann::json::parse(test::slurp(dir / "result.json"));
   ASSERT_TRUE(r["bodies"].is_array());
   ASSERT_EQ(r["bodies"].size(), 2u);
   EXPECT_EQ(r["bodies"][0]["name"], "upper");
@@ -151,10 +135,10 @@ TEST(SceneBodies, TheShippedSceneIsTheContactPatchTestAsTheCommandSolvesIt) {
   EXPECT_NEAR(r["bodies"][0]["forces"]["contact"][1].get<double>(), 2.0, 1e-10);
   EXPECT_NEAR(r["bodies"][1]["forces"]["contact"][1].get<double>(), -2.0, 1e-10);
   EXPECT_EQ(r["forces"]["contact"][1].get<double>(), 0.0);
-  const std::string csv = read_text(dir / "displacement.csv");
+  const std::string csv = test::slurp(dir / "displacement.csv");
   EXPECT_EQ(csv.substr(0, csv.find('\n')), "vertex,x,y,ux,uy,body");
   EXPECT_NE(csv.find(",lower\n"), std::string::npos);
-  const std::string contact = read_text(dir / "contact.csv");
+  const std::string contact = test::slurp(dir / "contact.csv");
   EXPECT_NE(contact.substr(0, contact.find('\n')).find(",partner"), std::string::npos);
   fs::remove_all(dir);
 }
@@ -187,4 +171,48 @@ TEST(SceneBodies, TwoBoxesAreTheContactPatchTestInThreeDimensions) {
     EXPECT_NEAR(n.pressure(), 2.0, 1e-10);
   }
   EXPECT_LT(solve->solution.forces.residual(), 1e-10);
+}
+
+TEST(SceneBodies, FrictionBetweenTheBodiesHoldsTheUpperBlock) {
+  // scenes/two-blocks.toml with the upper block free of supports, pressed by 2 and sheared by
+  // 0.5 on its top, Tresca friction of bound 1 at the interface: the contact and its friction
+  // alone hold it; the forces on it are the load's opposite, no friction force exceeds its bound
+  // (the pairs that slip, at its left end, carry it), every support's reaction closes the balance
+  // (the lower block's roller under the upper block's corner carries that pair's friction), and
+  // both minimizers find one solution
+  std::string text = test::slurp(test::scenes_dir() / "two-blocks.toml");
+  const std::string held = "[[body.dirichlet]]\nside = \"left\"\nux = 0.0\n\n[[body.loads.traction]]\nside = \"top\"\npressure = 2.0\n";
+  const auto at = text.find(held);
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, held.size(),
+               "[[body.loads.traction]]\nside = \"top\"\npressure = 2.0\n\n[[body.loads.traction]]\nside = \"top\"\n"
+               "value = [0.5, 0.0]\n");
+  text += "\n[contact.friction]\nlaw = \"tresca\"\nbound = 1.0\n";
+  Eigen::VectorXd first;
+  for (const std::string minimizer : {"ssn", "bundle-dca"}) {
+    SCOPED_TRACE(minimizer);
+    Scene scene = parse_scene_string(text, "two-blocks-friction.toml");
+    apply_override(scene, "solver.minimizer=" + minimizer);
+    const app::SceneRun run = app::run_scene(scene);
+    ASSERT_TRUE(run.converged());
+    const auto* solve = run.plane();
+    ASSERT_NE(solve, nullptr);
+    Vec2 on_upper = Vec2::Zero();
+    int slip = 0, stick = 0;
+    for (const ContactNode& n : solve->solution.contact) {
+      EXPECT_LE(std::abs(n.friction_force), 1.0 * n.weight * (1.0 + 1e-9)) << "node at x = " << n.x.x();
+      if (n.friction_state == FrictionState::slip) {
+        ++slip;
+        EXPECT_NEAR(std::abs(n.friction_force), n.weight, 1e-9) << "node at x = " << n.x.x();
+      }
+      if (n.friction_state == FrictionState::stick) ++stick;
+      on_upper += n.force_on_body();
+    }
+    EXPECT_GT(stick, 0);
+    EXPECT_NEAR(on_upper.x(), -0.5, 1e-9);
+    EXPECT_NEAR(on_upper.y(), 2.0, 1e-9);
+    EXPECT_LT(solve->solution.forces.residual(), 1e-9);
+    if (first.size() == 0) first = solve->solution.u;
+    else EXPECT_LT((solve->solution.u - first).lpNorm<Eigen::Infinity>(), 1e-7 * first.lpNorm<Eigen::Infinity>());
+  }
 }

@@ -118,6 +118,10 @@ template <int dim, class Options>
 BasicAdaptiveSolve<dim> adapt_scene(const Scene& scene, const SceneAdapt& adapt, Options options,
                                     const std::function<void(const AdaptStep&)>& progress) {
   refuse_path(scene, "an adaptive solve");
+  if (!scene.bodies.empty())  // [adapt] is refused when the scene is read; `--adapt` comes here
+    throw InputError("an adaptive solve refines the mesh of one body; a scene of several bodies ([[body]]) is solved "
+                     "on the meshes its bodies make",
+                     scene.where("adapt"));
   if (same_engine(scene.solver.linear, "mumps-mpi"))  // its processes would have to refine the same meshes in step
     throw InputError("an adaptive solve runs in one process; the linear engine mumps-mpi runs across processes: "
                      "choose another engine (solver.linear)",

@@ -7,6 +7,8 @@
 #include "path_outputs.hpp"
 
 #include <algorithm>
+#include <cctype>
+#include <map>
 #include <ostream>
 
 namespace hemivem::app::detail {
@@ -22,8 +24,12 @@ bool contains(const std::vector<std::string>& names, const std::string& name) {
 // The steps of an earlier adaptive solve in `dir`: adapt-step-<digits>.vtu.
 std::vector<std::string> adapt_steps_in(const fs::path& dir) { return files_matching(dir, R"(adapt-step-[0-9]+\.vtu)"); }
 
+// The files of an earlier run's bodies in `dir`: solution.body-<name>.vtu.
+std::vector<std::string> body_vtus_in(const fs::path& dir) { return files_matching(dir, R"(solution\.body-[A-Za-z0-9_-]+\.vtu)"); }
+
 // The names a run may own: its own, the other dimension's, its figures' in every format, an
-// earlier path's frames, its frames, an earlier adaptive solve's steps and its own.
+// earlier path's frames, its frames, an earlier adaptive solve's steps and its own, solution.vtm
+// and an earlier run's bodies' files (a run's own are written whatever the folder holds).
 std::vector<std::string> owned_names(const fs::path& dir, const std::vector<std::string>& known,
                                      const std::vector<std::string>& others, const std::vector<std::string>& frames,
                                      std::size_t adapt_steps) {
@@ -41,6 +47,9 @@ std::vector<std::string> owned_names(const fs::path& dir, const std::vector<std:
     if (!contains(owned, name)) owned.push_back(name);
   for (std::size_t k = 0; k < adapt_steps; ++k)
     if (!contains(owned, adapt_step_file(k))) owned.push_back(adapt_step_file(k));
+  if (!contains(owned, "solution.vtm")) owned.push_back("solution.vtm");
+  for (const auto& name : body_vtus_in(dir))
+    if (!contains(owned, name)) owned.push_back(name);
   return owned;
 }
 
@@ -76,6 +85,10 @@ void OutputRun::list(const RunInfo& info, const std::vector<std::string>& frames
     if (fs::path(k).extension() != ".png") listed_.files.push_back(k);
     else
       for (const auto& format : info.figure_formats) listed_.files.push_back(fs::path(k).replace_extension(format).string());
+    if (k == "solution.vtu" && !info.bodies.empty()) {  // each body's, then the multiblock naming them
+      for (auto& file : body_vtu_files(info.bodies)) listed_.files.push_back(std::move(file));
+      listed_.files.push_back("solution.vtm");
+    }
   }
   if (want("solution.pvd")) listed_.files.insert(listed_.files.end(), frames.begin(), frames.end());
 }
@@ -83,6 +96,48 @@ void OutputRun::list(const RunInfo& info, const std::vector<std::string>& frames
 bool OutputRun::want(const std::string& name) const { return contains(wanted_, name); }
 
 std::string adapt_step_file(std::size_t step) { return "adapt-step-" + std::to_string(step) + ".vtu"; }
+
+std::string body_vtu_file(const std::string& body) {
+  const bool safe = !body.empty() && body.size() <= 64 && std::all_of(body.begin(), body.end(), [](char ch) {
+    return (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') || ch == '-' || ch == '_';
+  });
+  if (!safe)
+    throw InputError("body '" + body + "': its name names its file solution.body-NAME.vtu, so it is 1 to 64 letters, "
+                     "digits, '-' or '_' (ASCII)");
+  return "solution.body-" + body + ".vtu";
+}
+
+std::vector<std::string> body_vtu_files(const std::vector<BodyRange>& bodies) {
+  std::vector<std::string> files;
+  std::map<std::string, std::string> folded;  // by the file's name in lower case: the body
+  for (const BodyRange& b : bodies) {
+    files.push_back(body_vtu_file(b.name));
+    std::string key = files.back();
+    std::transform(key.begin(), key.end(), key.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+    if (const auto [at, fresh] = folded.emplace(key, b.name); !fresh)
+      throw InputError("bodies '" + at->second + "' and '" + b.name + "' would write one file " + files.back() +
+                       " (their names differ in case at most)");
+  }
+  return files;
+}
+
+void write_body_vtus(OutputRun& run, const RunInfo& info, const SolutionVtu& vtu) {
+  if (info.bodies.empty() || !run.want("solution.vtu")) return;
+  const std::vector<std::string> files = body_vtu_files(info.bodies);
+  for (std::size_t b = 0; b < files.size(); ++b) {
+    run.transaction().write(files[b], [&](std::ostream& os) { vtu.write(os, info.bodies[b]); });
+    run.report().written.push_back(run.dir() / files[b]);
+  }
+  run.transaction().write("solution.vtm", [&](std::ostream& os) {
+    os << "<?xml version=\"1.0\"?>\n"
+       << "<VTKFile type=\"vtkMultiBlockDataSet\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
+       << "  <vtkMultiBlockDataSet>\n";
+    for (std::size_t b = 0; b < files.size(); ++b)
+      os << "    <DataSet index=\"" << b << "\" name=\"" << info.bodies[b].name << "\" file=\"" << files[b] << "\"/>\n";
+    os << "  </vtkMultiBlockDataSet>\n</VTKFile>\n";
+  });
+  run.report().written.push_back(run.dir() / "solution.vtm");
+}
 
 void write_adapt_steps(OutputRun& run, const RunInfo& info) {
   if (!run.want("adapt.pvd")) return;

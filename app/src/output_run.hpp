@@ -132,10 +132,25 @@ class OutputRun;
 
 /// The files every solve writes, in either dimension, when wanted: result.json (`result` of the
 /// run's listed record), contact.csv, displacement.csv, stress.csv, history.csv and solution.vtu
-/// (with the error indicators).
+/// (with the error indicators), with several bodies each body's VTU and solution.vtm.
 template <class MeshType, int dim, class Result>
 void write_solve_files(OutputRun& run, const MeshType& mesh, const MaterialTable& materials,
                        const BasicContactSolution<dim>& solution, const RunInfo& info, const Result& result);
+
+/// The file of body `body` of a scene of several in its output folder: "solution.body-upper.vtu".
+/// A name that cannot name a file so (other than 1 to 64 ASCII letters, digits, '-' or '_', as
+/// a scene's [[body]] names are) is an InputError naming it. The dot keeps these names apart
+/// from a path's frames (solution-0007.vtu) whatever a body is named.
+std::string body_vtu_file(const std::string& body);
+
+/// The files of the bodies `bodies`, in their order (body_vtu_file); InputError for a name that
+/// cannot name a file and for two bodies whose files would be one (names equal but for case).
+std::vector<std::string> body_vtu_files(const std::vector<BodyRange>& bodies);
+
+/// A scene of several bodies (info.bodies) whose solution.vtu is wanted: a
+/// solution.body-NAME.vtu per body (`vtu` restricted to it), then solution.vtm, the multiblock
+/// dataset naming them by body; nothing for one body.
+void write_body_vtus(OutputRun& run, const RunInfo& info, const SolutionVtu& vtu);
 
 /// The file of step `step` of an adaptive solve in its output folder: "adapt-step-3.vtu".
 std::string adapt_step_file(std::size_t step);
@@ -153,9 +168,10 @@ void require_known_outputs(const std::vector<std::string>& wanted, const std::ve
 /// One run's folder: the files are written into a transaction that owns `known`, `others` (the
 /// other dimension's names), the figures' names in every format, an earlier path's frames and
 /// `frames` (this run's), an earlier adaptive solve's steps and this run's (adapt_step_file),
-/// and that commit() makes the folder at once. result.json lists the files wanted, in the
-/// order of `known` (a figure in each of info.figure_formats, an adaptive solve's steps before
-/// adapt.pvd), then the frames when solution.pvd is wanted.
+/// solution.vtm and an earlier run's solution.body-NAME.vtu, and that commit() makes the folder
+/// at once. result.json lists the files wanted, in the order of `known` (a figure in each of
+/// info.figure_formats, an adaptive solve's steps before adapt.pvd, the bodies' files and
+/// solution.vtm after solution.vtu), then the frames when solution.pvd is wanted.
 class OutputRun {
  public:
   OutputRun(const std::filesystem::path& dir, const std::vector<std::string>& known, const std::vector<std::string>& others,
@@ -204,9 +220,11 @@ void write_solve_files(OutputRun& run, const MeshType& mesh, const MaterialTable
   run.write("displacement.csv", [&](std::ostream& os) { write_displacement_csv(os, mesh, solution.u, info.bodies); });
   run.write("stress.csv", [&](std::ostream& os) { write_stress_csv(os, mesh, materials, solution.u); });
   run.write("history.csv", [&](std::ostream& os) { write_history_csv(os, solution); });
-  run.write("solution.vtu", [&](std::ostream& os) {
-    write_vtu(os, mesh, materials, solution, info.error_estimate ? &info.error_estimate->indicators : nullptr);
-  });
+  if (run.want("solution.vtu")) {  // the arrays made once for the whole and for each body
+    const SolutionVtu vtu(mesh, materials, solution, info.error_estimate ? &info.error_estimate->indicators : nullptr);
+    run.write("solution.vtu", [&](std::ostream& os) { vtu.write(os); });
+    write_body_vtus(run, info, vtu);
+  }
 }
 
 }  // namespace hemivem::app::detail
@@ -223,9 +241,10 @@ template <int dim>
 struct PathOutput {
   using MeshType = std::conditional_t<dim == 2, Mesh, Mesh3D>;
   /// `frames`: the frames the path may write (owned by the transaction); `parts`: the names of
-  /// the contact parts.
+  /// the contact parts; `bodies`: a scene of several bodies' (PathFiles).
   PathOutput(const std::filesystem::path& dir, const std::vector<std::string>& wanted, const std::vector<std::string>& frames,
-             const MeshType& mesh, const MaterialTable& materials, std::vector<std::string> parts);
+             const MeshType& mesh, const MaterialTable& materials, std::vector<std::string> parts,
+             std::vector<BodyRange> bodies = {});
   OutputRun run;
   PathFiles<dim> files;
   bool written = false;  ///< write_path_outputs has committed it

@@ -350,7 +350,7 @@ OutputReport write_outputs_of(const fs::path& dir, const MeshType& mesh, const M
     own_files = write_path_files<MeshType, dim>(
         run.transaction(), mesh, path, [&run](const std::string& n) { return run.want(n); },
         [&](std::ostream& os, const BasicContactSolution<dim>& frame) { write_vtu(os, mesh, materials, frame, nullptr); },
-        run.report());
+        run.report(), info.bodies);
     files = own_files.get();
   }
   // the figures: one that cannot be drawn is skipped with its reason, never an error
@@ -377,12 +377,15 @@ namespace detail {
 
 template <int dim>
 PathOutput<dim>::PathOutput(const fs::path& dir, const std::vector<std::string>& wanted, const std::vector<std::string>& frames,
-                            const MeshType& mesh, const MaterialTable& materials, std::vector<std::string> parts)
+                            const MeshType& mesh, const MaterialTable& materials, std::vector<std::string> parts,
+                            std::vector<BodyRange> bodies)
     : run(dir, all_outputs(dim), all_outputs(5 - dim), wanted, 0, frames),
-      files(run.transaction(), [this](const std::string& n) { return run.want(n); }, mesh, std::move(parts),
-            [&mesh, &materials](std::ostream& os, const BasicContactSolution<dim>& frame) {
-              write_vtu(os, mesh, materials, frame, nullptr);
-            }) {
+      files(
+          run.transaction(), [this](const std::string& n) { return run.want(n); }, mesh, std::move(parts),
+          [&mesh, &materials](std::ostream& os, const BasicContactSolution<dim>& frame) {
+            write_vtu(os, mesh, materials, frame, nullptr);
+          },
+          std::move(bodies)) {
   require_known_outputs(wanted, all_outputs(dim), dim == 3 ? " of a three-dimensional solve" : "");
 }
 

@@ -56,7 +56,9 @@ BasicPathLoading<dim> scene_path_loading(const Scene& scene) {
   loading.t = scene.path ? scene.path->factors() : std::vector<double>{1.0};
   if (!scene_is_proportional(scene)) {
     loading.update = [scene](double t, BasicContactProblem<dim>& problem) { set_load_factor(scene, t, problem); };
-    loading.updates_prescribed = !scene.dirichlet.empty();  // [clamped] stays zero
+    // [clamped] stays zero; a scene of several bodies has each body's [[dirichlet]]
+    loading.updates_prescribed = !scene.dirichlet.empty() || std::any_of(scene.bodies.begin(), scene.bodies.end(),
+                                                                         [](const SceneBody& b) { return !b.dirichlet.empty(); });
     loading.updates_gaps = scene_path_moves_gaps(scene);
   }
   return loading;
@@ -123,7 +125,8 @@ void solve_path_built(const Scene& scene, SceneEngines& e, Solved& s,
     std::vector<std::string> parts;
     for (const auto& part : s.built->problem.parts) parts.push_back(part.name);
     s.path_output = std::make_shared<PathOutput<dim>>(out, wanted_files(scene, true), planned_frames(scene), s.built->mesh,
-                                                      s.built->problem.elasticity.materials, std::move(parts));
+                                                      s.built->problem.elasticity.materials, std::move(parts),
+                                                      s.built->bodies);
   }
   BasicPathOptions<dim> po;
   po.minimizer = s.options;

@@ -71,8 +71,13 @@ std::string indented(const nlohmann::json& value, const std::string& indent) {
 
 template <int dim>
 PathFiles<dim>::PathFiles(OutputTransaction& tx, std::function<bool(const std::string&)> want, const MeshType& mesh,
-                          std::vector<std::string> parts, WriteFrame write_frame)
-    : tx_(tx), want_(std::move(want)), mesh_(mesh), parts_(std::move(parts)), write_frame_(std::move(write_frame)) {
+                          std::vector<std::string> parts, WriteFrame write_frame, std::vector<BodyRange> bodies)
+    : tx_(tx),
+      want_(std::move(want)),
+      mesh_(mesh),
+      parts_(std::move(parts)),
+      write_frame_(std::move(write_frame)),
+      bodies_(std::move(bodies)) {
   stage([&] {
     if (want_("path.json")) {
       json_ = std::make_unique<FileInPieces>(tx_.staging() / "path.json");
@@ -81,8 +86,10 @@ PathFiles<dim>::PathFiles(OutputTransaction& tx, std::function<bool(const std::s
     if (want_("path-contact.csv")) contact_ = std::make_unique<FileInPieces>(tx_.staging() / "path-contact.csv");
     if (want_("path-displacement.csv")) {
       displacement_ = std::make_unique<FileInPieces>(tx_.staging() / "path-displacement.csv");
-      displacement_->write(
-          [](std::ostream& os) { os << (dim == 2 ? "step,t,vertex,x,y,ux,uy\n" : "step,t,vertex,x,y,z,ux,uy,uz\n"); });
+      displacement_->write([this](std::ostream& os) {
+        os << (dim == 2 ? "step,t,vertex,x,y,ux,uy" : "step,t,vertex,x,y,z,ux,uy,uz") << (bodies_.empty() ? "" : ",body")
+           << '\n';
+      });
     }
   });
 }
@@ -100,6 +107,8 @@ void PathFiles<dim>::add(const BasicPathStep<dim>& s) {
   const bool first = steps_++ == 0;
   if (first) tangential_ = s.slip.size() > 0;
   const bool parts = parts_.size() > 1;  // several contact parts: each node's
+  // two bodies: the other body's vertex across the contact (the same pairs at every step)
+  const bool pairs = std::any_of(s.contact.begin(), s.contact.end(), [](const auto& n) { return n.partner >= 0; });
   stage([&] {
     if (json_)
       json_->write([&](std::ostream& os) { os << (first ? "\n    " : ",\n    ") << indented(path_step_json(s), "    "); });
@@ -112,7 +121,7 @@ void PathFiles<dim>::add(const BasicPathStep<dim>& s) {
                  : dim == 2  ? ",u_tau,slip,friction_force,friction_bound,friction_state"
                              : ",u_tau_x,u_tau_y,u_tau_z,slip,friction_force_x,friction_force_y,friction_force_z,"
                                "friction_bound,friction_state")
-             << (parts ? ",part" : "") << "\n";
+             << (parts ? ",part" : "") << (pairs ? ",partner" : "") << "\n";
         for (std::size_t i = 0; i < s.contact.size(); ++i) {
           const auto& n = s.contact[i];
           os << s.index << ',' << s.t << ',' << n.vertex;
@@ -133,16 +142,25 @@ void PathFiles<dim>::add(const BasicPathStep<dim>& s) {
             os << (dim == 2 ? ",,,,," : ",,,,,,,,,");  // a frictionless part beside one with friction
           }
           if (parts) os << ',' << contact_part_name(parts_, n);
+          if (pairs) {
+            os << ',';
+            if (n.partner >= 0) os << n.partner;  // empty: a foundation's or an obstacle's node
+          }
           os << '\n';
         }
       });
     if (s.u.size() > 0 && displacement_)
       displacement_->write([&](std::ostream& stream) {
         TextWriter os(stream);
+        std::size_t b = 0;
         for (int v = 0; v < mesh_.num_vertices(); ++v) {
           os << s.index << ',' << s.t << ',' << v;
           for (int c = 0; c < dim; ++c) os << ',' << mesh_.vertex(v)(c);
           for (int c = 0; c < dim; ++c) os << ',' << s.u(dim * v + c);
+          if (!bodies_.empty()) {
+            while (b + 1 < bodies_.size() && !bodies_[b].has_vertex(v)) ++b;
+            os << ',' << bodies_[b].name;
+          }
           os << '\n';
         }
       });
@@ -260,13 +278,14 @@ Figure PathFiles<dim>::figure(const RunInfo& info) const {
 template <class MeshType, int dim>
 std::unique_ptr<PathFiles<dim>> write_path_files(OutputTransaction& tx, const MeshType& mesh, const BasicPathSolution<dim>* path,
                                                  const std::function<bool(const std::string&)>& want,
-                                                 const typename PathFiles<dim>::WriteFrame& write_frame, OutputReport& report) {
+                                                 const typename PathFiles<dim>::WriteFrame& write_frame, OutputReport& report,
+                                                 const std::vector<BodyRange>& bodies) {
   if (!path) {
     for (const char* name : {"path.json", "path-contact.csv", "path-displacement.csv", "solution.pvd"})
       if (want(name)) report.skipped.push_back(std::string(name) + ": not a loading path");
     return nullptr;
   }
-  auto files = std::make_unique<PathFiles<dim>>(tx, want, mesh, path->last.contact_parts, write_frame);
+  auto files = std::make_unique<PathFiles<dim>>(tx, want, mesh, path->last.contact_parts, write_frame, bodies);
   for (const auto& step : path->steps) files->add(step);
   files->finish(*path, report);
   return files;
@@ -279,7 +298,8 @@ std::unique_ptr<PathFiles<dim>> write_path_files(OutputTransaction& tx, const Me
   template std::unique_ptr<PathFiles<dim>> write_path_files(OutputTransaction&, const MeshType&,                 \
                                                             const BasicPathSolution<dim>*,                      \
                                                             const std::function<bool(const std::string&)>&,     \
-                                                            const PathFiles<dim>::WriteFrame&, OutputReport&);
+                                                            const PathFiles<dim>::WriteFrame&, OutputReport&,   \
+                                                            const std::vector<BodyRange>&);
 
 HEMIVEM_PATH_OUTPUTS(2, Mesh)
 HEMIVEM_PATH_OUTPUTS(3, Mesh3D)

@@ -19,6 +19,7 @@
 
 #include <hemivem/app/figures.hpp>
 #include <hemivem/app/outputs.hpp>
+#include <hemivem/mesh/body_range.hpp>
 #include <hemivem/mesh/mesh.hpp>
 #include <hemivem/mesh/mesh3d.hpp>
 #include <hemivem/path/path.hpp>
@@ -51,9 +52,10 @@ class PathFiles {
  public:
   using MeshType = std::conditional_t<dim == 2, Mesh, Mesh3D>;
   using WriteFrame = std::function<void(std::ostream&, const BasicContactSolution<dim>&)>;
-  /// `parts`: the names of the contact parts, by BasicContactNode::part.
+  /// `parts`: the names of the contact parts, by BasicContactNode::part; `bodies`: a scene of
+  /// several bodies' (path-displacement.csv's column `body`), empty for one body.
   PathFiles(OutputTransaction& tx, std::function<bool(const std::string&)> want, const MeshType& mesh,
-            std::vector<std::string> parts, WriteFrame write_frame);
+            std::vector<std::string> parts, WriteFrame write_frame, std::vector<BodyRange> bodies = {});
   ~PathFiles();
 
   /// Writes step `s`: its record, its contact rows, its frame when it has a displacement.
@@ -74,6 +76,7 @@ class PathFiles {
   const MeshType& mesh_;
   std::vector<std::string> parts_;
   WriteFrame write_frame_;
+  std::vector<BodyRange> bodies_;
   std::unique_ptr<FileInPieces> json_, contact_, displacement_;
   bool tangential_ = false;
   int steps_ = 0;
@@ -83,12 +86,13 @@ class PathFiles {
 };
 
 /// The files of the run's path (RunInfo::path) that `want` names, from the steps it kept, with
-/// PathFiles; without a path, the names wanted are reported as skipped. Returns the files'
-/// writer (its figure is path.png), or null without a path.
+/// PathFiles (`bodies`: a scene of several bodies'); without a path, the names wanted are
+/// reported as skipped. Returns the files' writer (its figure is path.png), or null without a path.
 template <class MeshType, int dim>
 std::unique_ptr<PathFiles<dim>> write_path_files(OutputTransaction& tx, const MeshType& mesh, const BasicPathSolution<dim>* path,
                                                  const std::function<bool(const std::string&)>& want,
-                                                 const typename PathFiles<dim>::WriteFrame& write_frame, OutputReport& report);
+                                                 const typename PathFiles<dim>::WriteFrame& write_frame, OutputReport& report,
+                                                 const std::vector<BodyRange>& bodies = {});
 
 /// The names a run with this path may own in its folder: the path's frames, when solution.pvd
 /// is wanted (for result.json's list of files).

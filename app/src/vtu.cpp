@@ -1,6 +1,7 @@
 // solution.vtu and contact-surface.vtu (vtu.hpp): the file, its points, point data and cell data
 // are written once for plane and solid bodies; the cells are each dimension's own (polygons and
-// contact lines, or polyhedra).
+// contact lines, or polyhedra). The arrays are made once over the whole mesh and written for a
+// range of its points and cells: the whole, or one body of several (solution.body-NAME.vtu).
 #include <hemivem/app/vtu.hpp>
 
 #include <hemivem/app/outputs.hpp>
@@ -11,9 +12,13 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <map>
+#include <memory>
 #include <ostream>
 #include <string>
+#include <type_traits>
+#include <variant>
 #include <vector>
 
 #include <hemivem/error.hpp>
@@ -44,15 +49,19 @@ void file_tail(std::ostream& os) {
      << "</VTKFile>\n";
 }
 
-/// The points, three coordinates each (z = 0 in the plane).
+/// The points, three coordinates each (z = 0 in the plane): `count` of them from `first`.
 template <class Point>
-void write_points(std::ostream& os, const std::vector<Point>& points) {
-  std::vector<double> xyz(3 * points.size(), 0.0);
-  for (std::size_t v = 0; v < points.size(); ++v)
-    for (int c = 0; c < Point::RowsAtCompileTime; ++c) xyz[3 * v + static_cast<std::size_t>(c)] = points[v](c);
+void write_points(std::ostream& os, const std::vector<Point>& points, std::size_t first, std::size_t count) {
+  std::vector<double> xyz(3 * count, 0.0);
+  for (std::size_t v = 0; v < count; ++v)
+    for (int c = 0; c < Point::RowsAtCompileTime; ++c) xyz[3 * v + static_cast<std::size_t>(c)] = points[first + v](c);
   os << "      <Points>\n";
   data_array(os, "Points", 3, xyz);
   os << "      </Points>\n";
+}
+template <class Point>
+void write_points(std::ostream& os, const std::vector<Point>& points) {
+  write_points(os, points, 0, points.size());
 }
 
 /// The cells of a mesh: VTK's connectivity, offsets and types, and for polyhedra their faces;
@@ -67,34 +76,45 @@ struct Cells {
   }
 };
 
-/// A plane's polygons, then the contact lines.
-Cells cells_of(const Mesh& mesh, const ContactSolution& sol) {
+/// Vertex v of the mesh as a point of the piece `piece` (numbered from its first vertex); an
+/// InternalError when a cell of the piece reaches outside its vertices.
+std::int64_t point_of(const BodyRange& piece, int v, int cell) {
+  if (!piece.has_vertex(v))
+    throw InternalError("cell " + std::to_string(cell) + " of '" + piece.name + "' has the vertex " + std::to_string(v) +
+                        ", not one of its vertices " + std::to_string(piece.first_vertex) + " to " +
+                        std::to_string(piece.first_vertex + piece.vertices - 1));
+  return v - piece.first_vertex;
+}
+
+/// A plane's polygons of `piece`, then the contact lines whose both ends are its points.
+Cells cells_of(const Mesh& mesh, const ContactSolution& sol, const BodyRange& piece) {
   Cells cells;
-  for (int e = 0; e < mesh.num_elements(); ++e) {
-    for (int v : mesh.element(e)) cells.connectivity.push_back(v);
+  for (int e = piece.first_cell; e < piece.first_cell + piece.cells; ++e) {
+    for (int v : mesh.element(e)) cells.connectivity.push_back(point_of(piece, v, e));
     cells.close(7);  // VTK_POLYGON
   }
   for (const auto& l : contact_lines(mesh, sol)) {
-    cells.connectivity.insert(cells.connectivity.end(), {l[0], l[1]});
+    if (!piece.has_vertex(l[0]) || !piece.has_vertex(l[1])) continue;
+    cells.connectivity.insert(cells.connectivity.end(), {l[0] - piece.first_vertex, l[1] - piece.first_vertex});
     cells.close(3);  // VTK_LINE: Gamma_3
     ++cells.contact_lines;
   }
   return cells;
 }
 
-/// A solid's cells as VTK_POLYHEDRON: the cell's points, and its faces as [number of faces,
-/// then per face its number of points and their ids], each face counter-clockwise seen from
-/// outside.
-Cells cells_of(const Mesh3D& mesh, const ContactSolution3D&) {
+/// A solid's cells of `piece` as VTK_POLYHEDRON: the cell's points, and its faces as [number of
+/// faces, then per face its number of points and their ids], each face counter-clockwise seen
+/// from outside.
+Cells cells_of(const Mesh3D& mesh, const ContactSolution3D&, const BodyRange& piece) {
   Cells cells;
-  for (int c = 0; c < mesh.num_cells(); ++c) {
-    for (int v : mesh.cell_vertices(c)) cells.connectivity.push_back(v);
+  for (int c = piece.first_cell; c < piece.first_cell + piece.cells; ++c) {
+    for (int v : mesh.cell_vertices(c)) cells.connectivity.push_back(point_of(piece, v, c));
     cells.close(42);
     const CellFaces loops = mesh.cell(c);
     cells.faces.push_back(static_cast<std::int64_t>(loops.size()));
     for (const auto& loop : loops) {
       cells.faces.push_back(static_cast<std::int64_t>(loop.size()));
-      for (int v : loop) cells.faces.push_back(v);
+      for (int v : loop) cells.faces.push_back(point_of(piece, v, c));
     }
     cells.faceoffsets.push_back(static_cast<std::int64_t>(cells.faces.size()));
   }
@@ -130,10 +150,24 @@ struct ContactFields {
   }
 };
 
+/// One array of point or cell data over the whole mesh, `width` values per point or cell;
+/// a cell array's value on a plane's contact lines, which follow the cells.
+struct Field {
+  const char* name;
+  int width;
+  std::variant<std::vector<double>, std::vector<std::int64_t>, std::vector<std::int32_t>, std::vector<std::uint8_t>> values;
+  double on_lines = 0.0;
+};
+
+/// The arrays of solution.vtu over the whole mesh, in the order written.
+struct Fields {
+  std::vector<Field> point, cell;
+};
+
 /// With friction: u_tau, the friction traction (a plane's along tau, a solid's as vectors of
 /// three components) and the state code, 0 off the contact nodes.
 template <int dim>
-void write_friction_point_data(std::ostream& os, std::size_t nv, const BasicContactSolution<dim>& sol) {
+void add_friction_point_data(Fields& f, std::size_t nv, const BasicContactSolution<dim>& sol) {
   constexpr std::size_t width = dim == 2 ? 1 : 3;
   std::vector<double> u_tau(width * nv, 0.0), traction(width * nv, 0.0);
   std::vector<std::uint8_t> state(nv, 0);
@@ -150,91 +184,149 @@ void write_friction_point_data(std::ostream& os, std::size_t nv, const BasicCont
     }
     state[v] = friction_state_code(n.friction_state);
   }
-  data_array(os, "u_tau", static_cast<int>(width), u_tau);
-  data_array(os, "friction_traction", static_cast<int>(width), traction);
-  data_array(os, "friction_state", 1, state);
+  f.point.push_back({"u_tau", static_cast<int>(width), std::move(u_tau)});
+  f.point.push_back({"friction_traction", static_cast<int>(width), std::move(traction)});
+  f.point.push_back({"friction_state", 1, std::move(state)});
 }
 
 /// The displacement (three components) and the contact nodes' values; a plane's with several
 /// contact parts also each node's part (-1 off the contact), with friction the friction's.
 template <int dim>
-void write_point_data(std::ostream& os, std::size_t nv, const BasicContactSolution<dim>& sol) {
+void add_point_data(Fields& f, std::size_t nv, const BasicContactSolution<dim>& sol) {
   std::vector<double> displacement(3 * nv, 0.0);
   for (std::size_t v = 0; v < nv; ++v)
     for (std::size_t c = 0; c < dim; ++c) displacement[3 * v + c] = sol.u(static_cast<Eigen::Index>(dim * v + c));
-  os << "      <PointData Vectors=\"displacement\">\n";
-  data_array(os, "displacement", 3, displacement);
-  if (!sol.contact.empty()) {
-    const ContactFields f(nv, sol);
-    data_array(os, "u_nu", 1, f.u_nu);
-    data_array(os, "pressure", 1, f.pressure);
-    data_array(os, "gap", 1, f.gap);
-    if (dim == 2 && sol.contact_parts.size() > 1) {
-      std::vector<std::int32_t> part(nv, -1);
-      for (const auto& n : sol.contact) part[static_cast<std::size_t>(n.vertex)] = n.part;
-      data_array(os, "contact_part", 1, part);
-    }
-    if (has_tangential(sol)) write_friction_point_data(os, nv, sol);
+  f.point.push_back({"displacement", 3, std::move(displacement)});
+  if (sol.contact.empty()) return;
+  ContactFields c(nv, sol);
+  f.point.push_back({"u_nu", 1, std::move(c.u_nu)});
+  f.point.push_back({"pressure", 1, std::move(c.pressure)});
+  f.point.push_back({"gap", 1, std::move(c.gap)});
+  if (dim == 2 && sol.contact_parts.size() > 1) {
+    std::vector<std::int32_t> part(nv, -1);
+    for (const auto& n : sol.contact) part[static_cast<std::size_t>(n.vertex)] = n.part;
+    f.point.push_back({"contact_part", 1, std::move(part)});
   }
-  os << "      </PointData>\n";
+  if (has_tangential(sol)) add_friction_point_data(f, nv, sol);
 }
 
-/// Stresses, von Mises, regions per cell; the contact lines after them carry zeros and
-/// contact = 1 (a plane's cell data "contact", written when there is contact).
+/// Stresses, von Mises, regions per cell; a plane's contact lines after them carry zeros,
+/// region -1 and contact = 1 (the cell data "contact", written when there is contact).
 template <class MeshType, int dim>
-void write_cell_data(std::ostream& os, const MeshType& mesh, const MaterialTable& materials,
-                     const BasicContactSolution<dim>& sol, std::size_t nl, const std::vector<double>* indicators) {
+void add_cell_data(Fields& f, const MeshType& mesh, const MaterialTable& materials, const BasicContactSolution<dim>& sol,
+                   const std::vector<double>* indicators) {
   const std::vector<BasicCellStress<dim>> stress = cell_stresses(mesh, materials, sol.u);
   const auto nc = static_cast<std::size_t>(num_cells(mesh));
   // ParaView's symmetric-tensor order: XX, YY, ZZ, XY, YZ, XZ
-  std::vector<double> tensor(6 * (nc + nl), 0.0), von_mises(nc + nl, 0.0);
-  std::vector<std::int32_t> region(nc + nl, -1);
+  std::vector<double> tensor(6 * nc, 0.0), von_mises(nc, 0.0);
+  std::vector<std::int32_t> region(nc, -1);
   for (std::size_t c = 0; c < nc; ++c) {
     const BasicCellStress<dim>& s = stress[c];
     for (std::size_t k = 0; const double value : {s.xx, s.yy, s.zz, s.xy, s.yz, s.xz}) tensor[6 * c + k++] = value;
     von_mises[c] = s.von_mises();
     region[c] = mesh.region(static_cast<int>(c));
   }
-  os << "      <CellData Tensors=\"stress\" Scalars=\"von_mises\">\n";
-  data_array(os, "stress", 6, tensor);
-  data_array(os, "von_mises", 1, von_mises);
-  data_array(os, "region", 1, region);
-  if (dim == 2 && !sol.contact.empty()) {
-    std::vector<std::uint8_t> on_contact(nc + nl, 0);
-    for (std::size_t l = 0; l < nl; ++l) on_contact[nc + l] = 1;
-    data_array(os, "contact", 1, on_contact);
-  }
-  if (indicators && indicators->size() == nc) {
-    std::vector<double> eta(nc + nl, 0.0);
-    std::copy(indicators->begin(), indicators->end(), eta.begin());
-    data_array(os, "error_indicator", 1, eta);
-  }
-  os << "      </CellData>\n";
+  f.cell.push_back({"stress", 6, std::move(tensor)});
+  f.cell.push_back({"von_mises", 1, std::move(von_mises)});
+  f.cell.push_back({"region", 1, std::move(region), -1.0});
+  if (dim == 2 && !sol.contact.empty()) f.cell.push_back({"contact", 1, std::vector<std::uint8_t>(nc, 0), 1.0});
+  if (indicators && indicators->size() == nc) f.cell.push_back({"error_indicator", 1, *indicators});
 }
 
+/// A field's values of `count` points or cells from `first`, then `lines` times its value on
+/// the contact lines.
+void write_field(std::ostream& os, const Field& f, std::size_t first, std::size_t count, std::size_t lines = 0) {
+  std::visit(
+      [&](const auto& all) {
+        using T = typename std::decay_t<decltype(all)>::value_type;
+        const auto w = static_cast<std::size_t>(f.width);
+        std::vector<T> part(all.begin() + static_cast<std::ptrdiff_t>(w * first),
+                            all.begin() + static_cast<std::ptrdiff_t>(w * (first + count)));
+        part.resize(w * (count + lines), static_cast<T>(f.on_lines));
+        data_array(os, f.name, f.width, part);
+      },
+      f.values);
+}
+
+/// solution.vtu of `piece`: its points (numbered from its first), its cells, and the arrays
+/// `fields` restricted to them.
 template <class MeshType, int dim>
-void write_solution_vtu(std::ostream& os, const MeshType& mesh, const MaterialTable& materials,
-                        const BasicContactSolution<dim>& sol, const std::vector<double>* indicators) {
-  const Cells cells = cells_of(mesh, sol);
-  const auto nv = static_cast<std::size_t>(mesh.num_vertices());
-  file_head(os, nv, cells.types.size());
-  write_points(os, mesh.vertices());
+void write_piece(std::ostream& os, const MeshType& mesh, const BasicContactSolution<dim>& sol, const Fields& fields,
+                 const BodyRange& piece) {
+  const Cells cells = cells_of(mesh, sol, piece);
+  const auto first = static_cast<std::size_t>(piece.first_vertex), count = static_cast<std::size_t>(piece.vertices);
+  file_head(os, count, cells.types.size());
+  write_points(os, mesh.vertices(), first, count);
   write_cells(os, cells, dim == 3);
-  write_point_data(os, nv, sol);
-  write_cell_data(os, mesh, materials, sol, cells.contact_lines, indicators);
+  os << "      <PointData Vectors=\"displacement\">\n";
+  for (const Field& f : fields.point) write_field(os, f, first, count);
+  os << "      </PointData>\n";
+  os << "      <CellData Tensors=\"stress\" Scalars=\"von_mises\">\n";
+  for (const Field& f : fields.cell)
+    write_field(os, f, static_cast<std::size_t>(piece.first_cell), static_cast<std::size_t>(piece.cells),
+                cells.contact_lines);
+  os << "      </CellData>\n";
   file_tail(os);
 }
 
 }  // namespace
 
+/// The arrays, made once, and the writer of a piece of the mesh.
+struct SolutionVtu::Impl {
+  Fields fields;
+  BodyRange whole;
+  std::function<void(std::ostream&, const Fields&, const BodyRange&)> piece;
+};
+
+template <class MeshType, int dim>
+std::unique_ptr<const SolutionVtu::Impl> SolutionVtu::make(const MeshType& mesh, const MaterialTable& materials,
+                                                           const BasicContactSolution<dim>& sol,
+                                                           const std::vector<double>* indicators) {
+  auto impl = std::make_unique<Impl>();
+  const auto nv = static_cast<std::size_t>(mesh.num_vertices());
+  if (sol.u.size() != dim * static_cast<Eigen::Index>(nv))
+    throw InputError("the solution has " + std::to_string(sol.u.size()) + " values for " + std::to_string(nv) +
+                     " vertices (" + std::to_string(dim) + " per vertex)");
+  add_point_data(impl->fields, nv, sol);
+  add_cell_data(impl->fields, mesh, materials, sol, indicators);
+  impl->whole = BodyRange{"the mesh", 0, mesh.num_vertices(), 0, num_cells(mesh)};
+  impl->piece = [&mesh, &sol](std::ostream& os, const Fields& f, const BodyRange& piece) {
+    write_piece(os, mesh, sol, f, piece);
+  };
+  return impl;
+}
+
+SolutionVtu::SolutionVtu(const Mesh& mesh, const MaterialTable& materials, const ContactSolution& solution,
+                         const std::vector<double>* indicators)
+    : impl_(make(mesh, materials, solution, indicators)) {}
+
+SolutionVtu::SolutionVtu(const Mesh3D& mesh, const MaterialTable& materials, const ContactSolution3D& solution,
+                         const std::vector<double>* indicators)
+    : impl_(make(mesh, materials, solution, indicators)) {}
+
+SolutionVtu::~SolutionVtu() = default;
+
+void SolutionVtu::write(std::ostream& os) const { impl_->piece(os, impl_->fields, impl_->whole); }
+
+void SolutionVtu::write(std::ostream& os, const BodyRange& body) const {
+  const BodyRange& all = impl_->whole;
+  if (body.first_vertex < 0 || body.vertices < 0 || body.first_vertex + body.vertices > all.vertices ||
+      body.first_cell < 0 || body.cells < 0 || body.first_cell + body.cells > all.cells)
+    throw InputError("body '" + body.name + "' (vertices " + std::to_string(body.first_vertex) + " + " +
+                     std::to_string(body.vertices) + ", cells " + std::to_string(body.first_cell) + " + " +
+                     std::to_string(body.cells) + ") is not a part of a mesh of " + std::to_string(all.vertices) +
+                     " vertices and " + std::to_string(all.cells) + " cells");
+  impl_->piece(os, impl_->fields, body);
+}
+
 void write_vtu(std::ostream& os, const Mesh& mesh, const MaterialTable& materials, const ContactSolution& sol,
                const std::vector<double>* indicators) {
-  write_solution_vtu(os, mesh, materials, sol, indicators);
+  SolutionVtu(mesh, materials, sol, indicators).write(os);
 }
 
 void write_vtu(std::ostream& os, const Mesh3D& mesh, const MaterialTable& materials, const ContactSolution3D& sol,
                const std::vector<double>* indicators) {
-  write_solution_vtu(os, mesh, materials, sol, indicators);
+  SolutionVtu(mesh, materials, sol, indicators).write(os);
 }
 
 void write_contact_surface_vtu(std::ostream& os, const Mesh3D& mesh, const std::vector<int>& faces,

@@ -1,9 +1,11 @@
 """Two deformable bodies ([[body]], docs/two-bodies.md) from Python: the shipped contact patch
-tests solved, the arrays per body against the exact field and against result.json."""
+tests solved, the arrays per body against the exact field and against result.json, each body's
+VTU read by VTK through solution.vtm."""
 
 import pathlib
 
 import numpy as np
+import pytest
 
 import hemivem
 
@@ -46,3 +48,27 @@ def test_a_scene_of_one_body_has_no_bodies():
     r = hemivem.solve(hemivem.Scene.from_file(ROOT / "scenes" / "signorini.toml"))
     assert r.bodies == {}
     assert r.json()["bodies"] is None
+
+
+def test_each_body_has_its_vtu_and_the_vtm_opens_them_as_one_scene(tmp_path):
+    vtk = pytest.importorskip("vtk")
+    from vtk.util.numpy_support import vtk_to_numpy
+
+    r = hemivem.solve(hemivem.Scene.from_file(ROOT / "scenes" / "two-blocks.toml"))
+    assert r.converged
+    written = {p.name for p in r.write(tmp_path, ["result.json", "solution.vtu"])}
+    assert {"solution.body-upper.vtu", "solution.body-lower.vtu", "solution.vtm"} <= written
+    reader = vtk.vtkXMLMultiBlockDataReader()
+    reader.SetFileName(str(tmp_path / "solution.vtm"))
+    reader.Update()
+    scene = reader.GetOutput()
+    assert scene.GetNumberOfBlocks() == 2
+    for i, name in enumerate(["upper", "lower"]):
+        assert scene.GetMetaData(i).Get(vtk.vtkCompositeDataSet.NAME()) == name
+        block = scene.GetBlock(i)
+        body = r.bodies[name]
+        assert block.GetNumberOfPoints() == body["vertices"]
+        u = vtk_to_numpy(block.GetPointData().GetArray("displacement"))
+        assert np.array_equal(u[:, :2], body["displacement"]) and not u[:, 2].any()
+        polygons = sum(block.GetCellType(c) == vtk.VTK_POLYGON for c in range(block.GetNumberOfCells()))
+        assert polygons == body["cells"]

@@ -87,6 +87,8 @@ std::string input_error_key(const std::function<void()>& f) {
 #include <hemivem/linear_backends.hpp>
 #include <hemivem/mesh/generators.hpp>
 #include <hemivem/scene/example.hpp>
+#include <hemivem/scene/scene.hpp>
+#include <hemivem/error.hpp>
 
 namespace hemivem::test {
 
@@ -121,6 +123,19 @@ std::string slurp(const std::filesystem::path& file) {
   std::stringstream s;
   s << in.rdbuf();
   return s.str();
+}
+
+std::string scene_refusal(const std::string& name, const std::string& from, const std::string& to) {
+  std::string text = slurp(scenes_dir() / name);
+  const auto at = text.find(from);
+  if (at == std::string::npos) return "scene text not found: " + from;
+  text.replace(at, from.size(), to);
+  try {
+    parse_scene_string(text, name);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "accepted";
 }
 
 std::filesystem::path scratch(const std::string& name) {

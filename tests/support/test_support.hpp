@@ -84,6 +84,9 @@ CommandRun run_hemivem(const std::string& args);
 std::string slurp(const std::filesystem::path& file);
 /// A fresh, absent path in the temporary folder, unique to this process and `name`.
 std::filesystem::path scratch(const std::string& name);
+/// The shipped scene `name` (in scenes_dir()) with `from` replaced by `to` (once), parsed: the
+/// InputError's message, "accepted", or "scene text not found: FROM".
+std::string scene_refusal(const std::string& name, const std::string& from, const std::string& to);
 
 }  // namespace hemivem::test
 

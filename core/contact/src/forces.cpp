@@ -11,7 +11,8 @@ namespace {
 
 template <int dim>
 BasicForceBalance<PointOf<dim>> balance_of(const BasicElasticityProblem<dim>& problem, const Eigen::VectorXd& u,
-                                           const PointOf<dim>& contact) {
+                                           const PointOf<dim>& contact,
+                                           const std::vector<std::pair<int, PointOf<dim>>>& at_vertices) {
   using Point = PointOf<dim>;
   if (!problem.mesh) throw InputError("the elasticity problem has no mesh");
   const MeshOf<dim>& mesh = *problem.mesh;
@@ -38,17 +39,25 @@ BasicForceBalance<PointOf<dim>> balance_of(const BasicElasticityProblem<dim>& pr
     if (const int k = owner[static_cast<std::size_t>(d)]; k >= 0)
       balance.reactions[static_cast<std::size_t>(k)].force(d % dim) += r(d);
   }
+  // K u = f + reactions + the other forces at the prescribed dofs
+  for (const auto& [v, force] : at_vertices)
+    for (int c = 0; c < dim; ++c) {
+      const auto d = static_cast<std::size_t>(dim * v + c);
+      if (d < owner.size() && owner[d] >= 0) balance.reactions[static_cast<std::size_t>(owner[d])].force(c) -= force(c);
+    }
   return balance;
 }
 
 }  // namespace
 
-ForceBalance force_balance(const ElasticityProblem& problem, const Eigen::VectorXd& u, const Vec2& contact) {
-  return balance_of<2>(problem, u, contact);
+ForceBalance force_balance(const ElasticityProblem& problem, const Eigen::VectorXd& u, const Vec2& contact,
+                           const std::vector<std::pair<int, Vec2>>& at_vertices) {
+  return balance_of<2>(problem, u, contact, at_vertices);
 }
 
-ForceBalance3D force_balance(const ElasticityProblem3D& problem, const Eigen::VectorXd& u, const Vec3& contact) {
-  return balance_of<3>(problem, u, contact);
+ForceBalance3D force_balance(const ElasticityProblem3D& problem, const Eigen::VectorXd& u, const Vec3& contact,
+                             const std::vector<std::pair<int, Vec3>>& at_vertices) {
+  return balance_of<3>(problem, u, contact, at_vertices);
 }
 
 }  // namespace hemivem

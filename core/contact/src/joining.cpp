@@ -20,7 +20,8 @@ Joining::Joining(const DofMap& dofs, std::vector<std::pair<int, Across>> pairs, 
   for (const auto& [p, across] : pairs_) {
     in_range(p, p);
     if (role[static_cast<std::size_t>(p)] == 1)
-      throw InputError("vertex " + std::to_string(p) + " is in two contact pairs: a node meets one point of the other body");
+      throw InputError("vertex " + std::to_string(p) +
+                       " is in two contact pairs: a node meets one point of the other body");
     role[static_cast<std::size_t>(p)] = 1;
   }
   for (const auto& [p, across] : pairs_)
@@ -28,8 +29,8 @@ Joining::Joining(const DofMap& dofs, std::vector<std::pair<int, Across>> pairs, 
       const int q = across.vertex[static_cast<std::size_t>(k)];
       in_range(q, p);
       if (role[static_cast<std::size_t>(q)] == 1)
-        throw InputError("vertex " + std::to_string(q) + " is a contact node and across from node " + std::to_string(p) +
-                         ": a surface meets another body from one side only");
+        throw InputError("vertex " + std::to_string(q) + " is a contact node and across from node " +
+                         std::to_string(p) + ": a surface meets another body from one side only");
     }
   for (const auto& [p, across] : pairs_)
     for (int c = 0; c < dim; ++c) {
@@ -42,10 +43,11 @@ Joining::Joining(const DofMap& dofs, std::vector<std::pair<int, Across>> pairs, 
         t.free = dofs.free_index[static_cast<std::size_t>(t.dof)];
         t.weight = across.weight[static_cast<std::size_t>(j)];
         if (k.free_p < 0 && t.free >= 0)
-          throw InputError("vertex " + std::to_string(p) + " has its " + std::string(1, "xyz"[c]) +
-                           " displacement prescribed and the vertex " + std::to_string(t.dof / dim) +
-                           " of the other body across from it has it free: the two bodies' vertices at one point of "
-                           "their contact take the same supports, or the one across the contact from the prescribed one does");
+          throw InputError(
+              "vertex " + std::to_string(p) + " has its " + std::string(1, "xyz"[c]) +
+              " displacement prescribed and the vertex " + std::to_string(t.dof / dim) +
+              " of the other body across from it has it free: the two bodies' vertices at one point of "
+              "their contact take the same supports, or the one across the contact from the prescribed one does");
         if (k.free_p >= 0 && t.free < 0) k.shifted = true;
         k.across.push_back(t);
       }

@@ -1,5 +1,6 @@
 #include <hemivem/support/condition.hpp>
 #include <hemivem/contact/solver.hpp>
+#include <hemivem/contact/contact3d.hpp>
 
 #include "solver.templates.hpp"
 #include <hemivem/error.hpp>
@@ -228,6 +229,32 @@ template struct BasicContactSolution<2>;
 template struct BasicContactSolution<3>;
 template Vec2 contact_resultant(const std::vector<BasicContactNode<2>>&);
 template Vec3 contact_resultant(const std::vector<BasicContactNode<3>>&);
+template <int dim>
+std::vector<std::pair<int, Eigen::Matrix<double, dim, 1>>> forces_across(const std::vector<BasicContactNode<dim>>& nodes) {
+  std::vector<std::pair<int, Eigen::Matrix<double, dim, 1>>> out;
+  for (const auto& n : nodes)
+    for (int k = 0; k < n.across.size(); ++k)
+      out.emplace_back(n.across.vertex[static_cast<std::size_t>(k)],
+                       -n.across.weight[static_cast<std::size_t>(k)] * n.force_on_body());
+  return out;
+}
+
+template <int dim>
+BasicForceBalance<Eigen::Matrix<double, dim, 1>> contact_force_balance(const BasicElasticityProblem<dim>& problem,
+                                                                       const Eigen::VectorXd& u,
+                                                                       const std::vector<BasicContactNode<dim>>& nodes) {
+  auto balance = force_balance(problem, u, external_contact_resultant(nodes), forces_across(nodes));
+  for (const auto& n : nodes)
+    if (n.across.size() > 0) balance.internal = std::max(balance.internal, n.force_on_body().norm());
+  return balance;
+}
+
+template std::vector<std::pair<int, Vec2>> forces_across(const std::vector<BasicContactNode<2>>&);
+template std::vector<std::pair<int, Vec3>> forces_across(const std::vector<BasicContactNode<3>>&);
+template ForceBalance contact_force_balance(const ElasticityProblem&, const Eigen::VectorXd&,
+                                            const std::vector<BasicContactNode<2>>&);
+template ForceBalance3D contact_force_balance(const ElasticityProblem3D&, const Eigen::VectorXd&,
+                                              const std::vector<BasicContactNode<3>>&);
 template Vec2 external_contact_resultant(const std::vector<BasicContactNode<2>>&);
 template Vec3 external_contact_resultant(const std::vector<BasicContactNode<3>>&);
 template BasicContactZone<2> contact_zone(const std::vector<BasicContactNode<2>>&);

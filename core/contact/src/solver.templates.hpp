@@ -291,7 +291,7 @@ void BasicContactSolver<dim>::post_process(Solution& solution) const {
   const ReducedProblem& rp = condensation_->reduced();
   solution.energy = 0.5 * uf.dot(Au) - uf.dot(sys.b);
   solution.energy = rp.law_energy(m.a, solution.energy);
-  solution.forces = detail::Kernels<dim>::balance(problem_, solution.u, external_contact_resultant(solution.contact));
+  solution.forces = contact_force_balance<dim>(problem_.elasticity, solution.u, solution.contact);
   detail::require_finite(solution);
 }
 

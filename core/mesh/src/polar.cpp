@@ -27,8 +27,9 @@ void require_increasing(const std::vector<double>& values, const char* what) {
     if (!std::isfinite(values[k]))
       throw InputError(std::string("make_polar: ") + what + "[" + std::to_string(k) + "] is not finite");
     if (k > 0 && !(values[k] > values[k - 1]))
-      throw InputError(std::string("make_polar: the ") + what + " must increase, but " + what + "[" + std::to_string(k) +
-                       "] = " + std::to_string(values[k]) + " follows " + std::to_string(values[k - 1]));
+      throw InputError(std::string("make_polar: the ") + what + " must increase, but " + what + "[" +
+                       std::to_string(k) + "] = " + std::to_string(values[k]) + " follows " +
+                       std::to_string(values[k - 1]));
   }
 }
 
@@ -48,7 +49,7 @@ Mesh make_polar(const Vec2& center, const std::vector<double>& radii, const std:
   if (span > two_pi * (1.0 + 1e-14))
     throw InputError("make_polar: the angles span " + std::to_string(span) + " radians, more than a full turn");
   const bool full = span >= two_pi * (1.0 - 1e-14);  // the last angle is the first
-  const bool disk = radii.front() == 0.0;          // the centre is one vertex
+  const bool disk = radii.front() == 0.0;            // the centre is one vertex
   const int m = static_cast<int>(radii.size()) - 1, n = static_cast<int>(angles.size()) - 1;
   const int columns = full ? n : n + 1;  // distinct angles of vertices
   std::vector<Vec2> vertices;
@@ -65,8 +66,10 @@ Mesh make_polar(const Vec2& center, const std::vector<double>& radii, const std:
   cells.reserve(static_cast<std::size_t>(m) * static_cast<std::size_t>(n));
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < m; ++i) {
-      if (disk && i == 0) cells.push_back({at(0, 0), at(1, j), at(1, j + 1)});
-      else cells.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
+      if (disk && i == 0)
+        cells.push_back({at(0, 0), at(1, j), at(1, j + 1)});
+      else
+        cells.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
     }
   Mesh mesh(std::move(vertices), std::move(cells));
   // the boundary's parts by the rows and columns of their ends
@@ -81,10 +84,14 @@ Mesh make_polar(const Vec2& center, const std::vector<double>& radii, const std:
     const int a = mesh.edge(e).v0, b = mesh.edge(e).v1;
     const auto ra = ring[static_cast<std::size_t>(a)], rb = ring[static_cast<std::size_t>(b)];
     const auto ca = column[static_cast<std::size_t>(a)], cb = column[static_cast<std::size_t>(b)];
-    if (ra == m && rb == m) outer.push_back(e);
-    else if (!disk && ra == 0 && rb == 0) inner.push_back(e);
-    else if ((ca == 0 || ca < 0) && (cb == 0 || cb < 0)) start.push_back(e);
-    else if ((ca == n || ca < 0) && (cb == n || cb < 0)) end.push_back(e);
+    if (ra == m && rb == m)
+      outer.push_back(e);
+    else if (!disk && ra == 0 && rb == 0)
+      inner.push_back(e);
+    else if ((ca == 0 || ca < 0) && (cb == 0 || cb < 0))
+      start.push_back(e);
+    else if ((ca == n || ca < 0) && (cb == n || cb < 0))
+      end.push_back(e);
   }
   mesh.set_edge_group("outer", std::move(outer));
   if (!disk) mesh.set_edge_group("inner", std::move(inner));
@@ -93,6 +100,69 @@ Mesh make_polar(const Vec2& center, const std::vector<double>& radii, const std:
     mesh.set_edge_group("end", std::move(end));
   }
   return mesh;
+}
+
+}  // namespace hemivem
+
+namespace hemivem {
+
+std::vector<double> graded_steps(double from, double to, int n, double ratio) {
+  if (n < 1) throw InputError("graded_steps: n must be >= 1, got " + std::to_string(n));
+  if (!(ratio >= 1.0) || !std::isfinite(ratio))
+    throw InputError("graded_steps: the ratio must be >= 1, got " + std::to_string(ratio));
+  if (!std::isfinite(from) || !std::isfinite(to)) throw InputError("graded_steps: the ends must be finite");
+  // the partial sums of 1, ratio, ratio^2, ... scaled to the length
+  std::vector<double> sums(static_cast<std::size_t>(n) + 1, 0.0);
+  double step = 1.0;
+  for (int k = 1; k <= n; ++k) {
+    sums[static_cast<std::size_t>(k)] = sums[static_cast<std::size_t>(k) - 1] + step;
+    step *= ratio;
+  }
+  std::vector<double> out(sums.size());
+  for (std::size_t k = 0; k < sums.size(); ++k) out[k] = from + (to - from) * (sums[k] / sums.back());
+  out.front() = from;
+  out.back() = to;
+  return out;
+}
+
+std::array<std::vector<double>, 2> polar_grid(const std::array<double, 2>& radii, const std::array<double, 2>& angles,
+                                              int n_radial, int n_around, double ratio, std::optional<double> focus) {
+  if (!(radii[0] >= 0.0 && radii[0] < radii[1]) || !std::isfinite(radii[1]))
+    throw InputError("polar: the radii [r0, r1] need 0 <= r0 < r1, got [" + std::to_string(radii[0]) + ", " +
+                     std::to_string(radii[1]) + "]");
+  if (!(angles[0] < angles[1] && angles[1] - angles[0] <= 360.0) || !std::isfinite(angles[0]))
+    throw InputError("polar: the angles [a0, a1] need a0 < a1 <= a0 + 360 (degrees), got [" +
+                     std::to_string(angles[0]) + ", " + std::to_string(angles[1]) + "]");
+  if (focus && !(*focus >= angles[0] && *focus <= angles[1]))
+    throw InputError("polar: the focus " + std::to_string(*focus) + " lies outside the angles");
+  if (n_radial < 1 || n_around < 1) throw InputError("polar: n = [radial, around] needs at least one cell each");
+  if (focus && *focus > angles[0] && *focus < angles[1] && n_around < 2)
+    throw InputError("polar: a focus between the angles needs at least two cells around, one on each side");
+  std::vector<double> r = graded_steps(radii[1], radii[0], n_radial, ratio);
+  std::reverse(r.begin(), r.end());
+  const double degree = std::numbers::pi / 180.0;
+  std::vector<double> a;
+  if (!focus) {
+    a = graded_steps(angles[0], angles[1], n_around, 1.0);
+  } else {
+    const double span = angles[1] - angles[0];
+    int left = static_cast<int>(std::lround(n_around * (*focus - angles[0]) / span));
+    if (*focus > angles[0]) left = std::max(left, 1);
+    if (*focus < angles[1]) left = std::min(left, n_around - 1);
+    const int right = n_around - left;
+    if (left > 0) {
+      a = graded_steps(*focus, angles[0], left, ratio);
+      std::reverse(a.begin(), a.end());
+    } else {
+      a = {*focus};
+    }
+    if (right > 0) {
+      const std::vector<double> b = graded_steps(*focus, angles[1], right, ratio);
+      a.insert(a.end(), b.begin() + 1, b.end());
+    }
+  }
+  for (double& x : a) x *= degree;
+  return {r, a};
 }
 
 }  // namespace hemivem

@@ -489,7 +489,7 @@ auto BasicPathSolver<dim>::Impl::solve_step(int k) -> Step {
   if (frame) {
     s.u = u;
     const auto at_t = proportional ? scaled(problem.elasticity, t) : problem.elasticity;
-    s.forces = force_balance(at_t, u, external_contact_resultant(s.contact));
+    s.forces = contact_force_balance<dim>(at_t, u, s.contact);
   }
   for (int i = 0; i < n1; ++i)
     for (const int kt : tangential_coordinates(i))
@@ -717,7 +717,7 @@ BasicPathSolution<dim> BasicPathSolver<dim>::run() {
     p.make_load_current(&b);
     s.u = p.cond->back_substitute(s.a - p.cond->origin());
     const auto at_t = out.proportional ? scaled(p.problem.elasticity, s.t) : p.problem.elasticity;
-    s.forces = force_balance(at_t, s.u, external_contact_resultant(s.contact));
+    s.forces = contact_force_balance<dim>(at_t, s.u, s.contact);
   }
   out.last = p.last_solution(out.steps.back(), p.last_result, p.last_shift);
   carry_first_failure(out, failed);

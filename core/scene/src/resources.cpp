@@ -103,7 +103,7 @@ MemoryEstimate estimate_memory(std::string_view generator, std::int64_t nx, std:
                      (nx == ny ? std::to_string(nx) : "[" + std::to_string(nx) + ", " + std::to_string(ny) + "]"));
   const std::string g = to_lower(generator);
   const double x = static_cast<double>(nx), y = static_cast<double>(ny);
-  if (g == "squares" || g == "distorted") return estimate_memory((x + 1) * (y + 1), 4.0);
+  if (g == "squares" || g == "distorted" || g == "polar") return estimate_memory((x + 1) * (y + 1), 4.0);
   if (g == "triangles") return estimate_memory((x + 1) * (y + 1), 3.0);
   if (g == "voronoi") return estimate_memory(2.0 * x * y + 2.0, 6.0);
   if (g == "nonconvex") return estimate_memory(3.0 * x * y + 1.0, 6.0);

@@ -41,7 +41,7 @@ std::vector<MeshOf<dim>> matched_meshes(const Scene& scene) {
   const std::vector<SceneContact> parts = contact_parts(scene);
   for (std::size_t k = 0; k < parts.size(); ++k) {
     const SceneContact& c = parts[k];
-    if (!c.against) continue;
+    if (!c.against || c.pairing == BodyPairing::projection) continue;  // projected: the meshes stay as they are
     const std::size_t a = body_index(scene, c.body), b = body_index(scene, c.against_body);
     const std::string key = contact_key(scene, k);
     const std::vector<int> side = select_facets<dim>(scene, meshes[a], c.boundary, key);
@@ -132,6 +132,7 @@ std::unique_ptr<BasicBuiltProblem<dim>> built_bodies(const Scene& scene) {
     auto part = *std::find_if(own.begin(), own.end(), [&](const auto& x) { return x.name == name; });
     for (int& f : part.facets) f = joined.facet_of[a][static_cast<std::size_t>(f)];
     if (parts[k].against) {
+      part.pairing = parts[k].pairing;
       const std::size_t b = body_index(scene, parts[k].against_body);
       for (int f : select_facets<dim>(scene, bodies[b]->mesh, *parts[k].against, contact_key(scene, k) + ".against"))
         part.against.push_back(joined.facet_of[b][static_cast<std::size_t>(f)]);

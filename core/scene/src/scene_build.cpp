@@ -188,7 +188,11 @@ std::unique_ptr<BuiltProblem> detail::built_plane(const Scene& scene) {
                    scene.mesh.generator + " n = " + cells.text() + ": " + detail::count_text(need.vertices) + " vertices",
                    scene.where("mesh.n"));
     try {
-      if (scene.mesh.polygon.empty()) {
+      if (scene.mesh.generator == "polar") {
+        const auto [radii, angles] = polar_grid(scene.mesh.radii, scene.mesh.angles, cells.nx, cells.ny,
+                                                scene.mesh.grading, scene.mesh.focus);
+        mesh = make_polar(Vec2(scene.mesh.center[0], scene.mesh.center[1]), radii, angles);
+      } else if (scene.mesh.polygon.empty()) {
         mesh = make_mesh(scene.mesh.generator, cells, Rectangle{d[0], d[1], d[2], d[3]},
                          static_cast<std::uint64_t>(scene.mesh.seed));
       } else {
@@ -235,6 +239,9 @@ bool mentions_t(const Scene& scene, const SceneScalar& v) {
 }  // namespace
 
 bool scene_is_proportional(const Scene& scene) {
+  // a scene of several bodies: each body's loads and prescribed displacements as its scene of one body's
+  for (std::size_t b = 0; b < scene.bodies.size(); ++b)
+    if (!scene_is_proportional(body_scene(scene, b))) return false;
   auto any = [&](const auto&... v) { return (mentions_t(scene, v) || ...); };
   if (any(scene.body_force[0], scene.body_force[1], scene.body_force[2])) return false;
   for (const auto& t : scene.tractions)

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include <hemivem/contact/contact3d.hpp>
 #include <hemivem/error.hpp>
@@ -154,25 +155,62 @@ void set_contact_data_at(BasicContactPart<dim>& part, const Scene& scene, const 
   else part.gap = gap_at<dim>(scene, c, i, t);
 }
 
+/// The name the scene gives prescribed part k of a scene of one body ([clamped] first when it
+/// has one, then each [[dirichlet]]), after `prefix` (a body's name and a dot in a scene of
+/// several bodies; add_body).
+inline std::string prescribed_name(const Scene& one, std::size_t k, const std::string& prefix) {
+  const std::size_t clamped = one.clamped.empty() ? 0 : 1;
+  return prefix + (k < clamped ? std::string("clamped") : "dirichlet[" + std::to_string(k - clamped) + "]");
+}
+
 /// set_load_factor, in either dimension: the body force, each traction or pressure, each
 /// prescribed displacement ([clamped], listed first, stays zero), each contact part's gap or
-/// obstacle at t.
+/// obstacle at t. A scene of several bodies: its problem holds each body's prescribed parts
+/// and tractions after the previous body's, in body order (built_bodies), and each body's are
+/// set from its scene of one body (body_scene); the body force is one for all bodies.
 template <int dim>
 void set_problem_at(const Scene& scene, double t, BasicContactProblem<dim>& problem) {
   if (!std::isfinite(t)) throw InternalError("set_load_factor: the load factor must be finite, got " + fmt(t));
   auto& e = problem.elasticity;
-  const std::size_t clamped = scene.clamped.empty() ? 0 : 1;  // [clamped] comes first
+  // the scene of each body with the name its prescribed parts carry in the problem ("" for one body)
+  std::vector<Scene> bodies;
+  std::vector<std::string> prefixes;
+  if (scene.bodies.empty()) prefixes.emplace_back();
+  for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
+    bodies.push_back(body_scene(scene, b));
+    prefixes.push_back(scene.bodies[b].name + ".");
+  }
+  const auto one = [&](std::size_t b) -> const Scene& { return scene.bodies.empty() ? scene : bodies[b]; };
   const std::vector<SceneContact> parts = contact_parts(scene);
-  if (e.tractions.size() != scene.tractions.size() || e.dirichlet.size() != clamped + scene.dirichlet.size() ||
-      parts.size() != problem.parts.size())
-    throw InternalError("set_load_factor: the problem was not built from this scene (" +
-                        std::to_string(e.tractions.size()) + " tractions, " + std::to_string(e.dirichlet.size()) +
-                        " prescribed parts, " + std::to_string(problem.parts.size()) + " contact parts; the scene has " +
-                        std::to_string(scene.tractions.size()) + ", " + std::to_string(clamped + scene.dirichlet.size()) +
-                        ", " + std::to_string(parts.size()) + ")");
-  e.body_force = body_force_at<dim>(scene, t);
-  for (std::size_t i = 0; i < scene.tractions.size(); ++i) set_traction_at<dim>(e.tractions[i], scene, i, t);
-  for (std::size_t i = 0; i < scene.dirichlet.size(); ++i) e.dirichlet[clamped + i].value = dirichlet_value_at<dim>(scene, i, t);
+  std::size_t tractions = 0, prescribed = 0;
+  for (std::size_t b = 0; b < prefixes.size(); ++b) {
+    tractions += one(b).tractions.size();
+    prescribed += (one(b).clamped.empty() ? 0 : 1) + one(b).dirichlet.size();
+  }
+  const auto not_built = [&](const std::string& why) {
+    return InternalError("set_load_factor: the problem was not built from this scene (" + why + ")");
+  };
+  if (e.tractions.size() != tractions || e.dirichlet.size() != prescribed || parts.size() != problem.parts.size())
+    throw not_built(std::to_string(e.tractions.size()) + " tractions, " + std::to_string(e.dirichlet.size()) +
+                    " prescribed parts, " + std::to_string(problem.parts.size()) + " contact parts; the scene has " +
+                    std::to_string(tractions) + ", " + std::to_string(prescribed) + ", " + std::to_string(parts.size()));
+  for (std::size_t k = 0, b = 0, first = 0; k < e.dirichlet.size(); ++k) {
+    while (k - first >= (one(b).clamped.empty() ? 0 : 1) + one(b).dirichlet.size())
+      first += (one(b).clamped.empty() ? 0 : 1) + one(b).dirichlet.size(), ++b;
+    const std::string name = prescribed_name(one(b), k - first, prefixes[b]);
+    if (e.dirichlet[k].name != name)
+      throw not_built("prescribed part " + std::to_string(k) + " is '" + e.dirichlet[k].name + "', the scene's '" + name + "'");
+  }
+  e.body_force = body_force_at<dim>(one(0), t);
+  for (std::size_t b = 0, traction = 0, held = 0; b < prefixes.size(); ++b) {
+    const Scene& s = one(b);
+    const std::size_t clamped = s.clamped.empty() ? 0 : 1;
+    for (std::size_t i = 0; i < s.tractions.size(); ++i) set_traction_at<dim>(e.tractions[traction + i], s, i, t);
+    for (std::size_t i = 0; i < s.dirichlet.size(); ++i)
+      e.dirichlet[held + clamped + i].value = dirichlet_value_at<dim>(s, i, t);
+    traction += s.tractions.size();
+    held += clamped + s.dirichlet.size();
+  }
   for (std::size_t i = 0; i < parts.size(); ++i) set_contact_data_at<dim>(problem.parts[i], scene, parts[i], i, t);
 }
 

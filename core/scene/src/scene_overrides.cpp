@@ -196,7 +196,7 @@ std::string edit_table(toml::table& root, Override& o) {
   if (o.parts.size() == 2 && o.parts[0].first == "mesh") {
     if (leaf == "generator") t->erase("file");
     if (leaf == "file") {
-      for (const char* k : {"generator", "n", "seed", "domain"}) t->erase(k);
+      for (const char* k : {"generator", "n", "seed", "domain", "center", "radii", "angles", "grading", "focus"}) t->erase(k);
       if (auto* sv = o.holder.get("v"); sv && sv->is_string()) {
         std::filesystem::path p(sv->as_string()->get());
         if (p.is_relative() && !p.empty()) {
@@ -233,7 +233,7 @@ void refuse_contradictions(const std::vector<Override>& overrides) {
     if (o.key == "mesh.file" && !o.remove) file = &o;
   if (file)
     for (const auto& o : overrides)
-      for (const char* k : {"generator", "n", "seed", "domain"})
+      for (const char* k : {"generator", "n", "seed", "domain", "center", "radii", "angles", "grading", "focus"})
         if (!o.remove && o.key == std::string("mesh.") + k)
           throw InputError("not used with mesh.file (" + file->where() +
                                "); give either a generator or a file",

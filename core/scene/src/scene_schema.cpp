@@ -404,7 +404,10 @@ BoundarySelector read_body_selector(TableReader& r, std::string& body) {
 /// gap is 0 and its constraint one-sided unless the part says otherwise.
 void read_against(TableReader& r, SceneContact& c) {
   auto a = r.string("against");
-  if (!a) return;
+  if (!a) {
+    if (r.has("pairing")) r.fail("pairing", r.node("pairing"), "used only with against (a part meeting another body)");
+    return;
+  }
   if (r.scene().bodies.empty())
     r.fail("against", r.node("against"), "names another body's surface; a scene of one body has no other ([[body]] tables)");
   if (r.has("obstacle")) r.fail("against", r.node("against"), "a part meets another body or an obstacle, not both");
@@ -419,6 +422,11 @@ void read_against(TableReader& r, SceneContact& c) {
   s.tolerance = c.boundary.tolerance;
   c.against = s;
   c.against_body = b;
+  if (auto k = r.string("pairing")) {
+    if (*k != "vertex" && *k != "projection")
+      r.fail("pairing", r.node("pairing"), "unknown pairing '" + *k + "'; expected vertex or projection");
+    c.pairing = *k == "vertex" ? BodyPairing::vertex : BodyPairing::projection;
+  }
   if (!r.has("gap")) c.gap = SceneScalar{0.0, {}};
   if (!r.has("constraint")) c.constraint = ConstraintKind::one_sided;
 }
@@ -498,7 +506,7 @@ void read_contact_parts(Scene& s, TableReader& r) {
   const toml::node* n = r.find("contact");
   if (!n) return;
   const std::vector<std::string> keys = with_selector({"name", "law", "parameters", "breakpoints", "j", "j1", "j2", "gap",
-                                                       "obstacle", "constraint", "law_origin", "friction", "against"});
+                                                       "obstacle", "constraint", "law_origin", "friction", "against", "pairing"});
   std::vector<const toml::table*> tables;
   if (const toml::table* t = n->as_table()) {
     tables.push_back(t);
@@ -545,7 +553,7 @@ void read_version_and_title(TableReader& r, Scene& s) {
 
 /// mesh.file: a .poly2d or .msh file, relative to `base`; no generator keys beside it.
 void read_mesh_file(TableReader& m, SceneMesh& mesh, const std::filesystem::path& base) {
-  for (const char* k : {"generator", "n", "seed", "domain"})
+  for (const char* k : {"generator", "n", "seed", "domain", "center", "radii", "angles", "grading", "focus"})
     if (m.has(k)) m.fail(k, m.node(k), "not used with mesh.file; give either a generator or a file");
   const auto f = *m.string("file");
   if (f.empty()) m.fail("file", m.node("file"), "empty path");
@@ -667,6 +675,9 @@ void read_mesh_generator(TableReader& m, SceneMesh& mesh) {
                "mesh.domain = [x0, x1, y0, y1, z0, z1] or mesh.n = [nx, ny, nz]) takes one of: " + join(valid));
       check_name(m, "generator", *g, valid, "three-dimensional mesh generator");
     }
+  } else if (name == "polar") {  // a ring, disk or sector: make_polar, with keys of its own
+    mesh.generator = name;
+    return;
   } else {
     if (solid_only_generator(name))
       m.fail("generator", m.node("generator"),
@@ -679,8 +690,38 @@ void read_mesh_generator(TableReader& m, SceneMesh& mesh) {
 
 /// [mesh]: a file, or a generator with its cell count, seed and domain; its dimension (2, or 3
 /// for a box, [nx, ny, nz], a generator of boxes or a Gmsh file of volume elements).
+/// The keys of generator = "polar": center, radii, angles (degrees), grading and focus, with
+/// n = [radial, around]; checked by making its grid.
+void read_mesh_polar(TableReader& m, SceneMesh& mesh) {
+  const bool polar = mesh.generator == "polar";
+  for (const char* k : {"center", "radii", "angles", "grading", "focus"})
+    if (!polar && m.has(k)) m.fail(k, m.node(k), "used only with generator = \"polar\"");
+  if (!polar) return;
+  if (m.has("domain"))
+    m.fail("domain", m.node("domain"), "not used with generator = \"polar\": its domain is center, radii and angles");
+  if (!m.has("n") || !mesh.ny)
+    throw InputError("mesh: generator = \"polar\" needs n = [cells along the radius, cells around]", m.at(m.self()));
+  if (auto c = m.fixed<2>("center", "[x, y]")) mesh.center = *c;
+  if (auto r = m.fixed<2>("radii", "[r0, r1]")) mesh.radii = *r;
+  if (auto a = m.fixed<2>("angles", "[a0, a1] in degrees")) mesh.angles = *a;
+  if (auto g = m.number("grading")) {
+    if (!(*g >= 1.0 && *g <= 2.0)) m.fail("grading", m.node("grading"), "must lie in [1, 2], got " + fmt(*g));
+    mesh.grading = *g;
+  }
+  if (auto f = m.number("focus")) mesh.focus = *f;
+  try {
+    polar_grid(mesh.radii, mesh.angles, mesh.n, *mesh.ny, mesh.grading, mesh.focus);
+  } catch (const InputError& e) {
+    const char* key = e.detail().find("focus") != std::string::npos   ? "focus"
+                      : e.detail().find("angles") != std::string::npos ? "angles"
+                      : e.detail().find("radii") != std::string::npos  ? "radii"
+                                                                       : "n";
+    m.fail(key, m.has(key) ? m.node(key) : m.self(), e.detail().substr(std::string("polar: ").size()));
+  }
+}
+
 void read_mesh(Scene& s, const toml::table& t, const std::filesystem::path& base) {
-  TableReader m(s, t, "mesh", {"generator", "file", "n", "seed", "domain"});
+  TableReader m(s, t, "mesh", {"generator", "file", "n", "seed", "domain", "center", "radii", "angles", "grading", "focus"});
   if (m.has("file")) {
     read_mesh_file(m, s.mesh, base);
     // the file decides the scene's dimension: one that cannot be read is this key's error
@@ -701,7 +742,8 @@ void read_mesh(Scene& s, const toml::table& t, const std::filesystem::path& base
     if (*seed < 0) m.fail("seed", m.node("seed"), "must be >= 0, got " + std::to_string(*seed));
     s.mesh.seed = *seed;
   }
-  read_mesh_domain(m, s.mesh);
+  read_mesh_polar(m, s.mesh);
+  if (s.mesh.generator != "polar") read_mesh_domain(m, s.mesh);
 }
 
 /// One [[material.region]]: an id not seen before, E and nu, and an optional box.
@@ -1010,12 +1052,18 @@ SceneBody read_body(Scene& s, const toml::table& t, std::size_t i, const std::fi
   SceneBody body;
   auto name = r.string("name");
   if (!name) throw InputError(key + ": missing key 'name' (each body is named: name = \"upper\")", r.at(r.self()));
+  // the name names the body's output file (solution.body-NAME.vtu): ASCII, whatever the locale
   const bool valid = !name->empty() && name->size() <= 64 && std::all_of(name->begin(), name->end(), [](char ch) {
-    return std::isalnum(static_cast<unsigned char>(ch)) || ch == '-' || ch == '_';
+    return (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') || ch == '-' || ch == '_';
   });
-  if (!valid) r.fail("name", r.node("name"), "a body's name is 1 to 64 letters, digits, '-' or '_', got '" + *name + "'");
-  for (const SceneBody& b : s.bodies)
+  if (!valid)
+    r.fail("name", r.node("name"), "a body's name is 1 to 64 ASCII letters, digits, '-' or '_', got '" + *name + "'");
+  for (const SceneBody& b : s.bodies) {
     if (b.name == *name) r.fail("name", r.node("name"), "two bodies are named '" + *name + "'");
+    if (lower(b.name) == lower(*name))
+      r.fail("name", r.node("name"), "bodies '" + b.name + "' and '" + *name +
+                                         "' differ in case only: they would name one output file where case is ignored");
+  }
   body.name = *name;
   const toml::table* mesh = r.table("mesh");
   if (!mesh) throw InputError(key + ": missing table 'mesh' (each body has its own mesh)", r.at(r.self()));
@@ -1087,11 +1135,9 @@ Scene scene_from_table(const toml::table& root, std::string source, const std::f
   s.path.reset();
   if (const toml::table* t = r.table("path")) read_path(s, *t);
   if (const toml::table* t = r.table("output")) read_output(s, *t);
-  if (!s.bodies.empty())
-    for (const char* k : {"adapt", "path"})
-      if (r.has(k))
-        r.fail(k, r.node(k), std::string("a scene of several bodies is solved statically; [") + k +
-                                 "] is not available for it");
+  if (!s.bodies.empty() && r.has("adapt"))
+    r.fail("adapt", r.node("adapt"),
+           "a scene of several bodies is solved on the meshes its bodies make; [adapt] is not available for it");
   return s;
 }
 

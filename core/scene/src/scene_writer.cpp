@@ -98,10 +98,16 @@ void write_mesh(std::ostream& o, const SceneMesh& m, const std::string& at = "")
   o << "generator = " << quote(m.generator) << "\n";
   if (m.dimension == 3 && m.ny && m.nz)  // as given: [nx, ny, nz] reads back to the same scene
     o << "n = [" << m.n << ", " << *m.ny << ", " << *m.nz << "]\n";
+  else if (m.generator == "polar" && m.ny)  // always [radial, around]
+    o << "n = [" << m.n << ", " << *m.ny << "]\n";
   else
     o << "n = " << (m.dimension == 3 ? m.cells3().text() : m.cells().text()) << "\n";
   o << "seed = " << m.seed << "\n";
-  if (m.dimension == 3)
+  if (m.generator == "polar") {
+    o << "center = " << list(m.center, fmt) << "\nradii = " << list(m.radii, fmt) << "\nangles = " << list(m.angles, fmt)
+      << "\ngrading = " << fmt(m.grading) << "\n";
+    if (m.focus) o << "focus = " << fmt(*m.focus) << "\n";
+  } else if (m.dimension == 3)
     o << "domain = " << list(m.box, fmt) << "\n";
   else if (m.polygon.empty())
     o << "domain = " << list(m.domain, fmt) << "\n";
@@ -177,6 +183,7 @@ void write_contact(std::ostream& o, const SceneContact& c, bool in_array, int di
   if (c.against) {
     const std::string name = c.against->sides.empty() ? c.against->groups.front() : c.against->sides.front();
     o << "against = " << quote(c.against_body + "." + name) << "\n";
+    if (c.pairing != BodyPairing::vertex) o << "pairing = " << quote(to_string(c.pairing)) << "\n";
   }
   o << "law = " << quote(c.law.name) << "\n";
   write_pieces(o, c.law);

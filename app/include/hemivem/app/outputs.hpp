@@ -81,8 +81,9 @@ struct RunInfo {
   /// of a solid body (path_of).
   std::variant<std::monostate, const BasicPathSolution<2>*, const BasicPathSolution<3>*> path;
   /// A scene of several bodies (BasicBuiltProblem::bodies): result.json's "bodies" (each body's
-  /// vertices, cells and balance of forces), displacement.csv's and stress.csv's body column,
-  /// solution.vtu's body field. Empty for one body.
+  /// vertices, cells and balance of forces), displacement.csv's body column, and with
+  /// solution.vtu each body's solution.body-NAME.vtu and solution.vtm naming them. Empty for one
+  /// body.
   std::vector<BodyRange> bodies;
   /// result.json's "bodies": each body's range and balance of forces (null for one body).
   nlohmann::json bodies_record;

@@ -2,11 +2,13 @@
 // (docs/reference/outputs.md), every array in VTK's binary form: zlib-compressed in blocks of
 // 32 KiB, base64-encoded inline, UInt64 headers. ParaView, VisIt and meshio read it. One writer
 // serves plane and solid bodies; only the cells differ (polygons and the contact lines of a
-// plane, VTK_POLYHEDRON cells of a solid).
+// plane, VTK_POLYHEDRON cells of a solid). The same writer writes the whole mesh or one body of
+// a mesh of several (solution.body-NAME.vtu).
 #pragma once
 
 #include <cstdint>
 #include <iosfwd>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -15,6 +17,7 @@
 #include <hemivem/app/stress.hpp>
 #include <hemivem/contact/contact3d.hpp>
 #include <hemivem/contact/solver.hpp>
+#include <hemivem/mesh/body_range.hpp>
 #include <hemivem/mesh/mesh.hpp>
 #include <hemivem/mesh/mesh3d.hpp>
 #include <hemivem/vem/material.hpp>
@@ -38,6 +41,35 @@ void write_vtu(std::ostream& stream, const Mesh& mesh, const MaterialTable& mate
 /// A solid's cells are VTK_POLYHEDRON (type 42, with the arrays `faces` and `faceoffsets`).
 void write_vtu(std::ostream& stream, const Mesh3D& mesh, const MaterialTable& materials,
                const ContactSolution3D& solution, const std::vector<double>* indicators = nullptr);
+
+/// solution.vtu's arrays of a solution, made once (the stresses included), written for the
+/// whole mesh (write_vtu) or for one body of a mesh of several (RunInfo::bodies). It refers to
+/// the mesh and the solution, which must outlive it.
+class SolutionVtu {
+ public:
+  SolutionVtu(const Mesh& mesh, const MaterialTable& materials, const ContactSolution& solution,
+              const std::vector<double>* indicators = nullptr);
+  SolutionVtu(const Mesh3D& mesh, const MaterialTable& materials, const ContactSolution3D& solution,
+              const std::vector<double>* indicators = nullptr);
+  ~SolutionVtu();
+  SolutionVtu(const SolutionVtu&) = delete;
+  SolutionVtu& operator=(const SolutionVtu&) = delete;
+
+  /// Every point and cell: solution.vtu (write_vtu).
+  void write(std::ostream& stream) const;
+  /// The points and cells of `body` (a consecutive range of each of the mesh's), numbered from
+  /// 0, with the arrays of solution.vtu restricted to them: a plane's contact lines whose two
+  /// ends are the body's points follow its polygons. InputError when `body` is not a range of
+  /// the mesh's; InternalError when one of its cells has a vertex outside its vertices.
+  void write(std::ostream& stream, const BodyRange& body) const;
+
+ private:
+  struct Impl;
+  template <class MeshType, int dim>
+  static std::unique_ptr<const Impl> make(const MeshType& mesh, const MaterialTable& materials,
+                                          const BasicContactSolution<dim>& solution, const std::vector<double>* indicators);
+  std::unique_ptr<const Impl> impl_;
+};
 
 /// contact-surface.vtu: the contact faces `faces` of a solid as VTK_POLYGON cells on their own
 /// points, with the point data vertex (the id in the mesh), displacement, u_nu, pressure, gap

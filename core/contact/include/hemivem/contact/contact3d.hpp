@@ -70,7 +70,8 @@ using ContactNode3D = BasicContactNode<3>;
 
 /// The balance of forces of a 3D solution (force_balance in 3D: the reaction of each Dirichlet
 /// condition the sum of K u - f over the dofs it prescribes, the last condition owning a dof).
-ForceBalance3D force_balance(const ElasticityProblem3D& problem, const Eigen::VectorXd& u, const Vec3& contact);
+ForceBalance3D force_balance(const ElasticityProblem3D& problem, const Eigen::VectorXd& u, const Vec3& contact,
+                             const std::vector<std::pair<int, Vec3>>& at_vertices = {});
 
 using ContactSolution3D = BasicContactSolution<3>;
 

@@ -216,6 +216,21 @@ Eigen::Matrix<double, dim, 1> contact_resultant(const std::vector<BasicContactNo
 template <int dim>
 Eigen::Matrix<double, dim, 1> external_contact_resultant(const std::vector<BasicContactNode<dim>>& nodes);
 
+/// The forces that contact nodes paired with another body put on that body's vertices across
+/// from them (BasicContactNode::across): each vertex q_k takes w_k times the opposite of the
+/// node's force_on_body(). A support at such a vertex carries them besides its own reaction.
+template <int dim>
+std::vector<std::pair<int, Eigen::Matrix<double, dim, 1>>> forces_across(const std::vector<BasicContactNode<dim>>& nodes);
+
+/// The balance of the forces on the bodies of `problem` at the displacement `u` with the contact
+/// nodes `nodes`: force_balance with the contact of foundations and obstacles
+/// (external_contact_resultant) and the forces of pairs of bodies on supported vertices
+/// (forces_across).
+template <int dim>
+BasicForceBalance<Eigen::Matrix<double, dim, 1>> contact_force_balance(const BasicElasticityProblem<dim>& problem,
+                                                                       const Eigen::VectorXd& u,
+                                                                       const std::vector<BasicContactNode<dim>>& nodes);
+
 /// The contact boundary of `problem` on the dofs of its assembled system: the nodes of every
 /// contact part (contact_parts, make_contact_boundary), normals, weights, gaps (each part's
 /// gap, or its obstacle's) and parts; empty without contact edges. InputError for an obstacle

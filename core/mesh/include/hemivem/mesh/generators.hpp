@@ -9,7 +9,9 @@
 // coordinate x0, x1, y0 or y1, so the boundary edges are exactly the edges on the sides.
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -84,6 +86,20 @@ Mesh make_distorted(GridSize n, double fraction = 0.2, const Rectangle& domain =
 /// and "end" (on theta_n). InputError for fewer than two radii or angles (or more than 20001),
 /// values that do not increase or are not finite, a negative r_0, or more than a full turn.
 Mesh make_polar(const Vec2& center, const std::vector<double>& radii, const std::vector<double>& angles);
+
+/// n + 1 values from `from` to `to` (either way) whose steps grow by `ratio` >= 1 from
+/// `from`: h, h ratio, h ratio^2, ..., summing to |to - from|. The first and last values are
+/// `from` and `to` exactly. InputError for n < 1, a ratio below 1 or not finite, or values not finite.
+std::vector<double> graded_steps(double from, double to, int n, double ratio = 1.0);
+
+/// The radii and angles (radians) of make_polar for a ring between `radii` and `angles`
+/// (degrees), `n_radial` cells along the radius growing by `ratio` inwards from radii[1], and
+/// `n_around` cells around: growing by `ratio` away from `focus` (degrees, within the angles)
+/// on both sides, its cells split between the two sides as their angles are, or uniform
+/// without one. InputError for values out of range, naming them.
+std::array<std::vector<double>, 2> polar_grid(const std::array<double, 2>& radii, const std::array<double, 2>& angles,
+                                              int n_radial, int n_around, double ratio = 1.0,
+                                              std::optional<double> focus = std::nullopt);
 
 /// A simple polygon: its corners in order around the boundary (either orientation), the
 /// last joined to the first. Edge k runs from corner k to corner k+1.

@@ -88,6 +88,16 @@ struct SceneMesh {
   std::array<double, 4> domain{0.0, 1.0, 0.0, 1.0};  ///< x0, x1, y0, y1
   /// A polygon domain's corners (voronoi and triangles); empty: the rectangle `domain`.
   std::vector<std::array<double, 2>> polygon;
+  /// generator "polar" (make_polar): a ring, a disk or a sector of either around `center`,
+  /// between the radii `radii` = [r0, r1] and the angles `angles` = [a0, a1] (degrees),
+  /// n = [cells along the radius, cells around]. With `grading` > 1 the cells grow by that
+  /// ratio inwards from the circle r1 and, given `focus` (degrees), away from that angle on
+  /// both sides (polar_grid).
+  std::array<double, 2> center{0.0, 0.0};
+  std::array<double, 2> radii{0.0, 1.0};
+  std::array<double, 2> angles{0.0, 360.0};
+  double grading = 1.0;
+  std::optional<double> focus;
   /// n x n, or n x ny.
   GridSize cells() const { return ny ? GridSize(n, *ny) : GridSize(n); }
   /// 3D: n x n x n, or nx x ny x nz.
@@ -201,6 +211,10 @@ struct SceneContact {
   /// the displacement relative to that body's. None: a foundation or an obstacle.
   std::optional<BoundarySelector> against;
   std::string against_body;
+  /// With `against`: "vertex" (each node meets the vertex of the other body at its point; the
+  /// meshes are matched along the part), or "projection" (the point of the other surface along
+  /// its normal, at its distance: surfaces that do not coincide).
+  BodyPairing pairing = BodyPairing::vertex;
   bool operator==(const SceneContact&) const = default;
 };
 
@@ -441,7 +455,8 @@ std::unique_ptr<BuiltProblem3D> build_problem(const Scene& scene, Mesh3D mesh);
 std::unique_ptr<BuiltProblem> build_problem(const Scene& scene, Mesh mesh, bool apply_region_boxes = true);
 
 /// Whether the scene's data along a path are those at t = 1 scaled: no load, prescribed
-/// displacement, gap or obstacle value mentions t and the obstacle has no motion. The problem
+/// displacement (of any body, in a scene of several), gap or obstacle value mentions t and the
+/// obstacle has no motion. The problem
 /// at t is then the one at t = 1 with its load vector and prescribed displacements times t
 /// (PathLoading's proportional loading).
 bool scene_is_proportional(const Scene& scene);
@@ -456,7 +471,9 @@ bool scene_path_moves_gaps(const Scene& scene);
 /// laws and which components are prescribed are left as they are. A value that is not finite
 /// (or a negative gap) is an InputError naming the scene key, the point and t when it is
 /// evaluated; InternalError for a t that is not finite or a problem whose parts do not match
-/// the scene's.
+/// the scene's. A scene of several bodies: each body's loads and prescribed displacements (its
+/// scene of one body's, body_scene) onto that body's tractions and supports in the problem
+/// build_problem joined, the contact parts as for one body.
 void set_load_factor(const Scene& scene, double t, ContactProblem& problem);
 /// The same for a solid's problem (build_problem<3>).
 void set_load_factor(const Scene& scene, double t, ContactProblem3D& problem);
