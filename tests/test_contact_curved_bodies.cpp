@@ -20,6 +20,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numbers>
 #include <string>
 
@@ -254,32 +255,51 @@ struct HertzResult {
   int pressed = 0;
 };
 
-HertzResult press_cylinders(const Cylinders& c) {
+/// The cylinders of `c`, or with `half` their halves x >= 0 (the same cells), held on x = 0 by
+/// symmetry (u_x = 0): the node where the upper surface meets that line then has its normal
+/// along the line, as its mirror image makes it.
+ContactSolution solve_cylinders(const Cylinders& c, bool half) {
   const double ratio = 1.12;
   const auto half_disk = [&](double radius, double focus, double from, double to, double cy) {
     const std::vector<double> radii = graded(radius, 0.0, c.h, 0.05, ratio);
     std::vector<double> r(radii.rbegin(), radii.rend());
-    return make_polar({0.0, cy}, r, graded_around(from, focus, to, c.h / radius, 0.08 / radius, ratio));
+    // the half: from the focus to the end on the right (x > 0)
+    const double right = std::cos(from) > 0.0 ? from : to;
+    std::vector<double> angles = half ? graded(focus, right, c.h / radius, 0.08 / radius, ratio)
+                                      : graded_around(from, focus, to, c.h / radius, 0.08 / radius, ratio);
+    if (half && right < focus) std::reverse(angles.begin(), angles.end());
+    return make_polar({0.0, cy}, r, angles);
   };
   const Mesh upper = half_disk(c.r1, 1.5 * pi, pi, 2 * pi, c.r1), lower = half_disk(c.r2, 0.5 * pi, 0.0, pi, -c.r2);
   const JoinedMeshes joined = join_meshes({&upper, &lower}, {"upper", "lower"});
   ContactProblem problem;
   problem.elasticity.mesh = &joined.mesh;
   problem.elasticity.materials = two_materials(joined, c.upper, c.lower);
-  std::vector<int> top = in_body(joined, 0, upper.edge_group("start")),
-                   bottom = in_body(joined, 1, lower.edge_group("start"));
-  for (int e : in_body(joined, 0, upper.edge_group("end"))) top.push_back(e);
-  for (int e : in_body(joined, 1, lower.edge_group("end"))) bottom.push_back(e);
+  // the flat sides: the upper one's "end" (and "start" of the whole), the lower one's "start" (and "end")
+  std::vector<int> top = in_body(joined, 0, upper.edge_group("end")), bottom = in_body(joined, 1, lower.edge_group("start"));
+  const std::vector<int> upper_start = in_body(joined, 0, upper.edge_group("start")),
+                         lower_end = in_body(joined, 1, lower.edge_group("end"));
   const double push = c.push;
-  problem.elasticity.dirichlet.push_back(
-      {top, [push](const Vec2&) { return Vec2(0.0, -push); }, {true, true}, "top", {}});
-  problem.elasticity.dirichlet.push_back(
-      {bottom, [](const Vec2&) { return Vec2(0.0, 0.0); }, {true, true}, "bottom", {}});
+  const auto zero = [](const Vec2&) { return Vec2(0.0, 0.0); };
+  if (half) {
+    problem.elasticity.dirichlet.push_back({upper_start, zero, {true, false}, "upper symmetry", {}});
+    problem.elasticity.dirichlet.push_back({lower_end, zero, {true, false}, "lower symmetry", {}});
+  } else {
+    top.insert(top.end(), upper_start.begin(), upper_start.end());
+    bottom.insert(bottom.end(), lower_end.begin(), lower_end.end());
+  }
+  problem.elasticity.dirichlet.push_back({top, [push](const Vec2&) { return Vec2(0.0, -push); }, {true, true}, "top", {}});
+  problem.elasticity.dirichlet.push_back({bottom, zero, {true, true}, "bottom", {}});
   problem.parts.push_back(test::projected_part<2>(in_body(joined, 0, upper.edge_group("outer")),
                                                   in_body(joined, 1, lower.edge_group("outer"))));
   const ContactSolution sol = solve(problem);
   EXPECT_TRUE(sol.converged()) << sol.message;
   EXPECT_LT(sol.forces.residual(), 1e-9);
+  return sol;
+}
+
+HertzResult press_cylinders(const Cylinders& c) {
+  const ContactSolution sol = solve_cylinders(c, false);
   HertzResult out;
   double force = 0.0;
   for (const ContactNode& n : sol.contact) force += n.force_on_body().y();
@@ -329,4 +349,33 @@ TEST(CurvedBodies, TwoCylindersGiveHertzsHalfWidthAndPeakPressure) {
   EXPECT_LT(a_error(fine), 0.005);
   EXPECT_LT(p0_error(fine), 0.005);
   EXPECT_NEAR(fine.peak / fine.p0, 1.0, 0.005);
+}
+
+TEST(CurvedBodies, TheHalfModelOnItsSymmetryLineIsTheWholeModel) {
+  // the node where the upper surface meets x = 0 (its one contact edge on one side of the line)
+  // takes the normal (0, -1): the half model is the whole model's right half
+  const Cylinders c;
+  const ContactSolution whole = solve_cylinders(c, false), half = solve_cylinders(c, true);
+  std::map<std::pair<double, double>, const ContactNode*> by_point;
+  for (const ContactNode& n : whole.contact) by_point[{n.x.x(), n.x.y()}] = &n;
+  double peak = 0.0, force = 0.0, half_force = 0.0;
+  for (const ContactNode& n : whole.contact) {
+    peak = std::max(peak, n.pressure());
+    force += n.force_on_body().y();
+  }
+  int compared = 0;
+  for (const ContactNode& n : half.contact) {
+    half_force += n.force_on_body().y();
+    const auto at = by_point.find({n.x.x(), n.x.y()});
+    ASSERT_NE(at, by_point.end()) << "node at " << n.x.transpose();
+    EXPECT_NEAR(n.pressure(), at->second->pressure(), 1e-8 * peak) << "node at " << n.x.transpose();
+    if (n.x.x() == 0.0) {
+      EXPECT_EQ(n.normal, Vec2(0.0, -1.0));
+      EXPECT_NEAR(n.weight, 0.5 * at->second->weight, 1e-15);
+      EXPECT_GT(n.pressure(), 0.0);
+    }
+    ++compared;
+  }
+  EXPECT_GT(compared, 20);
+  EXPECT_NEAR(2.0 * half_force, force, 1e-8 * force);  // the node on the line stands for half its share
 }

@@ -133,6 +133,7 @@ namespace {
 /// p0 = 3 P / (2 pi a^2), 1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2, P the force pressing them.
 struct SphereOnBlock {
   double radius = 1.0, size = 0.5, push = 0.004;
+  double block_radius = 0.0;  ///< 0: a flat block of cubes; else the block's top is a sphere of this radius, in tetrahedra
   Material sphere{1.0, 0.3}, block{2.0, 0.2};
   double h = 0.01;
 };
@@ -153,7 +154,12 @@ Hertz3DResult press_sphere(const SphereOnBlock& s) {
   });
   std::vector<double> down;
   for (auto it = zs.rbegin(); it != zs.rend(); ++it) down.push_back(-*it);
-  const Mesh3D lower = make_cubes(xy, xy, down);
+  const double r2 = s.block_radius;
+  const Mesh3D lower = r2 > 0.0 ? tetrahedra_on(xy, xy, down, [r2, size = s.size](const Vec3& p) {
+    const double top = r2 - std::sqrt(r2 * r2 - p.x() * p.x() - p.y() * p.y());
+    return Vec3(p.x(), p.y(), p.z() - (1.0 + p.z() / size) * top);
+  })
+                                : make_cubes(xy, xy, down);
   const JoinedMeshes3D joined = join_meshes({&upper, &lower}, {"sphere", "block"});
   ContactProblem3D problem;
   problem.elasticity.mesh = &joined.mesh;
@@ -171,22 +177,20 @@ Hertz3DResult press_sphere(const SphereOnBlock& s) {
   DirichletCondition3D pushed{all([size](const Vec3& p) { return p.z() == size; }), {}, {false, false, true}, "top"};
   pushed.value = [push](const Vec3&) { return Vec3(0.0, 0.0, -push); };
   problem.elasticity.dirichlet.push_back(pushed);
-  const auto block_top = faces_where(lower, [](const Vec3& p) { return p.z() == 0.0; });
-  std::vector<int> bottom;
-  for (int f : faces_where(upper, [size](const Vec3& p) { return p.z() < 0.5 * size; })) {
-    // the sphere's surface: the boundary faces below half height not on a symmetry plane
-    bool symmetry_x = true, symmetry_y = true;
-    for (int v : upper.face(f).vertices) {
-      symmetry_x = symmetry_x && upper.vertex(v).x() == 0.0;
-      symmetry_y = symmetry_y && upper.vertex(v).y() == 0.0;
+  // the curved surfaces: the boundary faces near z = 0 that lie on no side of the quarter
+  const auto surface = [size](const Mesh3D& m) {
+    std::vector<int> out;
+    for (int f : faces_where(m, [size](const Vec3& p) { return std::abs(p.z()) < 0.5 * size; })) {
+      std::array<bool, 4> on{true, true, true, true};  // x = 0, y = 0, x = size, y = size
+      for (int v : m.face(f).vertices) {
+        const Vec3& p = m.vertex(v);
+        on = {on[0] && p.x() == 0.0, on[1] && p.y() == 0.0, on[2] && p.x() == size, on[3] && p.y() == size};
+      }
+      if (!on[0] && !on[1] && !on[2] && !on[3]) out.push_back(f);
     }
-    if (!symmetry_x && !symmetry_y && upper.face(f).vertices.size() == 3) {
-      const Vec3 c = (upper.vertex(upper.face(f).vertices[0]) + upper.vertex(upper.face(f).vertices[1]) +
-                      upper.vertex(upper.face(f).vertices[2])) /
-                     3.0;
-      if (c.x() < s.size - 1e-12 && c.y() < s.size - 1e-12) bottom.push_back(f);
-    }
-  }
+    return out;
+  };
+  const std::vector<int> block_top = surface(lower), bottom = surface(upper);
   problem.parts.push_back(test::projected_part<3>(in_body(joined, 1, block_top), in_body(joined, 0, bottom)));
   FactorizationOptions f;
   f.engine = "auto";
@@ -200,7 +204,8 @@ Hertz3DResult press_sphere(const SphereOnBlock& s) {
   for (const ContactNode3D& n : sol.contact) force += 4.0 * n.force();  // the quarter's, times 4
   const double modulus = 1.0 / ((1.0 - s.sphere.poisson * s.sphere.poisson) / s.sphere.young +
                                 (1.0 - s.block.poisson * s.block.poisson) / s.block.young);
-  out.a = std::cbrt(3.0 * force * s.radius / (4.0 * modulus));
+  const double radius = r2 > 0.0 ? s.radius * r2 / (s.radius + r2) : s.radius;
+  out.a = std::cbrt(3.0 * force * radius / (4.0 * modulus));
   out.p0 = 3.0 * force / (2.0 * std::numbers::pi * out.a * out.a);
   Eigen::Matrix2d m = Eigen::Matrix2d::Zero();
   Eigen::Vector2d rhs = Eigen::Vector2d::Zero();
@@ -237,4 +242,25 @@ TEST(CurvedBodies3D, ASphereOnABlockGivesHertzsRadiusAndPeakPressure) {
   EXPECT_NEAR(f.fitted_p0 / f.p0, 1.0, 0.03);
   EXPECT_LT(std::abs(f.fitted_p0 / f.p0 - 1.0), 0.6 * std::abs(c.fitted_p0 / c.p0 - 1.0));
   EXPECT_NEAR(f.peak / f.p0, 1.0, 0.15);
+}
+
+TEST(CurvedBodies3D, TwoSpheresOfDifferentRadiiAndMaterials) {
+  // the block's top a sphere too (radius 1.5, both bodies in tetrahedra; R = 0.6): its nodes on
+  // the symmetry planes take the normals of the surface and its mirror image. The fitted radius
+  // converges more slowly than on the flat block of cubes (tetrahedra on the paired side, every
+  // square split along one diagonal): measured 8.3 %, 5.5 % and 4.2 % high at a / 3.6, a / 5 and
+  // a / 7, the fitted p0 within 1 % at each
+  std::vector<Hertz3DResult> r;
+  for (double h : {0.014, 0.01}) {
+    SphereOnBlock s;
+    s.block_radius = 1.5;
+    s.h = h;
+    r.push_back(press_sphere(s));
+  }
+  const auto a_error = [](const Hertz3DResult& x) { return std::abs(x.fitted_a / x.a - 1.0); };
+  EXPECT_LT(a_error(r[0]), 0.1);
+  EXPECT_LT(a_error(r[1]), 0.07);
+  EXPECT_LT(a_error(r[1]), 0.8 * a_error(r[0]));
+  for (const Hertz3DResult& x : r) EXPECT_NEAR(x.fitted_p0 / x.p0, 1.0, 0.03);
+  EXPECT_GE(r[1].pressed, 20);
 }

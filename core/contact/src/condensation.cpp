@@ -35,6 +35,7 @@ ContactBoundary boundary_of(const Mesh& mesh, const std::vector<std::pair<int, i
     Vec2 normal = Vec2::Zero();  // sum of m_e
     double weight = 0.0;         // sum of |e|/2
     int part = -1;
+    Vec2 lo = Vec2::Zero(), hi = Vec2::Zero();  // the other ends of its edges, less the node
   };
   std::map<int, Sum> acc;  // by vertex
   for (const auto& [id, part] : edges) {
@@ -49,6 +50,9 @@ ContactBoundary boundary_of(const Mesh& mesh, const std::vector<std::pair<int, i
       sum.normal += m;
       sum.weight += 0.5 * d.norm();
       sum.part = sum.part < 0 ? part : std::min(sum.part, part);
+      const Vec2 other = mesh.vertex(v == e.v0 ? e.v1 : e.v0) - mesh.vertex(v);
+      sum.lo = sum.lo.cwiseMin(other);
+      sum.hi = sum.hi.cwiseMax(other);
     }
   }
   for (const auto& [v, entry] : acc) {
@@ -65,7 +69,11 @@ ContactBoundary boundary_of(const Mesh& mesh, const std::vector<std::pair<int, i
       // support holds it)
       prescribed = fx ? 0 : 1;
       if (std::abs(normal(1 - prescribed)) <= tangential_tolerance) continue;
-      if (!(std::abs(normal(prescribed)) <= tangential_tolerance))
+      // on a symmetry line: every contact edge on one side of it
+      const double extent = (entry.hi - entry.lo).norm();
+      const bool one_side = entry.lo(prescribed) >= -1e-12 * extent || entry.hi(prescribed) <= 1e-12 * extent;
+      const double tolerance = one_side ? symmetry_tolerance : tangential_tolerance;
+      if (!(std::abs(normal(prescribed)) <= tolerance))
         throw InputError("contact node " + std::to_string(v) + " at (" + std::to_string(mesh.vertex(v).x()) + ", " +
                          std::to_string(mesh.vertex(v).y()) + ") has its " + (fx ? "x" : "y") +
                          " displacement prescribed, which is not tangential to its contact normal (" +

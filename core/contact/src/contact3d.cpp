@@ -34,7 +34,7 @@ namespace {
 // prescribed components (bit c of `mask` for component c: a symmetry plane or a roller meeting
 // Gamma_3) made exactly perpendicular to them, which must be tangential. Empty when a prescribed
 // component is the normal one: the support holds the node, which leaves the contact.
-std::optional<Vec3> node_normal(const Mesh3D& mesh, int v, const Vec3& sum, int mask) {
+std::optional<Vec3> node_normal(const Mesh3D& mesh, int v, const Vec3& sum, int mask, const Vec3& lo, const Vec3& hi) {
   const double length = scale_free_norm(sum);
   if (!(length > 0.0))
     throw InputError("contact node " + std::to_string(v) + " has no defined normal (its contact faces cancel)");
@@ -44,7 +44,10 @@ std::optional<Vec3> node_normal(const Mesh3D& mesh, int v, const Vec3& sum, int 
     if ((mask & (1 << c)) && 1.0 - std::abs(normal(c)) <= tangential_tolerance) return std::nullopt;
   for (int c = 0; c < 3; ++c) {
     if (!(mask & (1 << c))) continue;
-    if (!(std::abs(normal(c)) <= tangential_tolerance))
+    // on a symmetry plane: every contact face on one side of it
+    const double extent = (hi - lo).norm();
+    const bool one_side = lo(c) >= -1e-12 * extent || hi(c) <= 1e-12 * extent;
+    if (!(std::abs(normal(c)) <= (one_side ? symmetry_tolerance : tangential_tolerance)))
       throw InputError("contact node " + std::to_string(v) + " at " + point_text(mesh.vertex(v)) + " has its " +
                        std::string(1, "xyz"[c]) + " displacement prescribed, which is not tangential to its contact normal " +
                        point_text(normal) +
@@ -67,6 +70,7 @@ ContactBoundary make_contact_boundary(const Mesh3D& mesh, const std::vector<Cont
     Vec3 normal = Vec3::Zero();
     double weight = 0.0;
     int part = -1;  // the first part holding the node
+    Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();  // the vertices of its faces, less the node
   };
   std::map<int, Sum> acc;
   std::map<int, std::size_t> face_part;
@@ -94,6 +98,11 @@ ContactBoundary make_contact_boundary(const Mesh3D& mesh, const std::vector<Cont
         const double half = 0.25 * scale_free_norm((mesh.vertex(a) - c).cross(mesh.vertex(b) - c));
         for (int v : {a, b}) acc[v].normal += half * n;
       }
+      for (int a : loop)
+        for (int b : loop) {
+          acc[a].lo = acc[a].lo.cwiseMin(mesh.vertex(b) - mesh.vertex(a));
+          acc[a].hi = acc[a].hi.cwiseMax(mesh.vertex(b) - mesh.vertex(a));
+        }
     }
   }
   for (const auto& [v, entry] : acc) {
@@ -106,7 +115,7 @@ ContactBoundary make_contact_boundary(const Mesh3D& mesh, const std::vector<Cont
                        " has the quadrature weight " + std::to_string(entry.weight) +
                        " (the sum of its contact faces' weights, which must be positive): a contact face is too far "
                        "from its vertices' mean to integrate over; split it");
-    const std::optional<Vec3> held = node_normal(mesh, v, entry.normal, mask);
+    const std::optional<Vec3> held = node_normal(mesh, v, entry.normal, mask, entry.lo, entry.hi);
     if (!held) continue;  // its normal displacement is prescribed
     const Vec3 normal = *held;
     const ContactPart3D& part = parts[static_cast<std::size_t>(entry.part)];

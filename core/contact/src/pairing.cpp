@@ -85,7 +85,7 @@ std::optional<Hit> meet(const Mesh& mesh, const std::array<int, 2>& edge, const 
   if (t < -slack || t > 1.0 + slack) return std::nullopt;
   Hit h;
   h.s = s;
-  const double tc = std::clamp(t, 0.0, 1.0);
+  const double tc = t <= slack ? 0.0 : t >= 1.0 - slack ? 1.0 : t;
   int n = 0;
   if (tc < 1.0) {
     h.across.vertex[n] = edge[0];
@@ -120,7 +120,9 @@ std::optional<Hit> meet(const Mesh3D& mesh, const std::vector<int>& face, const 
   if (b1 < -slack || b2 < -slack || b1 + b2 > 1.0 + slack) return std::nullopt;
   Hit h;
   h.s = sol(0);
-  const std::array<double, 3> w{std::max(0.0, 1.0 - b1 - b2), std::max(0.0, b1), std::max(0.0, b2)};
+  // weights within round-off of 0 are 0: a point on an edge of the triangle is of that edge alone
+  const auto clean = [](double x) { return x > slack ? x : 0.0; };
+  const std::array<double, 3> w{clean(1.0 - b1 - b2), clean(b1), clean(b2)};
   const double sum = w[0] + w[1] + w[2];
   int n = 0;
   for (int k = 0; k < 3; ++k)

@@ -68,14 +68,22 @@ struct ContactBoundary {
 /// corner between edges of lengths l1 and l2 it is (l1 n1 + l2 n2) normalised, which is the
 /// bisector only when l1 = l2). Nodes whose displacement is prescribed (on Gamma_1) are
 /// excluded. A node with one prescribed component is kept when that component is tangential
-/// (|nu . e| <= tangential_tolerance): its normal is then taken exactly perpendicular to it; a
-/// prescribed normal component is an InputError.
+/// (|nu . e| <= tangential_tolerance), or nearly so on a symmetry line (both its contact edges
+/// on one side of the line through it normal to e, |nu . e| <= symmetry_tolerance: a curved
+/// Gamma_3 meeting the line): its normal is then taken exactly perpendicular to it; an oblique
+/// prescribed component is an InputError.
 /// `gap` gives g at a node position (constant gaps: a lambda returning a constant); a
 /// negative or non-finite gap is an InputError. With an `obstacle` the gaps are
 /// obstacle->gap(x, nu) instead: any value but NaN.
 /// How far from tangential (|nu . e|, e the prescribed direction) a prescribed component of a
 /// contact node may be.
 inline constexpr double tangential_tolerance = 1e-8;
+/// How far from tangential a prescribed component of a contact node on a symmetry plane may be:
+/// a node whose contact facets all lie on one side of the plane through it normal to the
+/// prescribed component (where a curved contact surface meets a symmetry plane or line) takes the
+/// normal of the surface and its mirror image, the normal less that component, when
+/// |nu . e| <= symmetry_tolerance (about 14 degrees); a larger one is refused as oblique.
+inline constexpr double symmetry_tolerance = 0.25;
 
 ContactBoundary make_contact_boundary(const Mesh& mesh, const std::vector<int>& edges, const DofMap& dofs,
                                       const std::function<double(const Vec2&)>& gap,

@@ -43,9 +43,11 @@ using ContactPart3D = BasicContactPart<3>;
 /// and weight still from all its contact faces and its gap from its own part. A face in two
 /// parts is an InputError naming both.
 /// Nodes whose displacement is prescribed (on Gamma_1) are excluded; a node with prescribed
-/// components is kept when they are all tangential (|nu . e_c| <= tangential_tolerance: a
-/// symmetry plane meeting Gamma_3) and its normal is then made exactly perpendicular to them; a
-/// prescribed normal component is an InputError. Gaps: the part's `gap` at the node (finite,
+/// components is kept when they are all tangential (|nu . e_c| <= tangential_tolerance), or
+/// nearly so on a symmetry plane (all its contact faces on one side of the plane through it
+/// normal to e_c, |nu . e_c| <= symmetry_tolerance: a curved Gamma_3 meeting the plane), and its
+/// normal is then made exactly perpendicular to them; an oblique or normal prescribed component
+/// is an InputError. Gaps: the part's `gap` at the node (finite,
 /// >= 0; 0 without one), or its obstacle's gap(x, nu) (anything but NaN).
 ContactBoundary make_contact_boundary(const Mesh3D& mesh, const std::vector<ContactPart3D>& parts, const DofMap& dofs);
 /// The same for one part: `faces` with `gap`, or `obstacle`.
