@@ -72,3 +72,34 @@ def test_each_body_has_its_vtu_and_the_vtm_opens_them_as_one_scene(tmp_path):
         assert np.array_equal(u[:, :2], body["displacement"]) and not u[:, 2].any()
         polygons = sum(block.GetCellType(c) == vtk.VTK_POLYGON for c in range(block.GetNumberOfCells()))
         assert polygons == body["cells"]
+
+
+def test_shrink_fit_gives_lames_pressure_at_every_node():
+    """scenes/shrink-fit.toml (pairing by projection, polar meshes) against Lame's closed form,
+    computed here: u_r = A r + B / r in each ring, free surfaces, the overlap closed, the forces
+    per unit angle equal and opposite."""
+    r = hemivem.solve(hemivem.Scene.from_file(ROOT / "scenes" / "shrink-fit.toml"))
+    assert r.converged
+    a, b, c, delta = 0.5, 1.0, 2.0, 1e-3
+
+    def moduli(E, nu):
+        mu = E / (2 * (1 + nu))
+        lam = E * nu / ((1 + nu) * (1 - 2 * nu))
+        return 2 * (lam + mu), 2 * mu
+
+    ki, mi = moduli(2.0, 0.3)
+    ko, mo = moduli(1.0, 0.25)
+    s = b + delta
+    m = np.array([[ki, -mi / a**2, 0, 0], [0, 0, ko, -mo / c**2], [-s, -1 / s, b, 1 / b],
+                  [s * ki, -s * mi / s**2, -b * ko, b * mo / b**2]])
+    A1, B1, A2, B2 = np.linalg.solve(m, [0, 0, delta, 0])
+    p = -(ko * A2 - mo * B2 / b**2) * b / s  # on the inner ring's surface
+    assert r.contact.pressure.shape == (512,)
+    np.testing.assert_allclose(r.contact.pressure, p, rtol=2e-3)
+    np.testing.assert_allclose(r.contact.gap, -delta, atol=1e-12)
+    # the outer ring's outer circle moves out by A2 c + B2 / c
+    outer = r.bodies["outer"]
+    x = np.array(r.mesh.vertices)[outer["first_vertex"]:]
+    on = np.abs(np.hypot(x[:, 0], x[:, 1]) - c) < 1e-12
+    ur = np.sum(outer["displacement"][on] * x[on], axis=1) / c
+    np.testing.assert_allclose(ur, A2 * c + B2 / c, rtol=2e-3)
