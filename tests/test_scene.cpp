@@ -126,7 +126,8 @@ TEST(Scene, ShippedScenesParseAndBuild) {
     }
     const auto built = build_problem(s);
     EXPECT_GT(built->mesh.num_elements(), 0);
-    EXPECT_FALSE(built->problem.elasticity.dirichlet.at(0).facets.empty());
+    const auto& held = built->problem.elasticity.dirichlet.at(0);  // edges, or points alone
+    EXPECT_FALSE(held.facets.empty() && held.vertices.empty());
     EXPECT_EQ(built->has_contact, s.contact.has_value());
     if (built->has_contact) {
       EXPECT_FALSE(built->problem.parts[0].facets.empty());
