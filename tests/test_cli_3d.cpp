@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "test_support.hpp"
+#include "vtu_arrays.hpp"
 
 namespace fs = std::filesystem;
 using hemivem::test::CommandRun;
@@ -29,24 +30,6 @@ using hemivem::test::slurp;
 
 namespace {
 
-std::vector<unsigned char> from_base64(const std::string& text) {
-  static const std::string digits = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::vector<unsigned char> out;
-  std::uint32_t word = 0;
-  int bits = 0;
-  for (char c : text) {
-    if (c == '=') break;
-    const auto at = digits.find(c);
-    if (at == std::string::npos) continue;
-    word = (word << 6) | static_cast<std::uint32_t>(at);
-    bits += 6;
-    if (bits >= 8) {
-      bits -= 8;
-      out.push_back(static_cast<unsigned char>((word >> bits) & 0xFF));
-    }
-  }
-  return out;
-}
 
 /// The text of `<DataArray ... Name="name" ...>` in `vtu` (its attributes and its content).
 struct DataArrayText {
@@ -59,37 +42,10 @@ DataArrayText data_array(const std::string& vtu, const std::string& name) {
   return {vtu.substr(open, close - open), vtu.substr(close + 1, end - close - 1)};
 }
 
-/// The bytes of a binary, zlib-compressed DataArray (header_type UInt64): the header's first
-/// three numbers (blocks, block size, last partial size) give its length, then each block is
-/// uncompressed.
-std::vector<unsigned char> decode(const std::string& content) {
-  std::string text;
-  for (char c : content)
-    if (!std::isspace(static_cast<unsigned char>(c))) text += c;
-  const auto head = from_base64(text.substr(0, 32));  // 24 bytes: 3 UInt64
-  std::uint64_t h[3];
-  std::memcpy(h, head.data(), sizeof h);
-  const std::size_t header_bytes = 8 * (3 + h[0]);
-  const std::size_t header_chars = (header_bytes + 2) / 3 * 4;
-  const auto header = from_base64(text.substr(0, header_chars));
-  const auto data = from_base64(text.substr(header_chars));
-  std::vector<unsigned char> out;
-  std::size_t offset = 0;
-  for (std::uint64_t b = 0; b < h[0]; ++b) {
-    std::uint64_t compressed = 0;
-    std::memcpy(&compressed, header.data() + 8 * (3 + b), 8);
-    uLongf size = static_cast<uLongf>(b + 1 == h[0] && h[2] != 0 ? h[2] : h[1]);
-    std::vector<unsigned char> block(size);
-    EXPECT_EQ(uncompress(block.data(), &size, data.data() + offset, static_cast<uLong>(compressed)), Z_OK);
-    out.insert(out.end(), block.begin(), block.begin() + static_cast<std::ptrdiff_t>(size));
-    offset += compressed;
-  }
-  return out;
-}
 
 template <class T>
 std::vector<T> values(const std::string& vtu, const std::string& name) {
-  const auto bytes = decode(data_array(vtu, name).content);
+  const auto bytes = hemivem::test::decode_vtu_array(data_array(vtu, name).content);
   std::vector<T> out(bytes.size() / sizeof(T));
   std::memcpy(out.data(), bytes.data(), out.size() * sizeof(T));
   return out;

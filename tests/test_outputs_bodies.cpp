@@ -26,33 +26,14 @@
 #include <vector>
 
 #include "test_support.hpp"
+#include "vtu_arrays.hpp"
 
 using namespace hemivem;
 namespace fs = std::filesystem;
 
 namespace {
 
-
 // ---- a small reader of the VTU files hemivem writes (binary, zlib, UInt64 headers) ----------
-
-std::vector<unsigned char> from_base64(const std::string& text) {
-  static const std::string digits = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::vector<unsigned char> out;
-  std::uint32_t word = 0;
-  int bits = 0;
-  for (char c : text) {
-    if (c == '=') break;
-    const auto at = digits.find(c);
-    if (at == std::string::npos) continue;
-    word = (word << 6) | static_cast<std::uint32_t>(at);
-    bits += 6;
-    if (bits >= 8) {
-      bits -= 8;
-      out.push_back(static_cast<unsigned char>((word >> bits) & 0xFF));
-    }
-  }
-  return out;
-}
 
 /// A VTU file: its piece's sizes, and each DataArray's section (Points, Cells, PointData,
 /// CellData), components and decoded bytes, by name.
@@ -79,31 +60,6 @@ struct Vtu {
   }
 };
 
-/// The bytes of a binary DataArray's content: the header (blocks, block size, last partial
-/// size, compressed sizes), then each block uncompressed.
-std::vector<unsigned char> decode(const std::string& content) {
-  std::string text;
-  for (char c : content)
-    if (!std::isspace(static_cast<unsigned char>(c))) text += c;
-  const auto head = from_base64(text.substr(0, 32));
-  std::uint64_t h[3];
-  std::memcpy(h, head.data(), sizeof h);
-  const std::size_t header_chars = (8 * (3 + h[0]) + 2) / 3 * 4;
-  const auto header = from_base64(text.substr(0, header_chars));
-  const auto data = from_base64(text.substr(header_chars));
-  std::vector<unsigned char> out;
-  std::size_t offset = 0;
-  for (std::uint64_t b = 0; b < h[0]; ++b) {
-    std::uint64_t compressed = 0;
-    std::memcpy(&compressed, header.data() + 8 * (3 + b), 8);
-    uLongf size = static_cast<uLongf>(b + 1 == h[0] && h[2] != 0 ? h[2] : h[1]);
-    std::vector<unsigned char> block(size);
-    EXPECT_EQ(uncompress(block.data(), &size, data.data() + offset, static_cast<uLong>(compressed)), Z_OK);
-    out.insert(out.end(), block.begin(), block.begin() + static_cast<std::ptrdiff_t>(size));
-    offset += compressed;
-  }
-  return out;
-}
 
 Vtu read_vtu(const fs::path& file) {
   const std::string xml = test::slurp(file);
@@ -125,7 +81,7 @@ Vtu read_vtu(const fs::path& file) {
       section = e[1];
       continue;
     }
-    Vtu::Array a{section, e[3].matched ? std::stoi(e[3]) : 1, decode(e[4])};
+    Vtu::Array a{section, e[3].matched ? std::stoi(e[3]) : 1, hemivem::test::decode_vtu_array(e[4])};
     vtu.order.push_back(e[2]);
     vtu.arrays[e[2]] = std::move(a);
   }

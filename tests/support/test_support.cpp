@@ -112,6 +112,7 @@ std::unique_ptr<Example> example(const std::string& kind, int n, const std::func
 #include <unistd.h>
 
 #include <array>
+#include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -123,6 +124,25 @@ std::string slurp(const std::filesystem::path& file) {
   std::stringstream s;
   s << in.rdbuf();
   return s.str();
+}
+
+std::vector<unsigned char> from_base64(const std::string& text) {
+  static const std::string digits = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::vector<unsigned char> out;
+  std::uint32_t word = 0;
+  int bits = 0;
+  for (char c : text) {
+    if (c == '=') break;
+    const auto at = digits.find(c);
+    if (at == std::string::npos) continue;
+    word = (word << 6) | static_cast<std::uint32_t>(at);
+    bits += 6;
+    if (bits >= 8) {
+      bits -= 8;
+      out.push_back(static_cast<unsigned char>((word >> bits) & 0xFF));
+    }
+  }
+  return out;
 }
 
 std::string scene_refusal(const std::string& name, const std::string& from, const std::string& to) {

@@ -82,6 +82,9 @@ CommandRun run_command(const std::string& command);
 CommandRun run_hemivem(const std::string& args);
 /// The contents of a file ("" when it cannot be read).
 std::string slurp(const std::filesystem::path& file);
+/// The bytes of base64 text (the encoding of the VTU files' binary arrays); characters outside
+/// the alphabet are skipped, '=' ends it.
+std::vector<unsigned char> from_base64(const std::string& text);
 /// A fresh, absent path in the temporary folder, unique to this process and `name`.
 std::filesystem::path scratch(const std::string& name);
 /// The shipped scene `name` (in scenes_dir()) with `from` replaced by `to` (once), parsed: the
