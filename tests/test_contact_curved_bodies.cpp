@@ -119,7 +119,7 @@ TEST(CurvedBodies, ProjectionPairsEachNodeWithThePointAlongItsNormal) {
     EXPECT_NEAR((point - Vec2(x.x(), 0.5)).norm(), 0.0, 1e-15) << "node at x = " << x.x();
     // x = 0.5 lies inside the lower edge [1/3, 2/3], between its two ends; x = 0 and 1 on a vertex
     EXPECT_EQ(a.size(), x.x() == 0.5 ? 2 : 1);
-    EXPECT_EQ(b.partner[static_cast<std::size_t>(i)], a.nearest());
+    EXPECT_EQ(b.partner_of(i), a.vertex[0]);  // the one vertex, or the edge's first end
   }
   // overlapping bodies: a negative gap; a surface the normals miss: no pair, an infinite gap
   const Mesh deep = make_squares({2, 1}, {0.0, 1.0, 0.45, 1.0});
@@ -136,7 +136,7 @@ TEST(CurvedBodies, ProjectionPairsEachNodeWithThePointAlongItsNormal) {
   const ContactBoundary m = make_contact_boundary(apart.mesh, problem.parts, make_dof_map(apart.mesh, {}));
   for (int i = 0; i < m.size(); ++i) {
     EXPECT_TRUE(std::isinf(m.gaps(i)));
-    EXPECT_EQ(m.partner[static_cast<std::size_t>(i)], -1);
+    EXPECT_EQ(m.partner_of(i), -1);
   }
 }
 

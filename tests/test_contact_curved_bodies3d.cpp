@@ -24,38 +24,6 @@ using namespace hemivem;
 
 namespace {
 
-/// Tetrahedra on the grid of points (x_i, y_j, z_k) moved by `place`: each box of the grid
-/// split into six along its diagonal (as make_tetrahedra), so every face is a triangle.
-Mesh3D tetrahedra_on(const std::vector<double>& xs, const std::vector<double>& ys, const std::vector<double>& zs,
-                     const std::function<Vec3(const Vec3&)>& place) {
-  const int nx = static_cast<int>(xs.size()) - 1, ny = static_cast<int>(ys.size()) - 1,
-            nz = static_cast<int>(zs.size()) - 1;
-  std::vector<Vec3> vertices;
-  for (int k = 0; k <= nz; ++k)
-    for (int j = 0; j <= ny; ++j)
-      for (int i = 0; i <= nx; ++i)
-        vertices.push_back(place(
-            Vec3(xs[static_cast<std::size_t>(i)], ys[static_cast<std::size_t>(j)], zs[static_cast<std::size_t>(k)])));
-  const auto at = [&](int i, int j, int k) { return i + (nx + 1) * (j + (ny + 1) * k); };
-  static constexpr std::array<std::array<int, 3>, 6> orders = {
-      {{1, 2, 4}, {1, 4, 2}, {2, 1, 4}, {2, 4, 1}, {4, 1, 2}, {4, 2, 1}}};
-  std::vector<CellFaces> cells;
-  for (int k = 0; k < nz; ++k)
-    for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i) {
-        std::array<int, 8> c{};
-        for (int m = 0; m < 8; ++m)
-          c[static_cast<std::size_t>(m)] = at(i + (m & 1), j + ((m >> 1) & 1), k + ((m >> 2) & 1));
-        for (const auto& o : orders) {
-          int a = c[0], b = c[static_cast<std::size_t>(o[0])], d = c[static_cast<std::size_t>(o[0] + o[1])], e = c[7];
-          const bool even = (o[0] == 1 && o[1] == 2) || (o[0] == 2 && o[1] == 4) || (o[0] == 4 && o[1] == 1);
-          if (!even) std::swap(b, d);
-          cells.push_back({{a, d, b}, {a, b, e}, {a, e, d}, {b, d, e}});
-        }
-      }
-  return Mesh3D(std::move(vertices), std::move(cells));
-}
-
 /// Points from 0 to `length`: steps of h up to `flat`, then growing by `ratio`.
 std::vector<double> graded(double length, double h, double flat, double ratio) {
   std::vector<double> x{0.0};
@@ -90,7 +58,7 @@ std::vector<int> in_body(const JoinedMeshes3D& joined, int body, const std::vect
 TEST(CurvedBodies3D, ProjectionMeetsATriangleAtItsBarycentricPoint) {
   // a 1 x 1 x 1 box of tetrahedra above a block of cubes whose top is z = 0: the box's bottom
   // tilted to z = 0.1 + 0.2 x + 0.1 y; each node of the block's top meets it straight above
-  const Mesh3D upper = tetrahedra_on({0.0, 0.5, 1.0}, {0.0, 0.5, 1.0}, {0.0, 1.0}, [](const Vec3& p) {
+  const Mesh3D upper = make_tetrahedra({0.0, 0.5, 1.0}, {0.0, 0.5, 1.0}, {0.0, 1.0}, [](const Vec3& p) {
     return Vec3(p.x(), p.y(), p.z() + (1.0 - p.z()) * (0.1 + 0.2 * p.x() + 0.1 * p.y()));
   });
   const Mesh3D lower = make_cubes({3, 3, 1}, Box{0.0, 1.0, 0.0, 1.0, -1.0, 0.0});
@@ -148,14 +116,14 @@ struct Hertz3DResult {
 Hertz3DResult press_sphere(const SphereOnBlock& s) {
   const std::vector<double> xy = graded(s.size, s.h, 0.08, 1.25), zs = graded(s.size, s.h, 0.05, 1.25);
   const double r = s.radius, top = s.size;
-  const Mesh3D upper = tetrahedra_on(xy, xy, zs, [r, top](const Vec3& p) {
+  const Mesh3D upper = make_tetrahedra(xy, xy, zs, [r, top](const Vec3& p) {
     const double bottom = r - std::sqrt(r * r - p.x() * p.x() - p.y() * p.y());
     return Vec3(p.x(), p.y(), p.z() + (1.0 - p.z() / top) * bottom);
   });
   std::vector<double> down;
   for (auto it = zs.rbegin(); it != zs.rend(); ++it) down.push_back(-*it);
   const double r2 = s.block_radius;
-  const Mesh3D lower = r2 > 0.0 ? tetrahedra_on(xy, xy, down, [r2, size = s.size](const Vec3& p) {
+  const Mesh3D lower = r2 > 0.0 ? make_tetrahedra(xy, xy, down, [r2, size = s.size](const Vec3& p) {
     const double top = r2 - std::sqrt(r2 * r2 - p.x() * p.x() - p.y() * p.y());
     return Vec3(p.x(), p.y(), p.z() - (1.0 + p.z() / size) * top);
   })

@@ -2,6 +2,7 @@
 #include "output_run.hpp"
 
 #include <hemivem/error.hpp>
+#include <hemivem/scene/scene.hpp>
 #include <hemivem/support/atomic_file.hpp>
 
 #include "path_outputs.hpp"
@@ -98,10 +99,7 @@ bool OutputRun::want(const std::string& name) const { return contains(wanted_, n
 std::string adapt_step_file(std::size_t step) { return "adapt-step-" + std::to_string(step) + ".vtu"; }
 
 std::string body_vtu_file(const std::string& body) {
-  const bool safe = !body.empty() && body.size() <= 64 && std::all_of(body.begin(), body.end(), [](char ch) {
-    return (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') || ch == '-' || ch == '_';
-  });
-  if (!safe)
+  if (!valid_body_name(body))
     throw InputError("body '" + body + "': its name names its file solution.body-NAME.vtu, so it is 1 to 64 letters, "
                      "digits, '-' or '_' (ASCII)");
   return "solution.body-" + body + ".vtu";

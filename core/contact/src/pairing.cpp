@@ -157,7 +157,6 @@ void pair_with_other_body(const MeshOf<dim>& mesh, const std::vector<BasicContac
   if (!any || boundary.size() == 0) return;
   const double tolerance = 1e-9 * mesh_size<dim>(mesh);
   std::set<int> nodes(boundary.nodes.begin(), boundary.nodes.end()), taken;
-  boundary.partner.assign(boundary.nodes.size(), -1);
   boundary.across.assign(boundary.nodes.size(), Across{});
   const auto by_x = against_vertices<dim>(mesh, parts);
   for (int i = 0; i < boundary.size(); ++i) {
@@ -196,7 +195,6 @@ void pair_with_other_body(const MeshOf<dim>& mesh, const std::vector<BasicContac
                          point_text<dim>(mesh.vertex(q)) + " across from node " + std::to_string(p) +
                          " is itself a contact node; a surface meets another body from one side only");
     boundary.across[static_cast<std::size_t>(i)] = across;
-    boundary.partner[static_cast<std::size_t>(i)] = across.nearest();
   }
 }
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <functional>
 #include <cmath>
 #include <sstream>
 
@@ -87,44 +88,11 @@ std::vector<CellFaces> cube_cells(GridSize3 n) {
   return cells;
 }
 
-}  // namespace
-
-std::string GridSize3::text() const {
-  return nx == ny && ny == nz ? std::to_string(nx)
-                              : "[" + std::to_string(nx) + ", " + std::to_string(ny) + ", " + std::to_string(nz) + "]";
-}
-
-Mesh3D make_cubes(GridSize3 n, const Box& domain) {
-  detail::check_box_grid("cubes mesh", n, domain);
-  return Mesh3D(grid_vertices(n, domain), cube_cells(n));
-}
-
-Mesh3D make_cubes(const std::vector<double>& x, const std::vector<double>& y, const std::vector<double>& z) {
-  const std::vector<double>* axes[3] = {&x, &y, &z};
-  for (int a = 0; a < 3; ++a) {
-    const auto& c = *axes[a];
-    const std::string which = std::string("cubes mesh: the ") + "xyz"[a] + " coordinates";
-    if (c.size() < 2) throw InputError(which + " need at least two values");
-    for (std::size_t i = 0; i < c.size(); ++i) {
-      if (!std::isfinite(c[i])) throw InputError(which + " must be finite");
-      if (i > 0 && !(c[i] > c[i - 1])) throw InputError(which + " must increase strictly (value " + std::to_string(i) + ")");
-    }
-  }
-  const GridSize3 n(static_cast<int>(x.size()) - 1, static_cast<int>(y.size()) - 1, static_cast<int>(z.size()) - 1);
-  detail::check_box_grid("cubes mesh", n, Box{x.front(), x.back(), y.front(), y.back(), z.front(), z.back()});
-  std::vector<Vec3> vertices;
-  for (int k = 0; k <= n.nz; ++k)
-    for (int j = 0; j <= n.ny; ++j)
-      for (int i = 0; i <= n.nx; ++i)
-        vertices.emplace_back(x[static_cast<std::size_t>(i)], y[static_cast<std::size_t>(j)], z[static_cast<std::size_t>(k)]);
-  return Mesh3D(std::move(vertices), cube_cells(n));
-}
-
-Mesh3D make_tetrahedra(GridSize3 n, const Box& domain) {
-  detail::check_box_grid("tetrahedra mesh", n, domain);
+// each box of the grid cut into six tetrahedra, the six paths 0 -> 7 along the box's edges, one
+// axis at a time (x = 1, y = 2, z = 4)
+std::vector<CellFaces> tetrahedron_cells(GridSize3 n) {
   std::vector<CellFaces> cells;
   cells.reserve(6 * static_cast<std::size_t>(n.nx) * n.ny * n.nz);
-  // the six paths 0 -> 7 along the box's edges, one axis at a time (x = 1, y = 2, z = 4)
   static constexpr std::array<std::array<int, 3>, 6> orders = {
       {{1, 2, 4}, {1, 4, 2}, {2, 1, 4}, {2, 4, 1}, {4, 1, 2}, {4, 2, 1}}};
   for (int k = 0; k < n.nz; ++k)
@@ -139,7 +107,62 @@ Mesh3D make_tetrahedra(GridSize3 n, const Box& domain) {
           cells.push_back({{a, d, b}, {a, b, e}, {a, e, d}, {b, d, e}});
         }
       }
-  return Mesh3D(grid_vertices(n, domain), std::move(cells));
+  return cells;
+}
+
+// The grid of the coordinate lists, checked (InputError naming `what`), and its points.
+GridSize3 list_grid(const char* what, const std::vector<double>& x, const std::vector<double>& y,
+                    const std::vector<double>& z, std::vector<Vec3>& vertices) {
+  const std::vector<double>* axes[3] = {&x, &y, &z};
+  for (int a = 0; a < 3; ++a) {
+    const auto& c = *axes[a];
+    const std::string which = std::string(what) + ": the " + "xyz"[a] + " coordinates";
+    if (c.size() < 2) throw InputError(which + " need at least two values");
+    for (std::size_t i = 0; i < c.size(); ++i) {
+      if (!std::isfinite(c[i])) throw InputError(which + " must be finite");
+      if (i > 0 && !(c[i] > c[i - 1])) throw InputError(which + " must increase strictly (value " + std::to_string(i) + ")");
+    }
+  }
+  const GridSize3 n(static_cast<int>(x.size()) - 1, static_cast<int>(y.size()) - 1, static_cast<int>(z.size()) - 1);
+  detail::check_box_grid(what, n, Box{x.front(), x.back(), y.front(), y.back(), z.front(), z.back()});
+  vertices.clear();
+  for (int k = 0; k <= n.nz; ++k)
+    for (int j = 0; j <= n.ny; ++j)
+      for (int i = 0; i <= n.nx; ++i)
+        vertices.emplace_back(x[static_cast<std::size_t>(i)], y[static_cast<std::size_t>(j)], z[static_cast<std::size_t>(k)]);
+  return n;
+}
+
+}  // namespace
+
+std::string GridSize3::text() const {
+  return nx == ny && ny == nz ? std::to_string(nx)
+                              : "[" + std::to_string(nx) + ", " + std::to_string(ny) + ", " + std::to_string(nz) + "]";
+}
+
+Mesh3D make_cubes(GridSize3 n, const Box& domain) {
+  detail::check_box_grid("cubes mesh", n, domain);
+  return Mesh3D(grid_vertices(n, domain), cube_cells(n));
+}
+
+Mesh3D make_cubes(const std::vector<double>& x, const std::vector<double>& y, const std::vector<double>& z) {
+  std::vector<Vec3> vertices;
+  const GridSize3 n = list_grid("cubes mesh", x, y, z, vertices);
+  return Mesh3D(std::move(vertices), cube_cells(n));
+}
+
+Mesh3D make_tetrahedra(GridSize3 n, const Box& domain) {
+  detail::check_box_grid("tetrahedra mesh", n, domain);
+  return Mesh3D(grid_vertices(n, domain), tetrahedron_cells(n));
+}
+
+Mesh3D make_tetrahedra(const std::vector<double>& x, const std::vector<double>& y, const std::vector<double>& z,
+                       const std::function<Vec3(const Vec3&)>& place) {
+  std::vector<Vec3> vertices;
+  const GridSize3 n = list_grid("tetrahedra mesh", x, y, z, vertices);
+  if (place)
+    for (Vec3& v : vertices) v = place(v);
+  return Mesh3D(std::move(vertices), tetrahedron_cells(n));
 }
 
 const std::vector<std::string>& mesh3d_generator_names() {

@@ -1052,11 +1052,7 @@ SceneBody read_body(Scene& s, const toml::table& t, std::size_t i, const std::fi
   SceneBody body;
   auto name = r.string("name");
   if (!name) throw InputError(key + ": missing key 'name' (each body is named: name = \"upper\")", r.at(r.self()));
-  // the name names the body's output file (solution.body-NAME.vtu): ASCII, whatever the locale
-  const bool valid = !name->empty() && name->size() <= 64 && std::all_of(name->begin(), name->end(), [](char ch) {
-    return (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') || ch == '-' || ch == '_';
-  });
-  if (!valid)
+  if (!valid_body_name(*name))
     r.fail("name", r.node("name"), "a body's name is 1 to 64 ASCII letters, digits, '-' or '_', got '" + *name + "'");
   for (const SceneBody& b : s.bodies) {
     if (b.name == *name) r.fail("name", r.node("name"), "two bodies are named '" + *name + "'");
@@ -1157,6 +1153,12 @@ const std::vector<std::string>& scene_output_names() {
 const std::vector<std::string>& scene_figure_formats() {
   static const std::vector<std::string> formats{"png", "pdf", "svg"};
   return formats;
+}
+
+bool valid_body_name(const std::string& name) {
+  return !name.empty() && name.size() <= 64 && std::all_of(name.begin(), name.end(), [](char ch) {
+           return (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') || ch == '-' || ch == '_';
+         });
 }
 
 std::string SceneMesh::description() const {

@@ -50,15 +50,13 @@ struct ContactBoundary {
   /// (hemivem/contact/joining.hpp): the node's unknowns are its displacements relative to
   /// that point's.
   std::vector<Across> across;
-  /// Per node: the vertex of the largest weight in `across` (the vertex at the node's point when
-  /// the meshes match), -1 where there is none; empty when `across` is.
-  std::vector<int> partner;
 
   int size() const noexcept { return static_cast<int>(nodes.size()); }
   /// The part of node i (0 when `part` is empty).
   int part_of(int i) const noexcept { return part.empty() ? 0 : part[static_cast<std::size_t>(i)]; }
-  /// The partner of node i (-1: none).
-  int partner_of(int i) const noexcept { return partner.empty() ? -1 : partner[static_cast<std::size_t>(i)]; }
+  /// The partner of node i: the vertex of the largest weight in its point across (the vertex
+  /// at its point when the meshes match); -1 for none.
+  int partner_of(int i) const noexcept { return across.empty() ? -1 : across[static_cast<std::size_t>(i)].nearest(); }
   /// Normal displacements (N u)_i of a full nodal displacement vector.
   Eigen::VectorXd normal_displacements(const Eigen::VectorXd& u) const;
 };
@@ -99,7 +97,7 @@ ContactBoundary make_contact_boundary(const Mesh& mesh, const std::vector<int>& 
 ContactBoundary make_contact_boundary(const Mesh& mesh, const std::vector<ContactPart>& parts, const DofMap& dofs);
 
 /// Pairs each node of `boundary` whose part meets another body (BasicContactPart::against)
-/// with the point of that body's surface across from it (boundary.across, boundary.partner):
+/// with the point of that body's surface across from it (boundary.across):
 ///   - BodyPairing::vertex: the vertex of `against` at its point, within 1e-9 of the mesh's
 ///     size. InputError naming the part and the node when there is none (the two bodies'
 ///     meshes do not match along the contact: hemivem/mesh/interface.hpp matches them), or when

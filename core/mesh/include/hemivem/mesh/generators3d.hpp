@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -40,6 +41,12 @@ Mesh3D make_cubes(const std::vector<double>& x, const std::vector<double>& y, co
 /// (1,1,1) (Kuhn's subdivision: conforming across boxes); vertices as make_cubes, box b gives
 /// cells 6b ... 6b+5.
 Mesh3D make_tetrahedra(GridSize3 n, const Box& domain = {});
+/// The same on the grid of coordinate lists (as make_cubes of them), each point moved by `place`
+/// when given (a map of the box onto a curved body, e.g. a block whose face is a sphere; every
+/// face stays a triangle). InputError as make_cubes; MeshError for a map that turns a
+/// tetrahedron inside out.
+Mesh3D make_tetrahedra(const std::vector<double>& x, const std::vector<double>& y, const std::vector<double>& z,
+                       const std::function<Vec3(const Vec3&)>& place = {});
 
 /// Voronoi cells of nx*ny*nz random seeds (uniform in the box), clipped to the box, with Lloyd
 /// iterations moving seeds to cell centroids (VoronoiOptions as in 2D: the seed, the number of

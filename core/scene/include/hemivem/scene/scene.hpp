@@ -220,6 +220,10 @@ struct SceneContact {
 
 /// [[body]]: one body of a scene of several (docs/two-bodies.md), with the keys a scene of one
 /// body has for its mesh, material, supports and loads.
+/// Whether `name` may name a body: 1 to 64 ASCII letters, digits, '-' or '_' (it names the
+/// body's output file, solution.body-NAME.vtu, whatever the locale).
+bool valid_body_name(const std::string& name);
+
 struct SceneBody {
   std::string name;  ///< letters, digits, '-' and '_'; unique
   SceneMesh mesh;
