@@ -7,10 +7,11 @@
 #                      IF CHOLMOD_FOUND
 #                      DEPENDS CHOLMOD::CHOLMOD PACKAGES CHOLMOD HELPERS hemivem_linear_common)
 #
-#   KIND      linear (a SparseFactorization) or nonsmooth (a NonsmoothMinimizer)
+#   KIND      linear (a SparseFactorization), nonsmooth (a NonsmoothMinimizer) or krylov (a
+#             KrylovSolver, hemivem/krylov_solver.hpp)
 #   NAME      its name on the command line, in scenes and as a package component
 #   CLASS     the class the factory creates, declared in HEADER, with a constructor taking
-#             FactorizationOptions (linear) or the class' Options (nonsmooth)
+#             FactorizationOptions (linear), the class' Options (nonsmooth) or nothing (krylov)
 #   SOURCES   its sources; its public headers are the folder's include/hemivem/*.hpp
 #   IF        a condition (the words of an if()) under which it is built; default: always
 #   DEPENDS   targets it links privately: its package
@@ -20,11 +21,15 @@
 #   PROPERTIES  more properties of its target (set_target_properties)
 #   LOADED_AT_RUN_TIME  the factory does not link it: it loads a module at run time instead
 #             (mumps-mpi, see backends/linear/factory.cpp)
+#   MODULE_ONLY  with LOADED_AT_RUN_TIME: no linkable library either, the folder builds the
+#             module alone (petsc-gamg and petsc-hypre, whose PETSc links the MPI build of MUMPS:
+#             backends/krylov/petsc); BUILT still says whether the condition holds
 #
 # Every engine declared is known, built or not; the names of a kind are in the order of the
 # calls, that is the order in which backends/<kind>/CMakeLists.txt adds the folders. When its
 # condition holds the engine is the library hemivem_<kind>_<name with '-' as '_'>, also
-# hemivem::<kind>_<name with '-' as '_'>, exported under that name (cmake/HemivemPackage.cmake).
+# hemivem::<kind>_<name with '-' as '_'>, exported under that name (cmake/HemivemPackage.cmake);
+# a MODULE_ONLY engine has no such library.
 #
 # What the rest of the build reads from the calls:
 #   hemivem_engines(<kind> <out> [BUILT] [LINKED])   the names declared, built, or built and
@@ -36,12 +41,14 @@
 #       engine it links, HEMIVEM_ENGINES(X) calling X("name", Class) for each, and
 #       HEMIVEM_ENGINE_<NAME> (upper case, '-' as '_') defined as 1 for each
 #       (backends/<kind>/factory.cpp)
+#   The names of every kind are in hemivem/engine_names.hpp: known_linear_engines(),
+#   known_minimizers(), known_krylov_engines().
 
 # Generated public headers (hemivem/engine_names.hpp), on hemivem::interfaces' include path.
 set(HEMIVEM_GENERATED_INCLUDE_DIR ${PROJECT_BINARY_DIR}/generated/include)
 
 function(hemivem_add_engine)
-  cmake_parse_arguments(PARSE_ARGV 0 ARG "LOADED_AT_RUN_TIME" "KIND;NAME;CLASS;HEADER"
+  cmake_parse_arguments(PARSE_ARGV 0 ARG "LOADED_AT_RUN_TIME;MODULE_ONLY" "KIND;NAME;CLASS;HEADER"
                         "SOURCES;IF;DEPENDS;PACKAGES;HELPERS;PROPERTIES")
   if(ARG_UNPARSED_ARGUMENTS)
     message(FATAL_ERROR "hemivem_add_engine: unknown arguments ${ARG_UNPARSED_ARGUMENTS}")
@@ -51,8 +58,11 @@ function(hemivem_add_engine)
       message(FATAL_ERROR "hemivem_add_engine(${ARG_NAME}): ${required} is missing")
     endif()
   endforeach()
-  if(NOT ARG_KIND MATCHES "^(linear|nonsmooth)$")
-    message(FATAL_ERROR "hemivem_add_engine(${ARG_NAME}): KIND is linear or nonsmooth, not '${ARG_KIND}'")
+  if(NOT ARG_KIND MATCHES "^(linear|nonsmooth|krylov)$")
+    message(FATAL_ERROR "hemivem_add_engine(${ARG_NAME}): KIND is linear, nonsmooth or krylov, not '${ARG_KIND}'")
+  endif()
+  if(ARG_MODULE_ONLY AND NOT ARG_LOADED_AT_RUN_TIME)
+    message(FATAL_ERROR "hemivem_add_engine(${ARG_NAME}): MODULE_ONLY needs LOADED_AT_RUN_TIME")
   endif()
   hemivem_engines(${ARG_KIND} known)
   if(ARG_NAME IN_LIST known)
@@ -78,7 +88,7 @@ function(hemivem_add_engine)
   set_property(GLOBAL PROPERTY ${prefix}_PACKAGES ${ARG_PACKAGES})
   set_property(GLOBAL PROPERTY ${prefix}_BUILT ${built})
   set_property(GLOBAL PROPERTY ${prefix}_LINKED ${linked})
-  if(NOT built)
+  if(NOT built OR ARG_MODULE_ONLY)
     return()
   endif()
 
@@ -121,7 +131,7 @@ endfunction()
 
 function(hemivem_write_engine_names file)
   set(body)
-  foreach(kind linear nonsmooth)
+  foreach(kind linear nonsmooth krylov)
     hemivem_engines(${kind} names)
     list(LENGTH names count)
     list(JOIN names "\", \"" quoted)
@@ -130,11 +140,18 @@ function(hemivem_write_engine_names file)
     if(kind STREQUAL "nonsmooth")
       set(function_name known_minimizers)
       set(what "nonsmooth minimizers")
+    elseif(kind STREQUAL "krylov")
+      set(function_name known_krylov_engines)
+      set(what "Krylov solvers (make_krylov_solver, in order of preference)")
+    endif()
+    set(list "{\"${quoted}\"}")
+    if(count EQUAL 0)
+      set(list "{}")
     endif()
     string(APPEND body
       "/// The ${what} hemivem knows, built or not.\n"
       "inline constexpr std::array<std::string_view, ${count}> ${function_name}() {\n"
-      "  return {\"${quoted}\"};\n"
+      "  return ${list};\n"
       "}\n\n")
   endforeach()
   file(CONFIGURE OUTPUT "${file}" @ONLY CONTENT

@@ -4,7 +4,7 @@
 #
 # gives hemivem::core (always) and one target per component that was built. A component is
 # named as the engine on the command line; the factories are the components linear and
-# nonsmooth; the application library (scene -> solve -> result.json) is the component app.
+# krylov and nonsmooth; the application library (scene -> solve -> result.json) is the component app.
 include(CMakePackageConfigHelpers)
 
 set(HEMIVEM_INSTALL_CMAKEDIR "${CMAKE_INSTALL_LIBDIR}/cmake/hemivem" CACHE STRING
@@ -15,7 +15,7 @@ mark_as_advanced(HEMIVEM_INSTALL_CMAKEDIR)
 # one component per engine declared with hemivem_add_engine() (cmake/HemivemEngines.cmake), in
 # between.
 set(_hemivem_component_table "core|core|CGAL tomlplusplus muparser")
-foreach(_kind linear nonsmooth)
+foreach(_kind linear nonsmooth krylov)
   hemivem_engines(${_kind} _names)
   foreach(_name IN LISTS _names)
     hemivem_engine_property(${_kind} ${_name} TARGET _target)
@@ -25,7 +25,7 @@ foreach(_kind linear nonsmooth)
     list(APPEND _hemivem_component_table "${_name}|${_target}|${_deps}")
   endforeach()
 endforeach()
-list(APPEND _hemivem_component_table "linear|linear|" "nonsmooth|nonsmooth|" "global-search|global_search|" "app|app|ZLIB")
+list(APPEND _hemivem_component_table "linear|linear|" "krylov|krylov|" "nonsmooth|nonsmooth|" "global-search|global_search|" "app|app|ZLIB")
 
 set(HEMIVEM_KNOWN_COMPONENTS)
 set(HEMIVEM_BUILT_COMPONENTS)

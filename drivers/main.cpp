@@ -10,6 +10,7 @@
 //   hemivem bench [SCENE.toml] [flags]   time against error for every pair of engines
 #include <CLI/CLI.hpp>
 
+#include <hemivem/krylov_solver.hpp>
 #include <hemivem/certificate.hpp>
 #include <hemivem/engine_names.hpp>
 #include <hemivem/error.hpp>
@@ -152,7 +153,8 @@ Command register_solve(CLI::App& app) {
   f->o_mesh = cmd->add_option("--mesh", f->mesh, "squares|triangles|voronoi|nonconvex|distorted|PATH.poly2d|PATH.msh");
   f->o_n = cmd->add_option("--n", f->n, "Elements (or Voronoi seeds) per side")->check(kCellCount);
   f->o_linear = cmd->add_option("--linear", f->linear,
-                                join_engine_names(known_linear_engines(), "|") + "|auto (the fastest built; default)");
+                                join_engine_names(known_linear_engines(), "|") + "|auto (the fastest built; default); the full-space route: " +
+                                    join_engine_names(known_krylov_solvers(), "|"));
   f->o_min = cmd->add_option("--minimizer", f->minimizer, join_engine_names(known_minimizers(), "|"));
   f->o_tol = cmd->add_option("--tol", f->tol, "Certificate tolerance")->check(kPositive)->check(kTolerance);
   cmd->add_option("--set", f->options.set, "Override a scene key: key=value (repeatable), e.g. contact.gap=0.01");

@@ -12,6 +12,7 @@ packages=(
   libmumps-seq-dev libmumps-dev libopenmpi-dev openmpi-bin
   libgtest-dev libgmock-dev libbenchmark-dev
   libnlopt-dev libceres-dev
+  libpetsc-real3.18-dev
   nlohmann-json3-dev zlib1g-dev python3-meshio gnuplot-nox
   pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib python3-vtk9
   python3-venv python3-pip python3-setuptools python3-wheel

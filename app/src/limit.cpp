@@ -1,6 +1,7 @@
 // The limit of a scene: every stage of a cholmod solve against a plain Q1 assembly and one
 // CHOLMOD factorization of the same matrix, each measured in a fresh child process
 // (hemivem/app/limit.hpp).
+#include <hemivem/support/blas_threads.hpp>
 #include <hemivem/app/limit.hpp>
 
 #include <hemivem/app/outputs.hpp>
@@ -333,6 +334,7 @@ nlohmann::json limit_of(const Built& built, bool metis) {
 }
 
 nlohmann::json measure_limit(const Scene& scene, bool metis) {
+  const SingleThreadedRun one_thread;  // as the solves it is compared with (docs/performance.md, "Threads")
   if (scene.dimension() == 3) return limit_of(*build_problem<3>(scene), metis);
   return limit_of(*build_problem(scene), metis);
 }

@@ -140,6 +140,11 @@ void solve_path_built(const Scene& scene, SceneEngines& e, Solved& s,
       if (on_step) on_step(step);
       return true;
     };
+  if (e.krylov)
+    throw InputError("a loading path runs on the condensed route, one factorization for every step; the Krylov "
+                     "engine '" + e.linear + "' solves static problems in the full space (docs/full-space.md): "
+                     "choose an engine that factorizes",
+                     scene.where("solver.linear"));
   BasicPathSolution<dim> path;
   try {
     path = solve_path(s.built->problem, std::move(e.factorization), *e.minimizer, scene_path_loading<dim>(scene),

@@ -4,6 +4,7 @@
 #include <hemivem/app/outputs.hpp>
 #include <hemivem/app/report.hpp>
 #include <hemivem/error.hpp>
+#include <hemivem/support/blas_threads.hpp>
 
 #include <type_traits>
 
@@ -144,6 +145,9 @@ SceneSolveOptions plane_options(RunOptions& o) {
 }  // namespace
 
 SceneRun run_scene(const Scene& scene, RunOptions options) {
+  // OpenBLAS and OpenMP on one thread unless the environment asks otherwise: their idle threads
+  // spin on the cores another process needs (docs/performance.md, "Threads")
+  const SingleThreadedRun one_thread;
   SceneRun run;
   run.scene_ = scene;
   run.kind_ = run_kind(scene);

@@ -8,6 +8,7 @@
 #include <type_traits>
 #include <vector>
 
+#include <hemivem/krylov_solver.hpp>
 #include <hemivem/app/outputs.hpp>
 
 #include "bodies.hpp"
@@ -20,9 +21,10 @@ namespace hemivem::app::detail {
 
 /// The engines a scene names and what a solve records about them (SceneSolve, SceneSolve3D).
 struct SceneEngines {
-  std::unique_ptr<SparseFactorization> factorization;
+  std::unique_ptr<SparseFactorization> factorization;  ///< null on the full-space route
+  std::unique_ptr<KrylovSolver> krylov;                ///< the full-space route's engine (a Krylov engine named)
   std::unique_ptr<NonsmoothMinimizer> minimizer;
-  std::string linear;            ///< the factorization engine's name
+  std::string linear;            ///< the linear engine's name
   std::string minimizer_name;    ///< the minimizer's (the first engine of a global search)
   nlohmann::json search;         ///< search_json
   bool holds_results = true;     ///< false on the ranks > 0 of mumps-mpi
@@ -168,7 +170,8 @@ void solve_built(const Scene& scene, SceneEngines& e, Solved& s, ReducedProblem*
                  Estimate&& estimate) {
   const NonsmoothMinimizer* minimizers[] = {e.minimizer.get()};
   try {
-    BasicContactSolver<dim> solver(s.built->problem, std::move(e.factorization), s.options);
+    BasicContactSolver<dim> solver = e.krylov ? BasicContactSolver<dim>(s.built->problem, std::move(e.krylov), s.options)
+                                              : BasicContactSolver<dim>(s.built->problem, std::move(e.factorization), s.options);
     solver.estimate_condition(true).export_reduced(reduced);
     if (start.size() > 0) solver.start_from(&start);
     s.solution = std::move(solver.run(minimizers).front());

@@ -1,3 +1,4 @@
+#include <hemivem/support/blas_threads.hpp>
 #include <hemivem/app/solve.hpp>
 
 #include <hemivem/scene/resources.hpp>
@@ -110,16 +111,22 @@ namespace detail {
 SceneEngines make_scene_engines(const Scene& scene, std::function<void(const GlobalSearchProgress&)> progress,
                                 std::function<bool(const IterationRecord&)> callback) {
   SceneEngines e;
-  FactorizationOptions fo;
-  // "auto": the fastest engine for the body's dimension
-  fo.engine = same_engine(scene.solver.linear, "auto") ? fastest_factorization(scene.dimension()) : scene.solver.linear;
-  e.factorization = named_engine(scene, "solver.linear", [&] { return make_factorization(fo); });
+  if (is_krylov_solver(scene.solver.linear)) {
+    // a Krylov engine: the full-space route (docs/full-space.md)
+    e.krylov = named_engine(scene, "solver.linear", [&] { return make_krylov_solver(scene.solver.linear); });
+    e.linear = e.krylov->name();
+  } else {
+    FactorizationOptions fo;
+    // "auto": the fastest engine for the body's dimension
+    fo.engine = same_engine(scene.solver.linear, "auto") ? fastest_factorization(scene.dimension()) : scene.solver.linear;
+    e.factorization = named_engine(scene, "solver.linear", [&] { return make_factorization(fo); });
+    e.linear = e.factorization->name();
+    e.holds_results = processes_of(*e.factorization).holds_results();
+    e.processes = processes_of(*e.factorization).num_processes();
+  }
   e.minimizer = make_scene_search(scene, std::move(progress));
-  e.linear = e.factorization->name();
   e.minimizer_name = first_engine(*e.minimizer);
   e.search = search_json(*e.minimizer);
-  e.holds_results = processes_of(*e.factorization).holds_results();
-  e.processes = processes_of(*e.factorization).num_processes();
   e.options.tolerance = scene.solver.tolerance;
   e.options.max_iterations = scene.solver.max_iterations;
   e.options.callback = std::move(callback);
@@ -153,6 +160,7 @@ SceneEngines prepare_scene_solve(const Scene& scene, SceneSolveOptions& o, Scene
 }  // namespace detail
 
 SceneSolve solve_scene(const Scene& scene, SceneSolveOptions o) {
+  const SingleThreadedRun one_thread;  // docs/performance.md, "Threads"
   refuse_path(scene, "this solve");
   SceneSolve s;
   detail::SceneEngines engines = detail::prepare_scene_solve(scene, o, s);

@@ -1,4 +1,5 @@
 // A three-dimensional scene solved, written and reported (solve3d.hpp).
+#include <hemivem/support/blas_threads.hpp>
 #include <hemivem/app/solve3d.hpp>
 
 #include <hemivem/app/outputs.hpp>
@@ -25,6 +26,7 @@ bool wants(const Scene& scene, const std::string& name) {
 }  // namespace
 
 SceneSolve3D solve_scene_3d(const Scene& scene, SceneSolve3DOptions o) {
+  const SingleThreadedRun one_thread;  // docs/performance.md, "Threads"
   if (scene.dimension() != 3)
     throw InputError("mesh: this solve takes three-dimensional scenes (solve_scene solves this one)", scene.where("mesh"));
   if (scene_is_path(scene)) detail::refuse_path_across_processes(scene);

@@ -40,13 +40,14 @@ namespace {
 constexpr double inf = std::numeric_limits<double>::infinity();
 
 // 1. The length scale l.
-double length_scale(const ReducedProblem& p, const Eigen::VectorXd& a) {
+double length_scale(const ReducedProblem& p, const Eigen::VectorXd& a, const Eigen::VectorXd& stiffness,
+                    const Eigen::VectorXd& load) {
   double ell = a.cwiseAbs().maxCoeff();
   for (Eigen::Index i = 0; i < p.size(); ++i) {
     for (double b : {p.lower(i), p.upper(i)})
       if (std::isfinite(b)) ell = std::max(ell, std::abs(b));
-    const double d = p.S(i, i);
-    ell = std::max(ell, d > 0.0 ? std::abs(p.c(i)) / d : (p.c(i) == 0.0 ? 0.0 : inf));
+    const double d = stiffness(i);
+    ell = std::max(ell, d > 0.0 ? std::abs(load(i)) / d : (load(i) == 0.0 ? 0.0 : inf));
   }
   return ell;
 }
@@ -118,11 +119,29 @@ Eigen::Vector2d group_law_force(const ContactLaw& law, double w, const Eigen::Ve
 }  // namespace
 
 CertifiedPoint certify(const ReducedProblem& p, const Eigen::VectorXd& a, double tol) {
+  if (a.size() != p.size() || p.S.rows() != p.size() || p.S.cols() != p.size() || p.c.size() != p.size())
+    return certify(p, a, tol, {}, {}, {});
+  return certify(
+      p, a, tol,
+      [&p](const Eigen::VectorXd& x) {
+        SmoothGradient g;
+        const Eigen::VectorXd Sa = p.S * x;
+        g.r = Sa - p.c;
+        g.force_size = p.size() == 0 ? 0.0 : std::max(p.c.cwiseAbs().maxCoeff(), Sa.cwiseAbs().maxCoeff());
+        return g;
+      },
+      p.S.diagonal(), p.c);
+}
+
+CertifiedPoint certify(const ReducedProblem& p, const Eigen::VectorXd& a, double tol,
+                       const std::function<SmoothGradient(const Eigen::VectorXd&)>& gradient,
+                       const Eigen::VectorXd& stiffness, const Eigen::VectorXd& load) {
   check_tolerance(tol, "tolerance");
   CertifiedPoint out;
   out.certificate.tolerance = tol;
   const Eigen::Index n = p.size();
-  if (a.size() != n || !a.allFinite() || p.laws.empty()) return out;
+  if (a.size() != n || !a.allFinite() || p.laws.empty() || !gradient || stiffness.size() != n || load.size() != n)
+    return out;
   out.a = a;
   out.law_force = Eigen::VectorXd::Zero(n);
   out.reaction = Eigen::VectorXd::Zero(n);
@@ -131,7 +150,7 @@ CertifiedPoint certify(const ReducedProblem& p, const Eigen::VectorXd& a, double
     out.certificate.length_scale = out.certificate.force_scale = 0.0;
     return out;
   }
-  const double ell = length_scale(p, a);
+  const double ell = length_scale(p, a, stiffness, load);
   // 2. snapping onto bounds and kinks (of each coordinate's law), a group's norm onto its law's
   std::vector<std::vector<double>> kinks_of(static_cast<std::size_t>(p.num_laws()));
   for (int k = 0; k < p.num_laws(); ++k) kinks_of[static_cast<std::size_t>(k)] = p.law_by_number(k).kinks();
@@ -141,16 +160,18 @@ CertifiedPoint certify(const ReducedProblem& p, const Eigen::VectorXd& a, double
   const double primal = snap_coordinates(p, kinks_of, window, group_of, x);
   const std::vector<double> radius = snap_groups(p, kinks_of, window, x);
   // 3. forces
-  const Eigen::VectorXd Sa = p.S * x;
-  double worst = 0.0, zeta_max = 0.0;
+  const SmoothGradient grad = gradient(x);
+  if (grad.r.size() != n) return out;
+  const Eigen::VectorXd& res = grad.r;
+  double worst = std::isnan(grad.other) ? inf : grad.other, zeta_max = 0.0;
   for (std::size_t k = 0; k < p.groups.size(); ++k) {
     const CoordinateGroup& g = p.groups[k];
-    const Eigen::Vector2d res(Sa(g.first) - p.c(g.first), Sa(g.second) - p.c(g.second));
+    const Eigen::Vector2d rg(res(g.first), res(g.second));
     const Eigen::Vector2d zeta =
-        group_law_force(p.law_of(g.first), p.w(g.first), Eigen::Vector2d(x(g.first), x(g.second)), radius[k], res);
+        group_law_force(p.law_of(g.first), p.w(g.first), Eigen::Vector2d(x(g.first), x(g.second)), radius[k], rg);
     out.law_force(g.first) = zeta(0);
     out.law_force(g.second) = zeta(1);
-    worst = std::max(worst, (res + zeta).norm());
+    worst = std::max(worst, (rg + zeta).norm());
     zeta_max = std::max(zeta_max, zeta.cwiseAbs().maxCoeff());
   }
   for (Eigen::Index i = 0; i < n; ++i) {
@@ -159,10 +180,10 @@ CertifiedPoint certify(const ReducedProblem& p, const Eigen::VectorXd& a, double
     const Interval dj = p.law_of(i).clarke(x(i));
     const Interval law{p.w(i) * dj.lo, p.w(i) * dj.hi};
     const Interval reaction{x(i) == lo ? -inf : 0.0, x(i) == hi ? inf : 0.0};
-    worst = std::max(worst, balance(Sa(i) - p.c(i), law, reaction, &out.law_force(i), &out.reaction(i)));
+    worst = std::max(worst, balance(res(i), law, reaction, &out.law_force(i), &out.reaction(i)));
     zeta_max = std::max(zeta_max, std::abs(out.law_force(i)));
   }
-  const double f = std::max({p.c.cwiseAbs().maxCoeff(), Sa.cwiseAbs().maxCoeff(), zeta_max, force_floor});
+  const double f = std::max({grad.force_size, zeta_max, force_floor});
   // 4. the residuals (exactly zero stays zero, also where a scale vanishes)
   Certificate& c = out.certificate;
   c.length_scale = ell;

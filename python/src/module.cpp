@@ -1,6 +1,7 @@
 // hemivem._hemivem: the module's entry point, NumPy helpers, exceptions, engines, scenes.
 #include "bindings.hpp"
 
+#include <hemivem/krylov_solver.hpp>
 #include <hemivem/app/outputs.hpp>
 
 #include <pybind11/stl.h>
@@ -83,6 +84,8 @@ void check_linear_engine(const std::string& linear, const std::string& where) {
                      where);
   const std::vector<std::string> engines = python_linear_engines();
   if (name == "auto" || std::find(engines.begin(), engines.end(), name) != engines.end()) return;
+  const std::vector<std::string> krylov = available_krylov_solvers();
+  if (std::find(krylov.begin(), krylov.end(), name) != krylov.end()) return;
   const std::string available = "; available: " + (engines.empty() ? std::string("none") : join_engine_names(engines));
   throw InputError(is_known_engine(known_linear_engines(), name)
                        ? "linear engine '" + linear + "' was not built" + available

@@ -292,6 +292,32 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
                            bool semi_coercive)
     : dofs_(system.dofs), factorization_(std::move(factorization)), semi_coercive_(semi_coercive) {
   if (!factorization_) throw InputError("condensation needs a factorization engine");
+  SparseMatrix At;
+  Eigen::VectorXd bt;
+  pose(system, boundary, parts, &At, &bt);
+  measure_interior(At);
+  compute_schur_complement(At);
+  if (!split_interior_solve(*factorization_)) extract_a21(At);
+  condense_load(bt);
+  margin_ = std::numeric_limits<double>::quiet_NaN();
+  processes_of(*factorization_).run_where_results_are([&] {
+    set_uniqueness_margin(reduced_);
+    margin_ = reduced_.uniqueness_margin;
+  });
+}
+
+Condensation::Condensation(const LinearSystem& system, const ContactBoundary& boundary,
+                           const std::vector<PartConditions>& parts, PoseOnly)
+    : dofs_(system.dofs) {
+  pose(system, boundary, parts, &At_, &bt_);
+  reduced_.c = Eigen::VectorXd::Zero(reduced_.lo.size());  // its size is the number of coordinates
+  margin_ = std::numeric_limits<double>::quiet_NaN();
+}
+
+// The pairs of two bodies, the coordinates, their order, the rotated system and the reduced
+// problem's laws and bounds (S and c are the condensation's).
+void Condensation::pose(const LinearSystem& system, const ContactBoundary& boundary,
+                        const std::vector<PartConditions>& parts, SparseMatrix* At, Eigen::VectorXd* bt) {
   if (parts.empty()) throw InputError("condensation needs the conditions of the contact parts");
   nodes_ = boundary.nodes;
   dimension_ = boundary.dimension;
@@ -314,24 +340,16 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
   // cancel exactly, depending on the mesh size): the 3 dofs of a vertex then share their pattern
   // and METIS, which orders 3D bodies, compresses them to one vertex, three times faster than on
   // the pruned pattern (docs/performance.md). In 2D, where AMD orders, the pruned copy is smaller.
-  const SparseMatrix At = rotate_symmetric(sys.A, frames_, dimension_ == 3);
-  const Eigen::VectorXd bt = rotate_load(sys.b);
-  measure_interior(At);
+  *At = rotate_symmetric(sys.A, frames_, dimension_ == 3);
+  *bt = rotate_load(sys.b);
   pose_reduced_problem(boundary, parts);
   origin_ = Eigen::VectorXd::Zero(reduced_.lo.size());
   law_at_start_ = reduced_.law_index;  // each coordinate's law where its gap is finite
   measure_from_surface(boundary);
-  compute_schur_complement(At);
-  if (!split_interior_solve(*factorization_)) extract_a21(At);
-  condense_load(bt);
-  margin_ = std::numeric_limits<double>::quiet_NaN();
-  processes_of(*factorization_).run_where_results_are([&] {
-    set_uniqueness_margin(reduced_);
-    margin_ = reduced_.uniqueness_margin;
-  });
 }
 
 void Condensation::set_load(const Eigen::VectorXd& b, const Eigen::VectorXd& prescribed) {
+  if (!factorization_) throw InternalError("a posed problem without condensation takes no new load");
   if (b.size() != dofs_.num_free() || prescribed.size() != dofs_.num_dofs())
     throw InputError("a load needs " + std::to_string(dofs_.num_free()) + " free and " +
                      std::to_string(dofs_.num_dofs()) + " prescribed values, got " + std::to_string(b.size()) +
@@ -382,6 +400,7 @@ void Condensation::set_gaps(const Eigen::VectorXd& gaps) {
     }
   }
   const bool shifted = std::any_of(from_surface_.begin(), from_surface_.end(), [](char f) { return f != 0; });
+  if (!factorization_) return;  // posed without condensation: no c to shift
   processes_of(*factorization_).run_where_results_are([&] {
     reduced_.c = raw_c_;
     if (shifted) reduced_.c -= reduced_.S * origin_;
@@ -698,6 +717,7 @@ void Condensation::extract_a21(const SparseMatrix& At) {
 }
 
 double Condensation::condition_estimate() const {
+  if (!factorization_) throw InternalError("a posed problem without condensation has no condition estimate");
   auto apply = [this](const Eigen::MatrixXd& x) {
     Eigen::MatrixXd y;
     if (!factorization_->solve_interior(x, &y).ok() || y.cols() != x.cols()) return Eigen::MatrixXd();
@@ -706,7 +726,42 @@ double Condensation::condition_estimate() const {
   return a22_norm1_ * estimate_norm1_symmetric_blocks(static_cast<int>(block2_.size()), apply, 2);
 }
 
+const SparseFactorization& Condensation::factorization() const {
+  if (!factorization_) throw InternalError("a posed problem without condensation has no factorization");
+  return *factorization_;
+}
+
+std::vector<int> Condensation::tied_rows() const {
+  std::vector<char> coordinate(block1_.size(), 0);
+  for (int q : coordinate1_) coordinate[static_cast<std::size_t>(q)] = 1;
+  std::vector<int> rows;
+  for (std::size_t q = 0; q < block1_.size(); ++q)
+    if (!coordinate[q]) rows.push_back(block1_[q]);
+  return rows;
+}
+
+Eigen::VectorXd Condensation::displacement_of(const Eigen::VectorXd& xt) const {
+  if (xt.size() != dofs_.num_free())
+    throw InternalError("displacement_of needs " + std::to_string(dofs_.num_free()) + " unknowns, got " +
+                        std::to_string(xt.size()));
+  Eigen::VectorXd x1(static_cast<Eigen::Index>(block1_.size())), u2(static_cast<Eigen::Index>(block2_.size()));
+  for (std::size_t i = 0; i < block1_.size(); ++i) x1(static_cast<Eigen::Index>(i)) = xt(block1_[i]);
+  for (std::size_t i = 0; i < block2_.size(); ++i) u2(static_cast<Eigen::Index>(i)) = xt(block2_[i]);
+  return displacement(x1, u2);
+}
+
+Eigen::VectorXd Condensation::rotated_free(const Eigen::VectorXd& u) const {
+  if (u.size() != dofs_.num_dofs())
+    throw InputError("a start needs " + std::to_string(dofs_.num_dofs()) + " nodal displacements, got " +
+                     std::to_string(u.size()));
+  const Eigen::VectorXd v = joining_.empty() ? u : joining_.relative(u);
+  Eigen::VectorXd free(dofs_.num_free());
+  for (int k = 0; k < dofs_.num_free(); ++k) free(k) = v(dofs_.free_dofs[static_cast<std::size_t>(k)]);
+  return rotate_load(free);  // the frames are orthogonal: Q^T u, as for a load
+}
+
 Eigen::VectorXd Condensation::back_substitute(const Eigen::VectorXd& a) const {
+  if (!factorization_) throw InternalError("a posed problem without condensation has no back-substitution");
   const ProcessGroup& processes = processes_of(*factorization_);
   const SplitInteriorSolve* split = split_interior_solve(*factorization_);
   Eigen::VectorXd x1;     // block 1's values

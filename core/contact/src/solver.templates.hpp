@@ -5,6 +5,7 @@
 #pragma once
 
 #include <hemivem/contact/solver.hpp>
+#include <hemivem/contact/full_space.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/process_group.hpp>
 #include <hemivem/support/condition.hpp>
@@ -49,7 +50,8 @@ void require_finite(BasicContactSolution<dim>& sol) {
   }
 }
 
-inline void require_ok(const FactorizationResult& r, const SparseFactorization& f, const std::string& what) {
+template <class Engine>
+void require_ok(const FactorizationResult& r, const Engine& f, const std::string& what) {
   if (!r.ok())
     throw NumericalError(what + " with " + f.name() + " failed (" + to_string(r.status) + "): " + r.message);
 }
@@ -72,6 +74,14 @@ BasicContactSolver<dim>::BasicContactSolver(const Problem& problem, const Linear
                                             const MinimizerOptions& options)
     : BasicContactSolver(problem, std::move(factorization), options) {
   system_ = &system;
+}
+
+template <int dim>
+BasicContactSolver<dim>::BasicContactSolver(const Problem& problem, std::unique_ptr<KrylovSolver> krylov,
+                                            const MinimizerOptions& options)
+    : problem_(problem), options_(options), krylov_(std::move(krylov)) {
+  static const SingleProcess single;
+  processes_ = &single;
 }
 
 template <int dim>
@@ -116,6 +126,13 @@ auto BasicContactSolver<dim>::run(std::span<const NonsmoothMinimizer* const> min
     agree_on_status(common_);
     common_.timings["total"] = seconds();
     return std::vector<Solution>(minimizers.size(), common_);
+  }
+  if (krylov_) {
+    pose();
+    Solution solution = common_;
+    solve_full_space(solution);
+    solution.timings["total"] = seconds();
+    return {std::move(solution)};
   }
   condense();
   const double before_minimize = seconds();
@@ -163,10 +180,15 @@ void BasicContactSolver<dim>::set_up_contact() {
 
 template <int dim>
 void BasicContactSolver<dim>::check_arguments(std::span<const NonsmoothMinimizer* const> minimizers) const {
-  if (!factorization_) throw InputError("solve_contact needs a factorization engine");
+  if (!factorization_ && !krylov_) throw InputError("solve_contact needs a factorization engine");
   if (minimizers.empty()) throw InputError("solve_contact needs at least one minimizer");
   for (const auto* m : minimizers)
     if (!m) throw InputError("solve_contact: a minimizer is null");
+  if (krylov_ && (minimizers.size() != 1 || minimizers.front()->name() != "ssn"))
+    throw InputError("the full-space route (linear engine " + krylov_->name() +
+                     ") runs its own semismooth Newton iteration, the minimizer ssn: minimizer " +
+                     minimizers.front()->name() + (minimizers.size() > 1 ? " and others need" : " needs") +
+                     " a linear engine that factorizes");
   if (std::string why; !options_.is_valid(&why)) throw InputError(why, "MinimizerOptions");
 }
 
@@ -179,12 +201,24 @@ void BasicContactSolver<dim>::assemble() {
   common_.stages.push_back("assembly");
 }
 
-// Without a contact node: A u = b, one factorization and one solve. X on the process holding
-// the results.
+// Without a contact node: A u = b, one factorization and one solve (on the full-space route
+// one Krylov solve to the certificate's tolerance). X on the process holding the results.
 template <int dim>
 Eigen::MatrixXd BasicContactSolver<dim>::linear_solve() {
   const auto t = Clock::now();
   const LinearSystem& sys = *system_;
+  if (krylov_) {
+    detail::require_ok(krylov_->compute(sys.A, Eigen::MatrixXd()), *krylov_, "preconditioner");
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(sys.b.size());
+    // the certificate's residual is in the max norm: ||r||_inf / ||b||_inf <= sqrt(n) ||r||_2 / ||b||_2
+    const double rtol = std::max(1e-14, options_.tolerance / std::sqrt(static_cast<double>(std::max<Eigen::Index>(1, x.size()))));
+    const KrylovSolveResult r = krylov_->solve(sys.b, &x, rtol, 10000);
+    if (!r.ok())
+      throw NumericalError("solve with " + krylov_->name() + " failed (" + to_string(r.status) + "): " + r.message);
+    common_.timings["linear_solve"] = detail::since(t);
+    common_.stages.push_back("linear_solve");
+    return x;
+  }
   detail::require_ok(factorization_->factorize(sys.A), *factorization_, "factorization");
   Eigen::MatrixXd X;
   detail::require_ok(factorization_->solve(sys.b, &X), *factorization_, "solve");
@@ -247,6 +281,83 @@ void BasicContactSolver<dim>::condense() {
   processes_->run_where_results_are([&] {
     if (reduced_) *reduced_ = condensation_->reduced();
   });
+}
+
+// The full-space route's posing: the coordinates, laws and bounds of the reduced problem and
+// the rotated system, nothing factorized.
+template <int dim>
+void BasicContactSolver<dim>::pose() {
+  for (const auto& part : parts_)
+    if (!part.law)
+      throw InputError(parts_.size() == 1 ? std::string("the contact boundary has no contact law")
+                                          : "contact part '" + part.name + "' has no contact law");
+  if (reduced_)
+    throw InputError("the full-space route poses no reduced problem to export: export it with a linear engine that "
+                     "factorizes");
+  if (!common_.held_by_contact.empty())
+    throw InputError("the full-space route needs supports that hold the body (" + common_.held_by_contact.front() +
+                     " is held by the contact alone): use a linear engine that factorizes")
+        .mark_about(ProblemPart::supports);
+  const auto t = Clock::now();
+  condensation_ = about(ProblemPart::contact, [&] {
+    return std::make_unique<Condensation>(*system_, boundary_, part_conditions(parts_), Condensation::PoseOnly{});
+  });
+  common_.timings["posing"] = detail::since(t);
+  common_.stages.push_back("posing");
+  common_.uniqueness_margin = std::numeric_limits<double>::quiet_NaN();
+  common_.uniqueness_roundoff = std::numeric_limits<double>::quiet_NaN();
+}
+
+// The rigid motions of the whole mesh (translations, rotations about its centroid) in the
+// rotated free unknowns: the near-null space of the elasticity operator for the preconditioner.
+template <int dim>
+Eigen::MatrixXd BasicContactSolver<dim>::near_null_space() const {
+  const auto& vertices = problem_.elasticity.mesh->vertices();
+  const int nv = static_cast<int>(vertices.size());
+  constexpr int motions = dim == 2 ? 3 : 6;
+  Eigen::Matrix<double, dim, 1> centre = Eigen::Matrix<double, dim, 1>::Zero();
+  for (const auto& v : vertices) centre += v;
+  centre /= std::max(nv, 1);
+  Eigen::MatrixXd N(system_->dofs.num_free(), motions);
+  for (int k = 0; k < motions; ++k) {
+    Eigen::VectorXd u = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(dim) * nv);
+    for (int v = 0; v < nv; ++v) {
+      const Eigen::Matrix<double, dim, 1> x = vertices[static_cast<std::size_t>(v)] - centre;
+      Eigen::Matrix<double, dim, 1> m = Eigen::Matrix<double, dim, 1>::Zero();
+      if (k < dim) {
+        m(k) = 1.0;
+      } else if constexpr (dim == 2) {
+        m = Eigen::Matrix<double, dim, 1>(-x(1), x(0));
+      } else {
+        m = Eigen::Vector3d::Unit(k - dim).cross(Eigen::Vector3d(x));
+      }
+      u.segment<dim>(dim * v) = m;
+    }
+    // prescribed components are not unknowns: rotated_free reads the free ones
+    N.col(k) = condensation_->rotated_free(u);
+  }
+  return N;
+}
+
+template <int dim>
+void BasicContactSolver<dim>::solve_full_space(Solution& solution) {
+  const auto t = Clock::now();
+  Eigen::VectorXd x;
+  if (start_u_ && start_u_->size() > 0) x = condensation_->rotated_free(*start_u_);
+  FullSpaceStatistics stats;
+  MinimizerResult m = minimize_full_space(*condensation_, *krylov_, near_null_space(), options_, &x, &stats);
+  solution.status = m.status;
+  solution.message = m.message;
+  solution.certificate = m.certificate;
+  solution.may_be_nonunique = m.may_be_nonunique;
+  solution.u = condensation_->displacement_of(x);
+  solution.minimizer = std::move(m);
+  solution.timings["full_space"] = detail::since(t);
+  solution.timings["preconditioner"] = stats.preconditioner_seconds;
+  solution.timings["krylov"] = stats.krylov_seconds;
+  solution.stages.push_back("full_space");
+  post_process(solution);
+  agree_on_status(solution);
 }
 
 // The reduced problem is solved where it lives.

@@ -31,6 +31,7 @@
 #include <Eigen/Core>
 
 #include <algorithm>
+#include <functional>
 #include <limits>
 #include <string>
 
@@ -88,5 +89,29 @@ CertifiedPoint certify(const ReducedProblem& p, const Eigen::VectorXd& a, double
 
 /// The numbers only.
 Certificate certificate(const ReducedProblem& p, const Eigen::VectorXd& a, double tol);
+
+/// The gradient of the smooth part of the energy at a point, as the certificate reads it.
+struct SmoothGradient {
+  /// Per coordinate, (S a - c)_i: for a problem that is not condensed (the full-space route),
+  /// the entry of the whole system's residual A x - b at the coordinate's unknown.
+  Eigen::VectorXd r;
+  /// ||.||_inf of the residual of the unknowns that are not coordinates (0 for the reduced
+  /// problem, where they are eliminated): a force out of balance like any other.
+  double other = 0.0;
+  /// The size of the forces: max(||c||_inf, ||S a||_inf) for the reduced problem;
+  /// max(||b||_inf, ||A x||_inf) over the whole system.
+  double force_size = 0.0;
+};
+
+/// The certificate of a point of a problem that is not condensed (hemivem/contact/full_space.hpp):
+/// the same four steps with the laws, weights and bounds of `p` (its S and c are not read),
+/// the smooth gradient at the snapped coordinates from `gradient` (called once, with the snapped
+/// point), the dual residual the larger of the coordinates' and `other`, and the length scale's
+/// ||D^-1 c||_inf from `stiffness` and `load` per coordinate (the diagonal of A and b there).
+/// With gradient(a) = {S a - c, 0, max(||c||, ||S a||)}, stiffness = diag(S) and load = c this
+/// is certify(p, a, tol) exactly.
+CertifiedPoint certify(const ReducedProblem& p, const Eigen::VectorXd& a, double tol,
+                       const std::function<SmoothGradient(const Eigen::VectorXd&)>& gradient,
+                       const Eigen::VectorXd& stiffness, const Eigen::VectorXd& load);
 
 }  // namespace hemivem

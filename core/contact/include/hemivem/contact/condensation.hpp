@@ -188,7 +188,31 @@ class Condensation {
                std::unique_ptr<SparseFactorization> factorization, const std::vector<PartConditions>& parts,
                bool semi_coercive = false);
 
+  /// The tag of the construction that poses without condensing.
+  struct PoseOnly {};
+  /// Poses the reduced problem's coordinates, laws, weights and bounds as the constructor above
+  /// does, without a factorization: S stays empty and c is zero, and the rotated system of all free
+  /// unknowns is kept instead (rotated_matrix(), rotated_load()) for the full-space route
+  /// (hemivem/contact/full_space.hpp). Nothing that needs the factorization may be called
+  /// (factorization(), back_substitute(), set_load(), condition_estimate(): InternalError).
+  Condensation(const LinearSystem& system, const ContactBoundary& boundary, const std::vector<PartConditions>& parts,
+               PoseOnly);
+
   const ReducedProblem& reduced() const noexcept { return reduced_; }
+  /// The posed construction's system of all free unknowns, in the (normal, tangential) frame at
+  /// the contact nodes (and relative at the pairs of two bodies): A~ and b~ (empty after a
+  /// condensation, which does not keep them).
+  const SparseMatrix& rotated_matrix() const noexcept { return At_; }
+  const Eigen::VectorXd& rotated_load() const noexcept { return bt_; }
+  /// The index in the rotated system of reduced coordinate k (its normal or tangential slot).
+  int rotated_index(Eigen::Index k) const { return block1_[static_cast<std::size_t>(coordinate1_[static_cast<std::size_t>(k)])]; }
+  /// The rotated unknowns held at 0 that are not coordinates: the normals of bilateral nodes.
+  std::vector<int> tied_rows() const;
+  /// The full nodal displacement (prescribed values included) of the rotated free unknowns x~.
+  Eigen::VectorXd displacement_of(const Eigen::VectorXd& xt) const;
+  /// The rotated free unknowns of a full nodal displacement u (its free part, relative at the
+  /// pairs, in the contact nodes' frames): displacement_of's inverse on the free dofs.
+  Eigen::VectorXd rotated_free(const Eigen::VectorXd& u) const;
   /// Per reduced coordinate, the normal displacement where it is 0: g_i for the normal
   /// unknowns with law_from_surface, else 0 (so u_nu = a + origin).
   const Eigen::VectorXd& origin() const noexcept { return origin_; }
@@ -235,7 +259,7 @@ class Condensation {
   /// c before the shift by -S origin(): the condensed load b1 - A12 A22^{-1} b2 (of the
   /// reduced coordinates) on the process holding the results.
   const Eigen::VectorXd& condensed_load() const noexcept { return raw_c_; }
-  const SparseFactorization& factorization() const { return *factorization_; }
+  const SparseFactorization& factorization() const;
   /// Estimate of the 1-norm condition number kappa_1(A22) of the factorized interior block,
   /// independent of the engine: ||A22||_1 times the Hager-Higham estimate of ||A22^{-1}||_1
   /// from 3 interior solves, the first of two right-hand sides (the same calls on every
@@ -277,6 +301,8 @@ class Condensation {
     return node >= 0 && node < static_cast<int>(of.size()) ? of[static_cast<std::size_t>(node)] : -1;
   }
   // the steps of the constructor, in order
+  void pose(const LinearSystem& system, const ContactBoundary& boundary, const std::vector<PartConditions>& parts,
+            SparseMatrix* At, Eigen::VectorXd* bt);
   void number_coordinates(const ContactBoundary& boundary, const std::vector<PartConditions>& parts);
   void order_unknowns(const LinearSystem& system, const ContactBoundary& boundary);
   Eigen::VectorXd rotate_load(const Eigen::VectorXd& b) const;
@@ -293,6 +319,8 @@ class Condensation {
   SparseMatrix A21_;              // block2 x block1 of the rotated matrix (when extracted)
   double a22_norm1_ = 0.0;        // ||A22||_1
   Eigen::VectorXd b2_;
+  SparseMatrix At_;     // the rotated system (PoseOnly)
+  Eigen::VectorXd bt_;
 };
 
 }  // namespace hemivem

@@ -20,6 +20,7 @@
 #include <hemivem/contact/forces.hpp>
 #include <hemivem/contact/problem.hpp>
 #include <hemivem/contact/supports.hpp>
+#include <hemivem/krylov_solver.hpp>
 #include <hemivem/nonsmooth_minimizer.hpp>
 #include <hemivem/sparse_factorization.hpp>
 
@@ -281,6 +282,14 @@ class BasicContactSolver {
   /// one assembly with several engines: no "assembly" stage, and "total" excludes it.
   BasicContactSolver(const Problem& problem, const LinearSystem& system,
                      std::unique_ptr<SparseFactorization> factorization, const MinimizerOptions& options);
+  /// The full-space route (hemivem/contact/full_space.hpp): the contact problem minimized over
+  /// all free unknowns with `krylov` for its Newton systems, nothing factorized or condensed.
+  /// Its stages are "assembly", "posing" (the contact coordinates, laws and bounds) and
+  /// "full_space" (the semismooth Newton iteration); run() takes the one minimizer "ssn" (the
+  /// route's Newton iteration is ssn's in the whole space; another is an InputError naming it).
+  /// The uniqueness margin is not measured (NaN): a solution is called unique only where every
+  /// law is convex.
+  BasicContactSolver(const Problem& problem, std::unique_ptr<KrylovSolver> krylov, const MinimizerOptions& options);
   BasicContactSolver(const BasicContactSolver&) = delete;
   BasicContactSolver& operator=(const BasicContactSolver&) = delete;
   ~BasicContactSolver();
@@ -323,6 +332,9 @@ class BasicContactSolver {
   void set_up_contact();
   Eigen::MatrixXd linear_solve();
   void condense();
+  void pose();
+  void solve_full_space(Solution& solution);
+  Eigen::MatrixXd near_null_space() const;
   void minimize(const NonsmoothMinimizer& minimizer, Solution& solution) const;
   void back_substitute(Solution& solution) const;
   void post_process(Solution& solution) const;
@@ -340,6 +352,7 @@ class BasicContactSolver {
   std::vector<BasicContactPart<dim>> parts_;
   ContactBoundary boundary_;
   std::unique_ptr<Condensation> condensation_;
+  std::unique_ptr<KrylovSolver> krylov_;  // the full-space route's engine (null: condensed route)
   bool estimate_condition_ = false;
   ReducedProblem* reduced_ = nullptr;
   const Eigen::VectorXd* start_u_ = nullptr;

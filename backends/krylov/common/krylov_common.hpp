@@ -1,0 +1,64 @@
+// Private helpers of the Krylov engines (not installed): the contract's checks of compute()
+// and solve() arguments, the screening of a matrix before a preconditioner is built, and the
+// true relative residual every engine reports.
+#pragma once
+
+#include <hemivem/error.hpp>
+#include <hemivem/krylov_solver.hpp>
+
+#include <Eigen/Core>
+
+#include <cmath>
+#include <string>
+
+namespace hemivem::krylov {
+
+/// Throws InternalError unless A is square and `near_null` has A.rows() rows or no columns.
+inline void check_compute_arguments(const std::string& engine, const SparseMatrix& A,
+                                    const Eigen::MatrixXd& near_null) {
+  if (A.rows() != A.cols())
+    throw InternalError(engine + ": compute() needs a square matrix, not " + std::to_string(A.rows()) + " x " +
+                        std::to_string(A.cols()));
+  if (near_null.cols() > 0 && near_null.rows() != A.rows())
+    throw InternalError(engine + ": the near-null space has " + std::to_string(near_null.rows()) +
+                        " rows for a matrix of " + std::to_string(A.rows()));
+}
+
+/// Throws InternalError unless b fits the matrix of size n, x is not null, rtol > 0 and
+/// max_iterations >= 0.
+inline void check_solve_arguments(const std::string& engine, Eigen::Index n, const Eigen::VectorXd& b,
+                                  const Eigen::VectorXd* x, double rtol, int max_iterations) {
+  if (b.size() != n)
+    throw InternalError(engine + ": solve() got a right-hand side of size " + std::to_string(b.size()) +
+                        " for a matrix of " + std::to_string(n));
+  if (!x) throw InternalError(engine + ": solve() needs an x");
+  if (!(rtol > 0.0)) throw InternalError(engine + ": solve() needs rtol > 0, not " + std::to_string(rtol));
+  if (max_iterations < 0)
+    throw InternalError(engine + ": solve() needs max_iterations >= 0, not " + std::to_string(max_iterations));
+}
+
+/// What the entries of A say before any preconditioner is built: numerical_failure for an
+/// entry that is not finite, not_positive_definite for a diagonal entry <= 0 (a symmetric
+/// positive definite matrix has a positive diagonal), success otherwise.
+inline FactorizationResult screen_matrix(const SparseMatrix& A) {
+  for (Eigen::Index j = 0; j < A.outerSize(); ++j)
+    for (SparseMatrix::InnerIterator it(A, j); it; ++it)
+      if (!std::isfinite(it.value()))
+        return {FactorizationStatus::numerical_failure,
+                "the entry (" + std::to_string(it.row()) + ", " + std::to_string(it.col()) + ") is not finite"};
+  const Eigen::VectorXd d = A.diagonal();
+  for (Eigen::Index i = 0; i < d.size(); ++i)
+    if (!(d(i) > 0.0))
+      return {FactorizationStatus::not_positive_definite,
+              "the diagonal entry " + std::to_string(i) + " is " + std::to_string(d(i)) + " <= 0"};
+  return FactorizationResult::good();
+}
+
+/// ||b - A x||_2 / ||b||_2 (||b - A x||_2 for b = 0).
+inline double relative_residual(const SparseMatrix& A, const Eigen::VectorXd& b, const Eigen::VectorXd& x) {
+  const double bn = b.norm();
+  const double rn = (b - A * x).norm();
+  return bn > 0.0 ? rn / bn : rn;
+}
+
+}  // namespace hemivem::krylov

@@ -1,0 +1,117 @@
+#include <hemivem/eigen_cg_solver.hpp>
+
+#include <hemivem/error.hpp>
+
+#include <Eigen/IterativeLinearSolvers>
+
+#include <cmath>
+#include <sstream>
+#include <utility>
+
+#include "krylov_common.hpp"
+
+namespace hemivem {
+
+namespace {
+
+using IcCg = Eigen::ConjugateGradient<SparseMatrix, Eigen::Lower | Eigen::Upper, Eigen::IncompleteCholesky<double>>;
+using DiagonalCg =
+    Eigen::ConjugateGradient<SparseMatrix, Eigen::Lower | Eigen::Upper, Eigen::DiagonalPreconditioner<double>>;
+
+/// The restarts from the last x when CG's recursive residual says converged and the true
+/// residual does not.
+constexpr int kMaxRestarts = 4;
+
+std::string format(double value) {
+  std::ostringstream s;
+  s.precision(3);
+  s << std::scientific << value;
+  return s.str();
+}
+
+}  // namespace
+
+struct EigenCgSolver::Impl {
+  SparseMatrix A;  // Eigen's solvers keep a reference to the matrix they were computed on
+  mutable IcCg ic;
+  mutable DiagonalCg diagonal;
+  bool use_diagonal = false;
+  bool computed = false;
+
+  /// One CG run from *x; returns its iterations and whether it reported success.
+  template <class Cg>
+  std::pair<int, bool> run(Cg& cg, const Eigen::VectorXd& b, Eigen::VectorXd* x, double rtol, int budget) const {
+    cg.setTolerance(rtol);
+    cg.setMaxIterations(budget);
+    *x = cg.solveWithGuess(b, *x);
+    return {static_cast<int>(cg.iterations()), cg.info() == Eigen::Success};
+  }
+};
+
+EigenCgSolver::EigenCgSolver() : impl_(std::make_unique<Impl>()) {}
+EigenCgSolver::~EigenCgSolver() = default;
+
+bool EigenCgSolver::uses_diagonal_preconditioner() const noexcept { return impl_->use_diagonal; }
+
+FactorizationResult EigenCgSolver::compute(const SparseMatrix& A, const Eigen::MatrixXd& near_null) {
+  krylov::check_compute_arguments(name(), A, near_null);
+  Impl& m = *impl_;
+  m.computed = false;
+  if (const FactorizationResult screened = krylov::screen_matrix(A); !screened.ok())
+    return {screened.status, "eigen-cg: " + screened.message};
+  m.A = A;
+  m.A.makeCompressed();
+  m.use_diagonal = false;
+  m.ic.compute(m.A);
+  if (m.ic.info() != Eigen::Success) {
+    m.use_diagonal = true;
+    m.diagonal.compute(m.A);
+    if (m.diagonal.info() != Eigen::Success)
+      return {FactorizationStatus::numerical_failure, "eigen-cg: neither the incomplete Cholesky nor the diagonal "
+                                                      "preconditioner could be set up"};
+  }
+  m.computed = true;
+  return FactorizationResult::good();
+}
+
+KrylovSolveResult EigenCgSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd* x, double rtol,
+                                       int max_iterations) const {
+  const Impl& m = *impl_;
+  if (!m.computed) throw InternalError("eigen-cg: solve() before a successful compute()");
+  krylov::check_solve_arguments(name(), m.A.rows(), b, x, rtol, max_iterations);
+  if (x->size() != b.size()) x->setZero(b.size());
+  KrylovSolveResult out;
+  const double bn = b.norm();
+  if (bn == 0.0) {
+    x->setZero();
+    return out;
+  }
+  if (!x->allFinite()) x->setZero();
+  double relative = krylov::relative_residual(m.A, b, *x);
+  for (int restart = 0; relative > rtol && out.iterations < max_iterations && restart <= kMaxRestarts; ++restart) {
+    const int budget = max_iterations - out.iterations;
+    const auto [iterations, converged] =
+        m.use_diagonal ? m.run(m.diagonal, b, x, rtol, budget) : m.run(m.ic, b, x, rtol, budget);
+    out.iterations += iterations;
+    relative = krylov::relative_residual(m.A, b, *x);
+    if (!converged || iterations == 0) break;
+  }
+  out.relative_residual = relative;
+  const Eigen::VectorXd Ax = m.A * *x;
+  const double curvature = x->dot(Ax);
+  if (!std::isfinite(relative)) {
+    out.status = FactorizationStatus::numerical_failure;
+    out.message = "eigen-cg: the iterate is not finite after " + std::to_string(out.iterations) + " iterations";
+  } else if (x->squaredNorm() > 0.0 && !(curvature > 0.0)) {
+    out.status = FactorizationStatus::not_positive_definite;
+    out.message =
+        "eigen-cg: x^T A x = " + format(curvature) + " <= 0 for the x of CG: the matrix is not positive definite";
+  } else if (relative > rtol) {
+    out.status = FactorizationStatus::numerical_failure;
+    out.message = "eigen-cg: no convergence in " + std::to_string(out.iterations) + " iterations (of " +
+                  std::to_string(max_iterations) + "): relative residual " + format(relative) + " > " + format(rtol);
+  }
+  return out;
+}
+
+}  // namespace hemivem

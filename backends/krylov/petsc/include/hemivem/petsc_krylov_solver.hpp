@@ -1,0 +1,70 @@
+// The Krylov engines "petsc-gamg" and "petsc-hypre": PETSc's conjugate gradient (KSPCG, the
+// unpreconditioned residual norm) on a sequential AIJ copy of A, preconditioned by
+//   petsc-gamg   PETSc's smoothed aggregation multigrid (PCGAMG) given the near-null space
+//                (MatSetNearNullSpace with the columns of `near_null`, orthonormalized: the
+//                rigid motions of an elastic body make its coarse spaces those of elasticity);
+//   petsc-hypre  hypre's BoomerAMG (PCHYPRE); with a near-null space of six columns (a solid's
+//                rigid motions) its strong threshold is 0.5, hypre's advice for 3D elasticity,
+//                otherwise hypre's default 0.25.
+//
+// solve() runs CG from *x until PETSc's recursive residual is below rtol ||b||_2, then computes
+// the true residual ||b - A x||_2 / ||b||_2 and restarts CG from x (at most four times, within
+// max_iterations in all) while it is above rtol. CG stopping on negative curvature
+// (KSP_DIVERGED_INDEFINITE_MAT) or on an indefinite preconditioner (KSP_DIVERGED_INDEFINITE_PC)
+// is not_positive_definite, as is a diagonal entry <= 0 found by compute(); any other reason
+// to stop short of rtol (the iteration limit, a breakdown, a PETSc error) is numerical_failure
+// with PETSc's name for the reason.
+//
+// PETSc is initialized by the first object (PetscInitializeNoArguments, without PETSc's signal
+// handlers; MPI through it when nobody initialized MPI: a program started without mpirun is a
+// singleton), and finalized at program exit when hemivem initialized it, no object is left and
+// MPI is still running. Every PETSc call runs under PETSc's PetscReturnErrorHandler, so nothing
+// prints; each object keeps its options in its own PETSc options database.
+//
+// PETSc's Debian build links the MPI build of MUMPS, whose symbols are those of the sequential
+// MUMPS hemivem links: these classes live in a module that hemivem's Krylov factory loads at run
+// time (hemivem/petsc_krylov_plugin.hpp), never in a library a hemivem program links.
+#pragma once
+
+#include <hemivem/krylov_solver.hpp>
+
+#include <memory>
+#include <string>
+
+namespace hemivem {
+
+class PetscKrylovSolver : public KrylovSolver {
+ public:
+  enum class Preconditioner { gamg, hypre };
+
+  ~PetscKrylovSolver() override;
+  PetscKrylovSolver(const PetscKrylovSolver&) = delete;
+  PetscKrylovSolver& operator=(const PetscKrylovSolver&) = delete;
+
+  std::string name() const override;
+  FactorizationResult compute(const SparseMatrix& A, const Eigen::MatrixXd& near_null) override;
+  /// Not thread-safe: the PETSc solver and vectors live in the object.
+  KrylovSolveResult solve(const Eigen::VectorXd& b, Eigen::VectorXd* x, double rtol,
+                          int max_iterations) const override;
+
+ protected:
+  explicit PetscKrylovSolver(Preconditioner preconditioner);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// "petsc-gamg".
+class PetscGamgSolver final : public PetscKrylovSolver {
+ public:
+  PetscGamgSolver() : PetscKrylovSolver(Preconditioner::gamg) {}
+};
+
+/// "petsc-hypre".
+class PetscHypreSolver final : public PetscKrylovSolver {
+ public:
+  PetscHypreSolver() : PetscKrylovSolver(Preconditioner::hypre) {}
+};
+
+}  // namespace hemivem

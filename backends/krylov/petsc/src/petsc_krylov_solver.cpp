@@ -1,0 +1,351 @@
+#include <hemivem/petsc_krylov_solver.hpp>
+
+#include <hemivem/error.hpp>
+
+#include <petscksp.h>
+
+#include <Eigen/QR>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <mutex>
+#include <sstream>
+#include <vector>
+
+#include "krylov_common.hpp"
+
+namespace hemivem {
+
+namespace {
+
+/// The restarts from the last x when PETSc's recursive residual says converged and the true
+/// residual does not.
+constexpr int kMaxRestarts = 4;
+
+std::string format(double value) {
+  std::ostringstream s;
+  s.precision(3);
+  s << std::scientific << value;
+  return s.str();
+}
+
+/// "PETSc error <code> in <call>: <message>".
+std::string petsc_error(PetscErrorCode code, const char* call) {
+  const char* text = nullptr;
+  char* specific = nullptr;
+  PetscErrorMessage(static_cast<int>(code), &text, &specific);
+  std::string out = "PETSc error " + std::to_string(static_cast<int>(code)) + " in " + call;
+  if (text && *text) out += std::string(": ") + text;
+  if (specific && *specific) out += std::string(" (") + specific + ")";
+  return out;
+}
+
+/// Inside a function returning PetscErrorCode with a std::string* error: the call, and on
+/// failure its message in *error and its code returned.
+#define HEMIVEM_PETSC(call)                             \
+  do {                                                  \
+    const PetscErrorCode hemivem_code_ = (call);        \
+    if (hemivem_code_ != 0) {                           \
+      *error = petsc_error(hemivem_code_, #call);       \
+      return hemivem_code_;                             \
+    }                                                   \
+  } while (0)
+
+/// PETSc in this process: initialized once by the first object that needs it, finalized at
+/// program exit when hemivem initialized it, no object is left and MPI still runs.
+class PetscRuntime {
+ public:
+  static PetscRuntime& instance() {
+    static PetscRuntime runtime;
+    return runtime;
+  }
+
+  /// Empty when PETSc runs; why it does not otherwise.
+  const std::string& start() {
+    std::call_once(once_, [this] {
+      PetscBool initialized = PETSC_FALSE;
+      if (PetscInitialized(&initialized) == 0 && initialized) return;  // the program's own PETSc
+      PetscBool finalized = PETSC_FALSE;
+      if (PetscFinalized(&finalized) == 0 && finalized) {
+        error_ = "PETSc was finalized in this process";
+        return;
+      }
+      // Before PetscInitialize: PETSc leaves the program's signal handlers alone.
+      PetscOptionsSetValue(nullptr, "-no_signal_handler", "true");
+      const PetscErrorCode code = PetscInitializeNoArguments();
+      if (code != 0) {
+        error_ = "PetscInitialize failed with error " + std::to_string(static_cast<int>(code));
+        return;
+      }
+      owned_ = true;
+    });
+    return error_;
+  }
+
+  void attach() noexcept { ++live_; }
+  void detach() noexcept { --live_; }
+
+  /// True while PETSc objects may be created and destroyed.
+  static bool running() noexcept {
+    PetscBool initialized = PETSC_FALSE, finalized = PETSC_TRUE;
+    return PetscInitialized(&initialized) == 0 && initialized && PetscFinalized(&finalized) == 0 && !finalized;
+  }
+
+  ~PetscRuntime() {
+    if (!owned_ || live_.load() > 0 || !running()) return;
+    int mpi_finalized = 0;
+    if (MPI_Finalized(&mpi_finalized) != MPI_SUCCESS || mpi_finalized) return;
+    PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
+    PetscFinalize();
+  }
+
+ private:
+  PetscRuntime() = default;
+
+  std::once_flag once_;
+  std::string error_;
+  bool owned_ = false;
+  std::atomic<int> live_{0};
+};
+
+/// PETSc's error handler is PetscReturnErrorHandler (nothing printed) while it lives.
+class QuietErrors {
+ public:
+  QuietErrors() { pushed_ = PetscPushErrorHandler(PetscReturnErrorHandler, nullptr) == 0; }
+  ~QuietErrors() {
+    if (pushed_) PetscPopErrorHandler();
+  }
+  QuietErrors(const QuietErrors&) = delete;
+  QuietErrors& operator=(const QuietErrors&) = delete;
+
+ private:
+  bool pushed_ = false;
+};
+
+/// The orthonormal basis of the span of the columns of V (rank by a pivoted QR, columns whose
+/// pivot is below 1e-12 of the largest dropped).
+Eigen::MatrixXd orthonormal_basis(const Eigen::MatrixXd& V) {
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(V);
+  qr.setThreshold(1e-12);
+  const Eigen::Index rank = qr.rank();
+  Eigen::MatrixXd Q = Eigen::MatrixXd::Identity(V.rows(), rank);
+  Q.applyOnTheLeft(qr.householderQ());
+  return Q;
+}
+
+}  // namespace
+
+struct PetscKrylovSolver::Impl {
+  Preconditioner preconditioner;
+  Mat matrix = nullptr;
+  KSP ksp = nullptr;
+  Vec rhs = nullptr, solution = nullptr, residual = nullptr;
+  PetscOptions options = nullptr;
+  PetscInt size = 0;
+  bool computed = false;
+
+  explicit Impl(Preconditioner pc) : preconditioner(pc) { PetscRuntime::instance().attach(); }
+  ~Impl() {
+    release();
+    PetscRuntime::instance().detach();
+  }
+
+  const char* name() const { return preconditioner == Preconditioner::gamg ? "petsc-gamg" : "petsc-hypre"; }
+
+  /// Destroys the PETSc objects (left alone once PETSc is finalized).
+  void release() {
+    computed = false;
+    if (!PetscRuntime::running()) {
+      matrix = nullptr, ksp = nullptr, rhs = solution = residual = nullptr, options = nullptr;
+      return;
+    }
+    const QuietErrors quiet;
+    if (ksp) KSPDestroy(&ksp);
+    if (matrix) MatDestroy(&matrix);
+    if (rhs) VecDestroy(&rhs);
+    if (solution) VecDestroy(&solution);
+    if (residual) VecDestroy(&residual);
+    if (options) PetscOptionsDestroy(&options);
+  }
+
+  /// The AIJ copy of A, its near-null space, the vectors and the KSP with its preconditioner.
+  PetscErrorCode setup(const SparseMatrix& A, const Eigen::MatrixXd& near_null, std::string* error) {
+    using RowMajor = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
+    RowMajor R = A;
+    R.makeCompressed();
+    size = static_cast<PetscInt>(R.rows());
+    const std::vector<PetscInt> rows(R.outerIndexPtr(), R.outerIndexPtr() + R.rows() + 1);
+    const std::vector<PetscInt> columns(R.innerIndexPtr(), R.innerIndexPtr() + R.nonZeros());
+    HEMIVEM_PETSC(MatCreate(PETSC_COMM_SELF, &matrix));
+    HEMIVEM_PETSC(MatSetSizes(matrix, size, size, size, size));
+    HEMIVEM_PETSC(MatSetType(matrix, MATSEQAIJ));
+    HEMIVEM_PETSC(MatSeqAIJSetPreallocationCSR(matrix, rows.data(), columns.data(), R.valuePtr()));
+    HEMIVEM_PETSC(MatSetOption(matrix, MAT_SYMMETRIC, PETSC_TRUE));
+
+    if (near_null.cols() > 0) {
+      const Eigen::MatrixXd Q = orthonormal_basis(near_null);
+      std::vector<Vec> vectors(static_cast<std::size_t>(Q.cols()), nullptr);
+      PetscErrorCode code = 0;
+      for (Eigen::Index k = 0; k < Q.cols() && code == 0; ++k) {
+        Vec& v = vectors[static_cast<std::size_t>(k)];
+        code = VecCreateSeq(PETSC_COMM_SELF, size, &v);
+        PetscScalar* data = nullptr;
+        if (code == 0) code = VecGetArray(v, &data);
+        if (code == 0) {
+          for (PetscInt i = 0; i < size; ++i) data[i] = Q(i, k);
+          code = VecRestoreArray(v, &data);
+        }
+      }
+      MatNullSpace space = nullptr;
+      if (code == 0) code = MatNullSpaceCreate(PETSC_COMM_SELF, PETSC_FALSE, static_cast<PetscInt>(Q.cols()),
+                                               vectors.data(), &space);
+      if (code == 0) code = MatSetNearNullSpace(matrix, space);
+      if (space) MatNullSpaceDestroy(&space);
+      for (Vec& v : vectors)
+        if (v) VecDestroy(&v);
+      if (code != 0) {
+        *error = petsc_error(code, "the near-null space (MatNullSpaceCreate, MatSetNearNullSpace)");
+        return code;
+      }
+    }
+
+    HEMIVEM_PETSC(MatCreateVecs(matrix, &solution, &rhs));
+    HEMIVEM_PETSC(VecDuplicate(rhs, &residual));
+
+    HEMIVEM_PETSC(PetscOptionsCreate(&options));
+    HEMIVEM_PETSC(KSPCreate(PETSC_COMM_SELF, &ksp));
+    HEMIVEM_PETSC(PetscObjectSetOptions(reinterpret_cast<PetscObject>(ksp), options));
+    HEMIVEM_PETSC(KSPSetOperators(ksp, matrix, matrix));
+    HEMIVEM_PETSC(KSPSetType(ksp, KSPCG));
+    HEMIVEM_PETSC(KSPSetNormType(ksp, KSP_NORM_UNPRECONDITIONED));
+    HEMIVEM_PETSC(KSPSetInitialGuessNonzero(ksp, PETSC_TRUE));
+    PC pc = nullptr;
+    HEMIVEM_PETSC(KSPGetPC(ksp, &pc));
+    HEMIVEM_PETSC(PetscObjectSetOptions(reinterpret_cast<PetscObject>(pc), options));
+    if (preconditioner == Preconditioner::gamg) {
+      HEMIVEM_PETSC(PCSetType(pc, PCGAMG));
+      HEMIVEM_PETSC(PCGAMGSetType(pc, PCGAMGAGG));
+    } else {
+      HEMIVEM_PETSC(PCSetType(pc, PCHYPRE));
+      HEMIVEM_PETSC(PCHYPRESetType(pc, "boomeramg"));
+      if (near_null.cols() == 6)
+        HEMIVEM_PETSC(PetscOptionsSetValue(options, "-pc_hypre_boomeramg_strong_threshold", "0.5"));
+    }
+    HEMIVEM_PETSC(PCSetFromOptions(pc));
+    HEMIVEM_PETSC(KSPSetUp(ksp));
+    return 0;
+  }
+};
+
+PetscKrylovSolver::PetscKrylovSolver(Preconditioner preconditioner)
+    : impl_(std::make_unique<Impl>(preconditioner)) {}
+PetscKrylovSolver::~PetscKrylovSolver() = default;
+
+std::string PetscKrylovSolver::name() const { return impl_->name(); }
+
+FactorizationResult PetscKrylovSolver::compute(const SparseMatrix& A, const Eigen::MatrixXd& near_null) {
+  krylov::check_compute_arguments(name(), A, near_null);
+  Impl& m = *impl_;
+  m.release();
+  if (const std::string& why = PetscRuntime::instance().start(); !why.empty())
+    return {FactorizationStatus::numerical_failure, name() + ": " + why};
+  if (!PetscRuntime::running()) return {FactorizationStatus::numerical_failure, name() + ": PETSc is not running"};
+  if (const FactorizationResult screened = krylov::screen_matrix(A); !screened.ok())
+    return {screened.status, name() + ": " + screened.message};
+  const QuietErrors quiet;
+  std::string error;
+  if (m.setup(A, near_null, &error) != 0) {
+    m.release();
+    return {FactorizationStatus::numerical_failure, name() + ": " + error};
+  }
+  m.computed = true;
+  return FactorizationResult::good();
+}
+
+KrylovSolveResult PetscKrylovSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd* x, double rtol,
+                                           int max_iterations) const {
+  Impl& m = *impl_;
+  if (!m.computed) throw InternalError(name() + ": solve() before a successful compute()");
+  krylov::check_solve_arguments(name(), static_cast<Eigen::Index>(m.size), b, x, rtol, max_iterations);
+  if (x->size() != b.size()) x->setZero(b.size());
+  KrylovSolveResult out;
+  const double bn = b.norm();
+  if (bn == 0.0) {
+    x->setZero();
+    return out;
+  }
+  if (!x->allFinite()) x->setZero();
+  if (!PetscRuntime::running())
+    return {FactorizationStatus::numerical_failure, name() + ": PETSc was finalized", 0, 0.0};
+
+  const QuietErrors quiet;
+  std::string failure;
+  KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
+  double relative = 0.0;
+  // The solve with PETSc's vectors holding b and x; x and the true residual copied back.
+  const auto run = [&](std::string* error) -> PetscErrorCode {
+    PetscScalar* data = nullptr;
+    HEMIVEM_PETSC(VecGetArray(m.rhs, &data));
+    std::copy(b.data(), b.data() + b.size(), data);
+    HEMIVEM_PETSC(VecRestoreArray(m.rhs, &data));
+    HEMIVEM_PETSC(VecGetArray(m.solution, &data));
+    std::copy(x->data(), x->data() + x->size(), data);
+    HEMIVEM_PETSC(VecRestoreArray(m.solution, &data));
+    PetscReal residual_norm = 0.0;
+    HEMIVEM_PETSC(MatResidual(m.matrix, m.rhs, m.solution, m.residual));
+    HEMIVEM_PETSC(VecNorm(m.residual, NORM_2, &residual_norm));
+    relative = static_cast<double>(residual_norm) / bn;
+    for (int restart = 0; relative > rtol && out.iterations < max_iterations && restart <= kMaxRestarts; ++restart) {
+      HEMIVEM_PETSC(KSPSetTolerances(m.ksp, rtol, 0.0, PETSC_DEFAULT, max_iterations - out.iterations));
+      HEMIVEM_PETSC(KSPSolve(m.ksp, m.rhs, m.solution));
+      PetscInt iterations = 0;
+      HEMIVEM_PETSC(KSPGetIterationNumber(m.ksp, &iterations));
+      HEMIVEM_PETSC(KSPGetConvergedReason(m.ksp, &reason));
+      out.iterations += static_cast<int>(iterations);
+      HEMIVEM_PETSC(MatResidual(m.matrix, m.rhs, m.solution, m.residual));
+      HEMIVEM_PETSC(VecNorm(m.residual, NORM_2, &residual_norm));
+      relative = static_cast<double>(residual_norm) / bn;
+      if (reason < 0 || iterations == 0) break;
+    }
+    const PetscScalar* result = nullptr;
+    HEMIVEM_PETSC(VecGetArrayRead(m.solution, &result));
+    std::copy(result, result + m.size, x->data());
+    HEMIVEM_PETSC(VecRestoreArrayRead(m.solution, &result));
+    return 0;
+  };
+  if (run(&failure) != 0) {
+    out.status = FactorizationStatus::numerical_failure;
+    out.message = name() + ": " + failure;
+    out.relative_residual = relative;
+    return out;
+  }
+  out.relative_residual = relative;
+  const std::string why = reason == KSP_CONVERGED_ITERATING ? std::string("start accepted")
+                                                             : std::string(KSPConvergedReasons[reason]);
+  if (reason == KSP_DIVERGED_INDEFINITE_MAT || reason == KSP_DIVERGED_INDEFINITE_PC) {
+    out.status = FactorizationStatus::not_positive_definite;
+    out.message = name() + ": CG stopped after " + std::to_string(out.iterations) + " iterations (" + why + "): " +
+                  (reason == KSP_DIVERGED_INDEFINITE_MAT ? "the matrix" : "the preconditioner") +
+                  " is not positive definite";
+  } else if (!std::isfinite(relative)) {
+    out.status = FactorizationStatus::numerical_failure;
+    out.message = name() + ": the iterate is not finite after " + std::to_string(out.iterations) + " iterations (" +
+                  why + ")";
+  } else if (relative > rtol) {
+    out.status = FactorizationStatus::numerical_failure;
+    std::string detail = why;
+    if (reason == KSP_DIVERGED_PC_FAILED) {
+      PC pc = nullptr;
+      PCFailedReason failed = PC_NOERROR;
+      if (KSPGetPC(m.ksp, &pc) == 0 && PCGetFailedReason(pc, &failed) == 0)
+        detail += std::string(", ") + PCFailedReasons[failed];
+    }
+    out.message = name() + ": no convergence in " + std::to_string(out.iterations) + " iterations (of " +
+                  std::to_string(max_iterations) + ", " + detail + "): relative residual " + format(relative) +
+                  " > " + format(rtol);
+  }
+  return out;
+}
+
+}  // namespace hemivem

@@ -1,0 +1,55 @@
+// The full-space route (docs/full-space.md): the contact problem minimized over all free
+// unknowns at once, without a factorization. Each Newton system is solved by a preconditioned
+// Krylov method (hemivem/krylov_solver.hpp), so that memory and time grow with the unknowns, not
+// with a factor's fill or the square of the contact surface.
+//
+//   min E(x) = 1/2 x^T A x - b^T x + sum_k w_k j_k(a_k),  a_k = x_{row(k)} - origin_k in [lo_k, hi_k],
+//
+// over the rotated free unknowns x of a posed problem (Condensation::PoseOnly: the same
+// coordinates, laws, weights and bounds as the reduced problem, whose F(a) is the minimum of E
+// over the other unknowns). The method is the projected semismooth Newton method of the ssn engine
+// in the whole space: per coordinate its knots (bounds and kinks of its law), a piece box between
+// neighbouring knots on the side of descent, coordinates on a knot held where the one-sided
+// derivatives say so, an epsilon-active set sent exactly onto knots; the Newton system is
+// A + diag(w_k max(j_k'', 0)) on the moving coordinates (a law's negative curvature left out, so
+// that every system is positive definite and CG applies), the held unknowns eliminated; the step
+// is backtracked along the projection arc with Armijo's rule on E. E decreases monotonically, so
+// the iteration reaches a critical point from any start; where every law is convex it is the
+// unique minimizer. Krylov solves are inexact (their tolerance follows the certificate's residual
+// down to 1e-12); the verdict is the certificate's (hemivem/certificate.hpp) at the point returned,
+// computed from the true residual of the whole system.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <hemivem/contact/condensation.hpp>
+#include <hemivem/krylov_solver.hpp>
+#include <hemivem/nonsmooth_minimizer.hpp>
+
+namespace hemivem {
+
+/// What a full-space solve did besides the certificate.
+struct FullSpaceStatistics {
+  int newton_iterations = 0;
+  int krylov_iterations = 0;           ///< summed over the Newton systems
+  int preconditioner_setups = 0;
+  double preconditioner_seconds = 0.0;  ///< the Krylov engine's compute()
+  double krylov_seconds = 0.0;          ///< its solve()
+};
+
+/// The certificate of the rotated unknowns x of `posed` (Condensation::PoseOnly) at tolerance
+/// `tol`: certify() of the reduced problem's coordinates with the smooth gradient read from the
+/// residual A x - b of the whole system (the rows of tied unknowns are reactions and not counted).
+CertifiedPoint certify_full_space(const Condensation& posed, const Eigen::VectorXd& x, double tol);
+
+/// Minimizes E over the rotated free unknowns of `posed` from *x (its size: start; otherwise 0;
+/// the coordinates projected onto their bounds first) with `krylov` for the Newton systems and
+/// `near_null` (the rigid motions in the rotated unknowns, or no columns) for its preconditioner.
+/// Returns the minimizer's report at the point it ends on (a, the forces and the certificate;
+/// objective E there) and leaves that point in *x. InputError for a problem with groups of
+/// coordinates (a solid's isotropic friction), which this route does not take.
+MinimizerResult minimize_full_space(const Condensation& posed, KrylovSolver& krylov, const Eigen::MatrixXd& near_null,
+                                    const MinimizerOptions& options, Eigen::VectorXd* x,
+                                    FullSpaceStatistics* statistics = nullptr);
+
+}  // namespace hemivem

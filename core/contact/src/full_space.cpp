@@ -1,0 +1,412 @@
+// The full-space route: see hemivem/contact/full_space.hpp and docs/full-space.md.
+#include <hemivem/contact/full_space.hpp>
+
+#include <hemivem/certificate.hpp>
+#include <hemivem/error.hpp>
+#include <hemivem/minimizer_run.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace hemivem {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double armijo = 1e-4;
+constexpr int max_backtracks = 30;
+/// A change of E below this fraction of the sizes of its terms is its round-off.
+constexpr double energy_roundoff = 1e-12;
+/// The Krylov tolerance of a Newton system: the square of the certificate's worst residual
+/// (the inexact Newton method then keeps Newton's rate), within [krylov_floor, krylov_cap].
+constexpr double krylov_floor = 1e-12;
+constexpr double krylov_cap = 1e-4;
+constexpr int max_krylov_iterations = 2000;
+
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+/// One coordinate of the problem: its row, bounds, origin, law, weight and knots (its finite
+/// bounds and its law's kinks between them, increasing).
+struct Coordinate {
+  int row = 0;
+  double lo = 0.0, hi = 0.0, origin = 0.0, w = 0.0;
+  const ContactLaw* law = nullptr;
+  std::vector<double> knots;
+  /// The largest knot below a and the smallest above (+-inf where there is none).
+  double knot_below(double a) const {
+    const auto it = std::lower_bound(knots.begin(), knots.end(), a);
+    return it == knots.begin() ? -kInf : *(it - 1);
+  }
+  double knot_above(double a) const {
+    const auto it = std::upper_bound(knots.begin(), knots.end(), a);
+    return it == knots.end() ? kInf : *it;
+  }
+  bool on_knot(double a) const { return std::binary_search(knots.begin(), knots.end(), a); }
+};
+
+/// What an iteration knows about one coordinate.
+struct Motion {
+  bool held = false;          ///< on a knot, where the one-sided derivatives keep it
+  double lo = 0.0, hi = 0.0;  ///< its piece box
+  double grad = 0.0;          ///< the derivative of E along it on the side of motion
+  double curvature = 0.0;     ///< w j''(a, side), at least 0
+  double step = 0.0;          ///< a step prescribed onto a knot (epsilon-active)
+  bool pushed = false;
+};
+
+class FullSpaceNewton {
+ public:
+  FullSpaceNewton(const Condensation& posed, double tol)
+      : p_(posed.reduced()), A_(posed.rotated_matrix()), b_(posed.rotated_load()), tol_(tol) {
+    if (!p_.groups.empty())
+      throw InputError(
+          "the full-space route does not take a solid's isotropic friction (pairs of tangential coordinates): "
+          "use a linear engine that factorizes");
+    if (A_.rows() != b_.size() || A_.rows() == 0) throw InternalError("the full-space route needs a posed problem");
+    const Eigen::Index m = p_.size();
+    coordinates_.resize(static_cast<std::size_t>(m));
+    stiffness_.resize(m);
+    load_.resize(m);
+    is_coordinate_.assign(static_cast<std::size_t>(A_.rows()), 0);
+    for (Eigen::Index k = 0; k < m; ++k) {
+      Coordinate& c = coordinates_[static_cast<std::size_t>(k)];
+      c.row = posed.rotated_index(k);
+      c.lo = p_.lower(k);
+      c.hi = p_.upper(k);
+      c.origin = posed.origin()(k);
+      c.w = p_.w(k);
+      c.law = &p_.law_of(k);
+      for (double b : {c.lo, c.hi})
+        if (std::isfinite(b)) c.knots.push_back(b);
+      for (double kink : c.law->kinks())
+        if (kink >= c.lo && kink <= c.hi) c.knots.push_back(kink);
+      std::sort(c.knots.begin(), c.knots.end());
+      c.knots.erase(std::unique(c.knots.begin(), c.knots.end()), c.knots.end());
+      stiffness_(k) = A_.coeff(c.row, c.row);
+      load_(k) = b_(c.row);
+      is_coordinate_[static_cast<std::size_t>(c.row)] = 1;
+    }
+    for (int row : posed.tied_rows()) {
+      tied_.push_back(row);
+      is_coordinate_[static_cast<std::size_t>(row)] = 2;
+    }
+  }
+
+  Eigen::VectorXd coordinates_of(const Eigen::VectorXd& x) const {
+    Eigen::VectorXd a(p_.size());
+    for (std::size_t k = 0; k < coordinates_.size(); ++k)
+      a(static_cast<Eigen::Index>(k)) = x(coordinates_[k].row) - coordinates_[k].origin;
+    return a;
+  }
+  void put_coordinates(const Eigen::VectorXd& a, Eigen::VectorXd& x) const {
+    for (std::size_t k = 0; k < coordinates_.size(); ++k)
+      x(coordinates_[k].row) = a(static_cast<Eigen::Index>(k)) + coordinates_[k].origin;
+  }
+  /// The residual A x - b, 0 at the tied rows (their reactions).
+  Eigen::VectorXd residual(const Eigen::VectorXd& x, Eigen::VectorXd* Ax = nullptr) const {
+    Eigen::VectorXd Axv = A_ * x;
+    Eigen::VectorXd r = Axv - b_;
+    for (int row : tied_) r(row) = 0.0;
+    if (Ax) *Ax = std::move(Axv);
+    return r;
+  }
+  double energy(const Eigen::VectorXd& x, const Eigen::VectorXd& Ax, double* size = nullptr) const {
+    const double quadratic = 0.5 * x.dot(Ax), linear = b_.dot(x);
+    const Eigen::VectorXd a = coordinates_of(x);
+    const double law = p_.law_energy(a, 0.0);
+    if (size) {
+      double s = std::abs(quadratic) + std::abs(linear);
+      for (Eigen::Index k = 0; k < a.size(); ++k) s += std::abs(p_.w(k) * p_.law_of(k).value(a(k)));
+      *size = s;
+    }
+    return quadratic - linear + law;
+  }
+
+  CertifiedPoint certify(const Eigen::VectorXd& x) const {
+    const double bmax = b_.size() ? b_.cwiseAbs().maxCoeff() : 0.0;
+    return hemivem::certify(
+        p_, coordinates_of(x), tol_,
+        [&](const Eigen::VectorXd& a) {
+          Eigen::VectorXd xs = x;
+          put_coordinates(a, xs);
+          Eigen::VectorXd Ax;
+          const Eigen::VectorXd r = residual(xs, &Ax);
+          SmoothGradient g;
+          g.r.resize(a.size());
+          for (std::size_t k = 0; k < coordinates_.size(); ++k)
+            g.r(static_cast<Eigen::Index>(k)) = r(coordinates_[k].row);
+          for (Eigen::Index i = 0; i < r.size(); ++i)
+            if (!is_coordinate_[static_cast<std::size_t>(i)]) g.other = std::max(g.other, std::abs(r(i)));
+          double axmax = 0.0;
+          for (Eigen::Index i = 0; i < Ax.size(); ++i)
+            if (is_coordinate_[static_cast<std::size_t>(i)] != 2) axmax = std::max(axmax, std::abs(Ax(i)));
+          g.force_size = std::max(bmax, axmax);
+          return g;
+        },
+        stiffness_, load_);
+  }
+
+  MinimizerResult run(KrylovSolver& krylov, const Eigen::MatrixXd& near_null, const MinimizerOptions& options,
+                      Eigen::VectorXd* x_io, FullSpaceStatistics* stats) {
+    const auto t0 = Clock::now();
+    const Eigen::Index n = A_.rows();
+    Eigen::VectorXd x = x_io->size() == n ? *x_io : Eigen::VectorXd::Zero(n);
+    for (int row : tied_) x(row) = 0.0;
+    {
+      Eigen::VectorXd a = coordinates_of(x);
+      for (std::size_t k = 0; k < coordinates_.size(); ++k)
+        a(static_cast<Eigen::Index>(k)) = std::clamp(a(static_cast<Eigen::Index>(k)), coordinates_[k].lo, coordinates_[k].hi);
+      put_coordinates(a, x);
+    }
+    MinimizerResult result;
+    FullSpaceStatistics local;
+    FullSpaceStatistics& st = stats ? *stats : local;
+    std::string why;
+    MinimizerStatus status = MinimizerStatus::iteration_limit;
+    CertifiedPoint point = certify(x);
+    int functions = 0, certificates = 1;
+    std::vector<char> last_eliminated;
+    Eigen::VectorXd last_shift;
+    for (int it = 0;; ++it) {
+      Eigen::VectorXd Ax;
+      const Eigen::VectorXd r = residual(x, &Ax);
+      const double E = energy(x, Ax);
+      record(result, it, E, point.certificate, x, t0);
+      if (options.callback && it > 0 && !options.callback(result.history.back())) {
+        status = MinimizerStatus::stopped_by_callback;
+        break;
+      }
+      if (point.certificate.converged()) {
+        status = MinimizerStatus::converged;
+        break;
+      }
+      if (it >= options.max_iterations) break;
+      // the motions and the Newton system
+      std::vector<Motion> motion = classify(x, r);
+      Eigen::VectorXd rhs = -r;
+      Eigen::VectorXd d = Eigen::VectorXd::Zero(n);
+      std::vector<char> eliminated(static_cast<std::size_t>(n), 0);
+      for (int row : tied_) eliminated[static_cast<std::size_t>(row)] = 1;
+      Eigen::VectorXd shift = Eigen::VectorXd::Zero(n);
+      for (std::size_t k = 0; k < coordinates_.size(); ++k) {
+        const Motion& mk = motion[k];
+        const int row = coordinates_[k].row;
+        if (mk.held || mk.pushed) {
+          eliminated[static_cast<std::size_t>(row)] = 1;
+          d(row) = mk.held ? 0.0 : mk.step;
+        } else {
+          rhs(row) = -mk.grad;
+          shift(row) = mk.curvature;
+        }
+      }
+      const Eigen::VectorXd Ad = A_ * d;  // the prescribed steps' forces on the others
+      SparseMatrix H = A_;
+      for (int j = 0; j < H.outerSize(); ++j)
+        for (SparseMatrix::InnerIterator e(H, j); e; ++e) {
+          const bool ej = eliminated[static_cast<std::size_t>(j)], ei = eliminated[static_cast<std::size_t>(e.row())];
+          if (ei || ej) e.valueRef() = e.row() == j ? 1.0 : 0.0;
+          else if (e.row() == j) e.valueRef() += shift(j);
+        }
+      for (Eigen::Index i = 0; i < n; ++i) rhs(i) = eliminated[static_cast<std::size_t>(i)] ? d(i) : rhs(i) - Ad(i);
+      Eigen::MatrixXd N = near_null;
+      for (Eigen::Index i = 0; i < n && N.cols() > 0; ++i)
+        if (eliminated[static_cast<std::size_t>(i)]) N.row(i).setZero();
+      // the same system as the last one (the same unknowns held, the same curvatures): its
+      // preconditioner serves again
+      auto tc = Clock::now();
+      FactorizationResult set_up;
+      if (eliminated != last_eliminated || shift != last_shift) {
+        set_up = krylov.compute(H, N);
+        ++st.preconditioner_setups;
+        last_eliminated = set_up.ok() ? eliminated : std::vector<char>();
+        last_shift = shift;
+      }
+      st.preconditioner_seconds += since(tc);
+      if (!set_up.ok()) {
+        status = MinimizerStatus::failed;
+        why = "the preconditioner of " + krylov.name() + " failed (" + to_string(set_up.status) + "): " + set_up.message;
+        break;
+      }
+      const double worst = point.certificate.worst();
+      const double rtol = std::clamp(worst * worst, krylov_floor, krylov_cap);
+      Eigen::VectorXd step = d;
+      tc = Clock::now();
+      const KrylovSolveResult solved = krylov.solve(rhs, &step, rtol, max_krylov_iterations);
+      st.krylov_seconds += since(tc);
+      st.krylov_iterations += solved.iterations;
+      if (!step.allFinite() || (!solved.ok() && !(solved.status == FactorizationStatus::numerical_failure &&
+                                                  solved.relative_residual < 1.0))) {
+        status = MinimizerStatus::failed;
+        why = "the Newton system's solve by " + krylov.name() + " failed (" + to_string(solved.status) +
+              "): " + solved.message;
+        break;
+      }
+      ++st.newton_iterations;
+      // the gradient of E on the side of motion, for Armijo's rule
+      Eigen::VectorXd grad = r;
+      for (std::size_t k = 0; k < coordinates_.size(); ++k) grad(coordinates_[k].row) = motion[k].grad;
+      double scale = 0.0;
+      const double E0 = energy(x, Ax, &scale);
+      bool accepted = false;
+      double t = 1.0;
+      for (int bt = 0; bt <= max_backtracks && !accepted; ++bt, t *= 0.5) {
+        Eigen::VectorXd xt = x + t * step;
+        for (std::size_t k = 0; k < coordinates_.size(); ++k) {
+          const Coordinate& c = coordinates_[k];
+          const Motion& mk = motion[k];
+          if (mk.held) {
+            xt(c.row) = x(c.row);
+          } else if (mk.pushed && t == 1.0) {
+            xt(c.row) = x(c.row) + mk.step;  // exactly onto its knot
+          } else {
+            xt(c.row) = std::clamp(xt(c.row) - c.origin, mk.lo, mk.hi) + c.origin;
+          }
+        }
+        for (int row : tied_) xt(row) = 0.0;
+        Eigen::VectorXd Axt;
+        residual(xt, &Axt);
+        const double E1 = energy(xt, Axt);
+        ++functions;
+        const double predicted = grad.dot(xt - x);
+        if (std::abs(E1 - E0) <= energy_roundoff * scale || std::abs(predicted) <= energy_roundoff * scale) {
+          // E cannot tell: the step is taken when it lowers the certificate's residual
+          CertifiedPoint trial = certify(xt);
+          ++certificates;
+          if (trial.certificate.worst() < point.certificate.worst()) {
+            x = std::move(xt);
+            point = std::move(trial);
+            accepted = true;
+          }
+        } else if (E1 <= E0 + armijo * predicted) {
+          x = std::move(xt);
+          point = certify(x);
+          ++certificates;
+          accepted = true;
+        }
+      }
+      if (!accepted) {
+        status = MinimizerStatus::stalled;
+        why = "no step along the Newton direction lowered the energy or the certificate's residual";
+        break;
+      }
+    }
+    if (point.a.size() != p_.size())
+      throw NumericalError("the full-space iteration reached a point that is not finite" +
+                           (why.empty() ? std::string() : ": " + why));
+    put_coordinates(point.a, x);  // the snapped point is the one certified
+    *x_io = x;
+    Eigen::VectorXd Ax;
+    residual(x, &Ax);
+    result.a = point.a;
+    result.law_force = point.law_force;
+    result.reaction = point.reaction;
+    result.certificate = point.certificate;
+    result.objective = energy(x, Ax);
+    result.iterations = st.newton_iterations;
+    result.function_evaluations = functions;
+    result.subgradient_evaluations = certificates;
+    result.may_be_nonunique = !p_.all_laws_convex();
+    result.status = point.certificate.converged() ? MinimizerStatus::converged
+                                                  : (status == MinimizerStatus::converged ? MinimizerStatus::stalled : status);
+    const std::string summary = std::to_string(st.newton_iterations) + " Newton iterations, " +
+                                std::to_string(st.krylov_iterations) + " " + krylov.name() + " iterations";
+    result.message = result.converged() ? summary : (why.empty() ? "the iteration limit was reached" : why) + "; " + summary;
+    result.timings["total"] = since(t0);
+    result.timings["preconditioner"] = st.preconditioner_seconds;
+    result.timings["krylov"] = st.krylov_seconds;
+    return result;
+  }
+
+ private:
+  void record(MinimizerResult& result, int it, double E, const Certificate& c, const Eigen::VectorXd& x,
+              Clock::time_point t0) const {
+    IterationRecord rec;
+    rec.iteration = it;
+    rec.objective = E;
+    rec.primal = c.primal;
+    rec.dual = c.dual;
+    rec.active = count_at_bound(p_, coordinates_of(x));
+    rec.seconds = since(t0);
+    result.history.push_back(rec);
+  }
+
+  // Per coordinate: held on its knot, or moving within its piece box on the side of descent,
+  // with the derivative and the curvature of E there; then the epsilon-active ones pushed onto
+  // the knot they move against.
+  std::vector<Motion> classify(const Eigen::VectorXd& x, const Eigen::VectorXd& r) const {
+    std::vector<Motion> motion(coordinates_.size());
+    double eps = 0.0;
+    for (std::size_t k = 0; k < coordinates_.size(); ++k) {
+      const Coordinate& c = coordinates_[k];
+      Motion& mk = motion[k];
+      const double a = x(c.row) - c.origin, g = r(c.row);
+      const double up = g + c.w * c.law->derivative(LawPart::j, a, +1);
+      const double down = g + c.w * c.law->derivative(LawPart::j, a, -1);
+      int side = +1;
+      if (c.on_knot(a)) {
+        const bool rises = a < c.hi && up < 0.0, falls = a > c.lo && down > 0.0;
+        if (!rises && !falls) {
+          mk.held = true;
+          mk.lo = mk.hi = a;
+          continue;
+        }
+        side = rises && (!falls || -up >= down) ? +1 : -1;
+        mk.lo = side > 0 ? a : c.knot_below(a);
+        mk.hi = side > 0 ? c.knot_above(a) : a;
+      } else {
+        mk.lo = c.knot_below(a);
+        mk.hi = c.knot_above(a);
+      }
+      mk.grad = side > 0 ? up : down;
+      mk.curvature = std::max(0.0, c.w * c.law->second_derivative(LawPart::j, a, side));
+      const double diag = stiffness_(static_cast<Eigen::Index>(k)) + mk.curvature;
+      const double trial = diag > 0.0 ? std::clamp(a - mk.grad / diag, mk.lo, mk.hi) : a;
+      eps = std::max(eps, std::abs(trial - a));
+    }
+    for (std::size_t k = 0; k < coordinates_.size(); ++k) {
+      const Coordinate& c = coordinates_[k];
+      Motion& mk = motion[k];
+      if (mk.held) continue;
+      const double a = x(c.row) - c.origin;
+      if (mk.grad > 0.0 && std::isfinite(mk.lo) && a - mk.lo <= eps) {
+        mk.pushed = true;
+        mk.step = mk.lo - a;
+      } else if (mk.grad < 0.0 && std::isfinite(mk.hi) && mk.hi - a <= eps) {
+        mk.pushed = true;
+        mk.step = mk.hi - a;
+      }
+    }
+    return motion;
+  }
+
+  const ReducedProblem& p_;
+  const SparseMatrix& A_;
+  const Eigen::VectorXd& b_;
+  double tol_;
+  std::vector<Coordinate> coordinates_;
+  Eigen::VectorXd stiffness_, load_;
+  std::vector<char> is_coordinate_;  // 1: a coordinate's row, 2: a tied row
+  std::vector<int> tied_;
+};
+
+}  // namespace
+
+CertifiedPoint certify_full_space(const Condensation& posed, const Eigen::VectorXd& x, double tol) {
+  check_tolerance(tol, "tolerance");
+  return FullSpaceNewton(posed, tol).certify(x);
+}
+
+MinimizerResult minimize_full_space(const Condensation& posed, KrylovSolver& krylov, const Eigen::MatrixXd& near_null,
+                                    const MinimizerOptions& options, Eigen::VectorXd* x,
+                                    FullSpaceStatistics* statistics) {
+  if (!x) throw InternalError("minimize_full_space needs a point to start from and return");
+  if (std::string why; !options.is_valid(&why)) throw InputError(why, "MinimizerOptions");
+  return FullSpaceNewton(posed, options.tolerance).run(krylov, near_null, options, x, statistics);
+}
+
+}  // namespace hemivem

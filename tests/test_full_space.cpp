@@ -1,0 +1,209 @@
+// The full-space route (hemivem/contact/full_space.hpp): the same problems as the condensed
+// route, the same answers, certified by the same certificate from the whole system's residual.
+#include <hemivem/contact/contact3d.hpp>
+#include <hemivem/contact/full_space.hpp>
+#include <hemivem/contact/piecewise_law.hpp>
+#include <hemivem/contact/solver.hpp>
+#include <hemivem/error.hpp>
+#include <hemivem/krylov_solver.hpp>
+#include <hemivem/linear_backends.hpp>
+#include <hemivem/mesh/generators.hpp>
+#include <hemivem/mesh/generators3d.hpp>
+#include <hemivem/nonsmooth_backends.hpp>
+#include <hemivem/scene/example.hpp>
+
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+
+#include "pressed_block3d.hpp"
+#include "test_support.hpp"
+
+using namespace hemivem;
+
+namespace {
+
+MinimizerOptions tight() {
+  MinimizerOptions o;
+  o.tolerance = 1e-12;
+  return o;
+}
+
+std::unique_ptr<SparseFactorization> factorization() {
+  FactorizationOptions o;
+  o.engine = "eigen";
+  return make_factorization(o);
+}
+
+// The condensed route's and the full-space route's solutions of `p` with the Krylov engine
+// `engine`.
+template <int dim>
+std::pair<BasicContactSolution<dim>, BasicContactSolution<dim>> both_routes(const BasicContactProblem<dim>& p,
+                                                                            const std::string& engine,
+                                                                            const MinimizerOptions& o) {
+  const auto ssn = make_minimizer("ssn");
+  const NonsmoothMinimizer* list[] = {ssn.get()};
+  BasicContactSolver<dim> condensed(p, factorization(), o);
+  BasicContactSolver<dim> full(p, make_krylov_solver(engine), o);
+  return {condensed.run(list).front(), full.run(list).front()};
+}
+
+// Every displacement within `rel` of the largest, the same contact states and forces.
+template <int dim>
+void expect_same(const BasicContactSolution<dim>& condensed, const BasicContactSolution<dim>& full, double rel) {
+  ASSERT_TRUE(condensed.converged()) << condensed.message;
+  ASSERT_TRUE(full.converged()) << full.message;
+  EXPECT_EQ(full.stages, (std::vector<std::string>{"assembly", "posing", "full_space"}));
+  const double scale = condensed.u.cwiseAbs().maxCoeff();
+  ASSERT_GT(scale, 0.0);
+  EXPECT_LE((full.u - condensed.u).cwiseAbs().maxCoeff(), rel * scale);
+  ASSERT_EQ(full.contact.size(), condensed.contact.size());
+  double force = 0.0;
+  for (const auto& n : condensed.contact) force = std::max(force, std::abs(n.force()));
+  for (std::size_t i = 0; i < full.contact.size(); ++i) {
+    EXPECT_EQ(full.contact[i].state, condensed.contact[i].state) << "node " << i;
+    EXPECT_NEAR(full.contact[i].force(), condensed.contact[i].force(), 1e-6 * force) << "node " << i;
+  }
+  EXPECT_LE(full.forces.residual(), 1e-8) << "the balance of forces";
+}
+
+TEST(FullSpace, Example41InThePlaneAgreesWithTheCondensedRouteWithEveryKrylovEngine) {
+  const Mesh mesh = make_squares(16);
+  const ContactProblem p = example_4_1(mesh);
+  for (const std::string& engine : available_krylov_solvers()) {
+    SCOPED_TRACE(engine);
+    const auto [condensed, full] = both_routes<2>(p, engine, tight());
+    expect_same(condensed, full, 1e-8);
+    int at_gap = 0;
+    for (const auto& n : full.contact) at_gap += n.state == ContactState::at_gap;
+    EXPECT_GT(at_gap, 0) << "the example closes its gap somewhere";
+    EXPECT_GE(full.minimizer->iterations, 1);
+  }
+}
+
+TEST(FullSpace, Example41InTheSolidAgreesWithTheCondensedRouteWithEveryKrylovEngine) {
+  const Mesh3D mesh = make_cubes({6, 6, 6});
+  const ContactProblem3D p = test::example_4_1_3d(mesh);
+  for (const std::string& engine : available_krylov_solvers()) {
+    SCOPED_TRACE(engine);
+    const auto [condensed, full] = both_routes<3>(p, engine, tight());
+    expect_same(condensed, full, 1e-8);
+  }
+}
+
+TEST(FullSpace, APressedBlockOnARigidPlaneIsUniaxialStrain) {
+  const Mesh3D mesh = make_tetrahedra({3, 3, 4}, Box{0, 1, 0, 1, 0, 2});
+  const ContactProblem3D p = test::pressed_block(mesh, mesh.bounding_box());
+  const auto [condensed, full] = both_routes<3>(p, available_krylov_solvers().front(), tight());
+  expect_same(condensed, full, 1e-8);
+  // the exact solution is linear: u_z = -depth z / height, every contact node at the plane
+  for (int v = 0; v < mesh.num_vertices(); ++v)
+    EXPECT_NEAR(full.u(3 * v + 2), -test::pressed_block_depth * mesh.vertices()[static_cast<std::size_t>(v)].z() / 2.0,
+                1e-9);
+  for (const auto& n : full.contact) EXPECT_EQ(n.state, ContactState::at_gap);
+}
+
+TEST(FullSpace, TheCertificateRejectsAPointOffBalanceInTheInterior) {
+  const Mesh mesh = make_squares(8);
+  const ContactProblem p = example_4_1(mesh);
+  const LinearSystem system = assemble(p.elasticity);
+  ContactSolver solver(p, system, factorization(), tight());
+  solver.prepare();
+  const Condensation posed(system, solver.boundary(), part_conditions(solver.parts()), Condensation::PoseOnly{});
+  auto krylov = make_krylov_solver("eigen-cg");
+  Eigen::VectorXd x;
+  const MinimizerResult m = minimize_full_space(posed, *krylov, Eigen::MatrixXd(), tight(), &x);
+  ASSERT_TRUE(m.converged()) << m.message;
+  EXPECT_TRUE(certify_full_space(posed, x, 1e-12).certificate.converged());
+  // one interior unknown moved by 1e-6 of the largest displacement: forces out of balance
+  Eigen::VectorXd off = x;
+  std::vector<char> coordinate(static_cast<std::size_t>(x.size()), 0);
+  for (Eigen::Index k = 0; k < posed.reduced().size(); ++k) coordinate[static_cast<std::size_t>(posed.rotated_index(k))] = 1;
+  Eigen::Index interior = 0;
+  while (coordinate[static_cast<std::size_t>(interior)]) ++interior;
+  off(interior) += 1e-6 * x.cwiseAbs().maxCoeff();
+  const Certificate c = certify_full_space(posed, off, 1e-8).certificate;
+  EXPECT_FALSE(c.converged());
+  EXPECT_GT(c.dual, 1e-8);
+  EXPECT_EQ(c.primal, 0.0);
+  // the reduced certificate of the condensed route at the same coordinates agrees on the verdict
+  const Condensation condensed(system, solver.boundary(), factorization(), part_conditions(solver.parts()));
+  EXPECT_TRUE(certificate(condensed.reduced(), m.a, 1e-10).converged());
+}
+
+TEST(FullSpace, AnotherMinimizerIsRefusedByName) {
+  const Mesh mesh = make_squares(4);
+  const ContactProblem p = example_4_1(mesh);
+  const auto dca = make_minimizer("bundle-dca");
+  const NonsmoothMinimizer* list[] = {dca.get()};
+  ContactSolver full(p, make_krylov_solver("eigen-cg"), tight());
+  try {
+    (void)full.run(list);
+    ADD_FAILURE() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("bundle-dca"), std::string::npos) << e.what();
+  }
+}
+
+TEST(FullSpace, ASolidsIsotropicFrictionIsRefusedByName) {
+  const Mesh3D mesh = make_cubes({2, 2, 2});
+  ContactProblem3D p = test::pressed_block(mesh, mesh.bounding_box());
+  p.parts.front().friction = tresca_law(1.0);
+  const auto ssn = make_minimizer("ssn");
+  const NonsmoothMinimizer* list[] = {ssn.get()};
+  ContactSolver3D full(p, make_krylov_solver("eigen-cg"), tight());
+  try {
+    (void)full.run(list);
+    ADD_FAILURE() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("isotropic friction"), std::string::npos) << e.what();
+  }
+}
+
+TEST(FullSpace, WithoutContactItIsOneKrylovSolve) {
+  const Mesh mesh = make_squares(8);
+  ContactProblem p = example_4_1(mesh);
+  p.parts.clear();
+  const auto ssn = make_minimizer("ssn");
+  const NonsmoothMinimizer* list[] = {ssn.get()};
+  const ContactSolution full = ContactSolver(p, make_krylov_solver("eigen-cg"), tight()).run(list).front();
+  const ContactSolution direct = ContactSolver(p, factorization(), tight()).run(list).front();
+  ASSERT_TRUE(full.converged()) << full.message;
+  EXPECT_LE((full.u - direct.u).cwiseAbs().maxCoeff(), 1e-8 * direct.u.cwiseAbs().maxCoeff());
+}
+
+}  // namespace
+
+namespace {
+
+// The command on the full-space route with every Krylov engine built: a clean exit (the PETSc
+// engines' module loaded and its libraries' exit handlers run), the route's stages in
+// result.json, and the condensed route's displacement.
+TEST(FullSpace, TheCommandSolvesOnTheFullSpaceRouteAndExitsCleanly) {
+  const std::filesystem::path reference = test::scratch("full-space-cholesky");
+  ASSERT_EQ(test::run_hemivem("solve --n 8 --linear eigen -q --out " + reference.string()).code, 0);
+  const auto u0 = nlohmann::json::parse(test::slurp(reference / "result.json"));
+  for (const std::string& engine : available_krylov_solvers()) {
+    SCOPED_TRACE(engine);
+    const std::filesystem::path out = test::scratch("full-space-" + engine);
+    const test::CommandRun run = test::run_hemivem("solve --n 8 --linear " + engine + " -q --out " + out.string());
+    ASSERT_EQ(run.code, 0) << run.err;
+    EXPECT_EQ(run.err, "");
+    const auto r = nlohmann::json::parse(test::slurp(out / "result.json"));
+    EXPECT_EQ(r["status"], "converged");
+    EXPECT_EQ(r["stages"], (nlohmann::json{"assembly", "posing", "full_space", "estimate"}));
+    EXPECT_NEAR(r["potential_energy"].get<double>(), u0["potential_energy"].get<double>(),
+                1e-9 * std::abs(u0["potential_energy"].get<double>()));
+    EXPECT_EQ(r["backends"]["linear"], engine);
+    EXPECT_EQ(r["uniqueness"], "unknown") << "not measured on this route";
+    std::filesystem::remove_all(out);
+  }
+  std::filesystem::remove_all(reference);
+}
+
+}  // namespace

@@ -1,0 +1,275 @@
+// The Krylov engines of the full-space route (hemivem/krylov_solver.hpp), every one built: a
+// three-dimensional elasticity matrix assembled by hemivem's VEM on a cube clamped on one face,
+// solved to rtol 1e-10 against Eigen's SimplicialLDLT, with the residual each engine reports
+// checked against one computed here; the rigid motions as GAMG's near-null space; an indefinite
+// matrix; a start that is already the solution; and the factory's names.
+#include <hemivem/error.hpp>
+#include <hemivem/krylov_solver.hpp>
+#include <hemivem/linear_backends.hpp>
+#include <hemivem/mesh/generators3d.hpp>
+#include <hemivem/mesh/mesh3d.hpp>
+#include <hemivem/vem/assembly3d.hpp>
+
+#include <gtest/gtest.h>
+
+#include <Eigen/SparseCholesky>
+
+#include "linear_support.hpp"
+
+#include <algorithm>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace hemivem {
+namespace {
+
+/// The elastic cube of n^3 boxes clamped on its face x = 0 and pulled on its face x = 1, its
+/// free dofs' system, and the six rigid motions at the free dofs (translations along x, y, z,
+/// rotations about the axes through the cube's center).
+struct ClampedCube {
+  LinearSystem system;
+  Eigen::MatrixXd rigid_motions;
+  Eigen::VectorXd reference;  ///< SimplicialLDLT's solution of A u = b
+};
+
+const ClampedCube& clamped_cube(int n) {
+  static std::map<int, ClampedCube> cache;
+  const auto found = cache.find(n);
+  if (found != cache.end()) return found->second;
+  const Mesh3D mesh = make_cubes(n);
+  const Box box;
+  ElasticityProblem3D p;
+  p.mesh = &mesh;
+  p.materials = MaterialTable(Material{65.0, 0.29});
+  p.dirichlet.push_back({select_box_side(mesh, box, "x0"), {}, {true, true, true}, "x0"});
+  p.tractions.push_back({select_box_side(mesh, box, "x1"), [](const Vec3& x) { return Vec3(1.0, x[2], -2.0); }, {}});
+  ClampedCube c;
+  c.system = assemble(p);
+  const int nf = c.system.dofs.num_free();
+  c.rigid_motions = Eigen::MatrixXd::Zero(nf, 6);
+  for (int k = 0; k < nf; ++k) {
+    const int dof = c.system.dofs.free_dofs[static_cast<std::size_t>(k)];
+    const int component = dof % 3;
+    const Vec3 x = mesh.vertex(dof / 3) - Vec3(0.5, 0.5, 0.5);
+    c.rigid_motions(k, component) = 1.0;
+    // e_a x x for the axes a = 0, 1, 2: (0, -z, y), (z, 0, -x), (-y, x, 0).
+    const double rotations[3][3] = {{0.0, -x[2], x[1]}, {x[2], 0.0, -x[0]}, {-x[1], x[0], 0.0}};
+    for (int a = 0; a < 3; ++a) c.rigid_motions(k, 3 + a) = rotations[a][component];
+  }
+  const Eigen::SimplicialLDLT<SparseMatrix> ldlt(c.system.A);
+  c.reference = ldlt.solve(c.system.b);
+  return cache.emplace(n, std::move(c)).first->second;
+}
+
+double true_residual(const SparseMatrix& A, const Eigen::VectorXd& b, const Eigen::VectorXd& x) {
+  return (b - A * x).norm() / b.norm();
+}
+
+class KrylovEngine : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(KrylovEngine, SolvesElasticityAsLdlt) {
+  const ClampedCube& cube = clamped_cube(6);
+  const auto solver = make_krylov_solver(GetParam());
+  ASSERT_EQ(solver->name(), GetParam());
+  const FactorizationResult setup = solver->compute(cube.system.A, cube.rigid_motions);
+  ASSERT_TRUE(setup.ok()) << setup.message;
+  Eigen::VectorXd x;  // resized to zeros by solve()
+  const KrylovSolveResult r = solver->solve(cube.system.b, &x, 1e-10, 5000);
+  ASSERT_TRUE(r.ok()) << r.message;
+  ASSERT_EQ(x.size(), cube.system.b.size());
+  EXPECT_GT(r.iterations, 0);
+  EXPECT_LE(r.relative_residual, 1e-10);
+  EXPECT_NEAR(r.relative_residual, true_residual(cube.system.A, cube.system.b, x), 1e-12);
+  EXPECT_LE(test::relative_error(x, cube.reference), 1e-8);
+  RecordProperty("iterations", r.iterations);
+}
+
+TEST_P(KrylovEngine, StartAtTheSolutionReturnsAtOnce) {
+  const ClampedCube& cube = clamped_cube(6);
+  const auto solver = make_krylov_solver(GetParam());
+  ASSERT_TRUE(solver->compute(cube.system.A, cube.rigid_motions).ok());
+  Eigen::VectorXd x = cube.reference;
+  const KrylovSolveResult r = solver->solve(cube.system.b, &x, 1e-10, 5000);
+  ASSERT_TRUE(r.ok()) << r.message;
+  EXPECT_LE(r.iterations, 1);
+  EXPECT_LE(r.relative_residual, 1e-10);
+  EXPECT_LE(test::relative_error(x, cube.reference), 1e-12);
+}
+
+TEST_P(KrylovEngine, ZeroRightHandSideGivesZero) {
+  const ClampedCube& cube = clamped_cube(2);
+  const auto solver = make_krylov_solver(GetParam());
+  ASSERT_TRUE(solver->compute(cube.system.A, Eigen::MatrixXd()).ok());
+  Eigen::VectorXd x = Eigen::VectorXd::Ones(cube.system.b.size());
+  const KrylovSolveResult r = solver->solve(Eigen::VectorXd::Zero(cube.system.b.size()), &x, 1e-10, 100);
+  ASSERT_TRUE(r.ok()) << r.message;
+  EXPECT_EQ(r.iterations, 0);
+  EXPECT_EQ(r.relative_residual, 0.0);
+  EXPECT_EQ(x.norm(), 0.0);
+}
+
+TEST_P(KrylovEngine, TooFewIterationsIsANumericalFailure) {
+  const ClampedCube& cube = clamped_cube(6);
+  const auto solver = make_krylov_solver(GetParam());
+  ASSERT_TRUE(solver->compute(cube.system.A, cube.rigid_motions).ok());
+  Eigen::VectorXd x;
+  const KrylovSolveResult r = solver->solve(cube.system.b, &x, 1e-10, 2);
+  EXPECT_EQ(r.status, FactorizationStatus::numerical_failure);
+  EXPECT_LE(r.iterations, 2);
+  EXPECT_GT(r.relative_residual, 1e-10);
+  EXPECT_NE(r.message.find(GetParam()), std::string::npos) << r.message;
+}
+
+/// The 1D Laplacian shifted by -I: tridiag(-1, 1, -1), a positive diagonal, eigenvalues
+/// 1 - 2 cos(k pi / (n + 1)) in (-1, 3), about a third of them negative.
+SparseMatrix shifted_laplacian(int n) {
+  std::vector<Eigen::Triplet<double>> entries;
+  for (int i = 0; i < n; ++i) {
+    entries.emplace_back(i, i, 1.0);
+    if (i + 1 < n) {
+      entries.emplace_back(i, i + 1, -1.0);
+      entries.emplace_back(i + 1, i, -1.0);
+    }
+  }
+  SparseMatrix A(n, n);
+  A.setFromTriplets(entries.begin(), entries.end());
+  return A;
+}
+
+/// The status of compute() when it fails, of solve() otherwise.
+FactorizationStatus indefinite_status(KrylovSolver& solver, const SparseMatrix& A, std::string* message) {
+  const FactorizationResult setup = solver.compute(A, Eigen::MatrixXd());
+  if (!setup.ok()) {
+    *message = setup.message;
+    return setup.status;
+  }
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A.rows(), 1.0, 2.0);
+  Eigen::VectorXd x;
+  const KrylovSolveResult r = solver.solve(b, &x, 1e-10, 1000);
+  *message = r.message;
+  return r.status;
+}
+
+// PETSc's CG stops on negative curvature (KSP_DIVERGED_INDEFINITE_MAT or _PC). Eigen's CG does
+// not stop on it, and eigen-cg's checks (a diagonal entry <= 0, x^T A x <= 0 for its x) need
+// not see it: for eigen-cg only a failure is asserted.
+TEST_P(KrylovEngine, IndefiniteMatrixIsNotPositiveDefinite) {
+  const auto solver = make_krylov_solver(GetParam());
+  for (const SparseMatrix& A : {shifted_laplacian(200), test::one_negative_eigenvalue(300, 7)}) {
+    std::string message;
+    const FactorizationStatus status = indefinite_status(*solver, A, &message);
+    if (GetParam() == "eigen-cg")
+      EXPECT_NE(status, FactorizationStatus::success) << message;
+    else
+      EXPECT_EQ(status, FactorizationStatus::not_positive_definite) << message;
+  }
+}
+
+TEST_P(KrylovEngine, NegativeDiagonalIsNotPositiveDefinite) {
+  SparseMatrix A = shifted_laplacian(50);
+  A.coeffRef(17, 17) = -1.0;
+  const auto solver = make_krylov_solver(GetParam());
+  const FactorizationResult setup = solver->compute(A, Eigen::MatrixXd());
+  EXPECT_EQ(setup.status, FactorizationStatus::not_positive_definite) << setup.message;
+}
+
+TEST_P(KrylovEngine, ContractViolationsThrow) {
+  const auto solver = make_krylov_solver(GetParam());
+  Eigen::VectorXd x;
+  EXPECT_THROW(solver->solve(Eigen::VectorXd::Ones(3), &x, 1e-10, 10), InternalError);
+  const SparseMatrix A = shifted_laplacian(4) + 2.0 * test::random_spd(4, 1).cwiseAbs();
+  EXPECT_THROW(solver->compute(A, Eigen::MatrixXd::Ones(3, 2)), InternalError);
+  ASSERT_TRUE(solver->compute(A, Eigen::MatrixXd()).ok());
+  EXPECT_THROW(solver->solve(Eigen::VectorXd::Ones(3), &x, 1e-10, 10), InternalError);
+  EXPECT_THROW(solver->solve(Eigen::VectorXd::Ones(4), nullptr, 1e-10, 10), InternalError);
+  EXPECT_THROW(solver->solve(Eigen::VectorXd::Ones(4), &x, 0.0, 10), InternalError);
+}
+
+INSTANTIATE_TEST_SUITE_P(Built, KrylovEngine, ::testing::ValuesIn(available_krylov_solvers()),
+                         [](const ::testing::TestParamInfo<std::string>& info) {
+                           std::string name = info.param;
+                           std::replace(name.begin(), name.end(), '-', '_');
+                           return name;
+                         });
+
+// GAMG given the rigid motions builds the coarse spaces of elasticity: on 10^3 cubes it needs
+// fewer CG iterations than GAMG left to its default (the constant vector per dof).
+TEST(Krylov, NearNullSpaceSavesGamgIterations) {
+  const auto built = available_krylov_solvers();
+  if (std::find(built.begin(), built.end(), "petsc-gamg") == built.end()) GTEST_SKIP() << "petsc-gamg not built";
+  const ClampedCube& cube = clamped_cube(10);
+  int iterations[2] = {0, 0};
+  for (int with = 0; with < 2; ++with) {
+    const auto solver = make_krylov_solver("petsc-gamg");
+    const FactorizationResult setup =
+        solver->compute(cube.system.A, with ? cube.rigid_motions : Eigen::MatrixXd());
+    ASSERT_TRUE(setup.ok()) << setup.message;
+    Eigen::VectorXd x;
+    const KrylovSolveResult r = solver->solve(cube.system.b, &x, 1e-10, 5000);
+    ASSERT_TRUE(r.ok()) << r.message;
+    EXPECT_LE(test::relative_error(x, cube.reference), 1e-8);
+    iterations[with] = r.iterations;
+  }
+  RecordProperty("iterations_without", iterations[0]);
+  RecordProperty("iterations_with", iterations[1]);
+  EXPECT_LT(iterations[1], iterations[0]);
+}
+
+// The PETSc engines' module holds PETSc and the MPI build of MUMPS; this program links the
+// sequential MUMPS engine. Both run in one process, on the same system.
+TEST(Krylov, PetscBesideSequentialMumps) {
+  const auto built = available_krylov_solvers();
+  const auto linear = available_factorizations();
+  if (std::find(built.begin(), built.end(), "petsc-gamg") == built.end() ||
+      std::find(linear.begin(), linear.end(), "mumps") == linear.end())
+    GTEST_SKIP() << "needs petsc-gamg and mumps";
+  const ClampedCube& cube = clamped_cube(6);
+  FactorizationOptions options;
+  options.engine = "mumps";
+  const auto mumps = make_factorization(options);
+  ASSERT_TRUE(mumps->factorize(cube.system.A).ok());
+  Eigen::MatrixXd direct;
+  ASSERT_TRUE(mumps->solve(cube.system.b, &direct).ok());
+  const auto gamg = make_krylov_solver("petsc-gamg");
+  ASSERT_TRUE(gamg->compute(cube.system.A, cube.rigid_motions).ok());
+  Eigen::VectorXd x;
+  const KrylovSolveResult r = gamg->solve(cube.system.b, &x, 1e-10, 1000);
+  ASSERT_TRUE(r.ok()) << r.message;
+  EXPECT_LE(test::relative_error(x, direct), 1e-8);
+  EXPECT_LE(test::relative_error(direct, cube.reference), 1e-12);
+}
+
+TEST(Krylov, Names) {
+  const std::vector<std::string>& known = known_krylov_solvers();
+  EXPECT_EQ(known, (std::vector<std::string>{"petsc-gamg", "petsc-hypre", "eigen-cg"}));
+  EXPECT_TRUE(is_krylov_solver("Petsc_GAMG"));
+  EXPECT_TRUE(is_krylov_solver("EIGEN-CG"));
+  EXPECT_FALSE(is_krylov_solver("nope"));
+  EXPECT_FALSE(is_krylov_solver("auto"));
+
+  const std::vector<std::string> built = available_krylov_solvers();
+  ASSERT_FALSE(built.empty());
+  EXPECT_NE(std::find(built.begin(), built.end(), "eigen-cg"), built.end());
+  auto position = known.begin();
+  for (const std::string& name : built) {  // in the order of preference
+    position = std::find(position, known.end(), name);
+    EXPECT_NE(position, known.end()) << name;
+  }
+  EXPECT_EQ(make_krylov_solver("auto")->name(), built.front());
+  EXPECT_EQ(make_krylov_solver("Eigen_CG")->name(), "eigen-cg");
+}
+
+TEST(Krylov, UnknownEngineIsAnInputErrorNamingIt) {
+  try {
+    make_krylov_solver("nope");
+    FAIL() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("nope"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("eigen-cg"), std::string::npos) << e.what();  // the list of those built
+  }
+}
+
+}  // namespace
+}  // namespace hemivem
