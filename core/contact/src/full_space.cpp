@@ -54,7 +54,7 @@ struct Motion {
   bool held = false;          ///< on a knot, where the one-sided derivatives keep it
   double lo = 0.0, hi = 0.0;  ///< its piece box
   double grad = 0.0;          ///< the derivative of E along it on the side of motion
-  double curvature = 0.0;     ///< w j''(a, side), at least 0
+  double curvature = 0.0;     ///< w j''(a, side)
   double step = 0.0;          ///< a step prescribed onto a knot (epsilon-active)
   bool pushed = false;
 };
@@ -170,8 +170,7 @@ class FullSpaceNewton {
     MinimizerStatus status = MinimizerStatus::iteration_limit;
     CertifiedPoint point = certify(x);
     int functions = 0, certificates = 1;
-    std::vector<char> last_eliminated;
-    Eigen::VectorXd last_shift;
+    SystemCache cache;
     for (int it = 0;; ++it) {
       Eigen::VectorXd Ax;
       const Eigen::VectorXd r = residual(x, &Ax);
@@ -188,68 +187,36 @@ class FullSpaceNewton {
       if (it >= options.max_iterations) break;
       // the motions and the Newton system
       std::vector<Motion> motion = classify(x, r);
-      Eigen::VectorXd rhs = -r;
-      Eigen::VectorXd d = Eigen::VectorXd::Zero(n);
-      std::vector<char> eliminated(static_cast<std::size_t>(n), 0);
-      for (int row : tied_) eliminated[static_cast<std::size_t>(row)] = 1;
-      Eigen::VectorXd shift = Eigen::VectorXd::Zero(n);
-      for (std::size_t k = 0; k < coordinates_.size(); ++k) {
-        const Motion& mk = motion[k];
-        const int row = coordinates_[k].row;
-        if (mk.held || mk.pushed) {
-          eliminated[static_cast<std::size_t>(row)] = 1;
-          d(row) = mk.held ? 0.0 : mk.step;
-        } else {
-          rhs(row) = -mk.grad;
-          shift(row) = mk.curvature;
-        }
-      }
-      const Eigen::VectorXd Ad = A_ * d;  // the prescribed steps' forces on the others
-      SparseMatrix H = A_;
-      for (int j = 0; j < H.outerSize(); ++j)
-        for (SparseMatrix::InnerIterator e(H, j); e; ++e) {
-          const bool ej = eliminated[static_cast<std::size_t>(j)], ei = eliminated[static_cast<std::size_t>(e.row())];
-          if (ei || ej) e.valueRef() = e.row() == j ? 1.0 : 0.0;
-          else if (e.row() == j) e.valueRef() += shift(j);
-        }
-      for (Eigen::Index i = 0; i < n; ++i) rhs(i) = eliminated[static_cast<std::size_t>(i)] ? d(i) : rhs(i) - Ad(i);
-      Eigen::MatrixXd N = near_null;
-      for (Eigen::Index i = 0; i < n && N.cols() > 0; ++i)
-        if (eliminated[static_cast<std::size_t>(i)]) N.row(i).setZero();
-      // the same system as the last one (the same unknowns held, the same curvatures): its
-      // preconditioner serves again
-      auto tc = Clock::now();
-      FactorizationResult set_up;
-      if (eliminated != last_eliminated || shift != last_shift) {
-        set_up = krylov.compute(H, N);
-        ++st.preconditioner_setups;
-        last_eliminated = set_up.ok() ? eliminated : std::vector<char>();
-        last_shift = shift;
-      }
-      st.preconditioner_seconds += since(tc);
-      if (!set_up.ok()) {
-        status = MinimizerStatus::failed;
-        why = "the preconditioner of " + krylov.name() + " failed (" + to_string(set_up.status) + "): " + set_up.message;
-        break;
-      }
-      const double worst = point.certificate.worst();
-      const double rtol = std::clamp(worst * worst, krylov_floor, krylov_cap);
-      Eigen::VectorXd step = d;
-      tc = Clock::now();
-      const KrylovSolveResult solved = krylov.solve(rhs, &step, rtol, max_krylov_iterations);
-      st.krylov_seconds += since(tc);
-      st.krylov_iterations += solved.iterations;
-      if (!step.allFinite() || (!solved.ok() && !(solved.status == FactorizationStatus::numerical_failure &&
-                                                  solved.relative_residual < 1.0))) {
-        status = MinimizerStatus::failed;
-        why = "the Newton system's solve by " + krylov.name() + " failed (" + to_string(solved.status) +
-              "): " + solved.message;
-        break;
-      }
-      ++st.newton_iterations;
-      // the gradient of E on the side of motion, for Armijo's rule
-      Eigen::VectorXd grad = r;
+      // the law's own curvature first (Newton's rate; the system is positive definite wherever
+      // the problem is strongly convex), its negative part left out when CG meets an indefinite
+      // system or the step does not descend
+      Eigen::VectorXd grad = r;  // the gradient of E on the side of motion, for Armijo's rule
       for (std::size_t k = 0; k < coordinates_.size(); ++k) grad(coordinates_[k].row) = motion[k].grad;
+      Eigen::VectorXd step;
+      bool solved_ok = false;
+      for (const bool clip : {false, true}) {
+        bool concave = false;
+        for (const Motion& mk : motion) concave = concave || (!mk.held && !mk.pushed && mk.curvature < 0.0);
+        if (clip && !concave) break;
+        const NewtonOutcome o = newton_step(krylov, near_null, motion, r, clip, point.certificate.worst(), st, cache,
+                                            &step);
+        if (!o.why.empty()) {
+          why = o.why;
+          if (o.fatal || clip || !concave) break;
+          continue;
+        }
+        if (grad.dot(step) < 0.0 || clip || !concave) {
+          solved_ok = true;
+          break;
+        }
+      }
+      if (!solved_ok) {
+        status = MinimizerStatus::failed;
+        if (why.empty()) why = "the Newton step is not a direction of descent";
+        break;
+      }
+      why.clear();
+      ++st.newton_iterations;
       double scale = 0.0;
       const double E0 = energy(x, Ax, &scale);
       bool accepted = false;
@@ -323,6 +290,80 @@ class FullSpaceNewton {
   }
 
  private:
+  /// The last Newton system's held unknowns and curvatures: a system equal to it keeps its
+  /// preconditioner.
+  struct SystemCache {
+    std::vector<char> eliminated;
+    Eigen::VectorXd shift;
+  };
+  struct NewtonOutcome {
+    std::string why;     ///< empty: solved
+    bool fatal = false;  ///< a preconditioner that failed: no retry
+  };
+
+  // The Newton step: the held and pushed coordinates (and the tied rows) prescribed, the others
+  // and every other unknown from (A + diag(w j''))_FF d_F = -grad_F - A_FE d_E by CG, to a
+  // tolerance that follows the certificate's residual `worst`; with `clip` the negative
+  // curvatures are left out.
+  NewtonOutcome newton_step(KrylovSolver& krylov, const Eigen::MatrixXd& near_null, const std::vector<Motion>& motion,
+                            const Eigen::VectorXd& r, bool clip, double worst, FullSpaceStatistics& st,
+                            SystemCache& cache, Eigen::VectorXd* step) const {
+    const Eigen::Index n = A_.rows();
+    Eigen::VectorXd rhs = -r;
+    Eigen::VectorXd d = Eigen::VectorXd::Zero(n);
+    std::vector<char> eliminated(static_cast<std::size_t>(n), 0);
+    for (int row : tied_) eliminated[static_cast<std::size_t>(row)] = 1;
+    Eigen::VectorXd shift = Eigen::VectorXd::Zero(n);
+    for (std::size_t k = 0; k < coordinates_.size(); ++k) {
+      const Motion& mk = motion[k];
+      const int row = coordinates_[k].row;
+      if (mk.held || mk.pushed) {
+        eliminated[static_cast<std::size_t>(row)] = 1;
+        d(row) = mk.held ? 0.0 : mk.step;
+      } else {
+        rhs(row) = -mk.grad;
+        shift(row) = clip ? std::max(0.0, mk.curvature) : mk.curvature;
+      }
+    }
+    const Eigen::VectorXd Ad = A_ * d;  // the prescribed steps' forces on the others
+    for (Eigen::Index i = 0; i < n; ++i) rhs(i) = eliminated[static_cast<std::size_t>(i)] ? d(i) : rhs(i) - Ad(i);
+    auto tc = Clock::now();
+    if (eliminated != cache.eliminated || shift != cache.shift) {
+      SparseMatrix H = A_;
+      for (int j = 0; j < H.outerSize(); ++j)
+        for (SparseMatrix::InnerIterator e(H, j); e; ++e) {
+          const bool ej = eliminated[static_cast<std::size_t>(j)], ei = eliminated[static_cast<std::size_t>(e.row())];
+          if (ei || ej)
+            e.valueRef() = e.row() == j ? 1.0 : 0.0;
+          else if (e.row() == j)
+            e.valueRef() += shift(j);
+        }
+      Eigen::MatrixXd N = near_null;
+      for (Eigen::Index i = 0; i < n && N.cols() > 0; ++i)
+        if (eliminated[static_cast<std::size_t>(i)]) N.row(i).setZero();
+      const FactorizationResult set_up = krylov.compute(H, N);
+      ++st.preconditioner_setups;
+      st.preconditioner_seconds += since(tc);
+      cache = {};
+      if (!set_up.ok())
+        return {"the preconditioner of " + krylov.name() + " failed (" + to_string(set_up.status) + "): " +
+                    set_up.message,
+                set_up.status != FactorizationStatus::not_positive_definite};
+      cache = {std::move(eliminated), std::move(shift)};
+    }
+    const double rtol = std::clamp(worst * worst, krylov_floor, krylov_cap);
+    *step = d;
+    tc = Clock::now();
+    const KrylovSolveResult solved = krylov.solve(rhs, step, rtol, max_krylov_iterations);
+    st.krylov_seconds += since(tc);
+    st.krylov_iterations += solved.iterations;
+    if (step->allFinite() && (solved.ok() || (solved.status == FactorizationStatus::numerical_failure &&
+                                              solved.relative_residual < 1.0)))
+      return {};
+    return {"the Newton system's solve by " + krylov.name() + " failed (" + to_string(solved.status) +
+            "): " + solved.message};
+  }
+
   void record(MinimizerResult& result, int it, double E, const Certificate& c, const Eigen::VectorXd& x,
               Clock::time_point t0) const {
     IterationRecord rec;
@@ -363,8 +404,8 @@ class FullSpaceNewton {
         mk.hi = c.knot_above(a);
       }
       mk.grad = side > 0 ? up : down;
-      mk.curvature = std::max(0.0, c.w * c.law->second_derivative(LawPart::j, a, side));
-      const double diag = stiffness_(static_cast<Eigen::Index>(k)) + mk.curvature;
+      mk.curvature = c.w * c.law->second_derivative(LawPart::j, a, side);
+      const double diag = stiffness_(static_cast<Eigen::Index>(k)) + std::max(0.0, mk.curvature);
       const double trial = diag > 0.0 ? std::clamp(a - mk.grad / diag, mk.lo, mk.hi) : a;
       eps = std::max(eps, std::abs(trial - a));
     }

@@ -144,6 +144,31 @@ struct PetscKrylovSolver::Impl {
   PetscOptions options = nullptr;
   PetscInt size = 0;
   bool computed = false;
+  // the pattern of the matrix set up last (A's column starts and row indices)
+  std::vector<int> outer, inner;
+
+  /// True when A has the pattern of the matrix set up last (the systems of one Newton
+  /// iteration keep A's pattern, their values change).
+  bool same_pattern(const SparseMatrix& A) const {
+    return computed && A.isCompressed() && A.rows() == size && static_cast<std::size_t>(A.nonZeros()) == inner.size() &&
+           std::equal(outer.begin(), outer.end(), A.outerIndexPtr()) &&
+           std::equal(inner.begin(), inner.end(), A.innerIndexPtr());
+  }
+
+  /// New values of the same pattern: copied into the AIJ matrix, whose preconditioner is set up
+  /// again at the next solve (GAMG reusing its interpolation, below).
+  PetscErrorCode update_values(const SparseMatrix& A, std::string* error) {
+    using RowMajor = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
+    RowMajor R = A;
+    R.makeCompressed();
+    PetscScalar* values = nullptr;
+    HEMIVEM_PETSC(MatSeqAIJGetArray(matrix, &values));
+    std::copy(R.valuePtr(), R.valuePtr() + R.nonZeros(), values);
+    HEMIVEM_PETSC(MatSeqAIJRestoreArray(matrix, &values));
+    HEMIVEM_PETSC(KSPSetOperators(ksp, matrix, matrix));
+    HEMIVEM_PETSC(KSPSetUp(ksp));
+    return 0;
+  }
 
   explicit Impl(Preconditioner pc) : preconditioner(pc) { PetscRuntime::instance().attach(); }
   ~Impl() {
@@ -226,6 +251,10 @@ struct PetscKrylovSolver::Impl {
     if (preconditioner == Preconditioner::gamg) {
       HEMIVEM_PETSC(PCSetType(pc, PCGAMG));
       HEMIVEM_PETSC(PCGAMGSetType(pc, PCGAMGAGG));
+      // a new matrix of the same pattern keeps the aggregates and the prolongator of the first
+      // (only the coarse operators are formed again): a Newton iteration's systems differ in a
+      // few rows
+      HEMIVEM_PETSC(PCGAMGSetReuseInterpolation(pc, PETSC_TRUE));
     } else {
       HEMIVEM_PETSC(PCSetType(pc, PCHYPRE));
       HEMIVEM_PETSC(PCHYPRESetType(pc, "boomeramg"));
@@ -247,6 +276,13 @@ std::string PetscKrylovSolver::name() const { return impl_->name(); }
 FactorizationResult PetscKrylovSolver::compute(const SparseMatrix& A, const Eigen::MatrixXd& near_null) {
   krylov::check_compute_arguments(name(), A, near_null);
   Impl& m = *impl_;
+  if (m.same_pattern(A) && PetscRuntime::running()) {
+    if (const FactorizationResult screened = krylov::screen_matrix(A); !screened.ok())
+      return {screened.status, name() + ": " + screened.message};
+    const QuietErrors quiet;
+    std::string error;
+    if (m.update_values(A, &error) == 0) return FactorizationResult::good();
+  }
   m.release();
   if (const std::string& why = PetscRuntime::instance().start(); !why.empty())
     return {FactorizationStatus::numerical_failure, name() + ": " + why};
@@ -260,6 +296,8 @@ FactorizationResult PetscKrylovSolver::compute(const SparseMatrix& A, const Eige
     return {FactorizationStatus::numerical_failure, name() + ": " + error};
   }
   m.computed = true;
+  m.outer.assign(A.outerIndexPtr(), A.outerIndexPtr() + A.outerSize() + 1);
+  m.inner.assign(A.innerIndexPtr(), A.innerIndexPtr() + A.nonZeros());
   return FactorizationResult::good();
 }
 
