@@ -1,5 +1,6 @@
 #include "commands.hpp"
 
+#include <hemivem/krylov_solver.hpp>
 #include <hemivem/contact/solver.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/linear_backends.hpp>
@@ -171,6 +172,10 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   check_output_folder(o.out);
   say_what_an_interruption_keeps(o.out);
   require_one_process_or_mumps_mpi(scene);
+  if (!o.export_reduced.empty() && is_krylov_solver(scene.solver.linear))
+    throw InputError("the full-space route (linear engine " + scene.solver.linear +
+                         ") poses no reduced problem: export it with a linear engine that factorizes",
+                     "--export-reduced");
   ReducedProblem reduced;
   RunOptions options = run_options(o, err);
   options.reduced = o.export_reduced.empty() ? nullptr : &reduced;

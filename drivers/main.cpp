@@ -50,6 +50,8 @@ namespace {
 std::string engines_text() {
   std::string s = "linear engines:";
   for (const auto& n : hemivem::available_factorizations()) s += " " + n;
+  s += "\nkrylov engines (the full-space route):";
+  for (const auto& n : hemivem::available_krylov_solvers()) s += " " + n;
   s += "\nminimizers:";
   for (const auto& n : hemivem::available_minimizers()) s += " " + n;
   return s;

@@ -291,9 +291,6 @@ void BasicContactSolver<dim>::pose() {
     if (!part.law)
       throw InputError(parts_.size() == 1 ? std::string("the contact boundary has no contact law")
                                           : "contact part '" + part.name + "' has no contact law");
-  if (reduced_)
-    throw InputError("the full-space route poses no reduced problem to export: export it with a linear engine that "
-                     "factorizes");
   if (!common_.held_by_contact.empty())
     throw InputError("the full-space route needs supports that hold the body (" + common_.held_by_contact.front() +
                      " is held by the contact alone): use a linear engine that factorizes")

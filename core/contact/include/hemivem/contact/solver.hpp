@@ -288,7 +288,7 @@ class BasicContactSolver {
   /// "full_space" (the semismooth Newton iteration); run() takes the one minimizer "ssn" (the
   /// route's Newton iteration is ssn's in the whole space; another is an InputError naming it).
   /// The uniqueness margin is not measured (NaN): a solution is called unique only where every
-  /// law is convex.
+  /// law is convex. There is no reduced problem: export_reduced() leaves its target untouched.
   BasicContactSolver(const Problem& problem, std::unique_ptr<KrylovSolver> krylov, const MinimizerOptions& options);
   BasicContactSolver(const BasicContactSolver&) = delete;
   BasicContactSolver& operator=(const BasicContactSolver&) = delete;
