@@ -169,7 +169,7 @@ class FullSpaceNewton {
     std::string why;
     MinimizerStatus status = MinimizerStatus::iteration_limit;
     CertifiedPoint point = certify(x);
-    int functions = 0, certificates = 1;
+    Counts counts;
     SystemCache cache;
     for (int it = 0;; ++it) {
       Eigen::VectorXd Ax;
@@ -187,106 +187,22 @@ class FullSpaceNewton {
       if (it >= options.max_iterations) break;
       // the motions and the Newton system
       std::vector<Motion> motion = classify(x, r);
-      // the law's own curvature first (Newton's rate; the system is positive definite wherever
-      // the problem is strongly convex), its negative part left out when CG meets an indefinite
-      // system or the step does not descend
       Eigen::VectorXd grad = r;  // the gradient of E on the side of motion, for Armijo's rule
       for (std::size_t k = 0; k < coordinates_.size(); ++k) grad(coordinates_[k].row) = motion[k].grad;
       Eigen::VectorXd step;
-      bool solved_ok = false;
-      for (const bool clip : {false, true}) {
-        bool concave = false;
-        for (const Motion& mk : motion) concave = concave || (!mk.held && !mk.pushed && mk.curvature < 0.0);
-        if (clip && !concave) break;
-        const NewtonOutcome o = newton_step(krylov, near_null, motion, r, clip, point.certificate.worst(), st, cache,
-                                            &step);
-        if (!o.why.empty()) {
-          why = o.why;
-          if (o.fatal || clip || !concave) break;
-          continue;
-        }
-        if (grad.dot(step) < 0.0 || clip || !concave) {
-          solved_ok = true;
-          break;
-        }
-      }
-      if (!solved_ok) {
+      if (!descent_direction(krylov, near_null, motion, r, grad, point.certificate.worst(), st, cache, &step, &why)) {
         status = MinimizerStatus::failed;
-        if (why.empty()) why = "the Newton step is not a direction of descent";
         break;
       }
-      why.clear();
       ++st.newton_iterations;
-      double scale = 0.0;
-      const double E0 = energy(x, Ax, &scale);
-      bool accepted = false;
-      double t = 1.0;
-      for (int bt = 0; bt <= max_backtracks && !accepted; ++bt, t *= 0.5) {
-        Eigen::VectorXd xt = x + t * step;
-        for (std::size_t k = 0; k < coordinates_.size(); ++k) {
-          const Coordinate& c = coordinates_[k];
-          const Motion& mk = motion[k];
-          if (mk.held) {
-            xt(c.row) = x(c.row);
-          } else if (mk.pushed && t == 1.0) {
-            xt(c.row) = x(c.row) + mk.step;  // exactly onto its knot
-          } else {
-            xt(c.row) = std::clamp(xt(c.row) - c.origin, mk.lo, mk.hi) + c.origin;
-          }
-        }
-        for (int row : tied_) xt(row) = 0.0;
-        Eigen::VectorXd Axt;
-        residual(xt, &Axt);
-        const double E1 = energy(xt, Axt);
-        ++functions;
-        const double predicted = grad.dot(xt - x);
-        if (std::abs(E1 - E0) <= energy_roundoff * scale || std::abs(predicted) <= energy_roundoff * scale) {
-          // E cannot tell: the step is taken when it lowers the certificate's residual
-          CertifiedPoint trial = certify(xt);
-          ++certificates;
-          if (trial.certificate.worst() < point.certificate.worst()) {
-            x = std::move(xt);
-            point = std::move(trial);
-            accepted = true;
-          }
-        } else if (E1 <= E0 + armijo * predicted) {
-          x = std::move(xt);
-          point = certify(x);
-          ++certificates;
-          accepted = true;
-        }
-      }
-      if (!accepted) {
+      if (!line_search(motion, grad, step, Ax, x, point, counts)) {
         status = MinimizerStatus::stalled;
         why = "no step along the Newton direction lowered the energy or the certificate's residual";
         break;
       }
     }
-    if (point.a.size() != p_.size())
-      throw NumericalError("the full-space iteration reached a point that is not finite" +
-                           (why.empty() ? std::string() : ": " + why));
-    put_coordinates(point.a, x);  // the snapped point is the one certified
-    *x_io = x;
-    Eigen::VectorXd Ax;
-    residual(x, &Ax);
-    result.a = point.a;
-    result.law_force = point.law_force;
-    result.reaction = point.reaction;
-    result.certificate = point.certificate;
-    result.objective = energy(x, Ax);
-    result.iterations = st.newton_iterations;
-    result.function_evaluations = functions;
-    result.subgradient_evaluations = certificates;
-    result.may_be_nonunique = !p_.all_laws_convex();
-    result.status = point.certificate.converged() ? MinimizerStatus::converged
-                                                  : (status == MinimizerStatus::converged ? MinimizerStatus::stalled : status);
-    const std::string summary = std::to_string(st.newton_iterations) + " Newton iterations, " +
-                                std::to_string(st.krylov_iterations) + " " + krylov.name() + " iterations";
-    result.message = result.converged() ? summary : (why.empty() ? "the iteration limit was reached" : why) + "; " + summary;
-    result.timings["total"] = since(t0);
-    result.timings["preconditioner"] = st.preconditioner_seconds;
-    result.timings["krylov"] = st.krylov_seconds;
-    return result;
+    *x_io = std::move(x);
+    return finish(krylov.name(), status, why, point, counts, st, t0, x_io, std::move(result));
   }
 
  private:
@@ -300,6 +216,114 @@ class FullSpaceNewton {
     std::string why;     ///< empty: solved
     bool fatal = false;  ///< a preconditioner that failed: no retry
   };
+
+  /// Energies and certificates evaluated.
+  struct Counts {
+    int functions = 0, certificates = 1;
+  };
+
+  // The step of a Newton iteration: the law's own curvature first (Newton's rate; the system is
+  // positive definite wherever the problem is strongly convex), its negative part left out when
+  // CG meets an indefinite system or the step does not descend. False (and *why) when there is
+  // no direction of descent.
+  bool descent_direction(KrylovSolver& krylov, const Eigen::MatrixXd& near_null, const std::vector<Motion>& motion,
+                         const Eigen::VectorXd& r, const Eigen::VectorXd& grad, double worst, FullSpaceStatistics& st,
+                         SystemCache& cache, Eigen::VectorXd* step, std::string* why) const {
+    bool concave = false;
+    for (const Motion& mk : motion) concave = concave || (!mk.held && !mk.pushed && mk.curvature < 0.0);
+    for (const bool clip : {false, true}) {
+      if (clip && !concave) break;
+      const NewtonOutcome o = newton_step(krylov, near_null, motion, r, clip, worst, st, cache, step);
+      if (!o.why.empty()) {
+        *why = o.why;
+        if (o.fatal || clip || !concave) return false;
+        continue;
+      }
+      if (grad.dot(*step) < 0.0 || clip || !concave) {
+        why->clear();
+        return true;
+      }
+    }
+    if (why->empty()) *why = "the Newton step is not a direction of descent";
+    return false;
+  }
+
+  // Backtracking along the projection arc from x (A x in Ax) with Armijo's rule on E, or where
+  // E cannot tell (a change within its round-off) by the certificate's residual. On success x
+  // and its certified point move to the step taken.
+  bool line_search(const std::vector<Motion>& motion, const Eigen::VectorXd& grad, const Eigen::VectorXd& step,
+                   const Eigen::VectorXd& Ax, Eigen::VectorXd& x, CertifiedPoint& point, Counts& counts) const {
+    double scale = 0.0;
+    const double E0 = energy(x, Ax, &scale);
+    double t = 1.0;
+    for (int bt = 0; bt <= max_backtracks; ++bt, t *= 0.5) {
+      Eigen::VectorXd xt = x + t * step;
+      for (std::size_t k = 0; k < coordinates_.size(); ++k) {
+        const Coordinate& c = coordinates_[k];
+        const Motion& mk = motion[k];
+        if (mk.held)
+          xt(c.row) = x(c.row);
+        else if (mk.pushed && t == 1.0)
+          xt(c.row) = x(c.row) + mk.step;  // exactly onto its knot
+        else
+          xt(c.row) = std::clamp(xt(c.row) - c.origin, mk.lo, mk.hi) + c.origin;
+      }
+      for (int row : tied_) xt(row) = 0.0;
+      Eigen::VectorXd Axt;
+      residual(xt, &Axt);
+      const double E1 = energy(xt, Axt);
+      ++counts.functions;
+      const double predicted = grad.dot(xt - x);
+      if (std::abs(E1 - E0) <= energy_roundoff * scale || std::abs(predicted) <= energy_roundoff * scale) {
+        CertifiedPoint trial = certify(xt);
+        ++counts.certificates;
+        if (trial.certificate.worst() < point.certificate.worst()) {
+          x = std::move(xt);
+          point = std::move(trial);
+          return true;
+        }
+      } else if (E1 <= E0 + armijo * predicted) {
+        x = std::move(xt);
+        point = certify(x);
+        ++counts.certificates;
+        return true;
+      }
+    }
+    return false;
+  }
+
+  // The report at the certified point: its coordinates put into x (the snapped point is the one
+  // certified), the forces, counts, status and message.
+  MinimizerResult finish(const std::string& engine, MinimizerStatus status, const std::string& why,
+                         const CertifiedPoint& point, const Counts& counts, const FullSpaceStatistics& st,
+                         Clock::time_point t0, Eigen::VectorXd* x_io, MinimizerResult result) const {
+    if (point.a.size() != p_.size())
+      throw NumericalError("the full-space iteration reached a point that is not finite" +
+                           (why.empty() ? std::string() : ": " + why));
+    put_coordinates(point.a, *x_io);
+    Eigen::VectorXd Ax;
+    residual(*x_io, &Ax);
+    result.a = point.a;
+    result.law_force = point.law_force;
+    result.reaction = point.reaction;
+    result.certificate = point.certificate;
+    result.objective = energy(*x_io, Ax);
+    result.iterations = st.newton_iterations;
+    result.function_evaluations = counts.functions;
+    result.subgradient_evaluations = counts.certificates;
+    result.may_be_nonunique = !p_.all_laws_convex();
+    result.status = point.certificate.converged()
+                        ? MinimizerStatus::converged
+                        : (status == MinimizerStatus::converged ? MinimizerStatus::stalled : status);
+    const std::string summary = std::to_string(st.newton_iterations) + " Newton iterations, " +
+                                std::to_string(st.krylov_iterations) + " " + engine + " iterations";
+    result.message =
+        result.converged() ? summary : (why.empty() ? "the iteration limit was reached" : why) + "; " + summary;
+    result.timings["total"] = since(t0);
+    result.timings["preconditioner"] = st.preconditioner_seconds;
+    result.timings["krylov"] = st.krylov_seconds;
+    return result;
+  }
 
   // The Newton step: the held and pushed coordinates (and the tied rows) prescribed, the others
   // and every other unknown from (A + diag(w j''))_FF d_F = -grad_F - A_FE d_E by CG, to a
