@@ -14,6 +14,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -204,6 +207,77 @@ TEST(FullSpace, TheCommandSolvesOnTheFullSpaceRouteAndExitsCleanly) {
     std::filesystem::remove_all(out);
   }
   std::filesystem::remove_all(reference);
+}
+
+}  // namespace
+
+namespace {
+
+// The largest displacement component of displacement.csv and the largest difference between two
+// such files (the columns ux, uy[, uz]).
+std::pair<double, double> displacement_difference(const std::filesystem::path& a, const std::filesystem::path& b) {
+  std::istringstream fa(test::slurp(a)), fb(test::slurp(b));
+  std::string la, lb;
+  std::getline(fa, la);
+  std::getline(fb, lb);
+  std::vector<char> is_u;  // the columns ux, uy[, uz]
+  std::istringstream header(la);
+  for (std::string column; std::getline(header, column, ',');)
+    is_u.push_back(column == "ux" || column == "uy" || column == "uz");
+  double largest = 0.0, difference = 0.0;
+  while (std::getline(fa, la) && std::getline(fb, lb)) {
+    std::istringstream ra(la), rb(lb);
+    std::string ca, cb;
+    for (std::size_t c = 0; std::getline(ra, ca, ',') && std::getline(rb, cb, ','); ++c) {
+      if (c >= is_u.size() || !is_u[c]) continue;
+      largest = std::max(largest, std::abs(std::stod(ca)));
+      difference = std::max(difference, std::abs(std::stod(ca) - std::stod(cb)));
+    }
+  }
+  return {largest, difference};
+}
+
+// Every shipped scene the condensed route solves, the full-space route solves to the same
+// displacement, or refuses by name (a path, a global search, a solid's friction, a body held by
+// its contact alone). The two largest plane meshes (hertz, two-cylinders) are measured in
+// docs/full-space.md instead: eigen-cg takes 16 and 35 s on them.
+TEST(FullSpace, EveryShippedSceneIsSolvedAlikeOrRefusedByName) {
+  const std::set<std::string> slow = {"hertz", "two-cylinders"};
+  const std::set<std::string> refused_expected = {
+      "block-between-rollers",   "block-between-rollers-3d", "cattaneo-mindlin", "delamination",
+      "delamination-path",       "friction-block-3d",        "friction-coulomb", "plate-friction-benchmark",
+      "two-blocks",              "two-boxes-3d"};
+  std::set<std::string> refused;
+  int solved = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(test::scenes_dir())) {
+    const std::string name = entry.path().stem().string();
+    if (entry.path().extension() != ".toml" || slow.count(name)) continue;
+    SCOPED_TRACE(name);
+    const std::filesystem::path condensed = test::scratch("shipped-condensed-" + name);
+    const std::filesystem::path full = test::scratch("shipped-full-" + name);
+    const std::string files = " --set 'output.write=[\"result-json\", \"displacement-csv\"]' -q --out ";
+    ASSERT_EQ(test::run_hemivem("solve " + entry.path().string() + files + condensed.string()).code, 0);
+    const test::CommandRun run =
+        test::run_hemivem("solve " + entry.path().string() + " --linear eigen-cg" + files + full.string());
+    if (run.code == 2) {
+      refused.insert(name);
+      const bool named = run.err.find("full-space route") != std::string::npos ||
+                         run.err.find("loading path runs on the condensed route") != std::string::npos;
+      EXPECT_TRUE(named) << run.err;
+      EXPECT_FALSE(std::filesystem::exists(full / "result.json")) << "no half-written outputs";
+    } else {
+      ASSERT_EQ(run.code, 0) << run.err;
+      const auto [largest, difference] =
+          displacement_difference(condensed / "displacement.csv", full / "displacement.csv");
+      EXPECT_GT(largest, 0.0);
+      EXPECT_LE(difference, 1e-8 * largest);
+      ++solved;
+    }
+    std::filesystem::remove_all(condensed);
+    std::filesystem::remove_all(full);
+  }
+  EXPECT_EQ(refused, refused_expected);
+  EXPECT_GE(solved, 15);
 }
 
 }  // namespace
