@@ -16,12 +16,9 @@
 #ifdef HEMIVEM_HAVE_PETSC_KRYLOV
 #include <hemivem/petsc_krylov_plugin.hpp>
 
-#include <dlfcn.h>
-
-#include <cstdlib>
-#include <filesystem>
 #include <mutex>
-#include <system_error>
+
+#include "engine_module.hpp"
 #endif
 
 namespace hemivem {
@@ -34,30 +31,16 @@ std::string built_list() {
 }
 
 #ifdef HEMIVEM_HAVE_PETSC_KRYLOV
-// Where the module may be, in this order:
-//   1. the folder hemivem/ beside the file holding this code (found with dladdr): for a
-//      shared libhemivem_krylov, the installed layout, which the build tree reproduces;
-//   2. <libdir>/hemivem relative to that file's folder taken as <bindir>: an installed
-//      program holding a static libhemivem_krylov;
-//   3. the path of the module in the build tree;
-//   4. the path of the module in the install prefix chosen at configure time.
+// The module, looked for beside this library first (engine_module::candidates);
 // HEMIVEM_PETSC_PLUGIN in the environment replaces the list.
-std::vector<std::string> petsc_candidates() {
-  const char* env = std::getenv("HEMIVEM_PETSC_PLUGIN");
-  if (env && *env) return {env};
-  std::vector<std::string> paths;
-  Dl_info info{};
-  if (dladdr(reinterpret_cast<void*>(&petsc_candidates), &info) != 0 && info.dli_fname && *info.dli_fname) {
-    std::error_code ec;
-    std::filesystem::path self = std::filesystem::weakly_canonical(info.dli_fname, ec);
-    if (ec) self = std::filesystem::path(info.dli_fname).lexically_normal();
-    paths.push_back((self.parent_path() / "hemivem" / HEMIVEM_PETSC_PLUGIN_NAME).string());
-    const std::filesystem::path from_bindir = self.parent_path() / HEMIVEM_PETSC_PLUGIN_FROM_BINDIR;
-    paths.push_back((from_bindir / HEMIVEM_PETSC_PLUGIN_NAME).lexically_normal().string());
-  }
-  paths.emplace_back(HEMIVEM_PETSC_PLUGIN);
-  paths.emplace_back(HEMIVEM_PETSC_PLUGIN_INSTALLED);
-  return paths;
+engine_module::Location petsc_module() {
+  return {"the PETSc Krylov module",
+          "HEMIVEM_PETSC_PLUGIN",
+          HEMIVEM_PETSC_PLUGIN_NAME,
+          HEMIVEM_PETSC_PLUGIN_FROM_BINDIR,
+          HEMIVEM_PETSC_PLUGIN,
+          HEMIVEM_PETSC_PLUGIN_INSTALLED,
+          reinterpret_cast<const void*>(&petsc_module)};
 }
 
 // The module is loaded once and never unloaded (engines it created may outlive any scope).
@@ -66,30 +49,7 @@ CreatePetscKrylovFunction petsc_entry() {
   static CreatePetscKrylovFunction create = nullptr;
   static std::string error;
   std::call_once(once, [] {
-    const std::vector<std::string> candidates = petsc_candidates();
-    std::string path;
-    for (const std::string& candidate : candidates) {
-      std::error_code ec;
-      if (std::filesystem::is_regular_file(candidate, ec)) {
-        path = candidate;
-        break;
-      }
-    }
-    if (path.empty()) {
-      std::string tried;
-      for (const std::string& candidate : candidates) tried += (tried.empty() ? "" : ", ") + candidate;
-      error = "cannot find the PETSc Krylov module (looked for " + tried +
-              "; the environment variable HEMIVEM_PETSC_PLUGIN sets its path)";
-      return;
-    }
-    void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL | RTLD_DEEPBIND);
-    if (!handle) {
-      const char* why = dlerror();
-      error = "cannot load the PETSc Krylov module " + path + ": " + (why ? why : "unknown error");
-      return;
-    }
-    create = reinterpret_cast<CreatePetscKrylovFunction>(dlsym(handle, kCreatePetscKrylovSymbol));
-    if (!create) error = "the PETSc Krylov module " + path + " has no entry point " + kCreatePetscKrylovSymbol;
+    create = engine_module::open(petsc_module()).entry<CreatePetscKrylovFunction>(kCreatePetscKrylovSymbol, &error);
   });
   if (!create) throw InputError(error, "krylov engine");
   return create;

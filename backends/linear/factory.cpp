@@ -15,14 +15,10 @@
 #ifdef HEMIVEM_HAVE_MUMPS_MPI
 #include <hemivem/mumps_mpi_plugin.hpp>
 
-#include <dlfcn.h>
-
 #include <atomic>
-#include <cstdlib>
-#include <filesystem>
 #include <mutex>
-#include <system_error>
-#include <vector>
+
+#include "engine_module.hpp"
 #endif
 
 namespace hemivem {
@@ -35,30 +31,16 @@ std::string built_list() {
 }
 
 #ifdef HEMIVEM_HAVE_MUMPS_MPI
-// Where the module may be, in this order:
-//   1. the folder hemivem/ beside the file holding this code (found with dladdr): for a
-//      shared libhemivem_linear, the installed layout, which the build tree reproduces;
-//   2. <libdir>/hemivem relative to that file's folder taken as <bindir>: an installed
-//      program holding a static libhemivem_linear;
-//   3. the path of the module in the build tree;
-//   4. the path of the module in the install prefix chosen at configure time.
+// The module, looked for beside this library first (engine_module::candidates);
 // HEMIVEM_MUMPS_MPI_PLUGIN in the environment replaces the list.
-std::vector<std::string> mumps_mpi_candidates() {
-  const char* env = std::getenv("HEMIVEM_MUMPS_MPI_PLUGIN");
-  if (env && *env) return {env};
-  std::vector<std::string> paths;
-  Dl_info info{};
-  if (dladdr(reinterpret_cast<void*>(&mumps_mpi_candidates), &info) != 0 && info.dli_fname && *info.dli_fname) {
-    std::error_code ec;
-    std::filesystem::path self = std::filesystem::weakly_canonical(info.dli_fname, ec);
-    if (ec) self = std::filesystem::path(info.dli_fname).lexically_normal();
-    paths.push_back((self.parent_path() / "hemivem" / HEMIVEM_MUMPS_MPI_PLUGIN_NAME).string());
-    paths.push_back(
-        (self.parent_path() / HEMIVEM_MUMPS_MPI_PLUGIN_FROM_BINDIR / HEMIVEM_MUMPS_MPI_PLUGIN_NAME).lexically_normal().string());
-  }
-  paths.emplace_back(HEMIVEM_MUMPS_MPI_PLUGIN);
-  paths.emplace_back(HEMIVEM_MUMPS_MPI_PLUGIN_INSTALLED);
-  return paths;
+engine_module::Location mumps_mpi_module() {
+  return {"the mumps-mpi module",
+          "HEMIVEM_MUMPS_MPI_PLUGIN",
+          HEMIVEM_MUMPS_MPI_PLUGIN_NAME,
+          HEMIVEM_MUMPS_MPI_PLUGIN_FROM_BINDIR,
+          HEMIVEM_MUMPS_MPI_PLUGIN,
+          HEMIVEM_MUMPS_MPI_PLUGIN_INSTALLED,
+          reinterpret_cast<const void*>(&mumps_mpi_module)};
 }
 
 // The module is loaded once and never unloaded (engines it created may outlive any scope).
@@ -69,34 +51,13 @@ CreateMumpsMpiFunction mumps_mpi_entry() {
   static CreateMumpsMpiFunction create = nullptr;
   static std::string error;
   std::call_once(once, [] {
-    const std::vector<std::string> candidates = mumps_mpi_candidates();
-    std::string path;
-    for (const std::string& candidate : candidates) {
-      std::error_code ec;
-      if (std::filesystem::is_regular_file(candidate, ec)) {
-        path = candidate;
-        break;
-      }
-    }
-    if (path.empty()) {
-      std::string tried;
-      for (const std::string& candidate : candidates) tried += (tried.empty() ? "" : ", ") + candidate;
-      error = "cannot find the mumps-mpi module (looked for " + tried +
-              "; the environment variable HEMIVEM_MUMPS_MPI_PLUGIN sets its path)";
-      return;
-    }
-    void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL | RTLD_DEEPBIND);
-    if (!handle) {
-      const char* why = dlerror();
-      error = "cannot load the mumps-mpi module " + path + ": " + (why ? why : "unknown error");
-      return;
-    }
-    create = reinterpret_cast<CreateMumpsMpiFunction>(dlsym(handle, kCreateMumpsMpiSymbol));
-    if (!create) error = "the mumps-mpi module " + path + " has no entry point " + kCreateMumpsMpiSymbol;
-    const auto rank = reinterpret_cast<MumpsMpiRankFunction>(dlsym(handle, kMumpsMpiRankSymbol));
+    const engine_module::Module module = engine_module::open(mumps_mpi_module());
+    create = module.entry<CreateMumpsMpiFunction>(kCreateMumpsMpiSymbol, &error);
+    std::string rank_error;
+    const auto rank = module.entry<MumpsMpiRankFunction>(kMumpsMpiRankSymbol, &rank_error);
     if (create && !rank) {
       create = nullptr;
-      error = "the mumps-mpi module " + path + " has no entry point " + kMumpsMpiRankSymbol;
+      error = rank_error;
     }
     loaded_rank = rank;
   });

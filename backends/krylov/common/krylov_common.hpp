@@ -1,6 +1,7 @@
 // Private helpers of the Krylov engines (not installed): the contract's checks of compute()
-// and solve() arguments, the screening of a matrix before a preconditioner is built, and the
-// true relative residual every engine reports.
+// and solve() arguments, the start of solve() and its restarts, the screening of a matrix
+// before a preconditioner is built, the true relative residual every engine reports and the
+// format of numbers in messages.
 #pragma once
 
 #include <hemivem/error.hpp>
@@ -9,9 +10,22 @@
 #include <Eigen/Core>
 
 #include <cmath>
+#include <sstream>
 #include <string>
 
 namespace hemivem::krylov {
+
+/// The restarts from the last x when the engine's recursive residual says converged and the
+/// true residual does not.
+constexpr int kMaxRestarts = 4;
+
+/// value in the messages: scientific notation, 3 digits after the point ("1.235e-08").
+inline std::string scientific(double value) {
+  std::ostringstream s;
+  s.precision(3);
+  s << std::scientific << value;
+  return s.str();
+}
 
 /// Throws InternalError unless A is square and `near_null` has A.rows() rows or no columns.
 inline void check_compute_arguments(const std::string& engine, const SparseMatrix& A,
@@ -35,6 +49,16 @@ inline void check_solve_arguments(const std::string& engine, Eigen::Index n, con
   if (!(rtol > 0.0)) throw InternalError(engine + ": solve() needs rtol > 0, not " + std::to_string(rtol));
   if (max_iterations < 0)
     throw InternalError(engine + ": solve() needs max_iterations >= 0, not " + std::to_string(max_iterations));
+}
+
+/// The start of solve() once its arguments are checked: x of b's size (zeros when it was not),
+/// and x = 0 when b = 0 or when an entry of x is not finite. Returns ||b||_2; for 0, x = 0 is
+/// the answer and no iteration is run.
+inline double prepare_start(const Eigen::VectorXd& b, Eigen::VectorXd* x) {
+  if (x->size() != b.size()) x->setZero(b.size());
+  const double bn = b.norm();
+  if (bn == 0.0 || !x->allFinite()) x->setZero();
+  return bn;
 }
 
 /// What the entries of A say before any preconditioner is built: numerical_failure for an

@@ -5,7 +5,6 @@
 #include <Eigen/IterativeLinearSolvers>
 
 #include <cmath>
-#include <sstream>
 #include <utility>
 
 #include "krylov_common.hpp"
@@ -14,20 +13,12 @@ namespace hemivem {
 
 namespace {
 
+using krylov::kMaxRestarts;
+using krylov::scientific;
+
 using IcCg = Eigen::ConjugateGradient<SparseMatrix, Eigen::Lower | Eigen::Upper, Eigen::IncompleteCholesky<double>>;
 using DiagonalCg =
     Eigen::ConjugateGradient<SparseMatrix, Eigen::Lower | Eigen::Upper, Eigen::DiagonalPreconditioner<double>>;
-
-/// The restarts from the last x when CG's recursive residual says converged and the true
-/// residual does not.
-constexpr int kMaxRestarts = 4;
-
-std::string format(double value) {
-  std::ostringstream s;
-  s.precision(3);
-  s << std::scientific << value;
-  return s.str();
-}
 
 }  // namespace
 
@@ -79,14 +70,8 @@ KrylovSolveResult EigenCgSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd
   const Impl& m = *impl_;
   if (!m.computed) throw InternalError("eigen-cg: solve() before a successful compute()");
   krylov::check_solve_arguments(name(), m.A.rows(), b, x, rtol, max_iterations);
-  if (x->size() != b.size()) x->setZero(b.size());
   KrylovSolveResult out;
-  const double bn = b.norm();
-  if (bn == 0.0) {
-    x->setZero();
-    return out;
-  }
-  if (!x->allFinite()) x->setZero();
+  if (krylov::prepare_start(b, x) == 0.0) return out;
   double relative = krylov::relative_residual(m.A, b, *x);
   for (int restart = 0; relative > rtol && out.iterations < max_iterations && restart <= kMaxRestarts; ++restart) {
     const int budget = max_iterations - out.iterations;
@@ -105,11 +90,12 @@ KrylovSolveResult EigenCgSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd
   } else if (x->squaredNorm() > 0.0 && !(curvature > 0.0)) {
     out.status = FactorizationStatus::not_positive_definite;
     out.message =
-        "eigen-cg: x^T A x = " + format(curvature) + " <= 0 for the x of CG: the matrix is not positive definite";
+        "eigen-cg: x^T A x = " + scientific(curvature) + " <= 0 for the x of CG: the matrix is not positive definite";
   } else if (relative > rtol) {
     out.status = FactorizationStatus::numerical_failure;
     out.message = "eigen-cg: no convergence in " + std::to_string(out.iterations) + " iterations (of " +
-                  std::to_string(max_iterations) + "): relative residual " + format(relative) + " > " + format(rtol);
+                  std::to_string(max_iterations) + "): relative residual " + scientific(relative) + " > " +
+                  scientific(rtol);
   }
   return out;
 }

@@ -10,7 +10,6 @@
 #include <atomic>
 #include <cmath>
 #include <mutex>
-#include <sstream>
 #include <vector>
 
 #include "krylov_common.hpp"
@@ -19,16 +18,8 @@ namespace hemivem {
 
 namespace {
 
-/// The restarts from the last x when PETSc's recursive residual says converged and the true
-/// residual does not.
-constexpr int kMaxRestarts = 4;
-
-std::string format(double value) {
-  std::ostringstream s;
-  s.precision(3);
-  s << std::scientific << value;
-  return s.str();
-}
+using krylov::kMaxRestarts;
+using krylov::scientific;
 
 /// "PETSc error <code> in <call>: <message>".
 std::string petsc_error(PetscErrorCode code, const char* call) {
@@ -265,6 +256,81 @@ struct PetscKrylovSolver::Impl {
     HEMIVEM_PETSC(KSPSetUp(ksp));
     return 0;
   }
+
+  /// What CG did in one solve(): its iterations, PETSc's last reason (KSP_CONVERGED_ITERATING
+  /// when the start was accepted) and the true relative residual of the x it left.
+  struct CgRun {
+    int iterations = 0;
+    KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
+    double relative = 0.0;
+  };
+
+  /// CG from *x with PETSc's vectors holding b (of norm bn) and x, restarted from the last x
+  /// while PETSc's recursive residual says converged and the true residual does not; x copied
+  /// back.
+  PetscErrorCode run_cg(const Eigen::VectorXd& b, double bn, Eigen::VectorXd* x, double rtol, int max_iterations,
+                        CgRun* run, std::string* error) {
+    PetscScalar* data = nullptr;
+    HEMIVEM_PETSC(VecGetArray(rhs, &data));
+    std::copy(b.data(), b.data() + b.size(), data);
+    HEMIVEM_PETSC(VecRestoreArray(rhs, &data));
+    HEMIVEM_PETSC(VecGetArray(solution, &data));
+    std::copy(x->data(), x->data() + x->size(), data);
+    HEMIVEM_PETSC(VecRestoreArray(solution, &data));
+    PetscReal residual_norm = 0.0;
+    HEMIVEM_PETSC(MatResidual(matrix, rhs, solution, residual));
+    HEMIVEM_PETSC(VecNorm(residual, NORM_2, &residual_norm));
+    run->relative = static_cast<double>(residual_norm) / bn;
+    for (int restart = 0; run->relative > rtol && run->iterations < max_iterations && restart <= kMaxRestarts;
+         ++restart) {
+      HEMIVEM_PETSC(KSPSetTolerances(ksp, rtol, 0.0, PETSC_DEFAULT, max_iterations - run->iterations));
+      HEMIVEM_PETSC(KSPSolve(ksp, rhs, solution));
+      PetscInt iterations = 0;
+      HEMIVEM_PETSC(KSPGetIterationNumber(ksp, &iterations));
+      HEMIVEM_PETSC(KSPGetConvergedReason(ksp, &run->reason));
+      run->iterations += static_cast<int>(iterations);
+      HEMIVEM_PETSC(MatResidual(matrix, rhs, solution, residual));
+      HEMIVEM_PETSC(VecNorm(residual, NORM_2, &residual_norm));
+      run->relative = static_cast<double>(residual_norm) / bn;
+      if (run->reason < 0 || iterations == 0) break;
+    }
+    const PetscScalar* result = nullptr;
+    HEMIVEM_PETSC(VecGetArrayRead(solution, &result));
+    std::copy(result, result + size, x->data());
+    HEMIVEM_PETSC(VecRestoreArrayRead(solution, &result));
+    return 0;
+  }
+
+  /// The outcome of a run PETSc completed (out holds its iterations and relative residual),
+  /// from its converged reason: not_positive_definite when CG found the matrix or the
+  /// preconditioner indefinite, numerical_failure for an iterate not finite or a residual above
+  /// rtol, success otherwise.
+  void classify(KSPConvergedReason reason, double rtol, int max_iterations, KrylovSolveResult* out) const {
+    const std::string engine = name();
+    const std::string iterations = std::to_string(out->iterations);
+    const double relative = out->relative_residual;
+    const std::string why =
+        reason == KSP_CONVERGED_ITERATING ? std::string("start accepted") : std::string(KSPConvergedReasons[reason]);
+    if (reason == KSP_DIVERGED_INDEFINITE_MAT || reason == KSP_DIVERGED_INDEFINITE_PC) {
+      out->status = FactorizationStatus::not_positive_definite;
+      out->message = engine + ": CG stopped after " + iterations + " iterations (" + why + "): " +
+                     (reason == KSP_DIVERGED_INDEFINITE_MAT ? "the matrix" : "the preconditioner") +
+                     " is not positive definite";
+    } else if (!std::isfinite(relative)) {
+      out->status = FactorizationStatus::numerical_failure;
+      out->message = engine + ": the iterate is not finite after " + iterations + " iterations (" + why + ")";
+    } else if (relative > rtol) {
+      out->status = FactorizationStatus::numerical_failure;
+      std::string detail = why;
+      PC pc = nullptr;
+      PCFailedReason failed = PC_NOERROR;
+      if (reason == KSP_DIVERGED_PC_FAILED && KSPGetPC(ksp, &pc) == 0 && PCGetFailedReason(pc, &failed) == 0)
+        detail += std::string(", ") + PCFailedReasons[failed];
+      out->message = engine + ": no convergence in " + iterations + " iterations (of " +
+                     std::to_string(max_iterations) + ", " + detail + "): relative residual " + scientific(relative) +
+                     " > " + scientific(rtol);
+    }
+  }
 };
 
 PetscKrylovSolver::PetscKrylovSolver(Preconditioner preconditioner)
@@ -306,83 +372,24 @@ KrylovSolveResult PetscKrylovSolver::solve(const Eigen::VectorXd& b, Eigen::Vect
   Impl& m = *impl_;
   if (!m.computed) throw InternalError(name() + ": solve() before a successful compute()");
   krylov::check_solve_arguments(name(), static_cast<Eigen::Index>(m.size), b, x, rtol, max_iterations);
-  if (x->size() != b.size()) x->setZero(b.size());
   KrylovSolveResult out;
-  const double bn = b.norm();
-  if (bn == 0.0) {
-    x->setZero();
-    return out;
-  }
-  if (!x->allFinite()) x->setZero();
+  const double bn = krylov::prepare_start(b, x);
+  if (bn == 0.0) return out;
   if (!PetscRuntime::running())
     return {FactorizationStatus::numerical_failure, name() + ": PETSc was finalized", 0, 0.0};
 
   const QuietErrors quiet;
   std::string failure;
-  KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
-  double relative = 0.0;
-  // The solve with PETSc's vectors holding b and x; x and the true residual copied back.
-  const auto run = [&](std::string* error) -> PetscErrorCode {
-    PetscScalar* data = nullptr;
-    HEMIVEM_PETSC(VecGetArray(m.rhs, &data));
-    std::copy(b.data(), b.data() + b.size(), data);
-    HEMIVEM_PETSC(VecRestoreArray(m.rhs, &data));
-    HEMIVEM_PETSC(VecGetArray(m.solution, &data));
-    std::copy(x->data(), x->data() + x->size(), data);
-    HEMIVEM_PETSC(VecRestoreArray(m.solution, &data));
-    PetscReal residual_norm = 0.0;
-    HEMIVEM_PETSC(MatResidual(m.matrix, m.rhs, m.solution, m.residual));
-    HEMIVEM_PETSC(VecNorm(m.residual, NORM_2, &residual_norm));
-    relative = static_cast<double>(residual_norm) / bn;
-    for (int restart = 0; relative > rtol && out.iterations < max_iterations && restart <= kMaxRestarts; ++restart) {
-      HEMIVEM_PETSC(KSPSetTolerances(m.ksp, rtol, 0.0, PETSC_DEFAULT, max_iterations - out.iterations));
-      HEMIVEM_PETSC(KSPSolve(m.ksp, m.rhs, m.solution));
-      PetscInt iterations = 0;
-      HEMIVEM_PETSC(KSPGetIterationNumber(m.ksp, &iterations));
-      HEMIVEM_PETSC(KSPGetConvergedReason(m.ksp, &reason));
-      out.iterations += static_cast<int>(iterations);
-      HEMIVEM_PETSC(MatResidual(m.matrix, m.rhs, m.solution, m.residual));
-      HEMIVEM_PETSC(VecNorm(m.residual, NORM_2, &residual_norm));
-      relative = static_cast<double>(residual_norm) / bn;
-      if (reason < 0 || iterations == 0) break;
-    }
-    const PetscScalar* result = nullptr;
-    HEMIVEM_PETSC(VecGetArrayRead(m.solution, &result));
-    std::copy(result, result + m.size, x->data());
-    HEMIVEM_PETSC(VecRestoreArrayRead(m.solution, &result));
-    return 0;
-  };
-  if (run(&failure) != 0) {
+  Impl::CgRun run;
+  const PetscErrorCode code = m.run_cg(b, bn, x, rtol, max_iterations, &run, &failure);
+  out.iterations = run.iterations;
+  out.relative_residual = run.relative;
+  if (code != 0) {
     out.status = FactorizationStatus::numerical_failure;
     out.message = name() + ": " + failure;
-    out.relative_residual = relative;
     return out;
   }
-  out.relative_residual = relative;
-  const std::string why = reason == KSP_CONVERGED_ITERATING ? std::string("start accepted")
-                                                             : std::string(KSPConvergedReasons[reason]);
-  if (reason == KSP_DIVERGED_INDEFINITE_MAT || reason == KSP_DIVERGED_INDEFINITE_PC) {
-    out.status = FactorizationStatus::not_positive_definite;
-    out.message = name() + ": CG stopped after " + std::to_string(out.iterations) + " iterations (" + why + "): " +
-                  (reason == KSP_DIVERGED_INDEFINITE_MAT ? "the matrix" : "the preconditioner") +
-                  " is not positive definite";
-  } else if (!std::isfinite(relative)) {
-    out.status = FactorizationStatus::numerical_failure;
-    out.message = name() + ": the iterate is not finite after " + std::to_string(out.iterations) + " iterations (" +
-                  why + ")";
-  } else if (relative > rtol) {
-    out.status = FactorizationStatus::numerical_failure;
-    std::string detail = why;
-    if (reason == KSP_DIVERGED_PC_FAILED) {
-      PC pc = nullptr;
-      PCFailedReason failed = PC_NOERROR;
-      if (KSPGetPC(m.ksp, &pc) == 0 && PCGetFailedReason(pc, &failed) == 0)
-        detail += std::string(", ") + PCFailedReasons[failed];
-    }
-    out.message = name() + ": no convergence in " + std::to_string(out.iterations) + " iterations (of " +
-                  std::to_string(max_iterations) + ", " + detail + "): relative residual " + format(relative) +
-                  " > " + format(rtol);
-  }
+  m.classify(run.reason, rtol, max_iterations, &out);
   return out;
 }
 
