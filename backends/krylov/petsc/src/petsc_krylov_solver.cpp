@@ -135,26 +135,28 @@ struct PetscKrylovSolver::Impl {
   PetscOptions options = nullptr;
   PetscInt size = 0;
   bool computed = false;
-  // the pattern of the matrix set up last (A's column starts and row indices)
-  std::vector<int> outer, inner;
-
   /// True when A has the pattern of the matrix set up last (the systems of one Newton
-  /// iteration keep A's pattern, their values change).
+  /// iteration keep A's pattern, their values change), compared with the AIJ matrix's own rows.
   bool same_pattern(const SparseMatrix& A) const {
-    return computed && A.isCompressed() && A.rows() == size && static_cast<std::size_t>(A.nonZeros()) == inner.size() &&
-           std::equal(outer.begin(), outer.end(), A.outerIndexPtr()) &&
-           std::equal(inner.begin(), inner.end(), A.innerIndexPtr());
+    if (!computed || !A.isCompressed() || A.rows() != size || A.cols() != size) return false;
+    const PetscInt* ia = nullptr;
+    const PetscInt* ja = nullptr;
+    PetscInt n = 0;
+    PetscBool done = PETSC_FALSE;
+    const QuietErrors quiet;
+    if (MatGetRowIJ(matrix, 0, PETSC_FALSE, PETSC_FALSE, &n, &ia, &ja, &done) != 0 || !done) return false;
+    const bool same = n == size && ia[n] == A.nonZeros() && std::equal(ia, ia + n + 1, A.outerIndexPtr()) &&
+                      std::equal(ja, ja + ia[n], A.innerIndexPtr());
+    MatRestoreRowIJ(matrix, 0, PETSC_FALSE, PETSC_FALSE, &n, &ia, &ja, &done);
+    return same;
   }
 
   /// New values of the same pattern: copied into the AIJ matrix, whose preconditioner is set up
   /// again at the next solve (GAMG reusing its interpolation, below).
   PetscErrorCode update_values(const SparseMatrix& A, std::string* error) {
-    using RowMajor = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
-    RowMajor R = A;
-    R.makeCompressed();
     PetscScalar* values = nullptr;
     HEMIVEM_PETSC(MatSeqAIJGetArray(matrix, &values));
-    std::copy(R.valuePtr(), R.valuePtr() + R.nonZeros(), values);
+    std::copy(A.valuePtr(), A.valuePtr() + A.nonZeros(), values);  // columns read as rows: A is symmetric
     HEMIVEM_PETSC(MatSeqAIJRestoreArray(matrix, &values));
     HEMIVEM_PETSC(KSPSetOperators(ksp, matrix, matrix));
     HEMIVEM_PETSC(KSPSetUp(ksp));
@@ -186,17 +188,34 @@ struct PetscKrylovSolver::Impl {
   }
 
   /// The AIJ copy of A, its near-null space, the vectors and the KSP with its preconditioner.
+  /// A's compressed columns are given as the rows: A is symmetric (the contract), so no
+  /// row-major copy of it is made (its two triangles may differ by round-off; PETSc's matrix is
+  /// then the transpose, as close to A).
   PetscErrorCode setup(const SparseMatrix& A, const Eigen::MatrixXd& near_null, std::string* error) {
-    using RowMajor = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
-    RowMajor R = A;
-    R.makeCompressed();
-    size = static_cast<PetscInt>(R.rows());
-    const std::vector<PetscInt> rows(R.outerIndexPtr(), R.outerIndexPtr() + R.rows() + 1);
-    const std::vector<PetscInt> columns(R.innerIndexPtr(), R.innerIndexPtr() + R.nonZeros());
+    SparseMatrix compressed;
+    const SparseMatrix* C = &A;
+    if (!A.isCompressed()) {
+      compressed = A;
+      compressed.makeCompressed();
+      C = &compressed;
+    }
+    size = static_cast<PetscInt>(C->rows());
+    std::vector<PetscInt> rows, columns;
+    const PetscInt* row_starts = nullptr;
+    const PetscInt* column_indices = nullptr;
+    if constexpr (sizeof(PetscInt) == sizeof(int)) {
+      row_starts = reinterpret_cast<const PetscInt*>(C->outerIndexPtr());
+      column_indices = reinterpret_cast<const PetscInt*>(C->innerIndexPtr());
+    } else {
+      rows.assign(C->outerIndexPtr(), C->outerIndexPtr() + C->cols() + 1);
+      columns.assign(C->innerIndexPtr(), C->innerIndexPtr() + C->nonZeros());
+      row_starts = rows.data();
+      column_indices = columns.data();
+    }
     HEMIVEM_PETSC(MatCreate(PETSC_COMM_SELF, &matrix));
     HEMIVEM_PETSC(MatSetSizes(matrix, size, size, size, size));
     HEMIVEM_PETSC(MatSetType(matrix, MATSEQAIJ));
-    HEMIVEM_PETSC(MatSeqAIJSetPreallocationCSR(matrix, rows.data(), columns.data(), R.valuePtr()));
+    HEMIVEM_PETSC(MatSeqAIJSetPreallocationCSR(matrix, row_starts, column_indices, C->valuePtr()));
     HEMIVEM_PETSC(MatSetOption(matrix, MAT_SYMMETRIC, PETSC_TRUE));
 
     if (near_null.cols() > 0) {
@@ -362,8 +381,6 @@ FactorizationResult PetscKrylovSolver::compute(const SparseMatrix& A, const Eige
     return {FactorizationStatus::numerical_failure, name() + ": " + error};
   }
   m.computed = true;
-  m.outer.assign(A.outerIndexPtr(), A.outerIndexPtr() + A.outerSize() + 1);
-  m.inner.assign(A.innerIndexPtr(), A.innerIndexPtr() + A.nonZeros());
   return FactorizationResult::good();
 }
 
