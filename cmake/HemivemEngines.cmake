@@ -222,3 +222,31 @@ function(hemivem_write_engine_registry kind file)
 #define HEMIVEM_ENGINES(X)@entries@
 ")
 endfunction()
+
+# The factory of one kind of engine: the library hemivem_<kind> (also hemivem::<kind>) built
+# from SOURCES, with the folder's include/ as its public headers when there is one, linking
+# every engine of the kind that is built and linked (publicly: an engine's header may be used
+# directly), with their registry (hemivem_write_engine_registry) on its private include path.
+# ENGINES names the variable that receives those engines' names, in order.
+function(hemivem_add_engine_factory kind)
+  cmake_parse_arguments(PARSE_ARGV 1 ARG "" "ENGINES" "SOURCES")
+  set(target hemivem_${kind})
+  add_library(${target} ${ARG_SOURCES})
+  add_library(hemivem::${kind} ALIAS ${target})
+  set_target_properties(${target} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+  if(EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/include)
+    target_include_directories(${target} PUBLIC
+      $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
+      $<INSTALL_INTERFACE:include>)
+  endif()
+  target_link_libraries(${target} PUBLIC hemivem::interfaces)
+  target_compile_options(${target} PRIVATE $<$<CXX_COMPILER_ID:GNU,Clang>:-Wall -Wextra -Wpedantic>)
+  hemivem_engines(${kind} engines LINKED)
+  foreach(engine IN LISTS engines)
+    hemivem_engine_property(${kind} ${engine} TARGET engine_target)
+    target_link_libraries(${target} PUBLIC ${engine_target})
+  endforeach()
+  hemivem_write_engine_registry(${kind} ${CMAKE_CURRENT_BINARY_DIR}/generated/${kind}_registry.hpp)
+  target_include_directories(${target} PRIVATE ${CMAKE_CURRENT_BINARY_DIR}/generated)
+  set(${ARG_ENGINES} ${engines} PARENT_SCOPE)
+endfunction()
