@@ -11,6 +11,8 @@
 #include <hemivem/mesh/generators3d.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
 #include <hemivem/scene/example.hpp>
+#include <hemivem/scene/resources.hpp>
+#include <hemivem/scene/scene.hpp>
 
 #include <gtest/gtest.h>
 
@@ -268,6 +270,27 @@ TEST(FullSpace, EveryShippedSceneIsSolvedAlikeOrRefusedByName) {
   }
   EXPECT_EQ(refused, refused_expected);
   EXPECT_GE(solved, 15);
+}
+
+}  // namespace
+
+namespace {
+
+// The memory check before any work takes the route's estimate: a mesh whose factorization
+// would not fit under the limit is refused on the condensed route and accepted on the full-space
+// route, whose memory grows with the vertices alone.
+TEST(FullSpace, TheMemoryCheckTakesTheRoutesEstimate) {
+  Scene scene = parse_scene(test::scenes_dir() / "example-4.1-3d.toml");
+  apply_overrides(scene, {"mesh.n=[40, 40, 40]"});
+  const MemoryEstimate condensed = estimate_memory_3d("cubes", 40, 40, 40);
+  const MemoryEstimate full = full_space_memory(condensed, full_space_bytes_per_vertex(3, "cubes"));
+  ASSERT_LT(2.0 * full.solve_bytes, condensed.solve_bytes);
+  const std::string limit = std::to_string(static_cast<long long>(0.5 * (full.solve_bytes + condensed.solve_bytes)));
+  ::setenv("HEMIVEM_MEMORY_LIMIT", limit.c_str(), 1);
+  EXPECT_NE(test::input_error_of([&] { (void)build_problem<3>(scene); }).find("needs an estimated"), std::string::npos);
+  apply_overrides(scene, {"solver.linear=\"eigen-cg\""});
+  EXPECT_EQ(test::input_error_of([&] { (void)build_problem<3>(scene); }), "");
+  ::unsetenv("HEMIVEM_MEMORY_LIMIT");
 }
 
 }  // namespace

@@ -133,6 +133,17 @@ MemoryEstimate estimate_memory_3d(std::string_view generator, std::int64_t nx, s
   throw InputError("unknown 3D mesh generator '" + std::string(generator) + "' (expected one of: cubes, tetrahedra, voronoi)");
 }
 
+double full_space_bytes_per_vertex(int dimension, std::string_view generator) {
+  if (dimension == 2) return 1.2 * 3.0e3;
+  return 1.2 * (to_lower(generator) == "voronoi" ? 45.0e3 : 18.0e3);
+}
+
+MemoryEstimate full_space_memory(const MemoryEstimate& condensed, double bytes_per_vertex) {
+  MemoryEstimate e = condensed;
+  e.solve_bytes = kBaseBytes + bytes_per_vertex * e.vertices;
+  return e;
+}
+
 double available_memory() { return memory_limit().bytes; }
 
 void require_memory(double bytes, const std::string& what, const std::string& where) {

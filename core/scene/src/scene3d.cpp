@@ -84,7 +84,7 @@ Mesh3D scene_mesh_3d(const Scene& scene) {
   const SceneMesh& m = scene.mesh;
   if (!m.file.empty()) return read_gmsh3d(m.file);
   const GridSize3 cells = m.cells3();
-  const MemoryEstimate need = estimate_memory_3d(m.generator, cells.nx, cells.ny, cells.nz);
+  const MemoryEstimate need = detail::route_memory(scene, estimate_memory_3d(m.generator, cells.nx, cells.ny, cells.nz));
   require_memory(need.solve_bytes,
                  m.generator + " n = " + cells.text() + ": " + count_text(need.vertices) + " vertices",
                  scene.where("mesh.n"));
@@ -109,7 +109,7 @@ std::unique_ptr<BuiltProblem3D> built_solid(const Scene& scene, Mesh3D mesh, boo
     std::set<int> contact;
     for (const ContactPart3D& part : out->problem.parts)
       for (int f : part.facets) contact.insert(m.face(f).vertices.begin(), m.face(f).vertices.end());
-    const MemoryEstimate need = estimate_memory_3d(m.num_vertices(), static_cast<double>(contact.size()));
+    const MemoryEstimate need = detail::route_memory(scene, estimate_memory_3d(m.num_vertices(), static_cast<double>(contact.size())));
     require_memory(need.solve_bytes,
                    (given ? std::string("the mesh given") : scene.mesh.file.string()) + ": " +
                        count_text(m.num_vertices()) + " vertices, " + count_text(static_cast<double>(contact.size())) +

@@ -173,7 +173,7 @@ std::unique_ptr<BuiltProblem> detail::built_plane(const Scene& scene) {
     if (ext == ".msh") mesh = read_gmsh(scene.mesh.file);
     else if (ext == ".poly2d") mesh = read_poly2d(scene.mesh.file).mesh;
     else throw InputError("mesh.file: unknown mesh format; expected .poly2d or .msh", scene.where("mesh.file"));
-    const MemoryEstimate need = estimate_memory(mesh);
+    const MemoryEstimate need = detail::route_memory(scene, estimate_memory(mesh));
     int largest = 0;
     for (int e = 0; e < mesh.num_elements(); ++e) largest = std::max(largest, mesh.element_size(e));
     require_memory(need.solve_bytes,
@@ -183,7 +183,7 @@ std::unique_ptr<BuiltProblem> detail::built_plane(const Scene& scene) {
   } else {
     const auto& d = scene.mesh.domain;
     const GridSize cells = scene.mesh.cells();
-    const MemoryEstimate need = estimate_memory(scene.mesh.generator, cells.nx, cells.ny);
+    const MemoryEstimate need = detail::route_memory(scene, estimate_memory(scene.mesh.generator, cells.nx, cells.ny));
     require_memory(need.solve_bytes,
                    scene.mesh.generator + " n = " + cells.text() + ": " + detail::count_text(need.vertices) + " vertices",
                    scene.where("mesh.n"));

@@ -2,6 +2,7 @@
 // bodies: the materials by region, the boundary parts the selectors pick, the prescribed
 // displacements, the loads and the contact parts (make_contact_problem). Per dimension only the
 // facets differ: boundary edges picked by segments, or boundary faces by the box's sides.
+#include <hemivem/krylov_solver.hpp>
 #include <hemivem/scene/scene.hpp>
 
 #include <algorithm>
@@ -296,6 +297,11 @@ void require_dimension(const Scene& scene) {
 
 template void require_dimension<2>(const Scene&);
 template void require_dimension<3>(const Scene&);
+
+MemoryEstimate route_memory(const Scene& scene, const MemoryEstimate& condensed) {
+  if (!is_krylov_solver(scene.solver.linear)) return condensed;
+  return full_space_memory(condensed, full_space_bytes_per_vertex(scene.dimension(), scene.mesh.generator));
+}
 
 std::string count_text(double v) {
   if (v < 1e9) return std::to_string(static_cast<long long>(std::llround(v)));

@@ -6,12 +6,18 @@
 #include <string>
 
 #include <hemivem/mesh/dimension.hpp>
+#include <hemivem/scene/resources.hpp>
 #include <hemivem/scene/scene.hpp>
 
 namespace hemivem::detail {
 
 /// A vertex count as an integer when small enough to read, else in scientific notation.
 std::string count_text(double v);
+
+/// The memory the scene's route needs on the mesh `condensed` estimates for the condensed
+/// route: `condensed` itself, or the full-space route's (full_space_memory) when solver.linear
+/// is a Krylov engine.
+MemoryEstimate route_memory(const Scene& scene, const MemoryEstimate& condensed);
 
 /// Every [[material.region]] (those with a box too when `boxes`) names a region some element
 /// (cell) of the mesh is in; an error at the region's id otherwise.

@@ -24,6 +24,15 @@ struct MemoryEstimate {
 
 class Mesh;
 
+/// The full-space route's memory per vertex (docs/full-space.md), which grows with the vertices
+/// alone: no factor, no Schur complement. Measured peaks with petsc-gamg, 20 % added: about
+/// 3.0 KB per vertex in the plane (squares, N = 512), 18 KB in a solid of cubes or tetrahedra
+/// (n = 24 to 48), 45 KB of Voronoi cells (n = 12).
+double full_space_bytes_per_vertex(int dimension, std::string_view generator);
+/// `condensed` (an estimate of the condensed route for the same mesh) with the solve's bytes
+/// of the full-space route: the base and `bytes_per_vertex` per vertex.
+MemoryEstimate full_space_memory(const MemoryEstimate& condensed, double bytes_per_vertex);
+
 /// The estimate for a mesh generator (mesh_generator_names()) with n cells per side.
 /// Throws InputError for an unknown generator or n < 1.
 MemoryEstimate estimate_memory(std::string_view generator, std::int64_t n);
