@@ -7,6 +7,7 @@
 #include <array>
 #include <iomanip>
 #include <map>
+#include <cmath>
 #include <sstream>
 
 namespace hemivem::app {
@@ -49,6 +50,12 @@ void status(std::ostream& out, const BasicSceneSolve<dim>& solved, const RunInfo
 template <int dim>
 std::string uniqueness_text(const BasicContactSolution<dim>& sol) {
   std::ostringstream out;
+  if (std::isnan(sol.uniqueness_margin) && !sol.may_be_nonunique)
+    return "not measured (no S on the full-space route); unique: every contact law is convex";
+  if (std::isnan(sol.uniqueness_margin)) {
+    out << "lambda_min(S - alpha_j W) not measured: " << uniqueness_meaning(sol.uniqueness_margin);
+    return out.str();
+  }
   out << "lambda_min(S - alpha_j W) = " << sol.uniqueness_margin;
   if (sol.uniqueness_margin == 0.0) out << " (|computed| <= round-off bound " << sol.uniqueness_roundoff << ")";
   else if (sol.uniqueness_margin > 0) out << " > 0";
@@ -150,7 +157,8 @@ template <int dim>
 void energy_and_time(std::ostream& out, const BasicSceneSolve<dim>& solved) {
   const auto& sol = solved.solution;
   out << "  energy        potential " << sol.energy << "\n  time [s]      mesh " << solved.mesh_seconds;
-  for (const char* k : {"assembly", "linear_solve", "condensation", "condition", "minimize", "back_substitution", "path", "frames",
+  for (const char* k : {"assembly", "linear_solve", "condensation", "condition", "minimize", "back_substitution", "posing",
+                        "full_space", "path", "frames",
                       "estimate"})
     if (sol.timings.count(k)) out << ", " << k << " " << sol.timings.at(k);
   out << ", total " << solved.total_seconds() << "\n";
