@@ -187,6 +187,36 @@ struct PetscKrylovSolver::Impl {
     if (options) PetscOptionsDestroy(&options);
   }
 
+  /// The near-null space of the matrix (an orthonormal basis of the columns of `near_null`), for
+  /// GAMG's aggregates.
+  PetscErrorCode set_near_null_space(const Eigen::MatrixXd& near_null, std::string* error) {
+    const Eigen::MatrixXd Q = orthonormal_basis(near_null);
+    std::vector<Vec> vectors(static_cast<std::size_t>(Q.cols()), nullptr);
+    PetscErrorCode code = 0;
+    for (Eigen::Index k = 0; k < Q.cols() && code == 0; ++k) {
+      Vec& v = vectors[static_cast<std::size_t>(k)];
+      code = VecCreateSeq(PETSC_COMM_SELF, size, &v);
+      PetscScalar* data = nullptr;
+      if (code == 0) code = VecGetArray(v, &data);
+      if (code == 0) {
+        for (PetscInt i = 0; i < size; ++i) data[i] = Q(i, k);
+        code = VecRestoreArray(v, &data);
+      }
+    }
+    MatNullSpace space = nullptr;
+    if (code == 0) code = MatNullSpaceCreate(PETSC_COMM_SELF, PETSC_FALSE, static_cast<PetscInt>(Q.cols()),
+                                             vectors.data(), &space);
+    if (code == 0) code = MatSetNearNullSpace(matrix, space);
+    if (space) MatNullSpaceDestroy(&space);
+    for (Vec& v : vectors)
+      if (v) VecDestroy(&v);
+    if (code != 0) {
+      *error = petsc_error(code, "the near-null space (MatNullSpaceCreate, MatSetNearNullSpace)");
+      return code;
+    }
+    return 0;
+  }
+
   /// The AIJ copy of A, its near-null space, the vectors and the KSP with its preconditioner.
   /// A's compressed columns are given as the rows: A is symmetric (the contract), so no
   /// row-major copy of it is made (its two triangles may differ by round-off; PETSc's matrix is
@@ -218,32 +248,8 @@ struct PetscKrylovSolver::Impl {
     HEMIVEM_PETSC(MatSeqAIJSetPreallocationCSR(matrix, row_starts, column_indices, C->valuePtr()));
     HEMIVEM_PETSC(MatSetOption(matrix, MAT_SYMMETRIC, PETSC_TRUE));
 
-    if (near_null.cols() > 0) {
-      const Eigen::MatrixXd Q = orthonormal_basis(near_null);
-      std::vector<Vec> vectors(static_cast<std::size_t>(Q.cols()), nullptr);
-      PetscErrorCode code = 0;
-      for (Eigen::Index k = 0; k < Q.cols() && code == 0; ++k) {
-        Vec& v = vectors[static_cast<std::size_t>(k)];
-        code = VecCreateSeq(PETSC_COMM_SELF, size, &v);
-        PetscScalar* data = nullptr;
-        if (code == 0) code = VecGetArray(v, &data);
-        if (code == 0) {
-          for (PetscInt i = 0; i < size; ++i) data[i] = Q(i, k);
-          code = VecRestoreArray(v, &data);
-        }
-      }
-      MatNullSpace space = nullptr;
-      if (code == 0) code = MatNullSpaceCreate(PETSC_COMM_SELF, PETSC_FALSE, static_cast<PetscInt>(Q.cols()),
-                                               vectors.data(), &space);
-      if (code == 0) code = MatSetNearNullSpace(matrix, space);
-      if (space) MatNullSpaceDestroy(&space);
-      for (Vec& v : vectors)
-        if (v) VecDestroy(&v);
-      if (code != 0) {
-        *error = petsc_error(code, "the near-null space (MatNullSpaceCreate, MatSetNearNullSpace)");
-        return code;
-      }
-    }
+    if (near_null.cols() > 0)
+      if (const PetscErrorCode code = set_near_null_space(near_null, error); code != 0) return code;
 
     HEMIVEM_PETSC(MatCreateVecs(matrix, &solution, &rhs));
     HEMIVEM_PETSC(VecDuplicate(rhs, &residual));
