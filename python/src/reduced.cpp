@@ -10,6 +10,7 @@
 #include <iomanip>
 #include <sstream>
 
+#include <hemivem/support/blas_threads.hpp>
 #include <hemivem/vem/assembly.hpp>
 #include <hemivem/certificate.hpp>
 #include <hemivem/contact/solver.hpp>
@@ -436,6 +437,7 @@ void define_back_substitute(ReducedClass& cls) {
             Eigen::VectorXd u;
             {
               py::gil_scoped_release release;
+              const SingleThreadedRun one_thread;
               u = h.condensation->back_substitute(x);
             }
             py::array_t<double> out({u.size() / 2, Eigen::Index(2)});
@@ -478,6 +480,7 @@ void register_condense(py::module_& m) {
         SignalWatch watch;
         try {
           py::gil_scoped_release release;
+          const SingleThreadedRun one_thread;  // as every solve (docs/performance.md, "Threads")
           auto t = Clock::now();
           h->built = build_problem(scene);
           h->timings["mesh"] = since(t);
