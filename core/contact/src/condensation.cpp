@@ -744,10 +744,7 @@ Eigen::VectorXd Condensation::displacement_of(const Eigen::VectorXd& xt) const {
   if (xt.size() != dofs_.num_free())
     throw InternalError("displacement_of needs " + std::to_string(dofs_.num_free()) + " unknowns, got " +
                         std::to_string(xt.size()));
-  Eigen::VectorXd x1(static_cast<Eigen::Index>(block1_.size())), u2(static_cast<Eigen::Index>(block2_.size()));
-  for (std::size_t i = 0; i < block1_.size(); ++i) x1(static_cast<Eigen::Index>(i)) = xt(block1_[i]);
-  for (std::size_t i = 0; i < block2_.size(); ++i) u2(static_cast<Eigen::Index>(i)) = xt(block2_[i]);
-  return displacement(x1, u2);
+  return from_rotated(xt);
 }
 
 Eigen::VectorXd Condensation::rotated_free(const Eigen::VectorXd& u) const {
@@ -822,7 +819,12 @@ Eigen::VectorXd Condensation::displacement(const Eigen::VectorXd& x1, const Eige
   Eigen::VectorXd ut(dofs_.num_free());
   for (std::size_t i = 0; i < block1_.size(); ++i) ut(block1_[i]) = x1(static_cast<Eigen::Index>(i));
   for (std::size_t i = 0; i < block2_.size(); ++i) ut(block2_[i]) = u2(static_cast<Eigen::Index>(i));
-  // u = Q ut at the contact nodes
+  return from_rotated(std::move(ut));
+}
+
+// The full nodal displacement of the rotated free unknowns: u = Q ut at the contact nodes, the
+// prescribed values, and the pairs of two bodies undone.
+Eigen::VectorXd Condensation::from_rotated(Eigen::VectorXd ut) const {
   for (const NodeFrame& f : frames_) {
     double rotated[3] = {0.0, 0.0, 0.0};
     for (int j = 0; j < f.m; ++j) rotated[j] = ut(f.idx[static_cast<std::size_t>(j)]);

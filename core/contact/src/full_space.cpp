@@ -174,7 +174,8 @@ class FullSpaceNewton {
     for (int it = 0;; ++it) {
       Eigen::VectorXd Ax;
       const Eigen::VectorXd r = residual(x, &Ax);
-      const double E = energy(x, Ax);
+      double scale = 0.0;  // the sizes of E's terms, for its round-off
+      const double E = energy(x, Ax, &scale);
       record(result, it, E, point.certificate, x, t0);
       if (options.callback && it > 0 && !options.callback(result.history.back())) {
         status = MinimizerStatus::stopped_by_callback;
@@ -195,7 +196,7 @@ class FullSpaceNewton {
         break;
       }
       ++st.newton_iterations;
-      if (!line_search(motion, grad, step, Ax, x, point, counts)) {
+      if (!line_search(motion, grad, step, E, scale, x, point, counts)) {
         status = MinimizerStatus::stalled;
         why = "no step along the Newton direction lowered the energy or the certificate's residual";
         break;
@@ -248,13 +249,11 @@ class FullSpaceNewton {
     return false;
   }
 
-  // Backtracking along the projection arc from x (A x in Ax) with Armijo's rule on E, or where
-  // E cannot tell (a change within its round-off) by the certificate's residual. On success x
-  // and its certified point move to the step taken.
+  // Backtracking along the projection arc from x (E0 = E(x), `scale` the sizes of its terms)
+  // with Armijo's rule on E, or where E cannot tell (a change within its round-off) by the
+  // certificate's residual. On success x and its certified point move to the step taken.
   bool line_search(const std::vector<Motion>& motion, const Eigen::VectorXd& grad, const Eigen::VectorXd& step,
-                   const Eigen::VectorXd& Ax, Eigen::VectorXd& x, CertifiedPoint& point, Counts& counts) const {
-    double scale = 0.0;
-    const double E0 = energy(x, Ax, &scale);
+                   double E0, double scale, Eigen::VectorXd& x, CertifiedPoint& point, Counts& counts) const {
     double t = 1.0;
     for (int bt = 0; bt <= max_backtracks; ++bt, t *= 0.5) {
       Eigen::VectorXd xt = x + t * step;

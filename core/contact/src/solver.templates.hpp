@@ -253,14 +253,20 @@ void BasicContactSolver<dim>::post_process_linear(const Eigen::MatrixXd& X) {
   detail::require_finite(s);
 }
 
-// The static condensation onto the contact unknowns (the reduced problem), its uniqueness
-// margin and, when asked, the conditioning of the interior block.
+// Every contact part has a law (both routes pose one per coordinate).
 template <int dim>
-void BasicContactSolver<dim>::condense() {
+void BasicContactSolver<dim>::require_contact_laws() const {
   for (const auto& part : parts_)
     if (!part.law)
       throw InputError(parts_.size() == 1 ? std::string("the contact boundary has no contact law")
                                           : "contact part '" + part.name + "' has no contact law");
+}
+
+// The static condensation onto the contact unknowns (the reduced problem), its uniqueness
+// margin and, when asked, the conditioning of the interior block.
+template <int dim>
+void BasicContactSolver<dim>::condense() {
+  require_contact_laws();
   const auto t = Clock::now();
   condensation_ = about(ProblemPart::contact, [&] {
     return std::make_unique<Condensation>(*system_, boundary_, std::move(factorization_), part_conditions(parts_),
@@ -287,10 +293,7 @@ void BasicContactSolver<dim>::condense() {
 // the rotated system, nothing factorized.
 template <int dim>
 void BasicContactSolver<dim>::pose() {
-  for (const auto& part : parts_)
-    if (!part.law)
-      throw InputError(parts_.size() == 1 ? std::string("the contact boundary has no contact law")
-                                          : "contact part '" + part.name + "' has no contact law");
+  require_contact_laws();
   if (!common_.held_by_contact.empty())
     throw InputError("the full-space route needs supports that hold the body (" + common_.held_by_contact.front() +
                      " is held by the contact alone): use a linear engine that factorizes")

@@ -314,6 +314,7 @@ class Condensation {
   // the steps of back_substitute()
   Eigen::VectorXd block1_values(const Eigen::VectorXd& a) const;
   Eigen::VectorXd displacement(const Eigen::VectorXd& x1, const Eigen::VectorXd& u2) const;
+  Eigen::VectorXd from_rotated(Eigen::VectorXd ut) const;
   /// A21_ = At(block2, block1), for an engine that does not split the interior solve.
   void extract_a21(const SparseMatrix& At);
   SparseMatrix A21_;              // block2 x block1 of the rotated matrix (when extracted)

@@ -331,6 +331,7 @@ class BasicContactSolver {
   void assemble();
   void set_up_contact();
   Eigen::MatrixXd linear_solve();
+  void require_contact_laws() const;
   void condense();
   void pose();
   void solve_full_space(Solution& solution);
