@@ -122,6 +122,55 @@ TEST_P(KrylovEngine, TooFewIterationsIsANumericalFailure) {
   EXPECT_NE(r.message.find(GetParam()), std::string::npos) << r.message;
 }
 
+// The systems of a Newton iteration: one matrix object whose values change in place (half of
+// the unknowns become identity rows, the others' diagonal grows). compute() again on it solves
+// the new system as LDL^T does, in as many iterations as an engine set up afresh on a copy
+// (GAMG, which keeps its aggregates and interpolation, within a few).
+TEST_P(KrylovEngine, ValuesChangedInPlaceAreTheNewSystem) {
+  const ClampedCube& cube = clamped_cube(6);
+  SparseMatrix H = cube.system.A;
+  H.makeCompressed();
+  const KrylovHints hints(cube.rigid_motions, 3);
+  const auto solver = make_krylov_solver(GetParam());
+  ASSERT_TRUE(solver->compute(H, hints).ok());
+  Eigen::VectorXd x;
+  ASSERT_TRUE(solver->solve(cube.system.b, &x, 1e-10, 5000).ok());
+  const double* values = H.valuePtr();
+  for (int j = 0; j < H.outerSize(); ++j)
+    for (SparseMatrix::InnerIterator e(H, j); e; ++e) {
+      const bool held = (j % 2 == 0) || (e.row() % 2 == 0);
+      if (held)
+        e.valueRef() = e.row() == j ? 1.0 : 0.0;
+      else if (e.row() == j)
+        e.valueRef() *= 3.0;
+    }
+  ASSERT_EQ(H.valuePtr(), values);
+  Eigen::MatrixXd null_space = cube.rigid_motions;
+  for (Eigen::Index i = 0; i < null_space.rows(); i += 2) null_space.row(i).setZero();
+  const KrylovHints changed(null_space, 3);
+  ASSERT_TRUE(solver->compute(H, changed).ok());
+  const Eigen::SimplicialLDLT<SparseMatrix> ldlt(H);
+  const Eigen::VectorXd reference = ldlt.solve(cube.system.b);
+  x.setZero();
+  const KrylovSolveResult r = solver->solve(cube.system.b, &x, 1e-10, 5000);
+  ASSERT_TRUE(r.ok()) << r.message;
+  EXPECT_LE(test::relative_error(x, reference), 1e-8);
+  EXPECT_NEAR(r.relative_residual, true_residual(H, cube.system.b, x), 1e-12);
+
+  const SparseMatrix copy = H;
+  const auto fresh = make_krylov_solver(GetParam());
+  ASSERT_TRUE(fresh->compute(copy, changed).ok());
+  Eigen::VectorXd y;
+  const KrylovSolveResult f = fresh->solve(cube.system.b, &y, 1e-10, 5000);
+  ASSERT_TRUE(f.ok()) << f.message;
+  RecordProperty("iterations_in_place", r.iterations);
+  RecordProperty("iterations_fresh", f.iterations);
+  if (GetParam() == "petsc-gamg")
+    EXPECT_LE(r.iterations, f.iterations + 5);
+  else
+    EXPECT_EQ(r.iterations, f.iterations);
+}
+
 /// The 1D Laplacian shifted by -I: tridiag(-1, 1, -1), a positive diagonal, eigenvalues
 /// 1 - 2 cos(k pi / (n + 1)) in (-1, 3), about a third of them negative.
 SparseMatrix shifted_laplacian(int n) {
@@ -180,7 +229,9 @@ TEST_P(KrylovEngine, ContractViolationsThrow) {
   Eigen::VectorXd x;
   EXPECT_THROW(solver->solve(Eigen::VectorXd::Ones(3), &x, 1e-10, 10), InternalError);
   const SparseMatrix A = shifted_laplacian(4) + 2.0 * test::random_spd(4, 1).cwiseAbs();
-  EXPECT_THROW(solver->compute(A, Eigen::MatrixXd::Ones(3, 2)), InternalError);
+  EXPECT_THROW(solver->compute(A, KrylovHints(Eigen::MatrixXd::Ones(3, 2))), InternalError);
+  EXPECT_THROW(solver->compute(A, KrylovHints(Eigen::MatrixXd(), 3)), InternalError);  // 3 does not divide 4
+  EXPECT_THROW(solver->compute(A, KrylovHints(Eigen::MatrixXd(), 0)), InternalError);
   ASSERT_TRUE(solver->compute(A, Eigen::MatrixXd()).ok());
   EXPECT_THROW(solver->solve(Eigen::VectorXd::Ones(3), &x, 1e-10, 10), InternalError);
   EXPECT_THROW(solver->solve(Eigen::VectorXd::Ones(4), nullptr, 1e-10, 10), InternalError);
@@ -215,6 +266,28 @@ TEST(Krylov, NearNullSpaceSavesGamgIterations) {
   RecordProperty("iterations_without", iterations[0]);
   RecordProperty("iterations_with", iterations[1]);
   EXPECT_LT(iterations[1], iterations[0]);
+}
+
+// The unknowns in node blocks of three: GAMG aggregates the graph of nodes and solves as LDL^T
+// does, and a block size that does not fit the matrix is a contract violation.
+TEST(Krylov, GamgOnNodeBlocks) {
+  const auto built = available_krylov_solvers();
+  if (std::find(built.begin(), built.end(), "petsc-gamg") == built.end()) GTEST_SKIP() << "petsc-gamg not built";
+  const ClampedCube& cube = clamped_cube(10);
+  int iterations[2] = {0, 0};
+  for (int blocks = 0; blocks < 2; ++blocks) {
+    const auto solver = make_krylov_solver("petsc-gamg");
+    ASSERT_TRUE(solver->compute(cube.system.A, KrylovHints(cube.rigid_motions, blocks ? 3 : 1)).ok());
+    Eigen::VectorXd x;
+    const KrylovSolveResult r = solver->solve(cube.system.b, &x, 1e-10, 5000);
+    ASSERT_TRUE(r.ok()) << r.message;
+    EXPECT_LE(test::relative_error(x, cube.reference), 1e-8);
+    iterations[blocks] = r.iterations;
+  }
+  RecordProperty("iterations_scalar", iterations[0]);
+  RecordProperty("iterations_blocks", iterations[1]);
+  const auto solver = make_krylov_solver("petsc-gamg");
+  EXPECT_THROW(solver->compute(cube.system.A, KrylovHints(cube.rigid_motions, 7)), InternalError);  // 7 does not divide 3630
 }
 
 // The PETSc engines' module holds PETSc and the MPI build of MUMPS; this program links the

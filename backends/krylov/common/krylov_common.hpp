@@ -27,15 +27,19 @@ inline std::string scientific(double value) {
   return s.str();
 }
 
-/// Throws InternalError unless A is square and `near_null` has A.rows() rows or no columns.
-inline void check_compute_arguments(const std::string& engine, const SparseMatrix& A,
-                                    const Eigen::MatrixXd& near_null) {
+/// Throws InternalError unless A is square, `hints.near_null` has A.rows() rows or no columns
+/// and `hints.block_size` is positive and divides A.rows().
+inline void check_compute_arguments(const std::string& engine, const SparseMatrix& A, const KrylovHints& hints) {
+  const Eigen::MatrixXd& near_null = hints.near_null;
   if (A.rows() != A.cols())
     throw InternalError(engine + ": compute() needs a square matrix, not " + std::to_string(A.rows()) + " x " +
                         std::to_string(A.cols()));
   if (near_null.cols() > 0 && near_null.rows() != A.rows())
     throw InternalError(engine + ": the near-null space has " + std::to_string(near_null.rows()) +
                         " rows for a matrix of " + std::to_string(A.rows()));
+  if (hints.block_size < 1 || A.rows() % hints.block_size != 0)
+    throw InternalError(engine + ": a block size of " + std::to_string(hints.block_size) + " for a matrix of " +
+                        std::to_string(A.rows()) + " rows");
 }
 
 /// Throws InternalError unless b fits the matrix of size n, x is not null, rtol > 0 and

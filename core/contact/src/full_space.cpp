@@ -151,7 +151,7 @@ class FullSpaceNewton {
         stiffness_, load_);
   }
 
-  MinimizerResult run(KrylovSolver& krylov, const Eigen::MatrixXd& near_null, const MinimizerOptions& options,
+  MinimizerResult run(KrylovSolver& krylov, const KrylovHints& hints, const MinimizerOptions& options,
                       Eigen::VectorXd* x_io, FullSpaceStatistics* stats) {
     const auto t0 = Clock::now();
     const Eigen::Index n = A_.rows();
@@ -191,7 +191,7 @@ class FullSpaceNewton {
       Eigen::VectorXd grad = r;  // the gradient of E on the side of motion, for Armijo's rule
       for (std::size_t k = 0; k < coordinates_.size(); ++k) grad(coordinates_[k].row) = motion[k].grad;
       Eigen::VectorXd step;
-      if (!descent_direction(krylov, near_null, motion, r, grad, point.certificate.worst(), st, cache, &step, &why)) {
+      if (!descent_direction(krylov, hints, motion, r, grad, point.certificate.worst(), st, cache, &step, &why)) {
         status = MinimizerStatus::failed;
         break;
       }
@@ -212,6 +212,9 @@ class FullSpaceNewton {
   struct SystemCache {
     std::vector<char> eliminated;
     Eigen::VectorXd shift;
+    /// The Newton matrix, one object for the whole iteration: the Krylov engine may read it
+    /// where it lies, and a system of the same pattern keeps what its preconditioner can.
+    SparseMatrix H;
   };
   struct NewtonOutcome {
     std::string why;     ///< empty: solved
@@ -227,14 +230,14 @@ class FullSpaceNewton {
   // positive definite wherever the problem is strongly convex), its negative part left out when
   // CG meets an indefinite system or the step does not descend. False (and *why) when there is
   // no direction of descent.
-  bool descent_direction(KrylovSolver& krylov, const Eigen::MatrixXd& near_null, const std::vector<Motion>& motion,
+  bool descent_direction(KrylovSolver& krylov, const KrylovHints& hints, const std::vector<Motion>& motion,
                          const Eigen::VectorXd& r, const Eigen::VectorXd& grad, double worst, FullSpaceStatistics& st,
                          SystemCache& cache, Eigen::VectorXd* step, std::string* why) const {
     bool concave = false;
     for (const Motion& mk : motion) concave = concave || (!mk.held && !mk.pushed && mk.curvature < 0.0);
     for (const bool clip : {false, true}) {
       if (clip && !concave) break;
-      const NewtonOutcome o = newton_step(krylov, near_null, motion, r, clip, worst, st, cache, step);
+      const NewtonOutcome o = newton_step(krylov, hints, motion, r, clip, worst, st, cache, step);
       if (!o.why.empty()) {
         *why = o.why;
         if (o.fatal || clip || !concave) return false;
@@ -328,7 +331,7 @@ class FullSpaceNewton {
   // and every other unknown from (A + diag(w j''))_FF d_F = -grad_F - A_FE d_E by CG, to a
   // tolerance that follows the certificate's residual `worst`; with `clip` the negative
   // curvatures are left out.
-  NewtonOutcome newton_step(KrylovSolver& krylov, const Eigen::MatrixXd& near_null, const std::vector<Motion>& motion,
+  NewtonOutcome newton_step(KrylovSolver& krylov, const KrylovHints& hints, const std::vector<Motion>& motion,
                             const Eigen::VectorXd& r, bool clip, double worst, FullSpaceStatistics& st,
                             SystemCache& cache, Eigen::VectorXd* step) const {
     const Eigen::Index n = A_.rows();
@@ -352,7 +355,11 @@ class FullSpaceNewton {
     for (Eigen::Index i = 0; i < n; ++i) rhs(i) = eliminated[static_cast<std::size_t>(i)] ? d(i) : rhs(i) - Ad(i);
     auto tc = Clock::now();
     if (eliminated != cache.eliminated || shift != cache.shift) {
-      SparseMatrix H = A_;
+      SparseMatrix& H = cache.H;
+      if (H.nonZeros() != A_.nonZeros() || H.rows() != n)
+        H = A_;
+      else
+        std::copy(A_.valuePtr(), A_.valuePtr() + A_.nonZeros(), H.valuePtr());
       for (int j = 0; j < H.outerSize(); ++j)
         for (SparseMatrix::InnerIterator e(H, j); e; ++e) {
           const bool ej = eliminated[static_cast<std::size_t>(j)], ei = eliminated[static_cast<std::size_t>(e.row())];
@@ -361,18 +368,20 @@ class FullSpaceNewton {
           else if (e.row() == j)
             e.valueRef() += shift(j);
         }
-      Eigen::MatrixXd N = near_null;
-      for (Eigen::Index i = 0; i < n && N.cols() > 0; ++i)
-        if (eliminated[static_cast<std::size_t>(i)]) N.row(i).setZero();
-      const FactorizationResult set_up = krylov.compute(H, N);
+      KrylovHints system_hints(hints.near_null, hints.block_size);
+      for (Eigen::Index i = 0; i < n && system_hints.near_null.cols() > 0; ++i)
+        if (eliminated[static_cast<std::size_t>(i)]) system_hints.near_null.row(i).setZero();
+      const FactorizationResult set_up = krylov.compute(H, system_hints);
       ++st.preconditioner_setups;
       st.preconditioner_seconds += since(tc);
-      cache = {};
+      cache.eliminated.clear();
+      cache.shift.resize(0);
       if (!set_up.ok())
         return {"the preconditioner of " + krylov.name() + " failed (" + to_string(set_up.status) + "): " +
                     set_up.message,
                 set_up.status != FactorizationStatus::not_positive_definite};
-      cache = {std::move(eliminated), std::move(shift)};
+      cache.eliminated = std::move(eliminated);
+      cache.shift = std::move(shift);
     }
     const double rtol = std::clamp(worst * worst, krylov_floor, krylov_cap);
     *step = d;
@@ -465,12 +474,12 @@ CertifiedPoint certify_full_space(const Condensation& posed, const Eigen::Vector
   return FullSpaceNewton(posed, tol).certify(x);
 }
 
-MinimizerResult minimize_full_space(const Condensation& posed, KrylovSolver& krylov, const Eigen::MatrixXd& near_null,
+MinimizerResult minimize_full_space(const Condensation& posed, KrylovSolver& krylov, const KrylovHints& hints,
                                     const MinimizerOptions& options, Eigen::VectorXd* x,
                                     FullSpaceStatistics* statistics) {
   if (!x) throw InternalError("minimize_full_space needs a point to start from and return");
   if (std::string why; !options.is_valid(&why)) throw InputError(why, "MinimizerOptions");
-  return FullSpaceNewton(posed, options.tolerance).run(krylov, near_null, options, x, statistics);
+  return FullSpaceNewton(posed, options.tolerance).run(krylov, hints, options, x, statistics);
 }
 
 }  // namespace hemivem

@@ -208,7 +208,8 @@ Eigen::MatrixXd BasicContactSolver<dim>::linear_solve() {
   const auto t = Clock::now();
   const LinearSystem& sys = *system_;
   if (krylov_) {
-    detail::require_ok(krylov_->compute(sys.A, Eigen::MatrixXd()), *krylov_, "preconditioner");
+    detail::require_ok(krylov_->compute(sys.A, KrylovHints(near_null_space(), node_block_size())), *krylov_,
+                       "preconditioner");
     Eigen::VectorXd x = Eigen::VectorXd::Zero(sys.b.size());
     // the certificate's residual is in the max norm: ||r||_inf / ||b||_inf <= sqrt(n) ||r||_2 / ||b||_2
     const double rtol = std::max(1e-14, options_.tolerance / std::sqrt(static_cast<double>(std::max<Eigen::Index>(1, x.size()))));
@@ -309,7 +310,7 @@ void BasicContactSolver<dim>::pose() {
 }
 
 // The rigid motions of the whole mesh (translations, rotations about its centroid) in the
-// rotated free unknowns: the near-null space of the elasticity operator for the preconditioner.
+// free unknowns (rotated once the problem is posed): the near-null space of the elasticity operator for the preconditioner.
 template <int dim>
 Eigen::MatrixXd BasicContactSolver<dim>::near_null_space() const {
   const auto& vertices = problem_.elasticity.mesh->vertices();
@@ -333,10 +334,25 @@ Eigen::MatrixXd BasicContactSolver<dim>::near_null_space() const {
       }
       u.segment<dim>(dim * v) = m;
     }
-    // prescribed components are not unknowns: rotated_free reads the free ones
-    N.col(k) = condensation_->rotated_free(u);
+    // prescribed components are not unknowns: the free ones, in the contact nodes' frames once posed
+    if (condensation_) {
+      N.col(k) = condensation_->rotated_free(u);
+    } else {
+      for (int f = 0; f < system_->dofs.num_free(); ++f) N(f, k) = u(system_->dofs.free_dofs[static_cast<std::size_t>(f)]);
+    }
   }
   return N;
+}
+
+// dim when the free unknowns come node by node, every component of a node free (in the rotated
+// unknowns too: a node's frame acts on its own components); 1 otherwise.
+template <int dim>
+int BasicContactSolver<dim>::node_block_size() const {
+  const std::vector<int>& free = system_->dofs.free_dofs;
+  if (free.size() % dim != 0) return 1;
+  for (std::size_t k = 0; k < free.size(); ++k)
+    if (free[k] != free[k - k % dim] + static_cast<int>(k % dim) || free[k - k % dim] % dim != 0) return 1;
+  return dim;
 }
 
 template <int dim>
@@ -345,7 +361,8 @@ void BasicContactSolver<dim>::solve_full_space(Solution& solution) {
   Eigen::VectorXd x;
   if (start_u_ && start_u_->size() > 0) x = condensation_->rotated_free(*start_u_);
   FullSpaceStatistics stats;
-  MinimizerResult m = minimize_full_space(*condensation_, *krylov_, near_null_space(), options_, &x, &stats);
+  MinimizerResult m = minimize_full_space(*condensation_, *krylov_, KrylovHints(near_null_space(), node_block_size()),
+                                          options_, &x, &stats);
   solution.status = m.status;
   solution.message = m.message;
   solution.certificate = m.certificate;

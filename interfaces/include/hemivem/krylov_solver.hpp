@@ -3,10 +3,16 @@
 // (docs/full-space.md), which never factorizes the whole matrix.
 //
 // Call sequence (as Eigen's iterative solvers):
-//   compute(A, near_null)      sets the preconditioner up for A (both triangles stored, as
-//                              hemivem assembles it); `near_null` holds, column by column, the
-//                              vectors A nearly annihilates (the rigid motions of an elastic
-//                              body, for algebraic multigrid), and may have no columns;
+//   compute(A, hints)          sets the preconditioner up for A (both triangles stored, as
+//                              hemivem assembles it), with what KrylovHints tells of A (the
+//                              vectors it nearly annihilates, its node blocks); the engine may
+//                              keep a reference to A instead of a copy (as Eigen's iterative
+//                              solvers do), so A stays alive and unchanged while solve() is
+//                              called on it (the engine never reads it otherwise, not even
+//                              when it is destroyed). Calling compute() again with the
+//                              same matrix object, its values changed in place and its pattern
+//                              not, sets the preconditioner up again reusing what the engine
+//                              can (GAMG keeps its aggregates and interpolation);
 //   solve(b, x, rtol, max_it)  x ~ A^{-1} b by CG started from *x, until the true residual
 //                              ||b - A x||_2 <= rtol ||b||_2 or max_it iterations.
 // Numerical outcomes are statuses with a human message (FactorizationStatus: an indefinite
@@ -19,6 +25,7 @@
 
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <hemivem/sparse_factorization.hpp>
@@ -35,14 +42,27 @@ struct KrylovSolveResult {
   bool ok() const noexcept { return status == FactorizationStatus::success; }
 };
 
+/// What a preconditioner may use besides A's entries.
+struct KrylovHints {
+  /// Column by column, the vectors A nearly annihilates (the rigid motions of an elastic body,
+  /// for the aggregates of algebraic multigrid), with A.rows() rows; or no columns.
+  Eigen::MatrixXd near_null;
+  /// The unknowns come in consecutive groups of this many that belong to one node (the
+  /// components of a displacement), so that multigrid can aggregate nodes; 1 when they do not.
+  int block_size = 1;
+  KrylovHints(Eigen::MatrixXd near_null_space = {}, int node_block = 1)  // NOLINT: a near-null space alone converts
+      : near_null(std::move(near_null_space)), block_size(node_block) {}
+};
+
 class KrylovSolver {
  public:
   virtual ~KrylovSolver() = default;
   /// The engine's name, as make_krylov_solver() takes it.
   virtual std::string name() const = 0;
-  /// Sets the preconditioner up for A (square, symmetric, both triangles stored); `near_null`
-  /// has A.rows() rows (or no columns).
-  virtual FactorizationResult compute(const SparseMatrix& A, const Eigen::MatrixXd& near_null) = 0;
+  /// Sets the preconditioner up for A (square, symmetric, both triangles stored; kept by
+  /// reference, see above); `hints.near_null` has A.rows() rows (or no columns) and
+  /// `hints.block_size` divides A.rows().
+  virtual FactorizationResult compute(const SparseMatrix& A, const KrylovHints& hints) = 0;
   /// CG from the start *x (resized to zeros when its size is not b's) on the A of the last
   /// successful compute().
   virtual KrylovSolveResult solve(const Eigen::VectorXd& b, Eigen::VectorXd* x, double rtol,

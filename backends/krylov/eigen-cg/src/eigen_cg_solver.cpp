@@ -44,8 +44,8 @@ EigenCgSolver::~EigenCgSolver() = default;
 
 bool EigenCgSolver::uses_diagonal_preconditioner() const noexcept { return impl_->use_diagonal; }
 
-FactorizationResult EigenCgSolver::compute(const SparseMatrix& A, const Eigen::MatrixXd& near_null) {
-  krylov::check_compute_arguments(name(), A, near_null);
+FactorizationResult EigenCgSolver::compute(const SparseMatrix& A, const KrylovHints& hints) {
+  krylov::check_compute_arguments(name(), A, hints);
   Impl& m = *impl_;
   m.computed = false;
   if (const FactorizationResult screened = krylov::screen_matrix(A); !screened.ok())

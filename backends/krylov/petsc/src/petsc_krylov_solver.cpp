@@ -135,28 +135,38 @@ struct PetscKrylovSolver::Impl {
   PetscOptions options = nullptr;
   PetscInt size = 0;
   bool computed = false;
-  /// True when A has the pattern of the matrix set up last (the systems of one Newton
-  /// iteration keep A's pattern, their values change), compared with the AIJ matrix's own rows.
-  bool same_pattern(const SparseMatrix& A) const {
-    if (!computed || !A.isCompressed() || A.rows() != size || A.cols() != size) return false;
-    const PetscInt* ia = nullptr;
-    const PetscInt* ja = nullptr;
-    PetscInt n = 0;
-    PetscBool done = PETSC_FALSE;
-    const QuietErrors quiet;
-    if (MatGetRowIJ(matrix, 0, PETSC_FALSE, PETSC_FALSE, &n, &ia, &ja, &done) != 0 || !done) return false;
-    const bool same = n == size && ia[n] == A.nonZeros() && std::equal(ia, ia + n + 1, A.outerIndexPtr()) &&
-                      std::equal(ja, ja + ia[n], A.innerIndexPtr());
-    MatRestoreRowIJ(matrix, 0, PETSC_FALSE, PETSC_FALSE, &n, &ia, &ja, &done);
-    return same;
+  /// The arrays the AIJ matrix reads (A's own, or `owned`'s) and a checksum of their pattern.
+  const void* wrapped_values = nullptr;
+  const void* wrapped_starts = nullptr;
+  const void* wrapped_indices = nullptr;
+  std::size_t wrapped_pattern = 0;
+  SparseMatrix owned;  // A's compressed copy, where A's arrays cannot be read as they are
+
+  /// A checksum of A's pattern (its size, column starts and row indices).
+  static std::size_t pattern_checksum(const SparseMatrix& A) {
+    std::size_t h = static_cast<std::size_t>(A.rows()) * 1000003u + static_cast<std::size_t>(A.nonZeros());
+    auto mix = [&h](int v) { h = (h ^ static_cast<std::size_t>(static_cast<unsigned>(v))) * 1099511628211ull; };
+    for (Eigen::Index j = 0; j <= A.outerSize(); ++j) mix(A.outerIndexPtr()[j]);
+    for (Eigen::Index k = 0; k < A.nonZeros(); ++k) mix(A.innerIndexPtr()[k]);
+    return h;
   }
 
-  /// New values of the same pattern: copied into the AIJ matrix, whose preconditioner is set up
-  /// again at the next solve (GAMG reusing its interpolation, below).
-  PetscErrorCode update_values(const SparseMatrix& A, std::string* error) {
+  /// True when A is the matrix object the AIJ matrix reads, its pattern unchanged (its values
+  /// changed in place: the systems of one Newton iteration).
+  bool same_matrix(const SparseMatrix& A) const {
+    return computed && owned.size() == 0 && A.isCompressed() && A.rows() == size &&
+           static_cast<const void*>(A.valuePtr()) == wrapped_values &&
+           static_cast<const void*>(A.outerIndexPtr()) == wrapped_starts &&
+           static_cast<const void*>(A.innerIndexPtr()) == wrapped_indices && pattern_checksum(A) == wrapped_pattern;
+  }
+
+  /// A's values changed in place: PETSc is told, and the preconditioner is set up again at the
+  /// next solve (GAMG reusing its interpolation, below).
+  PetscErrorCode update_values(std::string* error) {
+    // the access to its values and their return: PETSc counts the matrix changed (its state
+    // increased, its cached diagonal invalidated)
     PetscScalar* values = nullptr;
     HEMIVEM_PETSC(MatSeqAIJGetArray(matrix, &values));
-    std::copy(A.valuePtr(), A.valuePtr() + A.nonZeros(), values);  // columns read as rows: A is symmetric
     HEMIVEM_PETSC(MatSeqAIJRestoreArray(matrix, &values));
     HEMIVEM_PETSC(KSPSetOperators(ksp, matrix, matrix));
     HEMIVEM_PETSC(KSPSetUp(ksp));
@@ -174,6 +184,8 @@ struct PetscKrylovSolver::Impl {
   /// Destroys the PETSc objects (left alone once PETSc is finalized).
   void release() {
     computed = false;
+    wrapped_values = wrapped_starts = wrapped_indices = nullptr;
+    owned = SparseMatrix();
     if (!PetscRuntime::running()) {
       matrix = nullptr, ksp = nullptr, rhs = solution = residual = nullptr, options = nullptr;
       return;
@@ -221,31 +233,35 @@ struct PetscKrylovSolver::Impl {
   /// A's compressed columns are given as the rows: A is symmetric (the contract), so no
   /// row-major copy of it is made (its two triangles may differ by round-off; PETSc's matrix is
   /// then the transpose, as close to A).
-  PetscErrorCode setup(const SparseMatrix& A, const Eigen::MatrixXd& near_null, std::string* error) {
-    SparseMatrix compressed;
-    const SparseMatrix* C = &A;
-    if (!A.isCompressed()) {
-      compressed = A;
-      compressed.makeCompressed();
-      C = &compressed;
+  PetscErrorCode setup(const SparseMatrix& A, const KrylovHints& hints, std::string* error) {
+    const bool readable = A.isCompressed() && sizeof(PetscInt) == sizeof(int);
+    owned = SparseMatrix();
+    if (!readable) {
+      owned = A;
+      owned.makeCompressed();
     }
-    size = static_cast<PetscInt>(C->rows());
-    std::vector<PetscInt> rows, columns;
-    const PetscInt* row_starts = nullptr;
-    const PetscInt* column_indices = nullptr;
-    if constexpr (sizeof(PetscInt) == sizeof(int)) {
-      row_starts = reinterpret_cast<const PetscInt*>(C->outerIndexPtr());
-      column_indices = reinterpret_cast<const PetscInt*>(C->innerIndexPtr());
+    const SparseMatrix& C = readable ? A : owned;
+    size = static_cast<PetscInt>(C.rows());
+    if (readable) {
+      // PETSc reads A's arrays for as long as the matrix lives (the contract keeps A alive)
+      HEMIVEM_PETSC(MatCreateSeqAIJWithArrays(
+          PETSC_COMM_SELF, size, size, reinterpret_cast<PetscInt*>(const_cast<int*>(C.outerIndexPtr())),
+          reinterpret_cast<PetscInt*>(const_cast<int*>(C.innerIndexPtr())), const_cast<double*>(C.valuePtr()),
+          &matrix));
     } else {
-      rows.assign(C->outerIndexPtr(), C->outerIndexPtr() + C->cols() + 1);
-      columns.assign(C->innerIndexPtr(), C->innerIndexPtr() + C->nonZeros());
-      row_starts = rows.data();
-      column_indices = columns.data();
+      const std::vector<PetscInt> rows(C.outerIndexPtr(), C.outerIndexPtr() + C.cols() + 1);
+      const std::vector<PetscInt> columns(C.innerIndexPtr(), C.innerIndexPtr() + C.nonZeros());
+      HEMIVEM_PETSC(MatCreate(PETSC_COMM_SELF, &matrix));
+      HEMIVEM_PETSC(MatSetSizes(matrix, size, size, size, size));
+      HEMIVEM_PETSC(MatSetType(matrix, MATSEQAIJ));
+      HEMIVEM_PETSC(MatSeqAIJSetPreallocationCSR(matrix, rows.data(), columns.data(), C.valuePtr()));
     }
-    HEMIVEM_PETSC(MatCreate(PETSC_COMM_SELF, &matrix));
-    HEMIVEM_PETSC(MatSetSizes(matrix, size, size, size, size));
-    HEMIVEM_PETSC(MatSetType(matrix, MATSEQAIJ));
-    HEMIVEM_PETSC(MatSeqAIJSetPreallocationCSR(matrix, row_starts, column_indices, C->valuePtr()));
+    wrapped_values = readable ? static_cast<const void*>(A.valuePtr()) : nullptr;
+    wrapped_starts = readable ? static_cast<const void*>(A.outerIndexPtr()) : nullptr;
+    wrapped_indices = readable ? static_cast<const void*>(A.innerIndexPtr()) : nullptr;
+    wrapped_pattern = readable ? pattern_checksum(A) : 0;
+    if (hints.block_size > 1) HEMIVEM_PETSC(MatSetBlockSize(matrix, static_cast<PetscInt>(hints.block_size)));
+    const Eigen::MatrixXd& near_null = hints.near_null;
     HEMIVEM_PETSC(MatSetOption(matrix, MAT_SYMMETRIC, PETSC_TRUE));
 
     if (near_null.cols() > 0)
@@ -364,15 +380,17 @@ PetscKrylovSolver::~PetscKrylovSolver() = default;
 
 std::string PetscKrylovSolver::name() const { return impl_->name(); }
 
-FactorizationResult PetscKrylovSolver::compute(const SparseMatrix& A, const Eigen::MatrixXd& near_null) {
-  krylov::check_compute_arguments(name(), A, near_null);
+FactorizationResult PetscKrylovSolver::compute(const SparseMatrix& A, const KrylovHints& hints) {
+  krylov::check_compute_arguments(name(), A, hints);
   Impl& m = *impl_;
-  if (m.same_pattern(A) && PetscRuntime::running()) {
-    if (const FactorizationResult screened = krylov::screen_matrix(A); !screened.ok())
+  if (m.same_matrix(A) && PetscRuntime::running()) {
+    if (const FactorizationResult screened = krylov::screen_matrix(A); !screened.ok()) {
+      m.computed = false;
       return {screened.status, name() + ": " + screened.message};
+    }
     const QuietErrors quiet;
     std::string error;
-    if (m.update_values(A, &error) == 0) return FactorizationResult::good();
+    if (m.update_values(&error) == 0) return FactorizationResult::good();
   }
   m.release();
   if (const std::string& why = PetscRuntime::instance().start(); !why.empty())
@@ -382,7 +400,7 @@ FactorizationResult PetscKrylovSolver::compute(const SparseMatrix& A, const Eige
     return {screened.status, name() + ": " + screened.message};
   const QuietErrors quiet;
   std::string error;
-  if (m.setup(A, near_null, &error) != 0) {
+  if (m.setup(A, hints, &error) != 0) {
     m.release();
     return {FactorizationStatus::numerical_failure, name() + ": " + error};
   }

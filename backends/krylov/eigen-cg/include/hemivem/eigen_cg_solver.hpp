@@ -28,7 +28,7 @@ class EigenCgSolver final : public KrylovSolver {
   EigenCgSolver& operator=(const EigenCgSolver&) = delete;
 
   std::string name() const override { return "eigen-cg"; }
-  FactorizationResult compute(const SparseMatrix& A, const Eigen::MatrixXd& near_null) override;
+  FactorizationResult compute(const SparseMatrix& A, const KrylovHints& hints) override;
   /// Not thread-safe: the solver's tolerances live in the object.
   KrylovSolveResult solve(const Eigen::VectorXd& b, Eigen::VectorXd* x, double rtol,
                           int max_iterations) const override;

@@ -1,8 +1,11 @@
 // The Krylov engines "petsc-gamg" and "petsc-hypre": PETSc's conjugate gradient (KSPCG, the
-// unpreconditioned residual norm) on a sequential AIJ copy of A, preconditioned by
+// unpreconditioned residual norm) on a sequential AIJ matrix that reads A's own arrays (A's
+// compressed columns are its rows: A is symmetric; no copy is made where PETSc's index type is
+// int and A is compressed), preconditioned by
 //   petsc-gamg   PETSc's smoothed aggregation multigrid (PCGAMG) given the near-null space
 //                (MatSetNearNullSpace with the columns of `near_null`, orthonormalized: the
-//                rigid motions of an elastic body make its coarse spaces those of elasticity);
+//                rigid motions of an elastic body make its coarse spaces those of elasticity)
+//                and the block size (the graph it aggregates is then one of nodes);
 //   petsc-hypre  hypre's BoomerAMG (PCHYPRE); with a near-null space of six columns (a solid's
 //                rigid motions) its strong threshold is 0.5, hypre's advice for 3D elasticity,
 //                otherwise hypre's default 0.25.
@@ -42,7 +45,7 @@ class PetscKrylovSolver : public KrylovSolver {
   PetscKrylovSolver& operator=(const PetscKrylovSolver&) = delete;
 
   std::string name() const override;
-  FactorizationResult compute(const SparseMatrix& A, const Eigen::MatrixXd& near_null) override;
+  FactorizationResult compute(const SparseMatrix& A, const KrylovHints& hints) override;
   /// Not thread-safe: the PETSc solver and vectors live in the object.
   KrylovSolveResult solve(const Eigen::VectorXd& b, Eigen::VectorXd* x, double rtol,
                           int max_iterations) const override;

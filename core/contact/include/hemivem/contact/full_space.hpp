@@ -44,11 +44,13 @@ CertifiedPoint certify_full_space(const Condensation& posed, const Eigen::Vector
 
 /// Minimizes E over the rotated free unknowns of `posed` from *x (its size: start; otherwise 0;
 /// the coordinates projected onto their bounds first) with `krylov` for the Newton systems and
-/// `near_null` (the rigid motions in the rotated unknowns, or no columns) for its preconditioner.
+/// `hints` for its preconditioner (the rigid motions in the rotated unknowns, or no columns; the
+/// unknowns' node blocks). `krylov` is left computed on a matrix of this call only: compute() it
+/// again before another solve().
 /// Returns the minimizer's report at the point it ends on (a, the forces and the certificate;
 /// objective E there) and leaves that point in *x. InputError for a problem with groups of
 /// coordinates (a solid's isotropic friction), which this route does not take.
-MinimizerResult minimize_full_space(const Condensation& posed, KrylovSolver& krylov, const Eigen::MatrixXd& near_null,
+MinimizerResult minimize_full_space(const Condensation& posed, KrylovSolver& krylov, const KrylovHints& hints,
                                     const MinimizerOptions& options, Eigen::VectorXd* x,
                                     FullSpaceStatistics* statistics = nullptr);
 

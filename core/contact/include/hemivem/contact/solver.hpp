@@ -336,6 +336,7 @@ class BasicContactSolver {
   void pose();
   void solve_full_space(Solution& solution);
   Eigen::MatrixXd near_null_space() const;
+  int node_block_size() const;
   void minimize(const NonsmoothMinimizer& minimizer, Solution& solution) const;
   void back_substitute(Solution& solution) const;
   void post_process(Solution& solution) const;
