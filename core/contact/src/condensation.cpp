@@ -824,7 +824,7 @@ Eigen::VectorXd Condensation::displacement(const Eigen::VectorXd& x1, const Eige
 
 // The full nodal displacement of the rotated free unknowns: u = Q ut at the contact nodes, the
 // prescribed values, and the pairs of two bodies undone.
-Eigen::VectorXd Condensation::from_rotated(Eigen::VectorXd ut) const {
+Eigen::VectorXd Condensation::unrotate(Eigen::VectorXd ut) const {
   for (const NodeFrame& f : frames_) {
     double rotated[3] = {0.0, 0.0, 0.0};
     for (int j = 0; j < f.m; ++j) rotated[j] = ut(f.idx[static_cast<std::size_t>(j)]);
@@ -834,7 +834,21 @@ Eigen::VectorXd Condensation::from_rotated(Eigen::VectorXd ut) const {
       ut(f.idx[static_cast<std::size_t>(r)]) = v;
     }
   }
+  return ut;
+}
+
+Eigen::VectorXd Condensation::from_rotated(Eigen::VectorXd ut) const {
+  ut = unrotate(std::move(ut));
   return joining_.empty() ? dofs_.expand(ut) : joining_.displacement(dofs_.expand(ut));
+}
+
+Eigen::VectorXd Condensation::unrotated_product(const Eigen::VectorXd& uf) const {
+  if (!joining_.empty()) throw InternalError("the product with the unrotated matrix of two joined bodies");
+  if (factorization_) throw InternalError("the product with the unrotated matrix of a condensed problem");
+  if (uf.size() != At_.cols())
+    throw InternalError("unrotated_product needs " + std::to_string(At_.cols()) + " free values, got " +
+                        std::to_string(uf.size()));
+  return unrotate(At_ * rotate_load(uf));
 }
 
 }  // namespace hemivem

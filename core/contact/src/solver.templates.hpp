@@ -303,6 +303,11 @@ void BasicContactSolver<dim>::pose() {
   condensation_ = about(ProblemPart::contact, [&] {
     return std::make_unique<Condensation>(*system_, boundary_, part_conditions(parts_), Condensation::PoseOnly{});
   });
+  // one body's assembled matrix, the solver's own, is the posed rotated one: given up
+  if (assembled_ && !condensation_->joins_bodies()) {
+    SparseMatrix().swap(assembled_->A);
+    matrix_posed_ = true;
+  }
   common_.timings["posing"] = detail::since(t);
   common_.stages.push_back("posing");
   common_.uniqueness_margin = std::numeric_limits<double>::quiet_NaN();
@@ -410,7 +415,7 @@ void BasicContactSolver<dim>::post_process(Solution& solution) const {
   const MinimizerResult& m = *solution.minimizer;
   Eigen::VectorXd uf(sys.dofs.num_free());
   for (int k = 0; k < sys.dofs.num_free(); ++k) uf(k) = solution.u(sys.dofs.free_dofs[static_cast<std::size_t>(k)]);
-  const Eigen::VectorXd Au = sys.A * uf;
+  const Eigen::VectorXd Au = matrix_posed_ ? condensation_->unrotated_product(uf) : Eigen::VectorXd(sys.A * uf);
   const Eigen::VectorXd residual = Au - sys.b;
   for (int i = 0; i < boundary_.size(); ++i)
     solution.contact.push_back(

@@ -213,6 +213,12 @@ class Condensation {
   /// The rotated free unknowns of a full nodal displacement u (its free part, relative at the
   /// pairs, in the contact nodes' frames): displacement_of's inverse on the free dofs.
   Eigen::VectorXd rotated_free(const Eigen::VectorXd& u) const;
+  /// A uf for the free values uf of one body (no pairs of two bodies), A the matrix this was
+  /// posed from (PoseOnly), read from the rotated matrix (Q A~ Q^T uf): the system's own matrix
+  /// is no longer needed once posed. InternalError for two bodies or a condensed problem.
+  Eigen::VectorXd unrotated_product(const Eigen::VectorXd& uf) const;
+  /// True when two bodies are joined at pairs (the rotated system is the joined one).
+  bool joins_bodies() const noexcept { return !joining_.empty(); }
   /// Per reduced coordinate, the normal displacement where it is 0: g_i for the normal
   /// unknowns with law_from_surface, else 0 (so u_nu = a + origin).
   const Eigen::VectorXd& origin() const noexcept { return origin_; }
@@ -315,6 +321,8 @@ class Condensation {
   Eigen::VectorXd block1_values(const Eigen::VectorXd& a) const;
   Eigen::VectorXd displacement(const Eigen::VectorXd& x1, const Eigen::VectorXd& u2) const;
   Eigen::VectorXd from_rotated(Eigen::VectorXd ut) const;
+  /// The free values in x, y[, z] of rotated free values (Q ut).
+  Eigen::VectorXd unrotate(Eigen::VectorXd ut) const;
   /// A21_ = At(block2, block1), for an engine that does not split the interior solve.
   void extract_a21(const SparseMatrix& At);
   SparseMatrix A21_;              // block2 x block1 of the rotated matrix (when extracted)

@@ -314,6 +314,9 @@ class BasicContactSolver {
   /// solve (e.g. a friction bound that needs a path) are run()'s. Then system(), parts(),
   /// boundary(), condensation() and prepared() give what the stages made.
   void prepare();
+  /// The assembled system. After run() on the full-space route (a Krylov engine) the solver's
+  /// own assembled matrix of one body is given up once the problem is posed (its rotated copy,
+  /// condensation()->rotated_matrix(), stands for it): system().A is then empty.
   const LinearSystem& system() const { return *system_; }
   const std::vector<BasicContactPart<dim>>& parts() const noexcept { return parts_; }
   const ContactBoundary& boundary() const noexcept { return boundary_; }
@@ -350,6 +353,7 @@ class BasicContactSolver {
   std::unique_ptr<SparseFactorization> factorization_;  // until condense() hands it on
   const ProcessGroup* processes_ = nullptr;             // the engine's processes
   std::optional<LinearSystem> assembled_;
+  bool matrix_posed_ = false;  ///< the full-space route gave assembled_'s matrix up (one body)
   const LinearSystem* system_ = nullptr;
   std::vector<BasicContactPart<dim>> parts_;
   ContactBoundary boundary_;
