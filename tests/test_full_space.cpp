@@ -283,7 +283,7 @@ TEST(FullSpace, TheMemoryCheckTakesTheRoutesEstimate) {
   Scene scene = parse_scene(test::scenes_dir() / "example-4.1-3d.toml");
   apply_overrides(scene, {"mesh.n=[40, 40, 40]"});
   const MemoryEstimate condensed = estimate_memory_3d("cubes", 40, 40, 40);
-  const MemoryEstimate full = full_space_memory(condensed, full_space_bytes_per_vertex(3, "cubes"));
+  const MemoryEstimate full = full_space_memory(condensed, full_space_cost(3, "cubes", "eigen-cg"));
   ASSERT_LT(2.0 * full.solve_bytes, condensed.solve_bytes);
   const std::string limit = std::to_string(static_cast<long long>(0.5 * (full.solve_bytes + condensed.solve_bytes)));
   ::setenv("HEMIVEM_MEMORY_LIMIT", limit.c_str(), 1);

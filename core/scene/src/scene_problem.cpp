@@ -300,7 +300,7 @@ template void require_dimension<3>(const Scene&);
 
 MemoryEstimate route_memory(const Scene& scene, const MemoryEstimate& condensed) {
   if (!is_krylov_solver(scene.solver.linear)) return condensed;
-  return full_space_memory(condensed, full_space_bytes_per_vertex(scene.dimension(), scene.mesh.generator));
+  return full_space_memory(condensed, full_space_cost(scene.dimension(), scene.mesh.generator, scene.solver.linear));
 }
 
 std::string count_text(double v) {

@@ -139,6 +139,7 @@ struct PetscKrylovSolver::Impl {
   PetscOptions options = nullptr;
   PetscInt size = 0;
   bool computed = false;
+  bool reused = false;  ///< the preconditioner was set up again on values changed in place
   /// The arrays the AIJ matrix reads (A's own, or `owned`'s) and a checksum of their pattern.
   const void* wrapped_values = nullptr;
   const void* wrapped_starts = nullptr;
@@ -174,6 +175,7 @@ struct PetscKrylovSolver::Impl {
     HEMIVEM_PETSC(MatSeqAIJRestoreArray(matrix, &values));
     HEMIVEM_PETSC(KSPSetOperators(ksp, matrix, matrix));
     HEMIVEM_PETSC(KSPSetUp(ksp));
+    reused = true;
     return 0;
   }
 
@@ -275,6 +277,14 @@ struct PetscKrylovSolver::Impl {
     HEMIVEM_PETSC(VecDuplicate(rhs, &residual));
 
     HEMIVEM_PETSC(PetscOptionsCreate(&options));
+    if (preconditioner == Preconditioner::hypre && near_null.cols() == 6)
+      HEMIVEM_PETSC(PetscOptionsSetValue(options, "-pc_hypre_boomeramg_strong_threshold", "0.5"));
+    return make_ksp(error);
+  }
+
+  /// The KSP and its preconditioner, set up on the matrix.
+  PetscErrorCode make_ksp(std::string* error) {
+    reused = false;
     HEMIVEM_PETSC(KSPCreate(PETSC_COMM_SELF, &ksp));
     HEMIVEM_PETSC(PetscObjectSetOptions(reinterpret_cast<PetscObject>(ksp), options));
     HEMIVEM_PETSC(KSPSetOperators(ksp, matrix, matrix));
@@ -294,12 +304,18 @@ struct PetscKrylovSolver::Impl {
     } else {
       HEMIVEM_PETSC(PCSetType(pc, PCHYPRE));
       HEMIVEM_PETSC(PCHYPRESetType(pc, "boomeramg"));
-      if (near_null.cols() == 6)
-        HEMIVEM_PETSC(PetscOptionsSetValue(options, "-pc_hypre_boomeramg_strong_threshold", "0.5"));
     }
     HEMIVEM_PETSC(PCSetFromOptions(pc));
     HEMIVEM_PETSC(KSPSetUp(ksp));
     return 0;
+  }
+
+  /// After a preconditioner set up again on values changed in place turned out indefinite (the
+  /// smoother's eigenvalue bounds and the prolongator are the first system's): one set up
+  /// afresh on the current values.
+  PetscErrorCode renew_ksp(std::string* error) {
+    HEMIVEM_PETSC(KSPDestroy(&ksp));
+    return make_ksp(error);
   }
 
   /// What CG did in one solve(): its iterations, PETSc's last reason (KSP_CONVERGED_ITERATING
@@ -426,7 +442,16 @@ KrylovSolveResult PetscKrylovSolver::solve(const Eigen::VectorXd& b, Eigen::Vect
   const QuietErrors quiet;
   std::string failure;
   Impl::CgRun run;
-  const PetscErrorCode code = m.run_cg(b, bn, x, rtol, max_iterations, &run, &failure);
+  const Eigen::VectorXd start = *x;
+  PetscErrorCode code = m.run_cg(b, bn, x, rtol, max_iterations, &run, &failure);
+  if (code == 0 && run.reason == KSP_DIVERGED_INDEFINITE_PC && m.reused) {
+    const int spent = run.iterations;
+    *x = start;
+    code = m.renew_ksp(&failure);
+    run = Impl::CgRun();
+    if (code == 0) code = m.run_cg(b, bn, x, rtol, std::max(0, max_iterations - spent), &run, &failure);
+    run.iterations += spent;
+  }
   out.iterations = run.iterations;
   out.relative_residual = run.relative;
   if (code != 0) {

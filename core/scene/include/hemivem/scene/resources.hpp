@@ -24,14 +24,20 @@ struct MemoryEstimate {
 
 class Mesh;
 
-/// The full-space route's memory per vertex (docs/full-space.md), which grows with the vertices
-/// alone: no factor, no Schur complement. Measured peaks with petsc-gamg, 20 % added: about
-/// 3.0 KB per vertex in the plane (squares, N = 512), 18 KB in a solid of cubes or tetrahedra
-/// (n = 24 to 48), 45 KB of Voronoi cells (n = 12).
-double full_space_bytes_per_vertex(int dimension, std::string_view generator);
+/// The full-space route's memory (docs/full-space.md), which grows with the vertices alone (no
+/// factor, no Schur complement): the process with the engine's libraries and the bytes per
+/// vertex, fitted on measured peaks of each Krylov engine with 20 % added.
+struct FullSpaceCost {
+  double base_bytes = 0.0;
+  double bytes_per_vertex = 0.0;
+};
+/// The cost for a mesh generator and a Krylov engine (petsc-gamg, petsc-hypre, eigen-cg): per
+/// vertex from 2.9 KB (the plane, petsc-gamg) to 46 KB (Voronoi cells in a
+/// solid, eigen-cg).
+FullSpaceCost full_space_cost(int dimension, std::string_view generator, std::string_view engine);
 /// `condensed` (an estimate of the condensed route for the same mesh) with the solve's bytes
-/// of the full-space route: the base and `bytes_per_vertex` per vertex.
-MemoryEstimate full_space_memory(const MemoryEstimate& condensed, double bytes_per_vertex);
+/// of the full-space route.
+MemoryEstimate full_space_memory(const MemoryEstimate& condensed, const FullSpaceCost& cost);
 
 /// The estimate for a mesh generator (mesh_generator_names()) with n cells per side.
 /// Throws InputError for an unknown generator or n < 1.
