@@ -158,12 +158,12 @@ MemoryEstimate full_space_memory(const MemoryEstimate& condensed, const FullSpac
 
 double available_memory() { return memory_limit().bytes; }
 
-void require_memory(double bytes, const std::string& what, const std::string& where) {
+void require_memory(double bytes, const std::string& what, const std::string& where, const std::string& advice) {
   const Limit limit = memory_limit();
   if (bytes <= limit.bytes) return;
   throw InputError("needs an estimated " + format_bytes(bytes) + " of memory (" + what + "), more than the " +
-                       format_bytes(limit.bytes) + " available (" + limit.source +
-                       "); use a smaller mesh, or set HEMIVEM_MEMORY_LIMIT to override the limit",
+                       format_bytes(limit.bytes) + " available (" + limit.source + "); " + advice +
+                       ", or set HEMIVEM_MEMORY_LIMIT to override the limit",
                    where);
 }
 

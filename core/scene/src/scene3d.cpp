@@ -84,9 +84,9 @@ Mesh3D scene_mesh_3d(const Scene& scene) {
   const SceneMesh& m = scene.mesh;
   if (!m.file.empty()) return read_gmsh3d(m.file);
   const GridSize3 cells = m.cells3();
-  const MemoryEstimate need = detail::route_memory(scene, estimate_memory_3d(m.generator, cells.nx, cells.ny, cells.nz));
-  require_memory(need.solve_bytes,
-                 m.generator + " n = " + cells.text() + ": " + count_text(need.vertices) + " vertices",
+  const MemoryEstimate condensed = estimate_memory_3d(m.generator, cells.nx, cells.ny, cells.nz);
+  detail::require_route_memory(scene, condensed,
+                 m.generator + " n = " + cells.text() + ": " + count_text(condensed.vertices) + " vertices",
                  scene.where("mesh.n"));
   const auto& b = m.box;
   try {
@@ -109,8 +109,8 @@ std::unique_ptr<BuiltProblem3D> built_solid(const Scene& scene, Mesh3D mesh, boo
     std::set<int> contact;
     for (const ContactPart3D& part : out->problem.parts)
       for (int f : part.facets) contact.insert(m.face(f).vertices.begin(), m.face(f).vertices.end());
-    const MemoryEstimate need = detail::route_memory(scene, estimate_memory_3d(m.num_vertices(), static_cast<double>(contact.size())));
-    require_memory(need.solve_bytes,
+    const MemoryEstimate condensed = estimate_memory_3d(m.num_vertices(), static_cast<double>(contact.size()));
+    detail::require_route_memory(scene, condensed,
                    (given ? std::string("the mesh given") : scene.mesh.file.string()) + ": " +
                        count_text(m.num_vertices()) + " vertices, " + count_text(static_cast<double>(contact.size())) +
                        " on the contact faces",

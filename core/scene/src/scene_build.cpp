@@ -173,19 +173,19 @@ std::unique_ptr<BuiltProblem> detail::built_plane(const Scene& scene) {
     if (ext == ".msh") mesh = read_gmsh(scene.mesh.file);
     else if (ext == ".poly2d") mesh = read_poly2d(scene.mesh.file).mesh;
     else throw InputError("mesh.file: unknown mesh format; expected .poly2d or .msh", scene.where("mesh.file"));
-    const MemoryEstimate need = detail::route_memory(scene, estimate_memory(mesh));
+    const MemoryEstimate condensed = estimate_memory(mesh);
     int largest = 0;
     for (int e = 0; e < mesh.num_elements(); ++e) largest = std::max(largest, mesh.element_size(e));
-    require_memory(need.solve_bytes,
-                   scene.mesh.file.string() + ": " + detail::count_text(need.vertices) + " vertices, elements of up to " +
+    detail::require_route_memory(scene, condensed,
+                   scene.mesh.file.string() + ": " + detail::count_text(condensed.vertices) + " vertices, elements of up to " +
                        std::to_string(largest) + " vertices",
                    scene.where("mesh.file"));
   } else {
     const auto& d = scene.mesh.domain;
     const GridSize cells = scene.mesh.cells();
-    const MemoryEstimate need = detail::route_memory(scene, estimate_memory(scene.mesh.generator, cells.nx, cells.ny));
-    require_memory(need.solve_bytes,
-                   scene.mesh.generator + " n = " + cells.text() + ": " + detail::count_text(need.vertices) + " vertices",
+    const MemoryEstimate condensed = estimate_memory(scene.mesh.generator, cells.nx, cells.ny);
+    detail::require_route_memory(scene, condensed,
+                   scene.mesh.generator + " n = " + cells.text() + ": " + detail::count_text(condensed.vertices) + " vertices",
                    scene.where("mesh.n"));
     try {
       if (scene.mesh.generator == "polar") {

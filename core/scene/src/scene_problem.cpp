@@ -303,6 +303,21 @@ MemoryEstimate route_memory(const Scene& scene, const MemoryEstimate& condensed)
   return full_space_memory(condensed, full_space_cost(scene.dimension(), scene.mesh.generator, scene.solver.linear));
 }
 
+void require_route_memory(const Scene& scene, const MemoryEstimate& condensed, const std::string& what,
+                          const std::string& where) {
+  const MemoryEstimate need = route_memory(scene, condensed);
+  std::string advice = "use a smaller mesh";
+  if (!is_krylov_solver(scene.solver.linear) && need.solve_bytes > available_memory())
+    for (const std::string& engine : available_krylov_solvers()) {
+      const double full = full_space_memory(condensed, full_space_cost(scene.dimension(), scene.mesh.generator, engine)).solve_bytes;
+      if (full > available_memory()) continue;
+      advice = "use a smaller mesh, or the full-space route, which factorizes nothing (--linear " + engine +
+               ", solver.linear = \"" + engine + "\": an estimated " + format_bytes(full) + ", docs/full-space.md)";
+      break;
+    }
+  require_memory(need.solve_bytes, what, where, advice);
+}
+
 std::string count_text(double v) {
   if (v < 1e9) return std::to_string(static_cast<long long>(std::llround(v)));
   std::ostringstream o;

@@ -18,6 +18,10 @@ std::string count_text(double v);
 /// route: `condensed` itself, or the full-space route's (full_space_memory) when solver.linear
 /// is a Krylov engine.
 MemoryEstimate route_memory(const Scene& scene, const MemoryEstimate& condensed);
+/// require_memory() of route_memory(scene, condensed); on the condensed route, when the
+/// full-space route with a Krylov engine built would fit, the refusal says so.
+void require_route_memory(const Scene& scene, const MemoryEstimate& condensed, const std::string& what,
+                          const std::string& where);
 
 /// Every [[material.region]] (those with a box too when `boxes`) names a region some element
 /// (cell) of the mesh is in; an error at the region's id otherwise.

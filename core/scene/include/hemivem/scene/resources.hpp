@@ -75,8 +75,9 @@ double available_memory();
 
 /// Throws InputError (at `where`) when `bytes` exceeds available_memory(); the message gives
 /// the estimate, what it is for (`what`, e.g. "squares n = 1000000: 1.0e12 vertices") and the
-/// limit with where it came from.
-void require_memory(double bytes, const std::string& what, const std::string& where);
+/// limit with where it came from, and `advice` (what to do instead; by default a smaller mesh).
+void require_memory(double bytes, const std::string& what, const std::string& where,
+                    const std::string& advice = "use a smaller mesh");
 
 /// "1.2 GiB", "340 MiB", ...
 std::string format_bytes(double bytes);
