@@ -2,6 +2,7 @@
 // bodies: the materials by region, the boundary parts the selectors pick, the prescribed
 // displacements, the loads and the contact parts (make_contact_problem). Per dimension only the
 // facets differ: boundary edges picked by segments, or boundary faces by the box's sides.
+#include <hemivem/engine_names.hpp>
 #include <hemivem/krylov_solver.hpp>
 #include <hemivem/scene/scene.hpp>
 
@@ -308,11 +309,14 @@ void require_route_memory(const Scene& scene, const MemoryEstimate& condensed, c
   const MemoryEstimate need = route_memory(scene, condensed);
   std::string advice = "use a smaller mesh";
   if (!is_krylov_solver(scene.solver.linear) && need.solve_bytes > available_memory())
-    for (const std::string& engine : available_krylov_solvers()) {
-      const double full = full_space_memory(condensed, full_space_cost(scene.dimension(), scene.mesh.generator, engine)).solve_bytes;
+    for (const std::string_view engine : known_krylov_engines()) {  // in the order of preference
+      const double full =
+          full_space_memory(condensed, full_space_cost(scene.dimension(), scene.mesh.generator, engine)).solve_bytes;
       if (full > available_memory()) continue;
-      advice = "use a smaller mesh, or the full-space route, which factorizes nothing (--linear " + engine +
-               ", solver.linear = \"" + engine + "\": an estimated " + format_bytes(full) + ", docs/full-space.md)";
+      const std::string name(engine);
+      advice = "use a smaller mesh, or the full-space route, which factorizes nothing (--linear " + name +
+               ", solver.linear = \"" + name + "\": an estimated " + format_bytes(full) +
+               "; `hemivem backends` lists the Krylov engines built; docs/full-space.md)";
       break;
     }
   require_memory(need.solve_bytes, what, where, advice);
