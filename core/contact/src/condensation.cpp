@@ -822,8 +822,7 @@ Eigen::VectorXd Condensation::displacement(const Eigen::VectorXd& x1, const Eige
   return from_rotated(std::move(ut));
 }
 
-// The full nodal displacement of the rotated free unknowns: u = Q ut at the contact nodes, the
-// prescribed values, and the pairs of two bodies undone.
+// Q ut: each contact node's components back from its frame to x, y[, z].
 Eigen::VectorXd Condensation::unrotate(Eigen::VectorXd ut) const {
   for (const NodeFrame& f : frames_) {
     double rotated[3] = {0.0, 0.0, 0.0};
@@ -837,6 +836,8 @@ Eigen::VectorXd Condensation::unrotate(Eigen::VectorXd ut) const {
   return ut;
 }
 
+// The full nodal displacement of the rotated free unknowns: u = Q ut at the contact nodes, the
+// prescribed values, and the pairs of two bodies undone.
 Eigen::VectorXd Condensation::from_rotated(Eigen::VectorXd ut) const {
   ut = unrotate(std::move(ut));
   return joining_.empty() ? dofs_.expand(ut) : joining_.displacement(dofs_.expand(ut));

@@ -314,8 +314,9 @@ void BasicContactSolver<dim>::pose() {
   common_.uniqueness_roundoff = std::numeric_limits<double>::quiet_NaN();
 }
 
-// The rigid motions of the whole mesh (translations, rotations about its centroid) in the
-// free unknowns (rotated once the problem is posed): the near-null space of the elasticity operator for the preconditioner.
+// The rigid motions of the whole mesh (translations, rotations about its centroid) in the free
+// unknowns (rotated once the problem is posed): the near-null space of the elasticity operator
+// for the preconditioner.
 template <int dim>
 Eigen::MatrixXd BasicContactSolver<dim>::near_null_space() const {
   const auto& vertices = problem_.elasticity.mesh->vertices();

@@ -1,3 +1,4 @@
+#include <hemivem/engine_names.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/mesh/generators.hpp>
 #include <hemivem/mesh/mesh.hpp>
@@ -138,8 +139,7 @@ FullSpaceCost full_space_cost(int dimension, std::string_view generator, std::st
   // and 48, tetrahedra n = 24, Voronoi cells n = 12 and 16), less the process of a tiny mesh,
   // 20 % added (docs/full-space.md)
   const bool voronoi = to_lower(generator) == "voronoi";
-  std::string e = to_lower(engine);
-  std::replace(e.begin(), e.end(), '_', '-');
+  const std::string e = normalized_engine_name(engine);
   const int column = e == "petsc-hypre" ? 1 : (e == "eigen-cg" ? 2 : 0);  // petsc-gamg first
   static constexpr double kilobytes[2][2][3] = {
       {{2.9, 3.5, 2.9}, {3.5, 5.1, 4.9}},     // plane: polygons, Voronoi cells

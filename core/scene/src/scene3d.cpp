@@ -85,9 +85,8 @@ Mesh3D scene_mesh_3d(const Scene& scene) {
   if (!m.file.empty()) return read_gmsh3d(m.file);
   const GridSize3 cells = m.cells3();
   const MemoryEstimate condensed = estimate_memory_3d(m.generator, cells.nx, cells.ny, cells.nz);
-  detail::require_route_memory(scene, condensed,
-                 m.generator + " n = " + cells.text() + ": " + count_text(condensed.vertices) + " vertices",
-                 scene.where("mesh.n"));
+  const std::string what = m.generator + " n = " + cells.text() + ": " + count_text(condensed.vertices) + " vertices";
+  detail::require_route_memory(scene, condensed, what, scene.where("mesh.n"));
   const auto& b = m.box;
   try {
     return make_mesh3d(m.generator, cells, Box{b[0], b[1], b[2], b[3], b[4], b[5]}, static_cast<std::uint64_t>(m.seed));
@@ -110,11 +109,10 @@ std::unique_ptr<BuiltProblem3D> built_solid(const Scene& scene, Mesh3D mesh, boo
     for (const ContactPart3D& part : out->problem.parts)
       for (int f : part.facets) contact.insert(m.face(f).vertices.begin(), m.face(f).vertices.end());
     const MemoryEstimate condensed = estimate_memory_3d(m.num_vertices(), static_cast<double>(contact.size()));
-    detail::require_route_memory(scene, condensed,
-                   (given ? std::string("the mesh given") : scene.mesh.file.string()) + ": " +
-                       count_text(m.num_vertices()) + " vertices, " + count_text(static_cast<double>(contact.size())) +
-                       " on the contact faces",
-                   given ? scene.where("mesh") : scene.where("mesh.file"));
+    const std::string what = (given ? std::string("the mesh given") : scene.mesh.file.string()) + ": " +
+                             count_text(m.num_vertices()) + " vertices, " +
+                             count_text(static_cast<double>(contact.size())) + " on the contact faces";
+    detail::require_route_memory(scene, condensed, what, given ? scene.where("mesh") : scene.where("mesh.file"));
   }
   return out;
 }

@@ -176,17 +176,16 @@ std::unique_ptr<BuiltProblem> detail::built_plane(const Scene& scene) {
     const MemoryEstimate condensed = estimate_memory(mesh);
     int largest = 0;
     for (int e = 0; e < mesh.num_elements(); ++e) largest = std::max(largest, mesh.element_size(e));
-    detail::require_route_memory(scene, condensed,
-                   scene.mesh.file.string() + ": " + detail::count_text(condensed.vertices) + " vertices, elements of up to " +
-                       std::to_string(largest) + " vertices",
-                   scene.where("mesh.file"));
+    const std::string what = scene.mesh.file.string() + ": " + detail::count_text(condensed.vertices) +
+                             " vertices, elements of up to " + std::to_string(largest) + " vertices";
+    detail::require_route_memory(scene, condensed, what, scene.where("mesh.file"));
   } else {
     const auto& d = scene.mesh.domain;
     const GridSize cells = scene.mesh.cells();
     const MemoryEstimate condensed = estimate_memory(scene.mesh.generator, cells.nx, cells.ny);
-    detail::require_route_memory(scene, condensed,
-                   scene.mesh.generator + " n = " + cells.text() + ": " + detail::count_text(condensed.vertices) + " vertices",
-                   scene.where("mesh.n"));
+    const std::string what =
+        scene.mesh.generator + " n = " + cells.text() + ": " + detail::count_text(condensed.vertices) + " vertices";
+    detail::require_route_memory(scene, condensed, what, scene.where("mesh.n"));
     try {
       if (scene.mesh.generator == "polar") {
         const auto [radii, angles] = polar_grid(scene.mesh.radii, scene.mesh.angles, cells.nx, cells.ny,

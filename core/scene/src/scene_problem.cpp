@@ -299,19 +299,17 @@ void require_dimension(const Scene& scene) {
 template void require_dimension<2>(const Scene&);
 template void require_dimension<3>(const Scene&);
 
-MemoryEstimate route_memory(const Scene& scene, const MemoryEstimate& condensed) {
-  if (!is_krylov_solver(scene.solver.linear)) return condensed;
-  return full_space_memory(condensed, full_space_cost(scene.dimension(), scene.mesh.generator, scene.solver.linear));
-}
-
 void require_route_memory(const Scene& scene, const MemoryEstimate& condensed, const std::string& what,
                           const std::string& where) {
-  const MemoryEstimate need = route_memory(scene, condensed);
+  auto full_space_bytes = [&](std::string_view engine) {
+    return full_space_memory(condensed, full_space_cost(scene.dimension(), scene.mesh.generator, engine)).solve_bytes;
+  };
+  const bool full_space = is_krylov_solver(scene.solver.linear);
+  const double need = full_space ? full_space_bytes(scene.solver.linear) : condensed.solve_bytes;
   std::string advice = "use a smaller mesh";
-  if (!is_krylov_solver(scene.solver.linear) && need.solve_bytes > available_memory())
+  if (!full_space && need > available_memory())
     for (const std::string_view engine : known_krylov_engines()) {  // in the order of preference
-      const double full =
-          full_space_memory(condensed, full_space_cost(scene.dimension(), scene.mesh.generator, engine)).solve_bytes;
+      const double full = full_space_bytes(engine);
       if (full > available_memory()) continue;
       const std::string name(engine);
       advice = "use a smaller mesh, or the full-space route, which factorizes nothing (--linear " + name +
@@ -319,7 +317,7 @@ void require_route_memory(const Scene& scene, const MemoryEstimate& condensed, c
                "; `hemivem backends` lists the Krylov engines built; docs/full-space.md)";
       break;
     }
-  require_memory(need.solve_bytes, what, where, advice);
+  require_memory(need, what, where, advice);
 }
 
 std::string count_text(double v) {

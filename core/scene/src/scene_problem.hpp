@@ -14,12 +14,10 @@ namespace hemivem::detail {
 /// A vertex count as an integer when small enough to read, else in scientific notation.
 std::string count_text(double v);
 
-/// The memory the scene's route needs on the mesh `condensed` estimates for the condensed
-/// route: `condensed` itself, or the full-space route's (full_space_memory) when solver.linear
-/// is a Krylov engine.
-MemoryEstimate route_memory(const Scene& scene, const MemoryEstimate& condensed);
-/// require_memory() of route_memory(scene, condensed); on the condensed route, when the
-/// full-space route with a Krylov engine built would fit, the refusal says so.
+/// require_memory() of what the scene's route needs on the mesh `condensed` estimates for the
+/// condensed route: `condensed` itself, or the full-space route's (full_space_memory) when
+/// solver.linear is a Krylov engine. On the condensed route, when the full-space route would
+/// fit, the refusal says so.
 void require_route_memory(const Scene& scene, const MemoryEstimate& condensed, const std::string& what,
                           const std::string& where);
 

@@ -65,8 +65,8 @@ class PetscRuntime {
       // Before PetscInitialize: PETSc leaves the program's signal handlers alone.
       PetscOptionsSetValue(nullptr, "-no_signal_handler", "true");
       // GAMG's Galerkin products P^T A P by forming P^T: 40 % less time in its set-ups for about
-      // 10 % more memory at their peak (docs/full-space.md); PETSC_OPTIONS, read by
-      // PetscInitialize, may choose otherwise
+      // a quarter more memory at the peak of a solve (docs/full-space.md); PETSC_OPTIONS, read
+      // by PetscInitialize, may choose otherwise
       PetscOptionsSetValue(nullptr, "-matptap_via", "rap");
       const PetscErrorCode code = PetscInitializeNoArguments();
       if (code != 0) {
@@ -140,12 +140,12 @@ struct PetscKrylovSolver::Impl {
   PetscInt size = 0;
   bool computed = false;
   bool reused = false;  ///< the preconditioner was set up again on values changed in place
-  /// The arrays the AIJ matrix reads (A's own, or `owned`'s) and a checksum of their pattern.
+  /// The arrays of A the AIJ matrix reads (null where it holds its own copy) and a checksum of
+  /// their pattern.
   const void* wrapped_values = nullptr;
   const void* wrapped_starts = nullptr;
   const void* wrapped_indices = nullptr;
   std::size_t wrapped_pattern = 0;
-  SparseMatrix owned;  // A's compressed copy, where A's arrays cannot be read as they are
 
   /// A checksum of A's pattern (its size, column starts and row indices).
   static std::size_t pattern_checksum(const SparseMatrix& A) {
@@ -159,7 +159,7 @@ struct PetscKrylovSolver::Impl {
   /// True when A is the matrix object the AIJ matrix reads, its pattern unchanged (its values
   /// changed in place: the systems of one Newton iteration).
   bool same_matrix(const SparseMatrix& A) const {
-    return computed && owned.size() == 0 && A.isCompressed() && A.rows() == size &&
+    return computed && wrapped_values != nullptr && A.isCompressed() && A.rows() == size &&
            static_cast<const void*>(A.valuePtr()) == wrapped_values &&
            static_cast<const void*>(A.outerIndexPtr()) == wrapped_starts &&
            static_cast<const void*>(A.innerIndexPtr()) == wrapped_indices && pattern_checksum(A) == wrapped_pattern;
@@ -191,7 +191,6 @@ struct PetscKrylovSolver::Impl {
   void release() {
     computed = false;
     wrapped_values = wrapped_starts = wrapped_indices = nullptr;
-    owned = SparseMatrix();
     if (!PetscRuntime::running()) {
       matrix = nullptr, ksp = nullptr, rhs = solution = residual = nullptr, options = nullptr;
       return;
@@ -235,26 +234,23 @@ struct PetscKrylovSolver::Impl {
     return 0;
   }
 
-  /// The AIJ copy of A, its near-null space, the vectors and the KSP with its preconditioner.
+  /// The AIJ matrix of A, its near-null space, the vectors and the KSP with its preconditioner.
   /// A's compressed columns are given as the rows: A is symmetric (the contract), so no
   /// row-major copy of it is made (its two triangles may differ by round-off; PETSc's matrix is
-  /// then the transpose, as close to A).
+  /// then the transpose, as close to A). Where PETSc's indices are int and A is compressed, the
+  /// matrix reads A's own arrays; otherwise it holds a copy.
   PetscErrorCode setup(const SparseMatrix& A, const KrylovHints& hints, std::string* error) {
     const bool readable = A.isCompressed() && sizeof(PetscInt) == sizeof(int);
-    owned = SparseMatrix();
-    if (!readable) {
-      owned = A;
-      owned.makeCompressed();
-    }
-    const SparseMatrix& C = readable ? A : owned;
-    size = static_cast<PetscInt>(C.rows());
+    size = static_cast<PetscInt>(A.rows());
     if (readable) {
       // PETSc reads A's arrays for as long as the matrix lives (the contract keeps A alive)
       HEMIVEM_PETSC(MatCreateSeqAIJWithArrays(
-          PETSC_COMM_SELF, size, size, reinterpret_cast<PetscInt*>(const_cast<int*>(C.outerIndexPtr())),
-          reinterpret_cast<PetscInt*>(const_cast<int*>(C.innerIndexPtr())), const_cast<double*>(C.valuePtr()),
+          PETSC_COMM_SELF, size, size, reinterpret_cast<PetscInt*>(const_cast<int*>(A.outerIndexPtr())),
+          reinterpret_cast<PetscInt*>(const_cast<int*>(A.innerIndexPtr())), const_cast<double*>(A.valuePtr()),
           &matrix));
     } else {
+      SparseMatrix C = A;
+      C.makeCompressed();
       const std::vector<PetscInt> rows(C.outerIndexPtr(), C.outerIndexPtr() + C.cols() + 1);
       const std::vector<PetscInt> columns(C.innerIndexPtr(), C.innerIndexPtr() + C.nonZeros());
       HEMIVEM_PETSC(MatCreate(PETSC_COMM_SELF, &matrix));
