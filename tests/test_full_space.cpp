@@ -230,15 +230,14 @@ std::pair<double, double> displacement_difference(const std::filesystem::path& a
 }
 
 // Every shipped scene the condensed route solves, the full-space route solves to the same
-// displacement, or refuses by name (a path, a global search, a solid's friction, a body held by
-// its contact alone). The two largest plane meshes (hertz, two-cylinders) are measured in
-// docs/full-space.md instead: eigen-cg takes 16 and 35 s on them.
+// displacement, or refuses by name (a global search, a solid's friction, a body held by its
+// contact alone). The two largest plane meshes (hertz, two-cylinders) and the nearly
+// incompressible path of cattaneo-mindlin are measured in docs/full-space.md instead: eigen-cg
+// takes 16, 35 and 54 s on them.
 TEST(FullSpace, EveryShippedSceneIsSolvedAlikeOrRefusedByName) {
-  const std::set<std::string> slow = {"hertz", "two-cylinders"};
-  const std::set<std::string> refused_expected = {
-      "block-between-rollers",   "block-between-rollers-3d", "cattaneo-mindlin", "delamination",
-      "delamination-path",       "friction-block-3d",        "friction-coulomb", "plate-friction-benchmark",
-      "two-blocks",              "two-boxes-3d"};
+  const std::set<std::string> slow = {"hertz", "two-cylinders", "cattaneo-mindlin"};
+  const std::set<std::string> refused_expected = {"block-between-rollers", "block-between-rollers-3d", "delamination",
+                                                  "friction-block-3d", "two-blocks", "two-boxes-3d"};
   std::set<std::string> refused;
   int solved = 0;
   for (const auto& entry : std::filesystem::directory_iterator(test::scenes_dir())) {
@@ -253,9 +252,7 @@ TEST(FullSpace, EveryShippedSceneIsSolvedAlikeOrRefusedByName) {
         test::run_hemivem("solve " + entry.path().string() + " --linear eigen-cg" + files + full.string());
     if (run.code == 2) {
       refused.insert(name);
-      const bool named = run.err.find("full-space route") != std::string::npos ||
-                         run.err.find("loading path runs on the condensed route") != std::string::npos;
-      EXPECT_TRUE(named) << run.err;
+      EXPECT_NE(run.err.find("full-space route"), std::string::npos) << run.err;
       EXPECT_FALSE(std::filesystem::exists(full / "result.json")) << "no half-written outputs";
     } else {
       ASSERT_EQ(run.code, 0) << run.err;

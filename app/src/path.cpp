@@ -90,11 +90,16 @@ void require_path_memory(const Scene& scene, const BasicContactProblem<dim>& pro
   const double steps = scene.path ? static_cast<double>(scene.path->factors().size()) : 1.0;
   const double frames = scene.path && writes_frames(scene) ? std::min(steps, static_cast<double>(scene.path->frames)) : 1.0;
   const double vertices = mesh.num_vertices();
-  double solve = 0.0;  // the solve's own estimate, for the mesh at hand in the plane
+  // the solve's own estimate, for the mesh at hand in the plane, on the scene's route
+  MemoryEstimate condensed;
   if constexpr (dim == 2)
-    solve = estimate_memory(mesh).solve_bytes;
+    condensed = estimate_memory(mesh);
   else
-    solve = estimate_memory_3d(vertices, nodes).solve_bytes;
+    condensed = estimate_memory_3d(vertices, nodes);
+  const double solve =
+      is_krylov_solver(scene.solver.linear)
+          ? full_space_memory(condensed, full_space_cost(dim, scene.mesh.generator, scene.solver.linear)).solve_bytes
+          : condensed.solve_bytes;
   const double path = streamed ? 400.0 * nodes * 2.0 + 200.0 * steps + 8.0 * dim * vertices
                                : 400.0 * nodes * (steps + frames) + 8.0 * dim * vertices * frames;
   std::ostringstream what;
@@ -140,15 +145,12 @@ void solve_path_built(const Scene& scene, SceneEngines& e, Solved& s,
       if (on_step) on_step(step);
       return true;
     };
-  if (e.krylov)
-    throw InputError("a loading path runs on the condensed route, one factorization for every step; the Krylov "
-                     "engine '" + e.linear + "' solves static problems in the full space (docs/full-space.md): "
-                     "choose an engine that factorizes",
-                     scene.where("solver.linear"));
   BasicPathSolution<dim> path;
   try {
-    path = solve_path(s.built->problem, std::move(e.factorization), *e.minimizer, scene_path_loading<dim>(scene),
-                      std::move(po));
+    path = e.krylov ? solve_path(s.built->problem, std::move(e.krylov), *e.minimizer, scene_path_loading<dim>(scene),
+                                 std::move(po))
+                    : solve_path(s.built->problem, std::move(e.factorization), *e.minimizer,
+                                 scene_path_loading<dim>(scene), std::move(po));
   } catch (const InputError& error) {  // a defect found when the problem is set up: name the scene's key
     rethrow_naming_scene_key(scene, error);
   }

@@ -349,7 +349,6 @@ void Condensation::pose(const LinearSystem& system, const ContactBoundary& bound
 }
 
 void Condensation::set_load(const Eigen::VectorXd& b, const Eigen::VectorXd& prescribed) {
-  if (!factorization_) throw InternalError("a posed problem without condensation takes no new load");
   if (b.size() != dofs_.num_free() || prescribed.size() != dofs_.num_dofs())
     throw InputError("a load needs " + std::to_string(dofs_.num_free()) + " free and " +
                      std::to_string(dofs_.num_dofs()) + " prescribed values, got " + std::to_string(b.size()) +
@@ -359,12 +358,20 @@ void Condensation::set_load(const Eigen::VectorXd& b, const Eigen::VectorXd& pre
     const Eigen::VectorXd joined_b = joining_.join_load(b, prescribed, joined_prescribed);
     for (int k = 0; k < dofs_.num_dofs(); ++k)
       if (dofs_.free_index[static_cast<std::size_t>(k)] < 0) dofs_.prescribed(k) = joined_prescribed(k);
-    condense_load(rotate_load(joined_b));
+    take_load(rotate_load(joined_b));
     return;
   }
   for (int k = 0; k < dofs_.num_dofs(); ++k)
     if (dofs_.free_index[static_cast<std::size_t>(k)] < 0) dofs_.prescribed(k) = prescribed(k);
-  condense_load(rotate_load(b));
+  take_load(rotate_load(b));
+}
+
+// The rotated load: condensed, or kept as the posed system's.
+void Condensation::take_load(Eigen::VectorXd bt) {
+  if (factorization_)
+    condense_load(bt);
+  else
+    bt_ = std::move(bt);
 }
 
 void Condensation::set_gaps(const Eigen::VectorXd& gaps) {

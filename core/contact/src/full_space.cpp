@@ -61,8 +61,10 @@ struct Motion {
 
 class FullSpaceNewton {
  public:
-  FullSpaceNewton(const Condensation& posed, double tol)
-      : p_(posed.reduced()), A_(posed.rotated_matrix()), b_(posed.rotated_load()), tol_(tol) {
+  FullSpaceNewton(const Condensation& posed, const ReducedProblem& coordinates, const Eigen::VectorXd& origin, double tol)
+      : p_(coordinates), A_(posed.rotated_matrix()), b_(posed.rotated_load()), tol_(tol) {
+    if (coordinates.size() != posed.reduced().size() || origin.size() != coordinates.size())
+      throw InternalError("the full-space route needs the posed problem's coordinates and an origin for each");
     if (!p_.groups.empty())
       throw InputError(
           "the full-space route does not take a solid's isotropic friction (pairs of tangential coordinates): "
@@ -78,7 +80,7 @@ class FullSpaceNewton {
       c.row = posed.rotated_index(k);
       c.lo = p_.lower(k);
       c.hi = p_.upper(k);
-      c.origin = posed.origin()(k);
+      c.origin = origin(k);
       c.w = p_.w(k);
       c.law = &p_.law_of(k);
       for (double b : {c.lo, c.hi})
@@ -471,15 +473,22 @@ class FullSpaceNewton {
 
 CertifiedPoint certify_full_space(const Condensation& posed, const Eigen::VectorXd& x, double tol) {
   check_tolerance(tol, "tolerance");
-  return FullSpaceNewton(posed, tol).certify(x);
+  return FullSpaceNewton(posed, posed.reduced(), posed.origin(), tol).certify(x);
 }
 
 MinimizerResult minimize_full_space(const Condensation& posed, KrylovSolver& krylov, const KrylovHints& hints,
                                     const MinimizerOptions& options, Eigen::VectorXd* x,
                                     FullSpaceStatistics* statistics) {
+  return minimize_full_space(posed, posed.reduced(), posed.origin(), krylov, hints, options, x, statistics);
+}
+
+MinimizerResult minimize_full_space(const Condensation& posed, const ReducedProblem& coordinates,
+                                    const Eigen::VectorXd& origin, KrylovSolver& krylov, const KrylovHints& hints,
+                                    const MinimizerOptions& options, Eigen::VectorXd* x,
+                                    FullSpaceStatistics* statistics) {
   if (!x) throw InternalError("minimize_full_space needs a point to start from and return");
   if (std::string why; !options.is_valid(&why)) throw InputError(why, "MinimizerOptions");
-  return FullSpaceNewton(posed, options.tolerance).run(krylov, hints, options, x, statistics);
+  return FullSpaceNewton(posed, coordinates, origin, options.tolerance).run(krylov, hints, options, x, statistics);
 }
 
 }  // namespace hemivem

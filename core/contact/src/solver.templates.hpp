@@ -154,13 +154,21 @@ template <int dim>
 void BasicContactSolver<dim>::prepare() {
   if (ran_) throw InternalError("ContactSolver::prepare is called once, instead of run");
   ran_ = true;
-  if (!factorization_) throw InputError("solve_contact needs a factorization engine");
+  if (!factorization_ && !krylov_) throw InputError("solve_contact needs a factorization engine");
   if (!problem_.elasticity.mesh) throw InputError("the elasticity problem has no mesh");
   start_ = Clock::now();
   if (!system_) assemble();
   set_up_contact();
-  if (boundary_.size() > 0) condense();
+  if (boundary_.size() > 0) krylov_ ? pose() : condense();
   common_.timings["total"] = seconds();
+}
+
+template <int dim>
+MinimizerResult BasicContactSolver<dim>::minimize_posed(const ReducedProblem& coordinates, const Eigen::VectorXd& origin,
+                                                        Eigen::VectorXd* x, FullSpaceStatistics* statistics) {
+  if (!krylov_ || !condensation_) throw InternalError("minimize_posed needs the full-space route, posed");
+  if (!hints_) hints_.emplace(near_null_space(), node_block_size());
+  return hemivem::minimize_full_space(*condensation_, coordinates, origin, *krylov_, *hints_, options_, x, statistics);
 }
 
 // The unknowns, the contact parts, the contact boundary and the rigid motions the contact holds.
@@ -367,8 +375,7 @@ void BasicContactSolver<dim>::solve_full_space(Solution& solution) {
   Eigen::VectorXd x;
   if (start_u_ && start_u_->size() > 0) x = condensation_->rotated_free(*start_u_);
   FullSpaceStatistics stats;
-  MinimizerResult m = minimize_full_space(*condensation_, *krylov_, KrylovHints(near_null_space(), node_block_size()),
-                                          options_, &x, &stats);
+  MinimizerResult m = minimize_posed(condensation_->reduced(), condensation_->origin(), &x, &stats);
   solution.status = m.status;
   solution.message = m.message;
   solution.certificate = m.certificate;

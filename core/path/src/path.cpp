@@ -153,6 +153,7 @@ struct BasicPathSolver<dim>::Impl {
   using Step = BasicPathStep<dim>;
   Problem& problem;
   std::unique_ptr<SparseFactorization> factorization;
+  std::unique_ptr<KrylovSolver> krylov;  // the full-space route's engine (null: the condensed route)
   const NonsmoothMinimizer& minimizer;
   BasicPathLoading<dim> loading;
   BasicPathOptions<dim> options;
@@ -194,15 +195,30 @@ struct BasicPathSolver<dim>::Impl {
   double change_prev = 0.0, t_prev = 0.0, t_before = 0.0;
   std::map<std::string, double> timings;
   bool check_existence_each_step = true;
+  // the full-space route: the rotated free unknowns of the last minimization (each step starts
+  // from the one before), and a proportional path's load, prescribed values and resultant at t = 1
+  bool full = false;
+  Eigen::VectorXd xt;
+  Eigen::VectorXd full_b, full_prescribed;
+  Point full_applied = Point::Zero();
 
-  Impl(Problem& p, std::unique_ptr<SparseFactorization> f, const NonsmoothMinimizer& m, BasicPathLoading<dim> l,
-       BasicPathOptions<dim> o)
-      : problem(p), factorization(std::move(f)), minimizer(m), loading(std::move(l)), options(std::move(o)) {}
+  Impl(Problem& p, std::unique_ptr<SparseFactorization> f, std::unique_ptr<KrylovSolver> k, const NonsmoothMinimizer& m,
+       BasicPathLoading<dim> l, BasicPathOptions<dim> o)
+      : problem(p),
+        factorization(std::move(f)),
+        krylov(std::move(k)),
+        minimizer(m),
+        loading(std::move(l)),
+        options(std::move(o)),
+        full(krylov != nullptr) {}
 
   void set_up();
   void condense();
   void remember_load(const Eigen::VectorXd& b);
   Eigen::VectorXd step_load(Step& s, Eigen::VectorXd* b, double* kappa);
+  void data_at(const Step& s, Eigen::VectorXd* b);
+  void posed_load(Step& s, Eigen::VectorXd* b);
+  MinimizerResult minimize_once(const Eigen::VectorXd& from, const Eigen::VectorXd& origin);
   void make_load_current(Eigen::VectorXd* b);
   void find_friction_bounds();
   /// The tangential weights w_i g_i of `nodes` (those whose bound depends on the normal
@@ -232,8 +248,12 @@ struct BasicPathSolver<dim>::Impl {
 template <int dim>
 void BasicPathSolver<dim>::Impl::set_up() {
   check_loading(loading);
-  if (!factorization) throw InputError("a path needs a factorization engine");
-  if (processes_of(*factorization).num_processes() != 1)
+  if (!factorization && !krylov) throw InputError("a path needs a linear engine");
+  if (krylov && minimizer.name() != "ssn")
+    throw InputError("the full-space route (linear engine " + krylov->name() +
+                     ") runs its own semismooth Newton iteration, the minimizer ssn: minimizer " + minimizer.name() +
+                     " needs a linear engine that factorizes");
+  if (factorization && processes_of(*factorization).num_processes() != 1)
     throw InputError("a loading path runs in one process; the linear engine " + factorization->name() +
                      " runs across processes: choose another");
   if (std::string why; !options.minimizer.is_valid(&why)) throw InputError(why, "MinimizerOptions");
@@ -263,6 +283,14 @@ void BasicPathSolver<dim>::Impl::set_up() {
   x_prev = Eigen::VectorXd::Zero(step.size());
   tau_prev = Eigen::VectorXd::Zero(step.size());
   g = Eigen::VectorXd::Zero(n1);
+  if (full) {  // nothing condensed: a step's load is set on the posed system
+    condensed_loads = 0;
+    full_b = system->b;
+    full_prescribed = dofs.prescribed;
+    full_applied = resultant<dim>(assemble_load(*problem.elasticity.mesh, problem.elasticity.body_force,
+                                                problem.elasticity.tractions));
+    return;
+  }
   // a proportional path keeps its load at t = 1 whatever the capacity
   const int capacity = loading.proportional() ? std::max(1, options.solved_loads) : options.solved_loads;
   loads = detail::SolvedLoads(dofs.num_dofs(), capacity, 1e-12);
@@ -306,25 +334,7 @@ Eigen::VectorXd BasicPathSolver<dim>::Impl::step_load(Step& s, Eigen::VectorXd* 
   if (loading.proportional()) {
     alpha = Eigen::VectorXd::Constant(loads.size(), s.t);
   } else {
-    if (s.index > 1) loading.update(s.t, problem);
-    if (loading.updates_prescribed) {
-      const DofMap at_t = make_dof_map(*problem.elasticity.mesh, problem.elasticity.dirichlet);
-      if (at_t.free_dofs != dofs.free_dofs)
-        throw InputError("the prescribed degrees of freedom change along the path at t = " + shortest(s.t) +
-                         ": a path may change prescribed values, not which displacements are prescribed");
-      dofs.prescribed = at_t.prescribed;
-    }
-    *b = assemble_rhs(problem.elasticity, dofs);
-    if (loading.updates_gaps) {
-      const Eigen::VectorXd before = boundary.gaps;
-      boundary.gaps = contact_boundary(problem, dofs).gaps;  // the contact nodes report the step's gaps
-      through = passed_through(before);
-      cond->set_gaps(boundary.gaps);
-      step.lo = cond->reduced().lo;
-      step.hi = cond->reduced().hi;
-      if (step.laws.size() != cond->reduced().laws.size()) step.laws = cond->reduced().laws;
-      step.law_index = cond->reduced().law_index;
-    }
+    data_at(s, b);
     stack(held, *b, dofs.prescribed, &v);
     if (auto found = loads.coefficients(v)) {
       alpha = std::move(*found);
@@ -351,6 +361,60 @@ Eigen::VectorXd BasicPathSolver<dim>::Impl::step_load(Step& s, Eigen::VectorXd* 
     for (Eigen::Index j = 0; j < alpha.size(); ++j) *kappa += alpha(i) * alpha(j) * load_kappa(i, j);
   s.applied = alpha.size() == 1 ? Point(alpha(0) * load_applied.col(0)) : Point(load_applied * alpha);
   return alpha.size() == 1 ? Eigen::VectorXd(alpha(0) * load_c.col(0)) : Eigen::VectorXd(load_c * alpha);
+}
+
+// The scene's data at the step's t (a path with an update): its prescribed values (dofs), its
+// load of the free dofs (b), and its gaps, bounds and laws (boundary, the condensation, step).
+template <int dim>
+void BasicPathSolver<dim>::Impl::data_at(const Step& s, Eigen::VectorXd* b) {
+  if (s.index > 1) loading.update(s.t, problem);
+  if (loading.updates_prescribed) {
+    const DofMap at_t = make_dof_map(*problem.elasticity.mesh, problem.elasticity.dirichlet);
+    if (at_t.free_dofs != dofs.free_dofs)
+      throw InputError("the prescribed degrees of freedom change along the path at t = " + shortest(s.t) +
+                       ": a path may change prescribed values, not which displacements are prescribed");
+    dofs.prescribed = at_t.prescribed;
+  }
+  *b = assemble_rhs(problem.elasticity, dofs);
+  if (loading.updates_gaps) {
+    const Eigen::VectorXd before = boundary.gaps;
+    boundary.gaps = contact_boundary(problem, dofs).gaps;  // the contact nodes report the step's gaps
+    through = passed_through(before);
+    cond->set_gaps(boundary.gaps);
+    step.lo = cond->reduced().lo;
+    step.hi = cond->reduced().hi;
+    if (step.laws.size() != cond->reduced().laws.size()) step.laws = cond->reduced().laws;
+    step.law_index = cond->reduced().law_index;
+  }
+}
+
+// The full-space route's load of the step, set on the posed system (no solve): a proportional
+// path's is t times the one at t = 1, otherwise the scene's data at t.
+template <int dim>
+void BasicPathSolver<dim>::Impl::posed_load(Step& s, Eigen::VectorXd* b) {
+  through.clear();
+  if (loading.proportional()) {
+    *b = s.t * full_b;
+    cond->set_load(*b, s.t * full_prescribed);
+    s.applied = s.t * full_applied;
+    return;
+  }
+  data_at(s, b);
+  cond->set_load(*b, dofs.prescribed);
+  const auto& e = problem.elasticity;
+  s.applied = resultant<dim>(assemble_load(*e.mesh, e.body_force, e.tractions));
+}
+
+// One minimization of the step's problem from `from` (its coordinates; on the full-space route
+// the rotated unknowns xt, which it leaves at the point found) with the coordinates' origin.
+template <int dim>
+MinimizerResult BasicPathSolver<dim>::Impl::minimize_once(const Eigen::VectorXd& from, const Eigen::VectorXd& origin) {
+  if (!full) return minimizer.minimize(step, from, options.minimizer);
+  FullSpaceStatistics statistics;
+  MinimizerResult m = pipeline->minimize_posed(step, origin, &xt, &statistics);
+  timings["preconditioner"] += statistics.preconditioner_seconds;
+  timings["krylov"] += statistics.krylov_seconds;
+  return m;
 }
 
 // A contact node whose gap was finite and is infinite now, with its part's obstacle behind it
@@ -396,14 +460,15 @@ void BasicPathSolver<dim>::Impl::make_load_current(Eigen::VectorXd* b) {
 // The stages of the static solve up to the condensation (BasicContactSolver::prepare).
 template <int dim>
 void BasicPathSolver<dim>::Impl::condense() {
-  pipeline = std::make_unique<BasicContactSolver<dim>>(problem, std::move(factorization), options.minimizer);
+  pipeline = full ? std::make_unique<BasicContactSolver<dim>>(problem, std::move(krylov), options.minimizer)
+                  : std::make_unique<BasicContactSolver<dim>>(problem, std::move(factorization), options.minimizer);
   pipeline->prepare();
   system = &pipeline->system();
   dofs = system->dofs;
   parts = pipeline->parts();
   boundary = pipeline->boundary();
   held_by_contact = pipeline->prepared().held_by_contact;
-  for (const char* stage : {"assembly", "condensation"})
+  for (const char* stage : {"assembly", "condensation", "posing"})
     if (const auto it = pipeline->prepared().timings.find(stage); it != pipeline->prepared().timings.end())
       timings[stage] = it->second;
   if (boundary.size() == 0) throw InputError("the contact boundary of the path has no free node");
@@ -447,14 +512,19 @@ auto BasicPathSolver<dim>::Impl::solve_step(int k) -> Step {
   const bool proportional = loading.proportional();
   Eigen::VectorXd b;
   double kappa = 0.0;
-  const Eigen::VectorXd c_raw = step_load(s, &b, &kappa);
+  Eigen::VectorXd c_raw;
+  if (full)
+    posed_load(s, &b);
+  else
+    c_raw = step_load(s, &b, &kappa);
   Eigen::VectorXd shift = Eigen::VectorXd::Zero(step.size());
   for (int i = 0; i < n1; ++i)
     for (const int kt : tangential_coordinates(i))
       if (kt >= 0) shift(kt) = tau_prev(kt);
   const Eigen::VectorXd& origin = cond->origin();
-  step.c = c_raw - step.S * (origin + shift);
-  minimize_step(s, shift, origin, !has_tangential && c_raw.isZero(0.0));
+  if (!full) step.c = c_raw - step.S * (origin + shift);
+  const bool unloaded = !has_tangential && (full ? cond->rotated_load().isZero(0.0) : c_raw.isZero(0.0));
+  minimize_step(s, shift, origin, unloaded);
   if (!through.empty()) {
     s.status = MinimizerStatus::failed;
     s.message = through;
@@ -479,7 +549,9 @@ auto BasicPathSolver<dim>::Impl::solve_step(int k) -> Step {
   const bool last = k == static_cast<int>(loading.t.size());
   const bool frame = last || (options.frame && options.frame(k));
   Eigen::VectorXd u;
-  if (frame || any_bilateral || std::isnan(kappa)) {
+  if (full) {
+    u = cond->displacement_of(xt);  // the point found: no solve
+  } else if (frame || any_bilateral || std::isnan(kappa)) {
     const auto t0 = Clock::now();
     make_load_current(&b);
     u = cond->back_substitute(x - origin);
@@ -522,9 +594,11 @@ void BasicPathSolver<dim>::Impl::minimize_step(Step& s, const Eigen::VectorXd& s
   // from the previous step; a frictionless step whose load vanishes exactly starts from the
   // unloaded state x = 0 (a warm start would shrink towards it by round-off without reaching it)
   const Eigen::VectorXd start = unloaded ? Eigen::VectorXd(-origin) : Eigen::VectorXd(x_prev - origin - shift);
+  if (full && unloaded) xt.setZero();
+  const Eigen::VectorXd coordinates_origin = origin + shift;
   if (s.index > 1 && !check_existence_each_step) options.minimizer.check_existence = false;
   if (!bounded) {
-    MinimizerResult m = minimizer.minimize(step, start, options.minimizer);
+    MinimizerResult m = minimize_once(start, coordinates_origin);
     s.status = m.status;
     s.message = m.message;
     s.certificate = m.certificate;
@@ -551,7 +625,7 @@ void BasicPathSolver<dim>::Impl::minimize_step(Step& s, const Eigen::VectorXd& s
   for (Eigen::Index j = 0; j < nb; ++j) weights(j) = boundary.weights(nodes[static_cast<std::size_t>(j)]);
   for (int it = 1; it <= options.fixed_point.max_iterations; ++it) {
     set_bound_weights(nodes);
-    MinimizerResult m = minimizer.minimize(step, from, options.minimizer);
+    MinimizerResult m = minimize_once(from, coordinates_origin);
     fp.iterations = it;
     s.iterations += m.iterations;
     s.may_be_nonunique = m.may_be_nonunique;
@@ -614,7 +688,9 @@ void BasicPathSolver<dim>::Impl::describe_step(Step& s, const MinimizerResult& m
   if (u && b) {
     Eigen::VectorXd uf(dofs.num_free());
     for (int d = 0; d < dofs.num_free(); ++d) uf(d) = (*u)(dofs.free_dofs[static_cast<std::size_t>(d)]);
-    const Eigen::VectorXd Au = system->A * uf;
+    // on the full-space route the rotated matrix stands for one body's, which the posing gave up
+    const Eigen::VectorXd Au =
+        system->A.rows() == uf.size() ? Eigen::VectorXd(system->A * uf) : cond->unrotated_product(uf);
     residual = Au - *b;
     s.energy = 0.5 * uf.dot(Au) - uf.dot(*b);
   } else {
@@ -666,7 +742,7 @@ auto BasicPathSolver<dim>::Impl::last_solution(const Step& s, const MinimizerRes
   sol.held_by_contact = held_by_contact;
   sol.energy = s.energy;
   if (s.forces) sol.forces = *s.forces;
-  sol.stages = {"assembly", "condensation", "path"};
+  sol.stages = {"assembly", full ? "posing" : "condensation", "path"};
   if (sol.converged() && !sol.u.allFinite()) {
     sol.status = MinimizerStatus::failed;
     sol.message = "the displacement is not finite (NaN or Inf after back-substitution)";
@@ -678,7 +754,15 @@ template <int dim>
 BasicPathSolver<dim>::BasicPathSolver(BasicContactProblem<dim>& problem, std::unique_ptr<SparseFactorization> factorization,
                                       const NonsmoothMinimizer& minimizer, BasicPathLoading<dim> loading,
                                       BasicPathOptions<dim> options)
-    : impl_(std::make_unique<Impl>(problem, std::move(factorization), minimizer, std::move(loading), std::move(options))) {}
+    : impl_(std::make_unique<Impl>(problem, std::move(factorization), nullptr, minimizer, std::move(loading),
+                                   std::move(options))) {}
+
+template <int dim>
+BasicPathSolver<dim>::BasicPathSolver(BasicContactProblem<dim>& problem, std::unique_ptr<KrylovSolver> krylov,
+                                      const NonsmoothMinimizer& minimizer, BasicPathLoading<dim> loading,
+                                      BasicPathOptions<dim> options)
+    : impl_(std::make_unique<Impl>(problem, nullptr, std::move(krylov), minimizer, std::move(loading),
+                                   std::move(options))) {}
 
 template <int dim>
 BasicPathSolver<dim>::~BasicPathSolver() = default;
@@ -713,9 +797,13 @@ BasicPathSolution<dim> BasicPathSolver<dim>::run() {
   if (out.steps.back().u.size() == 0) {
     // stopped early by on_step: the displacement of the step it stopped at
     auto& s = out.steps.back();
-    Eigen::VectorXd b;
-    p.make_load_current(&b);
-    s.u = p.cond->back_substitute(s.a - p.cond->origin());
+    if (p.full) {
+      s.u = p.cond->displacement_of(p.xt);
+    } else {
+      Eigen::VectorXd b;
+      p.make_load_current(&b);
+      s.u = p.cond->back_substitute(s.a - p.cond->origin());
+    }
     const auto at_t = out.proportional ? scaled(p.problem.elasticity, s.t) : p.problem.elasticity;
     s.forces = contact_force_balance<dim>(at_t, s.u, s.contact);
   }
@@ -734,6 +822,13 @@ BasicPathSolution<dim> solve_path(BasicContactProblem<dim>& problem, std::unique
   return BasicPathSolver<dim>(problem, std::move(factorization), minimizer, std::move(loading), std::move(options)).run();
 }
 
+template <int dim>
+BasicPathSolution<dim> solve_path(BasicContactProblem<dim>& problem, std::unique_ptr<KrylovSolver> krylov,
+                                  const NonsmoothMinimizer& minimizer, BasicPathLoading<dim> loading,
+                                  BasicPathOptions<dim> options) {
+  return BasicPathSolver<dim>(problem, std::move(krylov), minimizer, std::move(loading), std::move(options)).run();
+}
+
 template struct BasicPathSolution<2>;
 template struct BasicPathSolution<3>;
 template class BasicPathSolver<2>;
@@ -742,5 +837,9 @@ template BasicPathSolution<2> solve_path(ContactProblem&, std::unique_ptr<Sparse
                                          PathLoading, PathOptions);
 template BasicPathSolution<3> solve_path(ContactProblem3D&, std::unique_ptr<SparseFactorization>,
                                          const NonsmoothMinimizer&, BasicPathLoading<3>, BasicPathOptions<3>);
+template BasicPathSolution<2> solve_path(ContactProblem&, std::unique_ptr<KrylovSolver>, const NonsmoothMinimizer&,
+                                         PathLoading, PathOptions);
+template BasicPathSolution<3> solve_path(ContactProblem3D&, std::unique_ptr<KrylovSolver>, const NonsmoothMinimizer&,
+                                         BasicPathLoading<3>, BasicPathOptions<3>);
 
 }  // namespace hemivem

@@ -194,7 +194,7 @@ class Condensation {
   /// does, without a factorization: S stays empty and c is zero, and the rotated system of all free
   /// unknowns is kept instead (rotated_matrix(), rotated_load()) for the full-space route
   /// (hemivem/contact/full_space.hpp). Nothing that needs the factorization may be called
-  /// (factorization(), back_substitute(), set_load(), condition_estimate(): InternalError).
+  /// (factorization(), back_substitute(), condition_estimate(): InternalError).
   Condensation(const LinearSystem& system, const ContactBoundary& boundary, const std::vector<PartConditions>& parts,
                PoseOnly);
 
@@ -255,7 +255,9 @@ class Condensation {
   /// dofs (LinearSystem::b at the new data, prescribed values lifted) and `prescribed` every
   /// dof's prescribed value (DofMap::prescribed; free dofs ignored). c is condensed again (one
   /// interior solve; collective with an engine across processes) and back_substitute() uses
-  /// the new load and prescribed values. S, the laws and the margin do not change.
+  /// the new load and prescribed values. S, the laws and the margin do not change. Posed
+  /// without condensation (PoseOnly), rotated_load() and displacement_of() take the new load and
+  /// prescribed values (no solve).
   void set_load(const Eigen::VectorXd& b, const Eigen::VectorXd& prescribed);
   /// New gaps of the contact nodes (a moving obstacle or gap; one per node, bilateral nodes'
   /// unused): the bounds of the normal unknowns (each under its part's constraint), and with
@@ -317,6 +319,7 @@ class Condensation {
   void measure_from_surface(const ContactBoundary& boundary);
   void compute_schur_complement(const SparseMatrix& At);
   void condense_load(const Eigen::VectorXd& bt);
+  void take_load(Eigen::VectorXd bt);
   // the steps of back_substitute()
   Eigen::VectorXd block1_values(const Eigen::VectorXd& a) const;
   Eigen::VectorXd displacement(const Eigen::VectorXd& x1, const Eigen::VectorXd& u2) const;

@@ -54,4 +54,13 @@ MinimizerResult minimize_full_space(const Condensation& posed, KrylovSolver& kry
                                     const MinimizerOptions& options, Eigen::VectorXd* x,
                                     FullSpaceStatistics* statistics = nullptr);
 
+/// The same with the coordinates' laws, weights and bounds of `coordinates` (posed.reduced()
+/// with any of them changed: a step of a loading path, hemivem/path/path.hpp; its S and c are not
+/// read) and the origin of each coordinate, a_k = x_row(k) - origin(k), instead of the posed
+/// problem's. InternalError when their sizes are not the posed problem's coordinates'.
+MinimizerResult minimize_full_space(const Condensation& posed, const ReducedProblem& coordinates,
+                                    const Eigen::VectorXd& origin, KrylovSolver& krylov, const KrylovHints& hints,
+                                    const MinimizerOptions& options, Eigen::VectorXd* x,
+                                    FullSpaceStatistics* statistics = nullptr);
+
 }  // namespace hemivem

@@ -18,6 +18,7 @@
 
 #include <hemivem/contact/condensation.hpp>
 #include <hemivem/contact/forces.hpp>
+#include <hemivem/contact/full_space.hpp>
 #include <hemivem/contact/problem.hpp>
 #include <hemivem/contact/supports.hpp>
 #include <hemivem/krylov_solver.hpp>
@@ -309,11 +310,21 @@ class BasicContactSolver {
 
   /// The stages before the minimizer, for a caller that minimizes on its own (a loading path,
   /// hemivem/path/path.hpp): assembly (unless the system was given), the contact parts, the
-  /// contact boundary, the supports and, when the boundary has a node, the condensation, with
-  /// the errors of run(). Called instead of run(), once; the problem's own checks for a static
-  /// solve (e.g. a friction bound that needs a path) are run()'s. Then system(), parts(),
-  /// boundary(), condensation() and prepared() give what the stages made.
+  /// contact boundary, the supports and, when the boundary has a node, the condensation (on the
+  /// full-space route the posing), with the errors of run(). Called instead of run(), once; the
+  /// problem's own checks for a static solve (e.g. a friction bound that needs a path) are
+  /// run()'s. Then system(), parts(), boundary(), condensation() and prepared() give what the
+  /// stages made.
   void prepare();
+  /// On the full-space route after prepare(): minimize_full_space (hemivem/contact/full_space.hpp)
+  /// of the posed problem from *x (the rotated free unknowns; empty: 0), with the laws, weights
+  /// and bounds of `coordinates` and the coordinates' `origin` (a step of a loading path), the
+  /// solver's Krylov engine and options, and the body's rigid motions as the preconditioner's
+  /// near-null space. InternalError on the condensed route or before prepare().
+  MinimizerResult minimize_posed(const ReducedProblem& coordinates, const Eigen::VectorXd& origin, Eigen::VectorXd* x,
+                                 FullSpaceStatistics* statistics = nullptr);
+  /// True on the full-space route (a Krylov engine).
+  bool full_space() const noexcept { return krylov_ != nullptr; }
   /// The assembled system. After run() on the full-space route (a Krylov engine) the solver's
   /// own assembled matrix of one body is given up once the problem is posed (its rotated copy,
   /// condensation()->rotated_matrix(), stands for it): system().A is then empty.
@@ -359,6 +370,7 @@ class BasicContactSolver {
   ContactBoundary boundary_;
   std::unique_ptr<Condensation> condensation_;
   std::unique_ptr<KrylovSolver> krylov_;  // the full-space route's engine (null: condensed route)
+  std::optional<KrylovHints> hints_;      // its preconditioner's, once posed
   bool estimate_condition_ = false;
   ReducedProblem* reduced_ = nullptr;
   const Eigen::VectorXd* start_u_ = nullptr;

@@ -188,6 +188,14 @@ class BasicPathSolver {
  public:
   BasicPathSolver(BasicContactProblem<dim>& problem, std::unique_ptr<SparseFactorization> factorization,
                   const NonsmoothMinimizer& minimizer, BasicPathLoading<dim> loading, BasicPathOptions<dim> options = {});
+  /// The path on the full-space route (hemivem/contact/full_space.hpp, docs/full-space.md): one
+  /// assembly and one posing serve every step; each step (each iterate of a fixed point on the
+  /// friction bound) is a semismooth Newton iteration in the whole space, started from the step
+  /// before, its systems solved by `krylov`. The minimizer must be ssn (the route's own iteration;
+  /// another is an InputError naming it). A step's load costs no solve and a frame no solve; the
+  /// uniqueness margin is not measured (BasicContactSolver's full-space constructor).
+  BasicPathSolver(BasicContactProblem<dim>& problem, std::unique_ptr<KrylovSolver> krylov,
+                  const NonsmoothMinimizer& minimizer, BasicPathLoading<dim> loading, BasicPathOptions<dim> options = {});
   ~BasicPathSolver();
   BasicPathSolver(const BasicPathSolver&) = delete;
   BasicPathSolver& operator=(const BasicPathSolver&) = delete;
@@ -202,6 +210,11 @@ using PathSolver = BasicPathSolver<2>;
 /// Solves `problem` along `loading` (BasicPathSolver).
 template <int dim>
 BasicPathSolution<dim> solve_path(BasicContactProblem<dim>& problem, std::unique_ptr<SparseFactorization> factorization,
+                                  const NonsmoothMinimizer& minimizer, BasicPathLoading<dim> loading,
+                                  BasicPathOptions<dim> options = {});
+/// The same on the full-space route.
+template <int dim>
+BasicPathSolution<dim> solve_path(BasicContactProblem<dim>& problem, std::unique_ptr<KrylovSolver> krylov,
                                   const NonsmoothMinimizer& minimizer, BasicPathLoading<dim> loading,
                                   BasicPathOptions<dim> options = {});
 

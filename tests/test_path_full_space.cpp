@@ -1,0 +1,242 @@
+// Loading paths on the full-space route (docs/full-space.md, docs/paths.md): every step of a path
+// solved in the whole space by Krylov solves is the step the condensed route finds (its contact
+// unknowns and displacement within 1e-8), with friction, Coulomb's fixed point, moving obstacles
+// and a load that vanishes; a step that fails fails the path; a minimizer other than the route's
+// own is refused by name.
+#include <hemivem/app/run.hpp>
+#include <hemivem/contact/piecewise_law.hpp>
+#include <hemivem/contact/problem.hpp>
+#include <hemivem/contact/solver.hpp>
+#include <hemivem/error.hpp>
+#include <hemivem/krylov_solver.hpp>
+#include <hemivem/linear_backends.hpp>
+#include <hemivem/mesh/generators.hpp>
+#include <hemivem/nonsmooth_backends.hpp>
+#include <hemivem/path/path.hpp>
+#include <hemivem/scene/example.hpp>
+#include <hemivem/scene/scene.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "test_support.hpp"
+
+using namespace hemivem;
+
+namespace {
+
+std::unique_ptr<SparseFactorization> factorization() {
+  FactorizationOptions fo;
+  fo.engine = "eigen";
+  return make_factorization(fo);
+}
+
+double max_abs(const Eigen::VectorXd& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; }
+
+MinimizerOptions tight() {
+  MinimizerOptions o;
+  o.tolerance = 1e-12;
+  return o;
+}
+
+// Example 4.1 with the top traction (tx, -8).
+ContactProblem example(const Mesh& mesh, double tx) {
+  ContactProblem problem = example_4_1(mesh);
+  for (auto& t : problem.elasticity.tractions) t.traction = [tx](const Vec2&) { return Vec2(tx, -8.0); };
+  return problem;
+}
+
+// Each step of `full` is the step of `condensed`: converged both, the contact unknowns, the
+// displacement (where both have it) and the energy within `rel`, the same friction bound.
+template <int dim>
+void expect_same_steps(const BasicPathSolution<dim>& condensed, const BasicPathSolution<dim>& full, double rel) {
+  ASSERT_EQ(full.steps.size(), condensed.steps.size());
+  EXPECT_EQ(full.last.stages, (std::vector<std::string>{"assembly", "posing", "path"}));
+  EXPECT_EQ(full.condensed_loads, 0);
+  for (std::size_t k = 0; k < full.steps.size(); ++k) {
+    const auto& c = condensed.steps[k];
+    const auto& f = full.steps[k];
+    SCOPED_TRACE("step " + std::to_string(k + 1));
+    ASSERT_TRUE(c.converged()) << c.message;
+    ASSERT_TRUE(f.converged()) << f.message;
+    EXPECT_LE(max_abs(f.a - c.a), rel * max_abs(c.a));
+    if (c.u.size() > 0) {
+      ASSERT_EQ(f.u.size(), c.u.size());
+      EXPECT_LE(max_abs(f.u - c.u), rel * max_abs(c.u));
+      ASSERT_TRUE(f.forces.has_value());
+      EXPECT_LE(f.forces->residual(), 1e-8);
+    }
+    EXPECT_NEAR(f.energy, c.energy, rel * std::abs(c.energy));
+    EXPECT_EQ(f.fixed_point.used, c.fixed_point.used);
+    if (c.friction_bound.size() > 0) {
+      for (Eigen::Index i = 0; i < c.friction_bound.size(); ++i)
+        if (std::isfinite(c.friction_bound(i)))
+          EXPECT_NEAR(f.friction_bound(i), c.friction_bound(i), 1e-7 * (1.0 + max_abs(c.friction_bound))) << i;
+    }
+  }
+}
+
+}  // namespace
+
+// Tresca friction along a path whose load is rebuilt at every step (the history matters: the
+// friction acts on the slip of each step), with every Krylov engine built.
+TEST(FullSpacePath, EveryStepIsTheCondensedRoutesWithEveryKrylovEngine) {
+  const Mesh mesh = make_squares(10);
+  const auto ssn = make_minimizer("ssn");
+  ContactProblem p = example(mesh, 3.0);
+  p.parts[0].friction = tresca_law(0.5);
+  const PathLoading loading{{0.25, 0.5, 1.0}, [at_one = p](double t, ContactProblem& q) {
+                              q.elasticity.tractions[0].traction = [f = at_one.elasticity.tractions[0].traction,
+                                                                    t](const Vec2& x) -> Vec2 { return t * f(x); };
+                            }};
+  PathOptions options;
+  options.minimizer = tight();
+  options.frame = [](int) { return true; };
+  ContactProblem q = p;
+  const PathSolution condensed = solve_path(q, factorization(), *ssn, loading, options);
+  for (const std::string& engine : available_krylov_solvers()) {
+    SCOPED_TRACE(engine);
+    for (const bool proportional : {true, false}) {
+      SCOPED_TRACE(proportional ? "proportional" : "rebuilt at every step");
+      ContactProblem r = p;
+      const PathSolution full = solve_path(r, make_krylov_solver(engine), *ssn,
+                                           proportional ? PathLoading{loading.t, {}} : loading, options);
+      expect_same_steps(condensed, full, 1e-8);
+      EXPECT_TRUE(full.converged());
+      EXPECT_TRUE(std::isnan(full.last.uniqueness_margin)) << "not measured on this route";
+    }
+  }
+}
+
+// Coulomb's law along a path, pressed to t = 1 then sheared: the fixed point on the friction
+// bound runs on the full-space route as on the condensed one, to the same coupled certificate.
+TEST(FullSpacePath, CoulombsFixedPointFindsTheCondensedRoutesSteps) {
+  const Mesh mesh = make_squares(10);
+  const auto ssn = make_minimizer("ssn");
+  ContactProblem p = example(mesh, 0.0);
+  p.parts[0].friction = tresca_law(1.0);
+  p.parts[0].friction_bound = FrictionBound{FrictionBound::Kind::coulomb, 0.3, {}};
+  const PathLoading loading{{0.5, 1.0, 1.25, 1.5}, [](double t, ContactProblem& q) {
+                              q.elasticity.tractions[0].traction = [t](const Vec2&) {
+                                return Vec2(4.0 * std::max(t - 1.0, 0.0), -8.0 * std::min(t, 1.0));
+                              };
+                            }};
+  PathOptions options;
+  options.minimizer = tight();
+  options.frame = [](int) { return true; };
+  ContactProblem a = p, b = p;
+  const PathSolution condensed = solve_path(a, factorization(), *ssn, loading, options);
+  const PathSolution full = solve_path(b, make_krylov_solver("eigen-cg"), *ssn, loading, options);
+  expect_same_steps(condensed, full, 1e-8);
+  int slipping = 0;  // the shear makes some node slip: the bound is what limits its force
+  for (const auto& n : full.steps.back().contact) slipping += n.friction_state == FrictionState::slip ? 1 : 0;
+  EXPECT_GT(slipping, 0);
+  for (const auto& s : full.steps) EXPECT_TRUE(s.fixed_point.converged) << s.index;
+}
+
+// An obstacle lowered onto the top, its law acting from its surface (the coordinates' origin
+// moves with the gaps): every step on either route is the same.
+TEST(FullSpacePath, AMovingObstacleWithItsLawOnItsSurface) {
+  const std::string text =
+      "schema_version = 1\n[mesh]\nn = 12\ndomain = [-0.5, 0.5, -1.0, 0.0]\n"
+      "[material]\nE = 65.0\nnu = 0.29\n[clamped]\nside = \"bottom\"\n"
+      "[contact]\nside = \"top\"\nlaw = \"linear\"\nconstraint = \"one-sided\"\nlaw_origin = \"surface\"\n"
+      "[contact.obstacle]\nshape = \"circle\"\ncenter = [0.0, 1.005]\nradius = 1.0\nmotion = [0.0, -0.02]\n";
+  const Scene scene = parse_scene_string(text, "moving.toml");
+  const auto ssn = make_minimizer("ssn");
+  const PathLoading loading{{0.5, 0.75, 1.0}, [&scene](double t, ContactProblem& p) { set_load_factor(scene, t, p); }};
+  PathOptions options;
+  options.minimizer = tight();
+  options.frame = [](int) { return true; };
+  auto a = build_problem(scene);
+  auto b = build_problem(scene);
+  const PathSolution condensed = solve_path(a->problem, factorization(), *ssn, loading, options);
+  const PathSolution full = solve_path(b->problem, make_krylov_solver("eigen-cg"), *ssn, loading, options);
+  expect_same_steps(condensed, full, 1e-8);
+  EXPECT_GT(contact_zone(full.steps.back().contact).nodes, 0);
+}
+
+// A disk lowered through the top of the body: the step where it has passed through fails,
+// naming the node, and fails the path, on this route too.
+TEST(FullSpacePath, AnObstacleMovedThroughTheBodyFailsItsStep) {
+  const std::string text =
+      "schema_version = 1\n[mesh]\nn = 20\ndomain = [-0.5, 0.5, -1.0, 0.0]\n"
+      "[material]\nE = 65.0\nnu = 0.29\n[clamped]\nside = \"bottom\"\n"
+      "[contact]\nside = \"top\"\nlaw = \"zero\"\nconstraint = \"one-sided\"\n"
+      "[contact.obstacle]\nshape = \"circle\"\ncenter = [0.0, 0.105]\nradius = 0.1\nmotion = [0.0, -0.5]\n";
+  const Scene scene = parse_scene_string(text, "through.toml");
+  auto built = build_problem(scene);
+  const auto ssn = make_minimizer("ssn");
+  const PathLoading loading{{0.02, 0.5, 1.0}, [&scene](double t, ContactProblem& p) { set_load_factor(scene, t, p); }};
+  const PathSolution path = solve_path(built->problem, make_krylov_solver("eigen-cg"), *ssn, loading);
+  ASSERT_EQ(path.steps.size(), 3u);
+  EXPECT_TRUE(path.steps[0].converged()) << path.steps[0].message;
+  EXPECT_FALSE(path.steps[1].converged());
+  EXPECT_NE(path.steps[1].message.find("has moved through the body's surface at vertex"), std::string::npos)
+      << path.steps[1].message;
+  EXPECT_FALSE(path.converged());
+  EXPECT_NE(path.last.message.find("step 2 (t = 0.5) did not converge"), std::string::npos) << path.last.message;
+}
+
+// Loaded and unloaded to exactly zero: the last step is the unloaded body, exactly.
+TEST(FullSpacePath, AStepWhoseLoadVanishesIsTheUnloadedBody) {
+  const Mesh mesh = make_squares(8);
+  const auto ssn = make_minimizer("ssn");
+  ContactProblem p = example(mesh, 0.0);
+  p.parts[0].law = zero_law();
+  const PathLoading loading{{0.25, 0.5, 0.75, 1.0}, [](double t, ContactProblem& q) {
+                              q.elasticity.tractions[0].traction = [t](const Vec2&) {
+                                return Vec2(0.0, -8.0 * (1.0 - std::abs(2.0 * t - 1.0)));
+                              };
+                            }};
+  const PathSolution path = solve_path(p, make_krylov_solver("eigen-cg"), *ssn, loading);
+  ASSERT_EQ(path.steps.size(), 4u);
+  for (const PathStep& s : path.steps) EXPECT_TRUE(s.converged()) << "t " << s.t << ": " << s.message;
+  EXPECT_GT(max_abs(path.steps[1].a), 0.0);
+  EXPECT_EQ(max_abs(path.steps.back().a), 0.0);
+  EXPECT_EQ(max_abs(path.last.u), 0.0);
+}
+
+TEST(FullSpacePath, AnotherMinimizerIsRefusedByName) {
+  const Mesh mesh = make_squares(6);
+  ContactProblem p = example(mesh, 0.0);
+  const auto dca = make_minimizer("bundle-dca");
+  const std::string why = test::input_error_of(
+      [&] { (void)solve_path(p, make_krylov_solver("eigen-cg"), *dca, PathLoading{{0.5, 1.0}, {}}); });
+  EXPECT_NE(why.find("the minimizer ssn: minimizer bundle-dca needs a linear engine that factorizes"),
+            std::string::npos)
+      << why;
+}
+
+// Solids through the one entry point: the 3D Example 4.1 along a proportional path, and a sphere
+// lowered onto a block (a moving obstacle), each step on the full-space route the condensed
+// route's.
+TEST(FullSpacePath, ASolidsPathsAreTheCondensedRoutes) {
+  struct Case {
+    std::string scene;
+    std::vector<std::string> overrides;
+  };
+  const std::vector<Case> cases = {
+      {"example-4.1-3d.toml", {"mesh.n=[5, 5, 5]", "path.steps=3"}},
+      {"hertz-sphere-3d.toml",
+       {"mesh.n=5", "contact.obstacle.center=[0, 0, 1.0]", "contact.obstacle.motion=[0, 0, -0.01]", "path.steps=3"}}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.scene);
+    Scene condensed = parse_scene(test::scenes_dir() / c.scene);
+    apply_overrides(condensed, c.overrides);
+    apply_overrides(condensed, {"solver.tolerance=1e-12"});
+    Scene full = condensed;
+    apply_overrides(full, {"solver.linear=\"eigen-cg\""});
+    const app::SceneRun a = app::run_scene(condensed);
+    const app::SceneRun b = app::run_scene(full);
+    ASSERT_NE(a.solid_path(), nullptr);
+    ASSERT_NE(b.solid_path(), nullptr);
+    ASSERT_TRUE(b.converged()) << b.solid()->solution.message;
+    expect_same_steps(*a.solid_path(), *b.solid_path(), 1e-8);
+    const Eigen::VectorXd& u = a.solid()->solution.u;
+    EXPECT_LE(max_abs(b.solid()->solution.u - u), 1e-8 * max_abs(u));
+  }
+}
