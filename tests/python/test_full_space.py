@@ -44,8 +44,14 @@ def test_the_petsc_engines_are_refused_by_name_as_command_only():
             hemivem.solve(hemivem.Scene.default(), linear=name)
 
 
-def test_a_path_on_the_full_space_route_is_refused_by_name():
-    scene = hemivem.Scene.default()
-    scene.set("mesh.n", 4)
-    with pytest.raises(hemivem.InputError, match="full space"):
-        hemivem.solve_path(scene, steps=2, linear="eigen-cg")
+def test_a_path_on_the_full_space_route_is_the_condensed_routes(coulomb_scene):
+    t = [0.5, 1.0, 1.5, 2.0]
+    condensed = hemivem.solve_path(coulomb_scene(), t=t, frames=4, linear="eigen")
+    full = hemivem.solve_path(coulomb_scene(), t=t, frames=4, linear="eigen-cg")
+    assert condensed.path.converged and full.path.converged
+    for a, b in zip(condensed.path, full.path):
+        u0, u1 = np.asarray(a.displacement), np.asarray(b.displacement)
+        assert np.max(np.abs(u1 - u0)) <= 1e-8 * np.max(np.abs(u0))
+    result = json.loads(full.to_json())
+    assert result["stages"][:3] == ["assembly", "posing", "path"]
+    assert result["backends"]["linear"] == "eigen-cg"

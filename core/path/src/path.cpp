@@ -219,6 +219,7 @@ struct BasicPathSolver<dim>::Impl {
   void data_at(const Step& s, Eigen::VectorXd* b);
   void posed_load(Step& s, Eigen::VectorXd* b);
   MinimizerResult minimize_once(const Eigen::VectorXd& from, const Eigen::VectorXd& origin);
+  void minimize_alone(Step& s, const Eigen::VectorXd& from, const Eigen::VectorXd& origin);
   void make_load_current(Eigen::VectorXd* b);
   void find_friction_bounds();
   /// The tangential weights w_i g_i of `nodes` (those whose bound depends on the normal
@@ -586,6 +587,19 @@ void BasicPathSolver<dim>::Impl::extrapolate_bound(double t) {
   g_before = last;
 }
 
+// A step without a friction bound that depends on the normal contact: one minimization.
+template <int dim>
+void BasicPathSolver<dim>::Impl::minimize_alone(Step& s, const Eigen::VectorXd& from, const Eigen::VectorXd& origin) {
+  MinimizerResult m = minimize_once(from, origin);
+  s.status = m.status;
+  s.message = m.message;
+  s.certificate = m.certificate;
+  s.iterations = m.iterations;
+  s.may_be_nonunique = m.may_be_nonunique;
+  s.a = m.a + origin;
+  last_result = std::move(m);
+}
+
 // One minimization, or the fixed point on the friction bound: each iterate a Tresca problem with
 // the bound g (the tangential weights w_i g_i), until the coupled certificate holds.
 template <int dim>
@@ -593,21 +607,11 @@ void BasicPathSolver<dim>::Impl::minimize_step(Step& s, const Eigen::VectorXd& s
                                      bool unloaded) {
   // from the previous step; a frictionless step whose load vanishes exactly starts from the
   // unloaded state x = 0 (a warm start would shrink towards it by round-off without reaching it)
-  const Eigen::VectorXd start = unloaded ? Eigen::VectorXd(-origin) : Eigen::VectorXd(x_prev - origin - shift);
-  if (full && unloaded) xt.setZero();
   const Eigen::VectorXd coordinates_origin = origin + shift;
+  const Eigen::VectorXd start = unloaded ? Eigen::VectorXd(-origin) : Eigen::VectorXd(x_prev - coordinates_origin);
+  if (full && unloaded) xt.setZero();
   if (s.index > 1 && !check_existence_each_step) options.minimizer.check_existence = false;
-  if (!bounded) {
-    MinimizerResult m = minimize_once(start, coordinates_origin);
-    s.status = m.status;
-    s.message = m.message;
-    s.certificate = m.certificate;
-    s.iterations = m.iterations;
-    s.may_be_nonunique = m.may_be_nonunique;
-    s.a = m.a + origin + shift;
-    last_result = std::move(m);
-    return;
-  }
+  if (!bounded) return minimize_alone(s, start, coordinates_origin);
   extrapolate_bound(s.t);
   FixedPointReport& fp = s.fixed_point;
   fp.used = true;
@@ -648,7 +652,7 @@ void BasicPathSolver<dim>::Impl::minimize_step(Step& s, const Eigen::VectorXd& s
     s.certificate = friction_bound_certificate(m.certificate, weights, used, implied_b);
     s.status = m.status;
     s.message = m.message;
-    s.a = m.a + origin + shift;
+    s.a = m.a + coordinates_origin;
     fp.converged = m.converged() && s.certificate.converged();
     const bool failed = !m.converged();
     last_result = std::move(m);

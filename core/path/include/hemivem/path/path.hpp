@@ -74,7 +74,8 @@ struct BasicPathOptions {
   /// the path followed stopped existing and the minimizer found another branch.
   double jump_factor = 10.0;
   /// Steps (1-based) whose full displacement is computed and handed to on_step
-  /// (PathStep::u, PathStep::forces); the last step always is. Each costs one interior solve.
+  /// (PathStep::u, PathStep::forces); the last step always is. Each costs one interior solve
+  /// on the condensed route, nothing on the full-space route.
   std::function<bool(int step)> frame;
   /// At most this many loads are kept condensed (docs/paths.md, "What a step costs"): a step
   /// whose load (the free dofs' right-hand side and the prescribed values) is a combination of
@@ -157,7 +158,9 @@ struct BasicPathSolution {
   /// a proportional path or when every step's load is a multiple of the first's; one per field
   /// when the loads combine fields with coefficients in t; at most one per step otherwise.
   int condensed_loads = 0;
-  /// Seconds: assembly, condensation, path (every step), frames (their displacements), total.
+  /// Seconds: assembly, condensation, path (every step), frames (their displacements), total;
+  /// on the full-space route posing instead of condensation, and the Krylov engine's
+  /// preconditioner and krylov seconds within path.
   std::map<std::string, double> timings;
   /// Every step converged.
   bool converged() const { return solved_steps > 0 && converged_steps == solved_steps; }
