@@ -1,5 +1,6 @@
 // The semismooth Newton / active-set engine: see ssn_minimizer.hpp and README.md.
 #include <hemivem/ssn_minimizer.hpp>
+#include <hemivem/group_motion.hpp>
 #include <hemivem/minimizer_run.hpp>
 
 #include <Eigen/Cholesky>
@@ -30,22 +31,6 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double singular_pivot = 1e-13;
 
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-/// x scaled onto radius `radius` > 0 (x != 0), its entries then moved by single ulps until
-/// hypot(x) == radius where a few such moves reach it: a norm that is exactly a kink is the
-/// kink for every later test (the certificate's too), a norm one ulp off is not.
-Eigen::Vector2d onto_radius(const Eigen::Vector2d& x, double radius) {
-  Eigen::Vector2d y = x * (radius / x.norm());
-  for (const int i : {std::abs(y(0)) >= std::abs(y(1)) ? 0 : 1, std::abs(y(0)) >= std::abs(y(1)) ? 1 : 0}) {
-    for (int k = 0; k < 4; ++k) {
-      const double h = std::hypot(y(0), y(1));
-      if (h == radius) return y;
-      const double away = std::copysign(kInf, y(i));
-      y(i) = std::nextafter(y(i), h < radius ? away : -away);
-    }
-  }
-  return y;
-}
 
 /// H + shift I = L L^T for a dense symmetric H (its lower triangle is read), formed in the
 /// factor's own storage: LAPACK's blocked dpotrf on the BLAS where it is found (2.6 times
@@ -130,30 +115,8 @@ struct NodeState {
   int side = 1;
 };
 
-/// What an iteration knows about one group of coordinates (a law of the pair's norm), in the
-/// radial frame e = v / |v| (at v = 0: the direction it leaves along) and t = e turned a
-/// quarter counter-clockwise. Its radius is confined to the piece [r_lo, r_hi] between the
-/// neighbouring knots in radius (the kinks of j, and 0 where j'(0+) > 0).
-struct GroupState {
-  enum class Mode {
-    stuck,   ///< at v = 0 with 0 in its subdifferential disc: no motion
-    ray,     ///< at v = 0, leaving along e: the one unknown is its length along e
-    held,    ///< on a positive kink with the radial force in the Clarke interval: moves along the circle
-    plane,   ///< r > 0 inside its piece: both directions (e, t) are unknowns
-  };
-  Mode mode = Mode::stuck;
-  Eigen::Vector2d v = Eigen::Vector2d::Zero();  ///< (a_first, a_second)
-  Eigen::Vector2d e = Eigen::Vector2d::Zero(), t = Eigen::Vector2d::Zero();
-  Eigen::Vector2d grad = Eigen::Vector2d::Zero();  ///< gradient of F on the side of motion
-  double r = 0.0;
-  double r_lo = 0.0, r_hi = 0.0;
-  bool lo_is_knot = false;       ///< r_lo is a kink of j(|v|) (0 only where j'(0+) > 0)
-  double radial_curvature = 0.0;      ///< w j''(r, side)
-  double tangential_curvature = 0.0;  ///< w j'(r, side) / r
-  double scale = 1.0;                 ///< of the gradient steps
-  /// The radius the Newton direction sends it onto (NaN: none).
-  double pin = std::numeric_limits<double>::quiet_NaN();
-};
+/// What an iteration knows about one group of coordinates (hemivem/group_motion.hpp).
+using GroupState = GroupMotion;
 
 /// An unknown of the reduced Newton system: a coordinate, or a direction u in a group's plane.
 struct Unknown {
@@ -288,15 +251,7 @@ class Solver {
       GroupState& g = gst_[k];
       const CoordinateGroup& grp = p_.groups[k];
       Eigen::Vector2d dg = Eigen::Vector2d::Zero();
-      const double radial = g.grad.dot(g.e);
-      if (g.mode == Mode::ray) {
-        if (g.r_hi <= eps) g.pin = g.r_hi;
-      } else if (g.mode == Mode::plane) {
-        if (radial > 0.0 && g.lo_is_knot && g.r - g.r_lo <= eps)
-          g.pin = g.r_lo;
-        else if (radial < 0.0 && g.r_hi - g.r <= eps)
-          g.pin = g.r_hi;
-      }
+      pin_group(g, eps);
       const auto add = [&](const Eigen::Vector2d& u, double curvature) {
         unknowns_.push_back({grp.first, grp.second, u(0), u(1), curvature});
       };
@@ -510,7 +465,10 @@ class Solver {
     for (std::size_t k = 0; k < gst_.size(); ++k) {
       const CoordinateGroup& grp = p_.groups[k];
       GroupState& g = gst_[k];
-      classify_group(grp, a, g);
+      g = group_motion(p_.law_of(grp.first), p_.w(grp.first), Eigen::Vector2d(a(grp.first), a(grp.second)),
+                       Eigen::Vector2d(q_(grp.first), q_(grp.second)),
+                       Eigen::Matrix2d{{p_.S(grp.first, grp.first), p_.S(grp.first, grp.second)},
+                                       {p_.S(grp.second, grp.first), p_.S(grp.second, grp.second)}});
       for (const Eigen::Index i : {grp.first, grp.second}) {
         NodeState& s = st[static_cast<std::size_t>(i)];
         s.grad = g.grad(i == grp.first ? 0 : 1);
@@ -519,141 +477,6 @@ class Solver {
         s.side = 1;
       }
     }
-  }
-
-  /// The positive kinks of a group's law (its knots in radius besides 0), sorted.
-  std::vector<double> radius_kinks(const CoordinateGroup& grp) const {
-    std::vector<double> out;
-    for (double k : kinks(grp.first))
-      if (k > 0.0) out.push_back(k);
-    return out;
-  }
-
-  /// A group at v = 0 whose smooth part's gradient is gq: stuck while |gq| <= w j'(0+), else
-  /// leaving 0 along the ray e = -gq / |gq| up to the first knot `first_knot`.
-  static void classify_at_origin(const ContactLaw& law, double wg, const Eigen::Vector2d& gq, double first_knot,
-                                 GroupState& g) {
-    const double slope0 = law.derivative(LawPart::j, 0.0, +1);
-    const double m = gq.norm();
-    g.e = m > 0.0 ? Eigen::Vector2d(-gq / m) : Eigen::Vector2d(1.0, 0.0);
-    g.t = Eigen::Vector2d(-g.e(1), g.e(0));
-    g.r_lo = 0.0;
-    if (m <= wg * slope0) {
-      g.mode = GroupState::Mode::stuck;
-      g.grad.setZero();
-      g.r_hi = 0.0;
-    } else {
-      g.mode = GroupState::Mode::ray;
-      g.grad = gq + wg * slope0 * g.e;
-      g.r_hi = first_knot;
-      g.radial_curvature = wg * law.second_derivative(LawPart::j, 0.0, +1);
-    }
-  }
-
-  /// The state of a group at a: stuck, leaving 0 along a ray, held on a positive kink, or
-  /// moving in its piece [r_lo, r_hi] of radius, with the gradient and curvatures on the side
-  /// of motion.
-  void classify_group(const CoordinateGroup& grp, const Eigen::VectorXd& a, GroupState& g) const {
-    using Mode = GroupState::Mode;
-    const ContactLaw& law = p_.law_of(grp.first);
-    const double wg = p_.w(grp.first);
-    const std::vector<double> knots = radius_kinks(grp);
-    const Eigen::Vector2d gq(q_(grp.first), q_(grp.second));
-    const double slope0 = law.derivative(LawPart::j, 0.0, +1);
-    g.v = Eigen::Vector2d(a(grp.first), a(grp.second));
-    g.r = group_norm(a, grp);
-    g.pin = std::numeric_limits<double>::quiet_NaN();
-    g.radial_curvature = g.tangential_curvature = 0.0;
-    const auto above = [&](double r) {
-      const auto it = std::upper_bound(knots.begin(), knots.end(), r);
-      return it == knots.end() ? kInf : *it;
-    };
-    const auto below = [&](double r) {
-      const auto it = std::lower_bound(knots.begin(), knots.end(), r);
-      return it == knots.begin() ? 0.0 : *(it - 1);
-    };
-    int side = 1;
-    if (g.r == 0.0) {
-      classify_at_origin(law, wg, gq, above(0.0), g);
-    } else {
-      g.e = g.v / g.r;
-      g.t = Eigen::Vector2d(-g.e(1), g.e(0));
-      const double radial = gq.dot(g.e);
-      // a norm within a few ulps of a positive kink is on it (radial scaling rounds)
-      const auto on = std::find_if(knots.begin(), knots.end(), [&](double k) {
-        return std::abs(g.r - k) <= 8.0 * std::numeric_limits<double>::epsilon() * k;
-      });
-      double slope = 0.0;
-      if (on != knots.end()) {
-        const double k = *on;
-        const double dr = radial + wg * law.derivative(LawPart::j, k, +1);
-        const double dl = radial + wg * law.derivative(LawPart::j, k, -1);
-        const bool right = dr < 0.0, left = dl > 0.0;
-        if (right && (!left || -dr >= dl)) {
-          g.mode = Mode::plane;
-          g.r_lo = k;
-          g.r_hi = above(k);
-          slope = law.derivative(LawPart::j, k, +1);
-        } else if (left) {
-          g.mode = Mode::plane;
-          side = -1;
-          g.r_lo = below(k);
-          g.r_hi = k;
-          slope = law.derivative(LawPart::j, k, -1);
-        } else {
-          g.mode = Mode::held;
-          g.r_lo = g.r_hi = k;
-          slope = -radial / wg;  // the radial law force that balances: in [j'(k-), j'(k+)]
-        }
-        g.grad = g.mode == Mode::held ? Eigen::Vector2d(gq - radial * g.e) : Eigen::Vector2d(gq + wg * slope * g.e);
-      } else {
-        g.mode = Mode::plane;
-        g.grad = gq + wg * law.derivative(LawPart::j, g.r, +1) * g.e;
-        side = g.grad.dot(g.e) <= 0.0 ? 1 : -1;
-        slope = law.derivative(LawPart::j, g.r, side);
-        g.r_lo = below(g.r);
-        g.r_hi = above(g.r);
-      }
-      g.radial_curvature = wg * law.second_derivative(LawPart::j, g.r, side);
-      g.tangential_curvature = wg * slope / g.r;
-    }
-    g.lo_is_knot = g.r_lo > 0.0 || slope0 > 0.0;
-    const Eigen::Matrix2d S_G{{p_.S(grp.first, grp.first), p_.S(grp.first, grp.second)},
-                              {p_.S(grp.second, grp.first), p_.S(grp.second, grp.second)}};
-    const double curvature = g.mode == Mode::held ? g.t.dot(S_G * g.t) + g.tangential_curvature
-                                                  : g.e.dot(S_G * g.e) + g.radial_curvature;
-    g.scale = std::max({curvature, 1e-3 * S_G.diagonal().maxCoeff(), std::numeric_limits<double>::min()});
-  }
-
-  /// A group's point on the projection arc at step t along its direction dg: the radius kept
-  /// in the piece [r_lo, r_hi] by radial scaling; at v = 0 the length along the ray in
-  /// [0, r_hi]; a group whose piece starts at the cone point 0 goes exactly onto 0 when the
-  /// step crosses the line through 0 normal to e; a pinned group's radius goes linearly to its pin.
-  Eigen::Vector2d group_trial(const GroupState& g, const Eigen::Vector2d& dg, double t) const {
-    using Mode = GroupState::Mode;
-    switch (g.mode) {
-      case Mode::stuck: return g.v;
-      case Mode::ray: {
-        const double length = t * dg.dot(g.e);
-        return length >= g.r_hi ? onto_radius(g.e, g.r_hi) : Eigen::Vector2d(std::max(length, 0.0) * g.e);
-      }
-      case Mode::held: {
-        const Eigen::Vector2d x = g.v + t * dg;
-        return x.norm() > 0.0 ? onto_radius(x, g.r_lo) : g.v;
-      }
-      case Mode::plane: break;
-    }
-    const Eigen::Vector2d x = g.v + t * dg;
-    if (!std::isnan(g.pin)) {
-      if (g.pin == 0.0) return x;
-      if (!(x.norm() > 0.0)) return g.v;
-      return t == 1.0 ? onto_radius(x, g.pin) : Eigen::Vector2d(x * ((g.r + t * (g.pin - g.r)) / x.norm()));
-    }
-    if (g.r_lo == 0.0 && g.lo_is_knot && x.dot(g.e) <= 0.0) return Eigen::Vector2d::Zero();
-    const double m = x.norm();
-    if (m < g.r_lo) return m > 0.0 ? onto_radius(x, g.r_lo) : onto_radius(g.e, g.r_lo);
-    if (m > g.r_hi) return onto_radius(x, g.r_hi);
-    return x;
   }
 
   /// The size of the rounding errors in F(a) (q_ = S a - c).
