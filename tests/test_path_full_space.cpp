@@ -211,9 +211,9 @@ TEST(FullSpacePath, AnotherMinimizerIsRefusedByName) {
       << why;
 }
 
-// Solids through the one entry point: the 3D Example 4.1 along a proportional path, and a sphere
-// lowered onto a block (a moving obstacle), each step on the full-space route the condensed
-// route's.
+// Solids through the one entry point: the 3D Example 4.1 along a proportional path, a sphere
+// lowered onto a block (a moving obstacle), and a block pressed and dragged with Coulomb's
+// friction, each step on the full-space route the condensed route's.
 TEST(FullSpacePath, ASolidsPathsAreTheCondensedRoutes) {
   struct Case {
     std::string scene;
@@ -222,7 +222,12 @@ TEST(FullSpacePath, ASolidsPathsAreTheCondensedRoutes) {
   const std::vector<Case> cases = {
       {"example-4.1-3d.toml", {"mesh.n=[5, 5, 5]", "path.steps=3"}},
       {"hertz-sphere-3d.toml",
-       {"mesh.n=5", "contact.obstacle.center=[0, 0, 1.0]", "contact.obstacle.motion=[0, 0, -0.01]", "path.steps=3"}}};
+       {"mesh.n=5", "contact.obstacle.center=[0, 0, 1.0]", "contact.obstacle.motion=[0, 0, -0.01]", "path.steps=3"}},
+      // Coulomb's law on a solid's surface (groups of two tangential coordinates): the block
+      // pressed and dragged along a path
+      {"friction-block-3d.toml",
+       {"mesh.n=[6, 6, 3]", "contact.friction={law = \"coulomb\", coefficient = 0.3}",
+        "path.t=[0.25, 0.5, 1.0]"}}};
   for (const Case& c : cases) {
     SCOPED_TRACE(c.scene);
     Scene condensed = parse_scene(test::scenes_dir() / c.scene);

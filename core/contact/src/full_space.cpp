@@ -3,6 +3,7 @@
 
 #include <hemivem/certificate.hpp>
 #include <hemivem/error.hpp>
+#include <hemivem/group_motion.hpp>
 #include <hemivem/minimizer_run.hpp>
 
 #include <algorithm>
@@ -20,6 +21,7 @@ using Clock = std::chrono::steady_clock;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double armijo = 1e-4;
 constexpr int max_backtracks = 30;
+constexpr int max_gradient_backtracks = 80;
 /// A change of E below this fraction of the sizes of its terms is its round-off.
 constexpr double energy_roundoff = 1e-12;
 /// The Krylov tolerance of a Newton system: the square of the certificate's worst residual
@@ -36,6 +38,7 @@ struct Coordinate {
   int row = 0;
   double lo = 0.0, hi = 0.0, origin = 0.0, w = 0.0;
   const ContactLaw* law = nullptr;
+  int group = -1;  ///< its group (ReducedProblem::groups), -1 on its own
   std::vector<double> knots;
   /// The largest knot below a and the smallest above (+-inf where there is none).
   double knot_below(double a) const {
@@ -59,16 +62,28 @@ struct Motion {
   bool pushed = false;
 };
 
+/// What an iteration knows about every coordinate on its own and every group of two.
+struct Motions {
+  std::vector<Motion> coordinate;  ///< per coordinate (unused for a group's)
+  std::vector<GroupMotion> group;  ///< per group, in ReducedProblem::groups order
+};
+
+/// A group of two coordinates (a solid's isotropic friction): its rows, A's block on them, and
+/// where the pairs of its two rows' entries lie in A's values (the two unknowns of one node share
+/// the pattern: hemivem/contact/condensation.hpp), in each column and in its own two columns.
+struct Group {
+  int first = 0, second = 0;  ///< coordinates
+  int row1 = 0, row2 = 0;
+  Eigen::Matrix2d block = Eigen::Matrix2d::Zero();
+  std::vector<std::pair<Eigen::Index, Eigen::Index>> in_columns, columns;
+};
+
 class FullSpaceNewton {
  public:
   FullSpaceNewton(const Condensation& posed, const ReducedProblem& coordinates, const Eigen::VectorXd& origin, double tol)
       : p_(coordinates), A_(posed.rotated_matrix()), b_(posed.rotated_load()), tol_(tol) {
     if (coordinates.size() != posed.reduced().size() || origin.size() != coordinates.size())
       throw InternalError("the full-space route needs the posed problem's coordinates and an origin for each");
-    if (!p_.groups.empty())
-      throw InputError(
-          "the full-space route does not take a solid's isotropic friction (pairs of tangential coordinates): "
-          "use a linear engine that factorizes");
     if (A_.rows() != b_.size() || A_.rows() == 0) throw InternalError("the full-space route needs a posed problem");
     const Eigen::Index m = p_.size();
     coordinates_.resize(static_cast<std::size_t>(m));
@@ -97,6 +112,7 @@ class FullSpaceNewton {
       tied_.push_back(row);
       is_coordinate_[static_cast<std::size_t>(row)] = 2;
     }
+    find_groups();
   }
 
   Eigen::VectorXd coordinates_of(const Eigen::VectorXd& x) const {
@@ -189,9 +205,13 @@ class FullSpaceNewton {
       }
       if (it >= options.max_iterations) break;
       // the motions and the Newton system
-      std::vector<Motion> motion = classify(x, r);
+      const Motions motion = classify(x, r);
       Eigen::VectorXd grad = r;  // the gradient of E on the side of motion, for Armijo's rule
-      for (std::size_t k = 0; k < coordinates_.size(); ++k) grad(coordinates_[k].row) = motion[k].grad;
+      for (std::size_t k = 0; k < coordinates_.size(); ++k) grad(coordinates_[k].row) = motion.coordinate[k].grad;
+      for (std::size_t k = 0; k < groups_.size(); ++k) {
+        grad(groups_[k].row1) = motion.group[k].grad(0);
+        grad(groups_[k].row2) = motion.group[k].grad(1);
+      }
       Eigen::VectorXd step;
       if (!descent_direction(krylov, hints, motion, r, grad, point.certificate.worst(), st, cache, &step, &why)) {
         status = MinimizerStatus::failed;
@@ -199,9 +219,16 @@ class FullSpaceNewton {
       }
       ++st.newton_iterations;
       if (!line_search(motion, grad, step, E, scale, x, point, counts)) {
-        status = MinimizerStatus::stalled;
-        why = "no step along the Newton direction lowered the energy or the certificate's residual";
-        break;
+        // a scaled gradient step along the projection arc, a direction of descent wherever the
+        // point is not critical (an inexact Newton direction through a group's cone point may not be)
+        Motions unpinned = motion;
+        const Eigen::VectorXd gradient_step = scaled_gradient_step(unpinned, grad);
+        if (!line_search(unpinned, grad, gradient_step, E, scale, x, point, counts, max_gradient_backtracks)) {
+          status = MinimizerStatus::stalled;
+          why = "no step along the Newton direction or the gradient lowered the energy or the certificate's residual";
+          break;
+        }
+        ++counts.gradient_steps;
       }
     }
     *x_io = std::move(x);
@@ -214,6 +241,7 @@ class FullSpaceNewton {
   struct SystemCache {
     std::vector<char> eliminated;
     Eigen::VectorXd shift;
+    Eigen::VectorXd frames;  ///< each group's e
     /// The Newton matrix, one object for the whole iteration: the Krylov engine may read it
     /// where it lies, and a system of the same pattern keeps what its preconditioner can.
     SparseMatrix H;
@@ -225,18 +253,45 @@ class FullSpaceNewton {
 
   /// Energies and certificates evaluated.
   struct Counts {
-    int functions = 0, certificates = 1;
+    int functions = 0, certificates = 1, gradient_steps = 0;
   };
+
+  // -grad scaled by the diagonal of E's generalized Hessian (a coordinate's curvature on its side
+  // of motion, a group's along its direction of motion, A's diagonal elsewhere), none for the
+  // held coordinates and stuck groups; the groups' and coordinates' pins released.
+  Eigen::VectorXd scaled_gradient_step(Motions& motion, const Eigen::VectorXd& grad) const {
+    Eigen::VectorXd d(A_.rows());
+    const Eigen::VectorXd diagonal = A_.diagonal();
+    for (Eigen::Index i = 0; i < d.size(); ++i) d(i) = diagonal(i) > 0.0 ? -grad(i) / diagonal(i) : 0.0;
+    for (int row : tied_) d(row) = 0.0;
+    for (std::size_t k = 0; k < coordinates_.size(); ++k) {
+      Motion& mk = motion.coordinate[k];
+      const int row = coordinates_[k].row;
+      mk.pushed = false;
+      const double curvature = stiffness_(static_cast<Eigen::Index>(k)) + std::max(0.0, mk.curvature);
+      d(row) = mk.held || !(curvature > 0.0) ? 0.0 : -mk.grad / curvature;
+    }
+    for (std::size_t k = 0; k < groups_.size(); ++k) {
+      GroupMotion& g = motion.group[k];
+      g.pin = std::numeric_limits<double>::quiet_NaN();
+      const Eigen::Vector2d dg = g.mode == GroupMotion::Mode::stuck ? Eigen::Vector2d::Zero() : Eigen::Vector2d(-g.grad / g.scale);
+      d(groups_[k].row1) = dg(0);
+      d(groups_[k].row2) = dg(1);
+    }
+    return d;
+  }
 
   // The step of a Newton iteration: the law's own curvature first (Newton's rate; the system is
   // positive definite wherever the problem is strongly convex), its negative part left out when
   // CG meets an indefinite system or the step does not descend. False (and *why) when there is
   // no direction of descent.
-  bool descent_direction(KrylovSolver& krylov, const KrylovHints& hints, const std::vector<Motion>& motion,
+  bool descent_direction(KrylovSolver& krylov, const KrylovHints& hints, const Motions& motion,
                          const Eigen::VectorXd& r, const Eigen::VectorXd& grad, double worst, FullSpaceStatistics& st,
                          SystemCache& cache, Eigen::VectorXd* step, std::string* why) const {
     bool concave = false;
-    for (const Motion& mk : motion) concave = concave || (!mk.held && !mk.pushed && mk.curvature < 0.0);
+    for (const Motion& mk : motion.coordinate) concave = concave || (!mk.held && !mk.pushed && mk.curvature < 0.0);
+    for (const GroupMotion& g : motion.group)
+      concave = concave || (g.mode != GroupMotion::Mode::stuck && std::isnan(g.pin) && g.radial_curvature < 0.0);
     for (const bool clip : {false, true}) {
       if (clip && !concave) break;
       const NewtonOutcome o = newton_step(krylov, hints, motion, r, clip, worst, st, cache, step);
@@ -257,14 +312,22 @@ class FullSpaceNewton {
   // Backtracking along the projection arc from x (E0 = E(x), `scale` the sizes of its terms)
   // with Armijo's rule on E, or where E cannot tell (a change within its round-off) by the
   // certificate's residual. On success x and its certified point move to the step taken.
-  bool line_search(const std::vector<Motion>& motion, const Eigen::VectorXd& grad, const Eigen::VectorXd& step,
-                   double E0, double scale, Eigen::VectorXd& x, CertifiedPoint& point, Counts& counts) const {
+  bool line_search(const Motions& motion, const Eigen::VectorXd& grad, const Eigen::VectorXd& step,
+                   double E0, double scale, Eigen::VectorXd& x, CertifiedPoint& point, Counts& counts,
+                   int backtracks = max_backtracks) const {
     double t = 1.0;
-    for (int bt = 0; bt <= max_backtracks; ++bt, t *= 0.5) {
+    for (int bt = 0; bt <= backtracks; ++bt, t *= 0.5) {
       Eigen::VectorXd xt = x + t * step;
+      for (std::size_t k = 0; k < groups_.size(); ++k) {
+        const Group& g = groups_[k];
+        const Eigen::Vector2d y = group_trial(motion.group[k], Eigen::Vector2d(step(g.row1), step(g.row2)), t);
+        xt(g.row1) = y(0) + coordinates_[static_cast<std::size_t>(g.first)].origin;
+        xt(g.row2) = y(1) + coordinates_[static_cast<std::size_t>(g.second)].origin;
+      }
       for (std::size_t k = 0; k < coordinates_.size(); ++k) {
         const Coordinate& c = coordinates_[k];
-        const Motion& mk = motion[k];
+        const Motion& mk = motion.coordinate[k];
+        if (c.group >= 0) continue;
         if (mk.held)
           xt(c.row) = x(c.row);
         else if (mk.pushed && t == 1.0)
@@ -320,7 +383,9 @@ class FullSpaceNewton {
                         ? MinimizerStatus::converged
                         : (status == MinimizerStatus::converged ? MinimizerStatus::stalled : status);
     const std::string summary = std::to_string(st.newton_iterations) + " Newton iterations, " +
-                                std::to_string(st.krylov_iterations) + " " + engine + " iterations";
+                                std::to_string(st.krylov_iterations) + " " + engine + " iterations" +
+                                (counts.gradient_steps > 0 ? ", " + std::to_string(counts.gradient_steps) + " gradient steps"
+                                                           : std::string());
     result.message =
         result.converged() ? summary : (why.empty() ? "the iteration limit was reached" : why) + "; " + summary;
     result.timings["total"] = since(t0);
@@ -333,18 +398,24 @@ class FullSpaceNewton {
   // and every other unknown from (A + diag(w j''))_FF d_F = -grad_F - A_FE d_E by CG, to a
   // tolerance that follows the certificate's residual `worst`; with `clip` the negative
   // curvatures are left out.
-  NewtonOutcome newton_step(KrylovSolver& krylov, const KrylovHints& hints, const std::vector<Motion>& motion,
+  NewtonOutcome newton_step(KrylovSolver& krylov, const KrylovHints& hints, const Motions& motion,
                             const Eigen::VectorXd& r, bool clip, double worst, FullSpaceStatistics& st,
                             SystemCache& cache, Eigen::VectorXd* step) const {
     const Eigen::Index n = A_.rows();
     Eigen::VectorXd rhs = -r;
-    Eigen::VectorXd d = Eigen::VectorXd::Zero(n);
+    Eigen::VectorXd d = Eigen::VectorXd::Zero(n);  // in the groups' frames
     std::vector<char> eliminated(static_cast<std::size_t>(n), 0);
     for (int row : tied_) eliminated[static_cast<std::size_t>(row)] = 1;
     Eigen::VectorXd shift = Eigen::VectorXd::Zero(n);
+    Eigen::VectorXd frames(2 * static_cast<Eigen::Index>(groups_.size()));
+    for (std::size_t k = 0; k < groups_.size(); ++k) {
+      frames.segment<2>(2 * static_cast<Eigen::Index>(k)) = motion.group[k].e;
+      group_unknowns(groups_[k], motion.group[k], clip, eliminated, d, rhs, shift);
+    }
     for (std::size_t k = 0; k < coordinates_.size(); ++k) {
-      const Motion& mk = motion[k];
+      const Motion& mk = motion.coordinate[k];
       const int row = coordinates_[k].row;
+      if (coordinates_[k].group >= 0) continue;
       if (mk.held || mk.pushed) {
         eliminated[static_cast<std::size_t>(row)] = 1;
         d(row) = mk.held ? 0.0 : mk.step;
@@ -353,15 +424,20 @@ class FullSpaceNewton {
         shift(row) = clip ? std::max(0.0, mk.curvature) : mk.curvature;
       }
     }
-    const Eigen::VectorXd Ad = A_ * d;  // the prescribed steps' forces on the others
+    // the prescribed steps' forces on the others, in the groups' frames
+    Eigen::VectorXd Ad = d;
+    to_frame(Ad, motion, true);
+    Ad = A_ * Ad;
+    to_frame(Ad, motion);
     for (Eigen::Index i = 0; i < n; ++i) rhs(i) = eliminated[static_cast<std::size_t>(i)] ? d(i) : rhs(i) - Ad(i);
     auto tc = Clock::now();
-    if (eliminated != cache.eliminated || shift != cache.shift) {
+    if (eliminated != cache.eliminated || shift != cache.shift || frames != cache.frames) {
       SparseMatrix& H = cache.H;
       if (H.nonZeros() != A_.nonZeros() || H.rows() != n)
         H = A_;
       else
         std::copy(A_.valuePtr(), A_.valuePtr() + A_.nonZeros(), H.valuePtr());
+      rotate_groups(H, motion);
       for (int j = 0; j < H.outerSize(); ++j)
         for (SparseMatrix::InnerIterator e(H, j); e; ++e) {
           const bool ej = eliminated[static_cast<std::size_t>(j)], ei = eliminated[static_cast<std::size_t>(e.row())];
@@ -371,6 +447,7 @@ class FullSpaceNewton {
             e.valueRef() += shift(j);
         }
       KrylovHints system_hints(hints.near_null, hints.block_size);
+      to_frame(system_hints.near_null, motion);
       for (Eigen::Index i = 0; i < n && system_hints.near_null.cols() > 0; ++i)
         if (eliminated[static_cast<std::size_t>(i)]) system_hints.near_null.row(i).setZero();
       const FactorizationResult set_up = krylov.compute(H, system_hints);
@@ -384,6 +461,7 @@ class FullSpaceNewton {
                 set_up.status != FactorizationStatus::not_positive_definite};
       cache.eliminated = std::move(eliminated);
       cache.shift = std::move(shift);
+      cache.frames = std::move(frames);
     }
     const double rtol = std::clamp(worst * worst, krylov_floor, krylov_cap);
     *step = d;
@@ -391,6 +469,7 @@ class FullSpaceNewton {
     const KrylovSolveResult solved = krylov.solve(rhs, step, rtol, max_krylov_iterations);
     st.krylov_seconds += since(tc);
     st.krylov_iterations += solved.iterations;
+    to_frame(*step, motion, true);
     if (step->allFinite() && (solved.ok() || (solved.status == FactorizationStatus::numerical_failure &&
                                               solved.relative_residual < 1.0)))
       return {};
@@ -410,15 +489,66 @@ class FullSpaceNewton {
     result.history.push_back(rec);
   }
 
+  // A group's two unknowns in its frame (e, t), rows row1 and row2: each prescribed (eliminated,
+  // its step in d) or free with the right-hand side -grad and the law's curvature along it (its
+  // negative part left out with `clip`): stuck, both held; leaving 0 along e, t held; held on a
+  // kink in radius, e held; in its piece, both free; pinned onto a radius, e prescribed there
+  // (onto 0: both, the step -v).
+  static void group_unknowns(const Group& gr, const GroupMotion& g, bool clip, std::vector<char>& eliminated,
+                             Eigen::VectorXd& d, Eigen::VectorXd& rhs, Eigen::VectorXd& shift) {
+    using Mode = GroupMotion::Mode;
+    const auto prescribe = [&](int row, double value) {
+      eliminated[static_cast<std::size_t>(row)] = 1;
+      d(row) = value;
+    };
+    const auto moves = [&](int row, const Eigen::Vector2d& u, double curvature) {
+      rhs(row) = -g.grad.dot(u);
+      shift(row) = std::min(clip ? std::max(0.0, curvature) : curvature, 1e4 * gr.block.diagonal().maxCoeff());
+    };
+    const bool pinned = !std::isnan(g.pin);
+    switch (g.mode) {
+      case Mode::stuck:
+        prescribe(gr.row1, 0.0);
+        prescribe(gr.row2, 0.0);
+        break;
+      case Mode::ray:
+        if (pinned)
+          prescribe(gr.row1, g.pin);
+        else
+          moves(gr.row1, g.e, g.radial_curvature);
+        prescribe(gr.row2, 0.0);
+        break;
+      case Mode::held:
+        prescribe(gr.row1, 0.0);
+        moves(gr.row2, g.t, g.tangential_curvature);
+        break;
+      case Mode::plane:
+        if (!pinned) {
+          moves(gr.row1, g.e, g.radial_curvature);
+          moves(gr.row2, g.t, g.tangential_curvature);
+        } else if (g.pin == 0.0) {
+          prescribe(gr.row1, -g.r);
+          prescribe(gr.row2, 0.0);
+        } else {
+          prescribe(gr.row1, g.pin - g.r);
+          moves(gr.row2, g.t, g.tangential_curvature);
+        }
+        break;
+    }
+  }
+
   // Per coordinate: held on its knot, or moving within its piece box on the side of descent,
   // with the derivative and the curvature of E there; then the epsilon-active ones pushed onto
   // the knot they move against.
-  std::vector<Motion> classify(const Eigen::VectorXd& x, const Eigen::VectorXd& r) const {
-    std::vector<Motion> motion(coordinates_.size());
+  Motions classify(const Eigen::VectorXd& x, const Eigen::VectorXd& r) const {
+    Motions motions;
+    std::vector<Motion>& motion = motions.coordinate;
+    motion.resize(coordinates_.size());
     double eps = 0.0;
     for (std::size_t k = 0; k < coordinates_.size(); ++k) {
       const Coordinate& c = coordinates_[k];
       Motion& mk = motion[k];
+      if (c.group >= 0) continue;
       const double a = x(c.row) - c.origin, g = r(c.row);
       const double up = g + c.w * c.law->derivative(LawPart::j, a, +1);
       const double down = g + c.w * c.law->derivative(LawPart::j, a, -1);
@@ -443,10 +573,19 @@ class FullSpaceNewton {
       const double trial = diag > 0.0 ? std::clamp(a - mk.grad / diag, mk.lo, mk.hi) : a;
       eps = std::max(eps, std::abs(trial - a));
     }
+    for (const Group& gr : groups_) {
+      const Coordinate &c1 = coordinates_[static_cast<std::size_t>(gr.first)], &c2 = coordinates_[static_cast<std::size_t>(gr.second)];
+      const GroupMotion& g = motions.group.emplace_back(
+          group_motion(*c1.law, c1.w, Eigen::Vector2d(x(gr.row1) - c1.origin, x(gr.row2) - c2.origin),
+                       Eigen::Vector2d(r(gr.row1), r(gr.row2)), gr.block));
+      if (g.mode != GroupMotion::Mode::stuck)
+        eps = std::max(eps, (group_trial(g, -g.grad / g.scale, 1.0) - g.v).norm());
+    }
+    for (GroupMotion& g : motions.group) pin_group(g, eps);
     for (std::size_t k = 0; k < coordinates_.size(); ++k) {
       const Coordinate& c = coordinates_[k];
       Motion& mk = motion[k];
-      if (mk.held) continue;
+      if (mk.held || c.group >= 0) continue;
       const double a = x(c.row) - c.origin;
       if (mk.grad > 0.0 && std::isfinite(mk.lo) && a - mk.lo <= eps) {
         mk.pushed = true;
@@ -456,7 +595,81 @@ class FullSpaceNewton {
         mk.step = mk.hi - a;
       }
     }
-    return motion;
+    return motions;
+  }
+
+  // The groups' rows and blocks, and where their pairs of entries lie in A's values.
+  void find_groups() {
+    if (p_.groups.empty()) return;
+    if (!A_.isCompressed()) throw InternalError("the full-space route needs a compressed matrix");
+    std::vector<int> group_of_row(static_cast<std::size_t>(A_.rows()), -1);
+    for (const CoordinateGroup& cg : p_.groups) {
+      Group g;
+      g.first = static_cast<int>(cg.first);
+      g.second = static_cast<int>(cg.second);
+      g.row1 = coordinates_[static_cast<std::size_t>(g.first)].row;
+      g.row2 = coordinates_[static_cast<std::size_t>(g.second)].row;
+      g.block << A_.coeff(g.row1, g.row1), A_.coeff(g.row1, g.row2), A_.coeff(g.row2, g.row1), A_.coeff(g.row2, g.row2);
+      coordinates_[static_cast<std::size_t>(g.first)].group = coordinates_[static_cast<std::size_t>(g.second)].group =
+          static_cast<int>(groups_.size());
+      group_of_row[static_cast<std::size_t>(g.row1)] = group_of_row[static_cast<std::size_t>(g.row2)] =
+          static_cast<int>(groups_.size());
+      groups_.push_back(std::move(g));
+    }
+    const int* outer = A_.outerIndexPtr();
+    const int* inner = A_.innerIndexPtr();
+    std::vector<Eigen::Index> at1(groups_.size(), -1), at2(groups_.size(), -1);
+    for (Eigen::Index j = 0; j < A_.outerSize(); ++j) {
+      for (Eigen::Index i = outer[j]; i < outer[j + 1]; ++i)
+        if (const int g = group_of_row[static_cast<std::size_t>(inner[i])]; g >= 0)
+          (inner[i] == groups_[static_cast<std::size_t>(g)].row1 ? at1 : at2)[static_cast<std::size_t>(g)] = i;
+      for (Eigen::Index i = outer[j]; i < outer[j + 1]; ++i) {
+        const int g = group_of_row[static_cast<std::size_t>(inner[i])];
+        if (g < 0 || inner[i] != groups_[static_cast<std::size_t>(g)].row1) continue;
+        if (at2[static_cast<std::size_t>(g)] < 0) throw InternalError("a group's two rows do not share their pattern");
+        groups_[static_cast<std::size_t>(g)].in_columns.emplace_back(at1[static_cast<std::size_t>(g)], at2[static_cast<std::size_t>(g)]);
+        at1[static_cast<std::size_t>(g)] = at2[static_cast<std::size_t>(g)] = -1;
+      }
+    }
+    for (Group& g : groups_) {
+      const Eigen::Index n1 = outer[g.row1 + 1] - outer[g.row1];
+      if (n1 != outer[g.row2 + 1] - outer[g.row2] || static_cast<Eigen::Index>(g.in_columns.size()) != n1)
+        throw InternalError("a group's two rows do not share their pattern");
+      for (Eigen::Index q = 0; q < n1; ++q) {
+        if (inner[outer[g.row1] + q] != inner[outer[g.row2] + q])
+          throw InternalError("a group's two columns do not share their pattern");
+        g.columns.emplace_back(outer[g.row1] + q, outer[g.row2] + q);
+      }
+    }
+  }
+
+  // The rows of every group's two unknowns in the frame (e, t) of its motion (to_frame), or back
+  // (from_frame): the Newton system is solved in that frame, where a group's constrained
+  // directions are single unknowns.
+  template <class M>
+  void to_frame(M& m, const Motions& motions, bool back = false) const {
+    for (std::size_t k = 0; k < groups_.size(); ++k) {
+      const GroupMotion& g = motions.group[k];
+      const Eigen::Vector2d e = g.e, t = g.t;
+      for (Eigen::Index c = 0; c < m.cols(); ++c) {
+        const double a = m(groups_[k].row1, c), b = m(groups_[k].row2, c);
+        m(groups_[k].row1, c) = back ? e(0) * a + t(0) * b : e(0) * a + e(1) * b;
+        m(groups_[k].row2, c) = back ? e(1) * a + t(1) * b : t(0) * a + t(1) * b;
+      }
+    }
+  }
+  // H's values R^T H R for each group's rotation R = [e t] (H has A's storage).
+  void rotate_groups(SparseMatrix& H, const Motions& motions) const {
+    double* v = H.valuePtr();
+    for (std::size_t k = 0; k < groups_.size(); ++k) {
+      const Eigen::Vector2d e = motions.group[k].e, t = motions.group[k].t;
+      for (const auto* pairs : {&groups_[k].in_columns, &groups_[k].columns})
+        for (const auto& [i, j] : *pairs) {
+          const double a = v[i], b = v[j];
+          v[i] = e(0) * a + e(1) * b;
+          v[j] = t(0) * a + t(1) * b;
+        }
+    }
   }
 
   const ReducedProblem& p_;
@@ -467,6 +680,7 @@ class FullSpaceNewton {
   Eigen::VectorXd stiffness_, load_;
   std::vector<char> is_coordinate_;  // 1: a coordinate's row, 2: a tied row
   std::vector<int> tied_;
+  std::vector<Group> groups_;
 };
 
 }  // namespace

@@ -48,8 +48,9 @@ CertifiedPoint certify_full_space(const Condensation& posed, const Eigen::Vector
 /// unknowns' node blocks). `krylov` is left computed on a matrix of this call only: compute() it
 /// again before another solve().
 /// Returns the minimizer's report at the point it ends on (a, the forces and the certificate;
-/// objective E there) and leaves that point in *x. InputError for a problem with groups of
-/// coordinates (a solid's isotropic friction), which this route does not take.
+/// objective E there) and leaves that point in *x. Groups of coordinates (a solid's isotropic
+/// friction) move as the ssn engine moves them (hemivem/group_motion.hpp), each Newton system
+/// solved with a group's two unknowns in the frame of its motion.
 MinimizerResult minimize_full_space(const Condensation& posed, KrylovSolver& krylov, const KrylovHints& hints,
                                     const MinimizerOptions& options, Eigen::VectorXd* x,
                                     FullSpaceStatistics* statistics = nullptr);
