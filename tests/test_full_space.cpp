@@ -1,5 +1,6 @@
 // The full-space route (hemivem/contact/full_space.hpp): the same problems as the condensed
 // route, the same answers, certified by the same certificate from the whole system's residual.
+#include <hemivem/app/solve.hpp>
 #include <hemivem/contact/contact3d.hpp>
 #include <hemivem/contact/full_space.hpp>
 #include <hemivem/contact/piecewise_law.hpp>
@@ -304,6 +305,71 @@ TEST(FullSpace, TheMemoryCheckTakesTheRoutesEstimate) {
   apply_overrides(scene, {"solver.linear=\"eigen-cg\""});
   EXPECT_EQ(test::input_error_of([&] { (void)build_problem<3>(scene); }), "");
   ::unsetenv("HEMIVEM_MEMORY_LIMIT");
+}
+
+}  // namespace
+
+namespace {
+
+// "auto" takes the full-space route exactly when the condensed route's estimate does not fit and
+// the route's does: with the first Krylov engine of the list given whose estimate fits, saying
+// why; a scene naming its engine, asking a global search or a reduced problem, or where nothing
+// fits, is left as it is.
+TEST(FullSpace, AutoTakesTheFullSpaceRouteWhereTheCondensedOneDoesNotFit) {
+  Scene scene = parse_scene(test::scenes_dir() / "example-4.1-3d.toml");
+  apply_overrides(scene, {"mesh.n=[40, 40, 40]"});
+  const MemoryEstimate condensed = estimate_memory_3d("cubes", 40, 40, 40);
+  const double cg = full_space_memory(condensed, full_space_cost(3, "cubes", "eigen-cg")).solve_bytes;
+  ASSERT_LT(cg, condensed.solve_bytes);
+  const std::vector<std::string> engines = {"eigen-cg"};
+  std::string why;
+  EXPECT_EQ(app::choose_route(scene, engines, false, &why).solver.linear, "auto") << "everything fits";
+  EXPECT_EQ(why, "");
+  const std::string between = std::to_string(static_cast<long long>(0.5 * (cg + condensed.solve_bytes)));
+  ::setenv("HEMIVEM_MEMORY_LIMIT", between.c_str(), 1);
+  EXPECT_EQ(app::choose_route(scene, engines, false, &why).solver.linear, "eigen-cg");
+  EXPECT_NE(why.find("solved on the full-space route with eigen-cg"), std::string::npos) << why;
+  EXPECT_EQ(app::choose_route(scene, engines, true).solver.linear, "auto") << "a reduced problem asked";
+  for (const std::string& o : {"solver.linear=\"cholmod\"", "solver.search=\"global\"", "solver.minimizer=\"bundle-dca\""}) {
+    Scene other = scene;
+    apply_overrides(other, {o});
+    EXPECT_EQ(app::choose_route(other, engines, false).solver.linear, other.solver.linear) << o;
+  }
+  const std::string below = std::to_string(static_cast<long long>(0.5 * cg));
+  ::setenv("HEMIVEM_MEMORY_LIMIT", below.c_str(), 1);
+  EXPECT_EQ(app::choose_route(scene, engines, false).solver.linear, "auto") << "nothing fits: the build refuses";
+  ::unsetenv("HEMIVEM_MEMORY_LIMIT");
+}
+
+// Through the command: Example 4.1 on 128 x 128 squares under a memory limit between the two
+// routes' estimates is solved on the full-space route, to the condensed route's displacement, with
+// a warning saying why; an engine named explicitly is refused as before.
+TEST(FullSpace, TheCommandsAutoSolvesWhatTheCondensedRouteCannotFit) {
+  const MemoryEstimate condensed = estimate_memory("squares", 128);
+  const double cg = full_space_memory(condensed, full_space_cost(2, "squares", "eigen-cg")).solve_bytes;
+  const std::filesystem::path reference = test::scratch("auto-reference");
+  const std::filesystem::path chosen = test::scratch("auto-chosen");
+  const std::string files = " --n 128 --set 'output.write=[\"result-json\", \"displacement-csv\"]' -q --out ";
+  ASSERT_EQ(test::run_hemivem("solve --linear eigen" + files + reference.string()).code, 0);
+  const std::string limit = std::to_string(static_cast<long long>(0.5 * (cg + condensed.solve_bytes)));
+  ::setenv("HEMIVEM_MEMORY_LIMIT", limit.c_str(), 1);
+  const test::CommandRun run = test::run_hemivem("solve" + files + chosen.string());
+  const test::CommandRun named = test::run_hemivem("solve --linear eigen" + files + test::scratch("auto-named").string());
+  ::unsetenv("HEMIVEM_MEMORY_LIMIT");
+  ASSERT_EQ(run.code, 0) << run.err;
+  const auto result = nlohmann::json::parse(test::slurp(chosen / "result.json"));
+  const std::string engine = result["backends"]["linear"];
+  EXPECT_TRUE(is_krylov_solver(engine)) << engine;
+  EXPECT_EQ(result["stages"][1], "posing");
+  EXPECT_NE(run.err.find("solved on the full-space route with " + engine), std::string::npos) << run.err;
+  EXPECT_NE(result["warnings"][0].get<std::string>().find("the condensed route would need"), std::string::npos);
+  const auto [largest, difference] = displacement_difference(reference / "displacement.csv", chosen / "displacement.csv");
+  EXPECT_GT(largest, 0.0);
+  EXPECT_LE(difference, 1e-8 * largest);
+  EXPECT_EQ(named.code, 2) << "an engine named is the user's choice";
+  EXPECT_NE(named.err.find("the full-space route, which factorizes nothing"), std::string::npos) << named.err;
+  std::filesystem::remove_all(reference);
+  std::filesystem::remove_all(chosen);
 }
 
 }  // namespace

@@ -144,10 +144,15 @@ SceneSolveOptions plane_options(RunOptions& o) {
 
 }  // namespace
 
-SceneRun run_scene(const Scene& scene, RunOptions options) {
+SceneRun run_scene(const Scene& given, RunOptions options) {
   // OpenBLAS and OpenMP on one thread unless the environment asks otherwise: their idle threads
   // spin on the cores another process needs (docs/performance.md, "Threads")
   const SingleThreadedRun one_thread;
+  std::string route;  // why "auto" took the full-space route, when it did
+  const Scene scene = choose_route(given, options.krylov_engines, (options.reduced != nullptr && !options.reduced_optional) || options.mesh.has_value(), &route);
+  const auto noted = [&route](auto& solved) {
+    if (!route.empty()) solved.warnings.insert(solved.warnings.begin(), route);
+  };
   SceneRun run;
   run.scene_ = scene;
   run.kind_ = run_kind(scene);
@@ -165,6 +170,7 @@ SceneRun run_scene(const Scene& scene, RunOptions options) {
     } else {
       run.solid_ = std::make_unique<SceneSolve3D>(solve_scene_3d(scene, std::move(o)));
     }
+    noted(*run.solid_);
     return run;
   }
   SceneSolveOptions o = plane_options(options);
@@ -181,6 +187,7 @@ SceneRun run_scene(const Scene& scene, RunOptions options) {
       run.plane_ = std::make_unique<SceneSolve>(solve_scene(scene, std::move(o)));
       break;
   }
+  noted(*run.plane_);
   return run;
 }
 

@@ -76,8 +76,6 @@ std::vector<std::string> python_linear_engines() {
   return engines;
 }
 
-/// The Krylov engines built that Python runs: all but PETSc's, whose module starts MPI, which
-/// rewrites the process's environment behind the interpreter's own copy of it.
 std::vector<std::string> python_krylov_engines() {
   std::vector<std::string> engines;
   for (const std::string& name : available_krylov_solvers())

@@ -832,7 +832,7 @@ std::vector<std::string> keyword_overrides(const SolveKeywords& k, const py::kwa
 /// Solves the resolved scene of `d` without the GIL (app::run_scene, as `hemivem solve`),
 /// honouring Ctrl-C between stages; keeps the reduced problem when asked and the scene has
 /// contact.
-void solve_data(SolveData& d, const py::object& progress, bool keep_reduced,
+void solve_data(SolveData& d, const py::object& progress, bool keep_reduced, bool reduced_optional,
                 std::optional<std::variant<Mesh, Mesh3D>> mesh) {
   if (!progress.is_none() && !is_global_search(d.scene.solver.search, "solver.search"))
     throw InputError("only a global search (search='global') reports local runs", "progress");
@@ -847,8 +847,10 @@ void solve_data(SolveData& d, const py::object& progress, bool keep_reduced,
     o.callback = [&](const IterationRecord&) { return !watch.poll(); };
     o.reduced = keep_reduced ? &reduced : nullptr;
     o.reduced_key = "keep_reduced";
+    o.reduced_optional = reduced_optional;
     o.progress = search_progress(watch, progress);
     o.mesh = std::move(mesh);
+    o.krylov_engines = python_krylov_engines();
     d.run = app::run_scene(d.scene, std::move(o));
   } catch (const Interrupted&) {
   }
@@ -933,7 +935,7 @@ void register_solve_function(py::module_& m) {
         else if (!mesh.is_none())
           throw py::type_error("hemivem.solve: mesh must be a hemivem.Mesh or a hemivem.Mesh3D, not " +
                                py::str(mesh.get_type().attr("__name__")).cast<std::string>());
-        solve_data(*d, progress, keep_reduced, std::move(given));
+        solve_data(*d, progress, keep_reduced, !keep.has_value(), std::move(given));
         return d;
       },
       py::arg("scene") = py::none(), py::kw_only(), py::arg("linear") = py::none(), py::arg("minimizer") = py::none(),

@@ -55,3 +55,22 @@ def test_a_path_on_the_full_space_route_is_the_condensed_routes(coulomb_scene):
     result = json.loads(full.to_json())
     assert result["stages"][:3] == ["assembly", "posing", "path"]
     assert result["backends"]["linear"] == "eigen-cg"
+
+
+def test_auto_takes_the_full_space_route_where_the_condensed_one_does_not_fit(monkeypatch):
+    # Example 4.1 on 128 x 128 squares: an estimated 81 MiB on the condensed route, 70 MiB on
+    # the full-space route with eigen-cg (the Krylov engine Python runs)
+    scene = hemivem.Scene.default()
+    scene.set("mesh.n", 128)
+    reference = hemivem.solve(scene, linear="eigen")
+    monkeypatch.setenv("HEMIVEM_MEMORY_LIMIT", "75M")
+    chosen = hemivem.solve(scene)
+    with pytest.raises(hemivem.InputError, match="full-space route, which factorizes nothing"):
+        hemivem.solve(scene, linear="eigen")
+    monkeypatch.delenv("HEMIVEM_MEMORY_LIMIT")
+    result = json.loads(chosen.to_json())
+    assert result["backends"]["linear"] == "eigen-cg"
+    assert "solved on the full-space route with eigen-cg" in result["warnings"][0]
+    assert chosen.reduced is None
+    u0, u1 = np.asarray(reference.displacement), np.asarray(chosen.displacement)
+    assert np.max(np.abs(u1 - u0)) <= 1e-8 * np.max(np.abs(u0))

@@ -59,6 +59,9 @@ struct RunOptions {
   /// `reduced_key`) for a path or an adaptive sequence, which have no one reduced problem.
   ReducedProblem* reduced = nullptr;
   std::string reduced_key = "reduced";
+  /// The reduced problem is wanted where the route has one only (Python's default): "auto" may
+  /// still take the full-space route (choose_route), which leaves `reduced` untouched.
+  bool reduced_optional = false;
   /// Reports the runs of a global search.
   std::function<void(const GlobalSearchProgress&)> progress;
   /// Called after each step of a path, plane or solid (the step, the number of steps and the
@@ -77,6 +80,9 @@ struct RunOptions {
   /// last step, so that its memory does not grow with its steps; SceneRun::write must then be
   /// given this folder and no list of files. Empty: a path keeps its steps until written.
   std::filesystem::path out;
+  /// The Krylov engines solver.linear = "auto" may choose when the condensed route does not fit
+  /// in memory (choose_route), in order of preference; empty: every one built.
+  std::vector<std::string> krylov_engines;
 };
 
 /// A scene solved: the solve of a plane or a solid body, the steps of its path or of its
