@@ -4,6 +4,7 @@
 #include <hemivem/contact/piecewise_law.hpp>
 #include <hemivem/contact/problem.hpp>
 #include <hemivem/contact/solver.hpp>
+#include <hemivem/krylov_solver.hpp>
 #include <hemivem/linear_backends.hpp>
 #include <hemivem/mesh/generators.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
@@ -34,6 +35,14 @@ ContactProblem example(const Mesh& mesh, double tx = 0.0) {
 }
 
 double max_abs(const Eigen::VectorXd& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; }
+
+// The path on the condensed route (eigen) or on the full-space route (eigen-cg).
+PathSolution on_route(bool full_space, ContactProblem& problem, const NonsmoothMinimizer& minimizer,
+                      const PathLoading& loading, const PathOptions& options = {},
+                      const std::string& factorization = "eigen") {
+  return full_space ? solve_path(problem, make_krylov_solver("eigen-cg"), minimizer, loading, options)
+                    : solve_path(problem, engine(factorization), minimizer, loading, options);
+}
 
 std::vector<double> factors(int K) {
   std::vector<double> t;
@@ -447,8 +456,9 @@ TEST(Path, ALoadOutsideTheSpanOfThoseKeptIsCondensedAtItsStep) {
 }
 
 // A moving obstacle changes the gaps of every step (Condensation::set_gaps); each step must be
-// the static problem with the obstacle where the step puts it. With the law's origin on the
-// obstacle's surface the condensed load shifts with the gaps too.
+// the static problem with the obstacle where the step puts it, on either route. With the law's
+// origin on the obstacle's surface the condensed load (the full-space route: the coordinates'
+// origin) shifts with the gaps too.
 TEST(Path, AMovingObstacleGivesTheStaticSolveAtEveryStep) {
   for (const std::string origin : {"body", "surface"}) {
     SCOPED_TRACE(origin);
@@ -463,29 +473,33 @@ TEST(Path, AMovingObstacleGivesTheStaticSolveAtEveryStep) {
     };
     const Scene moving = parse_scene_string(scene_text(1.005, true), "moving.toml");
     ASSERT_FALSE(scene_is_proportional(moving));
-    auto built = build_problem(moving);
     const auto minimizer = make_minimizer("ssn");
     PathLoading loading{{0.5, 0.75, 1.0}, [&moving](double t, ContactProblem& p) { set_load_factor(moving, t, p); }};
     PathOptions options;
     options.frame = [](int) { return true; };
-    const PathSolution path = solve_path(built->problem, engine("cholmod"), *minimizer, loading, options);
-    for (const PathStep& s : path.steps) {
-      SCOPED_TRACE("t " + std::to_string(s.t));
-      ASSERT_TRUE(s.converged()) << s.message;
-      const Scene at_t = parse_scene_string(scene_text(1.005 - 0.02 * s.t, false), "static.toml");
-      auto b = build_problem(at_t);
-      const ContactSolution st = solve_contact(b->problem, engine(), *minimizer, MinimizerOptions{});
-      ASSERT_TRUE(st.converged());
-      EXPECT_GT(contact_zone(st).nodes, 0);
-      EXPECT_LE(max_abs(s.u - st.u), 1e-8 * max_abs(st.u));
-      EXPECT_NEAR(s.energy, st.energy, 1e-8 * std::abs(st.energy));
+    for (const bool full_space : {false, true}) {
+      SCOPED_TRACE(full_space ? "the full-space route" : "the condensed route");
+      auto built = build_problem(moving);
+      const PathSolution path = on_route(full_space, built->problem, *minimizer, loading, options, "cholmod");
+      for (const PathStep& s : path.steps) {
+        SCOPED_TRACE("t " + std::to_string(s.t));
+        ASSERT_TRUE(s.converged()) << s.message;
+        const Scene at_t = parse_scene_string(scene_text(1.005 - 0.02 * s.t, false), "static.toml");
+        auto b = build_problem(at_t);
+        const ContactSolution st = solve_contact(b->problem, engine(), *minimizer, MinimizerOptions{});
+        ASSERT_TRUE(st.converged());
+        EXPECT_GT(contact_zone(st).nodes, 0);
+        EXPECT_LE(max_abs(s.u - st.u), 1e-8 * max_abs(st.u));
+        EXPECT_NEAR(s.energy, st.energy, 1e-8 * std::abs(st.energy));
+      }
     }
   }
 }
 
 // A disk lowered through the top of the body: pressed in at the first step (the nodes under it
 // start inside it), then below the surface, where the rays out of the nodes above it miss it and
-// their gaps turn infinite. That step fails, naming the node, instead of dropping the contact.
+// their gaps turn infinite. That step fails, naming the node, instead of dropping the contact, on
+// either route.
 TEST(Path, AnObstacleMovedThroughTheBodyFailsItsStep) {
   const std::string text =
       "schema_version = 1\n[mesh]\nn = 20\ndomain = [-0.5, 0.5, -1.0, 0.0]\n"
@@ -493,21 +507,25 @@ TEST(Path, AnObstacleMovedThroughTheBodyFailsItsStep) {
       "[contact]\nside = \"top\"\nlaw = \"zero\"\nconstraint = \"one-sided\"\n"
       "[contact.obstacle]\nshape = \"circle\"\ncenter = [0.0, 0.105]\nradius = 0.1\nmotion = [0.0, -0.5]\n";
   const Scene scene = parse_scene_string(text, "through.toml");
-  auto built = build_problem(scene);
   const auto minimizer = make_minimizer("ssn");
   PathLoading loading{{0.02, 0.5, 1.0}, [&scene](double t, ContactProblem& p) { set_load_factor(scene, t, p); }};
-  const PathSolution path = solve_path(built->problem, engine(), *minimizer, loading);
-  ASSERT_EQ(path.steps.size(), 3u);
-  EXPECT_TRUE(path.steps[0].converged()) << path.steps[0].message;
-  EXPECT_GT(contact_zone(path.steps[0].contact).nodes, 0);
-  EXPECT_FALSE(path.steps[1].converged());
-  EXPECT_NE(path.steps[1].message.find("has moved through the body's surface at vertex"), std::string::npos)
-      << path.steps[1].message;
-  EXPECT_FALSE(path.converged());
-  EXPECT_NE(path.last.message.find("step 2 (t = 0.5) did not converge"), std::string::npos) << path.last.message;
+  for (const bool full_space : {false, true}) {
+    SCOPED_TRACE(full_space ? "the full-space route" : "the condensed route");
+    auto built = build_problem(scene);
+    const PathSolution path = on_route(full_space, built->problem, *minimizer, loading);
+    ASSERT_EQ(path.steps.size(), 3u);
+    EXPECT_TRUE(path.steps[0].converged()) << path.steps[0].message;
+    EXPECT_GT(contact_zone(path.steps[0].contact).nodes, 0);
+    EXPECT_FALSE(path.steps[1].converged());
+    EXPECT_NE(path.steps[1].message.find("has moved through the body's surface at vertex"), std::string::npos)
+        << path.steps[1].message;
+    EXPECT_FALSE(path.converged());
+    EXPECT_NE(path.last.message.find("step 2 (t = 0.5) did not converge"), std::string::npos) << path.last.message;
+  }
 }
 
-// Loaded and unloaded to exactly zero: the last step is the unloaded body, a = 0, certified.
+// Loaded and unloaded to exactly zero: the last step is the unloaded body, a = 0, certified, on
+// either route.
 TEST(Path, AStepWhoseLoadVanishesIsTheUnloadedBody) {
   const Mesh mesh = make_squares(8);
   const auto minimizer = make_minimizer("ssn");
@@ -518,11 +536,16 @@ TEST(Path, AStepWhoseLoadVanishesIsTheUnloadedBody) {
                           return Vec2(0.0, -8.0 * (1.0 - std::abs(2.0 * t - 1.0)));
                         };
                       }};
-  const PathSolution path = solve_path(p, engine(), *minimizer, loading);
-  ASSERT_EQ(path.steps.size(), 4u);
-  for (const PathStep& s : path.steps) EXPECT_TRUE(s.converged()) << "t " << s.t << ": " << s.message;
-  EXPECT_EQ(max_abs(path.steps.back().a), 0.0);
-  EXPECT_EQ(max_abs(path.last.u), 0.0);
+  for (const bool full_space : {false, true}) {
+    SCOPED_TRACE(full_space ? "the full-space route" : "the condensed route");
+    ContactProblem q = p;
+    const PathSolution path = on_route(full_space, q, *minimizer, loading);
+    ASSERT_EQ(path.steps.size(), 4u);
+    for (const PathStep& s : path.steps) EXPECT_TRUE(s.converged()) << "t " << s.t << ": " << s.message;
+    EXPECT_GT(max_abs(path.steps[1].a), 0.0);
+    EXPECT_EQ(max_abs(path.steps.back().a), 0.0);
+    EXPECT_EQ(max_abs(path.last.u), 0.0);
+  }
 }
 
 // An obstacle moving sideways: nodes near its ends start and stop facing it (their gaps turn

@@ -1,8 +1,9 @@
 // Loading paths on the full-space route (docs/full-space.md, docs/paths.md): every step of a path
 // solved in the whole space by Krylov solves is the step the condensed route finds (its contact
-// unknowns and displacement within 1e-8), with friction, Coulomb's fixed point, moving obstacles
-// and a load that vanishes; a step that fails fails the path; a minimizer other than the route's
-// own is refused by name.
+// unknowns and displacement within 1e-8), with friction and Coulomb's fixed point, in the plane
+// and in solids (a moving obstacle there); a minimizer other than the route's own is refused by
+// name. tests/test_path.cpp runs a moving obstacle against static solves, a failed step and a load
+// that vanishes on both routes.
 #include <hemivem/app/run.hpp>
 #include <hemivem/contact/piecewise_law.hpp>
 #include <hemivem/contact/problem.hpp>
@@ -28,11 +29,7 @@ using namespace hemivem;
 
 namespace {
 
-std::unique_ptr<SparseFactorization> factorization() {
-  FactorizationOptions fo;
-  fo.engine = "eigen";
-  return make_factorization(fo);
-}
+std::unique_ptr<SparseFactorization> factorization() { return make_factorization(FactorizationOptions{}); }
 
 double max_abs(const Eigen::VectorXd& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; }
 
@@ -47,6 +44,13 @@ ContactProblem example(const Mesh& mesh, double tx) {
   ContactProblem problem = example_4_1(mesh);
   for (auto& t : problem.elasticity.tractions) t.traction = [tx](const Vec2&) { return Vec2(tx, -8.0); };
   return problem;
+}
+
+// Coulomb's law of coefficient mu on the contact: Tresca's law of bound 1 scaled node by node.
+ContactProblem with_coulomb(ContactProblem p, double mu) {
+  p.parts[0].friction = tresca_law(1.0);
+  p.parts[0].friction_bound = FrictionBound{FrictionBound::Kind::coulomb, mu, {}};
+  return p;
 }
 
 // Each step of `full` is the step of `condensed`: converged both, the contact unknowns, the
@@ -115,10 +119,8 @@ TEST(FullSpacePath, EveryStepIsTheCondensedRoutesWithEveryKrylovEngine) {
 // bound runs on the full-space route as on the condensed one, to the same coupled certificate.
 TEST(FullSpacePath, CoulombsFixedPointFindsTheCondensedRoutesSteps) {
   const Mesh mesh = make_squares(10);
+  const ContactProblem p = with_coulomb(example(mesh, 0.0), 0.3);
   const auto ssn = make_minimizer("ssn");
-  ContactProblem p = example(mesh, 0.0);
-  p.parts[0].friction = tresca_law(1.0);
-  p.parts[0].friction_bound = FrictionBound{FrictionBound::Kind::coulomb, 0.3, {}};
   const PathLoading loading{{0.5, 1.0, 1.25, 1.5}, [](double t, ContactProblem& q) {
                               q.elasticity.tractions[0].traction = [t](const Vec2&) {
                                 return Vec2(4.0 * std::max(t - 1.0, 0.0), -8.0 * std::min(t, 1.0));
@@ -135,69 +137,6 @@ TEST(FullSpacePath, CoulombsFixedPointFindsTheCondensedRoutesSteps) {
   for (const auto& n : full.steps.back().contact) slipping += n.friction_state == FrictionState::slip ? 1 : 0;
   EXPECT_GT(slipping, 0);
   for (const auto& s : full.steps) EXPECT_TRUE(s.fixed_point.converged) << s.index;
-}
-
-// An obstacle lowered onto the top, its law acting from its surface (the coordinates' origin
-// moves with the gaps): every step on either route is the same.
-TEST(FullSpacePath, AMovingObstacleWithItsLawOnItsSurface) {
-  const std::string text =
-      "schema_version = 1\n[mesh]\nn = 12\ndomain = [-0.5, 0.5, -1.0, 0.0]\n"
-      "[material]\nE = 65.0\nnu = 0.29\n[clamped]\nside = \"bottom\"\n"
-      "[contact]\nside = \"top\"\nlaw = \"linear\"\nconstraint = \"one-sided\"\nlaw_origin = \"surface\"\n"
-      "[contact.obstacle]\nshape = \"circle\"\ncenter = [0.0, 1.005]\nradius = 1.0\nmotion = [0.0, -0.02]\n";
-  const Scene scene = parse_scene_string(text, "moving.toml");
-  const auto ssn = make_minimizer("ssn");
-  const PathLoading loading{{0.5, 0.75, 1.0}, [&scene](double t, ContactProblem& p) { set_load_factor(scene, t, p); }};
-  PathOptions options;
-  options.minimizer = tight();
-  options.frame = [](int) { return true; };
-  auto a = build_problem(scene);
-  auto b = build_problem(scene);
-  const PathSolution condensed = solve_path(a->problem, factorization(), *ssn, loading, options);
-  const PathSolution full = solve_path(b->problem, make_krylov_solver("eigen-cg"), *ssn, loading, options);
-  expect_same_steps(condensed, full, 1e-8);
-  EXPECT_GT(contact_zone(full.steps.back().contact).nodes, 0);
-}
-
-// A disk lowered through the top of the body: the step where it has passed through fails,
-// naming the node, and fails the path, on this route too.
-TEST(FullSpacePath, AnObstacleMovedThroughTheBodyFailsItsStep) {
-  const std::string text =
-      "schema_version = 1\n[mesh]\nn = 20\ndomain = [-0.5, 0.5, -1.0, 0.0]\n"
-      "[material]\nE = 65.0\nnu = 0.29\n[clamped]\nside = \"bottom\"\n"
-      "[contact]\nside = \"top\"\nlaw = \"zero\"\nconstraint = \"one-sided\"\n"
-      "[contact.obstacle]\nshape = \"circle\"\ncenter = [0.0, 0.105]\nradius = 0.1\nmotion = [0.0, -0.5]\n";
-  const Scene scene = parse_scene_string(text, "through.toml");
-  auto built = build_problem(scene);
-  const auto ssn = make_minimizer("ssn");
-  const PathLoading loading{{0.02, 0.5, 1.0}, [&scene](double t, ContactProblem& p) { set_load_factor(scene, t, p); }};
-  const PathSolution path = solve_path(built->problem, make_krylov_solver("eigen-cg"), *ssn, loading);
-  ASSERT_EQ(path.steps.size(), 3u);
-  EXPECT_TRUE(path.steps[0].converged()) << path.steps[0].message;
-  EXPECT_FALSE(path.steps[1].converged());
-  EXPECT_NE(path.steps[1].message.find("has moved through the body's surface at vertex"), std::string::npos)
-      << path.steps[1].message;
-  EXPECT_FALSE(path.converged());
-  EXPECT_NE(path.last.message.find("step 2 (t = 0.5) did not converge"), std::string::npos) << path.last.message;
-}
-
-// Loaded and unloaded to exactly zero: the last step is the unloaded body, exactly.
-TEST(FullSpacePath, AStepWhoseLoadVanishesIsTheUnloadedBody) {
-  const Mesh mesh = make_squares(8);
-  const auto ssn = make_minimizer("ssn");
-  ContactProblem p = example(mesh, 0.0);
-  p.parts[0].law = zero_law();
-  const PathLoading loading{{0.25, 0.5, 0.75, 1.0}, [](double t, ContactProblem& q) {
-                              q.elasticity.tractions[0].traction = [t](const Vec2&) {
-                                return Vec2(0.0, -8.0 * (1.0 - std::abs(2.0 * t - 1.0)));
-                              };
-                            }};
-  const PathSolution path = solve_path(p, make_krylov_solver("eigen-cg"), *ssn, loading);
-  ASSERT_EQ(path.steps.size(), 4u);
-  for (const PathStep& s : path.steps) EXPECT_TRUE(s.converged()) << "t " << s.t << ": " << s.message;
-  EXPECT_GT(max_abs(path.steps[1].a), 0.0);
-  EXPECT_EQ(max_abs(path.steps.back().a), 0.0);
-  EXPECT_EQ(max_abs(path.last.u), 0.0);
 }
 
 TEST(FullSpacePath, AnotherMinimizerIsRefusedByName) {
