@@ -22,6 +22,10 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double armijo = 1e-4;
 constexpr int max_backtracks = 30;
 constexpr int max_gradient_backtracks = 80;
+/// A group's curvature in a Newton system, w j'/r across a slipping node (unbounded as it comes to
+/// rest), is taken at most this many times the group's stiffness: the system stays positive
+/// definite and CG's preconditioners (an incomplete Cholesky factor) conditioned.
+constexpr double max_group_curvature = 1e4;
 /// A change of E below this fraction of the sizes of its terms is its round-off.
 constexpr double energy_roundoff = 1e-12;
 /// The Krylov tolerance of a Newton system: the square of the certificate's worst residual
@@ -503,7 +507,8 @@ class FullSpaceNewton {
     };
     const auto moves = [&](int row, const Eigen::Vector2d& u, double curvature) {
       rhs(row) = -g.grad.dot(u);
-      shift(row) = std::min(clip ? std::max(0.0, curvature) : curvature, 1e4 * gr.block.diagonal().maxCoeff());
+      shift(row) = std::min(clip ? std::max(0.0, curvature) : curvature,
+                            max_group_curvature * gr.block.diagonal().maxCoeff());
     };
     const bool pinned = !std::isnan(g.pin);
     switch (g.mode) {
