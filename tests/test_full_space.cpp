@@ -355,6 +355,8 @@ TEST(FullSpace, AutoTakesTheFullSpaceRouteWhereTheCondensedOneDoesNotFit) {
   ASSERT_LT(cg, condensed.solve_bytes);
   const std::vector<std::string> engines = {"eigen-cg"};
   std::string why;
+  const std::string above = std::to_string(static_cast<long long>(2.0 * condensed.solve_bytes));
+  ::setenv("HEMIVEM_MEMORY_LIMIT", above.c_str(), 1);
   EXPECT_EQ(app::choose_route(scene, engines, false, &why).solver.linear, "auto") << "everything fits";
   EXPECT_EQ(why, "");
   const std::string between = std::to_string(static_cast<long long>(0.5 * (cg + condensed.solve_bytes)));

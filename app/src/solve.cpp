@@ -108,29 +108,21 @@ void refuse_path(const Scene& scene, const std::string& what) {
 
 Scene choose_route(const Scene& scene, const std::vector<std::string>& krylov_engines, bool as_given,
                    std::string* why) {
-  if (!same_engine(scene.solver.linear, "auto") || !scene.bodies.empty() || !scene.mesh.file.empty() || as_given ||
+  if (!same_engine(scene.solver.linear, "auto") || as_given || !scene.bodies.empty() ||
       scene.solver.search != "local" || !same_engine(scene.solver.minimizer, "ssn"))
     return scene;
-  const SceneMesh& m = scene.mesh;
-  MemoryEstimate condensed;
-  if (scene.dimension() == 3) {
-    const GridSize3 cells = m.cells3();
-    condensed = estimate_memory_3d(m.generator, cells.nx, cells.ny, cells.nz);
-  } else {
-    const GridSize cells = m.cells();
-    condensed = estimate_memory(m.generator, cells.nx, cells.ny);
-  }
+  const std::optional<MemoryEstimate> condensed = generated_mesh_memory(scene);
   const double available = available_memory();
-  if (condensed.solve_bytes <= available) return scene;
+  if (!condensed || condensed->solve_bytes <= available) return scene;
   for (const std::string& engine : krylov_engines.empty() ? available_krylov_solvers() : krylov_engines) {
     const double full =
-        full_space_memory(condensed, full_space_cost(scene.dimension(), m.generator, engine)).solve_bytes;
+        full_space_memory(*condensed, full_space_cost(scene.dimension(), scene.mesh.generator, engine)).solve_bytes;
     if (full > available) continue;
     Scene chosen = scene;
     chosen.solver.linear = engine;
     if (why)
       *why = "solver.linear = \"auto\": the condensed route would need an estimated " +
-             format_bytes(condensed.solve_bytes) + ", more than the " + format_bytes(available) +
+             format_bytes(condensed->solve_bytes) + ", more than the " + format_bytes(available) +
              " available; solved on the full-space route with " + engine + " (an estimated " + format_bytes(full) +
              ", nothing factorized; docs/full-space.md)";
     return chosen;

@@ -84,7 +84,7 @@ Mesh3D scene_mesh_3d(const Scene& scene) {
   const SceneMesh& m = scene.mesh;
   if (!m.file.empty()) return read_gmsh3d(m.file);
   const GridSize3 cells = m.cells3();
-  const MemoryEstimate condensed = estimate_memory_3d(m.generator, cells.nx, cells.ny, cells.nz);
+  const MemoryEstimate condensed = *generated_mesh_memory(scene);
   const std::string what = m.generator + " n = " + cells.text() + ": " + count_text(condensed.vertices) + " vertices";
   detail::require_route_memory(scene, condensed, what, scene.where("mesh.n"));
   const auto& b = m.box;

@@ -120,6 +120,17 @@ Scene bodies_together(const Scene& scene) {
 
 }  // namespace
 
+std::optional<MemoryEstimate> generated_mesh_memory(const Scene& scene) {
+  if (!scene.mesh.file.empty()) return std::nullopt;
+  const SceneMesh& m = scene.mesh;
+  if (scene.dimension() == 3) {
+    const GridSize3 cells = m.cells3();
+    return estimate_memory_3d(m.generator, cells.nx, cells.ny, cells.nz);
+  }
+  const GridSize cells = m.cells();
+  return estimate_memory(m.generator, cells.nx, cells.ny);
+}
+
 std::string scene_mesh_description(const Scene& scene) {
   if (scene.bodies.empty()) return scene.mesh.description();
   std::string text;
@@ -182,7 +193,7 @@ std::unique_ptr<BuiltProblem> detail::built_plane(const Scene& scene) {
   } else {
     const auto& d = scene.mesh.domain;
     const GridSize cells = scene.mesh.cells();
-    const MemoryEstimate condensed = estimate_memory(scene.mesh.generator, cells.nx, cells.ny);
+    const MemoryEstimate condensed = *generated_mesh_memory(scene);
     const std::string what =
         scene.mesh.generator + " n = " + cells.text() + ": " + detail::count_text(condensed.vertices) + " vertices";
     detail::require_route_memory(scene, condensed, what, scene.where("mesh.n"));

@@ -29,6 +29,7 @@
 #include <vector>
 
 #include <hemivem/contact/contact3d.hpp>
+#include <hemivem/scene/resources.hpp>
 #include <hemivem/contact/problem.hpp>
 #include <hemivem/support/names.hpp>
 #include <hemivem/vem/material.hpp>
@@ -357,6 +358,12 @@ bool operator==(const Scene& a, const Scene& b);
 /// How the scene's mesh is made, for reports: SceneMesh::description(), or for a scene of several
 /// bodies each body's ("upper: voronoi n=[5, 3]; lower: squares n=[7, 3]").
 std::string scene_mesh_description(const Scene& scene);
+
+/// The condensed route's memory estimate for the scene's generated mesh, before the mesh is made:
+/// estimate_memory (plane) or estimate_memory_3d (solid) of its generator and cells, the estimate
+/// the scene's build checks (of its own mesh: a scene of several bodies has one per body). None
+/// for a mesh read from a file (known once read).
+std::optional<MemoryEstimate> generated_mesh_memory(const Scene& scene);
 
 /// Body b of a scene of several as a scene of one body: its mesh, material, supports and loads,
 /// the scene's contact parts on that body (their sides and groups, without the body's name;
