@@ -142,6 +142,44 @@ TEST(FullSpace, TheCertificateRejectsAPointOffBalanceInTheInterior) {
   EXPECT_TRUE(certificate(condensed.reduced(), m.a, 1e-10).converged());
 }
 
+// A process's share of the rows (FullSpaceShare) in one process holding them all: the whole
+// problem, the same iteration to the last bit; a layout of other rows is refused.
+TEST(FullSpace, OneProcessHoldingEveryRowSolvesTheWholeProblemAlike) {
+  const Mesh mesh = make_squares(8);
+  const ContactProblem p = example_4_1(mesh);
+  const LinearSystem system = assemble(p.elasticity);
+  ContactSolver solver(p, system, factorization(), tight());
+  solver.prepare();
+  const Condensation posed(system, solver.boundary(), part_conditions(solver.parts()), Condensation::PoseOnly{});
+  auto krylov = make_krylov_solver("eigen-cg");
+  Eigen::VectorXd x;
+  const MinimizerResult whole = minimize_full_space(posed, *krylov, Eigen::MatrixXd(), tight(), &x);
+  ASSERT_TRUE(whole.converged()) << whole.message;
+  const Eigen::Index n = posed.rotated_matrix().rows();
+  const RowLayout layout = layout_of(posed, 0, n);
+  EXPECT_TRUE(layout.ghosts.empty());
+  const FullSpaceShare share = share_of(posed, layout);
+  ASSERT_EQ(share.coordinates.size(), posed.reduced().size());
+  const OneProcessRows rows(n);
+  KrylovHints hints(Eigen::MatrixXd(), 1);
+  hints.rows = &rows;
+  Eigen::VectorXd y;
+  const MinimizerResult shared = minimize_full_space(share, *krylov, hints, tight(), &y);
+  ASSERT_TRUE(shared.converged()) << shared.message;
+  EXPECT_EQ(y, x);
+  EXPECT_EQ(shared.a, whole.a);
+  EXPECT_EQ(shared.iterations, whole.iterations);
+  EXPECT_EQ(certify_full_space(share, rows, y, 1e-12).certificate.dual, certify_full_space(posed, x, 1e-12).certificate.dual);
+  // half the rows: the other half are its ghosts where its rows read them
+  const RowLayout half = layout_of(posed, 0, n / 2);
+  EXPECT_FALSE(half.ghosts.empty());
+  EXPECT_GE(half.ghosts.front(), n / 2);
+  EXPECT_EQ(share_of(posed, half).matrix.cols(), n / 2 + static_cast<Eigen::Index>(half.ghosts.size()));
+  RowLayout other = layout;
+  other.global = n + 1;
+  EXPECT_THROW(share_of(posed, other), InternalError);
+}
+
 TEST(FullSpace, AnotherMinimizerIsRefusedByName) {
   const Mesh mesh = make_squares(4);
   const ContactProblem p = example_4_1(mesh);

@@ -135,33 +135,37 @@ CertifiedPoint certify(const ReducedProblem& p, const Eigen::VectorXd& a, double
 
 CertifiedPoint certify(const ReducedProblem& p, const Eigen::VectorXd& a, double tol,
                        const std::function<SmoothGradient(const Eigen::VectorXd&)>& gradient,
-                       const Eigen::VectorXd& stiffness, const Eigen::VectorXd& load) {
+                       const Eigen::VectorXd& stiffness, const Eigen::VectorXd& load,
+                       const RowDistribution* processes) {
   check_tolerance(tol, "tolerance");
+  const OneProcessRows alone(0);
+  const RowDistribution& all = processes ? *processes : alone;
   CertifiedPoint out;
   out.certificate.tolerance = tol;
   const Eigen::Index n = p.size();
-  if (a.size() != n || !a.allFinite() || p.laws.empty() || !gradient || stiffness.size() != n || load.size() != n)
-    return out;
+  const bool unusable = a.size() != n || !a.allFinite() || (p.laws.empty() && (n > 0 || !processes)) || !gradient ||
+                        stiffness.size() != n || load.size() != n;
+  if (all.max(unusable ? 1.0 : 0.0) > 0.0) return out;
   out.a = a;
   out.law_force = Eigen::VectorXd::Zero(n);
   out.reaction = Eigen::VectorXd::Zero(n);
-  if (n == 0) {
+  if (all.sum(static_cast<double>(n)) == 0.0) {
     out.certificate.primal = out.certificate.dual = 0.0;
     out.certificate.length_scale = out.certificate.force_scale = 0.0;
     return out;
   }
-  const double ell = length_scale(p, a, stiffness, load);
+  const double ell = all.max(n == 0 ? 0.0 : length_scale(p, a, stiffness, load));
   // 2. snapping onto bounds and kinks (of each coordinate's law), a group's norm onto its law's
   std::vector<std::vector<double>> kinks_of(static_cast<std::size_t>(p.num_laws()));
   for (int k = 0; k < p.num_laws(); ++k) kinks_of[static_cast<std::size_t>(k)] = p.law_by_number(k).kinks();
   const double window = tol * ell;
   Eigen::VectorXd& x = out.a;
   const Eigen::VectorXi group_of = p.group_of();
-  const double primal = snap_coordinates(p, kinks_of, window, group_of, x);
+  const double primal = all.max(snap_coordinates(p, kinks_of, window, group_of, x));
   const std::vector<double> radius = snap_groups(p, kinks_of, window, x);
   // 3. forces
   const SmoothGradient grad = gradient(x);
-  if (grad.r.size() != n) return out;
+  if (all.max(grad.r.size() != n ? 1.0 : 0.0) > 0.0) return out;
   const Eigen::VectorXd& res = grad.r;
   double worst = std::isnan(grad.other) ? inf : grad.other, zeta_max = 0.0;
   for (std::size_t k = 0; k < p.groups.size(); ++k) {
@@ -183,7 +187,8 @@ CertifiedPoint certify(const ReducedProblem& p, const Eigen::VectorXd& a, double
     worst = std::max(worst, balance(res(i), law, reaction, &out.law_force(i), &out.reaction(i)));
     zeta_max = std::max(zeta_max, std::abs(out.law_force(i)));
   }
-  const double f = std::max({grad.force_size, zeta_max, force_floor});
+  worst = all.max(worst);
+  const double f = all.max(std::max({grad.force_size, zeta_max, force_floor}));
   // 4. the residuals (exactly zero stays zero, also where a scale vanishes)
   Certificate& c = out.certificate;
   c.length_scale = ell;

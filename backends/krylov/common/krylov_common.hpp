@@ -27,13 +27,23 @@ inline std::string scientific(double value) {
   return s.str();
 }
 
-/// Throws InternalError unless A is square, `hints.near_null` has A.rows() rows or no columns
-/// and `hints.block_size` is positive and divides A.rows().
+/// Throws InternalError unless A is square, `hints.near_null` has A.rows() rows or no columns,
+/// `hints.block_size` is positive and divides A.rows(), and `hints.rows`, when not null, are
+/// those of one process owning A's rows (the engine runs the system in one process).
 inline void check_compute_arguments(const std::string& engine, const SparseMatrix& A, const KrylovHints& hints) {
   const Eigen::MatrixXd& near_null = hints.near_null;
   if (A.rows() != A.cols())
     throw InternalError(engine + ": compute() needs a square matrix, not " + std::to_string(A.rows()) + " x " +
                         std::to_string(A.cols()));
+  if (const RowDistribution* rows = hints.rows) {
+    const RowLayout& layout = rows->layout();
+    if (rows->size() != 1 || layout.first != 0 || layout.owned != A.rows() || layout.global != A.rows() ||
+        !layout.ghosts.empty())
+      throw InternalError(engine + ": the rows of process " + std::to_string(rows->rank()) + " of " +
+                          std::to_string(rows->size()) + " (" + std::to_string(layout.owned) + " owned of " +
+                          std::to_string(layout.global) + ", " + std::to_string(layout.ghosts.size()) +
+                          " ghosts) for the whole matrix of " + std::to_string(A.rows()) + " rows in one process");
+  }
   if (near_null.cols() > 0 && near_null.rows() != A.rows())
     throw InternalError(engine + ": the near-null space has " + std::to_string(near_null.rows()) +
                         " rows for a matrix of " + std::to_string(A.rows()));

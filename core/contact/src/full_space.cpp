@@ -82,13 +82,38 @@ struct Group {
   std::vector<std::pair<Eigen::Index, Eigen::Index>> in_columns, columns;
 };
 
+/// What the iteration reads of a process's rows of a posed problem (FullSpaceShare, or the whole
+/// posed problem in one process, without a copy).
+struct ShareView {
+  const SparseMatrix& A;
+  const Eigen::VectorXd& b;
+  const ReducedProblem& coordinates;
+  std::vector<int> rows;  ///< each coordinate's row
+  const Eigen::VectorXd& origin;
+  std::vector<int> tied;
+};
+
+ShareView whole(const Condensation& posed, const ReducedProblem& coordinates, const Eigen::VectorXd& origin) {
+  if (coordinates.size() != posed.reduced().size())
+    throw InternalError("the full-space route needs the posed problem's coordinates");
+  std::vector<int> rows(static_cast<std::size_t>(coordinates.size()));
+  for (Eigen::Index k = 0; k < coordinates.size(); ++k) rows[static_cast<std::size_t>(k)] = posed.rotated_index(k);
+  return {posed.rotated_matrix(), posed.rotated_load(), coordinates, std::move(rows), origin, posed.tied_rows()};
+}
+
 class FullSpaceNewton {
  public:
-  FullSpaceNewton(const Condensation& posed, const ReducedProblem& coordinates, const Eigen::VectorXd& origin, double tol)
-      : p_(coordinates), A_(posed.rotated_matrix()), b_(posed.rotated_load()), tol_(tol) {
-    if (coordinates.size() != posed.reduced().size() || origin.size() != coordinates.size())
-      throw InternalError("the full-space route needs the posed problem's coordinates and an origin for each");
-    if (A_.rows() != b_.size() || A_.rows() == 0) throw InternalError("the full-space route needs a posed problem");
+  /// The rows of `view` on the processes `all` (one process: the whole system).
+  FullSpaceNewton(const ShareView& view, const RowDistribution& all, double tol)
+      : p_(view.coordinates), A_(view.A), b_(view.b), all_(all), tol_(tol) {
+    // every process decides alike, so that none is left waiting in a collective call
+    const bool unfit = view.rows.size() != static_cast<std::size_t>(p_.size()) || view.origin.size() != p_.size() ||
+                       A_.rows() != b_.size() || A_.rows() != all.layout().owned || A_.cols() != all.columns();
+    if (all.max(unfit ? 1.0 : 0.0) > 0.0 || all.sum(static_cast<double>(A_.rows())) == 0.0)
+      throw InternalError("the full-space route needs a posed problem distributed by its rows, with a row and an "
+                          "origin for each coordinate");
+    if (all.size() > 1 && all.max(p_.groups.empty() ? 0.0 : 1.0) > 0.0)
+      throw InputError("a solid's friction is solved on the full-space route in one process only", "processes");
     const Eigen::Index m = p_.size();
     coordinates_.resize(static_cast<std::size_t>(m));
     stiffness_.resize(m);
@@ -96,10 +121,10 @@ class FullSpaceNewton {
     is_coordinate_.assign(static_cast<std::size_t>(A_.rows()), 0);
     for (Eigen::Index k = 0; k < m; ++k) {
       Coordinate& c = coordinates_[static_cast<std::size_t>(k)];
-      c.row = posed.rotated_index(k);
+      c.row = view.rows[static_cast<std::size_t>(k)];
       c.lo = p_.lower(k);
       c.hi = p_.upper(k);
-      c.origin = origin(k);
+      c.origin = view.origin(k);
       c.w = p_.w(k);
       c.law = &p_.law_of(k);
       for (double b : {c.lo, c.hi})
@@ -112,7 +137,7 @@ class FullSpaceNewton {
       load_(k) = b_(c.row);
       is_coordinate_[static_cast<std::size_t>(c.row)] = 1;
     }
-    for (int row : posed.tied_rows()) {
+    for (int row : view.tied) {
       tied_.push_back(row);
       is_coordinate_[static_cast<std::size_t>(row)] = 2;
     }
@@ -129,22 +154,41 @@ class FullSpaceNewton {
     for (std::size_t k = 0; k < coordinates_.size(); ++k)
       x(coordinates_[k].row) = a(static_cast<Eigen::Index>(k)) + coordinates_[k].origin;
   }
+  /// A v of the owned entries v: the ghosts' entries from their owners first.
+  Eigen::VectorXd multiply(const Eigen::VectorXd& v) const {
+    if (all_.size() == 1) return A_ * v;  // every process decides alike: update_ghosts is collective
+    Eigen::VectorXd extended = Eigen::VectorXd::Zero(A_.cols());
+    extended.head(v.size()) = v;
+    all_.update_ghosts(extended);
+    return A_ * extended;
+  }
+  /// Flags of the owned rows, and of the ghosts from their owners.
+  std::vector<char> with_ghosts(const std::vector<char>& owned) const {
+    if (all_.size() == 1) return owned;
+    Eigen::VectorXd v = Eigen::VectorXd::Zero(A_.cols());
+    for (std::size_t i = 0; i < owned.size(); ++i) v(static_cast<Eigen::Index>(i)) = owned[i];
+    all_.update_ghosts(v);
+    std::vector<char> flags(static_cast<std::size_t>(v.size()));
+    for (Eigen::Index i = 0; i < v.size(); ++i) flags[static_cast<std::size_t>(i)] = v(i) != 0.0 ? 1 : 0;
+    return flags;
+  }
+
   /// The residual A x - b, 0 at the tied rows (their reactions).
   Eigen::VectorXd residual(const Eigen::VectorXd& x, Eigen::VectorXd* Ax = nullptr) const {
-    Eigen::VectorXd Axv = A_ * x;
+    Eigen::VectorXd Axv = multiply(x);
     Eigen::VectorXd r = Axv - b_;
     for (int row : tied_) r(row) = 0.0;
     if (Ax) *Ax = std::move(Axv);
     return r;
   }
   double energy(const Eigen::VectorXd& x, const Eigen::VectorXd& Ax, double* size = nullptr) const {
-    const double quadratic = 0.5 * x.dot(Ax), linear = b_.dot(x);
+    const double quadratic = all_.sum(0.5 * x.dot(Ax)), linear = all_.sum(b_.dot(x));
     const Eigen::VectorXd a = coordinates_of(x);
-    const double law = p_.law_energy(a, 0.0);
+    const double law = all_.sum(p_.law_energy(a, 0.0));
     if (size) {
-      double s = std::abs(quadratic) + std::abs(linear);
+      double s = 0.0;
       for (Eigen::Index k = 0; k < a.size(); ++k) s += std::abs(p_.w(k) * p_.law_of(k).value(a(k)));
-      *size = s;
+      *size = std::abs(quadratic) + std::abs(linear) + all_.sum(s);
     }
     return quadratic - linear + law;
   }
@@ -170,7 +214,7 @@ class FullSpaceNewton {
           g.force_size = std::max(bmax, axmax);
           return g;
         },
-        stiffness_, load_);
+        stiffness_, load_, all_.size() > 1 ? &all_ : nullptr);
   }
 
   MinimizerResult run(KrylovSolver& krylov, const KrylovHints& hints, const MinimizerOptions& options,
@@ -296,6 +340,7 @@ class FullSpaceNewton {
     for (const Motion& mk : motion.coordinate) concave = concave || (!mk.held && !mk.pushed && mk.curvature < 0.0);
     for (const GroupMotion& g : motion.group)
       concave = concave || (g.mode != GroupMotion::Mode::stuck && std::isnan(g.pin) && g.radial_curvature < 0.0);
+    concave = all_.max(concave ? 1.0 : 0.0) > 0.0;
     for (const bool clip : {false, true}) {
       if (clip && !concave) break;
       const NewtonOutcome o = newton_step(krylov, hints, motion, r, clip, worst, st, cache, step);
@@ -304,7 +349,7 @@ class FullSpaceNewton {
         if (o.fatal || clip || !concave) return false;
         continue;
       }
-      if (grad.dot(*step) < 0.0 || clip || !concave) {
+      if (all_.sum(grad.dot(*step)) < 0.0 || clip || !concave) {
         why->clear();
         return true;
       }
@@ -344,7 +389,7 @@ class FullSpaceNewton {
       residual(xt, &Axt);
       const double E1 = energy(xt, Axt);
       ++counts.functions;
-      const double predicted = grad.dot(xt - x);
+      const double predicted = all_.sum(grad.dot(xt - x));
       if (std::abs(E1 - E0) <= energy_roundoff * scale || std::abs(predicted) <= energy_roundoff * scale) {
         CertifiedPoint trial = certify(xt);
         ++counts.certificates;
@@ -368,7 +413,7 @@ class FullSpaceNewton {
   MinimizerResult finish(const std::string& engine, MinimizerStatus status, const std::string& why,
                          const CertifiedPoint& point, const Counts& counts, const FullSpaceStatistics& st,
                          Clock::time_point t0, Eigen::VectorXd* x_io, MinimizerResult result) const {
-    if (point.a.size() != p_.size())
+    if (all_.max(point.a.size() != p_.size() ? 1.0 : 0.0) > 0.0)
       throw NumericalError("the full-space iteration reached a point that is not finite" +
                            (why.empty() ? std::string() : ": " + why));
     put_coordinates(point.a, *x_io);
@@ -382,7 +427,7 @@ class FullSpaceNewton {
     result.iterations = st.newton_iterations;
     result.function_evaluations = counts.functions;
     result.subgradient_evaluations = counts.certificates;
-    result.may_be_nonunique = !p_.all_laws_convex();
+    result.may_be_nonunique = all_.max(p_.all_laws_convex() ? 0.0 : 1.0) > 0.0;
     result.status = point.certificate.converged()
                         ? MinimizerStatus::converged
                         : (status == MinimizerStatus::converged ? MinimizerStatus::stalled : status);
@@ -431,26 +476,29 @@ class FullSpaceNewton {
     // the prescribed steps' forces on the others, in the groups' frames
     Eigen::VectorXd Ad = d;
     to_frame(Ad, motion, true);
-    Ad = A_ * Ad;
+    Ad = multiply(Ad);
     to_frame(Ad, motion);
     for (Eigen::Index i = 0; i < n; ++i) rhs(i) = eliminated[static_cast<std::size_t>(i)] ? d(i) : rhs(i) - Ad(i);
     auto tc = Clock::now();
-    if (eliminated != cache.eliminated || shift != cache.shift || frames != cache.frames) {
+    const bool same_system = eliminated == cache.eliminated && shift == cache.shift && frames == cache.frames;
+    if (all_.min(same_system ? 1.0 : 0.0) == 0.0) {
       SparseMatrix& H = cache.H;
       if (H.nonZeros() != A_.nonZeros() || H.rows() != n)
         H = A_;
       else
         std::copy(A_.valuePtr(), A_.valuePtr() + A_.nonZeros(), H.valuePtr());
       rotate_groups(H, motion);
+      const std::vector<char> eliminated_column = with_ghosts(eliminated);
       for (int j = 0; j < H.outerSize(); ++j)
         for (SparseMatrix::InnerIterator e(H, j); e; ++e) {
-          const bool ej = eliminated[static_cast<std::size_t>(j)], ei = eliminated[static_cast<std::size_t>(e.row())];
+          const bool ej = eliminated_column[static_cast<std::size_t>(j)], ei = eliminated[static_cast<std::size_t>(e.row())];
           if (ei || ej)
             e.valueRef() = e.row() == j ? 1.0 : 0.0;
           else if (e.row() == j)
             e.valueRef() += shift(j);
         }
       KrylovHints system_hints(hints.near_null, hints.block_size);
+      system_hints.rows = all_.size() > 1 ? &all_ : hints.rows;
       to_frame(system_hints.near_null, motion);
       for (Eigen::Index i = 0; i < n && system_hints.near_null.cols() > 0; ++i)
         if (eliminated[static_cast<std::size_t>(i)]) system_hints.near_null.row(i).setZero();
@@ -474,7 +522,7 @@ class FullSpaceNewton {
     st.krylov_seconds += since(tc);
     st.krylov_iterations += solved.iterations;
     to_frame(*step, motion, true);
-    if (step->allFinite() && (solved.ok() || (solved.status == FactorizationStatus::numerical_failure &&
+    if (all_.min(step->allFinite() ? 1.0 : 0.0) > 0.0 && (solved.ok() || (solved.status == FactorizationStatus::numerical_failure &&
                                               solved.relative_residual < 1.0)))
       return {};
     return {"the Newton system's solve by " + krylov.name() + " failed (" + to_string(solved.status) +
@@ -488,7 +536,7 @@ class FullSpaceNewton {
     rec.objective = E;
     rec.primal = c.primal;
     rec.dual = c.dual;
-    rec.active = count_at_bound(p_, coordinates_of(x));
+    rec.active = static_cast<int>(all_.sum(count_at_bound(p_, coordinates_of(x))));
     rec.seconds = since(t0);
     result.history.push_back(rec);
   }
@@ -586,6 +634,7 @@ class FullSpaceNewton {
       if (g.mode != GroupMotion::Mode::stuck)
         eps = std::max(eps, (group_trial(g, -g.grad / g.scale, 1.0) - g.v).norm());
     }
+    eps = all_.max(eps);
     for (GroupMotion& g : motions.group) pin_group(g, eps);
     for (std::size_t k = 0; k < coordinates_.size(); ++k) {
       const Coordinate& c = coordinates_[k];
@@ -678,8 +727,9 @@ class FullSpaceNewton {
   }
 
   const ReducedProblem& p_;
-  const SparseMatrix& A_;
+  const SparseMatrix& A_;  ///< the owned rows, local columns (hemivem/row_distribution.hpp)
   const Eigen::VectorXd& b_;
+  const RowDistribution& all_;
   double tol_;
   std::vector<Coordinate> coordinates_;
   Eigen::VectorXd stiffness_, load_;
@@ -692,7 +742,8 @@ class FullSpaceNewton {
 
 CertifiedPoint certify_full_space(const Condensation& posed, const Eigen::VectorXd& x, double tol) {
   check_tolerance(tol, "tolerance");
-  return FullSpaceNewton(posed, posed.reduced(), posed.origin(), tol).certify(x);
+  const OneProcessRows alone(posed.rotated_matrix().rows());
+  return FullSpaceNewton(whole(posed, posed.reduced(), posed.origin()), alone, tol).certify(x);
 }
 
 MinimizerResult minimize_full_space(const Condensation& posed, KrylovSolver& krylov, const KrylovHints& hints,
@@ -701,13 +752,120 @@ MinimizerResult minimize_full_space(const Condensation& posed, KrylovSolver& kry
   return minimize_full_space(posed, posed.reduced(), posed.origin(), krylov, hints, options, x, statistics);
 }
 
+CertifiedPoint certify_full_space(const FullSpaceShare& share, const RowDistribution& rows, const Eigen::VectorXd& x,
+                                  double tol) {
+  check_tolerance(tol, "tolerance");
+  const ShareView view{share.matrix,          share.load,   share.coordinates,
+                       share.coordinate_rows, share.origin, share.tied_rows};
+  return FullSpaceNewton(view, rows, tol).certify(x);
+}
+
+namespace {
+
+MinimizerResult run_newton(const ShareView& view, KrylovSolver& krylov, const KrylovHints& hints,
+                           const MinimizerOptions& options, Eigen::VectorXd* x, FullSpaceStatistics* statistics) {
+  if (!x) throw InternalError("minimize_full_space needs a point to start from and return");
+  if (std::string why; !options.is_valid(&why)) throw InputError(why, "MinimizerOptions");
+  const OneProcessRows alone(view.A.rows());
+  const RowDistribution& all = hints.rows ? *hints.rows : alone;
+  return FullSpaceNewton(view, all, options.tolerance).run(krylov, hints, options, x, statistics);
+}
+
+}  // namespace
+
 MinimizerResult minimize_full_space(const Condensation& posed, const ReducedProblem& coordinates,
                                     const Eigen::VectorXd& origin, KrylovSolver& krylov, const KrylovHints& hints,
                                     const MinimizerOptions& options, Eigen::VectorXd* x,
                                     FullSpaceStatistics* statistics) {
-  if (!x) throw InternalError("minimize_full_space needs a point to start from and return");
-  if (std::string why; !options.is_valid(&why)) throw InputError(why, "MinimizerOptions");
-  return FullSpaceNewton(posed, coordinates, origin, options.tolerance).run(krylov, hints, options, x, statistics);
+  if (origin.size() != coordinates.size())
+    throw InternalError("the full-space route needs an origin for each coordinate");
+  return run_newton(whole(posed, coordinates, origin), krylov, hints, options, x, statistics);
+}
+
+RowLayout layout_of(const Condensation& posed, Eigen::Index first, Eigen::Index owned) {
+  const SparseMatrix& A = posed.rotated_matrix();
+  if (first < 0 || owned < 0 || first + owned > A.rows()) throw InternalError("rows outside the posed problem");
+  RowLayout layout;
+  layout.first = first;
+  layout.owned = owned;
+  layout.global = A.rows();
+  std::vector<char> read(static_cast<std::size_t>(A.rows()), 0);
+  for (Eigen::Index j = 0; j < A.outerSize(); ++j)  // A is symmetric: column j's rows are row j's columns
+    if (j < first || j >= first + owned)
+      for (SparseMatrix::InnerIterator e(A, j); e; ++e)
+        if (e.row() >= first && e.row() < first + owned) {
+          read[static_cast<std::size_t>(j)] = 1;
+          break;
+        }
+  for (Eigen::Index j = 0; j < A.rows(); ++j)
+    if (read[static_cast<std::size_t>(j)]) layout.ghosts.push_back(j);
+  return layout;
+}
+
+FullSpaceShare share_of(const Condensation& posed, const RowLayout& layout) {
+  const SparseMatrix& A = posed.rotated_matrix();
+  if (layout.global != A.rows() || layout.first < 0 || layout.first + layout.owned > A.rows())
+    throw InternalError("a layout of another problem's rows");
+  const Eigen::Index first = layout.first, owned = layout.owned;
+  // local column of each global one read
+  std::vector<int> local(static_cast<std::size_t>(A.rows()), -1);
+  for (Eigen::Index i = 0; i < owned; ++i) local[static_cast<std::size_t>(first + i)] = static_cast<int>(i);
+  for (std::size_t g = 0; g < layout.ghosts.size(); ++g)
+    local[static_cast<std::size_t>(layout.ghosts[g])] = static_cast<int>(owned + static_cast<Eigen::Index>(g));
+  std::vector<Eigen::Triplet<double>> entries;
+  for (Eigen::Index j = 0; j < A.outerSize(); ++j)
+    for (SparseMatrix::InnerIterator e(A, j); e; ++e)
+      if (e.row() >= first && e.row() < first + owned) {
+        const int c = local[static_cast<std::size_t>(j)];
+        if (c < 0) throw InternalError("a layout whose ghosts miss a column its rows read");
+        entries.emplace_back(static_cast<int>(e.row() - first), c, e.value());
+      }
+  FullSpaceShare share;
+  share.matrix.resize(owned, owned + static_cast<Eigen::Index>(layout.ghosts.size()));
+  share.matrix.setFromTriplets(entries.begin(), entries.end());
+  share.matrix.makeCompressed();
+  share.load = posed.rotated_load().segment(first, owned);
+  const ReducedProblem& p = posed.reduced();
+  std::vector<Eigen::Index> mine;
+  for (Eigen::Index k = 0; k < p.size(); ++k)
+    if (const int row = posed.rotated_index(k); row >= first && row < first + owned) mine.push_back(k);
+  const auto m = static_cast<Eigen::Index>(mine.size());
+  ReducedProblem& q = share.coordinates;
+  q.laws = p.laws;
+  q.c = Eigen::VectorXd::Zero(m);
+  q.w.resize(m);
+  q.law_index.resize(m);
+  q.lo.resize(m);
+  q.hi.resize(m);
+  share.origin.resize(m);
+  for (Eigen::Index i = 0; i < m; ++i) {
+    const Eigen::Index k = mine[static_cast<std::size_t>(i)];
+    q.w(i) = p.w(k);
+    q.law_index(i) = p.law_index(k);
+    q.lo(i) = p.lower(k);
+    q.hi(i) = p.upper(k);
+    share.origin(i) = posed.origin()(k);
+    share.coordinate_rows.push_back(posed.rotated_index(k) - static_cast<int>(first));
+    share.coordinate_numbers.push_back(k);
+  }
+  std::vector<Eigen::Index> in_share(static_cast<std::size_t>(p.size()), -1);
+  for (Eigen::Index i = 0; i < m; ++i) in_share[static_cast<std::size_t>(mine[static_cast<std::size_t>(i)])] = i;
+  for (const CoordinateGroup& g : p.groups) {
+    const Eigen::Index a = in_share[static_cast<std::size_t>(g.first)], b = in_share[static_cast<std::size_t>(g.second)];
+    if ((a < 0) != (b < 0)) throw InternalError("a layout that splits a group's two unknowns");
+    if (a >= 0) q.groups.push_back({a, b});
+  }
+  for (int row : posed.tied_rows())
+    if (row >= first && row < first + owned) share.tied_rows.push_back(row - static_cast<int>(first));
+  return share;
+}
+
+MinimizerResult minimize_full_space(const FullSpaceShare& share, KrylovSolver& krylov, const KrylovHints& hints,
+                                    const MinimizerOptions& options, Eigen::VectorXd* x,
+                                    FullSpaceStatistics* statistics) {
+  const ShareView view{share.matrix,          share.load,   share.coordinates,
+                       share.coordinate_rows, share.origin, share.tied_rows};
+  return run_newton(view, krylov, hints, options, x, statistics);
 }
 
 }  // namespace hemivem

@@ -36,6 +36,7 @@
 #include <string>
 
 #include <hemivem/reduced_problem.hpp>
+#include <hemivem/row_distribution.hpp>
 
 namespace hemivem {
 
@@ -110,8 +111,14 @@ struct SmoothGradient {
 /// ||D^-1 c||_inf from `stiffness` and `load` per coordinate (the diagonal of A and b there).
 /// With gradient(a) = {S a - c, 0, max(||c||, ||S a||)}, stiffness = diag(S) and load = c this
 /// is certify(p, a, tol) exactly.
+///
+/// With `processes` (a problem distributed over processes, hemivem/row_distribution.hpp) `p`, `a`,
+/// `stiffness` and `load` are this process's coordinates, `gradient` is collective, and the
+/// scales and residuals are the largest over the processes: every process returns the same
+/// certificate, of the whole problem. The call is then collective.
 CertifiedPoint certify(const ReducedProblem& p, const Eigen::VectorXd& a, double tol,
                        const std::function<SmoothGradient(const Eigen::VectorXd&)>& gradient,
-                       const Eigen::VectorXd& stiffness, const Eigen::VectorXd& load);
+                       const Eigen::VectorXd& stiffness, const Eigen::VectorXd& load,
+                       const RowDistribution* processes = nullptr);
 
 }  // namespace hemivem

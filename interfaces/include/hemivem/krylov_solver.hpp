@@ -28,6 +28,7 @@
 #include <utility>
 #include <vector>
 
+#include <hemivem/row_distribution.hpp>
 #include <hemivem/sparse_factorization.hpp>
 
 namespace hemivem {
@@ -50,6 +51,12 @@ struct KrylovHints {
   /// The unknowns come in consecutive groups of this many that belong to one node (the
   /// components of a displacement), so that multigrid can aggregate nodes; 1 when they do not.
   int block_size = 1;
+  /// Null: A is the whole matrix, in one process. Otherwise the system is distributed by these
+  /// rows (hemivem/row_distribution.hpp): A holds this process's owned rows with local column
+  /// numbers (its columns(): owned rows, then ghosts), and near_null, b and x hold the owned rows;
+  /// compute() and solve() are collective. An engine that runs in one process refuses more than
+  /// one process (InputError naming it).
+  const RowDistribution* rows = nullptr;
   KrylovHints(Eigen::MatrixXd near_null_space = {}, int node_block = 1)  // NOLINT: a near-null space alone converts
       : near_null(std::move(near_null_space)), block_size(node_block) {}
 };
@@ -77,6 +84,22 @@ const std::vector<std::string>& known_krylov_solvers();
 std::vector<std::string> available_krylov_solvers();
 /// True when `name` (case-insensitive, '_' as '-') is one of known_krylov_solvers().
 bool is_krylov_solver(const std::string& name);
+/// The processes of MPI_COMM_WORLD: this one's rank and their number, MPI initialized through the
+/// PETSc Krylov module when it is built (an MPI singleton when started without mpirun);
+/// {0, 1} without it. InputError when the module is built but cannot be loaded or PETSc cannot
+/// start.
+struct ProcessWorld {
+  int rank = 0;
+  int size = 1;
+};
+ProcessWorld krylov_world();
+/// Collective over krylov_world(): the distribution of `layout`'s rows over its processes, for the
+/// PETSc engines (KrylovHints::rows). Layouts must be consistent: ranges in the order of the
+/// ranks covering 0..global-1, ghosts owned by other processes; an inconsistent layout throws
+/// InternalError on every process (with the same message). In one process, OneProcessRows
+/// (without PETSc: only that, InputError otherwise).
+std::unique_ptr<RowDistribution> make_distributed_rows(RowLayout layout);
+
 /// The engine `name` ("auto": the first available); InputError naming the engine for one
 /// not known, or known and not built (with the list of those built).
 std::unique_ptr<KrylovSolver> make_krylov_solver(const std::string& name);

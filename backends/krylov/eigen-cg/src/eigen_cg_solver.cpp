@@ -1,3 +1,5 @@
+// EigenCgSolver (hemivem/eigen_cg_solver.hpp): Eigen's CG with the incomplete Cholesky or the
+// diagonal preconditioner, the true-residual restarts and the outcomes.
 #include <hemivem/eigen_cg_solver.hpp>
 
 #include <hemivem/error.hpp>
@@ -45,6 +47,11 @@ EigenCgSolver::~EigenCgSolver() = default;
 bool EigenCgSolver::uses_diagonal_preconditioner() const noexcept { return impl_->use_diagonal; }
 
 FactorizationResult EigenCgSolver::compute(const SparseMatrix& A, const KrylovHints& hints) {
+  if (hints.rows && hints.rows->size() > 1)
+    throw InputError("eigen-cg runs in one process; the system is distributed over " +
+                         std::to_string(hints.rows->size()) +
+                         " processes (the PETSc engines petsc-gamg and petsc-hypre run it there)",
+                     "krylov engine");
   krylov::check_compute_arguments(name(), A, hints);
   Impl& m = *impl_;
   m.computed = false;

@@ -1,3 +1,6 @@
+// The PETSc Krylov engines (hemivem/petsc_krylov_solver.hpp): the sequential path on a
+// MATSEQAIJ that reads A's arrays, the distributed path on a MATMPIAIJ made from a process's
+// owned rows (KrylovHints::rows), and the CG runs, restarts and outcomes both share.
 #include <hemivem/petsc_krylov_solver.hpp>
 
 #include <hemivem/error.hpp>
@@ -7,12 +10,14 @@
 #include <Eigen/QR>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <mutex>
+#include <cstdint>
+#include <numeric>
+#include <optional>
 #include <vector>
 
 #include "krylov_common.hpp"
+#include "petsc_support.hpp"
 
 namespace hemivem {
 
@@ -21,102 +26,8 @@ namespace {
 using krylov::kMaxRestarts;
 using krylov::scientific;
 
-/// "PETSc error <code> in <call>: <message>".
-std::string petsc_error(PetscErrorCode code, const char* call) {
-  const char* text = nullptr;
-  char* specific = nullptr;
-  PetscErrorMessage(static_cast<int>(code), &text, &specific);
-  std::string out = "PETSc error " + std::to_string(static_cast<int>(code)) + " in " + call;
-  if (text && *text) out += std::string(": ") + text;
-  if (specific && *specific) out += std::string(" (") + specific + ")";
-  return out;
-}
-
-/// Inside a function returning PetscErrorCode with a std::string* error: the call, and on
-/// failure its message in *error and its code returned.
-#define HEMIVEM_PETSC(call)                             \
-  do {                                                  \
-    const PetscErrorCode hemivem_code_ = (call);        \
-    if (hemivem_code_ != 0) {                           \
-      *error = petsc_error(hemivem_code_, #call);       \
-      return hemivem_code_;                             \
-    }                                                   \
-  } while (0)
-
-/// PETSc in this process: initialized once by the first object that needs it, finalized at
-/// program exit when hemivem initialized it, no object is left and MPI still runs.
-class PetscRuntime {
- public:
-  static PetscRuntime& instance() {
-    static PetscRuntime runtime;
-    return runtime;
-  }
-
-  /// Empty when PETSc runs; why it does not otherwise.
-  const std::string& start() {
-    std::call_once(once_, [this] {
-      PetscBool initialized = PETSC_FALSE;
-      if (PetscInitialized(&initialized) == 0 && initialized) return;  // the program's own PETSc
-      PetscBool finalized = PETSC_FALSE;
-      if (PetscFinalized(&finalized) == 0 && finalized) {
-        error_ = "PETSc was finalized in this process";
-        return;
-      }
-      // Before PetscInitialize: PETSc leaves the program's signal handlers alone.
-      PetscOptionsSetValue(nullptr, "-no_signal_handler", "true");
-      // GAMG's Galerkin products P^T A P by forming P^T: 40 % less time in its set-ups for about
-      // a quarter more memory at the peak of a solve (docs/full-space.md); PETSC_OPTIONS, read
-      // by PetscInitialize, may choose otherwise
-      PetscOptionsSetValue(nullptr, "-matptap_via", "rap");
-      const PetscErrorCode code = PetscInitializeNoArguments();
-      if (code != 0) {
-        error_ = "PetscInitialize failed with error " + std::to_string(static_cast<int>(code));
-        return;
-      }
-      owned_ = true;
-    });
-    return error_;
-  }
-
-  void attach() noexcept { ++live_; }
-  void detach() noexcept { --live_; }
-
-  /// True while PETSc objects may be created and destroyed.
-  static bool running() noexcept {
-    PetscBool initialized = PETSC_FALSE, finalized = PETSC_TRUE;
-    return PetscInitialized(&initialized) == 0 && initialized && PetscFinalized(&finalized) == 0 && !finalized;
-  }
-
-  ~PetscRuntime() {
-    if (!owned_ || live_.load() > 0 || !running()) return;
-    int mpi_finalized = 0;
-    if (MPI_Finalized(&mpi_finalized) != MPI_SUCCESS || mpi_finalized) return;
-    PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
-    PetscFinalize();
-  }
-
- private:
-  PetscRuntime() = default;
-
-  std::once_flag once_;
-  std::string error_;
-  bool owned_ = false;
-  std::atomic<int> live_{0};
-};
-
-/// PETSc's error handler is PetscReturnErrorHandler (nothing printed) while it lives.
-class QuietErrors {
- public:
-  QuietErrors() { pushed_ = PetscPushErrorHandler(PetscReturnErrorHandler, nullptr) == 0; }
-  ~QuietErrors() {
-    if (pushed_) PetscPopErrorHandler();
-  }
-  QuietErrors(const QuietErrors&) = delete;
-  QuietErrors& operator=(const QuietErrors&) = delete;
-
- private:
-  bool pushed_ = false;
-};
+using petsc::PetscRuntime;
+using petsc::QuietErrors;
 
 /// The orthonormal basis of the span of the columns of V (rank by a pivoted QR, columns whose
 /// pivot is below 1e-12 of the largest dropped).
@@ -127,6 +38,94 @@ Eigen::MatrixXd orthonormal_basis(const Eigen::MatrixXd& V) {
   Eigen::MatrixXd Q = Eigen::MatrixXd::Identity(V.rows(), rank);
   Q.applyOnTheLeft(qr.householderQ());
   return Q;
+}
+
+/// Collective over comm: the owned rows of an orthonormal basis of the span of the columns of
+/// the distributed V (each process's V holds its owned rows), as orthonormal_basis() finds it
+/// for the whole V: each process factors its rows V_p = Q_p R_p (Householder), every process
+/// gathers the stacked R_p and factors them by the same pivoted QR (threshold 1e-12), S P =
+/// Q_S R, whose rank is that of V; this process's rows of the basis are Q_p times its rows of
+/// Q_S. Every process finds the same rank.
+Eigen::MatrixXd distributed_orthonormal_basis(MPI_Comm comm, const Eigen::MatrixXd& V) {
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  const Eigen::Index n = V.rows(), k = V.cols(), m = std::min(n, k);
+  Eigen::HouseholderQR<Eigen::MatrixXd> local(V);
+  const RowMajor R = local.matrixQR().topRows(m).triangularView<Eigen::Upper>();
+  Eigen::MatrixXd Q_local = Eigen::MatrixXd::Identity(n, m);
+  if (n > 0 && m > 0) Q_local.applyOnTheLeft(local.householderQ());
+  const double my_rows = static_cast<double>(m);
+  const std::vector<double> rows = petsc::all_gather(comm, &my_rows, 1);
+  const std::vector<double> stacked = petsc::all_gather(comm, R.data(), static_cast<std::int64_t>(m * k));
+  const Eigen::Index total = static_cast<Eigen::Index>(stacked.size()) / std::max<Eigen::Index>(k, 1);
+  Eigen::Index offset = 0;
+  for (int r = 0; r < petsc::comm_rank(comm); ++r) offset += static_cast<Eigen::Index>(rows[static_cast<std::size_t>(r)]);
+  const Eigen::MatrixXd S = Eigen::Map<const RowMajor>(stacked.data(), total, k);
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(S);
+  qr.setThreshold(1e-12);
+  const Eigen::Index rank = qr.rank();
+  Eigen::MatrixXd Q_stacked = Eigen::MatrixXd::Identity(total, rank);
+  if (total > 0 && rank > 0) Q_stacked.applyOnTheLeft(qr.householderQ());
+  return Q_local * Q_stacked.middleRows(offset, m);
+}
+
+/// The global column of local column c of a process's rows (its owned rows, then its ghosts).
+Eigen::Index global_column(const RowLayout& layout, Eigen::Index c) {
+  return c < layout.owned ? layout.first + c : layout.ghosts[static_cast<std::size_t>(c - layout.owned)];
+}
+
+/// krylov::screen_matrix on a process's owned rows, its messages in global rows and columns.
+FactorizationResult screen_owned_rows(const SparseMatrix& A, const RowLayout& layout) {
+  for (Eigen::Index j = 0; j < A.outerSize(); ++j)
+    for (SparseMatrix::InnerIterator it(A, j); it; ++it)
+      if (!std::isfinite(it.value()))
+        return {FactorizationStatus::numerical_failure,
+                "the entry (" + std::to_string(layout.first + it.row()) + ", " +
+                    std::to_string(global_column(layout, it.col())) + ") is not finite"};
+  for (Eigen::Index i = 0; i < layout.owned; ++i) {
+    const double d = A.coeff(i, i);  // local column i: global row first + i
+    if (!(d > 0.0))
+      return {FactorizationStatus::not_positive_definite,
+              "the diagonal entry " + std::to_string(layout.first + i) + " is " + std::to_string(d) + " <= 0"};
+  }
+  return FactorizationResult::good();
+}
+
+/// What breaks the contract of compute() on a distributed system in this process's arguments
+/// (empty when nothing): A of the owned rows and the local columns, the near-null space of the
+/// owned rows, a block size dividing the owned rows, the rows of this world. Collective: the
+/// near-null space's columns and the block size must be the same on every process.
+std::string distributed_argument_problem(MPI_Comm comm, const std::string& engine, const SparseMatrix& A,
+                                         const KrylovHints& hints) {
+  const RowDistribution& rows = *hints.rows;
+  const RowLayout& layout = rows.layout();
+  const std::string sizes = std::to_string(layout.owned) + " owned rows and " + std::to_string(rows.columns()) +
+                            " local columns";
+  std::string problem;
+  if (rows.size() != petsc::comm_size(comm) || rows.rank() != petsc::comm_rank(comm))
+    problem = "the rows are those of process " + std::to_string(rows.rank()) + " of " + std::to_string(rows.size()) +
+              ", this is process " + std::to_string(petsc::comm_rank(comm)) + " of " +
+              std::to_string(petsc::comm_size(comm));
+  else if (A.rows() != layout.owned || A.cols() != rows.columns())
+    problem = "compute() needs the owned rows of the matrix in local columns (" + sizes + "), not " +
+              std::to_string(A.rows()) + " x " + std::to_string(A.cols());
+  else if (hints.near_null.cols() > 0 && hints.near_null.rows() != layout.owned)
+    problem = "the near-null space has " + std::to_string(hints.near_null.rows()) + " rows for " +
+              std::to_string(layout.owned) + " owned rows";
+  else if (hints.block_size < 1 || layout.owned % hints.block_size != 0)
+    problem = "a block size of " + std::to_string(hints.block_size) + " for " + std::to_string(layout.owned) +
+              " owned rows";
+  int mine[4] = {static_cast<int>(hints.near_null.cols()), -static_cast<int>(hints.near_null.cols()),
+                 hints.block_size, -hints.block_size};
+  int most[4] = {0, 0, 0, 0};
+  MPI_Allreduce(mine, most, 4, MPI_INT, MPI_MAX, comm);
+  if (problem.empty() && most[0] != -most[1])
+    problem = "the near-null space has " + std::to_string(hints.near_null.cols()) +
+              " columns here, between " + std::to_string(-most[1]) + " and " + std::to_string(most[0]) +
+              " on the processes";
+  if (problem.empty() && most[2] != -most[3])
+    problem = "the block size is " + std::to_string(hints.block_size) + " here, between " +
+              std::to_string(-most[3]) + " and " + std::to_string(most[2]) + " on the processes";
+  return problem.empty() ? problem : engine + ": " + problem;
 }
 
 }  // namespace
@@ -147,6 +146,23 @@ struct PetscKrylovSolver::Impl {
   const void* wrapped_indices = nullptr;
   std::size_t wrapped_pattern = 0;
 
+  /// The distributed path (KrylovHints::rows of several processes). PETSc's objects live on
+  /// `comm` (PETSC_COMM_WORLD; PETSC_COMM_SELF on the sequential path); the MATMPIAIJ holds a copy
+  /// of the owned rows, kept here in CSR with global columns increasing in each row, and
+  /// `csr_position` sends the k-th entry of A (in the order of its InnerIterator) to its place
+  /// in that copy.
+  MPI_Comm comm = PETSC_COMM_SELF;
+  bool distributed = false;
+  PetscInt first_row = 0;
+  std::vector<PetscInt> csr_starts, csr_columns;
+  std::vector<PetscScalar> csr_values;
+  std::vector<std::size_t> csr_position;
+  /// The arrays of the A the copy was made from and a checksum of its pattern and layout.
+  const void* source_values = nullptr;
+  const void* source_starts = nullptr;
+  const void* source_indices = nullptr;
+  std::size_t source_pattern = 0;
+
   /// A checksum of A's pattern (its size, column starts and row indices).
   static std::size_t pattern_checksum(const SparseMatrix& A) {
     std::size_t h = static_cast<std::size_t>(A.rows()) * 1000003u + static_cast<std::size_t>(A.nonZeros());
@@ -163,6 +179,83 @@ struct PetscKrylovSolver::Impl {
            static_cast<const void*>(A.valuePtr()) == wrapped_values &&
            static_cast<const void*>(A.outerIndexPtr()) == wrapped_starts &&
            static_cast<const void*>(A.innerIndexPtr()) == wrapped_indices && pattern_checksum(A) == wrapped_pattern;
+  }
+
+  /// A checksum of a process's rows: A's pattern and the layout.
+  static std::size_t layout_checksum(const SparseMatrix& A, const RowLayout& layout) {
+    std::size_t h = pattern_checksum(A);
+    auto mix = [&h](Eigen::Index v) { h = (h ^ static_cast<std::size_t>(v)) * 1099511628211ull; };
+    mix(layout.first);
+    mix(layout.owned);
+    mix(layout.global);
+    for (const Eigen::Index g : layout.ghosts) mix(g);
+    return h;
+  }
+
+  /// same_matrix() for this process's rows of a distributed system.
+  bool same_distributed_matrix(const SparseMatrix& A, const RowLayout& layout) const {
+    return computed && distributed && A.isCompressed() && A.rows() == size &&
+           static_cast<const void*>(A.valuePtr()) == source_values &&
+           static_cast<const void*>(A.outerIndexPtr()) == source_starts &&
+           static_cast<const void*>(A.innerIndexPtr()) == source_indices && layout_checksum(A, layout) == source_pattern;
+  }
+
+  /// The CSR copy of A's owned rows with global columns (the pattern and the values).
+  void copy_rows(const SparseMatrix& A, const RowLayout& layout) {
+    const auto owned = static_cast<std::size_t>(layout.owned);
+    csr_starts.assign(owned + 1, 0);
+    for (Eigen::Index j = 0; j < A.outerSize(); ++j)
+      for (SparseMatrix::InnerIterator it(A, j); it; ++it) ++csr_starts[static_cast<std::size_t>(it.row()) + 1];
+    std::partial_sum(csr_starts.begin(), csr_starts.end(), csr_starts.begin());
+    const auto entries = static_cast<std::size_t>(csr_starts.back());
+    // each row's entries as (global column, k), sorted by column
+    std::vector<std::pair<PetscInt, std::size_t>> row_entries(entries);
+    std::vector<PetscInt> next(csr_starts.begin(), csr_starts.end() - 1);
+    std::size_t k = 0;
+    for (Eigen::Index j = 0; j < A.outerSize(); ++j) {
+      const auto column = static_cast<PetscInt>(global_column(layout, j));
+      for (SparseMatrix::InnerIterator it(A, j); it; ++it)
+        row_entries[static_cast<std::size_t>(next[static_cast<std::size_t>(it.row())]++)] = {column, k++};
+    }
+    csr_columns.resize(entries);
+    csr_values.resize(entries);
+    csr_position.resize(entries);
+    for (std::size_t i = 0; i < owned; ++i) {
+      const auto begin = row_entries.begin() + csr_starts[i], end = row_entries.begin() + csr_starts[i + 1];
+      std::sort(begin, end);
+      for (auto e = begin; e != end; ++e) {
+        const auto place = static_cast<std::size_t>(e - row_entries.begin());
+        csr_columns[place] = e->first;
+        csr_position[e->second] = place;
+      }
+    }
+    copy_values(A);
+  }
+
+  /// A's values into the CSR copy (A's pattern that of copy_rows()).
+  void copy_values(const SparseMatrix& A) {
+    std::size_t k = 0;
+    for (Eigen::Index j = 0; j < A.outerSize(); ++j)
+      for (SparseMatrix::InnerIterator it(A, j); it; ++it) csr_values[csr_position[k++]] = it.value();
+  }
+
+  /// update_values() for a distributed system: the owned rows' new values set in the matrix
+  /// (MatSetValues row by row, then its assembly), the preconditioner set up again.
+  PetscErrorCode update_distributed_values(const SparseMatrix& A, std::string* error) {
+    copy_values(A);
+    for (PetscInt i = 0; i < size; ++i) {
+      const PetscInt row = first_row + i;
+      const PetscInt start = csr_starts[static_cast<std::size_t>(i)];
+      HEMIVEM_PETSC(MatSetValues(matrix, 1, &row, csr_starts[static_cast<std::size_t>(i) + 1] - start,
+                                 csr_columns.data() + start, csr_values.data() + start, INSERT_VALUES));
+    }
+    HEMIVEM_PETSC(MatAssemblyBegin(matrix, MAT_FINAL_ASSEMBLY));
+    HEMIVEM_PETSC(MatAssemblyEnd(matrix, MAT_FINAL_ASSEMBLY));
+    HEMIVEM_PETSC(MatSetOption(matrix, MAT_SYMMETRIC, PETSC_TRUE));
+    HEMIVEM_PETSC(KSPSetOperators(ksp, matrix, matrix));
+    HEMIVEM_PETSC(KSPSetUp(ksp));
+    reused = true;
+    return 0;
   }
 
   /// A's values changed in place: PETSc is told, and the preconditioner is set up again at the
@@ -191,6 +284,9 @@ struct PetscKrylovSolver::Impl {
   void release() {
     computed = false;
     wrapped_values = wrapped_starts = wrapped_indices = nullptr;
+    source_values = source_starts = source_indices = nullptr;
+    distributed = false;
+    comm = PETSC_COMM_SELF;
     if (!PetscRuntime::running()) {
       matrix = nullptr, ksp = nullptr, rhs = solution = residual = nullptr, options = nullptr;
       return;
@@ -204,15 +300,15 @@ struct PetscKrylovSolver::Impl {
     if (options) PetscOptionsDestroy(&options);
   }
 
-  /// The near-null space of the matrix (an orthonormal basis of the columns of `near_null`), for
-  /// GAMG's aggregates.
-  PetscErrorCode set_near_null_space(const Eigen::MatrixXd& near_null, std::string* error) {
-    const Eigen::MatrixXd Q = orthonormal_basis(near_null);
+  /// The near-null space of the matrix, for GAMG's aggregates: Q, an orthonormal basis of the
+  /// columns of the near-null space given (orthonormal_basis(), or on a distributed system
+  /// this process's rows of distributed_orthonormal_basis()).
+  PetscErrorCode set_near_null_space(const Eigen::MatrixXd& Q, std::string* error) {
     std::vector<Vec> vectors(static_cast<std::size_t>(Q.cols()), nullptr);
     PetscErrorCode code = 0;
     for (Eigen::Index k = 0; k < Q.cols() && code == 0; ++k) {
       Vec& v = vectors[static_cast<std::size_t>(k)];
-      code = VecCreateSeq(PETSC_COMM_SELF, size, &v);
+      code = distributed ? VecCreateMPI(comm, size, PETSC_DETERMINE, &v) : VecCreateSeq(PETSC_COMM_SELF, size, &v);
       PetscScalar* data = nullptr;
       if (code == 0) code = VecGetArray(v, &data);
       if (code == 0) {
@@ -221,14 +317,14 @@ struct PetscKrylovSolver::Impl {
       }
     }
     MatNullSpace space = nullptr;
-    if (code == 0) code = MatNullSpaceCreate(PETSC_COMM_SELF, PETSC_FALSE, static_cast<PetscInt>(Q.cols()),
-                                             vectors.data(), &space);
+    if (code == 0)
+      code = MatNullSpaceCreate(comm, PETSC_FALSE, static_cast<PetscInt>(Q.cols()), vectors.data(), &space);
     if (code == 0) code = MatSetNearNullSpace(matrix, space);
     if (space) MatNullSpaceDestroy(&space);
     for (Vec& v : vectors)
       if (v) VecDestroy(&v);
     if (code != 0) {
-      *error = petsc_error(code, "the near-null space (MatNullSpaceCreate, MatSetNearNullSpace)");
+      *error = petsc::error_message(code, "the near-null space (MatNullSpaceCreate, MatSetNearNullSpace)");
       return code;
     }
     return 0;
@@ -267,21 +363,125 @@ struct PetscKrylovSolver::Impl {
     HEMIVEM_PETSC(MatSetOption(matrix, MAT_SYMMETRIC, PETSC_TRUE));
 
     if (near_null.cols() > 0)
-      if (const PetscErrorCode code = set_near_null_space(near_null, error); code != 0) return code;
+      if (const PetscErrorCode code = set_near_null_space(orthonormal_basis(near_null), error); code != 0)
+        return code;
+    return make_vectors_and_ksp(near_null.cols(), error);
+  }
 
+  /// The end of a set-up, once the matrix and its near-null space (of `near_null_columns`) are
+  /// made: the vectors, the options and the KSP.
+  PetscErrorCode make_vectors_and_ksp(Eigen::Index near_null_columns, std::string* error) {
     HEMIVEM_PETSC(MatCreateVecs(matrix, &solution, &rhs));
     HEMIVEM_PETSC(VecDuplicate(rhs, &residual));
 
     HEMIVEM_PETSC(PetscOptionsCreate(&options));
-    if (preconditioner == Preconditioner::hypre && near_null.cols() == 6)
+    if (preconditioner == Preconditioner::hypre && near_null_columns == 6)
       HEMIVEM_PETSC(PetscOptionsSetValue(options, "-pc_hypre_boomeramg_strong_threshold", "0.5"));
     return make_ksp(error);
+  }
+
+  /// setup() for this process's rows of a distributed system: a MATMPIAIJ on PETSC_COMM_WORLD
+  /// made from the CSR copy of the owned rows (copy_rows()), of the block size given, its
+  /// near-null space made of MPI vectors, then the vectors and the KSP on PETSC_COMM_WORLD.
+  PetscErrorCode setup_distributed(const SparseMatrix& A, const KrylovHints& hints, std::string* error) {
+    const RowLayout& layout = hints.rows->layout();
+    comm = PETSC_COMM_WORLD;
+    distributed = true;
+    size = static_cast<PetscInt>(layout.owned);
+    first_row = static_cast<PetscInt>(layout.first);
+    const auto global = static_cast<PetscInt>(layout.global);
+    copy_rows(A, layout);
+    HEMIVEM_PETSC(MatCreate(comm, &matrix));
+    HEMIVEM_PETSC(MatSetSizes(matrix, size, size, global, global));
+    HEMIVEM_PETSC(MatSetType(matrix, MATMPIAIJ));
+    if (hints.block_size > 1) HEMIVEM_PETSC(MatSetBlockSize(matrix, static_cast<PetscInt>(hints.block_size)));
+    HEMIVEM_PETSC(MatMPIAIJSetPreallocationCSR(matrix, csr_starts.data(), csr_columns.data(), csr_values.data()));
+    HEMIVEM_PETSC(MatSetOption(matrix, MAT_SYMMETRIC, PETSC_TRUE));
+    // the values set again by update_distributed_values() are in the owned rows and the pattern
+    HEMIVEM_PETSC(MatSetOption(matrix, MAT_NO_OFF_PROC_ENTRIES, PETSC_TRUE));
+    HEMIVEM_PETSC(MatSetOption(matrix, MAT_NEW_NONZERO_LOCATION_ERR, PETSC_TRUE));
+    const bool compressed = A.isCompressed();
+    source_values = compressed ? static_cast<const void*>(A.valuePtr()) : nullptr;
+    source_starts = compressed ? static_cast<const void*>(A.outerIndexPtr()) : nullptr;
+    source_indices = compressed ? static_cast<const void*>(A.innerIndexPtr()) : nullptr;
+    source_pattern = compressed ? layout_checksum(A, layout) : 0;
+    const Eigen::MatrixXd& near_null = hints.near_null;
+    // collective (every process has as many columns: distributed_argument_problem())
+    if (near_null.cols() > 0)
+      if (const PetscErrorCode code = set_near_null_space(distributed_orthonormal_basis(comm, near_null), error);
+          code != 0)
+        return code;
+    return make_vectors_and_ksp(near_null.cols(), error);
+  }
+
+  /// compute() for this process's rows of a distributed system (hints.rows of several
+  /// processes). Every decision is the same on every process: the checks of the arguments
+  /// (InternalError on every process), whether the matrix is the last one with values changed
+  /// in place, the screening of the entries and the outcome of PETSc's set-up (the first
+  /// process's that failed, petsc::agreed()).
+  FactorizationResult compute_distributed(const SparseMatrix& A, const KrylovHints& hints) {
+    const std::string engine = name();
+    if (const std::string& why = PetscRuntime::instance().start(); !why.empty()) {
+      release();
+      return {FactorizationStatus::numerical_failure, engine + ": " + why};
+    }
+    if (!PetscRuntime::running()) {
+      release();
+      return {FactorizationStatus::numerical_failure, engine + ": PETSc is not running"};
+    }
+    const MPI_Comm world = PETSC_COMM_WORLD;
+    const int processes = petsc::comm_size(world);
+    if (const std::string broken = petsc::first_problem(world, distributed_argument_problem(world, engine, A, hints));
+        !broken.empty())
+      throw InternalError(broken);
+    const RowLayout& layout = hints.rows->layout();
+    const QuietErrors quiet;
+    const petsc::WithoutSequentialProducts mpi_products;
+    if (petsc::first_rank_where(world, !same_distributed_matrix(A, layout)) == processes) {
+      const FactorizationResult screened = petsc::agreed(world, screen_owned_rows(A, layout));
+      if (!screened.ok()) {
+        computed = false;
+        return {screened.status, engine + ": " + screened.message};
+      }
+      std::string error;
+      const int code = update_distributed_values(A, &error);
+      const FactorizationResult updated =
+          petsc::agreed(world, code == 0 ? FactorizationResult::good()
+                                         : FactorizationResult{FactorizationStatus::numerical_failure, error});
+      if (updated.ok()) return updated;
+    }
+    release();
+    const FactorizationResult screened = petsc::agreed(world, screen_owned_rows(A, layout));
+    if (!screened.ok()) return {screened.status, engine + ": " + screened.message};
+    std::string error;
+    const int code = setup_distributed(A, hints, &error);
+    const FactorizationResult made = petsc::agreed(
+        world, code == 0 ? FactorizationResult::good() : FactorizationResult{FactorizationStatus::numerical_failure, error});
+    if (!made.ok()) {
+      release();
+      return {made.status, engine + ": " + made.message};
+    }
+    computed = true;
+    return made;
+  }
+
+  /// The start of solve() on a distributed system, as krylov::prepare_start() with global
+  /// norms: x of b's size (zeros when it was not), x = 0 on every process when b = 0 or when an
+  /// entry of x is not finite on some process. Returns ||b||_2 (one MPI_Allreduce).
+  double distributed_start(const Eigen::VectorXd& b, Eigen::VectorXd* x) const {
+    if (x->size() != b.size()) x->setZero(b.size());
+    const double mine[2] = {b.squaredNorm(), x->allFinite() ? 0.0 : 1.0};
+    double all[2] = {0.0, 0.0};
+    MPI_Allreduce(mine, all, 2, MPI_DOUBLE, MPI_SUM, comm);
+    const double bn = std::sqrt(all[0]);
+    if (bn == 0.0 || all[1] > 0.0) x->setZero();
+    return bn;
   }
 
   /// The KSP and its preconditioner, set up on the matrix.
   PetscErrorCode make_ksp(std::string* error) {
     reused = false;
-    HEMIVEM_PETSC(KSPCreate(PETSC_COMM_SELF, &ksp));
+    HEMIVEM_PETSC(KSPCreate(comm, &ksp));
     HEMIVEM_PETSC(PetscObjectSetOptions(reinterpret_cast<PetscObject>(ksp), options));
     HEMIVEM_PETSC(KSPSetOperators(ksp, matrix, matrix));
     HEMIVEM_PETSC(KSPSetType(ksp, KSPCG));
@@ -397,8 +597,9 @@ PetscKrylovSolver::~PetscKrylovSolver() = default;
 std::string PetscKrylovSolver::name() const { return impl_->name(); }
 
 FactorizationResult PetscKrylovSolver::compute(const SparseMatrix& A, const KrylovHints& hints) {
-  krylov::check_compute_arguments(name(), A, hints);
   Impl& m = *impl_;
+  if (hints.rows && hints.rows->size() > 1) return m.compute_distributed(A, hints);
+  krylov::check_compute_arguments(name(), A, hints);
   if (m.same_matrix(A) && PetscRuntime::running()) {
     if (const FactorizationResult screened = krylov::screen_matrix(A); !screened.ok()) {
       m.computed = false;
@@ -428,14 +629,27 @@ KrylovSolveResult PetscKrylovSolver::solve(const Eigen::VectorXd& b, Eigen::Vect
                                            int max_iterations) const {
   Impl& m = *impl_;
   if (!m.computed) throw InternalError(name() + ": solve() before a successful compute()");
-  krylov::check_solve_arguments(name(), static_cast<Eigen::Index>(m.size), b, x, rtol, max_iterations);
+  if (m.distributed) {
+    // the arguments' checks, on every process
+    std::string broken;
+    try {
+      krylov::check_solve_arguments(name(), static_cast<Eigen::Index>(m.size), b, x, rtol, max_iterations);
+    } catch (const InternalError& e) {
+      broken = e.what();
+    }
+    if (const std::string problem = petsc::first_problem(m.comm, broken); !problem.empty()) throw InternalError(problem);
+  } else {
+    krylov::check_solve_arguments(name(), static_cast<Eigen::Index>(m.size), b, x, rtol, max_iterations);
+  }
   KrylovSolveResult out;
-  const double bn = krylov::prepare_start(b, x);
+  const double bn = m.distributed ? m.distributed_start(b, x) : krylov::prepare_start(b, x);
   if (bn == 0.0) return out;
   if (!PetscRuntime::running())
     return {FactorizationStatus::numerical_failure, name() + ": PETSc was finalized", 0, 0.0};
 
   const QuietErrors quiet;
+  std::optional<petsc::WithoutSequentialProducts> mpi_products;
+  if (m.distributed) mpi_products.emplace();
   std::string failure;
   Impl::CgRun run;
   const Eigen::VectorXd start = *x;
@@ -450,6 +664,17 @@ KrylovSolveResult PetscKrylovSolver::solve(const Eigen::VectorXd& b, Eigen::Vect
   }
   out.iterations = run.iterations;
   out.relative_residual = run.relative;
+  if (m.distributed) {
+    // a PETSc error on one process is the outcome of every process
+    const FactorizationResult ran = petsc::agreed(
+        m.comm, code == 0 ? FactorizationResult::good()
+                          : FactorizationResult{FactorizationStatus::numerical_failure, failure});
+    if (!ran.ok()) {
+      out.status = ran.status;
+      out.message = name() + ": " + ran.message;
+      return out;
+    }
+  }
   if (code != 0) {
     out.status = FactorizationStatus::numerical_failure;
     out.message = name() + ": " + failure;

@@ -1,7 +1,9 @@
 // The Krylov engine "eigen-cg": Eigen's ConjugateGradient on both triangles of A, preconditioned
 // by Eigen's IncompleteCholesky (zero fill-in beyond A's pattern, AMD ordering, a diagonal
 // shift raised until the factorization exists), or by the diagonal of A when the incomplete
-// factorization fails. Always built.
+// factorization fails. Always built. It runs in one process: KrylovHints::rows may be null or
+// one process's rows (OneProcessRows); rows of several processes are refused with an
+// InputError ("eigen-cg runs in one process; ...") thrown on every process.
 //
 // Eigen's CG stops on its recursive residual; solve() then computes the true residual
 // ||b - A x||_2 / ||b||_2 and, when it is above rtol, restarts CG from x (at most four times,

@@ -1,7 +1,8 @@
 // The Krylov engines "petsc-gamg" and "petsc-hypre": PETSc's conjugate gradient (KSPCG, the
-// unpreconditioned residual norm) on a sequential AIJ matrix that reads A's own arrays (A's
-// compressed columns are its rows: A is symmetric; no copy is made where PETSc's index type is
-// int and A is compressed), preconditioned by
+// unpreconditioned residual norm), in one process on a sequential AIJ matrix that reads A's own
+// arrays (A's compressed columns are its rows: A is symmetric; no copy is made where PETSc's
+// index type is int and A is compressed), across processes on an MPI AIJ matrix (below),
+// preconditioned by
 //   petsc-gamg   PETSc's smoothed aggregation multigrid (PCGAMG) given the near-null space
 //                (MatSetNearNullSpace with the columns of `near_null`, orthonormalized: the
 //                rigid motions of an elastic body make its coarse spaces those of elasticity)
@@ -17,6 +18,23 @@
 // is not_positive_definite, as is a diagonal entry <= 0 found by compute(); any other reason
 // to stop short of rtol (the iteration limit, a breakdown, a PETSc error) is numerical_failure
 // with PETSc's name for the reason.
+//
+// A system distributed over processes (KrylovHints::rows of several processes, made by
+// make_distributed_rows(): hemivem/petsc_row_distribution.hpp) runs on PETSC_COMM_WORLD:
+// compute() copies this process's owned rows into the CSR rows of a MATMPIAIJ with global
+// columns (local column c < owned is row first + c, the others layout().ghosts[c - owned]), of
+// the block size given, with the near-null space's owned rows orthonormalized together (each
+// process's rows factored by QR, the stacked R factors by the pivoted QR of the sequential
+// path, threshold 1e-12, on every process alike) as MPI vectors; solve() takes the owned rows
+// of b and x and runs the same CG, restarts and true-residual check with global norms. Calling
+// compute() again with the same matrix object, values changed in place, sets the copy's values
+// again (MatSetValues) and keeps the KSP, so GAMG reuses its interpolation. Everything is
+// collective and every process reaches the same outcome: arguments that break the contract on
+// one process throw InternalError on all (the lowest such process's message), a diagonal entry
+// <= 0 or a PETSc error on one process is the status of all, PETSc's reasons are collective.
+// The global option -matptap_via rap (below) is cleared during the distributed set-ups and
+// solves (PETSc's MPI matrices do not know it). With rows of one process (OneProcessRows) the
+// sequential path runs, unchanged.
 //
 // PETSc is initialized by the first object (PetscInitializeNoArguments, without PETSc's signal
 // handlers; MPI through it when nobody initialized MPI: a program started without mpirun is a

@@ -25,6 +25,9 @@
 #include <hemivem/contact/condensation.hpp>
 #include <hemivem/krylov_solver.hpp>
 #include <hemivem/nonsmooth_minimizer.hpp>
+#include <hemivem/row_distribution.hpp>
+
+#include <vector>
 
 namespace hemivem {
 
@@ -61,6 +64,41 @@ MinimizerResult minimize_full_space(const Condensation& posed, KrylovSolver& kry
 /// problem's. InternalError when their sizes are not the posed problem's coordinates'.
 MinimizerResult minimize_full_space(const Condensation& posed, const ReducedProblem& coordinates,
                                     const Eigen::VectorXd& origin, KrylovSolver& krylov, const KrylovHints& hints,
+                                    const MinimizerOptions& options, Eigen::VectorXd* x,
+                                    FullSpaceStatistics* statistics = nullptr);
+
+/// One process's share of a posed problem distributed by rows (hemivem/row_distribution.hpp):
+/// the rows it owns of the rotated whole system and the coordinates whose unknowns they are.
+/// Every coordinate, tied unknown and group belongs to the process that owns its row(s).
+struct FullSpaceShare {
+  SparseMatrix matrix;   ///< the owned rows, local columns (owned rows, then the layout's ghosts)
+  Eigen::VectorXd load;  ///< the owned rows of the load
+  /// The laws, weights, bounds and groups of this process's coordinates (S and c are not read).
+  ReducedProblem coordinates;
+  std::vector<int> coordinate_rows;  ///< each coordinate's local row
+  Eigen::VectorXd origin;            ///< each coordinate's origin
+  std::vector<int> tied_rows;        ///< the local rows of tied unknowns (their reactions are not residuals)
+  /// Each coordinate's number in the whole problem (of the posed problem it was taken from).
+  std::vector<Eigen::Index> coordinate_numbers;
+};
+
+/// The layout of rows first, ..., first + owned - 1 of `posed`'s rotated unknowns, its ghosts the
+/// other unknowns those rows read.
+RowLayout layout_of(const Condensation& posed, Eigen::Index first, Eigen::Index owned);
+/// The share of `posed` (held whole by this process) of the rows of `layout`; InternalError for a
+/// layout of other rows or one that splits a group's two unknowns.
+FullSpaceShare share_of(const Condensation& posed, const RowLayout& layout);
+
+/// Collective over `rows`: certify_full_space() of the whole problem whose shares the processes
+/// hold, at their owned rows x; every process gets the same certificate and its own coordinates.
+CertifiedPoint certify_full_space(const FullSpaceShare& share, const RowDistribution& rows, const Eigen::VectorXd& x,
+                                  double tol);
+
+/// Collective over hints.rows (the distribution whose layout `share` was made for; null: one
+/// process holding the whole problem): minimize_full_space() of the problem whose shares the
+/// processes hold. *x holds the owned rows. The certificate, energy, counts and verdict are the
+/// whole problem's, the same on every process; the coordinates, forces and x are this process's.
+MinimizerResult minimize_full_space(const FullSpaceShare& share, KrylovSolver& krylov, const KrylovHints& hints,
                                     const MinimizerOptions& options, Eigen::VectorXd* x,
                                     FullSpaceStatistics* statistics = nullptr);
 

@@ -1,0 +1,67 @@
+// The rows of a system distributed over processes (MPI_COMM_WORLD under mpirun), as the
+// full-space route (hemivem/contact/full_space.hpp) and its Krylov engines read them: each
+// process owns a contiguous range of the global rows, in the order of the processes' ranks, and
+// reads the values of some rows owned by others (its ghosts). A process holds
+//   - its owned rows of a matrix, with local column numbers: its owned rows first (local column
+//     c is global row first + c), then its ghosts in the order of layout().ghosts;
+//   - vectors of its owned entries, or of its owned entries followed by its ghosts'.
+// In one process (OneProcessRows) every row is owned, there are no ghosts, and every collective
+// returns its argument. Every collective method is called by every process in the same order.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <vector>
+
+namespace hemivem {
+
+/// Which rows a process owns and which others it reads.
+struct RowLayout {
+  Eigen::Index first = 0;   ///< the global index of its first owned row
+  Eigen::Index owned = 0;   ///< it owns the rows first, ..., first + owned - 1
+  Eigen::Index global = 0;  ///< the rows of all processes
+  /// The global indices of the rows of other processes it reads, increasing; ghost i is local
+  /// column (and vector entry) owned + i.
+  std::vector<Eigen::Index> ghosts;
+};
+
+class RowDistribution {
+ public:
+  virtual ~RowDistribution() = default;
+  /// This process's rank and the number of processes.
+  virtual int rank() const = 0;
+  virtual int size() const = 0;
+  virtual const RowLayout& layout() const = 0;
+  /// Collective: the sum, and the largest, of `value` over the processes.
+  virtual double sum(double value) const = 0;
+  virtual double max(double value) const = 0;
+  /// Collective: `v` (layout().owned entries, then one per ghost) gets its ghosts' entries from
+  /// the processes that own them; its owned entries are unchanged. Called by every process, also
+  /// by one without ghosts (its owned entries may be another's ghosts).
+  virtual void update_ghosts(Eigen::VectorXd& v) const = 0;
+  /// Collective: every process's `mine` (of any size, possibly none) concatenated in the order of
+  /// the ranks, on every process; of the owned entries of a vector, the whole vector.
+  virtual Eigen::VectorXd all_gather(const Eigen::VectorXd& mine) const = 0;
+
+  double min(double value) const { return -max(-value); }
+  /// The number of local columns: owned rows and ghosts.
+  Eigen::Index columns() const { return layout().owned + static_cast<Eigen::Index>(layout().ghosts.size()); }
+};
+
+/// One process owning all `n` rows.
+class OneProcessRows final : public RowDistribution {
+ public:
+  explicit OneProcessRows(Eigen::Index n) { layout_.owned = layout_.global = n; }
+  int rank() const override { return 0; }
+  int size() const override { return 1; }
+  const RowLayout& layout() const override { return layout_; }
+  double sum(double value) const override { return value; }
+  double max(double value) const override { return value; }
+  void update_ghosts(Eigen::VectorXd&) const override {}
+  Eigen::VectorXd all_gather(const Eigen::VectorXd& mine) const override { return mine; }
+
+ private:
+  RowLayout layout_;
+};
+
+}  // namespace hemivem

@@ -1,0 +1,234 @@
+// The full-space route distributed by rows (hemivem/contact/full_space.hpp, FullSpaceShare) under
+// mpiexec: every process poses the same problem, keeps its share of the rows (an uneven split),
+// and the processes minimize together with PETSc's engines. The answer is the one-process
+// answer of the same engine and the condensed route's; the certificate is the whole problem's,
+// the same on every process, and rejects a point off balance on any one of them.
+#include <hemivem/contact/condensation.hpp>
+#include <hemivem/contact/contact3d.hpp>
+#include <hemivem/contact/full_space.hpp>
+#include <hemivem/contact/piecewise_law.hpp>
+#include <hemivem/contact/solver.hpp>
+#include <hemivem/error.hpp>
+#include <hemivem/krylov_solver.hpp>
+#include <hemivem/linear_backends.hpp>
+#include <hemivem/mesh/generators.hpp>
+#include <hemivem/mesh/generators3d.hpp>
+#include <hemivem/nonsmooth_backends.hpp>
+#include <hemivem/scene/example.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "pressed_block3d.hpp"
+
+using namespace hemivem;
+
+namespace {
+
+MinimizerOptions tight() {
+  MinimizerOptions o;
+  o.tolerance = 1e-12;
+  return o;
+}
+
+std::unique_ptr<SparseFactorization> factorization() {
+  FactorizationOptions o;
+  o.engine = "eigen";
+  return make_factorization(o);
+}
+
+// A posed problem (Condensation::PoseOnly) and the condensed route's coordinates, kept with what
+// they refer to.
+struct Posed {
+  LinearSystem system;
+  std::unique_ptr<Condensation> posed;
+  Eigen::VectorXd condensed_a;  ///< the condensed route's coordinates
+  Eigen::MatrixXd near_null;    ///< the rigid motions in the rotated unknowns
+};
+
+template <int dim, class Problem, class Mesh>
+Posed pose(const Problem& p, const Mesh& mesh) {
+  Posed out;
+  out.system = assemble(p.elasticity);
+  BasicContactSolver<dim> solver(p, out.system, factorization(), tight());
+  solver.prepare();
+  out.posed = std::make_unique<Condensation>(out.system, solver.boundary(), part_conditions(solver.parts()),
+                                             Condensation::PoseOnly{});
+  const Condensation condensed(out.system, solver.boundary(), factorization(), part_conditions(solver.parts()));
+  const auto ssn = make_minimizer("ssn");
+  const MinimizerResult m = ssn->minimize(condensed.reduced(), Eigen::VectorXd(), tight());
+  EXPECT_TRUE(m.converged()) << m.message;
+  out.condensed_a = m.a;
+  // translations and rotations about the origin, in the rotated free unknowns
+  const auto& vertices = mesh.vertices();
+  const int motions = dim == 2 ? 3 : 6;
+  out.near_null.resize(out.posed->rotated_matrix().rows(), motions);
+  for (int k = 0; k < motions; ++k) {
+    Eigen::VectorXd u(static_cast<Eigen::Index>(dim * vertices.size()));
+    for (std::size_t v = 0; v < vertices.size(); ++v) {
+      Eigen::Matrix<double, dim, 1> m = Eigen::Matrix<double, dim, 1>::Zero();
+      const auto& x = vertices[v];
+      if (k < dim) {
+        m(k) = 1.0;
+      } else if constexpr (dim == 2) {
+        m << -x(1), x(0);
+      } else {
+        m = Eigen::Vector3d::Unit(k - dim).cross(Eigen::Vector3d(x));
+      }
+      u.segment<dim>(static_cast<Eigen::Index>(dim * v)) = m;
+    }
+    out.near_null.col(k) = out.posed->rotated_free(u);
+  }
+  return out;
+}
+
+// Rank r of P owns a share of the rows that grows with r (rank 0 the fewest), so that the split is
+// uneven and a share's boundary cuts through the contact surface's unknowns.
+// With `idle`, rank 0 owns no row (and reads none) and the others share the rows.
+RowLayout uneven_layout(const Condensation& posed, int rank, int size, bool idle = false) {
+  const Eigen::Index n = posed.rotated_matrix().rows();
+  if (idle && size > 1) {
+    if (rank == 0) return layout_of(posed, 0, 0);
+    RowLayout rest = uneven_layout(posed, rank - 1, size - 1);
+    return rest;
+  }
+  const Eigen::Index weights = static_cast<Eigen::Index>(size) * (size + 1) / 2;
+  Eigen::Index first = 0;
+  for (int r = 0; r < rank; ++r) first += n * (r + 1) / weights;
+  const Eigen::Index owned = rank == size - 1 ? n - first : n * (rank + 1) / weights;
+  return layout_of(posed, first, owned);
+}
+
+struct Distributed {
+  MinimizerResult result;
+  Eigen::VectorXd x;         ///< the whole x, gathered
+  Eigen::VectorXd a;         ///< the whole problem's coordinates, gathered in their numbering
+  FullSpaceShare share;
+  std::unique_ptr<RowDistribution> rows;
+};
+
+Distributed solve_distributed(const Posed& p, const std::string& engine, bool idle = false) {
+  const ProcessWorld world = krylov_world();
+  Distributed out;
+  const RowLayout layout = uneven_layout(*p.posed, world.rank, world.size, idle);
+  out.share = share_of(*p.posed, layout);
+  out.rows = make_distributed_rows(layout);
+  auto krylov = make_krylov_solver(engine);
+  KrylovHints hints(p.near_null.middleRows(layout.first, layout.owned), 1);
+  hints.rows = out.rows.get();
+  Eigen::VectorXd x;
+  out.result = minimize_full_space(out.share, *krylov, hints, tight(), &x);
+  out.x = out.rows->all_gather(x);
+  // the coordinates in the whole problem's numbering
+  Eigen::VectorXd numbers(static_cast<Eigen::Index>(out.share.coordinate_numbers.size()));
+  for (Eigen::Index i = 0; i < numbers.size(); ++i)
+    numbers(i) = static_cast<double>(out.share.coordinate_numbers[static_cast<std::size_t>(i)]);
+  const Eigen::VectorXd all_numbers = out.rows->all_gather(numbers), all_a = out.rows->all_gather(out.result.a);
+  out.a.resize(all_a.size());
+  for (Eigen::Index i = 0; i < all_a.size(); ++i) out.a(static_cast<Eigen::Index>(all_numbers(i))) = all_a(i);
+  return out;
+}
+
+void expect_same_as_one_process(const Posed& p, const std::string& engine, bool idle = false) {
+  SCOPED_TRACE(engine);
+  auto krylov = make_krylov_solver(engine);
+  Eigen::VectorXd x_one;
+  const MinimizerResult one = minimize_full_space(*p.posed, *krylov, KrylovHints(p.near_null, 1), tight(), &x_one);
+  ASSERT_TRUE(one.converged()) << one.message;
+  const Distributed d = solve_distributed(p, engine, idle);
+  ASSERT_TRUE(d.result.converged()) << d.result.message;
+  EXPECT_LE(d.result.certificate.worst(), 1e-12);
+  const double scale = x_one.cwiseAbs().maxCoeff();
+  ASSERT_GT(scale, 0.0);
+  ASSERT_EQ(d.x.size(), x_one.size());
+  EXPECT_LE((d.x - x_one).cwiseAbs().maxCoeff(), 1e-8 * scale);
+  ASSERT_EQ(d.a.size(), p.condensed_a.size());
+  EXPECT_LE((d.a - p.condensed_a).cwiseAbs().maxCoeff(), 1e-8 * scale) << "the condensed route's coordinates";
+  EXPECT_NEAR(d.result.objective, one.objective, 1e-9 * std::abs(one.objective));
+  // the same verdict and numbers on every process
+  EXPECT_EQ(d.rows->max(d.result.certificate.dual), d.rows->min(d.result.certificate.dual));
+  EXPECT_EQ(d.rows->max(d.result.objective), d.rows->min(d.result.objective));
+}
+
+TEST(FullSpaceMpi, Example41InThePlaneIsTheOneProcessAnswer) {
+  const Mesh mesh = make_squares(16);
+  const Posed p = pose<2>(example_4_1(mesh), mesh);
+  for (const std::string& engine : {"petsc-gamg", "petsc-hypre"}) expect_same_as_one_process(p, engine);
+}
+
+TEST(FullSpaceMpi, Example41InTheSolidIsTheOneProcessAnswer) {
+  const Mesh3D mesh = make_cubes({5, 5, 5});
+  const Posed p = pose<3>(test::example_4_1_3d(mesh), mesh);
+  expect_same_as_one_process(p, "petsc-gamg");
+}
+
+// Rank 0 owns no row and reads none; it takes part in every collective call all the same.
+TEST(FullSpaceMpi, AProcessOwningNoRowTakesPartInEverySolve) {
+  const Mesh mesh = make_squares(10);
+  const Posed p = pose<2>(example_4_1(mesh), mesh);
+  expect_same_as_one_process(p, "petsc-gamg", true);
+}
+
+TEST(FullSpaceMpi, TheCertificateRejectsAPointOffBalanceOnAnyProcess) {
+  const Mesh mesh = make_squares(12);
+  const Posed p = pose<2>(example_4_1(mesh), mesh);
+  Distributed d = solve_distributed(p, "petsc-gamg");
+  ASSERT_TRUE(d.result.converged()) << d.result.message;
+  const RowLayout& layout = d.rows->layout();
+  Eigen::VectorXd x = d.x.segment(layout.first, layout.owned);
+  EXPECT_TRUE(certify_full_space(d.share, *d.rows, x, 1e-12).certificate.converged());
+  // the last process moves one of its unknowns that is not a coordinate
+  if (d.rows->rank() == d.rows->size() - 1) {
+    std::vector<char> coordinate(static_cast<std::size_t>(x.size()), 0);
+    for (int row : d.share.coordinate_rows) coordinate[static_cast<std::size_t>(row)] = 1;
+    Eigen::Index interior = 0;
+    while (coordinate[static_cast<std::size_t>(interior)]) ++interior;
+    x(interior) += 1e-6 * d.x.cwiseAbs().maxCoeff();
+  }
+  const Certificate c = certify_full_space(d.share, *d.rows, x, 1e-8).certificate;
+  EXPECT_FALSE(c.converged()) << "on rank " << d.rows->rank();
+  EXPECT_GT(c.dual, 1e-8);
+}
+
+TEST(FullSpaceMpi, ASolidsFrictionIsRefusedOnSeveralProcessesOnEveryProcess) {
+  const ProcessWorld world = krylov_world();
+  if (world.size < 2) GTEST_SKIP() << "one process solves friction";
+  const Mesh3D mesh = make_cubes({3, 3, 3});
+  ContactProblem3D problem = test::example_4_1_3d(mesh);
+  problem.parts.front().friction = tresca_law(0.1);
+  const Posed p = pose<3>(problem, mesh);
+  // rank 0 owns every row: the groups are its own, and every process must refuse
+  const Eigen::Index n = p.posed->rotated_matrix().rows();
+  const RowLayout layout = layout_of(*p.posed, world.rank == 0 ? 0 : n, world.rank == 0 ? n : 0);
+  const FullSpaceShare share = share_of(*p.posed, layout);
+  const auto rows = make_distributed_rows(layout);
+  auto krylov = make_krylov_solver("petsc-gamg");
+  KrylovHints hints(Eigen::MatrixXd(), 1);
+  hints.rows = rows.get();
+  Eigen::VectorXd x;
+  EXPECT_THROW(minimize_full_space(share, *krylov, hints, tight(), &x), InputError);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const ProcessWorld world = krylov_world();
+  ::testing::InitGoogleTest(&argc, argv);
+  if (world.rank != 0) {
+    auto& listeners = ::testing::UnitTest::GetInstance()->listeners();
+    delete listeners.Release(listeners.default_result_printer());
+  } else {
+    std::printf("the distributed full-space route on %d process%s\n", world.size, world.size > 1 ? "es" : "");
+  }
+  const int failed_here = RUN_ALL_TESTS() != 0 ? 1 : 0;
+  RowLayout one;
+  one.first = world.rank;
+  one.owned = 1;
+  one.global = world.size;
+  const double failed = make_distributed_rows(one)->max(failed_here);
+  if (failed_here) std::fprintf(stderr, "tests failed on rank %d\n", world.rank);
+  return failed > 0.0 ? 1 : 0;
+}
