@@ -7,6 +7,7 @@
 #include <hemivem/contact/contact3d.hpp>
 #include <hemivem/contact/full_space.hpp>
 #include <hemivem/contact/piecewise_law.hpp>
+#include <hemivem/contact/pose_share.hpp>
 #include <hemivem/contact/solver.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/krylov_solver.hpp>
@@ -18,6 +19,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -163,6 +165,50 @@ TEST(FullSpaceMpi, Example41InTheSolidIsTheOneProcessAnswer) {
   const Mesh3D mesh = make_cubes({5, 5, 5});
   const Posed p = pose<3>(test::example_4_1_3d(mesh), mesh);
   expect_same_as_one_process(p, "petsc-gamg");
+}
+
+// Each process poses only its share, from the cells that hold its vertices (pose_share: no
+// process assembles, rotates or holds the whole system), and the processes solve together: the
+// one-process answer of the whole posed problem.
+template <int dim, class Problem>
+void expect_posed_shares_solve_alike(const Problem& problem, int vertices) {
+  const ProcessWorld world = krylov_world();
+  const int first = static_cast<int>(static_cast<long long>(vertices) * world.rank / world.size);
+  const int end = static_cast<int>(static_cast<long long>(vertices) * (world.rank + 1) / world.size);
+  const PosedShare mine = pose_share<dim>(problem, first, end);
+  EXPECT_EQ(mine.share.matrix.rows(), mine.layout.owned);
+  const auto rows = make_distributed_rows(mine.layout);
+  EXPECT_EQ(mine.share.matrix.cols(), mine.layout.owned + static_cast<Eigen::Index>(mine.layout.ghosts.size()));
+  if (world.size > 1) EXPECT_LT(mine.layout.owned, mine.layout.global) << "a share, not the whole";
+  auto krylov = make_krylov_solver("petsc-gamg");
+  KrylovHints hints(mine.near_null_space, mine.block_size);
+  hints.rows = rows.get();
+  Eigen::VectorXd x;
+  const MinimizerResult distributed = minimize_full_space(mine.share, *krylov, hints, tight(), &x);
+  ASSERT_TRUE(distributed.converged()) << distributed.message;
+  const Eigen::VectorXd whole_x = rows->all_gather(x);
+  // the whole problem posed and solved in this process
+  const LinearSystem system = assemble(problem.elasticity);
+  BasicContactSolver<dim> solver(problem, system, factorization(), tight());
+  solver.prepare();
+  const Condensation posed(system, solver.boundary(), part_conditions(solver.parts()), Condensation::PoseOnly{});
+  auto one = make_krylov_solver("petsc-gamg");
+  Eigen::VectorXd x_one;
+  const MinimizerResult alone = minimize_full_space(posed, *one, Eigen::MatrixXd(), tight(), &x_one);
+  ASSERT_TRUE(alone.converged()) << alone.message;
+  ASSERT_EQ(whole_x.size(), x_one.size());
+  EXPECT_LE((whole_x - x_one).cwiseAbs().maxCoeff(), 1e-8 * x_one.cwiseAbs().maxCoeff());
+  EXPECT_NEAR(distributed.objective, alone.objective, 1e-9 * std::abs(alone.objective));
+}
+
+TEST(FullSpaceMpi, EachProcessPosesOnlyItsShareInThePlane) {
+  const Mesh mesh = make_squares(16);
+  expect_posed_shares_solve_alike<2>(example_4_1(mesh), static_cast<int>(mesh.vertices().size()));
+}
+
+TEST(FullSpaceMpi, EachProcessPosesOnlyItsShareInTheSolid) {
+  const Mesh3D mesh = make_cubes({5, 5, 5});
+  expect_posed_shares_solve_alike<3>(test::example_4_1_3d(mesh), static_cast<int>(mesh.vertices().size()));
 }
 
 // Rank 0 owns no row and reads none; it takes part in every collective call all the same.

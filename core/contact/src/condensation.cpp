@@ -314,13 +314,20 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
   margin_ = std::numeric_limits<double>::quiet_NaN();
 }
 
+Condensation::Condensation(const DofMap& dofs, const ContactBoundary& boundary,
+                           const std::vector<PartConditions>& parts, CoordinatesOnly)
+    : dofs_(dofs) {
+  if (!boundary.across.empty())
+    throw InputError("two bodies joined at their contact are posed with their whole system, in one process only");
+  pose_coordinates(dofs, boundary, parts);
+  reduced_.c = Eigen::VectorXd::Zero(reduced_.lo.size());
+  margin_ = std::numeric_limits<double>::quiet_NaN();
+}
+
 // The pairs of two bodies, the coordinates, their order, the rotated system and the reduced
 // problem's laws and bounds (S and c are the condensation's).
 void Condensation::pose(const LinearSystem& system, const ContactBoundary& boundary,
                         const std::vector<PartConditions>& parts, SparseMatrix* At, Eigen::VectorXd* bt) {
-  if (parts.empty()) throw InputError("condensation needs the conditions of the contact parts");
-  nodes_ = boundary.nodes;
-  dimension_ = boundary.dimension;
   // two bodies: the system in the coordinates relative at the pairs
   LinearSystem joined;
   if (!boundary.across.empty()) {
@@ -328,24 +335,68 @@ void Condensation::pose(const LinearSystem& system, const ContactBoundary& bound
     for (int i = 0; i < boundary.size(); ++i)
       if (const Across& a = boundary.across[static_cast<std::size_t>(i)]; a.size() > 0)
         pairs.emplace_back(boundary.nodes[static_cast<std::size_t>(i)], a);
-    joining_ = Joining(system.dofs, std::move(pairs), dimension_);
+    joining_ = Joining(system.dofs, std::move(pairs), boundary.dimension);
     joined = joining_.join(system);
     dofs_ = joined.dofs;
   }
   const LinearSystem& sys = joining_.empty() ? system : joined;
-  number_coordinates(boundary, parts);
-  order_unknowns(sys, boundary);
-  // the (x, y[, z]) -> (normal, tangential) rotation at the contact nodes: A~ = Q^T A Q, b~ = Q^T b.
-  // In 3D it keeps A's pattern, exact zeros included (on cubes up to a third of the entries
-  // cancel exactly, depending on the mesh size): the 3 dofs of a vertex then share their pattern
-  // and METIS, which orders 3D bodies, compresses them to one vertex, three times faster than on
-  // the pruned pattern (docs/performance.md). In 2D, where AMD orders, the pruned copy is smaller.
-  *At = rotate_symmetric(sys.A, frames_, dimension_ == 3);
+  pose_coordinates(sys.dofs, boundary, parts);
+  // the (x, y[, z]) -> (normal, tangential) rotation at the contact nodes: A~ = Q^T A Q, b~ = Q^T b
+  *At = rotate_symmetric(sys.A, frames_, keeps_pattern());
   *bt = rotate_load(sys.b);
+}
+
+// The coordinates, their order and frames, and the reduced problem's laws, weights, bounds and
+// origins, on the free dofs of `dofs`.
+void Condensation::pose_coordinates(const DofMap& dofs, const ContactBoundary& boundary,
+                                    const std::vector<PartConditions>& parts) {
+  if (parts.empty()) throw InputError("condensation needs the conditions of the contact parts");
+  nodes_ = boundary.nodes;
+  dimension_ = boundary.dimension;
+  number_coordinates(boundary, parts);
+  order_unknowns(dofs, boundary);
   pose_reduced_problem(boundary, parts);
   origin_ = Eigen::VectorXd::Zero(reduced_.lo.size());
   law_at_start_ = reduced_.law_index;  // each coordinate's law where its gap is finite
   measure_from_surface(boundary);
+}
+
+// In 3D the rotation keeps A's pattern, exact zeros included (on cubes up to a third of the
+// entries cancel exactly, depending on the mesh size): the 3 dofs of a vertex then share their
+// pattern and METIS, which orders 3D bodies, compresses them to one vertex, three times faster
+// than on the pruned pattern (docs/performance.md). In 2D, where AMD orders, the pruned copy is
+// smaller.
+bool Condensation::keeps_pattern() const noexcept { return dimension_ == 3; }
+
+std::vector<Condensation::NodeFrame> Condensation::frames_in(const std::vector<int>& unknowns) const {
+  std::vector<NodeFrame> local;
+  for (const NodeFrame& f : frames_) {
+    NodeFrame g = f;
+    int found = 0;
+    for (int j = 0; j < f.m; ++j) {
+      const auto at = std::lower_bound(unknowns.begin(), unknowns.end(), f.idx[static_cast<std::size_t>(j)]);
+      const bool in = at != unknowns.end() && *at == f.idx[static_cast<std::size_t>(j)];
+      g.idx[static_cast<std::size_t>(j)] = in ? static_cast<int>(at - unknowns.begin()) : -1;
+      found += in ? 1 : 0;
+    }
+    if (found == f.m)
+      local.push_back(g);
+    else if (found > 0)
+      throw InternalError("a part of the system that holds some of a contact node's unknowns, not all");
+  }
+  return local;
+}
+
+SparseMatrix Condensation::rotated_part(const SparseMatrix& A, const std::vector<int>& unknowns) const {
+  const auto n = static_cast<Eigen::Index>(unknowns.size());
+  if (A.rows() != n || A.cols() != n) throw InternalError("a part of the system of another size than its unknowns");
+  return rotate_symmetric(A, frames_in(unknowns), keeps_pattern());
+}
+
+Eigen::VectorXd Condensation::rotated_part(const Eigen::VectorXd& b, const std::vector<int>& unknowns) const {
+  if (b.size() != static_cast<Eigen::Index>(unknowns.size()))
+    throw InternalError("a part of a load of another size than its unknowns");
+  return rotate_vector(b, frames_in(unknowns));
 }
 
 void Condensation::set_load(const Eigen::VectorXd& b, const Eigen::VectorXd& prescribed) {
@@ -495,15 +546,15 @@ Frame node_frame(int d, const Vec3& nu, const std::array<int, 3>& free) {
 
 }  // namespace
 
-void Condensation::order_unknowns(const LinearSystem& system, const ContactBoundary& boundary) {
-  const int n = system.dofs.num_free();
+void Condensation::order_unknowns(const DofMap& dofs, const ContactBoundary& boundary) {
+  const int n = dofs.num_free();
   const int n1 = boundary.size();
   const int d = boundary.dimension;
   for (int i = 0; i < n1; ++i) {
     const auto k = static_cast<std::size_t>(i);
     const int v = boundary.nodes[k];
     std::array<int, 3> free{-1, -1, -1};
-    for (int c = 0; c < d; ++c) free[static_cast<std::size_t>(c)] = system.dofs.free_index[static_cast<std::size_t>(d * v + c)];
+    for (int c = 0; c < d; ++c) free[static_cast<std::size_t>(c)] = dofs.free_index[static_cast<std::size_t>(d * v + c)];
     Vec3 nu = Vec3::Zero();
     if (d == 3) {
       nu = boundary.normals3d[k];
@@ -550,9 +601,9 @@ void Condensation::order_unknowns(const LinearSystem& system, const ContactBound
     if (!in1[static_cast<std::size_t>(k)]) block2_.push_back(k);
 }
 
-Eigen::VectorXd Condensation::rotate_load(const Eigen::VectorXd& b) const {
+Eigen::VectorXd Condensation::rotate_vector(const Eigen::VectorXd& b, const std::vector<NodeFrame>& frames) {
   Eigen::VectorXd bt = b;
-  for (const NodeFrame& f : frames_)
+  for (const NodeFrame& f : frames)
     for (int j = 0; j < f.m; ++j) {
       double v = 0.0;
       for (int r = 0; r < f.m; ++r) v += f.C(r, j) * b(f.idx[static_cast<std::size_t>(r)]);
@@ -560,6 +611,8 @@ Eigen::VectorXd Condensation::rotate_load(const Eigen::VectorXd& b) const {
     }
   return bt;
 }
+
+Eigen::VectorXd Condensation::rotate_load(const Eigen::VectorXd& b) const { return rotate_vector(b, frames_); }
 
 void Condensation::measure_interior(const SparseMatrix& At) {
   std::vector<char> in1(static_cast<std::size_t>(At.rows()), 0);

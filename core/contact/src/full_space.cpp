@@ -802,6 +802,42 @@ RowLayout layout_of(const Condensation& posed, Eigen::Index first, Eigen::Index 
   return layout;
 }
 
+void share_coordinates(const Condensation& posed, Eigen::Index first, Eigen::Index owned, FullSpaceShare& share) {
+  const ReducedProblem& p = posed.reduced();
+  const auto mine = [&](int row) { return row >= first && row < first + owned; };
+  std::vector<Eigen::Index> in_share(static_cast<std::size_t>(p.size()), -1);
+  for (Eigen::Index k = 0; k < p.size(); ++k)
+    if (mine(posed.rotated_index(k))) {
+      in_share[static_cast<std::size_t>(k)] = static_cast<Eigen::Index>(share.coordinate_numbers.size());
+      share.coordinate_numbers.push_back(k);
+    }
+  const auto m = static_cast<Eigen::Index>(share.coordinate_numbers.size());
+  ReducedProblem& q = share.coordinates;
+  q.laws = p.laws;
+  q.c = Eigen::VectorXd::Zero(m);
+  q.w.resize(m);
+  q.law_index.resize(m);
+  q.lo.resize(m);
+  q.hi.resize(m);
+  share.origin.resize(m);
+  for (Eigen::Index i = 0; i < m; ++i) {
+    const Eigen::Index k = share.coordinate_numbers[static_cast<std::size_t>(i)];
+    q.w(i) = p.w(k);
+    q.law_index(i) = p.law_index(k);
+    q.lo(i) = p.lower(k);
+    q.hi(i) = p.upper(k);
+    share.origin(i) = posed.origin()(k);
+    share.coordinate_rows.push_back(posed.rotated_index(k) - static_cast<int>(first));
+  }
+  for (const CoordinateGroup& g : p.groups) {
+    const Eigen::Index a = in_share[static_cast<std::size_t>(g.first)], b = in_share[static_cast<std::size_t>(g.second)];
+    if ((a < 0) != (b < 0)) throw InternalError("a share that splits a group's two unknowns");
+    if (a >= 0) q.groups.push_back({a, b});
+  }
+  for (int row : posed.tied_rows())
+    if (mine(row)) share.tied_rows.push_back(row - static_cast<int>(first));
+}
+
 FullSpaceShare share_of(const Condensation& posed, const RowLayout& layout) {
   const SparseMatrix& A = posed.rotated_matrix();
   if (layout.global != A.rows() || layout.first < 0 || layout.first + layout.owned > A.rows())
@@ -825,38 +861,7 @@ FullSpaceShare share_of(const Condensation& posed, const RowLayout& layout) {
   share.matrix.setFromTriplets(entries.begin(), entries.end());
   share.matrix.makeCompressed();
   share.load = posed.rotated_load().segment(first, owned);
-  const ReducedProblem& p = posed.reduced();
-  std::vector<Eigen::Index> mine;
-  for (Eigen::Index k = 0; k < p.size(); ++k)
-    if (const int row = posed.rotated_index(k); row >= first && row < first + owned) mine.push_back(k);
-  const auto m = static_cast<Eigen::Index>(mine.size());
-  ReducedProblem& q = share.coordinates;
-  q.laws = p.laws;
-  q.c = Eigen::VectorXd::Zero(m);
-  q.w.resize(m);
-  q.law_index.resize(m);
-  q.lo.resize(m);
-  q.hi.resize(m);
-  share.origin.resize(m);
-  for (Eigen::Index i = 0; i < m; ++i) {
-    const Eigen::Index k = mine[static_cast<std::size_t>(i)];
-    q.w(i) = p.w(k);
-    q.law_index(i) = p.law_index(k);
-    q.lo(i) = p.lower(k);
-    q.hi(i) = p.upper(k);
-    share.origin(i) = posed.origin()(k);
-    share.coordinate_rows.push_back(posed.rotated_index(k) - static_cast<int>(first));
-    share.coordinate_numbers.push_back(k);
-  }
-  std::vector<Eigen::Index> in_share(static_cast<std::size_t>(p.size()), -1);
-  for (Eigen::Index i = 0; i < m; ++i) in_share[static_cast<std::size_t>(mine[static_cast<std::size_t>(i)])] = i;
-  for (const CoordinateGroup& g : p.groups) {
-    const Eigen::Index a = in_share[static_cast<std::size_t>(g.first)], b = in_share[static_cast<std::size_t>(g.second)];
-    if ((a < 0) != (b < 0)) throw InternalError("a layout that splits a group's two unknowns");
-    if (a >= 0) q.groups.push_back({a, b});
-  }
-  for (int row : posed.tied_rows())
-    if (row >= first && row < first + owned) share.tied_rows.push_back(row - static_cast<int>(first));
+  share_coordinates(posed, first, owned, share);
   return share;
 }
 

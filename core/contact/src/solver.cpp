@@ -144,6 +144,18 @@ ContactSolution solve_contact(const ContactProblem& problem, std::unique_ptr<Spa
 }
 
 template class BasicContactSolver<2>;
+template ContactSetUp<2> contact_set_up<2>(const ContactProblem&, const DofMap&);
+template void require_contact_laws<2>(const std::vector<ContactPart>&);
+template void require_full_space_posable<2>(const std::vector<ContactPart>&, const std::vector<std::string>&);
+
+int node_block_size(const DofMap& dofs, int dim) {
+  const std::vector<int>& free = dofs.free_dofs;
+  const auto d = static_cast<std::size_t>(dim);
+  if (dim < 1 || free.size() % d != 0) return 1;
+  for (std::size_t k = 0; k < free.size(); ++k)
+    if (free[k] != free[k - k % d] + static_cast<int>(k % d) || free[k - k % d] % dim != 0) return 1;
+  return dim;
+}
 
 FrictionState friction_state(const ContactLaw& law, double u_tau) {
   const std::vector<double> kinks = law.kinks();

@@ -9,6 +9,7 @@
 #include <hemivem/error.hpp>
 #include <hemivem/process_group.hpp>
 #include <hemivem/support/condition.hpp>
+#include <hemivem/vem/rigid_motions.hpp>
 
 #include <chrono>
 #include <cmath>
@@ -171,19 +172,49 @@ MinimizerResult BasicContactSolver<dim>::minimize_posed(const ReducedProblem& co
   return hemivem::minimize_full_space(*condensation_, coordinates, origin, *krylov_, *hints_, options_, x, statistics);
 }
 
+// ---- the stages before the condensation, on the dof map alone ---------------------------------
+
+template <int dim>
+ContactSetUp<dim> contact_set_up(const BasicContactProblem<dim>& problem, const DofMap& dofs) {
+  if (dofs.num_free() == 0)
+    throw InputError("the Dirichlet conditions prescribe every displacement of the mesh: there is nothing to solve")
+        .mark_about(ProblemPart::supports);
+  ContactSetUp<dim> s;
+  s.parts = about(ProblemPart::contact, [&] { return detail::Kernels<dim>::parts(problem); });
+  s.boundary = about(ProblemPart::contact, [&] { return detail::Kernels<dim>::boundary(problem, s.parts, dofs); });
+  s.held_by_contact = about(ProblemPart::supports, [&] {
+    return detail::Kernels<dim>::held_by_contact(problem, dofs, s.boundary, s.parts);
+  });
+  return s;
+}
+
+template <int dim>
+void require_contact_laws(const std::vector<BasicContactPart<dim>>& parts) {
+  for (const auto& part : parts)
+    if (!part.law)
+      throw InputError(parts.size() == 1 ? std::string("the contact boundary has no contact law")
+                                         : "contact part '" + part.name + "' has no contact law");
+}
+
+template <int dim>
+void require_full_space_posable(const std::vector<BasicContactPart<dim>>& parts,
+                                const std::vector<std::string>& held_by_contact) {
+  require_contact_laws(parts);
+  if (!held_by_contact.empty())
+    throw InputError("the full-space route needs supports that hold the body (" + held_by_contact.front() +
+                     " is held by the contact alone): use a linear engine that factorizes")
+        .mark_about(ProblemPart::supports);
+}
+
 // The unknowns, the contact parts, the contact boundary and the rigid motions the contact holds.
 template <int dim>
 void BasicContactSolver<dim>::set_up_contact() {
   common_.unknowns = system_->dofs.num_free();
-  if (common_.unknowns == 0)
-    throw InputError("the Dirichlet conditions prescribe every displacement of the mesh: there is nothing to solve")
-        .mark_about(ProblemPart::supports);
-  parts_ = about(ProblemPart::contact, [&] { return detail::Kernels<dim>::parts(problem_); });
+  ContactSetUp<dim> contact = contact_set_up(problem_, system_->dofs);
+  parts_ = std::move(contact.parts);
   for (const auto& part : parts_) common_.contact_parts.push_back(part.name);
-  boundary_ = about(ProblemPart::contact, [&] { return detail::Kernels<dim>::boundary(problem_, parts_, system_->dofs); });
-  common_.held_by_contact = about(ProblemPart::supports, [&] {
-    return detail::Kernels<dim>::held_by_contact(problem_, system_->dofs, boundary_, parts_);
-  });
+  boundary_ = std::move(contact.boundary);
+  common_.held_by_contact = std::move(contact.held_by_contact);
 }
 
 template <int dim>
@@ -262,20 +293,11 @@ void BasicContactSolver<dim>::post_process_linear(const Eigen::MatrixXd& X) {
   detail::require_finite(s);
 }
 
-// Every contact part has a law (both routes pose one per coordinate).
-template <int dim>
-void BasicContactSolver<dim>::require_contact_laws() const {
-  for (const auto& part : parts_)
-    if (!part.law)
-      throw InputError(parts_.size() == 1 ? std::string("the contact boundary has no contact law")
-                                          : "contact part '" + part.name + "' has no contact law");
-}
-
 // The static condensation onto the contact unknowns (the reduced problem), its uniqueness
 // margin and, when asked, the conditioning of the interior block.
 template <int dim>
 void BasicContactSolver<dim>::condense() {
-  require_contact_laws();
+  require_contact_laws(parts_);
   const auto t = Clock::now();
   condensation_ = about(ProblemPart::contact, [&] {
     return std::make_unique<Condensation>(*system_, boundary_, std::move(factorization_), part_conditions(parts_),
@@ -302,11 +324,7 @@ void BasicContactSolver<dim>::condense() {
 // the rotated system, nothing factorized.
 template <int dim>
 void BasicContactSolver<dim>::pose() {
-  require_contact_laws();
-  if (!common_.held_by_contact.empty())
-    throw InputError("the full-space route needs supports that hold the body (" + common_.held_by_contact.front() +
-                     " is held by the contact alone): use a linear engine that factorizes")
-        .mark_about(ProblemPart::supports);
+  require_full_space_posable(parts_, common_.held_by_contact);
   const auto t = Clock::now();
   condensation_ = about(ProblemPart::contact, [&] {
     return std::make_unique<Condensation>(*system_, boundary_, part_conditions(parts_), Condensation::PoseOnly{});
@@ -327,27 +345,12 @@ void BasicContactSolver<dim>::pose() {
 // for the preconditioner.
 template <int dim>
 Eigen::MatrixXd BasicContactSolver<dim>::near_null_space() const {
-  const auto& vertices = problem_.elasticity.mesh->vertices();
-  const int nv = static_cast<int>(vertices.size());
-  constexpr int motions = dim == 2 ? 3 : 6;
-  Eigen::Matrix<double, dim, 1> centre = Eigen::Matrix<double, dim, 1>::Zero();
-  for (const auto& v : vertices) centre += v;
-  centre /= std::max(nv, 1);
-  Eigen::MatrixXd N(system_->dofs.num_free(), motions);
-  for (int k = 0; k < motions; ++k) {
+  const int nv = problem_.elasticity.mesh->num_vertices();
+  const MeshRigidMotions<dim> motions(*problem_.elasticity.mesh);
+  Eigen::MatrixXd N(system_->dofs.num_free(), motions.count);
+  for (int k = 0; k < motions.count; ++k) {
     Eigen::VectorXd u = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(dim) * nv);
-    for (int v = 0; v < nv; ++v) {
-      const Eigen::Matrix<double, dim, 1> x = vertices[static_cast<std::size_t>(v)] - centre;
-      Eigen::Matrix<double, dim, 1> m = Eigen::Matrix<double, dim, 1>::Zero();
-      if (k < dim) {
-        m(k) = 1.0;
-      } else if constexpr (dim == 2) {
-        m = Eigen::Matrix<double, dim, 1>(-x(1), x(0));
-      } else {
-        m = Eigen::Vector3d::Unit(k - dim).cross(Eigen::Vector3d(x));
-      }
-      u.segment<dim>(dim * v) = m;
-    }
+    for (int v = 0; v < nv; ++v) u.segment<dim>(dim * v) = motions.at(k, v);
     // prescribed components are not unknowns: the free ones, in the contact nodes' frames once posed
     if (condensation_) {
       N.col(k) = condensation_->rotated_free(u);
@@ -358,15 +361,10 @@ Eigen::MatrixXd BasicContactSolver<dim>::near_null_space() const {
   return N;
 }
 
-// dim when the free unknowns come node by node, every component of a node free (in the rotated
-// unknowns too: a node's frame acts on its own components); 1 otherwise.
+// dim when the free unknowns come node by node (hemivem::node_block_size).
 template <int dim>
 int BasicContactSolver<dim>::node_block_size() const {
-  const std::vector<int>& free = system_->dofs.free_dofs;
-  if (free.size() % dim != 0) return 1;
-  for (std::size_t k = 0; k < free.size(); ++k)
-    if (free[k] != free[k - k % dim] + static_cast<int>(k % dim) || free[k - k % dim] % dim != 0) return 1;
-  return dim;
+  return hemivem::node_block_size(system_->dofs, dim);
 }
 
 template <int dim>

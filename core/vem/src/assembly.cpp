@@ -4,6 +4,7 @@
 #include <hemivem/sparse_factorization.hpp>
 
 #include "element_loop.hpp"
+#include "load_kernels.hpp"
 
 #include <algorithm>
 #include <exception>
@@ -20,57 +21,51 @@ void gather(const Mesh& mesh, int e, std::vector<Vec2>& poly) {
 
 }  // namespace
 
-Eigen::VectorXd assemble_load(const Mesh& mesh, const VectorField& body_force, const std::vector<TractionLoad>& tractions) {
-  Eigen::VectorXd f = Eigen::VectorXd::Zero(2 * mesh.num_vertices());
-  if (body_force) {
-    std::vector<Vec2> poly;
-    std::vector<LinearField> basis;
-    Eigen::VectorXd unit;
-    for (int e = 0; e < mesh.num_elements(); ++e) {
-      gather(mesh, e, poly);
-      // (3.13): the load of local basis function k is int f0 . Pi^nabla_1 phi_k, with
-      // Pi^nabla_1 phi_k (x) = value + gradient (x - center).
-      const auto n2 = static_cast<Eigen::Index>(2 * poly.size());
-      basis.clear();
-      unit.setZero(n2);
-      for (Eigen::Index k = 0; k < n2; ++k) {
-        unit(k) = 1.0;
-        basis.push_back(project_gradient(poly, unit));
-        unit(k) = 0.0;
-      }
-      const Vec2 center = basis.front().center;
-      // F0 = int f0, M(c, d) = int f0_c (x - center)_d
-      const Vec2 F0 = quadrature::integrate_polygon(poly, [&](const Vec2& x) { return body_force(x); });
-      const Eigen::Matrix2d M = quadrature::integrate_polygon(
-          poly, [&](const Vec2& x) -> Eigen::Matrix2d { return body_force(x) * (x - center).transpose(); });
-      const auto verts = mesh.element(e);
-      for (Eigen::Index k = 0; k < n2; ++k) {
-        const LinearField& phi = basis[static_cast<std::size_t>(k)];
-        f(2 * verts[static_cast<std::size_t>(k / 2)] + k % 2) += F0.dot(phi.value) + M.cwiseProduct(phi.gradient).sum();
-      }
-    }
+void detail::cell_body_load(const Mesh& mesh, int e, const VectorField& body_force, const LoadTerms& add) {
+  thread_local std::vector<Vec2> poly;
+  thread_local std::vector<LinearField> basis;
+  thread_local Eigen::VectorXd unit;
+  gather(mesh, e, poly);
+  // (3.13): the load of local basis function k is int f0 . Pi^nabla_1 phi_k, with
+  // Pi^nabla_1 phi_k (x) = value + gradient (x - center).
+  const auto n2 = static_cast<Eigen::Index>(2 * poly.size());
+  basis.clear();
+  unit.setZero(n2);
+  for (Eigen::Index k = 0; k < n2; ++k) {
+    unit(k) = 1.0;
+    basis.push_back(project_gradient(poly, unit));
+    unit(k) = 0.0;
   }
-  for (const auto& load : tractions) {
-    if (!load.traction && !load.pressure) throw InputError("a traction load has neither a traction nor a pressure");
-    for (int id : load.facets) {
-      if (id < 0 || id >= mesh.num_edges()) throw InputError("traction edge id " + std::to_string(id) + " out of range");
-      const auto& e = mesh.edge(id);
-      if (load.pressure && !e.on_boundary())
-        throw InputError("pressure edge " + std::to_string(id) + " is not on the boundary (it has no outward normal)");
-      const Vec2 a = mesh.vertex(e.v0), b = mesh.vertex(e.v1);
-      const double len = (b - a).norm();
-      // outward unit normal: a boundary edge runs counter-clockwise in its element
-      const Vec2 normal = len > 0.0 ? Vec2((b - a).y() / len, -(b - a).x() / len) : Vec2::Zero();
-      for (const auto& q : quadrature::segment_rule()) {
-        const Vec2 x = (1.0 - q.t) * a + q.t * b;
-        Vec2 t = load.traction ? load.traction(x) : Vec2::Zero();
-        if (load.pressure) t -= load.pressure(x) * normal;
-        f.segment<2>(2 * e.v0) += q.weight * len * (1.0 - q.t) * t;
-        f.segment<2>(2 * e.v1) += q.weight * len * q.t * t;
-      }
-    }
+  const Vec2 center = basis.front().center;
+  // F0 = int f0, M(c, d) = int f0_c (x - center)_d
+  const Vec2 F0 = quadrature::integrate_polygon(poly, [&](const Vec2& x) { return body_force(x); });
+  const Eigen::Matrix2d M = quadrature::integrate_polygon(
+      poly, [&](const Vec2& x) -> Eigen::Matrix2d { return body_force(x) * (x - center).transpose(); });
+  const auto verts = mesh.element(e);
+  for (Eigen::Index k = 0; k < n2; ++k) {
+    const LinearField& phi = basis[static_cast<std::size_t>(k)];
+    add(2 * verts[static_cast<std::size_t>(k / 2)] + static_cast<int>(k % 2),
+        F0.dot(phi.value) + M.cwiseProduct(phi.gradient).sum());
   }
-  return f;
+}
+
+void detail::facet_traction_load(const Mesh& mesh, const TractionLoad& load, int id, const LoadTerms& add) {
+  if (id < 0 || id >= mesh.num_edges()) throw InputError("traction edge id " + std::to_string(id) + " out of range");
+  const auto& e = mesh.edge(id);
+  if (load.pressure && !e.on_boundary())
+    throw InputError("pressure edge " + std::to_string(id) + " is not on the boundary (it has no outward normal)");
+  const Vec2 a = mesh.vertex(e.v0), b = mesh.vertex(e.v1);
+  const double len = (b - a).norm();
+  // outward unit normal: a boundary edge runs counter-clockwise in its element
+  const Vec2 normal = len > 0.0 ? Vec2((b - a).y() / len, -(b - a).x() / len) : Vec2::Zero();
+  for (const auto& q : quadrature::segment_rule()) {
+    const Vec2 x = (1.0 - q.t) * a + q.t * b;
+    Vec2 t = load.traction ? load.traction(x) : Vec2::Zero();
+    if (load.pressure) t -= load.pressure(x) * normal;
+    const Vec2 t0 = q.weight * len * (1.0 - q.t) * t, t1 = q.weight * len * q.t * t;
+    for (int c = 0; c < 2; ++c) add(2 * e.v0 + c, t0(c));
+    for (int c = 0; c < 2; ++c) add(2 * e.v1 + c, t1(c));
+  }
 }
 
 DofMap detail::dof_map_of(std::vector<char> fixed, Eigen::VectorXd prescribed) {

@@ -1,13 +1,16 @@
 // The global assembly of the elasticity system, written once for plane (dim = 2) and solid
 // (dim = 3) bodies: the stiffness and its product with a displacement, the dof map of the
-// prescribed displacements, the reduced system and its right-hand side. Per dimension only the
-// element's stiffness (element_stiffness, element_stiffness_3d) and a facet's measure differ;
-// the loads and the projections are each dimension's own file (assembly.cpp, assembly3d.cpp).
+// prescribed displacements, the load vector, the reduced system and its right-hand side, and the
+// rows of the reduced system that a range of vertices owns (assemble_rows). Per dimension only the
+// element's stiffness (element_stiffness, element_stiffness_3d), a facet's measure and the load
+// kernels differ; the load kernels and the projections are each dimension's own file
+// (assembly.cpp, assembly3d.cpp).
 #include <hemivem/vem/assembly.hpp>
 #include <hemivem/vem/assembly3d.hpp>
 #include <hemivem/error.hpp>
 
 #include "element_loop.hpp"
+#include "load_kernels.hpp"
 
 #include <algorithm>
 #include <map>
@@ -47,17 +50,47 @@ constexpr const char* facet_word() {
 
 // ---- written once ----
 
-/// The cell matrices of the mesh, in cell order (detail::for_each_element_matrix).
+/// The cell matrices of the mesh, or of the cells `cells` (increasing) when not null, in cell
+/// order (detail::for_each_element_matrix).
 template <int dim, class Visit>
 void for_each_cell_matrix(const MeshOf<dim>& mesh, const MaterialTable& materials, Stabilization stabilization,
-                          Visit&& visit) {
+                          const std::vector<int>* cells, Visit&& visit) {
   std::map<int, Lame> lame_by_region;
   for (int region : mesh.regions())
     if (!lame_by_region.count(region)) lame_by_region.emplace(region, materials.lame(region));
+  const auto cell = [&](int e) { return cells ? (*cells)[static_cast<std::size_t>(e)] : e; };
   detail::for_each_element_matrix<dim>(
-      mesh.num_cells(), [&](int c) -> decltype(auto) { return cell_vertices(mesh, c); },
-      [&](int c, Eigen::MatrixXd& K) { cell_stiffness(mesh, c, lame_by_region.at(mesh.region(c)), stabilization, K); },
+      cells ? static_cast<int>(cells->size()) : mesh.num_cells(),
+      [&](int e) -> decltype(auto) { return cell_vertices(mesh, cell(e)); },
+      [&](int e, Eigen::MatrixXd& K) {
+        cell_stiffness(mesh, cell(e), lame_by_region.at(mesh.region(cell(e))), stabilization, K);
+      },
       visit);
+}
+
+/// The load vector's terms, each handed to `add` in the order the load vector sums them: the body
+/// force's on every cell, or on the cells `cells` (increasing) when not null, then every traction's.
+template <int dim>
+void load_terms(const MeshOf<dim>& mesh, const VectorFieldOf<dim>& body_force,
+                const std::vector<BasicTractionLoad<dim>>& tractions, const std::vector<int>* cells,
+                const detail::LoadTerms& add) {
+  if (body_force) {
+    const int count = cells ? static_cast<int>(cells->size()) : mesh.num_cells();
+    for (int e = 0; e < count; ++e)
+      detail::cell_body_load(mesh, cells ? (*cells)[static_cast<std::size_t>(e)] : e, body_force, add);
+  }
+  for (const auto& load : tractions) {
+    if (!load.traction && !load.pressure) throw InputError("a traction load has neither a traction nor a pressure");
+    for (int id : load.facets) detail::facet_traction_load(mesh, load, id, add);
+  }
+}
+
+template <int dim>
+Eigen::VectorXd load_of(const MeshOf<dim>& mesh, const VectorFieldOf<dim>& body_force,
+                        const std::vector<BasicTractionLoad<dim>>& tractions) {
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(dim * static_cast<Eigen::Index>(mesh.num_vertices()));
+  load_terms<dim>(mesh, body_force, tractions, nullptr, [&](int d, double value) { f(d) += value; });
+  return f;
 }
 
 template <int dim>
@@ -73,7 +106,7 @@ SparseMatrix stiffness_of(const MeshOf<dim>& mesh, const MaterialTable& material
   for (int d = 0; d < n; ++d) index[static_cast<std::size_t>(d)] = d;
   SparseMatrix K = pattern<dim>(mesh, index, n);
   detail::PatternScatter scatter(K);
-  for_each_cell_matrix<dim>(mesh, materials, stabilization,
+  for_each_cell_matrix<dim>(mesh, materials, stabilization, nullptr,
                             [&](const std::vector<int>& dof, const Eigen::Map<const Eigen::MatrixXd>& Ke) {
                               scatter.element(dof.data(), dof.size());
                               double* values = scatter.values();
@@ -207,7 +240,7 @@ LinearSystem assemble_of(const BasicElasticityProblem<dim>& problem) {
     SparseMatrix A = pattern<dim>(mesh, sys.dofs.free_index, sys.dofs.num_free());
     sys.A.swap(A);  // no copy (SparseMatrix has no move assignment)
   }
-  for_each_cell_matrix<dim>(mesh, problem.materials, problem.stabilization, detail::FreeSystemAssembler{sys});
+  for_each_cell_matrix<dim>(mesh, problem.materials, problem.stabilization, nullptr, detail::FreeSystemAssembler{sys});
   return sys;
 }
 
@@ -232,7 +265,83 @@ Eigen::VectorXd rhs_of(const BasicElasticityProblem<dim>& problem, const DofMap&
   return b;
 }
 
+// ---- the rows of a range of vertices ----
+
+/// The cells that hold a vertex v with owns(v), increasing.
+template <int dim, class Owns>
+std::vector<int> cells_holding(const MeshOf<dim>& mesh, Owns&& owns) {
+  std::vector<int> cells;
+  for (int c = 0; c < mesh.num_cells(); ++c) {
+    const auto& verts = cell_vertices(mesh, c);
+    if (std::any_of(verts.begin(), verts.end(), owns)) cells.push_back(c);
+  }
+  return cells;
+}
+
+/// rows.first, owned, unknowns and at for the owned vertices [v0, v1) and the cells holding
+/// them; returns each dof's position in rows.unknowns (-1 for the others).
+template <int dim>
+std::vector<int> number_unknowns(const MeshOf<dim>& mesh, int v0, int v1, const std::vector<int>& cells,
+                                 SystemRows& rows) {
+  const std::vector<int>& free = rows.dofs.free_dofs;
+  rows.first = std::lower_bound(free.begin(), free.end(), dim * v0) - free.begin();
+  rows.owned = (std::lower_bound(free.begin(), free.end(), dim * v1) - free.begin()) - rows.first;
+  std::vector<char> in_part(static_cast<std::size_t>(mesh.num_vertices()), 0);
+  for (int v = v0; v < v1; ++v) in_part[static_cast<std::size_t>(v)] = 1;
+  for (int c : cells)
+    for (int v : cell_vertices(mesh, c)) in_part[static_cast<std::size_t>(v)] = 1;
+  std::vector<int> index(static_cast<std::size_t>(rows.dofs.num_dofs()), -1);
+  for (int d = 0; d < rows.dofs.num_dofs(); ++d) {
+    const int f = rows.dofs.free_index[static_cast<std::size_t>(d)];
+    if (f < 0 || !in_part[static_cast<std::size_t>(d / dim)]) continue;
+    index[static_cast<std::size_t>(d)] = static_cast<int>(rows.unknowns.size());
+    rows.unknowns.push_back(f);
+  }
+  rows.at = std::lower_bound(rows.unknowns.begin(), rows.unknowns.end(), rows.first) - rows.unknowns.begin();
+  return index;
+}
+
+template <int dim>
+SystemRows rows_of(const BasicElasticityProblem<dim>& problem, int v0, int v1) {
+  if (!problem.mesh) throw InputError("the elasticity problem has no mesh");
+  const MeshOf<dim>& mesh = *problem.mesh;
+  if (v0 < 0 || v1 < v0 || v1 > mesh.num_vertices())
+    throw InputError("the rows of vertices " + std::to_string(v0) + " to " + std::to_string(v1) +
+                     " (excluded): not a range of the mesh's " + std::to_string(mesh.num_vertices()) + " vertices");
+  require_held(problem);
+  SystemRows rows;
+  rows.dofs = make_dof_map(mesh, problem.dirichlet);
+  const auto owns = [&](int v) { return v >= v0 && v < v1; };
+  const std::vector<int> cells = cells_holding<dim>(mesh, owns);
+  const std::vector<int> index = number_unknowns<dim>(mesh, v0, v1, cells, rows);
+  // b's owned rows: the load's terms of those rows, then (with A) the prescribed values lifted
+  rows.b = Eigen::VectorXd::Zero(rows.owned);
+  const std::vector<int>& free_index = rows.dofs.free_index;
+  load_terms<dim>(mesh, problem.body_force, problem.tractions, &cells, [&](int d, double value) {
+    if (const int f = free_index[static_cast<std::size_t>(d)]; f >= rows.first && f < rows.first + rows.owned)
+      rows.b(f - rows.first) += value;
+  });
+  {
+    SparseMatrix A = detail::stiffness_pattern<dim>(
+        mesh.num_vertices(), static_cast<int>(cells.size()),
+        [&](int e) -> decltype(auto) { return cell_vertices(mesh, cells[static_cast<std::size_t>(e)]); }, index,
+        static_cast<int>(rows.unknowns.size()), [&](int v, int w) { return owns(v) || owns(w); });
+    rows.A.swap(A);
+  }
+  for_each_cell_matrix<dim>(mesh, problem.materials, problem.stabilization, &cells,
+                            detail::OwnedRowsAssembler(rows, index));
+  return rows;
+}
+
 }  // namespace
+
+Eigen::VectorXd assemble_load(const Mesh& mesh, const VectorField& body_force, const std::vector<TractionLoad>& tractions) {
+  return load_of<2>(mesh, body_force, tractions);
+}
+Eigen::VectorXd assemble_load(const Mesh3D& mesh, const VectorField3& body_force,
+                              const std::vector<TractionLoad3D>& tractions) {
+  return load_of<3>(mesh, body_force, tractions);
+}
 
 SparseMatrix assemble_stiffness(const Mesh& mesh, const MaterialTable& materials, Stabilization stabilization) {
   return stiffness_of<2>(mesh, materials, stabilization);
@@ -259,6 +368,13 @@ DofMap make_dof_map(const Mesh3D& mesh, const std::vector<DirichletCondition3D>&
 
 LinearSystem assemble(const ElasticityProblem& problem) { return assemble_of<2>(problem); }
 LinearSystem assemble(const ElasticityProblem3D& problem) { return assemble_of<3>(problem); }
+
+SystemRows assemble_rows(const ElasticityProblem& problem, int first_vertex, int end_vertex) {
+  return rows_of<2>(problem, first_vertex, end_vertex);
+}
+SystemRows assemble_rows(const ElasticityProblem3D& problem, int first_vertex, int end_vertex) {
+  return rows_of<3>(problem, first_vertex, end_vertex);
+}
 
 Eigen::VectorXd assemble_rhs(const ElasticityProblem& problem, const DofMap& dofs) { return rhs_of<2>(problem, dofs); }
 Eigen::VectorXd assemble_rhs(const ElasticityProblem3D& problem, const DofMap& dofs) { return rhs_of<3>(problem, dofs); }

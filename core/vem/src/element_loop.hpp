@@ -70,12 +70,13 @@ void for_each_element_matrix(int num_elements, Vertices&& vertices_of, Stiffness
 }
 
 /// The pattern of a stiffness matrix over the dofs with index[d] >= 0 (index: dof Dim v + c ->
-/// row and column; increasing in d): the column of dof d holds every dof of every vertex
-/// sharing an element with d's vertex, rows increasing; values zero. The vertices' neighbours
-/// are found first, so that the matrix's arrays are sized once and written in place.
-template <int Dim, class Vertices>
+/// row and column; increasing in d): the column of dof d holds every dof of every vertex w
+/// sharing an element with d's vertex v for which couples(v, w) (symmetric in v and w), rows
+/// increasing; values zero. The vertices' neighbours are found first, so that the matrix's
+/// arrays are sized once and written in place.
+template <int Dim, class Vertices, class Couples>
 SparseMatrix stiffness_pattern(int num_vertices, int num_elements, Vertices&& vertices_of, const std::vector<int>& index,
-                               int size) {
+                               int size, Couples&& couples) {
   const int nv = num_vertices;
   const auto at = [](int k) { return static_cast<std::size_t>(k); };
   // the elements of each vertex (compressed rows)
@@ -95,7 +96,9 @@ SparseMatrix stiffness_pattern(int num_vertices, int num_elements, Vertices&& ve
   for (int v = 0; v < nv; ++v)
     for (int r = 0; r < Dim; ++r) rows_of[at(v)] += index[at(Dim * v + r)] >= 0 ? 1 : 0;
   std::vector<int> adjacency_start(at(nv) + 1, 0), adjacency;
-  adjacency.reserve(at(nv) * (Dim == 3 ? 27 : 9));
+  std::size_t in_elements = 0;  // the vertices of some element
+  for (int v = 0; v < nv; ++v) in_elements += first[at(v) + 1] > first[at(v)] ? 1 : 0;
+  adjacency.reserve(in_elements * (Dim == 3 ? 27 : 9));
   std::vector<int> seen(at(nv), -1);
   std::vector<std::size_t> column_size(at(nv), 0);  // the entries of a column of v's
   for (int v = 0; v < nv; ++v) {
@@ -104,6 +107,7 @@ SparseMatrix stiffness_pattern(int num_vertices, int num_elements, Vertices&& ve
       for (int w : vertices_of(elements[at(k)]))
         if (seen[at(w)] != v) {
           seen[at(w)] = v;
+          if (!couples(v, w)) continue;
           adjacency.push_back(w);
           column_size[at(v)] += static_cast<std::size_t>(rows_of[at(w)]);
         }
@@ -131,6 +135,13 @@ SparseMatrix stiffness_pattern(int num_vertices, int num_elements, Vertices&& ve
       outer[++column] = static_cast<int>(k);
     }
   return M;
+}
+
+/// The same with every pair of vertices sharing an element coupled.
+template <int Dim, class Vertices>
+SparseMatrix stiffness_pattern(int num_vertices, int num_elements, Vertices&& vertices_of, const std::vector<int>& index,
+                               int size) {
+  return stiffness_pattern<Dim>(num_vertices, num_elements, vertices_of, index, size, [](int, int) { return true; });
 }
 
 /// Adds element matrices into a compressed matrix whose pattern holds their entries, column by
@@ -219,6 +230,50 @@ class FreeSystemAssembler {
   LinearSystem& sys_;
   PatternScatter scatter_;
   std::vector<int> free_;
+};
+
+/// The owned rows and columns of A and the owned rows of b of a SystemRows, element by element
+/// into A's pattern (`visit` of for_each_element_matrix over the elements that hold an owned
+/// vertex): the entries and the lifted prescribed values that FreeSystemAssembler adds there, in
+/// the same order.
+class OwnedRowsAssembler {
+ public:
+  /// `index`: each dof's row of rows.A (its position in rows.unknowns), -1 for a prescribed dof.
+  OwnedRowsAssembler(SystemRows& rows, const std::vector<int>& index)
+      : rows_(rows), index_(index), all_(rows.A), owned_(rows.A) {}
+  void operator()(const std::vector<int>& dof, const Eigen::Map<const Eigen::MatrixXd>& K) {
+    const std::size_t n = dof.size();
+    local_.resize(n);
+    mine_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      local_[i] = index_[static_cast<std::size_t>(dof[i])];
+      mine_[i] = owns(local_[i]) ? local_[i] : -1;
+    }
+    // an owned column takes every row of the element, another column its owned rows
+    all_.element(local_.data(), n);
+    owned_.element(mine_.data(), n);
+    double* values = all_.values();
+    for (std::size_t j = 0; j < n; ++j) {
+      const auto kj = K.col(static_cast<Eigen::Index>(j));
+      if (local_[j] >= 0) {
+        const std::vector<int>& position = (owns(local_[j]) ? all_ : owned_).locate(local_[j]);
+        for (std::size_t i = 0; i < n; ++i)
+          if (position[i] >= 0) values[position[i]] += kj(static_cast<Eigen::Index>(i));
+        continue;
+      }
+      const double uj = rows_.dofs.prescribed(dof[j]);
+      if (uj == 0.0) continue;
+      for (std::size_t i = 0; i < n; ++i)
+        if (mine_[i] >= 0) rows_.b(mine_[i] - rows_.at) -= kj(static_cast<Eigen::Index>(i)) * uj;
+    }
+  }
+
+ private:
+  bool owns(int local) const { return local >= rows_.at && local < rows_.at + rows_.owned; }
+  SystemRows& rows_;
+  const std::vector<int>& index_;
+  PatternScatter all_, owned_;
+  std::vector<int> local_, mine_;
 };
 
 /// The dof map of `ndof` dofs with `fixed[d]` set where dof d is prescribed.

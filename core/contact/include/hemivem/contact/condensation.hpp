@@ -198,6 +198,30 @@ class Condensation {
   Condensation(const LinearSystem& system, const ContactBoundary& boundary, const std::vector<PartConditions>& parts,
                PoseOnly);
 
+  /// The tag of the construction that poses the coordinates alone.
+  struct CoordinatesOnly {};
+  /// Poses what PoseOnly poses but the rotated system, from the dof map alone: the coordinates,
+  /// their laws, weights, bounds, origins and rows (rotated_index()), the tied rows and the
+  /// contact nodes' frames (a cost of the contact surface). rotated_matrix() and rotated_load()
+  /// stay empty; rotated_part() rotates a part of the system assembled elsewhere (a process's
+  /// rows, hemivem/contact/pose_share.hpp). Nothing that needs the system or a factorization may
+  /// be called. One body: InputError for a boundary whose nodes are paired with another body's
+  /// (ContactBoundary::across), whose posing joins the two bodies' whole systems.
+  Condensation(const DofMap& dofs, const ContactBoundary& boundary, const std::vector<PartConditions>& parts,
+               CoordinatesOnly);
+
+  /// Q^T A Q for a part A of the system of one body: A(i, j) stands for the system's entry of the
+  /// free unknowns unknowns[i] and unknowns[j] (`unknowns` increasing), the result in the same
+  /// numbering. Computed as the posing computes rotated_matrix(), on A's pattern (exact zeros
+  /// dropped in the plane): its entry (i, j) is rotated_matrix()'s to the bit wherever A holds the
+  /// system's entries in every row and column of the unknowns of i's node (as the part
+  /// assemble_rows makes holds them for its owned rows). InternalError when `unknowns` holds some
+  /// but not all of a contact node's free dofs.
+  SparseMatrix rotated_part(const SparseMatrix& A, const std::vector<int>& unknowns) const;
+  /// Q^T b for the values b of the free unknowns `unknowns` (increasing), as rotated_load() is
+  /// computed; the same InternalError.
+  Eigen::VectorXd rotated_part(const Eigen::VectorXd& b, const std::vector<int>& unknowns) const;
+
   const ReducedProblem& reduced() const noexcept { return reduced_; }
   /// The posed construction's system of all free unknowns, in the (normal, tangential) frame at
   /// the contact nodes (and relative at the pairs of two bodies): A~ and b~ (empty after a
@@ -304,6 +328,13 @@ class Condensation {
   };
   int dimension_ = 2;
   std::vector<NodeFrame> frames_;
+  /// Whether the rotation keeps A's pattern, exact zeros included (in 3D).
+  bool keeps_pattern() const noexcept;
+  /// The frames of the contact nodes whose free dofs are among `unknowns` (increasing), their
+  /// indices the positions there.
+  std::vector<NodeFrame> frames_in(const std::vector<int>& unknowns) const;
+  /// Q^T b for the frames `frames` (their indices b's).
+  static Eigen::VectorXd rotate_vector(const Eigen::VectorXd& b, const std::vector<NodeFrame>& frames);
   std::vector<int> nodes_;        // vertex of each contact node
   static int coordinate(const std::vector<int>& of, int node) noexcept {
     return node >= 0 && node < static_cast<int>(of.size()) ? of[static_cast<std::size_t>(node)] : -1;
@@ -311,8 +342,9 @@ class Condensation {
   // the steps of the constructor, in order
   void pose(const LinearSystem& system, const ContactBoundary& boundary, const std::vector<PartConditions>& parts,
             SparseMatrix* At, Eigen::VectorXd* bt);
+  void pose_coordinates(const DofMap& dofs, const ContactBoundary& boundary, const std::vector<PartConditions>& parts);
   void number_coordinates(const ContactBoundary& boundary, const std::vector<PartConditions>& parts);
-  void order_unknowns(const LinearSystem& system, const ContactBoundary& boundary);
+  void order_unknowns(const DofMap& dofs, const ContactBoundary& boundary);
   Eigen::VectorXd rotate_load(const Eigen::VectorXd& b) const;
   void measure_interior(const SparseMatrix& At);
   void pose_reduced_problem(const ContactBoundary& boundary, const std::vector<PartConditions>& parts);

@@ -89,6 +89,11 @@ RowLayout layout_of(const Condensation& posed, Eigen::Index first, Eigen::Index 
 /// layout of other rows or one that splits a group's two unknowns.
 FullSpaceShare share_of(const Condensation& posed, const RowLayout& layout);
 
+/// The coordinates, origins, groups and tied rows of `posed` whose rows are first, ..., first +
+/// owned - 1, put into `share` (empty there): its coordinates, coordinate_rows, origin, tied_rows
+/// and coordinate_numbers. InternalError for rows that split a group's two unknowns.
+void share_coordinates(const Condensation& posed, Eigen::Index first, Eigen::Index owned, FullSpaceShare& share);
+
 /// Collective over `rows`: certify_full_space() of the whole problem whose shares the processes
 /// hold, at their owned rows x; every process gets the same certificate and its own coordinates.
 CertifiedPoint certify_full_space(const FullSpaceShare& share, const RowDistribution& rows, const Eigen::VectorXd& x,

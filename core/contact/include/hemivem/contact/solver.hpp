@@ -240,6 +240,41 @@ BasicForceBalance<Eigen::Matrix<double, dim, 1>> contact_force_balance(const Bas
 ContactBoundary contact_boundary(const ContactProblem& problem, const DofMap& dofs);
 
 
+/// What the stages before the condensation (or the posing) make of a problem's contact, from the
+/// dof map of its system alone: its contact parts, its contact boundary and the rigid motions its
+/// contact alone holds (BasicContactSolution::held_by_contact).
+template <int dim>
+struct ContactSetUp {
+  std::vector<BasicContactPart<dim>> parts;
+  ContactBoundary boundary;
+  std::vector<std::string> held_by_contact;
+};
+
+/// The contact set-up of `problem` on the free dofs of `dofs` (make_dof_map of its Dirichlet
+/// conditions), as BasicContactSolver::prepare() makes it, with its InputErrors (every
+/// displacement prescribed, the parts, the boundary, a rigid motion that nothing holds), each
+/// marked with the part of the problem it is about. A cost of the surface (and of the supports'
+/// check), not of the system.
+template <int dim>
+ContactSetUp<dim> contact_set_up(const BasicContactProblem<dim>& problem, const DofMap& dofs);
+
+/// InputError naming the part for a contact part without a law (both routes pose one per
+/// coordinate).
+template <int dim>
+void require_contact_laws(const std::vector<BasicContactPart<dim>>& parts);
+
+/// The full-space route's conditions on a problem before it is posed: every part has a law and
+/// the supports hold the body (`held_by_contact` empty; A is singular otherwise). InputError
+/// otherwise, advising a linear engine that factorizes.
+template <int dim>
+void require_full_space_posable(const std::vector<BasicContactPart<dim>>& parts,
+                                const std::vector<std::string>& held_by_contact);
+
+/// The node blocks of the free unknowns of `dofs` (KrylovHints::block_size): `dim` when they come
+/// node by node, every component of each node free (in the rotated unknowns too: a contact node's
+/// frame acts on its own components); 1 otherwise.
+int node_block_size(const DofMap& dofs, int dim);
+
 /// The solve of one contact problem in named stages, as deal.II's step-41 tutorial lays out
 /// its obstacle problem: run() calls
 ///
@@ -345,7 +380,6 @@ class BasicContactSolver {
   void assemble();
   void set_up_contact();
   Eigen::MatrixXd linear_solve();
-  void require_contact_laws() const;
   void condense();
   void pose();
   void solve_full_space(Solution& solution);

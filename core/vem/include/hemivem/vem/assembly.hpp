@@ -51,6 +51,29 @@ struct LinearSystem {
   }
 };
 
+/// The rows of the reduced system A u_f = b (assemble()) that belong to the vertices
+/// first_vertex, ..., end_vertex - 1, assembled from the cells that hold one of them alone (a
+/// process's share of a system distributed by rows). Free dofs are numbered in dof order, so the
+/// free dofs of those vertices are the contiguous range first, ..., first + owned - 1: the owned
+/// free dofs.
+struct SystemRows {
+  DofMap dofs;             ///< the whole problem's
+  Eigen::Index first = 0;  ///< the free index of the first owned free dof
+  Eigen::Index owned = 0;  ///< how many free dofs are owned
+  /// A's rows and columns: the free dofs of the owned vertices and of every vertex of a cell
+  /// holding one, increasing; the owned ones are unknowns[at], ..., unknowns[at + owned - 1].
+  std::vector<int> unknowns;
+  Eigen::Index at = 0;
+  /// The entries of assemble()'s A in the owned rows and in the owned columns, its pattern and
+  /// its values there to the bit; no entry between two unknowns that are not owned. The owned
+  /// columns are kept besides the rows because A is symmetric within round-off only (in the
+  /// plane), and a symmetric product with the owned unknowns (the rotation Q^T A Q of the
+  /// full-space route) reads both.
+  SparseMatrix A;
+  /// The owned rows of assemble()'s b (body force, tractions, prescribed values lifted), to the bit.
+  Eigen::VectorXd b;
+};
+
 /// The global stiffness of all 2*num_vertices dofs (symmetric, both triangles stored).
 /// Cost linear in the number of elements.
 SparseMatrix assemble_stiffness(const Mesh& mesh, const MaterialTable& materials,
@@ -72,6 +95,12 @@ DofMap make_dof_map(const Mesh& mesh, const std::vector<DirichletCondition>& dir
 /// Assembles the reduced system of a problem. Throws InputError, before any assembly, when
 /// the body is not held (no Dirichlet edge, or Dirichlet edges of zero total length).
 LinearSystem assemble(const ElasticityProblem& problem);
+
+/// The rows of assemble(problem) of the vertices first_vertex, ..., end_vertex - 1 (SystemRows),
+/// from the cells that hold one of them: the cost of those cells and of the load's tractions, and
+/// memory for their rows besides the dof map. InputError as assemble(), and for a range of
+/// vertices outside the mesh.
+SystemRows assemble_rows(const ElasticityProblem& problem, int first_vertex, int end_vertex);
 
 /// The load of the free dofs of `dofs` (LinearSystem::b): f - K u_p on them, u_p the
 /// prescribed values of `dofs` (which must be make_dof_map of the problem's Dirichlet parts;

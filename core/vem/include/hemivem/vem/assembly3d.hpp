@@ -34,6 +34,10 @@ DofMap make_dof_map(const Mesh3D& mesh, const std::vector<DirichletCondition3D>&
 /// before any assembly, when no face has a prescribed displacement or their area is zero.
 LinearSystem assemble(const ElasticityProblem3D& problem);
 
+/// The rows of assemble(problem) of the vertices first_vertex, ..., end_vertex - 1, as
+/// assemble_rows of a plane problem.
+SystemRows assemble_rows(const ElasticityProblem3D& problem, int first_vertex, int end_vertex);
+
 /// The load of the free dofs of `dofs` at the problem's data (as assemble_rhs of a plane problem).
 Eigen::VectorXd assemble_rhs(const ElasticityProblem3D& problem, const DofMap& dofs);
 

@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -92,5 +93,37 @@ class BasicRigidMotions {
   Eigen::RowVectorXd functional(int v, const Point& direction, int piece) const;
 };
 using RigidMotions = BasicRigidMotions<2>;
+
+/// The rigid motions of a mesh as nodal displacements: the translations along the axes, then the
+/// rotations about them through the mean of its vertices (3 in a plane, 6 in a solid). The
+/// near-null space of its stiffness, which the full-space route gives its preconditioner.
+template <int dim>
+class MeshRigidMotions {
+ public:
+  using Point = Eigen::Matrix<double, dim, 1>;
+  static constexpr int count = dim == 2 ? 3 : 6;
+
+  explicit MeshRigidMotions(const MeshOf<dim>& mesh) : mesh_(mesh) {
+    for (const auto& v : mesh.vertices()) centre_ += v;
+    centre_ /= std::max(mesh.num_vertices(), 1);
+  }
+  /// The displacement of vertex v under motion k.
+  Point at(int k, int v) const {
+    const Point x = mesh_.vertices()[static_cast<std::size_t>(v)] - centre_;
+    Point m = Point::Zero();
+    if (k < dim) {
+      m(k) = 1.0;
+    } else if constexpr (dim == 2) {
+      m = Point(-x(1), x(0));
+    } else {
+      m = Eigen::Vector3d::Unit(k - dim).cross(Eigen::Vector3d(x));
+    }
+    return m;
+  }
+
+ private:
+  const MeshOf<dim>& mesh_;
+  Point centre_ = Point::Zero();
+};
 
 }  // namespace hemivem

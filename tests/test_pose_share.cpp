@@ -1,0 +1,304 @@
+// A process's share of the full-space route's posed problem, posed from its own rows
+// (pose_share, hemivem/contact/pose_share.hpp), against the share cut out of the whole posed
+// problem (share_of(posed, layout_of(posed, first, owned))): the same layout, rows of the rotated
+// matrix and load, coordinates, tied rows and near-null space, for ranges of vertices at the
+// start, in the middle, at the end and over the whole mesh, in the plane and in the solid. And the
+// rows of the assembly it starts from (assemble_rows) against the whole assembly's.
+#include <hemivem/contact/contact3d.hpp>
+#include <hemivem/contact/full_space.hpp>
+#include <hemivem/contact/pose_share.hpp>
+#include <hemivem/contact/solver.hpp>
+#include <hemivem/error.hpp>
+#include <hemivem/krylov_solver.hpp>
+#include <hemivem/mesh/boundary.hpp>
+#include <hemivem/mesh/generators.hpp>
+#include <hemivem/mesh/generators3d.hpp>
+#include <hemivem/scene/example.hpp>
+#include <hemivem/scene/scene.hpp>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "pressed_block3d.hpp"
+#include "test_support.hpp"
+
+using namespace hemivem;
+
+namespace {
+
+constexpr double rel = 1e-14;
+
+/// The largest |a - b| over the largest |b| (0 for two empty or zero arrays).
+double relative_difference(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+  if (a.size() == 0 && b.size() == 0) return 0.0;
+  const double scale = b.cwiseAbs().maxCoeff();
+  const double diff = (a - b).cwiseAbs().maxCoeff();
+  return scale > 0.0 ? diff / scale : diff;
+}
+
+/// The rigid motions of `mesh` (translations, rotations about the mean of its vertices) in the
+/// rotated free unknowns of `posed`, written out here from their definition.
+template <int dim>
+Eigen::MatrixXd rigid_motions(const MeshOf<dim>& mesh, const Condensation& posed) {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (const auto& x : mesh.vertices()) centre.head<dim>() += x;
+  centre /= mesh.num_vertices();
+  const int count = dim == 2 ? 3 : 6;
+  Eigen::MatrixXd N(posed.rotated_matrix().rows(), count);
+  for (int k = 0; k < count; ++k) {
+    Eigen::VectorXd u(dim * mesh.num_vertices());
+    for (int v = 0; v < mesh.num_vertices(); ++v) {
+      Eigen::Vector3d x = Eigen::Vector3d::Zero();
+      x.head<dim>() = mesh.vertices()[static_cast<std::size_t>(v)];
+      x -= centre;
+      const Eigen::Vector3d m = k < dim   ? Eigen::Vector3d(Eigen::Vector3d::Unit(k))
+                                : dim == 2 ? Eigen::Vector3d(-x(1), x(0), 0.0)
+                                           : Eigen::Vector3d(Eigen::Vector3d::Unit(k - 3).cross(x));
+      u.segment<dim>(dim * v) = m.head<dim>();
+    }
+    N.col(k) = posed.rotated_free(u);
+  }
+  return N;
+}
+
+/// The coordinates of two shares are the same: numbers, rows, laws (the same law, or two zero
+/// laws of two posings), weights, bounds, groups, origins.
+void expect_same_coordinates(const FullSpaceShare& mine, const FullSpaceShare& whole) {
+  EXPECT_EQ(mine.coordinate_numbers, whole.coordinate_numbers);
+  EXPECT_EQ(mine.coordinate_rows, whole.coordinate_rows);
+  EXPECT_EQ(mine.tied_rows, whole.tied_rows);
+  const ReducedProblem& p = mine.coordinates;
+  const ReducedProblem& q = whole.coordinates;
+  ASSERT_EQ(p.laws.size(), q.laws.size());
+  for (std::size_t l = 0; l < p.laws.size(); ++l)
+    EXPECT_TRUE(p.laws[l] == q.laws[l] || p.laws[l]->name() == q.laws[l]->name()) << "law " << l;
+  EXPECT_EQ(p.law_index, q.law_index);
+  EXPECT_EQ(p.w, q.w);
+  EXPECT_EQ(p.lo, q.lo);
+  EXPECT_EQ(p.hi, q.hi);
+  EXPECT_EQ(p.c.size(), p.size());
+  EXPECT_EQ(p.S.size(), 0);
+  ASSERT_EQ(p.groups.size(), q.groups.size());
+  for (std::size_t g = 0; g < p.groups.size(); ++g) {
+    EXPECT_EQ(p.groups[g].first, q.groups[g].first);
+    EXPECT_EQ(p.groups[g].second, q.groups[g].second);
+  }
+  EXPECT_EQ(mine.origin, whole.origin);
+}
+
+/// pose_share of the vertices [v0, v1) of `p` is the share of the whole posed problem `posed`
+/// (`dofs` its dof map) of their free dofs.
+template <int dim>
+void expect_share_of_whole(const BasicContactProblem<dim>& p, const Condensation& posed, const DofMap& dofs, int v0,
+                           int v1) {
+  SCOPED_TRACE("vertices " + std::to_string(v0) + " to " + std::to_string(v1));
+  const PosedShare mine = pose_share(p, v0, v1);
+  const std::vector<int>& free = dofs.free_dofs;
+  const auto first = std::lower_bound(free.begin(), free.end(), dim * v0) - free.begin();
+  const auto end = std::lower_bound(free.begin(), free.end(), dim * v1) - free.begin();
+  const RowLayout layout = layout_of(posed, first, end - first);
+  EXPECT_EQ(mine.layout.first, layout.first);
+  EXPECT_EQ(mine.layout.owned, layout.owned);
+  EXPECT_EQ(mine.layout.global, layout.global);
+  EXPECT_EQ(mine.layout.ghosts, layout.ghosts);
+  const FullSpaceShare whole = share_of(posed, layout);
+  const SparseMatrix& A = mine.share.matrix;
+  ASSERT_EQ(A.rows(), layout.owned) << "a share's matrix holds its owned rows only";
+  ASSERT_EQ(A.cols(), whole.matrix.cols());
+  EXPECT_EQ(A.nonZeros(), whole.matrix.nonZeros()) << "the same pattern, exact zeros kept alike";
+  EXPECT_LE(relative_difference(Eigen::MatrixXd(A), Eigen::MatrixXd(whole.matrix)), rel);
+  EXPECT_LE(relative_difference(mine.share.load, whole.load), rel);
+  expect_same_coordinates(mine.share, whole);
+  const Eigen::MatrixXd N = rigid_motions<dim>(*p.elasticity.mesh, posed);
+  EXPECT_LE(relative_difference(mine.near_null_space, N.middleRows(layout.first, layout.owned)), rel);
+  EXPECT_EQ(mine.block_size, node_block_size(dofs, dim));
+}
+
+/// expect_share_of_whole for the first third of the vertices, the middle third, the last third,
+/// all of them and none: against the problem posed whole as the full-space route poses it.
+template <int dim>
+void expect_shares_of_whole(const BasicContactProblem<dim>& p) {
+  BasicContactSolver<dim> solver(p, make_krylov_solver("eigen-cg"), MinimizerOptions{});
+  solver.prepare();
+  ASSERT_NE(solver.condensation(), nullptr);
+  const Condensation& posed = *solver.condensation();
+  const int n = p.elasticity.mesh->num_vertices();
+  for (const auto& [v0, v1] : std::vector<std::pair<int, int>>{{0, n / 3}, {n / 3, 2 * n / 3}, {2 * n / 3, n}, {0, n}})
+    expect_share_of_whole(p, posed, solver.system().dofs, v0, v1);
+  // the thirds hold every coordinate once, and read each other's unknowns
+  Eigen::Index coordinates = 0;
+  for (const auto& [v0, v1] : std::vector<std::pair<int, int>>{{0, n / 3}, {n / 3, 2 * n / 3}, {2 * n / 3, n}}) {
+    const PosedShare third = pose_share(p, v0, v1);
+    coordinates += third.share.coordinates.size();
+    EXPECT_FALSE(third.layout.ghosts.empty());
+  }
+  EXPECT_EQ(coordinates, posed.reduced().size());
+  const PosedShare none = pose_share(p, n / 2, n / 2);
+  EXPECT_EQ(none.layout.owned, 0);
+  EXPECT_EQ(none.share.matrix.rows(), 0);
+  EXPECT_EQ(none.share.coordinates.size(), 0);
+}
+
+template <int dim>
+std::unique_ptr<BasicBuiltProblem<dim>> scene(const std::string& name, const std::vector<std::string>& overrides) {
+  Scene s = parse_scene(test::scenes_dir() / name);
+  apply_overrides(s, overrides);
+  return build_problem<dim>(s);
+}
+
+TEST(PoseShare, Example41InThePlaneIsTheWholePosingsShare) {
+  const Mesh mesh = make_squares(16);
+  expect_shares_of_whole<2>(example_4_1(mesh));
+}
+
+TEST(PoseShare, Example41InTheSolidIsTheWholePosingsShare) {
+  const Mesh3D mesh = make_cubes({5, 5, 5});
+  expect_shares_of_whole<3>(test::example_4_1_3d(mesh));
+}
+
+// a solid's isotropic friction: each node's two tangential coordinates, a group, in its owner's rows
+TEST(PoseShare, ASolidsFrictionKeepsEachGroupWithItsNode) {
+  const auto built = scene<3>("friction-block-3d.toml", {"mesh.n=[6, 6, 3]"});
+  expect_shares_of_whole<3>(built->problem);
+  const PosedShare all = pose_share(built->problem, 0, built->mesh.num_vertices());
+  EXPECT_FALSE(all.share.coordinates.groups.empty());
+}
+
+// two parts, a gap and an obstacle in the plane; the normal law of the indenter's part acting
+// from its surface (origins)
+TEST(PoseShare, TwoPartsAGapAndAnObstacleInThePlane) {
+  const auto built = scene<2>("bracket-two-contacts.toml", {"mesh.n=[16, 8]"});
+  built->problem.parts[1].law_from_surface = true;
+  expect_shares_of_whole<2>(built->problem);
+}
+
+// an obstacle on a solid whose contact nodes on the symmetry planes have a prescribed component
+TEST(PoseShare, AnObstacleAndPrescribedComponentsAtContactNodesOnASolid) {
+  const auto built = scene<3>("hertz-sphere-3d.toml", {"mesh.n=6"});
+  expect_shares_of_whole<3>(built->problem);
+}
+
+// a bilateral part: its normals are tied rows, its tangentials coordinates of the zero law
+TEST(PoseShare, ABilateralPartsTiedRowsStayWithTheirOwners) {
+  const Mesh mesh = make_squares(12);
+  ContactProblem p = example_4_1(mesh);
+  p.parts.front().constraint = ConstraintKind::bilateral;
+  expect_shares_of_whole<2>(p);
+  const PosedShare all = pose_share(p, 0, mesh.num_vertices());
+  EXPECT_FALSE(all.share.tied_rows.empty());
+}
+
+TEST(PoseShare, WhatItCannotPoseIsRefusedByName) {
+  const Mesh mesh = make_squares(4);
+  ContactProblem p = example_4_1(mesh);
+  EXPECT_NE(test::input_error_of([&] { (void)pose_share(p, 0, mesh.num_vertices() + 1); }).find("vertices"),
+            std::string::npos);
+  EXPECT_NE(test::input_error_of([&] { (void)pose_share(p, 3, 2); }).find("vertices"), std::string::npos);
+  ContactProblem none = p;
+  none.parts.clear();
+  EXPECT_NE(test::input_error_of([&] { (void)pose_share(none, 0, 5); }).find("no contact node"), std::string::npos);
+  // two bodies joined at their contact
+  const std::string text = R"toml(schema_version = 1
+[[body]]
+name = "upper"
+mesh = {generator = "cubes", n = [2, 2, 1], domain = [0.0, 1.0, 0.0, 1.0, 0.5, 1.0]}
+material = {E = 10.0, nu = 0.3}
+dirichlet = [{side = "top", value = [0.0, 0.0, -0.01]}]
+[[body]]
+name = "lower"
+mesh = {generator = "cubes", n = [2, 2, 1], domain = [0.0, 1.0, 0.0, 1.0, 0.0, 0.5]}
+material = {E = 4.0, nu = 0.1}
+dirichlet = [{side = "bottom", value = [0.0, 0.0, 0.0]}]
+[[contact]]
+name = "interface"
+side = "upper.bottom"
+against = "lower.top"
+law = "zero"
+constraint = "one-sided"
+)toml";
+  const auto two = build_problem<3>(parse_scene_string(text, "two-solids.toml"));
+  const std::string refused = test::input_error_of([&] { (void)pose_share(two->problem, 0, 4); });
+  EXPECT_NE(refused.find("in one process only"), std::string::npos) << refused;
+  EXPECT_NE(refused.find("interface"), std::string::npos) << refused;
+}
+
+// ---- the rows of the assembly ----
+
+/// assemble_rows of [v0, v1) holds assemble()'s entries in its owned rows and columns, none
+/// between two unknowns it does not own, and b's owned rows.
+template <int dim>
+void expect_rows_of_whole(const BasicElasticityProblem<dim>& p, int v0, int v1) {
+  SCOPED_TRACE("vertices " + std::to_string(v0) + " to " + std::to_string(v1));
+  const LinearSystem whole = assemble(p);
+  const SystemRows rows = assemble_rows(p, v0, v1);
+  EXPECT_EQ(rows.dofs.free_dofs, whole.dofs.free_dofs);
+  const Eigen::MatrixXd A(whole.A), L(rows.A);
+  const auto owns = [&](Eigen::Index i) { return i >= rows.at && i < rows.at + rows.owned; };
+  double largest = 0.0;
+  for (std::size_t i = 0; i < rows.unknowns.size(); ++i)
+    for (std::size_t j = 0; j < rows.unknowns.size(); ++j) {
+      const auto a = static_cast<Eigen::Index>(i), b = static_cast<Eigen::Index>(j);
+      if (owns(a) || owns(b))
+        largest = std::max(largest, std::abs(L(a, b) - A(rows.unknowns[i], rows.unknowns[j])));
+      else
+        EXPECT_EQ(rows.A.coeff(a, b), 0.0);
+    }
+  EXPECT_LE(largest, rel * A.cwiseAbs().maxCoeff());
+  // every entry of an owned row is among its unknowns
+  for (Eigen::Index i = rows.first; i < rows.first + rows.owned; ++i) {
+    EXPECT_EQ(rows.unknowns[static_cast<std::size_t>(rows.at + i - rows.first)], i);
+    for (SparseMatrix::InnerIterator e(whole.A, i); e; ++e)  // A's pattern is symmetric
+      EXPECT_TRUE(std::binary_search(rows.unknowns.begin(), rows.unknowns.end(), static_cast<int>(e.row())));
+  }
+  if (rows.owned > 0) EXPECT_LE(relative_difference(rows.b, whole.b.segment(rows.first, rows.owned)), rel);
+}
+
+TEST(PoseShare, TheRowsOfTheAssemblyAreTheWholeAssemblysWithLoadsAndPrescribedValues) {
+  const Mesh mesh = make_mesh("voronoi", GridSize{7, 5});
+  const auto side = [&](const std::string& name) {
+    return select_boundary_edges(mesh, std::vector<Segment>{rectangle_side(Rectangle{}, name)});
+  };
+  ElasticityProblem p;
+  p.mesh = &mesh;
+  p.materials = MaterialTable(Material{10.0, 0.3}, PlaneModel::strain);
+  p.dirichlet.push_back({side("left"), [](const Vec2& x) { return Vec2(0.01 * x.y(), -0.02); },
+                         {true, true}, "left"});
+  p.dirichlet.push_back({side("bottom"), [](const Vec2& x) { return Vec2(0.0, 0.03 * x.x()); },
+                         {false, true}, "roller"});
+  p.body_force = [](const Vec2& x) { return Vec2(1.0 + x.x(), x.y() * x.x()); };
+  TractionLoad top;
+  top.facets = side("top");
+  top.traction = [](const Vec2& x) { return Vec2(x.x(), -2.0); };
+  top.pressure = [](const Vec2& x) { return 1.0 + x.x(); };
+  p.tractions.push_back(top);
+  const int n = mesh.num_vertices();
+  for (const auto& [v0, v1] : std::vector<std::pair<int, int>>{{0, n / 3}, {n / 3, 2 * n / 3}, {2 * n / 3, n}, {0, n}})
+    expect_rows_of_whole<2>(p, v0, v1);
+}
+
+TEST(PoseShare, TheRowsOfASolidsAssemblyAreTheWholeAssemblys) {
+  const Mesh3D mesh = make_tetrahedra({3, 4, 3});
+  const Box box = mesh.bounding_box();
+  ElasticityProblem3D p;
+  p.mesh = &mesh;
+  p.materials = MaterialTable(Material{10.0, 0.3}, PlaneModel::strain);
+  p.dirichlet.push_back({select_box_side(mesh, box, "x0"), [](const Vec3& x) { return Vec3(0.01 * x.y(), -0.02, x.z()); },
+                         {true, true, true}, "x0"});
+  p.dirichlet.push_back({select_box_side(mesh, box, "bottom"), [](const Vec3& x) { return Vec3(0.0, 0.0, 0.01 * x.x()); },
+                         {false, false, true}, "roller"});
+  p.body_force = [](const Vec3& x) { return Vec3(1.0 + x.x(), x.y() * x.x(), x.z()); };
+  TractionLoad3D top;
+  top.facets = select_box_side(mesh, box, "top");
+  top.traction = [](const Vec3& x) { return Vec3(x.x(), -2.0, x.y()); };
+  top.pressure = [](const Vec3& x) { return 1.0 + x.x(); };
+  p.tractions.push_back(top);
+  const int n = mesh.num_vertices();
+  for (const auto& [v0, v1] : std::vector<std::pair<int, int>>{{0, n / 3}, {n / 3, 2 * n / 3}, {2 * n / 3, n}, {0, n}})
+    expect_rows_of_whole<3>(p, v0, v1);
+}
+
+}  // namespace
