@@ -4,8 +4,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <set>
 #include <ostream>
 #include <sstream>
 
@@ -17,10 +19,11 @@ namespace hemivem::cli {
 
 namespace {
 
-// The stages of the terminal table; the files also have linear_solve (the single solve of a
-// scene without contact).
+// The stages of the terminal table (posing and full_space: a full-space pair's); the files
+// also have linear_solve (the single solve of a scene without contact).
 const std::vector<std::string>& stage_names() {
-  static const std::vector<std::string> names{"mesh", "assembly", "condensation", "minimize", "back_substitution", "total"};
+  static const std::vector<std::string> names{"mesh",              "assembly", "condensation", "minimize",
+                                              "back_substitution", "posing",   "full_space",   "total"};
   return names;
 }
 
@@ -76,21 +79,29 @@ void print_bench(std::ostream& out, const BenchOptions& o, const app::BenchResul
         << ref.run.status << ", " << fixed(ref.run.seconds, 3) << " s)";
   out << "\n  " << (base.dimension() == 3 ? "N: N x N x N cells; " : "")
       << "times in seconds; error = max|I_h u_h - u_ref| / max|u_ref| at the reference vertices\n";
+  if (std::any_of(result.rows.begin(), result.rows.end(), [](const app::BenchRow& r) { return r.run.pair.full_space(); }))
+    out << "  a Krylov engine's pair is on the full-space route: it assembles and poses the problem itself (posing) and "
+           "runs ssn's Newton iteration in the whole space (full-space); nothing is condensed\n";
   if (const nlohmann::json path = app::bench_path_json(base); !path.is_null())
     out << "  a loading path of " << path["steps"].get<std::size_t>() << " step(s), measured at "
         << path["measured"].get<std::string>()
         << "\n";
   out << "\n";
-  out << std::left << std::setw(10) << "linear" << std::setw(18) << "minimizer" << std::right << std::setw(5) << "N"
+  out << std::left << std::setw(12) << "linear" << std::setw(18) << "minimizer" << std::right << std::setw(5) << "N"
       << "  " << std::left << std::setw(16) << "status" << std::right;
-  for (const char* h : {"mesh", "assembly", "condense", "minimize", "back-sub", "total"}) out << std::setw(10) << h;
+  for (const char* h : {"mesh", "assembly", "condense", "minimize", "back-sub", "posing", "full-space", "total"})
+    out << std::setw(11) << h;
   out << std::setw(11) << "error" << "\n";
   for (const auto& r : result.rows) {
-    out << std::left << std::setw(10) << r.run.pair.linear << std::setw(18) << r.run.pair.minimizer << std::right
+    out << std::left << std::setw(12) << r.run.pair.linear << std::setw(18) << r.run.pair.minimizer << std::right
         << std::setw(5) << r.n << "  " << std::left << std::setw(16) << r.run.status << std::right;
-    for (const auto& s : stage_names()) out << std::setw(10) << fixed(app::bench_stage(r.run, s));
+    for (const auto& s : stage_names()) out << std::setw(11) << fixed(app::bench_stage(r.run, s));
     out << std::setw(11) << (std::isfinite(r.error) ? sci(r.error) : std::string("null")) << "\n";
   }
+  std::set<std::string> said;  // each refused pair's reason, once
+  for (const auto& r : result.rows)
+    if (r.run.refused && said.insert(r.run.pair.label()).second)
+      out << "  refused   " << r.run.pair.label() << ": " << r.run.message << "\n";
   out << "\n  wrote     " << o.out << "/ (bench.csv, bench.json" << (plot_failure.empty() ? ", bench.png" : "")
       << ")\n";
   if (!plot_failure.empty()) out << "  skipped   bench.png: " << plot_failure << "\n";

@@ -15,6 +15,17 @@ namespace hemivem::cli {
 
 namespace {
 
+/// Which pairs (by # in the table) are on the full-space route, when any is.
+void print_routes(std::ostream& out, const std::vector<PairRun>& runs) {
+  std::string numbers;
+  for (std::size_t i = 0; i < runs.size(); ++i)
+    if (runs[i].pair.full_space()) numbers += (numbers.empty() ? "#" : ", #") + std::to_string(i + 1);
+  if (numbers.empty()) return;
+  out << "  full-space route (a Krylov engine with ssn's Newton iteration in the whole space, nothing factorized, "
+         "no uniqueness margin): "
+      << numbers << "; the others condense onto the contact unknowns\n";
+}
+
 /// The table of pairs and the matrix of their differences, as `hemivem check` prints them.
 void print_check(std::ostream& out, const Scene& base, const app::CheckResult& result) {
   const std::vector<PairRun>& runs = result.runs;
@@ -31,19 +42,26 @@ void print_check(std::ostream& out, const Scene& base, const app::CheckResult& r
     out << "a loading path of " << result.path_t.size()
         << " steps: every pair solves every step and is compared at each; a difference is the largest over the steps\n  ";
   out << c.margin_text
-      << (c.unique ? ": the solution is unique, converged pairs must agree\n\n"
+      << (c.unique ? ": the solution is unique, converged pairs must agree\n"
                    : ": several critical points are possible, differences between converged pairs are reported "
-                     "but are not a disagreement\n\n");
-  out << std::left << std::setw(4) << "  #" << std::setw(10) << "linear" << std::setw(18) << "minimizer"
+                     "but are not a disagreement\n");
+  print_routes(out, runs);
+  out << "\n" << std::left << std::setw(4) << "  #" << std::setw(12) << "linear" << std::setw(18) << "minimizer"
       << std::setw(17) << "status" << std::right << std::setw(10) << "primal" << std::setw(10) << "dual"
       << std::setw(7) << "iter" << std::setw(10) << "time [s]" << std::setw(11) << "max diff" << std::setw(18)
       << "energy" << "\n";
   for (std::size_t i = 0; i < np; ++i) {
     const auto& r = runs[i];
-    out << std::right << std::setw(3) << i + 1 << " " << std::left << std::setw(10) << r.pair.linear << std::setw(18)
-        << r.pair.minimizer << std::setw(17) << r.status << std::right << std::setw(10) << sci(r.certificate.primal)
-        << std::setw(10) << sci(r.certificate.dual) << std::setw(7) << r.iterations << std::setw(10) << fixed(r.seconds)
-        << std::setw(11) << sci(c.pair_max[i]) << std::setw(18) << std::setprecision(10) << r.energy
+    out << std::right << std::setw(3) << i + 1 << " " << std::left << std::setw(12) << r.pair.linear << std::setw(18)
+        << r.pair.minimizer << std::setw(17) << r.status << std::right;
+    if (r.refused) {  // nothing was solved: the reason is below the verdict
+      out << std::setw(10) << "-" << std::setw(10) << "-" << std::setw(7) << "-" << std::setw(10) << "-" << std::setw(11)
+          << "-" << std::setw(18) << "-" << "\n";
+      continue;
+    }
+    out << std::setw(10) << sci(r.certificate.primal) << std::setw(10) << sci(r.certificate.dual) << std::setw(7)
+        << r.iterations << std::setw(10) << fixed(r.seconds) << std::setw(11) << sci(c.pair_max[i]) << std::setw(18)
+        << std::setprecision(10) << r.energy
         << (!c.unique && r.converged && r.energy <= e.lowest_energy + e.tie ? " (lowest)" : "") << "\n";
   }
   out << "\n  pairwise differences (rows and columns: # above)\n     ";
@@ -60,7 +78,7 @@ void print_check(std::ostream& out, const Scene& base, const app::CheckResult& r
         << result.path_t[k] << std::right << sci(c.step_max[k]) << "\n";
   out << "\n  verdict   " << result.verdict << "\n";
   for (const auto& r : runs)
-    if (r.failed) out << "  failed    " << r.pair.label() << ": " << r.message << "\n";
+    if (r.failed) out << (r.refused ? "  refused   " : "  failed    ") << r.pair.label() << ": " << r.message << "\n";
 }
 
 }  // namespace

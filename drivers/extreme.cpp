@@ -85,8 +85,9 @@ SceneReport run_scene(const fs::path& file, const ExtremeOptions& o, std::ostrea
   ro.done = [&](const PairRun& r) {
     if (!progress || r.pair.linear == engine) return;
     engine = r.pair.linear;
-    err << "hemivem check --extreme: " << std::left << std::setw(22) << rep.name << std::setw(10) << engine
-        << (r.failed ? "engine failed" : "done") << " (" << fixed(r.seconds - r.mesh_seconds, 3) << " s)\n";
+    err << "hemivem check --extreme: " << std::left << std::setw(22) << rep.name << std::setw(12) << engine
+        << (r.refused ? "refused" : r.failed ? "engine failed" : "done") << " (" << fixed(r.seconds - r.mesh_seconds, 3)
+        << " s)\n";
   };
   PairRuns shared;
   try {
@@ -178,21 +179,22 @@ void print_scene(std::ostream& out, const SceneReport& s, double agree) {
   out << ": " << s.vertices << " vertices, " << s.unknowns << " unknowns, " << s.contact_nodes
       << " contact nodes; uniqueness margin " << margin_text(s.margin)
       << (s.unique ? " (unique)" : " (several critical points possible)") << "\n";
-  out << "   " << std::left << std::setw(10) << "linear" << std::setw(18) << "minimizer" << std::setw(17) << "status"
+  out << "   " << std::left << std::setw(12) << "linear" << std::setw(18) << "minimizer" << std::setw(17) << "status"
       << std::right << std::setw(10) << "primal" << std::setw(10) << "dual" << std::setw(7) << "iter"
       << std::setw(7) << "bound" << std::setw(7) << "stick" << std::setw(10) << "kappa_1" << std::setw(10) << "engine" << std::setw(10) << "max diff" << std::setw(10) << "time [s]" << "  guarantee\n";
   for (const auto& r : s.rows) {
-    out << "   " << std::left << std::setw(10) << r.pair.linear << std::setw(18) << r.pair.minimizer << std::setw(17) << r.status
+    out << "   " << std::left << std::setw(12) << r.pair.linear << std::setw(18) << r.pair.minimizer << std::setw(17) << r.status
         << std::right << std::setw(10) << sci(r.certificate.primal) << std::setw(10) << sci(r.certificate.dual) << std::setw(7)
         << r.iterations << std::setw(7) << r.at_bound << std::setw(7) << (r.stick >= 0 ? std::to_string(r.stick) : "-")
         << std::setw(10) << sci(r.condition, 1) << std::setw(10) << cond_text(r.rcond) << std::setw(10) << sci(r.difference, 1)
         << std::setw(10) << fixed(r.seconds, 3) << "  " << (r.guarantee ? "ok" : "BROKEN: " + r.broken) << "\n";
-    if (r.failed) out << "      " << r.message << "\n";
+    if (r.failed) out << "      " << (r.refused ? "refused: " : "") << r.message << "\n";
   }
-  int converged = 0;
-  for (const auto& r : s.rows) converged += r.converged;
-  out << "   " << converged << " of " << s.rows.size() << " pairs converged; largest difference between converged pairs "
-      << sci(s.max_difference);
+  int converged = 0, refused = 0;
+  for (const auto& r : s.rows) converged += r.converged, refused += r.refused;
+  out << "   " << converged << " of " << s.rows.size() << " pairs converged"
+      << (refused ? " (" + std::to_string(refused) + " on the full-space route refused the scene)" : std::string())
+      << "; largest difference between converged pairs " << sci(s.max_difference);
   if (s.unique && s.max_difference > agree) out << " > " << sci(agree) << " (DISAGREE)";
   out << "\n";
 }
@@ -289,10 +291,13 @@ int run_check_extreme(const ExtremeOptions& o, std::ostream& out, std::ostream& 
   }
   if (o.verbosity < 1) return code;
   out << "hemivem check --extreme: " << reports.size() << " scenes from " << dir.string()
-      << "\n  every built pair of engines; differences are max|u_a - u_b| / max|u_ref| (u_ref: eigen+ssn);"
+      << "\n  every built pair of engines (the Krylov engines with ssn on the full-space route, nothing factorized);"
+      << "\n  differences are max|u_a - u_b| / max|u_ref| (u_ref: eigen+ssn);"
       << "\n  kappa_1: estimate of the 1-norm condition number of the factorized matrix (A22; A without contact),"
-      << "\n  the same method for every engine; engine: 1 / the engine's own reciprocal condition estimate, '-' where"
-      << "\n  it gives none; bound: contact nodes at a bound of the constraint; stick: contact nodes that stick (friction); guarantee: a converged pair has finite u and a feasible point (recomputed)\n";
+      << "\n  the same method for every engine ('-' on the full-space route); engine: 1 / the engine's own reciprocal"
+      << "\n  condition estimate, '-' where it gives none; bound: contact nodes at a bound of the constraint; stick:"
+      << "\n  contact nodes that stick (friction); guarantee: a converged pair has finite u and a feasible point"
+      << " (recomputed)\n";
   for (const auto& s : reports) print_scene(out, s, o.agree);
   print_summary(out, reports);
   out << "\n  verdict   ";

@@ -15,6 +15,7 @@
 #include <hemivem/app/run.hpp>
 #include <hemivem/app/study.hpp>
 #include <hemivem/error.hpp>
+#include <hemivem/krylov_solver.hpp>
 #include <hemivem/linear_backends.hpp>
 #include <hemivem/mesh/generators.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
@@ -245,6 +246,125 @@ TEST(AppCheck, ASolidPathIsComparedAtEveryStep) {
   }
 }
 
+/// eigen+ssn and the full-space route's pair of every Krylov engine built (eigen-cg always).
+std::vector<Pair> condensed_and_full_space_pairs() {
+  std::vector<Pair> pairs{{"eigen", "ssn"}};
+  for (const auto& k : available_krylov_solvers()) pairs.push_back({k, "ssn"});
+  return pairs;
+}
+
+// The full-space route's pairs in a check: each is the solve of its engine through run_scene
+// (BasicContactSolver with the Krylov engine: its own assembly and posing), and agrees with
+// the condensed pair by the same differences, on a problem whose margin (the condensed
+// pair's: the route measures none) says the solution is unique.
+TEST(AppCheck, FullSpacePairsAgreeWithTheCondensedPairAndAreTheSolveOfTheirEngine) {
+  const Scene scene = small_plane(8);
+  CheckOptions o;
+  o.pairs = condensed_and_full_space_pairs();
+  const CheckResult r = run_check(scene, o);
+  ASSERT_EQ(r.runs.size(), o.pairs.size());
+  EXPECT_EQ(r.outcome, CheckOutcome::agree) << r.verdict;
+  EXPECT_TRUE(r.comparison.unique);
+  EXPECT_EQ(r.comparison.refused, 0);
+  EXPECT_DOUBLE_EQ(r.comparison.margin, r.runs[0].margin);
+  for (std::size_t i = 1; i < r.runs.size(); ++i) {
+    const PairRun& run = r.runs[i];
+    SCOPED_TRACE(run.pair.label());
+    ASSERT_TRUE(run.converged) << run.message;
+    EXPECT_TRUE(run.pair.full_space());
+    EXPECT_TRUE(std::isnan(run.margin));
+    EXPECT_GT(run.timings.at("posing"), 0.0);
+    EXPECT_GT(run.timings.at("full_space"), 0.0);
+    EXPECT_EQ(run.timings.count("condensation"), 0u);
+    EXPECT_LE(r.comparison.diff[0][i], o.agree);
+    EXPECT_DOUBLE_EQ(r.comparison.diff[0][i], max_abs_of(run.u - r.runs[0].u) / max_abs_of(r.runs[0].u));
+    EXPECT_NEAR(run.energy, r.runs[0].energy, 1e-9 * std::abs(run.energy));
+    if (run.pair.linear != "eigen-cg") continue;  // the command's engine, alone: as the pair
+    const SceneRun solo = solve_with(scene, run.pair.linear, run.pair.minimizer);
+    ASSERT_TRUE(solo.converged());
+    EXPECT_LE(max_abs_of(run.u - solo.plane()->solution.u), 1e-10 * max_abs_of(run.u));
+  }
+  const nlohmann::json j = check_json(scene, r);
+  for (std::size_t i = 0; i < r.runs.size(); ++i)
+    EXPECT_EQ(j["pairs"][i]["route"], i == 0 ? "condensed" : "full_space") << i;
+  EXPECT_TRUE(j["refused"].empty());
+}
+
+// A solid: the cube scene's full-space pairs agree with the condensed pair.
+TEST(AppCheck, FullSpacePairsAgreeOnASolid) {
+  Scene scene = parse_scene(test::scenes_dir() / "example-4.1-3d.toml");
+  apply_overrides(scene, {"mesh.n=[4, 2, 4]"});
+  CheckOptions o;
+  o.pairs = condensed_and_full_space_pairs();
+  const CheckResult r = run_check(scene, o);
+  EXPECT_EQ(r.outcome, CheckOutcome::agree) << r.verdict;
+  EXPECT_TRUE(r.comparison.unique);
+  for (std::size_t i = 1; i < r.runs.size(); ++i) {
+    ASSERT_TRUE(r.runs[i].converged) << r.runs[i].pair.label() << ": " << r.runs[i].message;
+    EXPECT_GT(r.runs[i].u.size(), 0);
+    EXPECT_LE(r.comparison.diff[0][i], o.agree) << r.runs[i].pair.label();
+  }
+}
+
+// A loading path: a full-space pair solves it as solve_path on its Krylov engine does (the
+// command's path through run_scene), and is compared with the condensed pair at every step.
+TEST(AppCheck, AFullSpacePairSolvesThePathAndIsComparedAtEveryStep) {
+  const Scene scene = coulomb_path(6);
+  CheckOptions o;
+  o.pairs = {{"eigen", "ssn"}, {"eigen-cg", "ssn"}};
+  const CheckResult r = run_check(scene, o);
+  EXPECT_EQ(r.outcome, CheckOutcome::agree) << r.verdict;
+  ASSERT_EQ(r.comparison.step_max.size(), 3u);
+  const PairRun& run = r.runs[1];
+  ASSERT_TRUE(run.converged) << run.message;
+  ASSERT_EQ(run.path_u.size(), 3u);
+  EXPECT_GT(run.timings.at("posing"), 0.0);
+  EXPECT_GT(run.timings.at("full_space"), 0.0);  // every step's Newton iteration
+  EXPECT_EQ(run.timings.count("minimize"), 0u);
+  const SceneRun solo = solve_with(scene, "eigen-cg", "ssn");
+  ASSERT_TRUE(solo.converged() && solo.plane()->path);
+  for (std::size_t k = 0; k < 3; ++k) {
+    const Eigen::VectorXd& u = solo.plane()->path->steps[k].u;
+    EXPECT_LE(max_abs_of(run.path_u[k] - u), 1e-10 * max_abs_of(u)) << k;
+    EXPECT_LE(r.comparison.step_max[k], o.agree) << k;
+  }
+}
+
+// A scene the full-space route refuses (a block held vertically by its contact alone): the
+// full-space pairs are refused with the route's reason, which neither fails the check nor is
+// compared; the condensed pair is checked as ever. When every pair asked for is refused,
+// nothing was solved and the refusal is the error.
+TEST(AppCheck, ASceneTheFullSpaceRouteRefusesIsRefusedForItsPairsAlone) {
+  Scene scene = parse_scene(test::scenes_dir() / "block-between-rollers.toml");
+  apply_overrides(scene, {"mesh.n=[8, 2]"});
+  CheckOptions o;
+  o.pairs = condensed_and_full_space_pairs();
+  const CheckResult r = run_check(scene, o);
+  EXPECT_EQ(r.outcome, CheckOutcome::agree) << r.verdict;
+  ASSERT_TRUE(r.runs[0].converged);
+  EXPECT_FALSE(r.runs[0].refused);
+  EXPECT_EQ(r.comparison.refused, static_cast<int>(r.runs.size()) - 1);
+  EXPECT_FALSE(r.comparison.any_failed);
+  for (std::size_t i = 1; i < r.runs.size(); ++i) {
+    const PairRun& run = r.runs[i];
+    SCOPED_TRACE(run.pair.label());
+    EXPECT_TRUE(run.refused && run.failed);
+    EXPECT_EQ(run.status, "refused");
+    EXPECT_NE(run.message.find("is held by the contact alone"), std::string::npos) << run.message;
+    EXPECT_TRUE(std::isnan(r.comparison.diff[0][i]));
+    EXPECT_NE(r.verdict.find(run.pair.label()), std::string::npos) << r.verdict;
+  }
+  EXPECT_EQ(r.verdict.rfind("all 1 pairs converged", 0), 0u) << r.verdict;
+  const nlohmann::json j = check_json(scene, r);
+  EXPECT_EQ(j["exit_code"], 0);
+  EXPECT_EQ(j["refused"].size(), r.runs.size() - 1);
+  EXPECT_EQ(j["pairs"][1]["status"], "refused");
+
+  o.pairs = {{"eigen-cg", "ssn"}};
+  const std::string error = test::input_error_of([&] { (void)run_check(scene, o); });
+  EXPECT_NE(error.find("the full-space route needs supports that hold the body"), std::string::npos) << error;
+}
+
 TEST(AppStudy, TheErrorIsTheEnergyOfTheProlongedDifferenceOfTwoSolves) {
   const Scene scene = small_plane(8);
   StudyOptions o;
@@ -325,6 +445,51 @@ TEST(AppBench, ThePairOnTheReferenceMeshHasNoErrorAndACoarserOneHas) {
   EXPECT_EQ(j["schema"], "hemivem-bench/5");
   EXPECT_EQ(j["rows"].size(), 2u);
   EXPECT_EQ(j["refinement"]["levels"], 1);
+}
+
+// The full-space route's pairs in a bench: timed by their own stages and measured against the
+// same reference, with the condensed pair's errors (the same discrete solution); on a scene
+// the route refuses they are rows with the status "refused", and the bench still converges.
+TEST(AppBench, FullSpacePairsAreTimedAndMeasuredLikeTheOthers) {
+  BenchOptions o;
+  o.n = {4, 8};
+  o.ref = 16;
+  o.levels = 1;
+  o.pairs = condensed_and_full_space_pairs();
+  const BenchResult r = run_bench(small_plane(4), o);
+  EXPECT_TRUE(r.converged);
+  ASSERT_EQ(r.rows.size(), 2 * o.pairs.size());
+  const nlohmann::json j = bench_json(r);
+  for (std::size_t i = 2; i < r.rows.size(); ++i) {  // rows pair by pair: eigen+ssn's are the first two
+    const BenchRow& row = r.rows[i];
+    SCOPED_TRACE(row.run.pair.label() + " n = " + std::to_string(row.n));
+    ASSERT_TRUE(row.run.converged) << row.run.message;
+    EXPECT_EQ(row.n, r.rows[i % 2].n);
+    EXPECT_NEAR(row.error, r.rows[i % 2].error, 1e-6 * r.rows[i % 2].error);
+    EXPECT_GT(bench_stage(row.run, "posing"), 0.0);
+    EXPECT_GT(bench_stage(row.run, "full_space"), 0.0);
+    EXPECT_EQ(bench_stage(row.run, "condensation"), 0.0);
+    EXPECT_GE(bench_stage(row.run, "total"), bench_stage(row.run, "assembly") + bench_stage(row.run, "posing") +
+                                                 bench_stage(row.run, "full_space"));
+    EXPECT_EQ(j["rows"][i]["route"], "full_space");
+    EXPECT_EQ(j["rows"][i]["seconds"]["full_space"].get<double>(), bench_stage(row.run, "full_space"));
+  }
+  EXPECT_EQ(j["rows"][0]["route"], "condensed");
+  EXPECT_NE(bench_plot_script({{"eigen-cg", "ssn", {{0.1, 0.2}}}}).find("linear engine eigen-cg (full-space route)"),
+            std::string::npos);
+
+  Scene refused = parse_scene(test::scenes_dir() / "block-between-rollers.toml");
+  o.n = {4};
+  o.ref = 8;
+  o.pairs = {{"eigen", "ssn"}, {"eigen-cg", "ssn"}};
+  const BenchResult b = run_bench(refused, o);
+  ASSERT_EQ(b.rows.size(), 2u);
+  EXPECT_TRUE(b.rows[0].run.converged);
+  EXPECT_TRUE(b.rows[1].run.refused);
+  EXPECT_EQ(b.rows[1].run.status, "refused");
+  EXPECT_TRUE(std::isnan(b.rows[1].error));
+  EXPECT_TRUE(b.converged) << "a route that refuses the scene is no failure of the bench";
+  EXPECT_EQ(bench_json(b)["rows"][1]["status"], "refused");
 }
 
 TEST(AppBench, APathIsBenchmarkedAtItsLastStep) {

@@ -17,6 +17,9 @@
 #include <unistd.h>
 #include <sys/wait.h>
 
+#include <hemivem/krylov_solver.hpp>
+#include <hemivem/linear_backends.hpp>
+#include <hemivem/nonsmooth_backends.hpp>
 #include <hemivem/scene/scene.hpp>
 
 #include "bench.hpp"
@@ -51,13 +54,22 @@ TEST(CliCheck, EveryPairConvergesAndAgrees) {
   EXPECT_EQ(j["schema"], "hemivem-check/4");
   ASSERT_GE(j["pairs"].size(), 1u);
   bool reference = false;
+  std::vector<std::string> full_space;  // the Krylov engines of the full-space route's pairs
   for (const auto& p : j["pairs"]) {
     EXPECT_EQ(p["converged"], true) << p["linear"] << "+" << p["minimizer"];
     ASSERT_TRUE(p["max_difference"].is_number()) << p["linear"] << "+" << p["minimizer"];
     EXPECT_LT(p["max_difference"].get<double>(), 1e-6) << p["linear"] << "+" << p["minimizer"];
     reference |= p["linear"] == "eigen" && p["minimizer"] == "ssn";
+    if (p["route"] == "full_space") {
+      EXPECT_EQ(p["minimizer"], "ssn") << p["linear"];
+      full_space.push_back(p["linear"]);
+    } else {
+      EXPECT_EQ(p["route"], "condensed") << p["linear"];
+    }
   }
   EXPECT_TRUE(reference);
+  EXPECT_EQ(full_space, hemivem::available_krylov_solvers()) << "every Krylov engine built is checked, with ssn";
+  EXPECT_TRUE(j["refused"].empty()) << j["refused"];
   EXPECT_LT(j["max_difference"].get<double>(), 1e-6);
   EXPECT_EQ(j["differences"].size(), j["pairs"].size());
   EXPECT_EQ(j["agree_ok"], true);
@@ -67,6 +79,53 @@ TEST(CliCheck, EveryPairConvergesAndAgrees) {
   EXPECT_EQ(verdict.rfind("all ", 0), 0u) << verdict;
   EXPECT_EQ(verdict.find("pairs differ"), std::string::npos) << verdict;
   EXPECT_EQ(verdict.find("lowest energy"), std::string::npos) << verdict;
+}
+
+// A scene the full-space route refuses (a block held vertically by its contact alone): every
+// Krylov pair is reported refused with the route's reason, which is neither a failure nor a
+// disagreement; the condensed pairs are checked as ever and the check passes. The table says
+// which pairs are on the route and why they were refused.
+TEST(CliCheck, ASceneTheFullSpaceRouteRefusesIsRefusedForItsPairsAndCheckedForTheOthers) {
+  const std::string scene = (hemivem::test::scenes_dir() / "block-between-rollers.toml").string();
+  const CommandRun r = run("check " + scene + " --set 'mesh.n=[8, 2]' --json -q");
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  std::vector<std::string> refused;
+  int condensed = 0;
+  for (std::size_t i = 0; i < j["pairs"].size(); ++i) {
+    const auto& p = j["pairs"][i];
+    const std::string label = p["linear"].get<std::string>() + "+" + p["minimizer"].get<std::string>();
+    SCOPED_TRACE(label);
+    if (p["route"] == "full_space") {
+      EXPECT_EQ(p["status"], "refused");
+      EXPECT_EQ(p["converged"], false);
+      EXPECT_NE(p["message"].get<std::string>().find("full-space route needs supports that hold the body"),
+                std::string::npos)
+          << p["message"];
+      EXPECT_TRUE(p["max_difference"].is_null());
+      for (const auto& d : j["differences"][i]) EXPECT_TRUE(d.is_null());
+      refused.push_back(label);
+    } else {
+      EXPECT_EQ(p["converged"], true) << p["message"];
+      EXPECT_LT(p["max_difference"].get<double>(), 1e-6);
+      ++condensed;
+    }
+  }
+  EXPECT_EQ(refused.size(), hemivem::available_krylov_solvers().size());
+  EXPECT_EQ(j["refused"].get<std::vector<std::string>>(), refused);
+  EXPECT_GT(condensed, 0);
+  EXPECT_EQ(j["exit_code"], 0);
+  EXPECT_EQ(j["agree_ok"], true);
+  const std::string verdict = j["verdict"].get<std::string>();
+  EXPECT_EQ(verdict.rfind("all " + std::to_string(condensed) + " pairs converged and agree", 0), 0u) << verdict;
+  EXPECT_NE(verdict.find("eigen-cg+ssn"), std::string::npos) << verdict;
+  EXPECT_NE(verdict.find("refused the scene"), std::string::npos) << verdict;
+
+  const CommandRun t = run("check " + scene + " --set 'mesh.n=[8, 2]'");
+  ASSERT_EQ(t.code, 0) << t.err;
+  EXPECT_NE(t.out.find("full-space route (a Krylov engine with ssn's Newton iteration"), std::string::npos) << t.out;
+  EXPECT_NE(t.out.find("  refused   eigen-cg+ssn: "), std::string::npos) << t.out;
+  EXPECT_EQ(t.out.find("  failed    "), std::string::npos) << t.out;
 }
 
 TEST(CliCheck, DisagreementBeyondAgreeExitsSix) {
@@ -143,6 +202,20 @@ TEST(CliCheck, BenchWritesOneRowPerPairAndSizeAndSsnErrorsDecrease) {
   }
   ASSERT_EQ(rows, 2 * error.size());
   EXPECT_EQ(j["rows"].size(), rows);
+  // the full-space route's pairs are timed like the others, by their own stages
+  for (const char* c : {"posing", "full_space"}) ASSERT_TRUE(col.count(c)) << c;
+  for (const auto& k : hemivem::available_krylov_solvers()) EXPECT_TRUE(error.count(k + "+ssn")) << k;
+  for (const auto& row : j["rows"]) {
+    const bool full_space = row["route"] == "full_space";
+    EXPECT_EQ(full_space, hemivem::is_krylov_solver(row["linear"].get<std::string>())) << row["linear"];
+    const auto& t = row["seconds"];
+    if (!full_space) continue;
+    EXPECT_EQ(row["converged"], true) << row["linear"];
+    EXPECT_GT(t["posing"].get<double>(), 0.0) << row["linear"];
+    EXPECT_GT(t["full_space"].get<double>(), 0.0) << row["linear"];
+    EXPECT_EQ(t["condensation"].get<double>(), 0.0) << row["linear"];
+    EXPECT_GE(t["total"].get<double>(), t["posing"].get<double>() + t["full_space"].get<double>()) << row["linear"];
+  }
   // one row per pair and size: the pairs check reports
   const auto check = nlohmann::json::parse(run("check --n 4 --json -q").out);
   EXPECT_EQ(error.size(), check["pairs"].size());
@@ -387,21 +460,28 @@ TEST(CliBenchLimit, NeedsSquaresAndLeavesNothingOnBadInput) {
 }  // namespace
 
 // The runner of check, bench and check --extreme shares what the pairs have in common: one
-// mesh, one assembly, one condensation per linear engine; each pair is charged those shared
-// stages as if it had run alone.
+// mesh, one assembly, one condensation per linear engine that factorizes; each pair is charged
+// those shared stages as if it had run alone. A full-space pair (a Krylov engine with ssn) has
+// nothing to share but the mesh: its solver assembles and poses the problem itself, and it is
+// charged its own stages.
 TEST(EnginePairs, OneAssemblyAndOneCondensationPerLinearEngine) {
   hemivem::Scene scene = hemivem::default_scene();
   hemivem::apply_overrides(scene, {"mesh.n=8"});
   const auto pairs = hemivem::cli::available_pairs();
   std::vector<std::string> engines;
-  for (const auto& p : pairs)
-    if (engines.empty() || engines.back() != p.linear) engines.push_back(p.linear);
+  int full_space = 0;
+  for (const auto& p : pairs) {
+    if (p.full_space()) ++full_space;
+    else if (engines.empty() || engines.back() != p.linear) engines.push_back(p.linear);
+  }
+  EXPECT_EQ(full_space, static_cast<int>(hemivem::available_krylov_solvers().size()));
   std::vector<std::string> done;
   hemivem::cli::PairRunOptions options;
   options.done = [&](const hemivem::cli::PairRun& r) { done.push_back(r.pair.label()); };
   const auto shared = hemivem::cli::run_pairs(scene, pairs, options);
-  EXPECT_EQ(shared.assemblies, 1);
+  EXPECT_EQ(shared.assemblies, 1 + full_space);
   EXPECT_EQ(shared.condensations, static_cast<int>(engines.size()));
+  EXPECT_EQ(shared.posings, full_space);
   ASSERT_EQ(shared.runs.size(), pairs.size());
   ASSERT_EQ(done.size(), pairs.size());
   const double scale = hemivem::cli::difference_scale(shared.runs);
@@ -412,14 +492,48 @@ TEST(EnginePairs, OneAssemblyAndOneCondensationPerLinearEngine) {
     EXPECT_EQ(done[i], pairs[i].label());
     ASSERT_TRUE(r.converged) << r.message;
     EXPECT_TRUE(r.guarantee) << r.broken;
-    EXPECT_EQ(r.timings.at("assembly"), shared.assembly_seconds);
-    EXPECT_GE(r.timings.at("total"), shared.assembly_seconds + r.timings.at("condensation"));
+    if (r.pair.full_space()) {  // its own assembly and posing, no condensation
+      EXPECT_EQ(r.timings.count("condensation"), 0u);
+      EXPECT_GT(r.timings.at("assembly"), 0.0);
+      EXPECT_GE(r.timings.at("total"), r.timings.at("assembly") + r.timings.at("posing") + r.timings.at("full_space"));
+      EXPECT_TRUE(std::isnan(r.margin));
+    } else {
+      EXPECT_EQ(r.timings.at("assembly"), shared.assembly_seconds);
+      EXPECT_GE(r.timings.at("total"), shared.assembly_seconds + r.timings.at("condensation"));
+    }
     EXPECT_EQ(r.seconds, shared.mesh_seconds + r.timings.at("total"));
     EXPECT_EQ(r.vertices, shared.built->mesh.num_vertices());
     EXPECT_LE(hemivem::cli::max_abs(r.u - shared.runs.front().u) / scale, 1e-6);  // Example 4.1 is unique
   }
   // the pairs of one engine share its condensation: the same time, measured once
   for (std::size_t i = 1; i < pairs.size(); ++i)
-    if (pairs[i].linear == pairs[i - 1].linear)
+    if (pairs[i].linear == pairs[i - 1].linear && !pairs[i].full_space())
       EXPECT_EQ(shared.runs[i].timings.at("condensation"), shared.runs[i - 1].timings.at("condensation"));
+}
+
+// Every built Krylov engine is paired with ssn alone, after every condensed pair; a Krylov
+// engine paired with another minimizer is refused before any work, naming the pair.
+TEST(EnginePairs, EveryKrylovEngineIsPairedWithSsnAfterTheCondensedPairs) {
+  const auto pairs = hemivem::cli::available_pairs();
+  const auto krylov = hemivem::available_krylov_solvers();
+  ASSERT_FALSE(krylov.empty()) << "eigen-cg is always built";
+  const std::size_t condensed = hemivem::available_factorizations().size() * hemivem::available_minimizers().size();
+  ASSERT_EQ(pairs.size(), condensed + krylov.size());
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    SCOPED_TRACE(pairs[i].label());
+    EXPECT_EQ(pairs[i].full_space(), i >= condensed);
+    EXPECT_EQ(pairs[i].route(), i >= condensed ? "full_space" : "condensed");
+    if (i < condensed) continue;
+    EXPECT_EQ(pairs[i].linear, krylov[i - condensed]);
+    EXPECT_EQ(pairs[i].minimizer, "ssn");
+    EXPECT_EQ(pairs[i].label(), krylov[i - condensed] + "+ssn");
+  }
+  std::string other;
+  for (const auto& m : hemivem::available_minimizers())
+    if (m != "ssn" && other.empty()) other = m;
+  if (other.empty()) return;
+  const std::string error = hemivem::test::input_error_of(
+      [&] { (void)hemivem::cli::run_pairs(hemivem::default_scene(), {{"eigen", "ssn"}, {"eigen-cg", other}}); });
+  EXPECT_NE(error.find("eigen-cg+" + other), std::string::npos) << error;
+  EXPECT_NE(error.find("ssn"), std::string::npos) << error;
 }

@@ -6,11 +6,17 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include <hemivem/krylov_solver.hpp>
+
 #include "test_support.hpp"
 
 namespace hemivem {
 namespace {
 
+// Every pair, the full-space route's (each Krylov engine with ssn) among them: the condensed
+// pairs estimate the condition of their factorized matrix, the full-space pairs factorize
+// nothing and have none; every converged pair keeps its guarantee (its certificate
+// recomputed: from the reduced problem, or from the posed whole system) and all agree.
 TEST(CliExtreme, ReportsEveryPairWithItsGuaranteeAsJson) {
   const auto run = test::run_hemivem("check --extreme --only gap-zero,lift-off --json");
   ASSERT_EQ(run.code, 0) << run.err;
@@ -22,13 +28,23 @@ TEST(CliExtreme, ReportsEveryPairWithItsGuaranteeAsJson) {
     ASSERT_FALSE(s["pairs"].empty());
     EXPECT_TRUE(s["unique"].get<bool>()) << s["name"];
     EXPECT_LT(s["max_difference"].get<double>(), 1e-6) << s["name"];
+    std::size_t full_space = 0;
     for (const auto& p : s["pairs"]) {
       EXPECT_TRUE(p["converged"].get<bool>()) << s["name"] << " " << p["linear"] << "+" << p["minimizer"];
       EXPECT_TRUE(p["guarantee_ok"].get<bool>());
-      EXPECT_GT(p["condition_estimate"].get<double>(), 1.0);
+      EXPECT_LT(p["max_difference"].get<double>(), 1e-6) << s["name"] << " " << p["linear"];
+      if (p["route"] == "full_space") {
+        ++full_space;
+        EXPECT_EQ(p["minimizer"], "ssn");
+        EXPECT_TRUE(p["condition_estimate"].is_null()) << p["linear"];
+        EXPECT_TRUE(p["uniqueness_margin"].is_null()) << p["linear"];
+      } else {
+        EXPECT_GT(p["condition_estimate"].get<double>(), 1.0);
+      }
       const int bound = p["at_bound"].get<int>();
       EXPECT_EQ(bound, s["name"] == "gap-zero" ? s["contact_nodes"].get<int>() : 0) << s["name"];
     }
+    EXPECT_EQ(full_space, hemivem::available_krylov_solvers().size()) << s["name"];
   }
 }
 

@@ -1,6 +1,7 @@
 #include <hemivem/app/bench.hpp>
 
 #include <hemivem/error.hpp>
+#include <hemivem/krylov_solver.hpp>
 #include <hemivem/linear_backends.hpp>
 #include <hemivem/mesh/refine.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
@@ -46,8 +47,11 @@ bool measures_errors(const Scene& base) {
 namespace {
 
 const std::vector<std::string>& file_stage_names() {
+  // posing and full_space: a full-space pair's stages (0 for a condensed pair, whose condensation,
+  // minimize and back_substitution are 0 on the full-space route)
   static const std::vector<std::string> names{"mesh",     "assembly",          "linear_solve", "condensation",
-                                              "minimize", "back_substitution", "total"};
+                                              "minimize", "back_substitution", "posing",       "full_space",
+                                              "total"};
   return names;
 }
 
@@ -254,7 +258,8 @@ std::string bench_plot(const fs::path& dir, const std::vector<Pair>& pairs, cons
 std::string bench_plot_script(const std::vector<BenchSeries>& series) {
   std::ostringstream script;
   script << std::setprecision(17);
-  const auto linear = available_factorizations();
+  std::vector<std::string> linear = available_factorizations();  // then the full-space route's engines
+  for (const auto& k : available_krylov_solvers()) linear.push_back(k);
   const auto minimizers = available_minimizers();
   auto index = [](const std::vector<std::string>& names, const std::string& name) {
     return static_cast<std::size_t>(std::find(names.begin(), names.end(), name) - names.begin());
@@ -268,7 +273,8 @@ std::string bench_plot_script(const std::vector<BenchSeries>& series) {
   std::vector<std::string> plots;
   for (const std::string& engine : engines) {
     if (!plots.empty()) plots.push_back("keyentry title ' '");  // a blank line between the groups
-    plots.push_back("keyentry title " + gnuplot_quote("linear engine " + engine));
+    plots.push_back("keyentry title " +
+                    gnuplot_quote("linear engine " + engine + (is_krylov_solver(engine) ? " (full-space route)" : "")));
     for (std::size_t p = 0; p < series.size(); ++p) {
       const BenchSeries& s = series[p];
       if (s.linear != engine || s.points.empty()) continue;
@@ -624,7 +630,7 @@ std::vector<BenchRow> run_sizes(const std::vector<Scene>& scenes, const std::vec
                                                                              scenes[k].mesh.domain, ref->points);
         row.error = max_abs(fine - ref->run.u) / ref->scale;
       }
-      all_converged &= row.run.converged;
+      all_converged &= row.run.converged || row.run.refused;  // a route that refuses the scene is no failure
       by_pair[p].push_back(std::move(row));
     }
   }
@@ -751,6 +757,7 @@ nlohmann::json bench_json(const BenchResult& result) {
     for (const auto& s : file_stage_names()) times[s] = bench_stage(r.run, s);
     j["rows"].push_back({{"linear", r.run.pair.linear},
                          {"minimizer", r.run.pair.minimizer},
+                         {"route", r.run.pair.route()},
                          {"n", r.n},
                          {"vertices", r.run.vertices},
                          {"contact_nodes", r.run.contact_nodes},

@@ -42,7 +42,8 @@ CheckComparison compare(const std::vector<PairRun>& runs, double agree) {
 
   c.pair_max.assign(np, nan);
   for (std::size_t i = 0; i < np; ++i) {
-    c.any_failed |= runs[i].failed;
+    c.any_failed |= runs[i].failed && !runs[i].refused;
+    c.refused += runs[i].refused;
     c.any_unconverged |= !runs[i].failed && !runs[i].converged;
     if (runs[i].failed) continue;
     double m = 0.0;
@@ -103,9 +104,21 @@ CheckOutcome outcome_of(const CheckComparison& c) {
                              : CheckOutcome::agree;
 }
 
-std::string verdict_text(const CheckComparison& c, std::size_t np, double agree, const std::string& energy) {
+/// The full-space pairs whose route refused the scene, in words (empty: none).
+std::string refused_text(const std::vector<PairRun>& runs) {
+  std::string labels;
+  for (const auto& r : runs)
+    if (r.refused) labels += (labels.empty() ? "" : ", ") + r.pair.label();
+  if (labels.empty()) return "";
+  return labels + " refused the scene (the full-space route does not take it, which is not a failure: see the "
+                  "pairs' messages)";
+}
+
+std::string verdict_text(const CheckComparison& c, std::size_t pairs, double agree, const std::string& energy,
+                         const std::string& refused) {
   const CheckOutcome outcome = outcome_of(c);
   const int code = static_cast<int>(outcome);
+  const std::size_t np = pairs - static_cast<std::size_t>(c.refused);  // the pairs that ran
   std::ostringstream verdict;
   if (outcome == CheckOutcome::agree && c.overall <= agree)
     verdict << "all " << np << " pairs converged and agree within " << sci(agree) << " (largest difference "
@@ -120,6 +133,7 @@ std::string verdict_text(const CheckComparison& c, std::size_t np, double agree,
   else
     verdict << "converged pairs differ by " << sci(c.overall) << " > " << sci(agree) << " (exit " << code << ")";
   if (!energy.empty()) verdict << "; " << energy;
+  if (!refused.empty()) verdict << "; " << refused;
   return verdict.str();
 }
 
@@ -153,7 +167,8 @@ CheckResult run_check(const Scene& scene, const CheckOptions& o) {
   r.comparison = compare(r.runs, o.agree);
   r.energies = rank_energies(r.runs);
   r.outcome = outcome_of(r.comparison);
-  r.verdict = verdict_text(r.comparison, r.runs.size(), o.agree, energy_text(r.runs, r.comparison, r.energies));
+  r.verdict = verdict_text(r.comparison, r.runs.size(), o.agree, energy_text(r.runs, r.comparison, r.energies),
+                           refused_text(r.runs));
   return r;
 }
 
@@ -199,6 +214,9 @@ nlohmann::json check_json(const Scene& base, const CheckResult& result) {
   }
   j["max_difference"] = c.overall;
   j["agree_ok"] = !c.disagree;
+  j["refused"] = nlohmann::json::array();  // the full-space pairs whose route refused the scene
+  for (const auto& r : runs)
+    if (r.refused) j["refused"].push_back(r.pair.label());
   j["lowest_energy"] = e.lowest == np ? nlohmann::json(nullptr)
                                       : nlohmann::json{{"linear", runs[e.lowest].pair.linear},
                                                        {"minimizer", runs[e.lowest].pair.minimizer},

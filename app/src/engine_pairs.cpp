@@ -4,13 +4,17 @@
 #include <type_traits>
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <limits>
+#include <optional>
 
 #include <hemivem/vem/assembly.hpp>
 #include <hemivem/contact/contact3d.hpp>
+#include <hemivem/contact/full_space.hpp>
 #include <hemivem/contact/solver.hpp>
 #include <hemivem/vem/assembly3d.hpp>
 #include <hemivem/error.hpp>
+#include <hemivem/krylov_solver.hpp>
 #include <hemivem/linear_backends.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
 
@@ -32,10 +36,16 @@ double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::
 
 }  // namespace
 
+bool Pair::full_space() const { return is_krylov_solver(linear); }
+
 std::vector<Pair> available_pairs() {
   std::vector<Pair> pairs;
+  const std::vector<std::string> minimizers = available_minimizers();
   for (const auto& l : available_factorizations())
-    for (const auto& m : available_minimizers()) pairs.push_back({l, m});
+    for (const auto& m : minimizers) pairs.push_back({l, m});
+  // the full-space route's method is ssn's Newton iteration in the whole space: one pair per engine
+  if (std::find(minimizers.begin(), minimizers.end(), "ssn") != minimizers.end())
+    for (const auto& k : available_krylov_solvers()) pairs.push_back({k, "ssn"});
   return pairs;
 }
 
@@ -78,7 +88,7 @@ double largest_margin(const std::vector<PairRun>& runs) {
 }
 
 nlohmann::json pair_json(const PairRun& r) {
-  return {{"linear", r.pair.linear},   {"minimizer", r.pair.minimizer}, {"status", r.status},
+  return {{"linear", r.pair.linear},   {"minimizer", r.pair.minimizer}, {"route", r.pair.route()}, {"status", r.status},
           {"converged", r.converged}, {"message", r.message},         {"certificate", certificate_json(r.certificate)},
           {"iterations", r.iterations}, {"potential_energy", number(r.energy)}};
 }
@@ -92,19 +102,43 @@ struct PairEngines {
   std::map<std::string, std::unique_ptr<NonsmoothMinimizer>> minimizers;
 };
 
-// the engines of every pair, before any work (an unknown name is an InputError here)
+// the engines of every pair, before any work (an unknown name, or a Krylov engine paired with
+// a minimizer other than ssn, is an InputError here)
 PairEngines make_engines(const Scene& scene, const std::vector<Pair>& pairs) {
   PairEngines e;
   for (const auto& p : pairs) {
     if (std::find(e.linears.begin(), e.linears.end(), p.linear) == e.linears.end()) e.linears.push_back(p.linear);
     if (!e.minimizers.count(p.minimizer)) e.minimizers[p.minimizer] = make_scene_minimizer(scene, p.minimizer);
+    if (p.full_space() && e.minimizers.at(p.minimizer)->name() != "ssn")
+      throw InputError("the pair " + p.label() + " is not one: the full-space route (linear engine " + p.linear +
+                           ") runs ssn's Newton iteration in the whole space; pair it with ssn, or " +
+                           p.minimizer + " with a linear engine that factorizes",
+                       "pairs");
   }
   for (const auto& l : e.linears) {
+    if (is_krylov_solver(l)) {
+      (void)make_krylov_solver(l);
+      continue;
+    }
     FactorizationOptions fo;
     fo.engine = l;
     (void)make_factorization(fo);
   }
   return e;
+}
+
+/// A full-space pair's InputError, caught: its route refuses the scene. The pair is refused
+/// with the error's message (the scene's key named, rethrow_naming_scene_key); `first` keeps
+/// the first refusal, thrown when every pair is refused.
+void refuse_pair(PairRun& r, const Scene& scene, const InputError& e, std::exception_ptr& first) {
+  try {
+    detail::rethrow_naming_scene_key(scene, e);
+  } catch (const InputError& named) {
+    r.message = named.what();
+    if (!first) first = std::current_exception();
+  }
+  r.failed = r.refused = true;
+  r.status = "refused";
 }
 
 /// What the solution `s` of one pair (plane or 3D) says, into `r` (its timings completed with the
@@ -126,8 +160,10 @@ void record_solution(PairRun& r, Solution& s, const PairRuns& out, const Reduced
                                                [](const ContactNode& c) { return c.friction_state == FrictionState::stick; }));
   }
   r.timings = s.timings;
-  r.timings["assembly"] = out.assembly_seconds;
-  r.timings["total"] += out.assembly_seconds;
+  if (!r.pair.full_space()) {  // the shared assembly; a full-space pair's solver assembled its own
+    r.timings["assembly"] = out.assembly_seconds;
+    r.timings["total"] += out.assembly_seconds;
+  }
   r.seconds = out.mesh_seconds + r.timings["total"];
   r.contact_nodes = static_cast<int>(s.contact.size());
   r.at_bound = static_cast<int>(
@@ -197,10 +233,50 @@ void run_engine_pairs(const std::string& linear, const std::vector<Pair>& pairs,
   }
 }
 
+/// A converged full-space pair's certificate, recomputed from the posed whole system at its
+/// displacement (certify_full_space, as the route certifies): the guarantee of record_solution,
+/// which has no reduced problem to recompute it from on this route.
+void recheck_full_space(PairRun& r, const Condensation& posed, double tolerance) {
+  if (!r.converged || !r.guarantee || r.u.size() == 0) return;
+  const Certificate c = certify_full_space(posed, posed.rotated_free(r.u), tolerance).certificate;
+  if (c.converged()) return;
+  r.guarantee = false;
+  r.broken = "converged, but the recomputed certificate is " + certificate_text(c);
+}
+
+/// The full-space pair `i` (a Krylov engine with ssn) on `problem`, static: BasicContactSolver
+/// with that engine, which assembles and poses the problem itself and runs the route's Newton
+/// iteration. A NumericalError fails the pair; an InputError refuses it (refuse_pair).
+template <int dim>
+void run_full_space_pair(const Scene& scene, const BasicContactProblem<dim>& problem, std::size_t i,
+                         const std::vector<Pair>& pairs, const PairEngines& engines, const MinimizerOptions& mo,
+                         const PairRunOptions& o, PairRuns& out, std::exception_ptr& refusal) {
+  PairRun& r = out.runs[i];
+  r.pair = pairs[i];
+  r.mesh_seconds = out.mesh_seconds;
+  const NonsmoothMinimizer* minimizers[] = {engines.minimizers.at(r.pair.minimizer).get()};
+  try {
+    BasicContactSolver<dim> solver(problem, make_krylov_solver(r.pair.linear), mo);
+    BasicContactSolution<dim> solution = std::move(solver.run(minimizers).front());
+    ++out.assemblies;
+    if (solver.condensation()) ++out.posings;
+    record_solution(r, solution, out, nullptr, mo.tolerance);
+    if (solver.condensation()) recheck_full_space(r, *solver.condensation(), mo.tolerance);
+  } catch (const NumericalError& e) {
+    r.failed = true;
+    r.message = e.what();
+  } catch (const InputError& e) {
+    refuse_pair(r, scene, e, refusal);
+  }
+  if (r.failed) r.seconds = out.mesh_seconds;
+  if (o.done) o.done(r);
+}
+
 /// The path of one pair into `r`: its last step as a static solve (record_solution), converged
 /// when every step is, with the status and message of the first step that is not, the
 /// iterations of every step, each step's t and displacement, and the path's own timings
-/// (minimize: every step's; back_substitution: every step's displacement).
+/// (minimize, a full-space pair's full_space: every step's; back_substitution: every step's
+/// displacement).
 template <int dim>
 void record_path(PairRun& r, BasicPathSolution<dim>& path, const PairRuns& out, double tolerance) {
   record_solution(r, path.last, out, nullptr, tolerance);
@@ -217,46 +293,86 @@ void record_path(PairRun& r, BasicPathSolution<dim>& path, const PairRuns& out, 
     r.message = "step " + std::to_string(bad->index) + " (t = " + sci(bad->t, 3) + "): " + bad->message;
   }
   r.timings = path.timings;
-  r.timings["minimize"] = path.timings["path"];
+  r.timings[r.pair.full_space() ? "full_space" : "minimize"] = path.timings["path"];
   r.timings["back_substitution"] = path.timings["frames"];
   r.seconds = out.mesh_seconds + r.timings["total"];
 }
 
+/// The path of one pair on `problem`: solve_path with its linear engine (a Krylov engine: the
+/// full-space route), every step a frame (its displacement kept).
+template <int dim>
+BasicPathSolution<dim> solve_pair_path(const Scene& scene, BasicContactProblem<dim>& problem, const Pair& pair,
+                                       const NonsmoothMinimizer& minimizer, const MinimizerOptions& mo) {
+  BasicPathOptions<dim> po;
+  po.minimizer = mo;
+  po.frame = [](int) { return true; };
+  if (pair.full_space())
+    return solve_path(problem, make_krylov_solver(pair.linear), minimizer, scene_path_loading<dim>(scene), std::move(po));
+  FactorizationOptions fo;
+  fo.engine = pair.linear;
+  return solve_path(problem, make_factorization(fo), minimizer, scene_path_loading<dim>(scene), std::move(po));
+}
+
 /// Every pair along the scene's path, one after the other on `problem` (each path sets the
-/// problem to the t of each of its steps): each pair assembles and condenses it itself, every
-/// step is a frame (its displacement is kept). A NumericalError fails the pair; so does an
-/// InputError when the options say so, else it is thrown naming the scene's key.
+/// problem to the t of each of its steps): each pair assembles and condenses (or poses) it
+/// itself, every step is a frame. A NumericalError fails the pair; an InputError refuses a
+/// full-space pair (refuse_pair) and fails a condensed one when the options say so, else it
+/// is thrown naming the scene's key.
 template <int dim>
 void run_path_pairs(const Scene& scene, BasicContactProblem<dim>& problem, const std::vector<Pair>& pairs,
-                    const PairEngines& engines, const MinimizerOptions& mo, const PairRunOptions& o, PairRuns& out) {
+                    const PairEngines& engines, const MinimizerOptions& mo, const PairRunOptions& o, PairRuns& out,
+                    std::exception_ptr& refusal) {
   for (std::size_t i = 0; i < pairs.size(); ++i) {
     PairRun& r = out.runs[i];
     r.pair = pairs[i];
     r.mesh_seconds = out.mesh_seconds;
-    std::string failure;
     try {
-      FactorizationOptions fo;
-      fo.engine = pairs[i].linear;
-      BasicPathOptions<dim> po;
-      po.minimizer = mo;
-      po.frame = [](int) { return true; };
-      BasicPathSolution<dim> path = solve_path(problem, make_factorization(fo), *engines.minimizers.at(pairs[i].minimizer),
-                                               scene_path_loading<dim>(scene), std::move(po));
+      BasicPathSolution<dim> path =
+          solve_pair_path(scene, problem, pairs[i], *engines.minimizers.at(pairs[i].minimizer), mo);
       ++out.assemblies;
-      ++out.condensations;
+      ++(pairs[i].full_space() ? out.posings : out.condensations);
       record_path(r, path, out, mo.tolerance);
     } catch (const NumericalError& e) {
-      failure = e.what();
-    } catch (const InputError& e) {
-      if (!o.input_errors_fail_pairs) detail::rethrow_naming_scene_key(scene, e);
-      failure = e.what();
-    }
-    if (!failure.empty()) {
       r.failed = true;
-      r.message = failure;
-      r.seconds = out.mesh_seconds;
+      r.message = e.what();
+    } catch (const InputError& e) {
+      if (pairs[i].full_space()) {
+        refuse_pair(r, scene, e, refusal);
+      } else {
+        if (!o.input_errors_fail_pairs) detail::rethrow_naming_scene_key(scene, e);
+        r.failed = true;
+        r.message = e.what();
+      }
     }
+    if (r.failed) r.seconds = out.mesh_seconds;
     if (o.done) o.done(r);
+  }
+}
+
+/// The pairs of a static scene: the condensed pairs share one assembly (made when there is
+/// one), each linear engine that factorizes condenses it once; each full-space pair runs on
+/// its own (run_full_space_pair), in the order of the linear engines' first use.
+void run_static_pairs(const Scene& scene, const std::vector<Pair>& pairs, const PairEngines& engines,
+                      const MinimizerOptions& mo, const PairRunOptions& o, PairRuns& out, std::exception_ptr& refusal) {
+  std::optional<LinearSystem> system;
+  if (std::any_of(pairs.begin(), pairs.end(), [](const Pair& p) { return !p.full_space(); })) {
+    const auto t_assembly = Clock::now();
+    system = out.built3d ? assemble(out.built3d->problem.elasticity) : assemble(out.built->problem.elasticity);
+    out.assembly_seconds = since(t_assembly);
+    out.assemblies = 1;
+  }
+  for (const auto& linear : engines.linears) {
+    if (!is_krylov_solver(linear)) {
+      run_engine_pairs(linear, pairs, engines, *system, mo, o, out);
+      continue;
+    }
+    for (std::size_t i = 0; i < pairs.size(); ++i) {
+      if (pairs[i].linear != linear) continue;
+      if (out.built3d)
+        run_full_space_pair<3>(scene, out.built3d->problem, i, pairs, engines, mo, o, out, refusal);
+      else
+        run_full_space_pair<2>(scene, out.built->problem, i, pairs, engines, mo, o, out, refusal);
+    }
   }
 }
 
@@ -281,16 +397,17 @@ PairRuns run_pairs(const Scene& scene, const std::vector<Pair>& pairs, const Pai
   out.mesh_seconds = since(t_mesh);
   out.runs.resize(pairs.size());
   out.path = scene_is_path(scene);
-  if (out.path) {
-    if (solid) run_path_pairs(scene, out.built3d->problem, pairs, engines, mo, o, out);
-    else run_path_pairs(scene, out.built->problem, pairs, engines, mo, o, out);
-    return out;
-  }
-  const auto t_assembly = Clock::now();
-  const LinearSystem system = solid ? assemble(out.built3d->problem.elasticity) : assemble(out.built->problem.elasticity);
-  out.assembly_seconds = since(t_assembly);
-  out.assemblies = 1;
-  for (const auto& linear : engines.linears) run_engine_pairs(linear, pairs, engines, system, mo, o, out);
+  std::exception_ptr refusal;  // the first full-space pair's refusal
+  if (!out.path)
+    run_static_pairs(scene, pairs, engines, mo, o, out, refusal);
+  else if (solid)
+    run_path_pairs(scene, out.built3d->problem, pairs, engines, mo, o, out, refusal);
+  else
+    run_path_pairs(scene, out.built->problem, pairs, engines, mo, o, out, refusal);
+  // nothing solved: the scene cannot be run with these pairs
+  if (refusal && !o.input_errors_fail_pairs &&
+      std::all_of(out.runs.begin(), out.runs.end(), [](const PairRun& r) { return r.refused; }))
+    std::rethrow_exception(refusal);
   return out;
 }
 

@@ -36,7 +36,8 @@ Scene studies_scene(const py::object& scene_arg, const std::string& function, st
 }
 
 /// The pairs asked for, or every built pair but those of mumps-mpi (which runs under an MPI
-/// launcher, never inside Python).
+/// launcher, never inside Python) and of PETSc's Krylov engines (which run in the command
+/// only): the condensed route's pairs and eigen-cg+ssn, the full-space route's.
 std::vector<app::Pair> pairs_of(const PairList& given) {
   std::vector<app::Pair> pairs;
   if (given) {
@@ -48,7 +49,7 @@ std::vector<app::Pair> pairs_of(const PairList& given) {
     return pairs;
   }
   for (const auto& p : app::available_pairs())
-    if (p.linear != "mumps-mpi") pairs.push_back(p);
+    if (p.linear != "mumps-mpi" && p.linear.rfind("petsc-", 0) != 0) pairs.push_back(p);
   return pairs;
 }
 
@@ -199,8 +200,13 @@ pair's "path_displacements" lists every step's displacement, "displacement" bein
 scene: a Scene (default: Scene.default()), a path to a scene file or TOML text. agree: the
 largest relative difference of u accepted between converged pairs (--agree). tolerance:
 solver.tolerance of every pair (--tol). pairs: a list of (linear, minimizer) names; default
-every built pair but mumps-mpi's, which run under an MPI launcher only. Runs without the GIL;
-Ctrl-C is honoured after each pair.)doc";
+every built pair but mumps-mpi's, which run under an MPI launcher only, and PETSc's
+(petsc-gamg, petsc-hypre), which run in the command only: the condensed route's pairs and
+("eigen-cg", "ssn"), the full-space route's (a Krylov engine takes ssn only). Each pair's
+"route" is "condensed" or "full_space"; a full-space pair whose route refuses the scene (a body
+held by its contact alone) has the status "refused", its reason in "message", and is not a
+failure (the scene's "refused" lists them). Runs without the GIL; Ctrl-C is honoured after
+each pair.)doc";
 
 constexpr const char* kStudyDoc = R"doc(The convergence study of the paper's Table 1, as `hemivem study --json` (app::run_study):
 the scene on N x N squares for each N of `n` and on `ref` x `ref` squares, the relative energy

@@ -11,6 +11,8 @@ import pytest
 
 import hemivem
 
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
 
 def same(a, b, rel=1e-9):
     if a is None or b is None:
@@ -39,6 +41,44 @@ def test_check_is_the_commands_check(run_command, small_scene):
     if len(r["pairs"]) > 1:
         u0, u1 = r["pairs"][0]["displacement"], r["pairs"][1]["displacement"]
         assert same(d[0, 1], np.max(np.abs(u0 - u1)) / r["reference"]["max_abs_u"], 1e-12)
+
+
+def test_check_runs_the_full_space_route_with_eigen_cg(small_scene):
+    # the default pairs: every condensed pair built and eigen-cg with ssn; PETSc's Krylov
+    # engines and mumps-mpi run in the command only
+    r = hemivem.check(small_scene)
+    labels = [(p["linear"], p["minimizer"]) for p in r["pairs"]]
+    assert ("eigen-cg", "ssn") in labels
+    assert [m for linear, m in labels if linear == "eigen-cg"] == ["ssn"]
+    assert not any(linear.startswith("petsc-") or linear == "mumps-mpi" for linear, _ in labels)
+    for p in r["pairs"]:
+        assert p["route"] == ("full_space" if p["linear"] == "eigen-cg" else "condensed")
+    assert r["exit_code"] == 0 and r["unique"] and r["refused"] == [], r["verdict"]
+    full = r["pairs"][labels.index(("eigen-cg", "ssn"))]
+    assert full["converged"] and full["max_difference"] < 1e-6
+    reference = r["pairs"][labels.index(("eigen", "ssn"))]
+    scale = np.abs(reference["displacement"]).max()
+    assert np.abs(full["displacement"] - reference["displacement"]).max() <= 1e-6 * scale
+    with pytest.raises(hemivem.InputError) as e:
+        hemivem.check(small_scene, pairs=[("petsc-gamg", "ssn")])
+    assert e.value.where == "pairs"
+
+
+def test_check_reports_the_full_space_pair_refused_where_the_route_refuses_the_scene():
+    # a block held vertically by its contact alone: the route refuses it, the check passes on
+    # the condensed pair; with the full-space pair alone nothing is solved: the refusal is raised
+    scene = hemivem.Scene.from_toml(os.path.join(ROOT, "scenes", "block-between-rollers.toml"))
+    scene.set("mesh.n", [8, 2])
+    r = hemivem.check(scene, pairs=[("eigen", "ssn"), ("eigen-cg", "ssn")])
+    assert r["exit_code"] == 0, r["verdict"]
+    assert r["pairs"][0]["converged"]
+    refused = r["pairs"][1]
+    assert refused["status"] == "refused" and not refused["converged"]
+    assert "the full-space route needs supports that hold the body" in refused["message"]
+    assert r["refused"] == ["eigen-cg+ssn"]
+    assert np.isnan(r["differences"][0, 1])
+    with pytest.raises(hemivem.InputError, match="full-space route"):
+        hemivem.check(scene, pairs=[("eigen-cg", "ssn")])
 
 
 def test_check_refuses_an_agree_that_is_not_positive():
@@ -72,16 +112,22 @@ def test_study_refuses_sizes_that_do_not_nest():
 
 
 def test_bench_is_the_commands_bench(run_command, tmp_path):
-    r = hemivem.bench(n=[4, 8], ref=16, levels=1, pairs=[("eigen", "ssn")])
+    # a condensed pair and the full-space route's (eigen-cg with ssn), as the command's rows
+    r = hemivem.bench(n=[4, 8], ref=16, levels=1, pairs=[("eigen", "ssn"), ("eigen-cg", "ssn")])
     cmd = json.loads(run_command("bench", "--n", "4,8", "--ref", "16", "--levels", "1", "--out",
                                  tmp_path, "--json").stdout)
     assert r["schema"] == cmd["schema"] == "hemivem-bench/5"
     rows = {(c["linear"], c["minimizer"], c["n"]): c for c in cmd["rows"]}
-    assert len(r["rows"]) == 2
+    assert len(r["rows"]) == 4
     for row in r["rows"]:
         c = rows[(row["linear"], row["minimizer"], row["n"])]
-        assert row["status"] == c["status"] and row["iterations"] == c["iterations"]
+        assert row["status"] == c["status"] == "converged"
+        assert row["iterations"] == c["iterations"]
+        assert row["route"] == c["route"] == ("full_space" if row["linear"] == "eigen-cg" else "condensed")
         assert same(row["error"], c["error"], 1e-6)
+        if row["route"] == "full_space":  # timed by its own stages
+            assert row["seconds"]["posing"] > 0 and row["seconds"]["full_space"] > 0
+            assert row["seconds"]["condensation"] == 0
     assert r["reference"]["n"] == cmd["reference"]["n"] == 16
     assert same(r["reference"]["max_abs_u"], cmd["reference"]["max_abs_u"])
     ru, cu = r["refinement"]["uniform"], cmd["refinement"]["uniform"]

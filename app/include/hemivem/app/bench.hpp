@@ -1,5 +1,7 @@
-// The bench of a scene: every built (linear, minimizer) pair of engines (engine_pairs.hpp)
-// timed by stage against its error for several mesh sizes, the error measured against a
+// The bench of a scene: every built (linear, minimizer) pair of engines (engine_pairs.hpp: the
+// condensed route's pairs and the full-space route's, each Krylov engine with ssn) timed by
+// stage against its error for several mesh sizes (a full-space pair whose route refuses the
+// scene is a row with status "refused", which does not fail the bench), the error measured against a
 // reference solution on a nested grid; and a refinement study (uniform levels, adaptive steps
 // in 2D, true errors against a reference energy given or extrapolated by Aitken's method).
 // `hemivem bench` prints it and writes bench.csv, bench.json, bench.png and bench-error.png
@@ -47,8 +49,8 @@ struct BenchSeries {
 
 /// The gnuplot script of bench.png (its data inline): error (x, log) against time (y, log),
 /// one line per series, coloured by minimizer, dashed and marked by linear engine; the key
-/// groups the series by linear engine, a heading per engine with its pairs named by their
-/// minimizer. Empty when no series has a point.
+/// groups the series by linear engine, a heading per engine (a Krylov engine's says "full-space
+/// route") with its pairs named by their minimizer. Empty when no series has a point.
 std::string bench_plot_script(const std::vector<BenchSeries>& series);
 
 /// The displacement of a squares mesh (u: 2 per vertex) interpolated bilinearly at `points`,
@@ -161,7 +163,7 @@ struct BenchResult {
   BenchReference reference;  ///< empty when the plan is not gridded
   std::vector<BenchRow> rows;  ///< pair by pair, each pair's sizes in order
   Refinement refinement;
-  bool converged = true;     ///< the reference, every pair and every refinement solve converged
+  bool converged = true;     ///< the reference, every pair (but those refused) and every refinement solve converged
 };
 
 /// Runs a plan: the reference, every pair at every size, the refinement study. Never prints.
@@ -190,7 +192,7 @@ struct BenchFiles {
 BenchFiles write_bench(const std::filesystem::path& dir, const BenchResult& result);
 
 /// A stage's seconds of a pair: mesh, assembly, linear_solve, condensation, minimize,
-/// back_substitution or total.
+/// back_substitution, posing, full_space (a full-space pair's stages) or total.
 double bench_stage(const PairRun& run, const std::string& name);
 
 /// The generators on whose meshes errors are measured, in words: "squares or triangles" in 2D,

@@ -1,7 +1,9 @@
-// The check of a scene: every (linear, minimizer) pair of engines solves it (engine_pairs.hpp)
-// and the pairs are compared with each other: the largest difference of their displacements,
-// the uniqueness margin that says whether converged pairs must agree, the energies they reach
-// and the verdict. `hemivem check` prints it and writes its JSON (check_json); Python's
+// The check of a scene: every (linear, minimizer) pair of engines solves it (engine_pairs.hpp),
+// on the condensed route and on the full-space route (each Krylov engine with ssn), and the
+// pairs are compared with each other: the largest difference of their displacements, the
+// uniqueness margin that says whether converged pairs must agree, the energies they reach and
+// the verdict. A full-space pair whose route refuses the scene is reported as refused, and is
+// neither a failure nor compared. `hemivem check` prints it and writes its JSON (check_json); Python's
 // hemivem.check returns it. Columns, JSON fields and verdicts: docs/reference/check-bench.md.
 #pragma once
 
@@ -38,7 +40,11 @@ struct CheckComparison {
   std::string margin_text;
   std::vector<double> pair_max;                ///< per pair: the largest difference to a converged pair
   double overall = 0.0;                        ///< between converged pairs
+  /// A pair that failed (a refused one does not count), one that ran and did not converge,
+  /// converged pairs that differ by more than agree on a unique problem.
   bool any_failed = false, any_unconverged = false, disagree = false;
+  /// Full-space pairs whose route refused the scene (PairRun::refused): reported, not a failure.
+  int refused = 0;
 };
 
 /// The energies converged pairs reach: energies within `tie` (1e-9 relative) of the lowest are
