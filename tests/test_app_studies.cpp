@@ -90,7 +90,7 @@ TEST(AppCheck, TwoEnginesAgreeAndEachIsTheSolveOfItsPair) {
   EXPECT_DOUBLE_EQ(r.comparison.diff[0][1], d);
   EXPECT_TRUE(r.comparison.unique);
   const nlohmann::json j = check_json(scene, r);
-  EXPECT_EQ(j["schema"], "hemivem-check/4");
+  EXPECT_EQ(j["schema"], "hemivem-check/5");
   EXPECT_EQ(j["exit_code"], 0);
   EXPECT_EQ(j["pairs"].size(), 2u);
   EXPECT_EQ(j["verdict"], r.verdict);
@@ -442,7 +442,7 @@ TEST(AppBench, ThePairOnTheReferenceMeshHasNoErrorAndACoarserOneHas) {
   EXPECT_EQ(r.refinement.uniform.size(), 2u);
   EXPECT_FALSE(r.refinement.reference_energy.has_value());  // Aitken needs three levels
   const nlohmann::json j = bench_json(r);
-  EXPECT_EQ(j["schema"], "hemivem-bench/5");
+  EXPECT_EQ(j["schema"], "hemivem-bench/6");
   EXPECT_EQ(j["rows"].size(), 2u);
   EXPECT_EQ(j["refinement"]["levels"], 1);
 }

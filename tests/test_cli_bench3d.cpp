@@ -75,7 +75,7 @@ TEST(CliBench3D, CubesRowsErrorsAndRefinementLevels) {
   EXPECT_NE(r.err.find("hemivem bench: uniform level 2"), std::string::npos) << r.err;
 
   const auto j = nlohmann::json::parse(slurp(out / "bench.json"));
-  EXPECT_EQ(j["schema"], "hemivem-bench/5");
+  EXPECT_EQ(j["schema"], "hemivem-bench/6");
   EXPECT_EQ(j["dimension"], 3);
   EXPECT_EQ(j["mesh"], "cubes");
   ASSERT_TRUE(j["reference"].is_object()) << j["reference"];

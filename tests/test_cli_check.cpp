@@ -51,7 +51,7 @@ TEST(CliCheck, EveryPairConvergesAndAgrees) {
   const CommandRun r = run("check --n 8 --json");
   ASSERT_EQ(r.code, 0) << r.out << r.err;
   const auto j = nlohmann::json::parse(r.out);
-  EXPECT_EQ(j["schema"], "hemivem-check/4");
+  EXPECT_EQ(j["schema"], "hemivem-check/5");
   ASSERT_GE(j["pairs"].size(), 1u);
   bool reference = false;
   std::vector<std::string> full_space;  // the Krylov engines of the full-space route's pairs
@@ -172,7 +172,7 @@ TEST(CliCheck, BenchWritesOneRowPerPairAndSizeAndSsnErrorsDecrease) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(r.out.empty()) << r.out;  // -q
   const auto j = nlohmann::json::parse(slurp(out / "bench.json"));
-  EXPECT_EQ(j["schema"], "hemivem-bench/5");
+  EXPECT_EQ(j["schema"], "hemivem-bench/6");
   EXPECT_EQ(j["dimension"], 2);
   EXPECT_EQ(j["reference"]["n"], 16);
 

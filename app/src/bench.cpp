@@ -716,7 +716,7 @@ nlohmann::json bench_json(const BenchResult& result) {
   const bool gridded = result.plan.gridded;
   const BenchReference& ref = result.reference;
   nlohmann::json j;
-  j["schema"] = "hemivem-bench/5";
+  j["schema"] = "hemivem-bench/6";
   j["version"] = HEMIVEM_VERSION;
   j["scene"] = base.title;
   j["source"] = base.source;

@@ -172,14 +172,14 @@ CheckResult run_check(const Scene& scene, const CheckOptions& o) {
   return r;
 }
 
-/// The report of `hemivem check --json` (schema hemivem-check/4).
+/// The report of `hemivem check --json` (schema hemivem-check/5).
 nlohmann::json check_json(const Scene& base, const CheckResult& result) {
   const std::vector<PairRun>& runs = result.runs;
   const CheckComparison& c = result.comparison;
   const CheckEnergies& e = result.energies;
   const std::size_t np = runs.size();
   nlohmann::json j;
-  j["schema"] = "hemivem-check/4";
+  j["schema"] = "hemivem-check/5";
   j["version"] = HEMIVEM_VERSION;
   j["scene"] = base.title;
   j["source"] = base.source;

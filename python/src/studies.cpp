@@ -190,7 +190,7 @@ py::object limit(const py::object& scene_arg, const std::vector<int>& n, int rep
 }
 
 constexpr const char* kCheckDoc = R"doc(Solves a scene with every pair of engines and compares them, as `hemivem check --json`
-does (app::run_check): returns the dict of that report (schema hemivem-check/4: pairs,
+does (app::run_check): returns the dict of that report (schema hemivem-check/5: pairs,
 differences, uniqueness_margin, verdict, exit_code ...), with "differences" a NumPy matrix
 (NaN where a pair failed) and each pair's "displacement" (2 or 3 per vertex) a NumPy array.
 A loading path (a [path] table, or Coulomb friction) is solved by every pair along the whole
@@ -218,7 +218,7 @@ the GIL; Ctrl-C is honoured after each solve.)doc";
 
 constexpr const char* kBenchDoc = R"doc(Every pair of engines timed against its error for several mesh sizes, and the refinement
 study, as `hemivem bench --json` (app::run_bench). Returns bench.json's dict (schema
-hemivem-bench/5; a loading path is measured at its last step, "path" says so). n, ref, levels, reference_energy, tolerance: as the flags --n, --ref,
+hemivem-bench/6; a loading path is measured at its last step, "path" says so). n, ref, levels, reference_energy, tolerance: as the flags --n, --ref,
 --levels, --reference-energy, --tol (None: the defaults of the scene's dimension). pairs: as
 for check. out: a folder to write bench.csv, bench.json, bench.png and bench-error.png into
 (the dict then names the plots, as the file does). Runs without the GIL; Ctrl-C is honoured

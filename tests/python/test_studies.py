@@ -25,7 +25,7 @@ def test_check_is_the_commands_check(run_command, small_scene):
     pairs = [("eigen", "ssn")] + [("eigen", m) for m in others[:1]]
     r = hemivem.check(small_scene, tolerance=1e-10, pairs=pairs)
     cmd = json.loads(run_command("check", "--n", "16", "--tol", "1e-10", "--json").stdout)
-    assert r["schema"] == cmd["schema"] == "hemivem-check/4"
+    assert r["schema"] == cmd["schema"] == "hemivem-check/5"
     assert r["unique"] and r["exit_code"] == 0
     by_label = {(p["linear"], p["minimizer"]): p for p in cmd["pairs"]}
     for p in r["pairs"]:
@@ -116,7 +116,7 @@ def test_bench_is_the_commands_bench(run_command, tmp_path):
     r = hemivem.bench(n=[4, 8], ref=16, levels=1, pairs=[("eigen", "ssn"), ("eigen-cg", "ssn")])
     cmd = json.loads(run_command("bench", "--n", "4,8", "--ref", "16", "--levels", "1", "--out",
                                  tmp_path, "--json").stdout)
-    assert r["schema"] == cmd["schema"] == "hemivem-bench/5"
+    assert r["schema"] == cmd["schema"] == "hemivem-bench/6"
     rows = {(c["linear"], c["minimizer"], c["n"]): c for c in cmd["rows"]}
     assert len(r["rows"]) == 4
     for row in r["rows"]:

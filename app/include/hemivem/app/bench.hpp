@@ -175,7 +175,7 @@ BenchResult run_bench(const Scene& scene, const BenchOptions& options);
 /// step is what bench measures; null for a static scene.
 nlohmann::json bench_path_json(const Scene& scene);
 
-/// bench.json (schema hemivem-bench/5) without the names of the plots (write_bench adds them).
+/// bench.json (schema hemivem-bench/6) without the names of the plots (write_bench adds them).
 nlohmann::json bench_json(const BenchResult& result);
 
 /// What write_bench wrote: bench.json's content as written, why each plot was skipped (empty:

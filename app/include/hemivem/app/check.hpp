@@ -80,7 +80,7 @@ struct CheckResult {
 /// and for a scene that cannot be built or an unknown engine, before any work.
 CheckResult run_check(const Scene& scene, const CheckOptions& options = {});
 
-/// The report of `hemivem check --json` (schema hemivem-check/4) for `result` of `scene`.
+/// The report of `hemivem check --json` (schema hemivem-check/5) for `result` of `scene`.
 nlohmann::json check_json(const Scene& scene, const CheckResult& result);
 
 }  // namespace hemivem::app
