@@ -95,15 +95,23 @@ Scene load_scene(const SolveOptions& o) {
 
 namespace {
 
-/// Several processes started by an MPI launcher share the outputs: only mumps-mpi runs across
-/// them (docs/cluster.md).
-void require_one_process_or_mumps_mpi(const Scene& scene) {
+/// Several processes started by an MPI launcher share the outputs: only an engine that runs
+/// across them does (mumps-mpi; petsc-gamg and petsc-hypre on the full-space route, a static
+/// solve only), and rank 0 writes (docs/cluster.md).
+void require_one_process_or_an_engine_across(const Scene& scene, RunKind kind) {
   const LaunchedProcesses launched = launched_processes();
-  if (launched.size > 1 && !same_engine(scene.solver.linear, "mumps-mpi"))
-    throw InputError("started as " + std::to_string(launched.size) + " processes by an MPI launcher, but the linear engine '" +
-                         scene.solver.linear + "' runs in one process (the processes would race on the same outputs); use "
-                         "--linear mumps-mpi, or run without mpirun",
-                     "--linear");
+  if (launched.size <= 1 || same_engine(scene.solver.linear, "mumps-mpi")) return;
+  const std::string started = "started as " + std::to_string(launched.size) + " processes by an MPI launcher";
+  if (is_krylov_solver(scene.solver.linear) && make_krylov_solver(scene.solver.linear)->runs_across_processes()) {
+    if (kind == RunKind::static_solve) return;
+    throw InputError(started + ", but " + (kind == RunKind::path ? "a loading path" : "an adaptive solve") +
+                         " on the full-space route runs in one process: run it without mpirun",
+                     kind == RunKind::path ? scene.where("path") : scene.where("adapt"));
+  }
+  throw InputError(started + ", but the linear engine '" + scene.solver.linear +
+                       "' runs in one process (the processes would race on the same outputs); use --linear mumps-mpi, "
+                       "or petsc-gamg or petsc-hypre (the full-space route), or run without mpirun",
+                   "--linear");
 }
 
 /// What run_solve tells while it works: iterations (-v), the problem's size, the steps of a
@@ -171,7 +179,7 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   check_flags_for(o, scene, run_kind(scene));
   check_output_folder(o.out);
   say_what_an_interruption_keeps(o.out);
-  require_one_process_or_mumps_mpi(scene);
+  require_one_process_or_an_engine_across(scene, run_kind(scene));
   if (!o.export_reduced.empty() && is_krylov_solver(scene.solver.linear))
     throw InputError("the full-space route (linear engine " + scene.solver.linear +
                          ") poses no reduced problem: export it with a linear engine that factorizes",

@@ -511,8 +511,8 @@ int run_command(int argc, char** argv) {
   if (const auto launched = cli::launched_processes(); launched.size > 1 && !*solve.app) {
     if (launched.rank == 0)
       std::cerr << "hemivem: error: started as " << launched.size
-                << " processes by an MPI launcher; only 'hemivem solve --linear mumps-mpi' runs across processes, "
-                   "run this command without mpirun\n";
+                << " processes by an MPI launcher; only 'hemivem solve' runs across processes (with --linear "
+                   "mumps-mpi, petsc-gamg or petsc-hypre): run this command without mpirun\n";
     return cli::kInputError;
   }
   // Errors every process meets alike (input, engine statuses) are reported by rank 0 alone;

@@ -8,6 +8,7 @@
 #include <type_traits>
 #include <vector>
 
+#include <hemivem/contact/pose_share.hpp>
 #include <hemivem/krylov_solver.hpp>
 #include <hemivem/app/outputs.hpp>
 
@@ -170,11 +171,18 @@ void solve_built(const Scene& scene, SceneEngines& e, Solved& s, ReducedProblem*
                  Estimate&& estimate) {
   const NonsmoothMinimizer* minimizers[] = {e.minimizer.get()};
   try {
-    BasicContactSolver<dim> solver = e.krylov ? BasicContactSolver<dim>(s.built->problem, std::move(e.krylov), s.options)
-                                              : BasicContactSolver<dim>(s.built->problem, std::move(e.factorization), s.options);
-    solver.estimate_condition(true).export_reduced(reduced);
-    if (start.size() > 0) solver.start_from(&start);
-    s.solution = std::move(solver.run(minimizers).front());
+    if (e.krylov && e.processes > 1) {  // the full-space route across processes, rank 0 holding the results
+      if (start.size() > 0 || reduced)
+        throw InternalError("a solve across processes starts from zero and poses no reduced problem");
+      s.solution = solve_full_space_shares<dim>(s.built->problem, *e.krylov, krylov_world(), make_distributed_rows,
+                                                s.options);
+    } else {
+      BasicContactSolver<dim> solver = e.krylov ? BasicContactSolver<dim>(s.built->problem, std::move(e.krylov), s.options)
+                                                : BasicContactSolver<dim>(s.built->problem, std::move(e.factorization), s.options);
+      solver.estimate_condition(true).export_reduced(reduced);
+      if (start.size() > 0) solver.start_from(&start);
+      s.solution = std::move(solver.run(minimizers).front());
+    }
   } catch (const InputError& error) {
     rethrow_naming_scene_key(scene, error);
   }

@@ -139,6 +139,11 @@ SceneEngines make_scene_engines(const Scene& scene, std::function<void(const Glo
     // a Krylov engine: the full-space route (docs/full-space.md)
     e.krylov = named_engine(scene, "solver.linear", [&] { return make_krylov_solver(scene.solver.linear); });
     e.linear = e.krylov->name();
+    if (e.krylov->runs_across_processes()) {  // under mpirun each process solves its share
+      const ProcessWorld world = krylov_world();
+      e.holds_results = world.rank == 0;
+      e.processes = world.size;
+    }
   } else {
     FactorizationOptions fo;
     // "auto": the fastest engine for the body's dimension

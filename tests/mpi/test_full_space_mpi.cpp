@@ -173,8 +173,7 @@ TEST(FullSpaceMpi, Example41InTheSolidIsTheOneProcessAnswer) {
 template <int dim, class Problem>
 void expect_posed_shares_solve_alike(const Problem& problem, int vertices) {
   const ProcessWorld world = krylov_world();
-  const int first = static_cast<int>(static_cast<long long>(vertices) * world.rank / world.size);
-  const int end = static_cast<int>(static_cast<long long>(vertices) * (world.rank + 1) / world.size);
+  const auto [first, end] = vertex_share(vertices, world.rank, world.size);
   const PosedShare mine = pose_share<dim>(problem, first, end);
   EXPECT_EQ(mine.share.matrix.rows(), mine.layout.owned);
   const auto rows = make_distributed_rows(mine.layout);
@@ -237,6 +236,78 @@ TEST(FullSpaceMpi, TheCertificateRejectsAPointOffBalanceOnAnyProcess) {
   const Certificate c = certify_full_space(d.share, *d.rows, x, 1e-8).certificate;
   EXPECT_FALSE(c.converged()) << "on rank " << d.rows->rank();
   EXPECT_GT(c.dual, 1e-8);
+}
+
+// The whole solve across processes as the command runs it (solve_full_space_shares): each
+// process poses and solves its share, rank 0 gathers the whole solution. Against the condensed
+// route (Eigen's factorization and ssn) in every displacement, the contact table, the energy and
+// the balance of forces; the verdict and certificate the same on every process.
+template <int dim, class Problem>
+void expect_shares_solve_as_the_condensed_route(const Problem& problem) {
+  const ProcessWorld world = krylov_world();
+  auto krylov = make_krylov_solver("petsc-gamg");
+  const BasicContactSolution<dim> s = solve_full_space_shares<dim>(problem, *krylov, world, make_distributed_rows, tight());
+  ASSERT_TRUE(s.converged()) << s.message;
+  EXPECT_LE(s.certificate.worst(), 1e-12);
+  EXPECT_EQ(s.stages, (std::vector<std::string>{"posing", "full_space"}));
+  const auto rows = make_distributed_rows([&] {
+    RowLayout one;
+    one.first = world.rank;
+    one.owned = 1;
+    one.global = world.size;
+    return one;
+  }());
+  EXPECT_EQ(rows->max(s.certificate.dual), rows->min(s.certificate.dual)) << "one certificate on every process";
+  EXPECT_EQ(rows->max(s.energy), rows->min(s.energy)) << "one energy on every process";
+  const auto ssn = make_minimizer("ssn");
+  const NonsmoothMinimizer* one[] = {ssn.get()};
+  BasicContactSolver<dim> condensed(problem, factorization(), tight());
+  const BasicContactSolution<dim> c = std::move(condensed.run(one).front());
+  ASSERT_TRUE(c.converged()) << c.message;
+  EXPECT_EQ(s.unknowns, c.unknowns);
+  EXPECT_NEAR(s.energy, c.energy, 1e-9 * std::abs(c.energy));
+  if (world.rank != 0) {  // what the other processes do not hold
+    EXPECT_EQ(s.u.size(), 0);
+    EXPECT_TRUE(s.contact.empty());
+    return;
+  }
+  const double scale = c.u.cwiseAbs().maxCoeff();
+  ASSERT_EQ(s.u.size(), c.u.size());
+  EXPECT_LE((s.u - c.u).cwiseAbs().maxCoeff(), 1e-8 * scale);
+  ASSERT_EQ(s.contact.size(), c.contact.size());
+  double force = 0.0;
+  for (const auto& node : c.contact) force = std::max(force, std::abs(node.force()));
+  ASSERT_GT(force, 0.0);
+  for (std::size_t i = 0; i < c.contact.size(); ++i) {
+    SCOPED_TRACE("contact node " + std::to_string(i));
+    EXPECT_EQ(s.contact[i].vertex, c.contact[i].vertex);
+    EXPECT_NEAR(s.contact[i].u_nu, c.contact[i].u_nu, 1e-8 * scale);
+    EXPECT_NEAR(s.contact[i].force(), c.contact[i].force(), 1e-8 * force);
+    EXPECT_NEAR(s.contact[i].reaction, c.contact[i].reaction, 1e-8 * force);
+  }
+  EXPECT_LE((s.forces.contact - c.forces.contact).norm(), 1e-8 * force * static_cast<double>(c.contact.size()));
+  ASSERT_EQ(s.forces.reactions.size(), c.forces.reactions.size());
+  for (std::size_t k = 0; k < c.forces.reactions.size(); ++k)
+    EXPECT_LE((s.forces.reactions[k].force - c.forces.reactions[k].force).norm(),
+              1e-8 * std::max(1.0, c.forces.reactions[k].force.norm()));
+}
+
+TEST(FullSpaceMpi, TheCommandsSolveAcrossProcessesIsTheCondensedAnswerInThePlane) {
+  const Mesh mesh = make_squares(16);
+  expect_shares_solve_as_the_condensed_route<2>(example_4_1(mesh));
+}
+
+TEST(FullSpaceMpi, TheCommandsSolveAcrossProcessesIsTheCondensedAnswerInTheSolid) {
+  const Mesh3D mesh = make_cubes({5, 5, 5});
+  expect_shares_solve_as_the_condensed_route<3>(test::example_4_1_3d(mesh));
+}
+
+// a bilateral part: the reactions of its tied rows come from the gathered residual
+TEST(FullSpaceMpi, TheCommandsSolveAcrossProcessesGathersTheTiedReactions) {
+  const Mesh mesh = make_squares(12);
+  ContactProblem p = example_4_1(mesh);
+  p.parts.front().constraint = ConstraintKind::bilateral;
+  expect_shares_solve_as_the_condensed_route<2>(p);
 }
 
 TEST(FullSpaceMpi, ASolidsFrictionIsRefusedOnSeveralProcessesOnEveryProcess) {

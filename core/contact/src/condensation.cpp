@@ -903,6 +903,14 @@ Eigen::VectorXd Condensation::from_rotated(Eigen::VectorXd ut) const {
   return joining_.empty() ? dofs_.expand(ut) : joining_.displacement(dofs_.expand(ut));
 }
 
+Eigen::VectorXd Condensation::unrotated_free(const Eigen::VectorXd& vt) const {
+  if (!joining_.empty()) throw InternalError("the unrotated values of two joined bodies");
+  if (vt.size() != dofs_.num_free())
+    throw InternalError("unrotated_free needs " + std::to_string(dofs_.num_free()) + " values, got " +
+                        std::to_string(vt.size()));
+  return unrotate(vt);
+}
+
 Eigen::VectorXd Condensation::unrotated_product(const Eigen::VectorXd& uf) const {
   if (!joining_.empty()) throw InternalError("the product with the unrotated matrix of two joined bodies");
   if (factorization_) throw InternalError("the product with the unrotated matrix of a condensed problem");

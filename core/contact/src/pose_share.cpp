@@ -12,6 +12,7 @@
 #include <hemivem/vem/rigid_motions.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <memory>
 #include <numeric>
 #include <string>
@@ -20,6 +21,10 @@
 namespace hemivem {
 
 namespace {
+
+double since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
 
 /// InputError for what the share cannot pose: no contact node, or two bodies joined.
 template <int dim>
@@ -85,38 +90,152 @@ Eigen::MatrixXd near_null_rows(const MeshOf<dim>& mesh, const Condensation& pose
   return N;
 }
 
+
+/// A share and what its posing made of the whole contact surface: the dof map, the contact
+/// set-up and the posed coordinates (Condensation::CoordinatesOnly), from which the results of
+/// the whole problem are made once the processes' values are gathered.
+template <int dim>
+struct SharePosing {
+  PosedShare share;
+  DofMap dofs;
+  ContactSetUp<dim> contact;
+  std::unique_ptr<Condensation> posed;
+};
+
+template <int dim>
+SharePosing<dim> pose_share_and_surface(const BasicContactProblem<dim>& problem, int first_vertex, int end_vertex) {
+  SystemRows rows = assemble_rows(problem.elasticity, first_vertex, end_vertex);
+  SharePosing<dim> out;
+  out.contact = contact_set_up(problem, rows.dofs);
+  require_one_body_in_contact(out.contact);
+  require_full_space_posable(out.contact.parts, out.contact.held_by_contact);
+  out.posed = about(ProblemPart::contact, [&] {
+    return std::make_unique<Condensation>(rows.dofs, out.contact.boundary, part_conditions(out.contact.parts),
+                                          Condensation::CoordinatesOnly{});
+  });
+  const Condensation& posed = *out.posed;
+  PosedShare& share = out.share;
+  share.layout.first = rows.first;
+  share.layout.owned = rows.owned;
+  share.layout.global = rows.dofs.num_free();
+  {
+    const SparseMatrix At = posed.rotated_part(rows.A, rows.unknowns);
+    SparseMatrix().swap(rows.A);  // the part's unrotated entries are no longer needed
+    SparseMatrix A = owned_rows(At, rows, share.layout);
+    share.share.matrix.swap(A);  // no copy (SparseMatrix has no move assignment)
+  }
+  std::vector<int> owned_unknowns(static_cast<std::size_t>(rows.owned));
+  std::iota(owned_unknowns.begin(), owned_unknowns.end(), static_cast<int>(rows.first));
+  share.share.load = posed.rotated_part(rows.b, owned_unknowns);
+  share_coordinates(posed, rows.first, rows.owned, share.share);
+  share.near_null_space = near_null_rows<dim>(*problem.elasticity.mesh, posed, rows, owned_unknowns);
+  share.block_size = node_block_size(rows.dofs, dim);
+  out.dofs = std::move(rows.dofs);
+  return out;
+}
+
+/// Every process's values `mine` of its coordinates (share.coordinate_numbers), gathered into
+/// the whole problem's `count` coordinates (collective).
+Eigen::VectorXd gather_coordinates(const RowDistribution& rows, const FullSpaceShare& share, const Eigen::VectorXd& mine,
+                                   Eigen::Index count) {
+  Eigen::VectorXd numbers(static_cast<Eigen::Index>(share.coordinate_numbers.size()));
+  for (std::size_t k = 0; k < share.coordinate_numbers.size(); ++k)
+    numbers(static_cast<Eigen::Index>(k)) = static_cast<double>(share.coordinate_numbers[k]);
+  const Eigen::VectorXd all_numbers = rows.all_gather(numbers);
+  const Eigen::VectorXd values = rows.all_gather(mine.size() == numbers.size() ? mine : Eigen::VectorXd::Zero(numbers.size()));
+  Eigen::VectorXd whole = Eigen::VectorXd::Zero(count);
+  for (Eigen::Index k = 0; k < all_numbers.size(); ++k) whole(static_cast<Eigen::Index>(all_numbers(k))) = values(k);
+  return whole;
+}
+
 }  // namespace
 
 template <int dim>
 PosedShare pose_share(const BasicContactProblem<dim>& problem, int first_vertex, int end_vertex) {
-  SystemRows rows = assemble_rows(problem.elasticity, first_vertex, end_vertex);
-  const ContactSetUp<dim> contact = contact_set_up(problem, rows.dofs);
-  require_one_body_in_contact(contact);
-  require_full_space_posable(contact.parts, contact.held_by_contact);
-  const auto posed = about(ProblemPart::contact, [&] {
-    return std::make_unique<Condensation>(rows.dofs, contact.boundary, part_conditions(contact.parts),
-                                          Condensation::CoordinatesOnly{});
-  });
-  PosedShare out;
-  out.layout.first = rows.first;
-  out.layout.owned = rows.owned;
-  out.layout.global = rows.dofs.num_free();
-  {
-    const SparseMatrix At = posed->rotated_part(rows.A, rows.unknowns);
-    SparseMatrix().swap(rows.A);  // the part's unrotated entries are no longer needed
-    SparseMatrix A = owned_rows(At, rows, out.layout);
-    out.share.matrix.swap(A);  // no copy (SparseMatrix has no move assignment)
+  return std::move(pose_share_and_surface(problem, first_vertex, end_vertex).share);
+}
+
+std::pair<int, int> vertex_share(int num_vertices, int rank, int size) {
+  if (size < 1 || rank < 0 || rank >= size || num_vertices < 0)
+    throw InternalError("vertex_share of rank " + std::to_string(rank) + " of " + std::to_string(size) + " processes");
+  const auto at = [&](int r) { return static_cast<int>(static_cast<long long>(num_vertices) * r / size); };
+  return {at(rank), at(rank + 1)};
+}
+
+template <int dim>
+BasicContactSolution<dim> solve_full_space_shares(const BasicContactProblem<dim>& problem, KrylovSolver& krylov,
+                                                  ProcessWorld world, const RowDistributor& distribute,
+                                                  const MinimizerOptions& options) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  if (!problem.elasticity.mesh) throw InputError("the elasticity problem has no mesh");
+  if (std::string why; !options.is_valid(&why)) throw InputError(why, "MinimizerOptions");
+  BasicContactSolution<dim> s;
+  const auto [first, end] = vertex_share(problem.elasticity.mesh->num_vertices(), world.rank, world.size);
+  SharePosing<dim> posing = pose_share_and_surface(problem, first, end);
+  const Condensation& posed = *posing.posed;
+  const PosedShare& mine = posing.share;
+  s.unknowns = posing.dofs.num_free();
+  for (const auto& part : posing.contact.parts) s.contact_parts.push_back(part.name);
+  s.held_by_contact = posing.contact.held_by_contact;
+  s.uniqueness_margin = std::numeric_limits<double>::quiet_NaN();
+  s.uniqueness_roundoff = std::numeric_limits<double>::quiet_NaN();
+  s.timings["posing"] = since(start);
+  s.stages.push_back("posing");
+
+  const auto t = Clock::now();
+  const std::unique_ptr<RowDistribution> rows = distribute(mine.layout);
+  KrylovHints hints(mine.near_null_space, mine.block_size);
+  hints.rows = rows.get();
+  Eigen::VectorXd x;
+  FullSpaceStatistics stats;
+  MinimizerResult m = minimize_full_space(mine.share, krylov, hints, options, &x, &stats);
+  // the residual of the owned rows and the energy of the quadratic part, over the processes
+  Eigen::VectorXd with_ghosts(rows->columns());
+  with_ghosts.head(mine.layout.owned) = x;
+  rows->update_ghosts(with_ghosts);
+  const Eigen::VectorXd Ax = mine.share.matrix * with_ghosts;
+  const double quadratic = rows->sum(0.5 * x.dot(Ax) - x.dot(mine.share.load));
+  const Eigen::VectorXd xt = rows->all_gather(x);
+  const Eigen::VectorXd residual = rows->all_gather(Ax - mine.share.load);
+  const Eigen::Index coordinates = posed.reduced().size();
+  m.a = gather_coordinates(*rows, mine.share, m.a, coordinates);
+  m.law_force = gather_coordinates(*rows, mine.share, m.law_force, coordinates);
+  m.reaction = gather_coordinates(*rows, mine.share, m.reaction, coordinates);
+  s.status = m.status;
+  s.message = m.message;
+  s.certificate = m.certificate;
+  s.may_be_nonunique = m.may_be_nonunique;
+  s.energy = posed.reduced().law_energy(m.a, quadratic);
+  if (world.rank == 0) {  // the results of the whole problem, where they are written
+    s.u = posed.displacement_of(xt);
+    const Eigen::VectorXd unrotated = posed.unrotated_free(residual);
+    const ContactBoundary& boundary = posing.contact.boundary;
+    for (int i = 0; i < boundary.size(); ++i)
+      s.contact.push_back(contact_node(*problem.elasticity.mesh, boundary, posed, posing.dofs, i, m, &unrotated));
+    s.forces = contact_force_balance<dim>(problem.elasticity, s.u, s.contact);
+    require_finite_solution(s);
   }
-  std::vector<int> owned_unknowns(static_cast<std::size_t>(rows.owned));
-  std::iota(owned_unknowns.begin(), owned_unknowns.end(), static_cast<int>(rows.first));
-  out.share.load = posed->rotated_part(rows.b, owned_unknowns);
-  share_coordinates(*posed, rows.first, rows.owned, out.share);
-  out.near_null_space = near_null_rows<dim>(*problem.elasticity.mesh, *posed, rows, owned_unknowns);
-  out.block_size = node_block_size(rows.dofs, dim);
-  return out;
+  s.minimizer = std::move(m);
+  s.timings["full_space"] = since(t);
+  s.timings["preconditioner"] = stats.preconditioner_seconds;
+  s.timings["krylov"] = stats.krylov_seconds;
+  s.stages.push_back("full_space");
+  // rank 0's verdict, which the finiteness of the whole displacement may have demoted, on every process
+  const double verdict = rows->max(world.rank == 0 ? static_cast<double>(static_cast<int>(s.status)) : -1.0);
+  if (world.rank != 0 && static_cast<int>(verdict) != static_cast<int>(s.status)) {
+    s.status = static_cast<MinimizerStatus>(static_cast<int>(verdict));
+    s.message = "the displacement or the energy of the solution is not finite";
+  }
+  s.timings["total"] = since(start);
+  return s;
 }
 
 template PosedShare pose_share<2>(const ContactProblem&, int, int);
 template PosedShare pose_share<3>(const BasicContactProblem<3>&, int, int);
+template ContactSolution solve_full_space_shares<2>(const ContactProblem&, KrylovSolver&, ProcessWorld,
+                                                    const RowDistributor&, const MinimizerOptions&);
+template BasicContactSolution<3> solve_full_space_shares<3>(const BasicContactProblem<3>&, KrylovSolver&, ProcessWorld,
+                                                            const RowDistributor&, const MinimizerOptions&);
 
 }  // namespace hemivem

@@ -144,6 +144,7 @@ ContactSolution solve_contact(const ContactProblem& problem, std::unique_ptr<Spa
 }
 
 template class BasicContactSolver<2>;
+template void require_finite_solution<2>(BasicContactSolution<2>&);
 template ContactSetUp<2> contact_set_up<2>(const ContactProblem&, const DofMap&);
 template void require_contact_laws<2>(const std::vector<ContactPart>&);
 template void require_full_space_posable<2>(const std::vector<ContactPart>&, const std::vector<std::string>&);

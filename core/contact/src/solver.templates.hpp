@@ -37,10 +37,19 @@ inline double rcond_or_nan(const SparseFactorization& f) {
   return r >= 0.0 ? r : std::numeric_limits<double>::quiet_NaN();
 }
 
+template <class Engine>
+void require_ok(const FactorizationResult& r, const Engine& f, const std::string& what) {
+  if (!r.ok())
+    throw NumericalError(what + " with " + f.name() + " failed (" + to_string(r.status) + "): " + r.message);
+}
+
+
+}  // namespace detail
+
 // Demotes a "converged" solution whose displacement is not finite (the engines' certificates
 // see only the contact unknowns; back-substitution could still overflow).
 template <int dim>
-void require_finite(BasicContactSolution<dim>& sol) {
+void require_finite_solution(BasicContactSolution<dim>& sol) {
   if (sol.converged() && !sol.u.allFinite()) {
     sol.status = MinimizerStatus::failed;
     sol.message = "the displacement is not finite (NaN or Inf after back-substitution)";
@@ -51,14 +60,6 @@ void require_finite(BasicContactSolution<dim>& sol) {
   }
 }
 
-template <class Engine>
-void require_ok(const FactorizationResult& r, const Engine& f, const std::string& what) {
-  if (!r.ok())
-    throw NumericalError(what + " with " + f.name() + " failed (" + to_string(r.status) + "): " + r.message);
-}
-
-
-}  // namespace detail
 
 // ---- ContactSolver ---------------------------------------------------------------------
 
@@ -290,7 +291,7 @@ void BasicContactSolver<dim>::post_process_linear(const Eigen::MatrixXd& X) {
                                : "the linear solve gave a displacement that is not finite";
   }
   s.forces = detail::Kernels<dim>::balance(problem_, s.u, BasicContactSolution<dim>::Point::Zero());
-  detail::require_finite(s);
+  require_finite_solution(s);
 }
 
 // The static condensation onto the contact unknowns (the reduced problem), its uniqueness
@@ -431,7 +432,7 @@ void BasicContactSolver<dim>::post_process(Solution& solution) const {
   solution.energy = 0.5 * uf.dot(Au) - uf.dot(sys.b);
   solution.energy = rp.law_energy(m.a, solution.energy);
   solution.forces = contact_force_balance<dim>(problem_.elasticity, solution.u, solution.contact);
-  detail::require_finite(solution);
+  require_finite_solution(solution);
 }
 
 // Collective: every process takes the final status of the process holding the results.

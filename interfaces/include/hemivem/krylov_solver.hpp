@@ -66,6 +66,9 @@ class KrylovSolver {
   virtual ~KrylovSolver() = default;
   /// The engine's name, as make_krylov_solver() takes it.
   virtual std::string name() const = 0;
+  /// True when compute() and solve() take a system distributed over the processes of
+  /// krylov_world() (KrylovHints::rows); false for an engine of one process.
+  virtual bool runs_across_processes() const noexcept { return false; }
   /// Sets the preconditioner up for A (square, symmetric, both triangles stored; kept by
   /// reference, see above); `hints.near_null` has A.rows() rows (or no columns) and
   /// `hints.block_size` divides A.rows().

@@ -63,6 +63,7 @@ class PetscKrylovSolver : public KrylovSolver {
   PetscKrylovSolver& operator=(const PetscKrylovSolver&) = delete;
 
   std::string name() const override;
+  bool runs_across_processes() const noexcept override { return true; }
   FactorizationResult compute(const SparseMatrix& A, const KrylovHints& hints) override;
   /// Not thread-safe: the PETSc solver and vectors live in the object.
   KrylovSolveResult solve(const Eigen::VectorXd& b, Eigen::VectorXd* x, double rtol,

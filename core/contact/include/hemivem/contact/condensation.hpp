@@ -237,6 +237,10 @@ class Condensation {
   /// The rotated free unknowns of a full nodal displacement u (its free part, relative at the
   /// pairs, in the contact nodes' frames): displacement_of's inverse on the free dofs.
   Eigen::VectorXd rotated_free(const Eigen::VectorXd& u) const;
+  /// Q v~ for values v~ of the rotated free unknowns: the same values in the unrotated free dofs
+  /// (of one body; the frames are orthogonal, so a residual of the rotated system gives the
+  /// unrotated system's). InternalError for two joined bodies or a vector of another size.
+  Eigen::VectorXd unrotated_free(const Eigen::VectorXd& vt) const;
   /// A uf for the free values uf of one body (no pairs of two bodies), A the matrix this was
   /// posed from (PoseOnly), read from the rotated matrix (Q A~ Q^T uf): the system's own matrix
   /// is no longer needed once posed. InternalError for two bodies or a condensed problem.

@@ -14,8 +14,14 @@
 
 #include <Eigen/Core>
 
+#include <functional>
+#include <memory>
+#include <utility>
+
 #include <hemivem/contact/full_space.hpp>
 #include <hemivem/contact/problem.hpp>
+#include <hemivem/contact/solver.hpp>
+#include <hemivem/krylov_solver.hpp>
 #include <hemivem/row_distribution.hpp>
 
 namespace hemivem {
@@ -46,5 +52,33 @@ struct PosedShare {
 /// which are posed with their whole system, in one process only.
 template <int dim>
 PosedShare pose_share(const BasicContactProblem<dim>& problem, int first_vertex, int end_vertex);
+
+/// The vertices process `rank` of `size` owns on the full-space route across processes: the
+/// mesh's vertices split evenly in their order, [first, end). A generated box numbers its
+/// vertices layer by layer, so that each process owns a slab.
+std::pair<int, int> vertex_share(int num_vertices, int rank, int size);
+
+/// How the processes make the distribution of their posed rows: collective, as
+/// make_distributed_rows (hemivem/krylov_solver.hpp), which is the one the command passes.
+using RowDistributor = std::function<std::unique_ptr<RowDistribution>(RowLayout)>;
+
+/// Collective over the processes of `world`: the full-space route of BasicContactSolver (a
+/// Krylov engine with the semismooth Newton iteration, nothing condensed), each process posing
+/// and solving the share of its vertices (vertex_share, pose_share), the rows distributed by
+/// `distribute`. Then the processes' results are gathered where they are small (the rotated
+/// unknowns, their residual, the contact coordinates' values and forces): rank 0 returns the
+/// whole solution as BasicContactSolver::run() reports it (the displacement, the contact table,
+/// the potential energy, the balance of forces, the certificate and verdict of the whole problem),
+/// the other ranks the same verdict, certificate, counts, energy and timings without the
+/// displacement and contact table. Its stages are posing (the rows' assembly, rotation and the
+/// coordinates) and full_space (with gathering the results); uniqueness_margin is NaN, as on the
+/// route in one process. With one process this is that route on one share holding every row.
+///
+/// InputError (on every process alike) for what pose_share refuses and for friction of a solid
+/// (groups of coordinates) on several processes; NumericalError for a Krylov engine's failure.
+template <int dim>
+BasicContactSolution<dim> solve_full_space_shares(const BasicContactProblem<dim>& problem, KrylovSolver& krylov,
+                                                  ProcessWorld world, const RowDistributor& distribute,
+                                                  const MinimizerOptions& options);
 
 }  // namespace hemivem

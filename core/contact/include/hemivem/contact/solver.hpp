@@ -233,6 +233,11 @@ BasicForceBalance<Eigen::Matrix<double, dim, 1>> contact_force_balance(const Bas
                                                                        const Eigen::VectorXd& u,
                                                                        const std::vector<BasicContactNode<dim>>& nodes);
 
+/// Demotes a converged `solution` whose displacement or energy is not finite to failed, with
+/// the reason as its message (the certificates see the contact unknowns only).
+template <int dim>
+void require_finite_solution(BasicContactSolution<dim>& solution);
+
 /// The contact boundary of `problem` on the dofs of its assembled system: the nodes of every
 /// contact part (contact_parts, make_contact_boundary), normals, weights, gaps (each part's
 /// gap, or its obstacle's) and parts; empty without contact edges. InputError for an obstacle

@@ -1,0 +1,152 @@
+// The hemivem command on the full-space route under mpiexec (docs/cluster.md): `solve --linear
+// petsc-gamg` on two and three processes, each posing and solving its share, agrees with the
+// condensed route on one process in every displacement; rank 0 alone prints and writes; what the
+// route does not run across processes is refused by every process alike, with one message.
+//
+// "Rank 0 alone writes" is observed as in test_cli_mpi.cpp: mpiexec starts the ranks with
+// different --out folders (MPMD), everything else on their command lines equal.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "test_support.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+using hemivem::test::CommandRun;
+using hemivem::test::slurp;
+
+CommandRun run(const std::string& command) { return hemivem::test::run_command(command); }
+
+std::string mpiexec() { return std::string(HEMIVEM_MPIEXEC) + " " + HEMIVEM_MPIEXEC_FLAGS; }
+std::string np(int n) { return std::string(HEMIVEM_MPIEXEC_NUMPROC_FLAG) + " " + std::to_string(n); }
+std::string hemivem() { return HEMIVEM_BINARY; }
+std::string scene(const std::string& name) { return std::string(HEMIVEM_SOURCE_DIR) + "/scenes/" + name; }
+
+fs::path scratch(const std::string& name) {
+  const fs::path p = fs::temp_directory_path() / ("hemivem-mpi-full-space-" + std::to_string(::getpid())) / name;
+  fs::remove_all(p);
+  return p;
+}
+
+std::size_t count(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + what.size())) ++n;
+  return n;
+}
+
+/// The rows of a CSV file after its header, each as numbers (a field that is not one: NaN).
+std::vector<std::vector<double>> numbers(const fs::path& csv) {
+  std::istringstream in(slurp(csv));
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::vector<double>> rows;
+  while (std::getline(in, line)) {
+    std::vector<double> row;
+    std::istringstream fields(line);
+    for (std::string f; std::getline(fields, f, ',');) {
+      try {
+        row.push_back(std::stod(f));
+      } catch (const std::exception&) {
+        row.push_back(std::nan(""));
+      }
+    }
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
+/// The largest difference of the columns `from`.. of two tables of the same shape, and the
+/// largest magnitude in `b`'s.
+std::pair<double, double> difference(const std::vector<std::vector<double>>& a, const std::vector<std::vector<double>>& b,
+                                     std::size_t from, std::size_t to) {
+  double diff = 0.0, scale = 0.0;
+  EXPECT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i)
+    for (std::size_t c = from; c < to && c < a[i].size() && c < b[i].size(); ++c) {
+      diff = std::max(diff, std::abs(a[i][c] - b[i][c]));
+      scale = std::max(scale, std::abs(b[i][c]));
+    }
+  return {diff, scale};
+}
+
+/// `processes` ranks of `solve` with `flags` on the full-space route, each with its own --out
+/// folder; rank 0's folder.
+fs::path solve_across(int processes, const std::string& flags, const std::string& name, CommandRun* out) {
+  std::string command = mpiexec();
+  const fs::path rank0 = scratch(name + "-rank0");
+  for (int r = 0; r < processes; ++r)
+    command += (r ? " : " : " ") + np(1) + " " + hemivem() + " solve " + flags + " --out " +
+               (r ? scratch(name + "-rank" + std::to_string(r)) : rank0).string();
+  *out = run(command);
+  return rank0;
+}
+
+TEST(CliFullSpaceMpi, ProcessesSolvingTheirSharesAgreeWithTheCondensedRouteAndRankZeroAloneWrites) {
+  const std::string flags = scene("example-4.1-3d.toml") + " --set 'mesh.n=[6, 6, 6]' --tol 1e-11";
+  const fs::path ref = scratch("condensed");
+  const CommandRun c = run(hemivem() + " solve " + flags + " --linear eigen -q --out " + ref.string());
+  ASSERT_EQ(c.code, 0) << c.err;
+  for (int processes : {2, 3}) {
+    SCOPED_TRACE(std::to_string(processes) + " processes");
+    CommandRun m;
+    const fs::path out = solve_across(processes, flags + " --linear petsc-gamg", "np" + std::to_string(processes), &m);
+    ASSERT_EQ(m.code, 0) << m.out << m.err;
+    EXPECT_EQ(count(m.out, "hemivem solve:"), 1u) << m.out;
+    EXPECT_EQ(count(m.out, "linear petsc-gamg (" + std::to_string(processes) + " processes)"), 1u) << m.out;
+    for (int r = 1; r < processes; ++r)
+      EXPECT_FALSE(fs::exists(out.parent_path() / ("np" + std::to_string(processes) + "-rank" + std::to_string(r))))
+          << "rank " << r << " wrote outputs";
+    const nlohmann::json a = nlohmann::json::parse(slurp(out / "result.json"));
+    const nlohmann::json b = nlohmann::json::parse(slurp(ref / "result.json"));
+    EXPECT_EQ(a["processes"], processes);
+    EXPECT_EQ(a["backends"]["linear"], "petsc-gamg");
+    EXPECT_TRUE(a["converged"].get<bool>());
+    EXPECT_EQ(a["stages"], (nlohmann::json{"posing", "full_space", "estimate"}));
+    EXPECT_EQ(a["mesh"]["dofs"], b["mesh"]["dofs"]);
+    const double ea = a["potential_energy"].get<double>(), eb = b["potential_energy"].get<double>();
+    EXPECT_NEAR(ea, eb, 1e-9 * std::abs(eb));
+    // every displacement (ux, uy, uz) and every contact node's normal displacement and force
+    const auto [du, u] = difference(numbers(out / "displacement.csv"), numbers(ref / "displacement.csv"), 4, 7);
+    ASSERT_GT(u, 0.0);
+    EXPECT_LE(du, 1e-8 * u);
+    const auto [dn, un] = difference(numbers(out / "contact.csv"), numbers(ref / "contact.csv"), 4, 5);
+    EXPECT_LE(dn, 1e-8 * u);
+    const auto [df, f] = difference(numbers(out / "contact.csv"), numbers(ref / "contact.csv"), 5, 8);
+    ASSERT_GT(f, 0.0);
+    EXPECT_LE(df, 1e-8 * f);
+    EXPECT_TRUE(fs::exists(out / "solution.vtu"));
+  }
+}
+
+TEST(CliFullSpaceMpi, WhatTheRouteRunsInOneProcessIsRefusedOnSeveral) {
+  struct Case {
+    std::string flags, expected;
+  };
+  const std::vector<Case> cases{
+      {scene("friction-coulomb.toml") + " --linear petsc-gamg", "a loading path on the full-space route runs in one process"},
+      {"--n 8 --adapt --linear petsc-gamg", "an adaptive solve on the full-space route runs in one process"},
+      {"--n 8 --linear eigen-cg", "the linear engine 'eigen-cg' runs in one process"},
+  };
+  for (const Case& k : cases) {
+    SCOPED_TRACE(k.flags);
+    const fs::path out = scratch("refused");
+    const CommandRun m = run(mpiexec() + " " + np(2) + " " + hemivem() + " solve " + k.flags + " --out " + out.string());
+    EXPECT_EQ(m.code, 2) << m.err;
+    EXPECT_EQ(count(m.err, "hemivem: error:"), 1u) << m.err;
+    EXPECT_EQ(count(m.err, k.expected), 1u) << m.err;
+    EXPECT_FALSE(fs::exists(out));
+  }
+}
+
+}  // namespace
