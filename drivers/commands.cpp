@@ -119,7 +119,8 @@ void require_one_process_or_an_engine_across(const Scene& scene, RunKind kind) {
 RunOptions run_options(const SolveOptions& o, std::ostream& err) {
   RunOptions r;
   r.reduced_key = "--export-reduced";
-  if (o.json || o.verbosity < 1) return r;
+  // under an MPI launcher rank 0 tells (the iterations of the full-space route run on every rank)
+  if (o.json || o.verbosity < 1 || !reporting_process()) return r;
   if (o.verbosity >= 2)
     r.callback = [&err](const IterationRecord& i) {
       err << "  iteration " << i.iteration << ": F = " << std::setprecision(12) << i.objective << ", primal "

@@ -43,33 +43,49 @@ void require_one_body_in_contact(const ContactSetUp<dim>& contact) {
 }
 
 /// The owned rows of the rotated part `At` of `rows` (local columns: owned rows, then ghosts) and
-/// the layout's ghosts: the unknowns outside the owned range that the owned rows read.
+/// the layout's ghosts: the unknowns outside the owned range that the owned rows read. Copied
+/// column by column into place (the owned rows of a column are a contiguous run of its sorted
+/// rows), without a list of triplets: the posing's peak is At and the result.
 SparseMatrix owned_rows(const SparseMatrix& At, const SystemRows& rows, RowLayout& layout) {
+  if (!At.isCompressed()) throw InternalError("owned_rows reads a compressed rotated part");
   const Eigen::Index at = rows.at, owned = rows.owned;
-  const auto is_owned = [&](Eigen::Index i) { return i >= at && i < at + owned; };
+  const auto run = [&](Eigen::Index c) {  // the owned rows of column c: [begin, end) in At's storage
+    const int* first = At.innerIndexPtr() + At.outerIndexPtr()[c];
+    const int* last = At.innerIndexPtr() + At.outerIndexPtr()[c + 1];
+    const int* b = std::lower_bound(first, last, static_cast<int>(at));
+    const int* e = std::lower_bound(b, last, static_cast<int>(at + owned));
+    return std::pair<Eigen::Index, Eigen::Index>(b - At.innerIndexPtr(), e - At.innerIndexPtr());
+  };
   // the local column of each column of At (its rows are the unknowns, increasing: so are the ghosts)
-  std::vector<Eigen::Index> local(rows.unknowns.size(), -1);
+  std::vector<Eigen::Index> local(static_cast<std::size_t>(At.outerSize()), -1);
   for (Eigen::Index c = 0; c < At.outerSize(); ++c) {
-    if (is_owned(c)) {
+    if (c >= at && c < at + owned) {
       local[static_cast<std::size_t>(c)] = c - at;
-      continue;
+    } else if (const auto [b, e] = run(c); e > b) {  // At is symmetric: column c's rows read it
+      local[static_cast<std::size_t>(c)] = owned + static_cast<Eigen::Index>(layout.ghosts.size());
+      layout.ghosts.push_back(rows.unknowns[static_cast<std::size_t>(c)]);
     }
-    for (SparseMatrix::InnerIterator e(At, c); e; ++e)  // At is symmetric: column c's rows read it
-      if (is_owned(e.row())) {
-        local[static_cast<std::size_t>(c)] = owned + static_cast<Eigen::Index>(layout.ghosts.size());
-        layout.ghosts.push_back(rows.unknowns[static_cast<std::size_t>(c)]);
-        break;
-      }
   }
-  std::vector<Eigen::Triplet<double>> entries;
+  const Eigen::Index columns = owned + static_cast<Eigen::Index>(layout.ghosts.size());
+  std::vector<int> starts(static_cast<std::size_t>(columns) + 1, 0);
   for (Eigen::Index c = 0; c < At.outerSize(); ++c)
-    for (SparseMatrix::InnerIterator e(At, c); e; ++e)
-      if (is_owned(e.row()))
-        entries.emplace_back(static_cast<int>(e.row() - at), static_cast<int>(local[static_cast<std::size_t>(c)]),
-                             e.value());
-  SparseMatrix A(owned, owned + static_cast<Eigen::Index>(layout.ghosts.size()));
-  A.setFromTriplets(entries.begin(), entries.end());
-  A.makeCompressed();
+    if (const Eigen::Index l = local[static_cast<std::size_t>(c)]; l >= 0) {
+      const auto [b, e] = run(c);
+      starts[static_cast<std::size_t>(l) + 1] = static_cast<int>(e - b);
+    }
+  for (std::size_t l = 0; l < static_cast<std::size_t>(columns); ++l) starts[l + 1] += starts[l];
+  SparseMatrix A(owned, columns);
+  A.resizeNonZeros(starts.back());
+  std::copy(starts.begin(), starts.end(), A.outerIndexPtr());
+  for (Eigen::Index c = 0; c < At.outerSize(); ++c)
+    if (const Eigen::Index l = local[static_cast<std::size_t>(c)]; l >= 0) {
+      const auto [b, e] = run(c);
+      const int to = starts[static_cast<std::size_t>(l)];
+      for (Eigen::Index k = b; k < e; ++k) {
+        A.innerIndexPtr()[to + (k - b)] = At.innerIndexPtr()[k] - static_cast<int>(at);
+        A.valuePtr()[to + (k - b)] = At.valuePtr()[k];
+      }
+    }
   return A;
 }
 
