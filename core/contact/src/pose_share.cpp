@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <exception>
 #include <memory>
 #include <numeric>
 #include <string>
@@ -223,22 +224,31 @@ BasicContactSolution<dim> solve_full_space_shares(const BasicContactProblem<dim>
   s.certificate = m.certificate;
   s.may_be_nonunique = m.may_be_nonunique;
   s.energy = posed.reduced().law_energy(m.a, quadratic);
-  if (world.rank == 0) {  // the results of the whole problem, where they are written
-    s.u = posed.displacement_of(xt);
-    const Eigen::VectorXd unrotated = posed.unrotated_free(residual);
-    const ContactBoundary& boundary = posing.contact.boundary;
-    for (int i = 0; i < boundary.size(); ++i)
-      s.contact.push_back(contact_node(*problem.elasticity.mesh, boundary, posed, posing.dofs, i, m, &unrotated));
-    s.forces = contact_force_balance<dim>(problem.elasticity, s.u, s.contact);
-    require_finite_solution(s);
+  std::exception_ptr failure;  // rank 0's, told to every process so that none waits for it
+  if (world.rank == 0) {        // the results of the whole problem, where they are written
+    try {
+      s.u = posed.displacement_of(xt);
+      const Eigen::VectorXd unrotated = posed.unrotated_free(residual);
+      const ContactBoundary& boundary = posing.contact.boundary;
+      for (int i = 0; i < boundary.size(); ++i)
+        s.contact.push_back(contact_node(*problem.elasticity.mesh, boundary, posed, posing.dofs, i, m, &unrotated));
+      s.forces = contact_force_balance<dim>(problem.elasticity, s.u, s.contact);
+      require_finite_solution(s);
+    } catch (...) {
+      failure = std::current_exception();
+    }
   }
   s.minimizer = std::move(m);
   s.timings["full_space"] = since(t);
   s.timings["preconditioner"] = stats.preconditioner_seconds;
   s.timings["krylov"] = stats.krylov_seconds;
   s.stages.push_back("full_space");
-  // rank 0's verdict, which the finiteness of the whole displacement may have demoted, on every process
-  const double verdict = rows->max(world.rank == 0 ? static_cast<double>(static_cast<int>(s.status)) : -1.0);
+  // rank 0's verdict, which the finiteness of the whole displacement may have demoted, on every
+  // process; -2 when rank 0 failed to make the results
+  const double told = world.rank != 0 ? -3.0 : failure ? -2.0 : static_cast<double>(static_cast<int>(s.status));
+  const double verdict = rows->max(told);
+  if (failure) std::rethrow_exception(failure);
+  if (verdict == -2.0) throw InternalError("the process of rank 0 failed to make the results of the whole problem");
   if (world.rank != 0 && static_cast<int>(verdict) != static_cast<int>(s.status)) {
     s.status = static_cast<MinimizerStatus>(static_cast<int>(verdict));
     s.message = "the displacement or the energy of the solution is not finite";
