@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <numeric>
 #include <optional>
 #include <vector>
@@ -148,15 +149,22 @@ struct PetscKrylovSolver::Impl {
 
   /// The distributed path (KrylovHints::rows of several processes). PETSc's objects live on
   /// `comm` (PETSC_COMM_WORLD; PETSC_COMM_SELF on the sequential path); the MATMPIAIJ holds a copy
-  /// of the owned rows, kept here in CSR with global columns increasing in each row, and
-  /// `csr_position` sends the k-th entry of A (in the order of its InnerIterator) to its place
-  /// in that copy.
+  /// of the owned rows, made from their CSR copy with global columns increasing in each row
+  /// (copy_rows(); `csr_position` sends the k-th entry of A, in the order of its InnerIterator,
+  /// to its place in that copy). Once the matrix is made, `block_position` sends the k-th entry
+  /// of A to its place in the values PETSc keeps for the two blocks of the MATMPIAIJ: p >= 0 is
+  /// the diagonal block's value p, -(p + 1) the off-diagonal block's value p (map_to_blocks()).
+  /// The CSR copy is then freed and `in_blocks` is true: new values are written into PETSc's
+  /// arrays. When the places cannot be found (map_to_blocks()), the CSR copy is kept and new
+  /// values are set from it by MatSetValues.
   MPI_Comm comm = PETSC_COMM_SELF;
   bool distributed = false;
   PetscInt first_row = 0;
   std::vector<PetscInt> csr_starts, csr_columns;
   std::vector<PetscScalar> csr_values;
   std::vector<std::size_t> csr_position;
+  bool in_blocks = false;
+  std::vector<std::int32_t> block_position;
   /// The arrays of the A the copy was made from and a checksum of its pattern and layout.
   const void* source_values = nullptr;
   const void* source_starts = nullptr;
@@ -239,15 +247,172 @@ struct PetscKrylovSolver::Impl {
       for (SparseMatrix::InnerIterator it(A, j); it; ++it) csr_values[csr_position[k++]] = it.value();
   }
 
-  /// update_values() for a distributed system: the owned rows' new values set in the matrix
-  /// (MatSetValues row by row, then its assembly), the preconditioner set up again.
+  /// Frees the CSR copy of the owned rows (the vectors' memory, not only their entries).
+  void free_csr_copy() {
+    std::vector<PetscInt>().swap(csr_starts);
+    std::vector<PetscInt>().swap(csr_columns);
+    std::vector<PetscScalar>().swap(csr_values);
+    std::vector<std::size_t>().swap(csr_position);
+  }
+
+  /// The places of A's entries in the values of the two blocks of the MATMPIAIJ (block_position),
+  /// from the blocks' own row structure: Ad, the diagonal block, holds the columns
+  /// [cstart, cend) of the owned rows, numbered from cstart (di, dj); Ao, the off-diagonal
+  /// block, holds the other columns, numbered by their place in garray, of garray_size global
+  /// columns (oi, oj). A row's entries of a block are given that row's places of the block in
+  /// the order of increasing global column, the order in which PETSc keeps them (garray is
+  /// sorted); every place is checked to hold the entry's global column and every place of a row
+  /// to be given an entry, so that the entries of A and the values of the blocks correspond one
+  /// to one. False (block_position empty) when a check fails or a block holds more values than
+  /// an int32 numbers.
+  bool fill_block_positions(const SparseMatrix& A, const RowLayout& layout, PetscInt cstart, PetscInt cend,
+                            const PetscInt* di, const PetscInt* dj, const PetscInt* oi, const PetscInt* oj,
+                            const PetscInt* garray, PetscInt garray_size) {
+    const auto rows = static_cast<std::size_t>(layout.owned);
+    const auto most = static_cast<std::int64_t>(std::numeric_limits<std::int32_t>::max());
+    if (static_cast<std::int64_t>(di[rows]) > most || static_cast<std::int64_t>(oi[rows]) > most) return false;
+    if (static_cast<std::int64_t>(di[rows]) + static_cast<std::int64_t>(oi[rows]) !=
+        static_cast<std::int64_t>(A.nonZeros()))
+      return false;
+    const Eigen::Index columns = A.cols();
+    // A's local columns by increasing global column, and where each column's entries start in
+    // the order of A's InnerIterator
+    std::vector<Eigen::Index> order(static_cast<std::size_t>(columns));
+    std::iota(order.begin(), order.end(), Eigen::Index{0});
+    std::sort(order.begin(), order.end(), [&layout](Eigen::Index a, Eigen::Index b) {
+      const Eigen::Index ga = global_column(layout, a), gb = global_column(layout, b);
+      return ga < gb || (ga == gb && a < b);
+    });
+    std::vector<std::size_t> column_start(static_cast<std::size_t>(columns) + 1, 0);
+    for (Eigen::Index j = 0; j < columns; ++j)
+      column_start[static_cast<std::size_t>(j) + 1] =
+          column_start[static_cast<std::size_t>(j)] + static_cast<std::size_t>(A.innerVector(j).nonZeros());
+    // the next place of each row in each block
+    std::vector<PetscInt> next_d(di, di + rows), next_o(oi, oi + rows);
+    block_position.assign(static_cast<std::size_t>(A.nonZeros()), 0);
+    bool matches = true;
+    for (std::size_t c = 0; c < order.size() && matches; ++c) {
+      const Eigen::Index j = order[c];
+      const Eigen::Index global = global_column(layout, j);
+      const bool diagonal = global >= cstart && global < cend;
+      std::size_t k = column_start[static_cast<std::size_t>(j)];
+      for (SparseMatrix::InnerIterator it(A, j); it && matches; ++it, ++k) {
+        const auto i = static_cast<std::size_t>(it.row());
+        if (diagonal) {
+          const PetscInt p = next_d[i]++;
+          matches = p < di[i + 1] && static_cast<Eigen::Index>(dj[p]) == global - cstart;
+          block_position[k] = static_cast<std::int32_t>(p);
+        } else {
+          const PetscInt p = next_o[i]++;
+          matches = p < oi[i + 1] && oj[p] >= 0 && oj[p] < garray_size &&
+                    static_cast<Eigen::Index>(garray[oj[p]]) == global;
+          block_position[k] = -static_cast<std::int32_t>(p) - 1;
+        }
+      }
+    }
+    for (std::size_t i = 0; i < rows && matches; ++i) matches = next_d[i] == di[i + 1] && next_o[i] == oi[i + 1];
+    if (!matches) std::vector<std::int32_t>().swap(block_position);
+    return matches;
+  }
+
+  /// Once the MATMPIAIJ is assembled from the CSR copy: the places of A's entries in its
+  /// blocks (fill_block_positions(), on the blocks' row structure read by MatGetRowIJ) and,
+  /// when they are found, the CSR copy freed (in_blocks). When they are not, the CSR copy is
+  /// kept for update_distributed_values().
+  PetscErrorCode map_to_blocks(const SparseMatrix& A, const RowLayout& layout, std::string* error) {
+    in_blocks = false;
+    std::vector<std::int32_t>().swap(block_position);
+    Mat Ad = nullptr, Ao = nullptr;
+    const PetscInt* garray = nullptr;
+    PetscInt cstart = 0, cend = 0, garray_size = 0;
+    HEMIVEM_PETSC(MatMPIAIJGetSeqAIJ(matrix, &Ad, &Ao, &garray));
+    HEMIVEM_PETSC(MatGetOwnershipRangeColumn(matrix, &cstart, &cend));
+    HEMIVEM_PETSC(MatGetLocalSize(Ao, nullptr, &garray_size));
+    PetscInt d_rows = 0, o_rows = 0;
+    const PetscInt *di = nullptr, *dj = nullptr, *oi = nullptr, *oj = nullptr;
+    PetscBool d_done = PETSC_FALSE, o_done = PETSC_FALSE;
+    // each structure read is given back, whatever happens after it
+    PetscErrorCode code = MatGetRowIJ(Ad, 0, PETSC_FALSE, PETSC_FALSE, &d_rows, &di, &dj, &d_done);
+    const char* call = "MatGetRowIJ (the diagonal block)";
+    if (code == 0 && d_done) {
+      code = MatGetRowIJ(Ao, 0, PETSC_FALSE, PETSC_FALSE, &o_rows, &oi, &oj, &o_done);
+      call = "MatGetRowIJ (the off-diagonal block)";
+      if (code == 0 && o_done) {
+        in_blocks = d_rows == size && o_rows == size && (garray != nullptr || garray_size == 0) &&
+                    fill_block_positions(A, layout, cstart, cend, di, dj, oi, oj, garray, garray_size);
+        code = MatRestoreRowIJ(Ao, 0, PETSC_FALSE, PETSC_FALSE, &o_rows, &oi, &oj, &o_done);
+        call = "MatRestoreRowIJ (the off-diagonal block)";
+      }
+      const PetscErrorCode restored = MatRestoreRowIJ(Ad, 0, PETSC_FALSE, PETSC_FALSE, &d_rows, &di, &dj, &d_done);
+      if (code == 0 && restored != 0) {
+        code = restored;
+        call = "MatRestoreRowIJ (the diagonal block)";
+      }
+    }
+    if (code != 0) {
+      in_blocks = false;
+      std::vector<std::int32_t>().swap(block_position);
+      *error = petsc::error_message(code, call);
+      return code;
+    }
+    if (in_blocks) free_csr_copy();
+    return 0;
+  }
+
+  /// A's values written into the values of the blocks of the MATMPIAIJ, at their places
+  /// (block_position).
+  PetscErrorCode write_block_values(const SparseMatrix& A, std::string* error) {
+    Mat Ad = nullptr, Ao = nullptr;
+    HEMIVEM_PETSC(MatMPIAIJGetSeqAIJ(matrix, &Ad, &Ao, nullptr));
+    PetscScalar *d = nullptr, *o = nullptr;
+    HEMIVEM_PETSC(MatSeqAIJGetArray(Ad, &d));
+    // the arrays taken are given back, whatever happens after
+    PetscErrorCode code = MatSeqAIJGetArray(Ao, &o);
+    const char* call = "MatSeqAIJGetArray (the off-diagonal block)";
+    if (code == 0) {
+      std::size_t k = 0;
+      for (Eigen::Index j = 0; j < A.outerSize(); ++j)
+        for (SparseMatrix::InnerIterator it(A, j); it; ++it) {
+          const std::int32_t p = block_position[k++];
+          if (p >= 0)
+            d[p] = it.value();
+          else
+            o[-(p + 1)] = it.value();
+        }
+      code = MatSeqAIJRestoreArray(Ao, &o);
+      call = "MatSeqAIJRestoreArray (the off-diagonal block)";
+    }
+    const PetscErrorCode restored = MatSeqAIJRestoreArray(Ad, &d);
+    if (code == 0 && restored != 0) {
+      code = restored;
+      call = "MatSeqAIJRestoreArray (the diagonal block)";
+    }
+    if (code != 0) {
+      *error = petsc::error_message(code, call);
+      return code;
+    }
+    return 0;
+  }
+
+  /// update_values() for a distributed system: the owned rows' new values put in the matrix,
+  /// written into its blocks' arrays (write_block_values()) or, when the places of the entries
+  /// in the blocks were not found, set by MatSetValues row by row from the CSR copy; then the
+  /// matrix assembled and the preconditioner set up again. The assembly changes no place (the
+  /// pattern is the same and nothing is stashed): it increases the matrix's state, so that the
+  /// KSP sees a changed operator of the same nonzero pattern (GAMG reuses its interpolation,
+  /// make_ksp()), and drops what PETSc keeps of the former values (the blocks' inverted
+  /// diagonals, the diagonal vector of the MATMPIAIJ) and the symmetry flag, set again below.
   PetscErrorCode update_distributed_values(const SparseMatrix& A, std::string* error) {
-    copy_values(A);
-    for (PetscInt i = 0; i < size; ++i) {
-      const PetscInt row = first_row + i;
-      const PetscInt start = csr_starts[static_cast<std::size_t>(i)];
-      HEMIVEM_PETSC(MatSetValues(matrix, 1, &row, csr_starts[static_cast<std::size_t>(i) + 1] - start,
-                                 csr_columns.data() + start, csr_values.data() + start, INSERT_VALUES));
+    if (in_blocks) {
+      if (const PetscErrorCode code = write_block_values(A, error); code != 0) return code;
+    } else {
+      copy_values(A);
+      for (PetscInt i = 0; i < size; ++i) {
+        const PetscInt row = first_row + i;
+        const PetscInt start = csr_starts[static_cast<std::size_t>(i)];
+        HEMIVEM_PETSC(MatSetValues(matrix, 1, &row, csr_starts[static_cast<std::size_t>(i) + 1] - start,
+                                   csr_columns.data() + start, csr_values.data() + start, INSERT_VALUES));
+      }
     }
     HEMIVEM_PETSC(MatAssemblyBegin(matrix, MAT_FINAL_ASSEMBLY));
     HEMIVEM_PETSC(MatAssemblyEnd(matrix, MAT_FINAL_ASSEMBLY));
@@ -286,6 +451,9 @@ struct PetscKrylovSolver::Impl {
     wrapped_values = wrapped_starts = wrapped_indices = nullptr;
     source_values = source_starts = source_indices = nullptr;
     distributed = false;
+    in_blocks = false;
+    std::vector<std::int32_t>().swap(block_position);
+    free_csr_copy();
     comm = PETSC_COMM_SELF;
     if (!PetscRuntime::running()) {
       matrix = nullptr, ksp = nullptr, rhs = solution = residual = nullptr, options = nullptr;
@@ -381,8 +549,9 @@ struct PetscKrylovSolver::Impl {
   }
 
   /// setup() for this process's rows of a distributed system: a MATMPIAIJ on PETSC_COMM_WORLD
-  /// made from the CSR copy of the owned rows (copy_rows()), of the block size given, its
-  /// near-null space made of MPI vectors, then the vectors and the KSP on PETSC_COMM_WORLD.
+  /// made from the CSR copy of the owned rows (copy_rows(), freed once the places of A's entries
+  /// in the matrix are found: map_to_blocks()), of the block size given, its near-null space
+  /// made of MPI vectors, then the vectors and the KSP on PETSC_COMM_WORLD.
   PetscErrorCode setup_distributed(const SparseMatrix& A, const KrylovHints& hints, std::string* error) {
     const RowLayout& layout = hints.rows->layout();
     comm = PETSC_COMM_WORLD;
@@ -400,6 +569,8 @@ struct PetscKrylovSolver::Impl {
     // the values set again by update_distributed_values() are in the owned rows and the pattern
     HEMIVEM_PETSC(MatSetOption(matrix, MAT_NO_OFF_PROC_ENTRIES, PETSC_TRUE));
     HEMIVEM_PETSC(MatSetOption(matrix, MAT_NEW_NONZERO_LOCATION_ERR, PETSC_TRUE));
+    // the matrix holds the values: the CSR copy is freed unless it is needed to set new ones
+    if (const PetscErrorCode code = map_to_blocks(A, layout, error); code != 0) return code;
     const bool compressed = A.isCompressed();
     source_values = compressed ? static_cast<const void*>(A.valuePtr()) : nullptr;
     source_starts = compressed ? static_cast<const void*>(A.outerIndexPtr()) : nullptr;
