@@ -17,33 +17,17 @@
 #include <string>
 #include <vector>
 
+#include "command_mpi.hpp"
 #include "test_support.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-using hemivem::test::CommandRun;
-using hemivem::test::slurp;
+using namespace hemivem::test::mpi;  // run, mpiexec, np, binary, count, CommandRun, slurp
 
-CommandRun run(const std::string& command) { return hemivem::test::run_command(command); }
-
-std::string mpiexec() { return std::string(HEMIVEM_MPIEXEC) + " " + HEMIVEM_MPIEXEC_FLAGS; }
-std::string np(int n) { return std::string(HEMIVEM_MPIEXEC_NUMPROC_FLAG) + " " + std::to_string(n); }
-std::string hemivem() { return HEMIVEM_BINARY; }
+fs::path scratch(const std::string& name) { return hemivem::test::mpi::scratch("full-space", name); }
 std::string scene(const std::string& name) { return std::string(HEMIVEM_SOURCE_DIR) + "/scenes/" + name; }
-
-fs::path scratch(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() / ("hemivem-mpi-full-space-" + std::to_string(::getpid())) / name;
-  fs::remove_all(p);
-  return p;
-}
-
-std::size_t count(const std::string& text, const std::string& what) {
-  std::size_t n = 0;
-  for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + what.size())) ++n;
-  return n;
-}
 
 /// The rows of a CSV file after its header, each as numbers (a field that is not one: NaN).
 std::vector<std::vector<double>> numbers(const fs::path& csv) {
@@ -86,7 +70,7 @@ fs::path solve_across(int processes, const std::string& flags, const std::string
   std::string command = mpiexec();
   const fs::path rank0 = scratch(name + "-rank0");
   for (int r = 0; r < processes; ++r)
-    command += (r ? " : " : " ") + np(1) + " " + hemivem() + " solve " + flags + " --out " +
+    command += (r ? " : " : " ") + np(1) + " " + binary() + " solve " + flags + " --out " +
                (r ? scratch(name + "-rank" + std::to_string(r)) : rank0).string();
   *out = run(command);
   return rank0;
@@ -95,7 +79,7 @@ fs::path solve_across(int processes, const std::string& flags, const std::string
 TEST(CliFullSpaceMpi, ProcessesSolvingTheirSharesAgreeWithTheCondensedRouteAndRankZeroAloneWrites) {
   const std::string flags = scene("example-4.1-3d.toml") + " --set 'mesh.n=[6, 6, 6]' --tol 1e-11";
   const fs::path ref = scratch("condensed");
-  const CommandRun c = run(hemivem() + " solve " + flags + " --linear eigen -q --out " + ref.string());
+  const CommandRun c = run(binary() + " solve " + flags + " --linear eigen -q --out " + ref.string());
   ASSERT_EQ(c.code, 0) << c.err;
   for (int processes : {2, 3}) {
     SCOPED_TRACE(std::to_string(processes) + " processes");
@@ -141,7 +125,7 @@ TEST(CliFullSpaceMpi, WhatTheRouteRunsInOneProcessIsRefusedOnSeveral) {
   for (const Case& k : cases) {
     SCOPED_TRACE(k.flags);
     const fs::path out = scratch("refused");
-    const CommandRun m = run(mpiexec() + " " + np(2) + " " + hemivem() + " solve " + k.flags + " --out " + out.string());
+    const CommandRun m = run(mpiexec() + " " + np(2) + " " + binary() + " solve " + k.flags + " --out " + out.string());
     EXPECT_EQ(m.code, 2) << m.err;
     EXPECT_EQ(count(m.err, "hemivem: error:"), 1u) << m.err;
     EXPECT_EQ(count(m.err, k.expected), 1u) << m.err;

@@ -19,43 +19,27 @@
 #include <unistd.h>
 #include <vector>
 
+#include "command_mpi.hpp"
 #include "test_support.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-using hemivem::test::CommandRun;
-using hemivem::test::slurp;
+using namespace hemivem::test::mpi;  // run, mpiexec, np, binary, count, CommandRun, slurp
 
-CommandRun run(const std::string& command) { return hemivem::test::run_command(command); }
-
-std::string mpiexec() { return std::string(HEMIVEM_MPIEXEC) + " " + HEMIVEM_MPIEXEC_FLAGS; }
-std::string np(int n) { return std::string(HEMIVEM_MPIEXEC_NUMPROC_FLAG) + " " + std::to_string(n); }
-std::string hemivem() { return HEMIVEM_BINARY; }
-
-fs::path scratch(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() / ("hemivem-mpi-cli-" + std::to_string(::getpid())) / name;
-  fs::remove_all(p);
-  return p;
-}
-
-std::size_t count(const std::string& text, const std::string& what) {
-  std::size_t n = 0;
-  for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + what.size())) ++n;
-  return n;
-}
+fs::path scratch(const std::string& name) { return hemivem::test::mpi::scratch("cli", name); }
 
 nlohmann::json read_json(const fs::path& p) { return nlohmann::json::parse(slurp(p)); }
 
 TEST(CliMpi, TwoProcessesAgreeWithEigenAndRankZeroAloneWrites) {
   const std::string scene = " solve --n 16 --tol 1e-11";
   const fs::path ref = scratch("eigen"), out0 = scratch("rank0"), out1 = scratch("rank1");
-  const CommandRun e = run(hemivem() + scene + " --linear eigen -q --out " + ref.string());
+  const CommandRun e = run(binary() + scene + " --linear eigen -q --out " + ref.string());
   ASSERT_EQ(e.code, 0) << e.err;
 
-  const CommandRun m = run(mpiexec() + " " + np(1) + " " + hemivem() + scene + " --linear mumps-mpi --out " + out0.string() +
-                    " : " + np(1) + " " + hemivem() + scene + " --linear mumps-mpi --out " + out1.string());
+  const CommandRun m = run(mpiexec() + " " + np(1) + " " + binary() + scene + " --linear mumps-mpi --out " + out0.string() +
+                    " : " + np(1) + " " + binary() + scene + " --linear mumps-mpi --out " + out1.string());
   ASSERT_EQ(m.code, 0) << m.out << m.err;
   EXPECT_EQ(count(m.out, "hemivem solve:"), 1u) << m.out;
   EXPECT_EQ(count(m.out, "linear mumps-mpi (2 processes)"), 1u) << m.out;
@@ -111,9 +95,9 @@ TEST(CliMpi, TwoProcessesAgreeWithEigenAndRankZeroAloneWrites) {
 TEST(CliMpi, ThreeDimensionalSceneOnTwoProcessesAgreesWithEigen) {
   const std::string scene = std::string(" solve ") + HEMIVEM_SOURCE_DIR + "/scenes/example-4.1-3d.toml --tol 1e-11";
   const fs::path ref = scratch("eigen3d"), out = scratch("mpi3d");
-  const CommandRun e = run(hemivem() + scene + " --linear eigen -q --out " + ref.string());
+  const CommandRun e = run(binary() + scene + " --linear eigen -q --out " + ref.string());
   ASSERT_EQ(e.code, 0) << e.err;
-  const CommandRun m = run(mpiexec() + " " + np(2) + " " + hemivem() + scene + " --linear mumps-mpi -q --out " + out.string());
+  const CommandRun m = run(mpiexec() + " " + np(2) + " " + binary() + scene + " --linear mumps-mpi -q --out " + out.string());
   ASSERT_EQ(m.code, 0) << m.out << m.err;
   const nlohmann::json a = read_json(out / "result.json"), b = read_json(ref / "result.json");
   EXPECT_EQ(a["dimension"], 3);
@@ -133,7 +117,7 @@ TEST(CliMpi, EveryRankExitsWithTheSameCode) {
   // Each rank records its own exit code; the solve stops after one iteration: exit 3 everywhere.
   const fs::path dir = scratch("codes");
   fs::create_directories(dir);
-  const std::string solve = hemivem() + " solve --n 8 --linear mumps-mpi --set solver.max_iterations=1 --tol 1e-14 -q --out " +
+  const std::string solve = binary() + " solve --n 8 --linear mumps-mpi --set solver.max_iterations=1 --tol 1e-14 -q --out " +
                             (dir / "out").string();
   auto ranked = [&](int r) {
     return np(1) + " sh -c '" + solve + "; echo $? > " + (dir / ("code" + std::to_string(r))).string() + "'";
@@ -148,7 +132,7 @@ TEST(CliMpi, EveryRankExitsWithTheSameCode) {
 TEST(CliMpi, AnInputErrorAfterTheEngineExistsIsReportedOnceAndNobodyHangs) {
   // The engine is created before the mesh is read: every rank fails on the missing file.
   const fs::path out = scratch("missing");
-  const CommandRun m = run(mpiexec() + " " + np(2) + " " + hemivem() + " solve --linear mumps-mpi --mesh /nonexistent/mesh.poly2d --out " +
+  const CommandRun m = run(mpiexec() + " " + np(2) + " " + binary() + " solve --linear mumps-mpi --mesh /nonexistent/mesh.poly2d --out " +
                     out.string());
   EXPECT_EQ(m.code, 2) << m.err;
   EXPECT_EQ(count(m.err, "hemivem: error:"), 1u) << m.err;
@@ -158,7 +142,7 @@ TEST(CliMpi, AnInputErrorAfterTheEngineExistsIsReportedOnceAndNobodyHangs) {
 
 TEST(CliMpi, AnotherEngineOnSeveralProcessesIsRefused) {
   const fs::path out = scratch("refused");
-  const CommandRun m = run(mpiexec() + " " + np(2) + " " + hemivem() + " solve --n 8 --linear eigen --out " + out.string());
+  const CommandRun m = run(mpiexec() + " " + np(2) + " " + binary() + " solve --n 8 --linear eigen --out " + out.string());
   EXPECT_EQ(m.code, 2);
   EXPECT_EQ(count(m.err, "hemivem: error:"), 1u) << m.err;
   EXPECT_NE(m.err.find("use --linear mumps-mpi"), std::string::npos) << m.err;
@@ -170,7 +154,7 @@ TEST(CliMpi, OtherCommandsAreRefusedOnSeveralProcesses) {
   const fs::path bench = scratch("bench"), study = scratch("study");
   for (const std::string& cmd : std::vector<std::string>{"check --n 4", "bench --n 4 --ref 8 --out " + bench.string(),
                                 "study --n 4 --ref 8 --out " + study.string()}) {
-    const CommandRun m = run(mpiexec() + " " + np(2) + " " + hemivem() + " " + cmd);
+    const CommandRun m = run(mpiexec() + " " + np(2) + " " + binary() + " " + cmd);
     EXPECT_EQ(m.code, 2) << cmd;
     EXPECT_EQ(count(m.err, "only 'hemivem solve' runs across processes"), 1u) << cmd << ": " << m.err;
   }
@@ -180,7 +164,7 @@ TEST(CliMpi, OtherCommandsAreRefusedOnSeveralProcesses) {
 
 TEST(CliMpi, OneProcessUnderMpiexecIsAnOrdinaryRun) {
   const fs::path out = scratch("one");
-  const CommandRun m = run(mpiexec() + " " + np(1) + " " + hemivem() + " solve --n 8 --linear eigen -q --out " + out.string());
+  const CommandRun m = run(mpiexec() + " " + np(1) + " " + binary() + " solve --n 8 --linear eigen -q --out " + out.string());
   EXPECT_EQ(m.code, 0) << m.err;
   EXPECT_EQ(read_json(out / "result.json")["processes"], 1);
 }
