@@ -238,7 +238,7 @@ TEST(Forces, Example41ContactResultantFromContactCsv) {
   EXPECT_NEAR(ry + sum.y() - 8.0, 0.0, 1e-10 * 8.0);
   EXPECT_LT(f.at("balance_residual").get<double>(), 1e-10);
 
-  const std::string summary = app::full_report(scene, s, app::run_info(scene, s));
+  const std::string summary = app::full_report(s, app::run_info(scene, s));
   EXPECT_NE(summary.find("applied (0, -8), reactions clamped ("), std::string::npos) << summary;
   EXPECT_NE(summary.find(", contact (0, "), std::string::npos) << summary;
   EXPECT_NE(summary.find("  balance       |applied + reactions + contact| = "), std::string::npos) << summary;

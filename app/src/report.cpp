@@ -189,7 +189,7 @@ std::string brief_report(const BasicSceneSolve<dim>& solved) {
 }
 
 template <int dim>
-std::string full_report(const Scene& scene, const BasicSceneSolve<dim>& solved, const RunInfo& info) {
+std::string full_report(const BasicSceneSolve<dim>& solved, const RunInfo& info) {
   std::ostringstream out;
   out << std::setprecision(6);
   engines_and_stages(out, solved, info);
@@ -207,8 +207,8 @@ std::string full_report(const Scene& scene, const BasicSceneSolve<dim>& solved, 
 
 template std::string brief_report(const BasicSceneSolve<2>&);
 template std::string brief_report(const BasicSceneSolve<3>&);
-template std::string full_report(const Scene&, const BasicSceneSolve<2>&, const RunInfo&);
-template std::string full_report(const Scene&, const BasicSceneSolve<3>&, const RunInfo&);
+template std::string full_report(const BasicSceneSolve<2>&, const RunInfo&);
+template std::string full_report(const BasicSceneSolve<3>&, const RunInfo&);
 
 template <int dim>
 std::string adapt_report(const BasicAdaptiveSolve<dim>& adaptive) {

@@ -77,7 +77,7 @@ std::string SceneRun::brief() const {
 
 std::string SceneRun::report(const RunInfo& info) const {
   std::string text = visit([&](const auto& s) {
-    return full_report(scene_, s, info) + (s.path ? path_report(*s.path) : std::string());
+    return full_report(s, info) + (s.path ? path_report(*s.path) : std::string());
   });
   if (adaptive_) text += adapt_report(*adaptive_);
   if (solid_adaptive_) text += adapt_report(*solid_adaptive_);

@@ -164,7 +164,7 @@ std::string edit_table(toml::table& root, Override& o) {
         for (std::size_t j = 0; j < o.parts.size(); ++j) {
           example += (j == 0 ? "" : ".") + o.parts[j].first;
           if (j == i) example += "[1]";
-          else if (o.parts[j].second >= 0) example += "[" + std::to_string(o.parts[j].second) + "]";
+          else if (o.parts[j].second >= 0) example.append("[").append(std::to_string(o.parts[j].second)).append("]");
         }
         throw InputError("'" + name + "' has " + std::to_string(a->size()) + " tables ([[" + name +
                              "]]); name one by its index, e.g. '" + example + "'",

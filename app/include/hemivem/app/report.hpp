@@ -20,11 +20,11 @@ std::string brief_report(const BasicSceneSolve<dim>& solved);
 /// Every line of a solve: mesh, engines, stages, status and certificate, the global search's
 /// critical points, uniqueness, the contact zone, forces, friction, the largest von Mises
 /// stress (info.stress), the error estimate, energy and the time of
-/// each stage, one "  name          value" line each, ending in a newline. `scene` is the
-/// resolved scene that was solved, `info` its run_info(). A plane's or a solid's solve (the
-/// mesh's cells and faces, the area in compression, forces of three components).
+/// each stage, one "  name          value" line each, ending in a newline. `info` is the
+/// run_info() of the solve. A plane's or a solid's solve (the mesh's cells and faces, the area
+/// in compression, forces of three components).
 template <int dim>
-std::string full_report(const Scene& scene, const BasicSceneSolve<dim>& solved, const RunInfo& info);
+std::string full_report(const BasicSceneSolve<dim>& solved, const RunInfo& info);
 
 /// full_report's line of an error estimate: eta, eta / ||u_h||_E in per cent and the parts
 /// that are not zero, ending in a newline.
