@@ -91,6 +91,8 @@ struct ShareView {
   std::vector<int> rows;  ///< each coordinate's row
   const Eigen::VectorXd& origin;
   std::vector<int> tied;
+  /// A itself, lent to the iteration (minimize_full_space_in_place), or null.
+  SparseMatrix* lent = nullptr;
 };
 
 ShareView whole(const Condensation& posed, const ReducedProblem& coordinates, const Eigen::VectorXd& origin) {
@@ -105,7 +107,7 @@ class FullSpaceNewton {
  public:
   /// The rows of `view` on the processes `all` (one process: the whole system).
   FullSpaceNewton(const ShareView& view, const RowDistribution& all, double tol)
-      : p_(view.coordinates), A_(view.A), b_(view.b), all_(all), tol_(tol) {
+      : p_(view.coordinates), A_(view.A), lent_(view.lent), b_(view.b), all_(all), tol_(tol) {
     // every process decides alike, so that none is left waiting in a collective call
     const bool unfit = view.rows.size() != static_cast<std::size_t>(p_.size()) || view.origin.size() != p_.size() ||
                        A_.rows() != b_.size() || A_.rows() != all.layout().owned || A_.cols() != all.columns();
@@ -286,6 +288,18 @@ class FullSpaceNewton {
  private:
   /// The last Newton system's held unknowns and curvatures: a system equal to it keeps its
   /// preconditioner.
+  /// Puts the values `changed` back into `matrix` (when not null) at the end of its scope.
+  struct RestoreValues {
+    SparseMatrix* matrix;
+    const std::vector<std::pair<Eigen::Index, double>>& changed;
+    RestoreValues(SparseMatrix* m, const std::vector<std::pair<Eigen::Index, double>>& c) : matrix(m), changed(c) {}
+    RestoreValues(const RestoreValues&) = delete;
+    RestoreValues& operator=(const RestoreValues&) = delete;
+    ~RestoreValues() {
+      if (matrix)
+        for (auto it = changed.rbegin(); it != changed.rend(); ++it) matrix->valuePtr()[it->first] = it->second;
+    }
+  };
   struct SystemCache {
     std::vector<char> eliminated;
     Eigen::VectorXd shift;
@@ -482,20 +496,33 @@ class FullSpaceNewton {
     auto tc = Clock::now();
     const bool same_system = eliminated == cache.eliminated && shift == cache.shift && frames == cache.frames;
     if (all_.min(same_system ? 1.0 : 0.0) == 0.0) {
-      SparseMatrix& H = cache.H;
-      if (H.nonZeros() != A_.nonZeros() || H.rows() != n)
-        H = A_;
-      else
-        std::copy(A_.valuePtr(), A_.valuePtr() + A_.nonZeros(), H.valuePtr());
-      rotate_groups(H, motion);
+      // On several processes an engine that copies the system into its own distributed matrix
+      // reads the Newton matrix in compute() alone: it is then written into the lent matrix
+      // itself, whose values it changes (those of the contact rows and columns) are restored
+      // after compute(), instead of a second matrix of the share's size.
+      const bool in_place = lent_ && all_.size() > 1 && krylov.runs_across_processes() && groups_.empty();
+      SparseMatrix& H = in_place ? *lent_ : cache.H;
+      std::vector<std::pair<Eigen::Index, double>> changed;  // the lent matrix's values before
+      const RestoreValues restore{in_place ? lent_ : nullptr, changed};
+      if (!in_place) {
+        if (H.nonZeros() != A_.nonZeros() || H.rows() != n)
+          H = A_;
+        else
+          std::copy(A_.valuePtr(), A_.valuePtr() + A_.nonZeros(), H.valuePtr());
+        rotate_groups(H, motion);
+      }
       const std::vector<char> eliminated_column = with_ghosts(eliminated);
+      const auto set = [&](double& value, double to) {
+        if (in_place && value != to) changed.emplace_back(&value - H.valuePtr(), value);
+        value = to;
+      };
       for (int j = 0; j < H.outerSize(); ++j)
         for (SparseMatrix::InnerIterator e(H, j); e; ++e) {
           const bool ej = eliminated_column[static_cast<std::size_t>(j)], ei = eliminated[static_cast<std::size_t>(e.row())];
           if (ei || ej)
-            e.valueRef() = e.row() == j ? 1.0 : 0.0;
-          else if (e.row() == j)
-            e.valueRef() += shift(j);
+            set(e.valueRef(), e.row() == j ? 1.0 : 0.0);
+          else if (e.row() == j && shift(j) != 0.0)
+            set(e.valueRef(), e.valueRef() + shift(j));
         }
       KrylovHints system_hints(hints.near_null, hints.block_size);
       system_hints.rows = all_.size() > 1 ? &all_ : hints.rows;
@@ -728,6 +755,7 @@ class FullSpaceNewton {
 
   const ReducedProblem& p_;
   const SparseMatrix& A_;  ///< the owned rows, local columns (hemivem/row_distribution.hpp)
+  SparseMatrix* lent_;     ///< A_ itself where the Newton systems may be written into it, or null
   const Eigen::VectorXd& b_;
   const RowDistribution& all_;
   double tol_;
@@ -870,6 +898,14 @@ MinimizerResult minimize_full_space(const FullSpaceShare& share, KrylovSolver& k
                                     FullSpaceStatistics* statistics) {
   const ShareView view{share.matrix,          share.load,   share.coordinates,
                        share.coordinate_rows, share.origin, share.tied_rows};
+  return run_newton(view, krylov, hints, options, x, statistics);
+}
+
+MinimizerResult minimize_full_space_in_place(FullSpaceShare& share, KrylovSolver& krylov, const KrylovHints& hints,
+                                             const MinimizerOptions& options, Eigen::VectorXd* x,
+                                             FullSpaceStatistics* statistics) {
+  const ShareView view{share.matrix, share.load,   share.coordinates, share.coordinate_rows,
+                       share.origin, share.tied_rows, &share.matrix};
   return run_newton(view, krylov, hints, options, x, statistics);
 }
 

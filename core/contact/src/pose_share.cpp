@@ -191,7 +191,7 @@ BasicContactSolution<dim> solve_full_space_shares(const BasicContactProblem<dim>
   const auto [first, end] = vertex_share(problem.elasticity.mesh->num_vertices(), world.rank, world.size);
   SharePosing<dim> posing = pose_share_and_surface(problem, first, end);
   const Condensation& posed = *posing.posed;
-  const PosedShare& mine = posing.share;
+  PosedShare& mine = posing.share;
   s.unknowns = posing.dofs.num_free();
   for (const auto& part : posing.contact.parts) s.contact_parts.push_back(part.name);
   s.held_by_contact = posing.contact.held_by_contact;
@@ -206,7 +206,7 @@ BasicContactSolution<dim> solve_full_space_shares(const BasicContactProblem<dim>
   hints.rows = rows.get();
   Eigen::VectorXd x;
   FullSpaceStatistics stats;
-  MinimizerResult m = minimize_full_space(mine.share, krylov, hints, options, &x, &stats);
+  MinimizerResult m = minimize_full_space_in_place(mine.share, krylov, hints, options, &x, &stats);
   // the residual of the owned rows and the energy of the quadratic part, over the processes
   Eigen::VectorXd with_ghosts(rows->columns());
   with_ghosts.head(mine.layout.owned) = x;
