@@ -457,6 +457,48 @@ class FullSpaceNewton {
     return result;
   }
 
+  // The Newton matrix (A's rows in the groups' frames, the eliminated rows and columns the
+  // identity's, the curvature shifts on the diagonal) and the engine's set-up for it.
+  FactorizationResult set_up_newton_matrix(KrylovSolver& krylov, const KrylovHints& hints, const Motions& motion,
+                                           const std::vector<char>& eliminated, const Eigen::VectorXd& shift,
+                                           SystemCache& cache) const {
+    const Eigen::Index n = A_.rows();
+    // On several processes an engine that copies the system into its own distributed matrix
+    // reads the Newton matrix in compute() alone: it is then written into the lent matrix
+    // itself, whose values it changes (those of the contact rows and columns) are restored
+    // after compute(), instead of a second matrix of the share's size.
+    const bool in_place = lent_ && all_.size() > 1 && krylov.runs_across_processes() && groups_.empty();
+    SparseMatrix& H = in_place ? *lent_ : cache.H;
+    std::vector<std::pair<Eigen::Index, double>> changed;  // the lent matrix's values before
+    const RestoreValues restore{in_place ? lent_ : nullptr, changed};
+    if (!in_place) {
+      if (H.nonZeros() != A_.nonZeros() || H.rows() != n)
+        H = A_;
+      else
+        std::copy(A_.valuePtr(), A_.valuePtr() + A_.nonZeros(), H.valuePtr());
+      rotate_groups(H, motion);
+    }
+    const std::vector<char> eliminated_column = with_ghosts(eliminated);
+    const auto set = [&](double& value, double to) {
+      if (in_place && value != to) changed.emplace_back(&value - H.valuePtr(), value);
+      value = to;
+    };
+    for (int j = 0; j < H.outerSize(); ++j)
+      for (SparseMatrix::InnerIterator e(H, j); e; ++e) {
+        const bool ej = eliminated_column[static_cast<std::size_t>(j)], ei = eliminated[static_cast<std::size_t>(e.row())];
+        if (ei || ej)
+          set(e.valueRef(), e.row() == j ? 1.0 : 0.0);
+        else if (e.row() == j && shift(j) != 0.0)
+          set(e.valueRef(), e.valueRef() + shift(j));
+      }
+    KrylovHints system_hints(hints.near_null, hints.block_size);
+    system_hints.rows = all_.size() > 1 ? &all_ : hints.rows;
+    to_frame(system_hints.near_null, motion);
+    for (Eigen::Index i = 0; i < n && system_hints.near_null.cols() > 0; ++i)
+      if (eliminated[static_cast<std::size_t>(i)]) system_hints.near_null.row(i).setZero();
+    return krylov.compute(H, system_hints);
+  }
+
   // The Newton step: the held and pushed coordinates (and the tied rows) prescribed, the others
   // and every other unknown from (A + diag(w j''))_FF d_F = -grad_F - A_FE d_E by CG, to a
   // tolerance that follows the certificate's residual `worst`; with `clip` the negative
@@ -496,40 +538,7 @@ class FullSpaceNewton {
     auto tc = Clock::now();
     const bool same_system = eliminated == cache.eliminated && shift == cache.shift && frames == cache.frames;
     if (all_.min(same_system ? 1.0 : 0.0) == 0.0) {
-      // On several processes an engine that copies the system into its own distributed matrix
-      // reads the Newton matrix in compute() alone: it is then written into the lent matrix
-      // itself, whose values it changes (those of the contact rows and columns) are restored
-      // after compute(), instead of a second matrix of the share's size.
-      const bool in_place = lent_ && all_.size() > 1 && krylov.runs_across_processes() && groups_.empty();
-      SparseMatrix& H = in_place ? *lent_ : cache.H;
-      std::vector<std::pair<Eigen::Index, double>> changed;  // the lent matrix's values before
-      const RestoreValues restore{in_place ? lent_ : nullptr, changed};
-      if (!in_place) {
-        if (H.nonZeros() != A_.nonZeros() || H.rows() != n)
-          H = A_;
-        else
-          std::copy(A_.valuePtr(), A_.valuePtr() + A_.nonZeros(), H.valuePtr());
-        rotate_groups(H, motion);
-      }
-      const std::vector<char> eliminated_column = with_ghosts(eliminated);
-      const auto set = [&](double& value, double to) {
-        if (in_place && value != to) changed.emplace_back(&value - H.valuePtr(), value);
-        value = to;
-      };
-      for (int j = 0; j < H.outerSize(); ++j)
-        for (SparseMatrix::InnerIterator e(H, j); e; ++e) {
-          const bool ej = eliminated_column[static_cast<std::size_t>(j)], ei = eliminated[static_cast<std::size_t>(e.row())];
-          if (ei || ej)
-            set(e.valueRef(), e.row() == j ? 1.0 : 0.0);
-          else if (e.row() == j && shift(j) != 0.0)
-            set(e.valueRef(), e.valueRef() + shift(j));
-        }
-      KrylovHints system_hints(hints.near_null, hints.block_size);
-      system_hints.rows = all_.size() > 1 ? &all_ : hints.rows;
-      to_frame(system_hints.near_null, motion);
-      for (Eigen::Index i = 0; i < n && system_hints.near_null.cols() > 0; ++i)
-        if (eliminated[static_cast<std::size_t>(i)]) system_hints.near_null.row(i).setZero();
-      const FactorizationResult set_up = krylov.compute(H, system_hints);
+      const FactorizationResult set_up = set_up_newton_matrix(krylov, hints, motion, eliminated, shift, cache);
       ++st.preconditioner_setups;
       st.preconditioner_seconds += since(tc);
       cache.eliminated.clear();
