@@ -471,13 +471,15 @@ def timed(cmd, env, timeout, time_file):
     return p.returncode, float(line[0]), float(line[1]) + float(line[2]), int(line[3]), p.stderr
 
 
-def run_hemivem(binary, n, engine, law, out, timeout, env):
+def run_hemivem(binary, n, engine, law, tol, out, timeout, env):
     folder = os.path.join(out, f"hemivem-{engine}-{law}-n{n}")
     shutil.rmtree(folder, ignore_errors=True)
     cmd = [binary, "solve", SCENE, "--set", f"mesh.n=[{n}, {n}, {n}]", "--set", 'output.write=["result-json"]',
            "--linear", ENGINES[engine], "-q", "--out", folder]
     if law == "zero":
         cmd += ["--set", 'contact.law="zero"']
+    if tol != 1e-10:
+        cmd += ["--tol", repr(tol)]
     rc, elapsed, cpu, peak, err = timed(cmd, env, timeout, folder + ".time")
     row = {"command": " ".join(cmd), "elapsed": elapsed, "cpu": cpu, "peak_kB": peak, "returncode": rc}
     if rc != 0:
@@ -681,7 +683,7 @@ def main():
         for e in engines:
             runs = []
             for _ in range(args.repeat):
-                runs.append(run_hemivem(binary, n, e, args.law, out, args.timeout, env))
+                runs.append(run_hemivem(binary, n, e, args.law, args.tol, out, args.timeout, env))
                 if "error" in runs[-1]:
                     break
             h = row["hemivem"][e] = fastest(runs)
