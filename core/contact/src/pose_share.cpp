@@ -151,18 +151,25 @@ SharePosing<dim> pose_share_and_surface(const BasicContactProblem<dim>& problem,
   return out;
 }
 
-/// Every process's values `mine` of its coordinates (share.coordinate_numbers), gathered into
-/// the whole problem's `count` coordinates (collective).
-Eigen::VectorXd gather_coordinates(const RowDistribution& rows, const FullSpaceShare& share, const Eigen::VectorXd& mine,
-                                   Eigen::Index count) {
-  Eigen::VectorXd numbers(static_cast<Eigen::Index>(share.coordinate_numbers.size()));
-  for (std::size_t k = 0; k < share.coordinate_numbers.size(); ++k)
-    numbers(static_cast<Eigen::Index>(k)) = static_cast<double>(share.coordinate_numbers[k]);
-  const Eigen::VectorXd all_numbers = rows.all_gather(numbers);
-  const Eigen::VectorXd values = rows.all_gather(mine.size() == numbers.size() ? mine : Eigen::VectorXd::Zero(numbers.size()));
-  Eigen::VectorXd whole = Eigen::VectorXd::Zero(count);
-  for (Eigen::Index k = 0; k < all_numbers.size(); ++k) whole(static_cast<Eigen::Index>(all_numbers(k))) = values(k);
-  return whole;
+/// Every process's point, law forces and reactions of its coordinates (share.coordinate_numbers)
+/// put into `m` as the whole problem's `count` coordinates, in one gathering (collective): each
+/// process sends (number, a, law force, reaction) per coordinate, zeros for forces it lacks.
+void gather_coordinates(const RowDistribution& rows, const FullSpaceShare& share, Eigen::Index count,
+                        MinimizerResult& m) {
+  const auto mine = static_cast<Eigen::Index>(share.coordinate_numbers.size());
+  const auto value = [mine](const Eigen::VectorXd& v, Eigen::Index k) { return v.size() == mine ? v(k) : 0.0; };
+  Eigen::VectorXd sent(4 * mine);
+  for (Eigen::Index k = 0; k < mine; ++k)
+    sent.segment<4>(4 * k) << static_cast<double>(share.coordinate_numbers[static_cast<std::size_t>(k)]),
+        value(m.a, k), value(m.law_force, k), value(m.reaction, k);
+  const Eigen::VectorXd all = rows.all_gather(sent);
+  m.a = m.law_force = m.reaction = Eigen::VectorXd::Zero(count);
+  for (Eigen::Index at = 0; at + 3 < all.size(); at += 4) {
+    const auto k = static_cast<Eigen::Index>(all(at));
+    m.a(k) = all(at + 1);
+    m.law_force(k) = all(at + 2);
+    m.reaction(k) = all(at + 3);
+  }
 }
 
 }  // namespace
@@ -215,10 +222,7 @@ BasicContactSolution<dim> solve_full_space_shares(const BasicContactProblem<dim>
   const double quadratic = rows->sum(0.5 * x.dot(Ax) - x.dot(mine.share.load));
   const Eigen::VectorXd xt = rows->all_gather(x);
   const Eigen::VectorXd residual = rows->all_gather(Ax - mine.share.load);
-  const Eigen::Index coordinates = posed.reduced().size();
-  m.a = gather_coordinates(*rows, mine.share, m.a, coordinates);
-  m.law_force = gather_coordinates(*rows, mine.share, m.law_force, coordinates);
-  m.reaction = gather_coordinates(*rows, mine.share, m.reaction, coordinates);
+  gather_coordinates(*rows, mine.share, posed.reduced().size(), m);
   s.status = m.status;
   s.message = m.message;
   s.certificate = m.certificate;
