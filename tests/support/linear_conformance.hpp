@@ -45,7 +45,7 @@ class LinearConformance : public ::testing::TestWithParam<LinearEngine> {
 void expect_solves_match_dense_reference(SparseFactorization& f, const SparseMatrix& A, unsigned seed);
 
 /// schur_complement(A, block1) (it must succeed) against A11 - A12 A22^{-1} A21, then
-/// solve_interior() with 3 right-hand sides against A22^{-1} B2.
+/// solve_interior() with 1, 2, 3, 4, 5 and 9 right-hand sides against A22^{-1} B2.
 void expect_schur_complement_matches_dense_reference(SparseFactorization& f, const SparseMatrix& A,
                                                      const std::vector<int>& block1, unsigned seed);
 

@@ -16,6 +16,7 @@
 #pragma once
 
 #include "linear_common.hpp"
+#include "supernodal_substitution.hpp"
 
 #include <Eigen/Core>
 
@@ -271,6 +272,27 @@ class CholeskyEngine {
     X = z.transpose();
   }
 
+  /// substitute_by_supernodes() for at most four columns, on X transposed (each row's values
+  /// contiguous) with the loops of supernodal_substitution.hpp.
+  static void substitute_few(const std::vector<SupernodePiece>& pieces, Pass pass, Eigen::MatrixXd& X) {
+    Eigen::MatrixXd z = X.transpose();
+    std::vector<double> work;
+    auto run = [&]<int M>() {
+      if (pass == Pass::forward)
+        forward_few<M>(pieces, z.data(), work);
+      else
+        backward_few<M>(pieces, z.data(), work);
+    };
+    switch (X.cols()) {
+      case 1: run.template operator()<1>(); break;
+      case 2: run.template operator()<2>(); break;
+      case 3: run.template operator()<3>(); break;
+      case 4: run.template operator()<4>(); break;
+      default: contract_violation("substitute_few() takes one to four columns");
+    }
+    X = z.transpose();
+  }
+
   /// substitute() for a supernodal L: per supernode with a column of L22, a dense triangular
   /// solve with its diagonal block and a dense product with its rows of L below (those < end),
   /// gathered and scattered through their row indices.
@@ -292,6 +314,15 @@ class CholeskyEngine {
     };
     int last = 0;  // the supernodes with a column of L22
     while (last < L.count && L.first[last] < n2) ++last;
+    if (X.cols() <= 4) {  // a few columns: each block read once for all of them
+      std::vector<SupernodePiece> pieces(static_cast<std::size_t>(last));
+      for (int k = 0; k < last; ++k) {
+        const Piece p = piece(k);
+        pieces[static_cast<std::size_t>(k)] = SupernodePiece{p.j0, p.nc, p.count, p.nrow, p.rows, p.values};
+      }
+      substitute_few(pieces, pass, X);
+      return;
+    }
     Eigen::MatrixXd T;
     if (pass == Pass::forward) {
       for (int k = 0; k < last; ++k) {
