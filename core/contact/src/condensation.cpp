@@ -783,7 +783,7 @@ double Condensation::condition_estimate() const {
     if (!factorization_->solve_interior(x, &y).ok() || y.cols() != x.cols()) return Eigen::MatrixXd();
     return y;
   };
-  return a22_norm1_ * estimate_norm1_symmetric_blocks(static_cast<int>(block2_.size()), apply, 2);
+  return a22_norm1_ * estimate_norm1_symmetric_blocks(static_cast<int>(block2_.size()), apply);
 }
 
 const SparseFactorization& Condensation::factorization() const {

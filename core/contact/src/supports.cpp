@@ -151,12 +151,12 @@ void require_nodes_in_every_part(const ContactBoundary& boundary, const std::vec
 }
 
 double factorized_condition_estimate(const SparseMatrix& A, const SparseFactorization& f) {
-  auto apply = [&](const Eigen::VectorXd& x) {
+  auto apply = [&](const Eigen::MatrixXd& x) {
     Eigen::MatrixXd y;
-    if (!f.solve(x, &y).ok() || y.cols() != 1) return Eigen::VectorXd();
-    return Eigen::VectorXd(y.col(0));
+    if (!f.solve(x, &y).ok() || y.cols() != x.cols()) return Eigen::MatrixXd();
+    return y;
   };
-  return norm1(A) * estimate_norm1_symmetric(static_cast<int>(A.rows()), apply);
+  return norm1(A) * estimate_norm1_symmetric_blocks(static_cast<int>(A.rows()), apply);
 }
 
 }  // namespace hemivem

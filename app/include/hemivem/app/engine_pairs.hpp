@@ -89,7 +89,7 @@ struct PairRun {
 };
 
 struct PairRunOptions {
-  bool estimate_condition = false;  ///< fill PairRun::rcond and condition (7 more solves per engine)
+  bool estimate_condition = false;  ///< fill PairRun::rcond and condition (two more solves with five right-hand sides per engine)
   /// An InputError of a linear engine that factorizes (a problem it refuses) fails that engine's
   /// pairs instead of being thrown. A full-space pair's InputError is always that pair refused
   /// (PairRun::refused); when every pair is refused and this is false, the first refusal is

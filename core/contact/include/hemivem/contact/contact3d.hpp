@@ -87,7 +87,7 @@ using ContactSolver3D = BasicContactSolver<3>;
 /// a contact between two bodies: the contact then holds it (Supports); InputError naming the
 /// motions nothing holds.
 /// InputError for a problem that cannot be set up, NumericalError when the factorization fails.
-/// `estimate_condition` adds ContactSolution3D::condition_estimate (7 more solves) and rcond,
+/// `estimate_condition` adds ContactSolution3D::condition_estimate (two more solves with five right-hand sides) and rcond,
 /// and widens the uniqueness margin's round-off bound by the estimate, as solve_contact does.
 std::vector<ContactSolution3D> solve_contact(const ContactProblem3D& problem,
                                                 std::unique_ptr<SparseFactorization> factorization,

@@ -335,7 +335,7 @@ class BasicContactSolver {
   BasicContactSolver& operator=(const BasicContactSolver&) = delete;
   ~BasicContactSolver();
 
-  /// Adds the solution's condition_estimate (7 more solves) and rcond.
+  /// Adds the solution's condition_estimate (two more solves with five right-hand sides) and rcond.
   BasicContactSolver& estimate_condition(bool on = true) noexcept;
   /// `reduced`, when not null, receives a copy of the reduced problem (for export).
   BasicContactSolver& export_reduced(ReducedProblem* reduced) noexcept;
@@ -428,7 +428,7 @@ ContactSolution solve_contact(const ContactProblem& problem, std::unique_ptr<Spa
 
 /// The same for several minimizers sharing one assembly and one condensation: one solution
 /// per minimizer, in order. Without a contact boundary the single linear solve is shared.
-/// `estimate_condition` adds ContactSolution::condition_estimate (7 more solves) and rcond.
+/// `estimate_condition` adds ContactSolution::condition_estimate (two more solves with five right-hand sides) and rcond.
 std::vector<ContactSolution> solve_contact(const ContactProblem& problem,
                                            std::unique_ptr<SparseFactorization> factorization,
                                            std::span<const NonsmoothMinimizer* const> minimizers,

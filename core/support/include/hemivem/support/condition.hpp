@@ -15,15 +15,13 @@ namespace hemivem {
 double norm1(const SparseMatrix& A);
 
 /// A lower bound on ||B||_1 (usually within a factor 3, often exact) for a symmetric n x n
-/// matrix B known only through `apply` (X -> B X, for a block of columns): Hager and Higham's
-/// iterations, the first x = (1/n, ..., 1/n) solved with Higham's safeguard vector as one block
-/// of two columns, and no product the estimate does not use (the last iteration chooses no
-/// next x). `apply` is called exactly 2 * iterations - 1 times whatever the data, so that every
-/// process of a distributed engine makes the same calls. Non-finite products give +inf.
-double estimate_norm1_symmetric_blocks(int n, const std::function<Eigen::MatrixXd(const Eigen::MatrixXd&)>& apply,
-                                       int iterations = 3);
-/// The same with `apply` one column at a time (x -> B x; called 2 * iterations times).
-double estimate_norm1_symmetric(int n, const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& apply,
-                                int iterations = 3);
+/// matrix B known only through `apply` (X -> B X, for a block of columns), from two blocks of
+/// products in the manner of Hager and Higham: first B x for x = (1/n, ..., 1/n) and Higham's
+/// safeguard vector; then B sign(B x) and the two columns of B at the largest entries of the
+/// first products. Every 1-norm (and the largest entry of B sign(B x)) found is a lower bound
+/// of ||B||_1; the estimate is the largest. `apply` is called exactly twice, with two and then
+/// three columns, whatever the data, so that every process of a distributed engine makes the
+/// same calls. Non-finite products give +inf.
+double estimate_norm1_symmetric_blocks(int n, const std::function<Eigen::MatrixXd(const Eigen::MatrixXd&)>& apply);
 
 }  // namespace hemivem
