@@ -146,8 +146,7 @@ SceneEngines make_scene_engines(const Scene& scene, std::function<void(const Glo
     }
   } else {
     FactorizationOptions fo;
-    // "auto": the fastest engine for the body's dimension
-    fo.engine = same_engine(scene.solver.linear, "auto") ? fastest_factorization(scene.dimension()) : scene.solver.linear;
+    fo.engine = same_engine(scene.solver.linear, "auto") ? fastest_factorization() : scene.solver.linear;
     e.factorization = named_engine(scene, "solver.linear", [&] { return make_factorization(fo); });
     e.linear = e.factorization->name();
     e.holds_results = processes_of(*e.factorization).holds_results();

@@ -4,7 +4,6 @@
 #include <hemivem/error.hpp>
 
 #include <algorithm>
-#include <array>
 
 // The engines linked (hemivem_add_engine, cmake/HemivemEngines.cmake): their headers,
 // HEMIVEM_ENGINES and HEMIVEM_ENGINE_<NAME>. The MPI engine is not among them: it is loaded as
@@ -97,11 +96,9 @@ int factorization_process_rank() {
   return 0;
 }
 
-std::string fastest_factorization(int dimension) {
+std::string fastest_factorization() {
   const std::vector<std::string> built = available_factorizations();
-  const auto order = dimension == 3 ? std::array<const char*, 3>{"cholmod", "mumps", "eigen"}
-                                    : std::array<const char*, 3>{"mumps", "cholmod", "eigen"};
-  for (const char* fastest : order)
+  for (const char* fastest : {"cholmod", "mumps", "eigen"})
     if (std::find(built.begin(), built.end(), fastest) != built.end()) return fastest;
   return built.empty() ? std::string("eigen") : built.front();
 }

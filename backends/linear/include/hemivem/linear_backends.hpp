@@ -20,10 +20,9 @@ namespace hemivem {
 /// the engines built.
 std::unique_ptr<SparseFactorization> make_factorization(const FactorizationOptions& options);
 
-/// The fastest engine built that runs in one process for a body of `dimension` 2 or 3, by
-/// measurement of whole solves (docs/performance.md): in the plane mumps, else cholmod, else
-/// eigen; in a solid cholmod, else mumps, else eigen.
-std::string fastest_factorization(int dimension = 2);
+/// The fastest engine built that runs in one process, by measurement of whole solves in the
+/// plane and in a solid (docs/performance.md): cholmod, else mumps, else eigen.
+std::string fastest_factorization();
 
 /// The engines built into this library, in the order eigen, cholmod, mumps, mumps-mpi.
 std::vector<std::string> available_factorizations();
