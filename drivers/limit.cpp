@@ -28,13 +28,15 @@ void print_limit_table(std::ostream& out, const Scene& base, const BenchOptions&
       << "; limit = plain Q1 assembly + one CHOLMOD analysis and factorization of the same A"
       << (o.repeat > 1 ? "; the fastest of " + std::to_string(o.repeat) + " measurements of each" : std::string()) << "\n\n";
   out << std::left << std::setw(6) << "n" << std::right << std::setw(9) << "dofs" << std::setw(8) << "mesh"
-      << std::setw(10) << "assembly" << std::setw(8) << "condens" << std::setw(8) << "minim" << std::setw(8)
-      << "back" << std::setw(8) << "result" << std::setw(8) << "solve" << std::setw(8) << "margin" << std::setw(9)
+      << std::setw(10) << "assembly" << std::setw(8) << "condens" << std::setw(8) << "cond" << std::setw(8) << "minim"
+      << std::setw(8) << "back" << std::setw(8) << "estim" << std::setw(8) << "result" << std::setw(8) << "solve"
+      << std::setw(8) << "margin" << std::setw(9)
       << "outputs" << std::setw(9)
       << "plain" << std::setw(10) << "factor" << std::setw(9) << "peakMB" << "\n";
   for (const auto& r : table) {
     out << std::left << std::setw(6) << r.n << std::right << std::setw(9) << r.dofs;
-    for (const char* k : {"mesh", "assembly", "condensation", "minimize", "back_substitution", "result_json"})
+    for (const char* k :
+         {"mesh", "assembly", "condensation", "condition", "minimize", "back_substitution", "estimate", "result_json"})
       out << std::setw(std::string(k) == "assembly" ? 10 : 8) << fixed(r.stage.at(k), 2);
     out << std::setw(8) << fixed(r.solve, 2) << std::setw(8) << fixed(r.stage.at("margin"), 2) << std::setw(9)
         << fixed(r.stage.at("outputs"), 2) << std::setw(9) << fixed(r.plain_assembly, 2) << std::setw(10)

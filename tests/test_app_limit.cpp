@@ -133,12 +133,17 @@ TEST(AppLimit, PlainQ1MatrixRefusesOtherElements) {
 /// mesh, a converged solve, positive times and the ratios of its own numbers.
 void expect_consistent(const LimitRow& row) {
   EXPECT_EQ(row.status, "converged");
-  for (const char* k : {"mesh", "assembly", "condensation", "minimize", "back_substitution", "result_json", "margin",
-                        "outputs"}) {
+  double staged = 0.0;  // the stages of the solve up to result.json
+  for (const char* k : {"mesh", "assembly", "condensation", "condition", "minimize", "back_substitution", "estimate",
+                        "result_json", "margin", "outputs"}) {
     ASSERT_TRUE(row.stage.count(k)) << k;
     EXPECT_GE(row.stage.at(k), 0.0) << k;
+    if (std::string(k) != "margin" && std::string(k) != "outputs") staged += row.stage.at(k);
   }
   EXPECT_GT(row.stage.at("condensation"), 0.0);
+  EXPECT_GT(row.stage.at("condition"), 0.0) << "a solve of the command estimates the condition";
+  EXPECT_GT(row.stage.at("estimate"), 0.0);
+  EXPECT_LE(staged, row.solve) << "the stages are parts of the solve's wall time";
   EXPECT_GT(row.solve, 0.0);
   EXPECT_GT(row.plain_assembly, 0.0);
   EXPECT_GT(row.factorization, 0.0);
