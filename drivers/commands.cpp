@@ -154,7 +154,7 @@ void print_files(std::ostream& out, const SolveOptions& o, const OutputReport& r
 }
 
 /// The flags a kind of run cannot take, named by flag (run_scene names the scene's keys).
-void check_flags_for(const SolveOptions& o, const Scene& scene, RunKind kind) {
+void check_flags_for(const SolveOptions& o, RunKind kind) {
   if (kind == RunKind::static_solve || !o.linear || !same_engine(*o.linear, "mumps-mpi")) return;
   throw InputError(kind == RunKind::path ? "a loading path runs in one process; the linear engine mumps-mpi runs across "
                                            "processes: choose another engine"
@@ -177,7 +177,7 @@ Scene load_pairs_scene(const std::string& scene, std::optional<int> n, std::opti
 
 int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   const Scene scene = load_scene(o);
-  check_flags_for(o, scene, run_kind(scene));
+  check_flags_for(o, run_kind(scene));
   check_output_folder(o.out);
   say_what_an_interruption_keeps(o.out);
   require_one_process_or_an_engine_across(scene, run_kind(scene));
