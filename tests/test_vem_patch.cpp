@@ -1,7 +1,7 @@
 // Patch test: a linear displacement field is reproduced to round-off on every mesh the
 // generators make and on every mesh in shared/meshes, with Dirichlet data on the whole
 // boundary and with tractions on part of it; the load of a linear body force is exact on
-// linear fields.
+// linear fields. The right-hand side of a loading path's steps equals the assembled one.
 #include <hemivem/vem/assembly.hpp>
 #include <hemivem/mesh/gmsh.hpp>
 #include <hemivem/mesh/generators.hpp>
@@ -153,6 +153,35 @@ TEST(PatchShared, LinearFieldIsReproducedOnEverySharedMesh) {
     const Mesh mesh = read_poly2d(f).mesh;
     EXPECT_LE(patch_dirichlet(mesh, Stabilization::two_mu), 1e-12);
     EXPECT_LE(patch_traction(mesh), 1e-12);
+  }
+}
+
+// The right-hand side a loading path assembles at each step (assemble_rhs, from a dof map
+// already made) is the one of the whole assembly, with and without prescribed values to lift.
+TEST(AssembleRhs, EqualsTheAssembledRightHandSide) {
+  for (const std::string& name : {std::string("squares"), std::string("voronoi")}) {
+    SCOPED_TRACE(name);
+    const Mesh mesh = make_mesh(name, GridSize(6, 4), Rectangle{0.0, 1.0, 0.0, 2.0}, 5);
+    const Rectangle box = mesh.bounding_box();
+    const Segment left = rectangle_side(box, "left", 1e-8 * box.width());
+    const Segment top = rectangle_side(box, "top", 1e-8 * box.height());
+    for (const bool moved : {false, true}) {
+      ElasticityProblem p;
+      p.mesh = &mesh;
+      p.materials = MaterialTable(Material{65.0, 0.29});
+      p.body_force = [](const Vec2& x) { return Vec2(0.3 * x.y(), -1.0 - x.x()); };
+      p.tractions.push_back({select_boundary_edges(mesh, std::vector<Segment>{top}),
+                             [](const Vec2& x) { return Vec2(0.5, -8.0 * x.x()); }});
+      const Vec2 shift = moved ? Vec2(0.01, -0.02) : Vec2(0.0, 0.0);
+      p.dirichlet.push_back(
+          {select_boundary_edges(mesh, std::vector<Segment>{left}), [shift](const Vec2& x) { return shift * (1.0 + x.y()); },
+           {true, true}});
+      const LinearSystem sys = assemble(p);
+      EXPECT_EQ(moved, !sys.dofs.prescribed.isZero(0.0));
+      const Eigen::VectorXd b = assemble_rhs(p, sys.dofs);
+      ASSERT_EQ(b.size(), sys.b.size());
+      EXPECT_LE((b - sys.b).norm(), 1e-14 * sys.b.norm()) << "moved " << moved;
+    }
   }
 }
 

@@ -13,6 +13,8 @@
 #include "load_kernels.hpp"
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <map>
 
 namespace hemivem {
@@ -251,11 +253,18 @@ Eigen::VectorXd rhs_of(const BasicElasticityProblem<dim>& problem, const DofMap&
   if (dofs.num_dofs() != dim * mesh.num_vertices())
     throw InputError("a dof map of " + std::to_string(dofs.num_dofs()) + " dofs for a mesh of " +
                      std::to_string(dim * mesh.num_vertices()));
-  const Eigen::VectorXd f = assemble_load(mesh, problem.body_force, problem.tractions);
-  Eigen::VectorXd b(dofs.num_free());
-  for (int i = 0; i < dofs.num_free(); ++i) b(i) = f(dofs.free_dofs[static_cast<std::size_t>(i)]);
+  // the load's terms added straight into the free dofs' entries, in the load vector's order (a
+  // loading path assembles this at every step: no vector of every dof)
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(dofs.num_free());
+  load_terms<dim>(mesh, problem.body_force, problem.tractions, nullptr, [&](int d, double value) {
+    if (const int fi = dofs.free_index[static_cast<std::size_t>(d)]; fi >= 0) b(fi) += value;
+  });
   const auto lifted = [&](int d) { return dofs.prescribed(d) != 0.0; };
-  if (!dofs.prescribed.isZero(0.0))  // 0 at the free dofs
+  // whether a prescribed value is not zero (0 at the free dofs; a NaN counts), from the bits of
+  // the magnitudes in one pass the compiler vectorizes
+  std::uint64_t magnitude_bits = 0;
+  for (const double value : dofs.prescribed) magnitude_bits |= std::bit_cast<std::uint64_t>(value) & ~(std::uint64_t{1} << 63);
+  if (magnitude_bits != 0)
     apply_cells<dim>(
         mesh, problem.materials, problem.stabilization, lifted,
         [&](int d) { return dofs.free_index[static_cast<std::size_t>(d)] < 0 ? dofs.prescribed(d) : 0.0; },
