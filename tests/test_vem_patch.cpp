@@ -181,6 +181,13 @@ TEST(AssembleRhs, EqualsTheAssembledRightHandSide) {
       const Eigen::VectorXd b = assemble_rhs(p, sys.dofs);
       ASSERT_EQ(b.size(), sys.b.size());
       EXPECT_LE((b - sys.b).norm(), 1e-14 * sys.b.norm()) << "moved " << moved;
+      // written into a part of a larger vector, the rest untouched
+      Eigen::VectorXd larger = Eigen::VectorXd::Constant(b.size() + 3, 7.0);
+      assemble_rhs(p, sys.dofs, larger.segment(1, b.size()));
+      EXPECT_EQ(larger.segment(1, b.size()), b);
+      EXPECT_EQ(larger(0), 7.0);
+      EXPECT_EQ(larger.tail(2), Eigen::Vector2d(7.0, 7.0));
+      EXPECT_THROW(assemble_rhs(p, sys.dofs, larger.head(b.size() - 1)), InternalError);
     }
   }
 }

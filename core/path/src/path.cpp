@@ -180,6 +180,7 @@ struct BasicPathSolver<dim>::Impl {
   detail::SolvedLoads loads;
   std::vector<int> held;         // the prescribed dofs
   Eigen::VectorXd v;             // the step's load, stacked
+  bool v_is_step_load = false;   // v holds the step's assembled load (data_at), not a kept one
   Eigen::MatrixXd load_c;
   Eigen::Matrix<double, dim, Eigen::Dynamic> load_applied;
   Eigen::MatrixXd load_kappa;
@@ -216,7 +217,7 @@ struct BasicPathSolver<dim>::Impl {
   void condense();
   void remember_load(const Eigen::VectorXd& b);
   Eigen::VectorXd step_load(Step& s, Eigen::VectorXd* b, double* kappa);
-  void data_at(const Step& s, Eigen::VectorXd* b);
+  void data_at(const Step& s);
   void posed_load(Step& s, Eigen::VectorXd* b);
   MinimizerResult minimize_once(const Eigen::VectorXd& from, const Eigen::VectorXd& origin);
   void minimize_alone(Step& s, const Eigen::VectorXd& from, const Eigen::VectorXd& origin);
@@ -335,11 +336,11 @@ Eigen::VectorXd BasicPathSolver<dim>::Impl::step_load(Step& s, Eigen::VectorXd* 
   if (loading.proportional()) {
     alpha = Eigen::VectorXd::Constant(loads.size(), s.t);
   } else {
-    data_at(s, b);
-    stack(held, *b, dofs.prescribed, &v);
+    data_at(s);
     if (auto found = loads.coefficients(v)) {
       alpha = std::move(*found);
     } else {
+      *b = v.head(dofs.num_free());
       if (s.index > 1) {  // the first step's load is the condensation's own
         cond->set_load(*b, dofs.prescribed);
         ++condensed_loads;
@@ -365,9 +366,10 @@ Eigen::VectorXd BasicPathSolver<dim>::Impl::step_load(Step& s, Eigen::VectorXd* 
 }
 
 // The scene's data at the step's t (a path with an update): its prescribed values (dofs), its
-// load of the free dofs (b), and its gaps, bounds and laws (boundary, the condensation, step).
+// load stacked in v (the free dofs' right-hand side, assembled in place, then the values of the
+// prescribed dofs `held`), and its gaps, bounds and laws (boundary, the condensation, step).
 template <int dim>
-void BasicPathSolver<dim>::Impl::data_at(const Step& s, Eigen::VectorXd* b) {
+void BasicPathSolver<dim>::Impl::data_at(const Step& s) {
   if (s.index > 1) loading.update(s.t, problem);
   if (loading.updates_prescribed) {
     const DofMap at_t = make_dof_map(*problem.elasticity.mesh, problem.elasticity.dirichlet);
@@ -376,7 +378,11 @@ void BasicPathSolver<dim>::Impl::data_at(const Step& s, Eigen::VectorXd* b) {
                        ": a path may change prescribed values, not which displacements are prescribed");
     dofs.prescribed = at_t.prescribed;
   }
-  *b = assemble_rhs(problem.elasticity, dofs);
+  const Eigen::Index free = dofs.num_free();
+  v.resize(free + static_cast<Eigen::Index>(held.size()));
+  assemble_rhs(problem.elasticity, dofs, v.head(free));
+  for (std::size_t j = 0; j < held.size(); ++j) v(free + static_cast<Eigen::Index>(j)) = dofs.prescribed(held[j]);
+  v_is_step_load = true;
   if (loading.updates_gaps) {
     const Eigen::VectorXd before = boundary.gaps;
     boundary.gaps = contact_boundary(problem, dofs).gaps;  // the contact nodes report the step's gaps
@@ -400,7 +406,8 @@ void BasicPathSolver<dim>::Impl::posed_load(Step& s, Eigen::VectorXd* b) {
     s.applied = s.t * full_applied;
     return;
   }
-  data_at(s, b);
+  data_at(s);
+  *b = v.head(dofs.num_free());
   cond->set_load(*b, dofs.prescribed);
   const auto& e = problem.elasticity;
   s.applied = resultant<dim>(assemble_load(*e.mesh, e.body_force, e.tractions));
@@ -448,6 +455,7 @@ std::string BasicPathSolver<dim>::Impl::passed_through(const Eigen::VectorXd& be
 template <int dim>
 void BasicPathSolver<dim>::Impl::make_load_current(Eigen::VectorXd* b) {
   if (load_current) return;
+  if (b->size() != dofs.num_free() && v_is_step_load) *b = v.head(dofs.num_free());  // the step's own load
   if (b->size() == dofs.num_free()) {
     cond->set_load(*b, dofs.prescribed);
   } else {

@@ -247,15 +247,18 @@ LinearSystem assemble_of(const BasicElasticityProblem<dim>& problem) {
 }
 
 template <int dim>
-Eigen::VectorXd rhs_of(const BasicElasticityProblem<dim>& problem, const DofMap& dofs) {
+void rhs_of(const BasicElasticityProblem<dim>& problem, const DofMap& dofs, Eigen::Ref<Eigen::VectorXd> b) {
   if (!problem.mesh) throw InputError("the elasticity problem has no mesh");
   const MeshOf<dim>& mesh = *problem.mesh;
   if (dofs.num_dofs() != dim * mesh.num_vertices())
     throw InputError("a dof map of " + std::to_string(dofs.num_dofs()) + " dofs for a mesh of " +
                      std::to_string(dim * mesh.num_vertices()));
+  if (b.size() != dofs.num_free())
+    throw InternalError("assemble_rhs: a vector of " + std::to_string(b.size()) + " entries for " +
+                        std::to_string(dofs.num_free()) + " free dofs");
   // the load's terms added straight into the free dofs' entries, in the load vector's order (a
   // loading path assembles this at every step: no vector of every dof)
-  Eigen::VectorXd b = Eigen::VectorXd::Zero(dofs.num_free());
+  b.setZero();
   load_terms<dim>(mesh, problem.body_force, problem.tractions, nullptr, [&](int d, double value) {
     if (const int fi = dofs.free_index[static_cast<std::size_t>(d)]; fi >= 0) b(fi) += value;
   });
@@ -271,7 +274,6 @@ Eigen::VectorXd rhs_of(const BasicElasticityProblem<dim>& problem, const DofMap&
         [&](int d, double value) {
           if (const int fi = dofs.free_index[static_cast<std::size_t>(d)]; fi >= 0) b(fi) -= value;
         });
-  return b;
 }
 
 // ---- the rows of a range of vertices ----
@@ -385,7 +387,21 @@ SystemRows assemble_rows(const ElasticityProblem3D& problem, int first_vertex, i
   return rows_of<3>(problem, first_vertex, end_vertex);
 }
 
-Eigen::VectorXd assemble_rhs(const ElasticityProblem& problem, const DofMap& dofs) { return rhs_of<2>(problem, dofs); }
-Eigen::VectorXd assemble_rhs(const ElasticityProblem3D& problem, const DofMap& dofs) { return rhs_of<3>(problem, dofs); }
+Eigen::VectorXd assemble_rhs(const ElasticityProblem& problem, const DofMap& dofs) {
+  Eigen::VectorXd b(dofs.num_free());
+  rhs_of<2>(problem, dofs, b);
+  return b;
+}
+Eigen::VectorXd assemble_rhs(const ElasticityProblem3D& problem, const DofMap& dofs) {
+  Eigen::VectorXd b(dofs.num_free());
+  rhs_of<3>(problem, dofs, b);
+  return b;
+}
+void assemble_rhs(const ElasticityProblem& problem, const DofMap& dofs, Eigen::Ref<Eigen::VectorXd> b) {
+  rhs_of<2>(problem, dofs, b);
+}
+void assemble_rhs(const ElasticityProblem3D& problem, const DofMap& dofs, Eigen::Ref<Eigen::VectorXd> b) {
+  rhs_of<3>(problem, dofs, b);
+}
 
 }  // namespace hemivem

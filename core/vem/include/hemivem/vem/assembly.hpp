@@ -107,6 +107,9 @@ SystemRows assemble_rows(const ElasticityProblem& problem, int first_vertex, int
 /// their values may differ). Costs the load vector and the element matrices of the elements
 /// holding a nonzero prescribed value: a new load on an assembled matrix.
 Eigen::VectorXd assemble_rhs(const ElasticityProblem& problem, const DofMap& dofs);
+/// The same written into `b` (num_free() entries; InternalError otherwise), a part of a larger
+/// vector if need be: a loading path's step assembles its load where it keeps it.
+void assemble_rhs(const ElasticityProblem& problem, const DofMap& dofs, Eigen::Ref<Eigen::VectorXd> b);
 
 /// Per element: the P1 projection Pi u_h of the full nodal vector u.
 std::vector<LinearField> project_solution(const Mesh& mesh, const Eigen::VectorXd& u);

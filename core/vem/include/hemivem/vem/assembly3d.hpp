@@ -40,6 +40,8 @@ SystemRows assemble_rows(const ElasticityProblem3D& problem, int first_vertex, i
 
 /// The load of the free dofs of `dofs` at the problem's data (as assemble_rhs of a plane problem).
 Eigen::VectorXd assemble_rhs(const ElasticityProblem3D& problem, const DofMap& dofs);
+/// The same written into `b` (num_free() entries), as the plane's.
+void assemble_rhs(const ElasticityProblem3D& problem, const DofMap& dofs, Eigen::Ref<Eigen::VectorXd> b);
 
 /// Per cell: the P1 projection Pi u_h of the full nodal vector u (3 per vertex).
 std::vector<LinearField3> project_solution(const Mesh3D& mesh, const Eigen::VectorXd& u);
