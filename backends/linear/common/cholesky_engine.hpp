@@ -297,52 +297,44 @@ class CholeskyEngine {
   /// solve with its diagonal block and a dense product with its rows of L below (those < end),
   /// gathered and scattered through their row indices.
   static void substitute_by_supernodes(const Supernodes& L, int n2, int end, Pass pass, Eigen::MatrixXd& X) {
-    using Block = Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
-    struct Piece {
-      int j0, nc, count, nrow, ncol;
-      const int* rows;
-      const double* values;
-    };
-    auto piece = [&](int k) {
+    int last = 0;  // the supernodes with a column of L22
+    while (last < L.count && L.first[last] < n2) ++last;
+    std::vector<SupernodePiece> pieces(static_cast<std::size_t>(last));
+    for (int k = 0; k < last; ++k) {
       const int j0 = L.first[k], ncol = L.first[k + 1] - j0;
       const int nrow = L.row_start[k + 1] - L.row_start[k];
       const int* rows = L.rows + L.row_start[k];
       const int nc = std::min(ncol, n2 - j0);  // the supernode's columns in L22
       // the block's rows after those nc columns (rows increase) that are < end
       const int count = static_cast<int>(std::lower_bound(rows + nc, rows + nrow, end) - (rows + nc));
-      return Piece{j0, nc, count, nrow, ncol, rows, L.values + L.value_start[k]};
-    };
-    int last = 0;  // the supernodes with a column of L22
-    while (last < L.count && L.first[last] < n2) ++last;
+      pieces[static_cast<std::size_t>(k)] = SupernodePiece{j0, nc, count, nrow, rows, L.values + L.value_start[k]};
+    }
     if (X.cols() <= 4) {  // a few columns: each block read once for all of them
-      std::vector<SupernodePiece> pieces(static_cast<std::size_t>(last));
-      for (int k = 0; k < last; ++k) {
-        const Piece p = piece(k);
-        pieces[static_cast<std::size_t>(k)] = SupernodePiece{p.j0, p.nc, p.count, p.nrow, p.rows, p.values};
-      }
       substitute_few(pieces, pass, X);
       return;
     }
+    // more columns: dense products per block (the block's leading nc columns, its first
+    // nc + count rows)
+    using Block = Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
     Eigen::MatrixXd T;
     if (pass == Pass::forward) {
-      for (int k = 0; k < last; ++k) {
-        const Piece p = piece(k);
-        const Block block(p.values, p.nrow, p.ncol, Eigen::OuterStride<>(p.nrow));
+      for (const SupernodePiece& p : pieces) {
+        const Block block(p.values, p.nc + p.count, p.nc, Eigen::OuterStride<>(p.ld));
         auto x = X.middleRows(p.j0, p.nc);
         block.topLeftCorner(p.nc, p.nc).triangularView<Eigen::Lower>().solveInPlace(x);
         if (p.count == 0) continue;
-        T.noalias() = block.block(p.nc, 0, p.count, p.nc) * x;
+        T.noalias() = block.bottomRows(p.count) * x;
         for (int r = 0; r < p.count; ++r) X.row(p.rows[p.nc + r]) -= T.row(r);
       }
     } else {
-      for (int k = last - 1; k >= 0; --k) {
-        const Piece p = piece(k);
-        const Block block(p.values, p.nrow, p.ncol, Eigen::OuterStride<>(p.nrow));
+      for (auto it = pieces.rbegin(); it != pieces.rend(); ++it) {
+        const SupernodePiece& p = *it;
+        const Block block(p.values, p.nc + p.count, p.nc, Eigen::OuterStride<>(p.ld));
         auto x = X.middleRows(p.j0, p.nc);
         if (p.count > 0) {
           T.resize(p.count, X.cols());
           for (int r = 0; r < p.count; ++r) T.row(r) = X.row(p.rows[p.nc + r]);
-          x.noalias() -= block.block(p.nc, 0, p.count, p.nc).transpose() * T;
+          x.noalias() -= block.bottomRows(p.count).transpose() * T;
         }
         block.topLeftCorner(p.nc, p.nc).transpose().triangularView<Eigen::Upper>().solveInPlace(x);
       }

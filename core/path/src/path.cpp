@@ -179,8 +179,7 @@ struct BasicPathSolver<dim>::Impl {
   // kappa(V alpha) = alpha^T K alpha = Phi(u) - [1/2 x^T S x - c^T x] for the load V alpha.
   detail::SolvedLoads loads;
   std::vector<int> held;         // the prescribed dofs
-  Eigen::VectorXd v;             // the step's load, stacked
-  bool v_is_step_load = false;   // v holds the step's assembled load (data_at), not a kept one
+  Eigen::VectorXd v;             // the step's load, stacked (data_at: a path with an update)
   Eigen::MatrixXd load_c;
   Eigen::Matrix<double, dim, Eigen::Dynamic> load_applied;
   Eigen::MatrixXd load_kappa;
@@ -382,7 +381,6 @@ void BasicPathSolver<dim>::Impl::data_at(const Step& s) {
   v.resize(free + static_cast<Eigen::Index>(held.size()));
   assemble_rhs(problem.elasticity, dofs, v.head(free));
   for (std::size_t j = 0; j < held.size(); ++j) v(free + static_cast<Eigen::Index>(j)) = dofs.prescribed(held[j]);
-  v_is_step_load = true;
   if (loading.updates_gaps) {
     const Eigen::VectorXd before = boundary.gaps;
     boundary.gaps = contact_boundary(problem, dofs).gaps;  // the contact nodes report the step's gaps
@@ -455,7 +453,8 @@ std::string BasicPathSolver<dim>::Impl::passed_through(const Eigen::VectorXd& be
 template <int dim>
 void BasicPathSolver<dim>::Impl::make_load_current(Eigen::VectorXd* b) {
   if (load_current) return;
-  if (b->size() != dofs.num_free() && v_is_step_load) *b = v.head(dofs.num_free());  // the step's own load
+  // a path with an update assembled the step's own load into v (data_at)
+  if (b->size() != dofs.num_free() && !loading.proportional()) *b = v.head(dofs.num_free());
   if (b->size() == dofs.num_free()) {
     cond->set_load(*b, dofs.prescribed);
   } else {
