@@ -194,7 +194,7 @@ TEST(AppLimit, MeasuresAPlaneRowBySizeInFreshProcesses) {
     expect_consistent(row);
   }
   const nlohmann::json j = limit_json(r);
-  EXPECT_EQ(j["schema"], "hemivem-bench-limit/2");
+  EXPECT_EQ(j["schema"], "hemivem-bench-limit/3");
   EXPECT_EQ(j["linear"], "cholmod");
   EXPECT_EQ(j["minimizer"], r.plan.base.solver.minimizer);
   EXPECT_EQ(j["repeat"], 2);

@@ -49,7 +49,7 @@ def test_limit_of_a_plane_scene(small_scene):
     # a solve first: this process has run OpenMP's threads before the measurement forks
     solved = hemivem.solve(small_scene, linear="cholmod")
     d = hemivem.limit(small_scene, n=[16, 8, 16], repeat=2)
-    assert d["schema"] == "hemivem-bench-limit/2"
+    assert d["schema"] == "hemivem-bench-limit/3"
     assert d["linear"] == "cholmod" and d["minimizer"] == "ssn" and d["repeat"] == 2
     json.dumps(d)  # a plain dict of JSON values
     assert [row["n"] for row in d["rows"]] == [8, 16]  # increasing, each once
