@@ -159,6 +159,7 @@ class CholeskyEngine {
         schur_pattern_.capture(M);
       }
       if (auto r = kernel_->factorize_ordered(P_); !r.ok()) return explain(std::move(r), n2);
+      prepare_substitutions(n, n2, !reuse);
       read_schur(n, n2, S);
       schur_factorized_ = true;
       return FactorizationResult::good();
@@ -234,9 +235,8 @@ class CholeskyEngine {
   void substitute(Eigen::MatrixXd& X, Pass pass, bool tail) const {
     const int n2 = static_cast<int>(split_.block2.size());
     const int end = tail ? static_cast<int>(X.rows()) : n2;  // the rows of L read
-    Supernodes blocks;
-    if (kernel_->supernodes(&blocks)) {
-      substitute_by_supernodes(blocks, n2, end, pass, X);
+    if (supernodal_) {
+      substitute_by_supernodes(by_supernodes_[tail ? 1 : 0], pass, X);
       return;
     }
     // Column by column, on X transposed, so that each step reads one contiguous column of m values.
@@ -273,15 +273,16 @@ class CholeskyEngine {
   }
 
   /// substitute_by_supernodes() for at most four columns, on X transposed (each row's values
-  /// contiguous) with the loops of supernodal_substitution.hpp.
-  static void substitute_few(const std::vector<SupernodePiece>& pieces, Pass pass, Eigen::MatrixXd& X) {
+  /// contiguous) with the loops of supernodal_substitution.hpp, on two threads where the
+  /// schedule splits the factor.
+  static void substitute_few(const std::vector<SupernodePiece>& pieces, const SubstitutionSchedule& schedule, Pass pass,
+                             Eigen::MatrixXd& X) {
     Eigen::MatrixXd z = X.transpose();
-    std::vector<double> work;
     auto run = [&]<int M>() {
       if (pass == Pass::forward)
-        forward_few<M>(pieces, z.data(), work);
+        forward_few<M>(pieces, schedule, z.data());
       else
-        backward_few<M>(pieces, z.data(), work);
+        backward_few<M>(pieces, schedule, z.data());
     };
     switch (X.cols()) {
       case 1: run.template operator()<1>(); break;
@@ -293,24 +294,49 @@ class CholeskyEngine {
     X = z.transpose();
   }
 
+  /// The size of a factor (entries read by a substitution) from which the substitutions with a
+  /// few right-hand sides run on two threads: about 16 MB, a few milliseconds a pass.
+  static constexpr double substitution_split_entries = 2.0e6;
+
+  /// The pieces of a supernodal L's supernodes with a column of L22 for the rows read up to
+  /// `end` (n2: an interior solve; n: with the rows of block1), and their schedule.
+  struct PiecesAndSchedule {
+    std::vector<SupernodePiece> pieces;
+    SubstitutionSchedule schedule;
+  };
+
+  /// Makes by_supernodes_ after a factorization: the pieces (they point into the factor's
+  /// values), and their schedules when the pattern is new (they depend on its structure alone).
+  void prepare_substitutions(int n, int n2, bool new_pattern) {
+    Supernodes L;
+    supernodal_ = kernel_->supernodes(&L);
+    if (!supernodal_) return;
+    int last = 0;  // the supernodes with a column of L22
+    while (last < L.count && L.first[last] < n2) ++last;
+    for (int t = 0; t < 2; ++t) {
+      const int end = t == 0 ? n2 : n;
+      PiecesAndSchedule& s = by_supernodes_[t];
+      s.pieces.resize(static_cast<std::size_t>(last));
+      for (int k = 0; k < last; ++k) {
+        const int j0 = L.first[k], ncol = L.first[k + 1] - j0;
+        const int nrow = L.row_start[k + 1] - L.row_start[k];
+        const int* rows = L.rows + L.row_start[k];
+        const int nc = std::min(ncol, n2 - j0);  // the supernode's columns in L22
+        // the block's rows after those nc columns (rows increase) that are < end
+        const int count = static_cast<int>(std::lower_bound(rows + nc, rows + nrow, end) - (rows + nc));
+        s.pieces[static_cast<std::size_t>(k)] = SupernodePiece{j0, nc, count, nrow, rows, L.values + L.value_start[k]};
+      }
+      if (new_pattern) s.schedule = schedule_substitution(s.pieces, n2, end, substitution_split_entries);
+    }
+  }
+
   /// substitute() for a supernodal L: per supernode with a column of L22, a dense triangular
   /// solve with its diagonal block and a dense product with its rows of L below (those < end),
   /// gathered and scattered through their row indices.
-  static void substitute_by_supernodes(const Supernodes& L, int n2, int end, Pass pass, Eigen::MatrixXd& X) {
-    int last = 0;  // the supernodes with a column of L22
-    while (last < L.count && L.first[last] < n2) ++last;
-    std::vector<SupernodePiece> pieces(static_cast<std::size_t>(last));
-    for (int k = 0; k < last; ++k) {
-      const int j0 = L.first[k], ncol = L.first[k + 1] - j0;
-      const int nrow = L.row_start[k + 1] - L.row_start[k];
-      const int* rows = L.rows + L.row_start[k];
-      const int nc = std::min(ncol, n2 - j0);  // the supernode's columns in L22
-      // the block's rows after those nc columns (rows increase) that are < end
-      const int count = static_cast<int>(std::lower_bound(rows + nc, rows + nrow, end) - (rows + nc));
-      pieces[static_cast<std::size_t>(k)] = SupernodePiece{j0, nc, count, nrow, rows, L.values + L.value_start[k]};
-    }
+  static void substitute_by_supernodes(const PiecesAndSchedule& by, Pass pass, Eigen::MatrixXd& X) {
+    const std::vector<SupernodePiece>& pieces = by.pieces;
     if (X.cols() <= 4) {  // a few columns: each block read once for all of them
-      substitute_few(pieces, pass, X);
+      substitute_few(pieces, by.schedule, pass, X);
       return;
     }
     // more columns: dense products per block (the block's leading nc columns, its first
@@ -516,6 +542,8 @@ class CholeskyEngine {
   std::vector<int> order_;    // order_[k]: the index of A eliminated k-th
   SparseMatrix P_;            // lower triangle of A in elimination order
   bool schur_factorized_ = false;
+  bool supernodal_ = false;                 // L is supernodal: by_supernodes_ holds its pieces
+  PiecesAndSchedule by_supernodes_[2];      // for the rows up to n2 and up to n
   Eigen::VectorXd y_;           // L22^{-1} b2 of the last condense_rhs(), in elimination order
   bool rhs_condensed_ = false;
 };

@@ -1,11 +1,23 @@
 // Forward and backward substitution with the leading columns of a supernodal Cholesky factor
 // for a few right-hand sides at once (private to backends/linear). A substitution with one or
-// a few columns is bound by reading the factor from memory: these loops read each supernode's
-// block once for all M columns, where a dense matrix-matrix product would first copy (pack) the
-// block, and a product per column would read it M times.
+// a few columns reads the whole factor for little arithmetic:
+//   - each supernode's block is read once for all M columns, where a dense matrix-matrix
+//     product would first copy (pack) the block, and a product per column would read it M times;
+//   - the block is read column by column, each column from its diagonal down (backward: up), so
+//     that a pass reads the factor as one stream, which the processor's prefetcher follows;
+//   - where the factor is large, the supernodes are split into two sets of independent subtrees
+//     of about equal work and what lies above them (SubstitutionSchedule): the two sets are
+//     substituted on two threads at once, the rest on one. The split depends on the factor's
+//     structure alone, so the result is the same bit for bit on one thread or two.
 #pragma once
 
 #include <algorithm>
+#include <cstddef>
+#include <exception>
+#include <functional>
+#include <numeric>
+#include <system_error>
+#include <thread>
 #include <vector>
 
 namespace hemivem::linear_detail {
@@ -19,84 +31,270 @@ struct SupernodePiece {
   const double* values = nullptr;
 };
 
-/// Z (rows x M, row-major: row r at z + r * M) = L^{-1} Z with the pieces in order; each
-/// piece solves with its diagonal block and subtracts its block below from the rows it names.
-template <int M, class Pieces>
-void forward_few(const Pieces& pieces, double* z, std::vector<double>& acc) {
-  for (const SupernodePiece& p : pieces) {
-    const double* B = p.values;
-    for (int j = 0; j < p.nc; ++j) {  // the diagonal block, column by column
-      const double* col = B + static_cast<std::ptrdiff_t>(j) * p.ld;
-      double* zj = z + static_cast<std::ptrdiff_t>(p.j0 + j) * M;
-      for (int c = 0; c < M; ++c) zj[c] /= col[j];
-      for (int i = j + 1; i < p.nc; ++i) {
-        double* zi = z + static_cast<std::ptrdiff_t>(p.j0 + i) * M;
-        for (int c = 0; c < M; ++c) zi[c] -= col[i] * zj[c];
-      }
+/// y (n rows of M values) -= (or +=) the column c (n values) times w (M values).
+template <int M, bool subtract>
+inline void axpy_rows(const double* __restrict__ c, const double* __restrict__ w, double* __restrict__ y, int n) {
+  for (int i = 0; i < n; ++i)
+    for (int m = 0; m < M; ++m) {
+      if constexpr (subtract)
+        y[i * M + m] -= c[i] * w[m];
+      else
+        y[i * M + m] += c[i] * w[m];
     }
-    if (p.count == 0) continue;
-    acc.assign(static_cast<std::size_t>(p.count) * M, 0.0);
-    double* a = acc.data();
-    // four columns at a time, so that each entry of acc is loaded and stored once per four
-    int j = 0;
-    for (; j + 4 <= p.nc; j += 4) {
-      const double* col = B + static_cast<std::ptrdiff_t>(j) * p.ld + p.nc;
-      const double* zj = z + static_cast<std::ptrdiff_t>(p.j0 + j) * M;
-      for (int r = 0; r < p.count; ++r)
-        for (int c = 0; c < M; ++c)
-          a[r * M + c] += (col[r] * zj[c] + col[r + p.ld] * zj[M + c]) +
-                          (col[r + 2 * p.ld] * zj[2 * M + c] + col[r + 3 * p.ld] * zj[3 * M + c]);
-    }
-    for (; j < p.nc; ++j) {
-      const double* col = B + static_cast<std::ptrdiff_t>(j) * p.ld + p.nc;
-      const double* zj = z + static_cast<std::ptrdiff_t>(p.j0 + j) * M;
-      for (int r = 0; r < p.count; ++r)
-        for (int c = 0; c < M; ++c) a[r * M + c] += col[r] * zj[c];
-    }
-    for (int r = 0; r < p.count; ++r) {
-      double* zr = z + static_cast<std::ptrdiff_t>(p.rows[p.nc + r]) * M;
-      for (int c = 0; c < M; ++c) zr[c] -= a[r * M + c];
-    }
+}
+
+/// s (M values) += the column c (n values) transposed times y (n rows of M values), from the
+/// last row up, in P interleaved partial sums so that the products do not wait on each other.
+template <int M>
+inline void dot_rows(const double* __restrict__ c, const double* __restrict__ y, int n, double* __restrict__ s) {
+  constexpr int P = M == 1 ? 4 : 2;
+  double part[P][M] = {};
+  int i = n;
+  for (; i >= P; i -= P)
+    for (int q = 0; q < P; ++q)
+      for (int m = 0; m < M; ++m) part[q][m] += c[i - 1 - q] * y[(i - 1 - q) * M + m];
+  for (; i > 0; --i)
+    for (int m = 0; m < M; ++m) part[0][m] += c[i - 1] * y[(i - 1) * M + m];
+  for (int m = 0; m < M; ++m) {
+    double t = part[0][m];
+    for (int q = 1; q < P; ++q) t += part[q][m];
+    s[m] += t;
   }
 }
 
-/// Z = L^{-T} Z with the same pieces, taken in reverse order. Every loop runs downwards, so
-/// that the whole pass reads the factor from its end to its start as one descending stream,
-/// which the processor's prefetcher follows as it does an ascending one.
-template <int M, class Pieces>
-void backward_few(const Pieces& pieces, double* z, std::vector<double>& gathered) {
-  for (auto it = pieces.rbegin(); it != pieces.rend(); ++it) {
-    const SupernodePiece& p = *it;
-    const double* B = p.values;
-    if (p.count > 0) {
-      gathered.resize(static_cast<std::size_t>(p.count) * M);
-      double* g = gathered.data();
-      for (int r = 0; r < p.count; ++r)
-        std::copy_n(z + static_cast<std::ptrdiff_t>(p.rows[p.nc + r]) * M, M, g + static_cast<std::ptrdiff_t>(r) * M);
-      for (int j = p.nc - 1; j >= 0; --j) {
-        const double* col = B + static_cast<std::ptrdiff_t>(j) * p.ld + p.nc;
-        // four partial sums per column, so that the dot products do not wait on one another
-        double s[4][M] = {};
-        int r = p.count;
-        for (; r >= 4; r -= 4)
-          for (int q = 1; q <= 4; ++q)
-            for (int c = 0; c < M; ++c) s[q - 1][c] += col[r - q] * g[(r - q) * M + c];
-        for (; r > 0; --r)
-          for (int c = 0; c < M; ++c) s[0][c] += col[r - 1] * g[(r - 1) * M + c];
-        double* zj = z + static_cast<std::ptrdiff_t>(p.j0 + j) * M;
-        for (int c = 0; c < M; ++c) zj[c] -= (s[0][c] + s[1][c]) + (s[2][c] + s[3][c]);
-      }
-    }
-    for (int j = p.nc - 1; j >= 0; --j) {  // the diagonal block, transposed, from its last column
-      const double* col = B + static_cast<std::ptrdiff_t>(j) * p.ld;
-      double* zj = z + static_cast<std::ptrdiff_t>(p.j0 + j) * M;
-      for (int i = p.nc - 1; i > j; --i) {
-        const double* zi = z + static_cast<std::ptrdiff_t>(p.j0 + i) * M;
-        for (int c = 0; c < M; ++c) zj[c] -= col[i] * zi[c];
-      }
-      for (int c = 0; c < M; ++c) zj[c] /= col[j];
+/// Z (rows x M, row-major: row r at z + r * M) = L^{-1} Z on one piece: solves with its
+/// diagonal block, sums its rows below the block times the solved rows into acc and calls
+/// scatter(p, acc), which subtracts acc's rows from the rows of Z that the piece names.
+template <int M, class Scatter>
+inline void forward_piece(const SupernodePiece& p, double* z, std::vector<double>& acc, Scatter&& scatter) {
+  double* zs = z + static_cast<std::ptrdiff_t>(p.j0) * M;
+  acc.assign(static_cast<std::size_t>(p.count) * M, 0.0);
+  for (int j = 0; j < p.nc; ++j) {
+    const double* col = p.values + static_cast<std::ptrdiff_t>(j) * p.ld;
+    double* zj = zs + static_cast<std::ptrdiff_t>(j) * M;
+    double w[M];
+    for (int m = 0; m < M; ++m) w[m] = zj[m] /= col[j];
+    axpy_rows<M, true>(col + j + 1, w, zj + M, p.nc - j - 1);
+    axpy_rows<M, false>(col + p.nc, w, acc.data(), p.count);
+  }
+  if (p.count > 0) scatter(p, acc.data());
+}
+
+/// Z = L^{-T} Z on one piece: the rows of Z below its block (those it names, final already)
+/// and its own rows are read, its own rows written.
+template <int M>
+inline void backward_piece(const SupernodePiece& p, double* z, std::vector<double>& gathered) {
+  double* zs = z + static_cast<std::ptrdiff_t>(p.j0) * M;
+  gathered.resize(static_cast<std::size_t>(p.count) * M);
+  double* g = gathered.data();
+  for (int r = 0; r < p.count; ++r)
+    std::copy_n(z + static_cast<std::ptrdiff_t>(p.rows[p.nc + r]) * M, M, g + static_cast<std::ptrdiff_t>(r) * M);
+  for (int j = p.nc - 1; j >= 0; --j) {
+    const double* col = p.values + static_cast<std::ptrdiff_t>(j) * p.ld;
+    double s[M] = {};
+    dot_rows<M>(col + p.nc, g, p.count, s);
+    dot_rows<M>(col + j + 1, zs + static_cast<std::ptrdiff_t>(j + 1) * M, p.nc - j - 1, s);
+    for (int m = 0; m < M; ++m) zs[static_cast<std::ptrdiff_t>(j) * M + m] = (zs[static_cast<std::ptrdiff_t>(j) * M + m] - s[m]) / col[j];
+  }
+}
+
+/// How a substitution is shared between two threads. The pieces (supernodes in postorder) fall
+/// into the subtrees given to each thread, contiguous ranges of pieces and of columns, and the
+/// top: the pieces above them, substituted on one thread (forward: after both sets; backward:
+/// before). Forward, a subtree's updates of rows outside its columns (the top's columns, the
+/// rows at or after n2) are summed per thread in slots and subtracted after both are done, in
+/// the order of the threads.
+struct SubstitutionSchedule {
+  struct Range {
+    int begin = 0, end = 0;  // pieces
+    int column_end = 0;      // the first column after the subtree's
+  };
+  bool split = false;               // false: every piece in order on one thread
+  std::vector<Range> ranges[2];     // each thread's subtrees, in increasing order
+  std::vector<int> top;             // the other pieces, increasing
+  std::vector<int> slot;            // row -> its slot (rows outside every subtree), else -1
+  std::vector<int> slot_row;        // slot -> row
+};
+
+/// The schedule of pieces (in postorder, the first n2 columns; rows below read up to `end`): a
+/// split into two sets of subtrees when the pieces hold at least min_entries entries and a split
+/// with sets within 5 % of each other is found with a small top, else none.
+template <class Pieces>
+SubstitutionSchedule schedule_substitution(const Pieces& pieces, int n2, int end, double min_entries) {
+  SubstitutionSchedule s;
+  const int np = static_cast<int>(pieces.size());
+  if (np < 2) return s;
+  std::vector<double> work(static_cast<std::size_t>(np)), sub(static_cast<std::size_t>(np));
+  std::vector<int> parent(static_cast<std::size_t>(np), -1), size(static_cast<std::size_t>(np), 1);
+  std::vector<std::vector<int>> children(static_cast<std::size_t>(np));
+  std::vector<int> roots;
+  double total = 0.0;
+  for (int k = 0; k < np; ++k) {
+    const SupernodePiece& p = pieces[static_cast<std::size_t>(k)];
+    work[static_cast<std::size_t>(k)] = 0.5 * p.nc * (p.nc + 1.0) + static_cast<double>(p.nc) * p.count;
+    total += work[static_cast<std::size_t>(k)];
+    if (p.count > 0 && p.rows[p.nc] < n2) {
+      // the piece that holds the first row below the block (pieces are ordered by j0)
+      const auto it = std::upper_bound(pieces.begin(), pieces.end(), p.rows[p.nc],
+                                       [](int row, const SupernodePiece& q) { return row < q.j0; });
+      const int q = static_cast<int>(it - pieces.begin()) - 1;
+      if (q <= k) return s;  // not in postorder: no split
+      parent[static_cast<std::size_t>(k)] = q;
     }
   }
+  if (total < min_entries) return s;
+  for (int k = 0; k < np; ++k) {
+    sub[static_cast<std::size_t>(k)] += work[static_cast<std::size_t>(k)];
+    const int q = parent[static_cast<std::size_t>(k)];
+    if (q < 0) {
+      roots.push_back(k);
+      continue;
+    }
+    sub[static_cast<std::size_t>(q)] += sub[static_cast<std::size_t>(k)];
+    size[static_cast<std::size_t>(q)] += size[static_cast<std::size_t>(k)];
+    children[static_cast<std::size_t>(q)].push_back(k);
+  }
+  // split the largest subtree until the subtrees fall into two sets of about equal work
+  // (largest first, each into the lighter set)
+  std::vector<int> trees = roots, top;
+  std::vector<int> side;
+  double top_work = 0.0;
+  auto heavier = [&](int a, int b) {
+    return sub[static_cast<std::size_t>(a)] > sub[static_cast<std::size_t>(b)] ||
+           (sub[static_cast<std::size_t>(a)] == sub[static_cast<std::size_t>(b)] && a < b);
+  };
+  for (int round = 0;; ++round) {
+    std::sort(trees.begin(), trees.end(), heavier);
+    double bins[2] = {0.0, 0.0};
+    side.assign(trees.size(), 0);
+    for (std::size_t t = 0; t < trees.size(); ++t) {
+      side[t] = bins[1] < bins[0] ? 1 : 0;
+      bins[side[t]] += sub[static_cast<std::size_t>(trees[t])];
+    }
+    const double both = bins[0] + bins[1];
+    if (trees.size() >= 2 && std::max(bins[0], bins[1]) <= 0.525 * both) break;
+    if (round == 256 || trees.empty() || top_work > 0.25 * total) return s;
+    const int t = trees.front();
+    trees.erase(trees.begin());
+    top.push_back(t);
+    top_work += work[static_cast<std::size_t>(t)];
+    for (int c : children[static_cast<std::size_t>(t)]) trees.push_back(c);
+  }
+  s.split = true;
+  for (std::size_t t = 0; t < trees.size(); ++t) {
+    const int k = trees[t];
+    const SupernodePiece& p = pieces[static_cast<std::size_t>(k)];
+    s.ranges[side[t]].push_back({k - size[static_cast<std::size_t>(k)] + 1, k + 1, p.j0 + p.nc});
+  }
+  for (auto& r : s.ranges)
+    std::sort(r.begin(), r.end(), [](const auto& a, const auto& b) { return a.begin < b.begin; });
+  std::sort(top.begin(), top.end());
+  s.top = std::move(top);
+  s.slot.assign(static_cast<std::size_t>(end), -1);
+  for (int k : s.top) {
+    const SupernodePiece& p = pieces[static_cast<std::size_t>(k)];
+    for (int j = p.j0; j < p.j0 + p.nc; ++j) {
+      s.slot[static_cast<std::size_t>(j)] = static_cast<int>(s.slot_row.size());
+      s.slot_row.push_back(j);
+    }
+  }
+  for (int r = n2; r < end; ++r) {
+    s.slot[static_cast<std::size_t>(r)] = static_cast<int>(s.slot_row.size());
+    s.slot_row.push_back(r);
+  }
+  return s;
+}
+
+/// Runs first() on this thread and second() on another at once (on this one after first()
+/// where no thread can be started); an exception of either is rethrown after both.
+inline void run_both(const std::function<void()>& first, const std::function<void()>& second) {
+  std::exception_ptr failure2;
+  auto guarded2 = [&] {
+    try {
+      second();
+    } catch (...) {
+      failure2 = std::current_exception();
+    }
+  };
+  std::thread worker;
+  try {
+    worker = std::thread(guarded2);
+  } catch (const std::system_error&) {
+  }
+  std::exception_ptr failure1;
+  try {
+    first();
+  } catch (...) {
+    failure1 = std::current_exception();
+  }
+  if (worker.joinable())
+    worker.join();
+  else
+    guarded2();
+  if (failure1) std::rethrow_exception(failure1);
+  if (failure2) std::rethrow_exception(failure2);
+}
+
+/// Subtracts acc's rows from the rows of Z that the piece names.
+template <int M>
+inline void scatter_into(const SupernodePiece& p, const double* acc, double* z) {
+  for (int r = 0; r < p.count; ++r) {
+    double* zr = z + static_cast<std::ptrdiff_t>(p.rows[p.nc + r]) * M;
+    for (int m = 0; m < M; ++m) zr[m] -= acc[r * M + m];
+  }
+}
+
+/// Z = L^{-1} Z with the pieces in order (or as the schedule shares them).
+template <int M, class Pieces>
+void forward_few(const Pieces& pieces, const SubstitutionSchedule& schedule, double* z) {
+  std::vector<double> acc;
+  auto direct = [z](const SupernodePiece& p, const double* a) { scatter_into<M>(p, a, z); };
+  if (!schedule.split) {
+    for (const SupernodePiece& p : pieces) forward_piece<M>(p, z, acc, direct);
+    return;
+  }
+  std::vector<double> outside[2];
+  auto set = [&](int t) {
+    std::vector<double> a;
+    std::vector<double>& out = outside[t];
+    out.assign(schedule.slot_row.size() * M, 0.0);
+    for (const auto& range : schedule.ranges[t]) {
+      auto split = [&](const SupernodePiece& p, const double* acc_rows) {
+        for (int r = 0; r < p.count; ++r) {
+          const int row = p.rows[p.nc + r];
+          double* to = row < range.column_end ? z + static_cast<std::ptrdiff_t>(row) * M
+                                              : out.data() + static_cast<std::ptrdiff_t>(schedule.slot[static_cast<std::size_t>(row)]) * M;
+          for (int m = 0; m < M; ++m) to[m] -= acc_rows[r * M + m];
+        }
+      };
+      for (int k = range.begin; k < range.end; ++k) forward_piece<M>(pieces[static_cast<std::size_t>(k)], z, a, split);
+    }
+  };
+  run_both([&] { set(0); }, [&] { set(1); });
+  for (const auto& out : outside)
+    for (std::size_t q = 0; q < schedule.slot_row.size(); ++q)
+      for (int m = 0; m < M; ++m) z[static_cast<std::ptrdiff_t>(schedule.slot_row[q]) * M + m] += out[q * M + m];
+  for (int k : schedule.top) forward_piece<M>(pieces[static_cast<std::size_t>(k)], z, acc, direct);
+}
+
+/// Z = L^{-T} Z with the pieces in reverse order (or as the schedule shares them): the whole
+/// pass reads the factor from its end to its start.
+template <int M, class Pieces>
+void backward_few(const Pieces& pieces, const SubstitutionSchedule& schedule, double* z) {
+  std::vector<double> gathered;
+  if (!schedule.split) {
+    for (auto it = pieces.rbegin(); it != pieces.rend(); ++it) backward_piece<M>(*it, z, gathered);
+    return;
+  }
+  for (auto it = schedule.top.rbegin(); it != schedule.top.rend(); ++it)
+    backward_piece<M>(pieces[static_cast<std::size_t>(*it)], z, gathered);
+  auto set = [&](int t) {
+    std::vector<double> g;
+    const auto& ranges = schedule.ranges[t];
+    for (auto r = ranges.rbegin(); r != ranges.rend(); ++r)
+      for (int k = r->end - 1; k >= r->begin; --k) backward_piece<M>(pieces[static_cast<std::size_t>(k)], z, g);
+  };
+  run_both([&] { set(0); }, [&] { set(1); });
 }
 
 }  // namespace hemivem::linear_detail
