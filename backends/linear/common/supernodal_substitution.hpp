@@ -116,92 +116,108 @@ struct SubstitutionSchedule {
   std::vector<int> slot_row;        // slot -> row
 };
 
+/// The supernodes' elimination tree (within L22): each piece's parent (-1: a root), the work
+/// of its subtree (entries read), its size in pieces and its children. Empty where the pieces are
+/// not in postorder (a parent before its child).
+struct SupernodeTree {
+  std::vector<double> work, sub;
+  std::vector<int> size, roots;
+  std::vector<std::vector<int>> children;
+  double total = 0.0;
+};
+
+template <class Pieces>
+bool supernode_tree(const Pieces& pieces, int n2, SupernodeTree* tree) {
+  const auto np = pieces.size();
+  SupernodeTree& t = *tree;
+  t.work.assign(np, 0.0);
+  t.size.assign(np, 1);
+  t.children.assign(np, {});
+  std::vector<int> parent(np, -1);
+  for (std::size_t k = 0; k < np; ++k) {
+    const SupernodePiece& p = pieces[k];
+    t.work[k] = 0.5 * p.nc * (p.nc + 1.0) + static_cast<double>(p.nc) * p.count;
+    t.total += t.work[k];
+    if (p.count > 0 && p.rows[p.nc] < n2) {
+      // the piece that holds the first row below the block (pieces are ordered by j0)
+      const auto it = std::upper_bound(pieces.begin(), pieces.end(), p.rows[p.nc],
+                                       [](int row, const SupernodePiece& q) { return row < q.j0; });
+      const auto q = static_cast<std::size_t>(it - pieces.begin()) - 1;
+      if (q <= k) return false;
+      parent[k] = static_cast<int>(q);
+    }
+  }
+  t.sub = t.work;
+  for (std::size_t k = 0; k < np; ++k) {
+    if (parent[k] < 0) {
+      t.roots.push_back(static_cast<int>(k));
+      continue;
+    }
+    const auto q = static_cast<std::size_t>(parent[k]);
+    t.sub[q] += t.sub[k];
+    t.size[q] += t.size[k];
+    t.children[q].push_back(static_cast<int>(k));
+  }
+  return true;
+}
+
+/// Splits the largest subtree (its root into `top`) until the subtrees fall into two sets of
+/// about equal work (largest first, each into the lighter set): the subtrees in `trees`, their
+/// sets in `side`. False when no such split leaves the top under a quarter of the work.
+inline bool split_subtrees(const SupernodeTree& t, std::vector<int>* trees, std::vector<int>* side, std::vector<int>* top) {
+  *trees = t.roots;
+  double top_work = 0.0;
+  auto heavier = [&](int a, int b) {
+    const double wa = t.sub[static_cast<std::size_t>(a)], wb = t.sub[static_cast<std::size_t>(b)];
+    return wa > wb || (wa == wb && a < b);
+  };
+  for (int round = 0;; ++round) {
+    std::sort(trees->begin(), trees->end(), heavier);
+    double bins[2] = {0.0, 0.0};
+    side->assign(trees->size(), 0);
+    for (std::size_t i = 0; i < trees->size(); ++i) {
+      (*side)[i] = bins[1] < bins[0] ? 1 : 0;
+      bins[(*side)[i]] += t.sub[static_cast<std::size_t>((*trees)[i])];
+    }
+    if (trees->size() >= 2 && std::max(bins[0], bins[1]) <= 0.525 * (bins[0] + bins[1])) return true;
+    if (round == 256 || trees->empty() || top_work > 0.25 * t.total) return false;
+    const int root = trees->front();
+    trees->erase(trees->begin());
+    top->push_back(root);
+    top_work += t.work[static_cast<std::size_t>(root)];
+    for (int c : t.children[static_cast<std::size_t>(root)]) trees->push_back(c);
+  }
+}
+
 /// The schedule of pieces (in postorder, the first n2 columns; rows below read up to `end`): a
 /// split into two sets of subtrees when the pieces hold at least min_entries entries and a split
 /// with sets within 5 % of each other is found with a small top, else none.
 template <class Pieces>
 SubstitutionSchedule schedule_substitution(const Pieces& pieces, int n2, int end, double min_entries) {
   SubstitutionSchedule s;
-  const int np = static_cast<int>(pieces.size());
-  if (np < 2) return s;
-  std::vector<double> work(static_cast<std::size_t>(np)), sub(static_cast<std::size_t>(np));
-  std::vector<int> parent(static_cast<std::size_t>(np), -1), size(static_cast<std::size_t>(np), 1);
-  std::vector<std::vector<int>> children(static_cast<std::size_t>(np));
-  std::vector<int> roots;
-  double total = 0.0;
-  for (int k = 0; k < np; ++k) {
-    const SupernodePiece& p = pieces[static_cast<std::size_t>(k)];
-    work[static_cast<std::size_t>(k)] = 0.5 * p.nc * (p.nc + 1.0) + static_cast<double>(p.nc) * p.count;
-    total += work[static_cast<std::size_t>(k)];
-    if (p.count > 0 && p.rows[p.nc] < n2) {
-      // the piece that holds the first row below the block (pieces are ordered by j0)
-      const auto it = std::upper_bound(pieces.begin(), pieces.end(), p.rows[p.nc],
-                                       [](int row, const SupernodePiece& q) { return row < q.j0; });
-      const int q = static_cast<int>(it - pieces.begin()) - 1;
-      if (q <= k) return s;  // not in postorder: no split
-      parent[static_cast<std::size_t>(k)] = q;
-    }
-  }
-  if (total < min_entries) return s;
-  for (int k = 0; k < np; ++k) {
-    sub[static_cast<std::size_t>(k)] += work[static_cast<std::size_t>(k)];
-    const int q = parent[static_cast<std::size_t>(k)];
-    if (q < 0) {
-      roots.push_back(k);
-      continue;
-    }
-    sub[static_cast<std::size_t>(q)] += sub[static_cast<std::size_t>(k)];
-    size[static_cast<std::size_t>(q)] += size[static_cast<std::size_t>(k)];
-    children[static_cast<std::size_t>(q)].push_back(k);
-  }
-  // split the largest subtree until the subtrees fall into two sets of about equal work
-  // (largest first, each into the lighter set)
-  std::vector<int> trees = roots, top;
-  std::vector<int> side;
-  double top_work = 0.0;
-  auto heavier = [&](int a, int b) {
-    return sub[static_cast<std::size_t>(a)] > sub[static_cast<std::size_t>(b)] ||
-           (sub[static_cast<std::size_t>(a)] == sub[static_cast<std::size_t>(b)] && a < b);
-  };
-  for (int round = 0;; ++round) {
-    std::sort(trees.begin(), trees.end(), heavier);
-    double bins[2] = {0.0, 0.0};
-    side.assign(trees.size(), 0);
-    for (std::size_t t = 0; t < trees.size(); ++t) {
-      side[t] = bins[1] < bins[0] ? 1 : 0;
-      bins[side[t]] += sub[static_cast<std::size_t>(trees[t])];
-    }
-    const double both = bins[0] + bins[1];
-    if (trees.size() >= 2 && std::max(bins[0], bins[1]) <= 0.525 * both) break;
-    if (round == 256 || trees.empty() || top_work > 0.25 * total) return s;
-    const int t = trees.front();
-    trees.erase(trees.begin());
-    top.push_back(t);
-    top_work += work[static_cast<std::size_t>(t)];
-    for (int c : children[static_cast<std::size_t>(t)]) trees.push_back(c);
-  }
+  SupernodeTree tree;
+  if (pieces.size() < 2 || !supernode_tree(pieces, n2, &tree) || tree.total < min_entries) return s;
+  std::vector<int> trees, side, top;
+  if (!split_subtrees(tree, &trees, &side, &top)) return s;
   s.split = true;
-  for (std::size_t t = 0; t < trees.size(); ++t) {
-    const int k = trees[t];
+  for (std::size_t i = 0; i < trees.size(); ++i) {
+    const int k = trees[i];
     const SupernodePiece& p = pieces[static_cast<std::size_t>(k)];
-    s.ranges[side[t]].push_back({k - size[static_cast<std::size_t>(k)] + 1, k + 1, p.j0 + p.nc});
+    s.ranges[side[i]].push_back({k - tree.size[static_cast<std::size_t>(k)] + 1, k + 1, p.j0 + p.nc});
   }
   for (auto& r : s.ranges)
     std::sort(r.begin(), r.end(), [](const auto& a, const auto& b) { return a.begin < b.begin; });
   std::sort(top.begin(), top.end());
   s.top = std::move(top);
+  // the slots: the top's columns, then the rows at or after n2
   s.slot.assign(static_cast<std::size_t>(end), -1);
-  for (int k : s.top) {
-    const SupernodePiece& p = pieces[static_cast<std::size_t>(k)];
-    for (int j = p.j0; j < p.j0 + p.nc; ++j) {
-      s.slot[static_cast<std::size_t>(j)] = static_cast<int>(s.slot_row.size());
-      s.slot_row.push_back(j);
-    }
-  }
-  for (int r = n2; r < end; ++r) {
-    s.slot[static_cast<std::size_t>(r)] = static_cast<int>(s.slot_row.size());
-    s.slot_row.push_back(r);
-  }
+  auto add_slot = [&](int row) {
+    s.slot[static_cast<std::size_t>(row)] = static_cast<int>(s.slot_row.size());
+    s.slot_row.push_back(row);
+  };
+  for (int k : s.top)
+    for (int j = pieces[static_cast<std::size_t>(k)].j0; j < pieces[static_cast<std::size_t>(k)].j0 + pieces[static_cast<std::size_t>(k)].nc; ++j) add_slot(j);
+  for (int r = n2; r < end; ++r) add_slot(r);
   return s;
 }
 
