@@ -158,8 +158,11 @@ void element_stiffness(std::span<const Vec2> z, const Lame& lame, Stabilization 
   }
 }
 
-LinearField project_p1(std::span<const Vec2> z, const Eigen::Ref<const Eigen::VectorXd>& v) {
-  const auto p = build<Eigen::MatrixXd>(z);
+namespace {
+
+template <class Mat>
+LinearField project_p1_with(std::span<const Vec2> z, const Eigen::Ref<const Eigen::VectorXd>& v) {
+  const auto p = build<Mat>(z);
   const Eigen::Vector3d eps = p.B * v;
   const Eigen::Vector3d rho = p.RtR_inv.asDiagonal() * (p.R.transpose() * (v - p.Ds * eps));
   LinearField f;
@@ -168,6 +171,13 @@ LinearField project_p1(std::span<const Vec2> z, const Eigen::Ref<const Eigen::Ve
   f.gradient << eps(0), 0.5 * eps(2) - rho(2),  //
       0.5 * eps(2) + rho(2), eps(1);
   return f;
+}
+
+}  // namespace
+
+LinearField project_p1(std::span<const Vec2> z, const Eigen::Ref<const Eigen::VectorXd>& v) {
+  // an element of up to 8 vertices on the stack, as in element_stiffness()
+  return z.size() <= small_element_vertices ? project_p1_with<SmallMatrix>(z, v) : project_p1_with<Eigen::MatrixXd>(z, v);
 }
 
 LinearField project_gradient(std::span<const Vec2> z, const Eigen::Ref<const Eigen::VectorXd>& v) {
