@@ -429,6 +429,36 @@ TEST(Path, ALoadCombiningFieldsWithCoefficientsInTCondensesEachFieldOnce) {
   }
 }
 
+// A load on the top, then from t = 1/2 on also in the body's lowest quarter (the contact side):
+// the first load is zero in the rows of that quarter, and the second is zero where the first is
+// not (the top's rows), so the later steps' loads are no combination of the first, measured in
+// rows where it is zero. Each is condensed at its step until the second field is kept. Every
+// step is the static problem at its load.
+TEST(Path, ALoadThatSpreadsBeyondTheRowsOfThoseKeptIsNotTheirCombination) {
+  const Mesh mesh = make_squares(64);  // 8 450 unknowns: several blocks of rows
+  const auto minimizer = make_minimizer("ssn");
+  auto at = [](double t, ContactProblem& q) {
+    q.elasticity.tractions[0].traction = [t](const Vec2&) { return Vec2(0.0, -8.0 * t); };
+    q.elasticity.body_force = [t](const Vec2& x) { return Vec2(0.0, t > 0.5 && x.y() < 0.25 ? -20.0 * (t - 0.5) : 0.0); };
+  };
+  ContactProblem problem = example(mesh);
+  const PathSolution path = solve_path(problem, engine("cholmod"), *minimizer, PathLoading{factors(6), at});
+  ASSERT_EQ(path.steps.size(), 6u);
+  // the top's load (step 1), the first step with the body's load (t = 2/3); t = 5/6 and 1 are
+  // combinations of the two
+  EXPECT_EQ(path.condensed_loads, 2);
+  for (const PathStep& s : path.steps) {
+    SCOPED_TRACE("t " + std::to_string(s.t));
+    ContactProblem at_t = example(mesh);
+    at(s.t, at_t);
+    const ContactSolution st = solve_contact(at_t, engine(), *minimizer, MinimizerOptions{});
+    ASSERT_TRUE(s.converged()) << s.message;
+    ASSERT_TRUE(st.converged());
+    EXPECT_LE(max_abs(s.a - st.minimizer->a), 1e-9 * max_abs(st.minimizer->a));
+    EXPECT_NEAR(s.energy, st.energy, 1e-9 * std::abs(st.energy));
+  }
+}
+
 // A load that is no combination of a few fields (sin(pi t x) on the top): each step condenses
 // its own, the first six are kept and the later ones are not in their span; the path is the one
 // that keeps none.

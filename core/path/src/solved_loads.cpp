@@ -13,27 +13,35 @@ namespace {
 constexpr Eigen::Index block = 4096;  // entries per block: v's and Q's blocks stay in cache
 }  // namespace
 
-Eigen::VectorXd SolvedLoads::project(const Eigen::VectorXd& v, double* norm) const {
+Eigen::VectorXd SolvedLoads::project(const Eigen::VectorXd& v, double* norm, std::vector<double>* squares) const {
   Eigen::VectorXd q = Eigen::VectorXd::Zero(Q_.cols());
-  double squares = 0.0;
-  for (Eigen::Index i = 0; i < v.size(); i += block) {
+  double sum = 0.0;
+  squares->clear();
+  for (Eigen::Index i = 0, k = 0; i < v.size(); i += block, ++k) {
     const Eigen::Index n = std::min(block, v.size() - i);
-    squares += v.segment(i, n).squaredNorm();
-    q.noalias() += Q_.middleRows(i, n).transpose() * v.segment(i, n);
+    squares->push_back(v.segment(i, n).squaredNorm());
+    sum += squares->back();
+    // a block where every load kept is zero adds exact zeros to q
+    if (nonzero_[static_cast<std::size_t>(k)]) q.noalias() += Q_.middleRows(i, n).transpose() * v.segment(i, n);
   }
-  *norm = std::sqrt(squares);
+  *norm = std::sqrt(sum);
   return q;
 }
 
-double SolvedLoads::distance(const Eigen::VectorXd& v, const Eigen::VectorXd& q) const {
-  double squares = 0.0;
-  Eigen::VectorXd r(std::min(block, v.size()));
-  for (Eigen::Index i = 0; i < v.size(); i += block) {
+double SolvedLoads::distance(const Eigen::VectorXd& v, const Eigen::VectorXd& q, const std::vector<double>& squares) const {
+  double sum = 0.0;
+  Eigen::VectorXd r;
+  for (Eigen::Index i = 0, k = 0; i < v.size(); i += block, ++k) {
+    // where Q's block is zero, v's block is the residual's: its squares are known
+    if (!nonzero_[static_cast<std::size_t>(k)]) {
+      sum += squares[static_cast<std::size_t>(k)];
+      continue;
+    }
     const Eigen::Index n = std::min(block, v.size() - i);
-    r.head(n).noalias() = v.segment(i, n) - Q_.middleRows(i, n) * q;
-    squares += r.head(n).squaredNorm();
+    r.noalias() = v.segment(i, n) - Q_.middleRows(i, n) * q;
+    sum += r.squaredNorm();
   }
-  return std::sqrt(squares);
+  return std::sqrt(sum);
 }
 
 std::optional<Eigen::VectorXd> SolvedLoads::coefficients(const Eigen::VectorXd& v) const {
@@ -43,9 +51,10 @@ std::optional<Eigen::VectorXd> SolvedLoads::coefficients(const Eigen::VectorXd& 
     return std::nullopt;
   }
   double norm = 0.0;
-  const Eigen::VectorXd q = project(v, &norm);
+  std::vector<double> squares;
+  const Eigen::VectorXd q = project(v, &norm, &squares);
   if (norm == 0.0) return Eigen::VectorXd(Eigen::VectorXd::Zero(size()));
-  if (!(distance(v, q) <= tolerance_ * norm)) return std::nullopt;
+  if (!(distance(v, q, squares) <= tolerance_ * norm)) return std::nullopt;
   return Eigen::VectorXd(R_.triangularView<Eigen::Upper>().solve(q));
 }
 
@@ -68,6 +77,9 @@ int SolvedLoads::add(const Eigen::VectorXd& v) {
   R_.conservativeResize(m + 1, m + 1);
   V_.col(m) = v;
   Q_.col(m) = r / norm;
+  nonzero_.resize(static_cast<std::size_t>((v.size() + block - 1) / block), 0);
+  for (Eigen::Index i = 0, k = 0; i < v.size(); i += block, ++k)
+    if (!Q_.col(m).segment(i, std::min(block, v.size() - i)).isZero(0.0)) nonzero_[static_cast<std::size_t>(k)] = 1;
   R_.row(m).setZero();
   R_.col(m).head(m) = q;
   R_(m, m) = norm;

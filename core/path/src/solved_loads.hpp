@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 
 #include <optional>
+#include <vector>
 
 namespace hemivem::detail {
 
@@ -13,7 +14,9 @@ namespace hemivem::detail {
 /// alpha with v = V alpha when v lies in the span: its distance |v - Q Q^T v| from it, computed
 /// as written (not from |v|^2 - |Q^T v|^2, which would cancel), at most `tolerance` times |v|.
 /// Q is kept reorthogonalised, so that the distance is measured to round-off. Two passes over
-/// v and Q, each reading them once. At most `capacity` loads are kept.
+/// v and Q, each reading them once; the blocks of rows where every column of Q is zero (a load
+/// on a part of the boundary leaves most rows zero) are read in v's first pass only. At most
+/// `capacity` loads are kept.
 class SolvedLoads {
  public:
   SolvedLoads() = default;
@@ -33,12 +36,13 @@ class SolvedLoads {
   Eigen::VectorXd combination(const Eigen::VectorXd& alpha) const;
 
  private:
-  // q = Q^T v and |v|, in one pass; |v - Q q|, in another
-  Eigen::VectorXd project(const Eigen::VectorXd& v, double* norm) const;
-  double distance(const Eigen::VectorXd& v, const Eigen::VectorXd& q) const;
+  // q = Q^T v and |v| (with the squares of v's blocks), in one pass; |v - Q q|, in another
+  Eigen::VectorXd project(const Eigen::VectorXd& v, double* norm, std::vector<double>* squares) const;
+  double distance(const Eigen::VectorXd& v, const Eigen::VectorXd& q, const std::vector<double>& squares) const;
   int capacity_ = 0;
   double tolerance_ = 0.0;
   Eigen::MatrixXd V_, Q_, R_;
+  std::vector<char> nonzero_;  // per block of rows: some column of Q is nonzero there
 };
 
 }  // namespace hemivem::detail
