@@ -396,6 +396,24 @@ TEST(Path, EveryLinearEngineFollowsTheSameGeneralPath) {
   }
 }
 
+// Each step of the path against the static solve of the problem that `at` makes at its t: the
+// contact coordinates and the energy to 1e-9, and `more` for the further checks of a step.
+template <class At, class More>
+void expect_static_solves(const PathSolution& path, const Mesh& mesh, const At& at, const NonsmoothMinimizer& minimizer,
+                          const More& more) {
+  for (const PathStep& s : path.steps) {
+    SCOPED_TRACE("t " + std::to_string(s.t));
+    ContactProblem at_t = example(mesh);
+    at(s.t, at_t);
+    const ContactSolution st = solve_contact(at_t, engine(), minimizer, MinimizerOptions{});
+    ASSERT_TRUE(s.converged()) << s.message;
+    ASSERT_TRUE(st.converged());
+    EXPECT_LE(max_abs(s.a - st.minimizer->a), 1e-9 * max_abs(st.minimizer->a));
+    EXPECT_NEAR(s.energy, st.energy, 1e-9 * std::abs(st.energy));
+    more(s, st);
+  }
+}
+
 // Loads that combine two fields with coefficients in t, (3t, -8t) on the top and (0, -20 t^2) in
 // the body: two loads are condensed, every other step's is their combination, and each step is
 // still the static problem at its load (no friction: the history does not matter).
@@ -412,21 +430,13 @@ TEST(Path, ALoadCombiningFieldsWithCoefficientsInTCondensesEachFieldOnce) {
   const PathSolution path = solve_path(problem, engine("cholmod"), *minimizer, PathLoading{factors(6), at}, options);
   ASSERT_EQ(path.steps.size(), 6u);
   EXPECT_EQ(path.condensed_loads, 2);
-  for (const PathStep& s : path.steps) {
-    SCOPED_TRACE("t " + std::to_string(s.t));
-    ContactProblem at_t = example(mesh);
-    at(s.t, at_t);
-    const ContactSolution st = solve_contact(at_t, engine(), *minimizer, MinimizerOptions{});
-    ASSERT_TRUE(s.converged()) << s.message;
-    ASSERT_TRUE(st.converged());
-    EXPECT_LE(max_abs(s.a - st.minimizer->a), 1e-9 * max_abs(st.minimizer->a));
-    EXPECT_NEAR(s.energy, st.energy, 1e-9 * std::abs(st.energy));
+  expect_static_solves(path, mesh, at, *minimizer, [](const PathStep& s, const ContactSolution& st) {
     EXPECT_LE((s.applied - Vec2(3.0 * s.t, -8.0 * s.t - 20.0 * s.t * s.t)).norm(), 1e-12 * s.applied.norm());
     if (s.u.size() > 0) {
       EXPECT_LE(max_abs(s.u - st.u), 1e-9 * max_abs(st.u));
       EXPECT_LE(s.forces->residual(), 1e-9);
     }
-  }
+  });
 }
 
 // A load on the top, then from t = 1/2 on also in the body's lowest quarter (the contact side):
@@ -447,16 +457,7 @@ TEST(Path, ALoadThatSpreadsBeyondTheRowsOfThoseKeptIsNotTheirCombination) {
   // the top's load (step 1), the first step with the body's load (t = 2/3); t = 5/6 and 1 are
   // combinations of the two
   EXPECT_EQ(path.condensed_loads, 2);
-  for (const PathStep& s : path.steps) {
-    SCOPED_TRACE("t " + std::to_string(s.t));
-    ContactProblem at_t = example(mesh);
-    at(s.t, at_t);
-    const ContactSolution st = solve_contact(at_t, engine(), *minimizer, MinimizerOptions{});
-    ASSERT_TRUE(s.converged()) << s.message;
-    ASSERT_TRUE(st.converged());
-    EXPECT_LE(max_abs(s.a - st.minimizer->a), 1e-9 * max_abs(st.minimizer->a));
-    EXPECT_NEAR(s.energy, st.energy, 1e-9 * std::abs(st.energy));
-  }
+  expect_static_solves(path, mesh, at, *minimizer, [](const PathStep&, const ContactSolution&) {});
 }
 
 // A load that is no combination of a few fields (sin(pi t x) on the top): each step condenses
