@@ -218,6 +218,22 @@ TEST_P(LinearConformance, SplitInteriorSolveMatchesDenseReference) {
   }
 }
 
+// One engine splitting a grid's interior from one side, then from every index (nothing to
+// eliminate), then from the side again: each split interior solve is that of its own block1,
+// whatever the engine kept of the split before.
+TEST_P(LinearConformance, SplitInteriorSolveAfterAnotherSplitOfTheSameEngine) {
+  const int m = 30;
+  const SparseMatrix A = grid_laplacian(m);
+  std::vector<int> side(static_cast<std::size_t>(m)), every(static_cast<std::size_t>(m * m));
+  std::iota(side.begin(), side.end(), 0);
+  std::iota(every.begin(), every.end(), 0);
+  auto f = make();
+  for (const auto* block1 : {&side, &every, &side}) {
+    SCOPED_TRACE("block1 of " + std::to_string(block1->size()));
+    expect_split_interior_solve(*f, A, *block1, 6);
+  }
+}
+
 TEST_P(LinearConformance, SplitInteriorSolveOutOfOrderOrWithWrongSizes) {
   auto f = make();
   SplitInteriorSolve* split = split_interior_solve(*f);

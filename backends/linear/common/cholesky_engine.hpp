@@ -134,6 +134,7 @@ class CholeskyEngine {
     return guarded([&] {
       schur_factorized_ = false;
       rhs_condensed_ = false;
+      supernodal_ = false;  // the pieces of an earlier factor are made again below, or not used
       if (S == nullptr) contract_violation("schur_complement(): S is null");
       SparseMatrix storage;
       const SparseMatrix& M = compressed(A, storage);
@@ -142,6 +143,7 @@ class CholeskyEngine {
                          std::equal(block1.begin(), block1.end(), split_.block1.begin(), split_.block1.end());
       if (!reuse) {
         schur_pattern_.clear();
+        schedules_made_ = false;
         if (auto r = split_blocks(M.rows(), block1, &split_); !r.ok()) return r;
       }
       const int n = static_cast<int>(M.rows());
@@ -159,7 +161,7 @@ class CholeskyEngine {
         schur_pattern_.capture(M);
       }
       if (auto r = kernel_->factorize_ordered(P_); !r.ok()) return explain(std::move(r), n2);
-      prepare_substitutions(n, n2, !reuse);
+      prepare_substitutions(n, n2);
       read_schur(n, n2, S);
       schur_factorized_ = true;
       return FactorizationResult::good();
@@ -306,8 +308,8 @@ class CholeskyEngine {
   };
 
   /// Makes by_supernodes_ after a factorization: the pieces (they point into the factor's
-  /// values), and their schedules when the pattern is new (they depend on its structure alone).
-  void prepare_substitutions(int n, int n2, bool new_pattern) {
+  /// values), and their schedules once per pattern (they depend on its structure alone).
+  void prepare_substitutions(int n, int n2) {
     Supernodes L;
     supernodal_ = kernel_->supernodes(&L);
     if (!supernodal_) return;
@@ -326,8 +328,9 @@ class CholeskyEngine {
         const int count = static_cast<int>(std::lower_bound(rows + nc, rows + nrow, end) - (rows + nc));
         s.pieces[static_cast<std::size_t>(k)] = SupernodePiece{j0, nc, count, nrow, rows, L.values + L.value_start[k]};
       }
-      if (new_pattern) s.schedule = schedule_substitution(s.pieces, n2, end, substitution_split_entries);
+      if (!schedules_made_) s.schedule = schedule_substitution(s.pieces, n2, end, substitution_split_entries);
     }
+    schedules_made_ = true;
   }
 
   /// substitute() for a supernodal L: per supernode with a column of L22, a dense triangular
@@ -544,6 +547,7 @@ class CholeskyEngine {
   bool schur_factorized_ = false;
   bool supernodal_ = false;                 // L is supernodal: by_supernodes_ holds its pieces
   PiecesAndSchedule by_supernodes_[2];      // for the rows up to n2 and up to n
+  bool schedules_made_ = false;             // their schedules are those of schur_pattern_
   Eigen::VectorXd y_;           // L22^{-1} b2 of the last condense_rhs(), in elimination order
   bool rhs_condensed_ = false;
 };

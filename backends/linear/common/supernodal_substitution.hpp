@@ -15,7 +15,6 @@
 #include <cstddef>
 #include <exception>
 #include <functional>
-#include <numeric>
 #include <system_error>
 #include <thread>
 #include <vector>
