@@ -1,5 +1,6 @@
 // Element matrices of the lowest-order VEM: symmetry, semi-definiteness, the kernel,
 // consistency on P1 fields and the projection.
+#include <hemivem/error.hpp>
 #include <hemivem/vem/element.hpp>
 
 #include <Eigen/Dense>
@@ -157,6 +158,35 @@ TEST_P(VemElementTest, ProjectionsReproduceLinearFields) {
     EXPECT_LE((f.gradient - G).cwiseAbs().maxCoeff(), 1e-11);
     for (const auto& x : z) EXPECT_LE((f(x) - (a + G * (x - z[0]))).norm(), 1e-12 * (1 + x.norm()));
   }
+}
+
+TEST_P(VemElementTest, ProjectedStrainIsTheStrainOfTheProjectionAndOfTheStrainMatrix) {
+  // projected_strain (what the stresses use) against two independent routes: B v of the
+  // element's strain matrix and the symmetric part of Pi v's gradient, for a field that is
+  // not P1 (so that the projection matters), and exactly the strain of a P1 field
+  const auto& z = GetParam().z;
+  const VemElement el = vem_element(z, kLame);
+  const Eigen::Index n2 = 2 * static_cast<Eigen::Index>(z.size());
+  const Eigen::VectorXd v = Eigen::VectorXd::LinSpaced(n2, -1.0, 2.0).array().sin();
+  const Eigen::Vector3d eps = projected_strain(z, v);
+  const Eigen::Vector3d Bv = el.strain * v;
+  const LinearField f = project_p1(z, v);
+  const double scale = 1e-13 * (1.0 + Bv.cwiseAbs().maxCoeff());
+  EXPECT_LE((eps - Bv).cwiseAbs().maxCoeff(), scale);
+  EXPECT_NEAR(eps(0), f.gradient(0, 0), scale);
+  EXPECT_NEAR(eps(1), f.gradient(1, 1), scale);
+  EXPECT_NEAR(eps(2), f.gradient(0, 1) + f.gradient(1, 0), scale);
+  Eigen::Matrix2d G;
+  G << 0.3, -1.1, 0.7, 0.2;
+  const Eigen::Vector3d affine = projected_strain(z, nodal(z, Vec2(0.5, -2.0), G));
+  EXPECT_LE((affine - Eigen::Vector3d(0.3, 0.2, -0.4)).cwiseAbs().maxCoeff(), 1e-11);
+}
+
+TEST(VemElement, ProjectedStrainRefusesAPolygonOfNoArea) {
+  const std::vector<Vec2> clockwise{{0, 0}, {0, 1}, {1, 1}, {1, 0}};
+  EXPECT_THROW((void)projected_strain(clockwise, Eigen::VectorXd::Zero(8)), MeshError);
+  const std::vector<Vec2> two{{0, 0}, {1, 0}};
+  EXPECT_THROW((void)projected_strain(two, Eigen::VectorXd::Zero(4)), InputError);
 }
 
 TEST_P(VemElementTest, TraceScaledStabilizationWeight) {

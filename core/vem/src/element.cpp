@@ -180,6 +180,22 @@ LinearField project_p1(std::span<const Vec2> z, const Eigen::Ref<const Eigen::Ve
   return z.size() <= small_element_vertices ? project_p1_with<SmallMatrix>(z, v) : project_p1_with<Eigen::MatrixXd>(z, v);
 }
 
+Eigen::Vector3d projected_strain(std::span<const Vec2> z, const Eigen::Ref<const Eigen::VectorXd>& v) {
+  if (z.size() < 3) throw InputError("a virtual element needs at least 3 vertices, got " + std::to_string(z.size()));
+  const double area = signed_area(z);
+  if (!(area > 0.0)) throw MeshError("element has non-positive area", -1);
+  Eigen::Vector3d eps = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < z.size(); ++i) {
+    const Vec2 nu = vertex_normal(z, i);
+    const double a = nu.x() / area, b = nu.y() / area;  // B's entries, as build() makes them
+    const double vx = v(2 * static_cast<Eigen::Index>(i)), vy = v(2 * static_cast<Eigen::Index>(i) + 1);
+    eps(0) += a * vx;
+    eps(1) += b * vy;
+    eps(2) += b * vx + a * vy;
+  }
+  return eps;
+}
+
 LinearField project_gradient(std::span<const Vec2> z, const Eigen::Ref<const Eigen::VectorXd>& v) {
   const Eigen::Index n = static_cast<Eigen::Index>(z.size());
   const double area = signed_area(z);

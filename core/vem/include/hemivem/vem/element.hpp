@@ -67,6 +67,11 @@ Eigen::Matrix2Xd vertex_normals(std::span<const Vec2> vertices);
 /// strain-inner-product projection.
 LinearField project_p1(std::span<const Vec2> vertices, const Eigen::Ref<const Eigen::VectorXd>& local_values);
 
+/// The strain of Pi u_h on one element, (eps_xx, eps_yy, 2 eps_xy) = B v, from its local nodal
+/// values (size 2n): the symmetric part of project_p1()'s gradient, without the rest of the
+/// projection. MeshError for a polygon of non-positive area.
+Eigen::Vector3d projected_strain(std::span<const Vec2> vertices, const Eigen::Ref<const Eigen::VectorXd>& local_values);
+
 /// Pi^nabla_1 u_h on one element (gradient = mean gradient, constant fixed by the mean of
 /// the vertex values), the projection the load uses (3.13).
 LinearField project_gradient(std::span<const Vec2> vertices, const Eigen::Ref<const Eigen::VectorXd>& local_values);
