@@ -78,6 +78,14 @@ TEST(Mesh, DefectsAreNamed) {
   // a crack: the second square uses its own copies of vertices 1 and 4
   const std::vector<Vec2> crack{{0, 0}, {1, 0}, {2, 0}, {0, 1}, {1, 1}, {2, 1}, {1, 0}, {1, 1}};
   EXPECT_NE(first_defect(crack, {{0, 1, 4, 3}, {6, 2, 5, 7}}).find("coincides with vertex 1"), std::string::npos);
+  // the same crack with the vertices in rows, (y, x) increasing up to the copy of vertex 1,
+  // which follows it: row order alone proves nothing
+  const std::vector<Vec2> rows{{0, 0}, {1, 0}, {1, 0}, {2, 0}, {0, 1}, {1, 1}, {2, 1}};
+  EXPECT_NE(first_defect(rows, {{0, 1, 5, 4}, {2, 3, 6, 5}}).find("vertex 2 (1, 0), which coincides with vertex 1"),
+            std::string::npos);
+  // in rows and distinct, an unused copy of a used vertex between them: no defect
+  const std::vector<Vec2> unused{{0, 0}, {1, 0}, {0, 0}, {0, 1}, {1, 1}};
+  EXPECT_EQ(first_defect(unused, {{0, 1, 4, 3}}), "");
   // a clockwise sliver is reported with a readable area
   const std::vector<Vec2> sliver{{0, 0}, {1, 1e-300}, {2, 0}};
   EXPECT_NE(first_defect(sliver, {{0, 1, 2}}).find("clockwise (signed area -1e-300)"), std::string::npos);

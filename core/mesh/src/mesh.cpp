@@ -179,15 +179,30 @@ void find_coincident_vertices(const std::vector<Vec2>& vertices, const std::vect
       used[static_cast<std::size_t>(v)] = 1;
       if (first_element[static_cast<std::size_t>(v)] < 0) first_element[static_cast<std::size_t>(v)] = static_cast<int>(e);
     }
-  std::vector<int> order;
+  // used vertices strictly increasing in (y, x) in the order of their indices (a generated
+  // grid's rows) are distinct: nothing to sort
+  const Vec2* previous = nullptr;
+  bool increasing = true;
+  for (std::size_t i = 0; i < vertices.size() && increasing; ++i) {
+    if (!used[i]) continue;
+    const Vec2& v = vertices[i];
+    increasing = !previous || std::tie(previous->y(), previous->x()) < std::tie(v.y(), v.x());
+    previous = &v;
+  }
+  if (increasing) return;
+  // the used vertices as records (x, y, piece, index), sorted in place: one contiguous array
+  struct Point {
+    double x, y;
+    int piece, index;
+  };
+  std::vector<Point> order;
   for (std::size_t i = 0; i < vertices.size(); ++i)
-    if (used[i]) order.push_back(static_cast<int>(i));
-  std::sort(order.begin(), order.end(), [&](int a, int b) {
-    return std::make_tuple(vertices[a].x(), vertices[a].y(), piece(a)) <
-           std::make_tuple(vertices[b].x(), vertices[b].y(), piece(b));
+    if (used[i]) order.push_back({vertices[i].x(), vertices[i].y(), piece(static_cast<int>(i)), static_cast<int>(i)});
+  std::sort(order.begin(), order.end(), [](const Point& a, const Point& b) {
+    return std::tie(a.x, a.y, a.piece, a.index) < std::tie(b.x, b.y, b.piece, b.index);
   });
   for (std::size_t i = 1; i < order.size() && out.size() < max_defects; ++i) {
-    const int a = std::min(order[i - 1], order[i]), b = std::max(order[i - 1], order[i]);
+    const int a = std::min(order[i - 1].index, order[i].index), b = std::max(order[i - 1].index, order[i].index);
     if (vertices[a] == vertices[b] && piece(a) == piece(b))
       out.push_back({first_element[static_cast<std::size_t>(b)],
                      "uses vertex " + std::to_string(b) + " " + fmt_point(vertices[b]) + ", which coincides with vertex " +
