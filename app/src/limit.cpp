@@ -277,7 +277,9 @@ nlohmann::json solve_record(Clock::time_point start, const Solved& s, const Redu
                             const std::function<void(const fs::path&, bool all)>& write) {
   std::map<std::string, double> stage;
   stage["mesh"] = s.mesh_seconds;
-  for (const char* k : {"assembly", "condensation", "condition", "minimize", "back_substitution", "estimate"}) {
+  for (const char* k :
+       {"setup", "assembly", "condensation", "condition", "minimize", "back_substitution", "post_process", "release",
+        "estimate"}) {
     const auto it = s.solution.timings.find(k);
     stage[k] = it == s.solution.timings.end() ? 0.0 : it->second;
   }

@@ -116,16 +116,21 @@ template <int dim>
 auto BasicContactSolver<dim>::run(std::span<const NonsmoothMinimizer* const> minimizers) -> std::vector<Solution> {
   if (ran_) throw InternalError("ContactSolver::run is called once");
   ran_ = true;
-  detail::Kernels<dim>::check(problem_);
   start_ = Clock::now();
+  detail::Kernels<dim>::check(problem_);
+  const double setup = seconds();
   if (!system_) assemble();
   check_arguments(minimizers);
+  const auto ts = Clock::now();
   set_up_contact();
+  common_.timings["setup"] = setup + detail::since(ts);
   if (boundary_.size() == 0) {
     const Eigen::MatrixXd X = linear_solve();
     common_.may_be_nonunique = false;
+    const auto tp = Clock::now();
     processes_->run_where_results_are([&] { post_process_linear(X); });
     agree_on_status(common_);
+    common_.timings["post_process"] = detail::since(tp);
     common_.timings["total"] = seconds();
     return std::vector<Solution>(minimizers.size(), common_);
   }
@@ -144,8 +149,10 @@ auto BasicContactSolver<dim>::run(std::span<const NonsmoothMinimizer* const> min
     const auto t = Clock::now();
     minimize(*minimizer, solution);
     back_substitute(solution);
+    const auto tp = Clock::now();
     processes_->run_where_results_are([&] { post_process(solution); });
     agree_on_status(solution);
+    solution.timings["post_process"] = detail::since(tp);
     solution.timings["total"] = before_minimize + detail::since(t);
     solutions.push_back(std::move(solution));
   }
@@ -160,7 +167,9 @@ void BasicContactSolver<dim>::prepare() {
   if (!problem_.elasticity.mesh) throw InputError("the elasticity problem has no mesh");
   start_ = Clock::now();
   if (!system_) assemble();
+  const auto ts = Clock::now();
   set_up_contact();
+  common_.timings["setup"] = detail::since(ts);
   if (boundary_.size() > 0) krylov_ ? pose() : condense();
   common_.timings["total"] = seconds();
 }
@@ -385,8 +394,10 @@ void BasicContactSolver<dim>::solve_full_space(Solution& solution) {
   solution.timings["preconditioner"] = stats.preconditioner_seconds;
   solution.timings["krylov"] = stats.krylov_seconds;
   solution.stages.push_back("full_space");
+  const auto tp = Clock::now();
   post_process(solution);
   agree_on_status(solution);
+  solution.timings["post_process"] = detail::since(tp);
 }
 
 // The reduced problem is solved where it lives.
