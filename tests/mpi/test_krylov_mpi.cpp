@@ -345,13 +345,21 @@ TEST_P(DistributedEngine, ValuesChangedInPlaceAreTheNewSystem) {
   KrylovSolveResult result = solver->solve(d.owned(b), &x, kRtol, 500);
   expect_solution(d.truss.K, b, d.rows->all_gather(x), result, GetParam() + ", first system");
 
-  // K2 = K + D / 2, D the diagonal of K: the diagonal of the owned rows (local column i of
-  // owned row i) changed in place, the pattern not
+  // K2 = 0.9 (K - D) + 1.5 D, D the diagonal of K: every value of the owned rows changed in
+  // place (local column i of owned row i, the diagonal; the others, those of the ghost columns
+  // in the off-diagonal block among them, by 0.9), the pattern not
   const double* values_before = d.A.valuePtr();
-  for (Eigen::Index i = 0; i < d.layout.owned; ++i) d.A.coeffRef(i, i) *= 1.5;
+  Eigen::Index ghost_entries = 0;
+  for (Eigen::Index j = 0; j < d.A.outerSize(); ++j)
+    for (SparseMatrix::InnerIterator it(d.A, j); it; ++it) {
+      it.valueRef() *= it.row() == j ? 1.5 : 0.9;
+      ghost_entries += j >= d.layout.owned ? 1 : 0;
+    }
   ASSERT_EQ(d.A.valuePtr(), values_before);
+  if (d.rows->size() > 1) EXPECT_GT(d.rows->sum(static_cast<double>(ghost_entries)), 0.0);
   SparseMatrix K2 = d.truss.K;
-  for (Eigen::Index i = 0; i < K2.rows(); ++i) K2.coeffRef(i, i) *= 1.5;
+  for (Eigen::Index j = 0; j < K2.outerSize(); ++j)
+    for (SparseMatrix::InnerIterator it(K2, j); it; ++it) it.valueRef() *= it.row() == j ? 1.5 : 0.9;
   const FactorizationResult again = solver->compute(d.A, hints);
   ASSERT_TRUE(again.ok()) << again.message;
   x.setZero();

@@ -151,11 +151,13 @@ struct PetscKrylovSolver::Impl {
   /// `comm` (PETSC_COMM_WORLD; PETSC_COMM_SELF on the sequential path); the MATMPIAIJ holds a copy
   /// of the owned rows, made from their CSR copy with global columns increasing in each row
   /// (copy_rows(); `csr_position` sends the k-th entry of A, in the order of its InnerIterator,
-  /// to its place in that copy). Once the matrix is made, `block_position` sends the k-th entry
-  /// of A to its place in the values PETSc keeps for the two blocks of the MATMPIAIJ: p >= 0 is
-  /// the diagonal block's value p, -(p + 1) the off-diagonal block's value p (map_to_blocks()).
-  /// The CSR copy is then freed and `in_blocks` is true: new values are written into PETSc's
-  /// arrays. When the places cannot be found (map_to_blocks()), the CSR copy is kept and new
+  /// to its place in that copy). Once the matrix is made and A's entries are found to correspond
+  /// one to one, in order, to the values PETSc keeps for the two blocks of the MATMPIAIJ
+  /// (map_to_blocks()), the CSR copy is freed and `in_blocks` is true: new values are written
+  /// into PETSc's arrays by one sweep over A's columns in the order of their global columns
+  /// (`block_columns`: j for a column of the diagonal block, -(j + 1) for one of the
+  /// off-diagonal block), each row's next place in each block starting at `block_d_starts` and
+  /// `block_o_starts`: what is kept is of the size of A's columns and rows, not of its entries. When the places cannot be found (map_to_blocks()), the CSR copy is kept and new
   /// values are set from it by MatSetValues.
   MPI_Comm comm = PETSC_COMM_SELF;
   bool distributed = false;
@@ -164,7 +166,8 @@ struct PetscKrylovSolver::Impl {
   std::vector<PetscScalar> csr_values;
   std::vector<std::size_t> csr_position;
   bool in_blocks = false;
-  std::vector<std::int32_t> block_position;
+  std::vector<std::int32_t> block_columns;
+  std::vector<PetscInt> block_d_starts, block_o_starts;
   /// The arrays of the A the copy was made from and a checksum of its pattern and layout.
   const void* source_values = nullptr;
   const void* source_starts = nullptr;
@@ -255,73 +258,77 @@ struct PetscKrylovSolver::Impl {
     std::vector<std::size_t>().swap(csr_position);
   }
 
-  /// The places of A's entries in the values of the two blocks of the MATMPIAIJ (block_position),
-  /// from the blocks' own row structure: Ad, the diagonal block, holds the columns
+  /// Whether A's entries correspond one to one to the values of the two blocks of the MATMPIAIJ,
+  /// and the order of the sweep that writes them (block_columns, block_d_starts,
+  /// block_o_starts), from the blocks' own row structure: Ad, the diagonal block, holds the columns
   /// [cstart, cend) of the owned rows, numbered from cstart (di, dj); Ao, the off-diagonal
   /// block, holds the other columns, numbered by their place in garray, of garray_size global
   /// columns (oi, oj). A row's entries of a block are given that row's places of the block in
   /// the order of increasing global column, the order in which PETSc keeps them (garray is
   /// sorted); every place is checked to hold the entry's global column and every place of a row
   /// to be given an entry, so that the entries of A and the values of the blocks correspond one
-  /// to one. False (block_position empty) when a check fails or a block holds more values than
-  /// an int32 numbers.
-  bool fill_block_positions(const SparseMatrix& A, const RowLayout& layout, PetscInt cstart, PetscInt cend,
+  /// to one. False (the sweep's order empty) when a check fails or A has more columns than an
+  /// int32 numbers.
+  bool find_block_places(const SparseMatrix& A, const RowLayout& layout, PetscInt cstart, PetscInt cend,
                             const PetscInt* di, const PetscInt* dj, const PetscInt* oi, const PetscInt* oj,
                             const PetscInt* garray, PetscInt garray_size) {
     const auto rows = static_cast<std::size_t>(layout.owned);
     const auto most = static_cast<std::int64_t>(std::numeric_limits<std::int32_t>::max());
-    if (static_cast<std::int64_t>(di[rows]) > most || static_cast<std::int64_t>(oi[rows]) > most) return false;
+    if (static_cast<std::int64_t>(A.cols()) > most) return false;
     if (static_cast<std::int64_t>(di[rows]) + static_cast<std::int64_t>(oi[rows]) !=
         static_cast<std::int64_t>(A.nonZeros()))
       return false;
     const Eigen::Index columns = A.cols();
-    // A's local columns by increasing global column, and where each column's entries start in
-    // the order of A's InnerIterator
+    // A's local columns by increasing global column
     std::vector<Eigen::Index> order(static_cast<std::size_t>(columns));
     std::iota(order.begin(), order.end(), Eigen::Index{0});
     std::sort(order.begin(), order.end(), [&layout](Eigen::Index a, Eigen::Index b) {
       const Eigen::Index ga = global_column(layout, a), gb = global_column(layout, b);
       return ga < gb || (ga == gb && a < b);
     });
-    std::vector<std::size_t> column_start(static_cast<std::size_t>(columns) + 1, 0);
-    for (Eigen::Index j = 0; j < columns; ++j)
-      column_start[static_cast<std::size_t>(j) + 1] =
-          column_start[static_cast<std::size_t>(j)] + static_cast<std::size_t>(A.innerVector(j).nonZeros());
     // the next place of each row in each block
     std::vector<PetscInt> next_d(di, di + rows), next_o(oi, oi + rows);
-    block_position.assign(static_cast<std::size_t>(A.nonZeros()), 0);
+    std::vector<std::int32_t> sweep(static_cast<std::size_t>(columns));
     bool matches = true;
     for (std::size_t c = 0; c < order.size() && matches; ++c) {
       const Eigen::Index j = order[c];
       const Eigen::Index global = global_column(layout, j);
       const bool diagonal = global >= cstart && global < cend;
-      std::size_t k = column_start[static_cast<std::size_t>(j)];
-      for (SparseMatrix::InnerIterator it(A, j); it && matches; ++it, ++k) {
+      sweep[c] = diagonal ? static_cast<std::int32_t>(j) : -static_cast<std::int32_t>(j) - 1;
+      for (SparseMatrix::InnerIterator it(A, j); it && matches; ++it) {
         const auto i = static_cast<std::size_t>(it.row());
         if (diagonal) {
           const PetscInt p = next_d[i]++;
           matches = p < di[i + 1] && static_cast<Eigen::Index>(dj[p]) == global - cstart;
-          block_position[k] = static_cast<std::int32_t>(p);
         } else {
           const PetscInt p = next_o[i]++;
           matches = p < oi[i + 1] && oj[p] >= 0 && oj[p] < garray_size &&
                     static_cast<Eigen::Index>(garray[oj[p]]) == global;
-          block_position[k] = -static_cast<std::int32_t>(p) - 1;
         }
       }
     }
     for (std::size_t i = 0; i < rows && matches; ++i) matches = next_d[i] == di[i + 1] && next_o[i] == oi[i + 1];
-    if (!matches) std::vector<std::int32_t>().swap(block_position);
-    return matches;
+    if (!matches) return false;
+    block_columns = std::move(sweep);
+    block_d_starts.assign(di, di + rows + 1);
+    block_o_starts.assign(oi, oi + rows + 1);
+    return true;
+  }
+
+  /// Forgets the sweep that writes A's values into the blocks (its memory, not only its entries).
+  void forget_block_places() {
+    std::vector<std::int32_t>().swap(block_columns);
+    std::vector<PetscInt>().swap(block_d_starts);
+    std::vector<PetscInt>().swap(block_o_starts);
   }
 
   /// Once the MATMPIAIJ is assembled from the CSR copy: the places of A's entries in its
-  /// blocks (fill_block_positions(), on the blocks' row structure read by MatGetRowIJ) and,
+  /// blocks (find_block_places(), on the blocks' row structure read by MatGetRowIJ) and,
   /// when they are found, the CSR copy freed (in_blocks). When they are not, the CSR copy is
   /// kept for update_distributed_values().
   PetscErrorCode map_to_blocks(const SparseMatrix& A, const RowLayout& layout, std::string* error) {
     in_blocks = false;
-    std::vector<std::int32_t>().swap(block_position);
+    forget_block_places();
     Mat Ad = nullptr, Ao = nullptr;
     const PetscInt* garray = nullptr;
     PetscInt cstart = 0, cend = 0, garray_size = 0;
@@ -339,7 +346,7 @@ struct PetscKrylovSolver::Impl {
       call = "MatGetRowIJ (the off-diagonal block)";
       if (code == 0 && o_done) {
         in_blocks = d_rows == size && o_rows == size && (garray != nullptr || garray_size == 0) &&
-                    fill_block_positions(A, layout, cstart, cend, di, dj, oi, oj, garray, garray_size);
+                    find_block_places(A, layout, cstart, cend, di, dj, oi, oj, garray, garray_size);
         code = MatRestoreRowIJ(Ao, 0, PETSC_FALSE, PETSC_FALSE, &o_rows, &oi, &oj, &o_done);
         call = "MatRestoreRowIJ (the off-diagonal block)";
       }
@@ -351,7 +358,7 @@ struct PetscKrylovSolver::Impl {
     }
     if (code != 0) {
       in_blocks = false;
-      std::vector<std::int32_t>().swap(block_position);
+      forget_block_places();
       *error = petsc::error_message(code, call);
       return code;
     }
@@ -359,8 +366,9 @@ struct PetscKrylovSolver::Impl {
     return 0;
   }
 
-  /// A's values written into the values of the blocks of the MATMPIAIJ, at their places
-  /// (block_position).
+  /// A's values written into the values of the blocks of the MATMPIAIJ, at their places: A's
+  /// columns in the order of their global columns, each entry at its row's next place in its
+  /// block (the order map_to_blocks() checked).
   PetscErrorCode write_block_values(const SparseMatrix& A, std::string* error) {
     Mat Ad = nullptr, Ao = nullptr;
     HEMIVEM_PETSC(MatMPIAIJGetSeqAIJ(matrix, &Ad, &Ao, nullptr));
@@ -370,15 +378,16 @@ struct PetscKrylovSolver::Impl {
     PetscErrorCode code = MatSeqAIJGetArray(Ao, &o);
     const char* call = "MatSeqAIJGetArray (the off-diagonal block)";
     if (code == 0) {
-      std::size_t k = 0;
-      for (Eigen::Index j = 0; j < A.outerSize(); ++j)
-        for (SparseMatrix::InnerIterator it(A, j); it; ++it) {
-          const std::int32_t p = block_position[k++];
-          if (p >= 0)
-            d[p] = it.value();
-          else
-            o[-(p + 1)] = it.value();
-        }
+      std::vector<PetscInt> next_d(block_d_starts.begin(), block_d_starts.end() - 1);
+      std::vector<PetscInt> next_o(block_o_starts.begin(), block_o_starts.end() - 1);
+      for (const std::int32_t c : block_columns) {
+        const bool diagonal = c >= 0;
+        const Eigen::Index j = diagonal ? c : -(c + 1);
+        if (diagonal)
+          for (SparseMatrix::InnerIterator it(A, j); it; ++it) d[next_d[static_cast<std::size_t>(it.row())]++] = it.value();
+        else
+          for (SparseMatrix::InnerIterator it(A, j); it; ++it) o[next_o[static_cast<std::size_t>(it.row())]++] = it.value();
+      }
       code = MatSeqAIJRestoreArray(Ao, &o);
       call = "MatSeqAIJRestoreArray (the off-diagonal block)";
     }
@@ -452,7 +461,7 @@ struct PetscKrylovSolver::Impl {
     source_values = source_starts = source_indices = nullptr;
     distributed = false;
     in_blocks = false;
-    std::vector<std::int32_t>().swap(block_position);
+    forget_block_places();
     free_csr_copy();
     comm = PETSC_COMM_SELF;
     if (!PetscRuntime::running()) {
