@@ -17,12 +17,25 @@
 #include <optional>
 #include <vector>
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 #include "krylov_common.hpp"
 #include "petsc_support.hpp"
 
 namespace hemivem {
 
 namespace {
+
+/// Gives the heap's free pages back to the system (glibc's malloc_trim; nothing elsewhere): the
+/// set-up of a preconditioner frees large temporaries (GAMG's Galerkin products, the CSR copy of
+/// the rows) that the allocator would otherwise keep in the process's resident memory.
+void give_back_free_memory() {
+#if defined(__GLIBC__)
+  malloc_trim(0);
+#endif
+}
 
 using krylov::kMaxRestarts;
 using krylov::scientific;
@@ -428,6 +441,7 @@ struct PetscKrylovSolver::Impl {
     HEMIVEM_PETSC(MatSetOption(matrix, MAT_SYMMETRIC, PETSC_TRUE));
     HEMIVEM_PETSC(KSPSetOperators(ksp, matrix, matrix));
     HEMIVEM_PETSC(KSPSetUp(ksp));
+    give_back_free_memory();
     reused = true;
     return 0;
   }
@@ -660,6 +674,7 @@ struct PetscKrylovSolver::Impl {
 
   /// The KSP and its preconditioner, set up on the matrix.
   PetscErrorCode make_ksp(std::string* error) {
+    give_back_free_memory();  // the CSR copy of the rows, freed before the preconditioner's set-up
     reused = false;
     HEMIVEM_PETSC(KSPCreate(comm, &ksp));
     HEMIVEM_PETSC(PetscObjectSetOptions(reinterpret_cast<PetscObject>(ksp), options));
@@ -683,6 +698,7 @@ struct PetscKrylovSolver::Impl {
     }
     HEMIVEM_PETSC(PCSetFromOptions(pc));
     HEMIVEM_PETSC(KSPSetUp(ksp));
+    give_back_free_memory();
     return 0;
   }
 
