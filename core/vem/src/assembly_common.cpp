@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <bit>
 #include <cstdint>
+#include <cstring>
 #include <map>
 
 namespace hemivem {
@@ -26,20 +27,73 @@ namespace {
 std::span<const int> cell_vertices(const Mesh& mesh, int e) { return mesh.element(e); }
 const std::vector<int>& cell_vertices(const Mesh3D& mesh, int c) { return mesh.cell_vertices(c); }
 
-/// K_E of cell c (a thread's own buffers: called from several threads at once).
+/// The last cell matrix a thread computed and what it was computed from: the cell's vertices
+/// less its first vertex, its faces in its own numbering (3D), its material and stabilization. A
+/// cell that is a translate of it (each of these the same bit for bit: the cells of a grid's row)
+/// has the same matrix, as deal.II's FEValues reuses the values of a translated cell.
+template <class Point>
+class TranslatedCell {
+ public:
+  bool same(const std::vector<Point>& relative, const std::vector<std::vector<int>>& faces, const Lame& lame,
+            Stabilization stabilization) const {
+    return valid_ && stabilization == stabilization_ && bits_equal(lame.lambda, lambda_) && bits_equal(lame.mu, mu_) &&
+           relative.size() == relative_.size() &&
+           std::memcmp(relative.data(), relative_.data(), relative.size() * sizeof(Point)) == 0 && faces == faces_;
+  }
+  void keep(const std::vector<Point>& relative, const std::vector<std::vector<int>>& faces, const Lame& lame,
+            Stabilization stabilization, const Eigen::MatrixXd& K) {
+    relative_ = relative;
+    faces_ = faces;
+    lambda_ = lame.lambda;
+    mu_ = lame.mu;
+    stabilization_ = stabilization;
+    K_ = K;
+    valid_ = true;
+  }
+  const Eigen::MatrixXd& matrix() const { return K_; }
+
+ private:
+  static bool bits_equal(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
+  std::vector<Point> relative_;
+  std::vector<std::vector<int>> faces_;
+  double lambda_ = 0.0, mu_ = 0.0;
+  Stabilization stabilization_ = Stabilization::two_mu;
+  Eigen::MatrixXd K_;
+  bool valid_ = false;
+};
+
+/// K_E of cell c, computed from its vertices less its first (a thread's own buffers: called from
+/// several threads at once), or the thread's last one where the cell is its translate.
 void cell_stiffness(const Mesh& mesh, int e, const Lame& lame, Stabilization stabilization, Eigen::MatrixXd& K) {
   thread_local std::vector<Vec2> poly;
+  thread_local TranslatedCell<Vec2> last;
+  static const std::vector<std::vector<int>> no_faces;
+  const auto vertices = mesh.element(e);
+  const Vec2 origin = mesh.vertex(vertices.front());
   poly.clear();
-  for (int v : mesh.element(e)) poly.push_back(mesh.vertex(v));
+  for (int v : vertices) poly.push_back(mesh.vertex(v) - origin);
+  if (last.same(poly, no_faces, lame, stabilization)) {
+    K = last.matrix();
+    return;
+  }
   element_stiffness(poly, lame, stabilization, K);
+  last.keep(poly, no_faces, lame, stabilization, K);
 }
 void cell_stiffness(const Mesh3D& mesh, int c, const Lame& lame, Stabilization stabilization, Eigen::MatrixXd& K) {
   thread_local std::vector<Vec3> z;
   thread_local std::vector<std::vector<int>> faces;
+  thread_local TranslatedCell<Vec3> last;
+  const auto& vertices = mesh.cell_vertices(c);
+  const Vec3 origin = mesh.vertex(vertices.front());
   z.clear();
-  for (int v : mesh.cell_vertices(c)) z.push_back(mesh.vertex(v));
+  for (int v : vertices) z.push_back(mesh.vertex(v) - origin);
   mesh.local_faces(c, faces);
+  if (last.same(z, faces, lame, stabilization)) {
+    K = last.matrix();
+    return;
+  }
   element_stiffness_3d(z, faces, lame, stabilization, K);
+  last.keep(z, faces, lame, stabilization, K);
 }
 
 double facet_measure(const Mesh& mesh, int f) { return mesh.edge_length(f); }
