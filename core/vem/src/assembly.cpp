@@ -3,6 +3,7 @@
 #include <hemivem/vem/quadrature.hpp>
 #include <hemivem/sparse_factorization.hpp>
 
+#include "cell_values.hpp"
 #include "element_loop.hpp"
 #include "load_kernels.hpp"
 
@@ -90,19 +91,10 @@ Eigen::VectorXd DofMap::expand(const Eigen::VectorXd& free_values) const {
 }
 
 std::vector<LinearField> project_solution(const Mesh& mesh, const Eigen::VectorXd& u) {
-  if (u.size() != 2 * mesh.num_vertices())
-    throw InputError("displacement vector has " + std::to_string(u.size()) + " entries, expected " +
-                     std::to_string(2 * mesh.num_vertices()));
   std::vector<LinearField> out(static_cast<std::size_t>(mesh.num_elements()));
-  std::vector<Vec2> poly;
-  Eigen::VectorXd local;
-  for (int e = 0; e < mesh.num_elements(); ++e) {
-    gather(mesh, e, poly);
-    const auto verts = mesh.element(e);
-    local.resize(2 * static_cast<Eigen::Index>(verts.size()));
-    for (std::size_t i = 0; i < verts.size(); ++i) local.segment<2>(2 * static_cast<Eigen::Index>(i)) = u.segment<2>(2 * verts[i]);
-    out[static_cast<std::size_t>(e)] = project_p1(poly, local);
-  }
+  detail::for_each_cell_values(mesh, u, [&](int e, const std::vector<Vec2>& polygon, const Eigen::VectorXd& local) {
+    out[static_cast<std::size_t>(e)] = project_p1(polygon, local);
+  });
   return out;
 }
 
