@@ -134,8 +134,8 @@ TEST(AppLimit, PlainQ1MatrixRefusesOtherElements) {
 void expect_consistent(const LimitRow& row) {
   EXPECT_EQ(row.status, "converged");
   double staged = 0.0;  // the stages of the solve up to result.json
-  for (const char* k : {"mesh", "assembly", "condensation", "condition", "minimize", "back_substitution", "estimate",
-                        "result_json", "margin", "outputs"}) {
+  for (const char* k : {"mesh", "setup", "assembly", "condensation", "condition", "minimize", "back_substitution",
+                        "post_process", "release", "estimate", "result_json", "margin", "outputs"}) {
     ASSERT_TRUE(row.stage.count(k)) << k;
     EXPECT_GE(row.stage.at(k), 0.0) << k;
     if (std::string(k) != "margin" && std::string(k) != "outputs") staged += row.stage.at(k);
@@ -143,6 +143,7 @@ void expect_consistent(const LimitRow& row) {
   EXPECT_GT(row.stage.at("condensation"), 0.0);
   EXPECT_GT(row.stage.at("condition"), 0.0) << "a solve of the command estimates the condition";
   EXPECT_GT(row.stage.at("estimate"), 0.0);
+  EXPECT_GT(row.stage.at("release"), 0.0) << "the solver and its factorization are given back in the solve";
   EXPECT_LE(staged, row.solve) << "the stages are parts of the solve's wall time";
   EXPECT_GT(row.solve, 0.0);
   EXPECT_GT(row.plain_assembly, 0.0);
@@ -194,7 +195,7 @@ TEST(AppLimit, MeasuresAPlaneRowBySizeInFreshProcesses) {
     expect_consistent(row);
   }
   const nlohmann::json j = limit_json(r);
-  EXPECT_EQ(j["schema"], "hemivem-bench-limit/3");
+  EXPECT_EQ(j["schema"], "hemivem-bench-limit/4");
   EXPECT_EQ(j["linear"], "cholmod");
   EXPECT_EQ(j["minimizer"], r.plan.base.solver.minimizer);
   EXPECT_EQ(j["repeat"], 2);

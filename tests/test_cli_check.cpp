@@ -373,7 +373,7 @@ TEST(CliBenchLimit, MeasuresEveryStageAndTheLimitInFreshProcesses) {
   ASSERT_EQ(r.code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j, nlohmann::json::parse(slurp(out / "limit.json")));
-  EXPECT_EQ(j["schema"], "hemivem-bench-limit/3");
+  EXPECT_EQ(j["schema"], "hemivem-bench-limit/4");
   EXPECT_EQ(j["linear"], "cholmod");
   EXPECT_EQ(j["repeat"], 2);
   ASSERT_EQ(j["rows"].size(), 2u);

@@ -484,7 +484,7 @@ nlohmann::json limit_json(const LimitResult& result) {
   nlohmann::json rows = nlohmann::json::array();
   for (const LimitRow& r : result.rows) rows.push_back(limit_row_json(r));
   const Scene& base = result.plan.base;
-  return {{"schema", "hemivem-bench-limit/3"},
+  return {{"schema", "hemivem-bench-limit/4"},
           {"scene", base.source},
           {"linear", "cholmod"},
           {"minimizer", base.solver.minimizer},

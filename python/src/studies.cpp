@@ -228,7 +228,7 @@ constexpr const char* kLimitDoc = R"doc(Every stage of a cholmod solve against t
 `hemivem bench --limit --json` (app::run_limit): for each mesh size, the solve (the scene's
 minimizer on cholmod) and the limit (a plain Q1 triplet assembly of the same sparsity and one
 CHOLMOD analysis and factorization of hemivem's A, with AMD and with METIS), each measured in a
-fresh child process. Returns limit.json's dict (schema hemivem-bench-limit/3): per row n, dofs,
+fresh child process. Returns limit.json's dict (schema hemivem-bench-limit/4): per row n, dofs,
 contact_nodes, status, stages (seconds), solve, peak_rss_bytes (of the child, which starts as a
 copy of this process), limit {plain_assembly, ordering, analysis, factorization,
 other_orderings, factor_bytes, matrix_bytes} and ratios (solve_over_limit, ...).

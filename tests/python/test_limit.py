@@ -11,8 +11,8 @@ import hemivem
 
 EXAMPLE_3D = pathlib.Path(__file__).resolve().parents[2] / "scenes" / "example-4.1-3d.toml"
 
-STAGES = ("mesh", "assembly", "condensation", "condition", "minimize", "back_substitution", "estimate", "result_json",
-          "margin", "outputs")
+STAGES = ("mesh", "setup", "assembly", "condensation", "condition", "minimize", "back_substitution", "post_process",
+          "release", "estimate", "result_json", "margin", "outputs")
 
 
 def needs_cholmod():
@@ -49,7 +49,7 @@ def test_limit_of_a_plane_scene(small_scene):
     # a solve first: this process has run OpenMP's threads before the measurement forks
     solved = hemivem.solve(small_scene, linear="cholmod")
     d = hemivem.limit(small_scene, n=[16, 8, 16], repeat=2)
-    assert d["schema"] == "hemivem-bench-limit/3"
+    assert d["schema"] == "hemivem-bench-limit/4"
     assert d["linear"] == "cholmod" and d["minimizer"] == "ssn" and d["repeat"] == 2
     json.dumps(d)  # a plain dict of JSON values
     assert [row["n"] for row in d["rows"]] == [8, 16]  # increasing, each once

@@ -2,7 +2,7 @@
 // limit of the same job on this machine, a plain Q1 triplet assembly of the same sparsity and
 // one CHOLMOD analysis and factorization of hemivem's A with the faster of AMD and METIS, each
 // measured in a fresh child process (docs/performance.md). `hemivem bench --limit` prints it
-// and writes limit.json (schema hemivem-bench-limit/3, limit_json); Python's hemivem.limit
+// and writes limit.json (schema hemivem-bench-limit/4, limit_json); Python's hemivem.limit
 // returns limit.json's dict. Fields: docs/reference/check-bench.md.
 #pragma once
 
@@ -123,7 +123,7 @@ LimitResult run_limit(const Scene& scene, const LimitOptions& options);
 /// matrix_bytes} and ratios (limit_ratios by key).
 nlohmann::json limit_row_json(const LimitRow& row);
 
-/// limit.json (schema hemivem-bench-limit/3): scene, linear, minimizer, repeat and the rows.
+/// limit.json (schema hemivem-bench-limit/4): scene, linear, minimizer, repeat and the rows.
 nlohmann::json limit_json(const LimitResult& result);
 
 }  // namespace hemivem::app
