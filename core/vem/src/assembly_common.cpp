@@ -34,14 +34,18 @@ const std::vector<int>& cell_vertices(const Mesh3D& mesh, int c) { return mesh.c
 template <class Point>
 class TranslatedCell {
  public:
-  bool same(const std::vector<Point>& relative, const std::vector<std::vector<int>>& faces, const Lame& lame,
-            Stabilization stabilization) const {
-    return valid_ && stabilization == stabilization_ && bits_equal(lame.lambda, lambda_) && bits_equal(lame.mu, mu_) &&
-           relative.size() == relative_.size() &&
-           std::memcmp(relative.data(), relative_.data(), relative.size() * sizeof(Point)) == 0 && faces == faces_;
-  }
-  void keep(const std::vector<Point>& relative, const std::vector<std::vector<int>>& faces, const Lame& lame,
-            Stabilization stabilization, const Eigen::MatrixXd& K) {
+  /// K of the cell `relative` (vertices less the first), `faces`, `lame`, `stabilization`: the
+  /// last one where the cell is its translate, computed by `compute(K)` otherwise.
+  template <class Compute>
+  void stiffness(const std::vector<Point>& relative, const std::vector<std::vector<int>>& faces, const Lame& lame,
+                 Stabilization stabilization, Eigen::MatrixXd& K, Compute&& compute) {
+    if (valid_ && stabilization == stabilization_ && bits_equal(lame.lambda, lambda_) && bits_equal(lame.mu, mu_) &&
+        relative.size() == relative_.size() &&
+        std::memcmp(relative.data(), relative_.data(), relative.size() * sizeof(Point)) == 0 && faces == faces_) {
+      K = K_;
+      return;
+    }
+    compute(K);
     relative_ = relative;
     faces_ = faces;
     lambda_ = lame.lambda;
@@ -50,7 +54,6 @@ class TranslatedCell {
     K_ = K;
     valid_ = true;
   }
-  const Eigen::MatrixXd& matrix() const { return K_; }
 
  private:
   static bool bits_equal(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
@@ -62,38 +65,33 @@ class TranslatedCell {
   bool valid_ = false;
 };
 
+/// A cell's vertices less its first, into z.
+template <class MeshType, class Point>
+void relative_vertices(const MeshType& mesh, int c, std::vector<Point>& z) {
+  const auto& vertices = cell_vertices(mesh, c);
+  const Point origin = mesh.vertex(*vertices.begin());
+  z.clear();
+  for (int v : vertices) z.push_back(mesh.vertex(v) - origin);
+}
+
 /// K_E of cell c, computed from its vertices less its first (a thread's own buffers: called from
 /// several threads at once), or the thread's last one where the cell is its translate.
 void cell_stiffness(const Mesh& mesh, int e, const Lame& lame, Stabilization stabilization, Eigen::MatrixXd& K) {
   thread_local std::vector<Vec2> poly;
   thread_local TranslatedCell<Vec2> last;
   static const std::vector<std::vector<int>> no_faces;
-  const auto vertices = mesh.element(e);
-  const Vec2 origin = mesh.vertex(vertices.front());
-  poly.clear();
-  for (int v : vertices) poly.push_back(mesh.vertex(v) - origin);
-  if (last.same(poly, no_faces, lame, stabilization)) {
-    K = last.matrix();
-    return;
-  }
-  element_stiffness(poly, lame, stabilization, K);
-  last.keep(poly, no_faces, lame, stabilization, K);
+  relative_vertices(mesh, e, poly);
+  last.stiffness(poly, no_faces, lame, stabilization, K,
+                 [&](Eigen::MatrixXd& M) { element_stiffness(poly, lame, stabilization, M); });
 }
 void cell_stiffness(const Mesh3D& mesh, int c, const Lame& lame, Stabilization stabilization, Eigen::MatrixXd& K) {
   thread_local std::vector<Vec3> z;
   thread_local std::vector<std::vector<int>> faces;
   thread_local TranslatedCell<Vec3> last;
-  const auto& vertices = mesh.cell_vertices(c);
-  const Vec3 origin = mesh.vertex(vertices.front());
-  z.clear();
-  for (int v : vertices) z.push_back(mesh.vertex(v) - origin);
+  relative_vertices(mesh, c, z);
   mesh.local_faces(c, faces);
-  if (last.same(z, faces, lame, stabilization)) {
-    K = last.matrix();
-    return;
-  }
-  element_stiffness_3d(z, faces, lame, stabilization, K);
-  last.keep(z, faces, lame, stabilization, K);
+  last.stiffness(z, faces, lame, stabilization, K,
+                 [&](Eigen::MatrixXd& M) { element_stiffness_3d(z, faces, lame, stabilization, M); });
 }
 
 double facet_measure(const Mesh& mesh, int f) { return mesh.edge_length(f); }

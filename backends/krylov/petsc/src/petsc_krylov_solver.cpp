@@ -170,8 +170,9 @@ struct PetscKrylovSolver::Impl {
   /// into PETSc's arrays by one sweep over A's columns in the order of their global columns
   /// (`block_columns`: j for a column of the diagonal block, -(j + 1) for one of the
   /// off-diagonal block), each row's next place in each block starting at `block_d_starts` and
-  /// `block_o_starts`: what is kept is of the size of A's columns and rows, not of its entries. When the places cannot be found (map_to_blocks()), the CSR copy is kept and new
-  /// values are set from it by MatSetValues.
+  /// `block_o_starts`: what is kept is of the size of A's columns and rows, not of its entries.
+  /// When the places cannot be found (map_to_blocks()), the CSR copy is kept and new values are
+  /// set from it by MatSetValues.
   MPI_Comm comm = PETSC_COMM_SELF;
   bool distributed = false;
   PetscInt first_row = 0;
@@ -273,8 +274,8 @@ struct PetscKrylovSolver::Impl {
 
   /// Whether A's entries correspond one to one to the values of the two blocks of the MATMPIAIJ,
   /// and the order of the sweep that writes them (block_columns, block_d_starts,
-  /// block_o_starts), from the blocks' own row structure: Ad, the diagonal block, holds the columns
-  /// [cstart, cend) of the owned rows, numbered from cstart (di, dj); Ao, the off-diagonal
+  /// block_o_starts), from the blocks' own row structure: Ad, the diagonal block, holds the
+  /// columns [cstart, cend) of the owned rows, numbered from cstart (di, dj); Ao, the off-diagonal
   /// block, holds the other columns, numbered by their place in garray, of garray_size global
   /// columns (oi, oj). A row's entries of a block are given that row's places of the block in
   /// the order of increasing global column, the order in which PETSc keeps them (garray is
@@ -283,8 +284,8 @@ struct PetscKrylovSolver::Impl {
   /// to one. False (the sweep's order empty) when a check fails or A has more columns than an
   /// int32 numbers.
   bool find_block_places(const SparseMatrix& A, const RowLayout& layout, PetscInt cstart, PetscInt cend,
-                            const PetscInt* di, const PetscInt* dj, const PetscInt* oi, const PetscInt* oj,
-                            const PetscInt* garray, PetscInt garray_size) {
+                         const PetscInt* di, const PetscInt* dj, const PetscInt* oi, const PetscInt* oj,
+                         const PetscInt* garray, PetscInt garray_size) {
     const auto rows = static_cast<std::size_t>(layout.owned);
     const auto most = static_cast<std::int64_t>(std::numeric_limits<std::int32_t>::max());
     if (static_cast<std::int64_t>(A.cols()) > most) return false;
