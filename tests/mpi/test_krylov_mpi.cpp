@@ -335,6 +335,33 @@ TEST_P(DistributedEngine, SolvesTheTrussAsLdlt) {
   EXPECT_GT(result.iterations, 0);
 }
 
+TEST_P(DistributedEngine, RowsNotCompressedAreCopiedAndSolved) {
+  // the owned rows in Eigen's uncompressed storage (room left after each column): the engine
+  // copies the diagonal block instead of reading it in place; a second compute() on new values
+  // takes the new values
+  Distributed d;
+  d.A.uncompress();
+  d.A.reserve(Eigen::VectorXi::Constant(d.A.outerSize(), 2));
+  ASSERT_FALSE(d.A.isCompressed());
+  const Eigen::VectorXd b = load(d.truss.K.rows());
+  const auto solver = make_krylov_solver(GetParam());
+  const KrylovHints hints = d.hints();
+  const FactorizationResult computed = solver->compute(d.A, hints);
+  ASSERT_TRUE(computed.ok()) << computed.message;
+  Eigen::VectorXd x;
+  KrylovSolveResult result = solver->solve(d.owned(b), &x, kRtol, 500);
+  expect_solution(d.truss.K, b, d.rows->all_gather(x), result, GetParam() + ", uncompressed");
+
+  for (Eigen::Index j = 0; j < d.A.outerSize(); ++j)
+    for (SparseMatrix::InnerIterator it(d.A, j); it; ++it) it.valueRef() *= 2.0;
+  const FactorizationResult again = solver->compute(d.A, hints);
+  ASSERT_TRUE(again.ok()) << again.message;
+  x.setZero();
+  result = solver->solve(d.owned(b), &x, kRtol, 500);
+  const SparseMatrix K2 = 2.0 * d.truss.K;
+  expect_solution(K2, b, d.rows->all_gather(x), result, GetParam() + ", uncompressed, doubled");
+}
+
 TEST_P(DistributedEngine, ValuesChangedInPlaceAreTheNewSystem) {
   Distributed d;
   const Eigen::VectorXd b = load(d.truss.K.rows());

@@ -288,17 +288,20 @@ class FullSpaceNewton {
  private:
   /// The last Newton system's held unknowns and curvatures: a system equal to it keeps its
   /// preconditioner.
-  /// Puts the values `changed` back into `matrix` (when not null) at the end of its scope.
+  /// Puts the values `changed` back into `matrix` (when not null): by restore(), or at the end of
+  /// its scope at the latest.
   struct RestoreValues {
     SparseMatrix* matrix;
-    const std::vector<std::pair<Eigen::Index, double>>& changed;
-    RestoreValues(SparseMatrix* m, const std::vector<std::pair<Eigen::Index, double>>& c) : matrix(m), changed(c) {}
+    std::vector<std::pair<Eigen::Index, double>> changed;
+    explicit RestoreValues(SparseMatrix* m) : matrix(m) {}
     RestoreValues(const RestoreValues&) = delete;
     RestoreValues& operator=(const RestoreValues&) = delete;
-    ~RestoreValues() {
+    void restore() {
       if (matrix)
         for (auto it = changed.rbegin(); it != changed.rend(); ++it) matrix->valuePtr()[it->first] = it->second;
+      changed.clear();
     }
+    ~RestoreValues() { restore(); }
   };
   struct SystemCache {
     std::vector<char> eliminated;
@@ -457,22 +460,23 @@ class FullSpaceNewton {
     return result;
   }
 
+  /// True when the Newton systems are written into the lent matrix itself: on several processes,
+  /// with an engine that distributes the system (KrylovSolver::runs_across_processes()) and
+  /// no groups, instead of a second matrix of the share's size.
+  bool writes_in_place(const KrylovSolver& krylov) const {
+    return lent_ && all_.size() > 1 && krylov.runs_across_processes() && groups_.empty();
+  }
+
   // The Newton matrix (A's rows in the groups' frames, the eliminated rows and columns the
-  // identity's, the curvature shifts on the diagonal) and the engine's set-up for it.
-  FactorizationResult set_up_newton_matrix(KrylovSolver& krylov, const KrylovHints& hints, const Motions& motion,
-                                           const std::vector<char>& eliminated, const Eigen::VectorXd& shift,
-                                           SystemCache& cache) const {
-    const Eigen::Index n = A_.rows();
-    // On several processes an engine that copies the system into its own distributed matrix
-    // reads the Newton matrix in compute() alone: it is then written into the lent matrix
-    // itself, whose values it changes (those of the contact rows and columns) are restored
-    // after compute(), instead of a second matrix of the share's size.
-    const bool in_place = lent_ && all_.size() > 1 && krylov.runs_across_processes() && groups_.empty();
+  // identity's, the curvature shifts on the diagonal): written into the lent matrix itself, the
+  // values it changes (those of the contact rows and columns) kept in `restore`, where
+  // writes_in_place(); otherwise into cache.H. Returns the matrix written.
+  const SparseMatrix& write_newton_matrix(const Motions& motion, const std::vector<char>& eliminated,
+                                          const Eigen::VectorXd& shift, bool in_place, SystemCache& cache,
+                                          RestoreValues& restore) const {
     SparseMatrix& H = in_place ? *lent_ : cache.H;
-    std::vector<std::pair<Eigen::Index, double>> changed;  // the lent matrix's values before
-    const RestoreValues restore{in_place ? lent_ : nullptr, changed};
     if (!in_place) {
-      if (H.nonZeros() != A_.nonZeros() || H.rows() != n)
+      if (H.nonZeros() != A_.nonZeros() || H.rows() != A_.rows())
         H = A_;
       else
         std::copy(A_.valuePtr(), A_.valuePtr() + A_.nonZeros(), H.valuePtr());
@@ -480,7 +484,7 @@ class FullSpaceNewton {
     }
     const std::vector<char> eliminated_column = with_ghosts(eliminated);
     const auto set = [&](double& value, double to) {
-      if (in_place && value != to) changed.emplace_back(&value - H.valuePtr(), value);
+      if (in_place && value != to) restore.changed.emplace_back(&value - H.valuePtr(), value);
       value = to;
     };
     for (int j = 0; j < H.outerSize(); ++j)
@@ -491,10 +495,16 @@ class FullSpaceNewton {
         else if (e.row() == j && shift(j) != 0.0)
           set(e.valueRef(), e.valueRef() + shift(j));
       }
+    return H;
+  }
+
+  // The engine's set-up for the Newton matrix H.
+  FactorizationResult set_up_newton_matrix(KrylovSolver& krylov, const KrylovHints& hints, const Motions& motion,
+                                           const std::vector<char>& eliminated, const SparseMatrix& H) const {
     KrylovHints system_hints(hints.near_null, hints.block_size);
     system_hints.rows = all_.size() > 1 ? &all_ : hints.rows;
     to_frame(system_hints.near_null, motion);
-    for (Eigen::Index i = 0; i < n && system_hints.near_null.cols() > 0; ++i)
+    for (Eigen::Index i = 0; i < H.rows() && system_hints.near_null.cols() > 0; ++i)
       if (eliminated[static_cast<std::size_t>(i)]) system_hints.near_null.row(i).setZero();
     return krylov.compute(H, system_hints);
   }
@@ -536,9 +546,17 @@ class FullSpaceNewton {
     to_frame(Ad, motion);
     for (Eigen::Index i = 0; i < n; ++i) rhs(i) = eliminated[static_cast<std::size_t>(i)] ? d(i) : rhs(i) - Ad(i);
     auto tc = Clock::now();
-    const bool same_system = eliminated == cache.eliminated && shift == cache.shift && frames == cache.frames;
-    if (all_.min(same_system ? 1.0 : 0.0) == 0.0) {
-      const FactorizationResult set_up = set_up_newton_matrix(krylov, hints, motion, eliminated, shift, cache);
+    const bool same_system = all_.min(eliminated == cache.eliminated && shift == cache.shift && frames == cache.frames
+                                          ? 1.0
+                                          : 0.0) > 0.0;
+    // The engine may read the matrix where it lies until the solve (hemivem/krylov_solver.hpp):
+    // a Newton matrix written into the lent matrix stays there until the solve is done.
+    const bool in_place = writes_in_place(krylov);
+    RestoreValues restore(in_place ? lent_ : nullptr);
+    const SparseMatrix* H = nullptr;
+    if (in_place || !same_system) H = &write_newton_matrix(motion, eliminated, shift, in_place, cache, restore);
+    if (!same_system) {
+      const FactorizationResult set_up = set_up_newton_matrix(krylov, hints, motion, eliminated, *H);
       ++st.preconditioner_setups;
       st.preconditioner_seconds += since(tc);
       cache.eliminated.clear();
@@ -555,6 +573,7 @@ class FullSpaceNewton {
     *step = d;
     tc = Clock::now();
     const KrylovSolveResult solved = krylov.solve(rhs, step, rtol, max_krylov_iterations);
+    restore.restore();
     st.krylov_seconds += since(tc);
     st.krylov_iterations += solved.iterations;
     to_frame(*step, motion, true);

@@ -1,6 +1,6 @@
 // The PETSc Krylov engines (hemivem/petsc_krylov_solver.hpp): the sequential path on a
-// MATSEQAIJ that reads A's arrays, the distributed path on a MATMPIAIJ made from a process's
-// owned rows (KrylovHints::rows), and the CG runs, restarts and outcomes both share.
+// MATSEQAIJ that reads A's arrays, the distributed path on a MATMPIAIJ that reads a process's
+// owned rows where they lie (KrylovHints::rows), and the CG runs, restarts and outcomes both share.
 #include <hemivem/petsc_krylov_solver.hpp>
 
 #include <hemivem/error.hpp>
@@ -12,7 +12,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <limits>
 #include <numeric>
 #include <optional>
 #include <vector>
@@ -161,28 +160,26 @@ struct PetscKrylovSolver::Impl {
   std::size_t wrapped_pattern = 0;
 
   /// The distributed path (KrylovHints::rows of several processes). PETSc's objects live on
-  /// `comm` (PETSC_COMM_WORLD; PETSC_COMM_SELF on the sequential path); the MATMPIAIJ holds a copy
-  /// of the owned rows, made from their CSR copy with global columns increasing in each row
-  /// (copy_rows(); `csr_position` sends the k-th entry of A, in the order of its InnerIterator,
-  /// to its place in that copy). Once the matrix is made and A's entries are found to correspond
-  /// one to one, in order, to the values PETSc keeps for the two blocks of the MATMPIAIJ
-  /// (map_to_blocks()), the CSR copy is freed and `in_blocks` is true: new values are written
-  /// into PETSc's arrays by one sweep over A's columns in the order of their global columns
-  /// (`block_columns`: j for a column of the diagonal block, -(j + 1) for one of the
-  /// off-diagonal block), each row's next place in each block starting at `block_d_starts` and
-  /// `block_o_starts`: what is kept is of the size of A's columns and rows, not of its entries.
-  /// When the places cannot be found (map_to_blocks()), the CSR copy is kept and new values are
-  /// set from it by MatSetValues.
+  /// `comm` (PETSC_COMM_WORLD; PETSC_COMM_SELF on the sequential path). The MATMPIAIJ is made of
+  /// its two blocks' arrays (MatCreateMPIAIJWithSplitArrays), which PETSc reads where they lie:
+  /// - the diagonal block (the owned rows and columns) is A's first `owned` columns: A is
+  ///   symmetric (the contract), so that its compressed columns are the block's rows. Where
+  ///   PETSc's indices are int and A is compressed, the block is A's own arrays (the contract
+  ///   keeps A alive and unchanged until the solves are done), so that the rows are not held
+  ///   twice; otherwise a copy (d_starts, d_columns, d_values);
+  /// - the off-diagonal block (the owned rows, the columns of other processes: a layer of the
+  ///   rows' neighbours) is a CSR copy, its columns global and increasing in each row (PETSc
+  ///   numbers them again in place), its values written from A's ghost columns in the order of
+  ///   their global columns (`ghost_order`).
   MPI_Comm comm = PETSC_COMM_SELF;
   bool distributed = false;
-  PetscInt first_row = 0;
-  std::vector<PetscInt> csr_starts, csr_columns;
-  std::vector<PetscScalar> csr_values;
-  std::vector<std::size_t> csr_position;
-  bool in_blocks = false;
-  std::vector<std::int32_t> block_columns;
-  std::vector<PetscInt> block_d_starts, block_o_starts;
-  /// The arrays of the A the copy was made from and a checksum of its pattern and layout.
+  bool diagonal_copied = false;
+  std::vector<PetscInt> d_starts, d_columns;
+  std::vector<PetscScalar> d_values;
+  std::vector<PetscInt> o_starts, o_columns;
+  std::vector<PetscScalar> o_values;
+  std::vector<Eigen::Index> ghost_order;
+  /// The arrays of the A the matrix was made from and a checksum of its pattern and layout.
   const void* source_values = nullptr;
   const void* source_starts = nullptr;
   const void* source_indices = nullptr;
@@ -225,218 +222,83 @@ struct PetscKrylovSolver::Impl {
            static_cast<const void*>(A.innerIndexPtr()) == source_indices && layout_checksum(A, layout) == source_pattern;
   }
 
-  /// The CSR copy of A's owned rows with global columns (the pattern and the values).
-  void copy_rows(const SparseMatrix& A, const RowLayout& layout) {
-    const auto owned = static_cast<std::size_t>(layout.owned);
-    csr_starts.assign(owned + 1, 0);
-    for (Eigen::Index j = 0; j < A.outerSize(); ++j)
-      for (SparseMatrix::InnerIterator it(A, j); it; ++it) ++csr_starts[static_cast<std::size_t>(it.row()) + 1];
-    std::partial_sum(csr_starts.begin(), csr_starts.end(), csr_starts.begin());
-    const auto entries = static_cast<std::size_t>(csr_starts.back());
-    // each row's entries as (global column, k), sorted by column
-    std::vector<std::pair<PetscInt, std::size_t>> row_entries(entries);
-    std::vector<PetscInt> next(csr_starts.begin(), csr_starts.end() - 1);
+  /// The blocks' values from A: the off-diagonal block's from A's ghost columns, each row's
+  /// entries in the order of their global columns; the diagonal block's from A's first columns
+  /// where it is a copy (otherwise PETSc reads them in A).
+  void write_block_values(const SparseMatrix& A) {
+    std::vector<PetscInt> next(o_starts.begin(), o_starts.end() - 1);
+    for (const Eigen::Index j : ghost_order)
+      for (SparseMatrix::InnerIterator it(A, j); it; ++it)
+        o_values[static_cast<std::size_t>(next[static_cast<std::size_t>(it.row())]++)] = it.value();
+    if (!diagonal_copied) return;
     std::size_t k = 0;
-    for (Eigen::Index j = 0; j < A.outerSize(); ++j) {
+    for (Eigen::Index j = 0; j < size; ++j)
+      for (SparseMatrix::InnerIterator it(A, j); it; ++it) d_values[k++] = it.value();
+  }
+
+  /// The blocks' structure from A and `layout` (the off-diagonal block's always, the diagonal
+  /// block's where it is a copy), then their values (write_block_values()).
+  void make_blocks(const SparseMatrix& A, const RowLayout& layout) {
+    const auto owned = static_cast<std::size_t>(layout.owned);
+    ghost_order.resize(static_cast<std::size_t>(A.cols() - layout.owned));
+    std::iota(ghost_order.begin(), ghost_order.end(), layout.owned);
+    std::sort(ghost_order.begin(), ghost_order.end(), [&layout](Eigen::Index a, Eigen::Index b) {
+      return global_column(layout, a) < global_column(layout, b);
+    });
+    o_starts.assign(owned + 1, 0);
+    for (const Eigen::Index j : ghost_order)
+      for (SparseMatrix::InnerIterator it(A, j); it; ++it) ++o_starts[static_cast<std::size_t>(it.row()) + 1];
+    std::partial_sum(o_starts.begin(), o_starts.end(), o_starts.begin());
+    // never a null array for PETSc, even without entries
+    o_columns.reserve(1);
+    o_values.reserve(1);
+    o_columns.resize(static_cast<std::size_t>(o_starts.back()));
+    o_values.resize(static_cast<std::size_t>(o_starts.back()));
+    std::vector<PetscInt> next(o_starts.begin(), o_starts.end() - 1);
+    for (const Eigen::Index j : ghost_order) {
       const auto column = static_cast<PetscInt>(global_column(layout, j));
       for (SparseMatrix::InnerIterator it(A, j); it; ++it)
-        row_entries[static_cast<std::size_t>(next[static_cast<std::size_t>(it.row())]++)] = {column, k++};
+        o_columns[static_cast<std::size_t>(next[static_cast<std::size_t>(it.row())]++)] = column;
     }
-    csr_columns.resize(entries);
-    csr_values.resize(entries);
-    csr_position.resize(entries);
-    for (std::size_t i = 0; i < owned; ++i) {
-      const auto begin = row_entries.begin() + csr_starts[i], end = row_entries.begin() + csr_starts[i + 1];
-      std::sort(begin, end);
-      for (auto e = begin; e != end; ++e) {
-        const auto place = static_cast<std::size_t>(e - row_entries.begin());
-        csr_columns[place] = e->first;
-        csr_position[e->second] = place;
-      }
+    diagonal_copied = !A.isCompressed() || sizeof(PetscInt) != sizeof(int);
+    if (diagonal_copied) {
+      d_starts.assign(owned + 1, 0);
+      for (Eigen::Index j = 0; j < layout.owned; ++j)
+        d_starts[static_cast<std::size_t>(j) + 1] =
+            d_starts[static_cast<std::size_t>(j)] + static_cast<PetscInt>(A.innerVector(j).nonZeros());
+      d_columns.reserve(1);
+      d_values.reserve(1);
+      d_columns.resize(static_cast<std::size_t>(d_starts.back()));
+      d_values.resize(static_cast<std::size_t>(d_starts.back()));
+      std::size_t k = 0;
+      for (Eigen::Index j = 0; j < layout.owned; ++j)
+        for (SparseMatrix::InnerIterator it(A, j); it; ++it) d_columns[k++] = static_cast<PetscInt>(it.row());
     }
-    copy_values(A);
+    write_block_values(A);
   }
 
-  /// A's values into the CSR copy (A's pattern that of copy_rows()).
-  void copy_values(const SparseMatrix& A) {
-    std::size_t k = 0;
-    for (Eigen::Index j = 0; j < A.outerSize(); ++j)
-      for (SparseMatrix::InnerIterator it(A, j); it; ++it) csr_values[csr_position[k++]] = it.value();
+  /// Frees the blocks' arrays (their memory, not only their entries): after the matrix that
+  /// reads them is destroyed.
+  void free_blocks() {
+    std::vector<PetscInt>().swap(d_starts);
+    std::vector<PetscInt>().swap(d_columns);
+    std::vector<PetscScalar>().swap(d_values);
+    std::vector<PetscInt>().swap(o_starts);
+    std::vector<PetscInt>().swap(o_columns);
+    std::vector<PetscScalar>().swap(o_values);
+    std::vector<Eigen::Index>().swap(ghost_order);
+    diagonal_copied = false;
   }
 
-  /// Frees the CSR copy of the owned rows (the vectors' memory, not only their entries).
-  void free_csr_copy() {
-    std::vector<PetscInt>().swap(csr_starts);
-    std::vector<PetscInt>().swap(csr_columns);
-    std::vector<PetscScalar>().swap(csr_values);
-    std::vector<std::size_t>().swap(csr_position);
-  }
-
-  /// Whether A's entries correspond one to one to the values of the two blocks of the MATMPIAIJ,
-  /// and the order of the sweep that writes them (block_columns, block_d_starts,
-  /// block_o_starts), from the blocks' own row structure: Ad, the diagonal block, holds the
-  /// columns [cstart, cend) of the owned rows, numbered from cstart (di, dj); Ao, the off-diagonal
-  /// block, holds the other columns, numbered by their place in garray, of garray_size global
-  /// columns (oi, oj). A row's entries of a block are given that row's places of the block in
-  /// the order of increasing global column, the order in which PETSc keeps them (garray is
-  /// sorted); every place is checked to hold the entry's global column and every place of a row
-  /// to be given an entry, so that the entries of A and the values of the blocks correspond one
-  /// to one. False (the sweep's order empty) when a check fails or A has more columns than an
-  /// int32 numbers.
-  bool find_block_places(const SparseMatrix& A, const RowLayout& layout, PetscInt cstart, PetscInt cend,
-                         const PetscInt* di, const PetscInt* dj, const PetscInt* oi, const PetscInt* oj,
-                         const PetscInt* garray, PetscInt garray_size) {
-    const auto rows = static_cast<std::size_t>(layout.owned);
-    const auto most = static_cast<std::int64_t>(std::numeric_limits<std::int32_t>::max());
-    if (static_cast<std::int64_t>(A.cols()) > most) return false;
-    if (static_cast<std::int64_t>(di[rows]) + static_cast<std::int64_t>(oi[rows]) !=
-        static_cast<std::int64_t>(A.nonZeros()))
-      return false;
-    const Eigen::Index columns = A.cols();
-    // A's local columns by increasing global column
-    std::vector<Eigen::Index> order(static_cast<std::size_t>(columns));
-    std::iota(order.begin(), order.end(), Eigen::Index{0});
-    std::sort(order.begin(), order.end(), [&layout](Eigen::Index a, Eigen::Index b) {
-      const Eigen::Index ga = global_column(layout, a), gb = global_column(layout, b);
-      return ga < gb || (ga == gb && a < b);
-    });
-    // the next place of each row in each block
-    std::vector<PetscInt> next_d(di, di + rows), next_o(oi, oi + rows);
-    std::vector<std::int32_t> sweep(static_cast<std::size_t>(columns));
-    bool matches = true;
-    for (std::size_t c = 0; c < order.size() && matches; ++c) {
-      const Eigen::Index j = order[c];
-      const Eigen::Index global = global_column(layout, j);
-      const bool diagonal = global >= cstart && global < cend;
-      sweep[c] = diagonal ? static_cast<std::int32_t>(j) : -static_cast<std::int32_t>(j) - 1;
-      for (SparseMatrix::InnerIterator it(A, j); it && matches; ++it) {
-        const auto i = static_cast<std::size_t>(it.row());
-        if (diagonal) {
-          const PetscInt p = next_d[i]++;
-          matches = p < di[i + 1] && static_cast<Eigen::Index>(dj[p]) == global - cstart;
-        } else {
-          const PetscInt p = next_o[i]++;
-          matches = p < oi[i + 1] && oj[p] >= 0 && oj[p] < garray_size &&
-                    static_cast<Eigen::Index>(garray[oj[p]]) == global;
-        }
-      }
-    }
-    for (std::size_t i = 0; i < rows && matches; ++i) matches = next_d[i] == di[i + 1] && next_o[i] == oi[i + 1];
-    if (!matches) return false;
-    block_columns = std::move(sweep);
-    block_d_starts.assign(di, di + rows + 1);
-    block_o_starts.assign(oi, oi + rows + 1);
-    return true;
-  }
-
-  /// Forgets the sweep that writes A's values into the blocks (its memory, not only its entries).
-  void forget_block_places() {
-    std::vector<std::int32_t>().swap(block_columns);
-    std::vector<PetscInt>().swap(block_d_starts);
-    std::vector<PetscInt>().swap(block_o_starts);
-  }
-
-  /// Once the MATMPIAIJ is assembled from the CSR copy: the places of A's entries in its
-  /// blocks (find_block_places(), on the blocks' row structure read by MatGetRowIJ) and,
-  /// when they are found, the CSR copy freed (in_blocks). When they are not, the CSR copy is
-  /// kept for update_distributed_values().
-  PetscErrorCode map_to_blocks(const SparseMatrix& A, const RowLayout& layout, std::string* error) {
-    in_blocks = false;
-    forget_block_places();
-    Mat Ad = nullptr, Ao = nullptr;
-    const PetscInt* garray = nullptr;
-    PetscInt cstart = 0, cend = 0, garray_size = 0;
-    HEMIVEM_PETSC(MatMPIAIJGetSeqAIJ(matrix, &Ad, &Ao, &garray));
-    HEMIVEM_PETSC(MatGetOwnershipRangeColumn(matrix, &cstart, &cend));
-    HEMIVEM_PETSC(MatGetLocalSize(Ao, nullptr, &garray_size));
-    PetscInt d_rows = 0, o_rows = 0;
-    const PetscInt *di = nullptr, *dj = nullptr, *oi = nullptr, *oj = nullptr;
-    PetscBool d_done = PETSC_FALSE, o_done = PETSC_FALSE;
-    // each structure read is given back, whatever happens after it
-    PetscErrorCode code = MatGetRowIJ(Ad, 0, PETSC_FALSE, PETSC_FALSE, &d_rows, &di, &dj, &d_done);
-    const char* call = "MatGetRowIJ (the diagonal block)";
-    if (code == 0 && d_done) {
-      code = MatGetRowIJ(Ao, 0, PETSC_FALSE, PETSC_FALSE, &o_rows, &oi, &oj, &o_done);
-      call = "MatGetRowIJ (the off-diagonal block)";
-      if (code == 0 && o_done) {
-        in_blocks = d_rows == size && o_rows == size && (garray != nullptr || garray_size == 0) &&
-                    find_block_places(A, layout, cstart, cend, di, dj, oi, oj, garray, garray_size);
-        code = MatRestoreRowIJ(Ao, 0, PETSC_FALSE, PETSC_FALSE, &o_rows, &oi, &oj, &o_done);
-        call = "MatRestoreRowIJ (the off-diagonal block)";
-      }
-      const PetscErrorCode restored = MatRestoreRowIJ(Ad, 0, PETSC_FALSE, PETSC_FALSE, &d_rows, &di, &dj, &d_done);
-      if (code == 0 && restored != 0) {
-        code = restored;
-        call = "MatRestoreRowIJ (the diagonal block)";
-      }
-    }
-    if (code != 0) {
-      in_blocks = false;
-      forget_block_places();
-      *error = petsc::error_message(code, call);
-      return code;
-    }
-    if (in_blocks) free_csr_copy();
-    return 0;
-  }
-
-  /// A's values written into the values of the blocks of the MATMPIAIJ, at their places: A's
-  /// columns in the order of their global columns, each entry at its row's next place in its
-  /// block (the order map_to_blocks() checked).
-  PetscErrorCode write_block_values(const SparseMatrix& A, std::string* error) {
-    Mat Ad = nullptr, Ao = nullptr;
-    HEMIVEM_PETSC(MatMPIAIJGetSeqAIJ(matrix, &Ad, &Ao, nullptr));
-    PetscScalar *d = nullptr, *o = nullptr;
-    HEMIVEM_PETSC(MatSeqAIJGetArray(Ad, &d));
-    // the arrays taken are given back, whatever happens after
-    PetscErrorCode code = MatSeqAIJGetArray(Ao, &o);
-    const char* call = "MatSeqAIJGetArray (the off-diagonal block)";
-    if (code == 0) {
-      std::vector<PetscInt> next_d(block_d_starts.begin(), block_d_starts.end() - 1);
-      std::vector<PetscInt> next_o(block_o_starts.begin(), block_o_starts.end() - 1);
-      for (const std::int32_t c : block_columns) {
-        const bool diagonal = c >= 0;
-        const Eigen::Index j = diagonal ? c : -(c + 1);
-        if (diagonal)
-          for (SparseMatrix::InnerIterator it(A, j); it; ++it) d[next_d[static_cast<std::size_t>(it.row())]++] = it.value();
-        else
-          for (SparseMatrix::InnerIterator it(A, j); it; ++it) o[next_o[static_cast<std::size_t>(it.row())]++] = it.value();
-      }
-      code = MatSeqAIJRestoreArray(Ao, &o);
-      call = "MatSeqAIJRestoreArray (the off-diagonal block)";
-    }
-    const PetscErrorCode restored = MatSeqAIJRestoreArray(Ad, &d);
-    if (code == 0 && restored != 0) {
-      code = restored;
-      call = "MatSeqAIJRestoreArray (the diagonal block)";
-    }
-    if (code != 0) {
-      *error = petsc::error_message(code, call);
-      return code;
-    }
-    return 0;
-  }
-
-  /// update_values() for a distributed system: the owned rows' new values put in the matrix,
-  /// written into its blocks' arrays (write_block_values()) or, when the places of the entries
-  /// in the blocks were not found, set by MatSetValues row by row from the CSR copy; then the
-  /// matrix assembled and the preconditioner set up again. The assembly changes no place (the
-  /// pattern is the same and nothing is stashed): it increases the matrix's state, so that the
-  /// KSP sees a changed operator of the same nonzero pattern (GAMG reuses its interpolation,
-  /// make_ksp()), and drops what PETSc keeps of the former values (the blocks' inverted
-  /// diagonals, the diagonal vector of the MATMPIAIJ) and the symmetry flag, set again below.
+  /// update_values() for a distributed system: the blocks' new values (write_block_values());
+  /// then the matrix assembled and the preconditioner set up again. The assembly changes no
+  /// place (the pattern is the same and nothing is stashed): it increases the matrix's state, so
+  /// that the KSP sees a changed operator of the same nonzero pattern (GAMG reuses its
+  /// interpolation, make_ksp()), and drops what PETSc keeps of the former values (the blocks'
+  /// inverted diagonals, the diagonal vector of the MATMPIAIJ) and the symmetry flag, set again
+  /// below.
   PetscErrorCode update_distributed_values(const SparseMatrix& A, std::string* error) {
-    if (in_blocks) {
-      if (const PetscErrorCode code = write_block_values(A, error); code != 0) return code;
-    } else {
-      copy_values(A);
-      for (PetscInt i = 0; i < size; ++i) {
-        const PetscInt row = first_row + i;
-        const PetscInt start = csr_starts[static_cast<std::size_t>(i)];
-        HEMIVEM_PETSC(MatSetValues(matrix, 1, &row, csr_starts[static_cast<std::size_t>(i) + 1] - start,
-                                   csr_columns.data() + start, csr_values.data() + start, INSERT_VALUES));
-      }
-    }
+    write_block_values(A);
     HEMIVEM_PETSC(MatAssemblyBegin(matrix, MAT_FINAL_ASSEMBLY));
     HEMIVEM_PETSC(MatAssemblyEnd(matrix, MAT_FINAL_ASSEMBLY));
     HEMIVEM_PETSC(MatSetOption(matrix, MAT_SYMMETRIC, PETSC_TRUE));
@@ -475,21 +337,22 @@ struct PetscKrylovSolver::Impl {
     wrapped_values = wrapped_starts = wrapped_indices = nullptr;
     source_values = source_starts = source_indices = nullptr;
     distributed = false;
-    in_blocks = false;
-    forget_block_places();
-    free_csr_copy();
     comm = PETSC_COMM_SELF;
     if (!PetscRuntime::running()) {
       matrix = nullptr, ksp = nullptr, rhs = solution = residual = nullptr, options = nullptr;
+      free_blocks();
       return;
     }
-    const QuietErrors quiet;
-    if (ksp) KSPDestroy(&ksp);
-    if (matrix) MatDestroy(&matrix);
-    if (rhs) VecDestroy(&rhs);
-    if (solution) VecDestroy(&solution);
-    if (residual) VecDestroy(&residual);
-    if (options) PetscOptionsDestroy(&options);
+    {
+      const QuietErrors quiet;
+      if (ksp) KSPDestroy(&ksp);
+      if (matrix) MatDestroy(&matrix);
+      if (rhs) VecDestroy(&rhs);
+      if (solution) VecDestroy(&solution);
+      if (residual) VecDestroy(&residual);
+      if (options) PetscOptionsDestroy(&options);
+    }
+    free_blocks();
   }
 
   /// The near-null space of the matrix, for GAMG's aggregates: Q, an orthonormal basis of the
@@ -573,28 +436,32 @@ struct PetscKrylovSolver::Impl {
   }
 
   /// setup() for this process's rows of a distributed system: a MATMPIAIJ on PETSC_COMM_WORLD
-  /// made from the CSR copy of the owned rows (copy_rows(), freed once the places of A's entries
-  /// in the matrix are found: map_to_blocks()), of the block size given, its near-null space
-  /// made of MPI vectors, then the vectors and the KSP on PETSC_COMM_WORLD.
+  /// made of its two blocks (make_blocks(): the diagonal block A's own arrays where it can be),
+  /// of the block size given, its near-null space made of MPI vectors, then the vectors and the
+  /// KSP on PETSC_COMM_WORLD.
   PetscErrorCode setup_distributed(const SparseMatrix& A, const KrylovHints& hints, std::string* error) {
     const RowLayout& layout = hints.rows->layout();
     comm = PETSC_COMM_WORLD;
     distributed = true;
     size = static_cast<PetscInt>(layout.owned);
-    first_row = static_cast<PetscInt>(layout.first);
     const auto global = static_cast<PetscInt>(layout.global);
-    copy_rows(A, layout);
-    HEMIVEM_PETSC(MatCreate(comm, &matrix));
-    HEMIVEM_PETSC(MatSetSizes(matrix, size, size, global, global));
-    HEMIVEM_PETSC(MatSetType(matrix, MATMPIAIJ));
+    make_blocks(A, layout);
+    PetscInt* di = d_starts.data();
+    PetscInt* dj = d_columns.data();
+    PetscScalar* da = d_values.data();
+    if (!diagonal_copied) {
+      // PETSc reads A's first columns for as long as the matrix lives (the contract keeps A alive)
+      di = reinterpret_cast<PetscInt*>(const_cast<int*>(A.outerIndexPtr()));
+      dj = reinterpret_cast<PetscInt*>(const_cast<int*>(A.innerIndexPtr()));
+      da = const_cast<double*>(A.valuePtr());
+    }
+    HEMIVEM_PETSC(MatCreateMPIAIJWithSplitArrays(comm, size, size, global, global, di, dj, da, o_starts.data(),
+                                                 o_columns.data(), o_values.data(), &matrix));
     if (hints.block_size > 1) HEMIVEM_PETSC(MatSetBlockSize(matrix, static_cast<PetscInt>(hints.block_size)));
-    HEMIVEM_PETSC(MatMPIAIJSetPreallocationCSR(matrix, csr_starts.data(), csr_columns.data(), csr_values.data()));
     HEMIVEM_PETSC(MatSetOption(matrix, MAT_SYMMETRIC, PETSC_TRUE));
     // the values set again by update_distributed_values() are in the owned rows and the pattern
     HEMIVEM_PETSC(MatSetOption(matrix, MAT_NO_OFF_PROC_ENTRIES, PETSC_TRUE));
     HEMIVEM_PETSC(MatSetOption(matrix, MAT_NEW_NONZERO_LOCATION_ERR, PETSC_TRUE));
-    // the matrix holds the values: the CSR copy is freed unless it is needed to set new ones
-    if (const PetscErrorCode code = map_to_blocks(A, layout, error); code != 0) return code;
     const bool compressed = A.isCompressed();
     source_values = compressed ? static_cast<const void*>(A.valuePtr()) : nullptr;
     source_starts = compressed ? static_cast<const void*>(A.outerIndexPtr()) : nullptr;
@@ -675,7 +542,7 @@ struct PetscKrylovSolver::Impl {
 
   /// The KSP and its preconditioner, set up on the matrix.
   PetscErrorCode make_ksp(std::string* error) {
-    give_back_free_memory();  // the CSR copy of the rows, freed before the preconditioner's set-up
+    give_back_free_memory();  // what the matrix's set-up freed, before the preconditioner's
     reused = false;
     HEMIVEM_PETSC(KSPCreate(comm, &ksp));
     HEMIVEM_PETSC(PetscObjectSetOptions(reinterpret_cast<PetscObject>(ksp), options));

@@ -108,11 +108,12 @@ MinimizerResult minimize_full_space(const FullSpaceShare& share, KrylovSolver& k
                                     FullSpaceStatistics* statistics = nullptr);
 
 /// minimize_full_space() of `share` with its matrix lent to the iteration: on several processes,
-/// with an engine that copies each Newton system into its own distributed matrix
-/// (KrylovSolver::runs_across_processes()), the Newton matrix is written into share.matrix for the
-/// engine's compute() and the values it changed (those of the contact rows and columns) are
-/// restored to the bit right after, instead of a second matrix of the share's size. share.matrix
-/// is as it was whenever the call returns or throws. In one process it is minimize_full_space().
+/// with an engine that distributes the system (KrylovSolver::runs_across_processes()), each Newton
+/// matrix is written into share.matrix for the engine's compute() and solve(), and the values it
+/// changed (those of the contact rows and columns) are restored to the bit right after the solve,
+/// instead of a second matrix of the share's size; the engine may read share.matrix where it lies.
+/// share.matrix is as it was whenever the call returns or throws. In one process it is
+/// minimize_full_space().
 MinimizerResult minimize_full_space_in_place(FullSpaceShare& share, KrylovSolver& krylov, const KrylovHints& hints,
                                              const MinimizerOptions& options, Eigen::VectorXd* x,
                                              FullSpaceStatistics* statistics = nullptr);
