@@ -148,7 +148,7 @@ Eigen::Vector2d group_trial(const GroupMotion& g, const Eigen::Vector2d& dg, dou
   }
   const Eigen::Vector2d x = g.v + t * dg;
   if (!std::isnan(g.pin)) {
-    if (g.pin == 0.0) return x;
+    if (g.pin == 0.0) return Eigen::Vector2d::Zero();  // onto the cone point at any step
     if (!(x.norm() > 0.0)) return g.v;
     return t == 1.0 ? onto_radius(x, g.pin) : Eigen::Vector2d(x * ((g.r + t * (g.pin - g.r)) / x.norm()));
   }

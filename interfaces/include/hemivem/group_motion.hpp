@@ -57,7 +57,8 @@ void pin_group(GroupMotion& g, double eps);
 /// The group's point on the projection arc at step t along its direction dg: the radius kept in
 /// the piece [r_lo, r_hi] by radial scaling; at v = 0 the length along the ray in [0, r_hi]; a
 /// group whose piece starts at the cone point 0 goes exactly onto 0 when the step crosses the
-/// line through 0 normal to e; a pinned group's radius goes linearly to its pin.
+/// line through 0 normal to e; a pinned group's radius goes linearly to its pin, a group pinned
+/// onto 0 goes onto it at any step (it is within eps of it, and at 0 its frame is renewed).
 Eigen::Vector2d group_trial(const GroupMotion& g, const Eigen::Vector2d& dg, double t);
 
 }  // namespace hemivem
