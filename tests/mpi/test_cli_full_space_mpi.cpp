@@ -76,41 +76,69 @@ fs::path solve_across(int processes, const std::string& flags, const std::string
   return rank0;
 }
 
+/// The scene of `flags` solved by `processes` ranks on the full-space route against the condensed
+/// route in one process (its outputs in `ref`): rank 0 alone writes, and every displacement,
+/// contact node's normal displacement and force (and with `friction` its tangential displacement
+/// and friction force) is the condensed route's to 1e-8.
+void expect_processes_agree(const std::string& flags, const fs::path& ref, int processes, const std::string& name,
+                            bool friction) {
+  SCOPED_TRACE(std::to_string(processes) + " processes");
+  CommandRun m;
+  const std::string folder = name + "-np" + std::to_string(processes);
+  const fs::path out = solve_across(processes, flags + " --linear petsc-gamg", folder, &m);
+  ASSERT_EQ(m.code, 0) << m.out << m.err;
+  EXPECT_EQ(count(m.out, "hemivem solve:"), 1u) << m.out;
+  EXPECT_EQ(count(m.out, "linear petsc-gamg (" + std::to_string(processes) + " processes)"), 1u) << m.out;
+  for (int r = 1; r < processes; ++r)
+    EXPECT_FALSE(fs::exists(out.parent_path() / (folder + "-rank" + std::to_string(r)))) << "rank " << r << " wrote outputs";
+  const nlohmann::json a = nlohmann::json::parse(slurp(out / "result.json"));
+  const nlohmann::json b = nlohmann::json::parse(slurp(ref / "result.json"));
+  EXPECT_EQ(a["processes"], processes);
+  EXPECT_EQ(a["backends"]["linear"], "petsc-gamg");
+  EXPECT_TRUE(a["converged"].get<bool>());
+  EXPECT_EQ(a["stages"], (nlohmann::json{"posing", "full_space", "estimate"}));
+  EXPECT_EQ(a["mesh"]["dofs"], b["mesh"]["dofs"]);
+  const double ea = a["potential_energy"].get<double>(), eb = b["potential_energy"].get<double>();
+  EXPECT_NEAR(ea, eb, 1e-9 * std::abs(eb));
+  // every displacement (ux, uy, uz) and every contact node's normal displacement and force
+  const auto [du, u] = difference(numbers(out / "displacement.csv"), numbers(ref / "displacement.csv"), 4, 7);
+  ASSERT_GT(u, 0.0);
+  EXPECT_LE(du, 1e-8 * u);
+  const auto [dn, un] = difference(numbers(out / "contact.csv"), numbers(ref / "contact.csv"), 4, 5);
+  EXPECT_LE(dn, 1e-8 * u);
+  const auto [df, f] = difference(numbers(out / "contact.csv"), numbers(ref / "contact.csv"), 5, 8);
+  ASSERT_GT(f, 0.0);
+  EXPECT_LE(df, 1e-8 * f);
+  if (friction) {
+    // u_tau_x, u_tau_y, u_tau_z, then friction_force_x, friction_force_y, friction_force_z
+    const auto [dt, ut] = difference(numbers(out / "contact.csv"), numbers(ref / "contact.csv"), 13, 16);
+    ASSERT_GT(ut, 0.0);
+    EXPECT_LE(dt, 1e-8 * u);
+    const auto [dz, z] = difference(numbers(out / "contact.csv"), numbers(ref / "contact.csv"), 16, 19);
+    ASSERT_GT(z, 0.0);
+    EXPECT_LE(dz, 1e-8 * z);
+  }
+  EXPECT_TRUE(fs::exists(out / "solution.vtu"));
+}
+
 TEST(CliFullSpaceMpi, ProcessesSolvingTheirSharesAgreeWithTheCondensedRouteAndRankZeroAloneWrites) {
   const std::string flags = scene("example-4.1-3d.toml") + " --set 'mesh.n=[6, 6, 6]' --tol 1e-11";
   const fs::path ref = scratch("condensed");
   const CommandRun c = run(binary() + " solve " + flags + " --linear eigen -q --out " + ref.string());
   ASSERT_EQ(c.code, 0) << c.err;
-  for (int processes : {2, 3}) {
-    SCOPED_TRACE(std::to_string(processes) + " processes");
-    CommandRun m;
-    const fs::path out = solve_across(processes, flags + " --linear petsc-gamg", "np" + std::to_string(processes), &m);
-    ASSERT_EQ(m.code, 0) << m.out << m.err;
-    EXPECT_EQ(count(m.out, "hemivem solve:"), 1u) << m.out;
-    EXPECT_EQ(count(m.out, "linear petsc-gamg (" + std::to_string(processes) + " processes)"), 1u) << m.out;
-    for (int r = 1; r < processes; ++r)
-      EXPECT_FALSE(fs::exists(out.parent_path() / ("np" + std::to_string(processes) + "-rank" + std::to_string(r))))
-          << "rank " << r << " wrote outputs";
-    const nlohmann::json a = nlohmann::json::parse(slurp(out / "result.json"));
-    const nlohmann::json b = nlohmann::json::parse(slurp(ref / "result.json"));
-    EXPECT_EQ(a["processes"], processes);
-    EXPECT_EQ(a["backends"]["linear"], "petsc-gamg");
-    EXPECT_TRUE(a["converged"].get<bool>());
-    EXPECT_EQ(a["stages"], (nlohmann::json{"posing", "full_space", "estimate"}));
-    EXPECT_EQ(a["mesh"]["dofs"], b["mesh"]["dofs"]);
-    const double ea = a["potential_energy"].get<double>(), eb = b["potential_energy"].get<double>();
-    EXPECT_NEAR(ea, eb, 1e-9 * std::abs(eb));
-    // every displacement (ux, uy, uz) and every contact node's normal displacement and force
-    const auto [du, u] = difference(numbers(out / "displacement.csv"), numbers(ref / "displacement.csv"), 4, 7);
-    ASSERT_GT(u, 0.0);
-    EXPECT_LE(du, 1e-8 * u);
-    const auto [dn, un] = difference(numbers(out / "contact.csv"), numbers(ref / "contact.csv"), 4, 5);
-    EXPECT_LE(dn, 1e-8 * u);
-    const auto [df, f] = difference(numbers(out / "contact.csv"), numbers(ref / "contact.csv"), 5, 8);
-    ASSERT_GT(f, 0.0);
-    EXPECT_LE(df, 1e-8 * f);
-    EXPECT_TRUE(fs::exists(out / "solution.vtu"));
-  }
+  for (int processes : {2, 3}) expect_processes_agree(flags, ref, processes, "example", false);
+}
+
+// a solid's Tresca friction: the processes' slabs split the bottom, where nodes slip and stick
+TEST(CliFullSpaceMpi, ASolidsFrictionAcrossProcessesIsTheCondensedAnswer) {
+  const std::string flags = scene("friction-block-3d.toml") + " --set 'mesh.n=[6, 6, 2]' --tol 1e-11";
+  const fs::path ref = scratch("condensed-friction");
+  const CommandRun c = run(binary() + " solve " + flags + " --linear eigen -q --out " + ref.string());
+  ASSERT_EQ(c.code, 0) << c.err;
+  const std::string table = slurp(ref / "contact.csv");
+  EXPECT_NE(table.find(",slip"), std::string::npos) << "no node slips";
+  EXPECT_NE(table.find(",stick"), std::string::npos) << "no node sticks";
+  expect_processes_agree(flags, ref, 2, "friction", true);
 }
 
 TEST(CliFullSpaceMpi, WhatTheRouteRunsInOneProcessIsRefusedOnSeveral) {

@@ -21,6 +21,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -270,7 +271,9 @@ TEST(FullSpaceMpi, ALentMatrixGivesTheSameAnswerAndIsRestoredToTheBit) {
 // route (Eigen's factorization and ssn) in every displacement, the contact table, the energy and
 // the balance of forces; the verdict and certificate the same on every process.
 template <int dim, class Problem>
-void expect_shares_solve_as_the_condensed_route(const Problem& problem) {
+void expect_shares_solve_as_the_condensed_route(
+    const Problem& problem,
+    const std::function<void(const BasicContactSolution<dim>& s, const BasicContactSolution<dim>& c)>& also = {}) {
   const ProcessWorld world = krylov_world();
   auto krylov = make_krylov_solver("petsc-gamg");
   const BasicContactSolution<dim> s = solve_full_space_shares<dim>(problem, *krylov, world, make_distributed_rows, tight());
@@ -291,6 +294,7 @@ void expect_shares_solve_as_the_condensed_route(const Problem& problem) {
   BasicContactSolver<dim> condensed(problem, factorization(), tight());
   const BasicContactSolution<dim> c = std::move(condensed.run(one).front());
   ASSERT_TRUE(c.converged()) << c.message;
+  if (also) also(s, c);
   EXPECT_EQ(s.unknowns, c.unknowns);
   EXPECT_NEAR(s.energy, c.energy, 1e-9 * std::abs(c.energy));
   if (world.rank != 0) {  // what the other processes do not hold
@@ -311,6 +315,8 @@ void expect_shares_solve_as_the_condensed_route(const Problem& problem) {
     EXPECT_NEAR(s.contact[i].u_nu, c.contact[i].u_nu, 1e-8 * scale);
     EXPECT_NEAR(s.contact[i].force(), c.contact[i].force(), 1e-8 * force);
     EXPECT_NEAR(s.contact[i].reaction, c.contact[i].reaction, 1e-8 * force);
+    EXPECT_EQ(s.contact[i].friction_state, c.contact[i].friction_state);
+    EXPECT_LE((s.contact[i].friction_vector - c.contact[i].friction_vector).norm(), 1e-8 * force);
   }
   EXPECT_LE((s.forces.contact - c.forces.contact).norm(), 1e-8 * force * static_cast<double>(c.contact.size()));
   ASSERT_EQ(s.forces.reactions.size(), c.forces.reactions.size());
@@ -337,23 +343,48 @@ TEST(FullSpaceMpi, TheCommandsSolveAcrossProcessesGathersTheTiedReactions) {
   expect_shares_solve_as_the_condensed_route<2>(p);
 }
 
-TEST(FullSpaceMpi, ASolidsFrictionIsRefusedOnSeveralProcessesOnEveryProcess) {
-  const ProcessWorld world = krylov_world();
-  if (world.size < 2) GTEST_SKIP() << "one process solves friction";
-  const Mesh3D mesh = make_cubes({3, 3, 3});
-  ContactProblem3D problem = test::example_4_1_3d(mesh);
-  problem.parts.front().friction = tresca_law(0.1);
-  const Posed p = pose<3>(problem, mesh);
-  // rank 0 owns every row: the groups are its own, and every process must refuse
-  const Eigen::Index n = p.posed->rotated_matrix().rows();
-  const RowLayout layout = layout_of(*p.posed, world.rank == 0 ? 0 : n, world.rank == 0 ? n : 0);
-  const FullSpaceShare share = share_of(*p.posed, layout);
-  const auto rows = make_distributed_rows(layout);
-  auto krylov = make_krylov_solver("petsc-gamg");
-  KrylovHints hints(Eigen::MatrixXd(), 1);
-  hints.rows = rows.get();
-  Eigen::VectorXd x;
-  EXPECT_THROW(minimize_full_space(share, *krylov, hints, tight(), &x), InputError);
+// a solid's Tresca friction, groups of two tangential coordinates: a block whose top is moved
+// sideways and down (its x-sides carrying the shear traction) onto a one-sided foundation that
+// lets go of part of the bottom, so that nodes slip and nodes stick. Its two layers of cells
+// make the processes' slabs of vertices split the contact surface: a process reads the unknowns
+// of another's groups, whose frames it rotates its columns into.
+TEST(FullSpaceMpi, TheCommandsSolveAcrossProcessesIsTheCondensedAnswerWithASolidsFriction) {
+  const Box block{0.0, 1.0, 0.0, 1.0, 0.0, 0.5};
+  const Mesh3D mesh = make_cubes({6, 6, 2}, block);
+  ContactProblem3D problem;
+  problem.elasticity.mesh = &mesh;
+  problem.elasticity.materials = MaterialTable(Material{100.0, 0.3}, PlaneModel::strain);
+  problem.elasticity.dirichlet.push_back({select_box_side(mesh, block, "top"),
+                                          [](const Vec3&) { return Vec3(0.01, 0.003, -0.004); },
+                                          {true, true, true},
+                                          "top"});
+  ContactPart3D foundation;
+  foundation.name = "foundation";
+  foundation.facets = select_box_side(mesh, block, "bottom");
+  foundation.constraint = ConstraintKind::one_sided;
+  foundation.gap = [](const Vec3& x) { return 0.0005 * x.x(); };
+  foundation.law = linear_law(2000.0);
+  foundation.friction = tresca_law(0.8);
+  for (const auto& [side, sign] : {std::pair{"x0", -1.0}, std::pair{"x1", 1.0}}) {
+    TractionLoad3D t;
+    t.facets = select_box_side(mesh, block, side);
+    t.traction = [s = sign](const Vec3&) { return Vec3(0, 0, s * 0.1); };
+    problem.elasticity.tractions.push_back(t);
+  }
+  problem.parts.push_back(std::move(foundation));
+  expect_shares_solve_as_the_condensed_route<3>(problem, [](const BasicContactSolution<3>& s,
+                                                             const BasicContactSolution<3>& c) {
+    int slip = 0, stick = 0;
+    for (const auto& node : c.contact) {
+      slip += node.friction_state == FrictionState::slip ? 1 : 0;
+      stick += node.friction_state == FrictionState::stick ? 1 : 0;
+    }
+    EXPECT_GT(slip, 0);
+    EXPECT_GT(stick, 0);
+    // the Newton systems are those of the whole problem: about as many iterations as the
+    // condensed route's (11); with the ghost columns left out of the groups' frames, 19
+    EXPECT_LE(s.iterations(), c.iterations() + 4) << c.iterations() << " iterations of the condensed route";
+  });
 }
 
 }  // namespace

@@ -9,8 +9,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace hemivem {
@@ -114,8 +116,6 @@ class FullSpaceNewton {
     if (all.max(unfit ? 1.0 : 0.0) > 0.0 || all.sum(static_cast<double>(A_.rows())) == 0.0)
       throw InternalError("the full-space route needs a posed problem distributed by its rows, with a row and an "
                           "origin for each coordinate");
-    if (all.size() > 1 && all.max(p_.groups.empty() ? 0.0 : 1.0) > 0.0)
-      throw InputError("a solid's friction is solved on the full-space route in one process only", "processes");
     const Eigen::Index m = p_.size();
     coordinates_.resize(static_cast<std::size_t>(m));
     stiffness_.resize(m);
@@ -143,7 +143,22 @@ class FullSpaceNewton {
       tied_.push_back(row);
       is_coordinate_[static_cast<std::size_t>(row)] = 2;
     }
-    find_groups();
+    // the groups' places, each a decision of every process alike (a throw of one process would
+    // leave the others waiting in a collective call)
+    const auto agreed = [&all](const std::function<void()>& find) {
+      std::string broken;
+      try {
+        find();
+      } catch (const InternalError& e) {
+        broken = e.what();
+      }
+      if (all.max(broken.empty() ? 0.0 : 1.0) > 0.0)
+        throw InternalError(broken.empty() ? "a group's unknowns do not share their pattern on another process"
+                                           : broken);
+    };
+    agreed([this] { find_groups(); });
+    any_groups_ = all.max(groups_.empty() ? 0.0 : 1.0) > 0.0;
+    if (all.size() > 1 && any_groups_) agreed([this] { find_ghost_groups(); });
   }
 
   Eigen::VectorXd coordinates_of(const Eigen::VectorXd& x) const {
@@ -464,7 +479,7 @@ class FullSpaceNewton {
   /// with an engine that distributes the system (KrylovSolver::runs_across_processes()) and
   /// no groups, instead of a second matrix of the share's size.
   bool writes_in_place(const KrylovSolver& krylov) const {
-    return lent_ && all_.size() > 1 && krylov.runs_across_processes() && groups_.empty();
+    return lent_ && all_.size() > 1 && krylov.runs_across_processes() && !any_groups_;
   }
 
   // The Newton matrix (A's rows in the groups' frames, the eliminated rows and columns the
@@ -733,22 +748,55 @@ class FullSpaceNewton {
         if (const int g = group_of_row[static_cast<std::size_t>(inner[i])]; g >= 0)
           (inner[i] == groups_[static_cast<std::size_t>(g)].row1 ? at1 : at2)[static_cast<std::size_t>(g)] = i;
       for (Eigen::Index i = outer[j]; i < outer[j + 1]; ++i) {
-        const int g = group_of_row[static_cast<std::size_t>(inner[i])];
-        if (g < 0 || inner[i] != groups_[static_cast<std::size_t>(g)].row1) continue;
-        if (at2[static_cast<std::size_t>(g)] < 0) throw InternalError("a group's two rows do not share their pattern");
-        groups_[static_cast<std::size_t>(g)].in_columns.emplace_back(at1[static_cast<std::size_t>(g)], at2[static_cast<std::size_t>(g)]);
-        at1[static_cast<std::size_t>(g)] = at2[static_cast<std::size_t>(g)] = -1;
+        const auto g = static_cast<std::size_t>(group_of_row[static_cast<std::size_t>(inner[i])]);
+        if (group_of_row[static_cast<std::size_t>(inner[i])] < 0 || (at1[g] < 0 && at2[g] < 0)) continue;
+        if (at1[g] < 0 || at2[g] < 0) throw InternalError("a group's two rows do not share their pattern");
+        groups_[g].in_columns.emplace_back(at1[g], at2[g]);
+        at1[g] = at2[g] = -1;
       }
     }
     for (Group& g : groups_) {
+      // the group's two columns in this process's rows (all of them in one process)
       const Eigen::Index n1 = outer[g.row1 + 1] - outer[g.row1];
-      if (n1 != outer[g.row2 + 1] - outer[g.row2] || static_cast<Eigen::Index>(g.in_columns.size()) != n1)
-        throw InternalError("a group's two rows do not share their pattern");
+      if (n1 != outer[g.row2 + 1] - outer[g.row2])
+        throw InternalError("a group's two columns do not share their pattern");
       for (Eigen::Index q = 0; q < n1; ++q) {
         if (inner[outer[g.row1] + q] != inner[outer[g.row2] + q])
           throw InternalError("a group's two columns do not share their pattern");
         g.columns.emplace_back(outer[g.row1] + q, outer[g.row2] + q);
       }
+    }
+  }
+
+  // The groups of other processes whose two unknowns are ghost columns here (a node's unknowns
+  // are read together): each owner sends, at a group's first unknown, the global number of its
+  // second, and where the pairs of entries of the two columns lie in A's values.
+  void find_ghost_groups() {
+    const RowLayout& layout = all_.layout();
+    Eigen::VectorXd partner = Eigen::VectorXd::Zero(A_.cols());
+    for (const Group& g : groups_) partner(g.row1) = static_cast<double>(layout.first + g.row2 + 1);
+    all_.update_ghosts(partner);
+    std::unordered_map<Eigen::Index, Eigen::Index> ghost_column;
+    for (std::size_t k = 0; k < layout.ghosts.size(); ++k)
+      ghost_column.emplace(layout.ghosts[k], layout.owned + static_cast<Eigen::Index>(k));
+    const int* outer = A_.outerIndexPtr();
+    const int* inner = A_.innerIndexPtr();
+    for (Eigen::Index c1 = layout.owned; c1 < A_.cols(); ++c1) {
+      if (partner(c1) == 0.0) continue;
+      const auto found = ghost_column.find(static_cast<Eigen::Index>(partner(c1)) - 1);
+      if (found == ghost_column.end()) throw InternalError("a group's second unknown is not read with its first");
+      const Eigen::Index c2 = found->second;
+      GhostGroup g;
+      g.column1 = c1;
+      g.column2 = c2;
+      const Eigen::Index n1 = outer[c1 + 1] - outer[c1];
+      if (n1 != outer[c2 + 1] - outer[c2]) throw InternalError("a group's two columns do not share their pattern");
+      for (Eigen::Index q = 0; q < n1; ++q) {
+        if (inner[outer[c1] + q] != inner[outer[c2] + q])
+          throw InternalError("a group's two columns do not share their pattern");
+        g.columns.emplace_back(outer[c1] + q, outer[c2] + q);
+      }
+      ghost_groups_.push_back(std::move(g));
     }
   }
 
@@ -767,17 +815,34 @@ class FullSpaceNewton {
       }
     }
   }
-  // H's values R^T H R for each group's rotation R = [e t] (H has A's storage).
+  // H's values R^T H R for each group's rotation R = [e t] (H has A's storage); on several
+  // processes also the ghost columns of other processes' groups, whose frames their owners send
+  // (collective where any process has a group).
   void rotate_groups(SparseMatrix& H, const Motions& motions) const {
     double* v = H.valuePtr();
+    const auto rotate = [v](const Eigen::Vector2d& e, const Eigen::Vector2d& t,
+                            const std::vector<std::pair<Eigen::Index, Eigen::Index>>& pairs) {
+      for (const auto& [i, j] : pairs) {
+        const double a = v[i], b = v[j];
+        v[i] = e(0) * a + e(1) * b;
+        v[j] = t(0) * a + t(1) * b;
+      }
+    };
     for (std::size_t k = 0; k < groups_.size(); ++k) {
       const Eigen::Vector2d e = motions.group[k].e, t = motions.group[k].t;
-      for (const auto* pairs : {&groups_[k].in_columns, &groups_[k].columns})
-        for (const auto& [i, j] : *pairs) {
-          const double a = v[i], b = v[j];
-          v[i] = e(0) * a + e(1) * b;
-          v[j] = t(0) * a + t(1) * b;
-        }
+      rotate(e, t, groups_[k].in_columns);
+      rotate(e, t, groups_[k].columns);
+    }
+    if (all_.size() == 1 || !any_groups_) return;
+    Eigen::VectorXd frames = Eigen::VectorXd::Zero(A_.cols());
+    for (std::size_t k = 0; k < groups_.size(); ++k) {
+      frames(groups_[k].row1) = motions.group[k].e(0);
+      frames(groups_[k].row2) = motions.group[k].e(1);
+    }
+    all_.update_ghosts(frames);
+    for (const GhostGroup& g : ghost_groups_) {
+      const Eigen::Vector2d e(frames(g.column1), frames(g.column2));
+      rotate(e, Eigen::Vector2d(-e(1), e(0)), g.columns);  // t: e turned a quarter (group_motion.hpp)
     }
   }
 
@@ -792,6 +857,13 @@ class FullSpaceNewton {
   std::vector<char> is_coordinate_;  // 1: a coordinate's row, 2: a tied row
   std::vector<int> tied_;
   std::vector<Group> groups_;
+  /// The ghost columns of another process's group and the pairs of entries of the two columns.
+  struct GhostGroup {
+    Eigen::Index column1 = 0, column2 = 0;
+    std::vector<std::pair<Eigen::Index, Eigen::Index>> columns;
+  };
+  std::vector<GhostGroup> ghost_groups_;
+  bool any_groups_ = false;  ///< some process has a group (the same on every process)
 };
 
 }  // namespace

@@ -74,8 +74,12 @@ using RowDistributor = std::function<std::unique_ptr<RowDistribution>(RowLayout)
 /// coordinates) and full_space (with gathering the results); uniqueness_margin is NaN, as on the
 /// route in one process. With one process this is that route on one share holding every row.
 ///
-/// InputError (on every process alike) for what pose_share refuses and for friction of a solid
-/// (groups of coordinates) on several processes; NumericalError for a Krylov engine's failure.
+/// A solid's friction (groups of two coordinates) runs across processes as in one: each process
+/// turns its rows into the frames of its own groups' motions and its ghost columns into those of
+/// the groups of other processes it reads (their owners send the frames).
+///
+/// InputError (on every process alike) for what pose_share refuses; NumericalError for a Krylov
+/// engine's failure.
 template <int dim>
 BasicContactSolution<dim> solve_full_space_shares(const BasicContactProblem<dim>& problem, KrylovSolver& krylov,
                                                   ProcessWorld world, const RowDistributor& distribute,
