@@ -51,7 +51,7 @@ TEST(FrictionGroups, AGroupPinnedOntoTheConePointIsThereAtEveryStep) {
   // at 0 the group is classified afresh: it leaves along its gradient
   const GroupMotion at0 = group_motion(*law, kWeight, Eigen::Vector2d::Zero(), Eigen::Vector2d(0.3, -0.4), kBlock);
   EXPECT_EQ(at0.mode, GroupMotion::Mode::ray);
-  // farther from 0 than eps it is not pinned, and its trial points follow the step
+  // farther from 0 than eps it is not pinned
   GroupMotion far = group_motion(*law, kWeight, Eigen::Vector2d(1e-3, 0.0), Eigen::Vector2d(0.3, -0.4), kBlock);
   pin_group(far, 1e-6);
   EXPECT_TRUE(std::isnan(far.pin));

@@ -12,7 +12,6 @@
 #include <functional>
 #include <limits>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 namespace hemivem {
@@ -748,24 +747,33 @@ class FullSpaceNewton {
         if (const int g = group_of_row[static_cast<std::size_t>(inner[i])]; g >= 0)
           (inner[i] == groups_[static_cast<std::size_t>(g)].row1 ? at1 : at2)[static_cast<std::size_t>(g)] = i;
       for (Eigen::Index i = outer[j]; i < outer[j + 1]; ++i) {
-        const auto g = static_cast<std::size_t>(group_of_row[static_cast<std::size_t>(inner[i])]);
-        if (group_of_row[static_cast<std::size_t>(inner[i])] < 0 || (at1[g] < 0 && at2[g] < 0)) continue;
+        const int k = group_of_row[static_cast<std::size_t>(inner[i])];
+        if (k < 0) continue;
+        const auto g = static_cast<std::size_t>(k);
+        if (at1[g] < 0 && at2[g] < 0) continue;  // the group's pair in this column already taken
         if (at1[g] < 0 || at2[g] < 0) throw InternalError("a group's two rows do not share their pattern");
         groups_[g].in_columns.emplace_back(at1[g], at2[g]);
         at1[g] = at2[g] = -1;
       }
     }
-    for (Group& g : groups_) {
-      // the group's two columns in this process's rows (all of them in one process)
-      const Eigen::Index n1 = outer[g.row1 + 1] - outer[g.row1];
-      if (n1 != outer[g.row2 + 1] - outer[g.row2])
+    // the group's two columns in this process's rows (all of them in one process)
+    for (Group& g : groups_) g.columns = column_pairs(g.row1, g.row2);
+  }
+
+  // The places in A's values of the entries of columns c1 and c2 in the same row, pair by pair;
+  // InternalError when the two columns do not share their pattern.
+  std::vector<std::pair<Eigen::Index, Eigen::Index>> column_pairs(Eigen::Index c1, Eigen::Index c2) const {
+    const int* outer = A_.outerIndexPtr();
+    const int* inner = A_.innerIndexPtr();
+    const Eigen::Index n1 = outer[c1 + 1] - outer[c1];
+    if (n1 != outer[c2 + 1] - outer[c2]) throw InternalError("a group's two columns do not share their pattern");
+    std::vector<std::pair<Eigen::Index, Eigen::Index>> pairs;
+    for (Eigen::Index q = 0; q < n1; ++q) {
+      if (inner[outer[c1] + q] != inner[outer[c2] + q])
         throw InternalError("a group's two columns do not share their pattern");
-      for (Eigen::Index q = 0; q < n1; ++q) {
-        if (inner[outer[g.row1] + q] != inner[outer[g.row2] + q])
-          throw InternalError("a group's two columns do not share their pattern");
-        g.columns.emplace_back(outer[g.row1] + q, outer[g.row2] + q);
-      }
+      pairs.emplace_back(outer[c1] + q, outer[c2] + q);
     }
+    return pairs;
   }
 
   // The groups of other processes whose two unknowns are ghost columns here (a node's unknowns
@@ -776,26 +784,17 @@ class FullSpaceNewton {
     Eigen::VectorXd partner = Eigen::VectorXd::Zero(A_.cols());
     for (const Group& g : groups_) partner(g.row1) = static_cast<double>(layout.first + g.row2 + 1);
     all_.update_ghosts(partner);
-    std::unordered_map<Eigen::Index, Eigen::Index> ghost_column;
-    for (std::size_t k = 0; k < layout.ghosts.size(); ++k)
-      ghost_column.emplace(layout.ghosts[k], layout.owned + static_cast<Eigen::Index>(k));
-    const int* outer = A_.outerIndexPtr();
-    const int* inner = A_.innerIndexPtr();
     for (Eigen::Index c1 = layout.owned; c1 < A_.cols(); ++c1) {
       if (partner(c1) == 0.0) continue;
-      const auto found = ghost_column.find(static_cast<Eigen::Index>(partner(c1)) - 1);
-      if (found == ghost_column.end()) throw InternalError("a group's second unknown is not read with its first");
-      const Eigen::Index c2 = found->second;
+      // the ghosts increase (RowLayout): the second unknown's local column by bisection
+      const auto second = static_cast<Eigen::Index>(partner(c1)) - 1;
+      const auto found = std::lower_bound(layout.ghosts.begin(), layout.ghosts.end(), second);
+      if (found == layout.ghosts.end() || *found != second)
+        throw InternalError("a group's second unknown is not read with its first");
       GhostGroup g;
       g.column1 = c1;
-      g.column2 = c2;
-      const Eigen::Index n1 = outer[c1 + 1] - outer[c1];
-      if (n1 != outer[c2 + 1] - outer[c2]) throw InternalError("a group's two columns do not share their pattern");
-      for (Eigen::Index q = 0; q < n1; ++q) {
-        if (inner[outer[c1] + q] != inner[outer[c2] + q])
-          throw InternalError("a group's two columns do not share their pattern");
-        g.columns.emplace_back(outer[c1] + q, outer[c2] + q);
-      }
+      g.column2 = layout.owned + (found - layout.ghosts.begin());
+      g.columns = column_pairs(g.column1, g.column2);
       ghost_groups_.push_back(std::move(g));
     }
   }

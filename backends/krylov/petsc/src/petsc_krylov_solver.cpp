@@ -81,6 +81,10 @@ Eigen::MatrixXd distributed_orthonormal_basis(MPI_Comm comm, const Eigen::Matrix
   return Q_local * Q_stacked.middleRows(offset, m);
 }
 
+/// Whether PETSc can read A's compressed arrays as its own (its indices are int as Eigen's): the
+/// sequential matrix and the diagonal block of a distributed one are then A's arrays.
+bool petsc_reads_in_place(const SparseMatrix& A) { return A.isCompressed() && sizeof(PetscInt) == sizeof(int); }
+
 /// The global column of local column c of a process's rows (its owned rows, then its ghosts).
 Eigen::Index global_column(const RowLayout& layout, Eigen::Index c) {
   return c < layout.owned ? layout.first + c : layout.ghosts[static_cast<std::size_t>(c - layout.owned)];
@@ -169,8 +173,8 @@ struct PetscKrylovSolver::Impl {
   ///   twice; otherwise a copy (d_starts, d_columns, d_values);
   /// - the off-diagonal block (the owned rows, the columns of other processes: a layer of the
   ///   rows' neighbours) is a CSR copy, its columns global and increasing in each row (PETSc
-  ///   numbers them again in place), its values written from A's ghost columns in the order of
-  ///   their global columns (`ghost_order`).
+  ///   numbers them again in place), its values written from A's ghost columns, whose global
+  ///   columns increase with them (RowLayout::ghosts).
   MPI_Comm comm = PETSC_COMM_SELF;
   bool distributed = false;
   bool diagonal_copied = false;
@@ -178,7 +182,6 @@ struct PetscKrylovSolver::Impl {
   std::vector<PetscScalar> d_values;
   std::vector<PetscInt> o_starts, o_columns;
   std::vector<PetscScalar> o_values;
-  std::vector<Eigen::Index> ghost_order;
   /// The arrays of the A the matrix was made from and a checksum of its pattern and layout.
   const void* source_values = nullptr;
   const void* source_starts = nullptr;
@@ -227,7 +230,7 @@ struct PetscKrylovSolver::Impl {
   /// where it is a copy (otherwise PETSc reads them in A).
   void write_block_values(const SparseMatrix& A) {
     std::vector<PetscInt> next(o_starts.begin(), o_starts.end() - 1);
-    for (const Eigen::Index j : ghost_order)
+    for (Eigen::Index j = size; j < A.cols(); ++j)
       for (SparseMatrix::InnerIterator it(A, j); it; ++it)
         o_values[static_cast<std::size_t>(next[static_cast<std::size_t>(it.row())]++)] = it.value();
     if (!diagonal_copied) return;
@@ -240,13 +243,8 @@ struct PetscKrylovSolver::Impl {
   /// block's where it is a copy), then their values (write_block_values()).
   void make_blocks(const SparseMatrix& A, const RowLayout& layout) {
     const auto owned = static_cast<std::size_t>(layout.owned);
-    ghost_order.resize(static_cast<std::size_t>(A.cols() - layout.owned));
-    std::iota(ghost_order.begin(), ghost_order.end(), layout.owned);
-    std::sort(ghost_order.begin(), ghost_order.end(), [&layout](Eigen::Index a, Eigen::Index b) {
-      return global_column(layout, a) < global_column(layout, b);
-    });
     o_starts.assign(owned + 1, 0);
-    for (const Eigen::Index j : ghost_order)
+    for (Eigen::Index j = layout.owned; j < A.cols(); ++j)
       for (SparseMatrix::InnerIterator it(A, j); it; ++it) ++o_starts[static_cast<std::size_t>(it.row()) + 1];
     std::partial_sum(o_starts.begin(), o_starts.end(), o_starts.begin());
     // never a null array for PETSc, even without entries
@@ -255,12 +253,12 @@ struct PetscKrylovSolver::Impl {
     o_columns.resize(static_cast<std::size_t>(o_starts.back()));
     o_values.resize(static_cast<std::size_t>(o_starts.back()));
     std::vector<PetscInt> next(o_starts.begin(), o_starts.end() - 1);
-    for (const Eigen::Index j : ghost_order) {
+    for (Eigen::Index j = layout.owned; j < A.cols(); ++j) {
       const auto column = static_cast<PetscInt>(global_column(layout, j));
       for (SparseMatrix::InnerIterator it(A, j); it; ++it)
         o_columns[static_cast<std::size_t>(next[static_cast<std::size_t>(it.row())]++)] = column;
     }
-    diagonal_copied = !A.isCompressed() || sizeof(PetscInt) != sizeof(int);
+    diagonal_copied = !petsc_reads_in_place(A);
     if (diagonal_copied) {
       d_starts.assign(owned + 1, 0);
       for (Eigen::Index j = 0; j < layout.owned; ++j)
@@ -286,7 +284,6 @@ struct PetscKrylovSolver::Impl {
     std::vector<PetscInt>().swap(o_starts);
     std::vector<PetscInt>().swap(o_columns);
     std::vector<PetscScalar>().swap(o_values);
-    std::vector<Eigen::Index>().swap(ghost_order);
     diagonal_copied = false;
   }
 
@@ -391,7 +388,7 @@ struct PetscKrylovSolver::Impl {
   /// then the transpose, as close to A). Where PETSc's indices are int and A is compressed, the
   /// matrix reads A's own arrays; otherwise it holds a copy.
   PetscErrorCode setup(const SparseMatrix& A, const KrylovHints& hints, std::string* error) {
-    const bool readable = A.isCompressed() && sizeof(PetscInt) == sizeof(int);
+    const bool readable = petsc_reads_in_place(A);
     size = static_cast<PetscInt>(A.rows());
     if (readable) {
       // PETSc reads A's arrays for as long as the matrix lives (the contract keeps A alive)
