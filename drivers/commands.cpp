@@ -97,16 +97,16 @@ namespace {
 
 /// Several processes started by an MPI launcher share the outputs: only an engine that runs
 /// across them does (mumps-mpi; petsc-gamg and petsc-hypre on the full-space route, a static
-/// solve only), and rank 0 writes (docs/cluster.md).
+/// solve or a loading path), and rank 0 writes (docs/cluster.md).
 void require_one_process_or_an_engine_across(const Scene& scene, RunKind kind) {
   const LaunchedProcesses launched = launched_processes();
   if (launched.size <= 1 || same_engine(scene.solver.linear, "mumps-mpi")) return;
   const std::string started = "started as " + std::to_string(launched.size) + " processes by an MPI launcher";
   if (is_krylov_solver(scene.solver.linear) && make_krylov_solver(scene.solver.linear)->runs_across_processes()) {
-    if (kind == RunKind::static_solve) return;
-    throw InputError(started + ", but " + (kind == RunKind::path ? "a loading path" : "an adaptive solve") +
-                         " on the full-space route runs in one process: run it without mpirun",
-                     kind == RunKind::path ? scene.where("path") : scene.where("adapt"));
+    if (kind != RunKind::adaptive) return;
+    throw InputError(started + ", but an adaptive solve on the full-space route runs in one process: run it without "
+                               "mpirun",
+                     scene.where("adapt"));
   }
   throw InputError(started + ", but the linear engine '" + scene.solver.linear +
                        "' runs in one process (the processes would race on the same outputs); use --linear mumps-mpi, "

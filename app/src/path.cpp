@@ -125,7 +125,7 @@ void solve_path_built(const Scene& scene, SceneEngines& e, Solved& s,
   if (!s.built->has_contact)
     throw InputError("a loading path needs a contact boundary: the scene has none", scene.where("path"));
   require_path_memory<dim>(scene, s.built->problem, !out.empty());
-  if (!out.empty()) {  // the folder's transaction, before the first step: each step is written as it comes
+  if (!out.empty() && s.holds_results) {  // the folder's transaction, before the first step: each step is written as it comes
     check_output_folder(out);
     std::vector<std::string> parts;
     for (const auto& part : s.built->problem.parts) parts.push_back(part.name);
@@ -139,6 +139,10 @@ void solve_path_built(const Scene& scene, SceneEngines& e, Solved& s,
   // for a run that writes them
   if (scene.path && writes_frames(scene)) po.frame = [path = *scene.path](int k) { return path.is_frame(k); };
   po.keep_steps = !s.path_output;
+  if (e.krylov && e.processes > 1) {  // the full-space route across processes: each solves its share
+    po.distribute = make_distributed_rows;
+    po.world = krylov_world();
+  }
   if (on_step || s.path_output)
     po.on_step = [&](const BasicPathStep<dim>& step) {
       if (s.path_output) s.path_output->files.add(step);
@@ -158,7 +162,7 @@ void solve_path_built(const Scene& scene, SceneEngines& e, Solved& s,
   s.warnings = s.built->warnings;
   // the problem's data at the last step, for the error estimate
   set_load_factor(scene, path.steps.back().t, s.built->problem);
-  if (s.solution.u.size() > 0 && s.solution.u.allFinite()) {
+  if (s.holds_results && s.solution.u.size() > 0 && s.solution.u.allFinite()) {
     s.estimate = estimate_error(s.built->problem, s.solution);
     s.solution.stages.push_back("estimate");
     s.solution.timings["estimate"] = s.estimate->seconds;

@@ -937,7 +937,20 @@ void share_coordinates(const Condensation& posed, Eigen::Index first, Eigen::Ind
     if (mine(posed.rotated_index(k))) {
       in_share[static_cast<std::size_t>(k)] = static_cast<Eigen::Index>(share.coordinate_numbers.size());
       share.coordinate_numbers.push_back(k);
+      share.coordinate_rows.push_back(posed.rotated_index(k) - static_cast<int>(first));
     }
+  set_share_coordinates(p, posed.origin(), share);
+  for (const CoordinateGroup& g : p.groups) {
+    const Eigen::Index a = in_share[static_cast<std::size_t>(g.first)], b = in_share[static_cast<std::size_t>(g.second)];
+    if ((a < 0) != (b < 0)) throw InternalError("a share that splits a group's two unknowns");
+    if (a >= 0) share.coordinates.groups.push_back({a, b});
+  }
+  for (int row : posed.tied_rows())
+    if (mine(row)) share.tied_rows.push_back(row - static_cast<int>(first));
+}
+
+void set_share_coordinates(const ReducedProblem& p, const Eigen::VectorXd& origin, FullSpaceShare& share) {
+  if (origin.size() != p.size()) throw InternalError("the full-space route needs an origin for each coordinate");
   const auto m = static_cast<Eigen::Index>(share.coordinate_numbers.size());
   ReducedProblem& q = share.coordinates;
   q.laws = p.laws;
@@ -949,20 +962,13 @@ void share_coordinates(const Condensation& posed, Eigen::Index first, Eigen::Ind
   share.origin.resize(m);
   for (Eigen::Index i = 0; i < m; ++i) {
     const Eigen::Index k = share.coordinate_numbers[static_cast<std::size_t>(i)];
+    if (k < 0 || k >= p.size()) throw InternalError("a share's coordinate outside the whole problem's");
     q.w(i) = p.w(k);
     q.law_index(i) = p.law_index(k);
     q.lo(i) = p.lower(k);
     q.hi(i) = p.upper(k);
-    share.origin(i) = posed.origin()(k);
-    share.coordinate_rows.push_back(posed.rotated_index(k) - static_cast<int>(first));
+    share.origin(i) = origin(k);
   }
-  for (const CoordinateGroup& g : p.groups) {
-    const Eigen::Index a = in_share[static_cast<std::size_t>(g.first)], b = in_share[static_cast<std::size_t>(g.second)];
-    if ((a < 0) != (b < 0)) throw InternalError("a share that splits a group's two unknowns");
-    if (a >= 0) q.groups.push_back({a, b});
-  }
-  for (int row : posed.tied_rows())
-    if (mine(row)) share.tied_rows.push_back(row - static_cast<int>(first));
 }
 
 FullSpaceShare share_of(const Condensation& posed, const RowLayout& layout) {

@@ -117,6 +117,7 @@ struct SharePosing {
   DofMap dofs;
   ContactSetUp<dim> contact;
   std::unique_ptr<Condensation> posed;
+  Eigen::VectorXd load;  // the share's rows of the load, unrotated
 };
 
 template <int dim>
@@ -144,6 +145,7 @@ SharePosing<dim> pose_share_and_surface(const BasicContactProblem<dim>& problem,
   std::vector<int> owned_unknowns(static_cast<std::size_t>(rows.owned));
   std::iota(owned_unknowns.begin(), owned_unknowns.end(), static_cast<int>(rows.first));
   share.share.load = posed.rotated_part(rows.b, owned_unknowns);
+  out.load = std::move(rows.b);
   share_coordinates(posed, rows.first, rows.owned, share.share);
   share.near_null_space = near_null_rows<dim>(*problem.elasticity.mesh, posed, rows, owned_unknowns);
   share.block_size = node_block_size(rows.dofs, dim);
@@ -187,55 +189,158 @@ std::pair<int, int> vertex_share(int num_vertices, int rank, int size) {
 }
 
 template <int dim>
+struct FullSpaceShares<dim>::Impl {
+  SharePosing<dim> posing;
+  KrylovSolver& krylov;
+  std::unique_ptr<RowDistribution> rows;
+  KrylovHints hints;
+  std::vector<int> owned_unknowns;  // the free unknowns of the share's rows
+  double posing_seconds = 0.0;
+
+  Impl(SharePosing<dim> p, KrylovSolver& k, std::unique_ptr<RowDistribution> r, double seconds)
+      : posing(std::move(p)),
+        krylov(k),
+        rows(std::move(r)),
+        hints(posing.share.near_null_space, posing.share.block_size),
+        owned_unknowns(static_cast<std::size_t>(posing.share.layout.owned)),
+        posing_seconds(seconds) {
+    hints.rows = rows.get();
+    std::iota(owned_unknowns.begin(), owned_unknowns.end(), static_cast<int>(posing.share.layout.first));
+  }
+};
+
+namespace {
+
+template <int dim>
+SharePosing<dim> pose_process_share(const BasicContactProblem<dim>& problem, ProcessWorld world) {
+  if (!problem.elasticity.mesh) throw InputError("the elasticity problem has no mesh");
+  const auto [first, end] = vertex_share(problem.elasticity.mesh->num_vertices(), world.rank, world.size);
+  return pose_share_and_surface(problem, first, end);
+}
+
+}  // namespace
+
+template <int dim>
+FullSpaceShares<dim>::FullSpaceShares(const BasicContactProblem<dim>& problem, KrylovSolver& krylov, ProcessWorld world,
+                                      const RowDistributor& distribute) {
+  const auto start = std::chrono::steady_clock::now();
+  SharePosing<dim> posing = pose_process_share(problem, world);
+  const double seconds = since(start);
+  std::unique_ptr<RowDistribution> rows = distribute(posing.share.layout);
+  impl_ = std::make_unique<Impl>(std::move(posing), krylov, std::move(rows), seconds);
+}
+
+template <int dim>
+FullSpaceShares<dim>::~FullSpaceShares() = default;
+
+template <int dim>
+Condensation& FullSpaceShares<dim>::posed() noexcept {
+  return *impl_->posing.posed;
+}
+
+template <int dim>
+const Condensation& FullSpaceShares<dim>::posed() const noexcept {
+  return *impl_->posing.posed;
+}
+
+template <int dim>
+const DofMap& FullSpaceShares<dim>::dofs() const noexcept {
+  return impl_->posing.dofs;
+}
+
+template <int dim>
+const ContactSetUp<dim>& FullSpaceShares<dim>::contact() const noexcept {
+  return impl_->posing.contact;
+}
+
+template <int dim>
+const RowLayout& FullSpaceShares<dim>::layout() const noexcept {
+  return impl_->posing.share.layout;
+}
+
+template <int dim>
+const RowDistribution& FullSpaceShares<dim>::distribution() const noexcept {
+  return *impl_->rows;
+}
+
+template <int dim>
+double FullSpaceShares<dim>::posing_seconds() const noexcept {
+  return impl_->posing_seconds;
+}
+
+template <int dim>
+Eigen::VectorXd FullSpaceShares<dim>::whole_load() const {
+  return impl_->rows->all_gather(impl_->posing.load);
+}
+
+template <int dim>
+void FullSpaceShares<dim>::set_load(const Eigen::VectorXd& b, const Eigen::VectorXd& prescribed) {
+  Condensation& posed = *impl_->posing.posed;
+  posed.set_load(b, prescribed);
+  const RowLayout& layout = impl_->posing.share.layout;
+  impl_->posing.share.share.load = posed.rotated_load().segment(layout.first, layout.owned);
+}
+
+template <int dim>
+auto FullSpaceShares<dim>::minimize(const ReducedProblem& coordinates, const Eigen::VectorXd& origin,
+                                    const MinimizerOptions& options, const Eigen::VectorXd& start,
+                                    FullSpaceStatistics* statistics) -> Point {
+  Impl& p = *impl_;
+  PosedShare& mine = p.posing.share;
+  const RowDistribution& rows = *p.rows;
+  if (start.size() != 0 && start.size() != mine.layout.global)
+    throw InternalError("a start of the full-space route needs every rotated unknown");
+  set_share_coordinates(coordinates, origin, mine.share);
+  Eigen::VectorXd x = start.size() ? Eigen::VectorXd(start.segment(mine.layout.first, mine.layout.owned)) : Eigen::VectorXd();
+  Point point;
+  point.result = minimize_full_space_in_place(mine.share, p.krylov, p.hints, options, &x, statistics);
+  // the residual of the owned rows and the energy of the quadratic part, over the processes
+  Eigen::VectorXd with_ghosts(rows.columns());
+  with_ghosts.head(mine.layout.owned) = x;
+  rows.update_ghosts(with_ghosts);
+  const Eigen::VectorXd Ax = mine.share.matrix * with_ghosts;
+  point.quadratic = rows.sum(0.5 * x.dot(Ax) - x.dot(mine.share.load));
+  point.xt = rows.all_gather(x);
+  point.residual = rows.all_gather(Ax - mine.share.load);
+  gather_coordinates(rows, mine.share, coordinates.size(), point.result);
+  return point;
+}
+
+template <int dim>
 BasicContactSolution<dim> solve_full_space_shares(const BasicContactProblem<dim>& problem, KrylovSolver& krylov,
                                                   ProcessWorld world, const RowDistributor& distribute,
                                                   const MinimizerOptions& options) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
-  if (!problem.elasticity.mesh) throw InputError("the elasticity problem has no mesh");
   if (std::string why; !options.is_valid(&why)) throw InputError(why, "MinimizerOptions");
   BasicContactSolution<dim> s;
-  const auto [first, end] = vertex_share(problem.elasticity.mesh->num_vertices(), world.rank, world.size);
-  SharePosing<dim> posing = pose_share_and_surface(problem, first, end);
-  const Condensation& posed = *posing.posed;
-  PosedShare& mine = posing.share;
-  s.unknowns = posing.dofs.num_free();
-  for (const auto& part : posing.contact.parts) s.contact_parts.push_back(part.name);
-  s.held_by_contact = posing.contact.held_by_contact;
+  FullSpaceShares<dim> shares(problem, krylov, world, distribute);
+  const Condensation& posed = shares.posed();
+  s.unknowns = shares.dofs().num_free();
+  for (const auto& part : shares.contact().parts) s.contact_parts.push_back(part.name);
+  s.held_by_contact = shares.contact().held_by_contact;
   s.uniqueness_margin = std::numeric_limits<double>::quiet_NaN();
   s.uniqueness_roundoff = std::numeric_limits<double>::quiet_NaN();
-  s.timings["posing"] = since(start);
+  s.timings["posing"] = shares.posing_seconds();
   s.stages.push_back("posing");
 
   const auto t = Clock::now();
-  const std::unique_ptr<RowDistribution> rows = distribute(mine.layout);
-  KrylovHints hints(mine.near_null_space, mine.block_size);
-  hints.rows = rows.get();
-  Eigen::VectorXd x;
   FullSpaceStatistics stats;
-  MinimizerResult m = minimize_full_space_in_place(mine.share, krylov, hints, options, &x, &stats);
-  // the residual of the owned rows and the energy of the quadratic part, over the processes
-  Eigen::VectorXd with_ghosts(rows->columns());
-  with_ghosts.head(mine.layout.owned) = x;
-  rows->update_ghosts(with_ghosts);
-  const Eigen::VectorXd Ax = mine.share.matrix * with_ghosts;
-  const double quadratic = rows->sum(0.5 * x.dot(Ax) - x.dot(mine.share.load));
-  const Eigen::VectorXd xt = rows->all_gather(x);
-  const Eigen::VectorXd residual = rows->all_gather(Ax - mine.share.load);
-  gather_coordinates(*rows, mine.share, posed.reduced().size(), m);
+  auto point = shares.minimize(posed.reduced(), posed.origin(), options, Eigen::VectorXd(), &stats);
+  MinimizerResult& m = point.result;
   s.status = m.status;
   s.message = m.message;
   s.certificate = m.certificate;
   s.may_be_nonunique = m.may_be_nonunique;
-  s.energy = posed.reduced().law_energy(m.a, quadratic);
+  s.energy = posed.reduced().law_energy(m.a, point.quadratic);
   std::exception_ptr failure;  // rank 0's, told to every process so that none waits for it
   if (world.rank == 0) {        // the results of the whole problem, where they are written
     try {
-      s.u = posed.displacement_of(xt);
-      const Eigen::VectorXd unrotated = posed.unrotated_free(residual);
-      const ContactBoundary& boundary = posing.contact.boundary;
+      s.u = posed.displacement_of(point.xt);
+      const Eigen::VectorXd unrotated = posed.unrotated_free(point.residual);
+      const ContactBoundary& boundary = shares.contact().boundary;
       for (int i = 0; i < boundary.size(); ++i)
-        s.contact.push_back(contact_node(*problem.elasticity.mesh, boundary, posed, posing.dofs, i, m, &unrotated));
+        s.contact.push_back(contact_node(*problem.elasticity.mesh, boundary, posed, shares.dofs(), i, m, &unrotated));
       s.forces = contact_force_balance<dim>(problem.elasticity, s.u, s.contact);
       require_finite_solution(s);
     } catch (...) {
@@ -250,7 +355,7 @@ BasicContactSolution<dim> solve_full_space_shares(const BasicContactProblem<dim>
   // rank 0's verdict, which the finiteness of the whole displacement may have demoted, on every
   // process; -2 when rank 0 failed to make the results
   const double told = world.rank != 0 ? -3.0 : failure ? -2.0 : static_cast<double>(static_cast<int>(s.status));
-  const double verdict = rows->max(told);
+  const double verdict = shares.distribution().max(told);
   if (failure) std::rethrow_exception(failure);
   if (verdict == -2.0) throw InternalError("the process of rank 0 failed to make the results of the whole problem");
   if (world.rank != 0 && static_cast<int>(verdict) != static_cast<int>(s.status)) {
@@ -265,6 +370,8 @@ template PosedShare pose_share<2>(const ContactProblem&, int, int);
 template PosedShare pose_share<3>(const BasicContactProblem<3>&, int, int);
 template ContactSolution solve_full_space_shares<2>(const ContactProblem&, KrylovSolver&, ProcessWorld,
                                                     const RowDistributor&, const MinimizerOptions&);
+template class FullSpaceShares<2>;
+template class FullSpaceShares<3>;
 template BasicContactSolution<3> solve_full_space_shares<3>(const BasicContactProblem<3>&, KrylovSolver&, ProcessWorld,
                                                             const RowDistributor&, const MinimizerOptions&);
 

@@ -198,6 +198,11 @@ struct BasicPathSolver<dim>::Impl {
   // the full-space route: the rotated free unknowns of the last minimization (each step starts
   // from the one before), and a proportional path's load, prescribed values and resultant at t = 1
   bool full = false;
+  // across processes (options.distribute): each process's share, and the residual (rotated) and
+  // quadratic energy of the last point found
+  std::unique_ptr<FullSpaceShares<dim>> shares;
+  Eigen::VectorXd shares_residual;
+  double shares_quadratic = 0.0;
   Eigen::VectorXd xt;
   Eigen::VectorXd full_b, full_prescribed;
   Point full_applied = Point::Zero();
@@ -218,6 +223,13 @@ struct BasicPathSolver<dim>::Impl {
   Eigen::VectorXd step_load(Step& s, Eigen::VectorXd* b, double* kappa);
   void data_at(const Step& s);
   void posed_load(Step& s, Eigen::VectorXd* b);
+  /// The full-space route's load of the step on the posed system (and the share's rows).
+  void set_posed_load(const Eigen::VectorXd& b, const Eigen::VectorXd& prescribed) {
+    if (shares)
+      shares->set_load(b, prescribed);
+    else
+      cond->set_load(b, prescribed);
+  }
   MinimizerResult minimize_once(const Eigen::VectorXd& from, const Eigen::VectorXd& origin);
   void minimize_alone(Step& s, const Eigen::VectorXd& from, const Eigen::VectorXd& origin);
   void make_load_current(Eigen::VectorXd* b);
@@ -254,6 +266,8 @@ void BasicPathSolver<dim>::Impl::set_up() {
     throw InputError("the full-space route (linear engine " + krylov->name() +
                      ") runs its own semismooth Newton iteration, the minimizer ssn: minimizer " + minimizer.name() +
                      " needs a linear engine that factorizes");
+  if (options.distribute && !krylov)
+    throw InputError("a loading path across processes runs on the full-space route: it needs a Krylov engine");
   if (factorization && processes_of(*factorization).num_processes() != 1)
     throw InputError("a loading path runs in one process; the linear engine " + factorization->name() +
                      " runs across processes: choose another");
@@ -286,7 +300,7 @@ void BasicPathSolver<dim>::Impl::set_up() {
   g = Eigen::VectorXd::Zero(n1);
   if (full) {  // nothing condensed: a step's load is set on the posed system
     condensed_loads = 0;
-    full_b = system->b;
+    full_b = shares ? shares->whole_load() : system->b;
     full_prescribed = dofs.prescribed;
     full_applied = resultant<dim>(assemble_load(*problem.elasticity.mesh, problem.elasticity.body_force,
                                                 problem.elasticity.tractions));
@@ -400,13 +414,13 @@ void BasicPathSolver<dim>::Impl::posed_load(Step& s, Eigen::VectorXd* b) {
   through.clear();
   if (loading.proportional()) {
     *b = s.t * full_b;
-    cond->set_load(*b, s.t * full_prescribed);
+    set_posed_load(*b, s.t * full_prescribed);
     s.applied = s.t * full_applied;
     return;
   }
   data_at(s);
   *b = v.head(dofs.num_free());
-  cond->set_load(*b, dofs.prescribed);
+  set_posed_load(*b, dofs.prescribed);
   const auto& e = problem.elasticity;
   s.applied = resultant<dim>(assemble_load(*e.mesh, e.body_force, e.tractions));
 }
@@ -417,7 +431,16 @@ template <int dim>
 MinimizerResult BasicPathSolver<dim>::Impl::minimize_once(const Eigen::VectorXd& from, const Eigen::VectorXd& origin) {
   if (!full) return minimizer.minimize(step, from, options.minimizer);
   FullSpaceStatistics statistics;
-  MinimizerResult m = pipeline->minimize_posed(step, origin, &xt, &statistics);
+  MinimizerResult m;
+  if (shares) {
+    auto point = shares->minimize(step, origin, options.minimizer, xt, &statistics);
+    m = std::move(point.result);
+    xt = std::move(point.xt);
+    shares_residual = std::move(point.residual);
+    shares_quadratic = point.quadratic;
+  } else {
+    m = pipeline->minimize_posed(step, origin, &xt, &statistics);
+  }
   timings["preconditioner"] += statistics.preconditioner_seconds;
   timings["krylov"] += statistics.krylov_seconds;
   return m;
@@ -468,19 +491,29 @@ void BasicPathSolver<dim>::Impl::make_load_current(Eigen::VectorXd* b) {
 // The stages of the static solve up to the condensation (BasicContactSolver::prepare).
 template <int dim>
 void BasicPathSolver<dim>::Impl::condense() {
-  pipeline = full ? std::make_unique<BasicContactSolver<dim>>(problem, std::move(krylov), options.minimizer)
-                  : std::make_unique<BasicContactSolver<dim>>(problem, std::move(factorization), options.minimizer);
-  pipeline->prepare();
-  system = &pipeline->system();
-  dofs = system->dofs;
-  parts = pipeline->parts();
-  boundary = pipeline->boundary();
-  held_by_contact = pipeline->prepared().held_by_contact;
-  for (const char* stage : {"assembly", "condensation", "posing"})
-    if (const auto it = pipeline->prepared().timings.find(stage); it != pipeline->prepared().timings.end())
-      timings[stage] = it->second;
+  if (full && options.distribute) {  // across processes: this process's share, the whole surface
+    shares = std::make_unique<FullSpaceShares<dim>>(problem, *krylov, options.world, options.distribute);
+    dofs = shares->dofs();
+    parts = shares->contact().parts;
+    boundary = shares->contact().boundary;
+    held_by_contact = shares->contact().held_by_contact;
+    timings["posing"] = shares->posing_seconds();
+    cond = &shares->posed();
+  } else {
+    pipeline = full ? std::make_unique<BasicContactSolver<dim>>(problem, std::move(krylov), options.minimizer)
+                    : std::make_unique<BasicContactSolver<dim>>(problem, std::move(factorization), options.minimizer);
+    pipeline->prepare();
+    system = &pipeline->system();
+    dofs = system->dofs;
+    parts = pipeline->parts();
+    boundary = pipeline->boundary();
+    held_by_contact = pipeline->prepared().held_by_contact;
+    for (const char* stage : {"assembly", "condensation", "posing"})
+      if (const auto it = pipeline->prepared().timings.find(stage); it != pipeline->prepared().timings.end())
+        timings[stage] = it->second;
+    cond = pipeline->condensation();
+  }
   if (boundary.size() == 0) throw InputError("the contact boundary of the path has no free node");
-  cond = pipeline->condensation();
   step = cond->reduced();
   n1 = boundary.size();
   // S does not change along the path: whether F is bounded below is decided once, at the first
@@ -699,11 +732,16 @@ void BasicPathSolver<dim>::Impl::describe_step(Step& s, const MinimizerResult& m
   if (u && b) {
     Eigen::VectorXd uf(dofs.num_free());
     for (int d = 0; d < dofs.num_free(); ++d) uf(d) = (*u)(dofs.free_dofs[static_cast<std::size_t>(d)]);
-    // on the full-space route the rotated matrix stands for one body's, which the posing gave up
-    const Eigen::VectorXd Au =
-        system->A.rows() == uf.size() ? Eigen::VectorXd(system->A * uf) : cond->unrotated_product(uf);
-    residual = Au - *b;
-    s.energy = 0.5 * uf.dot(Au) - uf.dot(*b);
+    if (shares) {  // across processes: the point's own, gathered (the frames are orthogonal)
+      residual = cond->unrotated_free(shares_residual);
+      s.energy = shares_quadratic;
+    } else {
+      // on the full-space route the rotated matrix stands for one body's, which the posing gave up
+      const Eigen::VectorXd Au =
+          system->A.rows() == uf.size() ? Eigen::VectorXd(system->A * uf) : cond->unrotated_product(uf);
+      residual = Au - *b;
+      s.energy = 0.5 * uf.dot(Au) - uf.dot(*b);
+    }
   } else {
     const Eigen::VectorXd& x = s.a;
     s.energy = 0.5 * x.dot(step.S * x) - c_raw.dot(x) + kappa;
@@ -781,7 +819,7 @@ BasicPathSolver<dim>::~BasicPathSolver() = default;
 template <int dim>
 BasicPathSolution<dim> BasicPathSolver<dim>::run() {
   Impl& p = *impl_;
-  if (p.pipeline) throw InternalError("PathSolver::run is called once");
+  if (p.cond) throw InternalError("PathSolver::run is called once");
   const auto start = Clock::now();
   p.set_up();
   BasicPathSolution<dim> out;

@@ -93,6 +93,10 @@ FullSpaceShare share_of(const Condensation& posed, const RowLayout& layout);
 /// owned - 1, put into `share` (empty there): its coordinates, coordinate_rows, origin, tied_rows
 /// and coordinate_numbers. InternalError for rows that split a group's two unknowns.
 void share_coordinates(const Condensation& posed, Eigen::Index first, Eigen::Index owned, FullSpaceShare& share);
+/// The laws, weights, bounds and origins of the share's coordinates (share.coordinate_numbers)
+/// set to those of the whole problem's `coordinates` and `origin` (posed.reduced() and
+/// posed.origin() with any of them changed, as a step of a path changes them).
+void set_share_coordinates(const ReducedProblem& coordinates, const Eigen::VectorXd& origin, FullSpaceShare& share);
 
 /// Collective over `rows`: certify_full_space() of the whole problem whose shares the processes
 /// hold, at their owned rows x; every process gets the same certificate and its own coordinates.

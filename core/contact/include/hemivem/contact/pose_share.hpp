@@ -62,6 +62,63 @@ std::pair<int, int> vertex_share(int num_vertices, int rank, int size);
 /// make_distributed_rows (hemivem/krylov_solver.hpp), which is the one the command passes.
 using RowDistributor = std::function<std::unique_ptr<RowDistribution>(RowLayout)>;
 
+/// The full-space route across processes for a sequence of solves of one problem (the steps of a
+/// loading path, hemivem/path/path.hpp): each process poses its share once (pose_share) and the
+/// coordinates of the whole contact surface (Condensation::CoordinatesOnly: its frames, laws,
+/// bounds and origins); each solve takes the whole problem's load and the coordinates' laws,
+/// weights, bounds and origins of the moment, and gives every process the whole point found,
+/// its residual and energy. Every member function but the accessors is collective: the
+/// processes make the same calls in the same order.
+template <int dim>
+class FullSpaceShares {
+ public:
+  /// Poses the share of process world.rank (vertex_share) and distributes the rows by
+  /// `distribute`; `krylov` is kept by reference and must outlive this. The InputErrors of
+  /// pose_share, on every process alike.
+  FullSpaceShares(const BasicContactProblem<dim>& problem, KrylovSolver& krylov, ProcessWorld world,
+                  const RowDistributor& distribute);
+  ~FullSpaceShares();
+  FullSpaceShares(const FullSpaceShares&) = delete;
+  FullSpaceShares& operator=(const FullSpaceShares&) = delete;
+
+  /// The posed coordinates of the whole contact surface; set_load() and set_gaps() on it change
+  /// them (set_load() here also changes the rows of the share).
+  Condensation& posed() noexcept;
+  const Condensation& posed() const noexcept;
+  const DofMap& dofs() const noexcept;
+  const ContactSetUp<dim>& contact() const noexcept;
+  const RowLayout& layout() const noexcept;
+  /// The distribution of the rows (its collectives: sum, max, all_gather).
+  const RowDistribution& distribution() const noexcept;
+  /// The seconds the posing took (the rows' assembly, rotation and the coordinates).
+  double posing_seconds() const noexcept;
+
+  /// The whole problem's free right-hand side as posed (the processes' rows gathered).
+  Eigen::VectorXd whole_load() const;
+  /// A new load of the whole problem, as Condensation::set_load takes it: posed() and this
+  /// process's rows take it. Not collective.
+  void set_load(const Eigen::VectorXd& b, const Eigen::VectorXd& prescribed);
+
+  /// What a solve gives every process: the point of the whole problem.
+  struct Point {
+    /// The minimizer's result of the whole problem: its certificate, verdict and counts, and
+    /// every coordinate's value a, law force and reaction.
+    MinimizerResult result;
+    Eigen::VectorXd xt;        ///< the rotated free unknowns of the whole problem
+    Eigen::VectorXd residual;  ///< A~ xt - b~, rotated, of every free unknown
+    double quadratic = 0.0;    ///< 1/2 xt.A~ xt - xt.b~
+  };
+  /// minimize_full_space() of the whole problem with the coordinates' laws, weights, bounds and
+  /// groups of `coordinates` (posed().reduced() with any of them changed; its S and c are not
+  /// read) and their `origin`, from the rotated unknowns `start` (empty: from 0).
+  Point minimize(const ReducedProblem& coordinates, const Eigen::VectorXd& origin, const MinimizerOptions& options,
+                 const Eigen::VectorXd& start = Eigen::VectorXd(), FullSpaceStatistics* statistics = nullptr);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 /// Collective over the processes of `world`: the full-space route of BasicContactSolver (a
 /// Krylov engine with the semismooth Newton iteration, nothing condensed), each process posing
 /// and solving the share of its vertices (vertex_share, pose_share), the rows distributed by

@@ -21,6 +21,7 @@
 #include <hemivem/contact/forces.hpp>
 #include <hemivem/contact/problem.hpp>
 #include <hemivem/contact/contact3d.hpp>
+#include <hemivem/contact/pose_share.hpp>
 #include <hemivem/contact/solver.hpp>
 #include <hemivem/nonsmooth_minimizer.hpp>
 #include <hemivem/sparse_factorization.hpp>
@@ -89,6 +90,13 @@ struct BasicPathOptions {
   /// on_step has seen it, and the solution's counts say the rest (solved_steps, converged_steps,
   /// jumps, the first failure): the memory of a path then does not grow with its steps.
   bool keep_steps = true;
+  /// The full-space route across processes (a Krylov engine with
+  /// KrylovSolver::runs_across_processes()): each process of `world` poses and solves its share
+  /// of every step (FullSpaceShares, hemivem/contact/pose_share.hpp), its rows distributed by
+  /// `distribute` (make_distributed_rows), and runs the path's own work on the whole contact
+  /// surface as every other process does; every process gets the whole path. Empty: one process.
+  RowDistributor distribute;
+  ProcessWorld world;
 };
 using PathOptions = BasicPathOptions<2>;
 
