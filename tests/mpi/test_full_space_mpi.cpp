@@ -15,6 +15,7 @@
 #include <hemivem/mesh/generators.hpp>
 #include <hemivem/mesh/generators3d.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
+#include <hemivem/path/path.hpp>
 #include <hemivem/scene/example.hpp>
 
 #include <gtest/gtest.h>
@@ -385,6 +386,105 @@ TEST(FullSpaceMpi, TheCommandsSolveAcrossProcessesIsTheCondensedAnswerWithASolid
     // condensed route's (11); with the ghost columns left out of the groups' frames, 19
     EXPECT_LE(s.iterations(), c.iterations() + 4) << c.iterations() << " iterations of the condensed route";
   });
+}
+
+// A loading path across processes (PathOptions::distribute): each process poses its share once
+// and solves it at every step, the path's own work (the fixed point on a Coulomb bound, the
+// steps' contact tables) done alike on every process. Against the condensed route's path
+// (Eigen's factorization and ssn) at every step: the contact unknowns, forces and friction states,
+// the energy, the fixed point's convergence, and the last displacement, on every process.
+template <int dim, class Problem>
+void expect_path_across_processes_as_the_condensed_route(Problem& problem, BasicPathLoading<dim> loading) {
+  const ProcessWorld world = krylov_world();
+  const auto ssn = make_minimizer("ssn");
+  BasicPathOptions<dim> across;
+  across.minimizer = tight();
+  across.distribute = make_distributed_rows;
+  across.world = world;
+  BasicPathOptions<dim> alone;
+  alone.minimizer = tight();
+  const BasicPathSolution<dim> s = solve_path(problem, make_krylov_solver("petsc-gamg"), *ssn, loading, across);
+  const BasicPathSolution<dim> c = solve_path(problem, factorization(), *ssn, loading, alone);
+  ASSERT_TRUE(c.converged());
+  ASSERT_TRUE(s.converged()) << s.last.message;
+  ASSERT_EQ(s.steps.size(), c.steps.size());
+  EXPECT_EQ(s.last.stages, (std::vector<std::string>{"posing", "path"}));
+  bool slip = false, stick = false;
+  for (std::size_t k = 0; k < c.steps.size(); ++k) {
+    SCOPED_TRACE("step " + std::to_string(k + 1));
+    const auto &a = s.steps[k], &b = c.steps[k];
+    EXPECT_TRUE(a.fixed_point.used && a.fixed_point.converged);
+    EXPECT_LE(a.certificate.worst(), 1e-10);
+    EXPECT_NEAR(a.energy, b.energy, 1e-8 * std::abs(b.energy));
+    ASSERT_EQ(a.contact.size(), b.contact.size());
+    double scale = 0.0, force = 0.0;
+    for (const auto& node : b.contact) {
+      scale = std::max({scale, std::abs(node.u_nu), node.u_tangential.norm()});
+      force = std::max(force, std::abs(node.force()));
+    }
+    ASSERT_GT(force, 0.0);
+    for (std::size_t i = 0; i < b.contact.size(); ++i) {
+      SCOPED_TRACE("contact node " + std::to_string(i));
+      EXPECT_NEAR(a.contact[i].u_nu, b.contact[i].u_nu, 1e-8 * scale);
+      EXPECT_LE((a.contact[i].u_tangential - b.contact[i].u_tangential).norm(), 1e-8 * scale);
+      EXPECT_NEAR(a.contact[i].force(), b.contact[i].force(), 1e-8 * force);
+      EXPECT_EQ(a.contact[i].friction_state, b.contact[i].friction_state);
+      EXPECT_LE((a.contact[i].friction_vector - b.contact[i].friction_vector).norm(), 1e-8 * force);
+      slip = slip || (b.contact[i].friction_state == FrictionState::slip && b.contact[i].force() > 0.0);
+      stick = stick || (b.contact[i].friction_state == FrictionState::stick && b.contact[i].force() > 0.0);
+    }
+  }
+  EXPECT_TRUE(slip && stick) << "the path lets nodes stick and slip";
+  ASSERT_EQ(s.last.u.size(), c.last.u.size());
+  EXPECT_LE((s.last.u - c.last.u).cwiseAbs().maxCoeff(), 1e-8 * c.last.u.cwiseAbs().maxCoeff());
+}
+
+// Example 4.1 pressed, then sheared along the top, on a Coulomb foundation (friction-coulomb.toml)
+TEST(FullSpaceMpi, ACoulombPathAcrossProcessesIsTheCondensedRoutesInThePlane) {
+  const Mesh mesh = make_squares(12);
+  ContactProblem problem = example_4_1(mesh);
+  problem.parts.front().friction = tresca_law(1.0);
+  problem.parts.front().friction_bound = FrictionBound{FrictionBound::Kind::coulomb, 0.3, {}};
+  PathLoading loading;
+  loading.t = {0.5, 1.0, 1.5, 2.0};
+  const auto top = problem.elasticity.tractions;
+  loading.update = [top](double t, ContactProblem& p) {
+    p.elasticity.tractions = top;
+    for (auto& traction : p.elasticity.tractions)
+      traction.traction = [t](const Vec2&) { return Vec2(4.0 * std::max(t - 1.0, 0.0), -8.0 * std::min(t, 1.0)); };
+  };
+  loading.updates_prescribed = false;
+  loading.updates_gaps = false;
+  expect_path_across_processes_as_the_condensed_route<2>(problem, loading);
+}
+
+// a block pressed onto a Coulomb foundation, then dragged by its top (groups of two tangential
+// coordinates, split between the processes' slabs)
+TEST(FullSpaceMpi, ACoulombPathAcrossProcessesIsTheCondensedRoutesInTheSolid) {
+  const Box block{0.0, 1.0, 0.0, 1.0, 0.0, 0.5};
+  const Mesh3D mesh = make_cubes({6, 6, 2}, block);
+  ContactProblem3D problem;
+  problem.elasticity.mesh = &mesh;
+  problem.elasticity.materials = MaterialTable(Material{100.0, 0.3}, PlaneModel::strain);
+  const auto top_at = [](double t) {
+    return [t](const Vec3&) {
+      return Vec3(0.01 * std::max(t - 1.0, 0.0), 0.003 * std::max(t - 1.0, 0.0), -0.004 * std::min(t, 1.0));
+    };
+  };
+  problem.elasticity.dirichlet.push_back({select_box_side(mesh, block, "top"), top_at(0.5), {true, true, true}, "top"});
+  ContactPart3D foundation;
+  foundation.name = "foundation";
+  foundation.facets = select_box_side(mesh, block, "bottom");
+  foundation.constraint = ConstraintKind::none;
+  foundation.law = linear_law(2000.0);
+  foundation.friction = tresca_law(1.0);
+  foundation.friction_bound = FrictionBound{FrictionBound::Kind::coulomb, 0.3, {}};
+  problem.parts.push_back(std::move(foundation));
+  BasicPathLoading<3> loading;
+  loading.t = {0.5, 1.0, 1.5, 2.0};
+  loading.update = [top_at](double t, ContactProblem3D& p) { p.elasticity.dirichlet.front().value = top_at(t); };
+  loading.updates_gaps = false;
+  expect_path_across_processes_as_the_condensed_route<3>(problem, loading);
 }
 
 }  // namespace

@@ -791,7 +791,9 @@ auto BasicPathSolver<dim>::Impl::last_solution(const Step& s, const MinimizerRes
   sol.held_by_contact = held_by_contact;
   sol.energy = s.energy;
   if (s.forces) sol.forces = *s.forces;
-  sol.stages = {"assembly", full ? "posing" : "condensation", "path"};
+  // across processes the posing assembles each process's rows
+  sol.stages = shares ? std::vector<std::string>{"posing", "path"}
+                      : std::vector<std::string>{"assembly", full ? "posing" : "condensation", "path"};
   if (sol.converged() && !sol.u.allFinite()) {
     sol.status = MinimizerStatus::failed;
     sol.message = "the displacement is not finite (NaN or Inf after back-substitution)";
