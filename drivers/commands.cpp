@@ -96,18 +96,13 @@ Scene load_scene(const SolveOptions& o) {
 namespace {
 
 /// Several processes started by an MPI launcher share the outputs: only an engine that runs
-/// across them does (mumps-mpi; petsc-gamg and petsc-hypre on the full-space route, a static
-/// solve or a loading path), and rank 0 writes (docs/cluster.md).
-void require_one_process_or_an_engine_across(const Scene& scene, RunKind kind) {
+/// across them does (mumps-mpi, a static solve; petsc-gamg and petsc-hypre on the full-space
+/// route, any solve), and rank 0 writes (docs/cluster.md).
+void require_one_process_or_an_engine_across(const Scene& scene) {
   const LaunchedProcesses launched = launched_processes();
   if (launched.size <= 1 || same_engine(scene.solver.linear, "mumps-mpi")) return;
+  if (is_krylov_solver(scene.solver.linear) && make_krylov_solver(scene.solver.linear)->runs_across_processes()) return;
   const std::string started = "started as " + std::to_string(launched.size) + " processes by an MPI launcher";
-  if (is_krylov_solver(scene.solver.linear) && make_krylov_solver(scene.solver.linear)->runs_across_processes()) {
-    if (kind != RunKind::adaptive) return;
-    throw InputError(started + ", but an adaptive solve on the full-space route runs in one process: run it without "
-                               "mpirun",
-                     scene.where("adapt"));
-  }
   throw InputError(started + ", but the linear engine '" + scene.solver.linear +
                        "' runs in one process (the processes would race on the same outputs); use --linear mumps-mpi, "
                        "or petsc-gamg or petsc-hypre (the full-space route), or run without mpirun",
@@ -180,7 +175,7 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   check_flags_for(o, run_kind(scene));
   check_output_folder(o.out);
   say_what_an_interruption_keeps(o.out);
-  require_one_process_or_an_engine_across(scene, run_kind(scene));
+  require_one_process_or_an_engine_across(scene);
   if (!o.export_reduced.empty() && is_krylov_solver(scene.solver.linear))
     throw InputError("the full-space route (linear engine " + scene.solver.linear +
                          ") poses no reduced problem: export it with a linear engine that factorizes",

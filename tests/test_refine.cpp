@@ -598,11 +598,18 @@ TEST(Dorfler, HandComputedExamples) {
   EXPECT_EQ(dorfler_marking(eta, 0.7), (std::vector<int>{1, 2}));  // 9 < 9.975 <= 13
   EXPECT_EQ(dorfler_marking(eta, 0.95), (std::vector<int>{0, 1, 2}));  // 13 < 13.5375 <= 14
   EXPECT_EQ(dorfler_marking(eta, 1.0), (std::vector<int>{0, 1, 2, 3}));
-  // ties by id: eta^2 = 4, 1, 4, 1
+  // ties are marked together: eta^2 = 4, 1, 4, 1
   const std::vector<double> tied{2.0, 1.0, 2.0, 1.0};
-  EXPECT_EQ(dorfler_marking(tied, 0.3), (std::vector<int>{0}));
+  EXPECT_EQ(dorfler_marking(tied, 0.3), (std::vector<int>{0, 2}));
   EXPECT_EQ(dorfler_marking(tied, 0.5), (std::vector<int>{0, 2}));
-  EXPECT_EQ(dorfler_marking(tied, 0.85), (std::vector<int>{0, 1, 2}));
+  EXPECT_EQ(dorfler_marking(tied, 0.85), (std::vector<int>{0, 1, 2, 3}));
+  // ... to round-off (within 1e-6 of the largest), whichever of them is the larger
+  const std::vector<double> mirrored{2.0 * (1.0 + 1e-15), 1.0, 2.0, 0.5};
+  const std::vector<double> other_way{2.0, 1.0, 2.0 * (1.0 + 1e-15), 0.5};
+  EXPECT_EQ(dorfler_marking(mirrored, 0.3), (std::vector<int>{0, 2}));
+  EXPECT_EQ(dorfler_marking(other_way, 0.3), (std::vector<int>{0, 2}));
+  // and no further: 2 - 1e-5 is not 2
+  EXPECT_EQ(dorfler_marking(std::vector<double>{2.0, 2.0 - 1e-5, 1.0}, 0.3), (std::vector<int>{0}));
   // no overflow for huge indicators
   const std::vector<double> huge{1e300, 3e300, 2e300, 5e299};
   EXPECT_EQ(dorfler_marking(huge, 0.7), (std::vector<int>{1, 2}));

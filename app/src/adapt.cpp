@@ -122,7 +122,9 @@ BasicAdaptiveSolve<dim> adapt_scene(const Scene& scene, const SceneAdapt& adapt,
     throw InputError("an adaptive solve refines the mesh of one body; a scene of several bodies ([[body]]) is solved "
                      "on the meshes its bodies make",
                      scene.where("adapt"));
-  if (same_engine(scene.solver.linear, "mumps-mpi"))  // its processes would have to refine the same meshes in step
+  // its ranks > 0 hold no displacement, from which each process would have to refine the same mesh
+  // (the full-space route's processes each hold the whole solution, and refine alike)
+  if (same_engine(scene.solver.linear, "mumps-mpi"))
     throw InputError("an adaptive solve runs in one process; the linear engine mumps-mpi runs across processes: "
                      "choose another engine (solver.linear)",
                      scene.where("solver.linear"));
@@ -147,7 +149,7 @@ BasicAdaptiveSolve<dim> adapt_scene(const Scene& scene, const SceneAdapt& adapt,
     }
     out.last = solve_step(scene, std::move(o));
     const BasicSceneSolve<dim>& s = out.last;
-    if (keep_steps) {
+    if (keep_steps && s.holds_results) {  // the process that writes
       std::ostringstream vtu;
       write_vtu(vtu, s.built->mesh, s.built->problem.elasticity.materials, s.solution,
                 s.estimate ? &s.estimate->indicators : nullptr);

@@ -166,18 +166,18 @@ void add_contact_parts(RunInfo& info, const std::vector<BasicContactPart<dim>>& 
 /// either dimension: BasicContactSolver<dim> with the condition estimate, the reduced problem
 /// when `reduced` is not null and a warm start from `start` when it is not empty, a defect
 /// found in setting the problem up named by the scene's key (rethrow_naming_scene_key); then
-/// the warnings (the scene's, the conditioning's) and, on the process holding the results, the
-/// error estimate estimate(problem, solution) as the stage "estimate".
+/// the warnings (the scene's, the conditioning's) and, wherever the displacement is (every
+/// process of the full-space route across processes; not the ranks > 0 of mumps-mpi), the error
+/// estimate estimate(problem, solution) as the stage "estimate".
 template <int dim, class Solved, class Estimate>
 void solve_built(const Scene& scene, SceneEngines& e, Solved& s, ReducedProblem* reduced, const Eigen::VectorXd& start,
                  Estimate&& estimate) {
   const NonsmoothMinimizer* minimizers[] = {e.minimizer.get()};
   try {
-    if (e.krylov && e.processes > 1) {  // the full-space route across processes, rank 0 holding the results
-      if (start.size() > 0 || reduced)
-        throw InternalError("a solve across processes starts from zero and poses no reduced problem");
+    if (e.krylov && e.processes > 1) {  // the full-space route across processes, each holding the results
+      if (reduced) throw InternalError("a solve across processes poses no reduced problem");
       s.solution = solve_full_space_shares<dim>(s.built->problem, *e.krylov, krylov_world(), make_distributed_rows,
-                                                s.options);
+                                                s.options, start);
     } else {
       std::optional<BasicContactSolver<dim>> solver;
       if (e.krylov)
@@ -199,7 +199,9 @@ void solve_built(const Scene& scene, SceneEngines& e, Solved& s, ReducedProblem*
   }
   s.warnings = s.built->warnings;
   if (std::string w = conditioning_warning(s.solution.condition_estimate); !w.empty()) s.warnings.push_back(std::move(w));
-  if (s.holds_results && s.solution.u.size() > 0 && s.solution.u.allFinite()) {
+  // where the displacement is: on every process of the full-space route across processes, whose
+  // adaptive steps refine alike (not on the ranks > 0 of mumps-mpi)
+  if (s.solution.u.size() > 0 && s.solution.u.allFinite()) {
     s.estimate = estimate(s.built->problem, s.solution);
     s.solution.stages.push_back("estimate");
     s.solution.timings["estimate"] = s.estimate->seconds;

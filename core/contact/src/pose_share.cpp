@@ -309,7 +309,7 @@ auto FullSpaceShares<dim>::minimize(const ReducedProblem& coordinates, const Eig
 template <int dim>
 BasicContactSolution<dim> solve_full_space_shares(const BasicContactProblem<dim>& problem, KrylovSolver& krylov,
                                                   ProcessWorld world, const RowDistributor& distribute,
-                                                  const MinimizerOptions& options) {
+                                                  const MinimizerOptions& options, const Eigen::VectorXd& start_u) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   if (std::string why; !options.is_valid(&why)) throw InputError(why, "MinimizerOptions");
@@ -325,42 +325,36 @@ BasicContactSolution<dim> solve_full_space_shares(const BasicContactProblem<dim>
   s.stages.push_back("posing");
 
   const auto t = Clock::now();
+  const Eigen::VectorXd start_xt = start_u.size() > 0 ? posed.rotated_free(start_u) : Eigen::VectorXd();
   FullSpaceStatistics stats;
-  auto point = shares.minimize(posed.reduced(), posed.origin(), options, Eigen::VectorXd(), &stats);
+  auto point = shares.minimize(posed.reduced(), posed.origin(), options, start_xt, &stats);
   MinimizerResult& m = point.result;
   s.status = m.status;
   s.message = m.message;
   s.certificate = m.certificate;
   s.may_be_nonunique = m.may_be_nonunique;
   s.energy = posed.reduced().law_energy(m.a, point.quadratic);
-  std::exception_ptr failure;  // rank 0's, told to every process so that none waits for it
-  if (world.rank == 0) {        // the results of the whole problem, where they are written
-    try {
-      s.u = posed.displacement_of(point.xt);
-      const Eigen::VectorXd unrotated = posed.unrotated_free(point.residual);
-      const ContactBoundary& boundary = shares.contact().boundary;
-      for (int i = 0; i < boundary.size(); ++i)
-        s.contact.push_back(contact_node(*problem.elasticity.mesh, boundary, posed, shares.dofs(), i, m, &unrotated));
-      s.forces = contact_force_balance<dim>(problem.elasticity, s.u, s.contact);
-      require_finite_solution(s);
-    } catch (...) {
-      failure = std::current_exception();
-    }
+  // the results of the whole problem, from what every process gathered: the same on each
+  std::exception_ptr failure;  // told to every process so that none waits for another
+  try {
+    s.u = posed.displacement_of(point.xt);
+    const Eigen::VectorXd unrotated = posed.unrotated_free(point.residual);
+    const ContactBoundary& boundary = shares.contact().boundary;
+    for (int i = 0; i < boundary.size(); ++i)
+      s.contact.push_back(contact_node(*problem.elasticity.mesh, boundary, posed, shares.dofs(), i, m, &unrotated));
+    s.forces = contact_force_balance<dim>(problem.elasticity, s.u, s.contact);
+    require_finite_solution(s);
+  } catch (...) {
+    failure = std::current_exception();
   }
   s.minimizer = std::move(m);
   s.timings["full_space"] = since(t);
   s.timings["preconditioner"] = stats.preconditioner_seconds;
   s.timings["krylov"] = stats.krylov_seconds;
   s.stages.push_back("full_space");
-  // rank 0's verdict, which the finiteness of the whole displacement may have demoted, on every
-  // process; -2 when rank 0 failed to make the results
-  const double told = world.rank != 0 ? -3.0 : failure ? -2.0 : static_cast<double>(static_cast<int>(s.status));
-  const double verdict = shares.distribution().max(told);
-  if (failure) std::rethrow_exception(failure);
-  if (verdict == -2.0) throw InternalError("the process of rank 0 failed to make the results of the whole problem");
-  if (world.rank != 0 && static_cast<int>(verdict) != static_cast<int>(s.status)) {
-    s.status = static_cast<MinimizerStatus>(static_cast<int>(verdict));
-    s.message = "the displacement or the energy of the solution is not finite";
+  if (shares.distribution().max(failure ? 1.0 : 0.0) > 0.0) {
+    if (failure) std::rethrow_exception(failure);
+    throw InternalError("another process failed to make the results of the whole problem");
   }
   s.timings["total"] = since(start);
   return s;
@@ -369,10 +363,12 @@ BasicContactSolution<dim> solve_full_space_shares(const BasicContactProblem<dim>
 template PosedShare pose_share<2>(const ContactProblem&, int, int);
 template PosedShare pose_share<3>(const BasicContactProblem<3>&, int, int);
 template ContactSolution solve_full_space_shares<2>(const ContactProblem&, KrylovSolver&, ProcessWorld,
-                                                    const RowDistributor&, const MinimizerOptions&);
+                                                    const RowDistributor&, const MinimizerOptions&,
+                                                    const Eigen::VectorXd&);
 template class FullSpaceShares<2>;
 template class FullSpaceShares<3>;
 template BasicContactSolution<3> solve_full_space_shares<3>(const BasicContactProblem<3>&, KrylovSolver&, ProcessWorld,
-                                                            const RowDistributor&, const MinimizerOptions&);
+                                                            const RowDistributor&, const MinimizerOptions&,
+                                                    const Eigen::VectorXd&);
 
 }  // namespace hemivem

@@ -477,6 +477,11 @@ RefinedMesh refine_uniformly(const Mesh& mesh) {
   return refine_mesh(mesh, all);
 }
 
+namespace {
+/// Indicators within this fraction of the largest are one tie for the marking (dorfler_marking).
+constexpr double kMarkingTie = 1e-6;
+}  // namespace
+
 std::vector<int> dorfler_marking(std::span<const double> eta, double theta) {
   if (!(theta > 0.0 && theta <= 1.0))
     throw InputError("Dörfler marking needs theta in (0, 1]; got " + fmt_number(theta));
@@ -504,11 +509,16 @@ std::vector<int> dorfler_marking(std::span<const double> eta, double theta) {
     for (int i : order) total += std::pow(eta[static_cast<std::size_t>(i)] / largest, 2);
     const double target = theta * total;
     double sum = 0.0;
-    for (int i : order) {
-      sum += std::pow(eta[static_cast<std::size_t>(i)] / largest, 2);
-      out.push_back(i);
+    std::size_t k = 0;
+    while (k < order.size()) {
+      sum += std::pow(eta[static_cast<std::size_t>(order[k])] / largest, 2);
+      out.push_back(order[k++]);
       if (sum >= target) break;
     }
+    // the indicators tied with the last one marked, to round-off of the solution, go with it
+    const double last = eta[static_cast<std::size_t>(out.back())];
+    for (; k < order.size() && eta[static_cast<std::size_t>(order[k])] >= last - kMarkingTie * largest; ++k)
+      out.push_back(order[k]);
   }
   std::sort(out.begin(), out.end());
   return out;

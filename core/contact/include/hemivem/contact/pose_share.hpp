@@ -81,8 +81,8 @@ class FullSpaceShares {
   FullSpaceShares(const FullSpaceShares&) = delete;
   FullSpaceShares& operator=(const FullSpaceShares&) = delete;
 
-  /// The posed coordinates of the whole contact surface; set_load() and set_gaps() on it change
-  /// them (set_load() here also changes the rows of the share).
+  /// The posed coordinates of the whole contact surface (Condensation::set_gaps changes their
+  /// bounds; a new load goes through set_load() here, which the share's rows take too).
   Condensation& posed() noexcept;
   const Condensation& posed() const noexcept;
   const DofMap& dofs() const noexcept;
@@ -123,11 +123,12 @@ class FullSpaceShares {
 /// Krylov engine with the semismooth Newton iteration, nothing condensed), each process posing
 /// and solving the share of its vertices (vertex_share, pose_share), the rows distributed by
 /// `distribute`. Then the processes' results are gathered where they are small (the rotated
-/// unknowns, their residual, the contact coordinates' values and forces): rank 0 returns the
-/// whole solution as BasicContactSolver::run() reports it (the displacement, the contact table,
-/// the potential energy, the balance of forces, the certificate and verdict of the whole problem),
-/// the other ranks the same verdict, certificate, counts, energy and timings without the
-/// displacement and contact table. Its stages are posing (the rows' assembly, rotation and the
+/// unknowns, their residual, the contact coordinates' values and forces), and every process
+/// returns the whole solution as BasicContactSolver::run() reports it (the displacement, the
+/// contact table, the potential energy, the balance of forces, the certificate and verdict of the
+/// whole problem), the same on each: what follows a solve (an error estimate, the marking of an
+/// adaptive solve) then decides alike on every process. `start_u`, when not empty, is the nodal
+/// displacement the iteration starts from (BasicContactSolver::start_from). Its stages are posing (the rows' assembly, rotation and the
 /// coordinates) and full_space (with gathering the results); uniqueness_margin is NaN, as on the
 /// route in one process. With one process this is that route on one share holding every row.
 ///
@@ -140,6 +141,7 @@ class FullSpaceShares {
 template <int dim>
 BasicContactSolution<dim> solve_full_space_shares(const BasicContactProblem<dim>& problem, KrylovSolver& krylov,
                                                   ProcessWorld world, const RowDistributor& distribute,
-                                                  const MinimizerOptions& options);
+                                                  const MinimizerOptions& options,
+                                                  const Eigen::VectorXd& start_u = Eigen::VectorXd());
 
 }  // namespace hemivem

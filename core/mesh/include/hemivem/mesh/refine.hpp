@@ -94,8 +94,12 @@ RefinedMesh refine_mesh(const Mesh& mesh, std::span<const int> marked);
 RefinedMesh refine_uniformly(const Mesh& mesh);
 
 /// Dörfler (bulk) marking: the smallest set of elements, taken in decreasing order of eta_E,
-/// whose eta_E^2 sum to at least theta * sum eta_E^2 (theta in (0, 1]; InputError otherwise;
-/// ties broken by element id, so the result is deterministic). theta = 1 marks every element
+/// whose eta_E^2 sum to at least theta * sum eta_E^2 (theta in (0, 1]; InputError otherwise),
+/// with every element tied with the last one taken: an eta_E within 1e-6 of the largest of it.
+/// Cells that are mirror images of each other (a symmetric problem) have indicators equal to
+/// round-off, and one is not marked without the other: the marking, and so the adaptive meshes,
+/// do not depend on the round-off of the solution (its engine, its number of processes). The
+/// result is deterministic. theta = 1 marks every element
 /// with eta_E > 0; indicators that are all zero mark none. Throws InputError for a negative or
 /// non-finite eta_E. The sums are scaled by the largest eta_E, so any finite indicators work.
 /// Returns element ids sorted ascending.
