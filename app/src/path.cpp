@@ -138,7 +138,8 @@ void solve_path_built(const Scene& scene, SceneEngines& e, Solved& s,
   // a frame costs an interior solve and a displacement kept until the files are written: only
   // for a run that writes them
   if (scene.path && writes_frames(scene)) po.frame = [path = *scene.path](int k) { return path.is_frame(k); };
-  po.keep_steps = !s.path_output;
+  // a process that writes nothing (ranks > 0 across processes) keeps no step either
+  po.keep_steps = !s.path_output && s.holds_results;
   if (e.krylov && e.processes > 1) {  // the full-space route across processes: each solves its share
     po.distribute = make_distributed_rows;
     po.world = krylov_world();

@@ -365,30 +365,36 @@ TEST(FullSpaceMpi, TheCommandsSolveAcrossProcessesGathersTheTiedReactions) {
 // lets go of part of the bottom, so that nodes slip and nodes stick. Its two layers of cells
 // make the processes' slabs of vertices split the contact surface: a process reads the unknowns
 // of another's groups, whose frames it rotates its columns into.
-TEST(FullSpaceMpi, TheCommandsSolveAcrossProcessesIsTheCondensedAnswerWithASolidsFriction) {
-  const Box block{0.0, 1.0, 0.0, 1.0, 0.0, 0.5};
-  const Mesh3D mesh = make_cubes({6, 6, 2}, block);
+const Box kBlock{0.0, 1.0, 0.0, 1.0, 0.0, 0.5};
+
+/// The friction tests' block on `mesh` (kBlock's cubes): its top held at `top`, its bottom on a
+/// foundation of stiffness 2000 with friction (the part named "foundation", facets set here).
+ContactProblem3D block_on_foundation(const Mesh3D& mesh, VectorField3 top, ContactPart3D foundation) {
   ContactProblem3D problem;
   problem.elasticity.mesh = &mesh;
   problem.elasticity.materials = MaterialTable(Material{100.0, 0.3}, PlaneModel::strain);
-  problem.elasticity.dirichlet.push_back({select_box_side(mesh, block, "top"),
-                                          [](const Vec3&) { return Vec3(0.01, 0.003, -0.004); },
-                                          {true, true, true},
-                                          "top"});
-  ContactPart3D foundation;
+  problem.elasticity.dirichlet.push_back({select_box_side(mesh, kBlock, "top"), std::move(top), {true, true, true}, "top"});
   foundation.name = "foundation";
-  foundation.facets = select_box_side(mesh, block, "bottom");
+  foundation.facets = select_box_side(mesh, kBlock, "bottom");
+  foundation.law = linear_law(2000.0);
+  problem.parts.push_back(std::move(foundation));
+  return problem;
+}
+
+TEST(FullSpaceMpi, TheCommandsSolveAcrossProcessesIsTheCondensedAnswerWithASolidsFriction) {
+  const Mesh3D mesh = make_cubes({6, 6, 2}, kBlock);
+  ContactPart3D foundation;
   foundation.constraint = ConstraintKind::one_sided;
   foundation.gap = [](const Vec3& x) { return 0.0005 * x.x(); };
-  foundation.law = linear_law(2000.0);
   foundation.friction = tresca_law(0.8);
+  ContactProblem3D problem =
+      block_on_foundation(mesh, [](const Vec3&) { return Vec3(0.01, 0.003, -0.004); }, std::move(foundation));
   for (const auto& [side, sign] : {std::pair{"x0", -1.0}, std::pair{"x1", 1.0}}) {
     TractionLoad3D t;
-    t.facets = select_box_side(mesh, block, side);
+    t.facets = select_box_side(mesh, kBlock, side);
     t.traction = [s = sign](const Vec3&) { return Vec3(0, 0, s * 0.1); };
     problem.elasticity.tractions.push_back(t);
   }
-  problem.parts.push_back(std::move(foundation));
   expect_shares_solve_as_the_condensed_route<3>(problem, [](const BasicContactSolution<3>& s,
                                                              const BasicContactSolution<3>& c) {
     int slip = 0, stick = 0;
@@ -477,25 +483,17 @@ TEST(FullSpaceMpi, ACoulombPathAcrossProcessesIsTheCondensedRoutesInThePlane) {
 // a block pressed onto a Coulomb foundation, then dragged by its top (groups of two tangential
 // coordinates, split between the processes' slabs)
 TEST(FullSpaceMpi, ACoulombPathAcrossProcessesIsTheCondensedRoutesInTheSolid) {
-  const Box block{0.0, 1.0, 0.0, 1.0, 0.0, 0.5};
-  const Mesh3D mesh = make_cubes({6, 6, 2}, block);
-  ContactProblem3D problem;
-  problem.elasticity.mesh = &mesh;
-  problem.elasticity.materials = MaterialTable(Material{100.0, 0.3}, PlaneModel::strain);
+  const Mesh3D mesh = make_cubes({6, 6, 2}, kBlock);
   const auto top_at = [](double t) {
     return [t](const Vec3&) {
       return Vec3(0.01 * std::max(t - 1.0, 0.0), 0.003 * std::max(t - 1.0, 0.0), -0.004 * std::min(t, 1.0));
     };
   };
-  problem.elasticity.dirichlet.push_back({select_box_side(mesh, block, "top"), top_at(0.5), {true, true, true}, "top"});
   ContactPart3D foundation;
-  foundation.name = "foundation";
-  foundation.facets = select_box_side(mesh, block, "bottom");
   foundation.constraint = ConstraintKind::none;
-  foundation.law = linear_law(2000.0);
   foundation.friction = tresca_law(1.0);
   foundation.friction_bound = FrictionBound{FrictionBound::Kind::coulomb, 0.3, {}};
-  problem.parts.push_back(std::move(foundation));
+  ContactProblem3D problem = block_on_foundation(mesh, top_at(0.5), std::move(foundation));
   BasicPathLoading<3> loading;
   loading.t = {0.5, 1.0, 1.5, 2.0};
   loading.update = [top_at](double t, ContactProblem3D& p) { p.elasticity.dirichlet.front().value = top_at(t); };
