@@ -729,19 +729,17 @@ void BasicPathSolver<dim>::Impl::describe_step(Step& s, const MinimizerResult& m
   raw.law_force = m.law_force;
   raw.reaction = m.reaction;
   Eigen::VectorXd residual;
-  if (u && b) {
+  if (u && b && shares) {  // across processes: the point's own, gathered (the frames are orthogonal)
+    residual = cond->unrotated_free(shares_residual);
+    s.energy = shares_quadratic;
+  } else if (u && b) {
     Eigen::VectorXd uf(dofs.num_free());
     for (int d = 0; d < dofs.num_free(); ++d) uf(d) = (*u)(dofs.free_dofs[static_cast<std::size_t>(d)]);
-    if (shares) {  // across processes: the point's own, gathered (the frames are orthogonal)
-      residual = cond->unrotated_free(shares_residual);
-      s.energy = shares_quadratic;
-    } else {
-      // on the full-space route the rotated matrix stands for one body's, which the posing gave up
-      const Eigen::VectorXd Au =
-          system->A.rows() == uf.size() ? Eigen::VectorXd(system->A * uf) : cond->unrotated_product(uf);
-      residual = Au - *b;
-      s.energy = 0.5 * uf.dot(Au) - uf.dot(*b);
-    }
+    // on the full-space route the rotated matrix stands for one body's, which the posing gave up
+    const Eigen::VectorXd Au =
+        system->A.rows() == uf.size() ? Eigen::VectorXd(system->A * uf) : cond->unrotated_product(uf);
+    residual = Au - *b;
+    s.energy = 0.5 * uf.dot(Au) - uf.dot(*b);
   } else {
     const Eigen::VectorXd& x = s.a;
     s.energy = 0.5 * x.dot(step.S * x) - c_raw.dot(x) + kappa;
