@@ -194,7 +194,6 @@ struct FullSpaceShares<dim>::Impl {
   KrylovSolver& krylov;
   std::unique_ptr<RowDistribution> rows;
   KrylovHints hints;
-  std::vector<int> owned_unknowns;  // the free unknowns of the share's rows
   double posing_seconds = 0.0;
 
   Impl(SharePosing<dim> p, KrylovSolver& k, std::unique_ptr<RowDistribution> r, double seconds)
@@ -202,10 +201,8 @@ struct FullSpaceShares<dim>::Impl {
         krylov(k),
         rows(std::move(r)),
         hints(posing.share.near_null_space, posing.share.block_size),
-        owned_unknowns(static_cast<std::size_t>(posing.share.layout.owned)),
         posing_seconds(seconds) {
     hints.rows = rows.get();
-    std::iota(owned_unknowns.begin(), owned_unknowns.end(), static_cast<int>(posing.share.layout.first));
   }
 };
 
@@ -251,11 +248,6 @@ const DofMap& FullSpaceShares<dim>::dofs() const noexcept {
 template <int dim>
 const ContactSetUp<dim>& FullSpaceShares<dim>::contact() const noexcept {
   return impl_->posing.contact;
-}
-
-template <int dim>
-const RowLayout& FullSpaceShares<dim>::layout() const noexcept {
-  return impl_->posing.share.layout;
 }
 
 template <int dim>

@@ -87,7 +87,6 @@ class FullSpaceShares {
   const Condensation& posed() const noexcept;
   const DofMap& dofs() const noexcept;
   const ContactSetUp<dim>& contact() const noexcept;
-  const RowLayout& layout() const noexcept;
   /// The distribution of the rows (its collectives: sum, max, all_gather).
   const RowDistribution& distribution() const noexcept;
   /// The seconds the posing took (the rows' assembly, rotation and the coordinates).
