@@ -138,9 +138,12 @@ void solve_path_built(const Scene& scene, SceneEngines& e, Solved& s,
   // a frame costs an interior solve and a displacement kept until the files are written: only
   // for a run that writes them
   if (scene.path && writes_frames(scene)) po.frame = [path = *scene.path](int k) { return path.is_frame(k); };
-  // a process that writes nothing (ranks > 0 across processes) keeps no step either
-  po.keep_steps = !s.path_output && s.holds_results;
-  if (e.krylov && e.processes > 1) {  // the full-space route across processes: each solves its share
+  // the full-space route across processes: each process solves its share and holds every step
+  const bool across = e.krylov && e.processes > 1;
+  // with an output folder each step goes to its files as it comes (on the process that writes)
+  // and none is kept; without one, wherever the solution is (not the ranks > 0 of mumps-mpi)
+  po.keep_steps = out.empty() && (s.holds_results || across);
+  if (across) {
     po.distribute = make_distributed_rows;
     po.world = krylov_world();
   }
@@ -163,7 +166,7 @@ void solve_path_built(const Scene& scene, SceneEngines& e, Solved& s,
   s.warnings = s.built->warnings;
   // the problem's data at the last step, for the error estimate
   set_load_factor(scene, path.steps.back().t, s.built->problem);
-  if (s.holds_results && s.solution.u.size() > 0 && s.solution.u.allFinite()) {
+  if (s.solution.u.size() > 0 && s.solution.u.allFinite()) {  // wherever the displacement is
     s.estimate = estimate_error(s.built->problem, s.solution);
     s.solution.stages.push_back("estimate");
     s.solution.timings["estimate"] = s.estimate->seconds;

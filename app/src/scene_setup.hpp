@@ -164,7 +164,7 @@ void add_contact_parts(RunInfo& info, const std::vector<BasicContactPart<dim>>& 
 
 /// Solves s.built->problem with the engines `e` as every static solve of a scene does, in
 /// either dimension: BasicContactSolver<dim> with the condition estimate, the reduced problem
-/// when `reduced` is not null and a warm start from `start` when it is not empty, a defect
+/// when `reduced` is not null (the full-space route has none and leaves it) and a warm start from `start` when it is not empty, a defect
 /// found in setting the problem up named by the scene's key (rethrow_naming_scene_key); then
 /// the warnings (the scene's, the conditioning's) and, wherever the displacement is (every
 /// process of the full-space route across processes; not the ranks > 0 of mumps-mpi), the error
@@ -175,7 +175,7 @@ void solve_built(const Scene& scene, SceneEngines& e, Solved& s, ReducedProblem*
   const NonsmoothMinimizer* minimizers[] = {e.minimizer.get()};
   try {
     if (e.krylov && e.processes > 1) {  // the full-space route across processes, each holding the results
-      if (reduced) throw InternalError("a solve across processes poses no reduced problem");
+      // no reduced problem: `reduced` is left untouched, as BasicContactSolver::export_reduced does
       s.solution = solve_full_space_shares<dim>(s.built->problem, *e.krylov, krylov_world(), make_distributed_rows,
                                                 s.options, start);
     } else {

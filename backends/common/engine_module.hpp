@@ -71,8 +71,26 @@ struct Module {
   }
 };
 
-/// The first of candidates(where) that is a file, opened with RTLD_NOW | RTLD_LOCAL |
-/// RTLD_DEEPBIND (the module keeps its own libraries' symbols); never closed. Call it once.
+/// Whether the program's global scope (the program, the libraries it started with and those
+/// opened RTLD_GLOBAL) defines a symbol that the modules' libraries define too: MPI's entry
+/// points, which the sequential MUMPS brings as stand-ins, or MUMPS's own. The command links the
+/// sequential MUMPS; a Python interpreter holds it only in the local scope of hemivem's module.
+inline bool program_defines_module_symbols() {
+  void* program = dlopen(nullptr, RTLD_NOW);
+  if (!program) return true;
+  bool defined = false;
+  for (const char* symbol : {"MPI_Init", "dmumps_c"}) defined = defined || dlsym(program, symbol) != nullptr;
+  dlclose(program);
+  return defined;
+}
+
+/// The first of candidates(where) that is a file, opened with RTLD_NOW | RTLD_LOCAL; never
+/// closed. Call it once. Where the program's global scope defines the module's libraries'
+/// symbols (program_defines_module_symbols), RTLD_DEEPBIND makes the module and its libraries
+/// bind to their own first. Elsewhere the module binds as any library does, so that it shares
+/// the program's data: a Python interpreter holds its own copy of `environ`, which MPI's
+/// libraries bound deep would not see (they would reach the C library's instead, and MPI_Init
+/// grows the interpreter's array behind the C library's back).
 inline Module open(const Location& where) {
   Module module;
   module.description = where.description;
@@ -91,7 +109,8 @@ inline Module open(const Location& where) {
                    "; the environment variable " + where.environment + " sets its path)";
     return module;
   }
-  module.handle = dlopen(module.path.c_str(), RTLD_NOW | RTLD_LOCAL | RTLD_DEEPBIND);
+  const int deep = program_defines_module_symbols() ? RTLD_DEEPBIND : 0;
+  module.handle = dlopen(module.path.c_str(), RTLD_NOW | RTLD_LOCAL | deep);
   if (!module.handle) {
     const char* why = dlerror();
     module.error =

@@ -46,12 +46,10 @@ std::string toml_string(const std::string& s);
 /// processes an MPI launcher starts, never inside a Python interpreter (MPI_Init_thread would
 /// wait for the other processes forever).
 std::vector<std::string> python_linear_engines();
-/// The Krylov engines built that Python runs: all but PETSc's, whose module starts MPI, which
-/// rewrites the process's environment behind the interpreter's own copy of it.
-std::vector<std::string> python_krylov_engines();
 
 /// InputError (naming `where`) for a linear engine Python does not run: mumps-mpi, or a name
-/// that is not one of python_linear_engines() nor "auto", listing those.
+/// that is not one of python_linear_engines(), available_krylov_solvers() nor "auto", listing
+/// the first.
 void check_linear_engine(const std::string& linear, const std::string& where);
 
 /// InputError naming the keywords of `given` that were given (name, given) when they apply to a

@@ -76,27 +76,15 @@ std::vector<std::string> python_linear_engines() {
   return engines;
 }
 
-std::vector<std::string> python_krylov_engines() {
-  std::vector<std::string> engines;
-  for (const std::string& name : available_krylov_solvers())
-    if (name.rfind("petsc-", 0) != 0) engines.push_back(name);
-  return engines;
-}
-
 void check_linear_engine(const std::string& linear, const std::string& where) {
   const std::string name = normalized_engine_name(linear);
-  if (name.rfind("petsc-", 0) == 0 && is_krylov_solver(name))
-    throw InputError("'" + name + "' runs in the hemivem command (hemivem solve --linear " + name +
-                         "), not inside Python: PETSc starts MPI, which rewrites the process's environment "
-                         "behind the interpreter's copy of it; use 'eigen-cg' for the full-space route here",
-                     where);
   if (name == "mumps-mpi")
     throw InputError("'mumps-mpi' runs across processes started by mpirun (hemivem solve --linear mumps-mpi), not "
                      "inside Python; use 'mumps' or another engine of hemivem.available_engines()['linear']",
                      where);
   const std::vector<std::string> engines = python_linear_engines();
   if (name == "auto" || std::find(engines.begin(), engines.end(), name) != engines.end()) return;
-  const std::vector<std::string> krylov = python_krylov_engines();
+  const std::vector<std::string> krylov = available_krylov_solvers();
   if (std::find(krylov.begin(), krylov.end(), name) != krylov.end()) return;
   const std::string available = "; available: " + (engines.empty() ? std::string("none") : join_engine_names(engines));
   throw InputError(is_known_engine(known_linear_engines(), name)
@@ -280,12 +268,9 @@ void register_engines(py::module_& m) {
         std::vector<std::string> command_only;
         for (const std::string& name : available_factorizations())
           if (std::find(linear.begin(), linear.end(), name) == linear.end()) command_only.push_back(name);
-        const std::vector<std::string> krylov = python_krylov_engines();
-        for (const std::string& name : available_krylov_solvers())
-          if (std::find(krylov.begin(), krylov.end(), name) == krylov.end()) command_only.push_back(name);
         py::dict d;
         d["linear"] = linear;
-        d["krylov"] = krylov;
+        d["krylov"] = available_krylov_solvers();
         d["minimizer"] = available_minimizers();
         d["fastest_linear"] = fastest_factorization();
         d["command_only"] = command_only;
@@ -295,7 +280,6 @@ void register_engines(py::module_& m) {
       "'fastest_linear': name, 'command_only': [...]}. 'auto' (the default linear engine) is\n"
       "'fastest_linear'. A 'krylov' engine given as `linear` solves on the full-space route (nothing\n"
       "factorized; docs/full-space.md). 'command_only'\n"
-      "also lists the PETSc Krylov engines, which start MPI and run in the hemivem command only;\n"
       "lists the linear engines built that only the hemivem command runs ('mumps-mpi', across the\n"
       "processes mpirun starts); Python refuses them (InputError).");
 }

@@ -380,6 +380,10 @@ void def_result_outcome(ResultClass& c) {
   c.def_property_readonly("dimension", [](py::handle s) { return data(s).dimension(); },
                           "2 for a plane scene, 3 for a three-dimensional one (result.json's \"dimension\"): the\n"
                           "columns of displacement, mesh.vertices and contact.normal.")
+      .def_property_readonly("writer", [](py::handle s) { return data(s).run.holds_results(); },
+                          "True where write() writes: in one process, and on the first of the processes mpirun\n"
+                          "starts for a solve across them (linear='petsc-gamg' or 'petsc-hypre'), which every one\n"
+                          "holds whole.")
       .def_property_readonly("status", [](py::handle s) { return visit(data(s), [](const auto& v) { return to_string(v.solution.status); }); },
                           "'converged', 'iteration limit', 'evaluation limit', 'stalled', 'stopped by callback', 'failed', "
                           "'unbounded' (no solution: F is unbounded below).")
@@ -726,6 +730,7 @@ void def_result_outputs(ResultClass& c) {
           [](py::handle s, const std::filesystem::path& folder, std::optional<std::vector<std::string>> files) {
             SolveData& d = data(s);
             app::OutputReport report;
+            if (!d.run.holds_results()) return std::vector<std::filesystem::path>{};  // another process writes
             {
               py::gil_scoped_release release;
               report = d.run.write(folder, files ? &*files : nullptr);
@@ -741,7 +746,8 @@ void def_result_outputs(ResultClass& c) {
           "gnuplot is installed; for a three-dimensional scene also contact-surface.vtu, and\n"
           "pressure.png), each atomically; `files` picks some of them by name. Returns the\n"
           "paths written; a figure that could not be drawn is a UserWarning (and in result.json's\n"
-          "warnings).")
+          "warnings). Across the processes mpirun starts (linear='petsc-gamg' or 'petsc-hypre'), every\n"
+          "process calls it and the first one writes; the others return [].")
       .def("__repr__", [](py::handle s) {
         const SolveData& d = data(s);
         std::ostringstream o;
@@ -850,7 +856,6 @@ void solve_data(SolveData& d, const py::object& progress, bool keep_reduced, boo
     o.reduced_optional = reduced_optional;
     o.progress = search_progress(watch, progress);
     o.mesh = std::move(mesh);
-    o.krylov_engines = python_krylov_engines();
     d.run = app::run_scene(d.scene, std::move(o));
   } catch (const Interrupted&) {
   }

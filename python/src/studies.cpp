@@ -49,7 +49,7 @@ std::vector<app::Pair> pairs_of(const PairList& given) {
     return pairs;
   }
   for (const auto& p : app::available_pairs())
-    if (p.linear != "mumps-mpi" && p.linear.rfind("petsc-", 0) != 0) pairs.push_back(p);
+    if (p.linear != "mumps-mpi") pairs.push_back(p);
   return pairs;
 }
 
@@ -200,9 +200,9 @@ pair's "path_displacements" lists every step's displacement, "displacement" bein
 scene: a Scene (default: Scene.default()), a path to a scene file or TOML text. agree: the
 largest relative difference of u accepted between converged pairs (--agree). tolerance:
 solver.tolerance of every pair (--tol). pairs: a list of (linear, minimizer) names; default
-every built pair but mumps-mpi's, which run under an MPI launcher only, and PETSc's
-(petsc-gamg, petsc-hypre), which run in the command only: the condensed route's pairs and
-("eigen-cg", "ssn"), the full-space route's (a Krylov engine takes ssn only). Each pair's
+every built pair but mumps-mpi's, which run under an MPI launcher only: the condensed route's
+pairs and the full-space route's, a Krylov engine with ssn ("petsc-gamg", "petsc-hypre",
+"eigen-cg"; a Krylov engine takes ssn only). Each pair's
 "route" is "condensed" or "full_space"; a full-space pair whose route refuses the scene (a body
 held by its contact alone) has the status "refused", its reason in "message", and is not a
 failure (the scene's "refused" lists them). Runs without the GIL; Ctrl-C is honoured after

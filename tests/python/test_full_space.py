@@ -2,7 +2,11 @@
 condensed route solves, to the same displacement, nothing factorized (docs/full-space.md)."""
 
 import json
+import os
 import pathlib
+import shutil
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -36,25 +40,75 @@ def test_the_full_space_route_gives_the_condensed_routes_displacement(engine):
     assert result["backends"]["linear"] == engine
 
 
-def test_the_petsc_engines_are_refused_by_name_as_command_only():
+def test_python_runs_every_krylov_engine_built():
     engines = hemivem.available_engines()
-    for name in ("petsc-gamg", "petsc-hypre"):
-        assert name not in engines["krylov"]
-        with pytest.raises(hemivem.InputError, match=name):
-            hemivem.solve(hemivem.Scene.default(), linear=name)
+    assert not set(engines["krylov"]) & set(engines["command_only"])
+    assert "petsc-gamg" not in engines["command_only"] and "petsc-hypre" not in engines["command_only"]
 
 
-def test_a_path_on_the_full_space_route_is_the_condensed_routes(coulomb_scene):
+@pytest.mark.parametrize("engine", krylov_engines())
+def test_a_path_on_the_full_space_route_is_the_condensed_routes(coulomb_scene, engine):
     t = [0.5, 1.0, 1.5, 2.0]
     condensed = hemivem.solve_path(coulomb_scene(), t=t, frames=4, linear="eigen")
-    full = hemivem.solve_path(coulomb_scene(), t=t, frames=4, linear="eigen-cg")
+    full = hemivem.solve_path(coulomb_scene(), t=t, frames=4, linear=engine)
     assert condensed.path.converged and full.path.converged
     for a, b in zip(condensed.path, full.path):
         u0, u1 = np.asarray(a.displacement), np.asarray(b.displacement)
         assert np.max(np.abs(u1 - u0)) <= 1e-8 * np.max(np.abs(u0))
     result = json.loads(full.to_json())
     assert result["stages"][:3] == ["assembly", "posing", "path"]
-    assert result["backends"]["linear"] == "eigen-cg"
+    assert result["backends"]["linear"] == engine
+
+
+# Run by `mpiexec -n 2 python3 ACROSS <folder>`: a solve and a Coulomb path across the
+# processes, each process keeping what it holds in <folder>/rank<r>.npz.
+ACROSS = """
+import json, os, sys
+import numpy as np
+import hemivem
+folder = sys.argv[1]
+rank = int(os.environ.get("OMPI_COMM_WORLD_RANK", os.environ.get("PMI_RANK", "0")))
+scene = hemivem.Scene.from_toml(sys.argv[2])
+scene.set("mesh.n", 4)
+r = hemivem.solve(scene, linear="petsc-gamg")
+written = r.write(os.path.join(folder, "solve"))
+p = hemivem.solve_path(sys.argv[3], t=[0.5, 1.0, 1.5, 2.0], frames=4, linear="petsc-gamg")
+np.savez(os.path.join(folder, f"rank{rank}.npz"), u=r.displacement, writer=r.writer, written=len(written),
+         processes=json.loads(r.to_json())["processes"], steps=np.array([s.displacement for s in p.path]),
+         converged=r.converged and p.path.converged, estimate=r.error_estimate["relative"])
+"""
+
+
+@pytest.mark.skipif("petsc-gamg" not in krylov_engines(), reason="PETSc's engines are not built")
+def test_a_solve_and_a_path_across_processes_from_python(tmp_path, coulomb_scene):
+    mpiexec = shutil.which("mpiexec") or shutil.which("mpirun")
+    if mpiexec is None:
+        pytest.skip("no MPI launcher on PATH")
+    version = subprocess.run([mpiexec, "--version"], capture_output=True, text=True).stdout
+    flags = ["--allow-run-as-root", "--oversubscribe"] if "Open MPI" in version or "OpenRTE" in version else []
+    (tmp_path / "across.py").write_text(ACROSS)
+    (tmp_path / "coulomb.toml").write_text(coulomb_scene())
+    p = subprocess.run([mpiexec, "-n", "2", *flags, sys.executable, str(tmp_path / "across.py"), str(tmp_path),
+                        str(EXAMPLE_3D), str(tmp_path / "coulomb.toml")],
+                       capture_output=True, text=True, timeout=600,
+                       env=dict(os.environ))  # not what MPI, started here by other tests, put in the C environment
+    assert p.returncode == 0, p.stdout + p.stderr
+    ranks = [np.load(tmp_path / f"rank{r}.npz") for r in (0, 1)]
+    scene = hemivem.Scene.from_toml(EXAMPLE_3D)
+    scene.set("mesh.n", 4)
+    one = hemivem.solve(scene, linear="eigen")
+    path = hemivem.solve_path(coulomb_scene(), t=[0.5, 1.0, 1.5, 2.0], frames=4, linear="eigen")
+    steps = np.array([s.displacement for s in path.path])
+    for rank in ranks:  # every process holds the whole solution, the one process's
+        assert rank["converged"] and rank["processes"] == 2
+        assert np.max(np.abs(rank["u"] - one.displacement)) <= 1e-8 * np.max(np.abs(one.displacement))
+        assert rank["steps"].shape == steps.shape
+        assert np.max(np.abs(rank["steps"] - steps)) <= 1e-8 * np.max(np.abs(steps))
+        assert rank["estimate"] == pytest.approx(one.error_estimate["relative"], rel=1e-6)
+    # the first process writes, the other returns []
+    assert [bool(r["writer"]) for r in ranks] == [True, False]
+    assert ranks[0]["written"] > 0 and ranks[1]["written"] == 0
+    assert json.loads((tmp_path / "solve" / "result.json").read_text())["processes"] == 2
 
 
 def test_auto_takes_the_full_space_route_where_the_condensed_one_does_not_fit(monkeypatch):

@@ -5,11 +5,14 @@
 // petsc-hypre (hemivem/petsc_krylov_solver.hpp) with PETSc, hypre and MPI behind them. The
 // Krylov factory loads it with
 //
-//   void* handle = dlopen(path, RTLD_NOW | RTLD_LOCAL | RTLD_DEEPBIND);
+//   void* handle = dlopen(path, RTLD_NOW | RTLD_LOCAL | deep);
 //
-// (RTLD_LOCAL keeps its symbols out of the global scope; RTLD_DEEPBIND makes the module and its
-// dependencies resolve their own symbols first), looks up the entry points below with dlsym()
-// and never unloads it. Everything MPI of the Krylov engines goes through this module: the
+// where deep is RTLD_DEEPBIND when the program's global scope defines MPI's or MUMPS's symbols
+// (the command links the sequential MUMPS, which brings MPI stand-ins) and 0 otherwise (a Python
+// interpreter, whose own copy of `environ` MPI must share). RTLD_LOCAL keeps the module's
+// symbols out of the global scope; RTLD_DEEPBIND makes the module and its dependencies resolve
+// their own symbols first. The factory looks up the entry points below with dlsym() and never
+// unloads it. Everything MPI of the Krylov engines goes through this module: the
 // processes (krylov_world()) and the distributed rows (make_distributed_rows()) as well as the
 // engines.
 //
