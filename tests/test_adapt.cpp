@@ -137,6 +137,34 @@ TEST(Adapt, StopsBeforeAMeshThatWouldNotFitInMemory) {
   EXPECT_EQ(r.last.adapt.at("stopped"), "memory");
 }
 
+TEST(Adapt, TheMemoryCheckTakesTheRoutesEstimate) {
+  // a limit between the condensed and the full-space route's estimates for the second mesh: on
+  // the full-space route the sequence goes on where the condensed route's estimate would fit
+  // or not, as that route's own estimate says
+  Scene s = example(32);
+  s.solver.linear = "eigen-cg";
+  SceneAdapt a;
+  a.target = 1e-4;
+  a.max_steps = 2;
+  const app::AdaptiveSolve free = app::solve_adaptively(s, a);
+  ASSERT_EQ(free.steps.size(), 2u) << free.reason;
+  const MemoryEstimate condensed = estimate_memory(free.last.built->mesh);
+  const double full = full_space_memory(condensed, full_space_cost(2, s.mesh.generator, "eigen-cg")).solve_bytes;
+  ASSERT_GT(std::abs(full - condensed.solve_bytes), 0.01 * full) << full << " " << condensed.solve_bytes;
+  const double limit = 0.5 * (full + condensed.solve_bytes);
+  ::setenv("HEMIVEM_MEMORY_LIMIT", std::to_string(static_cast<long long>(limit)).c_str(), 1);
+  const app::AdaptiveSolve r = app::solve_adaptively(s, a);
+  ::unsetenv("HEMIVEM_MEMORY_LIMIT");
+  if (full < limit) {
+    EXPECT_EQ(r.stopped, AdaptStop::max_steps) << r.reason;
+    EXPECT_EQ(r.steps.size(), 2u);
+  } else {
+    EXPECT_EQ(r.stopped, AdaptStop::memory);
+    EXPECT_EQ(r.steps.size(), 1u);
+    EXPECT_NE(r.reason.find("on the full-space route with eigen-cg"), std::string::npos) << r.reason;
+  }
+}
+
 TEST(Adapt, RunsInOneProcess) {
   Scene s = example(4);
   s.solver.linear = "mumps-mpi";

@@ -2,6 +2,7 @@
 
 #include <hemivem/app/vtu.hpp>
 #include <hemivem/error.hpp>
+#include <hemivem/krylov_solver.hpp>
 #include <hemivem/mesh/dimension.hpp>
 #include <hemivem/mesh/refine.hpp>
 #include <hemivem/mesh/refine3d.hpp>
@@ -46,12 +47,12 @@ AdaptStep step_of(const BasicSceneSolve<dim>& s, int step, double elapsed) {
   return a;
 }
 
-// The memory the solve of a refined mesh needs (resources.hpp): a plane's from its elements; a
-// solid's from its vertices and the contact nodes of the faces that refine the contact faces of
-// `built`, with the coefficient of polyhedra when a cell has more than eight vertices.
-double solve_bytes(const RefinedMesh& refined, const BuiltProblem&) { return estimate_memory(refined.mesh).solve_bytes; }
+// The condensed route's memory for a refined mesh (resources.hpp): a plane's from its elements;
+// a solid's from its vertices and the contact nodes of the faces that refine the contact faces
+// of `built`, with the coefficient of polyhedra when a cell has more than eight vertices.
+MemoryEstimate condensed_memory(const RefinedMesh& refined, const BuiltProblem&) { return estimate_memory(refined.mesh); }
 
-double solve_bytes(const RefinedMesh3D& refined, const BuiltProblem3D& built) {
+MemoryEstimate condensed_memory(const RefinedMesh3D& refined, const BuiltProblem3D& built) {
   const Mesh3D& next = refined.mesh;
   std::vector<char> contact_face(static_cast<std::size_t>(built.mesh.num_faces()), 0);
   for (const auto& part : built.problem.parts)
@@ -66,15 +67,25 @@ double solve_bytes(const RefinedMesh3D& refined, const BuiltProblem3D& built) {
   }
   bool polyhedra = false;
   for (int c = 0; c < next.num_cells() && !polyhedra; ++c) polyhedra = next.cell_vertices(c).size() > 8;
-  return estimate_memory_3d(next.num_vertices(), nodes, polyhedra ? 3600.0 : 1200.0).solve_bytes;
+  return estimate_memory_3d(next.num_vertices(), nodes, polyhedra ? 3600.0 : 1200.0);
+}
+
+// The memory the solve of a refined mesh needs on the scene's route: the condensed route's, or
+// the full-space route's for a Krylov engine.
+template <class Refined, class Built>
+double solve_bytes(const Scene& scene, const Refined& refined, const Built& built) {
+  const MemoryEstimate condensed = condensed_memory(refined, built);
+  if (!is_krylov_solver(scene.solver.linear)) return condensed.solve_bytes;
+  return full_space_memory(condensed, full_space_cost(scene.dimension(), scene.mesh.generator, scene.solver.linear))
+      .solve_bytes;
 }
 
 // Why the next mesh is not solved, if it is too large: more unknowns than max_unknowns, or a
-// solve whose estimated memory (as for a mesh file: HEMIVEM_MEMORY_LIMIT, or what the machine has
-// available) would not fit.
+// solve on the scene's route whose estimated memory (as for a mesh file: HEMIVEM_MEMORY_LIMIT, or
+// what the machine has available) would not fit.
 template <int dim, class Refined>
-std::optional<std::pair<AdaptStop, std::string>> too_large(const Refined& refined, const BasicBuiltProblem<dim>& built,
-                                                           const SceneAdapt& adapt) {
+std::optional<std::pair<AdaptStop, std::string>> too_large(const Scene& scene, const Refined& refined,
+                                                           const BasicBuiltProblem<dim>& built, const SceneAdapt& adapt) {
   const long long vertices = refined.mesh.num_vertices();
   const long long unknowns = dim * vertices;
   if (unknowns > adapt.max_unknowns)
@@ -83,7 +94,9 @@ std::optional<std::pair<AdaptStop, std::string>> too_large(const Refined& refine
                                                   " displacement components), more than max_unknowns = " +
                                                   std::to_string(adapt.max_unknowns)};
   try {
-    require_memory(solve_bytes(refined, built), "the next mesh (" + std::to_string(vertices) + " vertices)", "adapt");
+    const std::string route = is_krylov_solver(scene.solver.linear) ? ") on the full-space route with " + scene.solver.linear : ")";
+    require_memory(solve_bytes(scene, refined, built), "the next mesh (" + std::to_string(vertices) + " vertices" + route,
+                   "adapt");
   } catch (const InputError& e) {
     return std::pair{AdaptStop::memory, e.detail()};
   }
@@ -180,7 +193,7 @@ BasicAdaptiveSolve<dim> adapt_scene(const Scene& scene, const SceneAdapt& adapt,
     }
     const std::vector<int> marked = dorfler_marking(s.estimate->indicators, adapt.fraction);
     auto refined = refine_mesh(s.built->mesh, marked);
-    if (auto stop = too_large<dim>(refined, *s.built, adapt)) {
+    if (auto stop = too_large<dim>(scene, refined, *s.built, adapt)) {
       finish(stop->first, stop->second + "; the relative error estimate is " + percent(now.estimate) +
                               ", above the target " + percent(adapt.target));
       break;
