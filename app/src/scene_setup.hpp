@@ -178,6 +178,11 @@ void solve_built(const Scene& scene, SceneEngines& e, Solved& s, ReducedProblem*
       // no reduced problem: `reduced` is left untouched, as BasicContactSolver::export_reduced does
       s.solution = solve_full_space_shares<dim>(s.built->problem, *e.krylov, krylov_world(), make_distributed_rows,
                                                 s.options, start);
+      const auto released = std::chrono::steady_clock::now();  // the engine, as in one process below
+      e.krylov.reset();
+      const double release = std::chrono::duration<double>(std::chrono::steady_clock::now() - released).count();
+      s.solution.timings["release"] += release;
+      s.solution.timings["total"] += release;
     } else {
       std::optional<BasicContactSolver<dim>> solver;
       if (e.krylov)

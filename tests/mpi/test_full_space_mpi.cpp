@@ -280,7 +280,8 @@ void expect_shares_solve_as_the_condensed_route(
   const BasicContactSolution<dim> s = solve_full_space_shares<dim>(problem, *krylov, world, make_distributed_rows, tight());
   ASSERT_TRUE(s.converged()) << s.message;
   EXPECT_LE(s.certificate.worst(), 1e-12);
-  EXPECT_EQ(s.stages, (std::vector<std::string>{"posing", "full_space"}));
+  EXPECT_EQ(s.stages, (std::vector<std::string>{"assembly", "posing", "full_space"}));
+  for (const char* stage : {"setup", "post_process", "release"}) EXPECT_TRUE(s.timings.count(stage)) << stage;
   const auto rows = make_distributed_rows([&] {
     RowLayout one;
     one.first = world.rank;
@@ -430,7 +431,7 @@ void expect_path_across_processes_as_the_condensed_route(Problem& problem, Basic
   ASSERT_TRUE(c.converged());
   ASSERT_TRUE(s.converged()) << s.last.message;
   ASSERT_EQ(s.steps.size(), c.steps.size());
-  EXPECT_EQ(s.last.stages, (std::vector<std::string>{"posing", "path"}));
+  EXPECT_EQ(s.last.stages, (std::vector<std::string>{"assembly", "posing", "path"}));
   bool slip = false, stick = false;
   for (std::size_t k = 0; k < c.steps.size(); ++k) {
     SCOPED_TRACE("step " + std::to_string(k + 1));

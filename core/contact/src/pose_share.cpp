@@ -16,6 +16,7 @@
 #include <exception>
 #include <memory>
 #include <numeric>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -118,13 +119,19 @@ struct SharePosing {
   ContactSetUp<dim> contact;
   std::unique_ptr<Condensation> posed;
   Eigen::VectorXd load;  // the share's rows of the load, unrotated
+  double assembly_seconds = 0.0;  // assemble_rows
+  double setup_seconds = 0.0;     // contact_set_up
 };
 
 template <int dim>
 SharePosing<dim> pose_share_and_surface(const BasicContactProblem<dim>& problem, int first_vertex, int end_vertex) {
-  SystemRows rows = assemble_rows(problem.elasticity, first_vertex, end_vertex);
   SharePosing<dim> out;
+  auto t = std::chrono::steady_clock::now();
+  SystemRows rows = assemble_rows(problem.elasticity, first_vertex, end_vertex);
+  out.assembly_seconds = since(t);
+  t = std::chrono::steady_clock::now();
   out.contact = contact_set_up(problem, rows.dofs);
+  out.setup_seconds = since(t);
   require_one_body_in_contact(out.contact);
   require_full_space_posable(out.contact.parts, out.contact.held_by_contact);
   out.posed = about(ProblemPart::contact, [&] {
@@ -194,14 +201,16 @@ struct FullSpaceShares<dim>::Impl {
   KrylovSolver& krylov;
   std::unique_ptr<RowDistribution> rows;
   KrylovHints hints;
-  double posing_seconds = 0.0;
+  std::map<std::string, double> timings;
 
   Impl(SharePosing<dim> p, KrylovSolver& k, std::unique_ptr<RowDistribution> r, double seconds)
       : posing(std::move(p)),
         krylov(k),
         rows(std::move(r)),
         hints(posing.share.near_null_space, posing.share.block_size),
-        posing_seconds(seconds) {
+        timings{{"assembly", posing.assembly_seconds},
+                {"setup", posing.setup_seconds},
+                {"posing", seconds - posing.assembly_seconds - posing.setup_seconds}} {
     hints.rows = rows.get();
   }
 };
@@ -222,9 +231,8 @@ FullSpaceShares<dim>::FullSpaceShares(const BasicContactProblem<dim>& problem, K
                                       const RowDistributor& distribute) {
   const auto start = std::chrono::steady_clock::now();
   SharePosing<dim> posing = pose_process_share(problem, world);
-  const double seconds = since(start);
   std::unique_ptr<RowDistribution> rows = distribute(posing.share.layout);
-  impl_ = std::make_unique<Impl>(std::move(posing), krylov, std::move(rows), seconds);
+  impl_ = std::make_unique<Impl>(std::move(posing), krylov, std::move(rows), since(start));
 }
 
 template <int dim>
@@ -256,8 +264,8 @@ const RowDistribution& FullSpaceShares<dim>::distribution() const noexcept {
 }
 
 template <int dim>
-double FullSpaceShares<dim>::posing_seconds() const noexcept {
-  return impl_->posing_seconds;
+const std::map<std::string, double>& FullSpaceShares<dim>::timings() const noexcept {
+  return impl_->timings;
 }
 
 template <int dim>
@@ -306,48 +314,53 @@ BasicContactSolution<dim> solve_full_space_shares(const BasicContactProblem<dim>
   const auto start = Clock::now();
   if (std::string why; !options.is_valid(&why)) throw InputError(why, "MinimizerOptions");
   BasicContactSolution<dim> s;
-  FullSpaceShares<dim> shares(problem, krylov, world, distribute);
-  const Condensation& posed = shares.posed();
-  s.unknowns = shares.dofs().num_free();
-  for (const auto& part : shares.contact().parts) s.contact_parts.push_back(part.name);
-  s.held_by_contact = shares.contact().held_by_contact;
+  std::optional<FullSpaceShares<dim>> shares(std::in_place, problem, krylov, world, distribute);
+  const Condensation& posed = shares->posed();
+  s.unknowns = shares->dofs().num_free();
+  for (const auto& part : shares->contact().parts) s.contact_parts.push_back(part.name);
+  s.held_by_contact = shares->contact().held_by_contact;
   s.uniqueness_margin = std::numeric_limits<double>::quiet_NaN();
   s.uniqueness_roundoff = std::numeric_limits<double>::quiet_NaN();
-  s.timings["posing"] = shares.posing_seconds();
-  s.stages.push_back("posing");
+  for (const auto& [stage, seconds] : shares->timings()) s.timings[stage] = seconds;
+  s.stages = {"assembly", "posing"};
 
-  const auto t = Clock::now();
+  auto t = Clock::now();
   const Eigen::VectorXd start_xt = start_u.size() > 0 ? posed.rotated_free(start_u) : Eigen::VectorXd();
   FullSpaceStatistics stats;
-  auto point = shares.minimize(posed.reduced(), posed.origin(), options, start_xt, &stats);
+  auto point = shares->minimize(posed.reduced(), posed.origin(), options, start_xt, &stats);
   MinimizerResult& m = point.result;
   s.status = m.status;
   s.message = m.message;
   s.certificate = m.certificate;
   s.may_be_nonunique = m.may_be_nonunique;
   s.energy = posed.reduced().law_energy(m.a, point.quadratic);
+  s.timings["full_space"] = since(t);
+  s.timings["preconditioner"] = stats.preconditioner_seconds;
+  s.timings["krylov"] = stats.krylov_seconds;
+  s.stages.push_back("full_space");
   // the results of the whole problem, from what every process gathered: the same on each
+  t = Clock::now();
   std::exception_ptr failure;  // told to every process so that none waits for another
   try {
     s.u = posed.displacement_of(point.xt);
     const Eigen::VectorXd unrotated = posed.unrotated_free(point.residual);
-    const ContactBoundary& boundary = shares.contact().boundary;
+    const ContactBoundary& boundary = shares->contact().boundary;
     for (int i = 0; i < boundary.size(); ++i)
-      s.contact.push_back(contact_node(*problem.elasticity.mesh, boundary, posed, shares.dofs(), i, m, &unrotated));
+      s.contact.push_back(contact_node(*problem.elasticity.mesh, boundary, posed, shares->dofs(), i, m, &unrotated));
     s.forces = contact_force_balance<dim>(problem.elasticity, s.u, s.contact);
     require_finite_solution(s);
   } catch (...) {
     failure = std::current_exception();
   }
   s.minimizer = std::move(m);
-  s.timings["full_space"] = since(t);
-  s.timings["preconditioner"] = stats.preconditioner_seconds;
-  s.timings["krylov"] = stats.krylov_seconds;
-  s.stages.push_back("full_space");
-  if (shares.distribution().max(failure ? 1.0 : 0.0) > 0.0) {
+  if (shares->distribution().max(failure ? 1.0 : 0.0) > 0.0) {
     if (failure) std::rethrow_exception(failure);
     throw InternalError("another process failed to make the results of the whole problem");
   }
+  s.timings["post_process"] = since(t);
+  t = Clock::now();
+  shares.reset();  // the share's rows, the distributed matrix and the preconditioner given back
+  s.timings["release"] = since(t);
   s.timings["total"] = since(start);
   return s;
 }

@@ -497,7 +497,9 @@ void BasicPathSolver<dim>::Impl::condense() {
     parts = shares->contact().parts;
     boundary = shares->contact().boundary;
     held_by_contact = shares->contact().held_by_contact;
-    timings["posing"] = shares->posing_seconds();
+    // as in one process, where the contact's set-up is not one of the path's stages
+    timings["assembly"] = shares->timings().at("assembly");
+    timings["posing"] = shares->timings().at("setup") + shares->timings().at("posing");
     cond = &shares->posed();
   } else {
     pipeline = full ? std::make_unique<BasicContactSolver<dim>>(problem, std::move(krylov), options.minimizer)
@@ -789,9 +791,7 @@ auto BasicPathSolver<dim>::Impl::last_solution(const Step& s, const MinimizerRes
   sol.held_by_contact = held_by_contact;
   sol.energy = s.energy;
   if (s.forces) sol.forces = *s.forces;
-  // across processes the posing assembles each process's rows
-  sol.stages = shares ? std::vector<std::string>{"posing", "path"}
-                      : std::vector<std::string>{"assembly", full ? "posing" : "condensation", "path"};
+  sol.stages = {"assembly", full ? "posing" : "condensation", "path"};
   if (sol.converged() && !sol.u.allFinite()) {
     sol.status = MinimizerStatus::failed;
     sol.message = "the displacement is not finite (NaN or Inf after back-substitution)";

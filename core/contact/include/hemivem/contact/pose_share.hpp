@@ -15,7 +15,9 @@
 #include <Eigen/Core>
 
 #include <functional>
+#include <map>
 #include <memory>
+#include <string>
 #include <utility>
 
 #include <hemivem/contact/full_space.hpp>
@@ -89,8 +91,10 @@ class FullSpaceShares {
   const ContactSetUp<dim>& contact() const noexcept;
   /// The distribution of the rows (its collectives: sum, max, all_gather).
   const RowDistribution& distribution() const noexcept;
-  /// The seconds the posing took (the rows' assembly, rotation and the coordinates).
-  double posing_seconds() const noexcept;
+  /// The seconds this process's posing took, as a solve's stages: "assembly" (its rows),
+  /// "setup" (the contact surface: parts, nodes, gaps) and "posing" (the rotation of its rows,
+  /// the coordinates and the distribution of the rows).
+  const std::map<std::string, double>& timings() const noexcept;
 
   /// The whole problem's free right-hand side as posed (the processes' rows gathered).
   Eigen::VectorXd whole_load() const;
@@ -127,9 +131,12 @@ class FullSpaceShares {
 /// contact table, the potential energy, the balance of forces, the certificate and verdict of the
 /// whole problem), the same on each: what follows a solve (an error estimate, the marking of an
 /// adaptive solve) then decides alike on every process. `start_u`, when not empty, is the nodal
-/// displacement the iteration starts from (BasicContactSolver::start_from). Its stages are posing (the rows' assembly, rotation and the
-/// coordinates) and full_space (with gathering the results); uniqueness_margin is NaN, as on the
-/// route in one process. With one process this is that route on one share holding every row.
+/// displacement the iteration starts from (BasicContactSolver::start_from). Its stages and
+/// timings are those of the route in one process: assembly (this process's rows), posing (with
+/// the timing setup, FullSpaceShares::timings), full_space, then post_process (gathering and
+/// making the results) and release (the shares given back; `krylov` is the caller's).
+/// uniqueness_margin is NaN, as on the route in one process. With one process this is that
+/// route on one share holding every row.
 ///
 /// A solid's friction (groups of two coordinates) runs across processes as in one: each process
 /// turns its rows into the frames of its own groups' motions and its ghost columns into those of
