@@ -113,7 +113,8 @@ def test_a_solve_and_a_path_across_processes_from_python(tmp_path, coulomb_scene
 
 def test_auto_takes_the_full_space_route_where_the_condensed_one_does_not_fit(monkeypatch):
     # Example 4.1 on 128 x 128 squares: an estimated 81 MiB on the condensed route, 70 MiB on
-    # the full-space route with eigen-cg (the Krylov engine Python runs)
+    # the full-space route with eigen-cg, the one Krylov engine whose estimate fits in 75 MiB
+    # (PETSc's engines bring their libraries)
     scene = hemivem.Scene.default()
     scene.set("mesh.n", 128)
     reference = hemivem.solve(scene, linear="eigen")
