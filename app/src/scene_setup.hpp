@@ -164,25 +164,29 @@ void add_contact_parts(RunInfo& info, const std::vector<BasicContactPart<dim>>& 
 
 /// Solves s.built->problem with the engines `e` as every static solve of a scene does, in
 /// either dimension: BasicContactSolver<dim> with the condition estimate, the reduced problem
-/// when `reduced` is not null (the full-space route has none and leaves it) and a warm start from `start` when it is not empty, a defect
-/// found in setting the problem up named by the scene's key (rethrow_naming_scene_key); then
-/// the warnings (the scene's, the conditioning's) and, wherever the displacement is (every
+/// when `reduced` is not null (the full-space route has none and leaves it) and a warm start
+/// from `start` when it is not empty, a defect found in setting the problem up named by the
+/// scene's key (rethrow_naming_scene_key); then the warnings (the scene's, the conditioning's) and, wherever the displacement is (every
 /// process of the full-space route across processes; not the ranks > 0 of mumps-mpi), the error
 /// estimate estimate(problem, solution) as the stage "estimate".
 template <int dim, class Solved, class Estimate>
 void solve_built(const Scene& scene, SceneEngines& e, Solved& s, ReducedProblem* reduced, const Eigen::VectorXd& start,
                  Estimate&& estimate) {
   const NonsmoothMinimizer* minimizers[] = {e.minimizer.get()};
+  // what holds the engine, reset: its time the stage "release"
+  const auto give_back = [&s](auto& holder) {
+    const auto released = std::chrono::steady_clock::now();
+    holder.reset();
+    const double release = std::chrono::duration<double>(std::chrono::steady_clock::now() - released).count();
+    s.solution.timings["release"] += release;
+    s.solution.timings["total"] += release;
+  };
   try {
     if (e.krylov && e.processes > 1) {  // the full-space route across processes, each holding the results
       // no reduced problem: `reduced` is left untouched, as BasicContactSolver::export_reduced does
       s.solution = solve_full_space_shares<dim>(s.built->problem, *e.krylov, krylov_world(), make_distributed_rows,
                                                 s.options, start);
-      const auto released = std::chrono::steady_clock::now();  // the engine, as in one process below
-      e.krylov.reset();
-      const double release = std::chrono::duration<double>(std::chrono::steady_clock::now() - released).count();
-      s.solution.timings["release"] += release;
-      s.solution.timings["total"] += release;
+      give_back(e.krylov);  // the engine, as in one process below
     } else {
       std::optional<BasicContactSolver<dim>> solver;
       if (e.krylov)
@@ -193,11 +197,7 @@ void solve_built(const Scene& scene, SceneEngines& e, Solved& s, ReducedProblem*
       if (start.size() > 0) solver->start_from(&start);
       s.solution = std::move(solver->run(minimizers).front());
       // the solver's factorization is given back here, before the outputs: its time is a stage
-      const auto released = std::chrono::steady_clock::now();
-      solver.reset();
-      const double release = std::chrono::duration<double>(std::chrono::steady_clock::now() - released).count();
-      s.solution.timings["release"] = release;
-      s.solution.timings["total"] += release;
+      give_back(solver);
     }
   } catch (const InputError& error) {
     rethrow_naming_scene_key(scene, error);
