@@ -266,6 +266,7 @@ TEST(FullSpace, TheCommandSolvesOnTheFullSpaceRouteAndExitsCleanly) {
   const std::filesystem::path reference = test::scratch("full-space-cholesky");
   ASSERT_EQ(test::run_hemivem("solve --n 8 --linear eigen -q --out " + reference.string()).code, 0);
   const auto u0 = nlohmann::json::parse(test::slurp(reference / "result.json"));
+  EXPECT_TRUE(u0.at("full_space").is_null()) << "the condensed route runs no Krylov engine";
   for (const std::string& engine : available_krylov_solvers()) {
     SCOPED_TRACE(engine);
     const std::filesystem::path out = test::scratch("full-space-" + engine);
@@ -279,6 +280,17 @@ TEST(FullSpace, TheCommandSolvesOnTheFullSpaceRouteAndExitsCleanly) {
                 1e-9 * std::abs(u0["potential_energy"].get<double>()));
     EXPECT_EQ(r["backends"]["linear"], engine);
     EXPECT_EQ(r["uniqueness"], "unknown") << "not measured on this route";
+    // the route's counts, as its message tells them
+    const nlohmann::json& counts = r.at("full_space");
+    const int newton = counts.at("newton_iterations").get<int>(), krylov = counts.at("krylov_iterations").get<int>();
+    EXPECT_EQ(newton, r["iterations"].get<int>());
+    EXPECT_GE(krylov, newton);
+    EXPECT_GE(counts.at("preconditioner_setups").get<int>(), 1);
+    EXPECT_LE(counts.at("preconditioner_setups").get<int>(), newton);
+    EXPECT_NE(r["message"].get<std::string>().find(std::to_string(newton) + " Newton iterations, " +
+                                                   std::to_string(krylov) + " " + engine + " iterations"),
+              std::string::npos)
+        << r["message"];
     std::filesystem::remove_all(out);
   }
   std::filesystem::remove_all(reference);

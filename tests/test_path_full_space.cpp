@@ -60,6 +60,14 @@ void expect_same_steps(const BasicPathSolution<dim>& condensed, const BasicPathS
   ASSERT_EQ(full.steps.size(), condensed.steps.size());
   EXPECT_EQ(full.last.stages, (std::vector<std::string>{"assembly", "posing", "path"}));
   EXPECT_EQ(full.condensed_loads, 0);
+  // the route's counts: the Newton iterations are the steps' (each summed over its fixed point)
+  EXPECT_FALSE(condensed.last.full_space.has_value()) << "no Krylov engine ran";
+  ASSERT_TRUE(full.last.full_space.has_value());
+  int newton = 0;
+  for (const auto& f : full.steps) newton += f.iterations;
+  EXPECT_EQ(full.last.full_space->newton_iterations, newton);
+  EXPECT_GE(full.last.full_space->krylov_iterations, newton);
+  EXPECT_GE(full.last.full_space->preconditioner_setups, static_cast<int>(full.steps.size()));
   for (std::size_t k = 0; k < full.steps.size(); ++k) {
     const auto& c = condensed.steps[k];
     const auto& f = full.steps[k];

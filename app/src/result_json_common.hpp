@@ -26,7 +26,7 @@ template <class Solution>
 nlohmann::json result_json_common(const Solution& s, const RunInfo& info, int dimension) {
   using nlohmann::json;
   json j;
-  j["schema"] = "hemivem-result/20";
+  j["schema"] = "hemivem-result/21";
   j["version"] = info.version;
   j["dimension"] = dimension;
   j["scene"] = {{"name", info.scene_name}, {"toml", info.scene_toml}};
@@ -50,6 +50,10 @@ nlohmann::json result_json_common(const Solution& s, const RunInfo& info, int di
   j["iterations"] = s.iterations();
   j["evaluations"] = {{"function", s.minimizer ? s.minimizer->function_evaluations : 0},
                       {"subgradient", s.minimizer ? s.minimizer->subgradient_evaluations : 0}};
+  j["full_space"] = s.full_space ? json{{"newton_iterations", s.full_space->newton_iterations},
+                                        {"krylov_iterations", s.full_space->krylov_iterations},
+                                        {"preconditioner_setups", s.full_space->preconditioner_setups}}
+                                  : json(nullptr);
   j["stages"] = s.stages;
   json t = json::object();
   for (const auto& [k, v] : s.timings) t[k] = number(v);

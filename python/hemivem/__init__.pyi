@@ -369,6 +369,9 @@ class Result:
     @property
     def stages(self) -> list[str]: ...
     @property
+    def full_space(self) -> Optional[dict[str, int]]:
+        """The full-space route's newton_iterations, krylov_iterations and preconditioner_setups; None on the condensed route."""
+    @property
     def timings(self) -> dict[str, float]: ...
     @property
     def linear(self) -> str: ...

@@ -375,6 +375,19 @@ friction_state (zeros and '' at the nodes of a frictionless part).
       .def("__repr__", [](const ContactTable& t) { return "ContactTable(" + std::to_string(t.rows) + " nodes)"; });
 }
 
+/// Result's cost: the stages, their seconds and the full-space route's counts.
+void def_result_cost(ResultClass& c) {
+  c.def_property_readonly("stages", [](py::handle s) { return visit(data(s), [](const auto& v) { return v.solution.stages; }); },
+                          "The stages that ran, in order.")
+      .def_property_readonly("full_space", [](py::handle s) -> py::object { py::object j = json_dict(data(s)); return j["full_space"]; },
+                             "The full-space route's counts as in result.json: newton_iterations,\n"
+                             "krylov_iterations (summed over the Newton systems) and preconditioner_setups,\n"
+                             "summed over a path; None on the condensed route.")
+      .def_property_readonly("timings", [](py::handle s) -> py::object { py::object j = json_dict(data(s)); return j["timings"]; },
+                             "Seconds by stage as in result.json: mesh, assembly, condensation, minimize,\n"
+                             "back_substitution (or linear_solve), total.");
+}
+
 /// Result's outcome: status, certificate, energy, iterations, engines, search.
 void def_result_outcome(ResultClass& c) {
   c.def_property_readonly("dimension", [](py::handle s) { return data(s).dimension(); },
@@ -421,11 +434,6 @@ void def_result_outcome(ResultClass& c) {
           "The rigid motions the Dirichlet conditions leave free, in words; the contact alone holds them\n"
           "(in 2D and 3D alike).")
       .def_property_readonly("iterations", [](py::handle s) { return visit(data(s), [](const auto& v) { return v.solution.iterations(); }); })
-      .def_property_readonly("stages", [](py::handle s) { return visit(data(s), [](const auto& v) { return v.solution.stages; }); },
-                             "The stages that ran, in order.")
-      .def_property_readonly("timings", [](py::handle s) -> py::object { py::object j = json_dict(data(s)); return j["timings"]; },
-                             "Seconds by stage as in result.json: mesh, assembly, condensation, minimize,\n"
-                             "back_substitution (or linear_solve), total.")
       .def_property_readonly("linear", [](py::handle s) { return visit(data(s), [](const auto& v) { return v.linear; }); },
                              "The linear engine used.")
       .def_property_readonly("minimizer", [](py::handle s) { return visit(data(s), [](const auto& v) { return v.minimizer; }); },
@@ -783,6 +791,7 @@ A Result holds its own copy of the scene, the mesh and the solution: it outlives
 was solved from, and its arrays keep it alive.
 )doc");
   def_result_outcome(c);
+  def_result_cost(c);
   def_result_solution(c);
   def_result_bodies(c);
   def_result_estimate(c);

@@ -115,6 +115,12 @@ void expect_processes_agree(const std::string& flags, const fs::path& ref, int p
     stages += a["timings"][stage].get<double>();
   }
   EXPECT_LE(stages, a["timings"]["total"].get<double>() * (1 + 1e-12)) << a["timings"].dump();
+  // the route's counts of the whole iteration, which every process made alike
+  ASSERT_TRUE(a["full_space"].is_object()) << a.dump();
+  EXPECT_EQ(a["full_space"]["newton_iterations"], a["iterations"]);
+  EXPECT_GE(a["full_space"]["krylov_iterations"].get<int>(), a["iterations"].get<int>());
+  EXPECT_GE(a["full_space"]["preconditioner_setups"].get<int>(), 1);
+  EXPECT_TRUE(b["full_space"].is_null());
   EXPECT_EQ(a["mesh"]["dofs"], b["mesh"]["dofs"]);
   const double ea = a["potential_energy"].get<double>(), eb = b["potential_energy"].get<double>();
   EXPECT_NEAR(ea, eb, 1e-9 * std::abs(eb));
@@ -171,6 +177,10 @@ TEST(CliFullSpaceMpi, ACoulombPathAcrossProcessesIsTheCondensedRoutes) {
   const nlohmann::json pa = nlohmann::json::parse(slurp(out / "path.json"));
   const nlohmann::json pb = nlohmann::json::parse(slurp(ref / "path.json"));
   ASSERT_EQ(pa["steps"].size(), 8u);
+  int newton = 0;  // the route's Newton iterations are the steps' (each summed over its fixed point)
+  for (const auto& step : pa["steps"]) newton += step["iterations"].get<int>();
+  ASSERT_TRUE(a["full_space"].is_object()) << a.dump();
+  EXPECT_EQ(a["full_space"]["newton_iterations"].get<int>(), newton);
   ASSERT_EQ(pa["steps"].size(), pb["steps"].size());
   for (std::size_t k = 0; k < pb["steps"].size(); ++k) {
     SCOPED_TRACE("step " + std::to_string(k + 1));

@@ -38,6 +38,11 @@ def test_the_full_space_route_gives_the_condensed_routes_displacement(engine):
     result = json.loads(full.to_json())
     assert result["stages"][:3] == ["assembly", "posing", "full_space"]
     assert result["backends"]["linear"] == engine
+    assert condensed.full_space is None
+    assert full.full_space == result["full_space"]
+    assert full.full_space["newton_iterations"] == full.iterations >= 1
+    assert full.full_space["krylov_iterations"] >= full.iterations
+    assert 1 <= full.full_space["preconditioner_setups"] <= full.iterations
 
 
 def test_python_runs_every_krylov_engine_built():
@@ -58,6 +63,9 @@ def test_a_path_on_the_full_space_route_is_the_condensed_routes(coulomb_scene, e
     result = json.loads(full.to_json())
     assert result["stages"][:3] == ["assembly", "posing", "path"]
     assert result["backends"]["linear"] == engine
+    # the route's Newton iterations are the steps' (each summed over its fixed point)
+    assert condensed.full_space is None
+    assert full.full_space["newton_iterations"] == sum(step.iterations for step in full.path)
 
 
 # Run by `mpiexec -n 2 python3 ACROSS <folder>`: a solve and a Coulomb path across the

@@ -337,6 +337,7 @@ BasicContactSolution<dim> solve_full_space_shares(const BasicContactProblem<dim>
   s.timings["full_space"] = since(t);
   s.timings["preconditioner"] = stats.preconditioner_seconds;
   s.timings["krylov"] = stats.krylov_seconds;
+  s.full_space = stats;
   s.stages.push_back("full_space");
   // the results of the whole problem, from what every process gathered: the same on each
   t = Clock::now();

@@ -393,6 +393,7 @@ void BasicContactSolver<dim>::solve_full_space(Solution& solution) {
   solution.timings["full_space"] = detail::since(t);
   solution.timings["preconditioner"] = stats.preconditioner_seconds;
   solution.timings["krylov"] = stats.krylov_seconds;
+  solution.full_space = stats;
   solution.stages.push_back("full_space");
   const auto tp = Clock::now();
   post_process(solution);

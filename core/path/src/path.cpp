@@ -194,6 +194,7 @@ struct BasicPathSolver<dim>::Impl {
   Eigen::VectorXd g_before;      // the bound the step before the last ended with (empty before it)
   double change_prev = 0.0, t_prev = 0.0, t_before = 0.0;
   std::map<std::string, double> timings;
+  FullSpaceStatistics full_space_counts;  // the full-space route's, summed over the path's minimizations
   bool check_existence_each_step = true;
   // the full-space route: the rotated free unknowns of the last minimization (each step starts
   // from the one before), and a proportional path's load, prescribed values and resultant at t = 1
@@ -443,6 +444,7 @@ MinimizerResult BasicPathSolver<dim>::Impl::minimize_once(const Eigen::VectorXd&
   }
   timings["preconditioner"] += statistics.preconditioner_seconds;
   timings["krylov"] += statistics.krylov_seconds;
+  full_space_counts += statistics;
   return m;
 }
 
@@ -857,6 +859,7 @@ BasicPathSolution<dim> BasicPathSolver<dim>::run() {
     s.forces = contact_force_balance<dim>(at_t, s.u, s.contact);
   }
   out.last = p.last_solution(out.steps.back(), p.last_result, p.last_shift);
+  if (p.full) out.last.full_space = p.full_space_counts;
   carry_first_failure(out, failed);
   p.timings["total"] = since(start);
   out.timings = p.timings;

@@ -38,6 +38,15 @@ struct FullSpaceStatistics {
   int preconditioner_setups = 0;
   double preconditioner_seconds = 0.0;  ///< the Krylov engine's compute()
   double krylov_seconds = 0.0;          ///< its solve()
+  /// The counts and seconds of `other` added to these (a sequence of solves: a loading path).
+  FullSpaceStatistics& operator+=(const FullSpaceStatistics& other) noexcept {
+    newton_iterations += other.newton_iterations;
+    krylov_iterations += other.krylov_iterations;
+    preconditioner_setups += other.preconditioner_setups;
+    preconditioner_seconds += other.preconditioner_seconds;
+    krylov_seconds += other.krylov_seconds;
+    return *this;
+  }
 };
 
 /// The certificate of the rotated unknowns x of `posed` (Condensation::PoseOnly) at tolerance

@@ -158,6 +158,10 @@ struct BasicContactSolution {
   double condition_estimate = std::numeric_limits<double>::quiet_NaN();
   std::map<std::string, double> timings;  ///< seconds: assembly, condensation, minimize, back_substitution, total
   std::vector<std::string> stages;      ///< the stages that ran, in order
+  /// The full-space route's Newton iterations, Krylov iterations (summed over the Newton
+  /// systems) and preconditioner set-ups, summed over a path's minimizations; absent on the
+  /// condensed route.
+  std::optional<FullSpaceStatistics> full_space;
   bool converged() const noexcept { return status == MinimizerStatus::converged; }
   /// The minimizer's iterations (0 without a minimizer).
   int iterations() const noexcept { return minimizer ? minimizer->iterations : 0; }
