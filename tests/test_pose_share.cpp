@@ -201,29 +201,62 @@ TEST(PoseShare, WhatItCannotPoseIsRefusedByName) {
   ContactProblem none = p;
   none.parts.clear();
   EXPECT_NE(test::input_error_of([&] { (void)pose_share(none, 0, 5); }).find("no contact node"), std::string::npos);
-  // two bodies joined at their contact
-  const std::string text = R"toml(schema_version = 1
-[[body]]
-name = "upper"
-mesh = {generator = "cubes", n = [2, 2, 1], domain = [0.0, 1.0, 0.0, 1.0, 0.5, 1.0]}
-material = {E = 10.0, nu = 0.3}
-dirichlet = [{side = "top", value = [0.0, 0.0, -0.01]}]
-[[body]]
-name = "lower"
-mesh = {generator = "cubes", n = [2, 2, 1], domain = [0.0, 1.0, 0.0, 1.0, 0.0, 0.5]}
-material = {E = 4.0, nu = 0.1}
-dirichlet = [{side = "bottom", value = [0.0, 0.0, 0.0]}]
-[[contact]]
-name = "interface"
-side = "upper.bottom"
-against = "lower.top"
-law = "zero"
-constraint = "one-sided"
-)toml";
-  const auto two = build_problem<3>(parse_scene_string(text, "two-solids.toml"));
-  const std::string refused = test::input_error_of([&] { (void)pose_share(two->problem, 0, 4); });
+}
+
+// ---- two bodies joined at their contact ----
+
+/// Two bodies of `generator` cells stacked along the last axis (the upper pressed down by its
+/// top's prescribed displacement, the lower clamped at its bottom), joined at the interface,
+/// with a Tresca friction bound when `friction` (in 3D: groups); `extra` adds to the lower body.
+std::string stacked_bodies(int dim, bool friction, const std::string& extra = "") {
+  const std::string domain_upper = dim == 2 ? "[0.0, 1.0, 0.5, 1.0]" : "[0.0, 1.0, 0.0, 1.0, 0.5, 1.0]";
+  const std::string domain_lower = dim == 2 ? "[0.0, 1.0, 0.0, 0.5]" : "[0.0, 1.0, 0.0, 1.0, 0.0, 0.5]";
+  const std::string n = dim == 2 ? "[6, 3]" : "[3, 3, 3]";
+  const std::string press = dim == 2 ? "[0.004, -0.01]" : "[0.004, 0.002, -0.01]";
+  const std::string zero = dim == 2 ? "[0.0, 0.0]" : "[0.0, 0.0, 0.0]";
+  const std::string generator = dim == 2 ? "squares" : "cubes";
+  return "schema_version = 1\n[[body]]\nname = \"upper\"\nmesh = {generator = \"" + generator + "\", n = " + n +
+         ", domain = " + domain_upper + "}\nmaterial = {E = 10.0, nu = 0.3}\ndirichlet = [{side = \"top\", value = " +
+         press + "}]\n[[body]]\nname = \"lower\"\nmesh = {generator = \"" + generator + "\", n = " + n +
+         ", domain = " + domain_lower + "}\nmaterial = {E = 4.0, nu = 0.1}\ndirichlet = [{side = \"bottom\", value = " +
+         zero + "}" + extra + "]\n[[contact]]\nname = \"interface\"\nside = \"upper.bottom\"\nagainst = \"lower.top\"\n"
+         "law = \"zero\"\nconstraint = \"one-sided\"\n" +
+         (friction ? "friction = {law = \"tresca\", bound = 0.002}\n" : "");
+}
+
+// the thirds of two joined bodies: each process's rows joined with the rows of the pairs' nodes
+// across from its vertices, wherever the split falls
+TEST(PoseShare, TwoJoinedSolidsAreTheWholePosingsShares) {
+  for (const bool friction : {false, true}) {
+    SCOPED_TRACE(friction ? "with friction" : "frictionless");
+    const auto two = build_problem<3>(parse_scene_string(stacked_bodies(3, friction), "two-solids.toml"));
+    expect_shares_of_whole<3>(two->problem);
+  }
+}
+
+TEST(PoseShare, TwoJoinedPlaneBodiesAreTheWholePosingsShares) {
+  const auto two = build_problem<2>(parse_scene_string(stacked_bodies(2, true), "two-blocks.toml"));
+  expect_shares_of_whole<2>(two->problem);
+  // a split between the pairs' nodes and the vertices across from them: every node's row read
+  // by the other side
+  const int n = two->mesh.num_vertices();
+  for (int cut : {n / 4, n / 2, 3 * n / 4}) {
+    SCOPED_TRACE("cut at " + std::to_string(cut));
+    BasicContactSolver<2> solver(two->problem, make_krylov_solver("eigen-cg"), MinimizerOptions{});
+    solver.prepare();
+    expect_share_of_whole<2>(two->problem, *solver.condensation(), solver.system().dofs, 0, cut);
+    expect_share_of_whole<2>(two->problem, *solver.condensation(), solver.system().dofs, cut, n);
+  }
+}
+
+TEST(PoseShare, WhatItCannotPoseOfTwoJoinedBodiesIsRefusedByName) {
+  // a pair's node free where the vertex across from it is prescribed (the lower body held on a side)
+  const auto shifted = build_problem<3>(parse_scene_string(
+      stacked_bodies(3, false, ", {side = \"x0\", value = [0.0, 0.0, 0.0]}"), "two-solids.toml"));
+  const std::string refused =
+      test::input_error_of([&] { (void)pose_share(shifted->problem, 0, shifted->mesh.num_vertices()); });
   EXPECT_NE(refused.find("in one process only"), std::string::npos) << refused;
-  EXPECT_NE(refused.find("interface"), std::string::npos) << refused;
+  EXPECT_NE(refused.find("across from it has it prescribed"), std::string::npos) << refused;
 }
 
 // ---- the rows of the assembly ----

@@ -157,6 +157,41 @@ TEST(CliFullSpaceMpi, ASolidsFrictionAcrossProcessesIsTheCondensedAnswer) {
   expect_processes_agree(flags, ref, 2, "friction", true);
 }
 
+// two solids joined at their contact, with Tresca friction between them: the upper's vertices
+// come first, so that the slabs put the pairs' nodes and the vertices across from them on
+// different processes
+TEST(CliFullSpaceMpi, TwoJoinedSolidsAcrossProcessesAreTheCondensedAnswer) {
+  const fs::path toml = scratch("two-solids.toml");
+  fs::create_directories(toml.parent_path());
+  {
+    std::ofstream out(toml);
+    out << R"toml(schema_version = 1
+[[body]]
+name = "upper"
+mesh = {generator = "cubes", n = [4, 4, 3], domain = [0.0, 1.0, 0.0, 1.0, 0.5, 1.0]}
+material = {E = 10.0, nu = 0.3}
+dirichlet = [{side = "top", value = [0.004, 0.002, -0.01]}]
+[[body]]
+name = "lower"
+mesh = {generator = "cubes", n = [4, 4, 3], domain = [0.0, 1.0, 0.0, 1.0, 0.0, 0.5]}
+material = {E = 4.0, nu = 0.1}
+dirichlet = [{side = "bottom", value = [0.0, 0.0, 0.0]}]
+[[contact]]
+name = "interface"
+side = "upper.bottom"
+against = "lower.top"
+law = "zero"
+constraint = "one-sided"
+friction = {law = "tresca", bound = 0.004}
+)toml";
+  }
+  const std::string flags = toml.string() + " --tol 1e-11";
+  const fs::path ref = scratch("condensed-two-solids");
+  const CommandRun c = run(binary() + " solve " + flags + " --linear eigen -q --out " + ref.string());
+  ASSERT_EQ(c.code, 0) << c.err;
+  expect_processes_agree(flags, ref, 2, "two-solids", true);
+}
+
 // a loading path with Coulomb friction (friction-coulomb.toml): every step on 2 processes is the
 // condensed route's in one, and rank 0 alone writes the path's files
 TEST(CliFullSpaceMpi, ACoulombPathAcrossProcessesIsTheCondensedRoutes) {

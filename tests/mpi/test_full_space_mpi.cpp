@@ -17,6 +17,7 @@
 #include <hemivem/nonsmooth_backends.hpp>
 #include <hemivem/path/path.hpp>
 #include <hemivem/scene/example.hpp>
+#include <hemivem/scene/scene.hpp>
 
 #include <gtest/gtest.h>
 
@@ -408,6 +409,47 @@ TEST(FullSpaceMpi, TheCommandsSolveAcrossProcessesIsTheCondensedAnswerWithASolid
     // the Newton systems are those of the whole problem: about as many iterations as the
     // condensed route's (11); with the ghost columns left out of the groups' frames, 19
     EXPECT_LE(s.iterations(), c.iterations() + 4) << c.iterations() << " iterations of the condensed route";
+  });
+}
+
+// Two bodies joined at their contact: the upper pressed down and sideways by its top, the lower
+// clamped at its bottom, the interface one-sided (and with Tresca friction). Each process joins its
+// own rows with the rows of the pairs' nodes across from its vertices; the slabs of vertices split
+// the bodies (the upper's are numbered first, its contact layer at their start), so that a process
+// owns the vertices across from nodes another owns.
+std::string stacked_bodies(int dim, const std::string& friction) {
+  const bool plane = dim == 2;
+  const std::string n = plane ? "[8, 4]" : "[4, 4, 3]";
+  const std::string generator = plane ? "squares" : "cubes";
+  const auto body = [&](const char* name, const char* domain, const char* material, const char* dirichlet) {
+    return std::string("[[body]]\nname = \"") + name + "\"\nmesh = {generator = \"" + generator + "\", n = " + n +
+           ", domain = " + domain + "}\nmaterial = " + material + "\ndirichlet = [" + dirichlet + "]\n";
+  };
+  return "schema_version = 1\n" +
+         body("upper", plane ? "[0.0, 1.0, 0.5, 1.0]" : "[0.0, 1.0, 0.0, 1.0, 0.5, 1.0]", "{E = 10.0, nu = 0.3}",
+              plane ? "{side = \"top\", value = [0.004, -0.01]}" : "{side = \"top\", value = [0.004, 0.002, -0.01]}") +
+         body("lower", plane ? "[0.0, 1.0, 0.0, 0.5]" : "[0.0, 1.0, 0.0, 1.0, 0.0, 0.5]", "{E = 4.0, nu = 0.1}",
+              plane ? "{side = \"bottom\", value = [0.0, 0.0]}" : "{side = \"bottom\", value = [0.0, 0.0, 0.0]}") +
+         "[[contact]]\nname = \"interface\"\nside = \"upper.bottom\"\nagainst = \"lower.top\"\nlaw = \"zero\"\n"
+         "constraint = \"one-sided\"\n" + friction;
+}
+
+TEST(FullSpaceMpi, TwoJoinedPlaneBodiesAcrossProcessesAreTheCondensedAnswer) {
+  const auto two = build_problem<2>(parse_scene_string(stacked_bodies(2, ""), "two-blocks.toml"));
+  expect_shares_solve_as_the_condensed_route<2>(two->problem);
+}
+
+TEST(FullSpaceMpi, TwoJoinedSolidsWithFrictionAcrossProcessesAreTheCondensedAnswer) {
+  const auto two = build_problem<3>(
+      parse_scene_string(stacked_bodies(3, "friction = {law = \"tresca\", bound = 0.004}\n"), "two-solids.toml"));
+  expect_shares_solve_as_the_condensed_route<3>(two->problem, [](const BasicContactSolution<3>&,
+                                                                  const BasicContactSolution<3>& c) {
+    int slip = 0, stick = 0;
+    for (const auto& node : c.contact) {
+      slip += node.friction_state == FrictionState::slip ? 1 : 0;
+      stick += node.friction_state == FrictionState::stick ? 1 : 0;
+    }
+    EXPECT_GT(slip + stick, 0) << "the bodies touch";
   });
 }
 

@@ -278,6 +278,32 @@ std::vector<PartConditions> one_part(std::shared_ptr<const ContactLaw> law, Cons
   return {PartConditions{std::move(law), constraint, std::move(friction), law_from_surface}};
 }
 
+/// The pairs (p, the point across) of the nodes of `boundary` paired with another body.
+std::vector<std::pair<int, Across>> pairs_of(const ContactBoundary& boundary) {
+  std::vector<std::pair<int, Across>> pairs;
+  for (int i = 0; i < boundary.size(); ++i)
+    if (const Across& a = boundary.across[static_cast<std::size_t>(i)]; a.size() > 0)
+      pairs.emplace_back(boundary.nodes[static_cast<std::size_t>(i)], a);
+  return pairs;
+}
+
+/// The first pair whose node p has a free component prescribed at a vertex across from it, in
+/// words (Joining::shifts_load).
+std::string shifted_pair(const DofMap& dofs, const ContactBoundary& boundary) {
+  const int dim = boundary.dimension;
+  for (const auto& [p, across] : pairs_of(boundary))
+    for (int c = 0; c < dim; ++c)
+      for (int k = 0; k < across.size(); ++k) {
+        const int q = across.vertex[static_cast<std::size_t>(k)];
+        if (dofs.free_index[static_cast<std::size_t>(dim * p + c)] >= 0 &&
+            dofs.free_index[static_cast<std::size_t>(dim * q + c)] < 0)
+          return "contact node " + std::to_string(p) + " has its " + std::string(1, "xyz"[c]) +
+                 " displacement free and the vertex " + std::to_string(q) +
+                 " of the other body across from it has it prescribed";
+      }
+  return "a contact node's displacement is free where the other body's across from it is prescribed";
+}
+
 }  // namespace
 
 Condensation::Condensation(const LinearSystem& system, const ContactBoundary& boundary,
@@ -317,9 +343,16 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
 Condensation::Condensation(const DofMap& dofs, const ContactBoundary& boundary,
                            const std::vector<PartConditions>& parts, CoordinatesOnly)
     : dofs_(dofs) {
-  if (!boundary.across.empty())
-    throw InputError("two bodies joined at their contact are posed with their whole system, in one process only");
-  pose_coordinates(dofs, boundary, parts);
+  if (!boundary.across.empty()) {
+    joining_ = Joining(dofs, pairs_of(boundary), boundary.dimension);
+    if (joining_.shifts_load())
+      throw InputError(shifted_pair(dofs, boundary) + ": its joined load takes the whole system's columns there, "
+                       "and two bodies joined so are posed with their whole system, in one process only");
+    Eigen::VectorXd joined_prescribed;
+    (void)joining_.join_load(Eigen::VectorXd::Zero(dofs.num_free()), dofs.prescribed, joined_prescribed);
+    dofs_.prescribed = std::move(joined_prescribed);
+  }
+  pose_coordinates(dofs_, boundary, parts);
   reduced_.c = Eigen::VectorXd::Zero(reduced_.lo.size());
   margin_ = std::numeric_limits<double>::quiet_NaN();
 }
@@ -331,11 +364,7 @@ void Condensation::pose(const LinearSystem& system, const ContactBoundary& bound
   // two bodies: the system in the coordinates relative at the pairs
   LinearSystem joined;
   if (!boundary.across.empty()) {
-    std::vector<std::pair<int, Across>> pairs;
-    for (int i = 0; i < boundary.size(); ++i)
-      if (const Across& a = boundary.across[static_cast<std::size_t>(i)]; a.size() > 0)
-        pairs.emplace_back(boundary.nodes[static_cast<std::size_t>(i)], a);
-    joining_ = Joining(system.dofs, std::move(pairs), boundary.dimension);
+    joining_ = Joining(system.dofs, pairs_of(boundary), boundary.dimension);
     joined = joining_.join(system);
     dofs_ = joined.dofs;
   }
@@ -390,13 +419,15 @@ std::vector<Condensation::NodeFrame> Condensation::frames_in(const std::vector<i
 SparseMatrix Condensation::rotated_part(const SparseMatrix& A, const std::vector<int>& unknowns) const {
   const auto n = static_cast<Eigen::Index>(unknowns.size());
   if (A.rows() != n || A.cols() != n) throw InternalError("a part of the system of another size than its unknowns");
-  return rotate_symmetric(A, frames_in(unknowns), keeps_pattern());
+  if (joining_.empty()) return rotate_symmetric(A, frames_in(unknowns), keeps_pattern());
+  return rotate_symmetric(joining_.join_part(A, unknowns), frames_in(unknowns), keeps_pattern());
 }
 
 Eigen::VectorXd Condensation::rotated_part(const Eigen::VectorXd& b, const std::vector<int>& unknowns) const {
   if (b.size() != static_cast<Eigen::Index>(unknowns.size()))
     throw InternalError("a part of a load of another size than its unknowns");
-  return rotate_vector(b, frames_in(unknowns));
+  if (joining_.empty()) return rotate_vector(b, frames_in(unknowns));
+  return rotate_vector(joining_.join_part(b, unknowns), frames_in(unknowns));
 }
 
 void Condensation::set_load(const Eigen::VectorXd& b, const Eigen::VectorXd& prescribed) {
@@ -904,11 +935,12 @@ Eigen::VectorXd Condensation::from_rotated(Eigen::VectorXd ut) const {
 }
 
 Eigen::VectorXd Condensation::unrotated_free(const Eigen::VectorXd& vt) const {
-  if (!joining_.empty()) throw InternalError("the unrotated values of two joined bodies");
   if (vt.size() != dofs_.num_free())
     throw InternalError("unrotated_free needs " + std::to_string(dofs_.num_free()) + " values, got " +
                         std::to_string(vt.size()));
-  return unrotate(vt);
+  if (joining_.empty()) return unrotate(vt);
+  if (joining_.shifts_load()) throw InternalError("the unrotated forces of two bodies joined with a shifted load");
+  return joining_.unjoined_forces(unrotate(vt));
 }
 
 Eigen::VectorXd Condensation::unrotated_product(const Eigen::VectorXd& uf) const {

@@ -3,6 +3,7 @@
 
 #include <Eigen/SparseCore>
 
+#include <algorithm>
 #include <string>
 
 namespace hemivem {
@@ -103,6 +104,59 @@ Eigen::VectorXd Joining::join_load(const Eigen::VectorXd& b, const Eigen::Vector
   Eigen::VectorXd shifted = b;
   if (s.size() > 0) shifted -= shift_ * s;
   return T_.transpose() * shifted;
+}
+
+namespace {
+
+/// The position of free unknown f in `unknowns` (increasing), -1 when it is not there.
+int position(const std::vector<int>& unknowns, int f) {
+  const auto at = std::lower_bound(unknowns.begin(), unknowns.end(), f);
+  return at != unknowns.end() && *at == f ? static_cast<int>(at - unknowns.begin()) : -1;
+}
+
+}  // namespace
+
+SparseMatrix Joining::restricted(const std::vector<int>& unknowns) const {
+  if (!shifted_.empty()) throw InternalError("a part of a joined system whose load is shifted by prescribed values");
+  const auto n = static_cast<int>(unknowns.size());
+  std::vector<Eigen::Triplet<double, int>> t;
+  t.reserve(static_cast<std::size_t>(n));
+  for (int k = 0; k < n; ++k) t.emplace_back(k, k, 1.0);
+  for (const Component& c : components_) {
+    if (c.free_p < 0) continue;
+    const int p = position(unknowns, c.free_p);
+    if (p < 0) continue;
+    for (const Term& q : c.across)
+      if (const int l = q.free >= 0 ? position(unknowns, q.free) : -1; l >= 0) t.emplace_back(p, l, q.weight);
+  }
+  SparseMatrix T(n, n);
+  T.setFromTriplets(t.begin(), t.end());
+  return T;
+}
+
+SparseMatrix Joining::join_part(const SparseMatrix& A, const std::vector<int>& unknowns) const {
+  const SparseMatrix T = restricted(unknowns);
+  if (A.rows() != T.rows() || A.cols() != T.cols()) throw InternalError("a part of the system of another size than its unknowns");
+  const SparseMatrix TA = SparseMatrix(T.transpose()) * A;
+  return TA * T;
+}
+
+Eigen::VectorXd Joining::join_part(const Eigen::VectorXd& b, const std::vector<int>& unknowns) const {
+  const SparseMatrix T = restricted(unknowns);
+  if (b.size() != T.rows()) throw InternalError("a part of a load of another size than its unknowns");
+  return T.transpose() * b;
+}
+
+Eigen::VectorXd Joining::unjoined_forces(const Eigen::VectorXd& f) const {
+  if (f.size() != num_free_)
+    throw InternalError("unjoined forces need " + std::to_string(num_free_) + " values, got " + std::to_string(f.size()));
+  Eigen::VectorXd out = f;
+  for (const Component& c : components_) {
+    if (c.free_p < 0) continue;
+    for (const Term& q : c.across)
+      if (q.free >= 0) out(q.free) -= q.weight * f(c.free_p);
+  }
+  return out;
 }
 
 Eigen::VectorXd Joining::displacement(const Eigen::VectorXd& v) const {

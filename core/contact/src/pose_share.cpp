@@ -28,20 +28,113 @@ double since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
-/// InputError for what the share cannot pose: no contact node, or two bodies joined.
+/// InputError for what the share cannot pose: no contact node.
 template <int dim>
-void require_one_body_in_contact(const ContactSetUp<dim>& contact) {
+void require_contact_nodes(const ContactSetUp<dim>& contact) {
   if (contact.boundary.size() == 0)
     throw InputError("the problem has no contact node: there is no contact problem to pose, only its linear system "
                      "(assemble_rows gives a process's rows of it)")
         .mark_about(ProblemPart::contact);
-  if (contact.boundary.across.empty()) return;
-  const auto joined = std::find_if(contact.parts.begin(), contact.parts.end(),
-                                   [](const BasicContactPart<dim>& p) { return !p.against.empty(); });
-  const std::string part = joined != contact.parts.end() ? joined->name : contact.parts.front().name;
-  throw InputError("contact part '" + part + "' meets another body: two bodies joined at their contact are posed "
-                   "with their whole system, in one process only")
-      .mark_about(ProblemPart::contact);
+}
+
+/// The free dofs of vertex v, increasing (none where every component is prescribed).
+template <int dim>
+void push_free_dofs(const DofMap& dofs, int v, std::vector<int>& out) {
+  for (int c = 0; c < dim; ++c)
+    if (const int f = dofs.free_index[static_cast<std::size_t>(dim * v + c)]; f >= 0) out.push_back(f);
+}
+
+/// Sorts `v` and drops repeats.
+void sort_unique(std::vector<int>& v) {
+  std::sort(v.begin(), v.end());
+  v.erase(std::unique(v.begin(), v.end()), v.end());
+}
+
+/// What the joining of two bodies (Condensation::rotated_part) reads besides the rows of the
+/// vertices [v0, v1): the whole row and the load of each pair's node p across from one of them
+/// (assembled from p's cells: assemble_rows of each run of such nodes), and the unknowns across
+/// from every node the part holds. `rows` is widened to them (its A, unknowns and at; its owned
+/// rows unchanged: they are the owned rows that assemble_rows gave, and the nodes' rows are
+/// added where they are not among them); `b` and `b_unknowns` become the load of the owned rows
+/// and of those nodes, with their free unknowns.
+template <int dim>
+void add_pair_rows(const BasicElasticityProblem<dim>& problem, const ContactBoundary& boundary, int v0, int v1,
+                   SystemRows& rows, Eigen::VectorXd& b, std::vector<int>& b_unknowns) {
+  const DofMap& dofs = rows.dofs;
+  const auto owns = [&](int v) { return v >= v0 && v < v1; };
+  std::vector<int> across_of(static_cast<std::size_t>(problem.mesh->num_vertices()), -1);  // the node's index
+  std::vector<int> nodes;  // the pairs' nodes across from an owned vertex, not owned themselves
+  for (int i = 0; i < boundary.size(); ++i) {
+    const Across& a = boundary.across[static_cast<std::size_t>(i)];
+    if (a.size() == 0) continue;
+    const int p = boundary.nodes[static_cast<std::size_t>(i)];
+    across_of[static_cast<std::size_t>(p)] = i;
+    bool near = false;
+    for (int k = 0; k < a.size(); ++k) near = near || owns(a.vertex[static_cast<std::size_t>(k)]);
+    if (near && !owns(p)) nodes.push_back(p);
+  }
+  sort_unique(nodes);
+  const auto first = static_cast<int>(rows.first), end = static_cast<int>(rows.first + rows.owned);
+  const auto owned_free = [&](int f) { return f >= first && f < end; };
+  // the part's entries as (row, column, value) of the free unknowns: its own, then the nodes' rows
+  std::vector<Eigen::Triplet<double, int>> entries;
+  entries.reserve(static_cast<std::size_t>(rows.A.nonZeros()));
+  std::vector<int> unknowns = rows.unknowns;
+  for (Eigen::Index c = 0; c < rows.A.outerSize(); ++c)
+    for (SparseMatrix::InnerIterator e(rows.A, c); e; ++e)
+      entries.emplace_back(rows.unknowns[static_cast<std::size_t>(e.row())], rows.unknowns[static_cast<std::size_t>(c)],
+                           e.value());
+  std::vector<int> node_rows;
+  std::vector<double> node_loads;
+  for (std::size_t k = 0; k < nodes.size();) {
+    std::size_t run = k + 1;  // a run of consecutive nodes, assembled together
+    while (run < nodes.size() && nodes[run] == nodes[run - 1] + 1) ++run;
+    const SystemRows more = assemble_rows(problem, nodes[k], nodes[run - 1] + 1);
+    for (Eigen::Index c = 0; c < more.A.outerSize(); ++c)
+      for (SparseMatrix::InnerIterator e(more.A, c); e; ++e) {
+        const int i = more.unknowns[static_cast<std::size_t>(e.row())], j = more.unknowns[static_cast<std::size_t>(c)];
+        // a node's row and column (the rotation reads both), but where the owned rows hold them
+        if (!owned_free(i) && !owned_free(j)) entries.emplace_back(i, j, e.value());
+      }
+    unknowns.insert(unknowns.end(), more.unknowns.begin(), more.unknowns.end());
+    for (Eigen::Index f = 0; f < more.owned; ++f) {
+      node_rows.push_back(static_cast<int>(more.first + f));
+      node_loads.push_back(more.b(f));
+    }
+    k = run;
+  }
+  // the unknowns across from every node among the part's (the joined columns of its rows)
+  const std::size_t held = unknowns.size();
+  for (std::size_t k = 0; k < held; ++k) {
+    const int v = dofs.free_dofs[static_cast<std::size_t>(unknowns[k])] / dim;
+    if (const int i = across_of[static_cast<std::size_t>(v)]; i >= 0) {
+      const Across& a = boundary.across[static_cast<std::size_t>(i)];
+      for (int q = 0; q < a.size(); ++q) push_free_dofs<dim>(dofs, a.vertex[static_cast<std::size_t>(q)], unknowns);
+    }
+  }
+  sort_unique(unknowns);
+  const auto local = [&](int f) {
+    return static_cast<int>(std::lower_bound(unknowns.begin(), unknowns.end(), f) - unknowns.begin());
+  };
+  for (auto& e : entries) e = Eigen::Triplet<double, int>(local(e.row()), local(e.col()), e.value());
+  const auto n = static_cast<Eigen::Index>(unknowns.size());
+  SparseMatrix A(n, n);
+  A.setFromTriplets(entries.begin(), entries.end());
+  std::vector<Eigen::Triplet<double, int>>().swap(entries);
+  rows.A.swap(A);
+  rows.unknowns = std::move(unknowns);
+  rows.at = std::lower_bound(rows.unknowns.begin(), rows.unknowns.end(), first) - rows.unknowns.begin();
+  // the load of the owned rows and of the nodes' rows, in the order of their unknowns
+  std::vector<std::pair<int, double>> load;
+  for (Eigen::Index f = 0; f < rows.owned; ++f) load.emplace_back(first + static_cast<int>(f), rows.b(f));
+  for (std::size_t k = 0; k < node_rows.size(); ++k) load.emplace_back(node_rows[k], node_loads[k]);
+  std::sort(load.begin(), load.end());
+  b.resize(static_cast<Eigen::Index>(load.size()));
+  b_unknowns.clear();
+  for (std::size_t k = 0; k < load.size(); ++k) {
+    b_unknowns.push_back(load[k].first);
+    b(static_cast<Eigen::Index>(k)) = load[k].second;
+  }
 }
 
 /// The owned rows of the rotated part `At` of `rows` (local columns: owned rows, then ghosts) and
@@ -91,12 +184,21 @@ SparseMatrix owned_rows(const SparseMatrix& At, const SystemRows& rows, RowLayou
   return A;
 }
 
-/// The owned rows of the rigid motions of `mesh` in the rotated free unknowns of `posed`.
+/// The owned rows of the rigid motions of `mesh` in the rotated free unknowns of `posed`. Of two
+/// joined bodies, from each motion of every vertex (relative at the pairs: rotated_free).
 template <int dim>
 Eigen::MatrixXd near_null_rows(const MeshOf<dim>& mesh, const Condensation& posed, const SystemRows& rows,
                                const std::vector<int>& owned_unknowns) {
   const MeshRigidMotions<dim> motions(mesh);
   Eigen::MatrixXd N(rows.owned, motions.count);
+  if (posed.joins_bodies()) {
+    Eigen::VectorXd u(static_cast<Eigen::Index>(dim) * mesh.num_vertices());
+    for (int k = 0; k < motions.count; ++k) {
+      for (int v = 0; v < mesh.num_vertices(); ++v) u.segment<dim>(dim * v) = motions.at(k, v);
+      N.col(k) = posed.rotated_free(u).segment(rows.first, rows.owned);
+    }
+    return N;
+  }
   Eigen::VectorXd motion(rows.owned);
   for (int k = 0; k < motions.count; ++k) {
     for (Eigen::Index i = 0; i < rows.owned; ++i) {
@@ -123,17 +225,35 @@ struct SharePosing {
   double setup_seconds = 0.0;     // contact_set_up
 };
 
+/// The contact set-up of `problem` (its dof map made for it) and the seconds it took.
 template <int dim>
-SharePosing<dim> pose_share_and_surface(const BasicContactProblem<dim>& problem, int first_vertex, int end_vertex) {
+std::pair<ContactSetUp<dim>, double> surface_of(const BasicContactProblem<dim>& problem) {
+  if (!problem.elasticity.mesh) throw InputError("the elasticity problem has no mesh");
+  const auto t = std::chrono::steady_clock::now();
+  ContactSetUp<dim> contact =
+      contact_set_up(problem, make_dof_map(*problem.elasticity.mesh, problem.elasticity.dirichlet));
+  return {std::move(contact), since(t)};
+}
+
+/// The share of the vertices [first_vertex, end_vertex) of `problem` whose contact set-up is
+/// `surface` (surface_of).
+template <int dim>
+SharePosing<dim> pose_share_and_surface(const BasicContactProblem<dim>& problem, int first_vertex, int end_vertex,
+                                        std::pair<ContactSetUp<dim>, double> surface) {
   SharePosing<dim> out;
+  out.contact = std::move(surface.first);
+  out.setup_seconds = surface.second;
+  require_contact_nodes(out.contact);
+  require_full_space_posable(out.contact.parts, out.contact.held_by_contact);
   auto t = std::chrono::steady_clock::now();
   SystemRows rows = assemble_rows(problem.elasticity, first_vertex, end_vertex);
+  std::vector<int> owned_unknowns(static_cast<std::size_t>(rows.owned));
+  std::iota(owned_unknowns.begin(), owned_unknowns.end(), static_cast<int>(rows.first));
+  Eigen::VectorXd b = rows.b;  // the load the share's rows are posed from, of the unknowns b_unknowns
+  std::vector<int> b_unknowns = owned_unknowns;
+  if (!out.contact.boundary.across.empty())
+    add_pair_rows<dim>(problem.elasticity, out.contact.boundary, first_vertex, end_vertex, rows, b, b_unknowns);
   out.assembly_seconds = since(t);
-  t = std::chrono::steady_clock::now();
-  out.contact = contact_set_up(problem, rows.dofs);
-  out.setup_seconds = since(t);
-  require_one_body_in_contact(out.contact);
-  require_full_space_posable(out.contact.parts, out.contact.held_by_contact);
   out.posed = about(ProblemPart::contact, [&] {
     return std::make_unique<Condensation>(rows.dofs, out.contact.boundary, part_conditions(out.contact.parts),
                                           Condensation::CoordinatesOnly{});
@@ -149,9 +269,11 @@ SharePosing<dim> pose_share_and_surface(const BasicContactProblem<dim>& problem,
     SparseMatrix A = owned_rows(At, rows, share.layout);
     share.share.matrix.swap(A);  // no copy (SparseMatrix has no move assignment)
   }
-  std::vector<int> owned_unknowns(static_cast<std::size_t>(rows.owned));
-  std::iota(owned_unknowns.begin(), owned_unknowns.end(), static_cast<int>(rows.first));
-  share.share.load = posed.rotated_part(rows.b, owned_unknowns);
+  {
+    const Eigen::VectorXd bt = posed.rotated_part(b, b_unknowns);
+    const auto at = std::lower_bound(b_unknowns.begin(), b_unknowns.end(), static_cast<int>(rows.first)) - b_unknowns.begin();
+    share.share.load = bt.segment(at, rows.owned);
+  }
   out.load = std::move(rows.b);
   share_coordinates(posed, rows.first, rows.owned, share.share);
   share.near_null_space = near_null_rows<dim>(*problem.elasticity.mesh, posed, rows, owned_unknowns);
@@ -185,7 +307,7 @@ void gather_coordinates(const RowDistribution& rows, const FullSpaceShare& share
 
 template <int dim>
 PosedShare pose_share(const BasicContactProblem<dim>& problem, int first_vertex, int end_vertex) {
-  return std::move(pose_share_and_surface(problem, first_vertex, end_vertex).share);
+  return std::move(pose_share_and_surface(problem, first_vertex, end_vertex, surface_of(problem)).share);
 }
 
 std::pair<int, int> vertex_share(int num_vertices, int rank, int size) {
@@ -219,9 +341,9 @@ namespace {
 
 template <int dim>
 SharePosing<dim> pose_process_share(const BasicContactProblem<dim>& problem, ProcessWorld world) {
-  if (!problem.elasticity.mesh) throw InputError("the elasticity problem has no mesh");
+  auto surface = surface_of(problem);
   const auto [first, end] = vertex_share(problem.elasticity.mesh->num_vertices(), world.rank, world.size);
-  return pose_share_and_surface(problem, first, end);
+  return pose_share_and_surface(problem, first, end, std::move(surface));
 }
 
 }  // namespace

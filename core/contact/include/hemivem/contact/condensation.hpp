@@ -205,21 +205,24 @@ class Condensation {
   /// contact nodes' frames (a cost of the contact surface). rotated_matrix() and rotated_load()
   /// stay empty; rotated_part() rotates a part of the system assembled elsewhere (a process's
   /// rows, hemivem/contact/pose_share.hpp). Nothing that needs the system or a factorization may
-  /// be called. One body: InputError for a boundary whose nodes are paired with another body's
-  /// (ContactBoundary::across), whose posing joins the two bodies' whole systems.
+  /// be called. Two bodies (ContactBoundary::across) are joined at their pairs as PoseOnly joins
+  /// them (Joining), rotated_part() joining the part too; InputError, naming the node, when a
+  /// pair's node is free where a vertex across from it is prescribed (Joining::shifts_load: its
+  /// joined load needs the whole system's columns).
   Condensation(const DofMap& dofs, const ContactBoundary& boundary, const std::vector<PartConditions>& parts,
                CoordinatesOnly);
 
-  /// Q^T A Q for a part A of the system of one body: A(i, j) stands for the system's entry of the
-  /// free unknowns unknowns[i] and unknowns[j] (`unknowns` increasing), the result in the same
-  /// numbering. Computed as the posing computes rotated_matrix(), on A's pattern (exact zeros
+  /// Q^T A Q for a part A of the system of one body (of two joined bodies Q^T T^T A T Q, T
+  /// restricted to the part: Joining::join_part, with its conditions on the part): A(i, j)
+  /// stands for the system's entry of the free unknowns unknowns[i] and unknowns[j] (`unknowns`
+  /// increasing), the result in the same numbering. Computed as the posing computes rotated_matrix(), on A's pattern (exact zeros
   /// dropped in the plane): its entry (i, j) is rotated_matrix()'s to the bit wherever A holds the
   /// system's entries in every row and column of the unknowns of i's node (as the part
   /// assemble_rows makes holds them for its owned rows). InternalError when `unknowns` holds some
   /// but not all of a contact node's free dofs.
   SparseMatrix rotated_part(const SparseMatrix& A, const std::vector<int>& unknowns) const;
-  /// Q^T b for the values b of the free unknowns `unknowns` (increasing), as rotated_load() is
-  /// computed; the same InternalError.
+  /// Q^T b (Q^T T^T b for two joined bodies) for the values b of the free unknowns `unknowns`
+  /// (increasing), as rotated_load() is computed; the same InternalError.
   Eigen::VectorXd rotated_part(const Eigen::VectorXd& b, const std::vector<int>& unknowns) const;
 
   const ReducedProblem& reduced() const noexcept { return reduced_; }
@@ -237,9 +240,11 @@ class Condensation {
   /// The rotated free unknowns of a full nodal displacement u (its free part, relative at the
   /// pairs, in the contact nodes' frames): displacement_of's inverse on the free dofs.
   Eigen::VectorXd rotated_free(const Eigen::VectorXd& u) const;
-  /// Q v~ for values v~ of the rotated free unknowns: the same values in the unrotated free dofs
-  /// (of one body; the frames are orthogonal, so a residual of the rotated system gives the
-  /// unrotated system's). InternalError for two joined bodies or a vector of another size.
+  /// The forces v~ of the rotated free unknowns (a residual of the rotated system) on the
+  /// unrotated free dofs: Q v~ for one body (the frames are orthogonal, so a residual of the
+  /// rotated system gives the unrotated system's), T^-T Q v~ for two joined bodies
+  /// (Joining::unjoined_forces). InternalError for a vector of another size, and for two bodies
+  /// whose joined load is shifted by prescribed values (Joining::shifts_load).
   Eigen::VectorXd unrotated_free(const Eigen::VectorXd& vt) const;
   /// A uf for the free values uf of one body (no pairs of two bodies), A the matrix this was
   /// posed from (PoseOnly), read from the rotated matrix (Q A~ Q^T uf): the system's own matrix

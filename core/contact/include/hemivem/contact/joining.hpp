@@ -76,12 +76,34 @@ class Joining {
   /// `prescribed` (all dofs), and those values joined in `joined_prescribed`.
   Eigen::VectorXd join_load(const Eigen::VectorXd& b, const Eigen::VectorXd& prescribed,
                             Eigen::VectorXd& joined_prescribed) const;
+  /// True when some pair's p is free where one of its q_k is prescribed: the joined load then
+  /// takes A's columns at p (join()), which a part of the system does not hold whole.
+  bool shifts_load() const noexcept { return !shifted_.empty(); }
+  /// T^T A T for a part A of the system: A(i, j) stands for the entry of the free unknowns
+  /// unknowns[i] and unknowns[j] (`unknowns` increasing), T restricted to them, computed as
+  /// join() computes the whole product. Its rows are the joined system's wherever A holds the
+  /// whole rows of that unknown and of every pair's p it is a q_k of, and every p whose row it
+  /// reads has its q_k among `unknowns` (a process owning each pair's p, q_k and the vertices of
+  /// the cells holding p: hemivem/contact/pose_share.hpp). No shift (shifts_load()).
+  SparseMatrix join_part(const SparseMatrix& A, const std::vector<int>& unknowns) const;
+  /// T^T b for the values b of the free unknowns `unknowns` (increasing), T restricted to them,
+  /// as join_load() computes the whole product; the same conditions.
+  Eigen::VectorXd join_part(const Eigen::VectorXd& b, const std::vector<int>& unknowns) const;
+  /// T^-T f for values f of the free unknowns of the joined system (forces: a residual of the
+  /// joined system): the same forces on the free dofs of the two bodies, f_q - sum w_k f_p at
+  /// each pair's q_k. Without a shift (shifts_load()) the joined residual T^T (A u - b) gives
+  /// A u - b.
+  Eigen::VectorXd unjoined_forces(const Eigen::VectorXd& f) const;
+
   /// u = T v for vectors of all dofs.
   Eigen::VectorXd displacement(const Eigen::VectorXd& v) const;
   /// v = T^-1 u for vectors of all dofs: relative displacements at the pairs.
   Eigen::VectorXd relative(const Eigen::VectorXd& u) const;
 
  private:
+  /// T restricted to the free unknowns `unknowns` (increasing); InternalError with a shift.
+  SparseMatrix restricted(const std::vector<int>& unknowns) const;
+
   std::vector<std::pair<int, Across>> pairs_;
   int num_free_ = 0, num_dofs_ = 0;  // of the system joined
   // per paired component: p's dof and free index (-1: prescribed), and the q_k's

@@ -48,10 +48,17 @@ struct PosedShare {
 /// holding those vertices and of the contact surface. A range whose vertices own no free dof
 /// gives an empty share.
 ///
+/// Two bodies joined at their contact (a part against another body, hemivem/contact/joining.hpp)
+/// are posed in the coordinates relative at their pairs, each process joining its own rows. The
+/// joining reads, besides them, the row and load of each pair's node across from one of its
+/// vertices (assembled from that node's cells) and the unknowns across from each node among its
+/// unknowns: a surface's worth, whatever the split.
+///
 /// InputError for what prepare() and its posing refuse (with the same messages), for a range of
 /// vertices outside the mesh, for a problem without a contact node (nothing to pose: its rows
-/// are assemble_rows'), and for two bodies joined at their contact (a part against another body),
-/// which are posed with their whole system, in one process only.
+/// are assemble_rows'), and for two bodies whose joined load is shifted (a pair's node free
+/// where a vertex across from it is prescribed, Condensation::CoordinatesOnly), which are posed
+/// with their whole system, in one process only.
 template <int dim>
 PosedShare pose_share(const BasicContactProblem<dim>& problem, int first_vertex, int end_vertex);
 
