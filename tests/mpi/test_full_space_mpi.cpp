@@ -439,6 +439,47 @@ TEST(FullSpaceMpi, TwoJoinedPlaneBodiesAcrossProcessesAreTheCondensedAnswer) {
   expect_shares_solve_as_the_condensed_route<2>(two->problem);
 }
 
+// the lower body clamped on a side reaching the interface: pairs' nodes free where the vertex
+// across is prescribed, whose joined load takes the system's columns there
+TEST(FullSpaceMpi, TwoJoinedSolidsWithAShiftedLoadAcrossProcessesAreTheCondensedAnswer) {
+  std::string text = stacked_bodies(3, "");
+  const std::string clamp = "{side = \"bottom\", value = [0.0, 0.0, 0.0]}";
+  text.replace(text.find(clamp), clamp.size(), clamp + ", {side = \"x0\", value = [0.0, 0.001, 0.0]}");
+  const auto two = build_problem<3>(parse_scene_string(text, "two-solids.toml"));
+  expect_shares_solve_as_the_condensed_route<3>(two->problem);
+}
+
+// the same along a proportional path: each step's load and prescribed values (the shift with
+// them) set on the posed shares; every step's energy and contact, and the last displacement
+TEST(FullSpaceMpi, APathOfTwoJoinedSolidsWithAShiftedLoadAcrossProcessesIsTheCondensedRoutes) {
+  std::string text = stacked_bodies(3, "friction = {law = \"tresca\", bound = 0.004}\n");
+  const std::string clamp = "{side = \"bottom\", value = [0.0, 0.0, 0.0]}";
+  text.replace(text.find(clamp), clamp.size(), clamp + ", {side = \"x0\", value = [0.0, 0.001, 0.0]}");
+  const auto two = build_problem<3>(parse_scene_string(text, "two-solids.toml"));
+  BasicPathOptions<3> across;
+  across.minimizer = tight();
+  across.distribute = make_distributed_rows;
+  across.world = krylov_world();
+  across.frame = [](int) { return true; };
+  BasicPathOptions<3> alone = across;
+  alone.distribute = nullptr;
+  alone.world = ProcessWorld{};
+  const auto ssn = make_minimizer("ssn");
+  const BasicPathLoading<3> loading{{0.5, 1.0, 1.5}, {}};
+  BasicContactProblem<3> a = two->problem, b = two->problem;
+  const BasicPathSolution<3> s = solve_path(a, make_krylov_solver("petsc-gamg"), *ssn, loading, across);
+  const BasicPathSolution<3> c = solve_path(b, factorization(), *ssn, loading, alone);
+  ASSERT_TRUE(c.converged());
+  ASSERT_TRUE(s.converged()) << s.last.message;
+  ASSERT_EQ(s.steps.size(), c.steps.size());
+  for (std::size_t k = 0; k < c.steps.size(); ++k) {
+    SCOPED_TRACE("step " + std::to_string(k + 1));
+    EXPECT_NEAR(s.steps[k].energy, c.steps[k].energy, 1e-8 * std::abs(c.steps[k].energy));
+    ASSERT_EQ(s.steps[k].u.size(), c.steps[k].u.size());
+    EXPECT_LE((s.steps[k].u - c.steps[k].u).cwiseAbs().maxCoeff(), 1e-8 * c.steps[k].u.cwiseAbs().maxCoeff());
+  }
+}
+
 TEST(FullSpaceMpi, TwoJoinedSolidsWithFrictionAcrossProcessesAreTheCondensedAnswer) {
   const auto two = build_problem<3>(
       parse_scene_string(stacked_bodies(3, "friction = {law = \"tresca\", bound = 0.004}\n"), "two-solids.toml"));

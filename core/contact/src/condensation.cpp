@@ -341,16 +341,17 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
 }
 
 Condensation::Condensation(const DofMap& dofs, const ContactBoundary& boundary,
-                           const std::vector<PartConditions>& parts, CoordinatesOnly)
+                           const std::vector<PartConditions>& parts, CoordinatesOnly, const SystemColumns& columns)
     : dofs_(dofs) {
   if (!boundary.across.empty()) {
     joining_ = Joining(dofs, pairs_of(boundary), boundary.dimension);
-    if (joining_.shifts_load())
-      throw InputError(shifted_pair(dofs, boundary) + ": its joined load takes the whole system's columns there, "
-                       "and two bodies joined so are posed with their whole system, in one process only");
-    Eigen::VectorXd joined_prescribed;
-    (void)joining_.join_load(Eigen::VectorXd::Zero(dofs.num_free()), dofs.prescribed, joined_prescribed);
-    dofs_.prescribed = std::move(joined_prescribed);
+    if (joining_.shifts_load()) {
+      if (!columns)
+        throw InputError(shifted_pair(dofs, boundary) + ": its joined load takes the system's columns there, "
+                         "which this posing is not given");
+      joining_.set_shift_columns(columns(joining_.shifted_unknowns()));
+    }
+    dofs_.prescribed = joining_.join_prescribed(dofs.prescribed);
   }
   pose_coordinates(dofs_, boundary, parts);
   reduced_.c = Eigen::VectorXd::Zero(reduced_.lo.size());
@@ -427,7 +428,7 @@ Eigen::VectorXd Condensation::rotated_part(const Eigen::VectorXd& b, const std::
   if (b.size() != static_cast<Eigen::Index>(unknowns.size()))
     throw InternalError("a part of a load of another size than its unknowns");
   if (joining_.empty()) return rotate_vector(b, frames_in(unknowns));
-  return rotate_vector(joining_.join_part(b, unknowns), frames_in(unknowns));
+  return rotate_vector(joining_.join_part(b, unknowns, dofs_.prescribed), frames_in(unknowns));
 }
 
 void Condensation::set_load(const Eigen::VectorXd& b, const Eigen::VectorXd& prescribed) {
@@ -939,7 +940,6 @@ Eigen::VectorXd Condensation::unrotated_free(const Eigen::VectorXd& vt) const {
     throw InternalError("unrotated_free needs " + std::to_string(dofs_.num_free()) + " values, got " +
                         std::to_string(vt.size()));
   if (joining_.empty()) return unrotate(vt);
-  if (joining_.shifts_load()) throw InternalError("the unrotated forces of two bodies joined with a shifted load");
   return joining_.unjoined_forces(unrotate(vt));
 }
 

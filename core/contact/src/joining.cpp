@@ -88,12 +88,15 @@ LinearSystem Joining::join(const LinearSystem& system) {
   return joined;
 }
 
-Eigen::VectorXd Joining::join_load(const Eigen::VectorXd& b, const Eigen::VectorXd& prescribed,
-                                   Eigen::VectorXd& joined_prescribed) const {
-  joined_prescribed = prescribed;
+Eigen::VectorXd Joining::join_prescribed(const Eigen::VectorXd& prescribed) const {
+  Eigen::VectorXd joined = prescribed;
   for (const Component& c : components_)
     if (c.free_p < 0)
-      for (const Term& q : c.across) joined_prescribed(c.dof_p) -= q.weight * prescribed(q.dof);
+      for (const Term& q : c.across) joined(c.dof_p) -= q.weight * prescribed(q.dof);
+  return joined;
+}
+
+Eigen::VectorXd Joining::shift_values(const Eigen::VectorXd& prescribed) const {
   Eigen::VectorXd s(static_cast<Eigen::Index>(shifted_.size()));
   for (std::size_t j = 0; j < shifted_.size(); ++j) {
     double value = 0.0;
@@ -101,9 +104,48 @@ Eigen::VectorXd Joining::join_load(const Eigen::VectorXd& b, const Eigen::Vector
       if (q.free < 0) value += q.weight * prescribed(q.dof);
     s(static_cast<Eigen::Index>(j)) = value;
   }
+  return s;
+}
+
+Eigen::VectorXd Joining::load_shift(const Eigen::VectorXd& prescribed) const {
+  if (shift_.cols() != static_cast<Eigen::Index>(shifted_.size()) || shift_.rows() != num_free_)
+    throw InternalError("the columns of a joined load shifted by prescribed values are not known");
+  return shift_ * shift_values(prescribed);
+}
+
+double Joining::shift_energy(const Eigen::VectorXd& b, Eigen::Index first, const Eigen::VectorXd& prescribed) const {
+  if (shifted_.empty()) return 0.0;
+  const Eigen::VectorXd s = shift_values(prescribed);
+  const Eigen::VectorXd Az = load_shift(prescribed);
+  double energy = 0.0;
+  for (std::size_t j = 0; j < shifted_.size(); ++j) {
+    const int p = components_[static_cast<std::size_t>(shifted_[j])].free_p;
+    if (p < first || p >= first + b.size()) continue;
+    const double z = s(static_cast<Eigen::Index>(j));
+    energy += z * (0.5 * Az(p) - b(p - first));
+  }
+  return energy;
+}
+
+Eigen::VectorXd Joining::join_load(const Eigen::VectorXd& b, const Eigen::VectorXd& prescribed,
+                                   Eigen::VectorXd& joined_prescribed) const {
+  joined_prescribed = join_prescribed(prescribed);
   Eigen::VectorXd shifted = b;
-  if (s.size() > 0) shifted -= shift_ * s;
+  if (!shifted_.empty()) shifted -= load_shift(prescribed);
   return T_.transpose() * shifted;
+}
+
+std::vector<int> Joining::shifted_unknowns() const {
+  std::vector<int> out;
+  for (const int k : shifted_) out.push_back(components_[static_cast<std::size_t>(k)].free_p);
+  return out;
+}
+
+void Joining::set_shift_columns(SparseMatrix columns) {
+  if (columns.rows() != num_free_ || columns.cols() != static_cast<Eigen::Index>(shifted_.size()))
+    throw InternalError("the columns of a shifted joined load need " + std::to_string(num_free_) + " rows and " +
+                        std::to_string(shifted_.size()) + " columns");
+  shift_ = std::move(columns);
 }
 
 namespace {
@@ -117,7 +159,6 @@ int position(const std::vector<int>& unknowns, int f) {
 }  // namespace
 
 SparseMatrix Joining::restricted(const std::vector<int>& unknowns) const {
-  if (!shifted_.empty()) throw InternalError("a part of a joined system whose load is shifted by prescribed values");
   const auto n = static_cast<int>(unknowns.size());
   std::vector<Eigen::Triplet<double, int>> t;
   t.reserve(static_cast<std::size_t>(n));
@@ -141,10 +182,15 @@ SparseMatrix Joining::join_part(const SparseMatrix& A, const std::vector<int>& u
   return TA * T;
 }
 
-Eigen::VectorXd Joining::join_part(const Eigen::VectorXd& b, const std::vector<int>& unknowns) const {
+Eigen::VectorXd Joining::join_part(const Eigen::VectorXd& b, const std::vector<int>& unknowns,
+                                   const Eigen::VectorXd& prescribed) const {
   const SparseMatrix T = restricted(unknowns);
   if (b.size() != T.rows()) throw InternalError("a part of a load of another size than its unknowns");
-  return T.transpose() * b;
+  if (shifted_.empty()) return T.transpose() * b;
+  const Eigen::VectorXd shift = load_shift(prescribed);
+  Eigen::VectorXd shifted = b;
+  for (std::size_t k = 0; k < unknowns.size(); ++k) shifted(static_cast<Eigen::Index>(k)) -= shift(unknowns[k]);
+  return T.transpose() * shifted;
 }
 
 Eigen::VectorXd Joining::unjoined_forces(const Eigen::VectorXd& f) const {

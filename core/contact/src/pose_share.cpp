@@ -137,6 +137,25 @@ void add_pair_rows(const BasicElasticityProblem<dim>& problem, const ContactBoun
   }
 }
 
+/// The columns of the system of `problem` at the free unknowns `unknowns` (every free row, in
+/// that order), each from the cells holding its vertex (assemble_rows: an owned column holds
+/// every row of those cells), to the bit of the whole assembly's.
+template <int dim>
+SparseMatrix system_columns(const BasicElasticityProblem<dim>& problem, const DofMap& dofs,
+                            const std::vector<int>& unknowns) {
+  std::vector<Eigen::Triplet<double, int>> entries;
+  for (std::size_t k = 0; k < unknowns.size(); ++k) {
+    const int v = dofs.free_dofs[static_cast<std::size_t>(unknowns[k])] / dim;
+    const SystemRows rows = assemble_rows(problem, v, v + 1);
+    const auto at = std::lower_bound(rows.unknowns.begin(), rows.unknowns.end(), unknowns[k]) - rows.unknowns.begin();
+    for (SparseMatrix::InnerIterator e(rows.A, at); e; ++e)
+      entries.emplace_back(rows.unknowns[static_cast<std::size_t>(e.row())], static_cast<int>(k), e.value());
+  }
+  SparseMatrix columns(dofs.num_free(), static_cast<Eigen::Index>(unknowns.size()));
+  columns.setFromTriplets(entries.begin(), entries.end());
+  return columns;
+}
+
 /// The owned rows of the rotated part `At` of `rows` (local columns: owned rows, then ghosts) and
 /// the layout's ghosts: the unknowns outside the owned range that the owned rows read. Copied
 /// column by column into place (the owned rows of a column are a contiguous run of its sorted
@@ -255,8 +274,9 @@ SharePosing<dim> pose_share_and_surface(const BasicContactProblem<dim>& problem,
     add_pair_rows<dim>(problem.elasticity, out.contact.boundary, first_vertex, end_vertex, rows, b, b_unknowns);
   out.assembly_seconds = since(t);
   out.posed = about(ProblemPart::contact, [&] {
-    return std::make_unique<Condensation>(rows.dofs, out.contact.boundary, part_conditions(out.contact.parts),
-                                          Condensation::CoordinatesOnly{});
+    return std::make_unique<Condensation>(
+        rows.dofs, out.contact.boundary, part_conditions(out.contact.parts), Condensation::CoordinatesOnly{},
+        [&](const std::vector<int>& unknowns) { return system_columns<dim>(problem.elasticity, rows.dofs, unknowns); });
   });
   const Condensation& posed = *out.posed;
   PosedShare& share = out.share;
@@ -324,6 +344,8 @@ struct FullSpaceShares<dim>::Impl {
   std::unique_ptr<RowDistribution> rows;
   KrylovHints hints;
   std::map<std::string, double> timings;
+  /// This process's part of the energy the joined system leaves out (Condensation::shift_energy).
+  double shift_energy = 0.0;
 
   Impl(SharePosing<dim> p, KrylovSolver& k, std::unique_ptr<RowDistribution> r, double seconds)
       : posing(std::move(p)),
@@ -334,6 +356,7 @@ struct FullSpaceShares<dim>::Impl {
                 {"setup", posing.setup_seconds},
                 {"posing", seconds - posing.assembly_seconds - posing.setup_seconds}} {
     hints.rows = rows.get();
+    shift_energy = posing.posed->shift_energy(posing.load, posing.share.layout.first);
   }
 };
 
@@ -401,6 +424,7 @@ void FullSpaceShares<dim>::set_load(const Eigen::VectorXd& b, const Eigen::Vecto
   posed.set_load(b, prescribed);
   const RowLayout& layout = impl_->posing.share.layout;
   impl_->posing.share.share.load = posed.rotated_load().segment(layout.first, layout.owned);
+  impl_->shift_energy = posed.shift_energy(b.segment(layout.first, layout.owned), layout.first);
 }
 
 template <int dim>
@@ -421,7 +445,7 @@ auto FullSpaceShares<dim>::minimize(const ReducedProblem& coordinates, const Eig
   with_ghosts.head(mine.layout.owned) = x;
   rows.update_ghosts(with_ghosts);
   const Eigen::VectorXd Ax = mine.share.matrix * with_ghosts;
-  point.quadratic = rows.sum(0.5 * x.dot(Ax) - x.dot(mine.share.load));
+  point.quadratic = rows.sum(0.5 * x.dot(Ax) - x.dot(mine.share.load) + p.shift_energy);
   point.xt = rows.all_gather(x);
   point.residual = rows.all_gather(Ax - mine.share.load);
   gather_coordinates(rows, mine.share, coordinates.size(), point.result);

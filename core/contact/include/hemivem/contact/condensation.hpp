@@ -200,17 +200,20 @@ class Condensation {
 
   /// The tag of the construction that poses the coordinates alone.
   struct CoordinatesOnly {};
+  /// The system's columns at the given free unknowns (every free row, in that order), for a
+  /// posing that does not hold the system.
+  using SystemColumns = std::function<SparseMatrix(const std::vector<int>& unknowns)>;
   /// Poses what PoseOnly poses but the rotated system, from the dof map alone: the coordinates,
   /// their laws, weights, bounds, origins and rows (rotated_index()), the tied rows and the
   /// contact nodes' frames (a cost of the contact surface). rotated_matrix() and rotated_load()
   /// stay empty; rotated_part() rotates a part of the system assembled elsewhere (a process's
   /// rows, hemivem/contact/pose_share.hpp). Nothing that needs the system or a factorization may
   /// be called. Two bodies (ContactBoundary::across) are joined at their pairs as PoseOnly joins
-  /// them (Joining), rotated_part() joining the part too; InputError, naming the node, when a
-  /// pair's node is free where a vertex across from it is prescribed (Joining::shifts_load: its
-  /// joined load needs the whole system's columns).
+  /// them (Joining), rotated_part() joining the part too. Where a pair's node is free and a
+  /// vertex across from it prescribed (Joining::shifts_load), the joined load takes the system's
+  /// columns at those nodes, which `columns` gives (InputError, naming the node, without it).
   Condensation(const DofMap& dofs, const ContactBoundary& boundary, const std::vector<PartConditions>& parts,
-               CoordinatesOnly);
+               CoordinatesOnly, const SystemColumns& columns = {});
 
   /// Q^T A Q for a part A of the system of one body (of two joined bodies Q^T T^T A T Q, T
   /// restricted to the part: Joining::join_part, with its conditions on the part): A(i, j)
@@ -221,8 +224,9 @@ class Condensation {
   /// assemble_rows makes holds them for its owned rows). InternalError when `unknowns` holds some
   /// but not all of a contact node's free dofs.
   SparseMatrix rotated_part(const SparseMatrix& A, const std::vector<int>& unknowns) const;
-  /// Q^T b (Q^T T^T b for two joined bodies) for the values b of the free unknowns `unknowns`
-  /// (increasing), as rotated_load() is computed; the same InternalError.
+  /// Q^T b (Q^T T^T (b - A s) for two joined bodies: Joining::join_part at the prescribed
+  /// values posed) for the values b of the free unknowns `unknowns` (increasing), as
+  /// rotated_load() is computed; the same InternalError.
   Eigen::VectorXd rotated_part(const Eigen::VectorXd& b, const std::vector<int>& unknowns) const;
 
   const ReducedProblem& reduced() const noexcept { return reduced_; }
@@ -243,8 +247,7 @@ class Condensation {
   /// The forces v~ of the rotated free unknowns (a residual of the rotated system) on the
   /// unrotated free dofs: Q v~ for one body (the frames are orthogonal, so a residual of the
   /// rotated system gives the unrotated system's), T^-T Q v~ for two joined bodies
-  /// (Joining::unjoined_forces). InternalError for a vector of another size, and for two bodies
-  /// whose joined load is shifted by prescribed values (Joining::shifts_load).
+  /// (Joining::unjoined_forces). InternalError for a vector of another size.
   Eigen::VectorXd unrotated_free(const Eigen::VectorXd& vt) const;
   /// A uf for the free values uf of one body (no pairs of two bodies), A the matrix this was
   /// posed from (PoseOnly), read from the rotated matrix (Q A~ Q^T uf): the system's own matrix
@@ -252,6 +255,12 @@ class Condensation {
   Eigen::VectorXd unrotated_product(const Eigen::VectorXd& uf) const;
   /// True when two bodies are joined at pairs (the rotated system is the joined one).
   bool joins_bodies() const noexcept { return !joining_.empty(); }
+  /// The part of the free unknowns first, ..., first + b.size() - 1 (`b` their unjoined load)
+  /// of what the joined system's energy leaves out of the bodies' (Joining::shift_energy, at
+  /// the prescribed values posed): 0 for one body and without a shift.
+  double shift_energy(const Eigen::VectorXd& b, Eigen::Index first) const {
+    return joining_.empty() ? 0.0 : joining_.shift_energy(b, first, dofs_.prescribed);
+  }
   /// Per reduced coordinate, the normal displacement where it is 0: g_i for the normal
   /// unknowns with law_from_surface, else 0 (so u_nu = a + origin).
   const Eigen::VectorXd& origin() const noexcept { return origin_; }

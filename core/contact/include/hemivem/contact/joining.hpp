@@ -77,22 +77,37 @@ class Joining {
   Eigen::VectorXd join_load(const Eigen::VectorXd& b, const Eigen::VectorXd& prescribed,
                             Eigen::VectorXd& joined_prescribed) const;
   /// True when some pair's p is free where one of its q_k is prescribed: the joined load then
-  /// takes A's columns at p (join()), which a part of the system does not hold whole.
+  /// takes A's columns at p (join(), or set_shift_columns()).
   bool shifts_load() const noexcept { return !shifted_.empty(); }
+  /// The free unknowns p of the shifted components (whose q_k include a prescribed one), in
+  /// order: the columns of A that a shifted joined load takes.
+  std::vector<int> shifted_unknowns() const;
+  /// A's columns at shifted_unknowns() (every free row, in that order), for a joining made
+  /// without the whole system (join() takes them from it). InternalError for another size.
+  void set_shift_columns(SparseMatrix columns);
+  /// The prescribed values of the joined system (every dof): at a prescribed p the prescribed
+  /// relative displacement g_p - sum_k w_k g_{q_k}, elsewhere `prescribed`'s.
+  Eigen::VectorXd join_prescribed(const Eigen::VectorXd& prescribed) const;
   /// T^T A T for a part A of the system: A(i, j) stands for the entry of the free unknowns
   /// unknowns[i] and unknowns[j] (`unknowns` increasing), T restricted to them, computed as
   /// join() computes the whole product. Its rows are the joined system's wherever A holds the
-  /// whole rows of that unknown and of every pair's p it is a q_k of, and every p whose row it
-  /// reads has its q_k among `unknowns` (a process owning each pair's p, q_k and the vertices of
-  /// the cells holding p: hemivem/contact/pose_share.hpp). No shift (shifts_load()).
+  /// whole rows and columns of that unknown and of every pair's p it is a q_k of, and every p
+  /// whose row it reads has its q_k among `unknowns` (what a process reads:
+  /// hemivem/contact/pose_share.hpp).
   SparseMatrix join_part(const SparseMatrix& A, const std::vector<int>& unknowns) const;
-  /// T^T b for the values b of the free unknowns `unknowns` (increasing), T restricted to them,
-  /// as join_load() computes the whole product; the same conditions.
-  Eigen::VectorXd join_part(const Eigen::VectorXd& b, const std::vector<int>& unknowns) const;
+  /// T^T (b - A s) for the values b of the free unknowns `unknowns` (increasing), T restricted
+  /// to them and s the prescribed part of the shifted combinations at the values `prescribed`
+  /// (every dof), as join_load() computes the whole product; the same conditions.
+  Eigen::VectorXd join_part(const Eigen::VectorXd& b, const std::vector<int>& unknowns,
+                            const Eigen::VectorXd& prescribed) const;
+  /// What the joined system's energy leaves out of the bodies': with u = T v + z (z the
+  /// prescribed part of the shifted combinations at the values `prescribed`),
+  /// 1/2 u.A u - u.b = 1/2 v.A_j v - v.b_j + 1/2 z.A z - z.b. The part of 1/2 z.A z - z.b of the
+  /// free unknowns first, ..., first + b.size() - 1, `b` their load (0 without a shift).
+  double shift_energy(const Eigen::VectorXd& b, Eigen::Index first, const Eigen::VectorXd& prescribed) const;
   /// T^-T f for values f of the free unknowns of the joined system (forces: a residual of the
   /// joined system): the same forces on the free dofs of the two bodies, f_q - sum w_k f_p at
-  /// each pair's q_k. Without a shift (shifts_load()) the joined residual T^T (A u - b) gives
-  /// A u - b.
+  /// each pair's q_k. The joined residual T^T (A u - b) gives A u - b.
   Eigen::VectorXd unjoined_forces(const Eigen::VectorXd& f) const;
 
   /// u = T v for vectors of all dofs.
@@ -101,8 +116,13 @@ class Joining {
   Eigen::VectorXd relative(const Eigen::VectorXd& u) const;
 
  private:
-  /// T restricted to the free unknowns `unknowns` (increasing); InternalError with a shift.
+  /// T restricted to the free unknowns `unknowns` (increasing).
   SparseMatrix restricted(const std::vector<int>& unknowns) const;
+  /// s: the prescribed part of each shifted combination, sum_k w_k g_{q_k} over its prescribed q_k.
+  Eigen::VectorXd shift_values(const Eigen::VectorXd& prescribed) const;
+  /// A z, z the free vector of the values s at the shifted components' p: the shift of the load
+  /// (InternalError when A's columns at them are not known).
+  Eigen::VectorXd load_shift(const Eigen::VectorXd& prescribed) const;
 
   std::vector<std::pair<int, Across>> pairs_;
   int num_free_ = 0, num_dofs_ = 0;  // of the system joined

@@ -54,11 +54,13 @@ struct PosedShare {
 /// vertices (assembled from that node's cells) and the unknowns across from each node among its
 /// unknowns: a surface's worth, whatever the split.
 ///
+/// Where a pair's node is free and a vertex across from it prescribed, the joined load takes
+/// the system's columns at that node (Joining::shifts_load), which every process assembles from
+/// the node's cells.
+///
 /// InputError for what prepare() and its posing refuse (with the same messages), for a range of
-/// vertices outside the mesh, for a problem without a contact node (nothing to pose: its rows
-/// are assemble_rows'), and for two bodies whose joined load is shifted (a pair's node free
-/// where a vertex across from it is prescribed, Condensation::CoordinatesOnly), which are posed
-/// with their whole system, in one process only.
+/// vertices outside the mesh, and for a problem without a contact node (nothing to pose: its
+/// rows are assemble_rows').
 template <int dim>
 PosedShare pose_share(const BasicContactProblem<dim>& problem, int first_vertex, int end_vertex);
 
@@ -116,7 +118,9 @@ class FullSpaceShares {
     MinimizerResult result;
     Eigen::VectorXd xt;        ///< the rotated free unknowns of the whole problem
     Eigen::VectorXd residual;  ///< A~ xt - b~, rotated, of every free unknown
-    double quadratic = 0.0;    ///< 1/2 xt.A~ xt - xt.b~
+    /// 1/2 xt.A~ xt - xt.b~, and for two bodies whose joined load is shifted the part the
+    /// joined system leaves out (Condensation::shift_energy): 1/2 u.A u - u.b of the free dofs.
+    double quadratic = 0.0;
   };
   /// minimize_full_space() of the whole problem with the coordinates' laws, weights, bounds and
   /// groups of `coordinates` (posed().reduced() with any of them changed; its S and c are not
