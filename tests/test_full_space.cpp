@@ -28,6 +28,7 @@
 #include <filesystem>
 
 #include "pressed_block3d.hpp"
+#include "stacked_bodies.hpp"
 #include "test_support.hpp"
 
 using namespace hemivem;
@@ -215,27 +216,13 @@ TEST(FullSpace, ASolidsIsotropicFrictionAgreesWithTheCondensedRoute) {
 // Tresca's friction on the interface: every node sticks under a large bound and slips under a
 // small one, on both routes alike.
 TEST(FullSpace, TwoSolidsWithFrictionAtTheirInterfaceAgreeWithTheCondensedRoute) {
-  const std::string text = R"toml(schema_version = 1
-[[body]]
-name = "upper"
-mesh = {generator = "cubes", n = [3, 3, 2], domain = [0.0, 1.0, 0.0, 1.0, 0.5, 1.0]}
-material = {E = 10.0, nu = 0.3}
-dirichlet = [{side = "top", value = [0.01, 0.003, -0.01]}]
-[[body]]
-name = "lower"
-mesh = {generator = "cubes", n = [3, 3, 2], domain = [0.0, 1.0, 0.0, 1.0, 0.0, 0.5]}
-material = {E = 4.0, nu = 0.1}
-dirichlet = [{side = "bottom", value = [0.0, 0.0, 0.0]}]
-[[contact]]
-name = "interface"
-side = "upper.bottom"
-against = "lower.top"
-law = "zero"
-constraint = "one-sided"
-friction = {law = "tresca", bound = )toml";
+  test::StackedBodies bodies;
+  bodies.n = "[3, 3, 2]";
+  bodies.top = "[0.01, 0.003, -0.01]";
   for (const auto& [bound, state] : {std::pair{0.05, FrictionState::stick}, std::pair{0.002, FrictionState::slip}}) {
     SCOPED_TRACE(bound);
-    const Scene scene = parse_scene_string(text + std::to_string(bound) + "}\n", "two-solids.toml");
+    bodies.contact = "friction = {law = \"tresca\", bound = " + std::to_string(bound) + "}\n";
+    const Scene scene = parse_scene_string(test::stacked_bodies(bodies), "two-solids.toml");
     const auto built = build_problem<3>(scene);
     const auto [condensed, full] = both_routes<3>(built->problem, "eigen-cg", tight());
     expect_same(condensed, full, 1e-8);

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "pressed_block3d.hpp"
+#include "stacked_bodies.hpp"
 #include "test_support.hpp"
 
 using namespace hemivem;
@@ -205,23 +206,16 @@ TEST(PoseShare, WhatItCannotPoseIsRefusedByName) {
 
 // ---- two bodies joined at their contact ----
 
-/// Two bodies of `generator` cells stacked along the last axis (the upper pressed down by its
-/// top's prescribed displacement, the lower clamped at its bottom), joined at the interface,
-/// with a Tresca friction bound when `friction` (in 3D: groups); `extra` adds to the lower body.
-std::string stacked_bodies(int dim, bool friction, const std::string& extra = "") {
-  const std::string domain_upper = dim == 2 ? "[0.0, 1.0, 0.5, 1.0]" : "[0.0, 1.0, 0.0, 1.0, 0.5, 1.0]";
-  const std::string domain_lower = dim == 2 ? "[0.0, 1.0, 0.0, 0.5]" : "[0.0, 1.0, 0.0, 1.0, 0.0, 0.5]";
-  const std::string n = dim == 2 ? "[6, 3]" : "[3, 3, 3]";
-  const std::string press = dim == 2 ? "[0.004, -0.01]" : "[0.004, 0.002, -0.01]";
-  const std::string zero = dim == 2 ? "[0.0, 0.0]" : "[0.0, 0.0, 0.0]";
-  const std::string generator = dim == 2 ? "squares" : "cubes";
-  return "schema_version = 1\n[[body]]\nname = \"upper\"\nmesh = {generator = \"" + generator + "\", n = " + n +
-         ", domain = " + domain_upper + "}\nmaterial = {E = 10.0, nu = 0.3}\ndirichlet = [{side = \"top\", value = " +
-         press + "}]\n[[body]]\nname = \"lower\"\nmesh = {generator = \"" + generator + "\", n = " + n +
-         ", domain = " + domain_lower + "}\nmaterial = {E = 4.0, nu = 0.1}\ndirichlet = [{side = \"bottom\", value = " +
-         zero + "}" + extra + "]\n[[contact]]\nname = \"interface\"\nside = \"upper.bottom\"\nagainst = \"lower.top\"\n"
-         "law = \"zero\"\nconstraint = \"one-sided\"\n" +
-         (friction ? "friction = {law = \"tresca\", bound = 0.002}\n" : "");
+/// The stacked bodies of these tests: 6 x 3 squares or 3 x 3 x 3 cubes each, the upper's top
+/// moved sideways and down, with a Tresca bound when `friction`, and further supports of the lower.
+std::string stacked(int dim, bool friction, const std::string& supports = "") {
+  test::StackedBodies b;
+  b.dim = dim;
+  b.n = dim == 2 ? "[6, 3]" : "[3, 3, 3]";
+  b.top = dim == 2 ? "[0.004, -0.01]" : "[0.004, 0.002, -0.01]";
+  b.supports = supports;
+  b.contact = friction ? "friction = {law = \"tresca\", bound = 0.002}\n" : "";
+  return test::stacked_bodies(b);
 }
 
 // the thirds of two joined bodies: each process's rows joined with the rows of the pairs' nodes
@@ -229,13 +223,13 @@ std::string stacked_bodies(int dim, bool friction, const std::string& extra = ""
 TEST(PoseShare, TwoJoinedSolidsAreTheWholePosingsShares) {
   for (const bool friction : {false, true}) {
     SCOPED_TRACE(friction ? "with friction" : "frictionless");
-    const auto two = build_problem<3>(parse_scene_string(stacked_bodies(3, friction), "two-solids.toml"));
+    const auto two = build_problem<3>(parse_scene_string(stacked(3, friction), "two-solids.toml"));
     expect_shares_of_whole<3>(two->problem);
   }
 }
 
 TEST(PoseShare, TwoJoinedPlaneBodiesAreTheWholePosingsShares) {
-  const auto two = build_problem<2>(parse_scene_string(stacked_bodies(2, true), "two-blocks.toml"));
+  const auto two = build_problem<2>(parse_scene_string(stacked(2, true), "two-blocks.toml"));
   expect_shares_of_whole<2>(two->problem);
   // a split between the pairs' nodes and the vertices across from them: every node's row read
   // by the other side
@@ -253,7 +247,7 @@ TEST(PoseShare, TwoJoinedPlaneBodiesAreTheWholePosingsShares) {
 // side that reaches the interface): the joined load takes the system's columns at those nodes
 TEST(PoseShare, TwoJoinedSolidsWithAShiftedLoadAreTheWholePosingsShares) {
   const auto two = build_problem<3>(parse_scene_string(
-      stacked_bodies(3, false, ", {side = \"x0\", value = [0.0, 0.001, 0.0]}"), "two-solids.toml"));
+      stacked(3, false, ", {side = \"x0\", value = [0.0, 0.001, 0.0]}"), "two-solids.toml"));
   BasicContactSolver<3> solver(two->problem, make_krylov_solver("eigen-cg"), MinimizerOptions{});
   solver.prepare();
   LinearSystem whole = assemble(two->problem.elasticity);

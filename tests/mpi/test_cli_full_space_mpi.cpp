@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "command_mpi.hpp"
+#include "stacked_bodies.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -165,25 +166,11 @@ TEST(CliFullSpaceMpi, TwoJoinedSolidsAcrossProcessesAreTheCondensedAnswer) {
   fs::create_directories(toml.parent_path());
   {
     std::ofstream out(toml);
-    out << R"toml(schema_version = 1
-[[body]]
-name = "upper"
-mesh = {generator = "cubes", n = [4, 4, 3], domain = [0.0, 1.0, 0.0, 1.0, 0.5, 1.0]}
-material = {E = 10.0, nu = 0.3}
-dirichlet = [{side = "top", value = [0.004, 0.002, -0.01]}]
-[[body]]
-name = "lower"
-mesh = {generator = "cubes", n = [4, 4, 3], domain = [0.0, 1.0, 0.0, 1.0, 0.0, 0.5]}
-material = {E = 4.0, nu = 0.1}
-dirichlet = [{side = "bottom", value = [0.0, 0.0, 0.0]}]
-[[contact]]
-name = "interface"
-side = "upper.bottom"
-against = "lower.top"
-law = "zero"
-constraint = "one-sided"
-friction = {law = "tresca", bound = 0.004}
-)toml";
+    hemivem::test::StackedBodies b;
+    b.n = "[4, 4, 3]";
+    b.top = "[0.004, 0.002, -0.01]";
+    b.contact = "friction = {law = \"tresca\", bound = 0.004}\n";
+    out << hemivem::test::stacked_bodies(b);
   }
   const std::string flags = toml.string() + " --tol 1e-11";
   const fs::path ref = scratch("condensed-two-solids");

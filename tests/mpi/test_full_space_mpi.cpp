@@ -28,6 +28,7 @@
 #include <string>
 
 #include "pressed_block3d.hpp"
+#include "stacked_bodies.hpp"
 
 using namespace hemivem;
 
@@ -417,45 +418,36 @@ TEST(FullSpaceMpi, TheCommandsSolveAcrossProcessesIsTheCondensedAnswerWithASolid
 // own rows with the rows of the pairs' nodes across from its vertices; the slabs of vertices split
 // the bodies (the upper's are numbered first, its contact layer at their start), so that a process
 // owns the vertices across from nodes another owns.
-std::string stacked_bodies(int dim, const std::string& friction) {
-  const bool plane = dim == 2;
-  const std::string n = plane ? "[8, 4]" : "[4, 4, 3]";
-  const std::string generator = plane ? "squares" : "cubes";
-  const auto body = [&](const char* name, const char* domain, const char* material, const char* dirichlet) {
-    return std::string("[[body]]\nname = \"") + name + "\"\nmesh = {generator = \"" + generator + "\", n = " + n +
-           ", domain = " + domain + "}\nmaterial = " + material + "\ndirichlet = [" + dirichlet + "]\n";
-  };
-  return "schema_version = 1\n" +
-         body("upper", plane ? "[0.0, 1.0, 0.5, 1.0]" : "[0.0, 1.0, 0.0, 1.0, 0.5, 1.0]", "{E = 10.0, nu = 0.3}",
-              plane ? "{side = \"top\", value = [0.004, -0.01]}" : "{side = \"top\", value = [0.004, 0.002, -0.01]}") +
-         body("lower", plane ? "[0.0, 1.0, 0.0, 0.5]" : "[0.0, 1.0, 0.0, 1.0, 0.0, 0.5]", "{E = 4.0, nu = 0.1}",
-              plane ? "{side = \"bottom\", value = [0.0, 0.0]}" : "{side = \"bottom\", value = [0.0, 0.0, 0.0]}") +
-         "[[contact]]\nname = \"interface\"\nside = \"upper.bottom\"\nagainst = \"lower.top\"\nlaw = \"zero\"\n"
-         "constraint = \"one-sided\"\n" + friction;
+std::string stacked(int dim, const std::string& contact, const std::string& supports = "") {
+  test::StackedBodies b;
+  b.dim = dim;
+  b.n = dim == 2 ? "[8, 4]" : "[4, 4, 3]";
+  b.top = dim == 2 ? "[0.004, -0.01]" : "[0.004, 0.002, -0.01]";
+  b.supports = supports;
+  b.contact = contact;
+  return test::stacked_bodies(b);
 }
 
+/// The lower body clamped on its side x0 too, which reaches the interface.
+const std::string kSideClamped = ", {side = \"x0\", value = [0.0, 0.001, 0.0]}";
+
 TEST(FullSpaceMpi, TwoJoinedPlaneBodiesAcrossProcessesAreTheCondensedAnswer) {
-  const auto two = build_problem<2>(parse_scene_string(stacked_bodies(2, ""), "two-blocks.toml"));
+  const auto two = build_problem<2>(parse_scene_string(stacked(2, ""), "two-blocks.toml"));
   expect_shares_solve_as_the_condensed_route<2>(two->problem);
 }
 
 // the lower body clamped on a side reaching the interface: pairs' nodes free where the vertex
 // across is prescribed, whose joined load takes the system's columns there
 TEST(FullSpaceMpi, TwoJoinedSolidsWithAShiftedLoadAcrossProcessesAreTheCondensedAnswer) {
-  std::string text = stacked_bodies(3, "");
-  const std::string clamp = "{side = \"bottom\", value = [0.0, 0.0, 0.0]}";
-  text.replace(text.find(clamp), clamp.size(), clamp + ", {side = \"x0\", value = [0.0, 0.001, 0.0]}");
-  const auto two = build_problem<3>(parse_scene_string(text, "two-solids.toml"));
+  const auto two = build_problem<3>(parse_scene_string(stacked(3, "", kSideClamped), "two-solids.toml"));
   expect_shares_solve_as_the_condensed_route<3>(two->problem);
 }
 
 // the same along a proportional path: each step's load and prescribed values (the shift with
 // them) set on the posed shares; every step's energy and contact, and the last displacement
 TEST(FullSpaceMpi, APathOfTwoJoinedSolidsWithAShiftedLoadAcrossProcessesIsTheCondensedRoutes) {
-  std::string text = stacked_bodies(3, "friction = {law = \"tresca\", bound = 0.004}\n");
-  const std::string clamp = "{side = \"bottom\", value = [0.0, 0.0, 0.0]}";
-  text.replace(text.find(clamp), clamp.size(), clamp + ", {side = \"x0\", value = [0.0, 0.001, 0.0]}");
-  const auto two = build_problem<3>(parse_scene_string(text, "two-solids.toml"));
+  const auto two = build_problem<3>(
+      parse_scene_string(stacked(3, "friction = {law = \"tresca\", bound = 0.004}\n", kSideClamped), "two-solids.toml"));
   BasicPathOptions<3> across;
   across.minimizer = tight();
   across.distribute = make_distributed_rows;
@@ -482,7 +474,7 @@ TEST(FullSpaceMpi, APathOfTwoJoinedSolidsWithAShiftedLoadAcrossProcessesIsTheCon
 
 TEST(FullSpaceMpi, TwoJoinedSolidsWithFrictionAcrossProcessesAreTheCondensedAnswer) {
   const auto two = build_problem<3>(
-      parse_scene_string(stacked_bodies(3, "friction = {law = \"tresca\", bound = 0.004}\n"), "two-solids.toml"));
+      parse_scene_string(stacked(3, "friction = {law = \"tresca\", bound = 0.004}\n"), "two-solids.toml"));
   expect_shares_solve_as_the_condensed_route<3>(two->problem, [](const BasicContactSolution<3>&,
                                                                   const BasicContactSolution<3>& c) {
     int slip = 0, stick = 0;
