@@ -37,6 +37,19 @@ TEST(SceneSupports, AFileWithoutClampedOrDirichletHoldsNothingAndSaysSo) {
   EXPECT_EQ(parse_scene_string(to_toml(s), "resolved.toml"), s);
 }
 
+// two rings fitted one into the other (an interference fit): their projection onto each other
+// measures an overlap, which drives the problem; the scene cannot see it before the mesh
+TEST(SceneSupports, AnInterferenceFitOfTwoBodiesIsNotWarnedAboutAsUndriven) {
+  const Scene s = parse_scene(test::scenes_dir() / "shrink-fit.toml");
+  EXPECT_FALSE(has_warning(scene_warnings(s), "nothing drives"));
+  // the same bodies paired vertex to vertex, with nothing else: nothing drives them
+  Scene vertex = s;
+  ASSERT_TRUE(vertex.contact.has_value());
+  vertex.contact->pairing = BodyPairing::vertex;
+  for (auto& c : vertex.more_contact) c.pairing = BodyPairing::vertex;
+  EXPECT_TRUE(has_warning(scene_warnings(vertex), "nothing drives"));
+}
+
 TEST(SceneSupports, ThePapersSceneWritesItsSupportsAndIsNotWarnedAbout) {
   const Scene s = default_scene();
   EXPECT_EQ(s.clamped.sides, (std::vector<std::string>{"left", "right"}));

@@ -150,8 +150,11 @@ std::vector<std::string> scene_warnings(const Scene& given) {
   for (const auto& t : scene.tractions) driven = driven || (t.pressure ? !zero(*t.pressure) : nonzero(t.value));
   for (const auto& d : scene.dirichlet) driven = driven || prescribes(d);
   const std::vector<SceneContact> parts = contact_parts(scene);
+  // a projection onto another body measures the distance between the surfaces, which the
+  // geometry may make negative (an interference fit) before any mesh is built
   for (const SceneContact& c : parts)
-    driven = driven || c.obstacle.has_value() || c.gap.is_expression() || c.gap.value < 0.0;
+    driven = driven || c.obstacle.has_value() || c.gap.is_expression() || c.gap.value < 0.0 ||
+             (c.against.has_value() && c.pairing == BodyPairing::projection);
   std::vector<std::string> out = scene.override_notices;
   if (scene.clamped.empty() && scene.dirichlet.empty() && scene.dimension() != 3)  // 3D: refused when solved
     out.push_back("the scene has no [clamped] and no [[dirichlet]]: no part of the boundary is held, only what the "
