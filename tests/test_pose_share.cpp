@@ -261,6 +261,11 @@ TEST(PoseShare, TwoJoinedSolidsWithAShiftedLoadAreTheWholePosingsShares) {
   }(), 3);
   ASSERT_TRUE(joining.shifts_load()) << "some pair's node is free where the vertex across is prescribed";
   expect_shares_of_whole<3>(two->problem);
+  // posed without the system's columns, it names the node
+  const std::string refused = test::input_error_of([&] {
+    (void)Condensation(whole.dofs, solver.boundary(), part_conditions(solver.parts()), Condensation::CoordinatesOnly{});
+  });
+  EXPECT_NE(refused.find("displacement free where a vertex of the other body"), std::string::npos) << refused;
 }
 
 // ---- the rows of the assembly ----

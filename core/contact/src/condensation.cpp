@@ -287,23 +287,6 @@ std::vector<std::pair<int, Across>> pairs_of(const ContactBoundary& boundary) {
   return pairs;
 }
 
-/// The first pair whose node p has a free component prescribed at a vertex across from it, in
-/// words (Joining::shifts_load).
-std::string shifted_pair(const DofMap& dofs, const ContactBoundary& boundary) {
-  const int dim = boundary.dimension;
-  for (const auto& [p, across] : pairs_of(boundary))
-    for (int c = 0; c < dim; ++c)
-      for (int k = 0; k < across.size(); ++k) {
-        const int q = across.vertex[static_cast<std::size_t>(k)];
-        if (dofs.free_index[static_cast<std::size_t>(dim * p + c)] >= 0 &&
-            dofs.free_index[static_cast<std::size_t>(dim * q + c)] < 0)
-          return "contact node " + std::to_string(p) + " has its " + std::string(1, "xyz"[c]) +
-                 " displacement free and the vertex " + std::to_string(q) +
-                 " of the other body across from it has it prescribed";
-      }
-  return "a contact node's displacement is free where the other body's across from it is prescribed";
-}
-
 }  // namespace
 
 Condensation::Condensation(const LinearSystem& system, const ContactBoundary& boundary,
@@ -346,9 +329,13 @@ Condensation::Condensation(const DofMap& dofs, const ContactBoundary& boundary,
   if (!boundary.across.empty()) {
     joining_ = Joining(dofs, pairs_of(boundary), boundary.dimension);
     if (joining_.shifts_load()) {
-      if (!columns)
-        throw InputError(shifted_pair(dofs, boundary) + ": its joined load takes the system's columns there, "
-                         "which this posing is not given");
+      if (!columns) {
+        const int dof = dofs.free_dofs[static_cast<std::size_t>(joining_.shifted_unknowns().front())];
+        throw InputError("contact node " + std::to_string(dof / boundary.dimension) + " has its " +
+                         std::string(1, "xyz"[dof % boundary.dimension]) +
+                         " displacement free where a vertex of the other body across from it has it prescribed: its "
+                         "joined load takes the system's columns there, which this posing is not given");
+      }
       joining_.set_shift_columns(columns(joining_.shifted_unknowns()));
     }
     dofs_.prescribed = joining_.join_prescribed(dofs.prescribed);
