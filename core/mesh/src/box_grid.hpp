@@ -1,7 +1,10 @@
 // Checks and grid points shared by the generators on a box (generators3d.hpp).
 #pragma once
 
+#include <hemivem/mesh/box_piece.hpp>
 #include <hemivem/mesh/generators3d.hpp>
+
+#include <array>
 
 namespace hemivem::detail {
 
@@ -11,5 +14,24 @@ void check_box_grid(const char* generator, GridSize3 n, const Box& box);
 
 /// The point i/n of the way from a to b, exactly b for i == n.
 double box_grid_coordinate(double a, double b, long i, long n);
+
+/// Which boxes of a grid a process's piece makes (box_piece.hpp): box (i, j, k) of the grid of
+/// counts[0] x counts[1] (x counts[2] in a solid) boxes, k = 0 in the plane. An empty filter (made
+/// by default) makes every box.
+class PieceBoxes {
+ public:
+  PieceBoxes() = default;
+  /// The boxes of `piece` on a grid of `dim` axes, whose vertices number layer by layer along the
+  /// last axis; InputError for an unknown side or a range of vertices outside the grid's.
+  PieceBoxes(int dim, std::array<int, 3> counts, const BoxPiece& piece);
+  bool operator()(int i, int j, int k) const;
+
+ private:
+  bool all_ = true;
+  int dim_ = 3;
+  std::array<int, 3> counts_{1, 1, 1};
+  int first_layer_ = 0, last_layer_ = -1;  // the slab's boxes along the last axis, [first, last]
+  std::array<bool, 3> lower_{}, upper_{};  // the sides whose boxes are made
+};
 
 }  // namespace hemivem::detail

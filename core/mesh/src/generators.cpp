@@ -2,6 +2,8 @@
 
 #include <hemivem/mesh/boundary.hpp>
 
+#include "box_grid.hpp"
+
 #include <CGAL/Boolean_set_operations_2.h>
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Delaunay_mesh_face_base_2.h>
@@ -108,13 +110,28 @@ std::vector<Vec2> grid_vertices(GridSize n, const Rectangle& d) {
   return v;
 }
 
-std::vector<std::vector<int>> grid_squares(GridSize n) {
+std::vector<std::vector<int>> grid_squares(GridSize n, const detail::PieceBoxes& keep = {}) {
   std::vector<std::vector<int>> e;
   e.reserve(static_cast<std::size_t>(n.nx) * static_cast<std::size_t>(n.ny));
   for (int j = 0; j < n.ny; ++j)
     for (int i = 0; i < n.nx; ++i) {
+      if (!keep(i, j, 0)) continue;
       const int a = j * (n.nx + 1) + i;
       e.push_back({a, a + 1, a + n.nx + 2, a + n.nx + 1});
+    }
+  return e;
+}
+
+/// Each rectangle of the grid split by its lower-left -> upper-right diagonal (make_triangles).
+std::vector<std::vector<int>> grid_triangles(GridSize n, const detail::PieceBoxes& keep = {}) {
+  std::vector<std::vector<int>> e;
+  e.reserve(2 * static_cast<std::size_t>(n.nx) * static_cast<std::size_t>(n.ny));
+  for (int j = 0; j < n.ny; ++j)
+    for (int i = 0; i < n.nx; ++i) {
+      if (!keep(i, j, 0)) continue;
+      const int a = j * (n.nx + 1) + i;
+      e.push_back({a, a + 1, a + n.nx + 2});         // below the diagonal
+      e.push_back({a, a + n.nx + 2, a + n.nx + 1});  // above the diagonal
     }
   return e;
 }
@@ -469,18 +486,23 @@ Mesh make_squares(GridSize n, const Rectangle& domain) {
   return Mesh(grid_vertices(n, domain), grid_squares(n));
 }
 
+
+
 Mesh make_triangles(GridSize n, const Rectangle& domain) {
   check_n("triangles mesh", n);
   check_domain("triangles mesh", domain, n);
-  std::vector<std::vector<int>> e;
-  e.reserve(2 * static_cast<std::size_t>(n.nx) * static_cast<std::size_t>(n.ny));
-  for (int j = 0; j < n.ny; ++j)
-    for (int i = 0; i < n.nx; ++i) {
-      const int a = j * (n.nx + 1) + i;
-      e.push_back({a, a + 1, a + n.nx + 2});         // below the diagonal
-      e.push_back({a, a + n.nx + 2, a + n.nx + 1});  // above the diagonal
-    }
-  return Mesh(grid_vertices(n, domain), std::move(e));
+  return Mesh(grid_vertices(n, domain), grid_triangles(n));
+}
+
+Mesh make_mesh_piece(std::string_view generator, GridSize n, const Rectangle& domain, const BoxPiece& piece) {
+  if (generator != "squares" && generator != "triangles")
+    throw InputError("a process's piece of a mesh is made by the generators squares and triangles in the plane (got '" +
+                     std::string(generator) + "'): every process makes the whole of any other mesh");
+  const bool squares = generator == "squares";
+  check_n(squares ? "squares mesh" : "triangles mesh", n);
+  check_domain(squares ? "squares mesh" : "triangles mesh", domain, n);
+  const detail::PieceBoxes keep(2, {n.nx, n.ny, 1}, piece);
+  return Mesh(grid_vertices(n, domain), squares ? grid_squares(n, keep) : grid_triangles(n, keep));
 }
 
 Mesh make_voronoi(GridSize n, const Rectangle& domain, const VoronoiOptions& options) {

@@ -75,12 +75,13 @@ std::array<int, 8> box_corners(GridSize3 n, int i, int j, int k) {
 }
 
 // the boxes of the grid, each with its faces outward: x0, x1, y0, y1, z0, z1
-std::vector<CellFaces> cube_cells(GridSize3 n) {
+std::vector<CellFaces> cube_cells(GridSize3 n, const detail::PieceBoxes& keep = {}) {
   std::vector<CellFaces> cells;
   cells.reserve(static_cast<std::size_t>(n.nx) * n.ny * n.nz);
   for (int k = 0; k < n.nz; ++k)
     for (int j = 0; j < n.ny; ++j)
       for (int i = 0; i < n.nx; ++i) {
+        if (!keep(i, j, k)) continue;
         const auto c = box_corners(n, i, j, k);
         cells.push_back({{c[0], c[4], c[6], c[2]}, {c[1], c[3], c[7], c[5]}, {c[0], c[1], c[5], c[4]},
                          {c[2], c[6], c[7], c[3]}, {c[0], c[2], c[3], c[1]}, {c[4], c[5], c[7], c[6]}});
@@ -90,7 +91,7 @@ std::vector<CellFaces> cube_cells(GridSize3 n) {
 
 // each box of the grid cut into six tetrahedra, the six paths 0 -> 7 along the box's edges, one
 // axis at a time (x = 1, y = 2, z = 4)
-std::vector<CellFaces> tetrahedron_cells(GridSize3 n) {
+std::vector<CellFaces> tetrahedron_cells(GridSize3 n, const detail::PieceBoxes& keep = {}) {
   std::vector<CellFaces> cells;
   cells.reserve(6 * static_cast<std::size_t>(n.nx) * n.ny * n.nz);
   static constexpr std::array<std::array<int, 3>, 6> orders = {
@@ -98,6 +99,7 @@ std::vector<CellFaces> tetrahedron_cells(GridSize3 n) {
   for (int k = 0; k < n.nz; ++k)
     for (int j = 0; j < n.ny; ++j)
       for (int i = 0; i < n.nx; ++i) {
+        if (!keep(i, j, k)) continue;
         const auto c = box_corners(n, i, j, k);
         for (const auto& o : orders) {
           int a = c[0], b = c[static_cast<std::size_t>(o[0])], d = c[static_cast<std::size_t>(o[0] + o[1])], e = c[7];
@@ -163,6 +165,16 @@ Mesh3D make_tetrahedra(const std::vector<double>& x, const std::vector<double>& 
   if (place)
     for (Vec3& v : vertices) v = place(v);
   return Mesh3D(std::move(vertices), tetrahedron_cells(n));
+}
+
+Mesh3D make_mesh3d_piece(std::string_view generator, GridSize3 n, const Box& domain, const BoxPiece& piece) {
+  if (generator != "cubes" && generator != "tetrahedra")
+    throw InputError("a process's piece of a mesh is made by the generators cubes and tetrahedra in a solid (got '" +
+                     std::string(generator) + "'): every process makes the whole of any other mesh");
+  const bool cubes = generator == "cubes";
+  detail::check_box_grid(cubes ? "cubes mesh" : "tetrahedra mesh", n, domain);
+  const detail::PieceBoxes keep(3, {n.nx, n.ny, n.nz}, piece);
+  return Mesh3D(grid_vertices(n, domain), cubes ? cube_cells(n, keep) : tetrahedron_cells(n, keep));
 }
 
 const std::vector<std::string>& mesh3d_generator_names() {

@@ -1,0 +1,50 @@
+// A process's piece of a mesh generated on a grid of boxes (squares and triangles in the plane,
+// cubes and tetrahedra in a solid): what one process of a run across processes makes of the
+// mesh, without making the whole (docs/cluster.md).
+//
+// A piece holds every vertex of the whole mesh, numbered as the whole numbers them, so that a
+// vertex, its dofs and every array indexed by them mean in a piece what they mean in the whole;
+// and of the cells, only those of the grid's boxes that
+//   - lie within two layers of boxes of the process's vertices (the boxes holding one of them and
+//     their neighbours: the rows a process assembles and the cells next to them),
+//   - touch one of the named sides of the domain (the cells along the supports, loads and
+//     contact of a scene, a surface's worth), or
+//   - lie in the grid's first column of boxes (which keeps the piece connected, a body as the
+//     whole is),
+// in the whole mesh's order of cells, each as the whole makes it. The vertices are numbered layer
+// by layer (along y in the plane, z in a solid), so that a range of vertices is a slab.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <hemivem/mesh/generators.hpp>
+#include <hemivem/mesh/generators3d.hpp>
+
+namespace hemivem {
+
+/// What a process makes of a generated mesh.
+struct BoxPiece {
+  /// The process's vertices: first_vertex, ..., end_vertex - 1 (none when equal).
+  int first_vertex = 0;
+  int end_vertex = 0;
+  /// Sides of the domain along which every cell is made: left, right, bottom, top in the plane;
+  /// x0, x1, y0, y1, z0, z1, bottom, top in a solid.
+  std::vector<std::string> sides;
+};
+
+/// The generators that make a piece: squares and triangles in the plane, cubes and tetrahedra in
+/// a solid (a grid of boxes).
+bool makes_pieces(std::string_view generator);
+
+/// The piece of make_mesh(generator, n, domain) described by `piece` (see above). InputError for
+/// a generator that makes no piece, an unknown side, a range of vertices outside the mesh, and
+/// as make_mesh.
+Mesh make_mesh_piece(std::string_view generator, GridSize n, const Rectangle& domain, const BoxPiece& piece);
+
+/// The piece of make_mesh3d(generator, n, domain) described by `piece`; InputError as
+/// make_mesh_piece.
+Mesh3D make_mesh3d_piece(std::string_view generator, GridSize3 n, const Box& domain, const BoxPiece& piece);
+
+}  // namespace hemivem

@@ -1,0 +1,83 @@
+// The boxes of a process's piece of a generated mesh (hemivem/mesh/box_piece.hpp); the pieces
+// themselves are made by the generators (generators.cpp, generators3d.cpp), box by box.
+#include <hemivem/mesh/box_piece.hpp>
+
+#include "box_grid.hpp"
+
+#include <algorithm>
+#include <string>
+
+namespace hemivem {
+
+bool makes_pieces(std::string_view generator) {
+  return generator == "squares" || generator == "triangles" || generator == "cubes" || generator == "tetrahedra";
+}
+
+namespace detail {
+
+namespace {
+
+/// The axis of a side and whether it is the upper one; InputError naming the sides of the
+/// dimension for an unknown name.
+std::pair<int, bool> side_axis(int dim, const std::string& side) {
+  if (dim == 2) {
+    if (side == "left") return {0, false};
+    if (side == "right") return {0, true};
+    if (side == "bottom") return {1, false};
+    if (side == "top") return {1, true};
+    throw InputError("unknown side '" + side + "'; expected left, right, bottom or top");
+  }
+  if (side == "x0") return {0, false};
+  if (side == "x1") return {0, true};
+  if (side == "y0") return {1, false};
+  if (side == "y1") return {1, true};
+  if (side == "z0" || side == "bottom") return {2, false};
+  if (side == "z1" || side == "top") return {2, true};
+  throw InputError("unknown side '" + side + "' of a box; expected x0, x1, y0, y1, z0, z1, bottom or top");
+}
+
+}  // namespace
+
+PieceBoxes::PieceBoxes(int dim, std::array<int, 3> counts, const BoxPiece& piece)
+    : all_(false), dim_(dim), counts_(counts) {
+  if (dim == 2) counts_[2] = 1;
+  const int layer_axis = dim - 1;
+  // the vertices of a layer along the last axis, and of the grid
+  long long stride = 1;
+  for (int a = 0; a < layer_axis; ++a) stride *= counts_[static_cast<std::size_t>(a)] + 1;
+  const long long vertices = stride * (counts_[static_cast<std::size_t>(layer_axis)] + 1);
+  if (piece.first_vertex < 0 || piece.end_vertex < piece.first_vertex || piece.end_vertex > vertices)
+    throw InputError("a piece of the mesh owns the vertices " + std::to_string(piece.first_vertex) + ", ..., " +
+                     std::to_string(piece.end_vertex) + " (excluded): not a range of the mesh's " +
+                     std::to_string(vertices) + " vertices");
+  if (piece.end_vertex > piece.first_vertex) {
+    // box layer k holds the vertex layers k and k + 1: those holding a vertex of the piece, and
+    // one layer more on each side
+    const auto first = static_cast<int>(piece.first_vertex / stride);
+    const auto last = static_cast<int>((piece.end_vertex - 1) / stride);
+    first_layer_ = std::max(0, first - 2);
+    last_layer_ = std::min(counts_[static_cast<std::size_t>(layer_axis)] - 1, last + 1);
+  }
+  for (const std::string& side : piece.sides) {
+    const auto [axis, upper] = side_axis(dim, side);
+    (upper ? upper_ : lower_)[static_cast<std::size_t>(axis)] = true;
+  }
+}
+
+bool PieceBoxes::operator()(int i, int j, int k) const {
+  if (all_) return true;
+  const std::array<int, 3> at{i, j, k};
+  if (at[static_cast<std::size_t>(dim_ - 1)] >= first_layer_ && at[static_cast<std::size_t>(dim_ - 1)] <= last_layer_)
+    return true;
+  bool first_column = true;  // the boxes at index 0 across the layers
+  for (int a = 0; a < dim_; ++a) {
+    const auto s = static_cast<std::size_t>(a);
+    if ((lower_[s] && at[s] == 0) || (upper_[s] && at[s] == counts_[s] - 1)) return true;
+    if (a < dim_ - 1) first_column = first_column && at[s] == 0;
+  }
+  return first_column;
+}
+
+}  // namespace detail
+
+}  // namespace hemivem

@@ -1,0 +1,205 @@
+// A process's piece of a generated mesh (hemivem/mesh/box_piece.hpp): every vertex of the whole
+// mesh, and of its cells those near the process's vertices, along the named sides and in the first
+// column, each as the whole makes it; and the share of the full-space route posed from a piece
+// (pose_share, hemivem/contact/pose_share.hpp), which is the share posed from the whole mesh.
+#include <hemivem/contact/pose_share.hpp>
+#include <hemivem/error.hpp>
+#include <hemivem/mesh/box_piece.hpp>
+#include <hemivem/mesh/boundary.hpp>
+#include <hemivem/scene/example.hpp>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "pressed_block3d.hpp"
+#include "test_support.hpp"
+
+using namespace hemivem;
+
+namespace {
+
+/// A cell's vertex loops, each turned to start at its smallest vertex, in order: the cell as the
+/// mesh holds it whatever the numbering of its faces.
+std::vector<std::vector<int>> loops_of(const Mesh& mesh, int e) {
+  return {std::vector<int>(mesh.element(e).begin(), mesh.element(e).end())};
+}
+std::vector<std::vector<int>> loops_of(const Mesh3D& mesh, int c) {
+  std::vector<std::vector<int>> loops = mesh.cell(c);
+  for (auto& l : loops) std::rotate(l.begin(), std::min_element(l.begin(), l.end()), l.end());
+  std::sort(loops.begin(), loops.end());
+  return loops;
+}
+
+int num_cells_of(const Mesh& mesh) { return mesh.num_elements(); }
+int num_cells_of(const Mesh3D& mesh) { return mesh.num_cells(); }
+
+/// Whether cell c holds a vertex in [v0, v1).
+template <class M>
+bool holds_vertex(const M& mesh, int c, int v0, int v1) {
+  for (const auto& loop : loops_of(mesh, c))
+    for (int v : loop)
+      if (v >= v0 && v < v1) return true;
+  return false;
+}
+
+/// The piece holds every vertex of `whole` where the whole has it; its cells are cells of the whole,
+/// each once and in the whole's order; among them every cell holding one of [v0, v1) and every
+/// cell with a facet on `facets` (boundary facets of the whole given by their sorted vertices);
+/// and it holds fewer cells than the whole when `smaller`.
+template <class M>
+void expect_piece_of(const M& piece, const M& whole, int v0, int v1, const std::set<std::vector<int>>& facets,
+                     bool smaller) {
+  SCOPED_TRACE("vertices " + std::to_string(v0) + " to " + std::to_string(v1));
+  ASSERT_EQ(piece.num_vertices(), whole.num_vertices());
+  for (int v = 0; v < whole.num_vertices(); ++v) ASSERT_EQ(piece.vertex(v), whole.vertex(v)) << "vertex " << v;
+  std::map<std::vector<std::vector<int>>, int> cell_of;
+  for (int c = 0; c < num_cells_of(whole); ++c) cell_of[loops_of(whole, c)] = c;
+  int last = -1;
+  std::set<int> held;
+  for (int c = 0; c < num_cells_of(piece); ++c) {
+    const auto at = cell_of.find(loops_of(piece, c));
+    ASSERT_NE(at, cell_of.end()) << "cell " << c << " of the piece is no cell of the whole";
+    EXPECT_GT(at->second, last) << "the whole's order of cells";
+    last = at->second;
+    held.insert(at->second);
+  }
+  for (int c = 0; c < num_cells_of(whole); ++c) {
+    if (holds_vertex(whole, c, v0, v1)) EXPECT_TRUE(held.count(c)) << "cell " << c << " holds a vertex of the piece";
+    for (const auto& loop : loops_of(whole, c)) {
+      std::vector<int> sorted = loop;
+      std::sort(sorted.begin(), sorted.end());
+      if (facets.count(sorted)) EXPECT_TRUE(held.count(c)) << "cell " << c << " lies along a named side";
+    }
+  }
+  if (smaller) EXPECT_LT(num_cells_of(piece), num_cells_of(whole));
+}
+
+std::set<std::vector<int>> sorted_facets(const Mesh& mesh, const std::vector<int>& edges) {
+  std::set<std::vector<int>> out;
+  for (int e : edges) out.insert({std::min(mesh.edge(e).v0, mesh.edge(e).v1), std::max(mesh.edge(e).v0, mesh.edge(e).v1)});
+  return out;
+}
+std::set<std::vector<int>> sorted_facets(const Mesh3D& mesh, const std::vector<int>& faces) {
+  std::set<std::vector<int>> out;
+  for (int f : faces) {
+    std::vector<int> v = mesh.face(f).vertices;
+    std::sort(v.begin(), v.end());
+    out.insert(v);
+  }
+  return out;
+}
+
+/// The thirds of the vertices, and an empty range.
+std::vector<std::pair<int, int>> thirds(int n) { return {{0, n / 3}, {n / 3, 2 * n / 3}, {2 * n / 3, n}, {n / 2, n / 2}}; }
+
+TEST(BoxPiece, APlanePieceHoldsTheCellsOfItsVerticesAndItsSides) {
+  const Rectangle domain{0.0, 2.0, 0.0, 1.0};
+  for (const std::string generator : {"squares", "triangles"}) {
+    SCOPED_TRACE(generator);
+    const Mesh whole = make_mesh(generator, GridSize(8, 12), domain);
+    const std::set<std::vector<int>> bottom =
+        sorted_facets(whole, select_boundary_edges(whole, {rectangle_side(whole.bounding_box(), "bottom")}));
+    for (const auto& [v0, v1] : thirds(whole.num_vertices()))
+      expect_piece_of(make_mesh_piece(generator, GridSize(8, 12), domain, BoxPiece{v0, v1, {"bottom"}}), whole, v0, v1,
+                      bottom, true);
+  }
+}
+
+TEST(BoxPiece, ASolidPieceHoldsTheCellsOfItsVerticesAndItsSides) {
+  const Box domain{0.0, 1.0, 0.0, 0.5, 0.0, 1.0};
+  for (const std::string generator : {"cubes", "tetrahedra"}) {
+    SCOPED_TRACE(generator);
+    const Mesh3D whole = make_mesh3d(generator, GridSize3(4, 3, 9), domain);
+    std::set<std::vector<int>> sides = sorted_facets(whole, select_box_side(whole, domain, "bottom"));
+    const auto x1 = sorted_facets(whole, select_box_side(whole, domain, "x1"));
+    sides.insert(x1.begin(), x1.end());
+    for (const auto& [v0, v1] : thirds(whole.num_vertices()))
+      expect_piece_of(make_mesh3d_piece(generator, GridSize3(4, 3, 9), domain, BoxPiece{v0, v1, {"bottom", "x1"}}),
+                      whole, v0, v1, sides, true);
+  }
+}
+
+// a piece of all the vertices is the whole mesh
+TEST(BoxPiece, APieceOfEveryVertexIsTheWholeMesh) {
+  const Mesh3D whole = make_cubes(GridSize3(3, 2, 4));
+  const Mesh3D piece = make_mesh3d_piece("cubes", GridSize3(3, 2, 4), Box{}, BoxPiece{0, whole.num_vertices(), {}});
+  EXPECT_EQ(piece.num_cells(), whole.num_cells());
+  EXPECT_EQ(piece.num_faces(), whole.num_faces());
+}
+
+TEST(BoxPiece, WhatMakesNoPieceIsRefusedByName) {
+  const auto error = [](auto&& f) { return test::input_error_of(f); };
+  EXPECT_NE(error([] { (void)make_mesh3d_piece("voronoi", 4, Box{}, BoxPiece{0, 5, {}}); }).find("cubes and tetrahedra"),
+            std::string::npos);
+  EXPECT_NE(error([] { (void)make_mesh_piece("voronoi", 4, Rectangle{}, BoxPiece{0, 5, {}}); }).find("squares and triangles"),
+            std::string::npos);
+  EXPECT_NE(error([] { (void)make_mesh3d_piece("cubes", 4, Box{}, BoxPiece{0, 5, {"left"}}); }).find("unknown side 'left'"),
+            std::string::npos);
+  EXPECT_NE(error([] { (void)make_mesh_piece("squares", 4, Rectangle{}, BoxPiece{0, 5, {"x0"}}); }).find("unknown side 'x0'"),
+            std::string::npos);
+  EXPECT_NE(error([] { (void)make_mesh_piece("squares", 4, Rectangle{}, BoxPiece{0, 26, {}}); }).find("25 vertices"),
+            std::string::npos);
+  EXPECT_NE(error([] { (void)make_mesh3d_piece("cubes", 0, Box{}, BoxPiece{0, 1, {}}); }).find("cubes mesh"),
+            std::string::npos);
+  EXPECT_TRUE(makes_pieces("tetrahedra"));
+  EXPECT_FALSE(makes_pieces("voronoi"));
+}
+
+/// Two shares are the same to the bit.
+void expect_same_share(const PosedShare& a, const PosedShare& b) {
+  EXPECT_EQ(a.layout.first, b.layout.first);
+  EXPECT_EQ(a.layout.owned, b.layout.owned);
+  EXPECT_EQ(a.layout.global, b.layout.global);
+  EXPECT_EQ(a.layout.ghosts, b.layout.ghosts);
+  ASSERT_EQ(a.share.matrix.rows(), b.share.matrix.rows());
+  ASSERT_EQ(a.share.matrix.cols(), b.share.matrix.cols());
+  ASSERT_EQ(a.share.matrix.nonZeros(), b.share.matrix.nonZeros());
+  EXPECT_EQ(Eigen::MatrixXd(a.share.matrix), Eigen::MatrixXd(b.share.matrix));
+  EXPECT_EQ(a.share.load, b.share.load);
+  EXPECT_EQ(a.share.coordinate_numbers, b.share.coordinate_numbers);
+  EXPECT_EQ(a.share.coordinate_rows, b.share.coordinate_rows);
+  EXPECT_EQ(a.share.tied_rows, b.share.tied_rows);
+  EXPECT_EQ(a.share.coordinates.w, b.share.coordinates.w);
+  EXPECT_EQ(a.share.coordinates.lo, b.share.coordinates.lo);
+  EXPECT_EQ(a.share.coordinates.hi, b.share.coordinates.hi);
+  EXPECT_EQ(a.share.origin, b.share.origin);
+  EXPECT_EQ(a.near_null_space, b.near_null_space);
+  EXPECT_EQ(a.block_size, b.block_size);
+}
+
+// Example 4.1: a process posing its share from its piece poses the share of the whole mesh
+TEST(BoxPiece, TheShareOfAPlanePieceIsTheShareOfTheWholeMesh) {
+  const GridSize n(12, 12);
+  const Mesh whole = make_squares(n);
+  const ContactProblem from_whole = example_4_1(whole);
+  for (const auto& [v0, v1] : thirds(whole.num_vertices())) {
+    SCOPED_TRACE("vertices " + std::to_string(v0) + " to " + std::to_string(v1));
+    const Mesh piece = make_mesh_piece("squares", n, Rectangle{}, BoxPiece{v0, v1, {"left", "right", "top", "bottom"}});
+    ASSERT_LT(piece.num_elements(), whole.num_elements());
+    expect_same_share(pose_share(example_4_1(piece), v0, v1), pose_share(from_whole, v0, v1));
+  }
+}
+
+TEST(BoxPiece, TheShareOfASolidPieceIsTheShareOfTheWholeMesh) {
+  const GridSize3 n(6, 3, 15);
+  const Box domain{0.0, 1.0, 0.0, 0.5, 0.0, 1.0};
+  for (const std::string generator : {"cubes", "tetrahedra"}) {
+    SCOPED_TRACE(generator);
+    const Mesh3D whole = make_mesh3d(generator, n, domain);
+    const ContactProblem3D from_whole = test::example_4_1_3d(whole);
+    for (const auto& [v0, v1] : thirds(whole.num_vertices())) {
+      SCOPED_TRACE("vertices " + std::to_string(v0) + " to " + std::to_string(v1));
+      const Mesh3D piece = make_mesh3d_piece(generator, n, domain, BoxPiece{v0, v1, {"x0", "x1", "top", "bottom"}});
+      ASSERT_LT(piece.num_cells(), whole.num_cells());
+      expect_same_share(pose_share(test::example_4_1_3d(piece), v0, v1), pose_share(from_whole, v0, v1));
+    }
+  }
+}
+
+}  // namespace
