@@ -12,6 +12,7 @@
 #include <hemivem/error.hpp>
 #include <hemivem/krylov_solver.hpp>
 #include <hemivem/linear_backends.hpp>
+#include <hemivem/mesh/box_piece.hpp>
 #include <hemivem/mesh/generators.hpp>
 #include <hemivem/mesh/generators3d.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
@@ -273,10 +274,14 @@ TEST(FullSpaceMpi, ALentMatrixGivesTheSameAnswerAndIsRestoredToTheBit) {
 // process poses and solves its share, rank 0 gathers the whole solution. Against the condensed
 // route (Eigen's factorization and ssn) in every displacement, the contact table, the energy and
 // the balance of forces; the verdict and certificate the same on every process.
+// `problem` is each process's problem (on its piece of the mesh, hemivem/mesh/box_piece.hpp, or
+// the whole), `whole` the condensed route's (the same problem on the whole mesh; `problem` when
+// null).
 template <int dim, class Problem>
 void expect_shares_solve_as_the_condensed_route(
     const Problem& problem,
-    const std::function<void(const BasicContactSolution<dim>& s, const BasicContactSolution<dim>& c)>& also = {}) {
+    const std::function<void(const BasicContactSolution<dim>& s, const BasicContactSolution<dim>& c)>& also = {},
+    const Problem* whole = nullptr) {
   const ProcessWorld world = krylov_world();
   auto krylov = make_krylov_solver("petsc-gamg");
   const BasicContactSolution<dim> s = solve_full_space_shares<dim>(problem, *krylov, world, make_distributed_rows, tight());
@@ -295,7 +300,7 @@ void expect_shares_solve_as_the_condensed_route(
   EXPECT_EQ(rows->max(s.energy), rows->min(s.energy)) << "one energy on every process";
   const auto ssn = make_minimizer("ssn");
   const NonsmoothMinimizer* one[] = {ssn.get()};
-  BasicContactSolver<dim> condensed(problem, factorization(), tight());
+  BasicContactSolver<dim> condensed(whole ? *whole : problem, factorization(), tight());
   const BasicContactSolution<dim> c = std::move(condensed.run(one).front());
   ASSERT_TRUE(c.converged()) << c.message;
   if (also) also(s, c);
@@ -322,6 +327,7 @@ void expect_shares_solve_as_the_condensed_route(
     EXPECT_LE((s.contact[i].friction_vector - c.contact[i].friction_vector).norm(), 1e-8 * force);
   }
   EXPECT_LE((s.forces.contact - c.forces.contact).norm(), 1e-8 * force * static_cast<double>(c.contact.size()));
+  EXPECT_LE((s.forces.applied - c.forces.applied).norm(), 1e-12 * std::max(1.0, c.forces.applied.norm()));
   ASSERT_EQ(s.forces.reactions.size(), c.forces.reactions.size());
   for (std::size_t k = 0; k < c.forces.reactions.size(); ++k)
     EXPECT_LE((s.forces.reactions[k].force - c.forces.reactions[k].force).norm(),
@@ -336,6 +342,37 @@ TEST(FullSpaceMpi, TheCommandsSolveAcrossProcessesIsTheCondensedAnswerInThePlane
 TEST(FullSpaceMpi, TheCommandsSolveAcrossProcessesIsTheCondensedAnswerInTheSolid) {
   const Mesh3D mesh = make_cubes({5, 5, 5});
   expect_shares_solve_as_the_condensed_route<3>(test::example_4_1_3d(mesh));
+}
+
+// Each process makes only its piece of the mesh (its vertices' cells, the named sides' and the
+// first column, hemivem/mesh/box_piece.hpp) and solves its share from it: the condensed route's
+// answer on the whole mesh, the balance of forces added up over the processes' vertices.
+TEST(FullSpaceMpi, EachProcessMakesOnlyItsPieceOfTheMeshInThePlane) {
+  const ProcessWorld world = krylov_world();
+  const GridSize n(16, 16);
+  const Mesh whole = make_squares(n);
+  const auto [first, end] = vertex_share(whole.num_vertices(), world.rank, world.size);
+  const Mesh piece = make_mesh_piece("squares", n, Rectangle{}, BoxPiece{first, end, {"left", "right", "top", "bottom"}});
+  if (world.size > 1) EXPECT_LT(piece.num_elements(), whole.num_elements());
+  const ContactProblem mine = example_4_1(piece), all = example_4_1(whole);
+  expect_shares_solve_as_the_condensed_route<2>(mine, {}, &all);
+}
+
+// in the solid, with a body force: the applied load of the processes' vertices added up
+TEST(FullSpaceMpi, EachProcessMakesOnlyItsPieceOfTheMeshInTheSolid) {
+  const ProcessWorld world = krylov_world();
+  const GridSize3 n(4, 3, 9);
+  const Box domain{0.0, 1.0, 0.0, 0.5, 0.0, 1.0};
+  for (const std::string generator : {"cubes", "tetrahedra"}) {
+    SCOPED_TRACE(generator);
+    const Mesh3D whole = make_mesh3d(generator, n, domain);
+    const auto [first, end] = vertex_share(whole.num_vertices(), world.rank, world.size);
+    const Mesh3D piece = make_mesh3d_piece(generator, n, domain, BoxPiece{first, end, {"x0", "x1", "top", "bottom"}});
+    if (world.size > 2) EXPECT_LT(piece.num_cells(), whole.num_cells());
+    ContactProblem3D mine = test::example_4_1_3d(piece), all = test::example_4_1_3d(whole);
+    for (ContactProblem3D* p : {&mine, &all}) p->elasticity.body_force = [](const Vec3&) { return Vec3(0.5, 0.0, -2.0); };
+    expect_shares_solve_as_the_condensed_route<3>(mine, {}, &all);
+  }
 }
 
 // a start (an adaptive step's, prolongated from the mesh before): from the answer itself the

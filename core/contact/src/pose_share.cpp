@@ -11,6 +11,8 @@
 #include <hemivem/vem/assembly3d.hpp>
 #include <hemivem/vem/rigid_motions.hpp>
 
+#include "forces_of_vertices.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <exception>
@@ -323,6 +325,27 @@ void gather_coordinates(const RowDistribution& rows, const FullSpaceShare& share
   }
 }
 
+/// The balance of forces of the whole problem from each process's balance of its own vertices
+/// (force_balance_of_vertices), added up in the order of the processes (collective): the same on
+/// each. The contact's resultant and `internal` are `mine`'s, made of the whole contact table.
+template <int dim>
+BasicForceBalance<PointOf<dim>> added_balance(BasicForceBalance<PointOf<dim>> mine, const RowDistribution& rows) {
+  const auto parts = static_cast<Eigen::Index>(1 + mine.reactions.size());
+  Eigen::VectorXd sent(dim * parts);
+  sent.head<dim>() = mine.applied;
+  for (Eigen::Index k = 1; k < parts; ++k) sent.segment<dim>(dim * k) = mine.reactions[static_cast<std::size_t>(k - 1)].force;
+  const Eigen::VectorXd all = rows.all_gather(sent);
+  if (all.size() % sent.size() != 0) throw InternalError("the processes' balances of forces differ in length");
+  mine.applied.setZero();
+  for (auto& r : mine.reactions) r.force.setZero();
+  for (Eigen::Index at = 0; at < all.size(); at += sent.size()) {
+    mine.applied += all.segment<dim>(at);
+    for (Eigen::Index k = 1; k < parts; ++k)
+      mine.reactions[static_cast<std::size_t>(k - 1)].force += all.segment<dim>(at + dim * k);
+  }
+  return mine;
+}
+
 }  // namespace
 
 template <int dim>
@@ -494,8 +517,13 @@ BasicContactSolution<dim> solve_full_space_shares(const BasicContactProblem<dim>
     const ContactBoundary& boundary = shares->contact().boundary;
     for (int i = 0; i < boundary.size(); ++i)
       s.contact.push_back(contact_node(*problem.elasticity.mesh, boundary, posed, shares->dofs(), i, m, &unrotated));
-    s.forces = contact_force_balance<dim>(problem.elasticity, s.u, s.contact);
-    require_finite_solution(s);
+    // this process's vertices' part of the balance of forces: its piece of the mesh (if a piece,
+    // hemivem/mesh/box_piece.hpp) holds every cell of them
+    const auto [first, end] = vertex_share(problem.elasticity.mesh->num_vertices(), world.rank, world.size);
+    s.forces = detail::force_balance_of_vertices<dim>(problem.elasticity, s.u, external_contact_resultant(s.contact),
+                                                      forces_across(s.contact), first, end);
+    for (const auto& n : s.contact)
+      if (n.across.size() > 0) s.forces.internal = std::max(s.forces.internal, n.force_on_body().norm());
   } catch (...) {
     failure = std::current_exception();
   }
@@ -504,6 +532,8 @@ BasicContactSolution<dim> solve_full_space_shares(const BasicContactProblem<dim>
     if (failure) std::rethrow_exception(failure);
     throw InternalError("another process failed to make the results of the whole problem");
   }
+  s.forces = added_balance<dim>(std::move(s.forces), shares->distribution());
+  require_finite_solution(s);
   s.timings["post_process"] = since(t);
   t = Clock::now();
   shares.reset();  // the share's rows, the distributed matrix and the preconditioner given back
