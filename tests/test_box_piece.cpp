@@ -48,13 +48,13 @@ bool holds_vertex(const M& mesh, int c, int v0, int v1) {
   return false;
 }
 
-/// The piece holds every vertex of `whole` where the whole has it; its cells are cells of the whole,
-/// each once and in the whole's order; among them every cell holding one of [v0, v1) and every
+/// The piece holds every vertex of `whole` where the whole has it; its cells are the cells `cells`
+/// of the whole (piece_cells), each once and in the whole's order; among them every cell holding one of [v0, v1) and every
 /// cell with a facet on `facets` (boundary facets of the whole given by their sorted vertices);
 /// and it holds fewer cells than the whole when `smaller`.
 template <class M>
-void expect_piece_of(const M& piece, const M& whole, int v0, int v1, const std::set<std::vector<int>>& facets,
-                     bool smaller) {
+void expect_piece_of(const M& piece, const std::vector<int>& cells, const M& whole, int v0, int v1,
+                     const std::set<std::vector<int>>& facets, bool smaller) {
   SCOPED_TRACE("vertices " + std::to_string(v0) + " to " + std::to_string(v1));
   ASSERT_EQ(piece.num_vertices(), whole.num_vertices());
   for (int v = 0; v < whole.num_vertices(); ++v) ASSERT_EQ(piece.vertex(v), whole.vertex(v)) << "vertex " << v;
@@ -62,9 +62,11 @@ void expect_piece_of(const M& piece, const M& whole, int v0, int v1, const std::
   for (int c = 0; c < num_cells_of(whole); ++c) cell_of[loops_of(whole, c)] = c;
   int last = -1;
   std::set<int> held;
+  ASSERT_EQ(cells.size(), static_cast<std::size_t>(num_cells_of(piece)));
   for (int c = 0; c < num_cells_of(piece); ++c) {
     const auto at = cell_of.find(loops_of(piece, c));
     ASSERT_NE(at, cell_of.end()) << "cell " << c << " of the piece is no cell of the whole";
+    EXPECT_EQ(at->second, cells[static_cast<std::size_t>(c)]) << "cell " << c << "'s number in the whole";
     EXPECT_GT(at->second, last) << "the whole's order of cells";
     last = at->second;
     held.insert(at->second);
@@ -105,9 +107,11 @@ TEST(BoxPiece, APlanePieceHoldsTheCellsOfItsVerticesAndItsSides) {
     const Mesh whole = make_mesh(generator, GridSize(8, 12), domain);
     const std::set<std::vector<int>> bottom =
         sorted_facets(whole, select_boundary_edges(whole, {rectangle_side(whole.bounding_box(), "bottom")}));
-    for (const auto& [v0, v1] : thirds(whole.num_vertices()))
-      expect_piece_of(make_mesh_piece(generator, GridSize(8, 12), domain, BoxPiece{v0, v1, {"bottom"}}), whole, v0, v1,
-                      bottom, true);
+    for (const auto& [v0, v1] : thirds(whole.num_vertices())) {
+      const BoxPiece piece{v0, v1, {"bottom"}};
+      expect_piece_of(make_mesh_piece(generator, GridSize(8, 12), domain, piece), piece_cells(generator, GridSize(8, 12), piece),
+                      whole, v0, v1, bottom, true);
+    }
   }
 }
 
@@ -119,9 +123,11 @@ TEST(BoxPiece, ASolidPieceHoldsTheCellsOfItsVerticesAndItsSides) {
     std::set<std::vector<int>> sides = sorted_facets(whole, select_box_side(whole, domain, "bottom"));
     const auto x1 = sorted_facets(whole, select_box_side(whole, domain, "x1"));
     sides.insert(x1.begin(), x1.end());
-    for (const auto& [v0, v1] : thirds(whole.num_vertices()))
-      expect_piece_of(make_mesh3d_piece(generator, GridSize3(4, 3, 9), domain, BoxPiece{v0, v1, {"bottom", "x1"}}),
-                      whole, v0, v1, sides, true);
+    for (const auto& [v0, v1] : thirds(whole.num_vertices())) {
+      const BoxPiece piece{v0, v1, {"bottom", "x1"}};
+      expect_piece_of(make_mesh3d_piece(generator, GridSize3(4, 3, 9), domain, piece),
+                      piece_cells(generator, GridSize3(4, 3, 9), piece), whole, v0, v1, sides, true);
+    }
   }
 }
 
@@ -146,6 +152,8 @@ TEST(BoxPiece, WhatMakesNoPieceIsRefusedByName) {
   EXPECT_NE(error([] { (void)make_mesh_piece("squares", 4, Rectangle{}, BoxPiece{0, 26, {}}); }).find("25 vertices"),
             std::string::npos);
   EXPECT_NE(error([] { (void)make_mesh3d_piece("cubes", 0, Box{}, BoxPiece{0, 1, {}}); }).find("cubes mesh"),
+            std::string::npos);
+  EXPECT_NE(error([] { (void)piece_cells("voronoi", GridSize3(4), BoxPiece{0, 5, {}}); }).find("cubes and tetrahedra"),
             std::string::npos);
   EXPECT_TRUE(makes_pieces("tetrahedra"));
   EXPECT_FALSE(makes_pieces("voronoi"));

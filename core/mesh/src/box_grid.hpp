@@ -15,6 +15,9 @@ void check_box_grid(const char* generator, GridSize3 n, const Box& box);
 /// The point i/n of the way from a to b, exactly b for i == n.
 double box_grid_coordinate(double a, double b, long i, long n);
 
+/// InputError for a generator that makes no piece of a mesh of dimension `dim`.
+void require_piece_generator(std::string_view generator, int dim);
+
 /// Which boxes of a grid a process's piece makes (box_piece.hpp): box (i, j, k) of the grid of
 /// counts[0] x counts[1] (x counts[2] in a solid) boxes, k = 0 in the plane. An empty filter (made
 /// by default) makes every box.

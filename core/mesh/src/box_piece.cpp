@@ -80,4 +80,43 @@ bool PieceBoxes::operator()(int i, int j, int k) const {
 
 }  // namespace detail
 
+namespace {
+
+/// The whole numbers of the cells of the boxes `keep` makes, `per_box` cells a box, box by box in
+/// the order of the grid (x fastest).
+std::vector<int> cells_of_boxes(const detail::PieceBoxes& keep, std::array<int, 3> counts, int per_box) {
+  std::vector<int> out;
+  int box = 0;
+  for (int k = 0; k < counts[2]; ++k)
+    for (int j = 0; j < counts[1]; ++j)
+      for (int i = 0; i < counts[0]; ++i, ++box)
+        if (keep(i, j, k))
+          for (int c = 0; c < per_box; ++c) out.push_back(per_box * box + c);
+  return out;
+}
+
+}  // namespace
+
+namespace detail {
+
+void require_piece_generator(std::string_view generator, int dim) {
+  const bool solid = dim == 3;
+  if (solid ? generator != "cubes" && generator != "tetrahedra" : generator != "squares" && generator != "triangles")
+    throw InputError(std::string("a process's piece of a mesh is made by the generators ") +
+                     (solid ? "cubes and tetrahedra in a solid" : "squares and triangles in the plane") + " (got '" +
+                     std::string(generator) + "'): every process makes the whole of any other mesh");
+}
+
+}  // namespace detail
+
+std::vector<int> piece_cells(std::string_view generator, GridSize n, const BoxPiece& piece) {
+  detail::require_piece_generator(generator, 2);
+  return cells_of_boxes(detail::PieceBoxes(2, {n.nx, n.ny, 1}, piece), {n.nx, n.ny, 1}, generator == "squares" ? 1 : 2);
+}
+
+std::vector<int> piece_cells(std::string_view generator, GridSize3 n, const BoxPiece& piece) {
+  detail::require_piece_generator(generator, 3);
+  return cells_of_boxes(detail::PieceBoxes(3, {n.nx, n.ny, n.nz}, piece), {n.nx, n.ny, n.nz}, generator == "cubes" ? 1 : 6);
+}
+
 }  // namespace hemivem

@@ -495,9 +495,7 @@ Mesh make_triangles(GridSize n, const Rectangle& domain) {
 }
 
 Mesh make_mesh_piece(std::string_view generator, GridSize n, const Rectangle& domain, const BoxPiece& piece) {
-  if (generator != "squares" && generator != "triangles")
-    throw InputError("a process's piece of a mesh is made by the generators squares and triangles in the plane (got '" +
-                     std::string(generator) + "'): every process makes the whole of any other mesh");
+  detail::require_piece_generator(generator, 2);
   const bool squares = generator == "squares";
   check_n(squares ? "squares mesh" : "triangles mesh", n);
   check_domain(squares ? "squares mesh" : "triangles mesh", domain, n);

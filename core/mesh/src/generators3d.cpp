@@ -168,9 +168,7 @@ Mesh3D make_tetrahedra(const std::vector<double>& x, const std::vector<double>& 
 }
 
 Mesh3D make_mesh3d_piece(std::string_view generator, GridSize3 n, const Box& domain, const BoxPiece& piece) {
-  if (generator != "cubes" && generator != "tetrahedra")
-    throw InputError("a process's piece of a mesh is made by the generators cubes and tetrahedra in a solid (got '" +
-                     std::string(generator) + "'): every process makes the whole of any other mesh");
+  detail::require_piece_generator(generator, 3);
   const bool cubes = generator == "cubes";
   detail::check_box_grid(cubes ? "cubes mesh" : "tetrahedra mesh", n, domain);
   const detail::PieceBoxes keep(3, {n.nx, n.ny, n.nz}, piece);

@@ -47,4 +47,10 @@ Mesh make_mesh_piece(std::string_view generator, GridSize n, const Rectangle& do
 /// make_mesh_piece.
 Mesh3D make_mesh3d_piece(std::string_view generator, GridSize3 n, const Box& domain, const BoxPiece& piece);
 
+/// The whole mesh's number of each cell of the piece make_mesh_piece(generator, n, domain,
+/// piece) makes, in its order (increasing); InputError as make_mesh_piece.
+std::vector<int> piece_cells(std::string_view generator, GridSize n, const BoxPiece& piece);
+/// The same for make_mesh3d_piece.
+std::vector<int> piece_cells(std::string_view generator, GridSize3 n, const BoxPiece& piece);
+
 }  // namespace hemivem
