@@ -139,15 +139,19 @@ const std::vector<std::string>& error_estimate_part_names() {
 
 ErrorEstimate estimate_error(const ContactProblem& problem, const ContactSolution& solution) {
   const auto start = std::chrono::steady_clock::now();
+  return sum_estimate(estimate_terms(problem, solution), start);
+}
+
+namespace detail {
+
+std::vector<ElementTerms> estimate_terms(const ContactProblem& problem, const ContactSolution& solution) {
   const Mesh& mesh = checked_mesh<2>(problem, solution.u);
   ElementResiduals<2> elements = element_residuals(problem.elasticity, solution.u);
   const BoundaryFacets<2> boundary = boundary_facets<2>(problem, contact_parts(problem), solution, mesh.num_edges());
   std::vector<Vec2> tractions;
   for (int id = 0; id < mesh.num_edges(); ++id) add_edge_terms(mesh, problem.elasticity, boundary, id, elements, tractions);
-  return sum_estimate(elements.terms, start);
+  return std::move(elements.terms);
 }
-
-namespace detail {
 
 ErrorEstimate sum_estimate(const std::vector<ElementTerms>& terms, std::chrono::steady_clock::time_point start) {
   ErrorEstimate out;

@@ -122,6 +122,12 @@ void add_face_terms(const Mesh3D& mesh, const ElasticityProblem3D& elasticity, c
 
 ErrorEstimate estimate_error(const ContactProblem3D& problem, const ContactSolution3D& solution) {
   const auto start = std::chrono::steady_clock::now();
+  return sum_estimate(estimate_terms(problem, solution), start);
+}
+
+namespace detail {
+
+std::vector<ElementTerms> estimate_terms(const ContactProblem3D& problem, const ContactSolution3D& solution) {
   const Mesh3D& mesh = checked_mesh<3>(problem, solution.u);
   ElementResiduals<3> elements = element_residuals(problem.elasticity, solution.u);
   const BoundaryFacets<3> boundary = boundary_facets<3>(problem, problem.parts, solution, mesh.num_faces());
@@ -129,7 +135,9 @@ ErrorEstimate estimate_error(const ContactProblem3D& problem, const ContactSolut
   std::vector<Vec3> tractions;
   for (int f = 0; f < mesh.num_faces(); ++f)
     add_face_terms(mesh, problem.elasticity, boundary, f, elements, loop, tractions);
-  return sum_estimate(elements.terms, start);
+  return std::move(elements.terms);
 }
+
+}  // namespace detail
 
 }  // namespace hemivem

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <hemivem/estimate/error_estimate.hpp>
+#include <hemivem/estimate/error_estimate3d.hpp>
 
 namespace hemivem::detail {
 
@@ -18,6 +19,11 @@ struct ElementTerms {
   double weight = 0.0;                   ///< C / (2 mu_E)
   double consistency_energy = 0.0;       ///< |E| sigma : eps of Pi u_h
 };
+
+/// The terms of every element of the problem's mesh, in its order: estimate_error before
+/// sum_estimate, with its InputErrors.
+std::vector<ElementTerms> estimate_terms(const ContactProblem& problem, const ContactSolution& solution);
+std::vector<ElementTerms> estimate_terms(const ContactProblem3D& problem, const ContactSolution3D& solution);
 
 /// eta_E^2 = weight * (volume + jump + traction + contact + friction) + 1/2 stabilization per
 /// element, ||u_h||_E^2 = 1/2 sum (consistency_energy + stabilization), the parts and the
