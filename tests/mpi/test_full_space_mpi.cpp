@@ -10,6 +10,7 @@
 #include <hemivem/contact/pose_share.hpp>
 #include <hemivem/contact/solver.hpp>
 #include <hemivem/error.hpp>
+#include <hemivem/estimate/estimate_pieces.hpp>
 #include <hemivem/krylov_solver.hpp>
 #include <hemivem/linear_backends.hpp>
 #include <hemivem/mesh/box_piece.hpp>
@@ -344,6 +345,28 @@ TEST(FullSpaceMpi, TheCommandsSolveAcrossProcessesIsTheCondensedAnswerInTheSolid
   expect_shares_solve_as_the_condensed_route<3>(test::example_4_1_3d(mesh));
 }
 
+// The estimate of the processes' pieces (`mine` on each process's piece `where`) is the whole
+// mesh's (`all`) to the bit, on every process.
+template <int dim, class Problem>
+void expect_estimate_of_pieces(const Problem& mine, const Problem& all, const BasicContactSolution<dim>& s,
+                               const PieceOfMesh& where) {
+  const ProcessWorld world = krylov_world();
+  const auto rows = make_distributed_rows([&] {
+    RowLayout one;
+    one.first = world.rank;
+    one.owned = 1;
+    one.global = world.size;
+    return one;
+  }());
+  const ErrorEstimate pieces = estimate_error_of_pieces<dim>(mine, s, where, *rows);
+  const ErrorEstimate whole = estimate_error(all, s);
+  EXPECT_EQ(pieces.energy, whole.energy);
+  EXPECT_EQ(pieces.norm, whole.norm);
+  EXPECT_EQ(pieces.parts, whole.parts);
+  EXPECT_EQ(pieces.indicators, whole.indicators);
+  EXPECT_GT(pieces.energy, 0.0);
+}
+
 // Each process makes only its piece of the mesh (its vertices' cells, the named sides' and the
 // first column, hemivem/mesh/box_piece.hpp) and solves its share from it: the condensed route's
 // answer on the whole mesh, the balance of forces added up over the processes' vertices.
@@ -355,7 +378,11 @@ TEST(FullSpaceMpi, EachProcessMakesOnlyItsPieceOfTheMeshInThePlane) {
   const Mesh piece = make_mesh_piece("squares", n, Rectangle{}, BoxPiece{first, end, {"left", "right", "top", "bottom"}});
   if (world.size > 1) EXPECT_LT(piece.num_elements(), whole.num_elements());
   const ContactProblem mine = example_4_1(piece), all = example_4_1(whole);
-  expect_shares_solve_as_the_condensed_route<2>(mine, {}, &all);
+  const PieceOfMesh where{piece_cells("squares", n, BoxPiece{first, end, {"left", "right", "top", "bottom"}}),
+                          whole.num_elements(), first, end};
+  expect_shares_solve_as_the_condensed_route<2>(
+      mine, [&](const ContactSolution& s, const ContactSolution&) { expect_estimate_of_pieces<2>(mine, all, s, where); },
+      &all);
 }
 
 // in the solid, with a body force: the applied load of the processes' vertices added up
@@ -370,7 +397,12 @@ TEST(FullSpaceMpi, EachProcessMakesOnlyItsPieceOfTheMeshInTheSolid) {
     const Mesh3D piece = make_mesh3d_piece(generator, n, domain, BoxPiece{first, end, {"x0", "x1", "top", "bottom"}});
     ContactProblem3D mine = test::example_4_1_3d(piece), all = test::example_4_1_3d(whole);
     for (ContactProblem3D* p : {&mine, &all}) p->elasticity.body_force = [](const Vec3&) { return Vec3(0.5, 0.0, -2.0); };
-    expect_shares_solve_as_the_condensed_route<3>(mine, {}, &all);
+    const PieceOfMesh where{piece_cells(generator, n, BoxPiece{first, end, {"x0", "x1", "top", "bottom"}}),
+                            whole.num_cells(), first, end};
+    expect_shares_solve_as_the_condensed_route<3>(
+        mine,
+        [&](const ContactSolution3D& s, const ContactSolution3D&) { expect_estimate_of_pieces<3>(mine, all, s, where); },
+        &all);
   }
 }
 
