@@ -93,7 +93,8 @@ nlohmann::json mesh_json(const Mesh& mesh, const RunInfo& info) {
           {"vertices", mesh.num_vertices()},
           {"elements", mesh.num_elements()},
           {"dofs", info.dofs >= 0 ? info.dofs : 2 * mesh.num_vertices()},
-          {"h", mesh.h()}};
+          {"h", mesh.h()},
+          {"pieces", info.mesh_pieces}};
 }
 nlohmann::json mesh_json(const Mesh3D& mesh, const RunInfo& info) {
   return {{"description", info.mesh},
@@ -101,7 +102,8 @@ nlohmann::json mesh_json(const Mesh3D& mesh, const RunInfo& info) {
           {"elements", mesh.num_cells()},
           {"faces", mesh.num_faces()},
           {"dofs", info.dofs >= 0 ? info.dofs : 3 * mesh.num_vertices()},
-          {"h", mesh.h()}};
+          {"h", mesh.h()},
+          {"pieces", info.mesh_pieces}};
 }
 
 /// A contact node's position in result.json: a plane's "x" and "y", a solid's "x" [x, y, z].

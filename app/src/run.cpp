@@ -94,8 +94,8 @@ template <class Built, class Solved>
 std::function<void(const Built&, const Solved&)> announce(const std::function<void(const BuiltSummary&)>& f) {
   if (!f) return {};
   return [f](const Built& built, const Solved& s) {
-    f({std::is_same_v<Built, BuiltProblem3D> ? 3 : 2, built.mesh.num_vertices(), cells(built.mesh), s.linear,
-       s.minimizer, s.holds_results});
+    f({std::is_same_v<Built, BuiltProblem3D> ? 3 : 2, built.mesh.num_vertices(),
+       s.mesh_pieces > 1 ? s.whole_cells : cells(built.mesh), s.linear, s.minimizer, s.holds_results});
   };
 }
 

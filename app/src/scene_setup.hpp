@@ -11,8 +11,11 @@
 #include <vector>
 
 #include <hemivem/contact/pose_share.hpp>
+#include <hemivem/estimate/estimate_pieces.hpp>
 #include <hemivem/krylov_solver.hpp>
 #include <hemivem/app/outputs.hpp>
+#include <hemivem/app/path.hpp>
+#include <hemivem/scene/scene_pieces.hpp>
 
 #include "bodies.hpp"
 #include <hemivem/app/solve.hpp>
@@ -33,7 +36,29 @@ struct SceneEngines {
   bool holds_results = true;     ///< false on the ranks > 0 of mumps-mpi
   int processes = 1;
   MinimizerOptions options;      ///< the scene's tolerance and iteration limit, with `callback`
+  /// On the full-space route across processes, where this process's piece of the scene's mesh
+  /// lies when it made only its piece (build_scene_problem); none when it made the whole mesh.
+  std::optional<PieceOfMesh> piece;
 };
+
+/// The problem a solve of the scene builds on the scene's own mesh, into s.built: on the
+/// full-space route across processes (`e`, a static solve), the process's piece of the mesh
+/// where the scene allows it (scene_piece; e.piece then says where the piece lies, and
+/// s.mesh_pieces and s.whole_cells what it is a piece of), the whole mesh otherwise.
+template <int dim, class Solved>
+void build_scene_problem(const Scene& scene, SceneEngines& e, Solved& s) {
+  if (e.krylov && e.processes > 1 && !scene_is_path(scene)) {
+    const ProcessWorld world = krylov_world();
+    if (const std::optional<BoxPiece> piece = scene_piece(scene, world.rank, world.size)) {
+      s.built = build_problem_piece<dim>(scene, *piece);
+      e.piece = scene_piece_of_mesh(scene, *piece);
+      s.mesh_pieces = world.size;
+      s.whole_cells = e.piece->whole_cells;
+      return;
+    }
+  }
+  s.built = build_problem<dim>(scene);
+}
 
 /// The engines the scene names (solver.linear, solver.minimizer, solver.search): an unknown or
 /// unbuilt name is an InputError naming its key, before any work.
@@ -77,6 +102,7 @@ RunInfo run_info_common(const Scene& scene, const Solved& solved) {
                   {"scene", scene.source}};
   info.mesh_seconds = solved.mesh_seconds;
   info.dofs = solved.solution.unknowns;
+  info.mesh_pieces = solved.mesh_pieces;
   info.processes = solved.processes;
   info.warnings = solved.warnings;
   info.error_estimate = solved.estimate;
@@ -207,10 +233,25 @@ void solve_built(const Scene& scene, SceneEngines& e, Solved& s, ReducedProblem*
   // where the displacement is: on every process of the full-space route across processes, whose
   // adaptive steps refine alike (not on the ranks > 0 of mumps-mpi)
   if (s.solution.u.size() > 0 && s.solution.u.allFinite()) {
-    s.estimate = estimate(s.built->problem, s.solution);
+    if (e.piece) {  // each process estimates the cells it owns, and every process sums the whole mesh's
+      const ProcessWorld world = krylov_world();
+      RowLayout one;
+      one.first = world.rank;
+      one.owned = 1;
+      one.global = world.size;
+      s.estimate = estimate_error_of_pieces<dim>(s.built->problem, s.solution, *e.piece, *make_distributed_rows(one));
+    } else {
+      s.estimate = estimate(s.built->problem, s.solution);
+    }
     s.solution.stages.push_back("estimate");
     s.solution.timings["estimate"] = s.estimate->seconds;
     s.solution.timings["total"] += s.estimate->seconds;
+  }
+  if (e.piece && s.holds_results) {
+    // the process writing the outputs makes the whole mesh now, the solve's memory given back
+    const auto t = std::chrono::steady_clock::now();
+    s.built = build_problem<dim>(scene);
+    s.mesh_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
   }
 }
 

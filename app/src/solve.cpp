@@ -179,7 +179,10 @@ SceneEngines prepare_scene_solve(const Scene& scene, SceneSolveOptions& o, Scene
   record_engines(e, s);
 
   const auto t = Clock::now();
-  s.built = o.mesh ? build_problem(scene, std::move(*o.mesh), o.apply_region_boxes) : build_problem(scene);
+  if (o.mesh)
+    s.built = build_problem(scene, std::move(*o.mesh), o.apply_region_boxes);
+  else
+    build_scene_problem<2>(scene, e, s);
   s.mesh_description = o.mesh ? o.mesh_description : scene_mesh_description(scene);
   s.mesh_seconds = since(t);
   return e;

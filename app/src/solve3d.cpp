@@ -34,7 +34,10 @@ SceneSolve3D solve_scene_3d(const Scene& scene, SceneSolve3DOptions o) {
   detail::SceneEngines e = detail::make_scene_engines(scene, std::move(o.progress), std::move(o.callback));
   detail::record_engines(e, s);
   const auto t = Clock::now();
-  s.built = o.mesh ? build_problem(scene, std::move(*o.mesh)) : build_problem<3>(scene);
+  if (o.mesh)
+    s.built = build_problem(scene, std::move(*o.mesh));
+  else
+    detail::build_scene_problem<3>(scene, e, s);
   s.mesh_description = o.mesh ? o.mesh_description : scene_mesh_description(scene);
   s.mesh_seconds = since(t);
   if (o.on_built) o.on_built(*s.built, s);

@@ -69,6 +69,14 @@ struct BasicSceneSolve {
   std::string minimizer;         ///< the minimizer's name (the first engine of a global search)
   nlohmann::json search;         ///< search_json
   double mesh_seconds = 0.0;     ///< wall time of building the problem (mesh, materials, boundary parts)
+  /// The pieces the mesh was made in (docs/cluster.md): on the full-space route across
+  /// processes each process may make only its piece of a generated mesh (scene_piece,
+  /// hemivem/scene/scene_pieces.hpp); `built` then holds the piece until the solve ends, when
+  /// the process holding the results makes the whole mesh for the outputs. 1 when every process
+  /// made the whole mesh.
+  int mesh_pieces = 1;
+  /// With mesh_pieces > 1, the cells of the whole mesh.
+  int whole_cells = 0;
   bool holds_results = true;     ///< false on the ranks > 0 of mumps-mpi under mpirun: no results there
   int processes = 1;             ///< the processes the linear engine runs on
   /// What the user should know: the scene's warnings (BuiltProblem::warnings), then the
