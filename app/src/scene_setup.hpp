@@ -247,8 +247,9 @@ void solve_built(const Scene& scene, SceneEngines& e, Solved& s, ReducedProblem*
     s.solution.timings["estimate"] = s.estimate->seconds;
     s.solution.timings["total"] += s.estimate->seconds;
   }
-  if (e.piece && s.holds_results) {
-    // the process writing the outputs makes the whole mesh now, the solve's memory given back
+  if (e.piece) {
+    // the results' mesh, made whole now that the solve's memory is given back (every process holds
+    // the whole results, as in one process)
     const auto t = std::chrono::steady_clock::now();
     s.built = build_problem<dim>(scene);
     s.mesh_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();

@@ -90,9 +90,11 @@ fs::path solve_across(int processes, const std::string& flags, const std::string
 /// The scene of `flags` solved by `processes` ranks on the full-space route against the condensed
 /// route in one process (its outputs in `ref`): rank 0 alone writes, and every displacement,
 /// contact node's normal displacement and force (and with `friction` its tangential displacement
-/// and friction force) is the condensed route's to 1e-8.
+/// and friction force) is the condensed route's to 1e-8, as is the error estimate; the mesh was
+/// made in `pieces` pieces (result.json's mesh.pieces: the processes, or 1 where each made it
+/// whole), and the outputs are of the whole mesh.
 void expect_processes_agree(const std::string& flags, const fs::path& ref, int processes, const std::string& name,
-                            bool friction) {
+                            bool friction, int pieces) {
   SCOPED_TRACE(std::to_string(processes) + " processes");
   CommandRun m;
   const std::string folder = name + "-np" + std::to_string(processes);
@@ -123,6 +125,14 @@ void expect_processes_agree(const std::string& flags, const fs::path& ref, int p
   EXPECT_GE(a["full_space"]["preconditioner_setups"].get<int>(), 1);
   EXPECT_TRUE(b["full_space"].is_null());
   EXPECT_EQ(a["mesh"]["dofs"], b["mesh"]["dofs"]);
+  EXPECT_EQ(a["mesh"]["pieces"], pieces);
+  EXPECT_EQ(b["mesh"]["pieces"], 1);
+  for (const char* key : {"vertices", "elements", "faces", "h"}) EXPECT_EQ(a["mesh"][key], b["mesh"][key]) << key;
+  const double eta_a = a["error_estimate"]["energy"].get<double>(), eta_b = b["error_estimate"]["energy"].get<double>();
+  EXPECT_GT(eta_b, 0.0);
+  EXPECT_NEAR(eta_a, eta_b, 1e-8 * eta_b);
+  const std::string vtu = slurp(out / "solution.vtu");  // of the whole mesh
+  EXPECT_NE(vtu.find("NumberOfCells=\"" + std::to_string(b["mesh"]["elements"].get<int>()) + "\""), std::string::npos);
   const double ea = a["potential_energy"].get<double>(), eb = b["potential_energy"].get<double>();
   EXPECT_NEAR(ea, eb, 1e-9 * std::abs(eb));
   // every displacement (ux, uy, uz) and every contact node's normal displacement and force
@@ -143,7 +153,7 @@ TEST(CliFullSpaceMpi, ProcessesSolvingTheirSharesAgreeWithTheCondensedRouteAndRa
   const fs::path ref = scratch("condensed");
   const CommandRun c = run(binary() + " solve " + flags + " --linear eigen -q --out " + ref.string());
   ASSERT_EQ(c.code, 0) << c.err;
-  for (int processes : {2, 3}) expect_processes_agree(flags, ref, processes, "example", false);
+  for (int processes : {2, 3}) expect_processes_agree(flags, ref, processes, "example", false, processes);
 }
 
 // a solid's Tresca friction: the processes' slabs split the bottom, where nodes slip and stick
@@ -155,7 +165,7 @@ TEST(CliFullSpaceMpi, ASolidsFrictionAcrossProcessesIsTheCondensedAnswer) {
   const std::string table = slurp(ref / "contact.csv");
   EXPECT_NE(table.find(",slip"), std::string::npos) << "no node slips";
   EXPECT_NE(table.find(",stick"), std::string::npos) << "no node sticks";
-  expect_processes_agree(flags, ref, 2, "friction", true);
+  expect_processes_agree(flags, ref, 2, "friction", true, 2);
 }
 
 // two solids joined at their contact, with Tresca friction between them: the upper's vertices
@@ -176,7 +186,7 @@ TEST(CliFullSpaceMpi, TwoJoinedSolidsAcrossProcessesAreTheCondensedAnswer) {
   const fs::path ref = scratch("condensed-two-solids");
   const CommandRun c = run(binary() + " solve " + flags + " --linear eigen -q --out " + ref.string());
   ASSERT_EQ(c.code, 0) << c.err;
-  expect_processes_agree(flags, ref, 2, "two-solids", true);
+  expect_processes_agree(flags, ref, 2, "two-solids", true, 1);  // two bodies: each process makes both whole
 }
 
 // a loading path with Coulomb friction (friction-coulomb.toml): every step on 2 processes is the

@@ -71,9 +71,9 @@ struct BasicSceneSolve {
   double mesh_seconds = 0.0;     ///< wall time of building the problem (mesh, materials, boundary parts)
   /// The pieces the mesh was made in (docs/cluster.md): on the full-space route across
   /// processes each process may make only its piece of a generated mesh (scene_piece,
-  /// hemivem/scene/scene_pieces.hpp); `built` then holds the piece until the solve ends, when
-  /// the process holding the results makes the whole mesh for the outputs. 1 when every process
-  /// made the whole mesh.
+  /// hemivem/scene/scene_pieces.hpp); `built` then holds the piece until the solve and its
+  /// error estimate end, when each process makes the whole mesh of the results it holds (the
+  /// solve's memory given back by then). 1 when every process made the whole mesh.
   int mesh_pieces = 1;
   /// With mesh_pieces > 1, the cells of the whole mesh.
   int whole_cells = 0;
