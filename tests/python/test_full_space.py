@@ -82,7 +82,8 @@ r = hemivem.solve(scene, linear="petsc-gamg")
 written = r.write(os.path.join(folder, "solve"))
 p = hemivem.solve_path(sys.argv[3], t=[0.5, 1.0, 1.5, 2.0], frames=4, linear="petsc-gamg")
 np.savez(os.path.join(folder, f"rank{rank}.npz"), u=r.displacement, writer=r.writer, written=len(written),
-         processes=json.loads(r.to_json())["processes"], steps=np.array([s.displacement for s in p.path]),
+         processes=json.loads(r.to_json())["processes"], pieces=json.loads(r.to_json())["mesh"]["pieces"],
+         cells=r.mesh.num_cells, steps=np.array([s.displacement for s in p.path]),
          converged=r.converged and p.path.converged, estimate=r.error_estimate["relative"])
 """
 
@@ -109,6 +110,8 @@ def test_a_solve_and_a_path_across_processes_from_python(tmp_path, coulomb_scene
     steps = np.array([s.displacement for s in path.path])
     for rank in ranks:  # every process holds the whole solution, the one process's
         assert rank["converged"] and rank["processes"] == 2
+        # each process made its piece of the mesh for the solve, and holds the whole mesh after it
+        assert rank["pieces"] == 2 and rank["cells"] == one.mesh.num_cells
         assert np.max(np.abs(rank["u"] - one.displacement)) <= 1e-8 * np.max(np.abs(one.displacement))
         assert rank["steps"].shape == steps.shape
         assert np.max(np.abs(rank["steps"] - steps)) <= 1e-8 * np.max(np.abs(steps))
