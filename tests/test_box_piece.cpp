@@ -210,4 +210,23 @@ TEST(BoxPiece, TheShareOfASolidPieceIsTheShareOfTheWholeMesh) {
   }
 }
 
+// what the supports leave free is named alike on a piece and on the whole mesh: a rotation about
+// the body's centre, whatever the piece's cells
+TEST(BoxPiece, WhatThePiecesSupportsLeaveFreeIsNamedAsOnTheWholeMesh) {
+  const GridSize3 n(6, 3, 15);
+  const Box domain{0.0, 1.0, 0.0, 0.5, 0.0, 1.0};
+  const Mesh3D whole = make_cubes(n, domain);
+  ContactProblem3D from_whole = test::example_4_1_3d(whole);
+  from_whole.elasticity.dirichlet.clear();
+  const std::string expected = test::input_error_of([&] { (void)pose_share(from_whole, 0, 10); });
+  ASSERT_NE(expected.find("rotation"), std::string::npos) << expected;
+  for (const auto& [v0, v1] : thirds(whole.num_vertices())) {
+    SCOPED_TRACE("vertices " + std::to_string(v0) + " to " + std::to_string(v1));
+    const Mesh3D piece = make_mesh3d_piece("cubes", n, domain, BoxPiece{v0, v1, {"top", "bottom"}});
+    ContactProblem3D on_piece = test::example_4_1_3d(piece);
+    on_piece.elasticity.dirichlet.clear();
+    EXPECT_EQ(test::input_error_of([&] { (void)pose_share(on_piece, v0, v1); }), expected);
+  }
+}
+
 }  // namespace

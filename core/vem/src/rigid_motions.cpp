@@ -138,6 +138,18 @@ BasicRigidMotions<dim>::BasicRigidMotions(const MeshType& mesh, const DofMap& do
       if (pieces_[p].first_vertex < 0 || v < pieces_[p].first_vertex) pieces_[p].first_vertex = v;
     }
   }
+  if (pieces_.size() == 1) {
+    // one body: its centre and extent those of every vertex of the mesh, which a process's piece
+    // of a generated mesh (hemivem/mesh/box_piece.hpp) holds while its cells are fewer
+    Piece& body = pieces_.front();
+    body.center = Point::Zero();
+    for (int v = 0; v < mesh.num_vertices(); ++v) {
+      body.center += mesh.vertex(v);
+      lo[0] = lo[0].cwiseMin(mesh.vertex(v));
+      hi[0] = hi[0].cwiseMax(mesh.vertex(v));
+    }
+    vertices[0] = mesh.num_vertices();
+  }
   for (std::size_t p = 0; p < pieces_.size(); ++p) {
     pieces_[p].center /= std::max(1, vertices[p]);
     pieces_[p].size = (hi[p] - lo[p]).maxCoeff();

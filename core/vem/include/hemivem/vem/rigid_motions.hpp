@@ -79,9 +79,9 @@ class BasicRigidMotions {
  private:
   struct Piece {
     int elements = 0;
-    Point center = Point::Zero();  // the mean of the piece's vertices
-    double size = 1.0;             // its largest extent
-    Point lo = Point::Zero();      // its bounding box
+    Point center = Point::Zero();  // the mean of the piece's vertices (of every vertex, for one piece)
+    double size = 1.0;             // its largest extent (likewise)
+    Point lo = Point::Zero();      // its bounding box (likewise)
     Point hi = Point::Zero();
     int first_vertex = -1;         // its smallest vertex
   };
