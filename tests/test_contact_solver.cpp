@@ -65,6 +65,24 @@ TEST(ContactSolver, Example41RunsEveryStage) {
     EXPECT_TRUE(s.timings.count(stage)) << stage;
 }
 
+// the options are the solver's own copy: a temporary given to the constructor is gone before run()
+TEST(ContactSolver, OptionsGivenAsATemporaryAreKept) {
+  if (!have_ssn()) GTEST_SKIP() << "the ssn minimizer was not built";
+  const Mesh mesh = make_squares(8);
+  const ContactProblem p = example_4_1(mesh);
+  ContactSolver solver(p, eigen_engine(), [] {
+    MinimizerOptions o;
+    o.tolerance = 1e-11;
+    o.max_iterations = 50;
+    return o;
+  }());
+  const auto ssn = make_minimizer("ssn");
+  const NonsmoothMinimizer* one[] = {ssn.get()};
+  const ContactSolution s = std::move(solver.run(one).front());
+  EXPECT_TRUE(s.converged()) << s.message;
+  EXPECT_LE(s.certificate.worst(), 1e-11);
+}
+
 TEST(ContactSolver, WithoutAConstraintNoNodeIsAtABoundAndNoReactionIsReported) {
   // constraint "none": the bounds are infinite, so every node is free and the contact force
   // is the law's alone (balancing S a - c to the tolerance)

@@ -314,6 +314,9 @@ int node_block_size(const DofMap& dofs, int dim);
 /// work done there alone (the minimizer, the post-processing) runs through
 /// ProcessGroup::run_where_results_are: an exception thrown there is thrown on every process
 /// (the others get the same kind of error with a message saying so).
+///
+/// The problem (and a system given to the constructor) are kept by reference and must outlive
+/// the solver; the minimizer options are copied.
 template <int dim>
 class BasicContactSolver {
  public:
@@ -403,7 +406,7 @@ class BasicContactSolver {
   double seconds() const;
 
   const Problem& problem_;
-  const MinimizerOptions& options_;
+  MinimizerOptions options_;  // a copy: the caller's may be a temporary
   std::unique_ptr<SparseFactorization> factorization_;  // until condense() hands it on
   const ProcessGroup* processes_ = nullptr;             // the engine's processes
   std::optional<LinearSystem> assembled_;
