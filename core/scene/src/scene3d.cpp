@@ -88,13 +88,9 @@ Mesh3D scene_mesh_3d(const Scene& scene) {
   const std::string what = m.generator + " n = " + cells.text() + ": " + count_text(condensed.vertices) + " vertices";
   detail::require_route_memory(scene, condensed, what, scene.where("mesh.n"));
   const auto& b = m.box;
-  try {
+  return detail::generated_mesh(scene, [&] {
     return make_mesh3d(m.generator, cells, Box{b[0], b[1], b[2], b[3], b[4], b[5]}, static_cast<std::uint64_t>(m.seed));
-  } catch (const MeshError& e) {
-    throw MeshError("mesh: the generated mesh is invalid: " + e.detail(), e.element(), scene.where("mesh"));
-  } catch (const InputError& e) {
-    throw InputError("mesh: " + e.detail(), scene.where("mesh"));
-  }
+  });
 }
 
 }  // namespace

@@ -200,24 +200,19 @@ std::unique_ptr<BuiltProblem> detail::built_plane(const Scene& scene) {
     const std::string what =
         scene.mesh.generator + " n = " + cells.text() + ": " + detail::count_text(condensed.vertices) + " vertices";
     detail::require_route_memory(scene, condensed, what, scene.where("mesh.n"));
-    try {
+    mesh = detail::generated_mesh(scene, [&] {
       if (scene.mesh.generator == "polar") {
         const auto [radii, angles] = polar_grid(scene.mesh.radii, scene.mesh.angles, cells.nx, cells.ny,
                                                 scene.mesh.grading, scene.mesh.focus);
-        mesh = make_polar(Vec2(scene.mesh.center[0], scene.mesh.center[1]), radii, angles);
-      } else if (scene.mesh.polygon.empty()) {
-        mesh = make_mesh(scene.mesh.generator, cells, Rectangle{d[0], d[1], d[2], d[3]},
-                         static_cast<std::uint64_t>(scene.mesh.seed));
-      } else {
-        PolygonDomain poly;
-        for (const auto& p : scene.mesh.polygon) poly.corners.emplace_back(p[0], p[1]);
-        mesh = make_mesh(scene.mesh.generator, scene.mesh.n, poly, static_cast<std::uint64_t>(scene.mesh.seed));
+        return make_polar(Vec2(scene.mesh.center[0], scene.mesh.center[1]), radii, angles);
       }
-    } catch (const MeshError& e) {
-      throw MeshError("mesh: the generated mesh is invalid: " + e.detail(), e.element(), scene.where("mesh"));
-    } catch (const InputError& e) {
-      throw InputError("mesh: " + e.detail(), scene.where("mesh"));
-    }
+      if (scene.mesh.polygon.empty())
+        return make_mesh(scene.mesh.generator, cells, Rectangle{d[0], d[1], d[2], d[3]},
+                         static_cast<std::uint64_t>(scene.mesh.seed));
+      PolygonDomain poly;
+      for (const auto& p : scene.mesh.polygon) poly.corners.emplace_back(p[0], p[1]);
+      return make_mesh(scene.mesh.generator, scene.mesh.n, poly, static_cast<std::uint64_t>(scene.mesh.seed));
+    });
   }
 
   return build_problem(scene, std::move(mesh));

@@ -4,6 +4,8 @@
 #include <hemivem/contact/pose_share.hpp>
 #include <hemivem/error.hpp>
 
+#include "scene_problem.hpp"
+
 #include <algorithm>
 #include <limits>
 #include <tuple>
@@ -29,17 +31,6 @@ long long scene_vertices(const Scene& scene) {
   }
   const GridSize n = scene.mesh.cells();
   return static_cast<long long>(n.nx + 1) * (n.ny + 1);
-}
-
-template <class MeshMaker>
-auto with_scene_key(const Scene& scene, const MeshMaker& make) {
-  try {
-    return make();
-  } catch (const MeshError& e) {
-    throw MeshError("mesh: the generated mesh is invalid: " + e.detail(), e.element(), scene.where("mesh"));
-  } catch (const InputError& e) {
-    throw InputError("mesh: " + e.detail(), scene.where("mesh"));
-  }
 }
 
 }  // namespace
@@ -85,7 +76,7 @@ PieceOfMesh scene_piece_of_mesh(const Scene& scene, const BoxPiece& piece) {
 template <>
 std::unique_ptr<BasicBuiltProblem<2>> build_problem_piece<2>(const Scene& scene, const BoxPiece& piece) {
   const auto& d = scene.mesh.domain;
-  Mesh mesh = with_scene_key(scene, [&] {
+  Mesh mesh = detail::generated_mesh(scene, [&] {
     return make_mesh_piece(scene.mesh.generator, scene.mesh.cells(), Rectangle{d[0], d[1], d[2], d[3]}, piece);
   });
   return build_problem(scene, std::move(mesh), false);
@@ -94,7 +85,7 @@ std::unique_ptr<BasicBuiltProblem<2>> build_problem_piece<2>(const Scene& scene,
 template <>
 std::unique_ptr<BasicBuiltProblem<3>> build_problem_piece<3>(const Scene& scene, const BoxPiece& piece) {
   const auto& b = scene.mesh.box;
-  Mesh3D mesh = with_scene_key(scene, [&] {
+  Mesh3D mesh = detail::generated_mesh(scene, [&] {
     return make_mesh3d_piece(scene.mesh.generator, scene.mesh.cells3(), Box{b[0], b[1], b[2], b[3], b[4], b[5]}, piece);
   });
   return build_problem(scene, std::move(mesh));

@@ -5,11 +5,25 @@
 #include <memory>
 #include <string>
 
+#include <hemivem/error.hpp>
 #include <hemivem/mesh/dimension.hpp>
 #include <hemivem/scene/resources.hpp>
 #include <hemivem/scene/scene.hpp>
 
 namespace hemivem::detail {
+
+/// make(), a generated mesh, its errors named by the scene's `mesh` key: an invalid mesh's
+/// MeshError and a generator's InputError.
+template <class Make>
+auto generated_mesh(const Scene& scene, const Make& make) {
+  try {
+    return make();
+  } catch (const MeshError& e) {
+    throw MeshError("mesh: the generated mesh is invalid: " + e.detail(), e.element(), scene.where("mesh"));
+  } catch (const InputError& e) {
+    throw InputError("mesh: " + e.detail(), scene.where("mesh"));
+  }
+}
 
 /// A vertex count as an integer when small enough to read, else in scientific notation.
 std::string count_text(double v);
