@@ -642,6 +642,85 @@ TEST(FullSpaceMpi, ACoulombPathAcrossProcessesIsTheCondensedRoutesInTheSolid) {
   expect_path_across_processes_as_the_condensed_route<3>(problem, loading);
 }
 
+// A loading path on the processes' pieces of the mesh (a body force: the cells a piece lacks
+// carry load), every step a frame: against the condensed route's path on the whole mesh, each
+// step's applied resultant and its frame's balance of forces (each process summing its own
+// vertices, FullSpaceShares::applied and balance), the contact and the last displacement.
+template <int dim, class Problem>
+void expect_path_on_pieces_as_the_condensed_route(Problem& mine, Problem& all, BasicPathLoading<dim> loading) {
+  const auto ssn = make_minimizer("ssn");
+  BasicPathOptions<dim> across;
+  across.minimizer = tight();
+  across.frame = [](int) { return true; };
+  across.distribute = make_distributed_rows;
+  across.world = krylov_world();
+  BasicPathOptions<dim> alone;
+  alone.minimizer = tight();
+  alone.frame = across.frame;
+  const BasicPathSolution<dim> s = solve_path(mine, make_krylov_solver("petsc-gamg"), *ssn, loading, across);
+  const BasicPathSolution<dim> c = solve_path(all, factorization(), *ssn, loading, alone);
+  ASSERT_TRUE(c.converged());
+  ASSERT_TRUE(s.converged()) << s.last.message;
+  ASSERT_EQ(s.steps.size(), c.steps.size());
+  for (std::size_t k = 0; k < c.steps.size(); ++k) {
+    SCOPED_TRACE("step " + std::to_string(k + 1));
+    const auto &a = s.steps[k], &b = c.steps[k];
+    const double load = b.applied.norm();
+    ASSERT_GT(load, 0.0);
+    EXPECT_LE((a.applied - b.applied).norm(), 1e-12 * load);
+    ASSERT_TRUE(a.forces && b.forces);
+    EXPECT_LE((a.forces->applied - b.forces->applied).norm(), 1e-12 * load);
+    ASSERT_EQ(a.forces->reactions.size(), b.forces->reactions.size());
+    for (std::size_t r = 0; r < b.forces->reactions.size(); ++r)
+      EXPECT_LE((a.forces->reactions[r].force - b.forces->reactions[r].force).norm(), 1e-8 * load);
+    EXPECT_LE((a.forces->contact - b.forces->contact).norm(), 1e-8 * load);
+    EXPECT_LE(a.forces->residual(), 1e-8);
+    ASSERT_EQ(a.contact.size(), b.contact.size());
+    double scale = 0.0;
+    for (const auto& node : b.contact) scale = std::max(scale, std::abs(node.u_nu));
+    for (std::size_t i = 0; i < b.contact.size(); ++i) EXPECT_NEAR(a.contact[i].u_nu, b.contact[i].u_nu, 1e-8 * scale);
+    ASSERT_EQ(a.u.size(), b.u.size());
+    EXPECT_LE((a.u - b.u).cwiseAbs().maxCoeff(), 1e-8 * b.u.cwiseAbs().maxCoeff());
+  }
+}
+
+// proportional: the load at t = 1 gathered from the processes' rows, its resultant summed over them
+TEST(FullSpaceMpi, APathOnThePiecesOfTheMeshIsTheCondensedRoutesInThePlane) {
+  const ProcessWorld world = krylov_world();
+  const GridSize n(16, 16);
+  const Mesh whole = make_squares(n);
+  const auto [first, end] = vertex_share(whole.num_vertices(), world.rank, world.size);
+  const Mesh piece = make_mesh_piece("squares", n, Rectangle{}, BoxPiece{first, end, {"left", "right", "top", "bottom"}});
+  if (world.size > 1) EXPECT_LT(piece.num_elements(), whole.num_elements());
+  ContactProblem mine = example_4_1(piece), all = example_4_1(whole);
+  for (ContactProblem* p : {&mine, &all}) p->elasticity.body_force = [](const Vec2&) { return Vec2(0.5, -2.0); };
+  PathLoading loading;
+  loading.t = {0.5, 1.0, 1.25};
+  expect_path_on_pieces_as_the_condensed_route<2>(mine, all, loading);
+}
+
+// a body force that grows with t (each step's load assembled on the piece and its resultant
+// summed over the processes' vertices)
+TEST(FullSpaceMpi, APathOnThePiecesOfTheMeshIsTheCondensedRoutesInTheSolid) {
+  const ProcessWorld world = krylov_world();
+  const GridSize3 n(4, 3, 9);
+  const Box domain{0.0, 1.0, 0.0, 0.5, 0.0, 1.0};
+  const Mesh3D whole = make_mesh3d("cubes", n, domain);
+  const auto [first, end] = vertex_share(whole.num_vertices(), world.rank, world.size);
+  const Mesh3D piece = make_mesh3d_piece("cubes", n, domain, BoxPiece{first, end, {"x0", "x1", "top", "bottom"}});
+  // the first slab's piece leaves boxes out (a middle one of three may hold them all)
+  if (world.size > 1 && world.rank == 0) EXPECT_LT(piece.num_cells(), whole.num_cells());
+  ContactProblem3D mine = test::example_4_1_3d(piece), all = test::example_4_1_3d(whole);
+  BasicPathLoading<3> loading;
+  loading.t = {0.5, 1.0, 2.0};
+  loading.update = [](double t, ContactProblem3D& p) {
+    p.elasticity.body_force = [t](const Vec3&) { return Vec3(0.5 * t, 0.0, -4.0 * t); };
+  };
+  loading.updates_prescribed = false;
+  loading.updates_gaps = false;
+  expect_path_on_pieces_as_the_condensed_route<3>(mine, all, loading);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {

@@ -369,11 +369,13 @@ struct FullSpaceShares<dim>::Impl {
   std::map<std::string, double> timings;
   /// This process's part of the energy the joined system leaves out (Condensation::shift_energy).
   double shift_energy = 0.0;
+  std::pair<int, int> vertices;  ///< this process's (vertex_share)
 
-  Impl(SharePosing<dim> p, KrylovSolver& k, std::unique_ptr<RowDistribution> r, double seconds)
+  Impl(SharePosing<dim> p, KrylovSolver& k, std::unique_ptr<RowDistribution> r, double seconds, std::pair<int, int> v)
       : posing(std::move(p)),
         krylov(k),
         rows(std::move(r)),
+        vertices(v),
         hints(posing.share.near_null_space, posing.share.block_size),
         timings{{"assembly", posing.assembly_seconds},
                 {"setup", posing.setup_seconds},
@@ -400,7 +402,8 @@ FullSpaceShares<dim>::FullSpaceShares(const BasicContactProblem<dim>& problem, K
   const auto start = std::chrono::steady_clock::now();
   SharePosing<dim> posing = pose_process_share(problem, world);
   std::unique_ptr<RowDistribution> rows = distribute(posing.share.layout);
-  impl_ = std::make_unique<Impl>(std::move(posing), krylov, std::move(rows), since(start));
+  impl_ = std::make_unique<Impl>(std::move(posing), krylov, std::move(rows), since(start),
+                                 vertex_share(problem.elasticity.mesh->num_vertices(), world.rank, world.size));
 }
 
 template <int dim>
@@ -448,6 +451,42 @@ void FullSpaceShares<dim>::set_load(const Eigen::VectorXd& b, const Eigen::Vecto
   const RowLayout& layout = impl_->posing.share.layout;
   impl_->posing.share.share.load = posed.rotated_load().segment(layout.first, layout.owned);
   impl_->shift_energy = posed.shift_energy(b.segment(layout.first, layout.owned), layout.first);
+}
+
+template <int dim>
+PointOf<dim> FullSpaceShares<dim>::applied(const BasicElasticityProblem<dim>& at) const {
+  if (!at.mesh) throw InputError("the elasticity problem has no mesh");
+  const Eigen::VectorXd f = assemble_load(*at.mesh, at.body_force, at.tractions);
+  const auto [first, end] = impl_->vertices;
+  if (f.size() < static_cast<Eigen::Index>(dim) * end) throw InternalError("a load of fewer vertices than the shares'");
+  PointOf<dim> mine = PointOf<dim>::Zero();
+  for (Eigen::Index d = static_cast<Eigen::Index>(dim) * first; d < static_cast<Eigen::Index>(dim) * end; ++d)
+    mine(d % dim) += f(d);
+  const Eigen::VectorXd all = impl_->rows->all_gather(Eigen::VectorXd(mine));
+  PointOf<dim> sum = PointOf<dim>::Zero();
+  for (Eigen::Index at_process = 0; at_process < all.size(); at_process += dim) sum += all.segment<dim>(at_process);
+  return sum;
+}
+
+template <int dim>
+BasicForceBalance<PointOf<dim>> FullSpaceShares<dim>::balance(const BasicElasticityProblem<dim>& at,
+                                                              const Eigen::VectorXd& u,
+                                                              const std::vector<BasicContactNode<dim>>& contact) const {
+  BasicForceBalance<PointOf<dim>> mine;
+  std::exception_ptr failure;  // told to every process so that none waits for another
+  try {
+    mine = detail::force_balance_of_vertices<dim>(at, u, external_contact_resultant(contact), forces_across(contact),
+                                                  impl_->vertices.first, impl_->vertices.second);
+    for (const auto& n : contact)
+      if (n.across.size() > 0) mine.internal = std::max(mine.internal, n.force_on_body().norm());
+  } catch (...) {
+    failure = std::current_exception();
+  }
+  if (impl_->rows->max(failure ? 1.0 : 0.0) > 0.0) {
+    if (failure) std::rethrow_exception(failure);
+    throw InternalError("another process failed to make its part of the balance of forces");
+  }
+  return added_balance<dim>(std::move(mine), *impl_->rows);
 }
 
 template <int dim>
@@ -517,13 +556,6 @@ BasicContactSolution<dim> solve_full_space_shares(const BasicContactProblem<dim>
     const ContactBoundary& boundary = shares->contact().boundary;
     for (int i = 0; i < boundary.size(); ++i)
       s.contact.push_back(contact_node(*problem.elasticity.mesh, boundary, posed, shares->dofs(), i, m, &unrotated));
-    // this process's vertices' part of the balance of forces: its piece of the mesh (if a piece,
-    // hemivem/mesh/box_piece.hpp) holds every cell of them
-    const auto [first, end] = vertex_share(problem.elasticity.mesh->num_vertices(), world.rank, world.size);
-    s.forces = detail::force_balance_of_vertices<dim>(problem.elasticity, s.u, external_contact_resultant(s.contact),
-                                                      forces_across(s.contact), first, end);
-    for (const auto& n : s.contact)
-      if (n.across.size() > 0) s.forces.internal = std::max(s.forces.internal, n.force_on_body().norm());
   } catch (...) {
     failure = std::current_exception();
   }
@@ -532,7 +564,7 @@ BasicContactSolution<dim> solve_full_space_shares(const BasicContactProblem<dim>
     if (failure) std::rethrow_exception(failure);
     throw InternalError("another process failed to make the results of the whole problem");
   }
-  s.forces = added_balance<dim>(std::move(s.forces), shares->distribution());
+  s.forces = shares->balance(problem.elasticity, s.u, s.contact);
   require_finite_solution(s);
   s.timings["post_process"] = since(t);
   t = Clock::now();

@@ -224,6 +224,11 @@ struct BasicPathSolver<dim>::Impl {
   Eigen::VectorXd step_load(Step& s, Eigen::VectorXd* b, double* kappa);
   void data_at(const Step& s);
   void posed_load(Step& s, Eigen::VectorXd* b);
+  /// The resultant of the applied load of `e` (the problem at the moment): across processes each
+  /// sums its own vertices (FullSpaceShares::applied), exact on its piece of the mesh.
+  Point applied_of(const BasicElasticityProblem<dim>& e) const {
+    return shares ? shares->applied(e) : resultant<dim>(assemble_load(*e.mesh, e.body_force, e.tractions));
+  }
   /// The full-space route's load of the step on the posed system (and the share's rows).
   void set_posed_load(const Eigen::VectorXd& b, const Eigen::VectorXd& prescribed) {
     if (shares)
@@ -303,8 +308,7 @@ void BasicPathSolver<dim>::Impl::set_up() {
     condensed_loads = 0;
     full_b = shares ? shares->whole_load() : system->b;
     full_prescribed = dofs.prescribed;
-    full_applied = resultant<dim>(assemble_load(*problem.elasticity.mesh, problem.elasticity.body_force,
-                                                problem.elasticity.tractions));
+    full_applied = applied_of(problem.elasticity);
     return;
   }
   // a proportional path keeps its load at t = 1 whatever the capacity
@@ -328,8 +332,7 @@ void BasicPathSolver<dim>::Impl::remember_load(const Eigen::VectorXd& b) {
   load_c.conservativeResize(Eigen::NoChange, j + 1);
   load_c.col(j) = cond->condensed_load();
   load_applied.conservativeResize(Eigen::NoChange, j + 1);
-  load_applied.col(j) =
-      resultant<dim>(assemble_load(*problem.elasticity.mesh, problem.elasticity.body_force, problem.elasticity.tractions));
+  load_applied.col(j) = applied_of(problem.elasticity);
   const Eigen::VectorXd u0 = cond->back_substitute(-cond->origin());
   Eigen::VectorXd uf(dofs.num_free());
   for (int d = 0; d < dofs.num_free(); ++d) uf(d) = u0(dofs.free_dofs[static_cast<std::size_t>(d)]);
@@ -363,8 +366,7 @@ Eigen::VectorXd BasicPathSolver<dim>::Impl::step_load(Step& s, Eigen::VectorXd* 
       if (loads.full()) {
         alpha.resize(0);
         *kappa = std::numeric_limits<double>::quiet_NaN();
-        const auto& e = problem.elasticity;
-        s.applied = resultant<dim>(assemble_load(*e.mesh, e.body_force, e.tractions));
+        s.applied = applied_of(problem.elasticity);
         return cond->condensed_load();
       }
       remember_load(*b);
@@ -422,8 +424,7 @@ void BasicPathSolver<dim>::Impl::posed_load(Step& s, Eigen::VectorXd* b) {
   data_at(s);
   *b = v.head(dofs.num_free());
   set_posed_load(*b, dofs.prescribed);
-  const auto& e = problem.elasticity;
-  s.applied = resultant<dim>(assemble_load(*e.mesh, e.body_force, e.tractions));
+  s.applied = applied_of(problem.elasticity);
 }
 
 // One minimization of the step's problem from `from` (its coordinates; on the full-space route
@@ -606,7 +607,8 @@ auto BasicPathSolver<dim>::Impl::solve_step(int k) -> Step {
   if (frame) {
     s.u = u;
     const auto at_t = proportional ? scaled(problem.elasticity, t) : problem.elasticity;
-    s.forces = contact_force_balance<dim>(at_t, u, s.contact);
+    // across processes each sums its own vertices: exact on its piece of the mesh
+    s.forces = shares ? shares->balance(at_t, u, s.contact) : contact_force_balance<dim>(at_t, u, s.contact);
   }
   for (int i = 0; i < n1; ++i)
     for (const int kt : tangential_coordinates(i))

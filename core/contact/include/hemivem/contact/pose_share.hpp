@@ -111,6 +111,17 @@ class FullSpaceShares {
   /// process's rows take it. Not collective.
   void set_load(const Eigen::VectorXd& b, const Eigen::VectorXd& prescribed);
 
+  /// The resultant of the applied load (tractions, body force) of `at`, the shares' problem
+  /// with its loads of the moment: each process sums its own vertices (vertex_share; a piece of
+  /// the mesh, hemivem/mesh/box_piece.hpp, holds every cell of them) and the sums are added in
+  /// the order of the processes, the same on every process. Collective.
+  PointOf<dim> applied(const BasicElasticityProblem<dim>& at) const;
+  /// contact_force_balance (hemivem/contact/solver.hpp) of the whole problem `at` with the
+  /// whole displacement u and contact nodes, summed as applied() is: exact on a piece of the
+  /// mesh. InputError on every process alike when one finds it. Collective.
+  BasicForceBalance<PointOf<dim>> balance(const BasicElasticityProblem<dim>& at, const Eigen::VectorXd& u,
+                                          const std::vector<BasicContactNode<dim>>& contact) const;
+
   /// What a solve gives every process: the point of the whole problem.
   struct Point {
     /// The minimizer's result of the whole problem: its certificate, verdict and counts, and
