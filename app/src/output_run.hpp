@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <functional>
 #include <iosfwd>
+#include <memory>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -248,6 +249,9 @@ struct PathOutput {
   OutputRun run;
   PathFiles<dim> files;
   bool written = false;  ///< write_path_outputs has committed it
+  /// The problem on a process's piece of the mesh that `files` was given the mesh of, kept
+  /// once the solve made the whole mesh for its results (docs/cluster.md).
+  std::shared_ptr<const void> piece;
 };
 
 /// InputError unless `dir` is the folder `out` writes and `files` is null (its steps were

@@ -165,13 +165,10 @@ void solve_path_built(const Scene& scene, SceneEngines& e, Solved& s,
   s.solution = path.last;
   s.warnings = s.built->warnings;
   // the problem's data at the last step, for the error estimate
-  set_load_factor(scene, path.steps.back().t, s.built->problem);
-  if (s.solution.u.size() > 0 && s.solution.u.allFinite()) {  // wherever the displacement is
-    s.estimate = estimate_error(s.built->problem, s.solution);
-    s.solution.stages.push_back("estimate");
-    s.solution.timings["estimate"] = s.estimate->seconds;
-    s.solution.timings["total"] += s.estimate->seconds;
-  }
+  const double last_t = path.steps.back().t;
+  set_load_factor(scene, last_t, s.built->problem);
+  estimate_solution<dim>(e, s, [](const auto& problem, const auto& solution) { return estimate_error(problem, solution); });
+  make_results_mesh_whole<dim>(scene, e, s, last_t);
   s.path = std::make_shared<const BasicPathSolution<dim>>(std::move(path));
 }
 

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -18,6 +19,7 @@
 #include <hemivem/scene/scene_pieces.hpp>
 
 #include "bodies.hpp"
+#include "output_run.hpp"
 #include <hemivem/app/solve.hpp>
 #include <hemivem/nonsmooth_minimizer.hpp>
 #include <hemivem/scene/scene.hpp>
@@ -42,22 +44,71 @@ struct SceneEngines {
 };
 
 /// The problem a solve of the scene builds on the scene's own mesh, into s.built: on the
-/// full-space route across processes (`e`, a static solve), the process's piece of the mesh
-/// where the scene allows it (scene_piece; e.piece then says where the piece lies, and
-/// s.mesh_pieces and s.whole_cells what it is a piece of), the whole mesh otherwise.
+/// full-space route across processes (`e`), the process's piece of the mesh where the scene
+/// allows it (scene_piece; e.piece then says where the piece lies, and s.mesh_pieces and
+/// s.whole_cells what it is a piece of), the whole mesh otherwise. A path given its output
+/// folder `out` writes its VTU frames, of the whole mesh, as its steps come: the process that
+/// writes (s.holds_results) then makes the whole mesh as its piece, the others their pieces.
 template <int dim, class Solved>
-void build_scene_problem(const Scene& scene, SceneEngines& e, Solved& s) {
-  if (e.krylov && e.processes > 1 && !scene_is_path(scene)) {
+void build_scene_problem(const Scene& scene, SceneEngines& e, Solved& s, const std::filesystem::path& out = {}) {
+  if (e.krylov && e.processes > 1) {
     const ProcessWorld world = krylov_world();
     if (const std::optional<BoxPiece> piece = scene_piece(scene, world.rank, world.size)) {
-      s.built = build_problem_piece<dim>(scene, *piece);
-      e.piece = scene_piece_of_mesh(scene, *piece);
       s.mesh_pieces = world.size;
+      const bool vtu_frames = scene.path && !out.empty() &&
+                              std::find(scene.outputs.begin(), scene.outputs.end(), "vtu") != scene.outputs.end();
+      if (vtu_frames && s.holds_results) {  // the whole mesh, this process owning its share of the vertices
+        s.built = build_problem<dim>(scene);
+        BoxPiece whole = *piece;  // a piece of every vertex is the whole mesh
+        whole.first_vertex = 0;
+        whole.end_vertex = s.built->mesh.num_vertices();
+        e.piece = scene_piece_of_mesh(scene, whole);
+        e.piece->first_vertex = piece->first_vertex;
+        e.piece->end_vertex = piece->end_vertex;
+      } else {
+        s.built = build_problem_piece<dim>(scene, *piece);
+        e.piece = scene_piece_of_mesh(scene, *piece);
+      }
       s.whole_cells = e.piece->whole_cells;
       return;
     }
   }
   s.built = build_problem<dim>(scene);
+}
+
+/// The error estimate of s.solution on s.built->problem (estimate(problem, solution), or on the
+/// processes' pieces of the mesh, estimate_error_of_pieces, when e.piece) as the stage
+/// "estimate", wherever the displacement is finite.
+template <int dim, class Solved, class Estimate>
+void estimate_solution(const SceneEngines& e, Solved& s, Estimate&& estimate) {
+  if (s.solution.u.size() == 0 || !s.solution.u.allFinite()) return;
+  if (e.piece) {  // each process estimates the cells it owns, and every process sums the whole mesh's
+    const ProcessWorld world = krylov_world();
+    RowLayout one;
+    one.first = world.rank;
+    one.owned = 1;
+    one.global = world.size;
+    s.estimate = estimate_error_of_pieces<dim>(s.built->problem, s.solution, *e.piece, *make_distributed_rows(one));
+  } else {
+    s.estimate = estimate(s.built->problem, s.solution);
+  }
+  s.solution.stages.push_back("estimate");
+  s.solution.timings["estimate"] = s.estimate->seconds;
+  s.solution.timings["total"] += s.estimate->seconds;
+}
+
+/// After a solve on pieces of the mesh (e.piece), once its memory is given back: the whole
+/// mesh's problem in s.built (the results' mesh, as in one process) on a process whose mesh
+/// was a piece, with the problem's data at `t` (set_load_factor) for the end of a path. A
+/// path's files written as its steps came (s.path_output) keep the piece they were written from.
+template <int dim, class Solved>
+void make_results_mesh_whole(const Scene& scene, const SceneEngines& e, Solved& s, std::optional<double> t = {}) {
+  if (!e.piece || static_cast<int>(e.piece->cells.size()) == e.piece->whole_cells) return;
+  const auto started = std::chrono::steady_clock::now();
+  if (s.path_output) s.path_output->piece = std::shared_ptr<const void>(std::move(s.built));
+  s.built = build_problem<dim>(scene);
+  if (t) set_load_factor(scene, *t, s.built->problem);
+  s.mesh_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 }
 
 /// The engines the scene names (solver.linear, solver.minimizer, solver.search): an unknown or
@@ -232,28 +283,8 @@ void solve_built(const Scene& scene, SceneEngines& e, Solved& s, ReducedProblem*
   if (std::string w = conditioning_warning(s.solution.condition_estimate); !w.empty()) s.warnings.push_back(std::move(w));
   // where the displacement is: on every process of the full-space route across processes, whose
   // adaptive steps refine alike (not on the ranks > 0 of mumps-mpi)
-  if (s.solution.u.size() > 0 && s.solution.u.allFinite()) {
-    if (e.piece) {  // each process estimates the cells it owns, and every process sums the whole mesh's
-      const ProcessWorld world = krylov_world();
-      RowLayout one;
-      one.first = world.rank;
-      one.owned = 1;
-      one.global = world.size;
-      s.estimate = estimate_error_of_pieces<dim>(s.built->problem, s.solution, *e.piece, *make_distributed_rows(one));
-    } else {
-      s.estimate = estimate(s.built->problem, s.solution);
-    }
-    s.solution.stages.push_back("estimate");
-    s.solution.timings["estimate"] = s.estimate->seconds;
-    s.solution.timings["total"] += s.estimate->seconds;
-  }
-  if (e.piece) {
-    // the results' mesh, made whole now that the solve's memory is given back (every process holds
-    // the whole results, as in one process)
-    const auto t = std::chrono::steady_clock::now();
-    s.built = build_problem<dim>(scene);
-    s.mesh_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-  }
+  estimate_solution<dim>(e, s, std::forward<Estimate>(estimate));
+  make_results_mesh_whole<dim>(scene, e, s);
 }
 
 /// The memory a solve of the scene's generated mesh needs fits (require_memory, the

@@ -37,7 +37,7 @@ SceneSolve3D solve_scene_3d(const Scene& scene, SceneSolve3DOptions o) {
   if (o.mesh)
     s.built = build_problem(scene, std::move(*o.mesh));
   else
-    detail::build_scene_problem<3>(scene, e, s);
+    detail::build_scene_problem<3>(scene, e, s, o.out);
   s.mesh_description = o.mesh ? o.mesh_description : scene_mesh_description(scene);
   s.mesh_seconds = since(t);
   if (o.on_built) o.on_built(*s.built, s);

@@ -189,10 +189,11 @@ TEST(CliFullSpaceMpi, TwoJoinedSolidsAcrossProcessesAreTheCondensedAnswer) {
   expect_processes_agree(flags, ref, 2, "two-solids", true, 1);  // two bodies: each process makes both whole
 }
 
-// a loading path with Coulomb friction (friction-coulomb.toml): every step on 2 processes is the
-// condensed route's in one, and rank 0 alone writes the path's files
+// a loading path with Coulomb friction (friction-coulomb.toml, with a body force): every step on
+// 2 processes is the condensed route's in one, and rank 0 alone writes the path's files. Rank 1
+// makes its piece of the mesh; rank 0, which writes the frames as the steps come, the whole mesh.
 TEST(CliFullSpaceMpi, ACoulombPathAcrossProcessesIsTheCondensedRoutes) {
-  const std::string flags = scene("friction-coulomb.toml") + " --n 16";
+  const std::string flags = scene("friction-coulomb.toml") + " --n 16 --set 'loads.body_force=[0.5, -2.0]'";
   const fs::path ref = scratch("condensed-path");
   const CommandRun c = run(binary() + " solve " + flags + " --linear eigen -q --out " + ref.string());
   ASSERT_EQ(c.code, 0) << c.err;
@@ -206,6 +207,11 @@ TEST(CliFullSpaceMpi, ACoulombPathAcrossProcessesIsTheCondensedRoutes) {
   EXPECT_EQ(a["processes"], 2);
   EXPECT_TRUE(a["converged"].get<bool>());
   EXPECT_EQ(a["stages"], (nlohmann::json{"assembly", "posing", "path", "estimate"}));
+  const nlohmann::json b = nlohmann::json::parse(slurp(ref / "result.json"));
+  EXPECT_EQ(a["mesh"]["pieces"], 2);
+  for (const char* key : {"vertices", "elements", "h"}) EXPECT_EQ(a["mesh"][key], b["mesh"][key]) << key;
+  const double eta_a = a["error_estimate"]["energy"].get<double>(), eta_b = b["error_estimate"]["energy"].get<double>();
+  EXPECT_NEAR(eta_a, eta_b, 1e-8 * eta_b);
   const nlohmann::json pa = nlohmann::json::parse(slurp(out / "path.json"));
   const nlohmann::json pb = nlohmann::json::parse(slurp(ref / "path.json"));
   ASSERT_EQ(pa["steps"].size(), 8u);
@@ -220,6 +226,13 @@ TEST(CliFullSpaceMpi, ACoulombPathAcrossProcessesIsTheCondensedRoutes) {
     const double ea = pa["steps"][k]["energy"].get<double>(), eb = pb["steps"][k]["energy"].get<double>();
     EXPECT_NEAR(ea, eb, 1e-8 * std::abs(eb));
     EXPECT_EQ(pa["steps"][k]["friction"], pb["steps"][k]["friction"]);
+    // the applied load, summed over the processes' vertices, and a frame's balance of forces
+    const auto& fa = pa["steps"][k]["applied_load"];
+    const auto& fb = pb["steps"][k]["applied_load"];
+    const double load = std::hypot(fb[0].get<double>(), fb[1].get<double>());
+    for (int c = 0; c < 2; ++c) EXPECT_NEAR(fa[c].get<double>(), fb[c].get<double>(), 1e-12 * load);
+    EXPECT_EQ(pa["steps"][k]["frame"], pb["steps"][k]["frame"]);
+    if (pb["steps"][k]["frame"].get<bool>()) EXPECT_LE(pa["steps"][k]["balance"].get<double>(), 1e-8);
   }
   // every step's displacement (ux, uy), and every step's contact node's u_nu, law force and
   // reaction, u_tau and friction force
@@ -230,6 +243,41 @@ TEST(CliFullSpaceMpi, ACoulombPathAcrossProcessesIsTheCondensedRoutes) {
   EXPECT_GT(expect_columns_agree(contact_a, contact_b, 10, 11, u), 0.0);
   EXPECT_GT(expect_columns_agree(contact_a, contact_b, 12, 13, f), 0.0);
   EXPECT_TRUE(fs::exists(out / "solution.pvd"));
+}
+
+// the same path writing no VTU frame: rank 0 too makes only its piece, writes path.json and the
+// steps' tables from it, and the results' files from the whole mesh made after the path
+TEST(CliFullSpaceMpi, APathWithoutVtuFramesRunsOnEveryProcesssPiece) {
+  const std::string flags = scene("friction-coulomb.toml") +
+                            " --n 16 --set 'loads.body_force=[0.5, -2.0]' --set 'output.write=[\"result-json\", "
+                            "\"displacement-csv\", \"contact-csv\"]'";
+  const fs::path ref = scratch("condensed-path-tables");
+  const CommandRun c = run(binary() + " solve " + flags + " --linear eigen -q --out " + ref.string());
+  ASSERT_EQ(c.code, 0) << c.err;
+  CommandRun m;
+  const fs::path out = solve_across(2, flags + " --linear petsc-gamg -q", "path-tables-np2", &m);
+  ASSERT_EQ(m.code, 0) << m.out << m.err;
+  const nlohmann::json a = nlohmann::json::parse(slurp(out / "result.json"));
+  const nlohmann::json b = nlohmann::json::parse(slurp(ref / "result.json"));
+  EXPECT_TRUE(a["converged"].get<bool>());
+  EXPECT_EQ(a["mesh"]["pieces"], 2);
+  for (const char* key : {"vertices", "elements", "h"}) EXPECT_EQ(a["mesh"][key], b["mesh"][key]) << key;
+  EXPECT_FALSE(fs::exists(out / "solution.pvd"));
+  EXPECT_FALSE(fs::exists(out / "solution.vtu"));
+  const nlohmann::json pa = nlohmann::json::parse(slurp(out / "path.json"));
+  const nlohmann::json pb = nlohmann::json::parse(slurp(ref / "path.json"));
+  ASSERT_EQ(pa["steps"].size(), pb["steps"].size());
+  for (std::size_t k = 0; k < pb["steps"].size(); ++k) {
+    SCOPED_TRACE("step " + std::to_string(k + 1));
+    const auto& fa = pa["steps"][k]["applied_load"];
+    const auto& fb = pb["steps"][k]["applied_load"];
+    const double load = std::hypot(fb[0].get<double>(), fb[1].get<double>());
+    for (int c = 0; c < 2; ++c) EXPECT_NEAR(fa[c].get<double>(), fb[c].get<double>(), 1e-12 * load);
+  }
+  // the frames' displacements (ux, uy) at every vertex, and the last step's
+  const double u = expect_columns_agree(out / "path-displacement.csv", ref / "path-displacement.csv", 5, 7);
+  EXPECT_GT(u, 0.0);
+  expect_columns_agree(out / "displacement.csv", ref / "displacement.csv", 3, 5);
 }
 
 // an adaptive solve: every process holds each step's whole solution and error indicators, marks

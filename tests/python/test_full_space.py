@@ -84,7 +84,9 @@ p = hemivem.solve_path(sys.argv[3], t=[0.5, 1.0, 1.5, 2.0], frames=4, linear="pe
 np.savez(os.path.join(folder, f"rank{rank}.npz"), u=r.displacement, writer=r.writer, written=len(written),
          processes=json.loads(r.to_json())["processes"], pieces=json.loads(r.to_json())["mesh"]["pieces"],
          cells=r.mesh.num_cells, steps=np.array([s.displacement for s in p.path]),
-         converged=r.converged and p.path.converged, estimate=r.error_estimate["relative"])
+         converged=r.converged and p.path.converged, estimate=r.error_estimate["relative"],
+         path_pieces=json.loads(p.to_json())["mesh"]["pieces"], path_cells=p.mesh.num_elements,
+         path_estimate=p.error_estimate["relative"])
 """
 
 
@@ -115,6 +117,9 @@ def test_a_solve_and_a_path_across_processes_from_python(tmp_path, coulomb_scene
         assert np.max(np.abs(rank["u"] - one.displacement)) <= 1e-8 * np.max(np.abs(one.displacement))
         assert rank["steps"].shape == steps.shape
         assert np.max(np.abs(rank["steps"] - steps)) <= 1e-8 * np.max(np.abs(steps))
+        # the path too: made in pieces, the whole mesh after it, the whole mesh's estimate
+        assert rank["path_pieces"] == 2 and rank["path_cells"] == path.mesh.num_elements
+        assert rank["path_estimate"] == pytest.approx(path.error_estimate["relative"], rel=1e-6)
         assert rank["estimate"] == pytest.approx(one.error_estimate["relative"], rel=1e-6)
     # the first process writes, the other returns []
     assert [bool(r["writer"]) for r in ranks] == [True, False]

@@ -37,8 +37,7 @@ long long scene_vertices(const Scene& scene) {
 
 std::optional<BoxPiece> scene_piece(const Scene& scene, int rank, int size) {
   const SceneMesh& m = scene.mesh;
-  if (!scene.bodies.empty() || !m.file.empty() || !makes_pieces(m.generator) || !m.polygon.empty() || scene.adapt ||
-      scene.path)
+  if (!scene.bodies.empty() || !m.file.empty() || !makes_pieces(m.generator) || !m.polygon.empty() || scene.adapt)
     return std::nullopt;
   if (std::any_of(scene.material.regions.begin(), scene.material.regions.end(), [](const auto& r) { return r.box.has_value(); }))
     return std::nullopt;
