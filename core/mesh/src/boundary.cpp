@@ -1,6 +1,8 @@
 #include <hemivem/error.hpp>
 #include <hemivem/mesh/boundary.hpp>
 
+#include "box_sides.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -49,11 +51,34 @@ std::vector<int> select_boundary_edges(const Mesh& mesh, const std::string& grou
 
 Segment rectangle_side(const Rectangle& r, const std::string& side, double relative_tolerance) {
   const double tolerance = relative_tolerance * std::max(r.width(), r.height());
-  if (side == "left") return {{r.x0, r.y0}, {r.x0, r.y1}, tolerance};
-  if (side == "right") return {{r.x1, r.y0}, {r.x1, r.y1}, tolerance};
-  if (side == "bottom") return {{r.x0, r.y0}, {r.x1, r.y0}, tolerance};
-  if (side == "top") return {{r.x0, r.y1}, {r.x1, r.y1}, tolerance};
-  throw InputError("unknown side '" + side + "'; expected left, right, bottom or top");
+  const auto [axis, upper] = detail::box_side_axis(2, side);
+  if (axis == 0) {
+    const double x = upper ? r.x1 : r.x0;
+    return {{x, r.y0}, {x, r.y1}, tolerance};
+  }
+  const double y = upper ? r.y1 : r.y0;
+  return {{r.x0, y}, {r.x1, y}, tolerance};
 }
+
+namespace detail {
+
+std::pair<int, bool> box_side_axis(int dim, const std::string& side) {
+  if (dim == 2) {
+    if (side == "left") return {0, false};
+    if (side == "right") return {0, true};
+    if (side == "bottom") return {1, false};
+    if (side == "top") return {1, true};
+    throw InputError("unknown side '" + side + "'; expected left, right, bottom or top");
+  }
+  if (side == "x0") return {0, false};
+  if (side == "x1") return {0, true};
+  if (side == "y0") return {1, false};
+  if (side == "y1") return {1, true};
+  if (side == "z0" || side == "bottom") return {2, false};
+  if (side == "z1" || side == "top") return {2, true};
+  throw InputError("unknown side '" + side + "' of a box; expected x0, x1, y0, y1, z0, z1, bottom or top");
+}
+
+}  // namespace detail
 
 }  // namespace hemivem

@@ -3,6 +3,7 @@
 #include <hemivem/mesh/box_piece.hpp>
 
 #include "box_grid.hpp"
+#include "box_sides.hpp"
 
 #include <algorithm>
 #include <string>
@@ -14,29 +15,6 @@ bool makes_pieces(std::string_view generator) {
 }
 
 namespace detail {
-
-namespace {
-
-/// The axis of a side and whether it is the upper one; InputError naming the sides of the
-/// dimension for an unknown name.
-std::pair<int, bool> side_axis(int dim, const std::string& side) {
-  if (dim == 2) {
-    if (side == "left") return {0, false};
-    if (side == "right") return {0, true};
-    if (side == "bottom") return {1, false};
-    if (side == "top") return {1, true};
-    throw InputError("unknown side '" + side + "'; expected left, right, bottom or top");
-  }
-  if (side == "x0") return {0, false};
-  if (side == "x1") return {0, true};
-  if (side == "y0") return {1, false};
-  if (side == "y1") return {1, true};
-  if (side == "z0" || side == "bottom") return {2, false};
-  if (side == "z1" || side == "top") return {2, true};
-  throw InputError("unknown side '" + side + "' of a box; expected x0, x1, y0, y1, z0, z1, bottom or top");
-}
-
-}  // namespace
 
 PieceBoxes::PieceBoxes(int dim, std::array<int, 3> counts, const BoxPiece& piece)
     : all_(false), dim_(dim), counts_(counts) {
@@ -59,7 +37,7 @@ PieceBoxes::PieceBoxes(int dim, std::array<int, 3> counts, const BoxPiece& piece
     last_layer_ = std::min(counts_[static_cast<std::size_t>(layer_axis)] - 1, last + 1);
   }
   for (const std::string& side : piece.sides) {
-    const auto [axis, upper] = side_axis(dim, side);
+    const auto [axis, upper] = box_side_axis(dim, side);
     (upper ? upper_ : lower_)[static_cast<std::size_t>(axis)] = true;
   }
 }

@@ -1,10 +1,11 @@
 #include <hemivem/mesh/mesh3d.hpp>
 
+#include "box_sides.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <map>
 #include <sstream>
 #include <unordered_map>
 
@@ -497,14 +498,8 @@ std::vector<int> select_boundary_faces(const Mesh3D& mesh, const std::string& gr
 
 std::vector<int> select_box_side(const Mesh3D& mesh, const Box& box, const std::string& side,
                                  double relative_tolerance) {
-  static const std::map<std::string, std::pair<int, bool>> sides = {
-      {"x0", {0, false}}, {"x1", {0, true}}, {"y0", {1, false}}, {"y1", {1, true}},
-      {"z0", {2, false}}, {"z1", {2, true}}, {"bottom", {2, false}}, {"top", {2, true}}};
-  const auto it = sides.find(side);
-  if (it == sides.end())
-    throw InputError("unknown side '" + side + "' of a box; expected x0, x1, y0, y1, z0, z1, bottom or top");
-  const int axis = it->second.first;
-  const double at = it->second.second ? box.upper(axis) : box.lower(axis);
+  const auto [axis, upper] = detail::box_side_axis(3, side);
+  const double at = upper ? box.upper(axis) : box.lower(axis);
   const double tol = relative_tolerance * std::max({box.size(0), box.size(1), box.size(2)});
   return select_boundary_faces(mesh, [&](const Vec3& p) { return std::abs(p(axis) - at) <= tol; });
 }
