@@ -367,16 +367,30 @@ void expect_estimate_of_pieces(const Problem& mine, const Problem& all, const Ba
 // Each process makes only its piece of the mesh (its vertices' cells, the named sides' and the
 // first column, hemivem/mesh/box_piece.hpp) and solves its share from it: the condensed route's
 // answer on the whole mesh, the balance of forces added up over the processes' vertices.
-TEST(FullSpaceMpi, EachProcessMakesOnlyItsPieceOfTheMeshInThePlane) {
+/// The unit square on 16 x 16 squares, whole, and this process's piece of it (its vertices,
+/// every side), which leaves cells out on more than one process.
+struct PlanePiece {
+  GridSize n{16, 16};
+  BoxPiece box;
+  Mesh whole, piece;
+};
+
+PlanePiece plane_piece() {
   const ProcessWorld world = krylov_world();
-  const GridSize n(16, 16);
-  const Mesh whole = make_squares(n);
-  const auto [first, end] = vertex_share(whole.num_vertices(), world.rank, world.size);
-  const Mesh piece = make_mesh_piece("squares", n, Rectangle{}, BoxPiece{first, end, {"left", "right", "top", "bottom"}});
-  if (world.size > 1) EXPECT_LT(piece.num_elements(), whole.num_elements());
-  const ContactProblem mine = example_4_1(piece), all = example_4_1(whole);
-  const PieceOfMesh where{piece_cells("squares", n, BoxPiece{first, end, {"left", "right", "top", "bottom"}}),
-                          whole.num_elements(), first, end};
+  PlanePiece p;
+  p.whole = make_squares(p.n);
+  const auto [first, end] = vertex_share(p.whole.num_vertices(), world.rank, world.size);
+  p.box = BoxPiece{first, end, {"left", "right", "top", "bottom"}};
+  p.piece = make_mesh_piece("squares", p.n, Rectangle{}, p.box);
+  if (world.size > 1) EXPECT_LT(p.piece.num_elements(), p.whole.num_elements());
+  return p;
+}
+
+TEST(FullSpaceMpi, EachProcessMakesOnlyItsPieceOfTheMeshInThePlane) {
+  const PlanePiece p = plane_piece();
+  const ContactProblem mine = example_4_1(p.piece), all = example_4_1(p.whole);
+  const PieceOfMesh where{piece_cells("squares", p.n, p.box), p.whole.num_elements(), p.box.first_vertex,
+                          p.box.end_vertex};
   expect_shares_solve_as_the_condensed_route<2>(
       mine, [&](const ContactSolution& s, const ContactSolution&) { expect_estimate_of_pieces<2>(mine, all, s, where); },
       &all);
@@ -686,14 +700,9 @@ void expect_path_on_pieces_as_the_condensed_route(Problem& mine, Problem& all, B
 
 // proportional: the load at t = 1 gathered from the processes' rows, its resultant summed over them
 TEST(FullSpaceMpi, APathOnThePiecesOfTheMeshIsTheCondensedRoutesInThePlane) {
-  const ProcessWorld world = krylov_world();
-  const GridSize n(16, 16);
-  const Mesh whole = make_squares(n);
-  const auto [first, end] = vertex_share(whole.num_vertices(), world.rank, world.size);
-  const Mesh piece = make_mesh_piece("squares", n, Rectangle{}, BoxPiece{first, end, {"left", "right", "top", "bottom"}});
-  if (world.size > 1) EXPECT_LT(piece.num_elements(), whole.num_elements());
-  ContactProblem mine = example_4_1(piece), all = example_4_1(whole);
-  for (ContactProblem* p : {&mine, &all}) p->elasticity.body_force = [](const Vec2&) { return Vec2(0.5, -2.0); };
+  const PlanePiece p = plane_piece();
+  ContactProblem mine = example_4_1(p.piece), all = example_4_1(p.whole);
+  for (ContactProblem* q : {&mine, &all}) q->elasticity.body_force = [](const Vec2&) { return Vec2(0.5, -2.0); };
   PathLoading loading;
   loading.t = {0.5, 1.0, 1.25};
   expect_path_on_pieces_as_the_condensed_route<2>(mine, all, loading);
