@@ -157,6 +157,7 @@ TEST(BoxPiece, WhatMakesNoPieceIsRefusedByName) {
             std::string::npos);
   EXPECT_TRUE(makes_pieces("tetrahedra"));
   EXPECT_FALSE(makes_pieces("voronoi"));
+  EXPECT_NE(error([] { (void)cells_per_box("voronoi"); }).find("'voronoi' makes no grid of boxes"), std::string::npos);
 }
 
 /// Two shares are the same to the bit.

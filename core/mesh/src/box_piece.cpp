@@ -14,6 +14,14 @@ bool makes_pieces(std::string_view generator) {
   return generator == "squares" || generator == "triangles" || generator == "cubes" || generator == "tetrahedra";
 }
 
+int cells_per_box(std::string_view generator) {
+  if (generator == "squares" || generator == "cubes") return 1;
+  if (generator == "triangles") return 2;
+  if (generator == "tetrahedra") return 6;
+  throw InputError("the generator '" + std::string(generator) +
+                   "' makes no grid of boxes (squares, triangles, cubes and tetrahedra do)");
+}
+
 namespace detail {
 
 PieceBoxes::PieceBoxes(int dim, std::array<int, 3> counts, const BoxPiece& piece)
@@ -89,12 +97,12 @@ void require_piece_generator(std::string_view generator, int dim) {
 
 std::vector<int> piece_cells(std::string_view generator, GridSize n, const BoxPiece& piece) {
   detail::require_piece_generator(generator, 2);
-  return cells_of_boxes(detail::PieceBoxes(2, {n.nx, n.ny, 1}, piece), {n.nx, n.ny, 1}, generator == "squares" ? 1 : 2);
+  return cells_of_boxes(detail::PieceBoxes(2, {n.nx, n.ny, 1}, piece), {n.nx, n.ny, 1}, cells_per_box(generator));
 }
 
 std::vector<int> piece_cells(std::string_view generator, GridSize3 n, const BoxPiece& piece) {
   detail::require_piece_generator(generator, 3);
-  return cells_of_boxes(detail::PieceBoxes(3, {n.nx, n.ny, n.nz}, piece), {n.nx, n.ny, n.nz}, generator == "cubes" ? 1 : 6);
+  return cells_of_boxes(detail::PieceBoxes(3, {n.nx, n.ny, n.nz}, piece), {n.nx, n.ny, n.nz}, cells_per_box(generator));
 }
 
 }  // namespace hemivem

@@ -63,11 +63,11 @@ PieceOfMesh scene_piece_of_mesh(const Scene& scene, const BoxPiece& piece) {
   if (scene.dimension() == 3) {
     const GridSize3 n = scene.mesh.cells3();
     out.cells = piece_cells(g, n, piece);
-    out.whole_cells = n.nx * n.ny * n.nz * (g == "tetrahedra" ? 6 : 1);
+    out.whole_cells = n.nx * n.ny * n.nz * cells_per_box(g);
   } else {
     const GridSize n = scene.mesh.cells();
     out.cells = piece_cells(g, n, piece);
-    out.whole_cells = n.nx * n.ny * (g == "triangles" ? 2 : 1);
+    out.whole_cells = n.nx * n.ny * cells_per_box(g);
   }
   return out;
 }

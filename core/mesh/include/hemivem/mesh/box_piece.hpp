@@ -38,6 +38,10 @@ struct BoxPiece {
 /// a solid (a grid of boxes).
 bool makes_pieces(std::string_view generator);
 
+/// The cells such a generator makes of each box of its grid: 1 (squares, cubes), 2 (triangles)
+/// or 6 (tetrahedra); InputError for a generator that makes no piece.
+int cells_per_box(std::string_view generator);
+
 /// The piece of make_mesh(generator, n, domain) described by `piece` (see above). InputError for
 /// a generator that makes no piece, an unknown side, a range of vertices outside the mesh, and
 /// as make_mesh.

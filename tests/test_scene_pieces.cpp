@@ -1,0 +1,86 @@
+// Which scenes the processes of the full-space route across processes make in pieces
+// (scene_piece, hemivem/scene/scene_pieces.hpp): a generated box of one body whose supports,
+// loads and contact select sides, in a static solve or along a loading path; and where a
+// process's piece lies in the whole mesh (scene_piece_of_mesh), against the meshes built.
+#include <hemivem/error.hpp>
+#include <hemivem/scene/scene.hpp>
+#include <hemivem/scene/scene_pieces.hpp>
+
+#include <gtest/gtest.h>
+
+#include <optional>
+#include <string>
+
+#include "test_support.hpp"
+
+using namespace hemivem;
+
+namespace {
+
+Scene shipped(const std::string& name) { return parse_scene(test::scenes_dir() / name); }
+
+int cells_of(const Mesh& mesh) { return mesh.num_elements(); }
+int cells_of(const Mesh3D& mesh) { return mesh.num_cells(); }
+
+/// The pieces of `scene` on two processes: their vertices split the whole mesh's in order,
+/// both name the scene's sides, and each piece built holds the cells scene_piece_of_mesh
+/// names, of the whole mesh's count. Returns the first piece's cells.
+template <int dim>
+int expect_two_pieces(const Scene& scene) {
+  const std::optional<BoxPiece> first = scene_piece(scene, 0, 2), second = scene_piece(scene, 1, 2);
+  EXPECT_TRUE(first && second);
+  if (!first || !second) return 0;
+  const auto whole = build_problem<dim>(scene);
+  EXPECT_EQ(first->first_vertex, 0);
+  EXPECT_EQ(first->end_vertex, second->first_vertex);
+  EXPECT_EQ(second->end_vertex, whole->mesh.num_vertices());
+  EXPECT_FALSE(first->sides.empty());
+  EXPECT_EQ(first->sides, second->sides);
+  for (const BoxPiece& piece : {*first, *second}) {
+    const PieceOfMesh where = scene_piece_of_mesh(scene, piece);
+    const auto built = build_problem_piece<dim>(scene, piece);
+    EXPECT_EQ(where.whole_cells, cells_of(whole->mesh));
+    EXPECT_EQ(static_cast<int>(where.cells.size()), cells_of(built->mesh));
+    EXPECT_EQ(built->mesh.num_vertices(), whole->mesh.num_vertices());
+    EXPECT_EQ(where.first_vertex, piece.first_vertex);
+    EXPECT_EQ(where.end_vertex, piece.end_vertex);
+  }
+  return static_cast<int>(scene_piece_of_mesh(scene, *first).cells.size());
+}
+
+TEST(ScenePieces, AStaticSolveOfAGeneratedBoxIsMadeInPieces) {
+  const Scene plane = shipped("paper-example-4.1.toml");
+  EXPECT_LT(expect_two_pieces<2>(plane), 64 * 64) << "the first half leaves cells out";
+  expect_two_pieces<2>(shipped("paper-example-4.1-triangles.toml"));
+  Scene solid = shipped("example-4.1-3d.toml");
+  expect_two_pieces<3>(solid);
+  solid.mesh.generator = "tetrahedra";  // six cells a box
+  expect_two_pieces<3>(solid);
+}
+
+// a loading path changes its loads, prescribed values and obstacles on the sides alone
+TEST(ScenePieces, ALoadingPathOfAGeneratedBoxIsMadeInPieces) {
+  const Scene coulomb = shipped("friction-coulomb.toml");
+  ASSERT_TRUE(coulomb.path);
+  expect_two_pieces<2>(coulomb);
+  const Scene block = shipped("coulomb-block-3d.toml");
+  ASSERT_TRUE(block.path);
+  expect_two_pieces<3>(block);
+}
+
+TEST(ScenePieces, EveryOtherSceneIsMadeWholeOnEveryProcess) {
+  for (const char* name : {"paper-example-4.1-voronoi.toml",  // not a grid of boxes
+                           "polygon-bracket.toml",            // a polygon
+                           "gmsh-bracket-3d.toml",            // a file
+                           "two-blocks.toml",                 // two bodies
+                           "rollers-pressure.toml"}) {        // a contact part on a segment
+    SCOPED_TRACE(name);
+    EXPECT_FALSE(scene_piece(shipped(name), 0, 2));
+  }
+  Scene adaptive = shipped("paper-example-4.1.toml");  // its meshes after the first are not boxes
+  ASSERT_TRUE(scene_piece(adaptive, 0, 2));
+  adaptive.adapt = SceneAdapt{};
+  EXPECT_FALSE(scene_piece(adaptive, 0, 2));
+}
+
+}  // namespace
