@@ -498,8 +498,9 @@ std::vector<int> select_boundary_faces(const Mesh3D& mesh, const std::string& gr
 
 std::vector<int> select_box_side(const Mesh3D& mesh, const Box& box, const std::string& side,
                                  double relative_tolerance) {
-  const auto [axis, upper] = detail::box_side_axis(3, side);
-  const double at = upper ? box.upper(axis) : box.lower(axis);
+  const std::pair<int, bool> named = detail::box_side_axis(3, side);
+  const int axis = named.first;  // a plain variable: a lambda below reads it
+  const double at = named.second ? box.upper(axis) : box.lower(axis);
   const double tol = relative_tolerance * std::max({box.size(0), box.size(1), box.size(2)});
   return select_boundary_faces(mesh, [&](const Vec3& p) { return std::abs(p(axis) - at) <= tol; });
 }
