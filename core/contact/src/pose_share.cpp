@@ -375,11 +375,11 @@ struct FullSpaceShares<dim>::Impl {
       : posing(std::move(p)),
         krylov(k),
         rows(std::move(r)),
-        vertices(v),
         hints(posing.share.near_null_space, posing.share.block_size),
         timings{{"assembly", posing.assembly_seconds},
                 {"setup", posing.setup_seconds},
-                {"posing", seconds - posing.assembly_seconds - posing.setup_seconds}} {
+                {"posing", seconds - posing.assembly_seconds - posing.setup_seconds}},
+        vertices(v) {
     hints.rows = rows.get();
     shift_energy = posing.posed->shift_energy(posing.load, posing.share.layout.first);
   }
