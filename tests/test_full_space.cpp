@@ -431,7 +431,9 @@ TEST(FullSpace, TheCommandsAutoSolvesWhatTheCondensedRouteCannotFit) {
   const auto result = nlohmann::json::parse(test::slurp(chosen / "result.json"));
   const std::string engine = result["backends"]["linear"];
   EXPECT_TRUE(is_krylov_solver(engine)) << engine;
-  EXPECT_EQ(result["stages"][1], "posing");
+  // on the full-space route, started from the grids of 16, 32 and 64 squares (solver.grid_sequence "auto")
+  EXPECT_EQ(result["stages"], (nlohmann::json{"grid_sequence", "assembly", "posing", "full_space", "estimate"}));
+  EXPECT_EQ(result["full_space"]["grid_sequence"].size(), 3u) << result["full_space"].dump();
   EXPECT_NE(run.err.find("solved on the full-space route with " + engine), std::string::npos) << run.err;
   EXPECT_NE(result["warnings"][0].get<std::string>().find("the condensed route would need"), std::string::npos);
   const auto [largest, difference] = displacement_difference(reference / "displacement.csv", chosen / "displacement.csv");

@@ -26,7 +26,7 @@ template <class Solution>
 nlohmann::json result_json_common(const Solution& s, const RunInfo& info, int dimension) {
   using nlohmann::json;
   json j;
-  j["schema"] = "hemivem-result/22";
+  j["schema"] = "hemivem-result/23";
   j["version"] = info.version;
   j["dimension"] = dimension;
   j["scene"] = {{"name", info.scene_name}, {"toml", info.scene_toml}};
@@ -52,7 +52,8 @@ nlohmann::json result_json_common(const Solution& s, const RunInfo& info, int di
                       {"subgradient", s.minimizer ? s.minimizer->subgradient_evaluations : 0}};
   j["full_space"] = s.full_space ? json{{"newton_iterations", s.full_space->newton_iterations},
                                         {"krylov_iterations", s.full_space->krylov_iterations},
-                                        {"preconditioner_setups", s.full_space->preconditioner_setups}}
+                                        {"preconditioner_setups", s.full_space->preconditioner_setups},
+                                        {"grid_sequence", info.grid_sequence}}
                                   : json(nullptr);
   j["stages"] = s.stages;
   json t = json::object();

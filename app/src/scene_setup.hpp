@@ -41,6 +41,12 @@ struct SceneEngines {
   /// On the full-space route across processes, where this process's piece of the scene's mesh
   /// lies when it made only its piece (build_scene_problem); none when it made the whole mesh.
   std::optional<PieceOfMesh> piece;
+  /// The coarser grids a static solve on the scene's own mesh starts from (grid_sequence_levels,
+  /// checked when the engines are made).
+  int grid_levels = 0;
+  /// Whether the problem was built on the scene's own mesh (build_scene_problem), not on a mesh
+  /// the caller gave: only then does a grid sequence run.
+  bool scene_mesh = false;
 };
 
 /// The problem a solve of the scene builds on the scene's own mesh, into s.built: on the
@@ -51,6 +57,7 @@ struct SceneEngines {
 /// writes (s.holds_results) then makes the whole mesh as its piece, the others their pieces.
 template <int dim, class Solved>
 void build_scene_problem(const Scene& scene, SceneEngines& e, Solved& s, const std::filesystem::path& out = {}) {
+  e.scene_mesh = true;
   if (e.krylov && e.processes > 1) {
     const ProcessWorld world = krylov_world();
     if (const std::optional<BoxPiece> piece = scene_piece(scene, world.rank, world.size)) {
@@ -154,6 +161,7 @@ RunInfo run_info_common(const Scene& scene, const Solved& solved) {
   info.mesh_seconds = solved.mesh_seconds;
   info.dofs = solved.solution.unknowns;
   info.mesh_pieces = solved.mesh_pieces;
+  info.grid_sequence = solved.grid_sequence;
   info.processes = solved.processes;
   info.warnings = solved.warnings;
   info.error_estimate = solved.estimate;
@@ -239,6 +247,15 @@ void add_contact_parts(RunInfo& info, const std::vector<BasicContactPart<dim>>& 
       .mark_about(e.about());
 }
 
+/// The start of a static solve on the scene's own mesh (e.scene_mesh) from its grid sequence
+/// (e.grid_levels coarser grids, hemivem/scene/grid_sequence.hpp): the scene solved on the
+/// coarsest grid from zero, then on each finer one from the solve before carried onto its grid
+/// (values_on_finer_grid), the last carried onto the scene's grid; every coarser grid's solve
+/// recorded in s.grid_sequence, coarsest first (grid_sequence_json). Empty without levels.
+/// Collective on the full-space route across processes: every process solves each grid.
+template <int dim>
+Eigen::VectorXd grid_sequence_start(const Scene& scene, const SceneEngines& e, BasicSceneSolve<dim>& s);
+
 /// Solves s.built->problem with the engines `e` as every static solve of a scene does, in
 /// either dimension: BasicContactSolver<dim> with the condition estimate, the reduced problem
 /// when `reduced` is not null (the full-space route has none and leaves it) and a warm start
@@ -258,11 +275,16 @@ void solve_built(const Scene& scene, SceneEngines& e, Solved& s, ReducedProblem*
     s.solution.timings["release"] += release;
     s.solution.timings["total"] += release;
   };
+  // with no start given, the scene's coarser grids solved first give one (grid_sequence_start)
+  const auto sequence_started = std::chrono::steady_clock::now();
+  const Eigen::VectorXd sequenced = start.size() == 0 ? grid_sequence_start<dim>(scene, e, s) : Eigen::VectorXd();
+  const double sequence_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - sequence_started).count();
   try {
     if (e.krylov && e.processes > 1) {  // the full-space route across processes, each holding the results
       // no reduced problem: `reduced` is left untouched, as BasicContactSolver::export_reduced does
       s.solution = solve_full_space_shares<dim>(s.built->problem, *e.krylov, krylov_world(), make_distributed_rows,
-                                                s.options, start);
+                                                s.options, start.size() ? start : sequenced);
       give_back(e.krylov);  // the engine, as in one process below
     } else {
       std::optional<BasicContactSolver<dim>> solver;
@@ -272,12 +294,18 @@ void solve_built(const Scene& scene, SceneEngines& e, Solved& s, ReducedProblem*
         solver.emplace(s.built->problem, std::move(e.factorization), s.options);
       solver->estimate_condition(true).export_reduced(reduced);
       if (start.size() > 0) solver->start_from(&start);
+      if (sequenced.size() > 0) solver->start_from(&sequenced);
       s.solution = std::move(solver->run(minimizers).front());
       // the solver's factorization is given back here, before the outputs: its time is a stage
       give_back(solver);
     }
   } catch (const InputError& error) {
     rethrow_naming_scene_key(scene, error);
+  }
+  if (!s.grid_sequence.empty()) {  // the coarser grids' solves, a stage of the scene's
+    s.solution.timings["grid_sequence"] = sequence_seconds;
+    s.solution.timings["total"] += sequence_seconds;
+    s.solution.stages.insert(s.solution.stages.begin(), "grid_sequence");
   }
   s.warnings = s.built->warnings;
   if (std::string w = conditioning_warning(s.solution.condition_estimate); !w.empty()) s.warnings.push_back(std::move(w));

@@ -1,6 +1,7 @@
 #include <hemivem/support/blas_threads.hpp>
 #include <hemivem/app/solve.hpp>
 
+#include <hemivem/scene/grid_sequence.hpp>
 #include <hemivem/scene/resources.hpp>
 #include <hemivem/app/path.hpp>
 
@@ -152,6 +153,7 @@ SceneEngines make_scene_engines(const Scene& scene, std::function<void(const Glo
     e.holds_results = processes_of(*e.factorization).holds_results();
     e.processes = processes_of(*e.factorization).num_processes();
   }
+  e.grid_levels = grid_sequence_levels(scene, e.krylov != nullptr, scene_is_path(scene));
   e.minimizer = make_scene_search(scene, std::move(progress));
   e.minimizer_name = first_engine(*e.minimizer);
   e.search = search_json(*e.minimizer);

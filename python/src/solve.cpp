@@ -382,7 +382,9 @@ void def_result_cost(ResultClass& c) {
       .def_property_readonly("full_space", [](py::handle s) -> py::object { py::object j = json_dict(data(s)); return j["full_space"]; },
                              "The full-space route's counts as in result.json: newton_iterations,\n"
                              "krylov_iterations (summed over the Newton systems) and preconditioner_setups,\n"
-                             "summed over a path; None on the condensed route.")
+                             "summed over a path, and grid_sequence (the coarser grids solved first, each\n"
+                             "{n, unknowns, converged, newton_iterations, krylov_iterations,\n"
+                             "preconditioner_setups, seconds}); None on the condensed route.")
       .def_property_readonly("timings", [](py::handle s) -> py::object { py::object j = json_dict(data(s)); return j["timings"]; },
                              "Seconds by stage as in result.json: mesh, assembly, condensation, minimize,\n"
                              "back_substitution (or linear_solve), total.");

@@ -92,9 +92,9 @@ fs::path solve_across(int processes, const std::string& flags, const std::string
 /// contact node's normal displacement and force (and with `friction` its tangential displacement
 /// and friction force) is the condensed route's to 1e-8, as is the error estimate; the mesh was
 /// made in `pieces` pieces (result.json's mesh.pieces: the processes, or 1 where each made it
-/// whole), and the outputs are of the whole mesh.
+/// whole), and the outputs are of the whole mesh. Rank 0's result.json into *result when given.
 void expect_processes_agree(const std::string& flags, const fs::path& ref, int processes, const std::string& name,
-                            bool friction, int pieces) {
+                            bool friction, int pieces, nlohmann::json* result = nullptr) {
   SCOPED_TRACE(std::to_string(processes) + " processes");
   CommandRun m;
   const std::string folder = name + "-np" + std::to_string(processes);
@@ -106,12 +106,17 @@ void expect_processes_agree(const std::string& flags, const fs::path& ref, int p
     EXPECT_FALSE(fs::exists(out.parent_path() / (folder + "-rank" + std::to_string(r)))) << "rank " << r << " wrote outputs";
   const nlohmann::json a = nlohmann::json::parse(slurp(out / "result.json"));
   const nlohmann::json b = nlohmann::json::parse(slurp(ref / "result.json"));
+  if (result) *result = a;
   EXPECT_EQ(a["processes"], processes);
   EXPECT_EQ(a["backends"]["linear"], "petsc-gamg");
   EXPECT_TRUE(a["converged"].get<bool>());
   // the stages and timings of the route in one process: the stages' times, disjoint intervals of the total
-  EXPECT_EQ(a["stages"], (nlohmann::json{"assembly", "posing", "full_space", "estimate"}));
-  double stages = 0.0;
+  ASSERT_TRUE(a["full_space"].is_object()) << a.dump();
+  const bool sequenced = !a["full_space"]["grid_sequence"].empty();  // coarser grids solved first
+  nlohmann::json expected_stages = {"assembly", "posing", "full_space", "estimate"};
+  if (sequenced) expected_stages.insert(expected_stages.begin(), "grid_sequence");
+  EXPECT_EQ(a["stages"], expected_stages);
+  double stages = sequenced ? a["timings"]["grid_sequence"].get<double>() : 0.0;
   for (const char* stage : {"mesh", "setup", "assembly", "posing", "full_space", "post_process", "release", "estimate"}) {
     ASSERT_TRUE(a["timings"].contains(stage)) << stage;
     EXPECT_GE(a["timings"][stage].get<double>(), 0.0) << stage;
@@ -119,7 +124,6 @@ void expect_processes_agree(const std::string& flags, const fs::path& ref, int p
   }
   EXPECT_LE(stages, a["timings"]["total"].get<double>() * (1 + 1e-12)) << a["timings"].dump();
   // the route's counts of the whole iteration, which every process made alike
-  ASSERT_TRUE(a["full_space"].is_object()) << a.dump();
   EXPECT_EQ(a["full_space"]["newton_iterations"], a["iterations"]);
   EXPECT_GE(a["full_space"]["krylov_iterations"].get<int>(), a["iterations"].get<int>());
   EXPECT_GE(a["full_space"]["preconditioner_setups"].get<int>(), 1);
@@ -154,6 +158,22 @@ TEST(CliFullSpaceMpi, ProcessesSolvingTheirSharesAgreeWithTheCondensedRouteAndRa
   const CommandRun c = run(binary() + " solve " + flags + " --linear eigen -q --out " + ref.string());
   ASSERT_EQ(c.code, 0) << c.err;
   for (int processes : {2, 3}) expect_processes_agree(flags, ref, processes, "example", false, processes);
+}
+
+// started from its coarser grids (solver.grid_sequence), each solved on the processes' pieces of
+// its own mesh: the same answer, the same grids recorded
+TEST(CliFullSpaceMpi, AGridSequenceAcrossProcessesIsTheCondensedAnswer) {
+  const std::string flags = scene("example-4.1-3d.toml") + " --set 'mesh.n=[8, 8, 8]' --tol 1e-11";
+  const fs::path ref = scratch("condensed-sequence");
+  const CommandRun c = run(binary() + " solve " + flags + " --linear eigen -q --out " + ref.string());
+  ASSERT_EQ(c.code, 0) << c.err;
+  nlohmann::json a;
+  expect_processes_agree(flags + " --set solver.grid_sequence=2", ref, 2, "sequence", false, 2, &a);
+  const nlohmann::json& grids = a["full_space"]["grid_sequence"];
+  ASSERT_EQ(grids.size(), 2u) << a["full_space"].dump();
+  EXPECT_EQ(grids[0]["n"], "2");
+  EXPECT_EQ(grids[1]["n"], "4");
+  for (const auto& g : grids) EXPECT_TRUE(g["converged"].get<bool>()) << g.dump();
 }
 
 // a solid's Tresca friction: the processes' slabs split the bottom, where nodes slip and stick

@@ -45,6 +45,25 @@ def test_the_full_space_route_gives_the_condensed_routes_displacement(engine):
     assert 1 <= full.full_space["preconditioner_setups"] <= full.iterations
 
 
+def test_a_grid_sequence_starts_the_solve_and_is_recorded():
+    scene = hemivem.Scene.from_toml(EXAMPLE_3D)
+    scene.set("mesh.n", [8, 8, 8])
+    condensed = hemivem.solve(scene, linear="eigen")
+    scene.set("solver.grid_sequence", 2)
+    full = hemivem.solve(scene, linear="eigen-cg")
+    assert full.status == "converged"
+    u0, u1 = np.asarray(condensed.displacement), np.asarray(full.displacement)
+    assert np.max(np.abs(u1 - u0)) <= 1e-8 * np.max(np.abs(u0))
+    grids = full.full_space["grid_sequence"]
+    assert [g["n"] for g in grids] == ["2", "4"]
+    assert all(g["converged"] for g in grids)
+    assert full.stages[0] == "grid_sequence"
+    assert full.timings["grid_sequence"] >= sum(g["seconds"] for g in grids)
+    # the condensed route takes none: refused by key
+    with pytest.raises(hemivem.InputError, match="solver.grid_sequence = 2"):
+        hemivem.solve(scene, linear="eigen")
+
+
 def test_python_runs_every_krylov_engine_built():
     engines = hemivem.available_engines()
     assert not set(engines["krylov"]) & set(engines["command_only"])

@@ -932,7 +932,7 @@ std::optional<int> integer_in(TableReader& v, const char* key, long long lo, lon
 void read_solver(Scene& s, const toml::table& t) {
   TableReader v(s, t, "solver",
                 {"linear", "minimizer", "tolerance", "max_iterations", "parameters", "search", "max_starts",
-                 "time_budget", "seed", "search_engines"});
+                 "time_budget", "seed", "search_engines", "grid_sequence"});
   if (auto x = v.string("linear")) {
     if (x->empty()) v.fail("linear", v.node("linear"), "empty name");
     s.solver.linear = *x;
@@ -959,6 +959,16 @@ void read_solver(Scene& s, const toml::table& t) {
   }
   if (auto x = integer_in(v, "seed", 0, int_max)) s.solver.seed = *x;
   read_search_engines(v, s.solver);
+  if (const toml::node* g = v.find("grid_sequence")) {
+    if (const auto* text = g->as_string()) {
+      if (lower(text->get()) != "auto") v.fail("grid_sequence", *g, "expected \"auto\" or a count of coarser grids, got \"" + text->get() + "\"");
+      s.solver.grid_sequence = SceneSolver::grid_sequence_auto;
+    } else if (g->is_integer()) {
+      if (auto x = integer_in(v, "grid_sequence", 0, 30)) s.solver.grid_sequence = *x;
+    } else {
+      v.fail_type("grid_sequence", *g, "\"auto\" or a count of coarser grids");
+    }
+  }
   // the minimizer's typed options by name: the names and ranges are the engine's, checked
   // when the engine is made (its errors name the key's line through Scene::where)
   if (const toml::table* p = v.table("parameters")) {

@@ -219,6 +219,8 @@ void write_solver(std::ostream& o, const SceneSolver& v) {
   o << "time_budget = " << fmt(v.time_budget) << "\n";
   o << "seed = " << v.seed << "\n";
   o << "search_engines = " << list(v.search_engines, quote) << "\n";
+  o << "grid_sequence = "
+    << (v.grid_sequence == SceneSolver::grid_sequence_auto ? quote("auto") : std::to_string(v.grid_sequence)) << "\n";
   if (!v.parameters.empty()) {
     o << "\n[solver.parameters]\n";
     for (const auto& [k, x] : v.parameters) o << k << " = " << fmt(x) << "\n";

@@ -47,6 +47,9 @@ struct RunInfo {
   /// The pieces the processes made the mesh in (docs/cluster.md): 1 when every process made the
   /// whole mesh.
   int mesh_pieces = 1;
+  /// The coarser grids solved first (BasicSceneSolve::grid_sequence): result.json's
+  /// full_space.grid_sequence.
+  nlohmann::json grid_sequence = nlohmann::json::array();
   int processes = 1;                          ///< processes of the linear engine (mpirun -np P with mumps-mpi)
   std::vector<std::string> files;             ///< the files of the run's output folder (set by write_outputs)
   /// The formats of the figures (figure_formats of figures.hpp: png, pdf, svg; the scene's
@@ -103,7 +106,7 @@ const BasicPathSolution<dim>* path_of(const RunInfo& info) {
 /// the stage "estimate" of the timings).
 nlohmann::json error_estimate_json(const ErrorEstimate& estimate);
 
-/// The result.json document ("schema": "hemivem-result/22", "dimension": 2).
+/// The result.json document ("schema": "hemivem-result/23", "dimension": 2).
 nlohmann::json result_json(const Mesh& mesh, const ContactSolution& solution, const RunInfo& info);
 /// The result.json document of a solid ("dimension": 3): the same keys, points and vectors with
 /// three components (contact[].x and contact[].normal [x, y, z]), mesh.faces, contact_zone with

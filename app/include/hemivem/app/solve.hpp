@@ -77,6 +77,10 @@ struct BasicSceneSolve {
   int mesh_pieces = 1;
   /// With mesh_pieces > 1, the cells of the whole mesh.
   int whole_cells = 0;
+  /// The coarser grids a static solve on the full-space route solved first to start from
+  /// (solver.grid_sequence, docs/full-space.md), coarsest first, each {n, unknowns, converged,
+  /// newton_iterations, krylov_iterations, preconditioner_setups, seconds}; empty when none.
+  nlohmann::json grid_sequence = nlohmann::json::array();
   bool holds_results = true;     ///< false on the ranks > 0 of mumps-mpi under mpirun: no results there
   int processes = 1;             ///< the processes the linear engine runs on
   /// What the user should know: the scene's warnings (BuiltProblem::warnings), then the

@@ -257,6 +257,12 @@ struct SceneSolver {
   int seed = 1;               ///< global: the seed of the random starts
   /// global: the engines that run besides `minimizer`, in order; empty: every built minimizer.
   std::vector<std::string> search_engines;
+  /// grid_sequence = "auto": the coarser grids chosen by the route and the mesh
+  /// (grid_sequence_levels, hemivem/scene/grid_sequence.hpp).
+  static constexpr int grid_sequence_auto = -1;
+  /// The coarser grids the full-space route solves on first: a count (0: none) or
+  /// grid_sequence_auto.
+  int grid_sequence = grid_sequence_auto;
   bool operator==(const SceneSolver&) const = default;
 };
 
