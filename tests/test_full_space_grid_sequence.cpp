@@ -5,6 +5,7 @@
 #include <hemivem/app/solve3d.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/mesh/finer_grid.hpp>
+#include <hemivem/mesh/generators.hpp>
 #include <hemivem/scene/grid_sequence.hpp>
 #include <hemivem/scene/scene.hpp>
 
@@ -210,6 +211,32 @@ TEST(GridSequence, TheSolidStartedFromItsCoarserGridsReachesTheCondensedRoutesAn
   expect_sequence_recorded(sequenced, {"2", "4"});
   EXPECT_LE(relative_difference(sequenced.solution.u, condensed.solution.u), 1e-8);
   EXPECT_NEAR(sequenced.solution.energy, condensed.solution.energy, 1e-9 * std::abs(condensed.solution.energy));
+}
+
+// a start or a mesh the caller gives is taken as it is: "auto" runs no grid sequence, a count is refused
+TEST(GridSequence, AGivenStartOrMeshRunsNoneAndRefusesACount) {
+  Scene scene = scene_of("paper-example-4.1.toml", {"mesh.n=64", "solver.linear=\"petsc-gamg\""});
+  app::SceneSolveOptions given_mesh;
+  given_mesh.mesh = make_squares(64);
+  const app::SceneSolve on_mesh = app::solve_scene(scene, given_mesh);
+  ASSERT_TRUE(on_mesh.solution.converged()) << on_mesh.solution.message;
+  EXPECT_TRUE(on_mesh.grid_sequence.empty());
+  app::SceneSolveOptions given_start;
+  given_start.start = on_mesh.solution.u;
+  const app::SceneSolve started = app::solve_scene(scene, given_start);
+  ASSERT_TRUE(started.solution.converged()) << started.solution.message;
+  EXPECT_TRUE(started.grid_sequence.empty());
+  EXPECT_LE(started.solution.full_space->newton_iterations, 1) << "started at the answer";
+  scene.solver.grid_sequence = 1;
+  for (app::SceneSolveOptions* o : {&given_mesh, &given_start}) {
+    if (o == &given_mesh) o->mesh = make_squares(64);
+    try {
+      app::solve_scene(scene, *o);
+      ADD_FAILURE() << "a count with a given " << (o == &given_mesh ? "mesh" : "start") << " was taken";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("solver.grid_sequence = 1: this solve "), std::string::npos) << e.what();
+    }
+  }
 }
 
 TEST(GridSequence, TheCommandRecordsTheCoarserGridsAndRefusesACountByKey) {

@@ -150,7 +150,7 @@ BasicAdaptiveSolve<dim> adapt_scene(const Scene& scene, const SceneAdapt& adapt,
   Eigen::VectorXd start_u = std::move(options.start);
   options.mesh.reset();
   // each step's solution.vtu, for adapt.pvd, when the scene writes the output vtu
-  const bool keep_steps = std::find(scene.outputs.begin(), scene.outputs.end(), "vtu") != scene.outputs.end();
+  const bool keep_steps = scene.writes("vtu");
   auto steps_vtu = std::make_shared<std::vector<std::string>>();
   for (int step = 0;; ++step) {
     Options o = options;

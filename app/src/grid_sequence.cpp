@@ -6,7 +6,10 @@
 #include <hemivem/mesh/finer_grid.hpp>
 #include <hemivem/scene/grid_sequence.hpp>
 
+#include <hemivem/error.hpp>
+
 #include <chrono>
+#include <string>
 #include <vector>
 
 namespace hemivem::app::detail {
@@ -31,8 +34,14 @@ GridSize3 grid_of(const Scene& scene, std::integral_constant<int, 3>) { return s
 }  // namespace
 
 template <int dim>
-Eigen::VectorXd grid_sequence_start(const Scene& scene, const SceneEngines& e, BasicSceneSolve<dim>& s) {
-  if (!e.scene_mesh || e.grid_levels == 0) return {};
+Eigen::VectorXd grid_sequence_start(const Scene& scene, const SceneEngines& e, BasicSceneSolve<dim>& s,
+                                    bool given_start) {
+  if (e.grid_levels > 0 && scene.solver.grid_sequence > 0 && (given_start || !e.scene_mesh))
+    throw InputError("solver.grid_sequence = " + std::to_string(scene.solver.grid_sequence) + ": " +
+                         (given_start ? "this solve starts from the displacement it was given"
+                                      : "this solve is on a mesh it was given, which has no coarser grids"),
+                     scene.where("solver.grid_sequence"));
+  if (given_start || !e.scene_mesh || e.grid_levels == 0) return {};
   std::vector<Scene> grids{coarser_grid_scene(scene)};  // the scene's coarser grids, finest first
   while (static_cast<int>(grids.size()) < e.grid_levels) grids.push_back(coarser_grid_scene(grids.back()));
   Eigen::VectorXd start;
@@ -58,7 +67,7 @@ Eigen::VectorXd grid_sequence_start(const Scene& scene, const SceneEngines& e, B
   return start;
 }
 
-template Eigen::VectorXd grid_sequence_start<2>(const Scene&, const SceneEngines&, SceneSolve&);
-template Eigen::VectorXd grid_sequence_start<3>(const Scene&, const SceneEngines&, SceneSolve3D&);
+template Eigen::VectorXd grid_sequence_start<2>(const Scene&, const SceneEngines&, SceneSolve&, bool);
+template Eigen::VectorXd grid_sequence_start<3>(const Scene&, const SceneEngines&, SceneSolve3D&, bool);
 
 }  // namespace hemivem::app::detail

@@ -31,21 +31,17 @@ nlohmann::json vec(const Eigen::Matrix<double, dim, 1>& v) {
   return out;
 }
 
-bool wants(const Scene& scene, const char* output) {
-  return std::find(scene.outputs.begin(), scene.outputs.end(), output) != scene.outputs.end();
-}
-
 }  // namespace
 
-bool writes_frames(const Scene& scene) { return wants(scene, "displacement-csv") || wants(scene, "vtu"); }
+bool writes_frames(const Scene& scene) { return scene.writes("displacement-csv") || scene.writes("vtu"); }
 
 bool scene_is_path(const Scene& scene) { return scene.path.has_value() || bound_depends_on_normal(scene); }
 
 std::vector<std::string> path_files(const Scene& scene, bool has_contact) {
   if (!has_contact || !scene_is_path(scene)) return {};
   std::vector<std::string> files{"path.json", "path-contact.csv"};
-  if (wants(scene, "displacement-csv")) files.push_back("path-displacement.csv");
-  if (wants(scene, "vtu")) files.push_back("solution.pvd");
+  if (scene.writes("displacement-csv")) files.push_back("path-displacement.csv");
+  if (scene.writes("vtu")) files.push_back("solution.pvd");
   files.push_back("path.png");
   return files;
 }

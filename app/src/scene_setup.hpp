@@ -62,8 +62,7 @@ void build_scene_problem(const Scene& scene, SceneEngines& e, Solved& s, const s
     const ProcessWorld world = krylov_world();
     if (const std::optional<BoxPiece> piece = scene_piece(scene, world.rank, world.size)) {
       s.mesh_pieces = world.size;
-      const bool vtu_frames = scene.path && !out.empty() &&
-                              std::find(scene.outputs.begin(), scene.outputs.end(), "vtu") != scene.outputs.end();
+      const bool vtu_frames = scene.path && !out.empty() && scene.writes("vtu");
       if (vtu_frames && s.holds_results) {  // the whole mesh, this process owning its share of the vertices
         s.built = build_problem<dim>(scene);
         BoxPiece whole = *piece;  // a piece of every vertex is the whole mesh
@@ -251,15 +250,19 @@ void add_contact_parts(RunInfo& info, const std::vector<BasicContactPart<dim>>& 
 /// (e.grid_levels coarser grids, hemivem/scene/grid_sequence.hpp): the scene solved on the
 /// coarsest grid from zero, then on each finer one from the solve before carried onto its grid
 /// (values_on_finer_grid), the last carried onto the scene's grid; every coarser grid's solve
-/// recorded in s.grid_sequence, coarsest first (grid_sequence_json). Empty without levels.
-/// Collective on the full-space route across processes: every process solves each grid.
+/// recorded in s.grid_sequence, coarsest first. Empty without levels, and when the solve starts
+/// from a displacement it was given (`given_start`) or is on a mesh it was given: for those an
+/// InputError naming solver.grid_sequence when the scene asks for a count of grids. Collective on
+/// the full-space route across processes: every process solves each grid.
 template <int dim>
-Eigen::VectorXd grid_sequence_start(const Scene& scene, const SceneEngines& e, BasicSceneSolve<dim>& s);
+Eigen::VectorXd grid_sequence_start(const Scene& scene, const SceneEngines& e, BasicSceneSolve<dim>& s,
+                                    bool given_start);
 
 /// Solves s.built->problem with the engines `e` as every static solve of a scene does, in
 /// either dimension: BasicContactSolver<dim> with the condition estimate, the reduced problem
 /// when `reduced` is not null (the full-space route has none and leaves it) and a warm start
-/// from `start` when it is not empty, a defect found in setting the problem up named by the
+/// from `start` when it is not empty (otherwise from the scene's grid sequence, the stage
+/// "grid_sequence", where it runs: grid_sequence_start), a defect found in setting the problem up named by the
 /// scene's key (rethrow_naming_scene_key); then the warnings (the scene's, the conditioning's) and, wherever the displacement is (every
 /// process of the full-space route across processes; not the ranks > 0 of mumps-mpi), the error
 /// estimate estimate(problem, solution) as the stage "estimate".
@@ -275,16 +278,17 @@ void solve_built(const Scene& scene, SceneEngines& e, Solved& s, ReducedProblem*
     s.solution.timings["release"] += release;
     s.solution.timings["total"] += release;
   };
-  // with no start given, the scene's coarser grids solved first give one (grid_sequence_start)
+  // with no start given, the scene's coarser grids solved first may give one (grid_sequence_start)
   const auto sequence_started = std::chrono::steady_clock::now();
-  const Eigen::VectorXd sequenced = start.size() == 0 ? grid_sequence_start<dim>(scene, e, s) : Eigen::VectorXd();
+  const Eigen::VectorXd sequenced = grid_sequence_start<dim>(scene, e, s, start.size() > 0);
   const double sequence_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - sequence_started).count();
+  const Eigen::VectorXd& from = start.size() > 0 ? start : sequenced;
   try {
     if (e.krylov && e.processes > 1) {  // the full-space route across processes, each holding the results
       // no reduced problem: `reduced` is left untouched, as BasicContactSolver::export_reduced does
       s.solution = solve_full_space_shares<dim>(s.built->problem, *e.krylov, krylov_world(), make_distributed_rows,
-                                                s.options, start.size() ? start : sequenced);
+                                                s.options, from);
       give_back(e.krylov);  // the engine, as in one process below
     } else {
       std::optional<BasicContactSolver<dim>> solver;
@@ -293,8 +297,7 @@ void solve_built(const Scene& scene, SceneEngines& e, Solved& s, ReducedProblem*
       else
         solver.emplace(s.built->problem, std::move(e.factorization), s.options);
       solver->estimate_condition(true).export_reduced(reduced);
-      if (start.size() > 0) solver->start_from(&start);
-      if (sequenced.size() > 0) solver->start_from(&sequenced);
+      if (from.size() > 0) solver->start_from(&from);
       s.solution = std::move(solver->run(minimizers).front());
       // the solver's factorization is given back here, before the outputs: its time is a stage
       give_back(solver);

@@ -226,15 +226,15 @@ std::vector<std::string> wanted_files(const Scene& scene, bool has_contact) {
   std::vector<std::string> files;
   for (const auto& [name, file] : map) {
     if (!has_contact && (file == "contact.csv" || file == "history.csv" || file == "u_nu.png")) continue;
-    if (std::find(scene.outputs.begin(), scene.outputs.end(), name) != scene.outputs.end()) files.push_back(file);
+    if (scene.writes(name)) files.push_back(file);
   }
   files.push_back("scene.toml");
   for (auto& name : path_files(scene, has_contact)) files.push_back(std::move(name));
   if (scene.adapt) {  // the final mesh of an adaptive solve
     files.push_back("mesh.poly2d");
-    if (std::find(scene.outputs.begin(), scene.outputs.end(), "mesh-png") != scene.outputs.end()) files.push_back("mesh.png");
-    if (std::find(scene.outputs.begin(), scene.outputs.end(), "adapt-png") != scene.outputs.end()) files.push_back("adapt.png");
-    if (std::find(scene.outputs.begin(), scene.outputs.end(), "vtu") != scene.outputs.end()) files.push_back("adapt.pvd");
+    if (scene.writes("mesh-png")) files.push_back("mesh.png");
+    if (scene.writes("adapt-png")) files.push_back("adapt.png");
+    if (scene.writes("vtu")) files.push_back("adapt.pvd");
   }
   return files;
 }

@@ -19,10 +19,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-bool wants(const Scene& scene, const std::string& name) {
-  return std::find(scene.outputs.begin(), scene.outputs.end(), name) != scene.outputs.end();
-}
-
 }  // namespace
 
 SceneSolve3D solve_scene_3d(const Scene& scene, SceneSolve3DOptions o) {
@@ -52,20 +48,20 @@ SceneSolve3D solve_scene_3d(const Scene& scene, SceneSolve3DOptions o) {
 
 std::vector<std::string> detail::solid_files(const Scene& scene, bool has_contact) {
   std::vector<std::string> files;
-  if (wants(scene, "result-json")) files.push_back("result.json");
-  if (has_contact && wants(scene, "contact-csv")) files.push_back("contact.csv");
-  if (wants(scene, "displacement-csv")) files.push_back("displacement.csv");
-  if (wants(scene, "stress-csv")) files.push_back("stress.csv");
-  if (has_contact && wants(scene, "history-csv")) files.push_back("history.csv");
-  if (wants(scene, "vtu")) files.push_back("solution.vtu");
-  if (has_contact && wants(scene, "vtu")) files.push_back("contact-surface.vtu");
+  if (scene.writes("result-json")) files.push_back("result.json");
+  if (has_contact && scene.writes("contact-csv")) files.push_back("contact.csv");
+  if (scene.writes("displacement-csv")) files.push_back("displacement.csv");
+  if (scene.writes("stress-csv")) files.push_back("stress.csv");
+  if (has_contact && scene.writes("history-csv")) files.push_back("history.csv");
+  if (scene.writes("vtu")) files.push_back("solution.vtu");
+  if (has_contact && scene.writes("vtu")) files.push_back("contact-surface.vtu");
   files.push_back("scene.toml");
-  if (wants(scene, "deformed-png")) files.push_back("deformed.png");
-  if (has_contact && wants(scene, "pressure-png")) files.push_back("pressure.png");
+  if (scene.writes("deformed-png")) files.push_back("deformed.png");
+  if (has_contact && scene.writes("pressure-png")) files.push_back("pressure.png");
   for (auto& name : path_files(scene, has_contact)) files.push_back(std::move(name));
   if (scene.adapt) {  // an adaptive solve: its final mesh is solution.vtu's
-    if (wants(scene, "adapt-png")) files.push_back("adapt.png");
-    if (wants(scene, "vtu")) files.push_back("adapt.pvd");
+    if (scene.writes("adapt-png")) files.push_back("adapt.png");
+    if (scene.writes("vtu")) files.push_back("adapt.pvd");
   }
   return files;
 }

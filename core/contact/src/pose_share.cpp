@@ -328,21 +328,25 @@ void gather_coordinates(const RowDistribution& rows, const FullSpaceShare& share
 /// The balance of forces of the whole problem from each process's balance of its own vertices
 /// (force_balance_of_vertices), added up in the order of the processes (collective): the same on
 /// each. The contact's resultant and `internal` are `mine`'s, made of the whole contact table.
+// Collective: the sum of every process's `mine` (of one length on all), added in rank order so
+// that every process gets the same bits.
+Eigen::VectorXd summed_in_rank_order(const Eigen::VectorXd& mine, const RowDistribution& rows) {
+  const Eigen::VectorXd all = rows.all_gather(mine);
+  if (mine.size() == 0 || all.size() % mine.size() != 0) throw InternalError("the processes' sums differ in length");
+  Eigen::VectorXd sum = Eigen::VectorXd::Zero(mine.size());
+  for (Eigen::Index at = 0; at < all.size(); at += mine.size()) sum += all.segment(at, mine.size());
+  return sum;
+}
+
 template <int dim>
 BasicForceBalance<PointOf<dim>> added_balance(BasicForceBalance<PointOf<dim>> mine, const RowDistribution& rows) {
   const auto parts = static_cast<Eigen::Index>(1 + mine.reactions.size());
   Eigen::VectorXd sent(dim * parts);
   sent.head<dim>() = mine.applied;
   for (Eigen::Index k = 1; k < parts; ++k) sent.segment<dim>(dim * k) = mine.reactions[static_cast<std::size_t>(k - 1)].force;
-  const Eigen::VectorXd all = rows.all_gather(sent);
-  if (all.size() % sent.size() != 0) throw InternalError("the processes' balances of forces differ in length");
-  mine.applied.setZero();
-  for (auto& r : mine.reactions) r.force.setZero();
-  for (Eigen::Index at = 0; at < all.size(); at += sent.size()) {
-    mine.applied += all.segment<dim>(at);
-    for (Eigen::Index k = 1; k < parts; ++k)
-      mine.reactions[static_cast<std::size_t>(k - 1)].force += all.segment<dim>(at + dim * k);
-  }
+  const Eigen::VectorXd sum = summed_in_rank_order(sent, rows);
+  mine.applied = sum.head<dim>();
+  for (Eigen::Index k = 1; k < parts; ++k) mine.reactions[static_cast<std::size_t>(k - 1)].force = sum.segment<dim>(dim * k);
   return mine;
 }
 
@@ -462,10 +466,7 @@ PointOf<dim> FullSpaceShares<dim>::applied(const BasicElasticityProblem<dim>& at
   PointOf<dim> mine = PointOf<dim>::Zero();
   for (Eigen::Index d = static_cast<Eigen::Index>(dim) * first; d < static_cast<Eigen::Index>(dim) * end; ++d)
     mine(d % dim) += f(d);
-  const Eigen::VectorXd all = impl_->rows->all_gather(Eigen::VectorXd(mine));
-  PointOf<dim> sum = PointOf<dim>::Zero();
-  for (Eigen::Index at_process = 0; at_process < all.size(); at_process += dim) sum += all.segment<dim>(at_process);
-  return sum;
+  return summed_in_rank_order(Eigen::VectorXd(mine), *impl_->rows);
 }
 
 template <int dim>

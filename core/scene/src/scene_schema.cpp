@@ -1195,6 +1195,10 @@ bool operator==(const ScenePath& a, const ScenePath& b) {
   return a.t == b.t && (!a.t.empty() || a.steps == b.steps) && a.frames == b.frames;
 }
 
+bool Scene::writes(std::string_view output) const {
+  return std::find(outputs.begin(), outputs.end(), output) != outputs.end();
+}
+
 std::string Scene::where(const std::string& key) const {
   auto it = lines.find(key);
   if (it == lines.end() || it->second <= 0) return source;

@@ -354,6 +354,8 @@ struct Scene {
 
   /// "source:line" for a key read from the source, else "source".
   std::string where(const std::string& key) const;
+  /// Whether output.write names `output` (one of scene_output_names()).
+  bool writes(std::string_view output) const;
   /// 2, or 3 for a three-dimensional scene (SceneMesh::dimension).
   int dimension() const noexcept { return mesh.dimension; }
 };
