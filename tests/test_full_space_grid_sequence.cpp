@@ -242,8 +242,11 @@ TEST(GridSequence, AGivenStartOrMeshRunsNoneAndRefusesACount) {
 TEST(GridSequence, TheCommandRecordsTheCoarserGridsAndRefusesACountByKey) {
   const std::filesystem::path out = test::scratch("grid-sequence");
   const test::CommandRun run = test::run_hemivem(
-      "solve --n 32 --linear petsc-gamg -q --set solver.grid_sequence=1 --out " + out.string());
+      "solve --n 32 --linear petsc-gamg --set solver.grid_sequence=1 --out " + out.string());
   ASSERT_EQ(run.code, 0) << run.err;
+  // the summary names the coarser grid and its time
+  EXPECT_NE(run.out.find("\n  coarser grids n = 16: 510 unknowns, "), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find(", grid_sequence "), std::string::npos) << run.out;
   const auto r = nlohmann::json::parse(test::slurp(out / "result.json"));
   ASSERT_EQ(r.at("full_space").at("grid_sequence").size(), 1u) << r["full_space"].dump();
   EXPECT_EQ(r["full_space"]["grid_sequence"][0]["n"], "16");

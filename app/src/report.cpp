@@ -31,6 +31,14 @@ void engines_and_stages(std::ostream& out, const BasicSceneSolve<dim>& solved, c
       << "  stages        ";
   for (std::size_t i = 0; i < sol.stages.size(); ++i) out << (i ? ", " : "") << sol.stages[i];
   out << "\n";
+  // the coarser grids of a grid sequence, coarsest first (BasicSceneSolve::grid_sequence)
+  for (std::size_t i = 0; i < solved.grid_sequence.size(); ++i) {
+    const nlohmann::json& g = solved.grid_sequence[i];
+    out << (i ? "                " : "  coarser grids ") << "n = " << g.at("n").get<std::string>() << ": "
+        << g.at("unknowns").get<int>() << " unknowns, " << g.at("newton_iterations").get<int>() << " Newton / "
+        << g.at("krylov_iterations").get<int>() << " Krylov iterations, " << g.at("seconds").get<double>() << " s"
+        << (g.at("converged").get<bool>() ? "" : ", not converged") << "\n";
+  }
 }
 
 template <int dim>
@@ -157,7 +165,7 @@ template <int dim>
 void energy_and_time(std::ostream& out, const BasicSceneSolve<dim>& solved) {
   const auto& sol = solved.solution;
   out << "  energy        potential " << sol.energy << "\n  time [s]      mesh " << solved.mesh_seconds;
-  for (const char* k : {"assembly", "linear_solve", "condensation", "condition", "minimize", "back_substitution", "posing",
+  for (const char* k : {"grid_sequence", "assembly", "linear_solve", "condensation", "condition", "minimize", "back_substitution", "posing",
                         "full_space", "path", "frames",
                       "estimate"})
     if (sol.timings.count(k)) out << ", " << k << " " << sol.timings.at(k);
