@@ -1,4 +1,5 @@
 #include <hemivem/app/adapt.hpp>
+#include "scene_setup.hpp"
 
 #include <hemivem/app/vtu.hpp>
 #include <hemivem/error.hpp>
@@ -103,9 +104,6 @@ std::optional<std::pair<AdaptStop, std::string>> too_large(const Scene& scene, c
   return std::nullopt;
 }
 
-SceneSolve solve_step(const Scene& scene, SceneSolveOptions o) { return solve_scene(scene, std::move(o)); }
-SceneSolve3D solve_step(const Scene& scene, SceneSolve3DOptions o) { return solve_scene_3d(scene, std::move(o)); }
-
 std::string percent(double x) {
   std::ostringstream o;
   o << std::setprecision(3) << 100.0 * x << " %";
@@ -160,7 +158,7 @@ BasicAdaptiveSolve<dim> adapt_scene(const Scene& scene, const SceneAdapt& adapt,
       o.mesh_description = base + ", refined adaptively in " + std::to_string(step) + " steps";
       if constexpr (dim == 2) o.apply_region_boxes = false;  // the children inherit their parents' regions
     }
-    out.last = solve_step(scene, std::move(o));
+    out.last = detail::solve_scene_of(scene, std::move(o));
     const BasicSceneSolve<dim>& s = out.last;
     if (keep_steps && s.holds_results) {  // the process that writes
       std::ostringstream vtu;

@@ -1,37 +1,20 @@
 // A static solve's start from the scene's coarser grids (solver.grid_sequence,
 // hemivem/scene/grid_sequence.hpp, docs/full-space.md).
+#include "result_json_common.hpp"
 #include "scene_setup.hpp"
 
-#include <hemivem/app/solve3d.hpp>
-#include <hemivem/mesh/finer_grid.hpp>
-#include <hemivem/scene/grid_sequence.hpp>
-
 #include <hemivem/error.hpp>
+#include <hemivem/scene/grid_sequence.hpp>
 
 #include <chrono>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace hemivem::app::detail {
-namespace {
 
-SceneSolve solve_grid(const Scene& scene, Eigen::VectorXd start) {
-  SceneSolveOptions o;
-  o.start = std::move(start);
-  return solve_scene(scene, std::move(o));
-}
-
-SceneSolve3D solve_grid3(const Scene& scene, Eigen::VectorXd start) {
-  SceneSolve3DOptions o;
-  o.start = std::move(start);
-  return solve_scene_3d(scene, std::move(o));
-}
-
-// The scene's grid of boxes, to carry values from.
-GridSize grid_of(const Scene& scene, std::integral_constant<int, 2>) { return scene.mesh.cells(); }
-GridSize3 grid_of(const Scene& scene, std::integral_constant<int, 3>) { return scene.mesh.cells3(); }
-
-}  // namespace
+SceneSolve solve_scene_of(const Scene& scene, SceneSolveOptions o) { return solve_scene(scene, std::move(o)); }
+SceneSolve3D solve_scene_of(const Scene& scene, SceneSolve3DOptions o) { return solve_scene_3d(scene, std::move(o)); }
 
 template <int dim>
 Eigen::VectorXd grid_sequence_start(const Scene& scene, const SceneEngines& e, BasicSceneSolve<dim>& s,
@@ -47,22 +30,17 @@ Eigen::VectorXd grid_sequence_start(const Scene& scene, const SceneEngines& e, B
   Eigen::VectorXd start;
   for (auto grid = grids.rbegin(); grid != grids.rend(); ++grid) {
     const auto started = std::chrono::steady_clock::now();
-    const BasicSceneSolve<dim> coarse = [&] {
-      if constexpr (dim == 2)
-        return solve_grid(*grid, std::move(start));
-      else
-        return solve_grid3(*grid, std::move(start));
-    }();
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    std::conditional_t<dim == 2, SceneSolveOptions, SceneSolve3DOptions> o;
+    o.start = std::move(start);
+    const BasicSceneSolve<dim> coarse = solve_scene_of(*grid, std::move(o));
     const BasicContactSolution<dim>& u = coarse.solution;
-    s.grid_sequence.push_back({{"n", dim == 3 ? grid->mesh.cells3().text() : grid->mesh.cells().text()},
-                               {"unknowns", u.unknowns},
-                               {"converged", u.converged()},
-                               {"newton_iterations", u.full_space ? u.full_space->newton_iterations : 0},
-                               {"krylov_iterations", u.full_space ? u.full_space->krylov_iterations : 0},
-                               {"preconditioner_setups", u.full_space ? u.full_space->preconditioner_setups : 0},
-                               {"seconds", seconds}});
-    start = values_on_finer_grid(u.u, grid_of(*grid, std::integral_constant<int, dim>{}), dim);
+    nlohmann::json record = u.full_space ? full_space_counts_json(*u.full_space) : nlohmann::json::object();
+    record["n"] = grid->mesh.n_text();
+    record["unknowns"] = u.unknowns;
+    record["converged"] = u.converged();
+    record["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    s.grid_sequence.push_back(std::move(record));
+    start = carried_onto_finer_grid(*grid, u.u);
   }
   return start;
 }

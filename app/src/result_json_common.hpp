@@ -21,6 +21,14 @@ double timing(const Solution& s, const std::string& stage) {
   return it == s.timings.end() ? 0.0 : it->second;
 }
 
+/// The full-space route's counts as result.json's full_space writes them (and each grid of its
+/// grid_sequence): newton_iterations, krylov_iterations, preconditioner_setups.
+inline nlohmann::json full_space_counts_json(const FullSpaceStatistics& f) {
+  return {{"newton_iterations", f.newton_iterations},
+          {"krylov_iterations", f.krylov_iterations},
+          {"preconditioner_setups", f.preconditioner_setups}};
+}
+
 /// result.json's common keys of a solution `s` (ContactSolution or ContactSolution3D).
 template <class Solution>
 nlohmann::json result_json_common(const Solution& s, const RunInfo& info, int dimension) {
@@ -50,11 +58,12 @@ nlohmann::json result_json_common(const Solution& s, const RunInfo& info, int di
   j["iterations"] = s.iterations();
   j["evaluations"] = {{"function", s.minimizer ? s.minimizer->function_evaluations : 0},
                       {"subgradient", s.minimizer ? s.minimizer->subgradient_evaluations : 0}};
-  j["full_space"] = s.full_space ? json{{"newton_iterations", s.full_space->newton_iterations},
-                                        {"krylov_iterations", s.full_space->krylov_iterations},
-                                        {"preconditioner_setups", s.full_space->preconditioner_setups},
-                                        {"grid_sequence", info.grid_sequence}}
-                                  : json(nullptr);
+  if (s.full_space) {
+    j["full_space"] = full_space_counts_json(*s.full_space);
+    j["full_space"]["grid_sequence"] = info.grid_sequence;
+  } else {
+    j["full_space"] = nullptr;
+  }
   j["stages"] = s.stages;
   json t = json::object();
   for (const auto& [k, v] : s.timings) t[k] = number(v);

@@ -21,6 +21,7 @@
 #include "bodies.hpp"
 #include "output_run.hpp"
 #include <hemivem/app/solve.hpp>
+#include <hemivem/app/solve3d.hpp>
 #include <hemivem/nonsmooth_minimizer.hpp>
 #include <hemivem/scene/scene.hpp>
 #include <hemivem/sparse_factorization.hpp>
@@ -245,6 +246,11 @@ void add_contact_parts(RunInfo& info, const std::vector<BasicContactPart<dim>>& 
                    scene.where(scene.lines.count("clamped") ? "clamped" : scene.lines.count("dirichlet") ? "dirichlet" : ""))
       .mark_about(e.about());
 }
+
+/// solve_scene or solve_scene_3d, chosen by the options' type (code written once for the
+/// dimension: an adaptive step, a grid of a grid sequence).
+SceneSolve solve_scene_of(const Scene& scene, SceneSolveOptions o);
+SceneSolve3D solve_scene_of(const Scene& scene, SceneSolve3DOptions o);
 
 /// The start of a static solve on the scene's own mesh (e.scene_mesh) from its grid sequence
 /// (e.grid_levels coarser grids, hemivem/scene/grid_sequence.hpp): the scene solved on the

@@ -4,6 +4,7 @@
 #include <string>
 
 #include <hemivem/error.hpp>
+#include <hemivem/mesh/finer_grid.hpp>
 #include <hemivem/scene/scene_pieces.hpp>
 
 namespace hemivem {
@@ -52,7 +53,7 @@ int grid_sequence_levels(const Scene& scene, bool full_space, bool path) {
            "one body whose supports, loads and contact select sides, without region boxes or adaptive steps");
   const int most = halvings(scene, 1);
   if (asked > most)
-    refuse("mesh.n = " + (scene.dimension() == 3 ? scene.mesh.cells3().text() : scene.mesh.cells().text()) +
+    refuse("mesh.n = " + scene.mesh.n_text() +
            " halves exactly into " + std::to_string(most) + " coarser grid" + (most == 1 ? "" : "s") + " at most");
   return asked;
 }
@@ -69,6 +70,11 @@ Scene coarser_grid_scene(const Scene& scene) {
   if (m.nz) m.nz = half(*m.nz);
   coarse.solver.grid_sequence = 0;
   return coarse;
+}
+
+Eigen::VectorXd carried_onto_finer_grid(const Scene& grid, const Eigen::VectorXd& u) {
+  const int dim = grid.dimension();
+  return dim == 3 ? values_on_finer_grid(u, grid.mesh.cells3(), dim) : values_on_finer_grid(u, grid.mesh.cells(), dim);
 }
 
 }  // namespace hemivem

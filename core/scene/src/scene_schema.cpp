@@ -1173,7 +1173,7 @@ bool valid_body_name(const std::string& name) {
 
 std::string SceneMesh::description() const {
   if (!file.empty()) return file.string();
-  return generator + " n=" + (dimension == 3 ? cells3().text() : cells().text());
+  return generator + " n=" + n_text();
 }
 
 std::vector<double> ScenePath::factors() const {

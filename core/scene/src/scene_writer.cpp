@@ -101,7 +101,7 @@ void write_mesh(std::ostream& o, const SceneMesh& m, const std::string& at = "")
   else if (m.generator == "polar" && m.ny)  // always [radial, around]
     o << "n = [" << m.n << ", " << *m.ny << "]\n";
   else
-    o << "n = " << (m.dimension == 3 ? m.cells3().text() : m.cells().text()) << "\n";
+    o << "n = " << m.n_text() << "\n";
   o << "seed = " << m.seed << "\n";
   if (m.generator == "polar") {
     o << "center = " << list(m.center, fmt) << "\nradii = " << list(m.radii, fmt) << "\nangles = " << list(m.angles, fmt)

@@ -6,6 +6,8 @@
 // certified on its own grid.
 #pragma once
 
+#include <Eigen/Core>
+
 #include <hemivem/scene/scene.hpp>
 
 namespace hemivem {
@@ -25,5 +27,10 @@ int grid_sequence_levels(const Scene& scene, bool full_space, bool path);
 /// `scene` on the grid of half as many boxes along every axis (mesh.n halved), with no grid
 /// sequence of its own (solver.grid_sequence = 0). InternalError for an odd count.
 Scene coarser_grid_scene(const Scene& scene);
+
+/// A displacement `u` of the mesh of `grid` (a scene of coarser_grid_scene) carried onto the
+/// grid with twice as many boxes along every axis (values_on_finer_grid, dimension() numbers a
+/// vertex). InputError as values_on_finer_grid.
+Eigen::VectorXd carried_onto_finer_grid(const Scene& grid, const Eigen::VectorXd& u);
 
 }  // namespace hemivem

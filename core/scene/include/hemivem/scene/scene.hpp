@@ -105,6 +105,8 @@ struct SceneMesh {
   GridSize3 cells3() const { return ny && nz ? GridSize3(n, *ny, *nz) : GridSize3(n); }
   /// How the mesh is made, for reports: "squares n=64", "voronoi n=[32, 8]", or the file.
   std::string description() const;
+  /// mesh.n as a scene writes it: "64", "[32, 8]", "[8, 8, 4]" (cells() or cells3() by dimension).
+  std::string n_text() const { return dimension == 3 ? cells3().text() : cells().text(); }
   bool operator==(const SceneMesh&) const = default;
 };
 
