@@ -185,7 +185,10 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   options.reduced = o.export_reduced.empty() ? nullptr : &reduced;
   options.out = o.out;  // a path writes its steps there as it solves them
   const SceneRun run = run_scene(scene, std::move(options));
-  if (!run.holds_results()) return run.converged() ? kSuccess : kNotConverged;  // rank > 0: rank 0 reports
+  if (!run.holds_results()) {  // rank > 0: its piece of the solution where the mesh was made in pieces; rank 0 reports
+    run.write(o.out);
+    return run.converged() ? kSuccess : kNotConverged;
+  }
   if (!o.export_reduced.empty()) {
     if (!run.has_contact()) throw InputError("the scene has no contact boundary: there is no reduced problem", "--export-reduced");
     write_reduced_problem(o.export_reduced, reduced);

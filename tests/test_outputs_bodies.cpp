@@ -4,7 +4,11 @@
 // two-boxes-3d.toml are solved and written as the command writes them; every body's file is read
 // back here (its binary arrays decoded) and checked against displacement.csv, stress.csv and
 // result.json, which are written by other code; a later run that writes no VTU leaves none.
+// Last, the shares of solution.vtu that processes write as the pieces of solution.pvtu.
 #include <hemivem/app/run.hpp>
+#include <hemivem/app/solve.hpp>
+#include <hemivem/app/solve3d.hpp>
+#include <hemivem/app/vtu.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/scene/scene.hpp>
 
@@ -349,4 +353,86 @@ TEST(OutputsBodies, ABodyNameThatCannotNameAFileIsRefused) {
   EXPECT_NE(message.find("solution.body-NAME.vtu"), std::string::npos) << message;
   EXPECT_FALSE(fs::exists(dir));
   fs::remove_all(dir);
+}
+
+// ---- one process's share of solution.vtu (solution.piece-K.vtu of solution.pvtu) ---------
+
+/// The shares of three processes of the scene's solution.vtu (SolutionVtu::write_share of an
+/// even split of the vertices) hold each of the whole file's cells once, with its cell data,
+/// and at each of their points the whole file's point data at that point, bit for bit.
+template <class Solved>
+void expect_shares_make_the_whole(const Solved& s, const fs::path& dir) {
+  const auto& mesh = s.built->mesh;
+  const app::SolutionVtu vtu(mesh, s.built->problem.elasticity.materials, s.solution);
+  fs::create_directories(dir);
+  const auto write = [&](const std::string& name, const std::function<void(std::ostream&)>& body) {
+    {
+      std::ofstream os(dir / name, std::ios::binary);
+      body(os);
+    }
+    return read_vtu(dir / name);
+  };
+  const Vtu whole = write("whole.vtu", [&](std::ostream& os) { vtu.write(os); });
+  ASSERT_GT(whole.cells, 0u);
+  // the whole file's point data by the point's coordinates, its cells' by their data
+  std::map<std::vector<double>, std::vector<double>> at;
+  const std::vector<double> x = whole.values<double>("Points"), u = whole.values<double>("displacement");
+  for (std::size_t p = 0; p < whole.points; ++p)
+    at[{x[3 * p], x[3 * p + 1], x[3 * p + 2]}] = {u[3 * p], u[3 * p + 1], u[3 * p + 2]};
+  const auto cells_of = [](const Vtu& v) {
+    std::multiset<std::vector<double>> cells;
+    const std::vector<double> stress = v.values<double>("stress"), vm = v.values<double>("von_mises");
+    const std::vector<std::uint8_t> types = v.values<std::uint8_t>("types");
+    for (std::size_t c = 0; c < v.cells; ++c)
+      cells.insert({static_cast<double>(types[c]), stress[6 * c], stress[6 * c + 1], stress[6 * c + 2], stress[6 * c + 3],
+                    stress[6 * c + 4], stress[6 * c + 5], vm[c]});
+    return cells;
+  };
+  std::multiset<std::vector<double>> cells;
+  const int nv = mesh.num_vertices(), cut[] = {0, nv / 3, 2 * nv / 3, nv};
+  for (int k = 0; k < 3; ++k) {
+    SCOPED_TRACE("share " + std::to_string(k));
+    const Vtu share = write("piece-" + std::to_string(k) + ".vtu", [&](std::ostream& os) { vtu.write_share(os, cut[k], cut[k + 1]); });
+    EXPECT_GT(share.cells, 0u);
+    EXPECT_EQ(share.order, whole.order);  // the same arrays, in the same order
+    const std::vector<double> xs = share.values<double>("Points"), us = share.values<double>("displacement");
+    for (std::size_t p = 0; p < share.points; ++p) {
+      const auto it = at.find({xs[3 * p], xs[3 * p + 1], xs[3 * p + 2]});
+      ASSERT_NE(it, at.end()) << "point " << p;
+      EXPECT_EQ(it->second, (std::vector<double>{us[3 * p], us[3 * p + 1], us[3 * p + 2]})) << "point " << p;
+    }
+    for (const std::int64_t v : share.values<std::int64_t>("connectivity")) {
+      EXPECT_GE(v, 0);
+      EXPECT_LT(v, static_cast<std::int64_t>(share.points));
+    }
+    const auto mine = cells_of(share);
+    cells.insert(mine.begin(), mine.end());
+  }
+  EXPECT_EQ(cells, cells_of(whole));
+  // the pvtu names them and declares the whole file's arrays
+  std::ostringstream pvtu;
+  vtu.write_pieces(pvtu, {"piece-0.vtu", "piece-1.vtu", "piece-2.vtu"});
+  for (const auto& name : whole.order)
+    if (whole.arrays.at(name).section == "PointData" || whole.arrays.at(name).section == "CellData")
+      EXPECT_NE(pvtu.str().find("Name=\"" + name + "\""), std::string::npos) << name;
+  EXPECT_NE(pvtu.str().find("<Piece Source=\"piece-2.vtu\"/>"), std::string::npos) << pvtu.str();
+  EXPECT_EQ(test::input_error_of([&] { std::ostringstream os; vtu.write_share(os, 0, nv + 1); }),
+            "the vertices 0 to " + std::to_string(nv) + " are not a share of a mesh of " + std::to_string(nv) + " vertices");
+}
+
+TEST(OutputsShares, APlanesSharesHoldEachPolygonAndContactLineOnce) {
+  Scene scene = scene_of("paper-example-4.1.toml");
+  scene.mesh.n = 8;
+  scene.mesh.ny.reset();
+  scene.solver.linear = "eigen";
+  expect_shares_make_the_whole(app::solve_scene(scene), test::scratch("outputs-shares-plane"));
+}
+
+TEST(OutputsShares, ASolidsSharesHoldEachPolyhedronOnce) {
+  Scene scene = scene_of("example-4.1-3d.toml");
+  scene.mesh.n = 4;
+  scene.mesh.ny.reset();
+  scene.mesh.nz.reset();
+  scene.solver.linear = "eigen";
+  expect_shares_make_the_whole(app::solve_scene_3d(scene), test::scratch("outputs-shares-solid"));
 }

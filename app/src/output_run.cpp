@@ -25,6 +25,9 @@ bool contains(const std::vector<std::string>& names, const std::string& name) {
 // The steps of an earlier adaptive solve in `dir`: adapt-step-<digits>.vtu.
 std::vector<std::string> adapt_steps_in(const fs::path& dir) { return files_matching(dir, R"(adapt-step-[0-9]+\.vtu)"); }
 
+// The pieces of an earlier run's solution.pvtu in `dir`: solution.piece-<digits>.vtu.
+std::vector<std::string> vtu_pieces_in(const fs::path& dir) { return files_matching(dir, R"(solution\.piece-[0-9]+\.vtu)"); }
+
 // The files of an earlier run's bodies in `dir`: solution.body-<name>.vtu.
 std::vector<std::string> body_vtus_in(const fs::path& dir) { return files_matching(dir, R"(solution\.body-[A-Za-z0-9_-]+\.vtu)"); }
 
@@ -48,7 +51,10 @@ std::vector<std::string> owned_names(const fs::path& dir, const std::vector<std:
     if (!contains(owned, name)) owned.push_back(name);
   for (std::size_t k = 0; k < adapt_steps; ++k)
     if (!contains(owned, adapt_step_file(k))) owned.push_back(adapt_step_file(k));
-  if (!contains(owned, "solution.vtm")) owned.push_back("solution.vtm");
+  for (const char* name : {"solution.vtm", "solution.pvtu"})
+    if (!contains(owned, name)) owned.push_back(name);
+  for (const auto& name : vtu_pieces_in(dir))
+    if (!contains(owned, name)) owned.push_back(name);
   for (const auto& name : body_vtus_in(dir))
     if (!contains(owned, name)) owned.push_back(name);
   return owned;
@@ -83,9 +89,14 @@ void OutputRun::list(const RunInfo& info, const std::vector<std::string>& frames
     if (!want(k)) continue;
     if (k == "adapt.pvd" && info.adapt_steps)
       for (std::size_t step = 0; step < info.adapt_steps->size(); ++step) listed_.files.push_back(adapt_step_file(step));
-    if (fs::path(k).extension() != ".png") listed_.files.push_back(k);
-    else
+    if (k == "solution.vtu" && info.vtu_pieces > 0) {  // written in pieces: each process's, then the file naming them
+      for (int p = 0; p < info.vtu_pieces; ++p) listed_.files.push_back(vtu_piece_file(p));
+      listed_.files.push_back("solution.pvtu");
+    } else if (fs::path(k).extension() != ".png") {
+      listed_.files.push_back(k);
+    } else {
       for (const auto& format : info.figure_formats) listed_.files.push_back(fs::path(k).replace_extension(format).string());
+    }
     if (k == "solution.vtu" && !info.bodies.empty()) {  // each body's, then the multiblock naming them
       for (auto& file : body_vtu_files(info.bodies)) listed_.files.push_back(std::move(file));
       listed_.files.push_back("solution.vtm");
@@ -95,6 +106,8 @@ void OutputRun::list(const RunInfo& info, const std::vector<std::string>& frames
 }
 
 bool OutputRun::want(const std::string& name) const { return contains(wanted_, name); }
+
+std::string vtu_piece_file(int rank) { return "solution.piece-" + std::to_string(rank) + ".vtu"; }
 
 std::string adapt_step_file(std::size_t step) { return "adapt-step-" + std::to_string(step) + ".vtu"; }
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <functional>
@@ -133,10 +134,30 @@ class OutputRun;
 
 /// The files every solve writes, in either dimension, when wanted: result.json (`result` of the
 /// run's listed record), contact.csv, displacement.csv, stress.csv, history.csv and solution.vtu
-/// (with the error indicators), with several bodies each body's VTU and solution.vtm.
+/// (with the error indicators), with several bodies each body's VTU and solution.vtm. A solve
+/// written in pieces (info.vtu_pieces, write_outputs_in_pieces) has each process's piece in
+/// the staging folder already: solution.pvtu then names them, declared by `pieces`.
 template <class MeshType, int dim, class Result>
 void write_solve_files(OutputRun& run, const MeshType& mesh, const MaterialTable& materials,
-                       const BasicContactSolution<dim>& solution, const RunInfo& info, const Result& result);
+                       const BasicContactSolution<dim>& solution, const RunInfo& info, const Result& result,
+                       const SolutionVtu* pieces = nullptr);
+
+/// The piece of process `rank` of solution.pvtu: "solution.piece-3.vtu".
+std::string vtu_piece_file(int rank);
+
+/// write_outputs (either dimension; `contact_faces` a solid's, null for a plane), collective
+/// over the processes of a solve across processes whose mesh was made in pieces (the share
+/// [first, end) of this process's vertices, BasicSceneSolve::share): the first process opens
+/// the folder's transaction and every process writes its piece of solution.pvtu into it
+/// (SolutionVtu::write_share); the first then writes the other files and solution.pvtu, and
+/// commits. Every process calls it with the same `wanted`; it returns the first process's
+/// report, and an empty one on the others. A piece that cannot be written is an InputError on
+/// its process and on the first, and the folder keeps its previous outputs.
+template <class MeshType, int dim>
+OutputReport write_outputs_in_pieces(const std::filesystem::path& dir, const MeshType& mesh, const MaterialTable& materials,
+                                     const std::vector<int>* contact_faces, const BasicContactSolution<dim>& solution,
+                                     const RunInfo& info, const std::vector<std::string>& wanted,
+                                     const std::array<int, 2>& share);
 
 /// The file of body `body` of a scene of several in its output folder: "solution.body-upper.vtu".
 /// A name that cannot name a file so (other than 1 to 64 ASCII letters, digits, '-' or '_', as
@@ -215,13 +236,23 @@ class OutputRun {
 
 template <class MeshType, int dim, class Result>
 void write_solve_files(OutputRun& run, const MeshType& mesh, const MaterialTable& materials,
-                       const BasicContactSolution<dim>& solution, const RunInfo& info, const Result& result) {
+                       const BasicContactSolution<dim>& solution, const RunInfo& info, const Result& result,
+                       const SolutionVtu* pieces) {
   run.write("result.json", [&](std::ostream& os) { os << result(run.listed()).dump(2) << '\n'; });
   run.write("contact.csv", [&](std::ostream& os) { write_contact_csv(os, solution); });
   run.write("displacement.csv", [&](std::ostream& os) { write_displacement_csv(os, mesh, solution.u, info.bodies); });
   run.write("stress.csv", [&](std::ostream& os) { write_stress_csv(os, mesh, materials, solution.u); });
   run.write("history.csv", [&](std::ostream& os) { write_history_csv(os, solution); });
-  if (run.want("solution.vtu")) {  // the arrays made once for the whole and for each body
+  if (run.want("solution.vtu") && info.vtu_pieces > 0) {  // the processes' pieces, then the file naming them
+    if (!pieces) throw InternalError("solution.pvtu without its pieces");
+    std::vector<std::string> files;
+    for (int k = 0; k < info.vtu_pieces; ++k) {
+      files.push_back(vtu_piece_file(k));
+      run.report().written.push_back(run.dir() / files.back());
+    }
+    run.transaction().write("solution.pvtu", [&](std::ostream& os) { pieces->write_pieces(os, files); });
+    run.report().written.push_back(run.dir() / "solution.pvtu");
+  } else if (run.want("solution.vtu")) {  // the arrays made once for the whole and for each body
     const SolutionVtu vtu(mesh, materials, solution, info.error_estimate ? &info.error_estimate->indicators : nullptr);
     run.write("solution.vtu", [&](std::ostream& os) { vtu.write(os); });
     write_body_vtus(run, info, vtu);

@@ -12,13 +12,18 @@
 #include <hemivem/app/path.hpp>
 #include <hemivem/app/vtu.hpp>
 #include <hemivem/error.hpp>
+#include <hemivem/krylov_solver.hpp>
+#include <hemivem/row_distribution.hpp>
+#include <hemivem/support/atomic_file.hpp>
 #include <hemivem/mesh/poly2d.hpp>
 #include <hemivem/support/output_folder.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
 #include <memory>
 #include <optional>
 #include <ostream>
@@ -316,7 +321,8 @@ template <class MeshType, int dim>
 OutputReport write_outputs_of(const fs::path& dir, const MeshType& mesh, const MaterialTable& materials,
                               const std::vector<int>* contact_faces, const BasicContactSolution<dim>& solution,
                               const RunInfo& info, const std::vector<std::string>& wanted,
-                              detail::PathOutput<dim>* streamed = nullptr) {
+                              detail::PathOutput<dim>* streamed = nullptr, detail::OutputRun* opened = nullptr,
+                              const SolutionVtu* pieces = nullptr) {
   detail::require_known_outputs(wanted, all_outputs(dim), dim == 3 ? " of a three-dimensional solve" : "");
   if (solution.u.size() != dim * static_cast<Eigen::Index>(mesh.num_vertices()))
     throw InputError("the solution has " + std::to_string(solution.u.size()) + " values for " +
@@ -327,12 +333,12 @@ OutputReport write_outputs_of(const fs::path& dir, const MeshType& mesh, const M
   std::optional<detail::OutputRun> own;
   if (streamed) {
     streamed->run.list(info, streamed->files.frames());
-  } else {
+  } else if (!opened) {
     own.emplace(dir, all_outputs(dim), all_outputs(5 - dim), wanted, info, path ? frame_files(*path) : std::vector<std::string>());
   }
-  detail::OutputRun& run = streamed ? streamed->run : *own;
+  detail::OutputRun& run = streamed ? streamed->run : opened ? *opened : *own;
   auto result = [&](const RunInfo& listed) { return result_json(mesh, solution, listed); };
-  detail::write_solve_files(run, mesh, materials, solution, info, result);
+  detail::write_solve_files(run, mesh, materials, solution, info, result, pieces);
   if constexpr (dim == 3)
     run.write("contact-surface.vtu", [&](std::ostream& os) { write_contact_surface_vtu(os, mesh, *contact_faces, solution); });
   run.write("scene.toml", [&](std::ostream& os) { os << info.scene_toml; });
@@ -374,6 +380,91 @@ OutputReport write_outputs(const fs::path& dir, const Mesh3D& mesh, const Materi
                            const RunInfo& info, const std::vector<std::string>& wanted) {
   return write_outputs_of(dir, mesh, materials, &contact_faces, solution, info, wanted);
 }
+
+namespace detail {
+
+namespace {
+
+/// A text as values of a vector (one byte each), and back: what all_gather carries.
+Eigen::VectorXd bytes_of(const std::string& text) {
+  Eigen::VectorXd v(static_cast<Eigen::Index>(text.size()));
+  for (std::size_t k = 0; k < text.size(); ++k) v(static_cast<Eigen::Index>(k)) = static_cast<unsigned char>(text[k]);
+  return v;
+}
+std::string text_of(const Eigen::VectorXd& v) {
+  std::string text(static_cast<std::size_t>(v.size()), ' ');
+  for (Eigen::Index k = 0; k < v.size(); ++k) text[static_cast<std::size_t>(k)] = static_cast<char>(static_cast<int>(v(k)));
+  return text;
+}
+
+}  // namespace
+
+template <class MeshType, int dim>
+OutputReport write_outputs_in_pieces(const fs::path& dir, const MeshType& mesh, const MaterialTable& materials,
+                                     const std::vector<int>* contact_faces, const BasicContactSolution<dim>& solution,
+                                     const RunInfo& info, const std::vector<std::string>& wanted,
+                                     const std::array<int, 2>& share) {
+  const ProcessWorld world = krylov_world();
+  const bool writer = world.rank == 0;
+  if (info.vtu_pieces != world.size)
+    throw InternalError("solution.pvtu of " + std::to_string(info.vtu_pieces) + " pieces written by " +
+                        std::to_string(world.size) + " processes");
+  if (std::find(wanted.begin(), wanted.end(), "solution.vtu") == wanted.end()) {  // nothing in pieces: the first process writes, as in one
+    if (!writer) return {};
+    check_output_folder(dir);
+    return write_outputs_of(dir, mesh, materials, contact_faces, solution, info, wanted);
+  }
+  RowLayout one;  // one row per process: the collectives below
+  one.first = world.rank;
+  one.owned = 1;
+  one.global = world.size;
+  const std::unique_ptr<RowDistribution> rows = make_distributed_rows(one);
+  // the first process opens the folder's transaction, and every process learns its staging folder
+  std::optional<OutputRun> run;
+  std::exception_ptr failed;
+  if (writer) {
+    try {
+      check_output_folder(dir);
+      require_known_outputs(wanted, all_outputs(dim), dim == 3 ? " of a three-dimensional solve" : "");
+      run.emplace(dir, all_outputs(dim), all_outputs(5 - dim), wanted, info, std::vector<std::string>());
+    } catch (...) {
+      failed = std::current_exception();
+    }
+  }
+  const std::string staging = text_of(rows->all_gather(bytes_of(run ? run->transaction().staging().string() : "")));
+  if (staging.empty()) {  // the folder could not be opened: the first process says why
+    if (failed) std::rethrow_exception(failed);
+    return {};
+  }
+  // every process writes its piece into it, then all learn whether each could
+  const SolutionVtu vtu(mesh, materials, solution, info.error_estimate ? &info.error_estimate->indicators : nullptr);
+  const std::string file = vtu_piece_file(world.rank);
+  std::string why;
+  try {
+    write_file_atomically(fs::path(staging) / file, [&](std::ostream& os) { vtu.write_share(os, share[0], share[1]); });
+  } catch (const std::exception& e) {
+    why = e.what();
+  }
+  const Eigen::VectorXd unwritten = rows->all_gather(Eigen::VectorXd::Constant(1, why.empty() ? 0.0 : 1.0));
+  const std::string reach = " (each process writes its piece of solution.pvtu into the output folder's transaction, "
+                            "so the folder is on a file system every process reaches); " + previous_outputs_kept(dir);
+  if (!why.empty()) throw InputError("process " + std::to_string(world.rank) + " could not write " + file + ": " + why + reach, dir.string());
+  if (!writer) return {};
+  for (Eigen::Index k = 0; k < unwritten.size(); ++k)
+    if (unwritten(k) != 0.0)
+      throw InputError("process " + std::to_string(k) + " could not write " + vtu_piece_file(static_cast<int>(k)) + reach,
+                       dir.string());
+  return write_outputs_of<MeshType, dim>(dir, mesh, materials, contact_faces, solution, info, wanted, nullptr, &*run, &vtu);
+}
+
+template OutputReport write_outputs_in_pieces(const fs::path&, const Mesh&, const MaterialTable&, const std::vector<int>*,
+                                              const ContactSolution&, const RunInfo&, const std::vector<std::string>&,
+                                              const std::array<int, 2>&);
+template OutputReport write_outputs_in_pieces(const fs::path&, const Mesh3D&, const MaterialTable&, const std::vector<int>*,
+                                              const ContactSolution3D&, const RunInfo&, const std::vector<std::string>&,
+                                              const std::array<int, 2>&);
+
+}  // namespace detail
 
 namespace detail {
 

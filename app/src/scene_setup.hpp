@@ -161,6 +161,7 @@ RunInfo run_info_common(const Scene& scene, const Solved& solved) {
   info.mesh_seconds = solved.mesh_seconds;
   info.dofs = solved.solution.unknowns;
   info.mesh_pieces = solved.mesh_pieces;
+  info.vtu_pieces = solved.share ? solved.processes : 0;
   info.grid_sequence = solved.grid_sequence;
   info.processes = solved.processes;
   info.warnings = solved.warnings;
@@ -321,6 +322,7 @@ void solve_built(const Scene& scene, SceneEngines& e, Solved& s, ReducedProblem*
   // where the displacement is: on every process of the full-space route across processes, whose
   // adaptive steps refine alike (not on the ranks > 0 of mumps-mpi)
   estimate_solution<dim>(e, s, std::forward<Estimate>(estimate));
+  if (e.piece) s.share = std::array<int, 2>{e.piece->first_vertex, e.piece->end_vertex};
   make_results_mesh_whole<dim>(scene, e, s);
 }
 

@@ -252,15 +252,19 @@ RunInfo run_info(const Scene& scene, const SceneSolve& solved) {
 
 OutputReport write_results(const std::filesystem::path& dir, const Scene& scene, const SceneSolve& solved,
                            const std::vector<std::string>* files) {
+  if (!solved.holds_results && !solved.share) return {};  // another process writes
   const BuiltProblem& built = *solved.built;
   const RunInfo info = run_info(scene, solved);
   if (solved.path_output) {
     detail::require_path_output_folder(*solved.path_output, dir, files);
     return detail::write_path_outputs(*solved.path_output, built.mesh, built.problem.elasticity.materials, solved.solution, info);
   }
+  const std::vector<std::string> wanted = files ? *files : wanted_files(scene, built.has_contact);
+  if (solved.share)  // every process writes its piece of the solution
+    return detail::write_outputs_in_pieces(dir, built.mesh, built.problem.elasticity.materials, nullptr, solved.solution,
+                                           info, wanted, *solved.share);
   check_output_folder(dir);
-  return write_outputs(dir, built.mesh, built.problem.elasticity.materials, solved.solution, info,
-                       files ? *files : wanted_files(scene, built.has_contact));
+  return write_outputs(dir, built.mesh, built.problem.elasticity.materials, solved.solution, info, wanted);
 }
 
 }  // namespace hemivem::app

@@ -78,6 +78,7 @@ RunInfo run_info(const Scene& scene, const SceneSolve3D& solved) {
 
 OutputReport write_results(const std::filesystem::path& dir, const Scene& scene, const SceneSolve3D& solved,
                               const std::vector<std::string>* files) {
+  if (!solved.holds_results && !solved.share) return {};  // another process writes
   const BuiltProblem3D& built = *solved.built;
   const RunInfo info = run_info(scene, solved);
   if (solved.path_output) {
@@ -85,9 +86,13 @@ OutputReport write_results(const std::filesystem::path& dir, const Scene& scene,
     return detail::write_path_outputs(*solved.path_output, built.mesh, built.problem.elasticity.materials,
                                       contact_faces(built.problem), solved.solution, info);
   }
+  const std::vector<std::string> wanted = files ? *files : wanted_files(scene, built.has_contact);
+  const std::vector<int> faces = contact_faces(built.problem);
+  if (solved.share)  // every process writes its piece of the solution
+    return detail::write_outputs_in_pieces(dir, built.mesh, built.problem.elasticity.materials, &faces, solved.solution,
+                                           info, wanted, *solved.share);
   check_output_folder(dir);
-  return write_outputs(dir, built.mesh, built.problem.elasticity.materials, contact_faces(built.problem),
-                          solved.solution, info, files ? *files : wanted_files(scene, built.has_contact));
+  return write_outputs(dir, built.mesh, built.problem.elasticity.materials, faces, solved.solution, info, wanted);
 }
 
 }  // namespace hemivem::app

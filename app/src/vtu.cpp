@@ -1,7 +1,8 @@
 // solution.vtu and contact-surface.vtu (vtu.hpp): the file, its points, point data and cell data
 // are written once for plane and solid bodies; the cells are each dimension's own (polygons and
 // contact lines, or polyhedra). The arrays are made once over the whole mesh and written for a
-// range of its points and cells: the whole, or one body of several (solution.body-NAME.vtu).
+// selection of its points and cells: the whole, one body of several (solution.body-NAME.vtu) or
+// one process's share (solution.piece-K.vtu of solution.pvtu).
 #include <hemivem/app/vtu.hpp>
 
 #include <hemivem/app/outputs.hpp>
@@ -14,6 +15,7 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <numeric>
 #include <memory>
 #include <ostream>
 #include <string>
@@ -49,19 +51,22 @@ void file_tail(std::ostream& os) {
      << "</VTKFile>\n";
 }
 
-/// The points, three coordinates each (z = 0 in the plane): `count` of them from `first`.
+/// The points `which` of `points`, three coordinates each (z = 0 in the plane).
 template <class Point>
-void write_points(std::ostream& os, const std::vector<Point>& points, std::size_t first, std::size_t count) {
-  std::vector<double> xyz(3 * count, 0.0);
-  for (std::size_t v = 0; v < count; ++v)
-    for (int c = 0; c < Point::RowsAtCompileTime; ++c) xyz[3 * v + static_cast<std::size_t>(c)] = points[first + v](c);
+void write_points(std::ostream& os, const std::vector<Point>& points, const std::vector<int>& which) {
+  std::vector<double> xyz(3 * which.size(), 0.0);
+  for (std::size_t v = 0; v < which.size(); ++v)
+    for (int c = 0; c < Point::RowsAtCompileTime; ++c)
+      xyz[3 * v + static_cast<std::size_t>(c)] = points[static_cast<std::size_t>(which[v])](c);
   os << "      <Points>\n";
   data_array(os, "Points", 3, xyz);
   os << "      </Points>\n";
 }
 template <class Point>
 void write_points(std::ostream& os, const std::vector<Point>& points) {
-  write_points(os, points, 0, points.size());
+  std::vector<int> all(points.size());
+  std::iota(all.begin(), all.end(), 0);
+  write_points(os, points, all);
 }
 
 /// The cells of a mesh: VTK's connectivity, offsets and types, and for polyhedra their faces;
@@ -76,45 +81,104 @@ struct Cells {
   }
 };
 
-/// Vertex v of the mesh as a point of the piece `piece` (numbered from its first vertex); an
-/// InternalError when a cell of the piece reaches outside its vertices.
-std::int64_t point_of(const BodyRange& piece, int v, int cell) {
-  if (!piece.has_vertex(v))
-    throw InternalError("cell " + std::to_string(cell) + " of '" + piece.name + "' has the vertex " + std::to_string(v) +
-                        ", not one of its vertices " + std::to_string(piece.first_vertex) + " to " +
-                        std::to_string(piece.first_vertex + piece.vertices - 1));
-  return v - piece.first_vertex;
+/// What one file of solution.vtu writes of a mesh: its points (the mesh's vertices, in order)
+/// and its cells (the mesh's), a plane's contact lines after them, and each vertex's point.
+struct Selection {
+  std::string name;                          ///< for messages: "'upper'", "the share of the vertices 0 to 99"
+  std::vector<int> points, cells;
+  std::vector<std::array<int, 2>> lines;     ///< a plane's contact lines (their ends are points)
+  std::vector<std::int64_t> point;           ///< each vertex of the mesh: its point, or -1
+  void number_points(std::size_t vertices) {
+    point.assign(vertices, -1);
+    for (std::size_t k = 0; k < points.size(); ++k) point[static_cast<std::size_t>(points[k])] = static_cast<std::int64_t>(k);
+  }
+};
+
+/// Vertex v of the mesh as a point of `s`; an InternalError when a cell of `s` reaches outside
+/// its points.
+std::int64_t point_of(const Selection& s, int v, int cell) {
+  const std::int64_t p = s.point[static_cast<std::size_t>(v)];
+  if (p < 0)
+    throw InternalError("cell " + std::to_string(cell) + " of " + s.name + " has the vertex " + std::to_string(v) +
+                        ", not one of its vertices");
+  return p;
 }
 
-/// A plane's polygons of `piece`, then the contact lines whose both ends are its points.
-Cells cells_of(const Mesh& mesh, const ContactSolution& sol, const BodyRange& piece) {
+/// The vertices of a cell of either mesh.
+auto vertices_of(const Mesh& mesh, int e) { return mesh.element(e); }
+std::vector<int> vertices_of(const Mesh3D& mesh, int c) { return mesh.cell_vertices(c); }
+
+/// The points and cells of `body` (a consecutive range of each of the mesh's): a plane's
+/// contact lines whose two ends are its points follow its polygons.
+template <class MeshType, int dim>
+Selection body_selection(const MeshType& mesh, const BasicContactSolution<dim>& sol, const BodyRange& body) {
+  Selection s;
+  s.name = "'" + body.name + "'";
+  for (int v = body.first_vertex; v < body.first_vertex + body.vertices; ++v) s.points.push_back(v);
+  for (int c = body.first_cell; c < body.first_cell + body.cells; ++c) s.cells.push_back(c);
+  if constexpr (dim == 2)
+    for (const auto& l : contact_lines(mesh, sol))
+      if (body.has_vertex(l[0]) && body.has_vertex(l[1])) s.lines.push_back(l);
+  s.number_points(static_cast<std::size_t>(mesh.num_vertices()));
+  return s;
+}
+
+/// The share of the vertices [first, end): the cells whose smallest vertex is one of them and
+/// a plane's contact lines whose smaller end is, with every point they reach (in the mesh's
+/// order). The shares of a split of the vertices hold each cell and line once.
+template <class MeshType, int dim>
+Selection share_selection(const MeshType& mesh, const BasicContactSolution<dim>& sol, int first, int end) {
+  Selection s;
+  s.name = "the share of the vertices " + std::to_string(first) + " to " + std::to_string(end - 1);
+  const auto nv = static_cast<std::size_t>(mesh.num_vertices());
+  std::vector<char> used(nv, 0);
+  const auto owned = [first, end](int v) { return first <= v && v < end; };
+  for (int c = 0; c < num_cells(mesh); ++c) {
+    const auto& vs = vertices_of(mesh, c);
+    if (vs.empty() || !owned(*std::min_element(vs.begin(), vs.end()))) continue;
+    s.cells.push_back(c);
+    for (int v : vs) used[static_cast<std::size_t>(v)] = 1;
+  }
+  if constexpr (dim == 2)
+    for (const auto& l : contact_lines(mesh, sol))
+      if (owned(std::min(l[0], l[1]))) {
+        s.lines.push_back(l);
+        used[static_cast<std::size_t>(l[0])] = used[static_cast<std::size_t>(l[1])] = 1;
+      }
+  for (std::size_t v = 0; v < nv; ++v)
+    if (used[v]) s.points.push_back(static_cast<int>(v));
+  s.number_points(nv);
+  return s;
+}
+
+/// A plane's polygons of `s`, then its contact lines.
+Cells cells_of(const Mesh& mesh, const Selection& s) {
   Cells cells;
-  for (int e = piece.first_cell; e < piece.first_cell + piece.cells; ++e) {
-    for (int v : mesh.element(e)) cells.connectivity.push_back(point_of(piece, v, e));
+  for (int e : s.cells) {
+    for (int v : mesh.element(e)) cells.connectivity.push_back(point_of(s, v, e));
     cells.close(7);  // VTK_POLYGON
   }
-  for (const auto& l : contact_lines(mesh, sol)) {
-    if (!piece.has_vertex(l[0]) || !piece.has_vertex(l[1])) continue;
-    cells.connectivity.insert(cells.connectivity.end(), {l[0] - piece.first_vertex, l[1] - piece.first_vertex});
+  for (const auto& l : s.lines) {
+    cells.connectivity.insert(cells.connectivity.end(), {point_of(s, l[0], -1), point_of(s, l[1], -1)});
     cells.close(3);  // VTK_LINE: Gamma_3
     ++cells.contact_lines;
   }
   return cells;
 }
 
-/// A solid's cells of `piece` as VTK_POLYHEDRON: the cell's points, and its faces as [number of
+/// A solid's cells of `s` as VTK_POLYHEDRON: the cell's points, and its faces as [number of
 /// faces, then per face its number of points and their ids], each face counter-clockwise seen
 /// from outside.
-Cells cells_of(const Mesh3D& mesh, const ContactSolution3D&, const BodyRange& piece) {
+Cells cells_of(const Mesh3D& mesh, const Selection& s) {
   Cells cells;
-  for (int c = piece.first_cell; c < piece.first_cell + piece.cells; ++c) {
-    for (int v : mesh.cell_vertices(c)) cells.connectivity.push_back(point_of(piece, v, c));
+  for (int c : s.cells) {
+    for (int v : mesh.cell_vertices(c)) cells.connectivity.push_back(point_of(s, v, c));
     cells.close(42);
     const CellFaces loops = mesh.cell(c);
     cells.faces.push_back(static_cast<std::int64_t>(loops.size()));
     for (const auto& loop : loops) {
       cells.faces.push_back(static_cast<std::int64_t>(loop.size()));
-      for (int v : loop) cells.faces.push_back(point_of(piece, v, c));
+      for (int v : loop) cells.faces.push_back(point_of(s, v, c));
     }
     cells.faceoffsets.push_back(static_cast<std::int64_t>(cells.faces.size()));
   }
@@ -233,49 +297,55 @@ void add_cell_data(Fields& f, const MeshType& mesh, const MaterialTable& materia
   if (indicators && indicators->size() == nc) f.cell.push_back({"error_indicator", 1, *indicators});
 }
 
-/// A field's values of `count` points or cells from `first`, then `lines` times its value on
-/// the contact lines.
-void write_field(std::ostream& os, const Field& f, std::size_t first, std::size_t count, std::size_t lines = 0) {
+/// A field's values of the points or cells `which`, then `lines` times its value on the
+/// contact lines.
+void write_field(std::ostream& os, const Field& f, const std::vector<int>& which, std::size_t lines = 0) {
   std::visit(
       [&](const auto& all) {
         using T = typename std::decay_t<decltype(all)>::value_type;
         const auto w = static_cast<std::size_t>(f.width);
-        std::vector<T> part(all.begin() + static_cast<std::ptrdiff_t>(w * first),
-                            all.begin() + static_cast<std::ptrdiff_t>(w * (first + count)));
-        part.resize(w * (count + lines), static_cast<T>(f.on_lines));
+        std::vector<T> part;
+        part.reserve(w * (which.size() + lines));
+        for (const int k : which)
+          for (std::size_t c = 0; c < w; ++c) part.push_back(all[w * static_cast<std::size_t>(k) + c]);
+        part.resize(w * (which.size() + lines), static_cast<T>(f.on_lines));
         data_array(os, f.name, f.width, part);
       },
       f.values);
 }
 
-/// solution.vtu of `piece`: its points (numbered from its first), its cells, and the arrays
-/// `fields` restricted to them.
-template <class MeshType, int dim>
-void write_piece(std::ostream& os, const MeshType& mesh, const BasicContactSolution<dim>& sol, const Fields& fields,
-                 const BodyRange& piece) {
-  const Cells cells = cells_of(mesh, sol, piece);
-  const auto first = static_cast<std::size_t>(piece.first_vertex), count = static_cast<std::size_t>(piece.vertices);
-  file_head(os, count, cells.types.size());
-  write_points(os, mesh.vertices(), first, count);
-  write_cells(os, cells, dim == 3);
+/// The VTK type of a field's values.
+const char* vtk_type_of(const Field& f) {
+  return std::visit([](const auto& all) { return detail::vtk_type<typename std::decay_t<decltype(all)>::value_type>(); },
+                    f.values);
+}
+
+/// One file of solution.vtu: the points and cells `s` selects, and the arrays `fields`
+/// restricted to them.
+template <class MeshType>
+void write_selection(std::ostream& os, const MeshType& mesh, const Fields& fields, const Selection& s) {
+  constexpr bool solid = std::is_same_v<MeshType, Mesh3D>;
+  const Cells cells = cells_of(mesh, s);
+  file_head(os, s.points.size(), cells.types.size());
+  write_points(os, mesh.vertices(), s.points);
+  write_cells(os, cells, solid);
   os << "      <PointData Vectors=\"displacement\">\n";
-  for (const Field& f : fields.point) write_field(os, f, first, count);
+  for (const Field& f : fields.point) write_field(os, f, s.points);
   os << "      </PointData>\n";
   os << "      <CellData Tensors=\"stress\" Scalars=\"von_mises\">\n";
-  for (const Field& f : fields.cell)
-    write_field(os, f, static_cast<std::size_t>(piece.first_cell), static_cast<std::size_t>(piece.cells),
-                cells.contact_lines);
+  for (const Field& f : fields.cell) write_field(os, f, s.cells, cells.contact_lines);
   os << "      </CellData>\n";
   file_tail(os);
 }
 
 }  // namespace
 
-/// The arrays, made once, and the writer of a piece of the mesh.
+/// The arrays, made once, and the writers of a body's file and of a share's.
 struct SolutionVtu::Impl {
   Fields fields;
   BodyRange whole;
-  std::function<void(std::ostream&, const Fields&, const BodyRange&)> piece;
+  std::function<void(std::ostream&, const Fields&, const BodyRange&)> body;
+  std::function<void(std::ostream&, const Fields&, int, int)> share;
 };
 
 template <class MeshType, int dim>
@@ -290,8 +360,11 @@ std::unique_ptr<const SolutionVtu::Impl> SolutionVtu::make(const MeshType& mesh,
   add_point_data(impl->fields, nv, sol);
   add_cell_data(impl->fields, mesh, materials, sol, indicators);
   impl->whole = BodyRange{"the mesh", 0, mesh.num_vertices(), 0, num_cells(mesh)};
-  impl->piece = [&mesh, &sol](std::ostream& os, const Fields& f, const BodyRange& piece) {
-    write_piece(os, mesh, sol, f, piece);
+  impl->body = [&mesh, &sol](std::ostream& os, const Fields& f, const BodyRange& body) {
+    write_selection(os, mesh, f, body_selection(mesh, sol, body));
+  };
+  impl->share = [&mesh, &sol](std::ostream& os, const Fields& f, int first, int end) {
+    write_selection(os, mesh, f, share_selection(mesh, sol, first, end));
   };
   return impl;
 }
@@ -306,7 +379,7 @@ SolutionVtu::SolutionVtu(const Mesh3D& mesh, const MaterialTable& materials, con
 
 SolutionVtu::~SolutionVtu() = default;
 
-void SolutionVtu::write(std::ostream& os) const { impl_->piece(os, impl_->fields, impl_->whole); }
+void SolutionVtu::write(std::ostream& os) const { impl_->body(os, impl_->fields, impl_->whole); }
 
 void SolutionVtu::write(std::ostream& os, const BodyRange& body) const {
   const BodyRange& all = impl_->whole;
@@ -316,7 +389,34 @@ void SolutionVtu::write(std::ostream& os, const BodyRange& body) const {
                      std::to_string(body.vertices) + ", cells " + std::to_string(body.first_cell) + " + " +
                      std::to_string(body.cells) + ") is not a part of a mesh of " + std::to_string(all.vertices) +
                      " vertices and " + std::to_string(all.cells) + " cells");
-  impl_->piece(os, impl_->fields, body);
+  impl_->body(os, impl_->fields, body);
+}
+
+void SolutionVtu::write_share(std::ostream& os, int first_vertex, int end_vertex) const {
+  if (first_vertex < 0 || end_vertex < first_vertex || end_vertex > impl_->whole.vertices)
+    throw InputError("the vertices " + std::to_string(first_vertex) + " to " + std::to_string(end_vertex - 1) +
+                     " are not a share of a mesh of " + std::to_string(impl_->whole.vertices) + " vertices");
+  impl_->share(os, impl_->fields, first_vertex, end_vertex);
+}
+
+void SolutionVtu::write_pieces(std::ostream& os, const std::vector<std::string>& files) const {
+  const auto declare = [&os](const Field& f) {
+    os << "      <PDataArray type=\"" << vtk_type_of(f) << "\" Name=\"" << f.name << "\"";
+    if (f.width > 1) os << " NumberOfComponents=\"" << f.width << "\"";
+    os << "/>\n";
+  };
+  os << "<?xml version=\"1.0\"?>\n"
+     << "<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" byte_order=\""
+     << (std::endian::native == std::endian::little ? "LittleEndian" : "BigEndian") << "\" header_type=\"UInt64\">\n"
+     << "  <PUnstructuredGrid GhostLevel=\"0\">\n"
+     << "    <PPoints>\n      <PDataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"/>\n    </PPoints>\n"
+     << "    <PPointData Vectors=\"displacement\">\n";
+  for (const Field& f : impl_->fields.point) declare(f);
+  os << "    </PPointData>\n    <PCellData Tensors=\"stress\" Scalars=\"von_mises\">\n";
+  for (const Field& f : impl_->fields.cell) declare(f);
+  os << "    </PCellData>\n";
+  for (const auto& file : files) os << "    <Piece Source=\"" << file << "\"/>\n";
+  os << "  </PUnstructuredGrid>\n</VTKFile>\n";
 }
 
 void write_vtu(std::ostream& os, const Mesh& mesh, const MaterialTable& materials, const ContactSolution& sol,

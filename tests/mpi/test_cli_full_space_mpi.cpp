@@ -7,6 +7,8 @@
 // different --out folders (MPMD), everything else on their command lines equal.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <fcntl.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -75,6 +77,14 @@ double expect_columns_agree(const fs::path& a, const fs::path& b, std::size_t fr
   return largest;
 }
 
+/// The NumberOfCells of a VTU file.
+int vtu_cells(const fs::path& file) {
+  const std::string text = slurp(file);
+  const std::size_t at = text.find("NumberOfCells=\"");
+  if (at == std::string::npos) return -1;
+  return std::stoi(text.substr(at + 15));
+}
+
 /// `processes` ranks of `solve` with `flags` on the full-space route, each with its own --out
 /// folder; rank 0's folder.
 fs::path solve_across(int processes, const std::string& flags, const std::string& name, CommandRun* out) {
@@ -135,8 +145,28 @@ void expect_processes_agree(const std::string& flags, const fs::path& ref, int p
   const double eta_a = a["error_estimate"]["energy"].get<double>(), eta_b = b["error_estimate"]["energy"].get<double>();
   EXPECT_GT(eta_b, 0.0);
   EXPECT_NEAR(eta_a, eta_b, 1e-8 * eta_b);
-  const std::string vtu = slurp(out / "solution.vtu");  // of the whole mesh
-  EXPECT_NE(vtu.find("NumberOfCells=\"" + std::to_string(b["mesh"]["elements"].get<int>()) + "\""), std::string::npos);
+  const int cells = b["mesh"]["elements"].get<int>();
+  if (pieces > 1) {  // each process wrote its piece, each cell in one piece, named by solution.pvtu
+    EXPECT_FALSE(fs::exists(out / "solution.vtu"));
+    const std::string pvtu = slurp(out / "solution.pvtu");
+    EXPECT_NE(pvtu.find("<VTKFile type=\"PUnstructuredGrid\""), std::string::npos) << pvtu;
+    int written = 0;
+    for (int k = 0; k < processes; ++k) {
+      const std::string file = "solution.piece-" + std::to_string(k) + ".vtu";
+      EXPECT_NE(pvtu.find("<Piece Source=\"" + file + "\"/>"), std::string::npos) << pvtu;
+      const int n = vtu_cells(out / file);
+      EXPECT_GT(n, 0) << file;
+      written += n;
+      EXPECT_NE(std::find(a["files"].begin(), a["files"].end(), file), a["files"].end()) << a["files"].dump();
+    }
+    EXPECT_FALSE(fs::exists(out / ("solution.piece-" + std::to_string(processes) + ".vtu")));
+    EXPECT_EQ(written, cells);
+    EXPECT_NE(std::find(a["files"].begin(), a["files"].end(), "solution.pvtu"), a["files"].end()) << a["files"].dump();
+    EXPECT_EQ(std::find(a["files"].begin(), a["files"].end(), "solution.vtu"), a["files"].end()) << a["files"].dump();
+  } else {  // of the whole mesh
+    const std::string vtu = slurp(out / "solution.vtu");
+    EXPECT_NE(vtu.find("NumberOfCells=\"" + std::to_string(cells) + "\""), std::string::npos);
+  }
   const double ea = a["potential_energy"].get<double>(), eb = b["potential_energy"].get<double>();
   EXPECT_NEAR(ea, eb, 1e-9 * std::abs(eb));
   // every displacement (ux, uy, uz) and every contact node's normal displacement and force
@@ -149,7 +179,6 @@ void expect_processes_agree(const std::string& flags, const fs::path& ref, int p
     EXPECT_GT(expect_columns_agree(contact_a, contact_b, 13, 16, u), 0.0);
     expect_columns_agree(contact_a, contact_b, 16, 19);
   }
-  EXPECT_TRUE(fs::exists(out / "solution.vtu"));
 }
 
 TEST(CliFullSpaceMpi, ProcessesSolvingTheirSharesAgreeWithTheCondensedRouteAndRankZeroAloneWrites) {
@@ -158,6 +187,41 @@ TEST(CliFullSpaceMpi, ProcessesSolvingTheirSharesAgreeWithTheCondensedRouteAndRa
   const CommandRun c = run(binary() + " solve " + flags + " --linear eigen -q --out " + ref.string());
   ASSERT_EQ(c.code, 0) << c.err;
   for (int processes : {2, 3}) expect_processes_agree(flags, ref, processes, "example", false, processes);
+}
+
+// a plane's pieces: its polygons and its contact lines, each in one piece
+TEST(CliFullSpaceMpi, APlanesPiecesHoldEachPolygonAndContactLineOnce) {
+  const std::string flags = scene("paper-example-4.1.toml") + " --n 12 -q --set 'output.write=[\"vtu\"]'";
+  const fs::path ref = scratch("plane-one");
+  const CommandRun c = run(binary() + " solve " + flags + " --linear eigen --out " + ref.string());
+  ASSERT_EQ(c.code, 0) << c.err;
+  CommandRun m;
+  const fs::path out = solve_across(3, flags + " --linear petsc-gamg", "plane-pieces", &m);
+  ASSERT_EQ(m.code, 0) << m.out << m.err;
+  const int whole = vtu_cells(ref / "solution.vtu");
+  EXPECT_GT(whole, 144);  // the polygons and the contact lines after them
+  int cells = 0;
+  for (int k = 0; k < 3; ++k) cells += vtu_cells(out / ("solution.piece-" + std::to_string(k) + ".vtu"));
+  EXPECT_EQ(cells, whole);
+  EXPECT_FALSE(fs::exists(out / "solution.vtu"));
+  EXPECT_TRUE(fs::exists(out / "solution.pvtu"));
+}
+
+// the pieces of solution.pvtu go into the folder's transaction, which the first process opens:
+// where it cannot (another run holds the folder), it says so, and every process ends, none
+// waiting for it and nothing written
+TEST(CliFullSpaceMpi, AFolderThatCannotBeOpenedEndsEveryProcessWritingNothing) {
+  const fs::path out = scratch("held");
+  const fs::path lock = out.parent_path() / ("." + out.filename().string() + ".hemivem-lock");
+  const int fd = ::open(lock.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0);  // another run writing the folder
+  const CommandRun m = run(mpiexec() + " " + np(2) + " " + binary() + " solve " + scene("example-4.1-3d.toml") +
+                           " --set 'mesh.n=[4, 4, 4]' --linear petsc-gamg -q --out " + out.string());
+  ::close(fd);
+  EXPECT_EQ(m.code, 2) << m.out << m.err;
+  EXPECT_EQ(count(m.err, "another hemivem run is writing"), 1u) << m.err;  // the first process alone says so
+  EXPECT_FALSE(fs::exists(out));
 }
 
 // started from its coarser grids (solver.grid_sequence), each solved on the processes' pieces of

@@ -144,6 +144,38 @@ def test_a_solve_and_a_path_across_processes_from_python(tmp_path, coulomb_scene
     assert [bool(r["writer"]) for r in ranks] == [True, False]
     assert ranks[0]["written"] > 0 and ranks[1]["written"] == 0
     assert json.loads((tmp_path / "solve" / "result.json").read_text())["processes"] == 2
+    # each process wrote its piece of the solution, which solution.pvtu names in place of solution.vtu
+    solve = tmp_path / "solve"
+    assert not (solve / "solution.vtu").exists()
+    assert sorted(f.name for f in solve.glob("solution.piece-*.vtu")) == ["solution.piece-0.vtu", "solution.piece-1.vtu"]
+    vtk = pytest.importorskip("vtk")
+    from vtk.util.numpy_support import vtk_to_numpy
+
+    def cells_and_points(reader, path):
+        reader.SetFileName(str(path))
+        reader.Update()
+        grid = reader.GetOutput()
+        centers = vtk.vtkCellCenters()
+        centers.SetInputData(grid)
+        centers.Update()
+        c = vtk_to_numpy(centers.GetOutput().GetPoints().GetData())
+        order = np.lexsort(np.round(c, 9).T)
+        cells = {name: vtk_to_numpy(grid.GetCellData().GetArray(name))[order] for name in ("stress", "von_mises")}
+        x = np.round(vtk_to_numpy(grid.GetPoints().GetData()), 9)
+        u = vtk_to_numpy(grid.GetPointData().GetArray("displacement"))
+        return grid.GetNumberOfCells(), c[order], cells, {tuple(p): d for p, d in zip(x, u)}
+
+    one.write(tmp_path / "one", files=["solution.vtu"])
+    n, centers, cells, points = cells_and_points(vtk.vtkXMLPUnstructuredGridReader(), solve / "solution.pvtu")
+    n1, centers1, cells1, points1 = cells_and_points(vtk.vtkXMLUnstructuredGridReader(), tmp_path / "one" / "solution.vtu")
+    # every cell once, with one process's stresses; every point with one process's displacement
+    assert n == n1 == one.mesh.num_cells
+    assert np.max(np.abs(centers - centers1)) <= 1e-12
+    for name in ("stress", "von_mises"):
+        assert np.max(np.abs(cells[name] - cells1[name])) <= 1e-7 * np.max(np.abs(cells1[name]))
+    assert points.keys() == points1.keys()
+    scale = np.max(np.abs(one.displacement))
+    assert max(np.max(np.abs(points[x] - points1[x])) for x in points1) <= 1e-8 * scale
 
 
 def test_auto_takes_the_full_space_route_where_the_condensed_one_does_not_fit(monkeypatch):

@@ -47,6 +47,9 @@ struct RunInfo {
   /// The pieces the processes made the mesh in (docs/cluster.md): 1 when every process made the
   /// whole mesh.
   int mesh_pieces = 1;
+  /// solution.vtu written in this many pieces, one per process (solution.piece-K.vtu, named by
+  /// solution.pvtu: BasicSceneSolve::share); 0 for one file.
+  int vtu_pieces = 0;
   /// The coarser grids solved first (BasicSceneSolve::grid_sequence): result.json's
   /// full_space.grid_sequence.
   nlohmann::json grid_sequence = nlohmann::json::array();
@@ -106,7 +109,7 @@ const BasicPathSolution<dim>* path_of(const RunInfo& info) {
 /// the stage "estimate" of the timings).
 nlohmann::json error_estimate_json(const ErrorEstimate& estimate);
 
-/// The result.json document ("schema": "hemivem-result/23", "dimension": 2).
+/// The result.json document ("schema": "hemivem-result/24", "dimension": 2).
 nlohmann::json result_json(const Mesh& mesh, const ContactSolution& solution, const RunInfo& info);
 /// The result.json document of a solid ("dimension": 3): the same keys, points and vectors with
 /// three components (contact[].x and contact[].normal [x, y, z]), mesh.faces, contact_zone with

@@ -2,6 +2,7 @@
 // and what result.json records about the run.
 #pragma once
 
+#include <array>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -77,6 +78,10 @@ struct BasicSceneSolve {
   int mesh_pieces = 1;
   /// With mesh_pieces > 1, the cells of the whole mesh.
   int whole_cells = 0;
+  /// A static solve whose mesh was made in pieces: this process's share of the whole mesh's
+  /// vertices, [first, end). Its piece of solution.vtu is written by this process, the pieces
+  /// named by solution.pvtu (write_results, collective then); none otherwise.
+  std::optional<std::array<int, 2>> share;
   /// The coarser grids a static solve on the full-space route solved first to start from
   /// (solver.grid_sequence, docs/full-space.md), coarsest first, each {n, unknowns, converged,
   /// newton_iterations, krylov_iterations, preconditioner_setups, seconds}; empty when none.
