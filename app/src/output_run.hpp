@@ -152,12 +152,14 @@ std::string vtu_piece_file(int rank);
 /// (SolutionVtu::write_share); the first then writes the other files and solution.pvtu, and
 /// commits. Every process calls it with the same `wanted`; it returns the first process's
 /// report, and an empty one on the others. A piece that cannot be written is an InputError on
-/// its process and on the first, and the folder keeps its previous outputs.
+/// its process and on the first, and the folder keeps its previous outputs. `mesh` is the whole
+/// mesh, or on a process that does not write the piece it kept, whose cells are the whole
+/// mesh's `piece_cells` (BasicSceneSolve::piece_cells).
 template <class MeshType, int dim>
 OutputReport write_outputs_in_pieces(const std::filesystem::path& dir, const MeshType& mesh, const MaterialTable& materials,
                                      const std::vector<int>* contact_faces, const BasicContactSolution<dim>& solution,
                                      const RunInfo& info, const std::vector<std::string>& wanted,
-                                     const std::array<int, 2>& share);
+                                     const std::array<int, 2>& share, const std::vector<int>& piece_cells);
 
 /// The file of body `body` of a scene of several in its output folder: "solution.body-upper.vtu".
 /// A name that cannot name a file so (other than 1 to 64 ASCII letters, digits, '-' or '_', as

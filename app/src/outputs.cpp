@@ -403,7 +403,7 @@ template <class MeshType, int dim>
 OutputReport write_outputs_in_pieces(const fs::path& dir, const MeshType& mesh, const MaterialTable& materials,
                                      const std::vector<int>* contact_faces, const BasicContactSolution<dim>& solution,
                                      const RunInfo& info, const std::vector<std::string>& wanted,
-                                     const std::array<int, 2>& share) {
+                                     const std::array<int, 2>& share, const std::vector<int>& piece_cells) {
   const ProcessWorld world = krylov_world();
   const bool writer = world.rank == 0;
   if (info.vtu_pieces != world.size)
@@ -437,7 +437,14 @@ OutputReport write_outputs_in_pieces(const fs::path& dir, const MeshType& mesh, 
     return {};
   }
   // every process writes its piece into it, then all learn whether each could
-  const SolutionVtu vtu(mesh, materials, solution, info.error_estimate ? &info.error_estimate->indicators : nullptr);
+  // the error indicators of the whole mesh's cells, or of the cells of the piece this process kept
+  const std::vector<double>* indicators = info.error_estimate ? &info.error_estimate->indicators : nullptr;
+  std::vector<double> of_piece;
+  if (indicators && !piece_cells.empty()) {
+    for (const int c : piece_cells) of_piece.push_back(indicators->at(static_cast<std::size_t>(c)));
+    indicators = &of_piece;
+  }
+  const SolutionVtu vtu(mesh, materials, solution, indicators);
   const std::string file = vtu_piece_file(world.rank);
   std::string why;
   try {
@@ -459,10 +466,10 @@ OutputReport write_outputs_in_pieces(const fs::path& dir, const MeshType& mesh, 
 
 template OutputReport write_outputs_in_pieces(const fs::path&, const Mesh&, const MaterialTable&, const std::vector<int>*,
                                               const ContactSolution&, const RunInfo&, const std::vector<std::string>&,
-                                              const std::array<int, 2>&);
+                                              const std::array<int, 2>&, const std::vector<int>&);
 template OutputReport write_outputs_in_pieces(const fs::path&, const Mesh3D&, const MaterialTable&, const std::vector<int>*,
                                               const ContactSolution3D&, const RunInfo&, const std::vector<std::string>&,
-                                              const std::array<int, 2>&);
+                                              const std::array<int, 2>&, const std::vector<int>&);
 
 }  // namespace detail
 

@@ -48,6 +48,11 @@ struct SceneEngines {
   /// Whether the problem was built on the scene's own mesh (build_scene_problem), not on a mesh
   /// the caller gave: only then does a grid sequence run.
   bool scene_mesh = false;
+  /// A process that does not write the results keeps its piece of the mesh after a solve on
+  /// pieces (its piece of solution.pvtu needs no more): where the caller writes the results to
+  /// an output folder (SceneSolveOptions::out), as the command does. Otherwise every process
+  /// makes the whole mesh of the results it holds.
+  bool keep_piece = false;
 };
 
 /// The problem a solve of the scene builds on the scene's own mesh, into s.built: on the
@@ -56,6 +61,7 @@ struct SceneEngines {
 /// s.whole_cells what it is a piece of), the whole mesh otherwise. A path given its output
 /// folder `out` writes its VTU frames, of the whole mesh, as its steps come: the process that
 /// writes (s.holds_results) then makes the whole mesh as its piece, the others their pieces.
+/// Given `out`, a process that does not write keeps its piece after the solve (e.keep_piece).
 template <int dim, class Solved>
 void build_scene_problem(const Scene& scene, SceneEngines& e, Solved& s, const std::filesystem::path& out = {}) {
   e.scene_mesh = true;
@@ -75,6 +81,7 @@ void build_scene_problem(const Scene& scene, SceneEngines& e, Solved& s, const s
       } else {
         s.built = build_problem_piece<dim>(scene, *piece);
         e.piece = scene_piece_of_mesh(scene, *piece);
+        e.keep_piece = !out.empty() && !s.holds_results;
       }
       s.whole_cells = e.piece->whole_cells;
       return;
@@ -106,11 +113,17 @@ void estimate_solution(const SceneEngines& e, Solved& s, Estimate&& estimate) {
 
 /// After a solve on pieces of the mesh (e.piece), once its memory is given back: the whole
 /// mesh's problem in s.built (the results' mesh, as in one process) on a process whose mesh
-/// was a piece, with the problem's data at `t` (set_load_factor) for the end of a path. A
-/// path's files written as its steps came (s.path_output) keep the piece they were written from.
+/// was a piece, with the problem's data at `t` (set_load_factor) for the end of a path; a
+/// process that keeps its piece (e.keep_piece) records its cells' numbers instead
+/// (s.piece_cells). A path's files written as its steps came (s.path_output) keep the piece
+/// they were written from.
 template <int dim, class Solved>
 void make_results_mesh_whole(const Scene& scene, const SceneEngines& e, Solved& s, std::optional<double> t = {}) {
   if (!e.piece || static_cast<int>(e.piece->cells.size()) == e.piece->whole_cells) return;
+  if (e.keep_piece) {
+    s.piece_cells = e.piece->cells;
+    return;
+  }
   const auto started = std::chrono::steady_clock::now();
   if (s.path_output) s.path_output->piece = std::shared_ptr<const void>(std::move(s.built));
   s.built = build_problem<dim>(scene);

@@ -262,7 +262,7 @@ OutputReport write_results(const std::filesystem::path& dir, const Scene& scene,
   const std::vector<std::string> wanted = files ? *files : wanted_files(scene, built.has_contact);
   if (solved.share)  // every process writes its piece of the solution
     return detail::write_outputs_in_pieces(dir, built.mesh, built.problem.elasticity.materials, nullptr, solved.solution,
-                                           info, wanted, *solved.share);
+                                           info, wanted, *solved.share, solved.piece_cells);
   check_output_folder(dir);
   return write_outputs(dir, built.mesh, built.problem.elasticity.materials, solved.solution, info, wanted);
 }

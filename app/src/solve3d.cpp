@@ -90,7 +90,7 @@ OutputReport write_results(const std::filesystem::path& dir, const Scene& scene,
   const std::vector<int> faces = contact_faces(built.problem);
   if (solved.share)  // every process writes its piece of the solution
     return detail::write_outputs_in_pieces(dir, built.mesh, built.problem.elasticity.materials, &faces, solved.solution,
-                                           info, wanted, *solved.share);
+                                           info, wanted, *solved.share, solved.piece_cells);
   check_output_folder(dir);
   return write_outputs(dir, built.mesh, built.problem.elasticity.materials, faces, solved.solution, info, wanted);
 }

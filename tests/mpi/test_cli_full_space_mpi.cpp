@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -22,6 +23,7 @@
 #include "command_mpi.hpp"
 #include "stacked_bodies.hpp"
 #include "test_support.hpp"
+#include "vtu_arrays.hpp"
 
 namespace {
 
@@ -83,6 +85,18 @@ int vtu_cells(const fs::path& file) {
   const std::size_t at = text.find("NumberOfCells=\"");
   if (at == std::string::npos) return -1;
   return std::stoi(text.substr(at + 15));
+}
+
+/// The values of the Float64 array `name` of a VTU file, decoded; empty without it.
+std::vector<double> vtu_doubles(const fs::path& file, const std::string& name) {
+  const std::string text = slurp(file);
+  const std::size_t at = text.find("Name=\"" + name + "\"");
+  if (at == std::string::npos) return {};
+  const std::size_t from = text.find('>', at) + 1, to = text.find("</DataArray>", from);
+  const std::vector<unsigned char> bytes = hemivem::test::decode_vtu_array(text.substr(from, to - from));
+  std::vector<double> values(bytes.size() / sizeof(double));
+  std::memcpy(values.data(), bytes.data(), values.size() * sizeof(double));
+  return values;
 }
 
 /// `processes` ranks of `solve` with `flags` on the full-space route, each with its own --out
@@ -161,6 +175,19 @@ void expect_processes_agree(const std::string& flags, const fs::path& ref, int p
     }
     EXPECT_FALSE(fs::exists(out / ("solution.piece-" + std::to_string(processes) + ".vtu")));
     EXPECT_EQ(written, cells);
+    // the cells' values, those of one process's solution.vtu (sorted: each cell once)
+    for (const std::string name : {"von_mises", "error_indicator"}) {
+      std::vector<double> mine, whole = vtu_doubles(ref / "solution.vtu", name);
+      for (int k = 0; k < processes; ++k) {
+        const std::vector<double> piece = vtu_doubles(out / ("solution.piece-" + std::to_string(k) + ".vtu"), name);
+        mine.insert(mine.end(), piece.begin(), piece.end());
+      }
+      ASSERT_EQ(mine.size(), whole.size()) << name;
+      ASSERT_FALSE(whole.empty()) << name;
+      std::sort(mine.begin(), mine.end());
+      std::sort(whole.begin(), whole.end());
+      for (std::size_t c = 0; c < whole.size(); ++c) EXPECT_NEAR(mine[c], whole[c], 1e-7 * whole.back()) << name << " " << c;
+    }
     EXPECT_NE(std::find(a["files"].begin(), a["files"].end(), "solution.pvtu"), a["files"].end()) << a["files"].dump();
     EXPECT_EQ(std::find(a["files"].begin(), a["files"].end(), "solution.vtu"), a["files"].end()) << a["files"].dump();
   } else {  // of the whole mesh

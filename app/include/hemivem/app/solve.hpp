@@ -74,7 +74,8 @@ struct BasicSceneSolve {
   /// processes each process may make only its piece of a generated mesh (scene_piece,
   /// hemivem/scene/scene_pieces.hpp); `built` then holds the piece until the solve and its
   /// error estimate end, when each process makes the whole mesh of the results it holds (the
-  /// solve's memory given back by then). 1 when every process made the whole mesh.
+  /// solve's memory given back by then), but for a process that keeps its piece (piece_cells).
+  /// 1 when every process made the whole mesh.
   int mesh_pieces = 1;
   /// With mesh_pieces > 1, the cells of the whole mesh.
   int whole_cells = 0;
@@ -82,6 +83,10 @@ struct BasicSceneSolve {
   /// vertices, [first, end). Its piece of solution.vtu is written by this process, the pieces
   /// named by solution.pvtu (write_results, collective then); none otherwise.
   std::optional<std::array<int, 2>> share;
+  /// A process that does not write the results and kept its piece of the mesh after a solve on
+  /// pieces (given an output folder, SceneSolveOptions::out): the whole mesh's number of each
+  /// cell of `built`. Empty where `built` is the whole mesh.
+  std::vector<int> piece_cells;
   /// The coarser grids a static solve on the full-space route solved first to start from
   /// (solver.grid_sequence, docs/full-space.md), coarsest first, each {n, unknowns, converged,
   /// newton_iterations, krylov_iterations, preconditioner_setups, seconds}; empty when none.
@@ -150,7 +155,9 @@ struct SceneSolveOptions {
   /// The output folder a loading path writes its steps' files into as it solves them, in the
   /// folder's transaction (nothing changes there before write_results commits): its memory then
   /// does not grow with its steps. write_results must then be given this folder and no list of
-  /// files. Empty: the path keeps its steps (SceneSolve::path) until they are written.
+  /// files. Empty: the path keeps its steps (SceneSolve::path) until they are written. Given
+  /// across processes on pieces of the mesh, a process that does not write the results keeps
+  /// its piece after the solve (SceneSolve::piece_cells).
   std::filesystem::path out;
 };
 
