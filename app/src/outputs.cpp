@@ -409,7 +409,7 @@ OutputReport write_outputs_in_pieces(const fs::path& dir, const MeshType& mesh, 
   if (info.vtu_pieces != world.size)
     throw InternalError("solution.pvtu of " + std::to_string(info.vtu_pieces) + " pieces written by " +
                         std::to_string(world.size) + " processes");
-  if (std::find(wanted.begin(), wanted.end(), "solution.vtu") == wanted.end()) {  // nothing in pieces: the first process writes, as in one
+  if (std::find(wanted.begin(), wanted.end(), "solution.vtu") == wanted.end()) {  // nothing in pieces: as in one process
     if (!writer) return {};
     check_output_folder(dir);
     return write_outputs_of(dir, mesh, materials, contact_faces, solution, info, wanted);
@@ -436,32 +436,36 @@ OutputReport write_outputs_in_pieces(const fs::path& dir, const MeshType& mesh, 
     if (failed) std::rethrow_exception(failed);
     return {};
   }
-  // every process writes its piece into it, then all learn whether each could
-  // the error indicators of the whole mesh's cells, or of the cells of the piece this process kept
+  // every process writes its piece into it (the error indicators those of the whole mesh's
+  // cells, or of the piece's that this process kept), then all learn whether each could
   const std::vector<double>* indicators = info.error_estimate ? &info.error_estimate->indicators : nullptr;
   std::vector<double> of_piece;
-  if (indicators && !piece_cells.empty()) {
-    for (const int c : piece_cells) of_piece.push_back(indicators->at(static_cast<std::size_t>(c)));
-    indicators = &of_piece;
-  }
-  const SolutionVtu vtu(mesh, materials, solution, indicators);
+  std::optional<SolutionVtu> vtu;
   const std::string file = vtu_piece_file(world.rank);
   std::string why;
   try {
-    write_file_atomically(fs::path(staging) / file, [&](std::ostream& os) { vtu.write_share(os, share[0], share[1]); });
+    if (indicators && !piece_cells.empty()) {
+      for (const int c : piece_cells) of_piece.push_back(indicators->at(static_cast<std::size_t>(c)));
+      indicators = &of_piece;
+    }
+    vtu.emplace(mesh, materials, solution, indicators);
+    write_file_atomically(fs::path(staging) / file, [&](std::ostream& os) { vtu->write_share(os, share[0], share[1]); });
   } catch (const std::exception& e) {
     why = e.what();
   }
   const Eigen::VectorXd unwritten = rows->all_gather(Eigen::VectorXd::Constant(1, why.empty() ? 0.0 : 1.0));
   const std::string reach = " (each process writes its piece of solution.pvtu into the output folder's transaction, "
-                            "so the folder is on a file system every process reaches); " + previous_outputs_kept(dir);
-  if (!why.empty()) throw InputError("process " + std::to_string(world.rank) + " could not write " + file + ": " + why + reach, dir.string());
+                            "so the folder is on a file system every process reaches); " +
+                            previous_outputs_kept(dir);
+  if (!why.empty())
+    throw InputError("process " + std::to_string(world.rank) + " could not write " + file + ": " + why + reach, dir.string());
   if (!writer) return {};
   for (Eigen::Index k = 0; k < unwritten.size(); ++k)
     if (unwritten(k) != 0.0)
       throw InputError("process " + std::to_string(k) + " could not write " + vtu_piece_file(static_cast<int>(k)) + reach,
                        dir.string());
-  return write_outputs_of<MeshType, dim>(dir, mesh, materials, contact_faces, solution, info, wanted, nullptr, &*run, &vtu);
+  return write_outputs_of<MeshType, dim>(dir, mesh, materials, contact_faces, solution, info, wanted, nullptr, &*run,
+                                         &*vtu);
 }
 
 template OutputReport write_outputs_in_pieces(const fs::path&, const Mesh&, const MaterialTable&, const std::vector<int>*,
@@ -470,10 +474,6 @@ template OutputReport write_outputs_in_pieces(const fs::path&, const Mesh&, cons
 template OutputReport write_outputs_in_pieces(const fs::path&, const Mesh3D&, const MaterialTable&, const std::vector<int>*,
                                               const ContactSolution3D&, const RunInfo&, const std::vector<std::string>&,
                                               const std::array<int, 2>&, const std::vector<int>&);
-
-}  // namespace detail
-
-namespace detail {
 
 template <int dim>
 PathOutput<dim>::PathOutput(const fs::path& dir, const std::vector<std::string>& wanted, const std::vector<std::string>& frames,
