@@ -131,6 +131,7 @@ RunOptions run_options(const SolveOptions& o, std::ostream& err) {
   r.progress = [&err](const GlobalSearchProgress& g) { err << progress_line(g) << "\n"; };
   r.on_path_step = [&err](const PathProgress& p) { err << p.line << "\n"; };
   r.on_adapt_step = [&err](const AdaptStep& a) { err << adapt_progress_line(a) << "\n"; };
+  r.on_coarser_grid = [&err](const nlohmann::json& g) { err << "hemivem: coarser grid " << coarser_grid_text(g) << "\n"; };
   return r;
 }
 

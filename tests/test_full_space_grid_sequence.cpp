@@ -246,6 +246,12 @@ TEST(GridSequence, TheCommandRecordsTheCoarserGridsAndRefusesACountByKey) {
   // the summary names the coarser grid and its time
   EXPECT_NE(run.out.find("\n  coarser grids n = 16: 510 unknowns, "), std::string::npos) << run.out;
   EXPECT_NE(run.out.find(", grid_sequence "), std::string::npos) << run.out;
+  // and tells it as it is solved, after the scene's mesh
+  const std::size_t announced = run.err.find("hemivem: 1089 vertices");
+  const std::size_t told = run.err.find("\nhemivem: coarser grid n = 16: 510 unknowns, ");
+  EXPECT_NE(announced, std::string::npos) << run.err;
+  EXPECT_NE(told, std::string::npos) << run.err;
+  EXPECT_LT(announced, told) << run.err;
   const auto r = nlohmann::json::parse(test::slurp(out / "result.json"));
   ASSERT_EQ(r.at("full_space").at("grid_sequence").size(), 1u) << r["full_space"].dump();
   EXPECT_EQ(r["full_space"]["grid_sequence"][0]["n"], "16");

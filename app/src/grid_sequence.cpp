@@ -40,6 +40,7 @@ Eigen::VectorXd grid_sequence_start(const Scene& scene, const SceneEngines& e, B
     record["converged"] = u.converged();
     record["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     s.grid_sequence.push_back(std::move(record));
+    if (e.on_coarser_grid) e.on_coarser_grid(s.grid_sequence.back());
     start = carried_onto_finer_grid(*grid, u.u);
   }
   return start;

@@ -32,13 +32,8 @@ void engines_and_stages(std::ostream& out, const BasicSceneSolve<dim>& solved, c
   for (std::size_t i = 0; i < sol.stages.size(); ++i) out << (i ? ", " : "") << sol.stages[i];
   out << "\n";
   // the coarser grids of a grid sequence, coarsest first (BasicSceneSolve::grid_sequence)
-  for (std::size_t i = 0; i < solved.grid_sequence.size(); ++i) {
-    const nlohmann::json& g = solved.grid_sequence[i];
-    out << (i ? "                " : "  coarser grids ") << "n = " << g.at("n").get<std::string>() << ": "
-        << g.at("unknowns").get<int>() << " unknowns, " << g.at("newton_iterations").get<int>() << " Newton / "
-        << g.at("krylov_iterations").get<int>() << " Krylov iterations, " << g.at("seconds").get<double>() << " s"
-        << (g.at("converged").get<bool>() ? "" : ", not converged") << "\n";
-  }
+  for (std::size_t i = 0; i < solved.grid_sequence.size(); ++i)
+    out << (i ? "                " : "  coarser grids ") << coarser_grid_text(solved.grid_sequence[i]) << "\n";
 }
 
 template <int dim>
@@ -173,6 +168,15 @@ void energy_and_time(std::ostream& out, const BasicSceneSolve<dim>& solved) {
 }
 
 }  // namespace
+
+std::string coarser_grid_text(const nlohmann::json& g) {
+  std::ostringstream out;
+  out << "n = " << g.at("n").get<std::string>() << ": " << g.at("unknowns").get<int>() << " unknowns, "
+      << g.at("newton_iterations").get<int>() << " Newton / " << g.at("krylov_iterations").get<int>()
+      << " Krylov iterations, " << g.at("seconds").get<double>() << " s"
+      << (g.at("converged").get<bool>() ? "" : ", not converged");
+  return out.str();
+}
 
 std::string error_estimate_line(const ErrorEstimate& e) {
   std::ostringstream out;

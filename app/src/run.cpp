@@ -123,6 +123,7 @@ SceneSolve3DOptions solid_options(const Scene& scene, RunOptions& o) {
   s.progress = std::move(o.progress);
   s.on_path_step = announce_steps<3>(scene, o.on_path_step);
   s.out = o.out;
+  s.on_coarser_grid = o.on_coarser_grid;
   return s;
 }
 
@@ -139,6 +140,7 @@ SceneSolveOptions plane_options(RunOptions& o) {
   s.apply_region_boxes = o.apply_region_boxes;
   s.mesh_description = o.mesh_description;
   s.out = o.out;
+  s.on_coarser_grid = o.on_coarser_grid;
   return s;
 }
 

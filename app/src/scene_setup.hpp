@@ -53,6 +53,8 @@ struct SceneEngines {
   /// an output folder (SceneSolveOptions::out), as the command does. Otherwise every process
   /// makes the whole mesh of the results it holds.
   bool keep_piece = false;
+  /// Told each coarser grid's record as it is solved (SceneSolveOptions::on_coarser_grid).
+  std::function<void(const nlohmann::json&)> on_coarser_grid;
 };
 
 /// The problem a solve of the scene builds on the scene's own mesh, into s.built: on the

@@ -178,6 +178,7 @@ void require_memory_of(const Scene& s, const std::string& where) {
 SceneEngines prepare_scene_solve(const Scene& scene, SceneSolveOptions& o, SceneSolve& s) {
   // Engines first: a name that was not built is an input error before any work.
   SceneEngines e = make_scene_engines(scene, std::move(o.progress), std::move(o.callback));
+  e.on_coarser_grid = o.on_coarser_grid;
   record_engines(e, s);
 
   const auto t = Clock::now();

@@ -28,6 +28,7 @@ SceneSolve3D solve_scene_3d(const Scene& scene, SceneSolve3DOptions o) {
   if (scene_is_path(scene)) detail::refuse_path_across_processes(scene);
   SceneSolve3D s;
   detail::SceneEngines e = detail::make_scene_engines(scene, std::move(o.progress), std::move(o.callback));
+  e.on_coarser_grid = o.on_coarser_grid;
   detail::record_engines(e, s);
   const auto t = Clock::now();
   if (o.mesh)

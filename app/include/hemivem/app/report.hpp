@@ -4,6 +4,8 @@
 
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include <hemivem/app/adapt.hpp>
 #include <hemivem/app/outputs.hpp>
 #include <hemivem/app/solve.hpp>
@@ -29,6 +31,11 @@ std::string full_report(const BasicSceneSolve<dim>& solved, const RunInfo& info)
 /// full_report's line of an error estimate: eta, eta / ||u_h||_E in per cent and the parts
 /// that are not zero, ending in a newline.
 std::string error_estimate_line(const ErrorEstimate& estimate);
+
+/// A coarser grid of a grid sequence (an entry of BasicSceneSolve::grid_sequence) in words:
+/// "n = 16: 13005 unknowns, 5 Newton / 80 Krylov iterations, 0.97 s", with ", not converged"
+/// where it did not.
+std::string coarser_grid_text(const nlohmann::json& grid);
 
 /// The lines of an adaptive solve after full_report of its last solve: how many solves, the
 /// unknowns and the estimate from first to last, and why it stopped.

@@ -68,6 +68,8 @@ struct RunOptions {
   /// line `hemivem solve` prints), and of an adaptive sequence.
   std::function<void(const PathProgress&)> on_path_step;
   std::function<void(const AdaptStep&)> on_adapt_step;
+  /// Called after each coarser grid of a grid sequence (SceneSolveOptions::on_coarser_grid).
+  std::function<void(const nlohmann::json&)> on_coarser_grid;
   /// A mesh of one's own to solve on instead of the scene's (SceneSolveOptions::mesh,
   /// SceneSolve3DOptions::mesh): a Mesh for a plane scene, a Mesh3D for a solid one; the other
   /// is an InputError naming `mesh_key`.

@@ -159,6 +159,9 @@ struct SceneSolveOptions {
   /// across processes on pieces of the mesh, a process that does not write the results keeps
   /// its piece after the solve (SceneSolve::piece_cells).
   std::filesystem::path out;
+  /// Called after each coarser grid of a grid sequence is solved (solver.grid_sequence), with
+  /// its record (an entry of SceneSolve::grid_sequence; coarser_grid_text, hemivem/app/report.hpp).
+  std::function<void(const nlohmann::json&)> on_coarser_grid;
 };
 
 /// InputError (naming the scene's [path] or friction key) when `scene` is a loading path

@@ -42,6 +42,8 @@ struct SceneSolve3DOptions {
   std::function<void(const BasicPathStep<3>&)> on_path_step;
   /// As SceneSolveOptions::out.
   std::filesystem::path out;
+  /// As SceneSolveOptions::on_coarser_grid.
+  std::function<void(const nlohmann::json&)> on_coarser_grid;
   /// A full nodal displacement on that mesh (3 per vertex) the minimizer starts from; empty: zero.
   Eigen::VectorXd start;
 };
