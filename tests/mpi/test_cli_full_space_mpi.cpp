@@ -99,6 +99,15 @@ std::vector<double> vtu_doubles(const fs::path& file, const std::string& name) {
   return values;
 }
 
+/// The scene of `flags` solved on the condensed route in one process (eigen) into the scratch
+/// folder `name`; empty (a failure recorded) when the run fails.
+fs::path solve_condensed(const std::string& flags, const std::string& name) {
+  const fs::path ref = scratch(name);
+  const CommandRun c = run(binary() + " solve " + flags + " --linear eigen -q --out " + ref.string());
+  EXPECT_EQ(c.code, 0) << c.err;
+  return c.code == 0 ? ref : fs::path();
+}
+
 /// `processes` ranks of `solve` with `flags` on the full-space route, each with its own --out
 /// folder; rank 0's folder.
 fs::path solve_across(int processes, const std::string& flags, const std::string& name, CommandRun* out) {
@@ -210,18 +219,16 @@ void expect_processes_agree(const std::string& flags, const fs::path& ref, int p
 
 TEST(CliFullSpaceMpi, ProcessesSolvingTheirSharesAgreeWithTheCondensedRouteAndRankZeroAloneWrites) {
   const std::string flags = scene("example-4.1-3d.toml") + " --set 'mesh.n=[6, 6, 6]' --tol 1e-11";
-  const fs::path ref = scratch("condensed");
-  const CommandRun c = run(binary() + " solve " + flags + " --linear eigen -q --out " + ref.string());
-  ASSERT_EQ(c.code, 0) << c.err;
+  const fs::path ref = solve_condensed(flags, "condensed");
+  if (ref.empty()) return;
   for (int processes : {2, 3}) expect_processes_agree(flags, ref, processes, "example", false, processes);
 }
 
 // a plane's pieces: its polygons and its contact lines, each in one piece
 TEST(CliFullSpaceMpi, APlanesPiecesHoldEachPolygonAndContactLineOnce) {
   const std::string flags = scene("paper-example-4.1.toml") + " --n 12 -q --set 'output.write=[\"vtu\"]'";
-  const fs::path ref = scratch("plane-one");
-  const CommandRun c = run(binary() + " solve " + flags + " --linear eigen --out " + ref.string());
-  ASSERT_EQ(c.code, 0) << c.err;
+  const fs::path ref = solve_condensed(flags, "plane-one");
+  if (ref.empty()) return;
   CommandRun m;
   const fs::path out = solve_across(3, flags + " --linear petsc-gamg", "plane-pieces", &m);
   ASSERT_EQ(m.code, 0) << m.out << m.err;
@@ -255,9 +262,8 @@ TEST(CliFullSpaceMpi, AFolderThatCannotBeOpenedEndsEveryProcessWritingNothing) {
 // its own mesh: the same answer, the same grids recorded
 TEST(CliFullSpaceMpi, AGridSequenceAcrossProcessesIsTheCondensedAnswer) {
   const std::string flags = scene("example-4.1-3d.toml") + " --set 'mesh.n=[8, 8, 8]' --tol 1e-11";
-  const fs::path ref = scratch("condensed-sequence");
-  const CommandRun c = run(binary() + " solve " + flags + " --linear eigen -q --out " + ref.string());
-  ASSERT_EQ(c.code, 0) << c.err;
+  const fs::path ref = solve_condensed(flags, "condensed-sequence");
+  if (ref.empty()) return;
   nlohmann::json a;
   expect_processes_agree(flags + " --set solver.grid_sequence=2", ref, 2, "sequence", false, 2, &a);
   const nlohmann::json& grids = a["full_space"]["grid_sequence"];
@@ -270,9 +276,8 @@ TEST(CliFullSpaceMpi, AGridSequenceAcrossProcessesIsTheCondensedAnswer) {
 // a solid's Tresca friction: the processes' slabs split the bottom, where nodes slip and stick
 TEST(CliFullSpaceMpi, ASolidsFrictionAcrossProcessesIsTheCondensedAnswer) {
   const std::string flags = scene("friction-block-3d.toml") + " --set 'mesh.n=[6, 6, 2]' --tol 1e-11";
-  const fs::path ref = scratch("condensed-friction");
-  const CommandRun c = run(binary() + " solve " + flags + " --linear eigen -q --out " + ref.string());
-  ASSERT_EQ(c.code, 0) << c.err;
+  const fs::path ref = solve_condensed(flags, "condensed-friction");
+  if (ref.empty()) return;
   const std::string table = slurp(ref / "contact.csv");
   EXPECT_NE(table.find(",slip"), std::string::npos) << "no node slips";
   EXPECT_NE(table.find(",stick"), std::string::npos) << "no node sticks";
@@ -294,9 +299,8 @@ TEST(CliFullSpaceMpi, TwoJoinedSolidsAcrossProcessesAreTheCondensedAnswer) {
     out << hemivem::test::stacked_bodies(b);
   }
   const std::string flags = toml.string() + " --tol 1e-11";
-  const fs::path ref = scratch("condensed-two-solids");
-  const CommandRun c = run(binary() + " solve " + flags + " --linear eigen -q --out " + ref.string());
-  ASSERT_EQ(c.code, 0) << c.err;
+  const fs::path ref = solve_condensed(flags, "condensed-two-solids");
+  if (ref.empty()) return;
   expect_processes_agree(flags, ref, 2, "two-solids", true, 1);  // two bodies: each process makes both whole
 }
 
@@ -313,9 +317,8 @@ void expect_applied_load_agrees(const nlohmann::json& a, const nlohmann::json& b
 // makes its piece of the mesh; rank 0, which writes the frames as the steps come, the whole mesh.
 TEST(CliFullSpaceMpi, ACoulombPathAcrossProcessesIsTheCondensedRoutes) {
   const std::string flags = scene("friction-coulomb.toml") + " --n 16 --set 'loads.body_force=[0.5, -2.0]'";
-  const fs::path ref = scratch("condensed-path");
-  const CommandRun c = run(binary() + " solve " + flags + " --linear eigen -q --out " + ref.string());
-  ASSERT_EQ(c.code, 0) << c.err;
+  const fs::path ref = solve_condensed(flags, "condensed-path");
+  if (ref.empty()) return;
   CommandRun m;
   const fs::path out = solve_across(2, flags + " --linear petsc-gamg", "path-np2", &m);
   ASSERT_EQ(m.code, 0) << m.out << m.err;
@@ -367,9 +370,8 @@ TEST(CliFullSpaceMpi, APathWithoutVtuFramesRunsOnEveryProcesssPiece) {
   const std::string flags = scene("friction-coulomb.toml") +
                             " --n 16 --set 'loads.body_force=[0.5, -2.0]' --set 'output.write=[\"result-json\", "
                             "\"displacement-csv\", \"contact-csv\"]'";
-  const fs::path ref = scratch("condensed-path-tables");
-  const CommandRun c = run(binary() + " solve " + flags + " --linear eigen -q --out " + ref.string());
-  ASSERT_EQ(c.code, 0) << c.err;
+  const fs::path ref = solve_condensed(flags, "condensed-path-tables");
+  if (ref.empty()) return;
   CommandRun m;
   const fs::path out = solve_across(2, flags + " --linear petsc-gamg -q", "path-tables-np2", &m);
   ASSERT_EQ(m.code, 0) << m.out << m.err;
