@@ -48,11 +48,13 @@ struct SceneEngines {
   /// Whether the problem was built on the scene's own mesh (build_scene_problem), not on a mesh
   /// the caller gave: only then does a grid sequence run.
   bool scene_mesh = false;
-  /// A process that does not write the results keeps its piece of the mesh after a solve on
-  /// pieces (its piece of solution.pvtu needs no more): where the caller writes the results to
-  /// an output folder (SceneSolveOptions::out), as the command does. Otherwise every process
-  /// makes the whole mesh of the results it holds.
-  bool keep_piece = false;
+  /// The caller writes the results to the output folder it named (SceneSolveOptions::out), as
+  /// the command does: a static solve on pieces then writes its solution in pieces (each
+  /// process its piece of solution.pvtu, BasicSceneSolve::share), and a process that does not
+  /// write the other results keeps its piece of the mesh after the solve (its piece of
+  /// solution.pvtu needs no more). Otherwise every process makes the whole mesh of the results
+  /// it holds, and the first writes solution.vtu.
+  bool writes_to_folder = false;
   /// Told each coarser grid's record as it is solved (SceneSolveOptions::on_coarser_grid).
   std::function<void(const nlohmann::json&)> on_coarser_grid;
 };
@@ -63,7 +65,7 @@ struct SceneEngines {
 /// s.whole_cells what it is a piece of), the whole mesh otherwise. A path given its output
 /// folder `out` writes its VTU frames, of the whole mesh, as its steps come: the process that
 /// writes (s.holds_results) then makes the whole mesh as its piece, the others their pieces.
-/// Given `out`, a process that does not write keeps its piece after the solve (e.keep_piece).
+/// Given `out`, the solve writes to that folder (e.writes_to_folder).
 template <int dim, class Solved>
 void build_scene_problem(const Scene& scene, SceneEngines& e, Solved& s, const std::filesystem::path& out = {}) {
   e.scene_mesh = true;
@@ -71,6 +73,7 @@ void build_scene_problem(const Scene& scene, SceneEngines& e, Solved& s, const s
     const ProcessWorld world = krylov_world();
     if (const std::optional<BoxPiece> piece = scene_piece(scene, world.rank, world.size)) {
       s.mesh_pieces = world.size;
+      e.writes_to_folder = !out.empty();
       const bool vtu_frames = scene.path && !out.empty() && scene.writes("vtu");
       if (vtu_frames && s.holds_results) {  // the whole mesh, this process owning its share of the vertices
         s.built = build_problem<dim>(scene);
@@ -83,7 +86,6 @@ void build_scene_problem(const Scene& scene, SceneEngines& e, Solved& s, const s
       } else {
         s.built = build_problem_piece<dim>(scene, *piece);
         e.piece = scene_piece_of_mesh(scene, *piece);
-        e.keep_piece = !out.empty() && !s.holds_results;
       }
       s.whole_cells = e.piece->whole_cells;
       return;
@@ -116,13 +118,13 @@ void estimate_solution(const SceneEngines& e, Solved& s, Estimate&& estimate) {
 /// After a solve on pieces of the mesh (e.piece), once its memory is given back: the whole
 /// mesh's problem in s.built (the results' mesh, as in one process) on a process whose mesh
 /// was a piece, with the problem's data at `t` (set_load_factor) for the end of a path; a
-/// process that keeps its piece (e.keep_piece) records its cells' numbers instead
+/// process that keeps its piece (e.writes_to_folder, not writing) records its cells' numbers instead
 /// (s.piece_cells). A path's files written as its steps came (s.path_output) keep the piece
 /// they were written from.
 template <int dim, class Solved>
 void make_results_mesh_whole(const Scene& scene, const SceneEngines& e, Solved& s, std::optional<double> t = {}) {
   if (!e.piece || static_cast<int>(e.piece->cells.size()) == e.piece->whole_cells) return;
-  if (e.keep_piece) {
+  if (e.writes_to_folder && !s.holds_results) {
     s.piece_cells = e.piece->cells;
     return;
   }
@@ -337,7 +339,7 @@ void solve_built(const Scene& scene, SceneEngines& e, Solved& s, ReducedProblem*
   // where the displacement is: on every process of the full-space route across processes, whose
   // adaptive steps refine alike (not on the ranks > 0 of mumps-mpi)
   estimate_solution<dim>(e, s, std::forward<Estimate>(estimate));
-  if (e.piece) s.share = std::array<int, 2>{e.piece->first_vertex, e.piece->end_vertex};
+  if (e.piece && e.writes_to_folder) s.share = std::array<int, 2>{e.piece->first_vertex, e.piece->end_vertex};
   make_results_mesh_whole<dim>(scene, e, s);
 }
 

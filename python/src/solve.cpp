@@ -740,7 +740,7 @@ void def_result_outputs(ResultClass& c) {
           [](py::handle s, const std::filesystem::path& folder, std::optional<std::vector<std::string>> files) {
             SolveData& d = data(s);
             app::OutputReport report;
-            {  // across processes every one calls it: the first writes, each its piece of solution.pvtu
+            {  // across processes the first writes, the others return []
               py::gil_scoped_release release;
               report = d.run.write(folder, files ? &*files : nullptr);
             }
@@ -756,9 +756,7 @@ void def_result_outputs(ResultClass& c) {
           "pressure.png), each atomically; `files` picks some of them by name. Returns the\n"
           "paths written; a figure that could not be drawn is a UserWarning (and in result.json's\n"
           "warnings). Across the processes mpirun starts (linear='petsc-gamg' or 'petsc-hypre'), every\n"
-          "process calls it and the first one writes; the others return []. Where each process made\n"
-          "its piece of the mesh, each writes its piece solution.piece-K.vtu of the solution too, and\n"
-          "solution.pvtu names them in place of solution.vtu.")
+          "process calls it and the first one writes; the others return [].")
       .def("__repr__", [](py::handle s) {
         const SolveData& d = data(s);
         std::ostringstream o;

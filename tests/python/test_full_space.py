@@ -110,7 +110,7 @@ np.savez(os.path.join(folder, f"rank{rank}.npz"), u=r.displacement, writer=r.wri
 
 
 @pytest.mark.skipif("petsc-gamg" not in krylov_engines(), reason="PETSc's engines are not built")
-def test_a_solve_and_a_path_across_processes_from_python(tmp_path, coulomb_scene):
+def test_a_solve_and_a_path_across_processes_from_python(tmp_path, coulomb_scene, hemivem_command):
     mpiexec = shutil.which("mpiexec") or shutil.which("mpirun")
     if mpiexec is None:
         pytest.skip("no MPI launcher on PATH")
@@ -144,8 +144,15 @@ def test_a_solve_and_a_path_across_processes_from_python(tmp_path, coulomb_scene
     assert [bool(r["writer"]) for r in ranks] == [True, False]
     assert ranks[0]["written"] > 0 and ranks[1]["written"] == 0
     assert json.loads((tmp_path / "solve" / "result.json").read_text())["processes"] == 2
-    # each process wrote its piece of the solution, which solution.pvtu names in place of solution.vtu
-    solve = tmp_path / "solve"
+    # Python's processes hold the whole mesh: the first writes solution.vtu whole
+    assert (tmp_path / "solve" / "solution.vtu").exists()
+    assert not list((tmp_path / "solve").glob("solution.piece-*.vtu"))
+    # the command writes it in pieces, each process its own, named by solution.pvtu
+    solve = tmp_path / "command"
+    p = subprocess.run([mpiexec, "-n", "2", *flags, str(hemivem_command), "solve", str(EXAMPLE_3D), "--set", "mesh.n=4",
+                        "--linear", "petsc-gamg", "-q", "--out", str(solve)],
+                       capture_output=True, text=True, timeout=600, env=dict(os.environ))
+    assert p.returncode == 0, p.stdout + p.stderr
     assert not (solve / "solution.vtu").exists()
     assert sorted(f.name for f in solve.glob("solution.piece-*.vtu")) == ["solution.piece-0.vtu", "solution.piece-1.vtu"]
     vtk = pytest.importorskip("vtk")

@@ -81,6 +81,8 @@ struct RunOptions {
   /// each step's files there as it solves it, in the folder's transaction, and keeps only its
   /// last step, so that its memory does not grow with its steps; SceneRun::write must then be
   /// given this folder and no list of files. Empty: a path keeps its steps until written.
+  /// Across processes on pieces of the mesh, a static solve given it writes its solution in
+  /// pieces (solution.pvtu), and every process calls SceneRun::write.
   std::filesystem::path out;
   /// The Krylov engines solver.linear = "auto" may choose when the condensed route does not fit
   /// in memory (choose_route), in order of preference; empty: every one built.

@@ -79,9 +79,10 @@ struct BasicSceneSolve {
   int mesh_pieces = 1;
   /// With mesh_pieces > 1, the cells of the whole mesh.
   int whole_cells = 0;
-  /// A static solve whose mesh was made in pieces: this process's share of the whole mesh's
-  /// vertices, [first, end). Its piece of solution.vtu is written by this process, the pieces
-  /// named by solution.pvtu (write_results, collective then); none otherwise.
+  /// A static solve whose mesh was made in pieces, given an output folder
+  /// (SceneSolveOptions::out): this process's share of the whole mesh's vertices, [first, end).
+  /// Its piece of solution.vtu is written by this process, the pieces named by solution.pvtu
+  /// (write_results, collective then: every process calls it); none otherwise.
   std::optional<std::array<int, 2>> share;
   /// A process that does not write the results and kept its piece of the mesh after a solve on
   /// pieces (given an output folder, SceneSolveOptions::out): the whole mesh's number of each
@@ -156,8 +157,9 @@ struct SceneSolveOptions {
   /// folder's transaction (nothing changes there before write_results commits): its memory then
   /// does not grow with its steps. write_results must then be given this folder and no list of
   /// files. Empty: the path keeps its steps (SceneSolve::path) until they are written. Given
-  /// across processes on pieces of the mesh, a process that does not write the results keeps
-  /// its piece after the solve (SceneSolve::piece_cells).
+  /// across processes on pieces of the mesh, a static solve writes its solution there in pieces
+  /// (SceneSolve::share; write_results is then called by every process), and a process that
+  /// does not write the results keeps its piece after the solve (SceneSolve::piece_cells).
   std::filesystem::path out;
   /// Called after each coarser grid of a grid sequence is solved (solver.grid_sequence), with
   /// its record (an entry of SceneSolve::grid_sequence; coarser_grid_text, hemivem/app/report.hpp).
