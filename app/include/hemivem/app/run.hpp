@@ -141,7 +141,9 @@ class SceneRun {
   /// The files `hemivem solve` writes for this run (wanted_files).
   std::vector<std::string> wanted_files() const;
   /// Writes what `hemivem solve --out dir` writes (write_results): the files
-  /// of wanted_files(), or `files` when not null. Never prints.
+  /// of wanted_files(), or `files` when not null. Never prints. Across processes the first
+  /// writes and the others return an empty report; a static solve on pieces given its output
+  /// folder (RunOptions::out) writes its solution in pieces, and every process calls it.
   OutputReport write(const std::filesystem::path& dir, const std::vector<std::string>* files = nullptr) const;
   /// One line: status, certificate, iterations, energy and total time.
   std::string brief() const;

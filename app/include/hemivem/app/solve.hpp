@@ -196,7 +196,10 @@ std::vector<std::string> wanted_files(const Scene& scene, bool has_contact);
 
 /// Writes what `hemivem solve --out dir` writes for a solve of `scene`: the files of
 /// wanted_files (or `files`, names of all_outputs(2), when not null) through write_outputs,
-/// with run_info's record. Checks the folder first (check_output_folder). Never prints.
+/// with run_info's record. Checks the folder first (check_output_folder). Never prints. A
+/// process that does not hold the results returns an empty report, but for a solve written in
+/// pieces (SceneSolve::share), where every process calls it and writes its piece of
+/// solution.pvtu (docs/reference/outputs.md).
 OutputReport write_results(const std::filesystem::path& dir, const Scene& scene, const SceneSolve& solved,
                            const std::vector<std::string>* files = nullptr);
 

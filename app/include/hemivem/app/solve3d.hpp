@@ -63,7 +63,8 @@ RunInfo run_info(const Scene& scene, const SceneSolve3D& solved);
 
 /// Writes what `hemivem solve --out dir` writes for a 3D solve: the files of wanted_files
 /// (or `files`, names of all_outputs(3), when not null) through write_outputs. Checks the
-/// folder first (check_output_folder). Never prints.
+/// folder first (check_output_folder). Never prints. Across processes as the plane's
+/// write_results (a solve in pieces: every process calls it).
 OutputReport write_results(const std::filesystem::path& dir, const Scene& scene, const SceneSolve3D& solved,
                            const std::vector<std::string>* files = nullptr);
 
