@@ -21,6 +21,7 @@
 #include <hemivem/app/vtu.hpp>
 #include <hemivem/app/text_writer.hpp>
 #include <hemivem/contact/solver.hpp>
+#include <hemivem/row_distribution.hpp>
 #include <hemivem/support/output_folder.hpp>
 
 namespace hemivem::app::detail {
@@ -141,6 +142,9 @@ template <class MeshType, int dim, class Result>
 void write_solve_files(OutputRun& run, const MeshType& mesh, const MaterialTable& materials,
                        const BasicContactSolution<dim>& solution, const RunInfo& info, const Result& result,
                        const SolutionVtu* pieces = nullptr);
+
+/// A distribution of one row per process (of krylov_world): for collectives over the processes.
+std::unique_ptr<RowDistribution> process_rows();
 
 /// The piece of process `rank` of solution.pvtu: "solution.piece-3.vtu".
 std::string vtu_piece_file(int rank);
@@ -272,6 +276,9 @@ namespace hemivem::app::detail {
 /// files, to which each step is added as it is solved; write_results to the same folder then
 /// writes the rest and commits (write_path_outputs).
 template <int dim>
+class FramePieces;
+
+template <int dim>
 struct PathOutput {
   using MeshType = std::conditional_t<dim == 2, Mesh, Mesh3D>;
   /// `frames`: the frames the path may write (owned by the transaction); `parts`: the names of
@@ -285,6 +292,43 @@ struct PathOutput {
   /// The problem on a process's piece of the mesh that `files` was given the mesh of, kept
   /// once the solve made the whole mesh for its results (docs/cluster.md).
   std::shared_ptr<const void> piece;
+  /// Set when the path's frames are written in pieces (FramePieces): `files` then writes each
+  /// frame through it.
+  FramePieces<dim>* frame_pieces = nullptr;
+};
+
+/// The VTU frames of a loading path across processes whose mesh was made in pieces, written in
+/// pieces (docs/reference/outputs.md): at each frame every process writes its piece
+/// (solution-0007.piece-K.vtu, SolutionVtu::write_share of its share of the vertices) into the
+/// staging folder of the first process's transaction, and the first writes solution-0007.pvtu
+/// naming them. A piece that cannot be written is remembered, the process writes no more, and
+/// require_written tells every process before the folder is committed.
+template <int dim>
+class FramePieces {
+ public:
+  using MeshType = std::conditional_t<dim == 2, Mesh, Mesh3D>;
+  /// Collective. The first process passes its path's transaction `tx` (null when it could not
+  /// open the folder), the others null; every process learns the staging folder (opened()).
+  /// `mesh` (the process's piece, every vertex of the whole mesh) and `materials` are kept by
+  /// reference while the path runs; `share`: the process's vertices [first, end).
+  FramePieces(const OutputTransaction* tx, const MeshType& mesh, const MaterialTable& materials, std::array<int, 2> share);
+  ~FramePieces();
+  /// Whether the first process opened the folder.
+  bool opened() const { return !staging_.empty(); }
+  /// Writes this process's piece of step `step`'s frame and, on the first process, into `tx`,
+  /// the file naming the pieces; returns the frame's files (frame_files_of).
+  std::vector<std::string> write(int step, const BasicContactSolution<dim>& frame, OutputTransaction* tx);
+  /// Collective: an InputError, on the process that could not write a piece and on the first,
+  /// unless every process wrote every piece; `dir` is the output folder, for the message.
+  void require_written(const std::filesystem::path& dir);
+
+ private:
+  std::unique_ptr<RowDistribution> rows_;
+  std::filesystem::path staging_;
+  const MeshType& mesh_;
+  const MaterialTable& materials_;
+  std::array<int, 2> share_;
+  std::string failed_file_, failed_why_;  ///< the piece this process could not write, and why
 };
 
 /// InputError unless `dir` is the folder `out` writes and `files` is null (its steps were

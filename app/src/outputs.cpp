@@ -313,6 +313,16 @@ void solve_figures(std::vector<Figure>& figures, const Mesh3D& mesh, const Conta
     figures.push_back(pressure_figure(mesh, *faces, solution, info));
 }
 
+/// The frames of a path written whole into `tx`: solution-0007.vtu of the whole mesh.
+template <class MeshType, int dim>
+typename PathFiles<dim>::WriteFrame whole_frames(OutputTransaction& tx, const MeshType& mesh, const MaterialTable& materials) {
+  return [&tx, &mesh, &materials](int step, const BasicContactSolution<dim>& frame) {
+    const std::string name = frame_file(step);
+    tx.write(name, [&](std::ostream& os) { write_vtu(os, mesh, materials, frame, nullptr); });
+    return std::vector<std::string>{name};
+  };
+}
+
 /// The output folder of a solve of either dimension: the files every solve writes, a solid's
 /// contact-surface.vtu (over `contact_faces`), scene.toml, a plane's mesh.poly2d, the path's
 /// files and the figures, as one transaction: `streamed`'s, opened before its path ran and
@@ -357,8 +367,7 @@ OutputReport write_outputs_of(const fs::path& dir, const MeshType& mesh, const M
   } else {
     own_files = write_path_files<MeshType, dim>(
         run.transaction(), mesh, path, [&run](const std::string& n) { return run.want(n); },
-        [&](std::ostream& os, const BasicContactSolution<dim>& frame) { write_vtu(os, mesh, materials, frame, nullptr); },
-        run.report(), info.bodies);
+        whole_frames<MeshType, dim>(run.transaction(), mesh, materials), run.report(), info.bodies);
     files = own_files.get();
   }
   // the figures: one that cannot be drawn is skipped with its reason, never an error
@@ -397,7 +406,43 @@ std::string text_of(const Eigen::VectorXd& v) {
   return text;
 }
 
+/// The staging folder of the first process's transaction `tx` (null there when it could not
+/// open the folder; ignored on the others), told to every process: empty when it is not open.
+/// Collective over `rows` (a row per process).
+fs::path staging_of_first(const RowDistribution& rows, const OutputTransaction* tx) {
+  return text_of(rows.all_gather(bytes_of(tx ? tx->staging().string() : "")));
+}
+
+/// Collective over `rows`: an InputError, on the process that could not write its piece (`why`
+/// says why, empty when it could) and on the first process, naming the piece (`piece_of(k)` the
+/// piece of process k); the folder `dir` keeps its previous outputs.
+void require_pieces_written(const RowDistribution& rows, const std::string& why,
+                            const std::function<std::string(int)>& piece_of, const fs::path& dir) {
+  const Eigen::VectorXd unwritten = rows.all_gather(Eigen::VectorXd::Constant(1, why.empty() ? 0.0 : 1.0));
+  const std::string reach = " (each process writes its pieces of the solution into the output folder's transaction, "
+                            "so the folder is on a file system every process reaches); " +
+                            previous_outputs_kept(dir);
+  const ProcessWorld world = krylov_world();
+  if (!why.empty())
+    throw InputError("process " + std::to_string(world.rank) + " could not write " + piece_of(world.rank) + ": " + why + reach,
+                     dir.string());
+  if (world.rank != 0) return;
+  for (Eigen::Index k = 0; k < unwritten.size(); ++k)
+    if (unwritten(k) != 0.0)
+      throw InputError("process " + std::to_string(k) + " could not write " + piece_of(static_cast<int>(k)) + reach,
+                       dir.string());
+}
+
 }  // namespace
+
+std::unique_ptr<RowDistribution> process_rows() {
+  const ProcessWorld world = krylov_world();
+  RowLayout one;
+  one.first = world.rank;
+  one.owned = 1;
+  one.global = world.size;
+  return make_distributed_rows(one);
+}
 
 template <class MeshType, int dim>
 OutputReport write_outputs_in_pieces(const fs::path& dir, const MeshType& mesh, const MaterialTable& materials,
@@ -414,11 +459,7 @@ OutputReport write_outputs_in_pieces(const fs::path& dir, const MeshType& mesh, 
     check_output_folder(dir);
     return write_outputs_of(dir, mesh, materials, contact_faces, solution, info, wanted);
   }
-  RowLayout one;  // one row per process: the collectives below
-  one.first = world.rank;
-  one.owned = 1;
-  one.global = world.size;
-  const std::unique_ptr<RowDistribution> rows = make_distributed_rows(one);
+  const std::unique_ptr<RowDistribution> rows = process_rows();  // the collectives below
   // the first process opens the folder's transaction, and every process learns its staging folder
   std::optional<OutputRun> run;
   std::exception_ptr failed;
@@ -431,7 +472,7 @@ OutputReport write_outputs_in_pieces(const fs::path& dir, const MeshType& mesh, 
       failed = std::current_exception();
     }
   }
-  const std::string staging = text_of(rows->all_gather(bytes_of(run ? run->transaction().staging().string() : "")));
+  const fs::path staging = staging_of_first(*rows, run ? &run->transaction() : nullptr);
   if (staging.empty()) {  // the folder could not be opened: the first process says why
     if (failed) std::rethrow_exception(failed);
     return {};
@@ -449,21 +490,12 @@ OutputReport write_outputs_in_pieces(const fs::path& dir, const MeshType& mesh, 
       indicators = &of_piece;
     }
     vtu.emplace(mesh, materials, solution, indicators);
-    write_file_atomically(fs::path(staging) / file, [&](std::ostream& os) { vtu->write_share(os, share[0], share[1]); });
+    write_file_atomically(staging / file, [&](std::ostream& os) { vtu->write_share(os, share[0], share[1]); });
   } catch (const std::exception& e) {
     why = e.what();
   }
-  const Eigen::VectorXd unwritten = rows->all_gather(Eigen::VectorXd::Constant(1, why.empty() ? 0.0 : 1.0));
-  const std::string reach = " (each process writes its piece of solution.pvtu into the output folder's transaction, "
-                            "so the folder is on a file system every process reaches); " +
-                            previous_outputs_kept(dir);
-  if (!why.empty())
-    throw InputError("process " + std::to_string(world.rank) + " could not write " + file + ": " + why + reach, dir.string());
+  require_pieces_written(*rows, why, vtu_piece_file, dir);
   if (!writer) return {};
-  for (Eigen::Index k = 0; k < unwritten.size(); ++k)
-    if (unwritten(k) != 0.0)
-      throw InputError("process " + std::to_string(k) + " could not write " + vtu_piece_file(static_cast<int>(k)) + reach,
-                       dir.string());
   return write_outputs_of<MeshType, dim>(dir, mesh, materials, contact_faces, solution, info, wanted, nullptr, &*run,
                                          &*vtu);
 }
@@ -482,12 +514,56 @@ PathOutput<dim>::PathOutput(const fs::path& dir, const std::vector<std::string>&
     : run(dir, all_outputs(dim), all_outputs(5 - dim), wanted, 0, frames),
       files(
           run.transaction(), [this](const std::string& n) { return run.want(n); }, mesh, std::move(parts),
-          [&mesh, &materials](std::ostream& os, const BasicContactSolution<dim>& frame) {
-            write_vtu(os, mesh, materials, frame, nullptr);
+          [this, whole = whole_frames<MeshType, dim>(run.transaction(), mesh, materials)](
+              int step, const BasicContactSolution<dim>& frame) {
+            return frame_pieces ? frame_pieces->write(step, frame, &run.transaction()) : whole(step, frame);
           },
           std::move(bodies)) {
   require_known_outputs(wanted, all_outputs(dim), dim == 3 ? " of a three-dimensional solve" : "");
 }
+
+template <int dim>
+FramePieces<dim>::FramePieces(const OutputTransaction* tx, const MeshType& mesh, const MaterialTable& materials,
+                              std::array<int, 2> share)
+    : rows_(process_rows()), mesh_(mesh), materials_(materials), share_(share) {
+  staging_ = staging_of_first(*rows_, tx);
+}
+
+template <int dim>
+FramePieces<dim>::~FramePieces() = default;
+
+template <int dim>
+std::vector<std::string> FramePieces<dim>::write(int step, const BasicContactSolution<dim>& frame, OutputTransaction* tx) {
+  const ProcessWorld world = krylov_world();
+  const int pieces = world.size;
+  const std::string file = frame_piece_file(step, world.rank);
+  std::optional<SolutionVtu> vtu;
+  if (failed_why_.empty()) {
+    try {
+      vtu.emplace(mesh_, materials_, frame, nullptr);
+      write_file_atomically(staging_ / file, [&](std::ostream& os) { vtu->write_share(os, share_[0], share_[1]); });
+    } catch (const std::exception& e) {
+      failed_file_ = file;
+      failed_why_ = e.what();
+    }
+  }
+  std::vector<std::string> files = frame_files_of(step, pieces);
+  if (tx && vtu) {
+    const std::vector<std::string> named(files.begin(), files.end() - 1);
+    tx->write(files.back(), [&](std::ostream& os) { vtu->write_pieces(os, named); });
+  }
+  return files;
+}
+
+template <int dim>
+void FramePieces<dim>::require_written(const fs::path& dir) {
+  require_pieces_written(
+      *rows_, failed_why_,
+      [this](int k) { return k == krylov_world().rank ? failed_file_ : std::string("its pieces of the path's frames"); }, dir);
+}
+
+template class FramePieces<2>;
+template class FramePieces<3>;
 
 template <int dim>
 void require_path_output_folder(const PathOutput<dim>& out, const fs::path& dir, const std::vector<std::string>* files) {

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <exception>
 #include <sstream>
 
 namespace hemivem::app {
@@ -105,13 +106,15 @@ void require_path_memory(const Scene& scene, const BasicContactProblem<dim>& pro
   require_memory(solve + path, what.str(), scene.where("path"));
 }
 
-// The frames a path writes (SceneSolveOptions::out owns them before it runs).
-std::vector<std::string> planned_frames(const Scene& scene) {
+// The files of the frames a path writes (SceneSolveOptions::out owns them before it runs), in
+// `pieces` pieces each when > 0.
+std::vector<std::string> planned_frames(const Scene& scene, int pieces) {
   std::vector<std::string> frames;
   if (!scene.path || !writes_frames(scene)) return frames;
   const int steps = static_cast<int>(scene.path->factors().size());
   for (int k = 1; k <= steps; ++k)
-    if (scene.path->is_frame(k)) frames.push_back(frame_file(k));
+    if (scene.path->is_frame(k))
+      for (const std::string& file : frame_files_of(k, pieces)) frames.push_back(file);
   return frames;
 }
 
@@ -121,13 +124,30 @@ void solve_path_built(const Scene& scene, SceneEngines& e, Solved& s,
   if (!s.built->has_contact)
     throw InputError("a loading path needs a contact boundary: the scene has none", scene.where("path"));
   require_path_memory<dim>(scene, s.built->problem, !out.empty());
+  std::vector<std::string> parts;
+  for (const auto& part : s.built->problem.parts) parts.push_back(part.name);
+  // across processes on pieces of the mesh, each process writes its piece of every VTU frame
+  const bool in_pieces = e.piece && e.writes_to_folder && scene.writes("vtu");
+  std::exception_ptr unopened;
   if (!out.empty() && s.holds_results) {  // the folder's transaction, before the first step: each step is written as it comes
-    check_output_folder(out);
-    std::vector<std::string> parts;
-    for (const auto& part : s.built->problem.parts) parts.push_back(part.name);
-    s.path_output = std::make_shared<PathOutput<dim>>(out, wanted_files(scene, true), planned_frames(scene), s.built->mesh,
-                                                      s.built->problem.elasticity.materials, std::move(parts),
-                                                      s.built->bodies);
+    try {
+      check_output_folder(out);
+      s.path_output = std::make_shared<PathOutput<dim>>(out, wanted_files(scene, true),
+                                                        planned_frames(scene, in_pieces ? e.processes : 0), s.built->mesh,
+                                                        s.built->problem.elasticity.materials, parts, s.built->bodies);
+    } catch (...) {
+      if (!in_pieces) throw;
+      unopened = std::current_exception();
+    }
+  }
+  if (in_pieces) {  // every process learns whether the first opened the folder
+    s.frame_pieces = std::make_shared<FramePieces<dim>>(
+        s.path_output ? &s.path_output->run.transaction() : nullptr, s.built->mesh, s.built->problem.elasticity.materials,
+        std::array<int, 2>{e.piece->first_vertex, e.piece->end_vertex});
+    if (unopened) std::rethrow_exception(unopened);
+    if (!s.frame_pieces->opened())
+      throw InputError("the first process could not open the output folder", out.string());
+    if (s.path_output) s.path_output->frame_pieces = s.frame_pieces.get();
   }
   BasicPathOptions<dim> po;
   po.minimizer = s.options;
@@ -143,9 +163,13 @@ void solve_path_built(const Scene& scene, SceneEngines& e, Solved& s,
     po.distribute = make_distributed_rows;
     po.world = krylov_world();
   }
-  if (on_step || s.path_output)
+  if (on_step || s.path_output || s.frame_pieces)
     po.on_step = [&](const BasicPathStep<dim>& step) {
-      if (s.path_output) s.path_output->files.add(step);
+      if (s.path_output) {
+        s.path_output->files.add(step);  // its frames through s.frame_pieces
+      } else if (s.frame_pieces && step.u.size() > 0) {
+        s.frame_pieces->write(step.index, frame_of(step, parts), nullptr);
+      }
       if (on_step) on_step(step);
       return true;
     };

@@ -1,6 +1,7 @@
 #include "path_outputs.hpp"
 
 #include <hemivem/app/format.hpp>
+#include <hemivem/error.hpp>
 #include <hemivem/app/path.hpp>
 #include <hemivem/app/text_writer.hpp>
 
@@ -24,6 +25,29 @@ std::string frame_file(int step) {
   return name;
 }
 
+std::string frame_pvtu_file(int step) { return fs::path(frame_file(step)).replace_extension(".pvtu").string(); }
+
+std::string frame_piece_file(int step, int piece) {
+  return fs::path(frame_file(step)).replace_extension(".piece-" + std::to_string(piece) + ".vtu").string();
+}
+
+std::vector<std::string> frame_files_of(int step, int pieces) {
+  if (pieces <= 0) return {frame_file(step)};
+  std::vector<std::string> names;
+  for (int k = 0; k < pieces; ++k) names.push_back(frame_piece_file(step, k));
+  names.push_back(frame_pvtu_file(step));
+  return names;
+}
+
+template <int dim>
+BasicContactSolution<dim> frame_of(const BasicPathStep<dim>& step, const std::vector<std::string>& parts) {
+  BasicContactSolution<dim> frame;
+  frame.u = step.u;
+  frame.contact = step.contact;
+  frame.contact_parts = parts;
+  return frame;
+}
+
 template <int dim>
 std::vector<std::string> frame_files(const BasicPathSolution<dim>& path) {
   std::vector<std::string> names;
@@ -44,7 +68,9 @@ std::vector<std::string> files_matching(const fs::path& dir, const std::string& 
   return names;
 }
 
-std::vector<std::string> frame_files_in(const fs::path& dir) { return files_matching(dir, R"(solution-[0-9]{4,}\.vtu)"); }
+std::vector<std::string> frame_files_in(const fs::path& dir) {
+  return files_matching(dir, R"(solution-[0-9]{4,}(\.vtu|\.pvtu|\.piece-[0-9]+\.vtu))");
+}
 
 template <int dim>
 nlohmann::json path_summary_json(const BasicPathSolution<dim>& path) {
@@ -166,13 +192,10 @@ void PathFiles<dim>::add(const BasicPathStep<dim>& s) {
       });
   });
   if (s.u.size() > 0 && want_("solution.pvd")) {
-    BasicContactSolution<dim> frame;
-    frame.u = s.u;
-    frame.contact = s.contact;
-    frame.contact_parts = parts_;
-    const std::string name = frame_file(s.index);
-    tx_.write(name, [&](std::ostream& os) { write_frame_(os, frame); });
-    frames_.emplace_back(s.t, name);
+    const std::vector<std::string> files = write_frame_(s.index, frame_of(s, parts_));
+    if (files.empty()) throw InternalError("a frame of no file");
+    frames_.emplace_back(s.t, files.back());
+    frame_files_.insert(frame_files_.end(), files.begin(), files.end());
   }
   double w = 0.0, un = 0.0, normal = 0.0, tangential = 0.0, stick = 0.0;
   for (const auto& n : s.contact) {
@@ -211,7 +234,7 @@ void PathFiles<dim>::finish(const BasicPathSolution<dim>& path, OutputReport& re
     }
   });
   if (!want_("solution.pvd")) return;
-  for (const auto& frame : frames_) report.written.push_back(dir / frame.second);
+  for (const auto& file : frame_files_) report.written.push_back(dir / file);
   tx_.write("solution.pvd", [&](std::ostream& stream) {
     TextWriter os(stream);
     os << "<?xml version=\"1.0\"?>\n"
@@ -226,9 +249,7 @@ void PathFiles<dim>::finish(const BasicPathSolution<dim>& path, OutputReport& re
 
 template <int dim>
 std::vector<std::string> PathFiles<dim>::frames() const {
-  std::vector<std::string> names;
-  for (const auto& frame : frames_) names.push_back(frame.second);
-  return names;
+  return frame_files_;
 }
 
 template <int dim>
@@ -294,6 +315,7 @@ std::unique_ptr<PathFiles<dim>> write_path_files(OutputTransaction& tx, const Me
 #define HEMIVEM_PATH_OUTPUTS(dim, MeshType)                                                                       \
   template class PathFiles<dim>;                                                                                 \
   template std::vector<std::string> frame_files(const BasicPathSolution<dim>&);                                  \
+  template BasicContactSolution<dim> frame_of(const BasicPathStep<dim>&, const std::vector<std::string>&);      \
   template nlohmann::json path_summary_json(const BasicPathSolution<dim>&);                                      \
   template std::unique_ptr<PathFiles<dim>> write_path_files(OutputTransaction&, const MeshType&,                 \
                                                             const BasicPathSolution<dim>*,                      \

@@ -30,10 +30,18 @@ namespace hemivem::app {
 
 /// "solution-0007.vtu" for step 7 (four digits at least).
 std::string frame_file(int step);
+/// A frame written in pieces across processes: "solution-0007.pvtu", naming the pieces
+/// "solution-0007.piece-K.vtu" (K = 0, 1, ...).
+std::string frame_pvtu_file(int step);
+std::string frame_piece_file(int step, int piece);
+/// The files of step `step`'s frame: frame_file, or, written in `pieces` pieces (> 0), each
+/// piece and then the file naming them.
+std::vector<std::string> frame_files_of(int step, int pieces);
 /// The frame files of the steps a path kept, in order.
 template <int dim>
 std::vector<std::string> frame_files(const BasicPathSolution<dim>& path);
-/// The names solution-<digits>.vtu already in `dir` (an earlier path's frames).
+/// The frames of an earlier path already in `dir`: solution-<digits>.vtu, and of frames written
+/// in pieces solution-<digits>.pvtu and solution-<digits>.piece-<digits>.vtu.
 std::vector<std::string> frame_files_in(const std::filesystem::path& dir);
 /// The names of the files in `dir` that the regular expression `pattern` matches whole (none
 /// when `dir` is not a folder).
@@ -45,13 +53,15 @@ nlohmann::json path_summary_json(const BasicPathSolution<dim>& path);
 /// The files of a path that `want` names, written into the staging folder of `tx` as the steps
 /// come (add), each step once and never kept: path.json (its steps, then the members that
 /// sum the path up), path-contact.csv (a row per step and contact node), path-displacement.csv
-/// (a row per frame and vertex) and, for solution.pvd, a VTU per frame (`write_frame`); finish()
-/// completes them. What is kept per step is one row of path.png's data (7 numbers).
+/// (a row per frame and vertex) and, for solution.pvd, the files of each frame (`write_frame`);
+/// finish() completes them. What is kept per step is one row of path.png's data (7 numbers).
 template <int dim>
 class PathFiles {
  public:
   using MeshType = std::conditional_t<dim == 2, Mesh, Mesh3D>;
-  using WriteFrame = std::function<void(std::ostream&, const BasicContactSolution<dim>&)>;
+  /// Writes the frame of step `step` into the transaction and returns the files written, the
+  /// last the one solution.pvd names.
+  using WriteFrame = std::function<std::vector<std::string>(int step, const BasicContactSolution<dim>&)>;
   /// `parts`: the names of the contact parts, by BasicContactNode::part; `bodies`: a scene of
   /// several bodies' (path-displacement.csv's column `body`), empty for one body.
   PathFiles(OutputTransaction& tx, std::function<bool(const std::string&)> want, const MeshType& mesh,
@@ -62,7 +72,7 @@ class PathFiles {
   void add(const BasicPathStep<dim>& s);
   /// path.json's members after the steps and solution.pvd; each file written is added to `report`.
   void finish(const BasicPathSolution<dim>& path, OutputReport& report);
-  /// The frames written, in order.
+  /// The files of the frames written, in order.
   std::vector<std::string> frames() const;
   /// path.png: the normal (and friction) resultant of the contact forces against the mean
   /// normal displacement of the contact nodes, and the contact and stick zones against t;
@@ -81,6 +91,7 @@ class PathFiles {
   bool tangential_ = false;
   int steps_ = 0;
   std::vector<std::pair<double, std::string>> frames_;  ///< t and file of each frame
+  std::vector<std::string> frame_files_;                ///< every file of the frames
   /// per step: t, mean u_nu, normal resultant, friction resultant, zone length, stick length, jump
   std::vector<std::array<double, 7>> rows_;
 };
@@ -93,6 +104,10 @@ std::unique_ptr<PathFiles<dim>> write_path_files(OutputTransaction& tx, const Me
                                                  const std::function<bool(const std::string&)>& want,
                                                  const typename PathFiles<dim>::WriteFrame& write_frame, OutputReport& report,
                                                  const std::vector<BodyRange>& bodies = {});
+
+/// The frame of a step: its displacement and contact nodes, the contact parts named `parts`.
+template <int dim>
+BasicContactSolution<dim> frame_of(const BasicPathStep<dim>& step, const std::vector<std::string>& parts);
 
 /// The names a run with this path may own in its folder: the path's frames, when solution.pvd
 /// is wanted (for result.json's list of files).

@@ -62,10 +62,9 @@ struct SceneEngines {
 /// The problem a solve of the scene builds on the scene's own mesh, into s.built: on the
 /// full-space route across processes (`e`), the process's piece of the mesh where the scene
 /// allows it (scene_piece; e.piece then says where the piece lies, and s.mesh_pieces and
-/// s.whole_cells what it is a piece of), the whole mesh otherwise. A path given its output
-/// folder `out` writes its VTU frames, of the whole mesh, as its steps come: the process that
-/// writes (s.holds_results) then makes the whole mesh as its piece, the others their pieces.
-/// Given `out`, the solve writes to that folder (e.writes_to_folder).
+/// s.whole_cells what it is a piece of), the whole mesh otherwise. Given `out`, the solve
+/// writes to that folder (e.writes_to_folder): a path's VTU frames, and a static solve's
+/// solution, in pieces.
 template <int dim, class Solved>
 void build_scene_problem(const Scene& scene, SceneEngines& e, Solved& s, const std::filesystem::path& out = {}) {
   e.scene_mesh = true;
@@ -74,19 +73,8 @@ void build_scene_problem(const Scene& scene, SceneEngines& e, Solved& s, const s
     if (const std::optional<BoxPiece> piece = scene_piece(scene, world.rank, world.size)) {
       s.mesh_pieces = world.size;
       e.writes_to_folder = !out.empty();
-      const bool vtu_frames = scene.path && !out.empty() && scene.writes("vtu");
-      if (vtu_frames && s.holds_results) {  // the whole mesh, this process owning its share of the vertices
-        s.built = build_problem<dim>(scene);
-        BoxPiece whole = *piece;  // a piece of every vertex is the whole mesh
-        whole.first_vertex = 0;
-        whole.end_vertex = s.built->mesh.num_vertices();
-        e.piece = scene_piece_of_mesh(scene, whole);
-        e.piece->first_vertex = piece->first_vertex;
-        e.piece->end_vertex = piece->end_vertex;
-      } else {
-        s.built = build_problem_piece<dim>(scene, *piece);
-        e.piece = scene_piece_of_mesh(scene, *piece);
-      }
+      s.built = build_problem_piece<dim>(scene, *piece);
+      e.piece = scene_piece_of_mesh(scene, *piece);
       s.whole_cells = e.piece->whole_cells;
       return;
     }
@@ -101,12 +89,7 @@ template <int dim, class Solved, class Estimate>
 void estimate_solution(const SceneEngines& e, Solved& s, Estimate&& estimate) {
   if (s.solution.u.size() == 0 || !s.solution.u.allFinite()) return;
   if (e.piece) {  // each process estimates the cells it owns, and every process sums the whole mesh's
-    const ProcessWorld world = krylov_world();
-    RowLayout one;
-    one.first = world.rank;
-    one.owned = 1;
-    one.global = world.size;
-    s.estimate = estimate_error_of_pieces<dim>(s.built->problem, s.solution, *e.piece, *make_distributed_rows(one));
+    s.estimate = estimate_error_of_pieces<dim>(s.built->problem, s.solution, *e.piece, *process_rows());
   } else {
     s.estimate = estimate(s.built->problem, s.solution);
   }

@@ -253,6 +253,8 @@ RunInfo run_info(const Scene& scene, const SceneSolve& solved) {
 
 OutputReport write_results(const std::filesystem::path& dir, const Scene& scene, const SceneSolve& solved,
                            const std::vector<std::string>* files) {
+  // a path's frames in pieces: every process learns whether each was written
+  if (solved.frame_pieces) solved.frame_pieces->require_written(dir);
   if (!solved.holds_results && !solved.share) return {};  // another process writes
   const BuiltProblem& built = *solved.built;
   const RunInfo info = run_info(scene, solved);

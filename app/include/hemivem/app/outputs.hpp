@@ -109,7 +109,7 @@ const BasicPathSolution<dim>* path_of(const RunInfo& info) {
 /// the stage "estimate" of the timings).
 nlohmann::json error_estimate_json(const ErrorEstimate& estimate);
 
-/// The result.json document ("schema": "hemivem-result/24", "dimension": 2).
+/// The result.json document ("schema": "hemivem-result/25", "dimension": 2).
 nlohmann::json result_json(const Mesh& mesh, const ContactSolution& solution, const RunInfo& info);
 /// The result.json document of a solid ("dimension": 3): the same keys, points and vectors with
 /// three components (contact[].x and contact[].normal [x, y, z]), mesh.faces, contact_zone with

@@ -57,6 +57,8 @@ Scene choose_route(const Scene& scene, const std::vector<std::string>& krylov_en
 namespace detail {
 template <int dim>
 struct PathOutput;
+template <int dim>
+class FramePieces;
 }  // namespace detail
 
 /// One scene solved with the engines it names (scene.solver.linear / .minimizer), a plane
@@ -117,6 +119,10 @@ struct BasicSceneSolve {
   /// as they were made, and kept only its last: write_results to that folder finishes the
   /// outputs. Null otherwise.
   std::shared_ptr<detail::PathOutput<dim>> path_output;
+  /// A path across processes on pieces of the mesh, given its output folder, writes its VTU
+  /// frames in pieces, every process its own (docs/cluster.md): write_results then learns from
+  /// every process whether each piece was written. Null otherwise.
+  std::shared_ptr<detail::FramePieces<dim>> frame_pieces;
   /// mesh_seconds + the solve's total.
   double total_seconds() const {
     const auto it = solution.timings.find("total");
