@@ -1,5 +1,5 @@
 // make_voronoi3d: valid conforming meshes tiling the box, boundary faces exactly on its sides,
-// determinism, Lloyd iterations and input checks.
+// determinism, Lloyd iterations (also split among processes) and input checks.
 #include <hemivem/mesh/generators3d.hpp>
 
 #include <gtest/gtest.h>
@@ -7,7 +7,12 @@
 #include "test_support.hpp"
 
 #include <algorithm>
+#include <array>
+#include <barrier>
 #include <cmath>
+#include <optional>
+#include <stdexcept>
+#include <thread>
 #include <limits>
 #include <string>
 #include <vector>
@@ -137,6 +142,71 @@ TEST(Voronoi3D, ScaledBoxes) {
   }
   const Box far{1e6, 1e6 + 1.0, -1e6 - 1.0, -1e6, 0.0, 1.0};  // far from the origin
   expect_tiles_box(hemivem::make_voronoi3d(3, far, seeded(4, 20)), far, 27);
+}
+
+/// Processes played by threads: all_gather hands each one's values to all through `Shared`.
+class ThreadRows final : public hemivem::RowDistribution {
+ public:
+  struct Shared {
+    explicit Shared(int size) : sync(size), values(static_cast<std::size_t>(size)) {}
+    std::barrier<> sync;
+    std::vector<Eigen::VectorXd> values;
+  };
+  ThreadRows(Shared& shared, int rank) : shared_(shared), rank_(rank) {
+    layout_.first = rank;
+    layout_.owned = 1;
+    layout_.global = size();
+  }
+  int rank() const override { return rank_; }
+  int size() const override { return static_cast<int>(shared_.values.size()); }
+  const hemivem::RowLayout& layout() const override { return layout_; }
+  double sum(double) const override { throw std::logic_error("not used"); }
+  double max(double) const override { throw std::logic_error("not used"); }
+  void update_ghosts(Eigen::VectorXd&) const override { throw std::logic_error("not used"); }
+  Eigen::VectorXd all_gather(const Eigen::VectorXd& mine) const override {
+    shared_.values[static_cast<std::size_t>(rank_)] = mine;
+    shared_.sync.arrive_and_wait();
+    Eigen::Index n = 0;
+    for (const auto& v : shared_.values) n += v.size();
+    Eigen::VectorXd all(n);
+    n = 0;
+    for (const auto& v : shared_.values) all.segment(n, v.size()) = v, n += v.size();
+    shared_.sync.arrive_and_wait();  // every process has read them before the next call writes
+    return all;
+  }
+
+ private:
+  Shared& shared_;
+  int rank_;
+  hemivem::RowLayout layout_;
+};
+
+// the Lloyd iterations split among 2 and 3 processes (threads here; each computing the cells of
+// its share of the seeds): every process makes the mesh one process makes, to the bit
+TEST(Voronoi3D, LloydIterationsSplitAmongProcessesMakeOneProcesssMesh) {
+  const GridSize3 n(5, 4, 3);
+  const Mesh3D whole = hemivem::make_voronoi3d(n, kBox, seeded(4));
+  for (const int size : {2, 3}) {
+    SCOPED_TRACE(std::to_string(size) + " processes");
+    ThreadRows::Shared shared(size);
+    std::vector<std::optional<Mesh3D>> made(static_cast<std::size_t>(size));
+    std::vector<std::thread> others;
+    const auto make = [&](int rank) {
+      const ThreadRows rows(shared, rank);
+      VoronoiOptions o = seeded(4);
+      o.processes = &rows;
+      made[static_cast<std::size_t>(rank)] = hemivem::make_voronoi3d(n, kBox, o);
+    };
+    for (int rank = 1; rank < size; ++rank) others.emplace_back(make, rank);
+    make(0);
+    for (auto& t : others) t.join();
+    for (const auto& m : made) {
+      ASSERT_TRUE(m.has_value());
+      EXPECT_TRUE(identical(*m, whole));
+    }
+  }
+  // with the iterations cut short the mesh differs: the comparison above can fail
+  EXPECT_FALSE(identical(hemivem::make_voronoi3d(n, kBox, seeded(4, 3)), whole));
 }
 
 TEST(Voronoi3D, DeterministicPerSeed) {

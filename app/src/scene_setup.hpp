@@ -62,7 +62,8 @@ struct SceneEngines {
 /// The problem a solve of the scene builds on the scene's own mesh, into s.built: on the
 /// full-space route across processes (`e`), the process's piece of the mesh where the scene
 /// allows it (scene_piece; e.piece then says where the piece lies, and s.mesh_pieces and
-/// s.whole_cells what it is a piece of), the whole mesh otherwise. Given `out`, the solve
+/// s.whole_cells what it is a piece of), the whole mesh otherwise (across processes, each doing
+/// its share of the generator's work where it splits it: build_problem). Given `out`, the solve
 /// writes to that folder (e.writes_to_folder): a path's VTU frames, and a static solve's
 /// solution, in pieces.
 template <int dim, class Solved>
@@ -78,6 +79,8 @@ void build_scene_problem(const Scene& scene, SceneEngines& e, Solved& s, const s
       s.whole_cells = e.piece->whole_cells;
       return;
     }
+    s.built = build_problem<dim>(scene, process_rows().get());  // the generator's work split where it splits it
+    return;
   }
   s.built = build_problem<dim>(scene);
 }

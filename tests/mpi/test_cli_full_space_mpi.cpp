@@ -348,6 +348,16 @@ TEST(CliFullSpaceMpi, TwoJoinedSolidsAcrossProcessesAreTheCondensedAnswer) {
   expect_processes_agree(flags, ref, 2, "two-solids", true, 1);  // two bodies: each process makes both whole
 }
 
+// a Voronoi mesh of a solid, made whole by every process, each computing the cells of its share
+// of the seeds in the Lloyd iterations: the one process's mesh (its vertices, cells, faces and
+// h) and answer
+TEST(CliFullSpaceMpi, AVoronoiSolidsMeshSplitAmongProcessesIsOneProcesss) {
+  const std::string flags = scene("example-4.1-3d.toml") + " --set mesh.generator=\"voronoi\" --set 'mesh.n=[5, 5, 5]' --tol 1e-11";
+  const fs::path ref = solve_condensed(flags, "condensed-voronoi");
+  if (ref.empty()) return;
+  for (const int processes : {2, 3}) expect_processes_agree(flags, ref, processes, "voronoi", false, 1);
+}
+
 /// The applied load of a plane path's step `a` (path.json) is that of `b` to 1e-12 of its size.
 void expect_applied_load_agrees(const nlohmann::json& a, const nlohmann::json& b) {
   const auto &fa = a["applied_load"], &fb = b["applied_load"];

@@ -180,12 +180,14 @@ const std::vector<std::string>& mesh3d_generator_names() {
   return names;
 }
 
-Mesh3D make_mesh3d(std::string_view generator, GridSize3 n, const Box& domain, std::uint64_t seed) {
+Mesh3D make_mesh3d(std::string_view generator, GridSize3 n, const Box& domain, std::uint64_t seed,
+                   const RowDistribution* processes) {
   if (generator == "cubes") return make_cubes(n, domain);
   if (generator == "tetrahedra") return make_tetrahedra(n, domain);
   if (generator == "voronoi") {
     VoronoiOptions options;
     options.seed = seed;
+    options.processes = processes;
     return make_voronoi3d(n, domain, options);
   }
   std::string names;

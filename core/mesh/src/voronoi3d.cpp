@@ -136,10 +136,10 @@ using VertexBase = CGAL::Triangulation_vertex_base_with_info_3<int, Kernel>;
 using Tds = CGAL::Triangulation_data_structure_3<VertexBase>;
 using Delaunay = CGAL::Delaunay_triangulation_3<Kernel, Tds>;
 
-/// The candidate neighbours of each seed: its Delaunay neighbours, or every other seed when
-/// there are few seeds or they do not span space. Each list is sorted nearest first (ties by
-/// index).
-std::vector<std::vector<int>> neighbours(const std::vector<Vec3>& seeds) {
+/// The candidate neighbours of each seed first, ..., end - 1: its Delaunay neighbours, or every
+/// other seed when there are few seeds or they do not span space. Each list is sorted nearest
+/// first (ties by index); the other seeds' lists are empty.
+std::vector<std::vector<int>> neighbours(const std::vector<Vec3>& seeds, int first, int end) {
   const int ns = static_cast<int>(seeds.size());
   std::vector<std::vector<int>> nb(seeds.size());
   bool all = ns <= 16;
@@ -160,7 +160,7 @@ std::vector<std::vector<int>> neighbours(const std::vector<Vec3>& seeds) {
       all = true;
     } else {
       std::vector<Delaunay::Vertex_handle> adjacent;
-      for (int i = 0; i < ns; ++i) {
+      for (int i = first; i < end; ++i) {
         adjacent.clear();
         dt.finite_adjacent_vertices(handle[static_cast<std::size_t>(i)], std::back_inserter(adjacent));
         auto& list = nb[static_cast<std::size_t>(i)];
@@ -169,11 +169,11 @@ std::vector<std::vector<int>> neighbours(const std::vector<Vec3>& seeds) {
     }
   }
   if (all) {
-    for (int i = 0; i < ns; ++i)
+    for (int i = first; i < end; ++i)
       for (int j = 0; j < ns; ++j)
         if (j != i) nb[static_cast<std::size_t>(i)].push_back(j);
   }
-  for (int i = 0; i < ns; ++i) {
+  for (int i = first; i < end; ++i) {
     const Vec3& p = seeds[static_cast<std::size_t>(i)];
     auto& list = nb[static_cast<std::size_t>(i)];
     for (int j : list)
@@ -583,12 +583,13 @@ std::pair<double, Vec3> volume_centroid(const Cell& c, const Vec3& apex) {
   return {volume, apex + moment / volume};
 }
 
-std::vector<Cell> voronoi_cells(const std::vector<Vec3>& seeds, const Box& box, double accuracy, double margin) {
-  const auto nb = neighbours(seeds);
+std::vector<Cell> voronoi_cells(const std::vector<Vec3>& seeds, const Box& box, double accuracy, double margin,
+                                std::size_t first, std::size_t end) {
+  const auto nb = neighbours(seeds, static_cast<int>(first), static_cast<int>(end));
   const VertexMaker maker(seeds, box, accuracy);
   std::vector<Cell> cells;
-  cells.reserve(seeds.size());
-  for (std::size_t i = 0; i < seeds.size(); ++i) {
+  cells.reserve(end - first);
+  for (std::size_t i = first; i < end; ++i) {
     const CGAL::Protect_FPU_rounding<true> upward;  // interval arithmetic
     cells.push_back(voronoi_cell(static_cast<int>(i), seeds, nb[i], maker, margin));
   }
@@ -810,23 +811,37 @@ Mesh3D make_voronoi3d(GridSize3 n, const Box& domain, const VoronoiOptions& opti
   }
   // Seeds along a Hilbert curve: nearby cells get nearby numbers (Lloyd moves seeds little).
   sort_along_hilbert_curve(seeds, domain);
-  std::vector<Cell> cells = voronoi_cells(seeds, domain, accuracy, margin);
+  // the seeds whose cells this process computes in the Lloyd iterations (all in one process)
+  std::size_t first = 0, end = ns;
+  if (options.processes) {
+    const auto rank = static_cast<std::size_t>(options.processes->rank());
+    const auto size = static_cast<std::size_t>(options.processes->size());
+    first = ns * rank / size;
+    end = ns * (rank + 1) / size;
+  }
   const double stop = options.lloyd_tolerance * spacing;
   for (int it = 0; it < options.max_lloyd_iterations; ++it) {
-    double moved = 0.0;
-    for (std::size_t i = 0; i < ns; ++i) {
-      Vec3 g = volume_centroid(cells[i], seeds[i]).second;
+    const std::vector<Cell> cells = voronoi_cells(seeds, domain, accuracy, margin, first, end);
+    Eigen::VectorXd centroids(3 * static_cast<Eigen::Index>(end - first));
+    for (std::size_t i = first; i < end; ++i) {
+      Vec3 g = volume_centroid(cells[i - first], seeds[i]).second;
       // the centroid of a cell lies inside it; keep it strictly inside the box anyway
       for (int a = 0; a < 3; ++a)
         g[a] = std::clamp(g[a], std::nextafter(domain.lower(a), domain.upper(a)),
                           std::nextafter(domain.upper(a), domain.lower(a)));
+      centroids.segment<3>(3 * static_cast<Eigen::Index>(i - first)) = g;
+    }
+    const Eigen::VectorXd all = options.processes ? options.processes->all_gather(centroids) : centroids;
+    if (all.size() != 3 * static_cast<Eigen::Index>(ns)) throw InternalError("voronoi mesh: the processes' centroids");
+    double moved = 0.0;
+    for (std::size_t i = 0; i < ns; ++i) {
+      const Vec3 g = all.segment<3>(3 * static_cast<Eigen::Index>(i));
       moved = std::max(moved, (g - seeds[i]).norm());
       seeds[i] = g;
     }
-    cells = voronoi_cells(seeds, domain, accuracy, margin);
     if (moved <= stop) break;
   }
-  return voronoi_mesh(cells, domain, tol);
+  return voronoi_mesh(voronoi_cells(seeds, domain, accuracy, margin, 0, ns), domain, tol);
 }
 
 }  // namespace hemivem

@@ -79,8 +79,9 @@ int gmsh_file_dimension(const std::filesystem::path& path) {
 namespace {
 
 /// The scene's mesh: a Gmsh file (its memory checked once its contact faces are known), or a
-/// generator whose solve's memory (estimate_memory_3d) is checked before the mesh is made.
-Mesh3D scene_mesh_3d(const Scene& scene) {
+/// generator whose solve's memory (estimate_memory_3d) is checked before the mesh is made, its
+/// work split among `processes` where it splits it (make_mesh3d).
+Mesh3D scene_mesh_3d(const Scene& scene, const RowDistribution* processes) {
   const SceneMesh& m = scene.mesh;
   if (!m.file.empty()) return read_gmsh3d(m.file);
   const GridSize3 cells = m.cells3();
@@ -89,7 +90,8 @@ Mesh3D scene_mesh_3d(const Scene& scene) {
   detail::require_route_memory(scene, condensed, what, scene.where("mesh.n"));
   const auto& b = m.box;
   return detail::generated_mesh(scene, [&] {
-    return make_mesh3d(m.generator, cells, Box{b[0], b[1], b[2], b[3], b[4], b[5]}, static_cast<std::uint64_t>(m.seed));
+    return make_mesh3d(m.generator, cells, Box{b[0], b[1], b[2], b[3], b[4], b[5]}, static_cast<std::uint64_t>(m.seed),
+                       processes);
   });
 }
 
@@ -113,7 +115,9 @@ std::unique_ptr<BuiltProblem3D> built_solid(const Scene& scene, Mesh3D mesh, boo
   return out;
 }
 
-std::unique_ptr<BuiltProblem3D> built_solid(const Scene& scene) { return built_solid(scene, scene_mesh_3d(scene), false); }
+std::unique_ptr<BuiltProblem3D> built_solid(const Scene& scene, const RowDistribution* processes) {
+  return built_solid(scene, scene_mesh_3d(scene, processes), false);
+}
 
 }  // namespace detail
 

@@ -372,16 +372,16 @@ template std::unique_ptr<BuiltProblem3D> built_on<3>(const Scene&, Mesh3D);
 }  // namespace detail
 
 template <int dim>
-std::unique_ptr<BasicBuiltProblem<dim>> build_problem(const Scene& scene) {
+std::unique_ptr<BasicBuiltProblem<dim>> build_problem(const Scene& scene, const RowDistribution* processes) {
   detail::require_dimension<dim>(scene);
   if constexpr (dim == 2)
     return scene.bodies.empty() ? detail::built_plane(scene) : detail::built_bodies<2>(scene);
   else
-    return scene.bodies.empty() ? detail::built_solid(scene) : detail::built_bodies<3>(scene);
+    return scene.bodies.empty() ? detail::built_solid(scene, processes) : detail::built_bodies<3>(scene);
 }
 
-template std::unique_ptr<BuiltProblem> build_problem<2>(const Scene&);
-template std::unique_ptr<BuiltProblem3D> build_problem<3>(const Scene&);
+template std::unique_ptr<BuiltProblem> build_problem<2>(const Scene&, const RowDistribution*);
+template std::unique_ptr<BuiltProblem3D> build_problem<3>(const Scene&, const RowDistribution*);
 
 ContactProblem make_contact_problem(const Scene& scene, const Mesh& mesh) { return contact_problem_of<2>(scene, mesh); }
 

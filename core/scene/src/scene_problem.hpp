@@ -65,6 +65,6 @@ std::unique_ptr<BasicBuiltProblem<dim>> built_bodies(const Scene& scene);
 /// The problem of a plane scene on its own mesh (its generator or file; region boxes applied).
 std::unique_ptr<BuiltProblem> built_plane(const Scene& scene);
 /// The problem of a solid scene on its own mesh (its generator or Gmsh file).
-std::unique_ptr<BuiltProblem3D> built_solid(const Scene& scene);
+std::unique_ptr<BuiltProblem3D> built_solid(const Scene& scene, const RowDistribution* processes = nullptr);
 
 }  // namespace hemivem::detail

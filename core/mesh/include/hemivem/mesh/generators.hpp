@@ -17,6 +17,7 @@
 #include <vector>
 
 #include <hemivem/mesh/mesh.hpp>
+#include <hemivem/row_distribution.hpp>
 
 namespace hemivem {
 
@@ -45,6 +46,12 @@ struct VoronoiOptions {
   /// Lloyd iterations stop when no seed moves by more than this fraction of the
   /// mean seed spacing sqrt(area / n^2). 0 with max_lloyd_iterations = 0: raw Voronoi.
   double lloyd_tolerance = 1e-3;
+  /// Across processes, one row per process (hemivem/row_distribution.hpp), or null: the Lloyd
+  /// iterations of make_voronoi3d split among them. Each process computes the cells of an even
+  /// split of the seeds (in their order) and their centroids, which all_gather gives every
+  /// process; every process then makes the whole mesh, the same to the bit as one process makes.
+  /// Collective: every process calls the generator alike. Not kept beyond the call.
+  const RowDistribution* processes = nullptr;
 };
 
 /// Voronoi cells of nx*ny random seeds (uniform in the rectangle), computed with

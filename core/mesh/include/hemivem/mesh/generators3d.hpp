@@ -58,7 +58,9 @@ Mesh3D make_voronoi3d(GridSize3 n, const Box& domain = {}, const VoronoiOptions&
 const std::vector<std::string>& mesh3d_generator_names();
 
 /// Any 3D generator by name with its default options; InputError listing the valid names for
-/// an unknown one.
-Mesh3D make_mesh3d(std::string_view generator, GridSize3 n, const Box& domain = {}, std::uint64_t seed = 1);
+/// an unknown one. `processes`: across processes, voronoi's Lloyd iterations split among them
+/// (VoronoiOptions::processes; collective); the other generators do not use it.
+Mesh3D make_mesh3d(std::string_view generator, GridSize3 n, const Box& domain = {}, std::uint64_t seed = 1,
+                   const RowDistribution* processes = nullptr);
 
 }  // namespace hemivem

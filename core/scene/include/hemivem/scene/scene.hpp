@@ -459,9 +459,12 @@ std::vector<std::string> scene_warnings(const Scene& scene);
 /// (build_problem<3>): a generator of generators3d.hpp on the box, or a Gmsh file of volumes,
 /// with the 3D Lame constants. Errors name the scene key's file:line (a side or group that
 /// selects no boundary facet, an unknown group, a region without material); a scene of the
-/// other dimension is an InputError at its `mesh` key.
+/// other dimension is an InputError at its `mesh` key. `processes` (one row per process, or
+/// null): across processes, the mesh generator's work split among them where it splits it (a
+/// solid's voronoi generator, make_mesh3d), every process making the whole mesh alike;
+/// collective then.
 template <int dim = 2>
-std::unique_ptr<BasicBuiltProblem<dim>> build_problem(const Scene& scene);
+std::unique_ptr<BasicBuiltProblem<dim>> build_problem(const Scene& scene, const RowDistribution* processes = nullptr);
 
 /// A solid scene on a mesh of one's own instead of the scene's (its mesh keys are not used):
 /// the scene's sides are the sides of this mesh's bounding box, its groups this mesh's face
