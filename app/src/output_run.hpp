@@ -21,6 +21,7 @@
 #include <hemivem/app/vtu.hpp>
 #include <hemivem/app/text_writer.hpp>
 #include <hemivem/contact/solver.hpp>
+#include <hemivem/krylov_solver.hpp>
 #include <hemivem/row_distribution.hpp>
 #include <hemivem/support/output_folder.hpp>
 
@@ -142,9 +143,6 @@ template <class MeshType, int dim, class Result>
 void write_solve_files(OutputRun& run, const MeshType& mesh, const MaterialTable& materials,
                        const BasicContactSolution<dim>& solution, const RunInfo& info, const Result& result,
                        const SolutionVtu* pieces = nullptr);
-
-/// A distribution of one row per process (of krylov_world): for collectives over the processes.
-std::unique_ptr<RowDistribution> process_rows();
 
 /// The piece of process `rank` of solution.pvtu: "solution.piece-3.vtu".
 std::string vtu_piece_file(int rank);

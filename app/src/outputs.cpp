@@ -435,15 +435,6 @@ void require_pieces_written(const RowDistribution& rows, const std::string& why,
 
 }  // namespace
 
-std::unique_ptr<RowDistribution> process_rows() {
-  const ProcessWorld world = krylov_world();
-  RowLayout one;
-  one.first = world.rank;
-  one.owned = 1;
-  one.global = world.size;
-  return make_distributed_rows(one);
-}
-
 template <class MeshType, int dim>
 OutputReport write_outputs_in_pieces(const fs::path& dir, const MeshType& mesh, const MaterialTable& materials,
                                      const std::vector<int>* contact_faces, const BasicContactSolution<dim>& solution,

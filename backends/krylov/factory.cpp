@@ -128,6 +128,15 @@ ProcessWorld krylov_world() {
   return world;
 }
 
+std::unique_ptr<RowDistribution> process_rows() {
+  const ProcessWorld world = krylov_world();
+  RowLayout one;
+  one.first = world.rank;
+  one.owned = 1;
+  one.global = world.size;
+  return make_distributed_rows(one);
+}
+
 std::unique_ptr<RowDistribution> make_distributed_rows(RowLayout layout) {
 #ifdef HEMIVEM_HAVE_PETSC_KRYLOV
   const ProcessWorld world = krylov_world();

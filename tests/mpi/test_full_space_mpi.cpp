@@ -36,16 +36,6 @@ using namespace hemivem;
 
 namespace {
 
-/// A distribution of one row on each process: the collectives among the processes.
-std::unique_ptr<RowDistribution> one_row_each() {
-  const ProcessWorld world = krylov_world();
-  RowLayout one;
-  one.first = world.rank;
-  one.owned = 1;
-  one.global = world.size;
-  return make_distributed_rows(one);
-}
-
 MinimizerOptions tight() {
   MinimizerOptions o;
   o.tolerance = 1e-12;
@@ -300,7 +290,7 @@ void expect_shares_solve_as_the_condensed_route(
   EXPECT_LE(s.certificate.worst(), 1e-12);
   EXPECT_EQ(s.stages, (std::vector<std::string>{"assembly", "posing", "full_space"}));
   for (const char* stage : {"setup", "post_process", "release"}) EXPECT_TRUE(s.timings.count(stage)) << stage;
-  const auto rows = one_row_each();
+  const auto rows = process_rows();
   EXPECT_EQ(rows->max(s.certificate.dual), rows->min(s.certificate.dual)) << "one certificate on every process";
   EXPECT_EQ(rows->max(s.energy), rows->min(s.energy)) << "one energy on every process";
   const auto ssn = make_minimizer("ssn");
@@ -354,7 +344,7 @@ TEST(FullSpaceMpi, TheCommandsSolveAcrossProcessesIsTheCondensedAnswerInTheSolid
 template <int dim, class Problem>
 void expect_estimate_of_pieces(const Problem& mine, const Problem& all, const BasicContactSolution<dim>& s,
                                const PieceOfMesh& where) {
-  const auto rows = one_row_each();
+  const auto rows = process_rows();
   const ErrorEstimate pieces = estimate_error_of_pieces<dim>(mine, s, where, *rows);
   const ErrorEstimate whole = estimate_error(all, s);
   EXPECT_EQ(pieces.energy, whole.energy);
@@ -742,7 +732,7 @@ int main(int argc, char** argv) {
     std::printf("the distributed full-space route on %d process%s\n", world.size, world.size > 1 ? "es" : "");
   }
   const int failed_here = RUN_ALL_TESTS() != 0 ? 1 : 0;
-  const double failed = one_row_each()->max(failed_here);
+  const double failed = process_rows()->max(failed_here);
   if (failed_here) std::fprintf(stderr, "tests failed on rank %d\n", world.rank);
   return failed > 0.0 ? 1 : 0;
 }

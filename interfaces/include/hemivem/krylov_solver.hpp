@@ -102,6 +102,9 @@ ProcessWorld krylov_world();
 /// InternalError on every process (with the same message). In one process, OneProcessRows
 /// (without PETSc: only that, InputError otherwise).
 std::unique_ptr<RowDistribution> make_distributed_rows(RowLayout layout);
+/// Collective over krylov_world(): one row on each process, for the collectives among the
+/// processes themselves (gathering a value or a text from each); make_distributed_rows.
+std::unique_ptr<RowDistribution> process_rows();
 
 /// The engine `name` ("auto": the first available); InputError naming the engine for one
 /// not known, or known and not built (with the list of those built).
