@@ -82,7 +82,8 @@ struct RunOptions {
   /// last step, so that its memory does not grow with its steps; SceneRun::write must then be
   /// given this folder and no list of files. Empty: a path keeps its steps until written.
   /// Across processes on pieces of the mesh, a static solve given it writes its solution in
-  /// pieces (solution.pvtu), and every process calls SceneRun::write.
+  /// pieces (solution.pvtu), a path its VTU frames (solution-NNNN.pvtu), and every process
+  /// calls SceneRun::write.
   std::filesystem::path out;
   /// The Krylov engines solver.linear = "auto" may choose when the condensed route does not fit
   /// in memory (choose_route), in order of preference; empty: every one built.
@@ -142,8 +143,9 @@ class SceneRun {
   std::vector<std::string> wanted_files() const;
   /// Writes what `hemivem solve --out dir` writes (write_results): the files
   /// of wanted_files(), or `files` when not null. Never prints. Across processes the first
-  /// writes and the others return an empty report; a static solve on pieces given its output
-  /// folder (RunOptions::out) writes its solution in pieces, and every process calls it.
+  /// writes and the others return an empty report; a static solve or a path on pieces given
+  /// its output folder (RunOptions::out) writes its solution or its frames in pieces, and every
+  /// process calls it.
   OutputReport write(const std::filesystem::path& dir, const std::vector<std::string>* files = nullptr) const;
   /// One line: status, certificate, iterations, energy and total time.
   std::string brief() const;

@@ -164,8 +164,9 @@ struct SceneSolveOptions {
   /// does not grow with its steps. write_results must then be given this folder and no list of
   /// files. Empty: the path keeps its steps (SceneSolve::path) until they are written. Given
   /// across processes on pieces of the mesh, a static solve writes its solution there in pieces
-  /// (SceneSolve::share; write_results is then called by every process), and a process that
-  /// does not write the results keeps its piece after the solve (SceneSolve::piece_cells).
+  /// (SceneSolve::share) and a path its VTU frames (SceneSolve::frame_pieces); write_results is
+  /// then called by every process, and a process that does not write the results keeps its
+  /// piece after the solve (SceneSolve::piece_cells).
   std::filesystem::path out;
   /// Called after each coarser grid of a grid sequence is solved (solver.grid_sequence), with
   /// its record (an entry of SceneSolve::grid_sequence; coarser_grid_text, hemivem/app/report.hpp).
@@ -205,7 +206,8 @@ std::vector<std::string> wanted_files(const Scene& scene, bool has_contact);
 /// with run_info's record. Checks the folder first (check_output_folder). Never prints. A
 /// process that does not hold the results returns an empty report, but for a solve written in
 /// pieces (SceneSolve::share), where every process calls it and writes its piece of
-/// solution.pvtu (docs/reference/outputs.md).
+/// solution.pvtu, and a path whose frames were written in pieces (SceneSolve::frame_pieces),
+/// where every process calls it to learn whether each piece was (docs/reference/outputs.md).
 OutputReport write_results(const std::filesystem::path& dir, const Scene& scene, const SceneSolve& solved,
                            const std::vector<std::string>* files = nullptr);
 
