@@ -422,11 +422,10 @@ void require_pieces_written(const RowDistribution& rows, const std::string& why,
   const std::string reach = " (each process writes its pieces of the solution into the output folder's transaction, "
                             "so the folder is on a file system every process reaches); " +
                             previous_outputs_kept(dir);
-  const ProcessWorld world = krylov_world();
   if (!why.empty())
-    throw InputError("process " + std::to_string(world.rank) + " could not write " + piece_of(world.rank) + ": " + why + reach,
+    throw InputError("process " + std::to_string(rows.rank()) + " could not write " + piece_of(rows.rank()) + ": " + why + reach,
                      dir.string());
-  if (world.rank != 0) return;
+  if (rows.rank() != 0) return;
   for (Eigen::Index k = 0; k < unwritten.size(); ++k)
     if (unwritten(k) != 0.0)
       throw InputError("process " + std::to_string(k) + " could not write " + piece_of(static_cast<int>(k)) + reach,
@@ -525,9 +524,7 @@ FramePieces<dim>::~FramePieces() = default;
 
 template <int dim>
 std::vector<std::string> FramePieces<dim>::write(int step, const BasicContactSolution<dim>& frame, OutputTransaction* tx) {
-  const ProcessWorld world = krylov_world();
-  const int pieces = world.size;
-  const std::string file = frame_piece_file(step, world.rank);
+  const std::string file = frame_piece_file(step, rows_->rank());
   std::optional<SolutionVtu> vtu;
   if (failed_why_.empty()) {
     try {
@@ -538,7 +535,7 @@ std::vector<std::string> FramePieces<dim>::write(int step, const BasicContactSol
       failed_why_ = e.what();
     }
   }
-  std::vector<std::string> files = frame_files_of(step, pieces);
+  std::vector<std::string> files = frame_files_of(step, rows_->size());
   if (tx && vtu) {
     const std::vector<std::string> named(files.begin(), files.end() - 1);
     tx->write(files.back(), [&](std::ostream& os) { vtu->write_pieces(os, named); });
@@ -550,7 +547,7 @@ template <int dim>
 void FramePieces<dim>::require_written(const fs::path& dir) {
   require_pieces_written(
       *rows_, failed_why_,
-      [this](int k) { return k == krylov_world().rank ? failed_file_ : std::string("its pieces of the path's frames"); }, dir);
+      [this](int k) { return k == rows_->rank() ? failed_file_ : std::string("its pieces of the path's frames"); }, dir);
 }
 
 template class FramePieces<2>;
