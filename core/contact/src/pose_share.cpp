@@ -360,8 +360,8 @@ PosedShare pose_share(const BasicContactProblem<dim>& problem, int first_vertex,
 std::pair<int, int> vertex_share(int num_vertices, int rank, int size) {
   if (size < 1 || rank < 0 || rank >= size || num_vertices < 0)
     throw InternalError("vertex_share of rank " + std::to_string(rank) + " of " + std::to_string(size) + " processes");
-  const auto at = [&](int r) { return static_cast<int>(static_cast<long long>(num_vertices) * r / size); };
-  return {at(rank), at(rank + 1)};
+  const auto [first, end] = even_share(num_vertices, rank, size);
+  return {static_cast<int>(first), static_cast<int>(end)};
 }
 
 template <int dim>

@@ -814,10 +814,9 @@ Mesh3D make_voronoi3d(GridSize3 n, const Box& domain, const VoronoiOptions& opti
   // the seeds whose cells this process computes in the Lloyd iterations (all in one process)
   std::size_t first = 0, end = ns;
   if (options.processes) {
-    const auto rank = static_cast<std::size_t>(options.processes->rank());
-    const auto size = static_cast<std::size_t>(options.processes->size());
-    first = ns * rank / size;
-    end = ns * (rank + 1) / size;
+    const auto [f, e] = even_share(static_cast<Eigen::Index>(ns), options.processes->rank(), options.processes->size());
+    first = static_cast<std::size_t>(f);
+    end = static_cast<std::size_t>(e);
   }
   const double stop = options.lloyd_tolerance * spacing;
   for (int it = 0; it < options.max_lloyd_iterations; ++it) {

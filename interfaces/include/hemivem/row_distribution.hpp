@@ -11,6 +11,7 @@
 
 #include <Eigen/Core>
 
+#include <utility>
 #include <vector>
 
 namespace hemivem {
@@ -47,6 +48,15 @@ class RowDistribution {
   /// The number of local columns: owned rows and ghosts.
   Eigen::Index columns() const { return layout().owned + static_cast<Eigen::Index>(layout().ghosts.size()); }
 };
+
+/// The share of process `rank` of `size` in an even split of `count` items in their order: the
+/// items [first, end), first = count * rank / size (rounded down), so that every process's share
+/// differs from another's by at most one item and the shares follow the ranks. The caller checks
+/// 0 <= rank < size and count >= 0.
+inline std::pair<Eigen::Index, Eigen::Index> even_share(Eigen::Index count, int rank, int size) {
+  const auto at = [&](int r) { return static_cast<Eigen::Index>(static_cast<long long>(count) * r / size); };
+  return {at(rank), at(rank + 1)};
+}
 
 /// One process owning all `n` rows.
 class OneProcessRows final : public RowDistribution {
