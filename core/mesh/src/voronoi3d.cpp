@@ -382,23 +382,29 @@ class VertexMaker {
   double accuracy_;
 };
 
-/// A convex cell: vertices and outward faces (and work space of clip()).
+/// A convex cell: vertices and outward faces, and the work space of clip() (kept between the
+/// cells one Cell is made into, so that their vectors keep their capacity).
 struct Cell {
   std::vector<Vertex> vertices;
   std::vector<Face> faces;
+  std::vector<Face> next;  // the faces clip() makes, taking the loops' storage in turns with `faces`
   std::vector<int> signs, number;
   std::vector<std::pair<std::pair<int, int>, int>> crossing;
   std::vector<std::pair<int, int>> cap;
 };
 
-Cell box_cell(int seed, const VertexMaker& maker) {
-  Cell c;
+/// `c` becomes the box, as the cell of `seed` before any clipping.
+void make_box_cell(Cell& c, int seed, const VertexMaker& maker) {
+  c.vertices.clear();
   for (int i = 0; i < 8; ++i)
     c.vertices.push_back(maker.make(make_key(seed, side_generator(i & 1), side_generator(2 + ((i >> 1) & 1)),
                                              side_generator(4 + ((i >> 2) & 1)))));
-  c.faces = {{side_generator(0), {0, 4, 6, 2}}, {side_generator(1), {1, 3, 7, 5}}, {side_generator(2), {0, 1, 5, 4}},
-             {side_generator(3), {2, 6, 7, 3}}, {side_generator(4), {0, 2, 3, 1}}, {side_generator(5), {4, 5, 7, 6}}};
-  return c;
+  static constexpr int loops[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+  c.faces.resize(6);
+  for (int f = 0; f < 6; ++f) {
+    c.faces[static_cast<std::size_t>(f)].generator = side_generator(f);
+    c.faces[static_cast<std::size_t>(f)].loop.assign(std::begin(loops[f]), std::end(loops[f]));
+  }
 }
 
 [[noreturn]] void degenerate(int seed) {
@@ -418,14 +424,12 @@ int shared_generator(const Key& u, const Key& w, int a, int f) {
   return count == 1 ? found : std::numeric_limits<int>::min();
 }
 
-/// The cap of cell a on the bisector with seed e: its directed edges chained into one loop,
-/// added to `faces` when it has three vertices or more.
-void add_cap(const std::vector<std::pair<int, int>>& cap, int a, int e, std::vector<Face>& faces) {
-  Face g{e, {}};
+/// The cap of cell a on a bisector: its directed edges chained into one loop, into `loop`.
+void chain_cap(const std::vector<std::pair<int, int>>& cap, int a, std::vector<int>& loop) {
   const int start = cap.front().first;
   int v = start;
   for (std::size_t k = 0; k < cap.size(); ++k) {
-    g.loop.push_back(v);
+    loop.push_back(v);
     int next = -1;
     for (const auto& [p, q] : cap)
       if (p == v) {
@@ -436,11 +440,13 @@ void add_cap(const std::vector<std::pair<int, int>>& cap, int a, int e, std::vec
     v = next;
   }
   if (v != start) degenerate(a);
-  if (g.loop.size() >= 3) faces.push_back(std::move(g));
 }
 
-/// `faces` become the faces of cell `c`, which keeps the vertices they use, in their order.
-void keep_used_vertices(Cell& c, std::vector<Face> faces) {
+/// The first `count` faces of c.next become the faces of cell `c`, which keeps the vertices
+/// they use, in their order.
+void keep_used_vertices(Cell& c, std::size_t count) {
+  c.next.resize(count);
+  std::vector<Face>& faces = c.next;
   std::vector<int>& number = c.number;
   number.assign(c.vertices.size(), -1);
   for (const Face& f : faces)
@@ -455,7 +461,7 @@ void keep_used_vertices(Cell& c, std::vector<Face> faces) {
   c.vertices.resize(kept);
   for (Face& f : faces)
     for (int& v : f.loop) v = number[static_cast<std::size_t>(v)];
-  c.faces = std::move(faces);
+  c.faces.swap(c.next);
 }
 
 /// Clips cell `c` of seed a by the bisector of seeds a and e (keeping the side of a).
@@ -503,8 +509,16 @@ void clip(Cell& c, int a, int e, const VertexMaker& maker) {
 
   auto& cap = c.cap;  // directed edges of the cap
   cap.clear();
-  std::vector<Face> faces;
-  faces.reserve(c.faces.size() + 1);
+  // the faces made, c.next[0, made): each takes a Face of c.next and its loop's storage
+  std::vector<Face>& faces = c.next;
+  std::size_t made = 0;
+  const auto take = [&](int generator) -> Face& {
+    if (made == faces.size()) faces.emplace_back();
+    Face& g = faces[made++];
+    g.generator = generator;
+    g.loop.clear();
+    return g;
+  };
   for (Face& f : c.faces) {
     const auto& L = f.loop;
     bool has_negative = false, has_positive = false;
@@ -513,11 +527,11 @@ void clip(Cell& c, int a, int e, const VertexMaker& maker) {
       has_positive = has_positive || s[static_cast<std::size_t>(v)] > 0;
     }
     if (!has_negative) {
-      faces.push_back(std::move(f));
+      take(f.generator).loop.swap(f.loop);
       continue;
     }
     if (!has_positive) continue;
-    Face g{f.generator, {}};
+    Face& g = take(f.generator);
     int exit = -1, entry = -1;
     for (std::size_t k = 0; k < L.size(); ++k) {
       const int u = L[k], w = L[(k + 1) % L.size()];
@@ -528,32 +542,39 @@ void clip(Cell& c, int a, int e, const VertexMaker& maker) {
       if (su < 0 && sw >= 0) entry = sw == 0 ? w : g.loop.back();
     }
     if (!zero) cap.emplace_back(entry, exit);
-    if (g.loop.size() >= 3) faces.push_back(std::move(g));
+    if (g.loop.size() < 3) --made;
   }
 
   if (zero) {
     // the cap: the reversed edges that no remaining face matches
     std::vector<std::pair<int, int>> edges;
-    for (const Face& f : faces)
+    for (std::size_t m = 0; m < made; ++m) {
+      const Face& f = faces[m];
       for (std::size_t k = 0; k < f.loop.size(); ++k) edges.emplace_back(f.loop[k], f.loop[(k + 1) % f.loop.size()]);
+    }
     std::sort(edges.begin(), edges.end());
     for (const auto& [u, w] : edges)
       if (!std::binary_search(edges.begin(), edges.end(), std::make_pair(w, u))) cap.emplace_back(w, u);
   }
-  if (!cap.empty()) add_cap(cap, a, e, faces);
-  keep_used_vertices(c, std::move(faces));
+  if (!cap.empty()) {  // the new face, where it has three vertices or more
+    Face& g = take(e);
+    chain_cap(cap, a, g.loop);
+    if (g.loop.size() < 3) --made;
+  }
+  keep_used_vertices(c, made);
 }
 
-/// The cell of seed a: the box clipped by the bisectors with its candidate neighbours
-/// (nearest first; a neighbour farther than twice the cell's radius cannot cut it).
-Cell voronoi_cell(int a, const std::vector<Vec3>& seeds, const std::vector<int>& nb, const VertexMaker& maker,
-                  double margin) {
-  Cell c = box_cell(a, maker);
+/// `c` becomes the cell of seed a: the box clipped by the bisectors with its candidate
+/// neighbours (nearest first; a neighbour farther than twice the cell's radius cannot cut it).
+void make_voronoi_cell(Cell& c, int a, const std::vector<Vec3>& seeds, const std::vector<int>& nb,
+                       const VertexMaker& maker, double margin) {
+  make_box_cell(c, a, maker);
   const Vec3& p = seeds[static_cast<std::size_t>(a)];
   double radius = 0.0;
-  auto update_radius = [&] {
-    radius = 0.0;
-    for (const Vertex& v : c.vertices) radius = std::max(radius, (v.pos - p).norm());
+  auto update_radius = [&] {  // sqrt is monotone and correctly rounded: the largest norm, to the bit
+    double largest = 0.0;
+    for (const Vertex& v : c.vertices) largest = std::max(largest, (v.pos - p).squaredNorm());
+    radius = std::sqrt(largest);
   };
   update_radius();
   for (int e : nb) {
@@ -563,7 +584,6 @@ Cell voronoi_cell(int a, const std::vector<Vec3>& seeds, const std::vector<int>&
     clip(c, a, e, maker);
     update_radius();
   }
-  return c;
 }
 
 /// Volume and centroid of a cell (tetrahedra from its seed, which lies inside it).
@@ -583,16 +603,32 @@ std::pair<double, Vec3> volume_centroid(const Cell& c, const Vec3& apex) {
   return {volume, apex + moment / volume};
 }
 
-std::vector<Cell> voronoi_cells(const std::vector<Vec3>& seeds, const Box& box, double accuracy, double margin,
-                                std::size_t first, std::size_t end) {
+/// visit(i, cell) for the cells of the seeds first, ..., end - 1 in turn, each made into one
+/// Cell (its storage reused from one cell to the next), in the rounding mode of the caller.
+template <class Visit>
+void for_each_voronoi_cell(const std::vector<Vec3>& seeds, const Box& box, double accuracy, double margin,
+                           std::size_t first, std::size_t end, Visit&& visit) {
   const auto nb = neighbours(seeds, static_cast<int>(first), static_cast<int>(end));
   const VertexMaker maker(seeds, box, accuracy);
-  std::vector<Cell> cells;
-  cells.reserve(end - first);
+  Cell c;
   for (std::size_t i = first; i < end; ++i) {
-    const CGAL::Protect_FPU_rounding<true> upward;  // interval arithmetic
-    cells.push_back(voronoi_cell(static_cast<int>(i), seeds, nb[i], maker, margin));
+    {
+      const CGAL::Protect_FPU_rounding<true> upward;  // interval arithmetic
+      make_voronoi_cell(c, static_cast<int>(i), seeds, nb[i], maker, margin);
+    }
+    visit(i, c);
   }
+}
+
+/// The cells of every seed (their vertices and faces).
+std::vector<Cell> voronoi_cells(const std::vector<Vec3>& seeds, const Box& box, double accuracy, double margin) {
+  std::vector<Cell> cells;
+  cells.reserve(seeds.size());
+  for_each_voronoi_cell(seeds, box, accuracy, margin, 0, seeds.size(), [&](std::size_t, const Cell& c) {
+    cells.emplace_back();
+    cells.back().vertices = c.vertices;
+    cells.back().faces = c.faces;
+  });
   return cells;
 }
 
@@ -820,16 +856,15 @@ Mesh3D make_voronoi3d(GridSize3 n, const Box& domain, const VoronoiOptions& opti
   }
   const double stop = options.lloyd_tolerance * spacing;
   for (int it = 0; it < options.max_lloyd_iterations; ++it) {
-    const std::vector<Cell> cells = voronoi_cells(seeds, domain, accuracy, margin, first, end);
     Eigen::VectorXd centroids(3 * static_cast<Eigen::Index>(end - first));
-    for (std::size_t i = first; i < end; ++i) {
-      Vec3 g = volume_centroid(cells[i - first], seeds[i]).second;
+    for_each_voronoi_cell(seeds, domain, accuracy, margin, first, end, [&](std::size_t i, const Cell& cell) {
+      Vec3 g = volume_centroid(cell, seeds[i]).second;
       // the centroid of a cell lies inside it; keep it strictly inside the box anyway
       for (int a = 0; a < 3; ++a)
         g[a] = std::clamp(g[a], std::nextafter(domain.lower(a), domain.upper(a)),
                           std::nextafter(domain.upper(a), domain.lower(a)));
       centroids.segment<3>(3 * static_cast<Eigen::Index>(i - first)) = g;
-    }
+    });
     const Eigen::VectorXd all = options.processes ? options.processes->all_gather(centroids) : centroids;
     if (all.size() != 3 * static_cast<Eigen::Index>(ns)) throw InternalError("voronoi mesh: the processes' centroids");
     double moved = 0.0;
@@ -840,7 +875,7 @@ Mesh3D make_voronoi3d(GridSize3 n, const Box& domain, const VoronoiOptions& opti
     }
     if (moved <= stop) break;
   }
-  return voronoi_mesh(voronoi_cells(seeds, domain, accuracy, margin, 0, ns), domain, tol);
+  return voronoi_mesh(voronoi_cells(seeds, domain, accuracy, margin), domain, tol);
 }
 
 }  // namespace hemivem
