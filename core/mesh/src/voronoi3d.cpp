@@ -464,6 +464,29 @@ void keep_used_vertices(Cell& c, std::size_t count) {
   c.faces.swap(c.next);
 }
 
+/// The face of cell `c` (of seed a) across its directed edge u -> w: the face holding w -> u.
+int face_across(const Cell& c, int u, int w, int a) {
+  for (std::size_t f = 0; f < c.faces.size(); ++f) {
+    const auto& L = c.faces[f].loop;
+    for (std::size_t k = 0; k < L.size(); ++k)
+      if (L[k] == w && L[(k + 1) % L.size()] == u) return static_cast<int>(f);
+  }
+  degenerate(a);
+}
+
+/// The reversed edges that no face of faces[0, count) matches, into `cap`: the cap of a cell
+/// whose clipping plane holds some of its vertices.
+void unmatched_edges(const std::vector<Face>& faces, std::size_t count, std::vector<std::pair<int, int>>& cap) {
+  std::vector<std::pair<int, int>> edges;
+  for (std::size_t m = 0; m < count; ++m) {
+    const Face& f = faces[m];
+    for (std::size_t k = 0; k < f.loop.size(); ++k) edges.emplace_back(f.loop[k], f.loop[(k + 1) % f.loop.size()]);
+  }
+  std::sort(edges.begin(), edges.end());
+  for (const auto& [u, w] : edges)
+    if (!std::binary_search(edges.begin(), edges.end(), std::make_pair(w, u))) cap.emplace_back(w, u);
+}
+
 /// Clips cell `c` of seed a by the bisector of seeds a and e (keeping the side of a).
 ///
 /// A vertex strictly on the far side goes; the faces with such vertices are cut where their
@@ -482,15 +505,6 @@ void clip(Cell& c, int a, int e, const VertexMaker& maker) {
   }
   if (!cut) return;
 
-  // The face across the directed edge u -> w is the face holding w -> u.
-  auto face_across = [&](int u, int w) {
-    for (std::size_t f = 0; f < c.faces.size(); ++f) {
-      const auto& L = c.faces[f].loop;
-      for (std::size_t k = 0; k < L.size(); ++k)
-        if (L[k] == w && L[(k + 1) % L.size()] == u) return static_cast<int>(f);
-    }
-    degenerate(a);
-  };
   auto& crossing = c.crossing;  // edge (min, max) -> new vertex
   crossing.clear();
   auto crossing_vertex = [&](int u, int w, int generator) {
@@ -499,7 +513,7 @@ void clip(Cell& c, int a, int e, const VertexMaker& maker) {
       if (ed == edge) return id;
     int other = shared_generator(c.vertices[static_cast<std::size_t>(u)].key,
                                  c.vertices[static_cast<std::size_t>(w)].key, a, generator);
-    if (other == std::numeric_limits<int>::min()) other = c.faces[static_cast<std::size_t>(face_across(u, w))].generator;
+    if (other == std::numeric_limits<int>::min()) other = c.faces[static_cast<std::size_t>(face_across(c, u, w, a))].generator;
     const int id = static_cast<int>(c.vertices.size());
     c.vertices.push_back(maker.make(make_key(a, generator, other, e)));
     s.push_back(0);
@@ -545,17 +559,7 @@ void clip(Cell& c, int a, int e, const VertexMaker& maker) {
     if (g.loop.size() < 3) --made;
   }
 
-  if (zero) {
-    // the cap: the reversed edges that no remaining face matches
-    std::vector<std::pair<int, int>> edges;
-    for (std::size_t m = 0; m < made; ++m) {
-      const Face& f = faces[m];
-      for (std::size_t k = 0; k < f.loop.size(); ++k) edges.emplace_back(f.loop[k], f.loop[(k + 1) % f.loop.size()]);
-    }
-    std::sort(edges.begin(), edges.end());
-    for (const auto& [u, w] : edges)
-      if (!std::binary_search(edges.begin(), edges.end(), std::make_pair(w, u))) cap.emplace_back(w, u);
-  }
+  if (zero) unmatched_edges(faces, made, cap);
   if (!cap.empty()) {  // the new face, where it has three vertices or more
     Face& g = take(e);
     chain_cap(cap, a, g.loop);
