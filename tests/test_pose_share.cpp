@@ -13,6 +13,7 @@
 #include <hemivem/mesh/boundary.hpp>
 #include <hemivem/mesh/generators.hpp>
 #include <hemivem/mesh/generators3d.hpp>
+#include <hemivem/mesh/vertex_order.hpp>
 #include <hemivem/scene/example.hpp>
 #include <hemivem/scene/scene.hpp>
 
@@ -24,6 +25,7 @@
 #include <vector>
 
 #include "pressed_block3d.hpp"
+#include "scrambled_mesh.hpp"
 #include "stacked_bodies.hpp"
 #include "test_support.hpp"
 
@@ -268,16 +270,134 @@ TEST(PoseShare, TwoJoinedSolidsWithAShiftedLoadAreTheWholePosingsShares) {
   EXPECT_NE(refused.find("displacement free where a vertex of the other body"), std::string::npos) << refused;
 }
 
+// ---- shares along a vertex order ----
+
+/// Each free unknown of `ordered` numbered as in `whole`, and back.
+struct Renumbering {
+  std::vector<int> to_whole, from_whole;
+  Renumbering(const DofMap& ordered, const DofMap& whole) {
+    for (const int d : ordered.free_dofs) to_whole.push_back(whole.free_index[static_cast<std::size_t>(d)]);
+    for (const int d : whole.free_dofs) from_whole.push_back(ordered.free_index[static_cast<std::size_t>(d)]);
+  }
+  int to(Eigen::Index i) const { return to_whole[static_cast<std::size_t>(i)]; }
+};
+
+/// The matrix `A` (global columns) with its rows and columns numbered as `number` says.
+Eigen::MatrixXd renumbered(const SparseMatrix& A, const Renumbering& number) {
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(A.rows(), A.cols());
+  for (Eigen::Index c = 0; c < A.outerSize(); ++c)
+    for (SparseMatrix::InnerIterator e(A, c); e; ++e) out(number.to(e.row()), number.to(c)) = e.value();
+  return out;
+}
+
+/// The rows of a share with global columns (its local columns: owned rows, then ghosts).
+Eigen::MatrixXd with_global_columns(const PosedShare& share) {
+  const RowLayout& l = share.layout;
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(l.owned, l.global);
+  for (Eigen::Index c = 0; c < share.share.matrix.outerSize(); ++c) {
+    const Eigen::Index g = c < l.owned ? l.first + c : l.ghosts[static_cast<std::size_t>(c - l.owned)];
+    for (SparseMatrix::InnerIterator e(share.share.matrix, c); e; ++e) out(e.row(), g) = e.value();
+  }
+  return out;
+}
+
+/// pose_share of every vertex along `order` is the whole posed problem (the full-space route's,
+/// in dof order) with its free unknowns numbered along the order: its matrix, load, coordinates'
+/// rows and near-null space. Its shares of thirds of the order hold its rows, each a contiguous
+/// range of that numbering, and every coordinate once.
+template <int dim>
+void expect_ordered_shares_of_whole(const BasicContactProblem<dim>& p, const std::vector<int>& order) {
+  BasicContactSolver<dim> solver(p, make_krylov_solver("eigen-cg"), MinimizerOptions{});
+  solver.prepare();
+  const Condensation& posed = *solver.condensation();
+  const DofMap& dofs = solver.system().dofs;
+  const Renumbering number(make_dof_map(*p.elasticity.mesh, p.elasticity.dirichlet, order), dofs);
+  const auto n = static_cast<int>(order.size());
+  const PosedShare all = pose_share(p, order, 0, n);
+  const FullSpaceShare whole = share_of(posed, layout_of(posed, 0, dofs.num_free()));
+  EXPECT_TRUE(all.layout.ghosts.empty());
+  ASSERT_EQ(all.share.matrix.rows(), whole.matrix.rows());
+  EXPECT_EQ(all.share.matrix.nonZeros(), whole.matrix.nonZeros());
+  const Eigen::MatrixXd A = Eigen::MatrixXd(whole.matrix);
+  EXPECT_LE(relative_difference(renumbered(all.share.matrix, number), A), rel);
+  Eigen::VectorXd load(whole.load.size());
+  Eigen::MatrixXd N(all.near_null_space.rows(), all.near_null_space.cols());
+  for (Eigen::Index i = 0; i < load.size(); ++i) {
+    load(number.to(i)) = all.share.load(i);
+    N.row(number.to(i)) = all.near_null_space.row(i);
+  }
+  EXPECT_LE(relative_difference(load, whole.load), rel);
+  EXPECT_LE(relative_difference(N, rigid_motions<dim>(*p.elasticity.mesh, posed)), rel);
+  EXPECT_EQ(all.share.coordinate_numbers, whole.coordinate_numbers);
+  ASSERT_EQ(all.share.coordinate_rows.size(), whole.coordinate_rows.size());
+  for (std::size_t k = 0; k < whole.coordinate_rows.size(); ++k)
+    EXPECT_EQ(number.to(all.share.coordinate_rows[k]), whole.coordinate_rows[k]) << "coordinate " << k;
+  std::vector<int> tied;
+  for (const int r : all.share.tied_rows) tied.push_back(number.to(r));
+  std::sort(tied.begin(), tied.end());
+  EXPECT_EQ(tied, whole.tied_rows);
+  EXPECT_EQ(all.share.coordinates.w, whole.coordinates.w);
+  EXPECT_EQ(all.share.coordinates.lo, whole.coordinates.lo);
+  EXPECT_EQ(all.share.coordinates.hi, whole.coordinates.hi);
+  EXPECT_EQ(all.share.origin, whole.origin);
+  const Eigen::MatrixXd rows = with_global_columns(all);
+  Eigen::Index first = 0, coordinates = 0;
+  for (const auto& [p0, p1] : std::vector<std::pair<int, int>>{{0, n / 3}, {n / 3, 2 * n / 3}, {2 * n / 3, n}}) {
+    SCOPED_TRACE("positions " + std::to_string(p0) + " to " + std::to_string(p1));
+    const PosedShare third = pose_share(p, order, p0, p1);
+    EXPECT_EQ(third.layout.first, first) << "the thirds' rows follow each other";
+    first += third.layout.owned;
+    EXPECT_LE(relative_difference(with_global_columns(third), rows.middleRows(third.layout.first, third.layout.owned)),
+              rel);
+    EXPECT_LE(relative_difference(third.share.load, all.share.load.segment(third.layout.first, third.layout.owned)),
+              rel);
+    coordinates += third.share.coordinates.size();
+  }
+  EXPECT_EQ(first, dofs.num_free());
+  EXPECT_EQ(coordinates, posed.reduced().size());
+}
+
+TEST(PoseShare, ASolidsSharesAlongAVertexOrderAreTheWholePosingRenumbered) {
+  const Mesh3D mesh = make_cubes({5, 4, 4});
+  expect_ordered_shares_of_whole<3>(test::example_4_1_3d(mesh), test::random_order(mesh.num_vertices(), 11));
+}
+
+TEST(PoseShare, APlaneBodysSharesAlongAVertexOrderAreTheWholePosingRenumbered) {
+  const auto built = scene<2>("bracket-two-contacts.toml", {"mesh.n=[12, 6]"});
+  expect_ordered_shares_of_whole<2>(built->problem, test::random_order(built->mesh.num_vertices(), 12));
+}
+
+// the joining reads the rows of the nodes across from a share's vertices, assembled in runs
+// consecutive in the order, some of them neighbours of others: each entry once
+TEST(PoseShare, TwoJoinedSolidsWithAShiftedLoadAlongAVertexOrderAreTheWholePosingRenumbered) {
+  const auto two = build_problem<3>(parse_scene_string(
+      stacked(3, false, ", {side = \"x0\", value = [0.0, 0.001, 0.0]}"), "two-solids.toml"));
+  expect_ordered_shares_of_whole<3>(two->problem, test::random_order(two->mesh.num_vertices(), 13));
+  expect_ordered_shares_of_whole<3>(two->problem, hilbert_vertex_order(two->mesh));
+}
+
+TEST(PoseShare, AShareAlongAnOrderThatIsNotAPermutationIsRefused) {
+  const Mesh mesh = make_squares(4);
+  const ContactProblem p = example_4_1(mesh);
+  std::vector<int> order = test::random_order(mesh.num_vertices(), 1);
+  order.back() = order.front();
+  EXPECT_NE(test::input_error_of([&] { (void)pose_share(p, order, 0, 3); }).find("not a permutation"),
+            std::string::npos);
+}
+
 // ---- the rows of the assembly ----
 
-/// assemble_rows of [v0, v1) holds assemble()'s entries in its owned rows and columns, none
-/// between two unknowns it does not own, and b's owned rows.
+/// assemble_rows of [v0, v1) (of the positions [v0, v1) of `order` when it is not empty, the
+/// free unknowns numbered along it) holds assemble()'s entries in its owned rows and columns,
+/// none between two unknowns it does not own, and b's owned rows.
 template <int dim>
-void expect_rows_of_whole(const BasicElasticityProblem<dim>& p, int v0, int v1) {
+void expect_rows_of_whole(const BasicElasticityProblem<dim>& p, int v0, int v1, const std::vector<int>& order = {}) {
   SCOPED_TRACE("vertices " + std::to_string(v0) + " to " + std::to_string(v1));
   const LinearSystem whole = assemble(p);
-  const SystemRows rows = assemble_rows(p, v0, v1);
-  EXPECT_EQ(rows.dofs.free_dofs, whole.dofs.free_dofs);
+  const SystemRows rows = order.empty() ? assemble_rows(p, v0, v1) : assemble_rows(p, order, v0, v1);
+  const DofMap dofs = order.empty() ? whole.dofs : make_dof_map(*p.mesh, p.dirichlet, order);
+  EXPECT_EQ(rows.dofs.free_dofs, dofs.free_dofs);
+  const Renumbering number(dofs, whole.dofs);
   const Eigen::MatrixXd A(whole.A), L(rows.A);
   const auto owns = [&](Eigen::Index i) { return i >= rows.at && i < rows.at + rows.owned; };
   double largest = 0.0;
@@ -285,7 +405,7 @@ void expect_rows_of_whole(const BasicElasticityProblem<dim>& p, int v0, int v1) 
     for (std::size_t j = 0; j < rows.unknowns.size(); ++j) {
       const auto a = static_cast<Eigen::Index>(i), b = static_cast<Eigen::Index>(j);
       if (owns(a) || owns(b))
-        largest = std::max(largest, std::abs(L(a, b) - A(rows.unknowns[i], rows.unknowns[j])));
+        largest = std::max(largest, std::abs(L(a, b) - A(number.to(rows.unknowns[i]), number.to(rows.unknowns[j]))));
       else
         EXPECT_EQ(rows.A.coeff(a, b), 0.0);
     }
@@ -293,10 +413,12 @@ void expect_rows_of_whole(const BasicElasticityProblem<dim>& p, int v0, int v1) 
   // every entry of an owned row is among its unknowns
   for (Eigen::Index i = rows.first; i < rows.first + rows.owned; ++i) {
     EXPECT_EQ(rows.unknowns[static_cast<std::size_t>(rows.at + i - rows.first)], i);
-    for (SparseMatrix::InnerIterator e(whole.A, i); e; ++e)  // A's pattern is symmetric
-      EXPECT_TRUE(std::binary_search(rows.unknowns.begin(), rows.unknowns.end(), static_cast<int>(e.row())));
+    for (SparseMatrix::InnerIterator e(whole.A, number.to(i)); e; ++e)  // A's pattern is symmetric
+      EXPECT_TRUE(std::binary_search(rows.unknowns.begin(), rows.unknowns.end(),
+                                     number.from_whole[static_cast<std::size_t>(e.row())]));
   }
-  if (rows.owned > 0) EXPECT_LE(relative_difference(rows.b, whole.b.segment(rows.first, rows.owned)), rel);
+  for (Eigen::Index k = 0; k < rows.owned; ++k)
+    EXPECT_NEAR(rows.b(k), whole.b(number.to(rows.first + k)), rel * whole.b.cwiseAbs().maxCoeff());
 }
 
 TEST(PoseShare, TheRowsOfTheAssemblyAreTheWholeAssemblysWithLoadsAndPrescribedValues) {
@@ -320,6 +442,9 @@ TEST(PoseShare, TheRowsOfTheAssemblyAreTheWholeAssemblysWithLoadsAndPrescribedVa
   const int n = mesh.num_vertices();
   for (const auto& [v0, v1] : std::vector<std::pair<int, int>>{{0, n / 3}, {n / 3, 2 * n / 3}, {2 * n / 3, n}, {0, n}})
     expect_rows_of_whole<2>(p, v0, v1);
+  const std::vector<int> order = test::random_order(n, 2);
+  for (const auto& [v0, v1] : std::vector<std::pair<int, int>>{{0, n / 3}, {n / 3, 2 * n / 3}, {2 * n / 3, n}, {0, n}})
+    expect_rows_of_whole<2>(p, v0, v1, order);
 }
 
 TEST(PoseShare, TheRowsOfASolidsAssemblyAreTheWholeAssemblys) {
@@ -341,6 +466,13 @@ TEST(PoseShare, TheRowsOfASolidsAssemblyAreTheWholeAssemblys) {
   const int n = mesh.num_vertices();
   for (const auto& [v0, v1] : std::vector<std::pair<int, int>>{{0, n / 3}, {n / 3, 2 * n / 3}, {2 * n / 3, n}, {0, n}})
     expect_rows_of_whole<3>(p, v0, v1);
+  // along a vertex order: ranges of its positions, in its numbering
+  const std::vector<int> order = test::random_order(n, 3);
+  for (const auto& [v0, v1] : std::vector<std::pair<int, int>>{{0, n / 3}, {n / 3, 2 * n / 3}, {2 * n / 3, n}, {0, n}})
+    expect_rows_of_whole<3>(p, v0, v1, order);
+  const std::vector<int> short_order(order.begin() + 1, order.end());
+  EXPECT_NE(test::input_error_of([&] { (void)assemble_rows(p, short_order, 0, 1); }).find("not a permutation"),
+            std::string::npos);
 }
 
 }  // namespace

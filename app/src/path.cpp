@@ -162,6 +162,7 @@ void solve_path_built(const Scene& scene, SceneEngines& e, Solved& s,
   if (across) {
     po.distribute = make_distributed_rows;
     po.world = krylov_world();
+    po.vertex_order = shared_vertex_order<dim>(e, s.built->mesh);
   }
   if (on_step || s.path_output || s.frame_pieces)
     po.on_step = [&](const BasicPathStep<dim>& step) {

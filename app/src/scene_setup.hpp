@@ -17,6 +17,7 @@
 #include <hemivem/app/outputs.hpp>
 #include <hemivem/app/path.hpp>
 #include <hemivem/scene/scene_pieces.hpp>
+#include <hemivem/mesh/vertex_order.hpp>
 
 #include "bodies.hpp"
 #include "output_run.hpp"
@@ -268,6 +269,15 @@ template <int dim>
 Eigen::VectorXd grid_sequence_start(const Scene& scene, const SceneEngines& e, BasicSceneSolve<dim>& s,
                                     bool given_start);
 
+/// The order the processes of the full-space route share a mesh's vertices along: a piece of a
+/// generated box (e.piece) is numbered in slabs already; a mesh made whole on every process (a
+/// Gmsh file, a polygon, several bodies, an adaptive solve's refined mesh) is shared along
+/// hilbert_vertex_order, whatever its own order.
+template <int dim>
+std::vector<int> shared_vertex_order(const SceneEngines& e, const MeshOf<dim>& mesh) {
+  return e.piece ? std::vector<int>() : hilbert_vertex_order(mesh);
+}
+
 /// Solves s.built->problem with the engines `e` as every static solve of a scene does, in
 /// either dimension: BasicContactSolver<dim> with the condition estimate, the reduced problem
 /// when `reduced` is not null (the full-space route has none and leaves it) and a warm start
@@ -298,7 +308,7 @@ void solve_built(const Scene& scene, SceneEngines& e, Solved& s, ReducedProblem*
     if (e.krylov && e.processes > 1) {  // the full-space route across processes, each holding the results
       // no reduced problem: `reduced` is left untouched, as BasicContactSolver::export_reduced does
       s.solution = solve_full_space_shares<dim>(s.built->problem, *e.krylov, krylov_world(), make_distributed_rows,
-                                                s.options, from);
+                                                s.options, from, shared_vertex_order<dim>(e, s.built->mesh));
       give_back(e.krylov);  // the engine, as in one process below
     } else {
       std::optional<BasicContactSolver<dim>> solver;

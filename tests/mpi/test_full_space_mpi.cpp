@@ -16,6 +16,7 @@
 #include <hemivem/mesh/box_piece.hpp>
 #include <hemivem/mesh/generators.hpp>
 #include <hemivem/mesh/generators3d.hpp>
+#include <hemivem/mesh/vertex_order.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
 #include <hemivem/path/path.hpp>
 #include <hemivem/scene/example.hpp>
@@ -28,8 +29,10 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "pressed_block3d.hpp"
+#include "scrambled_mesh.hpp"
 #include "stacked_bodies.hpp"
 
 using namespace hemivem;
@@ -277,15 +280,16 @@ TEST(FullSpaceMpi, ALentMatrixGivesTheSameAnswerAndIsRestoredToTheBit) {
 // the balance of forces; the verdict and certificate the same on every process.
 // `problem` is each process's problem (on its piece of the mesh, hemivem/mesh/box_piece.hpp, or
 // the whole), `whole` the condensed route's (the same problem on the whole mesh; `problem` when
-// null).
+// null); the processes share the vertices along `vertex_order` (empty: the mesh's order).
 template <int dim, class Problem>
 void expect_shares_solve_as_the_condensed_route(
     const Problem& problem,
     const std::function<void(const BasicContactSolution<dim>& s, const BasicContactSolution<dim>& c)>& also = {},
-    const Problem* whole = nullptr) {
+    const Problem* whole = nullptr, const std::vector<int>& vertex_order = {}) {
   const ProcessWorld world = krylov_world();
   auto krylov = make_krylov_solver("petsc-gamg");
-  const BasicContactSolution<dim> s = solve_full_space_shares<dim>(problem, *krylov, world, make_distributed_rows, tight());
+  const BasicContactSolution<dim> s =
+      solve_full_space_shares<dim>(problem, *krylov, world, make_distributed_rows, tight(), {}, vertex_order);
   ASSERT_TRUE(s.converged()) << s.message;
   EXPECT_LE(s.certificate.worst(), 1e-12);
   EXPECT_EQ(s.stages, (std::vector<std::string>{"assembly", "posing", "full_space"}));
@@ -337,6 +341,43 @@ TEST(FullSpaceMpi, TheCommandsSolveAcrossProcessesIsTheCondensedAnswerInThePlane
 TEST(FullSpaceMpi, TheCommandsSolveAcrossProcessesIsTheCondensedAnswerInTheSolid) {
   const Mesh3D mesh = make_cubes({5, 5, 5});
   expect_shares_solve_as_the_condensed_route<3>(test::example_4_1_3d(mesh));
+}
+
+// A mesh whose vertices are numbered at random (`scrambled`, as a Gmsh file's or a refined
+// mesh's may be; `slabs` the same problem on the mesh numbered as generated, in slabs), shared
+// along its Hilbert order: the condensed answer, and each process's share reads about as few of
+// the other processes' unknowns (its ghosts) as a slab does, where a share of the scrambled
+// mesh's own order reads nearly all of them.
+template <int dim, class Problem>
+void expect_scrambled_mesh_shared_along_its_order(const Problem& scrambled, const Problem& slabs) {
+  const MeshOf<dim>& mesh = *scrambled.elasticity.mesh;
+  const std::vector<int> order = hilbert_vertex_order(mesh);
+  expect_shares_solve_as_the_condensed_route<dim, Problem>(scrambled, {}, nullptr, order);
+  const ProcessWorld world = krylov_world();
+  const auto [first, end] = vertex_share(mesh.num_vertices(), world.rank, world.size);
+  const PosedShare compact = pose_share(scrambled, order, first, end);
+  const PosedShare scattered = pose_share(scrambled, first, end);
+  const PosedShare slab = pose_share(slabs, first, end);
+  const auto ghosts = [](const PosedShare& s) { return static_cast<double>(s.layout.ghosts.size()); };
+  // 10^3 cubes on 2 to 4 processes: 381 to 567 ghosts along the order, 327 to 654 of a slab,
+  // 2 121 to 2 484 along the scrambled numbering
+  if (world.size > 1) {
+    EXPECT_GT(ghosts(compact), 0.0);
+    EXPECT_LE(ghosts(compact), 2.0 * ghosts(slab)) << "the slab's " << ghosts(slab);
+    EXPECT_GT(ghosts(scattered), 0.8 * static_cast<double>(scattered.layout.global - scattered.layout.owned));
+  }
+}
+
+TEST(FullSpaceMpi, AScrambledSolidSharedAlongItsHilbertOrderIsTheCondensedAnswer) {
+  const Mesh3D slabs = make_cubes({10, 10, 10});
+  const Mesh3D scrambled = test::scrambled(slabs);
+  expect_scrambled_mesh_shared_along_its_order<3>(test::example_4_1_3d(scrambled), test::example_4_1_3d(slabs));
+}
+
+TEST(FullSpaceMpi, AScrambledPlaneMeshSharedAlongItsHilbertOrderIsTheCondensedAnswer) {
+  const Mesh slabs = make_squares(32);
+  const Mesh scrambled = test::scrambled(slabs);
+  expect_scrambled_mesh_shared_along_its_order<2>(example_4_1(scrambled), example_4_1(slabs));
 }
 
 // The estimate of the processes' pieces (`mine` on each process's piece `where`) is the whole
@@ -510,6 +551,9 @@ TEST(FullSpaceMpi, TwoJoinedPlaneBodiesAcrossProcessesAreTheCondensedAnswer) {
 TEST(FullSpaceMpi, TwoJoinedSolidsWithAShiftedLoadAcrossProcessesAreTheCondensedAnswer) {
   const auto two = build_problem<3>(parse_scene_string(stacked(3, "", kSideClamped), "two-solids.toml"));
   expect_shares_solve_as_the_condensed_route<3>(two->problem);
+  // shared along the mesh's Hilbert order: each process joins the pairs' nodes of its own order
+  expect_shares_solve_as_the_condensed_route<3, ContactProblem3D>(two->problem, {}, nullptr,
+                                                                  hilbert_vertex_order(two->mesh));
 }
 
 // the same along a proportional path: each step's load and prescribed values (the shift with
@@ -561,13 +605,15 @@ TEST(FullSpaceMpi, TwoJoinedSolidsWithFrictionAcrossProcessesAreTheCondensedAnsw
 // (Eigen's factorization and ssn) at every step: the contact unknowns, forces and friction states,
 // the energy, the fixed point's convergence, and the last displacement, on every process.
 template <int dim, class Problem>
-void expect_path_across_processes_as_the_condensed_route(Problem& problem, BasicPathLoading<dim> loading) {
+void expect_path_across_processes_as_the_condensed_route(Problem& problem, BasicPathLoading<dim> loading,
+                                                         const std::vector<int>& vertex_order = {}) {
   const ProcessWorld world = krylov_world();
   const auto ssn = make_minimizer("ssn");
   BasicPathOptions<dim> across;
   across.minimizer = tight();
   across.distribute = make_distributed_rows;
   across.world = world;
+  across.vertex_order = vertex_order;
   BasicPathOptions<dim> alone;
   alone.minimizer = tight();
   const BasicPathSolution<dim> s = solve_path(problem, make_krylov_solver("petsc-gamg"), *ssn, loading, across);
@@ -644,6 +690,27 @@ TEST(FullSpaceMpi, ACoulombPathAcrossProcessesIsTheCondensedRoutesInTheSolid) {
   loading.update = [top_at](double t, ContactProblem3D& p) { p.elasticity.dirichlet.front().value = top_at(t); };
   loading.updates_gaps = false;
   expect_path_across_processes_as_the_condensed_route<3>(problem, loading);
+}
+
+// the same on the block's cubes numbered at random, the processes sharing them along the
+// mesh's Hilbert order
+TEST(FullSpaceMpi, ACoulombPathOnAScrambledSolidAlongItsHilbertOrderIsTheCondensedRoutes) {
+  const Mesh3D mesh = test::scrambled(make_cubes({6, 6, 2}, kBlock));
+  const auto top_at = [](double t) {
+    return [t](const Vec3&) {
+      return Vec3(0.01 * std::max(t - 1.0, 0.0), 0.003 * std::max(t - 1.0, 0.0), -0.004 * std::min(t, 1.0));
+    };
+  };
+  ContactPart3D foundation;
+  foundation.constraint = ConstraintKind::none;
+  foundation.friction = tresca_law(1.0);
+  foundation.friction_bound = FrictionBound{FrictionBound::Kind::coulomb, 0.3, {}};
+  ContactProblem3D problem = block_on_foundation(mesh, top_at(0.5), std::move(foundation));
+  BasicPathLoading<3> loading;
+  loading.t = {0.5, 1.0, 1.5, 2.0};
+  loading.update = [top_at](double t, ContactProblem3D& p) { p.elasticity.dirichlet.front().value = top_at(t); };
+  loading.updates_gaps = false;
+  expect_path_across_processes_as_the_condensed_route<3>(problem, loading, hilbert_vertex_order(mesh));
 }
 
 // A loading path on the processes' pieces of the mesh (a body force: the cells a piece lacks

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 namespace hemivem {
 
@@ -15,11 +16,10 @@ template <int dim>
 BasicForceBalance<PointOf<dim>> force_balance_of_vertices(const BasicElasticityProblem<dim>& problem,
                                                           const Eigen::VectorXd& u, const PointOf<dim>& contact,
                                                           const std::vector<std::pair<int, PointOf<dim>>>& at_vertices,
-                                                          int first_vertex, int end_vertex) {
+                                                          const std::vector<int>& vertices) {
   using Point = PointOf<dim>;
   if (!problem.mesh) throw InputError("the elasticity problem has no mesh");
   const MeshOf<dim>& mesh = *problem.mesh;
-  const auto first = static_cast<Eigen::Index>(dim) * first_vertex, end = static_cast<Eigen::Index>(dim) * end_vertex;
   const Eigen::VectorXd f = assemble_load(mesh, problem.body_force, problem.tractions);
   // the condition each dof takes its value from: the last one that prescribes it
   std::vector<int> owner(static_cast<std::size_t>(f.size()), -1);
@@ -38,25 +38,27 @@ BasicForceBalance<PointOf<dim>> force_balance_of_vertices(const BasicElasticityP
     balance.reactions.push_back({problem.dirichlet[k].name.empty() ? "dirichlet part " + std::to_string(k)
                                                                    : problem.dirichlet[k].name,
                                  Point::Zero()});
-  for (Eigen::Index d = first; d < end; ++d) {
-    balance.applied(d % dim) += f(d);
-    if (const int k = owner[static_cast<std::size_t>(d)]; k >= 0)
-      balance.reactions[static_cast<std::size_t>(k)].force(d % dim) += r(d);
-  }
+  for (const int v : vertices)
+    for (int c = 0; c < dim; ++c) {
+      const Eigen::Index d = static_cast<Eigen::Index>(dim) * v + c;
+      balance.applied(c) += f(d);
+      if (const int k = owner[static_cast<std::size_t>(d)]; k >= 0)
+        balance.reactions[static_cast<std::size_t>(k)].force(c) += r(d);
+    }
   // K u = f + reactions + the other forces at the prescribed dofs
   for (const auto& [v, force] : at_vertices)
     for (int c = 0; c < dim; ++c) {
       const auto d = static_cast<std::size_t>(dim * v + c);
-      if (v >= first_vertex && v < end_vertex && d < owner.size() && owner[d] >= 0)
+      if (d < owner.size() && owner[d] >= 0 && std::binary_search(vertices.begin(), vertices.end(), v))
         balance.reactions[static_cast<std::size_t>(owner[d])].force(c) -= force(c);
     }
   return balance;
 }
 
 template ForceBalance force_balance_of_vertices(const ElasticityProblem&, const Eigen::VectorXd&, const Vec2&,
-                                                const std::vector<std::pair<int, Vec2>>&, int, int);
+                                                const std::vector<std::pair<int, Vec2>>&, const std::vector<int>&);
 template ForceBalance3D force_balance_of_vertices(const ElasticityProblem3D&, const Eigen::VectorXd&, const Vec3&,
-                                                  const std::vector<std::pair<int, Vec3>>&, int, int);
+                                                  const std::vector<std::pair<int, Vec3>>&, const std::vector<int>&);
 
 }  // namespace detail
 
@@ -67,7 +69,9 @@ BasicForceBalance<PointOf<dim>> balance_of(const BasicElasticityProblem<dim>& pr
                                            const PointOf<dim>& contact,
                                            const std::vector<std::pair<int, PointOf<dim>>>& at_vertices) {
   if (!problem.mesh) throw InputError("the elasticity problem has no mesh");
-  return detail::force_balance_of_vertices<dim>(problem, u, contact, at_vertices, 0, problem.mesh->num_vertices());
+  std::vector<int> vertices(static_cast<std::size_t>(problem.mesh->num_vertices()));
+  std::iota(vertices.begin(), vertices.end(), 0);
+  return detail::force_balance_of_vertices<dim>(problem, u, contact, at_vertices, vertices);
 }
 
 }  // namespace

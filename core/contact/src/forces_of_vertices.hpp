@@ -10,13 +10,13 @@
 namespace hemivem::detail {
 
 /// force_balance(problem, u, contact, at_vertices) with the load, the reactions and the forces
-/// at vertices of the vertices first_vertex, ..., end_vertex - 1 alone; `contact` as given. Exact
-/// on a mesh holding every cell of those vertices (a process's piece, hemivem/mesh/box_piece.hpp):
-/// the balances of a split of the vertices add up to the whole's.
+/// at vertices of the vertices `vertices` (increasing) alone, summed in their order; `contact` as
+/// given. Exact on a mesh holding every cell of those vertices (a process's piece,
+/// hemivem/mesh/box_piece.hpp): the balances of a split of the vertices add up to the whole's.
 template <int dim>
 BasicForceBalance<PointOf<dim>> force_balance_of_vertices(const BasicElasticityProblem<dim>& problem,
                                                           const Eigen::VectorXd& u, const PointOf<dim>& contact,
                                                           const std::vector<std::pair<int, PointOf<dim>>>& at_vertices,
-                                                          int first_vertex, int end_vertex);
+                                                          const std::vector<int>& vertices);
 
 }  // namespace hemivem::detail

@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <climits>
 #include <exception>
 #include <memory>
 #include <numeric>
@@ -52,18 +53,59 @@ void sort_unique(std::vector<int>& v) {
   v.erase(std::unique(v.begin(), v.end()), v.end());
 }
 
+/// The vertices a process owns, vertex_order[first], ..., vertex_order[end - 1], with the free
+/// unknowns numbered along vertex_order (make_dof_map with it); without an order, the vertices
+/// first, ..., end - 1 and the free unknowns in dof order.
+struct ShareVertices {
+  std::vector<int> order;     ///< empty: the mesh's own order
+  std::vector<int> position;  ///< each vertex's position in `order` (empty without one)
+  int first = 0, end = 0;
+
+  ShareVertices(std::vector<int> vertex_order, int first_position, int end_position)
+      : order(std::move(vertex_order)), first(first_position), end(end_position) {
+    position.assign(order.size(), -1);
+    for (std::size_t p = 0; p < order.size(); ++p)
+      if (const auto v = static_cast<std::size_t>(order[p]); v < order.size()) position[v] = static_cast<int>(p);
+  }
+  int position_of(int v) const { return order.empty() ? v : position[static_cast<std::size_t>(v)]; }
+  bool owns(int v) const {
+    const int p = position_of(v);
+    return p >= first && p < end;
+  }
+  /// The owned vertices, increasing.
+  std::vector<int> owned() const {
+    std::vector<int> v(static_cast<std::size_t>(end - first));
+    for (int p = first; p < end; ++p)
+      v[static_cast<std::size_t>(p - first)] = order.empty() ? p : order[static_cast<std::size_t>(p)];
+    std::sort(v.begin(), v.end());
+    return v;
+  }
+  /// The rows of the vertices at the positions [a, b) (assemble_rows).
+  template <int dim>
+  SystemRows rows(const BasicElasticityProblem<dim>& problem, int a, int b) const {
+    return order.empty() ? assemble_rows(problem, a, b) : assemble_rows(problem, order, a, b);
+  }
+  /// The dof map the rows are numbered by.
+  template <int dim>
+  DofMap dofs(const BasicElasticityProblem<dim>& problem) const {
+    return order.empty() ? make_dof_map(*problem.mesh, problem.dirichlet)
+                         : make_dof_map(*problem.mesh, problem.dirichlet, order);
+  }
+};
+
 /// What the joining of two bodies (Condensation::rotated_part) reads besides the rows of the
-/// vertices [v0, v1): the whole row and the load of each pair's node p across from one of them
-/// (assembled from p's cells: assemble_rows of each run of such nodes), and the unknowns across
+/// owned vertices: the whole row and the load of each pair's node p across from one of them
+/// (assembled from p's cells: assemble_rows of each run of such nodes consecutive in the order),
+/// and the unknowns across
 /// from every node the part holds. `rows` is widened to them (its A, unknowns and at; its owned
 /// rows unchanged: they are the owned rows that assemble_rows gave, and the nodes' rows are
 /// added where they are not among them); `b` and `b_unknowns` become the load of the owned rows
 /// and of those nodes, with their free unknowns.
 template <int dim>
-void add_pair_rows(const BasicElasticityProblem<dim>& problem, const ContactBoundary& boundary, int v0, int v1,
-                   SystemRows& rows, Eigen::VectorXd& b, std::vector<int>& b_unknowns) {
+void add_pair_rows(const BasicElasticityProblem<dim>& problem, const ContactBoundary& boundary,
+                   const ShareVertices& share, SystemRows& rows, Eigen::VectorXd& b, std::vector<int>& b_unknowns) {
   const DofMap& dofs = rows.dofs;
-  const auto owns = [&](int v) { return v >= v0 && v < v1; };
+  const auto owns = [&](int v) { return share.owns(v); };
   std::vector<int> across_of(static_cast<std::size_t>(problem.mesh->num_vertices()), -1);  // the node's index
   std::vector<int> nodes;  // the pairs' nodes across from an owned vertex, not owned themselves
   for (int i = 0; i < boundary.size(); ++i) {
@@ -73,9 +115,9 @@ void add_pair_rows(const BasicElasticityProblem<dim>& problem, const ContactBoun
     across_of[static_cast<std::size_t>(p)] = i;
     bool near = false;
     for (int k = 0; k < a.size(); ++k) near = near || owns(a.vertex[static_cast<std::size_t>(k)]);
-    if (near && !owns(p)) nodes.push_back(p);
+    if (near && !owns(p)) nodes.push_back(share.position_of(p));
   }
-  sort_unique(nodes);
+  sort_unique(nodes);  // the nodes' positions in the order
   const auto first = static_cast<int>(rows.first), end = static_cast<int>(rows.first + rows.owned);
   const auto owned_free = [&](int f) { return f >= first && f < end; };
   // the part's entries as (row, column, value) of the free unknowns: its own, then the nodes' rows
@@ -88,16 +130,24 @@ void add_pair_rows(const BasicElasticityProblem<dim>& problem, const ContactBoun
                            e.value());
   std::vector<int> node_rows;
   std::vector<double> node_loads;
+  // the free unknowns of the runs assembled before, ranges increasing: a run's entries with one
+  // of them (two neighbouring nodes in two runs) were that run's
+  std::vector<std::pair<int, int>> earlier;
+  const auto assembled = [&](int f) {
+    const auto it = std::upper_bound(earlier.begin(), earlier.end(), std::pair<int, int>(f, INT_MAX));
+    return it != earlier.begin() && f < std::prev(it)->second;
+  };
   for (std::size_t k = 0; k < nodes.size();) {
     std::size_t run = k + 1;  // a run of consecutive nodes, assembled together
     while (run < nodes.size() && nodes[run] == nodes[run - 1] + 1) ++run;
-    const SystemRows more = assemble_rows(problem, nodes[k], nodes[run - 1] + 1);
+    const SystemRows more = share.rows(problem, nodes[k], nodes[run - 1] + 1);
     for (Eigen::Index c = 0; c < more.A.outerSize(); ++c)
       for (SparseMatrix::InnerIterator e(more.A, c); e; ++e) {
         const int i = more.unknowns[static_cast<std::size_t>(e.row())], j = more.unknowns[static_cast<std::size_t>(c)];
         // a node's row and column (the rotation reads both), but where the owned rows hold them
-        if (!owned_free(i) && !owned_free(j)) entries.emplace_back(i, j, e.value());
+        if (!owned_free(i) && !owned_free(j) && !assembled(i) && !assembled(j)) entries.emplace_back(i, j, e.value());
       }
+    earlier.emplace_back(static_cast<int>(more.first), static_cast<int>(more.first + more.owned));
     unknowns.insert(unknowns.end(), more.unknowns.begin(), more.unknowns.end());
     for (Eigen::Index f = 0; f < more.owned; ++f) {
       node_rows.push_back(static_cast<int>(more.first + f));
@@ -143,12 +193,12 @@ void add_pair_rows(const BasicElasticityProblem<dim>& problem, const ContactBoun
 /// that order), each from the cells holding its vertex (assemble_rows: an owned column holds
 /// every row of those cells), to the bit of the whole assembly's.
 template <int dim>
-SparseMatrix system_columns(const BasicElasticityProblem<dim>& problem, const DofMap& dofs,
+SparseMatrix system_columns(const BasicElasticityProblem<dim>& problem, const ShareVertices& share, const DofMap& dofs,
                             const std::vector<int>& unknowns) {
   std::vector<Eigen::Triplet<double, int>> entries;
   for (std::size_t k = 0; k < unknowns.size(); ++k) {
-    const int v = dofs.free_dofs[static_cast<std::size_t>(unknowns[k])] / dim;
-    const SystemRows rows = assemble_rows(problem, v, v + 1);
+    const int p = share.position_of(dofs.free_dofs[static_cast<std::size_t>(unknowns[k])] / dim);
+    const SystemRows rows = share.rows(problem, p, p + 1);
     const auto at = std::lower_bound(rows.unknowns.begin(), rows.unknowns.end(), unknowns[k]) - rows.unknowns.begin();
     for (SparseMatrix::InnerIterator e(rows.A, at); e; ++e)
       entries.emplace_back(rows.unknowns[static_cast<std::size_t>(e.row())], static_cast<int>(k), e.value());
@@ -246,20 +296,18 @@ struct SharePosing {
   double setup_seconds = 0.0;     // contact_set_up
 };
 
-/// The contact set-up of `problem` (its dof map made for it) and the seconds it took.
+/// The contact set-up of `problem` on the dof map of `share` and the seconds it took.
 template <int dim>
-std::pair<ContactSetUp<dim>, double> surface_of(const BasicContactProblem<dim>& problem) {
+std::pair<ContactSetUp<dim>, double> surface_of(const BasicContactProblem<dim>& problem, const ShareVertices& share) {
   if (!problem.elasticity.mesh) throw InputError("the elasticity problem has no mesh");
   const auto t = std::chrono::steady_clock::now();
-  ContactSetUp<dim> contact =
-      contact_set_up(problem, make_dof_map(*problem.elasticity.mesh, problem.elasticity.dirichlet));
+  ContactSetUp<dim> contact = contact_set_up(problem, share.dofs(problem.elasticity));
   return {std::move(contact), since(t)};
 }
 
-/// The share of the vertices [first_vertex, end_vertex) of `problem` whose contact set-up is
-/// `surface` (surface_of).
+/// The share of the vertices `vertices` of `problem` whose contact set-up is `surface` (surface_of).
 template <int dim>
-SharePosing<dim> pose_share_and_surface(const BasicContactProblem<dim>& problem, int first_vertex, int end_vertex,
+SharePosing<dim> pose_share_and_surface(const BasicContactProblem<dim>& problem, const ShareVertices& vertices,
                                         std::pair<ContactSetUp<dim>, double> surface) {
   SharePosing<dim> out;
   out.contact = std::move(surface.first);
@@ -267,18 +315,20 @@ SharePosing<dim> pose_share_and_surface(const BasicContactProblem<dim>& problem,
   require_contact_nodes(out.contact);
   require_full_space_posable(out.contact.parts, out.contact.held_by_contact);
   auto t = std::chrono::steady_clock::now();
-  SystemRows rows = assemble_rows(problem.elasticity, first_vertex, end_vertex);
+  SystemRows rows = vertices.rows(problem.elasticity, vertices.first, vertices.end);
   std::vector<int> owned_unknowns(static_cast<std::size_t>(rows.owned));
   std::iota(owned_unknowns.begin(), owned_unknowns.end(), static_cast<int>(rows.first));
   Eigen::VectorXd b = rows.b;  // the load the share's rows are posed from, of the unknowns b_unknowns
   std::vector<int> b_unknowns = owned_unknowns;
   if (!out.contact.boundary.across.empty())
-    add_pair_rows<dim>(problem.elasticity, out.contact.boundary, first_vertex, end_vertex, rows, b, b_unknowns);
+    add_pair_rows<dim>(problem.elasticity, out.contact.boundary, vertices, rows, b, b_unknowns);
   out.assembly_seconds = since(t);
   out.posed = about(ProblemPart::contact, [&] {
     return std::make_unique<Condensation>(
         rows.dofs, out.contact.boundary, part_conditions(out.contact.parts), Condensation::CoordinatesOnly{},
-        [&](const std::vector<int>& unknowns) { return system_columns<dim>(problem.elasticity, rows.dofs, unknowns); });
+        [&](const std::vector<int>& unknowns) {
+          return system_columns<dim>(problem.elasticity, vertices, rows.dofs, unknowns);
+        });
   });
   const Condensation& posed = *out.posed;
   PosedShare& share = out.share;
@@ -354,7 +404,15 @@ BasicForceBalance<PointOf<dim>> added_balance(BasicForceBalance<PointOf<dim>> mi
 
 template <int dim>
 PosedShare pose_share(const BasicContactProblem<dim>& problem, int first_vertex, int end_vertex) {
-  return std::move(pose_share_and_surface(problem, first_vertex, end_vertex, surface_of(problem)).share);
+  const ShareVertices vertices({}, first_vertex, end_vertex);
+  return std::move(pose_share_and_surface(problem, vertices, surface_of(problem, vertices)).share);
+}
+
+template <int dim>
+PosedShare pose_share(const BasicContactProblem<dim>& problem, const std::vector<int>& vertex_order, int first,
+                      int end) {
+  const ShareVertices vertices(vertex_order, first, end);
+  return std::move(pose_share_and_surface(problem, vertices, surface_of(problem, vertices)).share);
 }
 
 std::pair<int, int> vertex_share(int num_vertices, int rank, int size) {
@@ -373,9 +431,9 @@ struct FullSpaceShares<dim>::Impl {
   std::map<std::string, double> timings;
   /// This process's part of the energy the joined system leaves out (Condensation::shift_energy).
   double shift_energy = 0.0;
-  std::pair<int, int> vertices;  ///< this process's (vertex_share)
+  std::vector<int> vertices;  ///< this process's (vertex_share), increasing
 
-  Impl(SharePosing<dim> p, KrylovSolver& k, std::unique_ptr<RowDistribution> r, double seconds, std::pair<int, int> v)
+  Impl(SharePosing<dim> p, KrylovSolver& k, std::unique_ptr<RowDistribution> r, double seconds, std::vector<int> v)
       : posing(std::move(p)),
         krylov(k),
         rows(std::move(r)),
@@ -383,7 +441,7 @@ struct FullSpaceShares<dim>::Impl {
         timings{{"assembly", posing.assembly_seconds},
                 {"setup", posing.setup_seconds},
                 {"posing", seconds - posing.assembly_seconds - posing.setup_seconds}},
-        vertices(v) {
+        vertices(std::move(v)) {
     hints.rows = rows.get();
     shift_energy = posing.posed->shift_energy(posing.load, posing.share.layout.first);
   }
@@ -391,23 +449,25 @@ struct FullSpaceShares<dim>::Impl {
 
 namespace {
 
+/// Process world.rank's vertices (vertex_share) along `vertex_order` (empty: the mesh's order).
 template <int dim>
-SharePosing<dim> pose_process_share(const BasicContactProblem<dim>& problem, ProcessWorld world) {
-  auto surface = surface_of(problem);
+ShareVertices process_vertices(const BasicContactProblem<dim>& problem, ProcessWorld world,
+                               const std::vector<int>& vertex_order) {
+  if (!problem.elasticity.mesh) throw InputError("the elasticity problem has no mesh");
   const auto [first, end] = vertex_share(problem.elasticity.mesh->num_vertices(), world.rank, world.size);
-  return pose_share_and_surface(problem, first, end, std::move(surface));
+  return ShareVertices(vertex_order, first, end);
 }
 
 }  // namespace
 
 template <int dim>
 FullSpaceShares<dim>::FullSpaceShares(const BasicContactProblem<dim>& problem, KrylovSolver& krylov, ProcessWorld world,
-                                      const RowDistributor& distribute) {
+                                      const RowDistributor& distribute, const std::vector<int>& vertex_order) {
   const auto start = std::chrono::steady_clock::now();
-  SharePosing<dim> posing = pose_process_share(problem, world);
+  const ShareVertices vertices = process_vertices(problem, world, vertex_order);
+  SharePosing<dim> posing = pose_share_and_surface(problem, vertices, surface_of(problem, vertices));
   std::unique_ptr<RowDistribution> rows = distribute(posing.share.layout);
-  impl_ = std::make_unique<Impl>(std::move(posing), krylov, std::move(rows), since(start),
-                                 vertex_share(problem.elasticity.mesh->num_vertices(), world.rank, world.size));
+  impl_ = std::make_unique<Impl>(std::move(posing), krylov, std::move(rows), since(start), vertices.owned());
 }
 
 template <int dim>
@@ -461,11 +521,12 @@ template <int dim>
 PointOf<dim> FullSpaceShares<dim>::applied(const BasicElasticityProblem<dim>& at) const {
   if (!at.mesh) throw InputError("the elasticity problem has no mesh");
   const Eigen::VectorXd f = assemble_load(*at.mesh, at.body_force, at.tractions);
-  const auto [first, end] = impl_->vertices;
-  if (f.size() < static_cast<Eigen::Index>(dim) * end) throw InternalError("a load of fewer vertices than the shares'");
+  const std::vector<int>& vertices = impl_->vertices;
+  if (!vertices.empty() && f.size() < static_cast<Eigen::Index>(dim) * (vertices.back() + 1))
+    throw InternalError("a load of fewer vertices than the shares'");
   PointOf<dim> mine = PointOf<dim>::Zero();
-  for (Eigen::Index d = static_cast<Eigen::Index>(dim) * first; d < static_cast<Eigen::Index>(dim) * end; ++d)
-    mine(d % dim) += f(d);
+  for (const int v : vertices)
+    for (int c = 0; c < dim; ++c) mine(c) += f(static_cast<Eigen::Index>(dim) * v + c);
   return summed_in_rank_order(Eigen::VectorXd(mine), *impl_->rows);
 }
 
@@ -477,7 +538,7 @@ BasicForceBalance<PointOf<dim>> FullSpaceShares<dim>::balance(const BasicElastic
   std::exception_ptr failure;  // told to every process so that none waits for another
   try {
     mine = detail::force_balance_of_vertices<dim>(at, u, external_contact_resultant(contact), forces_across(contact),
-                                                  impl_->vertices.first, impl_->vertices.second);
+                                                  impl_->vertices);
     for (const auto& n : contact)
       if (n.across.size() > 0) mine.internal = std::max(mine.internal, n.force_on_body().norm());
   } catch (...) {
@@ -518,12 +579,13 @@ auto FullSpaceShares<dim>::minimize(const ReducedProblem& coordinates, const Eig
 template <int dim>
 BasicContactSolution<dim> solve_full_space_shares(const BasicContactProblem<dim>& problem, KrylovSolver& krylov,
                                                   ProcessWorld world, const RowDistributor& distribute,
-                                                  const MinimizerOptions& options, const Eigen::VectorXd& start_u) {
+                                                  const MinimizerOptions& options, const Eigen::VectorXd& start_u,
+                                                  const std::vector<int>& vertex_order) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   if (std::string why; !options.is_valid(&why)) throw InputError(why, "MinimizerOptions");
   BasicContactSolution<dim> s;
-  std::optional<FullSpaceShares<dim>> shares(std::in_place, problem, krylov, world, distribute);
+  std::optional<FullSpaceShares<dim>> shares(std::in_place, problem, krylov, world, distribute, vertex_order);
   const Condensation& posed = shares->posed();
   s.unknowns = shares->dofs().num_free();
   for (const auto& part : shares->contact().parts) s.contact_parts.push_back(part.name);
@@ -577,13 +639,15 @@ BasicContactSolution<dim> solve_full_space_shares(const BasicContactProblem<dim>
 
 template PosedShare pose_share<2>(const ContactProblem&, int, int);
 template PosedShare pose_share<3>(const BasicContactProblem<3>&, int, int);
+template PosedShare pose_share<2>(const ContactProblem&, const std::vector<int>&, int, int);
+template PosedShare pose_share<3>(const BasicContactProblem<3>&, const std::vector<int>&, int, int);
 template ContactSolution solve_full_space_shares<2>(const ContactProblem&, KrylovSolver&, ProcessWorld,
                                                     const RowDistributor&, const MinimizerOptions&,
-                                                    const Eigen::VectorXd&);
+                                                    const Eigen::VectorXd&, const std::vector<int>&);
 template class FullSpaceShares<2>;
 template class FullSpaceShares<3>;
 template BasicContactSolution<3> solve_full_space_shares<3>(const BasicContactProblem<3>&, KrylovSolver&, ProcessWorld,
                                                             const RowDistributor&, const MinimizerOptions&,
-                                                    const Eigen::VectorXd&);
+                                                            const Eigen::VectorXd&, const std::vector<int>&);
 
 }  // namespace hemivem

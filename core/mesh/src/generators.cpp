@@ -3,6 +3,7 @@
 #include <hemivem/mesh/boundary.hpp>
 
 #include "box_grid.hpp"
+#include "hilbert.hpp"
 
 #include <CGAL/Boolean_set_operations_2.h>
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
@@ -149,25 +150,6 @@ using Delaunay = CGAL::Delaunay_triangulation_2<Kernel, Tds>;
 
 bool lex_less(const Vec2& a, const Vec2& b) { return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y()); }
 
-/// Position of cell (x, y) of a 2^order x 2^order grid along the Hilbert curve.
-std::uint64_t hilbert_index(std::uint64_t x, std::uint64_t y, int order) {
-  std::uint64_t d = 0;
-  for (std::uint64_t s = std::uint64_t{1} << (order - 1); s > 0; s >>= 1) {
-    const std::uint64_t rx = (x & s) ? 1 : 0, ry = (y & s) ? 1 : 0;
-    d += s * s * ((3 * rx) ^ ry);
-    if (ry == 0) {  // rotate the quadrant
-      if (rx == 1) {
-        x = s - 1 - (x & (s - 1));
-        y = s - 1 - (y & (s - 1));
-      }
-      std::swap(x, y);
-    }
-    x &= s - 1;
-    y &= s - 1;
-  }
-  return d;
-}
-
 /// The order of points in the rectangle along a Hilbert curve (ties, lexicographically).
 std::vector<std::size_t> hilbert_order(const std::vector<Vec2>& pts, const Rectangle& d) {
   constexpr int order = 20;
@@ -177,7 +159,7 @@ std::vector<std::size_t> hilbert_order(const std::vector<Vec2>& pts, const Recta
   };
   std::vector<std::uint64_t> key(pts.size());
   for (std::size_t i = 0; i < pts.size(); ++i)
-    key[i] = hilbert_index(cell(pts[i].x(), d.x0, d.width()), cell(pts[i].y(), d.y0, d.height()), order);
+    key[i] = detail::hilbert_index(cell(pts[i].x(), d.x0, d.width()), cell(pts[i].y(), d.y0, d.height()), order);
   std::vector<std::size_t> perm(pts.size());
   std::iota(perm.begin(), perm.end(), std::size_t{0});
   std::sort(perm.begin(), perm.end(), [&](std::size_t a, std::size_t b) {

@@ -14,6 +14,7 @@
 #include <hemivem/mesh/generators3d.hpp>
 
 #include "box_grid.hpp"
+#include "hilbert.hpp"
 
 #include <CGAL/Delaunay_triangulation_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -77,33 +78,6 @@ double open_draw(std::mt19937_64& rng, double a, double b) {
 
 // ---- seeds along a Hilbert curve ------------------------------------------------------
 
-/// The position of grid point X (each coordinate `bits` bits) along the 3D Hilbert curve
-/// (J. Skilling, "Programming the Hilbert curve", AIP Conf. Proc. 707, 2004).
-std::uint64_t hilbert_index(std::array<std::uint32_t, 3> X, int bits) {
-  const std::uint32_t M = 1u << (bits - 1);
-  for (std::uint32_t Q = M; Q > 1; Q >>= 1) {  // inverse undo
-    const std::uint32_t P = Q - 1;
-    for (int i = 0; i < 3; ++i) {
-      if (X[static_cast<std::size_t>(i)] & Q) {
-        X[0] ^= P;
-      } else {
-        const std::uint32_t t = (X[0] ^ X[static_cast<std::size_t>(i)]) & P;
-        X[0] ^= t;
-        X[static_cast<std::size_t>(i)] ^= t;
-      }
-    }
-  }
-  for (std::size_t i = 1; i < 3; ++i) X[i] ^= X[i - 1];  // Gray encode
-  std::uint32_t t = 0;
-  for (std::uint32_t Q = M; Q > 1; Q >>= 1)
-    if (X[2] & Q) t ^= Q - 1;
-  for (auto& x : X) x ^= t;
-  std::uint64_t d = 0;
-  for (int b = bits - 1; b >= 0; --b)
-    for (std::size_t i = 0; i < 3; ++i) d = (d << 1) | ((X[i] >> b) & 1u);
-  return d;
-}
-
 bool lex_less(const Vec3& a, const Vec3& b) {
   return a.x() < b.x() || (a.x() == b.x() && (a.y() < b.y() || (a.y() == b.y() && a.z() < b.z())));
 }
@@ -117,7 +91,7 @@ void sort_along_hilbert_curve(std::vector<Vec3>& pts, const Box& d) {
     for (int a = 0; a < 3; ++a)
       X[static_cast<std::size_t>(a)] = static_cast<std::uint32_t>(
           std::clamp((pts[i][a] - d.lower(a)) / d.size(a) * cells, 0.0, cells - 1.0));
-    key[i] = hilbert_index(X, bits);
+    key[i] = detail::hilbert_index(X, bits);
   }
   std::vector<std::size_t> perm(pts.size());
   std::iota(perm.begin(), perm.end(), std::size_t{0});

@@ -389,7 +389,7 @@ void BasicPathSolver<dim>::Impl::data_at(const Step& s) {
   if (s.index > 1) loading.update(s.t, problem);
   if (loading.updates_prescribed) {
     const DofMap at_t = make_dof_map(*problem.elasticity.mesh, problem.elasticity.dirichlet);
-    if (at_t.free_dofs != dofs.free_dofs)
+    if (held_dofs(at_t) != held_dofs(dofs))
       throw InputError("the prescribed degrees of freedom change along the path at t = " + shortest(s.t) +
                        ": a path may change prescribed values, not which displacements are prescribed");
     dofs.prescribed = at_t.prescribed;
@@ -495,7 +495,8 @@ void BasicPathSolver<dim>::Impl::make_load_current(Eigen::VectorXd* b) {
 template <int dim>
 void BasicPathSolver<dim>::Impl::condense() {
   if (full && options.distribute) {  // across processes: this process's share, the whole surface
-    shares = std::make_unique<FullSpaceShares<dim>>(problem, *krylov, options.world, options.distribute);
+    shares = std::make_unique<FullSpaceShares<dim>>(problem, *krylov, options.world, options.distribute,
+                                                    options.vertex_order);
     dofs = shares->dofs();
     parts = shares->contact().parts;
     boundary = shares->contact().boundary;

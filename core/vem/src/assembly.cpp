@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <exception>
 #include <map>
+#include <utility>
 
 namespace hemivem {
 
@@ -69,16 +70,34 @@ void detail::facet_traction_load(const Mesh& mesh, const TractionLoad& load, int
   }
 }
 
-DofMap detail::dof_map_of(std::vector<char> fixed, Eigen::VectorXd prescribed) {
+DofMap detail::dof_map_of(std::vector<char> fixed, Eigen::VectorXd prescribed, const std::vector<int>* vertex_order,
+                          int dim) {
   DofMap map;
   map.prescribed = std::move(prescribed);
   const int ndof = static_cast<int>(fixed.size());
   map.free_index.assign(static_cast<std::size_t>(ndof), -1);
-  for (int d = 0; d < ndof; ++d) {
-    if (fixed[static_cast<std::size_t>(d)]) continue;
+  const auto number = [&](int d) {
+    if (fixed[static_cast<std::size_t>(d)]) return;
     map.free_index[static_cast<std::size_t>(d)] = static_cast<int>(map.free_dofs.size());
     map.free_dofs.push_back(d);
+  };
+  if (!vertex_order) {
+    for (int d = 0; d < ndof; ++d) number(d);
+    return map;
   }
+  const int nv = ndof / dim;
+  std::vector<char> seen(static_cast<std::size_t>(nv), 0);
+  const auto once = [&](int v) {
+    return v >= 0 && v < nv && !std::exchange(seen[static_cast<std::size_t>(v)], char{1});
+  };
+  const bool permutation = static_cast<int>(vertex_order->size()) == nv &&
+                           std::all_of(vertex_order->begin(), vertex_order->end(), once);
+  if (!permutation)
+    throw InputError("a vertex order of " + std::to_string(vertex_order->size()) +
+                     " entries that is not a permutation of the mesh's " + std::to_string(nv) + " vertices");
+  map.free_dofs.reserve(static_cast<std::size_t>(ndof));
+  for (const int v : *vertex_order)
+    for (int c = 0; c < dim; ++c) number(dim * v + c);
   return map;
 }
 

@@ -240,7 +240,8 @@ template struct BasicDirichletCondition<3>;
 namespace {
 
 template <int dim>
-DofMap dof_map_of(const MeshOf<dim>& mesh, const std::vector<BasicDirichletCondition<dim>>& dirichlet) {
+DofMap dof_map_of(const MeshOf<dim>& mesh, const std::vector<BasicDirichletCondition<dim>>& dirichlet,
+                  const std::vector<int>* vertex_order = nullptr) {
   const int ndof = dim * mesh.num_vertices();
   Eigen::VectorXd prescribed = Eigen::VectorXd::Zero(ndof);
   std::vector<char> fixed(static_cast<std::size_t>(ndof), 0);
@@ -253,7 +254,7 @@ DofMap dof_map_of(const MeshOf<dim>& mesh, const std::vector<BasicDirichletCondi
         prescribed(dim * v + c) = value(c);
       }
     }
-  return detail::dof_map_of(std::move(fixed), std::move(prescribed));
+  return detail::dof_map_of(std::move(fixed), std::move(prescribed), vertex_order, dim);
 }
 
 /// InputError, before any assembly, when nothing has a prescribed displacement, or only facets
@@ -341,42 +342,74 @@ std::vector<int> cells_holding(const MeshOf<dim>& mesh, Owns&& owns) {
   return cells;
 }
 
-/// rows.first, owned, unknowns and at for the owned vertices [v0, v1) and the cells holding
-/// them; returns each dof's position in rows.unknowns (-1 for the others).
+/// The owned vertices of assemble_rows: order[p0], ..., order[p1 - 1], or p0, ..., p1 - 1
+/// without an order.
+struct OwnedVertices {
+  const std::vector<int>* order = nullptr;
+  int p0 = 0, p1 = 0;
+  int at(int p) const { return order ? (*order)[static_cast<std::size_t>(p)] : p; }
+};
+
+/// rows.first, owned, unknowns and at for the owned vertices and the cells holding them (the
+/// free dofs numbered along the owned vertices' order); returns each dof's position in
+/// rows.unknowns (-1 for the others).
 template <int dim>
-std::vector<int> number_unknowns(const MeshOf<dim>& mesh, int v0, int v1, const std::vector<int>& cells,
+std::vector<int> number_unknowns(const MeshOf<dim>& mesh, const OwnedVertices& owned, const std::vector<int>& cells,
                                  SystemRows& rows) {
   const std::vector<int>& free = rows.dofs.free_dofs;
-  rows.first = std::lower_bound(free.begin(), free.end(), dim * v0) - free.begin();
-  rows.owned = (std::lower_bound(free.begin(), free.end(), dim * v1) - free.begin()) - rows.first;
+  const std::vector<int>& free_index = rows.dofs.free_index;
+  const auto free_of = [&](int v) {  // how many of vertex v's dofs are free
+    int n = 0;
+    for (int c = 0; c < dim; ++c) n += free_index[static_cast<std::size_t>(dim * v + c)] >= 0 ? 1 : 0;
+    return n;
+  };
+  if (owned.order) {  // the free dofs of the vertices before the owned ones, then the owned ones'
+    rows.first = 0;
+    for (int p = 0; p < owned.p0; ++p) rows.first += free_of(owned.at(p));
+    rows.owned = 0;
+    for (int p = owned.p0; p < owned.p1; ++p) rows.owned += free_of(owned.at(p));
+  } else {
+    rows.first = std::lower_bound(free.begin(), free.end(), dim * owned.p0) - free.begin();
+    rows.owned = (std::lower_bound(free.begin(), free.end(), dim * owned.p1) - free.begin()) - rows.first;
+  }
   std::vector<char> in_part(static_cast<std::size_t>(mesh.num_vertices()), 0);
-  for (int v = v0; v < v1; ++v) in_part[static_cast<std::size_t>(v)] = 1;
+  for (int p = owned.p0; p < owned.p1; ++p) in_part[static_cast<std::size_t>(owned.at(p))] = 1;
   for (int c : cells)
     for (int v : cell_vertices(mesh, c)) in_part[static_cast<std::size_t>(v)] = 1;
   std::vector<int> index(static_cast<std::size_t>(rows.dofs.num_dofs()), -1);
-  for (int d = 0; d < rows.dofs.num_dofs(); ++d) {
-    const int f = rows.dofs.free_index[static_cast<std::size_t>(d)];
-    if (f < 0 || !in_part[static_cast<std::size_t>(d / dim)]) continue;
-    index[static_cast<std::size_t>(d)] = static_cast<int>(rows.unknowns.size());
-    rows.unknowns.push_back(f);
+  for (int d = 0; d < rows.dofs.num_dofs(); ++d)
+    if (const int f = free_index[static_cast<std::size_t>(d)]; f >= 0 && in_part[static_cast<std::size_t>(d / dim)]) {
+      index[static_cast<std::size_t>(d)] = static_cast<int>(rows.unknowns.size());
+      rows.unknowns.push_back(f);
+    }
+  if (owned.order) {  // the unknowns in the order of the free dofs, and each dof's position among them
+    std::sort(rows.unknowns.begin(), rows.unknowns.end());
+    for (int d = 0; d < rows.dofs.num_dofs(); ++d)
+      if (index[static_cast<std::size_t>(d)] >= 0)
+        index[static_cast<std::size_t>(d)] = static_cast<int>(
+            std::lower_bound(rows.unknowns.begin(), rows.unknowns.end(), free_index[static_cast<std::size_t>(d)]) -
+            rows.unknowns.begin());
   }
   rows.at = std::lower_bound(rows.unknowns.begin(), rows.unknowns.end(), rows.first) - rows.unknowns.begin();
   return index;
 }
 
 template <int dim>
-SystemRows rows_of(const BasicElasticityProblem<dim>& problem, int v0, int v1) {
+SystemRows rows_of(const BasicElasticityProblem<dim>& problem, const OwnedVertices& owned) {
   if (!problem.mesh) throw InputError("the elasticity problem has no mesh");
   const MeshOf<dim>& mesh = *problem.mesh;
-  if (v0 < 0 || v1 < v0 || v1 > mesh.num_vertices())
-    throw InputError("the rows of vertices " + std::to_string(v0) + " to " + std::to_string(v1) +
+  const int range = owned.order ? static_cast<int>(owned.order->size()) : mesh.num_vertices();
+  if (owned.p0 < 0 || owned.p1 < owned.p0 || owned.p1 > range)
+    throw InputError("the rows of vertices " + std::to_string(owned.p0) + " to " + std::to_string(owned.p1) +
                      " (excluded): not a range of the mesh's " + std::to_string(mesh.num_vertices()) + " vertices");
   require_held(problem);
   SystemRows rows;
-  rows.dofs = make_dof_map(mesh, problem.dirichlet);
-  const auto owns = [&](int v) { return v >= v0 && v < v1; };
+  rows.dofs = dof_map_of<dim>(mesh, problem.dirichlet, owned.order);
+  std::vector<char> mine(static_cast<std::size_t>(mesh.num_vertices()), 0);
+  for (int p = owned.p0; p < owned.p1; ++p) mine[static_cast<std::size_t>(owned.at(p))] = 1;
+  const auto owns = [&](int v) { return mine[static_cast<std::size_t>(v)] != 0; };
   const std::vector<int> cells = cells_holding<dim>(mesh, owns);
-  const std::vector<int> index = number_unknowns<dim>(mesh, v0, v1, cells, rows);
+  const std::vector<int> index = number_unknowns<dim>(mesh, owned, cells, rows);
   // b's owned rows: the load's terms of those rows, then (with A) the prescribed values lifted
   rows.b = Eigen::VectorXd::Zero(rows.owned);
   const std::vector<int>& free_index = rows.dofs.free_index;
@@ -428,15 +461,29 @@ DofMap make_dof_map(const Mesh& mesh, const std::vector<DirichletCondition>& dir
 DofMap make_dof_map(const Mesh3D& mesh, const std::vector<DirichletCondition3D>& dirichlet) {
   return dof_map_of<3>(mesh, dirichlet);
 }
+DofMap make_dof_map(const Mesh& mesh, const std::vector<DirichletCondition>& dirichlet,
+                    const std::vector<int>& vertex_order) {
+  return dof_map_of<2>(mesh, dirichlet, &vertex_order);
+}
+DofMap make_dof_map(const Mesh3D& mesh, const std::vector<DirichletCondition3D>& dirichlet,
+                    const std::vector<int>& vertex_order) {
+  return dof_map_of<3>(mesh, dirichlet, &vertex_order);
+}
 
 LinearSystem assemble(const ElasticityProblem& problem) { return assemble_of<2>(problem); }
 LinearSystem assemble(const ElasticityProblem3D& problem) { return assemble_of<3>(problem); }
 
 SystemRows assemble_rows(const ElasticityProblem& problem, int first_vertex, int end_vertex) {
-  return rows_of<2>(problem, first_vertex, end_vertex);
+  return rows_of<2>(problem, {nullptr, first_vertex, end_vertex});
 }
 SystemRows assemble_rows(const ElasticityProblem3D& problem, int first_vertex, int end_vertex) {
-  return rows_of<3>(problem, first_vertex, end_vertex);
+  return rows_of<3>(problem, {nullptr, first_vertex, end_vertex});
+}
+SystemRows assemble_rows(const ElasticityProblem& problem, const std::vector<int>& vertex_order, int first, int end) {
+  return rows_of<2>(problem, {&vertex_order, first, end});
+}
+SystemRows assemble_rows(const ElasticityProblem3D& problem, const std::vector<int>& vertex_order, int first, int end) {
+  return rows_of<3>(problem, {&vertex_order, first, end});
 }
 
 Eigen::VectorXd assemble_rhs(const ElasticityProblem& problem, const DofMap& dofs) {

@@ -2,6 +2,7 @@
 // parallel, visited in element order, and the pattern of the global stiffness.
 #pragma once
 
+#include <hemivem/error.hpp>
 #include <hemivem/vem/assembly.hpp>
 #include <hemivem/sparse_factorization.hpp>
 
@@ -69,11 +70,64 @@ void for_each_element_matrix(int num_elements, Vertices&& vertices_of, Stiffness
   }
 }
 
+/// The rows of a stiffness pattern's vertices (stiffness_pattern): each vertex's first row, and
+/// the vertices in the order of their rows. An index increasing in the dof (the vertices in
+/// their own order) needs neither.
+class VertexRows {
+ public:
+  VertexRows(int num_vertices, int dim, const std::vector<int>& index, int size) : num_vertices_(num_vertices) {
+    const auto at = [](int k) { return static_cast<std::size_t>(k); };
+    int last = -1;
+    for (const int i : index)
+      if (i >= 0) {
+        in_dof_order_ = in_dof_order_ && i > last;
+        last = i;
+      }
+    if (in_dof_order_) return;
+    first_.assign(at(num_vertices), -1);
+    std::vector<int> vertex_at(at(size), -1);
+    for (int v = 0; v < num_vertices; ++v) {
+      int next = -1;
+      for (int c = 0; c < dim; ++c)
+        if (const int i = index[at(dim * v + c)]; i >= 0) {
+          if (next >= 0 && i != next)
+            throw InternalError("a stiffness pattern whose index numbers a vertex's dofs apart");
+          if (next < 0) first_[at(v)] = i;
+          next = i + 1;
+        }
+      if (first_[at(v)] >= 0) vertex_at[at(first_[at(v)])] = v;
+    }
+    for (const int v : vertex_at)
+      if (v >= 0) order_.push_back(v);
+  }
+  /// How many vertices the columns go through, and the n-th of them.
+  int count() const noexcept { return in_dof_order_ ? num_vertices_ : static_cast<int>(order_.size()); }
+  int vertex(int n) const noexcept { return in_dof_order_ ? n : order_[static_cast<std::size_t>(n)]; }
+  /// Sorts vertices in the order of their rows (those without a row first, in their own order).
+  template <class It>
+  void sort(It begin, It end) const {
+    if (in_dof_order_) {
+      std::sort(begin, end);
+      return;
+    }
+    std::sort(begin, end, [this](int a, int b) {
+      const int ka = first_[static_cast<std::size_t>(a)], kb = first_[static_cast<std::size_t>(b)];
+      return ka < kb || (ka == kb && a < b);
+    });
+  }
+
+ private:
+  int num_vertices_ = 0;
+  bool in_dof_order_ = true;
+  std::vector<int> first_, order_;
+};
+
 /// The pattern of a stiffness matrix over the dofs with index[d] >= 0 (index: dof Dim v + c ->
-/// row and column; increasing in d): the column of dof d holds every dof of every vertex w
-/// sharing an element with d's vertex v for which couples(v, w) (symmetric in v and w), rows
-/// increasing; values zero. The vertices' neighbours are found first, so that the matrix's
-/// arrays are sized once and written in place.
+/// row and column; a vertex's dofs consecutive rows in the order of their components, the
+/// vertices in any order): the column of dof d holds every dof of every vertex w sharing an
+/// element with d's vertex v for which couples(v, w) (symmetric in v and w), rows increasing;
+/// values zero. The vertices' neighbours are found first, so that the matrix's arrays are sized
+/// once and written in place. InternalError for an index that numbers a vertex's dofs apart.
 template <int Dim, class Vertices, class Couples>
 SparseMatrix stiffness_pattern(int num_vertices, int num_elements, Vertices&& vertices_of, const std::vector<int>& index,
                                int size, Couples&& couples) {
@@ -95,6 +149,8 @@ SparseMatrix stiffness_pattern(int num_vertices, int num_elements, Vertices&& ve
   std::vector<int> rows_of(at(nv), 0);
   for (int v = 0; v < nv; ++v)
     for (int r = 0; r < Dim; ++r) rows_of[at(v)] += index[at(Dim * v + r)] >= 0 ? 1 : 0;
+  // each vertex's first row (-1 for none), and the vertices in the order of their rows
+  const VertexRows vertex_rows(nv, Dim, index, size);
   std::vector<int> adjacency_start(at(nv) + 1, 0), adjacency;
   std::size_t in_elements = 0;  // the vertices of some element
   for (int v = 0; v < nv; ++v) in_elements += first[at(v) + 1] > first[at(v)] ? 1 : 0;
@@ -111,7 +167,7 @@ SparseMatrix stiffness_pattern(int num_vertices, int num_elements, Vertices&& ve
           adjacency.push_back(w);
           column_size[at(v)] += static_cast<std::size_t>(rows_of[at(w)]);
         }
-    std::sort(adjacency.begin() + static_cast<std::ptrdiff_t>(begin), adjacency.end());
+    vertex_rows.sort(adjacency.begin() + static_cast<std::ptrdiff_t>(begin), adjacency.end());
     adjacency_start[at(v) + 1] = static_cast<int>(adjacency.size());
   }
   std::size_t nnz = 0;
@@ -124,8 +180,8 @@ SparseMatrix stiffness_pattern(int num_vertices, int num_elements, Vertices&& ve
   std::size_t k = 0;
   int column = 0;
   outer[0] = 0;
-  for (int v = 0; v < nv; ++v)
-    for (int c = 0; c < Dim; ++c) {
+  for (int n = 0; n < vertex_rows.count(); ++n)
+    for (int c = 0, v = vertex_rows.vertex(n); c < Dim; ++c) {
       if (index[at(Dim * v + c)] < 0) continue;
       for (int a = adjacency_start[at(v)]; a < adjacency_start[at(v) + 1]; ++a)
         for (int r = 0; r < Dim; ++r) {
@@ -276,7 +332,10 @@ class OwnedRowsAssembler {
   std::vector<int> local_, mine_;
 };
 
-/// The dof map of `ndof` dofs with `fixed[d]` set where dof d is prescribed.
-DofMap dof_map_of(std::vector<char> fixed, Eigen::VectorXd prescribed);
+/// The dof map of `ndof` dofs with `fixed[d]` set where dof d is prescribed: the free dofs
+/// numbered in dof order, or, given `vertex_order` (a permutation of the `fixed.size() / dim`
+/// vertices; InputError otherwise), vertex by vertex along it.
+DofMap dof_map_of(std::vector<char> fixed, Eigen::VectorXd prescribed, const std::vector<int>* vertex_order = nullptr,
+                  int dim = 1);
 
 }  // namespace hemivem::detail

@@ -3,7 +3,9 @@
 //
 // A process owning the vertices first_vertex, ..., end_vertex - 1 of the mesh owns their free
 // dofs, a contiguous range of the free unknowns (free dofs are numbered in dof order, and the
-// rotation into the contact nodes' frames acts within each node). It assembles the cells that
+// rotation into the contact nodes' frames acts within each node). Given a vertex order, the free
+// dofs are numbered along it and a process owns a range of its positions instead: a compact
+// part of a mesh whose own order is not (hemivem/mesh/vertex_order.hpp). It assembles the cells that
 // hold one of its vertices (assemble_rows: its rows and their mirrored columns), rotates them as
 // the whole posing rotates the whole system (Condensation::rotated_part), and takes its
 // coordinates from the posing of the contact surface (Condensation::CoordinatesOnly), which every
@@ -19,6 +21,7 @@
 #include <memory>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include <hemivem/contact/full_space.hpp>
 #include <hemivem/contact/problem.hpp>
@@ -63,10 +66,19 @@ struct PosedShare {
 /// rows are assemble_rows').
 template <int dim>
 PosedShare pose_share(const BasicContactProblem<dim>& problem, int first_vertex, int end_vertex);
+/// The same of the vertices vertex_order[first], ..., vertex_order[end - 1], the free unknowns
+/// numbered along `vertex_order` (make_dof_map with it): the share of the whole posed problem in
+/// that numbering, the values of its rows the same to the bit. InputError as pose_share() and
+/// for an order that is not a permutation of the mesh's vertices.
+template <int dim>
+PosedShare pose_share(const BasicContactProblem<dim>& problem, const std::vector<int>& vertex_order, int first,
+                      int end);
 
 /// The vertices process `rank` of `size` owns on the full-space route across processes: the
-/// mesh's vertices split evenly in their order, [first, end). A generated box numbers its
-/// vertices layer by layer, so that each process owns a slab.
+/// mesh's vertices split evenly in their order, [first, end), or the positions [first, end) of
+/// a vertex order. A generated box numbers its vertices layer by layer, so that each process
+/// owns a slab; a mesh made whole on every process (a Gmsh file's, an adaptive solve's refined
+/// mesh) is split along hilbert_vertex_order (hemivem/mesh/vertex_order.hpp).
 std::pair<int, int> vertex_share(int num_vertices, int rank, int size);
 
 /// How the processes make the distribution of their posed rows: collective, as
@@ -83,11 +95,11 @@ using RowDistributor = std::function<std::unique_ptr<RowDistribution>(RowLayout)
 template <int dim>
 class FullSpaceShares {
  public:
-  /// Poses the share of process world.rank (vertex_share) and distributes the rows by
-  /// `distribute`; `krylov` is kept by reference and must outlive this. The InputErrors of
-  /// pose_share, on every process alike.
+  /// Poses the share of process world.rank (vertex_share, along `vertex_order` unless it is
+  /// empty) and distributes the rows by `distribute`; `krylov` is kept by reference and must
+  /// outlive this. The InputErrors of pose_share, on every process alike.
   FullSpaceShares(const BasicContactProblem<dim>& problem, KrylovSolver& krylov, ProcessWorld world,
-                  const RowDistributor& distribute);
+                  const RowDistributor& distribute, const std::vector<int>& vertex_order = {});
   ~FullSpaceShares();
   FullSpaceShares(const FullSpaceShares&) = delete;
   FullSpaceShares& operator=(const FullSpaceShares&) = delete;
@@ -146,9 +158,10 @@ class FullSpaceShares {
 
 /// Collective over the processes of `world`: the full-space route of BasicContactSolver (a
 /// Krylov engine with the semismooth Newton iteration, nothing condensed), each process posing
-/// and solving the share of its vertices (vertex_share, pose_share), the rows distributed by
-/// `distribute`. Then the processes' results are gathered where they are small (the rotated
-/// unknowns, their residual, the contact coordinates' values and forces), and every process
+/// and solving the share of its vertices (vertex_share, pose_share; along `vertex_order` unless
+/// it is empty), the rows distributed by `distribute`. Then the processes' results are gathered
+/// where they are small (the rotated unknowns, their residual, the contact coordinates' values
+/// and forces), and every process
 /// returns the whole solution as BasicContactSolver::run() reports it (the displacement, the
 /// contact table, the potential energy, the balance of forces, the certificate and verdict of the
 /// whole problem), the same on each: what follows a solve (an error estimate, the marking of an
@@ -170,6 +183,7 @@ template <int dim>
 BasicContactSolution<dim> solve_full_space_shares(const BasicContactProblem<dim>& problem, KrylovSolver& krylov,
                                                   ProcessWorld world, const RowDistributor& distribute,
                                                   const MinimizerOptions& options,
-                                                  const Eigen::VectorXd& start_u = Eigen::VectorXd());
+                                                  const Eigen::VectorXd& start_u = Eigen::VectorXd(),
+                                                  const std::vector<int>& vertex_order = {});
 
 }  // namespace hemivem

@@ -97,6 +97,8 @@ struct BasicPathOptions {
   /// surface as every other process does; every process gets the whole path. Empty: one process.
   RowDistributor distribute;
   ProcessWorld world;
+  /// The order the processes share the vertices along (FullSpaceShares); empty: the mesh's own.
+  std::vector<int> vertex_order;
 };
 using PathOptions = BasicPathOptions<2>;
 

@@ -51,11 +51,11 @@ struct LinearSystem {
   }
 };
 
-/// The rows of the reduced system A u_f = b (assemble()) that belong to the vertices
-/// first_vertex, ..., end_vertex - 1, assembled from the cells that hold one of them alone (a
-/// process's share of a system distributed by rows). Free dofs are numbered in dof order, so the
-/// free dofs of those vertices are the contiguous range first, ..., first + owned - 1: the owned
-/// free dofs.
+/// The rows of the reduced system A u_f = b (assemble()) that belong to some vertices, assembled
+/// from the cells that hold one of them alone (a process's share of a system distributed by
+/// rows). The free dofs are numbered vertex by vertex (in dof order, or along a vertex order) and
+/// the vertices are consecutive in that numbering, so that their free dofs are the contiguous
+/// range first, ..., first + owned - 1: the owned free dofs.
 struct SystemRows {
   DofMap dofs;             ///< the whole problem's
   Eigen::Index first = 0;  ///< the free index of the first owned free dof
@@ -89,8 +89,14 @@ Eigen::VectorXd assemble_load(const Mesh& mesh, const VectorField& body_force,
 Eigen::VectorXd apply_stiffness(const Mesh& mesh, const MaterialTable& materials, Stabilization stabilization,
                                 const Eigen::VectorXd& u, const std::vector<char>& rows);
 
-/// The degrees-of-freedom map of a problem's Dirichlet conditions.
+/// The degrees-of-freedom map of a problem's Dirichlet conditions, its free dofs in dof order.
 DofMap make_dof_map(const Mesh& mesh, const std::vector<DirichletCondition>& dirichlet);
+/// The same with the free dofs numbered vertex by vertex along `vertex_order` (each vertex's in
+/// the order of their components): a permutation of the mesh's vertices, InputError otherwise.
+/// A compact order (hemivem/mesh/vertex_order.hpp) gives each of a split of the free dofs into
+/// ranges a compact part of the mesh.
+DofMap make_dof_map(const Mesh& mesh, const std::vector<DirichletCondition>& dirichlet,
+                    const std::vector<int>& vertex_order);
 
 /// Assembles the reduced system of a problem. Throws InputError, before any assembly, when
 /// the body is not held (no Dirichlet edge, or Dirichlet edges of zero total length).
@@ -101,6 +107,11 @@ LinearSystem assemble(const ElasticityProblem& problem);
 /// memory for their rows besides the dof map. InputError as assemble(), and for a range of
 /// vertices outside the mesh.
 SystemRows assemble_rows(const ElasticityProblem& problem, int first_vertex, int end_vertex);
+/// The same of the vertices vertex_order[first], ..., vertex_order[end - 1] of the system whose
+/// free dofs are numbered along `vertex_order` (make_dof_map with it; SystemRows::dofs is that
+/// map): the rows and columns of assemble(problem) permuted into that numbering, their values to
+/// the bit. InputError as assemble_rows() and make_dof_map().
+SystemRows assemble_rows(const ElasticityProblem& problem, const std::vector<int>& vertex_order, int first, int end);
 
 /// The load of the free dofs of `dofs` (LinearSystem::b): f - K u_p on them, u_p the
 /// prescribed values of `dofs` (which must be make_dof_map of the problem's Dirichlet parts;

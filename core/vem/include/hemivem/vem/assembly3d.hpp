@@ -29,6 +29,8 @@ Eigen::VectorXd apply_stiffness(const Mesh3D& mesh, const MaterialTable& materia
                                 const Eigen::VectorXd& u, const std::vector<char>& rows);
 
 DofMap make_dof_map(const Mesh3D& mesh, const std::vector<DirichletCondition3D>& dirichlet);
+DofMap make_dof_map(const Mesh3D& mesh, const std::vector<DirichletCondition3D>& dirichlet,
+                    const std::vector<int>& vertex_order);
 
 /// The reduced system (prescribed dofs eliminated, their values lifted into b). InputError,
 /// before any assembly, when no face has a prescribed displacement or their area is zero.
@@ -37,6 +39,7 @@ LinearSystem assemble(const ElasticityProblem3D& problem);
 /// The rows of assemble(problem) of the vertices first_vertex, ..., end_vertex - 1, as
 /// assemble_rows of a plane problem.
 SystemRows assemble_rows(const ElasticityProblem3D& problem, int first_vertex, int end_vertex);
+SystemRows assemble_rows(const ElasticityProblem3D& problem, const std::vector<int>& vertex_order, int first, int end);
 
 /// The load of the free dofs of `dofs` at the problem's data (as assemble_rhs of a plane problem).
 Eigen::VectorXd assemble_rhs(const ElasticityProblem3D& problem, const DofMap& dofs);
