@@ -93,11 +93,42 @@ struct ShareVertices {
   }
 };
 
+/// The rows of the pairs' nodes at the positions `nodes` of the share's order (increasing),
+/// assembled in runs of consecutive positions (assemble_rows): their entries outside the owned
+/// free unknowns [first, end) added to `entries` once each (an entry of two neighbouring nodes of
+/// two runs is the first run's), their unknowns to `unknowns`, their loads to `load` as (free
+/// unknown, value).
+template <int dim>
+void add_node_runs(const BasicElasticityProblem<dim>& problem, const ShareVertices& share, const std::vector<int>& nodes,
+                   int first, int end, std::vector<Eigen::Triplet<double, int>>& entries, std::vector<int>& unknowns,
+                   std::vector<std::pair<int, double>>& load) {
+  const auto owned_free = [&](int f) { return f >= first && f < end; };
+  std::vector<std::pair<int, int>> earlier;  // the free unknowns of the runs before, ranges increasing
+  const auto assembled = [&](int f) {
+    const auto it = std::upper_bound(earlier.begin(), earlier.end(), std::pair<int, int>(f, INT_MAX));
+    return it != earlier.begin() && f < std::prev(it)->second;
+  };
+  for (std::size_t k = 0; k < nodes.size();) {
+    std::size_t run = k + 1;  // a run of consecutive nodes, assembled together
+    while (run < nodes.size() && nodes[run] == nodes[run - 1] + 1) ++run;
+    const SystemRows more = share.rows(problem, nodes[k], nodes[run - 1] + 1);
+    for (Eigen::Index c = 0; c < more.A.outerSize(); ++c)
+      for (SparseMatrix::InnerIterator e(more.A, c); e; ++e) {
+        const int i = more.unknowns[static_cast<std::size_t>(e.row())], j = more.unknowns[static_cast<std::size_t>(c)];
+        // a node's row and column (the rotation reads both), but where the owned rows hold them
+        if (!owned_free(i) && !owned_free(j) && !assembled(i) && !assembled(j)) entries.emplace_back(i, j, e.value());
+      }
+    earlier.emplace_back(static_cast<int>(more.first), static_cast<int>(more.first + more.owned));
+    unknowns.insert(unknowns.end(), more.unknowns.begin(), more.unknowns.end());
+    for (Eigen::Index f = 0; f < more.owned; ++f) load.emplace_back(static_cast<int>(more.first + f), more.b(f));
+    k = run;
+  }
+}
+
 /// What the joining of two bodies (Condensation::rotated_part) reads besides the rows of the
 /// owned vertices: the whole row and the load of each pair's node p across from one of them
-/// (assembled from p's cells: assemble_rows of each run of such nodes consecutive in the order),
-/// and the unknowns across
-/// from every node the part holds. `rows` is widened to them (its A, unknowns and at; its owned
+/// (assembled from p's cells: add_node_runs), and the unknowns across from every node the part
+/// holds. `rows` is widened to them (its A, unknowns and at; its owned
 /// rows unchanged: they are the owned rows that assemble_rows gave, and the nodes' rows are
 /// added where they are not among them); `b` and `b_unknowns` become the load of the owned rows
 /// and of those nodes, with their free unknowns.
@@ -119,7 +150,6 @@ void add_pair_rows(const BasicElasticityProblem<dim>& problem, const ContactBoun
   }
   sort_unique(nodes);  // the nodes' positions in the order
   const auto first = static_cast<int>(rows.first), end = static_cast<int>(rows.first + rows.owned);
-  const auto owned_free = [&](int f) { return f >= first && f < end; };
   // the part's entries as (row, column, value) of the free unknowns: its own, then the nodes' rows
   std::vector<Eigen::Triplet<double, int>> entries;
   entries.reserve(static_cast<std::size_t>(rows.A.nonZeros()));
@@ -128,33 +158,8 @@ void add_pair_rows(const BasicElasticityProblem<dim>& problem, const ContactBoun
     for (SparseMatrix::InnerIterator e(rows.A, c); e; ++e)
       entries.emplace_back(rows.unknowns[static_cast<std::size_t>(e.row())], rows.unknowns[static_cast<std::size_t>(c)],
                            e.value());
-  std::vector<int> node_rows;
-  std::vector<double> node_loads;
-  // the free unknowns of the runs assembled before, ranges increasing: a run's entries with one
-  // of them (two neighbouring nodes in two runs) were that run's
-  std::vector<std::pair<int, int>> earlier;
-  const auto assembled = [&](int f) {
-    const auto it = std::upper_bound(earlier.begin(), earlier.end(), std::pair<int, int>(f, INT_MAX));
-    return it != earlier.begin() && f < std::prev(it)->second;
-  };
-  for (std::size_t k = 0; k < nodes.size();) {
-    std::size_t run = k + 1;  // a run of consecutive nodes, assembled together
-    while (run < nodes.size() && nodes[run] == nodes[run - 1] + 1) ++run;
-    const SystemRows more = share.rows(problem, nodes[k], nodes[run - 1] + 1);
-    for (Eigen::Index c = 0; c < more.A.outerSize(); ++c)
-      for (SparseMatrix::InnerIterator e(more.A, c); e; ++e) {
-        const int i = more.unknowns[static_cast<std::size_t>(e.row())], j = more.unknowns[static_cast<std::size_t>(c)];
-        // a node's row and column (the rotation reads both), but where the owned rows hold them
-        if (!owned_free(i) && !owned_free(j) && !assembled(i) && !assembled(j)) entries.emplace_back(i, j, e.value());
-      }
-    earlier.emplace_back(static_cast<int>(more.first), static_cast<int>(more.first + more.owned));
-    unknowns.insert(unknowns.end(), more.unknowns.begin(), more.unknowns.end());
-    for (Eigen::Index f = 0; f < more.owned; ++f) {
-      node_rows.push_back(static_cast<int>(more.first + f));
-      node_loads.push_back(more.b(f));
-    }
-    k = run;
-  }
+  std::vector<std::pair<int, double>> load;  // of the nodes' rows, then of the owned rows
+  add_node_runs<dim>(problem, share, nodes, first, end, entries, unknowns, load);
   // the unknowns across from every node among the part's (the joined columns of its rows)
   const std::size_t held = unknowns.size();
   for (std::size_t k = 0; k < held; ++k) {
@@ -177,9 +182,7 @@ void add_pair_rows(const BasicElasticityProblem<dim>& problem, const ContactBoun
   rows.unknowns = std::move(unknowns);
   rows.at = std::lower_bound(rows.unknowns.begin(), rows.unknowns.end(), first) - rows.unknowns.begin();
   // the load of the owned rows and of the nodes' rows, in the order of their unknowns
-  std::vector<std::pair<int, double>> load;
   for (Eigen::Index f = 0; f < rows.owned; ++f) load.emplace_back(first + static_cast<int>(f), rows.b(f));
-  for (std::size_t k = 0; k < node_rows.size(); ++k) load.emplace_back(node_rows[k], node_loads[k]);
   std::sort(load.begin(), load.end());
   b.resize(static_cast<Eigen::Index>(load.size()));
   b_unknowns.clear();
