@@ -671,10 +671,10 @@ TEST(FullSpaceMpi, ACoulombPathAcrossProcessesIsTheCondensedRoutesInThePlane) {
   expect_path_across_processes_as_the_condensed_route<2>(problem, loading);
 }
 
-// a block pressed onto a Coulomb foundation, then dragged by its top (groups of two tangential
-// coordinates, split between the processes' slabs)
-TEST(FullSpaceMpi, ACoulombPathAcrossProcessesIsTheCondensedRoutesInTheSolid) {
-  const Mesh3D mesh = make_cubes({6, 6, 2}, kBlock);
+// a block on `mesh` (kBlock's cubes) pressed onto a Coulomb foundation, then dragged by its top
+// (groups of two tangential coordinates, split between the processes), the processes sharing
+// the vertices along `vertex_order` (empty: the mesh's own)
+void expect_coulomb_block_path_as_the_condensed_routes(const Mesh3D& mesh, const std::vector<int>& vertex_order) {
   const auto top_at = [](double t) {
     return [t](const Vec3&) {
       return Vec3(0.01 * std::max(t - 1.0, 0.0), 0.003 * std::max(t - 1.0, 0.0), -0.004 * std::min(t, 1.0));
@@ -689,28 +689,17 @@ TEST(FullSpaceMpi, ACoulombPathAcrossProcessesIsTheCondensedRoutesInTheSolid) {
   loading.t = {0.5, 1.0, 1.5, 2.0};
   loading.update = [top_at](double t, ContactProblem3D& p) { p.elasticity.dirichlet.front().value = top_at(t); };
   loading.updates_gaps = false;
-  expect_path_across_processes_as_the_condensed_route<3>(problem, loading);
+  expect_path_across_processes_as_the_condensed_route<3>(problem, loading, vertex_order);
 }
 
-// the same on the block's cubes numbered at random, the processes sharing them along the
-// mesh's Hilbert order
+TEST(FullSpaceMpi, ACoulombPathAcrossProcessesIsTheCondensedRoutesInTheSolid) {
+  expect_coulomb_block_path_as_the_condensed_routes(make_cubes({6, 6, 2}, kBlock), {});
+}
+
+// the same on the block's cubes numbered at random, shared along the mesh's Hilbert order
 TEST(FullSpaceMpi, ACoulombPathOnAScrambledSolidAlongItsHilbertOrderIsTheCondensedRoutes) {
   const Mesh3D mesh = test::scrambled(make_cubes({6, 6, 2}, kBlock));
-  const auto top_at = [](double t) {
-    return [t](const Vec3&) {
-      return Vec3(0.01 * std::max(t - 1.0, 0.0), 0.003 * std::max(t - 1.0, 0.0), -0.004 * std::min(t, 1.0));
-    };
-  };
-  ContactPart3D foundation;
-  foundation.constraint = ConstraintKind::none;
-  foundation.friction = tresca_law(1.0);
-  foundation.friction_bound = FrictionBound{FrictionBound::Kind::coulomb, 0.3, {}};
-  ContactProblem3D problem = block_on_foundation(mesh, top_at(0.5), std::move(foundation));
-  BasicPathLoading<3> loading;
-  loading.t = {0.5, 1.0, 1.5, 2.0};
-  loading.update = [top_at](double t, ContactProblem3D& p) { p.elasticity.dirichlet.front().value = top_at(t); };
-  loading.updates_gaps = false;
-  expect_path_across_processes_as_the_condensed_route<3>(problem, loading, hilbert_vertex_order(mesh));
+  expect_coulomb_block_path_as_the_condensed_routes(mesh, hilbert_vertex_order(mesh));
 }
 
 // A loading path on the processes' pieces of the mesh (a body force: the cells a piece lacks

@@ -33,6 +33,14 @@ std::vector<int> sorted_by_key(const std::vector<std::uint64_t>& key, const std:
   return order;
 }
 
+/// The vertices of a mesh sorted by key_of(their point) (sorted_by_key).
+template <class MeshType, class Key>
+std::vector<int> sorted_by(const MeshType& mesh, Key&& key_of) {
+  std::vector<std::uint64_t> key(static_cast<std::size_t>(mesh.num_vertices()));
+  for (int v = 0; v < mesh.num_vertices(); ++v) key[static_cast<std::size_t>(v)] = key_of(mesh.vertex(v));
+  return sorted_by_key(key, mesh.vertices());
+}
+
 }  // namespace
 
 std::vector<int> hilbert_vertex_order(const Mesh& mesh) {
@@ -40,13 +48,10 @@ std::vector<int> hilbert_vertex_order(const Mesh& mesh) {
   constexpr double cells = 1 << order;
   if (mesh.num_vertices() == 0) return {};
   const Rectangle box = mesh.bounding_box();
-  std::vector<std::uint64_t> key(static_cast<std::size_t>(mesh.num_vertices()));
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
-    const Vec2& p = mesh.vertex(v);
-    key[static_cast<std::size_t>(v)] = detail::hilbert_index(grid_cell(p.x(), box.x0, box.width(), cells),
-                                                             grid_cell(p.y(), box.y0, box.height(), cells), order);
-  }
-  return sorted_by_key(key, mesh.vertices());
+  return sorted_by(mesh, [&](const Vec2& p) {
+    return detail::hilbert_index(grid_cell(p.x(), box.x0, box.width(), cells),
+                                 grid_cell(p.y(), box.y0, box.height(), cells), order);
+  });
 }
 
 std::vector<int> hilbert_vertex_order(const Mesh3D& mesh) {
@@ -54,15 +59,12 @@ std::vector<int> hilbert_vertex_order(const Mesh3D& mesh) {
   constexpr double cells = 1 << bits;
   if (mesh.num_vertices() == 0) return {};
   const Box box = mesh.bounding_box();
-  std::vector<std::uint64_t> key(static_cast<std::size_t>(mesh.num_vertices()));
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
-    const Vec3& p = mesh.vertex(v);
+  return sorted_by(mesh, [&](const Vec3& p) {
     std::array<std::uint32_t, 3> X{};
     for (int a = 0; a < 3; ++a)
       X[static_cast<std::size_t>(a)] = static_cast<std::uint32_t>(grid_cell(p(a), box.lower(a), box.size(a), cells));
-    key[static_cast<std::size_t>(v)] = detail::hilbert_index(X, bits);
-  }
-  return sorted_by_key(key, mesh.vertices());
+    return detail::hilbert_index(X, bits);
+  });
 }
 
 }  // namespace hemivem
