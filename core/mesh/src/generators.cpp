@@ -150,32 +150,6 @@ using Delaunay = CGAL::Delaunay_triangulation_2<Kernel, Tds>;
 
 bool lex_less(const Vec2& a, const Vec2& b) { return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y()); }
 
-/// The order of points in the rectangle along a Hilbert curve (ties, lexicographically).
-std::vector<std::size_t> hilbert_order(const std::vector<Vec2>& pts, const Rectangle& d) {
-  constexpr int order = 20;
-  constexpr double cells = 1 << order;
-  auto cell = [&](double t, double a, double w) {
-    return static_cast<std::uint64_t>(std::clamp((t - a) / w * cells, 0.0, cells - 1.0));
-  };
-  std::vector<std::uint64_t> key(pts.size());
-  for (std::size_t i = 0; i < pts.size(); ++i)
-    key[i] = detail::hilbert_index(cell(pts[i].x(), d.x0, d.width()), cell(pts[i].y(), d.y0, d.height()), order);
-  std::vector<std::size_t> perm(pts.size());
-  std::iota(perm.begin(), perm.end(), std::size_t{0});
-  std::sort(perm.begin(), perm.end(), [&](std::size_t a, std::size_t b) {
-    return key[a] < key[b] || (key[a] == key[b] && lex_less(pts[a], pts[b]));
-  });
-  return perm;
-}
-
-/// Sorts points in the rectangle along a Hilbert curve (ties, lexicographically).
-void sort_along_hilbert_curve(std::vector<Vec2>& pts, const Rectangle& d) {
-  const auto perm = hilbert_order(pts, d);
-  std::vector<Vec2> sorted(pts.size());
-  for (std::size_t i = 0; i < pts.size(); ++i) sorted[i] = pts[perm[i]];
-  pts = std::move(sorted);
-}
-
 /// Exact circumcentre of a triangle (rational arithmetic), rounded to doubles.
 Vec2 exact_circumcentre(const Vec2& a, const Vec2& b, const Vec2& c) {
   using Q = CGAL::Exact_rational;
@@ -515,7 +489,7 @@ Mesh make_voronoi(GridSize n, const Rectangle& domain, const VoronoiOptions& opt
 
   // Number the seeds along a Hilbert curve: fast insertion, and nearby cells get nearby
   // element (and vertex) numbers. Lloyd moves seeds little, so the order stays good.
-  sort_along_hilbert_curve(seeds, domain);
+  detail::sort_along_hilbert_curve(seeds, domain);
   VoronoiCells cells = voronoi_cells(seeds, domain, spacing, tol);
   const double stop = options.lloyd_tolerance * spacing;
   for (int it = 0; it < options.max_lloyd_iterations; ++it) {
@@ -975,7 +949,7 @@ Mesh triangulate_polygon(int n, const CheckedPolygon& dom, int k) {
   std::vector<Vec2> vertices;
   std::vector<std::vector<int>> elements;
   elements.reserve(faces.size());
-  for (std::size_t f : hilbert_order(centroids, dom.box)) {
+  for (std::size_t f : detail::hilbert_order(centroids, dom.box)) {
     auto t = faces[f];
     std::rotate(t.begin(), std::min_element(t.begin(), t.end(), lex_less), t.end());
     std::vector<int> el;
@@ -1023,7 +997,7 @@ Mesh voronoi_in_polygon(int n, const CheckedPolygon& dom, const VoronoiOptions& 
     const Vec2 p(x, open_draw(rng, dom.box.y0, dom.box.y1));
     if (strictly_inside(inexact, p)) seeds.push_back(p);
   }
-  sort_along_hilbert_curve(seeds, dom.box);
+  detail::sort_along_hilbert_curve(seeds, dom.box);
 
   RawCells raw = raw_voronoi_cells(seeds, dom);
   const double stop = options.lloyd_tolerance * spacing;

@@ -1,57 +1,29 @@
-// Positions along the Hilbert curve of the cells of a regular grid, in the plane and in space:
-// a compact order of points (the seeds of Voronoi meshes, a mesh's vertices).
+// Orders of points along the Hilbert curve through a rectangle or a box: a compact order (the
+// seeds of Voronoi meshes, a polygon mesh's cells, a mesh's vertices shared among processes).
 #pragma once
 
-#include <array>
-#include <cstdint>
-#include <utility>
+#include <cstddef>
+#include <vector>
+
+#include <hemivem/mesh/mesh.hpp>
+#include <hemivem/mesh/mesh3d.hpp>
 
 namespace hemivem::detail {
 
-/// Position of cell (x, y) of a 2^order x 2^order grid along the Hilbert curve.
-inline std::uint64_t hilbert_index(std::uint64_t x, std::uint64_t y, int order) {
-  std::uint64_t d = 0;
-  for (std::uint64_t s = std::uint64_t{1} << (order - 1); s > 0; s >>= 1) {
-    const std::uint64_t rx = (x & s) ? 1 : 0, ry = (y & s) ? 1 : 0;
-    d += s * s * ((3 * rx) ^ ry);
-    if (ry == 0) {  // rotate the quadrant
-      if (rx == 1) {
-        x = s - 1 - (x & (s - 1));
-        y = s - 1 - (y & (s - 1));
-      }
-      std::swap(x, y);
-    }
-    x &= s - 1;
-    y &= s - 1;
-  }
-  return d;
-}
+/// The order of the points in the rectangle (box) along its Hilbert curve: their indices, sorted
+/// by the position along the curve of their cell of a grid of 2^20 (in space 2^21) cells a side,
+/// then lexicographically by their coordinates, then by index. A flat side puts every point in
+/// its first cell.
+std::vector<std::size_t> hilbert_order(const std::vector<Vec2>& pts, const Rectangle& d);
+std::vector<std::size_t> hilbert_order(const std::vector<Vec3>& pts, const Box& d);
 
-/// The position of grid point X (each coordinate `bits` bits) along the 3D Hilbert curve
-/// (J. Skilling, "Programming the Hilbert curve", AIP Conf. Proc. 707, 2004).
-inline std::uint64_t hilbert_index(std::array<std::uint32_t, 3> X, int bits) {
-  const std::uint32_t M = 1u << (bits - 1);
-  for (std::uint32_t Q = M; Q > 1; Q >>= 1) {  // inverse undo
-    const std::uint32_t P = Q - 1;
-    for (int i = 0; i < 3; ++i) {
-      if (X[static_cast<std::size_t>(i)] & Q) {
-        X[0] ^= P;
-      } else {
-        const std::uint32_t t = (X[0] ^ X[static_cast<std::size_t>(i)]) & P;
-        X[0] ^= t;
-        X[static_cast<std::size_t>(i)] ^= t;
-      }
-    }
-  }
-  for (std::size_t i = 1; i < 3; ++i) X[i] ^= X[i - 1];  // Gray encode
-  std::uint32_t t = 0;
-  for (std::uint32_t Q = M; Q > 1; Q >>= 1)
-    if (X[2] & Q) t ^= Q - 1;
-  for (auto& x : X) x ^= t;
-  std::uint64_t d = 0;
-  for (int b = bits - 1; b >= 0; --b)
-    for (std::size_t i = 0; i < 3; ++i) d = (d << 1) | ((X[i] >> b) & 1u);
-  return d;
+/// Sorts points in the rectangle (box) along its Hilbert curve (hilbert_order).
+template <class Point, class Domain>
+void sort_along_hilbert_curve(std::vector<Point>& pts, const Domain& d) {
+  const std::vector<std::size_t> perm = hilbert_order(pts, d);
+  std::vector<Point> sorted(pts.size());
+  for (std::size_t i = 0; i < pts.size(); ++i) sorted[i] = pts[perm[i]];
+  pts = std::move(sorted);
 }
 
 }  // namespace hemivem::detail

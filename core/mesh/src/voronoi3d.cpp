@@ -76,32 +76,12 @@ double open_draw(std::mt19937_64& rng, double a, double b) {
   return x;
 }
 
-// ---- seeds along a Hilbert curve ------------------------------------------------------
+// ---- points in lexicographic order ------------------------------------------------------
 
 bool lex_less(const Vec3& a, const Vec3& b) {
   return a.x() < b.x() || (a.x() == b.x() && (a.y() < b.y() || (a.y() == b.y() && a.z() < b.z())));
 }
 
-void sort_along_hilbert_curve(std::vector<Vec3>& pts, const Box& d) {
-  constexpr int bits = 21;
-  constexpr double cells = 1 << bits;
-  std::vector<std::uint64_t> key(pts.size());
-  for (std::size_t i = 0; i < pts.size(); ++i) {
-    std::array<std::uint32_t, 3> X{};
-    for (int a = 0; a < 3; ++a)
-      X[static_cast<std::size_t>(a)] = static_cast<std::uint32_t>(
-          std::clamp((pts[i][a] - d.lower(a)) / d.size(a) * cells, 0.0, cells - 1.0));
-    key[i] = detail::hilbert_index(X, bits);
-  }
-  std::vector<std::size_t> perm(pts.size());
-  std::iota(perm.begin(), perm.end(), std::size_t{0});
-  std::sort(perm.begin(), perm.end(), [&](std::size_t a, std::size_t b) {
-    return key[a] < key[b] || (key[a] == key[b] && lex_less(pts[a], pts[b]));
-  });
-  std::vector<Vec3> sorted(pts.size());
-  for (std::size_t i = 0; i < pts.size(); ++i) sorted[i] = pts[perm[i]];
-  pts = std::move(sorted);
-}
 
 // ---- neighbours -----------------------------------------------------------------------
 
@@ -824,7 +804,7 @@ Mesh3D make_voronoi3d(GridSize3 n, const Box& domain, const VoronoiOptions& opti
     s = Vec3(x, y, open_draw(rng, domain.z0, domain.z1));
   }
   // Seeds along a Hilbert curve: nearby cells get nearby numbers (Lloyd moves seeds little).
-  sort_along_hilbert_curve(seeds, domain);
+  detail::sort_along_hilbert_curve(seeds, domain);
   // the seeds whose cells this process computes in the Lloyd iterations (all in one process)
   std::size_t first = 0, end = ns;
   if (options.processes) {
