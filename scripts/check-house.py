@@ -31,8 +31,6 @@ MAX_README_LINES = 200
 FUNCTION_ALLOWLIST = {
     ("backends/nonsmooth/bundle-dca/src/bundle_dca_minimizer.cpp", "solve_qp"):
         "the bundle step's active-set QP: one loop of Newton step, ratio test and multiplier check",
-    ("core/contact/src/condensation.cpp", "rotate_symmetric"):
-        "one sweep over A's columns rotating each entry into the node frames, its mirror found by a cursor",
 }
 
 # To split: long functions that are plumbing, in files being changed elsewhere. Printed as

@@ -164,21 +164,19 @@ double entry(const SparseMatrix& A, int i, int j) {
   return it != end && *it == i ? A.valuePtr()[it - A.innerIndexPtr()] : 0.0;
 }
 
-// Q^T A Q for Q the identity but for one block per contact node: the node's free dofs idx[0..m)
-// with the columns of C (NodeFrame), on A's pattern (the dofs of a node share their pattern, as
-// in every assembled stiffness), computed from the symmetric part of A so that the result is
-// exactly symmetric: each entry of the lower triangle is computed once and mirrored. Exact zeros
-// are dropped unless `keep_pattern`. One sweep over A: the columns in increasing order meet the
-// entries above the diagonal of each column in increasing order, so each mirror is found by a
-// cursor.
+// A := Q^T A Q, in place, for Q the identity but for one block per contact node: the node's free
+// dofs idx[0..m) with the columns of C (NodeFrame), on A's pattern (the dofs of a node share their
+// pattern, as in every assembled stiffness), computed from the symmetric part of A so that the
+// result is exactly symmetric: each entry of the lower triangle is computed once and mirrored.
+// Exact zeros are dropped unless `keep_pattern`. One sweep over A: the columns in increasing order
+// meet the entries above the diagonal of each column in increasing order, so each mirror is found
+// by a cursor. An entry between two dofs off the contact is read only by itself and its mirror, so
+// it is written at once; the entries of contact nodes read their nodes' blocks, so they are kept
+// aside (a cost of the contact surface) and written after the sweep. Entries above the diagonal
+// whose mirror A lacks keep their value; the mirrors A lacks are inserted.
 template <class Frame>
-SparseMatrix rotate_symmetric(const SparseMatrix& A_in, const std::vector<Frame>& frames, bool keep_pattern) {
-  SparseMatrix compressed;
-  if (!A_in.isCompressed()) {
-    compressed = A_in;
-    compressed.makeCompressed();
-  }
-  const SparseMatrix& A = A_in.isCompressed() ? A_in : compressed;
+void rotate_symmetric(SparseMatrix& A, const std::vector<Frame>& frames, bool keep_pattern) {
+  A.makeCompressed();
   const int n = static_cast<int>(A.rows());
   // dof -> (its node, its slot in the node's frame); node -1 off the contact
   std::vector<int> node(static_cast<std::size_t>(n), -1), slot(static_cast<std::size_t>(n), -1);
@@ -189,7 +187,7 @@ SparseMatrix rotate_symmetric(const SparseMatrix& A_in, const std::vector<Frame>
     }
   const int* outer = A.outerIndexPtr();
   const int* inner = A.innerIndexPtr();
-  const double* a = A.valuePtr();
+  double* a = A.valuePtr();
   // A(i, j), looked for at position `guess` first (any guess is checked)
   auto entry_near = [&](int i, int j, int guess) {
     return guess >= outer[j] && guess < outer[j + 1] && inner[guess] == i ? a[guess] : entry(A, i, j);
@@ -206,15 +204,11 @@ SparseMatrix rotate_symmetric(const SparseMatrix& A_in, const std::vector<Frame>
     for (int r = 0; r < f.m; ++r) dofs[r] = f.idx[static_cast<std::size_t>(r)], coef[r] = f.C(r, j);
     return f.m;
   };
-  const auto& pair = node;
-  // At has A's pattern; the sweep writes each of its values (A's values are not copied first),
-  // but those above the diagonal whose mirror A lacks, which keep A's value
-  SparseMatrix At(n, n);
-  At.resizeNonZeros(A.nonZeros());
-  std::copy(outer, outer + n + 1, At.outerIndexPtr());
-  std::copy(inner, inner + A.nonZeros(), At.innerIndexPtr());
-  Eigen::Index written = 0;
-  double* out = At.valuePtr();
+  struct Rotated {
+    int at, mirror;  // the entry's position in A's storage and its mirror's (-1: none)
+    double value;
+  };
+  std::vector<Rotated> rotated;  // the entries of contact nodes, written after the sweep
   std::vector<int> cursor(outer, outer + n);  // per column: its next entry above the diagonal
   std::vector<Eigen::Triplet<double, int>> missing;  // mirrors of entries whose mirror A lacks
   for (int q = 0; q < n; ++q) {
@@ -225,8 +219,11 @@ SparseMatrix rotate_symmetric(const SparseMatrix& A_in, const std::vector<Frame>
       while (c < outer[p + 1] && inner[c] < q) ++c;
       const int mirror = c < outer[p + 1] && inner[c] == q && p != q ? c : -1;
       double v;
-      if (pair[static_cast<std::size_t>(p)] < 0 && pair[static_cast<std::size_t>(q)] < 0) {
-        v = p == q ? a[k] : 0.5 * (a[k] + (mirror >= 0 ? a[mirror] : 0.0));
+      if (node[static_cast<std::size_t>(p)] < 0 && node[static_cast<std::size_t>(q)] < 0) {
+        if (p == q) continue;
+        v = 0.5 * (a[k] + (mirror >= 0 ? a[mirror] : 0.0));
+        a[k] = v;
+        if (mirror >= 0) a[mirror] = v;
       } else {
         int jq[3], ip[3];
         double cq[3], cp[3];
@@ -245,26 +242,20 @@ SparseMatrix rotate_symmetric(const SparseMatrix& A_in, const std::vector<Frame>
             const double aji = across >= 0 ? entry_near(j, i, outer[i] + across + t - sq) : entry(A, j, i);
             v += cp[s] * (0.5 * (aij + aji)) * cq[t];
           }
+        rotated.push_back({k, mirror, v});
       }
-      out[k] = v;
-      ++written;
-      if (mirror >= 0) {
-        out[mirror] = v;
-        ++written;
-      } else if (p != q) {
-        missing.emplace_back(q, p, v);
-      }
+      if (mirror < 0 && p != q) missing.emplace_back(q, p, v);
     }
   }
-  if (written != A.nonZeros())
-    for (int q = 0; q < n; ++q)
-      for (int k = outer[q]; k < outer[q + 1] && inner[k] < q; ++k) {
-        const int p = inner[k];
-        if (!std::binary_search(inner + outer[p], inner + outer[p + 1], q)) out[k] = a[k];
-      }
-  for (const auto& t : missing) At.coeffRef(t.row(), t.col()) = t.value();
-  if (!keep_pattern) At.prune(0.0);
-  return At;
+  for (const Rotated& r : rotated) {
+    a[r.at] = r.value;
+    if (r.mirror >= 0) a[r.mirror] = r.value;
+  }
+  if (!missing.empty()) {
+    for (const auto& t : missing) A.coeffRef(t.row(), t.col()) = t.value();
+    A.makeCompressed();
+  }
+  if (!keep_pattern) A.prune(0.0);
 }
 
 }  // namespace
@@ -359,7 +350,11 @@ void Condensation::pose(const LinearSystem& system, const ContactBoundary& bound
   const LinearSystem& sys = joining_.empty() ? system : joined;
   pose_coordinates(sys.dofs, boundary, parts);
   // the (x, y[, z]) -> (normal, tangential) rotation at the contact nodes: A~ = Q^T A Q, b~ = Q^T b
-  *At = rotate_symmetric(sys.A, frames_, keeps_pattern());
+  if (joining_.empty())
+    *At = system.A;
+  else
+    At->swap(joined.A);  // the joined system is this posing's own
+  rotate_symmetric(*At, frames_, keeps_pattern());
   *bt = rotate_load(sys.b);
 }
 
@@ -404,11 +399,14 @@ std::vector<Condensation::NodeFrame> Condensation::frames_in(const std::vector<i
   return local;
 }
 
-SparseMatrix Condensation::rotated_part(const SparseMatrix& A, const std::vector<int>& unknowns) const {
+void Condensation::rotate_part(SparseMatrix& A, const std::vector<int>& unknowns) const {
   const auto n = static_cast<Eigen::Index>(unknowns.size());
   if (A.rows() != n || A.cols() != n) throw InternalError("a part of the system of another size than its unknowns");
-  if (joining_.empty()) return rotate_symmetric(A, frames_in(unknowns), keeps_pattern());
-  return rotate_symmetric(joining_.join_part(A, unknowns), frames_in(unknowns), keeps_pattern());
+  if (!joining_.empty()) {
+    SparseMatrix joined = joining_.join_part(A, unknowns);
+    A.swap(joined);
+  }
+  rotate_symmetric(A, frames_in(unknowns), keeps_pattern());
 }
 
 Eigen::VectorXd Condensation::rotated_part(const Eigen::VectorXd& b, const std::vector<int>& unknowns) const {

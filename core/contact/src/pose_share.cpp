@@ -125,7 +125,7 @@ void add_node_runs(const BasicElasticityProblem<dim>& problem, const ShareVertic
   }
 }
 
-/// What the joining of two bodies (Condensation::rotated_part) reads besides the rows of the
+/// What the joining of two bodies (Condensation::rotate_part) reads besides the rows of the
 /// owned vertices: the whole row and the load of each pair's node p across from one of them
 /// (assembled from p's cells: add_node_runs), and the unknowns across from every node the part
 /// holds. `rows` is widened to them (its A, unknowns and at; its owned
@@ -212,10 +212,13 @@ SparseMatrix system_columns(const BasicElasticityProblem<dim>& problem, const Sh
 }
 
 /// The owned rows of the rotated part `At` of `rows` (local columns: owned rows, then ghosts) and
-/// the layout's ghosts: the unknowns outside the owned range that the owned rows read. Copied
-/// column by column into place (the owned rows of a column are a contiguous run of its sorted
-/// rows), without a list of triplets: the posing's peak is At and the result.
-SparseMatrix owned_rows(const SparseMatrix& At, const SystemRows& rows, RowLayout& layout) {
+/// the layout's ghosts: the unknowns outside the owned range that the owned rows read. Made in
+/// At's own storage, which it takes (At is left empty): the owned rows of each column (a
+/// contiguous run of its sorted rows) are moved down in place, the ghosts' columns below the
+/// owned range are then rotated behind the owned columns, and the storage is handed over
+/// unshrunk (the rows of ghosts in owned columns, a cost of the share's boundary, stay
+/// allocated): the posing's peak is the part once, not the part and a copy of its rows.
+SparseMatrix owned_rows(SparseMatrix& At, const SystemRows& rows, RowLayout& layout) {
   if (!At.isCompressed()) throw InternalError("owned_rows reads a compressed rotated part");
   const Eigen::Index at = rows.at, owned = rows.owned;
   const auto run = [&](Eigen::Index c) {  // the owned rows of column c: [begin, end) in At's storage
@@ -236,25 +239,32 @@ SparseMatrix owned_rows(const SparseMatrix& At, const SystemRows& rows, RowLayou
     }
   }
   const Eigen::Index columns = owned + static_cast<Eigen::Index>(layout.ghosts.size());
+  // each kept column's run moved down to `to`: the runs are read before anything is written at
+  // or above their start, as `to` never passes the start of the column being read
+  int* inner = At.innerIndexPtr();
+  double* value = At.valuePtr();
   std::vector<int> starts(static_cast<std::size_t>(columns) + 1, 0);
-  for (Eigen::Index c = 0; c < At.outerSize(); ++c)
+  Eigen::Index to = 0, below_owned = 0, through_owned = 0;  // the ends of the lower ghosts' and the owned runs
+  for (Eigen::Index c = 0; c < At.outerSize(); ++c) {
     if (const Eigen::Index l = local[static_cast<std::size_t>(c)]; l >= 0) {
       const auto [b, e] = run(c);
+      for (Eigen::Index k = b; k < e; ++k, ++to) {
+        inner[to] = inner[k] - static_cast<int>(at);
+        value[to] = value[k];
+      }
       starts[static_cast<std::size_t>(l) + 1] = static_cast<int>(e - b);
     }
+    if (c + 1 == at) below_owned = to;
+    if (c + 1 == at + owned) through_owned = to;
+  }
+  std::rotate(inner, inner + below_owned, inner + through_owned);
+  std::rotate(value, value + below_owned, value + through_owned);
   for (std::size_t l = 0; l < static_cast<std::size_t>(columns); ++l) starts[l + 1] += starts[l];
   SparseMatrix A(owned, columns);
-  A.resizeNonZeros(starts.back());
+  A.data().swap(At.data());
+  A.resizeNonZeros(to);  // within the storage taken: no reallocation
   std::copy(starts.begin(), starts.end(), A.outerIndexPtr());
-  for (Eigen::Index c = 0; c < At.outerSize(); ++c)
-    if (const Eigen::Index l = local[static_cast<std::size_t>(c)]; l >= 0) {
-      const auto [b, e] = run(c);
-      const int to = starts[static_cast<std::size_t>(l)];
-      for (Eigen::Index k = b; k < e; ++k) {
-        A.innerIndexPtr()[to + (k - b)] = At.innerIndexPtr()[k] - static_cast<int>(at);
-        A.valuePtr()[to + (k - b)] = At.valuePtr()[k];
-      }
-    }
+  SparseMatrix().swap(At);
   return A;
 }
 
@@ -339,9 +349,8 @@ SharePosing<dim> pose_share_and_surface(const BasicContactProblem<dim>& problem,
   share.layout.owned = rows.owned;
   share.layout.global = rows.dofs.num_free();
   {
-    const SparseMatrix At = posed.rotated_part(rows.A, rows.unknowns);
-    SparseMatrix().swap(rows.A);  // the part's unrotated entries are no longer needed
-    SparseMatrix A = owned_rows(At, rows, share.layout);
+    posed.rotate_part(rows.A, rows.unknowns);
+    SparseMatrix A = owned_rows(rows.A, rows, share.layout);
     share.share.matrix.swap(A);  // no copy (SparseMatrix has no move assignment)
   }
   {

@@ -206,24 +206,25 @@ class Condensation {
   /// Poses what PoseOnly poses but the rotated system, from the dof map alone: the coordinates,
   /// their laws, weights, bounds, origins and rows (rotated_index()), the tied rows and the
   /// contact nodes' frames (a cost of the contact surface). rotated_matrix() and rotated_load()
-  /// stay empty; rotated_part() rotates a part of the system assembled elsewhere (a process's
+  /// stay empty; rotate_part() rotates a part of the system assembled elsewhere (a process's
   /// rows, hemivem/contact/pose_share.hpp). Nothing that needs the system or a factorization may
   /// be called. Two bodies (ContactBoundary::across) are joined at their pairs as PoseOnly joins
-  /// them (Joining), rotated_part() joining the part too. Where a pair's node is free and a
+  /// them (Joining), rotate_part() joining the part too. Where a pair's node is free and a
   /// vertex across from it prescribed (Joining::shifts_load), the joined load takes the system's
   /// columns at those nodes, which `columns` gives (InputError, naming the node, without it).
   Condensation(const DofMap& dofs, const ContactBoundary& boundary, const std::vector<PartConditions>& parts,
                CoordinatesOnly, const SystemColumns& columns = {});
 
-  /// Q^T A Q for a part A of the system of one body (of two joined bodies Q^T T^T A T Q, T
+  /// A := Q^T A Q for a part A of the system of one body (of two joined bodies Q^T T^T A T Q, T
   /// restricted to the part: Joining::join_part, with its conditions on the part): A(i, j)
   /// stands for the system's entry of the free unknowns unknowns[i] and unknowns[j] (`unknowns`
-  /// increasing), the result in the same numbering. Computed as the posing computes rotated_matrix(), on A's pattern (exact zeros
-  /// dropped in the plane): its entry (i, j) is rotated_matrix()'s to the bit wherever A holds the
-  /// system's entries in every row and column of the unknowns of i's node (as the part
-  /// assemble_rows makes holds them for its owned rows). InternalError when `unknowns` holds some
-  /// but not all of a contact node's free dofs.
-  SparseMatrix rotated_part(const SparseMatrix& A, const std::vector<int>& unknowns) const;
+  /// increasing), the result in the same numbering. Computed as the posing computes
+  /// rotated_matrix(), on A's pattern (exact zeros dropped in the plane): its entry (i, j) is
+  /// rotated_matrix()'s to the bit wherever A holds the system's entries in every row and column
+  /// of the unknowns of i's node (as the part assemble_rows makes holds them for its owned rows).
+  /// In place: one body's part is rotated in its own storage, beside a cost of the contact
+  /// surface. InternalError when `unknowns` holds some but not all of a contact node's free dofs.
+  void rotate_part(SparseMatrix& A, const std::vector<int>& unknowns) const;
   /// Q^T b (Q^T T^T (b - A s) for two joined bodies: Joining::join_part at the prescribed
   /// values posed) for the values b of the free unknowns `unknowns` (increasing), as
   /// rotated_load() is computed; the same InternalError.

@@ -7,7 +7,7 @@
 // dofs are numbered along it and a process owns a range of its positions instead: a compact
 // part of a mesh whose own order is not (hemivem/mesh/vertex_order.hpp). It assembles the cells that
 // hold one of its vertices (assemble_rows: its rows and their mirrored columns), rotates them as
-// the whole posing rotates the whole system (Condensation::rotated_part), and takes its
+// the whole posing rotates the whole system (Condensation::rotate_part), and takes its
 // coordinates from the posing of the contact surface (Condensation::CoordinatesOnly), which every
 // process computes whole: the contact boundary, the frames, the coordinates, laws, weights, bounds
 // and origins are a cost of the surface, as are the dof map and the traction loads. The result is
