@@ -163,6 +163,24 @@ TEST(PoseShare, Example41InTheSolidIsTheWholePosingsShare) {
   expect_shares_of_whole<3>(test::example_4_1_3d(mesh));
 }
 
+// a share moves without a copy of its rows: the moved share holds the same arrays, the other none
+TEST(PoseShare, AShareMovesWithoutACopyOfItsRows) {
+  const Mesh3D mesh = make_cubes({4, 4, 4});
+  PosedShare posed = pose_share<3>(test::example_4_1_3d(mesh), 0, mesh.num_vertices() / 2);
+  const SparseMatrix copy = posed.share.matrix;
+  const double* values = posed.share.matrix.valuePtr();
+  ASSERT_GT(copy.nonZeros(), 0);
+  PosedShare moved(std::move(posed));
+  EXPECT_EQ(moved.share.matrix.valuePtr(), values);
+  EXPECT_EQ(posed.share.matrix.nonZeros(), 0);  // NOLINT(bugprone-use-after-move): what a move leaves
+  PosedShare assigned;
+  assigned = std::move(moved);
+  EXPECT_EQ(assigned.share.matrix.valuePtr(), values);
+  EXPECT_EQ(moved.share.matrix.nonZeros(), 0);  // NOLINT(bugprone-use-after-move)
+  ASSERT_EQ(assigned.share.matrix.nonZeros(), copy.nonZeros());
+  EXPECT_TRUE(std::equal(copy.valuePtr(), copy.valuePtr() + copy.nonZeros(), assigned.share.matrix.valuePtr()));
+}
+
 // a solid's isotropic friction: each node's two tangential coordinates, a group, in its owner's rows
 TEST(PoseShare, ASolidsFrictionKeepsEachGroupWithItsNode) {
   const auto built = scene<3>("friction-block-3d.toml", {"mesh.n=[6, 6, 3]"});

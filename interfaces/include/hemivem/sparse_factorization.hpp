@@ -41,6 +41,25 @@ namespace hemivem {
 
 using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 
+/// A SparseMatrix that moves by taking the other's arrays, leaving it empty. Eigen's SparseMatrix
+/// has no move constructor, so a struct holding one copies it on every move: a struct that holds
+/// a large matrix and is moved (a process's share of the full-space route) holds this instead.
+class MovableSparseMatrix : public SparseMatrix {
+ public:
+  using SparseMatrix::SparseMatrix;
+  using SparseMatrix::operator=;
+  MovableSparseMatrix() = default;
+  MovableSparseMatrix(const MovableSparseMatrix&) = default;
+  MovableSparseMatrix(MovableSparseMatrix&& other) noexcept { swap(other); }
+  MovableSparseMatrix& operator=(const MovableSparseMatrix&) = default;
+  MovableSparseMatrix& operator=(MovableSparseMatrix&& other) noexcept {
+    swap(other);
+    SparseMatrix().swap(other);
+    return *this;
+  }
+  ~MovableSparseMatrix() = default;
+};
+
 /// The compressed rows x cols matrix with column starts `outer` (cols + 1 of them) and row
 /// indices `inner` (increasing in each column), every stored value `value`: a pattern written
 /// straight into the matrix's arrays.

@@ -80,7 +80,8 @@ MinimizerResult minimize_full_space(const Condensation& posed, const ReducedProb
 /// the rows it owns of the rotated whole system and the coordinates whose unknowns they are.
 /// Every coordinate, tied unknown and group belongs to the process that owns its row(s).
 struct FullSpaceShare {
-  SparseMatrix matrix;   ///< the owned rows, local columns (owned rows, then the layout's ghosts)
+  /// the owned rows, local columns (owned rows, then the layout's ghosts); moved without a copy
+  MovableSparseMatrix matrix;
   Eigen::VectorXd load;  ///< the owned rows of the load
   /// The laws, weights, bounds and groups of this process's coordinates (S and c are not read).
   ReducedProblem coordinates;
