@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include <hemivem/sparse_factorization.hpp>
 #include <hemivem/vem/material.hpp>
 #include <hemivem/mesh/boundary.hpp>
 #include <hemivem/mesh/mesh.hpp>
@@ -17,8 +18,6 @@
 #include <hemivem/vem/problem.hpp>
 
 namespace hemivem {
-
-using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 
 /// Global degrees of freedom: 2*v + c for component c of vertex v.
 struct DofMap {
@@ -33,22 +32,9 @@ struct DofMap {
 
 /// The reduced system A u_f = b (prescribed dofs eliminated, their values lifted into b).
 struct LinearSystem {
-  SparseMatrix A;     ///< symmetric, both triangles stored
+  MovableSparseMatrix A;  ///< symmetric, both triangles stored
   Eigen::VectorXd b;
   DofMap dofs;
-
-  LinearSystem() = default;
-  LinearSystem(const LinearSystem&) = default;
-  LinearSystem& operator=(const LinearSystem&) = default;
-  /// A move that does not copy A: Eigen 3.4's SparseMatrix has no move constructor (its
-  /// "move" copies every entry), so A's arrays are swapped.
-  LinearSystem(LinearSystem&& other) noexcept : b(std::move(other.b)), dofs(std::move(other.dofs)) { A.swap(other.A); }
-  LinearSystem& operator=(LinearSystem&& other) noexcept {
-    A.swap(other.A);
-    b = std::move(other.b);
-    dofs = std::move(other.dofs);
-    return *this;
-  }
 };
 
 /// The rows of the reduced system A u_f = b (assemble()) that belong to some vertices, assembled
@@ -69,7 +55,7 @@ struct SystemRows {
   /// columns are kept besides the rows because A is symmetric within round-off only (in the
   /// plane), and a symmetric product with the owned unknowns (the rotation Q^T A Q of the
   /// full-space route) reads both.
-  SparseMatrix A;
+  MovableSparseMatrix A;
   /// The owned rows of assemble()'s b (body force, tractions, prescribed values lifted), to the bit.
   Eigen::VectorXd b;
 };
