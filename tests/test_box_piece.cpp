@@ -1,12 +1,18 @@
 // A process's piece of a generated mesh (hemivem/mesh/box_piece.hpp): every vertex of the whole
 // mesh, and of its cells those near the process's vertices, along the named sides and in the first
-// column, each as the whole makes it; and the share of the full-space route posed from a piece
-// (pose_share, hemivem/contact/pose_share.hpp), which is the share posed from the whole mesh.
+// column, each as the whole makes it; the piece a process keeps of a mesh made whole
+// (hemivem/mesh/mesh_piece.hpp, cut_problem_piece of hemivem/scene/scene_pieces.hpp); and the
+// share of the full-space route posed from either (pose_share, hemivem/contact/pose_share.hpp),
+// which is the share posed from the whole mesh.
 #include <hemivem/contact/pose_share.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/mesh/box_piece.hpp>
 #include <hemivem/mesh/boundary.hpp>
+#include <hemivem/mesh/mesh_piece.hpp>
+#include <hemivem/mesh/vertex_order.hpp>
 #include <hemivem/scene/example.hpp>
+#include <hemivem/scene/scene.hpp>
+#include <hemivem/scene/scene_pieces.hpp>
 
 #include <gtest/gtest.h>
 
@@ -228,6 +234,75 @@ TEST(BoxPiece, WhatThePiecesSupportsLeaveFreeIsNamedAsOnTheWholeMesh) {
     on_piece.elasticity.dirichlet.clear();
     EXPECT_EQ(test::input_error_of([&] { (void)pose_share(on_piece, v0, v1); }), expected);
   }
+}
+
+/// The pieces three processes keep of the scene's mesh made whole (cut_problem_piece): each
+/// holds every vertex, fewer cells than the whole and among them every cell of its vertices
+/// (in the mesh's Hilbert order) and of its supports, loads and contact; its groups hold their
+/// facets; and the share it poses along that order is the whole mesh's to the bit.
+template <int dim>
+void expect_cut_pieces_pose_the_whole_share(const std::string& scene_file) {
+  SCOPED_TRACE(scene_file);
+  const Scene scene = parse_scene(test::scenes_dir() / scene_file);
+  ASSERT_TRUE(cuts_pieces(scene));
+  const auto whole = build_problem<dim>(scene);
+  const std::vector<int> order = hilbert_vertex_order(whole->mesh);
+  const int n = whole->mesh.num_vertices();
+  std::set<std::vector<int>> named;  // the facets of the supports, loads and contact
+  for (const auto& d : whole->problem.elasticity.dirichlet) named.merge(sorted_facets(whole->mesh, d.facets));
+  for (const auto& t : whole->problem.elasticity.tractions) named.merge(sorted_facets(whole->mesh, t.facets));
+  for (const auto& p : whole->problem.parts) named.merge(sorted_facets(whole->mesh, p.facets));
+  ASSERT_FALSE(named.empty());
+  for (int rank = 0; rank < 3; ++rank) {
+    SCOPED_TRACE("rank " + std::to_string(rank));
+    PieceOfMesh where;
+    const auto piece = cut_problem_piece<dim>(scene, build_problem<dim>(scene), rank, 3, where);
+    const auto [first, end] = vertex_share(n, rank, 3);
+    EXPECT_EQ(where.vertices.first, first);
+    EXPECT_EQ(where.vertices.end, end);
+    EXPECT_EQ(where.vertices.order, order);
+    EXPECT_EQ(where.whole_cells, num_cells_of(whole->mesh));
+    ASSERT_EQ(static_cast<int>(where.cells.size()), num_cells_of(piece->mesh));
+    ASSERT_LT(num_cells_of(piece->mesh), num_cells_of(whole->mesh));
+    // the piece's cells are the whole's `where.cells`, each holding the whole's vertex loops
+    for (std::size_t c = 0; c < where.cells.size(); ++c)
+      ASSERT_EQ(loops_of(piece->mesh, static_cast<int>(c)), loops_of(whole->mesh, where.cells[c])) << "cell " << c;
+    const std::vector<char> mine = where.vertices.mask(n);
+    std::set<int> kept(where.cells.begin(), where.cells.end());
+    for (int c = 0; c < num_cells_of(whole->mesh); ++c) {
+      bool holds = false;
+      for (const auto& loop : loops_of(whole->mesh, c))
+        for (int v : loop) holds = holds || mine[static_cast<std::size_t>(v)] != 0;
+      if (holds) EXPECT_TRUE(kept.count(c)) << "cell " << c << " holds one of the process's vertices";
+    }
+    std::set<std::vector<int>> held;
+    for (const auto& d : piece->problem.elasticity.dirichlet) held.merge(sorted_facets(piece->mesh, d.facets));
+    for (const auto& t : piece->problem.elasticity.tractions) held.merge(sorted_facets(piece->mesh, t.facets));
+    for (const auto& p : piece->problem.parts) held.merge(sorted_facets(piece->mesh, p.facets));
+    EXPECT_EQ(held, named);
+    expect_same_share(pose_share(piece->problem, order, first, end), pose_share(whole->problem, order, first, end));
+  }
+}
+
+TEST(MeshPiece, ThePiecesKeptOfAPlaneMeshMadeWholePoseTheWholeMeshsShares) {
+  expect_cut_pieces_pose_the_whole_share<2>("polygon-bracket.toml");  // edge groups
+  expect_cut_pieces_pose_the_whole_share<2>("paper-example-4.1-voronoi.toml");
+}
+
+TEST(MeshPiece, ThePiecesKeptOfAGmshSolidPoseTheWholeMeshsShares) {
+  expect_cut_pieces_pose_the_whole_share<3>("gmsh-bracket-3d.toml");  // a file's face groups
+}
+
+TEST(MeshPiece, APieceIsRefusedCellsOutOfOrderAndFlagsOfAnotherMesh) {
+  const Mesh3D whole = make_cubes(GridSize3(3, 2, 4));
+  const std::vector<int> backwards{3, 1};
+  EXPECT_NE(test::input_error_of([&] { (void)cut_mesh_piece(whole, backwards); }).find("not increasing"), std::string::npos);
+  const std::vector<char> flags(5, 1);
+  EXPECT_NE(test::input_error_of([&] { (void)piece_cells_around(whole, flags, {}); }).find("given flags for 5"),
+            std::string::npos);
+  // every vertex: the whole mesh
+  const std::vector<int> all = piece_cells_around(whole, std::vector<char>(static_cast<std::size_t>(whole.num_vertices()), 1), {});
+  EXPECT_EQ(cut_mesh_piece(whole, all).num_faces(), whole.num_faces());
 }
 
 }  // namespace

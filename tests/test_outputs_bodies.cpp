@@ -10,6 +10,7 @@
 #include <hemivem/app/solve3d.hpp>
 #include <hemivem/app/vtu.hpp>
 #include <hemivem/error.hpp>
+#include <hemivem/mesh/vertex_order.hpp>
 #include <hemivem/scene/scene.hpp>
 
 #include <nlohmann/json.hpp>
@@ -388,27 +389,32 @@ void expect_shares_make_the_whole(const Solved& s, const fs::path& dir) {
                     stress[6 * c + 4], stress[6 * c + 5], vm[c]});
     return cells;
   };
-  std::multiset<std::vector<double>> cells;
   const int nv = mesh.num_vertices(), cut[] = {0, nv / 3, 2 * nv / 3, nv};
-  for (int k = 0; k < 3; ++k) {
-    SCOPED_TRACE("share " + std::to_string(k));
-    const Vtu share = write("piece-" + std::to_string(k) + ".vtu", [&](std::ostream& os) { vtu.write_share(os, cut[k], cut[k + 1]); });
-    EXPECT_GT(share.cells, 0u);
-    EXPECT_EQ(share.order, whole.order);  // the same arrays, in the same order
-    const std::vector<double> xs = share.values<double>("Points"), us = share.values<double>("displacement");
-    for (std::size_t p = 0; p < share.points; ++p) {
-      const auto it = at.find({xs[3 * p], xs[3 * p + 1], xs[3 * p + 2]});
-      ASSERT_NE(it, at.end()) << "point " << p;
-      EXPECT_EQ(it->second, (std::vector<double>{us[3 * p], us[3 * p + 1], us[3 * p + 2]})) << "point " << p;
+  // shares of the mesh's own order and of its Hilbert order (a mesh made whole, shared along it)
+  for (const std::vector<int>& order : {std::vector<int>(), hilbert_vertex_order(mesh)}) {
+    SCOPED_TRACE(order.empty() ? "the mesh's order" : "the Hilbert order");
+    std::multiset<std::vector<double>> cells;
+    for (int k = 0; k < 3; ++k) {
+      SCOPED_TRACE("share " + std::to_string(k));
+      const VertexShare mine{cut[k], cut[k + 1], order};
+      const Vtu share = write("piece-" + std::to_string(k) + ".vtu", [&](std::ostream& os) { vtu.write_share(os, mine); });
+      EXPECT_GT(share.cells, 0u);
+      EXPECT_EQ(share.order, whole.order);  // the same arrays, in the same order
+      const std::vector<double> xs = share.values<double>("Points"), us = share.values<double>("displacement");
+      for (std::size_t p = 0; p < share.points; ++p) {
+        const auto it = at.find({xs[3 * p], xs[3 * p + 1], xs[3 * p + 2]});
+        ASSERT_NE(it, at.end()) << "point " << p;
+        EXPECT_EQ(it->second, (std::vector<double>{us[3 * p], us[3 * p + 1], us[3 * p + 2]})) << "point " << p;
+      }
+      for (const std::int64_t v : share.values<std::int64_t>("connectivity")) {
+        EXPECT_GE(v, 0);
+        EXPECT_LT(v, static_cast<std::int64_t>(share.points));
+      }
+      const auto of_share = cells_of(share);
+      cells.insert(of_share.begin(), of_share.end());
     }
-    for (const std::int64_t v : share.values<std::int64_t>("connectivity")) {
-      EXPECT_GE(v, 0);
-      EXPECT_LT(v, static_cast<std::int64_t>(share.points));
-    }
-    const auto mine = cells_of(share);
-    cells.insert(mine.begin(), mine.end());
+    EXPECT_EQ(cells, cells_of(whole));
   }
-  EXPECT_EQ(cells, cells_of(whole));
   // the pvtu names them and declares the whole file's arrays
   std::ostringstream pvtu;
   vtu.write_pieces(pvtu, {"piece-0.vtu", "piece-1.vtu", "piece-2.vtu"});
@@ -416,7 +422,7 @@ void expect_shares_make_the_whole(const Solved& s, const fs::path& dir) {
     if (whole.arrays.at(name).section == "PointData" || whole.arrays.at(name).section == "CellData")
       EXPECT_NE(pvtu.str().find("Name=\"" + name + "\""), std::string::npos) << name;
   EXPECT_NE(pvtu.str().find("<Piece Source=\"piece-2.vtu\"/>"), std::string::npos) << pvtu.str();
-  EXPECT_EQ(test::input_error_of([&] { std::ostringstream os; vtu.write_share(os, 0, nv + 1); }),
+  EXPECT_EQ(test::input_error_of([&] { std::ostringstream os; vtu.write_share(os, VertexShare{0, nv + 1, {}}); }),
             "the vertices 0 to " + std::to_string(nv) + " are not a share of a mesh of " + std::to_string(nv) + " vertices");
 }
 

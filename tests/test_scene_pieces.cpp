@@ -1,7 +1,8 @@
 // Which scenes the processes of the full-space route across processes make in pieces
 // (scene_piece, hemivem/scene/scene_pieces.hpp): a generated box of one body whose supports,
-// loads and contact select sides, in a static solve or along a loading path; and where a
-// process's piece lies in the whole mesh (scene_piece_of_mesh), against the meshes built.
+// loads and contact select sides, in a static solve or along a loading path; where a process's
+// piece lies in the whole mesh (scene_piece_of_mesh), against the meshes built; and which
+// scenes' meshes, made whole, each process cuts its piece from (cuts_pieces).
 #include <hemivem/error.hpp>
 #include <hemivem/scene/scene.hpp>
 #include <hemivem/scene/scene_pieces.hpp>
@@ -42,8 +43,9 @@ int expect_two_pieces(const Scene& scene) {
     EXPECT_EQ(where.whole_cells, cells_of(whole->mesh));
     EXPECT_EQ(static_cast<int>(where.cells.size()), cells_of(built->mesh));
     EXPECT_EQ(built->mesh.num_vertices(), whole->mesh.num_vertices());
-    EXPECT_EQ(where.first_vertex, piece.first_vertex);
-    EXPECT_EQ(where.end_vertex, piece.end_vertex);
+    EXPECT_EQ(where.vertices.first, piece.first_vertex);
+    EXPECT_EQ(where.vertices.end, piece.end_vertex);
+    EXPECT_TRUE(where.vertices.order.empty());  // a slab of the mesh's own order
   }
   return static_cast<int>(scene_piece_of_mesh(scene, *first).cells.size());
 }
@@ -68,19 +70,30 @@ TEST(ScenePieces, ALoadingPathOfAGeneratedBoxIsMadeInPieces) {
   expect_two_pieces<3>(block);
 }
 
-TEST(ScenePieces, EveryOtherSceneIsMadeWholeOnEveryProcess) {
+// any other mesh of one body is made whole, and each process keeps its piece of it
+TEST(ScenePieces, AnyOtherMeshOfOneBodyIsMadeWholeAndCut) {
   for (const char* name : {"paper-example-4.1-voronoi.toml",  // not a grid of boxes
                            "polygon-bracket.toml",            // a polygon
-                           "gmsh-bracket-3d.toml",            // a file
-                           "two-blocks.toml",                 // two bodies
-                           "rollers-pressure.toml"}) {        // a contact part on a segment
+                           "gmsh-bracket-3d.toml"}) {         // a file
     SCOPED_TRACE(name);
     EXPECT_FALSE(scene_piece(shipped(name), 0, 2));
+    EXPECT_TRUE(cuts_pieces(shipped(name)));
+  }
+  EXPECT_FALSE(cuts_pieces(shipped("paper-example-4.1.toml")));  // made in pieces
+}
+
+TEST(ScenePieces, SeveralBodiesSegmentsAndAdaptiveStepsAreHeldWholeOnEveryProcess) {
+  for (const char* name : {"two-blocks.toml",           // two bodies
+                           "rollers-pressure.toml"}) {  // a contact part on a segment
+    SCOPED_TRACE(name);
+    EXPECT_FALSE(scene_piece(shipped(name), 0, 2));
+    EXPECT_FALSE(cuts_pieces(shipped(name)));
   }
   Scene adaptive = shipped("paper-example-4.1.toml");  // its meshes after the first are not boxes
   ASSERT_TRUE(scene_piece(adaptive, 0, 2));
   adaptive.adapt = SceneAdapt{};
   EXPECT_FALSE(scene_piece(adaptive, 0, 2));
+  EXPECT_FALSE(cuts_pieces(adaptive));
 }
 
 }  // namespace

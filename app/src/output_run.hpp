@@ -149,7 +149,7 @@ std::string vtu_piece_file(int rank);
 
 /// write_outputs (either dimension; `contact_faces` a solid's, null for a plane), collective
 /// over the processes of a solve across processes whose mesh was made in pieces (the share
-/// [first, end) of this process's vertices, BasicSceneSolve::share): the first process opens
+/// of this process's vertices, BasicSceneSolve::share): the first process opens
 /// the folder's transaction and every process writes its piece of solution.pvtu into it
 /// (SolutionVtu::write_share); the first then writes the other files and solution.pvtu, and
 /// commits. Every process calls it with the same `wanted`; it returns the first process's
@@ -161,7 +161,7 @@ template <class MeshType, int dim>
 OutputReport write_outputs_in_pieces(const std::filesystem::path& dir, const MeshType& mesh, const MaterialTable& materials,
                                      const std::vector<int>* contact_faces, const BasicContactSolution<dim>& solution,
                                      const RunInfo& info, const std::vector<std::string>& wanted,
-                                     const std::array<int, 2>& share, const std::vector<int>& piece_cells);
+                                     const VertexShare& share, const std::vector<int>& piece_cells);
 
 /// The file of body `body` of a scene of several in its output folder: "solution.body-upper.vtu".
 /// A name that cannot name a file so (other than 1 to 64 ASCII letters, digits, '-' or '_', as
@@ -308,8 +308,8 @@ class FramePieces {
   /// Collective. The first process passes its path's transaction `tx` (null when it could not
   /// open the folder), the others null; every process learns the staging folder (opened()).
   /// `mesh` (the process's piece, every vertex of the whole mesh) and `materials` are kept by
-  /// reference while the path runs; `share`: the process's vertices [first, end).
-  FramePieces(const OutputTransaction* tx, const MeshType& mesh, const MaterialTable& materials, std::array<int, 2> share);
+  /// reference while the path runs; `share`: the process's vertices.
+  FramePieces(const OutputTransaction* tx, const MeshType& mesh, const MaterialTable& materials, VertexShare share);
   ~FramePieces();
   /// Whether the first process opened the folder.
   bool opened() const { return !staging_.empty(); }
@@ -325,7 +325,7 @@ class FramePieces {
   std::filesystem::path staging_;
   const MeshType& mesh_;
   const MaterialTable& materials_;
-  std::array<int, 2> share_;
+  VertexShare share_;
   std::string failed_file_, failed_why_;  ///< the piece this process could not write, and why
 };
 

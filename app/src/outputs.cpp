@@ -438,7 +438,7 @@ template <class MeshType, int dim>
 OutputReport write_outputs_in_pieces(const fs::path& dir, const MeshType& mesh, const MaterialTable& materials,
                                      const std::vector<int>* contact_faces, const BasicContactSolution<dim>& solution,
                                      const RunInfo& info, const std::vector<std::string>& wanted,
-                                     const std::array<int, 2>& share, const std::vector<int>& piece_cells) {
+                                     const VertexShare& share, const std::vector<int>& piece_cells) {
   const ProcessWorld world = krylov_world();
   const bool writer = world.rank == 0;
   if (info.vtu_pieces != world.size)
@@ -480,7 +480,7 @@ OutputReport write_outputs_in_pieces(const fs::path& dir, const MeshType& mesh, 
       indicators = &of_piece;
     }
     vtu.emplace(mesh, materials, solution, indicators);
-    write_file_atomically(staging / file, [&](std::ostream& os) { vtu->write_share(os, share[0], share[1]); });
+    write_file_atomically(staging / file, [&](std::ostream& os) { vtu->write_share(os, share); });
   } catch (const std::exception& e) {
     why = e.what();
   }
@@ -492,10 +492,10 @@ OutputReport write_outputs_in_pieces(const fs::path& dir, const MeshType& mesh, 
 
 template OutputReport write_outputs_in_pieces(const fs::path&, const Mesh&, const MaterialTable&, const std::vector<int>*,
                                               const ContactSolution&, const RunInfo&, const std::vector<std::string>&,
-                                              const std::array<int, 2>&, const std::vector<int>&);
+                                              const VertexShare&, const std::vector<int>&);
 template OutputReport write_outputs_in_pieces(const fs::path&, const Mesh3D&, const MaterialTable&, const std::vector<int>*,
                                               const ContactSolution3D&, const RunInfo&, const std::vector<std::string>&,
-                                              const std::array<int, 2>&, const std::vector<int>&);
+                                              const VertexShare&, const std::vector<int>&);
 
 template <int dim>
 PathOutput<dim>::PathOutput(const fs::path& dir, const std::vector<std::string>& wanted, const std::vector<std::string>& frames,
@@ -514,8 +514,8 @@ PathOutput<dim>::PathOutput(const fs::path& dir, const std::vector<std::string>&
 
 template <int dim>
 FramePieces<dim>::FramePieces(const OutputTransaction* tx, const MeshType& mesh, const MaterialTable& materials,
-                              std::array<int, 2> share)
-    : rows_(process_rows()), mesh_(mesh), materials_(materials), share_(share) {
+                              VertexShare share)
+    : rows_(process_rows()), mesh_(mesh), materials_(materials), share_(std::move(share)) {
   staging_ = staging_of_first(*rows_, tx);
 }
 
@@ -529,7 +529,7 @@ std::vector<std::string> FramePieces<dim>::write(int step, const BasicContactSol
   if (failed_why_.empty()) {
     try {
       vtu.emplace(mesh_, materials_, frame, nullptr);
-      write_file_atomically(staging_ / file, [&](std::ostream& os) { vtu->write_share(os, share_[0], share_[1]); });
+      write_file_atomically(staging_ / file, [&](std::ostream& os) { vtu->write_share(os, share_); });
     } catch (const std::exception& e) {
       failed_file_ = file;
       failed_why_ = e.what();

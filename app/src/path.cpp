@@ -143,7 +143,7 @@ void solve_path_built(const Scene& scene, SceneEngines& e, Solved& s,
   if (in_pieces) {  // every process learns whether the first opened the folder
     s.frame_pieces = std::make_shared<FramePieces<dim>>(
         s.path_output ? &s.path_output->run.transaction() : nullptr, s.built->mesh, s.built->problem.elasticity.materials,
-        std::array<int, 2>{e.piece->first_vertex, e.piece->end_vertex});
+        e.piece->vertices);
     if (unopened) std::rethrow_exception(unopened);
     if (!s.frame_pieces->opened())
       throw InputError("the first process could not open the output folder", out.string());

@@ -62,9 +62,10 @@ struct SceneEngines {
 
 /// The problem a solve of the scene builds on the scene's own mesh, into s.built: on the
 /// full-space route across processes (`e`), the process's piece of the mesh where the scene
-/// allows it (scene_piece; e.piece then says where the piece lies, and s.mesh_pieces and
-/// s.whole_cells what it is a piece of), the whole mesh otherwise (across processes, each doing
-/// its share of the generator's work where it splits it: build_problem). Given `out`, the solve
+/// allows it: a generated box's piece made directly (scene_piece), or the piece it keeps of a
+/// mesh made whole (cuts_pieces; each process doing its share of the generator's work where it
+/// splits it: build_problem); e.piece then says where the piece lies, and s.mesh_pieces and
+/// s.whole_cells what it is a piece of. The whole mesh otherwise. Given `out`, the solve
 /// writes to that folder (e.writes_to_folder): a path's VTU frames, and a static solve's
 /// solution, in pieces.
 template <int dim, class Solved>
@@ -80,7 +81,18 @@ void build_scene_problem(const Scene& scene, SceneEngines& e, Solved& s, const s
       s.whole_cells = e.piece->whole_cells;
       return;
     }
-    s.built = build_problem<dim>(scene, process_rows().get());  // the generator's work split where it splits it
+    // the generator's work split where it splits it
+    std::unique_ptr<BasicBuiltProblem<dim>> whole = build_problem<dim>(scene, process_rows().get());
+    if (cuts_pieces(scene)) {  // the whole mesh made, each process keeps its piece
+      PieceOfMesh where;
+      s.built = cut_problem_piece<dim>(scene, std::move(whole), world.rank, world.size, where);
+      s.mesh_pieces = world.size;
+      e.writes_to_folder = !out.empty();
+      s.whole_cells = where.whole_cells;
+      e.piece = std::move(where);
+      return;
+    }
+    s.built = std::move(whole);
     return;
   }
   s.built = build_problem<dim>(scene);
@@ -269,13 +281,13 @@ template <int dim>
 Eigen::VectorXd grid_sequence_start(const Scene& scene, const SceneEngines& e, BasicSceneSolve<dim>& s,
                                     bool given_start);
 
-/// The order the processes of the full-space route share a mesh's vertices along: a piece of a
-/// generated box (e.piece) is numbered in slabs already; a mesh made whole on every process (a
-/// Gmsh file, a polygon, several bodies, an adaptive solve's refined mesh) is shared along
-/// hilbert_vertex_order, whatever its own order.
+/// The order the processes of the full-space route share a mesh's vertices along: a piece's
+/// (e.piece: a generated box's is numbered in slabs already, the piece kept of a mesh made whole
+/// follows its mesh's Hilbert order); a mesh held whole on every process (several bodies, an
+/// adaptive solve's refined mesh) is shared along hilbert_vertex_order, whatever its own order.
 template <int dim>
 std::vector<int> shared_vertex_order(const SceneEngines& e, const MeshOf<dim>& mesh) {
-  return e.piece ? std::vector<int>() : hilbert_vertex_order(mesh);
+  return e.piece ? e.piece->vertices.order : hilbert_vertex_order(mesh);
 }
 
 /// Solves s.built->problem with the engines `e` as every static solve of a scene does, in
@@ -335,7 +347,7 @@ void solve_built(const Scene& scene, SceneEngines& e, Solved& s, ReducedProblem*
   // where the displacement is: on every process of the full-space route across processes, whose
   // adaptive steps refine alike (not on the ranks > 0 of mumps-mpi)
   estimate_solution<dim>(e, s, std::forward<Estimate>(estimate));
-  if (e.piece && e.writes_to_folder) s.share = std::array<int, 2>{e.piece->first_vertex, e.piece->end_vertex};
+  if (e.piece && e.writes_to_folder) s.share = e.piece->vertices;
   make_results_mesh_whole<dim>(scene, e, s);
 }
 

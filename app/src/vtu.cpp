@@ -123,16 +123,17 @@ Selection body_selection(const MeshType& mesh, const BasicContactSolution<dim>& 
   return s;
 }
 
-/// The share of the vertices [first, end): the cells whose smallest vertex is one of them and
-/// a plane's contact lines whose smaller end is, with every point they reach (in the mesh's
+/// The share of the vertices `share`: the cells whose smallest vertex is one of them and a
+/// plane's contact lines whose smaller end is, with every point they reach (in the mesh's
 /// order). The shares of a split of the vertices hold each cell and line once.
 template <class MeshType, int dim>
-Selection share_selection(const MeshType& mesh, const BasicContactSolution<dim>& sol, int first, int end) {
+Selection share_selection(const MeshType& mesh, const BasicContactSolution<dim>& sol, const VertexShare& share) {
   Selection s;
-  s.name = "the share of the vertices " + std::to_string(first) + " to " + std::to_string(end - 1);
+  s.name = "the share of " + share.text();
   const auto nv = static_cast<std::size_t>(mesh.num_vertices());
   std::vector<char> used(nv, 0);
-  const auto owned = [first, end](int v) { return first <= v && v < end; };
+  const std::vector<char> mask = share.mask(mesh.num_vertices());
+  const auto owned = [&mask](int v) { return mask[static_cast<std::size_t>(v)] != 0; };
   for (int c = 0; c < num_cells(mesh); ++c) {
     const auto& vs = vertices_of(mesh, c);
     if (vs.empty() || !owned(*std::min_element(vs.begin(), vs.end()))) continue;
@@ -345,7 +346,7 @@ struct SolutionVtu::Impl {
   Fields fields;
   BodyRange whole;
   std::function<void(std::ostream&, const Fields&, const BodyRange&)> body;
-  std::function<void(std::ostream&, const Fields&, int, int)> share;
+  std::function<void(std::ostream&, const Fields&, const VertexShare&)> share;
 };
 
 template <class MeshType, int dim>
@@ -363,8 +364,8 @@ std::unique_ptr<const SolutionVtu::Impl> SolutionVtu::make(const MeshType& mesh,
   impl->body = [&mesh, &sol](std::ostream& os, const Fields& f, const BodyRange& body) {
     write_selection(os, mesh, f, body_selection(mesh, sol, body));
   };
-  impl->share = [&mesh, &sol](std::ostream& os, const Fields& f, int first, int end) {
-    write_selection(os, mesh, f, share_selection(mesh, sol, first, end));
+  impl->share = [&mesh, &sol](std::ostream& os, const Fields& f, const VertexShare& share) {
+    write_selection(os, mesh, f, share_selection(mesh, sol, share));
   };
   return impl;
 }
@@ -392,11 +393,8 @@ void SolutionVtu::write(std::ostream& os, const BodyRange& body) const {
   impl_->body(os, impl_->fields, body);
 }
 
-void SolutionVtu::write_share(std::ostream& os, int first_vertex, int end_vertex) const {
-  if (first_vertex < 0 || end_vertex < first_vertex || end_vertex > impl_->whole.vertices)
-    throw InputError("the vertices " + std::to_string(first_vertex) + " to " + std::to_string(end_vertex - 1) +
-                     " are not a share of a mesh of " + std::to_string(impl_->whole.vertices) + " vertices");
-  impl_->share(os, impl_->fields, first_vertex, end_vertex);
+void SolutionVtu::write_share(std::ostream& os, const VertexShare& share) const {
+  impl_->share(os, impl_->fields, share);
 }
 
 void SolutionVtu::write_pieces(std::ostream& os, const std::vector<std::string>& files) const {

@@ -35,10 +35,10 @@ std::vector<std::pair<int, std::vector<double>>> owned_estimate_terms(const Basi
     throw InternalError("a piece of " + std::to_string(terms.size()) + " cells named by " +
                         std::to_string(piece.cells.size()) + " numbers of the whole mesh");
   const auto& mesh = *problem.elasticity.mesh;
+  const std::vector<char> owned = piece.vertices.mask(mesh.num_vertices());
   std::vector<std::pair<int, std::vector<double>>> out;
   for (std::size_t c = 0; c < terms.size(); ++c) {
-    const int v = smallest_vertex(mesh, static_cast<int>(c));
-    if (v < piece.first_vertex || v >= piece.end_vertex) continue;
+    if (!owned[static_cast<std::size_t>(smallest_vertex(mesh, static_cast<int>(c)))]) continue;
     std::vector<double> t(terms[c].raw.begin(), terms[c].raw.end());
     t.push_back(terms[c].weight);
     t.push_back(terms[c].consistency_energy);

@@ -1,6 +1,8 @@
 #include <hemivem/mesh/bodies.hpp>
 #include <hemivem/error.hpp>
 
+#include "cell_kernels.hpp"
+
 #include <algorithm>
 #include <map>
 #include <set>
@@ -24,28 +26,17 @@ void check_names(const std::vector<const MeshType*>& bodies, const std::vector<s
   }
 }
 
-// What differs between the dimensions: a cell's vertex lists, the mesh made of them, a cell's
-// facets (in the order of its vertex lists) and the named facet groups.
-std::vector<int> cell_of(const Mesh& m, int c) { return {m.element(c).begin(), m.element(c).end()}; }
-CellFaces cell_of(const Mesh3D& m, int c) { return m.cell(c); }
+using detail::cell_facets;
+using detail::cell_of;
+using detail::facet_groups;
+using detail::set_facet_group;
+
 void shift(std::vector<int>& polygon, int offset) {
   for (int& v : polygon) v += offset;
 }
 void shift(CellFaces& cell, int offset) {
   for (auto& loop : cell) shift(loop, offset);
 }
-Mesh make(std::vector<Vec2> v, std::vector<std::vector<int>> cells, std::vector<int> regions, const std::vector<int>& body_of) {
-  return Mesh(std::move(v), std::move(cells), std::move(regions), body_of);
-}
-Mesh3D make(std::vector<Vec3> v, std::vector<CellFaces> cells, std::vector<int> regions, const std::vector<int>&) {
-  return Mesh3D(std::move(v), std::move(cells), std::move(regions));
-}
-std::vector<int> cell_facets(const Mesh& m, int c) { return {m.element_edges(c).begin(), m.element_edges(c).end()}; }
-const std::vector<int>& cell_facets(const Mesh3D& m, int c) { return m.cell_faces(c); }
-const std::map<std::string, std::vector<int>>& facet_groups(const Mesh& m) { return m.edge_groups(); }
-const std::map<std::string, std::vector<int>>& facet_groups(const Mesh3D& m) { return m.face_groups(); }
-void set_facet_group(Mesh& m, const std::string& name, std::vector<int> facets) { m.set_edge_group(name, std::move(facets)); }
-void set_facet_group(Mesh3D& m, const std::string& name, std::vector<int> facets) { m.set_face_group(name, std::move(facets)); }
 
 /// Each body's facets in the joined mesh: cell c's local facet l is the joined cell's local
 /// facet l (its vertex lists are given in that order); the groups under the body's name.
@@ -94,7 +85,7 @@ BasicJoinedMeshes<dim> join(const std::vector<const MeshOf<dim>*>& bodies, const
     }
     region_offset += largest + 1;
   }
-  out.mesh = make(std::move(vertices), std::move(cells), std::move(regions), body_of);
+  out.mesh = detail::make_mesh_of(std::move(vertices), std::move(cells), std::move(regions), body_of);
   map_facets<dim>(bodies, names, out);
   return out;
 }

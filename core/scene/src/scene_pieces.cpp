@@ -3,6 +3,8 @@
 
 #include <hemivem/contact/pose_share.hpp>
 #include <hemivem/error.hpp>
+#include <hemivem/mesh/mesh_piece.hpp>
+#include <hemivem/mesh/vertex_order.hpp>
 
 #include "scene_problem.hpp"
 
@@ -57,8 +59,7 @@ std::optional<BoxPiece> scene_piece(const Scene& scene, int rank, int size) {
 
 PieceOfMesh scene_piece_of_mesh(const Scene& scene, const BoxPiece& piece) {
   PieceOfMesh out;
-  out.first_vertex = piece.first_vertex;
-  out.end_vertex = piece.end_vertex;
+  out.vertices = VertexShare{piece.first_vertex, piece.end_vertex, {}};
   const std::string& g = scene.mesh.generator;
   if (scene.dimension() == 3) {
     const GridSize3 n = scene.mesh.cells3();
@@ -89,5 +90,41 @@ std::unique_ptr<BasicBuiltProblem<3>> build_problem_piece<3>(const Scene& scene,
   });
   return build_problem(scene, std::move(mesh));
 }
+
+bool cuts_pieces(const Scene& scene) {
+  if (!scene.bodies.empty() || scene.adapt || scene_piece(scene, 0, 1)) return false;
+  const auto no_segment = [](const BoundarySelector& b) { return b.segments.empty(); };
+  bool ok = no_segment(scene.clamped);
+  for (const SceneDirichlet& d : scene.dirichlet) ok = ok && no_segment(d.boundary);
+  for (const SceneTraction& t : scene.tractions) ok = ok && no_segment(t.boundary);
+  for (const SceneContact& c : contact_parts(scene)) ok = ok && no_segment(c.boundary);
+  return ok;
+}
+
+template <int dim>
+std::unique_ptr<BasicBuiltProblem<dim>> cut_problem_piece(const Scene& scene, std::unique_ptr<BasicBuiltProblem<dim>> whole,
+                                                          int rank, int size, PieceOfMesh& where) {
+  const MeshOf<dim>& mesh = whole->mesh;
+  const BasicContactProblem<dim>& problem = whole->problem;
+  std::vector<int> facets;
+  for (const auto& d : problem.elasticity.dirichlet) facets.insert(facets.end(), d.facets.begin(), d.facets.end());
+  for (const auto& t : problem.elasticity.tractions) facets.insert(facets.end(), t.facets.begin(), t.facets.end());
+  for (const auto& p : problem.parts) facets.insert(facets.end(), p.facets.begin(), p.facets.end());
+  where.vertices.order = hilbert_vertex_order(mesh);
+  std::tie(where.vertices.first, where.vertices.end) = vertex_share(mesh.num_vertices(), rank, size);
+  where.cells = piece_cells_around(mesh, where.vertices.mask(mesh.num_vertices()), facets);
+  where.whole_cells = mesh.num_cells();
+  MeshOf<dim> piece = cut_mesh_piece(mesh, where.cells);
+  whole.reset();
+  if constexpr (dim == 2)
+    return build_problem(scene, std::move(piece), false);  // the whole mesh's regions, region boxes applied
+  else
+    return build_problem(scene, std::move(piece));
+}
+
+template std::unique_ptr<BasicBuiltProblem<2>> cut_problem_piece<2>(const Scene&, std::unique_ptr<BasicBuiltProblem<2>>, int,
+                                                                    int, PieceOfMesh&);
+template std::unique_ptr<BasicBuiltProblem<3>> cut_problem_piece<3>(const Scene&, std::unique_ptr<BasicBuiltProblem<3>>, int,
+                                                                    int, PieceOfMesh&);
 
 }  // namespace hemivem

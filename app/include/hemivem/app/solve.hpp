@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <hemivem/mesh/vertex_order.hpp>
 #include <hemivem/app/outputs.hpp>
 #include <hemivem/contact/solver.hpp>
 #include <hemivem/estimate/error_estimate.hpp>
@@ -82,10 +83,10 @@ struct BasicSceneSolve {
   /// With mesh_pieces > 1, the cells of the whole mesh.
   int whole_cells = 0;
   /// A static solve whose mesh was made in pieces, given an output folder
-  /// (SceneSolveOptions::out): this process's share of the whole mesh's vertices, [first, end).
+  /// (SceneSolveOptions::out): this process's share of the whole mesh's vertices.
   /// Its piece of solution.vtu is written by this process, the pieces named by solution.pvtu
   /// (write_results, collective then: every process calls it); none otherwise.
-  std::optional<std::array<int, 2>> share;
+  std::optional<VertexShare> share;
   /// A process that does not write the results and kept its piece of the mesh after a solve on
   /// pieces (given an output folder, SceneSolveOptions::out): the whole mesh's number of each
   /// cell of `built`. Empty where `built` is the whole mesh.

@@ -14,6 +14,7 @@
 
 #include <Eigen/Core>
 
+#include <hemivem/mesh/vertex_order.hpp>
 #include <hemivem/app/stress.hpp>
 #include <hemivem/contact/contact3d.hpp>
 #include <hemivem/contact/solver.hpp>
@@ -62,12 +63,12 @@ class SolutionVtu {
   /// ends are the body's points follow its polygons. InputError when `body` is not a range of
   /// the mesh's; InternalError when one of its cells has a vertex outside its vertices.
   void write(std::ostream& stream, const BodyRange& body) const;
-  /// One piece of solution.pvtu: the share of the vertices [first_vertex, end_vertex) of a
-  /// split of the mesh's vertices among processes. Its cells are those whose smallest vertex is
-  /// one of them (and a plane's contact lines whose smaller end is), its points every vertex
-  /// they reach, in the mesh's order, with the arrays of solution.vtu restricted to them: the
-  /// pieces of a split hold each cell once. InputError when the range is not within the mesh.
-  void write_share(std::ostream& stream, int first_vertex, int end_vertex) const;
+  /// One piece of solution.pvtu: the share `share` of a split of the mesh's vertices among
+  /// processes. Its cells are those whose smallest vertex is one of them (and a plane's contact
+  /// lines whose smaller end is), its points every vertex they reach, in the mesh's order, with
+  /// the arrays of solution.vtu restricted to them: the pieces of a split hold each cell once.
+  /// InputError when the share is not one of the mesh's (VertexShare::mask).
+  void write_share(std::ostream& stream, const VertexShare& share) const;
   /// solution.pvtu: VTK's parallel unstructured grid naming the pieces `files` (each written by
   /// write_share of a solution with the same arrays as this one), in their order.
   void write_pieces(std::ostream& stream, const std::vector<std::string>& files) const;

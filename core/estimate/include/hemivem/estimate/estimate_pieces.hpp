@@ -8,18 +8,18 @@
 
 #include <hemivem/estimate/error_estimate.hpp>
 #include <hemivem/estimate/error_estimate3d.hpp>
+#include <hemivem/mesh/vertex_order.hpp>
 #include <hemivem/row_distribution.hpp>
 
 namespace hemivem {
 
 /// Where a process's piece lies in the whole mesh: the whole mesh's number of each cell of the
-/// piece (piece_cells), the whole mesh's count of cells, and the process's vertices
-/// first_vertex, ..., end_vertex - 1.
+/// piece (piece_cells, piece_cells_around), the whole mesh's count of cells, and the process's
+/// vertices.
 struct PieceOfMesh {
   std::vector<int> cells;
   int whole_cells = 0;
-  int first_vertex = 0;
-  int end_vertex = 0;
+  VertexShare vertices;
 };
 
 /// The residual terms of the cells of the piece that the process owns (those whose smallest

@@ -30,4 +30,20 @@ PieceOfMesh scene_piece_of_mesh(const Scene& scene, const BoxPiece& piece);
 template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> build_problem_piece(const Scene& scene, const BoxPiece& piece);
 
+/// Whether a process keeps only its piece of the scene's mesh, made whole, for the solve
+/// (cut_problem_piece): a scene of one body whose mesh is made whole (no piece of a generated
+/// box: scene_piece), without adaptive steps, whose supports, loads and contact parts select
+/// sides, groups or points (no segment).
+bool cuts_pieces(const Scene& scene);
+
+/// The problem of `whole` (build_problem<dim>(scene) on the whole mesh) on the piece of its mesh
+/// that process `rank` of `size` keeps (hemivem/mesh/mesh_piece.hpp): the process's vertices are
+/// its share (vertex_share) of the mesh's hilbert_vertex_order, the cells those around them and
+/// those of every facet of the problem's supports, loads and contact parts (piece_cells_around).
+/// The same problem on fewer cells, its vertices and their numbers the whole mesh's; `whole` is
+/// given back before the piece's problem is built. `where` tells where the piece lies.
+template <int dim>
+std::unique_ptr<BasicBuiltProblem<dim>> cut_problem_piece(const Scene& scene, std::unique_ptr<BasicBuiltProblem<dim>> whole,
+                                                          int rank, int size, PieceOfMesh& where);
+
 }  // namespace hemivem

@@ -1,0 +1,43 @@
+// A process's piece of a mesh made whole (a Gmsh file, a polygon's mesh, a Voronoi mesh, a
+// mesh with region boxes): what one process of a run across processes keeps of it for the
+// full-space route (docs/cluster.md), as a generated box's piece is made directly
+// (box_piece.hpp).
+//
+// A piece holds every vertex of the whole mesh, numbered as the whole numbers them (a vertex, its
+// dofs and every array indexed by them mean in a piece what they mean in the whole), and of the
+// cells only those that
+//   - hold one of the process's vertices, or a vertex of such a cell, or a vertex of a cell
+//     holding one of those (three layers: the cells of the rows the process assembles, their
+//     neighbours, and the neighbours' neighbours, so that each neighbour's faces are stored as
+//     the whole stores them), or
+//   - have one of some given facets (the supports, loads and contact of a scene: a surface's
+//     worth), or
+//   - join the others into one body (a path of cells through the mesh to each part not yet
+//     joined) or, in a solid, close the piece's surface (every cell around an edge that two
+//     kept cells meet along alone),
+// in the whole mesh's order, each as the whole holds it with its region; each facet group holds
+// those of its facets that the piece holds.
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include <hemivem/mesh/mesh.hpp>
+#include <hemivem/mesh/mesh3d.hpp>
+
+namespace hemivem {
+
+/// The cells of the piece of `mesh` around the vertices `owned` flags (one flag per vertex) with
+/// the cells of `facets` (see above), increasing. InputError for a flag vector of another size
+/// or a facet out of range.
+std::vector<int> piece_cells_around(const Mesh& mesh, const std::vector<char>& owned, std::span<const int> facets);
+std::vector<int> piece_cells_around(const Mesh3D& mesh, const std::vector<char>& owned, std::span<const int> facets);
+
+/// The mesh of the cells `cells` of `mesh` (increasing, distinct): every vertex of the mesh, the
+/// cells in that order with their regions, and each facet group restricted to the facets of
+/// those cells (a group none of whose facets is held stays, empty). InputError for cells out of
+/// range or out of order; MeshError as the mesh's constructor.
+Mesh cut_mesh_piece(const Mesh& mesh, std::span<const int> cells);
+Mesh3D cut_mesh_piece(const Mesh3D& mesh, std::span<const int> cells);
+
+}  // namespace hemivem

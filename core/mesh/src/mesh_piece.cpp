@@ -1,0 +1,210 @@
+// A process's piece of a mesh made whole (hemivem/mesh/mesh_piece.hpp).
+#include <hemivem/mesh/mesh_piece.hpp>
+
+#include <hemivem/error.hpp>
+#include <hemivem/mesh/dimension.hpp>
+
+#include "cell_kernels.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <string>
+
+namespace hemivem {
+
+namespace {
+
+std::span<const int> vertices_of(const Mesh& mesh, int c) { return mesh.element(c); }
+std::span<const int> vertices_of(const Mesh3D& mesh, int c) { return mesh.cell_vertices(c); }
+
+/// The two cells of facet f (the second -1 on the boundary).
+std::array<int, 2> facet_cells(const Mesh& mesh, int f) { return {mesh.edge(f).left, mesh.edge(f).right}; }
+std::array<int, 2> facet_cells(const Mesh3D& mesh, int f) { return {mesh.face(f).inner, mesh.face(f).outer}; }
+
+/// Adds to `keep` the cells of paths through the mesh (across facets) from the part of the kept
+/// cells that holds the first kept cell to every other part, so that the kept cells are one body
+/// as the mesh is: one breadth-first search from that part, each other part joined along the
+/// path by which the search first reached it.
+template <class MeshType>
+void join_parts(const MeshType& mesh, std::vector<char>& keep) {
+  const auto nc = static_cast<std::size_t>(mesh.num_cells());
+  const auto first = static_cast<std::size_t>(std::find(keep.begin(), keep.end(), 1) - keep.begin());
+  if (first == nc) return;
+  std::vector<int> parent(nc, -2);  // -2: not reached; -1: in the first part
+  std::vector<int> queue;
+  // the part of `first`: the kept cells reached across facets from it
+  const auto grow_part = [&](std::size_t from) {
+    std::vector<int> stack{static_cast<int>(from)};
+    while (!stack.empty()) {
+      const int c = stack.back();
+      stack.pop_back();
+      queue.push_back(c);
+      for (int f : detail::cell_facets(mesh, c))
+        for (int d : facet_cells(mesh, f))
+          if (d >= 0 && keep[static_cast<std::size_t>(d)] && parent[static_cast<std::size_t>(d)] == -2) {
+            parent[static_cast<std::size_t>(d)] = -1;
+            stack.push_back(d);
+          }
+    }
+  };
+  parent[first] = -1;
+  grow_part(first);
+  for (std::size_t head = 0; head < queue.size(); ++head) {
+    const int c = queue[head];
+    for (int f : detail::cell_facets(mesh, c))
+      for (int d : facet_cells(mesh, f)) {
+        if (d < 0 || parent[static_cast<std::size_t>(d)] != -2) continue;
+        parent[static_cast<std::size_t>(d)] = c;
+        if (!keep[static_cast<std::size_t>(d)]) {
+          queue.push_back(d);
+          continue;
+        }
+        // another part reached: the path to it kept, and with the part joined to the first
+        for (int p = c; parent[static_cast<std::size_t>(p)] >= 0;) {
+          const int up = parent[static_cast<std::size_t>(p)];
+          keep[static_cast<std::size_t>(p)] = 1;
+          parent[static_cast<std::size_t>(p)] = -1;
+          p = up;
+        }
+        parent[static_cast<std::size_t>(d)] = -1;
+        grow_part(static_cast<std::size_t>(d));
+      }
+  }
+}
+
+/// Adds to `keep` every cell around each edge of the kept cells' surface that is not in two of
+/// its faces (two kept cells meeting along an edge alone), until there is none: the kept cells
+/// then make a mesh (Mesh3D's rule for the boundary). Nothing to do in the plane.
+void close_edges(const Mesh&, std::vector<char>&) {}
+void close_edges(const Mesh3D& mesh, std::vector<char>& keep) {
+  const auto nv = static_cast<std::size_t>(mesh.num_vertices());
+  std::vector<int> start(nv + 1, 0), cells;  // the cells of each vertex
+  for (int c = 0; c < mesh.num_cells(); ++c)
+    for (int v : mesh.cell_vertices(c)) ++start[static_cast<std::size_t>(v) + 1];
+  for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
+  cells.resize(static_cast<std::size_t>(start[nv]));
+  std::vector<int> at(start.begin(), start.end() - 1);
+  for (int c = 0; c < mesh.num_cells(); ++c)
+    for (int v : mesh.cell_vertices(c)) cells[static_cast<std::size_t>(at[static_cast<std::size_t>(v)]++)] = c;
+  for (;;) {
+    std::vector<std::uint64_t> edges;  // the edges of the faces on the kept cells' surface
+    for (int c = 0; c < mesh.num_cells(); ++c) {
+      if (!keep[static_cast<std::size_t>(c)]) continue;
+      for (int f : mesh.cell_faces(c)) {
+        const auto [a, b] = facet_cells(mesh, f);
+        const int other = a == c ? b : a;
+        if (other >= 0 && keep[static_cast<std::size_t>(other)]) continue;
+        const auto& loop = mesh.face(f).vertices;
+        for (std::size_t i = 0; i < loop.size(); ++i) {
+          const auto u = static_cast<std::uint64_t>(loop[i]), w = static_cast<std::uint64_t>(loop[(i + 1) % loop.size()]);
+          edges.push_back(std::min(u, w) << 32 | std::max(u, w));
+        }
+      }
+    }
+    std::sort(edges.begin(), edges.end());
+    bool added = false;
+    for (std::size_t k = 0; k < edges.size();) {
+      std::size_t e = k + 1;
+      while (e < edges.size() && edges[e] == edges[k]) ++e;
+      if (e - k != 2) {  // the cells holding both ends
+        const auto a = static_cast<std::size_t>(edges[k] >> 32), b = static_cast<std::size_t>(edges[k] & 0xffffffffu);
+        for (int i = start[a]; i < start[a + 1]; ++i) {
+          const int c = cells[static_cast<std::size_t>(i)];
+          if (keep[static_cast<std::size_t>(c)]) continue;
+          const auto& vs = mesh.cell_vertices(c);
+          if (std::binary_search(vs.begin(), vs.end(), static_cast<int>(b))) keep[static_cast<std::size_t>(c)] = 1, added = true;
+        }
+      }
+      k = e;
+    }
+    if (!added) return;
+  }
+}
+
+template <class MeshType>
+std::vector<int> cells_around(const MeshType& mesh, const std::vector<char>& owned, std::span<const int> facets) {
+  const auto nv = static_cast<std::size_t>(mesh.num_vertices());
+  if (owned.size() != nv)
+    throw InputError("a piece of a mesh of " + std::to_string(nv) + " vertices given flags for " +
+                     std::to_string(owned.size()));
+  std::vector<char> keep(static_cast<std::size_t>(mesh.num_cells()), 0);
+  for (int f : facets) {
+    if (f < 0 || f >= mesh.num_facets())
+      throw InputError("a piece of a mesh of " + std::to_string(mesh.num_facets()) + " facets given the facet " +
+                       std::to_string(f));
+    for (int c : facet_cells(mesh, f))
+      if (c >= 0) keep[static_cast<std::size_t>(c)] = 1;
+  }
+  // the vertices of the cells holding an owned vertex, then of the cells holding one of those:
+  // a cell holding one of them is in the piece
+  std::vector<char> near = owned;
+  for (int ring = 0; ring < 2; ++ring) {
+    std::vector<char> wider = near;
+    for (int c = 0; c < mesh.num_cells(); ++c) {
+      const auto vs = vertices_of(mesh, c);
+      if (std::any_of(vs.begin(), vs.end(), [&](int v) { return near[static_cast<std::size_t>(v)] != 0; }))
+        for (int v : vs) wider[static_cast<std::size_t>(v)] = 1;
+    }
+    near.swap(wider);
+  }
+  for (int c = 0; c < mesh.num_cells(); ++c) {
+    const auto vs = vertices_of(mesh, c);
+    if (std::any_of(vs.begin(), vs.end(), [&](int v) { return near[static_cast<std::size_t>(v)] != 0; }))
+      keep[static_cast<std::size_t>(c)] = 1;
+  }
+  join_parts(mesh, keep);
+  close_edges(mesh, keep);
+  std::vector<int> out;
+  for (int c = 0; c < mesh.num_cells(); ++c)
+    if (keep[static_cast<std::size_t>(c)]) out.push_back(c);
+  return out;
+}
+
+template <class MeshType>
+MeshType cut(const MeshType& mesh, std::span<const int> cells) {
+  for (std::size_t k = 0; k < cells.size(); ++k)
+    if (cells[k] < 0 || cells[k] >= mesh.num_cells() || (k > 0 && cells[k] <= cells[k - 1]))
+      throw InputError("the cells of a piece of a mesh of " + std::to_string(mesh.num_cells()) +
+                       " cells are not increasing numbers of its cells (at " + std::to_string(k) + ": " +
+                       std::to_string(cells[k]) + ")");
+  std::vector<decltype(detail::cell_of(mesh, 0))> kept;
+  std::vector<int> regions;
+  kept.reserve(cells.size());
+  regions.reserve(cells.size());
+  for (int c : cells) {
+    kept.push_back(detail::cell_of(mesh, c));
+    regions.push_back(mesh.region(c));
+  }
+  MeshType piece = detail::make_mesh_of(mesh.vertices(), std::move(kept), std::move(regions));
+  if (detail::facet_groups(mesh).empty()) return piece;
+  // cell c's local facet l is the piece's cell's local facet l (its vertex lists are given in
+  // that order)
+  std::vector<int> facet_of(static_cast<std::size_t>(mesh.num_facets()), -1);
+  for (std::size_t k = 0; k < cells.size(); ++k) {
+    const auto whole = detail::cell_facets(mesh, cells[k]);
+    const auto mine = detail::cell_facets(piece, static_cast<int>(k));
+    for (std::size_t l = 0; l < whole.size(); ++l) facet_of[static_cast<std::size_t>(whole[l])] = mine[l];
+  }
+  for (const auto& [name, facets] : detail::facet_groups(mesh)) {
+    std::vector<int> held;
+    for (int f : facets)
+      if (const int g = facet_of[static_cast<std::size_t>(f)]; g >= 0) held.push_back(g);
+    detail::set_facet_group(piece, name, std::move(held));
+  }
+  return piece;
+}
+
+}  // namespace
+
+std::vector<int> piece_cells_around(const Mesh& mesh, const std::vector<char>& owned, std::span<const int> facets) {
+  return cells_around(mesh, owned, facets);
+}
+std::vector<int> piece_cells_around(const Mesh3D& mesh, const std::vector<char>& owned, std::span<const int> facets) {
+  return cells_around(mesh, owned, facets);
+}
+
+Mesh cut_mesh_piece(const Mesh& mesh, std::span<const int> cells) { return cut(mesh, cells); }
+Mesh3D cut_mesh_piece(const Mesh3D& mesh, std::span<const int> cells) { return cut(mesh, cells); }
+
+}  // namespace hemivem
