@@ -94,8 +94,7 @@ void expect_pieces_estimate_the_whole(const MeshOf<dim>& whole, int whole_cells,
 /// vertices shares of its Hilbert order) own every cell of the whole mesh once, with its terms: to
 /// the bit in the plane, to round-off in a solid, whose piece is made of the cells as the whole
 /// mesh holds them (Mesh3D::cell), whose face loops may start at another vertex than the file
-/// gave them, so that a cell's volume
-/// and centroid round otherwise.
+/// gave them, so that a cell's volume and centroid round otherwise.
 template <int dim>
 void expect_cut_pieces_estimate_the_whole(const std::string& scene_file) {
   SCOPED_TRACE(scene_file);
