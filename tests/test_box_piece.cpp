@@ -246,6 +246,7 @@ void expect_cut_pieces_pose_the_whole_share(const std::string& scene_file) {
   const Scene scene = parse_scene(test::scenes_dir() / scene_file);
   ASSERT_TRUE(cuts_pieces(scene));
   const auto whole = build_problem<dim>(scene);
+  ASSERT_TRUE(cuts_pieces<dim>(scene, whole->mesh));
   const std::vector<int> order = hilbert_vertex_order(whole->mesh);
   const int n = whole->mesh.num_vertices();
   std::set<std::vector<int>> named;  // the facets of the supports, loads and contact
@@ -287,6 +288,7 @@ void expect_cut_pieces_pose_the_whole_share(const std::string& scene_file) {
 TEST(MeshPiece, ThePiecesKeptOfAPlaneMeshMadeWholePoseTheWholeMeshsShares) {
   expect_cut_pieces_pose_the_whole_share<2>("polygon-bracket.toml");  // edge groups
   expect_cut_pieces_pose_the_whole_share<2>("paper-example-4.1-voronoi.toml");
+  expect_cut_pieces_pose_the_whole_share<2>("rollers-pressure.toml");  // a contact part on a segment
 }
 
 TEST(MeshPiece, ThePiecesKeptOfAGmshSolidPoseTheWholeMeshsShares) {

@@ -364,7 +364,7 @@ TEST(CliFullSpaceMpi, AVoronoiSolidsMeshSplitAmongProcessesIsOneProcesss) {
 // the groups its supports, loads and contact name) for the solve: the condensed answer, the
 // solution written in pieces
 TEST(CliFullSpaceMpi, ThePiecesKeptOfMeshesMadeWholeAreTheCondensedAnswer) {
-  for (const char* name : {"gmsh-bracket-3d.toml", "polygon-bracket.toml"}) {
+  for (const char* name : {"gmsh-bracket-3d.toml", "polygon-bracket.toml", "rollers-pressure.toml"}) {
     SCOPED_TRACE(name);
     const std::string flags = scene(name) + " --tol 1e-11";
     const fs::path ref = solve_condensed(flags, std::string("condensed-") + name);

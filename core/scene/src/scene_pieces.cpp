@@ -3,6 +3,7 @@
 
 #include <hemivem/contact/pose_share.hpp>
 #include <hemivem/error.hpp>
+#include <hemivem/mesh/boundary.hpp>
 #include <hemivem/mesh/mesh_piece.hpp>
 #include <hemivem/mesh/vertex_order.hpp>
 
@@ -91,14 +92,36 @@ std::unique_ptr<BasicBuiltProblem<3>> build_problem_piece<3>(const Scene& scene,
   return build_problem(scene, std::move(mesh));
 }
 
-bool cuts_pieces(const Scene& scene) {
-  if (!scene.bodies.empty() || scene.adapt || scene_piece(scene, 0, 1)) return false;
-  const auto no_segment = [](const BoundarySelector& b) { return b.segments.empty(); };
-  bool ok = no_segment(scene.clamped);
-  for (const SceneDirichlet& d : scene.dirichlet) ok = ok && no_segment(d.boundary);
-  for (const SceneTraction& t : scene.tractions) ok = ok && no_segment(t.boundary);
-  for (const SceneContact& c : contact_parts(scene)) ok = ok && no_segment(c.boundary);
-  return ok;
+bool cuts_pieces(const Scene& scene) { return scene.bodies.empty() && !scene.adapt && !scene_piece(scene, 0, 1); }
+
+template <>
+bool cuts_pieces<2>(const Scene& scene, const Mesh& mesh) {
+  if (!cuts_pieces(scene)) return false;
+  // the selectors' segments as the problem's facets were picked on the whole mesh (build_problem)
+  const Rectangle box = mesh.bounding_box();
+  const double size = std::max(box.width(), box.height());
+  std::vector<Segment> segments;
+  const auto add = [&](const BoundarySelector& b) {
+    for (const auto& s : b.segments) segments.push_back(Segment{Vec2(s[0], s[1]), Vec2(s[2], s[3]), b.tolerance * size});
+  };
+  add(scene.clamped);
+  for (const SceneDirichlet& d : scene.dirichlet) add(d.boundary);
+  for (const SceneTraction& t : scene.tractions) add(t.boundary);
+  for (const SceneContact& c : contact_parts(scene)) add(c.boundary);
+  if (segments.empty()) return true;
+  // a piece's boundary edges are the whole's and some of its inner edges: none of those may lie on a segment
+  for (const MeshEdge& e : mesh.edges()) {
+    if (e.on_boundary()) continue;
+    const Vec2 p = mesh.vertex(e.v0), q = mesh.vertex(e.v1);
+    if (std::any_of(segments.begin(), segments.end(), [&](const Segment& s) { return s.contains(p) && s.contains(q); }))
+      return false;
+  }
+  return true;
+}
+
+template <>
+bool cuts_pieces<3>(const Scene& scene, const Mesh3D&) {
+  return cuts_pieces(scene);  // a solid's selectors pick sides, groups and points
 }
 
 template <int dim>

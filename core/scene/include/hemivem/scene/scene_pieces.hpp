@@ -8,6 +8,7 @@
 
 #include <hemivem/estimate/estimate_pieces.hpp>
 #include <hemivem/mesh/box_piece.hpp>
+#include <hemivem/mesh/dimension.hpp>
 #include <hemivem/scene/scene.hpp>
 
 namespace hemivem {
@@ -30,11 +31,18 @@ PieceOfMesh scene_piece_of_mesh(const Scene& scene, const BoxPiece& piece);
 template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> build_problem_piece(const Scene& scene, const BoxPiece& piece);
 
-/// Whether a process keeps only its piece of the scene's mesh, made whole, for the solve
-/// (cut_problem_piece): a scene of one body whose mesh is made whole (no piece of a generated
-/// box: scene_piece), without adaptive steps, whose supports, loads and contact parts select
-/// sides, groups or points (no segment).
+/// Whether a scene's mesh may be made whole and each process keep only its piece of it for the
+/// solve (cut_problem_piece): a scene of one body whose mesh is made whole (no piece of a
+/// generated box: scene_piece), without adaptive steps.
 bool cuts_pieces(const Scene& scene);
+
+/// Whether each process keeps only its piece of `mesh`, the scene's mesh made whole: where
+/// cuts_pieces(scene) and, in the plane, no segment of the scene's supports, loads and contact
+/// parts holds both ends of an inner edge of the mesh (a piece's boundary holds inner edges of
+/// the whole, which such a segment would pick on the piece and not on the whole). The same on
+/// every process.
+template <int dim>
+bool cuts_pieces(const Scene& scene, const MeshOf<dim>& mesh);
 
 /// The problem of `whole` (build_problem<dim>(scene) on the whole mesh) on the piece of its mesh
 /// that process `rank` of `size` keeps (hemivem/mesh/mesh_piece.hpp): the process's vertices are
