@@ -136,17 +136,12 @@ std::vector<int> cells_around(const MeshType& mesh, const std::vector<char>& own
     for (int c : facet_cells(mesh, f))
       if (c >= 0) keep[static_cast<std::size_t>(c)] = 1;
   }
-  // the vertices of the cells holding an owned vertex, then of the cells holding one of those:
-  // a cell holding one of them is in the piece
+  // the vertices of the cells holding an owned vertex: a cell holding one of them is in the piece
   std::vector<char> near = owned;
-  for (int ring = 0; ring < 2; ++ring) {
-    std::vector<char> wider = near;
-    for (int c = 0; c < mesh.num_cells(); ++c) {
-      const auto vs = vertices_of(mesh, c);
-      if (std::any_of(vs.begin(), vs.end(), [&](int v) { return near[static_cast<std::size_t>(v)] != 0; }))
-        for (int v : vs) wider[static_cast<std::size_t>(v)] = 1;
-    }
-    near.swap(wider);
+  for (int c = 0; c < mesh.num_cells(); ++c) {
+    const auto vs = vertices_of(mesh, c);
+    if (std::any_of(vs.begin(), vs.end(), [&](int v) { return owned[static_cast<std::size_t>(v)] != 0; }))
+      for (int v : vs) near[static_cast<std::size_t>(v)] = 1;
   }
   for (int c = 0; c < mesh.num_cells(); ++c) {
     const auto vs = vertices_of(mesh, c);

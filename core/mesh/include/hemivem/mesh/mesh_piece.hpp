@@ -6,10 +6,9 @@
 // A piece holds every vertex of the whole mesh, numbered as the whole numbers them (a vertex, its
 // dofs and every array indexed by them mean in a piece what they mean in the whole), and of the
 // cells only those that
-//   - hold one of the process's vertices, or a vertex of such a cell, or a vertex of a cell
-//     holding one of those (three layers: the cells of the rows the process assembles, their
-//     neighbours, and the neighbours' neighbours, so that each neighbour's faces are stored as
-//     the whole stores them), or
+//   - hold one of the process's vertices or a vertex of such a cell (two layers: the cells of
+//     the rows the process assembles, and their neighbours, which the error estimate of a cell
+//     reads), or
 //   - have one of some given facets (the supports, loads and contact of a scene: a surface's
 //     worth), or
 //   - join the others into one body (a path of cells through the mesh to each part not yet
