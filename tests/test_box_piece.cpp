@@ -241,12 +241,9 @@ TEST(BoxPiece, WhatThePiecesSupportsLeaveFreeIsNamedAsOnTheWholeMesh) {
 /// (in the mesh's Hilbert order) and of its supports, loads and contact; its groups hold their
 /// facets; and the share it poses along that order is the whole mesh's to the bit.
 template <int dim>
-void expect_cut_pieces_pose_the_whole_share(const std::string& scene_file) {
-  SCOPED_TRACE(scene_file);
-  const Scene scene = parse_scene(test::scenes_dir() / scene_file);
+void expect_cut_pieces_pose_the_whole_share(const Scene& scene) {
   ASSERT_TRUE(cuts_pieces(scene));
   const auto whole = build_problem<dim>(scene);
-  ASSERT_TRUE(cuts_pieces<dim>(scene, whole->mesh));
   const std::vector<int> order = hilbert_vertex_order(whole->mesh);
   const int n = whole->mesh.num_vertices();
   std::set<std::vector<int>> named;  // the facets of the supports, loads and contact
@@ -257,7 +254,7 @@ void expect_cut_pieces_pose_the_whole_share(const std::string& scene_file) {
   for (int rank = 0; rank < 3; ++rank) {
     SCOPED_TRACE("rank " + std::to_string(rank));
     PieceOfMesh where;
-    const auto piece = cut_problem_piece<dim>(scene, build_problem<dim>(scene), rank, 3, where);
+    const auto piece = cut_problem_piece<dim>(build_problem<dim>(scene), rank, 3, where);
     const auto [first, end] = vertex_share(n, rank, 3);
     EXPECT_EQ(where.vertices.first, first);
     EXPECT_EQ(where.vertices.end, end);
@@ -284,11 +281,36 @@ void expect_cut_pieces_pose_the_whole_share(const std::string& scene_file) {
     expect_same_share(pose_share(piece->problem, order, first, end), pose_share(whole->problem, order, first, end));
   }
 }
+template <int dim>
+void expect_cut_pieces_pose_the_whole_share(const std::string& scene_file) {
+  SCOPED_TRACE(scene_file);
+  expect_cut_pieces_pose_the_whole_share<dim>(parse_scene(test::scenes_dir() / scene_file));
+}
 
 TEST(MeshPiece, ThePiecesKeptOfAPlaneMeshMadeWholePoseTheWholeMeshsShares) {
   expect_cut_pieces_pose_the_whole_share<2>("polygon-bracket.toml");  // edge groups
   expect_cut_pieces_pose_the_whole_share<2>("paper-example-4.1-voronoi.toml");
   expect_cut_pieces_pose_the_whole_share<2>("rollers-pressure.toml");  // a contact part on a segment
+}
+
+// a segment picks on a piece what it picks on the whole mesh, though it holds edges inside the
+// mesh that a piece's boundary may cut along
+TEST(MeshPiece, APiecesSegmentsPickTheWholeMeshsEdges) {
+  Scene scene = parse_scene(test::scenes_dir() / "paper-example-4.1.toml");  // squares on the unit square
+  scene.mesh.n = 8;
+  scene.contact->boundary = BoundarySelector{};
+  scene.contact->boundary.segments = {{0.0, 0.0, 1.0, 0.0}, {0.0, 0.25, 1.0, 0.25}};  // the bottom, and across the body
+  ASSERT_FALSE(scene_piece(scene, 0, 3));  // not made in pieces: a segment
+  expect_cut_pieces_pose_the_whole_share<2>(scene);
+  int cut_on_segment = 0;  // the pieces' boundary edges along y = 0.25, which the whole mesh's segment does not pick
+  for (int rank = 0; rank < 3; ++rank) {
+    PieceOfMesh where;
+    const auto piece = cut_problem_piece<2>(build_problem<2>(scene), rank, 3, where);
+    for (int f : piece->mesh.boundary_edges())
+      if (piece->mesh.vertex(piece->mesh.edge(f).v0).y() == 0.25 && piece->mesh.vertex(piece->mesh.edge(f).v1).y() == 0.25)
+        ++cut_on_segment;
+  }
+  EXPECT_GT(cut_on_segment, 0);
 }
 
 TEST(MeshPiece, ThePiecesKeptOfAGmshSolidPoseTheWholeMeshsShares) {

@@ -107,7 +107,7 @@ void expect_cut_pieces_estimate_the_whole(const std::string& scene_file) {
   for (int rank = 0; rank < 3; ++rank) {
     SCOPED_TRACE("rank " + std::to_string(rank));
     PieceOfMesh where;
-    const auto piece = cut_problem_piece<dim>(scene, build_problem<dim>(scene), rank, 3, where);
+    const auto piece = cut_problem_piece<dim>(build_problem<dim>(scene), rank, 3, where);
     ASSERT_FALSE(where.vertices.order.empty());
     for (const auto& [c, t] : owned_estimate_terms<dim>(piece->problem, s, where)) {
       ++owners[c];

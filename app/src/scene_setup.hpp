@@ -63,7 +63,7 @@ struct SceneEngines {
 /// The problem a solve of the scene builds on the scene's own mesh, into s.built: on the
 /// full-space route across processes (`e`), the process's piece of the mesh where the scene
 /// allows it: a generated box's piece made directly (scene_piece), or the piece it keeps of a
-/// mesh made whole (cuts_pieces(scene, mesh); each process doing its share of the generator's work where it
+/// mesh made whole (cuts_pieces; each process doing its share of the generator's work where it
 /// splits it: build_problem); e.piece then says where the piece lies, and s.mesh_pieces and
 /// s.whole_cells what it is a piece of. The whole mesh otherwise. Given `out`, the solve
 /// writes to that folder (e.writes_to_folder): a path's VTU frames, and a static solve's
@@ -83,9 +83,9 @@ void build_scene_problem(const Scene& scene, SceneEngines& e, Solved& s, const s
     }
     // the generator's work split where it splits it
     std::unique_ptr<BasicBuiltProblem<dim>> whole = build_problem<dim>(scene, process_rows().get());
-    if (cuts_pieces<dim>(scene, whole->mesh)) {  // the whole mesh made, each process keeps its piece
+    if (cuts_pieces(scene)) {  // the whole mesh made, each process keeps its piece
       PieceOfMesh where;
-      s.built = cut_problem_piece<dim>(scene, std::move(whole), world.rank, world.size, where);
+      s.built = cut_problem_piece<dim>(std::move(whole), world.rank, world.size, where);
       s.mesh_pieces = world.size;
       e.writes_to_folder = !out.empty();
       s.whole_cells = where.whole_cells;

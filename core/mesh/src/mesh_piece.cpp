@@ -157,7 +157,7 @@ std::vector<int> cells_around(const MeshType& mesh, const std::vector<char>& own
 }
 
 template <class MeshType>
-MeshType cut(const MeshType& mesh, std::span<const int> cells) {
+MeshType cut(const MeshType& mesh, std::span<const int> cells, std::vector<int>* facets) {
   for (std::size_t k = 0; k < cells.size(); ++k)
     if (cells[k] < 0 || cells[k] >= mesh.num_cells() || (k > 0 && cells[k] <= cells[k - 1]))
       throw InputError("the cells of a piece of a mesh of " + std::to_string(mesh.num_cells()) +
@@ -172,7 +172,7 @@ MeshType cut(const MeshType& mesh, std::span<const int> cells) {
     regions.push_back(mesh.region(c));
   }
   MeshType piece = detail::make_mesh_of(mesh.vertices(), std::move(kept), std::move(regions));
-  if (detail::facet_groups(mesh).empty()) return piece;
+  if (detail::facet_groups(mesh).empty() && facets == nullptr) return piece;
   // cell c's local facet l is the piece's cell's local facet l (its vertex lists are given in
   // that order)
   std::vector<int> facet_of(static_cast<std::size_t>(mesh.num_facets()), -1);
@@ -187,6 +187,7 @@ MeshType cut(const MeshType& mesh, std::span<const int> cells) {
       if (const int g = facet_of[static_cast<std::size_t>(f)]; g >= 0) held.push_back(g);
     detail::set_facet_group(piece, name, std::move(held));
   }
+  if (facets != nullptr) *facets = std::move(facet_of);
   return piece;
 }
 
@@ -199,7 +200,11 @@ std::vector<int> piece_cells_around(const Mesh3D& mesh, const std::vector<char>&
   return cells_around(mesh, owned, facets);
 }
 
-Mesh cut_mesh_piece(const Mesh& mesh, std::span<const int> cells) { return cut(mesh, cells); }
-Mesh3D cut_mesh_piece(const Mesh3D& mesh, std::span<const int> cells) { return cut(mesh, cells); }
+Mesh cut_mesh_piece(const Mesh& mesh, std::span<const int> cells, std::vector<int>* facets) {
+  return cut(mesh, cells, facets);
+}
+Mesh3D cut_mesh_piece(const Mesh3D& mesh, std::span<const int> cells, std::vector<int>* facets) {
+  return cut(mesh, cells, facets);
+}
 
 }  // namespace hemivem

@@ -3,7 +3,6 @@
 
 #include <hemivem/contact/pose_share.hpp>
 #include <hemivem/error.hpp>
-#include <hemivem/mesh/boundary.hpp>
 #include <hemivem/mesh/mesh_piece.hpp>
 #include <hemivem/mesh/vertex_order.hpp>
 
@@ -94,60 +93,57 @@ std::unique_ptr<BasicBuiltProblem<3>> build_problem_piece<3>(const Scene& scene,
 
 bool cuts_pieces(const Scene& scene) { return scene.bodies.empty() && !scene.adapt && !scene_piece(scene, 0, 1); }
 
-template <>
-bool cuts_pieces<2>(const Scene& scene, const Mesh& mesh) {
-  if (!cuts_pieces(scene)) return false;
-  // the selectors' segments as the problem's facets were picked on the whole mesh (build_problem)
-  const Rectangle box = mesh.bounding_box();
-  const double size = std::max(box.width(), box.height());
-  std::vector<Segment> segments;
-  const auto add = [&](const BoundarySelector& b) {
-    for (const auto& s : b.segments) segments.push_back(Segment{Vec2(s[0], s[1]), Vec2(s[2], s[3]), b.tolerance * size});
-  };
-  add(scene.clamped);
-  for (const SceneDirichlet& d : scene.dirichlet) add(d.boundary);
-  for (const SceneTraction& t : scene.tractions) add(t.boundary);
-  for (const SceneContact& c : contact_parts(scene)) add(c.boundary);
-  if (segments.empty()) return true;
-  // a piece's boundary edges are the whole's and some of its inner edges: none of those may lie on a segment
-  for (const MeshEdge& e : mesh.edges()) {
-    if (e.on_boundary()) continue;
-    const Vec2 p = mesh.vertex(e.v0), q = mesh.vertex(e.v1);
-    if (std::any_of(segments.begin(), segments.end(), [&](const Segment& s) { return s.contains(p) && s.contains(q); }))
-      return false;
-  }
-  return true;
-}
-
-template <>
-bool cuts_pieces<3>(const Scene& scene, const Mesh3D&) {
-  return cuts_pieces(scene);  // a solid's selectors pick sides, groups and points
-}
-
 template <int dim>
-std::unique_ptr<BasicBuiltProblem<dim>> cut_problem_piece(const Scene& scene, std::unique_ptr<BasicBuiltProblem<dim>> whole,
-                                                          int rank, int size, PieceOfMesh& where) {
+std::unique_ptr<BasicBuiltProblem<dim>> cut_problem_piece(std::unique_ptr<BasicBuiltProblem<dim>> whole, int rank, int size,
+                                                          PieceOfMesh& where) {
   const MeshOf<dim>& mesh = whole->mesh;
   const BasicContactProblem<dim>& problem = whole->problem;
   std::vector<int> facets;
   for (const auto& d : problem.elasticity.dirichlet) facets.insert(facets.end(), d.facets.begin(), d.facets.end());
   for (const auto& t : problem.elasticity.tractions) facets.insert(facets.end(), t.facets.begin(), t.facets.end());
-  for (const auto& p : problem.parts) facets.insert(facets.end(), p.facets.begin(), p.facets.end());
+  for (const auto& p : problem.parts) {
+    facets.insert(facets.end(), p.facets.begin(), p.facets.end());
+    facets.insert(facets.end(), p.against.begin(), p.against.end());
+  }
   where.vertices.order = hilbert_vertex_order(mesh);
   std::tie(where.vertices.first, where.vertices.end) = vertex_share(mesh.num_vertices(), rank, size);
   where.cells = piece_cells_around(mesh, where.vertices.mask(mesh.num_vertices()), facets);
   where.whole_cells = mesh.num_cells();
-  MeshOf<dim> piece = cut_mesh_piece(mesh, where.cells);
+  // the whole problem on the piece: its facets renumbered, the rest (numbered by vertices, or
+  // functions of the point) as it is
+  auto out = std::make_unique<BasicBuiltProblem<dim>>();
+  std::vector<int> facet_of;
+  out->mesh = cut_mesh_piece(mesh, where.cells, &facet_of);
+  const auto renumber = [&](std::vector<int>& ids) {
+    for (int& f : ids) {
+      f = facet_of[static_cast<std::size_t>(f)];
+      if (f < 0) throw InternalError("cut_problem_piece: a facet of the problem lies outside the piece");
+    }
+  };
+  out->problem = std::move(whole->problem);
+  out->problem.elasticity.mesh = &out->mesh;
+  for (auto& d : out->problem.elasticity.dirichlet) renumber(d.facets);
+  for (auto& t : out->problem.elasticity.tractions) renumber(t.facets);
+  for (auto& p : out->problem.parts) {
+    renumber(p.facets);
+    renumber(p.against);
+  }
+  out->has_contact = whole->has_contact;
+  out->warnings = std::move(whole->warnings);
+  out->bodies = std::move(whole->bodies);
+  for (BodyRange& b : out->bodies) {  // the piece's cells of each body, in the whole's order
+    const auto first = std::lower_bound(where.cells.begin(), where.cells.end(), b.first_cell);
+    const auto end = std::lower_bound(where.cells.begin(), where.cells.end(), b.first_cell + b.cells);
+    b.first_cell = static_cast<int>(first - where.cells.begin());
+    b.cells = static_cast<int>(end - first);
+  }
   whole.reset();
-  if constexpr (dim == 2)
-    return build_problem(scene, std::move(piece), false);  // the whole mesh's regions, region boxes applied
-  else
-    return build_problem(scene, std::move(piece));
+  return out;
 }
 
-template std::unique_ptr<BasicBuiltProblem<2>> cut_problem_piece<2>(const Scene&, std::unique_ptr<BasicBuiltProblem<2>>, int,
-                                                                    int, PieceOfMesh&);
-template std::unique_ptr<BasicBuiltProblem<3>> cut_problem_piece<3>(const Scene&, std::unique_ptr<BasicBuiltProblem<3>>, int,
-                                                                    int, PieceOfMesh&);
+template std::unique_ptr<BasicBuiltProblem<2>> cut_problem_piece<2>(std::unique_ptr<BasicBuiltProblem<2>>, int, int,
+                                                                    PieceOfMesh&);
+template std::unique_ptr<BasicBuiltProblem<3>> cut_problem_piece<3>(std::unique_ptr<BasicBuiltProblem<3>>, int, int,
+                                                                    PieceOfMesh&);
 
 }  // namespace hemivem

@@ -34,9 +34,10 @@ std::vector<int> piece_cells_around(const Mesh3D& mesh, const std::vector<char>&
 
 /// The mesh of the cells `cells` of `mesh` (increasing, distinct): every vertex of the mesh, the
 /// cells in that order with their regions, and each facet group restricted to the facets of
-/// those cells (a group none of whose facets is held stays, empty). InputError for cells out of
-/// range or out of order; MeshError as the mesh's constructor.
-Mesh cut_mesh_piece(const Mesh& mesh, std::span<const int> cells);
-Mesh3D cut_mesh_piece(const Mesh3D& mesh, std::span<const int> cells);
+/// those cells (a group none of whose facets is held stays, empty). Given `facets`, sets it to
+/// the piece's facet of each facet of `mesh` (-1 where the piece holds none of its cells).
+/// InputError for cells out of range or out of order; MeshError as the mesh's constructor.
+Mesh cut_mesh_piece(const Mesh& mesh, std::span<const int> cells, std::vector<int>* facets = nullptr);
+Mesh3D cut_mesh_piece(const Mesh3D& mesh, std::span<const int> cells, std::vector<int>* facets = nullptr);
 
 }  // namespace hemivem

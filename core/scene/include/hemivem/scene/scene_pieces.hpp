@@ -8,7 +8,6 @@
 
 #include <hemivem/estimate/estimate_pieces.hpp>
 #include <hemivem/mesh/box_piece.hpp>
-#include <hemivem/mesh/dimension.hpp>
 #include <hemivem/scene/scene.hpp>
 
 namespace hemivem {
@@ -36,22 +35,16 @@ std::unique_ptr<BasicBuiltProblem<dim>> build_problem_piece(const Scene& scene, 
 /// generated box: scene_piece), without adaptive steps.
 bool cuts_pieces(const Scene& scene);
 
-/// Whether each process keeps only its piece of `mesh`, the scene's mesh made whole: where
-/// cuts_pieces(scene) and, in the plane, no segment of the scene's supports, loads and contact
-/// parts holds both ends of an inner edge of the mesh (a piece's boundary holds inner edges of
-/// the whole, which such a segment would pick on the piece and not on the whole). The same on
-/// every process.
-template <int dim>
-bool cuts_pieces(const Scene& scene, const MeshOf<dim>& mesh);
-
 /// The problem of `whole` (build_problem<dim>(scene) on the whole mesh) on the piece of its mesh
 /// that process `rank` of `size` keeps (hemivem/mesh/mesh_piece.hpp): the process's vertices are
 /// its share (vertex_share) of the mesh's hilbert_vertex_order, the cells those around them and
-/// those of every facet of the problem's supports, loads and contact parts (piece_cells_around).
-/// The same problem on fewer cells, its vertices and their numbers the whole mesh's; `whole` is
-/// given back before the piece's problem is built. `where` tells where the piece lies.
+/// those of every facet of the problem's supports, loads and contact parts, a surface of another
+/// body they meet included (piece_cells_around). The same problem on fewer cells: its vertices
+/// and their numbers the whole mesh's, its facets the piece's of the same facets, each body's
+/// cells the piece's of that body (BodyRange); `whole` is given back. `where` tells where the
+/// piece lies.
 template <int dim>
-std::unique_ptr<BasicBuiltProblem<dim>> cut_problem_piece(const Scene& scene, std::unique_ptr<BasicBuiltProblem<dim>> whole,
-                                                          int rank, int size, PieceOfMesh& where);
+std::unique_ptr<BasicBuiltProblem<dim>> cut_problem_piece(std::unique_ptr<BasicBuiltProblem<dim>> whole, int rank, int size,
+                                                          PieceOfMesh& where);
 
 }  // namespace hemivem
