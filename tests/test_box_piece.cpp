@@ -317,6 +317,20 @@ TEST(MeshPiece, ThePiecesKeptOfAGmshSolidPoseTheWholeMeshsShares) {
   expect_cut_pieces_pose_the_whole_share<3>("gmsh-bracket-3d.toml");  // a file's face groups
 }
 
+// each body's kept cells one, the pairs across the bodies' contact posed as on the whole mesh
+TEST(MeshPiece, ThePiecesKeptOfSeveralBodiesPoseTheWholeMeshsShares) {
+  expect_cut_pieces_pose_the_whole_share<2>("shrink-fit.toml");  // two rings, each held by points
+  // two boxes, the upper pressed down by its top's displacement (the full-space route needs
+  // supports that hold each body)
+  Scene boxes = parse_scene(test::scenes_dir() / "two-boxes-3d.toml");
+  ASSERT_EQ(boxes.bodies.size(), 2u);
+  boxes.bodies[0].tractions.clear();
+  boxes.bodies[0].dirichlet.push_back(SceneDirichlet{BoundarySelector{{"top"}}, {}, {}, SceneScalar{-0.01}});
+  boxes.bodies[0].mesh.n = 4, boxes.bodies[0].mesh.ny = 4, boxes.bodies[0].mesh.nz = 3;
+  boxes.bodies[1].mesh.n = 3, boxes.bodies[1].mesh.ny = 3, boxes.bodies[1].mesh.nz = 3;
+  expect_cut_pieces_pose_the_whole_share<3>(boxes);
+}
+
 TEST(MeshPiece, APieceIsRefusedCellsOutOfOrderAndFlagsOfAnotherMesh) {
   const Mesh3D whole = make_cubes(GridSize3(3, 2, 4));
   const std::vector<int> backwards{3, 1};

@@ -212,7 +212,15 @@ void expect_processes_agree(const std::string& flags, const fs::path& ref, int p
   EXPECT_GT(eta_b, 0.0);
   EXPECT_NEAR(eta_a, eta_b, 1e-8 * eta_b);
   const int cells = b["mesh"]["elements"].get<int>();
-  if (pieces > 1) {  // each process wrote its piece, each cell in one piece, named by solution.pvtu
+  if (fs::exists(ref / "solution.vtm")) {  // several bodies: each body's file of the whole mesh, as in one process
+    EXPECT_FALSE(fs::exists(out / "solution.pvtu"));
+    for (const auto& entry : fs::directory_iterator(ref))
+      if (entry.path().extension() == ".vtu") {
+        SCOPED_TRACE(entry.path().filename().string());
+        ASSERT_TRUE(fs::exists(out / entry.path().filename()));
+        EXPECT_EQ(vtu_cells(out / entry.path().filename()), vtu_cells(entry.path()));
+      }
+  } else if (pieces > 1) {  // each process wrote its piece, each cell in one piece, named by solution.pvtu
     expect_pieces_make_the_whole(out, "solution", ref / "solution.vtu", processes, {"von_mises", "error_indicator"}, a["files"]);
   } else {  // of the whole mesh
     const std::string vtu = slurp(out / "solution.vtu");
@@ -346,7 +354,17 @@ TEST(CliFullSpaceMpi, TwoJoinedSolidsAcrossProcessesAreTheCondensedAnswer) {
   const std::string flags = toml.string() + " --tol 1e-11";
   const fs::path ref = solve_condensed(flags, "condensed-two-solids");
   if (ref.empty()) return;
-  expect_processes_agree(flags, ref, 2, "two-solids", true, 1);  // two bodies: each process makes both whole
+  // each process makes both bodies whole and keeps its piece of each
+  for (const int processes : {2, 3}) expect_processes_agree(flags, ref, processes, "two-solids", true, processes);
+}
+
+// two plane bodies held by points (shrink-fit.toml): each process keeps the cells around the
+// points with its piece of each body
+TEST(CliFullSpaceMpi, ThePiecesKeptOfTwoBodiesHeldByPointsAreTheCondensedAnswer) {
+  const std::string flags = scene("shrink-fit.toml") + " --tol 1e-11";
+  const fs::path ref = solve_condensed(flags, "condensed-shrink-fit");
+  if (ref.empty()) return;
+  for (const int processes : {2, 3}) expect_processes_agree(flags, ref, processes, "shrink-fit", false, processes);
 }
 
 // a Voronoi mesh of a solid, made whole by every process, each computing the cells of its share

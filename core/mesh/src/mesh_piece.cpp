@@ -22,18 +22,17 @@ std::span<const int> vertices_of(const Mesh3D& mesh, int c) { return mesh.cell_v
 std::array<int, 2> facet_cells(const Mesh& mesh, int f) { return {mesh.edge(f).left, mesh.edge(f).right}; }
 std::array<int, 2> facet_cells(const Mesh3D& mesh, int f) { return {mesh.face(f).inner, mesh.face(f).outer}; }
 
-/// Adds to `keep` the cells of paths through the mesh (across facets) from the part of the kept
-/// cells that holds the first kept cell to every other part, so that the kept cells are one body
-/// as the mesh is: one breadth-first search from that part, each other part joined along the
-/// path by which the search first reached it.
+/// Adds to `keep` the cells of paths through the mesh (across facets) that join the kept cells
+/// of each connected part of the mesh (a body) into one, so that the kept cells are as many
+/// bodies as the mesh holds of them: in each body, one breadth-first search from the part of
+/// the kept cells that holds its first kept cell, each other part joined along the path by
+/// which the search first reached it.
 template <class MeshType>
 void join_parts(const MeshType& mesh, std::vector<char>& keep) {
   const auto nc = static_cast<std::size_t>(mesh.num_cells());
-  const auto first = static_cast<std::size_t>(std::find(keep.begin(), keep.end(), 1) - keep.begin());
-  if (first == nc) return;
-  std::vector<int> parent(nc, -2);  // -2: not reached; -1: in the first part
+  std::vector<int> parent(nc, -2);  // -2: not reached; -1: in the body's first part
   std::vector<int> queue;
-  // the part of `first`: the kept cells reached across facets from it
+  // the kept cells reached across kept cells' facets from `from`
   const auto grow_part = [&](std::size_t from) {
     std::vector<int> stack{static_cast<int>(from)};
     while (!stack.empty()) {
@@ -48,28 +47,32 @@ void join_parts(const MeshType& mesh, std::vector<char>& keep) {
           }
     }
   };
-  parent[first] = -1;
-  grow_part(first);
-  for (std::size_t head = 0; head < queue.size(); ++head) {
-    const int c = queue[head];
-    for (int f : detail::cell_facets(mesh, c))
-      for (int d : facet_cells(mesh, f)) {
-        if (d < 0 || parent[static_cast<std::size_t>(d)] != -2) continue;
-        parent[static_cast<std::size_t>(d)] = c;
-        if (!keep[static_cast<std::size_t>(d)]) {
-          queue.push_back(d);
-          continue;
+  for (std::size_t first = 0; first < nc; ++first) {
+    if (!keep[first] || parent[first] != -2) continue;  // a body's first kept cell not yet reached
+    queue.clear();
+    parent[first] = -1;
+    grow_part(first);
+    for (std::size_t head = 0; head < queue.size(); ++head) {
+      const int c = queue[head];
+      for (int f : detail::cell_facets(mesh, c))
+        for (int d : facet_cells(mesh, f)) {
+          if (d < 0 || parent[static_cast<std::size_t>(d)] != -2) continue;
+          parent[static_cast<std::size_t>(d)] = c;
+          if (!keep[static_cast<std::size_t>(d)]) {
+            queue.push_back(d);
+            continue;
+          }
+          // another part reached: the path to it kept, and with the part joined to the first
+          for (int p = c; parent[static_cast<std::size_t>(p)] >= 0;) {
+            const int up = parent[static_cast<std::size_t>(p)];
+            keep[static_cast<std::size_t>(p)] = 1;
+            parent[static_cast<std::size_t>(p)] = -1;
+            p = up;
+          }
+          parent[static_cast<std::size_t>(d)] = -1;
+          grow_part(static_cast<std::size_t>(d));
         }
-        // another part reached: the path to it kept, and with the part joined to the first
-        for (int p = c; parent[static_cast<std::size_t>(p)] >= 0;) {
-          const int up = parent[static_cast<std::size_t>(p)];
-          keep[static_cast<std::size_t>(p)] = 1;
-          parent[static_cast<std::size_t>(p)] = -1;
-          p = up;
-        }
-        parent[static_cast<std::size_t>(d)] = -1;
-        grow_part(static_cast<std::size_t>(d));
-      }
+    }
   }
 }
 
@@ -156,6 +159,26 @@ std::vector<int> cells_around(const MeshType& mesh, const std::vector<char>& own
   return out;
 }
 
+/// The body of each vertex of a plane mesh: the connected part of its cells that holds it (the
+/// pieces of a mesh of several bodies, whose vertices may coincide across bodies: Mesh's
+/// `bodies`). A solid mesh is told nothing.
+std::vector<int> vertex_bodies(const Mesh& mesh) {
+  std::vector<int> up(static_cast<std::size_t>(mesh.num_vertices()));
+  for (std::size_t v = 0; v < up.size(); ++v) up[v] = static_cast<int>(v);
+  const auto at = [&](int v) -> int& { return up[static_cast<std::size_t>(v)]; };
+  const auto root = [&](int v) {
+    while (at(v) != v) v = at(v) = at(at(v));  // halving the path on the way up
+    return v;
+  };
+  for (int c = 0; c < mesh.num_elements(); ++c) {
+    const auto vs = mesh.element(c);
+    for (int v : vs) up[static_cast<std::size_t>(root(v))] = root(vs[0]);
+  }
+  for (std::size_t v = 0; v < up.size(); ++v) up[v] = root(static_cast<int>(v));
+  return up;
+}
+std::vector<int> vertex_bodies(const Mesh3D&) { return {}; }
+
 template <class MeshType>
 MeshType cut(const MeshType& mesh, std::span<const int> cells, std::vector<int>* facets) {
   for (std::size_t k = 0; k < cells.size(); ++k)
@@ -171,7 +194,7 @@ MeshType cut(const MeshType& mesh, std::span<const int> cells, std::vector<int>*
     kept.push_back(detail::cell_of(mesh, c));
     regions.push_back(mesh.region(c));
   }
-  MeshType piece = detail::make_mesh_of(mesh.vertices(), std::move(kept), std::move(regions));
+  MeshType piece = detail::make_mesh_of(mesh.vertices(), std::move(kept), std::move(regions), vertex_bodies(mesh));
   if (detail::facet_groups(mesh).empty() && facets == nullptr) return piece;
   // cell c's local facet l is the piece's cell's local facet l (its vertex lists are given in
   // that order)

@@ -91,7 +91,9 @@ std::unique_ptr<BasicBuiltProblem<3>> build_problem_piece<3>(const Scene& scene,
   return build_problem(scene, std::move(mesh));
 }
 
-bool cuts_pieces(const Scene& scene) { return scene.bodies.empty() && !scene.adapt && !scene_piece(scene, 0, 1); }
+bool cuts_pieces(const Scene& scene) {
+  return !scene.adapt && !(scene.path && !scene.bodies.empty()) && !scene_piece(scene, 0, 1);
+}
 
 template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> cut_problem_piece(std::unique_ptr<BasicBuiltProblem<dim>> whole, int rank, int size,
@@ -107,7 +109,12 @@ std::unique_ptr<BasicBuiltProblem<dim>> cut_problem_piece(std::unique_ptr<BasicB
   }
   where.vertices.order = hilbert_vertex_order(mesh);
   std::tie(where.vertices.first, where.vertices.end) = vertex_share(mesh.num_vertices(), rank, size);
-  where.cells = piece_cells_around(mesh, where.vertices.mask(mesh.num_vertices()), facets);
+  // the cells around the process's vertices and around the vertices supported alone (a body's
+  // supports, when they are points, are in every piece of it)
+  std::vector<char> around = where.vertices.mask(mesh.num_vertices());
+  for (const auto& d : problem.elasticity.dirichlet)
+    for (int v : d.vertices) around[static_cast<std::size_t>(v)] = 1;
+  where.cells = piece_cells_around(mesh, around, facets);
   where.whole_cells = mesh.num_cells();
   // the whole problem on the piece: its facets renumbered, the rest (numbered by vertices, or
   // functions of the point) as it is

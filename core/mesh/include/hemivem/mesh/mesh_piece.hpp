@@ -11,8 +11,8 @@
 //     reads), or
 //   - have one of some given facets (the supports, loads and contact of a scene: a surface's
 //     worth), or
-//   - join the others into one body (a path of cells through the mesh to each part not yet
-//     joined) or, in a solid, close the piece's surface (every cell around an edge that two
+//   - join the others of each body of the mesh (each connected part) into one (a path of
+//     cells through the body to each part not yet joined) or, in a solid, close the piece's surface (every cell around an edge that two
 //     kept cells meet along alone),
 // in the whole mesh's order, each as the whole holds it with its region; each facet group holds
 // those of its facets that the piece holds.

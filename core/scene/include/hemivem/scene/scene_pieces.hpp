@@ -31,15 +31,16 @@ template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> build_problem_piece(const Scene& scene, const BoxPiece& piece);
 
 /// Whether a scene's mesh may be made whole and each process keep only its piece of it for the
-/// solve (cut_problem_piece): a scene of one body whose mesh is made whole (no piece of a
-/// generated box: scene_piece), without adaptive steps.
+/// solve (cut_problem_piece): a scene whose mesh is made whole (no piece of a generated box:
+/// scene_piece), without adaptive steps, of one body or, in a static solve, of several.
 bool cuts_pieces(const Scene& scene);
 
 /// The problem of `whole` (build_problem<dim>(scene) on the whole mesh) on the piece of its mesh
 /// that process `rank` of `size` keeps (hemivem/mesh/mesh_piece.hpp): the process's vertices are
 /// its share (vertex_share) of the mesh's hilbert_vertex_order, the cells those around them and
-/// those of every facet of the problem's supports, loads and contact parts, a surface of another
-/// body they meet included (piece_cells_around). The same problem on fewer cells: its vertices
+/// around the vertices supported alone (a support's points), and those of every facet of the
+/// problem's supports, loads and contact parts, a surface of another body they meet included
+/// (piece_cells_around: each body's kept cells one). The same problem on fewer cells: its vertices
 /// and their numbers the whole mesh's, its facets the piece's of the same facets, each body's
 /// cells the piece's of that body (BodyRange); `whole` is given back. `where` tells where the
 /// piece lies.
