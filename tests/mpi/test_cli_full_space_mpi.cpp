@@ -337,9 +337,10 @@ TEST(CliFullSpaceMpi, ASolidsFrictionAcrossProcessesIsTheCondensedAnswer) {
   expect_processes_agree(flags, ref, 2, "friction", true, 2);
 }
 
-// two solids joined at their contact, with Tresca friction between them: the upper's vertices
-// come first, so that the slabs put the pairs' nodes and the vertices across from them on
-// different processes
+// two solids joined at their contact, with Tresca friction between them, each process keeping
+// its piece of each body along the Hilbert order of both (the library's test of the bodies
+// across processes, FullSpaceMpi, puts the pairs' nodes and the vertices across from them on
+// different processes)
 TEST(CliFullSpaceMpi, TwoJoinedSolidsAcrossProcessesAreTheCondensedAnswer) {
   const fs::path toml = scratch("two-solids.toml");
   fs::create_directories(toml.parent_path());
