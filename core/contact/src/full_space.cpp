@@ -3,8 +3,12 @@
 
 #include <hemivem/certificate.hpp>
 #include <hemivem/error.hpp>
+#include <hemivem/existence.hpp>
 #include <hemivem/group_motion.hpp>
 #include <hemivem/minimizer_run.hpp>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
 
 #include <algorithm>
 #include <chrono>
@@ -94,6 +98,8 @@ struct ShareView {
   std::vector<int> tied;
   /// A itself, lent to the iteration (minimize_full_space_in_place), or null.
   SparseMatrix* lent = nullptr;
+  /// The rigid motions A leaves free (Condensation::free_motions()), or null.
+  const Eigen::MatrixXd* free_motions = nullptr;
 };
 
 ShareView whole(const Condensation& posed, const ReducedProblem& coordinates, const Eigen::VectorXd& origin) {
@@ -101,7 +107,8 @@ ShareView whole(const Condensation& posed, const ReducedProblem& coordinates, co
     throw InternalError("the full-space route needs the posed problem's coordinates");
   std::vector<int> rows(static_cast<std::size_t>(coordinates.size()));
   for (Eigen::Index k = 0; k < coordinates.size(); ++k) rows[static_cast<std::size_t>(k)] = posed.rotated_index(k);
-  return {posed.rotated_matrix(), posed.rotated_load(), coordinates, std::move(rows), origin, posed.tied_rows()};
+  return {posed.rotated_matrix(), posed.rotated_load(), coordinates, std::move(rows), origin, posed.tied_rows(),
+          nullptr,  posed.free_motions().cols() > 0 ? &posed.free_motions() : nullptr};
 }
 
 class FullSpaceNewton {
@@ -155,6 +162,15 @@ class FullSpaceNewton {
         throw InternalError(broken.empty() ? "a group's unknowns do not share their pattern on another process"
                                            : broken);
     };
+    if (all.max(view.free_motions ? 1.0 : 0.0) > 0.0) {
+      if (all.size() > 1)
+        throw InputError("the full-space route across processes needs supports that hold the body (its rigid "
+                         "motions are held by the contact alone): run it in one process, or use a linear engine "
+                         "that factorizes");
+      if (view.free_motions->rows() != A_.rows()) throw InternalError("free motions of another problem's unknowns");
+      free_motions_ = view.free_motions;
+      for (Eigen::Index k = 0; k < m; ++k) proximal_ = std::max(proximal_, stiffness_(k));
+    }
     agreed([this] { find_groups(); });
     any_groups_ = all.max(groups_.empty() ? 0.0 : 1.0) > 0.0;
     if (all.size() > 1 && any_groups_) agreed([this] { find_ghost_groups(); });
@@ -253,6 +269,14 @@ class FullSpaceNewton {
     CertifiedPoint point = certify(x);
     Counts counts;
     SystemCache cache;
+    if (free_motions_ && options.check_existence) {
+      const Existence e = existence();
+      if (!e.bounded) {
+        *x_io = std::move(x);
+        return finish(krylov.name(), MinimizerStatus::unbounded, e.message, point, counts, st, t0, x_io,
+                      std::move(result));
+      }
+    }
     for (int it = 0;; ++it) {
       Eigen::VectorXd Ax;
       const Eigen::VectorXd r = residual(x, &Ax);
@@ -458,7 +482,9 @@ class FullSpaceNewton {
     result.iterations = st.newton_iterations;
     result.function_evaluations = counts.functions;
     result.subgradient_evaluations = counts.certificates;
-    result.may_be_nonunique = all_.max(p_.all_laws_convex() ? 0.0 : 1.0) > 0.0;
+    // convex laws prove uniqueness where A is definite; a semi-coercive problem's F is convex but
+    // not strictly along its free motions
+    result.may_be_nonunique = all_.max(p_.all_laws_convex() && !free_motions_ ? 0.0 : 1.0) > 0.0;
     result.status = point.certificate.converged()
                         ? MinimizerStatus::converged
                         : (status == MinimizerStatus::converged ? MinimizerStatus::stalled : status);
@@ -552,6 +578,15 @@ class FullSpaceNewton {
         rhs(row) = -mk.grad;
         shift(row) = clip ? std::max(0.0, mk.curvature) : mk.curvature;
       }
+    }
+    // a semi-coercive problem's Newton matrix is singular along a free motion that no held unknown
+    // and no law's curvature stops: there a proximal term on the moving coordinates (a Levenberg-
+    // Marquardt shift, rho times the decade of the certificate's residual) keeps it definite and
+    // vanishes as the iteration converges
+    if (free_motions_ && !holds_free_motions(eliminated, shift)) {
+      const double mu = proximal_ * std::pow(10.0, std::floor(std::log10(std::clamp(worst, 1e-16, 1.0))));
+      for (const Coordinate& c : coordinates_)
+        if (!eliminated[static_cast<std::size_t>(c.row)]) shift(c.row) += mu;
     }
     // the prescribed steps' forces on the others, in the groups' frames
     Eigen::VectorXd Ad = d;
@@ -863,6 +898,62 @@ class FullSpaceNewton {
   };
   std::vector<GhostGroup> ghost_groups_;
   bool any_groups_ = false;  ///< some process has a group (the same on every process)
+  /// A semi-coercive problem's free motions (one process), or null; the largest stiffness of a
+  /// coordinate, the scale of the proximal term of its Newton systems.
+  const Eigen::MatrixXd* free_motions_ = nullptr;
+  double proximal_ = 0.0;
+
+  // Does the Newton matrix of the unknowns `eliminated` and the curvature shifts `shift` hold every
+  // free motion M xi, within 1e-8 of the stiffness rho? On a free motion it is the quadratic form
+  // xi^T K xi, K = sum over the coordinates' and tied rows of weight_i M_i^T M_i, the weight rho at
+  // an eliminated row and the shift at a moving one (a group's rows the smaller of its two).
+  bool holds_free_motions(const std::vector<char>& eliminated, const Eigen::VectorXd& shift) const {
+    const Eigen::MatrixXd& M = *free_motions_;
+    Eigen::MatrixXd K = Eigen::MatrixXd::Zero(M.cols(), M.cols()), G = K;
+    const auto weight = [&](int row) { return eliminated[static_cast<std::size_t>(row)] ? proximal_ : std::max(0.0, shift(row)); };
+    const auto add = [&](int row, double w) {
+      const Eigen::MatrixXd mm = M.row(row).transpose() * M.row(row);
+      K += w * mm;
+      G += mm;
+    };
+    for (const Coordinate& c : coordinates_) {
+      if (c.group >= 0) continue;
+      add(c.row, weight(c.row));
+    }
+    for (const Group& g : groups_) {
+      const double w = std::min(weight(g.row1), weight(g.row2));
+      add(g.row1, w);
+      add(g.row2, w);
+    }
+    for (int row : tied_) add(row, proximal_);
+    const double top = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(G, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
+    const double least = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(K, Eigen::EigenvaluesOnly).eigenvalues().minCoeff();
+    return least > 1e-8 * proximal_ * top;
+  }
+
+  // Is E bounded below along the free motions? check_existence() of the coordinates whose null
+  // directions are the motions' coordinate components (those that keep the tied unknowns at 0),
+  // orthonormalised, with the load's work along each as c's: along a free motion A's energy is
+  // constant and E changes by the laws' and the load's terms alone.
+  Existence existence() const {
+    Eigen::MatrixXd M = *free_motions_;
+    if (!tied_.empty()) {
+      Eigen::MatrixXd T(static_cast<Eigen::Index>(tied_.size()), M.cols());
+      for (std::size_t i = 0; i < tied_.size(); ++i) T.row(static_cast<Eigen::Index>(i)) = M.row(tied_[i]);
+      M = M * null_space(T.transpose() * T);
+    }
+    Eigen::MatrixXd D(p_.size(), M.cols());
+    for (std::size_t k = 0; k < coordinates_.size(); ++k) D.row(static_cast<Eigen::Index>(k)) = M.row(coordinates_[k].row);
+    const Eigen::VectorXd work = M.transpose() * b_;
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(D, Eigen::ComputeThinU | Eigen::ComputeThinV);
+    const Eigen::VectorXd& sigma = svd.singularValues();
+    Eigen::Index r = 0;
+    while (r < sigma.size() && sigma(r) > null_space_tolerance * sigma(0)) ++r;
+    ReducedProblem q = p_;
+    q.c = svd.matrixU().leftCols(r) *
+          (svd.matrixV().leftCols(r).transpose() * work).cwiseQuotient(sigma.head(r));
+    return check_existence(q, svd.matrixU().leftCols(r));
+  }
 };
 
 }  // namespace
@@ -879,11 +970,17 @@ MinimizerResult minimize_full_space(const Condensation& posed, KrylovSolver& kry
   return minimize_full_space(posed, posed.reduced(), posed.origin(), krylov, hints, options, x, statistics);
 }
 
+namespace {
+const Eigen::MatrixXd* motions_of(const FullSpaceShare& share) {
+  return share.free_motions.cols() > 0 ? &share.free_motions : nullptr;
+}
+}  // namespace
+
 CertifiedPoint certify_full_space(const FullSpaceShare& share, const RowDistribution& rows, const Eigen::VectorXd& x,
                                   double tol) {
   check_tolerance(tol, "tolerance");
   const ShareView view{share.matrix,          share.load,   share.coordinates,
-                       share.coordinate_rows, share.origin, share.tied_rows};
+                       share.coordinate_rows, share.origin, share.tied_rows, nullptr, motions_of(share)};
   return FullSpaceNewton(view, rows, tol).certify(x);
 }
 
@@ -995,6 +1092,7 @@ FullSpaceShare share_of(const Condensation& posed, const RowLayout& layout) {
   share.matrix.makeCompressed();
   share.load = posed.rotated_load().segment(first, owned);
   share_coordinates(posed, first, owned, share);
+  if (posed.free_motions().cols() > 0) share.free_motions = posed.free_motions().middleRows(first, owned);
   return share;
 }
 
@@ -1002,7 +1100,7 @@ MinimizerResult minimize_full_space(const FullSpaceShare& share, KrylovSolver& k
                                     const MinimizerOptions& options, Eigen::VectorXd* x,
                                     FullSpaceStatistics* statistics) {
   const ShareView view{share.matrix,          share.load,   share.coordinates,
-                       share.coordinate_rows, share.origin, share.tied_rows};
+                       share.coordinate_rows, share.origin, share.tied_rows, nullptr, motions_of(share)};
   return run_newton(view, krylov, hints, options, x, statistics);
 }
 
@@ -1010,7 +1108,7 @@ MinimizerResult minimize_full_space_in_place(FullSpaceShare& share, KrylovSolver
                                              const MinimizerOptions& options, Eigen::VectorXd* x,
                                              FullSpaceStatistics* statistics) {
   const ShareView view{share.matrix, share.load,   share.coordinates, share.coordinate_rows,
-                       share.origin, share.tied_rows, &share.matrix};
+                       share.origin, share.tied_rows, &share.matrix, motions_of(share)};
   return run_newton(view, krylov, hints, options, x, statistics);
 }
 

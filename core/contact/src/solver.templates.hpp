@@ -211,8 +211,9 @@ void require_full_space_posable(const std::vector<BasicContactPart<dim>>& parts,
                                 const std::vector<std::string>& held_by_contact) {
   require_contact_laws(parts);
   if (!held_by_contact.empty())
-    throw InputError("the full-space route needs supports that hold the body (" + held_by_contact.front() +
-                     " is held by the contact alone): use a linear engine that factorizes")
+    throw InputError("the full-space route across processes needs supports that hold the body (" +
+                     held_by_contact.front() +
+                     " is held by the contact alone): run it in one process, or use a linear engine that factorizes")
         .mark_about(ProblemPart::supports);
 }
 
@@ -334,11 +335,18 @@ void BasicContactSolver<dim>::condense() {
 // the rotated system, nothing factorized.
 template <int dim>
 void BasicContactSolver<dim>::pose() {
-  require_full_space_posable(parts_, common_.held_by_contact);
+  require_contact_laws(parts_);
   const auto t = Clock::now();
   condensation_ = about(ProblemPart::contact, [&] {
     return std::make_unique<Condensation>(*system_, boundary_, part_conditions(parts_), Condensation::PoseOnly{});
   });
+  if (!common_.held_by_contact.empty()) {
+    // a semi-coercive problem: its free motions, for the existence proof and the Newton systems
+    const Eigen::MatrixXd nodal = BasicRigidMotions<dim>(*problem_.elasticity.mesh, system_->dofs).nodal();
+    Eigen::MatrixXd rotated(system_->dofs.num_free(), nodal.cols());
+    for (Eigen::Index k = 0; k < nodal.cols(); ++k) rotated.col(k) = condensation_->rotated_free(nodal.col(k));
+    condensation_->set_free_motions(std::move(rotated));
+  }
   // one body's assembled matrix, the solver's own, is the posed rotated one: given up
   if (assembled_ && !condensation_->joins_bodies()) {
     SparseMatrix().swap(assembled_->A);

@@ -256,6 +256,13 @@ class Condensation {
   Eigen::VectorXd unrotated_product(const Eigen::VectorXd& uf) const;
   /// True when two bodies are joined at pairs (the rotated system is the joined one).
   bool joins_bodies() const noexcept { return !joining_.empty(); }
+  /// The rigid motions the supports leave free and the contact alone holds (a semi-coercive
+  /// problem, hemivem/contact/supports.hpp), as rotated free unknowns (rotated_free() of their
+  /// nodal displacements), one column each; no columns where the supports hold the body. Set by
+  /// whoever poses the problem for the full-space route, which proves from them that E is bounded
+  /// below (hemivem/existence.hpp) and keeps its Newton systems definite along them.
+  const Eigen::MatrixXd& free_motions() const noexcept { return free_motions_; }
+  void set_free_motions(Eigen::MatrixXd rotated) { free_motions_ = std::move(rotated); }
   /// The part of the free unknowns first, ..., first + b.size() - 1 (`b` their unjoined load)
   /// of what the joined system's energy leaves out of the bodies' (Joining::shift_energy, at
   /// the prescribed values posed): 0 for one body and without a shift.
@@ -383,6 +390,7 @@ class Condensation {
   double a22_norm1_ = 0.0;        // ||A22||_1
   Eigen::VectorXd b2_;
   SparseMatrix At_;     // the rotated system (PoseOnly)
+  Eigen::MatrixXd free_motions_;
   Eigen::VectorXd bt_;
 };
 

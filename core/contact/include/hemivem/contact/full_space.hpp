@@ -90,6 +90,9 @@ struct FullSpaceShare {
   std::vector<int> tied_rows;        ///< the local rows of tied unknowns (their reactions are not residuals)
   /// Each coordinate's number in the whole problem (of the posed problem it was taken from).
   std::vector<Eigen::Index> coordinate_numbers;
+  /// The owned rows of the posed problem's free motions (Condensation::free_motions()): a
+  /// semi-coercive problem, which the iteration takes in one process only.
+  Eigen::MatrixXd free_motions;
 };
 
 /// The layout of rows first, ..., first + owned - 1 of `posed`'s rotated unknowns, its ghosts the
