@@ -534,6 +534,9 @@ TEST(CliFullSpaceMpi, WhatTheRouteRunsInOneProcessIsRefusedOnSeveral) {
   };
   const std::vector<Case> cases{
       {"--n 8 --linear eigen-cg", "the linear engine 'eigen-cg' runs in one process"},
+      // a body held by its contact alone: its existence check needs the whole contact surface
+      {scene("block-between-rollers.toml") + " --set 'mesh.n=[8, 2]' --linear petsc-gamg",
+       "the full-space route across processes needs supports that hold the body (translation along (0, 1)"},
   };
   for (const Case& k : cases) {
     SCOPED_TRACE(k.flags);

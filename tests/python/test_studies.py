@@ -67,21 +67,17 @@ def test_check_runs_the_full_space_route_with_every_krylov_engine(small_scene):
     assert e.value.where == "pairs"
 
 
-def test_check_reports_the_full_space_pair_refused_where_the_route_refuses_the_scene():
-    # a block held vertically by its contact alone: the route refuses it, the check passes on
-    # the condensed pair; with the full-space pair alone nothing is solved: the refusal is raised
+def test_check_solves_a_body_held_by_its_contact_alone_on_both_routes():
+    # a block held vertically by its contact alone: the full-space pair solves it as the
+    # condensed pair does, and agrees with it
     scene = hemivem.Scene.from_toml(os.path.join(ROOT, "scenes", "block-between-rollers.toml"))
     scene.set("mesh.n", [8, 2])
     r = hemivem.check(scene, pairs=[("eigen", "ssn"), ("eigen-cg", "ssn")])
     assert r["exit_code"] == 0, r["verdict"]
-    assert r["pairs"][0]["converged"]
-    refused = r["pairs"][1]
-    assert refused["status"] == "refused" and not refused["converged"]
-    assert "the full-space route needs supports that hold the body" in refused["message"]
-    assert r["refused"] == ["eigen-cg+ssn"]
-    assert np.isnan(r["differences"][0, 1])
-    with pytest.raises(hemivem.InputError, match="full-space route"):
-        hemivem.check(scene, pairs=[("eigen-cg", "ssn")])
+    assert r["pairs"][0]["converged"] and r["pairs"][1]["converged"], r["pairs"][1]["message"]
+    assert r["pairs"][1]["route"] == "full_space"
+    assert r["refused"] == []
+    assert r["differences"][0, 1] <= 1e-8
 
 
 def test_check_refuses_an_agree_that_is_not_positive():
