@@ -359,40 +359,6 @@ TEST(AppCheck, ABodyHeldByItsContactAloneIsCheckedOnBothRoutes) {
   EXPECT_TRUE(alone.runs[0].converged) << alone.runs[0].message;
 }
 
-// A scene the full-space route refuses (a global search, which the route does not run): the
-// full-space pairs are refused with the route's reason, which neither fails the check nor is
-// compared; the condensed pair is checked as ever. When every pair asked for is refused,
-// nothing was solved and the refusal is the error.
-TEST(AppCheck, ASceneTheFullSpaceRouteRefusesIsRefusedForItsPairsAlone) {
-  Scene scene = parse_scene(test::scenes_dir() / "delamination.toml");
-  apply_overrides(scene, {"mesh.n=[16, 2]", "solver.max_starts=4"});
-  CheckOptions o;
-  o.pairs = {{"eigen", "ssn"}};
-  for (const std::string& engine : available_krylov_solvers()) o.pairs.push_back({engine, "ssn"});
-  const CheckResult r = run_check(scene, o);
-  ASSERT_TRUE(r.runs[0].converged) << r.runs[0].message;
-  EXPECT_FALSE(r.runs[0].refused);
-  EXPECT_EQ(r.comparison.refused, static_cast<int>(r.runs.size()) - 1);
-  EXPECT_FALSE(r.comparison.any_failed);
-  for (std::size_t i = 1; i < r.runs.size(); ++i) {
-    const PairRun& run = r.runs[i];
-    SCOPED_TRACE(run.pair.label());
-    EXPECT_TRUE(run.refused && run.failed);
-    EXPECT_EQ(run.status, "refused");
-    EXPECT_NE(run.message.find("full-space route"), std::string::npos) << run.message;
-    EXPECT_TRUE(std::isnan(r.comparison.diff[0][i]));
-    EXPECT_NE(r.verdict.find(run.pair.label()), std::string::npos) << r.verdict;
-  }
-  EXPECT_EQ(r.verdict.rfind("all 1 pairs converged", 0), 0u) << r.verdict;
-  const nlohmann::json j = check_json(scene, r);
-  EXPECT_EQ(j["refused"].size(), r.runs.size() - 1);
-  EXPECT_EQ(j["pairs"][1]["status"], "refused");
-
-  o.pairs = {{"eigen-cg", "ssn"}};
-  const std::string error = test::input_error_of([&] { (void)run_check(scene, o); });
-  EXPECT_NE(error.find("full-space route"), std::string::npos) << error;
-}
-
 TEST(AppStudy, TheErrorIsTheEnergyOfTheProlongedDifferenceOfTwoSolves) {
   const Scene scene = small_plane(8);
   StudyOptions o;
@@ -506,20 +472,17 @@ TEST(AppBench, FullSpacePairsAreTimedAndMeasuredLikeTheOthers) {
   EXPECT_NE(bench_plot_script({{"eigen-cg", "ssn", {{0.1, 0.2}}}}).find("linear engine eigen-cg (full-space route)"),
             std::string::npos);
 
-  // the full-space route runs no global search: it refuses the delamination scene by name
-  Scene refused = parse_scene(test::scenes_dir() / "delamination.toml");
-  apply_overrides(refused, {"solver.max_starts=4"});
+  // a body held by its contact alone, pressed uniformly: its answer is affine, which both routes
+  // reproduce on every mesh (the patch test), so the error against the finer mesh is round-off
+  const Scene held = parse_scene(test::scenes_dir() / "block-between-rollers.toml");
   o.n = {4};
   o.ref = 8;
   o.pairs = {{"eigen", "ssn"}, {"eigen-cg", "ssn"}};
-  const BenchResult b = run_bench(refused, o);
+  const BenchResult b = run_bench(held, o);
   ASSERT_EQ(b.rows.size(), 2u);
-  EXPECT_TRUE(b.rows[0].run.converged);
-  EXPECT_TRUE(b.rows[1].run.refused);
-  EXPECT_EQ(b.rows[1].run.status, "refused");
-  EXPECT_TRUE(std::isnan(b.rows[1].error));
-  EXPECT_TRUE(b.converged) << "a route that refuses the scene is no failure of the bench";
-  EXPECT_EQ(bench_json(b)["rows"][1]["status"], "refused");
+  for (const BenchRow& row : b.rows) ASSERT_TRUE(row.run.converged && !row.run.refused) << row.run.message;
+  for (const BenchRow& row : b.rows) EXPECT_LE(row.error, 1e-12) << row.run.pair.label();
+  EXPECT_TRUE(b.converged);
 }
 
 TEST(AppBench, APathIsBenchmarkedAtItsLastStep) {

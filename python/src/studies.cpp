@@ -203,8 +203,8 @@ solver.tolerance of every pair (--tol). pairs: a list of (linear, minimizer) nam
 every built pair but mumps-mpi's, which run under an MPI launcher only: the condensed route's
 pairs and the full-space route's, a Krylov engine with ssn ("petsc-gamg", "petsc-hypre",
 "eigen-cg"; a Krylov engine takes ssn only). Each pair's
-"route" is "condensed" or "full_space"; a full-space pair whose route refuses the scene (a global
-search) has the status "refused", its reason in "message", and is not a
+"route" is "condensed" or "full_space"; a full-space pair whose route refuses the scene (an
+InputError of the route) has the status "refused", its reason in "message", and is not a
 failure (the scene's "refused" lists them). Runs without the GIL; Ctrl-C is honoured after
 each pair.)doc";
 

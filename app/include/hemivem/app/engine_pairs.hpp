@@ -5,7 +5,7 @@
 // engine with ssn's Newton iteration in the whole space) is BasicContactSolver with that
 // engine on the same problem: it assembles and poses the problem itself (its solver takes no
 // assembled system, and there is nothing to condense), and a scene the route refuses (an
-// InputError: a global search) is that pair refused, not an error of the
+// InputError) is that pair refused, not an error of the
 // run. A loading path (a [path] table, or friction whose bound depends on the normal contact:
 // scene_is_path) is solved by each pair along the whole path (solve_path: its own assembly
 // and condensation or posing), every step's displacement kept. hemivem check, hemivem bench
@@ -50,8 +50,8 @@ std::vector<Pair> available_pairs();
 struct PairRun {
   Pair pair;
   bool failed = false;        ///< the linear engine threw: no solution
-  /// A full-space pair whose route refuses the scene (its InputError, e.g. a global
-  /// search): failed too (no solution), status "refused", message the reason. Not an
+  /// A full-space pair whose route refuses the scene (its InputError): failed
+  /// too (no solution), status "refused", message the reason. Not an
   /// engine's failure: check and bench do not count it as one.
   bool refused = false;
   std::string status = "failed";
