@@ -534,9 +534,6 @@ TEST(CliFullSpaceMpi, WhatTheRouteRunsInOneProcessIsRefusedOnSeveral) {
   };
   const std::vector<Case> cases{
       {"--n 8 --linear eigen-cg", "the linear engine 'eigen-cg' runs in one process"},
-      // a body held by its contact alone: its existence check needs the whole contact surface
-      {scene("block-between-rollers.toml") + " --set 'mesh.n=[8, 2]' --linear petsc-gamg",
-       "the full-space route across processes needs supports that hold the body (translation along (0, 1)"},
   };
   for (const Case& k : cases) {
     SCOPED_TRACE(k.flags);
@@ -547,6 +544,76 @@ TEST(CliFullSpaceMpi, WhatTheRouteRunsInOneProcessIsRefusedOnSeveral) {
     EXPECT_EQ(count(m.err, k.expected), 1u) << m.err;
     EXPECT_FALSE(fs::exists(out));
   }
+}
+
+/// The scene `name` (a block between rollers on a linear foundation) on a rigid plane at the gap
+/// 0.02 instead, written to a scratch file: a body that its contact alone holds, by a constraint.
+fs::path block_on_a_plane(const std::string& name) {
+  std::string text = slurp(scene(name));
+  const std::string foundation = "[contact.parameters]\nstiffness = 50.0\n";
+  const auto at = text.find(foundation);
+  EXPECT_NE(at, std::string::npos) << name;
+  if (at != std::string::npos) text.erase(at, foundation.size());
+  for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
+           {"law = \"linear\"", "law = \"zero\""}, {"constraint = \"none\"", "constraint = \"one-sided\"\ngap = 0.02"}}) {
+    const auto k = text.find(from);
+    EXPECT_NE(k, std::string::npos) << from;
+    if (k != std::string::npos) text.replace(k, from.size(), to);
+  }
+  const fs::path toml = scratch("plane-" + name);
+  fs::create_directories(toml.parent_path());
+  std::ofstream(toml) << text;
+  return toml;
+}
+
+// bodies that their contact alone holds (their free translation proved bounded from the whole
+// contact surface, gathered on every process; the proximal term of the Newton systems where the
+// active set leaves it free), on a foundation, on a rigid plane, and two boxes: the condensed answer
+TEST(CliFullSpaceMpi, ABodyHeldByItsContactAloneAcrossProcessesIsTheCondensedAnswer) {
+  const std::vector<std::string> flags{
+      scene("block-between-rollers.toml") + " --set 'mesh.n=[16, 4]' --set 'loads.body_force=[0.0, -1.0]'",
+      scene("block-between-rollers-3d.toml") + " --set 'mesh.n=[4, 3, 4]' --set 'loads.body_force=[0.0, 0.0, -1.0]'",
+      block_on_a_plane("block-between-rollers.toml").string() + " --set 'mesh.n=[16, 4]' --set 'loads.body_force=[0.0, -1.0]'",
+      block_on_a_plane("block-between-rollers-3d.toml").string() +
+          " --set 'mesh.n=[4, 3, 4]' --set 'loads.body_force=[0.0, 0.0, -1.0]'",
+      scene("two-boxes-3d.toml") + " --set 'body[0].loads.body_force=[0.0, 0.0, -1.0]'" +
+          " --set 'body[1].loads.body_force=[0.0, 0.0, -1.0]'"};
+  for (std::size_t k = 0; k < flags.size(); ++k) {
+    SCOPED_TRACE(flags[k]);
+    const std::string f = flags[k] + " --tol 1e-11";
+    const std::string name = "held-" + std::to_string(k);
+    const fs::path ref = solve_condensed(f, "condensed-" + name);
+    if (ref.empty()) continue;
+    for (const int processes : {2, 3}) {
+      nlohmann::json a;
+      expect_processes_agree(f, ref, processes, name, false, processes, &a);
+      EXPECT_EQ(a["held_by_contact"].size(), 1u) << a["held_by_contact"].dump();
+      EXPECT_TRUE(a["may_be_nonunique"].get<bool>());
+    }
+  }
+}
+
+// the block pulled off the plane: every process finds E unbounded below along its translation at
+// the rate of the load's work (2 on a top of 4), before iterating; every rank exits 3
+TEST(CliFullSpaceMpi, ABodyPulledOffItsOnlySupportIsUnboundedOnEveryProcess) {
+  const fs::path dir = scratch("pulled-off");
+  fs::create_directories(dir);
+  const std::string solve = binary() + " solve " + block_on_a_plane("block-between-rollers.toml").string() +
+                            " --set \"loads.traction[0].value=[0.0, 2.0]\" --linear petsc-gamg -q --out " + (dir / "out").string();
+  const auto ranked = [&](int r) {
+    return np(1) + " sh -c '" + solve + "; echo $? > " + (dir / ("code" + std::to_string(r))).string() + "'";
+  };
+  const CommandRun m = run(mpiexec() + " " + ranked(0) + " : " + ranked(1));
+  ASSERT_EQ(m.code, 0) << m.err;
+  EXPECT_EQ(slurp(dir / "code0"), "3\n");
+  EXPECT_EQ(slurp(dir / "code1"), "3\n");
+  const nlohmann::json a = nlohmann::json::parse(slurp(dir / "out" / "result.json"));
+  EXPECT_EQ(a["status"], "unbounded");
+  EXPECT_EQ(a["processes"], 2);
+  EXPECT_EQ(a["iterations"], 0);
+  const std::string message = a["message"].get<std::string>();
+  EXPECT_NE(message.find("at the rate -8 per unit of motion"), std::string::npos) << message;
+  EXPECT_NE(message.find("there is no solution"), std::string::npos) << message;
 }
 
 }  // namespace

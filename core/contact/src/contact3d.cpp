@@ -269,7 +269,6 @@ template class BasicContactSolver<3>;
 template void require_finite_solution<3>(BasicContactSolution<3>&);
 template ContactSetUp<3> contact_set_up<3>(const ContactProblem3D&, const DofMap&);
 template void require_contact_laws<3>(const std::vector<ContactPart3D>&);
-template void require_full_space_posable<3>(const std::vector<ContactPart3D>&, const std::vector<std::string>&);
 
 namespace {
 

@@ -100,6 +100,9 @@ struct ShareView {
   SparseMatrix* lent = nullptr;
   /// The rigid motions A leaves free (Condensation::free_motions()), or null.
   const Eigen::MatrixXd* free_motions = nullptr;
+  /// Each coordinate's number in the whole problem (FullSpaceShare::coordinate_numbers), or null:
+  /// the coordinates are the whole problem's.
+  const std::vector<Eigen::Index>* numbers = nullptr;
 };
 
 ShareView whole(const Condensation& posed, const ReducedProblem& coordinates, const Eigen::VectorXd& origin) {
@@ -163,13 +166,15 @@ class FullSpaceNewton {
                                            : broken);
     };
     if (all.max(view.free_motions ? 1.0 : 0.0) > 0.0) {
-      if (all.size() > 1)
-        throw InputError("the full-space route across processes needs supports that hold the body (its rigid "
-                         "motions are held by the contact alone): run it in one process, or use a linear engine "
-                         "that factorizes");
-      if (view.free_motions->rows() != A_.rows()) throw InternalError("free motions of another problem's unknowns");
+      const bool fit = view.free_motions && view.free_motions->rows() == A_.rows() &&
+                       (all.size() == 1 || (view.numbers && view.numbers->size() == static_cast<std::size_t>(m)));
+      const double motions = fit ? static_cast<double>(view.free_motions->cols()) : -1.0;
+      if (all.min(motions) < 0.0 || all.min(motions) != all.max(motions))
+        throw InternalError("free motions of another problem's unknowns");
       free_motions_ = view.free_motions;
+      numbers_ = all.size() > 1 ? view.numbers : nullptr;  // one process holds the whole problem
       for (Eigen::Index k = 0; k < m; ++k) proximal_ = std::max(proximal_, stiffness_(k));
+      proximal_ = all.max(proximal_);
     }
     agreed([this] { find_groups(); });
     any_groups_ = all.max(groups_.empty() ? 0.0 : 1.0) > 0.0;
@@ -901,7 +906,16 @@ class FullSpaceNewton {
   /// A semi-coercive problem's free motions (one process), or null; the largest stiffness of a
   /// coordinate, the scale of the proximal term of its Newton systems.
   const Eigen::MatrixXd* free_motions_ = nullptr;
+  const std::vector<Eigen::Index>* numbers_ = nullptr;  ///< as ShareView::numbers
   double proximal_ = 0.0;
+
+  /// Collective: the sum over the processes of each process's `mine` (of one size on all), the
+  /// same bits on each.
+  Eigen::MatrixXd summed(const Eigen::MatrixXd& mine) const {
+    if (all_.size() == 1) return mine;
+    const Eigen::VectorXd sum = all_.sum_in_rank_order(mine.reshaped());
+    return sum.reshaped(mine.rows(), mine.cols());
+  }
 
   // Does the Newton matrix of the unknowns `eliminated` and the curvature shifts `shift` hold every
   // free motion M xi, within 1e-8 of the stiffness rho? On a free motion it is the quadratic form
@@ -926,30 +940,71 @@ class FullSpaceNewton {
       add(g.row2, w);
     }
     for (int row : tied_) add(row, proximal_);
+    K = summed(K);
+    G = summed(G);
     const double top = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(G, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
     const double least = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(K, Eigen::EigenvaluesOnly).eigenvalues().minCoeff();
-    return least > 1e-8 * proximal_ * top;
+    return all_.min(least > 1e-8 * proximal_ * top ? 1.0 : 0.0) > 0.0;  // every process decides alike
   }
 
   // Is E bounded below along the free motions? check_existence() of the coordinates whose null
   // directions are the motions' coordinate components (those that keep the tied unknowns at 0),
   // orthonormalised, with the load's work along each as c's: along a free motion A's energy is
-  // constant and E changes by the laws' and the load's terms alone.
+  // constant and E changes by the laws' and the load's terms alone. Collective: the whole
+  // problem's coordinates and the motions' components there are gathered on every process, which
+  // each decides alike.
   Existence existence() const {
     Eigen::MatrixXd M = *free_motions_;
-    if (!tied_.empty()) {
-      Eigen::MatrixXd T(static_cast<Eigen::Index>(tied_.size()), M.cols());
-      for (std::size_t i = 0; i < tied_.size(); ++i) T.row(static_cast<Eigen::Index>(i)) = M.row(tied_[i]);
-      M = M * null_space(T.transpose() * T);
+    if (all_.max(tied_.empty() ? 0.0 : 1.0) > 0.0) {
+      Eigen::MatrixXd TT = Eigen::MatrixXd::Zero(M.cols(), M.cols());
+      for (int row : tied_) TT += M.row(row).transpose() * M.row(row);
+      M = M * null_space(summed(TT));
     }
-    Eigen::MatrixXd D(p_.size(), M.cols());
-    for (std::size_t k = 0; k < coordinates_.size(); ++k) D.row(static_cast<Eigen::Index>(k)) = M.row(coordinates_[k].row);
-    const Eigen::VectorXd work = M.transpose() * b_;
+    const Eigen::VectorXd work = summed(M.transpose() * b_);
+    // per coordinate: its number, its group's other coordinate (-1: none), law, weight, bounds and
+    // the motions' components
+    const Eigen::Index per = 6 + M.cols(), m = p_.size();
+    const auto number = [&](Eigen::Index k) { return numbers_ ? (*numbers_)[static_cast<std::size_t>(k)] : k; };
+    Eigen::VectorXd partner = Eigen::VectorXd::Constant(m, -1.0);
+    for (const CoordinateGroup& g : p_.groups) {
+      partner(g.first) = static_cast<double>(number(g.second));
+      partner(g.second) = static_cast<double>(number(g.first));
+    }
+    Eigen::VectorXd sent(per * m);
+    for (Eigen::Index k = 0; k < m; ++k) {
+      sent.segment(per * k, 6) << static_cast<double>(number(k)), partner(k), p_.law_index(k), p_.w(k), p_.lower(k),
+          p_.upper(k);
+      sent.segment(per * k + 6, M.cols()) = M.row(coordinates_[static_cast<std::size_t>(k)].row).transpose();
+    }
+    const Eigen::VectorXd all = all_.all_gather(sent);
+    const Eigen::Index count = all.size() / per;
+    ReducedProblem q;
+    q.laws = p_.laws;
+    q.w.resize(count);
+    q.law_index.resize(count);
+    q.lo.resize(count);
+    q.hi.resize(count);
+    Eigen::MatrixXd D(count, M.cols());
+    std::vector<char> seen(static_cast<std::size_t>(count), 0);
+    for (Eigen::Index at = 0; at < all.size(); at += per) {
+      const auto k = static_cast<Eigen::Index>(all(at));
+      if (k < 0 || k >= count || seen[static_cast<std::size_t>(k)])
+        throw InternalError("the processes' coordinates are not the whole problem's, each once");
+      seen[static_cast<std::size_t>(k)] = 1;
+      const auto other = static_cast<Eigen::Index>(all(at + 1));
+      if (other > k) q.groups.push_back({k, other});
+      q.law_index(k) = static_cast<int>(all(at + 2));
+      q.w(k) = all(at + 3);
+      q.lo(k) = all(at + 4);
+      q.hi(k) = all(at + 5);
+      D.row(k) = all.segment(at + 6, M.cols()).transpose();
+    }
+    std::sort(q.groups.begin(), q.groups.end(),
+              [](const CoordinateGroup& a, const CoordinateGroup& b) { return a.first < b.first; });
     const Eigen::JacobiSVD<Eigen::MatrixXd> svd(D, Eigen::ComputeThinU | Eigen::ComputeThinV);
     const Eigen::VectorXd& sigma = svd.singularValues();
     Eigen::Index r = 0;
     while (r < sigma.size() && sigma(r) > null_space_tolerance * sigma(0)) ++r;
-    ReducedProblem q = p_;
     q.c = svd.matrixU().leftCols(r) *
           (svd.matrixV().leftCols(r).transpose() * work).cwiseQuotient(sigma.head(r));
     return check_existence(q, svd.matrixU().leftCols(r));
@@ -980,7 +1035,7 @@ CertifiedPoint certify_full_space(const FullSpaceShare& share, const RowDistribu
                                   double tol) {
   check_tolerance(tol, "tolerance");
   const ShareView view{share.matrix,          share.load,   share.coordinates,
-                       share.coordinate_rows, share.origin, share.tied_rows, nullptr, motions_of(share)};
+                       share.coordinate_rows, share.origin, share.tied_rows, nullptr, motions_of(share), &share.coordinate_numbers};
   return FullSpaceNewton(view, rows, tol).certify(x);
 }
 
@@ -1100,7 +1155,7 @@ MinimizerResult minimize_full_space(const FullSpaceShare& share, KrylovSolver& k
                                     const MinimizerOptions& options, Eigen::VectorXd* x,
                                     FullSpaceStatistics* statistics) {
   const ShareView view{share.matrix,          share.load,   share.coordinates,
-                       share.coordinate_rows, share.origin, share.tied_rows, nullptr, motions_of(share)};
+                       share.coordinate_rows, share.origin, share.tied_rows, nullptr, motions_of(share), &share.coordinate_numbers};
   return run_newton(view, krylov, hints, options, x, statistics);
 }
 
@@ -1108,7 +1163,7 @@ MinimizerResult minimize_full_space_in_place(FullSpaceShare& share, KrylovSolver
                                              const MinimizerOptions& options, Eigen::VectorXd* x,
                                              FullSpaceStatistics* statistics) {
   const ShareView view{share.matrix, share.load,   share.coordinates, share.coordinate_rows,
-                       share.origin, share.tied_rows, &share.matrix, motions_of(share)};
+                       share.origin, share.tied_rows, &share.matrix, motions_of(share), &share.coordinate_numbers};
   return run_newton(view, krylov, hints, options, x, statistics);
 }
 

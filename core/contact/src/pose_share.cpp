@@ -268,32 +268,52 @@ SparseMatrix owned_rows(SparseMatrix& At, const SystemRows& rows, RowLayout& lay
   return A;
 }
 
-/// The owned rows of the rigid motions of `mesh` in the rotated free unknowns of `posed`. Of two
-/// joined bodies, from each motion of every vertex (relative at the pairs: rotated_free).
-template <int dim>
-Eigen::MatrixXd near_null_rows(const MeshOf<dim>& mesh, const Condensation& posed, const SystemRows& rows,
-                               const std::vector<int>& owned_unknowns) {
-  const MeshRigidMotions<dim> motions(mesh);
-  Eigen::MatrixXd N(rows.owned, motions.count);
+/// The owned rows of `count` motions of the vertices of `mesh`, at(k, v) the displacement of
+/// vertex v under motion k, in the rotated free unknowns of `posed`. Of two joined bodies, from
+/// each motion of every vertex (relative at the pairs: rotated_free).
+template <int dim, class MotionAt>
+Eigen::MatrixXd owned_motion_rows(int count, const MotionAt& at, const MeshOf<dim>& mesh, const Condensation& posed,
+                                  const SystemRows& rows, const std::vector<int>& owned_unknowns) {
+  Eigen::MatrixXd N(rows.owned, count);
   if (posed.joins_bodies()) {
     Eigen::VectorXd u(static_cast<Eigen::Index>(dim) * mesh.num_vertices());
-    for (int k = 0; k < motions.count; ++k) {
-      for (int v = 0; v < mesh.num_vertices(); ++v) u.segment<dim>(dim * v) = motions.at(k, v);
+    for (int k = 0; k < count; ++k) {
+      for (int v = 0; v < mesh.num_vertices(); ++v) u.segment<dim>(dim * v) = at(k, v);
       N.col(k) = posed.rotated_free(u).segment(rows.first, rows.owned);
     }
     return N;
   }
   Eigen::VectorXd motion(rows.owned);
-  for (int k = 0; k < motions.count; ++k) {
+  for (int k = 0; k < count; ++k) {
     for (Eigen::Index i = 0; i < rows.owned; ++i) {
       const int d = rows.dofs.free_dofs[static_cast<std::size_t>(rows.first + i)];
-      motion(i) = motions.at(k, d / dim)(d % dim);
+      motion(i) = at(k, d / dim)(d % dim);
     }
     N.col(k) = posed.rotated_part(motion, owned_unknowns);
   }
   return N;
 }
 
+/// The owned rows of the rigid motions of `mesh` (the near-null space of its stiffness).
+template <int dim>
+Eigen::MatrixXd near_null_rows(const MeshOf<dim>& mesh, const Condensation& posed, const SystemRows& rows,
+                               const std::vector<int>& owned_unknowns) {
+  const MeshRigidMotions<dim> motions(mesh);
+  return owned_motion_rows<dim>(
+      motions.count, [&](int k, int v) { return motions.at(k, v); }, mesh, posed, rows, owned_unknowns);
+}
+
+/// The owned rows of the rigid motions the supports leave free (a semi-coercive problem's, which
+/// its contact alone holds: FullSpaceShare::free_motions), as the whole posing makes them. The
+/// mesh holds every vertex (a piece of a generated mesh too, hemivem/mesh/box_piece.hpp), so each
+/// process finds the same motions.
+template <int dim>
+Eigen::MatrixXd free_motion_rows(const MeshOf<dim>& mesh, const Condensation& posed, const SystemRows& rows,
+                                 const std::vector<int>& owned_unknowns) {
+  const BasicRigidMotions<dim> free(mesh, rows.dofs);
+  return owned_motion_rows<dim>(
+      free.size(), [&](int k, int v) { return free.displacement(k, v); }, mesh, posed, rows, owned_unknowns);
+}
 
 /// A share and what its posing made of the whole contact surface: the dof map, the contact
 /// set-up and the posed coordinates (Condensation::CoordinatesOnly), from which the results of
@@ -326,7 +346,7 @@ SharePosing<dim> pose_share_and_surface(const BasicContactProblem<dim>& problem,
   out.contact = std::move(surface.first);
   out.setup_seconds = surface.second;
   require_contact_nodes(out.contact);
-  require_full_space_posable(out.contact.parts, out.contact.held_by_contact);
+  require_contact_laws(out.contact.parts);
   auto t = std::chrono::steady_clock::now();
   SystemRows rows = vertices.rows(problem.elasticity, vertices.first, vertices.end);
   std::vector<int> owned_unknowns(static_cast<std::size_t>(rows.owned));
@@ -361,6 +381,8 @@ SharePosing<dim> pose_share_and_surface(const BasicContactProblem<dim>& problem,
   out.load = std::move(rows.b);
   share_coordinates(posed, rows.first, rows.owned, share.share);
   share.near_null_space = near_null_rows<dim>(*problem.elasticity.mesh, posed, rows, owned_unknowns);
+  if (!out.contact.held_by_contact.empty())
+    share.share.free_motions = free_motion_rows<dim>(*problem.elasticity.mesh, posed, rows, owned_unknowns);
   share.block_size = node_block_size(rows.dofs, dim);
   out.dofs = std::move(rows.dofs);
   return out;
@@ -390,23 +412,13 @@ void gather_coordinates(const RowDistribution& rows, const FullSpaceShare& share
 /// The balance of forces of the whole problem from each process's balance of its own vertices
 /// (force_balance_of_vertices), added up in the order of the processes (collective): the same on
 /// each. The contact's resultant and `internal` are `mine`'s, made of the whole contact table.
-// Collective: the sum of every process's `mine` (of one length on all), added in rank order so
-// that every process gets the same bits.
-Eigen::VectorXd summed_in_rank_order(const Eigen::VectorXd& mine, const RowDistribution& rows) {
-  const Eigen::VectorXd all = rows.all_gather(mine);
-  if (mine.size() == 0 || all.size() % mine.size() != 0) throw InternalError("the processes' sums differ in length");
-  Eigen::VectorXd sum = Eigen::VectorXd::Zero(mine.size());
-  for (Eigen::Index at = 0; at < all.size(); at += mine.size()) sum += all.segment(at, mine.size());
-  return sum;
-}
-
 template <int dim>
 BasicForceBalance<PointOf<dim>> added_balance(BasicForceBalance<PointOf<dim>> mine, const RowDistribution& rows) {
   const auto parts = static_cast<Eigen::Index>(1 + mine.reactions.size());
   Eigen::VectorXd sent(dim * parts);
   sent.head<dim>() = mine.applied;
   for (Eigen::Index k = 1; k < parts; ++k) sent.segment<dim>(dim * k) = mine.reactions[static_cast<std::size_t>(k - 1)].force;
-  const Eigen::VectorXd sum = summed_in_rank_order(sent, rows);
+  const Eigen::VectorXd sum = rows.sum_in_rank_order(sent);
   mine.applied = sum.head<dim>();
   for (Eigen::Index k = 1; k < parts; ++k) mine.reactions[static_cast<std::size_t>(k - 1)].force = sum.segment<dim>(dim * k);
   return mine;
@@ -539,7 +551,7 @@ PointOf<dim> FullSpaceShares<dim>::applied(const BasicElasticityProblem<dim>& at
   PointOf<dim> mine = PointOf<dim>::Zero();
   for (const int v : vertices)
     for (int c = 0; c < dim; ++c) mine(c) += f(static_cast<Eigen::Index>(dim) * v + c);
-  return summed_in_rank_order(Eigen::VectorXd(mine), *impl_->rows);
+  return impl_->rows->sum_in_rank_order(Eigen::VectorXd(mine));
 }
 
 template <int dim>

@@ -147,7 +147,6 @@ template class BasicContactSolver<2>;
 template void require_finite_solution<2>(BasicContactSolution<2>&);
 template ContactSetUp<2> contact_set_up<2>(const ContactProblem&, const DofMap&);
 template void require_contact_laws<2>(const std::vector<ContactPart>&);
-template void require_full_space_posable<2>(const std::vector<ContactPart>&, const std::vector<std::string>&);
 
 int node_block_size(const DofMap& dofs, int dim) {
   const std::vector<int>& free = dofs.free_dofs;

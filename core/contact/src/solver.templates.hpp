@@ -206,17 +206,6 @@ void require_contact_laws(const std::vector<BasicContactPart<dim>>& parts) {
                                          : "contact part '" + part.name + "' has no contact law");
 }
 
-template <int dim>
-void require_full_space_posable(const std::vector<BasicContactPart<dim>>& parts,
-                                const std::vector<std::string>& held_by_contact) {
-  require_contact_laws(parts);
-  if (!held_by_contact.empty())
-    throw InputError("the full-space route across processes needs supports that hold the body (" +
-                     held_by_contact.front() +
-                     " is held by the contact alone): run it in one process, or use a linear engine that factorizes")
-        .mark_about(ProblemPart::supports);
-}
-
 // The unknowns, the contact parts, the contact boundary and the rigid motions the contact holds.
 template <int dim>
 void BasicContactSolver<dim>::set_up_contact() {

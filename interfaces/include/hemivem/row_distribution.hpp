@@ -14,6 +14,8 @@
 #include <utility>
 #include <vector>
 
+#include <hemivem/error.hpp>
+
 namespace hemivem {
 
 /// Which rows a process owns and which others it reads.
@@ -45,6 +47,15 @@ class RowDistribution {
   virtual Eigen::VectorXd all_gather(const Eigen::VectorXd& mine) const = 0;
 
   double min(double value) const { return -max(-value); }
+  /// Collective: the sum of every process's `mine` (of one length on all), added in the order of
+  /// the ranks, so that every process gets the same bits.
+  Eigen::VectorXd sum_in_rank_order(const Eigen::VectorXd& mine) const {
+    const Eigen::VectorXd all = all_gather(mine);
+    if (all.size() != mine.size() * size()) throw InternalError("the processes' sums differ in length");
+    Eigen::VectorXd sum = Eigen::VectorXd::Zero(mine.size());
+    for (Eigen::Index at = 0; at < all.size(); at += mine.size()) sum += all.segment(at, mine.size());
+    return sum;
+  }
   /// The number of local columns: owned rows and ghosts.
   Eigen::Index columns() const { return layout().owned + static_cast<Eigen::Index>(layout().ghosts.size()); }
 };

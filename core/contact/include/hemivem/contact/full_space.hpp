@@ -90,8 +90,10 @@ struct FullSpaceShare {
   std::vector<int> tied_rows;        ///< the local rows of tied unknowns (their reactions are not residuals)
   /// Each coordinate's number in the whole problem (of the posed problem it was taken from).
   std::vector<Eigen::Index> coordinate_numbers;
-  /// The owned rows of the posed problem's free motions (Condensation::free_motions()): a
-  /// semi-coercive problem, which the iteration takes in one process only.
+  /// The owned rows of the posed problem's free motions (Condensation::free_motions()) of a
+  /// semi-coercive problem (no columns: the supports hold the body). Across processes each
+  /// process gathers the whole contact surface's components of them to prove that E is bounded
+  /// below (the existence check reads the whole surface).
   Eigen::MatrixXd free_motions;
 };
 

@@ -272,15 +272,6 @@ ContactSetUp<dim> contact_set_up(const BasicContactProblem<dim>& problem, const 
 template <int dim>
 void require_contact_laws(const std::vector<BasicContactPart<dim>>& parts);
 
-/// The full-space route's conditions on a problem posed across processes, each its share
-/// (hemivem/contact/pose_share.hpp): every part has a law and the supports hold the body
-/// (`held_by_contact` empty: the proof that a semi-coercive problem has a solution reads the
-/// whole contact surface). InputError otherwise, advising one process or a linear engine that
-/// factorizes. In one process the route takes a body held by its contact alone.
-template <int dim>
-void require_full_space_posable(const std::vector<BasicContactPart<dim>>& parts,
-                                const std::vector<std::string>& held_by_contact);
-
 /// The node blocks of the free unknowns of `dofs` (KrylovHints::block_size): `dim` when they come
 /// node by node, every component of each node free (in the rotated unknowns too: a contact node's
 /// frame acts on its own components); 1 otherwise.
