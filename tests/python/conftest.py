@@ -6,6 +6,7 @@ HEMIVEM_BUILD_DIR (default: the folder above the imported package, i.e. <build>)
 
 import os
 import pathlib
+import signal
 import subprocess
 
 import pytest
@@ -13,6 +14,12 @@ import pytest
 import hemivem
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
+
+# A process started in the background by a shell inherits SIGINT ignored, and Python then raises
+# no KeyboardInterrupt: Ctrl-C is restored as an interactive session has it, for the tests that
+# interrupt a solve.
+if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+    signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 def build_dir():
