@@ -903,8 +903,8 @@ class FullSpaceNewton {
   };
   std::vector<GhostGroup> ghost_groups_;
   bool any_groups_ = false;  ///< some process has a group (the same on every process)
-  /// A semi-coercive problem's free motions (one process), or null; the largest stiffness of a
-  /// coordinate, the scale of the proximal term of its Newton systems.
+  /// A semi-coercive problem's free motions (this process's rows), or null; the largest stiffness
+  /// of a coordinate over the processes, the scale of the proximal term of its Newton systems.
   const Eigen::MatrixXd* free_motions_ = nullptr;
   const std::vector<Eigen::Index>* numbers_ = nullptr;  ///< as ShareView::numbers
   double proximal_ = 0.0;
