@@ -141,7 +141,12 @@ TEST(Voronoi3D, ScaledBoxes) {
     expect_tiles_box(hemivem::make_voronoi3d(3, b, seeded(4, 20)), b, 27);
   }
   const Box far{1e6, 1e6 + 1.0, -1e6 - 1.0, -1e6, 0.0, 1.0};  // far from the origin
-  expect_tiles_box(hemivem::make_voronoi3d(3, far, seeded(4, 20)), far, 27);
+  const Mesh3D m = hemivem::make_voronoi3d(3, far, seeded(4, 20));
+  expect_tiles_box(m, far, 27);
+  // the faces' centroids are computed relative to a vertex of theirs: those on the box's sides
+  // lie on them, and the volume is the box's to round-off of its size, not of its distance
+  // from the origin (1e6 times more)
+  EXPECT_NEAR(m.total_volume(), 1.0, 1e-14);
 }
 
 /// Processes played by threads: all_gather hands each one's values to all through `Shared`.

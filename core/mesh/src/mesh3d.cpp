@@ -70,6 +70,23 @@ void positions(const std::vector<Vec3>& vertices, const std::vector<int>& loop, 
   for (int v : loop) out.push_back(vertices[static_cast<std::size_t>(v)]);
 }
 
+// The positions of a face's loop in the order that depends on its vertices alone, not on the
+// vertex it starts at nor on the side it is given from: from its smallest vertex towards the
+// smaller of that vertex's two neighbours. Returns -1 where that order runs against the loop's,
+// 1 where it runs along it. A face's geometry is computed from this order, so that it is the
+// same to the bit whichever of its cells the mesh stored it from (a piece of a mesh holds some
+// faces from the other side than the whole: mesh_piece.hpp).
+int canonical_positions(const std::vector<Vec3>& vertices, const std::vector<int>& loop, std::vector<Vec3>& out) {
+  out.clear();
+  const std::size_t n = loop.size();
+  if (n == 0) return 1;
+  const std::size_t m = static_cast<std::size_t>(std::min_element(loop.begin(), loop.end()) - loop.begin());
+  const bool along = loop[(m + 1) % n] < loop[(m + n - 1) % n];
+  for (std::size_t i = 0; i < n; ++i)
+    out.push_back(vertices[static_cast<std::size_t>(loop[along ? (m + i) % n : (m + n - i) % n])]);
+  return along ? 1 : -1;
+}
+
 std::uint64_t edge_key(int a, int b) {
   return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
 }
@@ -349,11 +366,15 @@ Mesh3D::Mesh3D(std::vector<Vec3> vertices, std::vector<CellFaces> cells, std::ve
   face_normal_.resize(faces_.size());
   std::vector<Vec3> z;
   for (std::size_t f = 0; f < faces_.size(); ++f) {
-    positions(vertices_, faces_[f].vertices, z);
+    const int sign = canonical_positions(vertices_, faces_[f].vertices, z);
     const Vec3 a = polygon_area_vector(z);
     face_area_[f] = scale_free_norm(a);
-    face_normal_[f] = a / face_area_[f];
-    face_centroid_[f] = polygon_centroid(z);
+    face_normal_[f] = static_cast<double>(sign) * a / face_area_[f];
+    // the centroid relative to the first vertex: its round-off relative to the face's size, not
+    // to its distance from the origin (a face on a plane of constant x has its centroid on it)
+    const Vec3 first = z.front();
+    for (Vec3& p : z) p -= first;
+    face_centroid_[f] = first + polygon_centroid(z);
   }
   volume_.resize(cells.size());
   centroid_.resize(cells.size());
@@ -363,14 +384,13 @@ Mesh3D::Mesh3D(std::vector<Vec3> vertices, std::vector<CellFaces> cells, std::ve
     const Vec3 x0 = vertices_[static_cast<std::size_t>(cell_vertices_[c][0])];
     double volume = 0.0;
     Vec3 moment = Vec3::Zero();
-    for (std::size_t l = 0; l < cells[c].size(); ++l) {
-      const auto& loop = cells[c][l];
-      positions(vertices_, loop, z);
-      // the centroid of the loop as given: the face's own where the face was stored from it
-      const int f = cell_faces_[c][l];
-      const Vec3 fc = faces_[static_cast<std::size_t>(f)].inner == static_cast<int>(c)
-                          ? face_centroid_[static_cast<std::size_t>(f)]
-                          : polygon_centroid(z);
+    for (const int f : cell_faces_[c]) {
+      // the loop as cell(c) gives it and the face's centroid: what a piece holding the cell
+      // holds of it too, whichever of its cells stored the face
+      const MeshFace& face = faces_[static_cast<std::size_t>(f)];
+      positions(vertices_, face.vertices, z);
+      if (face.inner != static_cast<int>(c)) std::reverse(z.begin(), z.end());
+      const Vec3 fc = face_centroid_[static_cast<std::size_t>(f)];
       for (std::size_t i = 0; i < z.size(); ++i) {
         const Vec3& a = z[i];
         const Vec3& b = z[i + 1 < z.size() ? i + 1 : 0];
