@@ -87,7 +87,9 @@ void build_scene_problem(const Scene& scene, SceneEngines& e, Solved& s, const s
       PieceOfMesh where;
       s.built = cut_problem_piece<dim>(std::move(whole), world.rank, world.size, where);
       s.mesh_pieces = world.size;
-      e.writes_to_folder = !out.empty() && scene.bodies.empty();  // several bodies' files are the whole mesh's
+      // a static solve's files of several bodies are each body's of the whole mesh; a path's
+      // frames are of the whole mesh of every body, in pieces as of one
+      e.writes_to_folder = !out.empty() && (scene.bodies.empty() || scene.path);
       s.whole_cells = where.whole_cells;
       e.piece = std::move(where);
       return;

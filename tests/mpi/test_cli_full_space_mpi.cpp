@@ -359,6 +359,79 @@ TEST(CliFullSpaceMpi, TwoJoinedSolidsAcrossProcessesAreTheCondensedAnswer) {
   for (const int processes : {2, 3}) expect_processes_agree(flags, ref, processes, "two-solids", true, processes);
 }
 
+/// The last field of each row of a CSV file after its header.
+std::vector<std::string> last_fields(const fs::path& csv) {
+  std::istringstream in(slurp(csv));
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> out;
+  while (std::getline(in, line)) out.push_back(line.substr(line.rfind(',') + 1));
+  return out;
+}
+
+// a loading path of two bodies (the stacked blocks of two-blocks.toml on two steps; two solids
+// joined with Tresca friction): each process keeps its piece of each body for the whole path and
+// writes its piece of every frame, as the steps come; rank 0 writes the rest, each body's file of
+// the last step of the whole mesh made after the path
+TEST(CliFullSpaceMpi, APathOfTwoBodiesAcrossProcessesKeepsEachProcesssPieces) {
+  const fs::path solids = scratch("two-solids-path.toml");
+  fs::create_directories(solids.parent_path());
+  {
+    std::ofstream out(solids);
+    hemivem::test::StackedBodies b;
+    b.n = "[3, 3, 2]";
+    b.top = "[0.004, 0.002, -0.01]";
+    b.contact = "friction = {law = \"tresca\", bound = 0.004}\n[path]\nt = [0.5, 1.0]\n";
+    out << hemivem::test::stacked_bodies(b);
+  }
+  const struct {
+    std::string flags, name;
+    std::size_t u;  // path-displacement.csv's first displacement column
+    int dim;
+  } cases[] = {{scene("two-blocks.toml") + " --set 'path.t=[0.5, 1.0]'", "two-blocks-path", 5, 2},
+               {solids.string(), "two-solids-path", 6, 3}};
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.name);
+    const std::string flags = c.flags + " --tol 1e-11 -q";
+    const fs::path ref = solve_condensed(flags, "condensed-" + c.name);
+    if (ref.empty()) return;
+    CommandRun m;
+    const fs::path out = solve_across(2, flags + " --linear petsc-gamg", c.name + "-np2", &m);
+    ASSERT_EQ(m.code, 0) << m.out << m.err;
+    EXPECT_FALSE(fs::exists(out.parent_path() / (c.name + "-np2-rank1"))) << "rank 1 wrote outputs";
+    const nlohmann::json a = nlohmann::json::parse(slurp(out / "result.json"));
+    const nlohmann::json b = nlohmann::json::parse(slurp(ref / "result.json"));
+    EXPECT_TRUE(a["converged"].get<bool>());
+    EXPECT_EQ(a["mesh"]["pieces"], 2);
+    for (const char* key : {"vertices", "elements", "h"}) EXPECT_EQ(a["mesh"][key], b["mesh"][key]) << key;
+    const nlohmann::json pa = nlohmann::json::parse(slurp(out / "path.json"));
+    const nlohmann::json pb = nlohmann::json::parse(slurp(ref / "path.json"));
+    ASSERT_EQ(pa["steps"].size(), 2u);
+    ASSERT_EQ(pb["steps"].size(), 2u);
+    for (std::size_t k = 0; k < 2; ++k) {
+      const double ea = pa["steps"][k]["energy"].get<double>(), eb = pb["steps"][k]["energy"].get<double>();
+      EXPECT_NE(eb, 0.0);
+      EXPECT_NEAR(ea, eb, 1e-8 * std::abs(eb)) << "step " << k + 1;
+    }
+    // every frame's displacement at every vertex, and the body of each row
+    const fs::path rows_a = out / "path-displacement.csv", rows_b = ref / "path-displacement.csv";
+    expect_columns_agree(rows_a, rows_b, c.u, c.u + static_cast<std::size_t>(c.dim));
+    const std::vector<std::string> bodies = last_fields(rows_b);
+    EXPECT_EQ(last_fields(rows_a), bodies);
+    EXPECT_NE(std::find(bodies.begin(), bodies.end(), "upper"), bodies.end());
+    EXPECT_NE(std::find(bodies.begin(), bodies.end(), "lower"), bodies.end());
+    // each frame in pieces, of both bodies' cells
+    for (const char* stem : {"solution-0001", "solution-0002"})
+      expect_pieces_make_the_whole(out, stem, ref / (std::string(stem) + ".vtu"), 2, {"von_mises"}, a["files"]);
+    // the last step's files of the whole mesh: each body's and both
+    for (const char* file : {"solution.vtu", "solution.body-upper.vtu", "solution.body-lower.vtu"})
+      EXPECT_EQ(vtu_cells(out / file), vtu_cells(ref / file)) << file;
+    EXPECT_TRUE(fs::exists(out / "solution.vtm"));
+    expect_columns_agree(out / "displacement.csv", ref / "displacement.csv", static_cast<std::size_t>(c.dim + 1),
+                         static_cast<std::size_t>(2 * c.dim + 1));
+  }
+}
+
 // two plane bodies held by points (shrink-fit.toml): each process keeps the cells around the
 // points with its piece of each body
 TEST(CliFullSpaceMpi, ThePiecesKeptOfTwoBodiesHeldByPointsAreTheCondensedAnswer) {

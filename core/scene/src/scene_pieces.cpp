@@ -92,7 +92,7 @@ std::unique_ptr<BasicBuiltProblem<3>> build_problem_piece<3>(const Scene& scene,
 }
 
 bool cuts_pieces(const Scene& scene) {
-  return !scene.adapt && !(scene.path && !scene.bodies.empty()) && !scene_piece(scene, 0, 1);
+  return !scene.adapt && !scene_piece(scene, 0, 1);
 }
 
 template <int dim>

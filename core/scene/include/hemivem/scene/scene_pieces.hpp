@@ -32,7 +32,7 @@ std::unique_ptr<BasicBuiltProblem<dim>> build_problem_piece(const Scene& scene, 
 
 /// Whether a scene's mesh may be made whole and each process keep only its piece of it for the
 /// solve (cut_problem_piece): a scene whose mesh is made whole (no piece of a generated box:
-/// scene_piece), without adaptive steps, of one body or, in a static solve, of several.
+/// scene_piece), without adaptive steps.
 bool cuts_pieces(const Scene& scene);
 
 /// The problem of `whole` (build_problem<dim>(scene) on the whole mesh) on the piece of its mesh
