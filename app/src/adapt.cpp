@@ -201,9 +201,7 @@ BasicAdaptiveSolve<dim> adapt_scene(const Scene& scene, const SceneAdapt& adapt,
     if (progress) progress(now);
     start_u = prolongate(refined, s.solution.u);
     mesh = std::move(refined.mesh);
-    // this step's mesh, problem and solution are given back before the next step is solved, not
-    // held beside it
-    out.last = BasicSceneSolve<dim>{};
+    out.last = BasicSceneSolve<dim>{};  // given back before the next step is solved, not held beside it
   }
   out.seconds = elapsed();
   out.last.adapt = adapt_json(out, adapt);

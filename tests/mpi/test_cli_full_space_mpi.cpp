@@ -341,17 +341,22 @@ TEST(CliFullSpaceMpi, ASolidsFrictionAcrossProcessesIsTheCondensedAnswer) {
 // its piece of each body along the Hilbert order of both (the library's test of the bodies
 // across processes, FullSpaceMpi, puts the pairs' nodes and the vertices across from them on
 // different processes)
-TEST(CliFullSpaceMpi, TwoJoinedSolidsAcrossProcessesAreTheCondensedAnswer) {
-  const fs::path toml = scratch("two-solids.toml");
+/// A scratch scene `name` of two solids of `n` cells each, the upper's top moved by (0.004,
+/// 0.002, -0.01), joined with Tresca friction (bound 0.004), and `more` after them.
+fs::path joined_solids(const std::string& name, const std::string& n, const std::string& more = "") {
+  const fs::path toml = scratch(name);
   fs::create_directories(toml.parent_path());
-  {
-    std::ofstream out(toml);
-    hemivem::test::StackedBodies b;
-    b.n = "[4, 4, 3]";
-    b.top = "[0.004, 0.002, -0.01]";
-    b.contact = "friction = {law = \"tresca\", bound = 0.004}\n";
-    out << hemivem::test::stacked_bodies(b);
-  }
+  std::ofstream out(toml);
+  hemivem::test::StackedBodies b;
+  b.n = n;
+  b.top = "[0.004, 0.002, -0.01]";
+  b.contact = "friction = {law = \"tresca\", bound = 0.004}\n" + more;
+  out << hemivem::test::stacked_bodies(b);
+  return toml;
+}
+
+TEST(CliFullSpaceMpi, TwoJoinedSolidsAcrossProcessesAreTheCondensedAnswer) {
+  const fs::path toml = joined_solids("two-solids.toml", "[4, 4, 3]");
   const std::string flags = toml.string() + " --tol 1e-11";
   const fs::path ref = solve_condensed(flags, "condensed-two-solids");
   if (ref.empty()) return;
@@ -374,16 +379,7 @@ std::vector<std::string> last_fields(const fs::path& csv) {
 // writes its piece of every frame, as the steps come; rank 0 writes the rest, each body's file of
 // the last step of the whole mesh made after the path
 TEST(CliFullSpaceMpi, APathOfTwoBodiesAcrossProcessesKeepsEachProcesssPieces) {
-  const fs::path solids = scratch("two-solids-path.toml");
-  fs::create_directories(solids.parent_path());
-  {
-    std::ofstream out(solids);
-    hemivem::test::StackedBodies b;
-    b.n = "[3, 3, 2]";
-    b.top = "[0.004, 0.002, -0.01]";
-    b.contact = "friction = {law = \"tresca\", bound = 0.004}\n[path]\nt = [0.5, 1.0]\n";
-    out << hemivem::test::stacked_bodies(b);
-  }
+  const fs::path solids = joined_solids("two-solids-path.toml", "[3, 3, 2]", "[path]\nt = [0.5, 1.0]\n");
   const struct {
     std::string flags, name;
     std::size_t u;  // path-displacement.csv's first displacement column
