@@ -23,10 +23,12 @@
 #include <utility>
 #include <vector>
 
+#include "posed_share_checks.hpp"
 #include "pressed_block3d.hpp"
 #include "test_support.hpp"
 
 using namespace hemivem;
+using hemivem::test::expect_same_share;
 
 namespace {
 
@@ -164,28 +166,6 @@ TEST(BoxPiece, WhatMakesNoPieceIsRefusedByName) {
   EXPECT_TRUE(makes_pieces("tetrahedra"));
   EXPECT_FALSE(makes_pieces("voronoi"));
   EXPECT_NE(error([] { (void)cells_per_box("voronoi"); }).find("'voronoi' makes no grid of boxes"), std::string::npos);
-}
-
-/// Two shares are the same to the bit.
-void expect_same_share(const PosedShare& a, const PosedShare& b) {
-  EXPECT_EQ(a.layout.first, b.layout.first);
-  EXPECT_EQ(a.layout.owned, b.layout.owned);
-  EXPECT_EQ(a.layout.global, b.layout.global);
-  EXPECT_EQ(a.layout.ghosts, b.layout.ghosts);
-  ASSERT_EQ(a.share.matrix.rows(), b.share.matrix.rows());
-  ASSERT_EQ(a.share.matrix.cols(), b.share.matrix.cols());
-  ASSERT_EQ(a.share.matrix.nonZeros(), b.share.matrix.nonZeros());
-  EXPECT_EQ(Eigen::MatrixXd(a.share.matrix), Eigen::MatrixXd(b.share.matrix));
-  EXPECT_EQ(a.share.load, b.share.load);
-  EXPECT_EQ(a.share.coordinate_numbers, b.share.coordinate_numbers);
-  EXPECT_EQ(a.share.coordinate_rows, b.share.coordinate_rows);
-  EXPECT_EQ(a.share.tied_rows, b.share.tied_rows);
-  EXPECT_EQ(a.share.coordinates.w, b.share.coordinates.w);
-  EXPECT_EQ(a.share.coordinates.lo, b.share.coordinates.lo);
-  EXPECT_EQ(a.share.coordinates.hi, b.share.coordinates.hi);
-  EXPECT_EQ(a.share.origin, b.share.origin);
-  EXPECT_EQ(a.near_null_space, b.near_null_space);
-  EXPECT_EQ(a.block_size, b.block_size);
 }
 
 // Example 4.1: a process posing its share from its piece poses the share of the whole mesh

@@ -4,6 +4,7 @@
 #include <hemivem/app/outputs.hpp>
 
 #include "output_run.hpp"
+#include "process_text.hpp"
 #include "path_outputs.hpp"
 #include "result_json_common.hpp"
 
@@ -394,17 +395,6 @@ namespace detail {
 
 namespace {
 
-/// A text as values of a vector (one byte each), and back: what all_gather carries.
-Eigen::VectorXd bytes_of(const std::string& text) {
-  Eigen::VectorXd v(static_cast<Eigen::Index>(text.size()));
-  for (std::size_t k = 0; k < text.size(); ++k) v(static_cast<Eigen::Index>(k)) = static_cast<unsigned char>(text[k]);
-  return v;
-}
-std::string text_of(const Eigen::VectorXd& v) {
-  std::string text(static_cast<std::size_t>(v.size()), ' ');
-  for (Eigen::Index k = 0; k < v.size(); ++k) text[static_cast<std::size_t>(k)] = static_cast<char>(static_cast<int>(v(k)));
-  return text;
-}
 
 /// The staging folder of the first process's transaction `tx` (null there when it could not
 /// open the folder; ignored on the others), told to every process: empty when it is not open.

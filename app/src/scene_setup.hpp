@@ -21,6 +21,7 @@
 
 #include "bodies.hpp"
 #include "output_run.hpp"
+#include "process_text.hpp"
 #include <hemivem/app/solve.hpp>
 #include <hemivem/app/solve3d.hpp>
 #include <hemivem/nonsmooth_minimizer.hpp>
@@ -79,6 +80,15 @@ void build_scene_problem(const Scene& scene, SceneEngines& e, Solved& s, const s
       s.built = build_problem_piece<dim>(scene, *piece);
       e.piece = scene_piece_of_mesh(scene, *piece);
       s.whole_cells = e.piece->whole_cells;
+      return;
+    }
+    if (reads_pieces(scene)) {  // each process reads its piece of the file
+      PieceOfMesh where;
+      s.built = on_every_process(*process_rows(), [&] { return read_problem_piece<dim>(scene, world.rank, world.size, where); });
+      s.mesh_pieces = world.size;
+      e.writes_to_folder = !out.empty();
+      s.whole_cells = where.whole_cells;
+      e.piece = std::move(where);
       return;
     }
     // the generator's work split where it splits it

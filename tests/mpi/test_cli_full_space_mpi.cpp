@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "command_mpi.hpp"
+#include "gmsh_squares.hpp"
 #include "stacked_bodies.hpp"
 #include "test_support.hpp"
 #include "vtu_arrays.hpp"
@@ -458,6 +459,59 @@ TEST(CliFullSpaceMpi, ThePiecesKeptOfMeshesMadeWholeAreTheCondensedAnswer) {
     const fs::path ref = solve_condensed(flags, std::string("condensed-") + name);
     if (ref.empty()) return;
     for (const int processes : {2, 3}) expect_processes_agree(flags, ref, processes, std::string("cut-") + name, false, processes);
+  }
+}
+
+/// Example 4.1 on the plane Gmsh file `msh` (squares; its contact the file's line "bottom"),
+/// written to a scratch scene `name`.
+fs::path example_on_file(const fs::path& msh, const std::string& name) {
+  std::string text = slurp(scene("paper-example-4.1.toml"));
+  const auto from = text.find("[mesh]"), to = text.find("[material]");
+  EXPECT_TRUE(from != std::string::npos && to != std::string::npos);
+  text.replace(from, to - from, "[mesh]\nfile = \"" + msh.string() + "\"\n\n");
+  const std::string contact = "[contact]            # Gamma_3\nside = \"bottom\"";
+  const auto at = text.find(contact);
+  EXPECT_NE(at, std::string::npos);
+  if (at != std::string::npos) text.replace(at, contact.size(), "[contact]\ngroup = \"bottom\"");
+  const fs::path toml = scratch(name);
+  fs::create_directories(toml.parent_path());
+  std::ofstream(toml) << text;
+  return toml;
+}
+
+// a Gmsh file that each process reads its piece of (a plane's, whose contact is a physical
+// line; a solid's is gmsh-bracket-3d.toml above): the condensed answer, the outputs in pieces
+TEST(CliFullSpaceMpi, AGmshFileEachProcessReadsItsPieceOfIsTheCondensedAnswer) {
+  const fs::path msh = scratch("squares-24x12.msh");
+  fs::create_directories(msh.parent_path());
+  std::ofstream(msh) << hemivem::test::squares_msh(24, 12);
+  const std::string flags = example_on_file(msh, "squares-on-file.toml").string() + " --tol 1e-11";
+  const fs::path ref = solve_condensed(flags, "condensed-squares-on-file");
+  if (ref.empty()) return;
+  for (const int processes : {2, 3}) expect_processes_agree(flags, ref, processes, "read-squares", false, processes);
+}
+
+// a file with a defect in one cell inside the mesh, which only the processes whose pieces hold
+// it find: every process ends with the error, the first tells it once, and nothing is written
+TEST(CliFullSpaceMpi, ADefectInTheFileThatOneProcessFindsEndsEveryProcess) {
+  const fs::path msh = scratch("defect.msh");
+  fs::create_directories(msh.parent_path());
+  std::ofstream(msh) << hemivem::test::squares_msh_repeating_a_vertex(24);
+  const fs::path toml = example_on_file(msh, "defect.toml");
+  const CommandRun one = run(binary() + " solve " + toml.string() + " -q --out " + scratch("defect-one").string());
+  ASSERT_EQ(one.code, 2) << one.err;
+  const auto said = one.err.find("Gmsh element");
+  ASSERT_NE(said, std::string::npos) << one.err;
+  const std::string message = one.err.substr(said, one.err.find('\n', said) - said);
+  for (const int processes : {2, 3}) {
+    SCOPED_TRACE(std::to_string(processes) + " processes");
+    const fs::path out = scratch("defect-np" + std::to_string(processes));
+    const CommandRun m = run(mpiexec() + " " + np(processes) + " " + binary() + " solve " + toml.string() +
+                             " --linear petsc-gamg -q --out " + out.string());
+    EXPECT_EQ(m.code, 2) << m.err;
+    EXPECT_EQ(count(m.err, "hemivem: error:"), 1u) << m.err;
+    EXPECT_EQ(count(m.err, message), 1u) << m.err;
+    EXPECT_FALSE(fs::exists(out));
   }
 }
 

@@ -33,6 +33,7 @@
 // anything is sized from it, and every error names "path:line".
 #include <hemivem/mesh/gmsh.hpp>
 
+#include "cell_topology.hpp"
 #include "gmsh_sections.hpp"
 
 #include <algorithm>
@@ -83,6 +84,12 @@ class GmshReader final : detail::GmshSections {
     return build();
   }
 
+  MeshPieceRead<Mesh> read_piece(int rank, int size) {
+    read_sections();
+    check_plane();
+    return build_piece(rank, size);
+  }
+
  private:
   [[noreturn]] void refuse_element_type(const Line& block, long long type) const override {
     const std::string name = unsupported_type_name(type);
@@ -111,9 +118,58 @@ class GmshReader final : detail::GmshSections {
   Mesh build() {
     std::vector<int> vertex_of;
     std::vector<Vec2> vertices = surface_vertices(vertex_of);
-    Mesh mesh = surface_mesh(std::move(vertices), vertex_of);
-    add_edge_groups(mesh, vertex_of);
+    std::vector<std::vector<int>> elements = surface_elements(vertices, vertex_of);
+    Mesh mesh = surface_mesh(std::move(vertices), std::move(elements), top_numbers());
+    add_edge_groups(mesh, vertex_of, false);
     return mesh;
+  }
+
+  /// The piece of the mesh process `rank` of `size` keeps (MeshPieceRead), made of the surface
+  /// elements' edges without the whole mesh.
+  MeshPieceRead<Mesh> build_piece(int rank, int size) {
+    std::vector<int> vertex_of;
+    std::vector<Vec2> vertices = surface_vertices(vertex_of);
+    std::vector<std::vector<int>> elements = surface_elements(vertices, vertex_of);
+    MeshPieceRead<Mesh> out;
+    detail::PieceChoice choice;
+    {
+      std::vector<int> first{0}, at{0}, loops, regions;
+      for (std::size_t k = 0; k < elements.size(); ++k) {
+        const std::vector<int>& e = elements[k];
+        for (std::size_t i = 0; i < e.size(); ++i) {
+          loops.insert(loops.end(), {e[i], e[(i + 1) % e.size()]});
+          at.push_back(static_cast<int>(loops.size()));
+        }
+        first.push_back(static_cast<int>(at.size()) - 1);
+        regions.push_back(region_of(top_[k].entity));
+        const auto m = static_cast<double>(e.size());
+        out.cell_vertices += m;
+        out.cell_vertices_squared += m * m;
+        out.largest_cell = std::max(out.largest_cell, static_cast<int>(m));
+      }
+      const detail::CellTopology cells(2, static_cast<int>(vertices.size()), std::move(first), std::move(at), std::move(loops));
+      std::vector<int> grouped;  // the edges of the physical lines' elements
+      for (const GmshElement& l : below_) {
+        const int a = vertex_of[static_cast<std::size_t>(l.nodes[0])], b = vertex_of[static_cast<std::size_t>(l.nodes[1])];
+        const int f = a < 0 || b < 0 ? -1 : cells.find_facet({a, b});
+        if (f < 0) fail_not_an_edge(l);
+        if (const std::vector<int>* tags = groups_of(l.entity); tags && !tags->empty()) grouped.push_back(f);
+      }
+      choice = detail::choose_piece(cells, vertices, regions, std::move(grouped), rank, size);
+    }
+    std::vector<std::vector<int>> kept;
+    kept.reserve(choice.cells.size());
+    for (int c : choice.cells) kept.push_back(std::move(elements[static_cast<std::size_t>(c)]));
+    elements = {};
+    try {
+      out.mesh = surface_mesh(vertices, std::move(kept), choice.cells);
+    } catch (const MeshError&) {  // the whole mesh's error, as read_gmsh names it
+      (void)surface_mesh(vertices, surface_elements(vertices, vertex_of), top_numbers());
+      throw;
+    }
+    add_edge_groups(out.mesh, vertex_of, true);
+    detail::keep_choice(std::move(choice), static_cast<int>(top_.size()), out);
+    return out;
   }
 
   /// Vertices: the nodes of surface elements, in $Nodes order; `vertex_of` receives the vertex
@@ -126,14 +182,10 @@ class GmshReader final : detail::GmshSections {
     return vertices;
   }
 
-  /// The mesh of the surface elements, each made counter-clockwise, with the region of each:
-  /// the tag of its entity's first physical group, as written in the file (0 without one); a
-  /// mesh error names the Gmsh element and its line.
-  Mesh surface_mesh(std::vector<Vec2> vertices, const std::vector<int>& vertex_of) const {
+  /// The surface elements' vertices, each made counter-clockwise.
+  std::vector<std::vector<int>> surface_elements(const std::vector<Vec2>& vertices, const std::vector<int>& vertex_of) const {
     std::vector<std::vector<int>> elements;
-    std::vector<int> regions;
     elements.reserve(top_.size());
-    regions.reserve(top_.size());
     for (const GmshElement& s : top_) {
       std::vector<int> e;
       std::vector<Vec2> p;
@@ -143,18 +195,34 @@ class GmshReader final : detail::GmshSections {
       }
       if (signed_area(p) < 0) std::reverse(e.begin(), e.end());
       elements.push_back(std::move(e));
-      regions.push_back(region_of(s.entity));
     }
+    return elements;
+  }
+
+  /// The mesh of the surface elements `numbers` (increasing; `elements` their vertices), with
+  /// the region of each: the tag of its entity's first physical group, as written in the file
+  /// (0 without one); a mesh error names the Gmsh element and its line.
+  Mesh surface_mesh(std::vector<Vec2> vertices, std::vector<std::vector<int>> elements, const std::vector<int>& numbers) const {
+    std::vector<int> regions;
+    regions.reserve(numbers.size());
+    for (int k : numbers) regions.push_back(region_of(top_[static_cast<std::size_t>(k)].entity));
     try {
       return Mesh(std::move(vertices), std::move(elements), std::move(regions));
     } catch (const MeshError& err) {
-      rethrow_at_element(err);
+      const int c = err.element();
+      rethrow_at_element(MeshError(err.detail(), c >= 0 && static_cast<std::size_t>(c) < numbers.size() ? numbers[static_cast<std::size_t>(c)] : -1));
     }
   }
 
+  [[noreturn]] void fail_not_an_edge(const GmshElement& l) const {
+    fail(l.line, "line element " + std::to_string(l.tag) + " (nodes " + std::to_string(nodes_[static_cast<std::size_t>(l.nodes[0])].tag) + " " +
+                     std::to_string(nodes_[static_cast<std::size_t>(l.nodes[1])].tag) + ") is not an edge of the surface mesh");
+  }
+
   /// The edges of each 1D physical group (by tag), from the line elements of its entities;
-  /// a line element that is no edge of the mesh is an error.
-  std::map<int, std::vector<int>> group_edges(const Mesh& mesh, const std::vector<int>& vertex_of) const {
+  /// a line element that is no edge of the mesh is an error, or in a `piece` not one of its
+  /// (each an edge of the whole mesh: build_piece).
+  std::map<int, std::vector<int>> group_edges(const Mesh& mesh, const std::vector<int>& vertex_of, bool piece) const {
     std::map<std::pair<int, int>, int> edge_of;
     for (int i = 0; i < mesh.num_edges(); ++i) {
       const auto& ed = mesh.edge(i);
@@ -166,9 +234,10 @@ class GmshReader final : detail::GmshSections {
       const int a = vertex_of[n0];
       const int b = vertex_of[n1];
       const auto it = a < 0 || b < 0 ? edge_of.end() : edge_of.find(std::minmax(a, b));
-      if (it == edge_of.end())
-        fail(l.line, "line element " + std::to_string(l.tag) + " (nodes " + std::to_string(nodes_[n0].tag) + " " +
-                         std::to_string(nodes_[n1].tag) + ") is not an edge of the surface mesh");
+      if (it == edge_of.end()) {
+        if (piece) continue;
+        fail_not_an_edge(l);
+      }
       if (const std::vector<int>* tags = groups_of(l.entity))
         for (int t : *tags) group_edges[t].push_back(it->second);
     }
@@ -176,9 +245,9 @@ class GmshReader final : detail::GmshSections {
   }
 
   /// Edge groups from the 1D physical groups, named by $PhysicalNames or else by tag.
-  void add_edge_groups(Mesh& mesh, const std::vector<int>& vertex_of) const {
+  void add_edge_groups(Mesh& mesh, const std::vector<int>& vertex_of, bool piece) const {
     std::map<std::string, int> names;
-    for (auto& [tag, edges] : group_edges(mesh, vertex_of)) {
+    for (auto& [tag, edges] : group_edges(mesh, vertex_of, piece)) {
       std::string name = group_name(tag, names);
       std::sort(edges.begin(), edges.end());
       edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
@@ -196,6 +265,15 @@ Mesh read_gmsh(const fs::path& path) {
 
 Mesh read_gmsh(std::istream& in, const std::string& name) {
   return GmshReader(text::read_all(in, name, "mesh"), name).read();
+}
+
+MeshPieceRead<Mesh> read_gmsh_piece(const fs::path& path, int rank, int size) {
+  std::ifstream in = text::open_for_reading(path, "mesh file");
+  return read_gmsh_piece(in, path.string(), rank, size);
+}
+
+MeshPieceRead<Mesh> read_gmsh_piece(std::istream& in, const std::string& name, int rank, int size) {
+  return GmshReader(text::read_all(in, name, "mesh"), name).read_piece(rank, size);
 }
 
 }  // namespace hemivem

@@ -33,6 +33,7 @@
 // from it, and every error names "path:line".
 #include <hemivem/mesh/gmsh3d.hpp>
 
+#include "cell_topology.hpp"
 #include "gmsh_sections.hpp"
 
 #include <hemivem/support/atomic_file.hpp>
@@ -127,6 +128,14 @@ class Gmsh3DReader final : detail::GmshSections {
     return build();
   }
 
+  MeshPieceRead<Mesh3D> read_piece(int rank, int size) {
+    read_sections();
+    if (top_.empty())
+      fail(elements_header_, "the file has no volume elements (4-node tetrahedra, 8-node hexahedra, 6-node prisms or "
+                             "5-node pyramids): a plane mesh is read by read_gmsh");
+    return build_piece(rank, size);
+  }
+
  private:
   [[noreturn]] void refuse_element_type(const Line& block, long long type) const override {
     const std::string name = unsupported_type_name(type);
@@ -139,28 +148,81 @@ class Gmsh3DReader final : detail::GmshSections {
   // ---- the mesh
 
   Mesh3D build() {
-    // vertices: the nodes of volume elements, in $Nodes order
+    Mesh3D mesh = mesh_of(volume_vertices(), top_numbers());
+    add_face_groups(mesh, false);
+    return mesh;
+  }
+
+  /// Vertices: the nodes of volume elements, in $Nodes order (vertex_of_ their numbers).
+  std::vector<Vec3> volume_vertices() {
     vertex_of_ = vertex_numbers();
     std::vector<Vec3> vertices;
     for (std::size_t i = 0; i < nodes_.size(); ++i)
       if (vertex_of_[i] >= 0) vertices.emplace_back(nodes_[i].x, nodes_[i].y, nodes_[i].z);
+    return vertices;
+  }
+
+  /// The mesh of every vertex and the volume elements `elements` (increasing); a mesh error
+  /// names the Gmsh element and its line.
+  Mesh3D mesh_of(std::vector<Vec3> vertices, const std::vector<int>& elements) const {
     std::vector<CellFaces> cells;
     std::vector<int> regions;
-    cells.reserve(top_.size());
-    regions.reserve(top_.size());
-    for (const GmshElement& e : top_) {
+    cells.reserve(elements.size());
+    regions.reserve(elements.size());
+    for (int k : elements) {
+      const GmshElement& e = top_[static_cast<std::size_t>(k)];
       cells.push_back(cell_of(e, vertices));
       regions.push_back(region_of(e.entity));
     }
-    Mesh3D mesh;
     try {
-      mesh = Mesh3D(std::move(vertices), std::move(cells), std::move(regions));
+      return Mesh3D(std::move(vertices), std::move(cells), std::move(regions));
     } catch (const MeshError& err) {
-      rethrow_at_element(err,
+      const int c = err.element();
+      rethrow_at_element(MeshError(err.detail(), c >= 0 && static_cast<std::size_t>(c) < elements.size() ? elements[static_cast<std::size_t>(c)] : -1),
                          [](const GmshElement& e) { return " (" + std::string(volume_shape(e.type)->name) + ")"; });
     }
-    add_face_groups(mesh);
-    return mesh;
+  }
+
+  /// The piece of the mesh process `rank` of `size` keeps (MeshPieceRead), made of the volume
+  /// elements' faces without the whole mesh.
+  MeshPieceRead<Mesh3D> build_piece(int rank, int size) {
+    std::vector<Vec3> vertices = volume_vertices();
+    MeshPieceRead<Mesh3D> out;
+    detail::PieceChoice choice;
+    {
+      std::vector<int> first{0}, at{0}, loops, regions;
+      for (const GmshElement& e : top_) {
+        for (const auto& f : volume_shape(e.type)->faces) {
+          for (int k : f) loops.push_back(vertex_of_[static_cast<std::size_t>(e.nodes[static_cast<std::size_t>(k)])]);
+          at.push_back(static_cast<int>(loops.size()));
+        }
+        first.push_back(static_cast<int>(at.size()) - 1);
+        regions.push_back(region_of(e.entity));
+        const auto m = static_cast<double>(e.nodes.size());
+        out.cell_vertices += m;
+        out.cell_vertices_squared += m * m;
+        out.largest_cell = std::max(out.largest_cell, static_cast<int>(m));
+      }
+      const detail::CellTopology cells(3, static_cast<int>(vertices.size()), std::move(first), std::move(at), std::move(loops));
+      std::vector<int> grouped;  // the faces of the physical surfaces' elements
+      for (const GmshElement& s : below_)
+        if (const std::vector<int>* tags = groups_of(s.entity); tags && !tags->empty()) {
+          std::vector<int> key = vertices_of_element(s);
+          const int f = std::find(key.begin(), key.end(), -1) != key.end() ? -1 : cells.find_facet(std::move(key));
+          if (f < 0) fail_not_a_face(s);
+          grouped.push_back(f);
+        }
+      choice = detail::choose_piece(cells, vertices, regions, std::move(grouped), rank, size);
+    }
+    try {
+      out.mesh = mesh_of(vertices, choice.cells);
+    } catch (const MeshError&) {  // the whole mesh's error, as read_gmsh3d names it
+      (void)mesh_of(std::move(vertices), top_numbers());
+      throw;
+    }
+    add_face_groups(out.mesh, true);
+    detail::keep_choice(std::move(choice), static_cast<int>(top_.size()), out);
+    return out;
   }
 
   /// The faces of a volume element, outward: as Gmsh's node ordering gives them, all reversed
@@ -185,8 +247,26 @@ class Gmsh3DReader final : detail::GmshSections {
     return faces;
   }
 
-  /// Face groups from the 2D physical groups, named by $PhysicalNames or else by tag.
-  void add_face_groups(Mesh3D& mesh) const {
+  /// The vertices of an element's nodes (-1 for a node of no volume element).
+  std::vector<int> vertices_of_element(const GmshElement& s) const {
+    std::vector<int> key;
+    for (int n : s.nodes) key.push_back(vertex_of_[static_cast<std::size_t>(n)]);
+    return key;
+  }
+
+  [[noreturn]] void fail_not_a_face(const GmshElement& s) const {
+    std::string node_tags;
+    for (int n : s.nodes) {
+      node_tags += ' ';
+      node_tags += std::to_string(nodes_[static_cast<std::size_t>(n)].tag);
+    }
+    fail(s.line, "surface element " + std::to_string(s.tag) + " (nodes" + node_tags +
+                     ") of a physical surface is not a face of the volume mesh");
+  }
+
+  /// Face groups from the 2D physical groups, named by $PhysicalNames or else by tag; in a
+  /// `piece`, of the faces it holds (each a face of the whole mesh: build_piece).
+  void add_face_groups(Mesh3D& mesh, bool piece) const {
     std::map<std::vector<int>, int> face_of;  // sorted vertices -> face
     for (int f = 0; f < mesh.num_faces(); ++f) {
       std::vector<int> key = mesh.face(f).vertices;
@@ -197,18 +277,12 @@ class Gmsh3DReader final : detail::GmshSections {
     for (const GmshElement& s : below_) {
       const std::vector<int>* tags = groups_of(s.entity);
       if (!tags || tags->empty()) continue;
-      std::vector<int> key;
-      for (int n : s.nodes) key.push_back(vertex_of_[static_cast<std::size_t>(n)]);
+      std::vector<int> key = vertices_of_element(s);
       std::sort(key.begin(), key.end());
       const auto it = std::find(key.begin(), key.end(), -1) != key.end() ? face_of.end() : face_of.find(key);
       if (it == face_of.end()) {
-        std::string node_tags;
-        for (int n : s.nodes) {
-          node_tags += ' ';
-          node_tags += std::to_string(nodes_[static_cast<std::size_t>(n)].tag);
-        }
-        fail(s.line, "surface element " + std::to_string(s.tag) + " (nodes" + node_tags +
-                         ") of a physical surface is not a face of the volume mesh");
+        if (piece) continue;
+        fail_not_a_face(s);
       }
       for (int t : *tags) group_faces[t].push_back(it->second);
     }
@@ -451,6 +525,15 @@ Mesh3D read_gmsh3d(const fs::path& path) {
 
 Mesh3D read_gmsh3d(std::istream& in, const std::string& name) {
   return Gmsh3DReader(text::read_all(in, name, "mesh"), name).read();
+}
+
+MeshPieceRead<Mesh3D> read_gmsh3d_piece(const fs::path& path, int rank, int size) {
+  std::ifstream in = text::open_for_reading(path, "mesh file");
+  return read_gmsh3d_piece(in, path.string(), rank, size);
+}
+
+MeshPieceRead<Mesh3D> read_gmsh3d_piece(std::istream& in, const std::string& name, int rank, int size) {
+  return Gmsh3DReader(text::read_all(in, name, "mesh"), name).read_piece(rank, size);
 }
 
 void write_gmsh3d(const Mesh3D& mesh, std::ostream& out) {

@@ -96,6 +96,11 @@ void GmshSections::read_sections() {
                                     : "the file holds no $MeshFormat section");
   if (nodes_line_ == 0) fail(last_line_, "the file has no $Nodes section");
   if (elements_line_ == 0) fail(last_line_, "the file has no $Elements section");
+  // what was read is in nodes_, top_ and below_: the text and its index are given back
+  data_ = {};
+  lines_ = {};
+  tokens_ = {};
+  node_index_ = {};
 }
 
 // ---- lines and tokens
@@ -399,6 +404,12 @@ void GmshSections::rethrow_at_element(const MeshError& err, std::string (*label)
 }
 
 // ---- regions and groups
+
+std::vector<int> GmshSections::top_numbers() const {
+  std::vector<int> all(top_.size());
+  for (std::size_t e = 0; e < all.size(); ++e) all[e] = static_cast<int>(e);
+  return all;
+}
 
 int GmshSections::region_of(long long entity) const {
   const auto& physicals = entity_physicals_[dialect_.region_dim];

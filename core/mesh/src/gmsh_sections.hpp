@@ -77,6 +77,8 @@ class GmshSections {
   /// count line.
   [[noreturn]] void rethrow_at_element(const MeshError& err,
                                        std::string (*label)(const GmshElement&) = nullptr) const;
+  /// The numbers of the elements of top_: 0, 1, ..., top_.size() - 1.
+  std::vector<int> top_numbers() const;
   /// The region of an entity of the top dimension: its first physical tag, 0 without one.
   int region_of(long long entity) const;
   /// Every group (physical tag of dimension region_dim - 1) named in $PhysicalNames or given

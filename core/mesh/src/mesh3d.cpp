@@ -385,16 +385,16 @@ Mesh3D::Mesh3D(std::vector<Vec3> vertices, std::vector<CellFaces> cells, std::ve
     double volume = 0.0;
     Vec3 moment = Vec3::Zero();
     for (const int f : cell_faces_[c]) {
-      // the loop as cell(c) gives it and the face's centroid: what a piece holding the cell
-      // holds of it too, whichever of its cells stored the face
+      // the loop in the order its vertices fix (canonical_positions), the sign of the cell's
+      // orientation applied to each tetrahedron, and the face's centroid: what any mesh holding
+      // the cell computes of it, whichever of its cells stored the face and from which vertex
       const MeshFace& face = faces_[static_cast<std::size_t>(f)];
-      positions(vertices_, face.vertices, z);
-      if (face.inner != static_cast<int>(c)) std::reverse(z.begin(), z.end());
+      const double sign = canonical_positions(vertices_, face.vertices, z) * (face.inner == static_cast<int>(c) ? 1.0 : -1.0);
       const Vec3 fc = face_centroid_[static_cast<std::size_t>(f)];
       for (std::size_t i = 0; i < z.size(); ++i) {
         const Vec3& a = z[i];
         const Vec3& b = z[i + 1 < z.size() ? i + 1 : 0];
-        const double v = (a - x0).cross(b - x0).dot(fc - x0) / 6.0;
+        const double v = sign * (a - x0).cross(b - x0).dot(fc - x0) / 6.0;
         volume += v;
         moment += v * ((a - x0) + (b - x0) + (fc - x0)) / 4.0;  // about x0: no fourth power of coordinates
       }

@@ -2,9 +2,12 @@
 #include <hemivem/mesh/mesh_piece.hpp>
 
 #include <hemivem/error.hpp>
+#include <hemivem/row_distribution.hpp>
 #include <hemivem/mesh/dimension.hpp>
 
 #include "cell_kernels.hpp"
+#include "cell_topology.hpp"
+#include "hilbert.hpp"
 
 #include <algorithm>
 #include <array>
@@ -15,12 +18,23 @@ namespace hemivem {
 
 namespace {
 
+using detail::CellTopology;
+
 std::span<const int> vertices_of(const Mesh& mesh, int c) { return mesh.element(c); }
 std::span<const int> vertices_of(const Mesh3D& mesh, int c) { return mesh.cell_vertices(c); }
+std::span<const int> vertices_of(const CellTopology& cells, int c) { return cells.cell_vertices(c); }
 
 /// The two cells of facet f (the second -1 on the boundary).
 std::array<int, 2> facet_cells(const Mesh& mesh, int f) { return {mesh.edge(f).left, mesh.edge(f).right}; }
 std::array<int, 2> facet_cells(const Mesh3D& mesh, int f) { return {mesh.face(f).inner, mesh.face(f).outer}; }
+std::array<int, 2> facet_cells(const CellTopology& cells, int f) { return cells.facet_cells(f); }
+
+/// A solid facet's vertex loop.
+std::span<const int> facet_loop(const Mesh3D& mesh, int f) { return mesh.face(f).vertices; }
+std::span<const int> facet_loop(const CellTopology& cells, int f) { return cells.facet_loop(f); }
+
+bool is_plane(const Mesh3D&) { return false; }
+bool is_plane(const CellTopology& cells) { return cells.dim() == 2; }
 
 /// Adds to `keep` the cells of paths through the mesh (across facets) that join the kept cells
 /// of each connected part of the mesh (a body) into one, so that the kept cells are as many
@@ -80,25 +94,27 @@ void join_parts(const MeshType& mesh, std::vector<char>& keep) {
 /// its faces (two kept cells meeting along an edge alone), until there is none: the kept cells
 /// then make a mesh (Mesh3D's rule for the boundary). Nothing to do in the plane.
 void close_edges(const Mesh&, std::vector<char>&) {}
-void close_edges(const Mesh3D& mesh, std::vector<char>& keep) {
+template <class SolidCells>
+void close_edges(const SolidCells& mesh, std::vector<char>& keep) {
+  if (is_plane(mesh)) return;
   const auto nv = static_cast<std::size_t>(mesh.num_vertices());
   std::vector<int> start(nv + 1, 0), cells;  // the cells of each vertex
   for (int c = 0; c < mesh.num_cells(); ++c)
-    for (int v : mesh.cell_vertices(c)) ++start[static_cast<std::size_t>(v) + 1];
+    for (int v : vertices_of(mesh, c)) ++start[static_cast<std::size_t>(v) + 1];
   for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
   cells.resize(static_cast<std::size_t>(start[nv]));
   std::vector<int> at(start.begin(), start.end() - 1);
   for (int c = 0; c < mesh.num_cells(); ++c)
-    for (int v : mesh.cell_vertices(c)) cells[static_cast<std::size_t>(at[static_cast<std::size_t>(v)]++)] = c;
+    for (int v : vertices_of(mesh, c)) cells[static_cast<std::size_t>(at[static_cast<std::size_t>(v)]++)] = c;
   for (;;) {
     std::vector<std::uint64_t> edges;  // the edges of the faces on the kept cells' surface
     for (int c = 0; c < mesh.num_cells(); ++c) {
       if (!keep[static_cast<std::size_t>(c)]) continue;
-      for (int f : mesh.cell_faces(c)) {
+      for (int f : detail::cell_facets(mesh, c)) {
         const auto [a, b] = facet_cells(mesh, f);
         const int other = a == c ? b : a;
         if (other >= 0 && keep[static_cast<std::size_t>(other)]) continue;
-        const auto& loop = mesh.face(f).vertices;
+        const auto loop = facet_loop(mesh, f);
         for (std::size_t i = 0; i < loop.size(); ++i) {
           const auto u = static_cast<std::uint64_t>(loop[i]), w = static_cast<std::uint64_t>(loop[(i + 1) % loop.size()]);
           edges.push_back(std::min(u, w) << 32 | std::max(u, w));
@@ -115,7 +131,7 @@ void close_edges(const Mesh3D& mesh, std::vector<char>& keep) {
         for (int i = start[a]; i < start[a + 1]; ++i) {
           const int c = cells[static_cast<std::size_t>(i)];
           if (keep[static_cast<std::size_t>(c)]) continue;
-          const auto& vs = mesh.cell_vertices(c);
+          const auto vs = vertices_of(mesh, c);
           if (std::binary_search(vs.begin(), vs.end(), static_cast<int>(b))) keep[static_cast<std::size_t>(c)] = 1, added = true;
         }
       }
@@ -178,6 +194,62 @@ std::vector<int> vertex_bodies(const Mesh& mesh) {
   return up;
 }
 std::vector<int> vertex_bodies(const Mesh3D&) { return {}; }
+
+/// The box of the points (as Mesh::bounding_box and Mesh3D::bounding_box).
+Rectangle box_of(const std::vector<Vec2>& p) {
+  Rectangle r{p.at(0).x(), p[0].x(), p[0].y(), p[0].y()};
+  for (const Vec2& v : p) r = {std::min(r.x0, v.x()), std::max(r.x1, v.x()), std::min(r.y0, v.y()), std::max(r.y1, v.y())};
+  return r;
+}
+Box box_of(const std::vector<Vec3>& p) {
+  Vec3 lo = p.at(0), hi = lo;
+  for (const Vec3& v : p) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+  return {lo.x(), hi.x(), lo.y(), hi.y(), lo.z(), hi.z()};
+}
+
+template <class Vec>
+detail::PieceChoice choose(const CellTopology& cells, const std::vector<Vec>& vertices, const std::vector<int>& regions,
+                           std::vector<int> facets, int rank, int size) {
+  if (size < 1 || rank < 0 || rank >= size)
+    throw InternalError("a piece of a mesh for process " + std::to_string(rank) + " of " + std::to_string(size));
+  detail::PieceChoice out;
+  if (!vertices.empty()) {
+    const std::vector<std::size_t> perm = detail::hilbert_order(vertices, box_of(vertices));
+    out.order.assign(perm.begin(), perm.end());
+  }
+  const auto [first, end] = even_share(cells.num_vertices(), rank, size);
+  out.first = static_cast<int>(first);
+  out.end = static_cast<int>(end);
+  std::vector<char> owned(static_cast<std::size_t>(cells.num_vertices()), 0);
+  for (int k = out.first; k < out.end; ++k) owned[static_cast<std::size_t>(out.order[static_cast<std::size_t>(k)])] = 1;
+  for (int f = 0; f < cells.num_facets(); ++f)
+    if (cells.facet_cells(f)[1] < 0) facets.push_back(f);
+  std::vector<int> seen;  // a cell of each region
+  for (int c = 0; c < cells.num_cells(); ++c)
+    if (const int r = regions[static_cast<std::size_t>(c)]; std::find(seen.begin(), seen.end(), r) == seen.end()) {
+      seen.push_back(r);
+      facets.push_back(cells.cell_facets(c)[0]);
+    }
+  out.cells = cells_around(cells, owned, facets);
+  return out;
+}
+
+}  // namespace
+
+namespace detail {
+
+PieceChoice choose_piece(const CellTopology& cells, const std::vector<Vec2>& vertices, const std::vector<int>& regions,
+                         std::vector<int> facets, int rank, int size) {
+  return choose(cells, vertices, regions, std::move(facets), rank, size);
+}
+PieceChoice choose_piece(const CellTopology& cells, const std::vector<Vec3>& vertices, const std::vector<int>& regions,
+                         std::vector<int> facets, int rank, int size) {
+  return choose(cells, vertices, regions, std::move(facets), rank, size);
+}
+
+}  // namespace detail
+
+namespace {
 
 template <class MeshType>
 MeshType cut(const MeshType& mesh, std::span<const int> cells, std::vector<int>* facets) {

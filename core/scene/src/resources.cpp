@@ -81,14 +81,18 @@ MemoryEstimate estimate_memory(double vertices, double vertices_per_element) {
 }
 
 MemoryEstimate estimate_memory(const Mesh& mesh) {
-  double corners = 0.0, entries = 0.0;
+  double corners = 0.0, squares = 0.0;
   for (int e = 0; e < mesh.num_elements(); ++e) {
     const double m = mesh.element_size(e);
     corners += m;
-    entries += 4.0 * m * m;  // the element's 2m x 2m stiffness matrix
+    squares += m * m;
   }
-  const int ne = mesh.num_elements();
-  MemoryEstimate est = estimate_memory(mesh.num_vertices(), ne ? corners / ne : 4.0);
+  return estimate_memory(mesh.num_vertices(), mesh.num_elements(), corners, squares);
+}
+
+MemoryEstimate estimate_memory(double vertices, double elements, double corners, double corners_squared) {
+  MemoryEstimate est = estimate_memory(vertices, elements > 0 ? corners / elements : 4.0);
+  const double entries = 4.0 * corners_squared;  // each element's 2m x 2m stiffness matrix
   est.element_matrix_entries = entries;
   // 1.1 times the measured peak of eigen on one element of 1000 and of 2000 vertices: 64 and 60
   // bytes per entry of its matrix (the matrix, its products, the sparse assembly, the factor)

@@ -180,6 +180,12 @@ std::vector<std::string> scene_warnings(const Scene& given) {
   return out;
 }
 
+void detail::require_file_memory(const Scene& scene, const MemoryEstimate& condensed, int largest) {
+  const std::string what = scene.mesh.file.string() + ": " + detail::count_text(condensed.vertices) +
+                           " vertices, elements of up to " + std::to_string(largest) + " vertices";
+  detail::require_route_memory(scene, condensed, what, scene.where("mesh.file"));
+}
+
 std::unique_ptr<BuiltProblem> detail::built_plane(const Scene& scene) {
   Mesh mesh;
   if (!scene.mesh.file.empty()) {
@@ -187,12 +193,9 @@ std::unique_ptr<BuiltProblem> detail::built_plane(const Scene& scene) {
     if (ext == ".msh") mesh = read_gmsh(scene.mesh.file);
     else if (ext == ".poly2d") mesh = read_poly2d(scene.mesh.file).mesh;
     else throw InputError("mesh.file: unknown mesh format; expected .poly2d or .msh", scene.where("mesh.file"));
-    const MemoryEstimate condensed = estimate_memory(mesh);
     int largest = 0;
     for (int e = 0; e < mesh.num_elements(); ++e) largest = std::max(largest, mesh.element_size(e));
-    const std::string what = scene.mesh.file.string() + ": " + detail::count_text(condensed.vertices) +
-                             " vertices, elements of up to " + std::to_string(largest) + " vertices";
-    detail::require_route_memory(scene, condensed, what, scene.where("mesh.file"));
+    detail::require_file_memory(scene, estimate_memory(mesh), largest);
   } else {
     const auto& d = scene.mesh.domain;
     const GridSize cells = scene.mesh.cells();

@@ -3,12 +3,16 @@
 
 #include <hemivem/contact/pose_share.hpp>
 #include <hemivem/error.hpp>
+#include <hemivem/mesh/gmsh.hpp>
+#include <hemivem/mesh/gmsh3d.hpp>
 #include <hemivem/mesh/mesh_piece.hpp>
+#include <hemivem/scene/resources.hpp>
 #include <hemivem/mesh/vertex_order.hpp>
 
 #include "scene_problem.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <limits>
 #include <tuple>
 #include <string>
@@ -90,6 +94,49 @@ std::unique_ptr<BasicBuiltProblem<3>> build_problem_piece<3>(const Scene& scene,
   });
   return build_problem(scene, std::move(mesh));
 }
+
+bool reads_pieces(const Scene& scene) {
+  const SceneMesh& m = scene.mesh;
+  if (!scene.bodies.empty() || m.file.empty() || scene.adapt) return false;
+  std::string ext = m.file.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+  if (ext != ".msh") return false;
+  if (std::any_of(scene.material.regions.begin(), scene.material.regions.end(), [](const auto& r) { return r.box.has_value(); }))
+    return false;
+  const auto sides_or_groups = [](const BoundarySelector& b) { return b.segments.empty() && b.points.empty(); };
+  bool ok = sides_or_groups(scene.clamped);
+  for (const SceneDirichlet& d : scene.dirichlet) ok = ok && sides_or_groups(d.boundary);
+  for (const SceneTraction& t : scene.tractions) ok = ok && sides_or_groups(t.boundary);
+  for (const SceneContact& c : contact_parts(scene)) ok = ok && sides_or_groups(c.boundary);
+  return ok;
+}
+
+template <int dim>
+std::unique_ptr<BasicBuiltProblem<dim>> read_problem_piece(const Scene& scene, int rank, int size, PieceOfMesh& where) {
+  detail::require_dimension<dim>(scene);
+  std::unique_ptr<BasicBuiltProblem<dim>> out;
+  const auto keep = [&](auto& read) {
+    where.vertices = VertexShare{read.first, read.end, std::move(read.order)};
+    where.cells = std::move(read.cells);
+    where.whole_cells = read.whole_cells;
+  };
+  if constexpr (dim == 2) {
+    MeshPieceRead<Mesh> read = read_gmsh_piece(scene.mesh.file, rank, size);
+    detail::require_file_memory(
+        scene, estimate_memory(read.mesh.num_vertices(), read.whole_cells, read.cell_vertices, read.cell_vertices_squared),
+        read.largest_cell);
+    keep(read);
+    out = build_problem(scene, std::move(read.mesh), false);
+  } else {
+    MeshPieceRead<Mesh3D> read = read_gmsh3d_piece(scene.mesh.file, rank, size);
+    keep(read);
+    out = detail::built_solid(scene, std::move(read.mesh), false);
+  }
+  return out;
+}
+
+template std::unique_ptr<BasicBuiltProblem<2>> read_problem_piece<2>(const Scene&, int, int, PieceOfMesh&);
+template std::unique_ptr<BasicBuiltProblem<3>> read_problem_piece<3>(const Scene&, int, int, PieceOfMesh&);
 
 bool cuts_pieces(const Scene& scene) {
   return !scene.adapt && !scene_piece(scene, 0, 1);

@@ -66,5 +66,13 @@ std::unique_ptr<BasicBuiltProblem<dim>> built_bodies(const Scene& scene);
 std::unique_ptr<BuiltProblem> built_plane(const Scene& scene);
 /// The problem of a solid scene on its own mesh (its generator or Gmsh file).
 std::unique_ptr<BuiltProblem3D> built_solid(const Scene& scene, const RowDistribution* processes = nullptr);
+/// The problem of a solid scene on `mesh`: one `given` (build_problem(scene, mesh)) or its Gmsh
+/// file's (or a piece of it holding every contact face), its memory checked by its vertices and
+/// contact nodes.
+std::unique_ptr<BuiltProblem3D> built_solid(const Scene& scene, Mesh3D mesh, bool given);
+
+/// require_route_memory of a plane scene's mesh file, `condensed` its mesh's estimate
+/// (estimate_memory) and `largest` the most vertices of one of its elements.
+void require_file_memory(const Scene& scene, const MemoryEstimate& condensed, int largest);
 
 }  // namespace hemivem::detail

@@ -6,6 +6,7 @@
 #include <string>
 
 #include <hemivem/mesh/mesh.hpp>
+#include <hemivem/mesh/mesh_piece.hpp>
 
 namespace hemivem {
 
@@ -18,5 +19,13 @@ namespace hemivem {
 Mesh read_gmsh(const std::filesystem::path& path);
 /// The same from a stream; `name` is used in messages in place of a path.
 Mesh read_gmsh(std::istream& in, const std::string& name);
+
+/// The piece of the file's mesh (as read_gmsh reads it) that process `rank` of `size` keeps
+/// (MeshPieceRead), made without making the whole mesh: the file is read whole, its elements
+/// kept as lists of vertices, and only the piece's elements become a mesh. The errors of
+/// read_gmsh that the piece's elements or the file's elements show; a defect of elements
+/// outside the piece is another process's to find.
+MeshPieceRead<Mesh> read_gmsh_piece(const std::filesystem::path& path, int rank, int size);
+MeshPieceRead<Mesh> read_gmsh_piece(std::istream& in, const std::string& name, int rank, int size);
 
 }  // namespace hemivem

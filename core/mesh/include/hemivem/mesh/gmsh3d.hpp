@@ -7,6 +7,7 @@
 #include <string>
 
 #include <hemivem/mesh/mesh3d.hpp>
+#include <hemivem/mesh/mesh_piece.hpp>
 
 namespace hemivem {
 
@@ -19,6 +20,14 @@ namespace hemivem {
 Mesh3D read_gmsh3d(const std::filesystem::path& path);
 /// The same from a stream; `name` is used in messages in place of a path.
 Mesh3D read_gmsh3d(std::istream& in, const std::string& name);
+
+/// The piece of the file's mesh (as read_gmsh3d reads it) that process `rank` of `size` keeps
+/// (MeshPieceRead), made without making the whole mesh: the file is read whole, its elements
+/// kept as lists of nodes, and only the piece's cells become a mesh. The errors of read_gmsh3d
+/// that the piece's cells or the file's elements show; a defect of cells outside the piece is
+/// another process's to find.
+MeshPieceRead<Mesh3D> read_gmsh3d_piece(const std::filesystem::path& path, int rank, int size);
+MeshPieceRead<Mesh3D> read_gmsh3d_piece(std::istream& in, const std::string& name, int rank, int size);
 
 /// Writes a Gmsh 4.1 ASCII mesh that read_gmsh3d reads back to the same mesh: tetrahedra,
 /// hexahedra, prisms and pyramids (with the vertex orders Gmsh uses); each region a volume

@@ -40,4 +40,24 @@ std::vector<int> piece_cells_around(const Mesh3D& mesh, const std::vector<char>&
 Mesh cut_mesh_piece(const Mesh& mesh, std::span<const int> cells, std::vector<int>* facets = nullptr);
 Mesh3D cut_mesh_piece(const Mesh3D& mesh, std::span<const int> cells, std::vector<int>* facets = nullptr);
 
+/// The piece of a file's mesh that process `rank` of `size` keeps, read without making the
+/// whole mesh (read_gmsh_piece, read_gmsh3d_piece): the process's vertices are its share (the
+/// positions first, ..., end - 1; even_share) of the whole mesh's vertices along the Hilbert
+/// curve (hilbert_vertex_order), and the piece is cut_mesh_piece's of the whole mesh's cells
+/// piece_cells_around that share with the facets of the mesh's boundary, of its facet groups
+/// and the first facet of each region's first cell (so that every piece holds every region and
+/// every facet a support, load or contact part may select by side or group).
+template <class MeshType>
+struct MeshPieceRead {
+  MeshType mesh;
+  std::vector<int> cells;  ///< the piece's cells' numbers in the whole mesh, increasing
+  int whole_cells = 0;     ///< the whole mesh's number of cells
+  std::vector<int> order;  ///< hilbert_vertex_order of the whole mesh
+  int first = 0, end = 0;  ///< the process's share of `order`
+  /// The sums over the whole mesh's cells of their numbers of vertices and of their squares,
+  /// and the most vertices of one (a memory estimate of the whole mesh's).
+  double cell_vertices = 0, cell_vertices_squared = 0;
+  int largest_cell = 0;
+};
+
 }  // namespace hemivem

@@ -52,6 +52,9 @@ MemoryEstimate estimate_memory(double vertices, double vertices_per_element);
 /// square of an element's vertex count (an element of 3000 vertices alone needs about 2.5 GB):
 /// the larger of the two models.
 MemoryEstimate estimate_memory(const Mesh& mesh);
+/// The same for a mesh of `vertices` vertices and `elements` elements, the sums over them of their
+/// vertex counts being `corners` and of those counts' squares `corners_squared`.
+MemoryEstimate estimate_memory(double vertices, double elements, double corners, double corners_squared);
 
 /// A three-dimensional solve (docs/three-dimensions.md): the factor of a 3D stiffness grows like
 /// V^(4/3) (nested dissection), far faster than in 2D, and the dense Schur complement on the

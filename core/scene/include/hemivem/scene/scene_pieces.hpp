@@ -30,6 +30,21 @@ PieceOfMesh scene_piece_of_mesh(const Scene& scene, const BoxPiece& piece);
 template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> build_problem_piece(const Scene& scene, const BoxPiece& piece);
 
+/// Whether each process reads only its piece of the scene's mesh file (read_problem_piece): a
+/// Gmsh file of one body whose supports, loads and contact parts select sides or groups (no
+/// segment or point), without region boxes or adaptive steps.
+bool reads_pieces(const Scene& scene);
+
+/// build_problem<dim>(scene) on the piece of the scene's Gmsh file that process `rank` of `size`
+/// reads (read_gmsh_piece, read_gmsh3d_piece: its vertices' share along the whole mesh's
+/// hilbert_vertex_order, the cells around them and those of every boundary facet, facet group
+/// and region), without making the whole mesh: the same problem on fewer cells, its vertices
+/// and their numbers the whole mesh's, its memory estimated of the whole mesh. `where` tells
+/// where the piece lies. Errors as build_problem's that the piece shows (a defect of cells
+/// outside it is another process's to find).
+template <int dim>
+std::unique_ptr<BasicBuiltProblem<dim>> read_problem_piece(const Scene& scene, int rank, int size, PieceOfMesh& where);
+
 /// Whether a scene's mesh may be made whole and each process keep only its piece of it for the
 /// solve (cut_problem_piece): a scene whose mesh is made whole (no piece of a generated box:
 /// scene_piece), without adaptive steps.

@@ -1,0 +1,269 @@
+// A process's piece of a Gmsh file's mesh read without making the whole mesh
+// (read_gmsh_piece, read_gmsh3d_piece; hemivem/mesh/mesh_piece.hpp) is the piece cut from the
+// whole mesh (piece_cells_around, cut_mesh_piece) by the same rule, to the bit; a file the
+// whole reader refuses is refused; and the problem a scene builds on it (read_problem_piece)
+// poses the share of the whole problem.
+#include <hemivem/contact/pose_share.hpp>
+#include <hemivem/error.hpp>
+#include <hemivem/mesh/generators3d.hpp>
+#include <hemivem/mesh/gmsh.hpp>
+#include <hemivem/mesh/gmsh3d.hpp>
+#include <hemivem/mesh/mesh_piece.hpp>
+#include <hemivem/mesh/vertex_order.hpp>
+#include <hemivem/scene/scene.hpp>
+#include <hemivem/scene/scene_pieces.hpp>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+#include "gmsh_squares.hpp"
+#include "posed_share_checks.hpp"
+#include "test_support.hpp"
+
+using namespace hemivem;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::vector<int> facet_vertices(const Mesh& mesh, int e) { return {mesh.edge(e).v0, mesh.edge(e).v1}; }
+std::vector<int> facet_vertices(const Mesh3D& mesh, int f) { return mesh.face(f).vertices; }
+std::vector<int> first_facet(const Mesh& mesh, int c) { return {mesh.element_edges(c)[0]}; }
+std::vector<int> first_facet(const Mesh3D& mesh, int c) { return {mesh.cell_faces(c)[0]}; }
+bool on_boundary(const Mesh& mesh, int e) { return mesh.edge(e).right < 0; }
+bool on_boundary(const Mesh3D& mesh, int f) { return mesh.face(f).outer < 0; }
+int num_cells_of(const Mesh& mesh) { return mesh.num_elements(); }
+int num_cells_of(const Mesh3D& mesh) { return mesh.num_cells(); }
+const std::map<std::string, std::vector<int>>& groups_of(const Mesh& mesh) { return mesh.edge_groups(); }
+const std::map<std::string, std::vector<int>>& groups_of(const Mesh3D& mesh) { return mesh.face_groups(); }
+/// A cell's vertex loops in its order, each from its smallest vertex.
+std::vector<std::vector<int>> cell_loops(const Mesh& mesh, int e) { return {{mesh.element(e).begin(), mesh.element(e).end()}}; }
+std::vector<std::vector<int>> cell_loops(const Mesh3D& mesh, int c) {
+  std::vector<std::vector<int>> loops = mesh.cell(c);  // each from its smallest vertex
+  for (auto& l : loops) std::rotate(l.begin(), std::min_element(l.begin(), l.end()), l.end());
+  return loops;
+}
+int cell_size(const Mesh& mesh, int e) { return mesh.element_size(e); }
+int cell_size(const Mesh3D& mesh, int c) { return static_cast<int>(mesh.cell_vertices(c).size()); }
+double measure(const Mesh& mesh, int e) { return mesh.area(e); }
+double measure(const Mesh3D& mesh, int c) { return mesh.volume(c); }
+
+/// Each group's facets by their sorted vertices.
+template <class M>
+std::map<std::string, std::set<std::vector<int>>> group_facets(const M& mesh) {
+  std::map<std::string, std::set<std::vector<int>>> out;
+  for (const auto& [name, facets] : groups_of(mesh)) {
+    auto& held = out[name];
+    for (int f : facets) {
+      std::vector<int> v = facet_vertices(mesh, f);
+      std::sort(v.begin(), v.end());
+      held.insert(v);
+    }
+  }
+  return out;
+}
+
+/// The piece of `whole` process `rank` of `size` keeps by the rule of MeshPieceRead, cut from
+/// the whole mesh: its cells.
+template <class M>
+std::vector<int> cut_rule_cells(const M& whole, int rank, int size) {
+  const std::vector<int> order = hilbert_vertex_order(whole);
+  const auto [first, end] = vertex_share(whole.num_vertices(), rank, size);
+  const std::vector<char> owned = VertexShare{first, end, order}.mask(whole.num_vertices());
+  std::vector<int> facets;
+  const int num_facets = static_cast<int>(whole.num_facets());
+  for (int f = 0; f < num_facets; ++f)
+    if (on_boundary(whole, f)) facets.push_back(f);
+  for (const auto& [name, group] : groups_of(whole)) facets.insert(facets.end(), group.begin(), group.end());
+  std::set<int> regions;
+  for (int c = 0; c < num_cells_of(whole); ++c)
+    if (regions.insert(whole.region(c)).second) facets.push_back(first_facet(whole, c)[0]);
+  return piece_cells_around(whole, owned, facets);
+}
+
+/// Every process's piece of `size` read from the file is the piece cut from the whole mesh:
+/// the same cells in the whole's order, each with the whole's loops, volume and region, every
+/// vertex, the groups' facets it holds, the share along the whole mesh's Hilbert order; and
+/// some piece is smaller than the whole when `smaller`.
+template <class M, class ReadWhole, class ReadPiece>
+void expect_read_pieces_are_cut_pieces(const fs::path& file, int size, bool smaller, ReadWhole read_whole, ReadPiece read_piece) {
+  SCOPED_TRACE(file.filename().string() + " in " + std::to_string(size) + " pieces");
+  const M whole = read_whole(file);
+  bool some_smaller = false;
+  for (int rank = 0; rank < size; ++rank) {
+    SCOPED_TRACE("rank " + std::to_string(rank));
+    const MeshPieceRead<M> read = read_piece(file, rank, size);
+    const std::vector<int> cells = cut_rule_cells(whole, rank, size);
+    ASSERT_EQ(read.cells, cells);
+    EXPECT_EQ(read.whole_cells, num_cells_of(whole));
+    EXPECT_EQ(read.order, hilbert_vertex_order(whole));
+    const auto [first, end] = vertex_share(whole.num_vertices(), rank, size);
+    EXPECT_EQ(read.first, first);
+    EXPECT_EQ(read.end, end);
+    const M cut = cut_mesh_piece(whole, cells);
+    ASSERT_EQ(read.mesh.num_vertices(), whole.num_vertices());
+    ASSERT_EQ(num_cells_of(read.mesh), num_cells_of(cut));
+    for (int v = 0; v < whole.num_vertices(); ++v) ASSERT_EQ(read.mesh.vertex(v), whole.vertex(v));
+    for (int c = 0; c < num_cells_of(cut); ++c) {
+      ASSERT_EQ(cell_loops(read.mesh, c), cell_loops(whole, cells[static_cast<std::size_t>(c)])) << "cell " << c;
+      EXPECT_EQ(measure(read.mesh, c), measure(cut, c)) << "cell " << c;
+      EXPECT_EQ(read.mesh.centroid(c), cut.centroid(c)) << "cell " << c;
+      EXPECT_EQ(read.mesh.region(c), cut.region(c)) << "cell " << c;
+    }
+    EXPECT_EQ(group_facets(read.mesh), group_facets(cut));
+    some_smaller = some_smaller || static_cast<int>(cells.size()) < num_cells_of(whole);
+    double corners = 0, squares = 0;
+    int largest = 0;
+    for (int c = 0; c < num_cells_of(whole); ++c) {
+      const int m = cell_size(whole, c);
+      corners += m, squares += static_cast<double>(m) * m, largest = std::max(largest, m);
+    }
+    EXPECT_EQ(read.cell_vertices, corners);
+    EXPECT_EQ(read.cell_vertices_squared, squares);
+    EXPECT_EQ(read.largest_cell, largest);
+  }
+  EXPECT_EQ(some_smaller, smaller);
+}
+
+fs::path write_text(const std::string& name, const std::string& text) {
+  const fs::path path = fs::temp_directory_path() / ("hemivem-mesh-piece-read-" + std::to_string(::getpid()) + "-" + name);
+  std::ofstream(path) << text;
+  return path;
+}
+
+/// A solid Gmsh file of cubes n on the box [0, 1] x [0, 0.5] x [0, 1], the cells above z = 0.5
+/// region 2, the bottom the face group "bottom".
+fs::path cubes_msh(int n) {
+  Mesh3D mesh = make_cubes(GridSize3(n, n / 2, n), Box{0, 1, 0, 0.5, 0, 1});
+  std::vector<int> regions, bottom;
+  for (int c = 0; c < mesh.num_cells(); ++c) regions.push_back(mesh.centroid(c).z() > 0.5 ? 2 : 1);
+  mesh.set_regions(regions);
+  for (int f : mesh.boundary_faces())
+    if (mesh.face_centroid(f).z() == 0.0) bottom.push_back(f);
+  mesh.set_face_group("bottom", bottom);
+  const fs::path path = write_text("cubes.msh", "");
+  write_gmsh3d(mesh, path);
+  return path;
+}
+
+const auto read_plane = [](const fs::path& p) { return read_gmsh(p); };
+const auto read_plane_piece = [](const fs::path& p, int r, int s) { return read_gmsh_piece(p, r, s); };
+const auto read_solid = [](const fs::path& p) { return read_gmsh3d(p); };
+const auto read_solid_piece = [](const fs::path& p, int r, int s) { return read_gmsh3d_piece(p, r, s); };
+
+}  // namespace
+
+TEST(MeshPieceRead, APlaneFilesPiecesAreThePiecesCutFromTheWholeMesh) {
+  const fs::path squares = write_text("squares.msh", test::squares_msh(12, 9));
+  for (int size : {1, 2, 3})
+    expect_read_pieces_are_cut_pieces<Mesh>(squares, size, size > 1, read_plane, read_plane_piece);
+  for (const char* file : {"two_regions.msh", "unit_square_triangles.msh", "unit_square_quads.msh"})
+    expect_read_pieces_are_cut_pieces<Mesh>(test::data_dir() / "gmsh" / file, 2, false, read_plane, read_plane_piece);
+  fs::remove(squares);
+}
+
+TEST(MeshPieceRead, ASolidFilesPiecesAreThePiecesCutFromTheWholeMesh) {
+  const fs::path cubes = cubes_msh(8);
+  for (int size : {1, 2, 3})
+    expect_read_pieces_are_cut_pieces<Mesh3D>(cubes, size, size > 1, read_solid, read_solid_piece);
+  fs::remove(cubes);
+  // hexahedra, pyramids and tetrahedra; two bodies in one file (each body's kept cells joined)
+  for (const char* file : {"hexahedra_pyramids_tetrahedra.msh", "two_boxes_tetrahedra.msh"})
+    expect_read_pieces_are_cut_pieces<Mesh3D>(test::data_dir() / "gmsh3d" / file, 3, true, read_solid, read_solid_piece);
+  expect_read_pieces_are_cut_pieces<Mesh3D>(test::data_dir() / "gmsh3d" / "cube_prisms.msh", 3, false, read_solid, read_solid_piece);
+}
+
+// a file the whole reader refuses, every process refuses with the same message; a defect of
+// the cells, the processes whose pieces hold it (one at least)
+TEST(MeshPieceRead, AFileTheWholeReaderRefusesIsRefusedByThePieces) {
+  int files = 0;
+  for (const auto& entry : fs::directory_iterator(test::data_dir() / "gmsh" / "malformed")) {
+    if (entry.path().extension() != ".msh") continue;
+    SCOPED_TRACE(entry.path().filename().string());
+    ++files;
+    std::string whole;
+    bool cells = false;
+    try {
+      (void)read_gmsh(entry.path());
+      ADD_FAILURE() << "read whole";
+    } catch (const MeshError& e) {
+      whole = e.what(), cells = true;
+    } catch (const InputError& e) {
+      whole = e.what();
+    }
+    int refused = 0;
+    for (int rank = 0; rank < 2; ++rank) {
+      try {
+        (void)read_gmsh_piece(entry.path(), rank, 2);
+        EXPECT_TRUE(cells) << "rank " << rank << " read it";
+      } catch (const InputError& e) {
+        EXPECT_EQ(std::string(e.what()), whole) << "rank " << rank;
+        ++refused;
+      }
+    }
+    EXPECT_GE(refused, 1);
+  }
+  EXPECT_GE(files, 10);
+  // an element inside a larger mesh repeating a vertex: the processes whose pieces hold it
+  // refuse it as the whole reader does, the others read theirs
+  const fs::path defect = write_text("defect.msh", test::squares_msh_repeating_a_vertex(24));
+  const std::string whole = test::input_error_of([&] { (void)read_gmsh(defect); });
+  EXPECT_NE(whole.find("Gmsh element"), std::string::npos) << whole;
+  int refused = 0;
+  for (int rank = 0; rank < 3; ++rank) {
+    const std::string error = test::input_error_of([&] { (void)read_gmsh_piece(defect, rank, 3); });
+    if (!error.empty()) EXPECT_EQ(error, whole) << "rank " << rank;
+    refused += error.empty() ? 0 : 1;
+  }
+  EXPECT_GE(refused, 1);
+  EXPECT_LT(refused, 3);
+  fs::remove(defect);
+}
+
+/// The problem of the scene on each of three processes' pieces read from its file poses the
+/// share of the whole problem to the bit.
+template <int dim>
+void expect_read_problem_pieces_pose_the_whole_share(const Scene& scene) {
+  ASSERT_TRUE(reads_pieces(scene));
+  const auto whole = build_problem<dim>(scene);
+  const std::vector<int> order = hilbert_vertex_order(whole->mesh);
+  for (int rank = 0; rank < 3; ++rank) {
+    SCOPED_TRACE("rank " + std::to_string(rank));
+    PieceOfMesh where;
+    const auto piece = read_problem_piece<dim>(scene, rank, 3, where);
+    const auto [first, end] = vertex_share(whole->mesh.num_vertices(), rank, 3);
+    EXPECT_EQ(where.vertices.order, order);
+    EXPECT_EQ(where.vertices.first, first);
+    EXPECT_EQ(where.vertices.end, end);
+    EXPECT_LT(static_cast<int>(where.cells.size()), where.whole_cells);
+    test::expect_same_share(pose_share(piece->problem, order, first, end), pose_share(whole->problem, order, first, end));
+  }
+}
+
+TEST(MeshPieceRead, TheProblemOnAPieceReadFromTheFilePosesTheWholeShare) {
+  expect_read_problem_pieces_pose_the_whole_share<3>(parse_scene(test::scenes_dir() / "gmsh-bracket-3d.toml"));
+  const fs::path squares = write_text("squares-scene.msh", test::squares_msh(24, 12));
+  Scene plane = parse_scene(test::scenes_dir() / "paper-example-4.1.toml");
+  plane.mesh.file = squares;
+  plane.contact->boundary = BoundarySelector{};
+  plane.contact->boundary.groups = {"bottom"};
+  expect_read_problem_pieces_pose_the_whole_share<2>(plane);
+  fs::remove(squares);
+}
+
+TEST(MeshPieceRead, WhatIsNotReadInPiecesIsNamed) {
+  Scene scene = parse_scene(test::scenes_dir() / "gmsh-bracket-3d.toml");
+  EXPECT_TRUE(reads_pieces(scene));
+  Scene by_point = scene;
+  by_point.clamped.points = {{0.0, 0.0, 0.0}};
+  EXPECT_FALSE(reads_pieces(by_point));  // a point's cells are not the boundary's
+  Scene generated = parse_scene(test::scenes_dir() / "example-4.1-3d.toml");
+  EXPECT_FALSE(reads_pieces(generated));
+}
