@@ -63,7 +63,8 @@ struct SceneEngines {
 
 /// The problem a solve of the scene builds on the scene's own mesh, into s.built: on the
 /// full-space route across processes (`e`), the process's piece of the mesh where the scene
-/// allows it: a generated box's piece made directly (scene_piece), or the piece it keeps of a
+/// allows it: a generated box's piece made directly (scene_piece), a Gmsh file's piece read
+/// alone (reads_pieces; an error one process meets ends every process), or the piece it keeps of a
 /// mesh made whole (cuts_pieces; each process doing its share of the generator's work where it
 /// splits it: build_problem); e.piece then says where the piece lies, and s.mesh_pieces and
 /// s.whole_cells what it is a piece of. The whole mesh otherwise. Given `out`, the solve
