@@ -258,7 +258,7 @@ TEST(MeshPieceRead, TheProblemOnAPieceReadFromTheFilePosesTheWholeShare) {
   fs::remove(squares);
 }
 
-TEST(MeshPieceRead, WhatIsNotReadInPiecesIsNamed) {
+TEST(MeshPieceRead, OnlyAGmshFileWhosePartsSelectSidesOrGroupsIsReadInPieces) {
   Scene scene = parse_scene(test::scenes_dir() / "gmsh-bracket-3d.toml");
   EXPECT_TRUE(reads_pieces(scene));
   Scene by_point = scene;

@@ -48,29 +48,15 @@ class CellTopology {
 
 inline std::span<const int> cell_facets(const CellTopology& cells, int c) { return cells.cell_facets(c); }
 
-/// The piece process `rank` of `size` keeps of the mesh of `cells`, with its vertices at
-/// `vertices` and its cells' regions `regions` (MeshPieceRead, mesh_piece.hpp): `order` the
-/// vertices along the Hilbert curve through their box, the process's share of it the positions
-/// first, ..., end - 1, and `cells` piece_cells_around of that share with the facets `facets`
-/// (a file's facet groups), every boundary facet and the first facet of each region's first
-/// cell.
-struct PieceChoice {
-  std::vector<int> cells, order;
-  int first = 0, end = 0;
-};
-PieceChoice choose_piece(const CellTopology& cells, const std::vector<Vec2>& vertices, const std::vector<int>& regions,
-                         std::vector<int> facets, int rank, int size);
-PieceChoice choose_piece(const CellTopology& cells, const std::vector<Vec3>& vertices, const std::vector<int>& regions,
-                         std::vector<int> facets, int rank, int size);
-
-/// `out`'s cells, order and share those of `choice`, of a mesh of `whole_cells` cells.
-template <class MeshType>
-void keep_choice(PieceChoice&& choice, int whole_cells, MeshPieceRead<MeshType>& out) {
-  out.cells = std::move(choice.cells);
-  out.whole_cells = whole_cells;
-  out.order = std::move(choice.order);
-  out.first = choice.first;
-  out.end = choice.end;
-}
+/// Sets `out`'s cells, order, share, whole_cells and cell sums (MeshPieceRead, mesh_piece.hpp)
+/// to those of the piece process `rank` of `size` keeps of the mesh of `cells`, with its vertices
+/// at `vertices` and its cells' regions `regions`: `order` the vertices along the Hilbert curve
+/// through their box, the process's share of it the positions first, ..., end - 1, and `cells`
+/// piece_cells_around of that share with the facets `facets` (a file's facet groups), every
+/// boundary facet and the first facet of each region's first cell. `out.mesh` is left alone.
+void choose_piece(const CellTopology& cells, const std::vector<Vec2>& vertices, const std::vector<int>& regions,
+                  std::vector<int> facets, int rank, int size, MeshPieceRead<Mesh>& out);
+void choose_piece(const CellTopology& cells, const std::vector<Vec3>& vertices, const std::vector<int>& regions,
+                  std::vector<int> facets, int rank, int size, MeshPieceRead<Mesh3D>& out);
 
 }  // namespace hemivem::detail

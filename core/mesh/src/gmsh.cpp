@@ -131,7 +131,6 @@ class GmshReader final : detail::GmshSections {
     std::vector<Vec2> vertices = surface_vertices(vertex_of);
     std::vector<std::vector<int>> elements = surface_elements(vertices, vertex_of);
     MeshPieceRead<Mesh> out;
-    detail::PieceChoice choice;
     {
       std::vector<int> first{0}, at{0}, loops, regions;
       for (std::size_t k = 0; k < elements.size(); ++k) {
@@ -142,10 +141,6 @@ class GmshReader final : detail::GmshSections {
         }
         first.push_back(static_cast<int>(at.size()) - 1);
         regions.push_back(region_of(top_[k].entity));
-        const auto m = static_cast<double>(e.size());
-        out.cell_vertices += m;
-        out.cell_vertices_squared += m * m;
-        out.largest_cell = std::max(out.largest_cell, static_cast<int>(m));
       }
       const detail::CellTopology cells(2, static_cast<int>(vertices.size()), std::move(first), std::move(at), std::move(loops));
       std::vector<int> grouped;  // the edges of the physical lines' elements
@@ -155,20 +150,19 @@ class GmshReader final : detail::GmshSections {
         if (f < 0) fail_not_an_edge(l);
         if (const std::vector<int>* tags = groups_of(l.entity); tags && !tags->empty()) grouped.push_back(f);
       }
-      choice = detail::choose_piece(cells, vertices, regions, std::move(grouped), rank, size);
+      detail::choose_piece(cells, vertices, regions, std::move(grouped), rank, size, out);
     }
     std::vector<std::vector<int>> kept;
-    kept.reserve(choice.cells.size());
-    for (int c : choice.cells) kept.push_back(std::move(elements[static_cast<std::size_t>(c)]));
+    kept.reserve(out.cells.size());
+    for (int c : out.cells) kept.push_back(std::move(elements[static_cast<std::size_t>(c)]));
     elements = {};
     try {
-      out.mesh = surface_mesh(vertices, std::move(kept), choice.cells);
+      out.mesh = surface_mesh(vertices, std::move(kept), out.cells);
     } catch (const MeshError&) {  // the whole mesh's error, as read_gmsh names it
       (void)surface_mesh(vertices, surface_elements(vertices, vertex_of), top_numbers());
       throw;
     }
     add_edge_groups(out.mesh, vertex_of, true);
-    detail::keep_choice(std::move(choice), static_cast<int>(top_.size()), out);
     return out;
   }
 

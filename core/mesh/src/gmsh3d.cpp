@@ -188,7 +188,6 @@ class Gmsh3DReader final : detail::GmshSections {
   MeshPieceRead<Mesh3D> build_piece(int rank, int size) {
     std::vector<Vec3> vertices = volume_vertices();
     MeshPieceRead<Mesh3D> out;
-    detail::PieceChoice choice;
     {
       std::vector<int> first{0}, at{0}, loops, regions;
       for (const GmshElement& e : top_) {
@@ -198,10 +197,6 @@ class Gmsh3DReader final : detail::GmshSections {
         }
         first.push_back(static_cast<int>(at.size()) - 1);
         regions.push_back(region_of(e.entity));
-        const auto m = static_cast<double>(e.nodes.size());
-        out.cell_vertices += m;
-        out.cell_vertices_squared += m * m;
-        out.largest_cell = std::max(out.largest_cell, static_cast<int>(m));
       }
       const detail::CellTopology cells(3, static_cast<int>(vertices.size()), std::move(first), std::move(at), std::move(loops));
       std::vector<int> grouped;  // the faces of the physical surfaces' elements
@@ -212,16 +207,15 @@ class Gmsh3DReader final : detail::GmshSections {
           if (f < 0) fail_not_a_face(s);
           grouped.push_back(f);
         }
-      choice = detail::choose_piece(cells, vertices, regions, std::move(grouped), rank, size);
+      detail::choose_piece(cells, vertices, regions, std::move(grouped), rank, size, out);
     }
     try {
-      out.mesh = mesh_of(vertices, choice.cells);
+      out.mesh = mesh_of(vertices, out.cells);
     } catch (const MeshError&) {  // the whole mesh's error, as read_gmsh3d names it
       (void)mesh_of(std::move(vertices), top_numbers());
       throw;
     }
     add_face_groups(out.mesh, true);
-    detail::keep_choice(std::move(choice), static_cast<int>(top_.size()), out);
     return out;
   }
 

@@ -207,12 +207,12 @@ Box box_of(const std::vector<Vec3>& p) {
   return {lo.x(), hi.x(), lo.y(), hi.y(), lo.z(), hi.z()};
 }
 
-template <class Vec>
-detail::PieceChoice choose(const CellTopology& cells, const std::vector<Vec>& vertices, const std::vector<int>& regions,
-                           std::vector<int> facets, int rank, int size) {
+template <class Vec, class MeshType>
+void choose(const CellTopology& cells, const std::vector<Vec>& vertices, const std::vector<int>& regions,
+            std::vector<int> facets, int rank, int size, MeshPieceRead<MeshType>& out) {
   if (size < 1 || rank < 0 || rank >= size)
     throw InternalError("a piece of a mesh for process " + std::to_string(rank) + " of " + std::to_string(size));
-  detail::PieceChoice out;
+  out.order.clear();
   if (!vertices.empty()) {
     const std::vector<std::size_t> perm = detail::hilbert_order(vertices, box_of(vertices));
     out.order.assign(perm.begin(), perm.end());
@@ -225,26 +225,33 @@ detail::PieceChoice choose(const CellTopology& cells, const std::vector<Vec>& ve
   for (int f = 0; f < cells.num_facets(); ++f)
     if (cells.facet_cells(f)[1] < 0) facets.push_back(f);
   std::vector<int> seen;  // a cell of each region
-  for (int c = 0; c < cells.num_cells(); ++c)
+  out.cell_vertices = out.cell_vertices_squared = 0;
+  out.largest_cell = 0;
+  for (int c = 0; c < cells.num_cells(); ++c) {
     if (const int r = regions[static_cast<std::size_t>(c)]; std::find(seen.begin(), seen.end(), r) == seen.end()) {
       seen.push_back(r);
       facets.push_back(cells.cell_facets(c)[0]);
     }
+    const auto m = static_cast<double>(cells.cell_vertices(c).size());
+    out.cell_vertices += m;
+    out.cell_vertices_squared += m * m;
+    out.largest_cell = std::max(out.largest_cell, static_cast<int>(m));
+  }
   out.cells = cells_around(cells, owned, facets);
-  return out;
+  out.whole_cells = cells.num_cells();
 }
 
 }  // namespace
 
 namespace detail {
 
-PieceChoice choose_piece(const CellTopology& cells, const std::vector<Vec2>& vertices, const std::vector<int>& regions,
-                         std::vector<int> facets, int rank, int size) {
-  return choose(cells, vertices, regions, std::move(facets), rank, size);
+void choose_piece(const CellTopology& cells, const std::vector<Vec2>& vertices, const std::vector<int>& regions,
+                  std::vector<int> facets, int rank, int size, MeshPieceRead<Mesh>& out) {
+  choose(cells, vertices, regions, std::move(facets), rank, size, out);
 }
-PieceChoice choose_piece(const CellTopology& cells, const std::vector<Vec3>& vertices, const std::vector<int>& regions,
-                         std::vector<int> facets, int rank, int size) {
-  return choose(cells, vertices, regions, std::move(facets), rank, size);
+void choose_piece(const CellTopology& cells, const std::vector<Vec3>& vertices, const std::vector<int>& regions,
+                  std::vector<int> facets, int rank, int size, MeshPieceRead<Mesh3D>& out) {
+  choose(cells, vertices, regions, std::move(facets), rank, size, out);
 }
 
 }  // namespace detail
