@@ -14,17 +14,20 @@ namespace hemivem::app {
 
 namespace {
 
-std::string cell_counts(const Mesh& mesh) { return std::to_string(mesh.num_elements()) + " elements"; }
-std::string cell_counts(const Mesh3D& mesh) {
-  return std::to_string(mesh.num_cells()) + " cells, " + std::to_string(mesh.num_faces()) + " faces";
+template <int dim>
+std::string cell_counts(const MeshSize& size) {
+  if constexpr (dim == 2) return std::to_string(size.cells) + " elements";
+  return std::to_string(size.cells) + " cells, " + std::to_string(size.facets) + " faces";
 }
 
 template <int dim>
 void engines_and_stages(std::ostream& out, const BasicSceneSolve<dim>& solved, const RunInfo& info) {
   const auto& built = *solved.built;
   const auto& sol = solved.solution;
-  out << "  mesh          " << info.mesh << ": " << built.mesh.num_vertices() << " vertices, " << cell_counts(built.mesh)
-      << ", h = " << built.mesh.h() << ", " << info.dofs << " unknowns" << (dim == 3 ? " (three-dimensional)" : "") << "\n"
+  // the whole mesh's, where the results were made on this process's piece of it
+  const MeshSize size = info.whole_mesh ? *info.whole_mesh : mesh_size(built.mesh);
+  out << "  mesh          " << info.mesh << ": " << size.vertices << " vertices, " << cell_counts<dim>(size)
+      << ", h = " << size.h << ", " << info.dofs << " unknowns" << (dim == 3 ? " (three-dimensional)" : "") << "\n"
       << "  engines       linear " << info.linear
       << (info.processes > 1 ? " (" + std::to_string(info.processes) + " processes)" : std::string())
       << (built.has_contact ? ", minimizer " + info.minimizer : std::string(" (no contact: one linear solve)")) << "\n"

@@ -127,15 +127,37 @@ void estimate_solution(const SceneEngines& e, Solved& s, Estimate&& estimate) {
   s.solution.timings["total"] += s.estimate->seconds;
 }
 
+/// Whether every file a static solve of the scene of one body writes is made from the
+/// processes' pieces of its mesh and the gathered solution: result.json (the whole mesh's size and
+/// peak stress gathered, mesh_size_of_pieces), contact.csv, displacement.csv (a piece holds every
+/// vertex), history.csv, solution.vtu (in pieces), a solid's contact-surface.vtu (its faces
+/// gathered, contact_surface_of_pieces) and scene.toml; not stress.csv or a figure, nor a path's
+/// or an adaptive solve's files.
+bool results_of_pieces(const Scene& scene);
+
 /// After a solve on pieces of the mesh (e.piece), once its memory is given back: the whole
 /// mesh's problem in s.built (the results' mesh, as in one process) on a process whose mesh
 /// was a piece, with the problem's data at `t` (set_load_factor) for the end of a path; a
-/// process that keeps its piece (e.writes_to_folder, not writing) records its cells' numbers instead
-/// (s.piece_cells). A path's files written as its steps came (s.path_output) keep the piece
-/// they were written from.
+/// process that keeps its piece (e.writes_to_folder, not writing; or writing only what the
+/// pieces make, results_of_pieces) records its cells' numbers instead (s.piece_cells), and
+/// where every process keeps its piece, every process learns the whole mesh's size and peak
+/// stress (s.whole_mesh, s.whole_stress; collective). A path's files written as its steps came
+/// (s.path_output) keep the piece they were written from.
 template <int dim, class Solved>
 void make_results_mesh_whole(const Scene& scene, const SceneEngines& e, Solved& s, std::optional<double> t = {}) {
   if (!e.piece || static_cast<int>(e.piece->cells.size()) == e.piece->whole_cells) return;
+  if (e.writes_to_folder && !t && results_of_pieces(scene)) {  // the same on every process
+    s.piece_cells = e.piece->cells;
+    const auto& mesh = s.built->mesh;
+    const std::vector<char> owned = owned_cells(mesh, *e.piece);
+    const std::unique_ptr<RowDistribution> rows = process_rows();
+    s.whole_mesh = mesh_size_of_pieces(mesh, owned, e.piece->cells, e.piece->whole_cells, *rows);
+    if (s.solution.u.size() == dim * static_cast<Eigen::Index>(mesh.num_vertices()))
+      s.whole_stress = stress_peak_of_pieces(mesh, cell_stresses(mesh, s.built->problem.elasticity.materials, s.solution.u),
+                                             owned, e.piece->cells, *rows);
+    if constexpr (dim == 3) s.contact_surface = contact_surface_of_pieces(s.built->problem, owned, e.piece->cells, *rows);
+    return;
+  }
   if (e.writes_to_folder && !s.holds_results) {
     s.piece_cells = e.piece->cells;
     return;
@@ -197,8 +219,13 @@ RunInfo run_info_common(const Scene& scene, const Solved& solved) {
   info.error_estimate = solved.estimate;
   const auto& mesh = solved.built->mesh;
   constexpr int dim = std::is_same_v<std::decay_t<decltype(mesh)>, Mesh3D> ? 3 : 2;
-  if (solved.holds_results && solved.solution.u.size() == dim * static_cast<Eigen::Index>(mesh.num_vertices()))
+  if (solved.whole_mesh) {  // the results are written from this process's piece of the mesh
+    info.whole_mesh = solved.whole_mesh;
+    info.stress = solved.whole_stress;
+    info.contact_surface = solved.contact_surface;
+  } else if (solved.holds_results && solved.solution.u.size() == dim * static_cast<Eigen::Index>(mesh.num_vertices())) {
     info.stress = stress_peak(mesh, cell_stresses(mesh, solved.built->problem.elasticity.materials, solved.solution.u));
+  }
   info.figure_formats = scene.figure_formats;
   info.bodies = solved.built->bodies;
   if (solved.holds_results && !info.bodies.empty())

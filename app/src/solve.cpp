@@ -240,6 +240,15 @@ std::vector<std::string> wanted_files(const Scene& scene, bool has_contact) {
   return files;
 }
 
+bool detail::results_of_pieces(const Scene& scene) {
+  if (!scene.bodies.empty() || scene_is_path(scene) || scene.adapt) return false;
+  static const std::vector<std::string> of_pieces{"result.json", "contact.csv", "displacement.csv",
+                                                  "history.csv", "solution.vtu", "contact-surface.vtu", "scene.toml"};
+  for (const std::string& file : wanted_files(scene, true))
+    if (std::find(of_pieces.begin(), of_pieces.end(), file) == of_pieces.end()) return false;
+  return true;
+}
+
 RunInfo run_info(const Scene& scene, const SceneSolve& solved) {
   const BuiltProblem& built = *solved.built;
   RunInfo info = detail::run_info_common(scene, solved);

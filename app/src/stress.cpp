@@ -47,23 +47,71 @@ std::vector<BasicCellStress<3>> cell_stresses(const Mesh3D& mesh, const Material
 
 namespace {
 
+/// The first cell of the largest von Mises stress among the cells of `mesh` that `owned` flags
+/// (all when null), numbered by `cells` (their own numbers when null); `finite` false, and none,
+/// when one of them has a von Mises stress that is not finite.
 template <class MeshType, int dim>
-std::optional<StressPeak> peak_of(const MeshType& mesh, const std::vector<BasicCellStress<dim>>& stresses) {
+std::optional<StressPeak> peak_of(const MeshType& mesh, const std::vector<BasicCellStress<dim>>& stresses,
+                                  const std::vector<char>* owned, const std::vector<int>* cells, bool& finite) {
   if (stresses.size() != static_cast<std::size_t>(mesh.num_cells()))
     throw InputError(std::to_string(stresses.size()) + " cell stresses for a mesh of " + std::to_string(mesh.num_cells()) +
                      " cells");
+  finite = true;
   std::optional<StressPeak> peak;
+  int at = -1;
   for (std::size_t c = 0; c < stresses.size(); ++c) {
+    if (owned && !(*owned)[c]) continue;
     const double vm = stresses[c].von_mises();
-    if (!std::isfinite(vm)) return std::nullopt;
+    if (!std::isfinite(vm)) {
+      finite = false;
+      return std::nullopt;
+    }
     if (peak && !(vm > peak->von_mises)) continue;
     if (!peak) peak.emplace();
-    peak->cell = static_cast<int>(c);
+    at = static_cast<int>(c);
+    peak->cell = cells ? (*cells)[c] : at;
     peak->von_mises = vm;
   }
   if (peak) {
-    const auto x = mesh.centroid(peak->cell);
+    const auto x = mesh.centroid(at);
     peak->centroid.assign(x.data(), x.data() + dim);
+  }
+  return peak;
+}
+
+template <class MeshType, int dim>
+std::optional<StressPeak> peak_of_pieces(const MeshType& mesh, const std::vector<BasicCellStress<dim>>& stresses,
+                                         const std::vector<char>& owned, const std::vector<int>& cells,
+                                         const RowDistribution& rows) {
+  if (owned.size() != stresses.size() || cells.size() != stresses.size())
+    throw InternalError(std::to_string(owned.size()) + " flags and " + std::to_string(cells.size()) +
+                        " numbers for a piece of " + std::to_string(stresses.size()) + " cells");
+  // each process's peak among its cells as [not finite, has one, von Mises, cell, centroid]
+  bool finite = true;
+  const std::optional<StressPeak> mine = peak_of(mesh, stresses, &owned, &cells, finite);
+  constexpr Eigen::Index width = 4 + dim;
+  Eigen::VectorXd sent = Eigen::VectorXd::Zero(width);
+  sent(0) = finite ? 0.0 : 1.0;
+  if (mine) {
+    sent(1) = 1.0;
+    sent(2) = mine->von_mises;
+    sent(3) = mine->cell;
+    for (int i = 0; i < dim; ++i) sent(4 + i) = mine->centroid[static_cast<std::size_t>(i)];
+  }
+  const Eigen::VectorXd all = rows.all_gather(sent);
+  if (all.size() != width * rows.size()) throw InternalError("the processes' stress peaks differ in length");
+  std::optional<StressPeak> peak;
+  for (Eigen::Index at = 0; at < all.size(); at += width) {
+    if (all(at) != 0.0) return std::nullopt;
+    if (all(at + 1) == 0.0) continue;
+    const double vm = all(at + 2);
+    const int cell = static_cast<int>(all(at + 3));
+    // the first cell, in the whole mesh's order, of the largest
+    if (peak && (vm < peak->von_mises || (vm == peak->von_mises && cell > peak->cell))) continue;
+    if (!peak) peak.emplace();
+    peak->cell = cell;
+    peak->von_mises = vm;
+    peak->centroid.assign(all.data() + at + 4, all.data() + at + width);
   }
   return peak;
 }
@@ -71,11 +119,25 @@ std::optional<StressPeak> peak_of(const MeshType& mesh, const std::vector<BasicC
 }  // namespace
 
 std::optional<StressPeak> stress_peak(const Mesh& mesh, const std::vector<CellStress>& stresses) {
-  return peak_of(mesh, stresses);
+  bool finite = true;
+  return peak_of(mesh, stresses, nullptr, nullptr, finite);
 }
 
 std::optional<StressPeak> stress_peak(const Mesh3D& mesh, const std::vector<BasicCellStress<3>>& stresses) {
-  return peak_of(mesh, stresses);
+  bool finite = true;
+  return peak_of(mesh, stresses, nullptr, nullptr, finite);
+}
+
+std::optional<StressPeak> stress_peak_of_pieces(const Mesh& mesh, const std::vector<CellStress>& stresses,
+                                                const std::vector<char>& owned, const std::vector<int>& cells,
+                                                const RowDistribution& rows) {
+  return peak_of_pieces(mesh, stresses, owned, cells, rows);
+}
+
+std::optional<StressPeak> stress_peak_of_pieces(const Mesh3D& mesh, const std::vector<BasicCellStress<3>>& stresses,
+                                                const std::vector<char>& owned, const std::vector<int>& cells,
+                                                const RowDistribution& rows) {
+  return peak_of_pieces(mesh, stresses, owned, cells, rows);
 }
 
 }  // namespace hemivem::app

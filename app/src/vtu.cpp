@@ -429,10 +429,18 @@ void write_vtu(std::ostream& os, const Mesh3D& mesh, const MaterialTable& materi
 
 void write_contact_surface_vtu(std::ostream& os, const Mesh3D& mesh, const std::vector<int>& faces,
                                const ContactSolution3D& sol) {
+  std::vector<std::vector<int>> loops;
+  loops.reserve(faces.size());
+  for (int f : faces) loops.push_back(mesh.face(f).vertices);
+  write_contact_surface_vtu(os, mesh, loops, sol);
+}
+
+void write_contact_surface_vtu(std::ostream& os, const Mesh3D& mesh, const std::vector<std::vector<int>>& faces,
+                               const ContactSolution3D& sol) {
   // the points of the contact faces, numbered in the order of their vertex ids
   std::map<int, std::int64_t> point;
-  for (int f : faces)
-    for (int v : mesh.face(f).vertices) point.emplace(v, 0);
+  for (const auto& loop : faces)
+    for (int v : loop) point.emplace(v, 0);
   std::int64_t next = 0;
   std::vector<Vec3> points;
   std::vector<std::int64_t> vertex;
@@ -442,8 +450,8 @@ void write_contact_surface_vtu(std::ostream& os, const Mesh3D& mesh, const std::
     vertex.push_back(v);
   }
   Cells cells;
-  for (int f : faces) {
-    for (int v : mesh.face(f).vertices) cells.connectivity.push_back(point.at(v));
+  for (const auto& loop : faces) {
+    for (int v : loop) cells.connectivity.push_back(point.at(v));
     cells.close(7);  // VTK_POLYGON
   }
   file_head(os, points.size(), faces.size());

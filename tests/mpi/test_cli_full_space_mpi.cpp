@@ -389,7 +389,7 @@ TEST(CliFullSpaceMpi, APathOfTwoBodiesAcrossProcessesKeepsEachProcesssPieces) {
                {solids.string(), "two-solids-path", 6, 3}};
   for (const auto& c : cases) {
     SCOPED_TRACE(c.name);
-    const std::string flags = c.flags + " --tol 1e-11 -q";
+    const std::string flags = c.flags + " --tol 1e-11";
     const fs::path ref = solve_condensed(flags, "condensed-" + c.name);
     if (ref.empty()) return;
     CommandRun m;
@@ -489,6 +489,84 @@ TEST(CliFullSpaceMpi, AGmshFileEachProcessReadsItsPieceOfIsTheCondensedAnswer) {
   const fs::path ref = solve_condensed(flags, "condensed-squares-on-file");
   if (ref.empty()) return;
   for (const int processes : {2, 3}) expect_processes_agree(flags, ref, processes, "read-squares", false, processes);
+}
+
+/// The scene of `flags` solved by `processes` ranks on the full-space route twice: writing only
+/// the files the processes' pieces make (`of_pieces`, output.write), so that rank 0 too keeps
+/// its piece of the mesh for the results, and with stress.csv besides, for which rank 0 makes
+/// the whole mesh again. What the first says of the whole mesh is the second's: result.json's
+/// mesh (vertices, elements, faces, h) and the summary's mesh line to the bit, its stress peak
+/// the largest von Mises stress of the second's stress.csv (a cell of that stress, its
+/// centroid), and a solid's contact-surface.vtu the same polygons with the same values.
+void expect_pieces_make_the_results(const std::string& flags, const std::string& of_pieces, int processes,
+                                    const std::string& name, const std::string& mesh_line) {
+  SCOPED_TRACE(std::to_string(processes) + " processes");
+  const std::string write = " --linear petsc-gamg --set 'output.write=[" + of_pieces;
+  CommandRun a, b;
+  const fs::path kept = solve_across(processes, flags + write + "]'", name + "-kept", &a);
+  const fs::path whole = solve_across(processes, flags + write + ", \"stress-csv\"]'", name + "-whole", &b);
+  ASSERT_EQ(a.code, 0) << a.out << a.err;
+  ASSERT_EQ(b.code, 0) << b.out << b.err;
+  EXPECT_EQ(count(a.out, mesh_line), 1u) << a.out;
+  EXPECT_EQ(count(b.out, mesh_line), 1u) << b.out;
+  const nlohmann::json ra = nlohmann::json::parse(slurp(kept / "result.json"));
+  const nlohmann::json rb = nlohmann::json::parse(slurp(whole / "result.json"));
+  EXPECT_EQ(ra["mesh"]["pieces"], processes);
+  EXPECT_EQ(ra["mesh"], rb["mesh"]);
+  EXPECT_FALSE(fs::exists(kept / "stress.csv"));
+  // the peak: a cell whose von Mises stress in stress.csv is the largest, and its centroid
+  const std::vector<std::vector<double>> stress = numbers(whole / "stress.csv");
+  ASSERT_EQ(static_cast<int>(stress.size()), rb["mesh"]["elements"].get<int>());
+  double largest = 0.0;
+  for (const auto& row : stress) largest = std::max(largest, row.back());
+  ASSERT_TRUE(ra["stress"].is_object()) << ra.dump();
+  const double peak = ra["stress"]["max_von_mises"].get<double>();
+  EXPECT_NEAR(peak, largest, 1e-9 * largest);
+  const int cell = ra["stress"]["cell"].get<int>();
+  ASSERT_GE(cell, 0);
+  ASSERT_LT(cell, static_cast<int>(stress.size()));
+  const std::vector<double>& row = stress[static_cast<std::size_t>(cell)];
+  EXPECT_NEAR(row.back(), largest, 1e-9 * largest);
+  const std::size_t dim = ra["stress"]["centroid"].size();
+  for (std::size_t i = 0; i < dim; ++i) EXPECT_NEAR(ra["stress"]["centroid"][i].get<double>(), row[1 + i], 1e-12) << i;
+  if (dim == 3) {  // the contact faces gathered from the pieces
+    const fs::path sa = kept / "contact-surface.vtu", sb = whole / "contact-surface.vtu";
+    ASSERT_TRUE(fs::exists(sa));
+    EXPECT_GT(vtu_cells(sb), 0);
+    EXPECT_EQ(vtu_cells(sa), vtu_cells(sb));
+    for (const char* array : {"displacement", "u_nu", "pressure"}) {
+      const std::vector<double> va = vtu_doubles(sa, array), vb = vtu_doubles(sb, array);
+      ASSERT_EQ(va.size(), vb.size()) << array;
+      ASSERT_FALSE(vb.empty()) << array;
+      double scale = 0.0;
+      for (const double v : vb) scale = std::max(scale, std::abs(v));
+      for (std::size_t i = 0; i < va.size(); ++i) EXPECT_NEAR(va[i], vb[i], 1e-9 * scale) << array << " " << i;
+    }
+    const std::string text_a = slurp(sa), text_b = slurp(sb);
+    const auto connectivity = [](const std::string& text) {
+      const std::size_t at = text.find("Name=\"connectivity\"");
+      return at == std::string::npos ? std::string() : text.substr(at, text.find("</DataArray>", at) - at);
+    };
+    EXPECT_FALSE(connectivity(text_b).empty());
+    EXPECT_EQ(connectivity(text_a), connectivity(text_b));
+  }
+}
+
+// where every file the scene writes is made from the pieces, rank 0 keeps its piece too, and
+// the results say what the whole mesh's say
+TEST(CliFullSpaceMpi, WhereThePiecesMakeEveryFileTheResultsOfPiecesAreTheWholeMeshs) {
+  {
+    SCOPED_TRACE("a solid");
+    const std::string flags = scene("example-4.1-3d.toml") + " --set 'mesh.n=[6, 6, 6]' --tol 1e-11";
+    expect_pieces_make_the_results(flags, R"("result-json", "contact-csv", "displacement-csv", "vtu")", 2, "solid-results",
+                                   "343 vertices, 216 cells, 756 faces, h = 0.25,");
+  }
+  {
+    SCOPED_TRACE("a plane");
+    const std::string flags = scene("paper-example-4.1.toml") + " --set 'mesh.n=24'";
+    expect_pieces_make_the_results(flags, R"("result-json", "contact-csv", "history-csv", "vtu")", 3, "plane-results",
+                                   "625 vertices, 576 elements, h = 0.0589256,");
+  }
 }
 
 // a file with a defect in one cell inside the mesh, which only the processes whose pieces hold

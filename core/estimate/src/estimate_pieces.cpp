@@ -24,7 +24,18 @@ int smallest_vertex(const Mesh& mesh, int c) {
 }
 int smallest_vertex(const Mesh3D& mesh, int c) { return mesh.cell_vertices(c).front(); }
 
+template <class MeshType>
+std::vector<char> owned_cells_of(const MeshType& mesh, const PieceOfMesh& piece) {
+  const std::vector<char> mine = piece.vertices.mask(mesh.num_vertices());
+  std::vector<char> owned(static_cast<std::size_t>(mesh.num_cells()));
+  for (int c = 0; c < mesh.num_cells(); ++c) owned[static_cast<std::size_t>(c)] = mine[static_cast<std::size_t>(smallest_vertex(mesh, c))];
+  return owned;
+}
+
 }  // namespace
+
+std::vector<char> owned_cells(const Mesh& mesh, const PieceOfMesh& piece) { return owned_cells_of(mesh, piece); }
+std::vector<char> owned_cells(const Mesh3D& mesh, const PieceOfMesh& piece) { return owned_cells_of(mesh, piece); }
 
 template <int dim>
 std::vector<std::pair<int, std::vector<double>>> owned_estimate_terms(const BasicContactProblem<dim>& problem,
@@ -35,10 +46,10 @@ std::vector<std::pair<int, std::vector<double>>> owned_estimate_terms(const Basi
     throw InternalError("a piece of " + std::to_string(terms.size()) + " cells named by " +
                         std::to_string(piece.cells.size()) + " numbers of the whole mesh");
   const auto& mesh = *problem.elasticity.mesh;
-  const std::vector<char> owned = piece.vertices.mask(mesh.num_vertices());
+  const std::vector<char> owned = owned_cells(mesh, piece);
   std::vector<std::pair<int, std::vector<double>>> out;
   for (std::size_t c = 0; c < terms.size(); ++c) {
-    if (!owned[static_cast<std::size_t>(smallest_vertex(mesh, static_cast<int>(c)))]) continue;
+    if (!owned[c]) continue;
     std::vector<double> t(terms[c].raw.begin(), terms[c].raw.end());
     t.push_back(terms[c].weight);
     t.push_back(terms[c].consistency_energy);

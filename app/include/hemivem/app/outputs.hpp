@@ -32,6 +32,33 @@ namespace hemivem::app {
 /// The version of hemivem ("0.1.0"), as result.json records it.
 const char* version();
 
+/// The size of a mesh as result.json's "mesh" and the summary report it (mesh_size).
+struct MeshSize {
+  int vertices = 0;
+  int cells = 0;    ///< a plane's elements, a solid's cells
+  int facets = 0;   ///< a plane's edges, a solid's faces
+  double h = 0.0;   ///< the largest cell diameter
+};
+MeshSize mesh_size(const Mesh& mesh);
+MeshSize mesh_size(const Mesh3D& mesh);
+
+/// mesh_size of a whole mesh that the processes hold in pieces, collective over `rows`: each
+/// process's piece `mesh` holds every vertex of the whole mesh, `owned` flags the piece's cells
+/// it owns (each cell of the whole mesh owned by one process, the piece holding its
+/// neighbours) and `cells` gives each cell's number in the whole mesh; `whole_cells` is the
+/// whole mesh's count. The same on every process, and mesh_size of the whole mesh.
+MeshSize mesh_size_of_pieces(const Mesh& mesh, const std::vector<char>& owned, const std::vector<int>& cells,
+                             int whole_cells, const RowDistribution& rows);
+MeshSize mesh_size_of_pieces(const Mesh3D& mesh, const std::vector<char>& owned, const std::vector<int>& cells,
+                             int whole_cells, const RowDistribution& rows);
+
+/// A solid's contact faces (contact_faces) as vertex loops, of a whole mesh that the processes
+/// hold in pieces, collective over `rows`: each process's `problem` is posed on its piece,
+/// `owned` and `cells` as for mesh_size_of_pieces. Part by part, each part's faces in the whole
+/// mesh's order of their cells; the same on every process.
+std::vector<std::vector<int>> contact_surface_of_pieces(const ContactProblem3D& problem, const std::vector<char>& owned,
+                                                        const std::vector<int>& cells, const RowDistribution& rows);
+
 /// What the run was, beyond the solution itself: recorded in result.json.
 struct RunInfo {
   std::string version = hemivem::app::version();
@@ -47,6 +74,12 @@ struct RunInfo {
   /// The pieces the processes made the mesh in (docs/cluster.md): 1 when every process made the
   /// whole mesh.
   int mesh_pieces = 1;
+  /// The whole mesh's size when the mesh the results are written from is this process's piece
+  /// of it (BasicSceneSolve::whole_mesh); none: the mesh's own.
+  std::optional<MeshSize> whole_mesh;
+  /// With whole_mesh, a solid's contact faces as vertex loops (contact_surface_of_pieces):
+  /// contact-surface.vtu's. Empty: the contact faces given with the mesh.
+  std::vector<std::vector<int>> contact_surface;
   /// solution.vtu written in this many pieces, one per process (solution.piece-K.vtu, named by
   /// solution.pvtu: BasicSceneSolve::share); 0 for one file.
   int vtu_pieces = 0;

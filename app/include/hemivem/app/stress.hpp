@@ -10,6 +10,7 @@
 
 #include <hemivem/mesh/mesh.hpp>
 #include <hemivem/mesh/mesh3d.hpp>
+#include <hemivem/row_distribution.hpp>
 #include <hemivem/vem/material.hpp>
 
 namespace hemivem::app {
@@ -46,5 +47,18 @@ struct StressPeak {
 /// not). InputError when `stresses` does not have one entry per cell.
 std::optional<StressPeak> stress_peak(const Mesh& mesh, const std::vector<CellStress>& stresses);
 std::optional<StressPeak> stress_peak(const Mesh3D& mesh, const std::vector<BasicCellStress<3>>& stresses);
+
+/// stress_peak of a whole mesh that the processes hold in pieces, collective over `rows`: each
+/// process's `stresses` are those of its piece `mesh`, `owned` flags the piece's cells it owns
+/// (each cell of the whole mesh owned by one process) and `cells` gives each cell's number in
+/// the whole mesh (increasing). The whole mesh's first cell of the largest von Mises stress,
+/// numbered as the whole numbers it, the same on every process; none when a cell's von Mises
+/// stress is not finite.
+std::optional<StressPeak> stress_peak_of_pieces(const Mesh& mesh, const std::vector<CellStress>& stresses,
+                                                const std::vector<char>& owned, const std::vector<int>& cells,
+                                                const RowDistribution& rows);
+std::optional<StressPeak> stress_peak_of_pieces(const Mesh3D& mesh, const std::vector<BasicCellStress<3>>& stresses,
+                                                const std::vector<char>& owned, const std::vector<int>& cells,
+                                                const RowDistribution& rows);
 
 }  // namespace hemivem::app

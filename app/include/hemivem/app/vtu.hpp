@@ -86,5 +86,10 @@ class SolutionVtu {
 /// and contact_node (1 at the contact nodes; the other points, prescribed ones, carry 0 values).
 void write_contact_surface_vtu(std::ostream& stream, const Mesh3D& mesh, const std::vector<int>& faces,
                                const ContactSolution3D& solution);
+/// The same of the contact faces given as vertex loops of `mesh` (each as a face's vertices,
+/// counter-clockwise seen from outside its cell): those a run across processes gathered from
+/// the processes' pieces (contact_surface_of_pieces).
+void write_contact_surface_vtu(std::ostream& stream, const Mesh3D& mesh, const std::vector<std::vector<int>>& loops,
+                               const ContactSolution3D& sol);
 
 }  // namespace hemivem::app

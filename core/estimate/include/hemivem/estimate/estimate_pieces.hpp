@@ -22,8 +22,13 @@ struct PieceOfMesh {
   VertexShare vertices;
 };
 
-/// The residual terms of the cells of the piece that the process owns (those whose smallest
-/// vertex is one of its vertices), as (the whole mesh's number of the cell, its terms), from
+/// The cells of the piece `mesh` that the process owns: those whose smallest vertex is one of
+/// its vertices (piece.vertices), one flag per cell of the piece. Each cell of the whole mesh is
+/// owned by one process, and the piece holds every neighbour of a cell it owns.
+std::vector<char> owned_cells(const Mesh& mesh, const PieceOfMesh& piece);
+std::vector<char> owned_cells(const Mesh3D& mesh, const PieceOfMesh& piece);
+
+/// The residual terms of the cells of the piece that the process owns (owned_cells), as (the whole mesh's number of the cell, its terms), from
 /// `problem` on the piece and the whole `solution`. A piece holds every neighbour of such a cell,
 /// so that its terms are the whole mesh's, to the bit. InputError as estimate_error.
 template <int dim>
