@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "test_support.hpp"
+#include "thread_rows.hpp"
 
 #include <algorithm>
 #include <array>
@@ -149,42 +150,7 @@ TEST(Voronoi3D, ScaledBoxes) {
   EXPECT_NEAR(m.total_volume(), 1.0, 1e-14);
 }
 
-/// Processes played by threads: all_gather hands each one's values to all through `Shared`.
-class ThreadRows final : public hemivem::RowDistribution {
- public:
-  struct Shared {
-    explicit Shared(int size) : sync(size), values(static_cast<std::size_t>(size)) {}
-    std::barrier<> sync;
-    std::vector<Eigen::VectorXd> values;
-  };
-  ThreadRows(Shared& shared, int rank) : shared_(shared), rank_(rank) {
-    layout_.first = rank;
-    layout_.owned = 1;
-    layout_.global = size();
-  }
-  int rank() const override { return rank_; }
-  int size() const override { return static_cast<int>(shared_.values.size()); }
-  const hemivem::RowLayout& layout() const override { return layout_; }
-  double sum(double) const override { throw std::logic_error("not used"); }
-  double max(double) const override { throw std::logic_error("not used"); }
-  void update_ghosts(Eigen::VectorXd&) const override { throw std::logic_error("not used"); }
-  Eigen::VectorXd all_gather(const Eigen::VectorXd& mine) const override {
-    shared_.values[static_cast<std::size_t>(rank_)] = mine;
-    shared_.sync.arrive_and_wait();
-    Eigen::Index n = 0;
-    for (const auto& v : shared_.values) n += v.size();
-    Eigen::VectorXd all(n);
-    n = 0;
-    for (const auto& v : shared_.values) all.segment(n, v.size()) = v, n += v.size();
-    shared_.sync.arrive_and_wait();  // every process has read them before the next call writes
-    return all;
-  }
-
- private:
-  Shared& shared_;
-  int rank_;
-  hemivem::RowLayout layout_;
-};
+using hemivem::test::ThreadRows;
 
 // the Lloyd iterations split among 2 and 3 processes (threads here; each computing the cells of
 // its share of the seeds): every process makes the mesh one process makes, to the bit

@@ -816,18 +816,26 @@ Vec3 displacement(const ContactSolution3D& sol, int v) { return sol.u.segment<3>
 }  // namespace
 
 Figure deformed_figure(const Mesh3D& mesh, const ContactSolution3D& sol, const RunInfo& info) {
+  std::vector<std::vector<int>> faces;
+  faces.reserve(mesh.boundary_faces().size());
+  for (const int f : mesh.boundary_faces()) faces.push_back(mesh.face(f).vertices);
+  return deformed_figure(mesh, std::move(faces), sol, info);
+}
+
+Figure deformed_figure(const Mesh3D& mesh, std::vector<std::vector<int>> faces, const ContactSolution3D& sol,
+                       const RunInfo& info) {
   const Box box = mesh.bounding_box();
   const double size = std::sqrt(box.size(0) * box.size(0) + box.size(1) * box.size(1) + box.size(2) * box.size(2));
   double umax = 0.0;
   for (int v = 0; v < mesh.num_vertices(); ++v) umax = std::max(umax, displacement(sol, v).norm());
   const double scale = magnification(size, umax);
-  const std::vector<int>& faces = mesh.boundary_faces();
-  const bool all = faces.size() <= kMaxDrawnFaces;
+  const std::size_t count = faces.size();
+  const bool all = count <= kMaxDrawnFaces;
 
   Figure f;
   f.png = "deformed.png";
   f.height = 800;
-  f.data.push_back({"faces.dat", [&mesh, &sol, &faces, scale, all](std::ostream& stream) {
+  f.data.push_back({"faces.dat", [&mesh, &sol, faces = std::move(faces), scale, all](std::ostream& stream) {
                       TextWriter os(stream);
                       os << "# x y z |u| (deformed boundary faces as pm3d patches)\n";
                       std::vector<Vec3> p;
@@ -836,7 +844,7 @@ Figure deformed_figure(const Mesh3D& mesh, const ContactSolution3D& sol, const R
                         if (!all && k % ((faces.size() + kMaxDrawnFaces - 1) / kMaxDrawnFaces) != 0) continue;
                         p.clear();
                         value.clear();
-                        for (int v : mesh.face(faces[k]).vertices) {
+                        for (int v : faces[k]) {
                           const Vec3 u = displacement(sol, v);
                           p.push_back(mesh.vertex(v) + scale * u);
                           value.push_back(u.norm());
@@ -870,7 +878,7 @@ Figure deformed_figure(const Mesh3D& mesh, const ContactSolution3D& sol, const R
   tics << axis_format("cb", 0.0, umax);
   std::ostringstream title;
   title << "deformed body (displacement x " << std::setprecision(3) << scale << "), coloured by |u|";
-  if (!all) title << "; " << faces.size() << " boundary faces, one in " << (faces.size() + kMaxDrawnFaces - 1) / kMaxDrawnFaces << " drawn";
+  if (!all) title << "; " << count << " boundary faces, one in " << (count + kMaxDrawnFaces - 1) / kMaxDrawnFaces << " drawn";
   std::ostringstream s;
   s << "set title " << solve_title(title.str(), info) << " noenhanced\n"
     << "set view 62, 32\nset view equal xyz\nset xyplane at " << num(box.z0 - 0.05 * size) << "\n"
@@ -914,6 +922,14 @@ void add_stick_slip_map(Figure& f, std::ostringstream& s, const ContactSolution3
 
 Figure pressure_figure(const Mesh3D& mesh, const std::vector<int>& faces, const ContactSolution3D& sol,
                        const RunInfo& info) {
+  std::vector<std::vector<int>> loops;
+  loops.reserve(faces.size());
+  for (const int f : faces) loops.push_back(mesh.face(f).vertices);
+  return pressure_figure(mesh, std::move(loops), sol, info);
+}
+
+Figure pressure_figure(const Mesh3D& mesh, std::vector<std::vector<int>> faces, const ContactSolution3D& sol,
+                       const RunInfo& info) {
   // the axis the contact faces are seen along: the largest component of their mean normal
   Vec3 mean = Vec3::Zero();
   for (const auto& n : sol.contact) mean += n.weight * n.normal;
@@ -930,8 +946,8 @@ Figure pressure_figure(const Mesh3D& mesh, const std::vector<int>& faces, const 
   }
   double a_lo = 0.0, a_hi = 0.0, b_lo = 0.0, b_hi = 0.0;  // the extent of the map, for its height
   bool first = true;
-  for (int face : faces)
-    for (int v : mesh.face(face).vertices) {
+  for (const auto& face : faces)
+    for (int v : face) {
       const Vec3& x = mesh.vertex(v);
       a_lo = first ? x(a) : std::min(a_lo, x(a)), a_hi = first ? x(a) : std::max(a_hi, x(a));
       b_lo = first ? x(b) : std::min(b_lo, x(b)), b_hi = first ? x(b) : std::max(b_hi, x(b));
@@ -942,15 +958,15 @@ Figure pressure_figure(const Mesh3D& mesh, const std::vector<int>& faces, const 
   // a flat contact surface gets a lower picture, so that the colour bar stays near it
   const double aspect = a_hi > a_lo ? (b_hi - b_lo) / (a_hi - a_lo) : 1.0;
   f.height = static_cast<int>(std::clamp(200.0 + 700.0 * aspect, 400.0, 900.0));
-  f.data.push_back({"pressure.dat", [&mesh, &faces, pressure, a, b](std::ostream& stream) {
+  f.data.push_back({"pressure.dat", [&mesh, faces = std::move(faces), pressure, a, b](std::ostream& stream) {
                       TextWriter os(stream);
                       os << "# a b 0 pressure (the contact faces seen along their normal, as pm3d patches)\n";
                       std::vector<Vec3> p;
                       std::vector<double> value;
-                      for (int face : faces) {
+                      for (const auto& face : faces) {
                         p.clear();
                         value.clear();
-                        for (int v : mesh.face(face).vertices) {
+                        for (int v : face) {
                           const Vec3& x = mesh.vertex(v);
                           p.emplace_back(x(a), x(b), 0.0);
                           value.push_back(pressure[static_cast<std::size_t>(v)]);

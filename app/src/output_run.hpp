@@ -111,24 +111,40 @@ void write_displacement_csv(std::ostream& stream, const MeshType& mesh, const Ei
 }
 
 /// stress.csv: one row per cell: cell, its centroid, the components of its projected stress
-/// (a plane's sxx, syy, szz, sxy; a solid's sxx, syy, szz, syz, sxz, sxy) and von_mises.
+/// (a plane's sxx, syy, szz, sxy; a solid's sxx, syy, szz, syz, sxz, sxy) and von_mises; the
+/// whole mesh's rows gathered from the pieces (WholeOfPieces::stress_rows) when `pieces` is
+/// given, `mesh` being a piece.
 template <class MeshType>
-void write_stress_csv(std::ostream& stream, const MeshType& mesh, const MaterialTable& materials, const Eigen::VectorXd& u) {
+void write_stress_csv(std::ostream& stream, const MeshType& mesh, const MaterialTable& materials, const Eigen::VectorXd& u,
+                      const WholeOfPieces* pieces = nullptr) {
   static constexpr const char* axes[] = {"x", "y", "z"};
   constexpr int dim = std::is_same_v<MeshType, Mesh3D> ? 3 : 2;
-  const auto stresses = cell_stresses(mesh, materials, u);
   TextWriter os(stream);
   os << "cell";
   for (int c = 0; c < dim; ++c) os << ',' << axes[c];
   os << (dim == 2 ? ",sxx,syy,szz,sxy" : ",sxx,syy,szz,syz,sxz,sxy") << ",von_mises\n";
-  for (std::size_t e = 0; e < stresses.size(); ++e) {
-    const auto& s = stresses[e];
+  const auto row = [&os](std::size_t e, const double* x, const BasicCellStress<dim>& s) {
     os << static_cast<long long>(e);
-    const auto x = mesh.centroid(static_cast<int>(e));
-    for (int c = 0; c < dim; ++c) os << ',' << x(c);
+    for (int c = 0; c < dim; ++c) os << ',' << x[c];
     os << ',' << s.xx << ',' << s.yy << ',' << s.zz;
     if constexpr (dim == 3) os << ',' << s.yz << ',' << s.xz;
     os << ',' << s.xy << ',' << s.von_mises() << '\n';
+  };
+  if (pieces) {
+    constexpr std::size_t width = dim + 6;
+    const std::vector<double>& rows = pieces->stress_rows;
+    for (std::size_t e = 0; e < rows.size() / width; ++e) {
+      const double* r = rows.data() + e * width;
+      BasicCellStress<dim> s;
+      s.xx = r[dim], s.yy = r[dim + 1], s.zz = r[dim + 2], s.yz = r[dim + 3], s.xz = r[dim + 4], s.xy = r[dim + 5];
+      row(e, r, s);
+    }
+    return;
+  }
+  const auto stresses = cell_stresses(mesh, materials, u);
+  for (std::size_t e = 0; e < stresses.size(); ++e) {
+    const auto x = mesh.centroid(static_cast<int>(e));
+    row(e, x.data(), stresses[e]);
   }
 }
 
@@ -245,7 +261,7 @@ void write_solve_files(OutputRun& run, const MeshType& mesh, const MaterialTable
   run.write("result.json", [&](std::ostream& os) { os << result(run.listed()).dump(2) << '\n'; });
   run.write("contact.csv", [&](std::ostream& os) { write_contact_csv(os, solution); });
   run.write("displacement.csv", [&](std::ostream& os) { write_displacement_csv(os, mesh, solution.u, info.bodies); });
-  run.write("stress.csv", [&](std::ostream& os) { write_stress_csv(os, mesh, materials, solution.u); });
+  run.write("stress.csv", [&](std::ostream& os) { write_stress_csv(os, mesh, materials, solution.u, info.of_pieces.get()); });
   run.write("history.csv", [&](std::ostream& os) { write_history_csv(os, solution); });
   if (run.want("solution.vtu") && info.vtu_pieces > 0) {  // the processes' pieces, then the file naming them
     if (!pieces) throw InternalError("solution.pvtu without its pieces");

@@ -98,89 +98,12 @@ MeshSize mesh_size(const Mesh3D& mesh) { return {mesh.num_vertices(), mesh.num_c
 
 namespace {
 
-/// The cells on either side of facet f (the second -1 on the boundary).
-std::array<int, 2> facet_cells(const Mesh& mesh, int f) { return {mesh.edge(f).left, mesh.edge(f).right}; }
-std::array<int, 2> facet_cells(const Mesh3D& mesh, int f) { return {mesh.face(f).inner, mesh.face(f).outer}; }
-std::span<const int> cell_facets(const Mesh& mesh, int c) { return mesh.element_edges(c); }
-std::span<const int> cell_facets(const Mesh3D& mesh, int c) { return mesh.cell_faces(c); }
-
-/// Each facet of the whole mesh is counted by the process owning the first of its cells in the
-/// whole mesh's order, h is the largest diameter of the cells the processes own.
-template <class MeshType>
-MeshSize size_of_pieces(const MeshType& mesh, const std::vector<char>& owned, const std::vector<int>& cells,
-                        int whole_cells, const RowDistribution& rows) {
-  if (owned.size() != static_cast<std::size_t>(mesh.num_cells()) || cells.size() != owned.size())
-    throw InternalError(std::to_string(owned.size()) + " flags and " + std::to_string(cells.size()) +
-                        " numbers for a piece of " + std::to_string(mesh.num_cells()) + " cells");
-  double facets = 0.0, h = 0.0;
-  for (int c = 0; c < mesh.num_cells(); ++c) {
-    if (!owned[static_cast<std::size_t>(c)]) continue;
-    h = std::max(h, mesh.diameter(c));
-    for (const int f : cell_facets(mesh, c)) {
-      const auto [one, other] = facet_cells(mesh, f);
-      const int neighbour = one == c ? other : one;
-      if (neighbour < 0 || cells[static_cast<std::size_t>(c)] < cells[static_cast<std::size_t>(neighbour)]) facets += 1.0;
-    }
-  }
-  return {mesh.num_vertices(), whole_cells, static_cast<int>(rows.sum(facets)), rows.max(h)};
-}
-
-}  // namespace
-
-std::vector<std::vector<int>> contact_surface_of_pieces(const ContactProblem3D& problem, const std::vector<char>& owned,
-                                                        const std::vector<int>& cells, const RowDistribution& rows) {
-  const Mesh3D& mesh = *problem.elasticity.mesh;
-  if (owned.size() != static_cast<std::size_t>(mesh.num_cells()) || cells.size() != owned.size())
-    throw InternalError(std::to_string(owned.size()) + " flags and " + std::to_string(cells.size()) +
-                        " numbers for a piece of " + std::to_string(mesh.num_cells()) + " cells");
-  // each face of a cell this process owns as [part, the cell's whole number, the face's place
-  // in the cell, its vertices' count, its vertices]
-  std::vector<double> mine;
-  for (std::size_t p = 0; p < problem.parts.size(); ++p)
-    for (const int f : problem.parts[p].facets) {
-      const int c = mesh.face(f).inner;
-      if (!owned[static_cast<std::size_t>(c)]) continue;
-      const std::vector<int>& around = mesh.cell_faces(c);
-      const auto place = std::find(around.begin(), around.end(), f) - around.begin();
-      const std::vector<int>& loop = mesh.face(f).vertices;
-      mine.insert(mine.end(), {static_cast<double>(p), static_cast<double>(cells[static_cast<std::size_t>(c)]),
-                               static_cast<double>(place), static_cast<double>(loop.size())});
-      mine.insert(mine.end(), loop.begin(), loop.end());
-    }
-  const Eigen::VectorXd all = rows.all_gather(Eigen::Map<const Eigen::VectorXd>(mine.data(), static_cast<Eigen::Index>(mine.size())));
-  std::vector<std::pair<std::array<double, 3>, std::vector<int>>> faces;
-  for (Eigen::Index at = 0; at < all.size();) {
-    const auto n = static_cast<Eigen::Index>(all(at + 3));
-    if (at + 4 + n > all.size()) throw InternalError("the processes' contact faces end inside a face");
-    std::vector<int> loop(static_cast<std::size_t>(n));
-    for (Eigen::Index i = 0; i < n; ++i) loop[static_cast<std::size_t>(i)] = static_cast<int>(all(at + 4 + i));
-    faces.emplace_back(std::array<double, 3>{all(at), all(at + 1), all(at + 2)}, std::move(loop));
-    at += 4 + n;
-  }
-  std::sort(faces.begin(), faces.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  std::vector<std::vector<int>> loops;
-  loops.reserve(faces.size());
-  for (auto& face : faces) loops.push_back(std::move(face.second));
-  return loops;
-}
-
-MeshSize mesh_size_of_pieces(const Mesh& mesh, const std::vector<char>& owned, const std::vector<int>& cells,
-                             int whole_cells, const RowDistribution& rows) {
-  return size_of_pieces(mesh, owned, cells, whole_cells, rows);
-}
-MeshSize mesh_size_of_pieces(const Mesh3D& mesh, const std::vector<char>& owned, const std::vector<int>& cells,
-                             int whole_cells, const RowDistribution& rows) {
-  return size_of_pieces(mesh, owned, cells, whole_cells, rows);
-}
-
-namespace {
-
-/// result.json's "mesh": how it was made, its size and h (the whole mesh's, info.whole_mesh, when
+/// result.json's "mesh": how it was made, its size and h (the whole mesh's, info.of_pieces, when
 /// `mesh` is a piece of it); a solid's also its faces.
 template <class MeshType>
 nlohmann::json mesh_json(const MeshType& mesh, const RunInfo& info) {
   constexpr int dim = std::is_same_v<MeshType, Mesh3D> ? 3 : 2;
-  const MeshSize size = info.whole_mesh ? *info.whole_mesh : mesh_size(mesh);
+  const MeshSize size = info.of_pieces ? info.of_pieces->size : mesh_size(mesh);
   nlohmann::json j{{"description", info.mesh}, {"vertices", size.vertices}, {"elements", size.cells}};
   if constexpr (dim == 3) j["faces"] = size.facets;
   j["dofs"] = info.dofs >= 0 ? info.dofs : dim * size.vertices;
@@ -383,12 +306,16 @@ void solve_figures(std::vector<Figure>& figures, const Mesh3D& mesh, const Conta
                    const RunInfo& info, const std::vector<int>* faces, const PathFiles<3>* path,
                    const detail::OutputRun& run, OutputReport& report) {
   if (run.want("pressure.png") && solution.contact.empty()) report.skipped.push_back("pressure.png: no contact boundary");
-  if (run.want("deformed.png")) figures.push_back(deformed_figure(mesh, solution, info));
+  // `mesh` a piece: the faces gathered from every process's (info.of_pieces)
+  if (run.want("deformed.png"))
+    figures.push_back(info.of_pieces ? deformed_figure(mesh, info.of_pieces->boundary, solution, info)
+                                     : deformed_figure(mesh, solution, info));
   if (run.want("adapt.png") && info.adapt.is_null()) report.skipped.push_back("adapt.png: not an adaptive solve");
   if (run.want("adapt.png") && !info.adapt.is_null()) figures.push_back(adapt_figure(info, 3));
   path_figures<3>(figures, info, path, run, report);
   if (run.want("pressure.png") && !solution.contact.empty())
-    figures.push_back(pressure_figure(mesh, *faces, solution, info));
+    figures.push_back(info.of_pieces ? pressure_figure(mesh, info.of_pieces->contact_surface, solution, info)
+                                     : pressure_figure(mesh, *faces, solution, info));
 }
 
 /// The frames of a path written whole into `tx`: solution-0007.vtu of the whole mesh.
@@ -429,8 +356,8 @@ OutputReport write_outputs_of(const fs::path& dir, const MeshType& mesh, const M
   detail::write_solve_files(run, mesh, materials, solution, info, result, pieces);
   if constexpr (dim == 3)
     run.write("contact-surface.vtu", [&](std::ostream& os) {
-      if (info.whole_mesh)  // `mesh` is a piece: the faces gathered from every process's
-        write_contact_surface_vtu(os, mesh, info.contact_surface, solution);
+      if (info.of_pieces)  // `mesh` is a piece: the faces gathered from every process's
+        write_contact_surface_vtu(os, mesh, info.of_pieces->contact_surface, solution);
       else
         write_contact_surface_vtu(os, mesh, *contact_faces, solution);
     });

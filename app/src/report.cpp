@@ -25,7 +25,7 @@ void engines_and_stages(std::ostream& out, const BasicSceneSolve<dim>& solved, c
   const auto& built = *solved.built;
   const auto& sol = solved.solution;
   // the whole mesh's, where the results were made on this process's piece of it
-  const MeshSize size = info.whole_mesh ? *info.whole_mesh : mesh_size(built.mesh);
+  const MeshSize size = info.of_pieces ? info.of_pieces->size : mesh_size(built.mesh);
   out << "  mesh          " << info.mesh << ": " << size.vertices << " vertices, " << cell_counts<dim>(size)
       << ", h = " << size.h << ", " << info.dofs << " unknowns" << (dim == 3 ? " (three-dimensional)" : "") << "\n"
       << "  engines       linear " << info.linear

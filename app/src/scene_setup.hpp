@@ -128,11 +128,12 @@ void estimate_solution(const SceneEngines& e, Solved& s, Estimate&& estimate) {
 }
 
 /// Whether every file a static solve of the scene of one body writes is made from the
-/// processes' pieces of its mesh and the gathered solution: result.json (the whole mesh's size and
-/// peak stress gathered, mesh_size_of_pieces), contact.csv, displacement.csv (a piece holds every
-/// vertex), history.csv, solution.vtu (in pieces), a solid's contact-surface.vtu (its faces
-/// gathered, contact_surface_of_pieces) and scene.toml; not stress.csv or a figure, nor a path's
-/// or an adaptive solve's files.
+/// processes' pieces of its mesh and the gathered solution (whole_of_pieces): result.json (the
+/// whole mesh's size and stress peak), contact.csv, displacement.csv (a piece holds every
+/// vertex), stress.csv (each process's rows gathered on the first), history.csv, solution.vtu
+/// (in pieces), scene.toml, and a solid's contact-surface.vtu, deformed.png and pressure.png
+/// (its contact and boundary faces gathered); not a plane's figures, nor a path's or an
+/// adaptive solve's files.
 bool results_of_pieces(const Scene& scene);
 
 /// After a solve on pieces of the mesh (e.piece), once its memory is given back: the whole
@@ -140,8 +141,8 @@ bool results_of_pieces(const Scene& scene);
 /// was a piece, with the problem's data at `t` (set_load_factor) for the end of a path; a
 /// process that keeps its piece (e.writes_to_folder, not writing; or writing only what the
 /// pieces make, results_of_pieces) records its cells' numbers instead (s.piece_cells), and
-/// where every process keeps its piece, every process learns the whole mesh's size and peak
-/// stress (s.whole_mesh, s.whole_stress; collective). A path's files written as its steps came
+/// where every process keeps its piece, what the results need of the whole mesh is gathered
+/// (s.of_pieces, whole_of_pieces; collective). A path's files written as its steps came
 /// (s.path_output) keep the piece they were written from.
 template <int dim, class Solved>
 void make_results_mesh_whole(const Scene& scene, const SceneEngines& e, Solved& s, std::optional<double> t = {}) {
@@ -149,13 +150,9 @@ void make_results_mesh_whole(const Scene& scene, const SceneEngines& e, Solved& 
   if (e.writes_to_folder && !t && results_of_pieces(scene)) {  // the same on every process
     s.piece_cells = e.piece->cells;
     const auto& mesh = s.built->mesh;
-    const std::vector<char> owned = owned_cells(mesh, *e.piece);
-    const std::unique_ptr<RowDistribution> rows = process_rows();
-    s.whole_mesh = mesh_size_of_pieces(mesh, owned, e.piece->cells, e.piece->whole_cells, *rows);
-    if (s.solution.u.size() == dim * static_cast<Eigen::Index>(mesh.num_vertices()))
-      s.whole_stress = stress_peak_of_pieces(mesh, cell_stresses(mesh, s.built->problem.elasticity.materials, s.solution.u),
-                                             owned, e.piece->cells, *rows);
-    if constexpr (dim == 3) s.contact_surface = contact_surface_of_pieces(s.built->problem, owned, e.piece->cells, *rows);
+    const bool displaced = s.solution.u.size() == dim * static_cast<Eigen::Index>(mesh.num_vertices());
+    s.of_pieces = std::make_shared<const WholeOfPieces>(
+        whole_of_pieces<dim>(s.built->problem, displaced ? s.solution.u : Eigen::VectorXd(), *e.piece, *process_rows()));
     return;
   }
   if (e.writes_to_folder && !s.holds_results) {
@@ -219,10 +216,9 @@ RunInfo run_info_common(const Scene& scene, const Solved& solved) {
   info.error_estimate = solved.estimate;
   const auto& mesh = solved.built->mesh;
   constexpr int dim = std::is_same_v<std::decay_t<decltype(mesh)>, Mesh3D> ? 3 : 2;
-  if (solved.whole_mesh) {  // the results are written from this process's piece of the mesh
-    info.whole_mesh = solved.whole_mesh;
-    info.stress = solved.whole_stress;
-    info.contact_surface = solved.contact_surface;
+  if (solved.of_pieces) {  // the results are written from this process's piece of the mesh
+    info.of_pieces = solved.of_pieces;
+    info.stress = solved.of_pieces->stress;
   } else if (solved.holds_results && solved.solution.u.size() == dim * static_cast<Eigen::Index>(mesh.num_vertices())) {
     info.stress = stress_peak(mesh, cell_stresses(mesh, solved.built->problem.elasticity.materials, solved.solution.u));
   }

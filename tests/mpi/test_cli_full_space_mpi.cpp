@@ -491,31 +491,34 @@ TEST(CliFullSpaceMpi, AGmshFileEachProcessReadsItsPieceOfIsTheCondensedAnswer) {
   for (const int processes : {2, 3}) expect_processes_agree(flags, ref, processes, "read-squares", false, processes);
 }
 
-/// The scene of `flags` solved by `processes` ranks on the full-space route twice: writing only
-/// the files the processes' pieces make (`of_pieces`, output.write), so that rank 0 too keeps
-/// its piece of the mesh for the results, and with stress.csv besides, for which rank 0 makes
-/// the whole mesh again. What the first says of the whole mesh is the second's: result.json's
-/// mesh (vertices, elements, faces, h) and the summary's mesh line to the bit, its stress peak
-/// the largest von Mises stress of the second's stress.csv (a cell of that stress, its
-/// centroid), and a solid's contact-surface.vtu the same polygons with the same values.
-void expect_pieces_make_the_results(const std::string& flags, const std::string& of_pieces, int processes,
-                                    const std::string& name, const std::string& mesh_line) {
+/// The scene of `flags` solved by `processes` ranks on the full-space route writing `kept`
+/// (output.write), so that every process keeps its piece of the mesh for the results, against
+/// the same scene solved on that route writing `whole` by `whole_processes` ranks, for which
+/// rank 0 makes or holds the whole mesh. What the first says of the whole mesh is the second's:
+/// result.json's mesh (vertices, elements, faces, h) and the summary's mesh line to the bit,
+/// its stress peak the largest von Mises stress of the second's stress.csv (a cell of that
+/// stress, its centroid), stress.csv when both write it (the same cells and centroids, the
+/// stresses to 1e-9 of the largest), a solid's contact-surface.vtu (the same polygons, the values
+/// to 1e-9), and the figures of `figures` drawn, or skipped for want of gnuplot.
+void expect_pieces_make_the_results(const std::string& flags, const std::string& kept, const std::string& whole,
+                                    int processes, int whole_processes, const std::string& name,
+                                    const std::string& mesh_line, const std::vector<std::string>& figures = {}) {
   SCOPED_TRACE(std::to_string(processes) + " processes");
-  const std::string write = " --linear petsc-gamg --set 'output.write=[" + of_pieces;
   CommandRun a, b;
-  const fs::path kept = solve_across(processes, flags + write + "]'", name + "-kept", &a);
-  const fs::path whole = solve_across(processes, flags + write + ", \"stress-csv\"]'", name + "-whole", &b);
+  const std::string write = " --linear petsc-gamg --set 'output.write=[";
+  const fs::path of_pieces = solve_across(processes, flags + write + kept + "]'", name + "-kept", &a);
+  const fs::path of_whole = solve_across(whole_processes, flags + write + whole + "]'", name + "-whole", &b);
   ASSERT_EQ(a.code, 0) << a.out << a.err;
   ASSERT_EQ(b.code, 0) << b.out << b.err;
   EXPECT_EQ(count(a.out, mesh_line), 1u) << a.out;
   EXPECT_EQ(count(b.out, mesh_line), 1u) << b.out;
-  const nlohmann::json ra = nlohmann::json::parse(slurp(kept / "result.json"));
-  const nlohmann::json rb = nlohmann::json::parse(slurp(whole / "result.json"));
+  nlohmann::json ra = nlohmann::json::parse(slurp(of_pieces / "result.json"));
+  nlohmann::json rb = nlohmann::json::parse(slurp(of_whole / "result.json"));
   EXPECT_EQ(ra["mesh"]["pieces"], processes);
+  ra["mesh"].erase("pieces"), rb["mesh"].erase("pieces");
   EXPECT_EQ(ra["mesh"], rb["mesh"]);
-  EXPECT_FALSE(fs::exists(kept / "stress.csv"));
   // the peak: a cell whose von Mises stress in stress.csv is the largest, and its centroid
-  const std::vector<std::vector<double>> stress = numbers(whole / "stress.csv");
+  const std::vector<std::vector<double>> stress = numbers(of_whole / "stress.csv");
   ASSERT_EQ(static_cast<int>(stress.size()), rb["mesh"]["elements"].get<int>());
   double largest = 0.0;
   for (const auto& row : stress) largest = std::max(largest, row.back());
@@ -529,8 +532,18 @@ void expect_pieces_make_the_results(const std::string& flags, const std::string&
   EXPECT_NEAR(row.back(), largest, 1e-9 * largest);
   const std::size_t dim = ra["stress"]["centroid"].size();
   for (std::size_t i = 0; i < dim; ++i) EXPECT_NEAR(ra["stress"]["centroid"][i].get<double>(), row[1 + i], 1e-12) << i;
+  if (fs::exists(of_pieces / "stress.csv")) {  // gathered from the pieces
+    const std::vector<std::vector<double>> mine = numbers(of_pieces / "stress.csv");
+    ASSERT_EQ(mine.size(), stress.size());
+    for (std::size_t c = 0; c < stress.size(); ++c) {
+      ASSERT_EQ(mine[c].size(), stress[c].size());
+      for (std::size_t k = 0; k <= dim; ++k) EXPECT_EQ(mine[c][k], stress[c][k]) << "cell " << c << " column " << k;
+      for (std::size_t k = dim + 1; k < stress[c].size(); ++k)
+        EXPECT_NEAR(mine[c][k], stress[c][k], 1e-9 * largest) << "cell " << c << " column " << k;
+    }
+  }
   if (dim == 3) {  // the contact faces gathered from the pieces
-    const fs::path sa = kept / "contact-surface.vtu", sb = whole / "contact-surface.vtu";
+    const fs::path sa = of_pieces / "contact-surface.vtu", sb = of_whole / "contact-surface.vtu";
     ASSERT_TRUE(fs::exists(sa));
     EXPECT_GT(vtu_cells(sb), 0);
     EXPECT_EQ(vtu_cells(sa), vtu_cells(sb));
@@ -542,13 +555,17 @@ void expect_pieces_make_the_results(const std::string& flags, const std::string&
       for (const double v : vb) scale = std::max(scale, std::abs(v));
       for (std::size_t i = 0; i < va.size(); ++i) EXPECT_NEAR(va[i], vb[i], 1e-9 * scale) << array << " " << i;
     }
-    const std::string text_a = slurp(sa), text_b = slurp(sb);
     const auto connectivity = [](const std::string& text) {
       const std::size_t at = text.find("Name=\"connectivity\"");
       return at == std::string::npos ? std::string() : text.substr(at, text.find("</DataArray>", at) - at);
     };
-    EXPECT_FALSE(connectivity(text_b).empty());
-    EXPECT_EQ(connectivity(text_a), connectivity(text_b));
+    EXPECT_FALSE(connectivity(slurp(sb)).empty());
+    EXPECT_EQ(connectivity(slurp(sa)), connectivity(slurp(sb)));
+  }
+  for (const std::string& figure : figures) {  // drawn from the gathered faces, or skipped without gnuplot
+    const bool drawn = fs::exists(of_pieces / figure);
+    EXPECT_TRUE(drawn || a.out.find("skipped") != std::string::npos) << figure << "\n" << a.out;
+    if (drawn) EXPECT_GT(fs::file_size(of_pieces / figure), 1000u) << figure;
   }
 }
 
@@ -556,15 +573,17 @@ void expect_pieces_make_the_results(const std::string& flags, const std::string&
 // the results say what the whole mesh's say
 TEST(CliFullSpaceMpi, WhereThePiecesMakeEveryFileTheResultsOfPiecesAreTheWholeMeshs) {
   {
-    SCOPED_TRACE("a solid");
+    SCOPED_TRACE("a solid, every file of its default against one process's");
     const std::string flags = scene("example-4.1-3d.toml") + " --set 'mesh.n=[6, 6, 6]' --tol 1e-11";
-    expect_pieces_make_the_results(flags, R"("result-json", "contact-csv", "displacement-csv", "vtu")", 2, "solid-results",
-                                   "343 vertices, 216 cells, 756 faces, h = 0.25,");
+    const std::string all = R"("vtu", "contact-csv", "displacement-csv", "stress-csv", "history-csv", "result-json", "deformed-png", "pressure-png")";
+    expect_pieces_make_the_results(flags, all, all, 2, 1, "solid-results", "343 vertices, 216 cells, 756 faces, h = 0.25,",
+                                   {"deformed.png", "pressure.png"});
   }
   {
-    SCOPED_TRACE("a plane");
+    SCOPED_TRACE("a plane, against the whole mesh made again for u_nu.png");
     const std::string flags = scene("paper-example-4.1.toml") + " --set 'mesh.n=24'";
-    expect_pieces_make_the_results(flags, R"("result-json", "contact-csv", "history-csv", "vtu")", 3, "plane-results",
+    const std::string files = R"("result-json", "contact-csv", "stress-csv", "history-csv", "vtu")";
+    expect_pieces_make_the_results(flags, files, files + R"(, "u-nu-png")", 3, 3, "plane-results",
                                    "625 vertices, 576 elements, h = 0.0589256,");
   }
 }

@@ -45,6 +45,12 @@ class RowDistribution {
   /// Collective: every process's `mine` (of any size, possibly none) concatenated in the order of
   /// the ranks, on every process; of the owned entries of a vector, the whole vector.
   virtual Eigen::VectorXd all_gather(const Eigen::VectorXd& mine) const = 0;
+  /// Collective: all_gather's concatenation on the first process alone (empty on the others),
+  /// for what only it needs, such as the rows of a file it writes.
+  virtual Eigen::VectorXd gather_to_first(const Eigen::VectorXd& mine) const {
+    Eigen::VectorXd all = all_gather(mine);
+    return rank() == 0 ? all : Eigen::VectorXd();
+  }
 
   double min(double value) const { return -max(-value); }
   /// Collective: the sum of every process's `mine` (of one length on all), added in the order of

@@ -108,12 +108,19 @@ Figure deformed_figure(const Mesh& mesh, const ContactSolution& solution, const 
 /// the colour of |u| (viridis), the displacement magnified so that its largest value is a tenth
 /// of the body's size (the title says by how much).
 Figure deformed_figure(const Mesh3D& mesh, const ContactSolution3D& solution, const RunInfo& info);
+/// The same over the boundary faces given as vertex loops of `mesh` (in the order of its
+/// boundary faces: those gathered from the processes' pieces, WholeOfPieces::boundary).
+Figure deformed_figure(const Mesh3D& mesh, std::vector<std::vector<int>> boundary, const ContactSolution3D& solution,
+                       const RunInfo& info);
 
 /// pressure.png of a solid: the contact pressure over the contact faces `faces`, a colour map
 /// seen along the axis nearest to the contact nodes' mean normal (over x and y for a contact on
 /// a bottom or top face), each face filled from its nodes' pressures (0 at a node that is not a
 /// contact node); the solution must have contact nodes.
 Figure pressure_figure(const Mesh3D& mesh, const std::vector<int>& faces, const ContactSolution3D& solution,
+                       const RunInfo& info);
+/// The same over the contact faces given as vertex loops of `mesh` (WholeOfPieces::contact_surface).
+Figure pressure_figure(const Mesh3D& mesh, std::vector<std::vector<int>> faces, const ContactSolution3D& solution,
                        const RunInfo& info);
 
 /// error.png: the element error indicators eta_E of an error estimate, each element filled with

@@ -22,6 +22,7 @@
 #include <hemivem/contact/solver.hpp>
 #include <hemivem/path/path.hpp>
 #include <hemivem/estimate/error_estimate.hpp>
+#include <hemivem/estimate/estimate_pieces.hpp>
 #include <hemivem/vem/material.hpp>
 #include <hemivem/mesh/body_range.hpp>
 #include <hemivem/mesh/mesh.hpp>
@@ -42,22 +43,27 @@ struct MeshSize {
 MeshSize mesh_size(const Mesh& mesh);
 MeshSize mesh_size(const Mesh3D& mesh);
 
-/// mesh_size of a whole mesh that the processes hold in pieces, collective over `rows`: each
-/// process's piece `mesh` holds every vertex of the whole mesh, `owned` flags the piece's cells
-/// it owns (each cell of the whole mesh owned by one process, the piece holding its
-/// neighbours) and `cells` gives each cell's number in the whole mesh; `whole_cells` is the
-/// whole mesh's count. The same on every process, and mesh_size of the whole mesh.
-MeshSize mesh_size_of_pieces(const Mesh& mesh, const std::vector<char>& owned, const std::vector<int>& cells,
-                             int whole_cells, const RowDistribution& rows);
-MeshSize mesh_size_of_pieces(const Mesh3D& mesh, const std::vector<char>& owned, const std::vector<int>& cells,
-                             int whole_cells, const RowDistribution& rows);
+/// What the results need of a whole mesh that the processes hold in pieces (each piece holding
+/// every vertex of the whole mesh, docs/cluster.md), gathered from the pieces by whole_of_pieces:
+/// what the first process writes the results from, its mesh being its piece.
+struct WholeOfPieces {
+  MeshSize size;                     ///< the whole mesh's mesh_size
+  std::optional<StressPeak> stress;  ///< its stress_peak (none where a stress is not finite)
+  /// stress.csv's rows, on the first process: per cell of the whole mesh, in order, its
+  /// centroid (dim values) and its projected stress xx, yy, zz, yz, xz, xy.
+  std::vector<double> stress_rows;
+  /// A solid's contact faces (contact_faces, part by part) and boundary faces (boundary_faces)
+  /// as vertex loops, each in the whole mesh's order, on the first process.
+  std::vector<std::vector<int>> contact_surface, boundary;
+};
 
-/// A solid's contact faces (contact_faces) as vertex loops, of a whole mesh that the processes
-/// hold in pieces, collective over `rows`: each process's `problem` is posed on its piece,
-/// `owned` and `cells` as for mesh_size_of_pieces. Part by part, each part's faces in the whole
-/// mesh's order of their cells; the same on every process.
-std::vector<std::vector<int>> contact_surface_of_pieces(const ContactProblem3D& problem, const std::vector<char>& owned,
-                                                        const std::vector<int>& cells, const RowDistribution& rows);
+/// WholeOfPieces of the whole mesh of which `problem` is posed on this process's piece
+/// (`piece`: where it lies), given the whole displacement `u` (dim values per vertex, or empty:
+/// no stresses). Collective over `rows`: each process takes the cells it owns (owned_cells);
+/// every process gets the size and the stress peak, the first the rest.
+template <int dim>
+WholeOfPieces whole_of_pieces(const BasicContactProblem<dim>& problem, const Eigen::VectorXd& u, const PieceOfMesh& piece,
+                              const RowDistribution& rows);
 
 /// What the run was, beyond the solution itself: recorded in result.json.
 struct RunInfo {
@@ -74,12 +80,9 @@ struct RunInfo {
   /// The pieces the processes made the mesh in (docs/cluster.md): 1 when every process made the
   /// whole mesh.
   int mesh_pieces = 1;
-  /// The whole mesh's size when the mesh the results are written from is this process's piece
-  /// of it (BasicSceneSolve::whole_mesh); none: the mesh's own.
-  std::optional<MeshSize> whole_mesh;
-  /// With whole_mesh, a solid's contact faces as vertex loops (contact_surface_of_pieces):
-  /// contact-surface.vtu's. Empty: the contact faces given with the mesh.
-  std::vector<std::vector<int>> contact_surface;
+  /// What the results need of the whole mesh when the mesh they are written from is this
+  /// process's piece of it (BasicSceneSolve::of_pieces); null: the mesh is whole.
+  std::shared_ptr<const WholeOfPieces> of_pieces;
   /// solution.vtu written in this many pieces, one per process (solution.piece-K.vtu, named by
   /// solution.pvtu: BasicSceneSolve::share); 0 for one file.
   int vtu_pieces = 0;

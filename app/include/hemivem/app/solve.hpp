@@ -92,13 +92,9 @@ struct BasicSceneSolve {
   /// files the scene writes need no more of the mesh than the pieces (docs/cluster.md): the
   /// whole mesh's number of each cell of `built`. Empty where `built` is the whole mesh.
   std::vector<int> piece_cells;
-  /// Where every process kept its piece for the results: the whole mesh's size
-  /// (mesh_size_of_pieces) and its cell of the largest von Mises stress (stress_peak_of_pieces),
-  /// what result.json and the summary say of the mesh. None where `built` is the whole mesh.
-  std::optional<MeshSize> whole_mesh;
-  std::optional<StressPeak> whole_stress;
-  /// With whole_mesh, a solid's contact faces as vertex loops (contact_surface_of_pieces).
-  std::vector<std::vector<int>> contact_surface;
+  /// Where every process kept its piece for the results: what they need of the whole mesh,
+  /// gathered from the pieces (whole_of_pieces). Null where `built` is the whole mesh.
+  std::shared_ptr<const WholeOfPieces> of_pieces;
   /// The coarser grids a static solve on the full-space route solved first to start from
   /// (solver.grid_sequence, docs/full-space.md), coarsest first, each {n, unknowns, converged,
   /// newton_iterations, krylov_iterations, preconditioner_setups, seconds}; empty when none.

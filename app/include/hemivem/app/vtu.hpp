@@ -88,7 +88,7 @@ void write_contact_surface_vtu(std::ostream& stream, const Mesh3D& mesh, const s
                                const ContactSolution3D& solution);
 /// The same of the contact faces given as vertex loops of `mesh` (each as a face's vertices,
 /// counter-clockwise seen from outside its cell): those a run across processes gathered from
-/// the processes' pieces (contact_surface_of_pieces).
+/// the processes' pieces (WholeOfPieces::contact_surface).
 void write_contact_surface_vtu(std::ostream& stream, const Mesh3D& mesh, const std::vector<std::vector<int>>& loops,
                                const ContactSolution3D& sol);
 

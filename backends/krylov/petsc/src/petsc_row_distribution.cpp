@@ -192,4 +192,10 @@ Eigen::VectorXd PetscRowDistribution::all_gather(const Eigen::VectorXd& mine) co
   return Eigen::Map<const Eigen::VectorXd>(all.data(), static_cast<Eigen::Index>(all.size()));
 }
 
+Eigen::VectorXd PetscRowDistribution::gather_to_first(const Eigen::VectorXd& mine) const {
+  const std::vector<double> all =
+      petsc::all_gather(impl_->comm, mine.data(), static_cast<std::int64_t>(mine.size()), true);
+  return Eigen::Map<const Eigen::VectorXd>(all.data(), static_cast<Eigen::Index>(all.size()));
+}
+
 }  // namespace hemivem

@@ -198,9 +198,10 @@ inline FactorizationResult agreed(MPI_Comm comm, const FactorizationResult& mine
 }
 
 /// Collective over comm: every rank's `count` values concatenated in the order of the ranks, on
-/// every rank (counts may differ, and be 0). Throws InternalError on every rank when the whole
-/// exceeds what MPI counts in an int.
-inline std::vector<double> all_gather(MPI_Comm comm, const double* data, std::int64_t count) {
+/// every rank (counts may differ, and be 0), or with `first_only` on rank 0 alone (empty on
+/// the others). Throws InternalError on every rank when the whole exceeds what MPI counts in an
+/// int.
+inline std::vector<double> all_gather(MPI_Comm comm, const double* data, std::int64_t count, bool first_only = false) {
   const int size = comm_size(comm);
   std::vector<std::int64_t> counts(static_cast<std::size_t>(size), 0);
   MPI_Allgather(&count, 1, MPI_INT64_T, counts.data(), 1, MPI_INT64_T, comm);
@@ -214,6 +215,12 @@ inline std::vector<double> all_gather(MPI_Comm comm, const double* data, std::in
     sizes[r] = static_cast<int>(counts[r]);
     offsets[r] = offset;
     offset += sizes[r];
+  }
+  if (first_only) {
+    std::vector<double> all(comm_rank(comm) == 0 ? static_cast<std::size_t>(total) : 0);
+    MPI_Gatherv(data, static_cast<int>(count), MPI_DOUBLE, all.data(), sizes.data(), offsets.data(), MPI_DOUBLE, 0,
+                comm);
+    return all;
   }
   std::vector<double> all(static_cast<std::size_t>(total));
   MPI_Allgatherv(data, static_cast<int>(count), MPI_DOUBLE, all.data(), sizes.data(), offsets.data(), MPI_DOUBLE,

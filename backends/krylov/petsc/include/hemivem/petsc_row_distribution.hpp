@@ -44,6 +44,7 @@ class PetscRowDistribution final : public RowDistribution {
   double max(double value) const override;
   void update_ghosts(Eigen::VectorXd& v) const override;
   Eigen::VectorXd all_gather(const Eigen::VectorXd& mine) const override;
+  Eigen::VectorXd gather_to_first(const Eigen::VectorXd& mine) const override;
 
  private:
   struct Impl;

@@ -1,0 +1,52 @@
+// Processes played by threads, for what a run across processes gathers (RowDistribution's
+// collectives) tested in one program: all_gather hands each thread's values to all.
+#pragma once
+
+#include <barrier>
+#include <stdexcept>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include <hemivem/row_distribution.hpp>
+
+namespace hemivem::test {
+
+/// One of the threads of `Shared` (the processes' values meet there): its rank and one row.
+class ThreadRows final : public hemivem::RowDistribution {
+ public:
+  struct Shared {
+    explicit Shared(int size) : sync(size), values(static_cast<std::size_t>(size)) {}
+    std::barrier<> sync;
+    std::vector<Eigen::VectorXd> values;
+  };
+  ThreadRows(Shared& shared, int rank) : shared_(shared), rank_(rank) {
+    layout_.first = rank;
+    layout_.owned = 1;
+    layout_.global = size();
+  }
+  int rank() const override { return rank_; }
+  int size() const override { return static_cast<int>(shared_.values.size()); }
+  const hemivem::RowLayout& layout() const override { return layout_; }
+  double sum(double value) const override { return sum_in_rank_order(Eigen::VectorXd::Constant(1, value))(0); }
+  double max(double value) const override { return all_gather(Eigen::VectorXd::Constant(1, value)).maxCoeff(); }
+  void update_ghosts(Eigen::VectorXd&) const override { throw std::logic_error("not used"); }
+  Eigen::VectorXd all_gather(const Eigen::VectorXd& mine) const override {
+    shared_.values[static_cast<std::size_t>(rank_)] = mine;
+    shared_.sync.arrive_and_wait();
+    Eigen::Index n = 0;
+    for (const auto& v : shared_.values) n += v.size();
+    Eigen::VectorXd all(n);
+    n = 0;
+    for (const auto& v : shared_.values) all.segment(n, v.size()) = v, n += v.size();
+    shared_.sync.arrive_and_wait();  // every process has read them before the next call writes
+    return all;
+  }
+
+ private:
+  Shared& shared_;
+  int rank_;
+  hemivem::RowLayout layout_;
+};
+
+}  // namespace hemivem::test

@@ -1,0 +1,162 @@
+// What the results need of a whole mesh that the processes hold in pieces, gathered from the
+// pieces (whole_of_pieces of hemivem/app/outputs.hpp), the processes played by threads: the whole
+// mesh's own size, stress peak, cells' stresses and faces, to the bit.
+#include <hemivem/app/outputs.hpp>
+#include <hemivem/app/stress.hpp>
+#include <hemivem/contact/contact3d.hpp>
+#include <hemivem/scene/scene.hpp>
+#include <hemivem/scene/scene_pieces.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "test_support.hpp"
+#include "thread_rows.hpp"
+
+namespace {
+
+using namespace hemivem;
+using app::WholeOfPieces;
+using test::ThreadRows;
+
+/// A smooth displacement of every vertex that is not linear, so that the cells' projected
+/// stresses differ from cell to cell.
+template <class MeshType>
+Eigen::VectorXd bent(const MeshType& mesh) {
+  constexpr int dim = std::is_same_v<MeshType, Mesh3D> ? 3 : 2;
+  Eigen::VectorXd u(dim * mesh.num_vertices());
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    const auto x = mesh.vertex(v);
+    for (int c = 0; c < dim; ++c)
+      u(dim * v + c) = 1e-3 * (std::sin(3.0 * x(0) + c) * std::cos(2.0 * x(1)) + x(dim - 1) * x(dim - 1) * (c + 1));
+  }
+  return u;
+}
+
+/// Each process's pieces made by `make(rank, size, where)` (outside the threads: the gathering is
+/// what they play), then whole_of_pieces on `size` threads: each process's record.
+template <int dim>
+std::vector<WholeOfPieces> gathered(
+    int size, const std::function<std::unique_ptr<BasicBuiltProblem<dim>>(int, int, PieceOfMesh&)>& make,
+    const Eigen::VectorXd& u) {
+  std::vector<std::unique_ptr<BasicBuiltProblem<dim>>> pieces;
+  std::vector<PieceOfMesh> where(static_cast<std::size_t>(size));
+  for (int rank = 0; rank < size; ++rank) pieces.push_back(make(rank, size, where[static_cast<std::size_t>(rank)]));
+  ThreadRows::Shared shared(size);
+  std::vector<std::optional<WholeOfPieces>> out(static_cast<std::size_t>(size));
+  const auto run = [&](int rank) {
+    const ThreadRows rows(shared, rank);
+    const auto k = static_cast<std::size_t>(rank);
+    out[k] = app::whole_of_pieces<dim>(pieces[k]->problem, u, where[k], rows);
+  };
+  std::vector<std::thread> others;
+  for (int rank = 1; rank < size; ++rank) others.emplace_back(run, rank);
+  run(0);
+  for (auto& t : others) t.join();
+  std::vector<WholeOfPieces> records;
+  for (auto& r : out) records.push_back(std::move(*r));
+  return records;
+}
+
+std::vector<std::vector<int>> loops_of(const Mesh3D& mesh, const std::vector<int>& faces) {
+  std::vector<std::vector<int>> loops;
+  for (const int f : faces) loops.push_back(mesh.face(f).vertices);
+  return loops;
+}
+
+/// The records of 2 and 3 processes' pieces (`make`) of the scene's whole problem are its own:
+/// on every process the mesh's size and stress peak, on the first its cells' centroids and
+/// stresses and a solid's contact and boundary faces, each in the whole mesh's order.
+template <int dim>
+void expect_the_whole_meshs(const Scene& scene,
+                            const std::function<std::unique_ptr<BasicBuiltProblem<dim>>(int, int, PieceOfMesh&)>& make) {
+  const auto whole = build_problem<dim>(scene);
+  const auto& mesh = whole->mesh;
+  const Eigen::VectorXd u = bent(mesh);
+  const auto stresses = app::cell_stresses(mesh, whole->problem.elasticity.materials, u);
+  const std::optional<app::StressPeak> peak = app::stress_peak(mesh, stresses);
+  ASSERT_TRUE(peak.has_value());
+  const app::MeshSize size = app::mesh_size(mesh);
+  for (const int processes : {2, 3}) {
+    SCOPED_TRACE(std::to_string(processes) + " processes");
+    const std::vector<WholeOfPieces> records = gathered<dim>(processes, make, u);
+    for (std::size_t rank = 0; rank < records.size(); ++rank) {
+      SCOPED_TRACE("rank " + std::to_string(rank));
+      const WholeOfPieces& r = records[rank];
+      EXPECT_EQ(r.size.vertices, size.vertices);
+      EXPECT_EQ(r.size.cells, size.cells);
+      EXPECT_EQ(r.size.facets, size.facets);
+      EXPECT_EQ(r.size.h, size.h);
+      ASSERT_TRUE(r.stress.has_value());
+      EXPECT_EQ(r.stress->cell, peak->cell);
+      EXPECT_EQ(r.stress->von_mises, peak->von_mises);
+      EXPECT_EQ(r.stress->centroid, peak->centroid);
+      if (rank > 0) {  // what only the first writes
+        EXPECT_TRUE(r.stress_rows.empty());
+        EXPECT_TRUE(r.contact_surface.empty());
+        EXPECT_TRUE(r.boundary.empty());
+        continue;
+      }
+      ASSERT_EQ(r.stress_rows.size(), stresses.size() * (dim + 6));
+      for (std::size_t c = 0; c < stresses.size(); ++c) {
+        const double* row = r.stress_rows.data() + c * (dim + 6);
+        const auto x = mesh.centroid(static_cast<int>(c));
+        for (int i = 0; i < dim; ++i) EXPECT_EQ(row[i], x(i)) << "cell " << c;
+        const auto& s = stresses[c];
+        const double expected[] = {s.xx, s.yy, s.zz, s.yz, s.xz, s.xy};
+        for (int i = 0; i < 6; ++i) EXPECT_EQ(row[dim + i], expected[i]) << "cell " << c << " component " << i;
+      }
+      if constexpr (dim == 3) {
+        EXPECT_FALSE(r.contact_surface.empty());
+        EXPECT_EQ(r.contact_surface, loops_of(mesh, contact_faces(whole->problem)));
+        EXPECT_EQ(r.boundary, loops_of(mesh, mesh.boundary_faces()));
+      }
+    }
+  }
+}
+
+template <int dim>
+std::unique_ptr<BasicBuiltProblem<dim>> box_piece(const Scene& scene, int rank, int size, PieceOfMesh& where) {
+  const std::optional<BoxPiece> piece = scene_piece(scene, rank, size);
+  if (!piece) throw std::logic_error("the scene is not cut into a box's pieces");
+  where = scene_piece_of_mesh(scene, *piece);
+  return build_problem_piece<dim>(scene, *piece);
+}
+
+TEST(WholeOfPieces, AGeneratedSolidsPiecesGiveTheWholeMeshs) {
+  Scene scene = parse_scene(test::scenes_dir() / "example-4.1-3d.toml");
+  scene.mesh.n = 5, scene.mesh.ny = 4, scene.mesh.nz = 3;
+  expect_the_whole_meshs<3>(scene, [&](int rank, int size, PieceOfMesh& where) { return box_piece<3>(scene, rank, size, where); });
+}
+
+TEST(WholeOfPieces, AGeneratedPlanesPiecesGiveTheWholeMeshs) {
+  Scene scene = parse_scene(test::scenes_dir() / "paper-example-4.1.toml");
+  scene.mesh.n = 12;
+  expect_the_whole_meshs<2>(scene, [&](int rank, int size, PieceOfMesh& where) { return box_piece<2>(scene, rank, size, where); });
+}
+
+TEST(WholeOfPieces, TheSolidsPiecesReadFromAFileAndCutFromTheWholeGiveTheWholeMeshs) {
+  const Scene scene = parse_scene(test::scenes_dir() / "gmsh-bracket-3d.toml");
+  ASSERT_TRUE(reads_pieces(scene));
+  {
+    SCOPED_TRACE("read");
+    expect_the_whole_meshs<3>(scene, [&](int rank, int size, PieceOfMesh& where) {
+      return read_problem_piece<3>(scene, rank, size, where);
+    });
+  }
+  {
+    SCOPED_TRACE("cut");
+    expect_the_whole_meshs<3>(scene, [&](int rank, int size, PieceOfMesh& where) {
+      return cut_problem_piece<3>(build_problem<3>(scene), rank, size, where);
+    });
+  }
+}
+
+}  // namespace
