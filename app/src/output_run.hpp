@@ -160,6 +160,12 @@ void write_solve_files(OutputRun& run, const MeshType& mesh, const MaterialTable
                        const BasicContactSolution<dim>& solution, const RunInfo& info, const Result& result,
                        const SolutionVtu* pieces = nullptr);
 
+/// Whether the first process writes `file` of a static solve in `dim` dimensions from its piece
+/// of the mesh and what is gathered from the others' (WholeOfPieces): every file of a solid's
+/// (result.json, the CSV files, solution.vtu in pieces, scene.toml, contact-surface.vtu,
+/// deformed.png, pressure.png), a plane's but its figures.
+bool made_from_pieces(const std::string& file, int dim);
+
 /// The piece of process `rank` of solution.pvtu: "solution.piece-3.vtu".
 std::string vtu_piece_file(int rank);
 

@@ -433,6 +433,16 @@ void require_pieces_written(const RowDistribution& rows, const std::string& why,
 
 }  // namespace
 
+bool made_from_pieces(const std::string& file, int dim) {
+  static const std::vector<std::string> both{"result.json", "contact.csv",  "displacement.csv", "stress.csv",
+                                             "history.csv", "solution.vtu", "scene.toml"};
+  static const std::vector<std::string> solid{"contact-surface.vtu", "deformed.png", "pressure.png"};
+  const auto in = [&file](const std::vector<std::string>& names) {
+    return std::find(names.begin(), names.end(), file) != names.end();
+  };
+  return in(both) || (dim == 3 && in(solid));
+}
+
 template <class MeshType, int dim>
 OutputReport write_outputs_in_pieces(const fs::path& dir, const MeshType& mesh, const MaterialTable& materials,
                                      const std::vector<int>* contact_faces, const BasicContactSolution<dim>& solution,
@@ -440,6 +450,12 @@ OutputReport write_outputs_in_pieces(const fs::path& dir, const MeshType& mesh, 
                                      const VertexShare& share, const std::vector<int>& piece_cells) {
   const ProcessWorld world = krylov_world();
   const bool writer = world.rank == 0;
+  if (info.of_pieces)  // the first process holds its piece: what it cannot make from it (the same `wanted` on every process)
+    for (const std::string& file : wanted)
+      if (!made_from_pieces(file, dim))
+        throw InputError(file + " is drawn from the whole mesh, which no process made for this solve on pieces: name it in "
+                                "output.write before the solve",
+                         dir.string());
   if (info.vtu_pieces != world.size)
     throw InternalError("solution.pvtu of " + std::to_string(info.vtu_pieces) + " pieces written by " +
                         std::to_string(world.size) + " processes");

@@ -146,8 +146,9 @@ bool results_of_pieces(const Scene& scene);
 /// (s.path_output) keep the piece they were written from.
 template <int dim, class Solved>
 void make_results_mesh_whole(const Scene& scene, const SceneEngines& e, Solved& s, std::optional<double> t = {}) {
-  if (!e.piece || static_cast<int>(e.piece->cells.size()) == e.piece->whole_cells) return;
-  if (e.writes_to_folder && !t && results_of_pieces(scene)) {  // the same on every process
+  if (!e.piece) return;
+  // the same on every process, whether or not its piece holds every cell: collective
+  if (e.writes_to_folder && !t && results_of_pieces(scene)) {
     s.piece_cells = e.piece->cells;
     const auto& mesh = s.built->mesh;
     const bool displaced = s.solution.u.size() == dim * static_cast<Eigen::Index>(mesh.num_vertices());
@@ -155,6 +156,7 @@ void make_results_mesh_whole(const Scene& scene, const SceneEngines& e, Solved& 
         whole_of_pieces<dim>(s.built->problem, displaced ? s.solution.u : Eigen::VectorXd(), *e.piece, *process_rows()));
     return;
   }
+  if (static_cast<int>(e.piece->cells.size()) == e.piece->whole_cells) return;
   if (e.writes_to_folder && !s.holds_results) {
     s.piece_cells = e.piece->cells;
     return;

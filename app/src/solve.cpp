@@ -242,14 +242,8 @@ std::vector<std::string> wanted_files(const Scene& scene, bool has_contact) {
 
 bool detail::results_of_pieces(const Scene& scene) {
   if (!scene.bodies.empty() || scene_is_path(scene) || scene.adapt) return false;
-  static const std::vector<std::string> of_pieces{"result.json",  "contact.csv",         "displacement.csv",
-                                                  "stress.csv",   "history.csv",         "solution.vtu",
-                                                  "scene.toml",   "contact-surface.vtu", "deformed.png",
-                                                  "pressure.png"};
-  const bool solid = scene.dimension() == 3;
   for (const std::string& file : wanted_files(scene, true))
-    if (std::find(of_pieces.begin(), of_pieces.end(), file) == of_pieces.end() || (!solid && file == "deformed.png"))
-      return false;
+    if (!made_from_pieces(file, scene.dimension())) return false;
   return true;
 }
 

@@ -31,6 +31,7 @@
 #include <string>
 #include <vector>
 
+#include "krylov_test_main.hpp"
 #include "pressed_block3d.hpp"
 #include "scrambled_mesh.hpp"
 #include "stacked_bodies.hpp"
@@ -779,16 +780,5 @@ TEST(FullSpaceMpi, APathOnThePiecesOfTheMeshIsTheCondensedRoutesInTheSolid) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const ProcessWorld world = krylov_world();
-  ::testing::InitGoogleTest(&argc, argv);
-  if (world.rank != 0) {
-    auto& listeners = ::testing::UnitTest::GetInstance()->listeners();
-    delete listeners.Release(listeners.default_result_printer());
-  } else {
-    std::printf("the distributed full-space route on %d process%s\n", world.size, world.size > 1 ? "es" : "");
-  }
-  const int failed_here = RUN_ALL_TESTS() != 0 ? 1 : 0;
-  const double failed = process_rows()->max(failed_here);
-  if (failed_here) std::fprintf(stderr, "tests failed on rank %d\n", world.rank);
-  return failed > 0.0 ? 1 : 0;
+  return hemivem::test::run_tests_on_every_process(argc, argv, "the distributed full-space route");
 }
