@@ -3,22 +3,16 @@
 #include <hemivem/app/outputs.hpp>
 
 #include <hemivem/error.hpp>
+#include <hemivem/mesh/facet_cells.hpp>
 
 #include <algorithm>
 #include <array>
-#include <span>
 #include <string>
 #include <utility>
 
 namespace hemivem::app {
 
 namespace {
-
-/// The cells on either side of facet f (the second -1 on the boundary), and a cell's facets.
-std::array<int, 2> facet_cells(const Mesh& mesh, int f) { return {mesh.edge(f).left, mesh.edge(f).right}; }
-std::array<int, 2> facet_cells(const Mesh3D& mesh, int f) { return {mesh.face(f).inner, mesh.face(f).outer}; }
-std::span<const int> cell_facets(const Mesh& mesh, int c) { return mesh.element_edges(c); }
-std::span<const int> cell_facets(const Mesh3D& mesh, int c) { return mesh.cell_faces(c); }
 
 /// Faces of a solid's piece as [the whole mesh's number of their cell, their place among the
 /// cell's faces, their vertices' count, their vertices], the list of `key`'s first value (a

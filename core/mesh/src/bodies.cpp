@@ -26,7 +26,6 @@ void check_names(const std::vector<const MeshType*>& bodies, const std::vector<s
   }
 }
 
-using detail::cell_facets;
 using detail::cell_of;
 using detail::facet_groups;
 using detail::set_facet_group;

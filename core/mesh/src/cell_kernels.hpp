@@ -1,6 +1,6 @@
 // What differs between the dimensions when a mesh is remade from some of another's cells (the
 // meshes of several bodies joined, a process's piece of a mesh): a cell's vertex lists, the mesh
-// made of them, a cell's facets (in the order of its vertex lists) and the named facet groups.
+// made of them and the named facet groups (a cell's facets: hemivem/mesh/facet_cells.hpp).
 #pragma once
 
 #include <map>
@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include <hemivem/mesh/facet_cells.hpp>
 #include <hemivem/mesh/mesh.hpp>
 #include <hemivem/mesh/mesh3d.hpp>
 
@@ -23,8 +24,6 @@ inline Mesh3D make_mesh_of(std::vector<Vec3> v, std::vector<CellFaces> cells, st
                            const std::vector<int>& = {}) {
   return Mesh3D(std::move(v), std::move(cells), std::move(regions));
 }
-inline std::vector<int> cell_facets(const Mesh& m, int c) { return {m.element_edges(c).begin(), m.element_edges(c).end()}; }
-inline const std::vector<int>& cell_facets(const Mesh3D& m, int c) { return m.cell_faces(c); }
 inline const std::map<std::string, std::vector<int>>& facet_groups(const Mesh& m) { return m.edge_groups(); }
 inline const std::map<std::string, std::vector<int>>& facet_groups(const Mesh3D& m) { return m.face_groups(); }
 inline void set_facet_group(Mesh& m, const std::string& name, std::vector<int> facets) {

@@ -24,9 +24,7 @@ std::span<const int> vertices_of(const Mesh& mesh, int c) { return mesh.element(
 std::span<const int> vertices_of(const Mesh3D& mesh, int c) { return mesh.cell_vertices(c); }
 std::span<const int> vertices_of(const CellTopology& cells, int c) { return cells.cell_vertices(c); }
 
-/// The two cells of facet f (the second -1 on the boundary).
-std::array<int, 2> facet_cells(const Mesh& mesh, int f) { return {mesh.edge(f).left, mesh.edge(f).right}; }
-std::array<int, 2> facet_cells(const Mesh3D& mesh, int f) { return {mesh.face(f).inner, mesh.face(f).outer}; }
+/// The two cells of facet f (the second -1 on the boundary; a mesh's: hemivem/mesh/facet_cells.hpp).
 std::array<int, 2> facet_cells(const CellTopology& cells, int f) { return cells.facet_cells(f); }
 
 /// A solid facet's vertex loop.
@@ -53,7 +51,7 @@ void join_parts(const MeshType& mesh, std::vector<char>& keep) {
       const int c = stack.back();
       stack.pop_back();
       queue.push_back(c);
-      for (int f : detail::cell_facets(mesh, c))
+      for (int f : cell_facets(mesh, c))
         for (int d : facet_cells(mesh, f))
           if (d >= 0 && keep[static_cast<std::size_t>(d)] && parent[static_cast<std::size_t>(d)] == -2) {
             parent[static_cast<std::size_t>(d)] = -1;
@@ -68,7 +66,7 @@ void join_parts(const MeshType& mesh, std::vector<char>& keep) {
     grow_part(first);
     for (std::size_t head = 0; head < queue.size(); ++head) {
       const int c = queue[head];
-      for (int f : detail::cell_facets(mesh, c))
+      for (int f : cell_facets(mesh, c))
         for (int d : facet_cells(mesh, f)) {
           if (d < 0 || parent[static_cast<std::size_t>(d)] != -2) continue;
           parent[static_cast<std::size_t>(d)] = c;
@@ -110,7 +108,7 @@ void close_edges(const SolidCells& mesh, std::vector<char>& keep) {
     std::vector<std::uint64_t> edges;  // the edges of the faces on the kept cells' surface
     for (int c = 0; c < mesh.num_cells(); ++c) {
       if (!keep[static_cast<std::size_t>(c)]) continue;
-      for (int f : detail::cell_facets(mesh, c)) {
+      for (int f : cell_facets(mesh, c)) {
         const auto [a, b] = facet_cells(mesh, f);
         const int other = a == c ? b : a;
         if (other >= 0 && keep[static_cast<std::size_t>(other)]) continue;
@@ -279,8 +277,8 @@ MeshType cut(const MeshType& mesh, std::span<const int> cells, std::vector<int>*
   // that order)
   std::vector<int> facet_of(static_cast<std::size_t>(mesh.num_facets()), -1);
   for (std::size_t k = 0; k < cells.size(); ++k) {
-    const auto whole = detail::cell_facets(mesh, cells[k]);
-    const auto mine = detail::cell_facets(piece, static_cast<int>(k));
+    const auto whole = cell_facets(mesh, cells[k]);
+    const auto mine = cell_facets(piece, static_cast<int>(k));
     for (std::size_t l = 0; l < whole.size(); ++l) facet_of[static_cast<std::size_t>(whole[l])] = mine[l];
   }
   for (const auto& [name, facets] : detail::facet_groups(mesh)) {
