@@ -1,7 +1,10 @@
 // What the results need of a whole mesh that the processes hold in pieces, gathered from the
 // pieces (whole_of_pieces of hemivem/app/outputs.hpp), the processes played by threads: the whole
-// mesh's own size, stress peak, cells' stresses and faces, to the bit.
+// mesh's own size, stress peak, cells' stresses, facets and a plane's elements, to the bit, and a
+// plane's figures drawn from them the whole mesh's.
+#include <hemivem/app/figures.hpp>
 #include <hemivem/app/outputs.hpp>
+#include <hemivem/app/solve.hpp>
 #include <hemivem/app/stress.hpp>
 #include <hemivem/contact/contact3d.hpp>
 #include <hemivem/scene/scene.hpp>
@@ -13,6 +16,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -40,12 +44,20 @@ Eigen::VectorXd bent(const MeshType& mesh) {
   return u;
 }
 
-/// Each process's pieces made by `make(rank, size, where)` (outside the threads: the gathering is
-/// what they play), then whole_of_pieces on `size` threads: each process's record.
+/// Every file a plane or a solid writes from what is gathered for it.
+const std::vector<std::string> every_file{"result.json", "stress.csv", "contact-surface.vtu", "pressure.png",
+                                          "deformed.png", "u_nu.png",  "error.png"};
+
 template <int dim>
-std::vector<WholeOfPieces> gathered(
-    int size, const std::function<std::unique_ptr<BasicBuiltProblem<dim>>(int, int, PieceOfMesh&)>& make,
-    const Eigen::VectorXd& u) {
+using MakePiece = std::function<std::unique_ptr<BasicBuiltProblem<dim>>(int, int, PieceOfMesh&)>;
+
+/// Each process's pieces made by `make(rank, size, where)` (outside the threads: the gathering is
+/// what they play), then whole_of_pieces for `files` on `size` threads: each process's record
+/// (and the first process's piece in `first`, when given).
+template <int dim>
+std::vector<WholeOfPieces> gathered(int size, const MakePiece<dim>& make, const Eigen::VectorXd& u,
+                                    const std::vector<std::string>& files = every_file,
+                                    std::unique_ptr<BasicBuiltProblem<dim>>* first = nullptr) {
   std::vector<std::unique_ptr<BasicBuiltProblem<dim>>> pieces;
   std::vector<PieceOfMesh> where(static_cast<std::size_t>(size));
   for (int rank = 0; rank < size; ++rank) pieces.push_back(make(rank, size, where[static_cast<std::size_t>(rank)]));
@@ -54,7 +66,7 @@ std::vector<WholeOfPieces> gathered(
   const auto run = [&](int rank) {
     const ThreadRows rows(shared, rank);
     const auto k = static_cast<std::size_t>(rank);
-    out[k] = app::whole_of_pieces<dim>(pieces[k]->problem, u, where[k], rows);
+    out[k] = app::whole_of_pieces<dim>(pieces[k]->problem, u, where[k], rows, files);
   };
   std::vector<std::thread> others;
   for (int rank = 1; rank < size; ++rank) others.emplace_back(run, rank);
@@ -62,6 +74,7 @@ std::vector<WholeOfPieces> gathered(
   for (auto& t : others) t.join();
   std::vector<WholeOfPieces> records;
   for (auto& r : out) records.push_back(std::move(*r));
+  if (first) *first = std::move(pieces.front());
   return records;
 }
 
@@ -70,13 +83,18 @@ std::vector<std::vector<int>> loops_of(const Mesh3D& mesh, const std::vector<int
   for (const int f : faces) loops.push_back(mesh.face(f).vertices);
   return loops;
 }
+std::vector<std::vector<int>> loops_of(const Mesh& mesh, const std::vector<int>& edges) {
+  std::vector<std::vector<int>> loops;
+  for (const int e : edges) loops.push_back({mesh.edge(e).v0, mesh.edge(e).v1});
+  return loops;
+}
 
 /// The records of 2 and 3 processes' pieces (`make`) of the scene's whole problem are its own:
 /// on every process the mesh's size and stress peak, on the first its cells' centroids and
-/// stresses and a solid's contact and boundary faces, each in the whole mesh's order.
+/// stresses, its boundary facets, a solid's contact faces and a plane's edges and elements,
+/// each in the whole mesh's order.
 template <int dim>
-void expect_the_whole_meshs(const Scene& scene,
-                            const std::function<std::unique_ptr<BasicBuiltProblem<dim>>(int, int, PieceOfMesh&)>& make) {
+void expect_the_whole_meshs(const Scene& scene, const MakePiece<dim>& make) {
   const auto whole = build_problem<dim>(scene);
   const auto& mesh = whole->mesh;
   const Eigen::VectorXd u = bent(mesh);
@@ -98,10 +116,13 @@ void expect_the_whole_meshs(const Scene& scene,
       EXPECT_EQ(r.stress->cell, peak->cell);
       EXPECT_EQ(r.stress->von_mises, peak->von_mises);
       EXPECT_EQ(r.stress->centroid, peak->centroid);
+      EXPECT_TRUE(r.serves("stress.csv"));
       if (rank > 0) {  // what only the first writes
         EXPECT_TRUE(r.stress_rows.empty());
         EXPECT_TRUE(r.contact_surface.empty());
         EXPECT_TRUE(r.boundary.empty());
+        EXPECT_TRUE(r.edges.empty());
+        EXPECT_EQ(r.cells.size(), 0u);
         continue;
       }
       ASSERT_EQ(r.stress_rows.size(), stresses.size() * (dim + 6));
@@ -113,10 +134,22 @@ void expect_the_whole_meshs(const Scene& scene,
         const double expected[] = {s.xx, s.yy, s.zz, s.yz, s.xz, s.xy};
         for (int i = 0; i < 6; ++i) EXPECT_EQ(row[dim + i], expected[i]) << "cell " << c << " component " << i;
       }
+      EXPECT_EQ(r.boundary, loops_of(mesh, mesh.boundary_facets()));
       if constexpr (dim == 3) {
         EXPECT_FALSE(r.contact_surface.empty());
         EXPECT_EQ(r.contact_surface, loops_of(mesh, contact_faces(whole->problem)));
-        EXPECT_EQ(r.boundary, loops_of(mesh, mesh.boundary_faces()));
+      } else {
+        ASSERT_EQ(r.edges.size(), mesh.edges().size());
+        for (std::size_t e = 0; e < r.edges.size(); ++e) {
+          EXPECT_EQ(r.edges[e][0], mesh.edges()[e].v0) << "edge " << e;
+          EXPECT_EQ(r.edges[e][1], mesh.edges()[e].v1) << "edge " << e;
+        }
+        ASSERT_EQ(r.cells.size(), static_cast<std::size_t>(mesh.num_elements()));
+        for (int c = 0; c < mesh.num_elements(); ++c) {
+          const auto loop = mesh.element(c);
+          const auto got = r.cells[static_cast<std::size_t>(c)];
+          EXPECT_EQ(std::vector<int>(got.begin(), got.end()), std::vector<int>(loop.begin(), loop.end())) << "element " << c;
+        }
       }
     }
   }
@@ -157,6 +190,62 @@ TEST(WholeOfPieces, TheSolidsPiecesReadFromAFileAndCutFromTheWholeGiveTheWholeMe
       return cut_problem_piece<3>(build_problem<3>(scene), rank, size, where);
     });
   }
+}
+
+/// What a figure leaves for gnuplot: its script and each data file's name and text.
+std::string drawn(const app::Figure& f) {
+  std::ostringstream text;
+  text << f.png << ' ' << f.width << 'x' << f.height << '\n' << f.script << '\n';
+  for (const app::PlotData& d : f.data) {
+    text << "== " << d.name << '\n';
+    d.write(text);
+  }
+  return text.str();
+}
+
+TEST(WholeOfPieces, APlanesFiguresDrawnFromItsPiecesAreTheWholeMeshs) {
+  Scene scene = parse_scene(test::scenes_dir() / "paper-example-4.1.toml");
+  scene.mesh.n = 12;
+  const app::SceneSolve solved = app::solve_scene(scene);
+  ASSERT_FALSE(solved.solution.contact.empty());
+  const app::RunInfo info = app::run_info(scene, solved);
+  const Mesh& mesh = solved.built->mesh;
+  const std::vector<double>& eta = estimate_error(solved.built->problem, solved.solution).indicators;
+  const std::vector<std::string> figures{"deformed.png", "u_nu.png", "error.png"};
+  for (const int processes : {2, 3}) {
+    SCOPED_TRACE(std::to_string(processes) + " processes");
+    std::unique_ptr<BasicBuiltProblem<2>> first;
+    const std::vector<WholeOfPieces> records = gathered<2>(
+        processes, [&](int rank, int size, PieceOfMesh& where) { return box_piece<2>(scene, rank, size, where); },
+        solved.solution.u, figures, &first);
+    const WholeOfPieces& whole = records.front();
+    const Mesh& piece = first->mesh;
+    ASSERT_LT(piece.num_elements(), mesh.num_elements());  // the first process holds a piece, not the whole
+    EXPECT_TRUE(whole.stress_rows.empty());  // stress.csv not asked for
+    EXPECT_FALSE(whole.serves("stress.csv"));
+    EXPECT_TRUE(whole.serves("error.png"));
+    EXPECT_EQ(drawn(app::u_nu_figure(piece, whole, solved.solution, info)), drawn(app::u_nu_figure(mesh, solved.solution, info)));
+    EXPECT_EQ(drawn(app::deformed_figure(piece, whole, solved.solution, info)),
+              drawn(app::deformed_figure(mesh, solved.solution, info)));
+    EXPECT_EQ(drawn(app::indicator_figure(piece, whole, eta, info)), drawn(app::indicator_figure(mesh, eta, info)));
+  }
+}
+
+TEST(WholeOfPieces, WhatIsNotAskedForIsNotGathered) {
+  Scene scene = parse_scene(test::scenes_dir() / "example-4.1-3d.toml");
+  scene.mesh.n = 4, scene.mesh.ny = 4, scene.mesh.nz = 3;
+  const auto whole = build_problem<3>(scene);
+  const std::vector<WholeOfPieces> records = gathered<3>(
+      2, [&](int rank, int size, PieceOfMesh& where) { return box_piece<3>(scene, rank, size, where); },
+      bent(whole->mesh), {"result.json", "pressure.png"});
+  const WholeOfPieces& r = records.front();
+  EXPECT_EQ(r.size.cells, whole->mesh.num_cells());
+  EXPECT_TRUE(r.stress.has_value());
+  EXPECT_TRUE(r.stress_rows.empty());
+  EXPECT_TRUE(r.boundary.empty());
+  EXPECT_EQ(r.contact_surface, loops_of(whole->mesh, contact_faces(whole->problem)));
+  for (const char* file : {"result.json", "contact.csv", "pressure.png"}) EXPECT_TRUE(r.serves(file)) << file;
+  for (const char* file : {"stress.csv", "deformed.png", "contact-surface.vtu"}) EXPECT_FALSE(r.serves(file)) << file;
 }
 
 }  // namespace

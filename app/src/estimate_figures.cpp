@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include <hemivem/app/text_writer.hpp>
+#include <hemivem/error.hpp>
 
 #include "figure_style.hpp"
 
@@ -68,19 +69,14 @@ std::string frame_lines(const Rectangle& frame) {
 
 /// A data file of mesh edges, each a block of its two end points: all edges, or the boundary's.
 /// It holds its own copy of the points: the figure may outlive the mesh.
-PlotData edges_data(const std::string& name, const Mesh& mesh, bool boundary_only) {
+PlotData edges_data(const std::string& name, const Mesh& mesh, const detail::PlaneEdges& edges, bool boundary_only) {
   auto ends = std::make_shared<std::vector<Vec2>>();
-  auto put = [&](const MeshEdge& e) {
-    ends->push_back(mesh.vertex(e.v0));
-    ends->push_back(mesh.vertex(e.v1));
+  const detail::PlaneEdges::Visit put = [&](int v0, int v1) {
+    ends->push_back(mesh.vertex(v0));
+    ends->push_back(mesh.vertex(v1));
   };
-  if (boundary_only) {
-    ends->reserve(2 * mesh.boundary_edges().size());
-    for (int e : mesh.boundary_edges()) put(mesh.edge(e));
-  } else {
-    ends->reserve(2 * mesh.edges().size());
-    for (const auto& e : mesh.edges()) put(e);
-  }
+  if (!boundary_only) ends->reserve(2 * edges.count);
+  (boundary_only ? edges.boundary : edges.every)(put);
   return {name, [ends = std::shared_ptr<const std::vector<Vec2>>(std::move(ends)), boundary_only](std::ostream& stream) {
             TextWriter os(stream);
             os << (boundary_only ? "# x y (boundary edges, one block each)\n" : "# x y (mesh edges, one block each)\n");
@@ -147,10 +143,12 @@ std::string log_tics(const std::string& axis, double lo, double hi) {
   return "set " + axis + "tics (" + list + ")\n";
 }
 
-}  // namespace
 
-Figure indicator_figure(const Mesh& mesh, const std::vector<double>& indicators, const RunInfo& info) {
-  const int elements = mesh.num_elements();
+/// indicator_figure of the `elements` elements whose vertex loops `element(e)` gives, the
+/// vertices `mesh`'s and the edges `edges`.
+template <class Element>
+Figure indicator_figure_of(const Mesh& mesh, int elements, const Element& element, const detail::PlaneEdges& edges,
+                           const std::vector<double>& indicators, const RunInfo& info) {
   // the value drawn for element e: its indicator when finite and positive, else 0 (the scale's
   // lowest colour); an element without an entry counts as 0, and the title says so
   std::vector<double> eta(static_cast<std::size_t>(elements), 0.0);
@@ -166,7 +164,7 @@ Figure indicator_figure(const Mesh& mesh, const std::vector<double>& indicators,
   if (hi == 0.0) lo = 0.1, hi = 1.0;
   else if (lo == hi) lo = hi / 10.0, hi = hi * 10.0;
   lo = std::max(lo, hi * std::pow(10.0, -kMaxDecades));
-  const bool edges = elements <= kMaxElementsWithEdges;
+  const bool drawn_edges = indicator_draws_edges(elements);
   const Rectangle frame = mesh_frame(mesh);
 
   Figure f;
@@ -177,7 +175,7 @@ Figure indicator_figure(const Mesh& mesh, const std::vector<double>& indicators,
   polygons->offsets.reserve(static_cast<std::size_t>(elements) + 1);
   polygons->offsets.push_back(0);
   for (int e = 0; e < elements; ++e) {
-    for (int k : mesh.element(e)) polygons->ids.push_back(k);
+    for (int k : element(e)) polygons->ids.push_back(k);
     polygons->offsets.push_back(static_cast<int>(polygons->ids.size()));
   }
   polygons->eta = std::move(eta);
@@ -194,7 +192,7 @@ Figure indicator_figure(const Mesh& mesh, const std::vector<double>& indicators,
                         os << '\n';
                       }
                     }});
-  if (edges) f.data.push_back(edges_data("error_edges.dat", mesh, false));
+  if (drawn_edges) f.data.push_back(edges_data("error_edges.dat", mesh, edges, false));
   std::string what = "error indicators";
   if (indicators.size() != static_cast<std::size_t>(elements))
     what += " (" + std::to_string(indicators.size()) + " for " + std::to_string(elements) + " elements)";
@@ -206,11 +204,29 @@ Figure indicator_figure(const Mesh& mesh, const std::vector<double>& indicators,
     // one plot of all the polygons, a blank line between two, each filled with its value's colour
     << "plot 'error_polygons.dat' using 1:2:($3 > " << num(lo) << " ? $3 : " << num(lo)
     << ") with filledcurves closed fillcolor palette fillstyle solid 1.0 noborder notitle";
-  if (edges)
+  if (drawn_edges)
     s << ", 'error_edges.dat' using 1:2 with lines lw " << num(0.5 * mesh_line_width(elements))
       << " lc rgb '#60000000' notitle";
   f.script = s.str();
   return f;
+}
+
+}  // namespace
+
+bool indicator_draws_edges(long long elements) { return elements <= kMaxElementsWithEdges; }
+
+Figure indicator_figure(const Mesh& mesh, const std::vector<double>& indicators, const RunInfo& info) {
+  return indicator_figure_of(mesh, mesh.num_elements(), [&mesh](int e) { return mesh.element(e); },
+                             detail::plane_edges(mesh), indicators, info);
+}
+
+Figure indicator_figure(const Mesh& mesh, const WholeOfPieces& whole, const std::vector<double>& indicators,
+                        const RunInfo& info) {
+  if (whole.cells.size() != static_cast<std::size_t>(whole.size.cells))
+    throw InternalError(std::to_string(whole.cells.size()) + " elements gathered of " + std::to_string(whole.size.cells));
+  return indicator_figure_of(mesh, whole.size.cells,
+                             [&whole](int e) { return whole.cells[static_cast<std::size_t>(e)]; },
+                             detail::plane_edges(whole), indicators, info);
 }
 
 Figure mesh_figure(const Mesh& mesh, const RunInfo& info, const std::string& what) {
@@ -245,8 +261,9 @@ Figure mesh_figure(const Mesh& mesh, const RunInfo& info, const std::string& wha
   f.png = "mesh.png";
   f.height = zoom ? 700 : frame_height(frame);
   if (zoom) f.width = 1500;
-  f.data.push_back(edges_data("mesh_edges.dat", mesh, false));
-  f.data.push_back(edges_data("mesh_boundary.dat", mesh, true));
+  const detail::PlaneEdges mesh_edges = detail::plane_edges(mesh);
+  f.data.push_back(edges_data("mesh_edges.dat", mesh, mesh_edges, false));
+  f.data.push_back(edges_data("mesh_boundary.dat", mesh, mesh_edges, true));
   auto edges = [](double lw) {
     std::ostringstream p;
     p << "plot 'mesh_edges.dat' using 1:2 with lines lw " << num(lw) << " lc rgb '#3b528b' notitle, "

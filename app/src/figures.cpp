@@ -102,11 +102,12 @@ struct ContactPoint {
   double s = 0.0;
   const ContactNode* node = nullptr;
 };
-std::vector<std::vector<ContactPoint>> contact_chains(const Mesh& mesh, const ContactSolution& sol) {
+std::vector<std::vector<ContactPoint>> contact_chains(const Mesh& mesh, const detail::PlaneEdges& edges,
+                                                     const ContactSolution& sol) {
   std::map<int, const ContactNode*> by_vertex;
   for (const auto& n : sol.contact) by_vertex[n.vertex] = &n;
   std::map<int, std::vector<int>> next;
-  for (const auto& [v0, v1] : contact_lines(mesh, sol)) {
+  for (const auto& [v0, v1] : detail::contact_lines(mesh.num_vertices(), edges, sol)) {
     next[v0].push_back(v1);
     next[v1].push_back(v0);
   }
@@ -561,8 +562,10 @@ std::string friction_panel(const ContactSolution& sol, const char* x) {
 
 }  // namespace
 
-Figure u_nu_figure(const Mesh& mesh, const ContactSolution& sol, const RunInfo& info) {
-  const auto chains = contact_chains(mesh, sol);
+namespace {
+
+Figure u_nu_figure_of(const Mesh& mesh, const detail::PlaneEdges& edges, const ContactSolution& sol, const RunInfo& info) {
+  const auto chains = contact_chains(mesh, edges, sol);
   // against x when Gamma_3 is one horizontal line, else against its arc length
   const Rectangle box = mesh.bounding_box();
   double y_min = sol.contact.front().x.y(), y_max = y_min;
@@ -629,8 +632,6 @@ Figure u_nu_figure(const Mesh& mesh, const ContactSolution& sol, const RunInfo& 
   return f;
 }
 
-namespace {
-
 /// The frame of deformed.png: the undeformed and the deformed body (displacement x scale)
 /// with a margin of 5% of their size on each side.
 Rectangle body_frame(const Mesh& mesh, const ContactSolution& sol, double scale) {
@@ -664,30 +665,27 @@ PlotData points_data(const std::string& name, const std::string& header, std::ve
 
 /// deformed.png's data: the deformed edges coloured by |u|, the undeformed outline, the
 /// contact nodes (displacement x scale).
-void add_body_data(Figure& f, const Mesh& mesh, const ContactSolution& sol, double scale, bool boundary_only) {
-  f.data.push_back({"edges.dat", [&mesh, &sol, scale, boundary_only](std::ostream& stream) {
+void add_body_data(Figure& f, const Mesh& mesh, const detail::PlaneEdges& edges, const ContactSolution& sol, double scale,
+                   bool boundary_only) {
+  f.data.push_back({"edges.dat", [&mesh, edges, &sol, scale, boundary_only](std::ostream& stream) {
                       TextWriter os(stream);
                       os << "# x y |u| (deformed edges, one block each)\n";
-                      auto put = [&](const MeshEdge& e) {
-                        for (int v : {e.v0, e.v1}) {
+                      const detail::PlaneEdges::Visit put = [&](int v0, int v1) {
+                        for (int v : {v0, v1}) {
                           const Vec2 p = mesh.vertex(v) + scale * Vec2(sol.u(2 * v), sol.u(2 * v + 1));
                           os << p.x() << ' ' << p.y() << ' ' << std::hypot(sol.u(2 * v), sol.u(2 * v + 1)) << '\n';
                         }
                         os << '\n';
                       };
-                      if (boundary_only)
-                        for (int e : mesh.boundary_edges()) put(mesh.edges()[static_cast<std::size_t>(e)]);
-                      else
-                        for (const auto& e : mesh.edges()) put(e);
+                      (boundary_only ? edges.boundary : edges.every)(put);
                     }});
-  f.data.push_back({"outline.dat", [&mesh](std::ostream& stream) {
+  f.data.push_back({"outline.dat", [&mesh, edges](std::ostream& stream) {
                       TextWriter os(stream);
                       os << "# x y (undeformed boundary edges, one block each)\n";
-                      for (int e : mesh.boundary_edges())
-                        for (int v : {mesh.edge(e).v0, mesh.edge(e).v1, -1}) {
-                          if (v < 0) os << '\n';
-                          else os << mesh.vertex(v).x() << ' ' << mesh.vertex(v).y() << '\n';
-                        }
+                      edges.boundary([&](int v0, int v1) {
+                        for (int v : {v0, v1}) os << mesh.vertex(v).x() << ' ' << mesh.vertex(v).y() << '\n';
+                        os << '\n';
+                      });
                     }});
   if (sol.contact.empty()) return;
   std::vector<Vec2> nodes;
@@ -698,8 +696,8 @@ void add_body_data(Figure& f, const Mesh& mesh, const ContactSolution& sol, doub
 
 /// foundation.dat: where u_nu = g, x_i + g_i nu_i moved by the displacement's magnification
 /// (a node touching it is drawn on it); one block per chain of contact nodes.
-PlotData foundation_data(const Mesh& mesh, const ContactSolution& sol, double scale) {
-  return {"foundation.dat", [chains = contact_chains(mesh, sol), scale](std::ostream& os) {
+PlotData foundation_data(const Mesh& mesh, const detail::PlaneEdges& edges, const ContactSolution& sol, double scale) {
+  return {"foundation.dat", [chains = contact_chains(mesh, edges, sol), scale](std::ostream& os) {
             os << std::setprecision(17) << "# x y (where u_nu = g, magnified as the displacement)\n";
             for (const auto& chain : chains) {
               for (const auto& p : chain) {
@@ -715,9 +713,7 @@ PlotData foundation_data(const Mesh& mesh, const ContactSolution& sol, double sc
           }};
 }
 
-}  // namespace
-
-Figure deformed_figure(const Mesh& mesh, const ContactSolution& sol, const RunInfo& info) {
+Figure deformed_figure_of(const Mesh& mesh, const detail::PlaneEdges& edges, const ContactSolution& sol, const RunInfo& info) {
   const bool contact = !sol.contact.empty();
   const bool obstacle = contact && info.obstacle.has_value();
   // Magnify the displacement so that its largest value shows as 10% of the domain's size;
@@ -729,7 +725,7 @@ Figure deformed_figure(const Mesh& mesh, const ContactSolution& sol, const RunIn
   const double scale = obstacle ? 1.0 : magnification(size, umax);
   // Edges finer than the picture's pixels only cost time: a mesh with more edges than
   // kMaxDrawnEdges is drawn by its boundary.
-  const bool boundary_only = mesh.edges().size() > kMaxDrawnEdges;
+  const bool boundary_only = !draws_every_edge(edges.count);
   const bool foundation = contact && info.gap_bound && !obstacle;
   const Rectangle frame = body_frame(mesh, sol, scale);
 
@@ -737,8 +733,8 @@ Figure deformed_figure(const Mesh& mesh, const ContactSolution& sol, const RunIn
   f.png = "deformed.png";
   // a flat body gets a lower picture, so that the key and the labels stay near it
   f.height = static_cast<int>(std::clamp(170.0 + 720.0 * frame.height() / frame.width(), 350.0, 700.0));
-  add_body_data(f, mesh, sol, scale, boundary_only);
-  if (foundation) f.data.push_back(foundation_data(mesh, sol, scale));
+  add_body_data(f, mesh, edges, sol, scale, boundary_only);
+  if (foundation) f.data.push_back(foundation_data(mesh, edges, sol, scale));
   bool obstacle_seen = false;
   if (obstacle) {
     ObstacleDrawing d = draw_obstacle(*info.obstacle, frame);
@@ -750,7 +746,7 @@ Figure deformed_figure(const Mesh& mesh, const ContactSolution& sol, const RunIn
   title << (boundary_only ? "deformed boundary" : "deformed mesh");
   if (obstacle) title << " at true scale with the rigid obstacle";
   else title << " (displacement x " << std::setprecision(3) << scale << ")";
-  if (boundary_only) title << "; " << mesh.edges().size() << " edges are finer than the picture";
+  if (boundary_only) title << "; " << edges.count << " edges are finer than the picture";
   std::ostringstream s;
   s << "set title " << solve_title(title.str(), info) << " noenhanced\n"
     << "set size ratio -1\nset clip two\n"
@@ -772,6 +768,68 @@ Figure deformed_figure(const Mesh& mesh, const ContactSolution& sol, const RunIn
   f.script = s.str();
   return f;
 }
+
+}  // namespace
+
+bool draws_every_edge(std::size_t edges) { return edges <= kMaxDrawnEdges; }
+
+Figure u_nu_figure(const Mesh& mesh, const ContactSolution& sol, const RunInfo& info) {
+  return u_nu_figure_of(mesh, detail::plane_edges(mesh), sol, info);
+}
+Figure u_nu_figure(const Mesh& mesh, const WholeOfPieces& whole, const ContactSolution& sol, const RunInfo& info) {
+  return u_nu_figure_of(mesh, detail::plane_edges(whole), sol, info);
+}
+
+Figure deformed_figure(const Mesh& mesh, const ContactSolution& sol, const RunInfo& info) {
+  return deformed_figure_of(mesh, detail::plane_edges(mesh), sol, info);
+}
+Figure deformed_figure(const Mesh& mesh, const WholeOfPieces& whole, const ContactSolution& sol, const RunInfo& info) {
+  return deformed_figure_of(mesh, detail::plane_edges(whole), sol, info);
+}
+
+namespace detail {
+
+PlaneEdges plane_edges(const Mesh& mesh) {
+  PlaneEdges e;
+  e.count = mesh.edges().size();
+  e.boundary = [&mesh](const PlaneEdges::Visit& visit) {
+    for (const int i : mesh.boundary_edges()) visit(mesh.edge(i).v0, mesh.edge(i).v1);
+  };
+  e.every = [&mesh](const PlaneEdges::Visit& visit) {
+    for (const MeshEdge& edge : mesh.edges()) visit(edge.v0, edge.v1);
+  };
+  return e;
+}
+
+PlaneEdges plane_edges(const WholeOfPieces& whole) {
+  PlaneEdges e;
+  e.count = static_cast<std::size_t>(whole.size.facets);
+  e.boundary = [&whole](const PlaneEdges::Visit& visit) {
+    for (const std::vector<int>& loop : whole.boundary) {
+      if (loop.size() != 2) throw InternalError("a plane's boundary edge of " + std::to_string(loop.size()) + " vertices");
+      visit(loop[0], loop[1]);
+    }
+  };
+  e.every = [&whole](const PlaneEdges::Visit& visit) {
+    if (whole.edges.size() != static_cast<std::size_t>(whole.size.facets))
+      throw InternalError(std::to_string(whole.edges.size()) + " edges gathered of " + std::to_string(whole.size.facets));
+    for (const auto& [v0, v1] : whole.edges) visit(v0, v1);
+  };
+  return e;
+}
+
+std::vector<std::array<int, 2>> contact_lines(int vertices, const PlaneEdges& edges, const ContactSolution& sol) {
+  std::vector<std::array<int, 2>> lines;
+  if (sol.contact.empty()) return lines;
+  std::vector<char> on(static_cast<std::size_t>(vertices), 0);
+  for (const auto& n : sol.contact) on[static_cast<std::size_t>(n.vertex)] = 1;
+  edges.boundary([&](int v0, int v1) {
+    if (on[static_cast<std::size_t>(v0)] && on[static_cast<std::size_t>(v1)]) lines.push_back({v0, v1});
+  });
+  return lines;
+}
+
+}  // namespace detail
 
 namespace {
 

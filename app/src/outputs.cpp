@@ -3,6 +3,7 @@
 // own files (a plane's mesh.poly2d, a solid's contact-surface.vtu) and figures.
 #include <hemivem/app/outputs.hpp>
 
+#include "figure_style.hpp"
 #include "output_run.hpp"
 #include "process_text.hpp"
 #include "path_outputs.hpp"
@@ -82,15 +83,7 @@ void path_figures(std::vector<Figure>& figures, const RunInfo& info, const PathF
 }  // namespace
 
 std::vector<std::array<int, 2>> contact_lines(const Mesh& mesh, const ContactSolution& sol) {
-  std::vector<char> on(static_cast<std::size_t>(mesh.num_vertices()), 0);
-  for (const auto& n : sol.contact) on[static_cast<std::size_t>(n.vertex)] = 1;
-  std::vector<std::array<int, 2>> lines;
-  if (sol.contact.empty()) return lines;
-  for (int e : mesh.boundary_edges()) {
-    const auto& edge = mesh.edge(e);
-    if (on[static_cast<std::size_t>(edge.v0)] && on[static_cast<std::size_t>(edge.v1)]) lines.push_back({edge.v0, edge.v1});
-  }
-  return lines;
+  return detail::contact_lines(mesh.num_vertices(), detail::plane_edges(mesh), sol);
 }
 
 MeshSize mesh_size(const Mesh& mesh) { return {mesh.num_vertices(), mesh.num_elements(), mesh.num_edges(), mesh.h()}; }
@@ -287,12 +280,17 @@ namespace {
 void solve_figures(std::vector<Figure>& figures, const Mesh& mesh, const ContactSolution& solution, const RunInfo& info,
                    const std::vector<int>*, const PathFiles<2>* path, const detail::OutputRun& run, OutputReport& report) {
   auto want = [&run](const std::string& name) { return run.want(name); };
+  // `mesh` a piece: the edges and elements gathered from every process's (info.of_pieces)
+  const WholeOfPieces* whole = info.of_pieces.get();
   if (want("u_nu.png") && solution.contact.empty()) report.skipped.push_back("u_nu.png: no contact boundary");
-  if (want("u_nu.png") && !solution.contact.empty()) figures.push_back(u_nu_figure(mesh, solution, info));
-  if (want("deformed.png")) figures.push_back(deformed_figure(mesh, solution, info));
+  if (want("u_nu.png") && !solution.contact.empty())
+    figures.push_back(whole ? u_nu_figure(mesh, *whole, solution, info) : u_nu_figure(mesh, solution, info));
+  if (want("deformed.png"))
+    figures.push_back(whole ? deformed_figure(mesh, *whole, solution, info) : deformed_figure(mesh, solution, info));
   if (want("error.png") && !info.error_estimate) report.skipped.push_back("error.png: no error estimate");
   if (want("error.png") && info.error_estimate)
-    figures.push_back(indicator_figure(mesh, info.error_estimate->indicators, info));
+    figures.push_back(whole ? indicator_figure(mesh, *whole, info.error_estimate->indicators, info)
+                            : indicator_figure(mesh, info.error_estimate->indicators, info));
   if (want("mesh.png"))
     figures.push_back(mesh_figure(mesh, info, "mesh, " + std::to_string(mesh.num_elements()) + " elements"));
   if (want("adapt.png") && info.adapt.is_null()) report.skipped.push_back("adapt.png: not an adaptive solve");
@@ -434,13 +432,14 @@ void require_pieces_written(const RowDistribution& rows, const std::string& why,
 }  // namespace
 
 bool made_from_pieces(const std::string& file, int dim) {
-  static const std::vector<std::string> both{"result.json", "contact.csv",  "displacement.csv", "stress.csv",
-                                             "history.csv", "solution.vtu", "scene.toml"};
-  static const std::vector<std::string> solid{"contact-surface.vtu", "deformed.png", "pressure.png"};
+  static const std::vector<std::string> both{"result.json",  "contact.csv", "displacement.csv", "stress.csv",
+                                             "history.csv",  "solution.vtu", "scene.toml",      "deformed.png"};
+  static const std::vector<std::string> plane{"u_nu.png", "error.png"};
+  static const std::vector<std::string> solid{"contact-surface.vtu", "pressure.png"};
   const auto in = [&file](const std::vector<std::string>& names) {
     return std::find(names.begin(), names.end(), file) != names.end();
   };
-  return in(both) || (dim == 3 && in(solid));
+  return in(both) || in(dim == 2 ? plane : solid);
 }
 
 template <class MeshType, int dim>
@@ -451,11 +450,16 @@ OutputReport write_outputs_in_pieces(const fs::path& dir, const MeshType& mesh, 
   const ProcessWorld world = krylov_world();
   const bool writer = world.rank == 0;
   if (info.of_pieces)  // the first process holds its piece: what it cannot make from it (the same `wanted` on every process)
-    for (const std::string& file : wanted)
+    for (const std::string& file : wanted) {
       if (!made_from_pieces(file, dim))
         throw InputError(file + " is drawn from the whole mesh, which no process made for this solve on pieces: name it in "
                                 "output.write before the solve",
                          dir.string());
+      if (!info.of_pieces->serves(file))
+        throw InputError(file + " is made from what the processes gather of their pieces at the solve for the files "
+                                "output.write names: name it there before the solve",
+                         dir.string());
+    }
   if (info.vtu_pieces != world.size)
     throw InternalError("solution.pvtu of " + std::to_string(info.vtu_pieces) + " pieces written by " +
                         std::to_string(world.size) + " processes");

@@ -153,7 +153,8 @@ void make_results_mesh_whole(const Scene& scene, const SceneEngines& e, Solved& 
     const auto& mesh = s.built->mesh;
     const bool displaced = s.solution.u.size() == dim * static_cast<Eigen::Index>(mesh.num_vertices());
     s.of_pieces = std::make_shared<const WholeOfPieces>(
-        whole_of_pieces<dim>(s.built->problem, displaced ? s.solution.u : Eigen::VectorXd(), *e.piece, *process_rows()));
+        whole_of_pieces<dim>(s.built->problem, displaced ? s.solution.u : Eigen::VectorXd(), *e.piece, *process_rows(),
+                             wanted_files(scene, s.built->has_contact)));
     return;
   }
   if (static_cast<int>(e.piece->cells.size()) == e.piece->whole_cells) return;

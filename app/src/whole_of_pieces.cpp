@@ -2,6 +2,7 @@
 // pieces (WholeOfPieces of hemivem/app/outputs.hpp).
 #include <hemivem/app/outputs.hpp>
 
+#include <hemivem/app/figures.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/mesh/facet_cells.hpp>
 
@@ -14,20 +15,26 @@ namespace hemivem::app {
 
 namespace {
 
-/// Faces of a solid's piece as [the whole mesh's number of their cell, their place among the
-/// cell's faces, their vertices' count, their vertices], the list of `key`'s first value (a
-/// contact part's number, or 0) before them.
-void put_face(std::vector<double>& out, double key, const Mesh3D& mesh, int f, const std::vector<int>& cells) {
-  const int c = mesh.face(f).inner;
-  const std::vector<int>& around = mesh.cell_faces(c);
+/// The vertices of facet f: a plane's edge from v0 to v1, a solid's face.
+std::vector<int> facet_loop(const Mesh& mesh, int f) { return {mesh.edge(f).v0, mesh.edge(f).v1}; }
+const std::vector<int>& facet_loop(const Mesh3D& mesh, int f) { return mesh.face(f).vertices; }
+
+/// Facet f of a piece as [`key` (a contact part's number, or 0), the whole mesh's number of its
+/// first cell, its place among that cell's facets, its vertices' count, its vertices]: the
+/// first two numbers order the facets as the whole mesh numbers them (by their first cell and
+/// place in it), the piece holding both cells of a facet of a cell the process owns.
+template <class MeshType>
+void put_facet(std::vector<double>& out, double key, const MeshType& mesh, int f, const std::vector<int>& cells) {
+  const int c = facet_cells(mesh, f)[0];
+  const std::span<const int> around = cell_facets(mesh, c);
   const auto place = std::find(around.begin(), around.end(), f) - around.begin();
-  const std::vector<int>& loop = mesh.face(f).vertices;
+  const auto& loop = facet_loop(mesh, f);
   out.insert(out.end(), {key, static_cast<double>(cells[static_cast<std::size_t>(c)]), static_cast<double>(place),
                          static_cast<double>(loop.size())});
   out.insert(out.end(), loop.begin(), loop.end());
 }
 
-/// The faces of put_face gathered on the first process, as loops in the order of their keys.
+/// The facets of put_facet gathered on the first process, as loops in the order of their keys.
 std::vector<std::vector<int>> gathered_faces(const std::vector<double>& mine, const RowDistribution& rows) {
   const Eigen::VectorXd all =
       rows.gather_to_first(Eigen::Map<const Eigen::VectorXd>(mine.data(), static_cast<Eigen::Index>(mine.size())));
@@ -47,11 +54,45 @@ std::vector<std::vector<int>> gathered_faces(const std::vector<double>& mine, co
   return loops;
 }
 
+/// The cells of the records [the whole mesh's number of a cell, its vertices' count, its
+/// vertices] gathered on the first process, as loops in the whole mesh's order: each of the
+/// `cells` cells once (record_starts).
+VertexLoops gathered_cells(const std::vector<double>& mine, int cells, const RowDistribution& rows) {
+  const Eigen::VectorXd all =
+      rows.gather_to_first(Eigen::Map<const Eigen::VectorXd>(mine.data(), static_cast<Eigen::Index>(mine.size())));
+  VertexLoops loops;
+  if (rows.rank() != 0) return loops;
+  const auto count = [&all](Eigen::Index at) {
+    if (at + 1 >= all.size()) throw InternalError("the processes' records end inside the record of a cell");
+    return 1 + static_cast<Eigen::Index>(all(at + 1));
+  };
+  const std::vector<Eigen::Index> records = record_starts(all, cells, count);
+  loops.offsets.reserve(records.size() + 1);
+  for (const Eigen::Index at : records) {
+    for (Eigen::Index i = 2; i < 1 + count(at); ++i) loops.vertices.push_back(static_cast<int>(all(at + i)));
+    loops.offsets.push_back(static_cast<int>(loops.vertices.size()));
+  }
+  return loops;
+}
+
+/// The files whose records are gathered for them alone (WholeOfPieces::serves).
+const std::vector<std::string>& gathered_files() {
+  static const std::vector<std::string> files{"stress.csv",   "contact-surface.vtu", "pressure.png",
+                                              "deformed.png", "u_nu.png",            "error.png"};
+  return files;
+}
+
+bool named(const std::vector<std::string>& files, const std::string& file) {
+  return std::find(files.begin(), files.end(), file) != files.end();
+}
+
 }  // namespace
+
+bool WholeOfPieces::serves(const std::string& file) const { return !named(gathered_files(), file) || named(files, file); }
 
 template <int dim>
 WholeOfPieces whole_of_pieces(const BasicContactProblem<dim>& problem, const Eigen::VectorXd& u, const PieceOfMesh& piece,
-                              const RowDistribution& rows) {
+                              const RowDistribution& rows, const std::vector<std::string>& files) {
   const auto& mesh = *problem.elasticity.mesh;
   const std::vector<int>& cells = piece.cells;
   if (cells.size() != static_cast<std::size_t>(mesh.num_cells()))
@@ -59,6 +100,8 @@ WholeOfPieces whole_of_pieces(const BasicContactProblem<dim>& problem, const Eig
                         " cells");
   const std::vector<char> owned = owned_cells(mesh, piece);
   WholeOfPieces whole;
+  whole.files = files;
+  const auto wants = [&files](const char* file) { return named(files, file); };
   // each facet counted by the process owning the first of its cells in the whole mesh's order
   // (the piece holds every neighbour of a cell it owns); h the largest diameter of owned cells
   double facets = 0.0, h = 0.0;
@@ -75,49 +118,69 @@ WholeOfPieces whole_of_pieces(const BasicContactProblem<dim>& problem, const Eig
   if (u.size() > 0) {
     const auto stresses = cell_stresses(mesh, problem.elasticity.materials, u);
     whole.stress = stress_peak_of_pieces(mesh, stresses, owned, cells, rows);
-    // stress.csv's rows: each owned cell as [its whole number, centroid, xx, yy, zz, yz, xz, xy]
-    constexpr Eigen::Index width = 1 + dim + 6;
-    std::vector<double> mine;
-    for (int c = 0; c < mesh.num_cells(); ++c) {
-      if (!owned[static_cast<std::size_t>(c)]) continue;
-      const auto& s = stresses[static_cast<std::size_t>(c)];
-      const auto x = mesh.centroid(c);
-      mine.push_back(cells[static_cast<std::size_t>(c)]);
-      for (int i = 0; i < dim; ++i) mine.push_back(x(i));
-      mine.insert(mine.end(), {s.xx, s.yy, s.zz, s.yz, s.xz, s.xy});
-    }
-    const Eigen::VectorXd all =
-        rows.gather_to_first(Eigen::Map<const Eigen::VectorXd>(mine.data(), static_cast<Eigen::Index>(mine.size())));
-    if (rows.rank() == 0) {
-      if (all.size() != width * piece.whole_cells)
-        throw InternalError("the processes' pieces give " + std::to_string(all.size() / width) + " cells' stresses of " +
-                            std::to_string(piece.whole_cells));
-      whole.stress_rows.assign(static_cast<std::size_t>(all.size() / width * (width - 1)), 0.0);
-      std::vector<char> given(static_cast<std::size_t>(piece.whole_cells), 0);
-      for (Eigen::Index at = 0; at < all.size(); at += width) {
-        const auto c = static_cast<std::size_t>(all(at));
-        if (c >= given.size() || given[c]) throw InternalError("the processes' pieces give a cell's stress twice");
-        given[c] = 1;
-        std::copy(all.data() + at + 1, all.data() + at + width, whole.stress_rows.begin() + static_cast<std::ptrdiff_t>(c * (width - 1)));
+    if (wants("stress.csv")) {
+      // stress.csv's rows: each owned cell as [its whole number, centroid, xx, yy, zz, yz, xz, xy]
+      constexpr Eigen::Index width = 1 + dim + 6;
+      std::vector<double> mine;
+      for (int c = 0; c < mesh.num_cells(); ++c) {
+        if (!owned[static_cast<std::size_t>(c)]) continue;
+        const auto& s = stresses[static_cast<std::size_t>(c)];
+        const auto x = mesh.centroid(c);
+        mine.push_back(cells[static_cast<std::size_t>(c)]);
+        for (int i = 0; i < dim; ++i) mine.push_back(x(i));
+        mine.insert(mine.end(), {s.xx, s.yy, s.zz, s.yz, s.xz, s.xy});
+      }
+      const Eigen::VectorXd all =
+          rows.gather_to_first(Eigen::Map<const Eigen::VectorXd>(mine.data(), static_cast<Eigen::Index>(mine.size())));
+      if (rows.rank() == 0) {
+        const std::vector<Eigen::Index> records =
+            record_starts(all, piece.whole_cells, [](Eigen::Index) { return width - 1; });
+        whole.stress_rows.reserve(records.size() * (width - 1));
+        for (const Eigen::Index at : records) whole.stress_rows.insert(whole.stress_rows.end(), all.data() + at + 1, all.data() + at + width);
       }
     }
   }
-  if constexpr (dim == 3) {  // the contact faces, part by part, and the boundary faces, of the cells owned
-    std::vector<double> contact, boundary;
+  // the facets of the cells owned: each by the owner of its first cell, a boundary facet (of an
+  // owned cell alone in the piece, alone in the whole) by its cell's
+  const auto counted = [&](int f) { return owned[static_cast<std::size_t>(facet_cells(mesh, f)[0])] != 0; };
+  if (dim == 3 && (wants("contact-surface.vtu") || wants("pressure.png"))) {  // part by part
+    std::vector<double> contact;
     for (std::size_t p = 0; p < problem.parts.size(); ++p)
       for (const int f : problem.parts[p].facets)
-        if (owned[static_cast<std::size_t>(mesh.face(f).inner)]) put_face(contact, static_cast<double>(p), mesh, f, cells);
-    for (const int f : mesh.boundary_faces())  // a face of an owned cell alone in the piece is alone in the whole
-      if (owned[static_cast<std::size_t>(mesh.face(f).inner)]) put_face(boundary, 0.0, mesh, f, cells);
+        if (counted(f)) put_facet(contact, static_cast<double>(p), mesh, f, cells);
     whole.contact_surface = gathered_faces(contact, rows);
+  }
+  if (wants("deformed.png") || (dim == 2 && wants("u_nu.png"))) {
+    std::vector<double> boundary;
+    for (const int f : mesh.boundary_facets())
+      if (counted(f)) put_facet(boundary, 0.0, mesh, f, cells);
     whole.boundary = gathered_faces(boundary, rows);
+  }
+  if constexpr (dim == 2) {
+    if ((wants("deformed.png") && draws_every_edge(static_cast<std::size_t>(whole.size.facets))) ||
+        (wants("error.png") && indicator_draws_edges(whole.size.cells))) {
+      std::vector<double> edges;
+      for (int f = 0; f < mesh.num_edges(); ++f)
+        if (counted(f)) put_facet(edges, 0.0, mesh, f, cells);
+      for (const std::vector<int>& e : gathered_faces(edges, rows)) whole.edges.push_back({e[0], e[1]});
+    }
+    if (wants("error.png")) {  // each owned element as [its whole number, its vertices' count, its vertices]
+      std::vector<double> elements;
+      for (int c = 0; c < mesh.num_cells(); ++c) {
+        if (!owned[static_cast<std::size_t>(c)]) continue;
+        const auto loop = mesh.element(c);
+        elements.insert(elements.end(), {static_cast<double>(cells[static_cast<std::size_t>(c)]), static_cast<double>(loop.size())});
+        elements.insert(elements.end(), loop.begin(), loop.end());
+      }
+      whole.cells = gathered_cells(elements, piece.whole_cells, rows);
+    }
   }
   return whole;
 }
 
 template WholeOfPieces whole_of_pieces<2>(const ContactProblem&, const Eigen::VectorXd&, const PieceOfMesh&,
-                                          const RowDistribution&);
+                                          const RowDistribution&, const std::vector<std::string>&);
 template WholeOfPieces whole_of_pieces<3>(const ContactProblem3D&, const Eigen::VectorXd&, const PieceOfMesh&,
-                                          const RowDistribution&);
+                                          const RowDistribution&, const std::vector<std::string>&);
 
 }  // namespace hemivem::app

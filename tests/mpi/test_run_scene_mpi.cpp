@@ -1,6 +1,7 @@
 // The library's one entry point (run_scene) on the full-space route across processes, given its
 // output folder: every process keeps its piece of the mesh for the results where the files the
-// scene writes are made from the pieces, and a file that is not is refused on every process.
+// scene writes are made from the pieces, and a file that the scene did not ask for before the
+// solve, whose records were not gathered, is refused on every process.
 #include <hemivem/app/run.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/krylov_solver.hpp>
@@ -38,7 +39,7 @@ Scene example() {
   return scene;
 }
 
-TEST(RunSceneMpi, ThePiecesWriteTheWholeMeshsResultsAndRefuseAFigureOfTheWholeMesh) {
+TEST(RunSceneMpi, ThePiecesWriteTheWholeMeshsResultsAndRefuseAFigureNotAskedForBeforeTheSolve) {
   const ProcessWorld world = krylov_world();
   const fs::path out = own_folder("out"), other = own_folder("other");
   RunOptions o;
@@ -61,11 +62,12 @@ TEST(RunSceneMpi, ThePiecesWriteTheWholeMeshsResultsAndRefuseAFigureOfTheWholeMe
   } else {
     EXPECT_FALSE(fs::exists(out));  // the first writes, the others' pieces are not asked for
   }
-  // u_nu.png is drawn from the whole mesh, which no process made: refused on every process
+  // u_nu.png is drawn from the boundary edges gathered for it alone, which the scene did not ask
+  // for: refused on every process
   const std::vector<std::string> files{"result.json", "u_nu.png"};
   try {
     run.write(other, &files);
-    ADD_FAILURE() << "a figure of the whole mesh written from a piece";
+    ADD_FAILURE() << "a figure written from a piece without the edges it is drawn from";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("u_nu.png"), std::string::npos) << e.what();
   }

@@ -70,21 +70,15 @@ ErrorEstimate estimate_error_of_pieces(const BasicContactProblem<dim>& problem, 
     for (Eigen::Index i = 0; i < terms_size; ++i) sent(at + 1 + i) = mine[k].second[static_cast<std::size_t>(i)];
   }
   const Eigen::VectorXd all = rows.all_gather(sent);
-  std::vector<detail::ElementTerms> whole(static_cast<std::size_t>(piece.whole_cells));
-  std::vector<char> given(whole.size(), 0);
-  for (Eigen::Index at = 0; at + terms_size < all.size(); at += terms_size + 1) {
-    const auto c = static_cast<std::size_t>(all(at));
-    if (c >= whole.size() || given[c])
-      throw InternalError("the processes' pieces estimate cell " + std::to_string(c) + " of " +
-                          std::to_string(whole.size()) + (c < whole.size() ? " twice" : ""));
-    given[c] = 1;
+  const std::vector<Eigen::Index> records = record_starts(all, piece.whole_cells, [](Eigen::Index) { return terms_size; });
+  std::vector<detail::ElementTerms> whole(records.size());
+  for (std::size_t c = 0; c < whole.size(); ++c) {
+    const Eigen::Index at = records[c];
     detail::ElementTerms& t = whole[c];
     for (std::size_t i = 0; i < detail::part_count; ++i) t.raw[i] = all(at + 1 + static_cast<Eigen::Index>(i));
     t.weight = all(at + 1 + detail::part_count);
     t.consistency_energy = all(at + 2 + detail::part_count);
   }
-  if (std::count(given.begin(), given.end(), 0) > 0)
-    throw InternalError("the processes' pieces leave cells of the whole mesh without an estimate");
   return detail::sum_estimate(whole, start);
 }
 

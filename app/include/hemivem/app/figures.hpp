@@ -9,6 +9,7 @@
 // house style (tick labels, line widths) are here too.
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
 #include <functional>
 #include <iosfwd>
@@ -95,6 +96,9 @@ double mesh_line_width(long long elements);
 /// below: u_tau with its stick and slip nodes marked, and the friction traction on a second
 /// axis. The solution must have contact nodes.
 Figure u_nu_figure(const Mesh& mesh, const ContactSolution& solution, const RunInfo& info);
+/// The same where `mesh` is the first process's piece of the whole mesh (every vertex, some
+/// cells), over the whole mesh's boundary edges gathered from the pieces (`whole`).
+Figure u_nu_figure(const Mesh& mesh, const WholeOfPieces& whole, const ContactSolution& solution, const RunInfo& info);
 
 /// deformed.png: the deformed mesh (its boundary alone above 100000 edges) coloured by |u|
 /// (viridis) over the undeformed outline, in a frame that holds the body with a margin. With
@@ -104,6 +108,12 @@ Figure u_nu_figure(const Mesh& mesh, const ContactSolution& solution, const RunI
 /// where u_nu = g (x_i + g_i nu_i, moved by the same magnification, so that a node touching
 /// it is drawn on it). With contact, the contact nodes.
 Figure deformed_figure(const Mesh& mesh, const ContactSolution& solution, const RunInfo& info);
+/// The same where `mesh` is the first process's piece, over the whole mesh's edges gathered from
+/// the pieces (`whole`: its edge count, boundary edges and, where drawn, every edge).
+Figure deformed_figure(const Mesh& mesh, const WholeOfPieces& whole, const ContactSolution& solution, const RunInfo& info);
+/// Whether deformed.png of a plane draws each of a mesh's `edges` edges (up to 100000), else its
+/// boundary alone.
+bool draws_every_edge(std::size_t edges);
 /// deformed.png of a solid: the boundary faces of the deformed body in perspective, filled with
 /// the colour of |u| (viridis), the displacement magnified so that its largest value is a tenth
 /// of the body's size (the title says by how much).
@@ -128,6 +138,12 @@ Figure pressure_figure(const Mesh3D& mesh, std::vector<std::vector<int>> faces, 
 /// the mesh's edges drawn thin (omitted above 20000 elements), the title solve_title("error indicators", info).
 /// indicators has one entry per element (zeros drawn with the scale's lowest colour).
 Figure indicator_figure(const Mesh& mesh, const std::vector<double>& indicators, const RunInfo& info);
+/// The same where `mesh` is the first process's piece, over the whole mesh's elements and, where
+/// drawn, edges gathered from the pieces (`whole`); indicators per element of the whole mesh.
+Figure indicator_figure(const Mesh& mesh, const WholeOfPieces& whole, const std::vector<double>& indicators,
+                        const RunInfo& info);
+/// Whether error.png draws the edges of a mesh of `elements` elements (up to 20000).
+bool indicator_draws_edges(long long elements);
 
 /// mesh.png: the mesh's edges (e.g. the final mesh of an adaptive solve) at the width
 /// mesh_line_width of its element count, equal axes, title solve_title(what, info) with `what`

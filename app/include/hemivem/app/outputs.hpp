@@ -10,6 +10,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <variant>
 #include <vector>
@@ -43,6 +44,17 @@ struct MeshSize {
 MeshSize mesh_size(const Mesh& mesh);
 MeshSize mesh_size(const Mesh3D& mesh);
 
+/// Vertex loops (a mesh's cells by their vertices) in one array: loop i is
+/// vertices[offsets[i] .. offsets[i + 1]).
+struct VertexLoops {
+  std::vector<int> offsets{0};
+  std::vector<int> vertices;
+  std::size_t size() const noexcept { return offsets.size() - 1; }
+  std::span<const int> operator[](std::size_t i) const noexcept {
+    return {vertices.data() + offsets[i], static_cast<std::size_t>(offsets[i + 1] - offsets[i])};
+  }
+};
+
 /// What the results need of a whole mesh that the processes hold in pieces (each piece holding
 /// every vertex of the whole mesh, docs/cluster.md), gathered from the pieces by whole_of_pieces:
 /// what the first process writes the results from, its mesh being its piece.
@@ -52,18 +64,29 @@ struct WholeOfPieces {
   /// stress.csv's rows, on the first process: per cell of the whole mesh, in order, its
   /// centroid (dim values) and its projected stress xx, yy, zz, yz, xz, xy.
   std::vector<double> stress_rows;
-  /// A solid's contact faces (contact_faces, part by part) and boundary faces (boundary_faces)
-  /// as vertex loops, each in the whole mesh's order, on the first process.
+  /// A solid's contact faces (contact_faces, part by part) as vertex loops, and the boundary
+  /// facets (a solid's faces, a plane's edges) as vertex loops, each in the whole mesh's order, on
+  /// the first process.
   std::vector<std::vector<int>> contact_surface, boundary;
+  /// A plane's edges, each as its two vertices in the whole mesh's order, on the first process
+  /// where a figure draws every edge (deformed.png, error.png).
+  std::vector<std::array<int, 2>> edges;
+  /// A plane's elements as vertex loops in the whole mesh's order, on the first process (error.png).
+  VertexLoops cells;
+  /// The files it was gathered for: a file that draws on what is gathered for it alone (stress.csv,
+  /// contact-surface.vtu, the figures) can be written from it only when named here (serves).
+  std::vector<std::string> files;
+  bool serves(const std::string& file) const;
 };
 
 /// WholeOfPieces of the whole mesh of which `problem` is posed on this process's piece
 /// (`piece`: where it lies), given the whole displacement `u` (dim values per vertex, or empty:
-/// no stresses). Collective over `rows`: each process takes the cells it owns (owned_cells);
-/// every process gets the size and the stress peak, the first the rest.
+/// no stresses), for the output files `files` (the same on every process). Collective over
+/// `rows`: each process takes the cells it owns (owned_cells); every process gets the size and
+/// the stress peak, the first what the files wanted draw on.
 template <int dim>
 WholeOfPieces whole_of_pieces(const BasicContactProblem<dim>& problem, const Eigen::VectorXd& u, const PieceOfMesh& piece,
-                              const RowDistribution& rows);
+                              const RowDistribution& rows, const std::vector<std::string>& files);
 
 /// What the run was, beyond the solution itself: recorded in result.json.
 struct RunInfo {

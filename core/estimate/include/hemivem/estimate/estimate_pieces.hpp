@@ -3,9 +3,12 @@
 // it owns from its piece, and every process gets the estimate of the whole mesh.
 #pragma once
 
+#include <algorithm>
+#include <string>
 #include <utility>
 #include <vector>
 
+#include <hemivem/error.hpp>
 #include <hemivem/estimate/error_estimate.hpp>
 #include <hemivem/estimate/error_estimate3d.hpp>
 #include <hemivem/mesh/vertex_order.hpp>
@@ -27,6 +30,29 @@ struct PieceOfMesh {
 /// owned by one process, and the piece holds every neighbour of a cell it owns.
 std::vector<char> owned_cells(const Mesh& mesh, const PieceOfMesh& piece);
 std::vector<char> owned_cells(const Mesh3D& mesh, const PieceOfMesh& piece);
+
+/// Where each cell's record starts in `records`, the records of the cells the processes own
+/// gathered from them (each [the whole mesh's number of a cell, then `length(at)` numbers], `at`
+/// where the record starts), indexed by the whole mesh's number of the cell: the records in the
+/// whole mesh's order of cells. InternalError when a record runs past the end, or a cell of the
+/// `cells` cells of the whole mesh is given twice, out of range or not at all.
+template <class Length>
+std::vector<Eigen::Index> record_starts(const Eigen::VectorXd& records, int cells, const Length& length) {
+  std::vector<Eigen::Index> start(static_cast<std::size_t>(cells), -1);
+  for (Eigen::Index at = 0; at < records.size();) {
+    const double number = records(at);
+    const auto c = static_cast<std::size_t>(number);
+    if (!(number >= 0.0 && number < cells) || start[c] >= 0)
+      throw InternalError("the processes' pieces give cell " + std::to_string(number) + " of the whole mesh's " +
+                          std::to_string(cells) + (number >= 0.0 && number < cells ? " twice" : ""));
+    start[c] = at;
+    at += 1 + length(at);
+    if (at > records.size()) throw InternalError("the processes' records end inside the record of a cell");
+  }
+  if (std::count(start.begin(), start.end(), Eigen::Index{-1}) > 0)
+    throw InternalError("the processes' pieces leave cells of the whole mesh without a record");
+  return start;
+}
 
 /// The residual terms of the cells of the piece that the process owns (owned_cells), as (the whole mesh's number of the cell, its terms), from
 /// `problem` on the piece and the whole `solution`. A piece holds every neighbour of such a cell,
