@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <string>
+#include <type_traits>
 #include <utility>
 
 namespace hemivem::app {
@@ -86,60 +87,40 @@ bool named(const std::vector<std::string>& files, const std::string& file) {
   return std::find(files.begin(), files.end(), file) != files.end();
 }
 
-}  // namespace
-
-bool WholeOfPieces::serves(const std::string& file) const { return !named(gathered_files(), file) || named(files, file); }
-
-template <int dim>
-WholeOfPieces whole_of_pieces(const BasicContactProblem<dim>& problem, const Eigen::VectorXd& u, const PieceOfMesh& piece,
-                              const RowDistribution& rows, const std::vector<std::string>& files) {
-  const auto& mesh = *problem.elasticity.mesh;
-  const std::vector<int>& cells = piece.cells;
-  if (cells.size() != static_cast<std::size_t>(mesh.num_cells()))
-    throw InternalError(std::to_string(cells.size()) + " numbers for a piece of " + std::to_string(mesh.num_cells()) +
-                        " cells");
-  const std::vector<char> owned = owned_cells(mesh, piece);
-  WholeOfPieces whole;
-  whole.files = files;
-  const auto wants = [&files](const char* file) { return named(files, file); };
-  // each facet counted by the process owning the first of its cells in the whole mesh's order
-  // (the piece holds every neighbour of a cell it owns); h the largest diameter of owned cells
-  double facets = 0.0, h = 0.0;
+/// stress.csv's rows gathered on the first process, per cell of the whole mesh in order (its
+/// centroid and its stresses xx, yy, zz, yz, xz, xy), from each process's owned cells.
+template <class MeshType, class Stress>
+std::vector<double> gathered_stress_rows(const MeshType& mesh, const std::vector<Stress>& stresses,
+                                         const std::vector<char>& owned, const std::vector<int>& cells, int whole_cells,
+                                         const RowDistribution& rows) {
+  constexpr int dim = std::is_same_v<MeshType, Mesh3D> ? 3 : 2;
+  constexpr Eigen::Index width = dim + 6;  // after the cell's whole number
+  std::vector<double> mine;
   for (int c = 0; c < mesh.num_cells(); ++c) {
     if (!owned[static_cast<std::size_t>(c)]) continue;
-    h = std::max(h, mesh.diameter(c));
-    for (const int f : cell_facets(mesh, c)) {
-      const auto [one, other] = facet_cells(mesh, f);
-      const int neighbour = one == c ? other : one;
-      if (neighbour < 0 || cells[static_cast<std::size_t>(c)] < cells[static_cast<std::size_t>(neighbour)]) facets += 1.0;
-    }
+    const auto& s = stresses[static_cast<std::size_t>(c)];
+    const auto x = mesh.centroid(c);
+    mine.push_back(cells[static_cast<std::size_t>(c)]);
+    for (int i = 0; i < dim; ++i) mine.push_back(x(i));
+    mine.insert(mine.end(), {s.xx, s.yy, s.zz, s.yz, s.xz, s.xy});
   }
-  whole.size = {mesh.num_vertices(), piece.whole_cells, static_cast<int>(rows.sum(facets)), rows.max(h)};
-  if (u.size() > 0) {
-    const auto stresses = cell_stresses(mesh, problem.elasticity.materials, u);
-    whole.stress = stress_peak_of_pieces(mesh, stresses, owned, cells, rows);
-    if (wants("stress.csv")) {
-      // stress.csv's rows: each owned cell as [its whole number, centroid, xx, yy, zz, yz, xz, xy]
-      constexpr Eigen::Index width = 1 + dim + 6;
-      std::vector<double> mine;
-      for (int c = 0; c < mesh.num_cells(); ++c) {
-        if (!owned[static_cast<std::size_t>(c)]) continue;
-        const auto& s = stresses[static_cast<std::size_t>(c)];
-        const auto x = mesh.centroid(c);
-        mine.push_back(cells[static_cast<std::size_t>(c)]);
-        for (int i = 0; i < dim; ++i) mine.push_back(x(i));
-        mine.insert(mine.end(), {s.xx, s.yy, s.zz, s.yz, s.xz, s.xy});
-      }
-      const Eigen::VectorXd all =
-          rows.gather_to_first(Eigen::Map<const Eigen::VectorXd>(mine.data(), static_cast<Eigen::Index>(mine.size())));
-      if (rows.rank() == 0) {
-        const std::vector<Eigen::Index> records =
-            record_starts(all, piece.whole_cells, [](Eigen::Index) { return width - 1; });
-        whole.stress_rows.reserve(records.size() * (width - 1));
-        for (const Eigen::Index at : records) whole.stress_rows.insert(whole.stress_rows.end(), all.data() + at + 1, all.data() + at + width);
-      }
-    }
-  }
+  const Eigen::VectorXd all =
+      rows.gather_to_first(Eigen::Map<const Eigen::VectorXd>(mine.data(), static_cast<Eigen::Index>(mine.size())));
+  std::vector<double> out;
+  if (rows.rank() != 0) return out;
+  const std::vector<Eigen::Index> records = record_starts(all, whole_cells, [](Eigen::Index) { return width; });
+  out.reserve(records.size() * width);
+  for (const Eigen::Index at : records) out.insert(out.end(), all.data() + at + 1, all.data() + at + 1 + width);
+  return out;
+}
+
+/// The facets the files of whole.files are drawn from, gathered on the first process
+/// (WholeOfPieces::contact_surface, boundary, edges, cells), from the cells each process owns.
+template <int dim>
+void gather_facets(WholeOfPieces& whole, const BasicContactProblem<dim>& problem, const std::vector<char>& owned,
+                   const std::vector<int>& cells, int whole_cells, const RowDistribution& rows) {
+  const auto& mesh = *problem.elasticity.mesh;
+  const auto wants = [&whole](const char* file) { return named(whole.files, file); };
   // the facets of the cells owned: each by the owner of its first cell, a boundary facet (of an
   // owned cell alone in the piece, alone in the whole) by its cell's
   const auto counted = [&](int f) { return owned[static_cast<std::size_t>(facet_cells(mesh, f)[0])] != 0; };
@@ -172,9 +153,46 @@ WholeOfPieces whole_of_pieces(const BasicContactProblem<dim>& problem, const Eig
         elements.insert(elements.end(), {static_cast<double>(cells[static_cast<std::size_t>(c)]), static_cast<double>(loop.size())});
         elements.insert(elements.end(), loop.begin(), loop.end());
       }
-      whole.cells = gathered_cells(elements, piece.whole_cells, rows);
+      whole.cells = gathered_cells(elements, whole_cells, rows);
     }
   }
+}
+
+}  // namespace
+
+bool WholeOfPieces::serves(const std::string& file) const { return !named(gathered_files(), file) || named(files, file); }
+
+template <int dim>
+WholeOfPieces whole_of_pieces(const BasicContactProblem<dim>& problem, const Eigen::VectorXd& u, const PieceOfMesh& piece,
+                              const RowDistribution& rows, const std::vector<std::string>& files) {
+  const auto& mesh = *problem.elasticity.mesh;
+  const std::vector<int>& cells = piece.cells;
+  if (cells.size() != static_cast<std::size_t>(mesh.num_cells()))
+    throw InternalError(std::to_string(cells.size()) + " numbers for a piece of " + std::to_string(mesh.num_cells()) +
+                        " cells");
+  const std::vector<char> owned = owned_cells(mesh, piece);
+  WholeOfPieces whole;
+  whole.files = files;
+  // each facet counted by the process owning the first of its cells in the whole mesh's order
+  // (the piece holds every neighbour of a cell it owns); h the largest diameter of owned cells
+  double facets = 0.0, h = 0.0;
+  for (int c = 0; c < mesh.num_cells(); ++c) {
+    if (!owned[static_cast<std::size_t>(c)]) continue;
+    h = std::max(h, mesh.diameter(c));
+    for (const int f : cell_facets(mesh, c)) {
+      const auto [one, other] = facet_cells(mesh, f);
+      const int neighbour = one == c ? other : one;
+      if (neighbour < 0 || cells[static_cast<std::size_t>(c)] < cells[static_cast<std::size_t>(neighbour)]) facets += 1.0;
+    }
+  }
+  whole.size = {mesh.num_vertices(), piece.whole_cells, static_cast<int>(rows.sum(facets)), rows.max(h)};
+  if (u.size() > 0) {
+    const auto stresses = cell_stresses(mesh, problem.elasticity.materials, u);
+    whole.stress = stress_peak_of_pieces(mesh, stresses, owned, cells, rows);
+    if (named(files, "stress.csv"))
+      whole.stress_rows = gathered_stress_rows(mesh, stresses, owned, cells, piece.whole_cells, rows);
+  }
+  gather_facets(whole, problem, owned, cells, piece.whole_cells, rows);
   return whole;
 }
 
