@@ -161,9 +161,9 @@ void write_solve_files(OutputRun& run, const MeshType& mesh, const MaterialTable
                        const SolutionVtu* pieces = nullptr);
 
 /// Whether the first process writes `file` of a static solve in `dim` dimensions from its piece
-/// of the mesh and what is gathered from the others' (WholeOfPieces): every file of a solid's
-/// (result.json, the CSV files, solution.vtu in pieces, scene.toml, contact-surface.vtu,
-/// deformed.png, pressure.png), a plane's but its figures.
+/// of the mesh and what is gathered from the others' (WholeOfPieces): result.json, the CSV
+/// files, solution.vtu in pieces, scene.toml, deformed.png, a plane's u_nu.png and error.png, a
+/// solid's contact-surface.vtu and pressure.png; not mesh.png nor adapt.png.
 bool made_from_pieces(const std::string& file, int dim);
 
 /// The piece of process `rank` of solution.pvtu: "solution.piece-3.vtu".

@@ -131,9 +131,9 @@ void estimate_solution(const SceneEngines& e, Solved& s, Estimate&& estimate) {
 /// processes' pieces of its mesh and the gathered solution (whole_of_pieces): result.json (the
 /// whole mesh's size and stress peak), contact.csv, displacement.csv (a piece holds every
 /// vertex), stress.csv (each process's rows gathered on the first), history.csv, solution.vtu
-/// (in pieces), scene.toml, and a solid's contact-surface.vtu, deformed.png and pressure.png
-/// (its contact and boundary faces gathered); not a plane's figures, nor a path's or an
-/// adaptive solve's files.
+/// (in pieces), scene.toml, the figures (a plane's boundary edges, edges and elements, a
+/// solid's boundary faces, gathered) and a solid's contact-surface.vtu (its contact faces
+/// gathered); not a path's or an adaptive solve's files.
 bool results_of_pieces(const Scene& scene);
 
 /// After a solve on pieces of the mesh (e.piece), once its memory is given back: the whole
