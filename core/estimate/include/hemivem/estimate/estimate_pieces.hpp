@@ -41,10 +41,11 @@ std::vector<Eigen::Index> record_starts(const Eigen::VectorXd& records, int cell
   std::vector<Eigen::Index> start(static_cast<std::size_t>(cells), -1);
   for (Eigen::Index at = 0; at < records.size();) {
     const double number = records(at);
+    if (!(number >= 0.0 && number < cells))  // NaN included
+      throw InternalError("the processes' pieces give a cell numbered " + std::to_string(number) +
+                          ", out of the whole mesh's " + std::to_string(cells));
     const auto c = static_cast<std::size_t>(number);
-    if (!(number >= 0.0 && number < cells) || start[c] >= 0)
-      throw InternalError("the processes' pieces give cell " + std::to_string(number) + " of the whole mesh's " +
-                          std::to_string(cells) + (number >= 0.0 && number < cells ? " twice" : ""));
+    if (start[c] >= 0) throw InternalError("the processes' pieces give cell " + std::to_string(c) + " twice");
     start[c] = at;
     at += 1 + length(at);
     if (at > records.size()) throw InternalError("the processes' records end inside the record of a cell");
