@@ -160,10 +160,12 @@ void write_solve_files(OutputRun& run, const MeshType& mesh, const MaterialTable
                        const BasicContactSolution<dim>& solution, const RunInfo& info, const Result& result,
                        const SolutionVtu* pieces = nullptr);
 
-/// Whether the first process writes `file` of a static solve in `dim` dimensions from its piece
-/// of the mesh and what is gathered from the others' (WholeOfPieces): result.json, the CSV
-/// files, solution.vtu in pieces, scene.toml, deformed.png, a plane's u_nu.png and error.png, a
-/// solid's contact-surface.vtu and pressure.png; not mesh.png nor adapt.png.
+/// Whether the first process writes `file` of a solve of one body in `dim` dimensions from its
+/// piece of the mesh and what is gathered from the others' (WholeOfPieces): result.json, the
+/// CSV files, solution.vtu in pieces, scene.toml, deformed.png, a plane's u_nu.png and
+/// error.png, a solid's contact-surface.vtu and pressure.png, and a path's files (path.json,
+/// path-contact.csv, path-displacement.csv, solution.pvd, path.png); not mesh.png nor
+/// adapt.png.
 bool made_from_pieces(const std::string& file, int dim);
 
 /// The piece of process `rank` of solution.pvtu: "solution.piece-3.vtu".
@@ -341,6 +343,11 @@ class FramePieces {
   /// Collective: an InputError, on the process that could not write a piece and on the first,
   /// unless every process wrote every piece; `dir` is the output folder, for the message.
   void require_written(const std::filesystem::path& dir);
+  /// The processes (a row each), the first process's staging folder, and this process's share
+  /// of the vertices: where the last step's solution.vtu goes in pieces (write_path_outputs).
+  const RowDistribution& rows() const { return *rows_; }
+  const std::filesystem::path& staging() const { return staging_; }
+  const VertexShare& share() const { return share_; }
 
  private:
   std::unique_ptr<RowDistribution> rows_;
@@ -357,10 +364,18 @@ template <int dim>
 void require_path_output_folder(const PathOutput<dim>& out, const std::filesystem::path& dir,
                                 const std::vector<std::string>* files);
 
-/// The outputs of a path solved with `out` open: as write_outputs, into out's folder.
-OutputReport write_path_outputs(PathOutput<2>& out, const Mesh& mesh, const MaterialTable& materials,
-                                const ContactSolution& solution, const RunInfo& info);
-OutputReport write_path_outputs(PathOutput<3>& out, const Mesh3D& mesh, const MaterialTable& materials,
-                                const std::vector<int>& contact_faces, const ContactSolution3D& solution, const RunInfo& info);
+/// The outputs of a path solved with its folder open (`out`, on the process that writes; null
+/// on the others): as write_outputs, into out's folder, once (require_path_output_folder of
+/// `dir` and `files`). With its frames written in pieces (`pieces`, on every process) and
+/// info.vtu_pieces > 0, collective: every process writes its piece of the last step's
+/// solution.vtu into the path's transaction first (as write_outputs_in_pieces, `mesh` this
+/// process's piece whose cells are the whole mesh's `piece_cells`, or the whole mesh), and
+/// every process calls it. `contact_faces`: a solid's, or null.
+template <int dim>
+OutputReport write_path_outputs(const std::filesystem::path& dir, const std::vector<std::string>* files,
+                                PathOutput<dim>* out, FramePieces<dim>* pieces,
+                                const typename PathOutput<dim>::MeshType& mesh, const MaterialTable& materials,
+                                const std::vector<int>* contact_faces, const BasicContactSolution<dim>& solution,
+                                const RunInfo& info, const std::vector<int>& piece_cells);
 
 }  // namespace hemivem::app::detail

@@ -429,11 +429,40 @@ void require_pieces_written(const RowDistribution& rows, const std::string& why,
                        dir.string());
 }
 
+/// Collective over `rows`: this process's piece of solution.pvtu (vtu_piece_file of its rank,
+/// SolutionVtu::write_share of `share`) written into `staging`, the first process's
+/// transaction's, with the error indicators of the whole mesh's cells, or of the piece's that
+/// this process kept (`piece_cells`); `vtu` holds its arrays, from which the first writes
+/// solution.pvtu. Then every process learns whether each could (require_pieces_written).
+template <class MeshType, int dim>
+void write_solution_piece(const RowDistribution& rows, const fs::path& staging, const MeshType& mesh,
+                          const MaterialTable& materials, const BasicContactSolution<dim>& solution, const RunInfo& info,
+                          const VertexShare& share, const std::vector<int>& piece_cells, const fs::path& dir,
+                          std::optional<SolutionVtu>& vtu) {
+  const std::vector<double>* indicators = info.error_estimate ? &info.error_estimate->indicators : nullptr;
+  std::vector<double> of_piece;
+  const std::string file = vtu_piece_file(rows.rank());
+  std::string why;
+  try {
+    if (indicators && !piece_cells.empty()) {
+      for (const int c : piece_cells) of_piece.push_back(indicators->at(static_cast<std::size_t>(c)));
+      indicators = &of_piece;
+    }
+    vtu.emplace(mesh, materials, solution, indicators);
+    write_file_atomically(staging / file, [&](std::ostream& os) { vtu->write_share(os, share); });
+  } catch (const std::exception& e) {
+    why = e.what();
+  }
+  require_pieces_written(rows, why, vtu_piece_file, dir);
+}
+
 }  // namespace
 
 bool made_from_pieces(const std::string& file, int dim) {
-  static const std::vector<std::string> both{"result.json",  "contact.csv", "displacement.csv", "stress.csv",
-                                             "history.csv",  "solution.vtu", "scene.toml",      "deformed.png"};
+  static const std::vector<std::string> both{"result.json",  "contact.csv",      "displacement.csv",      "stress.csv",
+                                             "history.csv",  "solution.vtu",     "scene.toml",            "deformed.png",
+                                             "path.json",    "path-contact.csv", "path-displacement.csv", "solution.pvd",
+                                             "path.png"};
   static const std::vector<std::string> plane{"u_nu.png", "error.png"};
   static const std::vector<std::string> solid{"contact-surface.vtu", "pressure.png"};
   const auto in = [&file](const std::vector<std::string>& names) {
@@ -486,24 +515,8 @@ OutputReport write_outputs_in_pieces(const fs::path& dir, const MeshType& mesh, 
     if (failed) std::rethrow_exception(failed);
     return {};
   }
-  // every process writes its piece into it (the error indicators those of the whole mesh's
-  // cells, or of the piece's that this process kept), then all learn whether each could
-  const std::vector<double>* indicators = info.error_estimate ? &info.error_estimate->indicators : nullptr;
-  std::vector<double> of_piece;
   std::optional<SolutionVtu> vtu;
-  const std::string file = vtu_piece_file(world.rank);
-  std::string why;
-  try {
-    if (indicators && !piece_cells.empty()) {
-      for (const int c : piece_cells) of_piece.push_back(indicators->at(static_cast<std::size_t>(c)));
-      indicators = &of_piece;
-    }
-    vtu.emplace(mesh, materials, solution, indicators);
-    write_file_atomically(staging / file, [&](std::ostream& os) { vtu->write_share(os, share); });
-  } catch (const std::exception& e) {
-    why = e.what();
-  }
-  require_pieces_written(*rows, why, vtu_piece_file, dir);
+  write_solution_piece(*rows, staging, mesh, materials, solution, info, share, piece_cells, dir, vtu);
   if (!writer) return {};
   return write_outputs_of<MeshType, dim>(dir, mesh, materials, contact_faces, solution, info, wanted, nullptr, &*run,
                                          &*vtu);
@@ -593,17 +606,46 @@ template void require_path_output_folder(const PathOutput<3>&, const fs::path&, 
 template struct PathOutput<2>;
 template struct PathOutput<3>;
 
-OutputReport write_path_outputs(PathOutput<2>& out, const Mesh& mesh, const MaterialTable& materials,
-                                const ContactSolution& solution, const RunInfo& info) {
-  out.written = true;
-  return write_outputs_of(out.run.dir(), mesh, materials, nullptr, solution, info, {}, &out);
+template <int dim>
+OutputReport write_path_outputs(const fs::path& dir, const std::vector<std::string>* files, PathOutput<dim>* out,
+                                FramePieces<dim>* pieces, const typename PathOutput<dim>::MeshType& mesh,
+                                const MaterialTable& materials, const std::vector<int>* contact_faces,
+                                const BasicContactSolution<dim>& solution, const RunInfo& info,
+                                const std::vector<int>& piece_cells) {
+  std::exception_ptr refused;
+  if (out) {
+    try {
+      require_path_output_folder(*out, dir, files);
+    } catch (...) {
+      refused = std::current_exception();
+    }
+  }
+  std::optional<SolutionVtu> vtu;
+  if (pieces && info.vtu_pieces > 0) {  // the last step's solution.vtu in pieces, into the path's transaction
+    if (info.vtu_pieces != pieces->rows().size())
+      throw InternalError("solution.pvtu of " + std::to_string(info.vtu_pieces) + " pieces written by " +
+                          std::to_string(pieces->rows().size()) + " processes");
+    // every process learns whether the first writes the outputs
+    if (pieces->rows().all_gather(Eigen::VectorXd::Constant(1, refused ? 0.0 : 1.0))(0) == 0.0) {
+      if (refused) std::rethrow_exception(refused);
+      return {};
+    }
+    write_solution_piece(pieces->rows(), pieces->staging(), mesh, materials, solution, info, pieces->share(),
+                         piece_cells, dir, vtu);
+  }
+  if (refused) std::rethrow_exception(refused);
+  if (!out) return {};
+  out->written = true;
+  return write_outputs_of(out->run.dir(), mesh, materials, contact_faces, solution, info, {}, out, nullptr,
+                          vtu ? &*vtu : nullptr);
 }
 
-OutputReport write_path_outputs(PathOutput<3>& out, const Mesh3D& mesh, const MaterialTable& materials,
-                                const std::vector<int>& contact_faces, const ContactSolution3D& solution, const RunInfo& info) {
-  out.written = true;
-  return write_outputs_of(out.run.dir(), mesh, materials, &contact_faces, solution, info, {}, &out);
-}
+template OutputReport write_path_outputs(const fs::path&, const std::vector<std::string>*, PathOutput<2>*, FramePieces<2>*,
+                                         const Mesh&, const MaterialTable&, const std::vector<int>*,
+                                         const ContactSolution&, const RunInfo&, const std::vector<int>&);
+template OutputReport write_path_outputs(const fs::path&, const std::vector<std::string>*, PathOutput<3>*, FramePieces<3>*,
+                                         const Mesh3D&, const MaterialTable&, const std::vector<int>*,
+                                         const ContactSolution3D&, const RunInfo&, const std::vector<int>&);
 
 }  // namespace detail
 

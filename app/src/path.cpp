@@ -189,6 +189,8 @@ void solve_path_built(const Scene& scene, SceneEngines& e, Solved& s,
   const double last_t = path.steps.back().t;
   set_load_factor(scene, last_t, s.built->problem);
   estimate_solution<dim>(e, s, [](const auto& problem, const auto& solution) { return estimate_error(problem, solution); });
+  // the last step's solution.vtu in pieces too, where every file is made from the pieces
+  if (in_pieces && results_of_pieces(scene)) s.share = e.piece->vertices;
   make_results_mesh_whole<dim>(scene, e, s, last_t);
   s.path = std::make_shared<const BasicPathSolution<dim>>(std::move(path));
 }

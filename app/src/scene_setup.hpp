@@ -127,13 +127,14 @@ void estimate_solution(const SceneEngines& e, Solved& s, Estimate&& estimate) {
   s.solution.timings["total"] += s.estimate->seconds;
 }
 
-/// Whether every file a static solve of the scene of one body writes is made from the
-/// processes' pieces of its mesh and the gathered solution (whole_of_pieces): result.json (the
-/// whole mesh's size and stress peak), contact.csv, displacement.csv (a piece holds every
-/// vertex), stress.csv (each process's rows gathered on the first), history.csv, solution.vtu
-/// (in pieces), scene.toml, the figures (a plane's boundary edges, edges and elements, a
-/// solid's boundary faces, gathered) and a solid's contact-surface.vtu (its contact faces
-/// gathered); not a path's or an adaptive solve's files.
+/// Whether every file a solve of the scene of one body writes is made from the processes'
+/// pieces of its mesh and the gathered solution (whole_of_pieces): result.json (the whole
+/// mesh's size and stress peak), contact.csv, displacement.csv (a piece holds every vertex),
+/// stress.csv (each process's rows gathered on the first), history.csv, solution.vtu (in
+/// pieces), scene.toml, the figures (a plane's boundary edges, edges and elements, a solid's
+/// boundary faces, gathered), a solid's contact-surface.vtu (its contact faces gathered) and a
+/// path's files (its steps' records; its last step's files as a static solve's); not an
+/// adaptive solve's files.
 bool results_of_pieces(const Scene& scene);
 
 /// After a solve on pieces of the mesh (e.piece), once its memory is given back: the whole
@@ -142,13 +143,13 @@ bool results_of_pieces(const Scene& scene);
 /// process that keeps its piece (e.writes_to_folder, not writing; or writing only what the
 /// pieces make, results_of_pieces) records its cells' numbers instead (s.piece_cells), and
 /// where every process keeps its piece, what the results need of the whole mesh is gathered
-/// (s.of_pieces, whole_of_pieces; collective). A path's files written as its steps came
+/// (s.of_pieces, whole_of_pieces of s.solution, a path's last step's; collective). A path's files written as its steps came
 /// (s.path_output) keep the piece they were written from.
 template <int dim, class Solved>
 void make_results_mesh_whole(const Scene& scene, const SceneEngines& e, Solved& s, std::optional<double> t = {}) {
   if (!e.piece) return;
   // the same on every process, whether or not its piece holds every cell: collective
-  if (e.writes_to_folder && !t && results_of_pieces(scene)) {
+  if (e.writes_to_folder && results_of_pieces(scene)) {
     s.piece_cells = e.piece->cells;
     const auto& mesh = s.built->mesh;
     const bool displaced = s.solution.u.size() == dim * static_cast<Eigen::Index>(mesh.num_vertices());

@@ -241,7 +241,7 @@ std::vector<std::string> wanted_files(const Scene& scene, bool has_contact) {
 }
 
 bool detail::results_of_pieces(const Scene& scene) {
-  if (!scene.bodies.empty() || scene_is_path(scene) || scene.adapt) return false;
+  if (!scene.bodies.empty() || scene.adapt) return false;
   for (const std::string& file : wanted_files(scene, true))
     if (!made_from_pieces(file, scene.dimension())) return false;
   return true;
@@ -265,10 +265,10 @@ OutputReport write_results(const std::filesystem::path& dir, const Scene& scene,
   if (!solved.holds_results && !solved.share) return {};  // another process writes
   const BuiltProblem& built = *solved.built;
   const RunInfo info = run_info(scene, solved);
-  if (solved.path_output) {
-    detail::require_path_output_folder(*solved.path_output, dir, files);
-    return detail::write_path_outputs(*solved.path_output, built.mesh, built.problem.elasticity.materials, solved.solution, info);
-  }
+  if (solved.path_output || solved.frame_pieces)  // on every process when the last step is written in pieces
+    return detail::write_path_outputs<2>(dir, files, solved.path_output.get(), solved.frame_pieces.get(), built.mesh,
+                                         built.problem.elasticity.materials, nullptr, solved.solution, info,
+                                         solved.piece_cells);
   const std::vector<std::string> wanted = files ? *files : wanted_files(scene, built.has_contact);
   if (solved.share)  // every process writes its piece of the solution
     return detail::write_outputs_in_pieces(dir, built.mesh, built.problem.elasticity.materials, nullptr, solved.solution,

@@ -84,13 +84,12 @@ OutputReport write_results(const std::filesystem::path& dir, const Scene& scene,
   if (!solved.holds_results && !solved.share) return {};  // another process writes
   const BuiltProblem3D& built = *solved.built;
   const RunInfo info = run_info(scene, solved);
-  if (solved.path_output) {
-    detail::require_path_output_folder(*solved.path_output, dir, files);
-    return detail::write_path_outputs(*solved.path_output, built.mesh, built.problem.elasticity.materials,
-                                      contact_faces(built.problem), solved.solution, info);
-  }
-  const std::vector<std::string> wanted = files ? *files : wanted_files(scene, built.has_contact);
   const std::vector<int> faces = contact_faces(built.problem);
+  if (solved.path_output || solved.frame_pieces)  // on every process when the last step is written in pieces
+    return detail::write_path_outputs<3>(dir, files, solved.path_output.get(), solved.frame_pieces.get(), built.mesh,
+                                         built.problem.elasticity.materials, &faces, solved.solution, info,
+                                         solved.piece_cells);
+  const std::vector<std::string> wanted = files ? *files : wanted_files(scene, built.has_contact);
   if (solved.share)  // every process writes its piece of the solution
     return detail::write_outputs_in_pieces(dir, built.mesh, built.problem.elasticity.materials, &faces, solved.solution,
                                            info, wanted, *solved.share, solved.piece_cells);

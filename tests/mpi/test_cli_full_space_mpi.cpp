@@ -271,6 +271,7 @@ TEST(CliFullSpaceMpi, APlanesPiecesHoldEachPolygonAndContactLineOnce) {
 TEST(CliFullSpaceMpi, AFolderThatCannotBeOpenedEndsEveryProcessWritingNothing) {
   const fs::path out = scratch("held");
   const fs::path lock = out.parent_path() / ("." + out.filename().string() + ".hemivem-lock");
+  fs::create_directories(out.parent_path());
   const int fd = ::open(lock.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
   ASSERT_GE(fd, 0);
   ASSERT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0);  // another run writing the folder
@@ -622,7 +623,8 @@ void expect_applied_load_agrees(const nlohmann::json& a, const nlohmann::json& b
 
 // a loading path with Coulomb friction (friction-coulomb.toml, with a body force): every step on
 // 2 processes is the condensed route's in one, and rank 0 alone writes the path's files but the
-// frames, which each process writes its piece of, from its piece of the mesh, as the steps come.
+// frames, which each process writes its piece of, from its piece of the mesh, as the steps come,
+// and the last step's solution.vtu, which each process writes its piece of after the path.
 TEST(CliFullSpaceMpi, ACoulombPathAcrossProcessesIsTheCondensedRoutes) {
   const std::string flags = scene("friction-coulomb.toml") + " --n 16 --set 'loads.body_force=[0.5, -2.0]'";
   const fs::path ref = solve_condensed(flags, "condensed-path");
@@ -669,7 +671,7 @@ TEST(CliFullSpaceMpi, ACoulombPathAcrossProcessesIsTheCondensedRoutes) {
   const double f = expect_columns_agree(contact_a, contact_b, 6, 8);
   EXPECT_GT(expect_columns_agree(contact_a, contact_b, 10, 11, u), 0.0);
   EXPECT_GT(expect_columns_agree(contact_a, contact_b, 12, 13, f), 0.0);
-  // each frame in pieces, named by solution.pvd; the path's last step whole
+  // each frame in pieces, named by solution.pvd; the path's last step in pieces too
   const std::string pvd = slurp(out / "solution.pvd");
   int frames = 0;
   for (std::size_t k = 0; k < pb["steps"].size(); ++k) {
@@ -681,7 +683,48 @@ TEST(CliFullSpaceMpi, ACoulombPathAcrossProcessesIsTheCondensedRoutes) {
     ++frames;
   }
   EXPECT_EQ(frames, 8);
-  EXPECT_EQ(vtu_cells(out / "solution.vtu"), vtu_cells(ref / "solution.vtu"));
+  expect_pieces_make_the_whole(out, "solution", ref / "solution.vtu", 2, {"von_mises", "error_indicator"}, a["files"]);
+}
+
+// a loading path of one body whose every file the pieces make (each default output, a plane's on
+// 3 processes, a solid's on 2): rank 0 keeps its piece after the path too and writes the last
+// step's files from it and what the processes gather of theirs, as a static solve's, each
+// process its piece of the last step's solution.vtu; they say what one process's say
+TEST(CliFullSpaceMpi, APathWhosePiecesMakeEveryFileIsWrittenFromThePieces) {
+  struct Case {
+    std::string flags, name, mesh_line, write;
+    int processes, dim;
+    std::vector<std::string> figures;
+  } cases[] = {
+      {scene("friction-coulomb.toml") + " --n 16 --set 'loads.body_force=[0.5, -2.0]'", "plane-path-results",
+       "289 vertices, 256 elements, h = 0.0883883,",
+       R"("result-json", "contact-csv", "displacement-csv", "stress-csv", "history-csv", "vtu", "u-nu-png", "deformed-png", "error-png")",
+       3, 2, {"u_nu.png", "deformed.png", "error.png", "path.png"}},
+      {scene("coulomb-block-3d.toml") + " --set 'mesh.n=[4, 4, 2]'", "solid-path-results",
+       "75 vertices, 32 cells, 128 faces, h = 0.433013,",
+       R"("vtu", "contact-csv", "displacement-csv", "stress-csv", "history-csv", "result-json", "deformed-png", "pressure-png")",
+       2, 3, {"deformed.png", "pressure.png", "path.png"}}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    expect_pieces_make_the_results(c.flags, c.write, c.write, c.processes, 1, c.name, c.mesh_line, c.figures);
+    const fs::path kept = scratch(c.name + "-kept-rank0"), whole = scratch(c.name + "-whole-rank0");
+    if (!fs::exists(kept / "result.json") || !fs::exists(whole / "solution.vtu")) continue;  // failed above
+    const nlohmann::json a = nlohmann::json::parse(slurp(kept / "result.json"));
+    EXPECT_TRUE(a["converged"].get<bool>());
+    expect_pieces_make_the_whole(kept, "solution", whole / "solution.vtu", c.processes, {"von_mises", "error_indicator"},
+                                 a["files"]);
+    // the steps' files, made from the pieces as the steps came
+    const nlohmann::json pa = nlohmann::json::parse(slurp(kept / "path.json"));
+    const nlohmann::json pb = nlohmann::json::parse(slurp(whole / "path.json"));
+    ASSERT_EQ(pa["steps"].size(), pb["steps"].size());
+    for (std::size_t k = 0; k < pb["steps"].size(); ++k) {
+      const double ea = pa["steps"][k]["energy"].get<double>(), eb = pb["steps"][k]["energy"].get<double>();
+      EXPECT_NEAR(ea, eb, 1e-8 * std::abs(eb)) << "step " << k + 1;
+    }
+    // every frame's displacement: path-displacement.csv's columns after step, t, vertex and its coordinates
+    const std::size_t from = 3 + static_cast<std::size_t>(c.dim), to = from + static_cast<std::size_t>(c.dim);
+    EXPECT_GT(expect_columns_agree(kept / "path-displacement.csv", whole / "path-displacement.csv", from, to), 0.0);
+  }
 }
 
 // the same path writing no VTU frame: rank 0 too makes only its piece, writes path.json and the

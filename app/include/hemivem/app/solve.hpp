@@ -83,9 +83,10 @@ struct BasicSceneSolve {
   /// With mesh_pieces > 1, the cells of the whole mesh.
   int whole_cells = 0;
   /// A static solve whose mesh was made in pieces, given an output folder
-  /// (SceneSolveOptions::out): this process's share of the whole mesh's vertices.
-  /// Its piece of solution.vtu is written by this process, the pieces named by solution.pvtu
-  /// (write_results, collective then: every process calls it); none otherwise.
+  /// (SceneSolveOptions::out), or a path's whose files are all made from the pieces (its frames
+  /// written in pieces): this process's share of the whole mesh's vertices. Its piece of
+  /// solution.vtu (a path's last step's) is written by this process, the pieces named by
+  /// solution.pvtu (write_results, collective then: every process calls it); none otherwise.
   std::optional<VertexShare> share;
   /// A process that kept its piece of the mesh after a solve on pieces, given an output folder
   /// (SceneSolveOptions::out): one that does not write the results, and every process when the
