@@ -1,7 +1,8 @@
 // The library's one entry point (run_scene) on the full-space route across processes, given its
 // output folder: every process keeps its piece of the mesh for the results where the files the
 // scene writes are made from the pieces, and a file that the scene did not ask for before the
-// solve, whose records were not gathered, is refused on every process.
+// solve, whose records were not gathered, is refused on every process; a path's last step is
+// written from the pieces by every process, once.
 #include <hemivem/app/run.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/krylov_solver.hpp>
@@ -73,6 +74,49 @@ TEST(RunSceneMpi, ThePiecesWriteTheWholeMeshsResultsAndRefuseAFigureNotAskedForB
   }
   EXPECT_FALSE(fs::exists(other));
   if (world.rank == 0) fs::remove_all(out);
+}
+
+// a loading path of one body given its output folder: the steps' files written as they came, and
+// the last step's, with each process's piece of its solution.vtu, by one collective write; a
+// second write is refused on the first process, and no process waits for another meanwhile
+TEST(RunSceneMpi, APathsLastStepIsWrittenFromThePiecesOnceByEveryProcess) {
+  const ProcessWorld world = krylov_world();
+  Scene scene = parse_scene(fs::path(HEMIVEM_SOURCE_DIR) / "scenes" / "friction-coulomb.toml");
+  scene.mesh.n = 12;
+  scene.solver.linear = "petsc-gamg";
+  scene.path->t = {0.5, 1.0, 1.5};
+  scene.outputs = {"result-json", "vtu"};
+  const fs::path out = own_folder("path");
+  RunOptions o;
+  o.out = out;
+  const SceneRun run = run_scene(scene, o);
+  ASSERT_TRUE(run.converged());
+  const nlohmann::json r = run.result_json();
+  EXPECT_EQ(r["mesh"]["vertices"], 13 * 13);
+  EXPECT_EQ(r["mesh"]["pieces"], world.size);
+  const OutputReport written = run.write(out);
+  if (world.rank == 0) {
+    EXPECT_FALSE(written.written.empty());
+    EXPECT_TRUE(fs::exists(out / "solution.pvtu"));
+    EXPECT_FALSE(fs::exists(out / "solution.vtu"));
+    for (int k = 0; k < world.size; ++k) EXPECT_TRUE(fs::exists(out / ("solution.piece-" + std::to_string(k) + ".vtu"))) << k;
+    EXPECT_TRUE(fs::exists(out / "path.json"));
+    EXPECT_TRUE(fs::exists(out / "solution-0003.pvtu"));
+  } else {
+    EXPECT_TRUE(written.written.empty());
+  }
+  // written once: refused on the first process, which writes; the others return
+  try {
+    run.write(out);
+    EXPECT_NE(world.rank, 0) << "a path's folder written twice";
+  } catch (const InputError& e) {
+    EXPECT_EQ(world.rank, 0);
+    EXPECT_NE(std::string(e.what()).find("written once"), std::string::npos) << e.what();
+  }
+  if (world.rank == 0) {
+    EXPECT_TRUE(fs::exists(out / "solution.pvtu"));  // the folder as the first write left it
+    fs::remove_all(out);
+  }
 }
 
 }  // namespace
