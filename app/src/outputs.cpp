@@ -439,6 +439,9 @@ void write_solution_piece(const RowDistribution& rows, const fs::path& staging, 
                           const MaterialTable& materials, const BasicContactSolution<dim>& solution, const RunInfo& info,
                           const VertexShare& share, const std::vector<int>& piece_cells, const fs::path& dir,
                           std::optional<SolutionVtu>& vtu) {
+  if (info.vtu_pieces != rows.size())
+    throw InternalError("solution.pvtu of " + std::to_string(info.vtu_pieces) + " pieces written by " +
+                        std::to_string(rows.size()) + " processes");
   const std::vector<double>* indicators = info.error_estimate ? &info.error_estimate->indicators : nullptr;
   std::vector<double> of_piece;
   const std::string file = vtu_piece_file(rows.rank());
@@ -489,9 +492,6 @@ OutputReport write_outputs_in_pieces(const fs::path& dir, const MeshType& mesh, 
                                 "output.write names: name it there before the solve",
                          dir.string());
     }
-  if (info.vtu_pieces != world.size)
-    throw InternalError("solution.pvtu of " + std::to_string(info.vtu_pieces) + " pieces written by " +
-                        std::to_string(world.size) + " processes");
   if (std::find(wanted.begin(), wanted.end(), "solution.vtu") == wanted.end()) {  // nothing in pieces: as in one process
     if (!writer) return {};
     check_output_folder(dir);
@@ -622,9 +622,6 @@ OutputReport write_path_outputs(const fs::path& dir, const std::vector<std::stri
   }
   std::optional<SolutionVtu> vtu;
   if (pieces && info.vtu_pieces > 0) {  // the last step's solution.vtu in pieces, into the path's transaction
-    if (info.vtu_pieces != pieces->rows().size())
-      throw InternalError("solution.pvtu of " + std::to_string(info.vtu_pieces) + " pieces written by " +
-                          std::to_string(pieces->rows().size()) + " processes");
     // every process learns whether the first writes the outputs
     if (pieces->rows().all_gather(Eigen::VectorXd::Constant(1, refused ? 0.0 : 1.0))(0) == 0.0) {
       if (refused) std::rethrow_exception(refused);

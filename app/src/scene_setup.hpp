@@ -143,8 +143,8 @@ bool results_of_pieces(const Scene& scene);
 /// process that keeps its piece (e.writes_to_folder, not writing; or writing only what the
 /// pieces make, results_of_pieces) records its cells' numbers instead (s.piece_cells), and
 /// where every process keeps its piece, what the results need of the whole mesh is gathered
-/// (s.of_pieces, whole_of_pieces of s.solution, a path's last step's; collective). A path's files written as its steps came
-/// (s.path_output) keep the piece they were written from.
+/// (s.of_pieces, whole_of_pieces of s.solution, a path's last step's; collective). A path's
+/// files written as its steps came (s.path_output) keep the piece they were written from.
 template <int dim, class Solved>
 void make_results_mesh_whole(const Scene& scene, const SceneEngines& e, Solved& s, std::optional<double> t = {}) {
   if (!e.piece) return;
