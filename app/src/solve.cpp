@@ -247,10 +247,11 @@ bool detail::results_of_pieces(const Scene& scene) {
   return true;
 }
 
-RunInfo run_info(const Scene& scene, const SceneSolve& solved) {
-  const BuiltProblem& built = *solved.built;
+template <int dim>
+RunInfo run_info(const Scene& scene, const BasicSceneSolve<dim>& solved) {
+  const BasicBuiltProblem<dim>& built = *solved.built;
   RunInfo info = detail::run_info_common(scene, solved);
-  info.options["plane_model"] = to_string(scene.material.model);
+  if constexpr (dim == 2) info.options["plane_model"] = to_string(scene.material.model);
   if (built.has_contact) detail::add_contact_parts(info, contact_parts(built.problem));
   info.adapt = solved.adapt;
   info.adapt_steps = solved.adapt_steps;
@@ -258,23 +259,38 @@ RunInfo run_info(const Scene& scene, const SceneSolve& solved) {
   return info;
 }
 
-OutputReport write_results(const std::filesystem::path& dir, const Scene& scene, const SceneSolve& solved,
+template <int dim>
+OutputReport write_results(const std::filesystem::path& dir, const Scene& scene, const BasicSceneSolve<dim>& solved,
                            const std::vector<std::string>* files) {
   // a path's frames in pieces: every process learns whether each was written
   if (solved.frame_pieces) solved.frame_pieces->require_written(dir);
   if (!solved.holds_results && !solved.share) return {};  // another process writes
-  const BuiltProblem& built = *solved.built;
+  const BasicBuiltProblem<dim>& built = *solved.built;
   const RunInfo info = run_info(scene, solved);
+  // a solid's contact faces, drawn by contact-surface.vtu and pressure.png
+  std::vector<int> faces;
+  if constexpr (dim == 3) faces = contact_faces(built.problem);
+  const std::vector<int>* faces_drawn = dim == 3 ? &faces : nullptr;
   if (solved.path_output || solved.frame_pieces)  // on every process when the last step is written in pieces
-    return detail::write_path_outputs<2>(dir, files, solved.path_output.get(), solved.frame_pieces.get(), built.mesh,
-                                         built.problem.elasticity.materials, nullptr, solved.solution, info,
-                                         solved.piece_cells);
+    return detail::write_path_outputs<dim>(dir, files, solved.path_output.get(), solved.frame_pieces.get(), built.mesh,
+                                           built.problem.elasticity.materials, faces_drawn, solved.solution, info,
+                                           solved.piece_cells);
   const std::vector<std::string> wanted = files ? *files : wanted_files(scene, built.has_contact);
   if (solved.share)  // every process writes its piece of the solution
-    return detail::write_outputs_in_pieces(dir, built.mesh, built.problem.elasticity.materials, nullptr, solved.solution,
-                                           info, wanted, *solved.share, solved.piece_cells);
+    return detail::write_outputs_in_pieces(dir, built.mesh, built.problem.elasticity.materials, faces_drawn,
+                                           solved.solution, info, wanted, *solved.share, solved.piece_cells);
   check_output_folder(dir);
-  return write_outputs(dir, built.mesh, built.problem.elasticity.materials, solved.solution, info, wanted);
+  if constexpr (dim == 2)
+    return write_outputs(dir, built.mesh, built.problem.elasticity.materials, solved.solution, info, wanted);
+  else
+    return write_outputs(dir, built.mesh, built.problem.elasticity.materials, faces, solved.solution, info, wanted);
 }
+
+template RunInfo run_info(const Scene&, const SceneSolve&);
+template RunInfo run_info(const Scene&, const SceneSolve3D&);
+template OutputReport write_results(const std::filesystem::path&, const Scene&, const SceneSolve&,
+                                    const std::vector<std::string>*);
+template OutputReport write_results(const std::filesystem::path&, const Scene&, const SceneSolve3D&,
+                                    const std::vector<std::string>*);
 
 }  // namespace hemivem::app

@@ -67,34 +67,4 @@ std::vector<std::string> detail::solid_files(const Scene& scene, bool has_contac
   return files;
 }
 
-RunInfo run_info(const Scene& scene, const SceneSolve3D& solved) {
-  const BuiltProblem3D& built = *solved.built;
-  RunInfo info = detail::run_info_common(scene, solved);
-  if (built.has_contact) detail::add_contact_parts(info, contact_parts(built.problem));
-  info.adapt = solved.adapt;
-  info.adapt_steps = solved.adapt_steps;
-  info.path = solved.path.get();
-  return info;
-}
-
-OutputReport write_results(const std::filesystem::path& dir, const Scene& scene, const SceneSolve3D& solved,
-                              const std::vector<std::string>* files) {
-  // a path's frames in pieces: every process learns whether each was written
-  if (solved.frame_pieces) solved.frame_pieces->require_written(dir);
-  if (!solved.holds_results && !solved.share) return {};  // another process writes
-  const BuiltProblem3D& built = *solved.built;
-  const RunInfo info = run_info(scene, solved);
-  const std::vector<int> faces = contact_faces(built.problem);
-  if (solved.path_output || solved.frame_pieces)  // on every process when the last step is written in pieces
-    return detail::write_path_outputs<3>(dir, files, solved.path_output.get(), solved.frame_pieces.get(), built.mesh,
-                                         built.problem.elasticity.materials, &faces, solved.solution, info,
-                                         solved.piece_cells);
-  const std::vector<std::string> wanted = files ? *files : wanted_files(scene, built.has_contact);
-  if (solved.share)  // every process writes its piece of the solution
-    return detail::write_outputs_in_pieces(dir, built.mesh, built.problem.elasticity.materials, &faces, solved.solution,
-                                           info, wanted, *solved.share, solved.piece_cells);
-  check_output_folder(dir);
-  return write_outputs(dir, built.mesh, built.problem.elasticity.materials, faces, solved.solution, info, wanted);
-}
-
 }  // namespace hemivem::app

@@ -207,19 +207,24 @@ SceneSolve solve_scene(const Scene& scene,
 /// mesh-png and adapt-png, are not made), and a path's files.
 std::vector<std::string> wanted_files(const Scene& scene, bool has_contact);
 
-/// Writes what `hemivem solve --out dir` writes for a solve of `scene`: the files of
-/// wanted_files (or `files`, names of all_outputs(2), when not null) through write_outputs,
-/// with run_info's record. Checks the folder first (check_output_folder). Never prints. A
-/// process that does not hold the results returns an empty report, but for a solve written in
-/// pieces (SceneSolve::share), where every process calls it and writes its piece of
-/// solution.pvtu, and a path whose frames were written in pieces (SceneSolve::frame_pieces),
-/// where every process calls it to learn whether each piece was (docs/reference/outputs.md).
-OutputReport write_results(const std::filesystem::path& dir, const Scene& scene, const SceneSolve& solved,
+/// Writes what `hemivem solve --out dir` writes for a solve of `scene`, a plane (SceneSolve)
+/// or a solid (SceneSolve3D): the files of wanted_files (or `files`, names of all_outputs(dim),
+/// when not null) through write_outputs, with run_info's record; a solid's contact-surface.vtu
+/// and pressure.png show its contact faces (contact_faces). Checks the folder first
+/// (check_output_folder). Never prints. A process that does not hold the results returns an
+/// empty report, but for a solve written in pieces (BasicSceneSolve::share), where every process
+/// calls it and writes its piece of solution.pvtu, and a path whose frames were written in
+/// pieces (BasicSceneSolve::frame_pieces), where every process calls it to learn whether each
+/// piece was (docs/reference/outputs.md).
+template <int dim>
+OutputReport write_results(const std::filesystem::path& dir, const Scene& scene, const BasicSceneSolve<dim>& solved,
                            const std::vector<std::string>* files = nullptr);
 
 /// What `hemivem solve` records in result.json about a solve of `scene` (the resolved scene):
-/// engines, search (search_json), options, mesh time, unknowns, warnings, and what the plots
-/// draw. RunInfo::files is left to write_outputs' caller.
-RunInfo run_info(const Scene& scene, const SceneSolve& solved);
+/// engines, search (search_json), options (a plane's plane_model among them), mesh time,
+/// unknowns, warnings, the contact parts, and what the plots draw. RunInfo::files is left to
+/// write_outputs' caller.
+template <int dim>
+RunInfo run_info(const Scene& scene, const BasicSceneSolve<dim>& solved);
 
 }  // namespace hemivem::app

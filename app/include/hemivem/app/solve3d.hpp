@@ -56,16 +56,4 @@ struct SceneSolve3DOptions {
 /// an InputError naming the scene's key. InputError for a two-dimensional scene.
 SceneSolve3D solve_scene_3d(const Scene& scene, SceneSolve3DOptions options = {});
 
-/// What result.json records about a 3D solve (run_info's fields that apply: the engines,
-/// search, options, mesh time, unknowns, warnings, the law's breakpoints and whether u_nu <= g
-/// bounds the contact).
-RunInfo run_info(const Scene& scene, const SceneSolve3D& solved);
-
-/// Writes what `hemivem solve --out dir` writes for a 3D solve: the files of wanted_files
-/// (or `files`, names of all_outputs(3), when not null) through write_outputs. Checks the
-/// folder first (check_output_folder). Never prints. Across processes as the plane's
-/// write_results (a solve in pieces: every process calls it).
-OutputReport write_results(const std::filesystem::path& dir, const Scene& scene, const SceneSolve3D& solved,
-                           const std::vector<std::string>* files = nullptr);
-
 }  // namespace hemivem::app
