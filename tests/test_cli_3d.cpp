@@ -80,7 +80,7 @@ TEST(Cli3D, SolveWritesEveryOutput) {
     EXPECT_NE(r.out.find(line), std::string::npos) << line << " in\n" << r.out;
 
   const auto j = nlohmann::json::parse(slurp(out / "result.json"));
-  EXPECT_EQ(j.at("schema"), "hemivem-result/25");
+  EXPECT_EQ(j.at("schema"), "hemivem-result/26");
   EXPECT_EQ(j.at("dimension"), 3);
   EXPECT_EQ(j.at("converged"), true);
   EXPECT_EQ(j.at("mesh").at("vertices"), 125);

@@ -30,7 +30,7 @@ TEST(Cli, DefaultSolveIsExample41AndWritesEveryOutput) {
   const CommandRun r = run("solve --n 16 --out " + out.string() + " --json");
   ASSERT_EQ(r.code, 0) << r.out;
   const auto j = nlohmann::json::parse(r.out);
-  EXPECT_EQ(j["schema"], "hemivem-result/25");
+  EXPECT_EQ(j["schema"], "hemivem-result/26");
   EXPECT_EQ(j["status"], "converged");
   // options are typed: numbers as JSON numbers, the tolerance exactly as given
   ASSERT_TRUE(j["options"]["tolerance"].is_number_float()) << j["options"];

@@ -122,7 +122,7 @@ TEST(FrictionCli, SolveWritesTheTangentialDisplacementForcesAndStates) {
   ASSERT_EQ(r.code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("friction      tresca: "), std::string::npos) << r.out;
   const auto j = nlohmann::json::parse(slurp(out / "result.json"));
-  EXPECT_EQ(j.at("schema"), "hemivem-result/25");
+  EXPECT_EQ(j.at("schema"), "hemivem-result/26");
   EXPECT_EQ(j.at("friction").at("law"), "tresca");
   const auto rows = read_csv(out / "contact.csv");
   ASSERT_EQ(rows.size(), j.at("contact").size());

@@ -115,7 +115,7 @@ TEST_F(Outputs, ResultJsonHasEveryDocumentedField) {
   const json j = json::parse(slurp(dir.path / "result.json"));
   const auto& sol = s.solution;
 
-  EXPECT_EQ(j.at("schema"), "hemivem-result/25");
+  EXPECT_EQ(j.at("schema"), "hemivem-result/26");
   EXPECT_EQ(j.at("version"), HEMIVEM_VERSION);
   EXPECT_EQ(j.at("scene").at("name"), "example-4-1");
   EXPECT_EQ(j.at("scene").at("toml"), s.info.scene_toml);
@@ -129,7 +129,7 @@ TEST_F(Outputs, ResultJsonHasEveryDocumentedField) {
   EXPECT_EQ(j.at("status"), "converged");
   EXPECT_EQ(j.at("converged"), true);
   EXPECT_TRUE(j.at("message").is_string());
-  EXPECT_EQ(j.at("schema"), "hemivem-result/25");
+  EXPECT_EQ(j.at("schema"), "hemivem-result/26");
   EXPECT_EQ(j.at("dimension"), 2);
   const Certificate& cert = sol.certificate;
   EXPECT_EQ(j.at("certificate").at("primal").get<double>(), cert.primal);

@@ -226,7 +226,7 @@ TEST(Forces, Example41ContactResultantFromContactCsv) {
 
   std::ifstream in(dir / "result.json");
   const json j = json::parse(in);
-  EXPECT_EQ(j.at("schema"), "hemivem-result/25");
+  EXPECT_EQ(j.at("schema"), "hemivem-result/26");
   const json& f = j.at("forces");
   EXPECT_NEAR(f.at("contact")[0].get<double>(), sum.x(), 1e-13 * largest * nodes);
   EXPECT_NEAR(f.at("contact")[1].get<double>(), sum.y(), 1e-13 * largest * nodes);

@@ -6,6 +6,7 @@
 #include <hemivem/vem/assembly3d.hpp>
 
 #include <hemivem/app/format.hpp>
+#include <hemivem/error.hpp>
 
 namespace hemivem::app::detail {
 
@@ -20,16 +21,29 @@ int body_of(const std::vector<BodyRange>& bodies, int vertex) {
 }  // namespace
 
 template <int dim>
-nlohmann::json bodies_json(const BasicContactProblem<dim>& problem, const BasicContactSolution<dim>& s,
+std::vector<double> body_loads(const BasicContactProblem<dim>& problem, const std::vector<BodyRange>& bodies,
+                               const std::vector<char>* vertices) {
+  std::vector<double> out(dim * bodies.size(), 0.0);
+  if (bodies.empty()) return out;
+  const Eigen::VectorXd f =
+      assemble_load(*problem.elasticity.mesh, problem.elasticity.body_force, problem.elasticity.tractions);
+  for (std::size_t b = 0; b < bodies.size(); ++b)
+    for (int v = bodies[b].first_vertex; v < bodies[b].first_vertex + bodies[b].vertices; ++v)
+      if (!vertices || (*vertices)[static_cast<std::size_t>(v)])
+        for (int i = 0; i < dim; ++i) out[dim * b + static_cast<std::size_t>(i)] += f(dim * v + i);
+  return out;
+}
+
+template <int dim>
+nlohmann::json bodies_json(const std::vector<double>& applied, const BasicContactSolution<dim>& s,
                            const std::vector<BodyRange>& bodies) {
   using Point = Eigen::Matrix<double, dim, 1>;
   if (bodies.empty()) return nullptr;
-  const Eigen::VectorXd f =
-      assemble_load(*problem.elasticity.mesh, problem.elasticity.body_force, problem.elasticity.tractions);
+  if (applied.size() != dim * bodies.size())
+    throw InternalError(std::to_string(applied.size()) + " load values for " + std::to_string(bodies.size()) + " bodies");
   std::vector<BasicForceBalance<Point>> balance(bodies.size());
   for (std::size_t b = 0; b < bodies.size(); ++b) {
-    for (int v = bodies[b].first_vertex; v < bodies[b].first_vertex + bodies[b].vertices; ++v)
-      balance[b].applied += f.segment<dim>(dim * v);
+    balance[b].applied = Eigen::Map<const Point>(applied.data() + dim * b);
     for (const auto& r : s.forces.reactions)
       if (r.name.rfind(bodies[b].name + ".", 0) == 0) balance[b].reactions.push_back(r);
   }
@@ -57,9 +71,9 @@ nlohmann::json bodies_json(const BasicContactProblem<dim>& problem, const BasicC
   return out;
 }
 
-template nlohmann::json bodies_json(const BasicContactProblem<2>&, const BasicContactSolution<2>&,
-                                    const std::vector<BodyRange>&);
-template nlohmann::json bodies_json(const BasicContactProblem<3>&, const BasicContactSolution<3>&,
-                                    const std::vector<BodyRange>&);
+template std::vector<double> body_loads(const BasicContactProblem<2>&, const std::vector<BodyRange>&, const std::vector<char>*);
+template std::vector<double> body_loads(const BasicContactProblem<3>&, const std::vector<BodyRange>&, const std::vector<char>*);
+template nlohmann::json bodies_json(const std::vector<double>&, const BasicContactSolution<2>&, const std::vector<BodyRange>&);
+template nlohmann::json bodies_json(const std::vector<double>&, const BasicContactSolution<3>&, const std::vector<BodyRange>&);
 
 }  // namespace hemivem::app::detail

@@ -28,8 +28,11 @@ std::vector<std::string> adapt_steps_in(const fs::path& dir) { return files_matc
 // The pieces of an earlier run's solution.pvtu in `dir`: solution.piece-<digits>.vtu.
 std::vector<std::string> vtu_pieces_in(const fs::path& dir) { return files_matching(dir, R"(solution\.piece-[0-9]+\.vtu)"); }
 
-// The files of an earlier run's bodies in `dir`: solution.body-<name>.vtu.
-std::vector<std::string> body_vtus_in(const fs::path& dir) { return files_matching(dir, R"(solution\.body-[A-Za-z0-9_-]+\.vtu)"); }
+// The files of an earlier run's bodies in `dir`: solution.body-<name>.vtu, or in pieces
+// solution.body-<name>.piece-<digits>.vtu.
+std::vector<std::string> body_vtus_in(const fs::path& dir) {
+  return files_matching(dir, R"(solution\.body-[A-Za-z0-9_-]+(\.piece-[0-9]+)?\.vtu)");
+}
 
 // The names a run may own: its own, the other dimension's, its figures' in every format, an
 // earlier path's frames, its frames, an earlier adaptive solve's steps and its own, solution.vtm
@@ -98,7 +101,10 @@ void OutputRun::list(const RunInfo& info, const std::vector<std::string>& frames
       for (const auto& format : info.figure_formats) listed_.files.push_back(fs::path(k).replace_extension(format).string());
     }
     if (k == "solution.vtu" && !info.bodies.empty()) {  // each body's, then the multiblock naming them
-      for (auto& file : body_vtu_files(info.bodies)) listed_.files.push_back(std::move(file));
+      for (const BodyRange& b : info.bodies) {
+        for (int p = 0; p < info.vtu_pieces; ++p) listed_.files.push_back(body_piece_file(b.name, p));
+        if (info.vtu_pieces == 0) listed_.files.push_back(body_vtu_file(b.name));
+      }
       listed_.files.push_back("solution.vtm");
     }
   }
@@ -132,19 +138,40 @@ std::vector<std::string> body_vtu_files(const std::vector<BodyRange>& bodies) {
   return files;
 }
 
-void write_body_vtus(OutputRun& run, const RunInfo& info, const SolutionVtu& vtu) {
+std::string body_piece_file(const std::string& body, int rank) {
+  const std::string file = body_vtu_file(body);
+  return file.substr(0, file.size() - std::string(".vtu").size()) + ".piece-" + std::to_string(rank) + ".vtu";
+}
+
+void write_body_vtus(OutputRun& run, const RunInfo& info, const SolutionVtu* vtu) {
   if (info.bodies.empty() || !run.want("solution.vtu")) return;
+  if (!vtu && info.vtu_pieces == 0) throw InternalError("the bodies' files without their arrays");
   const std::vector<std::string> files = body_vtu_files(info.bodies);
+  // each body's file, or in pieces each process's piece of it (in the staging folder already)
+  std::vector<std::vector<std::string>> blocks(files.size());
   for (std::size_t b = 0; b < files.size(); ++b) {
-    run.transaction().write(files[b], [&](std::ostream& os) { vtu.write(os, info.bodies[b]); });
-    run.report().written.push_back(run.dir() / files[b]);
+    if (info.vtu_pieces == 0) {
+      run.transaction().write(files[b], [&](std::ostream& os) { vtu->write(os, info.bodies[b]); });
+      blocks[b] = {files[b]};
+    }
+    for (int k = 0; k < info.vtu_pieces; ++k) blocks[b].push_back(body_piece_file(info.bodies[b].name, k));
+    for (const auto& file : blocks[b]) run.report().written.push_back(run.dir() / file);
   }
   run.transaction().write("solution.vtm", [&](std::ostream& os) {
     os << "<?xml version=\"1.0\"?>\n"
        << "<VTKFile type=\"vtkMultiBlockDataSet\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
        << "  <vtkMultiBlockDataSet>\n";
-    for (std::size_t b = 0; b < files.size(); ++b)
-      os << "    <DataSet index=\"" << b << "\" name=\"" << info.bodies[b].name << "\" file=\"" << files[b] << "\"/>\n";
+    for (std::size_t b = 0; b < files.size(); ++b) {
+      const std::string& name = info.bodies[b].name;
+      if (info.vtu_pieces == 0) {
+        os << "    <DataSet index=\"" << b << "\" name=\"" << name << "\" file=\"" << files[b] << "\"/>\n";
+        continue;
+      }
+      os << "    <Piece index=\"" << b << "\" name=\"" << name << "\">\n";
+      for (std::size_t k = 0; k < blocks[b].size(); ++k)
+        os << "      <DataSet index=\"" << k << "\" file=\"" << blocks[b][k] << "\"/>\n";
+      os << "    </Piece>\n";
+    }
     os << "  </vtkMultiBlockDataSet>\n</VTKFile>\n";
   });
   run.report().written.push_back(run.dir() / "solution.vtm");

@@ -160,9 +160,10 @@ void write_solve_files(OutputRun& run, const MeshType& mesh, const MaterialTable
                        const BasicContactSolution<dim>& solution, const RunInfo& info, const Result& result,
                        const SolutionVtu* pieces = nullptr);
 
-/// Whether the first process writes `file` of a solve of one body in `dim` dimensions from its
-/// piece of the mesh and what is gathered from the others' (WholeOfPieces): result.json, the
-/// CSV files, solution.vtu in pieces, scene.toml, deformed.png, a plane's u_nu.png and
+/// Whether the first process writes `file` of a solve in `dim` dimensions, of one body or
+/// several, from its piece of the mesh and what is gathered from the others' (WholeOfPieces):
+/// result.json, the CSV files, solution.vtu (and each body's file) in pieces, scene.toml,
+/// deformed.png, a plane's u_nu.png and
 /// error.png, a solid's contact-surface.vtu and pressure.png, and a path's files (path.json,
 /// path-contact.csv, path-displacement.csv, solution.pvd, path.png); not mesh.png nor
 /// adapt.png.
@@ -197,10 +198,16 @@ std::string body_vtu_file(const std::string& body);
 /// cannot name a file and for two bodies whose files would be one (names equal but for case).
 std::vector<std::string> body_vtu_files(const std::vector<BodyRange>& bodies);
 
+/// The piece of process `rank` of body `body`'s file written in pieces:
+/// "solution.body-upper.piece-3.vtu".
+std::string body_piece_file(const std::string& body, int rank);
+
 /// A scene of several bodies (info.bodies) whose solution.vtu is wanted: a
 /// solution.body-NAME.vtu per body (`vtu` restricted to it), then solution.vtm, the multiblock
-/// dataset naming them by body; nothing for one body.
-void write_body_vtus(OutputRun& run, const RunInfo& info, const SolutionVtu& vtu);
+/// dataset naming them by body; nothing for one body. A solve written in pieces
+/// (info.vtu_pieces; `vtu` null) has each process's piece of each body (body_piece_file) in the
+/// staging folder already: solution.vtm then names them, each body a block of its pieces.
+void write_body_vtus(OutputRun& run, const RunInfo& info, const SolutionVtu* vtu);
 
 /// The file of step `step` of an adaptive solve in its output folder: "adapt-step-3.vtu".
 std::string adapt_step_file(std::size_t step);
@@ -280,10 +287,11 @@ void write_solve_files(OutputRun& run, const MeshType& mesh, const MaterialTable
     }
     run.transaction().write("solution.pvtu", [&](std::ostream& os) { pieces->write_pieces(os, files); });
     run.report().written.push_back(run.dir() / "solution.pvtu");
+    write_body_vtus(run, info, nullptr);
   } else if (run.want("solution.vtu")) {  // the arrays made once for the whole and for each body
     const SolutionVtu vtu(mesh, materials, solution, info.error_estimate ? &info.error_estimate->indicators : nullptr);
     run.write("solution.vtu", [&](std::ostream& os) { vtu.write(os); });
-    write_body_vtus(run, info, vtu);
+    write_body_vtus(run, info, &vtu);
   }
 }
 

@@ -430,10 +430,11 @@ void require_pieces_written(const RowDistribution& rows, const std::string& why,
 }
 
 /// Collective over `rows`: this process's piece of solution.pvtu (vtu_piece_file of its rank,
-/// SolutionVtu::write_share of `share`) written into `staging`, the first process's
-/// transaction's, with the error indicators of the whole mesh's cells, or of the piece's that
-/// this process kept (`piece_cells`); `vtu` holds its arrays, from which the first writes
-/// solution.pvtu. Then every process learns whether each could (require_pieces_written).
+/// SolutionVtu::write_share of `share`), and of each body's file of a scene of several
+/// (body_piece_file), written into `staging`, the first process's transaction's, with the error
+/// indicators of the whole mesh's cells, or of the piece's that this process kept
+/// (`piece_cells`); `vtu` holds its arrays, from which the first writes solution.pvtu. Then
+/// every process learns whether each could (require_pieces_written).
 template <class MeshType, int dim>
 void write_solution_piece(const RowDistribution& rows, const fs::path& staging, const MeshType& mesh,
                           const MaterialTable& materials, const BasicContactSolution<dim>& solution, const RunInfo& info,
@@ -444,8 +445,7 @@ void write_solution_piece(const RowDistribution& rows, const fs::path& staging, 
                         std::to_string(rows.size()) + " processes");
   const std::vector<double>* indicators = info.error_estimate ? &info.error_estimate->indicators : nullptr;
   std::vector<double> of_piece;
-  const std::string file = vtu_piece_file(rows.rank());
-  std::string why;
+  std::string file = vtu_piece_file(rows.rank()), why;
   try {
     if (indicators && !piece_cells.empty()) {
       for (const int c : piece_cells) of_piece.push_back(indicators->at(static_cast<std::size_t>(c)));
@@ -453,10 +453,19 @@ void write_solution_piece(const RowDistribution& rows, const fs::path& staging, 
     }
     vtu.emplace(mesh, materials, solution, indicators);
     write_file_atomically(staging / file, [&](std::ostream& os) { vtu->write_share(os, share); });
+    for (const BodyRange& body : info.bodies) {  // several bodies: the piece of each body's file too
+      file = body_piece_file(body.name, rows.rank());
+      write_file_atomically(staging / file, [&](std::ostream& os) { vtu->write_share(os, share, &body); });
+    }
   } catch (const std::exception& e) {
     why = e.what();
   }
-  require_pieces_written(rows, why, vtu_piece_file, dir);
+  require_pieces_written(
+      rows, why,
+      [&](int k) {
+        return k == rows.rank() ? file : info.bodies.empty() ? vtu_piece_file(k) : std::string("its pieces of the solution");
+      },
+      dir);
 }
 
 }  // namespace

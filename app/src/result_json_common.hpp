@@ -34,7 +34,7 @@ template <class Solution>
 nlohmann::json result_json_common(const Solution& s, const RunInfo& info, int dimension) {
   using nlohmann::json;
   json j;
-  j["schema"] = "hemivem-result/25";
+  j["schema"] = "hemivem-result/26";
   j["version"] = info.version;
   j["dimension"] = dimension;
   j["scene"] = {{"name", info.scene_name}, {"toml", info.scene_toml}};

@@ -98,9 +98,7 @@ void build_scene_problem(const Scene& scene, SceneEngines& e, Solved& s, const s
       PieceOfMesh where;
       s.built = cut_problem_piece<dim>(std::move(whole), world.rank, world.size, where);
       s.mesh_pieces = world.size;
-      // a static solve's files of several bodies are each body's of the whole mesh; a path's
-      // frames are of the whole mesh of every body, in pieces as of one
-      e.writes_to_folder = !out.empty() && (scene.bodies.empty() || scene.path);
+      e.writes_to_folder = !out.empty();
       s.whole_cells = where.whole_cells;
       e.piece = std::move(where);
       return;
@@ -127,11 +125,11 @@ void estimate_solution(const SceneEngines& e, Solved& s, Estimate&& estimate) {
   s.solution.timings["total"] += s.estimate->seconds;
 }
 
-/// Whether every file a solve of the scene of one body writes is made from the processes'
-/// pieces of its mesh and the gathered solution (whole_of_pieces): result.json (the whole
-/// mesh's size and stress peak), contact.csv, displacement.csv (a piece holds every vertex),
-/// stress.csv (each process's rows gathered on the first), history.csv, solution.vtu (in
-/// pieces), scene.toml, the figures (a plane's boundary edges, edges and elements, a solid's
+/// Whether every file a solve of the scene, of one body or several, writes is made from the
+/// processes' pieces of its mesh and the gathered solution (whole_of_pieces): result.json (the
+/// whole mesh's size and stress peak, the bodies' cells and loads), contact.csv,
+/// displacement.csv (a piece holds every vertex), stress.csv (each process's rows gathered on
+/// the first), history.csv, solution.vtu and each body's file (in pieces), scene.toml, the figures (a plane's boundary edges, edges and elements, a solid's
 /// boundary faces, gathered), a solid's contact-surface.vtu (its contact faces gathered) and a
 /// path's files (its steps' records; its last step's files as a static solve's); not an
 /// adaptive solve's files.
@@ -155,7 +153,7 @@ void make_results_mesh_whole(const Scene& scene, const SceneEngines& e, Solved& 
     const bool displaced = s.solution.u.size() == dim * static_cast<Eigen::Index>(mesh.num_vertices());
     s.of_pieces = std::make_shared<const WholeOfPieces>(
         whole_of_pieces<dim>(s.built->problem, displaced ? s.solution.u : Eigen::VectorXd(), *e.piece, *process_rows(),
-                             wanted_files(scene, s.built->has_contact)));
+                             wanted_files(scene, s.built->has_contact), s.built->bodies));
     return;
   }
   if (static_cast<int>(e.piece->cells.size()) == e.piece->whole_cells) return;
@@ -227,9 +225,12 @@ RunInfo run_info_common(const Scene& scene, const Solved& solved) {
     info.stress = stress_peak(mesh, cell_stresses(mesh, solved.built->problem.elasticity.materials, solved.solution.u));
   }
   info.figure_formats = scene.figure_formats;
-  info.bodies = solved.built->bodies;
+  // the bodies' ranges of the whole mesh, where the processes' pieces gathered them
+  info.bodies = solved.of_pieces ? solved.of_pieces->bodies : solved.built->bodies;
   if (solved.holds_results && !info.bodies.empty())
-    info.bodies_record = detail::bodies_json(solved.built->problem, solved.solution, info.bodies);
+    info.bodies_record = detail::bodies_json(
+        solved.of_pieces ? solved.of_pieces->body_loads : detail::body_loads(solved.built->problem, info.bodies),
+        solved.solution, info.bodies);
   return info;
 }
 

@@ -241,7 +241,7 @@ std::vector<std::string> wanted_files(const Scene& scene, bool has_contact) {
 }
 
 bool detail::results_of_pieces(const Scene& scene) {
-  if (!scene.bodies.empty() || scene.adapt) return false;
+  if (scene.adapt) return false;
   for (const std::string& file : wanted_files(scene, true))
     if (!made_from_pieces(file, scene.dimension())) return false;
   return true;

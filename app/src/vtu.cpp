@@ -125,14 +125,19 @@ Selection body_selection(const MeshType& mesh, const BasicContactSolution<dim>& 
 
 /// The share of the vertices `share`: the cells whose smallest vertex is one of them and a
 /// plane's contact lines whose smaller end is, with every point they reach (in the mesh's
-/// order). The shares of a split of the vertices hold each cell and line once.
+/// order). The shares of a split of the vertices hold each cell and line once. With `body`, of
+/// those only the body's: the cells whose smallest vertex is the body's, and the contact lines
+/// whose two ends are.
 template <class MeshType, int dim>
-Selection share_selection(const MeshType& mesh, const BasicContactSolution<dim>& sol, const VertexShare& share) {
+Selection share_selection(const MeshType& mesh, const BasicContactSolution<dim>& sol, const VertexShare& share,
+                          const BodyRange* body) {
   Selection s;
-  s.name = "the share of " + share.text();
+  s.name = "the share of " + share.text() + (body ? " in '" + body->name + "'" : "");
   const auto nv = static_cast<std::size_t>(mesh.num_vertices());
   std::vector<char> used(nv, 0);
-  const std::vector<char> mask = share.mask(mesh.num_vertices());
+  std::vector<char> mask = share.mask(mesh.num_vertices());
+  if (body)
+    for (std::size_t v = 0; v < nv; ++v) mask[v] = mask[v] && body->has_vertex(static_cast<int>(v));
   const auto owned = [&mask](int v) { return mask[static_cast<std::size_t>(v)] != 0; };
   for (int c = 0; c < num_cells(mesh); ++c) {
     const auto& vs = vertices_of(mesh, c);
@@ -142,7 +147,7 @@ Selection share_selection(const MeshType& mesh, const BasicContactSolution<dim>&
   }
   if constexpr (dim == 2)
     for (const auto& l : contact_lines(mesh, sol))
-      if (owned(std::min(l[0], l[1]))) {
+      if (owned(std::min(l[0], l[1])) && (!body || (body->has_vertex(l[0]) && body->has_vertex(l[1])))) {
         s.lines.push_back(l);
         used[static_cast<std::size_t>(l[0])] = used[static_cast<std::size_t>(l[1])] = 1;
       }
@@ -346,7 +351,7 @@ struct SolutionVtu::Impl {
   Fields fields;
   BodyRange whole;
   std::function<void(std::ostream&, const Fields&, const BodyRange&)> body;
-  std::function<void(std::ostream&, const Fields&, const VertexShare&)> share;
+  std::function<void(std::ostream&, const Fields&, const VertexShare&, const BodyRange*)> share;
 };
 
 template <class MeshType, int dim>
@@ -364,8 +369,8 @@ std::unique_ptr<const SolutionVtu::Impl> SolutionVtu::make(const MeshType& mesh,
   impl->body = [&mesh, &sol](std::ostream& os, const Fields& f, const BodyRange& body) {
     write_selection(os, mesh, f, body_selection(mesh, sol, body));
   };
-  impl->share = [&mesh, &sol](std::ostream& os, const Fields& f, const VertexShare& share) {
-    write_selection(os, mesh, f, share_selection(mesh, sol, share));
+  impl->share = [&mesh, &sol](std::ostream& os, const Fields& f, const VertexShare& share, const BodyRange* body) {
+    write_selection(os, mesh, f, share_selection(mesh, sol, share, body));
   };
   return impl;
 }
@@ -393,8 +398,8 @@ void SolutionVtu::write(std::ostream& os, const BodyRange& body) const {
   impl_->body(os, impl_->fields, body);
 }
 
-void SolutionVtu::write_share(std::ostream& os, const VertexShare& share) const {
-  impl_->share(os, impl_->fields, share);
+void SolutionVtu::write_share(std::ostream& os, const VertexShare& share, const BodyRange* body) const {
+  impl_->share(os, impl_->fields, share, body);
 }
 
 void SolutionVtu::write_pieces(std::ostream& os, const std::vector<std::string>& files) const {

@@ -2,6 +2,8 @@
 // pieces (WholeOfPieces of hemivem/app/outputs.hpp).
 #include <hemivem/app/outputs.hpp>
 
+#include "bodies.hpp"
+
 #include <hemivem/app/figures.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/mesh/facet_cells.hpp>
@@ -158,13 +160,45 @@ void gather_facets(WholeOfPieces& whole, const BasicContactProblem<dim>& problem
   }
 }
 
+
+/// The bodies' whole ranges and loads (WholeOfPieces::bodies, body_loads) from each process's
+/// owned cells and share of the vertices, the same on every process (collective): a body's
+/// first cell the least of the whole numbers of its cells owned, its cells their count.
+template <int dim>
+void gather_bodies(WholeOfPieces& whole, const BasicContactProblem<dim>& problem, const std::vector<BodyRange>& bodies,
+                   const PieceOfMesh& piece, const std::vector<char>& owned, const RowDistribution& rows) {
+  if (bodies.empty()) return;
+  const auto& mesh = *problem.elasticity.mesh;
+  const std::vector<char> share = piece.vertices.mask(mesh.num_vertices());
+  const std::vector<double> loads = detail::body_loads(problem, bodies, &share);
+  const auto n = static_cast<Eigen::Index>(bodies.size());
+  Eigen::VectorXd mine(n * (1 + dim));  // per body its cells owned, then its load
+  for (Eigen::Index b = 0; b < n; ++b) {
+    const BodyRange& body = bodies[static_cast<std::size_t>(b)];
+    int count = 0, first = piece.whole_cells;
+    for (int c = body.first_cell; c < body.first_cell + body.cells; ++c)
+      if (owned[static_cast<std::size_t>(c)]) {
+        ++count;
+        first = std::min(first, piece.cells[static_cast<std::size_t>(c)]);
+      }
+    mine(b) = count;
+    for (int i = 0; i < dim; ++i) mine(n + dim * b + i) = loads[static_cast<std::size_t>(dim * b + i)];
+    whole.bodies.push_back(body);
+    whole.bodies.back().first_cell = static_cast<int>(rows.min(first));
+  }
+  const Eigen::VectorXd sum = rows.sum_in_rank_order(mine);
+  for (Eigen::Index b = 0; b < n; ++b) whole.bodies[static_cast<std::size_t>(b)].cells = static_cast<int>(sum(b));
+  whole.body_loads.assign(sum.data() + n, sum.data() + sum.size());
+}
+
 }  // namespace
 
 bool WholeOfPieces::serves(const std::string& file) const { return !named(gathered_files(), file) || named(files, file); }
 
 template <int dim>
 WholeOfPieces whole_of_pieces(const BasicContactProblem<dim>& problem, const Eigen::VectorXd& u, const PieceOfMesh& piece,
-                              const RowDistribution& rows, const std::vector<std::string>& files) {
+                              const RowDistribution& rows, const std::vector<std::string>& files,
+                              const std::vector<BodyRange>& bodies) {
   const auto& mesh = *problem.elasticity.mesh;
   const std::vector<int>& cells = piece.cells;
   if (cells.size() != static_cast<std::size_t>(mesh.num_cells()))
@@ -193,12 +227,15 @@ WholeOfPieces whole_of_pieces(const BasicContactProblem<dim>& problem, const Eig
       whole.stress_rows = gathered_stress_rows(mesh, stresses, owned, cells, piece.whole_cells, rows);
   }
   gather_facets(whole, problem, owned, cells, piece.whole_cells, rows);
+  gather_bodies(whole, problem, bodies, piece, owned, rows);
   return whole;
 }
 
 template WholeOfPieces whole_of_pieces<2>(const ContactProblem&, const Eigen::VectorXd&, const PieceOfMesh&,
-                                          const RowDistribution&, const std::vector<std::string>&);
+                                          const RowDistribution&, const std::vector<std::string>&,
+                                          const std::vector<BodyRange>&);
 template WholeOfPieces whole_of_pieces<3>(const ContactProblem3D&, const Eigen::VectorXd&, const PieceOfMesh&,
-                                          const RowDistribution&, const std::vector<std::string>&);
+                                          const RowDistribution&, const std::vector<std::string>&,
+                                          const std::vector<BodyRange>&);
 
 }  // namespace hemivem::app

@@ -17,6 +17,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -102,6 +103,26 @@ std::vector<double> vtu_doubles(const fs::path& file, const std::string& name) {
   return values;
 }
 
+/// The cells' values of the arrays `names` of the pieces `stem`.piece-K.vtu of `processes`
+/// processes in `out` (decoded, sorted: each cell once), those of `whole_vtu` to 1e-7 of the
+/// largest in magnitude.
+void expect_values_of_pieces(const fs::path& out, const std::string& stem, const fs::path& whole_vtu, int processes,
+                             const std::vector<std::string>& names) {
+  for (const std::string& name : names) {
+    std::vector<double> mine, whole = vtu_doubles(whole_vtu, name);
+    for (int k = 0; k < processes; ++k) {
+      const std::vector<double> piece = vtu_doubles(out / (stem + ".piece-" + std::to_string(k) + ".vtu"), name);
+      mine.insert(mine.end(), piece.begin(), piece.end());
+    }
+    ASSERT_EQ(mine.size(), whole.size()) << name;
+    ASSERT_FALSE(whole.empty()) << name;
+    std::sort(mine.begin(), mine.end());
+    std::sort(whole.begin(), whole.end());
+    const double largest = std::max(std::abs(whole.front()), std::abs(whole.back()));
+    for (std::size_t c = 0; c < whole.size(); ++c) EXPECT_NEAR(mine[c], whole[c], 1e-7 * largest) << name << " " << c;
+  }
+}
+
 /// The pieces `stem`.piece-K.vtu of `processes` processes in `out`, named by `stem`.pvtu and
 /// listed in `files` (result.json's) before it, in place of `stem`.vtu: each cell of the one
 /// process's `whole` in one piece, and the cells' values of the arrays `names` (decoded,
@@ -128,17 +149,85 @@ void expect_pieces_make_the_whole(const fs::path& out, const std::string& stem, 
   }
   EXPECT_FALSE(fs::exists(out / (stem + ".piece-" + std::to_string(processes) + ".vtu")));
   EXPECT_EQ(written, vtu_cells(whole_vtu));
-  for (const std::string& name : names) {
-    std::vector<double> mine, whole = vtu_doubles(whole_vtu, name);
+  expect_values_of_pieces(out, stem, whole_vtu, processes, names);
+}
+
+/// The pieces solution.body-NAME.piece-K.vtu of `processes` processes in `out` of each body of
+/// `bodies`, in place of solution.body-NAME.vtu (one process's files in `ref`): listed in
+/// `files` (result.json's) before solution.vtm, which names them, each body a block of its
+/// pieces; each cell of the body's whole file in one piece, and the cells' values of `names`
+/// the whole file's (expect_values_of_pieces).
+void expect_body_pieces_make_the_bodies(const fs::path& out, const fs::path& ref, int processes,
+                                        const std::vector<std::string>& bodies, const std::vector<std::string>& names,
+                                        const nlohmann::json& files) {
+  const auto listed = [&](const std::string& file) {
+    return static_cast<long>(std::find(files.begin(), files.end(), file) - files.begin());
+  };
+  const std::string vtm = slurp(out / "solution.vtm");
+  ASSERT_LT(listed("solution.vtm"), static_cast<long>(files.size())) << files.dump();
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    const std::string stem = "solution.body-" + bodies[b];
+    SCOPED_TRACE(stem);
+    ASSERT_TRUE(fs::exists(ref / (stem + ".vtu")));
+    EXPECT_FALSE(fs::exists(out / (stem + ".vtu")));
+    EXPECT_EQ(listed(stem + ".vtu"), static_cast<long>(files.size())) << files.dump();
+    const std::size_t block = vtm.find("<Piece index=\"" + std::to_string(b) + "\" name=\"" + bodies[b] + "\">");
+    ASSERT_NE(block, std::string::npos) << vtm;
+    int written = 0;
     for (int k = 0; k < processes; ++k) {
-      const std::vector<double> piece = vtu_doubles(out / (stem + ".piece-" + std::to_string(k) + ".vtu"), name);
-      mine.insert(mine.end(), piece.begin(), piece.end());
+      const std::string file = stem + ".piece-" + std::to_string(k) + ".vtu";
+      const std::size_t named = vtm.find("<DataSet index=\"" + std::to_string(k) + "\" file=\"" + file + "\"/>");
+      EXPECT_TRUE(named != std::string::npos && named > block && named < vtm.find("</Piece>", block)) << vtm;
+      written += std::max(vtu_cells(out / file), 0);
+      EXPECT_LT(listed(file), listed("solution.vtm")) << files.dump();
     }
-    ASSERT_EQ(mine.size(), whole.size()) << name;
-    ASSERT_FALSE(whole.empty()) << name;
-    std::sort(mine.begin(), mine.end());
-    std::sort(whole.begin(), whole.end());
-    for (std::size_t c = 0; c < whole.size(); ++c) EXPECT_NEAR(mine[c], whole[c], 1e-7 * whole.back()) << name << " " << c;
+    EXPECT_FALSE(fs::exists(out / (stem + ".piece-" + std::to_string(processes) + ".vtu")));
+    EXPECT_EQ(written, vtu_cells(ref / (stem + ".vtu")));
+    expect_values_of_pieces(out, stem, ref / (stem + ".vtu"), processes, names);
+  }
+}
+
+/// The names of result.json `result`'s bodies, in its order.
+std::vector<std::string> body_names(const nlohmann::json& result) {
+  std::vector<std::string> names;
+  for (const auto& body : result["bodies"]) names.push_back(body["name"].get<std::string>());
+  return names;
+}
+
+/// result.json's bodies of a run across `processes` processes (`a`, written in `out`) and of one
+/// process (`b`): each body's ranges of the whole mesh, and its load, its reactions and its
+/// contact force those of one process to 1e-8 of the largest force of a body or of a contact
+/// node (a body whose resultants vanish, pressed by another, has contact nodes' forces).
+void expect_bodies_agree(const fs::path& out, const nlohmann::json& a, const nlohmann::json& b, int processes) {
+  SCOPED_TRACE(out.string() + " on " + std::to_string(processes) + " processes");
+  ASSERT_TRUE(b["bodies"].is_array());
+  ASSERT_GE(b["bodies"].size(), 2u);
+  ASSERT_EQ(a["bodies"].size(), b["bodies"].size());
+  double nodes = 0.0;
+  for (const auto& n : b["contact"])
+    nodes = std::max(nodes, std::abs(n["law_force"].get<double>() + n["reaction"].get<double>()));
+  for (std::size_t i = 0; i < b["bodies"].size(); ++i) {
+    const nlohmann::json &ba = a["bodies"][i], &bb = b["bodies"][i];
+    for (const char* key : {"name", "first_vertex", "vertices", "first_cell", "cells"}) EXPECT_EQ(ba[key], bb[key]) << key;
+    const nlohmann::json &fa = ba["forces"], &fb = bb["forces"];
+    double scale = nodes;
+    const auto each = [](const nlohmann::json& forces,
+                         const std::function<void(const std::string&, const nlohmann::json&)>& f) {
+      f("applied", forces["applied"]);
+      f("contact", forces["contact"]);
+      for (const auto& [name, force] : forces["reactions"].items()) f(name, force);
+    };
+    each(fb, [&](const std::string&, const nlohmann::json& v) {
+      for (const auto& c : v) scale = std::max(scale, std::abs(c.get<double>()));
+    });
+    EXPECT_GT(scale, 0.0);
+    EXPECT_EQ(fa["reactions"].size(), fb["reactions"].size());
+    each(fb, [&](const std::string& name, const nlohmann::json& v) {
+      const nlohmann::json& mine = name == "applied" || name == "contact" ? fa[name] : fa["reactions"][name];
+      ASSERT_EQ(mine.size(), v.size()) << name;
+      for (std::size_t c = 0; c < v.size(); ++c)
+        EXPECT_NEAR(mine[c].get<double>(), v[c].get<double>(), 1e-8 * scale) << bb["name"] << " " << name << " " << c;
+    });
   }
 }
 
@@ -213,16 +302,11 @@ void expect_processes_agree(const std::string& flags, const fs::path& ref, int p
   EXPECT_GT(eta_b, 0.0);
   EXPECT_NEAR(eta_a, eta_b, 1e-8 * eta_b);
   const int cells = b["mesh"]["elements"].get<int>();
-  if (fs::exists(ref / "solution.vtm")) {  // several bodies: each body's file of the whole mesh, as in one process
-    EXPECT_FALSE(fs::exists(out / "solution.pvtu"));
-    for (const auto& entry : fs::directory_iterator(ref))
-      if (entry.path().extension() == ".vtu") {
-        SCOPED_TRACE(entry.path().filename().string());
-        ASSERT_TRUE(fs::exists(out / entry.path().filename()));
-        EXPECT_EQ(vtu_cells(out / entry.path().filename()), vtu_cells(entry.path()));
-      }
-  } else if (pieces > 1) {  // each process wrote its piece, each cell in one piece, named by solution.pvtu
+  if (fs::exists(ref / "solution.vtm")) expect_bodies_agree(out, a, b, processes);
+  if (pieces > 1) {  // each process wrote its piece, each cell in one piece, named by solution.pvtu
     expect_pieces_make_the_whole(out, "solution", ref / "solution.vtu", processes, {"von_mises", "error_indicator"}, a["files"]);
+    if (fs::exists(ref / "solution.vtm"))  // and its piece of each body's file
+      expect_body_pieces_make_the_bodies(out, ref, processes, body_names(b), {"von_mises", "error_indicator"}, a["files"]);
   } else {  // of the whole mesh
     const std::string vtu = slurp(out / "solution.vtu");
     EXPECT_NE(vtu.find("NumberOfCells=\"" + std::to_string(cells) + "\""), std::string::npos);
@@ -378,8 +462,8 @@ std::vector<std::string> last_fields(const fs::path& csv) {
 
 // a loading path of two bodies (the stacked blocks of two-blocks.toml on two steps; two solids
 // joined with Tresca friction): each process keeps its piece of each body for the whole path and
-// writes its piece of every frame, as the steps come; rank 0 writes the rest, each body's file of
-// the last step of the whole mesh made after the path
+// writes its piece of every frame, as the steps come, and of the last step's solution.vtu and
+// each body's file; rank 0 writes the rest from its piece, and no process makes the whole mesh
 TEST(CliFullSpaceMpi, APathOfTwoBodiesAcrossProcessesKeepsEachProcesssPieces) {
   const fs::path solids = joined_solids("two-solids-path.toml", "[3, 3, 2]", "[path]\nt = [0.5, 1.0]\n");
   const struct {
@@ -421,10 +505,11 @@ TEST(CliFullSpaceMpi, APathOfTwoBodiesAcrossProcessesKeepsEachProcesssPieces) {
     // each frame in pieces, of both bodies' cells
     for (const char* stem : {"solution-0001", "solution-0002"})
       expect_pieces_make_the_whole(out, stem, ref / (std::string(stem) + ".vtu"), 2, {"von_mises"}, a["files"]);
-    // the last step's files of the whole mesh: each body's and both
-    for (const char* file : {"solution.vtu", "solution.body-upper.vtu", "solution.body-lower.vtu"})
-      EXPECT_EQ(vtu_cells(out / file), vtu_cells(ref / file)) << file;
-    EXPECT_TRUE(fs::exists(out / "solution.vtm"));
+    // the last step's files in pieces: the whole mesh's and each body's (the stacked blocks'
+    // error indicators are round-off), its bodies' records
+    expect_pieces_make_the_whole(out, "solution", ref / "solution.vtu", 2, {"von_mises", "stress"}, a["files"]);
+    expect_body_pieces_make_the_bodies(out, ref, 2, {"upper", "lower"}, {"von_mises", "stress"}, a["files"]);
+    expect_bodies_agree(out, a, b, 2);
     expect_columns_agree(out / "displacement.csv", ref / "displacement.csv", static_cast<std::size_t>(c.dim + 1),
                          static_cast<std::size_t>(2 * c.dim + 1));
   }
@@ -586,6 +671,18 @@ TEST(CliFullSpaceMpi, WhereThePiecesMakeEveryFileTheResultsOfPiecesAreTheWholeMe
     const std::string all = R"("result-json", "contact-csv", "displacement-csv", "stress-csv", "history-csv", "vtu", "u-nu-png", "deformed-png", "error-png")";
     expect_pieces_make_the_results(flags, all, all, 3, 1, "plane-results", "625 vertices, 576 elements, h = 0.0589256,",
                                    {"u_nu.png", "deformed.png", "error.png"});
+  }
+  {
+    SCOPED_TRACE("two plane bodies, every file of their default against one process's");
+    const std::string all = R"("result-json", "contact-csv", "displacement-csv", "stress-csv", "history-csv", "vtu", "u-nu-png", "deformed-png", "error-png")";
+    expect_pieces_make_the_results(scene("two-blocks.toml"), all, all, 2, 1, "bodies-results",
+                                   "74 vertices, 36 elements, h = 0.261811,", {"u_nu.png", "deformed.png", "error.png"});
+  }
+  {
+    SCOPED_TRACE("two solids, every file of their default against one process's");
+    const std::string all = R"("vtu", "contact-csv", "displacement-csv", "stress-csv", "history-csv", "result-json", "deformed-png", "pressure-png")";
+    expect_pieces_make_the_results(scene("two-boxes-3d.toml"), all, all, 2, 1, "solid-bodies-results",
+                                   "108 vertices, 116 cells, 332 faces, h = 0.75,", {"deformed.png", "pressure.png"});
   }
 }
 

@@ -99,7 +99,7 @@ def test_small_scene_converges_with_three_columns(small_3d):
 def test_json_is_the_three_dimensional_document(small_3d):
     _, r = small_3d
     j = r.json()
-    assert j["schema"] == "hemivem-result/25" and j["dimension"] == 3
+    assert j["schema"] == "hemivem-result/26" and j["dimension"] == 3
     assert j["status"] == r.status and j["potential_energy"] == r.energy
     assert j["mesh"]["vertices"] == r.mesh.num_vertices and j["mesh"]["elements"] == r.mesh.num_cells
     assert len(j["contact"]) == len(r.contact)

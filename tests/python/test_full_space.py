@@ -185,6 +185,51 @@ def test_a_solve_and_a_path_across_processes_from_python(tmp_path, coulomb_scene
     assert max(np.max(np.abs(points[x] - points1[x])) for x in points1) <= 1e-8 * scale
 
 
+@pytest.mark.skipif("petsc-gamg" not in krylov_engines(), reason="PETSc's engines are not built")
+def test_the_bodies_pieces_across_processes_open_in_vtk_as_one_processs_bodies(tmp_path, hemivem_command):
+    """The command on two processes writes each body's file in pieces; solution.vtm names them,
+    each body a block of its pieces, which VTK's multiblock reader opens as one process's body."""
+    vtk = pytest.importorskip("vtk")
+    from vtk.util.numpy_support import vtk_to_numpy
+
+    mpiexec = shutil.which("mpiexec") or shutil.which("mpirun")
+    if mpiexec is None:
+        pytest.skip("no MPI launcher on PATH")
+    version = subprocess.run([mpiexec, "--version"], capture_output=True, text=True).stdout
+    flags = ["--allow-run-as-root", "--oversubscribe"] if "Open MPI" in version or "OpenRTE" in version else []
+    scene = ROOT / "scenes" / "two-blocks.toml"
+    solve = tmp_path / "command"
+    p = subprocess.run([mpiexec, "-n", "2", *flags, str(hemivem_command), "solve", str(scene), "--linear", "petsc-gamg",
+                        "-q", "--out", str(solve)], capture_output=True, text=True, timeout=600, env=dict(os.environ))
+    assert p.returncode == 0, p.stdout + p.stderr
+    assert not list(solve.glob("solution.body-*[!0-9].vtu"))  # no body's file whole
+    one = hemivem.solve(hemivem.Scene.from_file(scene), linear="eigen")
+    reader = vtk.vtkXMLMultiBlockDataReader()
+    reader.SetFileName(str(solve / "solution.vtm"))
+    reader.Update()
+    blocks = reader.GetOutput()
+    assert blocks.GetNumberOfBlocks() == 2
+    scale = np.max(np.abs(one.displacement))
+    for i, name in enumerate(["upper", "lower"]):
+        assert blocks.GetMetaData(i).Get(vtk.vtkCompositeDataSet.NAME()) == name
+        pieces = blocks.GetBlock(i)
+        assert pieces.IsA("vtkMultiPieceDataSet") and pieces.GetNumberOfPieces() == 2
+        body = one.bodies[name]
+        polygons, points = 0, {}
+        for k in range(2):
+            piece = pieces.GetPiece(k)
+            polygons += sum(piece.GetCellType(c) == vtk.VTK_POLYGON for c in range(piece.GetNumberOfCells()))
+            u = vtk_to_numpy(piece.GetPointData().GetArray("displacement"))
+            for x, d in zip(np.round(vtk_to_numpy(piece.GetPoints().GetData())[:, :2], 12), u):
+                points.setdefault(tuple(x), d[:2])
+        # each of the body's cells in one piece, and every vertex of the body with its displacement
+        assert polygons == body["cells"]
+        assert len(points) == body["vertices"]
+        x = np.asarray(one.mesh.vertices)[body["first_vertex"]:body["first_vertex"] + body["vertices"]]
+        mine = np.array([points[tuple(v)] for v in np.round(x, 12)])
+        assert np.max(np.abs(mine - body["displacement"])) <= 1e-8 * scale
+
+
 def test_auto_takes_the_full_space_route_where_the_condensed_one_does_not_fit(monkeypatch):
     # Example 4.1 on 128 x 128 squares: an estimated 81 MiB on the condensed route, 70 MiB on
     # the full-space route with eigen-cg, the one Krylov engine whose estimate fits in 75 MiB

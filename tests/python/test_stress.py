@@ -147,7 +147,7 @@ def check_files_and_summary(r, folder):
     cell = int(np.argmax(s.von_mises))
     assert s.max_cell == cell and s.max_von_mises == s.von_mises.max()
     j = json.loads((folder / "result.json").read_text())
-    assert j["schema"] == "hemivem-result/25"
+    assert j["schema"] == "hemivem-result/26"
     assert j["stress"] == {"max_von_mises": s.von_mises.max(), "cell": cell, "centroid": list(s.centroids[cell])}
     assert r.json()["stress"] == j["stress"]
     value, printed_cell, centroid = summary_peak(r.full_report())

@@ -73,6 +73,11 @@ struct WholeOfPieces {
   std::vector<std::array<int, 2>> edges;
   /// A plane's elements as vertex loops in the whole mesh's order, on the first process (error.png).
   VertexLoops cells;
+  /// A scene of several bodies: each body's range of the whole mesh (the pieces number their
+  /// cells their own way) and the load applied to it, dim values per body (result.json's
+  /// "bodies"), summed over the processes' shares of the vertices in their order; empty for one.
+  std::vector<BodyRange> bodies;
+  std::vector<double> body_loads;
   /// The files it was gathered for: a file that draws on what is gathered for it alone (stress.csv,
   /// contact-surface.vtu, the figures) can be written from it only when named here (serves).
   std::vector<std::string> files;
@@ -83,10 +88,13 @@ struct WholeOfPieces {
 /// (`piece`: where it lies), given the whole displacement `u` (dim values per vertex, or empty:
 /// no stresses), for the output files `files` (the same on every process). Collective over
 /// `rows`: each process takes the cells it owns (owned_cells); every process gets the size and
-/// the stress peak, the first what the files wanted draw on.
+/// the stress peak, and of a scene of several bodies (`bodies`, the piece's ranges:
+/// BasicBuiltProblem::bodies) their whole ranges and loads, the first what the files wanted
+/// draw on.
 template <int dim>
 WholeOfPieces whole_of_pieces(const BasicContactProblem<dim>& problem, const Eigen::VectorXd& u, const PieceOfMesh& piece,
-                              const RowDistribution& rows, const std::vector<std::string>& files);
+                              const RowDistribution& rows, const std::vector<std::string>& files,
+                              const std::vector<BodyRange>& bodies = {});
 
 /// What the run was, beyond the solution itself: recorded in result.json.
 struct RunInfo {
@@ -168,7 +176,7 @@ const BasicPathSolution<dim>* path_of(const RunInfo& info) {
 /// the stage "estimate" of the timings).
 nlohmann::json error_estimate_json(const ErrorEstimate& estimate);
 
-/// The result.json document ("schema": "hemivem-result/25", "dimension": 2).
+/// The result.json document ("schema": "hemivem-result/26", "dimension": 2).
 nlohmann::json result_json(const Mesh& mesh, const ContactSolution& solution, const RunInfo& info);
 /// The result.json document of a solid ("dimension": 3): the same keys, points and vectors with
 /// three components (contact[].x and contact[].normal [x, y, z]), mesh.faces, contact_zone with

@@ -67,8 +67,11 @@ class SolutionVtu {
   /// processes. Its cells are those whose smallest vertex is one of them (and a plane's contact
   /// lines whose smaller end is), its points every vertex they reach, in the mesh's order, with
   /// the arrays of solution.vtu restricted to them: the pieces of a split hold each cell once.
-  /// InputError when the share is not one of the mesh's (VertexShare::mask).
-  void write_share(std::ostream& stream, const VertexShare& share) const;
+  /// InputError when the share is not one of the mesh's (VertexShare::mask). With `body`, the
+  /// share's piece of the body's file (write above): the share's cells whose smallest vertex is
+  /// the body's, and a plane's contact lines whose two ends are; the pieces of a split hold each
+  /// of the body's cells once.
+  void write_share(std::ostream& stream, const VertexShare& share, const BodyRange* body = nullptr) const;
   /// solution.pvtu: VTK's parallel unstructured grid naming the pieces `files` (each written by
   /// write_share of a solution with the same arrays as this one), in their order.
   void write_pieces(std::ostream& stream, const std::vector<std::string>& files) const;
