@@ -169,6 +169,11 @@ void write_solve_files(OutputRun& run, const MeshType& mesh, const MaterialTable
 /// adapt.png.
 bool made_from_pieces(const std::string& file, int dim);
 
+/// Whether a run on pieces makes `file` from what the processes gather of their pieces for it
+/// alone (stress.csv, the figures, a solid's contact-surface.vtu), which they gather only for
+/// the files they are told (WholeOfPieces::serves).
+bool gathered_for_itself(const std::string& file);
+
 /// The piece of process `rank` of solution.pvtu: "solution.piece-3.vtu".
 std::string vtu_piece_file(int rank);
 

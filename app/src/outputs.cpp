@@ -201,20 +201,44 @@ nlohmann::json error_estimate_json(const ErrorEstimate& e) {
           {"parts", std::move(parts)}};
 }
 
+namespace {
+
+/// What a run on the processes' pieces of the mesh makes a file from: not the pieces (`no`: an
+/// adaptive solve's files and a plane's mesh.poly2d, of the whole mesh), the first process's
+/// piece and the whole solution every process holds (`made`), or besides what the processes
+/// gathered of their pieces for the file alone (`gathered`: WholeOfPieces::serves).
+enum class FromPieces { no, made, gathered };
+
+/// Every name in the order a run writes it, with the dimensions that write it.
+struct Output {
+  const char* name;
+  bool plane, solid;
+  FromPieces pieces;
+};
+using enum FromPieces;
+constexpr Output outputs[] = {
+    {"result.json", true, true, made},           {"contact.csv", true, true, made},
+    {"displacement.csv", true, true, made},      {"stress.csv", true, true, gathered},
+    {"history.csv", true, true, made},           {"solution.vtu", true, true, made},
+    {"contact-surface.vtu", false, true, gathered}, {"scene.toml", true, true, made},
+    {"mesh.poly2d", true, false, no},            {"u_nu.png", true, false, gathered},
+    {"deformed.png", true, true, gathered},      {"error.png", true, false, gathered},
+    {"mesh.png", true, false, no},               {"adapt.png", true, true, no},
+    {"adapt.pvd", true, true, no},               {"pressure.png", false, true, gathered},
+    {"path.json", true, true, made},             {"path-contact.csv", true, true, made},
+    {"path-displacement.csv", true, true, made}, {"solution.pvd", true, true, made},
+    {"path.png", true, true, made}};
+
+/// The output `name` of a body of dimension `dim`; null when it writes none of that name.
+const Output* output_named(const std::string& name, int dim) {
+  for (const Output& o : outputs)
+    if (name == o.name && (dim == 3 ? o.solid : o.plane)) return &o;
+  return nullptr;
+}
+
+}  // namespace
+
 const std::vector<std::string>& all_outputs(int dim) {
-  // every name in the order a run writes it, with the dimensions that write it
-  struct Output {
-    const char* name;
-    bool plane, solid;
-  };
-  static constexpr Output outputs[] = {
-      {"result.json", true, true},      {"contact.csv", true, true},      {"displacement.csv", true, true},
-      {"stress.csv", true, true},       {"history.csv", true, true},      {"solution.vtu", true, true},     {"contact-surface.vtu", false, true},
-      {"scene.toml", true, true},       {"mesh.poly2d", true, false},     {"u_nu.png", true, false},
-      {"deformed.png", true, true},     {"error.png", true, false},       {"mesh.png", true, false},
-      {"adapt.png", true, true},        {"adapt.pvd", true, true},       {"pressure.png", false, true},    {"path.json", true, true},
-      {"path-contact.csv", true, true}, {"path-displacement.csv", true, true}, {"solution.pvd", true, true},
-      {"path.png", true, true}};
   auto of = [](bool solid) {
     std::vector<std::string> names;
     for (const Output& o : outputs)
@@ -224,6 +248,17 @@ const std::vector<std::string>& all_outputs(int dim) {
   static const std::vector<std::string> plane = of(false), solid = of(true);
   if (dim != 2 && dim != 3) throw InputError("no outputs for a body of dimension " + std::to_string(dim));
   return dim == 2 ? plane : solid;
+}
+
+bool detail::made_from_pieces(const std::string& file, int dim) {
+  const Output* o = output_named(file, dim);
+  return o && o->pieces != FromPieces::no;
+}
+
+bool detail::gathered_for_itself(const std::string& file) {
+  for (const int dim : {2, 3})
+    if (const Output* o = output_named(file, dim); o && o->pieces == FromPieces::gathered) return true;
+  return false;
 }
 
 namespace {
@@ -469,19 +504,6 @@ void write_solution_piece(const RowDistribution& rows, const fs::path& staging, 
 }
 
 }  // namespace
-
-bool made_from_pieces(const std::string& file, int dim) {
-  static const std::vector<std::string> both{"result.json",  "contact.csv",      "displacement.csv",      "stress.csv",
-                                             "history.csv",  "solution.vtu",     "scene.toml",            "deformed.png",
-                                             "path.json",    "path-contact.csv", "path-displacement.csv", "solution.pvd",
-                                             "path.png"};
-  static const std::vector<std::string> plane{"u_nu.png", "error.png"};
-  static const std::vector<std::string> solid{"contact-surface.vtu", "pressure.png"};
-  const auto in = [&file](const std::vector<std::string>& names) {
-    return std::find(names.begin(), names.end(), file) != names.end();
-  };
-  return in(both) || in(dim == 2 ? plane : solid);
-}
 
 template <class MeshType, int dim>
 OutputReport write_outputs_in_pieces(const fs::path& dir, const MeshType& mesh, const MaterialTable& materials,

@@ -3,6 +3,7 @@
 #include <hemivem/app/outputs.hpp>
 
 #include "bodies.hpp"
+#include "output_run.hpp"
 
 #include <hemivem/app/figures.hpp>
 #include <hemivem/error.hpp>
@@ -76,13 +77,6 @@ VertexLoops gathered_cells(const std::vector<double>& mine, int cells, const Row
     loops.offsets.push_back(static_cast<int>(loops.vertices.size()));
   }
   return loops;
-}
-
-/// The files whose records are gathered for them alone (WholeOfPieces::serves).
-const std::vector<std::string>& gathered_files() {
-  static const std::vector<std::string> files{"stress.csv",   "contact-surface.vtu", "pressure.png",
-                                              "deformed.png", "u_nu.png",            "error.png"};
-  return files;
 }
 
 bool named(const std::vector<std::string>& files, const std::string& file) {
@@ -193,7 +187,9 @@ void gather_bodies(WholeOfPieces& whole, const BasicContactProblem<dim>& problem
 
 }  // namespace
 
-bool WholeOfPieces::serves(const std::string& file) const { return !named(gathered_files(), file) || named(files, file); }
+bool WholeOfPieces::serves(const std::string& file) const {
+  return !detail::gathered_for_itself(file) || named(files, file);
+}
 
 template <int dim>
 WholeOfPieces whole_of_pieces(const BasicContactProblem<dim>& problem, const Eigen::VectorXd& u, const PieceOfMesh& piece,

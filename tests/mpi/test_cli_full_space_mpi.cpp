@@ -78,7 +78,9 @@ std::pair<double, double> difference(const std::vector<std::vector<double>>& a, 
 double expect_columns_agree(const fs::path& a, const fs::path& b, std::size_t from, std::size_t to, double scale = 0.0) {
   SCOPED_TRACE(a.filename().string() + " columns " + std::to_string(from) + ".." + std::to_string(to - 1));
   const auto [diff, largest] = difference(numbers(a), numbers(b), from, to);
-  if (scale == 0.0) EXPECT_GT(largest, 0.0);
+  if (scale == 0.0) {
+    EXPECT_GT(largest, 0.0);
+  }
   EXPECT_LE(diff, 1e-8 * (scale == 0.0 ? largest : scale));
   return largest;
 }
@@ -360,7 +362,7 @@ TEST(CliFullSpaceMpi, AFolderThatCannotBeOpenedEndsEveryProcessWritingNothing) {
   ASSERT_GE(fd, 0);
   ASSERT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0);  // another run writing the folder
   // a static solve, and a path whose processes would write their pieces of each frame as it runs
-  for (const std::string flags : {scene("example-4.1-3d.toml") + " --set 'mesh.n=[4, 4, 4]'",
+  for (const std::string& flags : {scene("example-4.1-3d.toml") + " --set 'mesh.n=[4, 4, 4]'",
                                   scene("coulomb-block-3d.toml") + " --set 'mesh.n=[4, 4, 2]'"}) {
     SCOPED_TRACE(flags);
     const CommandRun m = run(mpiexec() + " " + np(2) + " " + binary() + " solve " + flags + " --linear petsc-gamg -q --out " +
@@ -651,7 +653,9 @@ void expect_pieces_make_the_results(const std::string& flags, const std::string&
   for (const std::string& figure : figures) {  // drawn from the gathered faces, or skipped without gnuplot
     const bool drawn = fs::exists(of_pieces / figure);
     EXPECT_TRUE(drawn || a.out.find("skipped") != std::string::npos) << figure << "\n" << a.out;
-    if (drawn) EXPECT_GT(fs::file_size(of_pieces / figure), 1000u) << figure;
+    if (drawn) {
+      EXPECT_GT(fs::file_size(of_pieces / figure), 1000u) << figure;
+    }
   }
 }
 
@@ -758,7 +762,9 @@ TEST(CliFullSpaceMpi, ACoulombPathAcrossProcessesIsTheCondensedRoutes) {
     // the applied load, summed over the processes' vertices, and a frame's balance of forces
     expect_applied_load_agrees(pa["steps"][k], pb["steps"][k]);
     EXPECT_EQ(pa["steps"][k]["frame"], pb["steps"][k]["frame"]);
-    if (pb["steps"][k]["frame"].get<bool>()) EXPECT_LE(pa["steps"][k]["balance"].get<double>(), 1e-8);
+    if (pb["steps"][k]["frame"].get<bool>()) {
+      EXPECT_LE(pa["steps"][k]["balance"].get<double>(), 1e-8);
+    }
   }
   // every step's displacement (ux, uy), and every step's contact node's u_nu, law force and
   // reaction, u_tau and friction force
