@@ -380,7 +380,8 @@ TEST(CliFullSpaceMpi, AFolderThatCannotBeOpenedEndsEveryProcessWritingNothing) {
 TEST(CliFullSpaceMpi, APieceThatCannotBeWrittenEndsEveryProcessAndTheFolderKeepsItsOutputs) {
   const std::vector<std::pair<std::string, std::string>> runs = {
       {scene("example-4.1-3d.toml") + " --set 'mesh.n=[4, 4, 4]'", "solution.piece-1.vtu"},
-      {scene("coulomb-block-3d.toml") + " --set 'mesh.n=[4, 4, 2]'", "its pieces of the path's frames"}};
+      {scene("coulomb-block-3d.toml") + " --set 'mesh.n=[4, 4, 2]'", "its pieces of the path's frames"},
+      {scene("two-boxes-3d.toml"), "its pieces of the solution"}};  // of solution.pvtu and of each body's file
   for (const auto& [flags, piece] : runs) {
     SCOPED_TRACE(flags);
     const fs::path out = scratch("unwritable");
