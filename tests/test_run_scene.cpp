@@ -5,6 +5,7 @@
 
 #include <hemivem/app/report.hpp>
 #include <hemivem/app/run.hpp>
+#include <hemivem/app/solve.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/linear_backends.hpp>
 #include <hemivem/mesh/generators.hpp>
@@ -34,6 +35,34 @@ Scene small_solid() {
   Scene s = parse_scene(test::scenes_dir() / "example-4.1-3d.toml");
   apply_overrides(s, {"mesh.n=[4, 2, 4]"});
   return s;
+}
+
+// the files of a scene's outputs, in the order of each dimension's list, as its keys, its
+// contact, an adaptive solve and a path select them
+TEST(RunScene, TheFilesWantedAreTheScenesOutputsInEitherDimension) {
+  using Files = std::vector<std::string>;
+  const Scene plane = small_plane();
+  EXPECT_EQ(wanted_files(plane, true),
+            (Files{"result.json", "contact.csv", "displacement.csv", "stress.csv", "history.csv", "solution.vtu",
+                   "scene.toml", "u_nu.png", "deformed.png", "error.png"}));
+  EXPECT_EQ(wanted_files(plane, false), (Files{"result.json", "displacement.csv", "stress.csv", "solution.vtu",
+                                               "scene.toml", "deformed.png", "error.png"}));
+  Scene adaptive = small_plane();
+  adaptive.adapt = SceneAdapt{};
+  EXPECT_EQ(wanted_files(adaptive, true),
+            (Files{"result.json", "contact.csv", "displacement.csv", "stress.csv", "history.csv", "solution.vtu",
+                   "scene.toml", "mesh.poly2d", "u_nu.png", "deformed.png", "error.png", "mesh.png", "adapt.png",
+                   "adapt.pvd"}));
+  Scene path = small_plane();
+  apply_overrides(path, {"path.steps=3", R"(output.write=["result-json", "vtu"])"});
+  EXPECT_EQ(wanted_files(path, true), (Files{"result.json", "solution.vtu", "scene.toml", "path.json",
+                                             "path-contact.csv", "solution.pvd", "path.png"}));
+  EXPECT_EQ(wanted_files(path, false), (Files{"result.json", "solution.vtu", "scene.toml"}));
+  Scene solid = small_solid();
+  solid.adapt = SceneAdapt{};
+  EXPECT_EQ(wanted_files(solid, true),
+            (Files{"result.json", "contact.csv", "displacement.csv", "stress.csv", "history.csv", "solution.vtu",
+                   "contact-surface.vtu", "scene.toml", "deformed.png", "adapt.png", "adapt.pvd", "pressure.png"}));
 }
 
 TEST(RunScene, KindIsWhatTheSceneAsksFor) {

@@ -12,6 +12,7 @@
 #include <hemivem/app/figures.hpp>
 #include <hemivem/app/format.hpp>
 #include <hemivem/app/path.hpp>
+#include <hemivem/app/solve.hpp>
 #include <hemivem/app/vtu.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/krylov_solver.hpp>
@@ -209,25 +210,43 @@ namespace {
 /// gathered of their pieces for the file alone (`gathered`: WholeOfPieces::serves).
 enum class FromPieces { no, made, gathered };
 
-/// Every name in the order a run writes it, with the dimensions that write it.
+/// When a solve writes an output whose key its scene's output.write names: always, with contact
+/// only, in an adaptive solve only, or as a loading path's file (path_files).
+enum class When { always, contact, adapt, path };
+
+/// Every name in the order a run writes it, with the dimensions that write it, what a run on
+/// pieces makes it from, the key of output.write that asks for it (none: written whenever
+/// `when` holds) and when.
 struct Output {
   const char* name;
   bool plane, solid;
   FromPieces pieces;
+  const char* key;
+  When when;
 };
 using enum FromPieces;
 constexpr Output outputs[] = {
-    {"result.json", true, true, made},           {"contact.csv", true, true, made},
-    {"displacement.csv", true, true, made},      {"stress.csv", true, true, gathered},
-    {"history.csv", true, true, made},           {"solution.vtu", true, true, made},
-    {"contact-surface.vtu", false, true, gathered}, {"scene.toml", true, true, made},
-    {"mesh.poly2d", true, false, no},            {"u_nu.png", true, false, gathered},
-    {"deformed.png", true, true, gathered},      {"error.png", true, false, gathered},
-    {"mesh.png", true, false, no},               {"adapt.png", true, true, no},
-    {"adapt.pvd", true, true, no},               {"pressure.png", false, true, gathered},
-    {"path.json", true, true, made},             {"path-contact.csv", true, true, made},
-    {"path-displacement.csv", true, true, made}, {"solution.pvd", true, true, made},
-    {"path.png", true, true, made}};
+    {"result.json", true, true, made, "result-json", When::always},
+    {"contact.csv", true, true, made, "contact-csv", When::contact},
+    {"displacement.csv", true, true, made, "displacement-csv", When::always},
+    {"stress.csv", true, true, gathered, "stress-csv", When::always},
+    {"history.csv", true, true, made, "history-csv", When::contact},
+    {"solution.vtu", true, true, made, "vtu", When::always},
+    {"contact-surface.vtu", false, true, gathered, "vtu", When::contact},
+    {"scene.toml", true, true, made, nullptr, When::always},
+    {"mesh.poly2d", true, false, no, nullptr, When::adapt},
+    {"u_nu.png", true, false, gathered, "u-nu-png", When::contact},
+    {"deformed.png", true, true, gathered, "deformed-png", When::always},
+    {"error.png", true, false, gathered, "error-png", When::always},
+    {"mesh.png", true, false, no, "mesh-png", When::adapt},
+    {"adapt.png", true, true, no, "adapt-png", When::adapt},
+    {"adapt.pvd", true, true, no, "vtu", When::adapt},
+    {"pressure.png", false, true, gathered, "pressure-png", When::contact},
+    {"path.json", true, true, made, nullptr, When::path},
+    {"path-contact.csv", true, true, made, nullptr, When::path},
+    {"path-displacement.csv", true, true, made, nullptr, When::path},
+    {"solution.pvd", true, true, made, nullptr, When::path},
+    {"path.png", true, true, made, nullptr, When::path}};
 
 /// The output `name` of a body of dimension `dim`; null when it writes none of that name.
 const Output* output_named(const std::string& name, int dim) {
@@ -253,6 +272,22 @@ const std::vector<std::string>& all_outputs(int dim) {
 bool detail::made_from_pieces(const std::string& file, int dim) {
   const Output* o = output_named(file, dim);
   return o && o->pieces != FromPieces::no;
+}
+
+std::vector<std::string> wanted_files(const Scene& scene, bool has_contact) {
+  const int dim = scene.dimension();
+  const std::vector<std::string> path = path_files(scene, has_contact);
+  std::vector<std::string> files;
+  for (const Output& o : outputs) {
+    if (!(dim == 3 ? o.solid : o.plane)) continue;
+    if (o.when == When::path) {
+      if (std::find(path.begin(), path.end(), o.name) != path.end()) files.emplace_back(o.name);
+      continue;
+    }
+    if ((o.when == When::contact && !has_contact) || (o.when == When::adapt && !scene.adapt)) continue;
+    if (!o.key || scene.writes(o.key)) files.emplace_back(o.name);
+  }
+  return files;
 }
 
 bool detail::gathered_for_itself(const std::string& file) {

@@ -396,8 +396,6 @@ void solve_built(const Scene& scene, SceneEngines& e, Solved& s, ReducedProblem*
 /// estimate of scene/resources.hpp), or an InputError at `where`, before any work.
 void require_memory_of(const Scene& scene, const std::string& where);
 
-/// wanted_files of a three-dimensional scene.
-std::vector<std::string> solid_files(const Scene& scene, bool has_contact);
 
 /// InputError naming solver.linear when the scene's engine runs across processes (mumps-mpi):
 /// a loading path runs in one.

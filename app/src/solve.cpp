@@ -217,29 +217,6 @@ std::string conditioning_warning(double condition) {
   return out.str();
 }
 
-std::vector<std::string> wanted_files(const Scene& scene, bool has_contact) {
-  if (scene.dimension() == 3) return detail::solid_files(scene, has_contact);
-  static const std::vector<std::pair<std::string, std::string>> map{
-      {"result-json", "result.json"}, {"contact-csv", "contact.csv"}, {"displacement-csv", "displacement.csv"},
-      {"stress-csv", "stress.csv"},   {"history-csv", "history.csv"}, {"vtu", "solution.vtu"},
-      {"u-nu-png", "u_nu.png"},
-      {"deformed-png", "deformed.png"}, {"error-png", "error.png"}};
-  std::vector<std::string> files;
-  for (const auto& [name, file] : map) {
-    if (!has_contact && (file == "contact.csv" || file == "history.csv" || file == "u_nu.png")) continue;
-    if (scene.writes(name)) files.push_back(file);
-  }
-  files.push_back("scene.toml");
-  for (auto& name : path_files(scene, has_contact)) files.push_back(std::move(name));
-  if (scene.adapt) {  // the final mesh of an adaptive solve
-    files.push_back("mesh.poly2d");
-    if (scene.writes("mesh-png")) files.push_back("mesh.png");
-    if (scene.writes("adapt-png")) files.push_back("adapt.png");
-    if (scene.writes("vtu")) files.push_back("adapt.pvd");
-  }
-  return files;
-}
-
 bool detail::results_of_pieces(const Scene& scene) {
   if (scene.adapt) return false;
   for (const std::string& file : wanted_files(scene, true))

@@ -47,24 +47,4 @@ SceneSolve3D solve_scene_3d(const Scene& scene, SceneSolve3DOptions o) {
   return s;
 }
 
-std::vector<std::string> detail::solid_files(const Scene& scene, bool has_contact) {
-  std::vector<std::string> files;
-  if (scene.writes("result-json")) files.push_back("result.json");
-  if (has_contact && scene.writes("contact-csv")) files.push_back("contact.csv");
-  if (scene.writes("displacement-csv")) files.push_back("displacement.csv");
-  if (scene.writes("stress-csv")) files.push_back("stress.csv");
-  if (has_contact && scene.writes("history-csv")) files.push_back("history.csv");
-  if (scene.writes("vtu")) files.push_back("solution.vtu");
-  if (has_contact && scene.writes("vtu")) files.push_back("contact-surface.vtu");
-  files.push_back("scene.toml");
-  if (scene.writes("deformed-png")) files.push_back("deformed.png");
-  if (has_contact && scene.writes("pressure-png")) files.push_back("pressure.png");
-  for (auto& name : path_files(scene, has_contact)) files.push_back(std::move(name));
-  if (scene.adapt) {  // an adaptive solve: its final mesh is solution.vtu's
-    if (scene.writes("adapt-png")) files.push_back("adapt.png");
-    if (scene.writes("vtu")) files.push_back("adapt.pvd");
-  }
-  return files;
-}
-
 }  // namespace hemivem::app

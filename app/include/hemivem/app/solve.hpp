@@ -198,13 +198,12 @@ SceneSolve solve_scene(const Scene& scene,
                        std::function<bool(const IterationRecord&)> callback = {}, ReducedProblem* reduced = nullptr,
                        std::function<void(const GlobalSearchProgress&)> progress = {});
 
-/// The files `hemivem solve` writes for a scene: its [output] write as file names of
-/// write_outputs, and scene.toml always; without contact no contact.csv, history.csv or u_nu.png;
-/// a path's files (path_files). For a three-dimensional scene: result.json, contact.csv,
-/// displacement.csv, stress.csv, history.csv, solution.vtu and contact-surface.vtu (vtu), deformed.png,
-/// pressure.png and scene.toml always (without contact no contact.csv, history.csv,
-/// contact-surface.vtu or pressure.png; the pictures of plane solves, u-nu-png, error-png,
-/// mesh-png and adapt-png, are not made), and a path's files.
+/// The files `hemivem solve` writes for a scene, in the order of all_outputs of its dimension:
+/// those of its [output] write that its dimension writes, as file names of write_outputs (a
+/// solid's contact-surface.vtu with vtu; a plane's u_nu.png, error.png and mesh.png, a solid's
+/// pressure.png), and scene.toml always; without contact no contact.csv, history.csv, u_nu.png,
+/// contact-surface.vtu or pressure.png; an adaptive solve's files (a plane's mesh.poly2d always,
+/// mesh.png, adapt.png, and adapt.pvd with vtu); a path's files (path_files).
 std::vector<std::string> wanted_files(const Scene& scene, bool has_contact);
 
 /// Writes what `hemivem solve --out dir` writes for a solve of `scene`, a plane (SceneSolve)
