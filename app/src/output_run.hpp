@@ -163,10 +163,10 @@ void write_solve_files(OutputRun& run, const MeshType& mesh, const MaterialTable
 /// Whether the first process writes `file` of a solve in `dim` dimensions, of one body or
 /// several, from its piece of the mesh and what is gathered from the others' (WholeOfPieces):
 /// result.json, the CSV files, solution.vtu (and each body's file) in pieces, scene.toml,
-/// deformed.png, a plane's u_nu.png and
-/// error.png, a solid's contact-surface.vtu and pressure.png, and a path's files (path.json,
-/// path-contact.csv, path-displacement.csv, solution.pvd, path.png); not mesh.png nor
-/// adapt.png.
+/// deformed.png, a plane's u_nu.png and error.png, a solid's contact-surface.vtu and
+/// pressure.png, and a path's files (path.json, path-contact.csv, path-displacement.csv,
+/// solution.pvd, path.png); not an adaptive solve's (mesh.poly2d, mesh.png, adapt.png,
+/// adapt.pvd).
 bool made_from_pieces(const std::string& file, int dim);
 
 /// Whether a run on pieces makes `file` from what the processes gather of their pieces for it

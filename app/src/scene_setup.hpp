@@ -129,10 +129,10 @@ void estimate_solution(const SceneEngines& e, Solved& s, Estimate&& estimate) {
 /// processes' pieces of its mesh and the gathered solution (whole_of_pieces): result.json (the
 /// whole mesh's size and stress peak, the bodies' cells and loads), contact.csv,
 /// displacement.csv (a piece holds every vertex), stress.csv (each process's rows gathered on
-/// the first), history.csv, solution.vtu and each body's file (in pieces), scene.toml, the figures (a plane's boundary edges, edges and elements, a solid's
-/// boundary faces, gathered), a solid's contact-surface.vtu (its contact faces gathered) and a
-/// path's files (its steps' records; its last step's files as a static solve's); not an
-/// adaptive solve's files.
+/// the first), history.csv, solution.vtu and each body's file (in pieces), scene.toml, the
+/// figures (a plane's boundary edges, edges and elements, a solid's boundary faces, gathered),
+/// a solid's contact-surface.vtu (its contact faces gathered) and a path's files (its steps'
+/// records; its last step's files as a static solve's); not an adaptive solve's files.
 bool results_of_pieces(const Scene& scene);
 
 /// After a solve on pieces of the mesh (e.piece), once its memory is given back: the whole
@@ -395,7 +395,6 @@ void solve_built(const Scene& scene, SceneEngines& e, Solved& s, ReducedProblem*
 /// The memory a solve of the scene's generated mesh needs fits (require_memory, the
 /// estimate of scene/resources.hpp), or an InputError at `where`, before any work.
 void require_memory_of(const Scene& scene, const std::string& where);
-
 
 /// InputError naming solver.linear when the scene's engine runs across processes (mumps-mpi):
 /// a loading path runs in one.

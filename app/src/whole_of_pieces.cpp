@@ -154,7 +154,6 @@ void gather_facets(WholeOfPieces& whole, const BasicContactProblem<dim>& problem
   }
 }
 
-
 /// The bodies' whole ranges and loads (WholeOfPieces::bodies, body_loads) from each process's
 /// owned cells and share of the vertices, the same on every process (collective): a body's
 /// first cell the least of the whole numbers of its cells owned, its cells their count.
