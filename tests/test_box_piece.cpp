@@ -308,7 +308,129 @@ TEST(MeshPiece, ThePiecesKeptOfSeveralBodiesPoseTheWholeMeshsShares) {
   boxes.bodies[0].dirichlet.push_back(SceneDirichlet{BoundarySelector{{"top"}}, {}, {}, SceneScalar{-0.01}});
   boxes.bodies[0].mesh.n = 4, boxes.bodies[0].mesh.ny = 4, boxes.bodies[0].mesh.nz = 3;
   boxes.bodies[1].mesh.n = 3, boxes.bodies[1].mesh.ny = 3, boxes.bodies[1].mesh.nz = 3;
+  // the lower held at a corner too: a point, whose cells a process does not know before the
+  // mesh is made, so the bodies are made whole and cut
+  SceneDirichlet corner;
+  corner.boundary.points = {{0.0, 0.0, 0.0}};
+  corner.ux = corner.uy = corner.uz = SceneScalar{0.0};
+  boxes.bodies[1].dirichlet.push_back(corner);
   expect_cut_pieces_pose_the_whole_share<3>(boxes);
+}
+
+/// The facets of cell c, each by its sorted vertices: its edges in the plane, its faces in a solid.
+std::set<std::vector<int>> facets_of_cell(const Mesh& mesh, int e) {
+  std::set<std::vector<int>> out;
+  const auto polygon = mesh.element(e);
+  for (std::size_t k = 0; k < polygon.size(); ++k) {
+    const int a = polygon[k], b = polygon[(k + 1) % polygon.size()];
+    out.insert({std::min(a, b), std::max(a, b)});
+  }
+  return out;
+}
+std::set<std::vector<int>> facets_of_cell(const Mesh3D& mesh, int c) {
+  std::set<std::vector<int>> out;
+  for (std::vector<int> loop : mesh.cell(c)) {
+    std::sort(loop.begin(), loop.end());
+    out.insert(loop);
+  }
+  return out;
+}
+
+/// The pieces three processes make of the bodies of `scene` (build_bodies_piece, no whole mesh
+/// made) are pieces of the whole mesh (build_problem): every vertex where the whole has it (the
+/// vertices matching adds included), the whole's cells `where.cells` in its order, among them
+/// every cell of the process's vertices (its share of the whole mesh's, in the mesh's own
+/// order), every neighbour of a cell it owns and every cell of the supports, loads and contact;
+/// each body's vertices the whole's and its cells the piece's of the whole's; and the share it
+/// poses is the whole mesh's to the bit.
+template <int dim>
+void expect_body_pieces_are_the_whole_meshs(const Scene& scene) {
+  ASSERT_TRUE(makes_body_pieces(scene));
+  EXPECT_FALSE(cuts_pieces(scene));
+  EXPECT_FALSE(scene_piece(scene, 0, 3));
+  const auto whole = build_problem<dim>(scene);
+  const int n = whole->mesh.num_vertices();
+  std::set<std::vector<int>> named;  // the facets of the supports, loads and contact, both sides of it
+  for (const auto& d : whole->problem.elasticity.dirichlet) named.merge(sorted_facets(whole->mesh, d.facets));
+  for (const auto& t : whole->problem.elasticity.tractions) named.merge(sorted_facets(whole->mesh, t.facets));
+  for (const auto& p : whole->problem.parts) {
+    named.merge(sorted_facets(whole->mesh, p.facets));
+    named.merge(sorted_facets(whole->mesh, p.against));
+  }
+  std::map<std::vector<int>, std::vector<int>> cells_of_facet;
+  for (int c = 0; c < num_cells_of(whole->mesh); ++c)
+    for (const auto& f : facets_of_cell(whole->mesh, c)) cells_of_facet[f].push_back(c);
+  int owners = 0;
+  for (int rank = 0; rank < 3; ++rank) {
+    SCOPED_TRACE("rank " + std::to_string(rank));
+    PieceOfMesh where;
+    const auto piece = build_bodies_piece<dim>(scene, rank, 3, where);
+    const auto [first, end] = vertex_share(n, rank, 3);
+    EXPECT_EQ(where.vertices.first, first);
+    EXPECT_EQ(where.vertices.end, end);
+    EXPECT_TRUE(where.vertices.order.empty());
+    EXPECT_EQ(where.whole_cells, num_cells_of(whole->mesh));
+    expect_piece_of(piece->mesh, where.cells, whole->mesh, first, end, named, true);
+    const std::set<int> held(where.cells.begin(), where.cells.end());
+    bool owns = false;
+    for (int c = 0; c < num_cells_of(whole->mesh); ++c) {
+      const auto loops = loops_of(whole->mesh, c);
+      int smallest = n;
+      for (const auto& loop : loops) smallest = std::min(smallest, *std::min_element(loop.begin(), loop.end()));
+      if (smallest < first || smallest >= end) continue;
+      owns = true;
+      for (const auto& f : facets_of_cell(whole->mesh, c))
+        for (int other : cells_of_facet[f]) EXPECT_TRUE(held.count(other)) << "cell " << other << " next to owned cell " << c;
+    }
+    owners += owns ? 1 : 0;
+    ASSERT_EQ(piece->bodies.size(), whole->bodies.size());
+    for (std::size_t b = 0; b < whole->bodies.size(); ++b) {
+      const BodyRange& mine = piece->bodies[b];
+      const BodyRange& all = whole->bodies[b];
+      EXPECT_EQ(mine.name, all.name);
+      EXPECT_EQ(mine.first_vertex, all.first_vertex);
+      EXPECT_EQ(mine.vertices, all.vertices);
+      const auto from = std::lower_bound(where.cells.begin(), where.cells.end(), all.first_cell);
+      const auto to = std::lower_bound(where.cells.begin(), where.cells.end(), all.first_cell + all.cells);
+      EXPECT_EQ(mine.first_cell, from - where.cells.begin());
+      EXPECT_EQ(mine.cells, to - from);
+      EXPECT_GT(mine.cells, 0);
+    }
+    std::set<std::vector<int>> facets;
+    for (const auto& d : piece->problem.elasticity.dirichlet) facets.merge(sorted_facets(piece->mesh, d.facets));
+    for (const auto& t : piece->problem.elasticity.tractions) facets.merge(sorted_facets(piece->mesh, t.facets));
+    for (const auto& p : piece->problem.parts) {
+      facets.merge(sorted_facets(piece->mesh, p.facets));
+      facets.merge(sorted_facets(piece->mesh, p.against));
+    }
+    EXPECT_EQ(facets, named);
+    expect_same_share(pose_share(piece->problem, first, end), pose_share(whole->problem, first, end));
+  }
+  EXPECT_EQ(owners, 3) << "a process owns no cell";
+}
+
+// two boxes whose meshes do not match along their contact: each process makes its piece of each
+// body and matches the pieces, which add the vertices matching the whole meshes adds
+TEST(BodyPieces, ThePiecesEachProcessMakesOfSeveralBodiesAreTheWholeMeshs) {
+  Scene boxes = parse_scene(test::scenes_dir() / "two-boxes-3d.toml");  // tetrahedra on cubes
+  ASSERT_EQ(boxes.bodies.size(), 2u);
+  boxes.bodies[0].tractions.clear();  // the upper pressed down by its top's displacement
+  boxes.bodies[0].dirichlet.push_back(SceneDirichlet{BoundarySelector{{"top"}}, {}, {}, SceneScalar{-0.01}});
+  boxes.bodies[0].mesh.n = 4, boxes.bodies[0].mesh.ny = 4, boxes.bodies[0].mesh.nz = 6;
+  boxes.bodies[1].mesh.n = 3, boxes.bodies[1].mesh.ny = 3, boxes.bodies[1].mesh.nz = 6;
+  {
+    SCOPED_TRACE("two-boxes-3d");
+    expect_body_pieces_are_the_whole_meshs<3>(boxes);
+  }
+  Scene blocks = parse_scene(test::scenes_dir() / "two-blocks.toml");  // triangles on squares
+  ASSERT_EQ(blocks.bodies.size(), 2u);
+  blocks.bodies[0].mesh.generator = "triangles";
+  blocks.bodies[0].mesh.n = 5, blocks.bodies[0].mesh.ny = 4;
+  blocks.bodies[1].mesh.ny = 4;
+  {
+    SCOPED_TRACE("two-blocks, triangles");
+    expect_body_pieces_are_the_whole_meshs<2>(blocks);
+  }
 }
 
 TEST(MeshPiece, APieceIsRefusedCellsOutOfOrderAndFlagsOfAnotherMesh) {

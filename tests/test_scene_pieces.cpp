@@ -2,7 +2,8 @@
 // (scene_piece, hemivem/scene/scene_pieces.hpp): a generated box of one body whose supports,
 // loads and contact select sides, in a static solve or along a loading path; where a process's
 // piece lies in the whole mesh (scene_piece_of_mesh), against the meshes built; and which
-// scenes' meshes, made whole, each process cuts its piece from (cuts_pieces).
+// scenes' meshes, made whole, each process cuts its piece from (cuts_pieces); which scenes of
+// several bodies each process makes its piece of each body of (makes_body_pieces).
 #include <hemivem/error.hpp>
 #include <hemivem/scene/scene.hpp>
 #include <hemivem/scene/scene_pieces.hpp>
@@ -82,21 +83,47 @@ TEST(ScenePieces, AnyOtherMeshOfOneBodyIsMadeWholeAndCut) {
   EXPECT_FALSE(cuts_pieces(shipped("paper-example-4.1.toml")));  // made in pieces
 }
 
-// several bodies' meshes are made whole and cut, in a static solve and on a loading path; an
-// adaptive solve's meshes are held whole
-TEST(ScenePieces, SeveralBodiesAreCutAndAdaptiveStepsHeldWholeOnEveryProcess) {
-  EXPECT_FALSE(scene_piece(shipped("two-blocks.toml"), 0, 2));
-  EXPECT_TRUE(cuts_pieces(shipped("two-blocks.toml")));
-  EXPECT_TRUE(cuts_pieces(shipped("two-boxes-3d.toml")));
-  Scene path = shipped("two-boxes-3d.toml");  // a loading path of two bodies
+// several bodies of generated boxes selected by sides are made in pieces, in a static solve and
+// on a loading path; any other bodies are made whole and cut; an adaptive solve's meshes are
+// held whole
+TEST(ScenePieces, SeveralBodiesAreMadeInPiecesOrCutAndAdaptiveStepsHeldWholeOnEveryProcess) {
+  const Scene blocks = shipped("two-blocks.toml");  // a Voronoi body on a body of squares
+  EXPECT_FALSE(scene_piece(blocks, 0, 2));
+  EXPECT_FALSE(makes_body_pieces(blocks));
+  EXPECT_TRUE(cuts_pieces(blocks));
+  Scene triangles = blocks;
+  triangles.bodies[0].mesh.generator = "triangles";
+  EXPECT_TRUE(makes_body_pieces(triangles));
+  EXPECT_FALSE(cuts_pieces(triangles));
+  const Scene boxes = shipped("two-boxes-3d.toml");
+  EXPECT_FALSE(scene_piece(boxes, 0, 2));  // a scene of one body's piece
+  EXPECT_TRUE(makes_body_pieces(boxes));
+  EXPECT_FALSE(cuts_pieces(boxes));
+  Scene path = boxes;  // a loading path of two bodies
   path.path = shipped("cattaneo-mindlin.toml").path;
   ASSERT_TRUE(path.path);
-  EXPECT_TRUE(cuts_pieces(path));
+  EXPECT_TRUE(makes_body_pieces(path));
+  Scene grouped = boxes;  // the lower's top named as a group: no side, made whole and cut
+  ASSERT_TRUE(grouped.contact && grouped.contact->against);
+  grouped.contact->against->sides.clear();
+  grouped.contact->against->groups = {"top"};
+  EXPECT_FALSE(makes_body_pieces(grouped));
+  EXPECT_TRUE(cuts_pieces(grouped));
+  Scene adaptive_bodies = boxes;
+  adaptive_bodies.adapt = SceneAdapt{};
+  EXPECT_FALSE(makes_body_pieces(adaptive_bodies));
+  EXPECT_FALSE(cuts_pieces(adaptive_bodies));
   Scene adaptive = shipped("paper-example-4.1.toml");  // its meshes after the first are not boxes
   ASSERT_TRUE(scene_piece(adaptive, 0, 2));
+  EXPECT_FALSE(makes_body_pieces(adaptive));  // one body
   adaptive.adapt = SceneAdapt{};
   EXPECT_FALSE(scene_piece(adaptive, 0, 2));
   EXPECT_FALSE(cuts_pieces(adaptive));
+  EXPECT_NE(test::input_error_of([&] {
+              PieceOfMesh where;
+              (void)build_bodies_piece<3>(grouped, 0, 2, where);
+            }).find("not made in pieces"),
+            std::string::npos);
 }
 
 // segments pick a piece's facets as the whole mesh's (cut_problem_piece renumbers the whole's)

@@ -64,7 +64,8 @@ struct SceneEngines {
 /// The problem a solve of the scene builds on the scene's own mesh, into s.built: on the
 /// full-space route across processes (`e`), the process's piece of the mesh where the scene
 /// allows it: a generated box's piece made directly (scene_piece), a Gmsh file's piece read
-/// alone (reads_pieces; an error one process meets ends every process), or the piece it keeps of a
+/// alone (reads_pieces), each generated body's piece made directly and the pieces matched and
+/// joined (makes_body_pieces; an error one process meets in either ends every process), or the piece it keeps of a
 /// mesh made whole (cuts_pieces; each process doing its share of the generator's work where it
 /// splits it: build_problem); e.piece then says where the piece lies, and s.mesh_pieces and
 /// s.whole_cells what it is a piece of. The whole mesh otherwise. Given `out`, the solve
@@ -83,9 +84,12 @@ void build_scene_problem(const Scene& scene, SceneEngines& e, Solved& s, const s
       s.whole_cells = e.piece->whole_cells;
       return;
     }
-    if (reads_pieces(scene)) {  // each process reads its piece of the file
+    if (reads_pieces(scene) || makes_body_pieces(scene)) {  // each process reads its piece of the file, or makes its bodies'
       PieceOfMesh where;
-      s.built = on_every_process(*process_rows(), [&] { return read_problem_piece<dim>(scene, world.rank, world.size, where); });
+      s.built = on_every_process(*process_rows(), [&] {
+        return reads_pieces(scene) ? read_problem_piece<dim>(scene, world.rank, world.size, where)
+                                   : build_bodies_piece<dim>(scene, world.rank, world.size, where);
+      });
       s.mesh_pieces = world.size;
       e.writes_to_folder = !out.empty();
       s.whole_cells = where.whole_cells;

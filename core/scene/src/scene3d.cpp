@@ -84,13 +84,10 @@ namespace {
 Mesh3D scene_mesh_3d(const Scene& scene, const RowDistribution* processes) {
   const SceneMesh& m = scene.mesh;
   if (!m.file.empty()) return read_gmsh3d(m.file);
-  const GridSize3 cells = m.cells3();
-  const MemoryEstimate condensed = *generated_mesh_memory(scene);
-  const std::string what = m.generator + " n = " + cells.text() + ": " + count_text(condensed.vertices) + " vertices";
-  detail::require_route_memory(scene, condensed, what, scene.where("mesh.n"));
+  detail::require_generated_memory(scene);
   const auto& b = m.box;
   return detail::generated_mesh(scene, [&] {
-    return make_mesh3d(m.generator, cells, Box{b[0], b[1], b[2], b[3], b[4], b[5]}, static_cast<std::uint64_t>(m.seed),
+    return make_mesh3d(m.generator, m.cells3(), Box{b[0], b[1], b[2], b[3], b[4], b[5]}, static_cast<std::uint64_t>(m.seed),
                        processes);
   });
 }

@@ -21,8 +21,8 @@ std::size_t body_index(const Scene& scene, const std::string& name) {
 }
 
 // What differs between the dimensions: how a body's mesh is made, matched and joined.
-Mesh body_mesh(const Scene& one, const Mesh*) { return built_plane(one)->mesh; }
-Mesh3D body_mesh(const Scene& one, const Mesh3D*) { return built_solid(one)->mesh; }
+Mesh body_mesh(const Scene& one, std::size_t) { return built_plane(one)->mesh; }
+Mesh3D body_mesh3d(const Scene& one, std::size_t) { return built_solid(one)->mesh; }
 MatchedInterface match(const Mesh& a, const std::vector<int>& fa, const Mesh& b, const std::vector<int>& fb, double tol) {
   return match_interface(a, fa, b, fb, tol);
 }
@@ -31,13 +31,13 @@ MatchedInterface3D match(const Mesh3D& a, const std::vector<int>& fa, const Mesh
   return match_interface_3d(a, fa, b, fb, tol);
 }
 
-/// The meshes of the bodies, each as its scene of one body makes it, matched along every
-/// contact part against another body.
+}  // namespace
+
 template <int dim>
-std::vector<MeshOf<dim>> matched_meshes(const Scene& scene) {
+std::vector<MeshOf<dim>> matched_meshes(const Scene& scene,
+                                        const std::function<MeshOf<dim>(const Scene&, std::size_t)>& mesh_of) {
   std::vector<MeshOf<dim>> meshes;
-  for (std::size_t b = 0; b < scene.bodies.size(); ++b)
-    meshes.push_back(body_mesh(body_scene(scene, b), static_cast<const MeshOf<dim>*>(nullptr)));
+  for (std::size_t b = 0; b < scene.bodies.size(); ++b) meshes.push_back(mesh_of(body_scene(scene, b), b));
   const std::vector<SceneContact> parts = contact_parts(scene);
   for (std::size_t k = 0; k < parts.size(); ++k) {
     const SceneContact& c = parts[k];
@@ -58,6 +58,11 @@ std::vector<MeshOf<dim>> matched_meshes(const Scene& scene) {
   }
   return meshes;
 }
+
+template std::vector<Mesh> matched_meshes<2>(const Scene&, const std::function<Mesh(const Scene&, std::size_t)>&);
+template std::vector<Mesh3D> matched_meshes<3>(const Scene&, const std::function<Mesh3D(const Scene&, std::size_t)>&);
+
+namespace {
 
 /// Body b's materials, supports and loads on the joined mesh.
 template <int dim>
@@ -103,8 +108,15 @@ void require_shared(const Scene& scene) {
 
 template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> built_bodies(const Scene& scene) {
+  if constexpr (dim == 2) return built_bodies<2>(scene, body_mesh);
+  else return built_bodies<3>(scene, body_mesh3d);
+}
+
+template <int dim>
+std::unique_ptr<BasicBuiltProblem<dim>> built_bodies(const Scene& scene,
+                                                     const std::function<MeshOf<dim>(const Scene&, std::size_t)>& mesh_of) {
   require_shared(scene);
-  std::vector<MeshOf<dim>> meshes = matched_meshes<dim>(scene);
+  std::vector<MeshOf<dim>> meshes = matched_meshes<dim>(scene, mesh_of);
   std::vector<std::unique_ptr<BasicBuiltProblem<dim>>> bodies;
   std::vector<const MeshOf<dim>*> pieces;
   std::vector<std::string> names;
@@ -149,5 +161,9 @@ std::unique_ptr<BasicBuiltProblem<dim>> built_bodies(const Scene& scene) {
 
 template std::unique_ptr<BuiltProblem> built_bodies<2>(const Scene&);
 template std::unique_ptr<BuiltProblem3D> built_bodies<3>(const Scene&);
+template std::unique_ptr<BuiltProblem> built_bodies<2>(const Scene&,
+                                                       const std::function<Mesh(const Scene&, std::size_t)>&);
+template std::unique_ptr<BuiltProblem3D> built_bodies<3>(const Scene&,
+                                                         const std::function<Mesh3D(const Scene&, std::size_t)>&);
 
 }  // namespace hemivem::detail

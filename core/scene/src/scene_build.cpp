@@ -199,10 +199,7 @@ std::unique_ptr<BuiltProblem> detail::built_plane(const Scene& scene) {
   } else {
     const auto& d = scene.mesh.domain;
     const GridSize cells = scene.mesh.cells();
-    const MemoryEstimate condensed = *generated_mesh_memory(scene);
-    const std::string what =
-        scene.mesh.generator + " n = " + cells.text() + ": " + detail::count_text(condensed.vertices) + " vertices";
-    detail::require_route_memory(scene, condensed, what, scene.where("mesh.n"));
+    detail::require_generated_memory(scene);
     mesh = detail::generated_mesh(scene, [&] {
       if (scene.mesh.generator == "polar") {
         const auto [radii, angles] = polar_grid(scene.mesh.radii, scene.mesh.angles, cells.nx, cells.ny,

@@ -39,12 +39,11 @@ long long scene_vertices(const Scene& scene) {
   return static_cast<long long>(n.nx + 1) * (n.ny + 1);
 }
 
-}  // namespace
-
-std::optional<BoxPiece> scene_piece(const Scene& scene, int rank, int size) {
+/// The piece of the generated box of a scene of one body whose supports, loads and contact
+/// parts, and the selectors `more`, select sides only; none otherwise.
+std::optional<BoxPiece> box_piece_of(const Scene& scene, const std::vector<BoundarySelector>& more, int rank, int size) {
   const SceneMesh& m = scene.mesh;
-  if (!scene.bodies.empty() || !m.file.empty() || !makes_pieces(m.generator) || !m.polygon.empty() || scene.adapt)
-    return std::nullopt;
+  if (!m.file.empty() || !makes_pieces(m.generator) || !m.polygon.empty()) return std::nullopt;
   if (std::any_of(scene.material.regions.begin(), scene.material.regions.end(), [](const auto& r) { return r.box.has_value(); }))
     return std::nullopt;
   BoxPiece piece;
@@ -52,6 +51,7 @@ std::optional<BoxPiece> scene_piece(const Scene& scene, int rank, int size) {
   for (const SceneDirichlet& d : scene.dirichlet) sides_only = add_sides(d.boundary, piece.sides) && sides_only;
   for (const SceneTraction& t : scene.tractions) sides_only = add_sides(t.boundary, piece.sides) && sides_only;
   for (const SceneContact& c : contact_parts(scene)) sides_only = add_sides(c.boundary, piece.sides) && sides_only;
+  for (const BoundarySelector& b : more) sides_only = add_sides(b, piece.sides) && sides_only;
   if (!sides_only) return std::nullopt;
   std::sort(piece.sides.begin(), piece.sides.end());
   piece.sides.erase(std::unique(piece.sides.begin(), piece.sides.end()), piece.sides.end());
@@ -59,6 +59,35 @@ std::optional<BoxPiece> scene_piece(const Scene& scene, int rank, int size) {
   if (vertices > std::numeric_limits<int>::max()) return std::nullopt;
   std::tie(piece.first_vertex, piece.end_vertex) = vertex_share(static_cast<int>(vertices), rank, size);
   return piece;
+}
+
+/// Body b's piece: its scene of one body's, with the sides of the contact parts against it.
+std::optional<BoxPiece> body_piece(const Scene& scene, std::size_t b, int rank, int size) {
+  std::vector<BoundarySelector> against;
+  for (const SceneContact& c : contact_parts(scene))
+    if (c.against && c.against_body == scene.bodies[b].name) against.push_back(*c.against);
+  return box_piece_of(body_scene(scene, b), against, rank, size);
+}
+
+/// The piece of a scene of one body's generated box.
+template <int dim>
+MeshOf<dim> box_mesh_piece(const Scene& scene, const BoxPiece& piece) {
+  return detail::generated_mesh(scene, [&] {
+    if constexpr (dim == 2) {
+      const auto& d = scene.mesh.domain;
+      return make_mesh_piece(scene.mesh.generator, scene.mesh.cells(), Rectangle{d[0], d[1], d[2], d[3]}, piece);
+    } else {
+      const auto& b = scene.mesh.box;
+      return make_mesh3d_piece(scene.mesh.generator, scene.mesh.cells3(), Box{b[0], b[1], b[2], b[3], b[4], b[5]}, piece);
+    }
+  });
+}
+
+}  // namespace
+
+std::optional<BoxPiece> scene_piece(const Scene& scene, int rank, int size) {
+  if (!scene.bodies.empty() || scene.adapt) return std::nullopt;
+  return box_piece_of(scene, {}, rank, size);
 }
 
 PieceOfMesh scene_piece_of_mesh(const Scene& scene, const BoxPiece& piece) {
@@ -79,21 +108,66 @@ PieceOfMesh scene_piece_of_mesh(const Scene& scene, const BoxPiece& piece) {
 
 template <>
 std::unique_ptr<BasicBuiltProblem<2>> build_problem_piece<2>(const Scene& scene, const BoxPiece& piece) {
-  const auto& d = scene.mesh.domain;
-  Mesh mesh = detail::generated_mesh(scene, [&] {
-    return make_mesh_piece(scene.mesh.generator, scene.mesh.cells(), Rectangle{d[0], d[1], d[2], d[3]}, piece);
-  });
-  return build_problem(scene, std::move(mesh), false);
+  return build_problem(scene, box_mesh_piece<2>(scene, piece), false);
 }
 
 template <>
 std::unique_ptr<BasicBuiltProblem<3>> build_problem_piece<3>(const Scene& scene, const BoxPiece& piece) {
-  const auto& b = scene.mesh.box;
-  Mesh3D mesh = detail::generated_mesh(scene, [&] {
-    return make_mesh3d_piece(scene.mesh.generator, scene.mesh.cells3(), Box{b[0], b[1], b[2], b[3], b[4], b[5]}, piece);
-  });
-  return build_problem(scene, std::move(mesh));
+  return build_problem(scene, box_mesh_piece<3>(scene, piece));
 }
+
+bool makes_body_pieces(const Scene& scene) {
+  if (scene.bodies.empty() || scene.adapt) return false;
+  for (std::size_t b = 0; b < scene.bodies.size(); ++b)
+    if (!body_piece(scene, b, 0, 1)) return false;
+  return true;
+}
+
+template <int dim>
+std::unique_ptr<BasicBuiltProblem<dim>> build_bodies_piece(const Scene& scene, int rank, int size, PieceOfMesh& where) {
+  detail::require_dimension<dim>(scene);
+  if (!makes_body_pieces(scene))
+    throw InputError("build_bodies_piece: the scene's bodies are not made in pieces (makes_body_pieces)", scene.where("body"));
+  const std::size_t bodies = scene.bodies.size();
+  std::vector<BoxPiece> pieces;
+  for (std::size_t b = 0; b < bodies; ++b) pieces.push_back(*body_piece(scene, b, 0, 1));
+  // each body's vertices once matched, from its cells along its sides alone: where each body's
+  // vertices lie in the joined mesh, and so the process's share of them
+  std::vector<int> first_vertex{0};
+  {
+    const std::vector<MeshOf<dim>> sides = detail::matched_meshes<dim>(scene, [&](const Scene& one, std::size_t b) {
+      detail::require_generated_memory(one);
+      BoxPiece along = pieces[b];
+      along.end_vertex = along.first_vertex;
+      return box_mesh_piece<dim>(one, along);
+    });
+    for (const MeshOf<dim>& mesh : sides) first_vertex.push_back(first_vertex.back() + mesh.num_vertices());
+  }
+  const auto [first, end] = vertex_share(first_vertex.back(), rank, size);
+  for (std::size_t b = 0; b < bodies; ++b) {  // the process's share of body b's generated vertices
+    const int made = pieces[b].end_vertex;
+    pieces[b].first_vertex = std::clamp(first - first_vertex[b], 0, made);
+    pieces[b].end_vertex = std::clamp(end - first_vertex[b], pieces[b].first_vertex, made);
+  }
+  auto out = detail::built_bodies<dim>(scene, [&](const Scene& one, std::size_t b) {
+    MeshOf<dim> mesh = box_mesh_piece<dim>(one, pieces[b]);
+    detail::check_regions_used<dim>(one, mesh, true);
+    return mesh;
+  });
+  where = PieceOfMesh{};
+  where.vertices = VertexShare{first, end, {}};
+  for (std::size_t b = 0; b < bodies; ++b) {  // each body's cells follow the bodies' before it
+    if (out->bodies[b].first_vertex != first_vertex[b] || out->bodies[b].vertices != first_vertex[b + 1] - first_vertex[b])
+      throw InternalError("build_bodies_piece: body " + std::to_string(b) + "'s piece was matched to other vertices");
+    const PieceOfMesh body = scene_piece_of_mesh(body_scene(scene, b), pieces[b]);
+    for (int c : body.cells) where.cells.push_back(where.whole_cells + c);
+    where.whole_cells += body.whole_cells;
+  }
+  return out;
+}
+
+template std::unique_ptr<BasicBuiltProblem<2>> build_bodies_piece<2>(const Scene&, int, int, PieceOfMesh&);
+template std::unique_ptr<BasicBuiltProblem<3>> build_bodies_piece<3>(const Scene&, int, int, PieceOfMesh&);
 
 bool reads_pieces(const Scene& scene) {
   const SceneMesh& m = scene.mesh;
@@ -139,7 +213,7 @@ template std::unique_ptr<BasicBuiltProblem<2>> read_problem_piece<2>(const Scene
 template std::unique_ptr<BasicBuiltProblem<3>> read_problem_piece<3>(const Scene&, int, int, PieceOfMesh&);
 
 bool cuts_pieces(const Scene& scene) {
-  return !scene.adapt && !scene_piece(scene, 0, 1);
+  return !scene.adapt && !scene_piece(scene, 0, 1) && !makes_body_pieces(scene);
 }
 
 template <int dim>

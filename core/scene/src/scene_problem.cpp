@@ -320,6 +320,13 @@ void require_route_memory(const Scene& scene, const MemoryEstimate& condensed, c
   require_memory(need, what, where, advice);
 }
 
+void require_generated_memory(const Scene& scene) {
+  const MemoryEstimate condensed = *generated_mesh_memory(scene);
+  const std::string cells = scene.dimension() == 3 ? scene.mesh.cells3().text() : scene.mesh.cells().text();
+  const std::string what = scene.mesh.generator + " n = " + cells + ": " + count_text(condensed.vertices) + " vertices";
+  require_route_memory(scene, condensed, what, scene.where("mesh.n"));
+}
+
 std::string count_text(double v) {
   if (v < 1e9) return std::to_string(static_cast<long long>(std::llround(v)));
   std::ostringstream o;

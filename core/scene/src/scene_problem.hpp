@@ -2,6 +2,8 @@
 // problem on a mesh (scene_problem.cpp) and the words of their messages.
 #pragma once
 
+#include <cstddef>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -35,6 +37,10 @@ std::string count_text(double v);
 void require_route_memory(const Scene& scene, const MemoryEstimate& condensed, const std::string& what,
                           const std::string& where);
 
+/// require_route_memory of the scene's generated mesh (generated_mesh_memory, named by its
+/// generator and cells at the scene's mesh.n), before the mesh is made.
+void require_generated_memory(const Scene& scene);
+
 /// Every [[material.region]] (those with a box too when `boxes`) names a region some element
 /// (cell) of the mesh is in; an error at the region's id otherwise.
 template <int dim>
@@ -55,12 +61,25 @@ template <int dim>
 std::vector<int> select_facets(const Scene& scene, const MeshOf<dim>& mesh, const BoundarySelector& selector,
                                const std::string& key);
 
+/// The meshes `mesh_of(body_scene(scene, b), b)` makes of the bodies b of a scene of several,
+/// matched along every contact part against another body (match_interface, match_interface_3d).
+template <int dim>
+std::vector<MeshOf<dim>> matched_meshes(const Scene& scene,
+                                        const std::function<MeshOf<dim>(const Scene& one, std::size_t b)>& mesh_of);
+
 /// The problem of a scene of several bodies ([[body]], docs/two-bodies.md): each body's mesh
 /// made as a scene of one body makes it, the meshes of the bodies that meet matched along each
 /// contact part against another body (match_interface), joined into one mesh of several pieces
 /// (join_meshes), and each body's materials, supports, loads and contact parts on it.
 template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> built_bodies(const Scene& scene);
+
+/// built_bodies on the meshes `mesh_of(b)` makes of each body b (from its scene of one body,
+/// body_scene) in place of its whole mesh: a process's piece of each (build_bodies_piece), which
+/// holds every facet of the body that a contact part against another body matches.
+template <int dim>
+std::unique_ptr<BasicBuiltProblem<dim>> built_bodies(const Scene& scene,
+                                                     const std::function<MeshOf<dim>(const Scene& one, std::size_t b)>& mesh_of);
 
 /// The problem of a plane scene on its own mesh (its generator or file; region boxes applied).
 std::unique_ptr<BuiltProblem> built_plane(const Scene& scene);

@@ -45,9 +45,30 @@ bool reads_pieces(const Scene& scene);
 template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> read_problem_piece(const Scene& scene, int rank, int size, PieceOfMesh& where);
 
+/// Whether each process makes only its piece of each body's mesh (build_bodies_piece): a scene
+/// of several bodies, without adaptive steps, each of whose meshes would be made in pieces as a
+/// scene of one body (scene_piece of body_scene), the sides of the contact parts against it
+/// counted as its own.
+bool makes_body_pieces(const Scene& scene);
+
+/// build_problem<dim>(scene) of a scene of several bodies (makes_body_pieces) on the pieces of
+/// the bodies' meshes that process `rank` of `size` makes, without making any whole: each body's
+/// piece is made as a scene of one body's (make_mesh_piece, make_mesh3d_piece), its vertices the
+/// process's share of the body's generated vertices, its sides those of its supports, loads and
+/// contact parts and of the parts against it; the pieces are matched along each contact part
+/// against another body (each holds every cell along its contact sides, so the vertices matching
+/// adds are the whole meshes' with the same numbers and coordinates) and joined. The same
+/// problem on fewer cells: its vertices and their numbers the whole mesh's, each body's cells
+/// the piece's of that body (BodyRange). `where` tells where the piece lies: the process's
+/// vertices are, along `where.vertices.order`, its share of each body's generated vertices (a
+/// slab of each) and of the vertices matching added to each. InputError for a scene not made in
+/// pieces; errors as build_problem's.
+template <int dim>
+std::unique_ptr<BasicBuiltProblem<dim>> build_bodies_piece(const Scene& scene, int rank, int size, PieceOfMesh& where);
+
 /// Whether a scene's mesh may be made whole and each process keep only its piece of it for the
 /// solve (cut_problem_piece): a scene whose mesh is made whole (no piece of a generated box:
-/// scene_piece), without adaptive steps.
+/// scene_piece, makes_body_pieces), without adaptive steps.
 bool cuts_pieces(const Scene& scene);
 
 /// The problem of `whole` (build_problem<dim>(scene) on the whole mesh) on the piece of its mesh
