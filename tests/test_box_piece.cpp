@@ -139,6 +139,52 @@ TEST(BoxPiece, ASolidPieceHoldsTheCellsOfItsVerticesAndItsSides) {
   }
 }
 
+/// The piece of the vertices `flags` flags holds, besides what expect_piece_of checks, every
+/// cell of the whole holding one of them.
+template <class M>
+void expect_flagged_piece_of(const M& piece, const std::vector<int>& cells, const M& whole, const std::vector<char>& flags,
+                             const std::set<std::vector<int>>& facets) {
+  expect_piece_of(piece, cells, whole, 0, 0, facets, true);
+  const std::set<int> held(cells.begin(), cells.end());
+  for (int c = 0; c < num_cells_of(whole); ++c)
+    for (const auto& loop : loops_of(whole, c))
+      for (int v : loop)
+        if (flags[static_cast<std::size_t>(v)]) EXPECT_TRUE(held.count(c)) << "cell " << c << " holds flagged vertex " << v;
+}
+
+// a share flagged vertex by vertex, a third of the mesh's Hilbert order: the piece holds the
+// cells of its vertices and of the boxes next to them, fewer than the whole
+TEST(BoxPiece, APieceOfFlaggedVerticesHoldsTheirCells) {
+  const Box box{0.0, 1.0, 0.0, 0.5, 0.0, 1.0};
+  const Rectangle rectangle{0.0, 2.0, 0.0, 1.0};
+  for (int rank = 0; rank < 3; ++rank) {
+    SCOPED_TRACE("third " + std::to_string(rank));
+    for (const std::string generator : {"cubes", "tetrahedra"}) {
+      SCOPED_TRACE(generator);
+      const GridSize3 n(6, 5, 7);
+      const Mesh3D whole = make_mesh3d(generator, n, box);
+      const auto [first, end] = vertex_share(whole.num_vertices(), rank, 3);
+      const std::vector<char> flags = VertexShare{first, end, hilbert_vertex_order(whole)}.mask(whole.num_vertices());
+      const BoxPiece piece{0, 0, {"bottom"}, flags};
+      expect_flagged_piece_of(make_mesh3d_piece(generator, n, box, piece), piece_cells(generator, n, piece), whole, flags,
+                              sorted_facets(whole, select_box_side(whole, box, "bottom")));
+    }
+    for (const std::string generator : {"squares", "triangles"}) {
+      SCOPED_TRACE(generator);
+      const GridSize n(9, 8);
+      const Mesh whole = make_mesh(generator, n, rectangle);
+      const auto [first, end] = vertex_share(whole.num_vertices(), rank, 3);
+      const std::vector<char> flags = VertexShare{first, end, hilbert_vertex_order(whole)}.mask(whole.num_vertices());
+      const BoxPiece piece{0, 0, {"top"}, flags};
+      expect_flagged_piece_of(make_mesh_piece(generator, n, rectangle, piece), piece_cells(generator, n, piece), whole, flags,
+                              sorted_facets(whole, select_boundary_edges(whole, {rectangle_side(whole.bounding_box(), "top")})));
+    }
+  }
+  EXPECT_NE(test::input_error_of([] { (void)make_mesh3d_piece("cubes", 1, Box{}, BoxPiece{0, 0, {}, std::vector<char>(5, 1)}); })
+                .find("flags 5 vertices: not one flag per vertex of the mesh's 8"),
+            std::string::npos);
+}
+
 // a piece of all the vertices is the whole mesh
 TEST(BoxPiece, APieceOfEveryVertexIsTheWholeMesh) {
   const Mesh3D whole = make_cubes(GridSize3(3, 2, 4));
@@ -339,10 +385,10 @@ std::set<std::vector<int>> facets_of_cell(const Mesh3D& mesh, int c) {
 /// The pieces three processes make of the bodies of `scene` (build_bodies_piece, no whole mesh
 /// made) are pieces of the whole mesh (build_problem): every vertex where the whole has it (the
 /// vertices matching adds included), the whole's cells `where.cells` in its order, among them
-/// every cell of the process's vertices (its share of the whole mesh's, in the mesh's own
-/// order), every neighbour of a cell it owns and every cell of the supports, loads and contact;
-/// each body's vertices the whole's and its cells the piece's of the whole's; and the share it
-/// poses is the whole mesh's to the bit.
+/// every cell of the process's vertices (its share of the whole mesh's hilbert_vertex_order),
+/// every neighbour of a cell it owns and every cell of the supports, loads and contact; each
+/// body's vertices the whole's and its cells the piece's of the whole's; and the share it poses
+/// is the whole mesh's to the bit.
 template <int dim>
 void expect_body_pieces_are_the_whole_meshs(const Scene& scene) {
   ASSERT_TRUE(makes_body_pieces(scene));
@@ -350,6 +396,7 @@ void expect_body_pieces_are_the_whole_meshs(const Scene& scene) {
   EXPECT_FALSE(scene_piece(scene, 0, 3));
   const auto whole = build_problem<dim>(scene);
   const int n = whole->mesh.num_vertices();
+  const std::vector<int> order = hilbert_vertex_order(whole->mesh);
   std::set<std::vector<int>> named;  // the facets of the supports, loads and contact, both sides of it
   for (const auto& d : whole->problem.elasticity.dirichlet) named.merge(sorted_facets(whole->mesh, d.facets));
   for (const auto& t : whole->problem.elasticity.tractions) named.merge(sorted_facets(whole->mesh, t.facets));
@@ -368,16 +415,23 @@ void expect_body_pieces_are_the_whole_meshs(const Scene& scene) {
     const auto [first, end] = vertex_share(n, rank, 3);
     EXPECT_EQ(where.vertices.first, first);
     EXPECT_EQ(where.vertices.end, end);
-    EXPECT_TRUE(where.vertices.order.empty());
+    EXPECT_EQ(where.vertices.order, order);
     EXPECT_EQ(where.whole_cells, num_cells_of(whole->mesh));
-    expect_piece_of(piece->mesh, where.cells, whole->mesh, first, end, named, true);
+    expect_piece_of(piece->mesh, where.cells, whole->mesh, 0, 0, named, true);  // the vertices' cells below
     const std::set<int> held(where.cells.begin(), where.cells.end());
+    const std::vector<char> mine = where.vertices.mask(n);
     bool owns = false;
     for (int c = 0; c < num_cells_of(whole->mesh); ++c) {
       const auto loops = loops_of(whole->mesh, c);
       int smallest = n;
-      for (const auto& loop : loops) smallest = std::min(smallest, *std::min_element(loop.begin(), loop.end()));
-      if (smallest < first || smallest >= end) continue;
+      bool holds = false;
+      for (const auto& loop : loops)
+        for (int v : loop) {
+          smallest = std::min(smallest, v);
+          holds = holds || mine[static_cast<std::size_t>(v)] != 0;
+        }
+      if (holds) EXPECT_TRUE(held.count(c)) << "cell " << c << " holds one of the process's vertices";
+      if (!mine[static_cast<std::size_t>(smallest)]) continue;
       owns = true;
       for (const auto& f : facets_of_cell(whole->mesh, c))
         for (int other : cells_of_facet[f]) EXPECT_TRUE(held.count(other)) << "cell " << other << " next to owned cell " << c;
@@ -404,7 +458,7 @@ void expect_body_pieces_are_the_whole_meshs(const Scene& scene) {
       facets.merge(sorted_facets(piece->mesh, p.against));
     }
     EXPECT_EQ(facets, named);
-    expect_same_share(pose_share(piece->problem, first, end), pose_share(whole->problem, first, end));
+    expect_same_share(pose_share(piece->problem, order, first, end), pose_share(whole->problem, order, first, end));
   }
   EXPECT_EQ(owners, 3) << "a process owns no cell";
 }
@@ -416,8 +470,8 @@ TEST(BodyPieces, ThePiecesEachProcessMakesOfSeveralBodiesAreTheWholeMeshs) {
   ASSERT_EQ(boxes.bodies.size(), 2u);
   boxes.bodies[0].tractions.clear();  // the upper pressed down by its top's displacement
   boxes.bodies[0].dirichlet.push_back(SceneDirichlet{BoundarySelector{{"top"}}, {}, {}, SceneScalar{-0.01}});
-  boxes.bodies[0].mesh.n = 4, boxes.bodies[0].mesh.ny = 4, boxes.bodies[0].mesh.nz = 6;
-  boxes.bodies[1].mesh.n = 3, boxes.bodies[1].mesh.ny = 3, boxes.bodies[1].mesh.nz = 6;
+  boxes.bodies[0].mesh.n = 8, boxes.bodies[0].mesh.ny = 8, boxes.bodies[0].mesh.nz = 6;
+  boxes.bodies[1].mesh.n = 7, boxes.bodies[1].mesh.ny = 7, boxes.bodies[1].mesh.nz = 6;
   {
     SCOPED_TRACE("two-boxes-3d");
     expect_body_pieces_are_the_whole_meshs<3>(boxes);

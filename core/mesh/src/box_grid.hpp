@@ -5,6 +5,7 @@
 #include <hemivem/mesh/generators3d.hpp>
 
 #include <array>
+#include <vector>
 
 namespace hemivem::detail {
 
@@ -30,11 +31,16 @@ class PieceBoxes {
   bool operator()(int i, int j, int k) const;
 
  private:
+  /// Whether the slab, the sides and the first column make box (i, j, k).
+  bool by_rules(int i, int j, int k) const;
+
+ private:
   bool all_ = true;
   int dim_ = 3;
   std::array<int, 3> counts_{1, 1, 1};
   int first_layer_ = 0, last_layer_ = -1;  // the slab's boxes along the last axis, [first, last]
   std::array<bool, 3> lower_{}, upper_{};  // the sides whose boxes are made
+  std::vector<char> near_;  // per box (x fastest): made, of a piece with flagged vertices; empty otherwise
 };
 
 }  // namespace hemivem::detail

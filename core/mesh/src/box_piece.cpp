@@ -22,6 +22,41 @@ int cells_per_box(std::string_view generator) {
                    "' makes no grid of boxes (squares, triangles, cubes and tetrahedra do)");
 }
 
+namespace {
+
+/// Adds to the boxes `kept` flags (one flag per box of a grid of counts[0] x counts[1] x
+/// counts[2], x fastest) the boxes around each edge of the grid that two kept boxes meet along
+/// alone (diagonally across it, the other two not kept), until there is none: the surface of
+/// the kept boxes is then one a solid mesh accepts (each boundary edge in two boundary faces).
+void close_along_edges(std::vector<char>& kept, const std::array<int, 3>& counts) {
+  const auto at = [&](std::array<long long, 3> box) -> char& {
+    return kept[static_cast<std::size_t>((box[2] * counts[1] + box[1]) * counts[0] + box[0])];
+  };
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (int a = 0; a < 3; ++a) {  // the edges along axis a, between the boxes across axes b and c
+      const int b = (a + 1) % 3, c = (a + 2) % 3;
+      for (long long s = 0; s < counts[static_cast<std::size_t>(a)]; ++s)
+        for (long long p = 1; p < counts[static_cast<std::size_t>(b)]; ++p)
+          for (long long q = 1; q < counts[static_cast<std::size_t>(c)]; ++q) {
+            std::array<std::array<long long, 3>, 4> around{};  // (p-1, q-1), (p, q-1), (p-1, q), (p, q)
+            for (int r = 0; r < 4; ++r) {
+              around[static_cast<std::size_t>(r)][static_cast<std::size_t>(a)] = s;
+              around[static_cast<std::size_t>(r)][static_cast<std::size_t>(b)] = p - 1 + (r & 1);
+              around[static_cast<std::size_t>(r)][static_cast<std::size_t>(c)] = q - 1 + (r >> 1);
+            }
+            const bool k0 = at(around[0]), k1 = at(around[1]), k2 = at(around[2]), k3 = at(around[3]);
+            if ((k0 && k3 && !k1 && !k2) || (k1 && k2 && !k0 && !k3)) {
+              for (const auto& box : around) at(box) = 1;
+              changed = true;
+            }
+          }
+    }
+  }
+}
+
+}  // namespace
+
 namespace detail {
 
 PieceBoxes::PieceBoxes(int dim, std::array<int, 3> counts, const BoxPiece& piece)
@@ -48,10 +83,48 @@ PieceBoxes::PieceBoxes(int dim, std::array<int, 3> counts, const BoxPiece& piece
     const auto [axis, upper] = box_side_axis(dim, side);
     (upper ? upper_ : lower_)[static_cast<std::size_t>(axis)] = true;
   }
+  if (!piece.owned.empty()) {
+    // the boxes within two boxes of a flagged vertex along every axis, with those of the rules
+    // above, then closed so that no two of them meet along an edge alone
+    if (static_cast<long long>(piece.owned.size()) != vertices)
+      throw InputError("a piece of the mesh flags " + std::to_string(piece.owned.size()) + " vertices: not one flag per " +
+                       "vertex of the mesh's " + std::to_string(vertices));
+    const auto axis_count = [&](int a) { return static_cast<long long>(counts_[static_cast<std::size_t>(a)]); };
+    near_.assign(static_cast<std::size_t>(axis_count(0) * axis_count(1) * axis_count(2)), 0);
+    for (long long v = 0; v < vertices; ++v) {
+      if (!piece.owned[static_cast<std::size_t>(v)]) continue;
+      std::array<long long, 3> at{0, 0, 0};  // the vertex's grid point
+      long long rest = v;
+      for (int a = 0; a < dim; ++a) {
+        at[static_cast<std::size_t>(a)] = rest % (axis_count(a) + 1);
+        rest /= axis_count(a) + 1;
+      }
+      std::array<long long, 3> lo{0, 0, 0}, hi{0, 0, 0};
+      for (int a = 0; a < dim; ++a) {
+        lo[static_cast<std::size_t>(a)] = std::max(0LL, at[static_cast<std::size_t>(a)] - 2);
+        hi[static_cast<std::size_t>(a)] = std::min(axis_count(a) - 1, at[static_cast<std::size_t>(a)] + 1);
+      }
+      for (long long k = lo[2]; k <= hi[2]; ++k)
+        for (long long j = lo[1]; j <= hi[1]; ++j)
+          for (long long i = lo[0]; i <= hi[0]; ++i)
+            near_[static_cast<std::size_t>((k * axis_count(1) + j) * axis_count(0) + i)] = 1;
+    }
+    for (long long k = 0; k < axis_count(2); ++k)
+      for (long long j = 0; j < axis_count(1); ++j)
+        for (long long i = 0; i < axis_count(0); ++i)
+          if (by_rules(static_cast<int>(i), static_cast<int>(j), static_cast<int>(k)))
+            near_[static_cast<std::size_t>((k * axis_count(1) + j) * axis_count(0) + i)] = 1;
+    if (dim == 3) close_along_edges(near_, counts_);
+  }
 }
 
 bool PieceBoxes::operator()(int i, int j, int k) const {
   if (all_) return true;
+  if (!near_.empty()) return near_[static_cast<std::size_t>((static_cast<long long>(k) * counts_[1] + j) * counts_[0] + i)] != 0;
+  return by_rules(i, j, k);
+}
+
+bool PieceBoxes::by_rules(int i, int j, int k) const {
   const std::array<int, 3> at{i, j, k};
   if (at[static_cast<std::size_t>(dim_ - 1)] >= first_layer_ && at[static_cast<std::size_t>(dim_ - 1)] <= last_layer_)
     return true;

@@ -3,6 +3,7 @@
 
 #include <hemivem/contact/pose_share.hpp>
 #include <hemivem/error.hpp>
+#include <hemivem/mesh/bodies.hpp>
 #include <hemivem/mesh/gmsh.hpp>
 #include <hemivem/mesh/gmsh3d.hpp>
 #include <hemivem/mesh/mesh_piece.hpp>
@@ -131,8 +132,9 @@ std::unique_ptr<BasicBuiltProblem<dim>> build_bodies_piece(const Scene& scene, i
   const std::size_t bodies = scene.bodies.size();
   std::vector<BoxPiece> pieces;
   for (std::size_t b = 0; b < bodies; ++b) pieces.push_back(*body_piece(scene, b, 0, 1));
-  // each body's vertices once matched, from its cells along its sides alone: where each body's
-  // vertices lie in the joined mesh, and so the process's share of them
+  // every vertex of the joined mesh, from the bodies' cells along their sides alone, matched
+  // and joined (a surface's worth): where each body's vertices lie, and the Hilbert order of
+  // them all that the processes share, as they share a mesh made whole
   std::vector<int> first_vertex{0};
   {
     const std::vector<MeshOf<dim>> sides = detail::matched_meshes<dim>(scene, [&](const Scene& one, std::size_t b) {
@@ -141,21 +143,28 @@ std::unique_ptr<BasicBuiltProblem<dim>> build_bodies_piece(const Scene& scene, i
       along.end_vertex = along.first_vertex;
       return box_mesh_piece<dim>(one, along);
     });
-    for (const MeshOf<dim>& mesh : sides) first_vertex.push_back(first_vertex.back() + mesh.num_vertices());
+    std::vector<const MeshOf<dim>*> meshes;
+    std::vector<std::string> names;
+    for (std::size_t b = 0; b < bodies; ++b) {
+      first_vertex.push_back(first_vertex.back() + sides[b].num_vertices());
+      meshes.push_back(&sides[b]);
+      names.push_back(scene.bodies[b].name);
+    }
+    where = PieceOfMesh{};
+    where.vertices.order = hilbert_vertex_order(join_meshes(meshes, names).mesh);
   }
-  const auto [first, end] = vertex_share(first_vertex.back(), rank, size);
-  for (std::size_t b = 0; b < bodies; ++b) {  // the process's share of body b's generated vertices
-    const int made = pieces[b].end_vertex;
-    pieces[b].first_vertex = std::clamp(first - first_vertex[b], 0, made);
-    pieces[b].end_vertex = std::clamp(end - first_vertex[b], pieces[b].first_vertex, made);
+  std::tie(where.vertices.first, where.vertices.end) = vertex_share(first_vertex.back(), rank, size);
+  const std::vector<char> mine = where.vertices.mask(first_vertex.back());
+  for (std::size_t b = 0; b < bodies; ++b) {  // the process's vertices among body b's generated ones
+    const auto from = mine.begin() + first_vertex[b];
+    pieces[b].owned.assign(from, from + pieces[b].end_vertex);
+    pieces[b].first_vertex = pieces[b].end_vertex = 0;
   }
   auto out = detail::built_bodies<dim>(scene, [&](const Scene& one, std::size_t b) {
     MeshOf<dim> mesh = box_mesh_piece<dim>(one, pieces[b]);
     detail::check_regions_used<dim>(one, mesh, true);
     return mesh;
   });
-  where = PieceOfMesh{};
-  where.vertices = VertexShare{first, end, {}};
   for (std::size_t b = 0; b < bodies; ++b) {  // each body's cells follow the bodies' before it
     if (out->bodies[b].first_vertex != first_vertex[b] || out->bodies[b].vertices != first_vertex[b + 1] - first_vertex[b])
       throw InternalError("build_bodies_piece: body " + std::to_string(b) + "'s piece was matched to other vertices");

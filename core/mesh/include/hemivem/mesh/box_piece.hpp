@@ -6,7 +6,8 @@
 // vertex, its dofs and every array indexed by them mean in a piece what they mean in the whole;
 // and of the cells, only those of the grid's boxes that
 //   - lie within two layers of boxes of the process's vertices (the boxes holding one of them and
-//     their neighbours: the rows a process assembles and the cells next to them),
+//     their neighbours: the rows a process assembles and the cells next to them; of a share
+//     flagged vertex by vertex, the boxes within two boxes of each along every axis),
 //   - touch one of the named sides of the domain (the cells along the supports, loads and
 //     contact of a scene, a surface's worth), or
 //   - lie in the grid's first column of boxes (which keeps the piece connected, a body as the
@@ -26,12 +27,20 @@ namespace hemivem {
 
 /// What a process makes of a generated mesh.
 struct BoxPiece {
-  /// The process's vertices: first_vertex, ..., end_vertex - 1 (none when equal).
+  /// The process's vertices: first_vertex, ..., end_vertex - 1 (none when equal), and those
+  /// `owned` flags.
   int first_vertex = 0;
   int end_vertex = 0;
   /// Sides of the domain along which every cell is made: left, right, bottom, top in the plane;
   /// x0, x1, y0, y1, z0, z1, bottom, top in a solid.
   std::vector<std::string> sides;
+  /// Empty, or one flag per vertex of the grid, 1 for a vertex of the process's: a share that
+  /// is no range of the grid's numbering (several bodies shared along a Hilbert curve through
+  /// them all, scene_pieces.hpp). The piece then holds the boxes within two boxes of each along
+  /// every axis, as it holds those within two layers of a range, and in a solid the boxes
+  /// around each edge of the grid that two of its boxes would meet along alone (so that its
+  /// surface is one a solid mesh accepts).
+  std::vector<char> owned;
 };
 
 /// The generators that make a piece: squares and triangles in the plane, cubes and tetrahedra in

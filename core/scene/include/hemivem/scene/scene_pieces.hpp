@@ -52,17 +52,19 @@ std::unique_ptr<BasicBuiltProblem<dim>> read_problem_piece(const Scene& scene, i
 bool makes_body_pieces(const Scene& scene);
 
 /// build_problem<dim>(scene) of a scene of several bodies (makes_body_pieces) on the pieces of
-/// the bodies' meshes that process `rank` of `size` makes, without making any whole: each body's
-/// piece is made as a scene of one body's (make_mesh_piece, make_mesh3d_piece), its vertices the
-/// process's share of the body's generated vertices, its sides those of its supports, loads and
-/// contact parts and of the parts against it; the pieces are matched along each contact part
-/// against another body (each holds every cell along its contact sides, so the vertices matching
-/// adds are the whole meshes' with the same numbers and coordinates) and joined. The same
-/// problem on fewer cells: its vertices and their numbers the whole mesh's, each body's cells
-/// the piece's of that body (BodyRange). `where` tells where the piece lies: the process's
-/// vertices are, along `where.vertices.order`, its share of each body's generated vertices (a
-/// slab of each) and of the vertices matching added to each. InputError for a scene not made in
-/// pieces; errors as build_problem's.
+/// the bodies' meshes that process `rank` of `size` makes, without making any whole. Every
+/// process first makes each body's cells along its sides alone and matches them along each
+/// contact part against another body: this gives every vertex of the joined mesh, the vertices
+/// matching adds included, and their Hilbert order (hilbert_vertex_order), along which the
+/// processes share them as they share a mesh made whole. Each body's piece is then made as a
+/// scene of one body's (make_mesh_piece, make_mesh3d_piece) around the process's vertices among
+/// the body's generated ones (BoxPiece::owned), with its sides those of its supports, loads and
+/// contact parts and of the parts against it; the pieces are matched and joined. Each piece
+/// holds every cell along its contact sides, so the vertices matching adds are the whole meshes'
+/// with the same numbers and coordinates. The same problem on fewer cells: its vertices and
+/// their numbers the whole mesh's, each body's cells the piece's of that body (BodyRange).
+/// `where` tells where the piece lies. InputError for a scene not made in pieces; errors as
+/// build_problem's.
 template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> build_bodies_piece(const Scene& scene, int rank, int size, PieceOfMesh& where);
 
