@@ -74,9 +74,9 @@ std::vector<MeshOf<dim>> matched_meshes(const Scene& scene,
 template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> built_bodies(const Scene& scene);
 
-/// built_bodies on the meshes `mesh_of(b)` makes of each body b (from its scene of one body,
-/// body_scene) in place of its whole mesh: a process's piece of each (build_bodies_piece), which
-/// holds every facet of the body that a contact part against another body matches.
+/// built_bodies on the meshes `mesh_of(body_scene(scene, b), b)` makes of each body b in place
+/// of its whole mesh: a process's piece of each (build_bodies_piece), which holds every facet of
+/// the body that a contact part against another body matches.
 template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> built_bodies(const Scene& scene,
                                                      const std::function<MeshOf<dim>(const Scene& one, std::size_t b)>& mesh_of);
