@@ -18,6 +18,7 @@
 
 #include <algorithm>
 #include <map>
+#include <numeric>
 #include <set>
 #include <string>
 #include <utility>
@@ -139,12 +140,50 @@ TEST(BoxPiece, ASolidPieceHoldsTheCellsOfItsVerticesAndItsSides) {
   }
 }
 
+/// The facets of cell c, each by its sorted vertices: its edges in the plane, its faces in a solid.
+std::set<std::vector<int>> facets_of_cell(const Mesh& mesh, int e) {
+  std::set<std::vector<int>> out;
+  const auto polygon = mesh.element(e);
+  for (std::size_t k = 0; k < polygon.size(); ++k) {
+    const int a = polygon[k], b = polygon[(k + 1) % polygon.size()];
+    out.insert({std::min(a, b), std::max(a, b)});
+  }
+  return out;
+}
+std::set<std::vector<int>> facets_of_cell(const Mesh3D& mesh, int c) {
+  std::set<std::vector<int>> out;
+  for (std::vector<int> loop : mesh.cell(c)) {
+    std::sort(loop.begin(), loop.end());
+    out.insert(loop);
+  }
+  return out;
+}
+
+/// The number of connected parts of a mesh: cells joined across their facets.
+template <class M>
+int parts_of(const M& mesh) {
+  std::vector<int> parent(static_cast<std::size_t>(num_cells_of(mesh)));
+  std::iota(parent.begin(), parent.end(), 0);
+  const auto root = [&](int c) {
+    while (parent[static_cast<std::size_t>(c)] != c) c = parent[static_cast<std::size_t>(c)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(c)])];
+    return c;
+  };
+  std::map<std::vector<int>, int> first_cell;
+  for (int c = 0; c < num_cells_of(mesh); ++c)
+    for (const auto& f : facets_of_cell(mesh, c))
+      if (const auto [at, fresh] = first_cell.emplace(f, c); !fresh) parent[static_cast<std::size_t>(root(c))] = root(at->second);
+  int parts = 0;
+  for (int c = 0; c < num_cells_of(mesh); ++c) parts += root(c) == c ? 1 : 0;
+  return parts;
+}
+
 /// The piece of the vertices `flags` flags holds, besides what expect_piece_of checks, every
-/// cell of the whole holding one of them.
+/// cell of the whole holding one of them, and is one connected body as the whole is.
 template <class M>
 void expect_flagged_piece_of(const M& piece, const std::vector<int>& cells, const M& whole, const std::vector<char>& flags,
                              const std::set<std::vector<int>>& facets) {
   expect_piece_of(piece, cells, whole, 0, 0, facets, true);
+  EXPECT_EQ(parts_of(piece), 1);
   const std::set<int> held(cells.begin(), cells.end());
   for (int c = 0; c < num_cells_of(whole); ++c)
     for (const auto& loop : loops_of(whole, c))
@@ -179,6 +218,18 @@ TEST(BoxPiece, APieceOfFlaggedVerticesHoldsTheirCells) {
       expect_flagged_piece_of(make_mesh_piece(generator, n, rectangle, piece), piece_cells(generator, n, piece), whole, flags,
                               sorted_facets(whole, select_boundary_edges(whole, {rectangle_side(whole.bounding_box(), "top")})));
     }
+  }
+  // the 64ths of a cube of 12 x 12 x 12 boxes without sides: many lie inside, apart from the
+  // first column, and are joined to it
+  const Mesh3D cube = make_cubes(GridSize3(12, 12, 12));
+  const std::vector<int> order = hilbert_vertex_order(cube);
+  for (int rank = 0; rank < 64; ++rank) {
+    SCOPED_TRACE("64th " + std::to_string(rank));
+    const auto [first, end] = vertex_share(cube.num_vertices(), rank, 64);
+    const std::vector<char> flags = VertexShare{first, end, order}.mask(cube.num_vertices());
+    const BoxPiece piece{0, 0, {}, flags};
+    expect_flagged_piece_of(make_mesh3d_piece("cubes", GridSize3(12, 12, 12), Box{}, piece),
+                            piece_cells("cubes", GridSize3(12, 12, 12), piece), cube, flags, {});
   }
   EXPECT_NE(test::input_error_of([] { (void)make_mesh3d_piece("cubes", 1, Box{}, BoxPiece{0, 0, {}, std::vector<char>(5, 1)}); })
                 .find("flags 5 vertices: not one flag per vertex of the mesh's 8"),
@@ -363,25 +414,6 @@ TEST(MeshPiece, ThePiecesKeptOfSeveralBodiesPoseTheWholeMeshsShares) {
   expect_cut_pieces_pose_the_whole_share<3>(boxes);
 }
 
-/// The facets of cell c, each by its sorted vertices: its edges in the plane, its faces in a solid.
-std::set<std::vector<int>> facets_of_cell(const Mesh& mesh, int e) {
-  std::set<std::vector<int>> out;
-  const auto polygon = mesh.element(e);
-  for (std::size_t k = 0; k < polygon.size(); ++k) {
-    const int a = polygon[k], b = polygon[(k + 1) % polygon.size()];
-    out.insert({std::min(a, b), std::max(a, b)});
-  }
-  return out;
-}
-std::set<std::vector<int>> facets_of_cell(const Mesh3D& mesh, int c) {
-  std::set<std::vector<int>> out;
-  for (std::vector<int> loop : mesh.cell(c)) {
-    std::sort(loop.begin(), loop.end());
-    out.insert(loop);
-  }
-  return out;
-}
-
 /// The pieces three processes make of the bodies of `scene` (build_bodies_piece, no whole mesh
 /// made) are pieces of the whole mesh (build_problem): every vertex where the whole has it (the
 /// vertices matching adds included), the whole's cells `where.cells` in its order, among them
@@ -390,7 +422,7 @@ std::set<std::vector<int>> facets_of_cell(const Mesh3D& mesh, int c) {
 /// body's vertices the whole's and its cells the piece's of the whole's; and the share it poses
 /// is the whole mesh's to the bit.
 template <int dim>
-void expect_body_pieces_are_the_whole_meshs(const Scene& scene) {
+void expect_body_pieces_are_the_whole_meshs(const Scene& scene, int size = 3) {
   ASSERT_TRUE(makes_body_pieces(scene));
   EXPECT_FALSE(cuts_pieces(scene));
   EXPECT_FALSE(scene_piece(scene, 0, 3));
@@ -408,11 +440,11 @@ void expect_body_pieces_are_the_whole_meshs(const Scene& scene) {
   for (int c = 0; c < num_cells_of(whole->mesh); ++c)
     for (const auto& f : facets_of_cell(whole->mesh, c)) cells_of_facet[f].push_back(c);
   int owners = 0;
-  for (int rank = 0; rank < 3; ++rank) {
+  for (int rank = 0; rank < size; ++rank) {
     SCOPED_TRACE("rank " + std::to_string(rank));
     PieceOfMesh where;
-    const auto piece = build_bodies_piece<dim>(scene, rank, 3, where);
-    const auto [first, end] = vertex_share(n, rank, 3);
+    const auto piece = build_bodies_piece<dim>(scene, rank, size, where);
+    const auto [first, end] = vertex_share(n, rank, size);
     EXPECT_EQ(where.vertices.first, first);
     EXPECT_EQ(where.vertices.end, end);
     EXPECT_EQ(where.vertices.order, order);
@@ -460,7 +492,7 @@ void expect_body_pieces_are_the_whole_meshs(const Scene& scene) {
     EXPECT_EQ(facets, named);
     expect_same_share(pose_share(piece->problem, order, first, end), pose_share(whole->problem, order, first, end));
   }
-  EXPECT_EQ(owners, 3) << "a process owns no cell";
+  EXPECT_EQ(owners, size) << "a process owns no cell";
 }
 
 // two boxes whose meshes do not match along their contact: each process makes its piece of each
@@ -475,6 +507,14 @@ TEST(BodyPieces, ThePiecesEachProcessMakesOfSeveralBodiesAreTheWholeMeshs) {
   {
     SCOPED_TRACE("two-boxes-3d");
     expect_body_pieces_are_the_whole_meshs<3>(boxes);
+  }
+  {
+    SCOPED_TRACE("two-boxes-3d on 128 processes: shares inside the bodies, away from their sides");
+    boxes = parse_scene(test::scenes_dir() / "two-boxes-3d.toml");  // the upper held by its contact alone
+    boxes.bodies[0].mesh.generator = "cubes";
+    boxes.bodies[0].mesh.n = 12, boxes.bodies[0].mesh.ny = 12, boxes.bodies[0].mesh.nz = 36;
+    boxes.bodies[1].mesh.n = 12, boxes.bodies[1].mesh.ny = 12, boxes.bodies[1].mesh.nz = 36;
+    expect_body_pieces_are_the_whole_meshs<3>(boxes, 128);
   }
   Scene blocks = parse_scene(test::scenes_dir() / "two-blocks.toml");  // triangles on squares
   ASSERT_EQ(blocks.bodies.size(), 2u);

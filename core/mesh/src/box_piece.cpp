@@ -55,6 +55,54 @@ void close_along_edges(std::vector<char>& kept, const std::array<int, 3>& counts
   }
 }
 
+/// Adds to the boxes `kept` flags (as close_along_edges) a path of boxes from each part of them
+/// that does not reach the grid's first column (the boxes at i = 0, and j = 0 in a solid) to it:
+/// along x to i = 0, then in a solid along y to j = 0. The kept boxes are then one connected body,
+/// as the whole grid is (a part apart would be a body of its own, free where the whole is held).
+void join_to_first_column(std::vector<char>& kept, const std::array<int, 3>& counts, int dim) {
+  const long long nx = counts[0], ny = counts[1], nz = counts[2];
+  const auto index = [&](long long i, long long j, long long k) { return static_cast<std::size_t>((k * ny + j) * nx + i); };
+  std::vector<char> reached(kept.size(), 0);
+  std::vector<std::size_t> queue;
+  const auto reach = [&](std::size_t b) {
+    if (kept[b] && !reached[b]) {
+      reached[b] = 1;
+      queue.push_back(b);
+    }
+  };
+  const auto spread = [&] {  // every kept box joined by faces to those reached
+    while (!queue.empty()) {
+      const std::size_t b = queue.back();
+      queue.pop_back();
+      const auto i = static_cast<long long>(b % static_cast<std::size_t>(nx));
+      const auto j = static_cast<long long>(b / static_cast<std::size_t>(nx) % static_cast<std::size_t>(ny));
+      const auto k = static_cast<long long>(b / static_cast<std::size_t>(nx * ny));
+      if (i > 0) reach(index(i - 1, j, k));
+      if (i + 1 < nx) reach(index(i + 1, j, k));
+      if (j > 0) reach(index(i, j - 1, k));
+      if (j + 1 < ny) reach(index(i, j + 1, k));
+      if (k > 0) reach(index(i, j, k - 1));
+      if (k + 1 < nz) reach(index(i, j, k + 1));
+    }
+  };
+  for (long long k = 0; k < nz; ++k)
+    for (long long j = 0; j < (dim == 2 ? ny : 1); ++j) reach(index(0, j, k));
+  spread();
+  for (std::size_t b = 0; b < kept.size(); ++b) {
+    if (!kept[b] || reached[b]) continue;
+    const auto i = static_cast<long long>(b % static_cast<std::size_t>(nx));
+    const auto j = static_cast<long long>(b / static_cast<std::size_t>(nx) % static_cast<std::size_t>(ny));
+    const auto k = static_cast<long long>(b / static_cast<std::size_t>(nx * ny));
+    for (long long x = 0; x <= i; ++x) kept[index(x, j, k)] = 1;
+    if (dim == 3)
+      for (long long y = 0; y < j; ++y) kept[index(0, y, k)] = 1;
+    for (long long x = 0; x <= i; ++x) reach(index(x, j, k));
+    if (dim == 3)
+      for (long long y = 0; y < j; ++y) reach(index(0, y, k));
+    spread();
+  }
+}
+
 }  // namespace
 
 namespace detail {
@@ -85,7 +133,7 @@ PieceBoxes::PieceBoxes(int dim, std::array<int, 3> counts, const BoxPiece& piece
   }
   if (!piece.owned.empty()) {
     // the boxes within two boxes of a flagged vertex along every axis, with those of the rules
-    // above, then closed so that no two of them meet along an edge alone
+    // above, joined into one body and closed so that no two of them meet along an edge alone
     if (static_cast<long long>(piece.owned.size()) != vertices)
       throw InputError("a piece of the mesh flags " + std::to_string(piece.owned.size()) + " vertices: not one flag per " +
                        "vertex of the mesh's " + std::to_string(vertices));
@@ -114,6 +162,7 @@ PieceBoxes::PieceBoxes(int dim, std::array<int, 3> counts, const BoxPiece& piece
         for (long long i = 0; i < axis_count(0); ++i)
           if (by_rules(static_cast<int>(i), static_cast<int>(j), static_cast<int>(k)))
             near_[static_cast<std::size_t>((k * axis_count(1) + j) * axis_count(0) + i)] = 1;
+    join_to_first_column(near_, counts_, dim);
     if (dim == 3) close_along_edges(near_, counts_);
   }
 }

@@ -37,9 +37,10 @@ struct BoxPiece {
   /// Empty, or one flag per vertex of the grid, 1 for a vertex of the process's: a share that
   /// is no range of the grid's numbering (several bodies shared along a Hilbert curve through
   /// them all, scene_pieces.hpp). The piece then holds the boxes within two boxes of each along
-  /// every axis, as it holds those within two layers of a range, and in a solid the boxes
-  /// around each edge of the grid that two of its boxes would meet along alone (so that its
-  /// surface is one a solid mesh accepts).
+  /// every axis, as it holds those within two layers of a range; a path of boxes along x (then y)
+  /// from each part of them apart to the first column, so that the piece is one body as the
+  /// whole is; and in a solid the boxes around each edge of the grid that two of its boxes would
+  /// meet along alone (so that its surface is one a solid mesh accepts).
   std::vector<char> owned;
 };
 
