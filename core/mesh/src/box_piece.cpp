@@ -24,14 +24,23 @@ int cells_per_box(std::string_view generator) {
 
 namespace {
 
+/// The number of box (i, j, k) of a grid of counts[0] x counts[1] x counts[2] boxes, x fastest.
+std::size_t box_index(const std::array<int, 3>& counts, long long i, long long j, long long k) {
+  return static_cast<std::size_t>((k * counts[1] + j) * counts[0] + i);
+}
+
+/// The box (i, j, k) numbered b (box_index).
+std::array<long long, 3> box_at(const std::array<int, 3>& counts, std::size_t b) {
+  const auto at = static_cast<long long>(b);
+  return {at % counts[0], at / counts[0] % counts[1], at / (static_cast<long long>(counts[0]) * counts[1])};
+}
+
 /// Adds to the boxes `kept` flags (one flag per box of a grid of counts[0] x counts[1] x
 /// counts[2], x fastest) the boxes around each edge of the grid that two kept boxes meet along
 /// alone (diagonally across it, the other two not kept), until there is none: the surface of
 /// the kept boxes is then one a solid mesh accepts (each boundary edge in two boundary faces).
 void close_along_edges(std::vector<char>& kept, const std::array<int, 3>& counts) {
-  const auto at = [&](std::array<long long, 3> box) -> char& {
-    return kept[static_cast<std::size_t>((box[2] * counts[1] + box[1]) * counts[0] + box[0])];
-  };
+  const auto at = [&](std::array<long long, 3> box) -> char& { return kept[box_index(counts, box[0], box[1], box[2])]; };
   for (bool changed = true; changed;) {
     changed = false;
     for (int a = 0; a < 3; ++a) {  // the edges along axis a, between the boxes across axes b and c
@@ -61,7 +70,7 @@ void close_along_edges(std::vector<char>& kept, const std::array<int, 3>& counts
 /// as the whole grid is (a part apart would be a body of its own, free where the whole is held).
 void join_to_first_column(std::vector<char>& kept, const std::array<int, 3>& counts, int dim) {
   const long long nx = counts[0], ny = counts[1], nz = counts[2];
-  const auto index = [&](long long i, long long j, long long k) { return static_cast<std::size_t>((k * ny + j) * nx + i); };
+  const auto index = [&](long long i, long long j, long long k) { return box_index(counts, i, j, k); };
   std::vector<char> reached(kept.size(), 0);
   std::vector<std::size_t> queue;
   const auto reach = [&](std::size_t b) {
@@ -72,11 +81,8 @@ void join_to_first_column(std::vector<char>& kept, const std::array<int, 3>& cou
   };
   const auto spread = [&] {  // every kept box joined by faces to those reached
     while (!queue.empty()) {
-      const std::size_t b = queue.back();
+      const auto [i, j, k] = box_at(counts, queue.back());
       queue.pop_back();
-      const auto i = static_cast<long long>(b % static_cast<std::size_t>(nx));
-      const auto j = static_cast<long long>(b / static_cast<std::size_t>(nx) % static_cast<std::size_t>(ny));
-      const auto k = static_cast<long long>(b / static_cast<std::size_t>(nx * ny));
       if (i > 0) reach(index(i - 1, j, k));
       if (i + 1 < nx) reach(index(i + 1, j, k));
       if (j > 0) reach(index(i, j - 1, k));
@@ -90,15 +96,14 @@ void join_to_first_column(std::vector<char>& kept, const std::array<int, 3>& cou
   spread();
   for (std::size_t b = 0; b < kept.size(); ++b) {
     if (!kept[b] || reached[b]) continue;
-    const auto i = static_cast<long long>(b % static_cast<std::size_t>(nx));
-    const auto j = static_cast<long long>(b / static_cast<std::size_t>(nx) % static_cast<std::size_t>(ny));
-    const auto k = static_cast<long long>(b / static_cast<std::size_t>(nx * ny));
-    for (long long x = 0; x <= i; ++x) kept[index(x, j, k)] = 1;
+    const auto [i, j, k] = box_at(counts, b);
+    const auto join = [&](std::size_t c) {  // a box of the path: kept, and reached from the first column
+      kept[c] = 1;
+      reach(c);
+    };
+    for (long long x = 0; x <= i; ++x) join(index(x, j, k));
     if (dim == 3)
-      for (long long y = 0; y < j; ++y) kept[index(0, y, k)] = 1;
-    for (long long x = 0; x <= i; ++x) reach(index(x, j, k));
-    if (dim == 3)
-      for (long long y = 0; y < j; ++y) reach(index(0, y, k));
+      for (long long y = 0; y < j; ++y) join(index(0, y, k));
     spread();
   }
 }
@@ -155,13 +160,13 @@ PieceBoxes::PieceBoxes(int dim, std::array<int, 3> counts, const BoxPiece& piece
       for (long long k = lo[2]; k <= hi[2]; ++k)
         for (long long j = lo[1]; j <= hi[1]; ++j)
           for (long long i = lo[0]; i <= hi[0]; ++i)
-            near_[static_cast<std::size_t>((k * axis_count(1) + j) * axis_count(0) + i)] = 1;
+            near_[box_index(counts_, i, j, k)] = 1;
     }
     for (long long k = 0; k < axis_count(2); ++k)
       for (long long j = 0; j < axis_count(1); ++j)
         for (long long i = 0; i < axis_count(0); ++i)
           if (by_rules(static_cast<int>(i), static_cast<int>(j), static_cast<int>(k)))
-            near_[static_cast<std::size_t>((k * axis_count(1) + j) * axis_count(0) + i)] = 1;
+            near_[box_index(counts_, i, j, k)] = 1;
     join_to_first_column(near_, counts_, dim);
     if (dim == 3) close_along_edges(near_, counts_);
   }
@@ -169,7 +174,7 @@ PieceBoxes::PieceBoxes(int dim, std::array<int, 3> counts, const BoxPiece& piece
 
 bool PieceBoxes::operator()(int i, int j, int k) const {
   if (all_) return true;
-  if (!near_.empty()) return near_[static_cast<std::size_t>((static_cast<long long>(k) * counts_[1] + j) * counts_[0] + i)] != 0;
+  if (!near_.empty()) return near_[box_index(counts_, i, j, k)] != 0;
   return by_rules(i, j, k);
 }
 
