@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <map>
 #include <numeric>
+#include <optional>
 #include <set>
 #include <string>
 #include <utility>
@@ -260,6 +261,8 @@ TEST(BoxPiece, WhatMakesNoPieceIsRefusedByName) {
             std::string::npos);
   EXPECT_NE(error([] { (void)piece_cells("voronoi", GridSize3(4), BoxPiece{0, 5, {}}); }).find("cubes and tetrahedra"),
             std::string::npos);
+  EXPECT_NE(error([] { (void)make_mesh_piece("squares", 4, Rectangle{}, BoxPiece{0, 5, {}, {}, {25}}); }).find("holds the vertex 25"),
+            std::string::npos);
   EXPECT_TRUE(makes_pieces("tetrahedra"));
   EXPECT_FALSE(makes_pieces("voronoi"));
   EXPECT_NE(error([] { (void)cells_per_box("voronoi"); }).find("'voronoi' makes no grid of boxes"), std::string::npos);
@@ -313,13 +316,101 @@ TEST(BoxPiece, WhatThePiecesSupportsLeaveFreeIsNamedAsOnTheWholeMesh) {
   }
 }
 
+/// The pieces `size` processes make of the scene's generated box (scene_piece,
+/// build_problem_piece), without the whole mesh: each a piece of the whole holding every cell of
+/// the process's vertices, of the supports, loads and contact, and around every vertex a support
+/// at a point holds; the supports' vertices and facets the whole's; the share it poses the whole
+/// mesh's to the bit.
+template <int dim>
+void expect_scene_pieces_pose_the_whole_share(const Scene& scene, int size) {
+  const auto whole = build_problem<dim>(scene);
+  std::set<std::vector<int>> named;  // the facets of the supports, loads and contact
+  std::set<int> pinned;              // the vertices supported alone
+  for (const auto& d : whole->problem.elasticity.dirichlet) {
+    named.merge(sorted_facets(whole->mesh, d.facets));
+    pinned.insert(d.vertices.begin(), d.vertices.end());
+  }
+  for (const auto& t : whole->problem.elasticity.tractions) named.merge(sorted_facets(whole->mesh, t.facets));
+  for (const auto& p : whole->problem.parts) named.merge(sorted_facets(whole->mesh, p.facets));
+  ASSERT_FALSE(pinned.empty());
+  int apart = 0;  // pieces whose own vertices' cells miss a pinned vertex's
+  for (int rank = 0; rank < size; ++rank) {
+    SCOPED_TRACE("rank " + std::to_string(rank) + " of " + std::to_string(size));
+    const std::optional<BoxPiece> piece = scene_piece(scene, rank, size);
+    ASSERT_TRUE(piece);
+    const PieceOfMesh where = scene_piece_of_mesh(scene, *piece);
+    const auto built = build_problem_piece<dim>(scene, *piece);
+    expect_piece_of(built->mesh, where.cells, whole->mesh, piece->first_vertex, piece->end_vertex, named, true);
+    const std::set<int> held(where.cells.begin(), where.cells.end());
+    for (const int v : pinned) {
+      bool slab = true;
+      for (int c = 0; c < num_cells_of(whole->mesh); ++c) {
+        if (!holds_vertex(whole->mesh, c, v, v + 1)) continue;
+        EXPECT_TRUE(held.count(c)) << "cell " << c << " around the supported vertex " << v;
+        slab = slab && holds_vertex(whole->mesh, c, piece->first_vertex, piece->end_vertex);
+      }
+      apart += slab ? 0 : 1;
+    }
+    std::set<std::vector<int>> facets;
+    std::set<int> vertices;
+    for (const auto& d : built->problem.elasticity.dirichlet) {
+      facets.merge(sorted_facets(built->mesh, d.facets));
+      vertices.insert(d.vertices.begin(), d.vertices.end());
+    }
+    for (const auto& t : built->problem.elasticity.tractions) facets.merge(sorted_facets(built->mesh, t.facets));
+    for (const auto& p : built->problem.parts) facets.merge(sorted_facets(built->mesh, p.facets));
+    EXPECT_EQ(facets, named);
+    EXPECT_EQ(vertices, pinned);
+    expect_same_share(pose_share(built->problem, piece->first_vertex, piece->end_vertex),
+                      pose_share(whole->problem, piece->first_vertex, piece->end_vertex));
+  }
+  EXPECT_GT(apart, 0) << "every piece held the supported vertices' cells among its own";
+}
+
+// supports at points, and loads on segments along a side: every piece holds the cells around
+// each supported vertex (the grid vertex nearest the point) and every cell along the side
+TEST(BoxPiece, APieceHoldsTheCellsAroundEachPointSupportAndAlongEachSegmentsSide) {
+  Scene plate = parse_scene(test::scenes_dir() / "plate-friction-benchmark.toml");  // a corner held at a point
+  plate.mesh.n = 12;
+  {
+    SCOPED_TRACE("plate-friction-benchmark");
+    expect_scene_pieces_pose_the_whole_share<2>(plate, 3);
+  }
+  ASSERT_EQ(plate.tractions.size(), 2u);  // the top's pressure on a segment of it
+  plate.tractions[0].boundary = BoundarySelector{};
+  plate.tractions[0].boundary.segments = {{0.01, 0.04, 0.04, 0.04}};
+  {
+    SCOPED_TRACE("a pressure on a segment of the top");
+    expect_scene_pieces_pose_the_whole_share<2>(plate, 3);
+  }
+  // a solid on a roller at x = 0, held at two points of its far side against the rigid motions
+  // the roller leaves free
+  Scene solid = parse_scene(test::scenes_dir() / "example-4.1-3d.toml");
+  solid.clamped = BoundarySelector{};
+  SceneDirichlet roller{BoundarySelector{{"x0"}}, {}, {}, {}};
+  roller.ux = SceneScalar{0.0};
+  SceneDirichlet corner;
+  corner.boundary.points = {{1.0, 0.0, 0.5}};
+  corner.uy = corner.uz = SceneScalar{0.0};
+  SceneDirichlet far;
+  far.boundary.points = {{1.0, 0.5, 0.5}};
+  far.uz = SceneScalar{0.0};
+  solid.dirichlet = {roller, corner, far};
+  solid.mesh.nz = 12;  // thirds of the layers whose middle one misses some
+  for (const char* generator : {"cubes", "tetrahedra"}) {
+    SCOPED_TRACE(generator);
+    solid.mesh.generator = generator;
+    for (const int size : {3, 8}) expect_scene_pieces_pose_the_whole_share<3>(solid, size);
+  }
+}
+
 /// The pieces three processes keep of the scene's mesh made whole (cut_problem_piece): each
 /// holds every vertex, fewer cells than the whole and among them every cell of its vertices
 /// (in the mesh's Hilbert order) and of its supports, loads and contact; its groups hold their
 /// facets; and the share it poses along that order is the whole mesh's to the bit.
 template <int dim>
-void expect_cut_pieces_pose_the_whole_share(const Scene& scene) {
-  ASSERT_TRUE(cuts_pieces(scene));
+void expect_cut_pieces_pose_the_whole_share(const Scene& scene, bool cut_route = true) {
+  ASSERT_EQ(cuts_pieces(scene), cut_route);
   const auto whole = build_problem<dim>(scene);
   const std::vector<int> order = hilbert_vertex_order(whole->mesh);
   const int n = whole->mesh.num_vertices();
@@ -405,20 +496,22 @@ TEST(MeshPiece, ThePiecesKeptOfSeveralBodiesPoseTheWholeMeshsShares) {
   boxes.bodies[0].dirichlet.push_back(SceneDirichlet{BoundarySelector{{"top"}}, {}, {}, SceneScalar{-0.01}});
   boxes.bodies[0].mesh.n = 4, boxes.bodies[0].mesh.ny = 4, boxes.bodies[0].mesh.nz = 3;
   boxes.bodies[1].mesh.n = 3, boxes.bodies[1].mesh.ny = 3, boxes.bodies[1].mesh.nz = 3;
-  // the lower held at a corner too: a point, whose cells a process does not know before the
-  // mesh is made, so the bodies are made whole and cut
+  // the lower held at a far corner too: a point, whose cells a piece cut from the whole holds
+  // (the route of these bodies makes them in pieces, BodyPieces below; a piece cut from the
+  // whole mesh is what bodies of other meshes take)
   SceneDirichlet corner;
-  corner.boundary.points = {{0.0, 0.0, 0.0}};
+  corner.boundary.points = {{1.0, 1.0, 0.0}};
   corner.ux = corner.uy = corner.uz = SceneScalar{0.0};
   boxes.bodies[1].dirichlet.push_back(corner);
-  expect_cut_pieces_pose_the_whole_share<3>(boxes);
+  expect_cut_pieces_pose_the_whole_share<3>(boxes, false);
 }
 
 /// The pieces three processes make of the bodies of `scene` (build_bodies_piece, no whole mesh
 /// made) are pieces of the whole mesh (build_problem): every vertex where the whole has it (the
 /// vertices matching adds included), the whole's cells `where.cells` in its order, among them
 /// every cell of the process's vertices (its share of the whole mesh's hilbert_vertex_order),
-/// every neighbour of a cell it owns and every cell of the supports, loads and contact; each
+/// every neighbour of a cell it owns, every cell of the supports, loads and contact and around
+/// each vertex a support at a point holds; each
 /// body's vertices the whole's and its cells the piece's of the whole's; and the share it poses
 /// is the whole mesh's to the bit.
 template <int dim>
@@ -469,6 +562,10 @@ void expect_body_pieces_are_the_whole_meshs(const Scene& scene, int size = 3) {
         for (int other : cells_of_facet[f]) EXPECT_TRUE(held.count(other)) << "cell " << other << " next to owned cell " << c;
     }
     owners += owns ? 1 : 0;
+    for (const auto& d : whole->problem.elasticity.dirichlet)  // the cells around each vertex supported alone
+      for (const int v : d.vertices)
+        for (int c = 0; c < num_cells_of(whole->mesh); ++c)
+          if (holds_vertex(whole->mesh, c, v, v + 1)) EXPECT_TRUE(held.count(c)) << "cell " << c << " around the supported vertex " << v;
     ASSERT_EQ(piece->bodies.size(), whole->bodies.size());
     for (std::size_t b = 0; b < whole->bodies.size(); ++b) {
       const BodyRange& mine = piece->bodies[b];
@@ -507,6 +604,15 @@ TEST(BodyPieces, ThePiecesEachProcessMakesOfSeveralBodiesAreTheWholeMeshs) {
   {
     SCOPED_TRACE("two-boxes-3d");
     expect_body_pieces_are_the_whole_meshs<3>(boxes);
+  }
+  {
+    SCOPED_TRACE("two-boxes-3d, the lower held at a point of its far edge too");
+    Scene corner_held = boxes;
+    SceneDirichlet corner;
+    corner.boundary.points = {{1.0, 1.0, 0.25}};
+    corner.ux = corner.uy = corner.uz = SceneScalar{0.0};
+    corner_held.bodies[1].dirichlet.push_back(corner);
+    expect_body_pieces_are_the_whole_meshs<3>(corner_held);
   }
   {
     SCOPED_TRACE("two-boxes-3d on 128 processes: shares inside the bodies, away from their sides");

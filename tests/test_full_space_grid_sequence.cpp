@@ -75,6 +75,18 @@ Scene scene_of(const std::string& file, const std::vector<std::string>& override
   return s;
 }
 
+// the message of the InputError grid_sequence_levels throws, which must name the key and its line
+std::string refusal(const Scene& s, bool full_space, bool path) {
+  try {
+    grid_sequence_levels(s, full_space, path);
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("solver.grid_sequence"), std::string::npos) << e.what();
+    return e.what();
+  }
+  ADD_FAILURE() << "not refused";
+  return {};
+}
+
 TEST(GridSequence, AutoHalvesTheGridWhileEveryAxisKeepsSixteenBoxesOnTheFullSpaceRoute) {
   const auto levels = [](const std::string& file, const std::string& n, bool full_space = true, bool path = false) {
     return grid_sequence_levels(scene_of(file, {"mesh.n=" + n}), full_space, path);
@@ -90,6 +102,20 @@ TEST(GridSequence, AutoHalvesTheGridWhileEveryAxisKeepsSixteenBoxesOnTheFullSpac
   EXPECT_EQ(levels("paper-example-4.1.toml", "256", false), 0) << "the condensed route";
   EXPECT_EQ(levels("paper-example-4.1.toml", "256", true, true), 0) << "a loading path";
   EXPECT_EQ(levels("paper-example-4.1-voronoi.toml", "256"), 0) << "no grid of boxes";
+  // a support at a point or a segment may fall between a coarser grid's vertices
+  Scene held = scene_of("paper-example-4.1.toml", {"mesh.n=256"});
+  SceneDirichlet point;
+  point.boundary.points = {{0.5, 1.0, 0.0}};
+  point.ux = SceneScalar{0.0};
+  held.dirichlet.push_back(point);
+  EXPECT_EQ(grid_sequence_levels(held, true, false), 0) << "a point";
+  Scene segment = scene_of("paper-example-4.1.toml", {"mesh.n=256"});
+  ASSERT_TRUE(segment.contact);
+  segment.contact->boundary = BoundarySelector{};
+  segment.contact->boundary.segments = {{0.0, 0.0, 0.3, 0.0}};
+  EXPECT_EQ(grid_sequence_levels(segment, true, false), 0) << "a segment";
+  held.solver.grid_sequence = 1;
+  EXPECT_NE(refusal(held, true, false).find("select sides"), std::string::npos);
   // a count: as many as asked, where every axis halves
   const Scene s = scene_of("example-4.1-3d.toml", {"mesh.n=[8, 8, 4]", "solver.grid_sequence=2"});
   EXPECT_EQ(grid_sequence_levels(s, true, false), 2);
@@ -100,18 +126,6 @@ TEST(GridSequence, AutoHalvesTheGridWhileEveryAxisKeepsSixteenBoxesOnTheFullSpac
   EXPECT_EQ(coarse.mesh.cells3(), GridSize3(4, 4, 2));
   EXPECT_EQ(coarse.solver.grid_sequence, 0);
   EXPECT_EQ(coarse.mesh.box, scene_of("example-4.1-3d.toml", {}).mesh.box);
-}
-
-// the message of the InputError grid_sequence_levels throws, which must name the key and its line
-std::string refusal(const Scene& s, bool full_space, bool path) {
-  try {
-    grid_sequence_levels(s, full_space, path);
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("solver.grid_sequence"), std::string::npos) << e.what();
-    return e.what();
-  }
-  ADD_FAILURE() << "not refused";
-  return {};
 }
 
 TEST(GridSequence, ACountTheRouteThePathOrTheMeshDoesNotAllowIsRefusedByKey) {

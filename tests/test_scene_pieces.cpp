@@ -10,8 +10,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "test_support.hpp"
 
@@ -126,9 +128,36 @@ TEST(ScenePieces, SeveralBodiesAreMadeInPiecesOrCutAndAdaptiveStepsHeldWholeOnEv
             std::string::npos);
 }
 
-// segments pick a piece's facets as the whole mesh's (cut_problem_piece renumbers the whole's)
-TEST(ScenePieces, APlaneSceneWithSegmentsIsCut) {
-  const Scene rollers = shipped("rollers-pressure.toml");  // a contact part on a segment of the bottom
+// a support at a point holds the grid vertex nearest it, whose cells every piece holds; a
+// segment along a side is made as the side; a segment across the body, or on a mesh that is no
+// grid of boxes, is cut from the whole mesh (cut_problem_piece renumbers the whole's facets)
+TEST(ScenePieces, PointsAndSegmentsAlongSidesAreMadeInPiecesOtherSegmentsCut) {
+  const Scene plate = shipped("plate-friction-benchmark.toml");  // squares [32, 32], held at (0.04, 0)
+  ASSERT_TRUE(plate.path);
+  expect_two_pieces<2>(plate);
+  EXPECT_FALSE(cuts_pieces(plate));
+  for (int rank : {0, 1}) EXPECT_EQ(scene_piece(plate, rank, 2)->held, std::vector<int>{32}) << "the corner (32, 0) of the grid";
+  Scene solid = shipped("example-4.1-3d.toml");  // cubes [8, 4, 8] on [0, 1] x [0, 0.5] x [0, 1]
+  SceneDirichlet point;
+  point.boundary.points = {{1.0, 0.5, 0.5}, {0.25, 0.0, 1.0}};  // the grid points (8, 4, 4) and (2, 0, 8)
+  point.uz = SceneScalar{0.0};
+  solid.dirichlet.push_back(point);
+  expect_two_pieces<3>(solid);
+  EXPECT_EQ(scene_piece(solid, 0, 2)->held, (std::vector<int>{8 + 4 * 9 + 4 * 45, 2 + 8 * 45}));
+
+  Scene along = shipped("paper-example-4.1.toml");
+  along.contact->boundary = BoundarySelector{};
+  along.contact->boundary.segments = {{0.2, 0.0, 0.7, 0.0}, {1.0, 0.3, 1.0, 0.4}};  // on the bottom and the right
+  const std::optional<BoxPiece> piece = scene_piece(along, 0, 2);
+  ASSERT_TRUE(piece);
+  for (const char* side : {"bottom", "right"})
+    EXPECT_NE(std::find(piece->sides.begin(), piece->sides.end(), side), piece->sides.end()) << side;
+  expect_two_pieces<2>(along);
+  Scene across = along;
+  across.contact->boundary.segments.push_back({0.0, 0.5, 1.0, 0.5});  // across the body
+  EXPECT_FALSE(scene_piece(across, 0, 2));
+  EXPECT_TRUE(cuts_pieces(across));
+  const Scene rollers = shipped("rollers-pressure.toml");  // a contact part on a segment of a Voronoi mesh's bottom
   EXPECT_FALSE(scene_piece(rollers, 0, 2));
   EXPECT_TRUE(cuts_pieces(rollers));
 }

@@ -802,6 +802,44 @@ TEST(CliFullSpaceMpi, ACoulombPathAcrossProcessesIsTheCondensedRoutes) {
   expect_pieces_make_the_whole(out, "solution", ref / "solution.vtu", 2, {"von_mises", "error_indicator"}, a["files"]);
 }
 
+// the plate of the friction benchmark (plate-friction-benchmark.toml): a Coulomb path whose
+// corner is held at a point, which every process's piece holds with the cells around it (a
+// piece of the generated squares, no whole mesh made); on 2 and 3 processes every step is the
+// condensed route's in one
+TEST(CliFullSpaceMpi, APlateHeldAtAPointAcrossProcessesIsTheCondensedRoutesPath) {
+  const std::string flags = scene("plate-friction-benchmark.toml") + " --n 12 --set 'output.write=[\"result-json\", \"displacement-csv\"]'";
+  const fs::path ref = solve_condensed(flags, "condensed-plate");
+  if (ref.empty()) return;
+  const nlohmann::json pb = nlohmann::json::parse(slurp(ref / "path.json"));
+  ASSERT_EQ(pb["steps"].size(), 10u);
+  for (const int processes : {2, 3}) {
+    SCOPED_TRACE(std::to_string(processes) + " processes");
+    CommandRun m;
+    const fs::path out = solve_across(processes, flags + " --linear petsc-gamg", "plate-np" + std::to_string(processes), &m);
+    ASSERT_EQ(m.code, 0) << m.out << m.err;
+    const nlohmann::json a = nlohmann::json::parse(slurp(out / "result.json"));
+    EXPECT_TRUE(a["converged"].get<bool>());
+    EXPECT_EQ(a["mesh"]["pieces"], processes);
+    const nlohmann::json pa = nlohmann::json::parse(slurp(out / "path.json"));
+    ASSERT_EQ(pa["steps"].size(), pb["steps"].size());
+    for (std::size_t k = 0; k < pb["steps"].size(); ++k) {
+      SCOPED_TRACE("step " + std::to_string(k + 1));
+      EXPECT_TRUE(pa["steps"][k]["fixed_point"]["converged"].get<bool>());
+      const double ea = pa["steps"][k]["energy"].get<double>(), eb = pb["steps"][k]["energy"].get<double>();
+      EXPECT_NEAR(ea, eb, 1e-8 * std::abs(eb));
+      EXPECT_EQ(pa["steps"][k]["friction"], pb["steps"][k]["friction"]);
+      expect_applied_load_agrees(pa["steps"][k], pb["steps"][k]);
+    }
+    // every step's displacement, and every contact node's u_nu and u_tau with the forces
+    const fs::path contact_a = out / "path-contact.csv", contact_b = ref / "path-contact.csv";
+    const double u = expect_columns_agree(out / "path-displacement.csv", ref / "path-displacement.csv", 5, 7);
+    expect_columns_agree(contact_a, contact_b, 5, 6, u);
+    const double f = expect_columns_agree(contact_a, contact_b, 6, 8);
+    EXPECT_GT(expect_columns_agree(contact_a, contact_b, 10, 11, u), 0.0);
+    EXPECT_GT(expect_columns_agree(contact_a, contact_b, 12, 13, f), 0.0);
+  }
+}
+
 // a loading path of one body whose every file the pieces make (each default output, a plane's on
 // 3 processes, a solid's on 2): rank 0 keeps its piece after the path too and writes the last
 // step's files from it and what the processes gather of theirs, as a static solve's, each

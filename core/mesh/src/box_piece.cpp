@@ -136,16 +136,15 @@ PieceBoxes::PieceBoxes(int dim, std::array<int, 3> counts, const BoxPiece& piece
     const auto [axis, upper] = box_side_axis(dim, side);
     (upper ? upper_ : lower_)[static_cast<std::size_t>(axis)] = true;
   }
-  if (!piece.owned.empty()) {
-    // the boxes within two boxes of a flagged vertex along every axis, with those of the rules
-    // above, joined into one body and closed so that no two of them meet along an edge alone
-    if (static_cast<long long>(piece.owned.size()) != vertices)
+  if (!piece.owned.empty() || !piece.held.empty()) {
+    // the boxes within two boxes of a flagged or held vertex along every axis, with those of the
+    // rules above, joined into one body and closed so that no two of them meet along an edge alone
+    if (!piece.owned.empty() && static_cast<long long>(piece.owned.size()) != vertices)
       throw InputError("a piece of the mesh flags " + std::to_string(piece.owned.size()) + " vertices: not one flag per " +
                        "vertex of the mesh's " + std::to_string(vertices));
     const auto axis_count = [&](int a) { return static_cast<long long>(counts_[static_cast<std::size_t>(a)]); };
     near_.assign(static_cast<std::size_t>(axis_count(0) * axis_count(1) * axis_count(2)), 0);
-    for (long long v = 0; v < vertices; ++v) {
-      if (!piece.owned[static_cast<std::size_t>(v)]) continue;
+    const auto keep_around = [&](long long v) {
       std::array<long long, 3> at{0, 0, 0};  // the vertex's grid point
       long long rest = v;
       for (int a = 0; a < dim; ++a) {
@@ -161,6 +160,14 @@ PieceBoxes::PieceBoxes(int dim, std::array<int, 3> counts, const BoxPiece& piece
         for (long long j = lo[1]; j <= hi[1]; ++j)
           for (long long i = lo[0]; i <= hi[0]; ++i)
             near_[box_index(counts_, i, j, k)] = 1;
+    };
+    for (std::size_t v = 0; v < piece.owned.size(); ++v)
+      if (piece.owned[v]) keep_around(static_cast<long long>(v));
+    for (const int v : piece.held) {
+      if (v < 0 || v >= vertices)
+        throw InputError("a piece of the mesh holds the vertex " + std::to_string(v) + ": not one of the mesh's " +
+                         std::to_string(vertices));
+      keep_around(v);
     }
     for (long long k = 0; k < axis_count(2); ++k)
       for (long long j = 0; j < axis_count(1); ++j)

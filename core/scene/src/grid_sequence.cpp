@@ -35,12 +35,23 @@ int halvings(const Scene& scene, int fewest) {
   }
 }
 
+// Whether every support, load and contact part selects sides alone: what a coarser grid holds
+// as the grid does (a point or a segment may fall between a coarser grid's vertices).
+bool selects_sides_alone(const Scene& scene) {
+  const auto sides = [](const BoundarySelector& b) { return b.points.empty() && b.segments.empty(); };
+  bool alone = sides(scene.clamped);
+  for (const SceneDirichlet& d : scene.dirichlet) alone = alone && sides(d.boundary);
+  for (const SceneTraction& t : scene.tractions) alone = alone && sides(t.boundary);
+  for (const SceneContact& c : contact_parts(scene)) alone = alone && sides(c.boundary);
+  return alone;
+}
+
 }  // namespace
 
 int grid_sequence_levels(const Scene& scene, bool full_space, bool path) {
   const int asked = scene.solver.grid_sequence;
   if (asked == 0) return 0;
-  const bool grid = scene_piece(scene, 0, 1).has_value();
+  const bool grid = scene_piece(scene, 0, 1).has_value() && selects_sides_alone(scene);
   if (asked == SceneSolver::grid_sequence_auto)
     return full_space && !path && grid ? halvings(scene, grid_sequence_auto_boxes) : 0;
   const auto refuse = [&](const std::string& why) {

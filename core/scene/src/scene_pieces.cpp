@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <limits>
 #include <tuple>
 #include <string>
@@ -23,10 +24,58 @@ namespace hemivem {
 
 namespace {
 
-/// Adds the sides of `b` to `sides`; false when `b` selects by anything else.
-bool add_sides(const BoundarySelector& b, std::vector<std::string>& sides) {
-  if (!b.groups.empty() || !b.segments.empty() || !b.points.empty()) return false;
-  sides.insert(sides.end(), b.sides.begin(), b.sides.end());
+/// The grid vertex of the scene's generated box nearest to `q` (the vertex a support at `q`
+/// holds, when it is within the support's tolerance), numbered as the generators number them.
+int nearest_grid_vertex(const Scene& scene, const std::array<double, 3>& q) {
+  const int dim = scene.dimension();
+  std::array<int, 3> n{1, 1, 1};
+  std::array<double, 6> box{};
+  if (dim == 3) {
+    const GridSize3 c = scene.mesh.cells3();
+    n = {c.nx, c.ny, c.nz};
+    box = scene.mesh.box;
+  } else {
+    const GridSize c = scene.mesh.cells();
+    n = {c.nx, c.ny, 1};
+    std::copy(scene.mesh.domain.begin(), scene.mesh.domain.end(), box.begin());
+  }
+  long long v = 0, stride = 1;
+  for (int a = 0; a < dim; ++a) {
+    const auto s = static_cast<std::size_t>(a);
+    const double t = (q[s] - box[2 * s]) / (box[2 * s + 1] - box[2 * s]) * n[s];
+    const long long i = std::isfinite(t) ? std::llround(std::clamp(t, 0.0, static_cast<double>(n[s]))) : 0;
+    v += i * stride;
+    stride *= n[s] + 1;
+  }
+  return static_cast<int>(v);
+}
+
+/// The side of the scene's rectangle along whose line the segment lies (both its ends within the
+/// selector's tolerance of the line); empty when none.
+std::string side_along(const Scene& scene, const std::array<double, 4>& segment, double relative_tolerance) {
+  const auto& d = scene.mesh.domain;
+  const double tolerance = relative_tolerance * std::max(d[1] - d[0], d[3] - d[2]);
+  const auto on = [&](double a, double b, double line) { return std::abs(a - line) <= tolerance && std::abs(b - line) <= tolerance; };
+  if (on(segment[0], segment[2], d[0])) return "left";
+  if (on(segment[0], segment[2], d[1])) return "right";
+  if (on(segment[1], segment[3], d[2])) return "bottom";
+  if (on(segment[1], segment[3], d[3])) return "top";
+  return {};
+}
+
+/// Adds to `piece` what the scene's selector `b` needs of its generated box: the sides it names
+/// and those its segments lie along (in the plane), whose every cell the piece holds, and the
+/// vertex each of its points holds; false when `b` selects by anything else (a group, a segment
+/// along no side), which a process cannot place before the mesh is made.
+bool add_selector(const Scene& scene, const BoundarySelector& b, BoxPiece& piece) {
+  if (!b.groups.empty()) return false;
+  for (const auto& segment : b.segments) {
+    const std::string side = scene.dimension() == 2 ? side_along(scene, segment, b.tolerance) : std::string();
+    if (side.empty()) return false;
+    piece.sides.push_back(side);
+  }
+  piece.sides.insert(piece.sides.end(), b.sides.begin(), b.sides.end());
+  for (const auto& q : b.points) piece.held.push_back(nearest_grid_vertex(scene, q));
   return true;
 }
 
@@ -41,21 +90,24 @@ long long scene_vertices(const Scene& scene) {
 }
 
 /// The piece of the generated box of a scene of one body whose supports, loads and contact
-/// parts, and the selectors `more`, select sides only; none otherwise.
+/// parts, and the selectors `more`, select sides, segments along sides and points only; none
+/// otherwise.
 std::optional<BoxPiece> box_piece_of(const Scene& scene, const std::vector<BoundarySelector>& more, int rank, int size) {
   const SceneMesh& m = scene.mesh;
   if (!m.file.empty() || !makes_pieces(m.generator) || !m.polygon.empty()) return std::nullopt;
   if (std::any_of(scene.material.regions.begin(), scene.material.regions.end(), [](const auto& r) { return r.box.has_value(); }))
     return std::nullopt;
   BoxPiece piece;
-  bool sides_only = add_sides(scene.clamped, piece.sides);
-  for (const SceneDirichlet& d : scene.dirichlet) sides_only = add_sides(d.boundary, piece.sides) && sides_only;
-  for (const SceneTraction& t : scene.tractions) sides_only = add_sides(t.boundary, piece.sides) && sides_only;
-  for (const SceneContact& c : contact_parts(scene)) sides_only = add_sides(c.boundary, piece.sides) && sides_only;
-  for (const BoundarySelector& b : more) sides_only = add_sides(b, piece.sides) && sides_only;
-  if (!sides_only) return std::nullopt;
+  bool placed = add_selector(scene, scene.clamped, piece);
+  for (const SceneDirichlet& d : scene.dirichlet) placed = add_selector(scene, d.boundary, piece) && placed;
+  for (const SceneTraction& t : scene.tractions) placed = add_selector(scene, t.boundary, piece) && placed;
+  for (const SceneContact& c : contact_parts(scene)) placed = add_selector(scene, c.boundary, piece) && placed;
+  for (const BoundarySelector& b : more) placed = add_selector(scene, b, piece) && placed;
+  if (!placed) return std::nullopt;
   std::sort(piece.sides.begin(), piece.sides.end());
   piece.sides.erase(std::unique(piece.sides.begin(), piece.sides.end()), piece.sides.end());
+  std::sort(piece.held.begin(), piece.held.end());
+  piece.held.erase(std::unique(piece.held.begin(), piece.held.end()), piece.held.end());
   const long long vertices = scene_vertices(scene);
   if (vertices > std::numeric_limits<int>::max()) return std::nullopt;
   std::tie(piece.first_vertex, piece.end_vertex) = vertex_share(static_cast<int>(vertices), rank, size);
@@ -141,6 +193,7 @@ std::unique_ptr<BasicBuiltProblem<dim>> build_bodies_piece(const Scene& scene, i
       detail::require_generated_memory(one);
       BoxPiece along = pieces[b];
       along.end_vertex = along.first_vertex;
+      along.held.clear();
       return box_mesh_piece<dim>(one, along);
     });
     std::vector<const MeshOf<dim>*> meshes;

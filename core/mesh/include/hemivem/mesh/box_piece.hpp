@@ -11,7 +11,8 @@
 //   - touch one of the named sides of the domain (the cells along the supports, loads and
 //     contact of a scene, a surface's worth), or
 //   - lie in the grid's first column of boxes (which keeps the piece connected, a body as the
-//     whole is),
+//     whole is), or
+//   - lie within two boxes of a vertex the piece is given to hold (a support at a point),
 // in the whole mesh's order of cells, each as the whole makes it. The vertices are numbered layer
 // by layer (along y in the plane, z in a solid), so that a range of vertices is a slab.
 #pragma once
@@ -42,6 +43,10 @@ struct BoxPiece {
   /// whole is; and in a solid the boxes around each edge of the grid that two of its boxes would
   /// meet along alone (so that its surface is one a solid mesh accepts).
   std::vector<char> owned;
+  /// Vertices of the grid (numbered as the whole numbers them) whose boxes the piece holds as it
+  /// holds those of a flagged vertex, joined to the rest: a support at a point holds such a
+  /// vertex, and every piece holds the cells around it (scene_pieces.hpp).
+  std::vector<int> held;
 };
 
 /// The generators that make a piece: squares and triangles in the plane, cubes and tetrahedra in
