@@ -228,7 +228,8 @@ TEST(MeshPieceRead, AFileTheWholeReaderRefusesIsRefusedByThePieces) {
 }
 
 /// The problem of the scene on each of three processes' pieces read from its file poses the
-/// share of the whole problem to the bit.
+/// share of the whole problem to the bit; each piece holds every cell around each vertex a
+/// support at a point holds.
 template <int dim>
 void expect_read_problem_pieces_pose_the_whole_share(const Scene& scene) {
   ASSERT_TRUE(reads_pieces(scene));
@@ -243,6 +244,15 @@ void expect_read_problem_pieces_pose_the_whole_share(const Scene& scene) {
     EXPECT_EQ(where.vertices.first, first);
     EXPECT_EQ(where.vertices.end, end);
     EXPECT_LT(static_cast<int>(where.cells.size()), where.whole_cells);
+    const std::set<int> held(where.cells.begin(), where.cells.end());
+    for (const auto& d : whole->problem.elasticity.dirichlet)
+      for (const int v : d.vertices)
+        for (int c = 0; c < num_cells_of(whole->mesh); ++c) {
+          const auto loops = cell_loops(whole->mesh, c);
+          bool around = false;
+          for (const auto& loop : loops) around = around || std::find(loop.begin(), loop.end(), v) != loop.end();
+          if (around) EXPECT_TRUE(held.count(c)) << "cell " << c << " around the supported vertex " << v;
+        }
     test::expect_same_share(pose_share(piece->problem, order, first, end), pose_share(whole->problem, order, first, end));
   }
 }
@@ -255,7 +265,19 @@ TEST(MeshPieceRead, TheProblemOnAPieceReadFromTheFilePosesTheWholeShare) {
   plane.contact->boundary = BoundarySelector{};
   plane.contact->boundary.groups = {"bottom"};
   expect_read_problem_pieces_pose_the_whole_share<2>(plane);
+  SceneDirichlet inside;  // a support at a vertex inside the body, away from the groups
+  inside.boundary.points = {{0.75, 0.25, 0.0}};
+  inside.ux = SceneScalar{0.0};
+  plane.dirichlet.push_back(inside);
+  expect_read_problem_pieces_pose_the_whole_share<2>(plane);
   fs::remove(squares);
+  const fs::path cubes = cubes_msh(12);
+  Scene solid = parse_scene(test::scenes_dir() / "example-4.1-3d.toml");
+  solid.mesh.file = cubes;
+  inside.boundary.points = {{0.25, 0.25, 0.75}};
+  solid.dirichlet.push_back(inside);
+  expect_read_problem_pieces_pose_the_whole_share<3>(solid);
+  fs::remove(cubes);
 }
 
 TEST(MeshPieceRead, OnlyAGmshFileWhosePartsSelectSidesOrGroupsIsReadInPieces) {
@@ -263,7 +285,12 @@ TEST(MeshPieceRead, OnlyAGmshFileWhosePartsSelectSidesOrGroupsIsReadInPieces) {
   EXPECT_TRUE(reads_pieces(scene));
   Scene by_point = scene;
   by_point.clamped.points = {{0.0, 0.0, 0.0}};
-  EXPECT_FALSE(reads_pieces(by_point));  // a point's cells are not the boundary's
+  EXPECT_TRUE(reads_pieces(by_point));  // each piece holds the cells around the point's vertex
+  Scene plane = parse_scene(test::scenes_dir() / "paper-example-4.1.toml");
+  plane.mesh.file = test::data_dir() / "gmsh" / "unit_square_quads.msh";
+  EXPECT_TRUE(reads_pieces(plane));
+  plane.contact->boundary.segments = {{0.0, 0.0, 0.5, 0.0}};
+  EXPECT_FALSE(reads_pieces(plane));  // a segment may pick a piece's cut edges
   Scene generated = parse_scene(test::scenes_dir() / "example-4.1-3d.toml");
   EXPECT_FALSE(reads_pieces(generated));
 }

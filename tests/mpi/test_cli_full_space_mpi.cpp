@@ -581,7 +581,8 @@ fs::path example_on_file(const fs::path& msh, const std::string& name) {
 }
 
 // a Gmsh file that each process reads its piece of (a plane's, whose contact is a physical
-// line; a solid's is gmsh-bracket-3d.toml above): the condensed answer, the outputs in pieces
+// line, and the same held at a point inside it; a solid's is gmsh-bracket-3d.toml above): the
+// condensed answer, the outputs in pieces
 TEST(CliFullSpaceMpi, AGmshFileEachProcessReadsItsPieceOfIsTheCondensedAnswer) {
   const fs::path msh = scratch("squares-24x12.msh");
   fs::create_directories(msh.parent_path());
@@ -590,6 +591,13 @@ TEST(CliFullSpaceMpi, AGmshFileEachProcessReadsItsPieceOfIsTheCondensedAnswer) {
   const fs::path ref = solve_condensed(flags, "condensed-squares-on-file");
   if (ref.empty()) return;
   for (const int processes : {2, 3}) expect_processes_agree(flags, ref, processes, "read-squares", false, processes);
+  // held at a vertex inside the body as well: each process's piece holds the cells around it
+  const fs::path held = example_on_file(msh, "squares-held-on-file.toml");
+  std::ofstream(held, std::ios::app) << "\n[[dirichlet]]\npoint = [0.75, 0.25]\nux = 0.0\n";
+  const std::string held_flags = held.string() + " --tol 1e-11";
+  const fs::path held_ref = solve_condensed(held_flags, "condensed-squares-held-on-file");
+  if (held_ref.empty()) return;
+  for (const int processes : {2, 3}) expect_processes_agree(held_flags, held_ref, processes, "read-squares-held", false, processes);
 }
 
 /// The scene of `flags` solved by `processes` ranks on the full-space route writing `kept`

@@ -53,10 +53,11 @@ inline std::span<const int> cell_facets(const CellTopology& cells, int c) { retu
 /// at `vertices` and its cells' regions `regions`: `order` the vertices along the Hilbert curve
 /// through their box, the process's share of it the positions first, ..., end - 1, and `cells`
 /// piece_cells_around of that share with the facets `facets` (a file's facet groups), every
-/// boundary facet and the first facet of each region's first cell. `out.mesh` is left alone.
+/// boundary facet and the first facet of each region's first cell, and the cells around the
+/// vertex nearest each point `held` (HeldPoints). `out.mesh` is left alone.
 void choose_piece(const CellTopology& cells, const std::vector<Vec2>& vertices, const std::vector<int>& regions,
-                  std::vector<int> facets, int rank, int size, MeshPieceRead<Mesh>& out);
+                  std::vector<int> facets, int rank, int size, HeldPoints held, MeshPieceRead<Mesh>& out);
 void choose_piece(const CellTopology& cells, const std::vector<Vec3>& vertices, const std::vector<int>& regions,
-                  std::vector<int> facets, int rank, int size, MeshPieceRead<Mesh3D>& out);
+                  std::vector<int> facets, int rank, int size, HeldPoints held, MeshPieceRead<Mesh3D>& out);
 
 }  // namespace hemivem::detail

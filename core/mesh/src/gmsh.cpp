@@ -84,10 +84,10 @@ class GmshReader final : detail::GmshSections {
     return build();
   }
 
-  MeshPieceRead<Mesh> read_piece(int rank, int size) {
+  MeshPieceRead<Mesh> read_piece(int rank, int size, HeldPoints held) {
     read_sections();
     check_plane();
-    return build_piece(rank, size);
+    return build_piece(rank, size, held);
   }
 
  private:
@@ -126,7 +126,7 @@ class GmshReader final : detail::GmshSections {
 
   /// The piece of the mesh process `rank` of `size` keeps (MeshPieceRead), made of the surface
   /// elements' edges without the whole mesh.
-  MeshPieceRead<Mesh> build_piece(int rank, int size) {
+  MeshPieceRead<Mesh> build_piece(int rank, int size, HeldPoints held) {
     std::vector<int> vertex_of;
     std::vector<Vec2> vertices = surface_vertices(vertex_of);
     std::vector<std::vector<int>> elements = surface_elements(vertices, vertex_of);
@@ -150,7 +150,7 @@ class GmshReader final : detail::GmshSections {
         if (f < 0) fail_not_an_edge(l);
         if (const std::vector<int>* tags = groups_of(l.entity); tags && !tags->empty()) grouped.push_back(f);
       }
-      detail::choose_piece(cells, vertices, regions, std::move(grouped), rank, size, out);
+      detail::choose_piece(cells, vertices, regions, std::move(grouped), rank, size, held, out);
     }
     std::vector<std::vector<int>> kept;
     kept.reserve(out.cells.size());
@@ -261,13 +261,13 @@ Mesh read_gmsh(std::istream& in, const std::string& name) {
   return GmshReader(text::read_all(in, name, "mesh"), name).read();
 }
 
-MeshPieceRead<Mesh> read_gmsh_piece(const fs::path& path, int rank, int size) {
+MeshPieceRead<Mesh> read_gmsh_piece(const fs::path& path, int rank, int size, HeldPoints held) {
   std::ifstream in = text::open_for_reading(path, "mesh file");
-  return read_gmsh_piece(in, path.string(), rank, size);
+  return read_gmsh_piece(in, path.string(), rank, size, held);
 }
 
-MeshPieceRead<Mesh> read_gmsh_piece(std::istream& in, const std::string& name, int rank, int size) {
-  return GmshReader(text::read_all(in, name, "mesh"), name).read_piece(rank, size);
+MeshPieceRead<Mesh> read_gmsh_piece(std::istream& in, const std::string& name, int rank, int size, HeldPoints held) {
+  return GmshReader(text::read_all(in, name, "mesh"), name).read_piece(rank, size, held);
 }
 
 }  // namespace hemivem

@@ -128,12 +128,12 @@ class Gmsh3DReader final : detail::GmshSections {
     return build();
   }
 
-  MeshPieceRead<Mesh3D> read_piece(int rank, int size) {
+  MeshPieceRead<Mesh3D> read_piece(int rank, int size, HeldPoints held) {
     read_sections();
     if (top_.empty())
       fail(elements_header_, "the file has no volume elements (4-node tetrahedra, 8-node hexahedra, 6-node prisms or "
                              "5-node pyramids): a plane mesh is read by read_gmsh");
-    return build_piece(rank, size);
+    return build_piece(rank, size, held);
   }
 
  private:
@@ -185,7 +185,7 @@ class Gmsh3DReader final : detail::GmshSections {
 
   /// The piece of the mesh process `rank` of `size` keeps (MeshPieceRead), made of the volume
   /// elements' faces without the whole mesh.
-  MeshPieceRead<Mesh3D> build_piece(int rank, int size) {
+  MeshPieceRead<Mesh3D> build_piece(int rank, int size, HeldPoints held) {
     std::vector<Vec3> vertices = volume_vertices();
     MeshPieceRead<Mesh3D> out;
     {
@@ -207,7 +207,7 @@ class Gmsh3DReader final : detail::GmshSections {
           if (f < 0) fail_not_a_face(s);
           grouped.push_back(f);
         }
-      detail::choose_piece(cells, vertices, regions, std::move(grouped), rank, size, out);
+      detail::choose_piece(cells, vertices, regions, std::move(grouped), rank, size, held, out);
     }
     try {
       out.mesh = mesh_of(vertices, out.cells);
@@ -521,13 +521,13 @@ Mesh3D read_gmsh3d(std::istream& in, const std::string& name) {
   return Gmsh3DReader(text::read_all(in, name, "mesh"), name).read();
 }
 
-MeshPieceRead<Mesh3D> read_gmsh3d_piece(const fs::path& path, int rank, int size) {
+MeshPieceRead<Mesh3D> read_gmsh3d_piece(const fs::path& path, int rank, int size, HeldPoints held) {
   std::ifstream in = text::open_for_reading(path, "mesh file");
-  return read_gmsh3d_piece(in, path.string(), rank, size);
+  return read_gmsh3d_piece(in, path.string(), rank, size, held);
 }
 
-MeshPieceRead<Mesh3D> read_gmsh3d_piece(std::istream& in, const std::string& name, int rank, int size) {
-  return Gmsh3DReader(text::read_all(in, name, "mesh"), name).read_piece(rank, size);
+MeshPieceRead<Mesh3D> read_gmsh3d_piece(std::istream& in, const std::string& name, int rank, int size, HeldPoints held) {
+  return Gmsh3DReader(text::read_all(in, name, "mesh"), name).read_piece(rank, size, held);
 }
 
 void write_gmsh3d(const Mesh3D& mesh, std::ostream& out) {

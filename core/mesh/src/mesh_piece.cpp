@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <string>
 
 namespace hemivem {
@@ -207,7 +208,7 @@ Box box_of(const std::vector<Vec3>& p) {
 
 template <class Vec, class MeshType>
 void choose(const CellTopology& cells, const std::vector<Vec>& vertices, const std::vector<int>& regions,
-            std::vector<int> facets, int rank, int size, MeshPieceRead<MeshType>& out) {
+            std::vector<int> facets, int rank, int size, HeldPoints held, MeshPieceRead<MeshType>& out) {
   if (size < 1 || rank < 0 || rank >= size)
     throw InternalError("a piece of a mesh for process " + std::to_string(rank) + " of " + std::to_string(size));
   out.order.clear();
@@ -235,6 +236,17 @@ void choose(const CellTopology& cells, const std::vector<Vec>& vertices, const s
     out.cell_vertices_squared += m * m;
     out.largest_cell = std::max(out.largest_cell, static_cast<int>(m));
   }
+  for (const auto& q : held) {  // the nearest vertex, as a support at the point picks it
+    const Vec x = Eigen::Map<const Eigen::Vector3d>(q.data()).head<Vec::RowsAtCompileTime>();
+    int nearest = -1;
+    double distance = std::numeric_limits<double>::infinity();
+    for (std::size_t v = 0; v < vertices.size(); ++v)
+      if (const double d = (vertices[v] - x).norm(); d < distance) {
+        distance = d;
+        nearest = static_cast<int>(v);
+      }
+    if (nearest >= 0) owned[static_cast<std::size_t>(nearest)] = 1;
+  }
   out.cells = cells_around(cells, owned, facets);
   out.whole_cells = cells.num_cells();
 }
@@ -244,12 +256,12 @@ void choose(const CellTopology& cells, const std::vector<Vec>& vertices, const s
 namespace detail {
 
 void choose_piece(const CellTopology& cells, const std::vector<Vec2>& vertices, const std::vector<int>& regions,
-                  std::vector<int> facets, int rank, int size, MeshPieceRead<Mesh>& out) {
-  choose(cells, vertices, regions, std::move(facets), rank, size, out);
+                  std::vector<int> facets, int rank, int size, HeldPoints held, MeshPieceRead<Mesh>& out) {
+  choose(cells, vertices, regions, std::move(facets), rank, size, held, out);
 }
 void choose_piece(const CellTopology& cells, const std::vector<Vec3>& vertices, const std::vector<int>& regions,
-                  std::vector<int> facets, int rank, int size, MeshPieceRead<Mesh3D>& out) {
-  choose(cells, vertices, regions, std::move(facets), rank, size, out);
+                  std::vector<int> facets, int rank, int size, HeldPoints held, MeshPieceRead<Mesh3D>& out) {
+  choose(cells, vertices, regions, std::move(facets), rank, size, held, out);
 }
 
 }  // namespace detail

@@ -239,7 +239,7 @@ bool reads_pieces(const Scene& scene) {
   if (ext != ".msh") return false;
   if (std::any_of(scene.material.regions.begin(), scene.material.regions.end(), [](const auto& r) { return r.box.has_value(); }))
     return false;
-  const auto sides_or_groups = [](const BoundarySelector& b) { return b.segments.empty() && b.points.empty(); };
+  const auto sides_or_groups = [](const BoundarySelector& b) { return b.segments.empty(); };
   bool ok = sides_or_groups(scene.clamped);
   for (const SceneDirichlet& d : scene.dirichlet) ok = ok && sides_or_groups(d.boundary);
   for (const SceneTraction& t : scene.tractions) ok = ok && sides_or_groups(t.boundary);
@@ -251,20 +251,23 @@ template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> read_problem_piece(const Scene& scene, int rank, int size, PieceOfMesh& where) {
   detail::require_dimension<dim>(scene);
   std::unique_ptr<BasicBuiltProblem<dim>> out;
+  // the points of the supports, whose vertices' cells every piece holds
+  std::vector<std::array<double, 3>> held = scene.clamped.points;
+  for (const SceneDirichlet& d : scene.dirichlet) held.insert(held.end(), d.boundary.points.begin(), d.boundary.points.end());
   const auto keep = [&](auto& read) {
     where.vertices = VertexShare{read.first, read.end, std::move(read.order)};
     where.cells = std::move(read.cells);
     where.whole_cells = read.whole_cells;
   };
   if constexpr (dim == 2) {
-    MeshPieceRead<Mesh> read = read_gmsh_piece(scene.mesh.file, rank, size);
+    MeshPieceRead<Mesh> read = read_gmsh_piece(scene.mesh.file, rank, size, held);
     detail::require_file_memory(
         scene, estimate_memory(read.mesh.num_vertices(), read.whole_cells, read.cell_vertices, read.cell_vertices_squared),
         read.largest_cell);
     keep(read);
     out = build_problem(scene, std::move(read.mesh), false);
   } else {
-    MeshPieceRead<Mesh3D> read = read_gmsh3d_piece(scene.mesh.file, rank, size);
+    MeshPieceRead<Mesh3D> read = read_gmsh3d_piece(scene.mesh.file, rank, size, held);
     keep(read);
     out = detail::built_solid(scene, std::move(read.mesh), false);
   }

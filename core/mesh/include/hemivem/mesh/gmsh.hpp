@@ -24,8 +24,9 @@ Mesh read_gmsh(std::istream& in, const std::string& name);
 /// (MeshPieceRead), made without making the whole mesh: the file is read whole, its elements
 /// kept as lists of vertices, and only the piece's elements become a mesh. The errors of
 /// read_gmsh that the piece's elements or the file's elements show; a defect of elements
-/// outside the piece is another process's to find.
-MeshPieceRead<Mesh> read_gmsh_piece(const std::filesystem::path& path, int rank, int size);
-MeshPieceRead<Mesh> read_gmsh_piece(std::istream& in, const std::string& name, int rank, int size);
+/// outside the piece is another process's to find. The piece holds the cells around the vertex
+/// nearest each of the points `held` (x, y, and z = 0): the vertex a support at that point holds.
+MeshPieceRead<Mesh> read_gmsh_piece(const std::filesystem::path& path, int rank, int size, HeldPoints held = {});
+MeshPieceRead<Mesh> read_gmsh_piece(std::istream& in, const std::string& name, int rank, int size, HeldPoints held = {});
 
 }  // namespace hemivem

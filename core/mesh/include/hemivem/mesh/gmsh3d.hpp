@@ -25,9 +25,11 @@ Mesh3D read_gmsh3d(std::istream& in, const std::string& name);
 /// (MeshPieceRead), made without making the whole mesh: the file is read whole, its elements
 /// kept as lists of nodes, and only the piece's cells become a mesh. The errors of read_gmsh3d
 /// that the piece's cells or the file's elements show; a defect of cells outside the piece is
-/// another process's to find.
-MeshPieceRead<Mesh3D> read_gmsh3d_piece(const std::filesystem::path& path, int rank, int size);
-MeshPieceRead<Mesh3D> read_gmsh3d_piece(std::istream& in, const std::string& name, int rank, int size);
+/// another process's to find. The piece holds the cells around the vertex nearest each of the
+/// points `held` (read_gmsh_piece).
+MeshPieceRead<Mesh3D> read_gmsh3d_piece(const std::filesystem::path& path, int rank, int size, HeldPoints held = {});
+MeshPieceRead<Mesh3D> read_gmsh3d_piece(std::istream& in, const std::string& name, int rank, int size,
+                                        HeldPoints held = {});
 
 /// Writes a Gmsh 4.1 ASCII mesh that read_gmsh3d reads back to the same mesh: tetrahedra,
 /// hexahedra, prisms and pyramids (with the vertex orders Gmsh uses); each region a volume

@@ -18,6 +18,7 @@
 // those of its facets that the piece holds.
 #pragma once
 
+#include <array>
 #include <span>
 #include <vector>
 
@@ -47,6 +48,11 @@ Mesh3D cut_mesh_piece(const Mesh3D& mesh, std::span<const int> cells, std::vecto
 /// piece_cells_around that share with the facets of the mesh's boundary, of its facet groups
 /// and the first facet of each region's first cell (so that every piece holds every region and
 /// every facet a support, load or contact part may select by side or group).
+/// Points whose nearest vertex (the least numbered of the nearest) a piece read from a file holds
+/// with the cells around it, as a support at such a point holds that vertex: x, y, z (z = 0 in
+/// the plane).
+using HeldPoints = std::span<const std::array<double, 3>>;
+
 template <class MeshType>
 struct MeshPieceRead {
   MeshType mesh;

@@ -34,14 +34,15 @@ template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> build_problem_piece(const Scene& scene, const BoxPiece& piece);
 
 /// Whether each process reads only its piece of the scene's mesh file (read_problem_piece): a
-/// Gmsh file of one body whose supports, loads and contact parts select sides or groups (no
-/// segment or point), without region boxes or adaptive steps.
+/// Gmsh file of one body whose supports, loads and contact parts select sides, groups or (the
+/// supports) points, no segment, without region boxes or adaptive steps.
 bool reads_pieces(const Scene& scene);
 
 /// build_problem<dim>(scene) on the piece of the scene's Gmsh file that process `rank` of `size`
 /// reads (read_gmsh_piece, read_gmsh3d_piece: its vertices' share along the whole mesh's
 /// hilbert_vertex_order, the cells around them and those of every boundary facet, facet group
-/// and region), without making the whole mesh: the same problem on fewer cells, its vertices
+/// and region, and around the vertex each support at a point holds), without making the whole
+/// mesh: the same problem on fewer cells, its vertices
 /// and their numbers the whole mesh's, its memory estimated of the whole mesh. `where` tells
 /// where the piece lies. Errors as build_problem's that the piece shows (a defect of cells
 /// outside it is another process's to find).
