@@ -743,6 +743,20 @@ void expect_applied_load_agrees(const nlohmann::json& a, const nlohmann::json& b
   for (int c = 0; c < 2; ++c) EXPECT_NEAR(fa[c].get<double>(), fb[c].get<double>(), 1e-12 * load);
 }
 
+/// Every step of path.json `pa` is `pb`'s: as many steps, each's fixed point converged, its energy
+/// to 1e-8, its friction counts, and its applied load summed over the processes' vertices.
+void expect_path_steps_agree(const nlohmann::json& pa, const nlohmann::json& pb) {
+  ASSERT_EQ(pa["steps"].size(), pb["steps"].size());
+  for (std::size_t k = 0; k < pb["steps"].size(); ++k) {
+    SCOPED_TRACE("step " + std::to_string(k + 1));
+    EXPECT_TRUE(pa["steps"][k]["fixed_point"]["converged"].get<bool>());
+    const double ea = pa["steps"][k]["energy"].get<double>(), eb = pb["steps"][k]["energy"].get<double>();
+    EXPECT_NEAR(ea, eb, 1e-8 * std::abs(eb));
+    EXPECT_EQ(pa["steps"][k]["friction"], pb["steps"][k]["friction"]);
+    expect_applied_load_agrees(pa["steps"][k], pb["steps"][k]);
+  }
+}
+
 // a loading path with Coulomb friction (friction-coulomb.toml, with a body force): every step on
 // 2 processes is the condensed route's in one, and rank 0 alone writes the path's files but the
 // frames, which each process writes its piece of, from its piece of the mesh, as the steps come,
@@ -773,15 +787,10 @@ TEST(CliFullSpaceMpi, ACoulombPathAcrossProcessesIsTheCondensedRoutes) {
   for (const auto& step : pa["steps"]) newton += step["iterations"].get<int>();
   ASSERT_TRUE(a["full_space"].is_object()) << a.dump();
   EXPECT_EQ(a["full_space"]["newton_iterations"].get<int>(), newton);
-  ASSERT_EQ(pa["steps"].size(), pb["steps"].size());
+  expect_path_steps_agree(pa, pb);
   for (std::size_t k = 0; k < pb["steps"].size(); ++k) {
     SCOPED_TRACE("step " + std::to_string(k + 1));
-    EXPECT_TRUE(pa["steps"][k]["fixed_point"]["converged"].get<bool>());
-    const double ea = pa["steps"][k]["energy"].get<double>(), eb = pb["steps"][k]["energy"].get<double>();
-    EXPECT_NEAR(ea, eb, 1e-8 * std::abs(eb));
-    EXPECT_EQ(pa["steps"][k]["friction"], pb["steps"][k]["friction"]);
-    // the applied load, summed over the processes' vertices, and a frame's balance of forces
-    expect_applied_load_agrees(pa["steps"][k], pb["steps"][k]);
+    // a frame's balance of forces
     EXPECT_EQ(pa["steps"][k]["frame"], pb["steps"][k]["frame"]);
     if (pb["steps"][k]["frame"].get<bool>()) {
       EXPECT_LE(pa["steps"][k]["balance"].get<double>(), 1e-8);
@@ -829,15 +838,7 @@ TEST(CliFullSpaceMpi, APlateHeldAtAPointAcrossProcessesIsTheCondensedRoutesPath)
     EXPECT_TRUE(a["converged"].get<bool>());
     EXPECT_EQ(a["mesh"]["pieces"], processes);
     const nlohmann::json pa = nlohmann::json::parse(slurp(out / "path.json"));
-    ASSERT_EQ(pa["steps"].size(), pb["steps"].size());
-    for (std::size_t k = 0; k < pb["steps"].size(); ++k) {
-      SCOPED_TRACE("step " + std::to_string(k + 1));
-      EXPECT_TRUE(pa["steps"][k]["fixed_point"]["converged"].get<bool>());
-      const double ea = pa["steps"][k]["energy"].get<double>(), eb = pb["steps"][k]["energy"].get<double>();
-      EXPECT_NEAR(ea, eb, 1e-8 * std::abs(eb));
-      EXPECT_EQ(pa["steps"][k]["friction"], pb["steps"][k]["friction"]);
-      expect_applied_load_agrees(pa["steps"][k], pb["steps"][k]);
-    }
+    expect_path_steps_agree(pa, pb);
     // every step's displacement, and every contact node's u_nu and u_tau with the forces
     const fs::path contact_a = out / "path-contact.csv", contact_b = ref / "path-contact.csv";
     const double u = expect_columns_agree(out / "path-displacement.csv", ref / "path-displacement.csv", 5, 7);
