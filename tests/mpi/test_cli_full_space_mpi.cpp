@@ -757,6 +757,18 @@ void expect_path_steps_agree(const nlohmann::json& pa, const nlohmann::json& pb)
   }
 }
 
+/// A plane Coulomb path's files in folder `out` are those in `ref`: every step's displacement (ux,
+/// uy), and every step's contact node's u_nu, law force and reaction, u_tau and friction force
+/// (these two not all zero).
+void expect_plane_path_columns_agree(const fs::path& out, const fs::path& ref) {
+  const fs::path contact_a = out / "path-contact.csv", contact_b = ref / "path-contact.csv";
+  const double u = expect_columns_agree(out / "path-displacement.csv", ref / "path-displacement.csv", 5, 7);
+  expect_columns_agree(contact_a, contact_b, 5, 6, u);
+  const double f = expect_columns_agree(contact_a, contact_b, 6, 8);
+  EXPECT_GT(expect_columns_agree(contact_a, contact_b, 10, 11, u), 0.0);
+  EXPECT_GT(expect_columns_agree(contact_a, contact_b, 12, 13, f), 0.0);
+}
+
 // a loading path with Coulomb friction (friction-coulomb.toml, with a body force): every step on
 // 2 processes is the condensed route's in one, and rank 0 alone writes the path's files but the
 // frames, which each process writes its piece of, from its piece of the mesh, as the steps come,
@@ -796,14 +808,7 @@ TEST(CliFullSpaceMpi, ACoulombPathAcrossProcessesIsTheCondensedRoutes) {
       EXPECT_LE(pa["steps"][k]["balance"].get<double>(), 1e-8);
     }
   }
-  // every step's displacement (ux, uy), and every step's contact node's u_nu, law force and
-  // reaction, u_tau and friction force
-  const fs::path contact_a = out / "path-contact.csv", contact_b = ref / "path-contact.csv";
-  const double u = expect_columns_agree(out / "path-displacement.csv", ref / "path-displacement.csv", 5, 7);
-  expect_columns_agree(contact_a, contact_b, 5, 6, u);
-  const double f = expect_columns_agree(contact_a, contact_b, 6, 8);
-  EXPECT_GT(expect_columns_agree(contact_a, contact_b, 10, 11, u), 0.0);
-  EXPECT_GT(expect_columns_agree(contact_a, contact_b, 12, 13, f), 0.0);
+  expect_plane_path_columns_agree(out, ref);
   // each frame in pieces, named by solution.pvd; the path's last step in pieces too
   const std::string pvd = slurp(out / "solution.pvd");
   int frames = 0;
@@ -839,13 +844,7 @@ TEST(CliFullSpaceMpi, APlateHeldAtAPointAcrossProcessesIsTheCondensedRoutesPath)
     EXPECT_EQ(a["mesh"]["pieces"], processes);
     const nlohmann::json pa = nlohmann::json::parse(slurp(out / "path.json"));
     expect_path_steps_agree(pa, pb);
-    // every step's displacement, and every contact node's u_nu and u_tau with the forces
-    const fs::path contact_a = out / "path-contact.csv", contact_b = ref / "path-contact.csv";
-    const double u = expect_columns_agree(out / "path-displacement.csv", ref / "path-displacement.csv", 5, 7);
-    expect_columns_agree(contact_a, contact_b, 5, 6, u);
-    const double f = expect_columns_agree(contact_a, contact_b, 6, 8);
-    EXPECT_GT(expect_columns_agree(contact_a, contact_b, 10, 11, u), 0.0);
-    EXPECT_GT(expect_columns_agree(contact_a, contact_b, 12, 13, f), 0.0);
+    expect_plane_path_columns_agree(out, ref);
   }
 }
 

@@ -12,7 +12,6 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
-#include <limits>
 #include <string>
 
 namespace hemivem {
@@ -237,14 +236,8 @@ void choose(const CellTopology& cells, const std::vector<Vec>& vertices, const s
     out.largest_cell = std::max(out.largest_cell, static_cast<int>(m));
   }
   for (const auto& q : held) {  // the nearest vertex, as a support at the point picks it
-    const Vec x = Eigen::Map<const Eigen::Vector3d>(q.data()).head<Vec::RowsAtCompileTime>();
-    int nearest = -1;
-    double distance = std::numeric_limits<double>::infinity();
-    for (std::size_t v = 0; v < vertices.size(); ++v)
-      if (const double d = (vertices[v] - x).norm(); d < distance) {
-        distance = d;
-        nearest = static_cast<int>(v);
-      }
+    constexpr int dim = Vec::RowsAtCompileTime;
+    const int nearest = nearest_point<dim>(vertices, Eigen::Map<const Eigen::Vector3d>(q.data()).head<dim>()).first;
     if (nearest >= 0) owned[static_cast<std::size_t>(nearest)] = 1;
   }
   out.cells = cells_around(cells, owned, facets);

@@ -61,13 +61,7 @@ class FacetSelection {
     std::vector<int> found;
     for (const auto& q : b.points) {
       const PointOf<dim> x = Eigen::Map<const Eigen::Vector3d>(q.data()).head<dim>();
-      int best = -1;
-      double distance = std::numeric_limits<double>::infinity();
-      for (int v = 0; v < mesh_.num_vertices(); ++v)
-        if (const double d = (mesh_.vertex(v) - x).norm(); d < distance) {
-          distance = d;
-          best = v;
-        }
+      const auto [best, distance] = nearest_point<dim>(mesh_.vertices(), x);
       if (best < 0 || !(distance <= b.tolerance * size))
         throw InputError(key + ".point: no vertex of the mesh at " + detail::point_text<dim>(x) +
                              (best < 0 ? std::string()

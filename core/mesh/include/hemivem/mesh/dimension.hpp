@@ -5,6 +5,9 @@
 #include <Eigen/Core>
 
 #include <functional>
+#include <limits>
+#include <utility>
+#include <vector>
 #include <type_traits>
 
 #include <hemivem/mesh/mesh.hpp>
@@ -27,5 +30,20 @@ using VectorFieldOf = std::function<PointOf<dim>(const PointOf<dim>&)>;
 /// The dimension of a mesh type.
 template <class MeshType>
 inline constexpr int dimension_of = std::is_same_v<MeshType, Mesh3D> ? 3 : 2;
+
+/// The point of `points` nearest `x`, the least numbered of the nearest, and its distance (-1
+/// and infinity when there is none): the vertex a support at `x` holds (a scene's point support,
+/// and the piece of a mesh that holds it).
+template <int dim>
+std::pair<int, double> nearest_point(const std::vector<PointOf<dim>>& points, const PointOf<dim>& x) {
+  int best = -1;
+  double distance = std::numeric_limits<double>::infinity();
+  for (std::size_t v = 0; v < points.size(); ++v)
+    if (const double d = (points[v] - x).norm(); d < distance) {
+      distance = d;
+      best = static_cast<int>(v);
+    }
+  return {best, distance};
+}
 
 }  // namespace hemivem
