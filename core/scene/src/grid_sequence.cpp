@@ -38,12 +38,7 @@ int halvings(const Scene& scene, int fewest) {
 // Whether every support, load and contact part selects sides alone: what a coarser grid holds
 // as the grid does (a point or a segment may fall between a coarser grid's vertices).
 bool selects_sides_alone(const Scene& scene) {
-  const auto sides = [](const BoundarySelector& b) { return b.points.empty() && b.segments.empty(); };
-  bool alone = sides(scene.clamped);
-  for (const SceneDirichlet& d : scene.dirichlet) alone = alone && sides(d.boundary);
-  for (const SceneTraction& t : scene.tractions) alone = alone && sides(t.boundary);
-  for (const SceneContact& c : contact_parts(scene)) alone = alone && sides(c.boundary);
-  return alone;
+  return every_selector(scene, [](const BoundarySelector& b) { return b.points.empty() && b.segments.empty(); });
 }
 
 }  // namespace

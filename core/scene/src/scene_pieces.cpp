@@ -98,12 +98,8 @@ std::optional<BoxPiece> box_piece_of(const Scene& scene, const std::vector<Bound
   if (std::any_of(scene.material.regions.begin(), scene.material.regions.end(), [](const auto& r) { return r.box.has_value(); }))
     return std::nullopt;
   BoxPiece piece;
-  bool placed = add_selector(scene, scene.clamped, piece);
-  for (const SceneDirichlet& d : scene.dirichlet) placed = add_selector(scene, d.boundary, piece) && placed;
-  for (const SceneTraction& t : scene.tractions) placed = add_selector(scene, t.boundary, piece) && placed;
-  for (const SceneContact& c : contact_parts(scene)) placed = add_selector(scene, c.boundary, piece) && placed;
-  for (const BoundarySelector& b : more) placed = add_selector(scene, b, piece) && placed;
-  if (!placed) return std::nullopt;
+  const auto place = [&](const BoundarySelector& b) { return add_selector(scene, b, piece); };
+  if (!every_selector(scene, place) || !std::all_of(more.begin(), more.end(), place)) return std::nullopt;
   std::sort(piece.sides.begin(), piece.sides.end());
   piece.sides.erase(std::unique(piece.sides.begin(), piece.sides.end()), piece.sides.end());
   std::sort(piece.held.begin(), piece.held.end());
@@ -239,12 +235,8 @@ bool reads_pieces(const Scene& scene) {
   if (ext != ".msh") return false;
   if (std::any_of(scene.material.regions.begin(), scene.material.regions.end(), [](const auto& r) { return r.box.has_value(); }))
     return false;
-  const auto sides_or_groups = [](const BoundarySelector& b) { return b.segments.empty(); };
-  bool ok = sides_or_groups(scene.clamped);
-  for (const SceneDirichlet& d : scene.dirichlet) ok = ok && sides_or_groups(d.boundary);
-  for (const SceneTraction& t : scene.tractions) ok = ok && sides_or_groups(t.boundary);
-  for (const SceneContact& c : contact_parts(scene)) ok = ok && sides_or_groups(c.boundary);
-  return ok;
+  // a segment may pick edges a piece's boundary cuts along
+  return every_selector(scene, [](const BoundarySelector& b) { return b.segments.empty(); });
 }
 
 template <int dim>

@@ -1252,6 +1252,18 @@ std::vector<SceneContact> contact_parts(const Scene& scene) {
   return parts;
 }
 
+bool every_selector(const Scene& scene, const std::function<bool(const BoundarySelector&)>& holds) {
+  if (!holds(scene.clamped)) return false;
+  for (const SceneDirichlet& d : scene.dirichlet)
+    if (!holds(d.boundary)) return false;
+  for (const SceneTraction& t : scene.tractions)
+    if (!holds(t.boundary)) return false;
+  if (scene.contact && !holds(scene.contact->boundary)) return false;
+  for (const SceneContact& c : scene.more_contact)
+    if (!holds(c.boundary)) return false;
+  return true;
+}
+
 std::string contact_key(const Scene& scene, std::size_t part) {
   return scene.more_contact.empty() ? std::string("contact") : "contact[" + std::to_string(part) + "]";
 }

@@ -21,6 +21,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -383,6 +384,10 @@ Scene body_scene(const Scene& scene, std::size_t b);
 
 /// Every contact part of the scene in order: *contact, then more_contact (empty without contact).
 std::vector<SceneContact> contact_parts(const Scene& scene);
+/// Whether `holds` is true of the selector of every support (clamped, then each dirichlet), load
+/// (each traction) and contact part (the part's own side, not the side against it), asked in
+/// that order until one is false.
+bool every_selector(const Scene& scene, const std::function<bool(const BoundarySelector&)>& holds);
 /// The key of contact part i in messages, Scene::lines and overrides: "contact" when the scene
 /// has one part, "contact[i]" when it has several.
 std::string contact_key(const Scene& scene, std::size_t part);
