@@ -110,19 +110,24 @@ std::set<std::vector<int>> sorted_facets(const Mesh3D& mesh, const std::vector<i
 /// The thirds of the vertices, and an empty range.
 std::vector<std::pair<int, int>> thirds(int n) { return {{0, n / 3}, {n / 3, 2 * n / 3}, {2 * n / 3, n}, {n / 2, n / 2}}; }
 
+// squares, triangles, and distorted squares (each piece holds every vertex, moved as the whole
+// mesh's of the same seed)
 TEST(BoxPiece, APlanePieceHoldsTheCellsOfItsVerticesAndItsSides) {
   const Rectangle domain{0.0, 2.0, 0.0, 1.0};
-  for (const std::string generator : {"squares", "triangles"}) {
+  for (const std::string generator : {"squares", "triangles", "distorted"}) {
     SCOPED_TRACE(generator);
-    const Mesh whole = make_mesh(generator, GridSize(8, 12), domain);
+    const Mesh whole = make_mesh(generator, GridSize(8, 12), domain, 7);
     const std::set<std::vector<int>> bottom =
         sorted_facets(whole, select_boundary_edges(whole, {rectangle_side(whole.bounding_box(), "bottom")}));
     for (const auto& [v0, v1] : thirds(whole.num_vertices())) {
       const BoxPiece piece{v0, v1, {"bottom"}};
-      expect_piece_of(make_mesh_piece(generator, GridSize(8, 12), domain, piece), piece_cells(generator, GridSize(8, 12), piece),
-                      whole, v0, v1, bottom, true);
+      expect_piece_of(make_mesh_piece(generator, GridSize(8, 12), domain, piece, 7),
+                      piece_cells(generator, GridSize(8, 12), piece), whole, v0, v1, bottom, true);
     }
   }
+  EXPECT_NE(make_mesh_piece("distorted", GridSize(8, 12), domain, BoxPiece{0, 10, {}}, 7).vertex(10),
+            make_mesh_piece("distorted", GridSize(8, 12), domain, BoxPiece{0, 10, {}}, 8).vertex(10))
+      << "the seed moves the vertices inside";
 }
 
 TEST(BoxPiece, ASolidPieceHoldsTheCellsOfItsVerticesAndItsSides) {
@@ -249,7 +254,7 @@ TEST(BoxPiece, WhatMakesNoPieceIsRefusedByName) {
   const auto error = [](auto&& f) { return test::input_error_of(f); };
   EXPECT_NE(error([] { (void)make_mesh3d_piece("voronoi", 4, Box{}, BoxPiece{0, 5, {}}); }).find("cubes and tetrahedra"),
             std::string::npos);
-  EXPECT_NE(error([] { (void)make_mesh_piece("voronoi", 4, Rectangle{}, BoxPiece{0, 5, {}}); }).find("squares and triangles"),
+  EXPECT_NE(error([] { (void)make_mesh_piece("voronoi", 4, Rectangle{}, BoxPiece{0, 5, {}}); }).find("squares, triangles and distorted"),
             std::string::npos);
   EXPECT_NE(error([] { (void)make_mesh3d_piece("cubes", 4, Box{}, BoxPiece{0, 5, {"left"}}); }).find("unknown side 'left'"),
             std::string::npos);

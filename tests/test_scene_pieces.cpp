@@ -57,6 +57,7 @@ TEST(ScenePieces, AStaticSolveOfAGeneratedBoxIsMadeInPieces) {
   const Scene plane = shipped("paper-example-4.1.toml");
   EXPECT_LT(expect_two_pieces<2>(plane), 64 * 64) << "the first half leaves cells out";
   expect_two_pieces<2>(shipped("paper-example-4.1-triangles.toml"));
+  expect_two_pieces<2>(shipped("paper-example-4.1-distorted.toml"));  // squares, their inner vertices moved
   Scene solid = shipped("example-4.1-3d.toml");
   expect_two_pieces<3>(solid);
   solid.mesh.generator = "tetrahedra";  // six cells a box

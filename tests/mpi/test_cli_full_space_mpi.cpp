@@ -539,6 +539,15 @@ TEST(CliFullSpaceMpi, ThePiecesKeptOfTwoBodiesHeldByPointsAreTheCondensedAnswer)
   for (const int processes : {2, 3}) expect_processes_agree(flags, ref, processes, "shrink-fit", false, processes);
 }
 
+// a distorted mesh (paper-example-4.1-distorted.toml): each process makes its piece of the
+// squares, every vertex moved as the whole mesh's
+TEST(CliFullSpaceMpi, ADistortedMeshEachProcessMakesItsPieceOfIsTheCondensedAnswer) {
+  const std::string flags = scene("paper-example-4.1-distorted.toml") + " --n 24 --tol 1e-11";
+  const fs::path ref = solve_condensed(flags, "condensed-distorted");
+  if (ref.empty()) return;
+  for (const int processes : {2, 3}) expect_processes_agree(flags, ref, processes, "distorted", false, processes);
+}
+
 // a Voronoi mesh of a solid, made whole by every process, each computing the cells of its share
 // of the seeds in the Lloyd iterations: the one process's mesh (its vertices, cells, faces and
 // h) and answer; each process keeps its piece of it for the solve

@@ -11,15 +11,16 @@
 namespace hemivem {
 
 bool makes_pieces(std::string_view generator) {
-  return generator == "squares" || generator == "triangles" || generator == "cubes" || generator == "tetrahedra";
+  return generator == "squares" || generator == "triangles" || generator == "distorted" || generator == "cubes" ||
+         generator == "tetrahedra";
 }
 
 int cells_per_box(std::string_view generator) {
-  if (generator == "squares" || generator == "cubes") return 1;
+  if (generator == "squares" || generator == "distorted" || generator == "cubes") return 1;
   if (generator == "triangles") return 2;
   if (generator == "tetrahedra") return 6;
   throw InputError("the generator '" + std::string(generator) +
-                   "' makes no grid of boxes (squares, triangles, cubes and tetrahedra do)");
+                   "' makes no grid of boxes (squares, triangles, distorted, cubes and tetrahedra do)");
 }
 
 namespace {
@@ -221,9 +222,10 @@ namespace detail {
 
 void require_piece_generator(std::string_view generator, int dim) {
   const bool solid = dim == 3;
-  if (solid ? generator != "cubes" && generator != "tetrahedra" : generator != "squares" && generator != "triangles")
+  if (solid ? generator != "cubes" && generator != "tetrahedra"
+            : generator != "squares" && generator != "triangles" && generator != "distorted")
     throw InputError(std::string("a process's piece of a mesh is made by the generators ") +
-                     (solid ? "cubes and tetrahedra in a solid" : "squares and triangles in the plane") + " (got '" +
+                     (solid ? "cubes and tetrahedra in a solid" : "squares, triangles and distorted in the plane") + " (got '" +
                      std::string(generator) + "'): every process makes the whole of any other mesh");
 }
 

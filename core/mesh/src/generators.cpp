@@ -111,6 +111,27 @@ std::vector<Vec2> grid_vertices(GridSize n, const Rectangle& d) {
   return v;
 }
 
+/// The fraction of a box's sides by which the distorted generator moves each vertex inside.
+constexpr double distorted_fraction = 0.2;
+
+/// The grid points of grid_vertices, each inside the domain moved by up to `fraction` of a box's
+/// sides along each axis, drawn from `seed` vertex by vertex (a distorted mesh's vertices).
+std::vector<Vec2> distorted_vertices(GridSize n, double fraction, const Rectangle& domain, std::uint64_t seed) {
+  if (!(fraction >= 0.0 && fraction < 0.5))
+    throw InputError("distorted mesh: fraction must be in [0, 0.5) (got " + fmt(fraction) + ")");
+  std::vector<Vec2> v = grid_vertices(n, domain);
+  const double ax = fraction * (domain.width() / n.nx), ay = fraction * (domain.height() / n.ny);
+  std::mt19937_64 rng(seed);
+  for (int j = 1; j < n.ny; ++j)
+    for (int i = 1; i < n.nx; ++i) {
+      Vec2& p = v[static_cast<std::size_t>(j) * static_cast<std::size_t>(n.nx + 1) + static_cast<std::size_t>(i)];
+      const double dx = ax * (2.0 * unit_draw(rng) - 1.0);
+      const double dy = ay * (2.0 * unit_draw(rng) - 1.0);
+      p += Vec2(dx, dy);
+    }
+  return v;
+}
+
 std::vector<std::vector<int>> grid_squares(GridSize n, const detail::PieceBoxes& keep = {}) {
   std::vector<std::vector<int>> e;
   e.reserve(static_cast<std::size_t>(n.nx) * static_cast<std::size_t>(n.ny));
@@ -450,13 +471,15 @@ Mesh make_triangles(GridSize n, const Rectangle& domain) {
   return Mesh(grid_vertices(n, domain), grid_triangles(n));
 }
 
-Mesh make_mesh_piece(std::string_view generator, GridSize n, const Rectangle& domain, const BoxPiece& piece) {
+Mesh make_mesh_piece(std::string_view generator, GridSize n, const Rectangle& domain, const BoxPiece& piece,
+                     std::uint64_t seed) {
   detail::require_piece_generator(generator, 2);
-  const bool squares = generator == "squares";
-  check_n(squares ? "squares mesh" : "triangles mesh", n);
-  check_domain(squares ? "squares mesh" : "triangles mesh", domain, n);
+  const std::string what = std::string(generator) + " mesh";
+  check_n(what.c_str(), n);
+  check_domain(what.c_str(), domain, n);
   const detail::PieceBoxes keep(2, {n.nx, n.ny, 1}, piece);
-  return Mesh(grid_vertices(n, domain), squares ? grid_squares(n, keep) : grid_triangles(n, keep));
+  if (generator == "distorted") return Mesh(distorted_vertices(n, distorted_fraction, domain, seed), grid_squares(n, keep));
+  return Mesh(grid_vertices(n, domain), generator == "squares" ? grid_squares(n, keep) : grid_triangles(n, keep));
 }
 
 Mesh make_voronoi(GridSize n, const Rectangle& domain, const VoronoiOptions& options) {
@@ -560,19 +583,7 @@ Mesh make_nonconvex(GridSize n, const Rectangle& domain) {
 Mesh make_distorted(GridSize n, double fraction, const Rectangle& domain, std::uint64_t seed) {
   check_n("distorted mesh", n);
   check_domain("distorted mesh", domain, n);
-  if (!(fraction >= 0.0 && fraction < 0.5))
-    throw InputError("distorted mesh: fraction must be in [0, 0.5) (got " + fmt(fraction) + ")");
-  std::vector<Vec2> v = grid_vertices(n, domain);
-  const double ax = fraction * (domain.width() / n.nx), ay = fraction * (domain.height() / n.ny);
-  std::mt19937_64 rng(seed);
-  for (int j = 1; j < n.ny; ++j)
-    for (int i = 1; i < n.nx; ++i) {
-      Vec2& p = v[static_cast<std::size_t>(j) * static_cast<std::size_t>(n.nx + 1) + static_cast<std::size_t>(i)];
-      const double dx = ax * (2.0 * unit_draw(rng) - 1.0);
-      const double dy = ay * (2.0 * unit_draw(rng) - 1.0);
-      p += Vec2(dx, dy);
-    }
-  return Mesh(std::move(v), grid_squares(n));
+  return Mesh(distorted_vertices(n, fraction, domain, seed), grid_squares(n));
 }
 
 const std::vector<std::string>& mesh_generator_names() {
@@ -589,7 +600,7 @@ Mesh make_mesh(std::string_view generator, GridSize n, const Rectangle& domain, 
     return make_voronoi(n, domain, options);
   }
   if (generator == "nonconvex") return make_nonconvex(n, domain);
-  if (generator == "distorted") return make_distorted(n, 0.2, domain, seed);
+  if (generator == "distorted") return make_distorted(n, distorted_fraction, domain, seed);
   std::string valid;
   for (const auto& name : mesh_generator_names()) valid += (valid.empty() ? "" : ", ") + name;
   throw InputError("unknown mesh generator '" + std::string(generator) + "'; valid names: " + valid);

@@ -35,9 +35,12 @@ int halvings(const Scene& scene, int fewest) {
   }
 }
 
-// Whether every support, load and contact part selects sides alone: what a coarser grid holds
-// as the grid does (a point or a segment may fall between a coarser grid's vertices).
-bool selects_sides_alone(const Scene& scene) {
+// Whether the scene's coarser grids are its grid's halvings: a grid of boxes whose vertices lie
+// where its coarser grids' do (not a distorted one's, whose inner vertices each move at random),
+// whose every support, load and contact part selects sides alone (a point or a segment may fall
+// between a coarser grid's vertices).
+bool coarsens(const Scene& scene) {
+  if (scene.mesh.generator == "distorted") return false;
   return every_selector(scene, [](const BoundarySelector& b) { return b.points.empty() && b.segments.empty(); });
 }
 
@@ -46,7 +49,7 @@ bool selects_sides_alone(const Scene& scene) {
 int grid_sequence_levels(const Scene& scene, bool full_space, bool path) {
   const int asked = scene.solver.grid_sequence;
   if (asked == 0) return 0;
-  const bool grid = scene_piece(scene, 0, 1).has_value() && selects_sides_alone(scene);
+  const bool grid = scene_piece(scene, 0, 1).has_value() && coarsens(scene);
   if (asked == SceneSolver::grid_sequence_auto)
     return full_space && !path && grid ? halvings(scene, grid_sequence_auto_boxes) : 0;
   const auto refuse = [&](const std::string& why) {

@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdint>
 #include <cmath>
 #include <limits>
 #include <tuple>
@@ -124,7 +125,8 @@ MeshOf<dim> box_mesh_piece(const Scene& scene, const BoxPiece& piece) {
   return detail::generated_mesh(scene, [&] {
     if constexpr (dim == 2) {
       const auto& d = scene.mesh.domain;
-      return make_mesh_piece(scene.mesh.generator, scene.mesh.cells(), Rectangle{d[0], d[1], d[2], d[3]}, piece);
+      return make_mesh_piece(scene.mesh.generator, scene.mesh.cells(), Rectangle{d[0], d[1], d[2], d[3]}, piece,
+                             static_cast<std::uint64_t>(scene.mesh.seed));
     } else {
       const auto& b = scene.mesh.box;
       return make_mesh3d_piece(scene.mesh.generator, scene.mesh.cells3(), Box{b[0], b[1], b[2], b[3], b[4], b[5]}, piece);

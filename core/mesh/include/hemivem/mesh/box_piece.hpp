@@ -1,5 +1,5 @@
-// A process's piece of a mesh generated on a grid of boxes (squares and triangles in the plane,
-// cubes and tetrahedra in a solid): what one process of a run across processes makes of the
+// A process's piece of a mesh generated on a grid of boxes (squares, triangles and distorted
+// squares in the plane, cubes and tetrahedra in a solid): what one process of a run across processes makes of the
 // mesh, without making the whole (docs/cluster.md).
 //
 // A piece holds every vertex of the whole mesh, numbered as the whole numbers them, so that a
@@ -17,6 +17,7 @@
 // by layer (along y in the plane, z in a solid), so that a range of vertices is a slab.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -49,18 +50,20 @@ struct BoxPiece {
   std::vector<int> held;
 };
 
-/// The generators that make a piece: squares and triangles in the plane, cubes and tetrahedra in
-/// a solid (a grid of boxes).
+/// The generators that make a piece: squares, triangles and distorted in the plane, cubes and
+/// tetrahedra in a solid (a grid of boxes).
 bool makes_pieces(std::string_view generator);
 
-/// The cells such a generator makes of each box of its grid: 1 (squares, cubes), 2 (triangles)
+/// The cells such a generator makes of each box of its grid: 1 (squares, distorted, cubes), 2 (triangles)
 /// or 6 (tetrahedra); InputError for a generator that makes no piece.
 int cells_per_box(std::string_view generator);
 
-/// The piece of make_mesh(generator, n, domain) described by `piece` (see above). InputError for
-/// a generator that makes no piece, an unknown side, a range of vertices outside the mesh, and
-/// as make_mesh.
-Mesh make_mesh_piece(std::string_view generator, GridSize n, const Rectangle& domain, const BoxPiece& piece);
+/// The piece of make_mesh(generator, n, domain, seed) described by `piece` (see above; the seed
+/// moves a distorted mesh's vertices, every one of which each piece holds). InputError for a
+/// generator that makes no piece, an unknown side, a range of vertices outside the mesh, and as
+/// make_mesh.
+Mesh make_mesh_piece(std::string_view generator, GridSize n, const Rectangle& domain, const BoxPiece& piece,
+                     std::uint64_t seed = 1);
 
 /// The piece of make_mesh3d(generator, n, domain) described by `piece`; InputError as
 /// make_mesh_piece.
