@@ -265,6 +265,19 @@ TEST(MeshPieceRead, TheProblemOnAPieceReadFromTheFilePosesTheWholeShare) {
   plane.contact->boundary = BoundarySelector{};
   plane.contact->boundary.groups = {"bottom"};
   expect_read_problem_pieces_pose_the_whole_share<2>(plane);
+  {
+    SCOPED_TRACE("a region box, whose cells some pieces do not hold");
+    Scene boxed = plane;
+    boxed.material.regions.push_back(SceneRegionMaterial{3, 130.0, 0.3, std::array<double, 4>{0.1, 0.2, 0.6, 0.8}});
+    expect_read_problem_pieces_pose_the_whole_share<2>(boxed);
+    int without = 0;
+    for (int rank = 0; rank < 3; ++rank) {
+      PieceOfMesh where;
+      const std::vector<int> regions = read_problem_piece<2>(boxed, rank, 3, where)->mesh.regions();
+      without += std::count(regions.begin(), regions.end(), 3) == 0 ? 1 : 0;
+    }
+    EXPECT_GT(without, 0) << "every piece held the box's cells";
+  }
   SceneDirichlet inside;  // a support at a vertex inside the body, away from the groups
   inside.boundary.points = {{0.75, 0.25, 0.0}};
   inside.ux = SceneScalar{0.0};
@@ -289,6 +302,9 @@ TEST(MeshPieceRead, OnlyAGmshFileWhosePartsSelectSidesOrGroupsIsReadInPieces) {
   Scene plane = parse_scene(test::scenes_dir() / "paper-example-4.1.toml");
   plane.mesh.file = test::data_dir() / "gmsh" / "unit_square_quads.msh";
   EXPECT_TRUE(reads_pieces(plane));
+  Scene boxed = plane;  // each piece puts its cells into the regions by their centroids
+  boxed.material.regions.push_back(SceneRegionMaterial{3, 130.0, 0.3, std::array<double, 4>{0.0, 0.5, 0.0, 0.5}});
+  EXPECT_TRUE(reads_pieces(boxed));
   plane.contact->boundary.segments = {{0.0, 0.0, 0.5, 0.0}};
   EXPECT_FALSE(reads_pieces(plane));  // a segment may pick a piece's cut edges
   Scene generated = parse_scene(test::scenes_dir() / "example-4.1-3d.toml");

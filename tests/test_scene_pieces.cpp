@@ -4,6 +4,7 @@
 // piece lies in the whole mesh (scene_piece_of_mesh), against the meshes built; and which
 // scenes' meshes, made whole, each process cuts its piece from (cuts_pieces); which scenes of
 // several bodies each process makes its piece of each body of (makes_body_pieces).
+#include <hemivem/contact/pose_share.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/scene/scene.hpp>
 #include <hemivem/scene/scene_pieces.hpp>
@@ -15,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "posed_share_checks.hpp"
 #include "test_support.hpp"
 
 using namespace hemivem;
@@ -161,6 +163,37 @@ TEST(ScenePieces, PointsAndSegmentsAlongSidesAreMadeInPiecesOtherSegmentsCut) {
   const Scene rollers = shipped("rollers-pressure.toml");  // a contact part on a segment of a Voronoi mesh's bottom
   EXPECT_FALSE(scene_piece(rollers, 0, 2));
   EXPECT_TRUE(cuts_pieces(rollers));
+}
+
+// region boxes put each piece's cells into the regions of the whole mesh's cells, a piece that
+// holds no cell of a region included; whether each region holds a cell is the whole mesh's to
+// say, from every piece's regions
+TEST(ScenePieces, RegionBoxesPutEachPiecesCellsInTheWholeMeshsRegions) {
+  Scene scene = shipped("extreme/bimaterial-1e6.toml");  // region 1: the upper half's box
+  scene.mesh.n = 12;
+  scene.material.regions.push_back(SceneRegionMaterial{2, 130.0, 0.3, std::array<double, 4>{0.4, 0.6, 0.1, 0.2}});
+  const auto whole = build_problem<2>(scene);
+  std::vector<int> regions;
+  for (int rank = 0; rank < 3; ++rank) {
+    SCOPED_TRACE("rank " + std::to_string(rank));
+    const std::optional<BoxPiece> piece = scene_piece(scene, rank, 3);
+    ASSERT_TRUE(piece);
+    const PieceOfMesh where = scene_piece_of_mesh(scene, *piece);
+    const auto built = build_problem_piece<2>(scene, *piece);
+    ASSERT_EQ(static_cast<int>(where.cells.size()), built->mesh.num_elements());
+    for (std::size_t k = 0; k < where.cells.size(); ++k)
+      EXPECT_EQ(built->mesh.region(static_cast<int>(k)), whole->mesh.region(where.cells[k])) << "cell " << where.cells[k];
+    test::expect_same_share(pose_share(built->problem, piece->first_vertex, piece->end_vertex),
+                            pose_share(whole->problem, piece->first_vertex, piece->end_vertex));
+    const std::vector<int>& mine = built->mesh.regions();
+    EXPECT_EQ(std::count(mine.begin(), mine.end(), 2) > 0, rank == 0) << "the box's cells lie in the first piece alone";
+    regions.insert(regions.end(), mine.begin(), mine.end());
+  }
+  EXPECT_NO_THROW(check_regions_of_pieces(scene, regions));
+  regions.erase(std::remove(regions.begin(), regions.end(), 2), regions.end());
+  EXPECT_NE(test::input_error_of([&] { check_regions_of_pieces(scene, regions); })
+                .find("material.region[1].id: region 2 matches no element of the mesh (its box holds no element centroid"),
+            std::string::npos);
 }
 
 }  // namespace

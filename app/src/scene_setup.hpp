@@ -61,12 +61,26 @@ struct SceneEngines {
   std::function<void(const nlohmann::json&)> on_coarser_grid;
 };
 
+/// Collective: every region of a scene of one body holds a cell of the whole mesh whose pieces
+/// the processes made (check_regions_of_pieces of every piece's region ids).
+template <class MeshType>
+void check_regions_across(const Scene& scene, const MeshType& piece, const RowDistribution& rows) {
+  std::vector<int> mine(piece.regions().begin(), piece.regions().end());
+  std::sort(mine.begin(), mine.end());
+  mine.erase(std::unique(mine.begin(), mine.end()), mine.end());
+  const Eigen::VectorXd all = rows.all_gather(Eigen::Map<const Eigen::VectorXi>(mine.data(), static_cast<Eigen::Index>(mine.size())).cast<double>());
+  std::vector<int> regions(static_cast<std::size_t>(all.size()));
+  for (Eigen::Index k = 0; k < all.size(); ++k) regions[static_cast<std::size_t>(k)] = static_cast<int>(all(k));
+  check_regions_of_pieces(scene, regions);
+}
+
 /// The problem a solve of the scene builds on the scene's own mesh, into s.built: on the
 /// full-space route across processes (`e`), the process's piece of the mesh where the scene
 /// allows it: a generated box's piece made directly (scene_piece), a Gmsh file's piece read
 /// alone (reads_pieces), each generated body's piece made directly and the pieces matched and
-/// joined (makes_body_pieces; an error one process meets in either ends every process), or the piece it keeps of a
-/// mesh made whole (cuts_pieces; each process doing its share of the generator's work where it
+/// joined (makes_body_pieces; an error one process meets in any of these ends every process,
+/// and the regions are checked across the processes: check_regions_across), or the piece it
+/// keeps of a mesh made whole (cuts_pieces; each process doing its share of the generator's work where it
 /// splits it: build_problem); e.piece then says where the piece lies, and s.mesh_pieces and
 /// s.whole_cells what it is a piece of. The whole mesh otherwise. Given `out`, the solve
 /// writes to that folder (e.writes_to_folder): a path's VTU frames, and a static solve's
@@ -79,7 +93,8 @@ void build_scene_problem(const Scene& scene, SceneEngines& e, Solved& s, const s
     if (const std::optional<BoxPiece> piece = scene_piece(scene, world.rank, world.size)) {
       s.mesh_pieces = world.size;
       e.writes_to_folder = !out.empty();
-      s.built = build_problem_piece<dim>(scene, *piece);
+      s.built = on_every_process(*process_rows(), [&] { return build_problem_piece<dim>(scene, *piece); });
+      check_regions_across(scene, s.built->mesh, *process_rows());
       e.piece = scene_piece_of_mesh(scene, *piece);
       s.whole_cells = e.piece->whole_cells;
       return;
@@ -90,6 +105,7 @@ void build_scene_problem(const Scene& scene, SceneEngines& e, Solved& s, const s
         return reads_pieces(scene) ? read_problem_piece<dim>(scene, world.rank, world.size, where)
                                    : build_bodies_piece<dim>(scene, world.rank, world.size, where);
       });
+      if (reads_pieces(scene)) check_regions_across(scene, s.built->mesh, *process_rows());
       s.mesh_pieces = world.size;
       e.writes_to_folder = !out.empty();
       s.whole_cells = where.whole_cells;

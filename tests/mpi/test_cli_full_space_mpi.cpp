@@ -744,6 +744,44 @@ TEST(CliFullSpaceMpi, ADefectInTheFileThatOneProcessFindsEndsEveryProcess) {
   }
 }
 
+// region boxes on a generated box (scenes/extreme/bimaterial-1e6.toml) and on a Gmsh file, made or
+// read in pieces: each process puts its cells into the whole mesh's regions; a box that holds no
+// element's centroid is refused by every process alike, as in one process, and nothing is written
+TEST(CliFullSpaceMpi, RegionBoxesOnPiecesAreTheCondensedAnswer) {
+  const std::string boxes = scene("extreme/bimaterial-1e6.toml") +
+                            " --n 24 --tol 1e-11 --set 'output.write=[\"vtu\", \"contact-csv\", \"displacement-csv\", \"stress-csv\", \"result-json\"]'";
+  const fs::path ref = solve_condensed(boxes, "condensed-bimaterial");
+  if (ref.empty()) return;
+  for (const int processes : {2, 3}) expect_processes_agree(boxes, ref, processes, "bimaterial", false, processes);
+
+  const fs::path msh = scratch("regions.msh");
+  fs::create_directories(msh.parent_path());
+  std::ofstream(msh) << hemivem::test::squares_msh(24, 12);
+  const fs::path toml = example_on_file(msh, "regions.toml");
+  std::ofstream(toml, std::ios::app) << "\n[[material.region]]\nid = 3\nE = 130.0\nnu = 0.3\nbox = [0.1, 0.2, 0.6, 0.8]\n";
+  const std::string file = toml.string() + " --tol 1e-11";
+  const fs::path file_ref = solve_condensed(file, "condensed-regions");
+  if (file_ref.empty()) return;
+  for (const int processes : {2, 3}) expect_processes_agree(file, file_ref, processes, "regions", false, processes);
+
+  const std::string empty = boxes + " --set 'material.region[0].box=[0.3, 0.31, 0.3, 0.31]'";
+  const CommandRun one = run(binary() + " solve " + empty + " -q --out " + scratch("empty-box-one").string());
+  ASSERT_EQ(one.code, 2) << one.err;
+  const auto said = one.err.find("material.region[0].id: region 1 matches no element");
+  ASSERT_NE(said, std::string::npos) << one.err;
+  const std::string message = one.err.substr(said, one.err.find('\n', said) - said);
+  for (const int processes : {2, 3}) {
+    SCOPED_TRACE(std::to_string(processes) + " processes");
+    const fs::path out = scratch("empty-box-np" + std::to_string(processes));
+    const CommandRun m = run(mpiexec() + " " + np(processes) + " " + binary() + " solve " + empty +
+                             " --linear petsc-gamg -q --out " + out.string());
+    EXPECT_EQ(m.code, 2) << m.err;
+    EXPECT_EQ(count(m.err, "hemivem: error:"), 1u) << m.err;
+    EXPECT_EQ(count(m.err, message), 1u) << m.err;
+    EXPECT_FALSE(fs::exists(out));
+  }
+}
+
 /// The applied load of a plane path's step `a` (path.json) is that of `b` to 1e-12 of its size.
 void expect_applied_load_agrees(const nlohmann::json& a, const nlohmann::json& b) {
   const auto &fa = a["applied_load"], &fb = b["applied_load"];

@@ -219,9 +219,14 @@ std::unique_ptr<BuiltProblem> detail::built_plane(const Scene& scene) {
 }
 
 std::unique_ptr<BuiltProblem> build_problem(const Scene& scene, Mesh given, bool apply_region_boxes) {
-  Mesh mesh = std::move(given);
+  return detail::built_plane_on(scene, std::move(given), apply_region_boxes, true);
+}
+
+namespace detail {
+
+std::unique_ptr<BuiltProblem> built_plane_on(const Scene& scene, Mesh mesh, bool apply_region_boxes, bool whole) {
   // Regions given by boxes, then materials by region.
-  if (apply_region_boxes && std::any_of(scene.material.regions.begin(), scene.material.regions.end(), [](const auto& r) { return r.box; })) {
+  if (apply_region_boxes && scene.material.has_region_boxes()) {
     std::vector<int> ids = mesh.regions();
     ids.resize(static_cast<std::size_t>(mesh.num_elements()), 0);
     for (const auto& r : scene.material.regions) {
@@ -234,9 +239,11 @@ std::unique_ptr<BuiltProblem> build_problem(const Scene& scene, Mesh given, bool
     }
     mesh.set_regions(std::move(ids));
   }
-  detail::check_regions_used<2>(scene, mesh, true);
-  return detail::built_on<2>(scene, std::move(mesh));
+  if (whole) check_regions_used<2>(scene, mesh, true);
+  return built_on<2>(scene, std::move(mesh), whole);
 }
+
+}  // namespace detail
 
 namespace {
 

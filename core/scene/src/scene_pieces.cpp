@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <cmath>
 #include <limits>
+#include <set>
 #include <tuple>
 #include <string>
 #include <vector>
@@ -96,8 +97,6 @@ long long scene_vertices(const Scene& scene) {
 std::optional<BoxPiece> box_piece_of(const Scene& scene, const std::vector<BoundarySelector>& more, int rank, int size) {
   const SceneMesh& m = scene.mesh;
   if (!m.file.empty() || !makes_pieces(m.generator) || !m.polygon.empty()) return std::nullopt;
-  if (std::any_of(scene.material.regions.begin(), scene.material.regions.end(), [](const auto& r) { return r.box.has_value(); }))
-    return std::nullopt;
   BoxPiece piece;
   const auto place = [&](const BoundarySelector& b) { return add_selector(scene, b, piece); };
   if (!every_selector(scene, place) || !std::all_of(more.begin(), more.end(), place)) return std::nullopt;
@@ -111,8 +110,10 @@ std::optional<BoxPiece> box_piece_of(const Scene& scene, const std::vector<Bound
   return piece;
 }
 
-/// Body b's piece: its scene of one body's, with the sides of the contact parts against it.
+/// Body b's piece: its scene of one body's, with the sides of the contact parts against it; none
+/// for a body with region boxes.
 std::optional<BoxPiece> body_piece(const Scene& scene, std::size_t b, int rank, int size) {
+  if (body_scene(scene, b).material.has_region_boxes()) return std::nullopt;
   std::vector<BoundarySelector> against;
   for (const SceneContact& c : contact_parts(scene))
     if (c.against && c.against_body == scene.bodies[b].name) against.push_back(*c.against);
@@ -159,7 +160,7 @@ PieceOfMesh scene_piece_of_mesh(const Scene& scene, const BoxPiece& piece) {
 
 template <>
 std::unique_ptr<BasicBuiltProblem<2>> build_problem_piece<2>(const Scene& scene, const BoxPiece& piece) {
-  return build_problem(scene, box_mesh_piece<2>(scene, piece), false);
+  return detail::built_plane_on(scene, box_mesh_piece<2>(scene, piece), true, false);
 }
 
 template <>
@@ -235,8 +236,6 @@ bool reads_pieces(const Scene& scene) {
   std::string ext = m.file.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
   if (ext != ".msh") return false;
-  if (std::any_of(scene.material.regions.begin(), scene.material.regions.end(), [](const auto& r) { return r.box.has_value(); }))
-    return false;
   // a segment may pick edges a piece's boundary cuts along
   return every_selector(scene, [](const BoundarySelector& b) { return b.segments.empty(); });
 }
@@ -259,7 +258,7 @@ std::unique_ptr<BasicBuiltProblem<dim>> read_problem_piece(const Scene& scene, i
         scene, estimate_memory(read.mesh.num_vertices(), read.whole_cells, read.cell_vertices, read.cell_vertices_squared),
         read.largest_cell);
     keep(read);
-    out = build_problem(scene, std::move(read.mesh), false);
+    out = detail::built_plane_on(scene, std::move(read.mesh), true, false);
   } else {
     MeshPieceRead<Mesh3D> read = read_gmsh3d_piece(scene.mesh.file, rank, size, held);
     keep(read);
@@ -270,6 +269,10 @@ std::unique_ptr<BasicBuiltProblem<dim>> read_problem_piece(const Scene& scene, i
 
 template std::unique_ptr<BasicBuiltProblem<2>> read_problem_piece<2>(const Scene&, int, int, PieceOfMesh&);
 template std::unique_ptr<BasicBuiltProblem<3>> read_problem_piece<3>(const Scene&, int, int, PieceOfMesh&);
+
+void check_regions_of_pieces(const Scene& scene, const std::vector<int>& regions) {
+  detail::check_regions_present(scene, std::set<int>(regions.begin(), regions.end()), true);
+}
 
 bool cuts_pieces(const Scene& scene) {
   return !scene.adapt && !scene_piece(scene, 0, 1) && !makes_body_pieces(scene);

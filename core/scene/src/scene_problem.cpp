@@ -256,11 +256,11 @@ void check_parts_disjoint(const std::vector<BasicContactPart<dim>>& parts, const
 }
 
 template <int dim>
-BasicContactProblem<dim> contact_problem_of(const Scene& scene, const MeshOf<dim>& mesh) {
+BasicContactProblem<dim> contact_problem_of(const Scene& scene, const MeshOf<dim>& mesh, bool whole = true) {
   detail::require_dimension<dim>(scene);
   BasicContactProblem<dim> p;
   p.elasticity.mesh = &mesh;
-  detail::check_regions_used<dim>(scene, mesh, false);
+  if (whole) detail::check_regions_used<dim>(scene, mesh, false);
   p.elasticity.materials = scene_materials<dim>(scene, mesh);
   p.elasticity.stabilization = scene.material.stabilization;
   const FacetSelection<dim> select(scene, mesh);
@@ -330,8 +330,11 @@ std::string count_text(double v) {
 
 template <int dim>
 void check_regions_used(const Scene& scene, const MeshOf<dim>& mesh, bool boxes) {
-  const std::set<int> present(mesh.regions().begin(), mesh.regions().end());
-  const std::string cell = dim == 2 ? "element" : "cell";
+  check_regions_present(scene, std::set<int>(mesh.regions().begin(), mesh.regions().end()), boxes);
+}
+
+void check_regions_present(const Scene& scene, const std::set<int>& present, bool boxes) {
+  const std::string cell = scene.dimension() == 2 ? "element" : "cell";
   for (std::size_t i = 0; i < scene.material.regions.size(); ++i) {
     const auto& r = scene.material.regions[i];
     if ((r.box && !boxes) || present.count(r.region)) continue;
@@ -358,17 +361,17 @@ template std::vector<int> select_facets<3>(const Scene&, const Mesh3D&, const Bo
 template void check_regions_used<3>(const Scene&, const Mesh3D&, bool);
 
 template <int dim>
-std::unique_ptr<BasicBuiltProblem<dim>> built_on(const Scene& scene, MeshOf<dim> mesh) {
+std::unique_ptr<BasicBuiltProblem<dim>> built_on(const Scene& scene, MeshOf<dim> mesh, bool whole) {
   auto out = std::make_unique<BasicBuiltProblem<dim>>();
   out->mesh = std::move(mesh);
-  out->problem = contact_problem_of<dim>(scene, out->mesh);
+  out->problem = contact_problem_of<dim>(scene, out->mesh, whole);
   out->has_contact = scene.contact.has_value();
   out->warnings = scene_warnings(scene);
   return out;
 }
 
-template std::unique_ptr<BuiltProblem> built_on<2>(const Scene&, Mesh);
-template std::unique_ptr<BuiltProblem3D> built_on<3>(const Scene&, Mesh3D);
+template std::unique_ptr<BuiltProblem> built_on<2>(const Scene&, Mesh, bool);
+template std::unique_ptr<BuiltProblem3D> built_on<3>(const Scene&, Mesh3D, bool);
 
 }  // namespace detail
 

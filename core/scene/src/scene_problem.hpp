@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <functional>
 #include <memory>
+#include <set>
 #include <string>
 
 #include <hemivem/error.hpp>
@@ -45,11 +46,19 @@ void require_generated_memory(const Scene& scene);
 /// (cell) of the mesh is in; an error at the region's id otherwise.
 template <int dim>
 void check_regions_used(const Scene& scene, const MeshOf<dim>& mesh, bool boxes);
+/// The same of a mesh whose cells are in the regions `present`.
+void check_regions_present(const Scene& scene, const std::set<int>& present, bool boxes);
 
 /// The built problem of `scene` on `mesh` (make_contact_problem), with has_contact and the
-/// scene's warnings.
+/// scene's warnings; the regions checked (check_regions_used) when the mesh is `whole`, not when
+/// it is a process's piece, whose regions are checked across the processes
+/// (check_regions_of_pieces).
 template <int dim>
-std::unique_ptr<BasicBuiltProblem<dim>> built_on(const Scene& scene, MeshOf<dim> mesh);
+std::unique_ptr<BasicBuiltProblem<dim>> built_on(const Scene& scene, MeshOf<dim> mesh, bool whole = true);
+
+/// The problem of a plane scene on `mesh`: the scene's region boxes applied when
+/// `apply_region_boxes`, its regions checked when the mesh is `whole` (built_on).
+std::unique_ptr<BuiltProblem> built_plane_on(const Scene& scene, Mesh mesh, bool apply_region_boxes, bool whole);
 
 /// InputError naming the scene's `mesh` key when the scene is not of dimension dim.
 template <int dim>

@@ -128,6 +128,12 @@ struct SceneMaterial {
   PlaneModel model = PlaneModel::strain;
   Stabilization stabilization = Stabilization::two_mu;
   std::vector<SceneRegionMaterial> regions;  ///< overrides for single regions
+  /// Whether some region puts the elements into it by a box.
+  bool has_region_boxes() const noexcept {
+    for (const SceneRegionMaterial& r : regions)
+      if (r.box) return true;
+    return false;
+  }
   bool operator==(const SceneMaterial&) const = default;
 };
 
