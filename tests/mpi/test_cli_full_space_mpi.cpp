@@ -720,28 +720,33 @@ TEST(CliFullSpaceMpi, WhereThePiecesMakeEveryFileTheResultsOfPiecesAreTheWholeMe
   }
 }
 
-// a file with a defect in one cell inside the mesh, which only the processes whose pieces hold
-// it find: every process ends with the error, the first tells it once, and nothing is written
-TEST(CliFullSpaceMpi, ADefectInTheFileThatOneProcessFindsEndsEveryProcess) {
-  const fs::path msh = scratch("defect.msh");
-  fs::create_directories(msh.parent_path());
-  std::ofstream(msh) << hemivem::test::squares_msh_repeating_a_vertex(24);
-  const fs::path toml = example_on_file(msh, "defect.toml");
-  const CommandRun one = run(binary() + " solve " + toml.string() + " -q --out " + scratch("defect-one").string());
+/// `solve` of `flags` refused in one process with a message from `said` on, and on 2 and 3
+/// processes on the full-space route: exit code 2, the message told once, nothing written.
+void expect_every_process_refuses_as_one(const std::string& flags, const std::string& said, const std::string& name) {
+  const CommandRun one = run(binary() + " solve " + flags + " -q --out " + scratch(name + "-one").string());
   ASSERT_EQ(one.code, 2) << one.err;
-  const auto said = one.err.find("Gmsh element");
-  ASSERT_NE(said, std::string::npos) << one.err;
-  const std::string message = one.err.substr(said, one.err.find('\n', said) - said);
+  const auto at = one.err.find(said);
+  ASSERT_NE(at, std::string::npos) << one.err;
+  const std::string message = one.err.substr(at, one.err.find('\n', at) - at);
   for (const int processes : {2, 3}) {
     SCOPED_TRACE(std::to_string(processes) + " processes");
-    const fs::path out = scratch("defect-np" + std::to_string(processes));
-    const CommandRun m = run(mpiexec() + " " + np(processes) + " " + binary() + " solve " + toml.string() +
+    const fs::path out = scratch(name + "-np" + std::to_string(processes));
+    const CommandRun m = run(mpiexec() + " " + np(processes) + " " + binary() + " solve " + flags +
                              " --linear petsc-gamg -q --out " + out.string());
     EXPECT_EQ(m.code, 2) << m.err;
     EXPECT_EQ(count(m.err, "hemivem: error:"), 1u) << m.err;
     EXPECT_EQ(count(m.err, message), 1u) << m.err;
     EXPECT_FALSE(fs::exists(out));
   }
+}
+
+// a file with a defect in one cell inside the mesh, which only the processes whose pieces hold
+// it find: every process ends with the error, the first tells it once, and nothing is written
+TEST(CliFullSpaceMpi, ADefectInTheFileThatOneProcessFindsEndsEveryProcess) {
+  const fs::path msh = scratch("defect.msh");
+  fs::create_directories(msh.parent_path());
+  std::ofstream(msh) << hemivem::test::squares_msh_repeating_a_vertex(24);
+  expect_every_process_refuses_as_one(example_on_file(msh, "defect.toml").string(), "Gmsh element", "defect");
 }
 
 // region boxes on a generated box (scenes/extreme/bimaterial-1e6.toml) and on a Gmsh file, made or
@@ -764,22 +769,8 @@ TEST(CliFullSpaceMpi, RegionBoxesOnPiecesAreTheCondensedAnswer) {
   if (file_ref.empty()) return;
   for (const int processes : {2, 3}) expect_processes_agree(file, file_ref, processes, "regions", false, processes);
 
-  const std::string empty = boxes + " --set 'material.region[0].box=[0.3, 0.31, 0.3, 0.31]'";
-  const CommandRun one = run(binary() + " solve " + empty + " -q --out " + scratch("empty-box-one").string());
-  ASSERT_EQ(one.code, 2) << one.err;
-  const auto said = one.err.find("material.region[0].id: region 1 matches no element");
-  ASSERT_NE(said, std::string::npos) << one.err;
-  const std::string message = one.err.substr(said, one.err.find('\n', said) - said);
-  for (const int processes : {2, 3}) {
-    SCOPED_TRACE(std::to_string(processes) + " processes");
-    const fs::path out = scratch("empty-box-np" + std::to_string(processes));
-    const CommandRun m = run(mpiexec() + " " + np(processes) + " " + binary() + " solve " + empty +
-                             " --linear petsc-gamg -q --out " + out.string());
-    EXPECT_EQ(m.code, 2) << m.err;
-    EXPECT_EQ(count(m.err, "hemivem: error:"), 1u) << m.err;
-    EXPECT_EQ(count(m.err, message), 1u) << m.err;
-    EXPECT_FALSE(fs::exists(out));
-  }
+  expect_every_process_refuses_as_one(boxes + " --set 'material.region[0].box=[0.3, 0.31, 0.3, 0.31]'",
+                                      "material.region[0].id: region 1 matches no element", "empty-box");
 }
 
 /// The applied load of a plane path's step `a` (path.json) is that of `b` to 1e-12 of its size.
