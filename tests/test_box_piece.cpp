@@ -110,11 +110,50 @@ std::set<std::vector<int>> sorted_facets(const Mesh3D& mesh, const std::vector<i
 /// The thirds of the vertices, and an empty range.
 std::vector<std::pair<int, int>> thirds(int n) { return {{0, n / 3}, {n / 3, 2 * n / 3}, {2 * n / 3, n}, {n / 2, n / 2}}; }
 
-// squares, triangles, and distorted squares (each piece holds every vertex, moved as the whole
-// mesh's of the same seed)
+// how each generator numbers its vertices: the grid point of each is the corner of the boxes at
+// or below it (within the box above and to the right of it), and the corner at each grid point
+// lies there
+TEST(BoxPiece, EachVertexLiesAtItsGridPointAndEachCornerIsTheVertexThere) {
+  const Rectangle domain{0.0, 2.0, 0.0, 1.0};
+  const GridSize n(8, 6);
+  const double hx = 2.0 / 8, hy = 1.0 / 6;
+  for (const std::string generator : {"squares", "distorted", "nonconvex"}) {
+    SCOPED_TRACE(generator);
+    const Mesh whole = make_mesh(generator, n, domain, 7);
+    const BoxGridVertices grid(generator, 2, {n.nx, n.ny, 1});
+    ASSERT_EQ(grid.count(), whole.num_vertices());
+    const double off = generator == "distorted" ? 0.2 : 0.0;  // a box's sides the vertices inside move
+    long long last_row = 0;
+    for (int v = 0; v < whole.num_vertices(); ++v) {
+      const auto p = grid.point(v);
+      const Vec2 x = whole.vertex(v);
+      EXPECT_GE(x.x(), (p[0] - off) * hx - 1e-12) << "vertex " << v;
+      EXPECT_LT(x.x(), (p[0] + 1) * hx) << "vertex " << v;
+      EXPECT_GE(x.y(), (p[1] - off) * hy - 1e-12) << "vertex " << v;
+      EXPECT_LT(x.y(), (p[1] + 1) * hy) << "vertex " << v;
+      EXPECT_GE(p[1], last_row) << "layer by layer";
+      last_row = p[1];
+    }
+    for (long long j = 0; j <= n.ny; ++j)
+      for (long long i = 0; i <= n.nx; ++i) {
+        const long long v = grid.corner({i, j, 0});
+        ASSERT_LT(v, whole.num_vertices());
+        EXPECT_EQ(grid.point(v), (std::array<long long, 3>{i, j, 0}));
+        if (generator != "distorted" || i == 0 || j == 0 || i == n.nx || j == n.ny)
+          EXPECT_LT((whole.vertex(static_cast<int>(v)) - Vec2(i * hx, j * hy)).norm(), 1e-12) << i << ", " << j;
+      }
+  }
+  const BoxGridVertices cubes("cubes", 3, {3, 2, 4});
+  EXPECT_EQ(cubes.count(), 4 * 3 * 5);
+  EXPECT_EQ(cubes.corner({1, 2, 3}), 1 + 2 * 4 + 3 * 12);
+  EXPECT_EQ(cubes.point(1 + 2 * 4 + 3 * 12), (std::array<long long, 3>{1, 2, 3}));
+}
+
+// squares, triangles, distorted squares (each piece holds every vertex, moved as the whole
+// mesh's of the same seed) and the nonconvex cells (a grid twice as fine, BoxGridVertices)
 TEST(BoxPiece, APlanePieceHoldsTheCellsOfItsVerticesAndItsSides) {
   const Rectangle domain{0.0, 2.0, 0.0, 1.0};
-  for (const std::string generator : {"squares", "triangles", "distorted"}) {
+  for (const std::string generator : {"squares", "triangles", "distorted", "nonconvex"}) {
     SCOPED_TRACE(generator);
     const Mesh whole = make_mesh(generator, GridSize(8, 12), domain, 7);
     const std::set<std::vector<int>> bottom =
@@ -254,7 +293,7 @@ TEST(BoxPiece, WhatMakesNoPieceIsRefusedByName) {
   const auto error = [](auto&& f) { return test::input_error_of(f); };
   EXPECT_NE(error([] { (void)make_mesh3d_piece("voronoi", 4, Box{}, BoxPiece{0, 5, {}}); }).find("cubes and tetrahedra"),
             std::string::npos);
-  EXPECT_NE(error([] { (void)make_mesh_piece("voronoi", 4, Rectangle{}, BoxPiece{0, 5, {}}); }).find("squares, triangles and distorted"),
+  EXPECT_NE(error([] { (void)make_mesh_piece("voronoi", 4, Rectangle{}, BoxPiece{0, 5, {}}); }).find("squares, triangles, distorted and nonconvex"),
             std::string::npos);
   EXPECT_NE(error([] { (void)make_mesh3d_piece("cubes", 4, Box{}, BoxPiece{0, 5, {"left"}}); }).find("unknown side 'left'"),
             std::string::npos);
@@ -387,6 +426,22 @@ TEST(BoxPiece, APieceHoldsTheCellsAroundEachPointSupportAndAlongEachSegmentsSide
   {
     SCOPED_TRACE("a pressure on a segment of the top");
     expect_scene_pieces_pose_the_whole_share<2>(plate, 3);
+  }
+  // held inside at a vertex off the grid points: a nonconvex mesh's mid-point of a box's side, a
+  // quarter of a box inside (5.75 and 6.25 boxes along), and a distorted mesh's inner vertex at
+  // the grid point (6, 6), moved
+  for (const char* name : {"paper-example-4.1-nonconvex.toml", "paper-example-4.1-distorted.toml"}) {
+    SCOPED_TRACE(name);
+    Scene held = parse_scene(test::scenes_dir() / name);
+    held.mesh.n = 12;
+    const bool nonconvex = held.mesh.generator == "nonconvex";
+    const Vec2 at = nonconvex ? Vec2(5.75 / 12, 6.25 / 12) : build_problem<2>(held)->mesh.vertex(6 * 13 + 6);
+    EXPECT_GT((at - Vec2(0.5, 0.5)).norm(), 1e-3) << "off the grid point";
+    SceneDirichlet inside;
+    inside.boundary.points = {{at.x(), at.y(), 0.0}};
+    inside.ux = SceneScalar{0.0};
+    held.dirichlet.push_back(inside);
+    expect_scene_pieces_pose_the_whole_share<2>(held, 3);
   }
   // a solid on a roller at x = 0, held at two points of its far side against the rigid motions
   // the roller leaves free

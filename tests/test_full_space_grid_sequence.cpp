@@ -103,6 +103,7 @@ TEST(GridSequence, AutoHalvesTheGridWhileEveryAxisKeepsSixteenBoxesOnTheFullSpac
   EXPECT_EQ(levels("paper-example-4.1.toml", "256", true, true), 0) << "a loading path";
   EXPECT_EQ(levels("paper-example-4.1-voronoi.toml", "256"), 0) << "no grid of boxes";
   EXPECT_EQ(levels("paper-example-4.1-distorted.toml", "256"), 0) << "inner vertices moved at random";
+  EXPECT_EQ(levels("paper-example-4.1-nonconvex.toml", "256"), 0) << "mid-points moved with the boxes' size";
   EXPECT_EQ(levels("extreme/bimaterial-1e6.toml", "256"), 0) << "a coarser cell's centroid lies elsewhere in the region boxes";
   // a support at a point or a segment may fall between a coarser grid's vertices
   Scene held = scene_of("paper-example-4.1.toml", {"mesh.n=256"});

@@ -60,6 +60,7 @@ TEST(ScenePieces, AStaticSolveOfAGeneratedBoxIsMadeInPieces) {
   EXPECT_LT(expect_two_pieces<2>(plane), 64 * 64) << "the first half leaves cells out";
   expect_two_pieces<2>(shipped("paper-example-4.1-triangles.toml"));
   expect_two_pieces<2>(shipped("paper-example-4.1-distorted.toml"));  // squares, their inner vertices moved
+  expect_two_pieces<2>(shipped("paper-example-4.1-nonconvex.toml"));  // a grid twice as fine
   Scene solid = shipped("example-4.1-3d.toml");
   expect_two_pieces<3>(solid);
   solid.mesh.generator = "tetrahedra";  // six cells a box

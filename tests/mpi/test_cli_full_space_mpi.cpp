@@ -540,12 +540,16 @@ TEST(CliFullSpaceMpi, ThePiecesKeptOfTwoBodiesHeldByPointsAreTheCondensedAnswer)
 }
 
 // a distorted mesh (paper-example-4.1-distorted.toml): each process makes its piece of the
-// squares, every vertex moved as the whole mesh's
-TEST(CliFullSpaceMpi, ADistortedMeshEachProcessMakesItsPieceOfIsTheCondensedAnswer) {
-  const std::string flags = scene("paper-example-4.1-distorted.toml") + " --n 24 --tol 1e-11";
-  const fs::path ref = solve_condensed(flags, "condensed-distorted");
-  if (ref.empty()) return;
-  for (const int processes : {2, 3}) expect_processes_agree(flags, ref, processes, "distorted", false, processes);
+// squares, every vertex moved as the whole mesh's; and of the nonconvex cells, numbered on a grid
+// twice as fine (paper-example-4.1-nonconvex.toml)
+TEST(CliFullSpaceMpi, ADistortedOrNonconvexMeshEachProcessMakesItsPieceOfIsTheCondensedAnswer) {
+  for (const std::string name : {"distorted", "nonconvex"}) {
+    SCOPED_TRACE(name);
+    const std::string flags = scene("paper-example-4.1-" + name + ".toml") + " --n 24 --tol 1e-11";
+    const fs::path ref = solve_condensed(flags, "condensed-" + name);
+    if (ref.empty()) return;
+    for (const int processes : {2, 3}) expect_processes_agree(flags, ref, processes, name, false, processes);
+  }
 }
 
 // a Voronoi mesh of a solid, made whole by every process, each computing the cells of its share

@@ -25,9 +25,10 @@ void require_piece_generator(std::string_view generator, int dim);
 class PieceBoxes {
  public:
   PieceBoxes() = default;
-  /// The boxes of `piece` on a grid of `dim` axes, whose vertices number layer by layer along the
-  /// last axis; InputError for an unknown side or a range of vertices outside the grid's.
-  PieceBoxes(int dim, std::array<int, 3> counts, const BoxPiece& piece);
+  /// The boxes of `piece` on a grid of `dim` axes of the mesh `generator` makes, whose vertices
+  /// number layer by layer along the last axis (BoxGridVertices); InputError for an unknown side
+  /// or a range of vertices outside the grid's.
+  PieceBoxes(std::string_view generator, int dim, std::array<int, 3> counts, const BoxPiece& piece);
   bool operator()(int i, int j, int k) const;
 
  private:

@@ -11,16 +11,63 @@
 namespace hemivem {
 
 bool makes_pieces(std::string_view generator) {
-  return generator == "squares" || generator == "triangles" || generator == "distorted" || generator == "cubes" ||
-         generator == "tetrahedra";
+  return generator == "squares" || generator == "triangles" || generator == "distorted" || generator == "nonconvex" ||
+         generator == "cubes" || generator == "tetrahedra";
 }
 
 int cells_per_box(std::string_view generator) {
-  if (generator == "squares" || generator == "distorted" || generator == "cubes") return 1;
+  if (generator == "squares" || generator == "distorted" || generator == "nonconvex" || generator == "cubes") return 1;
   if (generator == "triangles") return 2;
   if (generator == "tetrahedra") return 6;
   throw InputError("the generator '" + std::string(generator) +
-                   "' makes no grid of boxes (squares, triangles, distorted, cubes and tetrahedra do)");
+                   "' makes no grid of boxes (squares, triangles, distorted, nonconvex, cubes and tetrahedra do)");
+}
+
+BoxGridVertices::BoxGridVertices(std::string_view generator, int dim, std::array<int, 3> counts)
+    : dim_(dim), counts_(counts), fine_(generator == "nonconvex") {
+  (void)cells_per_box(generator);
+  if (dim == 2) counts_[2] = 1;
+  if (!fine_) {
+    count_ = 1;
+    for (int a = 0; a < dim; ++a) count_ *= counts_[static_cast<std::size_t>(a)] + 1;
+    return;
+  }
+  // rows r = 0, ..., 2 ny of the fine grid: the boundary's rows hold the corners, the others'
+  // even rows every point, their odd rows the points between the corners inside
+  const long long nx = counts_[0], rows = 2LL * counts_[1];
+  row_start_.assign(static_cast<std::size_t>(rows + 2), 0);
+  for (long long r = 0; r <= rows; ++r)
+    row_start_[static_cast<std::size_t>(r + 1)] =
+        row_start_[static_cast<std::size_t>(r)] + (r % 2 != 0 ? nx - 1 : (r == 0 || r == rows ? nx + 1 : 2 * nx + 1));
+  count_ = row_start_.back();
+}
+
+std::array<long long, 3> BoxGridVertices::point(long long v) const {
+  if (!fine_) {
+    std::array<long long, 3> at{0, 0, 0};
+    for (int a = 0; a < dim_; ++a) {
+      at[static_cast<std::size_t>(a)] = v % (counts_[static_cast<std::size_t>(a)] + 1);
+      v /= counts_[static_cast<std::size_t>(a)] + 1;
+    }
+    return at;
+  }
+  const auto row = std::upper_bound(row_start_.begin(), row_start_.end(), v) - row_start_.begin() - 1;
+  const long long p = v - row_start_[static_cast<std::size_t>(row)], rows = 2LL * counts_[1];
+  const long long i = row % 2 != 0 ? 2 * (p + 1) : (row == 0 || row == rows ? 2 * p : p);  // along the fine row
+  return {i / 2, row / 2, 0};
+}
+
+long long BoxGridVertices::corner(const std::array<long long, 3>& p) const {
+  if (!fine_) {
+    long long v = 0, stride = 1;
+    for (int a = 0; a < dim_; ++a) {
+      v += p[static_cast<std::size_t>(a)] * stride;
+      stride *= counts_[static_cast<std::size_t>(a)] + 1;
+    }
+    return v;
+  }
+  const long long row = 2 * p[1], rows = 2LL * counts_[1];
+  return row_start_[static_cast<std::size_t>(row)] + (row == 0 || row == rows ? p[0] : 2 * p[0]);
 }
 
 namespace {
@@ -113,14 +160,12 @@ void join_to_first_column(std::vector<char>& kept, const std::array<int, 3>& cou
 
 namespace detail {
 
-PieceBoxes::PieceBoxes(int dim, std::array<int, 3> counts, const BoxPiece& piece)
+PieceBoxes::PieceBoxes(std::string_view generator, int dim, std::array<int, 3> counts, const BoxPiece& piece)
     : all_(false), dim_(dim), counts_(counts) {
   if (dim == 2) counts_[2] = 1;
-  const int layer_axis = dim - 1;
-  // the vertices of a layer along the last axis, and of the grid
-  long long stride = 1;
-  for (int a = 0; a < layer_axis; ++a) stride *= counts_[static_cast<std::size_t>(a)] + 1;
-  const long long vertices = stride * (counts_[static_cast<std::size_t>(layer_axis)] + 1);
+  const auto layer_axis = static_cast<std::size_t>(dim - 1);
+  const BoxGridVertices grid(generator, dim, counts_);
+  const long long vertices = grid.count();
   if (piece.first_vertex < 0 || piece.end_vertex < piece.first_vertex || piece.end_vertex > vertices)
     throw InputError("a piece of the mesh owns the vertices " + std::to_string(piece.first_vertex) + ", ..., " +
                      std::to_string(piece.end_vertex) + " (excluded): not a range of the mesh's " +
@@ -128,10 +173,10 @@ PieceBoxes::PieceBoxes(int dim, std::array<int, 3> counts, const BoxPiece& piece
   if (piece.end_vertex > piece.first_vertex) {
     // box layer k holds the vertex layers k and k + 1: those holding a vertex of the piece, and
     // one layer more on each side
-    const auto first = static_cast<int>(piece.first_vertex / stride);
-    const auto last = static_cast<int>((piece.end_vertex - 1) / stride);
+    const auto first = static_cast<int>(grid.point(piece.first_vertex)[layer_axis]);
+    const auto last = static_cast<int>(grid.point(piece.end_vertex - 1)[layer_axis]);
     first_layer_ = std::max(0, first - 2);
-    last_layer_ = std::min(counts_[static_cast<std::size_t>(layer_axis)] - 1, last + 1);
+    last_layer_ = std::min(counts_[layer_axis] - 1, last + 1);
   }
   for (const std::string& side : piece.sides) {
     const auto [axis, upper] = box_side_axis(dim, side);
@@ -146,12 +191,7 @@ PieceBoxes::PieceBoxes(int dim, std::array<int, 3> counts, const BoxPiece& piece
     const auto axis_count = [&](int a) { return static_cast<long long>(counts_[static_cast<std::size_t>(a)]); };
     near_.assign(static_cast<std::size_t>(axis_count(0) * axis_count(1) * axis_count(2)), 0);
     const auto keep_around = [&](long long v) {
-      std::array<long long, 3> at{0, 0, 0};  // the vertex's grid point
-      long long rest = v;
-      for (int a = 0; a < dim; ++a) {
-        at[static_cast<std::size_t>(a)] = rest % (axis_count(a) + 1);
-        rest /= axis_count(a) + 1;
-      }
+      const std::array<long long, 3> at = grid.point(v);
       std::array<long long, 3> lo{0, 0, 0}, hi{0, 0, 0};
       for (int a = 0; a < dim; ++a) {
         lo[static_cast<std::size_t>(a)] = std::max(0LL, at[static_cast<std::size_t>(a)] - 2);
@@ -223,9 +263,10 @@ namespace detail {
 void require_piece_generator(std::string_view generator, int dim) {
   const bool solid = dim == 3;
   if (solid ? generator != "cubes" && generator != "tetrahedra"
-            : generator != "squares" && generator != "triangles" && generator != "distorted")
+            : generator != "squares" && generator != "triangles" && generator != "distorted" && generator != "nonconvex")
     throw InputError(std::string("a process's piece of a mesh is made by the generators ") +
-                     (solid ? "cubes and tetrahedra in a solid" : "squares, triangles and distorted in the plane") + " (got '" +
+                     (solid ? "cubes and tetrahedra in a solid" : "squares, triangles, distorted and nonconvex in the plane") +
+                     " (got '" +
                      std::string(generator) + "'): every process makes the whole of any other mesh");
 }
 
@@ -233,12 +274,12 @@ void require_piece_generator(std::string_view generator, int dim) {
 
 std::vector<int> piece_cells(std::string_view generator, GridSize n, const BoxPiece& piece) {
   detail::require_piece_generator(generator, 2);
-  return cells_of_boxes(detail::PieceBoxes(2, {n.nx, n.ny, 1}, piece), {n.nx, n.ny, 1}, cells_per_box(generator));
+  return cells_of_boxes(detail::PieceBoxes(generator, 2, {n.nx, n.ny, 1}, piece), {n.nx, n.ny, 1}, cells_per_box(generator));
 }
 
 std::vector<int> piece_cells(std::string_view generator, GridSize3 n, const BoxPiece& piece) {
   detail::require_piece_generator(generator, 3);
-  return cells_of_boxes(detail::PieceBoxes(3, {n.nx, n.ny, n.nz}, piece), {n.nx, n.ny, n.nz}, cells_per_box(generator));
+  return cells_of_boxes(detail::PieceBoxes(generator, 3, {n.nx, n.ny, n.nz}, piece), {n.nx, n.ny, n.nz}, cells_per_box(generator));
 }
 
 }  // namespace hemivem

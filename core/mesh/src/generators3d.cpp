@@ -171,7 +171,7 @@ Mesh3D make_mesh3d_piece(std::string_view generator, GridSize3 n, const Box& dom
   detail::require_piece_generator(generator, 3);
   const bool cubes = generator == "cubes";
   detail::check_box_grid(cubes ? "cubes mesh" : "tetrahedra mesh", n, domain);
-  const detail::PieceBoxes keep(3, {n.nx, n.ny, n.nz}, piece);
+  const detail::PieceBoxes keep(generator, 3, {n.nx, n.ny, n.nz}, piece);
   return Mesh3D(grid_vertices(n, domain), cubes ? cube_cells(n, keep) : tetrahedron_cells(n, keep));
 }
 

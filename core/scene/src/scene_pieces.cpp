@@ -26,30 +26,38 @@ namespace hemivem {
 
 namespace {
 
-/// The grid vertex of the scene's generated box nearest to `q` (the vertex a support at `q`
-/// holds, when it is within the support's tolerance), numbered as the generators number them.
+/// The boxes along each axis of the scene's generated grid.
+std::array<int, 3> grid_counts(const Scene& scene) {
+  if (scene.dimension() == 3) {
+    const GridSize3 c = scene.mesh.cells3();
+    return {c.nx, c.ny, c.nz};
+  }
+  const GridSize c = scene.mesh.cells();
+  return {c.nx, c.ny, 1};
+}
+
+/// How the scene's generator numbers the vertices of its grid.
+BoxGridVertices grid_vertices_of(const Scene& scene) {
+  return BoxGridVertices(scene.mesh.generator, scene.dimension(), grid_counts(scene));
+}
+
+/// The vertex at the grid point of the scene's generated box nearest to `q`: the box corner
+/// within half a box of the vertex a support at `q` holds (the vertex nearest to `q`; a
+/// distorted or nonconvex mesh's vertices lie off the grid points by less than half a box, so
+/// the boxes within two of the corner hold every cell around it).
 int nearest_grid_vertex(const Scene& scene, const std::array<double, 3>& q) {
   const int dim = scene.dimension();
-  std::array<int, 3> n{1, 1, 1};
+  const std::array<int, 3> n = grid_counts(scene);
   std::array<double, 6> box{};
-  if (dim == 3) {
-    const GridSize3 c = scene.mesh.cells3();
-    n = {c.nx, c.ny, c.nz};
-    box = scene.mesh.box;
-  } else {
-    const GridSize c = scene.mesh.cells();
-    n = {c.nx, c.ny, 1};
-    std::copy(scene.mesh.domain.begin(), scene.mesh.domain.end(), box.begin());
-  }
-  long long v = 0, stride = 1;
+  if (dim == 3) box = scene.mesh.box;
+  else std::copy(scene.mesh.domain.begin(), scene.mesh.domain.end(), box.begin());
+  std::array<long long, 3> point{0, 0, 0};
   for (int a = 0; a < dim; ++a) {
     const auto s = static_cast<std::size_t>(a);
     const double t = (q[s] - box[2 * s]) / (box[2 * s + 1] - box[2 * s]) * n[s];
-    const long long i = std::isfinite(t) ? std::llround(std::clamp(t, 0.0, static_cast<double>(n[s]))) : 0;
-    v += i * stride;
-    stride *= n[s] + 1;
+    point[s] = std::isfinite(t) ? std::llround(std::clamp(t, 0.0, static_cast<double>(n[s]))) : 0;
   }
-  return static_cast<int>(v);
+  return static_cast<int>(grid_vertices_of(scene).corner(point));
 }
 
 /// The side of the scene's rectangle along whose line the segment lies (both its ends within the
@@ -82,14 +90,7 @@ bool add_selector(const Scene& scene, const BoundarySelector& b, BoxPiece& piece
 }
 
 /// The vertices of the scene's generated mesh.
-long long scene_vertices(const Scene& scene) {
-  if (scene.dimension() == 3) {
-    const GridSize3 n = scene.mesh.cells3();
-    return static_cast<long long>(n.nx + 1) * (n.ny + 1) * (n.nz + 1);
-  }
-  const GridSize n = scene.mesh.cells();
-  return static_cast<long long>(n.nx + 1) * (n.ny + 1);
-}
+long long scene_vertices(const Scene& scene) { return grid_vertices_of(scene).count(); }
 
 /// The piece of the generated box of a scene of one body whose supports, loads and contact
 /// parts, and the selectors `more`, select sides, segments along sides and points only; none

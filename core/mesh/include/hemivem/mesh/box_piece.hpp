@@ -1,6 +1,6 @@
-// A process's piece of a mesh generated on a grid of boxes (squares, triangles and distorted
-// squares in the plane, cubes and tetrahedra in a solid): what one process of a run across processes makes of the
-// mesh, without making the whole (docs/cluster.md).
+// A process's piece of a mesh generated on a grid of boxes (squares, triangles, distorted
+// squares and nonconvex cells in the plane, cubes and tetrahedra in a solid): what one process of
+// a run across processes makes of the mesh, without making the whole (docs/cluster.md).
 //
 // A piece holds every vertex of the whole mesh, numbered as the whole numbers them, so that a
 // vertex, its dofs and every array indexed by them mean in a piece what they mean in the whole;
@@ -14,9 +14,11 @@
 //     whole is), or
 //   - lie within two boxes of a vertex the piece is given to hold (a support at a point),
 // in the whole mesh's order of cells, each as the whole makes it. The vertices are numbered layer
-// by layer (along y in the plane, z in a solid), so that a range of vertices is a slab.
+// by layer (along y in the plane, z in a solid), so that a range of vertices is a slab: the
+// grid's points, or the nonconvex generator's points of a grid twice as fine (BoxGridVertices).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -50,13 +52,38 @@ struct BoxPiece {
   std::vector<int> held;
 };
 
-/// The generators that make a piece: squares, triangles and distorted in the plane, cubes and
-/// tetrahedra in a solid (a grid of boxes).
+/// The generators that make a piece: squares, triangles, distorted and nonconvex in the plane,
+/// cubes and tetrahedra in a solid (a grid of boxes).
 bool makes_pieces(std::string_view generator);
 
-/// The cells such a generator makes of each box of its grid: 1 (squares, distorted, cubes), 2 (triangles)
-/// or 6 (tetrahedra); InputError for a generator that makes no piece.
+/// The cells such a generator makes of each box of its grid: 1 (squares, distorted, nonconvex,
+/// cubes), 2 (triangles) or 6 (tetrahedra); InputError for a generator that makes no piece.
 int cells_per_box(std::string_view generator);
+
+/// How such a generator numbers the vertices of its grid of counts[0] x counts[1] (x counts[2]
+/// in a solid) boxes, layer by layer along the last axis, x fastest: the grid's points, or (the
+/// nonconvex generator) the points of the grid twice as fine but the boxes' centres and the
+/// mid-points of the boundary's boxes' sides.
+class BoxGridVertices {
+ public:
+  /// InputError for a generator that makes no piece.
+  BoxGridVertices(std::string_view generator, int dim, std::array<int, 3> counts);
+  /// The number of vertices.
+  long long count() const noexcept { return count_; }
+  /// The grid point (i, j, k) at or below vertex v along each axis (k = 0 in the plane): a box
+  /// corner, which the box (i, j, k) and those before it along each axis hold; v < count().
+  std::array<long long, 3> point(long long v) const;
+  /// The vertex at the grid point p (a box corner).
+  long long corner(const std::array<long long, 3>& p) const;
+
+ private:
+  int dim_;
+  std::array<int, 3> counts_;
+  bool fine_;
+  long long count_ = 0;
+  /// The fine grid's: the first vertex of each of its rows, and count() last.
+  std::vector<long long> row_start_;
+};
 
 /// The piece of make_mesh(generator, n, domain, seed) described by `piece` (see above; the seed
 /// moves a distorted mesh's vertices, every one of which each piece holds). InputError for a
