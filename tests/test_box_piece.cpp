@@ -691,6 +691,12 @@ TEST(BodyPieces, ThePiecesEachProcessMakesOfSeveralBodiesAreTheWholeMeshs) {
     SCOPED_TRACE("two-blocks, triangles");
     expect_body_pieces_are_the_whole_meshs<2>(blocks);
   }
+  {
+    SCOPED_TRACE("two-blocks, nonconvex cells on distorted squares");
+    blocks.bodies[0].mesh.generator = "nonconvex";
+    blocks.bodies[1].mesh.generator = "distorted";
+    expect_body_pieces_are_the_whole_meshs<2>(blocks);
+  }
 }
 
 TEST(MeshPiece, APieceIsRefusedCellsOutOfOrderAndFlagsOfAnotherMesh) {
