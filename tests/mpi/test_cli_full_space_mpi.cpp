@@ -593,6 +593,18 @@ fs::path example_on_file(const fs::path& msh, const std::string& name) {
   return toml;
 }
 
+/// Example 4.1 on the plane Gmsh file `msh` (example_on_file) with `more` added to its scene,
+/// solved by 2 and 3 processes on the full-space route: the condensed route's answer in one.
+void expect_example_on_file_agrees(const fs::path& msh, const std::string& name, const std::string& more = "") {
+  SCOPED_TRACE(name);
+  const fs::path toml = example_on_file(msh, name + ".toml");
+  std::ofstream(toml, std::ios::app) << more;
+  const std::string flags = toml.string() + " --tol 1e-11";
+  const fs::path ref = solve_condensed(flags, "condensed-" + name);
+  if (ref.empty()) return;
+  for (const int processes : {2, 3}) expect_processes_agree(flags, ref, processes, name, false, processes);
+}
+
 // a Gmsh file that each process reads its piece of (a plane's, whose contact is a physical
 // line, and the same held at a point inside it; a solid's is gmsh-bracket-3d.toml above): the
 // condensed answer, the outputs in pieces
@@ -600,17 +612,9 @@ TEST(CliFullSpaceMpi, AGmshFileEachProcessReadsItsPieceOfIsTheCondensedAnswer) {
   const fs::path msh = scratch("squares-24x12.msh");
   fs::create_directories(msh.parent_path());
   std::ofstream(msh) << hemivem::test::squares_msh(24, 12);
-  const std::string flags = example_on_file(msh, "squares-on-file.toml").string() + " --tol 1e-11";
-  const fs::path ref = solve_condensed(flags, "condensed-squares-on-file");
-  if (ref.empty()) return;
-  for (const int processes : {2, 3}) expect_processes_agree(flags, ref, processes, "read-squares", false, processes);
+  expect_example_on_file_agrees(msh, "squares-on-file");
   // held at a vertex inside the body as well: each process's piece holds the cells around it
-  const fs::path held = example_on_file(msh, "squares-held-on-file.toml");
-  std::ofstream(held, std::ios::app) << "\n[[dirichlet]]\npoint = [0.75, 0.25]\nux = 0.0\n";
-  const std::string held_flags = held.string() + " --tol 1e-11";
-  const fs::path held_ref = solve_condensed(held_flags, "condensed-squares-held-on-file");
-  if (held_ref.empty()) return;
-  for (const int processes : {2, 3}) expect_processes_agree(held_flags, held_ref, processes, "read-squares-held", false, processes);
+  expect_example_on_file_agrees(msh, "squares-held-on-file", "\n[[dirichlet]]\npoint = [0.75, 0.25]\nux = 0.0\n");
 }
 
 /// The scene of `flags` solved by `processes` ranks on the full-space route writing `kept`
@@ -766,12 +770,7 @@ TEST(CliFullSpaceMpi, RegionBoxesOnPiecesAreTheCondensedAnswer) {
   const fs::path msh = scratch("regions.msh");
   fs::create_directories(msh.parent_path());
   std::ofstream(msh) << hemivem::test::squares_msh(24, 12);
-  const fs::path toml = example_on_file(msh, "regions.toml");
-  std::ofstream(toml, std::ios::app) << "\n[[material.region]]\nid = 3\nE = 130.0\nnu = 0.3\nbox = [0.1, 0.2, 0.6, 0.8]\n";
-  const std::string file = toml.string() + " --tol 1e-11";
-  const fs::path file_ref = solve_condensed(file, "condensed-regions");
-  if (file_ref.empty()) return;
-  for (const int processes : {2, 3}) expect_processes_agree(file, file_ref, processes, "regions", false, processes);
+  expect_example_on_file_agrees(msh, "regions", "\n[[material.region]]\nid = 3\nE = 130.0\nnu = 0.3\nbox = [0.1, 0.2, 0.6, 0.8]\n");
 
   expect_every_process_refuses_as_one(boxes + " --set 'material.region[0].box=[0.3, 0.31, 0.3, 0.31]'",
                                       "material.region[0].id: region 1 matches no element", "empty-box");
