@@ -51,10 +51,8 @@ std::array<long long, 3> BoxGridVertices::point(long long v) const {
     }
     return at;
   }
-  const auto row = std::upper_bound(row_start_.begin(), row_start_.end(), v) - row_start_.begin() - 1;
-  const long long p = v - row_start_[static_cast<std::size_t>(row)], rows = 2LL * counts_[1];
-  const long long i = row % 2 != 0 ? 2 * (p + 1) : (row == 0 || row == rows ? 2 * p : p);  // along the fine row
-  return {i / 2, row / 2, 0};
+  const auto [i, j] = fine_point(v);
+  return {i / 2, j / 2, 0};
 }
 
 long long BoxGridVertices::corner(const std::array<long long, 3>& p) const {
@@ -66,8 +64,21 @@ long long BoxGridVertices::corner(const std::array<long long, 3>& p) const {
     }
     return v;
   }
-  const long long row = 2 * p[1], rows = 2LL * counts_[1];
-  return row_start_[static_cast<std::size_t>(row)] + (row == 0 || row == rows ? p[0] : 2 * p[0]);
+  return fine_vertex(2 * p[0], 2 * p[1]);
+}
+
+std::array<long long, 2> BoxGridVertices::fine_point(long long v) const {
+  const auto row = std::upper_bound(row_start_.begin(), row_start_.end(), v) - row_start_.begin() - 1;
+  const long long p = v - row_start_[static_cast<std::size_t>(row)], rows = 2LL * counts_[1];
+  return {row % 2 != 0 ? 2 * (p + 1) : (row == 0 || row == rows ? 2 * p : p), row};
+}
+
+long long BoxGridVertices::fine_vertex(long long i, long long j) const {
+  const long long columns = 2LL * counts_[0], rows = 2LL * counts_[1];
+  const long long first = row_start_[static_cast<std::size_t>(j)];
+  if (j % 2 != 0) return i % 2 != 0 || i == 0 || i == columns ? -1 : first + i / 2 - 1;
+  if (j == 0 || j == rows) return i % 2 != 0 ? -1 : first + i / 2;
+  return first + i;
 }
 
 namespace {

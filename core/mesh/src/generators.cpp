@@ -133,52 +133,42 @@ std::vector<Vec2> distorted_vertices(GridSize n, double fraction, const Rectangl
 }
 
 /// The nonconvex generator's grid: the points of the grid twice as fine as n, but the boxes'
-/// centres and the mid-points of the boundary's boxes' sides, row by row (BoxGridVertices), each
-/// mid-point moved a quarter of a box's side along each axis; each box an octagon of the points
-/// around it (a nonconvex hexagon along the boundary, a nonconvex octagon inside).
+/// centres and the mid-points of the boundary's boxes' sides, numbered as BoxGridVertices numbers
+/// them, each mid-point moved a quarter of a box's side along each axis; each box an octagon of the
+/// points around it (a nonconvex hexagon along the boundary, a nonconvex octagon inside).
 struct NonconvexGrid {
-  GridSize n;
-  std::vector<int> index;  ///< the vertex at fine point (i, j), i fastest; -1 where none
+  BoxGridVertices numbering;
   std::vector<Vec2> vertices;
 
-  NonconvexGrid(GridSize size, const Rectangle& domain) : n(size) {
+  NonconvexGrid(GridSize n, const Rectangle& domain) : numbering("nonconvex", 2, {n.nx, n.ny, 1}) {
     const int mx = 2 * n.nx, my = 2 * n.ny;  // fine grid: points (i, j), 0 <= i <= mx, 0 <= j <= my
-    const auto kept = [&](int i, int j) {
-      if ((i + j) % 2 == 0) return i % 2 == 0;  // corners kept, cell centres dropped
-      return i % 2 == 1 ? (j != 0 && j != my) : (i != 0 && i != mx);  // mid-points inside
-    };
-    index.assign(static_cast<std::size_t>(mx + 1) * static_cast<std::size_t>(my + 1), -1);
-    for (int j = 0; j <= my; ++j)
-      for (int i = 0; i <= mx; ++i) {
-        if (!kept(i, j)) continue;
-        index[static_cast<std::size_t>(j) * static_cast<std::size_t>(mx + 1) + static_cast<std::size_t>(i)] =
-            static_cast<int>(vertices.size());
-        if ((i + j) % 2 == 0) {
-          vertices.emplace_back(grid_coordinate(domain.x0, domain.x1, i, mx), grid_coordinate(domain.y0, domain.y1, j, my));
-        } else {
-          // i/(2N) plus a quarter macro cell 1/(4N): (2i+1)/(4N), never the far side
-          vertices.emplace_back(grid_coordinate(domain.x0, domain.x1, 2 * i + 1, 2 * mx),
-                                grid_coordinate(domain.y0, domain.y1, 2 * j + 1, 2 * my));
-        }
+    vertices.reserve(static_cast<std::size_t>(numbering.count()));
+    for (long long v = 0; v < numbering.count(); ++v) {
+      const auto [i, j] = numbering.fine_point(v);
+      if ((i + j) % 2 == 0) {
+        vertices.emplace_back(grid_coordinate(domain.x0, domain.x1, static_cast<int>(i), mx),
+                              grid_coordinate(domain.y0, domain.y1, static_cast<int>(j), my));
+      } else {
+        // i/(2N) plus a quarter macro cell 1/(4N): (2i+1)/(4N), never the far side
+        vertices.emplace_back(grid_coordinate(domain.x0, domain.x1, static_cast<int>(2 * i + 1), 2 * mx),
+                              grid_coordinate(domain.y0, domain.y1, static_cast<int>(2 * j + 1), 2 * my));
       }
+    }
   }
 
   /// The cells of the boxes `keep` makes, box by box (x fastest).
-  std::vector<std::vector<int>> cells(const detail::PieceBoxes& keep = {}) const {
-    const int mx = 2 * n.nx;
+  std::vector<std::vector<int>> cells(GridSize n, const detail::PieceBoxes& keep = {}) const {
     std::vector<std::vector<int>> elements;
     for (int J = 0; J < n.ny; ++J)
       for (int I = 0; I < n.nx; ++I) {
         if (!keep(I, J, 0)) continue;
-        const int i = 2 * I, j = 2 * J;
-        const int ring[8][2] = {{i, j},         {i + 1, j},     {i + 2, j}, {i + 2, j + 1},
-                                {i + 2, j + 2}, {i + 1, j + 2}, {i, j + 2}, {i, j + 1}};
+        const long long i = 2 * I, j = 2 * J;
+        const long long ring[8][2] = {{i, j},         {i + 1, j},     {i + 2, j}, {i + 2, j + 1},
+                                      {i + 2, j + 2}, {i + 1, j + 2}, {i, j + 2}, {i, j + 1}};
         std::vector<int> el;
         el.reserve(8);
-        for (const auto& p : ring) {
-          const int v = index[static_cast<std::size_t>(p[1]) * static_cast<std::size_t>(mx + 1) + static_cast<std::size_t>(p[0])];
-          if (v >= 0) el.push_back(v);
-        }
+        for (const auto& p : ring)
+          if (const long long v = numbering.fine_vertex(p[0], p[1]); v >= 0) el.push_back(static_cast<int>(v));
         elements.push_back(std::move(el));
       }
     return elements;
@@ -534,7 +524,7 @@ Mesh make_mesh_piece(std::string_view generator, GridSize n, const Rectangle& do
   if (generator == "distorted") return Mesh(distorted_vertices(n, distorted_fraction, domain, seed), grid_squares(n, keep));
   if (generator == "nonconvex") {
     NonconvexGrid grid(n, domain);
-    std::vector<std::vector<int>> cells = grid.cells(keep);
+    std::vector<std::vector<int>> cells = grid.cells(n, keep);
     return Mesh(std::move(grid.vertices), std::move(cells));
   }
   return Mesh(grid_vertices(n, domain), generator == "squares" ? grid_squares(n, keep) : grid_triangles(n, keep));
@@ -601,7 +591,7 @@ Mesh make_nonconvex(GridSize n, const Rectangle& domain) {
   check_n("nonconvex mesh", n);
   check_domain("nonconvex mesh", domain, n);
   NonconvexGrid grid(n, domain);
-  std::vector<std::vector<int>> cells = grid.cells();
+  std::vector<std::vector<int>> cells = grid.cells(n);
   return Mesh(std::move(grid.vertices), std::move(cells));
 }
 

@@ -75,6 +75,10 @@ class BoxGridVertices {
   std::array<long long, 3> point(long long v) const;
   /// The vertex at the grid point p (a box corner).
   long long corner(const std::array<long long, 3>& p) const;
+  /// The nonconvex generator's: the point (i, j) of the grid twice as fine at vertex v, and the
+  /// vertex at that point (-1 where none: a box's centre, the mid-point of a boundary box's side).
+  std::array<long long, 2> fine_point(long long v) const;
+  long long fine_vertex(long long i, long long j) const;
 
  private:
   int dim_;
