@@ -3,13 +3,17 @@
 #include <gtest/gtest.h>
 
 #include "test_support.hpp"
+#include "thread_rows.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <functional>
 #include <limits>
 #include <map>
+#include <optional>
 #include <string>
+#include <thread>
+#include <vector>
 
 using hemivem::Mesh;
 using hemivem::Rectangle;
@@ -325,6 +329,42 @@ TEST(MeshGenerators, VoronoiLloydEvensOutTheCells) {
   EXPECT_GT(m1.h(), 1.0 / n);
   EXPECT_LT(m1.h(), 2.5 / n);
   for (int e = 0; e < m1.num_elements(); ++e) EXPECT_FALSE(has_reflex_angle(m1, e));
+}
+
+// the Lloyd iterations split among 2, 3 and 5 processes (threads here; each computing the cells of
+// its share of the seeds from the seeds around them alone): every process makes the mesh one
+// process makes, to the bit, on a rectangle whose cells are computed at its own scale and on one
+// made unit first
+TEST(MeshGenerators, VoronoiLloydIterationsSplitAmongProcessesMakeOneProcesssMesh) {
+  const hemivem::GridSize n(48, 40);
+  for (const Rectangle& d : {Rectangle{0, 1.2, 0, 1}, Rectangle{1e6, 1e6 + 1, -3, -2}}) {
+    hemivem::VoronoiOptions one;
+    one.seed = 5;
+    const Mesh whole = hemivem::make_voronoi(n, d, one);
+    for (const int size : {2, 3, 5}) {
+      SCOPED_TRACE(std::to_string(size) + " processes");
+      hemivem::test::ThreadRows::Shared shared(size);
+      std::vector<std::optional<Mesh>> made(static_cast<std::size_t>(size));
+      std::vector<std::thread> others;
+      const auto make = [&](int rank) {
+        const hemivem::test::ThreadRows rows(shared, rank);
+        hemivem::VoronoiOptions o = one;
+        o.processes = &rows;
+        made[static_cast<std::size_t>(rank)] = hemivem::make_voronoi(n, d, o);
+      };
+      for (int rank = 1; rank < size; ++rank) others.emplace_back(make, rank);
+      make(0);
+      for (auto& t : others) t.join();
+      for (const auto& m : made) {
+        ASSERT_TRUE(m.has_value());
+        EXPECT_TRUE(identical(*m, whole));
+      }
+    }
+    // with the iterations cut short the mesh differs: the comparison above can fail
+    hemivem::VoronoiOptions short_of = one;
+    short_of.max_lloyd_iterations = 3;
+    EXPECT_FALSE(identical(hemivem::make_voronoi(n, d, short_of), whole));
+  }
 }
 
 TEST(MeshGenerators, VoronoiHandlesThinAndOffsetRectangles) {

@@ -552,14 +552,20 @@ TEST(CliFullSpaceMpi, ADistortedOrNonconvexMeshEachProcessMakesItsPieceOfIsTheCo
   }
 }
 
-// a Voronoi mesh of a solid, made whole by every process, each computing the cells of its share
-// of the seeds in the Lloyd iterations: the one process's mesh (its vertices, cells, faces and
-// h) and answer; each process keeps its piece of it for the solve
-TEST(CliFullSpaceMpi, AVoronoiSolidsMeshSplitAmongProcessesIsOneProcesss) {
-  const std::string flags = scene("example-4.1-3d.toml") + " --set mesh.generator=\"voronoi\" --set 'mesh.n=[5, 5, 5]' --tol 1e-11";
-  const fs::path ref = solve_condensed(flags, "condensed-voronoi");
-  if (ref.empty()) return;
-  for (const int processes : {2, 3}) expect_processes_agree(flags, ref, processes, "voronoi", false, processes);
+// a Voronoi mesh of a plane and of a solid, made whole by every process, each computing the cells
+// of its share of the seeds in the Lloyd iterations (in the plane from the seeds around them
+// alone): the one process's mesh (its vertices, cells, faces and h) and answer; each process keeps
+// its piece of it for the solve
+TEST(CliFullSpaceMpi, AVoronoiMeshSplitAmongProcessesIsOneProcesss) {
+  const std::pair<std::string, std::string> runs[] = {
+      {"voronoi-2d", scene("paper-example-4.1-voronoi.toml") + " --n 24 --tol 1e-11"},
+      {"voronoi-3d", scene("example-4.1-3d.toml") + " --set mesh.generator=\"voronoi\" --set 'mesh.n=[5, 5, 5]' --tol 1e-11"}};
+  for (const auto& [name, flags] : runs) {
+    SCOPED_TRACE(name);
+    const fs::path ref = solve_condensed(flags, "condensed-" + name);
+    if (ref.empty()) return;
+    for (const int processes : {2, 3}) expect_processes_agree(flags, ref, processes, name, false, processes);
+  }
 }
 
 // a Gmsh file's solid and a polygon's plane mesh, read or made whole by every process, each

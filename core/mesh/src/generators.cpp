@@ -271,25 +271,79 @@ struct VoronoiCells {
   std::vector<int> ids;
 };
 
-/// Computes the cells using the reflections of the seeds lying closer than `reach` to a
-/// side (across that side). Returns false when that set of reflections may be too small,
-/// i.e. when a cell is unbounded, leaves the rectangle, or comes within `tol` of a side
-/// across which its seed was not reflected. When every seed whose true cell touches a
-/// side is reflected across it, every Delaunay neighbour of a seed is present and the
-/// cells are exact; a cell of a seed missing a needed reflection is a strict superset of
-/// the true cell and reaches the side, so the check catches every wrong result.
-bool try_voronoi_cells(const std::vector<Vec2>& seeds, const Rectangle& d, double reach, double tol,
-                       VoronoiCells& out) {
+/// The seeds a process's Voronoi cells are computed from (voronoi_cells of a range): the seeds
+/// of the buckets (squares of side `h` over the rectangle) within `layers` buckets, along each
+/// axis, of a bucket holding one of its own, and the distance `clearance` = layers h within which
+/// of each of its own seeds every seed is among them.
+struct SeedHalo {
+  std::vector<char> included;  ///< one flag per seed
+  double clearance = std::numeric_limits<double>::infinity();
+};
+
+SeedHalo seed_halo(const std::vector<Vec2>& seeds, const Rectangle& d, double h, std::size_t first, std::size_t end,
+                   int layers) {
+  const auto buckets_along = [&](double length) { return std::max(1, static_cast<int>(std::ceil(length / h))); };
+  const int nx = buckets_along(d.width()), ny = buckets_along(d.height());
+  const auto bucket = [&](const Vec2& p) {
+    const int i = std::clamp(static_cast<int>(std::floor((p.x() - d.x0) / h)), 0, nx - 1);
+    const int j = std::clamp(static_cast<int>(std::floor((p.y() - d.y0) / h)), 0, ny - 1);
+    return static_cast<std::size_t>(j) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(i);
+  };
+  std::vector<char> near(static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny), 0);
+  for (std::size_t i = first; i < end; ++i) near[bucket(seeds[i])] = 1;
+  // widened by `layers` along x, then along y
+  const auto widen = [&](int count, int other, auto at) {
+    std::vector<char> line(static_cast<std::size_t>(count));
+    for (int o = 0; o < other; ++o) {
+      int last = -1 - layers;  // the last marked position
+      for (int c = 0; c < count; ++c) {
+        if (at(c, o)) last = c;
+        line[static_cast<std::size_t>(c)] = c - last <= layers;
+      }
+      last = count + layers;
+      for (int c = count - 1; c >= 0; --c) {
+        if (at(c, o)) last = c;
+        if (last - c <= layers) line[static_cast<std::size_t>(c)] = 1;
+      }
+      for (int c = 0; c < count; ++c) at(c, o) = line[static_cast<std::size_t>(c)];
+    }
+  };
+  widen(nx, ny, [&](int c, int o) -> char& { return near[static_cast<std::size_t>(o) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(c)]; });
+  widen(ny, nx, [&](int c, int o) -> char& { return near[static_cast<std::size_t>(c) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(o)]; });
+  SeedHalo halo;
+  halo.included.resize(seeds.size());
+  for (std::size_t i = 0; i < seeds.size(); ++i) halo.included[i] = near[bucket(seeds[i])];
+  halo.clearance = layers * h;
+  return halo;
+}
+
+/// Computes the cells of the seeds first, ..., end - 1 (out's cell k the seed first + k) using
+/// the seeds `halo` includes (all when its flags are empty) and the reflections of those lying
+/// closer than `reach` to a side (across that side). Returns false when that set of seeds and
+/// reflections may be too small, i.e. when a cell is unbounded, leaves the rectangle, comes within
+/// `tol` of a side across which its seed was not reflected, or reaches farther from its seed than
+/// half the halo's clearance. When every seed whose true cell touches a side is reflected across
+/// it, every Delaunay neighbour of a seed is present and the cells are exact; a cell of a seed
+/// missing a needed reflection is a strict superset of the true cell and reaches the side, so the
+/// check catches every wrong result. A cell whose points lie within r of its seed is exact when
+/// every seed within 2 r of it is present (a seed nearer a point of the cell than its own lies
+/// so), the same cell as of every seed: the cell's points are the circumcentres of the same
+/// faces, computed from their vertices alone (circumcentre), the same to the bit.
+bool try_voronoi_cells(const std::vector<Vec2>& seeds, const Rectangle& d, double reach, double tol, std::size_t first,
+                       std::size_t end, const SeedHalo& halo, VoronoiCells& out) {
   const std::size_t ns = seeds.size();
+  const auto in = [&](std::size_t i) { return halo.included.empty() || halo.included[i] != 0; };
   std::vector<std::pair<Kernel::Point_2, int>> pts;
   pts.reserve(ns + ns / 4);
   std::vector<unsigned char> mirrored(ns, 0);  // bit 0: x0, 1: x1, 2: y0, 3: y1
-  for (std::size_t i = 0; i < ns; ++i) pts.emplace_back(Kernel::Point_2(seeds[i].x(), seeds[i].y()), static_cast<int>(i));
+  for (std::size_t i = 0; i < ns; ++i)
+    if (in(i)) pts.emplace_back(Kernel::Point_2(seeds[i].x(), seeds[i].y()), static_cast<int>(i));
   // side s: 0 x = x0, 1 x = x1, 2 y = y0, 3 y = y1; one side after the other, so that
   // consecutive insertions stay close
   for (unsigned s = 0; s < 4; ++s) {
     const double side = s == 0 ? d.x0 : s == 1 ? d.x1 : s == 2 ? d.y0 : d.y1;
     for (std::size_t i = 0; i < ns; ++i) {
+      if (!in(i)) continue;
       const double x = seeds[i].x(), y = seeds[i].y();
       const double t = s < 2 ? x : y;
       if (std::abs(t - side) >= reach) continue;
@@ -316,9 +370,9 @@ bool try_voronoi_cells(const std::vector<Vec2>& seeds, const Rectangle& d, doubl
   out.points.clear();
   out.ids.clear();
   out.offsets.assign(1, 0);
-  out.points.reserve(2 * ns + 64);
-  out.ids.reserve(6 * ns + 64);
-  for (std::size_t i = 0; i < ns; ++i) {
+  out.points.reserve(2 * (end - first) + 64);
+  out.ids.reserve(6 * (end - first) + 64);
+  for (std::size_t i = first; i < end; ++i) {
     auto fc = dt.incident_faces(handle[i]);
     const auto done = fc;
     do {
@@ -327,8 +381,10 @@ bool try_voronoi_cells(const std::vector<Vec2>& seeds, const Rectangle& d, doubl
     } while (++fc != done);
     out.offsets.push_back(static_cast<int>(out.ids.size()));
 
-    for (int k = out.offsets[i]; k < out.offsets[i + 1]; ++k) {
-      const Vec2& p = out.points[static_cast<std::size_t>(out.ids[static_cast<std::size_t>(k)])];
+    const std::size_t k0 = static_cast<std::size_t>(out.offsets[i - first]), k1 = static_cast<std::size_t>(out.offsets[i - first + 1]);
+    for (std::size_t k = k0; k < k1; ++k) {
+      const Vec2& p = out.points[static_cast<std::size_t>(out.ids[k])];
+      if (!(2.0 * (p - seeds[i]).norm() <= halo.clearance)) return false;
       const double gap[4] = {p.x() - d.x0, d.x1 - p.x(), p.y() - d.y0, d.y1 - p.y()};
       for (int s = 0; s < 4; ++s) {
         if (gap[s] < -tol) return false;
@@ -339,13 +395,22 @@ bool try_voronoi_cells(const std::vector<Vec2>& seeds, const Rectangle& d, doubl
   return true;
 }
 
-VoronoiCells voronoi_cells(const std::vector<Vec2>& seeds, const Rectangle& d, double spacing, double tol) {
+/// The cells of the seeds first, ..., end - 1 (all by default; out's cell k the seed first + k),
+/// the same to the bit whichever range holds them: a range's are computed from the seeds around
+/// it alone (seed_halo), widened until every cell is exact.
+VoronoiCells voronoi_cells(const std::vector<Vec2>& seeds, const Rectangle& d, double spacing, double tol,
+                           std::size_t first = 0, std::size_t end = std::numeric_limits<std::size_t>::max()) {
+  end = std::min(end, seeds.size());
   VoronoiCells cells;
   const double everything = std::max(d.width(), d.height());
-  for (double reach = 4.0 * spacing;; reach *= 2.0) {
+  const bool whole = first == 0 && end == seeds.size();
+  for (double reach = 4.0 * spacing, layers = 8;; reach *= 2.0, layers *= 2) {
     const bool all = reach > everything;
-    if (try_voronoi_cells(seeds, d, all ? std::numeric_limits<double>::infinity() : reach, tol, cells)) return cells;
-    if (all)
+    const bool around = whole || layers * spacing > 2.0 * everything;
+    const SeedHalo halo = around ? SeedHalo{} : seed_halo(seeds, d, spacing, first, end, static_cast<int>(layers));
+    if (try_voronoi_cells(seeds, d, all ? std::numeric_limits<double>::infinity() : reach, tol, first, end, halo, cells))
+      return cells;
+    if (all && around)
       throw NumericalError("voronoi mesh: a Voronoi cell leaves the rectangle even with every seed reflected");
   }
 }
@@ -561,20 +626,51 @@ Mesh make_voronoi(GridSize n, const Rectangle& domain, const VoronoiOptions& opt
   // Number the seeds along a Hilbert curve: fast insertion, and nearby cells get nearby
   // element (and vertex) numbers. Lloyd moves seeds little, so the order stays good.
   detail::sort_along_hilbert_curve(seeds, domain);
-  VoronoiCells cells = voronoi_cells(seeds, domain, spacing, tol);
+  // the seeds whose cells this process computes in the Lloyd iterations (all in one process)
+  std::size_t first = 0, end = ns;
+  if (options.processes) {
+    const auto [f, e] = even_share(static_cast<Eigen::Index>(ns), options.processes->rank(), options.processes->size());
+    first = static_cast<std::size_t>(f);
+    end = static_cast<std::size_t>(e);
+  }
+  const int iterations = options.max_lloyd_iterations;
+  // a process's cells, computed from the seeds around its own, may meet two coincident seeds
+  // that another's do not: every process learns of it before the next collective call
+  const auto cells_of = [&](std::size_t from, std::size_t to) {
+    if (!options.processes) return voronoi_cells(seeds, domain, spacing, tol, from, to);
+    VoronoiCells out;
+    std::string error;
+    try {
+      out = voronoi_cells(seeds, domain, spacing, tol, from, to);
+    } catch (const NumericalError& e) {
+      error = e.what();
+    }
+    if (options.processes->max(error.empty() ? 0.0 : 1.0) > 0.0)
+      throw NumericalError(error.empty() ? "voronoi mesh: the seeds' Voronoi cells failed on another process" : error);
+    return out;
+  };
+  VoronoiCells cells = iterations > 0 ? cells_of(first, end) : voronoi_cells(seeds, domain, spacing, tol);
   const double stop = options.lloyd_tolerance * spacing;
-  for (int it = 0; it < options.max_lloyd_iterations; ++it) {
-    double moved = 0.0;
-    for (std::size_t i = 0; i < ns; ++i) {
-      const int b = cells.offsets[i];
-      Vec2 g = polygon_centroid(cells.points, cells.ids.data() + b, cells.offsets[i + 1] - b);
+  for (int it = 0; it < iterations; ++it) {
+    Eigen::VectorXd centroids(2 * static_cast<Eigen::Index>(end - first));
+    for (std::size_t i = first; i < end; ++i) {
+      const int b = cells.offsets[i - first];
+      Vec2 g = polygon_centroid(cells.points, cells.ids.data() + b, cells.offsets[i - first + 1] - b);
       // the centroid of a cell lies inside it; keep it strictly inside the rectangle anyway
       g.x() = std::clamp(g.x(), std::nextafter(domain.x0, domain.x1), std::nextafter(domain.x1, domain.x0));
       g.y() = std::clamp(g.y(), std::nextafter(domain.y0, domain.y1), std::nextafter(domain.y1, domain.y0));
+      centroids.segment<2>(2 * static_cast<Eigen::Index>(i - first)) = g;
+    }
+    const Eigen::VectorXd all = options.processes ? options.processes->all_gather(centroids) : centroids;
+    if (all.size() != 2 * static_cast<Eigen::Index>(ns)) throw InternalError("voronoi mesh: the processes' centroids");
+    double moved = 0.0;
+    for (std::size_t i = 0; i < ns; ++i) {
+      const Vec2 g = all.segment<2>(2 * static_cast<Eigen::Index>(i));
       moved = std::max(moved, (g - seeds[i]).norm());
       seeds[i] = g;
     }
-    cells = voronoi_cells(seeds, domain, spacing, tol);
+    const bool last = moved <= stop || it + 1 == iterations;  // the cells of every seed, for the mesh
+    cells = last ? voronoi_cells(seeds, domain, spacing, tol) : cells_of(first, end);
     if (moved <= stop) break;
   }
   const auto snap_to_sides = [&](Vec2 p) {
@@ -606,12 +702,14 @@ const std::vector<std::string>& mesh_generator_names() {
   return names;
 }
 
-Mesh make_mesh(std::string_view generator, GridSize n, const Rectangle& domain, std::uint64_t seed) {
+Mesh make_mesh(std::string_view generator, GridSize n, const Rectangle& domain, std::uint64_t seed,
+               const RowDistribution* processes) {
   if (generator == "squares") return make_squares(n, domain);
   if (generator == "triangles") return make_triangles(n, domain);
   if (generator == "voronoi") {
     VoronoiOptions options;
     options.seed = seed;
+    options.processes = processes;
     return make_voronoi(n, domain, options);
   }
   if (generator == "nonconvex") return make_nonconvex(n, domain);

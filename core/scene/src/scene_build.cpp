@@ -186,7 +186,7 @@ void detail::require_file_memory(const Scene& scene, const MemoryEstimate& conde
   detail::require_route_memory(scene, condensed, what, scene.where("mesh.file"));
 }
 
-std::unique_ptr<BuiltProblem> detail::built_plane(const Scene& scene) {
+std::unique_ptr<BuiltProblem> detail::built_plane(const Scene& scene, const RowDistribution* processes) {
   Mesh mesh;
   if (!scene.mesh.file.empty()) {
     const std::string ext = lower(scene.mesh.file.extension().string());
@@ -208,7 +208,7 @@ std::unique_ptr<BuiltProblem> detail::built_plane(const Scene& scene) {
       }
       if (scene.mesh.polygon.empty())
         return make_mesh(scene.mesh.generator, cells, Rectangle{d[0], d[1], d[2], d[3]},
-                         static_cast<std::uint64_t>(scene.mesh.seed));
+                         static_cast<std::uint64_t>(scene.mesh.seed), processes);
       PolygonDomain poly;
       for (const auto& p : scene.mesh.polygon) poly.corners.emplace_back(p[0], p[1]);
       return make_mesh(scene.mesh.generator, scene.mesh.n, poly, static_cast<std::uint64_t>(scene.mesh.seed));

@@ -379,7 +379,7 @@ template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> build_problem(const Scene& scene, const RowDistribution* processes) {
   detail::require_dimension<dim>(scene);
   if constexpr (dim == 2)
-    return scene.bodies.empty() ? detail::built_plane(scene) : detail::built_bodies<2>(scene);
+    return scene.bodies.empty() ? detail::built_plane(scene, processes) : detail::built_bodies<2>(scene);
   else
     return scene.bodies.empty() ? detail::built_solid(scene, processes) : detail::built_bodies<3>(scene);
 }

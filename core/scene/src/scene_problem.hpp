@@ -91,7 +91,7 @@ std::unique_ptr<BasicBuiltProblem<dim>> built_bodies(const Scene& scene,
                                                      const std::function<MeshOf<dim>(const Scene& one, std::size_t b)>& mesh_of);
 
 /// The problem of a plane scene on its own mesh (its generator or file; region boxes applied).
-std::unique_ptr<BuiltProblem> built_plane(const Scene& scene);
+std::unique_ptr<BuiltProblem> built_plane(const Scene& scene, const RowDistribution* processes = nullptr);
 /// The problem of a solid scene on its own mesh (its generator or Gmsh file).
 std::unique_ptr<BuiltProblem3D> built_solid(const Scene& scene, const RowDistribution* processes = nullptr);
 /// The problem of a solid scene on `mesh`: one `given` (build_problem(scene, mesh)) or its Gmsh

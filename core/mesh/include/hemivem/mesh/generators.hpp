@@ -47,9 +47,10 @@ struct VoronoiOptions {
   /// mean seed spacing sqrt(area / n^2). 0 with max_lloyd_iterations = 0: raw Voronoi.
   double lloyd_tolerance = 1e-3;
   /// Across processes, one row per process (hemivem/row_distribution.hpp), or null: the Lloyd
-  /// iterations of make_voronoi3d split among them. Each process computes the cells of an even
-  /// split of the seeds (in their order) and their centroids, which all_gather gives every
-  /// process; every process then makes the whole mesh, the same to the bit as one process makes.
+  /// iterations of make_voronoi (on a rectangle) and make_voronoi3d split among them. Each
+  /// process computes the cells of an even split of the seeds (in their order; in the plane from
+  /// the seeds around them alone) and their centroids, which all_gather gives every process;
+  /// every process then makes the whole mesh, the same to the bit as one process makes.
   /// Collective: every process calls the generator alike. Not kept beyond the call.
   const RowDistribution* processes = nullptr;
 };
@@ -152,8 +153,10 @@ Mesh make_voronoi(int n, const PolygonDomain& domain, const VoronoiOptions& opti
 const std::vector<std::string>& mesh_generator_names();
 
 /// Any generator by name with its default options; throws InputError listing the
-/// valid names for an unknown one.
-Mesh make_mesh(std::string_view generator, GridSize n, const Rectangle& domain = {}, std::uint64_t seed = 1);
+/// valid names for an unknown one. `processes`: across processes, voronoi's Lloyd iterations
+/// split among them (VoronoiOptions::processes; collective); the other generators do not use it.
+Mesh make_mesh(std::string_view generator, GridSize n, const Rectangle& domain = {}, std::uint64_t seed = 1,
+               const RowDistribution* processes = nullptr);
 
 /// triangles or voronoi by name in a polygon; InputError for the other generators (they
 /// need a rectangle) and for an unknown name.

@@ -471,8 +471,9 @@ std::vector<std::string> scene_warnings(const Scene& scene);
 /// with the 3D Lame constants. Errors name the scene key's file:line (a side or group that
 /// selects no boundary facet, an unknown group, a region without material); a scene of the
 /// other dimension is an InputError at its `mesh` key. `processes` (one row per process, or
-/// null): across processes, the mesh generator's work split among them where it splits it (a
-/// solid's voronoi generator, make_mesh3d), every process making the whole mesh alike;
+/// null): across processes, the mesh generator's work split among them where it splits it (the
+/// voronoi generator on a rectangle or a box: make_mesh, make_mesh3d), every process making the
+/// whole mesh alike;
 /// collective then.
 template <int dim = 2>
 std::unique_ptr<BasicBuiltProblem<dim>> build_problem(const Scene& scene, const RowDistribution* processes = nullptr);
