@@ -595,6 +595,44 @@ Mesh make_mesh_piece(std::string_view generator, GridSize n, const Rectangle& do
   return Mesh(grid_vertices(n, domain), generator == "squares" ? grid_squares(n, keep) : grid_triangles(n, keep));
 }
 
+namespace {
+
+/// voronoi_cells of the seeds first, ..., end - 1 on one of `processes` (or in one process): a
+/// process's cells, computed from the seeds around its own, may meet two coincident seeds that
+/// another's do not, so every process learns of it before the next collective call and stops
+/// with an error.
+VoronoiCells shared_voronoi_cells(const std::vector<Vec2>& seeds, const Rectangle& d, double spacing, double tol,
+                                  std::size_t first, std::size_t end, const RowDistribution* processes) {
+  if (!processes) return voronoi_cells(seeds, d, spacing, tol, first, end);
+  VoronoiCells out;
+  std::string error;
+  try {
+    out = voronoi_cells(seeds, d, spacing, tol, first, end);
+  } catch (const NumericalError& e) {
+    error = e.what();
+  }
+  if (processes->max(error.empty() ? 0.0 : 1.0) > 0.0)
+    throw NumericalError(error.empty() ? "voronoi mesh: the seeds' Voronoi cells failed on another process" : error);
+  return out;
+}
+
+/// The centroid of each of the cells, (x, y) one after the other, strictly inside the rectangle
+/// (as a cell's centroid lies inside it, but for round-off).
+Eigen::VectorXd cell_centroids(const VoronoiCells& cells, const Rectangle& d) {
+  const Eigen::Index count = static_cast<Eigen::Index>(cells.offsets.size()) - 1;
+  Eigen::VectorXd centroids(2 * count);
+  for (Eigen::Index k = 0; k < count; ++k) {
+    const int b = cells.offsets[static_cast<std::size_t>(k)];
+    Vec2 g = polygon_centroid(cells.points, cells.ids.data() + b, cells.offsets[static_cast<std::size_t>(k) + 1] - b);
+    g.x() = std::clamp(g.x(), std::nextafter(d.x0, d.x1), std::nextafter(d.x1, d.x0));
+    g.y() = std::clamp(g.y(), std::nextafter(d.y0, d.y1), std::nextafter(d.y1, d.y0));
+    centroids.segment<2>(2 * k) = g;
+  }
+  return centroids;
+}
+
+}  // namespace
+
 Mesh make_voronoi(GridSize n, const Rectangle& domain, const VoronoiOptions& options) {
   check_n("voronoi mesh", n);
   check_domain("voronoi mesh", domain, n);
@@ -634,33 +672,13 @@ Mesh make_voronoi(GridSize n, const Rectangle& domain, const VoronoiOptions& opt
     end = static_cast<std::size_t>(e);
   }
   const int iterations = options.max_lloyd_iterations;
-  // a process's cells, computed from the seeds around its own, may meet two coincident seeds
-  // that another's do not: every process learns of it before the next collective call
   const auto cells_of = [&](std::size_t from, std::size_t to) {
-    if (!options.processes) return voronoi_cells(seeds, domain, spacing, tol, from, to);
-    VoronoiCells out;
-    std::string error;
-    try {
-      out = voronoi_cells(seeds, domain, spacing, tol, from, to);
-    } catch (const NumericalError& e) {
-      error = e.what();
-    }
-    if (options.processes->max(error.empty() ? 0.0 : 1.0) > 0.0)
-      throw NumericalError(error.empty() ? "voronoi mesh: the seeds' Voronoi cells failed on another process" : error);
-    return out;
+    return shared_voronoi_cells(seeds, domain, spacing, tol, from, to, options.processes);
   };
   VoronoiCells cells = iterations > 0 ? cells_of(first, end) : voronoi_cells(seeds, domain, spacing, tol);
   const double stop = options.lloyd_tolerance * spacing;
   for (int it = 0; it < iterations; ++it) {
-    Eigen::VectorXd centroids(2 * static_cast<Eigen::Index>(end - first));
-    for (std::size_t i = first; i < end; ++i) {
-      const int b = cells.offsets[i - first];
-      Vec2 g = polygon_centroid(cells.points, cells.ids.data() + b, cells.offsets[i - first + 1] - b);
-      // the centroid of a cell lies inside it; keep it strictly inside the rectangle anyway
-      g.x() = std::clamp(g.x(), std::nextafter(domain.x0, domain.x1), std::nextafter(domain.x1, domain.x0));
-      g.y() = std::clamp(g.y(), std::nextafter(domain.y0, domain.y1), std::nextafter(domain.y1, domain.y0));
-      centroids.segment<2>(2 * static_cast<Eigen::Index>(i - first)) = g;
-    }
+    const Eigen::VectorXd centroids = cell_centroids(cells, domain);
     const Eigen::VectorXd all = options.processes ? options.processes->all_gather(centroids) : centroids;
     if (all.size() != 2 * static_cast<Eigen::Index>(ns)) throw InternalError("voronoi mesh: the processes' centroids");
     double moved = 0.0;
