@@ -21,8 +21,8 @@ std::size_t body_index(const Scene& scene, const std::string& name) {
 }
 
 // What differs between the dimensions: how a body's mesh is made, matched and joined.
-Mesh body_mesh(const Scene& one, std::size_t) { return built_plane(one)->mesh; }
-Mesh3D body_mesh3d(const Scene& one, std::size_t) { return built_solid(one)->mesh; }
+Mesh body_mesh(const Scene& one, const RowDistribution* processes) { return built_plane(one, processes)->mesh; }
+Mesh3D body_mesh3d(const Scene& one, const RowDistribution* processes) { return built_solid(one, processes)->mesh; }
 MatchedInterface match(const Mesh& a, const std::vector<int>& fa, const Mesh& b, const std::vector<int>& fb, double tol) {
   return match_interface(a, fa, b, fb, tol);
 }
@@ -107,9 +107,11 @@ void require_shared(const Scene& scene) {
 }  // namespace
 
 template <int dim>
-std::unique_ptr<BasicBuiltProblem<dim>> built_bodies(const Scene& scene) {
-  if constexpr (dim == 2) return built_bodies<2>(scene, body_mesh);
-  else return built_bodies<3>(scene, body_mesh3d);
+std::unique_ptr<BasicBuiltProblem<dim>> built_bodies(const Scene& scene, const RowDistribution* processes) {
+  return built_bodies<dim>(scene, [processes](const Scene& one, std::size_t) {
+    if constexpr (dim == 2) return body_mesh(one, processes);
+    else return body_mesh3d(one, processes);
+  });
 }
 
 template <int dim>
@@ -159,8 +161,8 @@ std::unique_ptr<BasicBuiltProblem<dim>> built_bodies(const Scene& scene,
   return out;
 }
 
-template std::unique_ptr<BuiltProblem> built_bodies<2>(const Scene&);
-template std::unique_ptr<BuiltProblem3D> built_bodies<3>(const Scene&);
+template std::unique_ptr<BuiltProblem> built_bodies<2>(const Scene&, const RowDistribution*);
+template std::unique_ptr<BuiltProblem3D> built_bodies<3>(const Scene&, const RowDistribution*);
 template std::unique_ptr<BuiltProblem> built_bodies<2>(const Scene&,
                                                        const std::function<Mesh(const Scene&, std::size_t)>&);
 template std::unique_ptr<BuiltProblem3D> built_bodies<3>(const Scene&,

@@ -379,9 +379,9 @@ template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> build_problem(const Scene& scene, const RowDistribution* processes) {
   detail::require_dimension<dim>(scene);
   if constexpr (dim == 2)
-    return scene.bodies.empty() ? detail::built_plane(scene, processes) : detail::built_bodies<2>(scene);
+    return scene.bodies.empty() ? detail::built_plane(scene, processes) : detail::built_bodies<2>(scene, processes);
   else
-    return scene.bodies.empty() ? detail::built_solid(scene, processes) : detail::built_bodies<3>(scene);
+    return scene.bodies.empty() ? detail::built_solid(scene, processes) : detail::built_bodies<3>(scene, processes);
 }
 
 template std::unique_ptr<BuiltProblem> build_problem<2>(const Scene&, const RowDistribution*);

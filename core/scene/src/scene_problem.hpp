@@ -79,9 +79,10 @@ std::vector<MeshOf<dim>> matched_meshes(const Scene& scene,
 /// The problem of a scene of several bodies ([[body]], docs/two-bodies.md): each body's mesh
 /// made as a scene of one body makes it, the meshes of the bodies that meet matched along each
 /// contact part against another body (match_interface), joined into one mesh of several pieces
-/// (join_meshes), and each body's materials, supports, loads and contact parts on it.
+/// (join_meshes), and each body's materials, supports, loads and contact parts on it; each body's
+/// generator's work split among `processes` where it splits it (build_problem).
 template <int dim>
-std::unique_ptr<BasicBuiltProblem<dim>> built_bodies(const Scene& scene);
+std::unique_ptr<BasicBuiltProblem<dim>> built_bodies(const Scene& scene, const RowDistribution* processes = nullptr);
 
 /// built_bodies on the meshes `mesh_of(body_scene(scene, b), b)` makes of each body b in place
 /// of its whole mesh: a process's piece of each (build_bodies_piece), which holds every facet of
