@@ -17,7 +17,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
+#include <numbers>
 #include <numeric>
 #include <optional>
 #include <set>
@@ -279,6 +281,90 @@ TEST(BoxPiece, APieceOfFlaggedVerticesHoldsTheirCells) {
   EXPECT_NE(test::input_error_of([] { (void)make_mesh3d_piece("cubes", 1, Box{}, BoxPiece{0, 0, {}, std::vector<char>(5, 1)}); })
                 .find("flags 5 vertices: not one flag per vertex of the mesh's 8"),
             std::string::npos);
+}
+
+/// Each edge group of `piece` is the whole's edges of that group that a cell of the piece holds,
+/// by their vertices.
+void expect_groups_of_the_whole(const Mesh& piece, const Mesh& whole) {
+  ASSERT_EQ(piece.edge_groups().size(), whole.edge_groups().size());
+  std::set<std::pair<int, int>> piece_edges;
+  for (int e = 0; e < piece.num_edges(); ++e)
+    piece_edges.insert(std::minmax(piece.edge(e).v0, piece.edge(e).v1));
+  for (const auto& [name, edges] : whole.edge_groups()) {
+    SCOPED_TRACE(name);
+    std::set<std::pair<int, int>> expected;
+    for (int e : edges) {
+      const auto key = std::minmax(whole.edge(e).v0, whole.edge(e).v1);
+      if (piece_edges.count(key)) expected.insert(key);
+    }
+    std::set<std::pair<int, int>> got;
+    for (int e : piece.edge_group(name)) got.insert(std::minmax(piece.edge(e).v0, piece.edge(e).v1));
+    EXPECT_EQ(got, expected);
+  }
+}
+
+// a polar grid (a ring or a disk, whole or a sector of it) is a grid of boxes, sector along x and
+// ring along y: a full turn's last column of vertices is its first, a disk's first row its centre.
+// Each vertex lies at its grid point; a piece of a range of them, or of flagged vertices (a third
+// of the Hilbert order, across the first and last sectors of a turn, at the centre), holds the
+// cells around them, those of a named side and those around a vertex held, joined into one body,
+// and the edge groups of the whole
+TEST(BoxPiece, APolarPieceHoldsTheCellsOfItsVerticesItsSidesAndItsHeldVertex) {
+  const double pi = std::numbers::pi;
+  std::vector<double> ring, disk, turn, quarter;
+  for (int k = 0; k <= 9; ++k) {
+    ring.push_back(0.5 + 0.5 * std::pow(k / 9.0, 1.2));
+    disk.push_back(k / 9.0);
+  }
+  for (int k = 0; k <= 16; ++k) turn.push_back(2.0 * pi * k / 16);
+  for (int k = 0; k <= 7; ++k) quarter.push_back(0.5 * pi * k / 7);
+  const Vec2 centre(0.25, -0.5);
+  for (const auto* radii : {&ring, &disk})
+    for (const auto* angles : {&turn, &quarter}) {
+      SCOPED_TRACE((radii == &ring ? "ring, " : "disk, ") + std::string(angles == &turn ? "a full turn" : "a quarter"));
+      const Mesh whole = make_polar(centre, *radii, *angles);
+      const int m = static_cast<int>(radii->size()) - 1, n = static_cast<int>(angles->size()) - 1;
+      const GridClosure closure{angles == &turn, radii == &disk};
+      const BoxGridVertices grid("polar", 2, {n, m, 1}, closure);
+      ASSERT_EQ(grid.count(), whole.num_vertices());
+      for (int v = 0; v < whole.num_vertices(); ++v) {
+        const auto p = grid.point(v);
+        const double r = (*radii)[static_cast<std::size_t>(p[1])], a = (*angles)[static_cast<std::size_t>(p[0])];
+        EXPECT_LT((whole.vertex(v) - centre - r * Vec2(std::cos(a), std::sin(a))).norm(), 1e-14) << "vertex " << v;
+        EXPECT_EQ(grid.corner(p), v);
+      }
+      EXPECT_EQ(grid.corner({n, m, 0}), closure.around ? grid.corner({0, m, 0}) : whole.num_vertices() - 1);
+      const std::set<std::vector<int>> outer = sorted_facets(whole, whole.edge_group("outer"));
+      for (const auto& [v0, v1] : thirds(whole.num_vertices())) {
+        const BoxPiece piece{v0, v1, {"top"}};
+        const Mesh made = make_polar_piece(centre, *radii, *angles, piece);
+        expect_piece_of(made, polar_piece_cells(*radii, *angles, piece), whole, v0, v1, outer, v1 - v0 > 0);
+        expect_groups_of_the_whole(made, whole);
+      }
+      const std::vector<int> order = hilbert_vertex_order(whole);
+      for (int rank = 0; rank < 3; ++rank) {
+        SCOPED_TRACE("third " + std::to_string(rank));
+        const auto [first, end] = vertex_share(whole.num_vertices(), rank, 3);
+        const std::vector<char> flags = VertexShare{first, end, order}.mask(whole.num_vertices());
+        const BoxPiece piece{0, 0, {}, flags};
+        const Mesh made = make_polar_piece(centre, *radii, *angles, piece);
+        expect_flagged_piece_of(made, polar_piece_cells(*radii, *angles, piece), whole, flags, {});
+        expect_groups_of_the_whole(made, whole);
+      }
+      // a vertex of the last sector, and the centre or a vertex of the first ring, flagged or held
+      const int last = static_cast<int>(grid.corner({n - 1, m - 1, 0})), inside = static_cast<int>(grid.corner({1, 0, 0}));
+      std::vector<char> flags(static_cast<std::size_t>(whole.num_vertices()), 0);
+      flags[static_cast<std::size_t>(last)] = 1;
+      const BoxPiece flagged{0, 0, {}, flags, {inside}};
+      expect_flagged_piece_of(make_polar_piece(centre, *radii, *angles, flagged), polar_piece_cells(*radii, *angles, flagged),
+                              whole, flags, {});
+      flags[static_cast<std::size_t>(inside)] = 1;  // the held vertex's cells are the piece's as a flagged one's
+      const std::vector<int> cells = polar_piece_cells(*radii, *angles, flagged);
+      const std::set<int> held(cells.begin(), cells.end());
+      for (int c = 0; c < whole.num_elements(); ++c)
+        for (int v : whole.element(c))
+          if (flags[static_cast<std::size_t>(v)]) EXPECT_TRUE(held.count(c)) << "cell " << c << " holds vertex " << v;
+    }
 }
 
 // a piece of all the vertices is the whole mesh

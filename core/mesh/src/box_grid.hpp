@@ -26,9 +26,12 @@ class PieceBoxes {
  public:
   PieceBoxes() = default;
   /// The boxes of `piece` on a grid of `dim` axes of the mesh `generator` makes, whose vertices
-  /// number layer by layer along the last axis (BoxGridVertices); InputError for an unknown side
+  /// number layer by layer along the last axis (BoxGridVertices, closed as `closure` says: the
+  /// boxes around a vertex of the last column are also those of the first, and those around the
+  /// centre every box of the first two rings); InputError for an unknown side
   /// or a range of vertices outside the grid's.
-  PieceBoxes(std::string_view generator, int dim, std::array<int, 3> counts, const BoxPiece& piece);
+  PieceBoxes(std::string_view generator, int dim, std::array<int, 3> counts, const BoxPiece& piece,
+             GridClosure closure = {});
   bool operator()(int i, int j, int k) const;
 
  private:

@@ -12,24 +12,27 @@ namespace hemivem {
 
 bool makes_pieces(std::string_view generator) {
   return generator == "squares" || generator == "triangles" || generator == "distorted" || generator == "nonconvex" ||
-         generator == "cubes" || generator == "tetrahedra";
+         generator == "polar" || generator == "cubes" || generator == "tetrahedra";
 }
 
 int cells_per_box(std::string_view generator) {
-  if (generator == "squares" || generator == "distorted" || generator == "nonconvex" || generator == "cubes") return 1;
+  if (generator == "squares" || generator == "distorted" || generator == "nonconvex" || generator == "polar" ||
+      generator == "cubes")
+    return 1;
   if (generator == "triangles") return 2;
   if (generator == "tetrahedra") return 6;
   throw InputError("the generator '" + std::string(generator) +
-                   "' makes no grid of boxes (squares, triangles, distorted, nonconvex, cubes and tetrahedra do)");
+                   "' makes no grid of boxes (squares, triangles, distorted, nonconvex, polar, cubes and tetrahedra do)");
 }
 
-BoxGridVertices::BoxGridVertices(std::string_view generator, int dim, std::array<int, 3> counts)
-    : dim_(dim), counts_(counts), fine_(generator == "nonconvex") {
+BoxGridVertices::BoxGridVertices(std::string_view generator, int dim, std::array<int, 3> counts, GridClosure closure)
+    : dim_(dim), counts_(counts), closure_(closure), fine_(generator == "nonconvex") {
   (void)cells_per_box(generator);
   if (dim == 2) counts_[2] = 1;
   if (!fine_) {
     count_ = 1;
-    for (int a = 0; a < dim; ++a) count_ *= counts_[static_cast<std::size_t>(a)] + 1;
+    for (int a = 0; a < dim; ++a) count_ *= columns(a);
+    if (closure_.centre) count_ -= columns(0) - 1;  // the first row is the centre alone
     return;
   }
   // rows r = 0, ..., 2 ny of the fine grid: the boundary's rows hold the corners, the others'
@@ -42,12 +45,21 @@ BoxGridVertices::BoxGridVertices(std::string_view generator, int dim, std::array
   count_ = row_start_.back();
 }
 
+long long BoxGridVertices::columns(int axis) const {
+  const long long boxes = counts_[static_cast<std::size_t>(axis)];
+  return axis == 0 && closure_.around ? boxes : boxes + 1;
+}
+
 std::array<long long, 3> BoxGridVertices::point(long long v) const {
   if (!fine_) {
+    if (closure_.centre) {
+      if (v == 0) return {0, 0, 0};
+      v += columns(0) - 1;  // as if the first row were whole
+    }
     std::array<long long, 3> at{0, 0, 0};
     for (int a = 0; a < dim_; ++a) {
-      at[static_cast<std::size_t>(a)] = v % (counts_[static_cast<std::size_t>(a)] + 1);
-      v /= counts_[static_cast<std::size_t>(a)] + 1;
+      at[static_cast<std::size_t>(a)] = v % columns(a);
+      v /= columns(a);
     }
     return at;
   }
@@ -57,12 +69,13 @@ std::array<long long, 3> BoxGridVertices::point(long long v) const {
 
 long long BoxGridVertices::corner(const std::array<long long, 3>& p) const {
   if (!fine_) {
+    if (closure_.centre && p[1] == 0) return 0;
     long long v = 0, stride = 1;
     for (int a = 0; a < dim_; ++a) {
-      v += p[static_cast<std::size_t>(a)] * stride;
-      stride *= counts_[static_cast<std::size_t>(a)] + 1;
+      v += p[static_cast<std::size_t>(a)] % columns(a) * stride;  // around a full turn, the last column the first
+      stride *= columns(a);
     }
-    return v;
+    return closure_.centre ? v - (columns(0) - 1) : v;
   }
   return fine_vertex(2 * p[0], 2 * p[1]);
 }
@@ -171,11 +184,12 @@ void join_to_first_column(std::vector<char>& kept, const std::array<int, 3>& cou
 
 namespace detail {
 
-PieceBoxes::PieceBoxes(std::string_view generator, int dim, std::array<int, 3> counts, const BoxPiece& piece)
+PieceBoxes::PieceBoxes(std::string_view generator, int dim, std::array<int, 3> counts, const BoxPiece& piece,
+                       GridClosure closure)
     : all_(false), dim_(dim), counts_(counts) {
   if (dim == 2) counts_[2] = 1;
   const auto layer_axis = static_cast<std::size_t>(dim - 1);
-  const BoxGridVertices grid(generator, dim, counts_);
+  const BoxGridVertices grid(generator, dim, counts_, closure);
   const long long vertices = grid.count();
   if (piece.first_vertex < 0 || piece.end_vertex < piece.first_vertex || piece.end_vertex > vertices)
     throw InputError("a piece of the mesh owns the vertices " + std::to_string(piece.first_vertex) + ", ..., " +
@@ -203,15 +217,20 @@ PieceBoxes::PieceBoxes(std::string_view generator, int dim, std::array<int, 3> c
     near_.assign(static_cast<std::size_t>(axis_count(0) * axis_count(1) * axis_count(2)), 0);
     const auto keep_around = [&](long long v) {
       const std::array<long long, 3> at = grid.point(v);
+      const bool centre = closure.centre && v == 0;  // a corner of every box of the first ring
       std::array<long long, 3> lo{0, 0, 0}, hi{0, 0, 0};
       for (int a = 0; a < dim; ++a) {
         lo[static_cast<std::size_t>(a)] = std::max(0LL, at[static_cast<std::size_t>(a)] - 2);
         hi[static_cast<std::size_t>(a)] = std::min(axis_count(a) - 1, at[static_cast<std::size_t>(a)] + 1);
       }
+      if (closure.around || centre) {  // along x around the turn, or every box
+        lo[0] = centre ? 0 : at[0] - 2;
+        hi[0] = centre ? axis_count(0) - 1 : std::min(at[0] + 1, at[0] - 2 + axis_count(0) - 1);
+      }
       for (long long k = lo[2]; k <= hi[2]; ++k)
         for (long long j = lo[1]; j <= hi[1]; ++j)
           for (long long i = lo[0]; i <= hi[0]; ++i)
-            near_[box_index(counts_, i, j, k)] = 1;
+            near_[box_index(counts_, (i % axis_count(0) + axis_count(0)) % axis_count(0), j, k)] = 1;
     };
     for (std::size_t v = 0; v < piece.owned.size(); ++v)
       if (piece.owned[v]) keep_around(static_cast<long long>(v));

@@ -1,6 +1,9 @@
 // make_polar (generators.hpp): the cells of a polar grid, for rings, disks and their sectors.
 #include <hemivem/mesh/generators.hpp>
+#include <hemivem/mesh/box_piece.hpp>
 #include <hemivem/error.hpp>
+
+#include "box_grid.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -33,64 +36,78 @@ void require_increasing(const std::vector<double>& values, const char* what) {
   }
 }
 
-}  // namespace
+/// A polar grid's layout (make_polar), checked: m rings, n sectors, whether the angles make a full
+/// turn and the first radius is 0.
+struct PolarLayout {
+  int m = 0, n = 0;
+  bool full = false, disk = false;
 
-Mesh make_polar(const Vec2& center, const std::vector<double>& radii, const std::vector<double>& angles) {
-  if (radii.size() < 2 || angles.size() < 2)
-    throw InputError("make_polar: at least two radii and two angles are needed (one ring of cells), got " +
-                     std::to_string(radii.size()) + " and " + std::to_string(angles.size()));
-  if (radii.size() > 20001 || angles.size() > 20001)
-    throw InputError("make_polar: at most 20001 radii and 20001 angles");
-  require_increasing(radii, "radii");
-  require_increasing(angles, "angles");
+  PolarLayout(const std::vector<double>& radii, const std::vector<double>& angles) {
+    if (radii.size() < 2 || angles.size() < 2)
+      throw InputError("make_polar: at least two radii and two angles are needed (one ring of cells), got " +
+                       std::to_string(radii.size()) + " and " + std::to_string(angles.size()));
+    if (radii.size() > 20001 || angles.size() > 20001) throw InputError("make_polar: at most 20001 radii and 20001 angles");
+    require_increasing(radii, "radii");
+    require_increasing(angles, "angles");
+    if (radii.front() < 0.0) throw InputError("make_polar: radii[0] = " + std::to_string(radii.front()) + " is negative");
+    const double span = angles.back() - angles.front(), two_pi = 2.0 * std::numbers::pi;
+    if (span > two_pi * (1.0 + 1e-14))
+      throw InputError("make_polar: the angles span " + std::to_string(span) + " radians, more than a full turn");
+    full = span >= two_pi * (1.0 - 1e-14);  // the last angle is the first
+    disk = radii.front() == 0.0;            // the centre is one vertex
+    m = static_cast<int>(radii.size()) - 1;
+    n = static_cast<int>(angles.size()) - 1;
+  }
+
+  /// Its grid of boxes: sector j along x, ring i along y.
+  std::array<int, 3> counts() const { return {n, m, 1}; }
+  GridClosure closure() const { return {full, disk}; }
+  /// The cells of the boxes `keep` makes, in the mesh's order: sector by sector, ring by ring.
+  template <class Visit>
+  void for_each_cell(const detail::PieceBoxes& keep, Visit&& visit) const {
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < m; ++i)
+        if (keep(j, i, 0)) visit(i, j);
+  }
+};
+
+/// The polar grid's mesh of the boxes `keep` makes (all by default): every vertex, and the cells
+/// and edge groups of those boxes.
+Mesh polar_mesh(const Vec2& center, const std::vector<double>& radii, const std::vector<double>& angles,
+                const detail::PieceBoxes& keep = {}) {
+  const PolarLayout grid(radii, angles);
   if (!center.allFinite()) throw InputError("make_polar: the center is not finite");
-  if (radii.front() < 0.0) throw InputError("make_polar: radii[0] = " + std::to_string(radii.front()) + " is negative");
-  const double span = angles.back() - angles.front(), two_pi = 2.0 * std::numbers::pi;
-  if (span > two_pi * (1.0 + 1e-14))
-    throw InputError("make_polar: the angles span " + std::to_string(span) + " radians, more than a full turn");
-  const bool full = span >= two_pi * (1.0 - 1e-14);  // the last angle is the first
-  const bool disk = radii.front() == 0.0;            // the centre is one vertex
-  const int m = static_cast<int>(radii.size()) - 1, n = static_cast<int>(angles.size()) - 1;
-  const int columns = full ? n : n + 1;  // distinct angles of vertices
+  const bool full = grid.full, disk = grid.disk;
+  const int m = grid.m, n = grid.n;
+  const BoxGridVertices numbering("polar", 2, grid.counts(), grid.closure());
   std::vector<Vec2> vertices;
-  if (disk) vertices.push_back(center);
-  const int first_ring = disk ? 1 : 0;
-  for (int i = first_ring; i <= m; ++i)
-    for (int j = 0; j < columns; ++j)
-      vertices.push_back(center + radii[static_cast<std::size_t>(i)] * direction(angles[static_cast<std::size_t>(j)]));
-  const auto at = [&](int i, int j) {
-    if (full) j %= n;
-    return disk && i == 0 ? 0 : (i - first_ring) * columns + j + (disk ? 1 : 0);
-  };
+  vertices.reserve(static_cast<std::size_t>(numbering.count()));
+  for (long long v = 0; v < numbering.count(); ++v) {
+    const auto [j, i, k] = numbering.point(v);
+    vertices.push_back(center + radii[static_cast<std::size_t>(i)] * direction(angles[static_cast<std::size_t>(j)]));
+  }
+  const auto at = [&](int i, int j) { return static_cast<int>(numbering.corner({j, i, 0})); };
   std::vector<std::vector<int>> cells;
-  cells.reserve(static_cast<std::size_t>(m) * static_cast<std::size_t>(n));
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < m; ++i) {
-      if (disk && i == 0)
-        cells.push_back({at(0, 0), at(1, j), at(1, j + 1)});
-      else
-        cells.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
-    }
+  grid.for_each_cell(keep, [&](int i, int j) {
+    if (disk && i == 0)
+      cells.push_back({at(0, 0), at(1, j), at(1, j + 1)});
+    else
+      cells.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
+  });
   Mesh mesh(std::move(vertices), std::move(cells));
-  // the boundary's parts by the rows and columns of their ends
-  std::vector<int> ring(static_cast<std::size_t>(mesh.num_vertices()), -1), column(ring.size(), -1);
-  for (int i = first_ring; i <= m; ++i)
-    for (int j = 0; j < columns; ++j) {
-      ring[static_cast<std::size_t>(at(i, j))] = i;
-      column[static_cast<std::size_t>(at(i, j))] = j;
-    }
+  // the boundary's parts by the rows and columns of their ends: a piece's boundary inside the
+  // whole mesh joins no two vertices of one of them
   std::vector<int> inner, outer, start, end;
   for (int e : mesh.boundary_edges()) {
-    const int a = mesh.edge(e).v0, b = mesh.edge(e).v1;
-    const auto ra = ring[static_cast<std::size_t>(a)], rb = ring[static_cast<std::size_t>(b)];
-    const auto ca = column[static_cast<std::size_t>(a)], cb = column[static_cast<std::size_t>(b)];
-    if (ra == m && rb == m)
+    const auto a = numbering.point(mesh.edge(e).v0), b = numbering.point(mesh.edge(e).v1);
+    const bool centre_a = disk && mesh.edge(e).v0 == 0, centre_b = disk && mesh.edge(e).v1 == 0;
+    if (a[1] == m && b[1] == m)
       outer.push_back(e);
-    else if (!disk && ra == 0 && rb == 0)
+    else if (!disk && a[1] == 0 && b[1] == 0)
       inner.push_back(e);
-    else if ((ca == 0 || ca < 0) && (cb == 0 || cb < 0))
+    else if ((a[0] == 0 || centre_a) && (b[0] == 0 || centre_b))
       start.push_back(e);
-    else if ((ca == n || ca < 0) && (cb == n || cb < 0))
+    else if ((a[0] == n || centre_a) && (b[0] == n || centre_b))
       end.push_back(e);
   }
   mesh.set_edge_group("outer", std::move(outer));
@@ -100,6 +117,27 @@ Mesh make_polar(const Vec2& center, const std::vector<double>& radii, const std:
     mesh.set_edge_group("end", std::move(end));
   }
   return mesh;
+}
+
+}  // namespace
+
+Mesh make_polar(const Vec2& center, const std::vector<double>& radii, const std::vector<double>& angles) {
+  return polar_mesh(center, radii, angles);
+}
+
+Mesh make_polar_piece(const Vec2& center, const std::vector<double>& radii, const std::vector<double>& angles,
+                      const BoxPiece& piece) {
+  const PolarLayout grid(radii, angles);
+  return polar_mesh(center, radii, angles, detail::PieceBoxes("polar", 2, grid.counts(), piece, grid.closure()));
+}
+
+std::vector<int> polar_piece_cells(const std::vector<double>& radii, const std::vector<double>& angles,
+                                   const BoxPiece& piece) {
+  const PolarLayout grid(radii, angles);
+  const detail::PieceBoxes keep("polar", 2, grid.counts(), piece, grid.closure());
+  std::vector<int> out;
+  grid.for_each_cell(keep, [&](int i, int j) { out.push_back(j * grid.m + i); });
+  return out;
 }
 
 }  // namespace hemivem

@@ -52,26 +52,36 @@ struct BoxPiece {
   std::vector<int> held;
 };
 
-/// The generators that make a piece: squares, triangles, distorted and nonconvex in the plane,
-/// cubes and tetrahedra in a solid (a grid of boxes).
+/// The generators that make a piece: squares, triangles, distorted, nonconvex and polar in the
+/// plane, cubes and tetrahedra in a solid (a grid of boxes).
 bool makes_pieces(std::string_view generator);
 
 /// The cells such a generator makes of each box of its grid: 1 (squares, distorted, nonconvex,
-/// cubes), 2 (triangles) or 6 (tetrahedra); InputError for a generator that makes no piece.
+/// polar, cubes), 2 (triangles) or 6 (tetrahedra); InputError for a generator that makes no piece.
 int cells_per_box(std::string_view generator);
+
+/// How a polar grid's boxes (make_polar: its sectors along x, its rings along y) close on
+/// themselves: around a full turn, the last column of vertices is the first; around the centre
+/// of a disk, the first row of vertices is one vertex, the centre. Neither on a grid of boxes.
+struct GridClosure {
+  bool around = false;
+  bool centre = false;
+};
 
 /// How such a generator numbers the vertices of its grid of counts[0] x counts[1] (x counts[2]
 /// in a solid) boxes, layer by layer along the last axis, x fastest: the grid's points, or (the
 /// nonconvex generator) the points of the grid twice as fine but the boxes' centres and the
-/// mid-points of the boundary's boxes' sides.
+/// mid-points of the boundary's boxes' sides; make_polar the points of its rings (rows) and
+/// angles (columns), closed as `closure` says.
 class BoxGridVertices {
  public:
   /// InputError for a generator that makes no piece.
-  BoxGridVertices(std::string_view generator, int dim, std::array<int, 3> counts);
+  BoxGridVertices(std::string_view generator, int dim, std::array<int, 3> counts, GridClosure closure = {});
   /// The number of vertices.
   long long count() const noexcept { return count_; }
   /// The grid point (i, j, k) at or below vertex v along each axis (k = 0 in the plane): a box
-  /// corner, which the box (i, j, k) and those before it along each axis hold; v < count().
+  /// corner, which the box (i, j, k) and those before it along each axis hold; v < count(). The
+  /// centre of a disk is (0, 0, 0), a corner of every box of the first ring.
   std::array<long long, 3> point(long long v) const;
   /// The vertex at the grid point p (a box corner).
   long long corner(const std::array<long long, 3>& p) const;
@@ -81,8 +91,12 @@ class BoxGridVertices {
   long long fine_vertex(long long i, long long j) const;
 
  private:
+  /// The distinct grid points along `axis`.
+  long long columns(int axis) const;
+
   int dim_;
   std::array<int, 3> counts_;
+  GridClosure closure_;
   bool fine_;
   long long count_ = 0;
   /// The fine grid's: the first vertex of each of its rows, and count() last.
@@ -95,6 +109,18 @@ class BoxGridVertices {
 /// make_mesh.
 Mesh make_mesh_piece(std::string_view generator, GridSize n, const Rectangle& domain, const BoxPiece& piece,
                      std::uint64_t seed = 1);
+
+/// The piece of make_polar(center, radii, angles) described by `piece`: the boxes of its grid are
+/// its cells, sector along x and ring along y (its sides left, right, bottom, top the edge groups
+/// start, end, inner, outer), its vertices numbered as make_polar numbers them; each group the
+/// whole mesh's edges of it among the piece's. InputError as make_mesh_piece and make_polar.
+Mesh make_polar_piece(const Vec2& center, const std::vector<double>& radii, const std::vector<double>& angles,
+                      const BoxPiece& piece);
+
+/// The whole mesh's number of each cell of make_polar_piece(center, radii, angles, piece), in its
+/// order (increasing).
+std::vector<int> polar_piece_cells(const std::vector<double>& radii, const std::vector<double>& angles,
+                                   const BoxPiece& piece);
 
 /// The piece of make_mesh3d(generator, n, domain) described by `piece`; InputError as
 /// make_mesh_piece.
