@@ -529,6 +529,40 @@ TEST(BoxPiece, APieceHoldsTheCellsAroundEachPointSupportAndAlongEachSegmentsSide
     held.dirichlet.push_back(inside);
     expect_scene_pieces_pose_the_whole_share<2>(held, 3);
   }
+  // a polar grid of one body: a disk (its centre held at a point), a half-disk held along its
+  // start and end groups, pressed on its outer arc by a traction and on its contact along the arc
+  for (const double start : {0.0, 180.0}) {
+    SCOPED_TRACE(start == 0.0 ? "a disk" : "a half-disk");
+    std::string text = R"(schema_version = 1
+[mesh]
+generator = "polar"
+center = [0.5, 0.5]
+radii = [0.0, 0.5]
+angles = [ANGLES]
+n = [12, 24]
+[material]
+E = 65.0
+nu = 0.29
+[[dirichlet]]
+point = [0.5, 0.5]
+ux = 0.0
+uy = 0.0
+[[dirichlet]]
+point = [0.5, 0.0]
+ux = 0.0
+[[loads.traction]]
+group = "outer"
+value = [0.0, -1.0]
+[contact]
+group = "outer"
+law = "zero"
+)";
+    text.replace(text.find("ANGLES"), 6, start == 0.0 ? "0.0, 360.0" : "180.0, 360.0");
+    if (start != 0.0) text += "\n[[dirichlet]]\ngroup = [\"start\", \"end\"]\nuy = 0.0\n";
+    const Scene polar = parse_scene_string(text, "polar.toml");
+    EXPECT_FALSE(cuts_pieces(polar));
+    expect_scene_pieces_pose_the_whole_share<2>(polar, 3);
+  }
   // a solid on a roller at x = 0, held at two points of its far side against the rigid motions
   // the roller leaves free
   Scene solid = parse_scene(test::scenes_dir() / "example-4.1-3d.toml");
@@ -633,7 +667,14 @@ TEST(MeshPiece, ThePiecesKeptOfAGmshSolidPoseTheWholeMeshsShares) {
 
 // each body's kept cells one, the pairs across the bodies' contact posed as on the whole mesh
 TEST(MeshPiece, ThePiecesKeptOfSeveralBodiesPoseTheWholeMeshsShares) {
-  expect_cut_pieces_pose_the_whole_share<2>("shrink-fit.toml");  // two rings, each held by points
+  {
+    SCOPED_TRACE("two-blocks");  // a Voronoi block on squares
+    Scene blocks = parse_scene(test::scenes_dir() / "two-blocks.toml");
+    ASSERT_EQ(blocks.bodies.size(), 2u);
+    blocks.bodies[0].mesh.n = 12, blocks.bodies[0].mesh.ny = 6;
+    blocks.bodies[1].mesh.n = 14, blocks.bodies[1].mesh.ny = 6;
+    expect_cut_pieces_pose_the_whole_share<2>(blocks);
+  }
   // two boxes, the upper pressed down by its top's displacement (the full-space route needs
   // supports that hold each body)
   Scene boxes = parse_scene(test::scenes_dir() / "two-boxes-3d.toml");
@@ -783,6 +824,46 @@ TEST(BodyPieces, ThePiecesEachProcessMakesOfSeveralBodiesAreTheWholeMeshs) {
     blocks.bodies[1].mesh.generator = "distorted";
     expect_body_pieces_are_the_whole_meshs<2>(blocks);
   }
+  // polar grids in contact along their edge groups: two rings around a full turn, each held at
+  // three points of its inner circle
+  Scene rings = parse_scene(test::scenes_dir() / "shrink-fit.toml");
+  ASSERT_EQ(rings.bodies.size(), 2u);
+  rings.bodies[0].mesh.ny = rings.bodies[1].mesh.ny = 96;
+  {
+    SCOPED_TRACE("shrink-fit");
+    expect_body_pieces_are_the_whole_meshs<2>(rings);
+  }
+  {
+    SCOPED_TRACE("shrink-fit, a quarter of each ring held along its straight sides");
+    Scene quarter = rings;
+    for (SceneBody& body : quarter.bodies) {
+      body.mesh.angles = {0.0, 90.0};
+      body.mesh.ny = 24;
+      body.dirichlet.clear();
+      SceneDirichlet start, end;
+      start.boundary.groups = {"start"};
+      start.uy = SceneScalar{0.0};
+      end.boundary.groups = {"end"};
+      end.ux = SceneScalar{0.0};
+      body.dirichlet = {start, end};
+    }
+    expect_body_pieces_are_the_whole_meshs<2>(quarter);
+  }
+  {
+    SCOPED_TRACE("shrink-fit, a disk in the ring held at its centre");
+    Scene disk = rings;
+    disk.bodies[0].mesh.radii = {0.0, 1.001};
+    disk.bodies[0].dirichlet.clear();
+    SceneDirichlet centre, side;
+    centre.boundary.points = {{0.0, 0.0, 0.0}};
+    centre.ux = centre.uy = SceneScalar{0.0};
+    side.boundary.points = {{1.001, 0.0, 0.0}};
+    side.uy = SceneScalar{0.0};
+    disk.bodies[0].dirichlet = {centre, side};
+    expect_body_pieces_are_the_whole_meshs<2>(disk);
+  }
+  // a polar grid's side of its bounding box is no side of its grid of boxes: made whole and cut
+  EXPECT_FALSE(makes_body_pieces(parse_scene(test::scenes_dir() / "two-cylinders.toml")));
 }
 
 TEST(MeshPiece, APieceIsRefusedCellsOutOfOrderAndFlagsOfAnotherMesh) {

@@ -530,13 +530,21 @@ TEST(CliFullSpaceMpi, APathOfTwoBodiesAcrossProcessesKeepsEachProcesssPieces) {
   }
 }
 
-// two plane bodies held by points (shrink-fit.toml): each process keeps the cells around the
-// points with its piece of each body
-TEST(CliFullSpaceMpi, ThePiecesKeptOfTwoBodiesHeldByPointsAreTheCondensedAnswer) {
-  const std::string flags = scene("shrink-fit.toml") + " --tol 1e-11";
-  const fs::path ref = solve_condensed(flags, "condensed-shrink-fit");
-  if (ref.empty()) return;
-  for (const int processes : {2, 3}) expect_processes_agree(flags, ref, processes, "shrink-fit", false, processes);
+// two polar rings held by points and in contact along their edge groups (shrink-fit.toml): each
+// process makes its piece of each ring, with the cells around the points; two half-disks held
+// along a side of their bounding boxes (two-cylinders.toml): made whole, each process keeps its
+// piece of each
+TEST(CliFullSpaceMpi, TwoPolarBodiesMadeInPiecesOrCutAreTheCondensedAnswer) {
+  const std::pair<std::string, std::string> runs[] = {
+      {"shrink-fit", scene("shrink-fit.toml") + " --tol 1e-11"},
+      {"two-cylinders", scene("two-cylinders.toml") +
+                            " --set 'body[0].mesh.n=[24, 48]' --set 'body[1].mesh.n=[24, 52]' --tol 1e-11"}};
+  for (const auto& [name, flags] : runs) {
+    SCOPED_TRACE(name);
+    const fs::path ref = solve_condensed(flags, "condensed-" + name);
+    if (ref.empty()) return;
+    for (const int processes : {2, 3}) expect_processes_agree(flags, ref, processes, name, false, processes);
+  }
 }
 
 // a distorted mesh (paper-example-4.1-distorted.toml): each process makes its piece of the

@@ -131,6 +131,10 @@ Mesh make_polar_piece(const Vec2& center, const std::vector<double>& radii, cons
   return polar_mesh(center, radii, angles, detail::PieceBoxes("polar", 2, grid.counts(), piece, grid.closure()));
 }
 
+GridClosure polar_closure(const std::vector<double>& radii, const std::vector<double>& angles) {
+  return PolarLayout(radii, angles).closure();
+}
+
 std::vector<int> polar_piece_cells(const std::vector<double>& radii, const std::vector<double>& angles,
                                    const BoxPiece& piece) {
   const PolarLayout grid(radii, angles);

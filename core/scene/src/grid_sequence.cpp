@@ -37,12 +37,14 @@ int halvings(const Scene& scene, int fewest) {
 
 // Whether the scene's coarser grids are its grid's halvings: a grid of boxes whose vertices lie
 // where its coarser grids' do (not a distorted one's, whose inner vertices each move at random,
-// nor a nonconvex one's, whose mid-points move with the boxes' size),
+// nor a nonconvex one's, whose mid-points move with the boxes' size; nor a polar grid, whose
+// vertices close around a turn and at a centre),
 // without region boxes (a coarser cell's centroid lies elsewhere), whose every support, load and
 // contact part selects sides alone (a point or a segment may fall between a coarser grid's
 // vertices).
 bool coarsens(const Scene& scene) {
-  if (scene.mesh.generator == "distorted" || scene.mesh.generator == "nonconvex") return false;
+  if (scene.mesh.generator == "distorted" || scene.mesh.generator == "nonconvex" || scene.mesh.generator == "polar")
+    return false;
   if (scene.material.has_region_boxes()) return false;
   return every_selector(scene, [](const BoundarySelector& b) { return b.points.empty() && b.segments.empty(); });
 }

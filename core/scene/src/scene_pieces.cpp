@@ -4,6 +4,7 @@
 #include <hemivem/contact/pose_share.hpp>
 #include <hemivem/error.hpp>
 #include <hemivem/mesh/bodies.hpp>
+#include <hemivem/mesh/dimension.hpp>
 #include <hemivem/mesh/gmsh.hpp>
 #include <hemivem/mesh/gmsh3d.hpp>
 #include <hemivem/mesh/mesh_piece.hpp>
@@ -26,6 +27,15 @@ namespace hemivem {
 
 namespace {
 
+/// Whether the scene's mesh is a polar grid (make_polar): its sectors along x, its rings along y.
+bool is_polar(const Scene& scene) { return scene.mesh.file.empty() && scene.mesh.generator == "polar"; }
+
+/// The radii and angles (radians) of the scene's polar grid.
+std::array<std::vector<double>, 2> polar_lists(const Scene& scene) {
+  const GridSize c = scene.mesh.cells();
+  return polar_grid(scene.mesh.radii, scene.mesh.angles, c.nx, c.ny, scene.mesh.grading, scene.mesh.focus);
+}
+
 /// The boxes along each axis of the scene's generated grid.
 std::array<int, 3> grid_counts(const Scene& scene) {
   if (scene.dimension() == 3) {
@@ -33,20 +43,30 @@ std::array<int, 3> grid_counts(const Scene& scene) {
     return {c.nx, c.ny, c.nz};
   }
   const GridSize c = scene.mesh.cells();
-  return {c.nx, c.ny, 1};
+  return is_polar(scene) ? std::array<int, 3>{c.ny, c.nx, 1} : std::array<int, 3>{c.nx, c.ny, 1};
 }
 
 /// How the scene's generator numbers the vertices of its grid.
 BoxGridVertices grid_vertices_of(const Scene& scene) {
+  if (is_polar(scene)) {
+    const auto [radii, angles] = polar_lists(scene);
+    return BoxGridVertices("polar", 2, grid_counts(scene), polar_closure(radii, angles));
+  }
   return BoxGridVertices(scene.mesh.generator, scene.dimension(), grid_counts(scene));
 }
 
 /// The vertex at the grid point of the scene's generated box nearest to `q`: the box corner
 /// within half a box of the vertex a support at `q` holds (the vertex nearest to `q`; a
 /// distorted or nonconvex mesh's vertices lie off the grid points by less than half a box, so
-/// the boxes within two of the corner hold every cell around it).
+/// the boxes within two of the corner hold every cell around it). Of a polar grid, the vertex
+/// nearest to `q` itself, which the support holds.
 int nearest_grid_vertex(const Scene& scene, const std::array<double, 3>& q) {
   const int dim = scene.dimension();
+  if (is_polar(scene)) {
+    const auto [radii, angles] = polar_lists(scene);
+    const Mesh vertices = make_polar_piece(Vec2(scene.mesh.center[0], scene.mesh.center[1]), radii, angles, BoxPiece{});
+    return std::max(0, nearest_point<2>(vertices.vertices(), Vec2(q[0], q[1])).first);
+  }
   const std::array<int, 3> n = grid_counts(scene);
   std::array<double, 6> box{};
   if (dim == 3) box = scene.mesh.box;
@@ -58,6 +78,16 @@ int nearest_grid_vertex(const Scene& scene, const std::array<double, 3>& q) {
     point[s] = std::isfinite(t) ? std::llround(std::clamp(t, 0.0, static_cast<double>(n[s]))) : 0;
   }
   return static_cast<int>(grid_vertices_of(scene).corner(point));
+}
+
+/// The side of a polar grid's boxes along its edge group `group` (make_polar's: start, end,
+/// inner, outer); empty for another name.
+std::string polar_side(const std::string& group) {
+  if (group == "start") return "left";
+  if (group == "end") return "right";
+  if (group == "inner") return "bottom";
+  if (group == "outer") return "top";
+  return {};
 }
 
 /// The side of the scene's rectangle along whose line the segment lies (both its ends within the
@@ -78,6 +108,16 @@ std::string side_along(const Scene& scene, const std::array<double, 4>& segment,
 /// vertex each of its points holds; false when `b` selects by anything else (a group, a segment
 /// along no side), which a process cannot place before the mesh is made.
 bool add_selector(const Scene& scene, const BoundarySelector& b, BoxPiece& piece) {
+  if (is_polar(scene)) {  // its edge groups, the sides of its grid of boxes
+    if (!b.sides.empty() || !b.segments.empty()) return false;
+    for (const std::string& group : b.groups) {
+      const std::string side = polar_side(group);
+      if (side.empty()) return false;
+      piece.sides.push_back(side);
+    }
+    for (const auto& q : b.points) piece.held.push_back(nearest_grid_vertex(scene, q));
+    return true;
+  }
   if (!b.groups.empty()) return false;
   for (const auto& segment : b.segments) {
     const std::string side = scene.dimension() == 2 ? side_along(scene, segment, b.tolerance) : std::string();
@@ -126,6 +166,10 @@ template <int dim>
 MeshOf<dim> box_mesh_piece(const Scene& scene, const BoxPiece& piece) {
   return detail::generated_mesh(scene, [&] {
     if constexpr (dim == 2) {
+      if (is_polar(scene)) {
+        const auto [radii, angles] = polar_lists(scene);
+        return make_polar_piece(Vec2(scene.mesh.center[0], scene.mesh.center[1]), radii, angles, piece);
+      }
       const auto& d = scene.mesh.domain;
       return make_mesh_piece(scene.mesh.generator, scene.mesh.cells(), Rectangle{d[0], d[1], d[2], d[3]}, piece,
                              static_cast<std::uint64_t>(scene.mesh.seed));
@@ -151,6 +195,10 @@ PieceOfMesh scene_piece_of_mesh(const Scene& scene, const BoxPiece& piece) {
     const GridSize3 n = scene.mesh.cells3();
     out.cells = piece_cells(g, n, piece);
     out.whole_cells = n.nx * n.ny * n.nz * cells_per_box(g);
+  } else if (is_polar(scene)) {
+    const auto [radii, angles] = polar_lists(scene);
+    out.cells = polar_piece_cells(radii, angles, piece);
+    out.whole_cells = static_cast<int>((radii.size() - 1) * (angles.size() - 1));
   } else {
     const GridSize n = scene.mesh.cells();
     out.cells = piece_cells(g, n, piece);

@@ -117,6 +117,10 @@ Mesh make_mesh_piece(std::string_view generator, GridSize n, const Rectangle& do
 Mesh make_polar_piece(const Vec2& center, const std::vector<double>& radii, const std::vector<double>& angles,
                       const BoxPiece& piece);
 
+/// How the polar grid of make_polar(center, radii, angles) closes on itself; InputError as
+/// make_polar.
+GridClosure polar_closure(const std::vector<double>& radii, const std::vector<double>& angles);
+
 /// The whole mesh's number of each cell of make_polar_piece(center, radii, angles, piece), in its
 /// order (increasing).
 std::vector<int> polar_piece_cells(const std::vector<double>& radii, const std::vector<double>& angles,
