@@ -1,5 +1,5 @@
 // A process's piece of a mesh generated on a grid of boxes (squares, triangles, distorted
-// squares and nonconvex cells in the plane, cubes and tetrahedra in a solid): what one process of
+// squares, nonconvex cells and polar grids in the plane, cubes and tetrahedra in a solid): what one process of
 // a run across processes makes of the mesh, without making the whole (docs/cluster.md).
 //
 // A piece holds every vertex of the whole mesh, numbered as the whole numbers them, so that a
