@@ -159,22 +159,12 @@ TEST(Voronoi3D, LloydIterationsSplitAmongProcessesMakeOneProcesssMesh) {
   const Mesh3D whole = hemivem::make_voronoi3d(n, kBox, seeded(4));
   for (const int size : {2, 3}) {
     SCOPED_TRACE(std::to_string(size) + " processes");
-    ThreadRows::Shared shared(size);
-    std::vector<std::optional<Mesh3D>> made(static_cast<std::size_t>(size));
-    std::vector<std::thread> others;
-    const auto make = [&](int rank) {
-      const ThreadRows rows(shared, rank);
+    const auto made = hemivem::test::on_threads(size, [&](const ThreadRows& rows) {
       VoronoiOptions o = seeded(4);
       o.processes = &rows;
-      made[static_cast<std::size_t>(rank)] = hemivem::make_voronoi3d(n, kBox, o);
-    };
-    for (int rank = 1; rank < size; ++rank) others.emplace_back(make, rank);
-    make(0);
-    for (auto& t : others) t.join();
-    for (const auto& m : made) {
-      ASSERT_TRUE(m.has_value());
-      EXPECT_TRUE(identical(*m, whole));
-    }
+      return hemivem::make_voronoi3d(n, kBox, o);
+    });
+    for (const Mesh3D& m : made) EXPECT_TRUE(identical(m, whole));
   }
   // with the iterations cut short the mesh differs: the comparison above can fail
   EXPECT_FALSE(identical(hemivem::make_voronoi3d(n, kBox, seeded(4, 3)), whole));

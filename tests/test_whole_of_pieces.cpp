@@ -61,19 +61,10 @@ std::vector<WholeOfPieces> gathered(int size, const MakePiece<dim>& make, const 
   std::vector<std::unique_ptr<BasicBuiltProblem<dim>>> pieces;
   std::vector<PieceOfMesh> where(static_cast<std::size_t>(size));
   for (int rank = 0; rank < size; ++rank) pieces.push_back(make(rank, size, where[static_cast<std::size_t>(rank)]));
-  ThreadRows::Shared shared(size);
-  std::vector<std::optional<WholeOfPieces>> out(static_cast<std::size_t>(size));
-  const auto run = [&](int rank) {
-    const ThreadRows rows(shared, rank);
-    const auto k = static_cast<std::size_t>(rank);
-    out[k] = app::whole_of_pieces<dim>(pieces[k]->problem, u, where[k], rows, files);
-  };
-  std::vector<std::thread> others;
-  for (int rank = 1; rank < size; ++rank) others.emplace_back(run, rank);
-  run(0);
-  for (auto& t : others) t.join();
-  std::vector<WholeOfPieces> records;
-  for (auto& r : out) records.push_back(std::move(*r));
+  std::vector<WholeOfPieces> records = test::on_threads(size, [&](const ThreadRows& rows) {
+    const auto k = static_cast<std::size_t>(rows.rank());
+    return app::whole_of_pieces<dim>(pieces[k]->problem, u, where[k], rows, files);
+  });
   if (first) *first = std::move(pieces.front());
   return records;
 }

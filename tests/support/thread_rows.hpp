@@ -3,7 +3,10 @@
 #pragma once
 
 #include <barrier>
+#include <optional>
 #include <stdexcept>
+#include <thread>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -48,5 +51,25 @@ class ThreadRows final : public hemivem::RowDistribution {
   int rank_;
   hemivem::RowLayout layout_;
 };
+
+/// What `work(rows)` gives on each of `size` processes played by threads (rank 0 on the calling
+/// thread), in the order of the ranks.
+template <class Work>
+auto on_threads(int size, Work&& work) {
+  using Result = decltype(work(std::declval<const ThreadRows&>()));
+  ThreadRows::Shared shared(size);
+  std::vector<std::optional<Result>> made(static_cast<std::size_t>(size));
+  const auto run = [&](int rank) {
+    const ThreadRows rows(shared, rank);
+    made[static_cast<std::size_t>(rank)] = work(rows);
+  };
+  std::vector<std::thread> others;
+  for (int rank = 1; rank < size; ++rank) others.emplace_back(run, rank);
+  run(0);
+  for (auto& t : others) t.join();
+  std::vector<Result> out;
+  for (auto& m : made) out.push_back(std::move(*m));
+  return out;
+}
 
 }  // namespace hemivem::test
