@@ -530,11 +530,10 @@ TEST(CliFullSpaceMpi, APathOfTwoBodiesAcrossProcessesKeepsEachProcesssPieces) {
   }
 }
 
-// two polar rings held by points and in contact along their edge groups (shrink-fit.toml): each
-// process makes its piece of each ring, with the cells around the points; two half-disks held
-// along a side of their bounding boxes (two-cylinders.toml): made whole, each process keeps its
-// piece of each
-TEST(CliFullSpaceMpi, TwoPolarBodiesMadeInPiecesOrCutAreTheCondensedAnswer) {
+// two polar rings held by points and in contact along their edge groups (shrink-fit.toml), and
+// two half-disks held along a side of their bounding boxes (two-cylinders.toml): each process
+// makes its piece of each body, with the cells around the points and along the grids' sides
+TEST(CliFullSpaceMpi, TwoPolarBodiesMadeInPiecesAreTheCondensedAnswer) {
   const std::pair<std::string, std::string> runs[] = {
       {"shrink-fit", scene("shrink-fit.toml") + " --tol 1e-11"},
       {"two-cylinders", scene("two-cylinders.toml") +

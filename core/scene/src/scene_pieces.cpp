@@ -109,7 +109,10 @@ std::string side_along(const Scene& scene, const std::array<double, 4>& segment,
 /// along no side), which a process cannot place before the mesh is made.
 bool add_selector(const Scene& scene, const BoundarySelector& b, BoxPiece& piece) {
   if (is_polar(scene)) {  // its edge groups, the sides of its grid of boxes
-    if (!b.sides.empty() || !b.segments.empty()) return false;
+    if (!b.segments.empty()) return false;
+    // a side of its bounding box picks boundary edges alone, which the grid's sides hold (a
+    // piece's boundary inside the grid lies along no side of the box: a cell beyond it would)
+    if (!b.sides.empty()) piece.sides.insert(piece.sides.end(), {"left", "right", "bottom", "top"});
     for (const std::string& group : b.groups) {
       const std::string side = polar_side(group);
       if (side.empty()) return false;
