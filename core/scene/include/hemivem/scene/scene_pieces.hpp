@@ -18,8 +18,9 @@ namespace hemivem {
 /// squares, triangles, distorted or nonconvex on its rectangle, or cubes or tetrahedra on its
 /// box (makes_pieces), of one body, and every support, load and contact part selects sides,
 /// segments along sides (in the plane) or points (no group, no segment across the body), or by
-/// polar (make_polar_piece) and every part selects its edge groups or points, without adaptive
-/// steps; a loading path's loads, prescribed values and obstacles change on those
+/// polar (make_polar_piece) and every part selects its edge groups, sides of its bounding box
+/// (boundary edges along the grid's sides, every box of which a piece holds) or points, without
+/// adaptive steps; a loading path's loads, prescribed values and obstacles change on those
 /// alone. Region boxes put each cell of a piece into the region the whole mesh's cell is in (its
 /// centroid the same); whether each region holds a cell is the whole mesh's to say
 /// (check_regions_of_pieces). The piece's vertices are the process's share (vertex_share,
