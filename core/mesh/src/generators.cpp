@@ -665,12 +665,7 @@ Mesh make_voronoi(GridSize n, const Rectangle& domain, const VoronoiOptions& opt
   // element (and vertex) numbers. Lloyd moves seeds little, so the order stays good.
   detail::sort_along_hilbert_curve(seeds, domain);
   // the seeds whose cells this process computes in the Lloyd iterations (all in one process)
-  std::size_t first = 0, end = ns;
-  if (options.processes) {
-    const auto [f, e] = even_share(static_cast<Eigen::Index>(ns), options.processes->rank(), options.processes->size());
-    first = static_cast<std::size_t>(f);
-    end = static_cast<std::size_t>(e);
-  }
+  const auto [first, end] = share_of(ns, options.processes);
   const int iterations = options.max_lloyd_iterations;
   const auto cells_of = [&](std::size_t from, std::size_t to) {
     return shared_voronoi_cells(seeds, domain, spacing, tol, from, to, options.processes);

@@ -806,12 +806,7 @@ Mesh3D make_voronoi3d(GridSize3 n, const Box& domain, const VoronoiOptions& opti
   // Seeds along a Hilbert curve: nearby cells get nearby numbers (Lloyd moves seeds little).
   detail::sort_along_hilbert_curve(seeds, domain);
   // the seeds whose cells this process computes in the Lloyd iterations (all in one process)
-  std::size_t first = 0, end = ns;
-  if (options.processes) {
-    const auto [f, e] = even_share(static_cast<Eigen::Index>(ns), options.processes->rank(), options.processes->size());
-    first = static_cast<std::size_t>(f);
-    end = static_cast<std::size_t>(e);
-  }
+  const auto [first, end] = share_of(ns, options.processes);
   const double stop = options.lloyd_tolerance * spacing;
   for (int it = 0; it < options.max_lloyd_iterations; ++it) {
     Eigen::VectorXd centroids(3 * static_cast<Eigen::Index>(end - first));

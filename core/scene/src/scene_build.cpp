@@ -202,8 +202,7 @@ std::unique_ptr<BuiltProblem> detail::built_plane(const Scene& scene, const RowD
     detail::require_generated_memory(scene);
     mesh = detail::generated_mesh(scene, [&] {
       if (scene.mesh.generator == "polar") {
-        const auto [radii, angles] = polar_grid(scene.mesh.radii, scene.mesh.angles, cells.nx, cells.ny,
-                                                scene.mesh.grading, scene.mesh.focus);
+        const auto [radii, angles] = polar_lists(scene);
         return make_polar(Vec2(scene.mesh.center[0], scene.mesh.center[1]), radii, angles);
       }
       if (scene.mesh.polygon.empty())
@@ -223,6 +222,12 @@ std::unique_ptr<BuiltProblem> build_problem(const Scene& scene, Mesh given, bool
 }
 
 namespace detail {
+
+std::array<std::vector<double>, 2> polar_lists(const Scene& scene) {
+  const GridSize c = scene.mesh.cells();
+  return polar_grid(scene.mesh.radii, scene.mesh.angles, c.nx, c.ny, scene.mesh.grading, scene.mesh.focus);
+}
+
 
 std::unique_ptr<BuiltProblem> built_plane_on(const Scene& scene, Mesh mesh, bool apply_region_boxes, bool whole) {
   // Regions given by boxes, then materials by region.

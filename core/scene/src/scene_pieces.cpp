@@ -30,12 +30,6 @@ namespace {
 /// Whether the scene's mesh is a polar grid (make_polar): its sectors along x, its rings along y.
 bool is_polar(const Scene& scene) { return scene.mesh.file.empty() && scene.mesh.generator == "polar"; }
 
-/// The radii and angles (radians) of the scene's polar grid.
-std::array<std::vector<double>, 2> polar_lists(const Scene& scene) {
-  const GridSize c = scene.mesh.cells();
-  return polar_grid(scene.mesh.radii, scene.mesh.angles, c.nx, c.ny, scene.mesh.grading, scene.mesh.focus);
-}
-
 /// The boxes along each axis of the scene's generated grid.
 std::array<int, 3> grid_counts(const Scene& scene) {
   if (scene.dimension() == 3) {
@@ -49,7 +43,7 @@ std::array<int, 3> grid_counts(const Scene& scene) {
 /// How the scene's generator numbers the vertices of its grid.
 BoxGridVertices grid_vertices_of(const Scene& scene) {
   if (is_polar(scene)) {
-    const auto [radii, angles] = polar_lists(scene);
+    const auto [radii, angles] = detail::polar_lists(scene);
     return BoxGridVertices("polar", 2, grid_counts(scene), polar_closure(radii, angles));
   }
   return BoxGridVertices(scene.mesh.generator, scene.dimension(), grid_counts(scene));
@@ -63,7 +57,7 @@ BoxGridVertices grid_vertices_of(const Scene& scene) {
 int nearest_grid_vertex(const Scene& scene, const std::array<double, 3>& q) {
   const int dim = scene.dimension();
   if (is_polar(scene)) {
-    const auto [radii, angles] = polar_lists(scene);
+    const auto [radii, angles] = detail::polar_lists(scene);
     const Mesh vertices = make_polar_piece(Vec2(scene.mesh.center[0], scene.mesh.center[1]), radii, angles, BoxPiece{});
     return std::max(0, nearest_point<2>(vertices.vertices(), Vec2(q[0], q[1])).first);
   }
@@ -170,7 +164,7 @@ MeshOf<dim> box_mesh_piece(const Scene& scene, const BoxPiece& piece) {
   return detail::generated_mesh(scene, [&] {
     if constexpr (dim == 2) {
       if (is_polar(scene)) {
-        const auto [radii, angles] = polar_lists(scene);
+        const auto [radii, angles] = detail::polar_lists(scene);
         return make_polar_piece(Vec2(scene.mesh.center[0], scene.mesh.center[1]), radii, angles, piece);
       }
       const auto& d = scene.mesh.domain;
@@ -199,7 +193,7 @@ PieceOfMesh scene_piece_of_mesh(const Scene& scene, const BoxPiece& piece) {
     out.cells = piece_cells(g, n, piece);
     out.whole_cells = n.nx * n.ny * n.nz * cells_per_box(g);
   } else if (is_polar(scene)) {
-    const auto [radii, angles] = polar_lists(scene);
+    const auto [radii, angles] = detail::polar_lists(scene);
     out.cells = polar_piece_cells(radii, angles, piece);
     out.whole_cells = static_cast<int>((radii.size() - 1) * (angles.size() - 1));
   } else {

@@ -2,11 +2,13 @@
 // problem on a mesh (scene_problem.cpp) and the words of their messages.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <functional>
 #include <memory>
 #include <set>
 #include <string>
+#include <vector>
 
 #include <hemivem/error.hpp>
 #include <hemivem/mesh/dimension.hpp>
@@ -103,5 +105,8 @@ std::unique_ptr<BuiltProblem3D> built_solid(const Scene& scene, Mesh3D mesh, boo
 /// require_route_memory of a plane scene's mesh file, `condensed` its mesh's estimate
 /// (estimate_memory) and `largest` the most vertices of one of its elements.
 void require_file_memory(const Scene& scene, const MemoryEstimate& condensed, int largest);
+
+/// The radii and angles (radians) of a plane scene's polar grid (polar_grid of its mesh keys).
+std::array<std::vector<double>, 2> polar_lists(const Scene& scene);
 
 }  // namespace hemivem::detail

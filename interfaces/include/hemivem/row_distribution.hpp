@@ -11,6 +11,7 @@
 
 #include <Eigen/Core>
 
+#include <cstddef>
 #include <utility>
 #include <vector>
 
@@ -73,6 +74,14 @@ class RowDistribution {
 inline std::pair<Eigen::Index, Eigen::Index> even_share(Eigen::Index count, int rank, int size) {
   const auto at = [&](int r) { return static_cast<Eigen::Index>(static_cast<long long>(count) * r / size); };
   return {at(rank), at(rank + 1)};
+}
+
+/// The share [first, end) of `count` items that this process of `processes` takes (even_share);
+/// all of them with no processes.
+inline std::pair<std::size_t, std::size_t> share_of(std::size_t count, const RowDistribution* processes) {
+  if (!processes) return {0, count};
+  const auto [first, end] = even_share(static_cast<Eigen::Index>(count), processes->rank(), processes->size());
+  return {static_cast<std::size_t>(first), static_cast<std::size_t>(end)};
 }
 
 /// One process owning all `n` rows.
