@@ -5,10 +5,12 @@
 // poses the share of the whole problem.
 #include <hemivem/contact/pose_share.hpp>
 #include <hemivem/error.hpp>
+#include <hemivem/mesh/generators.hpp>
 #include <hemivem/mesh/generators3d.hpp>
 #include <hemivem/mesh/gmsh.hpp>
 #include <hemivem/mesh/gmsh3d.hpp>
 #include <hemivem/mesh/mesh_piece.hpp>
+#include <hemivem/mesh/poly2d.hpp>
 #include <hemivem/mesh/vertex_order.hpp>
 #include <hemivem/scene/scene.hpp>
 #include <hemivem/scene/scene_pieces.hpp>
@@ -18,6 +20,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <set>
 #include <sstream>
 #include <string>
@@ -27,6 +30,7 @@
 #include "gmsh_squares.hpp"
 #include "posed_share_checks.hpp"
 #include "test_support.hpp"
+#include "thread_rows.hpp"
 
 using namespace hemivem;
 namespace fs = std::filesystem;
@@ -107,7 +111,26 @@ void expect_read_pieces_are_cut_pieces(const fs::path& file, int size, bool smal
     const auto [first, end] = vertex_share(whole.num_vertices(), rank, size);
     EXPECT_EQ(read.first, first);
     EXPECT_EQ(read.end, end);
-    const M cut = cut_mesh_piece(whole, cells);
+    std::vector<int> facet_of;
+    const M cut = cut_mesh_piece(whole, cells, &facet_of);
+    // the piece's boundary facets inside the whole mesh, by their vertices
+    std::set<std::vector<int>> inside, read_inside;
+    for (int f = 0; f < static_cast<int>(whole.num_facets()); ++f)
+      if (const int g = facet_of[static_cast<std::size_t>(f)]; g >= 0 && !on_boundary(whole, f) && on_boundary(cut, g)) {
+        std::vector<int> v = facet_vertices(whole, f);
+        std::sort(v.begin(), v.end());
+        inside.insert(v);
+      }
+    for (std::size_t k = 0; k < read.cut_facets.size(); ++k) {
+      const int f = read.cut_facets[k];
+      ASSERT_TRUE(on_boundary(read.mesh, f)) << "cut facet " << f;
+      if (k > 0) ASSERT_LT(read.cut_facets[k - 1], f);
+      std::vector<int> v = facet_vertices(read.mesh, f);
+      std::sort(v.begin(), v.end());
+      read_inside.insert(v);
+    }
+    EXPECT_EQ(read_inside, inside);
+    EXPECT_EQ(inside.empty(), cells.size() == static_cast<std::size_t>(num_cells_of(whole)));
     ASSERT_EQ(read.mesh.num_vertices(), whole.num_vertices());
     ASSERT_EQ(num_cells_of(read.mesh), num_cells_of(cut));
     for (int v = 0; v < whole.num_vertices(); ++v) ASSERT_EQ(read.mesh.vertex(v), whole.vertex(v));
@@ -155,6 +178,8 @@ fs::path cubes_msh(int n) {
 
 const auto read_plane = [](const fs::path& p) { return read_gmsh(p); };
 const auto read_plane_piece = [](const fs::path& p, int r, int s) { return read_gmsh_piece(p, r, s); };
+const auto read_poly = [](const fs::path& p) { return read_poly2d(p).mesh; };
+const auto read_poly_piece = [](const fs::path& p, int r, int s) { return read_poly2d_piece(p, r, s); };
 const auto read_solid = [](const fs::path& p) { return read_gmsh3d(p); };
 const auto read_solid_piece = [](const fs::path& p, int r, int s) { return read_gmsh3d_piece(p, r, s); };
 
@@ -167,6 +192,62 @@ TEST(MeshPieceRead, APlaneFilesPiecesAreThePiecesCutFromTheWholeMesh) {
   for (const char* file : {"two_regions.msh", "unit_square_triangles.msh", "unit_square_quads.msh"})
     expect_read_pieces_are_cut_pieces<Mesh>(test::data_dir() / "gmsh" / file, 2, false, read_plane, read_plane_piece);
   fs::remove(squares);
+}
+
+TEST(MeshPieceRead, APoly2dFilesPiecesAreThePiecesCutFromTheWholeMesh) {
+  for (const char* file : {"sutton-voronoi-merged.poly2d", "graded-block.poly2d"})
+    for (int size : {1, 2, 3})
+      expect_read_pieces_are_cut_pieces<Mesh>(test::scenes_dir() / "meshes" / file, size, size > 1, read_poly,
+                                              read_poly_piece);
+}
+
+// a .poly2d file the whole reader refuses, every process refuses with the same message, or a
+// defect of its elements, the processes whose pieces hold it (one at least)
+TEST(MeshPieceRead, APoly2dFileTheWholeReaderRefusesIsRefusedByThePieces) {
+  int files = 0;
+  for (const auto& entry : fs::directory_iterator(test::data_dir() / "malformed")) {
+    if (entry.path().extension() != ".poly2d") continue;
+    SCOPED_TRACE(entry.path().filename().string());
+    ++files;
+    std::string whole;
+    bool cells = false;
+    try {
+      (void)read_poly2d(entry.path());
+      ADD_FAILURE() << "read whole";
+    } catch (const MeshError& e) {
+      whole = e.what(), cells = true;
+    } catch (const InputError& e) {
+      whole = e.what();
+    }
+    int refused = 0;
+    for (int rank = 0; rank < 2; ++rank) {
+      try {
+        (void)read_poly2d_piece(entry.path(), rank, 2);
+        EXPECT_TRUE(cells) << "rank " << rank << " read it";
+      } catch (const InputError& e) {
+        EXPECT_EQ(std::string(e.what()), whole) << "rank " << rank;
+        ++refused;
+      }
+    }
+    EXPECT_GE(refused, 1);
+  }
+  EXPECT_GE(files, 25);
+}
+
+// a Voronoi mesh's piece, made from its cells' vertex lists without the whole mesh, is the piece
+// cut from make_voronoi's mesh, on a unit-scale rectangle and on one rescaled to unit scale
+TEST(MeshPieceRead, AVoronoiMeshsPiecesAreThePiecesCutFromTheWholeMesh) {
+  for (const Rectangle& d : {Rectangle{0.0, 1.0, 0.0, 1.0}, Rectangle{-3e4, 5e4, 0.0, 2e4}}) {
+    const auto whole = [&](const fs::path&) { return make_voronoi(GridSize(16, 12), d); };
+    const auto piece = [&](const fs::path&, int r, int s) { return make_voronoi_piece(GridSize(16, 12), d, {}, r, s); };
+    for (int size : {1, 2, 3}) expect_read_pieces_are_cut_pieces<Mesh>("voronoi", size, size > 1, whole, piece);
+  }
+  for (const Box& b : {Box{0.0, 1.0, 0.0, 0.5, 0.0, 1.0}, Box{-3e4, 5e4, 0.0, 2e4, 1e4, 3e4}}) {
+    const GridSize3 n(6, 4, 5);
+    const auto whole = [&](const fs::path&) { return make_voronoi3d(n, b); };
+    const auto piece = [&](const fs::path&, int r, int s) { return make_voronoi3d_piece(n, b, {}, r, s); };
+    for (int size : {1, 2, 3}) expect_read_pieces_are_cut_pieces<Mesh3D>("voronoi3d", size, size > 1, whole, piece);
+  }
 }
 
 TEST(MeshPieceRead, ASolidFilesPiecesAreThePiecesCutFromTheWholeMesh) {
@@ -293,7 +374,94 @@ TEST(MeshPieceRead, TheProblemOnAPieceReadFromTheFilePosesTheWholeShare) {
   fs::remove(cubes);
 }
 
-TEST(MeshPieceRead, OnlyAGmshFileWhosePartsSelectSidesOrGroupsIsReadInPieces) {
+// a segment picks on a piece the whole mesh's boundary facets the piece holds, never a facet
+// where the pieces meet
+TEST(MeshPieceRead, ASegmentPicksOnAPieceTheWholeMeshsBoundaryFacetsAlone) {
+  // .poly2d files: the top under a cylinder by a segment, along a loading path with friction;
+  // sides of the mesh's bounding box
+  expect_read_problem_pieces_pose_the_whole_share<2>(parse_scene(test::scenes_dir() / "cattaneo-mindlin.toml"));
+  expect_read_problem_pieces_pose_the_whole_share<2>(parse_scene(test::scenes_dir() / "sutton-voronoi.toml"));
+  const fs::path squares = write_text("segments.msh", test::squares_msh(24, 24));
+  Scene plane = parse_scene(test::scenes_dir() / "paper-example-4.1.toml");
+  plane.mesh.file = squares;
+  // a part of the bottom and a line through the body along edges inside it
+  plane.contact->boundary = BoundarySelector{};
+  plane.contact->boundary.segments = {{0.25, 0.0, 0.75, 0.0}, {0.5, 0.0, 0.5, 1.0}, {0.0, 0.5, 1.0, 0.5}};
+  expect_read_problem_pieces_pose_the_whole_share<2>(plane);
+  // the line through the body along an edge where the first piece meets the others picks no
+  // boundary edge: the whole mesh's error on each piece
+  const MeshPieceRead<Mesh> first = read_gmsh_piece(squares, 0, 3);
+  ASSERT_FALSE(first.cut_facets.empty());
+  const Vec2 a = first.mesh.vertex(first.mesh.edge(first.cut_facets[0]).v0);
+  const Vec2 b = first.mesh.vertex(first.mesh.edge(first.cut_facets[0]).v1);
+  plane.contact->boundary.segments = {a.x() == b.x() ? std::array<double, 4>{a.x(), 0.0, a.x(), 1.0}
+                                                     : std::array<double, 4>{0.0, a.y(), 1.0, a.y()}};
+  const std::string whole = test::input_error_of([&] { (void)build_problem<2>(plane); });
+  EXPECT_NE(whole.find("selects no boundary edge"), std::string::npos) << whole;
+  for (int rank = 0; rank < 3; ++rank) {
+    PieceOfMesh where;
+    EXPECT_EQ(test::input_error_of([&] { (void)read_problem_piece<2>(plane, rank, 3, where); }), whole) << "rank " << rank;
+  }
+  fs::remove(squares);
+}
+
+/// The problem of the scene on each of three processes' pieces of its Voronoi mesh (played by
+/// threads, which split the Lloyd iterations) poses the share of the whole problem to the bit.
+template <int dim>
+void expect_voronoi_pieces_pose_the_whole_share(const Scene& scene) {
+  ASSERT_TRUE(makes_voronoi_pieces(scene));
+  const auto whole = build_problem<dim>(scene);
+  const std::vector<int> order = hilbert_vertex_order(whole->mesh);
+  auto made = test::on_threads(3, [&](const test::ThreadRows& rows) {
+    auto where = std::make_shared<PieceOfMesh>();
+    std::shared_ptr<BasicBuiltProblem<dim>> piece = voronoi_problem_piece<dim>(scene, rows, *where);
+    return std::make_pair(piece, where);
+  });
+  for (int rank = 0; rank < 3; ++rank) {
+    SCOPED_TRACE("rank " + std::to_string(rank));
+    const auto& [piece, where] = made[static_cast<std::size_t>(rank)];
+    const auto [first, end] = vertex_share(whole->mesh.num_vertices(), rank, 3);
+    EXPECT_EQ(where->vertices.order, order);
+    EXPECT_EQ(where->vertices.first, first);
+    EXPECT_EQ(where->vertices.end, end);
+    EXPECT_EQ(where->whole_cells, num_cells_of(whole->mesh));
+    EXPECT_LT(static_cast<int>(where->cells.size()), where->whole_cells);
+    EXPECT_EQ(piece->mesh.vertices(), whole->mesh.vertices());
+    test::expect_same_share(pose_share(piece->problem, order, first, end), pose_share(whole->problem, order, first, end));
+  }
+}
+
+// Example 4.1 in the plane and in a solid, and a contact part on a segment with supports on
+// sides (rollers-pressure.toml)
+TEST(MeshPieceRead, TheProblemOnAVoronoiMeshsPiecePosesTheWholeShare) {
+  for (const char* name : {"paper-example-4.1-voronoi.toml", "rollers-pressure.toml"}) {
+    SCOPED_TRACE(name);
+    Scene scene = parse_scene(test::scenes_dir() / name);
+    scene.mesh.n = 24;
+    scene.mesh.ny.reset();
+    expect_voronoi_pieces_pose_the_whole_share<2>(scene);
+  }
+  {
+    SCOPED_TRACE("example-4.1-3d.toml on Voronoi cells");
+    Scene solid = parse_scene(test::scenes_dir() / "example-4.1-3d.toml");
+    solid.mesh.generator = "voronoi";
+    solid.mesh.n = 10;
+    solid.mesh.ny = 5;
+    solid.mesh.nz = 10;
+    expect_voronoi_pieces_pose_the_whole_share<3>(solid);
+  }
+  Scene scene = parse_scene(test::scenes_dir() / "paper-example-4.1-voronoi.toml");
+  Scene adaptive = scene;
+  adaptive.adapt = SceneAdapt{};
+  EXPECT_FALSE(makes_voronoi_pieces(adaptive));
+  scene.mesh.polygon = {{0.0, 0.0}, {1.0, 0.0}, {0.0, 1.0}};
+  EXPECT_FALSE(makes_voronoi_pieces(scene));  // clipped to a polygon: made whole
+  EXPECT_FALSE(makes_voronoi_pieces(parse_scene(test::scenes_dir() / "example-4.1-3d.toml")));  // cubes
+  EXPECT_FALSE(makes_voronoi_pieces(parse_scene(test::scenes_dir() / "two-blocks.toml")));
+  EXPECT_FALSE(makes_voronoi_pieces(parse_scene(test::scenes_dir() / "paper-example-4.1.toml")));
+}
+
+TEST(MeshPieceRead, AGmshOrPoly2dFileOfOneBodyIsReadInPieces) {
   Scene scene = parse_scene(test::scenes_dir() / "gmsh-bracket-3d.toml");
   EXPECT_TRUE(reads_pieces(scene));
   Scene by_point = scene;
@@ -306,7 +474,11 @@ TEST(MeshPieceRead, OnlyAGmshFileWhosePartsSelectSidesOrGroupsIsReadInPieces) {
   boxed.material.regions.push_back(SceneRegionMaterial{3, 130.0, 0.3, std::array<double, 4>{0.0, 0.5, 0.0, 0.5}});
   EXPECT_TRUE(reads_pieces(boxed));
   plane.contact->boundary.segments = {{0.0, 0.0, 0.5, 0.0}};
-  EXPECT_FALSE(reads_pieces(plane));  // a segment may pick a piece's cut edges
+  EXPECT_TRUE(reads_pieces(plane));  // a segment picks no edge where the pieces meet
+  EXPECT_TRUE(reads_pieces(parse_scene(test::scenes_dir() / "sutton-voronoi.toml")));
+  Scene adaptive = plane;
+  adaptive.adapt = SceneAdapt{};
+  EXPECT_FALSE(reads_pieces(adaptive));  // each step's mesh is refined whole
   Scene generated = parse_scene(test::scenes_dir() / "example-4.1-3d.toml");
   EXPECT_FALSE(reads_pieces(generated));
 }

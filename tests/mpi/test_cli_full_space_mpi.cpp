@@ -559,10 +559,10 @@ TEST(CliFullSpaceMpi, ADistortedOrNonconvexMeshEachProcessMakesItsPieceOfIsTheCo
   }
 }
 
-// a Voronoi mesh of a plane and of a solid, made whole by every process, each computing the cells
-// of its share of the seeds in the Lloyd iterations (in the plane from the seeds around them
-// alone): the one process's mesh (its vertices, cells, faces and h) and answer; each process keeps
-// its piece of it for the solve
+// a Voronoi mesh of a plane and of a solid, each process computing the cells of its share of the
+// seeds in the Lloyd iterations (in the plane from the seeds around them alone): the one
+// process's mesh (its vertices, cells, faces and h) and answer; each process makes its piece of
+// the plane's from the cells' vertex lists, and keeps its piece of the solid's made whole
 TEST(CliFullSpaceMpi, AVoronoiMeshSplitAmongProcessesIsOneProcesss) {
   const std::pair<std::string, std::string> runs[] = {
       {"voronoi-2d", scene("paper-example-4.1-voronoi.toml") + " --n 24 --tol 1e-11"},
@@ -575,9 +575,10 @@ TEST(CliFullSpaceMpi, AVoronoiMeshSplitAmongProcessesIsOneProcesss) {
   }
 }
 
-// a Gmsh file's solid and a polygon's plane mesh, read or made whole by every process, each
-// keeping its piece of it (the cells around its share of the mesh's Hilbert order, and those of
-// the groups its supports, loads and contact name) for the solve: the condensed answer, the
+// a Gmsh file's solid, which each process reads its piece of, a polygon's plane mesh, made whole
+// by every process, each keeping its piece (the cells around its share of the mesh's Hilbert
+// order, and those of the groups its supports, loads and contact name), and a plane Voronoi
+// mesh whose contact is a segment, each process making its piece: the condensed answer, the
 // solution written in pieces
 TEST(CliFullSpaceMpi, ThePiecesKeptOfMeshesMadeWholeAreTheCondensedAnswer) {
   for (const char* name : {"gmsh-bracket-3d.toml", "polygon-bracket.toml", "rollers-pressure.toml"}) {
@@ -821,6 +822,42 @@ void expect_plane_path_columns_agree(const fs::path& out, const fs::path& ref) {
   const double f = expect_columns_agree(contact_a, contact_b, 6, 8);
   EXPECT_GT(expect_columns_agree(contact_a, contact_b, 10, 11, u), 0.0);
   EXPECT_GT(expect_columns_agree(contact_a, contact_b, 12, 13, f), 0.0);
+}
+
+// a .poly2d file that each process reads its piece of (sutton-voronoi.toml), and one whose
+// contact is a segment of its top, along a loading path with Coulomb friction
+// (cattaneo-mindlin.toml): the condensed answer, every step of the path the condensed route's
+TEST(CliFullSpaceMpi, APoly2dFileEachProcessReadsItsPieceOfIsTheCondensedAnswer) {
+  const std::string flags = scene("sutton-voronoi.toml") + " --tol 1e-11";
+  const fs::path ref = solve_condensed(flags, "condensed-sutton");
+  if (ref.empty()) return;
+  for (const int processes : {2, 3}) expect_processes_agree(flags, ref, processes, "sutton", false, processes);
+  const std::string path = scene("cattaneo-mindlin.toml");
+  const fs::path path_ref = solve_condensed(path, "condensed-cattaneo");
+  if (path_ref.empty()) return;
+  CommandRun m;
+  const fs::path out = solve_across(2, path + " --linear petsc-gamg", "cattaneo-np2", &m);
+  ASSERT_EQ(m.code, 0) << m.out << m.err;
+  const nlohmann::json a = nlohmann::json::parse(slurp(out / "result.json"));
+  const nlohmann::json b = nlohmann::json::parse(slurp(path_ref / "result.json"));
+  EXPECT_EQ(a["mesh"]["pieces"], 2);
+  EXPECT_TRUE(a["converged"].get<bool>());
+  for (const char* key : {"vertices", "elements", "h"}) EXPECT_EQ(a["mesh"][key], b["mesh"][key]) << key;
+  const nlohmann::json pa = nlohmann::json::parse(slurp(out / "path.json"));
+  const nlohmann::json pb = nlohmann::json::parse(slurp(path_ref / "path.json"));
+  ASSERT_EQ(pa["steps"].size(), 20u);
+  ASSERT_EQ(pb["steps"].size(), 20u);
+  for (std::size_t k = 0; k < 20; ++k) {  // moved by its support alone: no load applied
+    SCOPED_TRACE("step " + std::to_string(k + 1));
+    EXPECT_TRUE(pa["steps"][k]["fixed_point"]["converged"].get<bool>());
+    const double ea = pa["steps"][k]["energy"].get<double>(), eb = pb["steps"][k]["energy"].get<double>();
+    EXPECT_NE(eb, 0.0);
+    EXPECT_NEAR(ea, eb, 1e-8 * std::abs(eb));
+    EXPECT_EQ(pa["steps"][k]["friction"], pb["steps"][k]["friction"]);
+    EXPECT_EQ(pa["steps"][k]["applied_load"], pb["steps"][k]["applied_load"]);
+  }
+  // the same contact nodes of the segment at every step
+  EXPECT_EQ(count(slurp(out / "path-contact.csv"), "\n"), count(slurp(path_ref / "path-contact.csv"), "\n"));
 }
 
 // a loading path with Coulomb friction (friction-coulomb.toml, with a body force): every step on

@@ -10,61 +10,66 @@ namespace hemivem::detail {
 
 namespace {
 
-using Key = std::array<int, 5>;
-
-/// The sorted vertices of a loop of up to four, padded with -1, and `id` last.
-Key key_of(std::span<const int> loop, int id) {
-  if (loop.size() > 4) throw InternalError("CellTopology: a facet of " + std::to_string(loop.size()) + " vertices");
-  Key key{-1, -1, -1, -1, id};
-  std::copy(loop.begin(), loop.end(), key.begin());
-  std::sort(key.begin(), key.begin() + static_cast<std::ptrdiff_t>(loop.size()));
-  return key;
+/// Whether the increasing vertex list a comes before b (a shorter list before one it begins).
+bool before(std::span<const int> a, std::span<const int> b) {
+  return std::lexicographical_compare(a.begin(), a.end(), b.begin(), b.end());
 }
-
-bool same_vertices(const Key& a, const Key& b) { return std::equal(a.begin(), a.begin() + 4, b.begin()); }
+bool same(std::span<const int> a, std::span<const int> b) { return std::equal(a.begin(), a.end(), b.begin(), b.end()); }
 
 }  // namespace
 
 CellTopology::CellTopology(int dim, int num_vertices, std::vector<int> first, std::vector<int> at, std::vector<int> loops)
     : dim_(dim), num_vertices_(num_vertices), first_(std::move(first)), at_(std::move(at)), loops_(std::move(loops)) {
   const auto num_loops = at_.size() - 1;
-  // the facets: the loops sorted by their vertices, each run of equal ones a facet
-  std::vector<Key> sorted(num_loops);
+  // the facets: the loops sorted by their increasing vertices (then by number), each run of
+  // equal ones a facet
+  std::vector<int> increasing = loops_;
   for (std::size_t k = 0; k < num_loops; ++k)
-    sorted[k] = key_of(std::span<const int>(loops_).subspan(static_cast<std::size_t>(at_[k]), static_cast<std::size_t>(at_[k + 1] - at_[k])),
-                       static_cast<int>(k));
-  std::sort(sorted.begin(), sorted.end());
+    std::sort(increasing.begin() + at_[k], increasing.begin() + at_[k + 1]);
+  const auto vertices_of = [&](int k) {
+    const auto from = static_cast<std::size_t>(at_[static_cast<std::size_t>(k)]);
+    return std::span<const int>(increasing).subspan(from, static_cast<std::size_t>(at_[static_cast<std::size_t>(k) + 1]) - from);
+  };
+  std::vector<int> sorted(num_loops);
+  for (std::size_t k = 0; k < num_loops; ++k) sorted[k] = static_cast<int>(k);
+  std::sort(sorted.begin(), sorted.end(), [&](int a, int b) {
+    const auto x = vertices_of(a), y = vertices_of(b);
+    return before(x, y) || (same(x, y) && a < b);
+  });
   std::vector<int> cell_of_loop(num_loops);
   for (int c = 0; c < num_cells(); ++c)
     for (int k = first_[static_cast<std::size_t>(c)]; k < first_[static_cast<std::size_t>(c) + 1]; ++k)
       cell_of_loop[static_cast<std::size_t>(k)] = c;
   facet_of_loop_.assign(num_loops, -1);
   std::size_t count = 0;  // the facets: the runs of equal vertices
-  for (std::size_t i = 0; i < sorted.size(); ++i) count += i == 0 || !same_vertices(sorted[i], sorted[i - 1]) ? 1 : 0;
+  for (std::size_t i = 0; i < sorted.size(); ++i)
+    count += i == 0 || !same(vertices_of(sorted[i]), vertices_of(sorted[i - 1])) ? 1 : 0;
   facet_cells_.reserve(count);
   loop_of_facet_.reserve(count);
-  keys_.reserve(count);
+  key_at_.reserve(count + 1);
+  key_at_.assign(1, 0);
   for (std::size_t i = 0; i < sorted.size();) {
     std::size_t j = i + 1;
-    while (j < sorted.size() && same_vertices(sorted[j], sorted[i])) ++j;
+    while (j < sorted.size() && same(vertices_of(sorted[j]), vertices_of(sorted[i]))) ++j;
     const int f = static_cast<int>(facet_cells_.size());
     // the loops of a facet by their cells: its first cell's loop first
-    int lowest = sorted[i][4];
+    int lowest = sorted[i];
     for (std::size_t k = i; k < j; ++k) {
-      facet_of_loop_[static_cast<std::size_t>(sorted[k][4])] = f;
-      if (cell_of_loop[static_cast<std::size_t>(sorted[k][4])] < cell_of_loop[static_cast<std::size_t>(lowest)]) lowest = sorted[k][4];
+      facet_of_loop_[static_cast<std::size_t>(sorted[k])] = f;
+      if (cell_of_loop[static_cast<std::size_t>(sorted[k])] < cell_of_loop[static_cast<std::size_t>(lowest)]) lowest = sorted[k];
     }
     std::array<int, 2> cells{cell_of_loop[static_cast<std::size_t>(lowest)], -1};
     for (std::size_t k = i; k < j && cells[1] < 0; ++k)
-      if (sorted[k][4] != lowest) cells[1] = cell_of_loop[static_cast<std::size_t>(sorted[k][4])];
+      if (sorted[k] != lowest) cells[1] = cell_of_loop[static_cast<std::size_t>(sorted[k])];
     facet_cells_.push_back(cells);
     loop_of_facet_.push_back(lowest);
-    Key key = sorted[i];
-    key[4] = f;
-    keys_.push_back(key);
+    const auto key = vertices_of(sorted[i]);
+    keys_.insert(keys_.end(), key.begin(), key.end());
+    key_at_.push_back(static_cast<int>(keys_.size()));
     i = j;
   }
   sorted = {};
+  increasing = {};
   cell_of_loop = {};
   vertex_start_.reserve(first_.size());
   vertices_.reserve(loops_.size() / 2);
@@ -95,10 +100,43 @@ std::span<const int> CellTopology::facet_loop(int f) const {
 }
 
 int CellTopology::find_facet(std::vector<int> vertices) const {
-  if (vertices.empty() || vertices.size() > 4) return -1;
-  const Key key = key_of(vertices, -1);
-  const auto it = std::lower_bound(keys_.begin(), keys_.end(), key);
-  return it != keys_.end() && same_vertices(*it, key) ? (*it)[4] : -1;
+  if (vertices.empty()) return -1;
+  std::sort(vertices.begin(), vertices.end());
+  const auto key = [&](int f) {
+    const auto from = static_cast<std::size_t>(key_at_[static_cast<std::size_t>(f)]);
+    return std::span<const int>(keys_).subspan(from, static_cast<std::size_t>(key_at_[static_cast<std::size_t>(f) + 1]) - from);
+  };
+  int lo = 0, hi = num_facets();  // the facets' keys increase with their numbers
+  while (lo < hi) {
+    const int mid = lo + (hi - lo) / 2;
+    if (before(key(mid), vertices)) lo = mid + 1;
+    else hi = mid;
+  }
+  return lo < num_facets() && same(key(lo), vertices) ? lo : -1;
+}
+
+CellTopology plane_topology(int num_vertices, const std::vector<std::vector<int>>& elements) {
+  std::vector<int> first{0}, at{0}, loops;
+  for (const std::vector<int>& e : elements) {
+    for (std::size_t i = 0; i < e.size(); ++i) {
+      loops.insert(loops.end(), {e[i], e[(i + 1) % e.size()]});
+      at.push_back(static_cast<int>(loops.size()));
+    }
+    first.push_back(static_cast<int>(at.size()) - 1);
+  }
+  return CellTopology(2, num_vertices, std::move(first), std::move(at), std::move(loops));
+}
+
+CellTopology solid_topology(int num_vertices, const std::vector<CellFaces>& cells) {
+  std::vector<int> first{0}, at{0}, loops;
+  for (const CellFaces& cell : cells) {
+    for (const std::vector<int>& face : cell) {
+      loops.insert(loops.end(), face.begin(), face.end());
+      at.push_back(static_cast<int>(loops.size()));
+    }
+    first.push_back(static_cast<int>(at.size()) - 1);
+  }
+  return CellTopology(3, num_vertices, std::move(first), std::move(at), std::move(loops));
 }
 
 }  // namespace hemivem::detail

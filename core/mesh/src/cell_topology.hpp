@@ -43,10 +43,16 @@ class CellTopology {
   std::vector<int> loop_of_facet_;                  // a loop of each facet, its first cell's
   std::vector<std::array<int, 2>> facet_cells_;
   std::vector<int> vertex_start_, vertices_;        // each cell's vertices, increasing
-  std::vector<std::array<int, 5>> keys_;            // each facet's sorted vertices (up to four, then -1) and the facet
+  std::vector<int> keys_, key_at_;                  // each facet's increasing vertices: keys_[key_at_[f]] ...
 };
 
 inline std::span<const int> cell_facets(const CellTopology& cells, int c) { return cells.cell_facets(c); }
+
+/// The cells of plane elements, each given by its vertices in order: element k's edges are
+/// (e[i], e[i + 1]), the last closing the loop.
+CellTopology plane_topology(int num_vertices, const std::vector<std::vector<int>>& elements);
+/// The cells of solid cells, each given by its faces' vertex loops.
+CellTopology solid_topology(int num_vertices, const std::vector<CellFaces>& cells);
 
 /// Sets `out`'s cells, order, share, whole_cells and cell sums (MeshPieceRead, mesh_piece.hpp)
 /// to those of the piece process `rank` of `size` keeps of the mesh of `cells`, with its vertices
@@ -54,10 +60,39 @@ inline std::span<const int> cell_facets(const CellTopology& cells, int c) { retu
 /// through their box, the process's share of it the positions first, ..., end - 1, and `cells`
 /// piece_cells_around of that share with the facets `facets` (a file's facet groups), every
 /// boundary facet and the first facet of each region's first cell, and the cells around the
-/// vertex nearest each point `held` (HeldPoints). `out.mesh` is left alone.
-void choose_piece(const CellTopology& cells, const std::vector<Vec2>& vertices, const std::vector<int>& regions,
-                  std::vector<int> facets, int rank, int size, HeldPoints held, MeshPieceRead<Mesh>& out);
-void choose_piece(const CellTopology& cells, const std::vector<Vec3>& vertices, const std::vector<int>& regions,
-                  std::vector<int> facets, int rank, int size, HeldPoints held, MeshPieceRead<Mesh3D>& out);
+/// vertex nearest each point `held` (HeldPoints). `out.mesh` is left alone. Returns the facets
+/// where the piece meets the rest of the mesh (a kept cell's facet whose other cell is not kept),
+/// each by its vertices, increasing, for set_cut_facets once the piece's mesh is made.
+using FacetKeys = std::vector<std::vector<int>>;
+FacetKeys choose_piece(const CellTopology& cells, const std::vector<Vec2>& vertices, const std::vector<int>& regions,
+                       std::vector<int> facets, int rank, int size, HeldPoints held, MeshPieceRead<Mesh>& out);
+FacetKeys choose_piece(const CellTopology& cells, const std::vector<Vec3>& vertices, const std::vector<int>& regions,
+                       std::vector<int> facets, int rank, int size, HeldPoints held, MeshPieceRead<Mesh3D>& out);
+
+/// A plane mesh not made: its vertices and its elements' vertices in order.
+struct PlaneCells {
+  std::vector<Vec2> vertices;
+  std::vector<std::vector<int>> elements;
+};
+
+/// The piece process `rank` of `size` keeps of the plane mesh of `cells`, all in region 0 and
+/// without facet groups (choose_piece): `out` whole but for its mesh, then out.mesh made of the
+/// kept elements with every vertex (Mesh's MeshError for a defect among them) and its
+/// cut_facets (set_cut_facets).
+void make_plane_piece(const PlaneCells& cells, HeldPoints held, int rank, int size, MeshPieceRead<Mesh>& out);
+
+/// A solid mesh not made: its vertices and its cells' faces (vertex loops).
+struct SolidCells {
+  std::vector<Vec3> vertices;
+  std::vector<CellFaces> cells;
+};
+
+/// make_plane_piece of a solid mesh: its cells' faces the facets (Mesh3D's MeshError).
+void make_solid_piece(const SolidCells& cells, HeldPoints held, int rank, int size, MeshPieceRead<Mesh3D>& out);
+
+/// Sets out.cut_facets to the boundary facets of out.mesh whose increasing vertices are among
+/// `cuts` (choose_piece's, sorted).
+void set_cut_facets(MeshPieceRead<Mesh>& out, const FacetKeys& cuts);
+void set_cut_facets(MeshPieceRead<Mesh3D>& out, const FacetKeys& cuts);
 
 }  // namespace hemivem::detail

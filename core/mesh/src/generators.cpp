@@ -3,6 +3,7 @@
 #include <hemivem/mesh/boundary.hpp>
 
 #include "box_grid.hpp"
+#include "cell_topology.hpp"
 #include "hilbert.hpp"
 
 #include <CGAL/Boolean_set_operations_2.h>
@@ -458,9 +459,9 @@ struct UnionFind {
 /// the domain's sides or corners), drops cells that collapse to fewer than three vertices
 /// when drop_collapsed (else throws),
 /// numbers vertices in order of first appearance, each cell starting at its
-/// lexicographically smallest vertex.
+/// lexicographically smallest vertex: the mesh's vertices and elements (voronoi_mesh makes it).
 template <class Snap>
-Mesh voronoi_mesh(const VoronoiCells& c, double tol, Snap snap, bool drop_collapsed) {
+detail::PlaneCells voronoi_lists(const VoronoiCells& c, double tol, Snap snap, bool drop_collapsed) {
   const std::size_t np = c.points.size();
   const std::size_t ncell = c.offsets.size() - 1;
   const double tol2 = tol * tol;
@@ -526,7 +527,14 @@ Mesh voronoi_mesh(const VoronoiCells& c, double tol, Snap snap, bool drop_collap
   if (drop_collapsed)
     elements.erase(std::remove_if(elements.begin(), elements.end(), [](const auto& el) { return el.empty(); }),
                    elements.end());
-  return Mesh(std::move(vertices), std::move(elements));
+  return {std::move(vertices), std::move(elements)};
+}
+
+/// The mesh of voronoi_lists.
+template <class Snap>
+Mesh voronoi_mesh(const VoronoiCells& c, double tol, Snap snap, bool drop_collapsed) {
+  detail::PlaneCells lists = voronoi_lists(c, tol, snap, drop_collapsed);
+  return Mesh(std::move(lists.vertices), std::move(lists.elements));
 }
 
 void check_voronoi_options(const VoronoiOptions& options) {
@@ -633,7 +641,10 @@ Eigen::VectorXd cell_centroids(const VoronoiCells& cells, const Rectangle& d) {
 
 }  // namespace
 
-Mesh make_voronoi(GridSize n, const Rectangle& domain, const VoronoiOptions& options) {
+namespace {
+
+/// make_voronoi's vertices and elements, before its mesh is made.
+detail::PlaneCells voronoi_rectangle_lists(GridSize n, const Rectangle& domain, const VoronoiOptions& options) {
   check_n("voronoi mesh", n);
   check_domain("voronoi mesh", domain, n);
   check_voronoi_options(options);
@@ -642,7 +653,9 @@ Mesh make_voronoi(GridSize n, const Rectangle& domain, const VoronoiOptions& opt
                                                   std::abs(domain.y1)}))) {
     const Rectangle unit{std::ldexp(domain.x0, -k), std::ldexp(domain.x1, -k), std::ldexp(domain.y0, -k),
                          std::ldexp(domain.y1, -k)};
-    return scaled_mesh(make_voronoi(n, unit, options), k);
+    detail::PlaneCells lists = voronoi_rectangle_lists(n, unit, options);
+    for (auto& v : lists.vertices) v = Vec2(std::ldexp(v.x(), k), std::ldexp(v.y(), k));
+    return lists;
   }
 
   const std::size_t ns = static_cast<std::size_t>(n.nx) * static_cast<std::size_t>(n.ny);
@@ -693,7 +706,22 @@ Mesh make_voronoi(GridSize n, const Rectangle& domain, const VoronoiOptions& opt
     if (std::abs(p.y() - domain.y1) <= tol) p.y() = domain.y1;
     return p;
   };
-  return voronoi_mesh(cells, tol, snap_to_sides, false);
+  return voronoi_lists(cells, tol, snap_to_sides, false);
+}
+
+}  // namespace
+
+Mesh make_voronoi(GridSize n, const Rectangle& domain, const VoronoiOptions& options) {
+  detail::PlaneCells lists = voronoi_rectangle_lists(n, domain, options);
+  return Mesh(std::move(lists.vertices), std::move(lists.elements));
+}
+
+MeshPieceRead<Mesh> make_voronoi_piece(GridSize n, const Rectangle& domain, const VoronoiOptions& options, int rank,
+                                       int size, HeldPoints held) {
+  const detail::PlaneCells lists = voronoi_rectangle_lists(n, domain, options);
+  MeshPieceRead<Mesh> out;
+  detail::make_plane_piece(lists, held, rank, size, out);
+  return out;
 }
 
 Mesh make_nonconvex(GridSize n, const Rectangle& domain) {

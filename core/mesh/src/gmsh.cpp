@@ -130,19 +130,12 @@ class GmshReader final : detail::GmshSections {
     std::vector<int> vertex_of;
     std::vector<Vec2> vertices = surface_vertices(vertex_of);
     std::vector<std::vector<int>> elements = surface_elements(vertices, vertex_of);
+    detail::FacetKeys cuts;
     MeshPieceRead<Mesh> out;
     {
-      std::vector<int> first{0}, at{0}, loops, regions;
-      for (std::size_t k = 0; k < elements.size(); ++k) {
-        const std::vector<int>& e = elements[k];
-        for (std::size_t i = 0; i < e.size(); ++i) {
-          loops.insert(loops.end(), {e[i], e[(i + 1) % e.size()]});
-          at.push_back(static_cast<int>(loops.size()));
-        }
-        first.push_back(static_cast<int>(at.size()) - 1);
-        regions.push_back(region_of(top_[k].entity));
-      }
-      const detail::CellTopology cells(2, static_cast<int>(vertices.size()), std::move(first), std::move(at), std::move(loops));
+      std::vector<int> regions;
+      for (std::size_t k = 0; k < elements.size(); ++k) regions.push_back(region_of(top_[k].entity));
+      const detail::CellTopology cells = detail::plane_topology(static_cast<int>(vertices.size()), elements);
       std::vector<int> grouped;  // the edges of the physical lines' elements
       for (const GmshElement& l : below_) {
         const int a = vertex_of[static_cast<std::size_t>(l.nodes[0])], b = vertex_of[static_cast<std::size_t>(l.nodes[1])];
@@ -150,7 +143,7 @@ class GmshReader final : detail::GmshSections {
         if (f < 0) fail_not_an_edge(l);
         if (const std::vector<int>* tags = groups_of(l.entity); tags && !tags->empty()) grouped.push_back(f);
       }
-      detail::choose_piece(cells, vertices, regions, std::move(grouped), rank, size, held, out);
+      cuts = detail::choose_piece(cells, vertices, regions, std::move(grouped), rank, size, held, out);
     }
     std::vector<std::vector<int>> kept;
     kept.reserve(out.cells.size());
@@ -163,6 +156,7 @@ class GmshReader final : detail::GmshSections {
       throw;
     }
     add_edge_groups(out.mesh, vertex_of, true);
+    detail::set_cut_facets(out, cuts);
     return out;
   }
 

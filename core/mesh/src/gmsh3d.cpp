@@ -187,6 +187,7 @@ class Gmsh3DReader final : detail::GmshSections {
   /// elements' faces without the whole mesh.
   MeshPieceRead<Mesh3D> build_piece(int rank, int size, HeldPoints held) {
     std::vector<Vec3> vertices = volume_vertices();
+    detail::FacetKeys cuts;
     MeshPieceRead<Mesh3D> out;
     {
       std::vector<int> first{0}, at{0}, loops, regions;
@@ -207,7 +208,7 @@ class Gmsh3DReader final : detail::GmshSections {
           if (f < 0) fail_not_a_face(s);
           grouped.push_back(f);
         }
-      detail::choose_piece(cells, vertices, regions, std::move(grouped), rank, size, held, out);
+      cuts = detail::choose_piece(cells, vertices, regions, std::move(grouped), rank, size, held, out);
     }
     try {
       out.mesh = mesh_of(vertices, out.cells);
@@ -216,6 +217,7 @@ class Gmsh3DReader final : detail::GmshSections {
       throw;
     }
     add_face_groups(out.mesh, true);
+    detail::set_cut_facets(out, cuts);
     return out;
   }
 

@@ -206,7 +206,7 @@ Box box_of(const std::vector<Vec3>& p) {
 }
 
 template <class Vec, class MeshType>
-void choose(const CellTopology& cells, const std::vector<Vec>& vertices, const std::vector<int>& regions,
+detail::FacetKeys choose(const CellTopology& cells, const std::vector<Vec>& vertices, const std::vector<int>& regions,
             std::vector<int> facets, int rank, int size, HeldPoints held, MeshPieceRead<MeshType>& out) {
   if (size < 1 || rank < 0 || rank >= size)
     throw InternalError("a piece of a mesh for process " + std::to_string(rank) + " of " + std::to_string(size));
@@ -242,20 +242,83 @@ void choose(const CellTopology& cells, const std::vector<Vec>& vertices, const s
   }
   out.cells = cells_around(cells, owned, facets);
   out.whole_cells = cells.num_cells();
+  std::vector<char> kept(static_cast<std::size_t>(cells.num_cells()), 0);
+  for (int c : out.cells) kept[static_cast<std::size_t>(c)] = 1;
+  detail::FacetKeys cuts;
+  for (int c : out.cells)
+    for (int f : cells.cell_facets(c)) {
+      const std::array<int, 2> two = cells.facet_cells(f);
+      const int other = two[0] == c ? two[1] : two[0];
+      if (other < 0 || kept[static_cast<std::size_t>(other)]) continue;
+      const std::span<const int> loop = cells.facet_loop(f);
+      std::vector<int> key(loop.begin(), loop.end());
+      std::sort(key.begin(), key.end());
+      cuts.push_back(std::move(key));
+    }
+  std::sort(cuts.begin(), cuts.end());
+  return cuts;
+}
+
+std::vector<int> sorted_vertices(const Mesh& mesh, int e) {
+  return {std::min(mesh.edge(e).v0, mesh.edge(e).v1), std::max(mesh.edge(e).v0, mesh.edge(e).v1)};
+}
+std::vector<int> sorted_vertices(const Mesh3D& mesh, int f) {
+  std::vector<int> key = mesh.face(f).vertices;
+  std::sort(key.begin(), key.end());
+  return key;
+}
+bool on_boundary(const Mesh& mesh, int e) { return mesh.edge(e).right < 0; }
+bool on_boundary(const Mesh3D& mesh, int f) { return mesh.face(f).outer < 0; }
+
+template <class MeshType>
+void cut_facets_of(MeshPieceRead<MeshType>& out, const detail::FacetKeys& cuts) {
+  out.cut_facets.clear();
+  for (int f = 0; f < out.mesh.num_facets(); ++f)
+    if (on_boundary(out.mesh, f) && std::binary_search(cuts.begin(), cuts.end(), sorted_vertices(out.mesh, f)))
+      out.cut_facets.push_back(f);
 }
 
 }  // namespace
 
 namespace detail {
 
-void choose_piece(const CellTopology& cells, const std::vector<Vec2>& vertices, const std::vector<int>& regions,
-                  std::vector<int> facets, int rank, int size, HeldPoints held, MeshPieceRead<Mesh>& out) {
-  choose(cells, vertices, regions, std::move(facets), rank, size, held, out);
+FacetKeys choose_piece(const CellTopology& cells, const std::vector<Vec2>& vertices, const std::vector<int>& regions,
+                       std::vector<int> facets, int rank, int size, HeldPoints held, MeshPieceRead<Mesh>& out) {
+  return choose(cells, vertices, regions, std::move(facets), rank, size, held, out);
 }
-void choose_piece(const CellTopology& cells, const std::vector<Vec3>& vertices, const std::vector<int>& regions,
-                  std::vector<int> facets, int rank, int size, HeldPoints held, MeshPieceRead<Mesh3D>& out) {
-  choose(cells, vertices, regions, std::move(facets), rank, size, held, out);
+FacetKeys choose_piece(const CellTopology& cells, const std::vector<Vec3>& vertices, const std::vector<int>& regions,
+                       std::vector<int> facets, int rank, int size, HeldPoints held, MeshPieceRead<Mesh3D>& out) {
+  return choose(cells, vertices, regions, std::move(facets), rank, size, held, out);
 }
+
+void set_cut_facets(MeshPieceRead<Mesh>& out, const FacetKeys& cuts) { cut_facets_of(out, cuts); }
+
+namespace {
+
+/// make_plane_piece and make_solid_piece: `topology` the cells of `lists`.
+template <class Vec, class Cell, class MeshType>
+void make_piece(const std::vector<Vec>& vertices, const std::vector<Cell>& lists, const CellTopology& topology,
+                HeldPoints held, int rank, int size, MeshPieceRead<MeshType>& out) {
+  const FacetKeys cuts = choose(topology, vertices, std::vector<int>(lists.size(), 0), {}, rank, size, held, out);
+  std::vector<Cell> kept;
+  kept.reserve(out.cells.size());
+  for (int c : out.cells) kept.push_back(lists[static_cast<std::size_t>(c)]);
+  out.mesh = MeshType(vertices, std::move(kept));
+  cut_facets_of(out, cuts);
+}
+
+}  // namespace
+
+void make_plane_piece(const PlaneCells& cells, HeldPoints held, int rank, int size, MeshPieceRead<Mesh>& out) {
+  make_piece(cells.vertices, cells.elements, plane_topology(static_cast<int>(cells.vertices.size()), cells.elements),
+             held, rank, size, out);
+}
+
+void make_solid_piece(const SolidCells& cells, HeldPoints held, int rank, int size, MeshPieceRead<Mesh3D>& out) {
+  make_piece(cells.vertices, cells.cells, solid_topology(static_cast<int>(cells.vertices.size()), cells.cells), held,
+             rank, size, out);
+}
+void set_cut_facets(MeshPieceRead<Mesh3D>& out, const FacetKeys& cuts) { cut_facets_of(out, cuts); }
 
 }  // namespace detail
 

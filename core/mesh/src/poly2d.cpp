@@ -11,6 +11,8 @@
 
 #include <hemivem/support/text_lines.hpp>
 
+#include "cell_topology.hpp"
+
 #include <algorithm>
 #include <charconv>
 #include <climits>
@@ -45,32 +47,56 @@ class Poly2dReader {
   Poly2dReader(std::string data, std::string name) : data_(std::move(data)), name_(std::move(name)) { split(); }
 
   Poly2dMesh read() {
-    const Line vheader = expect_header("vertices", "NV", "vertex count");
-    const int nv = header_count_;
-    std::vector<Vec2> vertices = read_vertices(nv, vheader);
-    const Line eheader = expect_header("elements", "NE", "element count");
-    std::vector<int> element_lines;
-    std::vector<std::vector<int>> elements = read_elements(header_count_, nv, eheader, element_lines);
     Poly2dMesh out;
-    if (pos_ < lines_.size()) out.boundary_list = read_boundary(nv);
-
-    // ---- mesh rules
-    try {
-      out.mesh = Mesh(std::move(vertices), std::move(elements));
-    } catch (const MeshError& err) {
-      const int e = err.element();
-      int line = eheader.number;
-      if (e >= 0 && static_cast<std::size_t>(e) < element_lines.size())
-        line = element_lines[static_cast<std::size_t>(e)];
-      else if (nv == 0)
-        line = vheader.number;
-      throw MeshError(err.detail(), e, where(line));
-    }
+    read_lists(out.boundary_list);
+    out.mesh = mesh_of(std::move(vertices_), std::move(elements_));
     out.comments = std::move(comments_);
     return out;
   }
 
+  /// The piece of the mesh process `rank` of `size` keeps (MeshPieceRead), chosen among the
+  /// elements' edges without the whole mesh.
+  MeshPieceRead<Mesh> read_piece(int rank, int size, HeldPoints held) {
+    std::vector<int> boundary_list;
+    read_lists(boundary_list);
+    MeshPieceRead<Mesh> out;
+    detail::PlaneCells cells{std::move(vertices_), std::move(elements_)};
+    try {
+      detail::make_plane_piece(cells, held, rank, size, out);
+    } catch (const MeshError&) {  // the whole mesh's error, as read_poly2d names it
+      (void)mesh_of(std::move(cells.vertices), std::move(cells.elements));
+      throw;
+    }
+    return out;
+  }
+
  private:
+  /// Reads the vertices, the elements and the optional boundary list.
+  void read_lists(std::vector<int>& boundary_list) {
+    vheader_ = expect_header("vertices", "NV", "vertex count");
+    const int nv = header_count_;
+    vertices_ = read_vertices(nv, vheader_);
+    eheader_ = expect_header("elements", "NE", "element count");
+    elements_ = read_elements(header_count_, nv, eheader_, element_lines_);
+    if (pos_ < lines_.size()) boundary_list = read_boundary(nv);
+  }
+
+  /// The mesh of the elements, or its first defect at the line of its element.
+  Mesh mesh_of(std::vector<Vec2> vertices, std::vector<std::vector<int>> elements) const {
+    const bool none = vertices.empty();
+    try {
+      return Mesh(std::move(vertices), std::move(elements));
+    } catch (const MeshError& err) {
+      const int e = err.element();
+      int line = eheader_.number;
+      if (e >= 0 && static_cast<std::size_t>(e) < element_lines_.size())
+        line = element_lines_[static_cast<std::size_t>(e)];
+      else if (none)
+        line = vheader_.number;
+      throw MeshError(err.detail(), e, where(line));
+    }
+  }
+
   /// The `nv` lines `x y` after the header `vertices NV`.
   std::vector<Vec2> read_vertices(int nv, const Line& vheader) {
     std::vector<Vec2> vertices;
@@ -245,6 +271,10 @@ class Poly2dReader {
 
   std::string data_;
   std::string name_;
+  Line vheader_, eheader_;
+  std::vector<Vec2> vertices_;
+  std::vector<std::vector<int>> elements_;
+  std::vector<int> element_lines_;
   std::vector<Line> lines_;
   std::vector<std::string> comments_;
   std::vector<std::string_view> tokens_;
@@ -277,6 +307,15 @@ Poly2dMesh read_poly2d(std::istream& in, const std::string& name) {
 Poly2dMesh read_poly2d(const fs::path& path) {
   std::ifstream in = text::open_for_reading(path, "mesh file");
   return read_poly2d(in, path.string());
+}
+
+MeshPieceRead<Mesh> read_poly2d_piece(std::istream& in, const std::string& name, int rank, int size, HeldPoints held) {
+  return Poly2dReader(text::read_all(in, name, "mesh"), name).read_piece(rank, size, held);
+}
+
+MeshPieceRead<Mesh> read_poly2d_piece(const fs::path& path, int rank, int size, HeldPoints held) {
+  std::ifstream in = text::open_for_reading(path, "mesh file");
+  return read_poly2d_piece(in, path.string(), rank, size, held);
 }
 
 void write_poly2d(std::ostream& out, const Mesh& mesh, const std::vector<std::string>& comments) {

@@ -14,6 +14,7 @@
 #include <hemivem/mesh/generators3d.hpp>
 
 #include "box_grid.hpp"
+#include "cell_topology.hpp"
 #include "hilbert.hpp"
 
 #include <CGAL/Delaunay_triangulation_3.h>
@@ -713,8 +714,8 @@ void check_shared_faces(const std::vector<std::map<int, std::vector<int>>>& by_n
 /// repeated consecutive vertices of a face are dropped and so are faces left with fewer than
 /// three. Vertices are numbered in order of first appearance walking the cells in seed order,
 /// their faces by generator (sides, then neighbours by index), each face from its
-/// lexicographically smallest vertex.
-Mesh3D voronoi_mesh(const std::vector<Cell>& cells, const Box& box, double tol) {
+/// lexicographically smallest vertex: the mesh's vertices and cells (voronoi_mesh makes it).
+detail::SolidCells voronoi_lists(const std::vector<Cell>& cells, const Box& box, double tol) {
   const DistinctVertices distinct = distinct_vertices(cells);
   const std::vector<Vec3>& pos = distinct.pos;
   const auto& cell_faces = distinct.cell_faces;
@@ -753,8 +754,14 @@ Mesh3D voronoi_mesh(const std::vector<Cell>& cells, const Box& box, double tol) 
     }
   }
   check_shared_faces(by_neighbour);
+  return {std::move(vertices), std::move(out)};
+}
+
+/// make(), the mesh of Voronoi cells (or a piece of it), its MeshError a NumericalError.
+template <class Make>
+auto valid_voronoi(const Make& make) {
   try {
-    return Mesh3D(std::move(vertices), std::move(out));
+    return make();
   } catch (const MeshError& err) {
     throw NumericalError("voronoi mesh: the Voronoi cells do not make a valid mesh (a degenerate configuration of "
                          "seeds): " +
@@ -769,19 +776,15 @@ int unit_scale_exponent(double size, double magnitude) {
   return std::ilogb(size);
 }
 
-}  // namespace
-
-Mesh3D make_voronoi3d(GridSize3 n, const Box& domain, const VoronoiOptions& options) {
+/// make_voronoi3d's vertices and cells, before its mesh is made.
+detail::SolidCells voronoi_box_lists(GridSize3 n, const Box& domain, const VoronoiOptions& options) {
   check_input(n, domain, options);
   if (const int k = unit_scale_exponent(box_largest_side(domain), box_magnitude(domain))) {
     const Box unit{std::ldexp(domain.x0, -k), std::ldexp(domain.x1, -k), std::ldexp(domain.y0, -k),
                    std::ldexp(domain.y1, -k), std::ldexp(domain.z0, -k), std::ldexp(domain.z1, -k)};
-    const Mesh3D m = make_voronoi3d(n, unit, options);
-    std::vector<Vec3> vertices = m.vertices();
-    for (auto& v : vertices) v = Vec3(std::ldexp(v.x(), k), std::ldexp(v.y(), k), std::ldexp(v.z(), k));
-    std::vector<CellFaces> cells;
-    for (int c = 0; c < m.num_cells(); ++c) cells.push_back(m.cell(c));
-    return Mesh3D(std::move(vertices), std::move(cells));
+    detail::SolidCells lists = voronoi_box_lists(n, unit, options);
+    for (auto& v : lists.vertices) v = Vec3(std::ldexp(v.x(), k), std::ldexp(v.y(), k), std::ldexp(v.z(), k));
+    return lists;
   }
 
   const std::size_t ns = static_cast<std::size_t>(n.nx) * static_cast<std::size_t>(n.ny) * static_cast<std::size_t>(n.nz);
@@ -828,7 +831,25 @@ Mesh3D make_voronoi3d(GridSize3 n, const Box& domain, const VoronoiOptions& opti
     }
     if (moved <= stop) break;
   }
-  return voronoi_mesh(voronoi_cells(seeds, domain, accuracy, margin), domain, tol);
+  return voronoi_lists(voronoi_cells(seeds, domain, accuracy, margin), domain, tol);
+}
+
+}  // namespace
+
+Mesh3D make_voronoi3d(GridSize3 n, const Box& domain, const VoronoiOptions& options) {
+  detail::SolidCells lists = voronoi_box_lists(n, domain, options);
+  return valid_voronoi([&] { return Mesh3D(std::move(lists.vertices), std::move(lists.cells)); });
+}
+
+MeshPieceRead<Mesh3D> make_voronoi3d_piece(GridSize3 n, const Box& domain, const VoronoiOptions& options, int rank,
+                                           int size, HeldPoints held) {
+  const detail::SolidCells lists = voronoi_box_lists(n, domain, options);
+  MeshPieceRead<Mesh3D> out;
+  valid_voronoi([&] {
+    detail::make_solid_piece(lists, held, rank, size, out);
+    return 0;
+  });
+  return out;
 }
 
 }  // namespace hemivem

@@ -229,7 +229,8 @@ std::array<std::vector<double>, 2> polar_lists(const Scene& scene) {
 }
 
 
-std::unique_ptr<BuiltProblem> built_plane_on(const Scene& scene, Mesh mesh, bool apply_region_boxes, bool whole) {
+std::unique_ptr<BuiltProblem> built_plane_on(const Scene& scene, Mesh mesh, bool apply_region_boxes, bool whole,
+                                             std::span<const int> cut) {
   // Regions given by boxes, then materials by region.
   if (apply_region_boxes && scene.material.has_region_boxes()) {
     std::vector<int> ids = mesh.regions();
@@ -245,7 +246,7 @@ std::unique_ptr<BuiltProblem> built_plane_on(const Scene& scene, Mesh mesh, bool
     mesh.set_regions(std::move(ids));
   }
   if (whole) check_regions_used<2>(scene, mesh, true);
-  return built_on<2>(scene, std::move(mesh), whole);
+  return built_on<2>(scene, std::move(mesh), whole, cut);
 }
 
 }  // namespace detail

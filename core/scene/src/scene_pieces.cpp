@@ -5,16 +5,19 @@
 #include <hemivem/error.hpp>
 #include <hemivem/mesh/bodies.hpp>
 #include <hemivem/mesh/dimension.hpp>
+#include <hemivem/mesh/generators.hpp>
+#include <hemivem/mesh/generators3d.hpp>
 #include <hemivem/mesh/gmsh.hpp>
+#include <hemivem/mesh/poly2d.hpp>
 #include <hemivem/mesh/gmsh3d.hpp>
 #include <hemivem/mesh/mesh_piece.hpp>
 #include <hemivem/scene/resources.hpp>
+#include <hemivem/support/names.hpp>
 #include <hemivem/mesh/vertex_order.hpp>
 
 #include "scene_problem.hpp"
 
 #include <algorithm>
-#include <cctype>
 #include <cstdint>
 #include <cmath>
 #include <limits>
@@ -279,42 +282,89 @@ template std::unique_ptr<BasicBuiltProblem<3>> build_bodies_piece<3>(const Scene
 bool reads_pieces(const Scene& scene) {
   const SceneMesh& m = scene.mesh;
   if (!scene.bodies.empty() || m.file.empty() || scene.adapt) return false;
-  std::string ext = m.file.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
-  if (ext != ".msh") return false;
-  // a segment may pick edges a piece's boundary cuts along
-  return every_selector(scene, [](const BoundarySelector& b) { return b.segments.empty(); });
+  const std::string ext = to_lower(m.file.extension().string());
+  return ext == ".msh" || (ext == ".poly2d" && scene.dimension() == 2);
 }
+
+namespace {
+
+/// The points of the scene's supports, whose vertices' cells every piece holds.
+std::vector<std::array<double, 3>> held_points(const Scene& scene) {
+  std::vector<std::array<double, 3>> held = scene.clamped.points;
+  for (const SceneDirichlet& d : scene.dirichlet) held.insert(held.end(), d.boundary.points.begin(), d.boundary.points.end());
+  return held;
+}
+
+/// Where the piece `read` lies in the whole mesh, into `where` (its share and cells taken).
+template <class MeshType>
+void keep_where(MeshPieceRead<MeshType>& read, PieceOfMesh& where) {
+  where.vertices = VertexShare{read.first, read.end, std::move(read.order)};
+  where.cells = std::move(read.cells);
+  where.whole_cells = read.whole_cells;
+}
+
+}  // namespace
 
 template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> read_problem_piece(const Scene& scene, int rank, int size, PieceOfMesh& where) {
   detail::require_dimension<dim>(scene);
   std::unique_ptr<BasicBuiltProblem<dim>> out;
-  // the points of the supports, whose vertices' cells every piece holds
-  std::vector<std::array<double, 3>> held = scene.clamped.points;
-  for (const SceneDirichlet& d : scene.dirichlet) held.insert(held.end(), d.boundary.points.begin(), d.boundary.points.end());
-  const auto keep = [&](auto& read) {
-    where.vertices = VertexShare{read.first, read.end, std::move(read.order)};
-    where.cells = std::move(read.cells);
-    where.whole_cells = read.whole_cells;
-  };
+  const std::vector<std::array<double, 3>> held = held_points(scene);
+  const auto keep = [&](auto& read) { keep_where(read, where); };
   if constexpr (dim == 2) {
-    MeshPieceRead<Mesh> read = read_gmsh_piece(scene.mesh.file, rank, size, held);
+    const bool poly2d = to_lower(scene.mesh.file.extension().string()) == ".poly2d";
+    MeshPieceRead<Mesh> read = poly2d ? read_poly2d_piece(scene.mesh.file, rank, size, held)
+                                      : read_gmsh_piece(scene.mesh.file, rank, size, held);
     detail::require_file_memory(
         scene, estimate_memory(read.mesh.num_vertices(), read.whole_cells, read.cell_vertices, read.cell_vertices_squared),
         read.largest_cell);
     keep(read);
-    out = detail::built_plane_on(scene, std::move(read.mesh), true, false);
+    out = detail::built_plane_on(scene, std::move(read.mesh), true, false, read.cut_facets);
   } else {
     MeshPieceRead<Mesh3D> read = read_gmsh3d_piece(scene.mesh.file, rank, size, held);
     keep(read);
-    out = detail::built_solid(scene, std::move(read.mesh), false);
+    out = detail::built_solid(scene, std::move(read.mesh), false, read.cut_facets);
   }
   return out;
 }
 
 template std::unique_ptr<BasicBuiltProblem<2>> read_problem_piece<2>(const Scene&, int, int, PieceOfMesh&);
 template std::unique_ptr<BasicBuiltProblem<3>> read_problem_piece<3>(const Scene&, int, int, PieceOfMesh&);
+
+bool makes_voronoi_pieces(const Scene& scene) {
+  const SceneMesh& m = scene.mesh;
+  return scene.bodies.empty() && !scene.adapt && m.file.empty() && m.generator == "voronoi" && m.polygon.empty();
+}
+
+template <int dim>
+std::unique_ptr<BasicBuiltProblem<dim>> voronoi_problem_piece(const Scene& scene, const RowDistribution& processes,
+                                                              PieceOfMesh& where) {
+  detail::require_dimension<dim>(scene);
+  detail::require_generated_memory(scene);
+  VoronoiOptions options;
+  options.seed = static_cast<std::uint64_t>(scene.mesh.seed);
+  options.processes = &processes;
+  const std::vector<std::array<double, 3>> held = held_points(scene);
+  const int rank = processes.rank(), size = processes.size();
+  if constexpr (dim == 2) {
+    const auto& d = scene.mesh.domain;
+    MeshPieceRead<Mesh> made = detail::generated_mesh(scene, [&] {
+      return make_voronoi_piece(scene.mesh.cells(), Rectangle{d[0], d[1], d[2], d[3]}, options, rank, size, held);
+    });
+    keep_where(made, where);
+    return detail::built_plane_on(scene, std::move(made.mesh), true, false, made.cut_facets);
+  } else {
+    const auto& b = scene.mesh.box;
+    MeshPieceRead<Mesh3D> made = detail::generated_mesh(scene, [&] {
+      return make_voronoi3d_piece(scene.mesh.cells3(), Box{b[0], b[1], b[2], b[3], b[4], b[5]}, options, rank, size, held);
+    });
+    keep_where(made, where);
+    return detail::built_solid(scene, std::move(made.mesh), false, made.cut_facets);
+  }
+}
+
+template std::unique_ptr<BasicBuiltProblem<2>> voronoi_problem_piece<2>(const Scene&, const RowDistribution&, PieceOfMesh&);
+template std::unique_ptr<BasicBuiltProblem<3>> voronoi_problem_piece<3>(const Scene&, const RowDistribution&, PieceOfMesh&);
 
 void check_regions_of_pieces(const Scene& scene, const std::vector<int>& regions) {
   detail::check_regions_present(scene, std::set<int>(regions.begin(), regions.end()), true);

@@ -11,6 +11,7 @@
 #include <iomanip>
 #include <limits>
 #include <set>
+#include <span>
 #include <sstream>
 
 #include <hemivem/contact/supports.hpp>
@@ -33,7 +34,10 @@ namespace {
 template <int dim>
 class FacetSelection {
  public:
-  FacetSelection(const Scene& scene, const MeshOf<dim>& mesh) : scene_(scene), mesh_(mesh), box_(mesh.bounding_box()) {}
+  /// `cut`: the boundary facets of a process's piece of the mesh that lie inside the whole mesh
+  /// (increasing), which no selector picks.
+  FacetSelection(const Scene& scene, const MeshOf<dim>& mesh, std::span<const int> cut = {})
+      : scene_(scene), mesh_(mesh), cut_(cut), box_(mesh.bounding_box()) {}
 
   std::vector<int> operator()(const BoundarySelector& b, const std::string& key) const {
     if (!b.has_facets() && !b.points.empty()) return {};  // a support at single vertices only
@@ -48,6 +52,7 @@ class FacetSelection {
     }
     std::sort(facets.begin(), facets.end());
     facets.erase(std::unique(facets.begin(), facets.end()), facets.end());
+    std::erase_if(facets, [&](int f) { return std::binary_search(cut_.begin(), cut_.end(), f); });
     if (facets.empty())
       throw InputError(key + ": selects no boundary " + (dim == 2 ? "edge" : "face") + " of the mesh", scene_.where(key));
     return facets;
@@ -110,6 +115,7 @@ class FacetSelection {
 
   const Scene& scene_;
   const MeshOf<dim>& mesh_;
+  std::span<const int> cut_;
   const decltype(std::declval<const MeshOf<dim>&>().bounding_box()) box_;
 };
 
@@ -256,14 +262,15 @@ void check_parts_disjoint(const std::vector<BasicContactPart<dim>>& parts, const
 }
 
 template <int dim>
-BasicContactProblem<dim> contact_problem_of(const Scene& scene, const MeshOf<dim>& mesh, bool whole = true) {
+BasicContactProblem<dim> contact_problem_of(const Scene& scene, const MeshOf<dim>& mesh, bool whole = true,
+                                            std::span<const int> cut = {}) {
   detail::require_dimension<dim>(scene);
   BasicContactProblem<dim> p;
   p.elasticity.mesh = &mesh;
   if (whole) detail::check_regions_used<dim>(scene, mesh, false);
   p.elasticity.materials = scene_materials<dim>(scene, mesh);
   p.elasticity.stabilization = scene.material.stabilization;
-  const FacetSelection<dim> select(scene, mesh);
+  const FacetSelection<dim> select(scene, mesh, cut);
   add_dirichlet(p.elasticity, scene, select);
   add_loads(p.elasticity, scene, select);
   const std::vector<SceneContact> scene_parts = contact_parts(scene);
@@ -361,17 +368,17 @@ template std::vector<int> select_facets<3>(const Scene&, const Mesh3D&, const Bo
 template void check_regions_used<3>(const Scene&, const Mesh3D&, bool);
 
 template <int dim>
-std::unique_ptr<BasicBuiltProblem<dim>> built_on(const Scene& scene, MeshOf<dim> mesh, bool whole) {
+std::unique_ptr<BasicBuiltProblem<dim>> built_on(const Scene& scene, MeshOf<dim> mesh, bool whole, std::span<const int> cut) {
   auto out = std::make_unique<BasicBuiltProblem<dim>>();
   out->mesh = std::move(mesh);
-  out->problem = contact_problem_of<dim>(scene, out->mesh, whole);
+  out->problem = contact_problem_of<dim>(scene, out->mesh, whole, cut);
   out->has_contact = scene.contact.has_value();
   out->warnings = scene_warnings(scene);
   return out;
 }
 
-template std::unique_ptr<BuiltProblem> built_on<2>(const Scene&, Mesh, bool);
-template std::unique_ptr<BuiltProblem3D> built_on<3>(const Scene&, Mesh3D, bool);
+template std::unique_ptr<BuiltProblem> built_on<2>(const Scene&, Mesh, bool, std::span<const int>);
+template std::unique_ptr<BuiltProblem3D> built_on<3>(const Scene&, Mesh3D, bool, std::span<const int>);
 
 }  // namespace detail
 

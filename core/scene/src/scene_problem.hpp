@@ -7,6 +7,7 @@
 #include <functional>
 #include <memory>
 #include <set>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -54,13 +55,16 @@ void check_regions_present(const Scene& scene, const std::set<int>& present, boo
 /// The built problem of `scene` on `mesh` (make_contact_problem), with has_contact and the
 /// scene's warnings; the regions checked (check_regions_used) when the mesh is `whole`, not when
 /// it is a process's piece, whose regions are checked across the processes
-/// (check_regions_of_pieces).
+/// (check_regions_of_pieces). `cut`: a piece's boundary facets inside the whole mesh
+/// (MeshPieceRead::cut_facets), which no selector picks.
 template <int dim>
-std::unique_ptr<BasicBuiltProblem<dim>> built_on(const Scene& scene, MeshOf<dim> mesh, bool whole = true);
+std::unique_ptr<BasicBuiltProblem<dim>> built_on(const Scene& scene, MeshOf<dim> mesh, bool whole = true,
+                                                 std::span<const int> cut = {});
 
 /// The problem of a plane scene on `mesh`: the scene's region boxes applied when
 /// `apply_region_boxes`, its regions checked when the mesh is `whole` (built_on).
-std::unique_ptr<BuiltProblem> built_plane_on(const Scene& scene, Mesh mesh, bool apply_region_boxes, bool whole);
+std::unique_ptr<BuiltProblem> built_plane_on(const Scene& scene, Mesh mesh, bool apply_region_boxes, bool whole,
+                                             std::span<const int> cut = {});
 
 /// InputError naming the scene's `mesh` key when the scene is not of dimension dim.
 template <int dim>
@@ -99,8 +103,8 @@ std::unique_ptr<BuiltProblem> built_plane(const Scene& scene, const RowDistribut
 std::unique_ptr<BuiltProblem3D> built_solid(const Scene& scene, const RowDistribution* processes = nullptr);
 /// The problem of a solid scene on `mesh`: one `given` (build_problem(scene, mesh)) or its Gmsh
 /// file's (or a piece of it holding every contact face), its memory checked by its vertices and
-/// contact nodes.
-std::unique_ptr<BuiltProblem3D> built_solid(const Scene& scene, Mesh3D mesh, bool given);
+/// contact nodes; `cut` as built_on's.
+std::unique_ptr<BuiltProblem3D> built_solid(const Scene& scene, Mesh3D mesh, bool given, std::span<const int> cut = {});
 
 /// require_route_memory of a plane scene's mesh file, `condensed` its mesh's estimate
 /// (estimate_memory) and `largest` the most vertices of one of its elements.

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include <hemivem/mesh/mesh.hpp>
+#include <hemivem/mesh/mesh_piece.hpp>
 #include <hemivem/row_distribution.hpp>
 
 namespace hemivem {
@@ -67,6 +68,15 @@ struct VoronoiOptions {
 /// its lexicographically smallest (x, then y) vertex. Throws InputError for negative max_lloyd_iterations or a
 /// negative or non-finite lloyd_tolerance.
 Mesh make_voronoi(GridSize n, const Rectangle& domain = {}, const VoronoiOptions& options = {});
+
+/// The piece of make_voronoi's mesh that process `rank` of `size` keeps (MeshPieceRead,
+/// hemivem/mesh/mesh_piece.hpp), made without the whole mesh: the seeds' cells as lists of
+/// vertices, as make_voronoi numbers them, then the piece chosen among them by the rule of a
+/// piece read from a file (read_gmsh_piece; the cells of every boundary edge and around the
+/// vertex nearest each point `held`) and only its mesh made. options.processes, when given, are
+/// the processes of the run (collective, as make_voronoi).
+MeshPieceRead<Mesh> make_voronoi_piece(GridSize n, const Rectangle& domain, const VoronoiOptions& options, int rank,
+                                       int size, HeldPoints held = {});
 
 /// nx x ny macro cells on a (2nx+1) x (2ny+1) point grid; points whose index sum is odd (side
 /// mid-points) are shifted by a quarter of the macro-cell size in x and y; cell

@@ -14,6 +14,7 @@
 
 #include <hemivem/mesh/generators.hpp>
 #include <hemivem/mesh/mesh3d.hpp>
+#include <hemivem/mesh/mesh_piece.hpp>
 
 namespace hemivem {
 
@@ -53,6 +54,11 @@ Mesh3D make_tetrahedra(const std::vector<double>& x, const std::vector<double>& 
 /// iterations, the tolerance relative to the mean seed spacing (volume / seeds)^(1/3)). Cell c is
 /// the cell of seed c. Vertices closer than a tolerance are merged, so faces conform exactly.
 Mesh3D make_voronoi3d(GridSize3 n, const Box& domain = {}, const VoronoiOptions& options = {});
+
+/// The piece of make_voronoi3d's mesh that process `rank` of `size` keeps, made without the
+/// whole mesh, as make_voronoi_piece makes a plane one's (hemivem/mesh/generators.hpp).
+MeshPieceRead<Mesh3D> make_voronoi3d_piece(GridSize3 n, const Box& domain, const VoronoiOptions& options, int rank,
+                                           int size, HeldPoints held = {});
 
 /// The 3D generator names: cubes, tetrahedra, voronoi.
 const std::vector<std::string>& mesh3d_generator_names();

@@ -60,6 +60,9 @@ struct MeshPieceRead {
   int whole_cells = 0;     ///< the whole mesh's number of cells
   std::vector<int> order;  ///< hilbert_vertex_order of the whole mesh
   int first = 0, end = 0;  ///< the process's share of `order`
+  /// The piece's boundary facets that lie inside the whole mesh, where the piece meets cells
+  /// it does not hold (increasing): no boundary of the whole mesh, so no selector picks them.
+  std::vector<int> cut_facets;
   /// The sums over the whole mesh's cells of their numbers of vertices and of their squares,
   /// and the most vertices of one (a memory estimate of the whole mesh's).
   double cell_vertices = 0, cell_vertices_squared = 0;

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include <hemivem/mesh/mesh.hpp>
+#include <hemivem/mesh/mesh_piece.hpp>
 
 namespace hemivem {
 
@@ -34,6 +35,14 @@ struct Poly2dMesh {
 Poly2dMesh read_poly2d(const std::filesystem::path& path);
 /// The same from a stream; `name` is used in messages in place of a path.
 Poly2dMesh read_poly2d(std::istream& in, const std::string& name);
+
+/// The piece of a .poly2d file's mesh that process `rank` of `size` keeps, read without making
+/// the whole mesh, by read_gmsh_piece's rule (hemivem/mesh/mesh_piece.hpp; the file has no
+/// groups or regions). The file's errors are read_poly2d's; a defect of the elements, those the
+/// piece shows, named as read_poly2d names the whole mesh's first.
+MeshPieceRead<Mesh> read_poly2d_piece(const std::filesystem::path& path, int rank, int size, HeldPoints held = {});
+MeshPieceRead<Mesh> read_poly2d_piece(std::istream& in, const std::string& name, int rank, int size,
+                                      HeldPoints held = {});
 
 /// Writes a mesh (coordinates with %.17g, so they read back to the same doubles),
 /// the boundary vertex list, and the given comment lines. The file is written to a

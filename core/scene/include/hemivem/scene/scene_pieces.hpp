@@ -9,6 +9,7 @@
 
 #include <hemivem/estimate/estimate_pieces.hpp>
 #include <hemivem/mesh/box_piece.hpp>
+#include <hemivem/row_distribution.hpp>
 #include <hemivem/scene/scene.hpp>
 
 namespace hemivem {
@@ -46,21 +47,36 @@ std::unique_ptr<BasicBuiltProblem<dim>> build_problem_piece(const Scene& scene, 
 void check_regions_of_pieces(const Scene& scene, const std::vector<int>& regions);
 
 /// Whether each process reads only its piece of the scene's mesh file (read_problem_piece): a
-/// Gmsh file of one body whose supports, loads and contact parts select sides, groups or (the
-/// supports) points, no segment, without adaptive steps.
+/// Gmsh or (in the plane) .poly2d file of one body, without adaptive steps.
 bool reads_pieces(const Scene& scene);
 
-/// build_problem<dim>(scene) on the piece of the scene's Gmsh file that process `rank` of `size`
-/// reads (read_gmsh_piece, read_gmsh3d_piece: its vertices' share along the whole mesh's
+/// build_problem<dim>(scene) on the piece of the scene's mesh file that process `rank` of `size`
+/// reads (read_gmsh_piece, read_gmsh3d_piece, read_poly2d_piece: its vertices' share along the whole mesh's
 /// hilbert_vertex_order, the cells around them and those of every boundary facet, facet group
 /// and region, and around the vertex each support at a point holds), without making the whole
 /// mesh: the same problem on fewer cells, its vertices
-/// and their numbers the whole mesh's, its memory estimated of the whole mesh. `where` tells
+/// and their numbers the whole mesh's, its memory estimated of the whole mesh; no selector picks
+/// a facet where the piece meets the others (MeshPieceRead::cut_facets). `where` tells
 /// where the piece lies. Errors as build_problem's that the piece shows (a defect of cells
 /// outside it is another process's to find; the regions are checked across the processes,
 /// check_regions_of_pieces).
 template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> read_problem_piece(const Scene& scene, int rank, int size, PieceOfMesh& where);
+
+/// Whether each process makes only its piece of the scene's Voronoi mesh (voronoi_problem_piece):
+/// a scene of one body whose mesh the voronoi generator makes on its rectangle or box, without
+/// adaptive steps.
+bool makes_voronoi_pieces(const Scene& scene);
+
+/// build_problem<dim>(scene) on the piece of the scene's Voronoi mesh that this process of
+/// `processes` makes (make_voronoi_piece, make_voronoi3d_piece; collective: the Lloyd
+/// iterations split among the processes, then the piece chosen among the cells' vertex lists by
+/// read_problem_piece's rule and only its mesh made): the same problem on fewer cells, its
+/// vertices and their numbers the whole mesh's; no selector picks a facet where the piece meets
+/// the others. `where` tells where the piece lies.
+template <int dim>
+std::unique_ptr<BasicBuiltProblem<dim>> voronoi_problem_piece(const Scene& scene, const RowDistribution& processes,
+                                                              PieceOfMesh& where);
 
 /// Whether each process makes only its piece of each body's mesh (build_bodies_piece): a scene
 /// of several bodies, without adaptive steps, each of whose meshes would be made in pieces as a
