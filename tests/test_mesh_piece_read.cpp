@@ -183,6 +183,42 @@ const auto read_poly_piece = [](const fs::path& p, int r, int s) { return read_p
 const auto read_solid = [](const fs::path& p) { return read_gmsh3d(p); };
 const auto read_solid_piece = [](const fs::path& p, int r, int s) { return read_gmsh3d_piece(p, r, s); };
 
+/// Every file of `folder` ending in `ext`, which `read_whole` refuses, is refused by one of two
+/// processes' `read_piece` at least with the same message, and by both unless it is a defect of
+/// the cells (a MeshError, which only the pieces holding it see). The number of such files.
+template <class ReadWhole, class ReadPiece>
+int expect_malformed_files_refused_by_pieces(const fs::path& folder, const std::string& ext, ReadWhole read_whole,
+                                             ReadPiece read_piece) {
+  int files = 0;
+  for (const auto& entry : fs::directory_iterator(folder)) {
+    if (entry.path().extension() != ext) continue;
+    SCOPED_TRACE(entry.path().filename().string());
+    ++files;
+    std::string whole;
+    bool cells = false;
+    try {
+      read_whole(entry.path());
+      ADD_FAILURE() << "read whole";
+    } catch (const MeshError& e) {
+      whole = e.what(), cells = true;
+    } catch (const InputError& e) {
+      whole = e.what();
+    }
+    int refused = 0;
+    for (int rank = 0; rank < 2; ++rank) {
+      try {
+        read_piece(entry.path(), rank);
+        EXPECT_TRUE(cells) << "rank " << rank << " read it";
+      } catch (const InputError& e) {
+        EXPECT_EQ(std::string(e.what()), whole) << "rank " << rank;
+        ++refused;
+      }
+    }
+    EXPECT_GE(refused, 1);
+  }
+  return files;
+}
+
 }  // namespace
 
 TEST(MeshPieceRead, APlaneFilesPiecesAreThePiecesCutFromTheWholeMesh) {
@@ -204,34 +240,10 @@ TEST(MeshPieceRead, APoly2dFilesPiecesAreThePiecesCutFromTheWholeMesh) {
 // a .poly2d file the whole reader refuses, every process refuses with the same message, or a
 // defect of its elements, the processes whose pieces hold it (one at least)
 TEST(MeshPieceRead, APoly2dFileTheWholeReaderRefusesIsRefusedByThePieces) {
-  int files = 0;
-  for (const auto& entry : fs::directory_iterator(test::data_dir() / "malformed")) {
-    if (entry.path().extension() != ".poly2d") continue;
-    SCOPED_TRACE(entry.path().filename().string());
-    ++files;
-    std::string whole;
-    bool cells = false;
-    try {
-      (void)read_poly2d(entry.path());
-      ADD_FAILURE() << "read whole";
-    } catch (const MeshError& e) {
-      whole = e.what(), cells = true;
-    } catch (const InputError& e) {
-      whole = e.what();
-    }
-    int refused = 0;
-    for (int rank = 0; rank < 2; ++rank) {
-      try {
-        (void)read_poly2d_piece(entry.path(), rank, 2);
-        EXPECT_TRUE(cells) << "rank " << rank << " read it";
-      } catch (const InputError& e) {
-        EXPECT_EQ(std::string(e.what()), whole) << "rank " << rank;
-        ++refused;
-      }
-    }
-    EXPECT_GE(refused, 1);
-  }
-  EXPECT_GE(files, 25);
+  EXPECT_GE(expect_malformed_files_refused_by_pieces(test::data_dir() / "malformed", ".poly2d",
+                                                     [](const fs::path& p) { (void)read_poly2d(p); },
+                                                     [](const fs::path& p, int r) { (void)read_poly2d_piece(p, r, 2); }),
+            25);
 }
 
 // a Voronoi mesh's piece, made from its cells' vertex lists without the whole mesh, is the piece
@@ -264,34 +276,10 @@ TEST(MeshPieceRead, ASolidFilesPiecesAreThePiecesCutFromTheWholeMesh) {
 // a file the whole reader refuses, every process refuses with the same message; a defect of
 // the cells, the processes whose pieces hold it (one at least)
 TEST(MeshPieceRead, AFileTheWholeReaderRefusesIsRefusedByThePieces) {
-  int files = 0;
-  for (const auto& entry : fs::directory_iterator(test::data_dir() / "gmsh" / "malformed")) {
-    if (entry.path().extension() != ".msh") continue;
-    SCOPED_TRACE(entry.path().filename().string());
-    ++files;
-    std::string whole;
-    bool cells = false;
-    try {
-      (void)read_gmsh(entry.path());
-      ADD_FAILURE() << "read whole";
-    } catch (const MeshError& e) {
-      whole = e.what(), cells = true;
-    } catch (const InputError& e) {
-      whole = e.what();
-    }
-    int refused = 0;
-    for (int rank = 0; rank < 2; ++rank) {
-      try {
-        (void)read_gmsh_piece(entry.path(), rank, 2);
-        EXPECT_TRUE(cells) << "rank " << rank << " read it";
-      } catch (const InputError& e) {
-        EXPECT_EQ(std::string(e.what()), whole) << "rank " << rank;
-        ++refused;
-      }
-    }
-    EXPECT_GE(refused, 1);
-  }
-  EXPECT_GE(files, 10);
+  EXPECT_GE(expect_malformed_files_refused_by_pieces(test::data_dir() / "gmsh" / "malformed", ".msh",
+                                                     [](const fs::path& p) { (void)read_gmsh(p); },
+                                                     [](const fs::path& p, int r) { (void)read_gmsh_piece(p, r, 2); }),
+            10);
   // an element inside a larger mesh repeating a vertex: the processes whose pieces hold it
   // refuse it as the whole reader does, the others read theirs
   const fs::path defect = write_text("defect.msh", test::squares_msh_repeating_a_vertex(24));
