@@ -76,7 +76,7 @@ void check_regions_across(const Scene& scene, const MeshType& piece, const RowDi
 
 /// The problem a solve of the scene builds on the scene's own mesh, into s.built: on the
 /// full-space route across processes (`e`), the process's piece of the mesh where the scene
-/// allows it: a generated box's piece made directly (scene_piece), a Gmsh file's piece read
+/// allows it: a generated box's piece made directly (scene_piece), a mesh file's piece read
 /// alone (reads_pieces), a Voronoi mesh's piece made from its cells' lists (makes_voronoi_pieces),
 /// each generated body's piece made directly and the pieces matched and
 /// joined (makes_body_pieces; an error one process meets in any of these ends every process,

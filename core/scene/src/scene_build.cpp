@@ -228,7 +228,6 @@ std::array<std::vector<double>, 2> polar_lists(const Scene& scene) {
   return polar_grid(scene.mesh.radii, scene.mesh.angles, c.nx, c.ny, scene.mesh.grading, scene.mesh.focus);
 }
 
-
 std::unique_ptr<BuiltProblem> built_plane_on(const Scene& scene, Mesh mesh, bool apply_region_boxes, bool whole,
                                              std::span<const int> cut) {
   // Regions given by boxes, then materials by region.
