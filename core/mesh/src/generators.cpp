@@ -678,7 +678,8 @@ detail::PlaneCells voronoi_rectangle_lists(GridSize n, const Rectangle& domain, 
   // element (and vertex) numbers. Lloyd moves seeds little, so the order stays good.
   detail::sort_along_hilbert_curve(seeds, domain);
   // the seeds whose cells this process computes in the Lloyd iterations (all in one process)
-  const auto [first, end] = share_of(ns, options.processes);
+  const std::pair<std::size_t, std::size_t> share = share_of(ns, options.processes);
+  const std::size_t first = share.first, end = share.second;
   const int iterations = options.max_lloyd_iterations;
   const auto cells_of = [&](std::size_t from, std::size_t to) {
     return shared_voronoi_cells(seeds, domain, spacing, tol, from, to, options.processes);

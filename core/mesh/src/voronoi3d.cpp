@@ -809,7 +809,8 @@ detail::SolidCells voronoi_box_lists(GridSize3 n, const Box& domain, const Voron
   // Seeds along a Hilbert curve: nearby cells get nearby numbers (Lloyd moves seeds little).
   detail::sort_along_hilbert_curve(seeds, domain);
   // the seeds whose cells this process computes in the Lloyd iterations (all in one process)
-  const auto [first, end] = share_of(ns, options.processes);
+  const std::pair<std::size_t, std::size_t> share = share_of(ns, options.processes);
+  const std::size_t first = share.first, end = share.second;
   const double stop = options.lloyd_tolerance * spacing;
   for (int it = 0; it < options.max_lloyd_iterations; ++it) {
     Eigen::VectorXd centroids(3 * static_cast<Eigen::Index>(end - first));
