@@ -295,11 +295,12 @@ void set_cut_facets(MeshPieceRead<Mesh>& out, const FacetKeys& cuts) { cut_facet
 
 namespace {
 
-/// make_plane_piece and make_solid_piece: `topology` the cells of `lists`.
-template <class Vec, class Cell, class MeshType>
-void make_piece(const std::vector<Vec>& vertices, const std::vector<Cell>& lists, const CellTopology& topology,
+/// make_plane_piece and make_solid_piece: topology() the cells of `lists`, freed before the
+/// piece's mesh is made.
+template <class Vec, class Cell, class MeshType, class Topology>
+void make_piece(const std::vector<Vec>& vertices, const std::vector<Cell>& lists, const Topology& topology,
                 HeldPoints held, int rank, int size, MeshPieceRead<MeshType>& out) {
-  const FacetKeys cuts = choose(topology, vertices, std::vector<int>(lists.size(), 0), {}, rank, size, held, out);
+  const FacetKeys cuts = choose(topology(), vertices, std::vector<int>(lists.size(), 0), {}, rank, size, held, out);
   std::vector<Cell> kept;
   kept.reserve(out.cells.size());
   for (int c : out.cells) kept.push_back(lists[static_cast<std::size_t>(c)]);
@@ -310,13 +311,15 @@ void make_piece(const std::vector<Vec>& vertices, const std::vector<Cell>& lists
 }  // namespace
 
 void make_plane_piece(const PlaneCells& cells, HeldPoints held, int rank, int size, MeshPieceRead<Mesh>& out) {
-  make_piece(cells.vertices, cells.elements, plane_topology(static_cast<int>(cells.vertices.size()), cells.elements),
-             held, rank, size, out);
+  make_piece(
+      cells.vertices, cells.elements,
+      [&] { return plane_topology(static_cast<int>(cells.vertices.size()), cells.elements); }, held, rank, size, out);
 }
 
 void make_solid_piece(const SolidCells& cells, HeldPoints held, int rank, int size, MeshPieceRead<Mesh3D>& out) {
-  make_piece(cells.vertices, cells.cells, solid_topology(static_cast<int>(cells.vertices.size()), cells.cells), held,
-             rank, size, out);
+  make_piece(
+      cells.vertices, cells.cells, [&] { return solid_topology(static_cast<int>(cells.vertices.size()), cells.cells); },
+      held, rank, size, out);
 }
 void set_cut_facets(MeshPieceRead<Mesh3D>& out, const FacetKeys& cuts) { cut_facets_of(out, cuts); }
 
