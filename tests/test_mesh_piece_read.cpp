@@ -262,6 +262,30 @@ TEST(MeshPieceRead, AVoronoiMeshsPiecesAreThePiecesCutFromTheWholeMesh) {
   }
 }
 
+// a polygon's mesh's piece, made from its cells' lists without the whole mesh, is the piece cut
+// from make_mesh's mesh, its edge groups the whole's; on an L-shaped polygon and on it shrunk
+// below the range where CGAL meshes it as it is (made in coordinates scaled back exactly)
+TEST(MeshPieceRead, APolygonsMeshsPiecesAreThePiecesCutFromTheWholeMesh) {
+  const std::vector<Vec2> bracket{{0.0, 0.0}, {1.0, 0.0}, {1.0, 0.4}, {0.4, 0.4}, {0.4, 1.0}, {0.0, 1.0}};
+  for (const double scale : {1.0, 0x1p-120}) {
+    PolygonDomain d;
+    for (const Vec2& p : bracket) d.corners.push_back(scale * p);
+    for (const char* generator : {"triangles", "voronoi"}) {
+      SCOPED_TRACE(std::string(generator) + " at scale " + std::to_string(scale));
+      const auto whole = [&](const fs::path&) { return make_mesh(generator, 10, d, 3); };
+      const auto piece = [&](const fs::path&, int r, int s) { return make_mesh_piece(generator, 10, d, 3, r, s); };
+      for (int size : {1, 2, 3}) expect_read_pieces_are_cut_pieces<Mesh>(generator, size, size > 1, whole, piece);
+    }
+  }
+  PolygonDomain d;
+  for (const Vec2& p : bracket) d.corners.push_back(p);
+  for (const char* generator : {"squares", "hexagons"}) {  // the whole mesh's errors
+    const std::string whole = test::input_error_of([&] { (void)make_mesh(generator, 10, d); });
+    ASSERT_FALSE(whole.empty()) << generator;
+    EXPECT_EQ(test::input_error_of([&] { (void)make_mesh_piece(generator, 10, d, 1, 0, 2); }), whole);
+  }
+}
+
 TEST(MeshPieceRead, ASolidFilesPiecesAreThePiecesCutFromTheWholeMesh) {
   const fs::path cubes = cubes_msh(8);
   for (int size : {1, 2, 3})
@@ -296,18 +320,17 @@ TEST(MeshPieceRead, AFileTheWholeReaderRefusesIsRefusedByThePieces) {
   fs::remove(defect);
 }
 
-/// The problem of the scene on each of three processes' pieces read from its file poses the
-/// share of the whole problem to the bit; each piece holds every cell around each vertex a
-/// support at a point holds.
-template <int dim>
-void expect_read_problem_pieces_pose_the_whole_share(const Scene& scene) {
-  ASSERT_TRUE(reads_pieces(scene));
+/// The problem of the scene on each of three processes' pieces (piece_of(rank, size, where):
+/// read from its file, or made from its cells' lists) poses the share of the whole problem to
+/// the bit; each piece holds every cell around each vertex a support at a point holds.
+template <int dim, class PieceOf>
+void expect_problem_pieces_pose_the_whole_share(const Scene& scene, PieceOf piece_of) {
   const auto whole = build_problem<dim>(scene);
   const std::vector<int> order = hilbert_vertex_order(whole->mesh);
   for (int rank = 0; rank < 3; ++rank) {
     SCOPED_TRACE("rank " + std::to_string(rank));
     PieceOfMesh where;
-    const auto piece = read_problem_piece<dim>(scene, rank, 3, where);
+    const auto piece = piece_of(rank, 3, where);
     const auto [first, end] = vertex_share(whole->mesh.num_vertices(), rank, 3);
     EXPECT_EQ(where.vertices.order, order);
     EXPECT_EQ(where.vertices.first, first);
@@ -324,6 +347,14 @@ void expect_read_problem_pieces_pose_the_whole_share(const Scene& scene) {
         }
     test::expect_same_share(pose_share(piece->problem, order, first, end), pose_share(whole->problem, order, first, end));
   }
+}
+
+/// The same of the pieces read from the scene's file.
+template <int dim>
+void expect_read_problem_pieces_pose_the_whole_share(const Scene& scene) {
+  ASSERT_TRUE(reads_pieces(scene));
+  expect_problem_pieces_pose_the_whole_share<dim>(
+      scene, [&](int rank, int size, PieceOfMesh& where) { return read_problem_piece<dim>(scene, rank, size, where); });
 }
 
 TEST(MeshPieceRead, TheProblemOnAPieceReadFromTheFilePosesTheWholeShare) {
@@ -447,6 +478,51 @@ TEST(MeshPieceRead, TheProblemOnAVoronoiMeshsPiecePosesTheWholeShare) {
   EXPECT_FALSE(makes_voronoi_pieces(parse_scene(test::scenes_dir() / "example-4.1-3d.toml")));  // cubes
   EXPECT_FALSE(makes_voronoi_pieces(parse_scene(test::scenes_dir() / "two-blocks.toml")));
   EXPECT_FALSE(makes_voronoi_pieces(parse_scene(test::scenes_dir() / "paper-example-4.1.toml")));
+}
+
+// the L-shaped bracket, its supports, load and contact on the polygon's edge groups, meshed by
+// triangles and by Voronoi cells, with a support at a point inside it too; a segment across the
+// body along an edge where the first piece meets the others picks no edge, as on the whole mesh
+TEST(MeshPieceRead, TheProblemOnAPolygonMeshsPiecePosesTheWholeShare) {
+  Scene scene = parse_scene(test::scenes_dir() / "polygon-bracket.toml");
+  scene.mesh.n = 14;
+  const auto polygon_piece = [&](int rank, int size, PieceOfMesh& where) {
+    return polygon_problem_piece(scene, rank, size, where);
+  };
+  for (const char* generator : {"triangles", "voronoi"}) {
+    SCOPED_TRACE(generator);
+    scene.mesh.generator = generator;
+    ASSERT_TRUE(makes_polygon_pieces(scene));
+    expect_problem_pieces_pose_the_whole_share<2>(scene, polygon_piece);
+  }
+  const PolygonDomain bracket{{{0.0, 0.0}, {1.0, 0.0}, {1.0, 0.4}, {0.4, 0.4}, {0.4, 1.0}, {0.0, 1.0}}};
+  const auto seed = static_cast<std::uint64_t>(scene.mesh.seed);
+  const Mesh cells = make_mesh(scene.mesh.generator, scene.mesh.n, bracket, seed);
+  int nearest = 0;  // the vertex nearest (0.7, 0.2), inside the foot
+  for (int v = 0; v < cells.num_vertices(); ++v)
+    if ((cells.vertex(v) - Vec2(0.7, 0.2)).norm() < (cells.vertex(nearest) - Vec2(0.7, 0.2)).norm()) nearest = v;
+  SceneDirichlet inside;
+  inside.boundary.points = {{cells.vertex(nearest).x(), cells.vertex(nearest).y(), 0.0}};
+  inside.uy = SceneScalar{0.0};
+  scene.dirichlet.push_back(inside);
+  expect_problem_pieces_pose_the_whole_share<2>(scene, polygon_piece);
+  scene.dirichlet.clear();
+  const MeshPieceRead<Mesh> first = make_mesh_piece(scene.mesh.generator, scene.mesh.n, bracket, seed, 0, 3);
+  ASSERT_FALSE(first.cut_facets.empty());
+  const Vec2 a = first.mesh.vertex(first.mesh.edge(first.cut_facets[0]).v0);
+  const Vec2 b = first.mesh.vertex(first.mesh.edge(first.cut_facets[0]).v1);
+  scene.contact->boundary = BoundarySelector{};
+  scene.contact->boundary.segments = {{a.x(), a.y(), b.x(), b.y()}};
+  const std::string whole = test::input_error_of([&] { (void)build_problem<2>(scene); });
+  EXPECT_NE(whole.find("selects no boundary edge"), std::string::npos) << whole;
+  for (int rank = 0; rank < 3; ++rank) {
+    PieceOfMesh where;
+    EXPECT_EQ(test::input_error_of([&] { (void)polygon_problem_piece(scene, rank, 3, where); }), whole) << "rank " << rank;
+  }
+  Scene adaptive = parse_scene(test::scenes_dir() / "polygon-bracket.toml");
+  adaptive.adapt = SceneAdapt{};
+  EXPECT_FALSE(makes_polygon_pieces(adaptive));
+  EXPECT_FALSE(makes_polygon_pieces(parse_scene(test::scenes_dir() / "paper-example-4.1-voronoi.toml")));
 }
 
 TEST(MeshPieceRead, AGmshOrPoly2dFileOfOneBodyIsReadInPieces) {

@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
@@ -77,16 +78,37 @@ TEST(ScenePieces, ALoadingPathOfAGeneratedBoxIsMadeInPieces) {
   expect_two_pieces<3>(block);
 }
 
-// any other mesh of one body is made whole, and each process keeps its piece of it
-TEST(ScenePieces, AnyOtherMeshOfOneBodyIsMadeWholeAndCut) {
+// a mesh of one body that is no generated box is read or made in pieces from its cells' lists;
+// every shipped scene takes one route across processes, and those made whole and cut are these
+TEST(ScenePieces, EveryShippedSceneTakesOneRouteAcrossProcesses) {
   for (const char* name : {"paper-example-4.1-voronoi.toml",  // not a grid of boxes
                            "polygon-bracket.toml",            // a polygon
                            "gmsh-bracket-3d.toml"}) {         // a file
     SCOPED_TRACE(name);
     EXPECT_FALSE(scene_piece(shipped(name), 0, 2));
-    EXPECT_TRUE(cuts_pieces(shipped(name)));
+    EXPECT_FALSE(cuts_pieces(shipped(name)));
   }
+  EXPECT_TRUE(makes_voronoi_pieces(shipped("paper-example-4.1-voronoi.toml")));
+  EXPECT_TRUE(makes_polygon_pieces(shipped("polygon-bracket.toml")));
+  EXPECT_TRUE(reads_pieces(shipped("gmsh-bracket-3d.toml")));
   EXPECT_FALSE(cuts_pieces(shipped("paper-example-4.1.toml")));  // made in pieces
+  std::vector<std::string> cut;
+  int scenes = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(test::scenes_dir())) {
+    if (entry.path().extension() != ".toml") continue;
+    const std::string name = entry.path().filename().string();
+    SCOPED_TRACE(name);
+    const Scene scene = parse_scene(entry.path());
+    const int routes = static_cast<int>(scene_piece(scene, 0, 2).has_value()) + reads_pieces(scene) +
+                       makes_voronoi_pieces(scene) + makes_polygon_pieces(scene) + makes_body_pieces(scene) +
+                       cuts_pieces(scene) + scene.adapt.has_value();
+    EXPECT_EQ(routes, 1);
+    if (cuts_pieces(scene)) cut.push_back(name);
+    ++scenes;
+  }
+  EXPECT_GT(scenes, 30);
+  std::sort(cut.begin(), cut.end());
+  EXPECT_EQ(cut, (std::vector<std::string>{"two-blocks.toml"}));
 }
 
 // several bodies of generated boxes selected by sides are made in pieces, in a static solve and
@@ -133,8 +155,8 @@ TEST(ScenePieces, SeveralBodiesAreMadeInPiecesOrCutAndAdaptiveStepsHeldWholeOnEv
 }
 
 // a support at a point holds the grid vertex nearest it, whose cells every piece holds; a
-// segment along a side is made as the side; a segment across the body, or on a mesh that is no
-// grid of boxes, is cut from the whole mesh (cut_problem_piece renumbers the whole's facets)
+// segment along a side is made as the side; a segment across a generated box is cut from the
+// whole mesh (cut_problem_piece renumbers the whole's facets)
 TEST(ScenePieces, PointsAndSegmentsAlongSidesAreMadeInPiecesOtherSegmentsCut) {
   const Scene plate = shipped("plate-friction-benchmark.toml");  // squares [32, 32], held at (0.04, 0)
   ASSERT_TRUE(plate.path);
@@ -163,7 +185,8 @@ TEST(ScenePieces, PointsAndSegmentsAlongSidesAreMadeInPiecesOtherSegmentsCut) {
   EXPECT_TRUE(cuts_pieces(across));
   const Scene rollers = shipped("rollers-pressure.toml");  // a contact part on a segment of a Voronoi mesh's bottom
   EXPECT_FALSE(scene_piece(rollers, 0, 2));
-  EXPECT_TRUE(cuts_pieces(rollers));
+  EXPECT_FALSE(cuts_pieces(rollers));  // made from its cells' lists, where a segment picks no cut edge
+  EXPECT_TRUE(makes_voronoi_pieces(rollers));
 }
 
 // region boxes put each piece's cells into the regions of the whole mesh's cells, a piece that

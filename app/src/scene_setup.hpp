@@ -77,7 +77,8 @@ void check_regions_across(const Scene& scene, const MeshType& piece, const RowDi
 /// The problem a solve of the scene builds on the scene's own mesh, into s.built: on the
 /// full-space route across processes (`e`), the process's piece of the mesh where the scene
 /// allows it: a generated box's piece made directly (scene_piece), a mesh file's piece read
-/// alone (reads_pieces), a Voronoi mesh's piece made from its cells' lists (makes_voronoi_pieces),
+/// alone (reads_pieces), a Voronoi mesh's or a polygon's mesh's piece made from its cells' lists
+/// (makes_voronoi_pieces, makes_polygon_pieces),
 /// each generated body's piece made directly and the pieces matched and
 /// joined (makes_body_pieces; an error one process meets in any of these ends every process,
 /// and the regions are checked across the processes: check_regions_across), or the piece it
@@ -100,12 +101,14 @@ void build_scene_problem(const Scene& scene, SceneEngines& e, Solved& s, const s
       s.whole_cells = e.piece->whole_cells;
       return;
     }
-    // each process reads its piece of the file, makes its piece of a Voronoi mesh, or its bodies'
-    if (reads_pieces(scene) || makes_voronoi_pieces(scene) || makes_body_pieces(scene)) {
+    // each process reads its piece of the file, makes its piece of a Voronoi or polygon mesh, or its bodies'
+    if (reads_pieces(scene) || makes_voronoi_pieces(scene) || makes_polygon_pieces(scene) || makes_body_pieces(scene)) {
       PieceOfMesh where;
-      s.built = on_every_process(*process_rows(), [&] {
+      s.built = on_every_process(*process_rows(), [&]() -> std::unique_ptr<BasicBuiltProblem<dim>> {
         if (reads_pieces(scene)) return read_problem_piece<dim>(scene, world.rank, world.size, where);
         if (makes_voronoi_pieces(scene)) return voronoi_problem_piece<dim>(scene, *process_rows(), where);
+        if constexpr (dim == 2)
+          if (makes_polygon_pieces(scene)) return polygon_problem_piece(scene, world.rank, world.size, where);
         return build_bodies_piece<dim>(scene, world.rank, world.size, where);
       });
       if (!makes_body_pieces(scene)) check_regions_across(scene, s.built->mesh, *process_rows());

@@ -575,18 +575,23 @@ TEST(CliFullSpaceMpi, AVoronoiMeshSplitAmongProcessesIsOneProcesss) {
   }
 }
 
-// a Gmsh file's solid, which each process reads its piece of, a polygon's plane mesh, made whole
-// by every process, each keeping its piece (the cells around its share of the mesh's Hilbert
-// order, and those of the groups its supports, loads and contact name), and a plane Voronoi
-// mesh whose contact is a segment, each process making its piece: the condensed answer, the
-// solution written in pieces
-TEST(CliFullSpaceMpi, ThePiecesKeptOfMeshesMadeWholeAreTheCondensedAnswer) {
-  for (const char* name : {"gmsh-bracket-3d.toml", "polygon-bracket.toml", "rollers-pressure.toml"}) {
-    SCOPED_TRACE(name);
-    const std::string flags = scene(name) + " --tol 1e-11";
-    const fs::path ref = solve_condensed(flags, std::string("condensed-") + name);
+// a Gmsh file's solid, which each process reads its piece of, a polygon's triangles and Voronoi
+// cells, and a plane Voronoi mesh whose contact is a segment, each process making its piece from
+// the cells' lists (the cells around its share of the mesh's Hilbert order, and those of every
+// boundary edge): the condensed answer, the solution written in pieces
+TEST(CliFullSpaceMpi, MeshesOfOneBodyMadeOrReadInPiecesAreTheCondensedAnswer) {
+  const struct {
+    std::string flags, name;
+  } cases[] = {{scene("gmsh-bracket-3d.toml"), "gmsh-bracket-3d"},  // a file read in pieces
+               {scene("polygon-bracket.toml"), "polygon-bracket"},  // a polygon's triangles made in pieces
+               {scene("polygon-bracket.toml") + " --set mesh.generator=\"voronoi\" --n 20", "polygon-voronoi"},
+               {scene("rollers-pressure.toml"), "rollers-pressure"}};  // a Voronoi mesh, a contact segment
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.name);
+    const std::string flags = c.flags + " --tol 1e-11";
+    const fs::path ref = solve_condensed(flags, "condensed-" + c.name);
     if (ref.empty()) return;
-    for (const int processes : {2, 3}) expect_processes_agree(flags, ref, processes, std::string("cut-") + name, false, processes);
+    for (const int processes : {2, 3}) expect_processes_agree(flags, ref, processes, "pieces-" + c.name, false, processes);
   }
 }
 

@@ -29,6 +29,7 @@
 #include <map>
 #include <numeric>
 #include <random>
+#include <span>
 #include <sstream>
 #include <utility>
 
@@ -459,7 +460,7 @@ struct UnionFind {
 /// the domain's sides or corners), drops cells that collapse to fewer than three vertices
 /// when drop_collapsed (else throws),
 /// numbers vertices in order of first appearance, each cell starting at its
-/// lexicographically smallest vertex: the mesh's vertices and elements (voronoi_mesh makes it).
+/// lexicographically smallest vertex: the mesh's vertices and elements.
 template <class Snap>
 detail::PlaneCells voronoi_lists(const VoronoiCells& c, double tol, Snap snap, bool drop_collapsed) {
   const std::size_t np = c.points.size();
@@ -530,13 +531,6 @@ detail::PlaneCells voronoi_lists(const VoronoiCells& c, double tol, Snap snap, b
   return {std::move(vertices), std::move(elements)};
 }
 
-/// The mesh of voronoi_lists.
-template <class Snap>
-Mesh voronoi_mesh(const VoronoiCells& c, double tol, Snap snap, bool drop_collapsed) {
-  detail::PlaneCells lists = voronoi_lists(c, tol, snap, drop_collapsed);
-  return Mesh(std::move(lists.vertices), std::move(lists.elements));
-}
-
 void check_voronoi_options(const VoronoiOptions& options) {
   if (options.max_lloyd_iterations < 0)
     throw InputError("voronoi mesh: max_lloyd_iterations must be >= 0 (got " +
@@ -558,13 +552,6 @@ namespace {
 int unit_scale_exponent(double size, double magnitude) {
   if (size >= 1e-30 && magnitude <= 1e30) return 0;
   return std::ilogb(size);
-}
-
-/// The mesh with every coordinate multiplied by 2^k (exact), its regions kept.
-Mesh scaled_mesh(const Mesh& m, int k) {
-  std::vector<Vec2> vertices = m.vertices();
-  for (auto& v : vertices) v = Vec2(std::ldexp(v.x(), k), std::ldexp(v.y(), k));
-  return Mesh(std::move(vertices), m.elements(), m.regions());
 }
 
 }  // namespace
@@ -818,12 +805,16 @@ CheckedPolygon check_polygon(const char* generator, const PolygonDomain& d, int 
 }
 
 /// Names the boundary edges on edge k of the polygon (corner k to corner k+1, in the order
-/// given) "edge<k>".
-void name_polygon_edges(Mesh& mesh, const std::vector<Vec2>& corners, double tol) {
+/// given) "edge<k>", but for the edges `cut` (increasing: a piece's edges inside the whole
+/// mesh).
+void name_polygon_edges(Mesh& mesh, const std::vector<Vec2>& corners, double tol, std::span<const int> cut = {}) {
   const std::size_t m = corners.size();
-  for (std::size_t k = 0; k < m; ++k)
-    mesh.set_edge_group("edge" + std::to_string(k),
-                        select_boundary_edges(mesh, std::vector<Segment>{Segment{corners[k], corners[(k + 1) % m], tol}}));
+  for (std::size_t k = 0; k < m; ++k) {
+    std::vector<int> edges =
+        select_boundary_edges(mesh, std::vector<Segment>{Segment{corners[k], corners[(k + 1) % m], tol}});
+    std::erase_if(edges, [&](int e) { return std::binary_search(cut.begin(), cut.end(), e); });
+    mesh.set_edge_group("edge" + std::to_string(k), std::move(edges));
+  }
 }
 
 double to_plain_double(const ExactKernel::FT& x) { return CGAL::to_double(CGAL::exact(x)); }
@@ -995,15 +986,29 @@ CheckedPolygon scaled_polygon(const CheckedPolygon& d, int k) {
   return out;
 }
 
-/// A polygon generator run in coordinates where CGAL is exact in range (unit_scale_exponent),
-/// the mesh mapped back and its boundary edges named after the polygon's edges.
+/// A polygon's mesh not made: the checked polygon and the cells' lists.
+struct PolygonLists {
+  CheckedPolygon dom;
+  detail::PlaneCells cells;
+};
+
+/// A polygon generator's lists, run in coordinates where CGAL is exact in range
+/// (unit_scale_exponent) and mapped back (every coordinate multiplied by 2^k: exact).
 template <class Generate>
-Mesh in_unit_coordinates(const PolygonDomain& domain, const CheckedPolygon& dom, Generate generate) {
+PolygonLists in_unit_coordinates(CheckedPolygon dom, Generate generate) {
   const Rectangle& b = dom.box;
   const int k = unit_scale_exponent(std::max(b.width(), b.height()),
                                     std::max({std::abs(b.x0), std::abs(b.x1), std::abs(b.y0), std::abs(b.y1)}));
-  Mesh mesh = k == 0 ? generate(dom, 0) : scaled_mesh(generate(scaled_polygon(dom, k), k), k);
-  name_polygon_edges(mesh, domain.corners, dom.tol);
+  detail::PlaneCells cells = k == 0 ? generate(dom, 0) : generate(scaled_polygon(dom, k), k);
+  if (k != 0)
+    for (auto& v : cells.vertices) v = Vec2(std::ldexp(v.x(), k), std::ldexp(v.y(), k));
+  return {std::move(dom), std::move(cells)};
+}
+
+/// The mesh of a polygon's lists, its boundary edges named after the polygon's edges.
+Mesh polygon_mesh(const PolygonDomain& domain, PolygonLists lists) {
+  Mesh mesh(std::move(lists.cells.vertices), std::move(lists.cells.elements));
+  name_polygon_edges(mesh, domain.corners, lists.dom.tol);
   return mesh;
 }
 
@@ -1071,9 +1076,9 @@ std::string polygon_domain_defect(const PolygonDomain& d) {
 
 namespace {
 
-/// Triangles in a checked polygon; k: the power of two its coordinates were divided by, for
-/// messages.
-Mesh triangulate_polygon(int n, const CheckedPolygon& dom, int k) {
+/// Triangles in a checked polygon, as lists; k: the power of two its coordinates were divided
+/// by, for messages.
+detail::PlaneCells triangle_lists(int n, const CheckedPolygon& dom, int k) {
   using MeshVertexBase = CGAL::Delaunay_mesh_vertex_base_2<Kernel>;
   using MeshFaceBase = CGAL::Delaunay_mesh_face_base_2<Kernel>;
   using MeshTds = CGAL::Triangulation_data_structure_2<MeshVertexBase, MeshFaceBase>;
@@ -1126,22 +1131,23 @@ Mesh triangulate_polygon(int n, const CheckedPolygon& dom, int k) {
     }
     elements.push_back(std::move(el));
   }
-  return Mesh(std::move(vertices), std::move(elements));
+  return {std::move(vertices), std::move(elements)};
+}
+
+PolygonLists triangles_in_polygon(int n, const PolygonDomain& domain) {
+  check_n("triangles mesh", n);
+  return in_unit_coordinates(check_polygon("triangles mesh", domain, n),
+                             [n](const CheckedPolygon& dom, int k) { return triangle_lists(n, dom, k); });
 }
 
 }  // namespace
 
-Mesh make_triangles(int n, const PolygonDomain& domain) {
-  check_n("triangles mesh", n);
-  return in_unit_coordinates(domain, check_polygon("triangles mesh", domain, n), [n](const CheckedPolygon& dom, int k) {
-    return triangulate_polygon(n, dom, k);
-  });
-}
+Mesh make_triangles(int n, const PolygonDomain& domain) { return polygon_mesh(domain, triangles_in_polygon(n, domain)); }
 
 namespace {
 
-/// Voronoi cells in a checked polygon (see make_voronoi).
-Mesh voronoi_in_polygon(int n, const CheckedPolygon& dom, const VoronoiOptions& options) {
+/// Voronoi cells in a checked polygon (see make_voronoi), as lists.
+detail::PlaneCells voronoi_polygon_lists(int n, const CheckedPolygon& dom, const VoronoiOptions& options) {
   const std::size_t ns = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
   const double spacing = std::sqrt(dom.area / static_cast<double>(ns));
   CGAL::Polygon_2<Kernel> inexact;
@@ -1187,32 +1193,51 @@ Mesh voronoi_in_polygon(int n, const CheckedPolygon& dom, const VoronoiOptions& 
       if ((p - c).norm() <= 4.0 * dom.tol) return c;
     return p;
   };
-  return voronoi_mesh(cells, dom.tol, snap_to_corners, true);
+  return voronoi_lists(cells, dom.tol, snap_to_corners, true);
 }
 
-}  // namespace
-
-Mesh make_voronoi(int n, const PolygonDomain& domain, const VoronoiOptions& options) {
+PolygonLists voronoi_in_polygon(int n, const PolygonDomain& domain, const VoronoiOptions& options) {
   check_n("voronoi mesh", n);
-  const CheckedPolygon dom = check_polygon("voronoi mesh", domain, n);
+  CheckedPolygon dom = check_polygon("voronoi mesh", domain, n);
   check_voronoi_options(options);
-  return in_unit_coordinates(domain, dom, [n, &options](const CheckedPolygon& d, int) {
-    return voronoi_in_polygon(n, d, options);
+  return in_unit_coordinates(std::move(dom), [n, &options](const CheckedPolygon& d, int) {
+    return voronoi_polygon_lists(n, d, options);
   });
 }
 
-Mesh make_mesh(std::string_view generator, int n, const PolygonDomain& domain, std::uint64_t seed) {
-  if (generator == "triangles") return make_triangles(n, domain);
+/// The lists of the generator `generator` (triangles or voronoi) in a polygon (make_mesh).
+PolygonLists polygon_lists(std::string_view generator, int n, const PolygonDomain& domain, std::uint64_t seed) {
+  if (generator == "triangles") return triangles_in_polygon(n, domain);
   if (generator == "voronoi") {
     VoronoiOptions options;
     options.seed = seed;
-    return make_voronoi(n, domain, options);
+    return voronoi_in_polygon(n, domain, options);
   }
   for (const auto& name : mesh_generator_names())
     if (generator == name)
       throw InputError("the mesh generator '" + name + "' needs a rectangular domain; a polygon domain needs "
                        "generator voronoi or triangles");
-  return make_mesh(generator, n, Rectangle{}, seed);  // unknown name: its message
+  make_mesh(generator, n, Rectangle{}, seed);  // unknown name: its message
+  throw InputError("unknown mesh generator '" + std::string(generator) + "'");
+}
+
+}  // namespace
+
+Mesh make_voronoi(int n, const PolygonDomain& domain, const VoronoiOptions& options) {
+  return polygon_mesh(domain, voronoi_in_polygon(n, domain, options));
+}
+
+Mesh make_mesh(std::string_view generator, int n, const PolygonDomain& domain, std::uint64_t seed) {
+  return polygon_mesh(domain, polygon_lists(generator, n, domain, seed));
+}
+
+MeshPieceRead<Mesh> make_mesh_piece(std::string_view generator, int n, const PolygonDomain& domain, std::uint64_t seed,
+                                    int rank, int size, HeldPoints held) {
+  const PolygonLists lists = polygon_lists(generator, n, domain, seed);
+  MeshPieceRead<Mesh> out;
+  detail::make_plane_piece(lists.cells, held, rank, size, out);
+  name_polygon_edges(out.mesh, domain.corners, lists.dom.tol, out.cut_facets);
+  return out;
 }
 
 }  // namespace hemivem

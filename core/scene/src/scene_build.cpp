@@ -208,9 +208,8 @@ std::unique_ptr<BuiltProblem> detail::built_plane(const Scene& scene, const RowD
       if (scene.mesh.polygon.empty())
         return make_mesh(scene.mesh.generator, cells, Rectangle{d[0], d[1], d[2], d[3]},
                          static_cast<std::uint64_t>(scene.mesh.seed), processes);
-      PolygonDomain poly;
-      for (const auto& p : scene.mesh.polygon) poly.corners.emplace_back(p[0], p[1]);
-      return make_mesh(scene.mesh.generator, scene.mesh.n, poly, static_cast<std::uint64_t>(scene.mesh.seed));
+      return make_mesh(scene.mesh.generator, scene.mesh.n, polygon_domain(scene),
+                       static_cast<std::uint64_t>(scene.mesh.seed));
     });
   }
 
@@ -222,6 +221,12 @@ std::unique_ptr<BuiltProblem> build_problem(const Scene& scene, Mesh given, bool
 }
 
 namespace detail {
+
+PolygonDomain polygon_domain(const Scene& scene) {
+  PolygonDomain out;
+  for (const auto& p : scene.mesh.polygon) out.corners.emplace_back(p[0], p[1]);
+  return out;
+}
 
 std::array<std::vector<double>, 2> polar_lists(const Scene& scene) {
   const GridSize c = scene.mesh.cells();

@@ -295,12 +295,17 @@ std::vector<std::array<double, 3>> held_points(const Scene& scene) {
   return held;
 }
 
-/// Where the piece `read` lies in the whole mesh, into `where` (its share and cells taken).
-template <class MeshType>
-void keep_where(MeshPieceRead<MeshType>& read, PieceOfMesh& where) {
+/// The scene's problem on the piece `read` (a file's or a mesh made as lists), no selector picking
+/// the facets where it meets the others; where it lies in the whole mesh into `where` (its
+/// share and cells taken).
+template <int dim>
+std::unique_ptr<BasicBuiltProblem<dim>> built_on_piece(const Scene& scene, MeshPieceRead<MeshOf<dim>>& read,
+                                                       PieceOfMesh& where) {
   where.vertices = VertexShare{read.first, read.end, std::move(read.order)};
   where.cells = std::move(read.cells);
   where.whole_cells = read.whole_cells;
+  if constexpr (dim == 2) return detail::built_plane_on(scene, std::move(read.mesh), true, false, read.cut_facets);
+  else return detail::built_solid(scene, std::move(read.mesh), false, read.cut_facets);
 }
 
 }  // namespace
@@ -308,9 +313,7 @@ void keep_where(MeshPieceRead<MeshType>& read, PieceOfMesh& where) {
 template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> read_problem_piece(const Scene& scene, int rank, int size, PieceOfMesh& where) {
   detail::require_dimension<dim>(scene);
-  std::unique_ptr<BasicBuiltProblem<dim>> out;
   const std::vector<std::array<double, 3>> held = held_points(scene);
-  const auto keep = [&](auto& read) { keep_where(read, where); };
   if constexpr (dim == 2) {
     const bool poly2d = to_lower(scene.mesh.file.extension().string()) == ".poly2d";
     MeshPieceRead<Mesh> read = poly2d ? read_poly2d_piece(scene.mesh.file, rank, size, held)
@@ -318,14 +321,11 @@ std::unique_ptr<BasicBuiltProblem<dim>> read_problem_piece(const Scene& scene, i
     detail::require_file_memory(
         scene, estimate_memory(read.mesh.num_vertices(), read.whole_cells, read.cell_vertices, read.cell_vertices_squared),
         read.largest_cell);
-    keep(read);
-    out = detail::built_plane_on(scene, std::move(read.mesh), true, false, read.cut_facets);
+    return built_on_piece<2>(scene, read, where);
   } else {
     MeshPieceRead<Mesh3D> read = read_gmsh3d_piece(scene.mesh.file, rank, size, held);
-    keep(read);
-    out = detail::built_solid(scene, std::move(read.mesh), false, read.cut_facets);
+    return built_on_piece<3>(scene, read, where);
   }
-  return out;
 }
 
 template std::unique_ptr<BasicBuiltProblem<2>> read_problem_piece<2>(const Scene&, int, int, PieceOfMesh&);
@@ -351,27 +351,42 @@ std::unique_ptr<BasicBuiltProblem<dim>> voronoi_problem_piece(const Scene& scene
     MeshPieceRead<Mesh> made = detail::generated_mesh(scene, [&] {
       return make_voronoi_piece(scene.mesh.cells(), Rectangle{d[0], d[1], d[2], d[3]}, options, rank, size, held);
     });
-    keep_where(made, where);
-    return detail::built_plane_on(scene, std::move(made.mesh), true, false, made.cut_facets);
+    return built_on_piece<2>(scene, made, where);
   } else {
     const auto& b = scene.mesh.box;
     MeshPieceRead<Mesh3D> made = detail::generated_mesh(scene, [&] {
       return make_voronoi3d_piece(scene.mesh.cells3(), Box{b[0], b[1], b[2], b[3], b[4], b[5]}, options, rank, size, held);
     });
-    keep_where(made, where);
-    return detail::built_solid(scene, std::move(made.mesh), false, made.cut_facets);
+    return built_on_piece<3>(scene, made, where);
   }
 }
 
 template std::unique_ptr<BasicBuiltProblem<2>> voronoi_problem_piece<2>(const Scene&, const RowDistribution&, PieceOfMesh&);
 template std::unique_ptr<BasicBuiltProblem<3>> voronoi_problem_piece<3>(const Scene&, const RowDistribution&, PieceOfMesh&);
 
+bool makes_polygon_pieces(const Scene& scene) {
+  const SceneMesh& m = scene.mesh;
+  return scene.bodies.empty() && !scene.adapt && m.file.empty() && !m.polygon.empty();
+}
+
+std::unique_ptr<BuiltProblem> polygon_problem_piece(const Scene& scene, int rank, int size, PieceOfMesh& where) {
+  detail::require_dimension<2>(scene);
+  detail::require_generated_memory(scene);
+  const std::vector<std::array<double, 3>> held = held_points(scene);
+  MeshPieceRead<Mesh> made = detail::generated_mesh(scene, [&] {
+    return make_mesh_piece(scene.mesh.generator, scene.mesh.n, detail::polygon_domain(scene),
+                           static_cast<std::uint64_t>(scene.mesh.seed), rank, size, held);
+  });
+  return built_on_piece<2>(scene, made, where);
+}
+
 void check_regions_of_pieces(const Scene& scene, const std::vector<int>& regions) {
   detail::check_regions_present(scene, std::set<int>(regions.begin(), regions.end()), true);
 }
 
 bool cuts_pieces(const Scene& scene) {
-  return !scene.adapt && !scene_piece(scene, 0, 1) && !makes_body_pieces(scene);
+  return !scene.adapt && !scene_piece(scene, 0, 1) && !reads_pieces(scene) && !makes_voronoi_pieces(scene) &&
+         !makes_polygon_pieces(scene) && !makes_body_pieces(scene);
 }
 
 template <int dim>

@@ -13,6 +13,7 @@
 
 #include <hemivem/error.hpp>
 #include <hemivem/mesh/dimension.hpp>
+#include <hemivem/mesh/generators.hpp>
 #include <hemivem/scene/resources.hpp>
 #include <hemivem/scene/scene.hpp>
 
@@ -112,5 +113,8 @@ void require_file_memory(const Scene& scene, const MemoryEstimate& condensed, in
 
 /// The radii and angles (radians) of a plane scene's polar grid (polar_grid of its mesh keys).
 std::array<std::vector<double>, 2> polar_lists(const Scene& scene);
+
+/// The polygon of a plane scene's mesh.polygon.
+PolygonDomain polygon_domain(const Scene& scene);
 
 }  // namespace hemivem::detail

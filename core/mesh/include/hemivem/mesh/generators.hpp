@@ -159,6 +159,14 @@ Mesh make_triangles(int n, const PolygonDomain& domain);
 /// vertices on the polygon's edges lie on them to round-off.
 Mesh make_voronoi(int n, const PolygonDomain& domain, const VoronoiOptions& options = {});
 
+/// The piece of make_mesh(generator, n, domain, seed)'s mesh in a polygon that process `rank` of
+/// `size` keeps (MeshPieceRead), as make_voronoi_piece keeps its piece of a rectangle's: the
+/// cells made as lists of vertices, as the whole mesh numbers them, the piece chosen among them
+/// by the rule of a piece read from a file and only its mesh made, its edge groups "edge<k>" the
+/// whole mesh's edges on them (every piece holds every boundary edge). Errors as make_mesh's.
+MeshPieceRead<Mesh> make_mesh_piece(std::string_view generator, int n, const PolygonDomain& domain, std::uint64_t seed,
+                                    int rank, int size, HeldPoints held = {});
+
 /// The generator names: squares, triangles, voronoi, nonconvex, distorted.
 const std::vector<std::string>& mesh_generator_names();
 

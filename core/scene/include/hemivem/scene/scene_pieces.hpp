@@ -78,6 +78,18 @@ template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> voronoi_problem_piece(const Scene& scene, const RowDistribution& processes,
                                                               PieceOfMesh& where);
 
+/// Whether each process makes only its piece of the scene's mesh in a polygon
+/// (polygon_problem_piece): a scene of one body whose mesh the triangles or voronoi generator
+/// makes in its mesh.polygon, without adaptive steps.
+bool makes_polygon_pieces(const Scene& scene);
+
+/// build_problem(scene) on the piece of the scene's mesh in its polygon that process `rank` of
+/// `size` makes (make_mesh_piece: the cells made as lists, then the piece chosen among them by
+/// read_problem_piece's rule and only its mesh made; its edge groups the whole mesh's): the same
+/// problem on fewer cells, its vertices and their numbers the whole mesh's; no selector picks an
+/// edge where the piece meets the others. `where` tells where the piece lies.
+std::unique_ptr<BuiltProblem> polygon_problem_piece(const Scene& scene, int rank, int size, PieceOfMesh& where);
+
 /// Whether each process makes only its piece of each body's mesh (build_bodies_piece): a scene
 /// of several bodies, without adaptive steps, each of whose meshes would be made in pieces as a
 /// scene of one body (scene_piece of body_scene), the sides of the contact parts against it
@@ -102,8 +114,9 @@ template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> build_bodies_piece(const Scene& scene, int rank, int size, PieceOfMesh& where);
 
 /// Whether a scene's mesh may be made whole and each process keep only its piece of it for the
-/// solve (cut_problem_piece): a scene whose mesh is made whole (no piece of a generated box:
-/// scene_piece, makes_body_pieces), without adaptive steps.
+/// solve (cut_problem_piece): a scene whose mesh no process makes or reads in pieces (scene_piece,
+/// reads_pieces, makes_voronoi_pieces, makes_polygon_pieces, makes_body_pieces), without adaptive
+/// steps.
 bool cuts_pieces(const Scene& scene);
 
 /// The problem of `whole` (build_problem<dim>(scene) on the whole mesh) on the piece of its mesh
