@@ -94,6 +94,38 @@ void expect_piece_of(const M& piece, const std::vector<int>& cells, const M& who
   if (smaller) EXPECT_LT(num_cells_of(piece), num_cells_of(whole));
 }
 
+std::vector<int> facet_key(const Mesh& mesh, int e) { return {std::min(mesh.edge(e).v0, mesh.edge(e).v1), std::max(mesh.edge(e).v0, mesh.edge(e).v1)}; }
+std::vector<int> facet_key(const Mesh3D& mesh, int f) {
+  std::vector<int> v = mesh.face(f).vertices;
+  std::sort(v.begin(), v.end());
+  return v;
+}
+bool boundary_facet(const Mesh& mesh, int e) { return mesh.edge(e).right < 0; }
+bool boundary_facet(const Mesh3D& mesh, int f) { return mesh.face(f).outer < 0; }
+int facets_of(const Mesh& mesh) { return mesh.num_edges(); }
+int facets_of(const Mesh3D& mesh) { return mesh.num_faces(); }
+
+/// grid_cut_facets of the piece `made` (the whole's cells `cells`) are its boundary facets whose
+/// facet in the whole mesh has a cell on either side, increasing; some when `some`.
+template <class M>
+void expect_cut_facets(const M& made, const std::vector<int>& cells, const M& whole, const BoxGridVertices& grid, bool some) {
+  std::vector<int> facet_of;
+  const M cut = cut_mesh_piece(whole, cells, &facet_of);
+  std::set<std::vector<int>> inside;
+  for (int f = 0; f < facets_of(whole); ++f)
+    if (const int g = facet_of[static_cast<std::size_t>(f)]; g >= 0 && !boundary_facet(whole, f) && boundary_facet(cut, g))
+      inside.insert(facet_key(whole, f));
+  const std::vector<int> found = grid_cut_facets(made, grid);
+  EXPECT_TRUE(std::is_sorted(found.begin(), found.end()));
+  std::set<std::vector<int>> keys;
+  for (const int f : found) {
+    EXPECT_TRUE(boundary_facet(made, f)) << "facet " << f;
+    keys.insert(facet_key(made, f));
+  }
+  EXPECT_EQ(keys, inside);
+  EXPECT_EQ(keys.empty(), !some);
+}
+
 std::set<std::vector<int>> sorted_facets(const Mesh& mesh, const std::vector<int>& edges) {
   std::set<std::vector<int>> out;
   for (int e : edges) out.insert({std::min(mesh.edge(e).v0, mesh.edge(e).v1), std::max(mesh.edge(e).v0, mesh.edge(e).v1)});
@@ -160,10 +192,12 @@ TEST(BoxPiece, APlanePieceHoldsTheCellsOfItsVerticesAndItsSides) {
     const Mesh whole = make_mesh(generator, GridSize(8, 12), domain, 7);
     const std::set<std::vector<int>> bottom =
         sorted_facets(whole, select_boundary_edges(whole, {rectangle_side(whole.bounding_box(), "bottom")}));
+    const BoxGridVertices grid(generator, 2, {8, 12, 1});
     for (const auto& [v0, v1] : thirds(whole.num_vertices())) {
       const BoxPiece piece{v0, v1, {"bottom"}};
-      expect_piece_of(make_mesh_piece(generator, GridSize(8, 12), domain, piece, 7),
-                      piece_cells(generator, GridSize(8, 12), piece), whole, v0, v1, bottom, true);
+      const Mesh made = make_mesh_piece(generator, GridSize(8, 12), domain, piece, 7);
+      expect_piece_of(made, piece_cells(generator, GridSize(8, 12), piece), whole, v0, v1, bottom, true);
+      expect_cut_facets(made, piece_cells(generator, GridSize(8, 12), piece), whole, grid, true);
     }
   }
   EXPECT_NE(make_mesh_piece("distorted", GridSize(8, 12), domain, BoxPiece{0, 10, {}}, 7).vertex(10),
@@ -179,10 +213,12 @@ TEST(BoxPiece, ASolidPieceHoldsTheCellsOfItsVerticesAndItsSides) {
     std::set<std::vector<int>> sides = sorted_facets(whole, select_box_side(whole, domain, "bottom"));
     const auto x1 = sorted_facets(whole, select_box_side(whole, domain, "x1"));
     sides.insert(x1.begin(), x1.end());
+    const BoxGridVertices grid(generator, 3, {4, 3, 9});
     for (const auto& [v0, v1] : thirds(whole.num_vertices())) {
       const BoxPiece piece{v0, v1, {"bottom", "x1"}};
-      expect_piece_of(make_mesh3d_piece(generator, GridSize3(4, 3, 9), domain, piece),
-                      piece_cells(generator, GridSize3(4, 3, 9), piece), whole, v0, v1, sides, true);
+      const Mesh3D made = make_mesh3d_piece(generator, GridSize3(4, 3, 9), domain, piece);
+      expect_piece_of(made, piece_cells(generator, GridSize3(4, 3, 9), piece), whole, v0, v1, sides, true);
+      expect_cut_facets(made, piece_cells(generator, GridSize3(4, 3, 9), piece), whole, grid, true);
     }
   }
 }
@@ -340,6 +376,7 @@ TEST(BoxPiece, APolarPieceHoldsTheCellsOfItsVerticesItsSidesAndItsHeldVertex) {
         const Mesh made = make_polar_piece(centre, *radii, *angles, piece);
         expect_piece_of(made, polar_piece_cells(*radii, *angles, piece), whole, v0, v1, outer, v1 - v0 > 0);
         expect_groups_of_the_whole(made, whole);
+        expect_cut_facets(made, polar_piece_cells(*radii, *angles, piece), whole, grid, true);
       }
       const std::vector<int> order = hilbert_vertex_order(whole);
       for (int rank = 0; rank < 3; ++rank) {
@@ -350,6 +387,7 @@ TEST(BoxPiece, APolarPieceHoldsTheCellsOfItsVerticesItsSidesAndItsHeldVertex) {
         const Mesh made = make_polar_piece(centre, *radii, *angles, piece);
         expect_flagged_piece_of(made, polar_piece_cells(*radii, *angles, piece), whole, flags, {});
         expect_groups_of_the_whole(made, whole);
+        expect_cut_facets(made, polar_piece_cells(*radii, *angles, piece), whole, grid, true);
       }
       // a vertex of the last sector, and the centre or a vertex of the first ring, flagged or held
       const int last = static_cast<int>(grid.corner({n - 1, m - 1, 0})), inside = static_cast<int>(grid.corner({1, 0, 0}));
@@ -562,6 +600,16 @@ law = "zero"
     const Scene polar = parse_scene_string(text, "polar.toml");
     EXPECT_FALSE(cuts_pieces(polar));
     expect_scene_pieces_pose_the_whole_share<2>(polar, 3);
+    // by segments: the half-disk held along its diameter (its start and end rays); the disk's
+    // traction on its first ray too, inside the disk, which the pieces' first column of boxes
+    // meets the others along (a segment there picks no edge)
+    const std::string by = start != 0.0 ? "group = [\"start\", \"end\"]" : "group = \"outer\"\nvalue";
+    const std::string to = start != 0.0 ? "segments = [[0.0, 0.5, 1.0, 0.5]]"
+                                        : "group = \"outer\"\nsegments = [[0.5, 0.5, 1.0, 0.5]]\nvalue";
+    text.replace(text.find(by), by.size(), to);
+    const Scene segments = parse_scene_string(text, "polar-segments.toml");
+    ASSERT_TRUE(scene_piece(segments, 0, 3));
+    expect_scene_pieces_pose_the_whole_share<2>(segments, 3);
   }
   // a solid on a roller at x = 0, held at two points of its far side against the rigid motions
   // the roller leaves free
@@ -643,24 +691,39 @@ TEST(MeshPiece, ThePiecesKeptOfAPlaneMeshMadeWholePoseTheWholeMeshsShares) {
   expect_cut_pieces_pose_the_whole_share<2>("rollers-pressure.toml");  // a contact part on a segment
 }
 
-// a segment picks on a piece what it picks on the whole mesh, though it holds edges inside the
-// mesh that a piece's boundary may cut along
+// a segment picks on a piece what it picks on the whole mesh, though the piece's boundary holds
+// edges inside the mesh that the segment runs along: on pieces cut from the whole mesh and on
+// pieces made of the generated box (which hold every side, and know where they meet the others)
 TEST(MeshPiece, APiecesSegmentsPickTheWholeMeshsEdges) {
   Scene scene = parse_scene(test::scenes_dir() / "paper-example-4.1.toml");  // squares on the unit square
-  scene.mesh.n = 8;
+  scene.mesh.n = 16;
   scene.contact->boundary = BoundarySelector{};
-  scene.contact->boundary.segments = {{0.0, 0.0, 1.0, 0.0}, {0.0, 0.25, 1.0, 0.25}};  // the bottom, and across the body
-  ASSERT_FALSE(scene_piece(scene, 0, 3));  // not made in pieces: a segment
-  expect_cut_pieces_pose_the_whole_share<2>(scene);
-  int cut_on_segment = 0;  // the pieces' boundary edges along y = 0.25, which the whole mesh's segment does not pick
+  scene.contact->boundary.segments = {{0.0, 0.0, 1.0, 0.0}};  // the bottom, and lines across the body
+  for (int k = 1; k < 16; ++k) scene.contact->boundary.segments.push_back({0.0, k / 16.0, 1.0, k / 16.0});
+  SceneDirichlet inside;  // held at a vertex inside
+  inside.boundary.points = {{0.75, 0.25, 0.0}};
+  inside.ux = SceneScalar{0.0};
+  scene.dirichlet.push_back(inside);
+  ASSERT_TRUE(scene_piece(scene, 0, 3));
+  expect_cut_pieces_pose_the_whole_share<2>(scene, false);
+  expect_scene_pieces_pose_the_whole_share<2>(scene, 3);
+  // the pieces' boundary edges along the lines across, which the whole mesh's segments do not pick
+  const auto across = [](const Mesh& mesh) {
+    int out = 0;
+    for (int f : mesh.boundary_edges()) {
+      const double y = mesh.vertex(mesh.edge(f).v0).y();
+      out += y > 0.0 && y < 1.0 && mesh.vertex(mesh.edge(f).v1).y() == y ? 1 : 0;
+    }
+    return out;
+  };
+  int cut = 0, made = 0;
   for (int rank = 0; rank < 3; ++rank) {
     PieceOfMesh where;
-    const auto piece = cut_problem_piece<2>(build_problem<2>(scene), rank, 3, where);
-    for (int f : piece->mesh.boundary_edges())
-      if (piece->mesh.vertex(piece->mesh.edge(f).v0).y() == 0.25 && piece->mesh.vertex(piece->mesh.edge(f).v1).y() == 0.25)
-        ++cut_on_segment;
+    cut += across(cut_problem_piece<2>(build_problem<2>(scene), rank, 3, where)->mesh);
+    made += across(build_problem_piece<2>(scene, *scene_piece(scene, rank, 3))->mesh);
   }
-  EXPECT_GT(cut_on_segment, 0);
+  EXPECT_GT(cut, 0);
+  EXPECT_GT(made, 0);
 }
 
 TEST(MeshPiece, ThePiecesKeptOfAGmshSolidPoseTheWholeMeshsShares) {

@@ -155,9 +155,10 @@ TEST(ScenePieces, SeveralBodiesAreMadeInPiecesOrCutAndAdaptiveStepsHeldWholeOnEv
 }
 
 // a support at a point holds the grid vertex nearest it, whose cells every piece holds; a
-// segment along a side is made as the side; a segment across a generated box is cut from the
-// whole mesh (cut_problem_piece renumbers the whole's facets)
-TEST(ScenePieces, PointsAndSegmentsAlongSidesAreMadeInPiecesOtherSegmentsCut) {
+// segment along a side is made as the side, a segment across the body with every side (the
+// piece's edges where it meets the others picked by no selector); of several bodies, a segment
+// across one is cut from the whole mesh (cut_problem_piece renumbers the whole's facets)
+TEST(ScenePieces, PointsAndSegmentsAreMadeInPiecesAcrossSeveralBodiesCut) {
   const Scene plate = shipped("plate-friction-benchmark.toml");  // squares [32, 32], held at (0.04, 0)
   ASSERT_TRUE(plate.path);
   expect_two_pieces<2>(plate);
@@ -180,9 +181,19 @@ TEST(ScenePieces, PointsAndSegmentsAlongSidesAreMadeInPiecesOtherSegmentsCut) {
     EXPECT_NE(std::find(piece->sides.begin(), piece->sides.end(), side), piece->sides.end()) << side;
   expect_two_pieces<2>(along);
   Scene across = along;
-  across.contact->boundary.segments.push_back({0.0, 0.5, 1.0, 0.5});  // across the body
-  EXPECT_FALSE(scene_piece(across, 0, 2));
-  EXPECT_TRUE(cuts_pieces(across));
+  across.contact->boundary.segments.push_back({0.0, 0.5, 1.0, 0.5});  // across the body: every side held
+  const std::optional<BoxPiece> every = scene_piece(across, 0, 2);
+  ASSERT_TRUE(every);
+  EXPECT_EQ(every->sides, (std::vector<std::string>{"bottom", "left", "right", "top"}));
+  EXPECT_FALSE(cuts_pieces(across));
+  expect_two_pieces<2>(across);
+  Scene bodies = shipped("two-blocks.toml");  // several bodies: a segment across one is cut from the whole
+  bodies.bodies[0].mesh.generator = "triangles";
+  ASSERT_TRUE(makes_body_pieces(bodies));
+  bodies.bodies[1].tractions.push_back(SceneTraction{});
+  bodies.bodies[1].tractions.back().boundary.segments = {{0.0, 0.1, 1.0, 0.1}};
+  EXPECT_FALSE(makes_body_pieces(bodies));
+  EXPECT_TRUE(cuts_pieces(bodies));
   const Scene rollers = shipped("rollers-pressure.toml");  // a contact part on a segment of a Voronoi mesh's bottom
   EXPECT_FALSE(scene_piece(rollers, 0, 2));
   EXPECT_FALSE(cuts_pieces(rollers));  // made from its cells' lists, where a segment picks no cut edge

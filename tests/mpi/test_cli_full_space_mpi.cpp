@@ -559,6 +559,46 @@ TEST(CliFullSpaceMpi, ADistortedOrNonconvexMeshEachProcessMakesItsPieceOfIsTheCo
   }
 }
 
+// segments across a generated box (lines through Example 4.1's squares, which pick no edge) and
+// along a polar grid's rays (a half ring held along its diameter): each process makes its piece,
+// holding every side, and no segment picks an edge where the pieces meet
+TEST(CliFullSpaceMpi, SegmentsOnAGeneratedBoxOrPolarGridEachProcessMakesItsPieceOfAreTheCondensedAnswer) {
+  const fs::path ring = scratch("polar-segments.toml");
+  fs::create_directories(ring.parent_path());
+  std::ofstream(ring) << R"(schema_version = 1
+[mesh]
+generator = "polar"
+radii = [0.5, 1.0]
+angles = [180.0, 360.0]
+n = [6, 24]
+[material]
+E = 65.0
+nu = 0.29
+[clamped]
+segments = [[-1.0, 0.0, -0.5, 0.0], [0.5, 0.0, 1.0, 0.0]]
+[[loads.traction]]
+group = "inner"
+pressure = 2.0
+[contact]
+group = "outer"
+law = "paper"
+gap = 0.02
+constraint = "box"
+)";
+  const struct {
+    std::string flags, name;
+  } cases[] = {{scene("paper-example-4.1.toml") + " --n 16 --set 'contact.segments=[[0.0, 0.5, 1.0, 0.5], [0.0, 0.25, 1.0, 0.25]]'",
+                "squares-segments"},
+               {ring.string(), "polar-segments"}};
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.name);
+    const std::string flags = c.flags + " --tol 1e-11";
+    const fs::path ref = solve_condensed(flags, "condensed-" + c.name);
+    if (ref.empty()) return;
+    for (const int processes : {2, 3}) expect_processes_agree(flags, ref, processes, c.name, false, processes);
+  }
+}
+
 // a Voronoi mesh of a plane and of a solid, each process computing the cells of its share of the
 // seeds in the Lloyd iterations (in the plane from the seeds around them alone): the one
 // process's mesh (its vertices, cells, faces and h) and answer; each process makes its piece of

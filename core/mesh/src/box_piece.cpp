@@ -6,6 +6,8 @@
 #include "box_sides.hpp"
 
 #include <algorithm>
+#include <array>
+#include <type_traits>
 #include <string>
 
 namespace hemivem {
@@ -93,6 +95,47 @@ long long BoxGridVertices::fine_vertex(long long i, long long j) const {
   if (j == 0 || j == rows) return i % 2 != 0 ? -1 : first + i / 2;
   return first + i;
 }
+
+bool BoxGridVertices::on_side(std::span<const int> vertices) const {
+  for (int axis = 0; axis < dim_; ++axis) {
+    if (axis == 0 && closure_.around) continue;  // around a full turn: no first or last ray
+    const long long top = fine_ ? 2LL * counts_[static_cast<std::size_t>(axis)] : columns(axis) - 1;
+    bool low = true, high = true;
+    for (const int v : vertices) {
+      if (axis == 0 && closure_.centre && v == 0) continue;  // the centre of a disk lies on every ray
+      const long long at = fine_ ? fine_point(v)[static_cast<std::size_t>(axis)] : point(v)[static_cast<std::size_t>(axis)];
+      low = low && at == 0;
+      high = high && at == top;
+    }
+    if (low || high) return true;
+  }
+  return false;
+}
+
+namespace {
+
+/// grid_cut_facets of a plane or solid piece.
+template <class MeshType>
+std::vector<int> cut_facets_of_grid(const MeshType& piece, const BoxGridVertices& grid) {
+  std::vector<int> out;
+  for (const int f : piece.boundary_facets()) {
+    bool on_side = false;
+    if constexpr (std::is_same_v<MeshType, Mesh>) {
+      const std::array<int, 2> ends{piece.edge(f).v0, piece.edge(f).v1};
+      on_side = grid.on_side(ends);
+    } else {
+      on_side = grid.on_side(piece.face(f).vertices);
+    }
+    if (!on_side) out.push_back(f);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+}  // namespace
+
+std::vector<int> grid_cut_facets(const Mesh& piece, const BoxGridVertices& grid) { return cut_facets_of_grid(piece, grid); }
+std::vector<int> grid_cut_facets(const Mesh3D& piece, const BoxGridVertices& grid) { return cut_facets_of_grid(piece, grid); }
 
 namespace {
 

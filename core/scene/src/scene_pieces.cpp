@@ -102,11 +102,18 @@ std::string side_along(const Scene& scene, const std::array<double, 4>& segment,
 
 /// Adds to `piece` what the scene's selector `b` needs of its generated box: the sides it names
 /// and those its segments lie along (in the plane), whose every cell the piece holds, and the
-/// vertex each of its points holds; false when `b` selects by anything else (a group, a segment
-/// along no side), which a process cannot place before the mesh is made.
-bool add_selector(const Scene& scene, const BoundarySelector& b, BoxPiece& piece) {
+/// vertex each of its points holds; false when `b` selects by anything else (a group), which a
+/// process cannot place before the mesh is made. A segment along no side, or any of a polar
+/// grid's, holds every side when `cut_known` (a piece that knows the facets where it meets the
+/// others, grid_cut_facets, which no selector picks: the segment then picks on it the whole
+/// mesh's boundary edges it picks); false otherwise.
+bool add_selector(const Scene& scene, const BoundarySelector& b, BoxPiece& piece, bool cut_known) {
+  const auto every_side = [&] { piece.sides.insert(piece.sides.end(), {"left", "right", "bottom", "top"}); };
   if (is_polar(scene)) {  // its edge groups, the sides of its grid of boxes
-    if (!b.segments.empty()) return false;
+    if (!b.segments.empty()) {
+      if (!cut_known) return false;
+      every_side();
+    }
     // a side of its bounding box picks boundary edges alone, which the grid's sides hold (a
     // piece's boundary inside the grid lies along no side of the box: a cell beyond it would)
     if (!b.sides.empty()) piece.sides.insert(piece.sides.end(), {"left", "right", "bottom", "top"});
@@ -121,8 +128,12 @@ bool add_selector(const Scene& scene, const BoundarySelector& b, BoxPiece& piece
   if (!b.groups.empty()) return false;
   for (const auto& segment : b.segments) {
     const std::string side = scene.dimension() == 2 ? side_along(scene, segment, b.tolerance) : std::string();
-    if (side.empty()) return false;
-    piece.sides.push_back(side);
+    if (!side.empty()) {
+      piece.sides.push_back(side);
+    } else {
+      if (!cut_known || scene.dimension() != 2) return false;
+      every_side();
+    }
   }
   piece.sides.insert(piece.sides.end(), b.sides.begin(), b.sides.end());
   for (const auto& q : b.points) piece.held.push_back(nearest_grid_vertex(scene, q));
@@ -133,13 +144,14 @@ bool add_selector(const Scene& scene, const BoundarySelector& b, BoxPiece& piece
 long long scene_vertices(const Scene& scene) { return grid_vertices_of(scene).count(); }
 
 /// The piece of the generated box of a scene of one body whose supports, loads and contact
-/// parts, and the selectors `more`, select sides, segments along sides and points only; none
-/// otherwise.
-std::optional<BoxPiece> box_piece_of(const Scene& scene, const std::vector<BoundarySelector>& more, int rank, int size) {
+/// parts, and the selectors `more`, select sides, segments along sides and points only (any
+/// segment in the plane when `cut_known`, add_selector); none otherwise.
+std::optional<BoxPiece> box_piece_of(const Scene& scene, const std::vector<BoundarySelector>& more, int rank, int size,
+                                     bool cut_known) {
   const SceneMesh& m = scene.mesh;
   if (!m.file.empty() || !makes_pieces(m.generator) || !m.polygon.empty()) return std::nullopt;
   BoxPiece piece;
-  const auto place = [&](const BoundarySelector& b) { return add_selector(scene, b, piece); };
+  const auto place = [&](const BoundarySelector& b) { return add_selector(scene, b, piece, cut_known); };
   if (!every_selector(scene, place) || !std::all_of(more.begin(), more.end(), place)) return std::nullopt;
   std::sort(piece.sides.begin(), piece.sides.end());
   piece.sides.erase(std::unique(piece.sides.begin(), piece.sides.end()), piece.sides.end());
@@ -158,7 +170,7 @@ std::optional<BoxPiece> body_piece(const Scene& scene, std::size_t b, int rank, 
   std::vector<BoundarySelector> against;
   for (const SceneContact& c : contact_parts(scene))
     if (c.against && c.against_body == scene.bodies[b].name) against.push_back(*c.against);
-  return box_piece_of(body_scene(scene, b), against, rank, size);
+  return box_piece_of(body_scene(scene, b), against, rank, size, false);
 }
 
 /// The piece of a scene of one body's generated box.
@@ -184,7 +196,7 @@ MeshOf<dim> box_mesh_piece(const Scene& scene, const BoxPiece& piece) {
 
 std::optional<BoxPiece> scene_piece(const Scene& scene, int rank, int size) {
   if (!scene.bodies.empty() || scene.adapt) return std::nullopt;
-  return box_piece_of(scene, {}, rank, size);
+  return box_piece_of(scene, {}, rank, size, true);
 }
 
 PieceOfMesh scene_piece_of_mesh(const Scene& scene, const BoxPiece& piece) {
@@ -209,12 +221,17 @@ PieceOfMesh scene_piece_of_mesh(const Scene& scene, const BoxPiece& piece) {
 
 template <>
 std::unique_ptr<BasicBuiltProblem<2>> build_problem_piece<2>(const Scene& scene, const BoxPiece& piece) {
-  return detail::built_plane_on(scene, box_mesh_piece<2>(scene, piece), true, false);
+  Mesh mesh = box_mesh_piece<2>(scene, piece);
+  const std::vector<int> cut = grid_cut_facets(mesh, grid_vertices_of(scene));
+  return detail::built_plane_on(scene, std::move(mesh), true, false, cut);
 }
 
 template <>
 std::unique_ptr<BasicBuiltProblem<3>> build_problem_piece<3>(const Scene& scene, const BoxPiece& piece) {
-  return build_problem(scene, box_mesh_piece<3>(scene, piece));
+  detail::require_dimension<3>(scene);
+  Mesh3D mesh = box_mesh_piece<3>(scene, piece);
+  const std::vector<int> cut = grid_cut_facets(mesh, grid_vertices_of(scene));
+  return detail::built_solid(scene, std::move(mesh), true, cut);
 }
 
 bool makes_body_pieces(const Scene& scene) {

@@ -20,6 +20,7 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -89,6 +90,10 @@ class BoxGridVertices {
   /// vertex at that point (-1 where none: a box's centre, the mid-point of a boundary box's side).
   std::array<long long, 2> fine_point(long long v) const;
   long long fine_vertex(long long i, long long j) const;
+  /// Whether the vertices `vertices` (of one facet) all lie on one side of the grid: on the
+  /// whole mesh's boundary (the sides of its box, a polar grid's inner and outer rings and, short
+  /// of a full turn, its first and last rays, which a disk's centre lies on).
+  bool on_side(std::span<const int> vertices) const;
 
  private:
   /// The distinct grid points along `axis`.
@@ -129,6 +134,13 @@ std::vector<int> polar_piece_cells(const std::vector<double>& radii, const std::
 /// The piece of make_mesh3d(generator, n, domain) described by `piece`; InputError as
 /// make_mesh_piece.
 Mesh3D make_mesh3d_piece(std::string_view generator, GridSize3 n, const Box& domain, const BoxPiece& piece);
+
+/// The boundary facets of `piece`, a piece of a generated grid's mesh (make_mesh_piece,
+/// make_polar_piece, make_mesh3d_piece) whose vertices `grid` numbers, that lie on no side of the
+/// grid (BoxGridVertices::on_side): where the piece meets the cells it does not hold, inside the
+/// whole mesh (increasing; MeshPieceRead::cut_facets).
+std::vector<int> grid_cut_facets(const Mesh& piece, const BoxGridVertices& grid);
+std::vector<int> grid_cut_facets(const Mesh3D& piece, const BoxGridVertices& grid);
 
 /// The whole mesh's number of each cell of the piece make_mesh_piece(generator, n, domain,
 /// piece) makes, in its order (increasing); InputError as make_mesh_piece.
