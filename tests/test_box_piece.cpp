@@ -716,11 +716,13 @@ TEST(MeshPiece, ThePiecesKeptOfAGmshSolidPoseTheWholeMeshsShares) {
 // each body's kept cells one, the pairs across the bodies' contact posed as on the whole mesh
 TEST(MeshPiece, ThePiecesKeptOfSeveralBodiesPoseTheWholeMeshsShares) {
   {
-    SCOPED_TRACE("two-blocks");  // a Voronoi block on squares
+    SCOPED_TRACE("two-blocks, a region box in the Voronoi block");  // made whole and cut
     Scene blocks = parse_scene(test::scenes_dir() / "two-blocks.toml");
     ASSERT_EQ(blocks.bodies.size(), 2u);
     blocks.bodies[0].mesh.n = 12, blocks.bodies[0].mesh.ny = 6;
     blocks.bodies[1].mesh.n = 14, blocks.bodies[1].mesh.ny = 6;
+    blocks.bodies[0].material.regions.push_back(
+        SceneRegionMaterial{1, 20.0, 0.3, std::array<double, 4>{0.0, 0.5, 0.5, 1.0}});
     expect_cut_pieces_pose_the_whole_share<2>(blocks);
   }
   // two boxes, the upper pressed down by its top's displacement (the full-space route needs
@@ -872,6 +874,19 @@ TEST(BodyPieces, ThePiecesEachProcessMakesOfSeveralBodiesAreTheWholeMeshs) {
     blocks.bodies[1].mesh.generator = "distorted";
     expect_body_pieces_are_the_whole_meshs<2>(blocks);
   }
+  {
+    SCOPED_TRACE("two-blocks, the lower loaded along the rows of its squares and a segment of its right side");
+    Scene across = blocks;
+    across.bodies[0].mesh.generator = "triangles";
+    across.bodies[1].mesh.generator = "squares";
+    across.bodies[1].mesh.n = 14, across.bodies[1].mesh.ny = 6;
+    SceneTraction row;  // the rows pick no edge of the whole mesh, and the pieces' edges along them are cut
+    row.boundary.segments = {{1.0, 0.0, 1.0, 0.25}};
+    for (int k = 1; k < 6; ++k) row.boundary.segments.push_back({0.0, k / 12.0, 1.0, k / 12.0});
+    row.pressure = SceneScalar{1.0};
+    across.bodies[1].tractions.push_back(row);
+    expect_body_pieces_are_the_whole_meshs<2>(across);
+  }
   // polar grids in contact along their edge groups: two rings around a full turn, each held at
   // three points of its inner circle
   Scene rings = parse_scene(test::scenes_dir() / "shrink-fit.toml");
@@ -919,6 +934,56 @@ TEST(BodyPieces, ThePiecesEachProcessMakesOfSeveralBodiesAreTheWholeMeshs) {
   {
     SCOPED_TRACE("two-cylinders");
     expect_body_pieces_are_the_whole_meshs<2>(cylinders);
+  }
+}
+
+// bodies whose generators make their cells' lists (Voronoi cells, a polygon's mesh): each
+// process makes its piece of each around its vertices among the body's, as it makes a box's
+TEST(BodyPieces, ThePiecesEachProcessMakesOfBodiesMadeAsListsAreTheWholeMeshs) {
+  Scene blocks = parse_scene(test::scenes_dir() / "two-blocks.toml");  // Voronoi cells on squares
+  ASSERT_EQ(blocks.bodies.size(), 2u);
+  blocks.bodies[0].mesh.n = 12, blocks.bodies[0].mesh.ny = 6;
+  blocks.bodies[1].mesh.n = 14, blocks.bodies[1].mesh.ny = 6;
+  {
+    SCOPED_TRACE("two-blocks");
+    expect_body_pieces_are_the_whole_meshs<2>(blocks);
+  }
+  {
+    SCOPED_TRACE("two-blocks, the Voronoi block held at a vertex inside and loaded along a segment of its top");
+    Scene held = blocks;
+    const Mesh whole = build_problem<2>(blocks)->mesh;  // the Voronoi block's vertices first
+    const Vec2 v = whole.vertex(nearest_point<2>(whole.vertices(), Vec2(0.4, 0.8)).first);
+    ASSERT_GT(v.y(), 0.6);
+    ASSERT_LT(v.y(), 0.95);
+    SceneDirichlet inside;
+    inside.boundary.points = {{v.x(), v.y(), 0.0}};
+    inside.ux = SceneScalar{0.0};
+    held.bodies[0].dirichlet.push_back(inside);
+    held.bodies[0].tractions.front().boundary = BoundarySelector{};
+    held.bodies[0].tractions.front().boundary.segments = {{0.2, 1.0, 0.7, 1.0}};
+    expect_body_pieces_are_the_whole_meshs<2>(held);
+  }
+  for (const char* generator : {"triangles", "voronoi"}) {
+    SCOPED_TRACE(std::string("two-blocks, the upper block ") + generator + " in its polygon, an L");
+    Scene polygon = blocks;
+    SceneMesh& m = polygon.bodies[0].mesh;
+    m.generator = generator;
+    m.n = 10;
+    m.polygon = {{0.0, 0.5}, {1.0, 0.5}, {1.0, 0.75}, {0.5, 0.75}, {0.5, 1.0}, {0.0, 1.0}};
+    polygon.bodies[0].tractions.front().boundary = BoundarySelector{};
+    polygon.bodies[0].tractions.front().boundary.groups = {"edge3"};  // the L's inner top, (0.5, 0.75)-(0.5, 1)
+    expect_body_pieces_are_the_whole_meshs<2>(polygon);
+  }
+  Scene boxes = parse_scene(test::scenes_dir() / "two-boxes-3d.toml");
+  ASSERT_EQ(boxes.bodies.size(), 2u);
+  boxes.bodies[0].tractions.clear();  // the upper pressed down by its top's displacement
+  boxes.bodies[0].dirichlet.push_back(SceneDirichlet{BoundarySelector{{"top"}}, {}, {}, SceneScalar{-0.01}});
+  boxes.bodies[0].mesh.generator = "voronoi";
+  boxes.bodies[0].mesh.n = 10, boxes.bodies[0].mesh.ny = 10, boxes.bodies[0].mesh.nz = 5;
+  boxes.bodies[1].mesh.n = 4, boxes.bodies[1].mesh.ny = 4, boxes.bodies[1].mesh.nz = 3;
+  {
+    SCOPED_TRACE("two-boxes-3d, Voronoi cells on cubes");
+    expect_body_pieces_are_the_whole_meshs<3>(boxes);
   }
 }
 

@@ -107,18 +107,25 @@ TEST(ScenePieces, EveryShippedSceneTakesOneRouteAcrossProcesses) {
     ++scenes;
   }
   EXPECT_GT(scenes, 30);
-  std::sort(cut.begin(), cut.end());
-  EXPECT_EQ(cut, (std::vector<std::string>{"two-blocks.toml"}));
+  EXPECT_EQ(cut, std::vector<std::string>{});
 }
 
-// several bodies of generated boxes selected by sides are made in pieces, in a static solve and
-// on a loading path; any other bodies are made whole and cut; an adaptive solve's meshes are
-// held whole
+// several bodies of generated boxes selected by sides, segments and points, or made as lists
+// (Voronoi cells, a polygon's mesh), are made in pieces, in a static solve and on a loading
+// path; any other bodies are made whole and cut; an adaptive solve's meshes are held whole
 TEST(ScenePieces, SeveralBodiesAreMadeInPiecesOrCutAndAdaptiveStepsHeldWholeOnEveryProcess) {
   const Scene blocks = shipped("two-blocks.toml");  // a Voronoi body on a body of squares
   EXPECT_FALSE(scene_piece(blocks, 0, 2));
-  EXPECT_FALSE(makes_body_pieces(blocks));
-  EXPECT_TRUE(cuts_pieces(blocks));
+  EXPECT_TRUE(makes_body_pieces(blocks));
+  EXPECT_FALSE(cuts_pieces(blocks));
+  Scene file = blocks;  // a body read from a file: made whole and cut
+  file.bodies[1].mesh.file = test::scenes_dir() / "meshes" / "graded-block.poly2d";
+  EXPECT_FALSE(makes_body_pieces(file));
+  EXPECT_TRUE(cuts_pieces(file));
+  Scene boxed = blocks;  // region boxes in the Voronoi body: made whole and cut
+  boxed.bodies[0].material.regions.push_back(SceneRegionMaterial{1, 20.0, 0.3, std::array<double, 4>{0.0, 0.5, 0.5, 1.0}});
+  EXPECT_FALSE(makes_body_pieces(boxed));
+  EXPECT_TRUE(cuts_pieces(boxed));
   Scene triangles = blocks;
   triangles.bodies[0].mesh.generator = "triangles";
   EXPECT_TRUE(makes_body_pieces(triangles));
@@ -187,13 +194,13 @@ TEST(ScenePieces, PointsAndSegmentsAreMadeInPiecesAcrossSeveralBodiesCut) {
   EXPECT_EQ(every->sides, (std::vector<std::string>{"bottom", "left", "right", "top"}));
   EXPECT_FALSE(cuts_pieces(across));
   expect_two_pieces<2>(across);
-  Scene bodies = shipped("two-blocks.toml");  // several bodies: a segment across one is cut from the whole
+  Scene bodies = shipped("two-blocks.toml");  // several bodies: a segment across one holds every side of it
   bodies.bodies[0].mesh.generator = "triangles";
   ASSERT_TRUE(makes_body_pieces(bodies));
   bodies.bodies[1].tractions.push_back(SceneTraction{});
   bodies.bodies[1].tractions.back().boundary.segments = {{0.0, 0.1, 1.0, 0.1}};
-  EXPECT_FALSE(makes_body_pieces(bodies));
-  EXPECT_TRUE(cuts_pieces(bodies));
+  EXPECT_TRUE(makes_body_pieces(bodies));
+  EXPECT_FALSE(cuts_pieces(bodies));
   const Scene rollers = shipped("rollers-pressure.toml");  // a contact part on a segment of a Voronoi mesh's bottom
   EXPECT_FALSE(scene_piece(rollers, 0, 2));
   EXPECT_FALSE(cuts_pieces(rollers));  // made from its cells' lists, where a segment picks no cut edge

@@ -445,18 +445,26 @@ fs::path joined_solids(const std::string& name, const std::string& n, const std:
 }
 
 // each process makes its piece of each body, matches the pieces and joins them: two solids whose
-// meshes match, and two plane blocks whose meshes do not (triangles on squares: matching adds
-// vertices to both), under their weight (a displacement no element reproduces exactly)
+// meshes match, and two plane blocks whose meshes do not (triangles or Voronoi cells on
+// squares: matching adds vertices to both), under their weight (a displacement no element
+// reproduces exactly); a block of Voronoi cells on a box of cubes
 TEST(CliFullSpaceMpi, TwoJoinedBodiesAcrossProcessesAreTheCondensedAnswer) {
   const fs::path toml = joined_solids("two-solids.toml", "[4, 4, 3]");
+  const std::string weight = " --set 'body[0].loads.body_force=[0.0, -1.0]' --set 'body[1].loads.body_force=[0.0, -1.0]'";
   const struct {
     std::string flags, name;
     bool friction;
   } cases[] = {{toml.string() + " --tol 1e-11", "two-solids", true},
                {scene("two-blocks.toml") + " --set 'body[0].mesh.generator=\"triangles\"' --set 'body[0].mesh.n=[5, 4]'" +
-                    " --set 'body[1].mesh.n=[7, 4]' --set 'body[0].loads.body_force=[0.0, -1.0]'" +
-                    " --set 'body[1].loads.body_force=[0.0, -1.0]' --tol 1e-11",
-                "two-blocks-triangles", false}};
+                    " --set 'body[1].mesh.n=[7, 4]'" + weight + " --tol 1e-11",
+                "two-blocks-triangles", false},
+               {scene("two-blocks.toml") + " --set 'body[0].mesh.n=[8, 5]' --set 'body[1].mesh.n=[7, 4]'" + weight +
+                    " --tol 1e-11",
+                "two-blocks-voronoi", false},
+               {scene("two-boxes-3d.toml") + " --set 'body[0].mesh.generator=\"voronoi\"' --set 'body[0].mesh.n=[4, 4, 2]'" +
+                    " --set 'body[0].loads.body_force=[0.0, 0.0, -1.0]' --set 'body[1].loads.body_force=[0.0, 0.0, -1.0]'" +
+                    " --tol 1e-11",
+                "two-boxes-voronoi", false}};
   for (const auto& c : cases) {
     SCOPED_TRACE(c.name);
     const fs::path ref = solve_condensed(c.flags, "condensed-" + c.name);

@@ -80,6 +80,9 @@ struct PlaneCells {
 /// kept elements with every vertex (Mesh's MeshError for a defect among them) and its
 /// cut_facets (set_cut_facets).
 void make_plane_piece(const PlaneCells& cells, HeldPoints held, int rank, int size, MeshPieceRead<Mesh>& out);
+/// The same around the vertices `owned` flags (one per vertex) in place of a process's share:
+/// out.order, first and end left empty (MeshLists::piece).
+void make_plane_piece(const PlaneCells& cells, const std::vector<char>& owned, HeldPoints held, MeshPieceRead<Mesh>& out);
 
 /// A solid mesh not made: its vertices and its cells' faces (vertex loops).
 struct SolidCells {
@@ -89,6 +92,8 @@ struct SolidCells {
 
 /// make_plane_piece of a solid mesh: its cells' faces the facets (Mesh3D's MeshError).
 void make_solid_piece(const SolidCells& cells, HeldPoints held, int rank, int size, MeshPieceRead<Mesh3D>& out);
+void make_solid_piece(const SolidCells& cells, const std::vector<char>& owned, HeldPoints held,
+                      MeshPieceRead<Mesh3D>& out);
 
 /// Sets out.cut_facets to the boundary facets of out.mesh whose increasing vertices are among
 /// `cuts` (choose_piece's, sorted).

@@ -24,6 +24,7 @@
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
 #include <algorithm>
+#include <memory>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -712,6 +713,15 @@ MeshPieceRead<Mesh> make_voronoi_piece(GridSize n, const Rectangle& domain, cons
   return out;
 }
 
+MeshLists<Mesh> voronoi_lists(GridSize n, const Rectangle& domain, const VoronoiOptions& options) {
+  auto lists = std::make_shared<const detail::PlaneCells>(voronoi_rectangle_lists(n, domain, options));
+  return {static_cast<int>(lists->vertices.size()), [lists](const std::vector<char>& owned, HeldPoints held) {
+            MeshPieceRead<Mesh> out;
+            detail::make_plane_piece(*lists, owned, held, out);
+            return out;
+          }};
+}
+
 Mesh make_nonconvex(GridSize n, const Rectangle& domain) {
   check_n("nonconvex mesh", n);
   check_domain("nonconvex mesh", domain, n);
@@ -1238,6 +1248,17 @@ MeshPieceRead<Mesh> make_mesh_piece(std::string_view generator, int n, const Pol
   detail::make_plane_piece(lists.cells, held, rank, size, out);
   name_polygon_edges(out.mesh, domain.corners, lists.dom.tol, out.cut_facets);
   return out;
+}
+
+MeshLists<Mesh> mesh_lists(std::string_view generator, int n, const PolygonDomain& domain, std::uint64_t seed) {
+  auto lists = std::make_shared<const PolygonLists>(polygon_lists(generator, n, domain, seed));
+  return {static_cast<int>(lists->cells.vertices.size()),
+          [lists, corners = domain.corners](const std::vector<char>& owned, HeldPoints held) {
+            MeshPieceRead<Mesh> out;
+            detail::make_plane_piece(lists->cells, owned, held, out);
+            name_polygon_edges(out.mesh, corners, lists->dom.tol, out.cut_facets);
+            return out;
+          }};
 }
 
 }  // namespace hemivem

@@ -205,21 +205,14 @@ Box box_of(const std::vector<Vec3>& p) {
   return {lo.x(), hi.x(), lo.y(), hi.y(), lo.z(), hi.z()};
 }
 
+/// The piece around the vertices `owned` flags (choose's rule); out.order, first and end left.
 template <class Vec, class MeshType>
-detail::FacetKeys choose(const CellTopology& cells, const std::vector<Vec>& vertices, const std::vector<int>& regions,
-            std::vector<int> facets, int rank, int size, HeldPoints held, MeshPieceRead<MeshType>& out) {
-  if (size < 1 || rank < 0 || rank >= size)
-    throw InternalError("a piece of a mesh for process " + std::to_string(rank) + " of " + std::to_string(size));
-  out.order.clear();
-  if (!vertices.empty()) {
-    const std::vector<std::size_t> perm = detail::hilbert_order(vertices, box_of(vertices));
-    out.order.assign(perm.begin(), perm.end());
-  }
-  const auto [first, end] = even_share(cells.num_vertices(), rank, size);
-  out.first = static_cast<int>(first);
-  out.end = static_cast<int>(end);
-  std::vector<char> owned(static_cast<std::size_t>(cells.num_vertices()), 0);
-  for (int k = out.first; k < out.end; ++k) owned[static_cast<std::size_t>(out.order[static_cast<std::size_t>(k)])] = 1;
+detail::FacetKeys choose_around(const CellTopology& cells, const std::vector<Vec>& vertices, const std::vector<int>& regions,
+                                std::vector<int> facets, std::vector<char> owned, HeldPoints held,
+                                MeshPieceRead<MeshType>& out) {
+  if (owned.size() != static_cast<std::size_t>(cells.num_vertices()))
+    throw InternalError("a piece of a mesh of " + std::to_string(cells.num_vertices()) + " vertices given flags for " +
+                        std::to_string(owned.size()));
   for (int f = 0; f < cells.num_facets(); ++f)
     if (cells.facet_cells(f)[1] < 0) facets.push_back(f);
   std::vector<int> seen;  // a cell of each region
@@ -256,6 +249,26 @@ detail::FacetKeys choose(const CellTopology& cells, const std::vector<Vec>& vert
       cuts.push_back(std::move(key));
     }
   std::sort(cuts.begin(), cuts.end());
+  return cuts;
+}
+
+template <class Vec, class MeshType>
+detail::FacetKeys choose(const CellTopology& cells, const std::vector<Vec>& vertices, const std::vector<int>& regions,
+                         std::vector<int> facets, int rank, int size, HeldPoints held, MeshPieceRead<MeshType>& out) {
+  if (size < 1 || rank < 0 || rank >= size)
+    throw InternalError("a piece of a mesh for process " + std::to_string(rank) + " of " + std::to_string(size));
+  std::vector<int> order;
+  if (!vertices.empty()) {
+    const std::vector<std::size_t> perm = detail::hilbert_order(vertices, box_of(vertices));
+    order.assign(perm.begin(), perm.end());
+  }
+  const auto [first, end] = even_share(cells.num_vertices(), rank, size);
+  std::vector<char> owned(static_cast<std::size_t>(cells.num_vertices()), 0);
+  for (auto k = first; k < end; ++k) owned[static_cast<std::size_t>(order[static_cast<std::size_t>(k)])] = 1;
+  detail::FacetKeys cuts = choose_around(cells, vertices, regions, std::move(facets), std::move(owned), held, out);
+  out.order = std::move(order);
+  out.first = static_cast<int>(first);
+  out.end = static_cast<int>(end);
   return cuts;
 }
 
@@ -297,10 +310,13 @@ namespace {
 
 /// make_plane_piece and make_solid_piece: topology() the cells of `lists`, freed before the
 /// piece's mesh is made.
+/// `owned`: the vertices the piece is made around, or none for the process's share (choose).
 template <class Vec, class Cell, class MeshType, class Topology>
 void make_piece(const std::vector<Vec>& vertices, const std::vector<Cell>& lists, const Topology& topology,
-                HeldPoints held, int rank, int size, MeshPieceRead<MeshType>& out) {
-  const FacetKeys cuts = choose(topology(), vertices, std::vector<int>(lists.size(), 0), {}, rank, size, held, out);
+                HeldPoints held, int rank, int size, const std::vector<char>* owned, MeshPieceRead<MeshType>& out) {
+  const std::vector<int> regions(lists.size(), 0);
+  const FacetKeys cuts = owned ? choose_around(topology(), vertices, regions, {}, *owned, held, out)
+                               : choose(topology(), vertices, regions, {}, rank, size, held, out);
   std::vector<Cell> kept;
   kept.reserve(out.cells.size());
   for (int c : out.cells) kept.push_back(lists[static_cast<std::size_t>(c)]);
@@ -310,16 +326,38 @@ void make_piece(const std::vector<Vec>& vertices, const std::vector<Cell>& lists
 
 }  // namespace
 
-void make_plane_piece(const PlaneCells& cells, HeldPoints held, int rank, int size, MeshPieceRead<Mesh>& out) {
+namespace {
+
+void plane_piece(const PlaneCells& cells, HeldPoints held, int rank, int size, const std::vector<char>* owned,
+                 MeshPieceRead<Mesh>& out) {
   make_piece(
       cells.vertices, cells.elements,
-      [&] { return plane_topology(static_cast<int>(cells.vertices.size()), cells.elements); }, held, rank, size, out);
+      [&] { return plane_topology(static_cast<int>(cells.vertices.size()), cells.elements); }, held, rank, size, owned,
+      out);
+}
+
+void solid_piece(const SolidCells& cells, HeldPoints held, int rank, int size, const std::vector<char>* owned,
+                 MeshPieceRead<Mesh3D>& out) {
+  make_piece(
+      cells.vertices, cells.cells, [&] { return solid_topology(static_cast<int>(cells.vertices.size()), cells.cells); },
+      held, rank, size, owned, out);
+}
+
+}  // namespace
+
+void make_plane_piece(const PlaneCells& cells, HeldPoints held, int rank, int size, MeshPieceRead<Mesh>& out) {
+  plane_piece(cells, held, rank, size, nullptr, out);
+}
+void make_plane_piece(const PlaneCells& cells, const std::vector<char>& owned, HeldPoints held, MeshPieceRead<Mesh>& out) {
+  plane_piece(cells, held, 0, 1, &owned, out);
 }
 
 void make_solid_piece(const SolidCells& cells, HeldPoints held, int rank, int size, MeshPieceRead<Mesh3D>& out) {
-  make_piece(
-      cells.vertices, cells.cells, [&] { return solid_topology(static_cast<int>(cells.vertices.size()), cells.cells); },
-      held, rank, size, out);
+  solid_piece(cells, held, rank, size, nullptr, out);
+}
+void make_solid_piece(const SolidCells& cells, const std::vector<char>& owned, HeldPoints held,
+                      MeshPieceRead<Mesh3D>& out) {
+  solid_piece(cells, held, 0, 1, &owned, out);
 }
 void set_cut_facets(MeshPieceRead<Mesh3D>& out, const FacetKeys& cuts) { cut_facets_of(out, cuts); }
 

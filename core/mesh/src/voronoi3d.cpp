@@ -28,6 +28,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <memory>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -851,6 +852,18 @@ MeshPieceRead<Mesh3D> make_voronoi3d_piece(GridSize3 n, const Box& domain, const
     return 0;
   });
   return out;
+}
+
+MeshLists<Mesh3D> voronoi3d_lists(GridSize3 n, const Box& domain, const VoronoiOptions& options) {
+  auto lists = std::make_shared<const detail::SolidCells>(voronoi_box_lists(n, domain, options));
+  return {static_cast<int>(lists->vertices.size()), [lists](const std::vector<char>& owned, HeldPoints held) {
+            MeshPieceRead<Mesh3D> out;
+            valid_voronoi([&] {
+              detail::make_solid_piece(*lists, owned, held, out);
+              return 0;
+            });
+            return out;
+          }};
 }
 
 }  // namespace hemivem

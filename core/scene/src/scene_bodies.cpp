@@ -31,12 +31,45 @@ MatchedInterface3D match(const Mesh3D& a, const std::vector<int>& fa, const Mesh
   return match_interface_3d(a, fa, b, fb, tol);
 }
 
+/// Facet f's vertices below `below` (those of the mesh before a match added vertices), increasing.
+std::vector<int> vertices_below(const Mesh& mesh, int f, int below) {
+  std::vector<int> out;
+  for (int v : {mesh.edge(f).v0, mesh.edge(f).v1})
+    if (v < below) out.push_back(v);
+  std::sort(out.begin(), out.end());
+  return out;
+}
+std::vector<int> vertices_below(const Mesh3D& mesh, int f, int below) {
+  std::vector<int> out;
+  for (int v : mesh.face(f).vertices)
+    if (v < below) out.push_back(v);
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+/// `body`'s mesh replaced by `matched` (the same cells, vertices added and interface facets
+/// split), its cut facets renumbered: a cut facet lies inside the whole mesh, so matching splits
+/// none, and adds at most vertices along an edge of it on the interface (a solid's).
+template <int dim>
+void rematch(BodyMesh<dim>& body, MeshOf<dim> matched) {
+  std::vector<std::vector<int>> keys;
+  const int below = body.mesh.num_vertices();
+  for (int f : body.cut) keys.push_back(vertices_below(body.mesh, f, below));
+  std::sort(keys.begin(), keys.end());
+  body.mesh = std::move(matched);
+  body.cut.clear();
+  if (keys.empty()) return;
+  for (int f : body.mesh.boundary_facets())
+    if (std::binary_search(keys.begin(), keys.end(), vertices_below(body.mesh, f, below))) body.cut.push_back(f);
+  std::sort(body.cut.begin(), body.cut.end());
+  if (body.cut.size() != keys.size()) throw InternalError("matching a piece of a body's mesh lost a facet where it meets the others");
+}
+
 }  // namespace
 
 template <int dim>
-std::vector<MeshOf<dim>> matched_meshes(const Scene& scene,
-                                        const std::function<MeshOf<dim>(const Scene&, std::size_t)>& mesh_of) {
-  std::vector<MeshOf<dim>> meshes;
+std::vector<BodyMesh<dim>> matched_meshes(const Scene& scene, const BodyMeshOf<dim>& mesh_of) {
+  std::vector<BodyMesh<dim>> meshes;
   for (std::size_t b = 0; b < scene.bodies.size(); ++b) meshes.push_back(mesh_of(body_scene(scene, b), b));
   const std::vector<SceneContact> parts = contact_parts(scene);
   for (std::size_t k = 0; k < parts.size(); ++k) {
@@ -44,12 +77,12 @@ std::vector<MeshOf<dim>> matched_meshes(const Scene& scene,
     if (!c.against || c.pairing == BodyPairing::projection) continue;  // projected: the meshes stay as they are
     const std::size_t a = body_index(scene, c.body), b = body_index(scene, c.against_body);
     const std::string key = contact_key(scene, k);
-    const std::vector<int> side = select_facets<dim>(scene, meshes[a], c.boundary, key);
-    const std::vector<int> other = select_facets<dim>(scene, meshes[b], *c.against, key + ".against");
+    const std::vector<int> side = select_facets<dim>(scene, meshes[a].mesh, c.boundary, key, meshes[a].cut);
+    const std::vector<int> other = select_facets<dim>(scene, meshes[b].mesh, *c.against, key + ".against", meshes[b].cut);
     try {
-      auto m = match(meshes[a], side, meshes[b], other, std::max(c.boundary.tolerance, 1e-8));
-      meshes[a] = std::move(m.first);
-      meshes[b] = std::move(m.second);
+      auto m = match(meshes[a].mesh, side, meshes[b].mesh, other, std::max(c.boundary.tolerance, 1e-8));
+      rematch(meshes[a], std::move(m.first));
+      rematch(meshes[b], std::move(m.second));
     } catch (const InputError& e) {
       throw InputError(key + ": body '" + c.body + "' and body '" + c.against_body +
                            "' do not meet along this part: " + e.detail(),
@@ -59,8 +92,8 @@ std::vector<MeshOf<dim>> matched_meshes(const Scene& scene,
   return meshes;
 }
 
-template std::vector<Mesh> matched_meshes<2>(const Scene&, const std::function<Mesh(const Scene&, std::size_t)>&);
-template std::vector<Mesh3D> matched_meshes<3>(const Scene&, const std::function<Mesh3D(const Scene&, std::size_t)>&);
+template std::vector<BodyMesh<2>> matched_meshes<2>(const Scene&, const BodyMeshOf<2>&);
+template std::vector<BodyMesh<3>> matched_meshes<3>(const Scene&, const BodyMeshOf<3>&);
 
 namespace {
 
@@ -109,21 +142,20 @@ void require_shared(const Scene& scene) {
 template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> built_bodies(const Scene& scene, const RowDistribution* processes) {
   return built_bodies<dim>(scene, [processes](const Scene& one, std::size_t) {
-    if constexpr (dim == 2) return body_mesh(one, processes);
-    else return body_mesh3d(one, processes);
+    if constexpr (dim == 2) return BodyMesh<2>{body_mesh(one, processes), {}};
+    else return BodyMesh<3>{body_mesh3d(one, processes), {}};
   });
 }
 
 template <int dim>
-std::unique_ptr<BasicBuiltProblem<dim>> built_bodies(const Scene& scene,
-                                                     const std::function<MeshOf<dim>(const Scene&, std::size_t)>& mesh_of) {
+std::unique_ptr<BasicBuiltProblem<dim>> built_bodies(const Scene& scene, const BodyMeshOf<dim>& mesh_of) {
   require_shared(scene);
-  std::vector<MeshOf<dim>> meshes = matched_meshes<dim>(scene, mesh_of);
+  std::vector<BodyMesh<dim>> meshes = matched_meshes<dim>(scene, mesh_of);
   std::vector<std::unique_ptr<BasicBuiltProblem<dim>>> bodies;
   std::vector<const MeshOf<dim>*> pieces;
   std::vector<std::string> names;
   for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
-    bodies.push_back(built_on<dim>(body_scene(scene, b), std::move(meshes[b])));
+    bodies.push_back(built_on<dim>(body_scene(scene, b), std::move(meshes[b].mesh), true, meshes[b].cut));
     pieces.push_back(&bodies.back()->mesh);
     names.push_back(scene.bodies[b].name);
   }
@@ -148,7 +180,8 @@ std::unique_ptr<BasicBuiltProblem<dim>> built_bodies(const Scene& scene,
     if (parts[k].against) {
       part.pairing = parts[k].pairing;
       const std::size_t b = body_index(scene, parts[k].against_body);
-      for (int f : select_facets<dim>(scene, bodies[b]->mesh, *parts[k].against, contact_key(scene, k) + ".against"))
+      for (int f : select_facets<dim>(scene, bodies[b]->mesh, *parts[k].against, contact_key(scene, k) + ".against",
+                                      meshes[b].cut))
         part.against.push_back(joined.facet_of[b][static_cast<std::size_t>(f)]);
     }
     p.parts.push_back(std::move(part));
@@ -163,9 +196,7 @@ std::unique_ptr<BasicBuiltProblem<dim>> built_bodies(const Scene& scene,
 
 template std::unique_ptr<BuiltProblem> built_bodies<2>(const Scene&, const RowDistribution*);
 template std::unique_ptr<BuiltProblem3D> built_bodies<3>(const Scene&, const RowDistribution*);
-template std::unique_ptr<BuiltProblem> built_bodies<2>(const Scene&,
-                                                       const std::function<Mesh(const Scene&, std::size_t)>&);
-template std::unique_ptr<BuiltProblem3D> built_bodies<3>(const Scene&,
-                                                         const std::function<Mesh3D(const Scene&, std::size_t)>&);
+template std::unique_ptr<BuiltProblem> built_bodies<2>(const Scene&, const BodyMeshOf<2>&);
+template std::unique_ptr<BuiltProblem3D> built_bodies<3>(const Scene&, const BodyMeshOf<3>&);
 
 }  // namespace hemivem::detail

@@ -104,16 +104,13 @@ std::string side_along(const Scene& scene, const std::array<double, 4>& segment,
 /// and those its segments lie along (in the plane), whose every cell the piece holds, and the
 /// vertex each of its points holds; false when `b` selects by anything else (a group), which a
 /// process cannot place before the mesh is made. A segment along no side, or any of a polar
-/// grid's, holds every side when `cut_known` (a piece that knows the facets where it meets the
-/// others, grid_cut_facets, which no selector picks: the segment then picks on it the whole
-/// mesh's boundary edges it picks); false otherwise.
-bool add_selector(const Scene& scene, const BoundarySelector& b, BoxPiece& piece, bool cut_known) {
+/// grid's, holds every side: the piece knows the facets where it meets the others
+/// (grid_cut_facets), which no selector picks, so that the segment picks on it the whole mesh's
+/// boundary edges it picks.
+bool add_selector(const Scene& scene, const BoundarySelector& b, BoxPiece& piece) {
   const auto every_side = [&] { piece.sides.insert(piece.sides.end(), {"left", "right", "bottom", "top"}); };
   if (is_polar(scene)) {  // its edge groups, the sides of its grid of boxes
-    if (!b.segments.empty()) {
-      if (!cut_known) return false;
-      every_side();
-    }
+    if (!b.segments.empty()) every_side();
     // a side of its bounding box picks boundary edges alone, which the grid's sides hold (a
     // piece's boundary inside the grid lies along no side of the box: a cell beyond it would)
     if (!b.sides.empty()) piece.sides.insert(piece.sides.end(), {"left", "right", "bottom", "top"});
@@ -131,7 +128,7 @@ bool add_selector(const Scene& scene, const BoundarySelector& b, BoxPiece& piece
     if (!side.empty()) {
       piece.sides.push_back(side);
     } else {
-      if (!cut_known || scene.dimension() != 2) return false;
+      if (scene.dimension() != 2) return false;
       every_side();
     }
   }
@@ -144,14 +141,13 @@ bool add_selector(const Scene& scene, const BoundarySelector& b, BoxPiece& piece
 long long scene_vertices(const Scene& scene) { return grid_vertices_of(scene).count(); }
 
 /// The piece of the generated box of a scene of one body whose supports, loads and contact
-/// parts, and the selectors `more`, select sides, segments along sides and points only (any
-/// segment in the plane when `cut_known`, add_selector); none otherwise.
-std::optional<BoxPiece> box_piece_of(const Scene& scene, const std::vector<BoundarySelector>& more, int rank, int size,
-                                     bool cut_known) {
+/// parts, and the selectors `more`, select sides, segments (in the plane) and points only
+/// (add_selector); none otherwise.
+std::optional<BoxPiece> box_piece_of(const Scene& scene, const std::vector<BoundarySelector>& more, int rank, int size) {
   const SceneMesh& m = scene.mesh;
   if (!m.file.empty() || !makes_pieces(m.generator) || !m.polygon.empty()) return std::nullopt;
   BoxPiece piece;
-  const auto place = [&](const BoundarySelector& b) { return add_selector(scene, b, piece, cut_known); };
+  const auto place = [&](const BoundarySelector& b) { return add_selector(scene, b, piece); };
   if (!every_selector(scene, place) || !std::all_of(more.begin(), more.end(), place)) return std::nullopt;
   std::sort(piece.sides.begin(), piece.sides.end());
   piece.sides.erase(std::unique(piece.sides.begin(), piece.sides.end()), piece.sides.end());
@@ -170,7 +166,22 @@ std::optional<BoxPiece> body_piece(const Scene& scene, std::size_t b, int rank, 
   std::vector<BoundarySelector> against;
   for (const SceneContact& c : contact_parts(scene))
     if (c.against && c.against_body == scene.bodies[b].name) against.push_back(*c.against);
-  return box_piece_of(body_scene(scene, b), against, rank, size, false);
+  return box_piece_of(body_scene(scene, b), against, rank, size);
+}
+
+/// Whether the scene of one body `one`'s mesh is made as lists (MeshLists) of which a process
+/// makes its piece around any vertices: Voronoi cells on its rectangle or box, or a mesh in its
+/// polygon, without region boxes.
+bool makes_lists(const Scene& one) {
+  const SceneMesh& m = one.mesh;
+  return m.file.empty() && !one.material.has_region_boxes() && (m.generator == "voronoi" || !m.polygon.empty());
+}
+
+/// The points of the scene's supports, whose vertices' cells every piece holds.
+std::vector<std::array<double, 3>> held_points(const Scene& scene) {
+  std::vector<std::array<double, 3>> held = scene.clamped.points;
+  for (const SceneDirichlet& d : scene.dirichlet) held.insert(held.end(), d.boundary.points.begin(), d.boundary.points.end());
+  return held;
 }
 
 /// The piece of a scene of one body's generated box.
@@ -196,7 +207,7 @@ MeshOf<dim> box_mesh_piece(const Scene& scene, const BoxPiece& piece) {
 
 std::optional<BoxPiece> scene_piece(const Scene& scene, int rank, int size) {
   if (!scene.bodies.empty() || scene.adapt) return std::nullopt;
-  return box_piece_of(scene, {}, rank, size, true);
+  return box_piece_of(scene, {}, rank, size);
 }
 
 PieceOfMesh scene_piece_of_mesh(const Scene& scene, const BoxPiece& piece) {
@@ -237,9 +248,70 @@ std::unique_ptr<BasicBuiltProblem<3>> build_problem_piece<3>(const Scene& scene,
 bool makes_body_pieces(const Scene& scene) {
   if (scene.bodies.empty() || scene.adapt) return false;
   for (std::size_t b = 0; b < scene.bodies.size(); ++b)
-    if (!body_piece(scene, b, 0, 1)) return false;
+    if (!body_piece(scene, b, 0, 1) && !makes_lists(body_scene(scene, b))) return false;
   return true;
 }
+
+namespace {
+
+/// How a process makes its piece of a body's mesh: of its generated box (BoxPiece) or of the
+/// lists its generator makes (MeshLists), around the vertices it owns.
+template <int dim>
+struct BodyPieceMaker {
+  std::optional<BoxPiece> box;
+  MeshLists<MeshOf<dim>> lists;
+  std::vector<std::array<double, 3>> held;  // of the lists' piece
+  int vertices = 0;                         // the body's generated ones
+
+  BodyPieceMaker(const Scene& scene, std::size_t b) {
+    const Scene one = body_scene(scene, b);
+    box = body_piece(scene, b, 0, 1);
+    if (box) {
+      vertices = box->end_vertex;
+      return;
+    }
+    detail::require_generated_memory(one);
+    held = held_points(one);
+    lists = detail::generated_mesh(one, [&] {
+      const auto seed = static_cast<std::uint64_t>(one.mesh.seed);
+      if constexpr (dim == 2) {
+        if (!one.mesh.polygon.empty()) return mesh_lists(one.mesh.generator, one.mesh.n, detail::polygon_domain(one), seed);
+        const auto& d = one.mesh.domain;
+        return voronoi_lists(one.mesh.cells(), Rectangle{d[0], d[1], d[2], d[3]}, VoronoiOptions{.seed = seed});
+      } else {
+        const auto& x = one.mesh.box;
+        return voronoi3d_lists(one.mesh.cells3(), Box{x[0], x[1], x[2], x[3], x[4], x[5]}, VoronoiOptions{.seed = seed});
+      }
+    });
+    vertices = lists.vertices;
+  }
+
+  /// The piece around the generated vertices `owned` flags (none: the cells along the body's
+  /// sides alone), with the facets where it meets the rest of the body; where it lies in the
+  /// body's whole mesh into `where` when given.
+  detail::BodyMesh<dim> piece(const Scene& one, const std::vector<char>& owned, PieceOfMesh* where) const {
+    const bool any = std::find(owned.begin(), owned.end(), 1) != owned.end();
+    if (box) {
+      BoxPiece mine = *box;
+      mine.first_vertex = mine.end_vertex = 0;
+      if (any) mine.owned = owned;
+      else mine.held.clear();
+      if (where) *where = scene_piece_of_mesh(one, mine);
+      MeshOf<dim> mesh = box_mesh_piece<dim>(one, mine);
+      std::vector<int> cut = grid_cut_facets(mesh, grid_vertices_of(one));
+      return {std::move(mesh), std::move(cut)};
+    }
+    MeshPieceRead<MeshOf<dim>> made =
+        detail::generated_mesh(one, [&] { return lists.piece(owned, any ? HeldPoints(held) : HeldPoints{}); });
+    if (where) {
+      where->cells = std::move(made.cells);
+      where->whole_cells = made.whole_cells;
+    }
+    return {std::move(made.mesh), std::move(made.cut_facets)};
+  }
+};
+
+}  // namespace
 
 template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> build_bodies_piece(const Scene& scene, int rank, int size, PieceOfMesh& where) {
@@ -247,25 +319,22 @@ std::unique_ptr<BasicBuiltProblem<dim>> build_bodies_piece(const Scene& scene, i
   if (!makes_body_pieces(scene))
     throw InputError("build_bodies_piece: the scene's bodies are not made in pieces (makes_body_pieces)", scene.where("body"));
   const std::size_t bodies = scene.bodies.size();
-  std::vector<BoxPiece> pieces;
-  for (std::size_t b = 0; b < bodies; ++b) pieces.push_back(*body_piece(scene, b, 0, 1));
+  std::vector<BodyPieceMaker<dim>> makers;
+  for (std::size_t b = 0; b < bodies; ++b) makers.emplace_back(scene, b);
   // every vertex of the joined mesh, from the bodies' cells along their sides alone, matched
   // and joined (a surface's worth): where each body's vertices lie, and the Hilbert order of
   // them all that the processes share, as they share a mesh made whole
   std::vector<int> first_vertex{0};
   {
-    const std::vector<MeshOf<dim>> sides = detail::matched_meshes<dim>(scene, [&](const Scene& one, std::size_t b) {
-      detail::require_generated_memory(one);
-      BoxPiece along = pieces[b];
-      along.end_vertex = along.first_vertex;
-      along.held.clear();
-      return box_mesh_piece<dim>(one, along);
-    });
+    const std::vector<detail::BodyMesh<dim>> sides =
+        detail::matched_meshes<dim>(scene, [&](const Scene& one, std::size_t b) {
+          return makers[b].piece(one, std::vector<char>(static_cast<std::size_t>(makers[b].vertices), 0), nullptr);
+        });
     std::vector<const MeshOf<dim>*> meshes;
     std::vector<std::string> names;
     for (std::size_t b = 0; b < bodies; ++b) {
-      first_vertex.push_back(first_vertex.back() + sides[b].num_vertices());
-      meshes.push_back(&sides[b]);
+      first_vertex.push_back(first_vertex.back() + sides[b].mesh.num_vertices());
+      meshes.push_back(&sides[b].mesh);
       names.push_back(scene.bodies[b].name);
     }
     where = PieceOfMesh{};
@@ -273,22 +342,18 @@ std::unique_ptr<BasicBuiltProblem<dim>> build_bodies_piece(const Scene& scene, i
   }
   std::tie(where.vertices.first, where.vertices.end) = vertex_share(first_vertex.back(), rank, size);
   const std::vector<char> mine = where.vertices.mask(first_vertex.back());
-  for (std::size_t b = 0; b < bodies; ++b) {  // the process's vertices among body b's generated ones
-    const auto from = mine.begin() + first_vertex[b];
-    pieces[b].owned.assign(from, from + pieces[b].end_vertex);
-    pieces[b].first_vertex = pieces[b].end_vertex = 0;
-  }
+  std::vector<PieceOfMesh> in_body(bodies);
   auto out = detail::built_bodies<dim>(scene, [&](const Scene& one, std::size_t b) {
-    MeshOf<dim> mesh = box_mesh_piece<dim>(one, pieces[b]);
-    detail::check_regions_used<dim>(one, mesh, true);
-    return mesh;
+    const auto from = mine.begin() + first_vertex[b];  // the process's vertices among body b's generated ones
+    detail::BodyMesh<dim> piece = makers[b].piece(one, std::vector<char>(from, from + makers[b].vertices), &in_body[b]);
+    detail::check_regions_used<dim>(one, piece.mesh, true);
+    return piece;
   });
   for (std::size_t b = 0; b < bodies; ++b) {  // each body's cells follow the bodies' before it
     if (out->bodies[b].first_vertex != first_vertex[b] || out->bodies[b].vertices != first_vertex[b + 1] - first_vertex[b])
       throw InternalError("build_bodies_piece: body " + std::to_string(b) + "'s piece was matched to other vertices");
-    const PieceOfMesh body = scene_piece_of_mesh(body_scene(scene, b), pieces[b]);
-    for (int c : body.cells) where.cells.push_back(where.whole_cells + c);
-    where.whole_cells += body.whole_cells;
+    for (int c : in_body[b].cells) where.cells.push_back(where.whole_cells + c);
+    where.whole_cells += in_body[b].whole_cells;
   }
   return out;
 }
@@ -304,13 +369,6 @@ bool reads_pieces(const Scene& scene) {
 }
 
 namespace {
-
-/// The points of the scene's supports, whose vertices' cells every piece holds.
-std::vector<std::array<double, 3>> held_points(const Scene& scene) {
-  std::vector<std::array<double, 3>> held = scene.clamped.points;
-  for (const SceneDirichlet& d : scene.dirichlet) held.insert(held.end(), d.boundary.points.begin(), d.boundary.points.end());
-  return held;
-}
 
 /// The scene's problem on the piece `read` (a file's or a mesh made as lists), no selector picking
 /// the facets where it meets the others; where it lies in the whole mesh into `where` (its

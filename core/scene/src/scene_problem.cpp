@@ -359,12 +359,14 @@ template void check_regions_used<2>(const Scene&, const Mesh&, bool);
 
 template <int dim>
 std::vector<int> select_facets(const Scene& scene, const MeshOf<dim>& mesh, const BoundarySelector& selector,
-                               const std::string& key) {
-  return FacetSelection<dim>(scene, mesh)(selector, key);
+                               const std::string& key, std::span<const int> cut) {
+  return FacetSelection<dim>(scene, mesh, cut)(selector, key);
 }
 
-template std::vector<int> select_facets<2>(const Scene&, const Mesh&, const BoundarySelector&, const std::string&);
-template std::vector<int> select_facets<3>(const Scene&, const Mesh3D&, const BoundarySelector&, const std::string&);
+template std::vector<int> select_facets<2>(const Scene&, const Mesh&, const BoundarySelector&, const std::string&,
+                                           std::span<const int>);
+template std::vector<int> select_facets<3>(const Scene&, const Mesh3D&, const BoundarySelector&, const std::string&,
+                                           std::span<const int>);
 template void check_regions_used<3>(const Scene&, const Mesh3D&, bool);
 
 template <int dim>

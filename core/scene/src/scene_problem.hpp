@@ -71,17 +71,28 @@ std::unique_ptr<BuiltProblem> built_plane_on(const Scene& scene, Mesh mesh, bool
 template <int dim>
 void require_dimension(const Scene& scene);
 
-/// The boundary facets of `mesh` that `selector` picks (sorted, distinct); an error naming `key`
-/// of `scene` when it picks none or names a group the mesh lacks.
+/// The boundary facets of `mesh` that `selector` picks (sorted, distinct), none of `cut` (as
+/// built_on's); an error naming `key` of `scene` when it picks none or names a group the mesh
+/// lacks.
 template <int dim>
 std::vector<int> select_facets(const Scene& scene, const MeshOf<dim>& mesh, const BoundarySelector& selector,
-                               const std::string& key);
+                               const std::string& key, std::span<const int> cut = {});
+
+/// A body's mesh, or a process's piece of it with the piece's boundary facets inside the whole
+/// mesh (`cut`, increasing; MeshPieceRead::cut_facets), which no selector picks.
+template <int dim>
+struct BodyMesh {
+  MeshOf<dim> mesh;
+  std::vector<int> cut;
+};
+template <int dim>
+using BodyMeshOf = std::function<BodyMesh<dim>(const Scene& one, std::size_t b)>;
 
 /// The meshes `mesh_of(body_scene(scene, b), b)` makes of the bodies b of a scene of several,
-/// matched along every contact part against another body (match_interface, match_interface_3d).
+/// matched along every contact part against another body (match_interface, match_interface_3d),
+/// each with its `cut` facets as the matched mesh numbers them.
 template <int dim>
-std::vector<MeshOf<dim>> matched_meshes(const Scene& scene,
-                                        const std::function<MeshOf<dim>(const Scene& one, std::size_t b)>& mesh_of);
+std::vector<BodyMesh<dim>> matched_meshes(const Scene& scene, const BodyMeshOf<dim>& mesh_of);
 
 /// The problem of a scene of several bodies ([[body]], docs/two-bodies.md): each body's mesh
 /// made as a scene of one body makes it, the meshes of the bodies that meet matched along each
@@ -93,10 +104,10 @@ std::unique_ptr<BasicBuiltProblem<dim>> built_bodies(const Scene& scene, const R
 
 /// built_bodies on the meshes `mesh_of(body_scene(scene, b), b)` makes of each body b in place
 /// of its whole mesh: a process's piece of each (build_bodies_piece), which holds every facet of
-/// the body that a contact part against another body matches.
+/// the body that a contact part against another body matches; no selector picks its `cut`
+/// facets.
 template <int dim>
-std::unique_ptr<BasicBuiltProblem<dim>> built_bodies(const Scene& scene,
-                                                     const std::function<MeshOf<dim>(const Scene& one, std::size_t b)>& mesh_of);
+std::unique_ptr<BasicBuiltProblem<dim>> built_bodies(const Scene& scene, const BodyMeshOf<dim>& mesh_of);
 
 /// The problem of a plane scene on its own mesh (its generator or file; region boxes applied).
 std::unique_ptr<BuiltProblem> built_plane(const Scene& scene, const RowDistribution* processes = nullptr);

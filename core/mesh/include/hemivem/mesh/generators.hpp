@@ -78,6 +78,10 @@ Mesh make_voronoi(GridSize n, const Rectangle& domain = {}, const VoronoiOptions
 MeshPieceRead<Mesh> make_voronoi_piece(GridSize n, const Rectangle& domain, const VoronoiOptions& options, int rank,
                                        int size, HeldPoints held = {});
 
+/// make_voronoi's mesh as lists, of which a process makes the piece around any vertices
+/// (MeshLists; the pieces make_voronoi_piece makes are among them).
+MeshLists<Mesh> voronoi_lists(GridSize n, const Rectangle& domain, const VoronoiOptions& options = {});
+
 /// nx x ny macro cells on a (2nx+1) x (2ny+1) point grid; points whose index sum is odd (side
 /// mid-points) are shifted by a quarter of the macro-cell size in x and y; cell
 /// centres and mid-points on the domain boundary are dropped. Interior elements are
@@ -166,6 +170,10 @@ Mesh make_voronoi(int n, const PolygonDomain& domain, const VoronoiOptions& opti
 /// whole mesh's edges on them (every piece holds every boundary edge). Errors as make_mesh's.
 MeshPieceRead<Mesh> make_mesh_piece(std::string_view generator, int n, const PolygonDomain& domain, std::uint64_t seed,
                                     int rank, int size, HeldPoints held = {});
+
+/// make_mesh(generator, n, domain, seed)'s mesh in a polygon as lists (MeshLists), its pieces'
+/// edge groups those of make_mesh_piece's.
+MeshLists<Mesh> mesh_lists(std::string_view generator, int n, const PolygonDomain& domain, std::uint64_t seed);
 
 /// The generator names: squares, triangles, voronoi, nonconvex, distorted.
 const std::vector<std::string>& mesh_generator_names();

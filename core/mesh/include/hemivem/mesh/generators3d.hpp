@@ -60,6 +60,9 @@ Mesh3D make_voronoi3d(GridSize3 n, const Box& domain = {}, const VoronoiOptions&
 MeshPieceRead<Mesh3D> make_voronoi3d_piece(GridSize3 n, const Box& domain, const VoronoiOptions& options, int rank,
                                            int size, HeldPoints held = {});
 
+/// make_voronoi3d's mesh as lists (MeshLists), as voronoi_lists makes a plane one's.
+MeshLists<Mesh3D> voronoi3d_lists(GridSize3 n, const Box& domain, const VoronoiOptions& options = {});
+
 /// The 3D generator names: cubes, tetrahedra, voronoi.
 const std::vector<std::string>& mesh3d_generator_names();
 

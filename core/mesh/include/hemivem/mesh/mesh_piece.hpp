@@ -19,6 +19,7 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -67,6 +68,19 @@ struct MeshPieceRead {
   /// and the most vertices of one (a memory estimate of the whole mesh's).
   double cell_vertices = 0, cell_vertices_squared = 0;
   int largest_cell = 0;
+};
+
+/// A generated mesh made as lists of its cells' vertices and not yet as a mesh (a Voronoi mesh,
+/// a polygon's mesh), of which a process makes the piece around any of its vertices: a body
+/// among several, whose vertices the processes share along the order of every body's.
+template <class MeshType>
+struct MeshLists {
+  int vertices = 0;  ///< the whole mesh's number of vertices
+  /// The piece around the vertices `owned` flags (one per vertex; none flagged: the cells of the
+  /// boundary alone), by the rule of a piece read from a file: with the cells of every boundary
+  /// facet and around the vertex nearest each point `held`. Its `order`, `first` and `end` are
+  /// left empty. InternalError for flags of another number; MeshError as the whole mesh's.
+  std::function<MeshPieceRead<MeshType>(const std::vector<char>& owned, HeldPoints held)> piece;
 };
 
 }  // namespace hemivem

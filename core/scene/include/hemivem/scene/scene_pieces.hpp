@@ -93,9 +93,10 @@ bool makes_polygon_pieces(const Scene& scene);
 std::unique_ptr<BuiltProblem> polygon_problem_piece(const Scene& scene, int rank, int size, PieceOfMesh& where);
 
 /// Whether each process makes only its piece of each body's mesh (build_bodies_piece): a scene
-/// of several bodies, without adaptive steps, each of whose meshes would be made in pieces as a
-/// scene of one body (scene_piece of body_scene), the sides of the contact parts against it
-/// counted as its own.
+/// of several bodies, without adaptive steps, each of whose meshes is a generated box made in
+/// pieces as a scene of one body's (scene_piece of body_scene, the selectors of the contact parts
+/// against it counted as its own) or is made as lists of its cells (MeshLists: Voronoi cells on
+/// its rectangle or box, or a mesh in its polygon, without region boxes).
 bool makes_body_pieces(const Scene& scene);
 
 /// build_problem<dim>(scene) of a scene of several bodies (makes_body_pieces) on the pieces of
@@ -103,15 +104,18 @@ bool makes_body_pieces(const Scene& scene);
 /// process first makes each body's cells along its sides alone and matches them along each
 /// contact part against another body: this gives every vertex of the joined mesh, the vertices
 /// matching adds included, and their Hilbert order (hilbert_vertex_order), along which the
-/// processes share them as they share a mesh made whole. Each body's piece is then made as a
-/// scene of one body's (make_mesh_piece, make_mesh3d_piece) around the process's vertices among
-/// the body's generated ones (BoxPiece::owned), with its sides those of its supports, loads and
-/// contact parts and of the parts against it; the pieces are matched and joined. Each piece
-/// holds every cell along its contact sides, so the vertices matching adds are the whole meshes'
-/// with the same numbers and coordinates. The same problem on fewer cells: its vertices and
-/// their numbers the whole mesh's, each body's cells the piece's of that body (BodyRange).
-/// `where` tells where the piece lies. InputError for a scene not made in pieces; errors as
-/// build_problem's.
+/// processes share them as they share a mesh made whole. Each body's piece is then made around
+/// the process's vertices among the body's generated ones: a box's as a scene of one body's
+/// (make_mesh_piece, make_mesh3d_piece; BoxPiece::owned), with its sides those of its supports,
+/// loads and contact parts and of the parts against it; a body made as lists (voronoi_lists,
+/// mesh_lists, voronoi3d_lists; each process runs its generator once) with the cells of every
+/// boundary facet and around the vertex each support at a point holds. The pieces are matched
+/// and joined, and no selector picks a facet where a piece meets the rest of its body
+/// (grid_cut_facets, MeshPieceRead::cut_facets). Each piece holds every cell along its contact
+/// sides, so the vertices matching adds are the whole meshes' with the same numbers and
+/// coordinates. The same problem on fewer cells: its vertices and their numbers the whole
+/// mesh's, each body's cells the piece's of that body (BodyRange). `where` tells where the piece
+/// lies. InputError for a scene not made in pieces; errors as build_problem's.
 template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> build_bodies_piece(const Scene& scene, int rank, int size, PieceOfMesh& where);
 
