@@ -309,8 +309,8 @@ void set_cut_facets(MeshPieceRead<Mesh>& out, const FacetKeys& cuts) { cut_facet
 namespace {
 
 /// make_plane_piece and make_solid_piece: topology() the cells of `lists`, freed before the
-/// piece's mesh is made.
-/// `owned`: the vertices the piece is made around, or none for the process's share (choose).
+/// piece's mesh is made; the piece around the vertices `owned` flags, or (none given) around
+/// process `rank` of `size`'s share.
 template <class Vec, class Cell, class MeshType, class Topology>
 void make_piece(const std::vector<Vec>& vertices, const std::vector<Cell>& lists, const Topology& topology,
                 HeldPoints held, int rank, int size, const std::vector<char>* owned, MeshPieceRead<MeshType>& out) {

@@ -265,12 +265,12 @@ struct BodyPieceMaker {
 
   BodyPieceMaker(const Scene& scene, std::size_t b) {
     const Scene one = body_scene(scene, b);
+    detail::require_generated_memory(one);
     box = body_piece(scene, b, 0, 1);
     if (box) {
       vertices = box->end_vertex;
       return;
     }
-    detail::require_generated_memory(one);
     held = held_points(one);
     lists = detail::generated_mesh(one, [&] {
       const auto seed = static_cast<std::uint64_t>(one.mesh.seed);
@@ -286,15 +286,16 @@ struct BodyPieceMaker {
     vertices = lists.vertices;
   }
 
-  /// The piece around the generated vertices `owned` flags (none: the cells along the body's
-  /// sides alone), with the facets where it meets the rest of the body; where it lies in the
-  /// body's whole mesh into `where` when given.
-  detail::BodyMesh<dim> piece(const Scene& one, const std::vector<char>& owned, PieceOfMesh* where) const {
-    const bool any = std::find(owned.begin(), owned.end(), 1) != owned.end();
+  /// The piece around the generated vertices `owned` flags, and the cells around each vertex a
+  /// support at a point holds (none given: the cells along the body's sides alone), with the
+  /// facets where it meets the rest of the body; where it lies in the body's whole mesh into
+  /// `where` when given.
+  detail::BodyMesh<dim> piece(const Scene& one, const std::vector<char>* owned, PieceOfMesh* where) const {
+    const std::vector<char> none(owned ? 0 : static_cast<std::size_t>(vertices), 0);
     if (box) {
       BoxPiece mine = *box;
       mine.first_vertex = mine.end_vertex = 0;
-      if (any) mine.owned = owned;
+      if (owned) mine.owned = *owned;
       else mine.held.clear();
       if (where) *where = scene_piece_of_mesh(one, mine);
       MeshOf<dim> mesh = box_mesh_piece<dim>(one, mine);
@@ -302,7 +303,7 @@ struct BodyPieceMaker {
       return {std::move(mesh), std::move(cut)};
     }
     MeshPieceRead<MeshOf<dim>> made =
-        detail::generated_mesh(one, [&] { return lists.piece(owned, any ? HeldPoints(held) : HeldPoints{}); });
+        detail::generated_mesh(one, [&] { return owned ? lists.piece(*owned, held) : lists.piece(none, {}); });
     if (where) {
       where->cells = std::move(made.cells);
       where->whole_cells = made.whole_cells;
@@ -328,7 +329,7 @@ std::unique_ptr<BasicBuiltProblem<dim>> build_bodies_piece(const Scene& scene, i
   {
     const std::vector<detail::BodyMesh<dim>> sides =
         detail::matched_meshes<dim>(scene, [&](const Scene& one, std::size_t b) {
-          return makers[b].piece(one, std::vector<char>(static_cast<std::size_t>(makers[b].vertices), 0), nullptr);
+          return makers[b].piece(one, nullptr, nullptr);
         });
     std::vector<const MeshOf<dim>*> meshes;
     std::vector<std::string> names;
@@ -345,7 +346,8 @@ std::unique_ptr<BasicBuiltProblem<dim>> build_bodies_piece(const Scene& scene, i
   std::vector<PieceOfMesh> in_body(bodies);
   auto out = detail::built_bodies<dim>(scene, [&](const Scene& one, std::size_t b) {
     const auto from = mine.begin() + first_vertex[b];  // the process's vertices among body b's generated ones
-    detail::BodyMesh<dim> piece = makers[b].piece(one, std::vector<char>(from, from + makers[b].vertices), &in_body[b]);
+    const std::vector<char> owned(from, from + makers[b].vertices);
+    detail::BodyMesh<dim> piece = makers[b].piece(one, &owned, &in_body[b]);
     detail::check_regions_used<dim>(one, piece.mesh, true);
     return piece;
   });
