@@ -109,7 +109,7 @@ void build_scene_problem(const Scene& scene, SceneEngines& e, Solved& s, const s
         if (makes_voronoi_pieces(scene)) return voronoi_problem_piece<dim>(scene, *process_rows(), where);
         if constexpr (dim == 2)
           if (makes_polygon_pieces(scene)) return polygon_problem_piece(scene, world.rank, world.size, where);
-        return build_bodies_piece<dim>(scene, world.rank, world.size, where);
+        return build_bodies_piece<dim>(scene, world.rank, world.size, where, process_rows().get());
       });
       if (!makes_body_pieces(scene)) check_regions_across(scene, s.built->mesh, *process_rows());
       s.mesh_pieces = world.size;

@@ -263,7 +263,9 @@ struct BodyPieceMaker {
   std::vector<std::array<double, 3>> held;  // of the lists' piece
   int vertices = 0;                         // the body's generated ones
 
-  BodyPieceMaker(const Scene& scene, std::size_t b) {
+  /// `processes`: across processes, a Voronoi generator's Lloyd iterations split among them
+  /// (collective).
+  BodyPieceMaker(const Scene& scene, std::size_t b, const RowDistribution* processes) {
     const Scene one = body_scene(scene, b);
     detail::require_generated_memory(one);
     box = body_piece(scene, b, 0, 1);
@@ -277,10 +279,10 @@ struct BodyPieceMaker {
       if constexpr (dim == 2) {
         if (!one.mesh.polygon.empty()) return mesh_lists(one.mesh.generator, one.mesh.n, detail::polygon_domain(one), seed);
         const auto& d = one.mesh.domain;
-        return voronoi_lists(one.mesh.cells(), Rectangle{d[0], d[1], d[2], d[3]}, VoronoiOptions{.seed = seed});
+        return voronoi_lists(one.mesh.cells(), Rectangle{d[0], d[1], d[2], d[3]}, VoronoiOptions{.seed = seed, .processes = processes});
       } else {
         const auto& x = one.mesh.box;
-        return voronoi3d_lists(one.mesh.cells3(), Box{x[0], x[1], x[2], x[3], x[4], x[5]}, VoronoiOptions{.seed = seed});
+        return voronoi3d_lists(one.mesh.cells3(), Box{x[0], x[1], x[2], x[3], x[4], x[5]}, VoronoiOptions{.seed = seed, .processes = processes});
       }
     });
     vertices = lists.vertices;
@@ -315,13 +317,14 @@ struct BodyPieceMaker {
 }  // namespace
 
 template <int dim>
-std::unique_ptr<BasicBuiltProblem<dim>> build_bodies_piece(const Scene& scene, int rank, int size, PieceOfMesh& where) {
+std::unique_ptr<BasicBuiltProblem<dim>> build_bodies_piece(const Scene& scene, int rank, int size, PieceOfMesh& where,
+                                                           const RowDistribution* processes) {
   detail::require_dimension<dim>(scene);
   if (!makes_body_pieces(scene))
     throw InputError("build_bodies_piece: the scene's bodies are not made in pieces (makes_body_pieces)", scene.where("body"));
   const std::size_t bodies = scene.bodies.size();
   std::vector<BodyPieceMaker<dim>> makers;
-  for (std::size_t b = 0; b < bodies; ++b) makers.emplace_back(scene, b);
+  for (std::size_t b = 0; b < bodies; ++b) makers.emplace_back(scene, b, processes);
   // every vertex of the joined mesh, from the bodies' cells along their sides alone, matched
   // and joined (a surface's worth): where each body's vertices lie, and the Hilbert order of
   // them all that the processes share, as they share a mesh made whole
@@ -360,8 +363,10 @@ std::unique_ptr<BasicBuiltProblem<dim>> build_bodies_piece(const Scene& scene, i
   return out;
 }
 
-template std::unique_ptr<BasicBuiltProblem<2>> build_bodies_piece<2>(const Scene&, int, int, PieceOfMesh&);
-template std::unique_ptr<BasicBuiltProblem<3>> build_bodies_piece<3>(const Scene&, int, int, PieceOfMesh&);
+template std::unique_ptr<BasicBuiltProblem<2>> build_bodies_piece<2>(const Scene&, int, int, PieceOfMesh&,
+                                                                     const RowDistribution*);
+template std::unique_ptr<BasicBuiltProblem<3>> build_bodies_piece<3>(const Scene&, int, int, PieceOfMesh&,
+                                                                     const RowDistribution*);
 
 bool reads_pieces(const Scene& scene) {
   const SceneMesh& m = scene.mesh;

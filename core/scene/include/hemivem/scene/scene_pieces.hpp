@@ -115,9 +115,12 @@ bool makes_body_pieces(const Scene& scene);
 /// sides, so the vertices matching adds are the whole meshes' with the same numbers and
 /// coordinates. The same problem on fewer cells: its vertices and their numbers the whole
 /// mesh's, each body's cells the piece's of that body (BodyRange). `where` tells where the piece
-/// lies. InputError for a scene not made in pieces; errors as build_problem's.
+/// lies. `processes`, when given, are the processes of the run, among which a Voronoi body's
+/// Lloyd iterations are split (VoronoiOptions::processes; collective). InputError for a scene
+/// not made in pieces; errors as build_problem's.
 template <int dim>
-std::unique_ptr<BasicBuiltProblem<dim>> build_bodies_piece(const Scene& scene, int rank, int size, PieceOfMesh& where);
+std::unique_ptr<BasicBuiltProblem<dim>> build_bodies_piece(const Scene& scene, int rank, int size, PieceOfMesh& where,
+                                                           const RowDistribution* processes = nullptr);
 
 /// Whether a scene's mesh may be made whole and each process keep only its piece of it for the
 /// solve (cut_problem_piece): a scene whose mesh no process makes or reads in pieces (scene_piece,
