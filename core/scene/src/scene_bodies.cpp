@@ -32,16 +32,10 @@ MatchedInterface3D match(const Mesh3D& a, const std::vector<int>& fa, const Mesh
 }
 
 /// Facet f's vertices below `below` (those of the mesh before a match added vertices), increasing.
-std::vector<int> vertices_below(const Mesh& mesh, int f, int below) {
+template <class MeshType>
+std::vector<int> vertices_below(const MeshType& mesh, int f, int below) {
   std::vector<int> out;
-  for (int v : {mesh.edge(f).v0, mesh.edge(f).v1})
-    if (v < below) out.push_back(v);
-  std::sort(out.begin(), out.end());
-  return out;
-}
-std::vector<int> vertices_below(const Mesh3D& mesh, int f, int below) {
-  std::vector<int> out;
-  for (int v : mesh.face(f).vertices)
+  for (int v : mesh.facet_vertices(f))
     if (v < below) out.push_back(v);
   std::sort(out.begin(), out.end());
   return out;

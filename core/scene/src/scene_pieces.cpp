@@ -293,7 +293,6 @@ struct BodyPieceMaker {
   /// facets where it meets the rest of the body; where it lies in the body's whole mesh into
   /// `where` when given.
   detail::BodyMesh<dim> piece(const Scene& one, const std::vector<char>* owned, PieceOfMesh* where) const {
-    const std::vector<char> none(owned ? 0 : static_cast<std::size_t>(vertices), 0);
     if (box) {
       BoxPiece mine = *box;
       mine.first_vertex = mine.end_vertex = 0;
@@ -304,8 +303,10 @@ struct BodyPieceMaker {
       std::vector<int> cut = grid_cut_facets(mesh, grid_vertices_of(one));
       return {std::move(mesh), std::move(cut)};
     }
-    MeshPieceRead<MeshOf<dim>> made =
-        detail::generated_mesh(one, [&] { return owned ? lists.piece(*owned, held) : lists.piece(none, {}); });
+    MeshPieceRead<MeshOf<dim>> made = detail::generated_mesh(one, [&] {
+      if (owned) return lists.piece(*owned, held);
+      return lists.piece(std::vector<char>(static_cast<std::size_t>(vertices), 0), {});
+    });
     if (where) {
       where->cells = std::move(made.cells);
       where->whole_cells = made.whole_cells;
