@@ -268,6 +268,14 @@ TEST(Scene, Overrides) {
   EXPECT_THROW(apply_override(s, "mesh.n=8"), InputError);  // n means nothing for a file mesh
   apply_override(s, "mesh.generator=squares");
   EXPECT_TRUE(s.mesh.file.empty());
+  Scene blocks = parse_scene(scenes_dir() / "two-blocks.toml");  // a body's mesh, the same
+  apply_override(blocks, "body[1].mesh.file=some/mesh.poly2d");
+  EXPECT_TRUE(blocks.bodies[1].mesh.file.is_absolute());
+  EXPECT_EQ(blocks.bodies[1].mesh.file.filename(), "mesh.poly2d");
+  EXPECT_THROW(apply_override(blocks, "body[1].mesh.n=8"), InputError);
+  apply_override(blocks, "body[1].mesh.generator=triangles");
+  EXPECT_TRUE(blocks.bodies[1].mesh.file.empty());
+  EXPECT_EQ(blocks.bodies[1].mesh.generator, "triangles");
 
   // Contact on a scene without it adds the default contact part.
   Scene lin = parse_scene(scenes_dir() / "linear-elastic.toml");

@@ -193,7 +193,7 @@ std::string edit_table(toml::table& root, Override& o) {
     if (leaf == "t") t->erase("steps");
     if (leaf == "steps") t->erase("t");
   }
-  if (o.parts.size() == 2 && o.parts[0].first == "mesh") {
+  if (o.parts.size() >= 2 && o.parts[o.parts.size() - 2].first == "mesh") {  // the scene's or a body's mesh
     if (leaf == "generator") t->erase("file");
     if (leaf == "file") {
       for (const char* k : {"generator", "n", "seed", "domain", "center", "radii", "angles", "grading", "focus"}) t->erase(k);
