@@ -8,6 +8,8 @@
 #include <hemivem/error.hpp>
 #include <hemivem/mesh/box_piece.hpp>
 #include <hemivem/mesh/boundary.hpp>
+#include <hemivem/mesh/generators.hpp>
+#include <hemivem/mesh/poly2d.hpp>
 #include <hemivem/mesh/mesh_piece.hpp>
 #include <hemivem/mesh/vertex_order.hpp>
 #include <hemivem/scene/example.hpp>
@@ -780,6 +782,8 @@ void expect_body_pieces_are_the_whole_meshs(const Scene& scene, int size = 3) {
     EXPECT_EQ(where.vertices.order, order);
     EXPECT_EQ(where.whole_cells, num_cells_of(whole->mesh));
     expect_piece_of(piece->mesh, where.cells, whole->mesh, 0, 0, named, true);  // the vertices' cells below
+    for (int c = 0; c < num_cells_of(piece->mesh); ++c)  // each cell in the whole's region, the bodies' offsets its
+      ASSERT_EQ(piece->mesh.region(c), whole->mesh.region(where.cells[static_cast<std::size_t>(c)])) << "cell " << c;
     const std::set<int> held(where.cells.begin(), where.cells.end());
     const std::vector<char> mine = where.vertices.mask(n);
     bool owns = false;
@@ -984,6 +988,65 @@ TEST(BodyPieces, ThePiecesEachProcessMakesOfBodiesMadeAsListsAreTheWholeMeshs) {
   {
     SCOPED_TRACE("two-boxes-3d, Voronoi cells on cubes");
     expect_body_pieces_are_the_whole_meshs<3>(boxes);
+  }
+}
+
+/// A scene of a generated upper body (`upper`, its [body.mesh] and supports) resting on a lower
+/// body read from `file` (`lower`, its supports), their contact `upper.bottom` against `against`.
+Scene upper_on_file(const std::string& upper, const std::filesystem::path& file, const std::string& lower,
+                    const std::string& against) {
+  const std::string text = "schema_version = 1\n[[body]]\nname = \"upper\"\n" + upper +
+                           "[body.material]\nE = 10.0\nnu = 0.3\n\n[[body]]\nname = \"lower\"\n[body.mesh]\nfile = \"" +
+                           file.string() + "\"\n[body.material]\nE = 4.0\nnu = 0.1\n" + lower +
+                           "\n[[contact]]\nname = \"interface\"\nside = \"upper.bottom\"\nagainst = \"" + against +
+                           "\"\nlaw = \"zero\"\n";
+  return parse_scene_string(text, "upper-on-file.toml");
+}
+
+// a body read from a file among several: each process reads the file whole once and makes its
+// piece of it around its vertices, with the cells of the file's facet groups and a cell of each
+// of its regions, as a single body's piece read from a file
+TEST(BodyPieces, ThePiecesEachProcessReadsOfBodiesFromFilesAreTheWholeMeshs) {
+  const std::string voronoi = "[body.mesh]\ngenerator = \"voronoi\"\nn = [9, 5]\ndomain = [0.0, 1.0, 1.0, 1.5]\n"
+                              "[[body.dirichlet]]\nside = \"left\"\nux = 0.0\n"
+                              "[[body.loads.traction]]\nside = \"top\"\npressure = 2.0\n";
+  // the unit square of triangles, its groups clamped (left, right), load (top) and contact (bottom)
+  const std::filesystem::path square = test::data_dir() / "gmsh" / "unit_square_triangles.msh";
+  const std::string by_groups = "[[body.dirichlet]]\ngroup = \"clamped\"\nux = 0.0\n"
+                                "[[body.dirichlet]]\ngroup = \"contact\"\nuy = 0.0\n";
+  {
+    SCOPED_TRACE("Voronoi cells on a Gmsh file's triangles, supported and met along its groups");
+    expect_body_pieces_are_the_whole_meshs<2>(upper_on_file(voronoi, square, by_groups, "lower.load"));
+  }
+  {
+    SCOPED_TRACE("the same, the file's body held at a point inside and met along its top side");
+    const std::string held = by_groups + "[[body.dirichlet]]\npoint = [0.375, 0.375]\nux = 0.0\n";
+    expect_body_pieces_are_the_whole_meshs<2>(upper_on_file(voronoi, square, held, "lower.top"));
+  }
+  {
+    SCOPED_TRACE("squares on a .poly2d file's triangles");
+    const std::filesystem::path poly = test::scratch("lower-block.poly2d");
+    write_poly2d(poly, make_mesh("triangles", GridSize(9, 6), Rectangle{0.0, 1.0, 0.0, 1.0}, 7));
+    const std::string squares = "[body.mesh]\ngenerator = \"squares\"\nn = [5, 3]\ndomain = [0.0, 1.0, 1.0, 1.5]\n"
+                                "[[body.dirichlet]]\nside = \"left\"\nux = 0.0\n"
+                                "[[body.loads.traction]]\nside = \"top\"\npressure = 2.0\n";
+    expect_body_pieces_are_the_whole_meshs<2>(
+        upper_on_file(squares, poly, "[[body.dirichlet]]\nside = \"bottom\"\nuy = 0.0\n[[body.dirichlet]]\nside = \"left\"\nux = 0.0\n",
+                      "lower.top"));
+    std::filesystem::remove(poly);
+  }
+  {
+    SCOPED_TRACE("cubes on a Gmsh file's tetrahedra in two regions");
+    // two boxes [0, 1] and [1, 2] x [0, 2] x [0, 0.5] of tetrahedra, regions 5 and 7
+    const std::filesystem::path boxes = test::data_dir() / "gmsh3d" / "two_boxes_tetrahedra.msh";
+    const std::string rollers = "[[body.dirichlet]]\nside = \"x0\"\nux = 0.0\n[[body.dirichlet]]\nside = \"y0\"\nuy = 0.0\n";
+    const std::string cubes = "[body.mesh]\ngenerator = \"cubes\"\nn = [6, 6, 2]\ndomain = [0.0, 2.0, 0.0, 2.0, 0.5, 1.0]\n" + rollers +
+                              "[[body.dirichlet]]\nside = \"top\"\nuz = -0.01\n";
+    const Scene scene = upper_on_file(cubes, boxes, rollers + "[[body.dirichlet]]\nside = \"bottom\"\nuz = 0.0\n", "lower.top");
+    const auto whole = build_problem<3>(scene);
+    const std::set<int> regions(whole->mesh.regions().begin(), whole->mesh.regions().end());
+    EXPECT_EQ(regions, (std::set<int>{0, 6, 8}));  // the upper's, then the file's 5 and 7 past it
+    expect_body_pieces_are_the_whole_meshs<3>(scene);
   }
 }
 

@@ -111,16 +111,19 @@ TEST(ScenePieces, EveryShippedSceneTakesOneRouteAcrossProcesses) {
 }
 
 // several bodies of generated boxes selected by sides, segments and points, or made as lists
-// (Voronoi cells, a polygon's mesh), are made in pieces, in a static solve and on a loading
+// (Voronoi cells, a polygon's mesh, a mesh file), are made in pieces, in a static solve and on a loading
 // path; any other bodies are made whole and cut; an adaptive solve's meshes are held whole
 TEST(ScenePieces, SeveralBodiesAreMadeInPiecesOrCutAndAdaptiveStepsHeldWholeOnEveryProcess) {
   const Scene blocks = shipped("two-blocks.toml");  // a Voronoi body on a body of squares
   EXPECT_FALSE(scene_piece(blocks, 0, 2));
   EXPECT_TRUE(makes_body_pieces(blocks));
   EXPECT_FALSE(cuts_pieces(blocks));
-  Scene file = blocks;  // a body read from a file: made whole and cut
+  Scene file = blocks;  // a body read from a file: each process reads its piece of it
   file.bodies[1].mesh.file = test::scenes_dir() / "meshes" / "graded-block.poly2d";
-  EXPECT_FALSE(makes_body_pieces(file));
+  EXPECT_TRUE(makes_body_pieces(file));
+  EXPECT_FALSE(cuts_pieces(file));
+  file.bodies[1].material.regions.push_back(SceneRegionMaterial{1, 20.0, 0.3, std::array<double, 4>{0.0, 0.5, -1.0, 0.0}});
+  EXPECT_FALSE(makes_body_pieces(file));  // with region boxes: made whole and cut
   EXPECT_TRUE(cuts_pieces(file));
   Scene boxed = blocks;  // region boxes in the Voronoi body: made whole and cut
   boxed.bodies[0].material.regions.push_back(SceneRegionMaterial{1, 20.0, 0.3, std::array<double, 4>{0.0, 0.5, 0.5, 1.0}});

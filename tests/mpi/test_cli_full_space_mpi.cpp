@@ -23,6 +23,11 @@
 #include <utility>
 #include <vector>
 
+#include <hemivem/mesh/generators.hpp>
+#include <hemivem/mesh/generators3d.hpp>
+#include <hemivem/mesh/gmsh3d.hpp>
+#include <hemivem/mesh/poly2d.hpp>
+
 #include "command_mpi.hpp"
 #include "gmsh_squares.hpp"
 #include "stacked_bodies.hpp"
@@ -447,10 +452,19 @@ fs::path joined_solids(const std::string& name, const std::string& n, const std:
 // each process makes its piece of each body, matches the pieces and joins them: two solids whose
 // meshes match, and two plane blocks whose meshes do not (triangles or Voronoi cells on
 // squares: matching adds vertices to both), under their weight (a displacement no element
-// reproduces exactly); a block of Voronoi cells on a box of cubes
+// reproduces exactly); a block of Voronoi cells on a box of cubes; a lower block or box read
+// from a file (a .poly2d file of triangles, a Gmsh file of tetrahedra), of which each process
+// reads its piece
 TEST(CliFullSpaceMpi, TwoJoinedBodiesAcrossProcessesAreTheCondensedAnswer) {
   const fs::path toml = joined_solids("two-solids.toml", "[4, 4, 3]");
   const std::string weight = " --set 'body[0].loads.body_force=[0.0, -1.0]' --set 'body[1].loads.body_force=[0.0, -1.0]'";
+  const std::string weight3 =
+      " --set 'body[0].loads.body_force=[0.0, 0.0, -1.0]' --set 'body[1].loads.body_force=[0.0, 0.0, -1.0]'";
+  const fs::path poly = scratch("lower-block.poly2d"), tets = scratch("lower-box.msh");
+  fs::create_directories(poly.parent_path());
+  hemivem::write_poly2d(poly, hemivem::make_mesh("triangles", hemivem::GridSize(7, 4), hemivem::Rectangle{0.0, 1.0, 0.0, 0.5}));
+  hemivem::write_gmsh3d(hemivem::make_mesh3d("tetrahedra", hemivem::GridSize3(3, 3, 2), hemivem::Box{0.0, 1.0, 0.0, 1.0, 0.0, 0.5}),
+                        tets);
   const struct {
     std::string flags, name;
     bool friction;
@@ -464,7 +478,12 @@ TEST(CliFullSpaceMpi, TwoJoinedBodiesAcrossProcessesAreTheCondensedAnswer) {
                {scene("two-boxes-3d.toml") + " --set 'body[0].mesh.generator=\"voronoi\"' --set 'body[0].mesh.n=[4, 4, 2]'" +
                     " --set 'body[0].loads.body_force=[0.0, 0.0, -1.0]' --set 'body[1].loads.body_force=[0.0, 0.0, -1.0]'" +
                     " --tol 1e-11",
-                "two-boxes-voronoi", false}};
+                "two-boxes-voronoi", false},
+               {scene("two-blocks.toml") + " --set 'body[0].mesh.n=[8, 5]' --set 'body[1].mesh.file=\"" + poly.string() + "\"'" +
+                    weight + " --tol 1e-11",
+                "two-blocks-file", false},
+               {scene("two-boxes-3d.toml") + " --set 'body[1].mesh.file=\"" + tets.string() + "\"'" + weight3 + " --tol 1e-11",
+                "two-boxes-file", false}};
   for (const auto& c : cases) {
     SCOPED_TRACE(c.name);
     const fs::path ref = solve_condensed(c.flags, "condensed-" + c.name);

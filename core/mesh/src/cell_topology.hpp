@@ -54,20 +54,28 @@ CellTopology plane_topology(int num_vertices, const std::vector<std::vector<int>
 /// The cells of solid cells, each given by its faces' vertex loops.
 CellTopology solid_topology(int num_vertices, const std::vector<CellFaces>& cells);
 
+/// Whose piece choose_piece chooses: the vertices `owned` flags (one per vertex) when given,
+/// else process `rank` of `size`'s share of the vertices along the Hilbert curve.
+struct PieceOwner {
+  int rank = 0, size = 1;
+  const std::vector<char>* owned = nullptr;
+};
+
 /// Sets `out`'s cells, order, share, whole_cells and cell sums (MeshPieceRead, mesh_piece.hpp)
-/// to those of the piece process `rank` of `size` keeps of the mesh of `cells`, with its vertices
-/// at `vertices` and its cells' regions `regions`: `order` the vertices along the Hilbert curve
-/// through their box, the process's share of it the positions first, ..., end - 1, and `cells`
-/// piece_cells_around of that share with the facets `facets` (a file's facet groups), every
-/// boundary facet and the first facet of each region's first cell, and the cells around the
-/// vertex nearest each point `held` (HeldPoints). `out.mesh` is left alone. Returns the facets
-/// where the piece meets the rest of the mesh (a kept cell's facet whose other cell is not kept),
-/// each by its vertices, increasing, for set_cut_facets once the piece's mesh is made.
+/// to those of the piece `who` keeps of the mesh of `cells`, with its vertices at `vertices` and
+/// its cells' regions `regions`: of a process's share, `order` the vertices along the Hilbert
+/// curve through their box and the share the positions first, ..., end - 1 of it (of flagged
+/// vertices, these three left empty); `cells` piece_cells_around of those vertices with the
+/// facets `facets` (a file's facet groups), every boundary facet and the first facet of each
+/// region's first cell, and the cells around the vertex nearest each point `held` (HeldPoints).
+/// `out.mesh` is left alone. Returns the facets where the piece meets the rest of the mesh (a
+/// kept cell's facet whose other cell is not kept), each by its vertices, increasing, for
+/// set_cut_facets once the piece's mesh is made. InternalError for flags of another number.
 using FacetKeys = std::vector<std::vector<int>>;
 FacetKeys choose_piece(const CellTopology& cells, const std::vector<Vec2>& vertices, const std::vector<int>& regions,
-                       std::vector<int> facets, int rank, int size, HeldPoints held, MeshPieceRead<Mesh>& out);
+                       std::vector<int> facets, const PieceOwner& who, HeldPoints held, MeshPieceRead<Mesh>& out);
 FacetKeys choose_piece(const CellTopology& cells, const std::vector<Vec3>& vertices, const std::vector<int>& regions,
-                       std::vector<int> facets, int rank, int size, HeldPoints held, MeshPieceRead<Mesh3D>& out);
+                       std::vector<int> facets, const PieceOwner& who, HeldPoints held, MeshPieceRead<Mesh3D>& out);
 
 /// A plane mesh not made: its vertices and its elements' vertices in order.
 struct PlaneCells {
@@ -83,6 +91,8 @@ void make_plane_piece(const PlaneCells& cells, HeldPoints held, int rank, int si
 /// The same around the vertices `owned` flags (one per vertex) in place of a process's share:
 /// out.order, first and end left empty (MeshLists::piece).
 void make_plane_piece(const PlaneCells& cells, const std::vector<char>& owned, HeldPoints held, MeshPieceRead<Mesh>& out);
+/// The same of the piece `who` keeps.
+void make_plane_piece(const PlaneCells& cells, const PieceOwner& who, HeldPoints held, MeshPieceRead<Mesh>& out);
 
 /// A solid mesh not made: its vertices and its cells' faces (vertex loops).
 struct SolidCells {

@@ -42,6 +42,7 @@
 #include <fstream>
 #include <istream>
 #include <map>
+#include <memory>
 #include <string_view>
 
 namespace hemivem {
@@ -87,7 +88,21 @@ class GmshReader final : detail::GmshSections {
   MeshPieceRead<Mesh> read_piece(int rank, int size, HeldPoints held) {
     read_sections();
     check_plane();
-    return build_piece(rank, size, held);
+    return build_piece({rank, size}, held);
+  }
+
+  /// The file read (its sections and checks), its mesh not made: its number of vertices, of
+  /// which piece() makes the piece around any.
+  int read_lists() {
+    read_sections();
+    check_plane();
+    const std::vector<int> vertex_of = vertex_numbers();
+    return static_cast<int>(std::count_if(vertex_of.begin(), vertex_of.end(), [](int v) { return v >= 0; }));
+  }
+
+  /// After read_lists: the piece around the vertices `owned` flags (MeshLists::piece).
+  MeshPieceRead<Mesh> piece(const std::vector<char>& owned, HeldPoints held) const {
+    return build_piece({.owned = &owned}, held);
   }
 
  private:
@@ -124,9 +139,9 @@ class GmshReader final : detail::GmshSections {
     return mesh;
   }
 
-  /// The piece of the mesh process `rank` of `size` keeps (MeshPieceRead), made of the surface
-  /// elements' edges without the whole mesh.
-  MeshPieceRead<Mesh> build_piece(int rank, int size, HeldPoints held) {
+  /// The piece of the mesh `who` keeps (MeshPieceRead), made of the surface elements' edges
+  /// without the whole mesh.
+  MeshPieceRead<Mesh> build_piece(const detail::PieceOwner& who, HeldPoints held) const {
     std::vector<int> vertex_of;
     std::vector<Vec2> vertices = surface_vertices(vertex_of);
     std::vector<std::vector<int>> elements = surface_elements(vertices, vertex_of);
@@ -143,7 +158,7 @@ class GmshReader final : detail::GmshSections {
         if (f < 0) fail_not_an_edge(l);
         if (const std::vector<int>* tags = groups_of(l.entity); tags && !tags->empty()) grouped.push_back(f);
       }
-      cuts = detail::choose_piece(cells, vertices, regions, std::move(grouped), rank, size, held, out);
+      cuts = detail::choose_piece(cells, vertices, regions, std::move(grouped), who, held, out);
     }
     std::vector<std::vector<int>> kept;
     kept.reserve(out.cells.size());
@@ -262,6 +277,17 @@ MeshPieceRead<Mesh> read_gmsh_piece(const fs::path& path, int rank, int size, He
 
 MeshPieceRead<Mesh> read_gmsh_piece(std::istream& in, const std::string& name, int rank, int size, HeldPoints held) {
   return GmshReader(text::read_all(in, name, "mesh"), name).read_piece(rank, size, held);
+}
+
+MeshLists<Mesh> read_gmsh_lists(const fs::path& path) {
+  std::ifstream in = text::open_for_reading(path, "mesh file");
+  return read_gmsh_lists(in, path.string());
+}
+
+MeshLists<Mesh> read_gmsh_lists(std::istream& in, const std::string& name) {
+  auto reader = std::make_shared<GmshReader>(text::read_all(in, name, "mesh"), name);
+  const int vertices = reader->read_lists();
+  return {vertices, [reader](const std::vector<char>& owned, HeldPoints held) { return reader->piece(owned, held); }};
 }
 
 }  // namespace hemivem

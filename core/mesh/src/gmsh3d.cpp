@@ -41,6 +41,7 @@
 #include <algorithm>
 #include <charconv>
 #include <fstream>
+#include <memory>
 #include <istream>
 #include <map>
 #include <ostream>
@@ -133,8 +134,22 @@ class Gmsh3DReader final : detail::GmshSections {
     if (top_.empty())
       fail(elements_header_, "the file has no volume elements (4-node tetrahedra, 8-node hexahedra, 6-node prisms or "
                              "5-node pyramids): a plane mesh is read by read_gmsh");
-    return build_piece(rank, size, held);
+    return build_piece({rank, size}, held);
   }
+
+  /// The file read (its sections and checks), its mesh not made: its number of vertices, of
+  /// which piece() makes the piece around any.
+  int read_lists() {
+    read_sections();
+    if (top_.empty())
+      fail(elements_header_, "the file has no volume elements (4-node tetrahedra, 8-node hexahedra, 6-node prisms or "
+                             "5-node pyramids): a plane mesh is read by read_gmsh");
+    const std::vector<int> vertex_of = vertex_numbers();
+    return static_cast<int>(std::count_if(vertex_of.begin(), vertex_of.end(), [](int v) { return v >= 0; }));
+  }
+
+  /// After read_lists: the piece around the vertices `owned` flags (MeshLists::piece).
+  MeshPieceRead<Mesh3D> piece(const std::vector<char>& owned, HeldPoints held) { return build_piece({.owned = &owned}, held); }
 
  private:
   [[noreturn]] void refuse_element_type(const Line& block, long long type) const override {
@@ -183,9 +198,9 @@ class Gmsh3DReader final : detail::GmshSections {
     }
   }
 
-  /// The piece of the mesh process `rank` of `size` keeps (MeshPieceRead), made of the volume
-  /// elements' faces without the whole mesh.
-  MeshPieceRead<Mesh3D> build_piece(int rank, int size, HeldPoints held) {
+  /// The piece of the mesh `who` keeps (MeshPieceRead), made of the volume elements' faces
+  /// without the whole mesh.
+  MeshPieceRead<Mesh3D> build_piece(const detail::PieceOwner& who, HeldPoints held) {
     std::vector<Vec3> vertices = volume_vertices();
     detail::FacetKeys cuts;
     MeshPieceRead<Mesh3D> out;
@@ -208,7 +223,7 @@ class Gmsh3DReader final : detail::GmshSections {
           if (f < 0) fail_not_a_face(s);
           grouped.push_back(f);
         }
-      cuts = detail::choose_piece(cells, vertices, regions, std::move(grouped), rank, size, held, out);
+      cuts = detail::choose_piece(cells, vertices, regions, std::move(grouped), who, held, out);
     }
     try {
       out.mesh = mesh_of(vertices, out.cells);
@@ -530,6 +545,17 @@ MeshPieceRead<Mesh3D> read_gmsh3d_piece(const fs::path& path, int rank, int size
 
 MeshPieceRead<Mesh3D> read_gmsh3d_piece(std::istream& in, const std::string& name, int rank, int size, HeldPoints held) {
   return Gmsh3DReader(text::read_all(in, name, "mesh"), name).read_piece(rank, size, held);
+}
+
+MeshLists<Mesh3D> read_gmsh3d_lists(const fs::path& path) {
+  std::ifstream in = text::open_for_reading(path, "mesh file");
+  return read_gmsh3d_lists(in, path.string());
+}
+
+MeshLists<Mesh3D> read_gmsh3d_lists(std::istream& in, const std::string& name) {
+  auto reader = std::make_shared<Gmsh3DReader>(text::read_all(in, name, "mesh"), name);
+  const int vertices = reader->read_lists();
+  return {vertices, [reader](const std::vector<char>& owned, HeldPoints held) { return reader->piece(owned, held); }};
 }
 
 void write_gmsh3d(const Mesh3D& mesh, std::ostream& out) {

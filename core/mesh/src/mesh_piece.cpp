@@ -272,6 +272,14 @@ detail::FacetKeys choose(const CellTopology& cells, const std::vector<Vec>& vert
   return cuts;
 }
 
+/// choose_around the vertices `who` flags, or choose of its process's share.
+template <class Vec, class MeshType>
+detail::FacetKeys chosen(const CellTopology& cells, const std::vector<Vec>& vertices, const std::vector<int>& regions,
+                         std::vector<int> facets, const detail::PieceOwner& who, HeldPoints held, MeshPieceRead<MeshType>& out) {
+  if (who.owned) return choose_around(cells, vertices, regions, std::move(facets), *who.owned, held, out);
+  return choose(cells, vertices, regions, std::move(facets), who.rank, who.size, held, out);
+}
+
 std::vector<int> sorted_vertices(const Mesh& mesh, int e) {
   return {std::min(mesh.edge(e).v0, mesh.edge(e).v1), std::max(mesh.edge(e).v0, mesh.edge(e).v1)};
 }
@@ -296,12 +304,12 @@ void cut_facets_of(MeshPieceRead<MeshType>& out, const detail::FacetKeys& cuts) 
 namespace detail {
 
 FacetKeys choose_piece(const CellTopology& cells, const std::vector<Vec2>& vertices, const std::vector<int>& regions,
-                       std::vector<int> facets, int rank, int size, HeldPoints held, MeshPieceRead<Mesh>& out) {
-  return choose(cells, vertices, regions, std::move(facets), rank, size, held, out);
+                       std::vector<int> facets, const PieceOwner& who, HeldPoints held, MeshPieceRead<Mesh>& out) {
+  return chosen(cells, vertices, regions, std::move(facets), who, held, out);
 }
 FacetKeys choose_piece(const CellTopology& cells, const std::vector<Vec3>& vertices, const std::vector<int>& regions,
-                       std::vector<int> facets, int rank, int size, HeldPoints held, MeshPieceRead<Mesh3D>& out) {
-  return choose(cells, vertices, regions, std::move(facets), rank, size, held, out);
+                       std::vector<int> facets, const PieceOwner& who, HeldPoints held, MeshPieceRead<Mesh3D>& out) {
+  return chosen(cells, vertices, regions, std::move(facets), who, held, out);
 }
 
 void set_cut_facets(MeshPieceRead<Mesh>& out, const FacetKeys& cuts) { cut_facets_of(out, cuts); }
@@ -309,14 +317,12 @@ void set_cut_facets(MeshPieceRead<Mesh>& out, const FacetKeys& cuts) { cut_facet
 namespace {
 
 /// make_plane_piece and make_solid_piece: topology() the cells of `lists`, freed before the
-/// piece's mesh is made; the piece around the vertices `owned` flags, or (none given) around
-/// process `rank` of `size`'s share.
+/// piece's mesh is made; the piece `who` keeps.
 template <class Vec, class Cell, class MeshType, class Topology>
 void make_piece(const std::vector<Vec>& vertices, const std::vector<Cell>& lists, const Topology& topology,
-                HeldPoints held, int rank, int size, const std::vector<char>* owned, MeshPieceRead<MeshType>& out) {
+                HeldPoints held, const PieceOwner& who, MeshPieceRead<MeshType>& out) {
   const std::vector<int> regions(lists.size(), 0);
-  const FacetKeys cuts = owned ? choose_around(topology(), vertices, regions, {}, *owned, held, out)
-                               : choose(topology(), vertices, regions, {}, rank, size, held, out);
+  const FacetKeys cuts = chosen(topology(), vertices, regions, {}, who, held, out);
   std::vector<Cell> kept;
   kept.reserve(out.cells.size());
   for (int c : out.cells) kept.push_back(lists[static_cast<std::size_t>(c)]);
@@ -326,38 +332,28 @@ void make_piece(const std::vector<Vec>& vertices, const std::vector<Cell>& lists
 
 }  // namespace
 
-namespace {
-
-void plane_piece(const PlaneCells& cells, HeldPoints held, int rank, int size, const std::vector<char>* owned,
-                 MeshPieceRead<Mesh>& out) {
+void make_plane_piece(const PlaneCells& cells, const PieceOwner& who, HeldPoints held, MeshPieceRead<Mesh>& out) {
   make_piece(
       cells.vertices, cells.elements,
-      [&] { return plane_topology(static_cast<int>(cells.vertices.size()), cells.elements); }, held, rank, size, owned,
-      out);
+      [&] { return plane_topology(static_cast<int>(cells.vertices.size()), cells.elements); }, held, who, out);
 }
-
-void solid_piece(const SolidCells& cells, HeldPoints held, int rank, int size, const std::vector<char>* owned,
-                 MeshPieceRead<Mesh3D>& out) {
-  make_piece(
-      cells.vertices, cells.cells, [&] { return solid_topology(static_cast<int>(cells.vertices.size()), cells.cells); },
-      held, rank, size, owned, out);
-}
-
-}  // namespace
-
 void make_plane_piece(const PlaneCells& cells, HeldPoints held, int rank, int size, MeshPieceRead<Mesh>& out) {
-  plane_piece(cells, held, rank, size, nullptr, out);
+  make_plane_piece(cells, PieceOwner{rank, size}, held, out);
 }
 void make_plane_piece(const PlaneCells& cells, const std::vector<char>& owned, HeldPoints held, MeshPieceRead<Mesh>& out) {
-  plane_piece(cells, held, 0, 1, &owned, out);
+  make_plane_piece(cells, PieceOwner{.owned = &owned}, held, out);
 }
 
 void make_solid_piece(const SolidCells& cells, HeldPoints held, int rank, int size, MeshPieceRead<Mesh3D>& out) {
-  solid_piece(cells, held, rank, size, nullptr, out);
+  make_piece(
+      cells.vertices, cells.cells, [&] { return solid_topology(static_cast<int>(cells.vertices.size()), cells.cells); },
+      held, PieceOwner{rank, size}, out);
 }
 void make_solid_piece(const SolidCells& cells, const std::vector<char>& owned, HeldPoints held,
                       MeshPieceRead<Mesh3D>& out) {
-  solid_piece(cells, held, 0, 1, &owned, out);
+  make_piece(
+      cells.vertices, cells.cells, [&] { return solid_topology(static_cast<int>(cells.vertices.size()), cells.cells); },
+      held, PieceOwner{.owned = &owned}, out);
 }
 void set_cut_facets(MeshPieceRead<Mesh3D>& out, const FacetKeys& cuts) { cut_facets_of(out, cuts); }
 

@@ -19,6 +19,7 @@
 #include <cmath>
 #include <fstream>
 #include <istream>
+#include <memory>
 #include <ostream>
 #include <string_view>
 #include <system_error>
@@ -57,14 +58,25 @@ class Poly2dReader {
   /// The piece of the mesh process `rank` of `size` keeps (MeshPieceRead), chosen among the
   /// elements' edges without the whole mesh.
   MeshPieceRead<Mesh> read_piece(int rank, int size, HeldPoints held) {
+    const detail::PlaneCells cells = read_cells();
+    return piece(cells, {rank, size}, held);
+  }
+
+  /// The vertices and elements, the mesh not made (for piece).
+  detail::PlaneCells read_cells() {
     std::vector<int> boundary_list;
     read_lists(boundary_list);
+    return {std::move(vertices_), std::move(elements_)};
+  }
+
+  /// The piece of the mesh of `cells` (read_cells') that `who` keeps, chosen among the
+  /// elements' edges without the whole mesh.
+  MeshPieceRead<Mesh> piece(const detail::PlaneCells& cells, const detail::PieceOwner& who, HeldPoints held) const {
     MeshPieceRead<Mesh> out;
-    detail::PlaneCells cells{std::move(vertices_), std::move(elements_)};
     try {
-      detail::make_plane_piece(cells, held, rank, size, out);
+      detail::make_plane_piece(cells, who, held, out);
     } catch (const MeshError&) {  // the whole mesh's error, as read_poly2d names it
-      (void)mesh_of(std::move(cells.vertices), std::move(cells.elements));
+      (void)mesh_of(cells.vertices, cells.elements);
       throw;
     }
     return out;
@@ -316,6 +328,19 @@ MeshPieceRead<Mesh> read_poly2d_piece(std::istream& in, const std::string& name,
 MeshPieceRead<Mesh> read_poly2d_piece(const fs::path& path, int rank, int size, HeldPoints held) {
   std::ifstream in = text::open_for_reading(path, "mesh file");
   return read_poly2d_piece(in, path.string(), rank, size, held);
+}
+
+MeshLists<Mesh> read_poly2d_lists(std::istream& in, const std::string& name) {
+  auto reader = std::make_shared<Poly2dReader>(text::read_all(in, name, "mesh"), name);
+  auto cells = std::make_shared<const detail::PlaneCells>(reader->read_cells());
+  return {static_cast<int>(cells->vertices.size()), [reader, cells](const std::vector<char>& owned, HeldPoints held) {
+            return reader->piece(*cells, {.owned = &owned}, held);
+          }};
+}
+
+MeshLists<Mesh> read_poly2d_lists(const fs::path& path) {
+  std::ifstream in = text::open_for_reading(path, "mesh file");
+  return read_poly2d_lists(in, path.string());
 }
 
 void write_poly2d(std::ostream& out, const Mesh& mesh, const std::vector<std::string>& comments) {

@@ -169,12 +169,47 @@ std::optional<BoxPiece> body_piece(const Scene& scene, std::size_t b, int rank, 
   return box_piece_of(body_scene(scene, b), against, rank, size);
 }
 
-/// Whether the scene of one body `one`'s mesh is made as lists (MeshLists) of which a process
-/// makes its piece around any vertices: Voronoi cells on its rectangle or box, or a mesh in its
-/// polygon, without region boxes.
+/// Whether the scene of one body `one`'s mesh is made or read as lists (MeshLists) of which a
+/// process makes its piece around any vertices: Voronoi cells on its rectangle or box, a mesh in
+/// its polygon, or a file each process reads its piece of (reads_pieces), without region boxes.
 bool makes_lists(const Scene& one) {
   const SceneMesh& m = one.mesh;
-  return m.file.empty() && !one.material.has_region_boxes() && (m.generator == "voronoi" || !m.polygon.empty());
+  if (one.material.has_region_boxes()) return false;
+  if (!m.file.empty()) return reads_pieces(one);
+  return m.generator == "voronoi" || !m.polygon.empty();
+}
+
+/// The mesh file of the scene of one body `one` (reads_pieces) as lists.
+template <int dim>
+MeshLists<MeshOf<dim>> file_lists(const Scene& one) {
+  if constexpr (dim == 2) {
+    if (to_lower(one.mesh.file.extension().string()) == ".poly2d") return read_poly2d_lists(one.mesh.file);
+    return read_gmsh_lists(one.mesh.file);
+  } else {
+    return read_gmsh3d_lists(one.mesh.file);
+  }
+}
+
+/// require_route_memory of the mesh file of the scene of one body `one`, from its piece `sides`
+/// along its boundary, before any other piece is made: the whole mesh's vertices and cells, and
+/// in a solid the vertices of its boundary faces counted as its contact nodes (as many as any
+/// contact part can hold).
+void require_file_piece_memory(const Scene& one, const MeshPieceRead<Mesh>& sides) {
+  detail::require_file_memory(
+      one, estimate_memory(sides.mesh.num_vertices(), sides.whole_cells, sides.cell_vertices, sides.cell_vertices_squared),
+      sides.largest_cell);
+}
+void require_file_piece_memory(const Scene& one, const MeshPieceRead<Mesh3D>& sides) {
+  const Mesh3D& m = sides.mesh;
+  std::set<int> boundary;
+  for (int f = 0; f < m.num_faces(); ++f)
+    if (m.face(f).outer < 0 && !std::binary_search(sides.cut_facets.begin(), sides.cut_facets.end(), f))
+      boundary.insert(m.face(f).vertices.begin(), m.face(f).vertices.end());
+  const MemoryEstimate condensed = estimate_memory_3d(m.num_vertices(), static_cast<double>(boundary.size()));
+  detail::require_route_memory(one, condensed,
+                               one.mesh.file.string() + ": " + detail::count_text(m.num_vertices()) + " vertices, " +
+                                   detail::count_text(static_cast<double>(boundary.size())) + " on its boundary",
+                               one.where("mesh.file"));
 }
 
 /// The points of the scene's supports, whose vertices' cells every piece holds.
@@ -267,13 +302,18 @@ struct BodyPieceMaker {
   /// (collective).
   BodyPieceMaker(const Scene& scene, std::size_t b, const RowDistribution* processes) {
     const Scene one = body_scene(scene, b);
+    held = held_points(one);
+    if (!one.mesh.file.empty()) {  // its memory checked once its piece along its sides is read
+      lists = file_lists<dim>(one);
+      vertices = lists.vertices;
+      return;
+    }
     detail::require_generated_memory(one);
     box = body_piece(scene, b, 0, 1);
     if (box) {
       vertices = box->end_vertex;
       return;
     }
-    held = held_points(one);
     lists = detail::generated_mesh(one, [&] {
       const auto seed = static_cast<std::uint64_t>(one.mesh.seed);
       if constexpr (dim == 2) {
@@ -303,10 +343,16 @@ struct BodyPieceMaker {
       std::vector<int> cut = grid_cut_facets(mesh, grid_vertices_of(one));
       return {std::move(mesh), std::move(cut)};
     }
-    MeshPieceRead<MeshOf<dim>> made = detail::generated_mesh(one, [&] {
-      if (owned) return lists.piece(*owned, held);
-      return lists.piece(std::vector<char>(static_cast<std::size_t>(vertices), 0), {});
-    });
+    MeshPieceRead<MeshOf<dim>> made;
+    if (!one.mesh.file.empty()) {  // a file's errors name it, not its generator
+      made = lists.piece(owned ? *owned : std::vector<char>(static_cast<std::size_t>(vertices), 0), owned ? held : HeldPoints{});
+      if (!owned) require_file_piece_memory(one, made);
+    } else {
+      made = detail::generated_mesh(one, [&] {
+        if (owned) return lists.piece(*owned, held);
+        return lists.piece(std::vector<char>(static_cast<std::size_t>(vertices), 0), {});
+      });
+    }
     if (where) {
       where->cells = std::move(made.cells);
       where->whole_cells = made.whole_cells;

@@ -29,4 +29,11 @@ Mesh read_gmsh(std::istream& in, const std::string& name);
 MeshPieceRead<Mesh> read_gmsh_piece(const std::filesystem::path& path, int rank, int size, HeldPoints held = {});
 MeshPieceRead<Mesh> read_gmsh_piece(std::istream& in, const std::string& name, int rank, int size, HeldPoints held = {});
 
+/// The file's mesh (as read_gmsh reads it) as lists (MeshLists) of which a process makes the
+/// piece around any of its vertices, by read_gmsh_piece's rule: a body among several each
+/// process reads its piece of. The file is read whole once, its errors read_gmsh_piece's; the
+/// mesh's, those each piece shows.
+MeshLists<Mesh> read_gmsh_lists(const std::filesystem::path& path);
+MeshLists<Mesh> read_gmsh_lists(std::istream& in, const std::string& name);
+
 }  // namespace hemivem

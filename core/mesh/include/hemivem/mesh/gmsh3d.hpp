@@ -31,6 +31,11 @@ MeshPieceRead<Mesh3D> read_gmsh3d_piece(const std::filesystem::path& path, int r
 MeshPieceRead<Mesh3D> read_gmsh3d_piece(std::istream& in, const std::string& name, int rank, int size,
                                         HeldPoints held = {});
 
+/// The file's mesh (as read_gmsh3d reads it) as lists (MeshLists) of which a process makes the
+/// piece around any of its vertices, by read_gmsh3d_piece's rule (read_gmsh_lists).
+MeshLists<Mesh3D> read_gmsh3d_lists(const std::filesystem::path& path);
+MeshLists<Mesh3D> read_gmsh3d_lists(std::istream& in, const std::string& name);
+
 /// Writes a Gmsh 4.1 ASCII mesh that read_gmsh3d reads back to the same mesh: tetrahedra,
 /// hexahedra, prisms and pyramids (with the vertex orders Gmsh uses); each region a volume
 /// physical group; each face group a physical surface by its name. InputError for a cell of

@@ -70,15 +70,18 @@ struct MeshPieceRead {
   int largest_cell = 0;
 };
 
-/// A generated mesh made as lists of its cells' vertices and not yet as a mesh (a Voronoi mesh,
-/// a polygon's mesh), of which a process makes the piece around any of its vertices: a body
-/// among several, whose vertices the processes share along the order of every body's.
+/// A mesh made or read as lists of its cells' vertices and not yet as a mesh (a Voronoi mesh, a
+/// polygon's mesh, a mesh file's: voronoi_lists, mesh_lists, voronoi3d_lists, read_gmsh_lists,
+/// read_gmsh3d_lists, read_poly2d_lists), of which a process makes the piece around any of its
+/// vertices: a body among several, whose vertices the processes share along the order of every
+/// body's.
 template <class MeshType>
 struct MeshLists {
   int vertices = 0;  ///< the whole mesh's number of vertices
   /// The piece around the vertices `owned` flags (one per vertex; none flagged: the cells of the
   /// boundary alone), by the rule of a piece read from a file: with the cells of every boundary
-  /// facet and around the vertex nearest each point `held`. Its `order`, `first` and `end` are
+  /// facet, of a file's facet groups and the first facet of each of its regions' first cell, and
+  /// around the vertex nearest each point `held`. Its `order`, `first` and `end` are
   /// left empty. InternalError for flags of another number; MeshError as the whole mesh's.
   std::function<MeshPieceRead<MeshType>(const std::vector<char>& owned, HeldPoints held)> piece;
 };

@@ -44,6 +44,11 @@ MeshPieceRead<Mesh> read_poly2d_piece(const std::filesystem::path& path, int ran
 MeshPieceRead<Mesh> read_poly2d_piece(std::istream& in, const std::string& name, int rank, int size,
                                       HeldPoints held = {});
 
+/// The .poly2d file's mesh as lists (MeshLists) of which a process makes the piece around any
+/// of its vertices, by read_poly2d_piece's rule (read_gmsh_lists).
+MeshLists<Mesh> read_poly2d_lists(const std::filesystem::path& path);
+MeshLists<Mesh> read_poly2d_lists(std::istream& in, const std::string& name);
+
 /// Writes a mesh (coordinates with %.17g, so they read back to the same doubles),
 /// the boundary vertex list, and the given comment lines. The file is written to a
 /// temporary name in the same folder and renamed, so no partial file is left behind.

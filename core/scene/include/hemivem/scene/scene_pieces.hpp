@@ -95,8 +95,9 @@ std::unique_ptr<BuiltProblem> polygon_problem_piece(const Scene& scene, int rank
 /// Whether each process makes only its piece of each body's mesh (build_bodies_piece): a scene
 /// of several bodies, without adaptive steps, each of whose meshes is a generated box made in
 /// pieces as a scene of one body's (scene_piece of body_scene, the selectors of the contact parts
-/// against it counted as its own) or is made as lists of its cells (MeshLists: Voronoi cells on
-/// its rectangle or box, or a mesh in its polygon, without region boxes).
+/// against it counted as its own) or is made or read as lists of its cells (MeshLists: Voronoi
+/// cells on its rectangle or box, a mesh in its polygon, or a Gmsh or, in the plane, .poly2d file
+/// as reads_pieces reads one body's), without region boxes.
 bool makes_body_pieces(const Scene& scene);
 
 /// build_problem<dim>(scene) of a scene of several bodies (makes_body_pieces) on the pieces of
@@ -107,9 +108,12 @@ bool makes_body_pieces(const Scene& scene);
 /// processes share them as they share a mesh made whole. Each body's piece is then made around
 /// the process's vertices among the body's generated ones: a box's as a scene of one body's
 /// (make_mesh_piece, make_mesh3d_piece; BoxPiece::owned), with its sides those of its supports,
-/// loads and contact parts and of the parts against it; a body made as lists (voronoi_lists,
-/// mesh_lists, voronoi3d_lists; each process runs its generator once) with the cells of every
-/// boundary facet and around the vertex each support at a point holds. The pieces are matched
+/// loads and contact parts and of the parts against it; a body made or read as lists
+/// (voronoi_lists, mesh_lists, voronoi3d_lists, read_gmsh_lists, read_gmsh3d_lists,
+/// read_poly2d_lists; each process runs its generator or reads its file once) with the cells of
+/// every boundary facet, of a file's facet groups and a cell of each of its regions, and around
+/// the vertex each support at a point holds; a file's memory is checked of its whole mesh,
+/// counted as its piece along its sides is read. The pieces are matched
 /// and joined, and no selector picks a facet where a piece meets the rest of its body
 /// (grid_cut_facets, MeshPieceRead::cut_facets). Each piece holds every cell along its contact
 /// sides, so the vertices matching adds are the whole meshes' with the same numbers and
