@@ -718,14 +718,18 @@ TEST(MeshPiece, ThePiecesKeptOfAGmshSolidPoseTheWholeMeshsShares) {
 // each body's kept cells one, the pairs across the bodies' contact posed as on the whole mesh
 TEST(MeshPiece, ThePiecesKeptOfSeveralBodiesPoseTheWholeMeshsShares) {
   {
-    SCOPED_TRACE("two-blocks, a region box in the Voronoi block");  // made whole and cut
+    // made whole and cut
+    SCOPED_TRACE("two-blocks, the lower read from a .poly2d file of triangles with a region box");
     Scene blocks = parse_scene(test::scenes_dir() / "two-blocks.toml");
     ASSERT_EQ(blocks.bodies.size(), 2u);
     blocks.bodies[0].mesh.n = 12, blocks.bodies[0].mesh.ny = 6;
-    blocks.bodies[1].mesh.n = 14, blocks.bodies[1].mesh.ny = 6;
-    blocks.bodies[0].material.regions.push_back(
-        SceneRegionMaterial{1, 20.0, 0.3, std::array<double, 4>{0.0, 0.5, 0.5, 1.0}});
+    const std::filesystem::path poly = test::scratch("lower-block-regions.poly2d");
+    write_poly2d(poly, make_mesh("triangles", GridSize(14, 6), Rectangle{0.0, 1.0, 0.0, 0.5}));
+    blocks.bodies[1].mesh.file = poly;
+    blocks.bodies[1].material.regions.push_back(
+        SceneRegionMaterial{1, 20.0, 0.3, std::array<double, 4>{0.0, 0.5, 0.0, 0.5}});
     expect_cut_pieces_pose_the_whole_share<2>(blocks);
+    std::filesystem::remove(poly);
   }
   // two boxes, the upper pressed down by its top's displacement (the full-space route needs
   // supports that hold each body)
@@ -977,6 +981,26 @@ TEST(BodyPieces, ThePiecesEachProcessMakesOfBodiesMadeAsListsAreTheWholeMeshs) {
     polygon.bodies[0].tractions.front().boundary = BoundarySelector{};
     polygon.bodies[0].tractions.front().boundary.groups = {"edge3"};  // the L's inner top, (0.5, 0.75)-(0.5, 1)
     expect_body_pieces_are_the_whole_meshs<2>(polygon);
+  }
+  {
+    SCOPED_TRACE("two-blocks, a region box inside each block");
+    Scene regions = blocks;
+    regions.bodies[0].material.regions.push_back(SceneRegionMaterial{3, 30.0, 0.3, std::array<double, 4>{0.4, 0.6, 0.65, 0.85}});
+    regions.bodies[1].material.regions.push_back(SceneRegionMaterial{2, 1.0, 0.2, std::array<double, 4>{0.4, 0.6, 0.15, 0.35}});
+    expect_body_pieces_are_the_whole_meshs<2>(regions);
+    // a piece without a cell of the upper block's region 3 still shifts the lower block's regions
+    // past it, as the whole mesh does
+    int without = 0;
+    for (int rank = 0; rank < 3; ++rank) {
+      PieceOfMesh where;
+      const auto piece = build_bodies_piece<2>(regions, rank, 3, where);
+      const BodyRange& upper = piece->bodies.front();
+      bool holds = false;
+      for (int c = upper.first_cell; c < upper.first_cell + upper.cells; ++c) holds = holds || piece->mesh.region(c) == 3;
+      without += holds ? 0 : 1;
+      EXPECT_EQ(piece->bodies.back().first_region, 4);
+    }
+    EXPECT_GT(without, 0);
   }
   Scene boxes = parse_scene(test::scenes_dir() / "two-boxes-3d.toml");
   ASSERT_EQ(boxes.bodies.size(), 2u);

@@ -125,10 +125,11 @@ TEST(ScenePieces, SeveralBodiesAreMadeInPiecesOrCutAndAdaptiveStepsHeldWholeOnEv
   file.bodies[1].material.regions.push_back(SceneRegionMaterial{1, 20.0, 0.3, std::array<double, 4>{0.0, 0.5, -1.0, 0.0}});
   EXPECT_FALSE(makes_body_pieces(file));  // with region boxes: made whole and cut
   EXPECT_TRUE(cuts_pieces(file));
-  Scene boxed = blocks;  // region boxes in the Voronoi body: made whole and cut
+  Scene boxed = blocks;  // region boxes in the Voronoi body and the squares: made in pieces
   boxed.bodies[0].material.regions.push_back(SceneRegionMaterial{1, 20.0, 0.3, std::array<double, 4>{0.0, 0.5, 0.5, 1.0}});
-  EXPECT_FALSE(makes_body_pieces(boxed));
-  EXPECT_TRUE(cuts_pieces(boxed));
+  boxed.bodies[1].material.regions.push_back(SceneRegionMaterial{1, 20.0, 0.3, std::array<double, 4>{0.0, 0.5, 0.0, 0.5}});
+  EXPECT_TRUE(makes_body_pieces(boxed));
+  EXPECT_FALSE(cuts_pieces(boxed));
   Scene triangles = blocks;
   triangles.bodies[0].mesh.generator = "triangles";
   EXPECT_TRUE(makes_body_pieces(triangles));

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <filesystem>
 #include <memory>
@@ -61,17 +62,31 @@ struct SceneEngines {
   std::function<void(const nlohmann::json&)> on_coarser_grid;
 };
 
-/// Collective: every region of a scene of one body holds a cell of the whole mesh whose pieces
-/// the processes made (check_regions_of_pieces of every piece's region ids).
-template <class MeshType>
-void check_regions_across(const Scene& scene, const MeshType& piece, const RowDistribution& rows) {
-  std::vector<int> mine(piece.regions().begin(), piece.regions().end());
+/// Collective: every region of the scene (of each body, of a scene of several) holds a cell of
+/// the whole mesh whose pieces the processes made (check_regions_of_pieces of every piece's
+/// region ids, each body's its own: BodyRange::first_region).
+template <int dim>
+void check_regions_across(const Scene& scene, const BasicBuiltProblem<dim>& piece, const RowDistribution& rows) {
+  std::vector<BodyRange> bodies = piece.bodies;
+  if (bodies.empty()) bodies.push_back(BodyRange{"", 0, piece.mesh.num_vertices(), 0, piece.mesh.num_cells(), 0});
+  std::vector<std::array<int, 2>> mine;  // (body, its region) of each of the piece's cells
+  for (std::size_t b = 0; b < bodies.size(); ++b)
+    for (int c = bodies[b].first_cell; c < bodies[b].first_cell + bodies[b].cells; ++c)
+      mine.push_back({static_cast<int>(b), piece.mesh.region(c) - bodies[b].first_region});
   std::sort(mine.begin(), mine.end());
   mine.erase(std::unique(mine.begin(), mine.end()), mine.end());
-  const Eigen::VectorXd all = rows.all_gather(Eigen::Map<const Eigen::VectorXi>(mine.data(), static_cast<Eigen::Index>(mine.size())).cast<double>());
-  std::vector<int> regions(static_cast<std::size_t>(all.size()));
-  for (Eigen::Index k = 0; k < all.size(); ++k) regions[static_cast<std::size_t>(k)] = static_cast<int>(all(k));
-  check_regions_of_pieces(scene, regions);
+  Eigen::VectorXd flat(2 * static_cast<Eigen::Index>(mine.size()));
+  for (std::size_t k = 0; k < mine.size(); ++k) {
+    flat(2 * static_cast<Eigen::Index>(k)) = mine[k][0];
+    flat(2 * static_cast<Eigen::Index>(k) + 1) = mine[k][1];
+  }
+  const Eigen::VectorXd all = rows.all_gather(flat);
+  std::vector<std::vector<int>> regions(bodies.size());
+  for (Eigen::Index k = 0; k + 1 < all.size(); k += 2)
+    regions[static_cast<std::size_t>(all(k))].push_back(static_cast<int>(all(k + 1)));
+  if (scene.bodies.empty()) check_regions_of_pieces(scene, regions.front());
+  else
+    for (std::size_t b = 0; b < bodies.size(); ++b) check_regions_of_pieces(body_scene(scene, b), regions[b]);
 }
 
 /// The problem a solve of the scene builds on the scene's own mesh, into s.built: on the
@@ -96,7 +111,7 @@ void build_scene_problem(const Scene& scene, SceneEngines& e, Solved& s, const s
       s.mesh_pieces = world.size;
       e.writes_to_folder = !out.empty();
       s.built = on_every_process(*process_rows(), [&] { return build_problem_piece<dim>(scene, *piece); });
-      check_regions_across(scene, s.built->mesh, *process_rows());
+      check_regions_across(scene, *s.built, *process_rows());
       e.piece = scene_piece_of_mesh(scene, *piece);
       s.whole_cells = e.piece->whole_cells;
       return;
@@ -111,7 +126,7 @@ void build_scene_problem(const Scene& scene, SceneEngines& e, Solved& s, const s
           if (makes_polygon_pieces(scene)) return polygon_problem_piece(scene, world.rank, world.size, where);
         return build_bodies_piece<dim>(scene, world.rank, world.size, where, process_rows().get());
       });
-      if (!makes_body_pieces(scene)) check_regions_across(scene, s.built->mesh, *process_rows());
+      check_regions_across(scene, *s.built, *process_rows());
       s.mesh_pieces = world.size;
       e.writes_to_folder = !out.empty();
       s.whole_cells = where.whole_cells;

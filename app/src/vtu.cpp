@@ -365,7 +365,7 @@ std::unique_ptr<const SolutionVtu::Impl> SolutionVtu::make(const MeshType& mesh,
                      " vertices (" + std::to_string(dim) + " per vertex)");
   add_point_data(impl->fields, nv, sol);
   add_cell_data(impl->fields, mesh, materials, sol, indicators);
-  impl->whole = BodyRange{"the mesh", 0, mesh.num_vertices(), 0, num_cells(mesh)};
+  impl->whole = BodyRange{"the mesh", 0, mesh.num_vertices(), 0, num_cells(mesh), 0};
   impl->body = [&mesh, &sol](std::ostream& os, const Fields& f, const BodyRange& body) {
     write_selection(os, mesh, f, body_selection(mesh, sol, body));
   };

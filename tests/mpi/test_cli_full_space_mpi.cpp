@@ -862,6 +862,24 @@ TEST(CliFullSpaceMpi, RegionBoxesOnPiecesAreTheCondensedAnswer) {
                                       "material.region[0].id: region 1 matches no element", "empty-box");
 }
 
+// region boxes inside two bodies made in pieces (the blocks of two-blocks.toml, Voronoi cells on
+// squares): each process puts its cells into the whole meshes' regions, and a piece without a
+// cell of the upper block's region shifts the lower's past it, as the whole does; a box that
+// holds no cell of its body is refused by every process alike, as in one process
+TEST(CliFullSpaceMpi, RegionBoxesInBodiesOnPiecesAreTheCondensedAnswer) {
+  const std::string blocks =
+      scene("two-blocks.toml") + " --set 'body[0].mesh.n=[12, 6]' --set 'body[1].mesh.n=[14, 6]'" +
+      " --set 'body[0].loads.body_force=[0.0, -1.0]' --set 'body[1].loads.body_force=[0.0, -1.0]'" +
+      " --set 'body[1].material.region[+]={id = 2, E = 1.0, nu = 0.2, box = [0.4, 0.6, 0.15, 0.35]}' --tol 1e-11";
+  const std::string regions = blocks + " --set 'body[0].material.region[+]={id = 3, E = 30.0, nu = 0.3, box = [0.4, 0.6, 0.65, 0.85]}'";
+  const fs::path ref = solve_condensed(regions, "condensed-body-regions");
+  if (ref.empty()) return;
+  for (const int processes : {2, 3}) expect_processes_agree(regions, ref, processes, "body-regions", false, processes);
+  expect_every_process_refuses_as_one(
+      blocks + " --set 'body[0].material.region[+]={id = 3, E = 30.0, nu = 0.3, box = [0.401, 0.402, 0.701, 0.702]}'",
+      "material.region[0].id: region 3 matches no element", "body-empty-box");
+}
+
 /// The applied load of a plane path's step `a` (path.json) is that of `b` to 1e-12 of its size.
 void expect_applied_load_agrees(const nlohmann::json& a, const nlohmann::json& b) {
   const auto &fa = a["applied_load"], &fb = b["applied_load"];

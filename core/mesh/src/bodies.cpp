@@ -60,8 +60,12 @@ void map_facets(const std::vector<const MeshOf<dim>*>& bodies, const std::vector
 }
 
 template <int dim>
-BasicJoinedMeshes<dim> join(const std::vector<const MeshOf<dim>*>& bodies, const std::vector<std::string>& names) {
+BasicJoinedMeshes<dim> join(const std::vector<const MeshOf<dim>*>& bodies, const std::vector<std::string>& names,
+                            const std::vector<int>& region_counts) {
   check_names(bodies, names);
+  if (!region_counts.empty() && region_counts.size() != bodies.size())
+    throw InputError("join_meshes: " + std::to_string(region_counts.size()) + " region counts for " +
+                     std::to_string(bodies.size()) + " bodies");
   BasicJoinedMeshes<dim> out;
   std::vector<PointOf<dim>> vertices;
   std::vector<decltype(cell_of(*bodies.front(), 0))> cells;
@@ -82,7 +86,7 @@ BasicJoinedMeshes<dim> join(const std::vector<const MeshOf<dim>*>& bodies, const
       regions.push_back(m->region(c) + region_offset);
       largest = std::max(largest, m->region(c));
     }
-    region_offset += largest + 1;
+    region_offset += std::max(largest + 1, region_counts.empty() ? 0 : region_counts[out.first_region.size() - 1]);
   }
   out.mesh = detail::make_mesh_of(std::move(vertices), std::move(cells), std::move(regions), body_of);
   map_facets<dim>(bodies, names, out);
@@ -91,12 +95,14 @@ BasicJoinedMeshes<dim> join(const std::vector<const MeshOf<dim>*>& bodies, const
 
 }  // namespace
 
-JoinedMeshes join_meshes(const std::vector<const Mesh*>& bodies, const std::vector<std::string>& names) {
-  return join<2>(bodies, names);
+JoinedMeshes join_meshes(const std::vector<const Mesh*>& bodies, const std::vector<std::string>& names,
+                         const std::vector<int>& region_counts) {
+  return join<2>(bodies, names, region_counts);
 }
 
-JoinedMeshes3D join_meshes(const std::vector<const Mesh3D*>& bodies, const std::vector<std::string>& names) {
-  return join<3>(bodies, names);
+JoinedMeshes3D join_meshes(const std::vector<const Mesh3D*>& bodies, const std::vector<std::string>& names,
+                           const std::vector<int>& region_counts) {
+  return join<3>(bodies, names, region_counts);
 }
 
 }  // namespace hemivem

@@ -153,7 +153,9 @@ std::unique_ptr<BasicBuiltProblem<dim>> built_bodies(const Scene& scene, const B
     pieces.push_back(&bodies.back()->mesh);
     names.push_back(scene.bodies[b].name);
   }
-  auto joined = join_meshes(pieces, names);
+  std::vector<int> region_counts;
+  for (const BodyMesh<dim>& m : meshes) region_counts.push_back(m.regions);
+  auto joined = join_meshes(pieces, names, region_counts);
   auto out = std::make_unique<BasicBuiltProblem<dim>>();
   out->mesh = std::move(joined.mesh);
   BasicContactProblem<dim>& p = out->problem;
@@ -182,7 +184,7 @@ std::unique_ptr<BasicBuiltProblem<dim>> built_bodies(const Scene& scene, const B
   }
   for (std::size_t b = 0; b < bodies.size(); ++b)
     out->bodies.push_back({scene.bodies[b].name, joined.first_vertex[b], bodies[b]->mesh.num_vertices(),
-                           joined.first_cell[b], bodies[b]->mesh.num_cells()});
+                           joined.first_cell[b], bodies[b]->mesh.num_cells(), joined.first_region[b]});
   out->has_contact = !p.parts.empty();
   out->warnings = scene_warnings(scene);
   return out;

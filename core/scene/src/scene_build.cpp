@@ -233,22 +233,25 @@ std::array<std::vector<double>, 2> polar_lists(const Scene& scene) {
   return polar_grid(scene.mesh.radii, scene.mesh.angles, c.nx, c.ny, scene.mesh.grading, scene.mesh.focus);
 }
 
+void apply_region_boxes(const Scene& scene, Mesh& mesh) {
+  if (!scene.material.has_region_boxes()) return;
+  std::vector<int> ids = mesh.regions();
+  ids.resize(static_cast<std::size_t>(mesh.num_elements()), 0);
+  for (const auto& r : scene.material.regions) {
+    if (!r.box) continue;
+    const auto& b = *r.box;
+    for (int e = 0; e < mesh.num_elements(); ++e) {
+      const Vec2 c = mesh.centroid(e);
+      if (c.x() >= b[0] && c.x() <= b[1] && c.y() >= b[2] && c.y() <= b[3]) ids[static_cast<std::size_t>(e)] = r.region;
+    }
+  }
+  mesh.set_regions(std::move(ids));
+}
+
 std::unique_ptr<BuiltProblem> built_plane_on(const Scene& scene, Mesh mesh, bool apply_region_boxes, bool whole,
                                              std::span<const int> cut) {
   // Regions given by boxes, then materials by region.
-  if (apply_region_boxes && scene.material.has_region_boxes()) {
-    std::vector<int> ids = mesh.regions();
-    ids.resize(static_cast<std::size_t>(mesh.num_elements()), 0);
-    for (const auto& r : scene.material.regions) {
-      if (!r.box) continue;
-      const auto& b = *r.box;
-      for (int e = 0; e < mesh.num_elements(); ++e) {
-        const Vec2 c = mesh.centroid(e);
-        if (c.x() >= b[0] && c.x() <= b[1] && c.y() >= b[2] && c.y() <= b[3]) ids[static_cast<std::size_t>(e)] = r.region;
-      }
-    }
-    mesh.set_regions(std::move(ids));
-  }
+  if (apply_region_boxes) detail::apply_region_boxes(scene, mesh);
   if (whole) check_regions_used<2>(scene, mesh, true);
   return built_on<2>(scene, std::move(mesh), whole, cut);
 }

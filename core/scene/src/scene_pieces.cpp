@@ -159,10 +159,8 @@ std::optional<BoxPiece> box_piece_of(const Scene& scene, const std::vector<Bound
   return piece;
 }
 
-/// Body b's piece: its scene of one body's, with the sides of the contact parts against it; none
-/// for a body with region boxes.
+/// Body b's piece: its scene of one body's, with the sides of the contact parts against it.
 std::optional<BoxPiece> body_piece(const Scene& scene, std::size_t b, int rank, int size) {
-  if (body_scene(scene, b).material.has_region_boxes()) return std::nullopt;
   std::vector<BoundarySelector> against;
   for (const SceneContact& c : contact_parts(scene))
     if (c.against && c.against_body == scene.bodies[b].name) against.push_back(*c.against);
@@ -171,12 +169,22 @@ std::optional<BoxPiece> body_piece(const Scene& scene, std::size_t b, int rank, 
 
 /// Whether the scene of one body `one`'s mesh is made or read as lists (MeshLists) of which a
 /// process makes its piece around any vertices: Voronoi cells on its rectangle or box, a mesh in
-/// its polygon, or a file each process reads its piece of (reads_pieces), without region boxes.
+/// its polygon, or a file each process reads its piece of (reads_pieces) without region boxes.
 bool makes_lists(const Scene& one) {
   const SceneMesh& m = one.mesh;
-  if (one.material.has_region_boxes()) return false;
-  if (!m.file.empty()) return reads_pieces(one);
+  if (!m.file.empty()) return reads_pieces(one) && !one.material.has_region_boxes();
   return m.generator == "voronoi" || !m.polygon.empty();
+}
+
+/// One more than the largest region of the whole generated mesh of the scene of one body `one`
+/// with region boxes, once each box holds a cell (check_regions_of_pieces): its cells are in
+/// region 0 or a box's; 0 without region boxes, whose every piece holds its regions.
+int generated_regions(const Scene& one) {
+  if (!one.material.has_region_boxes()) return 0;
+  int largest = 0;
+  for (const SceneRegionMaterial& r : one.material.regions)
+    if (r.box) largest = std::max(largest, r.region);
+  return largest + 1;
 }
 
 /// The mesh file of the scene of one body `one` (reads_pieces) as lists.
@@ -341,7 +349,7 @@ struct BodyPieceMaker {
       if (where) *where = scene_piece_of_mesh(one, mine);
       MeshOf<dim> mesh = box_mesh_piece<dim>(one, mine);
       std::vector<int> cut = grid_cut_facets(mesh, grid_vertices_of(one));
-      return {std::move(mesh), std::move(cut)};
+      return in_regions({std::move(mesh), std::move(cut)}, one);
     }
     MeshPieceRead<MeshOf<dim>> made;
     if (!one.mesh.file.empty()) {  // a file's errors name it, not its generator
@@ -357,7 +365,16 @@ struct BodyPieceMaker {
       where->cells = std::move(made.cells);
       where->whole_cells = made.whole_cells;
     }
-    return {std::move(made.mesh), std::move(made.cut_facets)};
+    if (!one.mesh.file.empty()) return {std::move(made.mesh), std::move(made.cut_facets)};
+    return in_regions({std::move(made.mesh), std::move(made.cut_facets)}, one);
+  }
+
+  /// A piece of the generated mesh of the scene of one body `one`, its cells put into the
+  /// regions of its region boxes (in the plane), and the whole mesh's regions counted.
+  static detail::BodyMesh<dim> in_regions(detail::BodyMesh<dim> piece, const Scene& one) {
+    if constexpr (dim == 2) detail::apply_region_boxes(one, piece.mesh);
+    piece.regions = generated_regions(one);
+    return piece;
   }
 };
 
@@ -397,9 +414,7 @@ std::unique_ptr<BasicBuiltProblem<dim>> build_bodies_piece(const Scene& scene, i
   auto out = detail::built_bodies<dim>(scene, [&](const Scene& one, std::size_t b) {
     const auto from = mine.begin() + first_vertex[b];  // the process's vertices among body b's generated ones
     const std::vector<char> owned(from, from + makers[b].vertices);
-    detail::BodyMesh<dim> piece = makers[b].piece(one, &owned, &in_body[b]);
-    detail::check_regions_used<dim>(one, piece.mesh, true);
-    return piece;
+    return makers[b].piece(one, &owned, &in_body[b]);
   });
   for (std::size_t b = 0; b < bodies; ++b) {  // each body's cells follow the bodies' before it
     if (out->bodies[b].first_vertex != first_vertex[b] || out->bodies[b].vertices != first_vertex[b + 1] - first_vertex[b])

@@ -62,6 +62,10 @@ template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> built_on(const Scene& scene, MeshOf<dim> mesh, bool whole = true,
                                                  std::span<const int> cut = {});
 
+/// Puts each element of `mesh` whose centroid lies in a box of the scene's [[material.region]]
+/// into that region (the last such box's).
+void apply_region_boxes(const Scene& scene, Mesh& mesh);
+
 /// The problem of a plane scene on `mesh`: the scene's region boxes applied when
 /// `apply_region_boxes`, its regions checked when the mesh is `whole` (built_on).
 std::unique_ptr<BuiltProblem> built_plane_on(const Scene& scene, Mesh mesh, bool apply_region_boxes, bool whole,
@@ -79,11 +83,13 @@ std::vector<int> select_facets(const Scene& scene, const MeshOf<dim>& mesh, cons
                                const std::string& key, std::span<const int> cut = {});
 
 /// A body's mesh, or a process's piece of it with the piece's boundary facets inside the whole
-/// mesh (`cut`, increasing; MeshPieceRead::cut_facets), which no selector picks.
+/// mesh (`cut`, increasing; MeshPieceRead::cut_facets), which no selector picks, and one more
+/// than the largest region of the whole (`regions`; 0: the mesh's own), which the piece may lack.
 template <int dim>
 struct BodyMesh {
   MeshOf<dim> mesh;
   std::vector<int> cut;
+  int regions = 0;
 };
 template <int dim>
 using BodyMeshOf = std::function<BodyMesh<dim>(const Scene& one, std::size_t b)>;

@@ -32,10 +32,15 @@ using JoinedMeshes3D = BasicJoinedMeshes<3>;
 /// from `names`). The bodies may touch or overlap; they stay separate pieces (no vertex is
 /// merged): a plane mesh is told which body each vertex is in (Mesh's `bodies`), and a face of
 /// one solid at the place of a face of another has other vertex ids, so the two stay two
-/// boundary faces. InputError for an empty list or a names list of another length or with an
-/// empty or repeated name.
-JoinedMeshes join_meshes(const std::vector<const Mesh*>& bodies, const std::vector<std::string>& names);
-JoinedMeshes3D join_meshes(const std::vector<const Mesh3D*>& bodies, const std::vector<std::string>& names);
+/// boundary faces. `region_counts`, when given, is per body the number of region ids its
+/// regions shift the next body's past at least (one more than the largest region of the body's
+/// whole mesh, of which `bodies` may be pieces that lack some). InputError for an empty list or
+/// a names list of another length or with an empty or repeated name, or region counts of
+/// another length.
+JoinedMeshes join_meshes(const std::vector<const Mesh*>& bodies, const std::vector<std::string>& names,
+                         const std::vector<int>& region_counts = {});
+JoinedMeshes3D join_meshes(const std::vector<const Mesh3D*>& bodies, const std::vector<std::string>& names,
+                           const std::vector<int>& region_counts = {});
 
 /// join_meshes of a braced list of bodies, `join_meshes({&a, &b}, names)`: without these the
 /// list of two pointers could make either vector (by its constructor from two iterators) and
