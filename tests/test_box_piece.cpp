@@ -13,6 +13,7 @@
 #include <hemivem/mesh/mesh_piece.hpp>
 #include <hemivem/mesh/vertex_order.hpp>
 #include <hemivem/scene/example.hpp>
+#include <hemivem/scene/resources.hpp>
 #include <hemivem/scene/scene.hpp>
 #include <hemivem/scene/scene_pieces.hpp>
 
@@ -20,6 +21,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <functional>
 #include <map>
 #include <numbers>
@@ -1072,6 +1074,29 @@ TEST(BodyPieces, ThePiecesEachProcessReadsOfBodiesFromFilesAreTheWholeMeshs) {
     EXPECT_EQ(regions, (std::set<int>{0, 6, 8}));  // the upper's, then the file's 5 and 7 past it
     expect_body_pieces_are_the_whole_meshs<3>(scene);
   }
+}
+
+// a body's file whose whole mesh's estimate does not fit is refused before any piece but the one
+// along its sides is made, as the whole mesh is refused: naming the file, with the same estimate
+TEST(BodyPieces, ABodysFileThatDoesNotFitIsRefusedAsItsWholeMeshIs) {
+  const std::filesystem::path poly = test::scratch("lower-block-large.poly2d");
+  const Mesh lower = make_mesh("triangles", GridSize(200, 100), Rectangle{0.0, 1.0, 0.0, 0.5});
+  write_poly2d(poly, lower);
+  Scene blocks = parse_scene(test::scenes_dir() / "two-blocks.toml");  // 5 x 3 Voronoi cells on it
+  blocks.bodies[1].mesh.file = poly;
+  const double generated = estimate_memory("voronoi", 5, 3).solve_bytes, file = estimate_memory(lower).solve_bytes;
+  ASSERT_LT(2.0 * generated, file);
+  const std::string limit = std::to_string(static_cast<long long>(0.5 * (generated + file)));
+  ::setenv("HEMIVEM_MEMORY_LIMIT", limit.c_str(), 1);
+  const std::string whole = test::input_error_of([&] { (void)build_problem<2>(blocks); });
+  EXPECT_NE(whole.find("needs an estimated"), std::string::npos) << whole;
+  EXPECT_NE(whole.find(poly.string() + ": 20301 vertices"), std::string::npos) << whole;
+  for (int rank = 0; rank < 2; ++rank) {
+    PieceOfMesh where;
+    EXPECT_EQ(test::input_error_of([&] { (void)build_bodies_piece<2>(blocks, rank, 2, where); }), whole) << "rank " << rank;
+  }
+  ::unsetenv("HEMIVEM_MEMORY_LIMIT");
+  std::filesystem::remove(poly);
 }
 
 TEST(MeshPiece, APieceIsRefusedCellsOutOfOrderAndFlagsOfAnotherMesh) {
