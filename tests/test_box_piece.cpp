@@ -720,7 +720,7 @@ TEST(MeshPiece, ThePiecesKeptOfAGmshSolidPoseTheWholeMeshsShares) {
 // each body's kept cells one, the pairs across the bodies' contact posed as on the whole mesh
 TEST(MeshPiece, ThePiecesKeptOfSeveralBodiesPoseTheWholeMeshsShares) {
   {
-    // made whole and cut
+    // (made in pieces: BodyPieces below; a piece cut from the whole is what any other bodies take)
     SCOPED_TRACE("two-blocks, the lower read from a .poly2d file of triangles with a region box");
     Scene blocks = parse_scene(test::scenes_dir() / "two-blocks.toml");
     ASSERT_EQ(blocks.bodies.size(), 2u);
@@ -730,7 +730,7 @@ TEST(MeshPiece, ThePiecesKeptOfSeveralBodiesPoseTheWholeMeshsShares) {
     blocks.bodies[1].mesh.file = poly;
     blocks.bodies[1].material.regions.push_back(
         SceneRegionMaterial{1, 20.0, 0.3, std::array<double, 4>{0.0, 0.5, 0.0, 0.5}});
-    expect_cut_pieces_pose_the_whole_share<2>(blocks);
+    expect_cut_pieces_pose_the_whole_share<2>(blocks, false);
     std::filesystem::remove(poly);
   }
   // two boxes, the upper pressed down by its top's displacement (the full-space route needs
@@ -1048,6 +1048,26 @@ TEST(BodyPieces, ThePiecesEachProcessReadsOfBodiesFromFilesAreTheWholeMeshs) {
     SCOPED_TRACE("the same, the file's body held at a point inside and met along its top side");
     const std::string held = by_groups + "[[body.dirichlet]]\npoint = [0.375, 0.375]\nux = 0.0\n";
     expect_body_pieces_are_the_whole_meshs<2>(upper_on_file(voronoi, square, held, "lower.top"));
+  }
+  {
+    // a quad in region 7 and two triangles in region 3 on [0, 2] x [0, 1]; a box puts the quad
+    // in region 1, so that no cell is left in the file's largest region: each body's regions
+    // still shift the next past it, in the whole mesh as in each piece
+    SCOPED_TRACE("Voronoi cells on a Gmsh file in two regions, one covered by a region box");
+    const std::string wide = "[body.mesh]\ngenerator = \"voronoi\"\nn = [12, 3]\ndomain = [0.0, 2.0, 1.0, 1.5]\n"
+                             "[[body.dirichlet]]\nside = \"left\"\nux = 0.0\n"
+                             "[[body.loads.traction]]\nside = \"top\"\npressure = 2.0\n";
+    Scene scene = upper_on_file(wide, test::data_dir() / "gmsh" / "two_regions.msh",
+                                "[[body.dirichlet]]\ngroup = \"bottom\"\nuy = 0.0\n[[body.dirichlet]]\nside = \"left\"\nux = 0.0\n",
+                                "lower.top");
+    scene.bodies[1].material.regions.push_back(SceneRegionMaterial{1, 20.0, 0.3, std::array<double, 4>{0.0, 1.0, 0.0, 1.0}});
+    std::swap(scene.bodies[0], scene.bodies[1]);  // the file's body first
+    ASSERT_TRUE(makes_body_pieces(scene));
+    const auto whole = build_problem<2>(scene);
+    const std::set<int> regions(whole->mesh.regions().begin(), whole->mesh.regions().end());
+    EXPECT_EQ(regions, (std::set<int>{1, 3, 8}));  // the lower's 1 and 3, the upper's past 1 + max(7, 1)
+    EXPECT_EQ(whole->bodies.back().first_region, 8);
+    expect_body_pieces_are_the_whole_meshs<2>(scene);
   }
   {
     SCOPED_TRACE("squares on a .poly2d file's triangles");

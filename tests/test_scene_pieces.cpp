@@ -123,8 +123,8 @@ TEST(ScenePieces, SeveralBodiesAreMadeInPiecesOrCutAndAdaptiveStepsHeldWholeOnEv
   EXPECT_TRUE(makes_body_pieces(file));
   EXPECT_FALSE(cuts_pieces(file));
   file.bodies[1].material.regions.push_back(SceneRegionMaterial{1, 20.0, 0.3, std::array<double, 4>{0.0, 0.5, -1.0, 0.0}});
-  EXPECT_FALSE(makes_body_pieces(file));  // with region boxes: made whole and cut
-  EXPECT_TRUE(cuts_pieces(file));
+  EXPECT_TRUE(makes_body_pieces(file));  // with region boxes too
+  EXPECT_FALSE(cuts_pieces(file));
   Scene boxed = blocks;  // region boxes in the Voronoi body and the squares: made in pieces
   boxed.bodies[0].material.regions.push_back(SceneRegionMaterial{1, 20.0, 0.3, std::array<double, 4>{0.0, 0.5, 0.5, 1.0}});
   boxed.bodies[1].material.regions.push_back(SceneRegionMaterial{1, 20.0, 0.3, std::array<double, 4>{0.0, 0.5, 0.0, 0.5}});

@@ -863,7 +863,7 @@ TEST(CliFullSpaceMpi, RegionBoxesOnPiecesAreTheCondensedAnswer) {
 }
 
 // region boxes inside two bodies made in pieces (the blocks of two-blocks.toml, Voronoi cells on
-// squares): each process puts its cells into the whole meshes' regions, and a piece without a
+// squares or on a .poly2d file's triangles): each process puts its cells into the whole meshes' regions, and a piece without a
 // cell of the upper block's region shifts the lower's past it, as the whole does; a box that
 // holds no cell of its body is refused by every process alike, as in one process
 TEST(CliFullSpaceMpi, RegionBoxesInBodiesOnPiecesAreTheCondensedAnswer) {
@@ -875,6 +875,14 @@ TEST(CliFullSpaceMpi, RegionBoxesInBodiesOnPiecesAreTheCondensedAnswer) {
   const fs::path ref = solve_condensed(regions, "condensed-body-regions");
   if (ref.empty()) return;
   for (const int processes : {2, 3}) expect_processes_agree(regions, ref, processes, "body-regions", false, processes);
+  // the lower block read from a .poly2d file of triangles, its region box inside it
+  const fs::path poly = scratch("lower-block-regions.poly2d");
+  fs::create_directories(poly.parent_path());
+  hemivem::write_poly2d(poly, hemivem::make_mesh("triangles", hemivem::GridSize(14, 6), hemivem::Rectangle{0.0, 1.0, 0.0, 0.5}));
+  const std::string file = regions + " --set 'body[1].mesh.file=\"" + poly.string() + "\"'";
+  const fs::path file_ref = solve_condensed(file, "condensed-file-regions");
+  if (file_ref.empty()) return;
+  for (const int processes : {2, 3}) expect_processes_agree(file, file_ref, processes, "file-regions", false, processes);
   expect_every_process_refuses_as_one(
       blocks + " --set 'body[0].material.region[+]={id = 3, E = 30.0, nu = 0.3, box = [0.401, 0.402, 0.701, 0.702]}'",
       "material.region[0].id: region 3 matches no element", "body-empty-box");

@@ -21,8 +21,16 @@ std::size_t body_index(const Scene& scene, const std::string& name) {
 }
 
 // What differs between the dimensions: how a body's mesh is made, matched and joined.
-Mesh body_mesh(const Scene& one, const RowDistribution* processes) { return built_plane(one, processes)->mesh; }
-Mesh3D body_mesh3d(const Scene& one, const RowDistribution* processes) { return built_solid(one, processes)->mesh; }
+/// A body's whole mesh, its region boxes applied, and the number of region ids its regions shift
+/// the next body's past (region_count of its own regions).
+BodyMesh<2> body_mesh(const Scene& one, const RowDistribution* processes) {
+  Mesh mesh = plane_mesh(one, processes);
+  const int regions = region_count(one, mesh.regions());
+  return {build_problem(one, std::move(mesh))->mesh, {}, regions};
+}
+BodyMesh<3> body_mesh3d(const Scene& one, const RowDistribution* processes) {
+  return {built_solid(one, processes)->mesh, {}, 0};
+}
 MatchedInterface match(const Mesh& a, const std::vector<int>& fa, const Mesh& b, const std::vector<int>& fb, double tol) {
   return match_interface(a, fa, b, fb, tol);
 }
@@ -136,8 +144,8 @@ void require_shared(const Scene& scene) {
 template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> built_bodies(const Scene& scene, const RowDistribution* processes) {
   return built_bodies<dim>(scene, [processes](const Scene& one, std::size_t) {
-    if constexpr (dim == 2) return BodyMesh<2>{body_mesh(one, processes), {}};
-    else return BodyMesh<3>{body_mesh3d(one, processes), {}};
+    if constexpr (dim == 2) return body_mesh(one, processes);
+    else return body_mesh3d(one, processes);
   });
 }
 

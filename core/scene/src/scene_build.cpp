@@ -187,6 +187,10 @@ void detail::require_file_memory(const Scene& scene, const MemoryEstimate& conde
 }
 
 std::unique_ptr<BuiltProblem> detail::built_plane(const Scene& scene, const RowDistribution* processes) {
+  return build_problem(scene, plane_mesh(scene, processes));
+}
+
+Mesh detail::plane_mesh(const Scene& scene, const RowDistribution* processes) {
   Mesh mesh;
   if (!scene.mesh.file.empty()) {
     const std::string ext = lower(scene.mesh.file.extension().string());
@@ -213,7 +217,7 @@ std::unique_ptr<BuiltProblem> detail::built_plane(const Scene& scene, const RowD
     });
   }
 
-  return build_problem(scene, std::move(mesh));
+  return mesh;
 }
 
 std::unique_ptr<BuiltProblem> build_problem(const Scene& scene, Mesh given, bool apply_region_boxes) {
@@ -246,6 +250,14 @@ void apply_region_boxes(const Scene& scene, Mesh& mesh) {
     }
   }
   mesh.set_regions(std::move(ids));
+}
+
+int region_count(const Scene& one, std::span<const int> own) {
+  if (!one.material.has_region_boxes()) return 0;
+  int largest = own.empty() ? 0 : *std::max_element(own.begin(), own.end());
+  for (const auto& r : one.material.regions)
+    if (r.box) largest = std::max(largest, r.region);
+  return largest + 1;
 }
 
 std::unique_ptr<BuiltProblem> built_plane_on(const Scene& scene, Mesh mesh, bool apply_region_boxes, bool whole,

@@ -169,22 +169,11 @@ std::optional<BoxPiece> body_piece(const Scene& scene, std::size_t b, int rank, 
 
 /// Whether the scene of one body `one`'s mesh is made or read as lists (MeshLists) of which a
 /// process makes its piece around any vertices: Voronoi cells on its rectangle or box, a mesh in
-/// its polygon, or a file each process reads its piece of (reads_pieces) without region boxes.
+/// its polygon, or a file each process reads its piece of (reads_pieces).
 bool makes_lists(const Scene& one) {
   const SceneMesh& m = one.mesh;
-  if (!m.file.empty()) return reads_pieces(one) && !one.material.has_region_boxes();
+  if (!m.file.empty()) return reads_pieces(one);
   return m.generator == "voronoi" || !m.polygon.empty();
-}
-
-/// One more than the largest region of the whole generated mesh of the scene of one body `one`
-/// with region boxes, once each box holds a cell (check_regions_of_pieces): its cells are in
-/// region 0 or a box's; 0 without region boxes, whose every piece holds its regions.
-int generated_regions(const Scene& one) {
-  if (!one.material.has_region_boxes()) return 0;
-  int largest = 0;
-  for (const SceneRegionMaterial& r : one.material.regions)
-    if (r.box) largest = std::max(largest, r.region);
-  return largest + 1;
 }
 
 /// The mesh file of the scene of one body `one` (reads_pieces) as lists.
@@ -365,15 +354,15 @@ struct BodyPieceMaker {
       where->cells = std::move(made.cells);
       where->whole_cells = made.whole_cells;
     }
-    if (!one.mesh.file.empty()) return {std::move(made.mesh), std::move(made.cut_facets)};
     return in_regions({std::move(made.mesh), std::move(made.cut_facets)}, one);
   }
 
-  /// A piece of the generated mesh of the scene of one body `one`, its cells put into the
-  /// regions of its region boxes (in the plane), and the whole mesh's regions counted.
+  /// A piece of the mesh of the scene of one body `one`, the whole mesh's regions counted
+  /// (region_count: every piece holds a cell of each of its own regions) and its cells put into
+  /// the regions of its region boxes (in the plane).
   static detail::BodyMesh<dim> in_regions(detail::BodyMesh<dim> piece, const Scene& one) {
+    piece.regions = detail::region_count(one, piece.mesh.regions());
     if constexpr (dim == 2) detail::apply_region_boxes(one, piece.mesh);
-    piece.regions = generated_regions(one);
     return piece;
   }
 };

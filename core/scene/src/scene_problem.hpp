@@ -66,6 +66,12 @@ std::unique_ptr<BasicBuiltProblem<dim>> built_on(const Scene& scene, MeshOf<dim>
 /// into that region (the last such box's).
 void apply_region_boxes(const Scene& scene, Mesh& mesh);
 
+/// Of a body with region boxes, whose mesh's cells are in the regions `own` before the boxes
+/// are applied (a file's, 0 of a generated mesh's): the number of region ids its regions shift
+/// the next body's past, one more than the largest of `own` and of its boxes' ids, which every
+/// piece of it knows (BodyMesh::regions); 0 without region boxes (its mesh's own).
+int region_count(const Scene& one, std::span<const int> own);
+
 /// The problem of a plane scene on `mesh`: the scene's region boxes applied when
 /// `apply_region_boxes`, its regions checked when the mesh is `whole` (built_on).
 std::unique_ptr<BuiltProblem> built_plane_on(const Scene& scene, Mesh mesh, bool apply_region_boxes, bool whole,
@@ -117,6 +123,9 @@ std::unique_ptr<BasicBuiltProblem<dim>> built_bodies(const Scene& scene, const B
 
 /// The problem of a plane scene on its own mesh (its generator or file; region boxes applied).
 std::unique_ptr<BuiltProblem> built_plane(const Scene& scene, const RowDistribution* processes = nullptr);
+/// A plane scene's own mesh, its region boxes not applied: read from its file or generated (its
+/// generator's work split among `processes` where it splits it), its memory checked.
+Mesh plane_mesh(const Scene& scene, const RowDistribution* processes = nullptr);
 /// The problem of a solid scene on its own mesh (its generator or Gmsh file).
 std::unique_ptr<BuiltProblem3D> built_solid(const Scene& scene, const RowDistribution* processes = nullptr);
 /// The problem of a solid scene on `mesh`: one `given` (build_problem(scene, mesh)) or its Gmsh

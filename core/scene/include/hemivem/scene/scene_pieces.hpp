@@ -97,7 +97,7 @@ std::unique_ptr<BuiltProblem> polygon_problem_piece(const Scene& scene, int rank
 /// pieces as a scene of one body's (scene_piece of body_scene, the selectors of the contact parts
 /// against it counted as its own) or is made or read as lists of its cells (MeshLists: Voronoi
 /// cells on its rectangle or box, a mesh in its polygon, or a Gmsh or, in the plane, .poly2d file
-/// as reads_pieces reads one body's, without region boxes).
+/// as reads_pieces reads one body's), with or without region boxes.
 bool makes_body_pieces(const Scene& scene);
 
 /// build_problem<dim>(scene) of a scene of several bodies (makes_body_pieces) on the pieces of
@@ -115,10 +115,11 @@ bool makes_body_pieces(const Scene& scene);
 /// the vertex each support at a point holds; a file's memory is checked of its whole mesh,
 /// counted as its piece along its sides is read. The pieces are matched
 /// and joined, and no selector picks a facet where a piece meets the rest of its body
-/// (grid_cut_facets, MeshPieceRead::cut_facets). Region boxes put each cell of a generated
-/// body's piece into the region the whole mesh's cell is in, and each body's regions shift the
-/// next body's as the whole mesh's do; whether each region holds a cell is the whole mesh's to
-/// say (check_regions_of_pieces of each body's scene, its cells' regions less its
+/// (grid_cut_facets, MeshPieceRead::cut_facets). Region boxes put each cell of a body's piece
+/// into the region the whole mesh's cell is in, and each body's regions shift the next body's as
+/// the whole mesh's do (past the largest of its own regions and its boxes' ids, which every
+/// piece knows); whether each region holds a cell is the whole mesh's to say
+/// (check_regions_of_pieces of each body's scene, its cells' regions less its
 /// BodyRange::first_region). Each piece holds every cell along its contact
 /// sides, so the vertices matching adds are the whole meshes' with the same numbers and
 /// coordinates. The same problem on fewer cells: its vertices and their numbers the whole
