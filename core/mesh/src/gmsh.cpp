@@ -96,8 +96,7 @@ class GmshReader final : detail::GmshSections {
   int read_lists() {
     read_sections();
     check_plane();
-    const std::vector<int> vertex_of = vertex_numbers();
-    return static_cast<int>(std::count_if(vertex_of.begin(), vertex_of.end(), [](int v) { return v >= 0; }));
+    return vertex_count();
   }
 
   /// After read_lists: the piece around the vertices `owned` flags (MeshLists::piece).

@@ -144,8 +144,7 @@ class Gmsh3DReader final : detail::GmshSections {
     if (top_.empty())
       fail(elements_header_, "the file has no volume elements (4-node tetrahedra, 8-node hexahedra, 6-node prisms or "
                              "5-node pyramids): a plane mesh is read by read_gmsh");
-    const std::vector<int> vertex_of = vertex_numbers();
-    return static_cast<int>(std::count_if(vertex_of.begin(), vertex_of.end(), [](int v) { return v >= 0; }));
+    return vertex_count();
   }
 
   /// After read_lists: the piece around the vertices `owned` flags (MeshLists::piece).

@@ -72,6 +72,8 @@ class GmshSections {
   /// The vertex of each node: the nodes of the elements of the top dimension, numbered 0, 1,
   /// ... in $Nodes order; -1 for the other nodes.
   std::vector<int> vertex_numbers() const;
+  /// How many nodes vertex_numbers numbers.
+  int vertex_count() const;
   /// Throws `err` (from the mesh constructor, about an element of top_ or none) again naming
   /// the Gmsh element ("Gmsh element <tag><label>: ...") at its line, else at the $Elements
   /// count line.

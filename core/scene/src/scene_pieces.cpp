@@ -340,16 +340,13 @@ struct BodyPieceMaker {
       std::vector<int> cut = grid_cut_facets(mesh, grid_vertices_of(one));
       return in_regions({std::move(mesh), std::move(cut)}, one);
     }
-    MeshPieceRead<MeshOf<dim>> made;
-    if (!one.mesh.file.empty()) {  // a file's errors name it, not its generator
-      made = lists.piece(owned ? *owned : std::vector<char>(static_cast<std::size_t>(vertices), 0), owned ? held : HeldPoints{});
-      if (!owned) require_file_piece_memory(one, made);
-    } else {
-      made = detail::generated_mesh(one, [&] {
-        if (owned) return lists.piece(*owned, held);
-        return lists.piece(std::vector<char>(static_cast<std::size_t>(vertices), 0), {});
-      });
-    }
+    const auto make = [&] {
+      if (owned) return lists.piece(*owned, held);
+      return lists.piece(std::vector<char>(static_cast<std::size_t>(vertices), 0), {});
+    };
+    const bool file = !one.mesh.file.empty();  // a file's errors name it, not a generator
+    MeshPieceRead<MeshOf<dim>> made = file ? make() : detail::generated_mesh(one, make);
+    if (file && !owned) require_file_piece_memory(one, made);
     if (where) {
       where->cells = std::move(made.cells);
       where->whole_cells = made.whole_cells;
