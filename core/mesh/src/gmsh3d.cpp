@@ -122,28 +122,19 @@ class Gmsh3DReader final : detail::GmshSections {
       : GmshSections(std::move(data), std::move(name), {3, 1e100, "1e100 (cell volumes would overflow)"}) {}
 
   Mesh3D read() {
-    read_sections();
-    if (top_.empty())
-      fail(elements_header_, "the file has no volume elements (4-node tetrahedra, 8-node hexahedra, 6-node prisms or "
-                             "5-node pyramids): a plane mesh is read by read_gmsh");
+    read_volumes();
     return build();
   }
 
   MeshPieceRead<Mesh3D> read_piece(int rank, int size, HeldPoints held) {
-    read_sections();
-    if (top_.empty())
-      fail(elements_header_, "the file has no volume elements (4-node tetrahedra, 8-node hexahedra, 6-node prisms or "
-                             "5-node pyramids): a plane mesh is read by read_gmsh");
+    read_volumes();
     return build_piece({rank, size}, held);
   }
 
   /// The file read (its sections and checks), its mesh not made: its number of vertices, of
   /// which piece() makes the piece around any.
   int read_lists() {
-    read_sections();
-    if (top_.empty())
-      fail(elements_header_, "the file has no volume elements (4-node tetrahedra, 8-node hexahedra, 6-node prisms or "
-                             "5-node pyramids): a plane mesh is read by read_gmsh");
+    read_volumes();
     return vertex_count();
   }
 
@@ -151,6 +142,14 @@ class Gmsh3DReader final : detail::GmshSections {
   MeshPieceRead<Mesh3D> piece(const std::vector<char>& owned, HeldPoints held) { return build_piece({.owned = &owned}, held); }
 
  private:
+  /// The file's sections, which must hold volume elements.
+  void read_volumes() {
+    read_sections();
+    if (top_.empty())
+      fail(elements_header_, "the file has no volume elements (4-node tetrahedra, 8-node hexahedra, 6-node prisms or "
+                             "5-node pyramids): a plane mesh is read by read_gmsh");
+  }
+
   [[noreturn]] void refuse_element_type(const Line& block, long long type) const override {
     const std::string name = unsupported_type_name(type);
     fail(block, "element type " + std::to_string(type) + (name.empty() ? "" : " (" + name + ")") +
