@@ -2,6 +2,7 @@
 #pragma once
 
 #include <algorithm>
+#include <any>
 #include <array>
 #include <chrono>
 #include <filesystem>
@@ -18,6 +19,7 @@
 #include <hemivem/app/outputs.hpp>
 #include <hemivem/app/path.hpp>
 #include <hemivem/scene/scene_pieces.hpp>
+#include <hemivem/mesh/mesh_record.hpp>
 #include <hemivem/mesh/vertex_order.hpp>
 
 #include "bodies.hpp"
@@ -60,7 +62,47 @@ struct SceneEngines {
   bool writes_to_folder = false;
   /// Told each coarser grid's record as it is solved (SceneSolveOptions::on_coarser_grid).
   std::function<void(const nlohmann::json&)> on_coarser_grid;
+  /// Where each process keeps its piece of a mesh the caller gave (build_given_problem), the
+  /// whole problem made again after the solve: a WholeProblem<dim>. Empty otherwise.
+  std::any whole_problem;
 };
+
+/// The whole problem on a mesh the caller gave, made again (SceneEngines::whole_problem).
+template <int dim>
+using WholeProblem = std::function<std::unique_ptr<BasicBuiltProblem<dim>>()>;
+
+/// The problem of `scene` on a mesh the caller gave (an adaptive solve's refined mesh), into
+/// s.built (build_problem(scene, mesh), a plane's with its region boxes where `region_boxes`): on
+/// the full-space route across processes, for a mesh of one body, the piece each process keeps of
+/// it for the solve (cut_problem_piece; e.piece, s.mesh_pieces, s.whole_cells) and a record of
+/// the whole mesh (MeshRecord), the whole given back; the whole problem is made again from the
+/// record after the solve (e.whole_problem, make_results_mesh_whole). The whole otherwise.
+template <int dim, class Solved>
+void build_given_problem(const Scene& scene, SceneEngines& e, Solved& s, MeshOf<dim> mesh, bool region_boxes) {
+  const auto build = [&scene](MeshOf<dim> m, bool boxes) {
+    if constexpr (dim == 2) {
+      return build_problem(scene, std::move(m), boxes);
+    } else {
+      (void)boxes;  // a solid has no region boxes
+      return build_problem(scene, std::move(m));
+    }
+  };
+  std::unique_ptr<BasicBuiltProblem<dim>> whole = build(std::move(mesh), region_boxes);
+  if (!(e.krylov && e.processes > 1) || !whole->bodies.empty()) {
+    s.built = std::move(whole);
+    return;
+  }
+  // the regions the boxes gave are recorded: the whole is made again without them
+  auto record = std::make_shared<const MeshRecord<dim>>(whole->mesh);
+  const ProcessWorld world = krylov_world();
+  PieceOfMesh where;
+  s.built = on_every_process(*process_rows(),
+                             [&] { return cut_problem_piece<dim>(std::move(whole), world.rank, world.size, where); });
+  s.mesh_pieces = world.size;
+  s.whole_cells = where.whole_cells;
+  e.piece = std::move(where);
+  e.whole_problem = WholeProblem<dim>([build, record] { return build(record->make(), false); });
+}
 
 /// Collective: every region of the scene (of each body, of a scene of several) holds a cell of
 /// the whole mesh whose pieces the processes made (check_regions_of_pieces of every piece's
@@ -197,14 +239,15 @@ void make_results_mesh_whole(const Scene& scene, const SceneEngines& e, Solved& 
                              wanted_files(scene, s.built->has_contact), s.built->bodies));
     return;
   }
-  if (static_cast<int>(e.piece->cells.size()) == e.piece->whole_cells) return;
+  const auto* given = std::any_cast<WholeProblem<dim>>(&e.whole_problem);  // a piece of a mesh given
+  if (!given && static_cast<int>(e.piece->cells.size()) == e.piece->whole_cells) return;
   if (e.writes_to_folder && !s.holds_results) {
     s.piece_cells = e.piece->cells;
     return;
   }
   const auto started = std::chrono::steady_clock::now();
   if (s.path_output) s.path_output->piece = std::shared_ptr<const void>(std::move(s.built));
-  s.built = build_problem<dim>(scene);
+  s.built = given ? (*given)() : build_problem<dim>(scene);
   if (t) set_load_factor(scene, *t, s.built->problem);
   s.mesh_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 }

@@ -183,7 +183,7 @@ SceneEngines prepare_scene_solve(const Scene& scene, SceneSolveOptions& o, Scene
 
   const auto t = Clock::now();
   if (o.mesh)
-    s.built = build_problem(scene, std::move(*o.mesh), o.apply_region_boxes);
+    build_given_problem<2>(scene, e, s, std::move(*o.mesh), o.apply_region_boxes);
   else
     build_scene_problem<2>(scene, e, s, o.out);
   s.mesh_description = o.mesh ? o.mesh_description : scene_mesh_description(scene);

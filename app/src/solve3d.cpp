@@ -32,7 +32,7 @@ SceneSolve3D solve_scene_3d(const Scene& scene, SceneSolve3DOptions o) {
   detail::record_engines(e, s);
   const auto t = Clock::now();
   if (o.mesh)
-    s.built = build_problem(scene, std::move(*o.mesh));
+    detail::build_given_problem<3>(scene, e, s, std::move(*o.mesh), false);
   else
     detail::build_scene_problem<3>(scene, e, s, o.out);
   s.mesh_description = o.mesh ? o.mesh_description : scene_mesh_description(scene);
