@@ -1262,31 +1262,39 @@ RefinedMesh3D refine_mesh(const Mesh3D& mesh, std::span<const int> marked) {
     if (c < 0 || c >= nc)
       throw InputError("marked cell id " + std::to_string(c) + " is out of range [0, " + std::to_string(nc) + ")");
 
-  // the corners of every face, the geometric faces and sides of every cell, the closure
-  const EdgeTable edges = edge_table(mesh);
-  std::vector<std::vector<int>> face_corners(at(mesh.num_faces()));
-  for (int f = 0; f < mesh.num_faces(); ++f) {
-    const LocalPoints p = local_points(mesh, mesh.face(f).vertices);
-    face_corners[at(f)] = loop_corners(p.q, p.diameter);
-  }
-  const FoldedPairs folded = folded_pairs(mesh, edges, face_corners);
-  std::vector<CellPlan> plans;
-  plans.reserve(at(nc));
-  for (int c = 0; c < nc; ++c) plans.push_back(plan_cell(mesh, edges, face_corners, folded, c));
-  const std::vector<char> is_marked = close_marked_set(mesh, edges, plans, marked);
-  std::vector<char> asked(at(nc), 0);
-  for (int c : marked) asked[at(c)] = 1;
-  for (int c = 0; c < nc; ++c)
-    if (is_marked[at(c)] && !plans[at(c)].defect.empty())
-      throw InputError("cell " + std::to_string(c) + " cannot be split: " + plans[at(c)].defect +
-                       (asked[at(c)] ? "" : " (it is split because the one-hanging-vertex rule requires it)"));
+  // the new vertices and the children's faces, made from the corners of every face, the
+  // geometric faces and sides of every cell and the closure; what they are made from is given
+  // back before the refined mesh is built, whose construction is the refinement's peak
+  std::vector<char> is_marked;
+  NewVertices made;
+  ChildCells children;
+  {
+    const EdgeTable edges = edge_table(mesh);
+    std::vector<std::vector<int>> face_corners(at(mesh.num_faces()));
+    for (int f = 0; f < mesh.num_faces(); ++f) {
+      const LocalPoints p = local_points(mesh, mesh.face(f).vertices);
+      face_corners[at(f)] = loop_corners(p.q, p.diameter);
+    }
+    const FoldedPairs folded = folded_pairs(mesh, edges, face_corners);
+    std::vector<CellPlan> plans;
+    plans.reserve(at(nc));
+    for (int c = 0; c < nc; ++c) plans.push_back(plan_cell(mesh, edges, face_corners, folded, c));
+    is_marked = close_marked_set(mesh, edges, plans, marked);
+    std::vector<char> asked(at(nc), 0);
+    for (int c : marked) asked[at(c)] = 1;
+    for (int c = 0; c < nc; ++c)
+      if (is_marked[at(c)] && !plans[at(c)].defect.empty())
+        throw InputError("cell " + std::to_string(c) + " cannot be split: " + plans[at(c)].defect +
+                         (asked[at(c)] ? "" : " (it is split because the one-hanging-vertex rule requires it)"));
 
-  NewVertices made = new_vertices(mesh, edges, plans, face_corners, folded, is_marked, asked);
-  std::vector<FacePolygons> polygons;
-  polygons.reserve(at(mesh.num_faces()));
-  for (int f = 0; f < mesh.num_faces(); ++f)
-    polygons.push_back(face_polygons(mesh, edges, made, face_corners, folded, f));
-  ChildCells children = child_cells(mesh, edges, plans, is_marked, made, polygons);
+    made = new_vertices(mesh, edges, plans, face_corners, folded, is_marked, asked);
+    std::vector<FacePolygons> polygons;
+    polygons.reserve(at(mesh.num_faces()));
+    for (int f = 0; f < mesh.num_faces(); ++f)
+      polygons.push_back(face_polygons(mesh, edges, made, face_corners, folded, f));
+    children = child_cells(mesh, edges, plans, is_marked, made, polygons);
+  }
+  decltype(made.cut)().swap(made.cut);  // of the new vertices, their rows alone are read below
 
   RefinedMesh3D out;
   try {

@@ -158,6 +158,9 @@ struct SceneSolveOptions {
   /// Reports the runs of a global search.
   std::function<void(const GlobalSearchProgress&)> progress;
   /// A mesh to solve on instead of the scene's (build_problem(scene, mesh, apply_region_boxes)).
+  /// On the full-space route across processes, each process keeps only its piece of a mesh of
+  /// one body for the solve and holds the whole as a MeshRecord meanwhile; SceneSolve::built is
+  /// the whole mesh's problem again after the solve.
   std::optional<Mesh> mesh;
   bool apply_region_boxes = true;
   /// How that mesh was made, for reports (SceneSolve::mesh_description).

@@ -34,7 +34,8 @@ struct SceneSolve3DOptions {
   ReducedProblem* reduced = nullptr;
   /// Reports the runs of a global search.
   std::function<void(const GlobalSearchProgress&)> progress;
-  /// A mesh to solve on instead of the scene's (build_problem(scene, mesh)).
+  /// A mesh to solve on instead of the scene's (build_problem(scene, mesh)); across processes
+  /// as SceneSolveOptions::mesh.
   std::optional<Mesh3D> mesh;
   /// How that mesh was made, for reports (SceneSolve3D::mesh_description).
   std::string mesh_description = "a mesh given by the caller";
