@@ -461,7 +461,7 @@ struct FullSpaceShares<dim>::Impl {
       : posing(std::move(p)),
         krylov(k),
         rows(std::move(r)),
-        hints(posing.share.near_null_space, posing.share.block_size),
+        hints(std::move(posing.share.near_null_space), posing.share.block_size),  // held once, by the hints
         timings{{"assembly", posing.assembly_seconds},
                 {"setup", posing.setup_seconds},
                 {"posing", seconds - posing.assembly_seconds - posing.setup_seconds}},
