@@ -60,15 +60,6 @@ MeshOf<dim> MeshRecord<dim>::make() const {
   }
 }
 
-template <int dim>
-std::size_t MeshRecord<dim>::bytes() const noexcept {
-  std::size_t n = vertices_.size() * sizeof(PointOf<dim>) +
-                  (loop_start_.size() + loops_.size() + cell_start_.size() + cell_faces_.size() + regions_.size()) *
-                      sizeof(int);
-  for (const auto& [name, group] : groups_) n += name.size() + group.size() * sizeof(int);
-  return n;
-}
-
 template class MeshRecord<2>;
 template class MeshRecord<3>;
 

@@ -2,7 +2,6 @@
 // holds of a whole mesh while it solves on its piece of it (hemivem/mesh/mesh_piece.hpp).
 #pragma once
 
-#include <cstddef>
 #include <map>
 #include <string>
 #include <vector>
@@ -25,8 +24,6 @@ class MeshRecord {
   explicit MeshRecord(const MeshOf<dim>& mesh);
   /// The mesh recorded. MeshError as its constructor (not for a record of a valid mesh).
   MeshOf<dim> make() const;
-  /// The bytes the record's lists hold.
-  std::size_t bytes() const noexcept;
 
  private:
   std::vector<PointOf<dim>> vertices_;
