@@ -437,15 +437,18 @@ void solve_built(const Scene& scene, SceneEngines& e, Solved& s, ReducedProblem*
   };
   // with no start given, the scene's coarser grids solved first may give one (grid_sequence_start)
   const auto sequence_started = std::chrono::steady_clock::now();
-  const Eigen::VectorXd sequenced = grid_sequence_start<dim>(scene, e, s, start.size() > 0);
+  Eigen::VectorXd sequenced = grid_sequence_start<dim>(scene, e, s, start.size() > 0);
   const double sequence_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - sequence_started).count();
   const Eigen::VectorXd& from = start.size() > 0 ? start : sequenced;
   try {
     if (e.krylov && e.processes > 1) {  // the full-space route across processes, each holding the results
       // no reduced problem: `reduced` is left untouched, as BasicContactSolver::export_reduced does
+      // the coarser grids' displacement moved in, given back once each process rotated its rows
+      Eigen::VectorXd whole_start = start.size() > 0 ? Eigen::VectorXd(start) : std::move(sequenced);
       s.solution = solve_full_space_shares<dim>(s.built->problem, *e.krylov, krylov_world(), make_distributed_rows,
-                                                s.options, from, shared_vertex_order<dim>(e, s.built->mesh));
+                                                s.options, std::move(whole_start),
+                                                shared_vertex_order<dim>(e, s.built->mesh));
       give_back(e.krylov);  // the engine, as in one process below
     } else {
       std::optional<BasicContactSolver<dim>> solver;

@@ -11,6 +11,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <map>
 
 namespace hemivem {
@@ -295,6 +296,7 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
   SparseMatrix At;
   Eigen::VectorXd bt;
   pose(system, boundary, parts, &At, &bt);
+  order_interior();
   measure_interior(At);
   compute_schur_complement(At);
   if (!split_interior_solve(*factorization_)) extract_a21(At);
@@ -314,14 +316,14 @@ Condensation::Condensation(const LinearSystem& system, const ContactBoundary& bo
   margin_ = std::numeric_limits<double>::quiet_NaN();
 }
 
-Condensation::Condensation(const DofMap& dofs, const ContactBoundary& boundary,
-                           const std::vector<PartConditions>& parts, CoordinatesOnly, const SystemColumns& columns)
-    : dofs_(dofs) {
+Condensation::Condensation(DofMap dofs, const ContactBoundary& boundary, const std::vector<PartConditions>& parts,
+                           CoordinatesOnly, const SystemColumns& columns)
+    : dofs_(std::move(dofs)) {
   if (!boundary.across.empty()) {
-    joining_ = Joining(dofs, pairs_of(boundary), boundary.dimension);
+    joining_ = Joining(dofs_, pairs_of(boundary), boundary.dimension);
     if (joining_.shifts_load()) {
       if (!columns) {
-        const int dof = dofs.free_dofs[static_cast<std::size_t>(joining_.shifted_unknowns().front())];
+        const int dof = dofs_.free_dofs[static_cast<std::size_t>(joining_.shifted_unknowns().front())];
         throw InputError("contact node " + std::to_string(dof / boundary.dimension) + " has its " +
                          std::string(1, "xyz"[dof % boundary.dimension]) +
                          " displacement free where a vertex of the other body across from it has it prescribed: its "
@@ -329,7 +331,7 @@ Condensation::Condensation(const DofMap& dofs, const ContactBoundary& boundary,
       }
       joining_.set_shift_columns(columns(joining_.shifted_unknowns()));
     }
-    dofs_.prescribed = joining_.join_prescribed(dofs.prescribed);
+    dofs_.prescribed = joining_.join_prescribed(dofs_.prescribed);
   }
   pose_coordinates(dofs_, boundary, parts);
   reduced_.c = Eigen::VectorXd::Zero(reduced_.lo.size());
@@ -564,7 +566,6 @@ Frame node_frame(int d, const Vec3& nu, const std::array<int, 3>& free) {
 }  // namespace
 
 void Condensation::order_unknowns(const DofMap& dofs, const ContactBoundary& boundary) {
-  const int n = dofs.num_free();
   const int n1 = boundary.size();
   const int d = boundary.dimension;
   for (int i = 0; i < n1; ++i) {
@@ -612,8 +613,14 @@ void Condensation::order_unknowns(const DofMap& dofs, const ContactBoundary& bou
       block1_.push_back(frames_[static_cast<std::size_t>(i)].idx[2]);
     }
   }
+}
+
+// Block 2, the interior the condensation factorizes: every free unknown not in block 1.
+void Condensation::order_interior() {
+  const int n = dofs_.num_free();
   std::vector<char> in1(static_cast<std::size_t>(n), 0);
   for (int k : block1_) in1[static_cast<std::size_t>(k)] = 1;
+  block2_.reserve(static_cast<std::size_t>(n) - block1_.size());
   for (int k = 0; k < n; ++k)
     if (!in1[static_cast<std::size_t>(k)]) block2_.push_back(k);
 }
@@ -824,14 +831,22 @@ Eigen::VectorXd Condensation::displacement_of(const Eigen::VectorXd& xt) const {
   return from_rotated(xt);
 }
 
-Eigen::VectorXd Condensation::rotated_free(const Eigen::VectorXd& u) const {
+Eigen::VectorXd Condensation::rotated_free(const Eigen::VectorXd& u) const { return rotated_free(u, 0, dofs_.num_free()); }
+
+Eigen::VectorXd Condensation::rotated_free(const Eigen::VectorXd& u, Eigen::Index first, Eigen::Index count) const {
   if (u.size() != dofs_.num_dofs())
     throw InputError("a start needs " + std::to_string(dofs_.num_dofs()) + " nodal displacements, got " +
                      std::to_string(u.size()));
-  const Eigen::VectorXd v = joining_.empty() ? u : joining_.relative(u);
-  Eigen::VectorXd free(dofs_.num_free());
-  for (int k = 0; k < dofs_.num_free(); ++k) free(k) = v(dofs_.free_dofs[static_cast<std::size_t>(k)]);
-  return rotate_load(free);  // the frames are orthogonal: Q^T u, as for a load
+  if (first < 0 || count < 0 || first + count > dofs_.num_free())
+    throw InternalError("rotated_free of the unknowns " + std::to_string(first) + " to " +
+                        std::to_string(first + count - 1) + " of " + std::to_string(dofs_.num_free()));
+  const Eigen::VectorXd relative = joining_.empty() ? Eigen::VectorXd() : joining_.relative(u);
+  const Eigen::VectorXd& v = joining_.empty() ? u : relative;
+  std::vector<int> unknowns(static_cast<std::size_t>(count));
+  std::iota(unknowns.begin(), unknowns.end(), static_cast<int>(first));
+  Eigen::VectorXd free(count);
+  for (Eigen::Index k = 0; k < count; ++k) free(k) = v(dofs_.free_dofs[static_cast<std::size_t>(first + k)]);
+  return rotate_vector(free, frames_in(unknowns));  // the frames are orthogonal: Q^T u, as for a load
 }
 
 Eigen::VectorXd Condensation::back_substitute(const Eigen::VectorXd& a) const {

@@ -321,7 +321,9 @@ Eigen::MatrixXd free_motion_rows(const MeshOf<dim>& mesh, const Condensation& po
 template <int dim>
 struct SharePosing {
   PosedShare share;
-  DofMap dofs;
+  /// The system's dof map where the posing's differs (Condensation::dof_map: two joined bodies,
+  /// their prescribed values joined); else the posing's alone is held.
+  std::optional<DofMap> dofs;
   ContactSetUp<dim> contact;
   std::unique_ptr<Condensation> posed;
   Eigen::VectorXd load;  // the share's rows of the load, unrotated
@@ -384,7 +386,7 @@ SharePosing<dim> pose_share_and_surface(const BasicContactProblem<dim>& problem,
   if (!out.contact.held_by_contact.empty())
     share.share.free_motions = free_motion_rows<dim>(*problem.elasticity.mesh, posed, rows, owned_unknowns);
   share.block_size = node_block_size(rows.dofs, dim);
-  out.dofs = std::move(rows.dofs);
+  if (posed.joins_bodies()) out.dofs = std::move(rows.dofs);
   return out;
 }
 
@@ -509,7 +511,8 @@ const Condensation& FullSpaceShares<dim>::posed() const noexcept {
 
 template <int dim>
 const DofMap& FullSpaceShares<dim>::dofs() const noexcept {
-  return impl_->posing.dofs;
+  const SharePosing<dim>& p = impl_->posing;
+  return p.dofs ? *p.dofs : p.posed->dof_map();
 }
 
 template <int dim>
@@ -582,10 +585,11 @@ auto FullSpaceShares<dim>::minimize(const ReducedProblem& coordinates, const Eig
   Impl& p = *impl_;
   PosedShare& mine = p.posing.share;
   const RowDistribution& rows = *p.rows;
-  if (start.size() != 0 && start.size() != mine.layout.global)
-    throw InternalError("a start of the full-space route needs every rotated unknown");
+  const bool whole = start.size() == mine.layout.global;
+  if (start.size() != 0 && !whole && start.size() != mine.layout.owned)
+    throw InternalError("a start of the full-space route needs every rotated unknown or this process's own");
   set_share_coordinates(coordinates, origin, mine.share);
-  Eigen::VectorXd x = start.size() ? Eigen::VectorXd(start.segment(mine.layout.first, mine.layout.owned)) : Eigen::VectorXd();
+  Eigen::VectorXd x = whole ? Eigen::VectorXd(start.segment(mine.layout.first, mine.layout.owned)) : start;
   Point point;
   point.result = minimize_full_space_in_place(mine.share, p.krylov, p.hints, options, &x, statistics);
   // the residual of the owned rows and the energy of the quadratic part, over the processes
@@ -603,7 +607,7 @@ auto FullSpaceShares<dim>::minimize(const ReducedProblem& coordinates, const Eig
 template <int dim>
 BasicContactSolution<dim> solve_full_space_shares(const BasicContactProblem<dim>& problem, KrylovSolver& krylov,
                                                   ProcessWorld world, const RowDistributor& distribute,
-                                                  const MinimizerOptions& options, const Eigen::VectorXd& start_u,
+                                                  const MinimizerOptions& options, Eigen::VectorXd start_u,
                                                   const std::vector<int>& vertex_order) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
@@ -620,7 +624,10 @@ BasicContactSolution<dim> solve_full_space_shares(const BasicContactProblem<dim>
   s.stages = {"assembly", "posing"};
 
   auto t = Clock::now();
-  const Eigen::VectorXd start_xt = start_u.size() > 0 ? posed.rotated_free(start_u) : Eigen::VectorXd();
+  const RowLayout& layout = shares->distribution().layout();
+  const Eigen::VectorXd start_xt =
+      start_u.size() > 0 ? posed.rotated_free(start_u, layout.first, layout.owned) : Eigen::VectorXd();
+  start_u = Eigen::VectorXd();  // its own rows rotated, the whole start is given back before the solve
   FullSpaceStatistics stats;
   auto point = shares->minimize(posed.reduced(), posed.origin(), options, start_xt, &stats);
   MinimizerResult& m = point.result;
@@ -667,11 +674,11 @@ template PosedShare pose_share<2>(const ContactProblem&, const std::vector<int>&
 template PosedShare pose_share<3>(const BasicContactProblem<3>&, const std::vector<int>&, int, int);
 template ContactSolution solve_full_space_shares<2>(const ContactProblem&, KrylovSolver&, ProcessWorld,
                                                     const RowDistributor&, const MinimizerOptions&,
-                                                    const Eigen::VectorXd&, const std::vector<int>&);
+                                                    Eigen::VectorXd, const std::vector<int>&);
 template class FullSpaceShares<2>;
 template class FullSpaceShares<3>;
 template BasicContactSolution<3> solve_full_space_shares<3>(const BasicContactProblem<3>&, KrylovSolver&, ProcessWorld,
                                                             const RowDistributor&, const MinimizerOptions&,
-                                                            const Eigen::VectorXd&, const std::vector<int>&);
+                                                            Eigen::VectorXd, const std::vector<int>&);
 
 }  // namespace hemivem

@@ -212,7 +212,8 @@ class Condensation {
   /// them (Joining), rotate_part() joining the part too. Where a pair's node is free and a
   /// vertex across from it prescribed (Joining::shifts_load), the joined load takes the system's
   /// columns at those nodes, which `columns` gives (InputError, naming the node, without it).
-  Condensation(const DofMap& dofs, const ContactBoundary& boundary, const std::vector<PartConditions>& parts,
+  /// `dofs` is the posing's own (dof_map()): a caller that needs it no more moves it in.
+  Condensation(DofMap dofs, const ContactBoundary& boundary, const std::vector<PartConditions>& parts,
                CoordinatesOnly, const SystemColumns& columns = {});
 
   /// A := Q^T A Q for a part A of the system of one body (of two joined bodies Q^T T^T A T Q, T
@@ -245,6 +246,10 @@ class Condensation {
   /// The rotated free unknowns of a full nodal displacement u (its free part, relative at the
   /// pairs, in the contact nodes' frames): displacement_of's inverse on the free dofs.
   Eigen::VectorXd rotated_free(const Eigen::VectorXd& u) const;
+  /// The rotated free unknowns first, ..., first + count - 1 of u (rotated_free(u)'s segment, to
+  /// the bit, without the others: a process's own rows), a range holding every free dof of each
+  /// contact node it holds one of (InternalError otherwise, and for a range outside the unknowns).
+  Eigen::VectorXd rotated_free(const Eigen::VectorXd& u, Eigen::Index first, Eigen::Index count) const;
   /// The forces v~ of the rotated free unknowns (a residual of the rotated system) on the
   /// unrotated free dofs: Q v~ for one body (the frames are orthogonal, so a residual of the
   /// rotated system gives the unrotated system's), T^-T Q v~ for two joined bodies
@@ -254,6 +259,9 @@ class Condensation {
   /// posed from (PoseOnly), read from the rotated matrix (Q A~ Q^T uf): the system's own matrix
   /// is no longer needed once posed. InternalError for two bodies or a condensed problem.
   Eigen::VectorXd unrotated_product(const Eigen::VectorXd& uf) const;
+  /// The dof map of the posed unknowns: the system's, its prescribed values those of the load
+  /// posed last (of two joined bodies, joined: Joining::join_prescribed).
+  const DofMap& dof_map() const noexcept { return dofs_; }
   /// True when two bodies are joined at pairs (the rotated system is the joined one).
   bool joins_bodies() const noexcept { return !joining_.empty(); }
   /// The rigid motions the supports leave free and the contact alone holds (a semi-coercive
@@ -341,7 +349,7 @@ class Condensation {
   Eigen::VectorXd raw_c_;         // condensed_load()
   std::vector<int> block1_;       // rotated free index of block 1: every node's normal, then the tangentials
   std::vector<int> coordinate1_;  // the position in block 1 of each reduced coordinate
-  std::vector<int> block2_;       // remaining rotated free indices, increasing
+  std::vector<int> block2_;       // remaining rotated free indices, increasing (condensed only)
   // Per contact node, the rotation of its free dofs: m free components at the free indices
   // idx[0..m) (in component order); slot j (the normal for j = 0, then the tangentials) lives at
   // idx[j], and the dofs are u(idx[r]) = sum_j C(r, j) u~(idx[j]); `full` holds the slots'
@@ -371,6 +379,7 @@ class Condensation {
   void pose_coordinates(const DofMap& dofs, const ContactBoundary& boundary, const std::vector<PartConditions>& parts);
   void number_coordinates(const ContactBoundary& boundary, const std::vector<PartConditions>& parts);
   void order_unknowns(const DofMap& dofs, const ContactBoundary& boundary);
+  void order_interior();
   Eigen::VectorXd rotate_load(const Eigen::VectorXd& b) const;
   void measure_interior(const SparseMatrix& At);
   void pose_reduced_problem(const ContactBoundary& boundary, const std::vector<PartConditions>& parts);

@@ -108,6 +108,8 @@ class FullSpaceShares {
   /// bounds; a new load goes through set_load() here, which the share's rows take too).
   Condensation& posed() noexcept;
   const Condensation& posed() const noexcept;
+  /// The whole problem's dof map (held once, by posed() for one body): the numbering of its
+  /// free dofs, and the problem's prescribed values until set_load() gives others.
   const DofMap& dofs() const noexcept;
   const ContactSetUp<dim>& contact() const noexcept;
   /// The distribution of the rows (its collectives: sum, max, all_gather).
@@ -147,7 +149,8 @@ class FullSpaceShares {
   };
   /// minimize_full_space() of the whole problem with the coordinates' laws, weights, bounds and
   /// groups of `coordinates` (posed().reduced() with any of them changed; its S and c are not
-  /// read) and their `origin`, from the rotated unknowns `start` (empty: from 0).
+  /// read) and their `origin`, from the rotated unknowns `start`: every one, or this process's
+  /// own (distribution().layout()'s owned rows); empty: from 0.
   Point minimize(const ReducedProblem& coordinates, const Eigen::VectorXd& origin, const MinimizerOptions& options,
                  const Eigen::VectorXd& start = Eigen::VectorXd(), FullSpaceStatistics* statistics = nullptr);
 
@@ -166,7 +169,8 @@ class FullSpaceShares {
 /// contact table, the potential energy, the balance of forces, the certificate and verdict of the
 /// whole problem), the same on each: what follows a solve (an error estimate, the marking of an
 /// adaptive solve) then decides alike on every process. `start_u`, when not empty, is the nodal
-/// displacement the iteration starts from (BasicContactSolver::start_from). Its stages and
+/// displacement the iteration starts from (BasicContactSolver::start_from); its process's rows
+/// rotated, it is given back before the solve (a caller that needs it no more moves it in). Its stages and
 /// timings are those of the route in one process: assembly (this process's rows), posing (with
 /// the timing setup, FullSpaceShares::timings), full_space, then post_process (gathering and
 /// making the results) and release (the shares given back; `krylov` is the caller's).
@@ -183,7 +187,7 @@ template <int dim>
 BasicContactSolution<dim> solve_full_space_shares(const BasicContactProblem<dim>& problem, KrylovSolver& krylov,
                                                   ProcessWorld world, const RowDistributor& distribute,
                                                   const MinimizerOptions& options,
-                                                  const Eigen::VectorXd& start_u = Eigen::VectorXd(),
+                                                  Eigen::VectorXd start_u = Eigen::VectorXd(),
                                                   const std::vector<int>& vertex_order = {});
 
 }  // namespace hemivem
