@@ -119,6 +119,12 @@ void expect_share_of_whole(const BasicContactProblem<dim>& p, const Condensation
   const Eigen::MatrixXd N = rigid_motions<dim>(*p.elasticity.mesh, posed);
   EXPECT_LE(relative_difference(mine.near_null_space, N.middleRows(layout.first, layout.owned)), rel);
   EXPECT_EQ(mine.block_size, node_block_size(dofs, dim));
+  // the rows of a start a process rotates alone are the whole start's rotated rows, to the bit
+  const Eigen::VectorXd u = Eigen::VectorXd::LinSpaced(dofs.num_dofs(), -1.0, 2.0).array().sin();
+  const Eigen::VectorXd rotated = posed.rotated_free(u);
+  const Eigen::VectorXd own = posed.rotated_free(u, layout.first, layout.owned);
+  ASSERT_EQ(own.size(), layout.owned);
+  EXPECT_TRUE((own.array() == rotated.segment(layout.first, layout.owned).array()).all());
 }
 
 /// expect_share_of_whole for the first third of the vertices, the middle third, the last third,
@@ -161,6 +167,29 @@ TEST(PoseShare, Example41InThePlaneIsTheWholePosingsShare) {
 TEST(PoseShare, Example41InTheSolidIsTheWholePosingsShare) {
   const Mesh3D mesh = make_cubes({5, 5, 5});
   expect_shares_of_whole<3>(test::example_4_1_3d(mesh));
+}
+
+// a start's rotated unknowns turn back into its free dofs (the frames are orthogonal), and a
+// range of them that holds some of a contact node's unknowns but not all is refused
+TEST(PoseShare, AStartsRotatedRowsTurnBackIntoItsFreeDofs) {
+  const Mesh3D mesh = make_cubes({4, 4, 4});
+  const BasicContactProblem<3> p = test::example_4_1_3d(mesh);
+  BasicContactSolver<3> solver(p, make_krylov_solver("eigen-cg"), MinimizerOptions{});
+  solver.prepare();
+  const Condensation& posed = *solver.condensation();
+  const DofMap& dofs = solver.system().dofs;
+  Eigen::VectorXd u = Eigen::VectorXd::LinSpaced(dofs.num_dofs(), -1.0, 2.0).array().cos();
+  for (int k = 0; k < dofs.num_dofs(); ++k)
+    if (dofs.free_index[static_cast<std::size_t>(k)] < 0) u(k) = dofs.prescribed(k);
+  const Eigen::VectorXd back = posed.displacement_of(posed.rotated_free(u));
+  EXPECT_LE((back - u).cwiseAbs().maxCoeff(), 1e-14 * u.cwiseAbs().maxCoeff());
+  const int node = solver.boundary().nodes.front();
+  const int first = dofs.free_index[static_cast<std::size_t>(3 * node)];
+  ASSERT_GE(first, 0);
+  ASSERT_GE(dofs.free_index[static_cast<std::size_t>(3 * node + 1)], 0) << "a node with two free components";
+  EXPECT_THROW((void)posed.rotated_free(u, first + 1, dofs.num_free() - first - 1), InternalError);
+  EXPECT_THROW((void)posed.rotated_free(u, 0, dofs.num_free() + 1), InternalError);
+  EXPECT_THROW((void)posed.rotated_free(Eigen::VectorXd(u.head(3)), 0, 3), InputError);
 }
 
 // a share moves without a copy of its rows: the moved share holds the same arrays, the other none
