@@ -17,7 +17,10 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <memory>
 #include <random>
+#include <span>
+#include <utility>
 
 #include "test_support.hpp"
 
@@ -237,6 +240,54 @@ TEST_F(MemoryLimit, RefusesBeforeBuildingAndNamesTheLimit) {
   }
   unsetenv("HEMIVEM_MEMORY_LIMIT");
   EXPECT_GT(available_memory(), 0.0);
+}
+
+// Across processes the check counts every process: measured (petsc-gamg, the 3D Example 4.1,
+// result.json only, each process's peak resident memory added up on this 2-core machine):
+// cubes n = 24 one process 212 MB, 2: 265, 4: 394, 8: 665, 16: 1220 MB; n = 48 one process
+// 1393 MB, 2: 1464, 4: 1618, 8: 2054, 16: 3061 MB.
+TEST_F(MemoryLimit, ARunAcrossProcessesCountsEveryProcess) {
+  const auto full_space = [](int n) {
+    return full_space_memory(estimate_memory_3d("cubes", n, n, n), full_space_cost(3, "cubes", "petsc-gamg"));
+  };
+  const double base = full_space_cost(3, "cubes", "petsc-gamg").base_bytes;
+  EXPECT_EQ(run_processes(), 1);
+  EXPECT_DOUBLE_EQ(run_memory(1e9), 1e9) << "one process: its own estimate";
+  const std::pair<int, double> totals24[] = {{2, 265e6}, {4, 394e6}, {8, 665e6}, {16, 1220e6}};
+  const std::pair<int, double> totals48[] = {{2, 1464e6}, {4, 1618e6}, {8, 2054e6}, {16, 3061e6}};
+  for (const auto& [n, totals] : {std::pair{24, std::span(totals24)}, std::pair{48, std::span(totals48)}}) {
+    const double one = full_space(n).solve_bytes;
+    for (const auto& [processes, measured] : totals) {
+      const MemoryOfProcesses run(processes, false, base);
+      EXPECT_EQ(run_processes(), processes);
+      const double need = run_memory(one);
+      EXPECT_DOUBLE_EQ(need, one + (processes - 1) * (base + 0.05 * (one - base))) << "the formula, by hand";
+      EXPECT_GT(need, measured) << "n = " << n << ", " << processes << " processes";
+      EXPECT_LT(need, 1.4 * measured) << "n = " << n << ", " << processes << " processes";
+    }
+  }
+  {  // mumps-mpi: every process the whole problem
+    const MemoryOfProcesses run(3, true, 0.0);
+    EXPECT_DOUBLE_EQ(run_memory(1e9), 3e9);
+  }
+  EXPECT_EQ(run_processes(), 1) << "a scope ends with its object";
+  // an earlier object ending first leaves the later one counting
+  auto first = std::make_unique<MemoryOfProcesses>(2, true, 0.0);
+  const MemoryOfProcesses second(4, true, 0.0);
+  first.reset();
+  EXPECT_EQ(run_processes(), 4);
+  // the refusal says across how many processes, with one process's estimate
+  setenv("HEMIVEM_MEMORY_LIMIT", "3G", 1);
+  EXPECT_NO_THROW(require_memory(0.7 * 1024 * 1024 * 1024, "a mesh", "here"));
+  try {
+    require_memory(1024.0 * 1024 * 1024, "a mesh", "here");
+    FAIL() << "4 processes of 1 GiB each are more than 3 GiB";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("needs an estimated 4.0 GiB of memory across 4 processes (1.0 GiB in one process)"),
+              std::string::npos)
+        << m;
+  }
 }
 
 // ---- regions by box ----------------------------------------------------------------------

@@ -43,6 +43,9 @@ struct SceneEngines {
   nlohmann::json search;         ///< search_json
   bool holds_results = true;     ///< false on the ranks > 0 of mumps-mpi
   int processes = 1;
+  /// Across processes, the memory checks count every process (MemoryOfProcesses) while the
+  /// engines live.
+  std::unique_ptr<MemoryOfProcesses> memory_of_processes;
   MinimizerOptions options;      ///< the scene's tolerance and iteration limit, with `callback`
   /// On the full-space route across processes, where this process's piece of the scene's mesh
   /// lies when it made only its piece (build_scene_problem); none when it made the whole mesh.

@@ -144,6 +144,9 @@ SceneEngines make_scene_engines(const Scene& scene, std::function<void(const Glo
       const ProcessWorld world = krylov_world();
       e.holds_results = world.rank == 0;
       e.processes = world.size;
+      // each process its share of the problem, besides its libraries and what every process holds
+      e.memory_of_processes = std::make_unique<MemoryOfProcesses>(
+          world.size, false, full_space_cost(scene.dimension(), scene.mesh.generator, e.linear).base_bytes);
     }
   } else {
     FactorizationOptions fo;
@@ -152,6 +155,8 @@ SceneEngines make_scene_engines(const Scene& scene, std::function<void(const Glo
     e.linear = e.factorization->name();
     e.holds_results = processes_of(*e.factorization).holds_results();
     e.processes = processes_of(*e.factorization).num_processes();
+    // every process builds and assembles the whole problem (mumps-mpi)
+    if (e.processes > 1) e.memory_of_processes = std::make_unique<MemoryOfProcesses>(e.processes, true, 0.0);
   }
   e.grid_levels = grid_sequence_levels(scene, e.krylov != nullptr, scene_is_path(scene));
   e.minimizer = make_scene_search(scene, std::move(progress));

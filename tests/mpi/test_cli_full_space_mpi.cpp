@@ -1180,6 +1180,23 @@ TEST(CliFullSpaceMpi, WhatTheRouteRunsInOneProcessIsRefusedOnSeveral) {
   }
 }
 
+// the memory check counts every process of a run (each its share of the problem, besides its
+// libraries and what every process holds): a limit above one process's estimate (122 MiB) and
+// below what two take together (181 MiB) lets one process run and refuses two alike, before
+// anything is made or written
+TEST(CliFullSpaceMpi, TheMemoryCheckCountsEveryProcess) {
+  const std::string flags = scene("example-4.1-3d.toml") + " --set 'mesh.n=[16, 16, 16]' --linear petsc-gamg -q";
+  const std::string limit = "env HEMIVEM_MEMORY_LIMIT=150M ";
+  const fs::path one = scratch("memory-one"), two = scratch("memory-two");
+  const CommandRun a = run(limit + binary() + " solve " + flags + " --out " + one.string());
+  EXPECT_EQ(a.code, 0) << a.err;
+  const CommandRun m = run(limit + mpiexec() + " " + np(2) + " " + binary() + " solve " + flags + " --out " + two.string());
+  EXPECT_EQ(m.code, 2) << m.err;
+  EXPECT_EQ(count(m.err, "hemivem: error:"), 1u) << m.err;
+  EXPECT_EQ(count(m.err, "of memory across 2 processes (122 MiB in one process)"), 1u) << m.err;
+  EXPECT_FALSE(fs::exists(two));
+}
+
 /// The scene `name` (a block between rollers on a linear foundation) on a rigid plane at the gap
 /// 0.02 instead, written to a scratch file: a body that its contact alone holds, by a constraint.
 fs::path block_on_a_plane(const std::string& name) {

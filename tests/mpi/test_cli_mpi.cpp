@@ -140,6 +140,21 @@ TEST(CliMpi, AnInputErrorAfterTheEngineExistsIsReportedOnceAndNobodyHangs) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+// every process of mumps-mpi builds and assembles the whole problem: a limit above one
+// process's estimate (37 MiB) and below two's refuses two processes, before anything is written
+TEST(CliMpi, TheMemoryCheckCountsEveryProcessHoldingTheWholeProblem) {
+  const std::string limit = "env HEMIVEM_MEMORY_LIMIT=55M ";
+  const fs::path one = scratch("memory-one"), two = scratch("memory-two");
+  const CommandRun a = run(limit + binary() + " solve --n 64 --linear mumps-mpi -q --out " + one.string());
+  EXPECT_EQ(a.code, 0) << a.err;
+  const CommandRun m =
+      run(limit + mpiexec() + " " + np(2) + " " + binary() + " solve --n 64 --linear mumps-mpi -q --out " + two.string());
+  EXPECT_EQ(m.code, 2) << m.err;
+  EXPECT_EQ(count(m.err, "hemivem: error:"), 1u) << m.err;
+  EXPECT_EQ(count(m.err, "needs an estimated 73 MiB of memory across 2 processes (37 MiB in one process)"), 1u) << m.err;
+  EXPECT_FALSE(fs::exists(two));
+}
+
 TEST(CliMpi, AnotherEngineOnSeveralProcessesIsRefused) {
   const fs::path out = scratch("refused");
   const CommandRun m = run(mpiexec() + " " + np(2) + " " + binary() + " solve --n 8 --linear eigen --out " + out.string());

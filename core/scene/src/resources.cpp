@@ -13,6 +13,7 @@
 #include <iomanip>
 #include <limits>
 #include <sstream>
+#include <vector>
 
 namespace hemivem {
 
@@ -162,12 +163,43 @@ MemoryEstimate full_space_memory(const MemoryEstimate& condensed, const FullSpac
 
 double available_memory() { return memory_limit().bytes; }
 
+namespace {
+// the scopes alive, the latest last (an object may end before a later one: each leaves alone)
+std::vector<const MemoryOfProcesses*>& runs() {
+  static std::vector<const MemoryOfProcesses*> alive;
+  return alive;
+}
+const MemoryOfProcesses* current_run() { return runs().empty() ? nullptr : runs().back(); }
+}  // namespace
+
+MemoryOfProcesses::MemoryOfProcesses(int processes, bool whole_on_each, double base_bytes)
+    : processes_(std::max(processes, 1)), whole_on_each_(whole_on_each), base_bytes_(base_bytes) {
+  runs().push_back(this);
+}
+
+MemoryOfProcesses::~MemoryOfProcesses() { std::erase(runs(), this); }
+
+double run_memory(double bytes) {
+  const MemoryOfProcesses* run = current_run();
+  if (!run || run->processes_ == 1) return bytes;
+  const double others = run->processes_ - 1;
+  if (run->whole_on_each_) return bytes * run->processes_;
+  const double base = std::min(run->base_bytes_, bytes);
+  return bytes + others * (base + MemoryOfProcesses::kHeldByEveryProcess * (bytes - base));
+}
+
+int run_processes() { return current_run() ? current_run()->processes_ : 1; }
+
 void require_memory(double bytes, const std::string& what, const std::string& where, const std::string& advice) {
   const Limit limit = memory_limit();
-  if (bytes <= limit.bytes) return;
-  throw InputError("needs an estimated " + format_bytes(bytes) + " of memory (" + what + "), more than the " +
-                       format_bytes(limit.bytes) + " available (" + limit.source + "); " + advice +
-                       ", or set HEMIVEM_MEMORY_LIMIT to override the limit",
+  const double need = run_memory(bytes);
+  if (need <= limit.bytes) return;
+  const std::string across = run_processes() > 1 ? " across " + std::to_string(run_processes()) + " processes (" +
+                                                       format_bytes(bytes) + " in one process)"
+                                                 : "";
+  throw InputError("needs an estimated " + format_bytes(need) + " of memory" + across + " (" + what +
+                       "), more than the " + format_bytes(limit.bytes) + " available (" + limit.source + "); " +
+                       advice + ", or set HEMIVEM_MEMORY_LIMIT to override the limit",
                    where);
 }
 

@@ -70,15 +70,51 @@ MemoryEstimate estimate_memory_3d(double vertices, double contact_nodes, double 
 /// or a size below 1.
 MemoryEstimate estimate_memory_3d(std::string_view generator, std::int64_t nx, std::int64_t ny, std::int64_t nz);
 
-/// Bytes this process may use: the environment variable HEMIVEM_MEMORY_LIMIT when set (a
-/// number of bytes with an optional suffix K, M, G or T, powers of 1024), else MemAvailable
-/// of /proc/meminfo; +inf when neither is known. Throws InputError naming the variable when
-/// HEMIVEM_MEMORY_LIMIT is malformed.
+/// Bytes the run may use (a run across processes: all of them together): the environment
+/// variable HEMIVEM_MEMORY_LIMIT when set (a number of bytes with an optional suffix K, M, G or
+/// T, powers of 1024), else MemAvailable of /proc/meminfo; +inf when neither is known. Throws
+/// InputError naming the variable when HEMIVEM_MEMORY_LIMIT is malformed.
 double available_memory();
 
-/// Throws InputError (at `where`) when `bytes` exceeds available_memory(); the message gives
-/// the estimate, what it is for (`what`, e.g. "squares n = 1000000: 1.0e12 vertices") and the
-/// limit with where it came from, and `advice` (what to do instead; by default a smaller mesh).
+/// While an object of this class lives, the process is one of `processes` of a run under a
+/// launcher, and require_memory() checks what they take together (run_memory()) against the
+/// memory available: of one machine, where the launcher started them (MemAvailable), or the
+/// run's whole allocation (HEMIVEM_MEMORY_LIMIT, docs/cluster.md). On the full-space route
+/// each process holds its share of the problem and, besides it, what every process holds: its
+/// libraries (`base_bytes`) and a part of the problem's estimate (kHeldByEveryProcess: the arrays
+/// indexed by the whole mesh, the cells along its boundary, the gathered solution). On the
+/// condensed route (`whole_on_each`: mumps-mpi) every process builds and assembles the whole
+/// problem. The latest object alive is the one that counts; the process's, not a thread's.
+class MemoryOfProcesses {
+ public:
+  MemoryOfProcesses(int processes, bool whole_on_each, double base_bytes);
+  ~MemoryOfProcesses();
+  MemoryOfProcesses(const MemoryOfProcesses&) = delete;
+  MemoryOfProcesses& operator=(const MemoryOfProcesses&) = delete;
+
+  /// The part of a problem's estimate in one process (less its libraries) that every process
+  /// of the full-space route holds besides its share, measured (docs/cluster.md).
+  static constexpr double kHeldByEveryProcess = 0.05;
+
+ private:
+  int processes_;
+  bool whole_on_each_;
+  double base_bytes_;
+  friend double run_memory(double bytes);
+  friend int run_processes();
+};
+
+/// What the run's processes take together (MemoryOfProcesses) for a problem whose estimate in
+/// one process is `bytes`: `bytes` itself in a run of one process; P * bytes where every process
+/// holds the whole; else bytes + (P - 1) * (base + kHeldByEveryProcess * (bytes - base)).
+double run_memory(double bytes);
+/// The processes of the run (MemoryOfProcesses), 1 outside one.
+int run_processes();
+
+/// Throws InputError (at `where`) when run_memory(bytes) exceeds available_memory(); the
+/// message gives the estimate (across processes, with one process's), what it is for (`what`,
+/// e.g. "squares n = 1000000: 1.0e12 vertices") and the limit with where it came from, and
+/// `advice` (what to do instead; by default a smaller mesh).
 void require_memory(double bytes, const std::string& what, const std::string& where,
                     const std::string& advice = "use a smaller mesh");
 
