@@ -244,8 +244,8 @@ TEST_F(MemoryLimit, RefusesBeforeBuildingAndNamesTheLimit) {
 
 // Across processes the check counts every process: measured (petsc-gamg, the 3D Example 4.1,
 // result.json only, each process's peak resident memory added up on this 2-core machine):
-// cubes n = 24 one process 212 MB, 2: 265, 4: 394, 8: 665, 16: 1220 MB; n = 48 one process
-// 1393 MB, 2: 1464, 4: 1618, 8: 2054, 16: 3061 MB.
+// cubes n = 24 one process 218 MB, 2: 271, 4: 404, 8: 681, 16: 1258 MB; n = 48 one process
+// 1426 MB, 2: 1464, 4: 1618, 8: 2054, 16: 3048 MB.
 TEST_F(MemoryLimit, ARunAcrossProcessesCountsEveryProcess) {
   const auto full_space = [](int n) {
     return full_space_memory(estimate_memory_3d("cubes", n, n, n), full_space_cost(3, "cubes", "petsc-gamg"));
@@ -253,8 +253,8 @@ TEST_F(MemoryLimit, ARunAcrossProcessesCountsEveryProcess) {
   const double base = full_space_cost(3, "cubes", "petsc-gamg").base_bytes;
   EXPECT_EQ(run_processes(), 1);
   EXPECT_DOUBLE_EQ(run_memory(1e9), 1e9) << "one process: its own estimate";
-  const std::pair<int, double> totals24[] = {{2, 265e6}, {4, 394e6}, {8, 665e6}, {16, 1220e6}};
-  const std::pair<int, double> totals48[] = {{2, 1464e6}, {4, 1618e6}, {8, 2054e6}, {16, 3061e6}};
+  const std::pair<int, double> totals24[] = {{2, 271e6}, {4, 404e6}, {8, 681e6}, {16, 1258e6}};
+  const std::pair<int, double> totals48[] = {{2, 1464e6}, {4, 1618e6}, {8, 2054e6}, {16, 3048e6}};
   for (const auto& [n, totals] : {std::pair{24, std::span(totals24)}, std::pair{48, std::span(totals48)}}) {
     const double one = full_space(n).solve_bytes;
     for (const auto& [processes, measured] : totals) {
