@@ -279,7 +279,7 @@ Eigen::MatrixXd owned_motion_rows(int count, const MotionAt& at, const MeshOf<di
     Eigen::VectorXd u(static_cast<Eigen::Index>(dim) * mesh.num_vertices());
     for (int k = 0; k < count; ++k) {
       for (int v = 0; v < mesh.num_vertices(); ++v) u.segment<dim>(dim * v) = at(k, v);
-      N.col(k) = posed.rotated_free(u).segment(rows.first, rows.owned);
+      N.col(k) = posed.rotated_free(u, rows.first, rows.owned);
     }
     return N;
   }

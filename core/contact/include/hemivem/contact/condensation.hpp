@@ -212,7 +212,7 @@ class Condensation {
   /// them (Joining), rotate_part() joining the part too. Where a pair's node is free and a
   /// vertex across from it prescribed (Joining::shifts_load), the joined load takes the system's
   /// columns at those nodes, which `columns` gives (InputError, naming the node, without it).
-  /// `dofs` is the posing's own (dof_map()): a caller that needs it no more moves it in.
+  /// `dofs` becomes the posing's own (dof_map()).
   Condensation(DofMap dofs, const ContactBoundary& boundary, const std::vector<PartConditions>& parts,
                CoordinatesOnly, const SystemColumns& columns = {});
 
