@@ -586,6 +586,89 @@ TEST(FullSpaceMpi, APathOfTwoJoinedSolidsWithAShiftedLoadAcrossProcessesIsTheCon
   }
 }
 
+// A proportional path's step across processes (FullSpaceShares::scale_load): t times the load the
+// shares were posed with, scaled on each process's own rows, is that load set whole (set_load of
+// t b and t times the prescribed values): the posed prescribed values to the bit, the point
+// found, its residual and energy to round-off. Of one body no rotated load of the whole problem
+// is kept.
+template <int dim>
+void expect_scaled_load_as_the_whole_load_set(const BasicContactProblem<dim>& problem) {
+  const ProcessWorld world = krylov_world();
+  const LinearSystem whole = assemble(problem.elasticity);
+  auto first = make_krylov_solver("petsc-gamg"), second = make_krylov_solver("petsc-gamg");
+  FullSpaceShares<dim> scaled(problem, *first, world, make_distributed_rows);
+  FullSpaceShares<dim> set(problem, *second, world, make_distributed_rows);
+  const bool joined = scaled.posed().joins_bodies();
+  ASSERT_GT(whole.dofs.prescribed.cwiseAbs().maxCoeff(), 0.0) << "prescribed values to scale";
+  for (const double t : {0.5, 1.5}) {
+    SCOPED_TRACE("t = " + std::to_string(t));
+    scaled.scale_load(t);
+    set.set_load(t * whole.b, t * whole.dofs.prescribed);
+    EXPECT_TRUE(scaled.posed().dof_map().prescribed.cwiseEqual(set.posed().dof_map().prescribed).all());
+    if (!joined) {
+      EXPECT_EQ(scaled.posed().rotated_load().size(), 0);
+      EXPECT_EQ(set.posed().rotated_load().size(), 0);
+    }
+    EXPECT_FALSE(scaled.load_is_zero());
+    const auto a = scaled.minimize(scaled.posed().reduced(), scaled.posed().origin(), tight());
+    const auto b = set.minimize(set.posed().reduced(), set.posed().origin(), tight());
+    ASSERT_TRUE(a.result.converged()) << a.result.message;
+    ASSERT_EQ(a.xt.size(), b.xt.size());
+    // two solves of the same load by two engines' preconditioners: the same point to round-off
+    const double scale = b.xt.cwiseAbs().maxCoeff();
+    ASSERT_GT(scale, 0.0);
+    EXPECT_LE((a.xt - b.xt).cwiseAbs().maxCoeff(), 1e-12 * scale);
+    EXPECT_LE((a.residual - b.residual).cwiseAbs().maxCoeff(), 1e-12 * b.residual.cwiseAbs().maxCoeff() + 1e-300);
+    EXPECT_NEAR(a.quadratic, b.quadratic, 1e-12 * std::abs(b.quadratic));
+    // and the displacement holds the scaled prescribed values
+    const Eigen::VectorXd u = scaled.posed().displacement_of(a.xt);
+    for (int k = 0; k < whole.dofs.num_dofs(); ++k)
+      if (whole.dofs.free_index[static_cast<std::size_t>(k)] < 0) ASSERT_EQ(u(k), t * whole.dofs.prescribed(k));
+  }
+  scaled.scale_load(0.0);
+  EXPECT_TRUE(scaled.load_is_zero());
+  EXPECT_FALSE(set.load_is_zero());
+}
+
+// a block between rollers, one of them pushing, pressed on its top onto a linear foundation
+TEST(FullSpaceMpi, AScaledLoadIsTheWholeLoadSetInThePlane) {
+  const auto block = build_problem<2>(parse_scene_string(R"(schema_version = 1
+[mesh]
+generator = "squares"
+n = [12, 6]
+domain = [0.0, 2.0, 0.0, 1.0]
+[material]
+E = 100.0
+nu = 0.3
+[[dirichlet]]
+side = "left"
+ux = 0.002
+[[dirichlet]]
+side = "right"
+ux = 0.0
+[[loads.traction]]
+side = "top"
+value = [0.0, -2.0]
+[contact]
+side = "bottom"
+law = "linear"
+constraint = "none"
+[contact.parameters]
+stiffness = 50.0
+)", "pushed-block.toml"));
+  expect_scaled_load_as_the_whole_load_set<2>(block->problem);
+}
+
+TEST(FullSpaceMpi, AScaledLoadIsTheWholeLoadSetInTheSolid) {
+  const Mesh3D mesh = make_cubes({6, 6, 6});
+  expect_scaled_load_as_the_whole_load_set<3>(test::pressed_block(mesh, Box{}));
+}
+
+TEST(FullSpaceMpi, AScaledLoadIsTheWholeLoadSetOfTwoJoinedSolids) {
+  const auto two = build_problem<3>(parse_scene_string(stacked(3, "", kSideClamped), "two-solids.toml"));
+  expect_scaled_load_as_the_whole_load_set<3>(two->problem);
+}
+
 TEST(FullSpaceMpi, TwoJoinedSolidsWithFrictionAcrossProcessesAreTheCondensedAnswer) {
   const auto two = build_problem<3>(
       parse_scene_string(stacked(3, "friction = {law = \"tresca\", bound = 0.004}\n"), "two-solids.toml"));

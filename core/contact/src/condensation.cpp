@@ -436,6 +436,17 @@ void Condensation::set_load(const Eigen::VectorXd& b, const Eigen::VectorXd& pre
   take_load(rotate_load(b));
 }
 
+void Condensation::set_prescribed_values(const Eigen::VectorXd& values) {
+  if (!joining_.empty() || factorization_ || At_.rows() > 0)
+    throw InternalError("set_prescribed_values is for a posing of one body's coordinates alone");
+  if (values.size() != dofs_.num_dofs() - dofs_.num_free())
+    throw InternalError("set_prescribed_values needs " + std::to_string(dofs_.num_dofs() - dofs_.num_free()) +
+                        " values, got " + std::to_string(values.size()));
+  Eigen::Index j = 0;
+  for (int k = 0; k < dofs_.num_dofs(); ++k)
+    if (dofs_.free_index[static_cast<std::size_t>(k)] < 0) dofs_.prescribed(k) = values(j++);
+}
+
 // The rotated load: condensed, or kept as the posed system's.
 void Condensation::take_load(Eigen::VectorXd bt) {
   if (factorization_)

@@ -458,6 +458,15 @@ struct FullSpaceShares<dim>::Impl {
   /// This process's part of the energy the joined system leaves out (Condensation::shift_energy).
   double shift_energy = 0.0;
   std::vector<int> vertices;  ///< this process's (vertex_share), increasing
+  /// One body: the values of the prescribed dofs (in dof order) the shares were posed with.
+  Eigen::VectorXd posed_prescribed;
+
+  /// This process's rows, first, ..., first + owned - 1.
+  std::vector<int> owned_unknowns() const {
+    std::vector<int> owned(static_cast<std::size_t>(posing.share.layout.owned));
+    std::iota(owned.begin(), owned.end(), static_cast<int>(posing.share.layout.first));
+    return owned;
+  }
 
   Impl(SharePosing<dim> p, KrylovSolver& k, std::unique_ptr<RowDistribution> r, double seconds, std::vector<int> v)
       : posing(std::move(p)),
@@ -470,6 +479,20 @@ struct FullSpaceShares<dim>::Impl {
         vertices(std::move(v)) {
     hints.rows = rows.get();
     shift_energy = posing.posed->shift_energy(posing.load, posing.share.layout.first);
+    if (!posing.posed->joins_bodies()) posed_prescribed = prescribed_values(posing.posed->dof_map().prescribed);
+  }
+
+  /// The values of `prescribed` (every dof's) at the prescribed dofs, in dof order.
+  Eigen::VectorXd prescribed_values(const Eigen::VectorXd& prescribed) const {
+    const DofMap& dofs = posing.posed->dof_map();
+    if (prescribed.size() != dofs.num_dofs())
+      throw InputError("a load needs " + std::to_string(dofs.num_dofs()) + " prescribed values, got " +
+                       std::to_string(prescribed.size()));
+    Eigen::VectorXd values(dofs.num_dofs() - dofs.num_free());
+    Eigen::Index j = 0;
+    for (int k = 0; k < dofs.num_dofs(); ++k)
+      if (dofs.free_index[static_cast<std::size_t>(k)] < 0) values(j++) = prescribed(k);
+    return values;
   }
 };
 
@@ -531,17 +554,39 @@ const std::map<std::string, double>& FullSpaceShares<dim>::timings() const noexc
 }
 
 template <int dim>
-Eigen::VectorXd FullSpaceShares<dim>::whole_load() const {
-  return impl_->rows->all_gather(impl_->posing.load);
+void FullSpaceShares<dim>::set_load(const Eigen::VectorXd& b, const Eigen::VectorXd& prescribed) {
+  Impl& p = *impl_;
+  Condensation& posed = *p.posing.posed;
+  const RowLayout& layout = p.posing.share.layout;
+  if (posed.joins_bodies()) {
+    posed.set_load(b, prescribed);
+    p.posing.share.share.load = posed.rotated_load().segment(layout.first, layout.owned);
+    p.shift_energy = posed.shift_energy(b.segment(layout.first, layout.owned), layout.first);
+    return;
+  }
+  if (b.size() != layout.global)
+    throw InputError("a load needs " + std::to_string(layout.global) + " free values, got " + std::to_string(b.size()));
+  Eigen::VectorXd values = p.prescribed_values(prescribed);
+  p.posing.share.share.load = posed.rotated_part(b.segment(layout.first, layout.owned), p.owned_unknowns());
+  posed.set_prescribed_values(values);
 }
 
 template <int dim>
-void FullSpaceShares<dim>::set_load(const Eigen::VectorXd& b, const Eigen::VectorXd& prescribed) {
-  Condensation& posed = *impl_->posing.posed;
-  posed.set_load(b, prescribed);
-  const RowLayout& layout = impl_->posing.share.layout;
-  impl_->posing.share.share.load = posed.rotated_load().segment(layout.first, layout.owned);
-  impl_->shift_energy = posed.shift_energy(b.segment(layout.first, layout.owned), layout.first);
+void FullSpaceShares<dim>::scale_load(double t) {
+  Impl& p = *impl_;
+  Condensation& posed = *p.posing.posed;
+  if (posed.joins_bodies()) {
+    // the system's dof map, held beside the posing's, keeps the prescribed values posed
+    set_load(t * p.rows->all_gather(p.posing.load), t * dofs().prescribed);
+    return;
+  }
+  p.posing.share.share.load = posed.rotated_part(t * p.posing.load, p.owned_unknowns());
+  posed.set_prescribed_values(t * p.posed_prescribed);
+}
+
+template <int dim>
+bool FullSpaceShares<dim>::load_is_zero() const {
+  return impl_->rows->max(impl_->posing.share.share.load.isZero(0.0) ? 0.0 : 1.0) == 0.0;
 }
 
 template <int dim>

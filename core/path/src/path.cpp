@@ -161,7 +161,10 @@ struct BasicPathSolver<dim>::Impl {
   // the stages of the static solve that set the path up: assembly, boundary, supports, condensation
   std::unique_ptr<BasicContactSolver<dim>> pipeline;
   const LinearSystem* system = nullptr;
-  DofMap dofs;                   // the system's, with the prescribed values of the step
+  // The free dofs' numbering, the system's (across processes the posed share's), with the
+  // prescribed values of the step: the path's own copy (step_dofs) where they change along it.
+  const DofMap* dofs = nullptr;
+  std::optional<DofMap> step_dofs;
   ContactBoundary boundary;      // the pipeline's, with the gaps of the step
   Condensation* cond = nullptr;
   std::vector<std::string> held_by_contact;
@@ -197,7 +200,8 @@ struct BasicPathSolver<dim>::Impl {
   FullSpaceStatistics full_space_counts;  // the full-space route's, summed over the path's minimizations
   bool check_existence_each_step = true;
   // the full-space route: the rotated free unknowns of the last minimization (each step starts
-  // from the one before), and a proportional path's load, prescribed values and resultant at t = 1
+  // from the one before), and a proportional path's load and prescribed values at t = 1 (in one
+  // process; across processes each scales its own rows) and resultant
   bool full = false;
   // across processes (options.distribute): each process's share, and the residual (rotated) and
   // quadratic energy of the last point found
@@ -306,18 +310,20 @@ void BasicPathSolver<dim>::Impl::set_up() {
   g = Eigen::VectorXd::Zero(n1);
   if (full) {  // nothing condensed: a step's load is set on the posed system
     condensed_loads = 0;
-    full_b = shares ? shares->whole_load() : system->b;
-    full_prescribed = dofs.prescribed;
+    if (!shares) {  // across processes the shares scale their own rows (FullSpaceShares::scale_load)
+      full_b = system->b;
+      full_prescribed = dofs->prescribed;
+    }
     full_applied = applied_of(problem.elasticity);
     return;
   }
   // a proportional path keeps its load at t = 1 whatever the capacity
   const int capacity = loading.proportional() ? std::max(1, options.solved_loads) : options.solved_loads;
-  loads = detail::SolvedLoads(dofs.num_dofs(), capacity, 1e-12);
+  loads = detail::SolvedLoads(dofs->num_dofs(), capacity, 1e-12);
   load_c.resize(step.size(), 0);
   load_applied.resize(dim, 0);
-  held = held_dofs(dofs);
-  stack(held, system->b, dofs.prescribed, &v);
+  held = held_dofs(*dofs);
+  stack(held, system->b, dofs->prescribed, &v);
   if (!loads.full() && !v.isZero(0.0)) remember_load(system->b);
 }
 
@@ -327,19 +333,19 @@ void BasicPathSolver<dim>::Impl::set_up() {
 // away from the contact unknowns, K_ij = -1/2 u0_j . b_i.
 template <int dim>
 void BasicPathSolver<dim>::Impl::remember_load(const Eigen::VectorXd& b) {
-  stack(held, b, dofs.prescribed, &v);
+  stack(held, b, dofs->prescribed, &v);
   const auto j = static_cast<Eigen::Index>(loads.add(v));
   load_c.conservativeResize(Eigen::NoChange, j + 1);
   load_c.col(j) = cond->condensed_load();
   load_applied.conservativeResize(Eigen::NoChange, j + 1);
   load_applied.col(j) = applied_of(problem.elasticity);
   const Eigen::VectorXd u0 = cond->back_substitute(-cond->origin());
-  Eigen::VectorXd uf(dofs.num_free());
-  for (int d = 0; d < dofs.num_free(); ++d) uf(d) = u0(dofs.free_dofs[static_cast<std::size_t>(d)]);
+  Eigen::VectorXd uf(dofs->num_free());
+  for (int d = 0; d < dofs->num_free(); ++d) uf(d) = u0(dofs->free_dofs[static_cast<std::size_t>(d)]);
   load_kappa.conservativeResize(j + 1, j + 1);
   load_kappa(j, j) = 0.5 * uf.dot(system->A * uf) - uf.dot(b);
   for (Eigen::Index i = 0; i < j; ++i)
-    load_kappa(i, j) = load_kappa(j, i) = -0.5 * uf.dot(loads.loads().col(i).head(dofs.num_free()));
+    load_kappa(i, j) = load_kappa(j, i) = -0.5 * uf.dot(loads.loads().col(i).head(dofs->num_free()));
 }
 
 // The step's condensed load c_raw, its resultant (s.applied) and, when the load is in the span of
@@ -357,9 +363,9 @@ Eigen::VectorXd BasicPathSolver<dim>::Impl::step_load(Step& s, Eigen::VectorXd* 
     if (auto found = loads.coefficients(v)) {
       alpha = std::move(*found);
     } else {
-      *b = v.head(dofs.num_free());
+      *b = v.head(dofs->num_free());
       if (s.index > 1) {  // the first step's load is the condensation's own
-        cond->set_load(*b, dofs.prescribed);
+        cond->set_load(*b, dofs->prescribed);
         ++condensed_loads;
       }
       load_current = true;
@@ -389,18 +395,22 @@ void BasicPathSolver<dim>::Impl::data_at(const Step& s) {
   if (s.index > 1) loading.update(s.t, problem);
   if (loading.updates_prescribed) {
     const DofMap at_t = make_dof_map(*problem.elasticity.mesh, problem.elasticity.dirichlet);
-    if (held_dofs(at_t) != held_dofs(dofs))
+    if (held_dofs(at_t) != held_dofs(*dofs))
       throw InputError("the prescribed degrees of freedom change along the path at t = " + shortest(s.t) +
                        ": a path may change prescribed values, not which displacements are prescribed");
-    dofs.prescribed = at_t.prescribed;
+    if (!step_dofs) {
+      step_dofs = *dofs;
+      dofs = &*step_dofs;
+    }
+    step_dofs->prescribed = at_t.prescribed;
   }
-  const Eigen::Index free = dofs.num_free();
+  const Eigen::Index free = dofs->num_free();
   v.resize(free + static_cast<Eigen::Index>(held.size()));
-  assemble_rhs(problem.elasticity, dofs, v.head(free));
-  for (std::size_t j = 0; j < held.size(); ++j) v(free + static_cast<Eigen::Index>(j)) = dofs.prescribed(held[j]);
+  assemble_rhs(problem.elasticity, *dofs, v.head(free));
+  for (std::size_t j = 0; j < held.size(); ++j) v(free + static_cast<Eigen::Index>(j)) = dofs->prescribed(held[j]);
   if (loading.updates_gaps) {
     const Eigen::VectorXd before = boundary.gaps;
-    boundary.gaps = contact_boundary(problem, dofs).gaps;  // the contact nodes report the step's gaps
+    boundary.gaps = contact_boundary(problem, *dofs).gaps;  // the contact nodes report the step's gaps
     through = passed_through(before);
     cond->set_gaps(boundary.gaps);
     step.lo = cond->reduced().lo;
@@ -416,15 +426,23 @@ template <int dim>
 void BasicPathSolver<dim>::Impl::posed_load(Step& s, Eigen::VectorXd* b) {
   through.clear();
   if (loading.proportional()) {
-    *b = s.t * full_b;
-    set_posed_load(*b, s.t * full_prescribed);
+    if (shares) {
+      shares->scale_load(s.t);
+    } else {
+      *b = s.t * full_b;
+      cond->set_load(*b, s.t * full_prescribed);
+    }
     s.applied = s.t * full_applied;
     return;
   }
   data_at(s);
-  *b = v.head(dofs.num_free());
-  set_posed_load(*b, dofs.prescribed);
+  *b = v.head(dofs->num_free());
+  set_posed_load(*b, dofs->prescribed);
   s.applied = applied_of(problem.elasticity);
+  if (shares) {  // the shares hold their rows of it: nothing of the whole load is kept through the solve
+    *b = Eigen::VectorXd();
+    v = Eigen::VectorXd();
+  }
 }
 
 // One minimization of the step's problem from `from` (its coordinates; on the full-space route
@@ -480,9 +498,9 @@ template <int dim>
 void BasicPathSolver<dim>::Impl::make_load_current(Eigen::VectorXd* b) {
   if (load_current) return;
   // a path with an update assembled the step's own load into v (data_at)
-  if (b->size() != dofs.num_free() && !loading.proportional()) *b = v.head(dofs.num_free());
-  if (b->size() == dofs.num_free()) {
-    cond->set_load(*b, dofs.prescribed);
+  if (b->size() != dofs->num_free() && !loading.proportional()) *b = v.head(dofs->num_free());
+  if (b->size() == dofs->num_free()) {
+    cond->set_load(*b, dofs->prescribed);
   } else {
     Eigen::VectorXd prescribed;
     unstack(held, loads.combination(alpha), b, &prescribed);
@@ -497,7 +515,7 @@ void BasicPathSolver<dim>::Impl::condense() {
   if (full && options.distribute) {  // across processes: this process's share, the whole surface
     shares = std::make_unique<FullSpaceShares<dim>>(problem, *krylov, options.world, options.distribute,
                                                     options.vertex_order);
-    dofs = shares->dofs();
+    dofs = &shares->dofs();
     parts = shares->contact().parts;
     boundary = shares->contact().boundary;
     held_by_contact = shares->contact().held_by_contact;
@@ -510,7 +528,7 @@ void BasicPathSolver<dim>::Impl::condense() {
                     : std::make_unique<BasicContactSolver<dim>>(problem, std::move(factorization), options.minimizer);
     pipeline->prepare();
     system = &pipeline->system();
-    dofs = system->dofs;
+    dofs = &system->dofs;
     parts = pipeline->parts();
     boundary = pipeline->boundary();
     held_by_contact = pipeline->prepared().held_by_contact;
@@ -570,7 +588,8 @@ auto BasicPathSolver<dim>::Impl::solve_step(int k) -> Step {
       if (kt >= 0) shift(kt) = tau_prev(kt);
   const Eigen::VectorXd& origin = cond->origin();
   if (!full) step.c = c_raw - step.S * (origin + shift);
-  const bool unloaded = !has_tangential && (full ? cond->rotated_load().isZero(0.0) : c_raw.isZero(0.0));
+  const bool unloaded = !has_tangential && (shares ? shares->load_is_zero()
+                                            : full ? cond->rotated_load().isZero(0.0) : c_raw.isZero(0.0));
   minimize_step(s, shift, origin, unloaded);
   if (!through.empty()) {
     s.status = MinimizerStatus::failed;
@@ -740,8 +759,8 @@ void BasicPathSolver<dim>::Impl::describe_step(Step& s, const MinimizerResult& m
     residual = cond->unrotated_free(shares_residual);
     s.energy = shares_quadratic;
   } else if (u && b) {
-    Eigen::VectorXd uf(dofs.num_free());
-    for (int d = 0; d < dofs.num_free(); ++d) uf(d) = (*u)(dofs.free_dofs[static_cast<std::size_t>(d)]);
+    Eigen::VectorXd uf(dofs->num_free());
+    for (int d = 0; d < dofs->num_free(); ++d) uf(d) = (*u)(dofs->free_dofs[static_cast<std::size_t>(d)]);
     // on the full-space route the rotated matrix stands for one body's, which the posing gave up
     const Eigen::VectorXd Au =
         system->A.rows() == uf.size() ? Eigen::VectorXd(system->A * uf) : cond->unrotated_product(uf);
@@ -758,7 +777,7 @@ void BasicPathSolver<dim>::Impl::describe_step(Step& s, const MinimizerResult& m
     s.friction_bound = s.slip;
   }
   for (int i = 0; i < n1; ++i) {
-    auto node = contact_node(*problem.elasticity.mesh, boundary, *cond, dofs, i, raw,
+    auto node = contact_node(*problem.elasticity.mesh, boundary, *cond, *dofs, i, raw,
                                     residual.size() > 0 ? &residual : nullptr);
     if (const int k = cond->tangential_coordinate(i); k >= 0) {
       // the slip of the step: along tau in the plane, its length on a solid's surface
@@ -782,7 +801,7 @@ auto BasicPathSolver<dim>::Impl::last_solution(const Step& s, const MinimizerRes
     -> BasicContactSolution<dim> {
   BasicContactSolution<dim> sol;
   sol.u = s.u;
-  sol.unknowns = dofs.num_free();
+  sol.unknowns = dofs->num_free();
   sol.contact = s.contact;
   for (const auto& part : parts) sol.contact_parts.push_back(part.name);
   sol.status = s.status;

@@ -317,6 +317,12 @@ class Condensation {
   /// without condensation (PoseOnly), rotated_load() and displacement_of() take the new load and
   /// prescribed values (no solve).
   void set_load(const Eigen::VectorXd& b, const Eigen::VectorXd& prescribed);
+  /// New prescribed values of a posing of one body's coordinates alone (CoordinatesOnly), as
+  /// set_load() sets them, for a load whose rows are rotated elsewhere (rotated_part(): a
+  /// process's rows, FullSpaceShares): `values` holds the prescribed dofs' (DofMap::free_index
+  /// < 0) in dof order. InternalError for two joined bodies (set_load() joins their values),
+  /// for a posing that holds a system or a factorization, and for another count of values.
+  void set_prescribed_values(const Eigen::VectorXd& values);
   /// New gaps of the contact nodes (a moving obstacle or gap; one per node, bilateral nodes'
   /// unused): the bounds of the normal unknowns (each under its part's constraint), and with
   /// law_from_surface their origin, c, and the zero law for a node whose gap is infinite (its

@@ -119,11 +119,20 @@ class FullSpaceShares {
   /// the coordinates and the distribution of the rows).
   const std::map<std::string, double>& timings() const noexcept;
 
-  /// The whole problem's free right-hand side as posed (the processes' rows gathered).
-  Eigen::VectorXd whole_load() const;
   /// A new load of the whole problem, as Condensation::set_load takes it: posed() and this
-  /// process's rows take it. Not collective.
+  /// process's rows take it. Of one body only this process's rows of `b` are rotated
+  /// (Condensation::rotated_part) and posed() keeps no rotated load; two joined bodies' load is
+  /// joined and rotated whole. Not collective.
   void set_load(const Eigen::VectorXd& b, const Eigen::VectorXd& prescribed);
+  /// t times the load the shares were posed with (the load and prescribed values of the
+  /// problem given to the constructor): a proportional loading's step. Of one body this
+  /// process's rows and posed()'s prescribed values are scaled, and no vector of the whole
+  /// problem is made; two joined bodies gather the whole load and set t times it (set_load).
+  /// The same bits as set_load() of t times the whole load and prescribed values. Collective.
+  void scale_load(double t);
+  /// Whether the load of the moment is zero in every row, exactly (its rotated rows on every
+  /// process). Collective.
+  bool load_is_zero() const;
 
   /// The resultant of the applied load (tractions, body force) of `at`, the shares' problem
   /// with its loads of the moment: each process sums its own vertices (vertex_share; a piece of
