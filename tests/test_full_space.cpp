@@ -442,6 +442,33 @@ TEST(FullSpace, TheMemoryCheckTakesTheRoutesEstimate) {
   ::unsetenv("HEMIVEM_MEMORY_LIMIT");
 }
 
+// Across processes (mumps-mpi: every process holds the whole problem) the refusal's advice gives
+// the full-space route's estimate across the same processes, and only where that fits.
+TEST(FullSpace, TheAdviceAcrossProcessesTakesTheRoutesEstimateAcrossThem) {
+  Scene scene = parse_scene(test::scenes_dir() / "example-4.1-3d.toml");
+  apply_overrides(scene, {"mesh.n=[40, 40, 40]"});
+  const FullSpaceCost cost = full_space_cost(3, "cubes", "petsc-gamg");
+  const double one = full_space_memory(estimate_memory_3d("cubes", 40, 40, 40), cost).solve_bytes;
+  const MemoryOfProcesses run(4, true, 0.0);
+  const double across = full_space_run_memory(one, cost.base_bytes);
+  EXPECT_DOUBLE_EQ(across, one + 3 * (cost.base_bytes + 0.05 * (one - cost.base_bytes)));
+  const auto refusal = [&](double limit) {
+    ::setenv("HEMIVEM_MEMORY_LIMIT", std::to_string(static_cast<long long>(limit)).c_str(), 1);
+    return test::input_error_of([&] { (void)build_problem<3>(scene); });
+  };
+  const std::string fits = refusal(1.01 * across);
+  EXPECT_NE(fits.find("across 4 processes"), std::string::npos) << fits;
+  EXPECT_NE(fits.find("(--linear petsc-gamg, solver.linear = \"petsc-gamg\": an estimated " + format_bytes(across) +
+                      " across 4 processes;"),
+            std::string::npos)
+      << fits;
+  // one process's estimate of the route would fit, the processes' together do not: no such advice
+  const std::string too_much = refusal(0.5 * (one + across));
+  EXPECT_NE(too_much.find("needs an estimated"), std::string::npos) << too_much;
+  EXPECT_EQ(too_much.find("full-space route"), std::string::npos) << too_much;
+  ::unsetenv("HEMIVEM_MEMORY_LIMIT");
+}
+
 }  // namespace
 
 namespace {

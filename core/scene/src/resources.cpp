@@ -170,6 +170,11 @@ std::vector<const MemoryOfProcesses*>& runs() {
   return alive;
 }
 const MemoryOfProcesses* current_run() { return runs().empty() ? nullptr : runs().back(); }
+// What each process but the first holds on the full-space route (MemoryOfProcesses).
+double full_space_run_memory_of_one(double bytes, double base_bytes) {
+  const double base = std::min(base_bytes, bytes);
+  return base + MemoryOfProcesses::kHeldByEveryProcess * (bytes - base);
+}
 }  // namespace
 
 MemoryOfProcesses::MemoryOfProcesses(int processes, bool whole_on_each, double base_bytes)
@@ -184,11 +189,14 @@ double run_memory(double bytes) {
   if (!run || run->processes_ == 1) return bytes;
   const double others = run->processes_ - 1;
   if (run->whole_on_each_) return bytes * run->processes_;
-  const double base = std::min(run->base_bytes_, bytes);
-  return bytes + others * (base + MemoryOfProcesses::kHeldByEveryProcess * (bytes - base));
+  return bytes + others * full_space_run_memory_of_one(bytes, run->base_bytes_);
 }
 
 int run_processes() { return current_run() ? current_run()->processes_ : 1; }
+
+double full_space_run_memory(double bytes, double base_bytes) {
+  return bytes + (run_processes() - 1) * full_space_run_memory_of_one(bytes, base_bytes);
+}
 
 void require_memory(double bytes, const std::string& what, const std::string& where, const std::string& advice) {
   const Limit limit = memory_limit();

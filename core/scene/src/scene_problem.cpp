@@ -308,13 +308,17 @@ void require_route_memory(const Scene& scene, const MemoryEstimate& condensed, c
   const bool full_space = is_krylov_solver(scene.solver.linear);
   const double need = full_space ? full_space_bytes(scene.solver.linear) : condensed.solve_bytes;
   std::string advice = "use a smaller mesh";
-  if (!full_space && need > available_memory())
+  if (!full_space && run_memory(need) > available_memory())
     for (const std::string_view engine : known_krylov_engines()) {  // in the order of preference
-      const double full = full_space_bytes(engine);
+      if (run_processes() > 1 && engine == "eigen-cg") continue;  // it runs in one process
+      // what the run's processes would take together on that route
+      const double full = full_space_run_memory(
+          full_space_bytes(engine), full_space_cost(scene.dimension(), scene.mesh.generator, engine).base_bytes);
       if (full > available_memory()) continue;
       const std::string name(engine);
+      const std::string across = run_processes() > 1 ? " across " + std::to_string(run_processes()) + " processes" : "";
       advice = "use a smaller mesh, or the full-space route, which factorizes nothing (--linear " + name +
-               ", solver.linear = \"" + name + "\": an estimated " + format_bytes(full) +
+               ", solver.linear = \"" + name + "\": an estimated " + format_bytes(full) + across +
                "; `hemivem backends` lists the Krylov engines built; docs/full-space.md)";
       break;
     }

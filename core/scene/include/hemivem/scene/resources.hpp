@@ -110,6 +110,11 @@ class MemoryOfProcesses {
 double run_memory(double bytes);
 /// The processes of the run (MemoryOfProcesses), 1 outside one.
 int run_processes();
+/// What the run's processes (run_processes()) would take together on the full-space route,
+/// whichever route the run takes, for a problem whose estimate in one process is `bytes`,
+/// `base_bytes` of it the libraries: bytes + (P - 1) * (base + kHeldByEveryProcess * (bytes -
+/// base)) (the route a refusal on the condensed route advises).
+double full_space_run_memory(double bytes, double base_bytes);
 
 /// Throws InputError (at `where`) when run_memory(bytes) exceeds available_memory(); the
 /// message gives the estimate (across processes, with one process's), what it is for (`what`,
