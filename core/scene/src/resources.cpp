@@ -170,11 +170,6 @@ std::vector<const MemoryOfProcesses*>& runs() {
   return alive;
 }
 const MemoryOfProcesses* current_run() { return runs().empty() ? nullptr : runs().back(); }
-// What each process but the first holds on the full-space route (MemoryOfProcesses).
-double full_space_run_memory_of_one(double bytes, double base_bytes) {
-  const double base = std::min(base_bytes, bytes);
-  return base + MemoryOfProcesses::kHeldByEveryProcess * (bytes - base);
-}
 }  // namespace
 
 MemoryOfProcesses::MemoryOfProcesses(int processes, bool whole_on_each, double base_bytes)
@@ -187,15 +182,15 @@ MemoryOfProcesses::~MemoryOfProcesses() { std::erase(runs(), this); }
 double run_memory(double bytes) {
   const MemoryOfProcesses* run = current_run();
   if (!run || run->processes_ == 1) return bytes;
-  const double others = run->processes_ - 1;
   if (run->whole_on_each_) return bytes * run->processes_;
-  return bytes + others * full_space_run_memory_of_one(bytes, run->base_bytes_);
+  return full_space_run_memory(bytes, run->base_bytes_);
 }
 
 int run_processes() { return current_run() ? current_run()->processes_ : 1; }
 
 double full_space_run_memory(double bytes, double base_bytes) {
-  return bytes + (run_processes() - 1) * full_space_run_memory_of_one(bytes, base_bytes);
+  const double base = std::min(base_bytes, bytes);
+  return bytes + (run_processes() - 1) * (base + MemoryOfProcesses::kHeldByEveryProcess * (bytes - base));
 }
 
 void require_memory(double bytes, const std::string& what, const std::string& where, const std::string& advice) {
