@@ -471,6 +471,11 @@ TEST(FullSpaceMpi, TheCommandsSolveAcrossProcessesGathersTheTiedReactions) {
   const Mesh mesh = make_squares(12);
   ContactProblem p = example_4_1(mesh);
   p.parts.front().constraint = ConstraintKind::bilateral;
+  const ProcessWorld world = krylov_world();
+  auto krylov = make_krylov_solver("petsc-gamg");
+  // only a bilateral node's normal force reads the residual, which is then gathered
+  EXPECT_TRUE(FullSpaceShares<2>(p, *krylov, world, make_distributed_rows).contact_reads_residual());
+  EXPECT_FALSE(FullSpaceShares<2>(example_4_1(mesh), *krylov, world, make_distributed_rows).contact_reads_residual());
   expect_shares_solve_as_the_condensed_route<2>(p);
 }
 
@@ -613,15 +618,20 @@ void expect_scaled_load_as_the_whole_load_set(const BasicContactProblem<dim>& pr
     const auto a = scaled.minimize(scaled.posed().reduced(), scaled.posed().origin(), tight());
     const auto b = set.minimize(set.posed().reduced(), set.posed().origin(), tight());
     ASSERT_TRUE(a.result.converged()) << a.result.message;
-    ASSERT_EQ(a.xt.size(), b.xt.size());
+    // each process holds its own rows of the point, nothing of the whole problem
+    const RowDistribution& rows = scaled.distribution();
+    ASSERT_EQ(a.x.size(), rows.layout().owned);
+    ASSERT_EQ(a.residual.size(), rows.layout().owned);
+    ASSERT_EQ(b.x.size(), set.distribution().layout().owned);
+    ASSERT_EQ(rows.layout().first, set.distribution().layout().first);
     // two solves of the same load by two engines' preconditioners: the same point to round-off
-    const double scale = b.xt.cwiseAbs().maxCoeff();
+    const double scale = rows.max(b.x.cwiseAbs().maxCoeff());
     ASSERT_GT(scale, 0.0);
-    EXPECT_LE((a.xt - b.xt).cwiseAbs().maxCoeff(), 1e-12 * scale);
-    EXPECT_LE((a.residual - b.residual).cwiseAbs().maxCoeff(), 1e-12 * b.residual.cwiseAbs().maxCoeff() + 1e-300);
+    EXPECT_LE((a.x - b.x).cwiseAbs().maxCoeff(), 1e-12 * scale);
+    EXPECT_LE((a.residual - b.residual).cwiseAbs().maxCoeff(), 1e-12 * rows.max(b.residual.cwiseAbs().maxCoeff()) + 1e-300);
     EXPECT_NEAR(a.quadratic, b.quadratic, 1e-12 * std::abs(b.quadratic));
     // and the displacement holds the scaled prescribed values
-    const Eigen::VectorXd u = scaled.posed().displacement_of(a.xt);
+    const Eigen::VectorXd u = scaled.posed().displacement_of(rows.all_gather(a.x));
     for (int k = 0; k < whole.dofs.num_dofs(); ++k)
       if (whole.dofs.free_index[static_cast<std::size_t>(k)] < 0) ASSERT_EQ(u(k), t * whole.dofs.prescribed(k));
   }
@@ -736,6 +746,58 @@ void expect_path_across_processes_as_the_condensed_route(Problem& problem, Basic
   EXPECT_LE((s.last.u - c.last.u).cwiseAbs().maxCoeff(), 1e-8 * c.last.u.cwiseAbs().maxCoeff());
 }
 
+// A proportional path across processes whose contact part is bilateral: each step's tied nodes
+// take their normal forces from the residual, which the processes gather for it (the steps
+// before the last are no frames, and their displacement is not gathered). Against the
+// condensed route's path at every step.
+template <int dim, class Problem>
+void expect_tied_reactions_of_each_step_as_the_condensed_route(Problem& problem) {
+  const auto ssn = make_minimizer("ssn");
+  BasicPathOptions<dim> across;
+  across.minimizer = tight();
+  across.distribute = make_distributed_rows;
+  across.world = krylov_world();
+  BasicPathOptions<dim> alone;
+  alone.minimizer = tight();
+  BasicPathLoading<dim> loading;
+  loading.t = {0.5, 1.0, 1.5};
+  const BasicPathSolution<dim> s = solve_path(problem, make_krylov_solver("petsc-gamg"), *ssn, loading, across);
+  const BasicPathSolution<dim> c = solve_path(problem, factorization(), *ssn, loading, alone);
+  ASSERT_TRUE(c.converged());
+  ASSERT_TRUE(s.converged()) << s.last.message;
+  ASSERT_EQ(s.steps.size(), c.steps.size());
+  for (std::size_t k = 0; k < c.steps.size(); ++k) {
+    SCOPED_TRACE("step " + std::to_string(k + 1));
+    const auto &a = s.steps[k], &b = c.steps[k];
+    EXPECT_EQ(a.u.size() > 0, k + 1 == c.steps.size()) << "the last step alone is a frame";
+    EXPECT_NEAR(a.energy, b.energy, 1e-8 * std::abs(b.energy));
+    ASSERT_EQ(a.contact.size(), b.contact.size());
+    double force = 0.0;
+    for (const auto& node : b.contact) force = std::max(force, std::abs(node.reaction));
+    ASSERT_GT(force, 0.0) << "the tied nodes carry forces";
+    for (std::size_t i = 0; i < b.contact.size(); ++i) {
+      SCOPED_TRACE("contact node " + std::to_string(i));
+      ASSERT_EQ(b.contact[i].state, ContactState::tied);
+      EXPECT_NEAR(a.contact[i].reaction, b.contact[i].reaction, 1e-8 * force);
+    }
+  }
+  EXPECT_LE((s.last.u - c.last.u).cwiseAbs().maxCoeff(), 1e-8 * c.last.u.cwiseAbs().maxCoeff());
+}
+
+TEST(FullSpaceMpi, APathAcrossProcessesGathersEachStepsTiedReactionsInThePlane) {
+  const Mesh mesh = make_squares(12);
+  ContactProblem problem = example_4_1(mesh);
+  problem.parts.front().constraint = ConstraintKind::bilateral;
+  expect_tied_reactions_of_each_step_as_the_condensed_route<2>(problem);
+}
+
+TEST(FullSpaceMpi, APathAcrossProcessesGathersEachStepsTiedReactionsInTheSolid) {
+  const Mesh3D mesh = make_mesh3d("cubes", GridSize3(4, 3, 6), Box{0.0, 1.0, 0.0, 0.5, 0.0, 1.0});
+  ContactProblem3D problem = test::example_4_1_3d(mesh);
+  problem.parts.front().constraint = ConstraintKind::bilateral;
+  expect_tied_reactions_of_each_step_as_the_condensed_route<3>(problem);
+}
+
 // Example 4.1 pressed, then sheared along the top, on a Coulomb foundation (friction-coulomb.toml)
 TEST(FullSpaceMpi, ACoulombPathAcrossProcessesIsTheCondensedRoutesInThePlane) {
   const Mesh mesh = make_squares(12);
@@ -826,6 +888,40 @@ void expect_path_on_pieces_as_the_condensed_route(Problem& mine, Problem& all, B
     ASSERT_EQ(a.u.size(), b.u.size());
     EXPECT_LE((a.u - b.u).cwiseAbs().maxCoeff(), 1e-8 * b.u.cwiseAbs().maxCoeff());
   }
+}
+
+// a path its caller stops after the second of three steps: that step's displacement is made
+// then, and its balance of forces summed over the processes' vertices of their pieces, as the
+// condensed route's path on the whole mesh stopped there
+TEST(FullSpaceMpi, APathOnPiecesStoppedByItsCallerBalancesTheStepItStoppedAt) {
+  const PlanePiece p = plane_piece();
+  ContactProblem mine = example_4_1(p.piece), all = example_4_1(p.whole);
+  for (ContactProblem* q : {&mine, &all}) q->elasticity.body_force = [](const Vec2&) { return Vec2(0.5, -2.0); };
+  PathLoading loading;
+  loading.t = {0.5, 1.0, 1.25};
+  const auto ssn = make_minimizer("ssn");
+  PathOptions across;
+  across.minimizer = tight();
+  across.on_step = [](const PathStep& step) { return step.index < 2; };
+  across.distribute = make_distributed_rows;
+  across.world = krylov_world();
+  PathOptions alone;
+  alone.minimizer = tight();
+  alone.on_step = across.on_step;
+  const PathSolution s = solve_path(mine, make_krylov_solver("petsc-gamg"), *ssn, loading, across);
+  const PathSolution c = solve_path(all, factorization(), *ssn, loading, alone);
+  ASSERT_EQ(c.steps.size(), 2u);
+  ASSERT_EQ(s.steps.size(), 2u);
+  const PathStep &a = s.steps.back(), &b = c.steps.back();
+  ASSERT_TRUE(a.converged() && b.converged());
+  ASSERT_EQ(a.u.size(), b.u.size());
+  EXPECT_LE((a.u - b.u).cwiseAbs().maxCoeff(), 1e-8 * b.u.cwiseAbs().maxCoeff());
+  ASSERT_TRUE(a.forces && b.forces);
+  const double load = b.forces->applied.norm();
+  ASSERT_GT(load, 0.0);
+  EXPECT_LE((a.forces->applied - b.forces->applied).norm(), 1e-12 * load);
+  EXPECT_LE((a.forces->contact - b.forces->contact).norm(), 1e-8 * load);
+  EXPECT_LE(a.forces->residual(), 1e-8);
 }
 
 // proportional: the load at t = 1 gathered from the processes' rows, its resultant summed over them

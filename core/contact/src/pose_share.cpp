@@ -643,10 +643,18 @@ auto FullSpaceShares<dim>::minimize(const ReducedProblem& coordinates, const Eig
   rows.update_ghosts(with_ghosts);
   const Eigen::VectorXd Ax = mine.share.matrix * with_ghosts;
   point.quadratic = rows.sum(0.5 * x.dot(Ax) - x.dot(mine.share.load) + p.shift_energy);
-  point.xt = rows.all_gather(x);
-  point.residual = rows.all_gather(Ax - mine.share.load);
+  point.residual = Ax - mine.share.load;
+  point.x = std::move(x);
   gather_coordinates(rows, mine.share, coordinates.size(), point.result);
   return point;
+}
+
+template <int dim>
+bool FullSpaceShares<dim>::contact_reads_residual() const {
+  const Condensation& posed = *impl_->posing.posed;
+  for (int i = 0; i < contact().boundary.size(); ++i)
+    if (posed.normal_coordinate(i) < 0) return true;
+  return false;
 }
 
 template <int dim>
@@ -688,13 +696,21 @@ BasicContactSolution<dim> solve_full_space_shares(const BasicContactProblem<dim>
   s.stages.push_back("full_space");
   // the results of the whole problem, from what every process gathered: the same on each
   t = Clock::now();
+  const RowDistribution& rows = shares->distribution();
+  Eigen::VectorXd xt = rows.all_gather(point.x);
+  Eigen::VectorXd residual =
+      shares->contact_reads_residual() ? rows.all_gather(point.residual) : Eigen::VectorXd();
+  point.x = point.residual = Eigen::VectorXd();
   std::exception_ptr failure;  // told to every process so that none waits for another
   try {
-    s.u = posed.displacement_of(point.xt);
-    const Eigen::VectorXd unrotated = posed.unrotated_free(point.residual);
+    s.u = posed.displacement_of(xt);
+    xt = Eigen::VectorXd();
+    const Eigen::VectorXd unrotated = residual.size() > 0 ? posed.unrotated_free(residual) : Eigen::VectorXd();
+    residual = Eigen::VectorXd();
     const ContactBoundary& boundary = shares->contact().boundary;
     for (int i = 0; i < boundary.size(); ++i)
-      s.contact.push_back(contact_node(*problem.elasticity.mesh, boundary, posed, shares->dofs(), i, m, &unrotated));
+      s.contact.push_back(contact_node(*problem.elasticity.mesh, boundary, posed, shares->dofs(), i, m,
+                                       unrotated.size() > 0 ? &unrotated : nullptr));
   } catch (...) {
     failure = std::current_exception();
   }

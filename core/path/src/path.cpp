@@ -203,11 +203,13 @@ struct BasicPathSolver<dim>::Impl {
   // from the one before), and a proportional path's load and prescribed values at t = 1 (in one
   // process; across processes each scales its own rows) and resultant
   bool full = false;
-  // across processes (options.distribute): each process's share, and the residual (rotated) and
-  // quadratic energy of the last point found
+  // across processes (options.distribute): each process's share, and the residual (rotated, of
+  // the process's own rows) and quadratic energy of the last point found
   std::unique_ptr<FullSpaceShares<dim>> shares;
   Eigen::VectorXd shares_residual;
   double shares_quadratic = 0.0;
+  // the rotated free unknowns of the last point found: every one in one process, the process's
+  // own rows across processes (gathered only where a step's displacement is made)
   Eigen::VectorXd xt;
   Eigen::VectorXd full_b, full_prescribed;
   Point full_applied = Point::Zero();
@@ -258,6 +260,11 @@ struct BasicPathSolver<dim>::Impl {
   }
   Step solve_step(int k);
   void extrapolate_bound(double t);
+  // The full nodal displacement of the last point found on the full-space route (across
+  // processes gathered from every process's rows: collective).
+  Eigen::VectorXd displacement() const {
+    return cond->displacement_of(shares ? shares->distribution().all_gather(xt) : xt);
+  }
   std::string passed_through(const Eigen::VectorXd& before) const;
   void minimize_step(Step& s, const Eigen::VectorXd& shift, const Eigen::VectorXd& origin, bool unloaded);
   void describe_step(Step& s, const MinimizerResult& m, const Eigen::VectorXd& shift,
@@ -455,7 +462,7 @@ MinimizerResult BasicPathSolver<dim>::Impl::minimize_once(const Eigen::VectorXd&
   if (shares) {
     auto point = shares->minimize(step, origin, options.minimizer, xt, &statistics);
     m = std::move(point.result);
-    xt = std::move(point.xt);
+    xt = std::move(point.x);
     shares_residual = std::move(point.residual);
     shares_quadratic = point.quadratic;
   } else {
@@ -616,7 +623,7 @@ auto BasicPathSolver<dim>::Impl::solve_step(int k) -> Step {
   const bool frame = last || (options.frame && options.frame(k));
   Eigen::VectorXd u;
   if (full) {
-    u = cond->displacement_of(xt);  // the point found: no solve
+    if (!shares || frame) u = displacement();  // the point found: no solve
   } else if (frame || any_bilateral || std::isnan(kappa)) {
     const auto t0 = Clock::now();
     make_load_current(&b);
@@ -755,8 +762,9 @@ void BasicPathSolver<dim>::Impl::describe_step(Step& s, const MinimizerResult& m
   raw.law_force = m.law_force;
   raw.reaction = m.reaction;
   Eigen::VectorXd residual;
-  if (u && b && shares) {  // across processes: the point's own, gathered (the frames are orthogonal)
-    residual = cond->unrotated_free(shares_residual);
+  if (shares) {  // across processes: the point's own, gathered where a node reads it (the frames are orthogonal)
+    if (shares->contact_reads_residual())
+      residual = cond->unrotated_free(shares->distribution().all_gather(shares_residual));
     s.energy = shares_quadratic;
   } else if (u && b) {
     Eigen::VectorXd uf(dofs->num_free());
@@ -871,14 +879,14 @@ BasicPathSolution<dim> BasicPathSolver<dim>::run() {
     // stopped early by on_step: the displacement of the step it stopped at
     auto& s = out.steps.back();
     if (p.full) {
-      s.u = p.cond->displacement_of(p.xt);
+      s.u = p.displacement();
     } else {
       Eigen::VectorXd b;
       p.make_load_current(&b);
       s.u = p.cond->back_substitute(s.a - p.cond->origin());
     }
     const auto at_t = out.proportional ? scaled(p.problem.elasticity, s.t) : p.problem.elasticity;
-    s.forces = contact_force_balance<dim>(at_t, s.u, s.contact);
+    s.forces = p.shares ? p.shares->balance(at_t, s.u, s.contact) : contact_force_balance<dim>(at_t, s.u, s.contact);
   }
   out.last = p.last_solution(out.steps.back(), p.last_result, p.last_shift);
   if (p.full) out.last.full_space = p.full_space_counts;

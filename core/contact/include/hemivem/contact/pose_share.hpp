@@ -145,15 +145,23 @@ class FullSpaceShares {
   BasicForceBalance<PointOf<dim>> balance(const BasicElasticityProblem<dim>& at, const Eigen::VectorXd& u,
                                           const std::vector<BasicContactNode<dim>>& contact) const;
 
-  /// What a solve gives every process: the point of the whole problem.
+  /// Whether the contact table reads the residual: a contact node without a normal coordinate
+  /// (a bilateral node) takes its normal force from it (contact_node), so the residual of the
+  /// whole problem is gathered; else no process needs it. The same on every process.
+  bool contact_reads_residual() const;
+
+  /// What a solve gives every process: the point of the whole problem, its unknowns in the
+  /// process's own rows (distribution().all_gather() makes the whole vectors where a caller
+  /// needs them).
   struct Point {
     /// The minimizer's result of the whole problem: its certificate, verdict and counts, and
     /// every coordinate's value a, law force and reaction.
     MinimizerResult result;
-    Eigen::VectorXd xt;        ///< the rotated free unknowns of the whole problem
-    Eigen::VectorXd residual;  ///< A~ xt - b~, rotated, of every free unknown
-    /// 1/2 xt.A~ xt - xt.b~, and for two bodies whose joined load is shifted the part the
-    /// joined system leaves out (Condensation::shift_energy): 1/2 u.A u - u.b of the free dofs.
+    Eigen::VectorXd x;         ///< the rotated free unknowns x~ of this process's own rows
+    Eigen::VectorXd residual;  ///< A~ x~ - b~, rotated, of this process's own rows
+    /// 1/2 x~.A~ x~ - x~.b~ of the whole problem, and for two bodies whose joined load is
+    /// shifted the part the joined system leaves out (Condensation::shift_energy): 1/2 u.A u -
+    /// u.b of the free dofs.
     double quadratic = 0.0;
   };
   /// minimize_full_space() of the whole problem with the coordinates' laws, weights, bounds and
@@ -172,8 +180,8 @@ class FullSpaceShares {
 /// Krylov engine with the semismooth Newton iteration, nothing condensed), each process posing
 /// and solving the share of its vertices (vertex_share, pose_share; along `vertex_order` unless
 /// it is empty), the rows distributed by `distribute`. Then the processes' results are gathered
-/// where they are small (the rotated unknowns, their residual, the contact coordinates' values
-/// and forces), and every process
+/// (the rotated unknowns, the contact coordinates' values and forces, and the residual where a
+/// bilateral node's normal force needs it), and every process
 /// returns the whole solution as BasicContactSolver::run() reports it (the displacement, the
 /// contact table, the potential energy, the balance of forces, the certificate and verdict of the
 /// whole problem), the same on each: what follows a solve (an error estimate, the marking of an
