@@ -97,14 +97,23 @@ namespace {
 
 /// Several processes started by an MPI launcher share the outputs: only an engine that runs
 /// across them does (mumps-mpi, a static solve; petsc-gamg and petsc-hypre on the full-space
-/// route, any solve), and rank 0 writes (docs/cluster.md).
-void require_one_process_or_an_engine_across(const Scene& scene) {
+/// route, any solve, which "auto" takes there: choose_route), and rank 0 writes
+/// (docs/cluster.md). `as_given`: choose_route's.
+void require_one_process_or_an_engine_across(const Scene& given, bool as_given) {
   const LaunchedProcesses launched = launched_processes();
-  if (launched.size <= 1 || same_engine(scene.solver.linear, "mumps-mpi")) return;
+  if (launched.size <= 1) return;
+  const Scene scene = choose_route(given, {}, as_given);
+  if (same_engine(scene.solver.linear, "mumps-mpi")) return;
   if (is_krylov_solver(scene.solver.linear) && make_krylov_solver(scene.solver.linear)->runs_across_processes()) return;
   const std::string started = "started as " + std::to_string(launched.size) + " processes by an MPI launcher";
-  throw InputError(started + ", but the linear engine '" + scene.solver.linear +
-                       "' runs in one process (the processes would race on the same outputs); use --linear mumps-mpi, "
+  const std::string why_not_across = same_engine(scene.solver.linear, "auto")
+                                         ? " here (\"auto\" runs across processes on the full-space route, where "
+                                           "petsc-gamg or petsc-hypre is built, only with the minimizer ssn, a local "
+                                           "search and no --export-reduced)"
+                                         : "";
+  throw InputError(started + ", but the linear engine '" + scene.solver.linear + "' runs in one process" +
+                       why_not_across +
+                       " (the processes would race on the same outputs); use --linear mumps-mpi, "
                        "or petsc-gamg or petsc-hypre (the full-space route), or run without mpirun",
                    "--linear");
 }
@@ -176,7 +185,7 @@ int run_solve(const SolveOptions& o, std::ostream& out, std::ostream& err) {
   check_flags_for(o, run_kind(scene));
   check_output_folder(o.out);
   say_what_an_interruption_keeps(o.out);
-  require_one_process_or_an_engine_across(scene);
+  require_one_process_or_an_engine_across(scene, !o.export_reduced.empty());
   if (!o.export_reduced.empty() && is_krylov_solver(scene.solver.linear))
     throw InputError("the full-space route (linear engine " + scene.solver.linear +
                          ") poses no reduced problem: export it with a linear engine that factorizes",

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include <hemivem/app/format.hpp>
+#include <hemivem/app/launcher.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -26,15 +27,6 @@ enum ExitCode : int {
   kDisagreement = 6,     ///< hemivem check: two converged engine pairs differ by more than --agree
 };
 
-/// The processes an MPI launcher (mpirun, mpiexec) started for this run, as the launcher's
-/// environment tells (Open MPI: OMPI_COMM_WORLD_SIZE / _RANK; MPICH, Intel MPI, srun with PMI:
-/// PMI_SIZE / PMI_RANK; MVAPICH: MV2_COMM_WORLD_SIZE / _RANK): size 1, rank 0 without one.
-/// Read without MPI: the command does not link MPI (docs/cluster.md).
-struct LaunchedProcesses {
-  int rank = 0;
-  int size = 1;
-};
-LaunchedProcesses launched_processes();
 
 /// True on the process that prints and writes: rank 0 of the launcher and, once a mumps-mpi
 /// engine exists, of that engine.

@@ -1,5 +1,6 @@
 #include <hemivem/support/blas_threads.hpp>
 #include <hemivem/app/solve.hpp>
+#include <hemivem/app/launcher.hpp>
 
 #include <hemivem/scene/grid_sequence.hpp>
 #include <hemivem/scene/resources.hpp>
@@ -9,6 +10,7 @@
 #include "scene_setup.hpp"
 
 #include <hemivem/error.hpp>
+#include <hemivem/krylov_solver.hpp>
 #include <hemivem/linear_backends.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
 #include <hemivem/process_group.hpp>
@@ -26,6 +28,16 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+/// Whether the Krylov engine `name` solves across the processes of a launcher (false where it
+/// cannot be made: its module not loaded).
+bool runs_across_processes(const std::string& name) {
+  try {
+    return make_krylov_solver(name)->runs_across_processes();
+  } catch (const InputError&) {
+    return false;
+  }
+}
 
 }  // namespace
 
@@ -109,13 +121,29 @@ void refuse_path(const Scene& scene, const std::string& what) {
 
 Scene choose_route(const Scene& scene, const std::vector<std::string>& krylov_engines, bool as_given,
                    std::string* why) {
-  if (!same_engine(scene.solver.linear, "auto") || as_given || !scene.bodies.empty() ||
-      scene.solver.search != "local" || !same_engine(scene.solver.minimizer, "ssn"))
+  if (!same_engine(scene.solver.linear, "auto") || as_given || scene.solver.search != "local" ||
+      !same_engine(scene.solver.minimizer, "ssn"))
     return scene;
+  const std::vector<std::string> engines = krylov_engines.empty() ? available_krylov_solvers() : krylov_engines;
+  if (const int processes = launched_processes().size; processes > 1) {
+    // started by an MPI launcher: the route that runs across the processes
+    for (const std::string& engine : engines) {
+      if (!runs_across_processes(engine)) continue;
+      Scene chosen = scene;
+      chosen.solver.linear = engine;
+      if (why)
+        *why = "solver.linear = \"auto\": started as " + std::to_string(processes) +
+               " processes by an MPI launcher; solved across them on the full-space route with " + engine +
+               " (docs/cluster.md)";
+      return chosen;
+    }
+    return scene;
+  }
+  if (!scene.bodies.empty()) return scene;
   const std::optional<MemoryEstimate> condensed = generated_mesh_memory(scene);
   const double available = available_memory();
   if (!condensed || condensed->solve_bytes <= available) return scene;
-  for (const std::string& engine : krylov_engines.empty() ? available_krylov_solvers() : krylov_engines) {
+  for (const std::string& engine : engines) {
     const double full =
         full_space_memory(*condensed, full_space_cost(scene.dimension(), scene.mesh.generator, engine)).solve_bytes;
     if (full > available) continue;

@@ -1168,6 +1168,9 @@ TEST(CliFullSpaceMpi, WhatTheRouteRunsInOneProcessIsRefusedOnSeveral) {
   };
   const std::vector<Case> cases{
       {"--n 8 --linear eigen-cg", "the linear engine 'eigen-cg' runs in one process"},
+      // "auto" takes the route across processes only where the route takes the scene
+      {"--n 8 --minimizer bundle-dca", "the linear engine 'auto' runs in one process here (\"auto\" runs across "
+                                       "processes on the full-space route"},
   };
   for (const Case& k : cases) {
     SCOPED_TRACE(k.flags);
@@ -1178,6 +1181,31 @@ TEST(CliFullSpaceMpi, WhatTheRouteRunsInOneProcessIsRefusedOnSeveral) {
     EXPECT_EQ(count(m.err, k.expected), 1u) << m.err;
     EXPECT_FALSE(fs::exists(out));
   }
+}
+
+// "auto" under a launcher takes the route that runs across the processes, and says so: the
+// condensed route's answer in one process, rank 0 alone writing
+TEST(CliFullSpaceMpi, AutoUnderALauncherSolvesAcrossTheProcesses) {
+  const std::string flags = scene("example-4.1-3d.toml") + " --set 'mesh.n=[6, 6, 6]' --tol 1e-11";
+  const fs::path ref = solve_condensed(flags, "auto-one");
+  if (ref.empty()) return;
+  CommandRun m;
+  const fs::path out = solve_across(2, flags, "auto-np2", &m);
+  ASSERT_EQ(m.code, 0) << m.out << m.err;
+  const std::string why = "solver.linear = \"auto\": started as 2 processes by an MPI launcher; solved across them "
+                          "on the full-space route with petsc-gamg";
+  EXPECT_EQ(count(m.err, why), 1u) << m.err;
+  EXPECT_EQ(count(m.out, "linear petsc-gamg (2 processes)"), 1u) << m.out;
+  EXPECT_FALSE(fs::exists(scratch("auto-np2-rank1"))) << "rank 1 wrote outputs";
+  const nlohmann::json a = nlohmann::json::parse(slurp(out / "result.json"));
+  const nlohmann::json b = nlohmann::json::parse(slurp(ref / "result.json"));
+  EXPECT_EQ(a["processes"], 2);
+  EXPECT_EQ(a["backends"]["linear"], "petsc-gamg");
+  ASSERT_FALSE(a["warnings"].empty()) << a.dump();
+  EXPECT_NE(a["warnings"][0].get<std::string>().find(why), std::string::npos) << a["warnings"].dump();
+  const double ea = a["potential_energy"].get<double>(), eb = b["potential_energy"].get<double>();
+  EXPECT_NEAR(ea, eb, 1e-9 * std::abs(eb));
+  expect_columns_agree(out / "displacement.csv", ref / "displacement.csv", 4, 7);
 }
 
 // the memory check counts every process of a run (each its share of the problem, besides its

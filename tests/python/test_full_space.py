@@ -88,7 +88,8 @@ def test_a_path_on_the_full_space_route_is_the_condensed_routes(coulomb_scene, e
 
 
 # Run by `mpiexec -n 2 python3 ACROSS <folder>`: a solve and a Coulomb path across the
-# processes, each process keeping what it holds in <folder>/rank<r>.npz.
+# processes (the path's linear engine "auto", which takes the route across them under the
+# launcher), each process keeping what it holds in <folder>/rank<r>.npz.
 ACROSS = """
 import json, os, sys
 import numpy as np
@@ -99,13 +100,15 @@ scene = hemivem.Scene.from_toml(sys.argv[2])
 scene.set("mesh.n", 4)
 r = hemivem.solve(scene, linear="petsc-gamg")
 written = r.write(os.path.join(folder, "solve"))
-p = hemivem.solve_path(sys.argv[3], t=[0.5, 1.0, 1.5, 2.0], frames=4, linear="petsc-gamg")
+p = hemivem.solve_path(sys.argv[3], t=[0.5, 1.0, 1.5, 2.0], frames=4)
+path_json = json.loads(p.to_json())
 np.savez(os.path.join(folder, f"rank{rank}.npz"), u=r.displacement, writer=r.writer, written=len(written),
          processes=json.loads(r.to_json())["processes"], pieces=json.loads(r.to_json())["mesh"]["pieces"],
          cells=r.mesh.num_cells, steps=np.array([s.displacement for s in p.path]),
          converged=r.converged and p.path.converged, estimate=r.error_estimate["relative"],
-         path_pieces=json.loads(p.to_json())["mesh"]["pieces"], path_cells=p.mesh.num_elements,
-         path_estimate=p.error_estimate["relative"])
+         path_pieces=path_json["mesh"]["pieces"], path_cells=p.mesh.num_elements,
+         path_estimate=p.error_estimate["relative"], path_linear=path_json["backends"]["linear"],
+         path_processes=path_json["processes"], path_warnings=" ".join(path_json["warnings"]))
 """
 
 
@@ -138,6 +141,9 @@ def test_a_solve_and_a_path_across_processes_from_python(tmp_path, coulomb_scene
         assert np.max(np.abs(rank["steps"] - steps)) <= 1e-8 * np.max(np.abs(steps))
         # the path too: made in pieces, the whole mesh after it, the whole mesh's estimate
         assert rank["path_pieces"] == 2 and rank["path_cells"] == path.mesh.num_elements
+        # "auto" took the route across the processes, and said so
+        assert str(rank["path_linear"]) == "petsc-gamg" and rank["path_processes"] == 2
+        assert 'solver.linear = "auto": started as 2 processes by an MPI launcher' in str(rank["path_warnings"])
         assert rank["path_estimate"] == pytest.approx(path.error_estimate["relative"], rel=1e-6)
         assert rank["estimate"] == pytest.approx(one.error_estimate["relative"], rel=1e-6)
     # the first process writes, the other returns []

@@ -45,13 +45,17 @@ nlohmann::json search_json(const NonsmoothMinimizer& minimizer);
 /// True when two engine names are the same engine (case-insensitive, '_' read as '-').
 bool same_engine(const std::string& a, const std::string& b);
 
-/// The route solver.linear = "auto" takes (docs/full-space.md, "Chosen by the memory"): the
-/// scene as given, unless it is one body on a generated mesh whose condensed route's memory
-/// estimate exceeds the memory available (HEMIVEM_MEMORY_LIMIT, or the machine's) and the
-/// full-space route takes it (the minimizer ssn, a local search; `as_given` false: no reduced
-/// problem asked, no mesh of the caller's); then the scene with solver.linear the first of `krylov_engines` (in
-/// order of preference; empty: every one built) whose estimate fits, and *why (when not null)
-/// saying so. Where none fits the scene is returned as given, and its build refuses it.
+/// The route solver.linear = "auto" takes (docs/full-space.md, "Chosen by the memory"), where
+/// the full-space route can take the scene (the minimizer ssn, a local search; `as_given`
+/// false: no reduced problem asked, no mesh of the caller's):
+/// - started by an MPI launcher as several processes (launched_processes()), the scene with
+///   solver.linear the first of `krylov_engines` (in order of preference; empty: every one
+///   built) that runs across processes, and *why (when not null) saying so (docs/cluster.md);
+/// - else, for one body on a generated mesh whose condensed route's memory estimate exceeds the
+///   memory available (HEMIVEM_MEMORY_LIMIT, or the machine's), the scene with solver.linear
+///   the first of them whose estimate fits, and *why saying so.
+/// Otherwise the scene is returned as given: where none fits, its build refuses it; under a
+/// launcher, the command refuses an engine of one process.
 Scene choose_route(const Scene& scene, const std::vector<std::string>& krylov_engines, bool as_given,
                    std::string* why = nullptr);
 
