@@ -27,6 +27,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <functional>
+#include <utility>
 #include <memory>
 #include <string>
 #include <vector>
@@ -693,6 +694,26 @@ TEST(FullSpaceMpi, TwoJoinedSolidsWithFrictionAcrossProcessesAreTheCondensedAnsw
   });
 }
 
+/// The path of `mine` across the processes (PathOptions::distribute, petsc-gamg) and of `all` in
+/// one process on the condensed route (Eigen's factorization), both with ssn to a tight
+/// tolerance and `both` applied to their options.
+template <int dim, class Problem>
+std::pair<BasicPathSolution<dim>, BasicPathSolution<dim>> paths_across_and_alone(
+    Problem& mine, Problem& all, BasicPathLoading<dim> loading,
+    const std::function<void(BasicPathOptions<dim>&)>& both = {}, const std::vector<int>& vertex_order = {}) {
+  const auto ssn = make_minimizer("ssn");
+  BasicPathOptions<dim> across, alone;
+  for (BasicPathOptions<dim>* o : {&across, &alone}) {
+    o->minimizer = tight();
+    if (both) both(*o);
+  }
+  across.distribute = make_distributed_rows;
+  across.world = krylov_world();
+  across.vertex_order = vertex_order;
+  return {solve_path(mine, make_krylov_solver("petsc-gamg"), *ssn, loading, across),
+          solve_path(all, factorization(), *ssn, std::move(loading), alone)};
+}
+
 // A loading path across processes (PathOptions::distribute): each process poses its share once
 // and solves it at every step, the path's own work (the fixed point on a Coulomb bound, the
 // steps' contact tables) done alike on every process. Against the condensed route's path
@@ -701,17 +722,7 @@ TEST(FullSpaceMpi, TwoJoinedSolidsWithFrictionAcrossProcessesAreTheCondensedAnsw
 template <int dim, class Problem>
 void expect_path_across_processes_as_the_condensed_route(Problem& problem, BasicPathLoading<dim> loading,
                                                          const std::vector<int>& vertex_order = {}) {
-  const ProcessWorld world = krylov_world();
-  const auto ssn = make_minimizer("ssn");
-  BasicPathOptions<dim> across;
-  across.minimizer = tight();
-  across.distribute = make_distributed_rows;
-  across.world = world;
-  across.vertex_order = vertex_order;
-  BasicPathOptions<dim> alone;
-  alone.minimizer = tight();
-  const BasicPathSolution<dim> s = solve_path(problem, make_krylov_solver("petsc-gamg"), *ssn, loading, across);
-  const BasicPathSolution<dim> c = solve_path(problem, factorization(), *ssn, loading, alone);
+  const auto [s, c] = paths_across_and_alone<dim>(problem, problem, std::move(loading), {}, vertex_order);
   ASSERT_TRUE(c.converged());
   ASSERT_TRUE(s.converged()) << s.last.message;
   ASSERT_EQ(s.steps.size(), c.steps.size());
@@ -752,17 +763,9 @@ void expect_path_across_processes_as_the_condensed_route(Problem& problem, Basic
 // condensed route's path at every step.
 template <int dim, class Problem>
 void expect_tied_reactions_of_each_step_as_the_condensed_route(Problem& problem) {
-  const auto ssn = make_minimizer("ssn");
-  BasicPathOptions<dim> across;
-  across.minimizer = tight();
-  across.distribute = make_distributed_rows;
-  across.world = krylov_world();
-  BasicPathOptions<dim> alone;
-  alone.minimizer = tight();
   BasicPathLoading<dim> loading;
   loading.t = {0.5, 1.0, 1.5};
-  const BasicPathSolution<dim> s = solve_path(problem, make_krylov_solver("petsc-gamg"), *ssn, loading, across);
-  const BasicPathSolution<dim> c = solve_path(problem, factorization(), *ssn, loading, alone);
+  const auto [s, c] = paths_across_and_alone<dim>(problem, problem, loading);
   ASSERT_TRUE(c.converged());
   ASSERT_TRUE(s.converged()) << s.last.message;
   ASSERT_EQ(s.steps.size(), c.steps.size());
@@ -854,17 +857,8 @@ TEST(FullSpaceMpi, ACoulombPathOnAScrambledSolidAlongItsHilbertOrderIsTheCondens
 // vertices, FullSpaceShares::applied and balance), the contact and the last displacement.
 template <int dim, class Problem>
 void expect_path_on_pieces_as_the_condensed_route(Problem& mine, Problem& all, BasicPathLoading<dim> loading) {
-  const auto ssn = make_minimizer("ssn");
-  BasicPathOptions<dim> across;
-  across.minimizer = tight();
-  across.frame = [](int) { return true; };
-  across.distribute = make_distributed_rows;
-  across.world = krylov_world();
-  BasicPathOptions<dim> alone;
-  alone.minimizer = tight();
-  alone.frame = across.frame;
-  const BasicPathSolution<dim> s = solve_path(mine, make_krylov_solver("petsc-gamg"), *ssn, loading, across);
-  const BasicPathSolution<dim> c = solve_path(all, factorization(), *ssn, loading, alone);
+  const auto [s, c] = paths_across_and_alone<dim>(mine, all, std::move(loading),
+                                                  [](BasicPathOptions<dim>& o) { o.frame = [](int) { return true; }; });
   ASSERT_TRUE(c.converged());
   ASSERT_TRUE(s.converged()) << s.last.message;
   ASSERT_EQ(s.steps.size(), c.steps.size());
@@ -899,17 +893,9 @@ TEST(FullSpaceMpi, APathOnPiecesStoppedByItsCallerBalancesTheStepItStoppedAt) {
   for (ContactProblem* q : {&mine, &all}) q->elasticity.body_force = [](const Vec2&) { return Vec2(0.5, -2.0); };
   PathLoading loading;
   loading.t = {0.5, 1.0, 1.25};
-  const auto ssn = make_minimizer("ssn");
-  PathOptions across;
-  across.minimizer = tight();
-  across.on_step = [](const PathStep& step) { return step.index < 2; };
-  across.distribute = make_distributed_rows;
-  across.world = krylov_world();
-  PathOptions alone;
-  alone.minimizer = tight();
-  alone.on_step = across.on_step;
-  const PathSolution s = solve_path(mine, make_krylov_solver("petsc-gamg"), *ssn, loading, across);
-  const PathSolution c = solve_path(all, factorization(), *ssn, loading, alone);
+  const auto [s, c] = paths_across_and_alone<2>(mine, all, loading, [](PathOptions& o) {
+    o.on_step = [](const PathStep& step) { return step.index < 2; };
+  });
   ASSERT_EQ(c.steps.size(), 2u);
   ASSERT_EQ(s.steps.size(), 2u);
   const PathStep &a = s.steps.back(), &b = c.steps.back();
