@@ -104,7 +104,7 @@ void require_one_process_or_an_engine_across(const Scene& given, bool as_given) 
   if (launched.size <= 1) return;
   const Scene scene = choose_route(given, {}, as_given);
   if (same_engine(scene.solver.linear, "mumps-mpi")) return;
-  if (is_krylov_solver(scene.solver.linear) && make_krylov_solver(scene.solver.linear)->runs_across_processes()) return;
+  if (runs_across_processes(scene.solver.linear)) return;
   const std::string started = "started as " + std::to_string(launched.size) + " processes by an MPI launcher";
   const std::string why_not_across = same_engine(scene.solver.linear, "auto")
                                          ? " here (\"auto\" runs across processes on the full-space route, where "

@@ -29,17 +29,11 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-/// Whether the Krylov engine `name` solves across the processes of a launcher (false where it
-/// cannot be made: its module not loaded).
-bool runs_across_processes(const std::string& name) {
-  try {
-    return make_krylov_solver(name)->runs_across_processes();
-  } catch (const InputError&) {
-    return false;
-  }
-}
-
 }  // namespace
+
+bool runs_across_processes(const std::string& linear) {
+  return is_krylov_solver(linear) && make_krylov_solver(linear)->runs_across_processes();
+}
 
 bool same_engine(const std::string& a, const std::string& b) { return normalized_engine_name(a) == normalized_engine_name(b); }
 
@@ -128,7 +122,11 @@ Scene choose_route(const Scene& scene, const std::vector<std::string>& krylov_en
   if (const int processes = launched_processes().size; processes > 1) {
     // started by an MPI launcher: the route that runs across the processes
     for (const std::string& engine : engines) {
-      if (!runs_across_processes(engine)) continue;
+      try {
+        if (!runs_across_processes(engine)) continue;
+      } catch (const InputError&) {  // its module not loaded: not an engine "auto" can take
+        continue;
+      }
       Scene chosen = scene;
       chosen.solver.linear = engine;
       if (why)

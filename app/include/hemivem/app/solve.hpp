@@ -45,6 +45,11 @@ nlohmann::json search_json(const NonsmoothMinimizer& minimizer);
 /// True when two engine names are the same engine (case-insensitive, '_' read as '-').
 bool same_engine(const std::string& a, const std::string& b);
 
+/// Whether the linear engine `linear` is a Krylov engine that solves across the processes of a
+/// launcher (petsc-gamg, petsc-hypre). InputError where it cannot be made (its module not
+/// loaded).
+bool runs_across_processes(const std::string& linear);
+
 /// The route solver.linear = "auto" takes (docs/full-space.md, "Chosen by the memory"), where
 /// the full-space route can take the scene (the minimizer ssn, a local search; `as_given`
 /// false: no reduced problem asked, no mesh of the caller's):
