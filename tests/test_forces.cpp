@@ -7,6 +7,7 @@
 #include <hemivem/app/solve3d.hpp>
 #include <hemivem/contact/forces.hpp>
 #include <hemivem/scene/scene.hpp>
+#include <hemivem/vem/assembly3d.hpp>
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -16,6 +17,7 @@
 #include <cmath>
 #include <fstream>
 #include <iostream>
+#include <numeric>
 #include <sstream>
 
 using namespace hemivem;
@@ -265,6 +267,65 @@ TEST(Forces, ApplyStiffnessIsTheAssembledStiffnessTimesU) {
     if (d % 3 == 0) EXPECT_NEAR(some(d), Ku(d), 1e-12 * Ku.norm());
     else EXPECT_EQ(some(d), 0.0);
   }
+}
+
+// The load and K u at the dofs of some vertices alone (a process's own vertices) are the whole
+// vectors' entries there, to the bit, in the plane and in a solid, with a body force and tractions.
+template <int dim>
+void expect_the_whole_at_some_vertices(const char* scene_file, const std::string& mesh, const std::string& body_force) {
+  Scene scene = parse_scene(test::scenes_dir() / scene_file);
+  apply_override(scene, mesh);
+  apply_override(scene, "loads.body_force=" + body_force);
+  const auto built = build_problem<dim>(scene);
+  const BasicElasticityProblem<dim>& e = built->problem.elasticity;
+  const MeshOf<dim>& m = *e.mesh;
+  const int n = dim * m.num_vertices();
+  Eigen::VectorXd u(n);
+  for (int d = 0; d < n; ++d) u(d) = std::sin(1.0 + 0.37 * d);
+  std::vector<int> vertices;  // every third vertex, and the last
+  for (int v = 1; v < m.num_vertices(); v += 3) vertices.push_back(v);
+  if (vertices.back() != m.num_vertices() - 1) vertices.push_back(m.num_vertices() - 1);
+  std::vector<char> whole_rows(static_cast<std::size_t>(n), 0), rows(dim * vertices.size(), 0);
+  for (std::size_t p = 0; p < vertices.size(); ++p)
+    for (int c = 0; c < dim; ++c)
+      if ((p + static_cast<std::size_t>(c)) % 2 == 0)
+        rows[dim * p + c] = whole_rows[static_cast<std::size_t>(dim * vertices[p] + c)] = 1;
+  const Eigen::VectorXd f = assemble_load(m, e.body_force, e.tractions);
+  const Eigen::VectorXd Ku = apply_stiffness(m, e.materials, e.stabilization, u, whole_rows);
+  const Eigen::VectorXd f_at = assemble_load_at(m, e.body_force, e.tractions, vertices);
+  const Eigen::VectorXd Ku_at = apply_stiffness_at(m, e.materials, e.stabilization, u, vertices, rows);
+  ASSERT_EQ(f_at.size(), static_cast<Eigen::Index>(dim * vertices.size()));
+  ASSERT_EQ(Ku_at.size(), f_at.size());
+  int loaded = 0, applied = 0;
+  for (std::size_t p = 0; p < vertices.size(); ++p)
+    for (int c = 0; c < dim; ++c) {
+      const Eigen::Index at = static_cast<Eigen::Index>(dim * p + c), d = dim * vertices[p] + c;
+      EXPECT_EQ(f_at(at), f(d)) << "vertex " << vertices[p] << " component " << c;
+      EXPECT_EQ(Ku_at(at), Ku(d)) << "vertex " << vertices[p] << " component " << c;
+      loaded += f(d) != 0.0;
+      applied += rows[static_cast<std::size_t>(at)] != 0 && Ku(d) != 0.0;
+    }
+  EXPECT_GT(loaded, 0);
+  EXPECT_GT(applied, 0);
+  // every vertex: the whole vectors themselves
+  std::vector<int> all(static_cast<std::size_t>(m.num_vertices()));
+  std::iota(all.begin(), all.end(), 0);
+  EXPECT_EQ(assemble_load_at(m, e.body_force, e.tractions, all), f);
+  EXPECT_EQ(apply_stiffness_at(m, e.materials, e.stabilization, u, all, whole_rows), Ku);
+  // vertices out of order, or out of the mesh, and flags of another number
+  std::vector<int> unordered = vertices;
+  std::swap(unordered[0], unordered[1]);
+  EXPECT_THROW(assemble_load_at(m, e.body_force, e.tractions, unordered), InputError);
+  EXPECT_THROW(apply_stiffness_at(m, e.materials, e.stabilization, u, unordered, rows), InputError);
+  const std::vector<int> outside = {0, m.num_vertices()};
+  EXPECT_THROW(assemble_load_at(m, e.body_force, e.tractions, outside), InputError);
+  rows.pop_back();
+  EXPECT_THROW(apply_stiffness_at(m, e.materials, e.stabilization, u, vertices, rows), InputError);
+}
+
+TEST(Forces, TheLoadAndKuOfSomeVerticesAreTheWholeVectorsThere) {
+  expect_the_whole_at_some_vertices<2>("paper-example-4.1-voronoi.toml", "mesh.n=8", "[0.5, -1.5]");
+  expect_the_whole_at_some_vertices<3>("example-4.1-3d.toml", "mesh.n=[4, 3, 4]", "[0.5, -1.5, 2.0]");
 }
 
 // Without a load (an obstacle pushes the body) the residual is relative to the largest force.

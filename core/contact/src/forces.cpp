@@ -20,38 +20,43 @@ BasicForceBalance<PointOf<dim>> force_balance_of_vertices(const BasicElasticityP
   using Point = PointOf<dim>;
   if (!problem.mesh) throw InputError("the elasticity problem has no mesh");
   const MeshOf<dim>& mesh = *problem.mesh;
-  const Eigen::VectorXd f = assemble_load(mesh, problem.body_force, problem.tractions);
+  // every vector below holds the dofs of `vertices` alone, in their order: a process's own
+  // vertices cost it their dofs, not the whole mesh's
+  const Eigen::VectorXd f = assemble_load_at(mesh, problem.body_force, problem.tractions, vertices);
+  const auto position = [&](int v) {
+    const auto it = std::lower_bound(vertices.begin(), vertices.end(), v);
+    return it != vertices.end() && *it == v ? static_cast<int>(it - vertices.begin()) : -1;
+  };
   // the condition each dof takes its value from: the last one that prescribes it
   std::vector<int> owner(static_cast<std::size_t>(f.size()), -1);
   for (std::size_t k = 0; k < problem.dirichlet.size(); ++k) {
     const BasicDirichletCondition<dim>& bc = problem.dirichlet[k];
     for (int v : bc.held_vertices(mesh))
-      for (int c = 0; c < dim; ++c)
-        if (bc.fix[static_cast<std::size_t>(c)]) owner[static_cast<std::size_t>(dim * v + c)] = static_cast<int>(k);
+      if (const int p = position(v); p >= 0)
+        for (int c = 0; c < dim; ++c)
+          if (bc.fix[static_cast<std::size_t>(c)]) owner[static_cast<std::size_t>(dim * p + c)] = static_cast<int>(k);
   }
   std::vector<char> prescribed(owner.size());
   for (std::size_t d = 0; d < owner.size(); ++d) prescribed[d] = owner[d] >= 0;
-  const Eigen::VectorXd r = apply_stiffness(mesh, problem.materials, problem.stabilization, u, prescribed) - f;
+  const Eigen::VectorXd r =
+      apply_stiffness_at(mesh, problem.materials, problem.stabilization, u, vertices, prescribed) - f;
   BasicForceBalance<Point> balance;
   balance.contact = contact;
   for (std::size_t k = 0; k < problem.dirichlet.size(); ++k)
     balance.reactions.push_back({problem.dirichlet[k].name.empty() ? "dirichlet part " + std::to_string(k)
                                                                    : problem.dirichlet[k].name,
                                  Point::Zero()});
-  for (const int v : vertices)
-    for (int c = 0; c < dim; ++c) {
-      const Eigen::Index d = static_cast<Eigen::Index>(dim) * v + c;
-      balance.applied(c) += f(d);
-      if (const int k = owner[static_cast<std::size_t>(d)]; k >= 0)
-        balance.reactions[static_cast<std::size_t>(k)].force(c) += r(d);
-    }
+  for (Eigen::Index d = 0; d < f.size(); ++d) {
+    balance.applied(d % dim) += f(d);
+    if (const int k = owner[static_cast<std::size_t>(d)]; k >= 0)
+      balance.reactions[static_cast<std::size_t>(k)].force(d % dim) += r(d);
+  }
   // K u = f + reactions + the other forces at the prescribed dofs
   for (const auto& [v, force] : at_vertices)
-    for (int c = 0; c < dim; ++c) {
-      const auto d = static_cast<std::size_t>(dim * v + c);
-      if (d < owner.size() && owner[d] >= 0 && std::binary_search(vertices.begin(), vertices.end(), v))
-        balance.reactions[static_cast<std::size_t>(owner[d])].force(c) -= force(c);
-    }
+    if (const int p = position(v); p >= 0)
+      for (int c = 0; c < dim; ++c)
+        if (const int k = owner[static_cast<std::size_t>(dim * p + c)]; k >= 0)
+          balance.reactions[static_cast<std::size_t>(k)].force(c) -= force(c);
   return balance;
 }
 

@@ -592,13 +592,13 @@ bool FullSpaceShares<dim>::load_is_zero() const {
 template <int dim>
 PointOf<dim> FullSpaceShares<dim>::applied(const BasicElasticityProblem<dim>& at) const {
   if (!at.mesh) throw InputError("the elasticity problem has no mesh");
-  const Eigen::VectorXd f = assemble_load(*at.mesh, at.body_force, at.tractions);
   const std::vector<int>& vertices = impl_->vertices;
-  if (!vertices.empty() && f.size() < static_cast<Eigen::Index>(dim) * (vertices.back() + 1))
+  if (!vertices.empty() && at.mesh->num_vertices() <= vertices.back())
     throw InternalError("a load of fewer vertices than the shares'");
+  // the load of this process's vertices alone
+  const Eigen::VectorXd f = assemble_load_at(*at.mesh, at.body_force, at.tractions, vertices);
   PointOf<dim> mine = PointOf<dim>::Zero();
-  for (const int v : vertices)
-    for (int c = 0; c < dim; ++c) mine(c) += f(static_cast<Eigen::Index>(dim) * v + c);
+  for (Eigen::Index d = 0; d < f.size(); ++d) mine(d % dim) += f(d);
   return impl_->rows->sum_in_rank_order(Eigen::VectorXd(mine));
 }
 

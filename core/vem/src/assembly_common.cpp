@@ -215,6 +215,62 @@ Eigen::VectorXd apply_of(const MeshOf<dim>& mesh, const MaterialTable& materials
   return Ku;
 }
 
+/// The position of each vertex among `vertices` (increasing, distinct, of the mesh): -1 for one
+/// not among them; the vertex itself when they are every vertex of the mesh.
+class VertexPositions {
+ public:
+  VertexPositions(std::span<const int> vertices, int num_vertices)
+      : vertices_(vertices), all_(vertices.size() == static_cast<std::size_t>(num_vertices)) {
+    for (std::size_t k = 0; k < vertices.size(); ++k)
+      if (vertices[k] < 0 || vertices[k] >= num_vertices || (k > 0 && vertices[k] <= vertices[k - 1]))
+        throw InputError("the vertices of a part of the load or of K u must be vertices of the mesh (0 .. " +
+                         std::to_string(num_vertices - 1) + "), increasing: vertex " + std::to_string(vertices[k]) +
+                         " at position " + std::to_string(k));
+  }
+  int operator()(int v) const {
+    if (all_) return v;
+    const auto it = std::lower_bound(vertices_.begin(), vertices_.end(), v);
+    return it != vertices_.end() && *it == v ? static_cast<int>(it - vertices_.begin()) : -1;
+  }
+
+ private:
+  std::span<const int> vertices_;
+  bool all_;
+};
+
+template <int dim>
+Eigen::VectorXd load_at_of(const MeshOf<dim>& mesh, const VectorFieldOf<dim>& body_force,
+                           const std::vector<BasicTractionLoad<dim>>& tractions, std::span<const int> vertices) {
+  const VertexPositions position(vertices, mesh.num_vertices());
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(dim * static_cast<Eigen::Index>(vertices.size()));
+  load_terms<dim>(mesh, body_force, tractions, nullptr, [&](int d, double value) {
+    if (const int p = position(d / dim); p >= 0) f(dim * p + d % dim) += value;
+  });
+  return f;
+}
+
+template <int dim>
+Eigen::VectorXd apply_at_of(const MeshOf<dim>& mesh, const MaterialTable& materials, Stabilization stabilization,
+                            const Eigen::VectorXd& u, std::span<const int> vertices, const std::vector<char>& rows) {
+  const VertexPositions position(vertices, mesh.num_vertices());
+  if (u.size() != dim * mesh.num_vertices() || rows.size() != dim * vertices.size())
+    throw InputError("displacement vector has " + std::to_string(u.size()) + " entries and " +
+                     std::to_string(rows.size()) + " rows are flagged, expected " +
+                     std::to_string(dim * mesh.num_vertices()) + " and " + std::to_string(dim * vertices.size()));
+  Eigen::VectorXd Ku = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(rows.size()));
+  // the row of dof d among the flagged ones, or -1
+  const auto row = [&](int d) {
+    const int p = position(d / dim);
+    return p >= 0 && rows[static_cast<std::size_t>(dim * p + d % dim)] != 0 ? dim * p + d % dim : -1;
+  };
+  apply_cells<dim>(
+      mesh, materials, stabilization, [&](int d) { return row(d) >= 0; }, [&](int d) { return u(d); },
+      [&](int d, double value) {
+        if (const int r = row(d); r >= 0) Ku(r) += value;
+      });
+  return Ku;
+}
+
 }  // namespace
 
 template <int dim>
@@ -439,6 +495,15 @@ Eigen::VectorXd assemble_load(const Mesh3D& mesh, const VectorField3& body_force
   return load_of<3>(mesh, body_force, tractions);
 }
 
+Eigen::VectorXd assemble_load_at(const Mesh& mesh, const VectorField& body_force,
+                                 const std::vector<TractionLoad>& tractions, std::span<const int> vertices) {
+  return load_at_of<2>(mesh, body_force, tractions, vertices);
+}
+Eigen::VectorXd assemble_load_at(const Mesh3D& mesh, const VectorField3& body_force,
+                                 const std::vector<TractionLoad3D>& tractions, std::span<const int> vertices) {
+  return load_at_of<3>(mesh, body_force, tractions, vertices);
+}
+
 SparseMatrix assemble_stiffness(const Mesh& mesh, const MaterialTable& materials, Stabilization stabilization) {
   return stiffness_of<2>(mesh, materials, stabilization);
 }
@@ -453,6 +518,17 @@ Eigen::VectorXd apply_stiffness(const Mesh& mesh, const MaterialTable& materials
 Eigen::VectorXd apply_stiffness(const Mesh3D& mesh, const MaterialTable& materials, Stabilization stabilization,
                                 const Eigen::VectorXd& u, const std::vector<char>& rows) {
   return apply_of<3>(mesh, materials, stabilization, u, rows);
+}
+
+Eigen::VectorXd apply_stiffness_at(const Mesh& mesh, const MaterialTable& materials, Stabilization stabilization,
+                                   const Eigen::VectorXd& u, std::span<const int> vertices,
+                                   const std::vector<char>& rows) {
+  return apply_at_of<2>(mesh, materials, stabilization, u, vertices, rows);
+}
+Eigen::VectorXd apply_stiffness_at(const Mesh3D& mesh, const MaterialTable& materials, Stabilization stabilization,
+                                   const Eigen::VectorXd& u, std::span<const int> vertices,
+                                   const std::vector<char>& rows) {
+  return apply_at_of<3>(mesh, materials, stabilization, u, vertices, rows);
 }
 
 DofMap make_dof_map(const Mesh& mesh, const std::vector<DirichletCondition>& dirichlet) {

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <functional>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -74,6 +75,22 @@ Eigen::VectorXd assemble_load(const Mesh& mesh, const VectorField& body_force,
 /// only, without storing K. `u` and `rows` have one entry per dof.
 Eigen::VectorXd apply_stiffness(const Mesh& mesh, const MaterialTable& materials, Stabilization stabilization,
                                 const Eigen::VectorXd& u, const std::vector<char>& rows);
+
+/// The entries of assemble_load(mesh, body_force, tractions) at the dofs of the vertices
+/// `vertices` (increasing, distinct): 2 per vertex (3 in a solid), in their order, the same bits,
+/// at the memory of those entries alone (a process's own vertices of a piece of the mesh, whatever
+/// the whole mesh's size). InputError for a vertex out of range or out of order.
+Eigen::VectorXd assemble_load_at(const Mesh& mesh, const VectorField& body_force,
+                                 const std::vector<TractionLoad>& tractions, std::span<const int> vertices);
+
+/// The entries of apply_stiffness(mesh, materials, stabilization, u, flags) at the dofs of the
+/// vertices `vertices` (increasing, distinct), `rows` flagging those dofs (one flag per dof of
+/// them, in their order): (K u) where flagged, 0 elsewhere, the same bits, computed from the cells
+/// holding a flagged dof alone and held for those dofs alone. `u` has one entry per dof of the
+/// mesh. InputError as assemble_load_at() and for vectors of other sizes.
+Eigen::VectorXd apply_stiffness_at(const Mesh& mesh, const MaterialTable& materials, Stabilization stabilization,
+                                   const Eigen::VectorXd& u, std::span<const int> vertices,
+                                   const std::vector<char>& rows);
 
 /// The degrees-of-freedom map of a problem's Dirichlet conditions, its free dofs in dof order.
 DofMap make_dof_map(const Mesh& mesh, const std::vector<DirichletCondition>& dirichlet);

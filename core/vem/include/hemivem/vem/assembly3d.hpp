@@ -7,6 +7,7 @@
 
 #include <array>
 #include <functional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,14 @@ Eigen::VectorXd assemble_load(const Mesh3D& mesh, const VectorField3& body_force
 /// (K u)_d on the dofs d with rows[d] != 0 (0 elsewhere), as apply_stiffness of a plane mesh.
 Eigen::VectorXd apply_stiffness(const Mesh3D& mesh, const MaterialTable& materials, Stabilization stabilization,
                                 const Eigen::VectorXd& u, const std::vector<char>& rows);
+
+/// The load and K u at the dofs of some vertices alone, as assemble_load_at and
+/// apply_stiffness_at of a plane mesh.
+Eigen::VectorXd assemble_load_at(const Mesh3D& mesh, const VectorField3& body_force,
+                                 const std::vector<TractionLoad3D>& tractions, std::span<const int> vertices);
+Eigen::VectorXd apply_stiffness_at(const Mesh3D& mesh, const MaterialTable& materials, Stabilization stabilization,
+                                   const Eigen::VectorXd& u, std::span<const int> vertices,
+                                   const std::vector<char>& rows);
 
 DofMap make_dof_map(const Mesh3D& mesh, const std::vector<DirichletCondition3D>& dirichlet);
 DofMap make_dof_map(const Mesh3D& mesh, const std::vector<DirichletCondition3D>& dirichlet,
