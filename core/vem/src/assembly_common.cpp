@@ -139,11 +139,44 @@ void load_terms(const MeshOf<dim>& mesh, const VectorFieldOf<dim>& body_force,
   }
 }
 
+/// The position of each vertex among some of a mesh's vertices (increasing, distinct): -1 for
+/// one not among them; the vertex itself when they are every vertex.
+class VertexPositions {
+ public:
+  /// Every vertex of a mesh of `num_vertices`.
+  explicit VertexPositions(int num_vertices) : count_(num_vertices), all_(true) {}
+  /// The vertices `vertices`; InputError for one out of range or out of order.
+  VertexPositions(std::span<const int> vertices, int num_vertices)
+      : vertices_(vertices),
+        count_(static_cast<int>(vertices.size())),
+        all_(vertices.size() == static_cast<std::size_t>(num_vertices)) {
+    for (std::size_t k = 0; k < vertices.size(); ++k)
+      if (vertices[k] < 0 || vertices[k] >= num_vertices || (k > 0 && vertices[k] <= vertices[k - 1]))
+        throw InputError("the vertices of a part of the load or of K u must be vertices of the mesh (0 .. " +
+                         std::to_string(num_vertices - 1) + "), increasing: vertex " + std::to_string(vertices[k]) +
+                         " at position " + std::to_string(k));
+  }
+  int size() const noexcept { return count_; }
+  int operator()(int v) const {
+    if (all_) return v;
+    const auto it = std::lower_bound(vertices_.begin(), vertices_.end(), v);
+    return it != vertices_.end() && *it == v ? static_cast<int>(it - vertices_.begin()) : -1;
+  }
+
+ private:
+  std::span<const int> vertices_;
+  int count_ = 0;
+  bool all_ = false;
+};
+
+/// The load vector's entries at the dofs of the vertices `position` counts, in their order.
 template <int dim>
-Eigen::VectorXd load_of(const MeshOf<dim>& mesh, const VectorFieldOf<dim>& body_force,
-                        const std::vector<BasicTractionLoad<dim>>& tractions) {
-  Eigen::VectorXd f = Eigen::VectorXd::Zero(dim * static_cast<Eigen::Index>(mesh.num_vertices()));
-  load_terms<dim>(mesh, body_force, tractions, nullptr, [&](int d, double value) { f(d) += value; });
+Eigen::VectorXd load_at_of(const MeshOf<dim>& mesh, const VectorFieldOf<dim>& body_force,
+                           const std::vector<BasicTractionLoad<dim>>& tractions, const VertexPositions& position) {
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(dim * static_cast<Eigen::Index>(position.size()));
+  load_terms<dim>(mesh, body_force, tractions, nullptr, [&](int d, double value) {
+    if (const int p = position(d / dim); p >= 0) f(dim * p + d % dim) += value;
+  });
   return f;
 }
 
@@ -198,66 +231,17 @@ void apply_cells(const MeshOf<dim>& mesh, const MaterialTable& materials, Stabil
   }
 }
 
-template <int dim>
-Eigen::VectorXd apply_of(const MeshOf<dim>& mesh, const MaterialTable& materials, Stabilization stabilization,
-                         const Eigen::VectorXd& u, const std::vector<char>& rows) {
-  if (u.size() != dim * mesh.num_vertices() || rows.size() != static_cast<std::size_t>(u.size()))
-    throw InputError("displacement vector has " + std::to_string(u.size()) + " entries and " +
-                     std::to_string(rows.size()) + " rows are selected, expected " +
-                     std::to_string(dim * mesh.num_vertices()));
-  Eigen::VectorXd Ku = Eigen::VectorXd::Zero(u.size());
-  const auto row = [&](int d) { return rows[static_cast<std::size_t>(d)] != 0; };
-  apply_cells<dim>(
-      mesh, materials, stabilization, row, [&](int d) { return u(d); },
-      [&](int d, double value) {
-        if (row(d)) Ku(d) += value;
-      });
-  return Ku;
-}
-
-/// The position of each vertex among `vertices` (increasing, distinct, of the mesh): -1 for one
-/// not among them; the vertex itself when they are every vertex of the mesh.
-class VertexPositions {
- public:
-  VertexPositions(std::span<const int> vertices, int num_vertices)
-      : vertices_(vertices), all_(vertices.size() == static_cast<std::size_t>(num_vertices)) {
-    for (std::size_t k = 0; k < vertices.size(); ++k)
-      if (vertices[k] < 0 || vertices[k] >= num_vertices || (k > 0 && vertices[k] <= vertices[k - 1]))
-        throw InputError("the vertices of a part of the load or of K u must be vertices of the mesh (0 .. " +
-                         std::to_string(num_vertices - 1) + "), increasing: vertex " + std::to_string(vertices[k]) +
-                         " at position " + std::to_string(k));
-  }
-  int operator()(int v) const {
-    if (all_) return v;
-    const auto it = std::lower_bound(vertices_.begin(), vertices_.end(), v);
-    return it != vertices_.end() && *it == v ? static_cast<int>(it - vertices_.begin()) : -1;
-  }
-
- private:
-  std::span<const int> vertices_;
-  bool all_;
-};
-
-template <int dim>
-Eigen::VectorXd load_at_of(const MeshOf<dim>& mesh, const VectorFieldOf<dim>& body_force,
-                           const std::vector<BasicTractionLoad<dim>>& tractions, std::span<const int> vertices) {
-  const VertexPositions position(vertices, mesh.num_vertices());
-  Eigen::VectorXd f = Eigen::VectorXd::Zero(dim * static_cast<Eigen::Index>(vertices.size()));
-  load_terms<dim>(mesh, body_force, tractions, nullptr, [&](int d, double value) {
-    if (const int p = position(d / dim); p >= 0) f(dim * p + d % dim) += value;
-  });
-  return f;
-}
-
+/// (K u) at the dofs of the vertices `position` counts where `rows` (one flag per such dof, in
+/// their order) flags them, 0 elsewhere; from the cells holding a flagged dof alone.
 template <int dim>
 Eigen::VectorXd apply_at_of(const MeshOf<dim>& mesh, const MaterialTable& materials, Stabilization stabilization,
-                            const Eigen::VectorXd& u, std::span<const int> vertices, const std::vector<char>& rows) {
-  const VertexPositions position(vertices, mesh.num_vertices());
-  if (u.size() != dim * mesh.num_vertices() || rows.size() != dim * vertices.size())
+                            const Eigen::VectorXd& u, const VertexPositions& position, const std::vector<char>& rows) {
+  const std::size_t dofs = dim * static_cast<std::size_t>(position.size());
+  if (u.size() != dim * mesh.num_vertices() || rows.size() != dofs)
     throw InputError("displacement vector has " + std::to_string(u.size()) + " entries and " +
                      std::to_string(rows.size()) + " rows are flagged, expected " +
-                     std::to_string(dim * mesh.num_vertices()) + " and " + std::to_string(dim * vertices.size()));
-  Eigen::VectorXd Ku = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(rows.size()));
+                     std::to_string(dim * mesh.num_vertices()) + " and " + std::to_string(dofs));
+  Eigen::VectorXd Ku = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(dofs));
   // the row of dof d among the flagged ones, or -1
   const auto row = [&](int d) {
     const int p = position(d / dim);
@@ -488,20 +472,20 @@ SystemRows rows_of(const BasicElasticityProblem<dim>& problem, const OwnedVertic
 }  // namespace
 
 Eigen::VectorXd assemble_load(const Mesh& mesh, const VectorField& body_force, const std::vector<TractionLoad>& tractions) {
-  return load_of<2>(mesh, body_force, tractions);
+  return load_at_of<2>(mesh, body_force, tractions, VertexPositions(mesh.num_vertices()));
 }
 Eigen::VectorXd assemble_load(const Mesh3D& mesh, const VectorField3& body_force,
                               const std::vector<TractionLoad3D>& tractions) {
-  return load_of<3>(mesh, body_force, tractions);
+  return load_at_of<3>(mesh, body_force, tractions, VertexPositions(mesh.num_vertices()));
 }
 
 Eigen::VectorXd assemble_load_at(const Mesh& mesh, const VectorField& body_force,
                                  const std::vector<TractionLoad>& tractions, std::span<const int> vertices) {
-  return load_at_of<2>(mesh, body_force, tractions, vertices);
+  return load_at_of<2>(mesh, body_force, tractions, VertexPositions(vertices, mesh.num_vertices()));
 }
 Eigen::VectorXd assemble_load_at(const Mesh3D& mesh, const VectorField3& body_force,
                                  const std::vector<TractionLoad3D>& tractions, std::span<const int> vertices) {
-  return load_at_of<3>(mesh, body_force, tractions, vertices);
+  return load_at_of<3>(mesh, body_force, tractions, VertexPositions(vertices, mesh.num_vertices()));
 }
 
 SparseMatrix assemble_stiffness(const Mesh& mesh, const MaterialTable& materials, Stabilization stabilization) {
@@ -513,22 +497,22 @@ SparseMatrix assemble_stiffness(const Mesh3D& mesh, const MaterialTable& materia
 
 Eigen::VectorXd apply_stiffness(const Mesh& mesh, const MaterialTable& materials, Stabilization stabilization,
                                 const Eigen::VectorXd& u, const std::vector<char>& rows) {
-  return apply_of<2>(mesh, materials, stabilization, u, rows);
+  return apply_at_of<2>(mesh, materials, stabilization, u, VertexPositions(mesh.num_vertices()), rows);
 }
 Eigen::VectorXd apply_stiffness(const Mesh3D& mesh, const MaterialTable& materials, Stabilization stabilization,
                                 const Eigen::VectorXd& u, const std::vector<char>& rows) {
-  return apply_of<3>(mesh, materials, stabilization, u, rows);
+  return apply_at_of<3>(mesh, materials, stabilization, u, VertexPositions(mesh.num_vertices()), rows);
 }
 
 Eigen::VectorXd apply_stiffness_at(const Mesh& mesh, const MaterialTable& materials, Stabilization stabilization,
                                    const Eigen::VectorXd& u, std::span<const int> vertices,
                                    const std::vector<char>& rows) {
-  return apply_at_of<2>(mesh, materials, stabilization, u, vertices, rows);
+  return apply_at_of<2>(mesh, materials, stabilization, u, VertexPositions(vertices, mesh.num_vertices()), rows);
 }
 Eigen::VectorXd apply_stiffness_at(const Mesh3D& mesh, const MaterialTable& materials, Stabilization stabilization,
                                    const Eigen::VectorXd& u, std::span<const int> vertices,
                                    const std::vector<char>& rows) {
-  return apply_at_of<3>(mesh, materials, stabilization, u, vertices, rows);
+  return apply_at_of<3>(mesh, materials, stabilization, u, VertexPositions(vertices, mesh.num_vertices()), rows);
 }
 
 DofMap make_dof_map(const Mesh& mesh, const std::vector<DirichletCondition>& dirichlet) {
