@@ -67,10 +67,10 @@ TEST(AppLimit, PlainQ1MatrixOfSquaresIsExactOnAffineFields) {
   Eigen::VectorXd u(2 * mesh.num_vertices()), rotation(2 * mesh.num_vertices());
   for (int v = 0; v < mesh.num_vertices(); ++v) {
     const Vec2 x = mesh.vertex(v);
-    u(dofs.free_index[2 * v]) = a * x.x() + c * x.y();
-    u(dofs.free_index[2 * v + 1]) = d * x.x() + b * x.y();
-    rotation(dofs.free_index[2 * v]) = -x.y();
-    rotation(dofs.free_index[2 * v + 1]) = x.x();
+    u(dofs.free_index(2 * v)) = a * x.x() + c * x.y();
+    u(dofs.free_index(2 * v + 1)) = d * x.x() + b * x.y();
+    rotation(dofs.free_index(2 * v)) = -x.y();
+    rotation(dofs.free_index(2 * v + 1)) = x.x();
   }
   const double shear = 0.5 * (c + d);
   const double exact = 3.0 * (lambda * (a + b) * (a + b) + 2 * mu * (a * a + b * b + 2 * shear * shear));
@@ -89,7 +89,7 @@ TEST(AppLimit, PlainQ1MatrixOfBoxesIsExactOnAffineFields) {
   Eigen::VectorXd u(3 * mesh.num_vertices());
   for (int v = 0; v < mesh.num_vertices(); ++v) {
     const Vec3 y = G * mesh.vertex(v);
-    for (int k = 0; k < 3; ++k) u(dofs.free_index[3 * v + k]) = y(k);
+    for (int k = 0; k < 3; ++k) u(dofs.free_index(3 * v + k)) = y(k);
   }
   const Eigen::Matrix3d eps = 0.5 * (G + G.transpose());
   const double exact = 0.75 * (lambda * eps.trace() * eps.trace() + 2 * mu * eps.squaredNorm());

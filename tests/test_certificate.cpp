@@ -273,7 +273,7 @@ TEST(Energies, PotentialEnergyAndReducedObjectiveDifferByAConstant) {
   auto potential = [&](const Eigen::VectorXd& a) {
     const Eigen::VectorXd u = ex->condensation->back_substitute(a);
     Eigen::VectorXd uf(ex->system.dofs.num_free());
-    for (int k = 0; k < uf.size(); ++k) uf(k) = u(ex->system.dofs.free_dofs[static_cast<std::size_t>(k)]);
+    for (int k = 0; k < uf.size(); ++k) uf(k) = u(ex->system.dofs.free_dof(k));
     double phi = 0.5 * uf.dot(ex->system.A * uf) - uf.dot(ex->system.b);
     for (Eigen::Index i = 0; i < a.size(); ++i) phi += p.w(i) * p.law_of(i).value(a(i));
     return phi;

@@ -122,7 +122,7 @@ TEST_P(CondensationEngines, ExactForAQuadraticPotentialWithoutConstraint) {
   for (int i = 0; i < ex->boundary.size(); ++i) {
     const int v = ex->boundary.nodes[i];
     const Vec2 nu = ex->boundary.normals[i];
-    const int d[2] = {ex->system.dofs.free_index[2 * v], ex->system.dofs.free_index[2 * v + 1]};
+    const int d[2] = {ex->system.dofs.free_index(2 * v), ex->system.dofs.free_index(2 * v + 1)};
     for (int r = 0; r < 2; ++r)
       for (int c = 0; c < 2; ++c) t.emplace_back(d[r], d[c], k * ex->boundary.weights(i) * nu(r) * nu(c));
   }
@@ -168,7 +168,7 @@ TEST(Condensation, DenseReferenceOnASmallProblem) {
   const Eigen::MatrixXd A = Eigen::MatrixXd(ex->system.A);
   const int n = static_cast<int>(A.rows());
   std::vector<int> b1, b2;
-  for (int v : ex->boundary.nodes) b1.push_back(ex->system.dofs.free_index[2 * v + 1]);
+  for (int v : ex->boundary.nodes) b1.push_back(ex->system.dofs.free_index(2 * v + 1));
   for (int i = 0; i < n; ++i)
     if (std::find(b1.begin(), b1.end(), i) == b1.end()) b2.push_back(i);
   const int n1 = static_cast<int>(b1.size()), n2 = static_cast<int>(b2.size());

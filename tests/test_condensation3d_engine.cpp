@@ -48,7 +48,7 @@ const Cube& cube() {
     Cube out;
     out.system = assemble(p);
     for (int v = 0; v < mesh.num_vertices(); ++v) {
-      const int k = out.system.dofs.free_index[static_cast<std::size_t>(3 * v + 2)];
+      const int k = out.system.dofs.free_index(3 * v + 2);
       if (mesh.vertex(v)[2] == 0.0 && k >= 0) out.block1.push_back(k);
     }
     return out;

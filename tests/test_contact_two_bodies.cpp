@@ -164,11 +164,7 @@ TEST(TwoBodies, ContactPatchTestWithVoronoiOnOneSide) {
 
 TEST(TwoBodies, JoiningIsTheChangeOfCoordinatesItSays) {
   // one pair (vertex 0 with vertex 1) of two free vertices and a third held
-  DofMap dofs;
-  dofs.free_index = {0, 1, 2, 3, -1, -1};
-  dofs.free_dofs = {0, 1, 2, 3};
-  dofs.prescribed = Eigen::VectorXd::Zero(6);
-  dofs.prescribed(4) = 0.5;
+  const DofMap dofs(6, 2, {4, 5}, Eigen::Vector2d(0.5, 0.0));
   Joining j(dofs, {{0, Across::vertex_at(1)}}, 2);
   const Eigen::VectorXd u = (Eigen::VectorXd(6) << 1.0, 2.0, 0.25, -1.0, 0.5, 0.0).finished();
   const Eigen::VectorXd v = j.relative(u);
@@ -189,8 +185,7 @@ TEST(TwoBodies, JoiningIsTheChangeOfCoordinatesItSays) {
   EXPECT_EQ(A(2, 2), 4.0);
   EXPECT_EQ(joined.b(2), 2.0);
   // a component prescribed on one side only, against a free one, is refused by name
-  DofMap held = dofs;
-  held.free_index = {-1, 0, 1, 2, 3, -1};
+  const DofMap held(6, 2, {0, 5}, Eigen::Vector2d(0.0, 0.0));
   EXPECT_THROW(Joining(held, {{0, Across::vertex_at(1)}}, 2), InputError);
   EXPECT_THROW(Joining(dofs, {{0, Across::vertex_at(1)}, {1, Across::vertex_at(2)}}, 2), InputError);
 }

@@ -51,7 +51,7 @@ const ClampedCube& clamped_cube(int n) {
   const int nf = c.system.dofs.num_free();
   c.rigid_motions = Eigen::MatrixXd::Zero(nf, 6);
   for (int k = 0; k < nf; ++k) {
-    const int dof = c.system.dofs.free_dofs[static_cast<std::size_t>(k)];
+    const int dof = c.system.dofs.free_dof(k);
     const int component = dof % 3;
     const Vec3 x = mesh.vertex(dof / 3) - Vec3(0.5, 0.5, 0.5);
     c.rigid_motions(k, component) = 1.0;
@@ -322,8 +322,8 @@ TEST(Krylov, GamgSetUpAfreshWhenTheReusedOneIsIndefinite) {
   ASSERT_NO_FATAL_FAILURE(first_system(cube, *solver, hints, &H));
   // the free unknowns of the box at the cube's far corner, all coupled in A's pattern
   std::vector<int> box;
-  for (int k = 0; k < static_cast<int>(cube.system.dofs.free_dofs.size()); ++k) {
-    const int v = cube.system.dofs.free_dofs[static_cast<std::size_t>(k)] / 3;
+  for (int k = 0; k < static_cast<int>(cube.system.dofs.num_free()); ++k) {
+    const int v = cube.system.dofs.free_dof(k) / 3;
     if (v % 7 >= 5 && (v / 7) % 7 >= 5 && v / 49 >= 5) box.push_back(k);
   }
   ASSERT_EQ(box.size(), 24u);

@@ -137,13 +137,14 @@ Eigen::Matrix<double, 24, 24> box_stiffness(const Vec3& size, double lambda, dou
 SparseMatrix assemble_squares(const Mesh& mesh, const DofMap& dofs, double lambda, double mu) {
   const auto first = mesh.element(0);
   const auto Ke = square_stiffness((mesh.vertex(first[1]) - mesh.vertex(first[0])).norm(), lambda, mu);
+  const std::vector<int> free_index = dofs.free_index_table();  // a table, as any whole assembly's
   Triplets triplets;
   triplets.reserve(static_cast<std::size_t>(mesh.num_elements()) * 36);
   int d[8];
   for (int e = 0; e < mesh.num_elements(); ++e) {
     const auto v = mesh.element(e);
     for (int a = 0; a < 4; ++a)
-      for (int c = 0; c < 2; ++c) d[2 * a + c] = dofs.free_index[static_cast<std::size_t>(2 * v[static_cast<std::size_t>(a)] + c)];
+      for (int c = 0; c < 2; ++c) d[2 * a + c] = free_index[static_cast<std::size_t>(2 * v[static_cast<std::size_t>(a)] + c)];
     add_lower(triplets, Ke, d);
   }
   return from_triplets(dofs, triplets);
@@ -154,13 +155,14 @@ SparseMatrix assemble_squares(const Mesh& mesh, const DofMap& dofs, double lambd
 SparseMatrix assemble_boxes(const Mesh3D& mesh, const DofMap& dofs, double lambda, double mu) {
   const auto& first = mesh.cell_vertices(0);
   const auto Ke = box_stiffness(mesh.vertex(first[7]) - mesh.vertex(first[0]), lambda, mu);
+  const std::vector<int> free_index = dofs.free_index_table();
   Triplets triplets;
   triplets.reserve(static_cast<std::size_t>(mesh.num_cells()) * 300);
   int d[24];
   for (int c = 0; c < mesh.num_cells(); ++c) {
     const auto& v = mesh.cell_vertices(c);
     for (int a = 0; a < 8; ++a)
-      for (int k = 0; k < 3; ++k) d[3 * a + k] = dofs.free_index[static_cast<std::size_t>(3 * v[static_cast<std::size_t>(a)] + k)];
+      for (int k = 0; k < 3; ++k) d[3 * a + k] = free_index[static_cast<std::size_t>(3 * v[static_cast<std::size_t>(a)] + k)];
     add_lower(triplets, Ke, d);
   }
   return from_triplets(dofs, triplets);

@@ -605,12 +605,12 @@ void expect_scaled_load_as_the_whole_load_set(const BasicContactProblem<dim>& pr
   FullSpaceShares<dim> scaled(problem, *first, world, make_distributed_rows);
   FullSpaceShares<dim> set(problem, *second, world, make_distributed_rows);
   const bool joined = scaled.posed().joins_bodies();
-  ASSERT_GT(whole.dofs.prescribed.cwiseAbs().maxCoeff(), 0.0) << "prescribed values to scale";
+  ASSERT_GT(whole.dofs.prescribed_values().cwiseAbs().maxCoeff(), 0.0) << "prescribed values to scale";
   for (const double t : {0.5, 1.5}) {
     SCOPED_TRACE("t = " + std::to_string(t));
     scaled.scale_load(t);
-    set.set_load(t * whole.b, t * whole.dofs.prescribed);
-    EXPECT_TRUE(scaled.posed().dof_map().prescribed.cwiseEqual(set.posed().dof_map().prescribed).all());
+    set.set_load(t * whole.b, t * whole.dofs.prescribed());
+    EXPECT_TRUE(scaled.posed().dof_map().prescribed_values().cwiseEqual(set.posed().dof_map().prescribed_values()).all());
     if (!joined) {
       EXPECT_EQ(scaled.posed().rotated_load().size(), 0);
       EXPECT_EQ(set.posed().rotated_load().size(), 0);
@@ -634,7 +634,7 @@ void expect_scaled_load_as_the_whole_load_set(const BasicContactProblem<dim>& pr
     // and the displacement holds the scaled prescribed values
     const Eigen::VectorXd u = scaled.posed().displacement_of(rows.all_gather(a.x));
     for (int k = 0; k < whole.dofs.num_dofs(); ++k)
-      if (whole.dofs.free_index[static_cast<std::size_t>(k)] < 0) ASSERT_EQ(u(k), t * whole.dofs.prescribed(k));
+      if (whole.dofs.free_index(k) < 0) ASSERT_EQ(u(k), t * whole.dofs.prescribed_value(k));
   }
   scaled.scale_load(0.0);
   EXPECT_TRUE(scaled.load_is_zero());

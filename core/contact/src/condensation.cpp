@@ -57,8 +57,8 @@ ContactBoundary boundary_of(const Mesh& mesh, const std::vector<std::pair<int, i
     }
   }
   for (const auto& [v, entry] : acc) {
-    const bool fx = dofs.free_index[static_cast<std::size_t>(2 * v)] < 0;
-    const bool fy = dofs.free_index[static_cast<std::size_t>(2 * v + 1)] < 0;
+    const bool fx = dofs.free_index(2 * v) < 0;
+    const bool fy = dofs.free_index(2 * v + 1) < 0;
     if (fx && fy) continue;  // on Gamma_1
     if (!(entry.normal.norm() > 0.0))
       throw InputError("contact node " + std::to_string(v) + " has no defined normal (its contact edges cancel)");
@@ -323,7 +323,7 @@ Condensation::Condensation(DofMap dofs, const ContactBoundary& boundary, const s
     joining_ = Joining(dofs_, pairs_of(boundary), boundary.dimension);
     if (joining_.shifts_load()) {
       if (!columns) {
-        const int dof = dofs_.free_dofs[static_cast<std::size_t>(joining_.shifted_unknowns().front())];
+        const int dof = dofs_.free_dof(joining_.shifted_unknowns().front());
         throw InputError("contact node " + std::to_string(dof / boundary.dimension) + " has its " +
                          std::string(1, "xyz"[dof % boundary.dimension]) +
                          " displacement free where a vertex of the other body across from it has it prescribed: its "
@@ -331,7 +331,7 @@ Condensation::Condensation(DofMap dofs, const ContactBoundary& boundary, const s
       }
       joining_.set_shift_columns(columns(joining_.shifted_unknowns()));
     }
-    dofs_.prescribed = joining_.join_prescribed(dofs_.prescribed);
+    dofs_.set_prescribed_values(dofs_.prescribed_part(joining_.join_prescribed(dofs_.prescribed())));
   }
   pose_coordinates(dofs_, boundary, parts);
   reduced_.c = Eigen::VectorXd::Zero(reduced_.lo.size());
@@ -415,7 +415,7 @@ Eigen::VectorXd Condensation::rotated_part(const Eigen::VectorXd& b, const std::
   if (b.size() != static_cast<Eigen::Index>(unknowns.size()))
     throw InternalError("a part of a load of another size than its unknowns");
   if (joining_.empty()) return rotate_vector(b, frames_in(unknowns));
-  return rotate_vector(joining_.join_part(b, unknowns, dofs_.prescribed), frames_in(unknowns));
+  return rotate_vector(joining_.join_part(b, unknowns, dofs_.prescribed()), frames_in(unknowns));
 }
 
 void Condensation::set_load(const Eigen::VectorXd& b, const Eigen::VectorXd& prescribed) {
@@ -426,13 +426,11 @@ void Condensation::set_load(const Eigen::VectorXd& b, const Eigen::VectorXd& pre
   if (!joining_.empty()) {
     Eigen::VectorXd joined_prescribed;
     const Eigen::VectorXd joined_b = joining_.join_load(b, prescribed, joined_prescribed);
-    for (int k = 0; k < dofs_.num_dofs(); ++k)
-      if (dofs_.free_index[static_cast<std::size_t>(k)] < 0) dofs_.prescribed(k) = joined_prescribed(k);
+    dofs_.set_prescribed_values(dofs_.prescribed_part(joined_prescribed));
     take_load(rotate_load(joined_b));
     return;
   }
-  for (int k = 0; k < dofs_.num_dofs(); ++k)
-    if (dofs_.free_index[static_cast<std::size_t>(k)] < 0) dofs_.prescribed(k) = prescribed(k);
+  dofs_.set_prescribed_values(dofs_.prescribed_part(prescribed));
   take_load(rotate_load(b));
 }
 
@@ -442,9 +440,7 @@ void Condensation::set_prescribed_values(const Eigen::VectorXd& values) {
   if (values.size() != dofs_.num_dofs() - dofs_.num_free())
     throw InternalError("set_prescribed_values needs " + std::to_string(dofs_.num_dofs() - dofs_.num_free()) +
                         " values, got " + std::to_string(values.size()));
-  Eigen::Index j = 0;
-  for (int k = 0; k < dofs_.num_dofs(); ++k)
-    if (dofs_.free_index[static_cast<std::size_t>(k)] < 0) dofs_.prescribed(k) = values(j++);
+  dofs_.set_prescribed_values(values);
 }
 
 // The rotated load: condensed, or kept as the posed system's.
@@ -583,7 +579,7 @@ void Condensation::order_unknowns(const DofMap& dofs, const ContactBoundary& bou
     const auto k = static_cast<std::size_t>(i);
     const int v = boundary.nodes[k];
     std::array<int, 3> free{-1, -1, -1};
-    for (int c = 0; c < d; ++c) free[static_cast<std::size_t>(c)] = dofs.free_index[static_cast<std::size_t>(d * v + c)];
+    for (int c = 0; c < d; ++c) free[static_cast<std::size_t>(c)] = dofs.free_index(d * v + c);
     Vec3 nu = Vec3::Zero();
     if (d == 3) {
       nu = boundary.normals3d[k];
@@ -856,7 +852,7 @@ Eigen::VectorXd Condensation::rotated_free(const Eigen::VectorXd& u, Eigen::Inde
   std::vector<int> unknowns(static_cast<std::size_t>(count));
   std::iota(unknowns.begin(), unknowns.end(), static_cast<int>(first));
   Eigen::VectorXd free(count);
-  for (Eigen::Index k = 0; k < count; ++k) free(k) = v(dofs_.free_dofs[static_cast<std::size_t>(first + k)]);
+  for (Eigen::Index k = 0; k < count; ++k) free(k) = v(dofs_.free_dof(first + k));
   return rotate_vector(free, frames_in(unknowns));  // the frames are orthogonal: Q^T u, as for a load
 }
 

@@ -108,7 +108,7 @@ ContactBoundary make_contact_boundary(const Mesh3D& mesh, const std::vector<Cont
   for (const auto& [v, entry] : acc) {
     int mask = 0;
     for (int c = 0; c < 3; ++c)
-      if (dofs.free_index[static_cast<std::size_t>(3 * v + c)] < 0) mask |= 1 << c;
+      if (dofs.free_index(3 * v + c) < 0) mask |= 1 << c;
     if (mask == 7) continue;  // on Gamma_1
     if (!(entry.weight > 0.0))
       throw InputError("contact node " + std::to_string(v) + " at " + point_text(mesh.vertex(v)) +
@@ -200,7 +200,7 @@ BasicContactNode<3> contact_node(const Mesh3D& mesh, const ContactBoundary& boun
     double f = 0.0;
     bool known = residual != nullptr;
     for (int c = 0; c < 3 && known; ++c) {
-      const int d = dofs.free_index[static_cast<std::size_t>(3 * node.vertex + c)];
+      const int d = dofs.free_index(3 * node.vertex + c);
       if (d < 0) {
         if (node.normal(c) != 0.0) known = false;
         continue;

@@ -37,11 +37,11 @@ Joining::Joining(const DofMap& dofs, std::vector<std::pair<int, Across>> pairs, 
     for (int c = 0; c < dim; ++c) {
       Component k;
       k.dof_p = dim * p + c;
-      k.free_p = dofs.free_index[static_cast<std::size_t>(k.dof_p)];
+      k.free_p = dofs.free_index(k.dof_p);
       for (int j = 0; j < across.size(); ++j) {
         Term t;
         t.dof = dim * across.vertex[static_cast<std::size_t>(j)] + c;
-        t.free = dofs.free_index[static_cast<std::size_t>(t.dof)];
+        t.free = dofs.free_index(t.dof);
         t.weight = across.weight[static_cast<std::size_t>(j)];
         if (k.free_p < 0 && t.free >= 0)
           throw InputError(
@@ -84,7 +84,9 @@ LinearSystem Joining::join(const LinearSystem& system) {
   shift_.resize(system.A.rows(), static_cast<Eigen::Index>(shifted_.size()));
   shift_.setFromTriplets(t.begin(), t.end());
   joined.dofs = system.dofs;
-  joined.b = join_load(system.b, system.dofs.prescribed, joined.dofs.prescribed);
+  Eigen::VectorXd joined_prescribed;
+  joined.b = join_load(system.b, system.dofs.prescribed(), joined_prescribed);
+  joined.dofs.set_prescribed_values(joined.dofs.prescribed_part(joined_prescribed));
   return joined;
 }
 

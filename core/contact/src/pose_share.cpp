@@ -44,7 +44,7 @@ void require_contact_nodes(const ContactSetUp<dim>& contact) {
 template <int dim>
 void push_free_dofs(const DofMap& dofs, int v, std::vector<int>& out) {
   for (int c = 0; c < dim; ++c)
-    if (const int f = dofs.free_index[static_cast<std::size_t>(dim * v + c)]; f >= 0) out.push_back(f);
+    if (const int f = dofs.free_index(dim * v + c); f >= 0) out.push_back(f);
 }
 
 /// Sorts `v` and drops repeats.
@@ -163,7 +163,7 @@ void add_pair_rows(const BasicElasticityProblem<dim>& problem, const ContactBoun
   // the unknowns across from every node among the part's (the joined columns of its rows)
   const std::size_t held = unknowns.size();
   for (std::size_t k = 0; k < held; ++k) {
-    const int v = dofs.free_dofs[static_cast<std::size_t>(unknowns[k])] / dim;
+    const int v = dofs.free_dof(unknowns[k]) / dim;
     if (const int i = across_of[static_cast<std::size_t>(v)]; i >= 0) {
       const Across& a = boundary.across[static_cast<std::size_t>(i)];
       for (int q = 0; q < a.size(); ++q) push_free_dofs<dim>(dofs, a.vertex[static_cast<std::size_t>(q)], unknowns);
@@ -200,7 +200,7 @@ SparseMatrix system_columns(const BasicElasticityProblem<dim>& problem, const Sh
                             const std::vector<int>& unknowns) {
   std::vector<Eigen::Triplet<double, int>> entries;
   for (std::size_t k = 0; k < unknowns.size(); ++k) {
-    const int p = share.position_of(dofs.free_dofs[static_cast<std::size_t>(unknowns[k])] / dim);
+    const int p = share.position_of(dofs.free_dof(unknowns[k]) / dim);
     const SystemRows rows = share.rows(problem, p, p + 1);
     const auto at = std::lower_bound(rows.unknowns.begin(), rows.unknowns.end(), unknowns[k]) - rows.unknowns.begin();
     for (SparseMatrix::InnerIterator e(rows.A, at); e; ++e)
@@ -286,7 +286,7 @@ Eigen::MatrixXd owned_motion_rows(int count, const MotionAt& at, const MeshOf<di
   Eigen::VectorXd motion(rows.owned);
   for (int k = 0; k < count; ++k) {
     for (Eigen::Index i = 0; i < rows.owned; ++i) {
-      const int d = rows.dofs.free_dofs[static_cast<std::size_t>(rows.first + i)];
+      const int d = rows.dofs.free_dof(rows.first + i);
       motion(i) = at(k, d / dim)(d % dim);
     }
     N.col(k) = posed.rotated_part(motion, owned_unknowns);
@@ -479,7 +479,7 @@ struct FullSpaceShares<dim>::Impl {
         vertices(std::move(v)) {
     hints.rows = rows.get();
     shift_energy = posing.posed->shift_energy(posing.load, posing.share.layout.first);
-    if (!posing.posed->joins_bodies()) posed_prescribed = prescribed_values(posing.posed->dof_map().prescribed);
+    if (!posing.posed->joins_bodies()) posed_prescribed = posing.posed->dof_map().prescribed_values();
   }
 
   /// The values of `prescribed` (every dof's) at the prescribed dofs, in dof order.
@@ -488,11 +488,7 @@ struct FullSpaceShares<dim>::Impl {
     if (prescribed.size() != dofs.num_dofs())
       throw InputError("a load needs " + std::to_string(dofs.num_dofs()) + " prescribed values, got " +
                        std::to_string(prescribed.size()));
-    Eigen::VectorXd values(dofs.num_dofs() - dofs.num_free());
-    Eigen::Index j = 0;
-    for (int k = 0; k < dofs.num_dofs(); ++k)
-      if (dofs.free_index[static_cast<std::size_t>(k)] < 0) values(j++) = prescribed(k);
-    return values;
+    return dofs.prescribed_part(prescribed);
   }
 };
 
@@ -577,7 +573,7 @@ void FullSpaceShares<dim>::scale_load(double t) {
   Condensation& posed = *p.posing.posed;
   if (posed.joins_bodies()) {
     // the system's dof map, held beside the posing's, keeps the prescribed values posed
-    set_load(t * p.rows->all_gather(p.posing.load), t * dofs().prescribed);
+    set_load(t * p.rows->all_gather(p.posing.load), t * dofs().prescribed());
     return;
   }
   p.posing.share.share.load = posed.rotated_part(t * p.posing.load, p.owned_unknowns());

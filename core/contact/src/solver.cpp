@@ -98,8 +98,8 @@ ContactNode contact_node(const Mesh& mesh, const ContactBoundary& boundary, cons
     // the residual A u - b at its dofs (NaN where a dof of the node is prescribed or the
     // residual is not given)
     node.state = ContactState::tied;
-    const int dx = dofs.free_index[static_cast<std::size_t>(2 * node.vertex)];
-    const int dy = dofs.free_index[static_cast<std::size_t>(2 * node.vertex + 1)];
+    const int dx = dofs.free_index(2 * node.vertex);
+    const int dy = dofs.free_index(2 * node.vertex + 1);
     node.reaction = residual && dx >= 0 && dy >= 0 ? -Vec2((*residual)(dx), (*residual)(dy)).dot(node.normal)
                                                    : std::numeric_limits<double>::quiet_NaN();
   }
@@ -149,11 +149,14 @@ template ContactSetUp<2> contact_set_up<2>(const ContactProblem&, const DofMap&)
 template void require_contact_laws<2>(const std::vector<ContactPart>&);
 
 int node_block_size(const DofMap& dofs, int dim) {
-  const std::vector<int>& free = dofs.free_dofs;
-  const auto d = static_cast<std::size_t>(dim);
-  if (dim < 1 || free.size() % d != 0) return 1;
-  for (std::size_t k = 0; k < free.size(); ++k)
-    if (free[k] != free[k - k % d] + static_cast<int>(k % d) || free[k - k % d] % dim != 0) return 1;
+  if (dim < 1 || dofs.num_dofs() % dim != 0) return 1;
+  // the free dofs come in blocks of a vertex's components where each vertex has all its
+  // components prescribed or none
+  const std::vector<int>& held = dofs.prescribed_dofs();
+  for (std::size_t k = 0; k < held.size(); k += static_cast<std::size_t>(dim)) {
+    const auto last = k + static_cast<std::size_t>(dim) - 1;
+    if (held[k] % dim != 0 || last >= held.size() || held[last] != held[k] + dim - 1) return 1;
+  }
   return dim;
 }
 

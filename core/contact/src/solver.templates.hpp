@@ -362,7 +362,7 @@ Eigen::MatrixXd BasicContactSolver<dim>::near_null_space() const {
     if (condensation_) {
       N.col(k) = condensation_->rotated_free(u);
     } else {
-      for (int f = 0; f < system_->dofs.num_free(); ++f) N(f, k) = u(system_->dofs.free_dofs[static_cast<std::size_t>(f)]);
+      N.col(k) = system_->dofs.free_part(u);
     }
   }
   return N;
@@ -429,8 +429,7 @@ template <int dim>
 void BasicContactSolver<dim>::post_process(Solution& solution) const {
   const LinearSystem& sys = *system_;
   const MinimizerResult& m = *solution.minimizer;
-  Eigen::VectorXd uf(sys.dofs.num_free());
-  for (int k = 0; k < sys.dofs.num_free(); ++k) uf(k) = solution.u(sys.dofs.free_dofs[static_cast<std::size_t>(k)]);
+  const Eigen::VectorXd uf = sys.dofs.free_part(solution.u);
   const Eigen::VectorXd Au = matrix_posed_ ? condensation_->unrotated_product(uf) : Eigen::VectorXd(sys.A * uf);
   const Eigen::VectorXd residual = Au - sys.b;
   for (int i = 0; i < boundary_.size(); ++i)

@@ -90,19 +90,15 @@ Eigen::Matrix<double, dim, 1> resultant(const Eigen::VectorXd& f) {
 }
 
 // The prescribed dofs, in order.
-std::vector<int> held_dofs(const DofMap& dofs) {
-  std::vector<int> held;
-  for (int k = 0; k < dofs.num_dofs(); ++k)
-    if (dofs.free_index[static_cast<std::size_t>(k)] < 0) held.push_back(k);
-  return held;
-}
+std::vector<int> held_dofs(const DofMap& dofs) { return dofs.prescribed_dofs(); }
 
 // One vector of a step's load for SolvedLoads, into v: the free dofs' right-hand side b, then
-// the values of the prescribed dofs `held`; and back.
-void stack(const std::vector<int>& held, const Eigen::VectorXd& b, const Eigen::VectorXd& prescribed, Eigen::VectorXd* v) {
-  v->resize(b.size() + static_cast<Eigen::Index>(held.size()));
+// the values of the prescribed dofs (DofMap::prescribed_values); and back, with the prescribed
+// dofs `held`.
+void stack(const Eigen::VectorXd& b, const Eigen::VectorXd& prescribed_values, Eigen::VectorXd* v) {
+  v->resize(b.size() + prescribed_values.size());
   v->head(b.size()) = b;
-  for (std::size_t j = 0; j < held.size(); ++j) (*v)(b.size() + static_cast<Eigen::Index>(j)) = prescribed(held[j]);
+  v->tail(prescribed_values.size()) = prescribed_values;
 }
 
 void unstack(const std::vector<int>& held, const Eigen::VectorXd& v, Eigen::VectorXd* b, Eigen::VectorXd* prescribed) {
@@ -319,7 +315,7 @@ void BasicPathSolver<dim>::Impl::set_up() {
     condensed_loads = 0;
     if (!shares) {  // across processes the shares scale their own rows (FullSpaceShares::scale_load)
       full_b = system->b;
-      full_prescribed = dofs->prescribed;
+      full_prescribed = dofs->prescribed();
     }
     full_applied = applied_of(problem.elasticity);
     return;
@@ -330,7 +326,7 @@ void BasicPathSolver<dim>::Impl::set_up() {
   load_c.resize(step.size(), 0);
   load_applied.resize(dim, 0);
   held = held_dofs(*dofs);
-  stack(held, system->b, dofs->prescribed, &v);
+  stack(system->b, dofs->prescribed_values(), &v);
   if (!loads.full() && !v.isZero(0.0)) remember_load(system->b);
 }
 
@@ -340,15 +336,14 @@ void BasicPathSolver<dim>::Impl::set_up() {
 // away from the contact unknowns, K_ij = -1/2 u0_j . b_i.
 template <int dim>
 void BasicPathSolver<dim>::Impl::remember_load(const Eigen::VectorXd& b) {
-  stack(held, b, dofs->prescribed, &v);
+  stack(b, dofs->prescribed_values(), &v);
   const auto j = static_cast<Eigen::Index>(loads.add(v));
   load_c.conservativeResize(Eigen::NoChange, j + 1);
   load_c.col(j) = cond->condensed_load();
   load_applied.conservativeResize(Eigen::NoChange, j + 1);
   load_applied.col(j) = applied_of(problem.elasticity);
   const Eigen::VectorXd u0 = cond->back_substitute(-cond->origin());
-  Eigen::VectorXd uf(dofs->num_free());
-  for (int d = 0; d < dofs->num_free(); ++d) uf(d) = u0(dofs->free_dofs[static_cast<std::size_t>(d)]);
+  const Eigen::VectorXd uf = dofs->free_part(u0);
   load_kappa.conservativeResize(j + 1, j + 1);
   load_kappa(j, j) = 0.5 * uf.dot(system->A * uf) - uf.dot(b);
   for (Eigen::Index i = 0; i < j; ++i)
@@ -372,7 +367,7 @@ Eigen::VectorXd BasicPathSolver<dim>::Impl::step_load(Step& s, Eigen::VectorXd* 
     } else {
       *b = v.head(dofs->num_free());
       if (s.index > 1) {  // the first step's load is the condensation's own
-        cond->set_load(*b, dofs->prescribed);
+        cond->set_load(*b, dofs->prescribed());
         ++condensed_loads;
       }
       load_current = true;
@@ -409,12 +404,12 @@ void BasicPathSolver<dim>::Impl::data_at(const Step& s) {
       step_dofs = *dofs;
       dofs = &*step_dofs;
     }
-    step_dofs->prescribed = at_t.prescribed;
+    step_dofs->set_prescribed_values(at_t.prescribed_values());
   }
   const Eigen::Index free = dofs->num_free();
   v.resize(free + static_cast<Eigen::Index>(held.size()));
   assemble_rhs(problem.elasticity, *dofs, v.head(free));
-  for (std::size_t j = 0; j < held.size(); ++j) v(free + static_cast<Eigen::Index>(j)) = dofs->prescribed(held[j]);
+  v.tail(static_cast<Eigen::Index>(held.size())) = dofs->prescribed_values();
   if (loading.updates_gaps) {
     const Eigen::VectorXd before = boundary.gaps;
     boundary.gaps = contact_boundary(problem, *dofs).gaps;  // the contact nodes report the step's gaps
@@ -444,7 +439,7 @@ void BasicPathSolver<dim>::Impl::posed_load(Step& s, Eigen::VectorXd* b) {
   }
   data_at(s);
   *b = v.head(dofs->num_free());
-  set_posed_load(*b, dofs->prescribed);
+  set_posed_load(*b, dofs->prescribed());
   s.applied = applied_of(problem.elasticity);
   if (shares) {  // the shares hold their rows of it: nothing of the whole load is kept through the solve
     *b = Eigen::VectorXd();
@@ -507,7 +502,7 @@ void BasicPathSolver<dim>::Impl::make_load_current(Eigen::VectorXd* b) {
   // a path with an update assembled the step's own load into v (data_at)
   if (b->size() != dofs->num_free() && !loading.proportional()) *b = v.head(dofs->num_free());
   if (b->size() == dofs->num_free()) {
-    cond->set_load(*b, dofs->prescribed);
+    cond->set_load(*b, dofs->prescribed());
   } else {
     Eigen::VectorXd prescribed;
     unstack(held, loads.combination(alpha), b, &prescribed);
@@ -767,8 +762,7 @@ void BasicPathSolver<dim>::Impl::describe_step(Step& s, const MinimizerResult& m
       residual = cond->unrotated_free(shares->distribution().all_gather(shares_residual));
     s.energy = shares_quadratic;
   } else if (u && b) {
-    Eigen::VectorXd uf(dofs->num_free());
-    for (int d = 0; d < dofs->num_free(); ++d) uf(d) = (*u)(dofs->free_dofs[static_cast<std::size_t>(d)]);
+    const Eigen::VectorXd uf = dofs->free_part(*u);
     // on the full-space route the rotated matrix stands for one body's, which the posing gave up
     const Eigen::VectorXd Au =
         system->A.rows() == uf.size() ? Eigen::VectorXd(system->A * uf) : cond->unrotated_product(uf);

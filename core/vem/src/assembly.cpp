@@ -70,21 +70,20 @@ void detail::facet_traction_load(const Mesh& mesh, const TractionLoad& load, int
   }
 }
 
-DofMap detail::dof_map_of(std::vector<char> fixed, Eigen::VectorXd prescribed, const std::vector<int>* vertex_order,
-                          int dim) {
-  DofMap map;
-  map.prescribed = std::move(prescribed);
-  const int ndof = static_cast<int>(fixed.size());
-  map.free_index.assign(static_cast<std::size_t>(ndof), -1);
-  const auto number = [&](int d) {
-    if (fixed[static_cast<std::size_t>(d)]) return;
-    map.free_index[static_cast<std::size_t>(d)] = static_cast<int>(map.free_dofs.size());
-    map.free_dofs.push_back(d);
-  };
-  if (!vertex_order) {
-    for (int d = 0; d < ndof; ++d) number(d);
-    return map;
+DofMap detail::dof_map_of(int ndof, std::vector<std::pair<int, double>> prescribed,
+                          const std::vector<int>* vertex_order, int dim) {
+  // the last value given to a dof is its value
+  std::stable_sort(prescribed.begin(), prescribed.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<int> dofs;
+  std::vector<double> values;
+  for (std::size_t k = 0; k < prescribed.size(); ++k) {
+    if (k + 1 < prescribed.size() && prescribed[k + 1].first == prescribed[k].first) continue;
+    dofs.push_back(prescribed[k].first);
+    values.push_back(prescribed[k].second);
   }
+  std::vector<std::pair<int, double>>().swap(prescribed);
+  Eigen::VectorXd value = Eigen::Map<const Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(values.size()));
+  if (!vertex_order) return DofMap(ndof, dim, std::move(dofs), std::move(value));
   const int nv = ndof / dim;
   std::vector<char> seen(static_cast<std::size_t>(nv), 0);
   const auto once = [&](int v) {
@@ -95,18 +94,7 @@ DofMap detail::dof_map_of(std::vector<char> fixed, Eigen::VectorXd prescribed, c
   if (!permutation)
     throw InputError("a vertex order of " + std::to_string(vertex_order->size()) +
                      " entries that is not a permutation of the mesh's " + std::to_string(nv) + " vertices");
-  map.free_dofs.reserve(static_cast<std::size_t>(ndof));
-  for (const int v : *vertex_order)
-    for (int c = 0; c < dim; ++c) number(dim * v + c);
-  return map;
-}
-
-Eigen::VectorXd DofMap::expand(const Eigen::VectorXd& free_values) const {
-  if (free_values.size() != num_free())
-    throw InputError("expected " + std::to_string(num_free()) + " free values, got " + std::to_string(free_values.size()));
-  Eigen::VectorXd u = prescribed;
-  for (int i = 0; i < num_free(); ++i) u(free_dofs[static_cast<std::size_t>(i)]) = free_values(i);
-  return u;
+  return DofMap(ndof, dim, std::move(dofs), std::move(value), *vertex_order);
 }
 
 std::vector<LinearField> project_solution(const Mesh& mesh, const Eigen::VectorXd& u) {

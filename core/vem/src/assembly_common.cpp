@@ -282,19 +282,14 @@ namespace {
 template <int dim>
 DofMap dof_map_of(const MeshOf<dim>& mesh, const std::vector<BasicDirichletCondition<dim>>& dirichlet,
                   const std::vector<int>* vertex_order = nullptr) {
-  const int ndof = dim * mesh.num_vertices();
-  Eigen::VectorXd prescribed = Eigen::VectorXd::Zero(ndof);
-  std::vector<char> fixed(static_cast<std::size_t>(ndof), 0);
+  std::vector<std::pair<int, double>> prescribed;
   for (const auto& bc : dirichlet)
     for (int v : bc.held_vertices(mesh)) {
       const PointOf<dim> value = bc.value ? bc.value(mesh.vertex(v)) : PointOf<dim>::Zero();
-      for (int c = 0; c < dim; ++c) {
-        if (!bc.fix[static_cast<std::size_t>(c)]) continue;
-        fixed[static_cast<std::size_t>(dim * v + c)] = 1;
-        prescribed(dim * v + c) = value(c);
-      }
+      for (int c = 0; c < dim; ++c)
+        if (bc.fix[static_cast<std::size_t>(c)]) prescribed.emplace_back(dim * v + c, value(c));
     }
-  return detail::dof_map_of(std::move(fixed), std::move(prescribed), vertex_order, dim);
+  return detail::dof_map_of(dim * mesh.num_vertices(), std::move(prescribed), vertex_order, dim);
 }
 
 /// InputError, before any assembly, when nothing has a prescribed displacement, or only facets
@@ -329,13 +324,18 @@ LinearSystem assemble_of(const BasicElasticityProblem<dim>& problem) {
   // A = K restricted to the free dofs and b = (f - K u_prescribed) on them, added cell by cell
   // into A's pattern (from the mesh) in the numbering of the free dofs: no global K, no
   // selection products, no triplets
+  // the free index of every dof as a table: the whole system's assembly holds vectors of the
+  // whole mesh's size anyway, and looks each cell's dofs up
+  const std::vector<int> free_index = sys.dofs.free_index_table();
   sys.b.resize(sys.dofs.num_free());
-  for (int i = 0; i < sys.dofs.num_free(); ++i) sys.b(i) = f(sys.dofs.free_dofs[static_cast<std::size_t>(i)]);
+  for (int d = 0; d < sys.dofs.num_dofs(); ++d)
+    if (const int fi = free_index[static_cast<std::size_t>(d)]; fi >= 0) sys.b(fi) = f(d);
   {
-    SparseMatrix A = pattern<dim>(mesh, sys.dofs.free_index, sys.dofs.num_free());
+    SparseMatrix A = pattern<dim>(mesh, free_index, sys.dofs.num_free());
     sys.A.swap(A);  // no copy (SparseMatrix has no move assignment)
   }
-  for_each_cell_matrix<dim>(mesh, problem.materials, problem.stabilization, nullptr, detail::FreeSystemAssembler{sys});
+  for_each_cell_matrix<dim>(mesh, problem.materials, problem.stabilization, nullptr,
+                            detail::FreeSystemAssembler{sys, free_index});
   return sys;
 }
 
@@ -353,19 +353,19 @@ void rhs_of(const BasicElasticityProblem<dim>& problem, const DofMap& dofs, Eige
   // loading path assembles this at every step: no vector of every dof)
   b.setZero();
   load_terms<dim>(mesh, problem.body_force, problem.tractions, nullptr, [&](int d, double value) {
-    if (const int fi = dofs.free_index[static_cast<std::size_t>(d)]; fi >= 0) b(fi) += value;
+    if (const int fi = dofs.free_index(d); fi >= 0) b(fi) += value;
   });
-  const auto lifted = [&](int d) { return dofs.prescribed(d) != 0.0; };
-  // whether a prescribed value is not zero (0 at the free dofs; a NaN counts), from the bits of
-  // the magnitudes in one pass the compiler vectorizes
+  const auto lifted = [&](int d) { return dofs.prescribed_value(d) != 0.0; };
+  // whether a prescribed value is not zero (a NaN counts), from the bits of the magnitudes in one
+  // pass the compiler vectorizes
   std::uint64_t magnitude_bits = 0;
-  for (const double value : dofs.prescribed) magnitude_bits |= std::bit_cast<std::uint64_t>(value) & ~(std::uint64_t{1} << 63);
+  for (const double value : dofs.prescribed_values())
+    magnitude_bits |= std::bit_cast<std::uint64_t>(value) & ~(std::uint64_t{1} << 63);
   if (magnitude_bits != 0)
     apply_cells<dim>(
-        mesh, problem.materials, problem.stabilization, lifted,
-        [&](int d) { return dofs.free_index[static_cast<std::size_t>(d)] < 0 ? dofs.prescribed(d) : 0.0; },
+        mesh, problem.materials, problem.stabilization, lifted, [&](int d) { return dofs.prescribed_value(d); },
         [&](int d, double value) {
-          if (const int fi = dofs.free_index[static_cast<std::size_t>(d)]; fi >= 0) b(fi) -= value;
+          if (const int fi = dofs.free_index(d); fi >= 0) b(fi) -= value;
         });
 }
 
@@ -396,11 +396,10 @@ struct OwnedVertices {
 template <int dim>
 std::vector<int> number_unknowns(const MeshOf<dim>& mesh, const OwnedVertices& owned, const std::vector<int>& cells,
                                  SystemRows& rows) {
-  const std::vector<int>& free = rows.dofs.free_dofs;
-  const std::vector<int>& free_index = rows.dofs.free_index;
+  const DofMap& dofs = rows.dofs;
   const auto free_of = [&](int v) {  // how many of vertex v's dofs are free
     int n = 0;
-    for (int c = 0; c < dim; ++c) n += free_index[static_cast<std::size_t>(dim * v + c)] >= 0 ? 1 : 0;
+    for (int c = 0; c < dim; ++c) n += dofs.is_prescribed(dim * v + c) ? 0 : 1;
     return n;
   };
   if (owned.order) {  // the free dofs of the vertices before the owned ones, then the owned ones'
@@ -408,9 +407,13 @@ std::vector<int> number_unknowns(const MeshOf<dim>& mesh, const OwnedVertices& o
     for (int p = 0; p < owned.p0; ++p) rows.first += free_of(owned.at(p));
     rows.owned = 0;
     for (int p = owned.p0; p < owned.p1; ++p) rows.owned += free_of(owned.at(p));
-  } else {
-    rows.first = std::lower_bound(free.begin(), free.end(), dim * owned.p0) - free.begin();
-    rows.owned = (std::lower_bound(free.begin(), free.end(), dim * owned.p1) - free.begin()) - rows.first;
+  } else {  // the free dofs before dof d: d less the prescribed ones
+    const std::vector<int>& held = dofs.prescribed_dofs();
+    const auto free_before = [&](int d) {
+      return d - (std::lower_bound(held.begin(), held.end(), d) - held.begin());
+    };
+    rows.first = free_before(dim * owned.p0);
+    rows.owned = free_before(dim * owned.p1) - rows.first;
   }
   std::vector<char> in_part(static_cast<std::size_t>(mesh.num_vertices()), 0);
   for (int p = owned.p0; p < owned.p1; ++p) in_part[static_cast<std::size_t>(owned.at(p))] = 1;
@@ -418,16 +421,17 @@ std::vector<int> number_unknowns(const MeshOf<dim>& mesh, const OwnedVertices& o
     for (int v : cell_vertices(mesh, c)) in_part[static_cast<std::size_t>(v)] = 1;
   std::vector<int> index(static_cast<std::size_t>(rows.dofs.num_dofs()), -1);
   for (int d = 0; d < rows.dofs.num_dofs(); ++d)
-    if (const int f = free_index[static_cast<std::size_t>(d)]; f >= 0 && in_part[static_cast<std::size_t>(d / dim)]) {
-      index[static_cast<std::size_t>(d)] = static_cast<int>(rows.unknowns.size());
-      rows.unknowns.push_back(f);
-    }
+    if (in_part[static_cast<std::size_t>(d / dim)])
+      if (const int f = dofs.free_index(d); f >= 0) {
+        index[static_cast<std::size_t>(d)] = static_cast<int>(rows.unknowns.size());
+        rows.unknowns.push_back(f);
+      }
   if (owned.order) {  // the unknowns in the order of the free dofs, and each dof's position among them
     std::sort(rows.unknowns.begin(), rows.unknowns.end());
     for (int d = 0; d < rows.dofs.num_dofs(); ++d)
       if (index[static_cast<std::size_t>(d)] >= 0)
         index[static_cast<std::size_t>(d)] = static_cast<int>(
-            std::lower_bound(rows.unknowns.begin(), rows.unknowns.end(), free_index[static_cast<std::size_t>(d)]) -
+            std::lower_bound(rows.unknowns.begin(), rows.unknowns.end(), dofs.free_index(d)) -
             rows.unknowns.begin());
   }
   rows.at = std::lower_bound(rows.unknowns.begin(), rows.unknowns.end(), rows.first) - rows.unknowns.begin();
@@ -452,9 +456,8 @@ SystemRows rows_of(const BasicElasticityProblem<dim>& problem, const OwnedVertic
   const std::vector<int> index = number_unknowns<dim>(mesh, owned, cells, rows);
   // b's owned rows: the load's terms of those rows, then (with A) the prescribed values lifted
   rows.b = Eigen::VectorXd::Zero(rows.owned);
-  const std::vector<int>& free_index = rows.dofs.free_index;
   load_terms<dim>(mesh, problem.body_force, problem.tractions, &cells, [&](int d, double value) {
-    if (const int f = free_index[static_cast<std::size_t>(d)]; f >= rows.first && f < rows.first + rows.owned)
+    if (const int f = rows.dofs.free_index(d); f >= rows.first && f < rows.first + rows.owned)
       rows.b(f - rows.first) += value;
   });
   {

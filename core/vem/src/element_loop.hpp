@@ -259,11 +259,12 @@ class PatternScatter {
 /// (`visit` of for_each_element_matrix).
 class FreeSystemAssembler {
  public:
-  explicit FreeSystemAssembler(LinearSystem& sys) : sys_(sys), scatter_(sys.A) {}
+  /// `free_index`: sys.dofs.free_index_table().
+  FreeSystemAssembler(LinearSystem& sys, const std::vector<int>& free_index)
+      : sys_(sys), free_index_(free_index), scatter_(sys.A) {}
   void operator()(const std::vector<int>& dof, const Eigen::Map<const Eigen::MatrixXd>& K) {
-    const std::vector<int>& free_index = sys_.dofs.free_index;
     free_.resize(dof.size());
-    for (std::size_t i = 0; i < dof.size(); ++i) free_[i] = free_index[static_cast<std::size_t>(dof[i])];
+    for (std::size_t i = 0; i < dof.size(); ++i) free_[i] = free_index_[static_cast<std::size_t>(dof[i])];
     scatter_.element(free_.data(), free_.size());
     double* values = scatter_.values();
     for (std::size_t j = 0; j < dof.size(); ++j) {
@@ -275,7 +276,7 @@ class FreeSystemAssembler {
           if (position[i] >= 0) values[position[i]] += kj(static_cast<Eigen::Index>(i));
         continue;
       }
-      const double uj = sys_.dofs.prescribed(dof[j]);
+      const double uj = sys_.dofs.prescribed_value(dof[j]);
       if (uj == 0.0) continue;
       for (std::size_t i = 0; i < dof.size(); ++i)
         if (const int fi = free_[i]; fi >= 0) sys_.b(fi) -= kj(static_cast<Eigen::Index>(i)) * uj;
@@ -284,6 +285,7 @@ class FreeSystemAssembler {
 
  private:
   LinearSystem& sys_;
+  const std::vector<int>& free_index_;
   PatternScatter scatter_;
   std::vector<int> free_;
 };
@@ -317,7 +319,7 @@ class OwnedRowsAssembler {
           if (position[i] >= 0) values[position[i]] += kj(static_cast<Eigen::Index>(i));
         continue;
       }
-      const double uj = rows_.dofs.prescribed(dof[j]);
+      const double uj = rows_.dofs.prescribed_value(dof[j]);
       if (uj == 0.0) continue;
       for (std::size_t i = 0; i < n; ++i)
         if (mine_[i] >= 0) rows_.b(mine_[i] - rows_.at) -= kj(static_cast<Eigen::Index>(i)) * uj;
@@ -332,10 +334,11 @@ class OwnedRowsAssembler {
   std::vector<int> local_, mine_;
 };
 
-/// The dof map of `ndof` dofs with `fixed[d]` set where dof d is prescribed: the free dofs
-/// numbered in dof order, or, given `vertex_order` (a permutation of the `fixed.size() / dim`
-/// vertices; InputError otherwise), vertex by vertex along it.
-DofMap dof_map_of(std::vector<char> fixed, Eigen::VectorXd prescribed, const std::vector<int>* vertex_order = nullptr,
-                  int dim = 1);
+/// The dof map of `ndof` dofs, `dim` per vertex, with the prescribed (dof, value) pairs
+/// `prescribed` (a dof given several values takes the last): the free dofs numbered in dof order,
+/// or, given `vertex_order` (a permutation of the `ndof / dim` vertices; InputError otherwise),
+/// vertex by vertex along it.
+DofMap dof_map_of(int ndof, std::vector<std::pair<int, double>> prescribed, const std::vector<int>* vertex_order,
+                  int dim);
 
 }  // namespace hemivem::detail

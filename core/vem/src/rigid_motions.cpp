@@ -161,7 +161,7 @@ BasicRigidMotions<dim>::BasicRigidMotions(const MeshType& mesh, const DofMap& do
   std::vector<Eigen::RowVectorXd> rows;
   for (int v = 0; v < mesh.num_vertices(); ++v)
     for (int d = 0; d < dim; ++d)
-      if (dofs.free_index[static_cast<std::size_t>(dim * v + d)] < 0) rows.push_back(functional(v, axis<dim>(d)));
+      if (dofs.free_index(dim * v + d) < 0) rows.push_back(functional(v, axis<dim>(d)));
   for (const auto& [v, p] : also)
     for (int d = 0; d < dim; ++d) rows.push_back(functional(v, axis<dim>(d)) - functional(v, axis<dim>(d), p));
   const Eigen::Index columns = per_piece * static_cast<Eigen::Index>(pieces_.size());

@@ -275,7 +275,7 @@ class Condensation {
   /// of what the joined system's energy leaves out of the bodies' (Joining::shift_energy, at
   /// the prescribed values posed): 0 for one body and without a shift.
   double shift_energy(const Eigen::VectorXd& b, Eigen::Index first) const {
-    return joining_.empty() ? 0.0 : joining_.shift_energy(b, first, dofs_.prescribed);
+    return joining_.empty() ? 0.0 : joining_.shift_energy(b, first, dofs_.prescribed());
   }
   /// Per reduced coordinate, the normal displacement where it is 0: g_i for the normal
   /// unknowns with law_from_surface, else 0 (so u_nu = a + origin).

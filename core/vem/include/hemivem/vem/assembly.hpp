@@ -20,15 +20,66 @@
 
 namespace hemivem {
 
-/// Global degrees of freedom: 2*v + c for component c of vertex v.
-struct DofMap {
-  std::vector<int> free_index;  ///< per global dof: index among the free dofs, or -1 if prescribed
-  std::vector<int> free_dofs;   ///< global dof of each free dof
-  Eigen::VectorXd prescribed;   ///< per global dof: prescribed value (0 for free dofs)
-  int num_free() const noexcept { return static_cast<int>(free_dofs.size()); }
-  int num_dofs() const noexcept { return static_cast<int>(free_index.size()); }
+/// Global degrees of freedom: dim*v + c for component c of vertex v (dim = 2 in the plane, 3 in a
+/// solid); each is free or prescribed. The free dofs are numbered in dof order, or vertex by
+/// vertex along a vertex order (make_dof_map). The map holds the prescribed dofs alone, with the
+/// order where one is given: its memory is that of the supports, not of the mesh (a process of a
+/// run across processes holds no array of the whole problem's dofs for it). Looking a dof or a
+/// free index up costs a binary search among the prescribed dofs.
+class DofMap {
+ public:
+  /// No dofs.
+  DofMap() = default;
+  /// `num_dofs` dofs of `components` per vertex, of which `prescribed_dofs` (increasing,
+  /// distinct) are prescribed with `values` (in their order); the free dofs numbered in dof order,
+  /// or along `vertex_order` (a permutation of the num_dofs / components vertices, checked by
+  /// make_dof_map) when it is not empty. InternalError for inconsistent sizes or dofs.
+  DofMap(int num_dofs, int components, std::vector<int> prescribed_dofs, Eigen::VectorXd values,
+         std::vector<int> vertex_order = {});
+
+  int num_dofs() const noexcept { return num_dofs_; }
+  int num_free() const noexcept { return num_dofs_ - num_prescribed(); }
+  int num_prescribed() const noexcept { return static_cast<int>(prescribed_.size()); }
+  /// The index of `dof` among the free dofs, or -1 where it is prescribed (0 <= dof < num_dofs()).
+  int free_index(int dof) const;
+  /// The dof of the free index f (0 <= f < num_free()).
+  int free_dof(int f) const;
+  /// Whether `dof` is prescribed.
+  bool is_prescribed(int dof) const;
+  /// The prescribed value of `dof`, 0 for a free dof.
+  double prescribed_value(int dof) const;
+  /// The prescribed dofs, increasing, and their values in that order.
+  const std::vector<int>& prescribed_dofs() const noexcept { return prescribed_; }
+  const Eigen::VectorXd& prescribed_values() const noexcept { return values_; }
+  /// New values of the prescribed dofs, in the order of prescribed_dofs(); InternalError for
+  /// another count.
+  void set_prescribed_values(Eigen::VectorXd values);
+  /// The values of `all` (one per dof) at the prescribed dofs, in their order.
+  Eigen::VectorXd prescribed_part(const Eigen::VectorXd& all) const;
+  /// The prescribed values of every dof, 0 at the free ones: a vector of the whole problem's dofs.
+  Eigen::VectorXd prescribed() const;
+  /// The free index of every dof (free_index()): a table of the whole problem's dofs, for a loop
+  /// over the whole mesh that holds vectors of its size anyway.
+  std::vector<int> free_index_table() const;
   /// Full vector of nodal displacements from the free values.
   Eigen::VectorXd expand(const Eigen::VectorXd& free_values) const;
+  /// The free values of `u` (one per dof), in the free dofs' order: expand()'s inverse.
+  /// InputError for another size.
+  Eigen::VectorXd free_part(const Eigen::VectorXd& u) const;
+
+ private:
+  /// The position of `dof` in the free dofs' numbering order (dof order, or along the vertex
+  /// order), counting the prescribed ones; and the dof at such a position.
+  int slot_of(int dof) const;
+  int dof_at(int slot) const;
+
+  int num_dofs_ = 0;
+  int components_ = 1;
+  std::vector<int> prescribed_;  ///< increasing
+  Eigen::VectorXd values_;       ///< of prescribed_, in its order
+  std::vector<int> slots_;       ///< slot_of each prescribed dof, increasing (prescribed_ without an order)
+  std::vector<int> order_;       ///< the vertex order, empty for dof order
+  std::vector<int> position_;    ///< each vertex's position in order_ (empty without one)
 };
 
 /// The reduced system A u_f = b (prescribed dofs eliminated, their values lifted into b).
