@@ -103,16 +103,7 @@ Eigen::VectorXd DofMap::prescribed() const {
 
 std::vector<int> DofMap::free_index_table() const {
   std::vector<int> table(static_cast<std::size_t>(num_dofs_), -1);
-  int f = 0;
-  std::size_t j = 0;
-  const std::vector<int>& slots = order_.empty() ? prescribed_ : slots_;
-  for (int slot = 0; slot < num_dofs_; ++slot) {
-    if (j < slots.size() && slots[j] == slot) {
-      ++j;
-      continue;
-    }
-    table[static_cast<std::size_t>(dof_at(slot))] = f++;
-  }
+  for_each_free([&](int dof, int f) { table[static_cast<std::size_t>(dof)] = f; });
   return table;
 }
 
@@ -120,16 +111,7 @@ Eigen::VectorXd DofMap::free_part(const Eigen::VectorXd& u) const {
   if (u.size() != num_dofs_)
     throw InputError("expected " + std::to_string(num_dofs_) + " values, one per dof, got " + std::to_string(u.size()));
   Eigen::VectorXd free(num_free());
-  int f = 0;
-  std::size_t j = 0;
-  const std::vector<int>& slots = order_.empty() ? prescribed_ : slots_;
-  for (int slot = 0; slot < num_dofs_; ++slot) {
-    if (j < slots.size() && slots[j] == slot) {
-      ++j;
-      continue;
-    }
-    free(f++) = u(dof_at(slot));
-  }
+  for_each_free([&](int dof, int f) { free(f) = u(dof); });
   return free;
 }
 
@@ -137,16 +119,7 @@ Eigen::VectorXd DofMap::expand(const Eigen::VectorXd& free_values) const {
   if (free_values.size() != num_free())
     throw InputError("expected " + std::to_string(num_free()) + " free values, got " + std::to_string(free_values.size()));
   Eigen::VectorXd u(num_dofs_);
-  int f = 0;
-  std::size_t j = 0;
-  const std::vector<int>& slots = order_.empty() ? prescribed_ : slots_;
-  for (int slot = 0; slot < num_dofs_; ++slot) {
-    if (j < slots.size() && slots[j] == slot) {
-      ++j;
-      continue;
-    }
-    u(dof_at(slot)) = free_values(f++);
-  }
+  for_each_free([&](int dof, int f) { u(dof) = free_values(f); });
   for (std::size_t k = 0; k < prescribed_.size(); ++k) u(prescribed_[k]) = values_(static_cast<Eigen::Index>(k));
   return u;
 }

@@ -72,6 +72,19 @@ class DofMap {
   /// order), counting the prescribed ones; and the dof at such a position.
   int slot_of(int dof) const;
   int dof_at(int slot) const;
+  /// visit(dof, f) for every free dof, f its free index, in the order of the free indices.
+  template <class Visit>
+  void for_each_free(Visit&& visit) const {
+    const std::vector<int>& slots = order_.empty() ? prescribed_ : slots_;
+    std::size_t j = 0;
+    int f = 0;
+    for (int slot = 0; slot < num_dofs_; ++slot) {
+      if (j < slots.size() && slots[j] == slot)
+        ++j;
+      else
+        visit(dof_at(slot), f++);
+    }
+  }
 
   int num_dofs_ = 0;
   int components_ = 1;
