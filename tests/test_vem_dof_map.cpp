@@ -118,4 +118,8 @@ TEST(DofMap, MakeDofMapHoldsTheSupportsAndTheLastValueGivenToADof) {
   EXPECT_EQ(reversed.prescribed_values(), map.prescribed_values());
   order[0] = order[1];
   EXPECT_THROW(make_dof_map(mesh, dirichlet, order), InputError);
+  // given directly, such an order is refused before it is read
+  EXPECT_THROW(DofMap(2 * mesh.num_vertices(), 2, {}, Eigen::VectorXd(), order), InternalError);
+  order[0] = mesh.num_vertices();
+  EXPECT_THROW(DofMap(2 * mesh.num_vertices(), 2, {}, Eigen::VectorXd(), order), InternalError);
 }

@@ -34,7 +34,13 @@ DofMap::DofMap(int num_dofs, int components, std::vector<int> prescribed_dofs, E
       throw InternalError("a dof map's prescribed dofs are not increasing dofs of the " + std::to_string(num_dofs));
   if (!order_.empty()) {
     position_.assign(order_.size(), -1);
-    for (std::size_t p = 0; p < order_.size(); ++p) position_[static_cast<std::size_t>(order_[p])] = static_cast<int>(p);
+    for (std::size_t p = 0; p < order_.size(); ++p) {
+      const int v = order_[p];
+      if (v < 0 || v >= static_cast<int>(order_.size()) || position_[static_cast<std::size_t>(v)] >= 0)
+        throw InternalError("a dof map's vertex order is not a permutation of its " + std::to_string(order_.size()) +
+                            " vertices (make_dof_map checks the orders it is given)");
+      position_[static_cast<std::size_t>(v)] = static_cast<int>(p);
+    }
     slots_.reserve(prescribed_.size());
     for (const int d : prescribed_) slots_.push_back(slot_of(d));
     std::sort(slots_.begin(), slots_.end());
