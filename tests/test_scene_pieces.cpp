@@ -19,6 +19,7 @@
 
 #include "posed_share_checks.hpp"
 #include "test_support.hpp"
+#include "thread_rows.hpp"
 
 using namespace hemivem;
 
@@ -43,9 +44,13 @@ int expect_two_pieces(const Scene& scene) {
   EXPECT_EQ(second->end_vertex, whole->mesh.num_vertices());
   EXPECT_FALSE(first->sides.empty());
   EXPECT_EQ(first->sides, second->sides);
-  for (const BoxPiece& piece : {*first, *second}) {
+  const auto pieces = test::on_threads(2, [&](const test::ThreadRows& rows) {
+    return build_problem_piece<dim>(scene, rows.rank() == 0 ? *first : *second, rows);
+  });
+  for (const int rank : {0, 1}) {
+    const BoxPiece& piece = rank == 0 ? *first : *second;
     const PieceOfMesh where = scene_piece_of_mesh(scene, piece);
-    const auto built = build_problem_piece<dim>(scene, piece);
+    const auto& built = pieces[static_cast<std::size_t>(rank)];
     EXPECT_EQ(where.whole_cells, cells_of(whole->mesh));
     EXPECT_EQ(static_cast<int>(where.cells.size()), cells_of(built->mesh));
     EXPECT_EQ(built->mesh.num_vertices(), whole->mesh.num_vertices());
@@ -76,6 +81,40 @@ TEST(ScenePieces, ALoadingPathOfAGeneratedBoxIsMadeInPieces) {
   const Scene block = shipped("coulomb-block-3d.toml");
   ASSERT_TRUE(block.path);
   expect_two_pieces<3>(block);
+}
+
+// a support or a load that picks a facet on no process's piece is refused on every process with
+// the whole mesh's message; the pieces gather before any of them refuses
+TEST(ScenePieces, ASupportOrLoadThatPicksNoFacetOfAnyPieceIsRefusedOnEvery) {
+  Scene scene = shipped("paper-example-4.1.toml");
+  scene.mesh.n = 12;
+  BoundarySelector inside;  // a line across the body, along no boundary edge of the whole mesh
+  inside.segments = {{0.0, 0.5, 1.0, 0.5}};
+  for (const bool support : {true, false}) {
+    SCOPED_TRACE(support ? "a support" : "a load");
+    Scene across = scene;
+    if (support) {
+      SceneDirichlet d;
+      d.boundary = inside;
+      d.ux = SceneScalar{0.0};
+      across.dirichlet.push_back(d);
+    } else {
+      SceneTraction t;
+      t.boundary = inside;
+      t.value = {SceneScalar{1.0}, SceneScalar{0.0}, SceneScalar{0.0}};
+      across.tractions.push_back(t);
+    }
+    const std::string expected = test::input_error_of([&] { (void)build_problem<2>(across); });
+    EXPECT_NE(expected.find(support ? "dirichlet[0]: selects no boundary edge" : "loads.traction[1]: selects no boundary edge"),
+              std::string::npos)
+        << expected;
+    ASSERT_TRUE(scene_piece(across, 0, 3));
+    const auto refused = test::on_threads(3, [&](const test::ThreadRows& rows) {
+      return test::input_error_of(
+          [&] { (void)build_problem_piece<2>(across, *scene_piece(across, rows.rank(), 3), rows); });
+    });
+    for (const std::string& message : refused) EXPECT_EQ(message, expected);
+  }
 }
 
 // a mesh of one body that is no generated box is read or made in pieces from its cells' lists;
@@ -220,12 +259,16 @@ TEST(ScenePieces, RegionBoxesPutEachPiecesCellsInTheWholeMeshsRegions) {
   scene.material.regions.push_back(SceneRegionMaterial{2, 130.0, 0.3, std::array<double, 4>{0.4, 0.6, 0.1, 0.2}});
   const auto whole = build_problem<2>(scene);
   std::vector<int> regions;
+  ASSERT_TRUE(scene_piece(scene, 0, 3));
+  const auto pieces = test::on_threads(3, [&](const test::ThreadRows& rows) {
+    return build_problem_piece<2>(scene, *scene_piece(scene, rows.rank(), 3), rows);
+  });
   for (int rank = 0; rank < 3; ++rank) {
     SCOPED_TRACE("rank " + std::to_string(rank));
     const std::optional<BoxPiece> piece = scene_piece(scene, rank, 3);
     ASSERT_TRUE(piece);
     const PieceOfMesh where = scene_piece_of_mesh(scene, *piece);
-    const auto built = build_problem_piece<2>(scene, *piece);
+    const auto& built = pieces[static_cast<std::size_t>(rank)];
     ASSERT_EQ(static_cast<int>(where.cells.size()), built->mesh.num_elements());
     for (std::size_t k = 0; k < where.cells.size(); ++k)
       EXPECT_EQ(built->mesh.region(static_cast<int>(k)), whole->mesh.region(where.cells[k])) << "cell " << where.cells[k];

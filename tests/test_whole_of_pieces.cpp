@@ -151,7 +151,11 @@ std::unique_ptr<BasicBuiltProblem<dim>> box_piece(const Scene& scene, int rank, 
   const std::optional<BoxPiece> piece = scene_piece(scene, rank, size);
   if (!piece) throw std::logic_error("the scene is not cut into a box's pieces");
   where = scene_piece_of_mesh(scene, *piece);
-  return build_problem_piece<dim>(scene, *piece);
+  // the processes complete the supports together: every process's piece made, this one kept
+  auto pieces = test::on_threads(size, [&](const ThreadRows& rows) {
+    return build_problem_piece<dim>(scene, *scene_piece(scene, rows.rank(), size), rows);
+  });
+  return std::move(pieces[static_cast<std::size_t>(rank)]);
 }
 
 TEST(WholeOfPieces, AGeneratedSolidsPiecesGiveTheWholeMeshs) {

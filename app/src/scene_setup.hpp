@@ -155,7 +155,7 @@ void build_scene_problem(const Scene& scene, SceneEngines& e, Solved& s, const s
     if (const std::optional<BoxPiece> piece = scene_piece(scene, world.rank, world.size)) {
       s.mesh_pieces = world.size;
       e.writes_to_folder = !out.empty();
-      s.built = on_every_process(*process_rows(), [&] { return build_problem_piece<dim>(scene, *piece); });
+      s.built = on_every_process(*process_rows(), [&] { return build_problem_piece<dim>(scene, *piece, *process_rows()); });
       check_regions_across(scene, *s.built, *process_rows());
       e.piece = scene_piece_of_mesh(scene, *piece);
       s.whole_cells = e.piece->whole_cells;

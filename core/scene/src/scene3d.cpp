@@ -96,8 +96,9 @@ Mesh3D scene_mesh_3d(const Scene& scene, const RowDistribution* processes) {
 
 namespace detail {
 
-std::unique_ptr<BuiltProblem3D> built_solid(const Scene& scene, Mesh3D mesh, bool given, std::span<const int> cut) {
-  auto out = detail::built_on<3>(scene, std::move(mesh), true, cut);
+std::unique_ptr<BuiltProblem3D> built_solid(const Scene& scene, Mesh3D mesh, bool given, std::span<const int> cut,
+                                            const SupportsAcross* across) {
+  auto out = detail::built_on<3>(scene, std::move(mesh), true, cut, across);
   if (given || !scene.mesh.file.empty()) {  // a mesh read or given: its vertices and contact nodes counted
     const Mesh3D& m = out->mesh;
     std::set<int> contact;

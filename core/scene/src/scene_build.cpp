@@ -261,11 +261,11 @@ int region_count(const Scene& one, std::span<const int> own) {
 }
 
 std::unique_ptr<BuiltProblem> built_plane_on(const Scene& scene, Mesh mesh, bool apply_region_boxes, bool whole,
-                                             std::span<const int> cut) {
+                                             std::span<const int> cut, const SupportsAcross* across) {
   // Regions given by boxes, then materials by region.
   if (apply_region_boxes) detail::apply_region_boxes(scene, mesh);
   if (whole) check_regions_used<2>(scene, mesh, true);
-  return built_on<2>(scene, std::move(mesh), whole, cut);
+  return built_on<2>(scene, std::move(mesh), whole, cut, across);
 }
 
 }  // namespace detail

@@ -142,13 +142,31 @@ long long scene_vertices(const Scene& scene) { return grid_vertices_of(scene).co
 
 /// The piece of the generated box of a scene of one body whose supports, loads and contact
 /// parts, and the selectors `more`, select sides, segments (in the plane) and points only
-/// (add_selector); none otherwise.
-std::optional<BoxPiece> box_piece_of(const Scene& scene, const std::vector<BoundarySelector>& more, int rank, int size) {
+/// (add_selector); none otherwise. With `contact_sides`, of the sides only those of the contact
+/// parts (and of `more`) are held, and of the supports and loads their points alone: each
+/// process's piece then holds the facets of the supports and loads around its own vertices, and
+/// the processes complete them together (build_problem_piece).
+std::optional<BoxPiece> box_piece_of(const Scene& scene, const std::vector<BoundarySelector>& more, int rank, int size,
+                                     bool contact_sides = false) {
   const SceneMesh& m = scene.mesh;
   if (!m.file.empty() || !makes_pieces(m.generator) || !m.polygon.empty()) return std::nullopt;
   BoxPiece piece;
   const auto place = [&](const BoundarySelector& b) { return add_selector(scene, b, piece); };
-  if (!every_selector(scene, place) || !std::all_of(more.begin(), more.end(), place)) return std::nullopt;
+  const auto place_points = [&](const BoundarySelector& b) {
+    BoxPiece alone;
+    if (!add_selector(scene, b, alone)) return false;
+    piece.held.insert(piece.held.end(), alone.held.begin(), alone.held.end());
+    return true;
+  };
+  if (contact_sides) {
+    bool placed = place_points(scene.clamped);
+    for (const SceneDirichlet& d : scene.dirichlet) placed = placed && place_points(d.boundary);
+    for (const SceneTraction& t : scene.tractions) placed = placed && place_points(t.boundary);
+    for (const SceneContact& c : contact_parts(scene)) placed = placed && place(c.boundary);
+    if (!placed || !std::all_of(more.begin(), more.end(), place)) return std::nullopt;
+  } else if (!every_selector(scene, place) || !std::all_of(more.begin(), more.end(), place)) {
+    return std::nullopt;
+  }
   std::sort(piece.sides.begin(), piece.sides.end());
   piece.sides.erase(std::unique(piece.sides.begin(), piece.sides.end()), piece.sides.end());
   std::sort(piece.held.begin(), piece.held.end());
@@ -239,7 +257,7 @@ MeshOf<dim> box_mesh_piece(const Scene& scene, const BoxPiece& piece) {
 
 std::optional<BoxPiece> scene_piece(const Scene& scene, int rank, int size) {
   if (!scene.bodies.empty() || scene.adapt) return std::nullopt;
-  return box_piece_of(scene, {}, rank, size);
+  return box_piece_of(scene, {}, rank, size, true);
 }
 
 PieceOfMesh scene_piece_of_mesh(const Scene& scene, const BoxPiece& piece) {
@@ -263,18 +281,22 @@ PieceOfMesh scene_piece_of_mesh(const Scene& scene, const BoxPiece& piece) {
 }
 
 template <>
-std::unique_ptr<BasicBuiltProblem<2>> build_problem_piece<2>(const Scene& scene, const BoxPiece& piece) {
+std::unique_ptr<BasicBuiltProblem<2>> build_problem_piece<2>(const Scene& scene, const BoxPiece& piece,
+                                                             const RowDistribution& processes) {
   Mesh mesh = box_mesh_piece<2>(scene, piece);
   const std::vector<int> cut = grid_cut_facets(mesh, grid_vertices_of(scene));
-  return detail::built_plane_on(scene, std::move(mesh), true, false, cut);
+  const detail::SupportsAcross across{&processes, piece.first_vertex, piece.end_vertex};
+  return detail::built_plane_on(scene, std::move(mesh), true, false, cut, &across);
 }
 
 template <>
-std::unique_ptr<BasicBuiltProblem<3>> build_problem_piece<3>(const Scene& scene, const BoxPiece& piece) {
+std::unique_ptr<BasicBuiltProblem<3>> build_problem_piece<3>(const Scene& scene, const BoxPiece& piece,
+                                                             const RowDistribution& processes) {
   detail::require_dimension<3>(scene);
   Mesh3D mesh = box_mesh_piece<3>(scene, piece);
   const std::vector<int> cut = grid_cut_facets(mesh, grid_vertices_of(scene));
-  return detail::built_solid(scene, std::move(mesh), true, cut);
+  const detail::SupportsAcross across{&processes, piece.first_vertex, piece.end_vertex};
+  return detail::built_solid(scene, std::move(mesh), true, cut, &across);
 }
 
 bool makes_body_pieces(const Scene& scene) {

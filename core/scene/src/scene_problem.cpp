@@ -4,6 +4,7 @@
 // facets differ: boundary edges picked by segments, or boundary faces by the box's sides.
 #include <hemivem/engine_names.hpp>
 #include <hemivem/krylov_solver.hpp>
+#include <hemivem/row_distribution.hpp>
 #include <hemivem/scene/scene.hpp>
 
 #include <algorithm>
@@ -28,7 +29,8 @@ using detail::fmt;
 namespace {
 
 /// The boundary facets of the mesh a selector of the scene picks (sorted, distinct); an error
-/// naming the selector's key when it picks none or names a group the mesh lacks. Plane bodies:
+/// naming the selector's key when it picks none (unless told it may: a process's piece,
+/// SupportsAcross) or names a group the mesh lacks. Plane bodies:
 /// boundary edges on the sides of the mesh's bounding rectangle, on segments and in edge
 /// groups; solids: boundary faces on the sides of its bounding box and in face groups.
 template <int dim>
@@ -39,7 +41,7 @@ class FacetSelection {
   FacetSelection(const Scene& scene, const MeshOf<dim>& mesh, std::span<const int> cut = {})
       : scene_(scene), mesh_(mesh), cut_(cut), box_(mesh.bounding_box()) {}
 
-  std::vector<int> operator()(const BoundarySelector& b, const std::string& key) const {
+  std::vector<int> operator()(const BoundarySelector& b, const std::string& key, bool may_pick_none = false) const {
     if (!b.has_facets() && !b.points.empty()) return {};  // a support at single vertices only
     std::vector<int> facets = by_place(b);
     for (const auto& g : b.groups) {
@@ -53,9 +55,13 @@ class FacetSelection {
     std::sort(facets.begin(), facets.end());
     facets.erase(std::unique(facets.begin(), facets.end()), facets.end());
     std::erase_if(facets, [&](int f) { return std::binary_search(cut_.begin(), cut_.end(), f); });
-    if (facets.empty())
-      throw InputError(key + ": selects no boundary " + (dim == 2 ? "edge" : "face") + " of the mesh", scene_.where(key));
+    if (facets.empty() && !may_pick_none) throw picks_none(scene_, key);
     return facets;
+  }
+
+  /// The error of a selector, the scene's `key`, that picks no facet of the mesh.
+  static InputError picks_none(const Scene& scene, const std::string& key) {
+    return InputError(key + ": selects no boundary " + (dim == 2 ? "edge" : "face") + " of the mesh", scene.where(key));
   }
 
   /// The vertex at each of the selector's points: the nearest one, within `tolerance` times the
@@ -146,32 +152,83 @@ MaterialTable scene_materials(const Scene& scene, const MeshOf<dim>& mesh) {
   return MaterialTable(by_region, dim == 3 ? PlaneModel::strain : scene.material.model);
 }
 
-/// [clamped] and each [[dirichlet]]: the prescribed displacements.
+/// The scene's supports ([clamped], then each [[dirichlet]]) and loads (each [[loads.traction]])
+/// with their keys, in the order the problem holds them.
+std::vector<std::pair<const BoundarySelector*, std::string>> supports_and_loads(const Scene& scene) {
+  std::vector<std::pair<const BoundarySelector*, std::string>> out;
+  if (!scene.clamped.empty()) out.emplace_back(&scene.clamped, "clamped");
+  for (std::size_t i = 0; i < scene.dirichlet.size(); ++i)
+    out.emplace_back(&scene.dirichlet[i].boundary, "dirichlet[" + std::to_string(i) + "]");
+  for (std::size_t i = 0; i < scene.tractions.size(); ++i)
+    out.emplace_back(&scene.tractions[i].boundary, "loads.traction[" + std::to_string(i) + "]");
+  return out;
+}
+
+/// [clamped] and each [[dirichlet]]: the prescribed displacements; on a piece (`piece`) each may
+/// pick no facet of it.
 template <int dim>
-void add_dirichlet(BasicElasticityProblem<dim>& e, const Scene& scene, const FacetSelection<dim>& select) {
+void add_dirichlet(BasicElasticityProblem<dim>& e, const Scene& scene, const FacetSelection<dim>& select, bool piece) {
   if (!scene.clamped.empty())
-    e.dirichlet.push_back({select(scene.clamped, "clamped"), {}, BasicDirichletCondition<dim>::all_components(), "clamped",
-                           select.vertices(scene.clamped, "clamped")});
+    e.dirichlet.push_back({select(scene.clamped, "clamped", piece), {}, BasicDirichletCondition<dim>::all_components(),
+                           "clamped", select.vertices(scene.clamped, "clamped")});
   for (std::size_t i = 0; i < scene.dirichlet.size(); ++i) {
     const auto& d = scene.dirichlet[i];
     const std::string key = "dirichlet[" + std::to_string(i) + "]";
     const std::array<bool, 3> given{d.ux.has_value(), d.uy.has_value(), d.uz.has_value()};
     std::array<bool, dim> fix{};
     std::copy_n(given.begin(), dim, fix.begin());
-    e.dirichlet.push_back(
-        {select(d.boundary, key), detail::dirichlet_value_at<dim>(scene, i, 1.0), fix, key, select.vertices(d.boundary, key)});
+    e.dirichlet.push_back({select(d.boundary, key, piece), detail::dirichlet_value_at<dim>(scene, i, 1.0), fix, key,
+                           select.vertices(d.boundary, key)});
   }
 }
 
-/// [loads]: the body force (when not zero) and each [[loads.traction]].
+/// [loads]: the body force (when not zero) and each [[loads.traction]]; on a piece (`piece`)
+/// each may pick no facet of it.
 template <int dim>
-void add_loads(BasicElasticityProblem<dim>& e, const Scene& scene, const FacetSelection<dim>& select) {
+void add_loads(BasicElasticityProblem<dim>& e, const Scene& scene, const FacetSelection<dim>& select, bool piece) {
   e.body_force = detail::body_force_at<dim>(scene, 1.0);
   for (std::size_t i = 0; i < scene.tractions.size(); ++i) {
     BasicTractionLoad<dim> load;
-    load.facets = select(scene.tractions[i].boundary, "loads.traction[" + std::to_string(i) + "]");
+    load.facets = select(scene.tractions[i].boundary, "loads.traction[" + std::to_string(i) + "]", piece);
     detail::set_traction_at<dim>(load, scene, i, 1.0);
     e.tractions.push_back(std::move(load));
+  }
+}
+
+/// On a process's piece (SupportsAcross; collective): the error of the first support or load,
+/// in the order the whole mesh's selection meets them, that picks no facet of any piece though
+/// it selects facets (FacetSelection's, on every process alike), and then each support's vertices
+/// on the other pieces added to its `vertices`. Every vertex a support holds of the whole mesh
+/// lies among the own vertices of some process, whose piece holds every cell around it and so
+/// every facet of the support at it.
+template <int dim>
+void complete_across(BasicElasticityProblem<dim>& e, const Scene& scene, const detail::SupportsAcross& across) {
+  const auto selectors = supports_and_loads(scene);
+  if (selectors.size() != e.dirichlet.size() + e.tractions.size())
+    throw InternalError("a piece's supports and loads are not the scene's");
+  const auto facets_of = [&](std::size_t k) -> const std::vector<int>& {
+    return k < e.dirichlet.size() ? e.dirichlet[k].facets : e.tractions[k - e.dirichlet.size()].facets;
+  };
+  Eigen::VectorXd picks(static_cast<Eigen::Index>(selectors.size()));
+  for (std::size_t k = 0; k < selectors.size(); ++k) picks(static_cast<Eigen::Index>(k)) = facets_of(k).empty() ? 0.0 : 1.0;
+  std::vector<double> held;  // (support, vertex) of the process's own vertices
+  for (std::size_t k = 0; k < e.dirichlet.size(); ++k)
+    for (int v : e.dirichlet[k].held_vertices(*e.mesh))
+      if (v >= across.first_vertex && v < across.end_vertex) held.insert(held.end(), {static_cast<double>(k), static_cast<double>(v)});
+  const Eigen::VectorXd picked = across.processes->sum_in_rank_order(picks);
+  const Eigen::VectorXd all =
+      across.processes->all_gather(Eigen::Map<const Eigen::VectorXd>(held.data(), static_cast<Eigen::Index>(held.size())));
+  for (std::size_t k = 0; k < selectors.size(); ++k)
+    if ((selectors[k].first->has_facets() || selectors[k].first->points.empty()) && picked(static_cast<Eigen::Index>(k)) == 0.0)
+      throw FacetSelection<dim>::picks_none(scene, selectors[k].second);
+  std::vector<std::vector<int>> elsewhere(e.dirichlet.size());
+  for (Eigen::Index at = 0; at + 1 < all.size(); at += 2)
+    elsewhere[static_cast<std::size_t>(all(at))].push_back(static_cast<int>(all(at + 1)));
+  for (std::size_t k = 0; k < e.dirichlet.size(); ++k) {
+    std::vector<int>& v = elsewhere[k];
+    std::sort(v.begin(), v.end());
+    v.erase(std::unique(v.begin(), v.end()), v.end());
+    e.dirichlet[k].vertices.insert(e.dirichlet[k].vertices.end(), v.begin(), v.end());
   }
 }
 
@@ -263,7 +320,7 @@ void check_parts_disjoint(const std::vector<BasicContactPart<dim>>& parts, const
 
 template <int dim>
 BasicContactProblem<dim> contact_problem_of(const Scene& scene, const MeshOf<dim>& mesh, bool whole = true,
-                                            std::span<const int> cut = {}) {
+                                            std::span<const int> cut = {}, const detail::SupportsAcross* across = nullptr) {
   detail::require_dimension<dim>(scene);
   BasicContactProblem<dim> p;
   p.elasticity.mesh = &mesh;
@@ -271,8 +328,9 @@ BasicContactProblem<dim> contact_problem_of(const Scene& scene, const MeshOf<dim
   p.elasticity.materials = scene_materials<dim>(scene, mesh);
   p.elasticity.stabilization = scene.material.stabilization;
   const FacetSelection<dim> select(scene, mesh, cut);
-  add_dirichlet(p.elasticity, scene, select);
-  add_loads(p.elasticity, scene, select);
+  add_dirichlet(p.elasticity, scene, select, across != nullptr);
+  add_loads(p.elasticity, scene, select, across != nullptr);
+  if (across) complete_across(p.elasticity, scene, *across);
   const std::vector<SceneContact> scene_parts = contact_parts(scene);
   for (std::size_t i = 0; i < scene_parts.size(); ++i)
     p.parts.push_back(make_contact_part(p.elasticity, scene_parts[i], i, scene, select));
@@ -374,17 +432,19 @@ template std::vector<int> select_facets<3>(const Scene&, const Mesh3D&, const Bo
 template void check_regions_used<3>(const Scene&, const Mesh3D&, bool);
 
 template <int dim>
-std::unique_ptr<BasicBuiltProblem<dim>> built_on(const Scene& scene, MeshOf<dim> mesh, bool whole, std::span<const int> cut) {
+std::unique_ptr<BasicBuiltProblem<dim>> built_on(const Scene& scene, MeshOf<dim> mesh, bool whole, std::span<const int> cut,
+                                                 const SupportsAcross* across) {
   auto out = std::make_unique<BasicBuiltProblem<dim>>();
   out->mesh = std::move(mesh);
-  out->problem = contact_problem_of<dim>(scene, out->mesh, whole, cut);
+  out->problem = contact_problem_of<dim>(scene, out->mesh, whole, cut, across);
   out->has_contact = scene.contact.has_value();
   out->warnings = scene_warnings(scene);
   return out;
 }
 
-template std::unique_ptr<BuiltProblem> built_on<2>(const Scene&, Mesh, bool, std::span<const int>);
-template std::unique_ptr<BuiltProblem3D> built_on<3>(const Scene&, Mesh3D, bool, std::span<const int>);
+template std::unique_ptr<BuiltProblem> built_on<2>(const Scene&, Mesh, bool, std::span<const int>, const SupportsAcross*);
+template std::unique_ptr<BuiltProblem3D> built_on<3>(const Scene&, Mesh3D, bool, std::span<const int>,
+                                                     const SupportsAcross*);
 
 }  // namespace detail
 

@@ -53,14 +53,28 @@ void check_regions_used(const Scene& scene, const MeshOf<dim>& mesh, bool boxes)
 /// The same of a mesh whose cells are in the regions `present`.
 void check_regions_present(const Scene& scene, const std::set<int>& present, bool boxes);
 
+/// A process's piece of a generated box that holds, of the cells along the box's sides, those
+/// of its contact parts alone (scene_piece): on it each support and load picks the facets of the
+/// piece's cells that it picks of the whole mesh, which may be none. The processes together
+/// (collective over `processes`) then say whether each picks a facet of the whole mesh, and give
+/// each support the vertices it holds on the pieces of the others: each process sends those among
+/// its own vertices, [first_vertex, end_vertex), every cell around which its piece holds.
+struct SupportsAcross {
+  const RowDistribution* processes = nullptr;
+  int first_vertex = 0;
+  int end_vertex = 0;
+};
+
 /// The built problem of `scene` on `mesh` (make_contact_problem), with has_contact and the
 /// scene's warnings; the regions checked (check_regions_used) when the mesh is `whole`, not when
 /// it is a process's piece, whose regions are checked across the processes
 /// (check_regions_of_pieces). `cut`: a piece's boundary facets inside the whole mesh
-/// (MeshPieceRead::cut_facets), which no selector picks.
+/// (MeshPieceRead::cut_facets), which no selector picks. `across`: the piece's supports and
+/// loads completed across the processes (SupportsAcross; collective), each support's vertices
+/// on the others' pieces among its `vertices`.
 template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> built_on(const Scene& scene, MeshOf<dim> mesh, bool whole = true,
-                                                 std::span<const int> cut = {});
+                                                 std::span<const int> cut = {}, const SupportsAcross* across = nullptr);
 
 /// Puts each element of `mesh` whose centroid lies in a box of the scene's [[material.region]]
 /// into that region (the last such box's).
@@ -73,9 +87,10 @@ void apply_region_boxes(const Scene& scene, Mesh& mesh);
 int region_count(const Scene& one, std::span<const int> own);
 
 /// The problem of a plane scene on `mesh`: the scene's region boxes applied when
-/// `apply_region_boxes`, its regions checked when the mesh is `whole` (built_on).
+/// `apply_region_boxes`, its regions checked when the mesh is `whole`; `cut` and `across` as
+/// built_on's.
 std::unique_ptr<BuiltProblem> built_plane_on(const Scene& scene, Mesh mesh, bool apply_region_boxes, bool whole,
-                                             std::span<const int> cut = {});
+                                             std::span<const int> cut = {}, const SupportsAcross* across = nullptr);
 
 /// InputError naming the scene's `mesh` key when the scene is not of dimension dim.
 template <int dim>
@@ -130,8 +145,9 @@ Mesh plane_mesh(const Scene& scene, const RowDistribution* processes = nullptr);
 std::unique_ptr<BuiltProblem3D> built_solid(const Scene& scene, const RowDistribution* processes = nullptr);
 /// The problem of a solid scene on `mesh`: one `given` (build_problem(scene, mesh)) or its Gmsh
 /// file's (or a piece of it holding every contact face), its memory checked by its vertices and
-/// contact nodes; `cut` as built_on's.
-std::unique_ptr<BuiltProblem3D> built_solid(const Scene& scene, Mesh3D mesh, bool given, std::span<const int> cut = {});
+/// contact nodes; `cut` and `across` as built_on's.
+std::unique_ptr<BuiltProblem3D> built_solid(const Scene& scene, Mesh3D mesh, bool given, std::span<const int> cut = {},
+                                            const SupportsAcross* across = nullptr);
 
 /// require_route_memory of a plane scene's mesh file, `condensed` its mesh's estimate
 /// (estimate_memory) and `largest` the most vertices of one of its elements.

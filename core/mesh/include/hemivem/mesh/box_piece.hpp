@@ -8,8 +8,8 @@
 //   - lie within two layers of boxes of the process's vertices (the boxes holding one of them and
 //     their neighbours: the rows a process assembles and the cells next to them; of a share
 //     flagged vertex by vertex, the boxes within two boxes of each along every axis),
-//   - touch one of the named sides of the domain (the cells along the supports, loads and
-//     contact of a scene, a surface's worth), or
+//   - touch one of the named sides of the domain (the cells along the contact of a scene, and
+//     along the supports and loads of a body of several: a surface's worth), or
 //   - lie in the grid's first column of boxes (which keeps the piece connected, a body as the
 //     whole is), or
 //   - lie within two boxes of a vertex the piece is given to hold (a support at a point),

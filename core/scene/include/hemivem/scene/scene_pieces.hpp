@@ -21,26 +21,36 @@ namespace hemivem {
 /// segments (in the plane) or points (no group), or by polar (make_polar_piece) and every part
 /// selects its edge groups, sides of its bounding box (boundary edges along the grid's sides,
 /// every box of which a piece holds), segments or points, without adaptive steps; a loading
-/// path's loads, prescribed values and obstacles change on those alone. A segment along a side
-/// of the rectangle holds that side; any other segment every side, and the piece's edges where
-/// it meets the others (grid_cut_facets) are picked by no selector, so that a segment picks on
-/// the piece the whole mesh's boundary edges. Region boxes put each cell of a piece into the region the whole mesh's cell is in (its
+/// path's loads, prescribed values and obstacles change on those alone. The piece's vertices
+/// are the process's share (vertex_share, hemivem/contact/pose_share.hpp), and its sides
+/// (BoxPiece::sides, whose every cell it holds) those its contact parts name or their segments lie
+/// along: a segment of a contact part along a side of the rectangle holds that side, any other
+/// segment every side, and the piece's edges where it meets the others (grid_cut_facets) are
+/// picked by no selector, so that a segment picks on the piece the whole mesh's boundary edges.
+/// Of its supports and loads the piece holds the facets of its cells, which every facet at a
+/// vertex of the process's is (build_problem_piece completes the supports across the
+/// processes), and the grid point nearest each point (BoxPiece::held): within half a box of the
+/// vertex the support holds, whose cells every piece holds as the pieces cut from a whole mesh
+/// do. Region boxes put each cell of a piece into the region the whole mesh's cell is in (its
 /// centroid the same); whether each region holds a cell is the whole mesh's to say
-/// (check_regions_of_pieces). The piece's vertices are the process's share (vertex_share,
-/// hemivem/contact/pose_share.hpp), its sides those the scene's selectors name or their segments
-/// lie along, and it holds the grid point nearest each point (BoxPiece::held): within half a box
-/// of the vertex the support holds, whose cells every piece holds as the pieces cut from a whole
-/// mesh do.
+/// (check_regions_of_pieces).
 std::optional<BoxPiece> scene_piece(const Scene& scene, int rank, int size);
 
 /// Where `piece` of the scene's mesh lies in the whole mesh (estimate_error_of_pieces).
 PieceOfMesh scene_piece_of_mesh(const Scene& scene, const BoxPiece& piece);
 
-/// build_problem<dim>(scene) on the piece `piece` of the scene's mesh (scene_piece): the same
-/// problem on fewer cells, its vertices and their numbers the whole mesh's. Errors as
-/// build_problem's, but for a region that holds no cell of the piece (check_regions_of_pieces).
+/// build_problem<dim>(scene) on the piece `piece` of the scene's mesh that this process of
+/// `processes` makes (scene_piece), collective: the same problem on fewer cells, its vertices
+/// and their numbers the whole mesh's. Each support and load holds the facets of the piece it
+/// holds of the whole mesh, possibly none; each support holds besides, among its `vertices`
+/// (BasicDirichletCondition), the vertices it holds of the whole mesh, which each process sends
+/// of its own vertices, so that the problem's prescribed dofs and values are the whole's. Errors
+/// as build_problem's (a support or load that picks no facet of the whole mesh is refused on
+/// every process alike), but for a region that holds no cell of the piece
+/// (check_regions_of_pieces).
 template <int dim>
-std::unique_ptr<BasicBuiltProblem<dim>> build_problem_piece(const Scene& scene, const BoxPiece& piece);
+std::unique_ptr<BasicBuiltProblem<dim>> build_problem_piece(const Scene& scene, const BoxPiece& piece,
+                                                            const RowDistribution& processes);
 
 /// After each process built its piece (build_problem_piece, read_problem_piece), with `regions`
 /// the region ids of the cells of every process's piece: every [[material.region]] of the scene
