@@ -16,6 +16,7 @@
 #include <hemivem/scene/resources.hpp>
 #include <hemivem/scene/scene.hpp>
 #include <hemivem/scene/scene_pieces.hpp>
+#include <hemivem/vem/rigid_motions.hpp>
 
 #include <gtest/gtest.h>
 
@@ -512,7 +513,6 @@ int expect_scene_pieces_pose_the_whole_share(const Scene& scene, int size) {
   }
   for (const auto& t : whole->problem.elasticity.tractions) named.merge(sorted_facets(whole->mesh, t.facets));
   for (const auto& p : whole->problem.parts) contact.merge(sorted_facets(whole->mesh, p.facets));
-  EXPECT_FALSE(pinned.empty());
   const auto pieces = test::on_threads(size, [&](const test::ThreadRows& rows) {
     return build_problem_piece<dim>(scene, *scene_piece(scene, rows.rank(), size), rows);
   });
@@ -528,6 +528,9 @@ int expect_scene_pieces_pose_the_whole_share(const Scene& scene, int size) {
     const PieceOfMesh where = scene_piece_of_mesh(scene, *piece);
     const auto& built = pieces[static_cast<std::size_t>(rank)];
     expect_piece_of(built->mesh, where.cells, whole->mesh, piece->first_vertex, piece->end_vertex, contact, true);
+    // one connected body, every vertex of which lies on it (piece_of_one_body)
+    EXPECT_TRUE(built->problem.elasticity.piece_of_one_body);
+    EXPECT_EQ(BasicRigidMotions<dim>(built->mesh, make_dof_map(built->mesh, {})).num_pieces(), 1);
     const std::set<int> held(where.cells.begin(), where.cells.end());
     for (const int v : pinned) {
       bool slab = true;
@@ -558,8 +561,40 @@ int expect_scene_pieces_pose_the_whole_share(const Scene& scene, int size) {
     expect_same_share(pose_share(built->problem, piece->first_vertex, piece->end_vertex),
                       pose_share(whole->problem, piece->first_vertex, piece->end_vertex));
   }
-  EXPECT_GT(apart, 0) << "every piece held the supported vertices' cells among its own";
+  if (!pinned.empty()) EXPECT_GT(apart, 0) << "every piece held the supported vertices' cells among its own";
   return fewer;
+}
+
+// clamped on its top alone, or on a segment of it, of which the middle slab's piece holds the
+// first column's facet or none: each piece holds the clamped vertices of the others besides its
+// own facets, and the body held whole (its free motions judged of every vertex the support
+// holds, every vertex of a piece lying on the body)
+TEST(BoxPiece, APieceThatMeetsNoFacetOfASupportIsHeldByIt) {
+  Scene plane = parse_scene(test::scenes_dir() / "paper-example-4.1.toml");
+  plane.mesh.n = 12;
+  plane.clamped.sides = {"top"};
+  plane.tractions[0].boundary.sides = {"right"};
+  plane.tractions[0].value = {SceneScalar{-2.0}, SceneScalar{0.0}, SceneScalar{0.0}};
+  {
+    SCOPED_TRACE("a plane clamped on its top");
+    EXPECT_EQ(expect_scene_pieces_pose_the_whole_share<2>(plane, 3), 3);
+  }
+  plane.clamped.sides.clear();
+  plane.clamped.segments = {{0.4, 1.0, 0.6, 1.0}};
+  {
+    SCOPED_TRACE("a plane clamped on a segment of its top");
+    EXPECT_EQ(expect_scene_pieces_pose_the_whole_share<2>(plane, 3), 3);
+  }
+  Scene solid = parse_scene(test::scenes_dir() / "example-4.1-3d.toml");
+  solid.mesh.n = 4, solid.mesh.ny = 3, solid.mesh.nz = 12;
+  solid.clamped.sides = {"top"};
+  solid.tractions[0].boundary.sides = {"x1"};
+  solid.tractions[0].value = {SceneScalar{-2.0}, SceneScalar{0.0}, SceneScalar{0.0}};
+  for (const char* generator : {"cubes", "tetrahedra"}) {
+    SCOPED_TRACE(std::string("a solid of ") + generator + " clamped on its top");
+    solid.mesh.generator = generator;
+    EXPECT_EQ(expect_scene_pieces_pose_the_whole_share<3>(solid, 3), 3);
+  }
 }
 
 // supports at points, and loads on segments along a side: every piece holds the cells around

@@ -5,7 +5,6 @@
 
 #include "figure_style.hpp"
 #include "output_run.hpp"
-#include "process_text.hpp"
 #include "path_outputs.hpp"
 #include "result_json_common.hpp"
 
@@ -15,6 +14,7 @@
 #include <hemivem/app/solve.hpp>
 #include <hemivem/app/vtu.hpp>
 #include <hemivem/error.hpp>
+#include <hemivem/every_process.hpp>
 #include <hemivem/krylov_solver.hpp>
 #include <hemivem/row_distribution.hpp>
 #include <hemivem/support/atomic_file.hpp>
@@ -477,7 +477,7 @@ namespace {
 /// open the folder; ignored on the others), told to every process: empty when it is not open.
 /// Collective over `rows` (a row per process).
 fs::path staging_of_first(const RowDistribution& rows, const OutputTransaction* tx) {
-  return text_of(rows.all_gather(bytes_of(tx ? tx->staging().string() : "")));
+  return hemivem::detail::text_of(rows.all_gather(hemivem::detail::bytes_of(tx ? tx->staging().string() : "")));
 }
 
 /// Collective over `rows`: an InputError, on the process that could not write its piece (`why`

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include <hemivem/contact/pose_share.hpp>
+#include <hemivem/every_process.hpp>
 #include <hemivem/estimate/estimate_pieces.hpp>
 #include <hemivem/krylov_solver.hpp>
 #include <hemivem/app/outputs.hpp>
@@ -24,7 +25,6 @@
 
 #include "bodies.hpp"
 #include "output_run.hpp"
-#include "process_text.hpp"
 #include <hemivem/app/solve.hpp>
 #include <hemivem/app/solve3d.hpp>
 #include <hemivem/nonsmooth_minimizer.hpp>

@@ -626,6 +626,30 @@ constraint = "box"
   }
 }
 
+// a plane clamped on a segment of its top and a solid clamped on its top, pushed from a side:
+// each process's piece holds the cells along the contact's side alone, the support's facets among
+// its own cells (none, or the first column's, on the middle one) and the clamped vertices of the
+// others, gathered; the body held whole
+TEST(CliFullSpaceMpi, SupportsAPieceMeetsLittleOfAreGatheredAndTheCondensedAnswer) {
+  const struct {
+    std::string flags, name;
+  } cases[] = {{scene("paper-example-4.1.toml") +
+                    " --n 16 --set 'clamped={segments=[[0.3, 1.0, 0.7, 1.0]]}' --set 'loads.traction[0].side=\"right\"'"
+                    " --set 'loads.traction[0].value=[-2.0, 0.0]'",
+                "clamped-segment"},
+               {scene("example-4.1-3d.toml") +
+                    " --set 'mesh.n=[4, 3, 12]' --set 'clamped.side=[\"top\"]' --set 'loads.traction[0].side=\"x1\"'"
+                    " --set 'loads.traction[0].value=[-2.0, 0.0, 0.0]'",
+                "clamped-top-3d"}};
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.name);
+    const std::string flags = c.flags + " --tol 1e-11";
+    const fs::path ref = solve_condensed(flags, "condensed-" + c.name);
+    if (ref.empty()) return;
+    for (const int processes : {2, 3}) expect_processes_agree(flags, ref, processes, c.name, false, processes);
+  }
+}
+
 // a Voronoi mesh of a plane and of a solid, each process computing the cells of its share of the
 // seeds in the Lloyd iterations (in the plane from the seeds around them alone): the one
 // process's mesh (its vertices, cells, faces and h) and answer; each process makes its piece of

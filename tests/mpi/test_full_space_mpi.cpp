@@ -467,6 +467,36 @@ TEST(FullSpaceMpi, TheCommandsSolveAcrossProcessesStartsFromADisplacement) {
   EXPECT_LE((again.u - s.u).cwiseAbs().maxCoeff(), 1e-12 * s.u.cwiseAbs().maxCoeff());
 }
 
+// a posing one process refuses (its problem, as its piece of a mesh may be, its own: here held by
+// nothing) ends every process before the rows are distributed: that process with its error, the
+// others with an InputError naming it and its message, none waiting for it
+TEST(FullSpaceMpi, APosingOneProcessRefusesEndsEveryProcess) {
+  const Mesh mesh = make_squares(12);
+  const ProcessWorld world = krylov_world();
+  const int refusing = world.size > 1 ? 1 : 0;
+  ContactProblem p = example_4_1(mesh);
+  if (world.rank == refusing) p.elasticity.dirichlet.clear();
+  auto krylov = make_krylov_solver("petsc-gamg");
+  std::string message;
+  try {
+    FullSpaceShares<2> shares(p, *krylov, world, make_distributed_rows);
+    ADD_FAILURE() << "posed";
+  } catch (const InputError& e) {
+    message = e.what();
+  }
+  const auto prefix = [&](int rank) {
+    return rank == refusing ? std::string() : "process " + std::to_string(refusing) + " stopped: ";
+  };
+  EXPECT_EQ(message.rfind(prefix(world.rank), 0), 0u) << message;
+  EXPECT_NE(message.find("free"), std::string::npos) << message;
+  // the same refusal on every process
+  const Eigen::VectorXd lengths = process_rows()->all_gather(Eigen::VectorXd::Constant(1, static_cast<double>(message.size())));
+  for (int rank = 0; rank < world.size; ++rank)
+    EXPECT_EQ(lengths(rank) - static_cast<double>(prefix(rank).size()), lengths(refusing)) << "process " << rank;
+  // and the processes go on together
+  EXPECT_FALSE(FullSpaceShares<2>(example_4_1(mesh), *krylov, world, make_distributed_rows).load_is_zero());
+}
+
 // a bilateral part: the reactions of its tied rows come from the gathered residual
 TEST(FullSpaceMpi, TheCommandsSolveAcrossProcessesGathersTheTiedReactions) {
   const Mesh mesh = make_squares(12);

@@ -7,6 +7,7 @@
 #include <hemivem/contact/condensation.hpp>
 #include <hemivem/contact/solver.hpp>
 #include <hemivem/error.hpp>
+#include <hemivem/every_process.hpp>
 #include <hemivem/vem/assembly.hpp>
 #include <hemivem/vem/assembly3d.hpp>
 #include <hemivem/vem/rigid_motions.hpp>
@@ -308,9 +309,10 @@ Eigen::MatrixXd near_null_rows(const MeshOf<dim>& mesh, const Condensation& pose
 /// mesh holds every vertex (a piece of a generated mesh too, hemivem/mesh/box_piece.hpp), so each
 /// process finds the same motions.
 template <int dim>
-Eigen::MatrixXd free_motion_rows(const MeshOf<dim>& mesh, const Condensation& posed, const SystemRows& rows,
-                                 const std::vector<int>& owned_unknowns) {
-  const BasicRigidMotions<dim> free(mesh, rows.dofs);
+Eigen::MatrixXd free_motion_rows(const BasicElasticityProblem<dim>& problem, const Condensation& posed,
+                                 const SystemRows& rows, const std::vector<int>& owned_unknowns) {
+  const MeshOf<dim>& mesh = *problem.mesh;
+  const BasicRigidMotions<dim> free(mesh, rows.dofs, problem.piece_of_one_body);
   return owned_motion_rows<dim>(
       free.size(), [&](int k, int v) { return free.displacement(k, v); }, mesh, posed, rows, owned_unknowns);
 }
@@ -384,7 +386,7 @@ SharePosing<dim> pose_share_and_surface(const BasicContactProblem<dim>& problem,
   share_coordinates(posed, rows.first, rows.owned, share.share);
   share.near_null_space = near_null_rows<dim>(*problem.elasticity.mesh, posed, rows, owned_unknowns);
   if (!out.contact.held_by_contact.empty())
-    share.share.free_motions = free_motion_rows<dim>(*problem.elasticity.mesh, posed, rows, owned_unknowns);
+    share.share.free_motions = free_motion_rows<dim>(problem.elasticity, posed, rows, owned_unknowns);
   share.block_size = node_block_size(rows.dofs, dim);
   if (posed.joins_bodies()) out.dofs = std::move(rows.dofs);
   return out;
@@ -510,9 +512,24 @@ FullSpaceShares<dim>::FullSpaceShares(const BasicContactProblem<dim>& problem, K
                                       const RowDistributor& distribute, const std::vector<int>& vertex_order) {
   const auto start = std::chrono::steady_clock::now();
   const ShareVertices vertices = process_vertices(problem, world, vertex_order);
-  SharePosing<dim> posing = pose_share_and_surface(problem, vertices, surface_of(problem, vertices));
-  std::unique_ptr<RowDistribution> rows = distribute(posing.share.layout);
-  impl_ = std::make_unique<Impl>(std::move(posing), krylov, std::move(rows), since(start), vertices.owned());
+  std::optional<SharePosing<dim>> posing;
+  const auto pose = [&] {
+    posing.emplace(pose_share_and_surface(problem, vertices, surface_of(problem, vertices)));
+    return true;
+  };
+  if (world.size > 1) {
+    // a refusal one process meets (its piece of the mesh its own) is every process's: the others
+    // would wait for it in the distribution of the rows
+    RowLayout each;  // one row on each process, for the processes' collectives
+    each.first = world.rank;
+    each.owned = 1;
+    each.global = world.size;
+    on_every_process(*distribute(each), pose);
+  } else {
+    pose();
+  }
+  std::unique_ptr<RowDistribution> rows = distribute(posing->share.layout);
+  impl_ = std::make_unique<Impl>(std::move(*posing), krylov, std::move(rows), since(start), vertices.owned());
 }
 
 template <int dim>

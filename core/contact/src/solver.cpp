@@ -52,7 +52,8 @@ struct Kernels<2> {
   }
   static std::vector<std::string> held_by_contact(const ContactProblem& problem, const DofMap& dofs,
                                                   const ContactBoundary& boundary, const std::vector<ContactPart>& parts) {
-    return find_supports(*problem.elasticity.mesh, dofs, boundary, parts).held_by_contact;
+    return find_supports(*problem.elasticity.mesh, dofs, boundary, parts, problem.elasticity.piece_of_one_body)
+        .held_by_contact;
   }
   static ForceBalance balance(const ContactProblem& problem, const Eigen::VectorXd& u, const Vec2& contact) {
     return force_balance(problem.elasticity, u, contact);

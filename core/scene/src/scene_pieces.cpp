@@ -286,7 +286,9 @@ std::unique_ptr<BasicBuiltProblem<2>> build_problem_piece<2>(const Scene& scene,
   Mesh mesh = box_mesh_piece<2>(scene, piece);
   const std::vector<int> cut = grid_cut_facets(mesh, grid_vertices_of(scene));
   const detail::SupportsAcross across{&processes, piece.first_vertex, piece.end_vertex};
-  return detail::built_plane_on(scene, std::move(mesh), true, false, cut, &across);
+  auto built = detail::built_plane_on(scene, std::move(mesh), true, false, cut, &across);
+  built->problem.elasticity.piece_of_one_body = true;
+  return built;
 }
 
 template <>
@@ -296,7 +298,9 @@ std::unique_ptr<BasicBuiltProblem<3>> build_problem_piece<3>(const Scene& scene,
   Mesh3D mesh = box_mesh_piece<3>(scene, piece);
   const std::vector<int> cut = grid_cut_facets(mesh, grid_vertices_of(scene));
   const detail::SupportsAcross across{&processes, piece.first_vertex, piece.end_vertex};
-  return detail::built_solid(scene, std::move(mesh), true, cut, &across);
+  auto built = detail::built_solid(scene, std::move(mesh), true, cut, &across);
+  built->problem.elasticity.piece_of_one_body = true;
+  return built;
 }
 
 bool makes_body_pieces(const Scene& scene) {

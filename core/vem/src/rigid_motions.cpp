@@ -113,7 +113,8 @@ Eigen::Matrix<double, dim, 1> axis(int d) {
 }  // namespace
 
 template <int dim>
-BasicRigidMotions<dim>::BasicRigidMotions(const MeshType& mesh, const DofMap& dofs) : vertices_(mesh.vertices()) {
+BasicRigidMotions<dim>::BasicRigidMotions(const MeshType& mesh, const DofMap& dofs, bool whole_body)
+    : vertices_(mesh.vertices()) {
   int count = 0;
   const std::vector<int> piece = pieces_of_elements(mesh, &count);
   pieces_.resize(static_cast<std::size_t>(count));
@@ -149,6 +150,7 @@ BasicRigidMotions<dim>::BasicRigidMotions(const MeshType& mesh, const DofMap& do
       hi[0] = hi[0].cwiseMax(mesh.vertex(v));
     }
     vertices[0] = mesh.num_vertices();
+    if (whole_body) std::replace(piece_of_vertex_.begin(), piece_of_vertex_.end(), -1, 0);
   }
   for (std::size_t p = 0; p < pieces_.size(); ++p) {
     pieces_[p].center /= std::max(1, vertices[p]);

@@ -97,7 +97,9 @@ class FullSpaceShares {
  public:
   /// Poses the share of process world.rank (vertex_share, along `vertex_order` unless it is
   /// empty) and distributes the rows by `distribute`; `krylov` is kept by reference and must
-  /// outlive this. The InputErrors of pose_share, on every process alike.
+  /// outlive this. The errors of pose_share: a process whose posing fails throws its error, and
+  /// every other, before the rows are distributed, an InputError with its message
+  /// (on_every_process, hemivem/every_process.hpp), so that none waits for it.
   FullSpaceShares(const BasicContactProblem<dim>& problem, KrylovSolver& krylov, ProcessWorld world,
                   const RowDistributor& distribute, const std::vector<int>& vertex_order = {});
   ~FullSpaceShares();

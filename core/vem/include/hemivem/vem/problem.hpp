@@ -62,6 +62,12 @@ struct BasicElasticityProblem {
   VectorFieldOf<dim> body_force;  ///< f0; empty = none
   std::vector<BasicTractionLoad<dim>> tractions;
   std::vector<BasicDirichletCondition<dim>> dirichlet;
+  /// Whether `mesh` is a process's piece of the mesh of one connected body
+  /// (hemivem/scene/scene_pieces.hpp), which holds every vertex of the whole mesh and of the
+  /// cells only some: its vertices of no cell lie on the body too, and its supports may hold them
+  /// (BasicDirichletCondition::vertices), so the rigid motions the supports leave free are judged
+  /// of the whole body (BasicRigidMotions).
+  bool piece_of_one_body = false;
 };
 
 using DirichletCondition = BasicDirichletCondition<2>;

@@ -42,7 +42,11 @@ class BasicRigidMotions {
   static constexpr double relative_tolerance = 1e-8;
 
   BasicRigidMotions() = default;
-  BasicRigidMotions(const MeshType& mesh, const DofMap& dofs);
+  /// `whole_body`: the mesh is a process's piece of the mesh of one connected body, which holds
+  /// every vertex of the whole (BasicElasticityProblem::piece_of_one_body). Where its cells make
+  /// one piece, every vertex lies on it, those of none of its cells too, so that the motions and
+  /// what holds them are the whole body's. Otherwise a vertex of no cell lies on no piece.
+  BasicRigidMotions(const MeshType& mesh, const DofMap& dofs, bool whole_body = false);
 
   /// The number of independent free motions (0: the supports hold the whole mesh).
   int size() const noexcept { return static_cast<int>(basis_.cols()); }

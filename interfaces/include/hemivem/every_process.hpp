@@ -1,5 +1,5 @@
-// Texts across processes (private to hemivem::app): a text as all_gather carries it, and an
-// error that some processes meet made every process's.
+// Texts across processes: a text as all_gather carries it, and an error that some processes
+// meet made every process's, so that no process waits in a collective call for one that stopped.
 #pragma once
 
 #include <exception>
@@ -10,7 +10,9 @@
 #include <hemivem/error.hpp>
 #include <hemivem/row_distribution.hpp>
 
-namespace hemivem::app::detail {
+namespace hemivem {
+
+namespace detail {
 
 /// A text as values of a vector (one byte each), and back: what all_gather carries.
 inline Eigen::VectorXd bytes_of(const std::string& text) {
@@ -23,6 +25,8 @@ inline std::string text_of(const Eigen::VectorXd& v) {
   for (Eigen::Index k = 0; k < v.size(); ++k) text[static_cast<std::size_t>(k)] = static_cast<char>(static_cast<int>(v(k)));
   return text;
 }
+
+}  // namespace detail
 
 /// Collective over `rows`: `work()` on every process. When it throws on some, every process
 /// throws: those its own error, every other an InputError with the first such process's
@@ -42,9 +46,10 @@ auto on_every_process(const RowDistribution& rows, Work&& work) -> decltype(work
   Eigen::Index first = 0;
   while (first < flags.size() && flags(first) == 0.0) ++first;
   if (first == flags.size()) return out;
-  const std::string message = text_of(rows.all_gather(bytes_of(rows.rank() == first ? why : std::string())));
+  const std::string message =
+      detail::text_of(rows.all_gather(detail::bytes_of(rows.rank() == first ? why : std::string())));
   if (failed) std::rethrow_exception(failed);
   throw InputError("process " + std::to_string(first) + " stopped: " + message);
 }
 
-}  // namespace hemivem::app::detail
+}  // namespace hemivem
