@@ -473,25 +473,6 @@ TEST(BoxPiece, WhatThePiecesSupportsLeaveFreeIsNamedAsOnTheWholeMesh) {
   }
 }
 
-/// The facets of cell c, each as its sorted vertices: a plane cell's edges, a solid cell's faces.
-std::set<std::vector<int>> cell_facets_of(const Mesh& mesh, int c) {
-  std::set<std::vector<int>> out;
-  const auto loop = mesh.element(c);
-  for (std::size_t k = 0; k < loop.size(); ++k) {
-    const int a = loop[k], b = loop[(k + 1) % loop.size()];
-    out.insert({std::min(a, b), std::max(a, b)});
-  }
-  return out;
-}
-std::set<std::vector<int>> cell_facets_of(const Mesh3D& mesh, int c) {
-  std::set<std::vector<int>> out;
-  for (std::vector<int> loop : mesh.cell(c)) {
-    std::sort(loop.begin(), loop.end());
-    out.insert(std::move(loop));
-  }
-  return out;
-}
-
 /// The pieces `size` processes make of the scene's generated box (scene_piece,
 /// build_problem_piece, the processes played by threads), without the whole mesh: each a piece
 /// of the whole holding every cell of the process's vertices, of the contact, and around every
@@ -543,7 +524,7 @@ int expect_scene_pieces_pose_the_whole_share(const Scene& scene, int size) {
     }
     std::set<std::vector<int>> among;  // the supports' and loads' facets of the piece's cells
     for (const int c : held)
-      for (const auto& f : cell_facets_of(whole->mesh, c))
+      for (const auto& f : facets_of_cell(whole->mesh, c))
         if (named.count(f)) among.insert(f);
     std::set<std::vector<int>> facets, parts;
     EXPECT_EQ(built->problem.elasticity.dirichlet.size(), supported.size());

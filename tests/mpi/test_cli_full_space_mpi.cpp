@@ -19,6 +19,7 @@
 #include <fstream>
 #include <functional>
 #include <sstream>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -586,6 +587,23 @@ TEST(CliFullSpaceMpi, ADistortedOrNonconvexMeshEachProcessMakesItsPieceOfIsTheCo
   }
 }
 
+/// A scene's flags and the name of its outputs' folders.
+struct SceneRun {
+  std::string flags, name;
+};
+
+/// Each of `runs` on 2 and 3 processes, each making its piece of the mesh, against the condensed
+/// route in one (expect_processes_agree).
+void expect_pieces_agree(std::span<const SceneRun> runs) {
+  for (const SceneRun& c : runs) {
+    SCOPED_TRACE(c.name);
+    const std::string flags = c.flags + " --tol 1e-11";
+    const fs::path ref = solve_condensed(flags, "condensed-" + c.name);
+    if (ref.empty()) return;
+    for (const int processes : {2, 3}) expect_processes_agree(flags, ref, processes, c.name, false, processes);
+  }
+}
+
 // segments across a generated box (lines through Example 4.1's squares, which pick no edge) and
 // along a polar grid's rays (a half ring held along its diameter): each process makes its piece,
 // holding every side, and no segment picks an edge where the pieces meet
@@ -612,18 +630,10 @@ law = "paper"
 gap = 0.02
 constraint = "box"
 )";
-  const struct {
-    std::string flags, name;
-  } cases[] = {{scene("paper-example-4.1.toml") + " --n 16 --set 'contact.segments=[[0.0, 0.5, 1.0, 0.5], [0.0, 0.25, 1.0, 0.25]]'",
+  const SceneRun cases[] = {{scene("paper-example-4.1.toml") + " --n 16 --set 'contact.segments=[[0.0, 0.5, 1.0, 0.5], [0.0, 0.25, 1.0, 0.25]]'",
                 "squares-segments"},
                {ring.string(), "polar-segments"}};
-  for (const auto& c : cases) {
-    SCOPED_TRACE(c.name);
-    const std::string flags = c.flags + " --tol 1e-11";
-    const fs::path ref = solve_condensed(flags, "condensed-" + c.name);
-    if (ref.empty()) return;
-    for (const int processes : {2, 3}) expect_processes_agree(flags, ref, processes, c.name, false, processes);
-  }
+  expect_pieces_agree(cases);
 }
 
 // a plane clamped on a segment of its top and a solid clamped on its top, pushed from a side:
@@ -631,9 +641,7 @@ constraint = "box"
 // its own cells (none, or the first column's, on the middle one) and the clamped vertices of the
 // others, gathered; the body held whole
 TEST(CliFullSpaceMpi, SupportsAPieceMeetsLittleOfAreGatheredAndTheCondensedAnswer) {
-  const struct {
-    std::string flags, name;
-  } cases[] = {{scene("paper-example-4.1.toml") +
+  const SceneRun cases[] = {{scene("paper-example-4.1.toml") +
                     " --n 16 --set 'clamped={segments=[[0.3, 1.0, 0.7, 1.0]]}' --set 'loads.traction[0].side=\"right\"'"
                     " --set 'loads.traction[0].value=[-2.0, 0.0]'",
                 "clamped-segment"},
@@ -641,13 +649,7 @@ TEST(CliFullSpaceMpi, SupportsAPieceMeetsLittleOfAreGatheredAndTheCondensedAnswe
                     " --set 'mesh.n=[4, 3, 12]' --set 'clamped.side=[\"top\"]' --set 'loads.traction[0].side=\"x1\"'"
                     " --set 'loads.traction[0].value=[-2.0, 0.0, 0.0]'",
                 "clamped-top-3d"}};
-  for (const auto& c : cases) {
-    SCOPED_TRACE(c.name);
-    const std::string flags = c.flags + " --tol 1e-11";
-    const fs::path ref = solve_condensed(flags, "condensed-" + c.name);
-    if (ref.empty()) return;
-    for (const int processes : {2, 3}) expect_processes_agree(flags, ref, processes, c.name, false, processes);
-  }
+  expect_pieces_agree(cases);
 }
 
 // a Voronoi mesh of a plane and of a solid, each process computing the cells of its share of the
