@@ -14,6 +14,9 @@
 #include <hemivem/scene/resources.hpp>
 #include <hemivem/support/names.hpp>
 #include <hemivem/mesh/vertex_order.hpp>
+#include <hemivem/vem/assembly.hpp>
+#include <hemivem/vem/assembly3d.hpp>
+#include <hemivem/vem/rigid_motions.hpp>
 
 #include "scene_problem.hpp"
 
@@ -550,9 +553,16 @@ std::unique_ptr<BasicBuiltProblem<dim>> cut_problem_piece(std::unique_ptr<BasicB
                                                           PieceOfMesh& where) {
   const MeshOf<dim>& mesh = whole->mesh;
   const BasicContactProblem<dim>& problem = whole->problem;
+  // a mesh of one connected body (one piece by the rigid motions' rule): the piece is one too
+  // (piece_cells_around), keeps the cells of the contact's facets alone, and of the supports and
+  // loads the facets among its cells, each support holding every vertex it holds of the whole
+  const bool one_body =
+      whole->bodies.empty() && BasicRigidMotions<dim>(mesh, make_dof_map(mesh, {})).num_pieces() == 1;
   std::vector<int> facets;
-  for (const auto& d : problem.elasticity.dirichlet) facets.insert(facets.end(), d.facets.begin(), d.facets.end());
-  for (const auto& t : problem.elasticity.tractions) facets.insert(facets.end(), t.facets.begin(), t.facets.end());
+  if (!one_body) {
+    for (const auto& d : problem.elasticity.dirichlet) facets.insert(facets.end(), d.facets.begin(), d.facets.end());
+    for (const auto& t : problem.elasticity.tractions) facets.insert(facets.end(), t.facets.begin(), t.facets.end());
+  }
   for (const auto& p : problem.parts) {
     facets.insert(facets.end(), p.facets.begin(), p.facets.end());
     facets.insert(facets.end(), p.against.begin(), p.against.end());
@@ -566,6 +576,14 @@ std::unique_ptr<BasicBuiltProblem<dim>> cut_problem_piece(std::unique_ptr<BasicB
     for (int v : d.vertices) around[static_cast<std::size_t>(v)] = 1;
   where.cells = piece_cells_around(mesh, around, facets);
   where.whole_cells = mesh.num_cells();
+  std::vector<std::vector<int>> supported;  // each support's vertices of the whole mesh
+  if (one_body)
+    for (const auto& d : problem.elasticity.dirichlet) {
+      std::vector<int> held = d.held_vertices(mesh);
+      std::sort(held.begin(), held.end());
+      held.erase(std::unique(held.begin(), held.end()), held.end());
+      supported.push_back(std::move(held));
+    }
   // the whole problem on the piece: its facets renumbered, the rest (numbered by vertices, or
   // functions of the point) as it is
   auto out = std::make_unique<BasicBuiltProblem<dim>>();
@@ -577,10 +595,23 @@ std::unique_ptr<BasicBuiltProblem<dim>> cut_problem_piece(std::unique_ptr<BasicB
       if (f < 0) throw InternalError("cut_problem_piece: a facet of the problem lies outside the piece");
     }
   };
+  const auto among = [&](std::vector<int>& ids) {  // those the piece holds, renumbered
+    std::erase_if(ids, [&](int f) { return facet_of[static_cast<std::size_t>(f)] < 0; });
+    renumber(ids);
+  };
   out->problem = std::move(whole->problem);
   out->problem.elasticity.mesh = &out->mesh;
-  for (auto& d : out->problem.elasticity.dirichlet) renumber(d.facets);
-  for (auto& t : out->problem.elasticity.tractions) renumber(t.facets);
+  out->problem.elasticity.piece_of_one_body = one_body;
+  for (std::size_t k = 0; k < out->problem.elasticity.dirichlet.size(); ++k) {
+    auto& d = out->problem.elasticity.dirichlet[k];
+    if (!one_body) {
+      renumber(d.facets);
+      continue;
+    }
+    among(d.facets);
+    d.vertices.insert(d.vertices.end(), supported[k].begin(), supported[k].end());
+  }
+  for (auto& t : out->problem.elasticity.tractions) one_body ? among(t.facets) : renumber(t.facets);
   for (auto& p : out->problem.parts) {
     renumber(p.facets);
     renumber(p.against);

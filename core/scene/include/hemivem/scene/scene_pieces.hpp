@@ -151,11 +151,15 @@ bool cuts_pieces(const Scene& scene);
 /// that process `rank` of `size` keeps (hemivem/mesh/mesh_piece.hpp): the process's vertices are
 /// its share (vertex_share) of the mesh's hilbert_vertex_order, the cells those around them and
 /// around the vertices supported alone (a support's points), and those of every facet of the
-/// problem's supports, loads and contact parts, a surface of another body they meet included
-/// (piece_cells_around: each body's kept cells one). The same problem on fewer cells: its vertices
-/// and their numbers the whole mesh's, its facets the piece's of the same facets, each body's
-/// cells the piece's of that body (BodyRange); `whole` is given back. `where` tells where the
-/// piece lies.
+/// problem's contact parts, a surface of another body they meet included, and of several bodies'
+/// or a mesh in several pieces' supports and loads (piece_cells_around: each body's kept cells
+/// one). The same problem on fewer cells: its vertices and their numbers the whole mesh's, its
+/// facets the piece's of the same facets, each body's cells the piece's of that body
+/// (BodyRange); `whole` is given back. A mesh of one connected body is cut as a generated box's
+/// piece is made (build_problem_piece): its supports and loads hold the facets among the
+/// piece's cells alone (every facet at one of the process's vertices), each support holding
+/// besides every vertex it holds of the whole mesh (BasicDirichletCondition::vertices), and the
+/// problem is marked piece_of_one_body. `where` tells where the piece lies.
 template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> cut_problem_piece(std::unique_ptr<BasicBuiltProblem<dim>> whole, int rank, int size,
                                                           PieceOfMesh& where);
