@@ -14,6 +14,9 @@
 #include <hemivem/mesh/vertex_order.hpp>
 #include <hemivem/scene/scene.hpp>
 #include <hemivem/scene/scene_pieces.hpp>
+#include <hemivem/vem/assembly.hpp>
+#include <hemivem/vem/assembly3d.hpp>
+#include <hemivem/vem/rigid_motions.hpp>
 
 #include <gtest/gtest.h>
 
@@ -28,6 +31,7 @@
 #include <vector>
 
 #include "gmsh_squares.hpp"
+#include "piece_parts.hpp"
 #include "posed_share_checks.hpp"
 #include "test_support.hpp"
 #include "thread_rows.hpp"
@@ -320,13 +324,30 @@ TEST(MeshPieceRead, AFileTheWholeReaderRefusesIsRefusedByThePieces) {
   fs::remove(defect);
 }
 
+/// Expects of the piece `piece` (the cells `cells` of the mesh of `whole`, a scene of one body)
+/// that it is one body whose every vertex lies on it (piece_of_one_body); that its contact
+/// parts hold the whole's facets, its supports and loads those of the whole among its cells,
+/// each support every vertex it holds of the whole. Whether it holds fewer facets of the
+/// supports and loads than the whole.
+template <int dim>
+bool expect_one_body_piece(const BasicBuiltProblem<dim>& piece, const BasicBuiltProblem<dim>& whole,
+                           const std::vector<int>& cells) {
+  EXPECT_TRUE(piece.problem.elasticity.piece_of_one_body);
+  EXPECT_EQ(BasicRigidMotions<dim>(piece.mesh, make_dof_map(piece.mesh, {})).num_pieces(), 1);
+  return test::WholeParts<dim>(whole).expect_held_by(piece, whole.mesh, std::set<int>(cells.begin(), cells.end()),
+                                                      true, true);
+}
+
 /// The problem of the scene on each of three processes' pieces (piece_of(rank, size, where):
 /// read from its file, or made from its cells' lists) poses the share of the whole problem to
-/// the bit; each piece holds every cell around each vertex a support at a point holds.
+/// the bit; each piece holds every cell around each vertex a support at a point holds, and is a
+/// piece of one body (expect_one_body_piece). Returns how many pieces hold fewer facets of the
+/// supports and loads than the whole.
 template <int dim, class PieceOf>
-void expect_problem_pieces_pose_the_whole_share(const Scene& scene, PieceOf piece_of) {
+int expect_problem_pieces_pose_the_whole_share(const Scene& scene, PieceOf piece_of) {
   const auto whole = build_problem<dim>(scene);
   const std::vector<int> order = hilbert_vertex_order(whole->mesh);
+  int fewer = 0;
   for (int rank = 0; rank < 3; ++rank) {
     SCOPED_TRACE("rank " + std::to_string(rank));
     PieceOfMesh where;
@@ -345,26 +366,29 @@ void expect_problem_pieces_pose_the_whole_share(const Scene& scene, PieceOf piec
           for (const auto& loop : loops) around = around || std::find(loop.begin(), loop.end(), v) != loop.end();
           if (around) EXPECT_TRUE(held.count(c)) << "cell " << c << " around the supported vertex " << v;
         }
+    fewer += expect_one_body_piece<dim>(*piece, *whole, where.cells) ? 1 : 0;
     test::expect_same_share(pose_share(piece->problem, order, first, end), pose_share(whole->problem, order, first, end));
   }
+  return fewer;
 }
 
 /// The same of the pieces read from the scene's file.
 template <int dim>
-void expect_read_problem_pieces_pose_the_whole_share(const Scene& scene) {
-  ASSERT_TRUE(reads_pieces(scene));
-  expect_problem_pieces_pose_the_whole_share<dim>(
+int expect_read_problem_pieces_pose_the_whole_share(const Scene& scene) {
+  EXPECT_TRUE(reads_pieces(scene));
+  return expect_problem_pieces_pose_the_whole_share<dim>(
       scene, [&](int rank, int size, PieceOfMesh& where) { return read_problem_piece<dim>(scene, rank, size, where); });
 }
 
 TEST(MeshPieceRead, TheProblemOnAPieceReadFromTheFilePosesTheWholeShare) {
-  expect_read_problem_pieces_pose_the_whole_share<3>(parse_scene(test::scenes_dir() / "gmsh-bracket-3d.toml"));
+  // its supports and load on face groups, its contact on one: each piece holds those among its cells
+  EXPECT_GT(expect_read_problem_pieces_pose_the_whole_share<3>(parse_scene(test::scenes_dir() / "gmsh-bracket-3d.toml")), 0);
   const fs::path squares = write_text("squares-scene.msh", test::squares_msh(24, 12));
   Scene plane = parse_scene(test::scenes_dir() / "paper-example-4.1.toml");
   plane.mesh.file = squares;
   plane.contact->boundary = BoundarySelector{};
   plane.contact->boundary.groups = {"bottom"};
-  expect_read_problem_pieces_pose_the_whole_share<2>(plane);
+  EXPECT_EQ(expect_read_problem_pieces_pose_the_whole_share<2>(plane), 3);  // its sides clamped, its top pressed
   {
     SCOPED_TRACE("a region box, whose cells some pieces do not hold");
     Scene boxed = plane;
@@ -389,7 +413,7 @@ TEST(MeshPieceRead, TheProblemOnAPieceReadFromTheFilePosesTheWholeShare) {
   solid.mesh.file = cubes;
   inside.boundary.points = {{0.25, 0.25, 0.75}};
   solid.dirichlet.push_back(inside);
-  expect_read_problem_pieces_pose_the_whole_share<3>(solid);
+  EXPECT_EQ(expect_read_problem_pieces_pose_the_whole_share<3>(solid), 3);
   fs::remove(cubes);
 }
 
@@ -425,10 +449,13 @@ TEST(MeshPieceRead, ASegmentPicksOnAPieceTheWholeMeshsBoundaryFacetsAlone) {
 }
 
 /// The problem of the scene on each of three processes' pieces of its Voronoi mesh (played by
-/// threads, which split the Lloyd iterations) poses the share of the whole problem to the bit.
+/// threads, which split the Lloyd iterations) poses the share of the whole problem to the bit,
+/// each a piece of one body (expect_one_body_piece). Returns how many pieces hold fewer facets
+/// of the supports and loads than the whole.
 template <int dim>
-void expect_voronoi_pieces_pose_the_whole_share(const Scene& scene) {
-  ASSERT_TRUE(makes_voronoi_pieces(scene));
+int expect_voronoi_pieces_pose_the_whole_share(const Scene& scene) {
+  EXPECT_TRUE(makes_voronoi_pieces(scene));
+  int fewer = 0;
   const auto whole = build_problem<dim>(scene);
   const std::vector<int> order = hilbert_vertex_order(whole->mesh);
   auto made = test::on_threads(3, [&](const test::ThreadRows& rows) {
@@ -446,8 +473,10 @@ void expect_voronoi_pieces_pose_the_whole_share(const Scene& scene) {
     EXPECT_EQ(where->whole_cells, num_cells_of(whole->mesh));
     EXPECT_LT(static_cast<int>(where->cells.size()), where->whole_cells);
     EXPECT_EQ(piece->mesh.vertices(), whole->mesh.vertices());
+    fewer += expect_one_body_piece<dim>(*piece, *whole, where->cells) ? 1 : 0;
     test::expect_same_share(pose_share(piece->problem, order, first, end), pose_share(whole->problem, order, first, end));
   }
+  return fewer;
 }
 
 // Example 4.1 in the plane and in a solid, and a contact part on a segment with supports on
@@ -458,7 +487,7 @@ TEST(MeshPieceRead, TheProblemOnAVoronoiMeshsPiecePosesTheWholeShare) {
     Scene scene = parse_scene(test::scenes_dir() / name);
     scene.mesh.n = 24;
     scene.mesh.ny.reset();
-    expect_voronoi_pieces_pose_the_whole_share<2>(scene);
+    EXPECT_EQ(expect_voronoi_pieces_pose_the_whole_share<2>(scene), 3);
   }
   {
     SCOPED_TRACE("example-4.1-3d.toml on Voronoi cells");
@@ -467,7 +496,7 @@ TEST(MeshPieceRead, TheProblemOnAVoronoiMeshsPiecePosesTheWholeShare) {
     solid.mesh.n = 10;
     solid.mesh.ny = 5;
     solid.mesh.nz = 10;
-    expect_voronoi_pieces_pose_the_whole_share<3>(solid);
+    EXPECT_EQ(expect_voronoi_pieces_pose_the_whole_share<3>(solid), 3);
   }
   Scene scene = parse_scene(test::scenes_dir() / "paper-example-4.1-voronoi.toml");
   Scene adaptive = scene;
@@ -493,7 +522,7 @@ TEST(MeshPieceRead, TheProblemOnAPolygonMeshsPiecePosesTheWholeShare) {
     SCOPED_TRACE(generator);
     scene.mesh.generator = generator;
     ASSERT_TRUE(makes_polygon_pieces(scene));
-    expect_problem_pieces_pose_the_whole_share<2>(scene, polygon_piece);
+    EXPECT_GT(expect_problem_pieces_pose_the_whole_share<2>(scene, polygon_piece), 0);
   }
   const PolygonDomain bracket{{{0.0, 0.0}, {1.0, 0.0}, {1.0, 0.4}, {0.4, 0.4}, {0.4, 1.0}, {0.0, 1.0}}};
   const auto seed = static_cast<std::uint64_t>(scene.mesh.seed);

@@ -454,17 +454,106 @@ bool reads_pieces(const Scene& scene) {
 
 namespace {
 
+/// The problem `held` (on a mesh made whole, or on a process's piece of it that holds the cells
+/// of every facet its selectors may pick) on the piece of its mesh around the vertices `around`
+/// flags (cut_problem_piece's rule), `held` given back: `cells` the piece's cells, increasing
+/// numbers of the cells of held->mesh.
+template <int dim>
+std::unique_ptr<BasicBuiltProblem<dim>> keep_around(std::unique_ptr<BasicBuiltProblem<dim>> held, std::vector<char> around,
+                                                    std::vector<int>& cells) {
+  const MeshOf<dim>& mesh = held->mesh;
+  const BasicContactProblem<dim>& problem = held->problem;
+  // a mesh of one connected body (one piece by the rigid motions' rule): the piece is one too
+  // (piece_cells_around), keeps the cells of the contact's facets alone, and of the supports and
+  // loads the facets among its cells, each support holding every vertex it holds of the mesh
+  const bool one_body =
+      held->bodies.empty() && BasicRigidMotions<dim>(mesh, make_dof_map(mesh, {})).num_pieces() == 1;
+  std::vector<int> facets;
+  if (!one_body) {
+    for (const auto& d : problem.elasticity.dirichlet) facets.insert(facets.end(), d.facets.begin(), d.facets.end());
+    for (const auto& t : problem.elasticity.tractions) facets.insert(facets.end(), t.facets.begin(), t.facets.end());
+  }
+  for (const auto& p : problem.parts) {
+    facets.insert(facets.end(), p.facets.begin(), p.facets.end());
+    facets.insert(facets.end(), p.against.begin(), p.against.end());
+  }
+  // the cells around the process's vertices and around the vertices supported alone (a body's
+  // supports, when they are points, are in every piece of it)
+  for (const auto& d : problem.elasticity.dirichlet)
+    for (int v : d.vertices) around[static_cast<std::size_t>(v)] = 1;
+  cells = piece_cells_around(mesh, around, facets);
+  std::vector<std::vector<int>> supported;  // each support's vertices of the mesh
+  if (one_body)
+    for (const auto& d : problem.elasticity.dirichlet) {
+      std::vector<int> vertices = d.held_vertices(mesh);
+      std::sort(vertices.begin(), vertices.end());
+      vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+      supported.push_back(std::move(vertices));
+    }
+  // the problem on the piece: its facets renumbered, the rest (numbered by vertices, or
+  // functions of the point) as it is
+  auto out = std::make_unique<BasicBuiltProblem<dim>>();
+  std::vector<int> facet_of;
+  out->mesh = cut_mesh_piece(mesh, cells, &facet_of);
+  const auto renumber = [&](std::vector<int>& ids) {
+    for (int& f : ids) {
+      f = facet_of[static_cast<std::size_t>(f)];
+      if (f < 0) throw InternalError("cut_problem_piece: a facet of the problem lies outside the piece");
+    }
+  };
+  const auto among = [&](std::vector<int>& ids) {  // those the piece holds, renumbered
+    std::erase_if(ids, [&](int f) { return facet_of[static_cast<std::size_t>(f)] < 0; });
+    renumber(ids);
+  };
+  out->problem = std::move(held->problem);
+  out->problem.elasticity.mesh = &out->mesh;
+  out->problem.elasticity.piece_of_one_body = one_body;
+  for (std::size_t k = 0; k < out->problem.elasticity.dirichlet.size(); ++k) {
+    auto& d = out->problem.elasticity.dirichlet[k];
+    if (!one_body) {
+      renumber(d.facets);
+      continue;
+    }
+    among(d.facets);
+    d.vertices.insert(d.vertices.end(), supported[k].begin(), supported[k].end());
+  }
+  for (auto& t : out->problem.elasticity.tractions) one_body ? among(t.facets) : renumber(t.facets);
+  for (auto& p : out->problem.parts) {
+    renumber(p.facets);
+    renumber(p.against);
+  }
+  out->has_contact = held->has_contact;
+  out->warnings = std::move(held->warnings);
+  out->bodies = std::move(held->bodies);
+  for (BodyRange& b : out->bodies) {  // the piece's cells of each body, in the mesh's order
+    const auto first = std::lower_bound(cells.begin(), cells.end(), b.first_cell);
+    const auto end = std::lower_bound(cells.begin(), cells.end(), b.first_cell + b.cells);
+    b.first_cell = static_cast<int>(first - cells.begin());
+    b.cells = static_cast<int>(end - first);
+  }
+  held.reset();
+  return out;
+}
+
 /// The scene's problem on the piece `read` (a file's or a mesh made as lists), no selector picking
-/// the facets where it meets the others; where it lies in the whole mesh into `where` (its
-/// share and cells taken).
+/// the facets where it meets the others, then on the piece of it that keep_around keeps (the
+/// cells of every boundary facet `read` holds are those any selector may pick; of a mesh of one
+/// body the contact's alone are kept); where it lies in the whole mesh into `where` (its share
+/// and cells taken).
 template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> built_on_piece(const Scene& scene, MeshPieceRead<MeshOf<dim>>& read,
                                                        PieceOfMesh& where) {
   where.vertices = VertexShare{read.first, read.end, std::move(read.order)};
-  where.cells = std::move(read.cells);
   where.whole_cells = read.whole_cells;
-  if constexpr (dim == 2) return detail::built_plane_on(scene, std::move(read.mesh), true, false, read.cut_facets);
-  else return detail::built_solid(scene, std::move(read.mesh), false, read.cut_facets);
+  const int vertices = read.mesh.num_vertices();
+  std::unique_ptr<BasicBuiltProblem<dim>> held;
+  if constexpr (dim == 2) held = detail::built_plane_on(scene, std::move(read.mesh), true, false, read.cut_facets);
+  else held = detail::built_solid(scene, std::move(read.mesh), false, read.cut_facets);
+  std::vector<int> kept;
+  auto out = keep_around<dim>(std::move(held), where.vertices.mask(vertices), kept);
+  where.cells.resize(kept.size());
+  for (std::size_t k = 0; k < kept.size(); ++k) where.cells[k] = read.cells[static_cast<std::size_t>(kept[k])];
+  return out;
 }
 
 }  // namespace
@@ -551,82 +640,11 @@ bool cuts_pieces(const Scene& scene) {
 template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> cut_problem_piece(std::unique_ptr<BasicBuiltProblem<dim>> whole, int rank, int size,
                                                           PieceOfMesh& where) {
-  const MeshOf<dim>& mesh = whole->mesh;
-  const BasicContactProblem<dim>& problem = whole->problem;
-  // a mesh of one connected body (one piece by the rigid motions' rule): the piece is one too
-  // (piece_cells_around), keeps the cells of the contact's facets alone, and of the supports and
-  // loads the facets among its cells, each support holding every vertex it holds of the whole
-  const bool one_body =
-      whole->bodies.empty() && BasicRigidMotions<dim>(mesh, make_dof_map(mesh, {})).num_pieces() == 1;
-  std::vector<int> facets;
-  if (!one_body) {
-    for (const auto& d : problem.elasticity.dirichlet) facets.insert(facets.end(), d.facets.begin(), d.facets.end());
-    for (const auto& t : problem.elasticity.tractions) facets.insert(facets.end(), t.facets.begin(), t.facets.end());
-  }
-  for (const auto& p : problem.parts) {
-    facets.insert(facets.end(), p.facets.begin(), p.facets.end());
-    facets.insert(facets.end(), p.against.begin(), p.against.end());
-  }
-  where.vertices.order = hilbert_vertex_order(mesh);
-  std::tie(where.vertices.first, where.vertices.end) = vertex_share(mesh.num_vertices(), rank, size);
-  // the cells around the process's vertices and around the vertices supported alone (a body's
-  // supports, when they are points, are in every piece of it)
-  std::vector<char> around = where.vertices.mask(mesh.num_vertices());
-  for (const auto& d : problem.elasticity.dirichlet)
-    for (int v : d.vertices) around[static_cast<std::size_t>(v)] = 1;
-  where.cells = piece_cells_around(mesh, around, facets);
-  where.whole_cells = mesh.num_cells();
-  std::vector<std::vector<int>> supported;  // each support's vertices of the whole mesh
-  if (one_body)
-    for (const auto& d : problem.elasticity.dirichlet) {
-      std::vector<int> held = d.held_vertices(mesh);
-      std::sort(held.begin(), held.end());
-      held.erase(std::unique(held.begin(), held.end()), held.end());
-      supported.push_back(std::move(held));
-    }
-  // the whole problem on the piece: its facets renumbered, the rest (numbered by vertices, or
-  // functions of the point) as it is
-  auto out = std::make_unique<BasicBuiltProblem<dim>>();
-  std::vector<int> facet_of;
-  out->mesh = cut_mesh_piece(mesh, where.cells, &facet_of);
-  const auto renumber = [&](std::vector<int>& ids) {
-    for (int& f : ids) {
-      f = facet_of[static_cast<std::size_t>(f)];
-      if (f < 0) throw InternalError("cut_problem_piece: a facet of the problem lies outside the piece");
-    }
-  };
-  const auto among = [&](std::vector<int>& ids) {  // those the piece holds, renumbered
-    std::erase_if(ids, [&](int f) { return facet_of[static_cast<std::size_t>(f)] < 0; });
-    renumber(ids);
-  };
-  out->problem = std::move(whole->problem);
-  out->problem.elasticity.mesh = &out->mesh;
-  out->problem.elasticity.piece_of_one_body = one_body;
-  for (std::size_t k = 0; k < out->problem.elasticity.dirichlet.size(); ++k) {
-    auto& d = out->problem.elasticity.dirichlet[k];
-    if (!one_body) {
-      renumber(d.facets);
-      continue;
-    }
-    among(d.facets);
-    d.vertices.insert(d.vertices.end(), supported[k].begin(), supported[k].end());
-  }
-  for (auto& t : out->problem.elasticity.tractions) one_body ? among(t.facets) : renumber(t.facets);
-  for (auto& p : out->problem.parts) {
-    renumber(p.facets);
-    renumber(p.against);
-  }
-  out->has_contact = whole->has_contact;
-  out->warnings = std::move(whole->warnings);
-  out->bodies = std::move(whole->bodies);
-  for (BodyRange& b : out->bodies) {  // the piece's cells of each body, in the whole's order
-    const auto first = std::lower_bound(where.cells.begin(), where.cells.end(), b.first_cell);
-    const auto end = std::lower_bound(where.cells.begin(), where.cells.end(), b.first_cell + b.cells);
-    b.first_cell = static_cast<int>(first - where.cells.begin());
-    b.cells = static_cast<int>(end - first);
-  }
-  whole.reset();
-  return out;
+  const int vertices = whole->mesh.num_vertices();
+  where.vertices.order = hilbert_vertex_order(whole->mesh);
+  std::tie(where.vertices.first, where.vertices.end) = vertex_share(vertices, rank, size);
+  where.whole_cells = whole->mesh.num_cells();
+  return keep_around<dim>(std::move(whole), where.vertices.mask(vertices), where.cells);
 }
 
 template std::unique_ptr<BasicBuiltProblem<2>> cut_problem_piece<2>(std::unique_ptr<BasicBuiltProblem<2>>, int, int,

@@ -68,8 +68,11 @@ bool reads_pieces(const Scene& scene);
 /// and region, and around the vertex each support at a point holds), without making the whole
 /// mesh: the same problem on fewer cells, its vertices
 /// and their numbers the whole mesh's, its memory estimated of the whole mesh; no selector picks
-/// a facet where the piece meets the others (MeshPieceRead::cut_facets). `where` tells
-/// where the piece lies. Errors as build_problem's that the piece shows (a defect of cells
+/// a facet where the piece meets the others (MeshPieceRead::cut_facets). The problem is then
+/// kept on the piece of that piece which cut_problem_piece keeps of a whole mesh: of a mesh of
+/// one connected body the cells of the contact alone besides those around the process's
+/// vertices, its supports and loads holding the facets among them, each support every vertex it
+/// holds of the whole mesh (piece_of_one_body). `where` tells where the piece lies. Errors as build_problem's that the piece shows (a defect of cells
 /// outside it is another process's to find; the regions are checked across the processes,
 /// check_regions_of_pieces).
 template <int dim>
@@ -85,7 +88,8 @@ bool makes_voronoi_pieces(const Scene& scene);
 /// iterations split among the processes, then the piece chosen among the cells' vertex lists by
 /// read_problem_piece's rule and only its mesh made): the same problem on fewer cells, its
 /// vertices and their numbers the whole mesh's; no selector picks a facet where the piece meets
-/// the others. `where` tells where the piece lies.
+/// the others; kept, as read_problem_piece keeps it, on the contact's cells alone of the boundary.
+/// `where` tells where the piece lies.
 template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> voronoi_problem_piece(const Scene& scene, const RowDistribution& processes,
                                                               PieceOfMesh& where);
@@ -99,7 +103,8 @@ bool makes_polygon_pieces(const Scene& scene);
 /// `size` makes (make_mesh_piece: the cells made as lists, then the piece chosen among them by
 /// read_problem_piece's rule and only its mesh made; its edge groups the whole mesh's): the same
 /// problem on fewer cells, its vertices and their numbers the whole mesh's; no selector picks an
-/// edge where the piece meets the others. `where` tells where the piece lies.
+/// edge where the piece meets the others; kept, as read_problem_piece keeps it, on the contact's
+/// cells alone of the boundary. `where` tells where the piece lies.
 std::unique_ptr<BuiltProblem> polygon_problem_piece(const Scene& scene, int rank, int size, PieceOfMesh& where);
 
 /// Whether each process makes only its piece of each body's mesh (build_bodies_piece): a scene
