@@ -325,14 +325,14 @@ TEST(MeshPieceRead, AFileTheWholeReaderRefusesIsRefusedByThePieces) {
 }
 
 /// Expects of the piece `piece` (the cells `cells` of the mesh of `whole`, a scene of one body)
-/// that it is one body whose every vertex lies on it (piece_of_one_body); that its contact
+/// that it is one body whose every vertex lies on it (piece_bodies); that its contact
 /// parts hold the whole's facets, its supports and loads those of the whole among its cells,
 /// each support every vertex it holds of the whole. Whether it holds fewer facets of the
 /// supports and loads than the whole.
 template <int dim>
 bool expect_one_body_piece(const BasicBuiltProblem<dim>& piece, const BasicBuiltProblem<dim>& whole,
                            const std::vector<int>& cells) {
-  EXPECT_TRUE(piece.problem.elasticity.piece_of_one_body);
+  EXPECT_EQ(piece.problem.elasticity.piece_bodies, (std::vector<int>{0, whole.mesh.num_vertices()}));
   EXPECT_EQ(BasicRigidMotions<dim>(piece.mesh, make_dof_map(piece.mesh, {})).num_pieces(), 1);
   return test::WholeParts<dim>(whole).expect_held_by(piece, whole.mesh, std::set<int>(cells.begin(), cells.end()),
                                                       true, true);

@@ -244,11 +244,11 @@ struct Kernels<3> {
                                                   const ContactBoundary& boundary,
                                                   const std::vector<ContactPart3D>& parts) {
     const Mesh3D& mesh = *problem.elasticity.mesh;
-    const bool whole_body = problem.elasticity.piece_of_one_body;
-    const BasicRigidMotions<3> free(mesh, dofs, whole_body);
+    const std::vector<int>& bodies = problem.elasticity.piece_bodies;
+    const BasicRigidMotions<3> free(mesh, dofs, bodies);
     if (free.empty()) return {};
     try {
-      return find_supports(mesh, dofs, boundary, parts, whole_body).held_by_contact;
+      return find_supports(mesh, dofs, boundary, parts, bodies).held_by_contact;
     } catch (const InputError& e) {
       std::string words;
       for (int k = 0; k < free.size(); ++k) words += (k == 0 ? "" : ", ") + free.describe_by_axes(k);

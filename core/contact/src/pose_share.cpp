@@ -312,7 +312,7 @@ template <int dim>
 Eigen::MatrixXd free_motion_rows(const BasicElasticityProblem<dim>& problem, const Condensation& posed,
                                  const SystemRows& rows, const std::vector<int>& owned_unknowns) {
   const MeshOf<dim>& mesh = *problem.mesh;
-  const BasicRigidMotions<dim> free(mesh, rows.dofs, problem.piece_of_one_body);
+  const BasicRigidMotions<dim> free(mesh, rows.dofs, problem.piece_bodies);
   return owned_motion_rows<dim>(
       free.size(), [&](int k, int v) { return free.displacement(k, v); }, mesh, posed, rows, owned_unknowns);
 }

@@ -52,7 +52,7 @@ struct Kernels<2> {
   }
   static std::vector<std::string> held_by_contact(const ContactProblem& problem, const DofMap& dofs,
                                                   const ContactBoundary& boundary, const std::vector<ContactPart>& parts) {
-    return find_supports(*problem.elasticity.mesh, dofs, boundary, parts, problem.elasticity.piece_of_one_body)
+    return find_supports(*problem.elasticity.mesh, dofs, boundary, parts, problem.elasticity.piece_bodies)
         .held_by_contact;
   }
   static ForceBalance balance(const ContactProblem& problem, const Eigen::VectorXd& u, const Vec2& contact) {

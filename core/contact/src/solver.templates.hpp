@@ -332,7 +332,7 @@ void BasicContactSolver<dim>::pose() {
   if (!common_.held_by_contact.empty()) {
     // a semi-coercive problem: its free motions, for the existence proof and the Newton systems
     const Eigen::MatrixXd nodal =
-        BasicRigidMotions<dim>(*problem_.elasticity.mesh, system_->dofs, problem_.elasticity.piece_of_one_body).nodal();
+        BasicRigidMotions<dim>(*problem_.elasticity.mesh, system_->dofs, problem_.elasticity.piece_bodies).nodal();
     Eigen::MatrixXd rotated(system_->dofs.num_free(), nodal.cols());
     for (Eigen::Index k = 0; k < nodal.cols(); ++k) rotated.col(k) = condensation_->rotated_free(nodal.col(k));
     condensation_->set_free_motions(std::move(rotated));

@@ -56,8 +56,8 @@ std::string listed(const BasicRigidMotions<dim>& motions) {
 template <int dim, class M>
 Supports supports_of(const M& mesh, const DofMap& dofs, const ContactBoundary& boundary,
                      const std::vector<char>& normal_unknowns, const std::vector<char>& tangential_law,
-                     bool whole_body = false) {
-  const BasicRigidMotions<dim> free(mesh, dofs, whole_body);
+                     std::span<const int> bodies = {}) {
+  const BasicRigidMotions<dim> free(mesh, dofs, bodies);
   Supports supports;
   if (free.empty()) return supports;
   const std::string count = free.size() == 1 ? "a rigid motion" : std::to_string(free.size()) + " rigid motions";
@@ -104,7 +104,7 @@ namespace {
 
 template <int dim, class M>
 Supports supports_of_parts(const M& mesh, const DofMap& dofs, const ContactBoundary& boundary,
-                           const std::vector<BasicContactPart<dim>>& parts, bool whole_body) {
+                           const std::vector<BasicContactPart<dim>>& parts, std::span<const int> bodies) {
   const auto n = static_cast<std::size_t>(boundary.size());
   std::vector<char> normal(n, 1), tangential(n, 0);
   for (std::size_t i = 0; i < n; ++i) {
@@ -116,19 +116,19 @@ Supports supports_of_parts(const M& mesh, const DofMap& dofs, const ContactBound
     normal[i] = part.constraint == ConstraintKind::bilateral ? 0 : 1;
     tangential[i] = part.friction ? 1 : 0;
   }
-  return supports_of<dim>(mesh, dofs, boundary, normal, tangential, whole_body);
+  return supports_of<dim>(mesh, dofs, boundary, normal, tangential, bodies);
 }
 
 }  // namespace
 
 Supports find_supports(const Mesh& mesh, const DofMap& dofs, const ContactBoundary& boundary,
-                       const std::vector<ContactPart>& parts, bool whole_body) {
-  return supports_of_parts<2>(mesh, dofs, boundary, parts, whole_body);
+                       const std::vector<ContactPart>& parts, std::span<const int> bodies) {
+  return supports_of_parts<2>(mesh, dofs, boundary, parts, bodies);
 }
 
 Supports find_supports(const Mesh3D& mesh, const DofMap& dofs, const ContactBoundary& boundary,
-                       const std::vector<BasicContactPart<3>>& parts, bool whole_body) {
-  return supports_of_parts<3>(mesh, dofs, boundary, parts, whole_body);
+                       const std::vector<BasicContactPart<3>>& parts, std::span<const int> bodies) {
+  return supports_of_parts<3>(mesh, dofs, boundary, parts, bodies);
 }
 
 void require_box_gap(double gap, int node, const std::string& part) {

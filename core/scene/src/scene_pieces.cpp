@@ -290,7 +290,7 @@ std::unique_ptr<BasicBuiltProblem<2>> build_problem_piece<2>(const Scene& scene,
   const std::vector<int> cut = grid_cut_facets(mesh, grid_vertices_of(scene));
   const detail::SupportsAcross across{&processes, piece.first_vertex, piece.end_vertex};
   auto built = detail::built_plane_on(scene, std::move(mesh), true, false, cut, &across);
-  built->problem.elasticity.piece_of_one_body = true;
+  built->problem.elasticity.piece_bodies = {0, built->mesh.num_vertices()};
   return built;
 }
 
@@ -302,7 +302,7 @@ std::unique_ptr<BasicBuiltProblem<3>> build_problem_piece<3>(const Scene& scene,
   const std::vector<int> cut = grid_cut_facets(mesh, grid_vertices_of(scene));
   const detail::SupportsAcross across{&processes, piece.first_vertex, piece.end_vertex};
   auto built = detail::built_solid(scene, std::move(mesh), true, cut, &across);
-  built->problem.elasticity.piece_of_one_body = true;
+  built->problem.elasticity.piece_bodies = {0, built->mesh.num_vertices()};
   return built;
 }
 
@@ -314,6 +314,91 @@ bool makes_body_pieces(const Scene& scene) {
 }
 
 namespace {
+
+/// The problem `held` (on a mesh made whole, or on a process's piece of it that holds the cells
+/// of every facet its selectors may pick) on the piece of its mesh around the vertices `around`
+/// flags (cut_problem_piece's rule), `held` given back: `cells` the piece's cells, increasing
+/// numbers of the cells of held->mesh.
+template <int dim>
+std::unique_ptr<BasicBuiltProblem<dim>> keep_around(std::unique_ptr<BasicBuiltProblem<dim>> held, std::vector<char> around,
+                                                    std::vector<int>& cells) {
+  const MeshOf<dim>& mesh = held->mesh;
+  const BasicContactProblem<dim>& problem = held->problem;
+  // a mesh whose every body (every part of a joined mesh, or the mesh) is one connected piece by
+  // the rigid motions' rule: the piece holds each in one too (piece_cells_around), keeps the cells
+  // of the contact's facets alone, and of the supports and loads the facets among its cells, each
+  // support holding every vertex it holds of the mesh
+  std::vector<int> bodies{0};
+  for (std::size_t b = 1; b < held->bodies.size(); ++b) bodies.push_back(held->bodies[b].first_vertex);
+  bodies.push_back(mesh.num_vertices());
+  const bool each_body_one =
+      BasicRigidMotions<dim>(mesh, make_dof_map(mesh, {})).num_pieces() == static_cast<int>(bodies.size()) - 1;
+  std::vector<int> facets;
+  if (!each_body_one) {
+    for (const auto& d : problem.elasticity.dirichlet) facets.insert(facets.end(), d.facets.begin(), d.facets.end());
+    for (const auto& t : problem.elasticity.tractions) facets.insert(facets.end(), t.facets.begin(), t.facets.end());
+  }
+  for (const auto& p : problem.parts) {
+    facets.insert(facets.end(), p.facets.begin(), p.facets.end());
+    facets.insert(facets.end(), p.against.begin(), p.against.end());
+  }
+  // the cells around the process's vertices and around the vertices supported alone (a body's
+  // supports, when they are points, are in every piece of it)
+  for (const auto& d : problem.elasticity.dirichlet)
+    for (int v : d.vertices) around[static_cast<std::size_t>(v)] = 1;
+  cells = piece_cells_around(mesh, around, facets);
+  std::vector<std::vector<int>> supported;  // each support's vertices of the mesh
+  if (each_body_one)
+    for (const auto& d : problem.elasticity.dirichlet) {
+      std::vector<int> vertices = d.held_vertices(mesh);
+      std::sort(vertices.begin(), vertices.end());
+      vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+      supported.push_back(std::move(vertices));
+    }
+  // the problem on the piece: its facets renumbered, the rest (numbered by vertices, or
+  // functions of the point) as it is
+  auto out = std::make_unique<BasicBuiltProblem<dim>>();
+  std::vector<int> facet_of;
+  out->mesh = cut_mesh_piece(mesh, cells, &facet_of);
+  const auto renumber = [&](std::vector<int>& ids) {
+    for (int& f : ids) {
+      f = facet_of[static_cast<std::size_t>(f)];
+      if (f < 0) throw InternalError("cut_problem_piece: a facet of the problem lies outside the piece");
+    }
+  };
+  const auto among = [&](std::vector<int>& ids) {  // those the piece holds, renumbered
+    std::erase_if(ids, [&](int f) { return facet_of[static_cast<std::size_t>(f)] < 0; });
+    renumber(ids);
+  };
+  out->problem = std::move(held->problem);
+  out->problem.elasticity.mesh = &out->mesh;
+  if (each_body_one) out->problem.elasticity.piece_bodies = std::move(bodies);
+  for (std::size_t k = 0; k < out->problem.elasticity.dirichlet.size(); ++k) {
+    auto& d = out->problem.elasticity.dirichlet[k];
+    if (!each_body_one) {
+      renumber(d.facets);
+      continue;
+    }
+    among(d.facets);
+    d.vertices.insert(d.vertices.end(), supported[k].begin(), supported[k].end());
+  }
+  for (auto& t : out->problem.elasticity.tractions) each_body_one ? among(t.facets) : renumber(t.facets);
+  for (auto& p : out->problem.parts) {
+    renumber(p.facets);
+    renumber(p.against);
+  }
+  out->has_contact = held->has_contact;
+  out->warnings = std::move(held->warnings);
+  out->bodies = std::move(held->bodies);
+  for (BodyRange& b : out->bodies) {  // the piece's cells of each body, in the mesh's order
+    const auto first = std::lower_bound(cells.begin(), cells.end(), b.first_cell);
+    const auto end = std::lower_bound(cells.begin(), cells.end(), b.first_cell + b.cells);
+    b.first_cell = static_cast<int>(first - cells.begin());
+    b.cells = static_cast<int>(end - first);
+  }
+  held.reset();
+  return out;
+}
 
 /// How a process makes its piece of a body's mesh: of its generated box (BoxPiece) or of the
 /// lists its generator makes (MeshLists), around the vertices it owns.
@@ -437,6 +522,11 @@ std::unique_ptr<BasicBuiltProblem<dim>> build_bodies_piece(const Scene& scene, i
     for (int c : in_body[b].cells) where.cells.push_back(where.whole_cells + c);
     where.whole_cells += in_body[b].whole_cells;
   }
+  // kept on the contact's cells alone where each body is one piece (keep_around)
+  std::vector<int> kept;
+  out = keep_around<dim>(std::move(out), mine, kept);
+  for (int& c : kept) c = where.cells[static_cast<std::size_t>(c)];
+  where.cells = std::move(kept);
   return out;
 }
 
@@ -453,87 +543,6 @@ bool reads_pieces(const Scene& scene) {
 }
 
 namespace {
-
-/// The problem `held` (on a mesh made whole, or on a process's piece of it that holds the cells
-/// of every facet its selectors may pick) on the piece of its mesh around the vertices `around`
-/// flags (cut_problem_piece's rule), `held` given back: `cells` the piece's cells, increasing
-/// numbers of the cells of held->mesh.
-template <int dim>
-std::unique_ptr<BasicBuiltProblem<dim>> keep_around(std::unique_ptr<BasicBuiltProblem<dim>> held, std::vector<char> around,
-                                                    std::vector<int>& cells) {
-  const MeshOf<dim>& mesh = held->mesh;
-  const BasicContactProblem<dim>& problem = held->problem;
-  // a mesh of one connected body (one piece by the rigid motions' rule): the piece is one too
-  // (piece_cells_around), keeps the cells of the contact's facets alone, and of the supports and
-  // loads the facets among its cells, each support holding every vertex it holds of the mesh
-  const bool one_body =
-      held->bodies.empty() && BasicRigidMotions<dim>(mesh, make_dof_map(mesh, {})).num_pieces() == 1;
-  std::vector<int> facets;
-  if (!one_body) {
-    for (const auto& d : problem.elasticity.dirichlet) facets.insert(facets.end(), d.facets.begin(), d.facets.end());
-    for (const auto& t : problem.elasticity.tractions) facets.insert(facets.end(), t.facets.begin(), t.facets.end());
-  }
-  for (const auto& p : problem.parts) {
-    facets.insert(facets.end(), p.facets.begin(), p.facets.end());
-    facets.insert(facets.end(), p.against.begin(), p.against.end());
-  }
-  // the cells around the process's vertices and around the vertices supported alone (a body's
-  // supports, when they are points, are in every piece of it)
-  for (const auto& d : problem.elasticity.dirichlet)
-    for (int v : d.vertices) around[static_cast<std::size_t>(v)] = 1;
-  cells = piece_cells_around(mesh, around, facets);
-  std::vector<std::vector<int>> supported;  // each support's vertices of the mesh
-  if (one_body)
-    for (const auto& d : problem.elasticity.dirichlet) {
-      std::vector<int> vertices = d.held_vertices(mesh);
-      std::sort(vertices.begin(), vertices.end());
-      vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
-      supported.push_back(std::move(vertices));
-    }
-  // the problem on the piece: its facets renumbered, the rest (numbered by vertices, or
-  // functions of the point) as it is
-  auto out = std::make_unique<BasicBuiltProblem<dim>>();
-  std::vector<int> facet_of;
-  out->mesh = cut_mesh_piece(mesh, cells, &facet_of);
-  const auto renumber = [&](std::vector<int>& ids) {
-    for (int& f : ids) {
-      f = facet_of[static_cast<std::size_t>(f)];
-      if (f < 0) throw InternalError("cut_problem_piece: a facet of the problem lies outside the piece");
-    }
-  };
-  const auto among = [&](std::vector<int>& ids) {  // those the piece holds, renumbered
-    std::erase_if(ids, [&](int f) { return facet_of[static_cast<std::size_t>(f)] < 0; });
-    renumber(ids);
-  };
-  out->problem = std::move(held->problem);
-  out->problem.elasticity.mesh = &out->mesh;
-  out->problem.elasticity.piece_of_one_body = one_body;
-  for (std::size_t k = 0; k < out->problem.elasticity.dirichlet.size(); ++k) {
-    auto& d = out->problem.elasticity.dirichlet[k];
-    if (!one_body) {
-      renumber(d.facets);
-      continue;
-    }
-    among(d.facets);
-    d.vertices.insert(d.vertices.end(), supported[k].begin(), supported[k].end());
-  }
-  for (auto& t : out->problem.elasticity.tractions) one_body ? among(t.facets) : renumber(t.facets);
-  for (auto& p : out->problem.parts) {
-    renumber(p.facets);
-    renumber(p.against);
-  }
-  out->has_contact = held->has_contact;
-  out->warnings = std::move(held->warnings);
-  out->bodies = std::move(held->bodies);
-  for (BodyRange& b : out->bodies) {  // the piece's cells of each body, in the mesh's order
-    const auto first = std::lower_bound(cells.begin(), cells.end(), b.first_cell);
-    const auto end = std::lower_bound(cells.begin(), cells.end(), b.first_cell + b.cells);
-    b.first_cell = static_cast<int>(first - cells.begin());
-    b.cells = static_cast<int>(end - first);
-  }
-  held.reset();
-  return out;
-}
 
 /// The scene's problem on the piece `read` (a file's or a mesh made as lists), no selector picking
 /// the facets where it meets the others, then on the piece of it that keep_around keeps (the

@@ -113,7 +113,7 @@ Eigen::Matrix<double, dim, 1> axis(int d) {
 }  // namespace
 
 template <int dim>
-BasicRigidMotions<dim>::BasicRigidMotions(const MeshType& mesh, const DofMap& dofs, bool whole_body)
+BasicRigidMotions<dim>::BasicRigidMotions(const MeshType& mesh, const DofMap& dofs, std::span<const int> bodies)
     : vertices_(mesh.vertices()) {
   int count = 0;
   const std::vector<int> piece = pieces_of_elements(mesh, &count);
@@ -127,31 +127,54 @@ BasicRigidMotions<dim>::BasicRigidMotions(const MeshType& mesh, const DofMap& do
     ++pieces_[p].elements;
     for (int v : cell_vertices(mesh, e)) {
       int& first = piece_of_vertex_[static_cast<std::size_t>(v)];
-      if (first < 0) {
-        first = static_cast<int>(p);
-        pieces_[p].center += mesh.vertex(v);
-        ++vertices[p];
-      } else if (first != static_cast<int>(p)) {
-        also.emplace(v, static_cast<int>(p));
-      }
-      lo[p] = lo[p].cwiseMin(mesh.vertex(v));
-      hi[p] = hi[p].cwiseMax(mesh.vertex(v));
+      if (first < 0) first = static_cast<int>(p);
+      else if (first != static_cast<int>(p)) also.emplace(v, static_cast<int>(p));
       if (pieces_[p].first_vertex < 0 || v < pieces_[p].first_vertex) pieces_[p].first_vertex = v;
     }
   }
-  if (pieces_.size() == 1) {
-    // one body: its centre and extent those of every vertex of the mesh, which a process's piece
-    // of a generated mesh (hemivem/mesh/box_piece.hpp) holds while its cells are fewer
-    Piece& body = pieces_.front();
-    body.center = Point::Zero();
-    for (int v = 0; v < mesh.num_vertices(); ++v) {
-      body.center += mesh.vertex(v);
-      lo[0] = lo[0].cwiseMin(mesh.vertex(v));
-      hi[0] = hi[0].cwiseMax(mesh.vertex(v));
+  // a process's piece of bodies each of which its cells hold in one piece: every vertex of a
+  // body lies on that body's piece
+  std::vector<int> body_piece;  // each body's piece (-1: none), where each body holds one at most
+  std::vector<std::size_t> body_of(pieces_.size());
+  if (bodies.size() >= 2 && bodies.front() == 0 && bodies.back() == mesh.num_vertices() &&
+      std::is_sorted(bodies.begin(), bodies.end())) {
+    body_piece.assign(bodies.size() - 1, -1);
+    for (std::size_t p = 0; p < pieces_.size() && !body_piece.empty(); ++p) {
+      const auto b = static_cast<std::size_t>(std::upper_bound(bodies.begin(), bodies.end(), pieces_[p].first_vertex) -
+                                              bodies.begin() - 1);
+      if (body_piece[b] >= 0) body_piece.clear();
+      else body_piece[b] = static_cast<int>(p), body_of[p] = b;
     }
-    vertices[0] = mesh.num_vertices();
-    if (whole_body) std::replace(piece_of_vertex_.begin(), piece_of_vertex_.end(), -1, 0);
   }
+  for (int e = 0; e < num_cells(mesh) && !body_piece.empty(); ++e) {  // each piece's cells within its body
+    const std::size_t b = body_of[static_cast<std::size_t>(piece[static_cast<std::size_t>(e)])];
+    for (int v : cell_vertices(mesh, e))
+      if (v < bodies[b] || v >= bodies[b + 1]) body_piece.clear();
+  }
+  const bool by_bodies = !body_piece.empty();
+  if (by_bodies) {
+    for (std::size_t b = 0; b < body_piece.size(); ++b)
+      for (int v = bodies[b]; v < bodies[b + 1]; ++v) piece_of_vertex_[static_cast<std::size_t>(v)] = body_piece[b];
+    also.clear();
+  }
+  // each piece's centre and extent: of every vertex of the mesh for one piece, which a process's
+  // piece of a generated mesh (hemivem/mesh/box_piece.hpp) holds while its cells are fewer; of
+  // every vertex of its body for a piece of bodies; of the vertices its cells hold otherwise. The
+  // centre is summed in the order of the vertices, so that a piece of a mesh and the mesh agree.
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    const int on = pieces_.size() == 1 && !by_bodies ? 0 : piece_of_vertex_[static_cast<std::size_t>(v)];
+    if (on < 0) continue;
+    const auto p = static_cast<std::size_t>(on);
+    pieces_[p].center += mesh.vertex(v);
+    ++vertices[p];
+    lo[p] = lo[p].cwiseMin(mesh.vertex(v));
+    hi[p] = hi[p].cwiseMax(mesh.vertex(v));
+  }
+  if (pieces_.size() > 1 && !by_bodies)  // a vertex several pieces hold, in each one's extent
+    for (const auto& [v, p] : also) {
+      lo[static_cast<std::size_t>(p)] = lo[static_cast<std::size_t>(p)].cwiseMin(mesh.vertex(v));
+      hi[static_cast<std::size_t>(p)] = hi[static_cast<std::size_t>(p)].cwiseMax(mesh.vertex(v));
+    }
   for (std::size_t p = 0; p < pieces_.size(); ++p) {
     pieces_[p].center /= std::max(1, vertices[p]);
     pieces_[p].size = (hi[p] - lo[p]).maxCoeff();

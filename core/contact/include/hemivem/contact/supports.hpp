@@ -3,6 +3,7 @@
 // factorized.
 #pragma once
 
+#include <span>
 #include <string>
 
 #include <hemivem/sparse_factorization.hpp>
@@ -39,15 +40,15 @@ Supports find_supports(const Mesh& mesh, const DofMap& dofs, const ContactBounda
 
 /// The same for a boundary in several parts (ContactBoundary::part): a node has normal
 /// unknowns unless its part is bilateral, and a tangential law when its part has friction.
-/// `whole_body`: the mesh is a process's piece of one body's (BasicRigidMotions), whose free
-/// motions are judged of the whole body.
+/// `bodies`: the mesh is a process's piece of the mesh of those bodies (BasicRigidMotions,
+/// BasicElasticityProblem::piece_bodies), whose free motions are judged of the whole bodies.
 Supports find_supports(const Mesh& mesh, const DofMap& dofs, const ContactBoundary& boundary,
-                       const std::vector<ContactPart>& parts, bool whole_body = false);
+                       const std::vector<ContactPart>& parts, std::span<const int> bodies = {});
 /// The same for a solid: six rigid motions per piece of the mesh (cells joined through shared
 /// faces), held by the normal displacements of its contact nodes (a solid's contact is
 /// frictionless: a motion that moves no contact node along its normal is refused).
 Supports find_supports(const Mesh3D& mesh, const DofMap& dofs, const ContactBoundary& boundary,
-                       const std::vector<BasicContactPart<3>>& parts, bool whole_body = false);
+                       const std::vector<BasicContactPart<3>>& parts, std::span<const int> bodies = {});
 
 /// The box constraint |u_nu| <= g with an obstacle's gap g: throws InputError unless `gap` (at
 /// contact node `node`) is finite and >= 0, naming the node, the contact part `part` (when not

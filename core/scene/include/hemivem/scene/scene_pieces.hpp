@@ -72,7 +72,7 @@ bool reads_pieces(const Scene& scene);
 /// kept on the piece of that piece which cut_problem_piece keeps of a whole mesh: of a mesh of
 /// one connected body the cells of the contact alone besides those around the process's
 /// vertices, its supports and loads holding the facets among them, each support every vertex it
-/// holds of the whole mesh (piece_of_one_body). `where` tells where the piece lies. Errors as build_problem's that the piece shows (a defect of cells
+/// holds of the whole mesh (piece_bodies). `where` tells where the piece lies. Errors as build_problem's that the piece shows (a defect of cells
 /// outside it is another process's to find; the regions are checked across the processes,
 /// check_regions_of_pieces).
 template <int dim>
@@ -138,7 +138,10 @@ bool makes_body_pieces(const Scene& scene);
 /// BodyRange::first_region). Each piece holds every cell along its contact
 /// sides, so the vertices matching adds are the whole meshes' with the same numbers and
 /// coordinates. The same problem on fewer cells: its vertices and their numbers the whole
-/// mesh's, each body's cells the piece's of that body (BodyRange). `where` tells where the piece
+/// mesh's, each body's cells the piece's of that body (BodyRange). Where each body is one
+/// connected piece, the problem is then kept as read_problem_piece keeps it: of the boundary the
+/// cells of the contact alone, its supports and loads holding the facets among them, each
+/// support every vertex it holds of the whole (piece_bodies). `where` tells where the piece
 /// lies. `processes`, when given, are the processes of the run, among which a Voronoi body's
 /// Lloyd iterations are split (VoronoiOptions::processes; collective). InputError for a scene
 /// not made in pieces; errors as build_problem's.
@@ -156,15 +159,16 @@ bool cuts_pieces(const Scene& scene);
 /// that process `rank` of `size` keeps (hemivem/mesh/mesh_piece.hpp): the process's vertices are
 /// its share (vertex_share) of the mesh's hilbert_vertex_order, the cells those around them and
 /// around the vertices supported alone (a support's points), and those of every facet of the
-/// problem's contact parts, a surface of another body they meet included, and of several bodies'
-/// or a mesh in several pieces' supports and loads (piece_cells_around: each body's kept cells
-/// one). The same problem on fewer cells: its vertices and their numbers the whole mesh's, its
+/// problem's contact parts, a surface of another body they meet included, and of a mesh whose
+/// bodies are not each one piece of cells its supports and loads (piece_cells_around: each
+/// body's kept cells one). The same problem on fewer cells: its vertices and their numbers the whole mesh's, its
 /// facets the piece's of the same facets, each body's cells the piece's of that body
-/// (BodyRange); `whole` is given back. A mesh of one connected body is cut as a generated box's
-/// piece is made (build_problem_piece): its supports and loads hold the facets among the
-/// piece's cells alone (every facet at one of the process's vertices), each support holding
-/// besides every vertex it holds of the whole mesh (BasicDirichletCondition::vertices), and the
-/// problem is marked piece_of_one_body. `where` tells where the piece lies.
+/// (BodyRange); `whole` is given back. A mesh whose every body (the mesh, or each of a joined
+/// mesh's bodies) is one connected piece of cells is cut as a generated box's piece is made
+/// (build_problem_piece): its supports and loads hold the facets among the piece's cells alone
+/// (every facet at one of the process's vertices), each support holding besides every vertex it
+/// holds of the whole mesh (BasicDirichletCondition::vertices), and the problem is marked with
+/// its bodies' vertices (BasicElasticityProblem::piece_bodies). `where` tells where the piece lies.
 template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> cut_problem_piece(std::unique_ptr<BasicBuiltProblem<dim>> whole, int rank, int size,
                                                           PieceOfMesh& where);

@@ -62,12 +62,13 @@ struct BasicElasticityProblem {
   VectorFieldOf<dim> body_force;  ///< f0; empty = none
   std::vector<BasicTractionLoad<dim>> tractions;
   std::vector<BasicDirichletCondition<dim>> dirichlet;
-  /// Whether `mesh` is a process's piece of the mesh of one connected body
-  /// (hemivem/scene/scene_pieces.hpp), which holds every vertex of the whole mesh and of the
-  /// cells only some: its vertices of no cell lie on the body too, and its supports may hold them
-  /// (BasicDirichletCondition::vertices), so the rigid motions the supports leave free are judged
-  /// of the whole body (BasicRigidMotions).
-  bool piece_of_one_body = false;
+  /// Empty, or `mesh` is a process's piece of a mesh whose connected bodies hold the vertices
+  /// piece_bodies[b], ..., piece_bodies[b + 1] - 1 ({0, the number of vertices} for one body;
+  /// hemivem/scene/scene_pieces.hpp), which holds every vertex of the whole mesh and of the cells
+  /// only some, each body's in one piece: its vertices of no cell lie on their body too, and its
+  /// supports may hold them (BasicDirichletCondition::vertices), so the rigid motions the
+  /// supports leave free are judged of the whole bodies (BasicRigidMotions).
+  std::vector<int> piece_bodies;
 };
 
 using DirichletCondition = BasicDirichletCondition<2>;

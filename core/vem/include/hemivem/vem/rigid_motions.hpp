@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 
 #include <algorithm>
+#include <span>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -42,11 +43,14 @@ class BasicRigidMotions {
   static constexpr double relative_tolerance = 1e-8;
 
   BasicRigidMotions() = default;
-  /// `whole_body`: the mesh is a process's piece of the mesh of one connected body, which holds
-  /// every vertex of the whole (BasicElasticityProblem::piece_of_one_body). Where its cells make
-  /// one piece, every vertex lies on it, those of none of its cells too, so that the motions and
-  /// what holds them are the whole body's. Otherwise a vertex of no cell lies on no piece.
-  BasicRigidMotions(const MeshType& mesh, const DofMap& dofs, bool whole_body = false);
+  /// `bodies`: empty, or the mesh is a process's piece of a mesh whose connected bodies hold the
+  /// vertices bodies[b], ..., bodies[b + 1] - 1 (bodies.front() = 0, bodies.back() the number of
+  /// vertices), which holds every vertex of the whole (BasicElasticityProblem::piece_bodies).
+  /// Where its cells make one piece in each body, every vertex of a body lies on its piece, those
+  /// of none of its cells too, and the piece's centre and extent are those of the body's every
+  /// vertex, so that the motions and what holds them are the whole bodies'. Otherwise a vertex of
+  /// no cell lies on no piece.
+  BasicRigidMotions(const MeshType& mesh, const DofMap& dofs, std::span<const int> bodies = {});
 
   /// The number of independent free motions (0: the supports hold the whole mesh).
   int size() const noexcept { return static_cast<int>(basis_.cols()); }
