@@ -68,9 +68,9 @@ CellTopology::CellTopology(int dim, int num_vertices, std::vector<int> first, st
     key_at_.push_back(static_cast<int>(keys_.size()));
     i = j;
   }
-  sorted = {};
-  increasing = {};
-  cell_of_loop = {};
+  decltype(sorted)().swap(sorted);  // given back (assigning an empty one keeps the storage)
+  decltype(increasing)().swap(increasing);
+  decltype(cell_of_loop)().swap(cell_of_loop);
   vertex_start_.reserve(first_.size());
   vertices_.reserve(loops_.size() / 2);
   vertex_start_.assign(1, 0);

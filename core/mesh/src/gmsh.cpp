@@ -162,7 +162,7 @@ class GmshReader final : detail::GmshSections {
     std::vector<std::vector<int>> kept;
     kept.reserve(out.cells.size());
     for (int c : out.cells) kept.push_back(std::move(elements[static_cast<std::size_t>(c)]));
-    elements = {};
+    decltype(elements)().swap(elements);
     try {
       out.mesh = surface_mesh(vertices, std::move(kept), out.cells);
     } catch (const MeshError&) {  // the whole mesh's error, as read_gmsh names it

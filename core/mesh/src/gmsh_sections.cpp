@@ -97,11 +97,12 @@ void GmshSections::read_sections() {
                                     : "the file holds no $MeshFormat section");
   if (nodes_line_ == 0) fail(last_line_, "the file has no $Nodes section");
   if (elements_line_ == 0) fail(last_line_, "the file has no $Elements section");
-  // what was read is in nodes_, top_ and below_: the text and its index are given back
-  data_ = {};
-  lines_ = {};
-  tokens_ = {};
-  node_index_ = {};
+  // what was read is in nodes_, top_ and below_: the text and its index are given back (swapped
+  // with empty ones: assigning an empty one keeps the storage)
+  std::string().swap(data_);
+  decltype(lines_)().swap(lines_);
+  decltype(tokens_)().swap(tokens_);
+  decltype(node_index_)().swap(node_index_);
 }
 
 // ---- lines and tokens
