@@ -649,9 +649,7 @@ int expect_cut_pieces_pose_the_whole_share(const Scene& scene, bool cut_route, b
     EXPECT_EQ(where.vertices.end, end);
     EXPECT_EQ(where.vertices.order, order);
     EXPECT_EQ(where.whole_cells, num_cells_of(whole->mesh));
-    std::vector<int> bodies{0};  // each body's first vertex, and the number of vertices
-    for (std::size_t b = 1; b < whole->bodies.size(); ++b) bodies.push_back(whole->bodies[b].first_vertex);
-    bodies.push_back(n);
+    const std::vector<int> bodies = body_vertex_starts(whole->bodies, n);
     EXPECT_EQ(piece->problem.elasticity.piece_bodies, one_piece_each ? bodies : std::vector<int>{});
     if (one_piece_each)
       EXPECT_EQ(BasicRigidMotions<dim>(piece->mesh, make_dof_map(piece->mesh, {})).num_pieces(),
@@ -793,9 +791,7 @@ int expect_body_pieces_are_the_whole_meshs(const Scene& scene, int size = 3) {
     contact.merge(sorted_facets(whole->mesh, p.facets));
     against.merge(sorted_facets(whole->mesh, p.against));
   }
-  std::vector<int> bodies;  // each body's first vertex, and the number of vertices
-  for (const BodyRange& b : whole->bodies) bodies.push_back(b.first_vertex);
-  bodies.push_back(n);
+  const std::vector<int> bodies = body_vertex_starts(whole->bodies, n);
   std::map<std::vector<int>, std::vector<int>> cells_of_facet;
   for (int c = 0; c < num_cells_of(whole->mesh); ++c)
     for (const auto& f : facets_of_cell(whole->mesh, c)) cells_of_facet[f].push_back(c);

@@ -331,11 +331,10 @@ TEST(MeshPieceRead, AFileTheWholeReaderRefusesIsRefusedByThePieces) {
 /// supports and loads than the whole.
 template <int dim>
 bool expect_one_body_piece(const BasicBuiltProblem<dim>& piece, const BasicBuiltProblem<dim>& whole,
-                           const std::vector<int>& cells) {
+                           const test::WholeParts<dim>& parts, const std::vector<int>& cells) {
   EXPECT_EQ(piece.problem.elasticity.piece_bodies, (std::vector<int>{0, whole.mesh.num_vertices()}));
   EXPECT_EQ(BasicRigidMotions<dim>(piece.mesh, make_dof_map(piece.mesh, {})).num_pieces(), 1);
-  return test::WholeParts<dim>(whole).expect_held_by(piece, whole.mesh, std::set<int>(cells.begin(), cells.end()),
-                                                      true, true);
+  return parts.expect_held_by(piece, whole.mesh, std::set<int>(cells.begin(), cells.end()), true, true);
 }
 
 /// The problem of the scene on each of three processes' pieces (piece_of(rank, size, where):
@@ -347,6 +346,7 @@ template <int dim, class PieceOf>
 int expect_problem_pieces_pose_the_whole_share(const Scene& scene, PieceOf piece_of) {
   const auto whole = build_problem<dim>(scene);
   const std::vector<int> order = hilbert_vertex_order(whole->mesh);
+  const test::WholeParts<dim> parts(*whole);
   int fewer = 0;
   for (int rank = 0; rank < 3; ++rank) {
     SCOPED_TRACE("rank " + std::to_string(rank));
@@ -366,7 +366,7 @@ int expect_problem_pieces_pose_the_whole_share(const Scene& scene, PieceOf piece
           for (const auto& loop : loops) around = around || std::find(loop.begin(), loop.end(), v) != loop.end();
           if (around) EXPECT_TRUE(held.count(c)) << "cell " << c << " around the supported vertex " << v;
         }
-    fewer += expect_one_body_piece<dim>(*piece, *whole, where.cells) ? 1 : 0;
+    fewer += expect_one_body_piece<dim>(*piece, *whole, parts, where.cells) ? 1 : 0;
     test::expect_same_share(pose_share(piece->problem, order, first, end), pose_share(whole->problem, order, first, end));
   }
   return fewer;
@@ -457,6 +457,7 @@ int expect_voronoi_pieces_pose_the_whole_share(const Scene& scene) {
   EXPECT_TRUE(makes_voronoi_pieces(scene));
   int fewer = 0;
   const auto whole = build_problem<dim>(scene);
+  const test::WholeParts<dim> parts(*whole);
   const std::vector<int> order = hilbert_vertex_order(whole->mesh);
   auto made = test::on_threads(3, [&](const test::ThreadRows& rows) {
     auto where = std::make_shared<PieceOfMesh>();
@@ -473,7 +474,7 @@ int expect_voronoi_pieces_pose_the_whole_share(const Scene& scene) {
     EXPECT_EQ(where->whole_cells, num_cells_of(whole->mesh));
     EXPECT_LT(static_cast<int>(where->cells.size()), where->whole_cells);
     EXPECT_EQ(piece->mesh.vertices(), whole->mesh.vertices());
-    fewer += expect_one_body_piece<dim>(*piece, *whole, where->cells) ? 1 : 0;
+    fewer += expect_one_body_piece<dim>(*piece, *whole, parts, where->cells) ? 1 : 0;
     test::expect_same_share(pose_share(piece->problem, order, first, end), pose_share(whole->problem, order, first, end));
   }
   return fewer;

@@ -328,9 +328,7 @@ std::unique_ptr<BasicBuiltProblem<dim>> keep_around(std::unique_ptr<BasicBuiltPr
   // the rigid motions' rule: the piece holds each in one too (piece_cells_around), keeps the cells
   // of the contact's facets alone, and of the supports and loads the facets among its cells, each
   // support holding every vertex it holds of the mesh
-  std::vector<int> bodies{0};
-  for (std::size_t b = 1; b < held->bodies.size(); ++b) bodies.push_back(held->bodies[b].first_vertex);
-  bodies.push_back(mesh.num_vertices());
+  std::vector<int> bodies = body_vertex_starts(held->bodies, mesh.num_vertices());
   const bool each_body_one =
       BasicRigidMotions<dim>(mesh, make_dof_map(mesh, {})).num_pieces() == static_cast<int>(bodies.size()) - 1;
   std::vector<int> facets;

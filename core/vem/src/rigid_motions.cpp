@@ -170,11 +170,10 @@ BasicRigidMotions<dim>::BasicRigidMotions(const MeshType& mesh, const DofMap& do
     lo[p] = lo[p].cwiseMin(mesh.vertex(v));
     hi[p] = hi[p].cwiseMax(mesh.vertex(v));
   }
-  if (pieces_.size() > 1 && !by_bodies)  // a vertex several pieces hold, in each one's extent
-    for (const auto& [v, p] : also) {
-      lo[static_cast<std::size_t>(p)] = lo[static_cast<std::size_t>(p)].cwiseMin(mesh.vertex(v));
-      hi[static_cast<std::size_t>(p)] = hi[static_cast<std::size_t>(p)].cwiseMax(mesh.vertex(v));
-    }
+  for (const auto& [v, p] : also) {  // a vertex several pieces hold, in each one's extent
+    lo[static_cast<std::size_t>(p)] = lo[static_cast<std::size_t>(p)].cwiseMin(mesh.vertex(v));
+    hi[static_cast<std::size_t>(p)] = hi[static_cast<std::size_t>(p)].cwiseMax(mesh.vertex(v));
+  }
   for (std::size_t p = 0; p < pieces_.size(); ++p) {
     pieces_[p].center /= std::max(1, vertices[p]);
     pieces_[p].size = (hi[p] - lo[p]).maxCoeff();

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 namespace hemivem {
 
@@ -15,5 +16,14 @@ struct BodyRange {
   bool has_vertex(int v) const noexcept { return v >= first_vertex && v < first_vertex + vertices; }
   bool operator==(const BodyRange&) const = default;
 };
+
+/// The first vertex of each body of a mesh of `num_vertices` vertices, and `num_vertices` last:
+/// {0, num_vertices} for a mesh of one body (`bodies` empty), whose first body starts at 0.
+inline std::vector<int> body_vertex_starts(const std::vector<BodyRange>& bodies, int num_vertices) {
+  std::vector<int> starts{0};
+  for (std::size_t b = 1; b < bodies.size(); ++b) starts.push_back(bodies[b].first_vertex);
+  starts.push_back(num_vertices);
+  return starts;
+}
 
 }  // namespace hemivem
