@@ -17,33 +17,43 @@ class CellTopology {
  public:
   /// Cell c's facets are the loops first[c], ..., first[c + 1] - 1; loop k's vertices are
   /// loops[at[k]], ..., loops[at[k + 1] - 1] (a solid's cell: its faces; a plane element: its
-  /// edges, loops of two vertices). `dim` is 2 or 3. Facets of the same vertices (in any
-  /// order) are one facet.
+  /// edges, loops of two vertices), each below `num_vertices`. `dim` is 2 or 3. Loops of the
+  /// same vertices (in any order) are one facet, found among the cells around their smallest
+  /// vertex; a facet is numbered by its first loop, that of its first cell.
   CellTopology(int dim, int num_vertices, std::vector<int> first, std::vector<int> at, std::vector<int> loops);
 
   int dim() const { return dim_; }
   int num_vertices() const { return num_vertices_; }
   int num_cells() const { return static_cast<int>(first_.size()) - 1; }
-  int num_facets() const { return static_cast<int>(facet_cells_.size()); }
+  /// Every facet's number is below num_facets() (the number of loops); is_facet tells which are.
+  int num_facets() const { return static_cast<int>(facet_of_loop_.size()); }
+  bool is_facet(int f) const { return facet_of_loop_[static_cast<std::size_t>(f)] == f; }
   /// Cell c's vertices, increasing.
   std::span<const int> cell_vertices(int c) const;
+  /// The cells of vertex v, increasing.
+  std::span<const int> vertex_cells(int v) const;
   /// Cell c's facets, in the order of its loops.
   std::span<const int> cell_facets(int c) const;
-  /// The cells of facet f: the first cell with a loop of it, then the next (-1 on the boundary).
-  const std::array<int, 2>& facet_cells(int f) const { return facet_cells_[static_cast<std::size_t>(f)]; }
+  /// The cells of facet f: the first cell with a loop of it, then the cell of its next loop (-1
+  /// on the boundary).
+  std::array<int, 2> facet_cells(int f) const { return {cell_of_loop(f), second_[static_cast<std::size_t>(f)]}; }
   /// Facet f's vertex loop, as its first cell gives it.
   std::span<const int> facet_loop(int f) const;
   /// The facet of the vertices `vertices` (in any order); -1 when no cell has it.
   int find_facet(std::vector<int> vertices) const;
 
  private:
+  int cell_of_loop(int k) const;
+  /// The first loop of the vertices `key` (increasing) among the cells around key[0], from
+  /// loop `from` on; -1 when there is none. `scratch` holds a loop's vertices sorted.
+  int next_loop(std::span<const int> key, int from, std::vector<int>& scratch) const;
+
   int dim_, num_vertices_;
   std::vector<int> first_, at_, loops_;
   std::vector<int> facet_of_loop_;                  // the facet of each loop
-  std::vector<int> loop_of_facet_;                  // a loop of each facet, its first cell's
-  std::vector<std::array<int, 2>> facet_cells_;
+  std::vector<int> second_;                         // of a facet's loop: the cell of its next loop, or -1
   std::vector<int> vertex_start_, vertices_;        // each cell's vertices, increasing
-  std::vector<int> keys_, key_at_;                  // each facet's increasing vertices: keys_[key_at_[f]] ...
+  std::vector<int> around_start_, around_;          // the cells around each vertex, increasing
 };
 
 inline std::span<const int> cell_facets(const CellTopology& cells, int c) { return cells.cell_facets(c); }

@@ -204,6 +204,13 @@ class Gmsh3DReader final : detail::GmshSections {
     MeshPieceRead<Mesh3D> out;
     {
       std::vector<int> first{0}, at{0}, loops, regions;
+      std::size_t num_loops = 0, num_ends = 0;  // the lists' lengths, reserved (grown, they would hold up to twice)
+      for (const GmshElement& e : top_)
+        for (const auto& f : volume_shape(e.type)->faces) ++num_loops, num_ends += f.size();
+      first.reserve(top_.size() + 1);
+      at.reserve(num_loops + 1);
+      loops.reserve(num_ends);
+      regions.reserve(top_.size());
       for (const GmshElement& e : top_) {
         for (const auto& f : volume_shape(e.type)->faces) {
           for (int k : f) loops.push_back(vertex_of_[static_cast<std::size_t>(e.nodes[static_cast<std::size_t>(k)])]);
