@@ -99,6 +99,25 @@ TEST_P(KrylovEngine, StartAtTheSolutionReturnsAtOnce) {
   EXPECT_LE(test::relative_error(x, cube.reference), 1e-12);
 }
 
+// An engine released solves no more until it computes again, then as it did.
+TEST_P(KrylovEngine, AReleasedEngineSolvesAgainOnceItComputes) {
+  const ClampedCube& cube = clamped_cube(4);
+  const auto solver = make_krylov_solver(GetParam());
+  ASSERT_TRUE(solver->compute(cube.system.A, cube.rigid_motions).ok());
+  Eigen::VectorXd first;
+  const KrylovSolveResult r = solver->solve(cube.system.b, &first, 1e-10, 5000);
+  ASSERT_TRUE(r.ok()) << r.message;
+  solver->release();
+  Eigen::VectorXd x;
+  EXPECT_THROW(solver->solve(cube.system.b, &x, 1e-10, 5000), InternalError);
+  solver->release();  // twice: nothing more to give back
+  ASSERT_TRUE(solver->compute(cube.system.A, cube.rigid_motions).ok());
+  const KrylovSolveResult again = solver->solve(cube.system.b, &x, 1e-10, 5000);
+  ASSERT_TRUE(again.ok()) << again.message;
+  EXPECT_EQ(again.iterations, r.iterations);
+  EXPECT_LE(test::relative_error(x, first), 1e-12);
+}
+
 TEST_P(KrylovEngine, ZeroRightHandSideGivesZero) {
   const ClampedCube& cube = clamped_cube(2);
   const auto solver = make_krylov_solver(GetParam());

@@ -276,6 +276,30 @@ TEST(FullSpaceMpi, ALentMatrixGivesTheSameAnswerAndIsRestoredToTheBit) {
                          mine.share.matrix.innerIndexPtr()));
 }
 
+// A Krylov engine that counts the releases after its last solve.
+class ReleaseCounting final : public KrylovSolver {
+ public:
+  explicit ReleaseCounting(std::unique_ptr<KrylovSolver> engine) : engine_(std::move(engine)) {}
+  std::string name() const override { return engine_->name(); }
+  bool runs_across_processes() const noexcept override { return engine_->runs_across_processes(); }
+  FactorizationResult compute(const SparseMatrix& A, const KrylovHints& hints) override {
+    released_after_solves = 0;
+    return engine_->compute(A, hints);
+  }
+  KrylovSolveResult solve(const Eigen::VectorXd& b, Eigen::VectorXd* x, double rtol, int max_iterations) const override {
+    released_after_solves = 0;
+    return engine_->solve(b, x, rtol, max_iterations);
+  }
+  void release() override {
+    ++released_after_solves;
+    engine_->release();
+  }
+  mutable int released_after_solves = -1;
+
+ private:
+  std::unique_ptr<KrylovSolver> engine_;
+};
+
 // The whole solve across processes as the command runs it (solve_full_space_shares): each
 // process poses and solves its share, rank 0 gathers the whole solution. Against the condensed
 // route (Eigen's factorization and ssn) in every displacement, the contact table, the energy and
@@ -289,13 +313,14 @@ void expect_shares_solve_as_the_condensed_route(
     const std::function<void(const BasicContactSolution<dim>& s, const BasicContactSolution<dim>& c)>& also = {},
     const Problem* whole = nullptr, const std::vector<int>& vertex_order = {}) {
   const ProcessWorld world = krylov_world();
-  auto krylov = make_krylov_solver("petsc-gamg");
+  ReleaseCounting engine(make_krylov_solver("petsc-gamg"));
   const BasicContactSolution<dim> s =
-      solve_full_space_shares<dim>(problem, *krylov, world, make_distributed_rows, tight(), {}, vertex_order);
+      solve_full_space_shares<dim>(problem, engine, world, make_distributed_rows, tight(), {}, vertex_order);
   ASSERT_TRUE(s.converged()) << s.message;
   EXPECT_LE(s.certificate.worst(), 1e-12);
   EXPECT_EQ(s.stages, (std::vector<std::string>{"assembly", "posing", "full_space"}));
   for (const char* stage : {"setup", "post_process", "release"}) EXPECT_TRUE(s.timings.count(stage)) << stage;
+  EXPECT_EQ(engine.released_after_solves, 1) << "the engine's matrix and preconditioner given back once, after its solves";
   const auto rows = process_rows();
   EXPECT_EQ(rows->max(s.certificate.dual), rows->min(s.certificate.dual)) << "one certificate on every process";
   EXPECT_EQ(rows->max(s.energy), rows->min(s.energy)) << "one energy on every process";

@@ -831,11 +831,11 @@ std::vector<int> Condensation::tied_rows() const {
   return rows;
 }
 
-Eigen::VectorXd Condensation::displacement_of(const Eigen::VectorXd& xt) const {
+Eigen::VectorXd Condensation::displacement_of(Eigen::VectorXd xt) const {
   if (xt.size() != dofs_.num_free())
     throw InternalError("displacement_of needs " + std::to_string(dofs_.num_free()) + " unknowns, got " +
                         std::to_string(xt.size()));
-  return from_rotated(xt);
+  return from_rotated(std::move(xt));
 }
 
 Eigen::VectorXd Condensation::rotated_free(const Eigen::VectorXd& u) const { return rotated_free(u, 0, dofs_.num_free()); }

@@ -77,6 +77,9 @@ class KrylovSolver {
   /// successful compute().
   virtual KrylovSolveResult solve(const Eigen::VectorXd& b, Eigen::VectorXd* x, double rtol,
                                   int max_iterations) const = 0;
+  /// Gives back what compute() set up (the preconditioner and the engine's matrix); solve()
+  /// then needs a compute() again. Collective where compute() is.
+  virtual void release() {}
 };
 
 /// The Krylov engines, in order of preference: "petsc-gamg" (PETSc's CG with its smoothed

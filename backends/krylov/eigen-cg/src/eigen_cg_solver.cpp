@@ -44,6 +44,8 @@ struct EigenCgSolver::Impl {
 EigenCgSolver::EigenCgSolver() : impl_(std::make_unique<Impl>()) {}
 EigenCgSolver::~EigenCgSolver() = default;
 
+void EigenCgSolver::release() { impl_ = std::make_unique<Impl>(); }
+
 bool EigenCgSolver::uses_diagonal_preconditioner() const noexcept { return impl_->use_diagonal; }
 
 FactorizationResult EigenCgSolver::compute(const SparseMatrix& A, const KrylovHints& hints) {

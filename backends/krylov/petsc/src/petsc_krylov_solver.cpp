@@ -686,6 +686,8 @@ FactorizationResult PetscKrylovSolver::compute(const SparseMatrix& A, const Kryl
   return FactorizationResult::good();
 }
 
+void PetscKrylovSolver::release() { impl_->release(); }
+
 KrylovSolveResult PetscKrylovSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd* x, double rtol,
                                            int max_iterations) const {
   Impl& m = *impl_;

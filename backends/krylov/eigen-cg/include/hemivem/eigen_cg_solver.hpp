@@ -34,6 +34,7 @@ class EigenCgSolver final : public KrylovSolver {
   /// Not thread-safe: the solver's tolerances live in the object.
   KrylovSolveResult solve(const Eigen::VectorXd& b, Eigen::VectorXd* x, double rtol,
                           int max_iterations) const override;
+  void release() override;
 
   /// True when the last compute() fell back to the diagonal preconditioner.
   bool uses_diagonal_preconditioner() const noexcept;

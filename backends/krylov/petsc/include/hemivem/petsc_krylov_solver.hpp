@@ -68,6 +68,7 @@ class PetscKrylovSolver : public KrylovSolver {
   /// Not thread-safe: the PETSc solver and vectors live in the object.
   KrylovSolveResult solve(const Eigen::VectorXd& b, Eigen::VectorXd* x, double rtol,
                           int max_iterations) const override;
+  void release() override;
 
  protected:
   explicit PetscKrylovSolver(Preconditioner preconditioner);

@@ -242,7 +242,7 @@ class Condensation {
   /// The rotated unknowns held at 0 that are not coordinates: the normals of bilateral nodes.
   std::vector<int> tied_rows() const;
   /// The full nodal displacement (prescribed values included) of the rotated free unknowns x~.
-  Eigen::VectorXd displacement_of(const Eigen::VectorXd& xt) const;
+  Eigen::VectorXd displacement_of(Eigen::VectorXd xt) const;
   /// The rotated free unknowns of a full nodal displacement u (its free part, relative at the
   /// pairs, in the contact nodes' frames): displacement_of's inverse on the free dofs.
   Eigen::VectorXd rotated_free(const Eigen::VectorXd& u) const;

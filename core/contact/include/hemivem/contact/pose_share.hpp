@@ -192,7 +192,8 @@ class FullSpaceShares {
 /// rotated, it is given back before the solve (a caller that needs it no more moves it in). Its stages and
 /// timings are those of the route in one process: assembly (this process's rows), posing (with
 /// the timing setup, FullSpaceShares::timings), full_space, then post_process (gathering and
-/// making the results) and release (the shares given back; `krylov` is the caller's).
+/// making the results) and release (`krylov` released, KrylovSolver::release, once the point is
+/// found and before the whole results are made; then the shares given back).
 /// uniqueness_margin is NaN, as on the route in one process. With one process this is that
 /// route on one share holding every row.
 ///
