@@ -75,8 +75,8 @@ std::string unsupported_type_name(long long type) {
 
 class GmshReader final : detail::GmshSections {
  public:
-  GmshReader(std::string data, std::string name)
-      : GmshSections(std::move(data), std::move(name),
+  GmshReader(std::istream& in, std::string name)
+      : GmshSections(in, std::move(name),
                      {2, max_mesh_coordinate, "1e150 (element areas would overflow)"}) {}
 
   Mesh read() {
@@ -105,7 +105,7 @@ class GmshReader final : detail::GmshSections {
   }
 
  private:
-  [[noreturn]] void refuse_element_type(const Line& block, long long type) const override {
+  [[noreturn]] void refuse_element_type(int block, long long type) const override {
     const std::string name = unsupported_type_name(type);
     fail(block, "element type " + std::to_string(type) + (name.empty() ? "" : " (" + name + ")") +
                     " is not supported: only 2-node lines (1), 3-node triangles (2), 4-node quadrangles (3) and "
@@ -266,7 +266,7 @@ Mesh read_gmsh(const fs::path& path) {
 }
 
 Mesh read_gmsh(std::istream& in, const std::string& name) {
-  return GmshReader(text::read_all(in, name, "mesh"), name).read();
+  return GmshReader(in, name).read();
 }
 
 MeshPieceRead<Mesh> read_gmsh_piece(const fs::path& path, int rank, int size, HeldPoints held) {
@@ -275,7 +275,7 @@ MeshPieceRead<Mesh> read_gmsh_piece(const fs::path& path, int rank, int size, He
 }
 
 MeshPieceRead<Mesh> read_gmsh_piece(std::istream& in, const std::string& name, int rank, int size, HeldPoints held) {
-  return GmshReader(text::read_all(in, name, "mesh"), name).read_piece(rank, size, held);
+  return GmshReader(in, name).read_piece(rank, size, held);
 }
 
 MeshLists<Mesh> read_gmsh_lists(const fs::path& path) {
@@ -284,7 +284,7 @@ MeshLists<Mesh> read_gmsh_lists(const fs::path& path) {
 }
 
 MeshLists<Mesh> read_gmsh_lists(std::istream& in, const std::string& name) {
-  auto reader = std::make_shared<GmshReader>(text::read_all(in, name, "mesh"), name);
+  auto reader = std::make_shared<GmshReader>(in, name);
   const int vertices = reader->read_lists();
   return {vertices, [reader](const std::vector<char>& owned, HeldPoints held) { return reader->piece(owned, held); }};
 }

@@ -118,8 +118,8 @@ std::string unsupported_type_name(long long type) {
 
 class Gmsh3DReader final : detail::GmshSections {
  public:
-  Gmsh3DReader(std::string data, std::string name)
-      : GmshSections(std::move(data), std::move(name), {3, 1e100, "1e100 (cell volumes would overflow)"}) {}
+  Gmsh3DReader(std::istream& in, std::string name)
+      : GmshSections(in, std::move(name), {3, 1e100, "1e100 (cell volumes would overflow)"}) {}
 
   Mesh3D read() {
     read_volumes();
@@ -150,7 +150,7 @@ class Gmsh3DReader final : detail::GmshSections {
                              "5-node pyramids): a plane mesh is read by read_gmsh");
   }
 
-  [[noreturn]] void refuse_element_type(const Line& block, long long type) const override {
+  [[noreturn]] void refuse_element_type(int block, long long type) const override {
     const std::string name = unsupported_type_name(type);
     fail(block, "element type " + std::to_string(type) + (name.empty() ? "" : " (" + name + ")") +
                     " is not supported: only 4-node tetrahedra (4), 8-node hexahedra (5), 6-node prisms (6), 5-node "
@@ -540,7 +540,7 @@ Mesh3D read_gmsh3d(const fs::path& path) {
 }
 
 Mesh3D read_gmsh3d(std::istream& in, const std::string& name) {
-  return Gmsh3DReader(text::read_all(in, name, "mesh"), name).read();
+  return Gmsh3DReader(in, name).read();
 }
 
 MeshPieceRead<Mesh3D> read_gmsh3d_piece(const fs::path& path, int rank, int size, HeldPoints held) {
@@ -549,7 +549,7 @@ MeshPieceRead<Mesh3D> read_gmsh3d_piece(const fs::path& path, int rank, int size
 }
 
 MeshPieceRead<Mesh3D> read_gmsh3d_piece(std::istream& in, const std::string& name, int rank, int size, HeldPoints held) {
-  return Gmsh3DReader(text::read_all(in, name, "mesh"), name).read_piece(rank, size, held);
+  return Gmsh3DReader(in, name).read_piece(rank, size, held);
 }
 
 MeshLists<Mesh3D> read_gmsh3d_lists(const fs::path& path) {
@@ -558,7 +558,7 @@ MeshLists<Mesh3D> read_gmsh3d_lists(const fs::path& path) {
 }
 
 MeshLists<Mesh3D> read_gmsh3d_lists(std::istream& in, const std::string& name) {
-  auto reader = std::make_shared<Gmsh3DReader>(text::read_all(in, name, "mesh"), name);
+  auto reader = std::make_shared<Gmsh3DReader>(in, name);
   const int vertices = reader->read_lists();
   return {vertices, [reader](const std::vector<char>& owned, HeldPoints held) { return reader->piece(owned, held); }};
 }

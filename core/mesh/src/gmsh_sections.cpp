@@ -46,17 +46,21 @@ ElementType element_type(long long type, int region_dim) {
 
 }  // namespace
 
-GmshSections::GmshSections(std::string data, std::string name, Dialect dialect)
-    : data_(std::move(data)), name_(std::move(name)), dialect_(std::move(dialect)) {
-  last_line_ = text::split_lines(data_, name_, lines_);
-}
+GmshSections::GmshSections(std::istream& in, std::string name, Dialect dialect)
+    : in_(&in), name_(std::move(name)), dialect_(std::move(dialect)) {}
 
 void GmshSections::fail(int line, const std::string& message) const { throw InputError(message, where(line)); }
 
 void GmshSections::read_sections() {
+  if (!in_) throw InternalError("the sections of " + name_ + " read twice");
+  lines_ = std::make_unique<text::LineStream>(*in_, name_, "mesh");
+  last_line_ = lines_->last_line();
+  const bool empty = lines_->total() == 0;
   bool format = false;
-  while (pos_ < lines_.size()) {
-    const Line line = lines_[pos_++];
+  std::string opened;  // the section header's text, held while its section is read
+  while (lines_->next(line_)) {
+    opened.assign(line_.text);
+    const Line line{line_.number, opened};
     text::tokenize(line.text, tokens_);
     const std::string_view section = tokens_[0];
     if (section.front() != '$' || tokens_.size() != 1)
@@ -93,14 +97,14 @@ void GmshSections::read_sections() {
     }
   }
   if (!format)
-    fail(last_line_, lines_.empty() ? "the file holds no data: expected $MeshFormat"
+    fail(last_line_, empty ? "the file holds no data: expected $MeshFormat"
                                     : "the file holds no $MeshFormat section");
   if (nodes_line_ == 0) fail(last_line_, "the file has no $Nodes section");
   if (elements_line_ == 0) fail(last_line_, "the file has no $Elements section");
-  // what was read is in nodes_, top_ and below_: the text and its index are given back (swapped
-  // with empty ones: assigning an empty one keeps the storage)
-  std::string().swap(data_);
-  decltype(lines_)().swap(lines_);
+  // what was read is in nodes_, top_ and below_: the stream is left, and the index of the nodes'
+  // tags given back (swapped with an empty one: assigning an empty one keeps the storage)
+  lines_.reset();
+  in_ = nullptr;
   decltype(tokens_)().swap(tokens_);
   decltype(node_index_)().swap(node_index_);
 }
@@ -116,19 +120,17 @@ void GmshSections::once(int& seen, const Line& line) {
 /// The next data line of the section opened at `header`, tokenized; `what` says what was expected.
 const Line& GmshSections::data_line(const Line& header, const std::string& what) {
   const std::string opened = std::string(header.text) + " (line " + std::to_string(header.number) + ")";
-  if (pos_ >= lines_.size()) fail(last_line_, "the file ends inside " + opened + " while expecting " + what);
-  const Line& line = lines_[pos_];
-  if (line.text.front() == '$') fail(line, "expected " + what + " in " + opened + ", found " + quote(line.text));
-  ++pos_;
-  text::tokenize(line.text, tokens_);
-  return line;
+  if (!lines_->next(line_)) fail(last_line_, "the file ends inside " + opened + " while expecting " + what);
+  if (line_.text.front() == '$') fail(line_, "expected " + what + " in " + opened + ", found " + quote(line_.text));
+  text::tokenize(line_.text, tokens_);
+  return line_;
 }
 
 void GmshSections::end_section(const Line& header) {
   const std::string end = "$End" + std::string(header.text.substr(1));
-  if (pos_ >= lines_.size())
+  if (!lines_->next(line_))
     fail(last_line_, "the file ends before " + end + " (closing line " + std::to_string(header.number) + ")");
-  const Line& line = lines_[pos_++];
+  const Line& line = line_;
   if (line.text != end)
     fail(line, "expected " + end + " (closing line " + std::to_string(header.number) + "), found " +
                    quote(line.text));
@@ -136,8 +138,8 @@ void GmshSections::end_section(const Line& header) {
 
 void GmshSections::skip_section(const Line& header) {
   const std::string end = "$End" + std::string(header.text.substr(1));
-  while (pos_ < lines_.size())
-    if (lines_[pos_++].text == end) return;
+  while (lines_->next(line_))
+    if (line_.text == end) return;
   fail(last_line_, "the file ends before " + end + " (closing line " + std::to_string(header.number) + ")");
 }
 
@@ -266,7 +268,7 @@ GmshSections::BlockCounts GmshSections::block_counts(const Line& header, const B
   // A node takes two lines, an element one.
   if (static_cast<unsigned long long>(total) > lines_left())
     fail(line, "the " + noun + " count " + std::to_string(total) + " exceeds what the rest of the file can hold");
-  return {line, blocks, total};
+  return {line.number, blocks, total};
 }
 
 GmshSections::BlockHeader GmshSections::block_header(const Line& header, const BlockWords& w, long long blocks,
@@ -279,7 +281,7 @@ GmshSections::BlockHeader GmshSections::block_header(const Line& header, const B
   const long long entity = integer(line, 1, "entity tag");
   const long long kind = integer(line, 2, w.kind);
   const long long n = count(line, 3, noun + " count of the block");
-  return {line, dim, entity, kind, n};
+  return {line.number, dim, entity, kind, n};
 }
 
 void GmshSections::read_nodes(const Line& header) {
@@ -294,11 +296,11 @@ void GmshSections::read_nodes(const Line& header) {
       fail(bl, "the parametric flag is " + std::to_string(parametric) + ", not 0 or 1");
     if (read + n > total)
       fail(bl, "the node blocks hold more nodes than the " + std::to_string(total) + " declared at line " +
-                   std::to_string(hl.number));
+                   std::to_string(hl));
     const std::size_t first = nodes_.size();
     for (long long i = 0; i < n; ++i) {
       const Line& line = data_line(header, std::to_string(n) + " node tags of the block at line " +
-                                               std::to_string(bl.number) + " (found " + std::to_string(i) + ")");
+                                               std::to_string(bl) + " (found " + std::to_string(i) + ")");
       expect_tokens(line, 1, "a node tag line");
       const long long tag = integer(line, 0, "node tag");
       if (tag <= 0) fail(line, "node tag " + std::to_string(tag) + " is not positive");
@@ -313,7 +315,7 @@ void GmshSections::read_nodes(const Line& header) {
       GmshNode& node = nodes_[first + static_cast<std::size_t>(i)];
       const std::string what = "node " + std::to_string(node.tag);
       const Line& line = data_line(header, std::to_string(n) + " node coordinate lines of the block at line " +
-                                               std::to_string(bl.number) + " (found " + std::to_string(i) + ")");
+                                               std::to_string(bl) + " (found " + std::to_string(i) + ")");
       expect_tokens(line, values, "the coordinate line of " + what);
       double c[3];
       for (int k = 0; k < 3; ++k) {
@@ -339,7 +341,7 @@ void GmshSections::read_nodes(const Line& header) {
 void GmshSections::read_elements(const Line& header) {
   static const BlockWords words{"element", "Element", "an", "elementType", "element type"};
   const auto [hl, blocks, total] = block_counts(header, words);
-  elements_header_ = hl.number;
+  elements_header_ = hl;
   const int rd = dialect_.region_dim;
   long long read = 0;
   for (long long b = 0; b < blocks; ++b) {
@@ -351,7 +353,7 @@ void GmshSections::read_elements(const Line& header) {
                    " but its block is on an entity of dimension " + std::to_string(dim));
     if (read + n > total)
       fail(bl, "the element blocks hold more elements than the " + std::to_string(total) + " declared at line " +
-                   std::to_string(hl.number));
+                   std::to_string(hl));
     // the elements kept: on entities of the top dimension and of the one below
     const bool kept = dim >= rd - 1;
     if (kept && entities_line_ != 0 && !entity_physicals_[dim].count(entity))
@@ -359,7 +361,7 @@ void GmshSections::read_elements(const Line& header) {
     const std::size_t nn = static_cast<std::size_t>(et.nodes);
     for (long long i = 0; i < n; ++i) {
       const Line& line = data_line(header, std::to_string(n) + " element lines of the block at line " +
-                                               std::to_string(bl.number) + " (found " + std::to_string(i) + ")");
+                                               std::to_string(bl) + " (found " + std::to_string(i) + ")");
       const long long tag = integer(line, 0, "element tag");
       const std::string what = "element " + std::to_string(tag);
       if (tokens_.size() != nn + 1)

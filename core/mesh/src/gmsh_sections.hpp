@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <map>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <unordered_map>
@@ -56,11 +57,12 @@ class GmshSections {
   GmshSections& operator=(const GmshSections&) = delete;
 
  protected:
-  GmshSections(std::string data, std::string name, Dialect dialect);
+  /// Reads `in` (which must outlive read_sections(), and is not read after it) line by line.
+  GmshSections(std::istream& in, std::string name, Dialect dialect);
   ~GmshSections() = default;
 
-  /// Throws the InputError (at `block`) for an element type the reader does not read.
-  [[noreturn]] virtual void refuse_element_type(const text::Line& block, long long type) const = 0;
+  /// Throws the InputError (at the line `block`) for an element type the reader does not read.
+  [[noreturn]] virtual void refuse_element_type(int block, long long type) const = 0;
 
   /// Reads every section of the file; throws InputError without $MeshFormat, $Nodes or $Elements.
   void read_sections();
@@ -99,7 +101,7 @@ class GmshSections {
   std::vector<GmshElement> top_, below_;
 
  private:
-  std::size_t lines_left() const { return lines_.size() - std::min(pos_, lines_.size()); }
+  std::size_t lines_left() const { return lines_->remaining(); }
   void once(int& seen, const text::Line& line);
   const text::Line& data_line(const text::Line& header, const std::string& what);
   void end_section(const text::Line& header);
@@ -117,14 +119,14 @@ class GmshSections {
   /// `header`), or its like in $Elements: the block count and the total, which the rest of the
   /// file has lines for.
   struct BlockCounts {
-    const text::Line& line;
+    int line;
     long long blocks, total;
   };
   BlockCounts block_counts(const text::Line& header, const BlockWords& words);
   /// The header 'entityDim entityTag parametric numNodesInBlock' of block `b` of `blocks` (or its
   /// like in $Elements).
   struct BlockHeader {
-    const text::Line& line;
+    int line;
     long long dim, entity, kind, size;
   };
   BlockHeader block_header(const text::Line& header, const BlockWords& words, long long blocks, long long b);
@@ -135,12 +137,12 @@ class GmshSections {
   void read_nodes(const text::Line& header);
   void read_elements(const text::Line& header);
 
-  std::string data_;
+  std::istream* in_;
   std::string name_;
   Dialect dialect_;
-  std::vector<text::Line> lines_;
+  std::unique_ptr<text::LineStream> lines_;  // while the sections are read
+  text::Line line_;                          // the line read last
   std::vector<std::string_view> tokens_;
-  std::size_t pos_ = 0;
 
   int physical_names_line_ = 0, entities_line_ = 0, nodes_line_ = 0, elements_line_ = 0;
   std::map<std::pair<int, int>, std::string> physical_names_;

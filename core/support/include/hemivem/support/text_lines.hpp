@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <istream>
+#include <sstream>
 #include <string>
 #include <string_view>
 #include <system_error>
@@ -120,6 +121,78 @@ inline int split_lines(std::string_view data, const std::string& where, std::vec
   }
   return std::max(number, 1);
 }
+
+/// The non-blank lines of a stream, trimmed and numbered as split_lines numbers them, read one
+/// at a time without holding the stream's text: a line's text is valid until the next call of
+/// next(). The stream is read through once on construction, counting its lines (remaining(),
+/// last_line()), then again from where it stood; a stream that cannot go back is read into a
+/// copy held here. InputError (at `name`) when reading fails ("read error while reading the
+/// <what>") or the stream has more than INT_MAX lines.
+class LineStream {
+ public:
+  LineStream(std::istream& in, std::string name, std::string what) : in_(&in), name_(std::move(name)), what_(std::move(what)) {
+    const std::istream::pos_type start = in.tellg();
+    if (start == std::istream::pos_type(-1)) {  // not seekable: a copy
+      copy_.str(read_all(in, name_, what_));
+      in_ = &copy_;
+    }
+    const std::istream::pos_type from = in_->tellg();
+    char chunk[1 << 16];
+    long long number = 0;
+    bool open = false, blank = true;  // a line begun, and only whitespace in it so far
+    const auto close = [&] {
+      if (number == INT_MAX) throw InputError("the file has too many lines", name_ + ":" + std::to_string(number));
+      ++number;
+      if (!blank) ++total_;
+      open = false, blank = true;
+    };
+    while (in_->read(chunk, sizeof chunk) || in_->gcount() > 0)
+      for (std::streamsize i = 0; i < in_->gcount(); ++i) {
+        const char c = chunk[i];
+        if (c == '\n') {
+          close();
+          continue;
+        }
+        open = true;
+        if (kWhitespace.find(c) == std::string_view::npos) blank = false;
+      }
+    if (in_->bad()) throw InputError("read error while reading the " + what_, name_);
+    if (open) close();
+    last_ = std::max(static_cast<int>(number), 1);
+    in_->clear();
+    in_->seekg(from);
+    if (!*in_) throw InputError("read error while reading the " + what_, name_);
+  }
+  LineStream(const LineStream&) = delete;
+  LineStream& operator=(const LineStream&) = delete;
+
+  /// The next non-blank line; false at the end of the stream.
+  bool next(Line& line) {
+    while (std::getline(*in_, buffer_)) {
+      ++number_;
+      std::string_view text = buffer_;
+      const std::size_t first = text.find_first_not_of(kWhitespace);
+      if (first == std::string_view::npos) continue;
+      line = {number_, text.substr(first, text.find_last_not_of(kWhitespace) - first + 1)};
+      ++returned_;
+      return true;
+    }
+    if (in_->bad()) throw InputError("read error while reading the " + what_, name_);
+    return false;
+  }
+  /// The number of non-blank lines, and of those next() has not returned yet.
+  std::size_t total() const noexcept { return total_; }
+  std::size_t remaining() const noexcept { return total_ - std::min(returned_, total_); }
+  /// The number of the stream's last line (at least 1), blank or not.
+  int last_line() const noexcept { return last_; }
+
+ private:
+  std::istream* in_;
+  std::istringstream copy_;
+  std::string name_, what_, buffer_;
+  int number_ = 0, last_ = 1;
+  std::size_t total_ = 0, returned_ = 0;
+};
 
 /// The whitespace-separated tokens of `text` (replacing the contents of `tokens`).
 inline void tokenize(std::string_view text, std::vector<std::string_view>& tokens) {
