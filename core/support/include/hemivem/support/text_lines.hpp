@@ -146,16 +146,20 @@ class LineStream {
       if (!blank) ++total_;
       open = false, blank = true;
     };
-    while (in_->read(chunk, sizeof chunk) || in_->gcount() > 0)
-      for (std::streamsize i = 0; i < in_->gcount(); ++i) {
-        const char c = chunk[i];
-        if (c == '\n') {
+    while (in_->read(chunk, sizeof chunk) || in_->gcount() > 0) {
+      const std::string_view read(chunk, static_cast<std::size_t>(in_->gcount()));
+      for (std::size_t i = 0; i < read.size();) {
+        if (read[i] == '\n') {
           close();
+          ++i;
           continue;
         }
         open = true;
-        if (kWhitespace.find(c) == std::string_view::npos) blank = false;
+        if (blank && kWhitespace.find(read[i]) == std::string_view::npos) blank = false;
+        // a line known not blank: on to its end
+        i = blank ? i + 1 : std::min(read.find('\n', i), read.size());
       }
+    }
     if (in_->bad()) throw InputError("read error while reading the " + what_, name_);
     if (open) close();
     last_ = std::max(static_cast<int>(number), 1);
