@@ -45,11 +45,19 @@ using text::Line;
 
 class Poly2dReader {
  public:
-  Poly2dReader(std::string data, std::string name) : data_(std::move(data)), name_(std::move(name)) { split(); }
+  /// Reads `in` line by line, on construction (a stream of no more than the file's lines is held).
+  Poly2dReader(std::istream& in, std::string name) : name_(std::move(name)) {
+    text::LineStream lines(in, name_, "mesh", '#', &comments_);
+    lines_ = &lines;
+    last_line_ = lines.last_line();
+    empty_ = lines.total() == 0;
+    read_lists(boundary_list_);
+    lines_ = nullptr;
+  }
 
   Poly2dMesh read() {
     Poly2dMesh out;
-    read_lists(out.boundary_list);
+    out.boundary_list = std::move(boundary_list_);
     out.mesh = mesh_of(std::move(vertices_), std::move(elements_));
     out.comments = std::move(comments_);
     return out;
@@ -64,8 +72,6 @@ class Poly2dReader {
 
   /// The vertices and elements, the mesh not made (for piece).
   detail::PlaneCells read_cells() {
-    std::vector<int> boundary_list;
-    read_lists(boundary_list);
     return {std::move(vertices_), std::move(elements_)};
   }
 
@@ -90,7 +96,10 @@ class Poly2dReader {
     vertices_ = read_vertices(nv, vheader_);
     eheader_ = expect_header("elements", "NE", "element count");
     elements_ = read_elements(header_count_, nv, eheader_, element_lines_);
-    if (pos_ < lines_.size()) boundary_list = read_boundary(nv);
+    if (lines_->next(line_)) {
+      lines_->put_back();
+      boundary_list = read_boundary(nv);
+    }
   }
 
   /// The mesh of the elements, or its first defect at the line of its element.
@@ -100,17 +109,17 @@ class Poly2dReader {
       return Mesh(std::move(vertices), std::move(elements));
     } catch (const MeshError& err) {
       const int e = err.element();
-      int line = eheader_.number;
+      int line = eheader_;
       if (e >= 0 && static_cast<std::size_t>(e) < element_lines_.size())
         line = element_lines_[static_cast<std::size_t>(e)];
       else if (none)
-        line = vheader_.number;
+        line = vheader_;
       throw MeshError(err.detail(), e, where(line));
     }
   }
 
   /// The `nv` lines `x y` after the header `vertices NV`.
-  std::vector<Vec2> read_vertices(int nv, const Line& vheader) {
+  std::vector<Vec2> read_vertices(int nv, int vheader) {
     std::vector<Vec2> vertices;
     vertices.reserve(bounded(nv));
     for (int i = 0; i < nv; ++i) {
@@ -144,7 +153,7 @@ class Poly2dReader {
 
   /// The `ne` lines `k v1 ... vk` after the header `elements NE`; `element_lines` receives
   /// the line of each.
-  std::vector<std::vector<int>> read_elements(int ne, int nv, const Line& eheader, std::vector<int>& element_lines) {
+  std::vector<std::vector<int>> read_elements(int ne, int nv, int eheader, std::vector<int>& element_lines) {
     std::vector<std::vector<int>> elements;
     elements.reserve(bounded(ne));
     element_lines.reserve(bounded(ne));
@@ -193,12 +202,13 @@ class Poly2dReader {
 
   /// The optional list `boundary NB` and its NB vertex indices, which must end the file.
   std::vector<int> read_boundary(int nv) {
-    const Line& line = lines_[pos_];
-    tokenize(line.text);
+    lines_->next(line_);
+    tokenize(line_.text);
     if (tokens_[0] != "boundary")
-      fail(line, "unexpected content after the element list: " + quote(line.text) +
-                     " (expected 'boundary NB' or the end of the file)");
-    const Line bheader = expect_header("boundary", "NB", "boundary count");
+      fail(line_, "unexpected content after the element list: " + quote(line_.text) +
+                      " (expected 'boundary NB' or the end of the file)");
+    lines_->put_back();
+    const int bheader = expect_header("boundary", "NB", "boundary count");
     const int nb = header_count_;
     std::vector<int> boundary_list;
     boundary_list.reserve(bounded(nb));
@@ -216,13 +226,11 @@ class Poly2dReader {
                      std::to_string(nv) + ")");
       boundary_list.push_back(static_cast<int>(v));
     }
-    if (pos_ < lines_.size())
-      fail(lines_[pos_], "unexpected content after the boundary list: " + quote(lines_[pos_].text) +
-                             " (the file should end here)");
+    if (lines_->next(line_))
+      fail(line_, "unexpected content after the boundary list: " + quote(line_.text) + " (the file should end here)");
     return boundary_list;
   }
 
-  void split() { last_line_ = text::split_lines(data_, name_, lines_, '#', &comments_); }
   void tokenize(std::string_view line) { text::tokenize(line, tokens_); }
 
   std::string where(int line) const { return name_ + ":" + std::to_string(line); }
@@ -232,17 +240,17 @@ class Poly2dReader {
 
   /// A capacity to reserve for `count` records: never more than the lines left.
   std::size_t bounded(int count) const {
-    return std::min(static_cast<std::size_t>(count), lines_.size() - std::min(pos_, lines_.size()));
+    return std::min(static_cast<std::size_t>(count), lines_->remaining());
   }
 
-  /// Reads the header line `keyword N` and stores N in header_count_.
-  Line expect_header(std::string_view keyword, std::string_view count_name, const std::string& count_what) {
+  /// Reads the header line `keyword N`, stores N in header_count_ and returns its line's number.
+  int expect_header(std::string_view keyword, std::string_view count_name, const std::string& count_what) {
     std::string form(1, '\'');
     form.append(keyword).append(" ").append(count_name).append("'");
-    if (pos_ >= lines_.size())
-      fail(last_line_, lines_.empty() ? "the file holds no data: expected the header " + form
-                                      : "the file ends before the header " + form);
-    const Line line = lines_[pos_++];
+    if (!lines_->next(line_))
+      fail(last_line_, empty_ ? "the file holds no data: expected the header " + form
+                              : "the file ends before the header " + form);
+    const Line& line = line_;
     tokenize(line.text);
     if (tokens_[0] != keyword)
       fail(line, "expected the header " + form + ", found " + quote(line.text));
@@ -262,35 +270,32 @@ class Poly2dReader {
     if (n > INT_MAX)
       fail(line, count_what + " " + shown(tokens_[1]) + " is too large (at most " + std::to_string(INT_MAX) + ")");
     header_count_ = static_cast<int>(n);
-    return line;
+    return line.number;
   }
 
   /// The next line of a list of `count` records, tokenized into tokens_, or an error at
   /// the line where the list runs out.
-  const Line& data_line(int index, int count, const std::string& record, const std::string& section,
-                        const Line& header) {
+  const Line& data_line(int index, int count, const std::string& record, const std::string& section, int header) {
     const std::string expected = "expected " + std::to_string(count) + " " + record + " lines after '" + section +
-                                 " " + std::to_string(count) + "' (line " + std::to_string(header.number) + ")";
-    if (pos_ >= lines_.size())
-      fail(last_line_, expected + ", but the file ends after " + std::to_string(index));
-    const Line& line = lines_[pos_];
-    tokenize(line.text);
+                                 " " + std::to_string(count) + "' (line " + std::to_string(header) + ")";
+    if (!lines_->next(line_)) fail(last_line_, expected + ", but the file ends after " + std::to_string(index));
+    tokenize(line_.text);
     if (is_keyword(tokens_[0]))
-      fail(line, expected + ", but the list ends after " + std::to_string(index) + " (found " + quote(line.text) + ")");
-    ++pos_;
-    return line;
+      fail(line_, expected + ", but the list ends after " + std::to_string(index) + " (found " + quote(line_.text) + ")");
+    return line_;
   }
 
-  std::string data_;
   std::string name_;
-  Line vheader_, eheader_;
+  text::LineStream* lines_ = nullptr;  // while the file is read
+  Line line_;                          // the line read last
+  bool empty_ = false;                 // no line but blank ones and comments
+  int vheader_ = 0, eheader_ = 0;      // the lines of the headers
+  std::vector<int> boundary_list_;
   std::vector<Vec2> vertices_;
   std::vector<std::vector<int>> elements_;
   std::vector<int> element_lines_;
-  std::vector<Line> lines_;
   std::vector<std::string> comments_;
   std::vector<std::string_view> tokens_;
-  std::size_t pos_ = 0;
   int last_line_ = 1;
   int header_count_ = 0;
 };
@@ -313,7 +318,7 @@ void write_comment(std::ostream& out, std::string_view comment) {
 }  // namespace
 
 Poly2dMesh read_poly2d(std::istream& in, const std::string& name) {
-  return Poly2dReader(text::read_all(in, name, "mesh"), name).read();
+  return Poly2dReader(in, name).read();
 }
 
 Poly2dMesh read_poly2d(const fs::path& path) {
@@ -322,7 +327,7 @@ Poly2dMesh read_poly2d(const fs::path& path) {
 }
 
 MeshPieceRead<Mesh> read_poly2d_piece(std::istream& in, const std::string& name, int rank, int size, HeldPoints held) {
-  return Poly2dReader(text::read_all(in, name, "mesh"), name).read_piece(rank, size, held);
+  return Poly2dReader(in, name).read_piece(rank, size, held);
 }
 
 MeshPieceRead<Mesh> read_poly2d_piece(const fs::path& path, int rank, int size, HeldPoints held) {
@@ -331,7 +336,7 @@ MeshPieceRead<Mesh> read_poly2d_piece(const fs::path& path, int rank, int size, 
 }
 
 MeshLists<Mesh> read_poly2d_lists(std::istream& in, const std::string& name) {
-  auto reader = std::make_shared<Poly2dReader>(text::read_all(in, name, "mesh"), name);
+  auto reader = std::make_shared<Poly2dReader>(in, name);
   auto cells = std::make_shared<const detail::PlaneCells>(reader->read_cells());
   return {static_cast<int>(cells->vertices.size()), [reader, cells](const std::vector<char>& owned, HeldPoints held) {
             return reader->piece(*cells, {.owned = &owned}, held);

@@ -93,44 +93,19 @@ struct Line {
   std::string_view text;  ///< without leading/trailing whitespace (and without '\r')
 };
 
-/// Splits `data` into its non-blank lines, trimmed, with their numbers. When `comment` is
-/// not 0, a line starting with it goes to `comments` instead (without it and one following
-/// space). Returns the number of the last line (at least 1). `where` names the file in the
-/// error thrown for more than INT_MAX lines.
-inline int split_lines(std::string_view data, const std::string& where, std::vector<Line>& lines, char comment = 0,
-                       std::vector<std::string>* comments = nullptr) {
-  std::size_t start = 0;
-  int number = 0;
-  while (start < data.size()) {
-    std::size_t end = data.find('\n', start);
-    if (end == std::string_view::npos) end = data.size();
-    if (number == INT_MAX) throw InputError("the file has too many lines", where + ":" + std::to_string(number));
-    ++number;
-    std::string_view text = data.substr(start, end - start);
-    start = end + 1;
-    const std::size_t first = text.find_first_not_of(kWhitespace);
-    if (first == std::string_view::npos) continue;  // blank
-    text = text.substr(first, text.find_last_not_of(kWhitespace) - first + 1);
-    if (comment != 0 && text.front() == comment) {
-      text.remove_prefix(1);
-      if (!text.empty() && text.front() == ' ') text.remove_prefix(1);
-      if (comments) comments->emplace_back(text);
-      continue;
-    }
-    lines.push_back({number, text});
-  }
-  return std::max(number, 1);
-}
-
-/// The non-blank lines of a stream, trimmed and numbered as split_lines numbers them, read one
-/// at a time without holding the stream's text: a line's text is valid until the next call of
-/// next(). The stream is read through once on construction, counting its lines (remaining(),
-/// last_line()), then again from where it stood; a stream that cannot go back is read into a
-/// copy held here. InputError (at `name`) when reading fails ("read error while reading the
-/// <what>") or the stream has more than INT_MAX lines.
+/// The non-blank lines of a stream, trimmed of whitespace (kWhitespace) and numbered from 1 by
+/// the '\n' that ends each, blank ones counted; given `comment`, a line that begins with it is a
+/// comment, which goes to `comments` as it is met (without it and one following space). Read one
+/// at a time without holding the stream's text: a line's text is valid until the next call of next(). The stream
+/// is read through once on construction, counting its lines (remaining(), last_line()), then
+/// again from where it stood; a stream that cannot go back is read into a copy held here.
+/// InputError (at `name`) when reading fails ("read error while reading the <what>") or the
+/// stream has more than INT_MAX lines.
 class LineStream {
  public:
-  LineStream(std::istream& in, std::string name, std::string what) : in_(&in), name_(std::move(name)), what_(std::move(what)) {
+  LineStream(std::istream& in, std::string name, std::string what, char comment = 0,
+             std::vector<std::string>* comments = nullptr)
+      : in_(&in), name_(std::move(name)), what_(std::move(what)), comment_(comment), comments_(comments) {
     const std::istream::pos_type start = in.tellg();
     if (start == std::istream::pos_type(-1)) {  // not seekable: a copy
       copy_.str(read_all(in, name_, what_));
@@ -139,12 +114,12 @@ class LineStream {
     const std::istream::pos_type from = in_->tellg();
     char chunk[1 << 16];
     long long number = 0;
-    bool open = false, blank = true;  // a line begun, and only whitespace in it so far
+    bool open = false, blank = true, data = false;  // a line begun, only whitespace in it so far, not a comment
     const auto close = [&] {
       if (number == INT_MAX) throw InputError("the file has too many lines", name_ + ":" + std::to_string(number));
       ++number;
-      if (!blank) ++total_;
-      open = false, blank = true;
+      if (data) ++total_;
+      open = false, blank = true, data = false;
     };
     while (in_->read(chunk, sizeof chunk) || in_->gcount() > 0) {
       const std::string_view read(chunk, static_cast<std::size_t>(in_->gcount()));
@@ -155,14 +130,14 @@ class LineStream {
           continue;
         }
         open = true;
-        if (blank && kWhitespace.find(read[i]) == std::string_view::npos) blank = false;
+        if (blank && kWhitespace.find(read[i]) == std::string_view::npos) blank = false, data = comment_ == 0 || read[i] != comment_;
         // a line known not blank: on to its end
         i = blank ? i + 1 : std::min(read.find('\n', i), read.size());
       }
     }
     if (in_->bad()) throw InputError("read error while reading the " + what_, name_);
     if (open) close();
-    last_ = std::max(static_cast<int>(number), 1);
+    last_line_ = std::max(static_cast<int>(number), 1);
     in_->clear();
     in_->seekg(from);
     if (!*in_) throw InputError("read error while reading the " + what_, name_);
@@ -170,31 +145,54 @@ class LineStream {
   LineStream(const LineStream&) = delete;
   LineStream& operator=(const LineStream&) = delete;
 
-  /// The next non-blank line; false at the end of the stream.
+  /// The next non-blank line that is no comment; false at the end of the stream.
   bool next(Line& line) {
+    if (put_back_) {
+      put_back_ = false;
+      line = last_;
+      ++returned_;
+      return true;
+    }
     while (std::getline(*in_, buffer_)) {
       ++number_;
       std::string_view text = buffer_;
       const std::size_t first = text.find_first_not_of(kWhitespace);
       if (first == std::string_view::npos) continue;
-      line = {number_, text.substr(first, text.find_last_not_of(kWhitespace) - first + 1)};
+      text = text.substr(first, text.find_last_not_of(kWhitespace) - first + 1);
+      if (comment_ != 0 && text.front() == comment_) {
+        text.remove_prefix(1);
+        if (!text.empty() && text.front() == ' ') text.remove_prefix(1);
+        if (comments_) comments_->emplace_back(text);
+        continue;
+      }
+      line = last_ = {number_, text};
       ++returned_;
       return true;
     }
     if (in_->bad()) throw InputError("read error while reading the " + what_, name_);
     return false;
   }
-  /// The number of non-blank lines, and of those next() has not returned yet.
+  /// The line next() returned last is returned again by the next call.
+  void put_back() {
+    if (put_back_ || returned_ == 0) throw InternalError("a line put back twice, or before one was read");
+    put_back_ = true;
+    --returned_;
+  }
+  /// The number of non-blank lines that are no comments, and of those next() has not returned yet.
   std::size_t total() const noexcept { return total_; }
   std::size_t remaining() const noexcept { return total_ - std::min(returned_, total_); }
   /// The number of the stream's last line (at least 1), blank or not.
-  int last_line() const noexcept { return last_; }
+  int last_line() const noexcept { return last_line_; }
 
  private:
   std::istream* in_;
   std::istringstream copy_;
   std::string name_, what_, buffer_;
-  int number_ = 0, last_ = 1;
+  char comment_;
+  std::vector<std::string>* comments_;
+  Line last_;
+  bool put_back_ = false;
+  int number_ = 0, last_line_ = 1;
   std::size_t total_ = 0, returned_ = 0;
 };
 
