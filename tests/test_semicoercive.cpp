@@ -9,6 +9,8 @@
 #include <hemivem/linear_backends.hpp>
 #include <hemivem/mesh/boundary.hpp>
 #include <hemivem/mesh/generators.hpp>
+#include <hemivem/mesh/generators3d.hpp>
+#include <hemivem/mesh/poly2d.hpp>
 #include <hemivem/nonsmooth_backends.hpp>
 #include <hemivem/scene/scene.hpp>
 #include <hemivem/vem/rigid_motions.hpp>
@@ -175,6 +177,18 @@ std::filesystem::path three_squares() {
         out << "4 " << v << " " << v + 1 << " " << v + 6 << " " << v + 5 << "\n";
       }
   return path;
+}
+
+// The pieces counted are those the rigid motions move one by one: three squares side by side,
+// one mesh of squares, one of cubes.
+TEST(RigidMotions, ThePiecesCountedAreThoseTheMotionsMove) {
+  const Mesh squares = read_poly2d(three_squares()).mesh;
+  EXPECT_EQ(count_pieces(squares), 3);
+  EXPECT_EQ(count_pieces(squares), RigidMotions(squares, make_dof_map(squares, {})).num_pieces());
+  EXPECT_EQ(count_pieces(make_squares(4)), 1);
+  const Mesh3D cubes = make_cubes(2);
+  EXPECT_EQ(count_pieces(cubes), 1);
+  EXPECT_EQ(BasicRigidMotions<3>(cubes, make_dof_map(cubes, {})).num_pieces(), 1);
 }
 
 TEST(SemiCoercive, APieceHeldByNothingIsRefusedNamingIt) {

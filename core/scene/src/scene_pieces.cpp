@@ -329,8 +329,7 @@ std::unique_ptr<BasicBuiltProblem<dim>> keep_around(std::unique_ptr<BasicBuiltPr
   // of the contact's facets alone, and of the supports and loads the facets among its cells, each
   // support holding every vertex it holds of the mesh
   std::vector<int> bodies = body_vertex_starts(held->bodies, mesh.num_vertices());
-  const bool each_body_one =
-      BasicRigidMotions<dim>(mesh, make_dof_map(mesh, {})).num_pieces() == static_cast<int>(bodies.size()) - 1;
+  const bool each_body_one = count_pieces(mesh) == static_cast<int>(bodies.size()) - 1;
   std::vector<int> facets;
   if (!each_body_one) {
     for (const auto& d : problem.elasticity.dirichlet) facets.insert(facets.end(), d.facets.begin(), d.facets.end());

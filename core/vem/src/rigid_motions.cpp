@@ -333,4 +333,15 @@ std::string BasicRigidMotions<dim>::describe_by_axes(int k) const {
 template class BasicRigidMotions<2>;
 template class BasicRigidMotions<3>;
 
+int count_pieces(const Mesh& mesh) {
+  int count = 0;
+  (void)pieces_of_elements(mesh, &count);
+  return count;
+}
+int count_pieces(const Mesh3D& mesh) {
+  int count = 0;
+  (void)pieces_of_elements(mesh, &count);
+  return count;
+}
+
 }  // namespace hemivem

@@ -102,6 +102,11 @@ class BasicRigidMotions {
 };
 using RigidMotions = BasicRigidMotions<2>;
 
+/// The number of pieces of a mesh: sets of its cells joined through shared facets, those
+/// BasicRigidMotions moves (without `bodies`) one by one.
+int count_pieces(const Mesh& mesh);
+int count_pieces(const Mesh3D& mesh);
+
 /// The rigid motions of a mesh as nodal displacements: the translations along the axes, then the
 /// rotations about them through the mean of its vertices (3 in a plane, 6 in a solid). The
 /// near-null space of its stiffness, which the full-space route gives its preconditioner.
