@@ -66,7 +66,7 @@ void expect_solid_topology(const Mesh3D& mesh) {
     }
   }
   for (int v = 0; v < mesh.num_vertices(); ++v)
-    for (int c : cells.vertex_cells(v)) {
+    for (int c : cells.vertex_cells().of(v)) {
       const std::vector<int>& vs = mesh.cell_vertices(c);
       EXPECT_NE(std::find(vs.begin(), vs.end(), v), vs.end());
     }
@@ -113,7 +113,7 @@ TEST(CellTopology, LoopsOfTheSameVerticesAreOneFacetOfTheFirstTwoCells) {
   EXPECT_EQ(squares.find_facet({0, 2}), -1);
   EXPECT_EQ(squares.find_facet({0, 7}), -1);
   EXPECT_EQ(squares.find_facet({}), -1);
-  const auto around = squares.vertex_cells(4);
+  const auto around = squares.vertex_cells().of(4);
   EXPECT_EQ(std::vector<int>(around.begin(), around.end()), (std::vector<int>{0, 1}));
 
   const CellTopology fan = detail::plane_topology(5, {{0, 1, 2}, {1, 0, 3}, {0, 4, 1}});

@@ -386,7 +386,7 @@ void BasicContactSolver<dim>::solve_full_space(Solution& solution) {
   solution.message = m.message;
   solution.certificate = m.certificate;
   solution.may_be_nonunique = m.may_be_nonunique;
-  solution.u = condensation_->displacement_of(x);
+  solution.u = condensation_->displacement_of(std::move(x));
   solution.minimizer = std::move(m);
   solution.timings["full_space"] = detail::since(t);
   solution.timings["preconditioner"] = stats.preconditioner_seconds;

@@ -36,16 +36,7 @@ CellTopology::CellTopology(int dim, int num_vertices, std::vector<int> first, st
     distinct_vertices(c);
     vertices_.insert(vertices_.end(), scratch.begin(), scratch.end());
   }
-  // the cells around each vertex, in increasing order
-  around_start_.assign(static_cast<std::size_t>(num_vertices_) + 1, 0);
-  for (int v : vertices_) ++around_start_[static_cast<std::size_t>(v) + 1];
-  for (std::size_t v = 0; v < static_cast<std::size_t>(num_vertices_); ++v) around_start_[v + 1] += around_start_[v];
-  around_.resize(vertices_.size());
-  {
-    std::vector<int> next(around_start_.begin(), around_start_.end() - 1);
-    for (int c = 0; c < num_cells(); ++c)
-      for (int v : cell_vertices(c)) around_[static_cast<std::size_t>(next[static_cast<std::size_t>(v)]++)] = c;
-  }
+  around_ = hemivem::vertex_cells(num_vertices_, num_cells(), [&](int c) { return cell_vertices(c); });
   // the facets: each loop not yet a facet's is the first of its vertices (an earlier one would
   // have found it), and numbers the later ones
   facet_of_loop_.assign(num_loops, -1);
@@ -72,9 +63,8 @@ int CellTopology::cell_of_loop(int k) const {
 }
 
 int CellTopology::next_loop(std::span<const int> key, int from, std::vector<int>& scratch) const {
-  const auto m = static_cast<std::size_t>(key[0]);
-  for (int i = around_start_[m]; i < around_start_[m + 1]; ++i) {
-    const auto c = static_cast<std::size_t>(around_[static_cast<std::size_t>(i)]);
+  for (const int cell : around_.of(key[0])) {
+    const auto c = static_cast<std::size_t>(cell);
     if (first_[c + 1] <= from) continue;
     for (int j = std::max(first_[c], from); j < first_[c + 1]; ++j) {
       const auto b = loops_.begin() + at_[static_cast<std::size_t>(j)], e = loops_.begin() + at_[static_cast<std::size_t>(j) + 1];
@@ -90,11 +80,6 @@ int CellTopology::next_loop(std::span<const int> key, int from, std::vector<int>
 std::span<const int> CellTopology::cell_vertices(int c) const {
   const auto from = static_cast<std::size_t>(vertex_start_[static_cast<std::size_t>(c)]);
   return std::span<const int>(vertices_).subspan(from, static_cast<std::size_t>(vertex_start_[static_cast<std::size_t>(c) + 1]) - from);
-}
-
-std::span<const int> CellTopology::vertex_cells(int v) const {
-  const auto from = static_cast<std::size_t>(around_start_[static_cast<std::size_t>(v)]);
-  return std::span<const int>(around_).subspan(from, static_cast<std::size_t>(around_start_[static_cast<std::size_t>(v) + 1]) - from);
 }
 
 std::span<const int> CellTopology::cell_facets(int c) const {

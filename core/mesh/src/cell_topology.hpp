@@ -10,6 +10,7 @@
 #include <hemivem/mesh/mesh.hpp>
 #include <hemivem/mesh/mesh3d.hpp>
 #include <hemivem/mesh/mesh_piece.hpp>
+#include <hemivem/mesh/vertex_cells.hpp>
 
 namespace hemivem::detail {
 
@@ -30,8 +31,8 @@ class CellTopology {
   bool is_facet(int f) const { return facet_of_loop_[static_cast<std::size_t>(f)] == f; }
   /// Cell c's vertices, increasing.
   std::span<const int> cell_vertices(int c) const;
-  /// The cells of vertex v, increasing.
-  std::span<const int> vertex_cells(int v) const;
+  /// The cells of each vertex.
+  const VertexCells& vertex_cells() const noexcept { return around_; }
   /// Cell c's facets, in the order of its loops.
   std::span<const int> cell_facets(int c) const;
   /// The cells of facet f: the first cell with a loop of it, then the cell of its next loop (-1
@@ -53,7 +54,7 @@ class CellTopology {
   std::vector<int> facet_of_loop_;                  // the facet of each loop
   std::vector<int> second_;                         // of a facet's loop: the cell of its next loop, or -1
   std::vector<int> vertex_start_, vertices_;        // each cell's vertices, increasing
-  std::vector<int> around_start_, around_;          // the cells around each vertex, increasing
+  VertexCells around_;                              // the cells around each vertex
 };
 
 inline std::span<const int> cell_facets(const CellTopology& cells, int c) { return cells.cell_facets(c); }

@@ -53,9 +53,10 @@ void GmshSections::fail(int line, const std::string& message) const { throw Inpu
 
 void GmshSections::read_sections() {
   if (!in_) throw InternalError("the sections of " + name_ + " read twice");
-  lines_ = std::make_unique<text::LineStream>(*in_, name_, "mesh");
-  last_line_ = lines_->last_line();
-  const bool empty = lines_->total() == 0;
+  text::LineStream lines(*in_, name_, "mesh");
+  lines_ = &lines;
+  last_line_ = lines.last_line();
+  const bool empty = lines.total() == 0;
   bool format = false;
   std::string opened;  // the section header's text, held while its section is read
   while (lines_->next(line_)) {
@@ -103,7 +104,7 @@ void GmshSections::read_sections() {
   if (elements_line_ == 0) fail(last_line_, "the file has no $Elements section");
   // what was read is in nodes_, top_ and below_: the stream is left, and the index of the nodes'
   // tags given back (swapped with an empty one: assigning an empty one keeps the storage)
-  lines_.reset();
+  lines_ = nullptr;
   in_ = nullptr;
   decltype(tokens_)().swap(tokens_);
   decltype(node_index_)().swap(node_index_);

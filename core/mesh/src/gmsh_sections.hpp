@@ -17,7 +17,6 @@
 #include <algorithm>
 #include <cstddef>
 #include <map>
-#include <memory>
 #include <string>
 #include <string_view>
 #include <unordered_map>
@@ -140,8 +139,8 @@ class GmshSections {
   std::istream* in_;
   std::string name_;
   Dialect dialect_;
-  std::unique_ptr<text::LineStream> lines_;  // while the sections are read
-  text::Line line_;                          // the line read last
+  text::LineStream* lines_ = nullptr;  // while the sections are read
+  text::Line line_;                    // the line read last
   std::vector<std::string_view> tokens_;
 
   int physical_names_line_ = 0, entities_line_ = 0, nodes_line_ = 0, elements_line_ = 0;

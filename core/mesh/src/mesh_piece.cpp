@@ -88,31 +88,11 @@ void join_parts(const MeshType& mesh, std::vector<char>& keep) {
   }
 }
 
-/// The cells of each vertex, increasing: a CellTopology's own, a solid mesh's counted here.
-class VertexCells {
- public:
-  explicit VertexCells(const CellTopology& cells) : topology_(&cells) {}
-  explicit VertexCells(const Mesh3D& mesh) {
-    const auto nv = static_cast<std::size_t>(mesh.num_vertices());
-    start_.assign(nv + 1, 0);
-    for (int c = 0; c < mesh.num_cells(); ++c)
-      for (int v : vertices_of(mesh, c)) ++start_[static_cast<std::size_t>(v) + 1];
-    for (std::size_t v = 0; v < nv; ++v) start_[v + 1] += start_[v];
-    cells_.resize(static_cast<std::size_t>(start_[nv]));
-    std::vector<int> at(start_.begin(), start_.end() - 1);
-    for (int c = 0; c < mesh.num_cells(); ++c)
-      for (int v : vertices_of(mesh, c)) cells_[static_cast<std::size_t>(at[static_cast<std::size_t>(v)]++)] = c;
-  }
-  std::span<const int> operator()(int v) const {
-    if (topology_) return topology_->vertex_cells(v);
-    const auto from = static_cast<std::size_t>(start_[static_cast<std::size_t>(v)]);
-    return std::span<const int>(cells_).subspan(from, static_cast<std::size_t>(start_[static_cast<std::size_t>(v) + 1]) - from);
-  }
-
- private:
-  const CellTopology* topology_ = nullptr;
-  std::vector<int> start_, cells_;
-};
+/// The cells of each vertex: a CellTopology's own, a solid mesh's counted here.
+const VertexCells& cells_of_vertices(const CellTopology& cells) { return cells.vertex_cells(); }
+VertexCells cells_of_vertices(const Mesh3D& mesh) {
+  return vertex_cells(mesh.num_vertices(), mesh.num_cells(), [&](int c) { return vertices_of(mesh, c); });
+}
 
 /// Adds to `keep` every cell around each edge of the kept cells' surface that is not in two of
 /// its faces (two kept cells meeting along an edge alone), until there is none: the kept cells
@@ -121,7 +101,7 @@ void close_edges(const Mesh&, std::vector<char>&) {}
 template <class SolidCells>
 void close_edges(const SolidCells& mesh, std::vector<char>& keep) {
   if (is_plane(mesh)) return;
-  const VertexCells cells_of(mesh);
+  const VertexCells& around = cells_of_vertices(mesh);  // a solid mesh's held here while the edges are closed
   for (;;) {
     std::vector<std::uint64_t> edges;  // the edges of the faces on the kept cells' surface
     for (int c = 0; c < mesh.num_cells(); ++c) {
@@ -144,7 +124,7 @@ void close_edges(const SolidCells& mesh, std::vector<char>& keep) {
       while (e < edges.size() && edges[e] == edges[k]) ++e;
       if (e - k != 2) {  // the cells holding both ends
         const auto a = static_cast<std::size_t>(edges[k] >> 32), b = static_cast<std::size_t>(edges[k] & 0xffffffffu);
-        for (const int c : cells_of(static_cast<int>(a))) {
+        for (const int c : around.of(static_cast<int>(a))) {
           if (keep[static_cast<std::size_t>(c)]) continue;
           const auto vs = vertices_of(mesh, c);
           if (std::binary_search(vs.begin(), vs.end(), static_cast<int>(b))) keep[static_cast<std::size_t>(c)] = 1, added = true;

@@ -66,16 +66,16 @@ class Poly2dReader {
   /// The piece of the mesh process `rank` of `size` keeps (MeshPieceRead), chosen among the
   /// elements' edges without the whole mesh.
   MeshPieceRead<Mesh> read_piece(int rank, int size, HeldPoints held) {
-    const detail::PlaneCells cells = read_cells();
+    const detail::PlaneCells cells = take_cells();
     return piece(cells, {rank, size}, held);
   }
 
-  /// The vertices and elements, the mesh not made (for piece).
-  detail::PlaneCells read_cells() {
+  /// The vertices and elements read, taken, the mesh not made (for piece).
+  detail::PlaneCells take_cells() {
     return {std::move(vertices_), std::move(elements_)};
   }
 
-  /// The piece of the mesh of `cells` (read_cells') that `who` keeps, chosen among the
+  /// The piece of the mesh of `cells` (take_cells') that `who` keeps, chosen among the
   /// elements' edges without the whole mesh.
   MeshPieceRead<Mesh> piece(const detail::PlaneCells& cells, const detail::PieceOwner& who, HeldPoints held) const {
     MeshPieceRead<Mesh> out;
@@ -337,7 +337,7 @@ MeshPieceRead<Mesh> read_poly2d_piece(const fs::path& path, int rank, int size, 
 
 MeshLists<Mesh> read_poly2d_lists(std::istream& in, const std::string& name) {
   auto reader = std::make_shared<Poly2dReader>(in, name);
-  auto cells = std::make_shared<const detail::PlaneCells>(reader->read_cells());
+  auto cells = std::make_shared<const detail::PlaneCells>(reader->take_cells());
   return {static_cast<int>(cells->vertices.size()), [reader, cells](const std::vector<char>& owned, HeldPoints held) {
             return reader->piece(*cells, {.owned = &owned}, held);
           }};

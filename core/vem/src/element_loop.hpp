@@ -3,6 +3,7 @@
 #pragma once
 
 #include <hemivem/error.hpp>
+#include <hemivem/mesh/vertex_cells.hpp>
 #include <hemivem/vem/assembly.hpp>
 #include <hemivem/sparse_factorization.hpp>
 
@@ -134,16 +135,9 @@ SparseMatrix stiffness_pattern(int num_vertices, int num_elements, Vertices&& ve
   const int nv = num_vertices;
   const auto at = [](int k) { return static_cast<std::size_t>(k); };
   // the elements of each vertex (compressed rows)
-  std::vector<int> first(at(nv) + 1, 0), elements;
-  for (int e = 0; e < num_elements; ++e)
-    for (int v : vertices_of(e)) ++first[at(v) + 1];
-  for (int v = 0; v < nv; ++v) first[at(v) + 1] += first[at(v)];
-  elements.resize(at(first[at(nv)]));
-  {
-    std::vector<int> fill(first.begin(), first.end() - 1);
-    for (int e = 0; e < num_elements; ++e)
-      for (int v : vertices_of(e)) elements[at(fill[at(v)]++)] = e;
-  }
+  const VertexCells around = vertex_cells(nv, num_elements, vertices_of);
+  const std::vector<int>& first = around.start;
+  const std::vector<int>& elements = around.cells;
   // the rows of each vertex's dofs (Dim * w + r with index >= 0) and, per vertex, its
   // neighbours (itself included), sorted
   std::vector<int> rows_of(at(nv), 0);
