@@ -3,6 +3,8 @@
 #pragma once
 
 #include <hemivem/scene/scene.hpp>
+#include <hemivem/vem/assembly.hpp>
+#include <hemivem/vem/rigid_motions.hpp>
 
 #include <gtest/gtest.h>
 
@@ -91,5 +93,25 @@ struct WholeParts {
     return held.size() < named.size();
   }
 };
+
+/// Expects a process's piece `piece` of the problem `whole` to see the whole's bodies
+/// (piece_bodies: each body's vertices, and its cells in the whole mesh), and the free motions of
+/// the piece without supports to be named as those of the whole mesh are, motion by motion
+/// (which piece, its cells, box and smallest vertex; the centres and axes of rotations).
+template <int dim>
+void expect_whole_bodies(const BasicBuiltProblem<dim>& piece, const BasicBuiltProblem<dim>& whole) {
+  PieceBodies bodies{body_vertex_starts(whole.bodies, whole.mesh.num_vertices()), {}};
+  for (const BodyRange& body : whole.bodies) bodies.cells.push_back(body.cells);
+  if (whole.bodies.empty()) bodies.cells.push_back(whole.mesh.num_cells());
+  EXPECT_EQ(piece.problem.elasticity.piece_bodies.first_vertex, bodies.first_vertex);
+  EXPECT_EQ(piece.problem.elasticity.piece_bodies.cells, bodies.cells);
+  const BasicRigidMotions<dim> mine(piece.mesh, make_dof_map(piece.mesh, {}), piece.problem.elasticity.piece_bodies);
+  const BasicRigidMotions<dim> all(whole.mesh, make_dof_map(whole.mesh, {}));
+  ASSERT_EQ(mine.size(), all.size());
+  for (int k = 0; k < all.size(); ++k) {
+    EXPECT_EQ(mine.describe(k), all.describe(k)) << "free motion " << k;
+    EXPECT_EQ(mine.describe_by_axes(k), all.describe_by_axes(k)) << "free motion " << k;
+  }
+}
 
 }  // namespace hemivem::test

@@ -244,7 +244,7 @@ struct Kernels<3> {
                                                   const ContactBoundary& boundary,
                                                   const std::vector<ContactPart3D>& parts) {
     const Mesh3D& mesh = *problem.elasticity.mesh;
-    const std::vector<int>& bodies = problem.elasticity.piece_bodies;
+    const PieceBodies& bodies = problem.elasticity.piece_bodies;
     const BasicRigidMotions<3> free(mesh, dofs, bodies);
     if (free.empty()) return {};
     try {

@@ -56,7 +56,7 @@ std::string listed(const BasicRigidMotions<dim>& motions) {
 template <int dim, class M>
 Supports supports_of(const M& mesh, const DofMap& dofs, const ContactBoundary& boundary,
                      const std::vector<char>& normal_unknowns, const std::vector<char>& tangential_law,
-                     std::span<const int> bodies = {}) {
+                     const PieceBodies& bodies = {}) {
   const BasicRigidMotions<dim> free(mesh, dofs, bodies);
   Supports supports;
   if (free.empty()) return supports;
@@ -104,7 +104,7 @@ namespace {
 
 template <int dim, class M>
 Supports supports_of_parts(const M& mesh, const DofMap& dofs, const ContactBoundary& boundary,
-                           const std::vector<BasicContactPart<dim>>& parts, std::span<const int> bodies) {
+                           const std::vector<BasicContactPart<dim>>& parts, const PieceBodies& bodies) {
   const auto n = static_cast<std::size_t>(boundary.size());
   std::vector<char> normal(n, 1), tangential(n, 0);
   for (std::size_t i = 0; i < n; ++i) {
@@ -122,12 +122,12 @@ Supports supports_of_parts(const M& mesh, const DofMap& dofs, const ContactBound
 }  // namespace
 
 Supports find_supports(const Mesh& mesh, const DofMap& dofs, const ContactBoundary& boundary,
-                       const std::vector<ContactPart>& parts, std::span<const int> bodies) {
+                       const std::vector<ContactPart>& parts, const PieceBodies& bodies) {
   return supports_of_parts<2>(mesh, dofs, boundary, parts, bodies);
 }
 
 Supports find_supports(const Mesh3D& mesh, const DofMap& dofs, const ContactBoundary& boundary,
-                       const std::vector<BasicContactPart<3>>& parts, std::span<const int> bodies) {
+                       const std::vector<BasicContactPart<3>>& parts, const PieceBodies& bodies) {
   return supports_of_parts<3>(mesh, dofs, boundary, parts, bodies);
 }
 

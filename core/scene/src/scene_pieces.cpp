@@ -263,23 +263,36 @@ std::optional<BoxPiece> scene_piece(const Scene& scene, int rank, int size) {
   return box_piece_of(scene, {}, rank, size, true);
 }
 
+namespace {
+
+/// The number of cells of the generated mesh of the scene of one body (a box or a polar grid).
+int generated_cells(const Scene& scene) {
+  const std::string& g = scene.mesh.generator;
+  if (scene.dimension() == 3) {
+    const GridSize3 n = scene.mesh.cells3();
+    return n.nx * n.ny * n.nz * cells_per_box(g);
+  }
+  if (is_polar(scene)) {
+    const auto [radii, angles] = detail::polar_lists(scene);
+    return static_cast<int>((radii.size() - 1) * (angles.size() - 1));
+  }
+  const GridSize n = scene.mesh.cells();
+  return n.nx * n.ny * cells_per_box(g);
+}
+
+}  // namespace
+
 PieceOfMesh scene_piece_of_mesh(const Scene& scene, const BoxPiece& piece) {
   PieceOfMesh out;
   out.vertices = VertexShare{piece.first_vertex, piece.end_vertex, {}};
   const std::string& g = scene.mesh.generator;
-  if (scene.dimension() == 3) {
-    const GridSize3 n = scene.mesh.cells3();
-    out.cells = piece_cells(g, n, piece);
-    out.whole_cells = n.nx * n.ny * n.nz * cells_per_box(g);
-  } else if (is_polar(scene)) {
+  if (scene.dimension() == 3) out.cells = piece_cells(g, scene.mesh.cells3(), piece);
+  else if (is_polar(scene)) {
     const auto [radii, angles] = detail::polar_lists(scene);
     out.cells = polar_piece_cells(radii, angles, piece);
-    out.whole_cells = static_cast<int>((radii.size() - 1) * (angles.size() - 1));
-  } else {
-    const GridSize n = scene.mesh.cells();
-    out.cells = piece_cells(g, n, piece);
-    out.whole_cells = n.nx * n.ny * cells_per_box(g);
-  }
+  } else
+    out.cells = piece_cells(g, scene.mesh.cells(), piece);
+  out.whole_cells = generated_cells(scene);
   return out;
 }
 
@@ -290,7 +303,7 @@ std::unique_ptr<BasicBuiltProblem<2>> build_problem_piece<2>(const Scene& scene,
   const std::vector<int> cut = grid_cut_facets(mesh, grid_vertices_of(scene));
   const detail::SupportsAcross across{&processes, piece.first_vertex, piece.end_vertex};
   auto built = detail::built_plane_on(scene, std::move(mesh), true, false, cut, &across);
-  built->problem.elasticity.piece_bodies = {0, built->mesh.num_vertices()};
+  built->problem.elasticity.piece_bodies = {{0, built->mesh.num_vertices()}, {generated_cells(scene)}};
   return built;
 }
 
@@ -302,7 +315,7 @@ std::unique_ptr<BasicBuiltProblem<3>> build_problem_piece<3>(const Scene& scene,
   const std::vector<int> cut = grid_cut_facets(mesh, grid_vertices_of(scene));
   const detail::SupportsAcross across{&processes, piece.first_vertex, piece.end_vertex};
   auto built = detail::built_solid(scene, std::move(mesh), true, cut, &across);
-  built->problem.elasticity.piece_bodies = {0, built->mesh.num_vertices()};
+  built->problem.elasticity.piece_bodies = {{0, built->mesh.num_vertices()}, {generated_cells(scene)}};
   return built;
 }
 
@@ -318,10 +331,11 @@ namespace {
 /// The problem `held` (on a mesh made whole, or on a process's piece of it that holds the cells
 /// of every facet its selectors may pick) on the piece of its mesh around the vertices `around`
 /// flags (cut_problem_piece's rule), `held` given back: `cells` the piece's cells, increasing
-/// numbers of the cells of held->mesh.
+/// numbers of the cells of held->mesh. `body_cells`: each body's number of cells in the whole
+/// mesh (PieceBodies::cells).
 template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> keep_around(std::unique_ptr<BasicBuiltProblem<dim>> held, std::vector<char> around,
-                                                    std::vector<int>& cells) {
+                                                    std::vector<int> body_cells, std::vector<int>& cells) {
   const MeshOf<dim>& mesh = held->mesh;
   const BasicContactProblem<dim>& problem = held->problem;
   // a mesh whose every body (every part of a joined mesh, or the mesh) is one connected piece by
@@ -369,7 +383,7 @@ std::unique_ptr<BasicBuiltProblem<dim>> keep_around(std::unique_ptr<BasicBuiltPr
   };
   out->problem = std::move(held->problem);
   out->problem.elasticity.mesh = &out->mesh;
-  if (each_body_one) out->problem.elasticity.piece_bodies = std::move(bodies);
+  if (each_body_one) out->problem.elasticity.piece_bodies = {std::move(bodies), std::move(body_cells)};
   for (std::size_t k = 0; k < out->problem.elasticity.dirichlet.size(); ++k) {
     auto& d = out->problem.elasticity.dirichlet[k];
     if (!each_body_one) {
@@ -520,8 +534,9 @@ std::unique_ptr<BasicBuiltProblem<dim>> build_bodies_piece(const Scene& scene, i
     where.whole_cells += in_body[b].whole_cells;
   }
   // kept on the contact's cells alone where each body is one piece (keep_around)
-  std::vector<int> kept;
-  out = keep_around<dim>(std::move(out), mine, kept);
+  std::vector<int> kept, body_cells;
+  for (const PieceOfMesh& body : in_body) body_cells.push_back(body.whole_cells);
+  out = keep_around<dim>(std::move(out), mine, std::move(body_cells), kept);
   for (int& c : kept) c = where.cells[static_cast<std::size_t>(c)];
   where.cells = std::move(kept);
   return out;
@@ -556,7 +571,7 @@ std::unique_ptr<BasicBuiltProblem<dim>> built_on_piece(const Scene& scene, MeshP
   if constexpr (dim == 2) held = detail::built_plane_on(scene, std::move(read.mesh), true, false, read.cut_facets);
   else held = detail::built_solid(scene, std::move(read.mesh), false, read.cut_facets);
   std::vector<int> kept;
-  auto out = keep_around<dim>(std::move(held), where.vertices.mask(vertices), kept);
+  auto out = keep_around<dim>(std::move(held), where.vertices.mask(vertices), {read.whole_cells}, kept);
   where.cells.resize(kept.size());
   for (std::size_t k = 0; k < kept.size(); ++k) where.cells[k] = read.cells[static_cast<std::size_t>(kept[k])];
   return out;
@@ -650,7 +665,10 @@ std::unique_ptr<BasicBuiltProblem<dim>> cut_problem_piece(std::unique_ptr<BasicB
   where.vertices.order = hilbert_vertex_order(whole->mesh);
   std::tie(where.vertices.first, where.vertices.end) = vertex_share(vertices, rank, size);
   where.whole_cells = whole->mesh.num_cells();
-  return keep_around<dim>(std::move(whole), where.vertices.mask(vertices), where.cells);
+  std::vector<int> body_cells;
+  for (const BodyRange& body : whole->bodies) body_cells.push_back(body.cells);
+  if (whole->bodies.empty()) body_cells.push_back(where.whole_cells);
+  return keep_around<dim>(std::move(whole), where.vertices.mask(vertices), std::move(body_cells), where.cells);
 }
 
 template std::unique_ptr<BasicBuiltProblem<2>> cut_problem_piece<2>(std::unique_ptr<BasicBuiltProblem<2>>, int, int,

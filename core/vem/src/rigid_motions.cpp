@@ -113,8 +113,9 @@ Eigen::Matrix<double, dim, 1> axis(int d) {
 }  // namespace
 
 template <int dim>
-BasicRigidMotions<dim>::BasicRigidMotions(const MeshType& mesh, const DofMap& dofs, std::span<const int> bodies)
+BasicRigidMotions<dim>::BasicRigidMotions(const MeshType& mesh, const DofMap& dofs, const PieceBodies& piece_bodies)
     : vertices_(mesh.vertices()) {
+  const std::vector<int>& bodies = piece_bodies.first_vertex;
   int count = 0;
   const std::vector<int> piece = pieces_of_elements(mesh, &count);
   pieces_.resize(static_cast<std::size_t>(count));
@@ -153,8 +154,13 @@ BasicRigidMotions<dim>::BasicRigidMotions(const MeshType& mesh, const DofMap& do
   }
   const bool by_bodies = !body_piece.empty();
   if (by_bodies) {
-    for (std::size_t b = 0; b < body_piece.size(); ++b)
+    for (std::size_t b = 0; b < body_piece.size(); ++b) {
       for (int v = bodies[b]; v < bodies[b + 1]; ++v) piece_of_vertex_[static_cast<std::size_t>(v)] = body_piece[b];
+      if (body_piece[b] < 0) continue;
+      Piece& P = pieces_[static_cast<std::size_t>(body_piece[b])];
+      P.first_vertex = bodies[b];
+      if (piece_bodies.cells.size() == body_piece.size()) P.elements = piece_bodies.cells[b];
+    }
     also.clear();
   }
   // each piece's centre and extent: of every vertex of the mesh for one piece, which a process's

@@ -3,13 +3,13 @@
 // factorized.
 #pragma once
 
-#include <span>
 #include <string>
 
 #include <hemivem/sparse_factorization.hpp>
 #include <vector>
 
 #include <hemivem/contact/condensation.hpp>
+#include <hemivem/mesh/body_range.hpp>
 #include <hemivem/mesh/mesh.hpp>
 #include <hemivem/mesh/mesh3d.hpp>
 #include <hemivem/vem/assembly.hpp>
@@ -43,12 +43,12 @@ Supports find_supports(const Mesh& mesh, const DofMap& dofs, const ContactBounda
 /// `bodies`: the mesh is a process's piece of the mesh of those bodies (BasicRigidMotions,
 /// BasicElasticityProblem::piece_bodies), whose free motions are judged of the whole bodies.
 Supports find_supports(const Mesh& mesh, const DofMap& dofs, const ContactBoundary& boundary,
-                       const std::vector<ContactPart>& parts, std::span<const int> bodies = {});
+                       const std::vector<ContactPart>& parts, const PieceBodies& bodies = {});
 /// The same for a solid: six rigid motions per piece of the mesh (cells joined through shared
 /// faces), held by the normal displacements of its contact nodes (a solid's contact is
 /// frictionless: a motion that moves no contact node along its normal is refused).
 Supports find_supports(const Mesh3D& mesh, const DofMap& dofs, const ContactBoundary& boundary,
-                       const std::vector<BasicContactPart<3>>& parts, std::span<const int> bodies = {});
+                       const std::vector<BasicContactPart<3>>& parts, const PieceBodies& bodies = {});
 
 /// The box constraint |u_nu| <= g with an obstacle's gap g: throws InputError unless `gap` (at
 /// contact node `node`) is finite and >= 0, naming the node, the contact part `part` (when not

@@ -1,6 +1,7 @@
 // Where one body lies in a mesh of several.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -25,5 +26,18 @@ inline std::vector<int> body_vertex_starts(const std::vector<BodyRange>& bodies,
   starts.push_back(num_vertices);
   return starts;
 }
+
+/// The bodies of a whole mesh as a process's piece of it sees them, the piece holding every
+/// vertex of the whole, numbered as the whole numbers them (BasicElasticityProblem::piece_bodies):
+/// body b's vertices are first_vertex[b], ..., first_vertex[b + 1] - 1 (first_vertex.back() the
+/// number of vertices), and it has cells[b] cells in the whole mesh.
+struct PieceBodies {
+  std::vector<int> first_vertex;
+  std::vector<int> cells;
+  bool empty() const noexcept { return first_vertex.empty(); }
+  /// The number of bodies.
+  std::size_t size() const noexcept { return first_vertex.empty() ? 0 : first_vertex.size() - 1; }
+  bool operator==(const PieceBodies&) const = default;
+};
 
 }  // namespace hemivem

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include <hemivem/mesh/body_range.hpp>
 #include <hemivem/mesh/dimension.hpp>
 #include <hemivem/vem/element.hpp>
 #include <hemivem/vem/material.hpp>
@@ -62,13 +63,13 @@ struct BasicElasticityProblem {
   VectorFieldOf<dim> body_force;  ///< f0; empty = none
   std::vector<BasicTractionLoad<dim>> tractions;
   std::vector<BasicDirichletCondition<dim>> dirichlet;
-  /// Empty, or `mesh` is a process's piece of a mesh whose connected bodies hold the vertices
-  /// piece_bodies[b], ..., piece_bodies[b + 1] - 1 ({0, the number of vertices} for one body;
+  /// Empty, or `mesh` is a process's piece of a mesh whose connected bodies are those of
+  /// piece_bodies ({{0, the number of vertices}, {the whole mesh's cells}} for one body;
   /// hemivem/scene/scene_pieces.hpp), which holds every vertex of the whole mesh and of the cells
   /// only some, each body's in one piece: its vertices of no cell lie on their body too, and its
   /// supports may hold them (BasicDirichletCondition::vertices), so the rigid motions the
-  /// supports leave free are judged of the whole bodies (BasicRigidMotions).
-  std::vector<int> piece_bodies;
+  /// supports leave free are judged, and named, of the whole bodies (BasicRigidMotions).
+  PieceBodies piece_bodies;
 };
 
 using DirichletCondition = BasicDirichletCondition<2>;

@@ -11,6 +11,7 @@
 #include <type_traits>
 #include <vector>
 
+#include <hemivem/mesh/body_range.hpp>
 #include <hemivem/mesh/mesh.hpp>
 #include <hemivem/mesh/mesh3d.hpp>
 #include <hemivem/vem/assembly.hpp>
@@ -43,14 +44,13 @@ class BasicRigidMotions {
   static constexpr double relative_tolerance = 1e-8;
 
   BasicRigidMotions() = default;
-  /// `bodies`: empty, or the mesh is a process's piece of a mesh whose connected bodies hold the
-  /// vertices bodies[b], ..., bodies[b + 1] - 1 (bodies.front() = 0, bodies.back() the number of
-  /// vertices), which holds every vertex of the whole (BasicElasticityProblem::piece_bodies).
-  /// Where its cells make one piece in each body, every vertex of a body lies on its piece, those
-  /// of none of its cells too, and the piece's centre and extent are those of the body's every
-  /// vertex, so that the motions and what holds them are the whole bodies'. Otherwise a vertex of
-  /// no cell lies on no piece.
-  BasicRigidMotions(const MeshType& mesh, const DofMap& dofs, std::span<const int> bodies = {});
+  /// `bodies`: empty, or the mesh is a process's piece of a mesh of those bodies, which holds
+  /// every vertex of the whole (BasicElasticityProblem::piece_bodies). Where its cells make one
+  /// piece in each body, every vertex of a body lies on its piece, those of none of its cells
+  /// too, and the piece's centre, extent, smallest vertex and number of cells are those of the
+  /// body (its every vertex, its cells in the whole mesh), so that the motions, what holds them
+  /// and how they are named are the whole bodies'. Otherwise a vertex of no cell lies on no piece.
+  BasicRigidMotions(const MeshType& mesh, const DofMap& dofs, const PieceBodies& bodies = {});
 
   /// The number of independent free motions (0: the supports hold the whole mesh).
   int size() const noexcept { return static_cast<int>(basis_.cols()); }
