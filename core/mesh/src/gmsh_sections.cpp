@@ -360,6 +360,9 @@ void GmshSections::read_elements(const Line& header) {
     if (kept && entities_line_ != 0 && !entity_physicals_[dim].count(entity))
       fail(bl, std::string(kEntityKind[dim]) + " entity " + std::to_string(entity) + " is not in $Entities");
     const std::size_t nn = static_cast<std::size_t>(et.nodes);
+    GmshElements* into = !kept ? nullptr : dim == rd ? &top_ : &below_;
+    if (into) into->reserve_more(static_cast<std::size_t>(n), static_cast<std::size_t>(n) * nn);
+    std::vector<int> ids(nn);
     for (long long i = 0; i < n; ++i) {
       const Line& line = data_line(header, std::to_string(n) + " element lines of the block at line " +
                                                std::to_string(bl) + " (found " + std::to_string(i) + ")");
@@ -368,7 +371,6 @@ void GmshSections::read_elements(const Line& header) {
       if (tokens_.size() != nn + 1)
         fail(line, what + " (type " + std::to_string(type) + ") lists " + std::to_string(tokens_.size() - 1) +
                        " node tags, expected " + std::to_string(nn));
-      std::vector<int> ids(nn);
       for (std::size_t k = 0; k < nn; ++k) {
         const long long t = integer(line, k + 1, "node tag of " + what);
         const auto it = node_index_.find(t);
@@ -376,7 +378,7 @@ void GmshSections::read_elements(const Line& header) {
           fail(line, what + " refers to node tag " + std::to_string(t) + ", which is not in $Nodes");
         ids[k] = it->second;
       }
-      if (kept) (dim == rd ? top_ : below_).push_back({std::move(ids), type, tag, entity, line.number});
+      if (into) into->push_back(ids, type, tag, entity, line.number);
     }
     read += n;
   }
