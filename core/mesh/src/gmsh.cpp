@@ -179,6 +179,7 @@ class GmshReader final : detail::GmshSections {
   std::vector<Vec2> surface_vertices(std::vector<int>& vertex_of) const {
     vertex_of = vertex_numbers();
     std::vector<Vec2> vertices;
+    vertices.reserve(static_cast<std::size_t>(numbered(vertex_of)));
     for (std::size_t i = 0; i < nodes_.size(); ++i)
       if (vertex_of[i] >= 0) vertices.emplace_back(nodes_[i].x, nodes_[i].y);
     return vertices;

@@ -170,6 +170,7 @@ class Gmsh3DReader final : detail::GmshSections {
   std::vector<Vec3> volume_vertices() {
     vertex_of_ = vertex_numbers();
     std::vector<Vec3> vertices;
+    vertices.reserve(static_cast<std::size_t>(numbered(vertex_of_)));
     for (std::size_t i = 0; i < nodes_.size(); ++i)
       if (vertex_of_[i] >= 0) vertices.emplace_back(nodes_[i].x, nodes_[i].y, nodes_[i].z);
     return vertices;

@@ -389,11 +389,6 @@ void GmshSections::read_elements(const Line& header) {
 
 // ---- the mesh
 
-int GmshSections::vertex_count() const {
-  const std::vector<int> vertex_of = vertex_numbers();
-  return static_cast<int>(std::count_if(vertex_of.begin(), vertex_of.end(), [](int v) { return v >= 0; }));
-}
-
 std::vector<int> GmshSections::vertex_numbers() const {
   std::vector<int> vertex_of(nodes_.size(), -1);
   for (const GmshElement& e : top_)

@@ -141,7 +141,11 @@ class GmshSections {
   /// ... in $Nodes order; -1 for the other nodes.
   std::vector<int> vertex_numbers() const;
   /// How many nodes vertex_numbers numbers.
-  int vertex_count() const;
+  int vertex_count() const { return numbered(vertex_numbers()); }
+  /// How many nodes `vertex_of` (vertex_numbers) numbers.
+  static int numbered(const std::vector<int>& vertex_of) {
+    return static_cast<int>(std::count_if(vertex_of.begin(), vertex_of.end(), [](int v) { return v >= 0; }));
+  }
   /// Throws `err` (from the mesh constructor, about an element of top_ or none) again naming
   /// the Gmsh element ("Gmsh element <tag><label>: ...") at its line, else at the $Elements
   /// count line.
