@@ -14,14 +14,30 @@
 
 namespace hemivem::detail {
 
+/// The facets of kinds of cells, each a list of loops through a cell's corners: loop j runs
+/// through the corners corner[at[j]], ..., corner[at[j + 1] - 1] (numbers among the cell's own
+/// corners), and shape s has the loops first[s], ..., first[s + 1] - 1. Cells of one kind (a
+/// file's hexahedra, a plane's quadrilaterals) share a shape.
+struct CellShapes {
+  std::vector<int> first{0}, at{0}, corner;
+  int size() const { return static_cast<int>(first.size()) - 1; }
+  /// Adds the shape of the loops `loops` (each a list of corner numbers); returns its number.
+  int add(const std::vector<std::vector<int>>& loops);
+  /// The number of corners its loops run through: one more than the largest.
+  int corners(int s) const;
+};
+
 class CellTopology {
  public:
-  /// Cell c's facets are the loops first[c], ..., first[c + 1] - 1; loop k's vertices are
-  /// loops[at[k]], ..., loops[at[k + 1] - 1] (a solid's cell: its faces; a plane element: its
-  /// edges, loops of two vertices), each below `num_vertices`. `dim` is 2 or 3. Loops of the
-  /// same vertices (in any order) are one facet, found among the cells around their smallest
-  /// vertex; a facet is numbered by its first loop, that of its first cell.
-  CellTopology(int dim, int num_vertices, std::vector<int> first, std::vector<int> at, std::vector<int> loops);
+  /// Cell c has the corners corners[corner_start[c]], ..., corners[corner_start[c + 1] - 1]
+  /// (vertices below `num_vertices`, as many as its shape's loops run through) and the shape
+  /// shapes[shape_of[c]]: its facets are the shape's loops through its corners (a solid's cell:
+  /// its faces; a plane element: its edges, loops of two vertices). `dim` is 2 or 3. Loops of
+  /// the same vertices (in any order) are one facet, found among the cells around their
+  /// smallest vertex; the loops are numbered cell after cell, and a facet by its first loop,
+  /// that of its first cell. InternalError for lists that do not fit.
+  CellTopology(int dim, int num_vertices, CellShapes shapes, std::vector<int> shape_of, std::vector<int> corner_start,
+               std::vector<int> corners);
 
   int dim() const { return dim_; }
   int num_vertices() const { return num_vertices_; }
@@ -30,7 +46,7 @@ class CellTopology {
   int num_facets() const { return static_cast<int>(facet_of_loop_.size()); }
   bool is_facet(int f) const { return facet_of_loop_[static_cast<std::size_t>(f)] == f; }
   /// Cell c's vertices, increasing.
-  std::span<const int> cell_vertices(int c) const;
+  std::vector<int> cell_vertices(int c) const;
   /// The cells of each vertex.
   const VertexCells& vertex_cells() const noexcept { return around_; }
   /// Cell c's facets, in the order of its loops.
@@ -39,30 +55,40 @@ class CellTopology {
   /// on the boundary).
   std::array<int, 2> facet_cells(int f) const { return {cell_of_loop(f), second_[static_cast<std::size_t>(f)]}; }
   /// Facet f's vertex loop, as its first cell gives it.
-  std::span<const int> facet_loop(int f) const;
+  std::vector<int> facet_loop(int f) const;
   /// The facet of the vertices `vertices` (in any order); -1 when no cell has it.
   int find_facet(std::vector<int> vertices) const;
 
  private:
   int cell_of_loop(int k) const;
+  /// Cell c's corners.
+  std::span<const int> corners_of(int c) const;
+  /// The corners of loop j of a shape's loops (shapes_.at), among the cell's `corners`.
+  template <class Visit>
+  void for_loop(int j, std::span<const int> corners, Visit&& visit) const {
+    for (int i = shapes_.at[static_cast<std::size_t>(j)]; i < shapes_.at[static_cast<std::size_t>(j) + 1]; ++i)
+      visit(corners[static_cast<std::size_t>(shapes_.corner[static_cast<std::size_t>(i)])]);
+  }
   /// The first loop of the vertices `key` (increasing) among the cells around key[0], from
   /// loop `from` on; -1 when there is none. `scratch` holds a loop's vertices sorted.
   int next_loop(std::span<const int> key, int from, std::vector<int>& scratch) const;
 
   int dim_, num_vertices_;
-  std::vector<int> first_, at_, loops_;
+  CellShapes shapes_;
+  std::vector<int> shape_of_, corner_start_, corners_;
+  std::vector<int> first_;                          // each cell's first loop
   std::vector<int> facet_of_loop_;                  // the facet of each loop
   std::vector<int> second_;                         // of a facet's loop: the cell of its next loop, or -1
-  std::vector<int> vertex_start_, vertices_;        // each cell's vertices, increasing
   VertexCells around_;                              // the cells around each vertex
 };
 
 inline std::span<const int> cell_facets(const CellTopology& cells, int c) { return cells.cell_facets(c); }
 
 /// The cells of plane elements, each given by its vertices in order: element k's edges are
-/// (e[i], e[i + 1]), the last closing the loop.
+/// (e[i], e[i + 1]), the last closing the loop (elements of one number of vertices share a shape).
 CellTopology plane_topology(int num_vertices, const std::vector<std::vector<int>>& elements);
-/// The cells of solid cells, each given by its faces' vertex loops.
+/// The cells of solid cells, each given by its faces' vertex loops (its corners its vertices,
+/// increasing, and a shape of its own).
 CellTopology solid_topology(int num_vertices, const std::vector<CellFaces>& cells);
 
 /// Whose piece choose_piece chooses: the vertices `owned` flags (one per vertex) when given,

@@ -204,23 +204,25 @@ class Gmsh3DReader final : detail::GmshSections {
     detail::FacetKeys cuts;
     MeshPieceRead<Mesh3D> out;
     {
-      std::vector<int> first{0}, at{0}, loops, regions;
-      std::size_t num_loops = 0, num_ends = 0;  // the lists' lengths, reserved (grown, they would hold up to twice)
-      for (const GmshElement& e : top_)
-        for (const auto& f : volume_shape(e.type)->faces) ++num_loops, num_ends += f.size();
-      first.reserve(top_.size() + 1);
-      at.reserve(num_loops + 1);
-      loops.reserve(num_ends);
+      // each element's corners, its vertices in Gmsh's order, its faces its shape's
+      detail::CellShapes shapes;
+      std::vector<int> shape_of_type(8, -1), shape_of, corner_start{0}, corners, regions;
+      std::size_t num_corners = 0;
+      for (const GmshElement& e : top_) num_corners += e.nodes.size();
+      shape_of.reserve(top_.size());
+      corner_start.reserve(top_.size() + 1);
+      corners.reserve(num_corners);
       regions.reserve(top_.size());
       for (const GmshElement& e : top_) {
-        for (const auto& f : volume_shape(e.type)->faces) {
-          for (int k : f) loops.push_back(vertex_of_[static_cast<std::size_t>(e.nodes[static_cast<std::size_t>(k)])]);
-          at.push_back(static_cast<int>(loops.size()));
-        }
-        first.push_back(static_cast<int>(at.size()) - 1);
+        int& shape = shape_of_type[static_cast<std::size_t>(e.type)];
+        if (shape < 0) shape = shapes.add(volume_shape(e.type)->faces);
+        shape_of.push_back(shape);
+        for (int n : e.nodes) corners.push_back(vertex_of_[static_cast<std::size_t>(n)]);
+        corner_start.push_back(static_cast<int>(corners.size()));
         regions.push_back(region_of(e.entity));
       }
-      const detail::CellTopology cells(3, static_cast<int>(vertices.size()), std::move(first), std::move(at), std::move(loops));
+      const detail::CellTopology cells(3, static_cast<int>(vertices.size()), std::move(shapes), std::move(shape_of),
+                                       std::move(corner_start), std::move(corners));
       std::vector<int> grouped;  // the faces of the physical surfaces' elements
       for (const GmshElement& s : below_)
         if (const std::vector<int>* tags = groups_of(s.entity); tags && !tags->empty()) {

@@ -22,14 +22,14 @@ using detail::CellTopology;
 
 std::span<const int> vertices_of(const Mesh& mesh, int c) { return mesh.element(c); }
 std::span<const int> vertices_of(const Mesh3D& mesh, int c) { return mesh.cell_vertices(c); }
-std::span<const int> vertices_of(const CellTopology& cells, int c) { return cells.cell_vertices(c); }
+std::vector<int> vertices_of(const CellTopology& cells, int c) { return cells.cell_vertices(c); }
 
 /// The two cells of facet f (the second -1 on the boundary; a mesh's: hemivem/mesh/facet_cells.hpp).
 std::array<int, 2> facet_cells(const CellTopology& cells, int f) { return cells.facet_cells(f); }
 
 /// A solid facet's vertex loop.
 std::span<const int> facet_loop(const Mesh3D& mesh, int f) { return mesh.face(f).vertices; }
-std::span<const int> facet_loop(const CellTopology& cells, int f) { return cells.facet_loop(f); }
+std::vector<int> facet_loop(const CellTopology& cells, int f) { return cells.facet_loop(f); }
 
 bool is_plane(const Mesh3D&) { return false; }
 bool is_plane(const CellTopology& cells) { return cells.dim() == 2; }
@@ -240,8 +240,7 @@ detail::FacetKeys choose_around(const CellTopology& cells, const std::vector<Vec
       const std::array<int, 2> two = cells.facet_cells(f);
       const int other = two[0] == c ? two[1] : two[0];
       if (other < 0 || kept[static_cast<std::size_t>(other)]) continue;
-      const std::span<const int> loop = cells.facet_loop(f);
-      std::vector<int> key(loop.begin(), loop.end());
+      std::vector<int> key = cells.facet_loop(f);
       std::sort(key.begin(), key.end());
       cuts.push_back(std::move(key));
     }
