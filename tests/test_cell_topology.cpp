@@ -2,6 +2,7 @@
 // found among the cells around each loop's smallest vertex, against the facets the meshes
 // themselves find (Mesh's edges, Mesh3D's faces) and against hand counts.
 #include <hemivem/mesh/generators.hpp>
+#include <hemivem/error.hpp>
 #include <hemivem/mesh/generators3d.hpp>
 
 #include <gtest/gtest.h>
@@ -126,6 +127,81 @@ TEST(CellTopology, LoopsOfTheSameVerticesAreOneFacetOfTheFirstTwoCells) {
   }
   EXPECT_EQ(count_facets(fan, &boundary), 7);
   EXPECT_EQ(boundary, 6);
+}
+
+// Cells of two kinds sharing their shapes (two hexahedra side by side and a prism lying on the
+// first, a quadrilateral face on its top; their corners in Gmsh's order, as a file's elements
+// give them) have the facets the same cells
+// have, each given its faces' loops and a shape of its own: the same loops, facets, cells and
+// vertices, loop by loop. A cell whose corners its shape does not run through is refused.
+TEST(CellTopology, CellsOfAKindShareAShapeAndHaveTheFacetsTheirLoopsGive) {
+  const std::vector<std::vector<int>> hexahedron{{0, 3, 2, 1}, {0, 1, 5, 4}, {0, 4, 7, 3},
+                                                 {1, 2, 6, 5}, {2, 3, 7, 6}, {4, 5, 6, 7}};
+  const std::vector<std::vector<int>> prism{{0, 2, 1}, {3, 4, 5}, {0, 1, 4, 3}, {0, 3, 5, 2}, {1, 2, 5, 4}};
+  const std::vector<std::vector<int>> corners{
+      {0, 1, 2, 3, 4, 5, 6, 7}, {1, 11, 12, 2, 5, 13, 14, 6}, {4, 5, 8, 7, 6, 9}};
+  const std::vector<int> kind{0, 0, 1};
+  detail::CellShapes shapes;
+  ASSERT_EQ(shapes.add(hexahedron), 0);
+  ASSERT_EQ(shapes.add(prism), 1);
+  EXPECT_EQ(shapes.corners(0), 8);
+  EXPECT_EQ(shapes.corners(1), 6);
+  std::vector<int> start{0}, flat;
+  std::vector<CellFaces> lists;
+  for (std::size_t c = 0; c < corners.size(); ++c) {
+    flat.insert(flat.end(), corners[c].begin(), corners[c].end());
+    start.push_back(static_cast<int>(flat.size()));
+    CellFaces faces;
+    for (const auto& loop : kind[c] == 0 ? hexahedron : prism) {
+      faces.emplace_back();
+      for (int k : loop) faces.back().push_back(corners[c][static_cast<std::size_t>(k)]);
+    }
+    lists.push_back(faces);
+  }
+  const CellTopology shared(3, 15, shapes, kind, start, flat);
+  const CellTopology own = detail::solid_topology(15, lists);
+  ASSERT_EQ(shared.num_cells(), 3);
+  ASSERT_EQ(shared.num_facets(), own.num_facets());
+  EXPECT_EQ(shared.num_facets(), 17);  // 6 + 6 + 5 loops
+  int boundary = 0;
+  EXPECT_EQ(count_facets(shared, &boundary), 15);  // two faces shared
+  EXPECT_EQ(boundary, 13);
+  for (int c = 0; c < 3; ++c) {
+    const auto a = shared.cell_facets(c), b = own.cell_facets(c);
+    EXPECT_EQ(std::vector<int>(a.begin(), a.end()), std::vector<int>(b.begin(), b.end())) << "cell " << c;
+    EXPECT_EQ(shared.cell_vertices(c), own.cell_vertices(c)) << "cell " << c;
+    EXPECT_EQ(shared.cell_vertices(c), sorted(corners[static_cast<std::size_t>(c)])) << "cell " << c;
+  }
+  for (int f = 0; f < own.num_facets(); ++f) {
+    EXPECT_EQ(shared.is_facet(f), own.is_facet(f)) << "loop " << f;
+    if (!own.is_facet(f)) continue;
+    EXPECT_EQ(shared.facet_cells(f), own.facet_cells(f)) << "facet " << f;
+    EXPECT_EQ(shared.facet_loop(f), own.facet_loop(f)) << "facet " << f;
+  }
+  for (int v = 0; v < 15; ++v) {
+    const auto a = shared.vertex_cells().of(v), b = own.vertex_cells().of(v);
+    EXPECT_EQ(std::vector<int>(a.begin(), a.end()), std::vector<int>(b.begin(), b.end())) << "vertex " << v;
+  }
+  // the faces the cells share: the cubes' side x = 1, and the first cube's top, a side of the prism
+  const int side = shared.find_facet({1, 2, 5, 6});
+  ASSERT_GE(side, 0);
+  EXPECT_EQ(shared.facet_cells(side), (std::array<int, 2>{0, 1}));
+  EXPECT_EQ(shared.facet_loop(side), (std::vector<int>{1, 2, 6, 5}));
+  const int top = shared.find_facet({7, 6, 5, 4});
+  ASSERT_GE(top, 0);
+  EXPECT_EQ(shared.facet_cells(top), (std::array<int, 2>{0, 2}));
+  EXPECT_EQ(shared.facet_loop(top), (std::vector<int>{4, 5, 6, 7}));
+  const int end = shared.find_facet({5, 8, 4});  // the prism's triangle at y = 0
+  ASSERT_GE(end, 0);
+  EXPECT_EQ(shared.facet_cells(end), (std::array<int, 2>{2, -1}));
+  EXPECT_EQ(shared.facet_loop(end), (std::vector<int>{4, 8, 5}));
+  EXPECT_EQ(shared.find_facet({4, 5, 6}), -1);
+
+  std::vector<int> short_start{0, 8, 15, 21};  // the second hexahedron given 7 corners
+  std::vector<int> short_flat(flat.begin(), flat.begin() + 15);
+  short_flat.insert(short_flat.end(), corners[2].begin(), corners[2].end());
+  EXPECT_THROW(CellTopology(3, 15, shapes, kind, short_start, short_flat), InternalError);
+  EXPECT_THROW(CellTopology(3, 14, shapes, kind, start, flat), InternalError);  // vertex 14 named
 }
 
 }  // namespace
