@@ -110,6 +110,31 @@ Eigen::Matrix<double, dim, 1> axis(int d) {
   return Eigen::Matrix<double, dim, 1>::Unit(d);
 }
 
+/// The piece of each body of a mesh whose bodies hold the vertices bodies[b], ...,
+/// bodies[b + 1] - 1 (PieceBodies::first_vertex), -1 for a body of none, its pieces being those
+/// of `piece` (each cell's) with the smallest vertices `smallest`: empty unless each body holds
+/// one piece at most and each piece's cells lie in one body.
+template <class M>
+std::vector<int> piece_of_each_body(const M& mesh, const std::vector<int>& bodies, const std::vector<int>& piece,
+                                    const std::vector<int>& smallest) {
+  if (bodies.size() < 2 || bodies.front() != 0 || bodies.back() != mesh.num_vertices() ||
+      !std::is_sorted(bodies.begin(), bodies.end()))
+    return {};
+  std::vector<int> body_piece(bodies.size() - 1, -1);
+  std::vector<std::size_t> body_of(smallest.size());
+  for (std::size_t p = 0; p < smallest.size(); ++p) {
+    const auto b = static_cast<std::size_t>(std::upper_bound(bodies.begin(), bodies.end(), smallest[p]) - bodies.begin() - 1);
+    if (body_piece[b] >= 0) return {};
+    body_piece[b] = static_cast<int>(p), body_of[p] = b;
+  }
+  for (int e = 0; e < num_cells(mesh); ++e) {  // each piece's cells within its body
+    const std::size_t b = body_of[static_cast<std::size_t>(piece[static_cast<std::size_t>(e)])];
+    for (int v : cell_vertices(mesh, e))
+      if (v < bodies[b] || v >= bodies[b + 1]) return {};
+  }
+  return body_piece;
+}
+
 }  // namespace
 
 template <int dim>
@@ -135,23 +160,9 @@ BasicRigidMotions<dim>::BasicRigidMotions(const MeshType& mesh, const DofMap& do
   }
   // a process's piece of bodies each of which its cells hold in one piece: every vertex of a
   // body lies on that body's piece
-  std::vector<int> body_piece;  // each body's piece (-1: none), where each body holds one at most
-  std::vector<std::size_t> body_of(pieces_.size());
-  if (bodies.size() >= 2 && bodies.front() == 0 && bodies.back() == mesh.num_vertices() &&
-      std::is_sorted(bodies.begin(), bodies.end())) {
-    body_piece.assign(bodies.size() - 1, -1);
-    for (std::size_t p = 0; p < pieces_.size() && !body_piece.empty(); ++p) {
-      const auto b = static_cast<std::size_t>(std::upper_bound(bodies.begin(), bodies.end(), pieces_[p].first_vertex) -
-                                              bodies.begin() - 1);
-      if (body_piece[b] >= 0) body_piece.clear();
-      else body_piece[b] = static_cast<int>(p), body_of[p] = b;
-    }
-  }
-  for (int e = 0; e < num_cells(mesh) && !body_piece.empty(); ++e) {  // each piece's cells within its body
-    const std::size_t b = body_of[static_cast<std::size_t>(piece[static_cast<std::size_t>(e)])];
-    for (int v : cell_vertices(mesh, e))
-      if (v < bodies[b] || v >= bodies[b + 1]) body_piece.clear();
-  }
+  std::vector<int> smallest(pieces_.size());
+  for (std::size_t p = 0; p < pieces_.size(); ++p) smallest[p] = pieces_[p].first_vertex;
+  const std::vector<int> body_piece = piece_of_each_body(mesh, bodies, piece, smallest);
   const bool by_bodies = !body_piece.empty();
   if (by_bodies) {
     for (std::size_t b = 0; b < body_piece.size(); ++b) {
