@@ -164,8 +164,9 @@ class GmshReader final : detail::GmshSections {
     for (int c : out.cells) kept.push_back(std::move(elements[static_cast<std::size_t>(c)]));
     decltype(elements)().swap(elements);
     try {
-      out.mesh = surface_mesh(vertices, std::move(kept), out.cells);
+      out.mesh = surface_mesh(std::move(vertices), std::move(kept), out.cells);
     } catch (const MeshError&) {  // the whole mesh's error, as read_gmsh names it
+      vertices = surface_vertices(vertex_of);
       (void)surface_mesh(vertices, surface_elements(vertices, vertex_of), top_numbers());
       throw;
     }

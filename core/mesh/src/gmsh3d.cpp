@@ -234,9 +234,9 @@ class Gmsh3DReader final : detail::GmshSections {
       cuts = detail::choose_piece(cells, vertices, regions, std::move(grouped), who, held, out);
     }
     try {
-      out.mesh = mesh_of(vertices, out.cells);
+      out.mesh = mesh_of(std::move(vertices), out.cells);
     } catch (const MeshError&) {  // the whole mesh's error, as read_gmsh3d names it
-      (void)mesh_of(std::move(vertices), top_numbers());
+      (void)mesh_of(volume_vertices(), top_numbers());
       throw;
     }
     add_face_groups(out.mesh, true);
