@@ -67,7 +67,7 @@ CellTopology::CellTopology(int dim, int num_vertices, CellShapes shapes, std::ve
     for (int k = first_[at(c)]; k < first_[at(c) + 1]; ++k) {
       if (facet_of_loop_[at(k)] >= 0) continue;
       key.clear();
-      for_loop(shapes_.first[at(shape_of_[at(c)])] + k - first_[at(c)], corners_of(c), [&](int v) { key.push_back(v); });
+      for_loop(shape_loop(c) + k, corners_of(c), [&](int v) { key.push_back(v); });
       std::sort(key.begin(), key.end());
       facet_of_loop_[at(k)] = k;
       int j = next_loop(key, k + 1, scratch);
@@ -94,9 +94,9 @@ int CellTopology::next_loop(std::span<const int> key, int from, std::vector<int>
     const auto c = static_cast<std::size_t>(cell);
     if (first_[c + 1] <= from) continue;
     const std::span<const int> corners = corners_of(cell);
-    const int shape_loop = shapes_.first[static_cast<std::size_t>(shape_of_[c])] - first_[c];  // loop j is shape_loop + j
+    const int offset = shape_loop(cell);  // loop j is the shape's loop offset + j
     for (int j = std::max(first_[c], from); j < first_[c + 1]; ++j) {
-      const int l = shape_loop + j;
+      const int l = offset + j;
       if (shapes_.at[static_cast<std::size_t>(l) + 1] - shapes_.at[static_cast<std::size_t>(l)] != static_cast<int>(key.size()))
         continue;
       int smallest = num_vertices_;
@@ -127,8 +127,7 @@ std::span<const int> CellTopology::cell_facets(int c) const {
 std::vector<int> CellTopology::facet_loop(int f) const {
   const int c = cell_of_loop(f);
   std::vector<int> loop;
-  for_loop(shapes_.first[static_cast<std::size_t>(shape_of_[static_cast<std::size_t>(c)])] + f - first_[static_cast<std::size_t>(c)],
-           corners_of(c), [&](int v) { loop.push_back(v); });
+  for_loop(shape_loop(c) + f, corners_of(c), [&](int v) { loop.push_back(v); });
   return loop;
 }
 

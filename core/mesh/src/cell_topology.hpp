@@ -63,6 +63,10 @@ class CellTopology {
   int cell_of_loop(int k) const;
   /// Cell c's corners.
   std::span<const int> corners_of(int c) const;
+  /// Loop k of cell c among its shape's loops (shapes_.at): loop shape_loop(c) + k.
+  int shape_loop(int c) const {
+    return shapes_.first[static_cast<std::size_t>(shape_of_[static_cast<std::size_t>(c)])] - first_[static_cast<std::size_t>(c)];
+  }
   /// The corners of loop j of a shape's loops (shapes_.at), among the cell's `corners`.
   template <class Visit>
   void for_loop(int j, std::span<const int> corners, Visit&& visit) const {

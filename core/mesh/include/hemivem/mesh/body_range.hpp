@@ -1,7 +1,6 @@
 // Where one body lies in a mesh of several.
 #pragma once
 
-#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -35,9 +34,6 @@ struct PieceBodies {
   std::vector<int> first_vertex;
   std::vector<int> cells;
   bool empty() const noexcept { return first_vertex.empty(); }
-  /// The number of bodies.
-  std::size_t size() const noexcept { return first_vertex.empty() ? 0 : first_vertex.size() - 1; }
-  bool operator==(const PieceBodies&) const = default;
 };
 
 }  // namespace hemivem
