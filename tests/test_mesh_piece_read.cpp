@@ -23,6 +23,8 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <map>
 #include <memory>
 #include <set>
 #include <sstream>
@@ -187,6 +189,23 @@ const auto read_poly_piece = [](const fs::path& p, int r, int s) { return read_p
 const auto read_solid = [](const fs::path& p) { return read_gmsh3d(p); };
 const auto read_solid_piece = [](const fs::path& p, int r, int s) { return read_gmsh3d_piece(p, r, s); };
 
+/// The pieces of `size` processes as each receives its own from the first, which reads the file
+/// and makes them all (read(path, rows) on threads playing the processes), made once for each
+/// file and size: a read_piece(path, rank, size) of expect_read_pieces_are_cut_pieces.
+template <class M, class ReadSent>
+auto sent_by_first(ReadSent read) {
+  auto made = std::make_shared<std::map<std::pair<std::string, int>, std::vector<MeshPieceRead<M>>>>();
+  return [read, made](const fs::path& path, int rank, int size) {
+    auto& pieces = (*made)[{path.string(), size}];
+    if (pieces.empty()) pieces = test::on_threads(size, [&](const test::ThreadRows& rows) { return read(path, rows); });
+    return pieces[static_cast<std::size_t>(rank)];
+  };
+}
+const auto sent_plane = sent_by_first<Mesh>([](const fs::path& p, const test::ThreadRows& rows) { return read_gmsh_piece(p, rows); });
+const auto sent_poly = sent_by_first<Mesh>([](const fs::path& p, const test::ThreadRows& rows) { return read_poly2d_piece(p, rows); });
+const auto sent_solid =
+    sent_by_first<Mesh3D>([](const fs::path& p, const test::ThreadRows& rows) { return read_gmsh3d_piece(p, rows); });
+
 /// Every file of `folder` ending in `ext`, which `read_whole` refuses, is refused by one of two
 /// processes' `read_piece` at least with the same message, and by both unless it is a defect of
 /// the cells (a MeshError, which only the pieces holding it see). The number of such files.
@@ -225,20 +244,24 @@ int expect_malformed_files_refused_by_pieces(const fs::path& folder, const std::
 
 }  // namespace
 
+// each process's piece, read by itself or sent by the first process, which reads the file alone
 TEST(MeshPieceRead, APlaneFilesPiecesAreThePiecesCutFromTheWholeMesh) {
   const fs::path squares = write_text("squares.msh", test::squares_msh(12, 9));
-  for (int size : {1, 2, 3})
-    expect_read_pieces_are_cut_pieces<Mesh>(squares, size, size > 1, read_plane, read_plane_piece);
-  for (const char* file : {"two_regions.msh", "unit_square_triangles.msh", "unit_square_quads.msh"})
-    expect_read_pieces_are_cut_pieces<Mesh>(test::data_dir() / "gmsh" / file, 2, false, read_plane, read_plane_piece);
+  for (const auto& read_piece : {std::function(read_plane_piece), std::function(sent_plane)}) {
+    for (int size : {1, 2, 3})
+      expect_read_pieces_are_cut_pieces<Mesh>(squares, size, size > 1, read_plane, read_piece);
+    for (const char* file : {"two_regions.msh", "unit_square_triangles.msh", "unit_square_quads.msh"})
+      expect_read_pieces_are_cut_pieces<Mesh>(test::data_dir() / "gmsh" / file, 2, false, read_plane, read_piece);
+  }
   fs::remove(squares);
 }
 
 TEST(MeshPieceRead, APoly2dFilesPiecesAreThePiecesCutFromTheWholeMesh) {
-  for (const char* file : {"sutton-voronoi-merged.poly2d", "graded-block.poly2d"})
-    for (int size : {1, 2, 3})
-      expect_read_pieces_are_cut_pieces<Mesh>(test::scenes_dir() / "meshes" / file, size, size > 1, read_poly,
-                                              read_poly_piece);
+  for (const auto& read_piece : {std::function(read_poly_piece), std::function(sent_poly)})
+    for (const char* file : {"sutton-voronoi-merged.poly2d", "graded-block.poly2d"})
+      for (int size : {1, 2, 3})
+        expect_read_pieces_are_cut_pieces<Mesh>(test::scenes_dir() / "meshes" / file, size, size > 1, read_poly,
+                                                read_piece);
 }
 
 // a .poly2d file the whole reader refuses, every process refuses with the same message, or a
@@ -292,13 +315,72 @@ TEST(MeshPieceRead, APolygonsMeshsPiecesAreThePiecesCutFromTheWholeMesh) {
 
 TEST(MeshPieceRead, ASolidFilesPiecesAreThePiecesCutFromTheWholeMesh) {
   const fs::path cubes = cubes_msh(8);
-  for (int size : {1, 2, 3})
-    expect_read_pieces_are_cut_pieces<Mesh3D>(cubes, size, size > 1, read_solid, read_solid_piece);
+  for (const auto& read_piece : {std::function(read_solid_piece), std::function(sent_solid)}) {
+    for (int size : {1, 2, 3}) expect_read_pieces_are_cut_pieces<Mesh3D>(cubes, size, size > 1, read_solid, read_piece);
+    // hexahedra, pyramids and tetrahedra; two bodies in one file (each body's kept cells joined)
+    for (const char* file : {"hexahedra_pyramids_tetrahedra.msh", "two_boxes_tetrahedra.msh"})
+      expect_read_pieces_are_cut_pieces<Mesh3D>(test::data_dir() / "gmsh3d" / file, 3, true, read_solid, read_piece);
+    expect_read_pieces_are_cut_pieces<Mesh3D>(test::data_dir() / "gmsh3d" / "cube_prisms.msh", 3, false, read_solid,
+                                              read_piece);
+  }
   fs::remove(cubes);
-  // hexahedra, pyramids and tetrahedra; two bodies in one file (each body's kept cells joined)
-  for (const char* file : {"hexahedra_pyramids_tetrahedra.msh", "two_boxes_tetrahedra.msh"})
-    expect_read_pieces_are_cut_pieces<Mesh3D>(test::data_dir() / "gmsh3d" / file, 3, true, read_solid, read_solid_piece);
-  expect_read_pieces_are_cut_pieces<Mesh3D>(test::data_dir() / "gmsh3d" / "cube_prisms.msh", 3, false, read_solid, read_solid_piece);
+}
+
+/// What each of `size` processes meets when the first reads `path` and sends each its piece
+/// (read(path, rows)): the InputError's message, empty where it receives its piece.
+template <class Read>
+std::vector<std::string> errors_sent_by_first(const fs::path& path, int size, Read read) {
+  return test::on_threads(size, [&](const test::ThreadRows& rows) {
+    return test::input_error_of([&] { (void)read(path, rows); });
+  });
+}
+
+// a file the whole reader refuses, or with a defect in one cell, read by the first process alone:
+// it refuses it as the whole reader does, and every process it has not sent a piece to ends
+// saying so; the others never wait
+TEST(MeshPieceRead, AFileTheFirstProcessRefusesEndsEveryProcessItHasNotSentAPieceTo) {
+  const auto plane = [](const fs::path& p, const test::ThreadRows& rows) { return read_gmsh_piece(p, rows); };
+  const auto poly = [](const fs::path& p, const test::ThreadRows& rows) { return read_poly2d_piece(p, rows); };
+  int files = 0;
+  for (const auto& [folder, ext] : {std::pair{test::data_dir() / "gmsh" / "malformed", ".msh"},
+                                    std::pair{test::data_dir() / "malformed", ".poly2d"}})
+    for (const auto& entry : fs::directory_iterator(folder)) {
+      if (entry.path().extension() != ext) continue;
+      SCOPED_TRACE(entry.path().filename().string());
+      const bool gmsh = std::string(ext) == ".msh";
+      const std::string whole = test::input_error_of([&] {
+        if (gmsh) (void)read_gmsh(entry.path());
+        else (void)read_poly2d(entry.path());
+      });
+      ASSERT_FALSE(whole.empty());
+      const std::vector<std::string> met =
+          gmsh ? errors_sent_by_first(entry.path(), 3, plane) : errors_sent_by_first(entry.path(), 3, poly);
+      EXPECT_EQ(met[0], whole);
+      // a defect of the cells may lie in the last pieces made: those sent before it are read
+      for (int rank = 1; rank < 3; ++rank)
+        if (!met[static_cast<std::size_t>(rank)].empty())
+          EXPECT_EQ(met[static_cast<std::size_t>(rank)], "process 0 stopped: " + whole) << "rank " << rank;
+      ++files;
+    }
+  EXPECT_GE(files, 35);
+  // an element inside a larger mesh repeating a vertex, which the first finds making whichever
+  // piece holds it (the processes whose pieces it made before read theirs); a file that is not
+  // there
+  const fs::path defect = write_text("defect-first.msh", test::squares_msh_repeating_a_vertex(24));
+  for (const fs::path& path : {defect, fs::path(defect.string() + ".missing")}) {
+    const std::string whole = test::input_error_of([&] { (void)read_gmsh(path); });
+    ASSERT_FALSE(whole.empty());
+    int stopped = 0;
+    const std::vector<std::string> met = errors_sent_by_first(path, 3, plane);
+    EXPECT_EQ(met[0], whole);
+    for (int rank = 1; rank < 3; ++rank) {
+      const std::string& error = met[static_cast<std::size_t>(rank)];
+      if (!error.empty()) EXPECT_EQ(error, "process 0 stopped: " + whole) << "rank " << rank;
+      stopped += error.empty() ? 0 : 1;
+    }
+    if (path != defect) EXPECT_EQ(stopped, 2);  // refused before any piece is made
+  }
+  fs::remove(defect);
 }
 
 // a file the whole reader refuses, every process refuses with the same message; a defect of
@@ -372,12 +454,28 @@ int expect_problem_pieces_pose_the_whole_share(const Scene& scene, PieceOf piece
   return fewer;
 }
 
-/// The same of the pieces read from the scene's file.
+/// The same of the pieces read from the scene's file, by each process, and sent by the first
+/// (which reads the file alone) to three processes played by threads; the number of pieces of
+/// either with fewer facets (the same).
 template <int dim>
 int expect_read_problem_pieces_pose_the_whole_share(const Scene& scene) {
   EXPECT_TRUE(reads_pieces(scene));
-  return expect_problem_pieces_pose_the_whole_share<dim>(
+  const int fewer = expect_problem_pieces_pose_the_whole_share<dim>(
       scene, [&](int rank, int size, PieceOfMesh& where) { return read_problem_piece<dim>(scene, rank, size, where); });
+  using Sent = std::pair<std::shared_ptr<BasicBuiltProblem<dim>>, PieceOfMesh>;
+  std::vector<Sent> sent;
+  const int sent_fewer = expect_problem_pieces_pose_the_whole_share<dim>(scene, [&](int rank, int size, PieceOfMesh& where) {
+    if (sent.empty())
+      sent = test::on_threads(size, [&](const test::ThreadRows& rows) {
+        Sent made;
+        made.first = read_problem_piece<dim>(scene, rows, made.second);
+        return made;
+      });
+    where = sent[static_cast<std::size_t>(rank)].second;
+    return sent[static_cast<std::size_t>(rank)].first;
+  });
+  EXPECT_EQ(sent_fewer, fewer);
+  return fewer;
 }
 
 TEST(MeshPieceRead, TheProblemOnAPieceReadFromTheFilePosesTheWholeShare) {

@@ -161,11 +161,12 @@ void build_scene_problem(const Scene& scene, SceneEngines& e, Solved& s, const s
       s.whole_cells = e.piece->whole_cells;
       return;
     }
-    // each process reads its piece of the file, makes its piece of a Voronoi or polygon mesh, or its bodies'
+    // the first process reads the file and sends each its piece; each makes its piece of a Voronoi or
+    // polygon mesh, or its bodies'
     if (reads_pieces(scene) || makes_voronoi_pieces(scene) || makes_polygon_pieces(scene) || makes_body_pieces(scene)) {
       PieceOfMesh where;
       s.built = on_every_process(*process_rows(), [&]() -> std::unique_ptr<BasicBuiltProblem<dim>> {
-        if (reads_pieces(scene)) return read_problem_piece<dim>(scene, world.rank, world.size, where);
+        if (reads_pieces(scene)) return read_problem_piece<dim>(scene, *process_rows(), where);
         if (makes_voronoi_pieces(scene)) return voronoi_problem_piece<dim>(scene, *process_rows(), where);
         if constexpr (dim == 2)
           if (makes_polygon_pieces(scene)) return polygon_problem_piece(scene, world.rank, world.size, where);

@@ -3,6 +3,9 @@
 #pragma once
 
 #include <barrier>
+#include <condition_variable>
+#include <deque>
+#include <mutex>
 #include <optional>
 #include <stdexcept>
 #include <thread>
@@ -19,9 +22,12 @@ namespace hemivem::test {
 class ThreadRows final : public hemivem::RowDistribution {
  public:
   struct Shared {
-    explicit Shared(int size) : sync(size), values(static_cast<std::size_t>(size)) {}
+    explicit Shared(int size) : sync(size), values(static_cast<std::size_t>(size)), mail(static_cast<std::size_t>(size)) {}
     std::barrier<> sync;
     std::vector<Eigen::VectorXd> values;
+    std::mutex mutex;  ///< guards `mail`
+    std::condition_variable posted;
+    std::vector<std::deque<std::vector<char>>> mail;  ///< what the first sent each, not yet taken
   };
   ThreadRows(Shared& shared, int rank) : shared_(shared), rank_(rank) {
     layout_.first = rank;
@@ -44,6 +50,22 @@ class ThreadRows final : public hemivem::RowDistribution {
     for (const auto& v : shared_.values) all.segment(n, v.size()) = v, n += v.size();
     shared_.sync.arrive_and_wait();  // every process has read them before the next call writes
     return all;
+  }
+  void send_to(int to, std::span<const char> bytes) const override {
+    if (rank_ != 0 || to <= 0 || to >= size()) throw std::logic_error("send_to from another than the first");
+    {
+      const std::lock_guard lock(shared_.mutex);
+      shared_.mail[static_cast<std::size_t>(to)].emplace_back(bytes.begin(), bytes.end());
+    }
+    shared_.posted.notify_all();
+  }
+  std::vector<char> receive_from_first() const override {
+    std::unique_lock lock(shared_.mutex);
+    auto& box = shared_.mail[static_cast<std::size_t>(rank_)];
+    shared_.posted.wait(lock, [&] { return !box.empty(); });
+    std::vector<char> bytes = std::move(box.front());
+    box.pop_front();
+    return bytes;
   }
 
  private:

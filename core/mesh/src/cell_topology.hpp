@@ -4,6 +4,8 @@
 #pragma once
 
 #include <array>
+#include <functional>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -100,7 +102,41 @@ CellTopology solid_topology(int num_vertices, const std::vector<CellFaces>& cell
 struct PieceOwner {
   int rank = 0, size = 1;
   const std::vector<char>* owned = nullptr;
+  /// Of a process's share: the vertices along the Hilbert curve when already found (else
+  /// choose_piece finds them).
+  const std::vector<int>* order = nullptr;
 };
+
+/// The pieces a reader makes of a mesh from one reading, in turn: those of whose[0], whose[1],
+/// ..., each given to deliver(k, piece) once made (k its place in `whose`).
+template <class MeshType>
+struct PiecesInTurn {
+  std::vector<PieceOwner> whose;
+  std::function<void(std::size_t, MeshPieceRead<MeshType>&&)> deliver;
+};
+
+/// The pieces of the processes of `size`: of each but the first in the order of the ranks, then
+/// the first's, each given to deliver(rank, piece).
+template <class MeshType>
+PiecesInTurn<MeshType> pieces_of_processes(int size, std::function<void(int, MeshPieceRead<MeshType>&&)> deliver) {
+  PiecesInTurn<MeshType> turn;
+  for (int r = 1; r <= size; ++r) turn.whose.push_back(PieceOwner{r % size, size});
+  turn.deliver = [whose = turn.whose, deliver = std::move(deliver)](std::size_t k, MeshPieceRead<MeshType>&& piece) {
+    deliver(whose[k].rank, std::move(piece));
+  };
+  return turn;
+}
+
+/// The one piece of `who`, into `out`.
+template <class MeshType>
+PiecesInTurn<MeshType> piece_of(const PieceOwner& who, MeshPieceRead<MeshType>& out) {
+  return {{who}, [&out](std::size_t, MeshPieceRead<MeshType>&& piece) { out = std::move(piece); }};
+}
+
+/// The vertices `vertices` along the Hilbert curve through their box (a process's share is a
+/// run of them: choose_piece).
+std::vector<int> hilbert_order_of(const std::vector<Vec2>& vertices);
+std::vector<int> hilbert_order_of(const std::vector<Vec3>& vertices);
 
 /// Sets `out`'s cells, order, share, whole_cells and cell sums (MeshPieceRead, mesh_piece.hpp)
 /// to those of the piece `who` keeps of the mesh of `cells`, with its vertices at `vertices` and
@@ -118,6 +154,20 @@ FacetKeys choose_piece(const CellTopology& cells, const std::vector<Vec2>& verti
 FacetKeys choose_piece(const CellTopology& cells, const std::vector<Vec3>& vertices, const std::vector<int>& regions,
                        std::vector<int> facets, const PieceOwner& who, HeldPoints held, MeshPieceRead<Mesh3D>& out);
 
+/// Makes the pieces `turn` asks for of the mesh of `cells`, with its vertices at `vertices`, its
+/// cells' regions `regions` and the facets `facets` (choose_piece), in turn: each chosen, then
+/// its mesh made by make_mesh(piece, last) (the last piece's may take `vertices`: `cells` is
+/// freed, and `vertices` no more read, before it), then its cut facets set (set_cut_facets),
+/// then delivered. The vertices' Hilbert order is found once for all the processes' shares.
+template <class MeshType>
+using MakePieceMesh = std::function<void(MeshPieceRead<MeshType>&, bool last)>;
+void make_pieces(std::unique_ptr<const CellTopology> cells, const std::vector<Vec2>& vertices,
+                 const std::vector<int>& regions, const std::vector<int>& facets, HeldPoints held,
+                 const PiecesInTurn<Mesh>& turn, const MakePieceMesh<Mesh>& make_mesh);
+void make_pieces(std::unique_ptr<const CellTopology> cells, const std::vector<Vec3>& vertices,
+                 const std::vector<int>& regions, const std::vector<int>& facets, HeldPoints held,
+                 const PiecesInTurn<Mesh3D>& turn, const MakePieceMesh<Mesh3D>& make_mesh);
+
 /// A plane mesh not made: its vertices and its elements' vertices in order.
 struct PlaneCells {
   std::vector<Vec2> vertices;
@@ -134,6 +184,8 @@ void make_plane_piece(const PlaneCells& cells, HeldPoints held, int rank, int si
 void make_plane_piece(const PlaneCells& cells, const std::vector<char>& owned, HeldPoints held, MeshPieceRead<Mesh>& out);
 /// The same of the piece `who` keeps.
 void make_plane_piece(const PlaneCells& cells, const PieceOwner& who, HeldPoints held, MeshPieceRead<Mesh>& out);
+/// The same of the pieces `turn` asks for (make_pieces).
+void make_plane_pieces(const PlaneCells& cells, HeldPoints held, const PiecesInTurn<Mesh>& turn);
 
 /// A solid mesh not made: its vertices and its cells' faces (vertex loops).
 struct SolidCells {

@@ -85,10 +85,11 @@ class GmshReader final : detail::GmshSections {
     return build();
   }
 
-  MeshPieceRead<Mesh> read_piece(int rank, int size, HeldPoints held) {
+  /// The pieces `turn` asks for, made in turn from one reading.
+  void read_pieces(const detail::PiecesInTurn<Mesh>& turn, HeldPoints held) {
     read_sections();
     check_plane();
-    return build_piece({rank, size}, held);
+    build_pieces(turn, held);
   }
 
   /// The file read (its sections and checks), its mesh not made: its number of vertices, of
@@ -101,7 +102,9 @@ class GmshReader final : detail::GmshSections {
 
   /// After read_lists: the piece around the vertices `owned` flags (MeshLists::piece).
   MeshPieceRead<Mesh> piece(const std::vector<char>& owned, HeldPoints held) const {
-    return build_piece({.owned = &owned}, held);
+    MeshPieceRead<Mesh> out;
+    build_pieces(detail::piece_of({.owned = &owned}, out), held);
+    return out;
   }
 
  private:
@@ -138,41 +141,41 @@ class GmshReader final : detail::GmshSections {
     return mesh;
   }
 
-  /// The piece of the mesh `who` keeps (MeshPieceRead), made of the surface elements' edges
-  /// without the whole mesh.
-  MeshPieceRead<Mesh> build_piece(const detail::PieceOwner& who, HeldPoints held) const {
+  /// The pieces `turn` asks for (MeshPieceRead), made of the surface elements' edges without
+  /// the whole mesh, the edges they share found once.
+  void build_pieces(const detail::PiecesInTurn<Mesh>& turn, HeldPoints held) const {
     std::vector<int> vertex_of;
     std::vector<Vec2> vertices = surface_vertices(vertex_of);
     std::vector<std::vector<int>> elements = surface_elements(vertices, vertex_of);
-    detail::FacetKeys cuts;
-    MeshPieceRead<Mesh> out;
-    {
-      std::vector<int> regions;
-      for (std::size_t k = 0; k < elements.size(); ++k) regions.push_back(region_of(top_[k].entity));
-      const detail::CellTopology cells = detail::plane_topology(static_cast<int>(vertices.size()), elements);
-      std::vector<int> grouped;  // the edges of the physical lines' elements
-      for (const GmshElement& l : below_) {
-        const int a = vertex_of[static_cast<std::size_t>(l.nodes[0])], b = vertex_of[static_cast<std::size_t>(l.nodes[1])];
-        const int f = a < 0 || b < 0 ? -1 : cells.find_facet({a, b});
-        if (f < 0) fail_not_an_edge(l);
-        if (const std::vector<int>* tags = groups_of(l.entity); tags && !tags->empty()) grouped.push_back(f);
+    std::vector<int> regions;
+    for (std::size_t k = 0; k < elements.size(); ++k) regions.push_back(region_of(top_[k].entity));
+    auto cells = std::make_unique<const detail::CellTopology>(
+        detail::plane_topology(static_cast<int>(vertices.size()), elements));
+    std::vector<int> grouped;  // the edges of the physical lines' elements
+    for (const GmshElement& l : below_) {
+      const int a = vertex_of[static_cast<std::size_t>(l.nodes[0])], b = vertex_of[static_cast<std::size_t>(l.nodes[1])];
+      const int f = a < 0 || b < 0 ? -1 : cells->find_facet({a, b});
+      if (f < 0) fail_not_an_edge(l);
+      if (const std::vector<int>* tags = groups_of(l.entity); tags && !tags->empty()) grouped.push_back(f);
+    }
+    detail::make_pieces(std::move(cells), vertices, regions, grouped, held, turn, [&](MeshPieceRead<Mesh>& out, bool last) {
+      std::vector<std::vector<int>> kept;
+      kept.reserve(out.cells.size());
+      for (int c : out.cells) {
+        auto& e = elements[static_cast<std::size_t>(c)];
+        kept.push_back(last ? std::move(e) : e);
       }
-      cuts = detail::choose_piece(cells, vertices, regions, std::move(grouped), who, held, out);
-    }
-    std::vector<std::vector<int>> kept;
-    kept.reserve(out.cells.size());
-    for (int c : out.cells) kept.push_back(std::move(elements[static_cast<std::size_t>(c)]));
-    decltype(elements)().swap(elements);
-    try {
-      out.mesh = surface_mesh(std::move(vertices), std::move(kept), out.cells);
-    } catch (const MeshError&) {  // the whole mesh's error, as read_gmsh names it
-      vertices = surface_vertices(vertex_of);
-      (void)surface_mesh(vertices, surface_elements(vertices, vertex_of), top_numbers());
-      throw;
-    }
-    add_edge_groups(out.mesh, vertex_of, true);
-    detail::set_cut_facets(out, cuts);
-    return out;
+      if (last) decltype(elements)().swap(elements);
+      try {
+        out.mesh = last ? surface_mesh(std::move(vertices), std::move(kept), out.cells)
+                        : surface_mesh(vertices, std::move(kept), out.cells);
+      } catch (const MeshError&) {  // the whole mesh's error, as read_gmsh names it
+        const std::vector<Vec2> all = surface_vertices(vertex_of);
+        (void)surface_mesh(all, surface_elements(all, vertex_of), top_numbers());
+        throw;
+      }
+      add_edge_groups(out.mesh, vertex_of, true);
+    });
   }
 
   /// Vertices: the nodes of surface elements, in $Nodes order; `vertex_of` receives the vertex
@@ -277,7 +280,16 @@ MeshPieceRead<Mesh> read_gmsh_piece(const fs::path& path, int rank, int size, He
 }
 
 MeshPieceRead<Mesh> read_gmsh_piece(std::istream& in, const std::string& name, int rank, int size, HeldPoints held) {
-  return GmshReader(in, name).read_piece(rank, size, held);
+  MeshPieceRead<Mesh> out;
+  GmshReader(in, name).read_pieces(detail::piece_of({rank, size}, out), held);
+  return out;
+}
+
+MeshPieceRead<Mesh> read_gmsh_piece(const fs::path& path, const RowDistribution& processes, HeldPoints held) {
+  return piece_made_by_first<Mesh>(processes, [&](const PieceDelivery<Mesh>& deliver) {
+    std::ifstream in = text::open_for_reading(path, "mesh file");
+    GmshReader(in, path.string()).read_pieces(detail::pieces_of_processes(processes.size(), deliver), held);
+  });
 }
 
 MeshLists<Mesh> read_gmsh_lists(const fs::path& path) {

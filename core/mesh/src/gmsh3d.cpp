@@ -126,9 +126,10 @@ class Gmsh3DReader final : detail::GmshSections {
     return build();
   }
 
-  MeshPieceRead<Mesh3D> read_piece(int rank, int size, HeldPoints held) {
+  /// The pieces `turn` asks for, made in turn from one reading.
+  void read_pieces(const detail::PiecesInTurn<Mesh3D>& turn, HeldPoints held) {
     read_volumes();
-    return build_piece({rank, size}, held);
+    build_pieces(turn, held);
   }
 
   /// The file read (its sections and checks), its mesh not made: its number of vertices, of
@@ -139,7 +140,11 @@ class Gmsh3DReader final : detail::GmshSections {
   }
 
   /// After read_lists: the piece around the vertices `owned` flags (MeshLists::piece).
-  MeshPieceRead<Mesh3D> piece(const std::vector<char>& owned, HeldPoints held) { return build_piece({.owned = &owned}, held); }
+  MeshPieceRead<Mesh3D> piece(const std::vector<char>& owned, HeldPoints held) {
+    MeshPieceRead<Mesh3D> out;
+    build_pieces(detail::piece_of({.owned = &owned}, out), held);
+    return out;
+  }
 
  private:
   /// The file's sections, which must hold volume elements.
@@ -197,51 +202,48 @@ class Gmsh3DReader final : detail::GmshSections {
     }
   }
 
-  /// The piece of the mesh `who` keeps (MeshPieceRead), made of the volume elements' faces
-  /// without the whole mesh.
-  MeshPieceRead<Mesh3D> build_piece(const detail::PieceOwner& who, HeldPoints held) {
+  /// The pieces `turn` asks for (MeshPieceRead), made of the volume elements' faces without
+  /// the whole mesh, the facets they share found once.
+  void build_pieces(const detail::PiecesInTurn<Mesh3D>& turn, HeldPoints held) {
     std::vector<Vec3> vertices = volume_vertices();
-    detail::FacetKeys cuts;
-    MeshPieceRead<Mesh3D> out;
-    {
-      // each element's corners, its vertices in Gmsh's order, its faces its shape's
-      detail::CellShapes shapes;
-      std::vector<int> shape_of_type(8, -1), shape_of, corner_start{0}, corners, regions;
-      std::size_t num_corners = 0;
-      for (const GmshElement& e : top_) num_corners += e.nodes.size();
-      shape_of.reserve(top_.size());
-      corner_start.reserve(top_.size() + 1);
-      corners.reserve(num_corners);
-      regions.reserve(top_.size());
-      for (const GmshElement& e : top_) {
-        int& shape = shape_of_type[static_cast<std::size_t>(e.type)];
-        if (shape < 0) shape = shapes.add(volume_shape(e.type)->faces);
-        shape_of.push_back(shape);
-        for (int n : e.nodes) corners.push_back(vertex_of_[static_cast<std::size_t>(n)]);
-        corner_start.push_back(static_cast<int>(corners.size()));
-        regions.push_back(region_of(e.entity));
+    // each element's corners, its vertices in Gmsh's order, its faces its shape's
+    detail::CellShapes shapes;
+    std::vector<int> shape_of_type(8, -1), shape_of, corner_start{0}, corners, regions;
+    std::size_t num_corners = 0;
+    for (const GmshElement& e : top_) num_corners += e.nodes.size();
+    shape_of.reserve(top_.size());
+    corner_start.reserve(top_.size() + 1);
+    corners.reserve(num_corners);
+    regions.reserve(top_.size());
+    for (const GmshElement& e : top_) {
+      int& shape = shape_of_type[static_cast<std::size_t>(e.type)];
+      if (shape < 0) shape = shapes.add(volume_shape(e.type)->faces);
+      shape_of.push_back(shape);
+      for (int n : e.nodes) corners.push_back(vertex_of_[static_cast<std::size_t>(n)]);
+      corner_start.push_back(static_cast<int>(corners.size()));
+      regions.push_back(region_of(e.entity));
+    }
+    auto cells = std::make_unique<const detail::CellTopology>(3, static_cast<int>(vertices.size()), std::move(shapes),
+                                                              std::move(shape_of), std::move(corner_start),
+                                                              std::move(corners));
+    std::vector<int> grouped;  // the faces of the physical surfaces' elements
+    for (const GmshElement& s : below_)
+      if (const std::vector<int>* tags = groups_of(s.entity); tags && !tags->empty()) {
+        std::vector<int> key = vertices_of_element(s);
+        const int f = std::find(key.begin(), key.end(), -1) != key.end() ? -1 : cells->find_facet(std::move(key));
+        if (f < 0) fail_not_a_face(s);
+        grouped.push_back(f);
       }
-      const detail::CellTopology cells(3, static_cast<int>(vertices.size()), std::move(shapes), std::move(shape_of),
-                                       std::move(corner_start), std::move(corners));
-      std::vector<int> grouped;  // the faces of the physical surfaces' elements
-      for (const GmshElement& s : below_)
-        if (const std::vector<int>* tags = groups_of(s.entity); tags && !tags->empty()) {
-          std::vector<int> key = vertices_of_element(s);
-          const int f = std::find(key.begin(), key.end(), -1) != key.end() ? -1 : cells.find_facet(std::move(key));
-          if (f < 0) fail_not_a_face(s);
-          grouped.push_back(f);
-        }
-      cuts = detail::choose_piece(cells, vertices, regions, std::move(grouped), who, held, out);
-    }
-    try {
-      out.mesh = mesh_of(std::move(vertices), out.cells);
-    } catch (const MeshError&) {  // the whole mesh's error, as read_gmsh3d names it
-      (void)mesh_of(volume_vertices(), top_numbers());
-      throw;
-    }
-    add_face_groups(out.mesh, true);
-    detail::set_cut_facets(out, cuts);
-    return out;
+    detail::make_pieces(std::move(cells), vertices, regions, grouped, held, turn,
+                        [&](MeshPieceRead<Mesh3D>& out, bool last) {
+                          try {
+                            out.mesh = last ? mesh_of(std::move(vertices), out.cells) : mesh_of(vertices, out.cells);
+                          } catch (const MeshError&) {  // the whole mesh's error, as read_gmsh3d names it
+                            (void)mesh_of(volume_vertices(), top_numbers());
+                            throw;
+                          }
+                          add_face_groups(out.mesh, true);
+                        });
   }
 
   /// The faces of a volume element, outward: as Gmsh's node ordering gives them, all reversed
@@ -552,7 +554,16 @@ MeshPieceRead<Mesh3D> read_gmsh3d_piece(const fs::path& path, int rank, int size
 }
 
 MeshPieceRead<Mesh3D> read_gmsh3d_piece(std::istream& in, const std::string& name, int rank, int size, HeldPoints held) {
-  return Gmsh3DReader(in, name).read_piece(rank, size, held);
+  MeshPieceRead<Mesh3D> out;
+  Gmsh3DReader(in, name).read_pieces(detail::piece_of({rank, size}, out), held);
+  return out;
+}
+
+MeshPieceRead<Mesh3D> read_gmsh3d_piece(const fs::path& path, const RowDistribution& processes, HeldPoints held) {
+  return piece_made_by_first<Mesh3D>(processes, [&](const PieceDelivery<Mesh3D>& deliver) {
+    std::ifstream in = text::open_for_reading(path, "mesh file");
+    Gmsh3DReader(in, path.string()).read_pieces(detail::pieces_of_processes(processes.size(), deliver), held);
+  });
 }
 
 MeshLists<Mesh3D> read_gmsh3d_lists(const fs::path& path) {

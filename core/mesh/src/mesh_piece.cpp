@@ -4,6 +4,8 @@
 #include <hemivem/error.hpp>
 #include <hemivem/row_distribution.hpp>
 #include <hemivem/mesh/dimension.hpp>
+#include <hemivem/mesh/mesh_record.hpp>
+#include <hemivem/support/bytes.hpp>
 
 #include "cell_kernels.hpp"
 #include "cell_topology.hpp"
@@ -12,6 +14,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 
 namespace hemivem {
@@ -248,16 +251,24 @@ detail::FacetKeys choose_around(const CellTopology& cells, const std::vector<Vec
   return cuts;
 }
 
-template <class Vec, class MeshType>
-detail::FacetKeys choose(const CellTopology& cells, const std::vector<Vec>& vertices, const std::vector<int>& regions,
-                         std::vector<int> facets, int rank, int size, HeldPoints held, MeshPieceRead<MeshType>& out) {
-  if (size < 1 || rank < 0 || rank >= size)
-    throw InternalError("a piece of a mesh for process " + std::to_string(rank) + " of " + std::to_string(size));
+template <class Vec>
+std::vector<int> order_of(const std::vector<Vec>& vertices) {
   std::vector<int> order;
   if (!vertices.empty()) {
     const std::vector<std::size_t> perm = detail::hilbert_order(vertices, box_of(vertices));
     order.assign(perm.begin(), perm.end());
   }
+  return order;
+}
+
+template <class Vec, class MeshType>
+detail::FacetKeys choose(const CellTopology& cells, const std::vector<Vec>& vertices, const std::vector<int>& regions,
+                         std::vector<int> facets, const detail::PieceOwner& who, HeldPoints held,
+                         MeshPieceRead<MeshType>& out) {
+  const int rank = who.rank, size = who.size;
+  if (size < 1 || rank < 0 || rank >= size)
+    throw InternalError("a piece of a mesh for process " + std::to_string(rank) + " of " + std::to_string(size));
+  std::vector<int> order = who.order ? *who.order : order_of(vertices);
   const auto [first, end] = even_share(cells.num_vertices(), rank, size);
   std::vector<char> owned(static_cast<std::size_t>(cells.num_vertices()), 0);
   for (auto k = first; k < end; ++k) owned[static_cast<std::size_t>(order[static_cast<std::size_t>(k)])] = 1;
@@ -273,7 +284,7 @@ template <class Vec, class MeshType>
 detail::FacetKeys chosen(const CellTopology& cells, const std::vector<Vec>& vertices, const std::vector<int>& regions,
                          std::vector<int> facets, const detail::PieceOwner& who, HeldPoints held, MeshPieceRead<MeshType>& out) {
   if (who.owned) return choose_around(cells, vertices, regions, std::move(facets), *who.owned, held, out);
-  return choose(cells, vertices, regions, std::move(facets), who.rank, who.size, held, out);
+  return choose(cells, vertices, regions, std::move(facets), who, held, out);
 }
 
 std::vector<int> sorted_vertices(const Mesh& mesh, int e) {
@@ -310,28 +321,66 @@ FacetKeys choose_piece(const CellTopology& cells, const std::vector<Vec3>& verti
 
 void set_cut_facets(MeshPieceRead<Mesh>& out, const FacetKeys& cuts) { cut_facets_of(out, cuts); }
 
+std::vector<int> hilbert_order_of(const std::vector<Vec2>& vertices) { return order_of(vertices); }
+std::vector<int> hilbert_order_of(const std::vector<Vec3>& vertices) { return order_of(vertices); }
+
 namespace {
 
-/// make_plane_piece and make_solid_piece: topology() the cells of `lists`, freed before the
-/// piece's mesh is made; the piece `who` keeps.
+template <class Vec, class MeshType>
+void pieces_in_turn(std::unique_ptr<const CellTopology> cells, const std::vector<Vec>& vertices,
+                    const std::vector<int>& regions, const std::vector<int>& facets, HeldPoints held,
+                    const PiecesInTurn<MeshType>& turn, const MakePieceMesh<MeshType>& make_mesh) {
+  std::vector<int> order;  // found once for the processes' shares
+  if (std::any_of(turn.whose.begin(), turn.whose.end(), [](const PieceOwner& w) { return !w.owned && !w.order; }))
+    order = order_of(vertices);
+  for (std::size_t k = 0; k < turn.whose.size(); ++k) {
+    PieceOwner who = turn.whose[k];
+    if (!who.owned && !who.order) who.order = &order;
+    MeshPieceRead<MeshType> out;
+    const FacetKeys cuts = chosen(*cells, vertices, regions, facets, who, held, out);
+    const bool last = k + 1 == turn.whose.size();
+    if (last) cells.reset();  // the topology freed before the last piece's mesh is made
+    make_mesh(out, last);
+    cut_facets_of(out, cuts);
+    turn.deliver(k, std::move(out));
+  }
+}
+
+/// make_plane_pieces and make_solid_pieces: topology() the cells of `lists`; the pieces `turn`
+/// asks for.
 template <class Vec, class Cell, class MeshType, class Topology>
-void make_piece(const std::vector<Vec>& vertices, const std::vector<Cell>& lists, const Topology& topology,
-                HeldPoints held, const PieceOwner& who, MeshPieceRead<MeshType>& out) {
+void make_list_pieces(const std::vector<Vec>& vertices, const std::vector<Cell>& lists, const Topology& topology,
+                      HeldPoints held, const PiecesInTurn<MeshType>& turn) {
   const std::vector<int> regions(lists.size(), 0);
-  const FacetKeys cuts = chosen(topology(), vertices, regions, {}, who, held, out);
-  std::vector<Cell> kept;
-  kept.reserve(out.cells.size());
-  for (int c : out.cells) kept.push_back(lists[static_cast<std::size_t>(c)]);
-  out.mesh = MeshType(vertices, std::move(kept));
-  cut_facets_of(out, cuts);
+  const MakePieceMesh<MeshType> make_mesh = [&](MeshPieceRead<MeshType>& out, bool) {
+    std::vector<Cell> kept;
+    kept.reserve(out.cells.size());
+    for (int c : out.cells) kept.push_back(lists[static_cast<std::size_t>(c)]);
+    out.mesh = MeshType(vertices, std::move(kept));
+  };
+  pieces_in_turn(std::make_unique<const CellTopology>(topology()), vertices, regions, {}, held, turn, make_mesh);
 }
 
 }  // namespace
 
-void make_plane_piece(const PlaneCells& cells, const PieceOwner& who, HeldPoints held, MeshPieceRead<Mesh>& out) {
-  make_piece(
+void make_pieces(std::unique_ptr<const CellTopology> cells, const std::vector<Vec2>& vertices,
+                 const std::vector<int>& regions, const std::vector<int>& facets, HeldPoints held,
+                 const PiecesInTurn<Mesh>& turn, const MakePieceMesh<Mesh>& make_mesh) {
+  pieces_in_turn(std::move(cells), vertices, regions, facets, held, turn, make_mesh);
+}
+void make_pieces(std::unique_ptr<const CellTopology> cells, const std::vector<Vec3>& vertices,
+                 const std::vector<int>& regions, const std::vector<int>& facets, HeldPoints held,
+                 const PiecesInTurn<Mesh3D>& turn, const MakePieceMesh<Mesh3D>& make_mesh) {
+  pieces_in_turn(std::move(cells), vertices, regions, facets, held, turn, make_mesh);
+}
+
+void make_plane_pieces(const PlaneCells& cells, HeldPoints held, const PiecesInTurn<Mesh>& turn) {
+  make_list_pieces(
       cells.vertices, cells.elements,
-      [&] { return plane_topology(static_cast<int>(cells.vertices.size()), cells.elements); }, held, who, out);
+      [&] { return plane_topology(static_cast<int>(cells.vertices.size()), cells.elements); }, held, turn);
+}
+void make_plane_piece(const PlaneCells& cells, const PieceOwner& who, HeldPoints held, MeshPieceRead<Mesh>& out) {
+  make_plane_pieces(cells, held, piece_of(who, out));
 }
 void make_plane_piece(const PlaneCells& cells, HeldPoints held, int rank, int size, MeshPieceRead<Mesh>& out) {
   make_plane_piece(cells, PieceOwner{rank, size}, held, out);
@@ -341,15 +390,15 @@ void make_plane_piece(const PlaneCells& cells, const std::vector<char>& owned, H
 }
 
 void make_solid_piece(const SolidCells& cells, HeldPoints held, int rank, int size, MeshPieceRead<Mesh3D>& out) {
-  make_piece(
+  make_list_pieces(
       cells.vertices, cells.cells, [&] { return solid_topology(static_cast<int>(cells.vertices.size()), cells.cells); },
-      held, PieceOwner{rank, size}, out);
+      held, piece_of(PieceOwner{rank, size}, out));
 }
 void make_solid_piece(const SolidCells& cells, const std::vector<char>& owned, HeldPoints held,
                       MeshPieceRead<Mesh3D>& out) {
-  make_piece(
+  make_list_pieces(
       cells.vertices, cells.cells, [&] { return solid_topology(static_cast<int>(cells.vertices.size()), cells.cells); },
-      held, PieceOwner{.owned = &owned}, out);
+      held, piece_of(PieceOwner{.owned = &owned}, out));
 }
 void set_cut_facets(MeshPieceRead<Mesh3D>& out, const FacetKeys& cuts) { cut_facets_of(out, cuts); }
 
@@ -407,5 +456,38 @@ Mesh cut_mesh_piece(const Mesh& mesh, std::span<const int> cells, std::vector<in
 Mesh3D cut_mesh_piece(const Mesh3D& mesh, std::span<const int> cells, std::vector<int>* facets) {
   return cut(mesh, cells, facets);
 }
+
+namespace {
+
+template <class MeshType>
+void write_any_piece(const MeshPieceRead<MeshType>& piece, std::vector<char>& bytes) {
+  ByteWriter out(bytes);
+  MeshRecord<dimension_of<MeshType>>(piece.mesh).write(out);
+  for (const auto* a : {&piece.cells, &piece.order, &piece.cut_facets}) out.array(*a);
+  for (const int v : {piece.whole_cells, piece.first, piece.end, piece.largest_cell}) out.value(v);
+  out.value(piece.cell_vertices);
+  out.value(piece.cell_vertices_squared);
+}
+
+}  // namespace
+
+void write_piece(const MeshPieceRead<Mesh>& piece, std::vector<char>& out) { write_any_piece(piece, out); }
+void write_piece(const MeshPieceRead<Mesh3D>& piece, std::vector<char>& out) { write_any_piece(piece, out); }
+
+template <class MeshType>
+MeshPieceRead<MeshType> read_piece(std::span<const char> bytes) {
+  ByteReader in(bytes);
+  MeshPieceRead<MeshType> piece;
+  piece.mesh = MeshRecord<dimension_of<MeshType>>::read(in).make();
+  for (auto* a : {&piece.cells, &piece.order, &piece.cut_facets}) *a = in.array<int>();
+  for (int* v : {&piece.whole_cells, &piece.first, &piece.end, &piece.largest_cell}) *v = in.value<int>();
+  piece.cell_vertices = in.value<double>();
+  piece.cell_vertices_squared = in.value<double>();
+  if (!in.done()) throw InternalError("a piece's bytes hold more than a piece");
+  return piece;
+}
+
+template MeshPieceRead<Mesh> read_piece<Mesh>(std::span<const char>);
+template MeshPieceRead<Mesh3D> read_piece<Mesh3D>(std::span<const char>);
 
 }  // namespace hemivem

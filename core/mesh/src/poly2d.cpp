@@ -65,9 +65,11 @@ class Poly2dReader {
 
   /// The piece of the mesh process `rank` of `size` keeps (MeshPieceRead), chosen among the
   /// elements' edges without the whole mesh.
-  MeshPieceRead<Mesh> read_piece(int rank, int size, HeldPoints held) {
+  /// The pieces `turn` asks for, chosen among the elements' edges (found once) without the
+  /// whole mesh.
+  void read_pieces(const detail::PiecesInTurn<Mesh>& turn, HeldPoints held) {
     const detail::PlaneCells cells = take_cells();
-    return piece(cells, {rank, size}, held);
+    pieces(cells, turn, held);
   }
 
   /// The vertices and elements read, taken, the mesh not made (for piece).
@@ -79,13 +81,18 @@ class Poly2dReader {
   /// elements' edges without the whole mesh.
   MeshPieceRead<Mesh> piece(const detail::PlaneCells& cells, const detail::PieceOwner& who, HeldPoints held) const {
     MeshPieceRead<Mesh> out;
+    pieces(cells, detail::piece_of(who, out), held);
+    return out;
+  }
+
+  /// The pieces of the mesh of `cells` that `turn` asks for.
+  void pieces(const detail::PlaneCells& cells, const detail::PiecesInTurn<Mesh>& turn, HeldPoints held) const {
     try {
-      detail::make_plane_piece(cells, who, held, out);
+      detail::make_plane_pieces(cells, held, turn);
     } catch (const MeshError&) {  // the whole mesh's error, as read_poly2d names it
       (void)mesh_of(cells.vertices, cells.elements);
       throw;
     }
-    return out;
   }
 
  private:
@@ -327,7 +334,16 @@ Poly2dMesh read_poly2d(const fs::path& path) {
 }
 
 MeshPieceRead<Mesh> read_poly2d_piece(std::istream& in, const std::string& name, int rank, int size, HeldPoints held) {
-  return Poly2dReader(in, name).read_piece(rank, size, held);
+  MeshPieceRead<Mesh> out;
+  Poly2dReader(in, name).read_pieces(detail::piece_of({rank, size}, out), held);
+  return out;
+}
+
+MeshPieceRead<Mesh> read_poly2d_piece(const fs::path& path, const RowDistribution& processes, HeldPoints held) {
+  return piece_made_by_first<Mesh>(processes, [&](const PieceDelivery<Mesh>& deliver) {
+    std::ifstream in = text::open_for_reading(path, "mesh file");
+    Poly2dReader(in, path.string()).read_pieces(detail::pieces_of_processes(processes.size(), deliver), held);
+  });
 }
 
 MeshPieceRead<Mesh> read_poly2d_piece(const fs::path& path, int rank, int size, HeldPoints held) {

@@ -579,26 +579,47 @@ std::unique_ptr<BasicBuiltProblem<dim>> built_on_piece(const Scene& scene, MeshP
 
 }  // namespace
 
-template <int dim>
-std::unique_ptr<BasicBuiltProblem<dim>> read_problem_piece(const Scene& scene, int rank, int size, PieceOfMesh& where) {
+namespace {
+
+/// read_problem_piece on the piece `read(path, held)` reads of the scene's file (a Gmsh file,
+/// or in the plane a .poly2d file: `poly2d`).
+template <int dim, class Read>
+std::unique_ptr<BasicBuiltProblem<dim>> problem_on_read_piece(const Scene& scene, PieceOfMesh& where, Read&& read) {
   detail::require_dimension<dim>(scene);
   const std::vector<std::array<double, 3>> held = held_points(scene);
-  if constexpr (dim == 2) {
-    const bool poly2d = to_lower(scene.mesh.file.extension().string()) == ".poly2d";
-    MeshPieceRead<Mesh> read = poly2d ? read_poly2d_piece(scene.mesh.file, rank, size, held)
-                                      : read_gmsh_piece(scene.mesh.file, rank, size, held);
-    detail::require_file_memory(
-        scene, estimate_memory(read.mesh.num_vertices(), read.whole_cells, read.cell_vertices, read.cell_vertices_squared),
-        read.largest_cell);
-    return built_on_piece<2>(scene, read, where);
-  } else {
-    MeshPieceRead<Mesh3D> read = read_gmsh3d_piece(scene.mesh.file, rank, size, held);
-    return built_on_piece<3>(scene, read, where);
-  }
+  const bool poly2d = to_lower(scene.mesh.file.extension().string()) == ".poly2d";
+  MeshPieceRead<MeshOf<dim>> piece = read(scene.mesh.file, held, poly2d);
+  if constexpr (dim == 2)
+    detail::require_file_memory(scene,
+                                estimate_memory(piece.mesh.num_vertices(), piece.whole_cells, piece.cell_vertices,
+                                                piece.cell_vertices_squared),
+                                piece.largest_cell);
+  return built_on_piece<dim>(scene, piece, where);
+}
+
+}  // namespace
+
+template <int dim>
+std::unique_ptr<BasicBuiltProblem<dim>> read_problem_piece(const Scene& scene, int rank, int size, PieceOfMesh& where) {
+  return problem_on_read_piece<dim>(scene, where, [&](const std::filesystem::path& file, HeldPoints held, bool poly2d) {
+    if constexpr (dim == 2) return poly2d ? read_poly2d_piece(file, rank, size, held) : read_gmsh_piece(file, rank, size, held);
+    else return read_gmsh3d_piece(file, rank, size, held);
+  });
+}
+
+template <int dim>
+std::unique_ptr<BasicBuiltProblem<dim>> read_problem_piece(const Scene& scene, const RowDistribution& processes,
+                                                           PieceOfMesh& where) {
+  return problem_on_read_piece<dim>(scene, where, [&](const std::filesystem::path& file, HeldPoints held, bool poly2d) {
+    if constexpr (dim == 2) return poly2d ? read_poly2d_piece(file, processes, held) : read_gmsh_piece(file, processes, held);
+    else return read_gmsh3d_piece(file, processes, held);
+  });
 }
 
 template std::unique_ptr<BasicBuiltProblem<2>> read_problem_piece<2>(const Scene&, int, int, PieceOfMesh&);
 template std::unique_ptr<BasicBuiltProblem<3>> read_problem_piece<3>(const Scene&, int, int, PieceOfMesh&);
+template std::unique_ptr<BasicBuiltProblem<2>> read_problem_piece<2>(const Scene&, const RowDistribution&, PieceOfMesh&);
+template std::unique_ptr<BasicBuiltProblem<3>> read_problem_piece<3>(const Scene&, const RowDistribution&, PieceOfMesh&);
 
 bool makes_voronoi_pieces(const Scene& scene) {
   const SceneMesh& m = scene.mesh;

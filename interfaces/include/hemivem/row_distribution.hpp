@@ -12,6 +12,8 @@
 #include <Eigen/Core>
 
 #include <cstddef>
+#include <span>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -51,6 +53,17 @@ class RowDistribution {
   virtual Eigen::VectorXd gather_to_first(const Eigen::VectorXd& mine) const {
     Eigen::VectorXd all = all_gather(mine);
     return rank() == 0 ? all : Eigen::VectorXd();
+  }
+
+  /// From the first process to process `to` (another): `bytes`, which process `to` takes by
+  /// receive_from_first(), as many times and in the order the first sends to it (each send
+  /// waits until its bytes may be taken; a process waits in receive_from_first until they come).
+  /// One process has none to send to: InternalError.
+  virtual void send_to(int to, std::span<const char> /*bytes*/) const {
+    throw InternalError("send_to(" + std::to_string(to) + ") in a run of " + std::to_string(size()) + " process(es)");
+  }
+  virtual std::vector<char> receive_from_first() const {
+    throw InternalError("receive_from_first() in a run of " + std::to_string(size()) + " process(es)");
   }
 
   double min(double value) const { return -max(-value); }

@@ -25,6 +25,8 @@ using petsc::PetscRuntime;
 /// the rows, and the first defect of its ghosts (kind and ghost).
 enum GhostDefect : std::int64_t { kGhostsFine = 0, kNotIncreasing = 1, kOutside = 2, kOwnedHere = 3 };
 constexpr int kFields = 5;
+/// The tag of what the first process sends (send_to).
+constexpr int kFromFirstTag = 4242;
 
 std::array<std::int64_t, kFields> describe(const RowLayout& layout) {
   std::array<std::int64_t, kFields> out{static_cast<std::int64_t>(layout.first),
@@ -196,6 +198,28 @@ Eigen::VectorXd PetscRowDistribution::gather_to_first(const Eigen::VectorXd& min
   const std::vector<double> all =
       petsc::all_gather(impl_->comm, mine.data(), static_cast<std::int64_t>(mine.size()), true);
   return Eigen::Map<const Eigen::VectorXd>(all.data(), static_cast<Eigen::Index>(all.size()));
+}
+
+void PetscRowDistribution::send_to(int to, std::span<const char> bytes) const {
+  const Impl& m = *impl_;
+  if (m.rank != 0 || to <= 0 || to >= m.size)
+    throw InternalError("send_to(" + std::to_string(to) + ") from process " + std::to_string(m.rank) + " of " +
+                        std::to_string(m.size));
+  if (bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+    throw InternalError("a message of " + std::to_string(bytes.size()) + " bytes: more than MPI counts in an int");
+  MPI_Send(bytes.data(), static_cast<int>(bytes.size()), MPI_BYTE, to, kFromFirstTag, m.comm);
+}
+
+std::vector<char> PetscRowDistribution::receive_from_first() const {
+  const Impl& m = *impl_;
+  if (m.rank == 0) throw InternalError("receive_from_first() on the first process");
+  MPI_Status status;
+  MPI_Probe(0, kFromFirstTag, m.comm, &status);
+  int count = 0;
+  MPI_Get_count(&status, MPI_BYTE, &count);
+  std::vector<char> bytes(static_cast<std::size_t>(count));
+  MPI_Recv(bytes.data(), count, MPI_BYTE, 0, kFromFirstTag, m.comm, MPI_STATUS_IGNORE);
+  return bytes;
 }
 
 }  // namespace hemivem

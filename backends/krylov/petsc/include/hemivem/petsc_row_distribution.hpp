@@ -10,7 +10,11 @@
 //                   the ghosts' entries out; the vector's size is checked on every process
 //                   (one small MPI_Allreduce) so that a size that does not fit throws
 //                   InternalError on every process instead of leaving the others waiting;
-//   all_gather      MPI_Allgatherv (any number of entries per process, none included).
+//   all_gather      MPI_Allgatherv (any number of entries per process, none included);
+//   send_to, receive_from_first
+//                   MPI_Send and MPI_Probe, MPI_Get_count, MPI_Recv of bytes (MPI_BYTE) with
+//                   a tag of their own; at most what MPI counts in an int (InternalError on
+//                   the sender beyond).
 //
 // The construction is collective and checks the layouts of all processes together (every
 // process gathers every process's range and the first defect of its ghosts): ranges
@@ -45,6 +49,8 @@ class PetscRowDistribution final : public RowDistribution {
   void update_ghosts(Eigen::VectorXd& v) const override;
   Eigen::VectorXd all_gather(const Eigen::VectorXd& mine) const override;
   Eigen::VectorXd gather_to_first(const Eigen::VectorXd& mine) const override;
+  void send_to(int to, std::span<const char> bytes) const override;
+  std::vector<char> receive_from_first() const override;
 
  private:
   struct Impl;

@@ -28,6 +28,10 @@ Mesh read_gmsh(std::istream& in, const std::string& name);
 /// nearest each of the points `held` (x, y, and z = 0): the vertex a support at that point holds.
 MeshPieceRead<Mesh> read_gmsh_piece(const std::filesystem::path& path, int rank, int size, HeldPoints held = {});
 MeshPieceRead<Mesh> read_gmsh_piece(std::istream& in, const std::string& name, int rank, int size, HeldPoints held = {});
+/// Collective over `processes`: this process's piece, as read_gmsh_piece reads process rank() of
+/// size()'s, with the file read by the first process alone and every piece made there in turn
+/// from one reading and sent to its process (as read_gmsh3d_piece across processes).
+MeshPieceRead<Mesh> read_gmsh_piece(const std::filesystem::path& path, const RowDistribution& processes, HeldPoints held = {});
 
 /// The file's mesh (as read_gmsh reads it) as lists (MeshLists) of which a process makes the
 /// piece around any of its vertices, by read_gmsh_piece's rule: a body among several each

@@ -30,6 +30,15 @@ Mesh3D read_gmsh3d(std::istream& in, const std::string& name);
 MeshPieceRead<Mesh3D> read_gmsh3d_piece(const std::filesystem::path& path, int rank, int size, HeldPoints held = {});
 MeshPieceRead<Mesh3D> read_gmsh3d_piece(std::istream& in, const std::string& name, int rank, int size,
                                         HeldPoints held = {});
+/// Collective over `processes`: this process's piece of the file's mesh, as read_gmsh3d_piece
+/// reads process rank() of size()'s, with the file read by the first process alone. It reads
+/// the file once and makes every process's piece in turn from that reading (the facets its
+/// elements share found once), each sent to its process as it is made; the other processes
+/// never open the file, and hold their piece alone. A defect of the file or of any cell is
+/// found by the first, which reports read_gmsh3d_piece's error; every process it has not yet
+/// sent a piece to throws InputError "process 0 stopped: <that error>" (piece_made_by_first).
+MeshPieceRead<Mesh3D> read_gmsh3d_piece(const std::filesystem::path& path, const RowDistribution& processes,
+                                        HeldPoints held = {});
 
 /// The file's mesh (as read_gmsh3d reads it) as lists (MeshLists) of which a process makes the
 /// piece around any of its vertices, by read_gmsh3d_piece's rule (read_gmsh_lists).

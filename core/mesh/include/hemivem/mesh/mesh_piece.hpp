@@ -23,6 +23,8 @@
 #include <span>
 #include <vector>
 
+#include <hemivem/every_process.hpp>
+#include <hemivem/row_distribution.hpp>
 #include <hemivem/mesh/mesh.hpp>
 #include <hemivem/mesh/mesh3d.hpp>
 
@@ -69,6 +71,30 @@ struct MeshPieceRead {
   double cell_vertices = 0, cell_vertices_squared = 0;
   int largest_cell = 0;
 };
+
+/// A piece as bytes appended to `out`, and read back: its mesh the same to the bit (MeshRecord)
+/// and its other fields as they were (what the first process sends another a piece as).
+/// InternalError for bytes that end too soon.
+void write_piece(const MeshPieceRead<Mesh>& piece, std::vector<char>& out);
+void write_piece(const MeshPieceRead<Mesh3D>& piece, std::vector<char>& out);
+template <class MeshType>
+MeshPieceRead<MeshType> read_piece(std::span<const char> bytes);
+
+/// How the first process gives each process its piece: deliver(rank, piece).
+template <class MeshType>
+using PieceDelivery = std::function<void(int, MeshPieceRead<MeshType>&&)>;
+
+/// Collective over `processes`: the piece the first process makes for this one, on the first
+/// by `make(deliver)`, which delivers every process's piece in turn, the others' sent to them
+/// as they are made (made_by_first, hemivem/every_process.hpp: an error on the first ends
+/// every process it has not sent to with "process 0 stopped: ...").
+template <class MeshType, class Make>
+MeshPieceRead<MeshType> piece_made_by_first(const RowDistribution& processes, Make&& make) {
+  return made_by_first<MeshPieceRead<MeshType>>(
+      processes, [&](const auto& deliver) { make(PieceDelivery<MeshType>(deliver)); },
+      [](const MeshPieceRead<MeshType>& piece, std::vector<char>& bytes) { write_piece(piece, bytes); },
+      [](std::span<const char> bytes) { return read_piece<MeshType>(bytes); });
+}
 
 /// A mesh made or read as lists of its cells' vertices and not yet as a mesh (a Voronoi mesh, a
 /// polygon's mesh, a mesh file's: voronoi_lists, mesh_lists, voronoi3d_lists, read_gmsh_lists,

@@ -43,6 +43,10 @@ Poly2dMesh read_poly2d(std::istream& in, const std::string& name);
 MeshPieceRead<Mesh> read_poly2d_piece(const std::filesystem::path& path, int rank, int size, HeldPoints held = {});
 MeshPieceRead<Mesh> read_poly2d_piece(std::istream& in, const std::string& name, int rank, int size,
                                       HeldPoints held = {});
+/// Collective over `processes`: this process's piece, as read_poly2d_piece reads process rank() of
+/// size()'s, with the file read by the first process alone and every piece made there in turn
+/// from one reading and sent to its process (as read_gmsh3d_piece across processes).
+MeshPieceRead<Mesh> read_poly2d_piece(const std::filesystem::path& path, const RowDistribution& processes, HeldPoints held = {});
 
 /// The .poly2d file's mesh as lists (MeshLists) of which a process makes the piece around any
 /// of its vertices, by read_poly2d_piece's rule (read_gmsh_lists).
