@@ -97,14 +97,11 @@ CellTopology plane_topology(int num_vertices, const std::vector<std::vector<int>
 /// increasing, and a shape of its own).
 CellTopology solid_topology(int num_vertices, const std::vector<CellFaces>& cells);
 
-/// Whose piece choose_piece chooses: the vertices `owned` flags (one per vertex) when given,
+/// Whose piece make_pieces makes: the vertices `owned` flags (one per vertex) when given,
 /// else process `rank` of `size`'s share of the vertices along the Hilbert curve.
 struct PieceOwner {
   int rank = 0, size = 1;
   const std::vector<char>* owned = nullptr;
-  /// Of a process's share: the vertices along the Hilbert curve when already found (else
-  /// choose_piece finds them).
-  const std::vector<int>* order = nullptr;
 };
 
 /// The pieces a reader makes of a mesh from one reading, in turn: those of whose[0], whose[1],
@@ -133,32 +130,21 @@ PiecesInTurn<MeshType> piece_of(const PieceOwner& who, MeshPieceRead<MeshType>& 
   return {{who}, [&out](std::size_t, MeshPieceRead<MeshType>&& piece) { out = std::move(piece); }};
 }
 
-/// The vertices `vertices` along the Hilbert curve through their box (a process's share is a
-/// run of them: choose_piece).
-std::vector<int> hilbert_order_of(const std::vector<Vec2>& vertices);
-std::vector<int> hilbert_order_of(const std::vector<Vec3>& vertices);
-
-/// Sets `out`'s cells, order, share, whole_cells and cell sums (MeshPieceRead, mesh_piece.hpp)
-/// to those of the piece `who` keeps of the mesh of `cells`, with its vertices at `vertices` and
-/// its cells' regions `regions`: of a process's share, `order` the vertices along the Hilbert
-/// curve through their box and the share the positions first, ..., end - 1 of it (of flagged
-/// vertices, these three left empty); `cells` piece_cells_around of those vertices with the
-/// facets `facets` (a file's facet groups), every boundary facet and the first facet of each
-/// region's first cell, and the cells around the vertex nearest each point `held` (HeldPoints).
-/// `out.mesh` is left alone. Returns the facets where the piece meets the rest of the mesh (a
-/// kept cell's facet whose other cell is not kept), each by its vertices, increasing, for
-/// set_cut_facets once the piece's mesh is made. InternalError for flags of another number.
+/// A facet by its vertices, increasing: where a piece meets the rest of the mesh (set_cut_facets).
 using FacetKeys = std::vector<std::vector<int>>;
-FacetKeys choose_piece(const CellTopology& cells, const std::vector<Vec2>& vertices, const std::vector<int>& regions,
-                       std::vector<int> facets, const PieceOwner& who, HeldPoints held, MeshPieceRead<Mesh>& out);
-FacetKeys choose_piece(const CellTopology& cells, const std::vector<Vec3>& vertices, const std::vector<int>& regions,
-                       std::vector<int> facets, const PieceOwner& who, HeldPoints held, MeshPieceRead<Mesh3D>& out);
 
-/// Makes the pieces `turn` asks for of the mesh of `cells`, with its vertices at `vertices`, its
-/// cells' regions `regions` and the facets `facets` (choose_piece), in turn: each chosen, then
-/// its mesh made by make_mesh(piece, last) (the last piece's may take `vertices`: `cells` is
-/// freed, and `vertices` no more read, before it), then its cut facets set (set_cut_facets),
-/// then delivered. The vertices' Hilbert order is found once for all the processes' shares.
+/// Makes the pieces `turn` asks for of the mesh of `cells`, with its vertices at `vertices` and
+/// its cells' regions `regions`, in turn. A piece is chosen as the piece `who` keeps: of a
+/// process's share, its out.order the vertices along the Hilbert curve through their box
+/// (found once for all the pieces) and out.first, out.end its share of them (of flagged
+/// vertices, these three left empty); its cells piece_cells_around those vertices with the
+/// facets `facets` (a file's facet groups), every boundary facet and the first facet of each
+/// region's first cell (found once), and the cells around the vertex nearest each point `held`
+/// (HeldPoints); out.whole_cells and the cell sums the whole mesh's. Then its mesh is made by
+/// make_mesh(piece, last) (the last piece's may take `vertices`: `cells` is freed, and
+/// `vertices` no more read, before it), its cut_facets set (the facets of a kept cell whose
+/// other cell is not kept: set_cut_facets), and it is delivered. InternalError for flags of
+/// another number or a rank outside its size.
 template <class MeshType>
 using MakePieceMesh = std::function<void(MeshPieceRead<MeshType>&, bool last)>;
 void make_pieces(std::unique_ptr<const CellTopology> cells, const std::vector<Vec2>& vertices,
@@ -175,7 +161,7 @@ struct PlaneCells {
 };
 
 /// The piece process `rank` of `size` keeps of the plane mesh of `cells`, all in region 0 and
-/// without facet groups (choose_piece): `out` whole but for its mesh, then out.mesh made of the
+/// without facet groups (make_pieces): `out` whole but for its mesh, then out.mesh made of the
 /// kept elements with every vertex (Mesh's MeshError for a defect among them) and its
 /// cut_facets (set_cut_facets).
 void make_plane_piece(const PlaneCells& cells, HeldPoints held, int rank, int size, MeshPieceRead<Mesh>& out);
@@ -199,7 +185,7 @@ void make_solid_piece(const SolidCells& cells, const std::vector<char>& owned, H
                       MeshPieceRead<Mesh3D>& out);
 
 /// Sets out.cut_facets to the boundary facets of out.mesh whose increasing vertices are among
-/// `cuts` (choose_piece's, sorted).
+/// `cuts` (sorted).
 void set_cut_facets(MeshPieceRead<Mesh>& out, const FacetKeys& cuts);
 void set_cut_facets(MeshPieceRead<Mesh3D>& out, const FacetKeys& cuts);
 

@@ -91,9 +91,10 @@ void join_parts(const MeshType& mesh, std::vector<char>& keep) {
   }
 }
 
-/// The cells of each vertex: a CellTopology's own, a solid mesh's counted here.
+/// The cells of each vertex: a CellTopology's own, a mesh's counted here.
 const VertexCells& cells_of_vertices(const CellTopology& cells) { return cells.vertex_cells(); }
-VertexCells cells_of_vertices(const Mesh3D& mesh) {
+template <class MeshType>
+VertexCells cells_of_vertices(const MeshType& mesh) {
   return vertex_cells(mesh.num_vertices(), mesh.num_cells(), [&](int c) { return vertices_of(mesh, c); });
 }
 
@@ -154,17 +155,15 @@ std::vector<int> cells_around(const MeshType& mesh, const std::vector<char>& own
       if (c >= 0) keep[static_cast<std::size_t>(c)] = 1;
   }
   // the vertices of the cells holding an owned vertex: a cell holding one of them is in the piece
+  const VertexCells& around = cells_of_vertices(mesh);
   std::vector<char> near = owned;
-  for (int c = 0; c < mesh.num_cells(); ++c) {
-    const auto vs = vertices_of(mesh, c);
-    if (std::any_of(vs.begin(), vs.end(), [&](int v) { return owned[static_cast<std::size_t>(v)] != 0; }))
-      for (int v : vs) near[static_cast<std::size_t>(v)] = 1;
-  }
-  for (int c = 0; c < mesh.num_cells(); ++c) {
-    const auto vs = vertices_of(mesh, c);
-    if (std::any_of(vs.begin(), vs.end(), [&](int v) { return near[static_cast<std::size_t>(v)] != 0; }))
-      keep[static_cast<std::size_t>(c)] = 1;
-  }
+  for (std::size_t v = 0; v < nv; ++v)
+    if (owned[v])
+      for (int c : around.of(static_cast<int>(v)))
+        for (int w : vertices_of(mesh, c)) near[static_cast<std::size_t>(w)] = 1;
+  for (std::size_t v = 0; v < nv; ++v)
+    if (near[v])
+      for (int c : around.of(static_cast<int>(v))) keep[static_cast<std::size_t>(c)] = 1;
   join_parts(mesh, keep);
   close_edges(mesh, keep);
   std::vector<int> out;
@@ -205,35 +204,50 @@ Box box_of(const std::vector<Vec3>& p) {
   return {lo.x(), hi.x(), lo.y(), hi.y(), lo.z(), hi.z()};
 }
 
-/// The piece around the vertices `owned` flags (choose's rule); out.order, first and end left.
-template <class Vec, class MeshType>
-detail::FacetKeys choose_around(const CellTopology& cells, const std::vector<Vec>& vertices, const std::vector<int>& regions,
-                                std::vector<int> facets, std::vector<char> owned, HeldPoints held,
-                                MeshPieceRead<MeshType>& out) {
-  if (owned.size() != static_cast<std::size_t>(cells.num_vertices()))
-    throw InternalError("a piece of a mesh of " + std::to_string(cells.num_vertices()) + " vertices given flags for " +
-                        std::to_string(owned.size()));
+/// What every piece of a mesh holds whatever its vertices, found once for all the pieces made of
+/// it: the facets `facets` (a file's groups), every boundary facet and the first facet of each
+/// region's first cell; and the whole mesh's sums over its cells (MeshPieceRead's).
+struct WholeRule {
+  std::vector<int> facets;
+  double cell_vertices = 0, cell_vertices_squared = 0;
+  int largest_cell = 0;
+};
+
+WholeRule whole_rule(const CellTopology& cells, const std::vector<int>& regions, std::vector<int> facets) {
+  WholeRule rule;
   for (int f = 0; f < cells.num_facets(); ++f)
     if (cells.is_facet(f) && cells.facet_cells(f)[1] < 0) facets.push_back(f);
   std::vector<int> seen;  // a cell of each region
-  out.cell_vertices = out.cell_vertices_squared = 0;
-  out.largest_cell = 0;
   for (int c = 0; c < cells.num_cells(); ++c) {
     if (const int r = regions[static_cast<std::size_t>(c)]; std::find(seen.begin(), seen.end(), r) == seen.end()) {
       seen.push_back(r);
       facets.push_back(cells.cell_facets(c)[0]);
     }
     const auto m = static_cast<double>(cells.cell_vertices(c).size());
-    out.cell_vertices += m;
-    out.cell_vertices_squared += m * m;
-    out.largest_cell = std::max(out.largest_cell, static_cast<int>(m));
+    rule.cell_vertices += m;
+    rule.cell_vertices_squared += m * m;
+    rule.largest_cell = std::max(rule.largest_cell, static_cast<int>(m));
   }
+  rule.facets = std::move(facets);
+  return rule;
+}
+
+/// The piece around the vertices `owned` flags (choose's rule); out.order, first and end left.
+template <class Vec, class MeshType>
+detail::FacetKeys choose_around(const CellTopology& cells, const std::vector<Vec>& vertices, const WholeRule& rule,
+                                std::vector<char> owned, HeldPoints held, MeshPieceRead<MeshType>& out) {
+  if (owned.size() != static_cast<std::size_t>(cells.num_vertices()))
+    throw InternalError("a piece of a mesh of " + std::to_string(cells.num_vertices()) + " vertices given flags for " +
+                        std::to_string(owned.size()));
+  out.cell_vertices = rule.cell_vertices;
+  out.cell_vertices_squared = rule.cell_vertices_squared;
+  out.largest_cell = rule.largest_cell;
   for (const auto& q : held) {  // the nearest vertex, as a support at the point picks it
     constexpr int dim = Vec::RowsAtCompileTime;
     const int nearest = nearest_point<dim>(vertices, Eigen::Map<const Eigen::Vector3d>(q.data()).head<dim>()).first;
     if (nearest >= 0) owned[static_cast<std::size_t>(nearest)] = 1;
   }
-  out.cells = cells_around(cells, owned, facets);
+  out.cells = cells_around(cells, owned, rule.facets);
   out.whole_cells = cells.num_cells();
   std::vector<char> kept(static_cast<std::size_t>(cells.num_cells()), 0);
   for (int c : out.cells) kept[static_cast<std::size_t>(c)] = 1;
@@ -261,30 +275,24 @@ std::vector<int> order_of(const std::vector<Vec>& vertices) {
   return order;
 }
 
+/// choose_around the vertices `who` flags, or of its process's share of them along `order`
+/// (the vertices' Hilbert order), which out.order, first and end then tell.
 template <class Vec, class MeshType>
-detail::FacetKeys choose(const CellTopology& cells, const std::vector<Vec>& vertices, const std::vector<int>& regions,
-                         std::vector<int> facets, const detail::PieceOwner& who, HeldPoints held,
+detail::FacetKeys chosen(const CellTopology& cells, const std::vector<Vec>& vertices, const WholeRule& rule,
+                         const detail::PieceOwner& who, const std::vector<int>& order, HeldPoints held,
                          MeshPieceRead<MeshType>& out) {
+  if (who.owned) return choose_around(cells, vertices, rule, *who.owned, held, out);
   const int rank = who.rank, size = who.size;
   if (size < 1 || rank < 0 || rank >= size)
     throw InternalError("a piece of a mesh for process " + std::to_string(rank) + " of " + std::to_string(size));
-  std::vector<int> order = who.order ? *who.order : order_of(vertices);
   const auto [first, end] = even_share(cells.num_vertices(), rank, size);
   std::vector<char> owned(static_cast<std::size_t>(cells.num_vertices()), 0);
   for (auto k = first; k < end; ++k) owned[static_cast<std::size_t>(order[static_cast<std::size_t>(k)])] = 1;
-  detail::FacetKeys cuts = choose_around(cells, vertices, regions, std::move(facets), std::move(owned), held, out);
-  out.order = std::move(order);
+  detail::FacetKeys cuts = choose_around(cells, vertices, rule, std::move(owned), held, out);
+  out.order = order;
   out.first = static_cast<int>(first);
   out.end = static_cast<int>(end);
   return cuts;
-}
-
-/// choose_around the vertices `who` flags, or choose of its process's share.
-template <class Vec, class MeshType>
-detail::FacetKeys chosen(const CellTopology& cells, const std::vector<Vec>& vertices, const std::vector<int>& regions,
-                         std::vector<int> facets, const detail::PieceOwner& who, HeldPoints held, MeshPieceRead<MeshType>& out) {
-  if (who.owned) return choose_around(cells, vertices, regions, std::move(facets), *who.owned, held, out);
-  return choose(cells, vertices, regions, std::move(facets), who, held, out);
 }
 
 std::vector<int> sorted_vertices(const Mesh& mesh, int e) {
@@ -310,19 +318,7 @@ void cut_facets_of(MeshPieceRead<MeshType>& out, const detail::FacetKeys& cuts) 
 
 namespace detail {
 
-FacetKeys choose_piece(const CellTopology& cells, const std::vector<Vec2>& vertices, const std::vector<int>& regions,
-                       std::vector<int> facets, const PieceOwner& who, HeldPoints held, MeshPieceRead<Mesh>& out) {
-  return chosen(cells, vertices, regions, std::move(facets), who, held, out);
-}
-FacetKeys choose_piece(const CellTopology& cells, const std::vector<Vec3>& vertices, const std::vector<int>& regions,
-                       std::vector<int> facets, const PieceOwner& who, HeldPoints held, MeshPieceRead<Mesh3D>& out) {
-  return chosen(cells, vertices, regions, std::move(facets), who, held, out);
-}
-
 void set_cut_facets(MeshPieceRead<Mesh>& out, const FacetKeys& cuts) { cut_facets_of(out, cuts); }
-
-std::vector<int> hilbert_order_of(const std::vector<Vec2>& vertices) { return order_of(vertices); }
-std::vector<int> hilbert_order_of(const std::vector<Vec3>& vertices) { return order_of(vertices); }
 
 namespace {
 
@@ -330,14 +326,14 @@ template <class Vec, class MeshType>
 void pieces_in_turn(std::unique_ptr<const CellTopology> cells, const std::vector<Vec>& vertices,
                     const std::vector<int>& regions, const std::vector<int>& facets, HeldPoints held,
                     const PiecesInTurn<MeshType>& turn, const MakePieceMesh<MeshType>& make_mesh) {
-  std::vector<int> order;  // found once for the processes' shares
-  if (std::any_of(turn.whose.begin(), turn.whose.end(), [](const PieceOwner& w) { return !w.owned && !w.order; }))
+  // found once for all the pieces
+  const WholeRule rule = whole_rule(*cells, regions, facets);
+  std::vector<int> order;
+  if (std::any_of(turn.whose.begin(), turn.whose.end(), [](const PieceOwner& w) { return !w.owned; }))
     order = order_of(vertices);
   for (std::size_t k = 0; k < turn.whose.size(); ++k) {
-    PieceOwner who = turn.whose[k];
-    if (!who.owned && !who.order) who.order = &order;
     MeshPieceRead<MeshType> out;
-    const FacetKeys cuts = chosen(*cells, vertices, regions, facets, who, held, out);
+    const FacetKeys cuts = chosen(*cells, vertices, rule, turn.whose[k], order, held, out);
     const bool last = k + 1 == turn.whose.size();
     if (last) cells.reset();  // the topology freed before the last piece's mesh is made
     make_mesh(out, last);
