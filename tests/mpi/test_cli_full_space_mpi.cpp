@@ -720,7 +720,7 @@ void expect_example_on_file_agrees(const fs::path& msh, const std::string& name,
 // a Gmsh file that each process reads its piece of (a plane's, whose contact is a physical
 // line, and the same held at a point inside it; a solid's is gmsh-bracket-3d.toml above): the
 // condensed answer, the outputs in pieces
-TEST(CliFullSpaceMpi, AGmshFileEachProcessReadsItsPieceOfIsTheCondensedAnswer) {
+TEST(CliFullSpaceMpi, AGmshFileReadInPiecesIsTheCondensedAnswer) {
   const fs::path msh = scratch("squares-24x12.msh");
   fs::create_directories(msh.parent_path());
   std::ofstream(msh) << hemivem::test::squares_msh(24, 12);
@@ -951,7 +951,7 @@ void expect_plane_path_columns_agree(const fs::path& out, const fs::path& ref) {
 // a .poly2d file that each process reads its piece of (sutton-voronoi.toml), and one whose
 // contact is a segment of its top, along a loading path with Coulomb friction
 // (cattaneo-mindlin.toml): the condensed answer, every step of the path the condensed route's
-TEST(CliFullSpaceMpi, APoly2dFileEachProcessReadsItsPieceOfIsTheCondensedAnswer) {
+TEST(CliFullSpaceMpi, APoly2dFileReadInPiecesIsTheCondensedAnswer) {
   const std::string flags = scene("sutton-voronoi.toml") + " --tol 1e-11";
   const fs::path ref = solve_condensed(flags, "condensed-sutton");
   if (ref.empty()) return;
