@@ -109,29 +109,28 @@ struct PieceOwner {
 template <class MeshType>
 struct PiecesInTurn {
   std::vector<PieceOwner> whose;
-  std::function<void(std::size_t, MeshPieceRead<MeshType>&&)> deliver;
+  std::function<void(std::size_t, PieceLists<MeshType>&&)> deliver;
 };
 
 /// The pieces of the processes of `size`: of each but the first in the order of the ranks, then
 /// the first's, each given to deliver(rank, piece).
 template <class MeshType>
-PiecesInTurn<MeshType> pieces_of_processes(int size, std::function<void(int, MeshPieceRead<MeshType>&&)> deliver) {
+PiecesInTurn<MeshType> pieces_of_processes(int size, std::function<void(int, PieceLists<MeshType>&&)> deliver) {
   PiecesInTurn<MeshType> turn;
   for (int r = 1; r <= size; ++r) turn.whose.push_back(PieceOwner{r % size, size});
-  turn.deliver = [whose = turn.whose, deliver = std::move(deliver)](std::size_t k, MeshPieceRead<MeshType>&& piece) {
-    deliver(whose[k].rank, std::move(piece));
+  turn.deliver = [whose = turn.whose, deliver = std::move(deliver)](std::size_t k, PieceLists<MeshType>&& lists) {
+    deliver(whose[k].rank, std::move(lists));
   };
   return turn;
 }
 
-/// The one piece of `who`, into `out`.
+/// The one piece of `who`, its lists into `out`.
 template <class MeshType>
-PiecesInTurn<MeshType> piece_of(const PieceOwner& who, MeshPieceRead<MeshType>& out) {
-  return {{who}, [&out](std::size_t, MeshPieceRead<MeshType>&& piece) { out = std::move(piece); }};
+PiecesInTurn<MeshType> piece_of(const PieceOwner& who, PieceLists<MeshType>& out) {
+  return {{who}, [&out](std::size_t, PieceLists<MeshType>&& lists) { out = std::move(lists); }};
 }
 
-/// A facet by its vertices, increasing: where a piece meets the rest of the mesh (set_cut_facets).
-using FacetKeys = std::vector<std::vector<int>>;
+using hemivem::FacetKeys;
 
 /// Makes the pieces `turn` asks for of the mesh of `cells`, with its vertices at `vertices` and
 /// its cells' regions `regions`, in turn. A piece is chosen as the piece `who` keeps: of a
@@ -140,19 +139,20 @@ using FacetKeys = std::vector<std::vector<int>>;
 /// vertices, these three left empty); its cells piece_cells_around those vertices with the
 /// facets `facets` (a file's facet groups), every boundary facet and the first facet of each
 /// region's first cell (found once), and the cells around the vertex nearest each point `held`
-/// (HeldPoints); out.whole_cells and the cell sums the whole mesh's. Then its mesh is made by
-/// make_mesh(piece, last) (the last piece's may take `vertices`: `cells` is freed, and
-/// `vertices` no more read, before it), its cut_facets set (the facets of a kept cell whose
-/// other cell is not kept: set_cut_facets), and it is delivered. InternalError for flags of
-/// another number or a rank outside its size.
+/// (HeldPoints); out.whole_cells and the cell sums the whole mesh's; its cuts the facets of a
+/// kept cell whose other cell is not kept. Then the rest of its lists (PieceLists: vertices,
+/// cells, regions, groups) are made by make_lists(lists, kept, last), `kept` flagging its cells
+/// among the mesh's (the last piece's may take `vertices`: `cells` is freed, and `vertices` no
+/// more read, before it), and it is delivered. InternalError for flags of another number or a
+/// rank outside its size.
 template <class MeshType>
-using MakePieceMesh = std::function<void(MeshPieceRead<MeshType>&, bool last)>;
+using MakePieceLists = std::function<void(PieceLists<MeshType>&, const std::vector<char>& kept, bool last)>;
 void make_pieces(std::unique_ptr<const CellTopology> cells, const std::vector<Vec2>& vertices,
                  const std::vector<int>& regions, const std::vector<int>& facets, HeldPoints held,
-                 const PiecesInTurn<Mesh>& turn, const MakePieceMesh<Mesh>& make_mesh);
+                 const PiecesInTurn<Mesh>& turn, const MakePieceLists<Mesh>& make_lists);
 void make_pieces(std::unique_ptr<const CellTopology> cells, const std::vector<Vec3>& vertices,
                  const std::vector<int>& regions, const std::vector<int>& facets, HeldPoints held,
-                 const PiecesInTurn<Mesh3D>& turn, const MakePieceMesh<Mesh3D>& make_mesh);
+                 const PiecesInTurn<Mesh3D>& turn, const MakePieceLists<Mesh3D>& make_lists);
 
 /// A plane mesh not made: its vertices and its elements' vertices in order.
 struct PlaneCells {
@@ -170,7 +170,7 @@ void make_plane_piece(const PlaneCells& cells, HeldPoints held, int rank, int si
 void make_plane_piece(const PlaneCells& cells, const std::vector<char>& owned, HeldPoints held, MeshPieceRead<Mesh>& out);
 /// The same of the piece `who` keeps.
 void make_plane_piece(const PlaneCells& cells, const PieceOwner& who, HeldPoints held, MeshPieceRead<Mesh>& out);
-/// The same of the pieces `turn` asks for (make_pieces).
+/// The lists of the pieces `turn` asks for (make_pieces).
 void make_plane_pieces(const PlaneCells& cells, HeldPoints held, const PiecesInTurn<Mesh>& turn);
 
 /// A solid mesh not made: its vertices and its cells' faces (vertex loops).
@@ -184,9 +184,5 @@ void make_solid_piece(const SolidCells& cells, HeldPoints held, int rank, int si
 void make_solid_piece(const SolidCells& cells, const std::vector<char>& owned, HeldPoints held,
                       MeshPieceRead<Mesh3D>& out);
 
-/// Sets out.cut_facets to the boundary facets of out.mesh whose increasing vertices are among
-/// `cuts` (sorted).
-void set_cut_facets(MeshPieceRead<Mesh>& out, const FacetKeys& cuts);
-void set_cut_facets(MeshPieceRead<Mesh3D>& out, const FacetKeys& cuts);
 
 }  // namespace hemivem::detail

@@ -102,9 +102,30 @@ class GmshReader final : detail::GmshSections {
 
   /// After read_lists: the piece around the vertices `owned` flags (MeshLists::piece).
   MeshPieceRead<Mesh> piece(const std::vector<char>& owned, HeldPoints held) const {
-    MeshPieceRead<Mesh> out;
-    build_pieces(detail::piece_of({.owned = &owned}, out), held);
-    return out;
+    PieceLists<Mesh> lists;
+    build_pieces(detail::piece_of({.owned = &owned}, lists), held);
+    return made(std::move(lists));
+  }
+
+  /// The piece of `lists` (make_piece), a defect of its elements named as read_gmsh names the
+  /// whole mesh's first.
+  MeshPieceRead<Mesh> made(PieceLists<Mesh> lists) const {
+    const std::vector<int> cells = lists.piece.cells;
+    try {
+      return make_piece(std::move(lists));
+    } catch (const MeshError& err) {
+      name_defect();
+      const int c = err.element();
+      rethrow_at_element(MeshError(err.detail(), c >= 0 && static_cast<std::size_t>(c) < cells.size() ? cells[static_cast<std::size_t>(c)] : -1));
+    }
+  }
+
+  /// After the file is read: throws the whole mesh's first defect as read_gmsh names it, if it
+  /// has one.
+  void name_defect() const {
+    std::vector<int> vertex_of;
+    const std::vector<Vec2> all = surface_vertices(vertex_of);
+    (void)surface_mesh(all, surface_elements(all, vertex_of), top_numbers());
   }
 
  private:
@@ -141,8 +162,8 @@ class GmshReader final : detail::GmshSections {
     return mesh;
   }
 
-  /// The pieces `turn` asks for (MeshPieceRead), made of the surface elements' edges without
-  /// the whole mesh, the edges they share found once.
+  /// The lists of the pieces `turn` asks for (PieceLists), made of the surface elements' edges
+  /// without the whole mesh, the edges they share found once.
   void build_pieces(const detail::PiecesInTurn<Mesh>& turn, HeldPoints held) const {
     std::vector<int> vertex_of;
     std::vector<Vec2> vertices = surface_vertices(vertex_of);
@@ -152,30 +173,39 @@ class GmshReader final : detail::GmshSections {
     auto cells = std::make_unique<const detail::CellTopology>(
         detail::plane_topology(static_cast<int>(vertices.size()), elements));
     std::vector<int> grouped;  // the edges of the physical lines' elements
+    struct LineEdge {          // a line element's: its tags, its vertices, increasing, and its cells
+      const std::vector<int>* tags;
+      std::vector<int> key;
+      std::array<int, 2> cells;
+    };
+    std::vector<LineEdge> lines;
     for (const GmshElement& l : below_) {
       const int a = vertex_of[static_cast<std::size_t>(l.nodes[0])], b = vertex_of[static_cast<std::size_t>(l.nodes[1])];
       const int f = a < 0 || b < 0 ? -1 : cells->find_facet({a, b});
       if (f < 0) fail_not_an_edge(l);
-      if (const std::vector<int>* tags = groups_of(l.entity); tags && !tags->empty()) grouped.push_back(f);
+      const std::vector<int>* tags = groups_of(l.entity);
+      if (tags && !tags->empty()) grouped.push_back(f);
+      if (tags) lines.push_back({tags, {std::min(a, b), std::max(a, b)}, cells->facet_cells(f)});
     }
-    detail::make_pieces(std::move(cells), vertices, regions, grouped, held, turn, [&](MeshPieceRead<Mesh>& out, bool last) {
-      std::vector<std::vector<int>> kept;
-      kept.reserve(out.cells.size());
-      for (int c : out.cells) {
-        auto& e = elements[static_cast<std::size_t>(c)];
-        kept.push_back(last ? std::move(e) : e);
-      }
-      if (last) decltype(elements)().swap(elements);
-      try {
-        out.mesh = last ? surface_mesh(std::move(vertices), std::move(kept), out.cells)
-                        : surface_mesh(vertices, std::move(kept), out.cells);
-      } catch (const MeshError&) {  // the whole mesh's error, as read_gmsh names it
-        const std::vector<Vec2> all = surface_vertices(vertex_of);
-        (void)surface_mesh(all, surface_elements(all, vertex_of), top_numbers());
-        throw;
-      }
-      add_edge_groups(out.mesh, vertex_of, true);
-    });
+    detail::make_pieces(std::move(cells), vertices, regions, grouped, held, turn,
+                        [&](PieceLists<Mesh>& lists, const std::vector<char>& kept, bool last) {
+                          lists.cells.reserve(lists.piece.cells.size());
+                          for (int c : lists.piece.cells) {
+                            auto& e = elements[static_cast<std::size_t>(c)];
+                            lists.cells.push_back(last ? std::move(e) : e);
+                            lists.regions.push_back(regions[static_cast<std::size_t>(c)]);
+                          }
+                          // each 1D physical group's edges the piece holds, as add_edge_groups gives them
+                          std::map<int, FacetKeys> by_tag;
+                          for (const auto& [tag, none] : empty_groups()) by_tag[tag];
+                          for (const LineEdge& l : lines)
+                            if (std::any_of(l.cells.begin(), l.cells.end(),
+                                            [&](int c) { return c >= 0 && kept[static_cast<std::size_t>(c)]; }))
+                              for (int t : *l.tags) by_tag[t].push_back(l.key);
+                          std::map<std::string, int> names;
+                          for (auto& [tag, keys] : by_tag) lists.groups.emplace_back(group_name(tag, names), std::move(keys));
+                          lists.vertices = last ? std::move(vertices) : vertices;
+                        });
   }
 
   /// Vertices: the nodes of surface elements, in $Nodes order; `vertex_of` receives the vertex
@@ -280,16 +310,23 @@ MeshPieceRead<Mesh> read_gmsh_piece(const fs::path& path, int rank, int size, He
 }
 
 MeshPieceRead<Mesh> read_gmsh_piece(std::istream& in, const std::string& name, int rank, int size, HeldPoints held) {
-  MeshPieceRead<Mesh> out;
-  GmshReader(in, name).read_pieces(detail::piece_of({rank, size}, out), held);
-  return out;
+  GmshReader reader(in, name);
+  PieceLists<Mesh> lists;
+  reader.read_pieces(detail::piece_of({rank, size}, lists), held);
+  return reader.made(std::move(lists));
 }
 
 MeshPieceRead<Mesh> read_gmsh_piece(const fs::path& path, const RowDistribution& processes, HeldPoints held) {
-  return piece_made_by_first<Mesh>(processes, [&](const PieceDelivery<Mesh>& deliver) {
-    std::ifstream in = text::open_for_reading(path, "mesh file");
-    GmshReader(in, path.string()).read_pieces(detail::pieces_of_processes(processes.size(), deliver), held);
-  });
+  std::ifstream in;
+  std::unique_ptr<GmshReader> reader;  // the first process's, kept to name a defect of any piece
+  return piece_made_by_first<Mesh>(
+      processes,
+      [&](const PieceDelivery<Mesh>& deliver) {
+        in = text::open_for_reading(path, "mesh file");
+        reader = std::make_unique<GmshReader>(in, path.string());
+        reader->read_pieces(detail::pieces_of_processes(processes.size(), deliver), held);
+      },
+      [&] { reader->name_defect(); });
 }
 
 MeshLists<Mesh> read_gmsh_lists(const fs::path& path) {

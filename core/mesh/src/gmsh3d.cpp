@@ -141,10 +141,28 @@ class Gmsh3DReader final : detail::GmshSections {
 
   /// After read_lists: the piece around the vertices `owned` flags (MeshLists::piece).
   MeshPieceRead<Mesh3D> piece(const std::vector<char>& owned, HeldPoints held) {
-    MeshPieceRead<Mesh3D> out;
-    build_pieces(detail::piece_of({.owned = &owned}, out), held);
-    return out;
+    PieceLists<Mesh3D> lists;
+    build_pieces(detail::piece_of({.owned = &owned}, lists), held);
+    return made(std::move(lists));
   }
+
+  /// The piece of `lists` (make_piece), a defect of its cells named as read_gmsh3d names the
+  /// whole mesh's first.
+  MeshPieceRead<Mesh3D> made(PieceLists<Mesh3D> lists) {
+    const std::vector<int> cells = lists.piece.cells;
+    try {
+      return make_piece(std::move(lists));
+    } catch (const MeshError& err) {
+      name_defect();
+      const int c = err.element();
+      rethrow_at_element(MeshError(err.detail(), c >= 0 && static_cast<std::size_t>(c) < cells.size() ? cells[static_cast<std::size_t>(c)] : -1),
+                         [](const GmshElement& e) { return " (" + std::string(volume_shape(e.type)->name) + ")"; });
+    }
+  }
+
+  /// After the file is read: throws the whole mesh's first defect as read_gmsh3d names it, if
+  /// it has one.
+  void name_defect() { (void)mesh_of(volume_vertices(), top_numbers()); }
 
  private:
   /// The file's sections, which must hold volume elements.
@@ -227,22 +245,40 @@ class Gmsh3DReader final : detail::GmshSections {
                                                               std::move(shape_of), std::move(corner_start),
                                                               std::move(corners));
     std::vector<int> grouped;  // the faces of the physical surfaces' elements
+    struct GroupedFace {       // one of them: its element's tags, its vertices, increasing, and its cells
+      const std::vector<int>* tags;
+      std::vector<int> key;
+      std::array<int, 2> cells;
+    };
+    std::vector<GroupedFace> faces;
     for (const GmshElement& s : below_)
       if (const std::vector<int>* tags = groups_of(s.entity); tags && !tags->empty()) {
         std::vector<int> key = vertices_of_element(s);
-        const int f = std::find(key.begin(), key.end(), -1) != key.end() ? -1 : cells->find_facet(std::move(key));
+        const int f = std::find(key.begin(), key.end(), -1) != key.end() ? -1 : cells->find_facet(key);
         if (f < 0) fail_not_a_face(s);
         grouped.push_back(f);
+        std::sort(key.begin(), key.end());
+        faces.push_back({tags, std::move(key), cells->facet_cells(f)});
       }
     detail::make_pieces(std::move(cells), vertices, regions, grouped, held, turn,
-                        [&](MeshPieceRead<Mesh3D>& out, bool last) {
-                          try {
-                            out.mesh = last ? mesh_of(std::move(vertices), out.cells) : mesh_of(vertices, out.cells);
-                          } catch (const MeshError&) {  // the whole mesh's error, as read_gmsh3d names it
-                            (void)mesh_of(volume_vertices(), top_numbers());
-                            throw;
+                        [&](PieceLists<Mesh3D>& lists, const std::vector<char>& kept, bool last) {
+                          lists.cells.reserve(lists.piece.cells.size());
+                          lists.regions.reserve(lists.piece.cells.size());
+                          for (int k : lists.piece.cells) {
+                            const GmshElement& e = top_[static_cast<std::size_t>(k)];
+                            lists.cells.push_back(cell_of(e, vertices));
+                            lists.regions.push_back(region_of(e.entity));
                           }
-                          add_face_groups(out.mesh, true);
+                          // each 2D physical group's faces the piece holds, as add_face_groups gives them
+                          std::map<int, FacetKeys> by_tag;
+                          for (const auto& [tag, none] : empty_groups()) by_tag[tag];
+                          for (const GroupedFace& g : faces)
+                            if (std::any_of(g.cells.begin(), g.cells.end(),
+                                            [&](int c) { return c >= 0 && kept[static_cast<std::size_t>(c)]; }))
+                              for (int t : *g.tags) by_tag[t].push_back(g.key);
+                          std::map<std::string, int> names;
+                          for (auto& [tag, keys] : by_tag) lists.groups.emplace_back(group_name(tag, names), std::move(keys));
+                          lists.vertices = last ? std::move(vertices) : vertices;
                         });
   }
 
@@ -554,16 +590,23 @@ MeshPieceRead<Mesh3D> read_gmsh3d_piece(const fs::path& path, int rank, int size
 }
 
 MeshPieceRead<Mesh3D> read_gmsh3d_piece(std::istream& in, const std::string& name, int rank, int size, HeldPoints held) {
-  MeshPieceRead<Mesh3D> out;
-  Gmsh3DReader(in, name).read_pieces(detail::piece_of({rank, size}, out), held);
-  return out;
+  Gmsh3DReader reader(in, name);
+  PieceLists<Mesh3D> lists;
+  reader.read_pieces(detail::piece_of({rank, size}, lists), held);
+  return reader.made(std::move(lists));
 }
 
 MeshPieceRead<Mesh3D> read_gmsh3d_piece(const fs::path& path, const RowDistribution& processes, HeldPoints held) {
-  return piece_made_by_first<Mesh3D>(processes, [&](const PieceDelivery<Mesh3D>& deliver) {
-    std::ifstream in = text::open_for_reading(path, "mesh file");
-    Gmsh3DReader(in, path.string()).read_pieces(detail::pieces_of_processes(processes.size(), deliver), held);
-  });
+  std::ifstream in;
+  std::unique_ptr<Gmsh3DReader> reader;  // the first process's, kept to name a defect of any piece
+  return piece_made_by_first<Mesh3D>(
+      processes,
+      [&](const PieceDelivery<Mesh3D>& deliver) {
+        in = text::open_for_reading(path, "mesh file");
+        reader = std::make_unique<Gmsh3DReader>(in, path.string());
+        reader->read_pieces(detail::pieces_of_processes(processes.size(), deliver), held);
+      },
+      [&] { reader->name_defect(); });
 }
 
 MeshLists<Mesh3D> read_gmsh3d_lists(const fs::path& path) {

@@ -4,7 +4,6 @@
 #include <hemivem/error.hpp>
 #include <hemivem/row_distribution.hpp>
 #include <hemivem/mesh/dimension.hpp>
-#include <hemivem/mesh/mesh_record.hpp>
 #include <hemivem/support/bytes.hpp>
 
 #include "cell_kernels.hpp"
@@ -14,6 +13,8 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <iterator>
+#include <map>
 #include <memory>
 #include <string>
 
@@ -318,56 +319,64 @@ void cut_facets_of(MeshPieceRead<MeshType>& out, const detail::FacetKeys& cuts) 
 
 namespace detail {
 
-void set_cut_facets(MeshPieceRead<Mesh>& out, const FacetKeys& cuts) { cut_facets_of(out, cuts); }
-
 namespace {
 
 template <class Vec, class MeshType>
 void pieces_in_turn(std::unique_ptr<const CellTopology> cells, const std::vector<Vec>& vertices,
                     const std::vector<int>& regions, const std::vector<int>& facets, HeldPoints held,
-                    const PiecesInTurn<MeshType>& turn, const MakePieceMesh<MeshType>& make_mesh) {
+                    const PiecesInTurn<MeshType>& turn, const MakePieceLists<MeshType>& make_lists) {
   // found once for all the pieces
   const WholeRule rule = whole_rule(*cells, regions, facets);
   std::vector<int> order;
   if (std::any_of(turn.whose.begin(), turn.whose.end(), [](const PieceOwner& w) { return !w.owned; }))
     order = order_of(vertices);
+  std::vector<char> kept;
   for (std::size_t k = 0; k < turn.whose.size(); ++k) {
-    MeshPieceRead<MeshType> out;
-    const FacetKeys cuts = chosen(*cells, vertices, rule, turn.whose[k], order, held, out);
+    PieceLists<MeshType> lists;
+    lists.cuts = chosen(*cells, vertices, rule, turn.whose[k], order, held, lists.piece);
+    kept.assign(static_cast<std::size_t>(cells->num_cells()), 0);
+    for (int c : lists.piece.cells) kept[static_cast<std::size_t>(c)] = 1;
     const bool last = k + 1 == turn.whose.size();
-    if (last) cells.reset();  // the topology freed before the last piece's mesh is made
-    make_mesh(out, last);
-    cut_facets_of(out, cuts);
-    turn.deliver(k, std::move(out));
+    if (last) cells.reset();  // the topology freed before the last piece's lists are made
+    make_lists(lists, kept, last);
+    turn.deliver(k, std::move(lists));
   }
 }
 
-/// make_plane_pieces and make_solid_pieces: topology() the cells of `lists`; the pieces `turn`
-/// asks for.
+/// make_plane_pieces and make_solid_pieces: topology() the cells of `cells`; the pieces `turn`
+/// asks for, all in region 0.
 template <class Vec, class Cell, class MeshType, class Topology>
-void make_list_pieces(const std::vector<Vec>& vertices, const std::vector<Cell>& lists, const Topology& topology,
+void make_list_pieces(const std::vector<Vec>& vertices, const std::vector<Cell>& cells, const Topology& topology,
                       HeldPoints held, const PiecesInTurn<MeshType>& turn) {
-  const std::vector<int> regions(lists.size(), 0);
-  const MakePieceMesh<MeshType> make_mesh = [&](MeshPieceRead<MeshType>& out, bool) {
-    std::vector<Cell> kept;
-    kept.reserve(out.cells.size());
-    for (int c : out.cells) kept.push_back(lists[static_cast<std::size_t>(c)]);
-    out.mesh = MeshType(vertices, std::move(kept));
+  const std::vector<int> regions(cells.size(), 0);
+  const MakePieceLists<MeshType> make_lists = [&](PieceLists<MeshType>& lists, const std::vector<char>&, bool) {
+    lists.vertices = vertices;
+    lists.cells.reserve(lists.piece.cells.size());
+    for (int c : lists.piece.cells) lists.cells.push_back(cells[static_cast<std::size_t>(c)]);
   };
-  pieces_in_turn(std::make_unique<const CellTopology>(topology()), vertices, regions, {}, held, turn, make_mesh);
+  pieces_in_turn(std::make_unique<const CellTopology>(topology()), vertices, regions, {}, held, turn, make_lists);
+}
+
+/// The one piece of `who` of the cells `cells` (make_list_pieces).
+template <class Vec, class Cell, class MeshType, class Topology>
+void make_list_piece(const std::vector<Vec>& vertices, const std::vector<Cell>& cells, const Topology& topology,
+                     HeldPoints held, const PieceOwner& who, MeshPieceRead<MeshType>& out) {
+  PieceLists<MeshType> lists;
+  make_list_pieces(vertices, cells, topology, held, piece_of(who, lists));
+  out = make_piece(std::move(lists));
 }
 
 }  // namespace
 
 void make_pieces(std::unique_ptr<const CellTopology> cells, const std::vector<Vec2>& vertices,
                  const std::vector<int>& regions, const std::vector<int>& facets, HeldPoints held,
-                 const PiecesInTurn<Mesh>& turn, const MakePieceMesh<Mesh>& make_mesh) {
-  pieces_in_turn(std::move(cells), vertices, regions, facets, held, turn, make_mesh);
+                 const PiecesInTurn<Mesh>& turn, const MakePieceLists<Mesh>& make_lists) {
+  pieces_in_turn(std::move(cells), vertices, regions, facets, held, turn, make_lists);
 }
 void make_pieces(std::unique_ptr<const CellTopology> cells, const std::vector<Vec3>& vertices,
                  const std::vector<int>& regions, const std::vector<int>& facets, HeldPoints held,
-                 const PiecesInTurn<Mesh3D>& turn, const MakePieceMesh<Mesh3D>& make_mesh) {
-  pieces_in_turn(std::move(cells), vertices, regions, facets, held, turn, make_mesh);
+                 const PiecesInTurn<Mesh3D>& turn, const MakePieceLists<Mesh3D>& make_lists) {
+  pieces_in_turn(std::move(cells), vertices, regions, facets, held, turn, make_lists);
 }
 
 void make_plane_pieces(const PlaneCells& cells, HeldPoints held, const PiecesInTurn<Mesh>& turn) {
@@ -376,7 +385,9 @@ void make_plane_pieces(const PlaneCells& cells, HeldPoints held, const PiecesInT
       [&] { return plane_topology(static_cast<int>(cells.vertices.size()), cells.elements); }, held, turn);
 }
 void make_plane_piece(const PlaneCells& cells, const PieceOwner& who, HeldPoints held, MeshPieceRead<Mesh>& out) {
-  make_plane_pieces(cells, held, piece_of(who, out));
+  make_list_piece(
+      cells.vertices, cells.elements,
+      [&] { return plane_topology(static_cast<int>(cells.vertices.size()), cells.elements); }, held, who, out);
 }
 void make_plane_piece(const PlaneCells& cells, HeldPoints held, int rank, int size, MeshPieceRead<Mesh>& out) {
   make_plane_piece(cells, PieceOwner{rank, size}, held, out);
@@ -386,17 +397,16 @@ void make_plane_piece(const PlaneCells& cells, const std::vector<char>& owned, H
 }
 
 void make_solid_piece(const SolidCells& cells, HeldPoints held, int rank, int size, MeshPieceRead<Mesh3D>& out) {
-  make_list_pieces(
+  make_list_piece(
       cells.vertices, cells.cells, [&] { return solid_topology(static_cast<int>(cells.vertices.size()), cells.cells); },
-      held, piece_of(PieceOwner{rank, size}, out));
+      held, PieceOwner{rank, size}, out);
 }
 void make_solid_piece(const SolidCells& cells, const std::vector<char>& owned, HeldPoints held,
                       MeshPieceRead<Mesh3D>& out) {
-  make_list_pieces(
+  make_list_piece(
       cells.vertices, cells.cells, [&] { return solid_topology(static_cast<int>(cells.vertices.size()), cells.cells); },
-      held, piece_of(PieceOwner{.owned = &owned}, out));
+      held, PieceOwner{.owned = &owned}, out);
 }
-void set_cut_facets(MeshPieceRead<Mesh3D>& out, const FacetKeys& cuts) { cut_facets_of(out, cuts); }
 
 }  // namespace detail
 
@@ -455,35 +465,133 @@ Mesh3D cut_mesh_piece(const Mesh3D& mesh, std::span<const int> cells, std::vecto
 
 namespace {
 
+/// The facets of `mesh` by their vertices, increasing, each to its number.
 template <class MeshType>
-void write_any_piece(const MeshPieceRead<MeshType>& piece, std::vector<char>& bytes) {
+std::map<std::vector<int>, int> facets_by_vertices(const MeshType& mesh) {
+  std::map<std::vector<int>, int> out;
+  for (int f = 0; f < mesh.num_facets(); ++f) out.emplace(sorted_vertices(mesh, f), f);
+  return out;
+}
+
+void set_group(Mesh& mesh, const std::string& name, std::vector<int> edges) {
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  mesh.set_edge_group(name, std::move(edges));
+}
+void set_group(Mesh3D& mesh, const std::string& name, std::vector<int> faces) { mesh.set_face_group(name, std::move(faces)); }
+
+template <class MeshType>
+MeshPieceRead<MeshType> make_any_piece(PieceLists<MeshType> lists) {
+  MeshPieceRead<MeshType> out = std::move(lists.piece);
+  out.mesh = MeshType(std::move(lists.vertices), std::move(lists.cells), std::move(lists.regions));
+  if (!lists.groups.empty()) {
+    const std::map<std::vector<int>, int> facet_of = facets_by_vertices(out.mesh);
+    for (const auto& [name, keys] : lists.groups) {
+      std::vector<int> facets;
+      facets.reserve(keys.size());
+      for (const std::vector<int>& key : keys) {
+        const auto it = facet_of.find(key);
+        if (it == facet_of.end()) throw InternalError("the facet group " + name + " of a piece names a facet it does not hold");
+        facets.push_back(it->second);
+      }
+      set_group(out.mesh, name, std::move(facets));
+    }
+  }
+  cut_facets_of(out, lists.cuts);
+  return out;
+}
+
+void write_cells(ByteWriter& out, const std::vector<std::vector<int>>& elements) {
+  std::vector<int> start{0}, loops;
+  for (const auto& e : elements) {
+    loops.insert(loops.end(), e.begin(), e.end());
+    start.push_back(static_cast<int>(loops.size()));
+  }
+  out.array(start);
+  out.array(loops);
+}
+void write_cells(ByteWriter& out, const std::vector<CellFaces>& cells) {
+  std::vector<int> faces{0};
+  std::vector<std::vector<int>> loops;
+  for (const CellFaces& c : cells) {
+    loops.insert(loops.end(), c.begin(), c.end());
+    faces.push_back(static_cast<int>(loops.size()));
+  }
+  out.array(faces);
+  write_cells(out, loops);
+}
+/// What write_cells wrote: each list of `start`'s ranges of `items`.
+template <class Item>
+std::vector<std::vector<Item>> ranges_of(const std::vector<int>& start, std::vector<Item>& items) {
+  std::vector<std::vector<Item>> out;
+  out.reserve(start.empty() ? 0 : start.size() - 1);
+  for (std::size_t k = 0; k + 1 < start.size(); ++k) {
+    const auto a = static_cast<std::size_t>(start[k]), b = static_cast<std::size_t>(start[k + 1]);
+    if (a > b || b > items.size()) throw InternalError("a piece's bytes hold cells out of range");
+    out.emplace_back(std::make_move_iterator(items.begin() + static_cast<std::ptrdiff_t>(a)),
+                     std::make_move_iterator(items.begin() + static_cast<std::ptrdiff_t>(b)));
+  }
+  return out;
+}
+std::vector<std::vector<int>> read_loops(ByteReader& in) {
+  const std::vector<int> start = in.array<int>();
+  std::vector<int> loops = in.array<int>();
+  return ranges_of(start, loops);
+}
+void read_cells(ByteReader& in, std::vector<std::vector<int>>& elements) { elements = read_loops(in); }
+void read_cells(ByteReader& in, std::vector<CellFaces>& cells) {
+  const std::vector<int> faces = in.array<int>();
+  std::vector<std::vector<int>> loops = read_loops(in);
+  cells = ranges_of(faces, loops);
+}
+
+template <class MeshType>
+void write_any_piece(const PieceLists<MeshType>& lists, std::vector<char>& bytes) {
   ByteWriter out(bytes);
-  MeshRecord<dimension_of<MeshType>>(piece.mesh).write(out);
-  for (const auto* a : {&piece.cells, &piece.order, &piece.cut_facets}) out.array(*a);
-  for (const int v : {piece.whole_cells, piece.first, piece.end, piece.largest_cell}) out.value(v);
-  out.value(piece.cell_vertices);
-  out.value(piece.cell_vertices_squared);
+  const MeshPieceRead<MeshType>& p = lists.piece;
+  for (const auto* a : {&p.cells, &p.order, &lists.regions}) out.array(*a);
+  for (const int v : {p.whole_cells, p.first, p.end, p.largest_cell}) out.value(v);
+  out.value(p.cell_vertices);
+  out.value(p.cell_vertices_squared);
+  out.points(lists.vertices);
+  write_cells(out, lists.cells);
+  out.value(static_cast<std::uint64_t>(lists.groups.size()));
+  for (const auto& [name, keys] : lists.groups) {
+    out.text(name);
+    write_cells(out, keys);
+  }
+  write_cells(out, lists.cuts);
 }
 
 }  // namespace
 
-void write_piece(const MeshPieceRead<Mesh>& piece, std::vector<char>& out) { write_any_piece(piece, out); }
-void write_piece(const MeshPieceRead<Mesh3D>& piece, std::vector<char>& out) { write_any_piece(piece, out); }
+MeshPieceRead<Mesh> make_piece(PieceLists<Mesh> lists) { return make_any_piece(std::move(lists)); }
+MeshPieceRead<Mesh3D> make_piece(PieceLists<Mesh3D> lists) { return make_any_piece(std::move(lists)); }
+
+void write_piece(const PieceLists<Mesh>& lists, std::vector<char>& out) { write_any_piece(lists, out); }
+void write_piece(const PieceLists<Mesh3D>& lists, std::vector<char>& out) { write_any_piece(lists, out); }
 
 template <class MeshType>
-MeshPieceRead<MeshType> read_piece(std::span<const char> bytes) {
+PieceLists<MeshType> read_piece(std::span<const char> bytes) {
   ByteReader in(bytes);
-  MeshPieceRead<MeshType> piece;
-  piece.mesh = MeshRecord<dimension_of<MeshType>>::read(in).make();
-  for (auto* a : {&piece.cells, &piece.order, &piece.cut_facets}) *a = in.array<int>();
-  for (int* v : {&piece.whole_cells, &piece.first, &piece.end, &piece.largest_cell}) *v = in.value<int>();
-  piece.cell_vertices = in.value<double>();
-  piece.cell_vertices_squared = in.value<double>();
+  PieceLists<MeshType> lists;
+  MeshPieceRead<MeshType>& p = lists.piece;
+  for (auto* a : {&p.cells, &p.order, &lists.regions}) *a = in.array<int>();
+  for (int* v : {&p.whole_cells, &p.first, &p.end, &p.largest_cell}) *v = in.value<int>();
+  p.cell_vertices = in.value<double>();
+  p.cell_vertices_squared = in.value<double>();
+  lists.vertices = in.points<typename PieceLists<MeshType>::Point>();
+  read_cells(in, lists.cells);
+  for (auto n = in.value<std::uint64_t>(); n > 0; --n) {
+    std::string name = in.text();
+    lists.groups.emplace_back(std::move(name), read_loops(in));
+  }
+  lists.cuts = read_loops(in);
   if (!in.done()) throw InternalError("a piece's bytes hold more than a piece");
-  return piece;
+  return lists;
 }
 
-template MeshPieceRead<Mesh> read_piece<Mesh>(std::span<const char>);
-template MeshPieceRead<Mesh3D> read_piece<Mesh3D>(std::span<const char>);
+template PieceLists<Mesh> read_piece<Mesh>(std::span<const char>);
+template PieceLists<Mesh3D> read_piece<Mesh3D>(std::span<const char>);
 
 }  // namespace hemivem

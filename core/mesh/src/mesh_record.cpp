@@ -1,8 +1,6 @@
 #include <hemivem/mesh/mesh_record.hpp>
 
 #include <algorithm>
-#include <cstdint>
-#include <string>
 #include <utility>
 
 namespace hemivem {
@@ -60,29 +58,6 @@ MeshOf<dim> MeshRecord<dim>::make() const {
     for (const auto& [name, group] : groups_) mesh.set_face_group(name, group);
     return mesh;
   }
-}
-
-template <int dim>
-void MeshRecord<dim>::write(ByteWriter& out) const {
-  out.points(vertices_);
-  for (const auto* a : {&loop_start_, &loops_, &cell_start_, &cell_faces_, &regions_}) out.array(*a);
-  out.value(static_cast<std::uint64_t>(groups_.size()));
-  for (const auto& [name, facets] : groups_) {
-    out.text(name);
-    out.array(facets);
-  }
-}
-
-template <int dim>
-MeshRecord<dim> MeshRecord<dim>::read(ByteReader& in) {
-  MeshRecord r;
-  r.vertices_ = in.points<PointOf<dim>>();
-  for (auto* a : {&r.loop_start_, &r.loops_, &r.cell_start_, &r.cell_faces_, &r.regions_}) *a = in.array<int>();
-  for (auto n = in.value<std::uint64_t>(); n > 0; --n) {
-    std::string name = in.text();
-    r.groups_[std::move(name)] = in.array<int>();
-  }
-  return r;
 }
 
 template class MeshRecord<2>;

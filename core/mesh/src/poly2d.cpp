@@ -63,14 +63,13 @@ class Poly2dReader {
     return out;
   }
 
-  /// The piece of the mesh process `rank` of `size` keeps (MeshPieceRead), chosen among the
-  /// elements' edges without the whole mesh.
-  /// The pieces `turn` asks for, chosen among the elements' edges (found once) without the
-  /// whole mesh.
+  /// The lists of the pieces `turn` asks for, chosen among the elements' edges (found once)
+  /// without the whole mesh; the file's cells kept (taken()).
   void read_pieces(const detail::PiecesInTurn<Mesh>& turn, HeldPoints held) {
-    const detail::PlaneCells cells = take_cells();
-    pieces(cells, turn, held);
+    taken_ = take_cells();
+    detail::make_plane_pieces(taken_, held, turn);
   }
+  const detail::PlaneCells& taken() const { return taken_; }
 
   /// The vertices and elements read, taken, the mesh not made (for piece).
   detail::PlaneCells take_cells() {
@@ -80,20 +79,24 @@ class Poly2dReader {
   /// The piece of the mesh of `cells` (take_cells') that `who` keeps, chosen among the
   /// elements' edges without the whole mesh.
   MeshPieceRead<Mesh> piece(const detail::PlaneCells& cells, const detail::PieceOwner& who, HeldPoints held) const {
-    MeshPieceRead<Mesh> out;
-    pieces(cells, detail::piece_of(who, out), held);
-    return out;
+    PieceLists<Mesh> lists;
+    detail::make_plane_pieces(cells, held, detail::piece_of(who, lists));
+    return made(cells, std::move(lists));
   }
 
-  /// The pieces of the mesh of `cells` that `turn` asks for.
-  void pieces(const detail::PlaneCells& cells, const detail::PiecesInTurn<Mesh>& turn, HeldPoints held) const {
+  /// The piece of `lists` (make_piece) of the mesh of `cells`, a defect of its elements named
+  /// as read_poly2d names the whole mesh's first.
+  MeshPieceRead<Mesh> made(const detail::PlaneCells& cells, PieceLists<Mesh> lists) const {
     try {
-      detail::make_plane_pieces(cells, held, turn);
-    } catch (const MeshError&) {  // the whole mesh's error, as read_poly2d names it
-      (void)mesh_of(cells.vertices, cells.elements);
+      return make_piece(std::move(lists));
+    } catch (const MeshError&) {
+      name_defect(cells);
       throw;
     }
   }
+
+  /// Throws the first defect of the mesh of `cells` as read_poly2d names it, if it has one.
+  void name_defect(const detail::PlaneCells& cells) const { (void)mesh_of(cells.vertices, cells.elements); }
 
  private:
   /// Reads the vertices, the elements and the optional boundary list.
@@ -299,6 +302,7 @@ class Poly2dReader {
   int vheader_ = 0, eheader_ = 0;      // the lines of the headers
   std::vector<int> boundary_list_;
   std::vector<Vec2> vertices_;
+  detail::PlaneCells taken_;  // the cells read_pieces took
   std::vector<std::vector<int>> elements_;
   std::vector<int> element_lines_;
   std::vector<std::string> comments_;
@@ -334,16 +338,23 @@ Poly2dMesh read_poly2d(const fs::path& path) {
 }
 
 MeshPieceRead<Mesh> read_poly2d_piece(std::istream& in, const std::string& name, int rank, int size, HeldPoints held) {
-  MeshPieceRead<Mesh> out;
-  Poly2dReader(in, name).read_pieces(detail::piece_of({rank, size}, out), held);
-  return out;
+  Poly2dReader reader(in, name);
+  PieceLists<Mesh> lists;
+  reader.read_pieces(detail::piece_of({rank, size}, lists), held);
+  return reader.made(reader.taken(), std::move(lists));
 }
 
 MeshPieceRead<Mesh> read_poly2d_piece(const fs::path& path, const RowDistribution& processes, HeldPoints held) {
-  return piece_made_by_first<Mesh>(processes, [&](const PieceDelivery<Mesh>& deliver) {
-    std::ifstream in = text::open_for_reading(path, "mesh file");
-    Poly2dReader(in, path.string()).read_pieces(detail::pieces_of_processes(processes.size(), deliver), held);
-  });
+  std::ifstream in;
+  std::unique_ptr<Poly2dReader> reader;  // the first process's, kept to name a defect of any piece
+  return piece_made_by_first<Mesh>(
+      processes,
+      [&](const PieceDelivery<Mesh>& deliver) {
+        in = text::open_for_reading(path, "mesh file");
+        reader = std::make_unique<Poly2dReader>(in, path.string());
+        reader->read_pieces(detail::pieces_of_processes(processes.size(), deliver), held);
+      },
+      [&] { reader->name_defect(reader->taken()); });
 }
 
 MeshPieceRead<Mesh> read_poly2d_piece(const fs::path& path, int rank, int size, HeldPoints held) {

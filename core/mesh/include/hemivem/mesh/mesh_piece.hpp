@@ -19,12 +19,18 @@
 #pragma once
 
 #include <array>
+#include <exception>
 #include <functional>
 #include <span>
+#include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include <hemivem/every_process.hpp>
 #include <hemivem/row_distribution.hpp>
+#include <hemivem/error.hpp>
+#include <hemivem/mesh/dimension.hpp>
 #include <hemivem/mesh/mesh.hpp>
 #include <hemivem/mesh/mesh3d.hpp>
 
@@ -72,28 +78,80 @@ struct MeshPieceRead {
   int largest_cell = 0;
 };
 
-/// A piece as bytes appended to `out`, and read back: its mesh the same to the bit (MeshRecord)
-/// and its other fields as they were (what the first process sends another a piece as).
-/// InternalError for bytes that end too soon.
-void write_piece(const MeshPieceRead<Mesh>& piece, std::vector<char>& out);
-void write_piece(const MeshPieceRead<Mesh3D>& piece, std::vector<char>& out);
-template <class MeshType>
-MeshPieceRead<MeshType> read_piece(std::span<const char> bytes);
+/// Facets by their vertices, each increasing: a piece's facet groups and where it meets the
+/// rest of the mesh, as they are known before its mesh is made.
+using FacetKeys = std::vector<std::vector<int>>;
 
-/// How the first process gives each process its piece: deliver(rank, piece).
+/// A piece as the lists its mesh is made of, before the mesh is made: what a reader chooses of
+/// a mesh not made whole, and what the first process sends another (read_gmsh3d_piece across
+/// processes). make_piece makes of it `piece` with its mesh: made of `cells` (a plane's
+/// elements as vertex loops, a solid's cells as their faces' loops) with their `regions` on
+/// every vertex `vertices`, then given each facet group of `groups` (its facets by their
+/// vertices, in order: a plane's edge groups are then sorted, as read_gmsh makes them), and
+/// `piece.cut_facets` the boundary facets among `cuts`.
 template <class MeshType>
-using PieceDelivery = std::function<void(int, MeshPieceRead<MeshType>&&)>;
+struct PieceLists {
+  using Point = PointOf<dimension_of<MeshType>>;
+  using Cell = std::conditional_t<dimension_of<MeshType> == 2, std::vector<int>, CellFaces>;
+  MeshPieceRead<MeshType> piece;  ///< all but its mesh and cut_facets
+  std::vector<Point> vertices;
+  std::vector<Cell> cells;
+  std::vector<int> regions;
+  std::vector<std::pair<std::string, FacetKeys>> groups;
+  FacetKeys cuts;
+};
 
-/// Collective over `processes`: the piece the first process makes for this one, on the first
-/// by `make(deliver)`, which delivers every process's piece in turn, the others' sent to them
-/// as they are made (made_by_first, hemivem/every_process.hpp: an error on the first ends
-/// every process it has not sent to with "process 0 stopped: ...").
-template <class MeshType, class Make>
-MeshPieceRead<MeshType> piece_made_by_first(const RowDistribution& processes, Make&& make) {
-  return made_by_first<MeshPieceRead<MeshType>>(
-      processes, [&](const auto& deliver) { make(PieceDelivery<MeshType>(deliver)); },
-      [](const MeshPieceRead<MeshType>& piece, std::vector<char>& bytes) { write_piece(piece, bytes); },
-      [](std::span<const char> bytes) { return read_piece<MeshType>(bytes); });
+/// The piece of the lists: MeshError as the mesh's constructor (a cell numbered among the
+/// piece's cells); InternalError for a group's facet or a cut that is none of the mesh's.
+MeshPieceRead<Mesh> make_piece(PieceLists<Mesh> lists);
+MeshPieceRead<Mesh3D> make_piece(PieceLists<Mesh3D> lists);
+
+/// The lists as bytes appended to `out`, and read back (what the first process sends
+/// another). InternalError for bytes that end too soon.
+void write_piece(const PieceLists<Mesh>& lists, std::vector<char>& out);
+void write_piece(const PieceLists<Mesh3D>& lists, std::vector<char>& out);
+template <class MeshType>
+PieceLists<MeshType> read_piece(std::span<const char> bytes);
+
+/// How the first process gives each process its piece's lists: deliver(rank, lists).
+template <class MeshType>
+using PieceDelivery = std::function<void(int, PieceLists<MeshType>&&)>;
+
+/// Collective over `processes`: this process's piece, whose lists the first process makes for
+/// every process by `make(deliver)`, delivering them in turn, the others' sent to them as they
+/// are made (made_by_first, hemivem/every_process.hpp); an error there ends every process
+/// (on_every_process: the first with its own error, the others saying that process 0 stopped
+/// with it). Every process then makes its piece's mesh (make_piece). When that meets a defect
+/// on any process, the first calls `name_defect()`, which throws the whole mesh's first defect
+/// as the whole reader names it, and every process ends with it (the others saying that
+/// process 0 stopped with it); should it not throw, every process ends with the defect its own
+/// piece met, or saying which process met one.
+template <class MeshType, class Make, class NameDefect>
+MeshPieceRead<MeshType> piece_made_by_first(const RowDistribution& processes, Make&& make, NameDefect&& name_defect) {
+  PieceLists<MeshType> lists = on_every_process(processes, [&] {
+    return made_by_first<PieceLists<MeshType>>(
+        processes, [&](const auto& deliver) { make(PieceDelivery<MeshType>(deliver)); },
+        [](const PieceLists<MeshType>& made, std::vector<char>& bytes) { write_piece(made, bytes); },
+        [](std::span<const char> bytes) { return read_piece<MeshType>(bytes); });
+  });
+  MeshPieceRead<MeshType> out;
+  std::exception_ptr defect;
+  try {
+    out = make_piece(std::move(lists));
+  } catch (const MeshError&) {
+    defect = std::current_exception();
+  }
+  if (processes.max(defect ? 1.0 : 0.0) > 0.0) {
+    on_every_process(processes, [&] {
+      if (processes.rank() == 0) name_defect();
+      return 0;
+    });
+    on_every_process(processes, [&] {
+      if (defect) std::rethrow_exception(defect);
+      return 0;
+    });
+  }
+  return out;
 }
 
 /// A mesh made or read as lists of its cells' vertices and not yet as a mesh (a Voronoi mesh, a

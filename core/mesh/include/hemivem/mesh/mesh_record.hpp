@@ -7,7 +7,6 @@
 #include <vector>
 
 #include <hemivem/mesh/dimension.hpp>
-#include <hemivem/support/bytes.hpp>
 
 namespace hemivem {
 
@@ -26,13 +25,7 @@ class MeshRecord {
   /// The mesh recorded. MeshError as its constructor (not for a record of a valid mesh).
   MeshOf<dim> make() const;
 
-  /// The record as bytes, and read back from them (as one process sends another a mesh).
-  /// InternalError for bytes that end too soon.
-  void write(ByteWriter& out) const;
-  static MeshRecord read(ByteReader& in);
-
  private:
-  MeshRecord() = default;
   std::vector<PointOf<dim>> vertices_;
   std::vector<int> loop_start_, loops_;  ///< each element's (plane) or face's (solid) vertex loop
   std::vector<int> cell_start_, cell_faces_;  ///< a solid's cells' faces (empty in the plane)
