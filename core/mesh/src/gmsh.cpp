@@ -110,14 +110,7 @@ class GmshReader final : detail::GmshSections {
   /// The piece of `lists` (make_piece), a defect of its elements named as read_gmsh names the
   /// whole mesh's first.
   MeshPieceRead<Mesh> made(PieceLists<Mesh> lists) const {
-    const std::vector<int> cells = lists.piece.cells;
-    try {
-      return make_piece(std::move(lists));
-    } catch (const MeshError& err) {
-      name_defect();
-      const int c = err.element();
-      rethrow_at_element(MeshError(err.detail(), c >= 0 && static_cast<std::size_t>(c) < cells.size() ? cells[static_cast<std::size_t>(c)] : -1));
-    }
+    return made_piece(std::move(lists), [&] { name_defect(); });
   }
 
   /// After the file is read: throws the whole mesh's first defect as read_gmsh names it, if it
@@ -158,7 +151,7 @@ class GmshReader final : detail::GmshSections {
     std::vector<Vec2> vertices = surface_vertices(vertex_of);
     std::vector<std::vector<int>> elements = surface_elements(vertices, vertex_of);
     Mesh mesh = surface_mesh(std::move(vertices), std::move(elements), top_numbers());
-    add_edge_groups(mesh, vertex_of, false);
+    add_edge_groups(mesh, vertex_of);
     return mesh;
   }
 
@@ -173,12 +166,7 @@ class GmshReader final : detail::GmshSections {
     auto cells = std::make_unique<const detail::CellTopology>(
         detail::plane_topology(static_cast<int>(vertices.size()), elements));
     std::vector<int> grouped;  // the edges of the physical lines' elements
-    struct LineEdge {          // a line element's: its tags, its vertices, increasing, and its cells
-      const std::vector<int>* tags;
-      std::vector<int> key;
-      std::array<int, 2> cells;
-    };
-    std::vector<LineEdge> lines;
+    std::vector<GroupedFacet> lines;
     for (const GmshElement& l : below_) {
       const int a = vertex_of[static_cast<std::size_t>(l.nodes[0])], b = vertex_of[static_cast<std::size_t>(l.nodes[1])];
       const int f = a < 0 || b < 0 ? -1 : cells->find_facet({a, b});
@@ -195,15 +183,7 @@ class GmshReader final : detail::GmshSections {
                             lists.cells.push_back(last ? std::move(e) : e);
                             lists.regions.push_back(regions[static_cast<std::size_t>(c)]);
                           }
-                          // each 1D physical group's edges the piece holds, as add_edge_groups gives them
-                          std::map<int, FacetKeys> by_tag;
-                          for (const auto& [tag, none] : empty_groups()) by_tag[tag];
-                          for (const LineEdge& l : lines)
-                            if (std::any_of(l.cells.begin(), l.cells.end(),
-                                            [&](int c) { return c >= 0 && kept[static_cast<std::size_t>(c)]; }))
-                              for (int t : *l.tags) by_tag[t].push_back(l.key);
-                          std::map<std::string, int> names;
-                          for (auto& [tag, keys] : by_tag) lists.groups.emplace_back(group_name(tag, names), std::move(keys));
+                          lists.groups = piece_groups(lines, kept);  // as add_edge_groups gives them
                           lists.vertices = last ? std::move(vertices) : vertices;
                         });
   }
@@ -257,9 +237,8 @@ class GmshReader final : detail::GmshSections {
   }
 
   /// The edges of each 1D physical group (by tag), from the line elements of its entities;
-  /// a line element that is no edge of the mesh is an error, or in a `piece` not one of its
-  /// (each an edge of the whole mesh: build_piece).
-  std::map<int, std::vector<int>> group_edges(const Mesh& mesh, const std::vector<int>& vertex_of, bool piece) const {
+  /// a line element that is no edge of the mesh is an error.
+  std::map<int, std::vector<int>> group_edges(const Mesh& mesh, const std::vector<int>& vertex_of) const {
     std::map<std::pair<int, int>, int> edge_of;
     for (int i = 0; i < mesh.num_edges(); ++i) {
       const auto& ed = mesh.edge(i);
@@ -271,10 +250,7 @@ class GmshReader final : detail::GmshSections {
       const int a = vertex_of[n0];
       const int b = vertex_of[n1];
       const auto it = a < 0 || b < 0 ? edge_of.end() : edge_of.find(std::minmax(a, b));
-      if (it == edge_of.end()) {
-        if (piece) continue;
-        fail_not_an_edge(l);
-      }
+      if (it == edge_of.end()) fail_not_an_edge(l);
       if (const std::vector<int>* tags = groups_of(l.entity))
         for (int t : *tags) group_edges[t].push_back(it->second);
     }
@@ -282,9 +258,9 @@ class GmshReader final : detail::GmshSections {
   }
 
   /// Edge groups from the 1D physical groups, named by $PhysicalNames or else by tag.
-  void add_edge_groups(Mesh& mesh, const std::vector<int>& vertex_of, bool piece) const {
+  void add_edge_groups(Mesh& mesh, const std::vector<int>& vertex_of) const {
     std::map<std::string, int> names;
-    for (auto& [tag, edges] : group_edges(mesh, vertex_of, piece)) {
+    for (auto& [tag, edges] : group_edges(mesh, vertex_of)) {
       std::string name = group_name(tag, names);
       std::sort(edges.begin(), edges.end());
       edges.erase(std::unique(edges.begin(), edges.end()), edges.end());

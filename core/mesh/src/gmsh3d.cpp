@@ -95,6 +95,9 @@ const Shape* volume_shape(long long type) {
   }
 }
 
+/// " (<its shape>)" of a volume element, as an error names it.
+std::string volume_label(const GmshElement& e) { return " (" + std::string(volume_shape(e.type)->name) + ")"; }
+
 std::string unsupported_type_name(long long type) {
   switch (type) {
     case 8: return "3-node second-order line";
@@ -149,15 +152,7 @@ class Gmsh3DReader final : detail::GmshSections {
   /// The piece of `lists` (make_piece), a defect of its cells named as read_gmsh3d names the
   /// whole mesh's first.
   MeshPieceRead<Mesh3D> made(PieceLists<Mesh3D> lists) {
-    const std::vector<int> cells = lists.piece.cells;
-    try {
-      return make_piece(std::move(lists));
-    } catch (const MeshError& err) {
-      name_defect();
-      const int c = err.element();
-      rethrow_at_element(MeshError(err.detail(), c >= 0 && static_cast<std::size_t>(c) < cells.size() ? cells[static_cast<std::size_t>(c)] : -1),
-                         [](const GmshElement& e) { return " (" + std::string(volume_shape(e.type)->name) + ")"; });
-    }
+    return made_piece(std::move(lists), [&] { name_defect(); }, volume_label);
   }
 
   /// After the file is read: throws the whole mesh's first defect as read_gmsh3d names it, if
@@ -185,7 +180,7 @@ class Gmsh3DReader final : detail::GmshSections {
 
   Mesh3D build() {
     Mesh3D mesh = mesh_of(volume_vertices(), top_numbers());
-    add_face_groups(mesh, false);
+    add_face_groups(mesh);
     return mesh;
   }
 
@@ -216,7 +211,7 @@ class Gmsh3DReader final : detail::GmshSections {
     } catch (const MeshError& err) {
       const int c = err.element();
       rethrow_at_element(MeshError(err.detail(), c >= 0 && static_cast<std::size_t>(c) < elements.size() ? elements[static_cast<std::size_t>(c)] : -1),
-                         [](const GmshElement& e) { return " (" + std::string(volume_shape(e.type)->name) + ")"; });
+                         volume_label);
     }
   }
 
@@ -245,12 +240,7 @@ class Gmsh3DReader final : detail::GmshSections {
                                                               std::move(shape_of), std::move(corner_start),
                                                               std::move(corners));
     std::vector<int> grouped;  // the faces of the physical surfaces' elements
-    struct GroupedFace {       // one of them: its element's tags, its vertices, increasing, and its cells
-      const std::vector<int>* tags;
-      std::vector<int> key;
-      std::array<int, 2> cells;
-    };
-    std::vector<GroupedFace> faces;
+    std::vector<GroupedFacet> faces;
     for (const GmshElement& s : below_)
       if (const std::vector<int>* tags = groups_of(s.entity); tags && !tags->empty()) {
         std::vector<int> key = vertices_of_element(s);
@@ -269,15 +259,7 @@ class Gmsh3DReader final : detail::GmshSections {
                             lists.cells.push_back(cell_of(e, vertices));
                             lists.regions.push_back(region_of(e.entity));
                           }
-                          // each 2D physical group's faces the piece holds, as add_face_groups gives them
-                          std::map<int, FacetKeys> by_tag;
-                          for (const auto& [tag, none] : empty_groups()) by_tag[tag];
-                          for (const GroupedFace& g : faces)
-                            if (std::any_of(g.cells.begin(), g.cells.end(),
-                                            [&](int c) { return c >= 0 && kept[static_cast<std::size_t>(c)]; }))
-                              for (int t : *g.tags) by_tag[t].push_back(g.key);
-                          std::map<std::string, int> names;
-                          for (auto& [tag, keys] : by_tag) lists.groups.emplace_back(group_name(tag, names), std::move(keys));
+                          lists.groups = piece_groups(faces, kept);  // as add_face_groups gives them
                           lists.vertices = last ? std::move(vertices) : vertices;
                         });
   }
@@ -321,9 +303,8 @@ class Gmsh3DReader final : detail::GmshSections {
                      ") of a physical surface is not a face of the volume mesh");
   }
 
-  /// Face groups from the 2D physical groups, named by $PhysicalNames or else by tag; in a
-  /// `piece`, of the faces it holds (each a face of the whole mesh: build_piece).
-  void add_face_groups(Mesh3D& mesh, bool piece) const {
+  /// Face groups from the 2D physical groups, named by $PhysicalNames or else by tag.
+  void add_face_groups(Mesh3D& mesh) const {
     std::map<std::vector<int>, int> face_of;  // sorted vertices -> face
     for (int f = 0; f < mesh.num_faces(); ++f) {
       std::vector<int> key = mesh.face(f).vertices;
@@ -337,10 +318,7 @@ class Gmsh3DReader final : detail::GmshSections {
       std::vector<int> key = vertices_of_element(s);
       std::sort(key.begin(), key.end());
       const auto it = std::find(key.begin(), key.end(), -1) != key.end() ? face_of.end() : face_of.find(key);
-      if (it == face_of.end()) {
-        if (piece) continue;
-        fail_not_a_face(s);
-      }
+      if (it == face_of.end()) fail_not_a_face(s);
       for (int t : *tags) group_faces[t].push_back(it->second);
     }
     std::map<std::string, int> names;

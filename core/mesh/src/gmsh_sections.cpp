@@ -425,6 +425,19 @@ int GmshSections::region_of(long long entity) const {
   return it->second.front();
 }
 
+std::vector<std::pair<std::string, FacetKeys>> GmshSections::piece_groups(const std::vector<GroupedFacet>& facets,
+                                                                          const std::vector<char>& kept) const {
+  std::map<int, FacetKeys> by_tag;
+  for (const auto& [tag, none] : empty_groups()) by_tag[tag];
+  for (const GroupedFacet& g : facets)
+    if (std::any_of(g.cells.begin(), g.cells.end(), [&](int c) { return c >= 0 && kept[static_cast<std::size_t>(c)]; }))
+      for (int t : *g.tags) by_tag[t].push_back(g.key);
+  std::map<std::string, int> names;
+  std::vector<std::pair<std::string, FacetKeys>> out;
+  for (auto& [tag, keys] : by_tag) out.emplace_back(group_name(tag, names), std::move(keys));
+  return out;
+}
+
 std::map<int, std::vector<int>> GmshSections::empty_groups() const {
   const int gd = dialect_.region_dim - 1;
   std::map<int, std::vector<int>> groups;

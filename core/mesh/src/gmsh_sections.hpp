@@ -12,9 +12,11 @@
 #pragma once
 
 #include <hemivem/error.hpp>
+#include <hemivem/mesh/mesh_piece.hpp>
 #include <hemivem/support/text_lines.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <iterator>
@@ -151,6 +153,32 @@ class GmshSections {
   /// count line.
   [[noreturn]] void rethrow_at_element(const MeshError& err,
                                        std::string (*label)(const GmshElement&) = nullptr) const;
+  /// The piece of `lists` (make_piece); a defect of its cells named as the whole reader names
+  /// the whole mesh's first (name_defect() throws it), else at the piece's cell's element.
+  template <class MeshType, class NameDefect>
+  MeshPieceRead<MeshType> made_piece(PieceLists<MeshType> lists, NameDefect&& name_defect,
+                                     std::string (*label)(const GmshElement&) = nullptr) const {
+    const std::vector<int> cells = lists.piece.cells;
+    try {
+      return make_piece(std::move(lists));
+    } catch (const MeshError& err) {
+      name_defect();
+      const auto c = static_cast<std::size_t>(err.element());
+      rethrow_at_element(MeshError(err.detail(), err.element() >= 0 && c < cells.size() ? cells[c] : -1), label);
+    }
+  }
+  /// A facet of an element of below_ in a group: the element's groups, the facet's vertices,
+  /// increasing, and its cells (the second -1 on the boundary).
+  struct GroupedFacet {
+    const std::vector<int>* tags;
+    std::vector<int> key;
+    std::array<int, 2> cells;
+  };
+  /// A piece's facet groups (PieceLists::groups): every group (empty_groups) in the order of
+  /// the tags, named (group_name), each with the facets of `facets` that a cell `kept` flags
+  /// holds, in their order.
+  std::vector<std::pair<std::string, FacetKeys>> piece_groups(const std::vector<GroupedFacet>& facets,
+                                                              const std::vector<char>& kept) const;
   /// The numbers of the elements of top_: 0, 1, ..., top_.size() - 1.
   std::vector<int> top_numbers() const;
   /// The region of an entity of the top dimension: its first physical tag, 0 without one.
