@@ -141,20 +141,32 @@ void close_edges(const SolidCells& mesh, std::vector<char>& keep) {
   }
 }
 
+/// The cells of the facets `facets`, increasing. InputError for a facet out of range.
 template <class MeshType>
-std::vector<int> cells_around(const MeshType& mesh, const std::vector<char>& owned, std::span<const int> facets) {
-  const auto nv = static_cast<std::size_t>(mesh.num_vertices());
-  if (owned.size() != nv)
-    throw InputError("a piece of a mesh of " + std::to_string(nv) + " vertices given flags for " +
-                     std::to_string(owned.size()));
-  std::vector<char> keep(static_cast<std::size_t>(mesh.num_cells()), 0);
+std::vector<int> cells_of_facets(const MeshType& mesh, std::span<const int> facets) {
+  std::vector<int> cells;
   for (int f : facets) {
     if (f < 0 || f >= mesh.num_facets())
       throw InputError("a piece of a mesh of " + std::to_string(mesh.num_facets()) + " facets given the facet " +
                        std::to_string(f));
     for (int c : facet_cells(mesh, f))
-      if (c >= 0) keep[static_cast<std::size_t>(c)] = 1;
+      if (c >= 0) cells.push_back(c);
   }
+  std::sort(cells.begin(), cells.end());
+  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+  return cells;
+}
+
+/// The piece's cells around the vertices `owned` flags, with the cells `held` (of the facets
+/// every piece holds: cells_of_facets).
+template <class MeshType>
+std::vector<int> cells_around(const MeshType& mesh, const std::vector<char>& owned, const std::vector<int>& held) {
+  const auto nv = static_cast<std::size_t>(mesh.num_vertices());
+  if (owned.size() != nv)
+    throw InputError("a piece of a mesh of " + std::to_string(nv) + " vertices given flags for " +
+                     std::to_string(owned.size()));
+  std::vector<char> keep(static_cast<std::size_t>(mesh.num_cells()), 0);
+  for (int c : held) keep[static_cast<std::size_t>(c)] = 1;
   // the vertices of the cells holding an owned vertex: a cell holding one of them is in the piece
   const VertexCells& around = cells_of_vertices(mesh);
   std::vector<char> near = owned;
@@ -206,10 +218,11 @@ Box box_of(const std::vector<Vec3>& p) {
 }
 
 /// What every piece of a mesh holds whatever its vertices, found once for all the pieces made of
-/// it: the facets `facets` (a file's groups), every boundary facet and the first facet of each
-/// region's first cell; and the whole mesh's sums over its cells (MeshPieceRead's).
+/// it: the cells of the facets `facets` (a file's groups), of every boundary facet and of the
+/// first facet of each region's first cell; and the whole mesh's sums over its cells
+/// (MeshPieceRead's).
 struct WholeRule {
-  std::vector<int> facets;
+  std::vector<int> cells;  ///< the cells of those facets, increasing
   double cell_vertices = 0, cell_vertices_squared = 0;
   int largest_cell = 0;
 };
@@ -229,7 +242,7 @@ WholeRule whole_rule(const CellTopology& cells, const std::vector<int>& regions,
     rule.cell_vertices_squared += m * m;
     rule.largest_cell = std::max(rule.largest_cell, static_cast<int>(m));
   }
-  rule.facets = std::move(facets);
+  rule.cells = cells_of_facets(cells, facets);
   return rule;
 }
 
@@ -248,7 +261,7 @@ detail::FacetKeys choose_around(const CellTopology& cells, const std::vector<Vec
     const int nearest = nearest_point<dim>(vertices, Eigen::Map<const Eigen::Vector3d>(q.data()).head<dim>()).first;
     if (nearest >= 0) owned[static_cast<std::size_t>(nearest)] = 1;
   }
-  out.cells = cells_around(cells, owned, rule.facets);
+  out.cells = cells_around(cells, owned, rule.cells);
   out.whole_cells = cells.num_cells();
   std::vector<char> kept(static_cast<std::size_t>(cells.num_cells()), 0);
   for (int c : out.cells) kept[static_cast<std::size_t>(c)] = 1;
@@ -450,10 +463,10 @@ MeshType cut(const MeshType& mesh, std::span<const int> cells, std::vector<int>*
 }  // namespace
 
 std::vector<int> piece_cells_around(const Mesh& mesh, const std::vector<char>& owned, std::span<const int> facets) {
-  return cells_around(mesh, owned, facets);
+  return cells_around(mesh, owned, cells_of_facets(mesh, facets));
 }
 std::vector<int> piece_cells_around(const Mesh3D& mesh, const std::vector<char>& owned, std::span<const int> facets) {
-  return cells_around(mesh, owned, facets);
+  return cells_around(mesh, owned, cells_of_facets(mesh, facets));
 }
 
 Mesh cut_mesh_piece(const Mesh& mesh, std::span<const int> cells, std::vector<int>* facets) {
