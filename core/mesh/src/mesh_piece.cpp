@@ -48,6 +48,9 @@ void join_parts(const MeshType& mesh, std::vector<char>& keep) {
   const auto nc = static_cast<std::size_t>(mesh.num_cells());
   std::vector<int> parent(nc, -2);  // -2: not reached; -1: in the body's first part
   std::vector<int> queue;
+  // the searches end once every cell kept at first is reached (the parts all joined)
+  const auto kept_at_first = static_cast<std::size_t>(std::count(keep.begin(), keep.end(), 1));
+  std::size_t reached = 0;
   // the kept cells reached across kept cells' facets from `from`
   const auto grow_part = [&](std::size_t from) {
     std::vector<int> stack{static_cast<int>(from)};
@@ -59,16 +62,18 @@ void join_parts(const MeshType& mesh, std::vector<char>& keep) {
         for (int d : facet_cells(mesh, f))
           if (d >= 0 && keep[static_cast<std::size_t>(d)] && parent[static_cast<std::size_t>(d)] == -2) {
             parent[static_cast<std::size_t>(d)] = -1;
+            ++reached;
             stack.push_back(d);
           }
     }
   };
-  for (std::size_t first = 0; first < nc; ++first) {
+  for (std::size_t first = 0; first < nc && reached < kept_at_first; ++first) {
     if (!keep[first] || parent[first] != -2) continue;  // a body's first kept cell not yet reached
     queue.clear();
     parent[first] = -1;
+    ++reached;
     grow_part(first);
-    for (std::size_t head = 0; head < queue.size(); ++head) {
+    for (std::size_t head = 0; head < queue.size() && reached < kept_at_first; ++head) {
       const int c = queue[head];
       for (int f : cell_facets(mesh, c))
         for (int d : facet_cells(mesh, f)) {
@@ -86,6 +91,7 @@ void join_parts(const MeshType& mesh, std::vector<char>& keep) {
             p = up;
           }
           parent[static_cast<std::size_t>(d)] = -1;
+          ++reached;
           grow_part(static_cast<std::size_t>(d));
         }
     }
