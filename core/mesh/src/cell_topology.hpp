@@ -4,8 +4,12 @@
 #pragma once
 
 #include <array>
+#include <filesystem>
+#include <fstream>
 #include <functional>
+#include <istream>
 #include <memory>
+#include <string>
 #include <span>
 #include <vector>
 
@@ -13,6 +17,8 @@
 #include <hemivem/mesh/mesh3d.hpp>
 #include <hemivem/mesh/mesh_piece.hpp>
 #include <hemivem/mesh/vertex_cells.hpp>
+#include <hemivem/row_distribution.hpp>
+#include <hemivem/support/text_lines.hpp>
 
 namespace hemivem::detail {
 
@@ -153,6 +159,36 @@ void make_pieces(std::unique_ptr<const CellTopology> cells, const std::vector<Ve
 void make_pieces(std::unique_ptr<const CellTopology> cells, const std::vector<Vec3>& vertices,
                  const std::vector<int>& regions, const std::vector<int>& facets, HeldPoints held,
                  const PiecesInTurn<Mesh3D>& turn, const MakePieceLists<Mesh3D>& make_lists);
+
+/// A file's piece for process `rank` of `size`, read by a Reader (in, name) that makes the
+/// lists of the pieces a PiecesInTurn asks for (read_pieces) and the piece of its lists
+/// (made, naming a defect as the whole reader does).
+template <class MeshType, class Reader>
+MeshPieceRead<MeshType> read_own_piece(std::istream& in, const std::string& name, int rank, int size,
+                                       HeldPoints held) {
+  Reader reader(in, name);
+  PieceLists<MeshType> lists;
+  reader.read_pieces(piece_of({rank, size}, lists), held);
+  return reader.made(std::move(lists));
+}
+
+/// The same collectively over `processes`, the file read by the first process alone, which
+/// makes every process's lists and names a defect any piece meets (name_defect):
+/// piece_made_by_first.
+template <class MeshType, class Reader>
+MeshPieceRead<MeshType> read_piece_by_first(const std::filesystem::path& path, const RowDistribution& processes,
+                                            HeldPoints held) {
+  std::ifstream in;
+  std::unique_ptr<Reader> reader;  // the first process's, kept to name a defect of any piece
+  return piece_made_by_first<MeshType>(
+      processes,
+      [&](const PieceDelivery<MeshType>& deliver) {
+        in = text::open_for_reading(path, "mesh file");
+        reader = std::make_unique<Reader>(in, path.string());
+        reader->read_pieces(pieces_of_processes(processes.size(), deliver), held);
+      },
+      [&] { reader->name_defect(); });
+}
 
 /// A plane mesh not made: its vertices and its elements' vertices in order.
 struct PlaneCells {

@@ -286,23 +286,11 @@ MeshPieceRead<Mesh> read_gmsh_piece(const fs::path& path, int rank, int size, He
 }
 
 MeshPieceRead<Mesh> read_gmsh_piece(std::istream& in, const std::string& name, int rank, int size, HeldPoints held) {
-  GmshReader reader(in, name);
-  PieceLists<Mesh> lists;
-  reader.read_pieces(detail::piece_of({rank, size}, lists), held);
-  return reader.made(std::move(lists));
+  return detail::read_own_piece<Mesh, GmshReader>(in, name, rank, size, held);
 }
 
 MeshPieceRead<Mesh> read_gmsh_piece(const fs::path& path, const RowDistribution& processes, HeldPoints held) {
-  std::ifstream in;
-  std::unique_ptr<GmshReader> reader;  // the first process's, kept to name a defect of any piece
-  return piece_made_by_first<Mesh>(
-      processes,
-      [&](const PieceDelivery<Mesh>& deliver) {
-        in = text::open_for_reading(path, "mesh file");
-        reader = std::make_unique<GmshReader>(in, path.string());
-        reader->read_pieces(detail::pieces_of_processes(processes.size(), deliver), held);
-      },
-      [&] { reader->name_defect(); });
+  return detail::read_piece_by_first<Mesh, GmshReader>(path, processes, held);
 }
 
 MeshLists<Mesh> read_gmsh_lists(const fs::path& path) {

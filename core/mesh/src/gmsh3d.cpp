@@ -568,23 +568,11 @@ MeshPieceRead<Mesh3D> read_gmsh3d_piece(const fs::path& path, int rank, int size
 }
 
 MeshPieceRead<Mesh3D> read_gmsh3d_piece(std::istream& in, const std::string& name, int rank, int size, HeldPoints held) {
-  Gmsh3DReader reader(in, name);
-  PieceLists<Mesh3D> lists;
-  reader.read_pieces(detail::piece_of({rank, size}, lists), held);
-  return reader.made(std::move(lists));
+  return detail::read_own_piece<Mesh3D, Gmsh3DReader>(in, name, rank, size, held);
 }
 
 MeshPieceRead<Mesh3D> read_gmsh3d_piece(const fs::path& path, const RowDistribution& processes, HeldPoints held) {
-  std::ifstream in;
-  std::unique_ptr<Gmsh3DReader> reader;  // the first process's, kept to name a defect of any piece
-  return piece_made_by_first<Mesh3D>(
-      processes,
-      [&](const PieceDelivery<Mesh3D>& deliver) {
-        in = text::open_for_reading(path, "mesh file");
-        reader = std::make_unique<Gmsh3DReader>(in, path.string());
-        reader->read_pieces(detail::pieces_of_processes(processes.size(), deliver), held);
-      },
-      [&] { reader->name_defect(); });
+  return detail::read_piece_by_first<Mesh3D, Gmsh3DReader>(path, processes, held);
 }
 
 MeshLists<Mesh3D> read_gmsh3d_lists(const fs::path& path) {

@@ -64,12 +64,11 @@ class Poly2dReader {
   }
 
   /// The lists of the pieces `turn` asks for, chosen among the elements' edges (found once)
-  /// without the whole mesh; the file's cells kept (taken()).
+  /// without the whole mesh; the file's cells kept.
   void read_pieces(const detail::PiecesInTurn<Mesh>& turn, HeldPoints held) {
     taken_ = take_cells();
     detail::make_plane_pieces(taken_, held, turn);
   }
-  const detail::PlaneCells& taken() const { return taken_; }
 
   /// The vertices and elements read, taken, the mesh not made (for piece).
   detail::PlaneCells take_cells() {
@@ -84,19 +83,21 @@ class Poly2dReader {
     return made(cells, std::move(lists));
   }
 
-  /// The piece of `lists` (make_piece) of the mesh of `cells`, a defect of its elements named
-  /// as read_poly2d names the whole mesh's first.
+  /// The piece of `lists` (make_piece) of the mesh of `cells` (of the file's cells kept), a
+  /// defect of its elements named as read_poly2d names the whole mesh's first.
   MeshPieceRead<Mesh> made(const detail::PlaneCells& cells, PieceLists<Mesh> lists) const {
     try {
       return make_piece(std::move(lists));
     } catch (const MeshError&) {
-      name_defect(cells);
+      (void)mesh_of(cells.vertices, cells.elements);
       throw;
     }
   }
+  MeshPieceRead<Mesh> made(PieceLists<Mesh> lists) const { return made(taken_, std::move(lists)); }
 
-  /// Throws the first defect of the mesh of `cells` as read_poly2d names it, if it has one.
-  void name_defect(const detail::PlaneCells& cells) const { (void)mesh_of(cells.vertices, cells.elements); }
+  /// After read_pieces: throws the whole mesh's first defect as read_poly2d names it, if it has
+  /// one.
+  void name_defect() const { (void)mesh_of(taken_.vertices, taken_.elements); }
 
  private:
   /// Reads the vertices, the elements and the optional boundary list.
@@ -338,23 +339,11 @@ Poly2dMesh read_poly2d(const fs::path& path) {
 }
 
 MeshPieceRead<Mesh> read_poly2d_piece(std::istream& in, const std::string& name, int rank, int size, HeldPoints held) {
-  Poly2dReader reader(in, name);
-  PieceLists<Mesh> lists;
-  reader.read_pieces(detail::piece_of({rank, size}, lists), held);
-  return reader.made(reader.taken(), std::move(lists));
+  return detail::read_own_piece<Mesh, Poly2dReader>(in, name, rank, size, held);
 }
 
 MeshPieceRead<Mesh> read_poly2d_piece(const fs::path& path, const RowDistribution& processes, HeldPoints held) {
-  std::ifstream in;
-  std::unique_ptr<Poly2dReader> reader;  // the first process's, kept to name a defect of any piece
-  return piece_made_by_first<Mesh>(
-      processes,
-      [&](const PieceDelivery<Mesh>& deliver) {
-        in = text::open_for_reading(path, "mesh file");
-        reader = std::make_unique<Poly2dReader>(in, path.string());
-        reader->read_pieces(detail::pieces_of_processes(processes.size(), deliver), held);
-      },
-      [&] { reader->name_defect(reader->taken()); });
+  return detail::read_piece_by_first<Mesh, Poly2dReader>(path, processes, held);
 }
 
 MeshPieceRead<Mesh> read_poly2d_piece(const fs::path& path, int rank, int size, HeldPoints held) {
