@@ -12,6 +12,7 @@
 // checks never stop a process before a collective call the others make, so a failure cannot
 // hang the program; main() reduces the outcome over all processes.
 #include <hemivem/error.hpp>
+#include <hemivem/every_process.hpp>
 #include <hemivem/krylov_solver.hpp>
 #include <hemivem/row_distribution.hpp>
 
@@ -24,6 +25,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -259,6 +261,65 @@ TEST(KrylovMpi, Collectives) {
     Eigen::VectorXd wrong = Eigen::VectorXd::Zero(rows->columns() + (r == p - 1 ? 1 : 0));
     EXPECT_THROW(rows->update_ghosts(wrong), InternalError);
   }
+}
+
+// what the first process makes for each process, sent to it (send_to, receive_from_first,
+// made_by_first): each process receives its own bytes, of any size, in the order sent; when
+// the making stops on the first, the processes it has not sent to end saying so, the others
+// have theirs, and none waits
+TEST(KrylovMpi, WhatTheFirstMakesForEachProcessIsSentToIt) {
+  const int p = world().size, r = world().rank;
+  const auto rows = one_row_each();
+  // process q gets 1000 q + 7 bytes, byte j = (q + j) mod 251, made in turn
+  const auto bytes_for = [](int q) {
+    std::vector<char> b(static_cast<std::size_t>(1000 * q + 7));
+    for (std::size_t j = 0; j < b.size(); ++j) b[j] = static_cast<char>((static_cast<std::size_t>(q) + j) % 251);
+    return b;
+  };
+  std::vector<int> made_for;
+  const auto write = [](const std::vector<char>& v, std::vector<char>& out) { out.insert(out.end(), v.begin(), v.end()); };
+  const auto read = [](std::span<const char> b) { return std::vector<char>(b.begin(), b.end()); };
+  const std::vector<char> mine = made_by_first<std::vector<char>>(
+      *rows,
+      [&](const auto& deliver) {
+        for (int q = p - 1; q >= 0; --q) {  // the last first: any order
+          made_for.push_back(q);
+          deliver(q, bytes_for(q));
+        }
+      },
+      write, read);
+  EXPECT_EQ(mine, bytes_for(r));
+  if (r == 0) EXPECT_EQ(static_cast<int>(made_for.size()), p);
+  else EXPECT_TRUE(made_for.empty());  // made on the first alone
+  // two messages in a row to each, taken in their order
+  if (p > 1) {
+    if (r == 0)
+      for (int q = 1; q < p; ++q) {
+        rows->send_to(q, std::vector<char>{'a', static_cast<char>(q)});
+        rows->send_to(q, std::vector<char>());
+      }
+    else {
+      EXPECT_EQ(rows->receive_from_first(), (std::vector<char>{'a', static_cast<char>(r)}));
+      EXPECT_TRUE(rows->receive_from_first().empty());
+    }
+  }
+  // the making stops after the piece of process 1: process 1 has its bytes, the others end
+  std::string met;
+  try {
+    (void)made_by_first<std::vector<char>>(
+        *rows,
+        [&](const auto& deliver) {
+          if (p > 1) deliver(1, bytes_for(1));
+          throw InputError("the third piece is not there");
+        },
+        write, read);
+  } catch (const InputError& e) {
+    met = e.what();
+  }
+  if (r == 0) EXPECT_EQ(met, "the third piece is not there");
+  else if (r == 1) EXPECT_EQ(met, "");
+  else EXPECT_EQ(met, "process 0 stopped: the third piece is not there");
+  EXPECT_EQ(rows->sum(1.0), p);  // every process is here: none waits
 }
 
 /// The message of the InternalError make_distributed_rows(layout) throws ("" when none).
