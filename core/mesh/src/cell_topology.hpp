@@ -199,7 +199,7 @@ struct PlaneCells {
 /// The piece process `rank` of `size` keeps of the plane mesh of `cells`, all in region 0 and
 /// without facet groups (make_pieces): `out` whole but for its mesh, then out.mesh made of the
 /// kept elements with every vertex (Mesh's MeshError for a defect among them) and its
-/// cut_facets (set_cut_facets).
+/// cut_facets (make_piece).
 void make_plane_piece(const PlaneCells& cells, HeldPoints held, int rank, int size, MeshPieceRead<Mesh>& out);
 /// The same around the vertices `owned` flags (one per vertex) in place of a process's share:
 /// out.order, first and end left empty (MeshLists::piece).

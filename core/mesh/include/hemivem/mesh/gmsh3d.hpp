@@ -32,11 +32,13 @@ MeshPieceRead<Mesh3D> read_gmsh3d_piece(std::istream& in, const std::string& nam
                                         HeldPoints held = {});
 /// Collective over `processes`: this process's piece of the file's mesh, as read_gmsh3d_piece
 /// reads process rank() of size()'s, with the file read by the first process alone. It reads
-/// the file once and makes every process's piece in turn from that reading (the facets its
-/// elements share found once), each sent to its process as it is made; the other processes
-/// never open the file, and hold their piece alone. A defect of the file or of any cell is
-/// found by the first, which reports read_gmsh3d_piece's error; every process it has not yet
-/// sent a piece to throws InputError "process 0 stopped: <that error>" (piece_made_by_first).
+/// the file once and chooses every process's piece in turn from that reading (the facets its
+/// elements share found once), each sent to its process as the lists its mesh is made of
+/// (PieceLists), and each process makes its own piece's mesh; the other processes never open
+/// the file, and hold their piece alone. A defect of the file is found by the first, a defect
+/// of the cells by the processes whose pieces hold it and named by the first as read_gmsh3d
+/// names it; the first throws that error, every other process InputError "process 0 stopped:
+/// <that error>" (piece_made_by_first).
 MeshPieceRead<Mesh3D> read_gmsh3d_piece(const std::filesystem::path& path, const RowDistribution& processes,
                                         HeldPoints held = {});
 

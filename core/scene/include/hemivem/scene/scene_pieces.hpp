@@ -78,10 +78,10 @@ bool reads_pieces(const Scene& scene);
 template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> read_problem_piece(const Scene& scene, int rank, int size, PieceOfMesh& where);
 /// The same on the piece of this process of `processes` (collective), the file read by the
-/// first process alone, which makes every process's piece in turn and sends it (read_gmsh_piece,
-/// read_gmsh3d_piece, read_poly2d_piece across processes): the others never open the file. An
-/// error the first meets in the file or the pieces' cells ends every process it has not sent a
-/// piece to with "process 0 stopped: <that error>".
+/// first process alone, which chooses every process's piece in turn and sends it, each process
+/// making its own piece's mesh (read_gmsh_piece, read_gmsh3d_piece, read_poly2d_piece across
+/// processes): the others never open the file. An error in the file or the pieces' cells ends
+/// every process, the first with it, the others with "process 0 stopped: <that error>".
 template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> read_problem_piece(const Scene& scene, const RowDistribution& processes,
                                                            PieceOfMesh& where);
