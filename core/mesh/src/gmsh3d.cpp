@@ -215,8 +215,8 @@ class Gmsh3DReader final : detail::GmshSections {
     }
   }
 
-  /// The pieces `turn` asks for (MeshPieceRead), made of the volume elements' faces without
-  /// the whole mesh, the facets they share found once.
+  /// The lists of the pieces `turn` asks for (PieceLists), made of the volume elements' faces
+  /// without the whole mesh, the facets they share found once.
   void build_pieces(const detail::PiecesInTurn<Mesh3D>& turn, HeldPoints held) {
     std::vector<Vec3> vertices = volume_vertices();
     // each element's corners, its vertices in Gmsh's order, its faces its shape's
@@ -257,7 +257,7 @@ class Gmsh3DReader final : detail::GmshSections {
                           for (int k : lists.piece.cells) {
                             const GmshElement& e = top_[static_cast<std::size_t>(k)];
                             lists.cells.push_back(cell_of(e, vertices));
-                            lists.regions.push_back(region_of(e.entity));
+                            lists.regions.push_back(regions[static_cast<std::size_t>(k)]);
                           }
                           lists.groups = piece_groups(faces, kept);  // as add_face_groups gives them
                           lists.vertices = last ? std::move(vertices) : vertices;

@@ -252,10 +252,12 @@ WholeRule whole_rule(const CellTopology& cells, const std::vector<int>& regions,
   return rule;
 }
 
-/// The piece around the vertices `owned` flags (choose's rule); out.order, first and end left.
+/// The piece around the vertices `owned` flags (choose's rule); out.order, first and end left;
+/// `kept` flags its cells among the mesh's.
 template <class Vec, class MeshType>
 detail::FacetKeys choose_around(const CellTopology& cells, const std::vector<Vec>& vertices, const WholeRule& rule,
-                                std::vector<char> owned, HeldPoints held, MeshPieceRead<MeshType>& out) {
+                                std::vector<char> owned, HeldPoints held, MeshPieceRead<MeshType>& out,
+                                std::vector<char>& kept) {
   if (owned.size() != static_cast<std::size_t>(cells.num_vertices()))
     throw InternalError("a piece of a mesh of " + std::to_string(cells.num_vertices()) + " vertices given flags for " +
                         std::to_string(owned.size()));
@@ -269,7 +271,7 @@ detail::FacetKeys choose_around(const CellTopology& cells, const std::vector<Vec
   }
   out.cells = cells_around(cells, owned, rule.cells);
   out.whole_cells = cells.num_cells();
-  std::vector<char> kept(static_cast<std::size_t>(cells.num_cells()), 0);
+  kept.assign(static_cast<std::size_t>(cells.num_cells()), 0);
   for (int c : out.cells) kept[static_cast<std::size_t>(c)] = 1;
   detail::FacetKeys cuts;
   for (int c : out.cells)
@@ -296,19 +298,20 @@ std::vector<int> order_of(const std::vector<Vec>& vertices) {
 }
 
 /// choose_around the vertices `who` flags, or of its process's share of them along `order`
-/// (the vertices' Hilbert order), which out.order, first and end then tell.
+/// (the vertices' Hilbert order), which out.order, first and end then tell; `kept` flags its
+/// cells.
 template <class Vec, class MeshType>
 detail::FacetKeys chosen(const CellTopology& cells, const std::vector<Vec>& vertices, const WholeRule& rule,
                          const detail::PieceOwner& who, const std::vector<int>& order, HeldPoints held,
-                         MeshPieceRead<MeshType>& out) {
-  if (who.owned) return choose_around(cells, vertices, rule, *who.owned, held, out);
+                         MeshPieceRead<MeshType>& out, std::vector<char>& kept) {
+  if (who.owned) return choose_around(cells, vertices, rule, *who.owned, held, out, kept);
   const int rank = who.rank, size = who.size;
   if (size < 1 || rank < 0 || rank >= size)
     throw InternalError("a piece of a mesh for process " + std::to_string(rank) + " of " + std::to_string(size));
   const auto [first, end] = even_share(cells.num_vertices(), rank, size);
   std::vector<char> owned(static_cast<std::size_t>(cells.num_vertices()), 0);
   for (auto k = first; k < end; ++k) owned[static_cast<std::size_t>(order[static_cast<std::size_t>(k)])] = 1;
-  detail::FacetKeys cuts = choose_around(cells, vertices, rule, std::move(owned), held, out);
+  detail::FacetKeys cuts = choose_around(cells, vertices, rule, std::move(owned), held, out, kept);
   out.order = order;
   out.first = static_cast<int>(first);
   out.end = static_cast<int>(end);
@@ -352,9 +355,7 @@ void pieces_in_turn(std::unique_ptr<const CellTopology> cells, const std::vector
   std::vector<char> kept;
   for (std::size_t k = 0; k < turn.whose.size(); ++k) {
     PieceLists<MeshType> lists;
-    lists.cuts = chosen(*cells, vertices, rule, turn.whose[k], order, held, lists.piece);
-    kept.assign(static_cast<std::size_t>(cells->num_cells()), 0);
-    for (int c : lists.piece.cells) kept[static_cast<std::size_t>(c)] = 1;
+    lists.cuts = chosen(*cells, vertices, rule, turn.whose[k], order, held, lists.piece, kept);
     const bool last = k + 1 == turn.whose.size();
     if (last) cells.reset();  // the topology freed before the last piece's lists are made
     make_lists(lists, kept, last);
@@ -530,14 +531,17 @@ void write_cells(ByteWriter& out, const std::vector<std::vector<int>>& elements)
   out.array(loops);
 }
 void write_cells(ByteWriter& out, const std::vector<CellFaces>& cells) {
-  std::vector<int> faces{0};
-  std::vector<std::vector<int>> loops;
+  std::vector<int> faces{0}, start{0}, loops;
   for (const CellFaces& c : cells) {
-    loops.insert(loops.end(), c.begin(), c.end());
-    faces.push_back(static_cast<int>(loops.size()));
+    for (const auto& loop : c) {
+      loops.insert(loops.end(), loop.begin(), loop.end());
+      start.push_back(static_cast<int>(loops.size()));
+    }
+    faces.push_back(static_cast<int>(start.size()) - 1);
   }
   out.array(faces);
-  write_cells(out, loops);
+  out.array(start);
+  out.array(loops);
 }
 /// What write_cells wrote: each list of `start`'s ranges of `items`.
 template <class Item>
