@@ -116,6 +116,7 @@ template <class MeshType>
 struct PiecesInTurn {
   std::vector<PieceOwner> whose;
   std::function<void(std::size_t, PieceLists<MeshType>&&)> deliver;
+  BoundaryPick<MeshType> pick;  ///< empty: every piece holds every boundary facet's cells
 };
 
 /// The pieces of the processes of `size`: of each but the first in the order of the ranks, then
@@ -144,7 +145,9 @@ using hemivem::FacetKeys;
 /// (found once for all the pieces) and out.first, out.end its share of them (of flagged
 /// vertices, these three left empty); its cells piece_cells_around those vertices with the
 /// facets `facets` (a file's facet groups), every boundary facet and the first facet of each
-/// region's first cell (found once), and the cells around the vertex nearest each point `held`
+/// region's first cell (found once; of a mesh of one connected body given turn.pick, the facets
+/// it picks on the piece of no vertex and each region's first facet: BoundaryPick), and the
+/// cells around the vertex nearest each point `held`
 /// (HeldPoints); out.whole_cells and the cell sums the whole mesh's; its cuts the facets of a
 /// kept cell whose other cell is not kept. Then the rest of its lists (PieceLists: vertices,
 /// cells, regions, groups) are made by make_lists(lists, kept, last), `kept` flagging its cells
@@ -165,10 +168,12 @@ void make_pieces(std::unique_ptr<const CellTopology> cells, const std::vector<Ve
 /// (made, naming a defect as the whole reader does).
 template <class MeshType, class Reader>
 MeshPieceRead<MeshType> read_own_piece(std::istream& in, const std::string& name, int rank, int size,
-                                       HeldPoints held) {
+                                       HeldPoints held, const BoundaryPick<MeshType>& pick = {}) {
   Reader reader(in, name);
   PieceLists<MeshType> lists;
-  reader.read_pieces(piece_of({rank, size}, lists), held);
+  PiecesInTurn<MeshType> turn = piece_of({rank, size}, lists);
+  turn.pick = pick;
+  reader.read_pieces(turn, held);
   return reader.made(std::move(lists));
 }
 
@@ -177,7 +182,7 @@ MeshPieceRead<MeshType> read_own_piece(std::istream& in, const std::string& name
 /// piece_made_by_first.
 template <class MeshType, class Reader>
 MeshPieceRead<MeshType> read_piece_by_first(const std::filesystem::path& path, const RowDistribution& processes,
-                                            HeldPoints held) {
+                                            HeldPoints held, const BoundaryPick<MeshType>& pick = {}) {
   std::ifstream in;
   std::unique_ptr<Reader> reader;  // the first process's, kept to name a defect of any piece
   return piece_made_by_first<MeshType>(
@@ -185,7 +190,9 @@ MeshPieceRead<MeshType> read_piece_by_first(const std::filesystem::path& path, c
       [&](const PieceDelivery<MeshType>& deliver) {
         in = text::open_for_reading(path, "mesh file");
         reader = std::make_unique<Reader>(in, path.string());
-        reader->read_pieces(pieces_of_processes(processes.size(), deliver), held);
+        PiecesInTurn<MeshType> turn = pieces_of_processes(processes.size(), deliver);
+        turn.pick = pick;
+        reader->read_pieces(turn, held);
       },
       [&] { reader->name_defect(); });
 }

@@ -280,17 +280,18 @@ Mesh read_gmsh(std::istream& in, const std::string& name) {
   return GmshReader(in, name).read();
 }
 
-MeshPieceRead<Mesh> read_gmsh_piece(const fs::path& path, int rank, int size, HeldPoints held) {
+MeshPieceRead<Mesh> read_gmsh_piece(const fs::path& path, int rank, int size, HeldPoints held, const BoundaryPick<Mesh>& pick) {
   std::ifstream in = text::open_for_reading(path, "mesh file");
-  return read_gmsh_piece(in, path.string(), rank, size, held);
+  return detail::read_own_piece<Mesh, GmshReader>(in, path.string(), rank, size, held, pick);
 }
 
 MeshPieceRead<Mesh> read_gmsh_piece(std::istream& in, const std::string& name, int rank, int size, HeldPoints held) {
   return detail::read_own_piece<Mesh, GmshReader>(in, name, rank, size, held);
 }
 
-MeshPieceRead<Mesh> read_gmsh_piece(const fs::path& path, const RowDistribution& processes, HeldPoints held) {
-  return detail::read_piece_by_first<Mesh, GmshReader>(path, processes, held);
+MeshPieceRead<Mesh> read_gmsh_piece(const fs::path& path, const RowDistribution& processes, HeldPoints held,
+                                   const BoundaryPick<Mesh>& pick) {
+  return detail::read_piece_by_first<Mesh, GmshReader>(path, processes, held, pick);
 }
 
 MeshLists<Mesh> read_gmsh_lists(const fs::path& path) {

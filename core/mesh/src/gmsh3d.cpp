@@ -562,17 +562,18 @@ Mesh3D read_gmsh3d(std::istream& in, const std::string& name) {
   return Gmsh3DReader(in, name).read();
 }
 
-MeshPieceRead<Mesh3D> read_gmsh3d_piece(const fs::path& path, int rank, int size, HeldPoints held) {
+MeshPieceRead<Mesh3D> read_gmsh3d_piece(const fs::path& path, int rank, int size, HeldPoints held, const BoundaryPick<Mesh3D>& pick) {
   std::ifstream in = text::open_for_reading(path, "mesh file");
-  return read_gmsh3d_piece(in, path.string(), rank, size, held);
+  return detail::read_own_piece<Mesh3D, Gmsh3DReader>(in, path.string(), rank, size, held, pick);
 }
 
 MeshPieceRead<Mesh3D> read_gmsh3d_piece(std::istream& in, const std::string& name, int rank, int size, HeldPoints held) {
   return detail::read_own_piece<Mesh3D, Gmsh3DReader>(in, name, rank, size, held);
 }
 
-MeshPieceRead<Mesh3D> read_gmsh3d_piece(const fs::path& path, const RowDistribution& processes, HeldPoints held) {
-  return detail::read_piece_by_first<Mesh3D, Gmsh3DReader>(path, processes, held);
+MeshPieceRead<Mesh3D> read_gmsh3d_piece(const fs::path& path, const RowDistribution& processes, HeldPoints held,
+                                   const BoundaryPick<Mesh3D>& pick) {
+  return detail::read_piece_by_first<Mesh3D, Gmsh3DReader>(path, processes, held, pick);
 }
 
 MeshLists<Mesh3D> read_gmsh3d_lists(const fs::path& path) {

@@ -16,6 +16,7 @@
 #include <iterator>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 
 namespace hemivem {
@@ -224,18 +225,19 @@ Box box_of(const std::vector<Vec3>& p) {
 }
 
 /// What every piece of a mesh holds whatever its vertices, found once for all the pieces made of
-/// it: the cells of the facets `facets` (a file's groups), of every boundary facet and of the
-/// first facet of each region's first cell; and the whole mesh's sums over its cells
-/// (MeshPieceRead's).
+/// it: the cells of the facets `facets` (a file's groups, or those a BoundaryPick picked), of
+/// every boundary facet (unless `picked`) and of the first facet of each region's first cell;
+/// and the whole mesh's sums over its cells (MeshPieceRead's).
 struct WholeRule {
   std::vector<int> cells;  ///< the cells of those facets, increasing
   double cell_vertices = 0, cell_vertices_squared = 0;
   int largest_cell = 0;
 };
 
-WholeRule whole_rule(const CellTopology& cells, const std::vector<int>& regions, std::vector<int> facets) {
+WholeRule whole_rule(const CellTopology& cells, const std::vector<int>& regions, std::vector<int> facets,
+                     bool picked = false) {
   WholeRule rule;
-  for (int f = 0; f < cells.num_facets(); ++f)
+  for (int f = 0; f < cells.num_facets() && !picked; ++f)
     if (cells.is_facet(f) && cells.facet_cells(f)[1] < 0) facets.push_back(f);
   std::vector<int> seen;  // a cell of each region
   for (int c = 0; c < cells.num_cells(); ++c) {
@@ -343,12 +345,61 @@ namespace detail {
 
 namespace {
 
+/// Whether the cells are one body: each reached from the first across the facets they share.
+bool one_body(const CellTopology& cells) {
+  std::vector<int> up(static_cast<std::size_t>(cells.num_cells()));
+  for (std::size_t c = 0; c < up.size(); ++c) up[c] = static_cast<int>(c);
+  const auto root = [&](int c) {
+    while (up[static_cast<std::size_t>(c)] != c) c = up[static_cast<std::size_t>(c)] = up[static_cast<std::size_t>(up[static_cast<std::size_t>(c)])];
+    return c;
+  };
+  int bodies = cells.num_cells();
+  for (int f = 0; f < cells.num_facets(); ++f) {
+    if (!cells.is_facet(f)) continue;
+    const auto [a, b] = cells.facet_cells(f);
+    if (b < 0) continue;
+    const int ra = root(a), rb = root(b);
+    if (ra != rb) up[static_cast<std::size_t>(ra)] = rb, --bodies;
+  }
+  return bodies == 1;
+}
+
+/// The facets of `cells` that `pick` picks on the piece of no vertex (BoundaryPick) made by
+/// `rule` (every boundary facet's and `facets`' cells), or nothing when the cells are not one
+/// body or their piece meets a defect (MeshError: the pieces find it).
+template <class Vec, class MeshType>
+std::optional<std::vector<int>> picked_facets(const CellTopology& cells, const std::vector<Vec>& vertices,
+                                              const WholeRule& rule, const BoundaryPick<MeshType>& pick,
+                                              const MakePieceLists<MeshType>& make_lists) {
+  if (!pick || !one_body(cells)) return std::nullopt;
+  const std::vector<char> none(static_cast<std::size_t>(cells.num_vertices()), 0);
+  PieceLists<MeshType> sides;
+  std::vector<char> kept;
+  sides.cuts = chosen(cells, vertices, rule, PieceOwner{.owned = &none}, {}, {}, sides.piece, kept);
+  make_lists(sides, kept, false);
+  MeshPieceRead<MeshType> made;
+  try {
+    made = make_piece(std::move(sides));
+  } catch (const MeshError&) {
+    return std::nullopt;
+  }
+  std::vector<int> facets;
+  for (const std::vector<int>& key : pick(std::move(made))) {
+    const int f = cells.find_facet(key);
+    if (f < 0) throw InternalError("a pick of a piece's boundary names a facet the mesh does not hold");
+    facets.push_back(f);
+  }
+  return facets;
+}
+
 template <class Vec, class MeshType>
 void pieces_in_turn(std::unique_ptr<const CellTopology> cells, const std::vector<Vec>& vertices,
                     const std::vector<int>& regions, const std::vector<int>& facets, HeldPoints held,
                     const PiecesInTurn<MeshType>& turn, const MakePieceLists<MeshType>& make_lists) {
   // found once for all the pieces
-  const WholeRule rule = whole_rule(*cells, regions, facets);
+  WholeRule rule = whole_rule(*cells, regions, facets);
+  const std::optional<std::vector<int>> picked = picked_facets(*cells, vertices, rule, turn.pick, make_lists);
+  if (picked) rule = whole_rule(*cells, regions, *picked, true);
   std::vector<int> order;
   if (std::any_of(turn.whose.begin(), turn.whose.end(), [](const PieceOwner& w) { return !w.owned; }))
     order = order_of(vertices);
@@ -356,6 +407,7 @@ void pieces_in_turn(std::unique_ptr<const CellTopology> cells, const std::vector
   for (std::size_t k = 0; k < turn.whose.size(); ++k) {
     PieceLists<MeshType> lists;
     lists.cuts = chosen(*cells, vertices, rule, turn.whose[k], order, held, lists.piece, kept);
+    lists.piece.picked = picked.has_value();
     const bool last = k + 1 == turn.whose.size();
     if (last) cells.reset();  // the topology freed before the last piece's lists are made
     make_lists(lists, kept, last);
@@ -569,11 +621,19 @@ void read_cells(ByteReader& in, std::vector<CellFaces>& cells) {
 }
 
 template <class MeshType>
+FacetKeys keys_of(const MeshType& mesh, std::span<const int> facets) {
+  FacetKeys keys;
+  keys.reserve(facets.size());
+  for (int f : facets) keys.push_back(sorted_vertices(mesh, f));
+  return keys;
+}
+
+template <class MeshType>
 void write_any_piece(const PieceLists<MeshType>& lists, std::vector<char>& bytes) {
   ByteWriter out(bytes);
   const MeshPieceRead<MeshType>& p = lists.piece;
   for (const auto* a : {&p.cells, &p.order, &lists.regions}) out.array(*a);
-  for (const int v : {p.whole_cells, p.first, p.end, p.largest_cell}) out.value(v);
+  for (const int v : {p.whole_cells, p.first, p.end, p.largest_cell, p.picked ? 1 : 0}) out.value(v);
   out.value(p.cell_vertices);
   out.value(p.cell_vertices_squared);
   out.points(lists.vertices);
@@ -588,6 +648,9 @@ void write_any_piece(const PieceLists<MeshType>& lists, std::vector<char>& bytes
 
 }  // namespace
 
+FacetKeys facet_keys(const Mesh& mesh, std::span<const int> facets) { return keys_of(mesh, facets); }
+FacetKeys facet_keys(const Mesh3D& mesh, std::span<const int> facets) { return keys_of(mesh, facets); }
+
 MeshPieceRead<Mesh> make_piece(PieceLists<Mesh> lists) { return make_any_piece(std::move(lists)); }
 MeshPieceRead<Mesh3D> make_piece(PieceLists<Mesh3D> lists) { return make_any_piece(std::move(lists)); }
 
@@ -601,6 +664,7 @@ PieceLists<MeshType> read_piece(std::span<const char> bytes) {
   MeshPieceRead<MeshType>& p = lists.piece;
   for (auto* a : {&p.cells, &p.order, &lists.regions}) *a = in.array<int>();
   for (int* v : {&p.whole_cells, &p.first, &p.end, &p.largest_cell}) *v = in.value<int>();
+  p.picked = in.value<int>() != 0;
   p.cell_vertices = in.value<double>();
   p.cell_vertices_squared = in.value<double>();
   lists.vertices = in.points<typename PieceLists<MeshType>::Point>();

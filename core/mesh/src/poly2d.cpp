@@ -342,13 +342,14 @@ MeshPieceRead<Mesh> read_poly2d_piece(std::istream& in, const std::string& name,
   return detail::read_own_piece<Mesh, Poly2dReader>(in, name, rank, size, held);
 }
 
-MeshPieceRead<Mesh> read_poly2d_piece(const fs::path& path, const RowDistribution& processes, HeldPoints held) {
-  return detail::read_piece_by_first<Mesh, Poly2dReader>(path, processes, held);
+MeshPieceRead<Mesh> read_poly2d_piece(const fs::path& path, const RowDistribution& processes, HeldPoints held,
+                                   const BoundaryPick<Mesh>& pick) {
+  return detail::read_piece_by_first<Mesh, Poly2dReader>(path, processes, held, pick);
 }
 
-MeshPieceRead<Mesh> read_poly2d_piece(const fs::path& path, int rank, int size, HeldPoints held) {
+MeshPieceRead<Mesh> read_poly2d_piece(const fs::path& path, int rank, int size, HeldPoints held, const BoundaryPick<Mesh>& pick) {
   std::ifstream in = text::open_for_reading(path, "mesh file");
-  return read_poly2d_piece(in, path.string(), rank, size, held);
+  return detail::read_own_piece<Mesh, Poly2dReader>(in, path.string(), rank, size, held, pick);
 }
 
 MeshLists<Mesh> read_poly2d_lists(std::istream& in, const std::string& name) {

@@ -24,6 +24,7 @@
 #include <cstdint>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <set>
 #include <tuple>
 #include <string>
@@ -301,7 +302,7 @@ std::unique_ptr<BasicBuiltProblem<2>> build_problem_piece<2>(const Scene& scene,
                                                              const RowDistribution& processes) {
   Mesh mesh = box_mesh_piece<2>(scene, piece);
   const std::vector<int> cut = grid_cut_facets(mesh, grid_vertices_of(scene));
-  const detail::SupportsAcross across{&processes, piece.first_vertex, piece.end_vertex};
+  const detail::SupportsAcross across{&processes, VertexShare{piece.first_vertex, piece.end_vertex, {}}.mask(mesh.num_vertices())};
   auto built = detail::built_plane_on(scene, std::move(mesh), true, false, cut, &across);
   built->problem.elasticity.piece_bodies = {{0, built->mesh.num_vertices()}, {generated_cells(scene)}};
   return built;
@@ -313,7 +314,7 @@ std::unique_ptr<BasicBuiltProblem<3>> build_problem_piece<3>(const Scene& scene,
   detail::require_dimension<3>(scene);
   Mesh3D mesh = box_mesh_piece<3>(scene, piece);
   const std::vector<int> cut = grid_cut_facets(mesh, grid_vertices_of(scene));
-  const detail::SupportsAcross across{&processes, piece.first_vertex, piece.end_vertex};
+  const detail::SupportsAcross across{&processes, VertexShare{piece.first_vertex, piece.end_vertex, {}}.mask(mesh.num_vertices())};
   auto built = detail::built_solid(scene, std::move(mesh), true, cut, &across);
   built->problem.elasticity.piece_bodies = {{0, built->mesh.num_vertices()}, {generated_cells(scene)}};
   return built;
@@ -332,10 +333,13 @@ namespace {
 /// of every facet its selectors may pick) on the piece of its mesh around the vertices `around`
 /// flags (cut_problem_piece's rule), `held` given back: `cells` the piece's cells, increasing
 /// numbers of the cells of held->mesh. `body_cells`: each body's number of cells in the whole
-/// mesh (PieceBodies::cells).
+/// mesh (PieceBodies::cells). `points`: the vertices the supports hold at points, whose cells are
+/// kept; none given, every vertex a support lists (its points', on a piece whose supports were
+/// not completed across the processes).
 template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> keep_around(std::unique_ptr<BasicBuiltProblem<dim>> held, std::vector<char> around,
-                                                    std::vector<int> body_cells, std::vector<int>& cells) {
+                                                    std::vector<int> body_cells, std::vector<int>& cells,
+                                                    const std::vector<int>* points = nullptr) {
   const MeshOf<dim>& mesh = held->mesh;
   const BasicContactProblem<dim>& problem = held->problem;
   // a mesh whose every body (every part of a joined mesh, or the mesh) is one connected piece by
@@ -355,8 +359,11 @@ std::unique_ptr<BasicBuiltProblem<dim>> keep_around(std::unique_ptr<BasicBuiltPr
   }
   // the cells around the process's vertices and around the vertices supported alone (a body's
   // supports, when they are points, are in every piece of it)
-  for (const auto& d : problem.elasticity.dirichlet)
-    for (int v : d.vertices) around[static_cast<std::size_t>(v)] = 1;
+  if (points)
+    for (int v : *points) around[static_cast<std::size_t>(v)] = 1;
+  else
+    for (const auto& d : problem.elasticity.dirichlet)
+      for (int v : d.vertices) around[static_cast<std::size_t>(v)] = 1;
   cells = piece_cells_around(mesh, around, facets);
   std::vector<std::vector<int>> supported;  // each support's vertices of the mesh
   if (each_body_one)
@@ -560,18 +567,32 @@ namespace {
 /// the facets where it meets the others, then on the piece of it that keep_around keeps (the
 /// cells of every boundary facet `read` holds are those any selector may pick; of a mesh of one
 /// body the contact's alone are kept); where it lies in the whole mesh into `where` (its share
-/// and cells taken).
+/// and cells taken). A piece that holds of the boundary the contact's cells alone (read.picked,
+/// by contact_pick) has its supports and loads completed across `processes` (SupportsAcross;
+/// collective).
 template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> built_on_piece(const Scene& scene, MeshPieceRead<MeshOf<dim>>& read,
-                                                       PieceOfMesh& where) {
+                                                       PieceOfMesh& where, const RowDistribution* processes = nullptr) {
   where.vertices = VertexShare{read.first, read.end, std::move(read.order)};
   where.whole_cells = read.whole_cells;
   const int vertices = read.mesh.num_vertices();
+  std::vector<char> owned = where.vertices.mask(vertices);
+  std::optional<detail::SupportsAcross> across;
+  std::vector<int> points;  // of a completed piece: the vertices its supports hold at points
+  if (read.picked) {
+    if (processes == nullptr) throw InternalError("a piece holding the contact's boundary alone, posed without its processes");
+    across = detail::SupportsAcross{processes, owned};
+    for (const auto& q : held_points(scene))
+      if (const int v = nearest_point<dim>(read.mesh.vertices(), Eigen::Map<const Eigen::Vector3d>(q.data()).head<dim>()).first; v >= 0)
+        points.push_back(v);
+  }
+  const detail::SupportsAcross* completed = across ? &*across : nullptr;
   std::unique_ptr<BasicBuiltProblem<dim>> held;
-  if constexpr (dim == 2) held = detail::built_plane_on(scene, std::move(read.mesh), true, false, read.cut_facets);
-  else held = detail::built_solid(scene, std::move(read.mesh), false, read.cut_facets);
+  if constexpr (dim == 2) held = detail::built_plane_on(scene, std::move(read.mesh), true, false, read.cut_facets, completed);
+  else held = detail::built_solid(scene, std::move(read.mesh), false, read.cut_facets, completed);
+  across.reset();
   std::vector<int> kept;
-  auto out = keep_around<dim>(std::move(held), where.vertices.mask(vertices), {read.whole_cells}, kept);
+  auto out = keep_around<dim>(std::move(held), std::move(owned), {read.whole_cells}, kept, read.picked ? &points : nullptr);
   where.cells.resize(kept.size());
   for (std::size_t k = 0; k < kept.size(); ++k) where.cells[k] = read.cells[static_cast<std::size_t>(kept[k])];
   return out;
@@ -581,10 +602,29 @@ std::unique_ptr<BasicBuiltProblem<dim>> built_on_piece(const Scene& scene, MeshP
 
 namespace {
 
+/// What every piece of the scene's mesh of one body holds of its boundary (BoundaryPick): the
+/// facets of its contact parts, as the scene's selectors pick them on `sides`, which holds every
+/// facet they may pick (their errors are then the whole mesh's).
+template <int dim>
+BoundaryPick<MeshOf<dim>> contact_pick(const Scene& scene) {
+  return [&scene](MeshPieceRead<MeshOf<dim>>&& sides) {
+    std::unique_ptr<BasicBuiltProblem<dim>> on;
+    if constexpr (dim == 2) on = detail::built_plane_on(scene, std::move(sides.mesh), false, false, sides.cut_facets);
+    else on = detail::built_solid(scene, std::move(sides.mesh), false, sides.cut_facets);
+    std::vector<int> facets;
+    for (const auto& p : on->problem.parts) {
+      facets.insert(facets.end(), p.facets.begin(), p.facets.end());
+      facets.insert(facets.end(), p.against.begin(), p.against.end());
+    }
+    return facet_keys(on->mesh, facets);
+  };
+}
+
 /// read_problem_piece on the piece `read(path, held)` reads of the scene's file (a Gmsh file,
-/// or in the plane a .poly2d file: `poly2d`).
+/// or in the plane a .poly2d file: `poly2d`); `processes` as built_on_piece's.
 template <int dim, class Read>
-std::unique_ptr<BasicBuiltProblem<dim>> problem_on_read_piece(const Scene& scene, PieceOfMesh& where, Read&& read) {
+std::unique_ptr<BasicBuiltProblem<dim>> problem_on_read_piece(const Scene& scene, PieceOfMesh& where, Read&& read,
+                                                              const RowDistribution* processes = nullptr) {
   detail::require_dimension<dim>(scene);
   const std::vector<std::array<double, 3>> held = held_points(scene);
   const bool poly2d = to_lower(scene.mesh.file.extension().string()) == ".poly2d";
@@ -594,7 +634,7 @@ std::unique_ptr<BasicBuiltProblem<dim>> problem_on_read_piece(const Scene& scene
                                 estimate_memory(piece.mesh.num_vertices(), piece.whole_cells, piece.cell_vertices,
                                                 piece.cell_vertices_squared),
                                 piece.largest_cell);
-  return built_on_piece<dim>(scene, piece, where);
+  return built_on_piece<dim>(scene, piece, where, processes);
 }
 
 }  // namespace
@@ -610,10 +650,16 @@ std::unique_ptr<BasicBuiltProblem<dim>> read_problem_piece(const Scene& scene, i
 template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> read_problem_piece(const Scene& scene, const RowDistribution& processes,
                                                            PieceOfMesh& where) {
-  return problem_on_read_piece<dim>(scene, where, [&](const std::filesystem::path& file, HeldPoints held, bool poly2d) {
-    if constexpr (dim == 2) return poly2d ? read_poly2d_piece(file, processes, held) : read_gmsh_piece(file, processes, held);
-    else return read_gmsh3d_piece(file, processes, held);
-  });
+  const BoundaryPick<MeshOf<dim>> pick = contact_pick<dim>(scene);
+  return problem_on_read_piece<dim>(
+      scene, where,
+      [&](const std::filesystem::path& file, HeldPoints held, bool poly2d) {
+        if constexpr (dim == 2)
+          return poly2d ? read_poly2d_piece(file, processes, held, pick) : read_gmsh_piece(file, processes, held, pick);
+        else
+          return read_gmsh3d_piece(file, processes, held, pick);
+      },
+      &processes);
 }
 
 template std::unique_ptr<BasicBuiltProblem<2>> read_problem_piece<2>(const Scene&, int, int, PieceOfMesh&);

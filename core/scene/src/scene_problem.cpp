@@ -214,7 +214,7 @@ void complete_across(BasicElasticityProblem<dim>& e, const Scene& scene, const d
   std::vector<double> held;  // (support, vertex) of the process's own vertices
   for (std::size_t k = 0; k < e.dirichlet.size(); ++k)
     for (int v : e.dirichlet[k].held_vertices(*e.mesh))
-      if (v >= across.first_vertex && v < across.end_vertex) held.insert(held.end(), {static_cast<double>(k), static_cast<double>(v)});
+      if (across.owned.at(static_cast<std::size_t>(v))) held.insert(held.end(), {static_cast<double>(k), static_cast<double>(v)});
   const Eigen::VectorXd picked = across.processes->sum_in_rank_order(picks);
   const Eigen::VectorXd all =
       across.processes->all_gather(Eigen::Map<const Eigen::VectorXd>(held.data(), static_cast<Eigen::Index>(held.size())));

@@ -58,11 +58,12 @@ void check_regions_present(const Scene& scene, const std::set<int>& present, boo
 /// piece's cells that it picks of the whole mesh, which may be none. The processes together
 /// (collective over `processes`) then say whether each picks a facet of the whole mesh, and give
 /// each support the vertices it holds on the pieces of the others: each process sends those among
-/// its own vertices, [first_vertex, end_vertex), every cell around which its piece holds.
+/// its own vertices (`owned`, one flag per vertex), every cell around which its piece holds. So
+/// too a piece of a mesh file that holds of its boundary the contact's cells alone
+/// (MeshPieceRead::picked).
 struct SupportsAcross {
   const RowDistribution* processes = nullptr;
-  int first_vertex = 0;
-  int end_vertex = 0;
+  std::vector<char> owned;
 };
 
 /// The built problem of `scene` on `mesh` (make_contact_problem), with has_contact and the

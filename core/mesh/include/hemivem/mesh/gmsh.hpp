@@ -26,12 +26,16 @@ Mesh read_gmsh(std::istream& in, const std::string& name);
 /// read_gmsh that the piece's elements or the file's elements show; a defect of elements
 /// outside the piece is another process's to find. The piece holds the cells around the vertex
 /// nearest each of the points `held` (x, y, and z = 0): the vertex a support at that point holds.
-MeshPieceRead<Mesh> read_gmsh_piece(const std::filesystem::path& path, int rank, int size, HeldPoints held = {});
+/// Given `pick`, a mesh of one connected body holds of its boundary and groups the cells of the
+/// facets it picks alone (BoundaryPick).
+MeshPieceRead<Mesh> read_gmsh_piece(const std::filesystem::path& path, int rank, int size, HeldPoints held = {},
+                                    const BoundaryPick<Mesh>& pick = {});
 MeshPieceRead<Mesh> read_gmsh_piece(std::istream& in, const std::string& name, int rank, int size, HeldPoints held = {});
 /// Collective over `processes`: this process's piece, as read_gmsh_piece reads process rank() of
 /// size()'s, with the file read by the first process alone and every piece made there in turn
 /// from one reading and sent to its process (as read_gmsh3d_piece across processes).
-MeshPieceRead<Mesh> read_gmsh_piece(const std::filesystem::path& path, const RowDistribution& processes, HeldPoints held = {});
+MeshPieceRead<Mesh> read_gmsh_piece(const std::filesystem::path& path, const RowDistribution& processes, HeldPoints held = {},
+                                    const BoundaryPick<Mesh>& pick = {});
 
 /// The file's mesh (as read_gmsh reads it) as lists (MeshLists) of which a process makes the
 /// piece around any of its vertices, by read_gmsh_piece's rule: a body among several each

@@ -26,8 +26,10 @@ Mesh3D read_gmsh3d(std::istream& in, const std::string& name);
 /// kept as lists of nodes, and only the piece's cells become a mesh. The errors of read_gmsh3d
 /// that the piece's cells or the file's elements show; a defect of cells outside the piece is
 /// another process's to find. The piece holds the cells around the vertex nearest each of the
-/// points `held` (read_gmsh_piece).
-MeshPieceRead<Mesh3D> read_gmsh3d_piece(const std::filesystem::path& path, int rank, int size, HeldPoints held = {});
+/// points `held` (read_gmsh_piece). Given `pick`, a mesh of one connected body holds of its
+/// boundary and groups the cells of the facets it picks alone (BoundaryPick).
+MeshPieceRead<Mesh3D> read_gmsh3d_piece(const std::filesystem::path& path, int rank, int size, HeldPoints held = {},
+                                        const BoundaryPick<Mesh3D>& pick = {});
 MeshPieceRead<Mesh3D> read_gmsh3d_piece(std::istream& in, const std::string& name, int rank, int size,
                                         HeldPoints held = {});
 /// Collective over `processes`: this process's piece of the file's mesh, as read_gmsh3d_piece
@@ -40,7 +42,7 @@ MeshPieceRead<Mesh3D> read_gmsh3d_piece(std::istream& in, const std::string& nam
 /// names it; the first throws that error, every other process InputError "process 0 stopped:
 /// <that error>" (piece_made_by_first).
 MeshPieceRead<Mesh3D> read_gmsh3d_piece(const std::filesystem::path& path, const RowDistribution& processes,
-                                        HeldPoints held = {});
+                                        HeldPoints held = {}, const BoundaryPick<Mesh3D>& pick = {});
 
 /// The file's mesh (as read_gmsh3d reads it) as lists (MeshLists) of which a process makes the
 /// piece around any of its vertices, by read_gmsh3d_piece's rule (read_gmsh_lists).

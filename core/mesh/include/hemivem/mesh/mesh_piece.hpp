@@ -56,7 +56,9 @@ Mesh3D cut_mesh_piece(const Mesh3D& mesh, std::span<const int> cells, std::vecto
 /// curve (hilbert_vertex_order), and the piece is cut_mesh_piece's of the whole mesh's cells
 /// piece_cells_around that share with the facets of the mesh's boundary, of its facet groups
 /// and the first facet of each region's first cell (so that every piece holds every region and
-/// every facet a support, load or contact part may select by side or group).
+/// every facet a support, load or contact part may select by side or group). Given a
+/// BoundaryPick (below), a mesh of one connected body is cut with the facets it picks in place
+/// of the boundary's and the groups'.
 /// Points whose nearest vertex (the least numbered of the nearest) a piece read from a file holds
 /// with the cells around it, as a support at such a point holds that vertex: x, y, z (z = 0 in
 /// the plane).
@@ -76,11 +78,29 @@ struct MeshPieceRead {
   /// and the most vertices of one (a memory estimate of the whole mesh's).
   double cell_vertices = 0, cell_vertices_squared = 0;
   int largest_cell = 0;
+  /// Whether the piece holds, of the boundary and the facet groups, the cells of the facets a
+  /// BoundaryPick picked alone; otherwise of every boundary facet and every group's facet.
+  bool picked = false;
 };
 
 /// Facets by their vertices, each increasing: a piece's facet groups and where it meets the
 /// rest of the mesh, as they are known before its mesh is made.
 using FacetKeys = std::vector<std::vector<int>>;
+
+/// The facets `facets` of `mesh` by their vertices (FacetKeys), in that order.
+FacetKeys facet_keys(const Mesh& mesh, std::span<const int> facets);
+FacetKeys facet_keys(const Mesh3D& mesh, std::span<const int> facets);
+
+/// Which facets every piece of a mesh of one connected body holds the cells of, in place of
+/// every boundary facet and facet group: given `sides`, the piece of no vertex (the cells of
+/// every boundary facet, of every group's facet and of each region's first cell, with every
+/// vertex; its cut_facets where it meets the rest), the facets of its boundary that the caller
+/// needs on every piece (a scene's contact: hemivem/scene/scene_pieces.hpp), by their vertices
+/// (facet_keys of sides.mesh). Called once, where the pieces are made, before the first piece is
+/// made; its errors end the reading. Not called for a mesh of several bodies, nor for one whose
+/// boundary cells make no mesh (the pieces then find the defect as they do without a pick).
+template <class MeshType>
+using BoundaryPick = std::function<FacetKeys(MeshPieceRead<MeshType>&& sides)>;
 
 /// A piece as the lists its mesh is made of, before the mesh is made: what a reader chooses of
 /// a mesh not made whole, and what the first process sends another (read_gmsh3d_piece across

@@ -40,13 +40,15 @@ Poly2dMesh read_poly2d(std::istream& in, const std::string& name);
 /// the whole mesh, by read_gmsh_piece's rule (hemivem/mesh/mesh_piece.hpp; the file has no
 /// groups or regions). The file's errors are read_poly2d's; a defect of the elements, those the
 /// piece shows, named as read_poly2d names the whole mesh's first.
-MeshPieceRead<Mesh> read_poly2d_piece(const std::filesystem::path& path, int rank, int size, HeldPoints held = {});
+MeshPieceRead<Mesh> read_poly2d_piece(const std::filesystem::path& path, int rank, int size, HeldPoints held = {},
+                                      const BoundaryPick<Mesh>& pick = {});
 MeshPieceRead<Mesh> read_poly2d_piece(std::istream& in, const std::string& name, int rank, int size,
                                       HeldPoints held = {});
 /// Collective over `processes`: this process's piece, as read_poly2d_piece reads process rank() of
 /// size()'s, with the file read by the first process alone and every piece made there in turn
 /// from one reading and sent to its process (as read_gmsh3d_piece across processes).
-MeshPieceRead<Mesh> read_poly2d_piece(const std::filesystem::path& path, const RowDistribution& processes, HeldPoints held = {});
+MeshPieceRead<Mesh> read_poly2d_piece(const std::filesystem::path& path, const RowDistribution& processes, HeldPoints held = {},
+                                      const BoundaryPick<Mesh>& pick = {});
 
 /// The .poly2d file's mesh as lists (MeshLists) of which a process makes the piece around any
 /// of its vertices, by read_poly2d_piece's rule (read_gmsh_lists).
