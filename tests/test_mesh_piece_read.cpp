@@ -5,6 +5,7 @@
 // poses the share of the whole problem.
 #include <hemivem/contact/pose_share.hpp>
 #include <hemivem/error.hpp>
+#include <hemivem/mesh/bodies.hpp>
 #include <hemivem/mesh/generators.hpp>
 #include <hemivem/mesh/generators3d.hpp>
 #include <hemivem/mesh/gmsh.hpp>
@@ -21,6 +22,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -81,17 +83,20 @@ std::map<std::string, std::set<std::vector<int>>> group_facets(const M& mesh) {
 }
 
 /// The piece of `whole` process `rank` of `size` keeps by the rule of MeshPieceRead, cut from
-/// the whole mesh: its cells.
+/// the whole mesh: its cells. Given the facets `picked` (of a BoundaryPick), those in place of the
+/// boundary's and the groups'.
 template <class M>
-std::vector<int> cut_rule_cells(const M& whole, int rank, int size) {
+std::vector<int> cut_rule_cells(const M& whole, int rank, int size, const std::vector<int>* picked = nullptr) {
   const std::vector<int> order = hilbert_vertex_order(whole);
   const auto [first, end] = vertex_share(whole.num_vertices(), rank, size);
   const std::vector<char> owned = VertexShare{first, end, order}.mask(whole.num_vertices());
   std::vector<int> facets;
   const int num_facets = static_cast<int>(whole.num_facets());
-  for (int f = 0; f < num_facets; ++f)
+  if (picked) facets = *picked;
+  for (int f = 0; f < num_facets && !picked; ++f)
     if (on_boundary(whole, f)) facets.push_back(f);
-  for (const auto& [name, group] : groups_of(whole)) facets.insert(facets.end(), group.begin(), group.end());
+  for (const auto& [name, group] : groups_of(whole))
+    if (!picked) facets.insert(facets.end(), group.begin(), group.end());
   std::set<int> regions;
   for (int c = 0; c < num_cells_of(whole); ++c)
     if (regions.insert(whole.region(c)).second) facets.push_back(first_facet(whole, c)[0]);
@@ -101,17 +106,24 @@ std::vector<int> cut_rule_cells(const M& whole, int rank, int size) {
 /// Every process's piece of `size` read from the file is the piece cut from the whole mesh:
 /// the same cells in the whole's order, each with the whole's loops, volume and region, every
 /// vertex, the groups' facets it holds, the share along the whole mesh's Hilbert order; and
-/// some piece is smaller than the whole when `smaller`.
+/// some piece is smaller than the whole when `smaller`. Given `picked`, the piece is cut with
+/// those facets of the whole in place of the boundary's and the groups' (MeshPieceRead::picked).
+/// The number of cells of the pieces together into `held` when given.
 template <class M, class ReadWhole, class ReadPiece>
-void expect_read_pieces_are_cut_pieces(const fs::path& file, int size, bool smaller, ReadWhole read_whole, ReadPiece read_piece) {
+void expect_read_pieces_are_cut_pieces(const fs::path& file, int size, bool smaller, ReadWhole read_whole,
+                                       ReadPiece read_piece, const std::vector<int>* picked = nullptr,
+                                       std::size_t* held = nullptr) {
   SCOPED_TRACE(file.filename().string() + " in " + std::to_string(size) + " pieces");
   const M whole = read_whole(file);
   bool some_smaller = false;
+  if (held) *held = 0;
   for (int rank = 0; rank < size; ++rank) {
     SCOPED_TRACE("rank " + std::to_string(rank));
     const MeshPieceRead<M> read = read_piece(file, rank, size);
-    const std::vector<int> cells = cut_rule_cells(whole, rank, size);
+    const std::vector<int> cells = cut_rule_cells(whole, rank, size, picked);
+    EXPECT_EQ(read.picked, picked != nullptr);
     ASSERT_EQ(read.cells, cells);
+    if (held) *held += cells.size();
     EXPECT_EQ(read.whole_cells, num_cells_of(whole));
     EXPECT_EQ(read.order, hilbert_vertex_order(whole));
     const auto [first, end] = vertex_share(whole.num_vertices(), rank, size);
@@ -205,6 +217,42 @@ const auto sent_plane = sent_by_first<Mesh>([](const fs::path& p, const test::Th
 const auto sent_poly = sent_by_first<Mesh>([](const fs::path& p, const test::ThreadRows& rows) { return read_poly2d_piece(p, rows); });
 const auto sent_solid =
     sent_by_first<Mesh3D>([](const fs::path& p, const test::ThreadRows& rows) { return read_gmsh3d_piece(p, rows); });
+
+/// The boundary facets of `mesh` whose every vertex lies on its lowest line or plane (least y in
+/// the plane, least z in a solid), but for those of `cut` (a piece's, where it meets the rest).
+template <class M>
+std::vector<int> lowest_facets(const M& mesh, std::span<const int> cut = {}) {
+  const auto height = [&](int v) { return mesh.vertex(v)(mesh.vertex(v).size() - 1); };
+  double lowest = height(0);
+  for (int v = 0; v < mesh.num_vertices(); ++v) lowest = std::min(lowest, height(v));
+  std::vector<int> out;
+  for (int f = 0; f < static_cast<int>(mesh.num_facets()); ++f) {
+    if (!on_boundary(mesh, f) || std::binary_search(cut.begin(), cut.end(), f)) continue;
+    const std::vector<int> vs = facet_vertices(mesh, f);
+    if (std::all_of(vs.begin(), vs.end(), [&](int v) { return height(v) == lowest; })) out.push_back(f);
+  }
+  return out;
+}
+
+/// A BoundaryPick of the lowest facets (lowest_facets) that counts its calls into `calls` and
+/// expects the piece it is given to hold every boundary facet of `whole` (by their vertices) and
+/// no other of its own, and fewer cells than the whole when `fewer`.
+template <class M>
+BoundaryPick<M> lowest_pick(std::shared_ptr<const M> whole, std::shared_ptr<std::atomic<int>> calls, bool fewer) {
+  return [whole, calls, fewer](MeshPieceRead<M>&& sides) {
+    ++*calls;
+    std::set<std::vector<int>> boundary, held;
+    for (int f = 0; f < static_cast<int>(whole->num_facets()); ++f)
+      if (on_boundary(*whole, f)) boundary.insert(facet_keys(*whole, std::vector<int>{f})[0]);
+    for (int f = 0; f < static_cast<int>(sides.mesh.num_facets()); ++f)
+      if (on_boundary(sides.mesh, f) && !std::binary_search(sides.cut_facets.begin(), sides.cut_facets.end(), f))
+        held.insert(facet_keys(sides.mesh, std::vector<int>{f})[0]);
+    EXPECT_EQ(held, boundary);
+    EXPECT_EQ(static_cast<int>(sides.cells.size()) < num_cells_of(*whole), fewer);
+    EXPECT_EQ(sides.mesh.num_vertices(), whole->num_vertices());
+    return facet_keys(sides.mesh, lowest_facets(sides.mesh, sides.cut_facets));
+  };
+}
 
 /// Every file of `folder` ending in `ext`, which `read_whole` refuses, is refused by one of two
 /// processes' `read_piece` at least with the same message, and by both unless it is a defect of
@@ -333,6 +381,104 @@ std::vector<std::string> errors_sent_by_first(const fs::path& path, int size, Re
   return test::on_threads(size, [&](const test::ThreadRows& rows) {
     return test::input_error_of([&] { (void)read(path, rows); });
   });
+}
+
+// given a pick of its boundary, a mesh of one body's pieces, read by each process or sent by the
+// first, hold of the boundary and the groups the cells of the facets it picks alone, the piece
+// of every boundary facet made once to pick them on; a mesh of two bodies' are made as without
+// a pick, which is never called
+TEST(MeshPieceRead, APieceOfOneBodyHoldsOfItsBoundaryThePickedFacetsAlone) {
+  const fs::path squares = write_text("picked-squares.msh", test::squares_msh(12, 9));
+  const fs::path cubes = cubes_msh(8);
+  const fs::path two_bodies = write_text("picked-two-bodies.msh", "");  // two blocks of cubes apart
+  {
+    const Mesh3D a = make_cubes(GridSize3(4, 2, 3), Box{0, 1, 0, 0.5, 0, 1});
+    const Mesh3D b = make_cubes(GridSize3(3, 2, 2), Box{2, 3, 0, 0.5, 0.5, 1});
+    write_gmsh3d(join_meshes({&a, &b}, {"a", "b"}).mesh, two_bodies);
+  }
+  const fs::path poly = test::scenes_dir() / "meshes" / "graded-block.poly2d";
+  // the pieces read by each process or sent by the first with `pick`, for each number of them
+  const auto expect_picked = [&]<class M>(const fs::path& file, const auto& read_whole, const auto& read_own,
+                                          const auto& read_sent, bool one_body) {
+    const auto whole = std::make_shared<const M>(read_whole(file));
+    const std::vector<int> lowest = lowest_facets(*whole);
+    ASSERT_FALSE(lowest.empty());
+    for (int size : {1, 2, 3}) {
+      const auto calls = std::make_shared<std::atomic<int>>(0);
+      const BoundaryPick<M> pick = lowest_pick<M>(whole, calls, true);
+      const auto own = [&](const fs::path& p, int r, int s) { return read_own(p, r, s, pick); };
+      const auto sent = sent_by_first<M>([&](const fs::path& p, const test::ThreadRows& rows) { return read_sent(p, rows, pick); });
+      const std::vector<int>* picked = one_body ? &lowest : nullptr;
+      std::size_t without = 0, with = 0;
+      const bool smaller = one_body && size > 1;  // the two small blocks' pieces hold every cell
+      expect_read_pieces_are_cut_pieces<M>(
+          file, size, smaller, read_whole, [&](const fs::path& p, int r, int s) { return read_own(p, r, s, BoundaryPick<M>{}); },
+          nullptr, &without);
+      using Read = std::function<MeshPieceRead<M>(const fs::path&, int, int)>;
+      for (const auto& [read, readings] : {std::pair{Read(own), size}, std::pair{Read(sent), 1}}) {
+        calls->store(0);
+        expect_read_pieces_are_cut_pieces<M>(file, size, smaller, read_whole, read, picked, &with);
+        if (smaller) EXPECT_LT(with, without) << size << " pieces";
+        else EXPECT_EQ(with, without) << size << " pieces";
+        // once for each piece a process reads by itself, once for all that the first sends
+        EXPECT_EQ(calls->load(), one_body ? readings : 0);
+      }
+    }
+  };
+  expect_picked.operator()<Mesh>(squares, read_plane, [](const fs::path& p, int r, int s, const BoundaryPick<Mesh>& pick) {
+    return read_gmsh_piece(p, r, s, {}, pick);
+  }, [](const fs::path& p, const test::ThreadRows& rows, const BoundaryPick<Mesh>& pick) {
+    return read_gmsh_piece(p, rows, {}, pick);
+  }, true);
+  expect_picked.operator()<Mesh>(poly, read_poly, [](const fs::path& p, int r, int s, const BoundaryPick<Mesh>& pick) {
+    return read_poly2d_piece(p, r, s, {}, pick);
+  }, [](const fs::path& p, const test::ThreadRows& rows, const BoundaryPick<Mesh>& pick) {
+    return read_poly2d_piece(p, rows, {}, pick);
+  }, true);
+  const auto solid_own = [](const fs::path& p, int r, int s, const BoundaryPick<Mesh3D>& pick) {
+    return read_gmsh3d_piece(p, r, s, {}, pick);
+  };
+  const auto solid_sent = [](const fs::path& p, const test::ThreadRows& rows, const BoundaryPick<Mesh3D>& pick) {
+    return read_gmsh3d_piece(p, rows, {}, pick);
+  };
+  expect_picked.operator()<Mesh3D>(cubes, read_solid, solid_own, solid_sent, true);
+  expect_picked.operator()<Mesh3D>(two_bodies, read_solid, solid_own, solid_sent, false);
+  fs::remove(squares);
+  fs::remove(cubes);
+  fs::remove(two_bodies);
+}
+
+// a pick that refuses ends every process with its error, the first with it, the others saying
+// that process 0 stopped with it; a defect of the cells is named as without a pick
+TEST(MeshPieceRead, APickThatRefusesEndsEveryProcess) {
+  const fs::path squares = write_text("pick-refuses.msh", test::squares_msh(12, 9));
+  const BoundaryPick<Mesh> refuses = [](MeshPieceRead<Mesh>&&) -> FacetKeys {
+    throw InputError("contact.side: selects no boundary edge of the mesh");
+  };
+  const std::string message = test::input_error_of([&] { throw InputError("contact.side: selects no boundary edge of the mesh"); });
+  EXPECT_EQ(test::input_error_of([&] { (void)read_gmsh_piece(squares, 1, 3, {}, refuses); }), message);
+  const std::vector<std::string> met = errors_sent_by_first(
+      squares, 3, [&](const fs::path& p, const test::ThreadRows& rows) { return read_gmsh_piece(p, rows, {}, refuses); });
+  EXPECT_EQ(met[0], message);
+  for (std::size_t rank = 1; rank < met.size(); ++rank) EXPECT_EQ(met[rank], "process 0 stopped: " + message) << "rank " << rank;
+  // a defect inside the mesh, and one on its boundary (whose piece of every boundary facet
+  // cannot be made: the pieces then meet it as without a pick)
+  const BoundaryPick<Mesh> bottom = [](MeshPieceRead<Mesh>&& sides) {
+    return facet_keys(sides.mesh, lowest_facets(sides.mesh, sides.cut_facets));
+  };
+  for (const auto& [name, text] : {std::pair{"inside", test::squares_msh_repeating_a_vertex(24)},
+                                   std::pair{"boundary", test::squares_msh_crossing_on_the_bottom(24)}}) {
+    SCOPED_TRACE(name);
+    const fs::path defect = write_text(std::string("pick-defect-") + name + ".msh", text);
+    const std::string whole = test::input_error_of([&] { (void)read_gmsh(defect); });
+    ASSERT_FALSE(whole.empty());
+    const std::vector<std::string> ends = errors_sent_by_first(
+        defect, 3, [&](const fs::path& p, const test::ThreadRows& rows) { return read_gmsh_piece(p, rows, {}, bottom); });
+    EXPECT_EQ(ends[0], whole);
+    for (std::size_t rank = 1; rank < ends.size(); ++rank) EXPECT_EQ(ends[rank], "process 0 stopped: " + whole) << "rank " << rank;
+    fs::remove(defect);
+  }
+  fs::remove(squares);
 }
 
 // a file the whole reader refuses, or with a defect in one cell, read by the first process alone:
@@ -510,7 +656,7 @@ TEST(MeshPieceRead, TheProblemOnAPieceReadFromTheFilePosesTheWholeShare) {
 }
 
 // a segment picks on a piece the whole mesh's boundary facets the piece holds, never a facet
-// where the pieces meet
+// where the pieces meet (on pieces sent by the first, it picks the contact before making them)
 TEST(MeshPieceRead, ASegmentPicksOnAPieceTheWholeMeshsBoundaryFacetsAlone) {
   // .poly2d files: the top under a cylinder by a segment, along a loading path with friction;
   // sides of the mesh's bounding box
@@ -537,6 +683,14 @@ TEST(MeshPieceRead, ASegmentPicksOnAPieceTheWholeMeshsBoundaryFacetsAlone) {
     PieceOfMesh where;
     EXPECT_EQ(test::input_error_of([&] { (void)read_problem_piece<2>(plane, rank, 3, where); }), whole) << "rank " << rank;
   }
+  // pieces sent by the first: it picks the contact on the cells of the boundary before it makes
+  // any piece, so it meets the error there and every other process ends saying so
+  const std::vector<std::string> sent = test::on_threads(3, [&](const test::ThreadRows& rows) {
+    PieceOfMesh where;
+    return test::input_error_of([&] { (void)read_problem_piece<2>(plane, rows, where); });
+  });
+  EXPECT_EQ(sent[0], whole);
+  for (std::size_t rank = 1; rank < sent.size(); ++rank) EXPECT_EQ(sent[rank], "process 0 stopped: " + whole) << "rank " << rank;
   fs::remove(squares);
 }
 

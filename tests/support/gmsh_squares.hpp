@@ -2,6 +2,7 @@
 // bottom and top as physical lines.
 #pragma once
 
+#include <array>
 #include <sstream>
 #include <string>
 
@@ -40,17 +41,27 @@ inline std::string squares_msh(int nx, int ny) {
   return o.str();
 }
 
-/// squares_msh(n, n) with a defect inside the mesh: the square of the nodes (1, 1), (2, 1),
-/// (2, 2), (1, 2) (counted from the lower left corner) repeats its second node in place of its
-/// fourth.
-inline std::string squares_msh_repeating_a_vertex(int n) {
+/// squares_msh(n, n) with the square of the nodes (1, row), (2, row), (2, row + 1), (1, row + 1)
+/// (counted from the lower left corner) given the nodes at `corners` (0 to 3: of those four) in
+/// their place.
+inline std::string squares_msh_changing_a_square(int n, int row, std::array<int, 4> corners) {
   std::string text = squares_msh(n, n);
   const auto node = [&](int i, int j) { return std::to_string(j * (n + 1) + i + 1); };
-  const std::string square = " " + node(1, 1) + " " + node(2, 1) + " " + node(2, 2) + " " + node(1, 2) + "\n";
+  const std::array<std::string, 4> was{node(1, row), node(2, row), node(2, row + 1), node(1, row + 1)};
+  const std::string square = " " + was[0] + " " + was[1] + " " + was[2] + " " + was[3] + "\n";
+  std::string changed;
+  for (int c : corners) changed += " " + was[static_cast<std::size_t>(c)];
   const auto at = text.find(square);
-  if (at != std::string::npos)
-    text.replace(at, square.size(), " " + node(1, 1) + " " + node(2, 1) + " " + node(2, 2) + " " + node(2, 1) + "\n");
+  if (at != std::string::npos) text.replace(at, square.size(), changed + "\n");
   return text;
 }
+
+/// squares_msh(n, n) with a defect inside the mesh: the square of the nodes (1, 1), (2, 1),
+/// (2, 2), (1, 2) repeats its second node in place of its fourth.
+inline std::string squares_msh_repeating_a_vertex(int n) { return squares_msh_changing_a_square(n, 1, {0, 1, 2, 1}); }
+
+/// squares_msh(n, n) with a defect on its bottom: the square of the nodes (1, 0), (2, 0), (2, 1),
+/// (1, 1) given as (1, 0), (2, 0), (1, 1), (2, 1), which crosses itself.
+inline std::string squares_msh_crossing_on_the_bottom(int n) { return squares_msh_changing_a_square(n, 0, {0, 1, 3, 2}); }
 
 }  // namespace hemivem::test
