@@ -250,13 +250,15 @@ class Gmsh3DReader final : detail::GmshSections {
         std::sort(key.begin(), key.end());
         faces.push_back({tags, std::move(key), cells->facet_cells(f)});
       }
+    // whether each element's faces are reversed, found once for the pieces that hold it
+    std::vector<signed char> reversed(top_.size(), -1);
     detail::make_pieces(std::move(cells), vertices, regions, grouped, held, turn,
                         [&](PieceLists<Mesh3D>& lists, const std::vector<char>& kept, bool last) {
                           lists.cells.reserve(lists.piece.cells.size());
                           lists.regions.reserve(lists.piece.cells.size());
                           for (int k : lists.piece.cells) {
                             const GmshElement& e = top_[static_cast<std::size_t>(k)];
-                            lists.cells.push_back(cell_of(e, vertices));
+                            lists.cells.push_back(cell_of(e, vertices, &reversed[static_cast<std::size_t>(k)]));
                             lists.regions.push_back(regions[static_cast<std::size_t>(k)]);
                           }
                           lists.groups = piece_groups(faces, kept);  // as add_face_groups gives them
@@ -265,23 +267,29 @@ class Gmsh3DReader final : detail::GmshSections {
   }
 
   /// The faces of a volume element, outward: as Gmsh's node ordering gives them, all reversed
-  /// when its volume is negative.
-  CellFaces cell_of(const GmshElement& e, const std::vector<Vec3>& vertices) const {
+  /// when its volume is negative. Given `reversed` (-1: not yet known), whether they are is
+  /// read from it, or found and kept there.
+  CellFaces cell_of(const GmshElement& e, const std::vector<Vec3>& vertices, signed char* reversed = nullptr) const {
     CellFaces faces;
     for (const auto& f : volume_shape(e.type)->faces) {
       std::vector<int> loop;
       for (int k : f) loop.push_back(vertex_of_[static_cast<std::size_t>(e.nodes[static_cast<std::size_t>(k)])]);
       faces.push_back(std::move(loop));
     }
-    const Vec3& o = vertices[static_cast<std::size_t>(faces[0][0])];
-    double volume = 0.0;
-    std::vector<Vec3> z;
-    for (const auto& loop : faces) {
-      z.clear();
-      for (int v : loop) z.push_back(vertices[static_cast<std::size_t>(v)] - o);
-      volume += polygon_area_vector(z).dot(polygon_centroid(z));
+    signed char found = -1;
+    if (reversed == nullptr) reversed = &found;
+    if (*reversed < 0) {
+      const Vec3& o = vertices[static_cast<std::size_t>(faces[0][0])];
+      double volume = 0.0;
+      std::vector<Vec3> z;
+      for (const auto& loop : faces) {
+        z.clear();
+        for (int v : loop) z.push_back(vertices[static_cast<std::size_t>(v)] - o);
+        volume += polygon_area_vector(z).dot(polygon_centroid(z));
+      }
+      *reversed = volume < 0.0 ? 1 : 0;
     }
-    if (volume < 0.0)
+    if (*reversed == 1)
       for (auto& loop : faces) std::reverse(loop.begin(), loop.end());
     return faces;
   }
