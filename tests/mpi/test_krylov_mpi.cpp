@@ -322,6 +322,24 @@ TEST(KrylovMpi, WhatTheFirstMakesForEachProcessIsSentToIt) {
   EXPECT_EQ(rows->sum(1.0), p);  // every process is here: none waits
 }
 
+// what the first gives every process at once (MPI_Bcast) reaches each whole, in place of what
+// it held; an empty one too
+TEST(KrylovMpi, WhatTheFirstGivesEveryProcessReachesEach) {
+  const int r = world().rank;
+  const auto rows = one_row_each();
+  for (const std::size_t n : {std::size_t{0}, std::size_t{1}, std::size_t{300007}}) {
+    std::vector<char> bytes(r == 0 ? n : 5, 'x');  // the others' replaced
+    if (r == 0)
+      for (std::size_t j = 0; j < n; ++j) bytes[j] = static_cast<char>(j % 253);
+    rows->broadcast_from_first(bytes);
+    ASSERT_EQ(bytes.size(), n) << "process " << r;
+    std::size_t wrong = 0;
+    for (std::size_t j = 0; j < n; ++j) wrong += bytes[j] == static_cast<char>(j % 253) ? 0 : 1;
+    EXPECT_EQ(wrong, 0u) << "process " << r;
+  }
+  EXPECT_EQ(rows->sum(1.0), world().size);
+}
+
 /// The message of the InternalError make_distributed_rows(layout) throws ("" when none).
 std::string refusal(const RowLayout& layout) {
   try {

@@ -99,6 +99,87 @@ void join_parts(const MeshType& mesh, std::vector<char>& keep) {
   }
 }
 
+/// How a piece's kept cells are joined into one part in each body, prepared once for a mesh and
+/// the cells every piece of it holds (`fixed`, increasing: of the facets every piece holds): the
+/// fixed cells joined to one another (join_parts: the spine), and from every cell of a body that
+/// holds any, the next cell of a shortest path across facets to the spine (a search from all the
+/// spine's cells at once). A piece's kept cells are then joined by its spine and, from the cell of
+/// each of its other parts nearest the spine, the path to the first kept cell on the way, which
+/// lies nearer (so each part reaches the spine); a body without fixed cells by join_parts. Each
+/// piece then costs its own cells' work and one pass over the flags, not a search through the body.
+template <class MeshType>
+class PieceJoiner {
+ public:
+  PieceJoiner(const MeshType& mesh, const std::vector<int>& fixed)
+      : mesh_(&mesh), spine_(static_cast<std::size_t>(mesh.num_cells()), 0) {
+    for (int c : fixed) spine_[static_cast<std::size_t>(c)] = 1;
+    join_parts(mesh, spine_);
+    distance_.assign(spine_.size(), -1);
+    toward_.assign(spine_.size(), -1);
+    std::vector<int> queue;
+    for (std::size_t c = 0; c < spine_.size(); ++c)
+      if (spine_[c]) distance_[c] = 0, queue.push_back(static_cast<int>(c));
+    for (std::size_t head = 0; head < queue.size(); ++head) {
+      const int c = queue[head];
+      for (int f : cell_facets(mesh, c))
+        for (int d : facet_cells(mesh, f))
+          if (d >= 0 && distance_[static_cast<std::size_t>(d)] < 0) {
+            distance_[static_cast<std::size_t>(d)] = distance_[static_cast<std::size_t>(c)] + 1;
+            toward_[static_cast<std::size_t>(d)] = c;
+            queue.push_back(d);
+          }
+    }
+  }
+
+  /// The spine: the cells every piece keeps.
+  const std::vector<char>& spine() const { return spine_; }
+
+  /// Adds to `keep` (which holds the spine) the cells that join its parts in each body.
+  void join(std::vector<char>& keep) const {
+    const MeshType& mesh = *mesh_;
+    std::vector<char> seen(keep.size(), 0), apart(keep.size(), 0);  // apart: of bodies without a spine
+    bool any_apart = false;
+    std::vector<int> stack;
+    for (std::size_t first = 0; first < keep.size(); ++first) {
+      if (!keep[first] || seen[first]) continue;
+      // the part of `first`: the kept cells reached across kept cells' facets, and its cell nearest the spine
+      int nearest = static_cast<int>(first);
+      seen[first] = 1;
+      stack.assign(1, static_cast<int>(first));
+      std::vector<int> part;
+      while (!stack.empty()) {
+        const int c = stack.back();
+        stack.pop_back();
+        part.push_back(c);
+        if (distance_[static_cast<std::size_t>(c)] < distance_[static_cast<std::size_t>(nearest)]) nearest = c;
+        for (int f : cell_facets(mesh, c))
+          for (int d : facet_cells(mesh, f))
+            if (d >= 0 && keep[static_cast<std::size_t>(d)] && !seen[static_cast<std::size_t>(d)]) {
+              seen[static_cast<std::size_t>(d)] = 1;
+              stack.push_back(d);
+            }
+      }
+      if (distance_[static_cast<std::size_t>(nearest)] < 0) {  // a body without a spine
+        for (int c : part) apart[static_cast<std::size_t>(c)] = 1;
+        any_apart = true;
+        continue;
+      }
+      for (int p = toward_[static_cast<std::size_t>(nearest)]; p >= 0 && !keep[static_cast<std::size_t>(p)];
+           p = toward_[static_cast<std::size_t>(p)])
+        keep[static_cast<std::size_t>(p)] = 1;
+    }
+    if (!any_apart) return;
+    join_parts(mesh, apart);
+    for (std::size_t c = 0; c < keep.size(); ++c) keep[c] = keep[c] || apart[c];
+  }
+
+ private:
+  const MeshType* mesh_;
+  std::vector<char> spine_;
+  std::vector<int> distance_;  // to the spine across facets; -1 in a body without one
+  std::vector<int> toward_;    // the next cell on the way to the spine; -1 in it or without one
+};
+
 /// The cells of each vertex: a CellTopology's own, a mesh's counted here.
 const VertexCells& cells_of_vertices(const CellTopology& cells) { return cells.vertex_cells(); }
 template <class MeshType>
@@ -164,16 +245,15 @@ std::vector<int> cells_of_facets(const MeshType& mesh, std::span<const int> face
   return cells;
 }
 
-/// The piece's cells around the vertices `owned` flags, with the cells `held` (of the facets
-/// every piece holds: cells_of_facets).
+/// The piece's cells around the vertices `owned` flags, with the cells every piece holds (of the
+/// facets every piece holds, cells_of_facets: `joiner`'s spine).
 template <class MeshType>
-std::vector<int> cells_around(const MeshType& mesh, const std::vector<char>& owned, const std::vector<int>& held) {
+std::vector<int> cells_around(const MeshType& mesh, const std::vector<char>& owned, const PieceJoiner<MeshType>& joiner) {
   const auto nv = static_cast<std::size_t>(mesh.num_vertices());
   if (owned.size() != nv)
     throw InputError("a piece of a mesh of " + std::to_string(nv) + " vertices given flags for " +
                      std::to_string(owned.size()));
-  std::vector<char> keep(static_cast<std::size_t>(mesh.num_cells()), 0);
-  for (int c : held) keep[static_cast<std::size_t>(c)] = 1;
+  std::vector<char> keep = joiner.spine();
   // the vertices of the cells holding an owned vertex: a cell holding one of them is in the piece
   const VertexCells& around = cells_of_vertices(mesh);
   std::vector<char> near = owned;
@@ -184,7 +264,7 @@ std::vector<int> cells_around(const MeshType& mesh, const std::vector<char>& own
   for (std::size_t v = 0; v < nv; ++v)
     if (near[v])
       for (int c : around.of(static_cast<int>(v))) keep[static_cast<std::size_t>(c)] = 1;
-  join_parts(mesh, keep);
+  joiner.join(keep);
   close_edges(mesh, keep);
   std::vector<int> out;
   for (int c = 0; c < mesh.num_cells(); ++c)
@@ -232,6 +312,7 @@ struct WholeRule {
   std::vector<int> cells;  ///< the cells of those facets, increasing
   double cell_vertices = 0, cell_vertices_squared = 0;
   int largest_cell = 0;
+  std::shared_ptr<const PieceJoiner<CellTopology>> joiner;  ///< of `cells`
 };
 
 WholeRule whole_rule(const CellTopology& cells, const std::vector<int>& regions, std::vector<int> facets,
@@ -251,6 +332,7 @@ WholeRule whole_rule(const CellTopology& cells, const std::vector<int>& regions,
     rule.largest_cell = std::max(rule.largest_cell, static_cast<int>(m));
   }
   rule.cells = cells_of_facets(cells, facets);
+  rule.joiner = std::make_shared<const PieceJoiner<CellTopology>>(cells, rule.cells);
   return rule;
 }
 
@@ -271,7 +353,7 @@ detail::FacetKeys choose_around(const CellTopology& cells, const std::vector<Vec
     const int nearest = nearest_point<dim>(vertices, Eigen::Map<const Eigen::Vector3d>(q.data()).head<dim>()).first;
     if (nearest >= 0) owned[static_cast<std::size_t>(nearest)] = 1;
   }
-  out.cells = cells_around(cells, owned, rule.cells);
+  out.cells = cells_around(cells, owned, *rule.joiner);
   out.whole_cells = cells.num_cells();
   kept.assign(static_cast<std::size_t>(cells.num_cells()), 0);
   for (int c : out.cells) kept[static_cast<std::size_t>(c)] = 1;
@@ -522,10 +604,10 @@ MeshType cut(const MeshType& mesh, std::span<const int> cells, std::vector<int>*
 }  // namespace
 
 std::vector<int> piece_cells_around(const Mesh& mesh, const std::vector<char>& owned, std::span<const int> facets) {
-  return cells_around(mesh, owned, cells_of_facets(mesh, facets));
+  return cells_around(mesh, owned, PieceJoiner<Mesh>(mesh, cells_of_facets(mesh, facets)));
 }
 std::vector<int> piece_cells_around(const Mesh3D& mesh, const std::vector<char>& owned, std::span<const int> facets) {
-  return cells_around(mesh, owned, cells_of_facets(mesh, facets));
+  return cells_around(mesh, owned, PieceJoiner<Mesh3D>(mesh, cells_of_facets(mesh, facets)));
 }
 
 Mesh cut_mesh_piece(const Mesh& mesh, std::span<const int> cells, std::vector<int>* facets) {
@@ -629,14 +711,22 @@ FacetKeys keys_of(const MeshType& mesh, std::span<const int> facets) {
 }
 
 template <class MeshType>
-void write_any_piece(const PieceLists<MeshType>& lists, std::vector<char>& bytes) {
+void write_any_shared(const PieceLists<MeshType>& lists, std::vector<char>& bytes) {
+  ByteWriter out(bytes);
+  out.array(lists.piece.order);
+  out.points(lists.vertices);
+}
+
+template <class MeshType>
+void write_any_piece(const PieceLists<MeshType>& lists, std::vector<char>& bytes, bool shared) {
   ByteWriter out(bytes);
   const MeshPieceRead<MeshType>& p = lists.piece;
-  for (const auto* a : {&p.cells, &p.order, &lists.regions}) out.array(*a);
+  out.value(shared ? 1 : 0);
+  for (const auto* a : {&p.cells, &lists.regions}) out.array(*a);
   for (const int v : {p.whole_cells, p.first, p.end, p.largest_cell, p.picked ? 1 : 0}) out.value(v);
   out.value(p.cell_vertices);
   out.value(p.cell_vertices_squared);
-  out.points(lists.vertices);
+  if (shared) write_any_shared(lists, bytes);
   write_cells(out, lists.cells);
   out.value(static_cast<std::uint64_t>(lists.groups.size()));
   for (const auto& [name, keys] : lists.groups) {
@@ -654,20 +744,43 @@ FacetKeys facet_keys(const Mesh3D& mesh, std::span<const int> facets) { return k
 MeshPieceRead<Mesh> make_piece(PieceLists<Mesh> lists) { return make_any_piece(std::move(lists)); }
 MeshPieceRead<Mesh3D> make_piece(PieceLists<Mesh3D> lists) { return make_any_piece(std::move(lists)); }
 
-void write_piece(const PieceLists<Mesh>& lists, std::vector<char>& out) { write_any_piece(lists, out); }
-void write_piece(const PieceLists<Mesh3D>& lists, std::vector<char>& out) { write_any_piece(lists, out); }
+void write_piece(const PieceLists<Mesh>& lists, std::vector<char>& out, bool shared) { write_any_piece(lists, out, shared); }
+void write_piece(const PieceLists<Mesh3D>& lists, std::vector<char>& out, bool shared) { write_any_piece(lists, out, shared); }
+void write_shared(const PieceLists<Mesh>& lists, std::vector<char>& out) { write_any_shared(lists, out); }
+void write_shared(const PieceLists<Mesh3D>& lists, std::vector<char>& out) { write_any_shared(lists, out); }
+
+namespace {
+
+template <class MeshType>
+void read_any_shared(ByteReader& in, PieceLists<MeshType>& lists) {
+  lists.piece.order = in.array<int>();
+  lists.vertices = in.points<typename PieceLists<MeshType>::Point>();
+}
+
+template <class MeshType>
+void read_shared_alone(std::span<const char> bytes, PieceLists<MeshType>& lists) {
+  ByteReader in(bytes);
+  read_any_shared(in, lists);
+  if (!in.done()) throw InternalError("the bytes of a piece's vertices hold more than them");
+}
+
+}  // namespace
+
+void read_shared(std::span<const char> bytes, PieceLists<Mesh>& lists) { read_shared_alone(bytes, lists); }
+void read_shared(std::span<const char> bytes, PieceLists<Mesh3D>& lists) { read_shared_alone(bytes, lists); }
 
 template <class MeshType>
 PieceLists<MeshType> read_piece(std::span<const char> bytes) {
   ByteReader in(bytes);
   PieceLists<MeshType> lists;
   MeshPieceRead<MeshType>& p = lists.piece;
-  for (auto* a : {&p.cells, &p.order, &lists.regions}) *a = in.array<int>();
+  const bool shared = in.value<int>() != 0;
+  for (auto* a : {&p.cells, &lists.regions}) *a = in.array<int>();
   for (int* v : {&p.whole_cells, &p.first, &p.end, &p.largest_cell}) *v = in.value<int>();
   p.picked = in.value<int>() != 0;
   p.cell_vertices = in.value<double>();
   p.cell_vertices_squared = in.value<double>();
-  lists.vertices = in.points<typename PieceLists<MeshType>::Point>();
+  if (shared) read_any_shared(in, lists);
   read_cells(in, lists.cells);
   for (auto n = in.value<std::uint64_t>(); n > 0; --n) {
     std::string name = in.text();

@@ -65,6 +65,17 @@ class RowDistribution {
   virtual std::vector<char> receive_from_first() const {
     throw InternalError("receive_from_first() in a run of " + std::to_string(size()) + " process(es)");
   }
+  /// Collective: the first process's `bytes` into every other process's `bytes` (what each held
+  /// before replaced). By default the first sends them to each in turn (send_to); a distribution
+  /// over MPI sends them along a tree (MPI_Bcast), so that the first sends about as much whatever
+  /// the number of processes.
+  virtual void broadcast_from_first(std::vector<char>& bytes) const {
+    if (size() == 1) return;
+    if (rank() == 0)
+      for (int to = 1; to < size(); ++to) send_to(to, bytes);
+    else
+      bytes = receive_from_first();
+  }
 
   double min(double value) const { return -max(-value); }
   /// Collective: the sum of every process's `mine` (of one length on all), added in the order of

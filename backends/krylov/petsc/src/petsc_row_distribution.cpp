@@ -222,4 +222,14 @@ std::vector<char> PetscRowDistribution::receive_from_first() const {
   return bytes;
 }
 
+void PetscRowDistribution::broadcast_from_first(std::vector<char>& bytes) const {
+  const Impl& m = *impl_;
+  std::uint64_t count = bytes.size();
+  MPI_Bcast(&count, 1, MPI_UINT64_T, 0, m.comm);
+  if (m.rank != 0) bytes.assign(static_cast<std::size_t>(count), 0);
+  constexpr std::uint64_t most = std::numeric_limits<int>::max();
+  for (std::uint64_t at = 0; at < count; at += most)
+    MPI_Bcast(bytes.data() + at, static_cast<int>(std::min(most, count - at)), MPI_BYTE, 0, m.comm);
+}
+
 }  // namespace hemivem

@@ -14,7 +14,10 @@
 //   send_to, receive_from_first
 //                   MPI_Send and MPI_Probe, MPI_Get_count, MPI_Recv of bytes (MPI_BYTE) with
 //                   a tag of their own; at most what MPI counts in an int (InternalError on
-//                   the sender beyond).
+//                   the sender beyond);
+//   broadcast_from_first
+//                   MPI_Bcast of the size, then of the bytes in parts of at most what MPI
+//                   counts in an int.
 //
 // The construction is collective and checks the layouts of all processes together (every
 // process gathers every process's range and the first defect of its ghosts): ranges
@@ -51,6 +54,7 @@ class PetscRowDistribution final : public RowDistribution {
   Eigen::VectorXd gather_to_first(const Eigen::VectorXd& mine) const override;
   void send_to(int to, std::span<const char> bytes) const override;
   std::vector<char> receive_from_first() const override;
+  void broadcast_from_first(std::vector<char>& bytes) const override;
 
  private:
   struct Impl;

@@ -11,8 +11,8 @@
 //     reads), or
 //   - have one of some given facets (the supports, loads and contact of a scene: a surface's
 //     worth), or
-//   - join the others of each body of the mesh (each connected part) into one (a path of
-//     cells through the body to each part not yet joined) or, in a solid, close the piece's surface (every cell around an edge that two
+//   - join the others of each body of the mesh (each connected part) into one (the cells of the
+//     given facets joined once, and a shortest path of cells from each other part to them) or, in a solid, close the piece's surface (every cell around an edge that two
 //     kept cells meet along alone),
 // in the whole mesh's order, each as the whole holds it with its region; each facet group holds
 // those of its facets that the piece holds.
@@ -127,11 +127,17 @@ MeshPieceRead<Mesh> make_piece(PieceLists<Mesh> lists);
 MeshPieceRead<Mesh3D> make_piece(PieceLists<Mesh3D> lists);
 
 /// The lists as bytes appended to `out`, and read back (what the first process sends
-/// another). InternalError for bytes that end too soon.
-void write_piece(const PieceLists<Mesh>& lists, std::vector<char>& out);
-void write_piece(const PieceLists<Mesh3D>& lists, std::vector<char>& out);
+/// another); without `shared`, all but the vertices and the piece's `order`, which every piece
+/// of a mesh holds alike and which write_shared and read_shared carry (read_piece then leaves
+/// them empty). InternalError for bytes that end too soon.
+void write_piece(const PieceLists<Mesh>& lists, std::vector<char>& out, bool shared = true);
+void write_piece(const PieceLists<Mesh3D>& lists, std::vector<char>& out, bool shared = true);
 template <class MeshType>
 PieceLists<MeshType> read_piece(std::span<const char> bytes);
+void write_shared(const PieceLists<Mesh>& lists, std::vector<char>& out);
+void write_shared(const PieceLists<Mesh3D>& lists, std::vector<char>& out);
+void read_shared(std::span<const char> bytes, PieceLists<Mesh>& lists);
+void read_shared(std::span<const char> bytes, PieceLists<Mesh3D>& lists);
 
 /// How the first process gives each process its piece's lists: deliver(rank, lists).
 template <class MeshType>
@@ -139,7 +145,9 @@ using PieceDelivery = std::function<void(int, PieceLists<MeshType>&&)>;
 
 /// Collective over `processes`: this process's piece, whose lists the first process makes for
 /// every process by `make(deliver)`, delivering them in turn, the others' sent to them as they
-/// are made (made_by_first, hemivem/every_process.hpp); an error there ends every process
+/// are made (made_by_first, hemivem/every_process.hpp), but for the vertices and the order,
+/// which every piece holds alike and which the first then gives all at once
+/// (RowDistribution::broadcast_from_first); an error there ends every process
 /// (on_every_process: the first with its own error, the others saying that process 0 stopped
 /// with it). Every process then makes its piece's mesh (make_piece). When that meets a defect
 /// on any process, the first calls `name_defect()`, which throws the whole mesh's first defect
@@ -151,9 +159,15 @@ MeshPieceRead<MeshType> piece_made_by_first(const RowDistribution& processes, Ma
   PieceLists<MeshType> lists = on_every_process(processes, [&] {
     return made_by_first<PieceLists<MeshType>>(
         processes, [&](const auto& deliver) { make(PieceDelivery<MeshType>(deliver)); },
-        [](const PieceLists<MeshType>& made, std::vector<char>& bytes) { write_piece(made, bytes); },
+        [](const PieceLists<MeshType>& made, std::vector<char>& bytes) { write_piece(made, bytes, false); },
         [](std::span<const char> bytes) { return read_piece<MeshType>(bytes); });
   });
+  {  // the vertices and the order, every piece's alike, from the first to all at once
+    std::vector<char> shared;
+    if (processes.rank() == 0) write_shared(lists, shared);
+    processes.broadcast_from_first(shared);
+    if (processes.rank() != 0) read_shared(shared, lists);
+  }
   MeshPieceRead<MeshType> out;
   std::exception_ptr defect;
   try {
