@@ -80,8 +80,13 @@ std::unique_ptr<BasicBuiltProblem<dim>> read_problem_piece(const Scene& scene, i
 /// The same on the piece of this process of `processes` (collective), the file read by the
 /// first process alone, which chooses every process's piece in turn and sends it, each process
 /// making its own piece's mesh (read_gmsh_piece, read_gmsh3d_piece, read_poly2d_piece across
-/// processes): the others never open the file. An error in the file or the pieces' cells ends
-/// every process, the first with it, the others with "process 0 stopped: <that error>".
+/// processes): the others never open the file. Of a mesh of one connected body the first picks
+/// the scene's contact parts on the cells of the boundary before it makes any piece
+/// (BoundaryPick), so that each piece holds of the boundary the contact's cells alone; its
+/// supports and loads are then picked among its cells and completed across the processes as
+/// build_problem_piece's. An error in the file, in the contact's selection or in the pieces'
+/// cells ends every process, the first with it, the others with "process 0 stopped: <that
+/// error>".
 template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> read_problem_piece(const Scene& scene, const RowDistribution& processes,
                                                            PieceOfMesh& where);
