@@ -305,34 +305,40 @@ Box box_of(const std::vector<Vec3>& p) {
 }
 
 /// What every piece of a mesh holds whatever its vertices, found once for all the pieces made of
-/// it: the cells of the facets `facets` (a file's groups, or those a BoundaryPick picked), of
-/// every boundary facet (unless `picked`) and of the first facet of each region's first cell;
-/// and the whole mesh's sums over its cells (MeshPieceRead's).
+/// it: the cells of the facets `facets` (a file's groups), of every boundary facet and of the
+/// first facet of each region's first cell; and the whole mesh's sums over its cells
+/// (MeshPieceRead's). hold_facets puts a BoundaryPick's facets in place of the first two.
 struct WholeRule {
   std::vector<int> cells;  ///< the cells of those facets, increasing
   double cell_vertices = 0, cell_vertices_squared = 0;
   int largest_cell = 0;
+  std::vector<int> region_facets;  ///< the first facet of each region's first cell
   std::shared_ptr<const PieceJoiner<CellTopology>> joiner;  ///< of `cells`
 };
 
-WholeRule whole_rule(const CellTopology& cells, const std::vector<int>& regions, std::vector<int> facets,
-                     bool picked = false) {
+/// `rule` holding the cells of the facets `facets` and of its regions' first facets alone.
+void hold_facets(WholeRule& rule, const CellTopology& cells, std::vector<int> facets) {
+  facets.insert(facets.end(), rule.region_facets.begin(), rule.region_facets.end());
+  rule.cells = cells_of_facets(cells, facets);
+  rule.joiner = std::make_shared<const PieceJoiner<CellTopology>>(cells, rule.cells);
+}
+
+WholeRule whole_rule(const CellTopology& cells, const std::vector<int>& regions, std::vector<int> facets) {
   WholeRule rule;
-  for (int f = 0; f < cells.num_facets() && !picked; ++f)
+  for (int f = 0; f < cells.num_facets(); ++f)
     if (cells.is_facet(f) && cells.facet_cells(f)[1] < 0) facets.push_back(f);
   std::vector<int> seen;  // a cell of each region
   for (int c = 0; c < cells.num_cells(); ++c) {
     if (const int r = regions[static_cast<std::size_t>(c)]; std::find(seen.begin(), seen.end(), r) == seen.end()) {
       seen.push_back(r);
-      facets.push_back(cells.cell_facets(c)[0]);
+      rule.region_facets.push_back(cells.cell_facets(c)[0]);
     }
     const auto m = static_cast<double>(cells.cell_vertices(c).size());
     rule.cell_vertices += m;
     rule.cell_vertices_squared += m * m;
     rule.largest_cell = std::max(rule.largest_cell, static_cast<int>(m));
   }
-  rule.cells = cells_of_facets(cells, facets);
-  rule.joiner = std::make_shared<const PieceJoiner<CellTopology>>(cells, rule.cells);
+  hold_facets(rule, cells, std::move(facets));
   return rule;
 }
 
@@ -481,7 +487,7 @@ void pieces_in_turn(std::unique_ptr<const CellTopology> cells, const std::vector
   // found once for all the pieces
   WholeRule rule = whole_rule(*cells, regions, facets);
   const std::optional<std::vector<int>> picked = picked_facets(*cells, vertices, rule, turn.pick, make_lists);
-  if (picked) rule = whole_rule(*cells, regions, *picked, true);
+  if (picked) hold_facets(rule, *cells, *picked);
   std::vector<int> order;
   if (std::any_of(turn.whose.begin(), turn.whose.end(), [](const PieceOwner& w) { return !w.owned; }))
     order = order_of(vertices);
