@@ -254,6 +254,29 @@ BoundaryPick<M> lowest_pick(std::shared_ptr<const M> whole, std::shared_ptr<std:
   };
 }
 
+/// The pieces the first process makes of a generated mesh and sends (make(rows, pick) on threads
+/// playing 1, 2 and 3 processes), `read_whole(name)` the whole mesh: without a pick, each the
+/// piece cut from the whole; given a pick of the lowest facets (lowest_pick), called once, each
+/// the piece cut with those facets in place of the boundary's, and together fewer cells from two
+/// processes on.
+template <class M, class ReadWhole, class Make>
+void expect_generated_pieces_sent_picked(const fs::path& name, ReadWhole read_whole, Make make) {
+  const auto whole = std::make_shared<const M>(read_whole(name));
+  const std::vector<int> lowest = lowest_facets(*whole);
+  ASSERT_FALSE(lowest.empty());
+  for (int size : {1, 2, 3}) {
+    const auto calls = std::make_shared<std::atomic<int>>(0);
+    const BoundaryPick<M> pick = lowest_pick<M>(whole, calls, true);
+    const auto plain = sent_by_first<M>([&](const fs::path&, const test::ThreadRows& rows) { return make(rows, BoundaryPick<M>{}); });
+    const auto picked = sent_by_first<M>([&](const fs::path&, const test::ThreadRows& rows) { return make(rows, pick); });
+    std::size_t without = 0, with = 0;
+    expect_read_pieces_are_cut_pieces<M>(name, size, size > 1, read_whole, plain, nullptr, &without);
+    expect_read_pieces_are_cut_pieces<M>(name, size, size > 1, read_whole, picked, &lowest, &with);
+    EXPECT_EQ(calls->load(), 1) << size << " pieces";
+    if (size > 1) EXPECT_LT(with, without) << size << " pieces";
+  }
+}
+
 /// Every file of `folder` ending in `ext`, which `read_whole` refuses, is refused by one of two
 /// processes' `read_piece` at least with the same message, and by both unless it is a defect of
 /// the cells (a MeshError, which only the pieces holding it see). The number of such files.
@@ -321,19 +344,27 @@ TEST(MeshPieceRead, APoly2dFileTheWholeReaderRefusesIsRefusedByThePieces) {
             25);
 }
 
-// a Voronoi mesh's piece, made from its cells' vertex lists without the whole mesh, is the piece
-// cut from make_voronoi's mesh, on a unit-scale rectangle and on one rescaled to unit scale
+// a Voronoi mesh's piece, made from its cells' vertex lists without the whole mesh by each
+// process or by the first (the Lloyd iterations split among the processes) and sent, is the piece
+// cut from make_voronoi's mesh, on a unit-scale rectangle and on one rescaled to unit scale;
+// given a pick, the first's pieces hold of the boundary the picked facets' cells alone
 TEST(MeshPieceRead, AVoronoiMeshsPiecesAreThePiecesCutFromTheWholeMesh) {
   for (const Rectangle& d : {Rectangle{0.0, 1.0, 0.0, 1.0}, Rectangle{-3e4, 5e4, 0.0, 2e4}}) {
     const auto whole = [&](const fs::path&) { return make_voronoi(GridSize(16, 12), d); };
     const auto piece = [&](const fs::path&, int r, int s) { return make_voronoi_piece(GridSize(16, 12), d, {}, r, s); };
     for (int size : {1, 2, 3}) expect_read_pieces_are_cut_pieces<Mesh>("voronoi", size, size > 1, whole, piece);
+    expect_generated_pieces_sent_picked<Mesh>("voronoi", whole, [&](const test::ThreadRows& rows, const BoundaryPick<Mesh>& pick) {
+      return make_voronoi_piece(GridSize(16, 12), d, rows, {}, {}, pick);
+    });
   }
   for (const Box& b : {Box{0.0, 1.0, 0.0, 0.5, 0.0, 1.0}, Box{-3e4, 5e4, 0.0, 2e4, 1e4, 3e4}}) {
     const GridSize3 n(6, 4, 5);
     const auto whole = [&](const fs::path&) { return make_voronoi3d(n, b); };
     const auto piece = [&](const fs::path&, int r, int s) { return make_voronoi3d_piece(n, b, {}, r, s); };
     for (int size : {1, 2, 3}) expect_read_pieces_are_cut_pieces<Mesh3D>("voronoi3d", size, size > 1, whole, piece);
+    expect_generated_pieces_sent_picked<Mesh3D>("voronoi3d", whole, [&](const test::ThreadRows& rows, const BoundaryPick<Mesh3D>& pick) {
+      return make_voronoi3d_piece(n, b, rows, {}, {}, pick);
+    });
   }
 }
 
@@ -350,6 +381,9 @@ TEST(MeshPieceRead, APolygonsMeshsPiecesAreThePiecesCutFromTheWholeMesh) {
       const auto whole = [&](const fs::path&) { return make_mesh(generator, 10, d, 3); };
       const auto piece = [&](const fs::path&, int r, int s) { return make_mesh_piece(generator, 10, d, 3, r, s); };
       for (int size : {1, 2, 3}) expect_read_pieces_are_cut_pieces<Mesh>(generator, size, size > 1, whole, piece);
+      expect_generated_pieces_sent_picked<Mesh>(generator, whole, [&](const test::ThreadRows& rows, const BoundaryPick<Mesh>& pick) {
+        return make_mesh_piece(generator, 10, d, 3, rows, {}, pick);
+      });
     }
   }
   PolygonDomain d;
@@ -358,6 +392,12 @@ TEST(MeshPieceRead, APolygonsMeshsPiecesAreThePiecesCutFromTheWholeMesh) {
     const std::string whole = test::input_error_of([&] { (void)make_mesh(generator, 10, d); });
     ASSERT_FALSE(whole.empty()) << generator;
     EXPECT_EQ(test::input_error_of([&] { (void)make_mesh_piece(generator, 10, d, 1, 0, 2); }), whole);
+    // the first process meets it, and every other ends saying so
+    const std::vector<std::string> sent = test::on_threads(3, [&](const test::ThreadRows& rows) {
+      return test::input_error_of([&] { (void)make_mesh_piece(generator, 10, d, 1, rows); });
+    });
+    EXPECT_EQ(sent[0], whole);
+    for (std::size_t rank = 1; rank < sent.size(); ++rank) EXPECT_EQ(sent[rank], "process 0 stopped: " + whole) << rank;
   }
 }
 
@@ -594,6 +634,36 @@ int expect_problem_pieces_pose_the_whole_share(const Scene& scene, PieceOf piece
   return fewer;
 }
 
+/// The problems that make(rows, where) poses on the pieces of processes played by threads, made
+/// once: a piece_of of expect_problem_pieces_pose_the_whole_share.
+template <int dim, class Make>
+auto problem_pieces_on_threads(Make make) {
+  using Made = std::pair<std::shared_ptr<BasicBuiltProblem<dim>>, PieceOfMesh>;
+  auto made = std::make_shared<std::vector<Made>>();
+  return [make, made](int rank, int size, PieceOfMesh& where) {
+    if (made->empty())
+      *made = test::on_threads(size, [&](const test::ThreadRows& rows) {
+        Made piece;
+        piece.first = make(rows, piece.second);
+        return piece;
+      });
+    where = (*made)[static_cast<std::size_t>(rank)].second;
+    return (*made)[static_cast<std::size_t>(rank)].first;
+  };
+}
+
+/// What each of three processes played by threads meets posing the problem on its piece
+/// (make(rows, where)): the first `whole`, each other "process 0 stopped: <whole>".
+template <class Make>
+void expect_the_first_stops_every_process(const std::string& whole, Make make) {
+  const std::vector<std::string> met = test::on_threads(3, [&](const test::ThreadRows& rows) {
+    PieceOfMesh where;
+    return test::input_error_of([&] { (void)make(rows, where); });
+  });
+  EXPECT_EQ(met[0], whole);
+  for (std::size_t rank = 1; rank < met.size(); ++rank) EXPECT_EQ(met[rank], "process 0 stopped: " + whole) << "rank " << rank;
+}
+
 /// The same of the pieces read from the scene's file, by each process, and sent by the first
 /// (which reads the file alone) to three processes played by threads; the number of pieces of
 /// either with fewer facets (the same).
@@ -602,18 +672,10 @@ int expect_read_problem_pieces_pose_the_whole_share(const Scene& scene) {
   EXPECT_TRUE(reads_pieces(scene));
   const int fewer = expect_problem_pieces_pose_the_whole_share<dim>(
       scene, [&](int rank, int size, PieceOfMesh& where) { return read_problem_piece<dim>(scene, rank, size, where); });
-  using Sent = std::pair<std::shared_ptr<BasicBuiltProblem<dim>>, PieceOfMesh>;
-  std::vector<Sent> sent;
-  const int sent_fewer = expect_problem_pieces_pose_the_whole_share<dim>(scene, [&](int rank, int size, PieceOfMesh& where) {
-    if (sent.empty())
-      sent = test::on_threads(size, [&](const test::ThreadRows& rows) {
-        Sent made;
-        made.first = read_problem_piece<dim>(scene, rows, made.second);
-        return made;
-      });
-    where = sent[static_cast<std::size_t>(rank)].second;
-    return sent[static_cast<std::size_t>(rank)].first;
-  });
+  const int sent_fewer = expect_problem_pieces_pose_the_whole_share<dim>(
+      scene, problem_pieces_on_threads<dim>([&](const test::ThreadRows& rows, PieceOfMesh& where) {
+        return read_problem_piece<dim>(scene, rows, where);
+      }));
   EXPECT_EQ(sent_fewer, fewer);
   return fewer;
 }
@@ -685,12 +747,8 @@ TEST(MeshPieceRead, ASegmentPicksOnAPieceTheWholeMeshsBoundaryFacetsAlone) {
   }
   // pieces sent by the first: it picks the contact on the cells of the boundary before it makes
   // any piece, so it meets the error there and every other process ends saying so
-  const std::vector<std::string> sent = test::on_threads(3, [&](const test::ThreadRows& rows) {
-    PieceOfMesh where;
-    return test::input_error_of([&] { (void)read_problem_piece<2>(plane, rows, where); });
-  });
-  EXPECT_EQ(sent[0], whole);
-  for (std::size_t rank = 1; rank < sent.size(); ++rank) EXPECT_EQ(sent[rank], "process 0 stopped: " + whole) << "rank " << rank;
+  expect_the_first_stops_every_process(
+      whole, [&](const test::ThreadRows& rows, PieceOfMesh& where) { return read_problem_piece<2>(plane, rows, where); });
   fs::remove(squares);
 }
 
@@ -737,6 +795,19 @@ TEST(MeshPieceRead, TheProblemOnAVoronoiMeshsPiecePosesTheWholeShare) {
     EXPECT_EQ(expect_voronoi_pieces_pose_the_whole_share<2>(scene), 3);
   }
   {
+    SCOPED_TRACE("a contact along a line through the body, which picks no boundary edge");
+    Scene scene = parse_scene(test::scenes_dir() / "rollers-pressure.toml");
+    scene.mesh.n = 24;
+    scene.mesh.ny.reset();
+    scene.contact->boundary = BoundarySelector{};
+    scene.contact->boundary.segments = {{0.5, 0.0, 0.5, 1.0}};
+    const std::string whole = test::input_error_of([&] { (void)build_problem<2>(scene); });
+    EXPECT_NE(whole.find("selects no boundary edge"), std::string::npos) << whole;
+    // the first picks the contact before it makes any piece, and every other process ends saying so
+    expect_the_first_stops_every_process(
+        whole, [&](const test::ThreadRows& rows, PieceOfMesh& where) { return voronoi_problem_piece<2>(scene, rows, where); });
+  }
+  {
     SCOPED_TRACE("example-4.1-3d.toml on Voronoi cells");
     Scene solid = parse_scene(test::scenes_dir() / "example-4.1-3d.toml");
     solid.mesh.generator = "voronoi";
@@ -765,11 +836,17 @@ TEST(MeshPieceRead, TheProblemOnAPolygonMeshsPiecePosesTheWholeShare) {
   const auto polygon_piece = [&](int rank, int size, PieceOfMesh& where) {
     return polygon_problem_piece(scene, rank, size, where);
   };
+  const auto sent_piece = [&](const test::ThreadRows& rows, PieceOfMesh& where) {
+    return polygon_problem_piece(scene, rows, where);
+  };
   for (const char* generator : {"triangles", "voronoi"}) {
     SCOPED_TRACE(generator);
     scene.mesh.generator = generator;
     ASSERT_TRUE(makes_polygon_pieces(scene));
-    EXPECT_GT(expect_problem_pieces_pose_the_whole_share<2>(scene, polygon_piece), 0);
+    const int fewer = expect_problem_pieces_pose_the_whole_share<2>(scene, polygon_piece);
+    EXPECT_GT(fewer, 0);
+    // made by the first and sent, holding of the boundary the contact's cells alone
+    EXPECT_EQ(expect_problem_pieces_pose_the_whole_share<2>(scene, problem_pieces_on_threads<2>(sent_piece)), fewer);
   }
   const PolygonDomain bracket{{{0.0, 0.0}, {1.0, 0.0}, {1.0, 0.4}, {0.4, 0.4}, {0.4, 1.0}, {0.0, 1.0}}};
   const auto seed = static_cast<std::uint64_t>(scene.mesh.seed);
@@ -782,6 +859,7 @@ TEST(MeshPieceRead, TheProblemOnAPolygonMeshsPiecePosesTheWholeShare) {
   inside.uy = SceneScalar{0.0};
   scene.dirichlet.push_back(inside);
   expect_problem_pieces_pose_the_whole_share<2>(scene, polygon_piece);
+  expect_problem_pieces_pose_the_whole_share<2>(scene, problem_pieces_on_threads<2>(sent_piece));
   scene.dirichlet.clear();
   const MeshPieceRead<Mesh> first = make_mesh_piece(scene.mesh.generator, scene.mesh.n, bracket, seed, 0, 3);
   ASSERT_FALSE(first.cut_facets.empty());
@@ -795,6 +873,7 @@ TEST(MeshPieceRead, TheProblemOnAPolygonMeshsPiecePosesTheWholeShare) {
     PieceOfMesh where;
     EXPECT_EQ(test::input_error_of([&] { (void)polygon_problem_piece(scene, rank, 3, where); }), whole) << "rank " << rank;
   }
+  expect_the_first_stops_every_process(whole, sent_piece);
   Scene adaptive = parse_scene(test::scenes_dir() / "polygon-bracket.toml");
   adaptive.adapt = SceneAdapt{};
   EXPECT_FALSE(makes_polygon_pieces(adaptive));

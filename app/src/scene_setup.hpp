@@ -161,15 +161,15 @@ void build_scene_problem(const Scene& scene, SceneEngines& e, Solved& s, const s
       s.whole_cells = e.piece->whole_cells;
       return;
     }
-    // the first process reads the file and sends each its piece; each makes its piece of a Voronoi or
-    // polygon mesh, or its bodies'
+    // the first process reads the file, or makes the Voronoi or polygon mesh's cells, and sends each
+    // its piece; each makes its piece of its bodies'
     if (reads_pieces(scene) || makes_voronoi_pieces(scene) || makes_polygon_pieces(scene) || makes_body_pieces(scene)) {
       PieceOfMesh where;
       s.built = on_every_process(*process_rows(), [&]() -> std::unique_ptr<BasicBuiltProblem<dim>> {
         if (reads_pieces(scene)) return read_problem_piece<dim>(scene, *process_rows(), where);
         if (makes_voronoi_pieces(scene)) return voronoi_problem_piece<dim>(scene, *process_rows(), where);
         if constexpr (dim == 2)
-          if (makes_polygon_pieces(scene)) return polygon_problem_piece(scene, world.rank, world.size, where);
+          if (makes_polygon_pieces(scene)) return polygon_problem_piece(scene, *process_rows(), where);
         return build_bodies_piece<dim>(scene, world.rank, world.size, where, process_rows().get());
       });
       check_regions_across(scene, *s.built, *process_rows());

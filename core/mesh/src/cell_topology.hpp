@@ -11,6 +11,7 @@
 #include <memory>
 #include <string>
 #include <span>
+#include <type_traits>
 #include <vector>
 
 #include <hemivem/mesh/mesh.hpp>
@@ -226,6 +227,32 @@ struct SolidCells {
 void make_solid_piece(const SolidCells& cells, HeldPoints held, int rank, int size, MeshPieceRead<Mesh3D>& out);
 void make_solid_piece(const SolidCells& cells, const std::vector<char>& owned, HeldPoints held,
                       MeshPieceRead<Mesh3D>& out);
+/// The lists of the pieces `turn` asks for (make_pieces).
+void make_solid_pieces(const SolidCells& cells, HeldPoints held, const PiecesInTurn<Mesh3D>& turn);
+
+/// Collective over `processes`: this process's piece of the mesh of the lists (PlaneCells,
+/// SolidCells) that `make()` makes on the first process alone, the first making every process's
+/// piece of them in turn, `pick` choosing what of the boundary they hold (make_plane_pieces,
+/// make_solid_pieces; PiecesInTurn::pick), and sending each (piece_made_by_first). An error in
+/// `make()` or the pick ends every process; a defect a piece meets is named by
+/// `whole(std::move(lists))` on the first, which makes the whole mesh of them (throwing its
+/// error).
+template <class MeshType, class Cells>
+MeshPieceRead<MeshType> lists_piece_by_first(const RowDistribution& processes, const std::function<Cells()>& make,
+                                             HeldPoints held, const BoundaryPick<MeshType>& pick,
+                                             const std::function<void(Cells&&)>& whole) {
+  Cells lists;  // the first process's
+  return piece_made_by_first<MeshType>(
+      processes,
+      [&](const PieceDelivery<MeshType>& deliver) {
+        lists = make();
+        PiecesInTurn<MeshType> turn = pieces_of_processes<MeshType>(processes.size(), deliver);
+        turn.pick = pick;
+        if constexpr (std::is_same_v<MeshType, Mesh>) make_plane_pieces(lists, held, turn);
+        else make_solid_pieces(lists, held, turn);
+      },
+      [&] { whole(std::move(lists)); });
+}
 
 
 }  // namespace hemivem::detail

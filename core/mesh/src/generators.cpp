@@ -24,6 +24,7 @@
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
 #include <algorithm>
+#include <functional>
 #include <memory>
 #include <cmath>
 #include <limits>
@@ -631,8 +632,11 @@ Eigen::VectorXd cell_centroids(const VoronoiCells& cells, const Rectangle& d) {
 
 namespace {
 
-/// make_voronoi's vertices and elements, before its mesh is made.
-detail::PlaneCells voronoi_rectangle_lists(GridSize n, const Rectangle& domain, const VoronoiOptions& options) {
+/// make_voronoi's Lloyd iterations (collective over options.processes), then what makes its
+/// vertices and elements of the seeds they end with, before its mesh is made (every seed's
+/// cell: one process's work, called by any number of them).
+std::function<detail::PlaneCells()> voronoi_rectangle_seeds(GridSize n, const Rectangle& domain,
+                                                            const VoronoiOptions& options) {
   check_n("voronoi mesh", n);
   check_domain("voronoi mesh", domain, n);
   check_voronoi_options(options);
@@ -641,9 +645,11 @@ detail::PlaneCells voronoi_rectangle_lists(GridSize n, const Rectangle& domain, 
                                                   std::abs(domain.y1)}))) {
     const Rectangle unit{std::ldexp(domain.x0, -k), std::ldexp(domain.x1, -k), std::ldexp(domain.y0, -k),
                          std::ldexp(domain.y1, -k)};
-    detail::PlaneCells lists = voronoi_rectangle_lists(n, unit, options);
-    for (auto& v : lists.vertices) v = Vec2(std::ldexp(v.x(), k), std::ldexp(v.y(), k));
-    return lists;
+    return [unit_lists = voronoi_rectangle_seeds(n, unit, options), k] {
+      detail::PlaneCells lists = unit_lists();
+      for (auto& v : lists.vertices) v = Vec2(std::ldexp(v.x(), k), std::ldexp(v.y(), k));
+      return lists;
+    };
   }
 
   const std::size_t ns = static_cast<std::size_t>(n.nx) * static_cast<std::size_t>(n.ny);
@@ -672,7 +678,7 @@ detail::PlaneCells voronoi_rectangle_lists(GridSize n, const Rectangle& domain, 
   const auto cells_of = [&](std::size_t from, std::size_t to) {
     return shared_voronoi_cells(seeds, domain, spacing, tol, from, to, options.processes);
   };
-  VoronoiCells cells = iterations > 0 ? cells_of(first, end) : voronoi_cells(seeds, domain, spacing, tol);
+  VoronoiCells cells = iterations > 0 ? cells_of(first, end) : VoronoiCells{};
   const double stop = options.lloyd_tolerance * spacing;
   for (int it = 0; it < iterations; ++it) {
     const Eigen::VectorXd centroids = cell_centroids(cells, domain);
@@ -684,18 +690,24 @@ detail::PlaneCells voronoi_rectangle_lists(GridSize n, const Rectangle& domain, 
       moved = std::max(moved, (g - seeds[i]).norm());
       seeds[i] = g;
     }
-    const bool last = moved <= stop || it + 1 == iterations;  // the cells of every seed, for the mesh
-    cells = last ? voronoi_cells(seeds, domain, spacing, tol) : cells_of(first, end);
-    if (moved <= stop) break;
+    if (moved <= stop || it + 1 == iterations) break;  // the cells of every seed make the mesh
+    cells = cells_of(first, end);
   }
-  const auto snap_to_sides = [&](Vec2 p) {
-    if (std::abs(p.x() - domain.x0) <= tol) p.x() = domain.x0;
-    if (std::abs(p.x() - domain.x1) <= tol) p.x() = domain.x1;
-    if (std::abs(p.y() - domain.y0) <= tol) p.y() = domain.y0;
-    if (std::abs(p.y() - domain.y1) <= tol) p.y() = domain.y1;
-    return p;
+  return [seeds = std::move(seeds), domain, spacing, tol] {
+    const auto snap_to_sides = [&](Vec2 p) {
+      if (std::abs(p.x() - domain.x0) <= tol) p.x() = domain.x0;
+      if (std::abs(p.x() - domain.x1) <= tol) p.x() = domain.x1;
+      if (std::abs(p.y() - domain.y0) <= tol) p.y() = domain.y0;
+      if (std::abs(p.y() - domain.y1) <= tol) p.y() = domain.y1;
+      return p;
+    };
+    return voronoi_lists(voronoi_cells(seeds, domain, spacing, tol), tol, snap_to_sides, false);
   };
-  return voronoi_lists(cells, tol, snap_to_sides, false);
+}
+
+/// make_voronoi's vertices and elements, before its mesh is made.
+detail::PlaneCells voronoi_rectangle_lists(GridSize n, const Rectangle& domain, const VoronoiOptions& options) {
+  return voronoi_rectangle_seeds(n, domain, options)();
 }
 
 }  // namespace
@@ -711,6 +723,15 @@ MeshPieceRead<Mesh> make_voronoi_piece(GridSize n, const Rectangle& domain, cons
   MeshPieceRead<Mesh> out;
   detail::make_plane_piece(lists, held, rank, size, out);
   return out;
+}
+
+MeshPieceRead<Mesh> make_voronoi_piece(GridSize n, const Rectangle& domain, const RowDistribution& processes,
+                                       VoronoiOptions options, HeldPoints held, const BoundaryPick<Mesh>& pick) {
+  options.processes = &processes;
+  const std::function<detail::PlaneCells()> lists = voronoi_rectangle_seeds(n, domain, options);
+  return detail::lists_piece_by_first<Mesh, detail::PlaneCells>(processes, lists, held, pick, [](detail::PlaneCells&& cells) {
+    (void)Mesh(std::move(cells.vertices), std::move(cells.elements));
+  });
 }
 
 MeshLists<Mesh> voronoi_lists(GridSize n, const Rectangle& domain, const VoronoiOptions& options) {
@@ -1247,6 +1268,27 @@ MeshPieceRead<Mesh> make_mesh_piece(std::string_view generator, int n, const Pol
   MeshPieceRead<Mesh> out;
   detail::make_plane_piece(lists.cells, held, rank, size, out);
   name_polygon_edges(out.mesh, domain.corners, lists.dom.tol, out.cut_facets);
+  return out;
+}
+
+MeshPieceRead<Mesh> make_mesh_piece(std::string_view generator, int n, const PolygonDomain& domain, std::uint64_t seed,
+                                    const RowDistribution& processes, HeldPoints held, const BoundaryPick<Mesh>& pick) {
+  PolygonLists lists;  // the first process's
+  // the pieces' edges named after the polygon's edges, as the whole mesh's, before the pick reads them
+  const BoundaryPick<Mesh> named_pick = !pick ? pick : [&](MeshPieceRead<Mesh>&& sides) {
+    name_polygon_edges(sides.mesh, domain.corners, lists.dom.tol, sides.cut_facets);
+    return pick(std::move(sides));
+  };
+  MeshPieceRead<Mesh> out = detail::lists_piece_by_first<Mesh, detail::PlaneCells>(
+      processes,
+      [&] {
+        lists = polygon_lists(generator, n, domain, seed);
+        return std::move(lists.cells);
+      },
+      held, named_pick, [](detail::PlaneCells&& cells) { (void)Mesh(std::move(cells.vertices), std::move(cells.elements)); });
+  // where the first alone made the lists, the polygon (which it checked) gives its tolerance
+  const double tol = processes.rank() == 0 ? lists.dom.tol : check_polygon("polygon mesh", domain, n).tol;
+  name_polygon_edges(out.mesh, domain.corners, tol, out.cut_facets);
   return out;
 }
 

@@ -556,6 +556,11 @@ void make_plane_piece(const PlaneCells& cells, const std::vector<char>& owned, H
   make_plane_piece(cells, PieceOwner{.owned = &owned}, held, out);
 }
 
+void make_solid_pieces(const SolidCells& cells, HeldPoints held, const PiecesInTurn<Mesh3D>& turn) {
+  make_list_pieces(
+      cells.vertices, cells.cells, [&] { return solid_topology(static_cast<int>(cells.vertices.size()), cells.cells); },
+      held, turn);
+}
 void make_solid_piece(const SolidCells& cells, HeldPoints held, int rank, int size, MeshPieceRead<Mesh3D>& out) {
   make_list_piece(
       cells.vertices, cells.cells, [&] { return solid_topology(static_cast<int>(cells.vertices.size()), cells.cells); },

@@ -28,6 +28,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <functional>
 #include <memory>
 #include <array>
 #include <cmath>
@@ -777,15 +778,19 @@ int unit_scale_exponent(double size, double magnitude) {
   return std::ilogb(size);
 }
 
-/// make_voronoi3d's vertices and cells, before its mesh is made.
-detail::SolidCells voronoi_box_lists(GridSize3 n, const Box& domain, const VoronoiOptions& options) {
+/// make_voronoi3d's Lloyd iterations (collective over options.processes), then what makes its
+/// vertices and cells of the seeds they end with, before its mesh is made (every seed's cell:
+/// one process's work, called by any number of them).
+std::function<detail::SolidCells()> voronoi_box_seeds(GridSize3 n, const Box& domain, const VoronoiOptions& options) {
   check_input(n, domain, options);
   if (const int k = unit_scale_exponent(box_largest_side(domain), box_magnitude(domain))) {
     const Box unit{std::ldexp(domain.x0, -k), std::ldexp(domain.x1, -k), std::ldexp(domain.y0, -k),
                    std::ldexp(domain.y1, -k), std::ldexp(domain.z0, -k), std::ldexp(domain.z1, -k)};
-    detail::SolidCells lists = voronoi_box_lists(n, unit, options);
-    for (auto& v : lists.vertices) v = Vec3(std::ldexp(v.x(), k), std::ldexp(v.y(), k), std::ldexp(v.z(), k));
-    return lists;
+    return [unit_lists = voronoi_box_seeds(n, unit, options), k] {
+      detail::SolidCells lists = unit_lists();
+      for (auto& v : lists.vertices) v = Vec3(std::ldexp(v.x(), k), std::ldexp(v.y(), k), std::ldexp(v.z(), k));
+      return lists;
+    };
   }
 
   const std::size_t ns = static_cast<std::size_t>(n.nx) * static_cast<std::size_t>(n.ny) * static_cast<std::size_t>(n.nz);
@@ -833,7 +838,14 @@ detail::SolidCells voronoi_box_lists(GridSize3 n, const Box& domain, const Voron
     }
     if (moved <= stop) break;
   }
-  return voronoi_lists(voronoi_cells(seeds, domain, accuracy, margin), domain, tol);
+  return [seeds = std::move(seeds), domain, accuracy, margin, tol] {
+    return voronoi_lists(voronoi_cells(seeds, domain, accuracy, margin), domain, tol);
+  };
+}
+
+/// make_voronoi3d's vertices and cells, before its mesh is made.
+detail::SolidCells voronoi_box_lists(GridSize3 n, const Box& domain, const VoronoiOptions& options) {
+  return voronoi_box_seeds(n, domain, options)();
 }
 
 }  // namespace
@@ -852,6 +864,18 @@ MeshPieceRead<Mesh3D> make_voronoi3d_piece(GridSize3 n, const Box& domain, const
     return 0;
   });
   return out;
+}
+
+MeshPieceRead<Mesh3D> make_voronoi3d_piece(GridSize3 n, const Box& domain, const RowDistribution& processes,
+                                           VoronoiOptions options, HeldPoints held, const BoundaryPick<Mesh3D>& pick) {
+  options.processes = &processes;
+  const std::function<detail::SolidCells()> lists = voronoi_box_seeds(n, domain, options);
+  return valid_voronoi([&] {
+    return detail::lists_piece_by_first<Mesh3D, detail::SolidCells>(
+        processes, lists, held, pick, [](detail::SolidCells&& cells) {
+          valid_voronoi([&] { return Mesh3D(std::move(cells.vertices), std::move(cells.cells)); });
+        });
+  });
 }
 
 MeshLists<Mesh3D> voronoi3d_lists(GridSize3 n, const Box& domain, const VoronoiOptions& options) {

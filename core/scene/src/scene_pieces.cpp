@@ -23,9 +23,11 @@
 #include <algorithm>
 #include <cstdint>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <optional>
 #include <set>
+#include <stdexcept>
 #include <tuple>
 #include <string>
 #include <vector>
@@ -672,6 +674,46 @@ bool makes_voronoi_pieces(const Scene& scene) {
   return scene.bodies.empty() && !scene.adapt && m.file.empty() && m.generator == "voronoi" && m.polygon.empty();
 }
 
+namespace {
+
+/// An error met where the mesh's generator did not meet it, carried past generated_mesh, which
+/// names the generator's errors as the scene's mesh's: the scene's contact picked on the first
+/// process (named as on the whole mesh), or another process's word that the first stopped.
+struct NotTheGenerators : std::runtime_error {
+  NotTheGenerators(const char* what, std::exception_ptr error) : std::runtime_error(what), error(std::move(error)) {}
+  std::exception_ptr error;
+};
+
+/// make(pick), which makes this process's piece of the scene's generated mesh, the first process
+/// making every piece and `pick` its contact_pick (collective over `processes`): the generator's
+/// errors named as generated_mesh names them, the pick's as the scene's selectors name them on
+/// the whole mesh, and on the others "process 0 stopped: <its error>".
+template <int dim, class Make>
+MeshPieceRead<MeshOf<dim>> piece_generated_by_first(const Scene& scene, Make&& make) {
+  const BoundaryPick<MeshOf<dim>> contact = contact_pick<dim>(scene);
+  const BoundaryPick<MeshOf<dim>> pick = [&](MeshPieceRead<MeshOf<dim>>&& sides) {
+    try {
+      return contact(std::move(sides));
+    } catch (const std::exception& e) {
+      throw NotTheGenerators(e.what(), std::current_exception());
+    }
+  };
+  try {
+    return detail::generated_mesh(scene, [&] {
+      try {
+        return make(pick);
+      } catch (const InputError& e) {
+        if (e.detail().starts_with("process 0 stopped: ")) throw NotTheGenerators(e.what(), std::current_exception());
+        throw;
+      }
+    });
+  } catch (const NotTheGenerators& e) {
+    std::rethrow_exception(e.error);
+  }
+}
+
+}  // namespace
+
 template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> voronoi_problem_piece(const Scene& scene, const RowDistribution& processes,
                                                               PieceOfMesh& where) {
@@ -679,22 +721,18 @@ std::unique_ptr<BasicBuiltProblem<dim>> voronoi_problem_piece(const Scene& scene
   detail::require_generated_memory(scene);
   VoronoiOptions options;
   options.seed = static_cast<std::uint64_t>(scene.mesh.seed);
-  options.processes = &processes;
   const std::vector<std::array<double, 3>> held = held_points(scene);
-  const int rank = processes.rank(), size = processes.size();
-  if constexpr (dim == 2) {
-    const auto& d = scene.mesh.domain;
-    MeshPieceRead<Mesh> made = detail::generated_mesh(scene, [&] {
-      return make_voronoi_piece(scene.mesh.cells(), Rectangle{d[0], d[1], d[2], d[3]}, options, rank, size, held);
-    });
-    return built_on_piece<2>(scene, made, where);
-  } else {
-    const auto& b = scene.mesh.box;
-    MeshPieceRead<Mesh3D> made = detail::generated_mesh(scene, [&] {
-      return make_voronoi3d_piece(scene.mesh.cells3(), Box{b[0], b[1], b[2], b[3], b[4], b[5]}, options, rank, size, held);
-    });
-    return built_on_piece<3>(scene, made, where);
-  }
+  MeshPieceRead<MeshOf<dim>> made = piece_generated_by_first<dim>(scene, [&](const BoundaryPick<MeshOf<dim>>& pick) {
+    if constexpr (dim == 2) {
+      const auto& d = scene.mesh.domain;
+      return make_voronoi_piece(scene.mesh.cells(), Rectangle{d[0], d[1], d[2], d[3]}, processes, options, held, pick);
+    } else {
+      const auto& b = scene.mesh.box;
+      return make_voronoi3d_piece(scene.mesh.cells3(), Box{b[0], b[1], b[2], b[3], b[4], b[5]}, processes, options,
+                                  held, pick);
+    }
+  });
+  return built_on_piece<dim>(scene, made, where, &processes);
 }
 
 template std::unique_ptr<BasicBuiltProblem<2>> voronoi_problem_piece<2>(const Scene&, const RowDistribution&, PieceOfMesh&);
@@ -714,6 +752,18 @@ std::unique_ptr<BuiltProblem> polygon_problem_piece(const Scene& scene, int rank
                            static_cast<std::uint64_t>(scene.mesh.seed), rank, size, held);
   });
   return built_on_piece<2>(scene, made, where);
+}
+
+std::unique_ptr<BuiltProblem> polygon_problem_piece(const Scene& scene, const RowDistribution& processes,
+                                                    PieceOfMesh& where) {
+  detail::require_dimension<2>(scene);
+  detail::require_generated_memory(scene);
+  const std::vector<std::array<double, 3>> held = held_points(scene);
+  MeshPieceRead<Mesh> made = piece_generated_by_first<2>(scene, [&](const BoundaryPick<Mesh>& pick) {
+    return make_mesh_piece(scene.mesh.generator, scene.mesh.n, detail::polygon_domain(scene),
+                           static_cast<std::uint64_t>(scene.mesh.seed), processes, held, pick);
+  });
+  return built_on_piece<2>(scene, made, where, &processes);
 }
 
 void check_regions_of_pieces(const Scene& scene, const std::vector<int>& regions) {

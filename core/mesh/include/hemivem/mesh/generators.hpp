@@ -77,6 +77,16 @@ Mesh make_voronoi(GridSize n, const Rectangle& domain = {}, const VoronoiOptions
 /// the processes of the run (collective, as make_voronoi).
 MeshPieceRead<Mesh> make_voronoi_piece(GridSize n, const Rectangle& domain, const VoronoiOptions& options, int rank,
                                        int size, HeldPoints held = {});
+/// The same collectively over `processes` (options.processes set to them), the lists made by the
+/// first process alone: every process splits the Lloyd iterations, then the first computes every
+/// seed's cell and makes every process's piece in turn and sends it, so that the others never
+/// hold the whole mesh's lists. Given a BoundaryPick, the pieces hold of the boundary the cells of
+/// the facets it picks alone (read_gmsh_piece across processes). An error in the cells, the pick or
+/// the pieces ends every process, the first with it, the others saying that process 0 stopped with
+/// it.
+MeshPieceRead<Mesh> make_voronoi_piece(GridSize n, const Rectangle& domain, const RowDistribution& processes,
+                                       VoronoiOptions options = {}, HeldPoints held = {},
+                                       const BoundaryPick<Mesh>& pick = {});
 
 /// make_voronoi's mesh as lists, of which a process makes the piece around any vertices
 /// (MeshLists; the pieces make_voronoi_piece makes are among them).
@@ -170,6 +180,12 @@ Mesh make_voronoi(int n, const PolygonDomain& domain, const VoronoiOptions& opti
 /// whole mesh's edges on them (every piece holds every boundary edge). Errors as make_mesh's.
 MeshPieceRead<Mesh> make_mesh_piece(std::string_view generator, int n, const PolygonDomain& domain, std::uint64_t seed,
                                     int rank, int size, HeldPoints held = {});
+/// The same collectively over `processes`, the generator run by the first process alone, which
+/// makes every process's piece in turn and sends it (make_voronoi_piece across processes); a
+/// BoundaryPick is given the piece of the boundary with its edge groups "edge<k>".
+MeshPieceRead<Mesh> make_mesh_piece(std::string_view generator, int n, const PolygonDomain& domain, std::uint64_t seed,
+                                    const RowDistribution& processes, HeldPoints held = {},
+                                    const BoundaryPick<Mesh>& pick = {});
 
 /// make_mesh(generator, n, domain, seed)'s mesh in a polygon as lists (MeshLists), its pieces'
 /// edge groups those of make_mesh_piece's.

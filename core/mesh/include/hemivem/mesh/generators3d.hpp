@@ -59,6 +59,11 @@ Mesh3D make_voronoi3d(GridSize3 n, const Box& domain = {}, const VoronoiOptions&
 /// whole mesh, as make_voronoi_piece makes a plane one's (hemivem/mesh/generators.hpp).
 MeshPieceRead<Mesh3D> make_voronoi3d_piece(GridSize3 n, const Box& domain, const VoronoiOptions& options, int rank,
                                            int size, HeldPoints held = {});
+/// The same collectively over `processes`, the first process alone computing every seed's cell
+/// and sending every process its piece, as make_voronoi_piece across processes.
+MeshPieceRead<Mesh3D> make_voronoi3d_piece(GridSize3 n, const Box& domain, const RowDistribution& processes,
+                                           VoronoiOptions options = {}, HeldPoints held = {},
+                                           const BoundaryPick<Mesh3D>& pick = {});
 
 /// make_voronoi3d's mesh as lists (MeshLists), as voronoi_lists makes a plane one's.
 MeshLists<Mesh3D> voronoi3d_lists(GridSize3 n, const Box& domain, const VoronoiOptions& options = {});

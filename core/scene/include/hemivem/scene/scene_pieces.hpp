@@ -97,12 +97,16 @@ std::unique_ptr<BasicBuiltProblem<dim>> read_problem_piece(const Scene& scene, c
 bool makes_voronoi_pieces(const Scene& scene);
 
 /// build_problem<dim>(scene) on the piece of the scene's Voronoi mesh that this process of
-/// `processes` makes (make_voronoi_piece, make_voronoi3d_piece; collective: the Lloyd
-/// iterations split among the processes, then the piece chosen among the cells' vertex lists by
-/// read_problem_piece's rule and only its mesh made): the same problem on fewer cells, its
-/// vertices and their numbers the whole mesh's; no selector picks a facet where the piece meets
-/// the others; kept, as read_problem_piece keeps it, on the contact's cells alone of the boundary.
-/// `where` tells where the piece lies.
+/// `processes` makes (make_voronoi_piece, make_voronoi3d_piece across processes; collective: the
+/// Lloyd iterations split among the processes, then the first process alone computes every
+/// seed's cell as lists of vertices, picks the scene's contact on the cells of the boundary
+/// (BoundaryPick) and makes every process's piece by read_problem_piece's rule in turn and sends
+/// it, each process making only its piece's mesh): the same problem on fewer cells, its vertices
+/// and their numbers the whole mesh's; no selector picks a facet where the piece meets the
+/// others; its supports and loads picked among its cells and completed across the processes, and
+/// kept, as read_problem_piece keeps it, on the contact's cells alone of the boundary. `where`
+/// tells where the piece lies. An error in the cells or the contact's selection ends every
+/// process, the first with it, the others with "process 0 stopped: <that error>".
 template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> voronoi_problem_piece(const Scene& scene, const RowDistribution& processes,
                                                               PieceOfMesh& where);
@@ -119,6 +123,11 @@ bool makes_polygon_pieces(const Scene& scene);
 /// edge where the piece meets the others; kept, as read_problem_piece keeps it, on the contact's
 /// cells alone of the boundary. `where` tells where the piece lies.
 std::unique_ptr<BuiltProblem> polygon_problem_piece(const Scene& scene, int rank, int size, PieceOfMesh& where);
+/// The same on the piece of this process of `processes` (collective), the generator run by the
+/// first process alone, which sends every process its piece as voronoi_problem_piece's first
+/// does (make_mesh_piece across processes), holding of the boundary the contact's cells alone.
+std::unique_ptr<BuiltProblem> polygon_problem_piece(const Scene& scene, const RowDistribution& processes,
+                                                    PieceOfMesh& where);
 
 /// Whether each process makes only its piece of each body's mesh (build_bodies_piece): a scene
 /// of several bodies, without adaptive steps, each of whose meshes is a generated box made in
