@@ -23,6 +23,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
 #include <functional>
 #include <map>
 #include <numbers>
@@ -33,10 +34,12 @@
 #include <utility>
 #include <vector>
 
+#include "gmsh_squares.hpp"
 #include "piece_parts.hpp"
 #include "posed_share_checks.hpp"
 #include "pressed_block3d.hpp"
 #include "test_support.hpp"
+#include "thread_rows.hpp"
 #include "thread_rows.hpp"
 
 using namespace hemivem;
@@ -776,8 +779,11 @@ TEST(MeshPiece, ThePiecesKeptOfSeveralBodiesPoseTheWholeMeshsShares) {
 /// each vertex a support at a point holds; each body in one piece, every vertex of each lying on
 /// it (piece_bodies), its supports' and loads' facets the whole's among its cells and each support
 /// every vertex it holds of the whole; each body's vertices the whole's and its cells the
-/// piece's of the whole's; and the share it poses is the whole mesh's to the bit. Returns how
-/// many pieces hold fewer facets of the supports and loads than the whole.
+/// piece's of the whole's; and the share it poses is the whole mesh's to the bit. So are the
+/// pieces made across `size` processes played by threads, of whose bodies made or read as lists
+/// the first process makes or reads them alone and sends each its pieces: each the same cells as
+/// the piece its process makes by itself. Returns how many pieces hold fewer facets of the
+/// supports and loads than the whole (the same of either).
 template <int dim>
 int expect_body_pieces_are_the_whole_meshs(const Scene& scene, int size = 3) {
   int fewer = 0;
@@ -797,11 +803,28 @@ int expect_body_pieces_are_the_whole_meshs(const Scene& scene, int size = 3) {
   std::map<std::vector<int>, std::vector<int>> cells_of_facet;
   for (int c = 0; c < num_cells_of(whole->mesh); ++c)
     for (const auto& f : facets_of_cell(whole->mesh, c)) cells_of_facet[f].push_back(c);
-  int owners = 0;
-  for (int rank = 0; rank < size; ++rank) {
-    SCOPED_TRACE("rank " + std::to_string(rank));
+  using Made = std::pair<std::shared_ptr<BasicBuiltProblem<dim>>, PieceOfMesh>;
+  const std::vector<Made> sent = test::on_threads(size, [&](const test::ThreadRows& rows) {
+    Made made;
+    made.first = build_bodies_piece<dim>(scene, rows.rank(), rows.size(), made.second, &rows);
+    return made;
+  });
+  int owners = 0, fewer_sent = 0;
+  std::vector<std::vector<int>> own_cells(static_cast<std::size_t>(size));
+  for (int turn = 0; turn < 2 * size; ++turn) {
+    const int rank = turn % size;
+    const bool by_first = turn >= size;  // the pieces across processes, after each process's own
+    SCOPED_TRACE("rank " + std::to_string(rank) + (by_first ? ", across processes" : ""));
     PieceOfMesh where;
-    const auto piece = build_bodies_piece<dim>(scene, rank, size, where);
+    std::shared_ptr<BasicBuiltProblem<dim>> piece;
+    if (by_first) {
+      piece = sent[static_cast<std::size_t>(rank)].first;
+      where = sent[static_cast<std::size_t>(rank)].second;
+      EXPECT_EQ(where.cells, own_cells[static_cast<std::size_t>(rank)]);
+    } else {
+      piece = build_bodies_piece<dim>(scene, rank, size, where);
+      own_cells[static_cast<std::size_t>(rank)] = where.cells;
+    }
     const auto [first, end] = vertex_share(n, rank, size);
     EXPECT_EQ(where.vertices.first, first);
     EXPECT_EQ(where.vertices.end, end);
@@ -833,7 +856,7 @@ int expect_body_pieces_are_the_whole_meshs(const Scene& scene, int size = 3) {
       for (const auto& f : facets_of_cell(whole->mesh, c))
         for (int other : cells_of_facet[f]) EXPECT_TRUE(held.count(other)) << "cell " << other << " next to owned cell " << c;
     }
-    owners += owns ? 1 : 0;
+    if (!by_first) owners += owns ? 1 : 0;
     for (const auto& d : whole->problem.elasticity.dirichlet)  // the cells around each vertex supported alone
       for (const int v : d.vertices)
         for (int c = 0; c < num_cells_of(whole->mesh); ++c)
@@ -854,13 +877,14 @@ int expect_body_pieces_are_the_whole_meshs(const Scene& scene, int size = 3) {
       EXPECT_EQ(mine.cells, to - from);
       EXPECT_GT(mine.cells, 0);
     }
-    fewer += parts.expect_held_by(*piece, whole->mesh, held, true, true) ? 1 : 0;
+    (by_first ? fewer_sent : fewer) += parts.expect_held_by(*piece, whole->mesh, held, true, true) ? 1 : 0;
     std::set<std::vector<int>> facets;
     for (const auto& p : piece->problem.parts) facets.merge(sorted_facets(piece->mesh, p.against));
     EXPECT_EQ(facets, against);
     expect_same_share(pose_share(piece->problem, order, first, end), pose_share(whole->problem, order, first, end));
   }
   EXPECT_EQ(owners, size) << "a process owns no cell";
+  EXPECT_EQ(fewer_sent, fewer);
   return fewer;
 }
 
@@ -1119,6 +1143,26 @@ TEST(BodyPieces, ThePiecesEachProcessReadsOfBodiesFromFilesAreTheWholeMeshs) {
     const std::set<int> regions(whole->mesh.regions().begin(), whole->mesh.regions().end());
     EXPECT_EQ(regions, (std::set<int>{0, 6, 8}));  // the upper's, then the file's 5 and 7 past it
     expect_body_pieces_are_the_whole_meshs<3>(scene);
+  }
+  {
+    // across processes the first reads the file alone: a defect of one cell inside it, which a
+    // process's piece meets, is named by the first as the whole reader names it, and every other
+    // process ends saying so
+    SCOPED_TRACE("Voronoi cells on a Gmsh file of squares, one of which repeats a vertex");
+    const std::filesystem::path defect = test::scratch("lower-defect.msh");
+    std::ofstream(defect) << test::squares_msh_repeating_a_vertex(12);
+    const Scene scene = upper_on_file(
+        voronoi, defect, "[[body.dirichlet]]\ngroup = \"bottom\"\nuy = 0.0\n[[body.dirichlet]]\nside = \"left\"\nux = 0.0\n",
+        "lower.top");
+    const std::string whole = test::input_error_of([&] { (void)build_problem<2>(scene); });
+    EXPECT_NE(whole.find("lower-defect.msh"), std::string::npos) << whole;
+    const std::vector<std::string> met = test::on_threads(3, [&](const test::ThreadRows& rows) {
+      PieceOfMesh where;
+      return test::input_error_of([&] { (void)build_bodies_piece<2>(scene, rows.rank(), rows.size(), where, &rows); });
+    });
+    EXPECT_EQ(met[0], whole);
+    for (std::size_t rank = 1; rank < met.size(); ++rank) EXPECT_EQ(met[rank], "process 0 stopped: " + whole) << rank;
+    std::filesystem::remove(defect);
   }
 }
 

@@ -104,11 +104,13 @@ CellTopology plane_topology(int num_vertices, const std::vector<std::vector<int>
 /// increasing, and a shape of its own).
 CellTopology solid_topology(int num_vertices, const std::vector<CellFaces>& cells);
 
-/// Whose piece make_pieces makes: the vertices `owned` flags (one per vertex) when given,
-/// else process `rank` of `size`'s share of the vertices along the Hilbert curve.
+/// Whose piece make_pieces makes: the vertices `owned` flags (one per vertex) when given, or
+/// those flags() flags, made as the piece is chosen, else process `rank` of `size`'s share of
+/// the vertices along the Hilbert curve.
 struct PieceOwner {
   int rank = 0, size = 1;
   const std::vector<char>* owned = nullptr;
+  std::function<std::vector<char>()> flags;
 };
 
 /// The pieces a reader makes of a mesh from one reading, in turn: those of whose[0], whose[1],
@@ -129,6 +131,17 @@ PiecesInTurn<MeshType> pieces_of_processes(int size, std::function<void(int, Pie
   turn.deliver = [whose = turn.whose, deliver = std::move(deliver)](std::size_t k, PieceLists<MeshType>&& lists) {
     deliver(whose[k].rank, std::move(lists));
   };
+  return turn;
+}
+
+/// The pieces around the vertices owned(r) flags for each process r of `size` (MeshLists::pieces):
+/// of each but the first in the order of the ranks, then the first's, each given to
+/// deliver(r, piece).
+template <class MeshType>
+PiecesInTurn<MeshType> pieces_around(int size, const std::function<std::vector<char>(int)>& owned,
+                                     const PieceDelivery<MeshType>& deliver) {
+  PiecesInTurn<MeshType> turn = pieces_of_processes<MeshType>(size, deliver);
+  for (PieceOwner& who : turn.whose) who.flags = [owned, rank = who.rank] { return owned(rank); };
   return turn;
 }
 
@@ -216,6 +229,11 @@ void make_plane_piece(const PlaneCells& cells, const std::vector<char>& owned, H
 void make_plane_piece(const PlaneCells& cells, const PieceOwner& who, HeldPoints held, MeshPieceRead<Mesh>& out);
 /// The lists of the pieces `turn` asks for (make_pieces).
 void make_plane_pieces(const PlaneCells& cells, HeldPoints held, const PiecesInTurn<Mesh>& turn);
+/// MeshLists of the plane mesh of `cells`: its pieces make_plane_piece's, each given to
+/// finish(piece) when given (a polygon's mesh naming its edges), and make_plane_pieces's; a
+/// defect named as the mesh's constructor names it.
+MeshLists<Mesh> plane_lists(std::shared_ptr<const PlaneCells> cells,
+                            std::function<void(MeshPieceRead<Mesh>&)> finish = {});
 
 /// A solid mesh not made: its vertices and its cells' faces (vertex loops).
 struct SolidCells {

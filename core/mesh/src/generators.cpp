@@ -735,12 +735,14 @@ MeshPieceRead<Mesh> make_voronoi_piece(GridSize n, const Rectangle& domain, cons
 }
 
 MeshLists<Mesh> voronoi_lists(GridSize n, const Rectangle& domain, const VoronoiOptions& options) {
-  auto lists = std::make_shared<const detail::PlaneCells>(voronoi_rectangle_lists(n, domain, options));
-  return {static_cast<int>(lists->vertices.size()), [lists](const std::vector<char>& owned, HeldPoints held) {
-            MeshPieceRead<Mesh> out;
-            detail::make_plane_piece(*lists, owned, held, out);
-            return out;
-          }};
+  return detail::plane_lists(std::make_shared<const detail::PlaneCells>(voronoi_rectangle_lists(n, domain, options)));
+}
+
+ListsOfFirst<Mesh> voronoi_lists_of_first(GridSize n, const Rectangle& domain, const RowDistribution& processes,
+                                          VoronoiOptions options) {
+  options.processes = &processes;
+  std::function<detail::PlaneCells()> cells = voronoi_rectangle_seeds(n, domain, options);
+  return {[cells = std::move(cells)] { return detail::plane_lists(std::make_shared<const detail::PlaneCells>(cells())); }, {}};
 }
 
 Mesh make_nonconvex(GridSize n, const Rectangle& domain) {
@@ -1293,13 +1295,18 @@ MeshPieceRead<Mesh> make_mesh_piece(std::string_view generator, int n, const Pol
 }
 
 MeshLists<Mesh> mesh_lists(std::string_view generator, int n, const PolygonDomain& domain, std::uint64_t seed) {
-  auto lists = std::make_shared<const PolygonLists>(polygon_lists(generator, n, domain, seed));
-  return {static_cast<int>(lists->cells.vertices.size()),
-          [lists, corners = domain.corners](const std::vector<char>& owned, HeldPoints held) {
-            MeshPieceRead<Mesh> out;
-            detail::make_plane_piece(lists->cells, owned, held, out);
-            name_polygon_edges(out.mesh, corners, lists->dom.tol, out.cut_facets);
-            return out;
+  PolygonLists lists = polygon_lists(generator, n, domain, seed);
+  return detail::plane_lists(std::make_shared<const detail::PlaneCells>(std::move(lists.cells)),
+                             [corners = domain.corners, tol = lists.dom.tol](MeshPieceRead<Mesh>& piece) {
+                               name_polygon_edges(piece.mesh, corners, tol, piece.cut_facets);
+                             });
+}
+
+ListsOfFirst<Mesh> mesh_lists_of_first(std::string_view generator, int n, const PolygonDomain& domain, std::uint64_t seed) {
+  return {[generator = std::string(generator), n, domain, seed] { return mesh_lists(generator, n, domain, seed); },
+          [n, domain](MeshPieceRead<Mesh>& piece) {
+            // where the first made the lists, the polygon (which it checked) gives the tolerance
+            name_polygon_edges(piece.mesh, domain.corners, check_polygon("polygon mesh", domain, n).tol, piece.cut_facets);
           }};
 }
 

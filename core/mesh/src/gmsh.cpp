@@ -106,6 +106,8 @@ class GmshReader final : detail::GmshSections {
     build_pieces(detail::piece_of({.owned = &owned}, lists), held);
     return made(std::move(lists));
   }
+  /// After read_lists: the lists of the pieces `turn` asks for (MeshLists::pieces).
+  void pieces(const detail::PiecesInTurn<Mesh>& turn, HeldPoints held) const { build_pieces(turn, held); }
 
   /// The piece of `lists` (make_piece), a defect of its elements named as read_gmsh names the
   /// whole mesh's first.
@@ -302,7 +304,12 @@ MeshLists<Mesh> read_gmsh_lists(const fs::path& path) {
 MeshLists<Mesh> read_gmsh_lists(std::istream& in, const std::string& name) {
   auto reader = std::make_shared<GmshReader>(in, name);
   const int vertices = reader->read_lists();
-  return {vertices, [reader](const std::vector<char>& owned, HeldPoints held) { return reader->piece(owned, held); }};
+  return {vertices, [reader](const std::vector<char>& owned, HeldPoints held) { return reader->piece(owned, held); },
+          [reader](int size, const std::function<std::vector<char>(int)>& owned, HeldPoints held,
+                   const PieceDelivery<Mesh>& deliver) {
+            reader->pieces(detail::pieces_around<Mesh>(size, owned, deliver), held);
+          },
+          [reader] { reader->name_defect(); }};
 }
 
 }  // namespace hemivem

@@ -148,6 +148,8 @@ class Gmsh3DReader final : detail::GmshSections {
     build_pieces(detail::piece_of({.owned = &owned}, lists), held);
     return made(std::move(lists));
   }
+  /// After read_lists: the lists of the pieces `turn` asks for (MeshLists::pieces).
+  void pieces(const detail::PiecesInTurn<Mesh3D>& turn, HeldPoints held) { build_pieces(turn, held); }
 
   /// The piece of `lists` (make_piece), a defect of its cells named as read_gmsh3d names the
   /// whole mesh's first.
@@ -592,7 +594,12 @@ MeshLists<Mesh3D> read_gmsh3d_lists(const fs::path& path) {
 MeshLists<Mesh3D> read_gmsh3d_lists(std::istream& in, const std::string& name) {
   auto reader = std::make_shared<Gmsh3DReader>(in, name);
   const int vertices = reader->read_lists();
-  return {vertices, [reader](const std::vector<char>& owned, HeldPoints held) { return reader->piece(owned, held); }};
+  return {vertices, [reader](const std::vector<char>& owned, HeldPoints held) { return reader->piece(owned, held); },
+          [reader](int size, const std::function<std::vector<char>(int)>& owned, HeldPoints held,
+                   const PieceDelivery<Mesh3D>& deliver) {
+            reader->pieces(detail::pieces_around<Mesh3D>(size, owned, deliver), held);
+          },
+          [reader] { reader->name_defect(); }};
 }
 
 void write_gmsh3d(const Mesh3D& mesh, std::ostream& out) {

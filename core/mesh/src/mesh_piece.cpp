@@ -395,6 +395,7 @@ detail::FacetKeys chosen(const CellTopology& cells, const std::vector<Vec>& vert
                          const detail::PieceOwner& who, const std::vector<int>& order, HeldPoints held,
                          MeshPieceRead<MeshType>& out, std::vector<char>& kept) {
   if (who.owned) return choose_around(cells, vertices, rule, *who.owned, held, out, kept);
+  if (who.flags) return choose_around(cells, vertices, rule, who.flags(), held, out, kept);
   const int rank = who.rank, size = who.size;
   if (size < 1 || rank < 0 || rank >= size)
     throw InternalError("a piece of a mesh for process " + std::to_string(rank) + " of " + std::to_string(size));
@@ -489,7 +490,7 @@ void pieces_in_turn(std::unique_ptr<const CellTopology> cells, const std::vector
   const std::optional<std::vector<int>> picked = picked_facets(*cells, vertices, rule, turn.pick, make_lists);
   if (picked) hold_facets(rule, *cells, *picked);
   std::vector<int> order;
-  if (std::any_of(turn.whose.begin(), turn.whose.end(), [](const PieceOwner& w) { return !w.owned; }))
+  if (std::any_of(turn.whose.begin(), turn.whose.end(), [](const PieceOwner& w) { return !w.owned && !w.flags; }))
     order = order_of(vertices);
   std::vector<char> kept;
   for (std::size_t k = 0; k < turn.whose.size(); ++k) {
@@ -543,6 +544,20 @@ void make_plane_pieces(const PlaneCells& cells, HeldPoints held, const PiecesInT
   make_list_pieces(
       cells.vertices, cells.elements,
       [&] { return plane_topology(static_cast<int>(cells.vertices.size()), cells.elements); }, held, turn);
+}
+MeshLists<Mesh> plane_lists(std::shared_ptr<const PlaneCells> cells, std::function<void(MeshPieceRead<Mesh>&)> finish) {
+  return {static_cast<int>(cells->vertices.size()),
+          [cells, finish](const std::vector<char>& owned, HeldPoints held) {
+            MeshPieceRead<Mesh> out;
+            make_plane_piece(*cells, owned, held, out);
+            if (finish) finish(out);
+            return out;
+          },
+          [cells](int size, const std::function<std::vector<char>(int)>& owned, HeldPoints held,
+                  const PieceDelivery<Mesh>& deliver) {
+            make_plane_pieces(*cells, held, pieces_around<Mesh>(size, owned, deliver));
+          },
+          [cells] { (void)Mesh(cells->vertices, cells->elements); }};
 }
 void make_plane_piece(const PlaneCells& cells, const PieceOwner& who, HeldPoints held, MeshPieceRead<Mesh>& out) {
   make_list_piece(

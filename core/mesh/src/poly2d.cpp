@@ -97,7 +97,9 @@ class Poly2dReader {
 
   /// After read_pieces: throws the whole mesh's first defect as read_poly2d names it, if it has
   /// one.
-  void name_defect() const { (void)mesh_of(taken_.vertices, taken_.elements); }
+  void name_defect() const { name_defect(taken_); }
+  /// The same of the mesh of `cells` (take_cells').
+  void name_defect(const detail::PlaneCells& cells) const { (void)mesh_of(cells.vertices, cells.elements); }
 
  private:
   /// Reads the vertices, the elements and the optional boundary list.
@@ -355,9 +357,15 @@ MeshPieceRead<Mesh> read_poly2d_piece(const fs::path& path, int rank, int size, 
 MeshLists<Mesh> read_poly2d_lists(std::istream& in, const std::string& name) {
   auto reader = std::make_shared<Poly2dReader>(in, name);
   auto cells = std::make_shared<const detail::PlaneCells>(reader->take_cells());
-  return {static_cast<int>(cells->vertices.size()), [reader, cells](const std::vector<char>& owned, HeldPoints held) {
+  return {static_cast<int>(cells->vertices.size()),
+          [reader, cells](const std::vector<char>& owned, HeldPoints held) {
             return reader->piece(*cells, {.owned = &owned}, held);
-          }};
+          },
+          [cells](int size, const std::function<std::vector<char>(int)>& owned, HeldPoints held,
+                  const PieceDelivery<Mesh>& deliver) {
+            detail::make_plane_pieces(*cells, held, detail::pieces_around<Mesh>(size, owned, deliver));
+          },
+          [reader, cells] { reader->name_defect(*cells); }};
 }
 
 MeshLists<Mesh> read_poly2d_lists(const fs::path& path) {

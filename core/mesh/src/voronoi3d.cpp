@@ -878,16 +878,37 @@ MeshPieceRead<Mesh3D> make_voronoi3d_piece(GridSize3 n, const Box& domain, const
   });
 }
 
-MeshLists<Mesh3D> voronoi3d_lists(GridSize3 n, const Box& domain, const VoronoiOptions& options) {
-  auto lists = std::make_shared<const detail::SolidCells>(voronoi_box_lists(n, domain, options));
-  return {static_cast<int>(lists->vertices.size()), [lists](const std::vector<char>& owned, HeldPoints held) {
+namespace {
+
+/// MeshLists of the Voronoi cells `lists`, their defects named by valid_voronoi.
+MeshLists<Mesh3D> voronoi_mesh_lists(std::shared_ptr<const detail::SolidCells> lists) {
+  return {static_cast<int>(lists->vertices.size()),
+          [lists](const std::vector<char>& owned, HeldPoints held) {
             MeshPieceRead<Mesh3D> out;
             valid_voronoi([&] {
               detail::make_solid_piece(*lists, owned, held, out);
               return 0;
             });
             return out;
-          }};
+          },
+          [lists](int size, const std::function<std::vector<char>(int)>& owned, HeldPoints held,
+                  const PieceDelivery<Mesh3D>& deliver) {
+            detail::make_solid_pieces(*lists, held, detail::pieces_around<Mesh3D>(size, owned, deliver));
+          },
+          [lists] { valid_voronoi([&] { return Mesh3D(lists->vertices, lists->cells); }); }};
+}
+
+}  // namespace
+
+MeshLists<Mesh3D> voronoi3d_lists(GridSize3 n, const Box& domain, const VoronoiOptions& options) {
+  return voronoi_mesh_lists(std::make_shared<const detail::SolidCells>(voronoi_box_lists(n, domain, options)));
+}
+
+ListsOfFirst<Mesh3D> voronoi3d_lists_of_first(GridSize3 n, const Box& domain, const RowDistribution& processes,
+                                              VoronoiOptions options) {
+  options.processes = &processes;
+  std::function<detail::SolidCells()> cells = voronoi_box_seeds(n, domain, options);
+  return {[cells = std::move(cells)] { return voronoi_mesh_lists(std::make_shared<const detail::SolidCells>(cells())); }, {}};
 }
 
 }  // namespace hemivem

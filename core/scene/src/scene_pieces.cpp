@@ -420,21 +420,35 @@ std::unique_ptr<BasicBuiltProblem<dim>> keep_around(std::unique_ptr<BasicBuiltPr
   return out;
 }
 
+/// The vertices each process r owns among a body's generated ones: owned(r), one flag each.
+using OwnedOf = std::function<std::vector<char>(int)>;
+
 /// How a process makes its piece of a body's mesh: of its generated box (BoxPiece) or of the
-/// lists its generator makes (MeshLists), around the vertices it owns.
+/// lists its generator makes or its file holds (MeshLists), around the vertices it owns. Across
+/// processes the lists are made by the first process alone, which sends every process its
+/// pieces (ListsOfFirst, piece_of_lists_by_first).
 template <int dim>
 struct BodyPieceMaker {
   std::optional<BoxPiece> box;
-  MeshLists<MeshOf<dim>> lists;
+  MeshLists<MeshOf<dim>> lists;  // made by this process, without processes
+  std::optional<ListsOfFirst<MeshOf<dim>>> of_first;  // across processes
+  std::optional<MeshLists<MeshOf<dim>>> firsts;       // the first process's lists
+  const RowDistribution* processes = nullptr;
+  int rank = 0;
   std::vector<std::array<double, 3>> held;  // of the lists' piece
-  int vertices = 0;                         // the body's generated ones
+  int vertices = 0;                         // the body's generated ones (of lists of the first, once its sides are made)
 
-  /// `processes`: across processes, a Voronoi generator's Lloyd iterations split among them
-  /// (collective).
-  BodyPieceMaker(const Scene& scene, std::size_t b, const RowDistribution* processes) {
+  /// `processes`: across processes, among which a Voronoi generator's Lloyd iterations are split
+  /// and of which the first makes the lists (collective); else process `rank` makes them.
+  BodyPieceMaker(const Scene& scene, std::size_t b, int rank, const RowDistribution* processes)
+      : processes(processes), rank(rank) {
     const Scene one = body_scene(scene, b);
     held = held_points(one);
     if (!one.mesh.file.empty()) {  // its memory checked once its piece along its sides is read
+      if (processes) {
+        of_first = ListsOfFirst<MeshOf<dim>>{[one] { return file_lists<dim>(one); }, {}};
+        return;
+      }
       lists = file_lists<dim>(one);
       vertices = lists.vertices;
       return;
@@ -445,29 +459,57 @@ struct BodyPieceMaker {
       vertices = box->end_vertex;
       return;
     }
+    const auto seed = static_cast<std::uint64_t>(one.mesh.seed);
+    if (processes) {
+      ListsOfFirst<MeshOf<dim>> made = detail::generated_mesh(one, [&] {
+        if constexpr (dim == 2) {
+          if (!one.mesh.polygon.empty())
+            return mesh_lists_of_first(one.mesh.generator, one.mesh.n, detail::polygon_domain(one), seed);
+          const auto& d = one.mesh.domain;
+          return voronoi_lists_of_first(one.mesh.cells(), Rectangle{d[0], d[1], d[2], d[3]}, *processes, {.seed = seed});
+        } else {
+          const auto& x = one.mesh.box;
+          return voronoi3d_lists_of_first(one.mesh.cells3(), Box{x[0], x[1], x[2], x[3], x[4], x[5]}, *processes,
+                                          {.seed = seed});
+        }
+      });
+      // the generator's errors and the whole mesh's defect, met by the first, named as the scene's mesh's
+      made.make = [one, make = std::move(made.make)] {
+        MeshLists<MeshOf<dim>> lists = detail::generated_mesh(one, make);
+        lists.name_defect = [one, name = std::move(lists.name_defect)] {
+          detail::generated_mesh(one, [&] {
+            name();
+            return 0;
+          });
+        };
+        return lists;
+      };
+      of_first = std::move(made);
+      return;
+    }
     lists = detail::generated_mesh(one, [&] {
-      const auto seed = static_cast<std::uint64_t>(one.mesh.seed);
       if constexpr (dim == 2) {
         if (!one.mesh.polygon.empty()) return mesh_lists(one.mesh.generator, one.mesh.n, detail::polygon_domain(one), seed);
         const auto& d = one.mesh.domain;
-        return voronoi_lists(one.mesh.cells(), Rectangle{d[0], d[1], d[2], d[3]}, VoronoiOptions{.seed = seed, .processes = processes});
+        return voronoi_lists(one.mesh.cells(), Rectangle{d[0], d[1], d[2], d[3]}, VoronoiOptions{.seed = seed});
       } else {
         const auto& x = one.mesh.box;
-        return voronoi3d_lists(one.mesh.cells3(), Box{x[0], x[1], x[2], x[3], x[4], x[5]}, VoronoiOptions{.seed = seed, .processes = processes});
+        return voronoi3d_lists(one.mesh.cells3(), Box{x[0], x[1], x[2], x[3], x[4], x[5]}, VoronoiOptions{.seed = seed});
       }
     });
     vertices = lists.vertices;
   }
 
-  /// The piece around the generated vertices `owned` flags, and the cells around each vertex a
-  /// support at a point holds (none given: the cells along the body's sides alone), with the
-  /// facets where it meets the rest of the body; where it lies in the body's whole mesh into
-  /// `where` when given.
-  detail::BodyMesh<dim> piece(const Scene& one, const std::vector<char>* owned, PieceOfMesh* where) const {
+  /// The piece around the generated vertices `owned(rank)` flags, and the cells around each
+  /// vertex a support at a point holds (none given: the cells along the body's sides alone, which
+  /// tell the body's number of generated vertices where the first process makes the lists), with
+  /// the facets where it meets the rest of the body; where it lies in the body's whole mesh into
+  /// `where` when given. Collective across processes.
+  detail::BodyMesh<dim> piece(const Scene& one, const OwnedOf* owned, PieceOfMesh* where) {
     if (box) {
       BoxPiece mine = *box;
       mine.first_vertex = mine.end_vertex = 0;
-      if (owned) mine.owned = *owned;
+      if (owned) mine.owned = (*owned)(rank);
       else mine.held.clear();
       if (where) *where = scene_piece_of_mesh(one, mine);
       MeshOf<dim> mesh = box_mesh_piece<dim>(one, mine);
@@ -475,11 +517,13 @@ struct BodyPieceMaker {
       return in_regions({std::move(mesh), std::move(cut)}, one);
     }
     const auto make = [&] {
-      if (owned) return lists.piece(*owned, held);
+      if (of_first) return piece_of_lists_by_first(*processes, *of_first, firsts, owned ? *owned : OwnedOf{}, held);
+      if (owned) return lists.piece((*owned)(rank), held);
       return lists.piece(std::vector<char>(static_cast<std::size_t>(vertices), 0), {});
     };
     const bool file = !one.mesh.file.empty();  // a file's errors name it, not a generator
-    MeshPieceRead<MeshOf<dim>> made = file ? make() : detail::generated_mesh(one, make);
+    MeshPieceRead<MeshOf<dim>> made = file || of_first ? make() : detail::generated_mesh(one, make);
+    if (!owned && of_first) vertices = made.mesh.num_vertices();
     if (file && !owned) require_file_piece_memory(one, made);
     if (where) {
       where->cells = std::move(made.cells);
@@ -508,7 +552,7 @@ std::unique_ptr<BasicBuiltProblem<dim>> build_bodies_piece(const Scene& scene, i
     throw InputError("build_bodies_piece: the scene's bodies are not made in pieces (makes_body_pieces)", scene.where("body"));
   const std::size_t bodies = scene.bodies.size();
   std::vector<BodyPieceMaker<dim>> makers;
-  for (std::size_t b = 0; b < bodies; ++b) makers.emplace_back(scene, b, processes);
+  for (std::size_t b = 0; b < bodies; ++b) makers.emplace_back(scene, b, rank, processes);
   // every vertex of the joined mesh, from the bodies' cells along their sides alone, matched
   // and joined (a surface's worth): where each body's vertices lie, and the Hilbert order of
   // them all that the processes share, as they share a mesh made whole
@@ -532,8 +576,15 @@ std::unique_ptr<BasicBuiltProblem<dim>> build_bodies_piece(const Scene& scene, i
   const std::vector<char> mine = where.vertices.mask(first_vertex.back());
   std::vector<PieceOfMesh> in_body(bodies);
   auto out = detail::built_bodies<dim>(scene, [&](const Scene& one, std::size_t b) {
-    const auto from = mine.begin() + first_vertex[b];  // the process's vertices among body b's generated ones
-    const std::vector<char> owned(from, from + makers[b].vertices);
+    // each process's vertices among body b's generated ones
+    const OwnedOf owned = [&, b](int r) {
+      std::vector<char> flags(static_cast<std::size_t>(makers[b].vertices), 0);
+      const auto [from, to] = vertex_share(first_vertex.back(), r, size);
+      for (auto k = from; k < to; ++k)
+        if (const int v = where.vertices.order[static_cast<std::size_t>(k)] - first_vertex[b]; v >= 0 && v < makers[b].vertices)
+          flags[static_cast<std::size_t>(v)] = 1;
+      return flags;
+    };
     return makers[b].piece(one, &owned, &in_body[b]);
   });
   for (std::size_t b = 0; b < bodies; ++b) {  // each body's cells follow the bodies' before it

@@ -91,6 +91,12 @@ MeshPieceRead<Mesh> make_voronoi_piece(GridSize n, const Rectangle& domain, cons
 /// make_voronoi's mesh as lists, of which a process makes the piece around any vertices
 /// (MeshLists; the pieces make_voronoi_piece makes are among them).
 MeshLists<Mesh> voronoi_lists(GridSize n, const Rectangle& domain, const VoronoiOptions& options = {});
+/// The same made by the first process of `processes` alone (ListsOfFirst; collective: the Lloyd
+/// iterations split among them now, as make_voronoi_piece across processes splits them, and
+/// make() computes every seed's cell), of which the first sends every process its pieces
+/// (piece_of_lists_by_first).
+ListsOfFirst<Mesh> voronoi_lists_of_first(GridSize n, const Rectangle& domain, const RowDistribution& processes,
+                                          VoronoiOptions options = {});
 
 /// nx x ny macro cells on a (2nx+1) x (2ny+1) point grid; points whose index sum is odd (side
 /// mid-points) are shifted by a quarter of the macro-cell size in x and y; cell
@@ -190,6 +196,9 @@ MeshPieceRead<Mesh> make_mesh_piece(std::string_view generator, int n, const Pol
 /// make_mesh(generator, n, domain, seed)'s mesh in a polygon as lists (MeshLists), its pieces'
 /// edge groups those of make_mesh_piece's.
 MeshLists<Mesh> mesh_lists(std::string_view generator, int n, const PolygonDomain& domain, std::uint64_t seed);
+/// The same made by the first process alone (ListsOfFirst: make() runs the generator), each
+/// piece made of the lists a process receives given its edge groups by finish.
+ListsOfFirst<Mesh> mesh_lists_of_first(std::string_view generator, int n, const PolygonDomain& domain, std::uint64_t seed);
 
 /// The generator names: squares, triangles, voronoi, nonconvex, distorted.
 const std::vector<std::string>& mesh_generator_names();

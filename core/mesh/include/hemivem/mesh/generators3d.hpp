@@ -67,6 +67,10 @@ MeshPieceRead<Mesh3D> make_voronoi3d_piece(GridSize3 n, const Box& domain, const
 
 /// make_voronoi3d's mesh as lists (MeshLists), as voronoi_lists makes a plane one's.
 MeshLists<Mesh3D> voronoi3d_lists(GridSize3 n, const Box& domain, const VoronoiOptions& options = {});
+/// The same made by the first process of `processes` alone, as voronoi_lists_of_first makes a
+/// plane one's.
+ListsOfFirst<Mesh3D> voronoi3d_lists_of_first(GridSize3 n, const Box& domain, const RowDistribution& processes,
+                                              VoronoiOptions options = {});
 
 /// The 3D generator names: cubes, tetrahedra, voronoi.
 const std::vector<std::string>& mesh3d_generator_names();

@@ -21,6 +21,7 @@
 #include <array>
 #include <exception>
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
 #include <type_traits>
@@ -202,6 +203,59 @@ struct MeshLists {
   /// around the vertex nearest each point `held`. Its `order`, `first` and `end` are
   /// left empty. InternalError for flags of another number; MeshError as the whole mesh's.
   std::function<MeshPieceRead<MeshType>(const std::vector<char>& owned, HeldPoints held)> piece;
+  /// The lists of the pieces around the vertices owned(r) flags (one flag per vertex, asked for
+  /// as each piece is chosen) for each process r of `size`, by piece's rule (the cells around the
+  /// vertex nearest each point `held` too), each given to deliver(r, lists) as it is made: what
+  /// the first process sends the others (piece_made_by_first). Their `order`, `first` and `end`
+  /// are left empty; a piece's mesh made of its lists (make_piece) is piece's but for a
+  /// polygon's edge groups (ListsOfFirst::finish).
+  std::function<void(int size, const std::function<std::vector<char>(int)>& owned, HeldPoints held,
+                     const PieceDelivery<MeshType>& deliver)>
+      pieces;
+  /// Throws the whole mesh's first defect as its reader or generator names it, if it has one.
+  std::function<void()> name_defect;
 };
+
+/// A mesh that the first process alone makes or reads as lists (MeshLists), of which it makes
+/// every process's piece and sends it (piece_of_lists_by_first): `make()` makes the lists, on
+/// the first process alone; `finish(piece)`, when given, completes on every process the piece
+/// made of the lists it received (a polygon's mesh names its edges after the polygon's edges).
+template <class MeshType>
+struct ListsOfFirst {
+  std::function<MeshLists<MeshType>()> make;
+  std::function<void(MeshPieceRead<MeshType>&)> finish;
+};
+
+/// Collective over `processes`: this process's piece of the mesh `source` makes on the first
+/// process, around the vertices owned(rank) flags of each process (MeshLists::pieces), or,
+/// without `owned`, the piece of no vertex, every process's alike (the cells of the boundary:
+/// MeshLists::piece of no flag). The first process makes `lists` by source.make() unless it holds
+/// them already (kept there for the next call; empty on the others), makes every process's piece
+/// in turn and sends it (piece_made_by_first), and a defect a piece meets is named by the lists'
+/// name_defect. An error there ends every process, the first with it, the others with "process 0
+/// stopped: <that error>". The piece's `order`, `first` and `end` are left empty.
+template <class MeshType>
+MeshPieceRead<MeshType> piece_of_lists_by_first(const RowDistribution& processes, const ListsOfFirst<MeshType>& source,
+                                                std::optional<MeshLists<MeshType>>& lists,
+                                                const std::function<std::vector<char>(int)>& owned, HeldPoints held) {
+  MeshPieceRead<MeshType> out = piece_made_by_first<MeshType>(
+      processes,
+      [&](const PieceDelivery<MeshType>& deliver) {
+        if (!lists) lists = source.make();
+        if (owned) {
+          lists->pieces(processes.size(), owned, held, deliver);
+          return;
+        }
+        PieceLists<MeshType> sides;  // made once, given to every process
+        lists->pieces(
+            1, [&](int) { return std::vector<char>(static_cast<std::size_t>(lists->vertices), 0); }, {},
+            [&](int, PieceLists<MeshType>&& made) { sides = std::move(made); });
+        for (int r = 1; r < processes.size(); ++r) deliver(r, PieceLists<MeshType>(sides));
+        deliver(0, std::move(sides));
+      },
+      [&] { lists->name_defect(); });
+  if (source.finish) source.finish(out);
+  return out;
+}
 
 }  // namespace hemivem
