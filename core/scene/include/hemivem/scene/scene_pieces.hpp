@@ -147,7 +147,7 @@ bool makes_body_pieces(const Scene& scene);
 /// (make_mesh_piece, make_mesh3d_piece; BoxPiece::owned), with its sides those of its supports,
 /// loads and contact parts and of the parts against it; a body made or read as lists
 /// (voronoi_lists, mesh_lists, voronoi3d_lists, read_gmsh_lists, read_gmsh3d_lists,
-/// read_poly2d_lists; each process runs its generator or reads its file once) with the cells of
+/// read_poly2d_lists; run or read once, by the first process across processes) with the cells of
 /// every boundary facet, of a file's facet groups and a cell of each of its regions, and around
 /// the vertex each support at a point holds; a file's memory is checked of its whole mesh,
 /// counted as its piece along its sides is read. The pieces are matched
@@ -164,9 +164,12 @@ bool makes_body_pieces(const Scene& scene);
 /// connected piece, the problem is then kept as read_problem_piece keeps it: of the boundary the
 /// cells of the contact alone, its supports and loads holding the facets among them, each
 /// support every vertex it holds of the whole (piece_bodies). `where` tells where the piece
-/// lies. `processes`, when given, are the processes of the run, among which a Voronoi body's
-/// Lloyd iterations are split (VoronoiOptions::processes; collective). InputError for a scene
-/// not made in pieces; errors as build_problem's.
+/// lies. `processes`, when given, are the processes of the run (collective), among which a
+/// Voronoi body's Lloyd iterations are split (VoronoiOptions::processes), and of which the first
+/// alone makes or reads a body's lists and sends every process its pieces of them, the same
+/// pieces (ListsOfFirst, piece_of_lists_by_first; an error there ends every process, the others
+/// saying that process 0 stopped with it); without them each process makes or reads every body's
+/// lists itself. InputError for a scene not made in pieces; errors as build_problem's.
 template <int dim>
 std::unique_ptr<BasicBuiltProblem<dim>> build_bodies_piece(const Scene& scene, int rank, int size, PieceOfMesh& where,
                                                            const RowDistribution* processes = nullptr);
