@@ -725,13 +725,18 @@ MeshPieceRead<Mesh> make_voronoi_piece(GridSize n, const Rectangle& domain, cons
   return out;
 }
 
+namespace {
+
+/// Throws the first defect of the plane mesh of `cells`, as its constructor names it.
+void name_plane_defect(detail::PlaneCells&& cells) { (void)Mesh(std::move(cells.vertices), std::move(cells.elements)); }
+
+}  // namespace
+
 MeshPieceRead<Mesh> make_voronoi_piece(GridSize n, const Rectangle& domain, const RowDistribution& processes,
                                        VoronoiOptions options, HeldPoints held, const BoundaryPick<Mesh>& pick) {
   options.processes = &processes;
   const std::function<detail::PlaneCells()> lists = voronoi_rectangle_seeds(n, domain, options);
-  return detail::lists_piece_by_first<Mesh, detail::PlaneCells>(processes, lists, held, pick, [](detail::PlaneCells&& cells) {
-    (void)Mesh(std::move(cells.vertices), std::move(cells.elements));
-  });
+  return detail::lists_piece_by_first<Mesh, detail::PlaneCells>(processes, lists, held, pick, name_plane_defect);
 }
 
 MeshLists<Mesh> voronoi_lists(GridSize n, const Rectangle& domain, const VoronoiOptions& options) {
@@ -1273,27 +1278,6 @@ MeshPieceRead<Mesh> make_mesh_piece(std::string_view generator, int n, const Pol
   return out;
 }
 
-MeshPieceRead<Mesh> make_mesh_piece(std::string_view generator, int n, const PolygonDomain& domain, std::uint64_t seed,
-                                    const RowDistribution& processes, HeldPoints held, const BoundaryPick<Mesh>& pick) {
-  PolygonLists lists;  // the first process's
-  // the pieces' edges named after the polygon's edges, as the whole mesh's, before the pick reads them
-  const BoundaryPick<Mesh> named_pick = !pick ? pick : [&](MeshPieceRead<Mesh>&& sides) {
-    name_polygon_edges(sides.mesh, domain.corners, lists.dom.tol, sides.cut_facets);
-    return pick(std::move(sides));
-  };
-  MeshPieceRead<Mesh> out = detail::lists_piece_by_first<Mesh, detail::PlaneCells>(
-      processes,
-      [&] {
-        lists = polygon_lists(generator, n, domain, seed);
-        return std::move(lists.cells);
-      },
-      held, named_pick, [](detail::PlaneCells&& cells) { (void)Mesh(std::move(cells.vertices), std::move(cells.elements)); });
-  // where the first alone made the lists, the polygon (which it checked) gives its tolerance
-  const double tol = processes.rank() == 0 ? lists.dom.tol : check_polygon("polygon mesh", domain, n).tol;
-  name_polygon_edges(out.mesh, domain.corners, tol, out.cut_facets);
-  return out;
-}
-
 MeshLists<Mesh> mesh_lists(std::string_view generator, int n, const PolygonDomain& domain, std::uint64_t seed) {
   PolygonLists lists = polygon_lists(generator, n, domain, seed);
   return detail::plane_lists(std::make_shared<const detail::PlaneCells>(std::move(lists.cells)),
@@ -1308,6 +1292,20 @@ ListsOfFirst<Mesh> mesh_lists_of_first(std::string_view generator, int n, const 
             // where the first made the lists, the polygon (which it checked) gives the tolerance
             name_polygon_edges(piece.mesh, domain.corners, check_polygon("polygon mesh", domain, n).tol, piece.cut_facets);
           }};
+}
+
+MeshPieceRead<Mesh> make_mesh_piece(std::string_view generator, int n, const PolygonDomain& domain, std::uint64_t seed,
+                                    const RowDistribution& processes, HeldPoints held, const BoundaryPick<Mesh>& pick) {
+  const ListsOfFirst<Mesh> source = mesh_lists_of_first(generator, n, domain, seed);
+  // the pieces' edges named after the polygon's edges, as the whole mesh's, before the pick reads them
+  const BoundaryPick<Mesh> named_pick = !pick ? pick : [&](MeshPieceRead<Mesh>&& sides) {
+    source.finish(sides);
+    return pick(std::move(sides));
+  };
+  MeshPieceRead<Mesh> out = detail::lists_piece_by_first<Mesh, detail::PlaneCells>(
+      processes, [&] { return polygon_lists(generator, n, domain, seed).cells; }, held, named_pick, name_plane_defect);
+  source.finish(out);
+  return out;
 }
 
 }  // namespace hemivem
