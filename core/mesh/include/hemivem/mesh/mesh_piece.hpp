@@ -250,7 +250,11 @@ MeshPieceRead<MeshType> piece_of_lists_by_first(const RowDistribution& processes
         lists->pieces(
             1, [&](int) { return std::vector<char>(static_cast<std::size_t>(lists->vertices), 0); }, {},
             [&](int, PieceLists<MeshType>&& made) { sides = std::move(made); });
+        // the others' copies without the vertices, which the first gives every process at once
+        std::vector<typename PieceLists<MeshType>::Point> vertices = std::move(sides.vertices);
+        sides.vertices.clear();
         for (int r = 1; r < processes.size(); ++r) deliver(r, PieceLists<MeshType>(sides));
+        sides.vertices = std::move(vertices);
         deliver(0, std::move(sides));
       },
       [&] { lists->name_defect(); });
